@@ -1,0 +1,3 @@
+//! The telerehab station: command line, configuration, threads, recorder and therapist hub.
+
+pub mod cli;

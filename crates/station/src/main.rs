@@ -1,0 +1,5 @@
+//! `telerehab`: the patient station and the therapist hub.
+
+fn main() -> anyhow::Result<()> {
+    station::cli::main()
+}

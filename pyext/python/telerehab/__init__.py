@@ -1,0 +1,9 @@
+"""telerehab: arm calibration, gyro integration and movement metrics for analysts.
+
+The heavy lifting is in Rust (the same code the patient station runs); this package is a
+thin, typed facade over the private native module ``telerehab._native``.
+"""
+
+from telerehab._native import __version__
+
+__all__ = ["__version__"]

@@ -1,0 +1,18 @@
+//! The native module behind the Python package `telerehab` (`telerehab._native`).
+//!
+//! A thin layer: numpy arrays in, checked for shape and dtype, calls into the pure crates,
+//! numpy arrays out. The Python facade in `python/telerehab` is the public API.
+
+use pyo3::prelude::*;
+
+mod calib;
+mod imu;
+
+/// The `telerehab._native` module.
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    calib::register(m)?;
+    imu::register(m)?;
+    Ok(())
+}
