@@ -397,7 +397,7 @@ fn therapist_killed_mid_session_and_restarted_stores_every_summary_exactly_once(
 }
 
 #[test]
-fn hub_restart_with_session_already_stored_acks_it_on_hello() {
+fn restarted_station_replaying_a_stored_session_adds_only_new_summaries() {
     let store = tempfile::tempdir().unwrap();
     let rt = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(1)
@@ -830,4 +830,87 @@ fn missing_pem_files_are_reported_with_their_path() {
     .unwrap()
     .to_string();
     assert!(err.contains("/nonexistent/ca.pem"), "{err}");
+}
+
+/// A TCP proxy in front of the hub. On its first connection it forwards station → hub but
+/// swallows every hub → station byte (the Acks are "lost") until told to cut the connection;
+/// later connections are forwarded both ways.
+async fn lossy_proxy(hub: SocketAddr) -> (SocketAddr, tokio::sync::oneshot::Sender<()>) {
+    let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    let (cut_tx, cut_rx) = tokio::sync::oneshot::channel::<()>();
+    tokio::spawn(async move {
+        let mut cut = Some(cut_rx);
+        loop {
+            let Ok((station, _)) = listener.accept().await else {
+                return;
+            };
+            let upstream = TcpStream::connect(hub).await.unwrap();
+            let (mut s_rd, mut s_wr) = station.into_split();
+            let (mut h_rd, mut h_wr) = upstream.into_split();
+            match cut.take() {
+                Some(cut_rx) => {
+                    tokio::spawn(async move {
+                        let up = tokio::io::copy(&mut s_rd, &mut h_wr);
+                        let mut lost = tokio::io::sink();
+                        let swallow = tokio::io::copy(&mut h_rd, &mut lost);
+                        tokio::select! {
+                            _ = up => {}
+                            _ = swallow => {}
+                            _ = cut_rx => {}
+                        }
+                        // Dropping every half closes both connections abruptly.
+                        drop((s_wr, h_wr));
+                    });
+                }
+                None => {
+                    tokio::spawn(async move {
+                        let _ = tokio::io::copy(&mut s_rd, &mut h_wr).await;
+                        let _ = h_wr.shutdown().await;
+                    });
+                    tokio::spawn(async move {
+                        let _ = tokio::io::copy(&mut h_rd, &mut s_wr).await;
+                        let _ = s_wr.shutdown().await;
+                    });
+                }
+            }
+        }
+    });
+    (addr, cut_tx)
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn lost_acks_cause_a_full_resend_that_the_hub_stores_only_once() {
+    let store = tempfile::tempdir().unwrap();
+    let (hub, _events) = start_hub(store.path(), None).await;
+    let (proxy, cut) = lossy_proxy(hub.local_addr()).await;
+    let (mut sender, link) = StationLink::spawn(
+        &tokio::runtime::Handle::current(),
+        fast_config(proxy, None, hello("st-l", "s1")),
+    )
+    .unwrap();
+    send_range(&mut sender, "s1", 0..25);
+    // The hub stores all 25 but none of its Acks reach the station.
+    wait_until("the hub to store 25", || {
+        read_session(store.path(), "st-l", "s1").is_ok_and(|s| s.len() == 25)
+    })
+    .await;
+    let stats = link.stats();
+    assert_eq!(
+        (stats.sent, stats.acked, stats.pending),
+        (25, 0, 25),
+        "{stats:?}"
+    );
+    cut.send(()).unwrap();
+    let stats = link.finish(GUARD).await;
+    assert_all_delivered(&stats, 25);
+    assert_eq!(stats.connections, 2, "{stats:?}");
+    // The station queues its whole backlog right after Hello, before it can read the hub's
+    // Hello-time Ack, so all 25 go out again and the hub must drop every one of them.
+    assert_eq!(stats.resent, 25, "{stats:?}");
+    assert_eq!(
+        stored_seqs(store.path(), "st-l", "s1"),
+        (0..25).collect::<Vec<_>>()
+    );
+    hub.shutdown(GUARD).await;
 }
