@@ -85,4 +85,4 @@ pub use frame::{
 };
 pub use station::{Backoff, LinkStats, SendError, StationLink, StationLinkConfig, SummarySender};
 pub use therapist::{TherapistConfig, TherapistEvent, TherapistServer};
-pub use tls::{ClientTls, ServerTls};
+pub use tls::{ClientTls, Identity, ServerTls};

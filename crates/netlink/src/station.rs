@@ -388,12 +388,13 @@ impl StationLink {
         self.finish_with_reason("session complete", timeout).await
     }
 
-    /// [`Self::finish`] with the reason sent in `Bye`.
+    /// [`Self::finish`] with the reason sent in `Bye` (control characters become spaces, cut
+    /// to 256 bytes).
     pub async fn finish_with_reason(mut self, reason: &str, timeout: Duration) -> LinkStats {
         let deadline = Instant::now() + timeout;
         if let Some(tx) = self.finish_tx.take() {
             let _ = tx.send(Finish {
-                reason: reason.to_owned(),
+                reason: crate::frame::printable(reason, crate::frame::MAX_TEXT_LEN),
                 deadline,
             });
         }

@@ -2,8 +2,10 @@
 //!
 //! Security choice: TLS 1.2/1.3 with rustls' safe defaults, the server authenticated by a
 //! certificate chaining to a CA the station is given explicitly (no system roots: a clinic
-//! runs its own small CA). Plaintext is allowed only when no TLS configuration is given *and*
-//! the address is loopback (see [`crate::station::StationLinkConfig::validate`] and
+//! runs its own small CA). Stations can be authenticated too (mutual TLS): the hub then
+//! requires a client certificate chaining to `ServerTls::client_ca_pem_path`. Plaintext is
+//! allowed only when no TLS configuration is given *and* the address is loopback (see
+//! [`crate::station::StationLinkConfig::validate`] and
 //! [`crate::therapist::TherapistConfig::validate`]).
 
 use std::path::{Path, PathBuf};
@@ -23,6 +25,19 @@ pub struct ClientTls {
     pub ca_pem_path: PathBuf,
     /// DNS name (or IP literal) the hub's certificate must carry.
     pub server_name: String,
+    /// The station's own certificate and key, for hubs that require client authentication.
+    #[serde(default)]
+    pub identity: Option<Identity>,
+}
+
+/// A certificate chain and its private key, as PEM files.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Identity {
+    /// PEM file with the certificate chain, leaf first.
+    pub cert_pem_path: PathBuf,
+    /// PEM file with the private key (PKCS#8, PKCS#1 or SEC1).
+    pub key_pem_path: PathBuf,
 }
 
 /// Hub-side TLS: its certificate chain and private key.
@@ -33,6 +48,10 @@ pub struct ServerTls {
     pub cert_pem_path: PathBuf,
     /// PEM file with the hub's private key (PKCS#8, PKCS#1 or SEC1).
     pub key_pem_path: PathBuf,
+    /// If set, stations must present a certificate chaining to a CA in this PEM file (mutual
+    /// TLS); connections without one fail the handshake.
+    #[serde(default)]
+    pub client_ca_pem_path: Option<PathBuf>,
 }
 
 fn provider() -> Arc<rustls::crypto::CryptoProvider> {
@@ -61,22 +80,43 @@ fn load_certs(
     Ok(certs)
 }
 
+fn load_roots(what: &'static str, path: &Path) -> Result<rustls::RootCertStore, NetlinkError> {
+    let mut roots = rustls::RootCertStore::empty();
+    for cert in load_certs(what, path)? {
+        roots.add(cert).map_err(|e| pem_error(what, path, e))?;
+    }
+    Ok(roots)
+}
+
+type ChainAndKey = (Vec<CertificateDer<'static>>, PrivateKeyDer<'static>);
+
+fn load_chain_and_key(
+    cert_pem_path: &Path,
+    key_pem_path: &Path,
+) -> Result<ChainAndKey, NetlinkError> {
+    let chain = load_certs("certificate chain", cert_pem_path)?;
+    let key = PrivateKeyDer::from_pem_file(key_pem_path)
+        .map_err(|e| pem_error("private key", key_pem_path, e))?;
+    Ok((chain, key))
+}
+
 impl ClientTls {
     /// Builds the connector, reading the CA file now so errors surface at start-up.
     pub fn connector(
         &self,
     ) -> Result<(tokio_rustls::TlsConnector, ServerName<'static>), NetlinkError> {
-        let what = "CA certificates";
-        let mut roots = rustls::RootCertStore::empty();
-        for cert in load_certs(what, &self.ca_pem_path)? {
-            roots
-                .add(cert)
-                .map_err(|e| pem_error(what, &self.ca_pem_path, e))?;
-        }
-        let config = rustls::ClientConfig::builder_with_provider(provider())
+        let roots = load_roots("CA certificates", &self.ca_pem_path)?;
+        let builder = rustls::ClientConfig::builder_with_provider(provider())
             .with_safe_default_protocol_versions()?
-            .with_root_certificates(roots)
-            .with_no_client_auth();
+            .with_root_certificates(roots);
+        let config = match &self.identity {
+            None => builder.with_no_client_auth(),
+            Some(identity) => {
+                let (chain, key) =
+                    load_chain_and_key(&identity.cert_pem_path, &identity.key_pem_path)?;
+                builder.with_client_auth_cert(chain, key)?
+            }
+        };
         let name = ServerName::try_from(self.server_name.clone()).map_err(|e| {
             NetlinkError::Config(format!(
                 "tls.server_name {:?} is not a DNS name or IP address: {e}",
@@ -90,13 +130,23 @@ impl ClientTls {
 impl ServerTls {
     /// Builds the acceptor, reading both files now so errors surface at start-up.
     pub fn acceptor(&self) -> Result<tokio_rustls::TlsAcceptor, NetlinkError> {
-        let chain = load_certs("certificate chain", &self.cert_pem_path)?;
-        let key = PrivateKeyDer::from_pem_file(&self.key_pem_path)
-            .map_err(|e| pem_error("private key", &self.key_pem_path, e))?;
-        let config = rustls::ServerConfig::builder_with_provider(provider())
-            .with_safe_default_protocol_versions()?
-            .with_no_client_auth()
-            .with_single_cert(chain, key)?;
+        let (chain, key) = load_chain_and_key(&self.cert_pem_path, &self.key_pem_path)?;
+        let builder = rustls::ServerConfig::builder_with_provider(provider())
+            .with_safe_default_protocol_versions()?;
+        let builder = match &self.client_ca_pem_path {
+            None => builder.with_no_client_auth(),
+            Some(path) => {
+                let roots = load_roots("client CA certificates", path)?;
+                let verifier = rustls::server::WebPkiClientVerifier::builder_with_provider(
+                    Arc::new(roots),
+                    provider(),
+                )
+                .build()
+                .map_err(|e| pem_error("client CA certificates", path, e))?;
+                builder.with_client_cert_verifier(verifier)
+            }
+        };
+        let config = builder.with_single_cert(chain, key)?;
         Ok(tokio_rustls::TlsAcceptor::from(Arc::new(config)))
     }
 }

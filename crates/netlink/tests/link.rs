@@ -10,7 +10,7 @@ use std::time::Duration;
 
 use netlink::store::read_session;
 use netlink::{
-    Backoff, ClientTls, Frame, FrameDecoder, Hello, LinkStats, PROTOCOL_VERSION, Regimen,
+    Backoff, ClientTls, Frame, FrameDecoder, Hello, Identity, LinkStats, PROTOCOL_VERSION, Regimen,
     SendError, ServerTls, StationLink, StationLinkConfig, Summary, SummarySender, TherapistConfig,
     TherapistEvent, TherapistServer, encode_to_vec,
 };
@@ -163,9 +163,11 @@ struct Pki {
     _dir: tempfile::TempDir,
     server: ServerTls,
     client: ClientTls,
+    /// A station certificate signed by the same CA, for mutual TLS.
+    station: Identity,
 }
 
-/// A CA and a `localhost` leaf signed by it, generated now.
+/// A CA, a `localhost` hub leaf and a station leaf signed by it, generated now.
 fn pki() -> Pki {
     use rcgen::{
         BasicConstraints, CertificateParams, CertifiedIssuer, IsCa, KeyPair, KeyUsagePurpose,
@@ -185,18 +187,30 @@ fn pki() -> Pki {
         std::fs::write(&path, text).unwrap();
         path
     };
+    let station_key = KeyPair::generate().unwrap();
+    let station_cert = CertificateParams::new(vec!["station-01.stations.invalid".to_owned()])
+        .unwrap()
+        .signed_by(&station_key, &ca)
+        .unwrap();
     let server = ServerTls {
         cert_pem_path: write("hub.crt", leaf.pem()),
         key_pem_path: write("hub.key", leaf_key.serialize_pem()),
+        client_ca_pem_path: None,
     };
     let client = ClientTls {
         ca_pem_path: write("ca.crt", ca.pem()),
         server_name: "localhost".into(),
+        identity: None,
+    };
+    let station = Identity {
+        cert_pem_path: write("station.crt", station_cert.pem()),
+        key_pem_path: write("station.key", station_key.serialize_pem()),
     };
     Pki {
         _dir: dir,
         server,
         client,
+        station,
     }
 }
 
@@ -821,6 +835,7 @@ fn missing_pem_files_are_reported_with_their_path() {
     let tls = ClientTls {
         ca_pem_path: "/nonexistent/ca.pem".into(),
         server_name: "localhost".into(),
+        identity: None,
     };
     let err = StationLink::spawn(
         rt.handle(),
@@ -912,5 +927,54 @@ async fn lost_acks_cause_a_full_resend_that_the_hub_stores_only_once() {
         stored_seqs(store.path(), "st-l", "s1"),
         (0..25).collect::<Vec<_>>()
     );
+    hub.shutdown(GUARD).await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn mutual_tls_hub_stores_only_stations_with_a_certificate() {
+    let pki = pki();
+    let store = tempfile::tempdir().unwrap();
+    let mut server_tls = pki.server.clone();
+    server_tls.client_ca_pem_path = Some(pki.client.ca_pem_path.clone());
+    let (hub, mut events) = start_hub(store.path(), Some(server_tls)).await;
+    let handle = tokio::runtime::Handle::current();
+
+    let mut with_cert = pki.client.clone();
+    with_cert.identity = Some(pki.station.clone());
+    let (mut sender, link) = StationLink::spawn(
+        &handle,
+        fast_config(hub.local_addr(), Some(with_cert), hello("st-cert", "s1")),
+    )
+    .unwrap();
+    send_range(&mut sender, "s1", 0..10);
+    assert_all_delivered(&link.finish(GUARD).await, 10);
+    assert_eq!(
+        stored_seqs(store.path(), "st-cert", "s1"),
+        (0..10).collect::<Vec<_>>()
+    );
+
+    let (mut sender, link) = StationLink::spawn(
+        &handle,
+        fast_config(
+            hub.local_addr(),
+            Some(pki.client.clone()),
+            hello("st-anon", "s1"),
+        ),
+    )
+    .unwrap();
+    send_range(&mut sender, "s1", 0..10);
+    let refused = loop {
+        match next_event(&mut events).await {
+            TherapistEvent::ProtocolError { error, .. } => break error,
+            TherapistEvent::Connected { hello, .. } => {
+                assert_eq!(hello.station_id, "st-cert", "anonymous station admitted")
+            }
+            _ => {}
+        }
+    };
+    assert!(refused.contains("TLS handshake failed"), "{refused}");
+    let stats = link.finish(Duration::from_millis(300)).await;
+    assert_eq!((stats.acked, stats.pending), (0, 10), "{stats:?}");
+    assert!(!store.path().join("st-anon").exists());
     hub.shutdown(GUARD).await;
 }
