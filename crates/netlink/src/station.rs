@@ -451,6 +451,17 @@ struct LinkTask {
     regimen_tx: mpsc::Sender<Regimen>,
 }
 
+/// A pause in [delay/2, delay], spread by a hash of the station id and attempt number, so
+/// that many stations reconnecting to a restarted hub do not retry in lock-step. Deterministic
+/// (no clock, no random source) so a given station's behaviour is reproducible.
+fn jittered(delay: Duration, station_id: &str, attempt: u64) -> Duration {
+    use std::hash::{Hash, Hasher};
+    let mut hasher = std::collections::hash_map::DefaultHasher::new();
+    (station_id, attempt).hash(&mut hasher);
+    let fraction = (hasher.finish() >> 11) as f64 / (1u64 << 53) as f64;
+    delay.mul_f64(0.5 + 0.5 * fraction)
+}
+
 /// An instant far enough away to stand for "never".
 fn far_future() -> Instant {
     Instant::now() + Duration::from_secs(86_400 * 365)
@@ -461,6 +472,7 @@ impl LinkTask {
         let initial = Duration::from_millis(self.config.reconnect.initial_ms);
         let max = Duration::from_millis(self.config.reconnect.max_ms);
         let mut delay = initial;
+        let mut attempt = 0u64;
         while !self.should_stop() {
             match self.connect().await {
                 Some(Ok(stream)) => {
@@ -483,7 +495,9 @@ impl LinkTask {
                 }
                 None => break,
             }
-            if self.should_stop() || !self.wait(delay).await {
+            attempt += 1;
+            let pause = jittered(delay, &self.config.hello.station_id, attempt);
+            if self.should_stop() || !self.wait(pause).await {
                 break;
             }
             delay = (delay * 2).min(max);
@@ -801,5 +815,28 @@ fn send_error_frame(out_tx: &mpsc::UnboundedSender<Outgoing>, error: &NetlinkErr
     let message = crate::frame::printable(&error.to_string(), crate::frame::MAX_MESSAGE_LEN);
     if let Ok(bytes) = encode_to_vec(&Frame::Error(ErrorFrame { message })) {
         let _ = out_tx.send(Outgoing::new(bytes.into()));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn jittered_backoff_stays_within_half_to_full_delay_and_differs_between_stations() {
+        let delay = Duration::from_millis(1_000);
+        let mut pauses = Vec::new();
+        for station in ["st-1", "st-2", "st-3", "st-4"] {
+            let pause = jittered(delay, station, 1);
+            assert!(pause >= delay / 2 && pause <= delay, "{pause:?}");
+            assert_eq!(pause, jittered(delay, station, 1), "not deterministic");
+            pauses.push(pause);
+        }
+        pauses.sort();
+        pauses.dedup();
+        assert!(
+            pauses.len() > 1,
+            "all stations would retry in step: {pauses:?}"
+        );
     }
 }
