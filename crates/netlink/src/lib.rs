@@ -38,7 +38,7 @@
 //!     software_version: "telerehab 0.1.0".into(),
 //! };
 //! let config = StationLinkConfig::new("127.0.0.1:7878".parse()?, None, hello);
-//! let (mut sender, mut link) = StationLink::spawn(runtime.handle(), config)?;
+//! let (sender, mut link) = StationLink::spawn(runtime.handle(), config)?;
 //! for seq in 0..600 {
 //!     // From the recorder thread, every 100 ms: never blocks.
 //!     if let Err(e) = sender.send(summary(seq)) {

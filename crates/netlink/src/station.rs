@@ -255,18 +255,22 @@ struct Queued {
 }
 
 /// The station's handle for submitting summaries. Never waits on the network.
+///
+/// `Sync`: it may be shared (e.g. in an `Arc`) and used through `&self`.
 pub struct SummarySender {
     tx: mpsc::Sender<Queued>,
     shared: Arc<Shared>,
     session_id: String,
-    previous_seq: Option<u64>,
+    /// Last accepted seq. Held while queuing, so concurrent callers cannot queue out of order
+    /// (the lock is uncontended in the intended one-thread use and never held across I/O).
+    previous_seq: Mutex<Option<u64>>,
 }
 
 impl SummarySender {
     /// Validates, encodes and queues `summary` without waiting.
     ///
     /// Summaries must belong to the link's session and have strictly increasing `seq`.
-    pub fn send(&mut self, summary: Summary) -> Result<(), SendError> {
+    pub fn send(&self, summary: Summary) -> Result<(), SendError> {
         if summary.session_id != self.session_id {
             Shared::bump(&self.shared.rejected);
             return Err(SendError::WrongSession {
@@ -274,19 +278,20 @@ impl SummarySender {
                 found: summary.session_id,
             });
         }
-        if let Some(previous) = self.previous_seq.filter(|&p| summary.seq <= p) {
-            Shared::bump(&self.shared.rejected);
-            return Err(SendError::SeqNotIncreasing {
-                seq: summary.seq,
-                previous,
-            });
-        }
         let seq = summary.seq;
         let bytes = encode_to_vec(&Frame::Summary(summary)).map_err(|e| {
             Shared::bump(&self.shared.rejected);
             SendError::Invalid(e.to_string())
         })?;
-        self.previous_seq = Some(seq);
+        let mut previous_seq = self
+            .previous_seq
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some(previous) = previous_seq.filter(|&p| seq <= p) {
+            Shared::bump(&self.shared.rejected);
+            return Err(SendError::SeqNotIncreasing { seq, previous });
+        }
+        *previous_seq = Some(seq);
         let queued = Queued {
             seq,
             bytes: bytes.into(),
@@ -343,7 +348,7 @@ impl StationLink {
             tx,
             shared: shared.clone(),
             session_id: config.hello.session_id.clone(),
-            previous_seq: None,
+            previous_seq: Mutex::new(None),
         };
         let task = LinkTask {
             tls,

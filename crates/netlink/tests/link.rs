@@ -98,7 +98,7 @@ fn stored_seqs(store: &Path, station: &str, session: &str) -> Vec<u64> {
         .collect()
 }
 
-fn send_range(sender: &mut SummarySender, session: &str, seqs: std::ops::Range<u64>) {
+fn send_range(sender: &SummarySender, session: &str, seqs: std::ops::Range<u64>) {
     for seq in seqs {
         sender.send(summary(session, seq)).unwrap();
     }
@@ -115,12 +115,12 @@ fn assert_all_delivered(stats: &LinkStats, n: u64) {
 async fn plaintext_session_is_stored_once_and_reported_as_events() {
     let store = tempfile::tempdir().unwrap();
     let (hub, mut events) = start_hub(store.path(), None).await;
-    let (mut sender, link) = StationLink::spawn(
+    let (sender, link) = StationLink::spawn(
         &tokio::runtime::Handle::current(),
         fast_config(hub.local_addr(), None, hello("st-a", "sess-1")),
     )
     .unwrap();
-    send_range(&mut sender, "sess-1", 0..50);
+    send_range(&sender, "sess-1", 0..50);
     let stats = link.finish(GUARD).await;
     assert_all_delivered(&stats, 50);
     assert_eq!(stats.sent, 50);
@@ -219,7 +219,7 @@ async fn tls_round_trip_with_generated_certificates() {
     let pki = pki();
     let store = tempfile::tempdir().unwrap();
     let (hub, _events) = start_hub(store.path(), Some(pki.server.clone())).await;
-    let (mut sender, link) = StationLink::spawn(
+    let (sender, link) = StationLink::spawn(
         &tokio::runtime::Handle::current(),
         fast_config(
             hub.local_addr(),
@@ -228,7 +228,7 @@ async fn tls_round_trip_with_generated_certificates() {
         ),
     )
     .unwrap();
-    send_range(&mut sender, "s1", 1..21);
+    send_range(&sender, "s1", 1..21);
     let stats = link.finish(GUARD).await;
     assert_all_delivered(&stats, 20);
     assert_eq!(
@@ -244,7 +244,7 @@ async fn tls_station_refuses_a_hub_signed_by_another_ca() {
     let other_pki = pki();
     let store = tempfile::tempdir().unwrap();
     let (hub, mut events) = start_hub(store.path(), Some(hub_pki.server.clone())).await;
-    let (mut sender, link) = StationLink::spawn(
+    let (sender, link) = StationLink::spawn(
         &tokio::runtime::Handle::current(),
         fast_config(
             hub.local_addr(),
@@ -253,7 +253,7 @@ async fn tls_station_refuses_a_hub_signed_by_another_ca() {
         ),
     )
     .unwrap();
-    send_range(&mut sender, "s1", 0..5);
+    send_range(&sender, "s1", 0..5);
     wait_until("a failed handshake", || link.stats().connect_failures >= 1).await;
     let stats = link.finish(Duration::from_millis(300)).await;
     assert_eq!(stats.acked, 0);
@@ -285,7 +285,7 @@ async fn several_stations_at_once_each_get_their_own_session_file() {
     }
     // Interleave the stations' summaries so their connections are busy at the same time.
     for seq in 0..40 {
-        for (_, sender, _) in &mut links {
+        for (_, sender, _) in &links {
             sender.send(summary("morning", seq)).unwrap();
         }
         if seq % 10 == 0 {
@@ -375,23 +375,23 @@ fn therapist_killed_mid_session_and_restarted_stores_every_summary_exactly_once(
         .unwrap();
     let hub = KillableHub::start("127.0.0.1:0".parse().unwrap(), store.path());
     let addr = hub.addr();
-    let (mut sender, link) = StationLink::spawn(
+    let (sender, link) = StationLink::spawn(
         station_rt.handle(),
         fast_config(addr, None, hello("st-k", "s1")),
     )
     .unwrap();
 
-    send_range(&mut sender, "s1", 0..30);
+    send_range(&sender, "s1", 0..30);
     station_rt.block_on(wait_until("first 30 acknowledged", || {
         link.stats().acked == 30
     }));
     // Kill while a second batch is in flight.
-    send_range(&mut sender, "s1", 30..60);
+    send_range(&sender, "s1", 30..60);
     hub.kill();
     station_rt.block_on(wait_until("the station to notice", || {
         !link.stats().connected
     }));
-    send_range(&mut sender, "s1", 60..90);
+    send_range(&sender, "s1", 60..90);
     station_rt.block_on(wait_until("reconnect attempts to fail", || {
         link.stats().connect_failures >= 2
     }));
@@ -399,7 +399,7 @@ fn therapist_killed_mid_session_and_restarted_stores_every_summary_exactly_once(
     assert!(stats.pending > 0 && stats.acked < 90, "{stats:?}");
 
     let hub = KillableHub::start(addr, store.path());
-    send_range(&mut sender, "s1", 90..100);
+    send_range(&sender, "s1", 90..100);
     let stats = link.finish_blocking(station_rt.handle(), GUARD);
     assert_all_delivered(&stats, 100);
     assert!(stats.connections >= 2, "{stats:?}");
@@ -420,23 +420,23 @@ fn restarted_station_replaying_a_stored_session_adds_only_new_summaries() {
         .unwrap();
     let hub = KillableHub::start("127.0.0.1:0".parse().unwrap(), store.path());
     // A first station process stores 0..10, then "crashes" (its link is dropped unfinished).
-    let (mut sender, link) = StationLink::spawn(
+    let (sender, link) = StationLink::spawn(
         rt.handle(),
         fast_config(hub.addr(), None, hello("st-r", "s1")),
     )
     .unwrap();
-    send_range(&mut sender, "s1", 0..10);
+    send_range(&sender, "s1", 0..10);
     rt.block_on(wait_until("10 acknowledged", || link.stats().acked == 10));
     drop(link);
     hub.kill();
     // A restarted station replays the same session from its recording: 0..15.
     let hub = KillableHub::start("127.0.0.1:0".parse().unwrap(), store.path());
-    let (mut sender, link) = StationLink::spawn(
+    let (sender, link) = StationLink::spawn(
         rt.handle(),
         fast_config(hub.addr(), None, hello("st-r", "s1")),
     )
     .unwrap();
-    send_range(&mut sender, "s1", 0..15);
+    send_range(&sender, "s1", 0..15);
     let stats = link.finish_blocking(rt.handle(), GUARD);
     assert_all_delivered(&stats, 15);
     assert_eq!(
@@ -454,12 +454,12 @@ async fn therapist_absent_for_the_whole_session_finish_reports_everything_undeli
         .unwrap()
         .local_addr()
         .unwrap();
-    let (mut sender, link) = StationLink::spawn(
+    let (sender, link) = StationLink::spawn(
         &tokio::runtime::Handle::current(),
         fast_config(addr, None, hello("st-alone", "s1")),
     )
     .unwrap();
-    send_range(&mut sender, "s1", 0..30);
+    send_range(&sender, "s1", 0..30);
     wait_until("a refused connection", || {
         link.stats().connect_failures >= 1
     })
@@ -570,12 +570,12 @@ async fn malformed_frames_are_rejected_with_a_clear_error_and_the_hub_keeps_serv
     assert_eq!(stored_seqs(store.path(), "st-ok", "s"), vec![0]);
 
     // The hub still serves a well-behaved station.
-    let (mut sender, link) = StationLink::spawn(
+    let (sender, link) = StationLink::spawn(
         &tokio::runtime::Handle::current(),
         fast_config(addr, None, hello("st-good", "s2")),
     )
     .unwrap();
-    send_range(&mut sender, "s2", 0..3);
+    send_range(&sender, "s2", 0..3);
     assert_all_delivered(&link.finish(GUARD).await, 3);
     hub.shutdown(GUARD).await;
 }
@@ -594,9 +594,8 @@ async fn station_rejects_a_garbage_speaking_server_and_keeps_the_summaries() {
     let mut config = fast_config(addr, None, hello("st-g", "s1"));
     config.reconnect.initial_ms = 60_000;
     config.reconnect.max_ms = 60_000;
-    let (mut sender, link) =
-        StationLink::spawn(&tokio::runtime::Handle::current(), config).unwrap();
-    send_range(&mut sender, "s1", 0..4);
+    let (sender, link) = StationLink::spawn(&tokio::runtime::Handle::current(), config).unwrap();
+    send_range(&sender, "s1", 0..4);
     wait_until("the bad server to be rejected", || {
         link.stats()
             .last_error
@@ -625,7 +624,7 @@ fn blocked_therapist_never_blocks_summary_sender() {
         tokio::time::sleep(GUARD * 2).await;
         drop(socket);
     });
-    let (mut sender, link) =
+    let (sender, link) =
         StationLink::spawn(rt.handle(), fast_config(addr, None, hello("st-b", "s1"))).unwrap();
     held_rx
         .recv_timeout(GUARD)
@@ -667,7 +666,7 @@ fn blocked_therapist_never_blocks_summary_sender() {
 async fn regimen_from_the_therapist_reaches_the_station_poll() {
     let store = tempfile::tempdir().unwrap();
     let (hub, mut events) = start_hub(store.path(), None).await;
-    let (mut sender, mut link) = StationLink::spawn(
+    let (sender, mut link) = StationLink::spawn(
         &tokio::runtime::Handle::current(),
         fast_config(hub.local_addr(), None, hello("st-reg", "s1")),
     )
@@ -714,15 +713,14 @@ async fn hub_shutdown_says_bye_and_the_station_resumes_with_a_new_hub() {
     let mut config = fast_config(addr, None, hello("st-s", "s1"));
     config.reconnect.initial_ms = 1_000;
     config.reconnect.max_ms = 1_000;
-    let (mut sender, link) =
-        StationLink::spawn(&tokio::runtime::Handle::current(), config).unwrap();
-    send_range(&mut sender, "s1", 0..10);
+    let (sender, link) = StationLink::spawn(&tokio::runtime::Handle::current(), config).unwrap();
+    send_range(&sender, "s1", 0..10);
     wait_until("10 acknowledged", || link.stats().acked == 10).await;
     hub.shutdown(GUARD).await;
     wait_until("the station to notice", || !link.stats().connected).await;
     let error = link.stats().last_error.unwrap();
     assert!(error.contains("shutting down"), "{error}");
-    send_range(&mut sender, "s1", 10..20);
+    send_range(&sender, "s1", 10..20);
     let (hub, _events) = TherapistServer::bind(TherapistConfig::new(addr, store.path(), None))
         .await
         .unwrap();
@@ -738,7 +736,7 @@ async fn hub_shutdown_says_bye_and_the_station_resumes_with_a_new_hub() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn sender_refuses_other_sessions_repeated_seqs_and_invalid_values() {
     let addr: SocketAddr = "127.0.0.1:9".parse().unwrap();
-    let (mut sender, link) = StationLink::spawn(
+    let (sender, link) = StationLink::spawn(
         &tokio::runtime::Handle::current(),
         fast_config(addr, None, hello("st", "s1")),
     )
@@ -899,12 +897,12 @@ async fn lost_acks_cause_a_full_resend_that_the_hub_stores_only_once() {
     let store = tempfile::tempdir().unwrap();
     let (hub, _events) = start_hub(store.path(), None).await;
     let (proxy, cut) = lossy_proxy(hub.local_addr()).await;
-    let (mut sender, link) = StationLink::spawn(
+    let (sender, link) = StationLink::spawn(
         &tokio::runtime::Handle::current(),
         fast_config(proxy, None, hello("st-l", "s1")),
     )
     .unwrap();
-    send_range(&mut sender, "s1", 0..25);
+    send_range(&sender, "s1", 0..25);
     // The hub stores all 25 but none of its Acks reach the station.
     wait_until("the hub to store 25", || {
         read_session(store.path(), "st-l", "s1").is_ok_and(|s| s.len() == 25)
@@ -941,19 +939,19 @@ async fn mutual_tls_hub_stores_only_stations_with_a_certificate() {
 
     let mut with_cert = pki.client.clone();
     with_cert.identity = Some(pki.station.clone());
-    let (mut sender, link) = StationLink::spawn(
+    let (sender, link) = StationLink::spawn(
         &handle,
         fast_config(hub.local_addr(), Some(with_cert), hello("st-cert", "s1")),
     )
     .unwrap();
-    send_range(&mut sender, "s1", 0..10);
+    send_range(&sender, "s1", 0..10);
     assert_all_delivered(&link.finish(GUARD).await, 10);
     assert_eq!(
         stored_seqs(store.path(), "st-cert", "s1"),
         (0..10).collect::<Vec<_>>()
     );
 
-    let (mut sender, link) = StationLink::spawn(
+    let (sender, link) = StationLink::spawn(
         &handle,
         fast_config(
             hub.local_addr(),
@@ -962,7 +960,7 @@ async fn mutual_tls_hub_stores_only_stations_with_a_certificate() {
         ),
     )
     .unwrap();
-    send_range(&mut sender, "s1", 0..10);
+    send_range(&sender, "s1", 0..10);
     let refused = loop {
         match next_event(&mut events).await {
             TherapistEvent::ProtocolError { error, .. } => break error,
