@@ -89,12 +89,12 @@ impl AssistAsNeeded {
         self.bins_nm.iter().map(|u| u.abs()).sum::<f64>() / self.bins_nm.len() as f64
     }
 
-    /// Forget the time base and accumulators (the learned bins are kept).
-    pub fn restart_phase(&mut self) {
-        self.t_s = 0.0;
+    /// Let `dt_s` pass without learning or output (the station's reference keeps moving
+    /// while the assist sits in its safe state), so the phase stays aligned.
+    pub fn skip(&mut self, dt_s: f64) {
+        self.t_s += dt_s;
         self.err_sum = 0.0;
         self.err_count = 0;
-        self.current_bin = 0;
     }
 
     fn phase(&self) -> f64 {

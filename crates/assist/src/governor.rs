@@ -239,6 +239,29 @@ mod tests {
     }
 
     #[test]
+    fn fast_small_oscillation_is_flagged_as_a_slew_problem() {
+        // 0.008 rad at 6.4 Hz needs ≈1.5 N·m (under the ceiling) changing at ≈60 N·m/s.
+        let slow_slew = Limits {
+            ceiling_nm: 1.87,
+            slew_nm_per_s: 30.0,
+        };
+        let mut g = ReferenceGovernor::new(WHEEL_ARM, 0.8, 10.0);
+        let (mut slew, mut ceiling) = (0, 0);
+        for i in 0..5000 {
+            let d = 0.008 * (40.0 * i as f64 * 0.001).sin();
+            match g.step(d, slow_slew, 0.001).infeasible {
+                Some(Infeasibility::SlewLimit) => slew += 1,
+                Some(Infeasibility::TorqueCeiling) => ceiling += 1,
+                _ => {}
+            }
+        }
+        assert!(
+            slew > 1000 && ceiling == 0,
+            "slew {slew}, ceiling {ceiling}"
+        );
+    }
+
+    #[test]
     fn step_request_is_shaped_within_slew_budget() {
         let mut g = ReferenceGovernor::new(WHEEL_ARM, 0.8, 10.0);
         let mut prev = 0.0;

@@ -280,6 +280,12 @@ impl Assist {
     fn safe_state(&mut self, limits: Limits, dt_s: f64) -> AssistOutput {
         self.mark_infeasible(Infeasibility::NonFiniteInput);
         self.needs_resync = true;
+        if let Controller::Aan(a) = &mut self.ctrl
+            && dt_s.is_finite()
+            && dt_s > 0.0
+        {
+            a.skip(dt_s.min(MAX_DT_S));
+        }
         let clean = limits.sanitised();
         let torque = if limits.is_sane() && dt_s.is_finite() && dt_s > 0.0 {
             // Towards zero by at most one slew step (the ceiling still wins if it dropped).
@@ -330,7 +336,7 @@ impl Assist {
                 motion.track_applied(tau);
                 force.track_applied(tau);
             }
-            Controller::Aan(a) => a.restart_phase(),
+            Controller::Aan(_) => {}
         }
         self.needs_resync = false;
     }

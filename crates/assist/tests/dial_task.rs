@@ -1,5 +1,5 @@
 //! A simulated weak patient on the dial task (±40° sine at 0.25 Hz for 60 s, consumer wheel
-//! + relaxed arm, 1.87 N·m ceiling, 50 N·m/s slew, quantised encoder): RMS tracking error
+//! plus relaxed arm, 1.87 N·m ceiling, 50 N·m/s slew, quantised encoder): RMS tracking error
 //! with each assist mode. Run with `--nocapture` to see the figures in BENCHMARKS.md.
 
 use assist::sim::{DialTask, run_dial_task};
