@@ -15,7 +15,7 @@ fn bench_step(c: &mut Criterion) {
         slew_nm_per_s: 50.0,
     };
     let modes = [
-        ("none", AssistMode::None),
+        ("none", AssistMode::None {}),
         ("resist", AssistMode::Resist(ResistParams::default())),
         ("motion", AssistMode::Motion(MotionParams::default())),
         ("force", AssistMode::Force(ForceParams::default())),

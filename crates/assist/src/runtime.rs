@@ -50,6 +50,11 @@ pub struct AssistStatus {
     pub infeasible: bool,
     /// The most recent reason the request was not deliverable.
     pub reason: Option<Infeasibility>,
+    /// RMS of `requested reference − measured angle` over the ticks with valid input, rad
+    /// (the task error the therapist summary reports).
+    pub rms_task_error_rad: f64,
+    /// Mean [`AssistOutput::assistance_level`] over the ticks with valid input.
+    pub mean_assistance_level: f64,
 }
 
 /// Largest `dt` accepted, s; anything longer is a stalled loop and gets the safe state.
@@ -100,6 +105,9 @@ pub struct Assist {
     infeasible_ticks: u64,
     since_infeasible_s: f64,
     reason: Option<Infeasibility>,
+    valid_ticks: u64,
+    sum_sq_task_error: f64,
+    sum_assistance: f64,
 }
 
 impl Assist {
@@ -108,7 +116,7 @@ impl Assist {
         spec.validate()?;
         let total = spec.model.total();
         let ctrl = match &spec.mode {
-            AssistMode::None => Controller::None,
+            AssistMode::None {} => Controller::None,
             AssistMode::Resist(p) => Controller::Resist(Resist::new(
                 p.spring_nm_per_rad,
                 p.damper_nm_s_per_rad,
@@ -174,6 +182,9 @@ impl Assist {
             infeasible_ticks: 0,
             since_infeasible_s: f64::INFINITY,
             reason: None,
+            valid_ticks: 0,
+            sum_sq_task_error: 0.0,
+            sum_assistance: 0.0,
         })
     }
 
@@ -193,12 +204,15 @@ impl Assist {
     /// Running account of saturation and feasibility.
     pub fn status(&self) -> AssistStatus {
         let n = self.ticks.max(1) as f64;
+        let valid = self.valid_ticks.max(1) as f64;
         AssistStatus {
             ticks: self.ticks,
             saturated_fraction: self.saturated_ticks as f64 / n,
             infeasible_fraction: self.infeasible_ticks as f64 / n,
             infeasible: self.since_infeasible_s <= INFEASIBLE_HOLD_S,
             reason: self.reason,
+            rms_task_error_rad: (self.sum_sq_task_error / valid).sqrt(),
+            mean_assistance_level: self.sum_assistance / valid,
         }
     }
 
@@ -268,11 +282,15 @@ impl Assist {
             reference_rad
         };
         self.last_reference_rad = reference;
+        let level = level.clamp(0.0, 1.0);
+        self.valid_ticks += 1;
+        self.sum_sq_task_error += (reference_rad - m.angle_rad).powi(2);
+        self.sum_assistance += level;
         AssistOutput {
             torque_nm: torque,
             reference_rad: reference,
             error_rad: reference - m.angle_rad,
-            assistance_level: level.clamp(0.0, 1.0),
+            assistance_level: level,
             saturated,
         }
     }
@@ -447,5 +465,79 @@ impl Assist {
             self.mark_infeasible(why);
         }
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spec::{ModelSpec, MotionParams};
+
+    const LIMITS: Limits = Limits {
+        ceiling_nm: 1.87,
+        slew_nm_per_s: 50.0,
+    };
+
+    #[test]
+    fn status_reports_task_error_and_mean_assistance_over_valid_ticks() {
+        let spec = AssistSpec {
+            model: ModelSpec::default(),
+            mode: AssistMode::None {},
+        };
+        let mut a = Assist::new(&spec).unwrap();
+        for (angle, reference) in [(0.0, 0.3), (0.1, -0.3), (f64::NAN, 0.0)] {
+            a.step(
+                Measurement {
+                    angle_rad: angle,
+                    vel_rad_s: 0.0,
+                },
+                reference,
+                LIMITS,
+                0.001,
+            );
+        }
+        let st = a.status();
+        assert_eq!(st.ticks, 3);
+        let expect = ((0.09 + 0.16) / 2.0f64).sqrt();
+        assert!((st.rms_task_error_rad - expect).abs() < 1e-12);
+        assert_eq!(st.mean_assistance_level, 0.0);
+        assert_eq!(st.reason, Some(Infeasibility::NonFiniteInput));
+    }
+
+    #[test]
+    fn motion_assist_starts_from_where_the_wheel_is_without_a_jolt() {
+        let spec = AssistSpec {
+            model: ModelSpec::default(),
+            mode: AssistMode::Motion(MotionParams::default()),
+        };
+        let mut a = Assist::new(&spec).unwrap();
+        // Wheel at 0.5 rad, exercise reference at 0: the governed reference starts at 0.5.
+        let out = a.step(
+            Measurement {
+                angle_rad: 0.5,
+                vel_rad_s: 0.0,
+            },
+            0.0,
+            LIMITS,
+            0.001,
+        );
+        assert!((out.reference_rad - 0.5).abs() < 1e-3, "{out:?}");
+        assert!(out.torque_nm.abs() <= 0.05 + 1e-12);
+    }
+
+    #[test]
+    fn reset_clears_state_and_status() {
+        let spec = AssistSpec {
+            model: ModelSpec::default(),
+            mode: AssistMode::Motion(MotionParams::default()),
+        };
+        let mut a = Assist::new(&spec).unwrap();
+        for _ in 0..100 {
+            a.step(Measurement::default(), 1.0, LIMITS, 0.001);
+        }
+        a.reset();
+        assert_eq!(a.status().ticks, 0);
+        let out = a.step(Measurement::default(), 0.0, LIMITS, 0.001);
+        assert_eq!(out.torque_nm, 0.0);
     }
 }

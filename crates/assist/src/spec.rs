@@ -67,10 +67,10 @@ impl ModelSpec {
 
 /// The assist modes a regimen can pick per exercise.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum AssistMode {
-    /// No assist: zero torque.
-    None,
+    /// No assist: zero torque. (A struct variant so that stray parameters are rejected.)
+    None {},
     /// Spring, damper and inertia against the motion.
     Resist(ResistParams),
     /// Linearising motion assist tracking the (governed) reference.
@@ -376,7 +376,7 @@ impl AssistSpec {
     pub fn validate(&self) -> Result<(), AssistError> {
         self.model.validate()?;
         match &self.mode {
-            AssistMode::None => Ok(()),
+            AssistMode::None {} => Ok(()),
             AssistMode::Resist(p) => p.validate(),
             AssistMode::Motion(p) => p.validate(),
             AssistMode::Force(p) => p.validate(),
@@ -414,7 +414,7 @@ mod tests {
     #[test]
     fn every_mode_round_trips_through_toml() {
         for mode in [
-            AssistMode::None,
+            AssistMode::None {},
             AssistMode::Resist(ResistParams::default()),
             AssistMode::Motion(MotionParams::default()),
             AssistMode::Force(ForceParams::default()),
@@ -450,6 +450,24 @@ mod tests {
             "#,
         );
         assert!(r.is_err());
+        let r: Result<AssistSpec, _> = toml::from_str(
+            r#"
+            [mode]
+            kind = "none"
+            spring_nm_per_rad = 3.0
+            "#,
+        );
+        assert!(
+            r.is_err(),
+            "parameters given to `none` must not be ignored silently"
+        );
+        let r: Result<AssistSpec, _> = toml::from_str(
+            r#"
+            [mode]
+            kind = "turbo"
+            "#,
+        );
+        assert!(r.unwrap_err().to_string().contains("turbo"));
     }
 
     #[test]
@@ -474,7 +492,7 @@ mod tests {
                 },
                 ..Default::default()
             },
-            mode: AssistMode::None,
+            mode: AssistMode::None {},
         };
         let e = spec.validate().unwrap_err().to_string();
         assert!(e.contains("model.arm.inertia_kg_m2"), "{e}");

@@ -20,7 +20,7 @@ fn weak_patient_tracks_the_dial_better_with_every_assist_mode() {
     let task = DialTask::default();
     let patient = HumanArmParams::weak_patient();
     let run = |mode| run_dial_task(&task, &spec(mode), &patient, 42).unwrap();
-    let none = run(AssistMode::None);
+    let none = run(AssistMode::None {});
     let motion = run(AssistMode::Motion(MotionParams::default()));
     let motion_half = run(AssistMode::Motion(MotionParams {
         authority: 0.3,
@@ -71,7 +71,7 @@ fn weak_patient_tracks_the_dial_better_with_every_assist_mode() {
 fn resistance_makes_a_healthy_patient_work_harder() {
     let task = DialTask::default();
     let healthy = HumanArmParams::default();
-    let none = run_dial_task(&task, &spec(AssistMode::None), &healthy, 7).unwrap();
+    let none = run_dial_task(&task, &spec(AssistMode::None {}), &healthy, 7).unwrap();
     let resist = run_dial_task(
         &task,
         &spec(AssistMode::Resist(ResistParams {

@@ -10,7 +10,7 @@ use proptest::prelude::*;
 
 fn modes() -> impl Strategy<Value = AssistMode> {
     prop_oneof![
-        Just(AssistMode::None),
+        Just(AssistMode::None {}),
         (0.0..20.0f64, 0.0..2.0f64, 0.0..0.1f64).prop_map(|(k, b, m)| AssistMode::Resist(
             ResistParams {
                 spring_nm_per_rad: k,
