@@ -4,6 +4,7 @@
 //! repetitions: recovery of strength and trial-to-trial learning of an anticipatory torque
 //! (the improvement that assist-as-needed must make room for).
 
+use crate::error::{AssistError, check_range};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal, StandardNormal};
@@ -76,6 +77,98 @@ impl Default for HumanArmParams {
 }
 
 impl HumanArmParams {
+    /// Check the ranges of every field; the error names it as `human_arm.<field>`.
+    pub fn validate(&self) -> Result<(), AssistError> {
+        check_range(
+            "human_arm.kp_nm_per_rad",
+            self.kp_nm_per_rad,
+            0.0,
+            100.0,
+            "[0, 100] N·m/rad",
+        )?;
+        check_range(
+            "human_arm.ki_nm_per_rad_s",
+            self.ki_nm_per_rad_s,
+            0.0,
+            100.0,
+            "[0, 100] N·m/(rad·s)",
+        )?;
+        check_range(
+            "human_arm.kd_nm_s_per_rad",
+            self.kd_nm_s_per_rad,
+            0.0,
+            10.0,
+            "[0, 10] N·m·s/rad",
+        )?;
+        check_range("human_arm.delay_s", self.delay_s, 0.0, 1.0, "[0, 1] s")?;
+        check_range("human_arm.noise_nm", self.noise_nm, 0.0, 5.0, "[0, 5] N·m")?;
+        check_range(
+            "human_arm.max_torque_nm",
+            self.max_torque_nm,
+            0.0,
+            50.0,
+            "[0, 50] N·m",
+        )?;
+        check_range("human_arm.weakness", self.weakness, 0.0, 0.99, "[0, 0.99]")?;
+        check_range(
+            "human_arm.tremor_nm",
+            self.tremor_nm,
+            0.0,
+            2.0,
+            "[0, 2] N·m",
+        )?;
+        check_range(
+            "human_arm.tremor_hz",
+            self.tremor_hz,
+            1.0,
+            15.0,
+            "[1, 15] Hz",
+        )?;
+        check_range(
+            "human_arm.tremor_band_hz",
+            self.tremor_band_hz,
+            0.0,
+            5.0,
+            "[0, 5] Hz",
+        )?;
+        check_range(
+            "human_arm.range_of_motion_rad",
+            self.range_of_motion_rad,
+            0.05,
+            std::f64::consts::PI,
+            "[0.05, π] rad",
+        )?;
+        check_range(
+            "human_arm.recovery_per_repetition",
+            self.recovery_per_repetition,
+            0.0,
+            0.99,
+            "[0, 0.99]",
+        )?;
+        check_range(
+            "human_arm.repetition_period_s",
+            self.repetition_period_s,
+            0.1,
+            600.0,
+            "[0.1, 600] s",
+        )?;
+        check_range(
+            "human_arm.learning_gain_nm_per_rad",
+            self.learning_gain_nm_per_rad,
+            0.0,
+            20.0,
+            "[0, 20] N·m/rad",
+        )?;
+        check_range("human_arm.retention", self.retention, 0.0, 1.0, "[0, 1]")?;
+        check_range(
+            "human_arm.learning_lead_s",
+            self.learning_lead_s,
+            0.0,
+            2.0,
+            "[0, 2] s",
+        )
+    }
+
     /// A weak, slow, tremulous post-stroke arm: 85 % weakness, 150 ms delay, 0.03 N·m RMS
     /// tremor at 5 Hz, ±50° active range (a "weak patient" for the dial task).
     pub fn weak_patient() -> Self {
@@ -304,6 +397,23 @@ mod tests {
             0.001,
             3,
         )
+    }
+
+    #[test]
+    fn defaults_and_weak_patient_validate_and_bad_values_are_named() {
+        HumanArmParams::default().validate().unwrap();
+        HumanArmParams::weak_patient().validate().unwrap();
+        let e = HumanArmParams {
+            tremor_hz: f64::NAN,
+            ..Default::default()
+        }
+        .validate()
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("human_arm.tremor_hz") && e.contains("[1, 15] Hz"),
+            "{e}"
+        );
     }
 
     #[test]
