@@ -287,10 +287,12 @@ impl StationConfig {
             "N·m",
         )?;
         check("sim_wheel.range_rad", w.range_rad, 0.1, 8.0, "rad")?;
-        self.sim_patient.validate().map_err(|e| ConfigError::Section {
-            section: "sim_patient".into(),
-            message: e.to_string(),
-        })?;
+        self.sim_patient
+            .validate()
+            .map_err(|e| ConfigError::Section {
+                section: "sim_patient".into(),
+                message: e.to_string(),
+            })?;
         let v = &self.vehicle;
         check("vehicle.mass_kg", v.mass_kg, 100.0, 10_000.0, "kg")?;
         check(
@@ -358,7 +360,10 @@ mod tests {
     fn simulated_patient_is_validated_by_its_own_rules() {
         let err = StationConfig::from_toml("[sim_patient]\ndelay_s = -1.0\n", "test").unwrap_err();
         let msg = err.to_string();
-        assert!(msg.contains("sim_patient") && msg.contains("delay_s"), "{msg}");
+        assert!(
+            msg.contains("sim_patient") && msg.contains("delay_s"),
+            "{msg}"
+        );
     }
 
     #[test]
