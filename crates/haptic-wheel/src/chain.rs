@@ -1,0 +1,238 @@
+//! [`HapticChain`]: everything between a wheel reading and a motor torque, called once per
+//! tick by the station's haptic loop. Effects + model + external torque (vehicle road feel,
+//! assist) → passivity controller → safety supervisor → torque, with per-tick telemetry.
+//! No allocation, no locks, no I/O, no clock: time comes in as `now_ns`.
+
+use crate::effects::{EffectStack, WheelState};
+use crate::filter::{KalmanEstimator, KalmanParams, StateEstimator};
+use crate::model::{PassivityController, PassivityParams, SpringDamper};
+use crate::safety::{Fault, SafetyConfig, Supervisor, WatchdogState};
+use crate::wheel::{WheelError, WheelReading};
+use serde::{Deserialize, Serialize};
+
+/// Configuration of a [`HapticChain`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HapticChainConfig {
+    /// Safety limits (ceiling, slew, soft start, fade, watchdog).
+    pub safety: SafetyConfig,
+    /// The spring–mass–damper model of eq. 3.5, or none.
+    pub model: Option<SpringDamper>,
+    /// Passivity controller tuning, or none to disable it.
+    pub passivity: Option<PassivityParams>,
+    /// Velocity/acceleration estimator tuning.
+    pub estimator: KalmanParams,
+}
+
+impl HapticChainConfig {
+    /// Defaults for a wheel whose encoder step is `encoder_step_rad`: default safety, no
+    /// model, passivity on, Kalman estimator tuned to the encoder.
+    pub fn for_encoder_step(encoder_step_rad: f64) -> Self {
+        Self {
+            safety: SafetyConfig::default(),
+            model: None,
+            passivity: Some(PassivityParams::default()),
+            estimator: KalmanParams::for_encoder_step(encoder_step_rad),
+        }
+    }
+
+    /// Check every part; the error names the field and its allowed range.
+    pub fn validate(&self, device_max_nm: f64) -> Result<(), WheelError> {
+        self.safety.validate(device_max_nm)?;
+        if let Some(m) = &self.model {
+            m.validate()?;
+        }
+        if let Some(p) = &self.passivity {
+            p.validate()?;
+        }
+        self.estimator.validate()
+    }
+}
+
+/// What the loop feeds the chain each tick.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TickInput {
+    /// Now, ns, on the same clock as the wheel readings' `t_ns`.
+    pub now_ns: u64,
+    /// This tick's wheel reading; `None` if the read failed.
+    pub reading: Option<WheelReading>,
+    /// Torque from outside the chain (vehicle road feel, assist controller), N·m.
+    pub external_nm: f64,
+}
+
+/// Per-tick record for the recorder (MCAP) and the live display.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct TickTelemetry {
+    /// Now, ns.
+    pub now_ns: u64,
+    /// Time since the previous tick, s (0 on the first tick).
+    pub dt_s: f64,
+    /// Estimated angle, rad.
+    pub angle_rad: f64,
+    /// Estimated velocity, rad/s.
+    pub vel_rad_s: f64,
+    /// Estimated acceleration, rad/s².
+    pub acc_rad_s2: f64,
+    /// Sum of the effect stack after its own clamp, N·m.
+    pub effects_nm: f64,
+    /// The model's torque, N·m.
+    pub model_nm: f64,
+    /// The external torque as given, N·m.
+    pub external_nm: f64,
+    /// Damping added by the passivity controller, N·m·s/rad.
+    pub passivity_damping_nm_s_per_rad: f64,
+    /// Passivity observer energy, J (negative: the environment generated energy).
+    pub passivity_energy_j: f64,
+    /// The torque requested before safety, N·m.
+    pub requested_nm: f64,
+    /// The torque to send, N·m.
+    pub torque_nm: f64,
+    /// The effect stack or the safety limiter clipped this tick.
+    pub clipped: bool,
+    /// A non-finite value was rejected this tick.
+    pub rejected_non_finite: bool,
+    /// Soft-start / fade scale, 0..=1.
+    pub safety_scale: f64,
+    /// The watchdog's state.
+    pub watchdog: WatchdogState,
+}
+
+impl TickTelemetry {
+    /// The watchdog's fault this tick, if any.
+    pub fn fault(&self) -> Option<Fault> {
+        match self.watchdog {
+            WatchdogState::Fault(f) => Some(f),
+            _ => None,
+        }
+    }
+}
+
+/// The haptic pipeline the 1 kHz loop calls once per tick. Per tick:
+///
+/// 1. estimate angle, velocity and acceleration from the quantised reading (Kalman);
+/// 2. render the effect stack (sum, one clamp) and the eq. 3.5 model, add the external torque;
+/// 3. the passivity controller adds damping if the rendered environment went active;
+/// 4. the supervisor applies soft start / fade, watchdog, ceiling and slew limit;
+/// 5. the passivity observer records what was actually sent.
+#[derive(Clone, Debug)]
+pub struct HapticChain {
+    effects: EffectStack,
+    model: Option<SpringDamper>,
+    passivity: Option<PassivityController>,
+    estimator: KalmanEstimator,
+    supervisor: Supervisor,
+    device_max_nm: f64,
+    last_ns: Option<u64>,
+    state: WheelState,
+}
+
+impl HapticChain {
+    /// A chain for a device producing at most `device_max_nm`, with a validated `config`.
+    pub fn new(config: HapticChainConfig, device_max_nm: f64) -> Result<Self, WheelError> {
+        config.validate(device_max_nm)?;
+        Ok(Self {
+            effects: EffectStack::new(device_max_nm),
+            model: config.model,
+            passivity: config
+                .passivity
+                .map(PassivityController::new)
+                .transpose()?,
+            estimator: KalmanEstimator::new(config.estimator)?,
+            supervisor: Supervisor::new(config.safety, device_max_nm)?,
+            device_max_nm,
+            last_ns: None,
+            state: WheelState::default(),
+        })
+    }
+
+    /// The effect stack, to add, play, stop and modify effects between ticks.
+    pub fn effects_mut(&mut self) -> &mut EffectStack {
+        &mut self.effects
+    }
+
+    /// The effect stack.
+    pub fn effects(&self) -> &EffectStack {
+        &self.effects
+    }
+
+    /// Replace the haptic model (e.g. a new regimen); validated first.
+    pub fn set_model(&mut self, model: Option<SpringDamper>) -> Result<(), WheelError> {
+        if let Some(m) = &model {
+            m.validate()?;
+        }
+        self.model = model;
+        Ok(())
+    }
+
+    /// Change the per-patient ceiling, never above the device maximum.
+    pub fn set_ceiling_nm(&mut self, ceiling_nm: f64) -> Result<(), WheelError> {
+        self.supervisor
+            .set_ceiling_nm(ceiling_nm, self.device_max_nm)
+    }
+
+    /// The ceiling in force, N·m.
+    pub fn ceiling_nm(&self) -> f64 {
+        self.supervisor.ceiling_nm()
+    }
+
+    /// Fade out to zero and stop for good (session end, lost enable, shutdown signal).
+    pub fn request_stop(&mut self) {
+        self.supervisor.request_stop();
+    }
+
+    /// The latest state estimate.
+    pub fn state(&self) -> WheelState {
+        self.state
+    }
+
+    /// One tick: see the type's documentation. Always returns a finite torque within the
+    /// ceiling and slew limit.
+    pub fn tick(&mut self, input: TickInput) -> TickTelemetry {
+        let dt_s = self
+            .last_ns
+            .map_or(0.0, |t| input.now_ns.saturating_sub(t) as f64 * 1e-9);
+        self.last_ns = Some(input.now_ns);
+        if let Some(r) = input.reading {
+            self.state = self.estimator.update(r.angle_rad, dt_s.max(1e-6));
+        }
+        let s = self.state;
+        let fx = self.effects.render(input.now_ns, &s);
+        let model_nm = self.model.map_or(0.0, |m| m.torque_for(&s));
+        let external_nm = input.external_nm;
+        let mut requested = fx.torque_nm + model_nm + external_nm;
+        let (mut damping, mut energy) = (0.0, 0.0);
+        if let Some(pc) = &mut self.passivity {
+            let out = pc.step(requested, s.vel_rad_s, dt_s);
+            requested = out.torque_nm;
+            damping = out.damping_nm_s_per_rad;
+            energy = out.energy_j;
+        }
+        let sup = self
+            .supervisor
+            .apply(requested, input.now_ns, input.reading.map(|r| r.t_ns));
+        if let Some(pc) = &mut self.passivity {
+            pc.commit(sup.torque_nm);
+        }
+        TickTelemetry {
+            now_ns: input.now_ns,
+            dt_s,
+            angle_rad: s.angle_rad,
+            vel_rad_s: s.vel_rad_s,
+            acc_rad_s2: s.acc_rad_s2,
+            effects_nm: fx.torque_nm,
+            model_nm,
+            external_nm,
+            passivity_damping_nm_s_per_rad: damping,
+            passivity_energy_j: energy,
+            requested_nm: requested,
+            torque_nm: sup.torque_nm,
+            clipped: fx.clipped || sup.clipped,
+            rejected_non_finite: sup.rejected_non_finite,
+            safety_scale: sup.scale,
+            watchdog: sup.state,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;
