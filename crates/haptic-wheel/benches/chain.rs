@@ -21,7 +21,7 @@ fn full_chain() -> HapticChain {
             centre_rad: 0.0,
         }),
         passivity: Some(PassivityParams::default()),
-        estimator: KalmanParams::for_encoder_step(haptic_wheel::THESIS_KA_RAD_PER_UNIT),
+        estimator: KalmanParams::for_haptic_loop(haptic_wheel::THESIS_KA_RAD_PER_UNIT),
     };
     let mut chain = HapticChain::new(cfg, haptic_wheel::THESIS_WHEEL_MAX_TORQUE_NM).unwrap();
     let env = Some(Envelope {
@@ -83,21 +83,24 @@ fn full_chain() -> HapticChain {
 fn bench_chain(c: &mut Criterion) {
     let mut chain = full_chain();
     let mut k: u64 = 0;
-    c.bench_function(&format!("chain_tick_{EFFECT_SLOTS}_effects_model_passivity_safety"), |b| {
-        b.iter(|| {
-            k += 1;
-            let now = k * 1_000_000;
-            let angle = ((k as f64 * 1e-3).sin() / 0.002253).round() * 0.002253;
-            black_box(chain.tick(black_box(TickInput {
-                now_ns: now,
-                reading: Some(WheelReading {
-                    angle_rad: angle,
-                    t_ns: now,
-                }),
-                external_nm: 0.1,
-            })))
-        })
-    });
+    c.bench_function(
+        &format!("chain_tick_{EFFECT_SLOTS}_effects_model_passivity_safety"),
+        |b| {
+            b.iter(|| {
+                k += 1;
+                let now = k * 1_000_000;
+                let angle = ((k as f64 * 1e-3).sin() / 0.002253).round() * 0.002253;
+                black_box(chain.tick(black_box(TickInput {
+                    now_ns: now,
+                    reading: Some(WheelReading {
+                        angle_rad: angle,
+                        t_ns: now,
+                    }),
+                    external_nm: 0.1,
+                })))
+            })
+        },
+    );
 }
 
 fn bench_filters(c: &mut Criterion) {
@@ -110,9 +113,10 @@ fn bench_filters(c: &mut Criterion) {
             black_box(ma.update(black_box((n % 1000) as f64 * 0.002253), 1e-3))
         })
     });
-    let mut kf =
-        KalmanEstimator::new(KalmanParams::for_encoder_step(haptic_wheel::THESIS_KA_RAD_PER_UNIT))
-            .unwrap();
+    let mut kf = KalmanEstimator::new(KalmanParams::for_encoder_step(
+        haptic_wheel::THESIS_KA_RAD_PER_UNIT,
+    ))
+    .unwrap();
     g.bench_function("kalman_update", |b| {
         b.iter(|| {
             n += 1;

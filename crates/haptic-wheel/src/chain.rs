@@ -26,13 +26,14 @@ pub struct HapticChainConfig {
 
 impl HapticChainConfig {
     /// Defaults for a wheel whose encoder step is `encoder_step_rad`: default safety, no
-    /// model, passivity on, Kalman estimator tuned to the encoder.
+    /// model, passivity on, Kalman estimator tuned for the haptic loop
+    /// ([`KalmanParams::for_haptic_loop`]).
     pub fn for_encoder_step(encoder_step_rad: f64) -> Self {
         Self {
             safety: SafetyConfig::default(),
             model: None,
             passivity: Some(PassivityParams::default()),
-            estimator: KalmanParams::for_encoder_step(encoder_step_rad),
+            estimator: KalmanParams::for_haptic_loop(encoder_step_rad),
         }
     }
 
@@ -124,6 +125,7 @@ pub struct HapticChain {
     device_max_nm: f64,
     last_ns: Option<u64>,
     state: WheelState,
+    angle_rad: Option<f64>,
 }
 
 impl HapticChain {
@@ -133,15 +135,13 @@ impl HapticChain {
         Ok(Self {
             effects: EffectStack::new(device_max_nm),
             model: config.model,
-            passivity: config
-                .passivity
-                .map(PassivityController::new)
-                .transpose()?,
+            passivity: config.passivity.map(PassivityController::new).transpose()?,
             estimator: KalmanEstimator::new(config.estimator)?,
             supervisor: Supervisor::new(config.safety, device_max_nm)?,
             device_max_nm,
             last_ns: None,
             state: WheelState::default(),
+            angle_rad: None,
         })
     }
 
@@ -192,26 +192,49 @@ impl HapticChain {
             .last_ns
             .map_or(0.0, |t| input.now_ns.saturating_sub(t) as f64 * 1e-9);
         self.last_ns = Some(input.now_ns);
+        let prev = self.state;
         if let Some(r) = input.reading {
             self.state = self.estimator.update(r.angle_rad, dt_s.max(1e-6));
+            if r.angle_rad.is_finite() {
+                self.angle_rad = Some(r.angle_rad);
+            }
         }
         let s = self.state;
         let fx = self.effects.render(input.now_ns, &s);
         let model_nm = self.model.map_or(0.0, |m| m.torque_for(&s));
         let external_nm = input.external_nm;
         let mut requested = fx.torque_nm + model_nm + external_nm;
+        let mut passive = fx.condition_nm + model_nm;
         let (mut damping, mut energy) = (0.0, 0.0);
         if let Some(pc) = &mut self.passivity {
-            let out = pc.step(requested, s.vel_rad_s, dt_s);
-            requested = out.torque_nm;
+            let ceiling = self.supervisor.ceiling_nm();
+            let storage = |st: &WheelState| {
+                self.effects.storage_j(st) + self.model.map_or(0.0, |m| m.storage_j(st, ceiling))
+            };
+            // Storage change from the motion only: both states in today's environment.
+            let d_storage = storage(&s) - storage(&prev);
+            // The quantised reading measures the motion (position-based observer); the
+            // estimate stands in when a read failed.
+            let angle = self.angle_rad.unwrap_or(s.angle_rad);
+            let out = pc.step(requested, angle, s.vel_rad_s, d_storage, dt_s);
             damping = out.damping_nm_s_per_rad;
             energy = out.energy_j;
+            passive += out.torque_nm - requested;
+            requested = out.torque_nm;
         }
         let sup = self
             .supervisor
             .apply(requested, input.now_ns, input.reading.map(|r| r.t_ns));
         if let Some(pc) = &mut self.passivity {
-            pc.commit(sup.torque_nm);
+            // The passive share of what was sent: scaled like the whole request by the soft
+            // start / fade and any clipping (same-sign ratio), the whole request's scale
+            // otherwise.
+            let ratio = if requested.abs() > 1e-9 && sup.torque_nm * requested > 0.0 {
+                (sup.torque_nm / requested).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            pc.commit(passive * ratio);
         }
         TickTelemetry {
             now_ns: input.now_ns,

@@ -49,7 +49,9 @@ pub fn classify(t: &DeviceTraits) -> Option<DeviceClass> {
     let lower = t.name.to_lowercase();
     if t.ff_effects.is_empty()
         && (lower.contains("pedal")
-            || t.abs_axes.iter().any(|a| ["gas", "brake", "throttle"].contains(a))
+            || t.abs_axes
+                .iter()
+                .any(|a| ["gas", "brake", "throttle"].contains(a))
             || (!t.abs_axes.is_empty() && t.abs_axes.iter().all(|a| pedal_axes.contains(a))))
     {
         return Some(DeviceClass::Pedals);
@@ -100,7 +102,8 @@ impl DeviceReport {
         !self.wheels.is_empty()
     }
 
-    fn add(&mut self, d: DeviceInfo) {
+    /// File a device under its class.
+    pub fn add(&mut self, d: DeviceInfo) {
         match d.class {
             DeviceClass::Wheel => self.wheels.push(d),
             DeviceClass::Pedals => self.pedals.push(d),

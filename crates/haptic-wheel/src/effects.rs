@@ -139,12 +139,37 @@ impl Condition {
             return 0.0;
         };
         let f = match self.kind {
-            ConditionKind::Friction => {
-                -coef * (excess / FRICTION_SMOOTHING_RAD_S).clamp(-1.0, 1.0)
-            }
+            ConditionKind::Friction => -coef * (excess / FRICTION_SMOOTHING_RAD_S).clamp(-1.0, 1.0),
             _ => -coef * excess,
         };
         f.clamp(-sat, sat)
+    }
+
+    /// Energy stored in a spring condition at `state`, J: the integral of its restoring
+    /// force from the deadband edge (saturation included). Zero for the other kinds, which
+    /// store nothing (damper, friction) or whose storage is not tracked (inertia). Used by
+    /// the passivity observer so a deflected spring's own energy is not mistaken for
+    /// energy generation.
+    pub fn potential_j(&self, state: &WheelState) -> f64 {
+        if self.kind != ConditionKind::Spring {
+            return 0.0;
+        }
+        let d = state.angle_rad - self.offset;
+        if d > self.deadband {
+            saturated_spring_potential_j(
+                self.positive_coefficient,
+                self.positive_saturation_nm,
+                d - self.deadband,
+            )
+        } else if d < -self.deadband {
+            saturated_spring_potential_j(
+                self.negative_coefficient,
+                self.negative_saturation_nm,
+                -d - self.deadband,
+            )
+        } else {
+            0.0
+        }
     }
 
     fn validate(&self) -> Result<(), EffectError> {
@@ -155,6 +180,22 @@ impl Condition {
         non_negative("negative_saturation_nm", self.negative_saturation_nm)?;
         non_negative("deadband", self.deadband)
     }
+}
+
+/// Potential energy of a spring of stiffness `k` (N·m/rad) whose force saturates at
+/// `sat_nm`, deflected by `x` rad (any sign), J. A negative `k` (a repelling, active spring)
+/// gives a negative potential of the same shape.
+pub fn saturated_spring_potential_j(k: f64, sat_nm: f64, x: f64) -> f64 {
+    let (c, x, s) = (k.abs(), x.abs(), sat_nm.max(0.0));
+    if c == 0.0 {
+        return 0.0;
+    }
+    let p = if c * x <= s {
+        0.5 * c * x * x
+    } else {
+        s * s / (2.0 * c) + s * (x - s / c)
+    };
+    k.signum() * p
 }
 
 /// Periodic waveform shapes. With phase 0 and `p = (t/T) mod 1`, each shape's unit wave is:
@@ -452,6 +493,10 @@ pub struct EffectOutput {
     pub clipped: bool,
     /// How many effects contributed this tick.
     pub active: u8,
+    /// The condition effects' share of the sum (before the clamp), N·m: the passive part of
+    /// the environment the passivity controller watches. Constant, ramp and periodic forces
+    /// are intentional sources and are bounded by the safety clamp instead.
+    pub condition_nm: f64,
 }
 
 /// A fixed-capacity set of effects, rendered by summing every playing effect, applying the
@@ -574,6 +619,7 @@ impl EffectStack {
     /// gain, one clamp. Effects whose duration has passed stop.
     pub fn render(&mut self, now_ns: u64, state: &WheelState) -> EffectOutput {
         let mut sum = 0.0;
+        let mut condition_nm = 0.0;
         let mut active = 0u8;
         for s in &mut self.slots {
             let Some(effect) = &s.effect else { continue };
@@ -590,17 +636,42 @@ impl EffectStack {
                 s.playback = Playback::Stopped;
                 continue;
             }
-            sum += effect.torque_nm(elapsed_s, state);
+            let f = effect.torque_nm(elapsed_s, state);
+            if matches!(effect.kind, EffectKind::Condition(_)) {
+                condition_nm += f;
+            }
+            sum += f;
             active += 1;
         }
         let want = self.gain * sum;
         let want = if want.is_finite() { want } else { 0.0 };
         let torque_nm = want.clamp(-self.limit_nm, self.limit_nm);
+        let condition_nm = self.gain * condition_nm;
         EffectOutput {
             torque_nm,
             clipped: torque_nm != want,
             active,
+            condition_nm: if condition_nm.is_finite() {
+                condition_nm
+            } else {
+                0.0
+            },
         }
+    }
+
+    /// Energy stored in the playing spring conditions at `state`, J (gains applied); see
+    /// [`Condition::potential_j`]. Reflects the playback state of the last render.
+    pub fn storage_j(&self, state: &WheelState) -> f64 {
+        self.slots
+            .iter()
+            .filter(|s| matches!(s.playback, Playback::Playing { .. }))
+            .filter_map(|s| s.effect.as_ref())
+            .map(|e| match &e.kind {
+                EffectKind::Condition(c) => e.gain * c.potential_j(state),
+                _ => 0.0,
+            })
+            .sum::<f64>()
+            * self.gain
     }
 }
 

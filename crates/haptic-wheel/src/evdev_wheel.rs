@@ -96,12 +96,12 @@ impl EvdevWheelConfig {
                 self.effect_length_ms
             )));
         }
-        if let Some(r) = self.update_rate_hz {
-            if !(r.is_finite() && r > 0.0 && r <= 10_000.0) {
-                return Err(WheelError::InvalidConfig(format!(
-                    "evdev.update_rate_hz = {r}, allowed (0, 10000]"
-                )));
-            }
+        if let Some(r) = self.update_rate_hz
+            && !(r.is_finite() && r > 0.0 && r <= 10_000.0)
+        {
+            return Err(WheelError::InvalidConfig(format!(
+                "evdev.update_rate_hz = {r}, allowed (0, 10000]"
+            )));
         }
         if let Some(p) = &self.profile {
             p.validate()?;
@@ -276,7 +276,9 @@ impl EvdevWheel {
         let centre = 0.5 * (f64::from(info.maximum()) + f64::from(info.minimum()));
         let rate = config
             .update_rate_hz
-            .map_or(profile.max_update_rate_hz, |r| r.min(profile.max_update_rate_hz));
+            .map_or(profile.max_update_rate_hz, |r| {
+                r.min(profile.max_update_rate_hz)
+            });
         let firmware_conditions = traits.ff_effects.contains(&"spring");
         if traits.ff_effects.contains(&"gain") {
             dev.set_ff_gain(config.gain)
@@ -308,13 +310,12 @@ impl EvdevWheel {
 
     /// Open the first wheel found.
     pub fn open_first(config: EvdevWheelConfig) -> Result<Self, WheelError> {
-        let path = find_wheels()
-            .into_iter()
-            .next()
-            .ok_or_else(|| WheelError::Disconnected(format!(
+        let path = find_wheels().into_iter().next().ok_or_else(|| {
+            WheelError::Disconnected(format!(
                 "no force-feedback wheel could be opened; {}",
                 crate::devices::UDEV_HINT
-            )))?;
+            ))
+        })?;
         Self::open(&path, config)
     }
 
@@ -341,7 +342,10 @@ impl EvdevWheel {
         self.level = level;
         self.last_update = Some(now);
         let rearm = Duration::from_millis(u64::from(len) / 2);
-        if self.last_play.is_none_or(|t| now.duration_since(t) >= rearm) {
+        if self
+            .last_play
+            .is_none_or(|t| now.duration_since(t) >= rearm)
+        {
             self.constant.play(1).map_err(|e| io_err(&self.name, e))?;
             for c in &mut self.conditions {
                 c.play(1).map_err(|e| io_err(&self.name, e))?;
@@ -362,7 +366,9 @@ impl EvdevWheel {
             reason: reason.to_string(),
         };
         if !self.firmware_conditions {
-            return Err(unsupported("the driver offers no firmware condition effects"));
+            return Err(unsupported(
+                "the driver offers no firmware condition effects",
+            ));
         }
         if !(budget_nm.is_finite() && budget_nm >= 0.0) {
             return Err(WheelError::InvalidConfig(format!(
@@ -508,7 +514,9 @@ impl Wheel for EvdevWheel {
 impl Drop for EvdevWheel {
     fn drop(&mut self) {
         // Best effort: the device may already be gone, and a gone device applies no torque.
-        let _ = self.constant.update(constant_data(0, self.config.effect_length_ms));
+        let _ = self
+            .constant
+            .update(constant_data(0, self.config.effect_length_ms));
         let _ = self.constant.stop();
         self.conditions.clear();
         let _ = self.dev.set_ff_gain(u16::MAX);
@@ -526,12 +534,22 @@ mod tests {
             effect_length_ms: 5,
             ..Default::default()
         };
-        assert!(c.validate().unwrap_err().to_string().contains("effect_length_ms"));
+        assert!(
+            c.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("effect_length_ms")
+        );
         let c = EvdevWheelConfig {
             update_rate_hz: Some(f64::NAN),
             ..Default::default()
         };
-        assert!(c.validate().unwrap_err().to_string().contains("update_rate_hz"));
+        assert!(
+            c.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("update_rate_hz")
+        );
         EvdevWheelConfig::default().validate().unwrap();
     }
 

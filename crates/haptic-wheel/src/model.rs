@@ -58,6 +58,16 @@ impl SpringDamper {
         Ok(())
     }
 
+    /// Energy stored in the model at `state`, J: the spring's potential (its force capped at
+    /// `ceiling_nm`, as the safety clamp caps it) plus the virtual inertia's kinetic energy.
+    pub fn storage_j(&self, state: &WheelState, ceiling_nm: f64) -> f64 {
+        crate::effects::saturated_spring_potential_j(
+            self.k_nm_per_rad,
+            ceiling_nm,
+            state.angle_rad - self.centre_rad,
+        ) + 0.5 * self.i_kg_m2 * state.vel_rad_s * state.vel_rad_s
+    }
+
     /// Motor torque for a wheel state, N·m (see [`SpringDamper::torque_nm`]).
     pub fn torque_for(&self, s: &WheelState) -> f64 {
         self.torque_nm(s.angle_rad, s.vel_rad_s, s.acc_rad_s2)
@@ -75,7 +85,10 @@ impl SpringDamper {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct PassivityParams {
-    /// Largest adaptive damping the controller may add, N·m·s/rad.
+    /// Largest adaptive damping the controller may add, N·m·s/rad. The damper acts through
+    /// the same delay as everything else: keep `max · delay / wheel inertia` well below 1
+    /// (0.5 N·m·s/rad · 5 ms / 0.02 kg·m² = 0.125). A cap of 2 turned the stiff-spring
+    /// test case into a limit cycle of its own.
     pub max_damping_nm_s_per_rad: f64,
     /// Below this speed the controller adds no damping (α = −E/(T·v²) explodes near v = 0
     /// and quantised velocity there is mostly noise), rad/s.
@@ -137,12 +150,16 @@ pub struct PassivityOutput {
 }
 
 /// Hannaford–Ryu time-domain passivity observer and controller (IEEE T-RA 2002) at the
-/// impedance port of the wheel.
+/// impedance port of the wheel, for the passive part of the rendered environment (the
+/// eq. 3.5 model and the condition effects).
 ///
-/// Observer: `E[n] = Σ −τ_port[k]·v[k]·T`, the energy flowing into the virtual environment,
-/// where `τ_port` is the torque acting on the wheel during tick `k` (sent
-/// `1 + port_delay_ticks` ticks earlier, so the delay's energy leak is seen). A passive
-/// environment keeps `E ≥ 0`.
+/// Observer: `E[n] = Σ (−τ_port[k]·Δθ[k] − ΔU[k])`, the energy the environment has
+/// dissipated. `τ_port` is the passive torque acting on the wheel during tick `k` (sent
+/// `1 + port_delay_ticks` ticks earlier, so the delay's energy leak is seen), `Δθ` the
+/// measured angle change over the tick (position-based: no velocity-estimator lag in the
+/// energy), and `ΔU` the change of the environment's own stored energy (spring potential,
+/// virtual inertia) caused by the motion. A passive environment keeps `E ≥ 0`; a
+/// deflected spring releasing its own energy is not counted as generation.
 ///
 /// Controller: when `E` plus the dissipation already sent but not yet acting is negative,
 /// add a damper `α = −E/(T·v²)` to the outgoing torque, capped at
@@ -158,6 +175,7 @@ pub struct PassivityController {
     sent: [(f64, f64); PORT_HISTORY],
     next: usize,
     credit_j: f64,
+    last_angle_rad: Option<f64>,
 }
 
 impl PassivityController {
@@ -171,6 +189,7 @@ impl PassivityController {
             sent: [(0.0, 0.0); PORT_HISTORY],
             next: 0,
             credit_j: 0.0,
+            last_angle_rad: None,
         })
     }
 
@@ -186,13 +205,29 @@ impl PassivityController {
         self.sent = [(0.0, 0.0); PORT_HISTORY];
         self.next = 0;
         self.credit_j = 0.0;
+        self.last_angle_rad = None;
     }
 
     /// Observe the last tick and damp `torque_nm` if the environment has gone active.
-    /// `vel_rad_s` is the estimated wheel velocity, `dt_s` the tick length. Non-finite
-    /// inputs observe nothing and pass the torque through (the limiter rejects it).
-    pub fn step(&mut self, torque_nm: f64, vel_rad_s: f64, dt_s: f64) -> PassivityOutput {
-        if !(vel_rad_s.is_finite() && dt_s.is_finite() && dt_s > 0.0) {
+    /// `angle_rad` is the measured angle, `vel_rad_s` the estimated velocity,
+    /// `storage_change_j` the change of the environment's stored energy due to the motion
+    /// over the tick (its storage at the new state minus at the old, same environment), and
+    /// `dt_s` the tick length. Non-finite inputs observe nothing and pass the torque through
+    /// (the limiter rejects it).
+    pub fn step(
+        &mut self,
+        torque_nm: f64,
+        angle_rad: f64,
+        vel_rad_s: f64,
+        storage_change_j: f64,
+        dt_s: f64,
+    ) -> PassivityOutput {
+        if !(angle_rad.is_finite()
+            && vel_rad_s.is_finite()
+            && storage_change_j.is_finite()
+            && dt_s.is_finite()
+            && dt_s > 0.0)
+        {
             return PassivityOutput {
                 torque_nm,
                 damping_nm_s_per_rad: 0.0,
@@ -203,7 +238,9 @@ impl PassivityController {
         let back = 1 + self.params.port_delay_ticks;
         let idx = (self.next + PORT_HISTORY - back) % PORT_HISTORY;
         let (port_nm, credit_j) = self.sent[idx];
-        self.energy_j += -port_nm * vel_rad_s * dt_s;
+        let d_angle = self.last_angle_rad.map_or(0.0, |a| angle_rad - a);
+        self.last_angle_rad = Some(angle_rad);
+        self.energy_j += -port_nm * d_angle - storage_change_j;
         self.pending_j = (self.pending_j - credit_j).max(0.0);
 
         let expected = self.energy_j + self.pending_j;
@@ -221,7 +258,8 @@ impl PassivityController {
         }
     }
 
-    /// Record the torque actually sent to the wheel this tick, N·m.
+    /// Record the passive torque actually sent to the wheel this tick, N·m (the
+    /// environment's share of what left the safety chain).
     pub fn commit(&mut self, sent_nm: f64) {
         let sent = if sent_nm.is_finite() { sent_nm } else { 0.0 };
         self.pending_j += self.credit_j;

@@ -233,7 +233,11 @@ impl DeviceProfile {
         pos("kt_nm_per_unit", self.kt_nm_per_unit, 0.01)?;
         pos("max_torque_nm", self.max_torque_nm, 30.0)?;
         pos("torque_step_nm", self.torque_step_nm, self.max_torque_nm)?;
-        pos("half_range_rad", self.half_range_rad, 4.0 * std::f64::consts::PI)?;
+        pos(
+            "half_range_rad",
+            self.half_range_rad,
+            4.0 * std::f64::consts::PI,
+        )?;
         pos("max_update_rate_hz", self.max_update_rate_hz, 10_000.0)?;
         pos(
             "full_scale_velocity_rad_s",
@@ -336,7 +340,12 @@ mod tests {
             torque_sign: 0.5,
             ..DeviceProfile::thesis_sidewinder()
         };
-        assert!(p.validate().unwrap_err().to_string().contains("torque_sign"));
+        assert!(
+            p.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("torque_sign")
+        );
     }
 
     #[test]

@@ -125,12 +125,12 @@ impl SafetyConfig {
                 "device max torque {device_max_nm} N·m is not a positive number"
             )));
         }
-        if let Some(c) = self.ceiling_nm {
-            if !(c.is_finite() && (0.0..=device_max_nm).contains(&c)) {
-                return Err(WheelError::InvalidConfig(format!(
-                    "safety.ceiling_nm = {c}, allowed [0, {device_max_nm}] (the device maximum)"
-                )));
-            }
+        if let Some(c) = self.ceiling_nm
+            && !(c.is_finite() && (0.0..=device_max_nm).contains(&c))
+        {
+            return Err(WheelError::InvalidConfig(format!(
+                "safety.ceiling_nm = {c}, allowed [0, {device_max_nm}] (the device maximum)"
+            )));
         }
         check("slew_nm_per_s", self.slew_nm_per_s, 0.0, 10_000.0)?;
         check("soft_start_s", self.soft_start_s, 0.0, 60.0)?;
@@ -231,7 +231,11 @@ impl Supervisor {
 
     /// Lower or raise the per-patient ceiling at run time, never above `device_max_nm`.
     /// Takes effect on the next tick (a lower ceiling at once, not slewed).
-    pub fn set_ceiling_nm(&mut self, ceiling_nm: f64, device_max_nm: f64) -> Result<(), WheelError> {
+    pub fn set_ceiling_nm(
+        &mut self,
+        ceiling_nm: f64,
+        device_max_nm: f64,
+    ) -> Result<(), WheelError> {
         let cfg = SafetyConfig {
             ceiling_nm: Some(ceiling_nm),
             ..self.cfg
@@ -256,7 +260,12 @@ impl Supervisor {
 
     /// Supervise `requested_nm` at `now_ns` given the timestamp of the wheel reading used
     /// this tick (`None` if the read failed). Returns the torque to send.
-    pub fn apply(&mut self, requested_nm: f64, now_ns: u64, reading_t_ns: Option<u64>) -> Supervised {
+    pub fn apply(
+        &mut self,
+        requested_nm: f64,
+        now_ns: u64,
+        reading_t_ns: Option<u64>,
+    ) -> Supervised {
         let gap_s = self
             .last_tick_ns
             .map_or(0.0, |t| now_ns.saturating_sub(t) as f64 * 1e-9);
@@ -303,7 +312,11 @@ impl Supervisor {
             }
         };
         let rejected = !requested_nm.is_finite();
-        let want = if rejected { 0.0 } else { requested_nm * self.scale };
+        let want = if rejected {
+            0.0
+        } else {
+            requested_nm * self.scale
+        };
         // The slew limit uses the nominal-capped dt, so a stall never allows a big step.
         let out = if state == WatchdogState::Stopped {
             self.limiter.last_nm = 0.0;

@@ -83,14 +83,38 @@ impl SimWheelParams {
             }
         };
         check("inertia_kg_m2", self.inertia_kg_m2, 0.0, 10.0, true)?;
-        check("viscous_nm_s_per_rad", self.viscous_nm_s_per_rad, 0.0, 10.0, false)?;
+        check(
+            "viscous_nm_s_per_rad",
+            self.viscous_nm_s_per_rad,
+            0.0,
+            10.0,
+            false,
+        )?;
         check("coulomb_nm", self.coulomb_nm, 0.0, 10.0, false)?;
         check("encoder_step_rad", self.encoder_step_rad, 0.0, 1.0, false)?;
         check("torque_step_nm", self.torque_step_nm, 0.0, 1.0, false)?;
         check("max_torque_nm", self.max_torque_nm, 0.0, 30.0, true)?;
-        check("range_rad", self.range_rad, 0.0, 4.0 * std::f64::consts::PI, true)?;
-        check("end_stop_k_nm_per_rad", self.end_stop_k_nm_per_rad, 0.0, 1.0e4, false)?;
-        check("end_stop_b_nm_s_per_rad", self.end_stop_b_nm_s_per_rad, 0.0, 100.0, false)?;
+        check(
+            "range_rad",
+            self.range_rad,
+            0.0,
+            4.0 * std::f64::consts::PI,
+            true,
+        )?;
+        check(
+            "end_stop_k_nm_per_rad",
+            self.end_stop_k_nm_per_rad,
+            0.0,
+            1.0e4,
+            false,
+        )?;
+        check(
+            "end_stop_b_nm_s_per_rad",
+            self.end_stop_b_nm_s_per_rad,
+            0.0,
+            100.0,
+            false,
+        )?;
         let max_delay = (DELAY_SLOTS as f64 - 1.0) * 1e-3 / 2.0;
         check("usb_delay_s", self.usb_delay_s, 0.0, max_delay, false)?;
         check("usb_jitter_s", self.usb_jitter_s, 0.0, max_delay, false)?;
@@ -370,7 +394,10 @@ mod tests {
             seen.push(w.motor_torque_nm());
         }
         assert!(seen.windows(2).all(|p| p[1] >= p[0]));
-        assert!(seen[499] > 0.48, "latest command arrives within the delay bound");
+        assert!(
+            seen[499] > 0.48,
+            "latest command arrives within the delay bound"
+        );
     }
 
     #[test]
@@ -415,7 +442,12 @@ mod tests {
             inertia_kg_m2: 0.0,
             ..Default::default()
         };
-        assert!(p.validate().unwrap_err().to_string().contains("inertia_kg_m2"));
+        assert!(
+            p.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("inertia_kg_m2")
+        );
         SimWheelParams::default().validate().unwrap();
         SimWheelParams::thesis_raw_encoder().validate().unwrap();
     }

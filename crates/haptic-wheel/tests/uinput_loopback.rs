@@ -146,14 +146,16 @@ fn backend_streams_constant_force_and_uploads_conditions_to_a_virtual_wheel() {
     // Angle: G29 sign convention (device right = negative), 900° over the axis range.
     let r = wheel.read().unwrap();
     let expected = g29.angle_sign * 2.0 * g29.half_range_rad / 65535.0 * (16384.0 + 0.5);
-    assert!((r.angle_rad - expected).abs() < 1e-9, "{} vs {expected}", r.angle_rad);
+    assert!(
+        (r.angle_rad - expected).abs() < 1e-9,
+        "{} vs {expected}",
+        r.angle_rad
+    );
 
     // Stream 1 kHz commands for 200 ms; the backend throttles to 500 Hz.
     let start = Instant::now();
     for k in 0..200 {
-        wheel
-            .command_torque(0.5 * (k as f64 * 0.05).sin())
-            .unwrap();
+        wheel.command_torque(0.5 * (k as f64 * 0.05).sin()).unwrap();
         std::thread::sleep(Duration::from_millis(1));
     }
     let streamed = start.elapsed();
@@ -188,9 +190,16 @@ fn backend_streams_constant_force_and_uploads_conditions_to_a_virtual_wheel() {
             _ => None,
         })
         .collect();
-    assert!(constants.len() > 10, "torque was streamed: {}", constants.len());
+    assert!(
+        constants.len() > 10,
+        "torque was streamed: {}",
+        constants.len()
+    );
     let id = constants[0].0;
-    assert!(constants.iter().all(|c| c.0 == id), "one effect id, re-uploaded");
+    assert!(
+        constants.iter().all(|c| c.0 == id),
+        "one effect id, re-uploaded"
+    );
     assert!(constants.iter().all(|c| c.2 == 100), "short replay length");
     let max_updates = (streamed.as_secs_f64() / 0.002).ceil() as usize + 4;
     assert!(

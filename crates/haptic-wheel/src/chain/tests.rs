@@ -18,7 +18,7 @@ fn chain(model: Option<SpringDamper>, passivity: Option<PassivityParams>) -> Hap
         },
         model,
         passivity,
-        estimator: KalmanParams::for_encoder_step(crate::THESIS_KA_RAD_PER_UNIT),
+        estimator: KalmanParams::for_haptic_loop(crate::THESIS_KA_RAD_PER_UNIT),
     };
     HapticChain::new(cfg, crate::THESIS_WHEEL_MAX_TORQUE_NM).unwrap()
 }
@@ -83,18 +83,30 @@ fn stiff_spring_on_a_delayed_wheel_oscillates_without_passivity_and_settles_with
     let last_s = 3000..4000;
     let amp_off = peak_abs(&ang_off[last_s.clone()]);
     let amp_on = peak_abs(&ang_on[last_s.clone()]);
-    let torque_off = peak_abs(&tel_off[last_s.clone()].iter().map(|t| t.torque_nm).collect::<Vec<_>>());
+    let torque_off = peak_abs(
+        &tel_off[last_s.clone()]
+            .iter()
+            .map(|t| t.torque_nm)
+            .collect::<Vec<_>>(),
+    );
     println!(
         "last second: without passivity peak angle {amp_off:.4} rad, peak torque {torque_off:.3} N·m; \
          with passivity peak angle {amp_on:.5} rad, min observed energy {:.4} J",
-        tel_on.iter().map(|t| t.passivity_energy_j).fold(f64::INFINITY, f64::min)
+        tel_on
+            .iter()
+            .map(|t| t.passivity_energy_j)
+            .fold(f64::INFINITY, f64::min)
     );
     // Without the controller the oscillation does not decay: a limit cycle at least as large
     // as the release (growing energy until the torque ceiling caps it).
     assert!(amp_off >= 0.05, "no sustained oscillation: {amp_off}");
     // With it, the wheel comes to rest within a few encoder steps of the centre.
     assert!(amp_on < 0.01, "not stabilised: {amp_on}");
-    assert!(tel_on.iter().any(|t| t.passivity_damping_nm_s_per_rad > 0.0));
+    assert!(
+        tel_on
+            .iter()
+            .any(|t| t.passivity_damping_nm_s_per_rad > 0.0)
+    );
 }
 
 #[test]
@@ -114,8 +126,15 @@ fn soft_spring_is_left_alone_by_the_passivity_controller() {
         .iter()
         .filter(|t| t.passivity_damping_nm_s_per_rad > 0.0)
         .count();
-    assert!(damped_ticks < 40, "controller active on {damped_ticks} ticks");
-    assert!(ang[3999].abs() < 0.05, "spring returns the wheel to centre: {}", ang[3999]);
+    assert!(
+        damped_ticks < 40,
+        "controller active on {damped_ticks} ticks"
+    );
+    assert!(
+        ang[3999].abs() < 0.05,
+        "spring returns the wheel to centre: {}",
+        ang[3999]
+    );
 }
 
 #[test]
@@ -196,25 +215,53 @@ fn any_effect() -> impl Strategy<Value = Effect> {
         Just(ConditionKind::Inertia),
     ];
     let kind = prop_oneof![
-        (cond_kind, -1.0f64..1.0, -100.0f64..100.0, -100.0f64..100.0, 0.0f64..20.0, 0.0f64..20.0, 0.0f64..0.5)
-            .prop_map(|(kind, offset, pc, nc, ps, ns, deadband)| EffectKind::Condition(Condition {
-                kind,
-                offset,
-                positive_coefficient: pc,
-                negative_coefficient: nc,
-                positive_saturation_nm: ps,
-                negative_saturation_nm: ns,
-                deadband,
-            })),
+        (
+            cond_kind,
+            -1.0f64..1.0,
+            -100.0f64..100.0,
+            -100.0f64..100.0,
+            0.0f64..20.0,
+            0.0f64..20.0,
+            0.0f64..0.5
+        )
+            .prop_map(
+                |(kind, offset, pc, nc, ps, ns, deadband)| EffectKind::Condition(Condition {
+                    kind,
+                    offset,
+                    positive_coefficient: pc,
+                    negative_coefficient: nc,
+                    positive_saturation_nm: ps,
+                    negative_saturation_nm: ns,
+                    deadband,
+                })
+            ),
         (-20.0f64..20.0).prop_map(|level_nm| EffectKind::Constant { level_nm }),
-        (-20.0f64..20.0, -20.0f64..20.0).prop_map(|(start_nm, end_nm)| EffectKind::Ramp { start_nm, end_nm }),
-        (waveform, -20.0f64..20.0, -5.0f64..5.0, -7.0f64..7.0, 0.001f64..2.0).prop_map(
-            |(waveform, magnitude_nm, offset_nm, phase_rad, period_s)| {
-                EffectKind::Periodic(Periodic { waveform, magnitude_nm, offset_nm, phase_rad, period_s })
-            }
-        ),
+        (-20.0f64..20.0, -20.0f64..20.0)
+            .prop_map(|(start_nm, end_nm)| EffectKind::Ramp { start_nm, end_nm }),
+        (
+            waveform,
+            -20.0f64..20.0,
+            -5.0f64..5.0,
+            -7.0f64..7.0,
+            0.001f64..2.0
+        )
+            .prop_map(|(waveform, magnitude_nm, offset_nm, phase_rad, period_s)| {
+                EffectKind::Periodic(Periodic {
+                    waveform,
+                    magnitude_nm,
+                    offset_nm,
+                    phase_rad,
+                    period_s,
+                })
+            }),
     ];
-    (kind, proptest::option::of((0.0f64..20.0, 0.0f64..0.5, 0.0f64..20.0, 0.0f64..0.5)), 0.0f64..0.2, 0.01f64..2.0, 0.0f64..=1.0)
+    (
+        kind,
+        proptest::option::of((0.0f64..20.0, 0.0f64..0.5, 0.0f64..20.0, 0.0f64..0.5)),
+        0.0f64..0.2,
+        0.01f64..2.0,
+        0.0f64..=1.0,
+    )
         .prop_map(|(kind, env, start_delay_s, duration, gain)| Effect {
             kind,
             envelope: env.map(|(al, at, fl, ft)| Envelope {
@@ -230,14 +277,16 @@ fn any_effect() -> impl Strategy<Value = Effect> {
 }
 
 fn any_model() -> impl Strategy<Value = Option<SpringDamper>> {
-    proptest::option::of((0.0f64..200.0, 0.0f64..10.0, 0.0f64..1.0, -3.0f64..3.0).prop_map(
-        |(k, b, i, c)| SpringDamper {
-            k_nm_per_rad: k,
-            b_nm_s_per_rad: b,
-            i_kg_m2: i,
-            centre_rad: c,
-        },
-    ))
+    proptest::option::of(
+        (0.0f64..200.0, 0.0f64..10.0, 0.0f64..1.0, -3.0f64..3.0).prop_map(|(k, b, i, c)| {
+            SpringDamper {
+                k_nm_per_rad: k,
+                b_nm_s_per_rad: b,
+                i_kg_m2: i,
+                centre_rad: c,
+            }
+        }),
+    )
 }
 
 proptest! {
@@ -258,7 +307,7 @@ proptest! {
             safety: SafetyConfig { ceiling_nm: Some(ceiling), soft_start_s: 0.01, ..Default::default() },
             model,
             passivity: passivity.then(PassivityParams::default),
-            estimator: KalmanParams::for_encoder_step(crate::THESIS_KA_RAD_PER_UNIT),
+            estimator: KalmanParams::for_haptic_loop(crate::THESIS_KA_RAD_PER_UNIT),
         };
         let slew = cfg.safety.slew_nm_per_s;
         let mut c = HapticChain::new(cfg, crate::THESIS_WHEEL_MAX_TORQUE_NM).unwrap();

@@ -55,7 +55,11 @@ fn damper_opposes_velocity_linearly_and_saturates() {
         vel_rad_s: 0.1,
         acc_rad_s2: 50.0,
     };
-    assert_eq!(c.torque_nm(&at_offset), 0.0, "damper ignores angle and acceleration");
+    assert_eq!(
+        c.torque_nm(&at_offset),
+        0.0,
+        "damper ignores angle and acceleration"
+    );
     assert_abs_diff_eq!(c.torque_nm(&at_vel(0.45)), -0.6, epsilon = 1e-12);
     assert_abs_diff_eq!(c.torque_nm(&at_vel(-0.15)), 0.1, epsilon = 1e-12);
     assert_abs_diff_eq!(c.torque_nm(&at_vel(100.0)), -1.0, epsilon = 1e-12);
@@ -181,7 +185,10 @@ fn periodic_waveforms_match_their_definitions() {
     let s2 = std::f64::consts::FRAC_1_SQRT_2;
     let cases: [(Waveform, [f64; 8]); 5] = [
         (Waveform::Sine, [0.0, s2, 1.0, s2, 0.0, -s2, -1.0, -s2]),
-        (Waveform::Square, [1.0, 1.0, 1.0, 1.0, -1.0, -1.0, -1.0, -1.0]),
+        (
+            Waveform::Square,
+            [1.0, 1.0, 1.0, 1.0, -1.0, -1.0, -1.0, -1.0],
+        ),
         (
             Waveform::Triangle,
             [0.0, 0.5, 1.0, 0.5, 0.0, -0.5, -1.0, -0.5],
@@ -211,7 +218,11 @@ fn periodic_phase_shifts_the_wave_and_envelope_scales_only_the_magnitude() {
         p.phase_rad = std::f64::consts::FRAC_PI_2;
     }
     // A quarter-cycle phase turns the sine into a cosine.
-    assert_abs_diff_eq!(e.torque_nm(0.0, &WheelState::default()), 0.9, epsilon = 1e-12);
+    assert_abs_diff_eq!(
+        e.torque_nm(0.0, &WheelState::default()),
+        0.9,
+        epsilon = 1e-12
+    );
     e.envelope = Some(Envelope {
         attack_level_nm: 0.0,
         attack_time_s: 0.1,
@@ -219,11 +230,19 @@ fn periodic_phase_shifts_the_wave_and_envelope_scales_only_the_magnitude() {
         fade_time_s: 0.0,
     });
     // At t = 0 the magnitude is the attack level 0: only the offset remains.
-    assert_abs_diff_eq!(e.torque_nm(0.0, &WheelState::default()), 0.1, epsilon = 1e-12);
+    assert_abs_diff_eq!(
+        e.torque_nm(0.0, &WheelState::default()),
+        0.1,
+        epsilon = 1e-12
+    );
     // At t = 0.025 (a quarter of the attack) the magnitude is 0.2, and the wave is at
     // cycle fraction 0.125 + 0.25: sin(0.75π) = 1/√2.
     let expected = 0.1 + 0.2 * std::f64::consts::FRAC_1_SQRT_2;
-    assert_abs_diff_eq!(e.torque_nm(0.025, &WheelState::default()), expected, epsilon = 1e-9);
+    assert_abs_diff_eq!(
+        e.torque_nm(0.025, &WheelState::default()),
+        expected,
+        epsilon = 1e-9
+    );
 }
 
 #[test]
@@ -307,7 +326,11 @@ fn toolbox_units_convert_with_the_thesis_scales() {
         &p,
     )
     .unwrap();
-    assert_abs_diff_eq!(e.torque_nm(0.0, &WheelState::default()), 1.873, epsilon = 1e-12);
+    assert_abs_diff_eq!(
+        e.torque_nm(0.0, &WheelState::default()),
+        1.873,
+        epsilon = 1e-12
+    );
     // eff3 = effect('inf', [], 'spring', [0 5000 5000 5000 5000 0]): half coefficient gives
     // half of full force at full deflection, saturating at half force.
     let e = to_effect(
