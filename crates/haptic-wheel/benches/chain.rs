@@ -104,6 +104,13 @@ fn bench_chain(c: &mut Criterion) {
 }
 
 fn bench_filters(c: &mut Criterion) {
+    // Accuracy side by side (deterministic; printed once, not timed).
+    for step in [haptic_wheel::THESIS_KA_RAD_PER_UNIT, 0.1] {
+        match haptic_wheel::filter::compare_on_sim_wheel(step, 10.0) {
+            Ok(cmp) => print!("{cmp}"),
+            Err(e) => eprintln!("comparison failed: {e}"),
+        }
+    }
     let mut g = c.benchmark_group("filters");
     let mut ma = MovingAverage::thesis();
     let mut n = 0u64;

@@ -239,7 +239,29 @@ impl EvdevWheel {
     pub fn open(path: &Path, config: EvdevWheelConfig) -> Result<Self, WheelError> {
         config.validate()?;
         let name_of = path.display().to_string();
-        let mut dev = RawDevice::open(path).map_err(|e| io_err(&name_of, e))?;
+        // Read-write: force feedback is written to the node (evdev's own `open` would fall
+        // back to read-only and fail later, less clearly).
+        let file = std::fs::OpenOptions::new()
+            .read(true)
+            .write(true)
+            .open(path)
+            .map_err(|e| {
+                if e.kind() == std::io::ErrorKind::PermissionDenied {
+                    io_err(
+                        &name_of,
+                        std::io::Error::new(
+                            e.kind(),
+                            format!(
+                                "{e}; driving force feedback needs write access: {}",
+                                crate::devices::UDEV_HINT
+                            ),
+                        ),
+                    )
+                } else {
+                    io_err(&name_of, e)
+                }
+            })?;
+        let mut dev = RawDevice::from_fd(file.into()).map_err(|e| io_err(&name_of, e))?;
         let traits = traits_of(&dev);
         if classify(&traits) != Some(DeviceClass::Wheel) {
             return Err(WheelError::Unsupported {

@@ -46,21 +46,17 @@ impl MovingAverage {
                 "moving_average.len = {len}, allowed [1, 100000]"
             )));
         }
-        Ok(Self {
-            window: vec![0.0; len].into_boxed_slice(),
-            next: 0,
-            filled: 0,
-            sum: 0.0,
-            carry: 0.0,
-            prev: None,
-            acc: 0.0,
-        })
+        Ok(Self::with_len(len))
     }
 
     /// The thesis filter, M = 175.
     pub fn thesis() -> Self {
+        Self::with_len(THESIS_MOVING_AVERAGE_LEN)
+    }
+
+    fn with_len(len: usize) -> Self {
         Self {
-            window: vec![0.0; THESIS_MOVING_AVERAGE_LEN].into_boxed_slice(),
+            window: vec![0.0; len].into_boxed_slice(),
             next: 0,
             filled: 0,
             sum: 0.0,
@@ -371,23 +367,23 @@ impl std::fmt::Display for VelocityComparison {
 /// Run the simulated wheel at 1 kHz for `seconds` with a patient-like hand (PD tracking of a
 /// 0.5 Hz, 0.6 rad sine: thesis Appendix E's tracking task), quantised to
 /// `encoder_step_rad`, and compare both estimators' velocity with the true velocity
-/// (first second skipped as start-up). Deterministic (fixed seed).
-pub fn compare_on_sim_wheel(encoder_step_rad: f64, seconds: f64) -> VelocityComparison {
+/// (first second skipped as start-up). Deterministic (fixed seed). Errors name an
+/// out-of-range encoder step.
+pub fn compare_on_sim_wheel(
+    encoder_step_rad: f64,
+    seconds: f64,
+) -> Result<VelocityComparison, WheelError> {
     use crate::{SimWheel, SimWheelParams, Wheel};
-    let mut w = SimWheel::new(SimWheelParams {
+    let params = SimWheelParams {
         encoder_step_rad,
         ..Default::default()
-    });
+    };
+    params.validate()?;
+    let mut w = SimWheel::new(params);
     let dt = 1e-3;
     let n = (seconds / dt) as usize;
     let mut ma = MovingAverage::thesis();
-    let kp = KalmanParams::for_encoder_step(encoder_step_rad);
-    let mut kf = KalmanEstimator {
-        params: kp,
-        x: [0.0; 3],
-        p: [[0.0; 3]; 3],
-        started: false,
-    };
+    let mut kf = KalmanEstimator::new(KalmanParams::for_encoder_step(encoder_step_rad))?;
     let (mut v_ma, mut v_kf, mut truth) = (
         Vec::with_capacity(n),
         Vec::with_capacity(n),
@@ -406,11 +402,11 @@ pub fn compare_on_sim_wheel(encoder_step_rad: f64, seconds: f64) -> VelocityComp
         truth.push(w.true_velocity_rad_s());
     }
     let skip = 1000.min(n);
-    VelocityComparison {
+    Ok(VelocityComparison {
         encoder_step_rad,
         moving_average: velocity_tracking(&v_ma[skip..], &truth[skip..], 400),
         kalman: velocity_tracking(&v_kf[skip..], &truth[skip..], 400),
-    }
+    })
 }
 
 #[cfg(test)]
@@ -494,7 +490,7 @@ mod tests {
     #[test]
     fn kalman_tracks_true_velocity_with_less_error_and_lag_than_the_thesis_filter() {
         for step in [crate::THESIS_KA_RAD_PER_UNIT, 0.1] {
-            let c = compare_on_sim_wheel(step, 10.0);
+            let c = compare_on_sim_wheel(step, 10.0).unwrap();
             println!("{c}");
             let (fm, fk) = (c.moving_average, c.kalman);
             // The thesis filter lags by about (M − 1)/2 = 87 samples.
