@@ -115,6 +115,37 @@ impl TickTelemetry {
 /// 3. the passivity controller adds damping if the rendered environment went active;
 /// 4. the supervisor applies soft start / fade, watchdog, ceiling and slew limit;
 /// 5. the passivity observer records what was actually sent.
+///
+/// # Example
+///
+/// The station's haptic loop, here against the simulated wheel (with a real wheel, `now_ns`
+/// comes from the backend's clock, e.g. `evdev_wheel::monotonic_ns()`):
+///
+/// ```
+/// use haptic_wheel::*;
+///
+/// let mut wheel = ZeroTorqueOnDrop::new(SimWheel::new(SimWheelParams::default()));
+/// let cfg = HapticChainConfig {
+///     model: Some(SpringDamper { k_nm_per_rad: 0.8, ..Default::default() }),
+///     ..HapticChainConfig::for_encoder_step(THESIS_KA_RAD_PER_UNIT)
+/// };
+/// let mut chain = HapticChain::new(cfg, wheel.max_torque_nm())?;
+/// let bump = chain.effects_mut().add(Effect {
+///     duration_s: Some(0.2),
+///     ..Effect::new(EffectKind::Constant { level_nm: 0.5 })
+/// })?;
+/// chain.effects_mut().play(bump)?;
+/// wheel.set_state(0.3, 0.0);
+/// for _ in 0..2000 {
+///     let reading = wheel.read().ok();
+///     let tel = chain.tick(TickInput { now_ns: wheel.time_ns(), reading, external_nm: 0.0 });
+///     wheel.command_torque(tel.torque_nm)?;
+///     assert!(tel.torque_nm.abs() <= THESIS_WHEEL_MAX_TORQUE_NM);
+///     wheel.advance(1e-3, 0.0); // the patient's hand torque goes here
+/// }
+/// assert!(wheel.true_angle_rad().abs() < 0.3, "the spring pulled the wheel back");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug)]
 pub struct HapticChain {
     effects: EffectStack,

@@ -12,8 +12,8 @@
 //! - [`model`]: the spring–mass–damper of eq. 3.5 and a Hannaford–Ryu passivity controller.
 //! - [`safety`]: limiter, soft start, fade-out, deadline watchdog.
 //! - [`HapticChain`]: all of the above as the one call per tick the haptic loop makes.
-//! - [`devices`]: `enumerate_devices()` for `telerehab devices`; [`evdev_wheel`] (Linux,
-//!   feature `evdev`): the kernel force-feedback backend; [`peripherals`] (feature `gilrs`):
+//! - [`devices`]: `enumerate_devices()` for `telerehab devices`; `evdev_wheel` (Linux,
+//!   feature `evdev`): the kernel force-feedback backend; `peripherals` (feature `gilrs`):
 //!   pedals, buttons and gamepads.
 //!
 //! SI units inside: rad, rad/s, N·m, s. Device units are converted at the device edge.

@@ -365,3 +365,29 @@ fn toolbox_units_convert_with_the_thesis_scales() {
     assert_eq!(e.duration_s, Some(1.0));
     assert_abs_diff_eq!(e.envelope.unwrap().attack_time_s, 0.1, epsilon = 1e-15);
 }
+
+proptest::proptest! {
+    /// Whatever effects play, the stack's output is finite and within its limit.
+    #[test]
+    fn stack_output_stays_within_its_limit(
+        levels in proptest::collection::vec(-100.0f64..100.0, 1..EFFECT_SLOTS),
+        coefs in proptest::collection::vec(-1.0e3f64..1.0e3, 1..4),
+        angle in -10.0f64..10.0,
+        vel in -100.0f64..100.0,
+        t_ms in 0u64..5000,
+    ) {
+        let mut stack = EffectStack::new(1.87);
+        for l in &levels {
+            let id = stack.add(Effect::new(EffectKind::Constant { level_nm: *l })).unwrap();
+            stack.play(id).unwrap();
+        }
+        for (c, kind) in coefs.iter().zip([ConditionKind::Spring, ConditionKind::Damper, ConditionKind::Friction]) {
+            if let Ok(id) = stack.add(Effect::new(EffectKind::Condition(Condition::symmetric(kind, *c, 50.0)))) {
+                stack.play(id).unwrap();
+            }
+        }
+        let s = WheelState { angle_rad: angle, vel_rad_s: vel, acc_rad_s2: 0.0 };
+        let out = stack.render(t_ms * 1_000_000, &s);
+        proptest::prop_assert!(out.torque_nm.is_finite() && out.torque_nm.abs() <= 1.87);
+    }
+}
