@@ -288,5 +288,71 @@ impl HapticChain {
     }
 }
 
+/// Session summary of the haptic loop, accumulated tick by tick without allocation: what
+/// the station records next to the per-tick [`TickTelemetry`] (loop timing, clipping time,
+/// passivity activity, faults).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct HapticStats {
+    /// Ticks seen.
+    pub ticks: u64,
+    /// Ticks that started later than `late_threshold_ns` after their deadline.
+    pub late_ticks: u64,
+    /// Largest start lateness, ns.
+    pub max_lateness_ns: u64,
+    /// Largest time spent inside the tick (read → command), ns.
+    pub max_compute_ns: u64,
+    /// Total time with the torque clipped (stack clamp, ceiling or slew), s.
+    pub clipped_s: f64,
+    /// Total time the passivity controller was adding damping, s.
+    pub passivity_active_s: f64,
+    /// Lowest passivity observer energy seen, J.
+    pub min_passivity_energy_j: f64,
+    /// Ticks with a watchdog fault.
+    pub fault_ticks: u64,
+    /// Ticks with a non-finite value rejected.
+    pub rejected_ticks: u64,
+    /// Largest |torque| sent, N·m.
+    pub max_abs_torque_nm: f64,
+}
+
+impl HapticStats {
+    /// Add one tick: its telemetry, how late it started (`lateness_ns`, now − deadline) and
+    /// how long it took (`compute_ns`); a tick counts as late above `late_threshold_ns`.
+    pub fn record(
+        &mut self,
+        t: &TickTelemetry,
+        lateness_ns: u64,
+        compute_ns: u64,
+        late_threshold_ns: u64,
+    ) {
+        if self.ticks == 0 {
+            self.min_passivity_energy_j = t.passivity_energy_j;
+        }
+        self.ticks += 1;
+        self.late_ticks += u64::from(lateness_ns > late_threshold_ns);
+        self.max_lateness_ns = self.max_lateness_ns.max(lateness_ns);
+        self.max_compute_ns = self.max_compute_ns.max(compute_ns);
+        if t.clipped {
+            self.clipped_s += t.dt_s;
+        }
+        if t.passivity_damping_nm_s_per_rad > 0.0 {
+            self.passivity_active_s += t.dt_s;
+        }
+        self.min_passivity_energy_j = self.min_passivity_energy_j.min(t.passivity_energy_j);
+        self.fault_ticks += u64::from(t.fault().is_some());
+        self.rejected_ticks += u64::from(t.rejected_non_finite);
+        self.max_abs_torque_nm = self.max_abs_torque_nm.max(t.torque_nm.abs());
+    }
+
+    /// Fraction of the session spent clipped, 0..=1 (0 before the first tick).
+    pub fn clipped_fraction(&self, session_s: f64) -> f64 {
+        if session_s > 0.0 {
+            (self.clipped_s / session_s).clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests;

@@ -138,6 +138,35 @@ fn soft_spring_is_left_alone_by_the_passivity_controller() {
 }
 
 #[test]
+fn stats_accumulate_clipping_time_passivity_and_faults() {
+    let mut wheel = SimWheel::new(SimWheelParams::default());
+    let mut c = chain(None, None);
+    c.set_ceiling_nm(0.5).unwrap();
+    let id = c
+        .effects_mut()
+        .add(Effect::new(EffectKind::Constant { level_nm: 1.0 }))
+        .unwrap();
+    c.effects_mut().play(id).unwrap();
+    let (tel, _) = run_closed_loop(&mut c, &mut wheel, 1000, |_, _| 0.0);
+    let mut stats = HapticStats::default();
+    for (k, t) in tel.iter().enumerate() {
+        stats.record(t, if k == 10 { 3_000_000 } else { 50_000 }, 20_000, 500_000);
+    }
+    assert_eq!(stats.ticks, 1000);
+    assert_eq!(stats.late_ticks, 1);
+    assert_eq!(stats.max_lateness_ns, 3_000_000);
+    // Soft start reaches the 0.5 N·m ceiling after 25 ms; clipped from then on.
+    assert!(
+        (stats.clipped_s - 0.975).abs() < 0.01,
+        "{}",
+        stats.clipped_s
+    );
+    assert!(stats.max_abs_torque_nm <= 0.5);
+    assert_eq!(stats.fault_ticks, 0);
+    assert!((stats.clipped_fraction(1.0) - stats.clipped_s).abs() < 1e-12);
+}
+
+#[test]
 fn stop_request_fades_to_zero_and_stays_there() {
     let mut wheel = SimWheel::new(SimWheelParams::default());
     let mut c = chain(None, None);
