@@ -115,21 +115,23 @@ fn backend_streams_constant_force_and_uploads_conditions_to_a_virtual_wheel() {
         16384,
     )])
     .unwrap();
-    let node = dev
-        .enumerate_dev_nodes_blocking()
-        .unwrap()
-        .filter_map(Result::ok)
-        .find(|p| {
-            p.file_name()
-                .and_then(|n| n.to_str())
-                .is_some_and(|n| n.starts_with("event"))
-        })
-        .expect("virtual device has an event node");
+    // The event node appears shortly after the device is created.
+    let deadline = Instant::now() + Duration::from_secs(5);
+    let node = loop {
+        let found = dev
+            .enumerate_dev_nodes_blocking()
+            .ok()
+            .and_then(|mut nodes| nodes.find_map(Result::ok));
+        match found {
+            Some(p) => break p,
+            None if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(20)),
+            None => panic!("the virtual wheel got no /dev/input/event node within 5 s"),
+        }
+    };
     let (tx, rx) = mpsc::channel();
     let fw = std::thread::spawn(move || firmware(dev, tx));
 
-    // The node may take a moment to appear.
-    let deadline = Instant::now() + Duration::from_secs(5);
+    // The node's permissions may take a moment to settle (udev).
     let mut wheel = loop {
         match EvdevWheel::open(&node, EvdevWheelConfig::default()) {
             Ok(w) => break w,
