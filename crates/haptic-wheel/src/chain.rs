@@ -3,7 +3,7 @@
 //! assist) → passivity controller → safety supervisor → torque, with per-tick telemetry.
 //! No allocation, no locks, no I/O, no clock: time comes in as `now_ns`.
 
-use crate::effects::{EffectStack, WheelState};
+use crate::effects::{EFFECT_SLOTS, Effect, EffectStack, WheelState};
 use crate::filter::{KalmanEstimator, KalmanParams, StateEstimator};
 use crate::model::{PassivityController, PassivityParams, SpringDamper};
 use crate::safety::{Fault, SafetyConfig, Supervisor, WatchdogState};
@@ -195,6 +195,29 @@ impl HapticChain {
         Ok(())
     }
 
+    /// Replace the effects, model and (if given) ceiling with `regimen`'s, starting every
+    /// effect. All or nothing: an invalid regimen is refused and the chain is unchanged.
+    /// Does not allocate (the regimen was built beforehand).
+    pub fn apply_regimen(&mut self, regimen: &HapticRegimen) -> Result<(), WheelError> {
+        regimen.validate(self.device_max_nm)?;
+        if let Some(c) = regimen.ceiling_nm {
+            self.set_ceiling_nm(c)?;
+        }
+        self.model = regimen.model;
+        self.effects.clear();
+        for e in &regimen.effects {
+            // Validated above and the stack is empty with room for all of them.
+            let id = self
+                .effects
+                .add(*e)
+                .map_err(|err| WheelError::InvalidConfig(err.to_string()))?;
+            self.effects
+                .play(id)
+                .map_err(|err| WheelError::InvalidConfig(err.to_string()))?;
+        }
+        Ok(())
+    }
+
     /// Change the per-patient ceiling, never above the device maximum.
     pub fn set_ceiling_nm(&mut self, ceiling_nm: f64) -> Result<(), WheelError> {
         self.supervisor
@@ -285,6 +308,50 @@ impl HapticChain {
             safety_scale: sup.scale,
             watchdog: sup.state,
         }
+    }
+}
+
+/// What a therapist's regimen sets on the haptic chain for one exercise: the effects to
+/// play, the eq. 3.5 model and the patient's torque ceiling. Serde (`deny_unknown_fields`)
+/// so it travels in the regimen over the network and in TOML; check it with
+/// [`HapticRegimen::validate`] before it reaches the haptic thread, then apply it there with
+/// [`HapticChain::apply_regimen`] (which validates again and changes nothing on error).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct HapticRegimen {
+    /// Effects, all started when the regimen is applied (at most [`EFFECT_SLOTS`]).
+    pub effects: Vec<Effect>,
+    /// The spring–mass–damper model, or none.
+    pub model: Option<SpringDamper>,
+    /// Per-patient ceiling, N·m; `None` keeps the current one.
+    pub ceiling_nm: Option<f64>,
+}
+
+impl HapticRegimen {
+    /// Check every effect, the model and the ceiling against a device producing at most
+    /// `device_max_nm`; the error names the problem.
+    pub fn validate(&self, device_max_nm: f64) -> Result<(), WheelError> {
+        if self.effects.len() > EFFECT_SLOTS {
+            return Err(WheelError::InvalidConfig(format!(
+                "regimen.effects has {} effects, allowed at most {EFFECT_SLOTS}",
+                self.effects.len()
+            )));
+        }
+        for (i, e) in self.effects.iter().enumerate() {
+            e.validate()
+                .map_err(|err| WheelError::InvalidConfig(format!("regimen.effects[{i}]: {err}")))?;
+        }
+        if let Some(m) = &self.model {
+            m.validate()?;
+        }
+        if let Some(c) = self.ceiling_nm {
+            SafetyConfig {
+                ceiling_nm: Some(c),
+                ..SafetyConfig::default()
+            }
+            .validate(device_max_nm)?;
+        }
+        Ok(())
     }
 }
 

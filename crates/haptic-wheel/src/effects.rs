@@ -326,12 +326,18 @@ pub struct Effect {
     pub kind: EffectKind,
     /// Envelope; ignored for conditions.
     pub envelope: Option<Envelope>,
-    /// Time from `play` to the effect starting, s (≥ 0).
+    /// Time from `play` to the effect starting, s (≥ 0). Default 0.
+    #[serde(default)]
     pub start_delay_s: f64,
     /// How long the effect plays after its delay, s; `None` plays until stopped.
     pub duration_s: Option<f64>,
-    /// Per-effect gain in [0, 1].
+    /// Per-effect gain in [0, 1]. Default 1.
+    #[serde(default = "unit_gain")]
     pub gain: f64,
+}
+
+fn unit_gain() -> f64 {
+    1.0
 }
 
 impl Effect {

@@ -32,7 +32,9 @@ pub mod safety;
 pub mod sim;
 pub mod wheel;
 
-pub use chain::{HapticChain, HapticChainConfig, HapticStats, TickInput, TickTelemetry};
+pub use chain::{
+    HapticChain, HapticChainConfig, HapticRegimen, HapticStats, TickInput, TickTelemetry,
+};
 pub use devices::{DeviceReport, enumerate_devices};
 pub use effects::{
     Condition, ConditionKind, Effect, EffectError, EffectId, EffectKind, EffectStack, Envelope,

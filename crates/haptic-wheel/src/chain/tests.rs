@@ -167,6 +167,75 @@ fn stats_accumulate_clipping_time_passivity_and_faults() {
 }
 
 #[test]
+fn regimen_applies_all_or_nothing_and_round_trips_through_toml() {
+    let text = r#"
+ceiling_nm = 1.2
+
+[model]
+k_nm_per_rad = 0.8
+b_nm_s_per_rad = 0.05
+i_kg_m2 = 0.0
+centre_rad = 0.0
+
+[[effects]]
+kind = { constant = { level_nm = 0.4 } }
+
+[[effects]]
+start_delay_s = 0.5
+duration_s = 2.0
+gain = 0.5
+kind = { periodic = { waveform = "sine", magnitude_nm = 0.3, offset_nm = 0.0, phase_rad = 0.0, period_s = 0.5 } }
+envelope = { attack_level_nm = 0.0, attack_time_s = 0.2, fade_level_nm = 0.0, fade_time_s = 0.2 }
+"#;
+    let regimen: HapticRegimen = toml::from_str(text).unwrap();
+    assert_eq!(regimen.effects.len(), 2);
+    let back: HapticRegimen = toml::from_str(&toml::to_string(&regimen).unwrap()).unwrap();
+    assert_eq!(back, regimen);
+
+    let mut c = chain(None, None);
+    c.apply_regimen(&regimen).unwrap();
+    assert_eq!(c.ceiling_nm(), 1.2);
+    let tel = c.tick(TickInput {
+        now_ns: 0,
+        reading: Some(WheelReading {
+            angle_rad: 0.0,
+            t_ns: 0,
+        }),
+        external_nm: 0.0,
+    });
+    assert!((tel.effects_nm - 0.4).abs() < 1e-12, "{}", tel.effects_nm);
+
+    // A bad effect (negative period) or a ceiling above the device is refused, naming it,
+    // and nothing changes.
+    let mut bad = regimen.clone();
+    bad.effects.push(Effect::new(EffectKind::Periodic(Periodic {
+        waveform: Waveform::Square,
+        magnitude_nm: 0.1,
+        offset_nm: 0.0,
+        phase_rad: 0.0,
+        period_s: -1.0,
+    })));
+    bad.ceiling_nm = Some(0.3);
+    let msg = c.apply_regimen(&bad).unwrap_err().to_string();
+    assert!(
+        msg.contains("effects[2]") && msg.contains("period_s"),
+        "{msg}"
+    );
+    assert_eq!(c.ceiling_nm(), 1.2);
+    let too_strong = HapticRegimen {
+        ceiling_nm: Some(3.0),
+        ..HapticRegimen::default()
+    };
+    assert!(
+        c.apply_regimen(&too_strong)
+            .unwrap_err()
+            .to_string()
+            .contains("ceiling_nm")
+    );
+    assert!(toml::from_str::<HapticRegimen>("surprise = 1").is_err());
+}
+
+#[test]
 fn stop_request_fades_to_zero_and_stays_there() {
     let mut wheel = SimWheel::new(SimWheelParams::default());
     let mut c = chain(None, None);
