@@ -293,7 +293,7 @@ impl Supervisor {
         // up; the first tick ramps by nothing.
         let dt = gap_s.min(self.cfg.max_tick_gap_s);
         let state = if self.stopping {
-            self.scale = (self.scale - gap_s.max(dt) / self.cfg.fade_out_s).max(0.0);
+            self.scale = (self.scale - gap_s / self.cfg.fade_out_s).max(0.0);
             if self.scale == 0.0 && self.limiter.last_nm() == 0.0 {
                 WatchdogState::Stopped
             } else {
@@ -301,7 +301,7 @@ impl Supervisor {
             }
         } else if let Some(f) = self.fault {
             // Fade by the real gap: after a stall the torque has been stale for that long.
-            self.scale = (self.scale - gap_s.max(dt) / self.cfg.fade_out_s).max(0.0);
+            self.scale = (self.scale - gap_s / self.cfg.fade_out_s).max(0.0);
             WatchdogState::Fault(f)
         } else {
             self.scale = (self.scale + dt / self.cfg.soft_start_s).min(1.0);
