@@ -144,6 +144,14 @@ pub enum ConfigError {
         /// The parser's message (names the field and line).
         message: String,
     },
+    /// A section's own validation failed (its message names the field and range).
+    #[error("config section [{section}]: {message}")]
+    Section {
+        /// The TOML section.
+        section: String,
+        /// The section's message.
+        message: String,
+    },
     /// A value is outside its allowed range.
     #[error("config field `{field}` = {value} is out of range: allowed {allowed}")]
     OutOfRange {
@@ -279,37 +287,10 @@ impl StationConfig {
             "N·m",
         )?;
         check("sim_wheel.range_rad", w.range_rad, 0.1, 8.0, "rad")?;
-        let p = &self.sim_patient;
-        check(
-            "sim_patient.kp_nm_per_rad",
-            p.kp_nm_per_rad,
-            0.0,
-            100.0,
-            "N·m/rad",
-        )?;
-        check(
-            "sim_patient.ki_nm_per_rad_s",
-            p.ki_nm_per_rad_s,
-            0.0,
-            100.0,
-            "N·m/(rad·s)",
-        )?;
-        check(
-            "sim_patient.kd_nm_s_per_rad",
-            p.kd_nm_s_per_rad,
-            0.0,
-            10.0,
-            "N·m·s/rad",
-        )?;
-        check("sim_patient.delay_s", p.delay_s, 0.0, 1.0, "s")?;
-        check("sim_patient.noise_nm", p.noise_nm, 0.0, 5.0, "N·m")?;
-        check(
-            "sim_patient.max_torque_nm",
-            p.max_torque_nm,
-            0.0,
-            50.0,
-            "N·m",
-        )?;
+        self.sim_patient.validate().map_err(|e| ConfigError::Section {
+            section: "sim_patient".into(),
+            message: e.to_string(),
+        })?;
         let v = &self.vehicle;
         check("vehicle.mass_kg", v.mass_kg, 100.0, 10_000.0, "kg")?;
         check(
@@ -371,6 +352,13 @@ mod tests {
             msg.contains("haptic.ceiling_nm") && msg.contains("1.87"),
             "{msg}"
         );
+    }
+
+    #[test]
+    fn simulated_patient_is_validated_by_its_own_rules() {
+        let err = StationConfig::from_toml("[sim_patient]\ndelay_s = -1.0\n", "test").unwrap_err();
+        let msg = err.to_string();
+        assert!(msg.contains("sim_patient") && msg.contains("delay_s"), "{msg}");
     }
 
     #[test]
