@@ -13,7 +13,7 @@ impl LaneScore {
     /// Add `dt_s` seconds at lateral deviation `lateral_m` in a lane of `lane_width_m`.
     /// The car is in the lane while its centre is within half the lane width of the centre line.
     pub fn update(&mut self, lateral_m: f64, lane_width_m: f64, dt_s: f64) {
-        if !lateral_m.is_finite() || !(dt_s > 0.0) {
+        if !lateral_m.is_finite() || !dt_s.is_finite() || dt_s <= 0.0 {
             return;
         }
         self.sum_sq_m2_s += lateral_m * lateral_m * dt_s;
