@@ -20,7 +20,7 @@ use crate::frame::{
     Ack, Bye, ErrorFrame, Frame, Hello, MAX_MESSAGE_LEN, Regimen, Summary, printable,
 };
 use crate::store::{Appended, SessionFile, write_hello};
-use crate::tls::ServerTls;
+use crate::tls::{ServerTls, certificate_names_station};
 use crate::transport::{BoxStream, FrameReader, Outgoing, spawn_writer};
 
 /// Configuration of a [`TherapistServer`].
@@ -397,10 +397,18 @@ async fn serve(
     mut shutdown: watch::Receiver<bool>,
 ) {
     let hello_timeout = Duration::from_millis(hub.config.hello_timeout_ms);
-    let stream: BoxStream = match &hub.acceptor {
-        None => Box::new(tcp),
+    let (stream, client_cert): (BoxStream, _) = match &hub.acceptor {
+        None => (Box::new(tcp), None),
         Some(acceptor) => match tokio::time::timeout(hello_timeout, acceptor.accept(tcp)).await {
-            Ok(Ok(tls)) => Box::new(tls),
+            Ok(Ok(tls)) => {
+                let cert = tls
+                    .get_ref()
+                    .1
+                    .peer_certificates()
+                    .and_then(|chain| chain.first())
+                    .map(|leaf| leaf.clone().into_owned());
+                (Box::new(tls), cert)
+            }
             Ok(Err(e)) => {
                 hub.emit(TherapistEvent::ProtocolError {
                     peer,
@@ -429,7 +437,18 @@ async fn serve(
         Ok(Err(e)) => Err(e.to_string()),
         Err(_) => Err(format!("no Hello within {} ms", hello_timeout.as_millis())),
     };
+    let requires_identity = hub
+        .config
+        .tls
+        .as_ref()
+        .is_some_and(|t| t.client_ca_pem_path.is_some());
     let opened = hello.and_then(|hello| {
+        if requires_identity {
+            let cert = client_cert
+                .as_ref()
+                .ok_or("no client certificate presented")?;
+            certificate_names_station(cert, &hello.station_id)?;
+        }
         let file = hub
             .open_session(&hello)
             .map_err(|e| format!("cannot open the session store: {e}"))?;

@@ -49,7 +49,8 @@ pub struct ServerTls {
     /// PEM file with the hub's private key (PKCS#8, PKCS#1 or SEC1).
     pub key_pem_path: PathBuf,
     /// If set, stations must present a certificate chaining to a CA in this PEM file (mutual
-    /// TLS); connections without one fail the handshake.
+    /// TLS), and that certificate must carry the station's `station_id` as a DNS
+    /// subjectAltName (see [`certificate_names_station`]); other connections are refused.
     #[serde(default)]
     pub client_ca_pem_path: Option<PathBuf>,
 }
@@ -149,4 +150,20 @@ impl ServerTls {
         let config = builder.with_single_cert(chain, key)?;
         Ok(tokio_rustls::TlsAcceptor::from(Arc::new(config)))
     }
+}
+
+/// Checks that a station's client certificate carries `station_id` as a DNS subjectAltName,
+/// so a station holding a valid clinic certificate cannot speak for another station.
+pub fn certificate_names_station(
+    cert: &CertificateDer<'_>,
+    station_id: &str,
+) -> Result<(), String> {
+    let name = ServerName::try_from(station_id).map_err(|e| {
+        format!("station_id {station_id:?} is not a DNS name, so no certificate can name it: {e}")
+    })?;
+    let cert = webpki::EndEntityCert::try_from(cert)
+        .map_err(|e| format!("client certificate cannot be parsed: {e}"))?;
+    cert.verify_is_valid_for_subject_name(&name).map_err(|_| {
+        format!("client certificate does not name station {station_id:?} (DNS subjectAltName)")
+    })
 }

@@ -163,7 +163,7 @@ struct Pki {
     _dir: tempfile::TempDir,
     server: ServerTls,
     client: ClientTls,
-    /// A station certificate signed by the same CA, for mutual TLS.
+    /// A certificate for station `st-cert` signed by the same CA, for mutual TLS.
     station: Identity,
 }
 
@@ -188,7 +188,7 @@ fn pki() -> Pki {
         path
     };
     let station_key = KeyPair::generate().unwrap();
-    let station_cert = CertificateParams::new(vec!["station-01.stations.invalid".to_owned()])
+    let station_cert = CertificateParams::new(vec!["st-cert".to_owned()])
         .unwrap()
         .signed_by(&station_key, &ca)
         .unwrap();
@@ -974,5 +974,33 @@ async fn mutual_tls_hub_stores_only_stations_with_a_certificate() {
     let stats = link.finish(Duration::from_millis(300)).await;
     assert_eq!((stats.acked, stats.pending), (0, 10), "{stats:?}");
     assert!(!store.path().join("st-anon").exists());
+
+    // A valid clinic certificate does not let one station speak for another.
+    let mut borrowed = pki.client.clone();
+    borrowed.identity = Some(pki.station.clone());
+    let (sender, link) = StationLink::spawn(
+        &handle,
+        fast_config(hub.local_addr(), Some(borrowed), hello("st-impostor", "s1")),
+    )
+    .unwrap();
+    send_range(&sender, "s1", 0..3);
+    let refused = loop {
+        match next_event(&mut events).await {
+            // Left over from the anonymous station's retries.
+            TherapistEvent::ProtocolError { error, .. } if error.contains("TLS handshake") => {}
+            TherapistEvent::ProtocolError { error, .. } => break error,
+            TherapistEvent::Connected { hello, .. } => {
+                assert_ne!(hello.station_id, "st-impostor", "impostor admitted")
+            }
+            _ => {}
+        }
+    };
+    assert!(
+        refused.contains("does not name station \"st-impostor\""),
+        "{refused}"
+    );
+    let stats = link.finish(Duration::from_millis(300)).await;
+    assert_eq!((stats.acked, stats.pending), (0, 3), "{stats:?}");
+    assert!(!store.path().join("st-impostor").exists());
     hub.shutdown(GUARD).await;
 }
