@@ -144,7 +144,7 @@ impl StationLinkConfig {
 /// A snapshot of the link's counters.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct LinkStats {
-    /// A connection to the hub is up (Hello sent).
+    /// A connection to the hub is established (TCP and TLS up, Hello queued first).
     pub connected: bool,
     /// Summaries written to a connection for the first time.
     pub sent: u64,

@@ -449,11 +449,12 @@ async fn serve(
                 .ok_or("no client certificate presented")?;
             certificate_names_station(cert, &hello.station_id)?;
         }
+        // Hello first: if it fails, no session file has been registered yet.
+        write_hello(&hub.config.store_dir, &hello)
+            .map_err(|e| format!("cannot store Hello: {e}"))?;
         let file = hub
             .open_session(&hello)
             .map_err(|e| format!("cannot open the session store: {e}"))?;
-        write_hello(&hub.config.store_dir, &hello)
-            .map_err(|e| format!("cannot store Hello: {e}"))?;
         Ok((hello, file))
     });
     let (hello, file) = match opened {
