@@ -1004,3 +1004,39 @@ async fn mutual_tls_hub_stores_only_stations_with_a_certificate() {
     assert!(!store.path().join("st-impostor").exists());
     hub.shutdown(GUARD).await;
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn hub_that_reads_but_never_acknowledges_is_abandoned_and_reconnected() {
+    // A hung hub: accepts and drains every connection, never answers.
+    let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    let hung = tokio::spawn(async move {
+        loop {
+            let (mut s, _) = listener.accept().await.unwrap();
+            tokio::spawn(async move {
+                let mut sink = Vec::new();
+                let _ = tokio::time::timeout(GUARD, s.read_to_end(&mut sink)).await;
+            });
+        }
+    });
+    let mut config = fast_config(addr, None, hello("st-h", "s1"));
+    config.ack_timeout_ms = 1_000;
+    let (sender, link) = StationLink::spawn(&tokio::runtime::Handle::current(), config).unwrap();
+    send_range(&sender, "s1", 0..5);
+    wait_until(
+        "the backlog resent on a new connection after the ack timeout",
+        || link.stats().resent >= 5,
+    )
+    .await;
+    let stats = link.finish(Duration::from_millis(200)).await;
+    assert!(
+        stats
+            .last_error
+            .as_deref()
+            .is_some_and(|e| e.contains("no acknowledgement")),
+        "{stats:?}"
+    );
+    assert!(stats.connections >= 2, "{stats:?}");
+    assert_eq!((stats.acked, stats.pending), (0, 5), "{stats:?}");
+    hung.abort();
+}
