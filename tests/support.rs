@@ -3,28 +3,27 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+use std::sync::OnceLock;
 
-/// Path of the `telerehab` binary next to the test executable (cargo builds it for
-/// `cargo test --workspace`); builds it with cargo if it is missing.
+/// Path of the `telerehab` binary under test: `$TELEREHAB_BIN` if set, else the one in this
+/// target directory, (re)built once per test process with cargo so it is never stale.
 pub fn telerehab_bin() -> PathBuf {
-    if let Ok(p) = std::env::var("TELEREHAB_BIN") {
-        return PathBuf::from(p);
-    }
-    let exe = std::env::current_exe().expect("test executable path");
-    let dir = exe
-        .parent()
-        .and_then(|d| d.parent())
-        .expect("target profile directory");
-    let bin = dir.join(format!("telerehab{}", std::env::consts::EXE_SUFFIX));
-    if !bin.exists() {
+    static BIN: OnceLock<PathBuf> = OnceLock::new();
+    BIN.get_or_init(|| {
+        if let Ok(p) = std::env::var("TELEREHAB_BIN") {
+            return PathBuf::from(p);
+        }
+        let exe = std::env::current_exe().expect("test executable path");
+        let dir = exe.parent().and_then(|d| d.parent()).expect("target profile directory");
         let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
         let status = Command::new(cargo)
-            .args(["build", "-p", "station", "--bin", "telerehab"])
+            .args(["build", "--quiet", "-p", "station", "--bin", "telerehab"])
             .status()
             .expect("run cargo build");
         assert!(status.success(), "cargo build of telerehab failed");
-    }
-    bin
+        dir.join(format!("telerehab{}", std::env::consts::EXE_SUFFIX))
+    })
+    .clone()
 }
 
 /// Run `telerehab` with `args`, panicking with its output if it fails.

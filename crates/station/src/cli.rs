@@ -73,6 +73,12 @@ pub struct RunArgs {
     /// Loop pacing.
     #[arg(long, value_enum, default_value_t = Speed::Realtime)]
     pub speed: Speed,
+    /// This station's identifier at the therapist hub.
+    #[arg(long)]
+    pub station_id: Option<String>,
+    /// The patient's pseudonymous identifier.
+    #[arg(long)]
+    pub patient_id: Option<String>,
 }
 
 /// `telerehab therapist`.
@@ -130,6 +136,12 @@ pub fn resolve_config(args: &RunArgs) -> anyhow::Result<StationConfig> {
     if let Some(e) = &args.exercise {
         cfg.session.exercise = e.clone();
     }
+    if let Some(id) = &args.station_id {
+        cfg.session.station_id = id.clone();
+    }
+    if let Some(id) = &args.patient_id {
+        cfg.session.patient_id = id.clone();
+    }
     if let Some(t) = &args.therapist {
         cfg.therapist.address = t.clone();
     }
@@ -182,7 +194,7 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
         "starting simulated session"
     );
     let link = crate::link::Link::start(&cfg)?;
-    let report = session::run(&opts, stop, |s| link.send(s, &cfg))?;
+    let report = session::run(&opts, stop, |s| link.send(s))?;
     let link_report = link.finish(report.summaries);
     print!("{}", crate::report::render(&report, link_report.as_ref()));
     if let Some(e) = &report.recorder.error {

@@ -65,8 +65,11 @@ pub struct SessionConfig {
     pub exercise: String,
     /// Target car speed, m/s.
     pub speed_m_s: f64,
-    /// Patient identifier sent to the therapist (no personal data: a pseudonym).
+    /// Patient identifier sent to the therapist (no personal data: a pseudonym;
+    /// letters, digits, `_`, `.`, `-`).
     pub patient_id: String,
+    /// This station's identifier at the therapist hub (letters, digits, `_`, `.`, `-`).
+    pub station_id: String,
 }
 
 impl Default for SessionConfig {
@@ -78,6 +81,7 @@ impl Default for SessionConfig {
             exercise: "sine-road".into(),
             speed_m_s: 15.0,
             patient_id: "patient-0".into(),
+            station_id: "station-1".into(),
         }
     }
 }
@@ -202,6 +206,15 @@ impl StationConfig {
         check("session.duration_s", s.duration_s, 0.001, 4.0 * 3600.0, "s")?;
         check("session.loop_rate_hz", s.loop_rate_hz, 100.0, 2000.0, "Hz")?;
         check("session.speed_m_s", s.speed_m_s, 0.0, 40.0, "m/s")?;
+        for (field, value) in [
+            ("session.patient_id", &s.patient_id),
+            ("session.station_id", &s.station_id),
+        ] {
+            netlink::frame::check_id(field, value).map_err(|message| ConfigError::Section {
+                section: "session".into(),
+                message,
+            })?;
+        }
         let h = &self.haptic;
         let device_max = self.sim_wheel.max_torque_nm;
         check("sim_wheel.max_torque_nm", device_max, 0.0, 20.0, "N·m")?;

@@ -44,6 +44,8 @@ pub struct LiveSummary {
     pub max_abs_torque_nm: f64,
     /// 99th percentile of wake-up lateness over the last second, µs.
     pub loop_p99_us: f64,
+    /// Further metrics for the therapist (assist level, joint angles, …), name → value.
+    pub extra: BTreeMap<String, f64>,
 }
 
 /// The result of a session.
@@ -213,6 +215,7 @@ fn recorder_loop(
                 record: rec,
                 max_abs_torque_nm: out.max_abs_torque_nm,
                 loop_p99_us: out.timing.recent_lateness_p99_us(1000),
+                extra: BTreeMap::new(),
             });
             seq += 1;
         }
