@@ -52,6 +52,7 @@ fn short_session_records_every_tick_on_every_channel_with_schemas() {
     assert_eq!(
         topics,
         vec![
+            expect("/assist"),
             expect("/score"),
             expect("/timing"),
             expect("/vehicle"),
@@ -65,11 +66,11 @@ fn short_session_records_every_tick_on_every_channel_with_schemas() {
     }
 
     let msgs = by_topic(&read_mcap(&path));
-    // 3 s at 1 kHz plus the 0.1 s fade-out; a score every 100 ms.
-    for topic in ["/wheel", "/vehicle", "/timing"] {
-        assert_eq!(msgs[topic].len(), 3100, "{topic}");
+    // 3 s at 1 kHz plus the 0.1 s fade-out (and the tick that sees zero); a score every 100 ms.
+    for topic in ["/wheel", "/vehicle", "/assist", "/timing"] {
+        assert_eq!(msgs[topic].len(), 3101, "{topic}");
     }
-    assert_eq!(msgs["/score"].len(), 30);
+    assert_eq!(msgs["/score"].len(), 31);
     // Every per-tick message carries its tick, in order, 1 ms apart in log time.
     let wheel = &msgs["/wheel"];
     for (i, m) in wheel.iter().enumerate() {
@@ -145,7 +146,7 @@ fn same_seed_gives_identical_simulation_data_and_another_seed_does_not() {
     let a = run("11", "a.mcap");
     let b = run("11", "b.mcap");
     let c = run("12", "c.mcap");
-    assert_eq!(a.len(), 2100 * 2 + 20);
+    assert_eq!(a.len(), 2101 * 3 + 21);
     assert!(
         a == b,
         "same seed must give identical recorded simulation data"
@@ -174,7 +175,7 @@ fn real_time_session_is_paced_at_the_loop_rate() {
     ]);
     // 1.1 s of ticks (with the fade-out) cannot finish sooner in real time.
     assert!(t0.elapsed() >= Duration::from_millis(1100));
-    assert_eq!(by_topic(&read_mcap(&path))["/wheel"].len(), 1100);
+    assert_eq!(by_topic(&read_mcap(&path))["/wheel"].len(), 1101);
 }
 
 #[test]
@@ -229,7 +230,7 @@ fn sigint_ends_the_session_cleanly_with_a_readable_recording() {
 fn bad_config_value_is_reported_by_field_and_range() {
     let dir = tempfile::tempdir().unwrap();
     let cfg = dir.path().join("bad.toml");
-    std::fs::write(&cfg, "[haptic]\nceiling_nm = 9.0\n").unwrap();
+    std::fs::write(&cfg, "[haptic.safety]\nceiling_nm = 9.0\n").unwrap();
     let out = Command::new(telerehab_bin())
         .args([
             "run",
@@ -243,7 +244,57 @@ fn bad_config_value_is_reported_by_field_and_range() {
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        err.contains("haptic.ceiling_nm") && err.contains("1.87"),
+        err.contains("haptic.safety") && err.contains("ceiling_nm") && err.contains("1.87"),
         "{err}"
+    );
+}
+
+/// The report's RMS lateral deviation, m.
+fn rms_lateral_m(report: &str) -> f64 {
+    let line = report
+        .lines()
+        .find(|l| l.starts_with("RMS lateral dev."))
+        .expect("RMS line");
+    line.split_whitespace().nth(3).unwrap().parse().unwrap()
+}
+
+#[test]
+fn motion_assist_keeps_a_weak_simulated_patient_in_lane_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let weak = "[sim_patient]\nmax_torque_nm = 0.3\n";
+    let run_with = |name: &str, toml: &str| {
+        let cfg = dir.path().join(name);
+        std::fs::write(&cfg, toml).unwrap();
+        let out = run_ok(&[
+            "run",
+            "--sim",
+            "--headless",
+            "--duration",
+            "20",
+            "--speed",
+            "max",
+            "--config",
+            cfg.to_str().unwrap(),
+        ]);
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let alone = run_with("weak.toml", weak);
+    let assisted = run_with(
+        "assisted.toml",
+        &format!("{weak}[assist.mode]\nkind = \"motion\"\n"),
+    );
+    let (e_alone, e_assisted) = (rms_lateral_m(&alone), rms_lateral_m(&assisted));
+    assert!(
+        e_alone > 1.0,
+        "a weak patient alone should leave the lane: {alone}"
+    );
+    assert!(
+        e_assisted < 0.5 * e_alone,
+        "assist should at least halve the error: {e_assisted} vs {e_alone}"
+    );
+    assert!(!alone.contains("\nassist "), "{alone}");
+    assert!(
+        assisted.contains("\nassist              mean level"),
+        "{assisted}"
     );
 }

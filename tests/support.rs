@@ -14,7 +14,10 @@ pub fn telerehab_bin() -> PathBuf {
             return PathBuf::from(p);
         }
         let exe = std::env::current_exe().expect("test executable path");
-        let dir = exe.parent().and_then(|d| d.parent()).expect("target profile directory");
+        let dir = exe
+            .parent()
+            .and_then(|d| d.parent())
+            .expect("target profile directory");
         let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
         let status = Command::new(cargo)
             .args(["build", "--quiet", "-p", "station", "--bin", "telerehab"])

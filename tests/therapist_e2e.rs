@@ -95,12 +95,12 @@ fn two_stations_deliver_every_summary_exactly_once_to_one_hub() {
         let out = handle.join().unwrap();
         let report = String::from_utf8_lossy(&out.stdout);
         assert!(
-            report.contains("30 summaries: 30 sent, 30 acknowledged, 0 NOT delivered"),
+            report.contains("31 summaries: 31 sent, 31 acknowledged, 0 NOT delivered"),
             "{report}"
         );
         let sessions = stored_seqs(&store, id);
         assert_eq!(sessions.len(), 1, "{id}");
-        assert_eq!(sessions[0], (0..30).collect::<Vec<u64>>(), "{id}");
+        assert_eq!(sessions[0], (0..31).collect::<Vec<u64>>(), "{id}");
     }
     hub.interrupt();
 }
@@ -139,7 +139,7 @@ fn killing_the_therapist_mid_session_leaves_the_station_running_with_an_honest_r
     );
     // The session ran to its end and recorded every tick.
     assert!(!report.contains("stopped early"), "{report}");
-    assert_eq!(by_topic(&read_mcap(&mcap))["/wheel"].len(), 3100);
+    assert_eq!(by_topic(&read_mcap(&mcap))["/wheel"].len(), 3101);
     // The report says how many summaries did not reach the therapist, and they are the ones missing.
     let line = report
         .lines()
@@ -152,5 +152,5 @@ fn killing_the_therapist_mid_session_leaves_the_station_running_with_an_honest_r
         .unwrap_or_else(|| panic!("{line}"));
     assert!(undelivered >= 10, "{line}");
     let stored: usize = stored_seqs(&store, "station-1").iter().map(Vec::len).sum();
-    assert_eq!(stored as u64 + undelivered, 30, "{line}");
+    assert_eq!(stored as u64 + undelivered, 31, "{line}");
 }

@@ -23,7 +23,7 @@ def test_recording_opens_in_python_mcap_with_json_schemas(tmp_path):
         summary = reader.get_summary()
         assert summary is not None
         encodings = {ch.topic: (ch.message_encoding, summary.schemas[ch.schema_id].encoding) for ch in summary.channels.values()}
-        assert encodings == {t: ("json", "jsonschema") for t in ("/wheel", "/vehicle", "/score", "/timing")}
+        assert encodings == {t: ("json", "jsonschema") for t in ("/wheel", "/vehicle", "/score", "/assist", "/timing")}
         counts = Counter()
         last_t = {}
         for schema, channel, message in reader.iter_messages():
@@ -33,7 +33,7 @@ def test_recording_opens_in_python_mcap_with_json_schemas(tmp_path):
             last_t[channel.topic] = body["t_s"]
             if channel.topic == "/wheel":
                 assert abs(body["commanded_nm"]) <= 1.87
-    assert counts["/wheel"] == counts["/vehicle"] == counts["/timing"] == 2100
-    assert counts["/score"] == 20
+    assert counts["/wheel"] == counts["/vehicle"] == counts["/timing"] == 2101
+    assert counts["/score"] == 21
     meta = {m.name: m.metadata for m in make_reader(open(path, "rb")).iter_metadata()}
     assert meta["session"]["seed"] == "3"

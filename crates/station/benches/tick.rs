@@ -8,8 +8,8 @@ use std::hint::black_box;
 
 fn bench_tick(c: &mut Criterion) {
     let cfg = StationConfig::default();
-    let mut plant = SimPlant::new(&cfg);
-    c.bench_function("sim_plant_tick", |b| b.iter(|| black_box(plant.tick(1.0))));
+    let mut plant = SimPlant::new(&cfg).expect("the default configuration builds");
+    c.bench_function("sim_plant_tick", |b| b.iter(|| black_box(plant.tick())));
 }
 
 criterion_group!(benches, bench_tick);

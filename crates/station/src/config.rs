@@ -1,8 +1,8 @@
 //! Station configuration: TOML with serde, every field defaulted, unknown fields rejected,
 //! and every value validated with a message naming the field and its allowed range.
 
-use assist::HumanArmParams;
-use haptic_wheel::{SimWheelParams, SpringDamper};
+use assist::{AssistSpec, HumanArmParams};
+use haptic_wheel::{PassivityParams, SafetyConfig, SimWheelParams, SpringDamper};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use vehicle::VehicleParams;
@@ -15,6 +15,8 @@ pub struct StationConfig {
     pub session: SessionConfig,
     /// Torque limits and the haptic model rendered on the wheel.
     pub haptic: HapticConfig,
+    /// Active assistance (none when absent).
+    pub assist: Option<AssistSpec>,
     /// The virtual car.
     pub vehicle: VehicleParams,
     /// The simulated wheel (used with `--sim`).
@@ -30,6 +32,7 @@ impl Default for StationConfig {
         Self {
             session: SessionConfig::default(),
             haptic: HapticConfig::default(),
+            assist: None,
             vehicle: VehicleParams::default(),
             sim_wheel: SimWheelParams::default(),
             sim_patient: default_sim_patient(),
@@ -86,33 +89,37 @@ impl Default for SessionConfig {
     }
 }
 
-/// Torque limits and haptic rendering.
+/// Torque limits and haptic rendering (the `haptic-wheel` chain).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct HapticConfig {
-    /// Per-patient torque ceiling, N·m (never above the device maximum).
-    pub ceiling_nm: f64,
-    /// Largest rate of change of the commanded torque, N·m/s.
-    pub slew_nm_per_s: f64,
-    /// Centring spring–damper (thesis eq. 3.5).
+    /// Safety limits: per-patient ceiling (default: the device maximum), slew, soft start,
+    /// fade-out, deadline and stale-reading watchdog.
+    pub safety: SafetyConfig,
+    /// Centring spring–damper (thesis eq. 3.5); all-zero coefficients render nothing.
     pub centring: SpringDamper,
+    /// Time-domain passivity controller (Hannaford–Ryu) on the rendered model.
+    pub passivity: PassivityParams,
+    /// Turn the passivity controller on.
+    pub passivity_enabled: bool,
     /// Road feel: wheel torque per kN of front lateral tyre force, N·m/kN (thesis §3.3.4).
     pub road_feel_nm_per_kn: f64,
     /// Wheel angle per road-wheel angle (steering ratio), rad/rad.
     pub steering_ratio: f64,
-    /// Time to ramp the torque to zero when a session stops, s.
-    pub fade_out_s: f64,
 }
 
 impl Default for HapticConfig {
     fn default() -> Self {
         Self {
-            ceiling_nm: haptic_wheel::THESIS_WHEEL_MAX_TORQUE_NM,
-            slew_nm_per_s: 50.0,
+            safety: SafetyConfig {
+                fade_out_s: 0.1,
+                ..SafetyConfig::default()
+            },
             centring: SpringDamper::default(),
+            passivity: PassivityParams::default(),
+            passivity_enabled: true,
             road_feel_nm_per_kn: 0.12,
             steering_ratio: 10.0,
-            fade_out_s: 0.1,
         }
     }
 }
@@ -180,6 +187,14 @@ fn check(field: &str, value: f64, lo: f64, hi: f64, unit: &str) -> Result<(), Co
     }
 }
 
+/// Map a section's own validation error into a [`ConfigError`] naming the section.
+fn in_section(section: &str) -> impl Fn(&dyn std::fmt::Display) -> ConfigError + '_ {
+    move |e| ConfigError::Section {
+        section: section.into(),
+        message: e.to_string(),
+    }
+}
+
 impl StationConfig {
     /// Read and validate a TOML config file.
     pub fn load(path: &Path) -> Result<Self, ConfigError> {
@@ -200,7 +215,7 @@ impl StationConfig {
         Ok(cfg)
     }
 
-    /// Check every value against its allowed range.
+    /// Check every value against its allowed range. Each crate validates its own section.
     pub fn validate(&self) -> Result<(), ConfigError> {
         let s = &self.session;
         check("session.duration_s", s.duration_s, 0.001, 4.0 * 3600.0, "s")?;
@@ -210,56 +225,21 @@ impl StationConfig {
             ("session.patient_id", &s.patient_id),
             ("session.station_id", &s.station_id),
         ] {
-            netlink::frame::check_id(field, value).map_err(|message| ConfigError::Section {
-                section: "session".into(),
-                message,
-            })?;
+            netlink::frame::check_id(field, value).map_err(|m| in_section("session")(&m))?;
         }
+        self.sim_wheel
+            .validate()
+            .map_err(|e| in_section("sim_wheel")(&e))?;
         let h = &self.haptic;
-        let device_max = self.sim_wheel.max_torque_nm;
-        check("sim_wheel.max_torque_nm", device_max, 0.0, 20.0, "N·m")?;
-        check(
-            "haptic.ceiling_nm",
-            h.ceiling_nm,
-            0.0,
-            device_max,
-            "N·m (the device maximum)",
-        )?;
-        check(
-            "haptic.slew_nm_per_s",
-            h.slew_nm_per_s,
-            0.0,
-            1000.0,
-            "N·m/s",
-        )?;
-        check(
-            "haptic.centring.k_nm_per_rad",
-            h.centring.k_nm_per_rad,
-            0.0,
-            20.0,
-            "N·m/rad",
-        )?;
-        check(
-            "haptic.centring.b_nm_s_per_rad",
-            h.centring.b_nm_s_per_rad,
-            0.0,
-            2.0,
-            "N·m·s/rad",
-        )?;
-        check(
-            "haptic.centring.i_kg_m2",
-            h.centring.i_kg_m2,
-            0.0,
-            0.5,
-            "kg·m²",
-        )?;
-        check(
-            "haptic.centring.centre_rad",
-            h.centring.centre_rad,
-            -1.0,
-            1.0,
-            "rad",
-        )?;
+        h.safety
+            .validate(self.sim_wheel.max_torque_nm)
+            .map_err(|e| in_section("haptic.safety")(&e))?;
+        h.centring
+            .validate()
+            .map_err(|e| in_section("haptic.centring")(&e))?;
+        h.passivity
+            .validate()
+            .map_err(|e| in_section("haptic.passivity")(&e))?;
         check(
             "haptic.road_feel_nm_per_kn",
             h.road_feel_nm_per_kn,
@@ -268,44 +248,12 @@ impl StationConfig {
             "N·m/kN",
         )?;
         check("haptic.steering_ratio", h.steering_ratio, 1.0, 40.0, "")?;
-        check("haptic.fade_out_s", h.fade_out_s, 0.0, 2.0, "s")?;
-        let w = &self.sim_wheel;
-        check(
-            "sim_wheel.inertia_kg_m2",
-            w.inertia_kg_m2,
-            1e-4,
-            1.0,
-            "kg·m²",
-        )?;
-        check(
-            "sim_wheel.viscous_nm_s_per_rad",
-            w.viscous_nm_s_per_rad,
-            0.0,
-            5.0,
-            "N·m·s/rad",
-        )?;
-        check("sim_wheel.coulomb_nm", w.coulomb_nm, 0.0, 5.0, "N·m")?;
-        check(
-            "sim_wheel.encoder_step_rad",
-            w.encoder_step_rad,
-            0.0,
-            0.2,
-            "rad",
-        )?;
-        check(
-            "sim_wheel.torque_step_nm",
-            w.torque_step_nm,
-            0.0,
-            0.5,
-            "N·m",
-        )?;
-        check("sim_wheel.range_rad", w.range_rad, 0.1, 8.0, "rad")?;
+        if let Some(a) = &self.assist {
+            a.validate().map_err(|e| in_section("assist")(&e))?;
+        }
         self.sim_patient
             .validate()
-            .map_err(|e| ConfigError::Section {
-                section: "sim_patient".into(),
-                message: e.to_string(),
-            })?;
+            .map_err(|e| in_section("sim_patient")(&e))?;
         let v = &self.vehicle;
         check("vehicle.mass_kg", v.mass_kg, 100.0, 10_000.0, "kg")?;
         check(
@@ -355,16 +303,18 @@ mod tests {
 
     #[test]
     fn unknown_field_is_rejected_by_name() {
-        let err = StationConfig::from_toml("[haptic]\nceilng_nm = 1.0\n", "test").unwrap_err();
+        let err =
+            StationConfig::from_toml("[haptic.safety]\nceilng_nm = 1.0\n", "test").unwrap_err();
         assert!(err.to_string().contains("ceilng_nm"), "{err}");
     }
 
     #[test]
     fn ceiling_above_device_maximum_names_field_and_range() {
-        let err = StationConfig::from_toml("[haptic]\nceiling_nm = 5.0\n", "test").unwrap_err();
+        let err =
+            StationConfig::from_toml("[haptic.safety]\nceiling_nm = 5.0\n", "test").unwrap_err();
         let msg = err.to_string();
         assert!(
-            msg.contains("haptic.ceiling_nm") && msg.contains("1.87"),
+            msg.contains("haptic.safety") && msg.contains("ceiling_nm") && msg.contains("1.87"),
             "{msg}"
         );
     }
@@ -381,7 +331,8 @@ mod tests {
 
     #[test]
     fn nan_value_is_rejected() {
-        let err = StationConfig::from_toml("[haptic]\nslew_nm_per_s = nan\n", "test").unwrap_err();
-        assert!(err.to_string().contains("haptic.slew_nm_per_s"), "{err}");
+        let err =
+            StationConfig::from_toml("[haptic.safety]\nslew_nm_per_s = nan\n", "test").unwrap_err();
+        assert!(err.to_string().contains("slew_nm_per_s"), "{err}");
     }
 }

@@ -154,7 +154,7 @@ mod tests {
     #[test]
     fn session_id_is_a_valid_wire_identifier() {
         let id = session_id(UNIX_EPOCH + Duration::from_secs(1_795_000_000), 7);
-        assert_eq!(id, "2026-11-19T08-26-40Z-s7");
+        assert_eq!(id, "2026-11-18T11-06-40Z-s7");
         netlink::frame::check_id("session_id", &id).unwrap();
     }
 }

@@ -3,9 +3,12 @@
 //!
 //! Runs on its own thread; the haptic thread never waits for it in real time.
 
-use crate::session::record::TickRecord;
+use crate::session::record::{
+    AssistSample, ScoreSample, TickRecord, TimingSample, VehicleSample, WheelSample,
+};
 use crate::timing::TimingStats;
 use mcap::records::MessageHeader;
+use schemars::JsonSchema;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -14,175 +17,75 @@ use std::path::{Path, PathBuf};
 
 /// MCAP topics, one per stream.
 pub mod topics {
-    /// Wheel angle, velocity and torques, every tick.
+    /// Wheel angle, velocity, torques and safety state, every tick.
     pub const WHEEL: &str = "/wheel";
     /// Car pose, velocities and road position, every tick.
     pub const VEHICLE: &str = "/vehicle";
     /// Running lane score, every 100 ms.
     pub const SCORE: &str = "/score";
+    /// Active assistance, every tick.
+    pub const ASSIST: &str = "/assist";
     /// Loop timing, every tick.
     pub const TIMING: &str = "/timing";
 }
 
-/// Ticks between two score messages and two therapist summaries (100 ms at 1 kHz).
+/// Session time between two score messages and two therapist summaries, s.
 pub const SUMMARY_EVERY_S: f64 = 0.1;
 
-/// A JSON Schema (draft 2020-12) for a flat object of numbers/integers/booleans.
-fn json_schema(title: &str, fields: &[Field]) -> String {
-    let mut props = serde_json::Map::new();
-    for (name, ty, description) in fields {
-        props.insert(
-            (*name).into(),
-            serde_json::json!({ "type": ty, "description": description }),
-        );
-    }
-    let required: Vec<&str> = fields.iter().map(|f| f.0).collect();
-    serde_json::json!({
-        "$schema": "https://json-schema.org/draft/2020-12/schema",
-        "title": title,
-        "type": "object",
-        "properties": props,
-        "required": required,
-    })
-    .to_string()
+/// A message: the tick and session time, then the sample's own fields.
+#[derive(Serialize, JsonSchema)]
+struct Stamped<T> {
+    /// Haptic tick number since the session start.
+    tick: u64,
+    /// Session time, s.
+    t_s: f64,
+    #[serde(flatten)]
+    data: T,
 }
 
-/// A schema field: name, JSON type, description with units.
-type Field = (&'static str, &'static str, &'static str);
+/// JSON Schema (draft 2020-12) of a channel whose messages are `Stamped<T>`.
+fn schema_of<T: JsonSchema>(title: &str) -> String {
+    let mut schema =
+        serde_json::to_value(schemars::schema_for!(Stamped<T>)).expect("schemas serialise");
+    schema["title"] = title.into();
+    schema.to_string()
+}
 
-const COMMON: [Field; 2] = [
-    (
-        "tick",
-        "integer",
-        "haptic tick number since the session start",
-    ),
-    ("t_s", "number", "session time, s"),
-];
-
-/// Schemas of the four channels: (topic, schema name, field list).
-pub fn channel_schemas() -> Vec<(&'static str, &'static str, String)> {
-    fn with_common(fields: &[Field]) -> Vec<Field> {
-        let mut all = COMMON.to_vec();
-        all.extend_from_slice(fields);
-        all
-    }
-    vec![
+/// The channels: (topic, schema name, JSON schema), in channel-index order.
+pub fn channel_schemas() -> [(&'static str, &'static str, String); 5] {
+    [
         (
             topics::WHEEL,
             "telerehab.Wheel",
-            json_schema(
-                "telerehab.Wheel",
-                &with_common(&[
-                    (
-                        "angle_rad",
-                        "number",
-                        "angle read from the device (quantised), rad",
-                    ),
-                    (
-                        "velocity_rad_s",
-                        "number",
-                        "estimated angular velocity, rad/s",
-                    ),
-                    (
-                        "requested_nm",
-                        "number",
-                        "haptic torque before the safety chain, N·m",
-                    ),
-                    ("commanded_nm", "number", "torque sent to the motor, N·m"),
-                    ("clipped", "boolean", "the safety chain limited the request"),
-                    (
-                        "true_angle_rad",
-                        "number",
-                        "true angle (simulation only), rad",
-                    ),
-                    ("hand_nm", "number", "simulated patient's hand torque, N·m"),
-                    ("target_rad", "number", "angle the patient aims for, rad"),
-                ]),
-            ),
+            schema_of::<WheelSample>("telerehab.Wheel"),
         ),
         (
             topics::VEHICLE,
             "telerehab.Vehicle",
-            json_schema(
-                "telerehab.Vehicle",
-                &with_common(&[
-                    ("x_m", "number", "global x, m"),
-                    ("y_m", "number", "global y, m"),
-                    ("yaw_rad", "number", "heading, rad"),
-                    ("ux_m_s", "number", "forward velocity, m/s"),
-                    ("uy_m_s", "number", "lateral velocity, m/s"),
-                    ("r_rad_s", "number", "yaw rate, rad/s"),
-                    ("steer_rad", "number", "road-wheel angle, rad"),
-                    ("front_lateral_n", "number", "front lateral tyre force, N"),
-                    ("s_m", "number", "distance along the road, m"),
-                    (
-                        "lateral_m",
-                        "number",
-                        "deviation from the road centre, m (left positive)",
-                    ),
-                ]),
-            ),
+            schema_of::<VehicleSample>("telerehab.Vehicle"),
         ),
         (
             topics::SCORE,
             "telerehab.Score",
-            json_schema(
-                "telerehab.Score",
-                &with_common(&[
-                    ("rms_lateral_m", "number", "RMS lateral deviation so far, m"),
-                    (
-                        "max_lateral_m",
-                        "number",
-                        "largest |lateral deviation| so far, m",
-                    ),
-                    (
-                        "pct_in_lane",
-                        "number",
-                        "share of time in the lane so far, %",
-                    ),
-                ]),
-            ),
+            schema_of::<ScoreSample>("telerehab.Score"),
+        ),
+        (
+            topics::ASSIST,
+            "telerehab.Assist",
+            schema_of::<AssistSample>("telerehab.Assist"),
         ),
         (
             topics::TIMING,
             "telerehab.LoopTiming",
-            json_schema(
-                "telerehab.LoopTiming",
-                &with_common(&[
-                    (
-                        "lateness_ns",
-                        "integer",
-                        "tick start after its absolute deadline, ns",
-                    ),
-                    (
-                        "period_ns",
-                        "integer",
-                        "wall time since the previous tick, ns",
-                    ),
-                    ("work_ns", "integer", "compute time of the tick, ns"),
-                    (
-                        "dropped_records",
-                        "integer",
-                        "records dropped so far (ring full)",
-                    ),
-                ]),
-            ),
+            schema_of::<TimingSample>("telerehab.LoopTiming"),
         ),
     ]
-}
-
-#[derive(Serialize)]
-struct Stamped<'a, T: Serialize> {
-    tick: u64,
-    t_s: f64,
-    #[serde(flatten)]
-    data: &'a T,
 }
 
 /// An MCAP file being written.
 pub struct McapRecorder {
     writer: mcap::Writer<BufWriter<File>>,
-    channels: [u16; 4],
+    channels: [u16; 5],
     sequence: u32,
     start_unix_ns: u64,
     path: PathBuf,
@@ -233,7 +136,7 @@ impl McapRecorder {
             .chunk_size(Some(1024 * 1024))
             .create(BufWriter::new(file))
             .map_err(mcap_err)?;
-        let mut channels = [0u16; 4];
+        let mut channels = [0u16; 5];
         for (i, (topic, name, schema)) in channel_schemas().into_iter().enumerate() {
             let schema_id = writer
                 .add_schema(name, "jsonschema", schema.as_bytes())
@@ -269,7 +172,7 @@ impl McapRecorder {
         &mut self,
         channel: usize,
         rec: &TickRecord,
-        data: &T,
+        data: T,
     ) -> Result<(), RecorderError> {
         self.buf.clear();
         let msg = Stamped {
@@ -297,12 +200,13 @@ impl McapRecorder {
 
     /// Record one tick on the per-tick channels, and the score when `with_score`.
     pub fn record(&mut self, rec: &TickRecord, with_score: bool) -> Result<(), RecorderError> {
-        self.write(0, rec, &rec.wheel)?;
-        self.write(1, rec, &rec.vehicle)?;
+        self.write(0, rec, rec.wheel)?;
+        self.write(1, rec, rec.vehicle)?;
         if with_score {
-            self.write(2, rec, &rec.score)?;
+            self.write(2, rec, rec.score)?;
         }
-        self.write(3, rec, &rec.timing)
+        self.write(3, rec, rec.assist)?;
+        self.write(4, rec, rec.timing)
     }
 
     /// Close the current chunk and flush it to disk, so a killed process loses at most what
@@ -325,6 +229,28 @@ impl McapRecorder {
     }
 }
 
+impl RecorderOutcome {
+    /// Account for one tick.
+    pub fn add(&mut self, rec: &TickRecord, assisted: bool) {
+        self.records += 1;
+        self.timing.add(
+            rec.timing.lateness_ns,
+            rec.timing.period_ns,
+            rec.timing.work_ns,
+        );
+        self.max_abs_torque_nm = self.max_abs_torque_nm.max(rec.wheel.commanded_nm.abs());
+        self.clipped_ticks += u64::from(rec.wheel.clipped);
+        self.fault_ticks += u64::from(rec.wheel.watchdog.starts_with("fault"));
+        if assisted {
+            self.assist_ticks += 1;
+            self.assist_level_sum += rec.assist.assistance_level;
+            self.assist_error_sq_sum += rec.assist.error_rad * rec.assist.error_rad;
+            self.assist_saturated_ticks += u64::from(rec.assist.saturated);
+        }
+        self.last = *rec;
+    }
+}
+
 /// What the recorder hands back when the session ends.
 #[derive(Debug, Default)]
 pub struct RecorderOutcome {
@@ -336,6 +262,18 @@ pub struct RecorderOutcome {
     pub last: TickRecord,
     /// Largest |commanded torque|, N·m.
     pub max_abs_torque_nm: f64,
+    /// Ticks on which the safety chain limited the torque.
+    pub clipped_ticks: u64,
+    /// Ticks on which the safety supervisor saw a fault (missed deadline, stale reading).
+    pub fault_ticks: u64,
+    /// Ticks with an active assist controller.
+    pub assist_ticks: u64,
+    /// Sum of the assistance level over assisted ticks.
+    pub assist_level_sum: f64,
+    /// Sum of the squared assist tracking error over assisted ticks, rad².
+    pub assist_error_sq_sum: f64,
+    /// Assisted ticks on which a torque limit cut the assist.
+    pub assist_saturated_ticks: u64,
     /// Size of the finished MCAP file, bytes (None without recording).
     pub mcap_bytes: Option<u64>,
     /// The first recording error, if any (recording stops, the session goes on).

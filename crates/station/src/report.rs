@@ -23,113 +23,131 @@ pub struct LinkReport {
 /// Render the end-of-session summary as text.
 pub fn render(r: &SessionReport, link: Option<&LinkReport>) -> String {
     let mut s = String::new();
-    let last = &r.recorder.last;
-    let duration_s = last.t_ns as f64 * 1e-9 + 1.0 / r.loop_rate_hz;
-    let rate = if r.haptic.wall_s > 0.0 {
-        r.haptic.ticks as f64 / r.haptic.wall_s
+    macro_rules! line {
+        ($($arg:tt)*) => {{
+            let _ = writeln!(s, $($arg)*);
+        }};
+    }
+    let rec = &r.recorder;
+    let last = &rec.last;
+    let ticks = rec.records.max(1) as f64;
+    let duration_s = r.haptic.ticks as f64 / r.loop_rate_hz;
+    let early = if r.haptic.stopped_early {
+        " (stopped early)"
     } else {
-        0.0
+        ""
     };
-    let pe = r.recorder.timing.period_error();
-    let late = r.recorder.timing.lateness();
-    let work = r.recorder.timing.work();
-    let _ = writeln!(
-        s,
-        "── session summary ─────────────────────────────────────"
-    );
-    let _ = writeln!(
-        s,
-        "duration            {duration_s:.2} s session time{}",
-        if r.haptic.stopped_early {
-            " (stopped early)"
-        } else {
-            ""
-        }
-    );
-    let _ = writeln!(
-        s,
+    line!("── session summary ─────────────────────────────────────");
+    line!("duration            {duration_s:.2} s session time{early}");
+    line!(
         "ticks               {} ({} recorded, {} dropped)",
-        r.haptic.ticks, r.recorder.records, r.haptic.dropped_records
+        r.haptic.ticks,
+        rec.records,
+        r.haptic.dropped_records
     );
-    let _ = writeln!(
-        s,
-        "loop rate           {rate:.1} Hz achieved (nominal {:.0} Hz), wall {:.2} s",
-        r.loop_rate_hz, r.haptic.wall_s
-    );
-    let _ = writeln!(
-        s,
-        "period error        p50 {:.1} µs  p99 {:.1} µs  max {:.1} µs",
-        pe.p50_us, pe.p99_us, pe.max_us
-    );
-    let _ = writeln!(
-        s,
-        "deadline lateness   p50 {:.1} µs  p99 {:.1} µs  max {:.1} µs",
-        late.p50_us, late.p99_us, late.max_us
-    );
-    let _ = writeln!(
-        s,
-        "tick compute        p50 {:.1} µs  p99 {:.1} µs  max {:.1} µs",
-        work.p50_us, work.p99_us, work.max_us
-    );
-    let _ = writeln!(
-        s,
-        "real-time priority  {}",
-        if r.haptic.realtime_priority {
+    if r.real_time {
+        let rate = r.haptic.ticks as f64 / r.haptic.wall_s.max(1e-9);
+        let (pe, late, work) = (
+            rec.timing.period_error(),
+            rec.timing.lateness(),
+            rec.timing.work(),
+        );
+        line!(
+            "loop rate           {rate:.1} Hz achieved (nominal {:.0} Hz), wall {:.2} s",
+            r.loop_rate_hz,
+            r.haptic.wall_s
+        );
+        line!(
+            "period error        p50 {:.1} µs  p99 {:.1} µs  max {:.1} µs",
+            pe.p50_us,
+            pe.p99_us,
+            pe.max_us
+        );
+        line!(
+            "deadline lateness   p50 {:.1} µs  p99 {:.1} µs  max {:.1} µs",
+            late.p50_us,
+            late.p99_us,
+            late.max_us
+        );
+        line!(
+            "tick compute        p50 {:.1} µs  p99 {:.1} µs  max {:.1} µs",
+            work.p50_us,
+            work.p99_us,
+            work.max_us
+        );
+        let prio = if r.haptic.realtime_priority {
             "granted"
         } else {
             "not granted (normal scheduling)"
-        }
-    );
-    let _ = writeln!(
-        s,
+        };
+        line!("real-time priority  {prio}");
+    } else {
+        let work = rec.timing.work();
+        line!(
+            "loop pacing         --speed max: {:.0}× real time, wall {:.2} s",
+            duration_s / r.haptic.wall_s.max(1e-9),
+            r.haptic.wall_s
+        );
+        line!(
+            "tick compute        p50 {:.1} µs  p99 {:.1} µs  max {:.1} µs",
+            work.p50_us,
+            work.p99_us,
+            work.max_us
+        );
+    }
+    line!(
         "RMS lateral dev.    {:.3} m (max {:.3} m)",
-        last.score.rms_lateral_m, last.score.max_lateral_m
+        last.score.rms_lateral_m,
+        last.score.max_lateral_m
     );
-    let _ = writeln!(s, "time in lane        {:.1} %", last.score.pct_in_lane);
-    let _ = writeln!(
-        s,
-        "max |torque|        {:.3} N·m",
-        r.recorder.max_abs_torque_nm
+    line!("time in lane        {:.1} %", last.score.pct_in_lane);
+    line!(
+        "torque              max |τ| {:.3} N·m, clipped {:.2} % of ticks, watchdog faults {} ticks",
+        rec.max_abs_torque_nm,
+        100.0 * rec.clipped_ticks as f64 / ticks,
+        rec.fault_ticks
     );
-    match (&r.record, r.recorder.mcap_bytes) {
-        (Some(p), Some(b)) => {
-            let _ = writeln!(
-                s,
-                "recording           {} ({:.2} MB)",
-                p.display(),
-                b as f64 / 1e6
-            );
-        }
-        (Some(p), None) => {
-            let _ = writeln!(
-                s,
-                "recording           {} FAILED: {}",
-                p.display(),
-                r.recorder.error.as_deref().unwrap_or("unknown")
-            );
-        }
-        (None, _) => {
-            let _ = writeln!(s, "recording           off");
-        }
+    if rec.assist_ticks > 0 {
+        line!(
+            "assist              mean level {:.2}, RMS error {:.2}°, saturated {:.1} % of ticks",
+            rec.assist_level_sum / rec.assist_ticks as f64,
+            (rec.assist_error_sq_sum / rec.assist_ticks as f64)
+                .sqrt()
+                .to_degrees(),
+            100.0 * rec.assist_saturated_ticks as f64 / rec.assist_ticks as f64
+        );
+    }
+    match (&r.record, rec.mcap_bytes) {
+        (Some(p), Some(b)) => line!(
+            "recording           {} ({:.2} MB)",
+            p.display(),
+            b as f64 / 1e6
+        ),
+        (Some(p), None) => line!(
+            "recording           {} FAILED: {}",
+            p.display(),
+            rec.error.as_deref().unwrap_or("unknown")
+        ),
+        (None, _) => line!("recording           off"),
     }
     match link {
         Some(l) => {
-            let _ = writeln!(
-                s,
+            line!(
                 "therapist {:<9} {} summaries: {} sent, {} acknowledged, {} NOT delivered",
-                l.address, l.produced, l.sent, l.acked, l.undelivered
+                l.address,
+                l.produced,
+                l.sent,
+                l.acked,
+                l.undelivered
             );
             if let Some(e) = &l.last_error {
-                let _ = writeln!(s, "therapist link      last error: {e}");
+                line!("therapist link      last error: {e}");
             }
         }
-        None => {
-            let _ = writeln!(
-                s,
-                "therapist           off ({} summaries produced)",
-                r.summaries
-            );
-        }
+        None => line!(
+            "therapist           off ({} summaries produced)",
+            r.summaries
+        ),
     }
     s
 }

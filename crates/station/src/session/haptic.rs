@@ -64,14 +64,17 @@ pub fn request_realtime_priority() -> bool {
     }
 }
 
-/// Run the loop until `total_ticks` have run or `stop` is set, then fade the torque out over
-/// `fade_ticks` and command zero. Every record goes to `out` (dropped and counted if the ring
-/// is full in real time).
+/// Longest the supervisor may take to fade the torque out after a stop, s; past it the loop
+/// commands zero at once.
+const MAX_FADE_S: f64 = 2.0;
+
+/// Run the loop until `total_ticks` have run or `stop` is set, then let the safety supervisor
+/// fade the torque out and command zero. Every record goes to `out` (dropped and counted if
+/// the ring is full in real time).
 pub fn run(
     plant: &mut SimPlant,
     out: &mut rtrb::Producer<TickRecord>,
     total_ticks: u64,
-    fade_ticks: u64,
     pacing: Pacing,
     stop: &Arc<AtomicBool>,
 ) -> HapticOutcome {
@@ -82,27 +85,24 @@ pub fn run(
         );
     }
     let period_ns = (plant.dt_s() * 1e9).round() as u64;
+    let max_fade_ticks = (MAX_FADE_S / plant.dt_s()).ceil() as u64;
     let start = Instant::now();
     let mut last_wake = start;
     let mut dropped = 0u64;
-    let mut fading_from: Option<u64> = None;
+    let mut stopping_since: Option<u64> = None;
     let mut stopped_early = false;
     let mut tick = 0u64;
     loop {
-        if fading_from.is_none() && (tick >= total_ticks || stop.load(Ordering::Relaxed)) {
+        if stopping_since.is_none() && (tick >= total_ticks || stop.load(Ordering::Relaxed)) {
             stopped_early = tick < total_ticks;
-            fading_from = Some(tick);
+            stopping_since = Some(tick);
+            plant.request_stop();
         }
-        let scale = match fading_from {
-            None => 1.0,
-            Some(f) => {
-                let done = tick - f;
-                if done >= fade_ticks {
-                    break;
-                }
-                1.0 - (done + 1) as f64 / fade_ticks as f64
-            }
-        };
+        if let Some(since) = stopping_since
+            && (plant.stopped() || tick - since >= max_fade_ticks)
+        {
+            break;
+        }
         let deadline = start + Duration::from_nanos(period_ns * tick);
         let wake = if pacing == Pacing::RealTime {
             sleep_until(deadline);
@@ -110,7 +110,7 @@ pub fn run(
         } else {
             Instant::now()
         };
-        let mut rec = plant.tick(scale);
+        let mut rec = plant.tick();
         let done = Instant::now();
         rec.timing = TimingSample {
             lateness_ns: if pacing == Pacing::RealTime {

@@ -61,6 +61,8 @@ pub struct SessionReport {
     pub record: Option<PathBuf>,
     /// Summaries produced.
     pub summaries: u64,
+    /// The loop was paced in real time (wall-clock timing figures apply).
+    pub real_time: bool,
 }
 
 fn unix_ns() -> u64 {
@@ -81,7 +83,6 @@ pub fn run(
     cfg.validate()?;
     let rate = cfg.session.loop_rate_hz;
     let total_ticks = (cfg.session.duration_s * rate).round() as u64;
-    let fade_ticks = ((cfg.haptic.fade_out_s * rate).round() as u64).max(1);
     let start_unix_ns = unix_ns();
     let recorder = match &opts.record {
         Some(path) => {
@@ -101,43 +102,34 @@ pub fn run(
         }
         None => None,
     };
-    let mut plant = sim::SimPlant::new(cfg);
+    let mut plant = sim::SimPlant::new(cfg)?;
     let (mut producer, consumer) = rtrb::RingBuffer::<TickRecord>::new(RING_CAPACITY);
     let haptic_done = Arc::new(AtomicBool::new(false));
     let period_ns = (1e9 / rate).round() as u64;
     let summary_every = ((SUMMARY_EVERY_S * rate).round() as u64).max(1);
     let flush_every = ((FLUSH_EVERY_S * rate).round() as u64).max(1);
     let pacing = opts.pacing;
+    let plan = RecorderPlan {
+        period_ns,
+        expected_ticks: total_ticks,
+        summary_every,
+        flush_every,
+        assisted: cfg.assist.is_some(),
+    };
 
     let (haptic, recorder_outcome, summaries) = std::thread::scope(|scope| -> anyhow::Result<_> {
         let done = haptic_done.clone();
         let rec_thread = std::thread::Builder::new()
             .name("recorder".into())
             .spawn_scoped(scope, move || {
-                recorder_loop(
-                    consumer,
-                    recorder,
-                    &done,
-                    period_ns,
-                    total_ticks,
-                    summary_every,
-                    flush_every,
-                    on_summary,
-                )
+                recorder_loop(consumer, recorder, &done, plan, on_summary)
             })
             .context("cannot start the recorder thread")?;
         let stop_h = stop.clone();
         let haptic_thread = std::thread::Builder::new()
             .name("haptic".into())
             .spawn_scoped(scope, move || {
-                haptic::run(
-                    &mut plant,
-                    &mut producer,
-                    total_ticks,
-                    fade_ticks,
-                    pacing,
-                    &stop_h,
-                )
+                haptic::run(&mut plant, &mut producer, total_ticks, pacing, &stop_h)
             })
             .context("cannot start the haptic thread")?;
         let haptic = haptic_thread.join();
@@ -156,20 +148,62 @@ pub fn run(
         loop_rate_hz: rate,
         record: opts.record.clone(),
         summaries,
+        real_time: opts.pacing == Pacing::RealTime,
     })
 }
 
-#[allow(clippy::too_many_arguments)]
+/// Metrics for the therapist beyond the fixed summary fields: safety and assistance so far.
+fn summary_extra(out: &RecorderOutcome) -> BTreeMap<String, f64> {
+    let ticks = out.records.max(1) as f64;
+    let mut extra = BTreeMap::new();
+    extra.insert(
+        "clipped_pct".into(),
+        100.0 * out.clipped_ticks as f64 / ticks,
+    );
+    extra.insert("watchdog_fault_ticks".into(), out.fault_ticks as f64);
+    if out.assist_ticks > 0 {
+        let n = out.assist_ticks as f64;
+        extra.insert("assist_level_mean".into(), out.assist_level_sum / n);
+        extra.insert(
+            "assist_rms_error_deg".into(),
+            (out.assist_error_sq_sum / n).sqrt().to_degrees(),
+        );
+        extra.insert(
+            "assist_saturated_pct".into(),
+            100.0 * out.assist_saturated_ticks as f64 / n,
+        );
+    }
+    extra
+}
+
+/// The recorder thread's fixed settings.
+struct RecorderPlan {
+    /// Nominal loop period, ns.
+    period_ns: u64,
+    /// Ticks the session should run (for preallocation).
+    expected_ticks: u64,
+    /// Ticks between summaries.
+    summary_every: u64,
+    /// Ticks between MCAP chunk flushes.
+    flush_every: u64,
+    /// An assist controller is active.
+    assisted: bool,
+}
+
 fn recorder_loop(
     mut consumer: rtrb::Consumer<TickRecord>,
     mut mcap: Option<McapRecorder>,
     haptic_done: &AtomicBool,
-    period_ns: u64,
-    expected_ticks: u64,
-    summary_every: u64,
-    flush_every: u64,
+    plan: RecorderPlan,
     mut on_summary: impl FnMut(&LiveSummary),
 ) -> (RecorderOutcome, u64) {
+    let RecorderPlan {
+        period_ns,
+        expected_ticks,
+        summary_every,
+        flush_every,
+        assisted,
+    } = plan;
     let mut out = RecorderOutcome {
         timing: TimingStats::new(period_ns, expected_ticks as usize + 1000),
         ..Default::default()
@@ -186,14 +220,7 @@ fn recorder_loop(
                 continue;
             }
         };
-        out.records += 1;
-        out.timing.add(
-            rec.timing.lateness_ns,
-            rec.timing.period_ns,
-            rec.timing.work_ns,
-        );
-        out.max_abs_torque_nm = out.max_abs_torque_nm.max(rec.wheel.commanded_nm.abs());
-        out.last = rec;
+        out.add(&rec, assisted);
         let summary_tick = rec.tick % summary_every == 0 && rec.tick > 0;
         if let Some(m) = mcap.as_mut() {
             let res = m.record(&rec, summary_tick).and_then(|()| {
@@ -215,7 +242,7 @@ fn recorder_loop(
                 record: rec,
                 max_abs_torque_nm: out.max_abs_torque_nm,
                 loop_p99_us: out.timing.recent_lateness_p99_us(1000),
-                extra: BTreeMap::new(),
+                extra: summary_extra(&out),
             });
             seq += 1;
         }
