@@ -322,7 +322,10 @@ mod tests {
 
     /// The two-link planar RR test of thesis Table 4.2: nominal L1 = 1.2991, L2 = 0.5;
     /// true L1 = 0.6, L2 = 1.0 (the thesis reached 0.5942 / 0.9972).
-    fn table_4_2(m: usize, seed: u64) -> (Vec<Matrix4<f64>>, Vec<Matrix4<f64>>, Vec<Matrix4<f64>>) {
+    /// (nominal frames, joint motions, measured end poses)
+    type Problem = (Vec<Matrix4<f64>>, Vec<Matrix4<f64>>, Vec<Matrix4<f64>>);
+
+    fn table_4_2(m: usize, seed: u64) -> Problem {
         let truth = [Matrix4::identity(), trans_x(0.6), trans_x(1.0)];
         let nominal = vec![Matrix4::identity(), trans_x(1.2991), trans_x(0.5)];
         let mut rng = ChaCha8Rng::seed_from_u64(seed);

@@ -112,7 +112,7 @@ impl SqrtInfo {
         let scale = r.diagonal().amax();
         let r_ww = r.fixed_view::<5, 5>(0, 0).into_owned();
         let min_diag = r_ww.diagonal().abs().min();
-        if !(scale > 0.0) || min_diag <= 1e-11 * scale {
+        if scale.is_nan() || scale <= 0.0 || min_diag <= 1e-11 * scale {
             return Err(CalibError::NotIdentifiable {
                 reason: "the arm angles barely changed, so forearm, upper-arm and ground links \
                          cannot be told apart; ask the patient for ±50–60° of wheel motion"
@@ -129,7 +129,7 @@ impl SqrtInfo {
             (1, 0)
         };
         let (smin, smax) = (svd.singular_values[imin], svd.singular_values[imax]);
-        if !(smax > 0.0) || smin >= smax * (1.0 - 1e-9) {
+        if smax.is_nan() || smax <= 0.0 || smin >= smax * (1.0 - 1e-9) {
             return Err(CalibError::NotIdentifiable {
                 reason: "the initial wheel angle Θ2 is not determined by these data; ask the \
                          patient for ±50–60° of wheel motion"

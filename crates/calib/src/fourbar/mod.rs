@@ -16,6 +16,7 @@ mod iterative;
 pub mod model;
 pub mod online;
 pub mod quality;
+pub mod smoothing;
 
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
@@ -70,6 +71,11 @@ pub struct FourbarOptions {
     pub max_iterations: u32,
     /// Relative step tolerance of the iterative methods, in (0, 1e-3].
     pub tolerance: f64,
+    /// Half-width (samples) of a zero-phase Savitzky–Golay smoother applied to φ2, φ3, φ4
+    /// before the fit, 0 (off) ..= 500. Removes the errors-in-variables bias that white angle
+    /// noise causes; keep the window well under a quarter of the motion's period
+    /// ([`smoothing`]).
+    pub smoothing_half_window: usize,
 }
 
 impl Default for FourbarOptions {
@@ -81,6 +87,7 @@ impl Default for FourbarOptions {
             robust: true,
             max_iterations: 200,
             tolerance: 1e-12,
+            smoothing_half_window: 0,
         }
     }
 }
@@ -100,6 +107,13 @@ impl FourbarOptions {
                 argument: "tolerance",
                 value: self.tolerance,
                 allowed: "(0, 1e-3]",
+            });
+        }
+        if self.smoothing_half_window > 500 {
+            return Err(CalibError::OutOfRange {
+                argument: "smoothing_half_window",
+                value: self.smoothing_half_window as f64,
+                allowed: "0..=500 samples",
             });
         }
         if let Some(p) = &self.initial {
@@ -156,6 +170,25 @@ pub fn calibrate(
     check_l2(l2_m)?;
     samples.validate()?;
     options.validate()?;
+    if options.smoothing_half_window > 0 {
+        let w = options.smoothing_half_window;
+        let (p2, p3, p4) = (
+            smoothing::savitzky_golay(samples.phi2, w),
+            smoothing::savitzky_golay(samples.phi3, w),
+            smoothing::savitzky_golay(samples.phi4, w),
+        );
+        let smoothed = FourbarSamples {
+            phi2: &p2,
+            phi3: &p3,
+            phi4: &p4,
+            time_s: samples.time_s,
+        };
+        let unsmoothed = FourbarOptions {
+            smoothing_half_window: 0,
+            ..*options
+        };
+        return calibrate(&smoothed, l2_m, &unsmoothed);
+    }
     let tol = options.tolerance;
     let max_it = options.max_iterations;
     let np = if options.gyro_bias { 8 } else { 6 };

@@ -127,7 +127,7 @@ pub(crate) fn warnings(
         ("l3", params.l3_m, stats.std_errors.l3_m),
         ("l4", params.l4_m, stats.std_errors.l4_m),
     ] {
-        if !(se <= MAX_RELATIVE_STD_ERROR * value.abs()) {
+        if se.is_nan() || se > MAX_RELATIVE_STD_ERROR * value.abs() {
             w.push(format!(
                 "{name} = {:.1} mm is uncertain (standard error {:.1} mm); record a longer session \
                  or {ASK_FOR_MOTION}",

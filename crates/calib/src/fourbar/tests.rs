@@ -356,3 +356,42 @@ fn online_rejects_bad_options() {
         })
     ));
 }
+
+/// Thesis Table 4.1 (|% error| of l3, l4 at 5 / 10 / 25 % noise): with the angles smoothed
+/// first, our estimate beats the thesis's l3 at every level and l4 at 10 and 25 %; at 5 % the
+/// thesis's l4 (0.3 %) is about matched, not beaten, and our total l3 + l4 error is lower
+/// (mean over seeded recordings; noise: Gaussian, σ = p·|true value| per sample and channel —
+/// see examples/noise_study.rs and BENCHMARKS.md).
+#[test]
+fn smoothed_auto_beats_thesis_table_4_1_at_its_noise_levels() {
+    let rec = recording(2000, 60.0);
+    let thesis = [(0.05, 4.0, 0.3), (0.10, 2.0, 1.0), (0.25, 4.0, 6.0)];
+    let seeds = 6;
+    for (p, th3, th4) in thesis {
+        let (mut e3, mut e4) = (0.0, 0.0);
+        for seed in 0..seeds {
+            let mut rng = ChaCha8Rng::seed_from_u64(7000 + seed);
+            let normal = Normal::new(0.0, 1.0).unwrap();
+            let mut noisy = |v: &[f64]| -> Vec<f64> {
+                v.iter()
+                    .map(|x| x + p * x.abs() * normal.sample(&mut rng))
+                    .collect()
+            };
+            let (n2, n3, n4) = (noisy(&rec.phi2), noisy(&rec.phi3), noisy(&rec.phi4));
+            let o = FourbarOptions {
+                smoothing_half_window: 25,
+                ..Default::default()
+            };
+            let r = calibrate(&FourbarSamples::new(&n2, &n3, &n4), L2, &o).unwrap();
+            e3 += (100.0 * (r.params.l3_m - 0.35) / 0.35).abs() / seeds as f64;
+            e4 += (100.0 * (r.params.l4_m - 0.30) / 0.30).abs() / seeds as f64;
+        }
+        let msg = format!("noise {p}: l3 {e3:.2} % (thesis {th3}), l4 {e4:.2} % (thesis {th4})");
+        assert!(e3 < th3, "{msg}");
+        if p > 0.05 {
+            assert!(e4 < th4, "{msg}");
+        } else {
+            assert!(e3 + e4 < th3 + th4 && e4 < 2.0 * th4, "{msg}");
+        }
+    }
+}
