@@ -80,13 +80,45 @@ impl SqrtInfo {
     }
 
     /// As [`Self::from_samples`] with per-sample weights (rows scaled by √w).
+    ///
+    /// Fast path: accumulate the 7×7 normal matrix and take its Cholesky factor (the loop
+    /// matrix is well scaled — every row has unit-modulus entries — so squaring its condition
+    /// number costs little); if that factorisation fails or is nearly singular, fall back to a
+    /// Householder QR of the rows themselves.
     pub(crate) fn from_weighted_samples(s: &FourbarSamples<'_>, weights: Option<&[f64]>) -> Self {
-        let mut info = Self::new();
+        let mut a = Mat7::zeros();
+        for j in 0..s.len() {
+            let w = weights.map_or(1.0, |w| w[j]);
+            for row in sample_rows(s.phi2[j], s.phi3[j], s.phi4[j]) {
+                for (c, vc) in row.iter().enumerate() {
+                    let wc = w * vc;
+                    for (d, vd) in row.iter().enumerate().take(c + 1) {
+                        a[(c, d)] += wc * vd;
+                    }
+                }
+            }
+        }
+        a.fill_upper_triangle_with_lower_triangle();
+        let n_eff = weights.map_or(s.len() as f64, |w| w.iter().sum());
+        let scale = a.diagonal().amax();
+        let chol = a
+            .cholesky()
+            .filter(|c| c.l_dirty().diagonal().amin() > 1e-6 * scale.sqrt());
+        let r = match chol {
+            Some(c) => c.l().transpose(),
+            None => Self::qr_factor(s, weights),
+        };
+        Self { r, n_eff, count: s.len() as u64 }
+    }
+
+    /// `R` by Householder QR of the stacked rows, in chunks.
+    fn qr_factor(s: &FourbarSamples<'_>, weights: Option<&[f64]>) -> Mat7 {
+        let mut r_acc = Mat7::zeros();
         let mut k = 0;
         while k < s.len() {
             let end = (k + CHUNK).min(s.len());
             let mut stacked = nalgebra::DMatrix::<f64>::zeros(NZ + 2 * (end - k), NZ);
-            stacked.view_mut((0, 0), (NZ, NZ)).copy_from(&info.r);
+            stacked.view_mut((0, 0), (NZ, NZ)).copy_from(&r_acc);
             for (i, j) in (k..end).enumerate() {
                 let rows = sample_rows(s.phi2[j], s.phi3[j], s.phi4[j]);
                 let sw = weights.map_or(1.0, |w| w[j].sqrt());
@@ -97,12 +129,10 @@ impl SqrtInfo {
                 }
             }
             let r = stacked.qr().r();
-            info.r.copy_from(&r.view((0, 0), (NZ, NZ)));
+            r_acc.copy_from(&r.view((0, 0), (NZ, NZ)));
             k = end;
         }
-        info.n_eff = weights.map_or(s.len() as f64, |w| w.iter().sum());
-        info.count = s.len() as u64;
-        info
+        r_acc
     }
 
     /// The global least-squares solution for wheel radius `l2` (m): parameters and the

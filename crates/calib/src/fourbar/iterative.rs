@@ -40,8 +40,9 @@ pub(crate) fn normal_equations(
     s: &FourbarSamples<'_>,
     huber_c: Huber,
 ) -> Normal {
-    let mut jtj = DMatrix::zeros(np, np);
-    let mut jtr = DVector::zeros(np);
+    // fixed-size accumulators in the hot loop; the lower triangle only
+    let mut a = [[0.0f64; 8]; 8];
+    let mut g = [0.0f64; 8];
     let (mut ssr, mut w_sum, mut cost, mut outliers) = (0.0, 0.0, 0.0, 0usize);
     for k in 0..s.len() {
         let (r, dre, dim) = residual_and_jacobian(p, l2, s, k);
@@ -54,17 +55,15 @@ pub(crate) fn normal_equations(
         ssr += w * norm * norm;
         w_sum += w;
         for i in 0..np {
-            jtr[i] += w * (dre[i] * r[0] + dim[i] * r[1]);
+            let (wre, wim) = (w * dre[i], w * dim[i]);
+            g[i] += wre * r[0] + wim * r[1];
             for j in 0..=i {
-                jtj[(i, j)] += w * (dre[i] * dre[j] + dim[i] * dim[j]);
+                a[i][j] += wre * dre[j] + wim * dim[j];
             }
         }
     }
-    for i in 0..np {
-        for j in 0..i {
-            jtj[(j, i)] = jtj[(i, j)];
-        }
-    }
+    let jtj = DMatrix::from_fn(np, np, |i, j| if j <= i { a[i][j] } else { a[j][i] });
+    let jtr = DVector::from_fn(np, |i, _| g[i]);
     Normal {
         jtj,
         jtr,
