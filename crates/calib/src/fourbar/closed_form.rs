@@ -108,7 +108,11 @@ impl SqrtInfo {
             Some(c) => c.l().transpose(),
             None => Self::qr_factor(s, weights),
         };
-        Self { r, n_eff, count: s.len() as u64 }
+        Self {
+            r,
+            n_eff,
+            count: s.len() as u64,
+        }
     }
 
     /// `R` by Householder QR of the stacked rows, in chunks.

@@ -197,9 +197,14 @@ pub fn calibrate(
             .initial
             .ok_or(CalibError::MissingInitialGuess { method })
     };
+    // The closed form's statistics come straight from its triangular factor (no second pass).
+    let mut global_stats = None;
     let (refined, robust_c) = match options.method {
         FourbarMethod::Global => {
-            let (p, _) = SqrtInfo::from_samples(samples).solve(l2_m)?;
+            let info = SqrtInfo::from_samples(samples);
+            let (p, cost) = info.solve(l2_m)?;
+            let normal = to_dynamic(&info.normal_matrix(&p, l2_m));
+            global_stats = Some(quality::fit_stats(&normal, cost, info.n_eff));
             (
                 Refined {
                     p: p.to_vec8(),
@@ -258,8 +263,18 @@ pub fn calibrate(
         6
     };
     let params = FourbarParams::from_vec8(refined.p);
-    let ne = normal_equations(&params.to_vec8(), np_used, l2_m, samples, robust_c);
-    let stats = quality::fit_stats(&ne.jtj, ne.ssr, ne.w_sum);
+    let (stats, outlier_fraction) = match global_stats {
+        Some(stats) => (stats, 0.0),
+        None => {
+            let ne = normal_equations(&params.to_vec8(), np_used, l2_m, samples, robust_c);
+            let outliers = if robust_c.is_some() {
+                ne.outlier_fraction
+            } else {
+                0.0
+            };
+            (quality::fit_stats(&ne.jtj, ne.ssr, ne.w_sum), outliers)
+        }
+    };
     let range = samples.wheel_range_rad();
     let mut warnings = quality::warnings(&params, &stats, Some(range), samples.time_s.is_some());
     if !refined.converged {
@@ -269,11 +284,11 @@ pub fn calibrate(
             refined.iterations
         ));
     }
-    if ne.outlier_fraction > 0.2 {
+    if outlier_fraction > 0.2 {
         warnings.push(format!(
             "{:.0}% of the samples do not fit the arm model (down-weighted); check that the \
              torso stayed still and the gyros stayed on the arm",
-            100.0 * ne.outlier_fraction
+            100.0 * outlier_fraction
         ));
     }
     Ok(FourbarCalibration {
@@ -284,11 +299,7 @@ pub fn calibrate(
         rms_residual_m: stats.rms_residual_m,
         std_errors: stats.std_errors,
         condition_number: stats.condition_number,
-        outlier_fraction: if robust_c.is_some() {
-            ne.outlier_fraction
-        } else {
-            0.0
-        },
+        outlier_fraction,
         wheel_range_rad: Some(range),
         warnings,
     })
