@@ -109,7 +109,9 @@ def calibrate_planar_fourbar(
         A result with ``l1, l3, l4`` (m), ``theta2_0, theta3_0, theta4_0`` (rad),
         ``gyro_bias3, gyro_bias4``, ``iterations``, ``converged``, ``rms_residual`` (m),
         ``std_errors`` (dict, 1σ), ``condition_number``, ``outlier_fraction``, ``wheel_range``
-        (rad) and ``warnings`` (list of str, each with the remedy).
+        (rad) and ``warnings`` (list of str, each with the remedy). ``std_errors`` describe
+        the random spread only, not the bias angle noise causes; after smoothing they are
+        optimistic (the residuals are then correlated).
 
     Raises:
         ValueError: wrong shape, dtype, NaN, too few samples, or data that do not determine

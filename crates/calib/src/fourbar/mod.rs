@@ -37,7 +37,8 @@ pub enum FourbarMethod {
     Auto,
     /// Closed-form global least squares only (no bias terms, no robust weighting).
     Global,
-    /// The thesis's iterated Gauss–Newton from `initial` (reference; may not converge).
+    /// The thesis's iterated Gauss–Newton (eq. 4.2–4.4, with a Δl1 column added because l1 is
+    /// unknown here; all samples in every iteration) from `initial` (reference; may diverge).
     Thesis,
     /// Robust Levenberg–Marquardt from `initial`.
     Lm,
@@ -136,7 +137,9 @@ pub struct FourbarCalibration {
     pub converged: bool,
     /// RMS of the loop-closure residual |ΔX| per sample (m).
     pub rms_residual_m: f64,
-    /// 1σ standard errors from the covariance σ²(JᵀJ)⁻¹.
+    /// 1σ standard errors from the covariance σ²(JᵀJ)⁻¹. They describe the random spread
+    /// only, not the errors-in-variables bias angle noise causes (see [`smoothing`]); after
+    /// smoothing the residuals are correlated and these are optimistic.
     pub std_errors: FourbarStdErrors,
     /// Condition number of the column-equilibrated Jacobian (identifiability; < 100 is good).
     pub condition_number: f64,

@@ -294,6 +294,15 @@ fn bad_input_is_an_error_not_an_answer() {
     )
     .unwrap_err();
     assert!(matches!(err, CalibError::NotIdentifiable { .. }), "{err:?}");
+    // the wheel turned but the gyros read nothing (unplugged): no answer, not a wrong one
+    let dead = vec![0.0; rec.phi2.len()];
+    let err = calibrate(
+        &FourbarSamples::new(&rec.phi2, &dead, &dead),
+        L2,
+        &FourbarOptions::default(),
+    )
+    .unwrap_err();
+    assert!(matches!(err, CalibError::NotIdentifiable { .. }), "{err:?}");
     let bad_tol = FourbarOptions {
         tolerance: 0.5,
         ..Default::default()
