@@ -250,8 +250,10 @@ pub fn calibrate(
                     max_it,
                     tol,
                 );
+                // compare both ends under the same loss (the global start's threshold)
+                let c = best.1;
                 let cost = |r: &(Refined, Option<f64>)| {
-                    normal_equations(&r.0.p, np, l2_m, samples, r.1).cost
+                    normal_equations(&r.0.p, np, l2_m, samples, c).cost
                 };
                 if cost(&other) < cost(&best) {
                     best = other;
