@@ -1,24 +1,92 @@
-//! The exponential map on SO(3) (Rodrigues' formula, thesis eq. 4.12).
+//! The rotation group SO(3): exponential and logarithm maps, in matrix and quaternion form
+//! (Rodrigues' formula, thesis eq. 4.9–4.12).
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Matrix3, Quaternion, Rotation3, UnitQuaternion, Vector3};
 
 /// `exp([φ]×)` for a rotation vector `phi_rad` (axis × angle, rad), by Rodrigues' formula
 /// (thesis eq. 4.12), with a series expansion near zero angle.
 pub fn exp(phi_rad: &Vector3<f64>) -> Matrix3<f64> {
     let theta2 = phi_rad.norm_squared();
-    let k = phi_rad.cross_matrix();
     let (a, b) = if theta2 < 1e-12 {
         (1.0 - theta2 / 6.0, 0.5 - theta2 / 24.0)
     } else {
         let theta = theta2.sqrt();
         (theta.sin() / theta, (1.0 - theta.cos()) / theta2)
     };
-    Matrix3::identity() + k * a + k * k * b
+    // I + a [φ]× + b [φ]×², written out so it compiles to straight-line code.
+    let (x, y, z) = (phi_rad.x, phi_rad.y, phi_rad.z);
+    let (xx, yy, zz, xy, xz, yz) = (x * x, y * y, z * z, x * y, x * z, y * z);
+    Matrix3::new(
+        1.0 - b * (yy + zz),
+        b * xy - a * z,
+        b * xz + a * y,
+        b * xy + a * z,
+        1.0 - b * (xx + zz),
+        b * yz - a * x,
+        b * xz - a * y,
+        b * yz + a * x,
+        1.0 - b * (xx + yy),
+    )
+}
+
+/// The rotation vector (axis × angle, rad, angle in [0, π]) of a rotation matrix: the inverse
+/// of [`exp`]. Accurate near 0 and near π.
+pub fn log(r: &Matrix3<f64>) -> Vector3<f64> {
+    log_quat(&UnitQuaternion::from_rotation_matrix(
+        &Rotation3::from_matrix_unchecked(*r),
+    ))
+}
+
+/// The exponential map in quaternion form: the unit quaternion of rotation vector `phi_rad`,
+/// `[cos(θ/2), sin(θ/2)·φ/θ]` (equivalent to eq. 4.12).
+pub fn exp_quat(phi_rad: &Vector3<f64>) -> UnitQuaternion<f64> {
+    let theta2 = phi_rad.norm_squared();
+    let (w, s) = if theta2 < 1e-12 {
+        (1.0 - theta2 / 8.0, 0.5 - theta2 / 48.0)
+    } else {
+        let theta = theta2.sqrt();
+        let half = 0.5 * theta;
+        (half.cos(), half.sin() / theta)
+    };
+    UnitQuaternion::new_unchecked(Quaternion::new(
+        w,
+        s * phi_rad.x,
+        s * phi_rad.y,
+        s * phi_rad.z,
+    ))
+}
+
+/// The rotation vector (rad, angle in [0, π]) of a unit quaternion.
+pub fn log_quat(q: &UnitQuaternion<f64>) -> Vector3<f64> {
+    let (w, v) = if q.w < 0.0 {
+        (-q.w, -q.imag())
+    } else {
+        (q.w, q.imag())
+    };
+    let s = v.norm();
+    if s < 1e-12 {
+        return v * 2.0;
+    }
+    let angle = 2.0 * s.atan2(w);
+    v * (angle / s)
+}
+
+/// The rotation angle (rad, in [0, π]) between two orientations.
+pub fn angle_between(a: &UnitQuaternion<f64>, b: &UnitQuaternion<f64>) -> f64 {
+    log_quat(&(a.inverse() * b)).norm()
+}
+
+/// Re-orthonormalise a nearly orthonormal matrix (the closest rotation, by one symmetric
+/// Newton step `R ← R·(3I − RᵀR)/2`, exact to second order in the error).
+pub fn reorthonormalize(r: &Matrix3<f64>) -> Matrix3<f64> {
+    let e = r.transpose() * r;
+    r * (Matrix3::identity() * 3.0 - e) * 0.5
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
 
     #[test]
     fn quarter_turn_about_z_maps_x_to_y() {
@@ -26,5 +94,31 @@ mod tests {
         let y = r * Vector3::x();
         assert!((y - Vector3::y()).norm() < 1e-15);
         assert!((r.transpose() * r - Matrix3::identity()).norm() < 1e-15);
+    }
+
+    proptest! {
+        #[test]
+        fn exp_is_orthonormal_and_matches_quaternion_and_log_inverts_it(
+            x in -3.0f64..3.0, y in -3.0f64..3.0, z in -3.0f64..3.0, scale in prop_oneof![Just(1e-9), Just(1e-4), Just(1.0)]
+        ) {
+            let phi = Vector3::new(x, y, z) * scale;
+            prop_assume!(phi.norm() < std::f64::consts::PI - 1e-6);
+            let r = exp(&phi);
+            prop_assert!((r.transpose() * r - Matrix3::identity()).norm() < 1e-14);
+            prop_assert!((r.determinant() - 1.0).abs() < 1e-14);
+            let q = exp_quat(&phi);
+            prop_assert!((q.to_rotation_matrix().into_inner() - r).norm() < 1e-14);
+            prop_assert!((log(&r) - phi).norm() < 1e-9 * (1.0 + phi.norm()));
+            prop_assert!((log_quat(&q) - phi).norm() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn reorthonormalize_shrinks_the_orthonormality_error() {
+        let r = exp(&Vector3::new(0.3, -0.2, 0.9)) + Matrix3::new(1e-4, 0.0, 2e-4, 0.0, -1e-4, 0.0, 0.0, 3e-4, 0.0);
+        let e0 = (r.transpose() * r - Matrix3::identity()).norm();
+        let n = reorthonormalize(&r);
+        let e1 = (n.transpose() * n - Matrix3::identity()).norm();
+        assert!(e0 > 1e-4 && e1 < 1e-7, "{e0} -> {e1}");
     }
 }
