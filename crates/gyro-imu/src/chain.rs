@@ -89,7 +89,7 @@ mod tests {
             let mut now = [Matrix3::zeros(); 3];
             forward(&init, &joints, &mut now).unwrap();
             // What each gyro integrates: its frame's change relative to its initial frame.
-            let mut a0 = Matrix3::identity();
+            let mut a0: Matrix3<f64> = Matrix3::identity();
             let mut gyro = [Matrix3::zeros(); 3];
             for k in 0..3 {
                 a0 *= init[k];

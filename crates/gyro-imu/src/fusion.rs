@@ -13,7 +13,7 @@
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
-use crate::bias::{RestConfig, RestDetector, lp_gain};
+use crate::bias::{RestConfig, RestDetector};
 use crate::error::{ImuError, check_range};
 use crate::so3;
 
@@ -27,7 +27,8 @@ pub struct FusionConfig {
     pub motion_bias_tau_s: f64,
     /// Time constant of bias estimation at rest (s).
     pub rest_bias_tau_s: f64,
-    /// Largest bias magnitude the motion estimator may reach (deg/s).
+    /// Largest bias magnitude the motion estimator may reach (deg/s); a larger bias measured
+    /// at rest is kept.
     pub bias_clip_deg_s: f64,
     /// Rest detection settings.
     pub rest: RestConfig,
@@ -38,7 +39,7 @@ impl Default for FusionConfig {
         Self {
             tau_acc_s: 3.0,
             motion_bias_tau_s: 40.0,
-            rest_bias_tau_s: 3.0,
+            rest_bias_tau_s: 10.0,
             bias_clip_deg_s: 2.0,
             rest: RestConfig::default(),
         }
@@ -103,6 +104,7 @@ pub struct OrientationFilter {
     acc_lp: Butter2,
     bias_rad_s: Vector3<f64>,
     rest: RestDetector,
+    rest_time_s: f64,
     started: bool,
 }
 
@@ -117,6 +119,7 @@ impl OrientationFilter {
             acc_lp: Butter2::default(),
             bias_rad_s: Vector3::zeros(),
             rest: RestDetector::new(cfg.rest)?,
+            rest_time_s: 0.0,
             started: false,
         })
     }
@@ -136,8 +139,13 @@ impl OrientationFilter {
         let acc = acc_m_s2.filter(|a| a.iter().all(|x| x.is_finite()) && a.norm() > 1e-3);
         // Rest: average the raw rate into the bias.
         if self.rest.update(gyr_rad_s, acc, dt_s) {
-            let k = lp_gain(self.cfg.rest_bias_tau_s, dt_s);
-            self.bias_rad_s += (self.rest.rate_lowpass() - self.bias_rad_s) * k;
+            // A running mean over the rest phase, then an exponential average (time constant
+            // `rest_bias_tau_s`), so even a short pause yields a full estimate.
+            self.rest_time_s += dt_s;
+            let k = (dt_s / self.rest_time_s.min(self.cfg.rest_bias_tau_s)).min(1.0);
+            self.bias_rad_s += (gyr_rad_s - self.bias_rad_s) * k;
+        } else {
+            self.rest_time_s = 0.0;
         }
         // Strapdown integration (eq. 4.12, 4.13).
         let w = gyr_rad_s - self.bias_rad_s;
@@ -162,7 +170,8 @@ impl OrientationFilter {
                 // corr ≈ −R_ES·(b − b̂)_horizontal·dt (first order): step b̂ toward b.
                 let r_es = self.q_inc * self.q_gyr;
                 let db = r_es.inverse() * corr * (-1.0 / self.cfg.motion_bias_tau_s);
-                let clip = self.cfg.bias_clip_deg_s.to_radians();
+                // Motion may not push the bias beyond the clip (or beyond what rest measured).
+                let clip = self.cfg.bias_clip_deg_s.to_radians().max(self.bias_rad_s.norm());
                 let b = self.bias_rad_s + db;
                 self.bias_rad_s = if b.norm() > clip { b * (clip / b.norm()) } else { b };
             }

@@ -225,7 +225,7 @@ mod tests {
         assert!((s.acc_m_s2.z - G_M_S2).abs() < 1e-9);
         let mut bt = vec![0u8; 78];
         bt[0] = 0x31;
-        bt[1..].copy_from_slice(&usb[..77]);
+        bt[2..65].copy_from_slice(&usb[1..64]);
         let b = parse_dualsense(&bt, &cal).unwrap();
         assert_eq!(b, s);
     }

@@ -1,4 +1,5 @@
 use super::*;
+use crate::bias::RestConfig;
 use crate::sensor::{AccSpec, GyroSpec, SensorModel};
 use crate::sim::motion::RandomMotion;
 
@@ -13,8 +14,17 @@ struct Errors {
 /// Inclination: angle between true and estimated sensor-frame "up". Total: after removing the
 /// constant heading offset measured over seconds 5–10.
 fn run(seed: u64, minutes: f64, dt: f64, bias_deg_s: Option<f64>, cfg: FusionConfig) -> Errors {
-    let mut motion = RandomMotion::new(seed, 120.0, 0.15, 40.0, 6.0);
-    let mut sensor = SensorModel::new(GyroSpec::consumer_mems(), Some(AccSpec::consumer_mems()), seed + 100).unwrap();
+    run_with(seed, minutes, dt, bias_deg_s, cfg, 6.0)
+}
+
+fn run_with(seed: u64, minutes: f64, dt: f64, bias_deg_s: Option<f64>, cfg: FusionConfig, rest_s: f64) -> Errors {
+    let mut motion = RandomMotion::new(seed, 120.0, 0.15, 40.0, rest_s);
+    run_spec(seed, minutes, dt, bias_deg_s, cfg, rest_s, GyroSpec::consumer_mems())
+}
+
+fn run_spec(seed: u64, minutes: f64, dt: f64, bias_deg_s: Option<f64>, cfg: FusionConfig, rest_s: f64, spec: GyroSpec) -> Errors {
+    let mut motion = RandomMotion::new(seed, 120.0, 0.15, 40.0, rest_s);
+    let mut sensor = SensorModel::new(spec, Some(AccSpec::consumer_mems()), seed + 100).unwrap();
     if let Some(b) = bias_deg_s {
         sensor.set_gyro_bias_rad_s(Vector3::new(b, -0.8 * b, 0.6 * b).map(f64::to_radians));
     }
@@ -23,10 +33,13 @@ fn run(seed: u64, minutes: f64, dt: f64, bias_deg_s: Option<f64>, cfg: FusionCon
     let (mut incl2, mut incl_max, mut tot2, mut cnt) = (0.0, 0.0f64, 0.0, 0usize);
     let mut offset: Option<UnitQuaternion<f64>> = None;
     let mut end = 0.0;
+    let mut now = motion.next(dt);
     for k in 0..n {
-        let truth = motion.next(dt);
-        let r = sensor.measure(&truth.rate_rad_s, &truth.specific_force_m_s2, dt);
+        let r = sensor.measure(&now.rate_rad_s, &now.specific_force_m_s2, dt);
         let q = f.update(&r.rate_rad_s, r.acc_m_s2.as_ref(), dt);
+        // The filter's output after sample k is the orientation at t_{k+1}.
+        let truth = motion.next(dt);
+        now = truth;
         let t = k as f64 * dt;
         if t >= 10.0 && offset.is_none() {
             // Heading offset between the filter's earth frame and the truth's (rotation about z).
@@ -71,15 +84,30 @@ fn arm_like_motion_with_mems_noise_and_bias_keeps_inclination_under_1_deg_and_to
     }
 }
 
+/// The table in BENCHMARKS.md: how each error source and each part of the filter matters.
 #[test]
-fn bias_estimation_beats_plain_inclination_correction() {
-    let with = run(4, 3.0, 1.0 / 200.0, Some(1.0), FusionConfig::default());
-    let mut off = FusionConfig::default();
-    off.motion_bias_tau_s = 0.0;
-    off.rest.rate_threshold_deg_s = 0.01; // never at rest → no rest bias either
-    let without = run(4, 3.0, 1.0 / 200.0, Some(1.0), off);
-    println!("with bias estimation: {:.2}° total RMS; without: {:.2}°", with.total_rms_deg, without.total_rms_deg);
-    assert!(with.total_rms_deg * 5.0 < without.total_rms_deg);
+fn fusion_error_table_by_condition() {
+    let dt = 1.0 / 200.0;
+    let d = FusionConfig::default();
+    let no_motion_bias = FusionConfig { motion_bias_tau_s: 0.0, ..d };
+    let no_bias_at_all = FusionConfig { motion_bias_tau_s: 0.0, rest: RestConfig { rate_threshold_deg_s: 0.01, ..d.rest }, ..d };
+    let one_pct = GyroSpec { scale_error: 0.01, ..GyroSpec::consumer_mems() };
+    let rows: [(&str, Errors); 6] = [
+        ("default, pauses, bias 1°/s", run_spec(2, 5.0, dt, Some(1.0), d, 6.0, GyroSpec::consumer_mems())),
+        ("no motion-bias estimation", run_spec(2, 5.0, dt, Some(1.0), no_motion_bias, 6.0, GyroSpec::consumer_mems())),
+        ("no bias estimation at all", run_spec(2, 5.0, dt, Some(1.0), no_bias_at_all, 6.0, GyroSpec::consumer_mems())),
+        ("1 % gyro scale error", run_spec(2, 5.0, dt, Some(1.0), d, 6.0, one_pct)),
+        ("no pauses (motion bias only)", run_spec(2, 5.0, dt, Some(1.0), d, 0.0, GyroSpec::consumer_mems())),
+        ("no pauses, no motion bias", run_spec(2, 5.0, dt, Some(1.0), no_motion_bias, 0.0, GyroSpec::consumer_mems())),
+    ];
+    println!("| condition (5 min, 200 Hz) | incl RMS (deg) | incl max | total RMS | total end | bias err (deg/s) |\n|---|---|---|---|---|---|");
+    for (name, e) in &rows {
+        println!("| {name} | {:.3} | {:.3} | {:.3} | {:.3} | {:.4} |", e.incl_rms_deg, e.incl_max_deg, e.total_rms_deg, e.total_end_deg, e.bias_err_deg_s);
+    }
+    // Bias estimation must matter: without it the heading drifts away.
+    assert!(rows[0].1.total_rms_deg * 5.0 < rows[2].1.total_rms_deg);
+    // Without pauses, motion-bias estimation must still help the inclination.
+    assert!(rows[4].1.incl_rms_deg < rows[5].1.incl_rms_deg);
 }
 
 #[test]
@@ -101,3 +129,4 @@ fn fuse_checks_lengths_and_config() {
     c.tau_acc_s = -1.0;
     assert!(c.validate().unwrap_err().to_string().contains("tau_acc_s"));
 }
+

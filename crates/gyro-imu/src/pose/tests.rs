@@ -3,6 +3,7 @@ use crate::mounting::MountingCalibrator;
 use crate::sensor::{AccSpec, GyroSpec};
 use crate::sim::arm::{PatientArmConfig, SimArm, sine_road};
 use crate::so3;
+use crate::arm::ArmGeometry;
 
 /// RMS errors (deg) of the five joint angles and the session's ROM error, for a simulated
 /// session: guided mounting calibration, then `minutes` of sine-road steering.
@@ -71,9 +72,9 @@ fn ten_minute_simulated_session_joint_angles_within_2_deg_rms() {
 #[test]
 fn estimator_rejects_nan_wheel_and_unreachable_geometry() {
     let m = Mounting { upper: UnitQuaternion::identity(), fore: UnitQuaternion::identity() };
-    let mut est = ArmPoseEstimator::new(crate::arm::ArmGeometry::default(), m, FusionConfig::default()).unwrap();
+    let mut est = ArmPoseEstimator::new(ArmGeometry::default(), m, FusionConfig::default()).unwrap();
     let s = ImuSample { t_ns: 0, rate_rad_s: Vector3::zeros(), acc_m_s2: Some(Vector3::z() * 9.81) };
     assert!(est.update(f64::NAN, &s, &s, 0.005).is_err());
-    let far = crate::arm::ArmGeometry { shoulder_m: [-1.5, 0.0, 0.0], ..Default::default() };
+    let far = ArmGeometry { shoulder_m: [-1.5, 0.0, 0.0], ..Default::default() };
     assert!(ArmPoseEstimator::new(far, m, FusionConfig::default()).is_err());
 }

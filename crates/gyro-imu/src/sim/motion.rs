@@ -30,7 +30,8 @@ struct Sine {
     phase: f64,
 }
 
-/// Multi-sine motion with rest phases (`rest_s` still out of every `period_s`).
+/// Multi-sine motion (components between 0.2 Hz and ~1 Hz, so rotations swing back and forth
+/// over tens of degrees like an arm's) with rest phases (`rest_s` still out of every `period_s`).
 #[derive(Debug, Clone)]
 pub struct RandomMotion {
     rot: Vec<Sine>,
@@ -51,7 +52,7 @@ impl RandomMotion {
                 .map(|_| Sine {
                     amp: Vector3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0))
                         * (scale / n as f64 * 1.5),
-                    freq_hz: rng.random_range(0.05..fmax),
+                    freq_hz: rng.random_range(0.2..fmax),
                     phase: rng.random_range(0.0..std::f64::consts::TAU),
                 })
                 .collect()
