@@ -76,15 +76,17 @@ impl RestDetector {
         let k = lp_gain(self.cfg.filter_tau_s, dt_s);
         let rlp = self.rate_lp.get_or_insert(*rate_rad_s);
         *rlp += (rate_rad_s - *rlp) * k;
-        // Instantaneous deviation from the low-passed value (Laidig & Seel 2023).
-        self.dev_rate2 = (rate_rad_s - *rlp).norm_squared();
+        // Squared deviation from the low-passed value, smoothed over a short window (a fifth
+        // of `filter_tau_s`) so a noisy gyro's single samples do not break rest.
+        let kd = lp_gain(0.2 * self.cfg.filter_tau_s, dt_s);
+        self.dev_rate2 += ((rate_rad_s - *rlp).norm_squared() - self.dev_rate2) * kd;
         let rate_ok = self.dev_rate2.sqrt() < self.cfg.rate_threshold_deg_s.to_radians()
             && rlp.norm() < self.cfg.max_bias_deg_s.to_radians();
         let acc_ok = match acc_m_s2 {
             Some(a) => {
                 let alp = self.acc_lp.get_or_insert(*a);
                 *alp += (a - *alp) * k;
-                self.dev_acc2 = (a - *alp).norm_squared();
+                self.dev_acc2 += ((a - *alp).norm_squared() - self.dev_acc2) * kd;
                 self.dev_acc2.sqrt() < self.cfg.acc_threshold_m_s2
             }
             None => true,

@@ -24,10 +24,15 @@ struct Sums {
     acc: Vector3<f64>,
     gyro_still: Vector3<f64>,
     n_still: usize,
-    gyro_wheel: Vector3<f64>,
-    gyro_sum: Vector3<f64>,
-    pred_wheel: Vector3<f64>,
+    /// Σ ω_pred·ω_sᵀ over the sweep (segment × sensor).
+    b0: Matrix3<f64>,
+    /// Σ |ω_pred|².
+    s_hh: f64,
 }
+
+/// One forearm sweep sample: bias-corrected sensor rate, the hinge frame's predicted body rate
+/// at zero pronation, wheel angle and rate.
+type ForeSample = (Vector3<f64>, Vector3<f64>, f64, f64);
 
 /// Accumulates the two phases of the mounting procedure for both IMUs.
 #[derive(Debug, Clone)]
@@ -36,9 +41,9 @@ pub struct MountingCalibrator {
     swivel_rad: f64,
     upper: Sums,
     fore: Sums,
+    fore_sweep: Vec<ForeSample>,
     wheel_still_sum: f64,
     rate2: f64,
-    rate_sum: f64,
     n_motion: usize,
 }
 
@@ -47,9 +52,8 @@ pub struct MountingCalibrator {
 pub struct MountingReport {
     /// The sensor-to-segment rotations.
     pub mounting: Mounting,
-    /// Angle between gravity and rotation axis in each segment frame (rad): (upper, fore);
-    /// the larger, the better conditioned.
-    pub conditioning_rad: (f64, f64),
+    /// Angle between the aligned measured gravity and the model's (rad): (upper, fore).
+    pub gravity_misfit_rad: (f64, f64),
     /// Estimated forearm pronation per unit wheel angle during the sweep.
     pub pronation_per_wheel: f64,
 }
@@ -64,9 +68,9 @@ impl MountingCalibrator {
             swivel_rad,
             upper: Sums::default(),
             fore: Sums::default(),
+            fore_sweep: Vec::new(),
             wheel_still_sum: 0.0,
             rate2: 0.0,
-            rate_sum: 0.0,
             n_motion: 0,
         })
     }
@@ -89,8 +93,12 @@ impl MountingCalibrator {
         Ok(())
     }
 
-    /// Phase 2: a sample while the wheel turns (angle `wheel_rad`, rate `wheel_rate_rad_s`).
+    /// Phase 2 (after phase 1): a sample while the wheel turns (angle `wheel_rad`, rate
+    /// `wheel_rate_rad_s`).
     pub fn add_motion(&mut self, wheel_rad: f64, wheel_rate_rad_s: f64, upper: &ImuSample, fore: &ImuSample) -> Result<(), ImuError> {
+        if self.upper.n_still == 0 {
+            return Err(ImuError::Calibration("hold still first: the motion phase needs the gyro bias from the still phase".into()));
+        }
         if !(upper.is_finite() && fore.is_finite() && wheel_rad.is_finite() && wheel_rate_rad_s.is_finite()) {
             return Ok(());
         }
@@ -99,13 +107,13 @@ impl MountingCalibrator {
         let sp = arm::solve(&self.geo, wheel_rad + wheel_rate_rad_s * h, self.swivel_rad, 0.0)?;
         let pu = so3::log(&(sm.upper.transpose() * sp.upper)) / (2.0 * h);
         let pf = so3::log(&(sm.fore.transpose() * sp.fore)) / (2.0 * h);
-        for (s, w, p) in [(&mut self.upper, upper.rate_rad_s, pu), (&mut self.fore, fore.rate_rad_s, pf)] {
-            s.gyro_wheel += w * wheel_rate_rad_s;
-            s.gyro_sum += w;
-            s.pred_wheel += p * wheel_rate_rad_s;
-        }
+        let u = &mut self.upper;
+        let wu = upper.rate_rad_s - u.gyro_still / u.n_still as f64;
+        u.b0 += pu * wu.transpose();
+        u.s_hh += pu.norm_squared();
+        let wf = fore.rate_rad_s - self.fore.gyro_still / self.fore.n_still as f64;
+        self.fore_sweep.push((wf, pf, wheel_rad, wheel_rate_rad_s));
         self.rate2 += wheel_rate_rad_s * wheel_rate_rad_s;
-        self.rate_sum += wheel_rate_rad_s;
         self.n_motion += 1;
         Ok(())
     }
@@ -115,37 +123,83 @@ impl MountingCalibrator {
         if self.upper.n_still < 10 {
             return Err(ImuError::Calibration(format!("only {} still samples (need ≥ 10)", self.upper.n_still)));
         }
-        if self.n_motion < 10 || self.rate2 < 1e-6 {
+        if self.n_motion < 10 || self.rate2 < 1e-6 || self.upper.s_hh < 1e-9 {
             return Err(ImuError::Calibration("the wheel did not turn during the motion phase".into()));
         }
         let wheel_still = self.wheel_still_sum / self.upper.n_still as f64;
         let st = arm::solve(&self.geo, wheel_still, self.swivel_rad, 0.0)?;
-        let solve_one = |s: &Sums, seg: &Matrix3<f64>, fore: bool| -> Result<(UnitQuaternion<f64>, f64, f64), ImuError> {
-            let g_s = (s.acc / s.n_still as f64).normalize();
-            let bias = s.gyro_still / s.n_still as f64;
-            // Regression of the bias-corrected gyro on the wheel rate.
-            let a_s = (s.gyro_wheel - bias * self.rate_sum) / self.rate2;
-            let g_seg = seg.transpose() * Vector3::z();
-            let mut a_seg = s.pred_wheel / self.rate2;
-            let mut pron = 0.0;
-            if fore && g_seg.x.abs() > 0.1 {
-                pron = (a_s.dot(&g_s) - a_seg.dot(&g_seg)) / g_seg.x;
-                a_seg += Vector3::x() * pron;
-            }
-            let cond = g_seg.angle(&a_seg);
-            if cond < 10f64.to_radians() || a_s.norm() < 1e-3 {
-                return Err(ImuError::Calibration(format!(
-                    "{} IMU: rotation axis only {:.1}° from vertical; turn the wheel further",
-                    if fore { "forearm" } else { "upper-arm" },
-                    cond.to_degrees()
-                )));
-            }
-            Ok((triad(&g_s, &a_s, &g_seg, &a_seg), cond, pron))
-        };
-        let (mu, cu, _) = solve_one(&self.upper, &st.upper, false)?;
-        let (mf, cf, pron) = solve_one(&self.fore, &st.fore, true)?;
-        Ok(MountingReport { mounting: Mounting { upper: mu, fore: mf }, conditioning_rad: (cu, cf), pronation_per_wheel: pron })
+        let (mu, eu, _) = self.solve_one(&self.upper, &st.upper, false)?;
+        let (mf, ef, pron) = self.solve_one(&self.fore, &st.fore, true)?;
+        Ok(MountingReport { mounting: Mounting { upper: mu, fore: mf }, gravity_misfit_rad: (eu, ef), pronation_per_wheel: pron })
     }
+
+    /// Wahba's problem on the rate pairs plus the gravity pair (weighted 10× the whole sweep).
+    /// For the forearm the pronation `p·θ` is unknown: the predicted body rate is
+    /// `Rx(−p·θ)·ω_hinge + p·θ̇·e_x`, and `p` is found by a 1-D search on Wahba's loss.
+    fn solve_one(&self, s: &Sums, seg: &Matrix3<f64>, fore: bool) -> Result<(UnitQuaternion<f64>, f64, f64), ImuError> {
+        let g_s = (s.acc / s.n_still as f64).normalize();
+        let wheel_still = self.wheel_still_sum / s.n_still as f64;
+        let rx = |a: f64| so3::exp(&Vector3::new(a, 0.0, 0.0));
+        // Gravity weight: 10× the sweep's predicted rate energy at zero pronation (fixed in p,
+        // so the loss compares like with like across p).
+        let w_g = 10.0 * if fore { self.fore_sweep.iter().map(|x| x.1.norm_squared()).sum::<f64>() } else { s.s_hh }.max(1e-9);
+        // Returns (loss, rotation, model gravity) for pronation gain p.
+        let solve_p = |p: f64| -> (f64, Matrix3<f64>, Vector3<f64>) {
+            let g_seg = rx(-p * wheel_still) * seg.transpose() * Vector3::z();
+            let (b, s_pp) = if fore {
+                let mut b = Matrix3::zeros();
+                let mut s_pp = 0.0;
+                for (w, h, th, thd) in &self.fore_sweep {
+                    let pred = rx(-p * th) * h + Vector3::x() * (p * thd);
+                    b += pred * w.transpose();
+                    s_pp += pred.norm_squared();
+                }
+                (b, s_pp)
+            } else {
+                (s.b0, s.s_hh)
+            };
+            let (m, sigma) = wahba(&(b + g_seg * g_s.transpose() * w_g));
+            (s_pp - 2.0 * sigma, m, g_seg)
+        };
+        let mut best_p = 0.0;
+        if fore {
+            let mut best = f64::INFINITY;
+            for i in -30..=30 {
+                let p = i as f64 * 0.05;
+                let c = solve_p(p).0;
+                if c < best {
+                    best = c;
+                    best_p = p;
+                }
+            }
+            // Golden-section refinement within ±0.05.
+            let (mut lo, mut hi) = (best_p - 0.05, best_p + 0.05);
+            let r = (5f64.sqrt() - 1.0) / 2.0;
+            for _ in 0..30 {
+                let (a, b) = (hi - r * (hi - lo), lo + r * (hi - lo));
+                if solve_p(a).0 < solve_p(b).0 {
+                    hi = b;
+                } else {
+                    lo = a;
+                }
+            }
+            best_p = 0.5 * (lo + hi);
+        }
+        let (_, m, g_seg) = solve_p(best_p);
+        let q = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(m));
+        let misfit = (q * g_s).angle(&g_seg);
+        Ok((q, misfit, best_p))
+    }
+}
+
+/// The rotation `M` maximising `tr(Mᵀ·B)` (Wahba's problem, by SVD) and that maximum.
+fn wahba(b: &Matrix3<f64>) -> (Matrix3<f64>, f64) {
+    let svd = b.svd(true, true);
+    let (u, v_t) = (svd.u.unwrap_or_else(Matrix3::identity), svd.v_t.unwrap_or_else(Matrix3::identity));
+    let d = (u * v_t).determinant().signum();
+    let m = u * Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, d)) * v_t;
+    let sv = svd.singular_values;
+    (m, sv[0] + sv[1] + d * sv[2])
 }
 
 /// The rotation `M` with `M·v1 = w1` exactly and `M·v2` as close to `w2` as possible (TRIAD).
@@ -196,7 +250,7 @@ mod tests {
             let rep = calibrate(&mut arm, 0.0, 0.005);
             let eu = so3::angle_between(&rep.mounting.upper, &mu).to_degrees();
             let ef = so3::angle_between(&rep.mounting.fore, &mf).to_degrees();
-            println!("trial {trial}: upper {eu:.2}°, fore {ef:.2}°, cond {:.0}°/{:.0}°, pron gain {:.3}", rep.conditioning_rad.0.to_degrees(), rep.conditioning_rad.1.to_degrees(), rep.pronation_per_wheel);
+            println!("trial {trial}: upper {eu:.2}°, fore {ef:.2}°, pron gain {:.3}", rep.pronation_per_wheel);
             assert!(eu < 2.0 && ef < 2.0, "upper {eu}°, fore {ef}°");
             assert!((rep.pronation_per_wheel - cfg.pronation_per_wheel).abs() < 0.05);
         }

@@ -18,7 +18,6 @@ fn run(seed: u64, minutes: f64, dt: f64, bias_deg_s: Option<f64>, cfg: FusionCon
 }
 
 fn run_with(seed: u64, minutes: f64, dt: f64, bias_deg_s: Option<f64>, cfg: FusionConfig, rest_s: f64) -> Errors {
-    let mut motion = RandomMotion::new(seed, 120.0, 0.15, 40.0, rest_s);
     run_spec(seed, minutes, dt, bias_deg_s, cfg, rest_s, GyroSpec::consumer_mems())
 }
 
