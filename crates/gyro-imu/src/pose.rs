@@ -134,6 +134,12 @@ impl ArmPoseEstimator {
         self.rom = RangeOfMotion::default();
     }
 
+    /// Current sensor-to-earth orientations of the two IMUs (upper, fore); the earth frame's
+    /// heading is the wheel frame's at the first update and may drift slowly.
+    pub fn sensor_orientations(&self) -> (UnitQuaternion<f64>, UnitQuaternion<f64>) {
+        (self.upper.orientation(), self.fore.orientation())
+    }
+
     /// Current gyro-bias estimates (rad/s, sensor frames): (upper, fore).
     pub fn bias_rad_s(&self) -> (Vector3<f64>, Vector3<f64>) {
         (self.upper.bias_rad_s(), self.fore.bias_rad_s())

@@ -5,6 +5,23 @@ use crate::sim::arm::{PatientArmConfig, SimArm, sine_road};
 use crate::so3;
 use crate::arm::ArmGeometry;
 
+/// Envelope (and its rate) that is 0 for 5 s of every 40 s and 1 elsewhere, with 1 s
+/// smoothstep ramps.
+fn straights(t: f64) -> (f64, f64) {
+    let ph = t % 40.0;
+    let ramp = |x: f64| (x * x * (3.0 - 2.0 * x), 6.0 * x * (1.0 - x));
+    if ph < 5.0 {
+        (0.0, 0.0)
+    } else if ph < 6.0 {
+        ramp(ph - 5.0)
+    } else if ph > 39.0 {
+        let (v, d) = ramp(40.0 - ph);
+        (v, -d)
+    } else {
+        (1.0, 0.0)
+    }
+}
+
 /// RMS errors (deg) of the five joint angles and the session's ROM error, for a simulated
 /// session: guided mounting calibration, then `minutes` of sine-road steering.
 fn session(seed: u64, minutes: f64, dt: f64, gyro: GyroSpec, acc: Option<AccSpec>) -> ([f64; 5], [f64; 5]) {
@@ -32,12 +49,21 @@ fn session(seed: u64, minutes: f64, dt: f64, gyro: GyroSpec, acc: Option<AccSpec
     let mut count = 0;
     for k in 0..n {
         let t = k as f64 * dt;
-        // Sine road: 45° at 0.2 Hz plus 15° at 0.45 Hz, with straights (rest) every 40 s.
-        let straight = (t % 40.0) < 5.0;
-        let (w, wd) = if straight { (0.0, 0.0) } else { sine_road(t, 0.8, 0.2, 0.25, 0.45) };
+        // Sine road: 46° at 0.2 Hz plus 14° at 0.45 Hz, with a 5 s straight (rest) every
+        // 40 s, entered and left smoothly.
+        let (e, ed) = straights(t);
+        let (r, rd) = sine_road(t, 0.8, 0.2, 0.25, 0.45);
+        let (w, wd) = (e * r, ed * r + e * rd);
         let truth = arm.step((t * 1e9) as u64, w, wd, dt).unwrap();
         let (u, f) = arm.latest().unwrap();
         let pose = est.update(w, &u, &f, dt).unwrap();
+        if std::env::var("TRACE").is_ok() && k % 4000 == 0 {
+            let (qu, qf) = est.sensor_orientations();
+            let iu = (qu.inverse() * Vector3::z()).angle(&(truth.upper_sensor.inverse() * Vector3::z())).to_degrees();
+            let ifo = (qf.inverse() * Vector3::z()).angle(&(truth.fore_sensor.inverse() * Vector3::z())).to_degrees();
+            println!("incl err upper {iu:.3} fore {ifo:.3}");
+            println!("t {t:.0} swivel est {:.2} true {:.2} resid {:.4} elev {:.2}/{:.2} plane {:.2}/{:.2}", pose.swivel_rad.to_degrees(), truth.swivel_rad.to_degrees(), pose.fit_residual_rad.to_degrees(), pose.angles.shoulder_elevation_rad.to_degrees(), truth.angles.shoulder_elevation_rad.to_degrees(), pose.angles.shoulder_plane_rad.to_degrees(), truth.angles.shoulder_plane_rad.to_degrees());
+        }
         if t < 10.0 {
             continue; // settling (first LPF time constants)
         }
@@ -77,4 +103,11 @@ fn estimator_rejects_nan_wheel_and_unreachable_geometry() {
     assert!(est.update(f64::NAN, &s, &s, 0.005).is_err());
     let far = ArmGeometry { shoulder_m: [-1.5, 0.0, 0.0], ..Default::default() };
     assert!(ArmPoseEstimator::new(far, m, FusionConfig::default()).is_err());
+}
+
+#[test]
+fn zz_diag_pose() {
+    let ideal_acc = AccSpec { resolution_m_s2: 0.0, bias_std_m_s2: 0.0, noise_density_m_s2_sqrt_hz: 0.0, saturation_m_s2: 100.0 };
+    let (rms, _) = session(1, 2.0, 1.0 / 200.0, GyroSpec::ideal(), Some(ideal_acc));
+    println!("ideal: {rms:?}");
 }
