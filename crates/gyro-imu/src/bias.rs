@@ -26,6 +26,11 @@ pub struct RestConfig {
     pub acc_threshold_m_s2: f64,
     /// Max magnitude of the low-passed rate at rest (deg/s): the largest bias we believe in.
     pub max_bias_deg_s: f64,
+    /// Max rate at which the gravity direction may turn in the sensor frame at rest (deg/s),
+    /// from the lag between a fast and a slow low-pass of the acceleration. This rejects slow
+    /// real rotations (a drifting elbow) that the rate-deviation test cannot see, and that
+    /// would otherwise be averaged into the bias.
+    pub tilt_rate_threshold_deg_s: f64,
     /// How long the conditions must hold before rest is declared (s).
     pub min_duration_s: f64,
 }
@@ -37,6 +42,7 @@ impl Default for RestConfig {
             rate_threshold_deg_s: 2.0,
             acc_threshold_m_s2: 0.5,
             max_bias_deg_s: 5.0,
+            tilt_rate_threshold_deg_s: 0.3,
             min_duration_s: 1.5,
         }
     }
@@ -49,6 +55,7 @@ impl RestConfig {
         check_range("rate_threshold_deg_s", self.rate_threshold_deg_s, 0.01, 50.0, "[0.01, 50] deg/s")?;
         check_range("acc_threshold_m_s2", self.acc_threshold_m_s2, 0.001, 10.0, "[0.001, 10] m/s²")?;
         check_range("max_bias_deg_s", self.max_bias_deg_s, 0.1, 50.0, "[0.1, 50] deg/s")?;
+        check_range("tilt_rate_threshold_deg_s", self.tilt_rate_threshold_deg_s, 0.01, 50.0, "[0.01, 50] deg/s")?;
         check_range("min_duration_s", self.min_duration_s, 0.0, 60.0, "[0, 60] s")
     }
 }
@@ -59,6 +66,7 @@ pub struct RestDetector {
     cfg: RestConfig,
     rate_lp: Option<Vector3<f64>>,
     acc_lp: Option<Vector3<f64>>,
+    acc_slow: Option<Vector3<f64>>,
     dev_rate2: f64,
     dev_acc2: f64,
     still_s: f64,
@@ -68,7 +76,7 @@ impl RestDetector {
     /// A detector with validated settings.
     pub fn new(cfg: RestConfig) -> Result<Self, ImuError> {
         cfg.validate()?;
-        Ok(Self { cfg, rate_lp: None, acc_lp: None, dev_rate2: 0.0, dev_acc2: 0.0, still_s: 0.0 })
+        Ok(Self { cfg, rate_lp: None, acc_lp: None, acc_slow: None, dev_rate2: 0.0, dev_acc2: 0.0, still_s: 0.0 })
     }
 
     /// Feed one sample; returns whether the sensor is at rest now.
@@ -87,7 +95,13 @@ impl RestDetector {
                 let alp = self.acc_lp.get_or_insert(*a);
                 *alp += (a - *alp) * k;
                 self.dev_acc2 += ((a - *alp).norm_squared() - self.dev_acc2) * kd;
+                // A slow low-pass lags the fast one by Δτ = 2·filter_tau_s: under a steady
+                // tilt rate r their directions differ by r·Δτ.
+                let slow = self.acc_slow.get_or_insert(*a);
+                *slow += (a - *slow) * lp_gain(3.0 * self.cfg.filter_tau_s, dt_s);
+                let tilt = alp.angle(slow) / (2.0 * self.cfg.filter_tau_s);
                 self.dev_acc2.sqrt() < self.cfg.acc_threshold_m_s2
+                    && tilt < self.cfg.tilt_rate_threshold_deg_s.to_radians()
             }
             None => true,
         };

@@ -154,7 +154,8 @@ impl OrientationFilter {
             return self.orientation();
         };
         let a_i = self.q_gyr * acc;
-        if !self.started {
+        let first = !self.started;
+        if first {
             self.started = true;
             self.acc_lp.reset(a_i);
         }
@@ -166,7 +167,8 @@ impl OrientationFilter {
         if s > 1e-15 {
             let corr = axis * (s.atan2(a_e.z) / s);
             self.q_inc = UnitQuaternion::new_normalize(*(so3::exp_quat(&corr) * self.q_inc).quaternion());
-            if self.cfg.motion_bias_tau_s > 0.0 && !self.rest.is_rest() {
+            // The first correction is the initial alignment, not evidence of bias.
+            if self.cfg.motion_bias_tau_s > 0.0 && !self.rest.is_rest() && !first {
                 // corr ≈ −R_ES·(b − b̂)_horizontal·dt (first order): step b̂ toward b.
                 let r_es = self.q_inc * self.q_gyr;
                 let db = r_es.inverse() * corr * (-1.0 / self.cfg.motion_bias_tau_s);
