@@ -66,7 +66,7 @@ pub struct RestDetector {
     cfg: RestConfig,
     rate_lp: Option<Vector3<f64>>,
     acc_lp: Option<Vector3<f64>>,
-    acc_slow: Option<Vector3<f64>>,
+    acc_tilt: Option<(Vector3<f64>, Vector3<f64>)>,
     dev_rate2: f64,
     dev_acc2: f64,
     still_s: f64,
@@ -76,7 +76,7 @@ impl RestDetector {
     /// A detector with validated settings.
     pub fn new(cfg: RestConfig) -> Result<Self, ImuError> {
         cfg.validate()?;
-        Ok(Self { cfg, rate_lp: None, acc_lp: None, acc_slow: None, dev_rate2: 0.0, dev_acc2: 0.0, still_s: 0.0 })
+        Ok(Self { cfg, rate_lp: None, acc_lp: None, acc_tilt: None, dev_rate2: 0.0, dev_acc2: 0.0, still_s: 0.0 })
     }
 
     /// Feed one sample; returns whether the sensor is at rest now.
@@ -95,11 +95,12 @@ impl RestDetector {
                 let alp = self.acc_lp.get_or_insert(*a);
                 *alp += (a - *alp) * k;
                 self.dev_acc2 += ((a - *alp).norm_squared() - self.dev_acc2) * kd;
-                // A slow low-pass lags the fast one by Δτ = 2·filter_tau_s: under a steady
-                // tilt rate r their directions differ by r·Δτ.
-                let slow = self.acc_slow.get_or_insert(*a);
-                *slow += (a - *slow) * lp_gain(3.0 * self.cfg.filter_tau_s, dt_s);
-                let tilt = alp.angle(slow) / (2.0 * self.cfg.filter_tau_s);
+                // Two short low-passes (0.2 and 0.7 × filter_tau_s): under a steady tilt rate
+                // r their directions differ by r·Δτ, Δτ = 0.5 × filter_tau_s.
+                let (fast, slow) = self.acc_tilt.get_or_insert((*a, *a));
+                *fast += (a - *fast) * lp_gain(0.2 * self.cfg.filter_tau_s, dt_s);
+                *slow += (a - *slow) * lp_gain(0.7 * self.cfg.filter_tau_s, dt_s);
+                let tilt = fast.angle(slow) / (0.5 * self.cfg.filter_tau_s);
                 self.dev_acc2.sqrt() < self.cfg.acc_threshold_m_s2
                     && tilt < self.cfg.tilt_rate_threshold_deg_s.to_radians()
             }
@@ -247,5 +248,45 @@ mod tests {
         assert!(estimate_bias(&rates, None, dt, RestConfig::default()).unwrap_err().to_string().contains("sample 7"));
         let moving: Vec<_> = (0..500).map(|k| Vector3::new((k as f64 * 0.2).sin() * 2.0, 0.0, 0.0)).collect();
         assert!(matches!(estimate_bias(&moving, None, dt, RestConfig::default()), Err(ImuError::Calibration(_))));
+    }
+
+    /// Orientation drift of gyro-only integration over 10 minutes of arm-like motion with a
+    /// 6 s pause every 40 s, with and without rest-bias estimation (the BENCHMARKS.md table).
+    #[test]
+    fn drift_with_and_without_rest_bias_estimation_table() {
+        use crate::integrate::QuatIntegrator;
+        use crate::sim::motion::RandomMotion;
+        use crate::so3;
+        let dt = 1.0 / 286.0;
+        let n = 600 * 286;
+        println!("| sensor | bias (deg/s) | raw: end / RMS (deg) | rest-bias estimated: end / RMS (deg) |\n|---|---|---|---|");
+        for (name, spec, bias) in [
+            ("MG100", GyroSpec::mg100(), 0.15),
+            ("MG100", GyroSpec::mg100(), 0.5),
+            ("consumer MEMS", GyroSpec::consumer_mems(), 0.5),
+        ] {
+            let mut motion = RandomMotion::new(9, 90.0, 0.1, 40.0, 6.0);
+            let mut sensor = SensorModel::new(spec, None, 77).unwrap();
+            sensor.set_gyro_bias_rad_s(Vector3::new(bias, -bias, bias).map(f64::to_radians) / 3f64.sqrt());
+            let mut est = GyroBiasEstimator::new(RestConfig::default(), 10.0).unwrap();
+            let mut now = motion.next(dt);
+            let q0 = now.orientation;
+            let (mut raw, mut cor) = (QuatIntegrator::new(q0), QuatIntegrator::new(q0));
+            let (mut s_raw, mut s_cor) = (0.0, 0.0);
+            let (mut e_raw, mut e_cor) = (0.0, 0.0);
+            for _ in 0..n {
+                let r = sensor.measure(&now.rate_rad_s, &Vector3::zeros(), dt);
+                raw.step(&r.rate_rad_s, dt);
+                cor.step(&est.update(&r.rate_rad_s, None, dt), dt);
+                now = motion.next(dt);
+                e_raw = so3::angle_between(&raw.orientation(), &now.orientation).to_degrees();
+                e_cor = so3::angle_between(&cor.orientation(), &now.orientation).to_degrees();
+                s_raw += e_raw * e_raw;
+                s_cor += e_cor * e_cor;
+            }
+            let (r_raw, r_cor) = ((s_raw / n as f64).sqrt(), (s_cor / n as f64).sqrt());
+            println!("| {name} | {bias} | {e_raw:.2} / {r_raw:.2} | {e_cor:.2} / {r_cor:.2} |");
+            assert!(r_cor * 3.0 < r_raw, "{name}: {r_cor} vs {r_raw}");
+        }
     }
 }
