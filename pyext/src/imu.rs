@@ -29,7 +29,9 @@ fn vectors(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<Vector3<f64>>> {
     for (i, row) in view.rows().into_iter().enumerate() {
         let v = Vector3::new(row[0], row[1], row[2]);
         if !v.iter().all(|x| x.is_finite()) {
-            return Err(PyValueError::new_err(format!("`{name}` row {i} is not finite")));
+            return Err(PyValueError::new_err(format!(
+                "`{name}` row {i} is not finite"
+            )));
         }
         out.push(v);
     }
@@ -40,7 +42,9 @@ fn check_dt(dt: f64) -> PyResult<()> {
     if dt.is_finite() && dt > 0.0 && dt <= 1.0 {
         Ok(())
     } else {
-        Err(PyValueError::new_err(format!("`dt` must be in (0, 1] s, got {dt}")))
+        Err(PyValueError::new_err(format!(
+            "`dt` must be in (0, 1] s, got {dt}"
+        )))
     }
 }
 
@@ -48,7 +52,12 @@ fn check_dt(dt: f64) -> PyResult<()> {
 /// matrices with `R0 = I` and `R_{k+1} = R_k · exp([ω_k]× dt)` (thesis eq. 4.12–4.13).
 #[pyfunction]
 #[pyo3(signature = (rates, dt, method = "exp"))]
-fn imu_integrate<'py>(py: Python<'py>, rates: &Bound<'py, PyAny>, dt: f64, method: &str) -> PyResult<Bound<'py, PyAny>> {
+fn imu_integrate<'py>(
+    py: Python<'py>,
+    rates: &Bound<'py, PyAny>,
+    dt: f64,
+    method: &str,
+) -> PyResult<Bound<'py, PyAny>> {
     let w = vectors("rates", rates)?;
     check_dt(dt)?;
     let m = Method::from_name(method).ok_or_else(|| {
@@ -67,25 +76,47 @@ fn imu_integrate<'py>(py: Python<'py>, rates: &Bound<'py, PyAny>, dt: f64, metho
         });
         flat
     });
-    Ok(PyArray1::from_vec(py, flat).reshape([n + 1, 3, 3])?.into_any())
+    Ok(PyArray1::from_vec(py, flat)
+        .reshape([n + 1, 3, 3])?
+        .into_any())
 }
 
 /// Gyro + accelerometer orientation fusion; returns `(N, 4)` unit quaternions `(w, x, y, z)`,
 /// sensor-to-earth, earth z up.
 #[pyfunction]
 #[pyo3(signature = (gyr, acc, dt, tau_acc_s = 3.0))]
-fn imu_fuse<'py>(py: Python<'py>, gyr: &Bound<'py, PyAny>, acc: &Bound<'py, PyAny>, dt: f64, tau_acc_s: f64) -> PyResult<Bound<'py, PyAny>> {
+fn imu_fuse<'py>(
+    py: Python<'py>,
+    gyr: &Bound<'py, PyAny>,
+    acc: &Bound<'py, PyAny>,
+    dt: f64,
+    tau_acc_s: f64,
+) -> PyResult<Bound<'py, PyAny>> {
     let g = vectors("gyr", gyr)?;
     let a = vectors("acc", acc)?;
     check_dt(dt)?;
     if g.len() != a.len() {
-        return Err(PyValueError::new_err(format!("`gyr` has {} rows but `acc` has {}", g.len(), a.len())));
+        return Err(PyValueError::new_err(format!(
+            "`gyr` has {} rows but `acc` has {}",
+            g.len(),
+            a.len()
+        )));
     }
-    let cfg = FusionConfig { tau_acc_s, ..FusionConfig::default() };
-    cfg.validate().map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let cfg = FusionConfig {
+        tau_acc_s,
+        ..FusionConfig::default()
+    };
+    cfg.validate()
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
     let n = g.len();
     let flat = py
-        .detach(|| fuse(&g, &a, dt, cfg).map(|qs| qs.iter().flat_map(|q| [q.w, q.i, q.j, q.k]).collect::<Vec<_>>()))
+        .detach(|| {
+            fuse(&g, &a, dt, cfg).map(|qs| {
+                qs.iter()
+                    .flat_map(|q| [q.w, q.i, q.j, q.k])
+                    .collect::<Vec<_>>()
+            })
+        })
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
     Ok(PyArray1::from_vec(py, flat).reshape([n, 4])?.into_any())
 }
@@ -104,7 +135,11 @@ fn imu_estimate_bias<'py>(
     let w = vectors("rates", rates)?;
     let a = acc.map(|a| vectors("acc", a)).transpose()?;
     check_dt(dt)?;
-    let cfg = RestConfig { rate_threshold_deg_s, min_duration_s: min_rest_s, ..RestConfig::default() };
+    let cfg = RestConfig {
+        rate_threshold_deg_s,
+        min_duration_s: min_rest_s,
+        ..RestConfig::default()
+    };
     let (b, frac) = py
         .detach(|| estimate_bias(&w, a.as_deref(), dt, cfg))
         .map_err(|e| PyValueError::new_err(e.to_string()))?;

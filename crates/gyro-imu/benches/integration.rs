@@ -26,7 +26,9 @@ fn bench_integration(c: &mut Criterion) {
     let mut g = c.benchmark_group("integrate");
     g.throughput(Throughput::Elements(N as u64));
     for m in Method::ALL {
-        g.bench_function(m.name(), |b| b.iter(|| integrate::integrate_final(black_box(&r), 1.0 / 286.0, m)));
+        g.bench_function(m.name(), |b| {
+            b.iter(|| integrate::integrate_final(black_box(&r), 1.0 / 286.0, m))
+        });
     }
     g.bench_function("streaming_quat", |b| {
         b.iter(|| {
@@ -42,7 +44,8 @@ fn bench_integration(c: &mut Criterion) {
 
 fn bench_fusion(c: &mut Criterion) {
     let mut m = RandomMotion::new(3, 120.0, 0.15, 40.0, 6.0);
-    let mut s = SensorModel::new(GyroSpec::consumer_mems(), Some(AccSpec::consumer_mems()), 1).unwrap();
+    let mut s =
+        SensorModel::new(GyroSpec::consumer_mems(), Some(AccSpec::consumer_mems()), 1).unwrap();
     let data: Vec<_> = (0..N)
         .map(|_| {
             let t = m.next(0.005);
@@ -66,7 +69,15 @@ fn bench_fusion(c: &mut Criterion) {
     // One arm-pose estimator tick (two filters + chain fit), the haptic thread's cost.
     let cfg = PatientArmConfig::default();
     let id = UnitQuaternion::identity();
-    let mut arm = SimArm::new(cfg, GyroSpec::consumer_mems(), Some(AccSpec::consumer_mems()), id, id, 5).unwrap();
+    let mut arm = SimArm::new(
+        cfg,
+        GyroSpec::consumer_mems(),
+        Some(AccSpec::consumer_mems()),
+        id,
+        id,
+        5,
+    )
+    .unwrap();
     let ticks: Vec<_> = (0..2000)
         .map(|k| {
             let t = k as f64 * 0.001;
@@ -80,7 +91,15 @@ fn bench_fusion(c: &mut Criterion) {
     g.throughput(Throughput::Elements(ticks.len() as u64));
     g.bench_function("estimator_update", |b| {
         b.iter(|| {
-            let mut e = ArmPoseEstimator::new(ArmGeometry::default(), Mounting { upper: id, fore: id }, FusionConfig::default()).unwrap();
+            let mut e = ArmPoseEstimator::new(
+                ArmGeometry::default(),
+                Mounting {
+                    upper: id,
+                    fore: id,
+                },
+                FusionConfig::default(),
+            )
+            .unwrap();
             let mut last = 0.0;
             for (w, u, f) in black_box(&ticks) {
                 last = e.update(*w, u, f, 0.001).unwrap().angles.elbow_flexion_rad;

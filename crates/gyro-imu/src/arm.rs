@@ -51,14 +51,36 @@ impl Default for ArmGeometry {
 impl ArmGeometry {
     /// Check every field; the error names the field and its allowed range.
     pub fn validate(&self) -> Result<(), ImuError> {
-        for (field, v) in [("shoulder_m[0]", self.shoulder_m[0]), ("shoulder_m[1]", self.shoulder_m[1]), ("shoulder_m[2]", self.shoulder_m[2])] {
+        for (field, v) in [
+            ("shoulder_m[0]", self.shoulder_m[0]),
+            ("shoulder_m[1]", self.shoulder_m[1]),
+            ("shoulder_m[2]", self.shoulder_m[2]),
+        ] {
             check_range(field, v, -2.0, 2.0, "[-2, 2] m")?;
         }
         check_range("upper_arm_m", self.upper_arm_m, 0.1, 0.6, "[0.1, 0.6] m")?;
         check_range("forearm_m", self.forearm_m, 0.1, 0.7, "[0.1, 0.7] m")?;
-        check_range("grip_radius_m", self.grip_radius_m, 0.05, 0.4, "[0.05, 0.4] m")?;
-        check_range("grip_angle_rad", self.grip_angle_rad, -std::f64::consts::PI, std::f64::consts::PI, "[-π, π] rad")?;
-        check_range("wheel_tilt_rad", self.wheel_tilt_rad, -1.2, 1.2, "[-1.2, 1.2] rad")
+        check_range(
+            "grip_radius_m",
+            self.grip_radius_m,
+            0.05,
+            0.4,
+            "[0.05, 0.4] m",
+        )?;
+        check_range(
+            "grip_angle_rad",
+            self.grip_angle_rad,
+            -std::f64::consts::PI,
+            std::f64::consts::PI,
+            "[-π, π] rad",
+        )?;
+        check_range(
+            "wheel_tilt_rad",
+            self.wheel_tilt_rad,
+            -1.2,
+            1.2,
+            "[-1.2, 1.2] rad",
+        )
     }
 
     /// Shoulder position (m, wheel frame).
@@ -95,7 +117,12 @@ pub const MIN_FLEXION_RAD: f64 = 0.05;
 
 /// Solve the chain for wheel angle `wheel_rad`, elbow swivel `swivel_rad` (0 = elbow straight
 /// below the shoulder–grip line, positive = outward/right) and pronation `pronation_rad`.
-pub fn solve(geo: &ArmGeometry, wheel_rad: f64, swivel_rad: f64, pronation_rad: f64) -> Result<ArmState, ImuError> {
+pub fn solve(
+    geo: &ArmGeometry,
+    wheel_rad: f64,
+    swivel_rad: f64,
+    pronation_rad: f64,
+) -> Result<ArmState, ImuError> {
     let s = geo.shoulder();
     let w = geo.grip(wheel_rad);
     let (l1, l2) = (geo.upper_arm_m, geo.forearm_m);
@@ -105,13 +132,19 @@ pub fn solve(geo: &ArmGeometry, wheel_rad: f64, swivel_rad: f64, pronation_rad: 
     let max = (l1 * l1 + l2 * l2 + 2.0 * l1 * l2 * MIN_FLEXION_RAD.cos()).sqrt();
     let min = (l1 - l2).abs() + 1e-3;
     if !(d < max && d > min) {
-        return Err(ImuError::OutOfReach { distance_m: d, min_m: min, max_m: max });
+        return Err(ImuError::OutOfReach {
+            distance_m: d,
+            min_m: min,
+            max_m: max,
+        });
     }
     let n = d_vec / d;
     let a = (l1 * l1 - l2 * l2 + d * d) / (2.0 * d);
     let h = (l1 * l1 - a * a).max(0.0).sqrt();
     let down = -Vector3::z();
-    let e1 = (down - n * down.dot(&n)).try_normalize(1e-9).unwrap_or_else(|| n.cross(&Vector3::y()).normalize());
+    let e1 = (down - n * down.dot(&n))
+        .try_normalize(1e-9)
+        .unwrap_or_else(|| n.cross(&Vector3::y()).normalize());
     let e2 = e1.cross(&n);
     let elbow = s + n * a + (e1 * swivel_rad.cos() + e2 * swivel_rad.sin()) * h;
     let xu = (elbow - s) / l1;
@@ -120,7 +153,12 @@ pub fn solve(geo: &ArmGeometry, wheel_rad: f64, swivel_rad: f64, pronation_rad: 
     let upper = Matrix3::from_columns(&[xu, z.cross(&xu), z]);
     let hinge = Matrix3::from_columns(&[xf, z.cross(&xf), z]);
     let fore = hinge * so3::exp(&Vector3::new(pronation_rad, 0.0, 0.0));
-    Ok(ArmState { upper, fore, elbow_m: elbow, grip_m: w })
+    Ok(ArmState {
+        upper,
+        fore,
+        elbow_m: elbow,
+        grip_m: w,
+    })
 }
 
 /// Joint angles of the arm (rad).
@@ -172,9 +210,11 @@ pub fn joint_angles(upper: &Matrix3<f64>, fore: &Matrix3<f64>) -> JointAngles {
     let down = -Vector3::z();
     let elevation = down.angle(&xu);
     let plane = xu.x.atan2(-xu.y);
-    let swing = UnitQuaternion::rotation_between(&down, &xu).unwrap_or_else(UnitQuaternion::identity);
+    let swing =
+        UnitQuaternion::rotation_between(&down, &xu).unwrap_or_else(UnitQuaternion::identity);
     let reference = Matrix3::from_columns(&[down, Vector3::x(), -Vector3::y()]);
-    let twist_m = reference.transpose() * swing.to_rotation_matrix().into_inner().transpose() * upper;
+    let twist_m =
+        reference.transpose() * swing.to_rotation_matrix().into_inner().transpose() * upper;
     let rotation = twist_m[(2, 1)].atan2(twist_m[(1, 1)]);
     let flexion = xu.angle(&xf);
     let z = upper.column(2).into_owned();
@@ -203,7 +243,11 @@ pub struct RangeOfMotion {
 
 impl Default for RangeOfMotion {
     fn default() -> Self {
-        Self { min_rad: [f64::INFINITY; 5], max_rad: [f64::NEG_INFINITY; 5], samples: 0 }
+        Self {
+            min_rad: [f64::INFINITY; 5],
+            max_rad: [f64::NEG_INFINITY; 5],
+            samples: 0,
+        }
     }
 }
 
@@ -214,9 +258,9 @@ impl RangeOfMotion {
         if v.iter().any(|x| !x.is_finite()) {
             return;
         }
-        for i in 0..5 {
-            self.min_rad[i] = self.min_rad[i].min(v[i]);
-            self.max_rad[i] = self.max_rad[i].max(v[i]);
+        for ((lo, hi), x) in self.min_rad.iter_mut().zip(self.max_rad.iter_mut()).zip(v) {
+            *lo = lo.min(x);
+            *hi = hi.max(x);
         }
         self.samples += 1;
     }
@@ -256,8 +300,14 @@ mod tests {
 
     #[test]
     fn out_of_reach_is_an_error_not_a_panic() {
-        let g = ArmGeometry { shoulder_m: [-0.9, -0.2, 0.3], ..ArmGeometry::default() };
-        assert!(matches!(solve(&g, 0.0, 0.0, 0.0), Err(ImuError::OutOfReach { .. })));
+        let g = ArmGeometry {
+            shoulder_m: [-0.9, -0.2, 0.3],
+            ..ArmGeometry::default()
+        };
+        assert!(matches!(
+            solve(&g, 0.0, 0.0, 0.0),
+            Err(ImuError::OutOfReach { .. })
+        ));
     }
 
     #[test]
@@ -292,9 +342,15 @@ mod tests {
         let mut rom = RangeOfMotion::default();
         assert_eq!(rom.range_rad(), [0.0; 5]);
         for e in [0.2, 0.9, 0.5] {
-            rom.update(&JointAngles { elbow_flexion_rad: e, ..Default::default() });
+            rom.update(&JointAngles {
+                elbow_flexion_rad: e,
+                ..Default::default()
+            });
         }
-        rom.update(&JointAngles { elbow_flexion_rad: f64::NAN, ..Default::default() });
+        rom.update(&JointAngles {
+            elbow_flexion_rad: f64::NAN,
+            ..Default::default()
+        });
         assert!((rom.range_rad()[3] - 0.7).abs() < 1e-12);
         assert_eq!(rom.samples, 3);
     }

@@ -11,7 +11,11 @@ use crate::error::{ImuError, check_range};
 /// First-order low-pass gain for time constant `tau_s` at step `dt_s`.
 #[inline]
 pub(crate) fn lp_gain(tau_s: f64, dt_s: f64) -> f64 {
-    if tau_s <= 0.0 { 1.0 } else { 1.0 - (-dt_s / tau_s).exp() }
+    if tau_s <= 0.0 {
+        1.0
+    } else {
+        1.0 - (-dt_s / tau_s).exp()
+    }
 }
 
 /// Rest-detector settings (defaults follow Laidig & Seel 2023).
@@ -51,12 +55,48 @@ impl Default for RestConfig {
 impl RestConfig {
     /// Check every field; the error names the field and its allowed range.
     pub fn validate(&self) -> Result<(), ImuError> {
-        check_range("filter_tau_s", self.filter_tau_s, 0.01, 10.0, "[0.01, 10] s")?;
-        check_range("rate_threshold_deg_s", self.rate_threshold_deg_s, 0.01, 50.0, "[0.01, 50] deg/s")?;
-        check_range("acc_threshold_m_s2", self.acc_threshold_m_s2, 0.001, 10.0, "[0.001, 10] m/s²")?;
-        check_range("max_bias_deg_s", self.max_bias_deg_s, 0.1, 50.0, "[0.1, 50] deg/s")?;
-        check_range("tilt_rate_threshold_deg_s", self.tilt_rate_threshold_deg_s, 0.01, 50.0, "[0.01, 50] deg/s")?;
-        check_range("min_duration_s", self.min_duration_s, 0.0, 60.0, "[0, 60] s")
+        check_range(
+            "filter_tau_s",
+            self.filter_tau_s,
+            0.01,
+            10.0,
+            "[0.01, 10] s",
+        )?;
+        check_range(
+            "rate_threshold_deg_s",
+            self.rate_threshold_deg_s,
+            0.01,
+            50.0,
+            "[0.01, 50] deg/s",
+        )?;
+        check_range(
+            "acc_threshold_m_s2",
+            self.acc_threshold_m_s2,
+            0.001,
+            10.0,
+            "[0.001, 10] m/s²",
+        )?;
+        check_range(
+            "max_bias_deg_s",
+            self.max_bias_deg_s,
+            0.1,
+            50.0,
+            "[0.1, 50] deg/s",
+        )?;
+        check_range(
+            "tilt_rate_threshold_deg_s",
+            self.tilt_rate_threshold_deg_s,
+            0.01,
+            50.0,
+            "[0.01, 50] deg/s",
+        )?;
+        check_range(
+            "min_duration_s",
+            self.min_duration_s,
+            0.0,
+            60.0,
+            "[0, 60] s",
+        )
     }
 }
 
@@ -76,11 +116,24 @@ impl RestDetector {
     /// A detector with validated settings.
     pub fn new(cfg: RestConfig) -> Result<Self, ImuError> {
         cfg.validate()?;
-        Ok(Self { cfg, rate_lp: None, acc_lp: None, acc_tilt: None, dev_rate2: 0.0, dev_acc2: 0.0, still_s: 0.0 })
+        Ok(Self {
+            cfg,
+            rate_lp: None,
+            acc_lp: None,
+            acc_tilt: None,
+            dev_rate2: 0.0,
+            dev_acc2: 0.0,
+            still_s: 0.0,
+        })
     }
 
     /// Feed one sample; returns whether the sensor is at rest now.
-    pub fn update(&mut self, rate_rad_s: &Vector3<f64>, acc_m_s2: Option<&Vector3<f64>>, dt_s: f64) -> bool {
+    pub fn update(
+        &mut self,
+        rate_rad_s: &Vector3<f64>,
+        acc_m_s2: Option<&Vector3<f64>>,
+        dt_s: f64,
+    ) -> bool {
         let k = lp_gain(self.cfg.filter_tau_s, dt_s);
         let rlp = self.rate_lp.get_or_insert(*rate_rad_s);
         *rlp += (rate_rad_s - *rlp) * k;
@@ -139,11 +192,21 @@ impl GyroBiasEstimator {
     /// An estimator with rest settings `cfg` and averaging time constant `tau_s` (s).
     pub fn new(cfg: RestConfig, tau_s: f64) -> Result<Self, ImuError> {
         check_range("tau_s", tau_s, 0.1, 600.0, "[0.1, 600] s")?;
-        Ok(Self { rest: RestDetector::new(cfg)?, bias_rad_s: Vector3::zeros(), tau_s, rest_time_s: 0.0 })
+        Ok(Self {
+            rest: RestDetector::new(cfg)?,
+            bias_rad_s: Vector3::zeros(),
+            tau_s,
+            rest_time_s: 0.0,
+        })
     }
 
     /// Feed a sample; returns the bias-corrected rate (rad/s).
-    pub fn update(&mut self, rate_rad_s: &Vector3<f64>, acc_m_s2: Option<&Vector3<f64>>, dt_s: f64) -> Vector3<f64> {
+    pub fn update(
+        &mut self,
+        rate_rad_s: &Vector3<f64>,
+        acc_m_s2: Option<&Vector3<f64>>,
+        dt_s: f64,
+    ) -> Vector3<f64> {
         if self.rest.update(rate_rad_s, acc_m_s2, dt_s) {
             self.rest_time_s += dt_s;
             // A running mean at first, then an exponential average with time constant tau.
@@ -174,21 +237,23 @@ pub fn estimate_bias(
     cfg: RestConfig,
 ) -> Result<(Vector3<f64>, f64), ImuError> {
     check_range("dt_s", dt_s, 1e-6, 1.0, "[1e-6, 1] s")?;
-    if let Some(a) = acc_m_s2 {
-        if a.len() != rates_rad_s.len() {
-            return Err(ImuError::InvalidInput(format!(
-                "acc has {} samples, rates has {}",
-                a.len(),
-                rates_rad_s.len()
-            )));
-        }
+    if let Some(a) = acc_m_s2
+        && a.len() != rates_rad_s.len()
+    {
+        return Err(ImuError::InvalidInput(format!(
+            "acc has {} samples, rates has {}",
+            a.len(),
+            rates_rad_s.len()
+        )));
     }
     let mut det = RestDetector::new(cfg)?;
     let mut sum = Vector3::zeros();
     let mut n = 0usize;
     for (i, w) in rates_rad_s.iter().enumerate() {
         if !(w.x.is_finite() && w.y.is_finite() && w.z.is_finite()) {
-            return Err(ImuError::InvalidInput(format!("rate sample {i} is not finite")));
+            return Err(ImuError::InvalidInput(format!(
+                "rate sample {i} is not finite"
+            )));
         }
         if det.update(w, acc_m_s2.map(|a| &a[i]), dt_s) {
             sum += w;
@@ -234,10 +299,19 @@ mod tests {
         let truth = Vector3::new(0.4, -0.3, 0.2).map(f64::to_radians);
         s.set_gyro_bias_rad_s(truth);
         let dt = 1.0 / 286.0;
-        let rates: Vec<_> = (0..286 * 10).map(|_| s.measure(&Vector3::zeros(), &Vector3::zeros(), dt).rate_rad_s).collect();
+        let rates: Vec<_> = (0..286 * 10)
+            .map(|_| {
+                s.measure(&Vector3::zeros(), &Vector3::zeros(), dt)
+                    .rate_rad_s
+            })
+            .collect();
         let (b, frac) = estimate_bias(&rates, None, dt, RestConfig::default()).unwrap();
         assert!(frac > 0.8);
-        assert!((b - truth).norm().to_degrees() < 0.03, "{}", (b - truth).norm().to_degrees());
+        assert!(
+            (b - truth).norm().to_degrees() < 0.03,
+            "{}",
+            (b - truth).norm().to_degrees()
+        );
     }
 
     #[test]
@@ -245,9 +319,19 @@ mod tests {
         let dt = 0.01;
         let mut rates = vec![Vector3::zeros(); 500];
         rates[7].y = f64::NAN;
-        assert!(estimate_bias(&rates, None, dt, RestConfig::default()).unwrap_err().to_string().contains("sample 7"));
-        let moving: Vec<_> = (0..500).map(|k| Vector3::new((k as f64 * 0.2).sin() * 2.0, 0.0, 0.0)).collect();
-        assert!(matches!(estimate_bias(&moving, None, dt, RestConfig::default()), Err(ImuError::Calibration(_))));
+        assert!(
+            estimate_bias(&rates, None, dt, RestConfig::default())
+                .unwrap_err()
+                .to_string()
+                .contains("sample 7")
+        );
+        let moving: Vec<_> = (0..500)
+            .map(|k| Vector3::new((k as f64 * 0.2).sin() * 2.0, 0.0, 0.0))
+            .collect();
+        assert!(matches!(
+            estimate_bias(&moving, None, dt, RestConfig::default()),
+            Err(ImuError::Calibration(_))
+        ));
     }
 
     /// Orientation drift of gyro-only integration over 10 minutes of arm-like motion with a
@@ -259,7 +343,9 @@ mod tests {
         use crate::so3;
         let dt = 1.0 / 286.0;
         let n = 600 * 286;
-        println!("| sensor | bias (deg/s) | raw: end / RMS (deg) | rest-bias estimated: end / RMS (deg) |\n|---|---|---|---|");
+        println!(
+            "| sensor | bias (deg/s) | raw: end / RMS (deg) | rest-bias estimated: end / RMS (deg) |\n|---|---|---|---|"
+        );
         for (name, spec, bias) in [
             ("MG100", GyroSpec::mg100(), 0.15),
             ("MG100", GyroSpec::mg100(), 0.5),
@@ -267,7 +353,9 @@ mod tests {
         ] {
             let mut motion = RandomMotion::new(9, 90.0, 0.1, 40.0, 6.0);
             let mut sensor = SensorModel::new(spec, None, 77).unwrap();
-            sensor.set_gyro_bias_rad_s(Vector3::new(bias, -bias, bias).map(f64::to_radians) / 3f64.sqrt());
+            sensor.set_gyro_bias_rad_s(
+                Vector3::new(bias, -bias, bias).map(f64::to_radians) / 3f64.sqrt(),
+            );
             let mut est = GyroBiasEstimator::new(RestConfig::default(), 10.0).unwrap();
             let mut now = motion.next(dt);
             let q0 = now.orientation;

@@ -106,6 +106,13 @@ mod tests {
     #[test]
     fn mismatched_lengths_are_an_error() {
         let mut out = [Matrix3::zeros(); 2];
-        assert!(relative_changes(&[Matrix3::identity(); 2], &[Matrix3::identity(); 3], &mut out).is_err());
+        assert!(
+            relative_changes(
+                &[Matrix3::identity(); 2],
+                &[Matrix3::identity(); 3],
+                &mut out
+            )
+            .is_err()
+        );
     }
 }

@@ -28,7 +28,9 @@ pub enum ImuError {
         reason: String,
     },
     /// The arm cannot reach the grip point with the given geometry.
-    #[error("grip out of reach: shoulder–grip distance {distance_m:.3} m, arm spans [{min_m:.3}, {max_m:.3}] m")]
+    #[error(
+        "grip out of reach: shoulder–grip distance {distance_m:.3} m, arm spans [{min_m:.3}, {max_m:.3}] m"
+    )]
     OutOfReach {
         /// Shoulder-to-grip distance (m).
         distance_m: f64,

@@ -50,7 +50,13 @@ impl FusionConfig {
     /// Check every field; the error names the field and its allowed range.
     pub fn validate(&self) -> Result<(), ImuError> {
         check_range("tau_acc_s", self.tau_acc_s, 0.05, 60.0, "[0.05, 60] s")?;
-        check_range("motion_bias_tau_s", self.motion_bias_tau_s, 0.0, 3600.0, "0 (off) or [10, 3600] s")?;
+        check_range(
+            "motion_bias_tau_s",
+            self.motion_bias_tau_s,
+            0.0,
+            3600.0,
+            "0 (off) or [10, 3600] s",
+        )?;
         if self.motion_bias_tau_s > 0.0 && self.motion_bias_tau_s < 10.0 {
             return Err(ImuError::InvalidConfig {
                 field: "motion_bias_tau_s",
@@ -58,8 +64,20 @@ impl FusionConfig {
                 allowed: "0 (off) or [10, 3600] s",
             });
         }
-        check_range("rest_bias_tau_s", self.rest_bias_tau_s, 0.1, 600.0, "[0.1, 600] s")?;
-        check_range("bias_clip_deg_s", self.bias_clip_deg_s, 0.0, 50.0, "[0, 50] deg/s")?;
+        check_range(
+            "rest_bias_tau_s",
+            self.rest_bias_tau_s,
+            0.1,
+            600.0,
+            "[0.1, 600] s",
+        )?;
+        check_range(
+            "bias_clip_deg_s",
+            self.bias_clip_deg_s,
+            0.0,
+            50.0,
+            "[0, 50] deg/s",
+        )?;
         self.rest.validate()
     }
 }
@@ -76,7 +94,12 @@ struct Butter2 {
 
 impl Butter2 {
     fn reset(&mut self, x: Vector3<f64>) {
-        *self = Self { x1: x, x2: x, y1: x, y2: x };
+        *self = Self {
+            x1: x,
+            x2: x,
+            y1: x,
+            y2: x,
+        };
     }
 
     fn step(&mut self, x: Vector3<f64>, tau_s: f64, dt_s: f64) -> Vector3<f64> {
@@ -149,7 +172,8 @@ impl OrientationFilter {
         }
         // Strapdown integration (eq. 4.12, 4.13).
         let w = gyr_rad_s - self.bias_rad_s;
-        self.q_gyr = UnitQuaternion::new_normalize(*(self.q_gyr * so3::exp_quat(&(w * dt_s))).quaternion());
+        self.q_gyr =
+            UnitQuaternion::new_normalize(*(self.q_gyr * so3::exp_quat(&(w * dt_s))).quaternion());
         let Some(acc) = acc else {
             return self.orientation();
         };
@@ -166,16 +190,25 @@ impl OrientationFilter {
         let s = axis.norm();
         if s > 1e-15 {
             let corr = axis * (s.atan2(a_e.z) / s);
-            self.q_inc = UnitQuaternion::new_normalize(*(so3::exp_quat(&corr) * self.q_inc).quaternion());
+            self.q_inc =
+                UnitQuaternion::new_normalize(*(so3::exp_quat(&corr) * self.q_inc).quaternion());
             // The first correction is the initial alignment, not evidence of bias.
             if self.cfg.motion_bias_tau_s > 0.0 && !self.rest.is_rest() && !first {
                 // corr ≈ −R_ES·(b − b̂)_horizontal·dt (first order): step b̂ toward b.
                 let r_es = self.q_inc * self.q_gyr;
                 let db = r_es.inverse() * corr * (-1.0 / self.cfg.motion_bias_tau_s);
                 // Motion may not push the bias beyond the clip (or beyond what rest measured).
-                let clip = self.cfg.bias_clip_deg_s.to_radians().max(self.bias_rad_s.norm());
+                let clip = self
+                    .cfg
+                    .bias_clip_deg_s
+                    .to_radians()
+                    .max(self.bias_rad_s.norm());
                 let b = self.bias_rad_s + db;
-                self.bias_rad_s = if b.norm() > clip { b * (clip / b.norm()) } else { b };
+                self.bias_rad_s = if b.norm() > clip {
+                    b * (clip / b.norm())
+                } else {
+                    b
+                };
             }
         }
         self.orientation()
@@ -221,7 +254,11 @@ pub fn fuse(
         )));
     }
     let mut f = OrientationFilter::new(cfg)?;
-    Ok(gyr_rad_s.iter().zip(acc_m_s2).map(|(g, a)| f.update(g, Some(a), dt_s)).collect())
+    Ok(gyr_rad_s
+        .iter()
+        .zip(acc_m_s2)
+        .map(|(g, a)| f.update(g, Some(a), dt_s))
+        .collect())
 }
 
 #[cfg(test)]

@@ -184,7 +184,9 @@ impl QuatIntegrator {
     /// Advance by body rate `rate_rad_s` held for `dt_s` seconds; returns the new orientation.
     #[inline]
     pub fn step(&mut self, rate_rad_s: &Vector3<f64>, dt_s: f64) -> UnitQuaternion<f64> {
-        self.q = UnitQuaternion::new_normalize(*(self.q * so3::exp_quat(&(rate_rad_s * dt_s))).quaternion());
+        self.q = UnitQuaternion::new_normalize(
+            *(self.q * so3::exp_quat(&(rate_rad_s * dt_s))).quaternion(),
+        );
         self.q
     }
 
@@ -260,20 +262,26 @@ mod tests {
 
     /// Error of each method after 10 minutes of coning (β = 10°, 1 Hz) sampled at 286 Hz.
     fn coning_errors_deg() -> Vec<(Method, f64)> {
-        let cone = Coning { half_angle_rad: 10f64.to_radians(), freq_rad_s: std::f64::consts::TAU };
+        let cone = Coning {
+            half_angle_rad: 10f64.to_radians(),
+            freq_rad_s: std::f64::consts::TAU,
+        };
         let dt = 1.0 / 286.0;
         let n = 600 * 286;
         let rates: Vec<_> = (0..n).map(|k| cone.rate(k as f64 * dt)).collect();
         let truth = cone.orientation(0.0).transpose() * cone.orientation(n as f64 * dt);
-        Method::ALL.iter().map(|&m| {
-            // The last step of the batch lacks ω_N: give every method its true value by
-            // integrating one extra sample and comparing at N.
-            let mut ext = rates.clone();
-            ext.push(cone.rate(n as f64 * dt));
-            ext.push(cone.rate((n + 1) as f64 * dt));
-            let all = integrate(&ext, dt, m);
-            (m, deg(&all[n], &truth))
-        }).collect()
+        Method::ALL
+            .iter()
+            .map(|&m| {
+                // The last step of the batch lacks ω_N: give every method its true value by
+                // integrating one extra sample and comparing at N.
+                let mut ext = rates.clone();
+                ext.push(cone.rate(n as f64 * dt));
+                ext.push(cone.rate((n + 1) as f64 * dt));
+                let all = integrate(&ext, dt, m);
+                (m, deg(&all[n], &truth))
+            })
+            .collect()
     }
 
     #[test]
@@ -303,7 +311,9 @@ mod tests {
 
     #[test]
     fn streaming_integrator_matches_batch_quaternion_method() {
-        let rates: Vec<_> = (0..500).map(|k| Vector3::new((k as f64 * 0.01).sin(), 0.3, -0.2)).collect();
+        let rates: Vec<_> = (0..500)
+            .map(|k| Vector3::new((k as f64 * 0.01).sin(), 0.3, -0.2))
+            .collect();
         let mut s = QuatIntegrator::default();
         for w in &rates {
             s.step(w, 0.002);

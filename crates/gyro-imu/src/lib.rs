@@ -4,7 +4,10 @@
 //! Everything except [`device`]'s HID backend is pure: no I/O, no threads, no clock; time comes
 //! in as `dt` or timestamps.
 
+pub mod arm;
 pub mod bias;
+pub mod chain;
+pub mod device;
 pub mod error;
 pub mod fusion;
 pub mod integrate;
@@ -12,9 +15,6 @@ pub mod mounting;
 pub mod pose;
 pub mod sensor;
 pub mod sim;
-pub mod arm;
-pub mod chain;
-pub mod device;
 pub mod so3;
 
 pub use error::ImuError;

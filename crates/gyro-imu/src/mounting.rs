@@ -76,9 +76,16 @@ impl MountingCalibrator {
     }
 
     /// Phase 1: a sample while the patient holds still at wheel angle `wheel_rad`.
-    pub fn add_still(&mut self, wheel_rad: f64, upper: &ImuSample, fore: &ImuSample) -> Result<(), ImuError> {
+    pub fn add_still(
+        &mut self,
+        wheel_rad: f64,
+        upper: &ImuSample,
+        fore: &ImuSample,
+    ) -> Result<(), ImuError> {
         let (Some(au), Some(af)) = (upper.acc_m_s2, fore.acc_m_s2) else {
-            return Err(ImuError::Calibration("mounting calibration needs accelerometers on both IMUs".into()));
+            return Err(ImuError::Calibration(
+                "mounting calibration needs accelerometers on both IMUs".into(),
+            ));
         };
         if !(upper.is_finite() && fore.is_finite() && wheel_rad.is_finite()) {
             return Ok(());
@@ -95,16 +102,39 @@ impl MountingCalibrator {
 
     /// Phase 2 (after phase 1): a sample while the wheel turns (angle `wheel_rad`, rate
     /// `wheel_rate_rad_s`).
-    pub fn add_motion(&mut self, wheel_rad: f64, wheel_rate_rad_s: f64, upper: &ImuSample, fore: &ImuSample) -> Result<(), ImuError> {
+    pub fn add_motion(
+        &mut self,
+        wheel_rad: f64,
+        wheel_rate_rad_s: f64,
+        upper: &ImuSample,
+        fore: &ImuSample,
+    ) -> Result<(), ImuError> {
         if self.upper.n_still == 0 {
-            return Err(ImuError::Calibration("hold still first: the motion phase needs the gyro bias from the still phase".into()));
+            return Err(ImuError::Calibration(
+                "hold still first: the motion phase needs the gyro bias from the still phase"
+                    .into(),
+            ));
         }
-        if !(upper.is_finite() && fore.is_finite() && wheel_rad.is_finite() && wheel_rate_rad_s.is_finite()) {
+        if !(upper.is_finite()
+            && fore.is_finite()
+            && wheel_rad.is_finite()
+            && wheel_rate_rad_s.is_finite())
+        {
             return Ok(());
         }
         let h = 1e-4;
-        let sm = arm::solve(&self.geo, wheel_rad - wheel_rate_rad_s * h, self.swivel_rad, 0.0)?;
-        let sp = arm::solve(&self.geo, wheel_rad + wheel_rate_rad_s * h, self.swivel_rad, 0.0)?;
+        let sm = arm::solve(
+            &self.geo,
+            wheel_rad - wheel_rate_rad_s * h,
+            self.swivel_rad,
+            0.0,
+        )?;
+        let sp = arm::solve(
+            &self.geo,
+            wheel_rad + wheel_rate_rad_s * h,
+            self.swivel_rad,
+            0.0,
+        )?;
         let pu = so3::log(&(sm.upper.transpose() * sp.upper)) / (2.0 * h);
         let pf = so3::log(&(sm.fore.transpose() * sp.fore)) / (2.0 * h);
         let u = &mut self.upper;
@@ -121,28 +151,54 @@ impl MountingCalibrator {
     /// Solve both mountings.
     pub fn finish(&self) -> Result<MountingReport, ImuError> {
         if self.upper.n_still < 10 {
-            return Err(ImuError::Calibration(format!("only {} still samples (need ≥ 10)", self.upper.n_still)));
+            return Err(ImuError::Calibration(format!(
+                "only {} still samples (need ≥ 10)",
+                self.upper.n_still
+            )));
         }
         if self.n_motion < 10 || self.rate2 < 1e-6 || self.upper.s_hh < 1e-9 {
-            return Err(ImuError::Calibration("the wheel did not turn during the motion phase".into()));
+            return Err(ImuError::Calibration(
+                "the wheel did not turn during the motion phase".into(),
+            ));
         }
         let wheel_still = self.wheel_still_sum / self.upper.n_still as f64;
         let st = arm::solve(&self.geo, wheel_still, self.swivel_rad, 0.0)?;
         let (mu, eu, _) = self.solve_one(&self.upper, &st.upper, false)?;
         let (mf, ef, pron) = self.solve_one(&self.fore, &st.fore, true)?;
-        Ok(MountingReport { mounting: Mounting { upper: mu, fore: mf }, gravity_misfit_rad: (eu, ef), pronation_per_wheel: pron })
+        Ok(MountingReport {
+            mounting: Mounting {
+                upper: mu,
+                fore: mf,
+            },
+            gravity_misfit_rad: (eu, ef),
+            pronation_per_wheel: pron,
+        })
     }
 
     /// Wahba's problem on the rate pairs plus the gravity pair (weighted 10× the whole sweep).
     /// For the forearm the pronation `p·θ` is unknown: the predicted body rate is
     /// `Rx(−p·θ)·ω_hinge + p·θ̇·e_x`, and `p` is found by a 1-D search on Wahba's loss.
-    fn solve_one(&self, s: &Sums, seg: &Matrix3<f64>, fore: bool) -> Result<(UnitQuaternion<f64>, f64, f64), ImuError> {
+    fn solve_one(
+        &self,
+        s: &Sums,
+        seg: &Matrix3<f64>,
+        fore: bool,
+    ) -> Result<(UnitQuaternion<f64>, f64, f64), ImuError> {
         let g_s = (s.acc / s.n_still as f64).normalize();
         let wheel_still = self.wheel_still_sum / s.n_still as f64;
         let rx = |a: f64| so3::exp(&Vector3::new(a, 0.0, 0.0));
         // Gravity weight: 10× the sweep's predicted rate energy at zero pronation (fixed in p,
         // so the loss compares like with like across p).
-        let w_g = 10.0 * if fore { self.fore_sweep.iter().map(|x| x.1.norm_squared()).sum::<f64>() } else { s.s_hh }.max(1e-9);
+        let w_g = 10.0
+            * if fore {
+                self.fore_sweep
+                    .iter()
+                    .map(|x| x.1.norm_squared())
+                    .sum::<f64>()
+            } else {
+                s.s_hh
+            }
+            .max(1e-9);
         // Returns (loss, rotation, model gravity) for pronation gain p.
         let solve_p = |p: f64| -> (f64, Matrix3<f64>, Vector3<f64>) {
             let g_seg = rx(-p * wheel_still) * seg.transpose() * Vector3::z();
@@ -195,7 +251,10 @@ impl MountingCalibrator {
 /// The rotation `M` maximising `tr(Mᵀ·B)` (Wahba's problem, by SVD) and that maximum.
 fn wahba(b: &Matrix3<f64>) -> (Matrix3<f64>, f64) {
     let svd = b.svd(true, true);
-    let (u, v_t) = (svd.u.unwrap_or_else(Matrix3::identity), svd.v_t.unwrap_or_else(Matrix3::identity));
+    let (u, v_t) = (
+        svd.u.unwrap_or_else(Matrix3::identity),
+        svd.v_t.unwrap_or_else(Matrix3::identity),
+    );
     let d = (u * v_t).determinant().signum();
     let m = u * Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, d)) * v_t;
     let sv = svd.singular_values;
@@ -203,7 +262,12 @@ fn wahba(b: &Matrix3<f64>) -> (Matrix3<f64>, f64) {
 }
 
 /// The rotation `M` with `M·v1 = w1` exactly and `M·v2` as close to `w2` as possible (TRIAD).
-pub fn triad(v1: &Vector3<f64>, v2: &Vector3<f64>, w1: &Vector3<f64>, w2: &Vector3<f64>) -> UnitQuaternion<f64> {
+pub fn triad(
+    v1: &Vector3<f64>,
+    v2: &Vector3<f64>,
+    w1: &Vector3<f64>,
+    w2: &Vector3<f64>,
+) -> UnitQuaternion<f64> {
     let frame = |a: &Vector3<f64>, b: &Vector3<f64>| {
         let x = a.normalize();
         let y = x.cross(b).normalize();
@@ -222,12 +286,17 @@ mod tests {
 
     /// Run the guided procedure on a simulated arm; returns the calibration report.
     pub(crate) fn calibrate(arm: &mut SimArm, t0_s: f64, dt: f64) -> MountingReport {
-        let mut cal = MountingCalibrator::new(arm.config().geometry, arm.config().swivel_mean_rad).unwrap();
+        let mut cal =
+            MountingCalibrator::new(arm.config().geometry, arm.config().swivel_mean_rad).unwrap();
         let n_still = (5.0 / dt) as usize;
         let n_move = (20.0 / dt) as usize;
         for k in 0..n_still + n_move {
             let t = t0_s + k as f64 * dt;
-            let (w, wd) = if k < n_still { (0.0, 0.0) } else { sine_road((k - n_still) as f64 * dt, 1.0, 0.25, 0.0, 0.1) };
+            let (w, wd) = if k < n_still {
+                (0.0, 0.0)
+            } else {
+                sine_road((k - n_still) as f64 * dt, 1.0, 0.25, 0.0, 0.1)
+            };
             arm.step((t * 1e9) as u64, w, wd, dt).unwrap();
             let (u, f) = arm.latest().unwrap();
             if k < n_still {
@@ -243,14 +312,35 @@ mod tests {
     fn random_mountings_are_recovered_within_2_deg() {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
         for trial in 0..4 {
-            let mut rv = || Vector3::new(rng.random_range(-3.0..3.0), rng.random_range(-3.0..3.0), rng.random_range(-3.0..3.0));
+            let mut rv = || {
+                Vector3::new(
+                    rng.random_range(-3.0..3.0),
+                    rng.random_range(-3.0..3.0),
+                    rng.random_range(-3.0..3.0),
+                )
+            };
             let (mu, mf) = (so3::exp_quat(&rv()), so3::exp_quat(&rv()));
-            let cfg = PatientArmConfig { swivel_amp_rad: 0.0, swivel_per_wheel: 0.0, ..PatientArmConfig::default() };
-            let mut arm = SimArm::new(cfg, GyroSpec::consumer_mems(), Some(AccSpec::consumer_mems()), mu, mf, 40 + trial).unwrap();
+            let cfg = PatientArmConfig {
+                swivel_amp_rad: 0.0,
+                swivel_per_wheel: 0.0,
+                ..PatientArmConfig::default()
+            };
+            let mut arm = SimArm::new(
+                cfg,
+                GyroSpec::consumer_mems(),
+                Some(AccSpec::consumer_mems()),
+                mu,
+                mf,
+                40 + trial,
+            )
+            .unwrap();
             let rep = calibrate(&mut arm, 0.0, 0.005);
             let eu = so3::angle_between(&rep.mounting.upper, &mu).to_degrees();
             let ef = so3::angle_between(&rep.mounting.fore, &mf).to_degrees();
-            println!("trial {trial}: upper {eu:.2}°, fore {ef:.2}°, pron gain {:.3}", rep.pronation_per_wheel);
+            println!(
+                "trial {trial}: upper {eu:.2}°, fore {ef:.2}°, pron gain {:.3}",
+                rep.pronation_per_wheel
+            );
             assert!(eu < 2.0 && ef < 2.0, "upper {eu}°, fore {ef}°");
             assert!((rep.pronation_per_wheel - cfg.pronation_per_wheel).abs() < 0.05);
         }
@@ -259,12 +349,24 @@ mod tests {
     #[test]
     fn no_motion_is_a_clear_error() {
         let mut cal = MountingCalibrator::new(ArmGeometry::default(), 0.3).unwrap();
-        let s = ImuSample { t_ns: 0, rate_rad_s: Vector3::zeros(), acc_m_s2: Some(Vector3::z() * 9.81) };
+        let s = ImuSample {
+            t_ns: 0,
+            rate_rad_s: Vector3::zeros(),
+            acc_m_s2: Some(Vector3::z() * 9.81),
+        };
         for _ in 0..20 {
             cal.add_still(0.0, &s, &s).unwrap();
         }
-        assert!(cal.finish().unwrap_err().to_string().contains("did not turn"));
-        let gyro_only = ImuSample { acc_m_s2: None, ..s };
+        assert!(
+            cal.finish()
+                .unwrap_err()
+                .to_string()
+                .contains("did not turn")
+        );
+        let gyro_only = ImuSample {
+            acc_m_s2: None,
+            ..s
+        };
         assert!(cal.add_still(0.0, &gyro_only, &gyro_only).is_err());
     }
 

@@ -51,7 +51,11 @@ pub struct ArmPoseEstimator {
 
 impl ArmPoseEstimator {
     /// An estimator for `geometry` with IMU `mounting` and fusion settings `fusion`.
-    pub fn new(geometry: ArmGeometry, mounting: Mounting, fusion: FusionConfig) -> Result<Self, ImuError> {
+    pub fn new(
+        geometry: ArmGeometry,
+        mounting: Mounting,
+        fusion: FusionConfig,
+    ) -> Result<Self, ImuError> {
         geometry.validate()?;
         arm::solve(&geometry, 0.0, 0.0, 0.0)?;
         Ok(Self {
@@ -67,7 +71,13 @@ impl ArmPoseEstimator {
 
     /// Feed the wheel angle (rad) and one sample of each IMU, `dt_s` after the last update.
     /// Non-finite samples are ignored by the filters; an out-of-reach wheel angle is an error.
-    pub fn update(&mut self, wheel_rad: f64, upper: &ImuSample, fore: &ImuSample, dt_s: f64) -> Result<ArmPose, ImuError> {
+    pub fn update(
+        &mut self,
+        wheel_rad: f64,
+        upper: &ImuSample,
+        fore: &ImuSample,
+        dt_s: f64,
+    ) -> Result<ArmPose, ImuError> {
         if !wheel_rad.is_finite() {
             return Err(ImuError::InvalidInput(format!("wheel angle {wheel_rad}")));
         }
@@ -75,12 +85,18 @@ impl ArmPoseEstimator {
             // Start the filters at the chain's pose with the swivel and pronation at zero; the
             // accelerometer then fixes inclination on the first sample.
             let s = arm::solve(&self.geo, wheel_rad, 0.0, 0.0)?;
-            self.upper.set_orientation(arm::to_quat(&s.upper) * self.mount.upper);
-            self.fore.set_orientation(arm::to_quat(&s.fore) * self.mount.fore);
+            self.upper
+                .set_orientation(arm::to_quat(&s.upper) * self.mount.upper);
+            self.fore
+                .set_orientation(arm::to_quat(&s.fore) * self.mount.fore);
             self.started = true;
         }
-        let qu = self.upper.update(&upper.rate_rad_s, upper.acc_m_s2.as_ref(), dt_s);
-        let qf = self.fore.update(&fore.rate_rad_s, fore.acc_m_s2.as_ref(), dt_s);
+        let qu = self
+            .upper
+            .update(&upper.rate_rad_s, upper.acc_m_s2.as_ref(), dt_s);
+        let qf = self
+            .fore
+            .update(&fore.rate_rad_s, fore.acc_m_s2.as_ref(), dt_s);
         // Measured "up" in each segment frame.
         let up_u = self.mount.upper * (qu.inverse() * Vector3::z());
         let up_f = self.mount.fore * (qf.inverse() * Vector3::z());
@@ -88,7 +104,14 @@ impl ArmPoseEstimator {
             let s = arm::solve(&self.geo, wheel_rad, p.x, p.y)?;
             let pu = s.upper.transpose() * Vector3::z();
             let pf = s.fore.transpose() * Vector3::z();
-            Ok([pu.x - up_u.x, pu.y - up_u.y, pu.z - up_u.z, pf.x - up_f.x, pf.y - up_f.y, pf.z - up_f.z])
+            Ok([
+                pu.x - up_u.x,
+                pu.y - up_u.y,
+                pu.z - up_u.z,
+                pf.x - up_f.x,
+                pf.y - up_f.y,
+                pf.z - up_f.z,
+            ])
         };
         let mut p = self.params;
         let mut r0 = residual(&p)?;
@@ -103,7 +126,9 @@ impl ArmPoseEstimator {
                 jtr += j * r0[i];
             }
             jtj += Matrix2::identity() * 1e-4;
-            let Some(step) = jtj.try_inverse().map(|m| m * jtr) else { break };
+            let Some(step) = jtj.try_inverse().map(|m| m * jtr) else {
+                break;
+            };
             let step = step.map(|x| x.clamp(-0.3, 0.3));
             let cand = p - step;
             match residual(&cand) {
@@ -121,7 +146,12 @@ impl ArmPoseEstimator {
         let state = arm::solve(&self.geo, wheel_rad, p.x, p.y)?;
         let angles = arm::joint_angles(&state.upper, &state.fore);
         self.rom.update(&angles);
-        Ok(ArmPose { angles, swivel_rad: p.x, state, fit_residual_rad: (norm2(&r0) / 2.0).sqrt() })
+        Ok(ArmPose {
+            angles,
+            swivel_rad: p.x,
+            state,
+            fit_residual_rad: (norm2(&r0) / 2.0).sqrt(),
+        })
     }
 
     /// Ranges of motion accumulated since construction or the last [`Self::reset_range_of_motion`].

@@ -82,13 +82,49 @@ impl GyroSpec {
 
     /// Check every field; the error names the field and its allowed range.
     pub fn validate(&self) -> Result<(), ImuError> {
-        check_range("scale_v_s_per_deg", self.scale_v_s_per_deg, 1e-9, 1e3, "[1e-9, 1e3] V·s/deg")?;
-        check_range("resolution_deg_s", self.resolution_deg_s, 0.0, 10.0, "[0, 10] deg/s")?;
+        check_range(
+            "scale_v_s_per_deg",
+            self.scale_v_s_per_deg,
+            1e-9,
+            1e3,
+            "[1e-9, 1e3] V·s/deg",
+        )?;
+        check_range(
+            "resolution_deg_s",
+            self.resolution_deg_s,
+            0.0,
+            10.0,
+            "[0, 10] deg/s",
+        )?;
         check_range("scale_error", self.scale_error, -0.5, 0.5, "[-0.5, 0.5]")?;
-        check_range("bias_std_deg_s", self.bias_std_deg_s, 0.0, 50.0, "[0, 50] deg/s")?;
-        check_range("bias_random_walk_deg_s_sqrt_s", self.bias_random_walk_deg_s_sqrt_s, 0.0, 10.0, "[0, 10] deg/s/√s")?;
-        check_range("noise_density_deg_s_sqrt_hz", self.noise_density_deg_s_sqrt_hz, 0.0, 10.0, "[0, 10] deg/s/√Hz")?;
-        check_range("saturation_deg_s", self.saturation_deg_s, 1.0, 1e9, "[1, 1e9] deg/s")?;
+        check_range(
+            "bias_std_deg_s",
+            self.bias_std_deg_s,
+            0.0,
+            50.0,
+            "[0, 50] deg/s",
+        )?;
+        check_range(
+            "bias_random_walk_deg_s_sqrt_s",
+            self.bias_random_walk_deg_s_sqrt_s,
+            0.0,
+            10.0,
+            "[0, 10] deg/s/√s",
+        )?;
+        check_range(
+            "noise_density_deg_s_sqrt_hz",
+            self.noise_density_deg_s_sqrt_hz,
+            0.0,
+            10.0,
+            "[0, 10] deg/s/√Hz",
+        )?;
+        check_range(
+            "saturation_deg_s",
+            self.saturation_deg_s,
+            1.0,
+            1e9,
+            "[1, 1e9] deg/s",
+        )?;
         check_range("jitter_std_s", self.jitter_std_s, 0.0, 0.01, "[0, 0.01] s")
     }
 }
@@ -120,10 +156,28 @@ impl AccSpec {
 
     /// Check every field; the error names the field and its allowed range.
     pub fn validate(&self) -> Result<(), ImuError> {
-        check_range("resolution_m_s2", self.resolution_m_s2, 0.0, 1.0, "[0, 1] m/s²")?;
+        check_range(
+            "resolution_m_s2",
+            self.resolution_m_s2,
+            0.0,
+            1.0,
+            "[0, 1] m/s²",
+        )?;
         check_range("bias_std_m_s2", self.bias_std_m_s2, 0.0, 5.0, "[0, 5] m/s²")?;
-        check_range("noise_density_m_s2_sqrt_hz", self.noise_density_m_s2_sqrt_hz, 0.0, 1.0, "[0, 1] m/s²/√Hz")?;
-        check_range("saturation_m_s2", self.saturation_m_s2, 10.0, 1e4, "[10, 1e4] m/s²")
+        check_range(
+            "noise_density_m_s2_sqrt_hz",
+            self.noise_density_m_s2_sqrt_hz,
+            0.0,
+            1.0,
+            "[0, 1] m/s²/√Hz",
+        )?;
+        check_range(
+            "saturation_m_s2",
+            self.saturation_m_s2,
+            10.0,
+            1e4,
+            "[10, 1e4] m/s²",
+        )
     }
 }
 
@@ -158,7 +212,13 @@ impl SensorModel {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let gyro_bias_rad_s = normal3(&mut rng) * gyro.bias_std_deg_s.to_radians();
         let acc_bias_m_s2 = normal3(&mut rng) * acc.map_or(0.0, |a| a.bias_std_m_s2);
-        Ok(Self { gyro, acc, rng, gyro_bias_rad_s, acc_bias_m_s2 })
+        Ok(Self {
+            gyro,
+            acc,
+            rng,
+            gyro_bias_rad_s,
+            acc_bias_m_s2,
+        })
     }
 
     /// The current true gyro bias (rad/s), for tests and tables.
@@ -181,26 +241,40 @@ impl SensorModel {
     ) -> Reading {
         let g = self.gyro;
         let dt = dt_s.max(1e-6);
-        self.gyro_bias_rad_s += normal3(&mut self.rng) * (g.bias_random_walk_deg_s_sqrt_s.to_radians() * dt.sqrt());
-        let noise = normal3(&mut self.rng) * (g.noise_density_deg_s_sqrt_hz.to_radians() / dt.sqrt());
+        self.gyro_bias_rad_s +=
+            normal3(&mut self.rng) * (g.bias_random_walk_deg_s_sqrt_s.to_radians() * dt.sqrt());
+        let noise =
+            normal3(&mut self.rng) * (g.noise_density_deg_s_sqrt_hz.to_radians() / dt.sqrt());
         let w = rate_rad_s * (1.0 + g.scale_error) + self.gyro_bias_rad_s + noise;
         // Through the analog scale and the ADC step (Table 3.1), then back to rad/s.
         let lsb_v = g.resolution_deg_s * g.scale_v_s_per_deg;
         let sat = g.saturation_deg_s;
         let rate = w.map(|x| {
             let volts = x.to_degrees().clamp(-sat, sat) * g.scale_v_s_per_deg;
-            let q = if lsb_v > 0.0 { (volts / lsb_v).round() * lsb_v } else { volts };
+            let q = if lsb_v > 0.0 {
+                (volts / lsb_v).round() * lsb_v
+            } else {
+                volts
+            };
             (q / g.scale_v_s_per_deg).to_radians()
         });
         let acc = self.acc.map(|a| {
             let n = normal3(&mut self.rng) * (a.noise_density_m_s2_sqrt_hz / dt.sqrt());
             (specific_force_m_s2 + self.acc_bias_m_s2 + n).map(|x| {
                 let x = x.clamp(-a.saturation_m_s2, a.saturation_m_s2);
-                if a.resolution_m_s2 > 0.0 { (x / a.resolution_m_s2).round() * a.resolution_m_s2 } else { x }
+                if a.resolution_m_s2 > 0.0 {
+                    (x / a.resolution_m_s2).round() * a.resolution_m_s2
+                } else {
+                    x
+                }
             })
         });
         let jitter: f64 = StandardNormal.sample(&mut self.rng);
-        Reading { rate_rad_s: rate, acc_m_s2: acc, time_error_s: jitter * g.jitter_std_s }
+        Reading {
+            rate_rad_s: rate,
+            acc_m_s2: acc,
+            time_error_s: jitter * g.jitter_std_s,
+        }
     }
 }
 
@@ -223,7 +297,15 @@ mod tests {
         spec.resolution_deg_s = 0.15;
         spec.saturation_deg_s = 300.0;
         let mut s = SensorModel::new(spec, None, 1).unwrap();
-        let r = s.measure(&Vector3::new(0.07f64.to_radians(), 0.08f64.to_radians(), 500f64.to_radians()), &Vector3::zeros(), 0.0035);
+        let r = s.measure(
+            &Vector3::new(
+                0.07f64.to_radians(),
+                0.08f64.to_radians(),
+                500f64.to_radians(),
+            ),
+            &Vector3::zeros(),
+            0.0035,
+        );
         let d = r.rate_rad_s.map(f64::to_degrees);
         assert!((d.x - 0.0).abs() < 1e-9 && (d.y - 0.15).abs() < 1e-9, "{d}");
         assert!((d.z - 300.0).abs() < 0.15, "{d}");
@@ -255,7 +337,8 @@ mod tests {
         spec.noise_density_deg_s_sqrt_hz = f64::NAN;
         let e = spec.validate().unwrap_err().to_string();
         assert!(e.contains("noise_density_deg_s_sqrt_hz"), "{e}");
-        let toml_err = toml::from_str::<GyroSpec>("scale_v_s_per_deg = 1.0\nbogus = 2").unwrap_err();
+        let toml_err =
+            toml::from_str::<GyroSpec>("scale_v_s_per_deg = 1.0\nbogus = 2").unwrap_err();
         assert!(toml_err.to_string().contains("bogus"));
     }
 }

@@ -115,7 +115,8 @@ mod tests {
 
     #[test]
     fn reorthonormalize_shrinks_the_orthonormality_error() {
-        let r = exp(&Vector3::new(0.3, -0.2, 0.9)) + Matrix3::new(1e-4, 0.0, 2e-4, 0.0, -1e-4, 0.0, 0.0, 3e-4, 0.0);
+        let r = exp(&Vector3::new(0.3, -0.2, 0.9))
+            + Matrix3::new(1e-4, 0.0, 2e-4, 0.0, -1e-4, 0.0, 0.0, 3e-4, 0.0);
         let e0 = (r.transpose() * r - Matrix3::identity()).norm();
         let n = reorthonormalize(&r);
         let e1 = (n.transpose() * n - Matrix3::identity()).norm();

@@ -19,14 +19,20 @@ pub fn enumerate() -> Result<Vec<ImuDeviceInfo>, ImuError> {
     let api = HidApi::new().map_err(|e| dev_err("cannot open the HID subsystem", e))?;
     let mut out: Vec<ImuDeviceInfo> = Vec::new();
     for d in api.device_list() {
-        let Some((kind, name)) = classify(d.vendor_id(), d.product_id()) else { continue };
+        let Some((kind, name)) = classify(d.vendor_id(), d.product_id()) else {
+            continue;
+        };
         let path = d.path().to_string_lossy().into_owned();
         if out.iter().any(|o| o.path == path) {
             continue;
         }
         out.push(ImuDeviceInfo {
             kind,
-            name: d.product_string().filter(|s| !s.is_empty()).unwrap_or(name).to_string(),
+            name: d
+                .product_string()
+                .filter(|s| !s.is_empty())
+                .unwrap_or(name)
+                .to_string(),
             path,
             vendor_id: d.vendor_id(),
             product_id: d.product_id(),
@@ -37,8 +43,15 @@ pub fn enumerate() -> Result<Vec<ImuDeviceInfo>, ImuError> {
 }
 
 enum Protocol {
-    Sony { cal: SonyCalibration, dualsense: bool, ticks: TickUnwrapper, anchor_ns: Option<u64> },
-    Switch { cal: SwitchCalibration },
+    Sony {
+        cal: SonyCalibration,
+        dualsense: bool,
+        ticks: TickUnwrapper,
+        anchor_ns: Option<u64>,
+    },
+    Switch {
+        cal: SwitchCalibration,
+    },
 }
 
 /// An open controller IMU.
@@ -52,7 +65,9 @@ pub struct HidImu {
 
 impl std::fmt::Debug for HidImu {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("HidImu").field("info", &self.info).finish_non_exhaustive()
+        f.debug_struct("HidImu")
+            .field("info", &self.info)
+            .finish_non_exhaustive()
     }
 }
 
@@ -60,10 +75,15 @@ impl HidImu {
     /// Open `info`'s device, enable its IMU reports and read its calibration (falling back to
     /// nominal scales, with the reason, if the calibration cannot be read). `clock_ns` is the
     /// caller's monotonic clock (ns) used to anchor device timestamps.
-    pub fn open(info: &ImuDeviceInfo, clock_ns: fn() -> u64) -> Result<(Self, Option<ImuError>), ImuError> {
+    pub fn open(
+        info: &ImuDeviceInfo,
+        clock_ns: fn() -> u64,
+    ) -> Result<(Self, Option<ImuError>), ImuError> {
         let api = HidApi::new().map_err(|e| dev_err("cannot open the HID subsystem", e))?;
         let path = CString::new(info.path.clone()).map_err(|e| dev_err("bad device path", e))?;
-        let dev = api.open_path(&path).map_err(|e| dev_err(&format!("cannot open {}", info.path), e))?;
+        let dev = api
+            .open_path(&path)
+            .map_err(|e| dev_err(&format!("cannot open {}", info.path), e))?;
         let mut cal_warning = None;
         let proto = match info.kind {
             ImuKind::DualShock4 | ImuKind::DualSense => {
@@ -85,42 +105,69 @@ impl HidImu {
                     cal_warning = Some(e);
                     SonyCalibration::nominal()
                 });
-                Protocol::Sony { cal, dualsense, ticks: TickUnwrapper::default(), anchor_ns: None }
+                Protocol::Sony {
+                    cal,
+                    dualsense,
+                    ticks: TickUnwrapper::default(),
+                    anchor_ns: None,
+                }
             }
             ImuKind::JoyConLeft | ImuKind::JoyConRight | ImuKind::ProController => {
                 if !info.bluetooth && info.kind == ImuKind::ProController {
                     // USB handshake, then stop the USB timeout so reports keep flowing.
                     for cmd in [[0x80u8, 0x02], [0x80, 0x04]] {
-                        dev.write(&cmd).map_err(|e| dev_err("Pro Controller USB handshake", e))?;
+                        dev.write(&cmd)
+                            .map_err(|e| dev_err("Pro Controller USB handshake", e))?;
                     }
                 }
                 let cal = read_switch_calibration(&dev).unwrap_or_else(|e| {
                     cal_warning = Some(e);
                     SwitchCalibration::nominal()
                 });
-                dev.write(&switch::enable_imu(2)).map_err(|e| dev_err("enable IMU", e))?;
-                dev.write(&switch::set_full_report_mode(3)).map_err(|e| dev_err("set report mode", e))?;
+                dev.write(&switch::enable_imu(2))
+                    .map_err(|e| dev_err("enable IMU", e))?;
+                dev.write(&switch::set_full_report_mode(3))
+                    .map_err(|e| dev_err("set report mode", e))?;
                 Protocol::Switch { cal }
             }
-            ImuKind::Simulated => return Err(ImuError::Device("a simulated IMU is not a HID device".into())),
+            ImuKind::Simulated => {
+                return Err(ImuError::Device(
+                    "a simulated IMU is not a HID device".into(),
+                ));
+            }
         };
-        dev.set_blocking_mode(false).map_err(|e| dev_err("non-blocking mode", e))?;
-        Ok((Self { info: info.clone(), dev, proto, clock_ns, buf: [0; 128] }, cal_warning))
+        dev.set_blocking_mode(false)
+            .map_err(|e| dev_err("non-blocking mode", e))?;
+        Ok((
+            Self {
+                info: info.clone(),
+                dev,
+                proto,
+                clock_ns,
+                buf: [0; 128],
+            },
+            cal_warning,
+        ))
     }
 }
 
 /// Read the user IMU calibration if present, else the factory one (blocking, at open time).
 fn read_switch_calibration(dev: &HidDevice) -> Result<SwitchCalibration, ImuError> {
     let read = |counter: u8, addr: u32, len: u8| -> Result<Vec<u8>, ImuError> {
-        dev.write(&switch::spi_read(counter, addr, len)).map_err(|e| dev_err("SPI read request", e))?;
+        dev.write(&switch::spi_read(counter, addr, len))
+            .map_err(|e| dev_err("SPI read request", e))?;
         let mut buf = [0u8; 64];
         for _ in 0..50 {
-            let n = dev.read_timeout(&mut buf, 20).map_err(|e| dev_err("SPI read reply", e))?;
+            let n = dev
+                .read_timeout(&mut buf, 20)
+                .map_err(|e| dev_err("SPI read reply", e))?;
             if let Some(data) = switch::spi_reply(&buf[..n], addr) {
                 return Ok(data.to_vec());
             }
         }
-        Err(ImuError::Device(format!("no reply to SPI read at {addr:#06x}")))
+        Err(ImuError::Device(format!(
+            "no reply to SPI read at {addr:#06x}"
+        )))
     };
     let magic = read(0, switch::USER_IMU_CAL_ADDR, 2)?;
     if magic == [0xb2, 0xa1] {
@@ -138,15 +185,27 @@ impl Imu for HidImu {
     fn poll(&mut self, out: &mut [ImuSample]) -> Result<usize, ImuError> {
         let mut written = 0;
         while out.len() - written >= 3 {
-            let n = self.dev.read(&mut self.buf).map_err(|e| dev_err("read", e))?;
+            let n = self
+                .dev
+                .read(&mut self.buf)
+                .map_err(|e| dev_err("read", e))?;
             if n == 0 {
                 break;
             }
             let now = (self.clock_ns)();
             let report = &self.buf[..n];
             match &mut self.proto {
-                Protocol::Sony { cal, dualsense, ticks, anchor_ns } => {
-                    let parsed = if *dualsense { sony::parse_dualsense(report, cal) } else { sony::parse_ds4(report, cal) };
+                Protocol::Sony {
+                    cal,
+                    dualsense,
+                    ticks,
+                    anchor_ns,
+                } => {
+                    let parsed = if *dualsense {
+                        sony::parse_dualsense(report, cal)
+                    } else {
+                        sony::parse_ds4(report, cal)
+                    };
                     let Ok(s) = parsed else { continue }; // other report ids (e.g. reduced BT reports)
                     let (tick_ns, modulus) = if *dualsense {
                         (sony::DUALSENSE_TICK_NS, sony::DUALSENSE_TICK_MODULUS)
@@ -155,14 +214,24 @@ impl Imu for HidImu {
                     };
                     let elapsed = (ticks.unwrap(s.ticks, modulus) as f64 * tick_ns) as u64;
                     let anchor = *anchor_ns.get_or_insert(now);
-                    out[written] = ImuSample { t_ns: anchor + elapsed, rate_rad_s: s.rate_rad_s, acc_m_s2: Some(s.acc_m_s2) };
+                    out[written] = ImuSample {
+                        t_ns: anchor + elapsed,
+                        rate_rad_s: s.rate_rad_s,
+                        acc_m_s2: Some(s.acc_m_s2),
+                    };
                     written += 1;
                 }
                 Protocol::Switch { cal } => {
-                    let Ok(r) = switch::parse_full_report(report, cal) else { continue };
+                    let Ok(r) = switch::parse_full_report(report, cal) else {
+                        continue;
+                    };
                     for f in 0..3 {
                         let back = (2 - f as u64) * switch::FRAME_PERIOD_NS;
-                        out[written] = ImuSample { t_ns: now.saturating_sub(back), rate_rad_s: r.rate_rad_s[f], acc_m_s2: Some(r.acc_m_s2[f]) };
+                        out[written] = ImuSample {
+                            t_ns: now.saturating_sub(back),
+                            rate_rad_s: r.rate_rad_s[f],
+                            acc_m_s2: Some(r.acc_m_s2[f]),
+                        };
                         written += 1;
                     }
                 }

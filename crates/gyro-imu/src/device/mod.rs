@@ -27,7 +27,9 @@ impl ImuSample {
     /// Whether every value is finite.
     pub fn is_finite(&self) -> bool {
         self.rate_rad_s.iter().all(|x| x.is_finite())
-            && self.acc_m_s2.is_none_or(|a| a.iter().all(|x| x.is_finite()))
+            && self
+                .acc_m_s2
+                .is_none_or(|a| a.iter().all(|x| x.is_finite()))
     }
 }
 
@@ -162,7 +164,10 @@ mod tests {
     #[test]
     fn enumerate_returns_a_list_or_a_clear_error_without_devices() {
         match enumerate() {
-            Ok(list) => assert!(list.iter().all(|d| classify(d.vendor_id, d.product_id).is_some())),
+            Ok(list) => assert!(
+                list.iter()
+                    .all(|d| classify(d.vendor_id, d.product_id).is_some())
+            ),
             Err(e) => assert!(!e.to_string().is_empty()),
         }
     }

@@ -45,7 +45,10 @@ impl SonyCalibration {
     /// Decode a calibration feature report (`buf[0]` is the report id). `interleaved` is true
     /// for DS4 over USB and for the DualSense, false for DS4 over Bluetooth.
     pub fn from_feature_report(buf: &[u8], interleaved: bool) -> Result<Self, ImuError> {
-        let bad = |reason: String| ImuError::MalformedReport { device: "Sony calibration", reason };
+        let bad = |reason: String| ImuError::MalformedReport {
+            device: "Sony calibration",
+            reason,
+        };
         if buf.len() < 35 {
             return Err(bad(format!("{} bytes, need 35", buf.len())));
         }
@@ -57,17 +60,24 @@ impl SonyCalibration {
             ([r(7), r(9), r(11)], [r(13), r(15), r(17)])
         };
         let speed_2x = r(19) + r(21);
-        let mut cal = Self { gyro_bias: bias, ..Self::nominal() };
+        let mut cal = Self {
+            gyro_bias: bias,
+            ..Self::nominal()
+        };
         for i in 0..3 {
             let denom = (plus[i] - bias[i]).abs() + (minus[i] - bias[i]).abs();
             if denom < 1.0 || speed_2x <= 0.0 {
-                return Err(bad(format!("gyro axis {i} reference range is {denom} counts at {speed_2x} deg/s")));
+                return Err(bad(format!(
+                    "gyro axis {i} reference range is {denom} counts at {speed_2x} deg/s"
+                )));
             }
             cal.gyro_scale[i] = (speed_2x / denom).to_radians();
             let (ap, am) = (r(23 + 4 * i), r(25 + 4 * i));
             let range_2g = ap - am;
             if range_2g < 1.0 {
-                return Err(bad(format!("accel axis {i} ±1 g range is {range_2g} counts")));
+                return Err(bad(format!(
+                    "accel axis {i} ±1 g range is {range_2g} counts"
+                )));
             }
             cal.acc_bias[i] = ap - range_2g / 2.0;
             cal.acc_scale[i] = 2.0 * G_M_S2 / range_2g;
@@ -76,7 +86,8 @@ impl SonyCalibration {
     }
 
     fn convert(&self, gyro: [i16; 3], acc: [i16; 3]) -> (Vector3<f64>, Vector3<f64>) {
-        let g = Vector3::from_fn(|i, _| (f64::from(gyro[i]) - self.gyro_bias[i]) * self.gyro_scale[i]);
+        let g =
+            Vector3::from_fn(|i, _| (f64::from(gyro[i]) - self.gyro_bias[i]) * self.gyro_scale[i]);
         let a = Vector3::from_fn(|i, _| (f64::from(acc[i]) - self.acc_bias[i]) * self.acc_scale[i]);
         (g, a)
     }
@@ -111,14 +122,31 @@ pub fn parse_ds4(buf: &[u8], cal: &SonyCalibration) -> Result<SonySample, ImuErr
     let base = match buf.first() {
         Some(0x01) => 1,
         Some(0x11) => 3,
-        Some(id) => return Err(ImuError::MalformedReport { device: "DualShock 4", reason: format!("report id {id:#04x} carries no IMU data") }),
-        None => return Err(ImuError::MalformedReport { device: "DualShock 4", reason: "empty report".into() }),
+        Some(id) => {
+            return Err(ImuError::MalformedReport {
+                device: "DualShock 4",
+                reason: format!("report id {id:#04x} carries no IMU data"),
+            });
+        }
+        None => {
+            return Err(ImuError::MalformedReport {
+                device: "DualShock 4",
+                reason: "empty report".into(),
+            });
+        }
     };
     if buf.len() < base + 24 {
-        return Err(ImuError::MalformedReport { device: "DualShock 4", reason: format!("{} bytes, need {}", buf.len(), base + 24) });
+        return Err(ImuError::MalformedReport {
+            device: "DualShock 4",
+            reason: format!("{} bytes, need {}", buf.len(), base + 24),
+        });
     }
     let (rate, acc) = cal.convert(raw3(buf, base + 12), raw3(buf, base + 18));
-    Ok(SonySample { ticks: u64::from(le_u16(buf, base + 9)), rate_rad_s: rate, acc_m_s2: acc })
+    Ok(SonySample {
+        ticks: u64::from(le_u16(buf, base + 9)),
+        rate_rad_s: rate,
+        acc_m_s2: acc,
+    })
 }
 
 /// Parse a DualSense input report (`0x01` USB or `0x31` Bluetooth, `buf[0]` = report id).
@@ -126,14 +154,31 @@ pub fn parse_dualsense(buf: &[u8], cal: &SonyCalibration) -> Result<SonySample, 
     let base = match buf.first() {
         Some(0x01) => 1,
         Some(0x31) => 2,
-        Some(id) => return Err(ImuError::MalformedReport { device: "DualSense", reason: format!("report id {id:#04x} carries no IMU data") }),
-        None => return Err(ImuError::MalformedReport { device: "DualSense", reason: "empty report".into() }),
+        Some(id) => {
+            return Err(ImuError::MalformedReport {
+                device: "DualSense",
+                reason: format!("report id {id:#04x} carries no IMU data"),
+            });
+        }
+        None => {
+            return Err(ImuError::MalformedReport {
+                device: "DualSense",
+                reason: "empty report".into(),
+            });
+        }
     };
     if buf.len() < base + 31 {
-        return Err(ImuError::MalformedReport { device: "DualSense", reason: format!("{} bytes, need {}", buf.len(), base + 31) });
+        return Err(ImuError::MalformedReport {
+            device: "DualSense",
+            reason: format!("{} bytes, need {}", buf.len(), base + 31),
+        });
     }
     let (rate, acc) = cal.convert(raw3(buf, base + 15), raw3(buf, base + 21));
-    Ok(SonySample { ticks: u64::from(le_u32(buf, base + 27)), rate_rad_s: rate, acc_m_s2: acc })
+    Ok(SonySample {
+        ticks: u64::from(le_u32(buf, base + 27)),
+        rate_rad_s: rate,
+        acc_m_s2: acc,
+    })
 }
 
 #[cfg(test)]

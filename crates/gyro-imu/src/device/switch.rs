@@ -92,7 +92,10 @@ impl SwitchCalibration {
     /// Decode the 24-byte SPI calibration block.
     pub fn from_spi(block: &[u8]) -> Result<Self, ImuError> {
         if block.len() < 24 {
-            return Err(ImuError::MalformedReport { device: "Switch calibration", reason: format!("{} bytes, need 24", block.len()) });
+            return Err(ImuError::MalformedReport {
+                device: "Switch calibration",
+                reason: format!("{} bytes, need 24", block.len()),
+            });
         }
         let r = |i: usize| f64::from(le_i16(block, 2 * i));
         let mut c = Self::nominal();
@@ -101,7 +104,11 @@ impl SwitchCalibration {
             if asens - ao < 1.0 || gsens - go < 1.0 {
                 return Err(ImuError::MalformedReport {
                     device: "Switch calibration",
-                    reason: format!("axis {i}: accel span {} / gyro span {} counts", asens - ao, gsens - go),
+                    reason: format!(
+                        "axis {i}: accel span {} / gyro span {} counts",
+                        asens - ao,
+                        gsens - go
+                    ),
                 });
             }
             c.acc_scale[i] = 4.0 * G_M_S2 / (asens - ao);
@@ -125,7 +132,10 @@ pub struct SwitchReport {
 
 /// Parse a standard full input report `0x30` (`buf[0]` = report id).
 pub fn parse_full_report(buf: &[u8], cal: &SwitchCalibration) -> Result<SwitchReport, ImuError> {
-    let bad = |reason: String| ImuError::MalformedReport { device: "Switch", reason };
+    let bad = |reason: String| ImuError::MalformedReport {
+        device: "Switch",
+        reason,
+    };
     match buf.first() {
         Some(0x30) => {}
         Some(id) => return Err(bad(format!("report id {id:#04x} carries no IMU data"))),
@@ -134,11 +144,18 @@ pub fn parse_full_report(buf: &[u8], cal: &SwitchCalibration) -> Result<SwitchRe
     if buf.len() < 49 {
         return Err(bad(format!("{} bytes, need 49", buf.len())));
     }
-    let mut rep = SwitchReport { timer: buf[1], rate_rad_s: [Vector3::zeros(); 3], acc_m_s2: [Vector3::zeros(); 3] };
+    let mut rep = SwitchReport {
+        timer: buf[1],
+        rate_rad_s: [Vector3::zeros(); 3],
+        acc_m_s2: [Vector3::zeros(); 3],
+    };
     for f in 0..3 {
         let at = 13 + 12 * f;
-        rep.acc_m_s2[f] = Vector3::from_fn(|i, _| f64::from(le_i16(buf, at + 2 * i)) * cal.acc_scale[i]);
-        rep.rate_rad_s[f] = Vector3::from_fn(|i, _| (f64::from(le_i16(buf, at + 6 + 2 * i)) - cal.gyro_origin[i]) * cal.gyro_scale[i]);
+        rep.acc_m_s2[f] =
+            Vector3::from_fn(|i, _| f64::from(le_i16(buf, at + 2 * i)) * cal.acc_scale[i]);
+        rep.rate_rad_s[f] = Vector3::from_fn(|i, _| {
+            (f64::from(le_i16(buf, at + 6 + 2 * i)) - cal.gyro_origin[i]) * cal.gyro_scale[i]
+        });
     }
     Ok(rep)
 }
@@ -151,7 +168,9 @@ mod tests {
     fn subcommands_are_byte_exact() {
         assert_eq!(
             enable_imu(3)[..12],
-            [0x01, 0x03, 0x00, 0x01, 0x40, 0x40, 0x00, 0x01, 0x40, 0x40, 0x40, 0x01]
+            [
+                0x01, 0x03, 0x00, 0x01, 0x40, 0x40, 0x00, 0x01, 0x40, 0x40, 0x40, 0x01
+            ]
         );
         assert_eq!(set_full_report_mode(17)[1..2], [0x01]);
         assert_eq!(set_full_report_mode(0)[10..12], [0x03, 0x30]);
@@ -178,7 +197,20 @@ mod tests {
         // Accel origin (10, −20, 30), sensitivity origin + 16384; gyro origin (5, −5, 2),
         // sensitivity origin + 13371.
         let mut block = Vec::new();
-        for v in [10i16, -20, 30, 10 + 16384, -20 + 16384, 30 + 16384, 5, -5, 2, 5 + 13371, -5 + 13371, 2 + 13371] {
+        for v in [
+            10i16,
+            -20,
+            30,
+            10 + 16384,
+            -20 + 16384,
+            30 + 16384,
+            5,
+            -5,
+            2,
+            5 + 13371,
+            -5 + 13371,
+            2 + 13371,
+        ] {
             block.extend_from_slice(&v.to_le_bytes());
         }
         let cal = SwitchCalibration::from_spi(&block).unwrap();

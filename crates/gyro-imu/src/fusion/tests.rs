@@ -17,11 +17,34 @@ fn run(seed: u64, minutes: f64, dt: f64, bias_deg_s: Option<f64>, cfg: FusionCon
     run_with(seed, minutes, dt, bias_deg_s, cfg, 6.0)
 }
 
-fn run_with(seed: u64, minutes: f64, dt: f64, bias_deg_s: Option<f64>, cfg: FusionConfig, rest_s: f64) -> Errors {
-    run_spec(seed, minutes, dt, bias_deg_s, cfg, rest_s, GyroSpec::consumer_mems())
+fn run_with(
+    seed: u64,
+    minutes: f64,
+    dt: f64,
+    bias_deg_s: Option<f64>,
+    cfg: FusionConfig,
+    rest_s: f64,
+) -> Errors {
+    run_spec(
+        seed,
+        minutes,
+        dt,
+        bias_deg_s,
+        cfg,
+        rest_s,
+        GyroSpec::consumer_mems(),
+    )
 }
 
-fn run_spec(seed: u64, minutes: f64, dt: f64, bias_deg_s: Option<f64>, cfg: FusionConfig, rest_s: f64, spec: GyroSpec) -> Errors {
+fn run_spec(
+    seed: u64,
+    minutes: f64,
+    dt: f64,
+    bias_deg_s: Option<f64>,
+    cfg: FusionConfig,
+    rest_s: f64,
+    spec: GyroSpec,
+) -> Errors {
     let mut motion = RandomMotion::new(seed, 120.0, 0.15, 40.0, rest_s);
     let mut sensor = SensorModel::new(spec, Some(AccSpec::consumer_mems()), seed + 100).unwrap();
     if let Some(b) = bias_deg_s {
@@ -58,7 +81,9 @@ fn run_spec(seed: u64, minutes: f64, dt: f64, bias_deg_s: Option<f64>, cfg: Fusi
             end = tot;
         }
     }
-    let bias_err = (f.bias_rad_s() - sensor.gyro_bias_rad_s()).norm().to_degrees();
+    let bias_err = (f.bias_rad_s() - sensor.gyro_bias_rad_s())
+        .norm()
+        .to_degrees();
     Errors {
         incl_rms_deg: (incl2 / cnt as f64).sqrt(),
         incl_max_deg: incl_max,
@@ -70,7 +95,9 @@ fn run_spec(seed: u64, minutes: f64, dt: f64, bias_deg_s: Option<f64>, cfg: Fusi
 
 #[test]
 fn arm_like_motion_with_mems_noise_and_bias_keeps_inclination_under_1_deg_and_total_under_3_deg() {
-    println!("| seed | bias (deg/s) | incl RMS | incl max | total RMS | total end | bias err (deg/s) |\n|---|---|---|---|---|---|---|");
+    println!(
+        "| seed | bias (deg/s) | incl RMS | incl max | total RMS | total end | bias err (deg/s) |\n|---|---|---|---|---|---|---|"
+    );
     for (seed, bias) in [(1, None), (2, Some(1.0)), (3, Some(-1.5))] {
         let e = run(seed, 5.0, 1.0 / 200.0, bias, FusionConfig::default());
         println!(
@@ -88,20 +115,80 @@ fn arm_like_motion_with_mems_noise_and_bias_keeps_inclination_under_1_deg_and_to
 fn fusion_error_table_by_condition() {
     let dt = 1.0 / 200.0;
     let d = FusionConfig::default();
-    let no_motion_bias = FusionConfig { motion_bias_tau_s: 0.0, ..d };
-    let no_bias_at_all = FusionConfig { motion_bias_tau_s: 0.0, rest: RestConfig { rate_threshold_deg_s: 0.01, ..d.rest }, ..d };
-    let one_pct = GyroSpec { scale_error: 0.01, ..GyroSpec::consumer_mems() };
+    let no_motion_bias = FusionConfig {
+        motion_bias_tau_s: 0.0,
+        ..d
+    };
+    let no_bias_at_all = FusionConfig {
+        motion_bias_tau_s: 0.0,
+        rest: RestConfig {
+            rate_threshold_deg_s: 0.01,
+            ..d.rest
+        },
+        ..d
+    };
+    let one_pct = GyroSpec {
+        scale_error: 0.01,
+        ..GyroSpec::consumer_mems()
+    };
     let rows: [(&str, Errors); 6] = [
-        ("default, pauses, bias 1°/s", run_spec(2, 5.0, dt, Some(1.0), d, 6.0, GyroSpec::consumer_mems())),
-        ("no motion-bias estimation", run_spec(2, 5.0, dt, Some(1.0), no_motion_bias, 6.0, GyroSpec::consumer_mems())),
-        ("no bias estimation at all", run_spec(2, 5.0, dt, Some(1.0), no_bias_at_all, 6.0, GyroSpec::consumer_mems())),
-        ("1 % gyro scale error", run_spec(2, 5.0, dt, Some(1.0), d, 6.0, one_pct)),
-        ("no pauses (motion bias only)", run_spec(2, 5.0, dt, Some(1.0), d, 0.0, GyroSpec::consumer_mems())),
-        ("no pauses, no motion bias", run_spec(2, 5.0, dt, Some(1.0), no_motion_bias, 0.0, GyroSpec::consumer_mems())),
+        (
+            "default, pauses, bias 1°/s",
+            run_spec(2, 5.0, dt, Some(1.0), d, 6.0, GyroSpec::consumer_mems()),
+        ),
+        (
+            "no motion-bias estimation",
+            run_spec(
+                2,
+                5.0,
+                dt,
+                Some(1.0),
+                no_motion_bias,
+                6.0,
+                GyroSpec::consumer_mems(),
+            ),
+        ),
+        (
+            "no bias estimation at all",
+            run_spec(
+                2,
+                5.0,
+                dt,
+                Some(1.0),
+                no_bias_at_all,
+                6.0,
+                GyroSpec::consumer_mems(),
+            ),
+        ),
+        (
+            "1 % gyro scale error",
+            run_spec(2, 5.0, dt, Some(1.0), d, 6.0, one_pct),
+        ),
+        (
+            "no pauses (motion bias only)",
+            run_spec(2, 5.0, dt, Some(1.0), d, 0.0, GyroSpec::consumer_mems()),
+        ),
+        (
+            "no pauses, no motion bias",
+            run_spec(
+                2,
+                5.0,
+                dt,
+                Some(1.0),
+                no_motion_bias,
+                0.0,
+                GyroSpec::consumer_mems(),
+            ),
+        ),
     ];
-    println!("| condition (5 min, 200 Hz) | incl RMS (deg) | incl max | total RMS | total end | bias err (deg/s) |\n|---|---|---|---|---|---|");
+    println!(
+        "| condition (5 min, 200 Hz) | incl RMS (deg) | incl max | total RMS | total end | bias err (deg/s) |\n|---|---|---|---|---|---|"
+    );
     for (name, e) in &rows {
-        println!("| {name} | {:.3} | {:.3} | {:.3} | {:.3} | {:.4} |", e.incl_rms_deg, e.incl_max_deg, e.total_rms_deg, e.total_end_deg, e.bias_err_deg_s);
+        println!(
+            "| {name} | {:.3} | {:.3} | {:.3} | {:.3} | {:.4} |",
+            e.incl_rms_deg, e.incl_max_deg, e.total_rms_deg, e.total_end_deg, e.bias_err_deg_s
+        );
     }
     // Bias estimation must matter: without it the heading drifts away.
     assert!(rows[0].1.total_rms_deg * 5.0 < rows[2].1.total_rms_deg);
@@ -115,7 +202,11 @@ fn first_sample_aligns_inclination_and_nan_is_ignored() {
     // Sensor lying on its side: gravity reaction along +x of the sensor.
     let q = f.update(&Vector3::zeros(), Some(&Vector3::new(9.81, 0.0, 0.0)), 0.01);
     assert!(((q * Vector3::x()) - Vector3::z()).norm() < 1e-9);
-    let q2 = f.update(&Vector3::new(f64::NAN, 0.0, 0.0), Some(&Vector3::new(9.81, 0.0, 0.0)), 0.01);
+    let q2 = f.update(
+        &Vector3::new(f64::NAN, 0.0, 0.0),
+        Some(&Vector3::new(9.81, 0.0, 0.0)),
+        0.01,
+    );
     assert_eq!(q, q2);
 }
 
@@ -124,8 +215,9 @@ fn fuse_checks_lengths_and_config() {
     let g = vec![Vector3::zeros(); 3];
     let a = vec![Vector3::z() * 9.81; 2];
     assert!(fuse(&g, &a, 0.01, FusionConfig::default()).is_err());
-    let mut c = FusionConfig::default();
-    c.tau_acc_s = -1.0;
+    let c = FusionConfig {
+        tau_acc_s: -1.0,
+        ..FusionConfig::default()
+    };
     assert!(c.validate().unwrap_err().to_string().contains("tau_acc_s"));
 }
-

@@ -57,11 +57,35 @@ impl PatientArmConfig {
     /// Check every field; the error names the field and its allowed range.
     pub fn validate(&self) -> Result<(), ImuError> {
         self.geometry.validate()?;
-        check_range("swivel_mean_rad", self.swivel_mean_rad, -1.5, 1.5, "[-1.5, 1.5] rad")?;
-        check_range("swivel_per_wheel", self.swivel_per_wheel, -2.0, 2.0, "[-2, 2]")?;
-        check_range("swivel_amp_rad", self.swivel_amp_rad, 0.0, 1.0, "[0, 1] rad")?;
+        check_range(
+            "swivel_mean_rad",
+            self.swivel_mean_rad,
+            -1.5,
+            1.5,
+            "[-1.5, 1.5] rad",
+        )?;
+        check_range(
+            "swivel_per_wheel",
+            self.swivel_per_wheel,
+            -2.0,
+            2.0,
+            "[-2, 2]",
+        )?;
+        check_range(
+            "swivel_amp_rad",
+            self.swivel_amp_rad,
+            0.0,
+            1.0,
+            "[0, 1] rad",
+        )?;
         check_range("swivel_freq_hz", self.swivel_freq_hz, 0.0, 5.0, "[0, 5] Hz")?;
-        check_range("pronation_per_wheel", self.pronation_per_wheel, -2.0, 2.0, "[-2, 2]")?;
+        check_range(
+            "pronation_per_wheel",
+            self.pronation_per_wheel,
+            -2.0,
+            2.0,
+            "[-2, 2]",
+        )?;
         check_range("upper_sensor_at", self.upper_sensor_at, 0.0, 1.0, "[0, 1]")?;
         check_range("fore_sensor_at", self.fore_sensor_at, 0.0, 1.0, "[0, 1]")
     }
@@ -186,13 +210,25 @@ impl SimArm {
 
     /// Simulate one tick at time `t_ns` with the wheel at `wheel_rad` turning at
     /// `wheel_rate_rad_s`, `dt_s` after the previous tick. Leaves one sample in each IMU.
-    pub fn step(&mut self, t_ns: u64, wheel_rad: f64, wheel_rate_rad_s: f64, dt_s: f64) -> Result<SimArmTruth, ImuError> {
-        if !(wheel_rad.is_finite() && wheel_rate_rad_s.is_finite() && dt_s.is_finite() && dt_s > 0.0) {
+    pub fn step(
+        &mut self,
+        t_ns: u64,
+        wheel_rad: f64,
+        wheel_rate_rad_s: f64,
+        dt_s: f64,
+    ) -> Result<SimArmTruth, ImuError> {
+        if !(wheel_rad.is_finite()
+            && wheel_rate_rad_s.is_finite()
+            && dt_s.is_finite()
+            && dt_s > 0.0)
+        {
             return Err(ImuError::InvalidInput(format!(
                 "wheel {wheel_rad} rad, rate {wheel_rate_rad_s} rad/s, dt {dt_s} s must be finite (dt > 0)"
             )));
         }
-        let wheel_acc = self.prev_wheel_rate.map_or(0.0, |p| (wheel_rate_rad_s - p) / dt_s);
+        let wheel_acc = self
+            .prev_wheel_rate
+            .map_or(0.0, |p| (wheel_rate_rad_s - p) / dt_s);
         self.prev_wheel_rate = Some(wheel_rate_rad_s);
         let t = t_ns as f64 * 1e-9;
         let cfg = self.cfg;
@@ -203,22 +239,33 @@ impl SimArm {
         };
         let h = 1e-3;
         let (s0, sp, sm) = (at(0.0)?, at(h)?, at(-h)?);
-        let rate = |a: &nalgebra::Matrix3<f64>, b: &nalgebra::Matrix3<f64>| so3::log(&(a.transpose() * b)) / (2.0 * h);
+        let rate = |a: &nalgebra::Matrix3<f64>, b: &nalgebra::Matrix3<f64>| {
+            so3::log(&(a.transpose() * b)) / (2.0 * h)
+        };
         let w_upper = rate(&sm.upper, &sp.upper);
         let w_fore = rate(&sm.fore, &sp.fore);
-        let pos_u = |s: &ArmState| cfg.geometry.shoulder() + (s.elbow_m - cfg.geometry.shoulder()) * cfg.upper_sensor_at;
+        let pos_u = |s: &ArmState| {
+            cfg.geometry.shoulder() + (s.elbow_m - cfg.geometry.shoulder()) * cfg.upper_sensor_at
+        };
         let pos_f = |s: &ArmState| s.elbow_m + (s.grip_m - s.elbow_m) * cfg.fore_sensor_at;
         let acc_u = (pos_u(&sp) - pos_u(&s0) * 2.0 + pos_u(&sm)) / (h * h);
         let acc_f = (pos_f(&sp) - pos_f(&s0) * 2.0 + pos_f(&sm)) / (h * h);
         let g = Vector3::z() * GRAVITY_M_S2;
         let q_upper = arm::to_quat(&s0.upper) * self.upper.mount;
         let q_fore = arm::to_quat(&s0.fore) * self.fore.mount;
-        for (imu, q_ws, w_seg, acc) in [(&mut self.upper, q_upper, w_upper, acc_u), (&mut self.fore, q_fore, w_fore, acc_f)] {
+        for (imu, q_ws, w_seg, acc) in [
+            (&mut self.upper, q_upper, w_upper, acc_u),
+            (&mut self.fore, q_fore, w_fore, acc_f),
+        ] {
             let w_s = imu.mount.inverse() * w_seg;
             let f_s = q_ws.inverse() * (acc + g);
             let r = imu.model.measure(&w_s, &f_s, dt_s);
             let t_rep = (t_ns as f64 + r.time_error_s * 1e9).max(0.0) as u64;
-            imu.pending = Some(ImuSample { t_ns: t_rep, rate_rad_s: r.rate_rad_s, acc_m_s2: r.acc_m_s2 });
+            imu.pending = Some(ImuSample {
+                t_ns: t_rep,
+                rate_rad_s: r.rate_rad_s,
+                acc_m_s2: r.acc_m_s2,
+            });
         }
         let (swivel, _) = cfg.posture(t, wheel_rad);
         Ok(SimArmTruth {
@@ -250,7 +297,15 @@ mod tests {
     fn ideal_sensor_rates_integrate_to_the_true_sensor_orientation() {
         let mount_u = so3::exp_quat(&Vector3::new(0.4, -1.0, 2.0));
         let mount_f = so3::exp_quat(&Vector3::new(-2.0, 0.3, 0.5));
-        let mut arm = SimArm::new(PatientArmConfig::default(), GyroSpec::ideal(), None, mount_u, mount_f, 1).unwrap();
+        let mut arm = SimArm::new(
+            PatientArmConfig::default(),
+            GyroSpec::ideal(),
+            None,
+            mount_u,
+            mount_f,
+            1,
+        )
+        .unwrap();
         let dt = 0.001;
         let mut integ: Option<QuatIntegrator> = None;
         let mut prev_rate = None;
@@ -274,9 +329,24 @@ mod tests {
     #[test]
     fn static_arm_accelerometer_reads_gravity_in_the_sensor_frame() {
         let mount = so3::exp_quat(&Vector3::new(1.0, 0.2, -0.3));
-        let mut cfg = PatientArmConfig::default();
-        cfg.swivel_amp_rad = 0.0;
-        let mut arm = SimArm::new(cfg, GyroSpec::ideal(), Some(AccSpec { resolution_m_s2: 0.0, bias_std_m_s2: 0.0, noise_density_m_s2_sqrt_hz: 0.0, saturation_m_s2: 100.0 }), mount, mount, 2).unwrap();
+        let cfg = PatientArmConfig {
+            swivel_amp_rad: 0.0,
+            ..PatientArmConfig::default()
+        };
+        let mut arm = SimArm::new(
+            cfg,
+            GyroSpec::ideal(),
+            Some(AccSpec {
+                resolution_m_s2: 0.0,
+                bias_std_m_s2: 0.0,
+                noise_density_m_s2_sqrt_hz: 0.0,
+                saturation_m_s2: 100.0,
+            }),
+            mount,
+            mount,
+            2,
+        )
+        .unwrap();
         let truth = arm.step(0, 0.3, 0.0, 0.001).unwrap();
         let (u, _) = arm.latest().unwrap();
         let expect = truth.upper_sensor.inverse() * Vector3::z() * GRAVITY_M_S2;

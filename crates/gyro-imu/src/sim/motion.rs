@@ -45,13 +45,22 @@ pub struct RandomMotion {
 impl RandomMotion {
     /// Motion with peak rates of roughly `rate_scale_deg_s` and displacements of roughly
     /// `pos_scale_m`, still for `rest_s` out of every `period_s` seconds; seeded.
-    pub fn new(seed: u64, rate_scale_deg_s: f64, pos_scale_m: f64, period_s: f64, rest_s: f64) -> Self {
+    pub fn new(
+        seed: u64,
+        rate_scale_deg_s: f64,
+        pos_scale_m: f64,
+        period_s: f64,
+        rest_s: f64,
+    ) -> Self {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let mut sines = |n: usize, scale: f64, fmax: f64| -> Vec<Sine> {
             (0..n)
                 .map(|_| Sine {
-                    amp: Vector3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0))
-                        * (scale / n as f64 * 1.5),
+                    amp: Vector3::new(
+                        rng.random_range(-1.0..1.0),
+                        rng.random_range(-1.0..1.0),
+                        rng.random_range(-1.0..1.0),
+                    ) * (scale / n as f64 * 1.5),
                     freq_hz: rng.random_range(0.2..fmax),
                     phase: rng.random_range(0.0..std::f64::consts::TAU),
                 })
@@ -59,8 +68,19 @@ impl RandomMotion {
         };
         let rot = sines(5, rate_scale_deg_s.to_radians(), 1.2);
         let pos = sines(4, pos_scale_m, 1.0);
-        let q0 = so3::exp_quat(&Vector3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-3.0..3.0)));
-        Self { rot, pos, period_s, rest_s, q: q0, t_s: 0.0 }
+        let q0 = so3::exp_quat(&Vector3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-3.0..3.0),
+        ));
+        Self {
+            rot,
+            pos,
+            period_s,
+            rest_s,
+            q: q0,
+            t_s: 0.0,
+        }
     }
 
     /// Smooth activity envelope in [0, 1]: 0 during rest (which starts each period).
@@ -84,12 +104,20 @@ impl RandomMotion {
     }
 
     fn rate(&self, t: f64) -> Vector3<f64> {
-        let s: Vector3<f64> = self.rot.iter().map(|c| c.amp * (std::f64::consts::TAU * c.freq_hz * t + c.phase).sin()).sum();
+        let s: Vector3<f64> = self
+            .rot
+            .iter()
+            .map(|c| c.amp * (std::f64::consts::TAU * c.freq_hz * t + c.phase).sin())
+            .sum();
         s * self.envelope(t)
     }
 
     fn position(&self, t: f64) -> Vector3<f64> {
-        let s: Vector3<f64> = self.pos.iter().map(|c| c.amp * (std::f64::consts::TAU * c.freq_hz * t + c.phase).sin()).sum();
+        let s: Vector3<f64> = self
+            .pos
+            .iter()
+            .map(|c| c.amp * (std::f64::consts::TAU * c.freq_hz * t + c.phase).sin())
+            .sum();
         s * self.envelope(t)
     }
 
@@ -109,7 +137,8 @@ impl RandomMotion {
         let hs = dt_s / n as f64;
         for i in 0..n {
             let w = self.rate(t + (i as f64 + 0.5) * hs);
-            self.q = UnitQuaternion::new_normalize(*(self.q * so3::exp_quat(&(w * hs))).quaternion());
+            self.q =
+                UnitQuaternion::new_normalize(*(self.q * so3::exp_quat(&(w * hs))).quaternion());
         }
         self.t_s += dt_s;
         out
