@@ -107,9 +107,14 @@ pub fn integrate(rates_rad_s: &[Vector3<f64>], dt_s: f64, method: Method) -> Vec
 
 /// Integrate like [`integrate`] but return only the final orientation (no allocation).
 pub fn integrate_final(rates_rad_s: &[Vector3<f64>], dt_s: f64, method: Method) -> Matrix3<f64> {
-    let mut last = Matrix3::identity();
-    integrate_with(rates_rad_s, dt_s, method, |r| last = r);
-    last
+    if method == Method::Exp {
+        let mut last = Matrix3::identity();
+        integrate_with(rates_rad_s, dt_s, method, |r| last = r);
+        return last;
+    }
+    let mut last = UnitQuaternion::identity();
+    quat_steps(rates_rad_s, dt_s, method, |q| last = *q);
+    last.to_rotation_matrix().into_inner()
 }
 
 /// Core of [`integrate`]: calls `emit` with `R₀ … R_N` in order.
@@ -119,40 +124,46 @@ pub fn integrate_with(
     method: Method,
     mut emit: impl FnMut(Matrix3<f64>),
 ) {
+    emit(Matrix3::identity());
+    if method == Method::Exp {
+        let mut r = Matrix3::identity();
+        for (k, w) in rates_rad_s.iter().enumerate() {
+            r *= so3::exp(&(w * dt_s));
+            if k % 256 == 255 {
+                r = so3::reorthonormalize(&r);
+            }
+            emit(r);
+        }
+    } else {
+        quat_steps(rates_rad_s, dt_s, method, |q| {
+            emit(q.to_rotation_matrix().into_inner())
+        });
+    }
+}
+
+/// The quaternion methods: calls `each` with `q₁ … q_N` (re-normalised every step).
+fn quat_steps(
+    rates_rad_s: &[Vector3<f64>],
+    dt_s: f64,
+    method: Method,
+    mut each: impl FnMut(&UnitQuaternion<f64>),
+) {
     let n = rates_rad_s.len();
     let at = |i: isize| rates_rad_s[i.clamp(0, n as isize - 1) as usize];
-    emit(Matrix3::identity());
-    match method {
-        Method::Exp => {
-            let mut r = Matrix3::identity();
-            for (k, w) in rates_rad_s.iter().enumerate() {
-                r *= so3::exp(&(w * dt_s));
-                if k % 256 == 255 {
-                    r = so3::reorthonormalize(&r);
-                }
-                emit(r);
+    let mut q = UnitQuaternion::identity();
+    for k in 0..n as isize {
+        q = match method {
+            Method::QuaternionFirstOrder => first_order_step(&q, &at(k), dt_s),
+            Method::Quaternion | Method::Exp => {
+                so3::renormalize(&(q.quaternion() * so3::exp_quat(&(at(k) * dt_s)).quaternion()))
             }
-        }
-        _ => {
-            let mut q = UnitQuaternion::identity();
-            for k in 0..n as isize {
-                q = match method {
-                    Method::QuaternionFirstOrder => first_order_step(&q, &at(k), dt_s),
-                    _ => {
-                        let phi = step_rotation_vector(
-                            method,
-                            &at(k - 1),
-                            &at(k),
-                            &at(k + 1),
-                            &at(k + 2),
-                            dt_s,
-                        );
-                        UnitQuaternion::new_normalize(*(q * so3::exp_quat(&phi)).quaternion())
-                    }
-                };
-                emit(q.to_rotation_matrix().into_inner());
+            _ => {
+                let phi =
+                    step_rotation_vector(method, &at(k - 1), &at(k), &at(k + 1), &at(k + 2), dt_s);
+                so3::renormalize(&(q.quaternion() * so3::exp_quat(&phi).quaternion()))
             }
-        }
+        };
+        each(&q);
     }
 }
 
@@ -184,8 +195,8 @@ impl QuatIntegrator {
     /// Advance by body rate `rate_rad_s` held for `dt_s` seconds; returns the new orientation.
     #[inline]
     pub fn step(&mut self, rate_rad_s: &Vector3<f64>, dt_s: f64) -> UnitQuaternion<f64> {
-        self.q = UnitQuaternion::new_normalize(
-            *(self.q * so3::exp_quat(&(rate_rad_s * dt_s))).quaternion(),
+        self.q = so3::renormalize(
+            &(self.q.quaternion() * so3::exp_quat(&(rate_rad_s * dt_s)).quaternion()),
         );
         self.q
     }

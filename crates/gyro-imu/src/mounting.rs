@@ -4,12 +4,12 @@
 //! A short guided procedure: (1) hold still with the wheel centred — each accelerometer measures
 //! the "up" direction in its sensor frame, the chain model ([`crate::arm::solve`]) gives it in
 //! the segment frame; (2) turn the wheel back and forth through its range, keeping the elbow
-//! relaxed — regressing each gyro's bias-corrected rate on the wheel rate gives the segment's
-//! mean rotation axis per unit wheel rate in the sensor frame, which the chain model predicts
-//! in the segment frame. Two vector pairs per sensor fix its rotation (TRIAD, gravity first).
-//! Forearm pronation that follows the wheel adds an unknown rate about the forearm's long axis;
-//! its gain is solved from the fact that rotations preserve the angle between the two vectors.
-//! Zero pronation is, by convention, the pronation held in step (1).
+//! relaxed — each bias-corrected gyro sample is paired with the segment's body rate the chain
+//! model predicts for the measured wheel angle and rate. The sensor-to-segment rotation is the
+//! solution of Wahba's problem over all these pairs, gravity weighted 10× the whole sweep.
+//! Forearm pronation that follows the wheel (`p·θ`, unknown gain `p`) changes the forearm's
+//! predicted rate to `Rx(−p·θ)·ω_hinge + p·θ̇·e_x`; `p` is found by a 1-D search on Wahba's
+//! loss. Zero pronation is, by convention, the pronation held in step (1).
 
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 
@@ -261,22 +261,6 @@ fn wahba(b: &Matrix3<f64>) -> (Matrix3<f64>, f64) {
     (m, sv[0] + sv[1] + d * sv[2])
 }
 
-/// The rotation `M` with `M·v1 = w1` exactly and `M·v2` as close to `w2` as possible (TRIAD).
-pub fn triad(
-    v1: &Vector3<f64>,
-    v2: &Vector3<f64>,
-    w1: &Vector3<f64>,
-    w2: &Vector3<f64>,
-) -> UnitQuaternion<f64> {
-    let frame = |a: &Vector3<f64>, b: &Vector3<f64>| {
-        let x = a.normalize();
-        let y = x.cross(b).normalize();
-        Matrix3::from_columns(&[x, y, x.cross(&y)])
-    };
-    let m = frame(w1, w2) * frame(v1, v2).transpose();
-    UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(m))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -368,13 +352,5 @@ mod tests {
             ..s
         };
         assert!(cal.add_still(0.0, &gyro_only, &gyro_only).is_err());
-    }
-
-    #[test]
-    fn triad_maps_the_first_vector_exactly() {
-        let m = so3::exp_quat(&Vector3::new(0.3, -1.2, 2.0));
-        let (v1, v2) = (Vector3::new(0.1, 0.2, 0.97), Vector3::new(1.0, 0.0, 0.1));
-        let r = triad(&v1, &v2, &(m * v1), &(m * v2));
-        assert!(so3::angle_between(&r, &m) < 1e-12);
     }
 }

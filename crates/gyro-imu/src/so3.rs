@@ -6,12 +6,18 @@ use nalgebra::{Matrix3, Quaternion, Rotation3, UnitQuaternion, Vector3};
 /// `exp([φ]×)` for a rotation vector `phi_rad` (axis × angle, rad), by Rodrigues' formula
 /// (thesis eq. 4.12), with a series expansion near zero angle.
 pub fn exp(phi_rad: &Vector3<f64>) -> Matrix3<f64> {
-    let theta2 = phi_rad.norm_squared();
-    let (a, b) = if theta2 < 1e-12 {
-        (1.0 - theta2 / 6.0, 0.5 - theta2 / 24.0)
+    let t2 = phi_rad.norm_squared();
+    // sin θ/θ and (1 − cos θ)/θ²: Taylor series below 0.1 rad (exact to f64 precision there,
+    // the usual per-sample angle of a gyro), libm above.
+    let (a, b) = if t2 < 0.01 {
+        (
+            1.0 - t2 / 6.0 * (1.0 - t2 / 20.0 * (1.0 - t2 / 42.0 * (1.0 - t2 / 72.0))),
+            0.5 - t2 / 24.0 * (1.0 - t2 / 30.0 * (1.0 - t2 / 56.0 * (1.0 - t2 / 90.0))),
+        )
     } else {
-        let theta = theta2.sqrt();
-        (theta.sin() / theta, (1.0 - theta.cos()) / theta2)
+        let theta = t2.sqrt();
+        let (sin, cos) = theta.sin_cos();
+        (sin / theta, (1.0 - cos) / t2)
     };
     // I + a [φ]× + b [φ]×², written out so it compiles to straight-line code.
     let (x, y, z) = (phi_rad.x, phi_rad.y, phi_rad.z);
@@ -40,13 +46,22 @@ pub fn log(r: &Matrix3<f64>) -> Vector3<f64> {
 /// The exponential map in quaternion form: the unit quaternion of rotation vector `phi_rad`,
 /// `[cos(θ/2), sin(θ/2)·φ/θ]` (equivalent to eq. 4.12).
 pub fn exp_quat(phi_rad: &Vector3<f64>) -> UnitQuaternion<f64> {
-    let theta2 = phi_rad.norm_squared();
-    let (w, s) = if theta2 < 1e-12 {
-        (1.0 - theta2 / 8.0, 0.5 - theta2 / 48.0)
+    let t2 = phi_rad.norm_squared();
+    // cos(θ/2) and sin(θ/2)/θ: Taylor series below 0.2 rad (exact to f64 precision), libm above.
+    let (w, s) = if t2 < 0.04 {
+        let x2 = t2 / 4.0;
+        (
+            1.0 - x2 / 2.0
+                * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0 * (1.0 - x2 / 56.0 * (1.0 - x2 / 90.0)))),
+            0.5 * (1.0
+                - x2 / 6.0
+                    * (1.0
+                        - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0 * (1.0 - x2 / 110.0))))),
+        )
     } else {
-        let theta = theta2.sqrt();
-        let half = 0.5 * theta;
-        (half.cos(), half.sin() / theta)
+        let theta = t2.sqrt();
+        let (sin, cos) = (0.5 * theta).sin_cos();
+        (cos, sin / theta)
     };
     UnitQuaternion::new_unchecked(Quaternion::new(
         w,
@@ -74,6 +89,13 @@ pub fn log_quat(q: &UnitQuaternion<f64>) -> Vector3<f64> {
 /// The rotation angle (rad, in [0, π]) between two orientations.
 pub fn angle_between(a: &UnitQuaternion<f64>, b: &UnitQuaternion<f64>) -> f64 {
     log_quat(&(a.inverse() * b)).norm()
+}
+
+/// Re-normalise a nearly unit quaternion without a square root (one Newton step on
+/// `|q|² = 1`, exact to second order in the error).
+#[inline]
+pub fn renormalize(q: &Quaternion<f64>) -> UnitQuaternion<f64> {
+    UnitQuaternion::new_unchecked(q * (1.5 - 0.5 * q.norm_squared()))
 }
 
 /// Re-orthonormalise a nearly orthonormal matrix (the closest rotation, by one symmetric
@@ -110,6 +132,23 @@ mod tests {
             prop_assert!((q.to_rotation_matrix().into_inner() - r).norm() < 1e-14);
             prop_assert!((log(&r) - phi).norm() < 1e-9 * (1.0 + phi.norm()));
             prop_assert!((log_quat(&q) - phi).norm() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn series_and_libm_branches_agree_at_the_switch_points() {
+        for t in [0.0999999, 0.1000001, 0.1999999, 0.2000001, 1e-5, 0.05] {
+            let phi = Vector3::new(t, 0.0, 0.0);
+            let r = exp(&phi);
+            assert!(
+                (r[(1, 1)] - t.cos()).abs() < 1e-16 && (r[(2, 1)] - t.sin()).abs() < 1e-16,
+                "{t}"
+            );
+            let q = exp_quat(&phi);
+            assert!(
+                (q.w - (t / 2.0).cos()).abs() < 1e-16 && (q.i - (t / 2.0).sin()).abs() < 1e-16,
+                "{t}"
+            );
         }
     }
 
