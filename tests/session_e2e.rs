@@ -52,6 +52,7 @@ fn short_session_records_every_tick_on_every_channel_with_schemas() {
     assert_eq!(
         topics,
         vec![
+            expect("/arm"),
             expect("/assist"),
             expect("/score"),
             expect("/timing"),
@@ -67,7 +68,7 @@ fn short_session_records_every_tick_on_every_channel_with_schemas() {
 
     let msgs = by_topic(&read_mcap(&path));
     // 3 s at 1 kHz plus the 0.1 s fade-out (and the tick that sees zero); a score every 100 ms.
-    for topic in ["/wheel", "/vehicle", "/assist", "/timing"] {
+    for topic in ["/wheel", "/vehicle", "/assist", "/timing", "/arm"] {
         assert_eq!(msgs[topic].len(), 3101, "{topic}");
     }
     assert_eq!(msgs["/score"].len(), 31);
@@ -105,6 +106,19 @@ fn short_session_records_every_tick_on_every_channel_with_schemas() {
         got.sort();
         assert_eq!(got, want, "{topic}");
     }
+    // The arm pose from the simulated IMUs follows the simulated truth.
+    let arm = &msgs["/arm"];
+    let err_sq: Vec<f64> = arm
+        .iter()
+        .filter(|m| m.json["t_s"].as_f64().unwrap() > 1.0)
+        .map(|m| {
+            let d = m.json["shoulder_elevation_rad"].as_f64().unwrap()
+                - m.json["true_shoulder_elevation_rad"].as_f64().unwrap();
+            d * d
+        })
+        .collect();
+    let rms_deg = (err_sq.iter().sum::<f64>() / err_sq.len() as f64).sqrt().to_degrees();
+    assert!(rms_deg < 3.0, "shoulder elevation RMS error {rms_deg}°");
     // The torque never leaves the thesis wheel's ±1.87 N·m and ends at zero.
     for m in wheel {
         assert!(m.json["commanded_nm"].as_f64().unwrap().abs() <= 1.87);
@@ -146,7 +160,7 @@ fn same_seed_gives_identical_simulation_data_and_another_seed_does_not() {
     let a = run("11", "a.mcap");
     let b = run("11", "b.mcap");
     let c = run("12", "c.mcap");
-    assert_eq!(a.len(), 2101 * 3 + 21);
+    assert_eq!(a.len(), 2101 * 4 + 21);
     assert!(
         a == b,
         "same seed must give identical recorded simulation data"
@@ -304,5 +318,8 @@ fn devices_without_hardware_explains_and_exits_zero() {
     let out = run_ok(&["devices"]);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("Wheels:"), "{text}");
-    assert!(text.contains("--sim"), "the message should point at the simulated session: {text}");
+    assert!(
+        text.contains("--sim"),
+        "the message should point at the simulated session: {text}"
+    );
 }

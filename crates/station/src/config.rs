@@ -2,6 +2,7 @@
 //! and every value validated with a message naming the field and its allowed range.
 
 use assist::{AssistSpec, HumanArmParams};
+use gyro_imu::sim::arm::PatientArmConfig;
 use haptic_wheel::{PassivityParams, SafetyConfig, SimWheelParams, SpringDamper};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -21,8 +22,10 @@ pub struct StationConfig {
     pub vehicle: VehicleParams,
     /// The simulated wheel (used with `--sim`).
     pub sim_wheel: SimWheelParams,
-    /// The simulated patient's arm (used with `--sim`).
+    /// The simulated patient's arm control (used with `--sim`).
     pub sim_patient: HumanArmParams,
+    /// The simulated patient's arm geometry and posture, with IMUs on it (used with `--sim`).
+    pub sim_arm: PatientArmConfig,
     /// The therapist link.
     pub therapist: TherapistLinkConfig,
 }
@@ -36,6 +39,7 @@ impl Default for StationConfig {
             vehicle: VehicleParams::default(),
             sim_wheel: SimWheelParams::default(),
             sim_patient: default_sim_patient(),
+            sim_arm: PatientArmConfig::default(),
             therapist: TherapistLinkConfig::default(),
         }
     }
@@ -254,6 +258,9 @@ impl StationConfig {
         self.sim_patient
             .validate()
             .map_err(|e| in_section("sim_patient")(&e))?;
+        self.sim_arm
+            .validate()
+            .map_err(|e| in_section("sim_arm")(&e))?;
         let v = &self.vehicle;
         check("vehicle.mass_kg", v.mass_kg, 100.0, 10_000.0, "kg")?;
         check(

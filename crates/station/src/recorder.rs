@@ -4,7 +4,7 @@
 //! Runs on its own thread; the haptic thread never waits for it in real time.
 
 use crate::session::record::{
-    AssistSample, ScoreSample, TickRecord, TimingSample, VehicleSample, WheelSample,
+    ArmSample, AssistSample, ScoreSample, TickRecord, TimingSample, VehicleSample, WheelSample,
 };
 use crate::timing::TimingStats;
 use mcap::records::MessageHeader;
@@ -27,6 +27,8 @@ pub mod topics {
     pub const ASSIST: &str = "/assist";
     /// Loop timing, every tick.
     pub const TIMING: &str = "/timing";
+    /// Arm pose from the IMUs and raw gyro rates, every tick.
+    pub const ARM: &str = "/arm";
 }
 
 /// Session time between two score messages and two therapist summaries, s.
@@ -52,7 +54,7 @@ fn schema_of<T: JsonSchema>(title: &str) -> String {
 }
 
 /// The channels: (topic, schema name, JSON schema), in channel-index order.
-pub fn channel_schemas() -> [(&'static str, &'static str, String); 5] {
+pub fn channel_schemas() -> [(&'static str, &'static str, String); 6] {
     [
         (
             topics::WHEEL,
@@ -79,13 +81,18 @@ pub fn channel_schemas() -> [(&'static str, &'static str, String); 5] {
             "telerehab.LoopTiming",
             schema_of::<TimingSample>("telerehab.LoopTiming"),
         ),
+        (
+            topics::ARM,
+            "telerehab.Arm",
+            schema_of::<ArmSample>("telerehab.Arm"),
+        ),
     ]
 }
 
 /// An MCAP file being written.
 pub struct McapRecorder {
     writer: mcap::Writer<BufWriter<File>>,
-    channels: [u16; 5],
+    channels: [u16; 6],
     sequence: u32,
     start_unix_ns: u64,
     path: PathBuf,
@@ -136,7 +143,7 @@ impl McapRecorder {
             .chunk_size(Some(1024 * 1024))
             .create(BufWriter::new(file))
             .map_err(mcap_err)?;
-        let mut channels = [0u16; 5];
+        let mut channels = [0u16; 6];
         for (i, (topic, name, schema)) in channel_schemas().into_iter().enumerate() {
             let schema_id = writer
                 .add_schema(name, "jsonschema", schema.as_bytes())
@@ -206,7 +213,8 @@ impl McapRecorder {
             self.write(2, rec, rec.score)?;
         }
         self.write(3, rec, rec.assist)?;
-        self.write(4, rec, rec.timing)
+        self.write(4, rec, rec.timing)?;
+        self.write(5, rec, rec.arm)
     }
 
     /// Close the current chunk and flush it to disk, so a killed process loses at most what

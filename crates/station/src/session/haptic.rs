@@ -29,6 +29,9 @@ pub struct HapticOutcome {
     pub realtime_priority: bool,
     /// Wall time the loop ran, s.
     pub wall_s: f64,
+    /// Range of motion of each estimated joint angle over the session, rad (order of
+    /// `gyro_imu::arm::JointAngles::NAMES`).
+    pub range_of_motion_rad: [f64; 5],
 }
 
 /// Sleep until the absolute `deadline`.
@@ -146,5 +149,6 @@ pub fn run(
         stopped_early,
         realtime_priority,
         wall_s: start.elapsed().as_secs_f64(),
+        range_of_motion_rad: plant.range_of_motion_rad(),
     }
 }

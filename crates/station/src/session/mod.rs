@@ -1,6 +1,7 @@
 //! A patient session: the haptic thread, the recorder thread and the therapist link, wired
 //! together and torn down cleanly on every path.
 
+pub mod arm;
 pub mod haptic;
 pub mod record;
 pub mod sim;
@@ -161,6 +162,15 @@ fn summary_extra(out: &RecorderOutcome) -> BTreeMap<String, f64> {
         100.0 * out.clipped_ticks as f64 / ticks,
     );
     extra.insert("watchdog_fault_ticks".into(), out.fault_ticks as f64);
+    let arm = &out.last.arm;
+    extra.insert(
+        "shoulder_elevation_deg".into(),
+        arm.shoulder_elevation_rad.to_degrees(),
+    );
+    extra.insert(
+        "elbow_flexion_deg".into(),
+        arm.elbow_flexion_rad.to_degrees(),
+    );
     if out.assist_ticks > 0 {
         let n = out.assist_ticks as f64;
         extra.insert("assist_level_mean".into(), out.assist_level_sum / n);

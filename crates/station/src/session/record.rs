@@ -21,6 +21,8 @@ pub struct TickRecord {
     pub score: ScoreSample,
     /// Active assistance.
     pub assist: AssistSample,
+    /// Arm pose from the gyros.
+    pub arm: ArmSample,
     /// Loop timing on the wall clock.
     pub timing: TimingSample,
 }
@@ -121,6 +123,40 @@ pub struct AssistSample {
     pub assistance_level: f64,
     /// A torque limit cut the assist this tick.
     pub saturated: bool,
+}
+
+/// The arm pose estimated from the two IMUs, beside the simulated truth (channel `/arm`).
+/// Angles follow `gyro_imu::arm::JointAngles`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, JsonSchema)]
+pub struct ArmSample {
+    /// Estimated humerus elevation from hanging, rad.
+    pub shoulder_elevation_rad: f64,
+    /// Estimated plane of elevation (0 lateral, π/2 forward), rad.
+    pub shoulder_plane_rad: f64,
+    /// Estimated humeral axial rotation (internal positive), rad.
+    pub shoulder_rotation_rad: f64,
+    /// Estimated elbow flexion (0 straight), rad.
+    pub elbow_flexion_rad: f64,
+    /// Estimated forearm pronation, rad.
+    pub forearm_pronation_rad: f64,
+    /// True humerus elevation (simulation only), rad.
+    pub true_shoulder_elevation_rad: f64,
+    /// True elbow flexion (simulation only), rad.
+    pub true_elbow_flexion_rad: f64,
+    /// RMS mismatch of the measured and fitted segment "up" directions, rad.
+    pub fit_residual_rad: f64,
+    /// Upper-arm gyro, sensor x, rad/s.
+    pub upper_gyro_x_rad_s: f64,
+    /// Upper-arm gyro, sensor y, rad/s.
+    pub upper_gyro_y_rad_s: f64,
+    /// Upper-arm gyro, sensor z, rad/s.
+    pub upper_gyro_z_rad_s: f64,
+    /// Forearm gyro, sensor x, rad/s.
+    pub fore_gyro_x_rad_s: f64,
+    /// Forearm gyro, sensor y, rad/s.
+    pub fore_gyro_y_rad_s: f64,
+    /// Forearm gyro, sensor z, rad/s.
+    pub fore_gyro_z_rad_s: f64,
 }
 
 /// Wall-clock timing of one tick (channel `/timing`).

@@ -3,6 +3,7 @@
 //! against a real wheel. One [`SimPlant::tick`] is one haptic-loop period; it allocates nothing.
 
 use crate::config::StationConfig;
+use crate::session::arm::SimArmSensing;
 use crate::session::record::{
     AssistSample, ScoreSample, TickRecord, VehicleSample, WheelSample, watchdog_label,
 };
@@ -21,6 +22,7 @@ pub struct SimPlant {
     chain: HapticChain,
     assist: Option<Assist>,
     arm: HumanArm,
+    sensing: SimArmSensing,
     car: Vehicle,
     road: Box<dyn Road + Send>,
     driver: PreviewDriver,
@@ -82,6 +84,7 @@ impl SimPlant {
             chain,
             assist,
             arm: HumanArm::new(cfg.sim_patient.clone(), dt_s, cfg.session.seed),
+            sensing: SimArmSensing::new(cfg.sim_arm, cfg.session.seed).context("simulated arm")?,
             car,
             road,
             driver: PreviewDriver::default(),
@@ -181,10 +184,18 @@ impl SimPlant {
             dt,
         );
         self.wheel.advance(dt, hand);
+        let t_ns = self.tick * (dt * 1e9).round() as u64;
+        let arm = self.sensing.step(
+            t_ns,
+            self.wheel.true_angle_rad(),
+            self.wheel.true_velocity_rad_s(),
+            angle,
+            dt,
+        );
 
         let rec = TickRecord {
             tick: self.tick,
-            t_ns: self.tick * (dt * 1e9).round() as u64,
+            t_ns,
             wheel: WheelSample {
                 angle_rad: angle,
                 velocity_rad_s: tel.vel_rad_s,
@@ -225,10 +236,17 @@ impl SimPlant {
                 assistance_level: assist_out.assistance_level,
                 saturated: assist_out.saturated,
             },
+            arm,
             timing: Default::default(),
         };
         self.tick += 1;
         rec
+    }
+
+    /// Range of motion of each estimated joint angle so far, rad (order of
+    /// `gyro_imu::arm::JointAngles::NAMES`).
+    pub fn range_of_motion_rad(&self) -> [f64; 5] {
+        self.sensing.range_of_motion_rad()
     }
 
     /// Command zero torque directly (every exit path calls it; dropping the plant does too).
