@@ -80,7 +80,7 @@ fn short_session_records_every_tick_on_every_channel_with_schemas() {
     for pair in wheel.windows(2) {
         assert_eq!(pair[1].log_time - pair[0].log_time, 1_000_000);
     }
-    // Each message has exactly the fields its schema promises.
+    // Each message has exactly the fields its schema describes (optional ones are null).
     for (topic, list) in &msgs {
         let c = summary
             .channels
@@ -89,11 +89,11 @@ fn short_session_records_every_tick_on_every_channel_with_schemas() {
             .unwrap();
         let schema: serde_json::Value =
             serde_json::from_slice(&c.schema.as_ref().unwrap().data).unwrap();
-        let mut want: Vec<&str> = schema["required"]
-            .as_array()
+        let mut want: Vec<&str> = schema["properties"]
+            .as_object()
             .unwrap()
-            .iter()
-            .map(|v| v.as_str().unwrap())
+            .keys()
+            .map(|k| k.as_str())
             .collect();
         want.sort();
         let mut got: Vec<&str> = list[0]
@@ -117,7 +117,9 @@ fn short_session_records_every_tick_on_every_channel_with_schemas() {
             d * d
         })
         .collect();
-    let rms_deg = (err_sq.iter().sum::<f64>() / err_sq.len() as f64).sqrt().to_degrees();
+    let rms_deg = (err_sq.iter().sum::<f64>() / err_sq.len() as f64)
+        .sqrt()
+        .to_degrees();
     assert!(rms_deg < 3.0, "shoulder elevation RMS error {rms_deg}°");
     // The torque never leaves the thesis wheel's ±1.87 N·m and ends at zero.
     for m in wheel {
@@ -321,5 +323,29 @@ fn devices_without_hardware_explains_and_exits_zero() {
     assert!(
         text.contains("--sim"),
         "the message should point at the simulated session: {text}"
+    );
+}
+
+#[test]
+fn real_session_without_a_wheel_fails_clearly_and_records_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("none.mcap");
+    let out = Command::new(telerehab_bin())
+        .args([
+            "run",
+            "--headless",
+            "--duration",
+            "1",
+            "--record",
+            path.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("telerehab devices"), "{err}");
+    assert!(
+        !path.exists(),
+        "no recording for a session that never started"
     );
 }

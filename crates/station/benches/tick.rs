@@ -3,12 +3,12 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use station::config::StationConfig;
-use station::session::sim::SimPlant;
+use station::session::plant::Plant;
 use std::hint::black_box;
 
 fn bench_tick(c: &mut Criterion) {
     let cfg = StationConfig::default();
-    let mut plant = SimPlant::new(&cfg).expect("the default configuration builds");
+    let mut plant = Plant::simulated(&cfg).expect("the default configuration builds");
     c.bench_function("sim_plant_tick", |b| b.iter(|| black_box(plant.tick())));
 }
 

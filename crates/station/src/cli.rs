@@ -1,7 +1,7 @@
 //! Command-line interface.
 
 use crate::config::StationConfig;
-use crate::session::{self, SessionOptions, haptic::Pacing};
+use crate::session::{self, BodyKind, SessionOptions, haptic::Pacing};
 use anyhow::{Context, bail};
 use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
@@ -166,14 +166,30 @@ pub fn install_stop_flag() -> anyhow::Result<Arc<AtomicBool>> {
     Ok(stop)
 }
 
+/// Real devices: a force-feedback wheel through the Linux kernel FF API, in real time.
+#[cfg(target_os = "linux")]
+fn real_body(args: &RunArgs) -> anyhow::Result<BodyKind> {
+    if args.speed == Speed::Max {
+        bail!("--speed max is for simulated sessions (add --sim): a real wheel runs in real time");
+    }
+    Ok(BodyKind::RealWheel)
+}
+
+/// Real devices are driven through the Linux kernel FF API only.
+#[cfg(not(target_os = "linux"))]
+fn real_body(_args: &RunArgs) -> anyhow::Result<BodyKind> {
+    bail!(
+        "real force-feedback wheels are supported on Linux only; add --sim for a simulated session"
+    )
+}
+
 fn run(args: RunArgs) -> anyhow::Result<()> {
     let cfg = resolve_config(&args)?;
-    if !args.sim {
-        bail!(
-            "real devices are not driven by this build yet; run `telerehab devices` to see what is \
-             connected, or add --sim for a simulated session"
-        );
-    }
+    let body = if args.sim {
+        BodyKind::Simulated
+    } else {
+        real_body(&args)?
+    };
     if !args.headless {
         tracing::warn!("the patient window is not available in this build; running headless");
     }
@@ -186,12 +202,14 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
         config: cfg.clone(),
         pacing,
         record: args.record.clone(),
+        body,
     };
     tracing::info!(
         exercise = %cfg.session.exercise,
         duration_s = cfg.session.duration_s,
         seed = cfg.session.seed,
-        "starting simulated session"
+        simulated = args.sim,
+        "starting session"
     );
     let link = crate::link::Link::start(&cfg)?;
     let report = session::run(&opts, stop, |s| link.send(s))?;

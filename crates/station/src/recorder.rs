@@ -214,7 +214,10 @@ impl McapRecorder {
         }
         self.write(3, rec, rec.assist)?;
         self.write(4, rec, rec.timing)?;
-        self.write(5, rec, rec.arm)
+        match rec.arm {
+            Some(arm) => self.write(5, rec, arm),
+            None => Ok(()),
+        }
     }
 
     /// Close the current chunk and flush it to disk, so a killed process loses at most what

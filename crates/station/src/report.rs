@@ -117,15 +117,16 @@ pub fn render(r: &SessionReport, link: Option<&LinkReport>) -> String {
             100.0 * rec.assist_saturated_ticks as f64 / rec.assist_ticks as f64
         );
     }
-    let rom = r.haptic.range_of_motion_rad.map(f64::to_degrees);
-    line!(
-        "arm range of motion shoulder elevation {:.1}°, plane {:.1}°, rotation {:.1}°; elbow flexion {:.1}°, pronation {:.1}°",
-        rom[0],
-        rom[1],
-        rom[2],
-        rom[3],
-        rom[4]
-    );
+    if let Some(rom) = r.haptic.range_of_motion_rad.map(|r| r.map(f64::to_degrees)) {
+        line!(
+            "arm range of motion shoulder elevation {:.1}°, plane {:.1}°, rotation {:.1}°; elbow flexion {:.1}°, pronation {:.1}°",
+            rom[0],
+            rom[1],
+            rom[2],
+            rom[3],
+            rom[4]
+        );
+    }
     match (&r.record, rec.mcap_bytes) {
         (Some(p), Some(b)) => line!(
             "recording           {} ({:.2} MB)",

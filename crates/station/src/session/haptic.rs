@@ -1,8 +1,8 @@
 //! The haptic thread: one tick per period at absolute deadlines, records out through a
 //! wait-free ring buffer, torque faded to zero on every way out.
 
+use crate::session::plant::Plant;
 use crate::session::record::{TickRecord, TimingSample};
-use crate::session::sim::SimPlant;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -30,8 +30,8 @@ pub struct HapticOutcome {
     /// Wall time the loop ran, s.
     pub wall_s: f64,
     /// Range of motion of each estimated joint angle over the session, rad (order of
-    /// `gyro_imu::arm::JointAngles::NAMES`).
-    pub range_of_motion_rad: [f64; 5],
+    /// `gyro_imu::arm::JointAngles::NAMES`); `None` without arm sensing.
+    pub range_of_motion_rad: Option<[f64; 5]>,
 }
 
 /// Sleep until the absolute `deadline`.
@@ -75,7 +75,7 @@ const MAX_FADE_S: f64 = 2.0;
 /// fade the torque out and command zero. Every record goes to `out` (dropped and counted if
 /// the ring is full in real time).
 pub fn run(
-    plant: &mut SimPlant,
+    plant: &mut Plant,
     out: &mut rtrb::Producer<TickRecord>,
     total_ticks: u64,
     pacing: Pacing,

@@ -3,8 +3,8 @@
 
 pub mod arm;
 pub mod haptic;
+pub mod plant;
 pub mod record;
-pub mod sim;
 
 use crate::config::StationConfig;
 use crate::recorder::{McapRecorder, RecorderOutcome, SUMMARY_EVERY_S};
@@ -32,6 +32,18 @@ pub struct SessionOptions {
     pub pacing: Pacing,
     /// MCAP file to record to.
     pub record: Option<PathBuf>,
+    /// Simulated body or real devices.
+    pub body: BodyKind,
+}
+
+/// Who holds the wheel in a session.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BodyKind {
+    /// The simulated wheel, patient and IMUs.
+    Simulated,
+    /// The first real force-feedback wheel found, held by the patient.
+    #[cfg(target_os = "linux")]
+    RealWheel,
 }
 
 /// A live summary, produced every [`SUMMARY_EVERY_S`] of session time.
@@ -85,6 +97,12 @@ pub fn run(
     let rate = cfg.session.loop_rate_hz;
     let total_ticks = (cfg.session.duration_s * rate).round() as u64;
     let start_unix_ns = unix_ns();
+    // Devices first: a session that cannot start must not leave an empty recording behind.
+    let mut plant = match opts.body {
+        BodyKind::Simulated => plant::Plant::simulated(cfg)?,
+        #[cfg(target_os = "linux")]
+        BodyKind::RealWheel => plant::Plant::new(cfg, plant::Body::first_real_wheel()?)?,
+    };
     let recorder = match &opts.record {
         Some(path) => {
             let mut meta = BTreeMap::new();
@@ -103,7 +121,6 @@ pub fn run(
         }
         None => None,
     };
-    let mut plant = sim::SimPlant::new(cfg)?;
     let (mut producer, consumer) = rtrb::RingBuffer::<TickRecord>::new(RING_CAPACITY);
     let haptic_done = Arc::new(AtomicBool::new(false));
     let period_ns = (1e9 / rate).round() as u64;
@@ -162,15 +179,16 @@ fn summary_extra(out: &RecorderOutcome) -> BTreeMap<String, f64> {
         100.0 * out.clipped_ticks as f64 / ticks,
     );
     extra.insert("watchdog_fault_ticks".into(), out.fault_ticks as f64);
-    let arm = &out.last.arm;
-    extra.insert(
-        "shoulder_elevation_deg".into(),
-        arm.shoulder_elevation_rad.to_degrees(),
-    );
-    extra.insert(
-        "elbow_flexion_deg".into(),
-        arm.elbow_flexion_rad.to_degrees(),
-    );
+    if let Some(arm) = &out.last.arm {
+        extra.insert(
+            "shoulder_elevation_deg".into(),
+            arm.shoulder_elevation_rad.to_degrees(),
+        );
+        extra.insert(
+            "elbow_flexion_deg".into(),
+            arm.elbow_flexion_rad.to_degrees(),
+        );
+    }
     if out.assist_ticks > 0 {
         let n = out.assist_ticks as f64;
         extra.insert("assist_level_mean".into(), out.assist_level_sum / n);

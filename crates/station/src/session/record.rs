@@ -21,8 +21,8 @@ pub struct TickRecord {
     pub score: ScoreSample,
     /// Active assistance.
     pub assist: AssistSample,
-    /// Arm pose from the gyros.
-    pub arm: ArmSample,
+    /// Arm pose from the gyros (absent without arm sensing).
+    pub arm: Option<ArmSample>,
     /// Loop timing on the wall clock.
     pub timing: TimingSample,
 }
@@ -53,10 +53,10 @@ pub struct WheelSample {
     pub passivity_energy_j: f64,
     /// Damping the passivity controller added, N·m·s/rad.
     pub passivity_damping_nm_s_per_rad: f64,
-    /// True wheel angle (simulation only), rad.
-    pub true_angle_rad: f64,
-    /// Simulated patient's hand torque (simulation only), N·m.
-    pub hand_nm: f64,
+    /// True wheel angle, rad (simulation only; null with a real wheel).
+    pub true_angle_rad: Option<f64>,
+    /// Simulated patient's hand torque, N·m (simulation only; null with a real wheel).
+    pub hand_nm: Option<f64>,
     /// Wheel angle the patient aims for, rad.
     pub target_rad: f64,
 }

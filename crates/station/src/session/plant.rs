@@ -1,11 +1,12 @@
-//! The simulated plant: a simulated wheel held by a simulated patient who steers a car along
-//! the road, with the haptic chain and the assist controller between them exactly as they run
-//! against a real wheel. One [`SimPlant::tick`] is one haptic-loop period; it allocates nothing.
+//! The plant the haptic loop drives: a wheel and whoever holds it (a simulated patient on a
+//! simulated wheel, or a real patient on a real force-feedback wheel), the car on the road,
+//! and between them the haptic chain and the assist controller — the same code for both.
+//! One [`Plant::tick`] is one haptic-loop period; it allocates nothing.
 
 use crate::config::StationConfig;
 use crate::session::arm::SimArmSensing;
 use crate::session::record::{
-    AssistSample, ScoreSample, TickRecord, VehicleSample, WheelSample, watchdog_label,
+    ArmSample, AssistSample, ScoreSample, TickRecord, VehicleSample, WheelSample, watchdog_label,
 };
 use anyhow::Context;
 use assist::{Assist, HumanArm, Limits, Measurement};
@@ -16,13 +17,92 @@ use vehicle::{
     LaneScore, PreviewDriver, Projection, Road, SineRoad, SpeedController, Vehicle, VehicleState,
 };
 
-/// Simulated wheel, patient, car and road, stepped together through the haptic chain.
-pub struct SimPlant {
-    wheel: ZeroTorqueOnDrop<SimWheel>,
+/// Who holds the wheel.
+// One body per session, built once and never moved on the hot path: its size does not matter.
+#[allow(clippy::large_enum_variant)]
+pub enum Body {
+    /// A simulated wheel held by a simulated patient who wears simulated IMUs.
+    Sim {
+        /// The simulated wheel (zero torque when dropped).
+        wheel: ZeroTorqueOnDrop<SimWheel>,
+        /// The simulated patient's arm control.
+        arm: HumanArm,
+        /// The simulated arm kinematics, IMUs and pose estimator.
+        sensing: Box<SimArmSensing>,
+    },
+    /// A real force-feedback wheel (Linux kernel FF API) held by the patient.
+    #[cfg(target_os = "linux")]
+    Evdev {
+        /// The device (zero torque, effects erased and gain restored when dropped).
+        wheel: ZeroTorqueOnDrop<haptic_wheel::evdev_wheel::EvdevWheel>,
+    },
+}
+
+impl Body {
+    /// The simulated body of `cfg`, seeded from `cfg.session.seed`.
+    pub fn simulated(cfg: &StationConfig) -> anyhow::Result<Self> {
+        let dt_s = 1.0 / cfg.session.loop_rate_hz;
+        let mut wheel_params = cfg.sim_wheel.clone();
+        wheel_params.seed = cfg.session.seed;
+        Ok(Body::Sim {
+            wheel: ZeroTorqueOnDrop::new(SimWheel::new(wheel_params)),
+            arm: HumanArm::new(cfg.sim_patient.clone(), dt_s, cfg.session.seed),
+            sensing: Box::new(
+                SimArmSensing::new(cfg.sim_arm, cfg.session.seed).context("simulated arm")?,
+            ),
+        })
+    }
+
+    /// The first force-feedback wheel found (see `telerehab devices`).
+    #[cfg(target_os = "linux")]
+    pub fn first_real_wheel() -> anyhow::Result<Self> {
+        use haptic_wheel::evdev_wheel::{EvdevWheel, EvdevWheelConfig};
+        let wheel = EvdevWheel::open_first(EvdevWheelConfig::default())
+            .context("no usable force-feedback wheel (run `telerehab devices`)")?;
+        Ok(Body::Evdev {
+            wheel: ZeroTorqueOnDrop::new(wheel),
+        })
+    }
+
+    fn wheel(&mut self) -> &mut dyn Wheel {
+        match self {
+            Body::Sim { wheel, .. } => &mut **wheel,
+            #[cfg(target_os = "linux")]
+            Body::Evdev { wheel } => &mut **wheel,
+        }
+    }
+
+    /// Now, ns, on the clock of the wheel's readings.
+    fn now_ns(&self) -> u64 {
+        match self {
+            Body::Sim { wheel, .. } => wheel.time_ns(),
+            #[cfg(target_os = "linux")]
+            Body::Evdev { .. } => haptic_wheel::evdev_wheel::monotonic_ns(),
+        }
+    }
+
+    /// The encoder step of the wheel, rad (tunes the velocity estimator).
+    fn encoder_step_rad(&self, cfg: &StationConfig) -> f64 {
+        match self {
+            Body::Sim { .. } => cfg.sim_wheel.encoder_step_rad,
+            #[cfg(target_os = "linux")]
+            Body::Evdev { wheel } => wheel.profile().ka_rad_per_unit,
+        }
+    }
+}
+
+/// What the body did this tick (simulation only: a real patient is not observed this way).
+struct BodyMotion {
+    hand_nm: Option<f64>,
+    true_angle_rad: Option<f64>,
+    arm: Option<ArmSample>,
+}
+
+/// Wheel, body, car and road, stepped together through the haptic chain.
+pub struct Plant {
+    body: Body,
     chain: HapticChain,
     assist: Option<Assist>,
-    arm: HumanArm,
-    sensing: SimArmSensing,
     car: Vehicle,
     road: Box<dyn Road + Send>,
     driver: PreviewDriver,
@@ -39,9 +119,15 @@ pub struct SimPlant {
     watchdog: WatchdogState,
 }
 
-impl SimPlant {
-    /// Build the plant for a validated `cfg`; all noise is seeded from `cfg.session.seed`.
-    pub fn new(cfg: &StationConfig) -> anyhow::Result<Self> {
+impl Plant {
+    /// The fully simulated plant of a validated `cfg`; all noise is seeded from
+    /// `cfg.session.seed`.
+    pub fn simulated(cfg: &StationConfig) -> anyhow::Result<Self> {
+        Self::new(cfg, Body::simulated(cfg)?)
+    }
+
+    /// The plant of a validated `cfg` around `body`.
+    pub fn new(cfg: &StationConfig, body: Body) -> anyhow::Result<Self> {
         let dt_s = 1.0 / cfg.session.loop_rate_hz;
         let road: Box<dyn Road + Send> = Box::new(SineRoad {
             amplitude_m: 6.0,
@@ -61,17 +147,15 @@ impl SimPlant {
             },
         );
         let projection = road.project(x0, y0, 0.0);
-        let mut wheel_params = cfg.sim_wheel.clone();
-        wheel_params.seed = cfg.session.seed;
-        let wheel = ZeroTorqueOnDrop::new(SimWheel::new(wheel_params));
+        let mut body = body;
         let h = &cfg.haptic;
         let chain_cfg = HapticChainConfig {
             safety: h.safety,
             model: Some(h.centring),
             passivity: h.passivity_enabled.then_some(h.passivity),
-            ..HapticChainConfig::for_encoder_step(cfg.sim_wheel.encoder_step_rad)
+            ..HapticChainConfig::for_encoder_step(body.encoder_step_rad(cfg))
         };
-        let device_max = wheel.max_torque_nm();
+        let device_max = body.wheel().max_torque_nm();
         let chain = HapticChain::new(chain_cfg, device_max).context("haptic chain")?;
         let assist = cfg
             .assist
@@ -80,11 +164,9 @@ impl SimPlant {
             .transpose()
             .context("assist")?;
         Ok(Self {
-            wheel,
+            body,
             chain,
             assist,
-            arm: HumanArm::new(cfg.sim_patient.clone(), dt_s, cfg.session.seed),
-            sensing: SimArmSensing::new(cfg.sim_arm, cfg.session.seed).context("simulated arm")?,
             car,
             road,
             driver: PreviewDriver::default(),
@@ -126,7 +208,7 @@ impl SimPlant {
     pub fn tick(&mut self) -> TickRecord {
         let dt = self.dt_s;
         // 1. Read the wheel as the host sees it (quantised, delayed).
-        let reading = self.wheel.read().ok();
+        let reading = self.body.wheel().read().ok();
         let angle = reading.map_or(0.0, |r| r.angle_rad);
 
         // 2. Step the car with the wheel as its steering input.
@@ -167,31 +249,18 @@ impl SimPlant {
 
         // 4. Haptic chain: model + road feel + assist → passivity → safety supervisor.
         let tel = self.chain.tick(TickInput {
-            now_ns: self.wheel.time_ns(),
+            now_ns: self.body.now_ns(),
             reading,
             external_nm: road_feel + assist_out.torque_nm,
         });
         self.velocity_rad_s = tel.vel_rad_s;
         self.watchdog = tel.watchdog;
-        // The simulated device refuses only non-finite values, which the chain never emits.
-        let _ = self.wheel.command_torque(tel.torque_nm);
+        // A failed command is caught by the next read (stale reading → supervisor fault).
+        let _ = self.body.wheel().command_torque(tel.torque_nm);
 
-        // 5. The simulated patient looks at the road and moves the wheel.
-        let hand = self.arm.step(
-            target,
-            self.wheel.true_angle_rad(),
-            self.wheel.true_velocity_rad_s(),
-            dt,
-        );
-        self.wheel.advance(dt, hand);
+        // 5. Whoever holds the wheel moves it.
         let t_ns = self.tick * (dt * 1e9).round() as u64;
-        let arm = self.sensing.step(
-            t_ns,
-            self.wheel.true_angle_rad(),
-            self.wheel.true_velocity_rad_s(),
-            angle,
-            dt,
-        );
+        let motion = self.move_body(target, angle, t_ns, dt);
 
         let rec = TickRecord {
             tick: self.tick,
@@ -208,8 +277,8 @@ impl SimPlant {
                 watchdog: watchdog_label(tel.watchdog),
                 passivity_energy_j: tel.passivity_energy_j,
                 passivity_damping_nm_s_per_rad: tel.passivity_damping_nm_s_per_rad,
-                true_angle_rad: self.wheel.true_angle_rad(),
-                hand_nm: hand,
+                true_angle_rad: motion.true_angle_rad,
+                hand_nm: motion.hand_nm,
                 target_rad: target,
             },
             vehicle: VehicleSample {
@@ -236,21 +305,63 @@ impl SimPlant {
                 assistance_level: assist_out.assistance_level,
                 saturated: assist_out.saturated,
             },
-            arm,
+            arm: motion.arm,
             timing: Default::default(),
         };
         self.tick += 1;
         rec
     }
 
+    /// The simulated patient looks at the road and moves the simulated wheel, and the arm
+    /// pose is estimated from the simulated IMUs; a real patient moves a real wheel alone.
+    fn move_body(&mut self, target_rad: f64, read_rad: f64, t_ns: u64, dt: f64) -> BodyMotion {
+        match &mut self.body {
+            Body::Sim {
+                wheel,
+                arm,
+                sensing,
+            } => {
+                let hand = arm.step(
+                    target_rad,
+                    wheel.true_angle_rad(),
+                    wheel.true_velocity_rad_s(),
+                    dt,
+                );
+                wheel.advance(dt, hand);
+                let sample = sensing.step(
+                    t_ns,
+                    wheel.true_angle_rad(),
+                    wheel.true_velocity_rad_s(),
+                    read_rad,
+                    dt,
+                );
+                BodyMotion {
+                    hand_nm: Some(hand),
+                    true_angle_rad: Some(wheel.true_angle_rad()),
+                    arm: Some(sample),
+                }
+            }
+            #[cfg(target_os = "linux")]
+            Body::Evdev { .. } => BodyMotion {
+                hand_nm: None,
+                true_angle_rad: None,
+                arm: None,
+            },
+        }
+    }
+
     /// Range of motion of each estimated joint angle so far, rad (order of
-    /// `gyro_imu::arm::JointAngles::NAMES`).
-    pub fn range_of_motion_rad(&self) -> [f64; 5] {
-        self.sensing.range_of_motion_rad()
+    /// `gyro_imu::arm::JointAngles::NAMES`); `None` without arm sensing.
+    pub fn range_of_motion_rad(&self) -> Option<[f64; 5]> {
+        match &self.body {
+            Body::Sim { sensing, .. } => Some(sensing.range_of_motion_rad()),
+            #[cfg(target_os = "linux")]
+            Body::Evdev { .. } => None,
+        }
     }
 
     /// Command zero torque directly (every exit path calls it; dropping the plant does too).
     pub fn zero_torque(&mut self) {
-        let _ = self.wheel.command_torque(0.0);
+        let _ = self.body.wheel().command_torque(0.0);
     }
 }
