@@ -349,3 +349,51 @@ fn real_session_without_a_wheel_fails_clearly_and_records_nothing() {
         "no recording for a session that never started"
     );
 }
+
+#[test]
+fn killed_session_loses_at_most_the_last_second_and_recovers_to_a_finished_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("killed.mcap");
+    let fixed = dir.path().join("fixed.mcap");
+    let mut child = Command::new(telerehab_bin())
+        .args([
+            "run",
+            "--sim",
+            "--headless",
+            "--duration",
+            "60",
+            "--record",
+            path.to_str().unwrap(),
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(2600));
+    child.kill().unwrap(); // SIGKILL: no chance to finish the file
+    child.wait().unwrap();
+    let out = run_ok(&[
+        "recover",
+        path.to_str().unwrap(),
+        "--out",
+        fixed.to_str().unwrap(),
+    ]);
+    assert!(String::from_utf8_lossy(&out.stdout).contains("recovered"));
+    let bytes = std::fs::read(&fixed).unwrap();
+    assert!(
+        mcap::Summary::read(&bytes).unwrap().is_some(),
+        "the recovered file is finished"
+    );
+    let msgs = by_topic(&read_mcap(&fixed));
+    // Whole seconds survive (the recorder closes a chunk every second), in order, from tick 0.
+    let wheel = &msgs["/wheel"];
+    assert!(
+        wheel.len() >= 1000 && wheel.len() % 1000 == 0,
+        "{}",
+        wheel.len()
+    );
+    for (i, m) in wheel.iter().enumerate() {
+        assert_eq!(m.json["tick"], i as u64);
+    }
+    assert_eq!(msgs["/vehicle"].len(), wheel.len());
+}

@@ -29,6 +29,14 @@ pub enum Command {
     Therapist(TherapistArgs),
     /// List wheels, pedals, gamepads and IMUs.
     Devices,
+    /// Finish the MCAP recording of a killed session into a complete file.
+    Recover {
+        /// The recording left by the killed session.
+        input: PathBuf,
+        /// Where to write the finished file.
+        #[arg(long)]
+        out: PathBuf,
+    },
 }
 
 /// Loop pacing.
@@ -106,6 +114,19 @@ pub fn main() -> anyhow::Result<()> {
         Command::Run(args) => run(args),
         Command::Therapist(args) => crate::therapist::run(args),
         Command::Devices => crate::devices::run(),
+        Command::Recover { input, out } => {
+            let r = crate::recover::recover(&input, &out)?;
+            println!(
+                "recovered {} messages on {} channels into {}{}",
+                r.messages,
+                r.channels,
+                out.display(),
+                r.stopped_at
+                    .map(|e| format!(" (the truncated tail was dropped: {e})"))
+                    .unwrap_or_default()
+            );
+            Ok(())
+        }
     }
 }
 

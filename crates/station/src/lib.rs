@@ -9,6 +9,7 @@ pub mod config;
 pub mod devices;
 pub mod link;
 pub mod recorder;
+pub mod recover;
 pub mod report;
 pub mod session;
 pub mod therapist;
