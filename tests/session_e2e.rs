@@ -395,5 +395,5 @@ fn killed_session_loses_at_most_the_last_second_and_recovers_to_a_finished_file(
     for (i, m) in wheel.iter().enumerate() {
         assert_eq!(m.json["tick"], i as u64);
     }
-    assert_eq!(msgs["/vehicle"].len(), wheel.len());
+    assert!(msgs["/vehicle"].len().abs_diff(wheel.len()) <= 1);
 }
