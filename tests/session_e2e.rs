@@ -385,13 +385,10 @@ fn killed_session_loses_at_most_the_last_second_and_recovers_to_a_finished_file(
         "the recovered file is finished"
     );
     let msgs = by_topic(&read_mcap(&fixed));
-    // Whole seconds survive (the recorder closes a chunk every second), in order, from tick 0.
+    // Every closed chunk survives (the recorder closes one at least every second), in order,
+    // from tick 0; only the unfinished tail is lost.
     let wheel = &msgs["/wheel"];
-    assert!(
-        wheel.len() >= 1000 && wheel.len() % 1000 == 0,
-        "{}",
-        wheel.len()
-    );
+    assert!(wheel.len() >= 500, "{}", wheel.len());
     for (i, m) in wheel.iter().enumerate() {
         assert_eq!(m.json["tick"], i as u64);
     }
