@@ -394,3 +394,28 @@ fn killed_session_loses_at_most_the_last_second_and_recovers_to_a_finished_file(
     }
     assert!(msgs["/vehicle"].len().abs_diff(wheel.len()) <= 1);
 }
+
+#[test]
+fn max_speed_gives_the_same_simulation_data_as_real_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |speed: &str| {
+        let p = dir.path().join(format!("{speed}.mcap"));
+        run_ok(&[
+            "run",
+            "--sim",
+            "--headless",
+            "--duration",
+            "1",
+            "--seed",
+            "5",
+            "--speed",
+            speed,
+            "--record",
+            p.to_str().unwrap(),
+        ]);
+        simulation_payloads(&p)
+    };
+    let (real_time, max) = (run("realtime"), run("max"));
+    assert!(!max.is_empty());
+    assert!(real_time == max, "pacing must not change the simulation");
+}
