@@ -193,6 +193,10 @@ impl World {
         .density(0.0)
         .friction(0.3);
         let (car, car_collider) = physics.insert(body, car_shape);
+        // rapier computes the mass properties lazily at the first step; without this the very
+        // first kick (an impulse) would meet a zero inverse mass and be lost.
+        let colliders = &physics.colliders;
+        physics.bodies[car].recompute_mass_properties_from_colliders(colliders);
 
         let mut tags = Vec::new();
         let mut add_polyline = |physics: &mut PhysicsWorld, line: &[[f64; 2]], tag: Tag| {
