@@ -689,6 +689,43 @@ mod tests {
         }
     }
 
+    /// The shipped sample regimens: each `[[exercise]]` table is an `ExerciseSpec`; a station
+    /// entry can flatten it beside its own keys (here a `haptic` table).
+    #[test]
+    fn sample_regimens_parse_validate_and_compose_with_station_keys() {
+        #[derive(Deserialize)]
+        #[serde(deny_unknown_fields)]
+        struct Regimen {
+            exercise: Vec<ExerciseSpec>,
+        }
+        #[derive(Deserialize)]
+        struct StationEntry {
+            #[serde(flatten)]
+            exercise: ExerciseSpec,
+            haptic: Option<toml::Table>,
+        }
+        for text in [
+            include_str!("../../../regimens/easy.toml"),
+            include_str!("../../../regimens/medium.toml"),
+            include_str!("../../../regimens/hard.toml"),
+        ] {
+            let r: Regimen = toml::from_str(text).unwrap();
+            assert!(r.exercise.len() >= 3);
+            for e in &r.exercise {
+                e.build().unwrap();
+            }
+        }
+        let e: StationEntry = toml::from_str(
+            "kind = \"sine\"\namplitude_m = 3.0\nduration_s = 20.0\n[haptic]\nk = 0.5\n",
+        )
+        .unwrap();
+        assert!(e.haptic.is_some());
+        match e.exercise {
+            ExerciseSpec::Sine(s) => assert_eq!((s.amplitude_m, s.duration_s), (3.0, Some(20.0))),
+            other => panic!("{other:?}"),
+        }
+    }
+
     #[test]
     fn unknown_name_lists_the_library() {
         let e = ExerciseSpec::from_name("loop-the-loop").unwrap_err().to_string();
