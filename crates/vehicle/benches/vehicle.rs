@@ -5,7 +5,7 @@ use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use vehicle::{
-    DriverInput, ExerciseSpec, PreviewDriver, Road, SpeedController, Vehicle, VehicleParams, World,
+    DriverInput, ExerciseSpec, PreviewDriver, SpeedController, Vehicle, VehicleParams, World,
 };
 
 const STEPS: u64 = 1000;
@@ -17,7 +17,10 @@ fn model_steps(c: &mut Criterion) {
         ("step_linear_1ms", VehicleParams::thesis_linear()),
         ("step_saturating_1ms", VehicleParams::default()),
     ] {
-        let ex = ExerciseSpec::from_name("sine-road").unwrap().build().unwrap();
+        let ex = ExerciseSpec::from_name("sine-road")
+            .unwrap()
+            .build()
+            .unwrap();
         let mut car = Vehicle::new(params, ex.start_state());
         g.bench_function(name, |b| {
             b.iter(|| {
@@ -42,6 +45,37 @@ fn model_steps(c: &mut Criterion) {
 fn world_steps(c: &mut Criterion) {
     let mut g = c.benchmark_group("world");
     g.throughput(Throughput::Elements(STEPS));
+    // The rapier world alone: open-loop gentle sine steering on the sine road's track.
+    {
+        let ex = ExerciseSpec::from_name("sine-road")
+            .unwrap()
+            .build()
+            .unwrap();
+        let params = VehicleParams::default();
+        let mut world = World::new(params.clone(), ex.start_state(), ex.track_layout()).unwrap();
+        let mut i = 0u64;
+        g.bench_function("step_1ms_open_loop", |b| {
+            b.iter(|| {
+                for _ in 0..STEPS {
+                    i += 1;
+                    if i % 20_000 == 0 {
+                        world = World::new(params.clone(), ex.start_state(), ex.track_layout())
+                            .unwrap();
+                    }
+                    let steer = 0.01 * (i as f64 * 1e-3).sin();
+                    world.step(
+                        DriverInput {
+                            steer_rad: steer,
+                            drive_force_n: 100.0,
+                            brake_force_n: 0.0,
+                        },
+                        1e-3,
+                    );
+                }
+                black_box(world.drain_events());
+            })
+        });
+    }
     for name in ["sine-road", "slalom"] {
         let ex = ExerciseSpec::from_name(name).unwrap().build().unwrap();
         let road = ex.road.as_ref().unwrap();
@@ -58,8 +92,8 @@ fn world_steps(c: &mut Criterion) {
                     let here = road.project(st.x_m, st.y_m, s_hint);
                     s_hint = here.s_m;
                     if here.s_m > ex.length_m - 5.0 {
-                        world =
-                            World::new(params.clone(), ex.start_state(), ex.track_layout()).unwrap();
+                        world = World::new(params.clone(), ex.start_state(), ex.track_layout())
+                            .unwrap();
                         s_hint = 0.0;
                         continue;
                     }

@@ -133,14 +133,30 @@ impl DialSignal {
 
     /// Check the parameters; `context` names the exercise in the message.
     pub fn validate(&self, context: &str) -> Result<(), VehicleError> {
-        let amp = |v: f64| check_range(context, "amplitude_deg", v, 0.0, MAX_DIAL_AMPLITUDE_DEG, "deg");
+        let amp = |v: f64| {
+            check_range(
+                context,
+                "amplitude_deg",
+                v,
+                0.0,
+                MAX_DIAL_AMPLITUDE_DEG,
+                "deg",
+            )
+        };
         match self {
             DialSignal::Sine {
                 amplitude_deg,
                 frequency_rad_s,
             } => {
                 amp(*amplitude_deg)?;
-                check_range(context, "frequency_rad_s", *frequency_rad_s, 0.0, 10.0, "rad/s")
+                check_range(
+                    context,
+                    "frequency_rad_s",
+                    *frequency_rad_s,
+                    0.0,
+                    10.0,
+                    "rad/s",
+                )
             }
             DialSignal::MultiSine { components } => {
                 if components.is_empty() {
@@ -151,10 +167,24 @@ impl DialSignal {
                         allowed: "1 to 16 sine components".into(),
                     });
                 }
-                check_range(context, "components", components.len() as f64, 1.0, 16.0, "sine components")?;
+                check_range(
+                    context,
+                    "components",
+                    components.len() as f64,
+                    1.0,
+                    16.0,
+                    "sine components",
+                )?;
                 for c in components {
                     amp(c.amplitude_deg)?;
-                    check_range(context, "frequency_rad_s", c.frequency_rad_s, 0.0, 10.0, "rad/s")?;
+                    check_range(
+                        context,
+                        "frequency_rad_s",
+                        c.frequency_rad_s,
+                        0.0,
+                        10.0,
+                        "rad/s",
+                    )?;
                     check_range(context, "phase_rad", c.phase_rad, -100.0, 100.0, "rad")?;
                 }
                 let total: f64 = components.iter().map(|c| c.amplitude_deg).sum();
@@ -277,7 +307,10 @@ mod tests {
     fn chirp_frequency_rises_linearly() {
         let c = DialSignal::default_named("chirp").unwrap();
         // Instantaneous frequency at t is ω0 + (ω1 − ω0) t / T: check by finite difference of phase.
-        if let DialSignal::Chirp { sweep_s, end_rad_s, .. } = c {
+        if let DialSignal::Chirp {
+            sweep_s, end_rad_s, ..
+        } = c
+        {
             let t = sweep_s / 2.0;
             let phase = |t: f64| end_rad_s * t * t / (2.0 * sweep_s);
             let w = (phase(t + 1e-3) - phase(t - 1e-3)) / 2e-3;
@@ -292,9 +325,20 @@ mod tests {
             amplitude_deg: 200.0,
             frequency_rad_s: 1.0,
         };
-        let msg = s.validate("exercise \"dial-sine\"").unwrap_err().to_string();
+        let msg = s
+            .validate("exercise \"dial-sine\"")
+            .unwrap_err()
+            .to_string();
         assert!(msg.contains("dial-sine") && msg.contains("amplitude_deg") && msg.contains("129"));
         let m = DialSignal::default_named("multi-sine").unwrap();
         m.validate("x").unwrap();
+    }
+
+    #[test]
+    fn toml_rejects_unknown_keys_and_signals() {
+        let ok = "signal = \"sine\"\namplitude_deg = 10.0\nfrequency_rad_s = 1.0\n";
+        assert!(toml::from_str::<DialSignal>(ok).is_ok());
+        assert!(toml::from_str::<DialSignal>(&format!("{ok}bogus = 1\n")).is_err());
+        assert!(toml::from_str::<DialSignal>("signal = \"square\"\n").is_err());
     }
 }

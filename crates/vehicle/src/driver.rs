@@ -152,7 +152,10 @@ mod tests {
             });
             let s = drive(&spec.build().unwrap(), &PreviewDriver::default());
             eprintln!("A = {amplitude_m}: {s:?}");
-            assert!(s.rms_lateral_m > last, "A = {amplitude_m}: {s:?} not worse than {last}");
+            assert!(
+                s.rms_lateral_m > last,
+                "A = {amplitude_m}: {s:?} not worse than {last}"
+            );
             last = s.rms_lateral_m;
         }
     }

@@ -305,9 +305,8 @@ impl ExerciseSpec {
             Some(d) => check_range(c, "duration_s", d, 1.0, 3600.0, "s"),
             None => Ok(()),
         };
-        let count = |field: &'static str, n: u32, hi: f64| {
-            check_range(c, field, f64::from(n), 1.0, hi, "")
-        };
+        let count =
+            |field: &'static str, n: u32, hi: f64| check_range(c, field, f64::from(n), 1.0, hi, "");
         match self {
             Self::Straight(s) => {
                 check_range(c, "length_m", s.length_m, 10.0, 20_000.0, "m")?;
@@ -329,7 +328,14 @@ impl ExerciseSpec {
                 let (leg, phi) = triangle_leg(s.amplitude_m, s.wavelength_m);
                 // The corner tangents must fit on the half legs at both ends.
                 let max_r = leg / (2.0 * (phi.tan() + (phi / 2.0).tan()));
-                check_range(c, "corner_radius_m", s.corner_radius_m, 3.0, max_r.max(3.0), "m (the corners must fit on the legs of this amplitude and wavelength)")?;
+                check_range(
+                    c,
+                    "corner_radius_m",
+                    s.corner_radius_m,
+                    3.0,
+                    max_r.max(3.0),
+                    "m (the corners must fit on the legs of this amplitude and wavelength)",
+                )?;
                 count("periods", s.periods, 200.0)?;
                 lane(s.lane_width_m)?;
                 speed(s.speed_m_s)?;
@@ -337,7 +343,14 @@ impl ExerciseSpec {
             }
             Self::Clothoid(s) => {
                 check_range(c, "length_m", s.length_m, 10.0, 5000.0, "m")?;
-                check_range(c, "end_curvature_1_m", s.end_curvature_1_m, -0.2, 0.2, "1/m")?;
+                check_range(
+                    c,
+                    "end_curvature_1_m",
+                    s.end_curvature_1_m,
+                    -0.2,
+                    0.2,
+                    "1/m",
+                )?;
                 check_range(c, "unwind_m", s.unwind_m, 5.0, 1000.0, "m")?;
                 lane(s.lane_width_m)?;
                 speed(s.speed_m_s)?;
@@ -391,7 +404,12 @@ impl ExerciseSpec {
         let (path, speed, duration, cones): (Option<PathRoad>, f64, Option<f64>, Vec<[f64; 2]>) =
             match self {
                 Self::Straight(s) => (
-                    Some(lead(s.lane_width_m).straight(s.length_m).straight(LEAD_OUT_M).build()?),
+                    Some(
+                        lead(s.lane_width_m)
+                            .straight(s.length_m)
+                            .straight(LEAD_OUT_M)
+                            .build()?,
+                    ),
                     s.speed_m_s,
                     s.duration_s,
                     Vec::new(),
@@ -682,7 +700,11 @@ mod tests {
                 let ([x, y], h, _) = road.centre(0.0);
                 assert!(x.abs() < 1e-12 && y.abs() < 1e-12 && h.abs() < 1e-12);
                 assert!(ex.length_m > LEAD_IN_M + LEAD_OUT_M);
-                assert_eq!(road.centre(ex.length_m - 1.0).2, 0.0, "{name} ends straight");
+                assert_eq!(
+                    road.centre(ex.length_m - 1.0).2,
+                    0.0,
+                    "{name} ends straight"
+                );
             } else {
                 assert!(ex.is_dial() && ex.desired_angle_rad(1.0).is_some());
             }
@@ -728,7 +750,9 @@ mod tests {
 
     #[test]
     fn unknown_name_lists_the_library() {
-        let e = ExerciseSpec::from_name("loop-the-loop").unwrap_err().to_string();
+        let e = ExerciseSpec::from_name("loop-the-loop")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("loop-the-loop") && e.contains("sine-road") && e.contains("dial-chirp"));
     }
 
@@ -769,7 +793,10 @@ mod tests {
 
     #[test]
     fn triangle_legs_have_the_wave_slope() {
-        let ex = ExerciseSpec::from_name("triangle-road").unwrap().build().unwrap();
+        let ex = ExerciseSpec::from_name("triangle-road")
+            .unwrap()
+            .build()
+            .unwrap();
         let road = ex.road.as_ref().unwrap();
         let phi = (16.0f64 / 120.0).atan();
         // Halfway along the first full leg the road is straight at −φ.
@@ -788,7 +815,10 @@ mod tests {
 
     #[test]
     fn lane_change_shifts_by_offset_and_slalom_passes_cones_at_weave_distance() {
-        let ex = ExerciseSpec::from_name("lane-change").unwrap().build().unwrap();
+        let ex = ExerciseSpec::from_name("lane-change")
+            .unwrap()
+            .build()
+            .unwrap();
         let road = ex.road.as_ref().unwrap();
         let ([_, y], h, _) = road.centre(LEAD_IN_M + 31.0);
         assert!((y - 3.5).abs() < 1e-6 && h.abs() < 1e-9, "y={y}");
@@ -803,7 +833,10 @@ mod tests {
 
     #[test]
     fn speed_profile_slows_for_sharp_turns_and_brakes_ahead() {
-        let ex = ExerciseSpec::from_name("sharp-turns").unwrap().build().unwrap();
+        let ex = ExerciseSpec::from_name("sharp-turns")
+            .unwrap()
+            .build()
+            .unwrap();
         let in_turn = ex.target_speed_m_s(LEAD_IN_M + 5.0);
         assert!((in_turn - (3.0f64 * 15.0).sqrt()).abs() < 1e-9);
         assert_eq!(ex.target_speed_m_s(0.0), 10.0);

@@ -38,8 +38,22 @@ impl Default for AligningTorque {
 impl AligningTorque {
     /// Check the fields; the message names the field and its range.
     pub fn validate(&self) -> Result<(), VehicleError> {
-        check_range("AligningTorque", "nm_per_kn", self.nm_per_kn, 0.0, 5.0, "N·m/kN")?;
-        check_range("AligningTorque", "max_torque_nm", self.max_torque_nm, 0.0, 20.0, "N·m")
+        check_range(
+            "AligningTorque",
+            "nm_per_kn",
+            self.nm_per_kn,
+            0.0,
+            5.0,
+            "N·m/kN",
+        )?;
+        check_range(
+            "AligningTorque",
+            "max_torque_nm",
+            self.max_torque_nm,
+            0.0,
+            20.0,
+            "N·m",
+        )
     }
 
     /// Hand-wheel torque for front lateral force `front_lateral_n` (N, positive to the left),

@@ -34,3 +34,16 @@ pub use path::{PathBuilder, PathRoad};
 pub use road::{Projection, Road, SineRoad};
 pub use score::{DialScore, DialSummary, DrivingScore, DrivingSummary, LaneScore};
 pub use world::{Side, TrackLayout, World, WorldEvent};
+
+#[cfg(test)]
+mod tests {
+    /// The station moves these into its haptic thread.
+    #[test]
+    fn world_exercise_and_roads_are_send() {
+        fn send<T: Send>() {}
+        send::<crate::World>();
+        send::<crate::Exercise>();
+        send::<crate::PathRoad>();
+        send::<Box<dyn crate::Road + Send>>();
+    }
+}

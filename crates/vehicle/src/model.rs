@@ -147,9 +147,30 @@ impl VehicleParams {
         check_range(c, "cg_to_rear_m", self.cg_to_rear_m, 0.1, 10.0, "m")?;
         check_range(c, "track_width_m", self.track_width_m, 0.3, 5.0, "m")?;
         check_range(c, "mass_kg", self.mass_kg, 50.0, 1e5, "kg")?;
-        check_range(c, "yaw_inertia_kg_m2", self.yaw_inertia_kg_m2, 10.0, 1e6, "kg·m²")?;
-        check_range(c, "min_slip_speed_m_s", self.min_slip_speed_m_s, 0.1, 10.0, "m/s")?;
-        check_range(c, "friction_coefficient", self.friction_coefficient, 0.05, 2.0, "")?;
+        check_range(
+            c,
+            "yaw_inertia_kg_m2",
+            self.yaw_inertia_kg_m2,
+            10.0,
+            1e6,
+            "kg·m²",
+        )?;
+        check_range(
+            c,
+            "min_slip_speed_m_s",
+            self.min_slip_speed_m_s,
+            0.1,
+            10.0,
+            "m/s",
+        )?;
+        check_range(
+            c,
+            "friction_coefficient",
+            self.friction_coefficient,
+            0.05,
+            2.0,
+            "",
+        )?;
         check_range(c, "steering_ratio", self.steering_ratio, 1.0, 50.0, "")?;
         check_range(
             c,
@@ -159,8 +180,22 @@ impl VehicleParams {
             1.2,
             "rad",
         )?;
-        check_range(c, "max_drive_force_n", self.max_drive_force_n, 0.0, 1e5, "N")?;
-        check_range(c, "max_brake_force_n", self.max_brake_force_n, 0.0, 1e5, "N")?;
+        check_range(
+            c,
+            "max_drive_force_n",
+            self.max_drive_force_n,
+            0.0,
+            1e5,
+            "N",
+        )?;
+        check_range(
+            c,
+            "max_brake_force_n",
+            self.max_brake_force_n,
+            0.0,
+            1e5,
+            "N",
+        )?;
         check_range(
             c,
             "brake_blend_speed_m_s",
@@ -228,7 +263,9 @@ pub struct DriverInput {
 impl DriverInput {
     /// `true` when every field is finite.
     pub fn is_finite(&self) -> bool {
-        self.steer_rad.is_finite() && self.drive_force_n.is_finite() && self.brake_force_n.is_finite()
+        self.steer_rad.is_finite()
+            && self.drive_force_n.is_finite()
+            && self.brake_force_n.is_finite()
     }
 
     /// The input clamped to the car's actuator limits.
@@ -526,7 +563,10 @@ mod tests {
         assert_eq!(p.cornering_stiffness_front_n_per_rad, 145_000.0);
         assert_eq!(p.cornering_stiffness_rear_n_per_rad, 145_000.0);
         assert!((p.wheelbase_m() - 2.8).abs() < 1e-12);
-        assert_eq!((p.track_width_m, p.mass_kg, p.yaw_inertia_kg_m2), (1.5, 1860.0, 3100.0));
+        assert_eq!(
+            (p.track_width_m, p.mass_kg, p.yaw_inertia_kg_m2),
+            (1.5, 1860.0, 3100.0)
+        );
         p.validate().unwrap();
         VehicleParams::thesis_linear().validate().unwrap();
     }
@@ -538,7 +578,10 @@ mod tests {
             ..Default::default()
         };
         let msg = p.validate().unwrap_err().to_string();
-        assert!(msg.contains("mass_kg") && msg.contains("50") && msg.contains("kg"), "{msg}");
+        assert!(
+            msg.contains("mass_kg") && msg.contains("50") && msg.contains("kg"),
+            "{msg}"
+        );
     }
 
     #[test]
@@ -654,7 +697,10 @@ mod tests {
         });
         run(&mut v, DriverInput::default(), 2.0, 0.05);
         let s = v.state();
-        assert!(s.is_finite() && s.uy_m_s.abs() < 1e-3 && s.r_rad_s.abs() < 1e-3, "{s:?}");
+        assert!(
+            s.is_finite() && s.uy_m_s.abs() < 1e-3 && s.r_rad_s.abs() < 1e-3,
+            "{s:?}"
+        );
     }
 
     #[test]
@@ -664,7 +710,12 @@ mod tests {
             steer_rad: f64::NAN,
             ..Default::default()
         };
-        assert!(v.try_step(bad, 0.001).unwrap_err().to_string().contains("finite"));
+        assert!(
+            v.try_step(bad, 0.001)
+                .unwrap_err()
+                .to_string()
+                .contains("finite")
+        );
         assert!(v.try_step(DriverInput::default(), -1.0).is_err());
         v.step(bad, 0.001);
         assert!(v.state().is_finite() && v.state().r_rad_s == 0.0);

@@ -40,7 +40,9 @@ pub fn simulate(
     let mut out = Vec::with_capacity(rows.len());
     for (i, row) in rows.iter().enumerate() {
         if !row.t_s.is_finite() {
-            return Err(VehicleError::InvalidInput(format!("row {i}: time is not finite")));
+            return Err(VehicleError::InvalidInput(format!(
+                "row {i}: time is not finite"
+            )));
         }
         if !row.input.is_finite() {
             return Err(VehicleError::InvalidInput(format!(
@@ -108,10 +110,23 @@ mod tests {
                 input: DriverInput::default(),
             },
         ];
-        let e = simulate(&VehicleParams::default(), VehicleState::default(), &rows, 0.001)
-            .unwrap_err()
-            .to_string();
+        let e = simulate(
+            &VehicleParams::default(),
+            VehicleState::default(),
+            &rows,
+            0.001,
+        )
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("row 1"), "{e}");
-        assert!(simulate(&VehicleParams::default(), VehicleState::default(), &rows, 0.0).is_err());
+        assert!(
+            simulate(
+                &VehicleParams::default(),
+                VehicleState::default(),
+                &rows,
+                0.0
+            )
+            .is_err()
+        );
     }
 }

@@ -40,7 +40,11 @@ const GL_W: [f64; 6] = [
 /// ∫ₐᵇ f by 6-point Gauss–Legendre.
 fn gauss<F: Fn(f64) -> f64>(a: f64, b: f64, f: F) -> f64 {
     let (m, h) = ((a + b) / 2.0, (b - a) / 2.0);
-    GL_X.iter().zip(GL_W.iter()).map(|(x, w)| w * f(m + h * x)).sum::<f64>() * h
+    GL_X.iter()
+        .zip(GL_W.iter())
+        .map(|(x, w)| w * f(m + h * x))
+        .sum::<f64>()
+        * h
 }
 
 /// The curvature law of one piece.
@@ -330,7 +334,8 @@ impl PathRoad {
             } => {
                 // Newton on S(ξ) = s − from.s: arc length from the knot's abscissa.
                 let target = s - from.s_m;
-                let mut xi = from.xi + target;
+                let (_, dy0, _) = Shape::sine_y(a, l, from.xi);
+                let mut xi = from.xi + target / (1.0 + dy0 * dy0).sqrt();
                 for _ in 0..20 {
                     let (_, dy, _) = Shape::sine_y(a, l, xi);
                     let f = sine_arc_length(a, l, from.xi, xi) - target;
@@ -344,10 +349,7 @@ impl PathRoad {
                 let (sp, cp) = piece.psi0.sin_cos();
                 (
                     CentrePoint {
-                        xy_m: [
-                            piece.x0 + cp * xi - sp * yl,
-                            piece.y0 + sp * xi + cp * yl,
-                        ],
+                        xy_m: [piece.x0 + cp * xi - sp * yl, piece.y0 + sp * xi + cp * yl],
                         heading_rad: piece.psi0 + dy.atan(),
                         curvature_1_m: ddy / (1.0 + dy * dy).powf(1.5),
                     },
@@ -405,10 +407,7 @@ impl Road for PathRoad {
     }
 
     fn project(&self, x_m: f64, y_m: f64, hint_s_m: f64) -> Projection {
-        let dist2 = |s: f64| {
-            let c = self.point(s);
-            (c.xy_m[0] - x_m).powi(2) + (c.xy_m[1] - y_m).powi(2)
-        };
+        let dist2 = |c: &CentrePoint| (c.xy_m[0] - x_m).powi(2) + (c.xy_m[1] - y_m).powi(2);
         // Start from the hint; without a usable one, scan the knots once.
         let mut s = if hint_s_m.is_finite() {
             hint_s_m
@@ -422,27 +421,29 @@ impl Road for PathRoad {
             }
             best.1
         };
-        // Newton on g(s) = (p − c(s))·t(s) = 0, g'(s) = −(1 − κ·lateral); steps capped.
-        for _ in 0..12 {
-            let c = self.point(s);
+        // Newton on g(s) = (p − c(s))·t(s) = 0, g'(s) = −(1 − κ·lateral); steps capped, and
+        // halved when they would move away from the point (robust near cusps). A car moving
+        // forward converges in two or three lookups.
+        let mut c = self.point(s);
+        for _ in 0..16 {
             let (sh, ch) = c.heading_rad.sin_cos();
             let (dx, dy) = (x_m - c.xy_m[0], y_m - c.xy_m[1]);
             let along = dx * ch + dy * sh;
             let lateral = -dx * sh + dy * ch;
             let denom = (1.0 - c.curvature_1_m * lateral).max(0.2);
             let step = (along / denom).clamp(-5.0, 5.0);
-            let candidate = s + step;
-            // Accept only steps that do not move away from the point (robust near cusps).
-            s = if dist2(candidate) <= dist2(s) + 1e-12 {
-                candidate
-            } else {
-                s + step / 2.0
-            };
-            if step.abs() < 1e-9 {
+            if step.abs() < 1e-8 {
                 break;
             }
+            let next = self.point(s + step);
+            if dist2(&next) <= dist2(&c) + 1e-12 {
+                s += step;
+                c = next;
+            } else {
+                s += step / 2.0;
+                c = self.point(s);
+            }
         }
-        let c = self.point(s);
         let (sh, ch) = c.heading_rad.sin_cos();
         Projection {
             s_m: s,
@@ -512,7 +513,11 @@ mod tests {
                 (1.0 + (a * k * (k * x).sin()).powi(2)).sqrt() * h
             })
             .sum();
-        assert!((road.length_m() - 2.0 * trap).abs() < 1e-6, "{}", road.length_m());
+        assert!(
+            (road.length_m() - 2.0 * trap).abs() < 1e-6,
+            "{}",
+            road.length_m()
+        );
         for &s in &[0.0, 13.0, 61.7, 150.0, road.length_m()] {
             let c = road.point(s);
             let (x, y) = (c.xy_m[0], c.xy_m[1]);
@@ -545,7 +550,12 @@ mod tests {
                 .build()
                 .is_err()
         );
-        assert!(PathBuilder::new(0.0, 0.0, 0.0, 0.0).straight(1.0).build().is_err());
+        assert!(
+            PathBuilder::new(0.0, 0.0, 0.0, 0.0)
+                .straight(1.0)
+                .build()
+                .is_err()
+        );
     }
 
     proptest! {

@@ -91,12 +91,7 @@ const B4: [f64; 7] = [
 
 /// Integrate from `t0` to `t1` with inputs `inputs(t) -> (δ, Fad)` that are smooth on the
 /// interval (split the interval at input discontinuities).
-pub fn integrate<F: Fn(f64) -> (f64, f64)>(
-    y0: [f64; 6],
-    t0: f64,
-    t1: f64,
-    inputs: &F,
-) -> [f64; 6] {
+pub fn integrate<F: Fn(f64) -> (f64, f64)>(y0: [f64; 6], t0: f64, t1: f64, inputs: &F) -> [f64; 6] {
     let (rtol, atol) = (1e-12, 1e-12);
     let mut t = t0;
     let mut y = y0;
@@ -143,7 +138,9 @@ mod tests {
     fn reference_reproduces_circle_of_steady_state_yaw_rate() {
         // After the transient, r = U δ / (L + K U²) at the current speed.
         let delta = 0.01;
-        let y = integrate([0.0, 0.0, 0.0, 15.0, 0.0, 0.0], 0.0, 10.0, &|_| (delta, 0.0));
+        let y = integrate([0.0, 0.0, 0.0, 15.0, 0.0, 0.0], 0.0, 10.0, &|_| {
+            (delta, 0.0)
+        });
         let (l, k) = (A + B, M * (B * CR - A * CF) / ((A + B) * CF * CR));
         let expect = y[3] * delta / (l + k * y[3] * y[3]);
         assert!((y[5] - expect).abs() / expect < 2e-3, "{y:?} vs {expect}");

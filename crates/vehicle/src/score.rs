@@ -239,7 +239,10 @@ mod tests {
         }
         let s = d.summary();
         let expect = (2.0f64).sqrt() * a * (phi / 2.0).sin();
-        assert!((s.rms_error_deg - expect.to_degrees()).abs() < 1e-3, "{s:?}");
+        assert!(
+            (s.rms_error_deg - expect.to_degrees()).abs() < 1e-3,
+            "{s:?}"
+        );
         assert!((d.integrated_sq_error_rad2_s() - expect * expect * s.time_s).abs() < 1e-6);
         // Mean |cos| = 2/π.
         let mean_abs = 2.0 * a * (phi / 2.0).sin() * 2.0 / std::f64::consts::PI;

@@ -185,13 +185,11 @@ impl World {
             ));
         // The body box is centred between the axles' overhangs; the CG is the body origin.
         let offset = (params.cg_to_front_m - params.cg_to_rear_m) / 2.0;
-        let car_shape = ColliderBuilder::cuboid(
-            params.body_length_m / 2.0,
-            params.body_width_m / 2.0,
-        )
-        .translation(Vec2::new(offset, 0.0))
-        .density(0.0)
-        .friction(0.3);
+        let car_shape =
+            ColliderBuilder::cuboid(params.body_length_m / 2.0, params.body_width_m / 2.0)
+                .translation(Vec2::new(offset, 0.0))
+                .density(0.0)
+                .friction(0.3);
         let (car, car_collider) = physics.insert(body, car_shape);
         // rapier computes the mass properties lazily at the first step; without this the very
         // first kick (an impulse) would meet a zero inverse mass and be lost.
@@ -200,7 +198,11 @@ impl World {
 
         let mut tags = Vec::new();
         let mut add_polyline = |physics: &mut PhysicsWorld, line: &[[f64; 2]], tag: Tag| {
-            for chunk in line.windows(2).collect::<Vec<_>>().chunks(SEGMENTS_PER_COLLIDER) {
+            for chunk in line
+                .windows(2)
+                .collect::<Vec<_>>()
+                .chunks(SEGMENTS_PER_COLLIDER)
+            {
                 let mut pts: Vec<Vec2> = chunk.iter().map(|w| v2(w[0])).collect();
                 pts.push(v2(chunk[chunk.len() - 1][1]));
                 let sensor = !matches!(tag, Tag::Barrier);
@@ -425,8 +427,12 @@ mod tests {
             ux_m_s: 15.0,
             ..Default::default()
         };
-        let mut world =
-            World::new(VehicleParams::thesis_linear(), start, TrackLayout::default()).unwrap();
+        let mut world = World::new(
+            VehicleParams::thesis_linear(),
+            start,
+            TrackLayout::default(),
+        )
+        .unwrap();
         let dt = 1e-3;
         let mut y = [0.0, 0.0, 0.0, 15.0, 0.0, 0.0];
         let (mut max_pos, mut max_yaw) = (0.0f64, 0.0f64);
@@ -463,13 +469,19 @@ mod tests {
     #[test]
     fn rapier_steady_cornering_matches_reference_within_2cm_and_0_2deg() {
         let (pos, yaw) = cross_check(|_| (0.03, 300.0), &[]);
-        assert!(pos < 0.02 && yaw < 0.2, "position {pos} m, heading {yaw} deg");
+        assert!(
+            pos < 0.02 && yaw < 0.2,
+            "position {pos} m, heading {yaw} deg"
+        );
     }
 
     #[test]
     fn rapier_step_steer_matches_reference_within_2cm_and_0_2deg() {
         let (pos, yaw) = cross_check(|t| (if t < 1.0 { 0.0 } else { 0.02 }, 0.0), &[1.0]);
-        assert!(pos < 0.02 && yaw < 0.2, "position {pos} m, heading {yaw} deg");
+        assert!(
+            pos < 0.02 && yaw < 0.2,
+            "position {pos} m, heading {yaw} deg"
+        );
     }
 
     #[test]
@@ -478,7 +490,10 @@ mod tests {
             |t| (0.04 * (std::f64::consts::TAU * 0.4 * t).sin(), 100.0),
             &[],
         );
-        assert!(pos < 0.02 && yaw < 0.2, "position {pos} m, heading {yaw} deg");
+        assert!(
+            pos < 0.02 && yaw < 0.2,
+            "position {pos} m, heading {yaw} deg"
+        );
     }
 
     #[test]
@@ -515,7 +530,10 @@ mod tests {
 
     #[test]
     fn leaving_the_road_reports_edge_touched_then_off_road() {
-        let ex = ExerciseSpec::from_name("straight-road").unwrap().build().unwrap();
+        let ex = ExerciseSpec::from_name("straight-road")
+            .unwrap()
+            .build()
+            .unwrap();
         let start = ex.start_state();
         let mut world = World::new(VehicleParams::default(), start, ex.track_layout()).unwrap();
         let mut events = Vec::new();
