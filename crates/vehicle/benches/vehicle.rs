@@ -58,7 +58,7 @@ fn world_steps(c: &mut Criterion) {
             b.iter(|| {
                 for _ in 0..STEPS {
                     i += 1;
-                    if i % 20_000 == 0 {
+                    if i.is_multiple_of(20_000) {
                         world = World::new(params.clone(), ex.start_state(), ex.track_layout())
                             .unwrap();
                     }

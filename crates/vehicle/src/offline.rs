@@ -53,7 +53,7 @@ pub fn simulate(
         out.push(*car.state());
         if let Some(next) = rows.get(i + 1) {
             let span = next.t_s - row.t_s;
-            if !(span > 0.0) {
+            if span.is_nan() || span <= 0.0 {
                 return Err(VehicleError::InvalidInput(format!(
                     "row {}: time {} s is not after the previous row's {} s",
                     i + 1,
