@@ -364,7 +364,15 @@ impl World {
                     })
                 }),
         );
-        now.dedup();
+        // Several chunks of one edge can touch the car at once: keep one tag of each.
+        let mut i = 0;
+        while i < now.len() {
+            if now[..i].contains(&now[i]) {
+                now.remove(i);
+            } else {
+                i += 1;
+            }
+        }
         let pos = self.state();
         for tag in &now {
             if self.touching.contains(tag) {
