@@ -6,7 +6,8 @@ use crate::road::{Projection, Road};
 
 /// Preview steering: a pure-pursuit driver aiming at the centre line a look-ahead time ahead.
 ///
-/// The target is the centre-line point at arc length `s + ℓ`, ℓ = max(U, 1 m/s)·`preview_s`.
+/// The target is the centre-line point at arc length `s + ℓ`, ℓ = max(|U|·`preview_s`,
+/// `min_lookahead_m`).
 /// The arc from the car through it along the car's course (heading plus side-slip angle) has
 /// curvature `κ = 2 sin α / d` (α: angle from the course to the target, d: its distance),
 /// which is exact on a circular road. The road-wheel angle is that curvature through the
@@ -17,6 +18,8 @@ use crate::road::{Projection, Road};
 pub struct PreviewDriver {
     /// Look-ahead time, s. Shorter reacts faster but can oscillate; longer cuts corners.
     pub preview_s: f64,
+    /// Shortest look-ahead distance, m (keeps the aim point ahead at low speed).
+    pub min_lookahead_m: f64,
     /// Feedback gain on the present lateral error, rad/m.
     pub k_lateral_rad_per_m: f64,
     /// Feedback gain on the present heading error, rad/rad.
@@ -27,6 +30,7 @@ impl Default for PreviewDriver {
     fn default() -> Self {
         Self {
             preview_s: 0.6,
+            min_lookahead_m: 4.0,
             k_lateral_rad_per_m: 0.02,
             k_heading: 0.1,
         }
@@ -44,7 +48,7 @@ impl PreviewDriver {
         road: &dyn Road,
     ) -> f64 {
         let u = state.ux_m_s.max(1.0);
-        let lookahead_m = u * self.preview_s.max(0.05);
+        let lookahead_m = (state.ux_m_s.abs() * self.preview_s).max(self.min_lookahead_m.max(0.5));
         let ([tx, ty], _, _) = road.centre(here.s_m + lookahead_m);
         let (dx, dy) = (tx - state.x_m, ty - state.y_m);
         let d = dx.hypot(dy).max(1e-3);

@@ -22,7 +22,7 @@ impl LaneScore {
     /// Add `dt_s` seconds at lateral deviation `lateral_m` in a lane of `lane_width_m`.
     /// The car is in the lane while its centre is within half the lane width of the centre line.
     pub fn update(&mut self, lateral_m: f64, lane_width_m: f64, dt_s: f64) {
-        if !lateral_m.is_finite() || dt_s.is_nan() || dt_s <= 0.0 {
+        if !lateral_m.is_finite() || !dt_s.is_finite() || dt_s <= 0.0 {
             return;
         }
         self.sum_sq_m2_s += lateral_m * lateral_m * dt_s;
@@ -50,7 +50,7 @@ impl LaneScore {
     /// Percentage of time inside the lane, 0–100.
     pub fn pct_in_lane(&self) -> f64 {
         if self.time_s > 0.0 {
-            100.0 * self.time_in_lane_s / self.time_s
+            100.0 * (self.time_in_lane_s / self.time_s).min(1.0)
         } else {
             100.0
         }
@@ -78,7 +78,7 @@ impl DrivingScore {
     /// Add `dt_s` seconds with the car at `yaw_rad`, projected onto the road as `here`.
     pub fn update(&mut self, here: &Projection, yaw_rad: f64, lane_width_m: f64, dt_s: f64) {
         let e = wrap_angle(yaw_rad - here.heading_rad);
-        if !e.is_finite() || dt_s.is_nan() || dt_s <= 0.0 || !here.lateral_m.is_finite() {
+        if !e.is_finite() || !dt_s.is_finite() || dt_s <= 0.0 || !here.lateral_m.is_finite() {
             return;
         }
         self.lane.update(here.lateral_m, lane_width_m, dt_s);
@@ -166,7 +166,7 @@ impl DialScore {
     /// Add `dt_s` seconds with the wheel at `actual_rad` and the needle at `desired_rad`.
     pub fn update(&mut self, desired_rad: f64, actual_rad: f64, dt_s: f64) {
         let e = desired_rad - actual_rad;
-        if !e.is_finite() || dt_s.is_nan() || dt_s <= 0.0 {
+        if !e.is_finite() || !dt_s.is_finite() || dt_s <= 0.0 {
             return;
         }
         self.sum_sq_rad2_s += e * e * dt_s;
@@ -225,6 +225,15 @@ mod tests {
         assert!((s.rms_m() - (2.5f64).sqrt()).abs() < 1e-12);
         assert_eq!(s.max_abs_m(), 2.0);
         assert!((s.pct_in_lane() - 50.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn always_in_lane_is_exactly_one_hundred_percent() {
+        let mut s = LaneScore::default();
+        for _ in 0..2600 {
+            s.update(0.1, 3.5, 0.001);
+        }
+        assert_eq!(s.pct_in_lane(), 100.0);
     }
 
     #[test]

@@ -50,8 +50,13 @@ const COLUMNS: [&str; 4] = ["t", "steer_rad", "drive_force_n", "brake_force_n"];
 
 /// Parse the input CSV text; errors name the line (1-based) and column.
 fn parse_inputs(text: &str) -> anyhow::Result<Vec<TimedInput>> {
-    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
-    let (_, header) = lines.next().context("input CSV is empty: expected a header row")?;
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty());
+    let (_, header) = lines
+        .next()
+        .context("input CSV is empty: expected a header row")?;
     let names: Vec<&str> = header.split(',').map(str::trim).collect();
     let mut index = [usize::MAX; 4];
     for (col, name) in names.iter().enumerate() {
@@ -81,12 +86,16 @@ fn parse_inputs(text: &str) -> anyhow::Result<Vec<TimedInput>> {
         let mut v = [0.0; 4];
         for (k, value) in v.iter_mut().enumerate() {
             let raw = fields[index[k]];
-            *value = raw.parse::<f64>().ok().filter(|x| x.is_finite()).with_context(|| {
-                format!(
-                    "line {line_no}, column {:?}: {raw:?} is not a finite number",
-                    COLUMNS[k]
-                )
-            })?;
+            *value = raw
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .with_context(|| {
+                    format!(
+                        "line {line_no}, column {:?}: {raw:?} is not a finite number",
+                        COLUMNS[k]
+                    )
+                })?;
         }
         if let Some(prev) = rows.last()
             && v[0] <= prev.t_s
@@ -162,8 +171,9 @@ mod tests {
 
     #[test]
     fn parses_columns_in_any_order_and_reports_line_and_column() {
-        let rows = parse_inputs("brake_force_n,t,steer_rad,drive_force_n\n0,0.0,0.01,100\n5,0.5,0,0\n")
-            .unwrap();
+        let rows =
+            parse_inputs("brake_force_n,t,steer_rad,drive_force_n\n0,0.0,0.01,100\n5,0.5,0,0\n")
+                .unwrap();
         assert_eq!(rows.len(), 2);
         assert_eq!(rows[0].input.steer_rad, 0.01);
         assert_eq!(rows[1].input.brake_force_n, 5.0);
