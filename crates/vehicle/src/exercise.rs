@@ -742,6 +742,11 @@ mod tests {
         )
         .unwrap();
         assert!(e.haptic.is_some());
+        // A misspelt exercise key is still rejected through the flatten.
+        assert!(
+            toml::from_str::<StationEntry>("kind = \"sine\"\namplitud_m = 3.0\n[haptic]\n")
+                .is_err()
+        );
         match e.exercise {
             ExerciseSpec::Sine(s) => assert_eq!((s.amplitude_m, s.duration_s), (3.0, Some(20.0))),
             other => panic!("{other:?}"),
