@@ -13,8 +13,8 @@
 //! holds this motion to 2 cm and 0.2° of an independent adaptive integration over 20 s.
 //!
 //! The world is rapier2d's `f64` build (`rapier2d-f64`): with `f32` positions the rounding of
-//! `x += dt·v` is systematic when the velocity is steady, and measured 2.6 cm of drift after
-//! 300 m in the sine-steer cross-check. rapier speaks glam; this module converts at its
+//! `x += dt·v` is systematic when the velocity is steady, and measured about 2.5 cm of drift
+//! after 300 m in the sine-steer cross-check. rapier speaks glam; this module converts at its
 //! boundary and its API uses only `f64` and `[f64; 2]`.
 //!
 //! # Events
