@@ -37,6 +37,8 @@ pub enum Command {
         #[arg(long)]
         out: PathBuf,
     },
+    /// Run the vehicle model offline on a CSV of driver inputs.
+    Vehicle(crate::commands::vehicle::VehicleArgs),
 }
 
 /// Loop pacing.
@@ -127,6 +129,7 @@ pub fn main() -> anyhow::Result<()> {
             );
             Ok(())
         }
+        Command::Vehicle(args) => crate::commands::vehicle::run(args),
     }
 }
 

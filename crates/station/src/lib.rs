@@ -5,6 +5,7 @@
 //! the therapist link ([`link`], [`therapist`]).
 
 pub mod cli;
+pub mod commands;
 pub mod config;
 pub mod devices;
 pub mod link;

@@ -1,17 +1,49 @@
-//! Vehicle dynamics, roads and scoring for the driving exercise.
+//! Vehicle dynamics, roads, exercises and scoring for the driving exercise.
 //!
 //! The model is the 3-DOF yaw-plane vehicle of the thesis (Jadhav 2004, Appendix C):
 //! body-frame velocities `Ux`, `Uy`, yaw rate `r` (eq. C.1–C.3), driver input mapped to wheel
-//! forces by eq. C.12, linear lateral tyre forces (eq. C.13–C.14) and the global pose by eq. C.15.
+//! forces by eq. C.12, lateral tyre forces (eq. C.13–C.14, linear or saturating) and the global
+//! pose by eq. C.15 ([`model`]). [`world`] runs the same car as a rapier2d rigid body among
+//! road edges, barriers and cones. [`exercise`] is the therapist's parametric library of roads
+//! and the rotary dial task; [`score`] grades them; [`feel`] gives the steering-wheel torque.
 //!
 //! Pure: no I/O, no threads, no clock. Time comes in as `dt` in seconds.
 
+pub mod dial;
 pub mod driver;
+pub mod error;
+pub mod exercise;
+pub mod feel;
 pub mod model;
+pub mod offline;
+pub mod path;
+#[cfg(test)]
+mod reference;
 pub mod road;
 pub mod score;
+pub mod world;
 
+pub use dial::DialSignal;
 pub use driver::{PreviewDriver, SpeedController};
-pub use model::{DriverInput, Vehicle, VehicleParams, VehicleState};
+pub use error::VehicleError;
+pub use exercise::{EXERCISE_NAMES, Exercise, ExerciseSpec};
+pub use feel::AligningTorque;
+pub use model::{DriverInput, TyreForces, TyreModel, Vehicle, VehicleParams, VehicleState};
+pub use offline::{TimedInput, simulate};
+pub use path::{PathBuilder, PathRoad};
 pub use road::{Projection, Road, SineRoad};
-pub use score::LaneScore;
+pub use score::{DialScore, DialSummary, DrivingScore, DrivingSummary, LaneScore};
+pub use world::{Side, TrackLayout, World, WorldEvent};
+
+#[cfg(test)]
+mod tests {
+    /// The station moves these into its haptic thread.
+    #[test]
+    fn world_exercise_and_roads_are_send() {
+        fn send<T: Send>() {}
+        send::<crate::World>();
+        send::<crate::Exercise>();
+        send::<crate::PathRoad>();
+        send::<Box<dyn crate::Road + Send>>();
+    }
+}

@@ -16,6 +16,8 @@ pub struct Projection {
 }
 
 /// A road: a centre line parametrised by distance and a lane width.
+///
+/// Used by the station as `Box<dyn Road + Send>`.
 pub trait Road {
     /// Width of the lane the car should stay in, m.
     fn lane_width_m(&self) -> f64;
@@ -26,10 +28,12 @@ pub trait Road {
     fn project(&self, x_m: f64, y_m: f64, hint_s_m: f64) -> Projection;
 }
 
-/// A sine road along global x: `y = A·sin(2π·x/λ)`, the thesis's sine road (§3.3.4).
+/// A sine road along global x: `y = A·sin(2π·x/λ)`, the thesis's sine road (§3.3.4), endless.
 ///
-/// The road's distance parameter is the global `x` (not arc length): exact for projection,
-/// and simple for a road that runs along x.
+/// Unlike the library's roads ([`crate::PathRoad`], built by [`crate::ExerciseSpec`]), this
+/// road's distance parameter is the global `x`, not arc length (exact for projection and
+/// simple for a road along x). Prefer `ExerciseSpec::Sine` (`--exercise sine-road`), which is
+/// arc-length parametrised and has a lead-in and lead-out.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SineRoad {

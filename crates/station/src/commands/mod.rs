@@ -1,0 +1,3 @@
+//! Subcommands of `telerehab`.
+
+pub mod vehicle;

@@ -1,0 +1,344 @@
+//! The rotary dial tracking task (thesis §3.3.3, Appendix E): the patient turns the wheel so
+//! its needle follows a desired angle that moves over time.
+//!
+//! Appendix E used a sine of ±120° (the wheel's range is ±129°) at 1 rad/s, and a frequency
+//! sweep from 0 to 2.5 rad/s over 200 s; both are here ([`DialSignal::Sine`],
+//! [`DialSignal::Chirp`]), with multi-sine, step and ramp references.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{VehicleError, check_range};
+
+/// Largest reference amplitude, deg: the thesis wheel turns ±129°.
+pub const MAX_DIAL_AMPLITUDE_DEG: f64 = 129.0;
+
+/// One sine component of a multi-sine reference.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SineComponent {
+    /// Amplitude, deg of wheel angle.
+    pub amplitude_deg: f64,
+    /// Angular frequency, rad/s.
+    pub frequency_rad_s: f64,
+    /// Phase, rad.
+    #[serde(default)]
+    pub phase_rad: f64,
+}
+
+/// Desired wheel angle over time. TOML: a table with `signal = "sine" | "multi-sine" | "step"
+/// | "ramp" | "chirp"` and the variant's fields.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "signal", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum DialSignal {
+    /// `A sin(ω t)`: Appendix E's reference (A = 120°, ω = 1 rad/s).
+    Sine {
+        /// Amplitude, deg.
+        amplitude_deg: f64,
+        /// Angular frequency, rad/s.
+        frequency_rad_s: f64,
+    },
+    /// A sum of sines (harder to anticipate than one sine).
+    MultiSine {
+        /// The components; their amplitudes together must stay within ±129°.
+        components: Vec<SineComponent>,
+    },
+    /// Steps between +A and −A, holding each level for `hold_s` (starts at +A).
+    Step {
+        /// Step height from centre, deg.
+        amplitude_deg: f64,
+        /// Time at each level, s.
+        hold_s: f64,
+    },
+    /// Constant-speed sweeps between −A and +A (a triangle wave, starting at 0 going up).
+    Ramp {
+        /// Turning point, deg.
+        amplitude_deg: f64,
+        /// Wheel speed, deg/s.
+        rate_deg_s: f64,
+    },
+    /// Linear frequency sweep `A sin(ω0 t + (ω1 − ω0) t²/(2T))`, Appendix E's frequency test.
+    Chirp {
+        /// Amplitude, deg.
+        amplitude_deg: f64,
+        /// Start frequency ω0, rad/s.
+        start_rad_s: f64,
+        /// Frequency ω1 reached at `sweep_s`, rad/s.
+        end_rad_s: f64,
+        /// Sweep duration T, s (the frequency stays at ω1 afterwards).
+        sweep_s: f64,
+    },
+}
+
+impl Default for DialSignal {
+    fn default() -> Self {
+        DialSignal::Sine {
+            amplitude_deg: 120.0,
+            frequency_rad_s: 1.0,
+        }
+    }
+}
+
+impl DialSignal {
+    /// Short name: `sine`, `multi-sine`, `step`, `ramp`, `chirp`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            DialSignal::Sine { .. } => "sine",
+            DialSignal::MultiSine { .. } => "multi-sine",
+            DialSignal::Step { .. } => "step",
+            DialSignal::Ramp { .. } => "ramp",
+            DialSignal::Chirp { .. } => "chirp",
+        }
+    }
+
+    /// Default reference of each kind, by [`DialSignal::name`].
+    pub fn default_named(name: &str) -> Option<Self> {
+        Some(match name {
+            "sine" => Self::default(),
+            "multi-sine" => DialSignal::MultiSine {
+                components: vec![
+                    SineComponent {
+                        amplitude_deg: 60.0,
+                        frequency_rad_s: 0.5,
+                        phase_rad: 0.0,
+                    },
+                    SineComponent {
+                        amplitude_deg: 30.0,
+                        frequency_rad_s: 1.3,
+                        phase_rad: 1.0,
+                    },
+                    SineComponent {
+                        amplitude_deg: 15.0,
+                        frequency_rad_s: 2.1,
+                        phase_rad: 2.0,
+                    },
+                ],
+            },
+            "step" => DialSignal::Step {
+                amplitude_deg: 60.0,
+                hold_s: 4.0,
+            },
+            "ramp" => DialSignal::Ramp {
+                amplitude_deg: 90.0,
+                rate_deg_s: 45.0,
+            },
+            "chirp" => DialSignal::Chirp {
+                amplitude_deg: 120.0,
+                start_rad_s: 0.0,
+                end_rad_s: 2.5,
+                sweep_s: 200.0,
+            },
+            _ => return None,
+        })
+    }
+
+    /// Check the parameters; `context` names the exercise in the message.
+    pub fn validate(&self, context: &str) -> Result<(), VehicleError> {
+        let amp = |v: f64| {
+            check_range(
+                context,
+                "amplitude_deg",
+                v,
+                0.0,
+                MAX_DIAL_AMPLITUDE_DEG,
+                "deg",
+            )
+        };
+        match self {
+            DialSignal::Sine {
+                amplitude_deg,
+                frequency_rad_s,
+            } => {
+                amp(*amplitude_deg)?;
+                check_range(
+                    context,
+                    "frequency_rad_s",
+                    *frequency_rad_s,
+                    0.0,
+                    10.0,
+                    "rad/s",
+                )
+            }
+            DialSignal::MultiSine { components } => {
+                if components.is_empty() {
+                    return Err(VehicleError::OutOfRange {
+                        context: context.into(),
+                        field: "components",
+                        value: 0.0,
+                        allowed: "1 to 16 sine components".into(),
+                    });
+                }
+                check_range(
+                    context,
+                    "components",
+                    components.len() as f64,
+                    1.0,
+                    16.0,
+                    "sine components",
+                )?;
+                for c in components {
+                    amp(c.amplitude_deg)?;
+                    check_range(
+                        context,
+                        "frequency_rad_s",
+                        c.frequency_rad_s,
+                        0.0,
+                        10.0,
+                        "rad/s",
+                    )?;
+                    check_range(context, "phase_rad", c.phase_rad, -100.0, 100.0, "rad")?;
+                }
+                let total: f64 = components.iter().map(|c| c.amplitude_deg).sum();
+                check_range(
+                    context,
+                    "components (sum of amplitude_deg)",
+                    total,
+                    0.0,
+                    MAX_DIAL_AMPLITUDE_DEG,
+                    "deg",
+                )
+            }
+            DialSignal::Step {
+                amplitude_deg,
+                hold_s,
+            } => {
+                amp(*amplitude_deg)?;
+                check_range(context, "hold_s", *hold_s, 0.5, 600.0, "s")
+            }
+            DialSignal::Ramp {
+                amplitude_deg,
+                rate_deg_s,
+            } => {
+                amp(*amplitude_deg)?;
+                check_range(context, "rate_deg_s", *rate_deg_s, 1.0, 720.0, "deg/s")
+            }
+            DialSignal::Chirp {
+                amplitude_deg,
+                start_rad_s,
+                end_rad_s,
+                sweep_s,
+            } => {
+                amp(*amplitude_deg)?;
+                check_range(context, "start_rad_s", *start_rad_s, 0.0, 10.0, "rad/s")?;
+                check_range(context, "end_rad_s", *end_rad_s, 0.0, 10.0, "rad/s")?;
+                check_range(context, "sweep_s", *sweep_s, 1.0, 3600.0, "s")
+            }
+        }
+    }
+
+    /// Desired wheel angle at time `t_s` since the start, rad.
+    pub fn desired_angle_rad(&self, t_s: f64) -> f64 {
+        let t = t_s.max(0.0);
+        let deg = match self {
+            DialSignal::Sine {
+                amplitude_deg,
+                frequency_rad_s,
+            } => amplitude_deg * (frequency_rad_s * t).sin(),
+            DialSignal::MultiSine { components } => components
+                .iter()
+                .map(|c| c.amplitude_deg * (c.frequency_rad_s * t + c.phase_rad).sin())
+                .sum(),
+            DialSignal::Step {
+                amplitude_deg,
+                hold_s,
+            } => {
+                if ((t / hold_s).floor() as u64).is_multiple_of(2) {
+                    *amplitude_deg
+                } else {
+                    -amplitude_deg
+                }
+            }
+            DialSignal::Ramp {
+                amplitude_deg,
+                rate_deg_s,
+            } => {
+                if *amplitude_deg == 0.0 {
+                    0.0
+                } else {
+                    // Triangle wave of period 4A/rate, starting at 0 going up.
+                    let period = 4.0 * amplitude_deg / rate_deg_s;
+                    let ph = (t / period + 0.25).rem_euclid(1.0);
+                    amplitude_deg * (1.0 - 4.0 * (ph - 0.5).abs())
+                }
+            }
+            DialSignal::Chirp {
+                amplitude_deg,
+                start_rad_s,
+                end_rad_s,
+                sweep_s,
+            } => {
+                let ts = t.min(*sweep_s);
+                let phase = start_rad_s * ts
+                    + (end_rad_s - start_rad_s) * ts * ts / (2.0 * sweep_s)
+                    + end_rad_s * (t - ts);
+                amplitude_deg * phase.sin()
+            }
+        };
+        deg.to_radians()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn appendix_e_sine_reaches_120_degrees_at_quarter_period() {
+        let s = DialSignal::default();
+        let t = std::f64::consts::FRAC_PI_2;
+        assert!((s.desired_angle_rad(t) - 120f64.to_radians()).abs() < 1e-12);
+        s.validate("dial").unwrap();
+    }
+
+    #[test]
+    fn step_alternates_and_ramp_is_a_triangle() {
+        let st = DialSignal::default_named("step").unwrap();
+        assert!(st.desired_angle_rad(1.0) > 0.0 && st.desired_angle_rad(5.0) < 0.0);
+        let r = DialSignal::Ramp {
+            amplitude_deg: 90.0,
+            rate_deg_s: 45.0,
+        };
+        let d = |t: f64| r.desired_angle_rad(t).to_degrees();
+        assert!(d(0.0).abs() < 1e-9);
+        assert!((d(1.0) - 45.0).abs() < 1e-9 && (d(2.0) - 90.0).abs() < 1e-9);
+        assert!((d(3.0) - 45.0).abs() < 1e-9 && (d(6.0) + 90.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn chirp_frequency_rises_linearly() {
+        let c = DialSignal::default_named("chirp").unwrap();
+        // Instantaneous frequency at t is ω0 + (ω1 − ω0) t / T: check by finite difference of phase.
+        if let DialSignal::Chirp {
+            sweep_s, end_rad_s, ..
+        } = c
+        {
+            let t = sweep_s / 2.0;
+            let phase = |t: f64| end_rad_s * t * t / (2.0 * sweep_s);
+            let w = (phase(t + 1e-3) - phase(t - 1e-3)) / 2e-3;
+            assert!((w - end_rad_s / 2.0).abs() < 1e-9);
+        }
+        c.validate("dial").unwrap();
+    }
+
+    #[test]
+    fn validate_rejects_amplitude_beyond_wheel_range() {
+        let s = DialSignal::Sine {
+            amplitude_deg: 200.0,
+            frequency_rad_s: 1.0,
+        };
+        let msg = s
+            .validate("exercise \"dial-sine\"")
+            .unwrap_err()
+            .to_string();
+        assert!(msg.contains("dial-sine") && msg.contains("amplitude_deg") && msg.contains("129"));
+        let m = DialSignal::default_named("multi-sine").unwrap();
+        m.validate("x").unwrap();
+    }
+
+    #[test]
+    fn toml_rejects_unknown_keys_and_signals() {
+        let ok = "signal = \"sine\"\namplitude_deg = 10.0\nfrequency_rad_s = 1.0\n";
+        assert!(toml::from_str::<DialSignal>(ok).is_ok());
+        assert!(toml::from_str::<DialSignal>(&format!("{ok}bogus = 1\n")).is_err());
+        assert!(toml::from_str::<DialSignal>("signal = \"square\"\n").is_err());
+    }
+}

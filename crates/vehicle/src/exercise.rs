@@ -1,0 +1,852 @@
+//! The exercise library: parametric roads and the rotary dial task, serialisable to TOML
+//! (thesis §1.4.1: roads of increasing curvature, sharp turns, sine and triangle roads;
+//! §3.3.3: the dial tracking task).
+//!
+//! An [`ExerciseSpec`] is what a therapist prescribes (a TOML table with `kind = "..."`); its
+//! [`ExerciseSpec::validate`] names the exercise, field and allowed range of anything wrong,
+//! and [`ExerciseSpec::build`] turns it into an [`Exercise`] the station drives: a road (or
+//! none for the dial), a target-speed profile, an end condition, cones and a dial reference.
+//!
+//! Every road starts at the origin heading along +x, begins with a straight lead-in and ends
+//! with a straight lead-out, so a car placed by [`Exercise::start_state`] starts aligned.
+
+use serde::{Deserialize, Serialize};
+
+use crate::dial::DialSignal;
+use crate::error::{VehicleError, check_range};
+use crate::model::VehicleState;
+use crate::path::{PathBuilder, PathRoad};
+use crate::road::Road;
+use crate::world::TrackLayout;
+
+/// Straight before the exercise proper, m.
+pub const LEAD_IN_M: f64 = 30.0;
+/// Straight after it, m.
+pub const LEAD_OUT_M: f64 = 30.0;
+/// Largest lateral acceleration the target-speed profile allows, m/s².
+pub const MAX_LATERAL_ACCEL_M_S2: f64 = 3.0;
+/// Deceleration the target-speed profile plans with before a bend, m/s².
+pub const PLANNED_DECEL_M_S2: f64 = 1.5;
+
+macro_rules! spec_struct {
+    ($(#[$m:meta])* $name:ident { $($(#[$fm:meta])* $field:ident : $ty:ty = $def:expr),* $(,)? }) => {
+        $(#[$m])*
+        #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+        #[serde(deny_unknown_fields, default)]
+        pub struct $name {
+            $($(#[$fm])* pub $field: $ty,)*
+        }
+        impl Default for $name {
+            fn default() -> Self {
+                Self { $($field: $def,)* }
+            }
+        }
+    };
+}
+
+spec_struct!(
+    /// A straight road.
+    StraightSpec {
+        /// Length of the exercise part, m.
+        length_m: f64 = 300.0,
+        /// Lane width, m.
+        lane_width_m: f64 = 3.5,
+        /// Target speed, m/s.
+        speed_m_s: f64 = 12.0,
+        /// Time limit, s (the exercise ends at the road's end or at this time).
+        duration_s: Option<f64> = None,
+    }
+);
+
+spec_struct!(
+    /// The thesis's sine road: `y = A (1 − cos(2π x/λ))` after the lead-in.
+    SineSpec {
+        /// Amplitude `A`, m (peak-to-peak 2A).
+        amplitude_m: f64 = 4.0,
+        /// Wavelength `λ`, m.
+        wavelength_m: f64 = 120.0,
+        /// Number of whole waves.
+        periods: u32 = 4,
+        /// Lane width, m.
+        lane_width_m: f64 = 3.5,
+        /// Target speed, m/s.
+        speed_m_s: f64 = 12.0,
+        /// Time limit, s.
+        duration_s: Option<f64> = None,
+    }
+);
+
+spec_struct!(
+    /// A triangle-wave road: straight legs at ±atan(4A/λ) joined by arcs of `corner_radius_m`.
+    TriangleSpec {
+        /// Amplitude of the underlying triangle wave, m.
+        amplitude_m: f64 = 4.0,
+        /// Wavelength, m.
+        wavelength_m: f64 = 120.0,
+        /// Radius of the rounded corners, m.
+        corner_radius_m: f64 = 25.0,
+        /// Number of whole waves.
+        periods: u32 = 4,
+        /// Lane width, m.
+        lane_width_m: f64 = 3.5,
+        /// Target speed, m/s.
+        speed_m_s: f64 = 12.0,
+        /// Time limit, s.
+        duration_s: Option<f64> = None,
+    }
+);
+
+spec_struct!(
+    /// A road of increasing curvature: a clothoid from straight to `end_curvature_1_m`, then a
+    /// short clothoid back to straight.
+    ClothoidSpec {
+        /// Length of the tightening clothoid, m.
+        length_m: f64 = 150.0,
+        /// Curvature reached at its end, 1/m (positive: turning left).
+        end_curvature_1_m: f64 = 0.025,
+        /// Length of the unwinding clothoid, m.
+        unwind_m: f64 = 40.0,
+        /// Lane width, m.
+        lane_width_m: f64 = 3.5,
+        /// Target speed, m/s.
+        speed_m_s: f64 = 12.0,
+        /// Time limit, s.
+        duration_s: Option<f64> = None,
+    }
+);
+
+spec_struct!(
+    /// Sharp turns: `count` turns of `angle_deg` on arcs of `radius_m`, alternating left and
+    /// right, separated by straights.
+    SharpTurnsSpec {
+        /// Turn angle, deg.
+        angle_deg: f64 = 90.0,
+        /// Turn radius, m.
+        radius_m: f64 = 15.0,
+        /// Straight between turns, m.
+        straight_m: f64 = 50.0,
+        /// Number of turns.
+        count: u32 = 4,
+        /// Lane width, m.
+        lane_width_m: f64 = 3.5,
+        /// Target speed on the straights, m/s (slower in the turns, see [`Exercise::target_speed_m_s`]).
+        speed_m_s: f64 = 10.0,
+        /// Time limit, s.
+        duration_s: Option<f64> = None,
+    }
+);
+
+spec_struct!(
+    /// An S-bend: a left arc then a right arc of the same radius and angle.
+    SBendSpec {
+        /// Radius of each arc, m.
+        radius_m: f64 = 30.0,
+        /// Angle of each arc, deg.
+        angle_deg: f64 = 60.0,
+        /// Lane width, m.
+        lane_width_m: f64 = 3.5,
+        /// Target speed, m/s.
+        speed_m_s: f64 = 9.0,
+        /// Time limit, s.
+        duration_s: Option<f64> = None,
+    }
+);
+
+spec_struct!(
+    /// Lane changes: `count` lateral shifts of `offset_m` (alternating left and right), each
+    /// made of two opposite arcs over `transition_m`, with `hold_m` of straight after each.
+    LaneChangeSpec {
+        /// Lateral shift, m.
+        offset_m: f64 = 3.5,
+        /// Longitudinal length of one change, m.
+        transition_m: f64 = 30.0,
+        /// Straight after each change, m.
+        hold_m: f64 = 50.0,
+        /// Number of changes.
+        count: u32 = 4,
+        /// Lane width, m.
+        lane_width_m: f64 = 3.5,
+        /// Target speed, m/s.
+        speed_m_s: f64 = 12.0,
+        /// Time limit, s.
+        duration_s: Option<f64> = None,
+    }
+);
+
+spec_struct!(
+    /// Slalom: cones in a line every `cone_spacing_m`; the centre line weaves around them,
+    /// passing each at `weave_m` on alternate sides.
+    SlalomSpec {
+        /// Distance between cones, m.
+        cone_spacing_m: f64 = 18.0,
+        /// Number of cones.
+        cone_count: u32 = 8,
+        /// Lateral distance of the centre line from each cone, m.
+        weave_m: f64 = 1.5,
+        /// Lane width, m.
+        lane_width_m: f64 = 3.0,
+        /// Target speed, m/s.
+        speed_m_s: f64 = 7.0,
+        /// Time limit, s.
+        duration_s: Option<f64> = None,
+    }
+);
+
+spec_struct!(
+    /// The rotary dial tracking task: follow the needle with the wheel.
+    DialSpec {
+        /// The desired angle over time.
+        reference: DialSignal = DialSignal::default(),
+        /// Length of the exercise, s.
+        duration_s: f64 = 60.0,
+    }
+);
+
+/// A prescribed exercise. TOML: a table with `kind = "straight" | "sine" | "triangle" |
+/// "clothoid" | "sharp-turns" | "s-bend" | "lane-change" | "slalom" | "dial"` and that kind's
+/// fields (all optional, defaults above).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum ExerciseSpec {
+    /// [`StraightSpec`].
+    Straight(StraightSpec),
+    /// [`SineSpec`].
+    Sine(SineSpec),
+    /// [`TriangleSpec`].
+    Triangle(TriangleSpec),
+    /// [`ClothoidSpec`].
+    Clothoid(ClothoidSpec),
+    /// [`SharpTurnsSpec`].
+    SharpTurns(SharpTurnsSpec),
+    /// [`SBendSpec`].
+    SBend(SBendSpec),
+    /// [`LaneChangeSpec`].
+    LaneChange(LaneChangeSpec),
+    /// [`SlalomSpec`].
+    Slalom(SlalomSpec),
+    /// [`DialSpec`].
+    Dial(DialSpec),
+}
+
+/// The built-in exercise names, each with its default parameters ([`ExerciseSpec::from_name`]).
+pub const EXERCISE_NAMES: [&str; 13] = [
+    "straight-road",
+    "sine-road",
+    "triangle-road",
+    "clothoid-road",
+    "sharp-turns",
+    "s-bend",
+    "lane-change",
+    "slalom",
+    "dial-sine",
+    "dial-multi-sine",
+    "dial-step",
+    "dial-ramp",
+    "dial-chirp",
+];
+
+impl ExerciseSpec {
+    /// The default exercise called `name` (one of [`EXERCISE_NAMES`]; a `kind` such as
+    /// `"sine"` also works).
+    pub fn from_name(name: &str) -> Result<Self, VehicleError> {
+        let spec = match name {
+            "straight-road" | "straight" => Self::Straight(Default::default()),
+            "sine-road" | "sine" => Self::Sine(Default::default()),
+            "triangle-road" | "triangle" => Self::Triangle(Default::default()),
+            "clothoid-road" | "clothoid" | "increasing-curvature" => {
+                Self::Clothoid(Default::default())
+            }
+            "sharp-turns" => Self::SharpTurns(Default::default()),
+            "s-bend" => Self::SBend(Default::default()),
+            "lane-change" => Self::LaneChange(Default::default()),
+            "slalom" => Self::Slalom(Default::default()),
+            "dial" => Self::Dial(Default::default()),
+            other => match other
+                .strip_prefix("dial-")
+                .and_then(DialSignal::default_named)
+            {
+                Some(reference) => Self::Dial(DialSpec {
+                    reference,
+                    ..Default::default()
+                }),
+                None => {
+                    return Err(VehicleError::UnknownExercise {
+                        name: name.to_string(),
+                        known: EXERCISE_NAMES.join(", "),
+                    });
+                }
+            },
+        };
+        Ok(spec)
+    }
+
+    /// The stable short name (`"sine-road"`, `"dial-step"`, …).
+    pub fn name(&self) -> String {
+        match self {
+            Self::Straight(_) => "straight-road".into(),
+            Self::Sine(_) => "sine-road".into(),
+            Self::Triangle(_) => "triangle-road".into(),
+            Self::Clothoid(_) => "clothoid-road".into(),
+            Self::SharpTurns(_) => "sharp-turns".into(),
+            Self::SBend(_) => "s-bend".into(),
+            Self::LaneChange(_) => "lane-change".into(),
+            Self::Slalom(_) => "slalom".into(),
+            Self::Dial(d) => format!("dial-{}", d.reference.name()),
+        }
+    }
+
+    /// Check every field; the message names the exercise, field and allowed range.
+    pub fn validate(&self) -> Result<(), VehicleError> {
+        let c = format!("exercise {:?}", self.name());
+        let c = c.as_str();
+        let lane = |w: f64| check_range(c, "lane_width_m", w, 2.0, 8.0, "m");
+        let speed = |v: f64| check_range(c, "speed_m_s", v, 1.0, 30.0, "m/s");
+        let duration = |d: Option<f64>| match d {
+            Some(d) => check_range(c, "duration_s", d, 1.0, 3600.0, "s"),
+            None => Ok(()),
+        };
+        let count =
+            |field: &'static str, n: u32, hi: f64| check_range(c, field, f64::from(n), 1.0, hi, "");
+        match self {
+            Self::Straight(s) => {
+                check_range(c, "length_m", s.length_m, 10.0, 20_000.0, "m")?;
+                lane(s.lane_width_m)?;
+                speed(s.speed_m_s)?;
+                duration(s.duration_s)
+            }
+            Self::Sine(s) => {
+                check_range(c, "amplitude_m", s.amplitude_m, 0.0, 50.0, "m")?;
+                check_range(c, "wavelength_m", s.wavelength_m, 20.0, 2000.0, "m")?;
+                count("periods", s.periods, 200.0)?;
+                lane(s.lane_width_m)?;
+                speed(s.speed_m_s)?;
+                duration(s.duration_s)
+            }
+            Self::Triangle(s) => {
+                check_range(c, "amplitude_m", s.amplitude_m, 0.5, 50.0, "m")?;
+                check_range(c, "wavelength_m", s.wavelength_m, 20.0, 2000.0, "m")?;
+                let (leg, phi) = triangle_leg(s.amplitude_m, s.wavelength_m);
+                // The corner tangents must fit on the half legs at both ends.
+                let max_r = leg / (2.0 * (phi.tan() + (phi / 2.0).tan()));
+                check_range(
+                    c,
+                    "corner_radius_m",
+                    s.corner_radius_m,
+                    3.0,
+                    max_r.max(3.0),
+                    "m (the corners must fit on the legs of this amplitude and wavelength)",
+                )?;
+                count("periods", s.periods, 200.0)?;
+                lane(s.lane_width_m)?;
+                speed(s.speed_m_s)?;
+                duration(s.duration_s)
+            }
+            Self::Clothoid(s) => {
+                check_range(c, "length_m", s.length_m, 10.0, 5000.0, "m")?;
+                check_range(
+                    c,
+                    "end_curvature_1_m",
+                    s.end_curvature_1_m,
+                    -0.2,
+                    0.2,
+                    "1/m",
+                )?;
+                check_range(c, "unwind_m", s.unwind_m, 5.0, 1000.0, "m")?;
+                lane(s.lane_width_m)?;
+                speed(s.speed_m_s)?;
+                duration(s.duration_s)
+            }
+            Self::SharpTurns(s) => {
+                check_range(c, "angle_deg", s.angle_deg, 5.0, 180.0, "deg")?;
+                check_range(c, "radius_m", s.radius_m, 5.0, 500.0, "m")?;
+                check_range(c, "straight_m", s.straight_m, 5.0, 1000.0, "m")?;
+                count("count", s.count, 100.0)?;
+                lane(s.lane_width_m)?;
+                speed(s.speed_m_s)?;
+                duration(s.duration_s)
+            }
+            Self::SBend(s) => {
+                check_range(c, "radius_m", s.radius_m, 5.0, 500.0, "m")?;
+                check_range(c, "angle_deg", s.angle_deg, 5.0, 180.0, "deg")?;
+                lane(s.lane_width_m)?;
+                speed(s.speed_m_s)?;
+                duration(s.duration_s)
+            }
+            Self::LaneChange(s) => {
+                check_range(c, "offset_m", s.offset_m, 0.5, 20.0, "m")?;
+                check_range(c, "transition_m", s.transition_m, 5.0, 500.0, "m")?;
+                check_range(c, "hold_m", s.hold_m, 0.0, 1000.0, "m")?;
+                count("count", s.count, 100.0)?;
+                lane(s.lane_width_m)?;
+                speed(s.speed_m_s)?;
+                duration(s.duration_s)
+            }
+            Self::Slalom(s) => {
+                check_range(c, "cone_spacing_m", s.cone_spacing_m, 5.0, 200.0, "m")?;
+                count("cone_count", s.cone_count, 200.0)?;
+                check_range(c, "weave_m", s.weave_m, 0.5, 10.0, "m")?;
+                lane(s.lane_width_m)?;
+                speed(s.speed_m_s)?;
+                duration(s.duration_s)
+            }
+            Self::Dial(d) => {
+                d.reference.validate(c)?;
+                check_range(c, "duration_s", d.duration_s, 1.0, 3600.0, "s")
+            }
+        }
+    }
+
+    /// Validate and build the exercise.
+    pub fn build(&self) -> Result<Exercise, VehicleError> {
+        self.validate()?;
+        let name = self.name();
+        let lead = |w: f64| PathBuilder::new(0.0, 0.0, 0.0, w).straight(LEAD_IN_M);
+        let (path, speed, duration, cones): (Option<PathRoad>, f64, Option<f64>, Vec<[f64; 2]>) =
+            match self {
+                Self::Straight(s) => (
+                    Some(
+                        lead(s.lane_width_m)
+                            .straight(s.length_m)
+                            .straight(LEAD_OUT_M)
+                            .build()?,
+                    ),
+                    s.speed_m_s,
+                    s.duration_s,
+                    Vec::new(),
+                ),
+                Self::Sine(s) => (
+                    Some(
+                        lead(s.lane_width_m)
+                            .sine(s.amplitude_m, s.wavelength_m, 2 * s.periods)
+                            .straight(LEAD_OUT_M)
+                            .build()?,
+                    ),
+                    s.speed_m_s,
+                    s.duration_s,
+                    Vec::new(),
+                ),
+                Self::Triangle(s) => {
+                    let (leg, phi) = triangle_leg(s.amplitude_m, s.wavelength_m);
+                    let r = s.corner_radius_m;
+                    let t_full = r * phi.tan(); // tangent length of a 2φ corner
+                    let t_half = r * (phi / 2.0).tan(); // of a φ corner
+                    let mut b = lead(s.lane_width_m)
+                        .arc(r, phi)
+                        .straight(leg / 2.0 - t_half - t_full);
+                    for i in 0..2 * s.periods {
+                        let sign = if i % 2 == 0 { -1.0 } else { 1.0 };
+                        let last = i + 1 == 2 * s.periods;
+                        b = b.arc(r, sign * 2.0 * phi).straight(if last {
+                            leg / 2.0 - t_full - t_half
+                        } else {
+                            leg - 2.0 * t_full
+                        });
+                    }
+                    (
+                        Some(b.arc(r, -phi).straight(LEAD_OUT_M).build()?),
+                        s.speed_m_s,
+                        s.duration_s,
+                        Vec::new(),
+                    )
+                }
+                Self::Clothoid(s) => (
+                    Some(
+                        lead(s.lane_width_m)
+                            .clothoid(s.length_m, 0.0, s.end_curvature_1_m)
+                            .clothoid(s.unwind_m, s.end_curvature_1_m, 0.0)
+                            .straight(LEAD_OUT_M)
+                            .build()?,
+                    ),
+                    s.speed_m_s,
+                    s.duration_s,
+                    Vec::new(),
+                ),
+                Self::SharpTurns(s) => {
+                    let mut b = lead(s.lane_width_m);
+                    for i in 0..s.count {
+                        let sign = if i % 2 == 0 { 1.0 } else { -1.0 };
+                        b = b
+                            .arc(s.radius_m, sign * s.angle_deg.to_radians())
+                            .straight(s.straight_m);
+                    }
+                    (
+                        Some(b.straight(LEAD_OUT_M).build()?),
+                        s.speed_m_s,
+                        s.duration_s,
+                        Vec::new(),
+                    )
+                }
+                Self::SBend(s) => {
+                    let a = s.angle_deg.to_radians();
+                    (
+                        Some(
+                            lead(s.lane_width_m)
+                                .arc(s.radius_m, a)
+                                .arc(s.radius_m, -a)
+                                .straight(LEAD_OUT_M)
+                                .build()?,
+                        ),
+                        s.speed_m_s,
+                        s.duration_s,
+                        Vec::new(),
+                    )
+                }
+                Self::LaneChange(s) => {
+                    // Two opposite arcs shift by d over length L: φ = 2 atan(d/L), R = L/(2 sin φ).
+                    let phi = 2.0 * (s.offset_m / s.transition_m).atan();
+                    let r = s.transition_m / (2.0 * phi.sin());
+                    let mut b = lead(s.lane_width_m);
+                    for i in 0..s.count {
+                        let sign = if i % 2 == 0 { 1.0 } else { -1.0 };
+                        b = b.arc(r, sign * phi).arc(r, -sign * phi).straight(s.hold_m);
+                    }
+                    (
+                        Some(b.straight(LEAD_OUT_M).build()?),
+                        s.speed_m_s,
+                        s.duration_s,
+                        Vec::new(),
+                    )
+                }
+                Self::Slalom(s) => {
+                    // Centre line y = w (1 − cos(π ξ / spacing)) after the lead-in; the cones
+                    // stand on its axis y = w at the crests and troughs ξ = k·spacing.
+                    let wavelength = 2.0 * s.cone_spacing_m;
+                    let cones = (1..=s.cone_count)
+                        .map(|k| [LEAD_IN_M + f64::from(k) * s.cone_spacing_m, s.weave_m])
+                        .collect();
+                    (
+                        Some(
+                            lead(s.lane_width_m)
+                                .sine(s.weave_m, wavelength, s.cone_count + 1)
+                                .straight(LEAD_OUT_M)
+                                .build()?,
+                        ),
+                        s.speed_m_s,
+                        s.duration_s,
+                        cones,
+                    )
+                }
+                Self::Dial(d) => {
+                    return Ok(Exercise {
+                        name,
+                        road: None,
+                        length_m: 0.0,
+                        lane_width_m: 0.0,
+                        duration_s: Some(d.duration_s),
+                        cones: Vec::new(),
+                        speed_profile_m_s: Vec::new(),
+                        dial: Some(d.reference.clone()),
+                    });
+                }
+            };
+        let road = path.ok_or_else(|| VehicleError::InvalidInput("no road".into()))?;
+        let length_m = road.length_m();
+        let lane_width_m = road.lane_width_m();
+        let speed_profile_m_s = speed_profile(&road, speed);
+        Ok(Exercise {
+            name,
+            road: Some(Box::new(road)),
+            length_m,
+            lane_width_m,
+            duration_s: duration,
+            cones,
+            speed_profile_m_s,
+            dial: None,
+        })
+    }
+}
+
+/// Leg length and leg angle of a triangle wave of amplitude `a` and wavelength `l`.
+fn triangle_leg(a: f64, l: f64) -> (f64, f64) {
+    ((l / 2.0).hypot(2.0 * a), (4.0 * a / l).atan())
+}
+
+/// Target speed every metre: at most `speed`, at most √(a_lat/|κ|), and reachable by braking
+/// at [`PLANNED_DECEL_M_S2`] from the metre before.
+fn speed_profile(road: &PathRoad, speed: f64) -> Vec<f64> {
+    let n = road.length_m().ceil() as usize + 1;
+    let mut v: Vec<f64> = (0..n)
+        .map(|i| {
+            let k = road.point(i as f64).curvature_1_m.abs();
+            if k > 1e-9 {
+                speed.min((MAX_LATERAL_ACCEL_M_S2 / k).sqrt())
+            } else {
+                speed
+            }
+        })
+        .collect();
+    for i in (0..n.saturating_sub(1)).rev() {
+        v[i] = v[i].min((v[i + 1] * v[i + 1] + 2.0 * PLANNED_DECEL_M_S2).sqrt());
+    }
+    v
+}
+
+/// A built exercise, ready to drive. See [`ExerciseSpec::build`].
+pub struct Exercise {
+    /// The short name, e.g. `"sine-road"`.
+    pub name: String,
+    /// The road, `None` for the dial task.
+    pub road: Option<Box<dyn Road + Send>>,
+    /// Length of the road, m (the end of the exercise); 0 for the dial task.
+    pub length_m: f64,
+    /// Lane width, m (0 for the dial task).
+    pub lane_width_m: f64,
+    /// Time limit, s, if any (always set for the dial task).
+    pub duration_s: Option<f64>,
+    /// Cone positions, m.
+    pub cones: Vec<[f64; 2]>,
+    speed_profile_m_s: Vec<f64>,
+    dial: Option<DialSignal>,
+}
+
+impl std::fmt::Debug for Exercise {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Exercise")
+            .field("name", &self.name)
+            .field("length_m", &self.length_m)
+            .field("duration_s", &self.duration_s)
+            .field("cones", &self.cones.len())
+            .field("dial", &self.dial)
+            .finish()
+    }
+}
+
+impl Exercise {
+    /// `true` for the rotary dial task (no road, no car).
+    pub fn is_dial(&self) -> bool {
+        self.dial.is_some()
+    }
+
+    /// Desired wheel angle at `t_s` for the dial task, rad; `None` for road exercises.
+    pub fn desired_angle_rad(&self, t_s: f64) -> Option<f64> {
+        self.dial.as_ref().map(|d| d.desired_angle_rad(t_s))
+    }
+
+    /// Target forward speed at arc length `s_m`, m/s (slower before and in tight bends);
+    /// 0 for the dial task.
+    pub fn target_speed_m_s(&self, s_m: f64) -> f64 {
+        match self.speed_profile_m_s.len() {
+            0 => 0.0,
+            n => {
+                let i = if s_m.is_finite() && s_m > 0.0 {
+                    (s_m as usize).min(n - 1)
+                } else {
+                    0
+                };
+                self.speed_profile_m_s[i]
+            }
+        }
+    }
+
+    /// Where the car starts: on the centre line at the road's start, aligned with it, at the
+    /// target speed.
+    pub fn start_state(&self) -> VehicleState {
+        match &self.road {
+            Some(road) => {
+                let ([x, y], h, _) = road.centre(0.0);
+                VehicleState {
+                    x_m: x,
+                    y_m: y,
+                    yaw_rad: h,
+                    ux_m_s: self.target_speed_m_s(0.0),
+                    ..Default::default()
+                }
+            }
+            None => VehicleState::default(),
+        }
+    }
+
+    /// Whether the exercise is over at time `t_s` with the car at arc length `s_m`.
+    pub fn is_finished(&self, t_s: f64, s_m: f64) -> bool {
+        let timed_out = self.duration_s.is_some_and(|d| t_s >= d);
+        let arrived = self.road.is_some() && s_m >= self.length_m;
+        timed_out || arrived
+    }
+
+    /// The rapier track: edges at the lane's sides (sampled every metre), no barriers, the cones.
+    pub fn track_layout(&self) -> TrackLayout {
+        match &self.road {
+            Some(road) => TrackLayout {
+                cones: self.cones.clone(),
+                ..TrackLayout::along_road(
+                    road.as_ref(),
+                    self.length_m,
+                    self.lane_width_m / 2.0,
+                    1.0,
+                    None,
+                )
+            },
+            None => TrackLayout::default(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_named_exercise_builds_and_round_trips_through_toml() {
+        for name in EXERCISE_NAMES {
+            let spec = ExerciseSpec::from_name(name).unwrap();
+            assert_eq!(spec.name(), name);
+            let ex = spec.build().unwrap();
+            assert_eq!(ex.name, name);
+            let text = toml::to_string(&spec).unwrap();
+            let back: ExerciseSpec = toml::from_str(&text).unwrap();
+            assert_eq!(back, spec, "{text}");
+            if let Some(road) = &ex.road {
+                // Starts at the origin along +x, ends after its lead-out straight.
+                let ([x, y], h, _) = road.centre(0.0);
+                assert!(x.abs() < 1e-12 && y.abs() < 1e-12 && h.abs() < 1e-12);
+                assert!(ex.length_m > LEAD_IN_M + LEAD_OUT_M);
+                assert_eq!(
+                    road.centre(ex.length_m - 1.0).2,
+                    0.0,
+                    "{name} ends straight"
+                );
+            } else {
+                assert!(ex.is_dial() && ex.desired_angle_rad(1.0).is_some());
+            }
+        }
+    }
+
+    /// The shipped sample regimens: each `[[exercise]]` table is an `ExerciseSpec`; a station
+    /// entry can flatten it beside its own keys (here a `haptic` table).
+    #[test]
+    fn sample_regimens_parse_validate_and_compose_with_station_keys() {
+        #[derive(Deserialize)]
+        #[serde(deny_unknown_fields)]
+        struct Regimen {
+            exercise: Vec<ExerciseSpec>,
+        }
+        #[derive(Deserialize)]
+        struct StationEntry {
+            #[serde(flatten)]
+            exercise: ExerciseSpec,
+            haptic: Option<toml::Table>,
+        }
+        for text in [
+            include_str!("../../../regimens/easy.toml"),
+            include_str!("../../../regimens/medium.toml"),
+            include_str!("../../../regimens/hard.toml"),
+        ] {
+            let r: Regimen = toml::from_str(text).unwrap();
+            assert!(r.exercise.len() >= 3);
+            for e in &r.exercise {
+                e.build().unwrap();
+            }
+        }
+        let e: StationEntry = toml::from_str(
+            "kind = \"sine\"\namplitude_m = 3.0\nduration_s = 20.0\n[haptic]\nk = 0.5\n",
+        )
+        .unwrap();
+        assert!(e.haptic.is_some());
+        // A misspelt exercise key is still rejected through the flatten.
+        assert!(
+            toml::from_str::<StationEntry>("kind = \"sine\"\namplitud_m = 3.0\n[haptic]\n")
+                .is_err()
+        );
+        match e.exercise {
+            ExerciseSpec::Sine(s) => assert_eq!((s.amplitude_m, s.duration_s), (3.0, Some(20.0))),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn unknown_name_lists_the_library() {
+        let e = ExerciseSpec::from_name("loop-the-loop")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("loop-the-loop") && e.contains("sine-road") && e.contains("dial-chirp"));
+    }
+
+    #[test]
+    fn toml_kind_and_defaults_and_bad_fields() {
+        let s: ExerciseSpec = toml::from_str("kind = \"sine\"\namplitude_m = 6.0\n").unwrap();
+        match &s {
+            ExerciseSpec::Sine(sine) => {
+                assert_eq!(sine.amplitude_m, 6.0);
+                assert_eq!(sine.wavelength_m, 120.0);
+            }
+            other => panic!("{other:?}"),
+        }
+        assert!(toml::from_str::<ExerciseSpec>("kind = \"sine\"\namplitude = 6.0\n").is_err());
+        let bad: ExerciseSpec = toml::from_str("kind = \"sine\"\nwavelength_m = 5.0\n").unwrap();
+        let msg = bad.validate().unwrap_err().to_string();
+        assert!(
+            msg.contains("sine-road") && msg.contains("wavelength_m") && msg.contains("20 to 2000"),
+            "{msg}"
+        );
+        let dial: ExerciseSpec = toml::from_str(
+            "kind = \"dial\"\nduration_s = 30.0\n[reference]\nsignal = \"step\"\namplitude_deg = 45.0\nhold_s = 3.0\n",
+        )
+        .unwrap();
+        assert_eq!(dial.name(), "dial-step");
+        dial.validate().unwrap();
+    }
+
+    #[test]
+    fn triangle_corner_radius_too_large_for_its_legs_is_rejected() {
+        let spec = ExerciseSpec::Triangle(TriangleSpec {
+            corner_radius_m: 1000.0,
+            ..Default::default()
+        });
+        let msg = spec.validate().unwrap_err().to_string();
+        assert!(msg.contains("corner_radius_m"), "{msg}");
+    }
+
+    #[test]
+    fn triangle_legs_have_the_wave_slope() {
+        let ex = ExerciseSpec::from_name("triangle-road")
+            .unwrap()
+            .build()
+            .unwrap();
+        let road = ex.road.as_ref().unwrap();
+        let phi = (16.0f64 / 120.0).atan();
+        // Halfway along the first full leg the road is straight at −φ.
+        let mut seen = false;
+        let mut s = LEAD_IN_M;
+        while s < ex.length_m {
+            let (_, h, k) = road.centre(s);
+            if k == 0.0 && s > LEAD_IN_M + 5.0 && s < ex.length_m - LEAD_OUT_M {
+                assert!((h.abs() - phi).abs() < 1e-9, "s={s} heading {h}");
+                seen = true;
+            }
+            s += 0.5;
+        }
+        assert!(seen);
+    }
+
+    #[test]
+    fn lane_change_shifts_by_offset_and_slalom_passes_cones_at_weave_distance() {
+        let ex = ExerciseSpec::from_name("lane-change")
+            .unwrap()
+            .build()
+            .unwrap();
+        let road = ex.road.as_ref().unwrap();
+        let ([_, y], h, _) = road.centre(LEAD_IN_M + 31.0);
+        assert!((y - 3.5).abs() < 1e-6 && h.abs() < 1e-9, "y={y}");
+        let sl = ExerciseSpec::from_name("slalom").unwrap().build().unwrap();
+        let road = sl.road.as_ref().unwrap();
+        for c in &sl.cones {
+            let p = road.project(c[0], c[1], c[0]);
+            assert!((p.lateral_m.abs() - 1.5).abs() < 1e-6, "{p:?}");
+        }
+        assert_eq!(sl.track_layout().cones.len(), 8);
+    }
+
+    #[test]
+    fn speed_profile_slows_for_sharp_turns_and_brakes_ahead() {
+        let ex = ExerciseSpec::from_name("sharp-turns")
+            .unwrap()
+            .build()
+            .unwrap();
+        let in_turn = ex.target_speed_m_s(LEAD_IN_M + 5.0);
+        assert!((in_turn - (3.0f64 * 15.0).sqrt()).abs() < 1e-9);
+        assert_eq!(ex.target_speed_m_s(0.0), 10.0);
+        let before = ex.target_speed_m_s(LEAD_IN_M - 3.0);
+        assert!(before > in_turn && before < 10.0);
+        assert!(!ex.is_finished(10.0, 5.0) && ex.is_finished(10.0, ex.length_m));
+    }
+}
