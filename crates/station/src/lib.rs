@@ -1,3 +1,4 @@
 //! The telerehab station: command line, configuration, threads, recorder and therapist hub.
 
 pub mod cli;
+pub mod render;
