@@ -10,11 +10,11 @@ use super::scene::{CameraMode, CarPose};
 pub type Mat4 = [[f32; 4]; 4];
 
 /// Chase camera: distance behind the car's centre, m.
-pub const CHASE_BACK_M: f32 = 7.5;
+pub const CHASE_BACK_M: f32 = 10.0;
 /// Chase camera: eye height above the ground, m.
-pub const CHASE_HEIGHT_M: f32 = 3.2;
+pub const CHASE_HEIGHT_M: f32 = 3.8;
 /// Chase camera: the look-at point is this far ahead of the car's centre, m.
-pub const CHASE_LOOK_AHEAD_M: f32 = 12.0;
+pub const CHASE_LOOK_AHEAD_M: f32 = 16.0;
 /// Driver camera: eye height above the ground, m.
 pub const DRIVER_EYE_HEIGHT_M: f32 = 1.2;
 /// Driver camera: the look-at point is this far ahead of the eye, m.
@@ -86,7 +86,7 @@ impl Camera {
         match mode {
             CameraMode::Chase => Camera {
                 eye: [x - c * CHASE_BACK_M, y - s * CHASE_BACK_M, CHASE_HEIGHT_M],
-                target: [x + c * CHASE_LOOK_AHEAD_M, y + s * CHASE_LOOK_AHEAD_M, 0.8],
+                target: [x + c * CHASE_LOOK_AHEAD_M, y + s * CHASE_LOOK_AHEAD_M, 0.5],
                 fov_y_rad: 55f32.to_radians(),
                 aspect,
             },

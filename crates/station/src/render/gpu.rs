@@ -401,7 +401,7 @@ impl Renderer {
         height: u32,
         encoder: &mut wgpu::CommandEncoder,
     ) -> Vec<wgpu::CommandBuffer> {
-        let frame = self.hud.run(scene, width, height);
+        let mut frame = self.hud.run(scene, width, height);
         for (id, deltas) in &frame.textures.set {
             for delta in deltas {
                 self.egui.update_texture(&self.device, &self.queue, *id, delta);
@@ -433,6 +433,8 @@ impl Renderer {
         for id in &frame.textures.free {
             self.egui.free_texture(id);
         }
+        // Every delta has been applied above; egui asserts that on drop.
+        frame.textures.clear();
         extra
     }
 

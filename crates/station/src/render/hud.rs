@@ -247,7 +247,6 @@ fn paint_dial(p: &Painter, dial: &Dial, c: Pos2, r: f32, legend: bool) {
     needle(p, c, dial.desired_rad, r * 0.86, r * 0.06, DESIRED_NEEDLE);
     needle(p, c, dial.actual_rad, r * 0.74, r * 0.045, ACTUAL_NEEDLE);
     p.circle_filled(c, r * 0.07, Color32::from_gray(40));
-    p.text(c + vec2(0.0, -r * 0.7), Align2::CENTER_CENTER, "0°", FontId::proportional((r * 0.12).max(14.0)), Color32::from_gray(60));
     if legend {
         let y = c.y + r + 34.0;
         let fs = 26.0;
@@ -317,10 +316,11 @@ mod tests {
     fn hud_produces_font_atlas_on_first_frame_only() {
         let mut hud = HudPainter::new();
         let scene = Scene { screen: ScreenState::Paused, ..Scene::default() };
-        let first = hud.run(&scene, 640, 360);
+        let mut first = hud.run(&scene, 640, 360);
         assert!(!first.primitives.is_empty());
         assert!(first.textures.set.iter().any(|(id, _)| *id == FONT_TEXTURE));
-        let second = hud.run(&scene, 640, 360);
+        first.textures.clear();
+        let mut second = hud.run(&scene, 640, 360);
         // Later frames only patch the atlas (positioned deltas), never replace it whole.
         assert!(
             second
@@ -329,5 +329,6 @@ mod tests {
                 .iter()
                 .all(|(id, ds)| *id != FONT_TEXTURE || ds.iter().all(|d| d.pos.is_some()))
         );
+        second.textures.clear();
     }
 }

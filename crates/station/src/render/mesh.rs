@@ -14,9 +14,9 @@ pub const VIEW_RADIUS_M: f64 = 420.0;
 /// Edge lines: inset from the lane edge to the line's centre, m.
 pub const EDGE_LINE_INSET_M: f64 = 0.2;
 /// Width of the painted edge lines, m.
-pub const EDGE_LINE_WIDTH_M: f64 = 0.18;
+pub const EDGE_LINE_WIDTH_M: f64 = 0.2;
 /// Width of the dashed centre guide, m.
-pub const CENTRE_DASH_WIDTH_M: f64 = 0.16;
+pub const CENTRE_DASH_WIDTH_M: f64 = 0.2;
 /// Length of a centre dash, m.
 pub const DASH_LENGTH_M: f64 = 3.0;
 /// Dash period (dash plus gap), m.
@@ -304,8 +304,11 @@ fn barrier(mesh: &mut MeshBuilder, car: &CarPose, line: &[[f64; 2]]) {
         let (al, ar) = (offset(a, n, half_t, 0.0), offset(a, n, -half_t, 0.0));
         let (bl, br) = (offset(b, n, half_t, 0.0), offset(b, n, -half_t, 0.0));
         let up = |p: [f32; 3]| [p[0], p[1], h];
-        mesh.lit_quad([al, bl, up(bl), up(al)], palette::BARRIER);
-        mesh.lit_quad([ar, br, up(br), up(ar)], palette::BARRIER);
+        let base = |p: [f32; 3]| [p[0], p[1], 0.15];
+        mesh.lit_quad([al, bl, base(bl), base(al)], palette::BARRIER_BASE);
+        mesh.lit_quad([ar, br, base(br), base(ar)], palette::BARRIER_BASE);
+        mesh.lit_quad([base(al), base(bl), up(bl), up(al)], palette::BARRIER);
+        mesh.lit_quad([base(ar), base(br), up(br), up(ar)], palette::BARRIER);
         mesh.lit_quad([up(al), up(bl), up(br), up(ar)], palette::BARRIER_TOP);
         mesh.lit_quad([al, ar, up(ar), up(al)], palette::BARRIER);
         mesh.lit_quad([bl, br, up(br), up(bl)], palette::BARRIER);
@@ -370,7 +373,7 @@ fn car(mesh: &mut MeshBuilder, pose: &CarPose) {
         c: pose.yaw_rad.cos() as f32,
         s: pose.yaw_rad.sin() as f32,
     };
-    let shadow = [[2.45, 1.1, Z_SHADOW], [-2.45, 1.1, Z_SHADOW], [-2.45, -1.1, Z_SHADOW], [2.45, -1.1, Z_SHADOW]]
+    let shadow = [[2.3, 1.0, Z_SHADOW], [-2.3, 1.0, Z_SHADOW], [-2.3, -1.0, Z_SHADOW], [2.3, -1.0, Z_SHADOW]]
         .map(|p| f.world(p));
     mesh.quad(shadow, palette::SHADOW, 0.0);
     f.cuboid(mesh, [0.0, 0.0, 0.68], [2.15, 0.9, 0.34], 0.0, palette::CAR_BODY);

@@ -21,7 +21,7 @@ pub const SKY_ZENITH: [f32; 4] = rgb(0x6E9CCB);
 /// Grass, first checker tone.
 pub const GRASS_A: [f32; 4] = rgb(0x86A865);
 /// Grass, second checker tone.
-pub const GRASS_B: [f32; 4] = rgb(0x7B9E5B);
+pub const GRASS_B: [f32; 4] = rgb(0x7EA25E);
 /// Road surface.
 pub const ASPHALT: [f32; 4] = rgb(0x5E636B);
 /// Gravel shoulder beside the lane.
@@ -37,7 +37,9 @@ pub const CONE_BAND: [f32; 4] = rgb(0xF6F6F6);
 /// Cone base.
 pub const CONE_BASE: [f32; 4] = rgb(0x3A3A3A);
 /// Barrier walls.
-pub const BARRIER: [f32; 4] = rgb(0xC9CDD3);
+pub const BARRIER: [f32; 4] = rgb(0xD8D4CC);
+/// Dark strip along the foot of the barriers.
+pub const BARRIER_BASE: [f32; 4] = rgb(0x6E7178);
 /// Barrier tops.
 pub const BARRIER_TOP: [f32; 4] = rgb(0xE3E6EA);
 /// The patient's car.
@@ -49,6 +51,6 @@ pub const TYRE: [f32; 4] = rgb(0x1E1E1E);
 /// Tail lights.
 pub const TAIL_LIGHT: [f32; 4] = rgb(0xD23B3B);
 /// Soft shadow under the car.
-pub const SHADOW: [f32; 4] = rgb(0x3F4348);
+pub const SHADOW: [f32; 4] = rgb(0x474B52);
 /// Background of the 2D dial screen.
 pub const DIAL_BACKGROUND: [f32; 4] = rgb(0xE8EEF3);
