@@ -30,8 +30,12 @@ fn main() {
         Some("headless") if args.len() == 5 => {
             let frames: usize = args[2].parse().unwrap_or_else(|_| usage());
             let (w, h) = args[3].split_once('x').unwrap_or_else(|| usage());
-            let (w, h): (u32, u32) = (w.parse().unwrap_or_else(|_| usage()), h.parse().unwrap_or_else(|_| usage()));
-            let scenes = (0..frames).map(|i| demo::by_name(&scene_name, i as f64 / 30.0).expect("checked name"));
+            let (w, h): (u32, u32) = (
+                w.parse().unwrap_or_else(|_| usage()),
+                h.parse().unwrap_or_else(|_| usage()),
+            );
+            let scenes = (0..frames)
+                .map(|i| demo::by_name(&scene_name, i as f64 / 30.0).expect("checked name"));
             render::headless_frames(scenes, w, h, &PathBuf::from(&args[4])).map(|s| {
                 println!(
                     "{} frames on {}: mean {:.2} ms, p50 {:.2} ms, p99 {:.2} ms, max {:.2} ms",

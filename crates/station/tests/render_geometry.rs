@@ -79,7 +79,10 @@ fn at_arc(centre: &[RoadPoint], s: f64) -> ([f64; 2], [f64; 2]) {
         if acc + len >= s {
             let t = (s - acc) / len;
             let (dx, dy) = ((b.x_m - a.x_m) / len, (b.y_m - a.y_m) / len);
-            return ([a.x_m + t * (b.x_m - a.x_m), a.y_m + t * (b.y_m - a.y_m)], [-dy, dx]);
+            return (
+                [a.x_m + t * (b.x_m - a.x_m), a.y_m + t * (b.y_m - a.y_m)],
+                [-dy, dx],
+            );
         }
         acc += len;
     }
@@ -100,7 +103,14 @@ fn arc_of_x(centre: &[RoadPoint], x: f64) -> f64 {
 }
 
 fn running(road: Road, car: CarPose, camera: CameraMode) -> Scene {
-    Scene { road, car, camera, dial: None, hud: Hud::default(), screen: ScreenState::Running }
+    Scene {
+        road,
+        car,
+        camera,
+        dial: None,
+        hud: Hud::default(),
+        screen: ScreenState::Running,
+    }
 }
 
 /// Checks centre dashes, dash gaps, edge lines, asphalt and grass at projected points between
@@ -119,7 +129,11 @@ fn check_road(r: &mut Renderer, scene: &Scene, from: f64, to: f64) -> (usize, us
         let (p, n) = at_arc(centre, s_dash);
         let proj = |lat: f64, pp: [f64; 2], nn: [f64; 2]| {
             cam.project_to_pixel(
-                [(pp[0] + nn[0] * lat) as f32, (pp[1] + nn[1] * lat) as f32, 0.0],
+                [
+                    (pp[0] + nn[0] * lat) as f32,
+                    (pp[1] + nn[1] * lat) as f32,
+                    0.0,
+                ],
                 W,
                 H,
             )
@@ -127,26 +141,74 @@ fn check_road(r: &mut Renderer, scene: &Scene, from: f64, to: f64) -> (usize, us
         };
         let at = |s: f64| s - s_car;
         let c = proj(0.0, p, n);
-        assert!(near(&rgba, c, is_dash), "no centre dash {:.1} m ahead at {c:?}: {:?}", at(s_dash), patch(&rgba, c));
+        assert!(
+            near(&rgba, c, is_dash),
+            "no centre dash {:.1} m ahead at {c:?}: {:?}",
+            at(s_dash),
+            patch(&rgba, c)
+        );
         let edge = half_w - EDGE_LINE_INSET_M;
-        assert!(near(&rgba, proj(edge, p, n), is_edge_line), "no left edge line {:.1} m ahead", at(s_dash));
-        assert!(near(&rgba, proj(-edge, p, n), is_edge_line), "no right edge line {:.1} m ahead", at(s_dash));
-        assert!(near(&rgba, proj(half_w / 2.0, p, n), is_asphalt), "no asphalt {:.1} m ahead", at(s_dash));
-        assert!(near(&rgba, proj(-half_w / 2.0, p, n), is_asphalt), "no asphalt {:.1} m ahead", at(s_dash));
-        assert!(near(&rgba, proj(half_w + 3.0, p, n), is_grass), "no grass left {:.1} m ahead", at(s_dash));
-        assert!(near(&rgba, proj(-half_w - 3.0, p, n), is_grass), "no grass right {:.1} m ahead", at(s_dash));
+        assert!(
+            near(&rgba, proj(edge, p, n), is_edge_line),
+            "no left edge line {:.1} m ahead",
+            at(s_dash)
+        );
+        assert!(
+            near(&rgba, proj(-edge, p, n), is_edge_line),
+            "no right edge line {:.1} m ahead",
+            at(s_dash)
+        );
+        assert!(
+            near(&rgba, proj(half_w / 2.0, p, n), is_asphalt),
+            "no asphalt {:.1} m ahead",
+            at(s_dash)
+        );
+        assert!(
+            near(&rgba, proj(-half_w / 2.0, p, n), is_asphalt),
+            "no asphalt {:.1} m ahead",
+            at(s_dash)
+        );
+        assert!(
+            near(&rgba, proj(half_w + 3.0, p, n), is_grass),
+            "no grass left {:.1} m ahead",
+            at(s_dash)
+        );
+        assert!(
+            near(&rgba, proj(-half_w - 3.0, p, n), is_grass),
+            "no grass right {:.1} m ahead",
+            at(s_dash)
+        );
         // Controls: the same checks must fail where the surface is different.
-        assert!(!near(&rgba, proj(half_w / 2.0, p, n), is_dash), "dash colour off the centre line");
+        assert!(
+            !near(&rgba, proj(half_w / 2.0, p, n), is_dash),
+            "dash colour off the centre line"
+        );
         // The gap between dashes, where it is resolved on screen (at least 4 px from both
         // neighbouring dash ends; far away the foreshortened gap shrinks below that).
         let (pg, ng) = at_arc(centre, s_gap);
         let g = proj(0.0, pg, ng);
-        let end_a = { let (q, m) = at_arc(centre, k * DASH_PERIOD_M + DASH_LENGTH_M); proj(0.0, q, m) };
-        let end_b = { let (q, m) = at_arc(centre, (k + 1.0) * DASH_PERIOD_M); proj(0.0, q, m) };
+        let end_a = {
+            let (q, m) = at_arc(centre, k * DASH_PERIOD_M + DASH_LENGTH_M);
+            proj(0.0, q, m)
+        };
+        let end_b = {
+            let (q, m) = at_arc(centre, (k + 1.0) * DASH_PERIOD_M);
+            proj(0.0, q, m)
+        };
         let dist = |a: [f32; 2], b: [f32; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
         if dist(g, end_a) >= 4.0 && dist(g, end_b) >= 4.0 {
-            assert!(!near(&rgba, g, is_dash), "dash drawn in a gap {:.1} m ahead: {:?}", at(s_gap), patch(&rgba, g));
-            assert!(near(&rgba, g, is_asphalt), "no asphalt in the gap {:.1} m ahead: {:?}", at(s_gap), patch(&rgba, g));
+            assert!(
+                !near(&rgba, g, is_dash),
+                "dash drawn in a gap {:.1} m ahead: {:?}",
+                at(s_gap),
+                patch(&rgba, g)
+            );
+            assert!(
+                near(&rgba, g, is_asphalt),
+                "no asphalt in the gap {:.1} m ahead: {:?}",
+                at(s_gap),
+                patch(&rgba, g)
+            );
             gaps += 1;
         }
         checked += 1;
@@ -157,25 +219,40 @@ fn check_road(r: &mut Renderer, scene: &Scene, from: f64, to: f64) -> (usize, us
 
 #[test]
 fn straight_lane_markings_land_where_the_camera_projects_them() {
-    let Some(mut r) = renderer_or_skip() else { return };
+    let Some(mut r) = renderer_or_skip() else {
+        return;
+    };
     let mut scene = demo::straight(0.0);
     scene.hud = Hud::default();
-    scene.car = CarPose { x_m: 20.0, y_m: 0.0, yaw_rad: 0.0, steer_rad: 0.0 };
+    scene.car = CarPose {
+        x_m: 20.0,
+        y_m: 0.0,
+        yaw_rad: 0.0,
+        steer_rad: 0.0,
+    };
     for camera in [CameraMode::Chase, CameraMode::Driver] {
         scene.camera = camera;
         let (n, gaps) = check_road(&mut r, &scene, 5.0, 40.0);
-        assert!(n >= 3 && gaps >= 1, "{camera:?}: only {n} dashes and {gaps} gaps checked");
+        assert!(
+            n >= 3 && gaps >= 1,
+            "{camera:?}: only {n} dashes and {gaps} gaps checked"
+        );
     }
 }
 
 #[test]
 fn sine_road_markings_follow_the_curve() {
-    let Some(mut r) = renderer_or_skip() else { return };
+    let Some(mut r) = renderer_or_skip() else {
+        return;
+    };
     for t in [1.0, 3.7, 6.2] {
         let demo = demo::sine_road(t);
         let scene = running(demo.road, demo.car, CameraMode::Chase);
         let (n, gaps) = check_road(&mut r, &scene, 12.0, 38.0);
-        assert!(n >= 2 && gaps >= 1, "t={t}: only {n} dashes and {gaps} gaps checked");
+        assert!(
+            n >= 2 && gaps >= 1,
+            "t={t}: only {n} dashes and {gaps} gaps checked"
+        );
     }
 }
 
@@ -183,10 +260,17 @@ fn sine_road_markings_follow_the_curve() {
 fn car_offset_from_centre_moves_the_lane_on_screen() {
     // With the car 1 m left of the centre line the centre guide must appear right of the
     // image centre, where the camera math puts it.
-    let Some(mut r) = renderer_or_skip() else { return };
+    let Some(mut r) = renderer_or_skip() else {
+        return;
+    };
     let mut scene = demo::straight(0.0);
     scene.hud = Hud::default();
-    scene.car = CarPose { x_m: 20.0, y_m: 1.0, yaw_rad: 0.0, steer_rad: 0.0 };
+    scene.car = CarPose {
+        x_m: 20.0,
+        y_m: 1.0,
+        yaw_rad: 0.0,
+        steer_rad: 0.0,
+    };
     scene.camera = CameraMode::Driver;
     let (n, _) = check_road(&mut r, &scene, 10.0, 40.0);
     assert!(n >= 3);

@@ -36,13 +36,24 @@ fn renderer_or_skip() -> Option<Renderer> {
 /// (mean absolute channel difference, share of pixels differing by more than the threshold)
 fn compare(a: &[u8], b: &[u8]) -> (f64, f64) {
     assert_eq!(a.len(), b.len());
-    let total: u64 = a.iter().zip(b).map(|(x, y)| u64::from(x.abs_diff(*y))).sum();
+    let total: u64 = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| u64::from(x.abs_diff(*y)))
+        .sum();
     let differing = a
         .chunks(4)
         .zip(b.chunks(4))
-        .filter(|(p, q)| p.iter().zip(q.iter()).any(|(x, y)| x.abs_diff(*y) > PIXEL_THRESHOLD))
+        .filter(|(p, q)| {
+            p.iter()
+                .zip(q.iter())
+                .any(|(x, y)| x.abs_diff(*y) > PIXEL_THRESHOLD)
+        })
         .count();
-    (total as f64 / a.len() as f64, differing as f64 / (a.len() / 4) as f64)
+    (
+        total as f64 / a.len() as f64,
+        differing as f64 / (a.len() / 4) as f64,
+    )
 }
 
 fn check_golden(renderer: &mut Renderer, name: &str, scene: &Scene) {
@@ -93,7 +104,9 @@ fn goldens() -> Vec<(&'static str, Scene)> {
 
 #[test]
 fn reference_frames_match_goldens_within_tolerance() {
-    let Some(mut r) = renderer_or_skip() else { return };
+    let Some(mut r) = renderer_or_skip() else {
+        return;
+    };
     println!("adapter: {}", r.adapter());
     for (name, scene) in goldens() {
         check_golden(&mut r, name, &scene);
@@ -103,18 +116,25 @@ fn reference_frames_match_goldens_within_tolerance() {
 #[test]
 fn comparison_detects_a_moved_car() {
     // The tolerance must not hide a real change: the car one lane-width to the side fails.
-    let Some(mut r) = renderer_or_skip() else { return };
+    let Some(mut r) = renderer_or_skip() else {
+        return;
+    };
     let a = r.render_to_rgba(&demo::straight(2.0)).unwrap();
     let mut moved = demo::straight(2.0);
     moved.car.y_m += 3.0;
     let b = r.render_to_rgba(&moved).unwrap();
     let (mad, share) = compare(&a, &b);
-    assert!(mad > MAX_MEAN_ABS_DIFF || share > MAX_DIFFERING_SHARE, "mad {mad}, share {share}");
+    assert!(
+        mad > MAX_MEAN_ABS_DIFF || share > MAX_DIFFERING_SHARE,
+        "mad {mad}, share {share}"
+    );
 }
 
 #[test]
 fn same_scene_renders_identically_twice() {
-    let Some(mut r) = renderer_or_skip() else { return };
+    let Some(mut r) = renderer_or_skip() else {
+        return;
+    };
     let a = r.render_to_rgba(&demo::slalom(1.0)).unwrap();
     let b = r.render_to_rgba(&demo::slalom(1.0)).unwrap();
     assert_eq!(compare(&a, &b), (0.0, 0.0));
@@ -122,24 +142,37 @@ fn same_scene_renders_identically_twice() {
 
 #[test]
 fn invalid_scene_is_an_error_and_the_renderer_keeps_working() {
-    let Some(mut r) = renderer_or_skip() else { return };
+    let Some(mut r) = renderer_or_skip() else {
+        return;
+    };
     let mut bad = demo::straight(0.0);
     bad.car.yaw_rad = f64::NAN;
     let err = r.render_to_rgba(&bad).unwrap_err();
-    assert!(matches!(err, RenderError::InvalidScene(ref m) if m.contains("car.yaw_rad")), "{err}");
+    assert!(
+        matches!(err, RenderError::InvalidScene(ref m) if m.contains("car.yaw_rad")),
+        "{err}"
+    );
     let ok = r.render_to_rgba(&demo::straight(0.0)).unwrap();
     assert_eq!(ok.len(), (W * H * 4) as usize);
 }
 
 #[test]
 fn zero_size_is_rejected_before_touching_the_gpu() {
-    assert!(matches!(Renderer::new_headless(0, 10), Err(RenderError::InvalidSize { .. })));
-    assert!(matches!(Renderer::new_headless(10, 100_000), Err(RenderError::InvalidSize { .. })));
+    assert!(matches!(
+        Renderer::new_headless(0, 10),
+        Err(RenderError::InvalidSize { .. })
+    ));
+    assert!(matches!(
+        Renderer::new_headless(10, 100_000),
+        Err(RenderError::InvalidSize { .. })
+    ));
 }
 
 #[test]
 fn resize_changes_the_output_size() {
-    let Some(mut r) = renderer_or_skip() else { return };
+    let Some(mut r) = renderer_or_skip() else {
+        return;
+    };
     r.resize(320, 200).unwrap();
     let rgba = r.render_to_rgba(&demo::dial(0.5)).unwrap();
     assert_eq!(rgba.len(), 320 * 200 * 4);

@@ -29,22 +29,41 @@ fn every_wgsl_file_in_the_shader_directory_validates() {
             seen += 1;
         }
     }
-    assert!(seen >= 2, "expected the world and sky shaders, found {seen} files");
+    assert!(
+        seen >= 2,
+        "expected the world and sky shaders, found {seen} files"
+    );
 }
 
 #[test]
 fn compiled_in_shaders_have_vertex_and_fragment_entry_points() {
-    for (name, src) in [("world", station::render::WORLD_WGSL), ("sky", station::render::SKY_WGSL)] {
+    for (name, src) in [
+        ("world", station::render::WORLD_WGSL),
+        ("sky", station::render::SKY_WGSL),
+    ] {
         let module = parse_and_validate(name, src);
-        let stages: Vec<_> = module.entry_points.iter().map(|e| (e.name.as_str(), e.stage)).collect();
-        assert!(stages.contains(&("vs_main", naga::ShaderStage::Vertex)), "{name}: {stages:?}");
-        assert!(stages.contains(&("fs_main", naga::ShaderStage::Fragment)), "{name}: {stages:?}");
+        let stages: Vec<_> = module
+            .entry_points
+            .iter()
+            .map(|e| (e.name.as_str(), e.stage))
+            .collect();
+        assert!(
+            stages.contains(&("vs_main", naga::ShaderStage::Vertex)),
+            "{name}: {stages:?}"
+        );
+        assert!(
+            stages.contains(&("fs_main", naga::ShaderStage::Fragment)),
+            "{name}: {stages:?}"
+        );
     }
 }
 
 #[test]
 fn frame_uniform_block_matches_the_rust_struct_size() {
-    for (name, src) in [("world", station::render::WORLD_WGSL), ("sky", station::render::SKY_WGSL)] {
+    for (name, src) in [
+        ("world", station::render::WORLD_WGSL),
+        ("sky", station::render::SKY_WGSL),
+    ] {
         let module = parse_and_validate(name, src);
         let mut layouter = naga::proc::Layouter::default();
         layouter.update(module.to_ctx()).unwrap();

@@ -168,7 +168,10 @@ mod tests {
         for mode in [CameraMode::Chase, CameraMode::Driver] {
             let cam = Camera::follow(mode, &straight_car(), 16.0 / 9.0);
             let p = cam.project_to_pixel(cam.target, 1280, 720).unwrap();
-            assert!((p[0] - 640.0).abs() < 1e-3 && (p[1] - 360.0).abs() < 1e-3, "{p:?}");
+            assert!(
+                (p[0] - 640.0).abs() < 1e-3 && (p[1] - 360.0).abs() < 1e-3,
+                "{p:?}"
+            );
         }
     }
 
@@ -197,15 +200,26 @@ mod tests {
         for d in [5.0f32, 10.0, 40.0, 120.0] {
             let below = (cam.eye[2] / d).atan();
             let expect_y = h / 2.0 + focal_px * (below - pitch).tan();
-            let p = cam.project_to_pixel([d, 0.0, 0.0], w as u32, h as u32).unwrap();
-            assert!((p[1] - expect_y).abs() < 0.05, "d={d}: {} vs {expect_y}", p[1]);
+            let p = cam
+                .project_to_pixel([d, 0.0, 0.0], w as u32, h as u32)
+                .unwrap();
+            assert!(
+                (p[1] - expect_y).abs() < 0.05,
+                "d={d}: {} vs {expect_y}",
+                p[1]
+            );
             assert!((p[0] - w / 2.0).abs() < 1e-3);
         }
     }
 
     #[test]
     fn rotating_car_and_point_together_leaves_projection_unchanged() {
-        let a = CarPose { x_m: 3.0, y_m: -2.0, yaw_rad: 0.0, steer_rad: 0.0 };
+        let a = CarPose {
+            x_m: 3.0,
+            y_m: -2.0,
+            yaw_rad: 0.0,
+            steer_rad: 0.0,
+        };
         let b = CarPose { yaw_rad: 1.1, ..a };
         let ca = Camera::follow(CameraMode::Chase, &a, 1.5);
         let cb = Camera::follow(CameraMode::Chase, &b, 1.5);

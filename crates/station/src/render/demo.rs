@@ -29,7 +29,10 @@ fn road_hud(name: &str, t_s: f64) -> Hud {
     Hud {
         exercise: name.into(),
         time_left_s: (120.0 - t_s).max(0.0),
-        score: LiveScore::Road { rms_lateral_m: 0.31, in_lane_pct: 96.0 },
+        score: LiveScore::Road {
+            rms_lateral_m: 0.31,
+            in_lane_pct: 96.0,
+        },
         speed_m_s: SPEED_M_S,
         assist_level: 0.4,
         devices: devices(),
@@ -41,7 +44,11 @@ fn road_from(f: impl Fn(f64) -> f64, lane_width_m: f64) -> Vec<RoadPoint> {
     (0..((ROAD_LENGTH_M + 50.0) / 2.0) as usize)
         .map(|i| {
             let x = -50.0 + i as f64 * 2.0;
-            RoadPoint { x_m: x, y_m: f(x), lane_width_m }
+            RoadPoint {
+                x_m: x,
+                y_m: f(x),
+                lane_width_m,
+            }
         })
         .collect()
 }
@@ -68,7 +75,10 @@ pub fn straight(t_s: f64) -> Scene {
     let mut car = car_on(f, SPEED_M_S * t_s);
     car.y_m = 0.4 * (t_s * 0.7).sin();
     Scene {
-        road: Road { centre: road_from(f, 3.6), ..Road::default() },
+        road: Road {
+            centre: road_from(f, 3.6),
+            ..Road::default()
+        },
         car,
         camera: CameraMode::Chase,
         dial: None,
@@ -81,7 +91,10 @@ pub fn straight(t_s: f64) -> Scene {
 pub fn sine_road(t_s: f64) -> Scene {
     let f = |x: f64| SINE_AMPLITUDE_M * (TAU * x / SINE_WAVELENGTH_M).sin();
     Scene {
-        road: Road { centre: road_from(f, 3.6), ..Road::default() },
+        road: Road {
+            centre: road_from(f, 3.6),
+            ..Road::default()
+        },
         car: car_on(f, SPEED_M_S * t_s),
         camera: CameraMode::Chase,
         dial: None,
@@ -95,7 +108,11 @@ pub fn slalom(t_s: f64) -> Scene {
     let cones: Vec<[f64; 2]> = (1..((ROAD_LENGTH_M / CONE_SPACING_M) as usize))
         .map(|k| [k as f64 * CONE_SPACING_M, 0.0])
         .collect();
-    let barrier = |y: f64| (0..=24).map(|k| [-50.0 + k as f64 * 50.0, y]).collect::<Vec<_>>();
+    let barrier = |y: f64| {
+        (0..=24)
+            .map(|k| [-50.0 + k as f64 * 50.0, y])
+            .collect::<Vec<_>>()
+    };
     let weave = |x: f64| 1.6 * (std::f64::consts::PI * x / CONE_SPACING_M).sin();
     Scene {
         road: Road {
@@ -116,7 +133,10 @@ pub fn dial(t_s: f64) -> Scene {
     let desired = 60f64.to_radians() * (TAU * 0.2 * t_s).sin();
     let actual = 55f64.to_radians() * (TAU * 0.2 * (t_s - 0.35)).sin();
     Scene {
-        dial: Some(Dial { desired_rad: desired, actual_rad: actual }),
+        dial: Some(Dial {
+            desired_rad: desired,
+            actual_rad: actual,
+        }),
         hud: Hud {
             exercise: "Dial tracking".into(),
             time_left_s: (90.0 - t_s).max(0.0),
@@ -153,7 +173,8 @@ mod tests {
         for name in NAMES {
             for k in 0..60 {
                 let s = by_name(name, k as f64).unwrap();
-                s.validate().unwrap_or_else(|e| panic!("{name} at {k} s: {e}"));
+                s.validate()
+                    .unwrap_or_else(|e| panic!("{name} at {k} s: {e}"));
             }
         }
     }

@@ -196,8 +196,8 @@ impl Renderer {
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("telerehab render"),
             required_features: wgpu::Features::empty(),
-            required_limits: wgpu::Limits::downlevel_webgl2_defaults()
-                .using_resolution(adapter.limits()),
+            required_limits:
+                wgpu::Limits::downlevel_webgl2_defaults().using_resolution(adapter.limits()),
             ..Default::default()
         }))
         .map_err(|e| RenderError::Device(format!("request_device on {summary}: {e}")))?;
@@ -236,16 +236,22 @@ impl Renderer {
         });
         let world_pipeline = pipeline(&device, &layout, WORLD_WGSL, "world", format, true);
         let sky_pipeline = pipeline(&device, &layout, SKY_WGSL, "sky", format, false);
-        let egui = egui_wgpu::Renderer::new(&device, format, egui_wgpu::RendererOptions {
-            msaa_samples: 1,
-            depth_stencil_format: None,
-            dithering: false,
-            predictable_texture_filtering: true,
-        });
+        let egui = egui_wgpu::Renderer::new(
+            &device,
+            format,
+            egui_wgpu::RendererOptions {
+                msaa_samples: 1,
+                depth_stencil_format: None,
+                dithering: false,
+                predictable_texture_filtering: true,
+            },
+        );
         let vertex_buffer = vertex_buffer(&device, 4096);
         let targets = create_targets(&device, format, width, height);
         if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(RenderError::Device(format!("creating pipelines on {summary}: {e}")));
+            return Err(RenderError::Device(format!(
+                "creating pipelines on {summary}: {e}"
+            )));
         }
         Ok(Renderer {
             device,
@@ -301,7 +307,11 @@ impl Renderer {
     fn create_offscreen(&self, width: u32, height: u32) -> Offscreen {
         let texture = self.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("offscreen"),
-            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -318,7 +328,12 @@ impl Renderer {
             usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
             mapped_at_creation: false,
         });
-        Offscreen { texture, view, readback, padded_row_bytes }
+        Offscreen {
+            texture,
+            view,
+            readback,
+            padded_row_bytes,
+        }
     }
 
     /// Draws `scene` into `target` (a view of a texture of the renderer's size and format).
@@ -329,28 +344,45 @@ impl Renderer {
         let (width, height) = self.size();
         let mut encoder = self
             .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("frame"),
+            });
         self.encode_world(scene, target, &mut encoder);
         let extra = self.encode_hud(scene, target, width, height, &mut encoder);
-        self.queue.submit(extra.into_iter().chain([encoder.finish()]));
+        self.queue
+            .submit(extra.into_iter().chain([encoder.finish()]));
         match pollster::block_on(scope.pop()) {
             Some(e) => Err(RenderError::Device(format!("drawing a frame: {e}"))),
             None => Ok(()),
         }
     }
 
-    fn encode_world(&mut self, scene: &Scene, target: &wgpu::TextureView, encoder: &mut wgpu::CommandEncoder) {
+    fn encode_world(
+        &mut self,
+        scene: &Scene,
+        target: &wgpu::TextureView,
+        encoder: &mut wgpu::CommandEncoder,
+    ) {
         let (width, height) = self.size();
         let road = scene.has_road();
-        let clear = if road { palette::SKY_HORIZON } else { palette::DIAL_BACKGROUND };
+        let clear = if road {
+            palette::SKY_HORIZON
+        } else {
+            palette::DIAL_BACKGROUND
+        };
         let mut n_vertices = 0;
         if road {
             let cam = Camera::follow(scene.camera, &scene.car, width as f32 / height as f32);
-            self.queue.write_buffer(&self.uniform_buffer, 0, bytemuck::bytes_of(&FrameUniform::new(&cam)));
+            self.queue.write_buffer(
+                &self.uniform_buffer,
+                0,
+                bytemuck::bytes_of(&FrameUniform::new(&cam)),
+            );
             build_world(&mut self.mesh, scene);
             let bytes: &[u8] = bytemuck::cast_slice(&self.mesh.vertices);
             if bytes.len() as u64 > self.vertex_buffer.size() {
-                self.vertex_buffer = vertex_buffer(&self.device, bytes.len().next_power_of_two() as u64);
+                self.vertex_buffer =
+                    vertex_buffer(&self.device, bytes.len().next_power_of_two() as u64);
             }
             self.queue.write_buffer(&self.vertex_buffer, 0, bytes);
             n_vertices = self.mesh.vertices.len() as u32;
@@ -404,14 +436,21 @@ impl Renderer {
         let mut frame = self.hud.run(scene, width, height);
         for (id, deltas) in &frame.textures.set {
             for delta in deltas {
-                self.egui.update_texture(&self.device, &self.queue, *id, delta);
+                self.egui
+                    .update_texture(&self.device, &self.queue, *id, delta);
             }
         }
         let screen = egui_wgpu::ScreenDescriptor {
             size_in_pixels: [width, height],
             pixels_per_point: frame.pixels_per_point,
         };
-        let extra = self.egui.update_buffers(&self.device, &self.queue, encoder, &frame.primitives, &screen);
+        let extra = self.egui.update_buffers(
+            &self.device,
+            &self.queue,
+            encoder,
+            &frame.primitives,
+            &screen,
+        );
         {
             let mut pass = encoder
                 .begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -420,7 +459,10 @@ impl Renderer {
                         view: target,
                         depth_slice: None,
                         resolve_target: None,
-                        ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Load,
+                            store: wgpu::StoreOp::Store,
+                        },
                     })],
                     depth_stencil_attachment: None,
                     timestamp_writes: None,
@@ -444,7 +486,9 @@ impl Renderer {
         let off = self.offscreen.take().ok_or_else(|| {
             RenderError::Device("render_to_rgba needs a renderer made by new_headless".into())
         })?;
-        let result = self.draw(scene, &off.view).and_then(|()| self.read_back(&off));
+        let result = self
+            .draw(scene, &off.view)
+            .and_then(|()| self.read_back(&off));
         self.offscreen = Some(off);
         result
     }
@@ -453,7 +497,9 @@ impl Renderer {
         let (width, height) = self.size();
         let mut encoder = self
             .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("readback") });
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("readback"),
+            });
         encoder.copy_texture_to_buffer(
             wgpu::TexelCopyTextureInfo {
                 texture: &off.texture,
@@ -469,7 +515,11 @@ impl Renderer {
                     rows_per_image: Some(height),
                 },
             },
-            wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+            wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
         );
         self.queue.submit([encoder.finish()]);
         let slice = off.readback.slice(..);
@@ -490,7 +540,10 @@ impl Renderer {
             let data = slice
                 .get_mapped_range()
                 .map_err(|e| RenderError::Readback(format!("reading the mapped buffer: {e}")))?;
-            for chunk in data.chunks(off.padded_row_bytes as usize).take(height as usize) {
+            for chunk in data
+                .chunks(off.padded_row_bytes as usize)
+                .take(height as usize)
+            {
                 rgba.extend_from_slice(&chunk[..row]);
             }
         }
@@ -508,12 +561,21 @@ fn vertex_buffer(device: &wgpu::Device, bytes: u64) -> wgpu::Buffer {
     })
 }
 
-fn create_targets(device: &wgpu::Device, format: wgpu::TextureFormat, width: u32, height: u32) -> Targets {
+fn create_targets(
+    device: &wgpu::Device,
+    format: wgpu::TextureFormat,
+    width: u32,
+    height: u32,
+) -> Targets {
     let make = |label, format| {
         device
             .create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
-                size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
                 mip_level_count: 1,
                 sample_count: MSAA_SAMPLES,
                 dimension: wgpu::TextureDimension::D2,
@@ -551,7 +613,8 @@ fn pipeline(
         attributes: &attributes,
     };
     let with_layout = [Some(vertex_layout)];
-    let buffers: &[Option<wgpu::VertexBufferLayout<'_>>] = if with_vertices { &with_layout } else { &[] };
+    let buffers: &[Option<wgpu::VertexBufferLayout<'_>>] =
+        if with_vertices { &with_layout } else { &[] };
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
         layout: Some(layout),
@@ -577,7 +640,11 @@ fn pipeline(
             stencil: wgpu::StencilState::default(),
             bias: wgpu::DepthBiasState::default(),
         }),
-        multisample: wgpu::MultisampleState { count: MSAA_SAMPLES, mask: !0, alpha_to_coverage_enabled: false },
+        multisample: wgpu::MultisampleState {
+            count: MSAA_SAMPLES,
+            mask: !0,
+            alpha_to_coverage_enabled: false,
+        },
         fragment: Some(wgpu::FragmentState {
             module: &module,
             entry_point: Some("fs_main"),

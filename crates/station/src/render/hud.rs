@@ -7,8 +7,8 @@
 
 use egui::epaint::{ClippedPrimitive, Shape};
 use egui::{
-    Align2, Color32, Context, CornerRadius, FontId, Galley, Id, LayerId, Order, Painter, Pos2, Rect,
-    Stroke, TexturesDelta, Vec2, ViewportId, pos2, vec2,
+    Align2, Color32, Context, CornerRadius, FontId, Galley, Id, LayerId, Order, Painter, Pos2,
+    Rect, Stroke, TexturesDelta, Vec2, ViewportId, pos2, vec2,
 };
 use std::sync::Arc;
 
@@ -97,7 +97,10 @@ fn galley(p: &Painter, text: impl Into<String>, size: f32, color: Color32) -> Ar
 
 /// A dark rounded panel holding `lines` (text, size), anchored at `anchor` by `align`.
 fn text_panel(p: &Painter, anchor: Pos2, align: Align2, lines: &[(String, f32)]) -> Rect {
-    let galleys: Vec<_> = lines.iter().map(|(t, s)| galley(p, t.clone(), *s, TEXT)).collect();
+    let galleys: Vec<_> = lines
+        .iter()
+        .map(|(t, s)| galley(p, t.clone(), *s, TEXT))
+        .collect();
     let w = galleys.iter().map(|g| g.size().x).fold(0.0, f32::max) + 2.0 * PAD;
     let h = galleys.iter().map(|g| g.size().y).sum::<f32>() + 2.0 * PAD;
     let rect = align.anchor_size(anchor, vec2(w, h));
@@ -125,7 +128,10 @@ pub fn format_time_left(seconds: f64) -> String {
 fn score_lines(score: &LiveScore) -> Vec<(String, f32)> {
     match *score {
         LiveScore::None => vec![],
-        LiveScore::Road { rms_lateral_m, in_lane_pct } => vec![
+        LiveScore::Road {
+            rms_lateral_m,
+            in_lane_pct,
+        } => vec![
             (format!("In lane {in_lane_pct:.0} %"), 30.0),
             (format!("Off centre {rms_lateral_m:.2} m"), 24.0),
         ],
@@ -146,13 +152,21 @@ fn paint(p: &Painter, scene: &Scene, size: Vec2) {
         }
     }
     if !hud.exercise.is_empty() {
-        text_panel(p, pos2(MARGIN, MARGIN), Align2::LEFT_TOP, &[(hud.exercise.clone(), 30.0)]);
+        text_panel(
+            p,
+            pos2(MARGIN, MARGIN),
+            Align2::LEFT_TOP,
+            &[(hud.exercise.clone(), 30.0)],
+        );
     }
     text_panel(
         p,
         pos2(w * 0.5, MARGIN),
         Align2::CENTER_TOP,
-        &[("Time left".into(), 22.0), (format_time_left(hud.time_left_s), 44.0)],
+        &[
+            ("Time left".into(), 22.0),
+            (format_time_left(hud.time_left_s), 44.0),
+        ],
     );
     let score = score_lines(&hud.score);
     if !score.is_empty() {
@@ -160,17 +174,38 @@ fn paint(p: &Painter, scene: &Scene, size: Vec2) {
     }
     if scene.has_road() {
         let kmh = hud.speed_m_s * 3.6;
-        text_panel(p, pos2(MARGIN, h - MARGIN), Align2::LEFT_BOTTOM, &[(format!("{kmh:.0} km/h"), 30.0)]);
+        text_panel(
+            p,
+            pos2(MARGIN, h - MARGIN),
+            Align2::LEFT_BOTTOM,
+            &[(format!("{kmh:.0} km/h"), 30.0)],
+        );
     }
-    assist_bar(p, pos2(MARGIN, h - MARGIN - if scene.has_road() { 78.0 } else { 0.0 }), hud.assist_level);
+    assist_bar(
+        p,
+        pos2(
+            MARGIN,
+            h - MARGIN - if scene.has_road() { 78.0 } else { 0.0 },
+        ),
+        hud.assist_level,
+    );
     if !hud.devices.is_empty() {
         let lines: Vec<_> = hud.devices.iter().map(|d| (d.clone(), 22.0)).collect();
-        text_panel(p, pos2(w - MARGIN, h - MARGIN), Align2::RIGHT_BOTTOM, &lines);
+        text_panel(
+            p,
+            pos2(w - MARGIN, h - MARGIN),
+            Align2::RIGHT_BOTTOM,
+            &lines,
+        );
     }
     match &scene.screen {
         ScreenState::Running => {}
         ScreenState::Start => {
-            let title = if hud.exercise.is_empty() { "Get ready".to_string() } else { hud.exercise.clone() };
+            let title = if hud.exercise.is_empty() {
+                "Get ready".to_string()
+            } else {
+                hud.exercise.clone()
+            };
             card(p, size, &title, &["Press Space to start".to_string()]);
         }
         ScreenState::Paused => card(p, size, "Paused", &["Press Space to continue".to_string()]),
@@ -182,7 +217,10 @@ fn paint(p: &Painter, scene: &Scene, size: Vec2) {
 fn assist_bar(p: &Painter, bottom_left: Pos2, level: f64) {
     let label = galley(p, format!("Help {:.0} %", level * 100.0), 24.0, TEXT);
     let bar = vec2(180.0, 16.0);
-    let size = vec2(label.size().x.max(bar.x) + 2.0 * PAD, label.size().y + bar.y + 8.0 + 2.0 * PAD);
+    let size = vec2(
+        label.size().x.max(bar.x) + 2.0 * PAD,
+        label.size().y + bar.y + 8.0 + 2.0 * PAD,
+    );
     let rect = Align2::LEFT_BOTTOM.anchor_size(bottom_left, size);
     p.rect_filled(rect, CornerRadius::same(12), PANEL);
     let lh = label.size().y;
@@ -195,16 +233,32 @@ fn assist_bar(p: &Painter, bottom_left: Pos2, level: f64) {
 
 /// A white card in the middle of a dimmed screen: title and lines.
 fn card(p: &Painter, size: Vec2, title: &str, lines: &[String]) {
-    p.rect_filled(Rect::from_min_size(Pos2::ZERO, size), CornerRadius::ZERO, Color32::from_black_alpha(110));
+    p.rect_filled(
+        Rect::from_min_size(Pos2::ZERO, size),
+        CornerRadius::ZERO,
+        Color32::from_black_alpha(110),
+    );
     let title_g = galley(p, title, 46.0, CARD_TEXT);
-    let line_g: Vec<_> = lines.iter().map(|l| galley(p, l.clone(), 30.0, CARD_TEXT)).collect();
-    let w = line_g.iter().map(|g| g.size().x).fold(title_g.size().x, f32::max) + 4.0 * PAD;
-    let h = title_g.size().y + 12.0 + line_g.iter().map(|g| g.size().y + 4.0).sum::<f32>() + 4.0 * PAD;
+    let line_g: Vec<_> = lines
+        .iter()
+        .map(|l| galley(p, l.clone(), 30.0, CARD_TEXT))
+        .collect();
+    let w = line_g
+        .iter()
+        .map(|g| g.size().x)
+        .fold(title_g.size().x, f32::max)
+        + 4.0 * PAD;
+    let h =
+        title_g.size().y + 12.0 + line_g.iter().map(|g| g.size().y + 4.0).sum::<f32>() + 4.0 * PAD;
     let rect = Rect::from_center_size(pos2(size.x / 2.0, size.y / 2.0), vec2(w.max(420.0), h));
     p.rect_filled(rect, CornerRadius::same(18), CARD);
     let mut y = rect.top() + 2.0 * PAD;
     let th = title_g.size().y;
-    p.galley(pos2(rect.center().x - title_g.size().x / 2.0, y), title_g, CARD_TEXT);
+    p.galley(
+        pos2(rect.center().x - title_g.size().x / 2.0, y),
+        title_g,
+        CARD_TEXT,
+    );
     y += th + 12.0;
     for g in line_g {
         let gh = g.size().y;
@@ -223,13 +277,20 @@ pub fn needle_direction(rad: f64) -> Vec2 {
 fn paint_dial(p: &Painter, dial: &Dial, c: Pos2, r: f32, legend: bool) {
     p.circle_filled(c + vec2(0.0, 4.0), r + 6.0, Color32::from_black_alpha(40));
     p.circle_filled(c, r, CARD);
-    p.circle_stroke(c, r, Stroke::new((r * 0.035).max(2.0), Color32::from_gray(70)));
+    p.circle_stroke(
+        c,
+        r,
+        Stroke::new((r * 0.035).max(2.0), Color32::from_gray(70)),
+    );
     for k in 0..36 {
         let major = k % 3 == 0;
         let d = needle_direction((k as f64 * 10.0).to_radians());
         let inner = if major { 0.82 } else { 0.89 };
         let width = if major { r * 0.022 } else { r * 0.012 };
-        p.line_segment([c + d * r * inner, c + d * r * 0.95], Stroke::new(width.max(1.0), Color32::from_gray(80)));
+        p.line_segment(
+            [c + d * r * inner, c + d * r * 0.95],
+            Stroke::new(width.max(1.0), Color32::from_gray(80)),
+        );
     }
     // The error wedge between the needles: a light red fan, in chunks of at most 30° so each
     // piece is convex.
@@ -240,8 +301,16 @@ fn paint_dial(p: &Painter, dial: &Dial, c: Pos2, r: f32, legend: bool) {
         for i in 0..chunks {
             let t0 = a + span * i as f64 / chunks as f64;
             let t1 = a + span * (i + 1) as f64 / chunks as f64;
-            let pts = vec![c, c + needle_direction(t0) * r * 0.8, c + needle_direction(t1) * r * 0.8];
-            p.add(Shape::convex_polygon(pts, Color32::from_rgba_unmultiplied(0xD3, 0x2F, 0x2F, 50), Stroke::NONE));
+            let pts = vec![
+                c,
+                c + needle_direction(t0) * r * 0.8,
+                c + needle_direction(t1) * r * 0.8,
+            ];
+            p.add(Shape::convex_polygon(
+                pts,
+                Color32::from_rgba_unmultiplied(0xD3, 0x2F, 0x2F, 50),
+                Stroke::NONE,
+            ));
         }
     }
     needle(p, c, dial.desired_rad, r * 0.86, r * 0.06, DESIRED_NEEDLE);
@@ -315,7 +384,10 @@ mod tests {
     #[test]
     fn hud_produces_font_atlas_on_first_frame_only() {
         let mut hud = HudPainter::new();
-        let scene = Scene { screen: ScreenState::Paused, ..Scene::default() };
+        let scene = Scene {
+            screen: ScreenState::Paused,
+            ..Scene::default()
+        };
         let mut first = hud.run(&scene, 640, 360);
         assert!(!first.primitives.is_empty());
         assert!(first.textures.set.iter().any(|(id, _)| *id == FONT_TEXTURE));

@@ -66,7 +66,11 @@ pub struct MeshBuilder {
 impl MeshBuilder {
     fn tri(&mut self, a: [f32; 3], b: [f32; 3], c: [f32; 3], color: [f32; 4], pattern: f32) {
         for pos in [a, b, c] {
-            self.vertices.push(Vertex { pos, pattern, color });
+            self.vertices.push(Vertex {
+                pos,
+                pattern,
+                color,
+            });
         }
     }
 
@@ -101,7 +105,11 @@ fn polyline_normals(pts: &[[f64; 2]]) -> Vec<[f64; 2]> {
         let (a, b) = (pts[i], pts[i + 1]);
         let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
         let len = dx.hypot(dy);
-        if len > 1e-9 { [dx / len, dy / len] } else { [1.0, 0.0] }
+        if len > 1e-9 {
+            [dx / len, dy / len]
+        } else {
+            [1.0, 0.0]
+        }
     };
     (0..n)
         .map(|i| {
@@ -113,7 +121,11 @@ fn polyline_normals(pts: &[[f64; 2]]) -> Vec<[f64; 2]> {
                 let (a, b) = (seg_dir(i - 1), seg_dir(i));
                 let s = [a[0] + b[0], a[1] + b[1]];
                 let len = s[0].hypot(s[1]);
-                if len > 1e-9 { [s[0] / len, s[1] / len] } else { b }
+                if len > 1e-9 {
+                    [s[0] / len, s[1] / len]
+                } else {
+                    b
+                }
             };
             [-d[1], d[0]]
         })
@@ -155,15 +167,22 @@ impl RoadView {
         let near = (0..pts.len().saturating_sub(1))
             .map(|i| close(pts[i]) || close(pts[i + 1]))
             .collect();
-        RoadView { pts, normals, half_w, arc, near }
+        RoadView {
+            pts,
+            normals,
+            half_w,
+            arc,
+            near,
+        }
     }
 
-    /// A band between lateral offsets `inner(i)` and `outer(i)` along every near segment.
+    /// A band between lateral offsets `inner(h)` and `outer(h)` along every near segment,
+    /// where `h` is the lane's half width at each point.
     fn band(
         &self,
         mesh: &mut MeshBuilder,
-        inner: impl Fn(usize) -> f64,
-        outer: impl Fn(usize) -> f64,
+        inner: impl Fn(f64) -> f64,
+        outer: impl Fn(f64) -> f64,
         z: f32,
         color: [f32; 4],
     ) {
@@ -174,10 +193,10 @@ impl RoadView {
             let j = i + 1;
             mesh.quad(
                 [
-                    offset(self.pts[i], self.normals[i], inner(i), z),
-                    offset(self.pts[j], self.normals[j], inner(j), z),
-                    offset(self.pts[j], self.normals[j], outer(j), z),
-                    offset(self.pts[i], self.normals[i], outer(i), z),
+                    offset(self.pts[i], self.normals[i], inner(self.half_w[i]), z),
+                    offset(self.pts[j], self.normals[j], inner(self.half_w[j]), z),
+                    offset(self.pts[j], self.normals[j], outer(self.half_w[j]), z),
+                    offset(self.pts[i], self.normals[i], outer(self.half_w[i]), z),
                 ],
                 color,
                 0.0,
@@ -237,14 +256,27 @@ fn road(mesh: &mut MeshBuilder, scene: &Scene) {
         return;
     }
     let v = RoadView::new(scene);
-    let hw = |i: usize| v.half_w[i];
-    // Shoulders, then the asphalt, then paint on top.
-    v.band(mesh, |i| hw(i), |i| hw(i) + SHOULDER_M, Z_SHOULDER, palette::SHOULDER);
-    v.band(mesh, |i| -hw(i) - SHOULDER_M, |i| -hw(i), Z_SHOULDER, palette::SHOULDER);
-    v.band(mesh, |i| -hw(i), |i| hw(i), Z_ROAD, palette::ASPHALT);
+    // Bands are given as lateral offsets (m, left positive) from the local half width.
     let (inset, lw) = (EDGE_LINE_INSET_M, EDGE_LINE_WIDTH_M / 2.0);
-    v.band(mesh, |i| hw(i) - inset - lw, |i| hw(i) - inset + lw, Z_MARK, palette::EDGE_LINE);
-    v.band(mesh, |i| -hw(i) + inset - lw, |i| -hw(i) + inset + lw, Z_MARK, palette::EDGE_LINE);
+    let s = SHOULDER_M;
+    // Shoulders, then the asphalt, then paint on top.
+    v.band(mesh, |h| h, |h| h + s, Z_SHOULDER, palette::SHOULDER);
+    v.band(mesh, |h| -h - s, |h| -h, Z_SHOULDER, palette::SHOULDER);
+    v.band(mesh, |h| -h, |h| h, Z_ROAD, palette::ASPHALT);
+    v.band(
+        mesh,
+        |h| h - inset - lw,
+        |h| h - inset + lw,
+        Z_MARK,
+        palette::EDGE_LINE,
+    );
+    v.band(
+        mesh,
+        |h| -h + inset - lw,
+        |h| -h + inset + lw,
+        Z_MARK,
+        palette::EDGE_LINE,
+    );
     v.dashes(mesh, palette::CENTRE_DASH);
 }
 
@@ -278,12 +310,30 @@ fn cone(mesh: &mut MeshBuilder, p: [f64; 2]) {
         let normal = [am.cos() * h, am.sin() * h, r];
         // A white reflective band between 45 % and 65 % of the height.
         let at = |pp: [f32; 3], t: f32| {
-            [pp[0] + (apex[0] - pp[0]) * t, pp[1] + (apex[1] - pp[1]) * t, pp[2] + (apex[2] - pp[2]) * t]
+            [
+                pp[0] + (apex[0] - pp[0]) * t,
+                pp[1] + (apex[1] - pp[1]) * t,
+                pp[2] + (apex[2] - pp[2]) * t,
+            ]
         };
         let (b0, b1) = (0.45, 0.65);
-        mesh.quad([p0, p1, at(p1, b0), at(p0, b0)], shade(palette::CONE, normal), 0.0);
-        mesh.quad([at(p0, b0), at(p1, b0), at(p1, b1), at(p0, b1)], shade(palette::CONE_BAND, normal), 0.0);
-        mesh.tri(at(p0, b1), at(p1, b1), apex, shade(palette::CONE, normal), 0.0);
+        mesh.quad(
+            [p0, p1, at(p1, b0), at(p0, b0)],
+            shade(palette::CONE, normal),
+            0.0,
+        );
+        mesh.quad(
+            [at(p0, b0), at(p1, b0), at(p1, b1), at(p0, b1)],
+            shade(palette::CONE_BAND, normal),
+            0.0,
+        );
+        mesh.tri(
+            at(p0, b1),
+            at(p1, b1),
+            apex,
+            shade(palette::CONE, normal),
+            0.0,
+        );
     }
 }
 
@@ -333,7 +383,14 @@ impl CarFrame {
     }
 
     /// Box with centre `ctr`, half extents `he`, rotated by `yaw` about its own vertical axis.
-    fn cuboid(&self, mesh: &mut MeshBuilder, ctr: [f32; 3], he: [f32; 3], yaw: f32, color: [f32; 4]) {
+    fn cuboid(
+        &self,
+        mesh: &mut MeshBuilder,
+        ctr: [f32; 3],
+        he: [f32; 3],
+        yaw: f32,
+        color: [f32; 4],
+    ) {
         let (cy, sy) = (yaw.cos(), yaw.sin());
         let corner = |sx: f32, sy_: f32, sz: f32| {
             let lx = sx * he[0];
@@ -346,11 +403,26 @@ impl CarFrame {
         };
         let faces: [[(f32, f32, f32); 4]; 6] = [
             [(1., -1., -1.), (1., 1., -1.), (1., 1., 1.), (1., -1., 1.)],
-            [(-1., -1., -1.), (-1., 1., -1.), (-1., 1., 1.), (-1., -1., 1.)],
+            [
+                (-1., -1., -1.),
+                (-1., 1., -1.),
+                (-1., 1., 1.),
+                (-1., -1., 1.),
+            ],
             [(-1., 1., -1.), (1., 1., -1.), (1., 1., 1.), (-1., 1., 1.)],
-            [(-1., -1., -1.), (1., -1., -1.), (1., -1., 1.), (-1., -1., 1.)],
+            [
+                (-1., -1., -1.),
+                (1., -1., -1.),
+                (1., -1., 1.),
+                (-1., -1., 1.),
+            ],
             [(-1., -1., 1.), (1., -1., 1.), (1., 1., 1.), (-1., 1., 1.)],
-            [(-1., -1., -1.), (1., -1., -1.), (1., 1., -1.), (-1., 1., -1.)],
+            [
+                (-1., -1., -1.),
+                (1., -1., -1.),
+                (1., 1., -1.),
+                (-1., 1., -1.),
+            ],
         ];
         let centre = self.world([ctr[0], ctr[1], ctr[2]]);
         for f in faces {
@@ -373,12 +445,35 @@ fn car(mesh: &mut MeshBuilder, pose: &CarPose) {
         c: pose.yaw_rad.cos() as f32,
         s: pose.yaw_rad.sin() as f32,
     };
-    let shadow = [[2.3, 1.0, Z_SHADOW], [-2.3, 1.0, Z_SHADOW], [-2.3, -1.0, Z_SHADOW], [2.3, -1.0, Z_SHADOW]]
-        .map(|p| f.world(p));
+    let shadow = [
+        [2.3, 1.0, Z_SHADOW],
+        [-2.3, 1.0, Z_SHADOW],
+        [-2.3, -1.0, Z_SHADOW],
+        [2.3, -1.0, Z_SHADOW],
+    ]
+    .map(|p| f.world(p));
     mesh.quad(shadow, palette::SHADOW, 0.0);
-    f.cuboid(mesh, [0.0, 0.0, 0.68], [2.15, 0.9, 0.34], 0.0, palette::CAR_BODY);
-    f.cuboid(mesh, [-0.35, 0.0, 1.27], [1.15, 0.78, 0.26], 0.0, palette::CAR_CABIN);
-    f.cuboid(mesh, [-0.35, 0.0, 1.545], [1.0, 0.72, 0.015], 0.0, palette::CAR_BODY);
+    f.cuboid(
+        mesh,
+        [0.0, 0.0, 0.68],
+        [2.15, 0.9, 0.34],
+        0.0,
+        palette::CAR_BODY,
+    );
+    f.cuboid(
+        mesh,
+        [-0.35, 0.0, 1.27],
+        [1.15, 0.78, 0.26],
+        0.0,
+        palette::CAR_CABIN,
+    );
+    f.cuboid(
+        mesh,
+        [-0.35, 0.0, 1.545],
+        [1.0, 0.72, 0.015],
+        0.0,
+        palette::CAR_BODY,
+    );
     let steer = pose.steer_rad as f32;
     for (x, y, yaw) in [
         (1.35, 0.82, steer),
@@ -389,7 +484,13 @@ fn car(mesh: &mut MeshBuilder, pose: &CarPose) {
         f.cuboid(mesh, [x, y, 0.34], [0.34, 0.13, 0.34], yaw, palette::TYRE);
     }
     for y in [0.62, -0.62] {
-        f.cuboid(mesh, [-2.16, y, 0.82], [0.02, 0.2, 0.07], 0.0, palette::TAIL_LIGHT);
+        f.cuboid(
+            mesh,
+            [-2.16, y, 0.82],
+            [0.02, 0.2, 0.07],
+            0.0,
+            palette::TAIL_LIGHT,
+        );
     }
 }
 
@@ -436,7 +537,11 @@ mod tests {
     fn straight(len: usize) -> Scene {
         let mut s = Scene::default();
         s.road.centre = (0..len)
-            .map(|i| RoadPoint { x_m: i as f64 * 5.0, y_m: 0.0, lane_width_m: 4.0 })
+            .map(|i| RoadPoint {
+                x_m: i as f64 * 5.0,
+                y_m: 0.0,
+                lane_width_m: 4.0,
+            })
             .collect();
         s
     }
@@ -454,11 +559,20 @@ mod tests {
         let s = straight(3);
         let mut m = MeshBuilder::default();
         road(&mut m, &s);
-        let asphalt: Vec<_> = m.vertices.iter().filter(|v| v.color == palette::ASPHALT).collect();
+        let asphalt: Vec<_> = m
+            .vertices
+            .iter()
+            .filter(|v| v.color == palette::ASPHALT)
+            .collect();
         assert_eq!(asphalt.len(), 2 * 6);
         let ys: Vec<f32> = asphalt.iter().map(|v| v.pos[1]).collect();
-        let (lo, hi) = ys.iter().fold((f32::MAX, f32::MIN), |(a, b), &y| (a.min(y), b.max(y)));
-        assert!((lo + 2.0).abs() < 1e-6 && (hi - 2.0).abs() < 1e-6, "{lo} {hi}");
+        let (lo, hi) = ys
+            .iter()
+            .fold((f32::MAX, f32::MIN), |(a, b), &y| (a.min(y), b.max(y)));
+        assert!(
+            (lo + 2.0).abs() < 1e-6 && (hi - 2.0).abs() < 1e-6,
+            "{lo} {hi}"
+        );
     }
 
     #[test]
@@ -466,17 +580,31 @@ mod tests {
         let s = straight(21); // 100 m of road
         let mut m = MeshBuilder::default();
         road(&mut m, &s);
-        let dash: Vec<_> = m.vertices.iter().filter(|v| v.color == palette::CENTRE_DASH).collect();
+        let dash: Vec<_> = m
+            .vertices
+            .iter()
+            .filter(|v| v.color == palette::CENTRE_DASH)
+            .collect();
         // Dashes start at 0, 9, …, 99 m: 12 of them, some split across 5 m segments.
         let mut starts: Vec<f32> = dash.iter().map(|v| v.pos[0]).collect();
         starts.sort_by(f32::total_cmp);
         starts.dedup_by(|a, b| (*a - *b).abs() < 1e-4);
         for k in 0..11 {
             let x = k as f32 * 9.0;
-            assert!(starts.iter().any(|&s| (s - x).abs() < 1e-4), "no dash edge at {x}");
-            assert!(starts.iter().any(|&s| (s - x - 3.0).abs() < 1e-4), "no dash end at {}", x + 3.0);
+            assert!(
+                starts.iter().any(|&s| (s - x).abs() < 1e-4),
+                "no dash edge at {x}"
+            );
+            assert!(
+                starts.iter().any(|&s| (s - x - 3.0).abs() < 1e-4),
+                "no dash end at {}",
+                x + 3.0
+            );
         }
-        assert!(starts.iter().all(|&x| x.rem_euclid(9.0) <= 3.0 + 1e-4), "{starts:?}");
+        assert!(
+            starts.iter().all(|&x| x.rem_euclid(9.0) <= 3.0 + 1e-4),
+            "{starts:?}"
+        );
     }
 
     #[test]

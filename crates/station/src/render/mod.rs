@@ -22,7 +22,9 @@ pub mod window;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-pub use gpu::{AdapterSummary, FRAME_UNIFORM_BYTES, MSAA_SAMPLES, MAX_SIZE_PX, Renderer, SKY_WGSL, WORLD_WGSL};
+pub use gpu::{
+    AdapterSummary, FRAME_UNIFORM_BYTES, MAX_SIZE_PX, MSAA_SAMPLES, Renderer, SKY_WGSL, WORLD_WGSL,
+};
 pub use scene::{
     CameraMode, CarPose, Dial, Hud, LiveScore, MAX_COORD_M, Road, RoadPoint, Scene, ScreenState,
 };
@@ -66,7 +68,10 @@ pub enum RenderError {
 
 /// Writes RGBA8 pixels (`width × height × 4` bytes, rows top to bottom) as a PNG file.
 pub fn save_png(path: &Path, rgba: &[u8], width: u32, height: u32) -> Result<(), RenderError> {
-    let err = |message: String| RenderError::Png { path: path.to_path_buf(), message };
+    let err = |message: String| RenderError::Png {
+        path: path.to_path_buf(),
+        message,
+    };
     let expected = width as usize * height as usize * 4;
     if rgba.len() != expected {
         return Err(err(format!(
@@ -79,13 +84,18 @@ pub fn save_png(path: &Path, rgba: &[u8], width: u32, height: u32) -> Result<(),
     enc.set_color(png::ColorType::Rgba);
     enc.set_depth(png::BitDepth::Eight);
     let mut writer = enc.write_header().map_err(|e| err(e.to_string()))?;
-    writer.write_image_data(rgba).map_err(|e| err(e.to_string()))?;
+    writer
+        .write_image_data(rgba)
+        .map_err(|e| err(e.to_string()))?;
     writer.finish().map_err(|e| err(e.to_string()))
 }
 
 /// Reads an 8-bit RGBA or RGB PNG back as RGBA8 pixels: `(rgba, width, height)`.
 pub fn load_png(path: &Path) -> Result<(Vec<u8>, u32, u32), RenderError> {
-    let err = |message: String| RenderError::Png { path: path.to_path_buf(), message };
+    let err = |message: String| RenderError::Png {
+        path: path.to_path_buf(),
+        message,
+    };
     let file = std::fs::File::open(path).map_err(|e| err(e.to_string()))?;
     let mut reader = png::Decoder::new(std::io::BufReader::new(file))
         .read_info()
@@ -94,7 +104,9 @@ pub fn load_png(path: &Path) -> Result<(Vec<u8>, u32, u32), RenderError> {
         .output_buffer_size()
         .ok_or_else(|| err("image too large".into()))?;
     let mut buf = vec![0; size];
-    let info = reader.next_frame(&mut buf).map_err(|e| err(e.to_string()))?;
+    let info = reader
+        .next_frame(&mut buf)
+        .map_err(|e| err(e.to_string()))?;
     if info.bit_depth != png::BitDepth::Eight {
         return Err(err(format!("bit depth {:?}, expected 8", info.bit_depth)));
     }
@@ -142,7 +154,11 @@ impl RenderStats {
         RenderStats {
             adapter,
             frames: n,
-            mean_ms: if n == 0 { 0.0 } else { times_ms.iter().sum::<f64>() / n as f64 },
+            mean_ms: if n == 0 {
+                0.0
+            } else {
+                times_ms.iter().sum::<f64>() / n as f64
+            },
             p50_ms: quantile(&times_ms, 0.5),
             p99_ms: quantile(&times_ms, 0.99),
             max_ms: times_ms.last().copied().unwrap_or(0.0),
@@ -171,7 +187,12 @@ pub fn headless_frames(
         let t0 = Instant::now();
         let rgba = renderer.render_to_rgba(&scene)?;
         times.push(t0.elapsed().as_secs_f64() * 1e3);
-        save_png(&out_dir.join(format!("frame_{i:04}.png")), &rgba, width, height)?;
+        save_png(
+            &out_dir.join(format!("frame_{i:04}.png")),
+            &rgba,
+            width,
+            height,
+        )?;
     }
     Ok(RenderStats::from_times(renderer.adapter().clone(), times))
 }

@@ -160,8 +160,18 @@ impl Scene {
     /// Checks every number the renderer uses; the error names the offending field.
     pub fn validate(&self) -> Result<(), RenderError> {
         for (i, p) in self.road.centre.iter().enumerate() {
-            in_range(&format!("road.centre[{i}].x_m"), p.x_m, -MAX_COORD_M, MAX_COORD_M)?;
-            in_range(&format!("road.centre[{i}].y_m"), p.y_m, -MAX_COORD_M, MAX_COORD_M)?;
+            in_range(
+                &format!("road.centre[{i}].x_m"),
+                p.x_m,
+                -MAX_COORD_M,
+                MAX_COORD_M,
+            )?;
+            in_range(
+                &format!("road.centre[{i}].y_m"),
+                p.y_m,
+                -MAX_COORD_M,
+                MAX_COORD_M,
+            )?;
             in_range(
                 &format!("road.centre[{i}].lane_width_m"),
                 p.lane_width_m,
@@ -171,13 +181,33 @@ impl Scene {
         }
         for (b, line) in self.road.barriers.iter().enumerate() {
             for (i, p) in line.iter().enumerate() {
-                in_range(&format!("road.barriers[{b}][{i}].x"), p[0], -MAX_COORD_M, MAX_COORD_M)?;
-                in_range(&format!("road.barriers[{b}][{i}].y"), p[1], -MAX_COORD_M, MAX_COORD_M)?;
+                in_range(
+                    &format!("road.barriers[{b}][{i}].x"),
+                    p[0],
+                    -MAX_COORD_M,
+                    MAX_COORD_M,
+                )?;
+                in_range(
+                    &format!("road.barriers[{b}][{i}].y"),
+                    p[1],
+                    -MAX_COORD_M,
+                    MAX_COORD_M,
+                )?;
             }
         }
         for (i, p) in self.road.cones.iter().enumerate() {
-            in_range(&format!("road.cones[{i}].x"), p[0], -MAX_COORD_M, MAX_COORD_M)?;
-            in_range(&format!("road.cones[{i}].y"), p[1], -MAX_COORD_M, MAX_COORD_M)?;
+            in_range(
+                &format!("road.cones[{i}].x"),
+                p[0],
+                -MAX_COORD_M,
+                MAX_COORD_M,
+            )?;
+            in_range(
+                &format!("road.cones[{i}].y"),
+                p[1],
+                -MAX_COORD_M,
+                MAX_COORD_M,
+            )?;
         }
         in_range("car.x_m", self.car.x_m, -MAX_COORD_M, MAX_COORD_M)?;
         in_range("car.y_m", self.car.y_m, -MAX_COORD_M, MAX_COORD_M)?;
@@ -232,8 +262,16 @@ mod tests {
     fn narrow_lane_is_rejected_with_index() {
         let mut s = Scene::default();
         s.road.centre = vec![
-            RoadPoint { x_m: 0.0, y_m: 0.0, lane_width_m: 3.5 },
-            RoadPoint { x_m: 1.0, y_m: 0.0, lane_width_m: 0.1 },
+            RoadPoint {
+                x_m: 0.0,
+                y_m: 0.0,
+                lane_width_m: 3.5,
+            },
+            RoadPoint {
+                x_m: 1.0,
+                y_m: 0.0,
+                lane_width_m: 0.1,
+            },
         ];
         let err = s.validate().unwrap_err().to_string();
         assert!(err.contains("road.centre[1].lane_width_m"), "{err}");
@@ -250,7 +288,10 @@ mod tests {
     #[test]
     fn infinite_dial_angle_is_rejected() {
         let s = Scene {
-            dial: Some(Dial { desired_rad: f64::INFINITY, actual_rad: 0.0 }),
+            dial: Some(Dial {
+                desired_rad: f64::INFINITY,
+                actual_rad: 0.0,
+            }),
             ..Scene::default()
         };
         let err = s.validate().unwrap_err().to_string();

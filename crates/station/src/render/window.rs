@@ -17,7 +17,7 @@ use winit::keyboard::{Key, NamedKey};
 use winit::window::{Fullscreen, Window, WindowId};
 
 use super::gpu::{Renderer, instance_descriptor, request_adapter};
-use super::{RenderError, Scene};
+use super::{AdapterSummary, RenderError, Scene};
 
 /// How often the loop asks for a new scene when nothing else wakes it.
 const PULL_PERIOD: Duration = Duration::from_micros(8_333);
@@ -48,7 +48,12 @@ pub struct WindowOptions {
 impl WindowOptions {
     /// A 1280×720 window with `title`.
     pub fn new(title: &str) -> Self {
-        WindowOptions { title: title.into(), size: (1280, 720), fullscreen: false, any_thread: false }
+        WindowOptions {
+            title: title.into(),
+            size: (1280, 720),
+            fullscreen: false,
+            any_thread: false,
+        }
     }
 }
 
@@ -60,15 +65,24 @@ pub fn run(
     scene_source: impl FnMut() -> Option<Scene>,
     on_request: impl FnMut(UserRequest),
 ) -> Result<(), RenderError> {
-    run_with(&WindowOptions::new(title), scene_source, on_request)
+    run_with(&WindowOptions::new(title), scene_source, on_request).map(|_| ())
 }
 
-/// [`run`] with explicit [`WindowOptions`].
+/// What a window session did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WindowStats {
+    /// The adapter that drew the frames (None if the window never opened).
+    pub adapter: Option<AdapterSummary>,
+    /// Frames drawn and presented.
+    pub frames_drawn: u64,
+}
+
+/// [`run`] with explicit [`WindowOptions`], returning what was drawn.
 pub fn run_with(
     options: &WindowOptions,
     scene_source: impl FnMut() -> Option<Scene>,
     on_request: impl FnMut(UserRequest),
-) -> Result<(), RenderError> {
+) -> Result<WindowStats, RenderError> {
     let mut builder = EventLoop::builder();
     #[cfg(target_os = "linux")]
     if options.any_thread {
@@ -78,8 +92,9 @@ pub fn run_with(
     let event_loop = builder
         .build()
         .map_err(|e| RenderError::Window(format!("cannot open a display: {e}")))?;
-    let instance =
-        wgpu::Instance::new(instance_descriptor(Some(Box::new(event_loop.owned_display_handle()))));
+    let instance = wgpu::Instance::new(instance_descriptor(Some(Box::new(
+        event_loop.owned_display_handle(),
+    ))));
     let mut app = App {
         options: options.clone(),
         instance,
@@ -89,13 +104,17 @@ pub fn run_with(
         scene: None,
         next_pull: Instant::now(),
         error: None,
+        frames_drawn: 0,
     };
     event_loop
         .run_app(&mut app)
         .map_err(|e| RenderError::Window(format!("event loop: {e}")))?;
     match app.error {
         Some(e) => Err(e),
-        None => Ok(()),
+        None => Ok(WindowStats {
+            adapter: app.gfx.as_ref().map(|g| g.renderer.adapter().clone()),
+            frames_drawn: app.frames_drawn,
+        }),
     }
 }
 
@@ -117,6 +136,7 @@ struct App<F, G> {
     scene: Option<Scene>,
     next_pull: Instant,
     error: Option<RenderError>,
+    frames_drawn: u64,
 }
 
 impl<F: FnMut() -> Option<Scene>, G: FnMut(UserRequest)> App<F, G> {
@@ -156,18 +176,28 @@ impl<F: FnMut() -> Option<Scene>, G: FnMut(UserRequest)> App<F, G> {
         let size = window.inner_size();
         let (pw, ph) = (size.width.max(1), size.height.max(1));
         let renderer = Renderer::with_adapter(&adapter, format, pw, ph)?;
-        println!("render: adapter {}, surface format {format:?}", renderer.adapter());
+        println!(
+            "render: adapter {}, surface format {format:?}",
+            renderer.adapter()
+        );
         let mut config = surface
             .get_default_config(&adapter, pw, ph)
             .ok_or_else(|| RenderError::Window("surface is not supported by the adapter".into()))?;
         config.format = format;
         config.present_mode = wgpu::PresentMode::AutoVsync;
         surface.configure(renderer.device(), &config);
-        Ok(Gfx { surface, config, renderer, window })
+        Ok(Gfx {
+            surface,
+            config,
+            renderer,
+            window,
+        })
     }
 
     fn resize(&mut self, width: u32, height: u32) -> Result<(), RenderError> {
-        let Some(g) = &mut self.gfx else { return Ok(()) };
+        let Some(g) = &mut self.gfx else {
+            return Ok(());
+        };
         if width == 0 || height == 0 {
             return Ok(()); // minimised: keep the old size, draw nothing
         }
@@ -179,14 +209,19 @@ impl<F: FnMut() -> Option<Scene>, G: FnMut(UserRequest)> App<F, G> {
     }
 
     fn redraw(&mut self) -> Result<(), RenderError> {
-        let (Some(g), Some(scene)) = (&mut self.gfx, &self.scene) else { return Ok(()) };
+        let (Some(g), Some(scene)) = (&mut self.gfx, &self.scene) else {
+            return Ok(());
+        };
         let size = g.window.inner_size();
         if size.width == 0 || size.height == 0 {
             return Ok(());
         }
         let frame = match g.surface.get_current_texture() {
-            wgpu::CurrentSurfaceTexture::Success(f) | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
-            wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => return Ok(()),
+            wgpu::CurrentSurfaceTexture::Success(f)
+            | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
+            wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => {
+                return Ok(());
+            }
             wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
                 g.surface.configure(g.renderer.device(), &g.config);
                 return Ok(());
@@ -195,9 +230,12 @@ impl<F: FnMut() -> Option<Scene>, G: FnMut(UserRequest)> App<F, G> {
                 return Err(RenderError::Window("surface validation error".into()));
             }
         };
-        let view = frame.texture.create_view(&wgpu::TextureViewDescriptor::default());
+        let view = frame
+            .texture
+            .create_view(&wgpu::TextureViewDescriptor::default());
         g.renderer.draw(scene, &view)?;
         g.renderer.queue().present(frame);
+        self.frames_drawn += 1;
         Ok(())
     }
 
