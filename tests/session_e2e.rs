@@ -1,11 +1,421 @@
-//! End-to-end: the binary runs.
+//! End-to-end: the binary runs whole simulated sessions and records them.
+
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+use telerehab_tests::{by_topic, read_mcap, run_ok, telerehab_bin};
 
 #[test]
 fn binary_reports_its_version() {
-    let out = std::process::Command::new(telerehab_tests::telerehab_bin())
-        .arg("--version")
-        .output()
-        .expect("run telerehab");
-    assert!(out.status.success());
+    let out = run_ok(&["--version"]);
     assert!(String::from_utf8_lossy(&out.stdout).starts_with("telerehab "));
+}
+
+#[test]
+fn short_session_records_every_tick_on_every_channel_with_schemas() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("s.mcap");
+    let out = run_ok(&[
+        "run",
+        "--sim",
+        "--headless",
+        "--duration",
+        "3",
+        "--seed",
+        "7",
+        "--speed",
+        "max",
+        "--record",
+        path.to_str().unwrap(),
+    ]);
+    let report = String::from_utf8_lossy(&out.stdout);
+    assert!(report.contains("time in lane"), "{report}");
+
+    // The summary section names the four channels with JSON-schema schemas.
+    let bytes = std::fs::read(&path).unwrap();
+    let summary = mcap::Summary::read(&bytes)
+        .unwrap()
+        .expect("finished file has a summary");
+    let mut topics: Vec<(String, String, String)> = summary
+        .channels
+        .values()
+        .map(|c| {
+            let s = c.schema.as_ref().expect("schema");
+            (
+                c.topic.clone(),
+                c.message_encoding.clone(),
+                s.encoding.clone(),
+            )
+        })
+        .collect();
+    topics.sort();
+    let expect = |t: &str| (t.to_string(), "json".to_string(), "jsonschema".to_string());
+    assert_eq!(
+        topics,
+        vec![
+            expect("/arm"),
+            expect("/assist"),
+            expect("/score"),
+            expect("/timing"),
+            expect("/vehicle"),
+            expect("/wheel")
+        ]
+    );
+    for c in summary.channels.values() {
+        let schema: serde_json::Value =
+            serde_json::from_slice(&c.schema.as_ref().unwrap().data).unwrap();
+        assert_eq!(schema["type"], "object");
+    }
+
+    let msgs = by_topic(&read_mcap(&path));
+    // 3 s at 1 kHz plus the 0.1 s fade-out (and the tick that sees zero); a score every 100 ms.
+    for topic in ["/wheel", "/vehicle", "/assist", "/timing", "/arm"] {
+        assert_eq!(msgs[topic].len(), 3101, "{topic}");
+    }
+    assert_eq!(msgs["/score"].len(), 31);
+    // Every per-tick message carries its tick, in order, 1 ms apart in log time.
+    let wheel = &msgs["/wheel"];
+    for (i, m) in wheel.iter().enumerate() {
+        assert_eq!(m.json["tick"], i as u64);
+    }
+    for pair in wheel.windows(2) {
+        assert_eq!(pair[1].log_time - pair[0].log_time, 1_000_000);
+    }
+    // Each message has exactly the fields its schema describes (optional ones are null).
+    for (topic, list) in &msgs {
+        let c = summary
+            .channels
+            .values()
+            .find(|c| &c.topic == topic)
+            .unwrap();
+        let schema: serde_json::Value =
+            serde_json::from_slice(&c.schema.as_ref().unwrap().data).unwrap();
+        let mut want: Vec<&str> = schema["properties"]
+            .as_object()
+            .unwrap()
+            .keys()
+            .map(|k| k.as_str())
+            .collect();
+        want.sort();
+        let mut got: Vec<&str> = list[0]
+            .json
+            .as_object()
+            .unwrap()
+            .keys()
+            .map(|k| k.as_str())
+            .collect();
+        got.sort();
+        assert_eq!(got, want, "{topic}");
+    }
+    // The arm pose from the simulated IMUs follows the simulated truth.
+    let arm = &msgs["/arm"];
+    let err_sq: Vec<f64> = arm
+        .iter()
+        .filter(|m| m.json["t_s"].as_f64().unwrap() > 1.0)
+        .map(|m| {
+            let d = m.json["shoulder_elevation_rad"].as_f64().unwrap()
+                - m.json["true_shoulder_elevation_rad"].as_f64().unwrap();
+            d * d
+        })
+        .collect();
+    let rms_deg = (err_sq.iter().sum::<f64>() / err_sq.len() as f64)
+        .sqrt()
+        .to_degrees();
+    assert!(rms_deg < 3.0, "shoulder elevation RMS error {rms_deg}°");
+    // The torque never leaves the thesis wheel's ±1.87 N·m and ends at zero.
+    for m in wheel {
+        assert!(m.json["commanded_nm"].as_f64().unwrap().abs() <= 1.87);
+    }
+    assert_eq!(
+        wheel.last().unwrap().json["commanded_nm"].as_f64().unwrap(),
+        0.0
+    );
+}
+
+fn simulation_payloads(path: &std::path::Path) -> Vec<(String, serde_json::Value)> {
+    read_mcap(path)
+        .into_iter()
+        .filter(|m| m.topic != "/timing")
+        .map(|m| (m.topic, m.json))
+        .collect()
+}
+
+#[test]
+fn same_seed_gives_identical_simulation_data_and_another_seed_does_not() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |seed: &str, name: &str| {
+        let p = dir.path().join(name);
+        run_ok(&[
+            "run",
+            "--sim",
+            "--headless",
+            "--duration",
+            "2",
+            "--seed",
+            seed,
+            "--speed",
+            "max",
+            "--record",
+            p.to_str().unwrap(),
+        ]);
+        simulation_payloads(&p)
+    };
+    let a = run("11", "a.mcap");
+    let b = run("11", "b.mcap");
+    let c = run("12", "c.mcap");
+    assert_eq!(a.len(), 2101 * 4 + 21);
+    assert!(
+        a == b,
+        "same seed must give identical recorded simulation data"
+    );
+    assert!(
+        a != c,
+        "another seed must change the simulated patient's noise"
+    );
+}
+
+#[test]
+fn real_time_session_is_paced_at_the_loop_rate() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("rt.mcap");
+    let t0 = Instant::now();
+    run_ok(&[
+        "run",
+        "--sim",
+        "--headless",
+        "--duration",
+        "1",
+        "--seed",
+        "7",
+        "--record",
+        path.to_str().unwrap(),
+    ]);
+    // 1.1 s of ticks (with the fade-out) cannot finish sooner in real time.
+    assert!(t0.elapsed() >= Duration::from_millis(1100));
+    assert_eq!(by_topic(&read_mcap(&path))["/wheel"].len(), 1101);
+}
+
+#[test]
+fn sigint_ends_the_session_cleanly_with_a_readable_recording() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("int.mcap");
+    let child = Command::new(telerehab_bin())
+        .args([
+            "run",
+            "--sim",
+            "--headless",
+            "--duration",
+            "60",
+            "--seed",
+            "7",
+            "--record",
+            path.to_str().unwrap(),
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(1500));
+    let status = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let out = child.wait_with_output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}\n{}",
+        stdout,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("stopped early"), "{stdout}");
+    let bytes = std::fs::read(&path).unwrap();
+    assert!(
+        mcap::Summary::read(&bytes).unwrap().is_some(),
+        "the MCAP file was finalised"
+    );
+    let wheel = &by_topic(&read_mcap(&path))["/wheel"];
+    assert!(wheel.len() > 500 && wheel.len() < 30_000, "{}", wheel.len());
+    assert_eq!(
+        wheel.last().unwrap().json["commanded_nm"].as_f64().unwrap(),
+        0.0
+    );
+}
+
+#[test]
+fn bad_config_value_is_reported_by_field_and_range() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("bad.toml");
+    std::fs::write(&cfg, "[haptic.safety]\nceiling_nm = 9.0\n").unwrap();
+    let out = Command::new(telerehab_bin())
+        .args([
+            "run",
+            "--sim",
+            "--headless",
+            "--config",
+            cfg.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("haptic.safety") && err.contains("ceiling_nm") && err.contains("1.87"),
+        "{err}"
+    );
+}
+
+/// The report's RMS lateral deviation, m.
+fn rms_lateral_m(report: &str) -> f64 {
+    let line = report
+        .lines()
+        .find(|l| l.starts_with("RMS lateral dev."))
+        .expect("RMS line");
+    line.split_whitespace().nth(3).unwrap().parse().unwrap()
+}
+
+#[test]
+fn motion_assist_keeps_a_weak_simulated_patient_in_lane_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let weak = "[sim_patient]\nmax_torque_nm = 0.3\n";
+    let run_with = |name: &str, toml: &str| {
+        let cfg = dir.path().join(name);
+        std::fs::write(&cfg, toml).unwrap();
+        let out = run_ok(&[
+            "run",
+            "--sim",
+            "--headless",
+            "--duration",
+            "20",
+            "--speed",
+            "max",
+            "--config",
+            cfg.to_str().unwrap(),
+        ]);
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let alone = run_with("weak.toml", weak);
+    let assisted = run_with(
+        "assisted.toml",
+        &format!("{weak}[assist.mode]\nkind = \"motion\"\n"),
+    );
+    let (e_alone, e_assisted) = (rms_lateral_m(&alone), rms_lateral_m(&assisted));
+    assert!(
+        e_alone > 1.0,
+        "a weak patient alone should leave the lane: {alone}"
+    );
+    assert!(
+        e_assisted < 0.5 * e_alone,
+        "assist should at least halve the error: {e_assisted} vs {e_alone}"
+    );
+    assert!(!alone.contains("\nassist "), "{alone}");
+    assert!(
+        assisted.contains("\nassist              mean level"),
+        "{assisted}"
+    );
+}
+
+#[test]
+fn devices_without_hardware_explains_and_exits_zero() {
+    let out = run_ok(&["devices"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("Wheels:"), "{text}");
+    assert!(
+        text.contains("--sim"),
+        "the message should point at the simulated session: {text}"
+    );
+}
+
+#[test]
+fn real_session_without_a_wheel_fails_clearly_and_records_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("none.mcap");
+    let out = Command::new(telerehab_bin())
+        .args([
+            "run",
+            "--headless",
+            "--duration",
+            "1",
+            "--record",
+            path.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("telerehab devices"), "{err}");
+    assert!(
+        !path.exists(),
+        "no recording for a session that never started"
+    );
+}
+
+#[test]
+fn killed_session_loses_at_most_the_last_second_and_recovers_to_a_finished_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("killed.mcap");
+    let fixed = dir.path().join("fixed.mcap");
+    let mut child = Command::new(telerehab_bin())
+        .args([
+            "run",
+            "--sim",
+            "--headless",
+            "--duration",
+            "60",
+            "--record",
+            path.to_str().unwrap(),
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(2600));
+    child.kill().unwrap(); // SIGKILL: no chance to finish the file
+    child.wait().unwrap();
+    let out = run_ok(&[
+        "recover",
+        path.to_str().unwrap(),
+        "--out",
+        fixed.to_str().unwrap(),
+    ]);
+    assert!(String::from_utf8_lossy(&out.stdout).contains("recovered"));
+    let bytes = std::fs::read(&fixed).unwrap();
+    assert!(
+        mcap::Summary::read(&bytes).unwrap().is_some(),
+        "the recovered file is finished"
+    );
+    let msgs = by_topic(&read_mcap(&fixed));
+    // Every closed chunk survives (the recorder closes one at least every second), in order,
+    // from tick 0; only the unfinished tail is lost.
+    let wheel = &msgs["/wheel"];
+    assert!(wheel.len() >= 500, "{}", wheel.len());
+    for (i, m) in wheel.iter().enumerate() {
+        assert_eq!(m.json["tick"], i as u64);
+    }
+    assert!(msgs["/vehicle"].len().abs_diff(wheel.len()) <= 1);
+}
+
+#[test]
+fn max_speed_gives_the_same_simulation_data_as_real_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |speed: &str| {
+        let p = dir.path().join(format!("{speed}.mcap"));
+        run_ok(&[
+            "run",
+            "--sim",
+            "--headless",
+            "--duration",
+            "1",
+            "--seed",
+            "5",
+            "--speed",
+            speed,
+            "--record",
+            p.to_str().unwrap(),
+        ]);
+        simulation_payloads(&p)
+    };
+    let (real_time, max) = (run("realtime"), run("max"));
+    assert!(!max.is_empty());
+    assert!(real_time == max, "pacing must not change the simulation");
 }

@@ -1,23 +1,82 @@
-//! Helpers for the end-to-end tests: locate the `telerehab` binary cargo built.
+//! Helpers for the end-to-end tests: locate the `telerehab` binary, run it, read its MCAP files.
 
-use std::path::PathBuf;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::OnceLock;
 
-/// Path of the `telerehab` binary next to the test executable (cargo builds it for
-/// `cargo test --workspace`); builds it with cargo if it is missing.
+/// Path of the `telerehab` binary under test: `$TELEREHAB_BIN` if set, else the one in this
+/// target directory, (re)built once per test process with cargo so it is never stale.
 pub fn telerehab_bin() -> PathBuf {
-    let exe = std::env::current_exe().expect("test executable path");
-    let dir = exe
-        .parent()
-        .and_then(|d| d.parent())
-        .expect("target profile directory");
-    let bin = dir.join(format!("telerehab{}", std::env::consts::EXE_SUFFIX));
-    if !bin.exists() {
+    static BIN: OnceLock<PathBuf> = OnceLock::new();
+    BIN.get_or_init(|| {
+        if let Ok(p) = std::env::var("TELEREHAB_BIN") {
+            return PathBuf::from(p);
+        }
+        let exe = std::env::current_exe().expect("test executable path");
+        let dir = exe
+            .parent()
+            .and_then(|d| d.parent())
+            .expect("target profile directory");
         let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-        let status = std::process::Command::new(cargo)
-            .args(["build", "-p", "station", "--bin", "telerehab"])
+        let status = Command::new(cargo)
+            .args(["build", "--quiet", "-p", "station", "--bin", "telerehab"])
             .status()
             .expect("run cargo build");
         assert!(status.success(), "cargo build of telerehab failed");
+        dir.join(format!("telerehab{}", std::env::consts::EXE_SUFFIX))
+    })
+    .clone()
+}
+
+/// Run `telerehab` with `args`, panicking with its output if it fails.
+pub fn run_ok(args: &[&str]) -> Output {
+    let out = Command::new(telerehab_bin())
+        .args(args)
+        .output()
+        .expect("run telerehab");
+    assert!(
+        out.status.success(),
+        "telerehab {args:?} failed: {}\nstdout:\n{}\nstderr:\n{}",
+        out.status,
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+/// One decoded MCAP message.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Msg {
+    /// Channel topic.
+    pub topic: String,
+    /// Log time, ns.
+    pub log_time: u64,
+    /// The JSON payload.
+    pub json: serde_json::Value,
+}
+
+/// Every message of an MCAP file, in file order.
+pub fn read_mcap(path: &Path) -> Vec<Msg> {
+    let bytes = std::fs::read(path).expect("read mcap");
+    mcap::MessageStream::new(&bytes)
+        .expect("mcap header")
+        .map(|m| {
+            let m = m.expect("mcap message");
+            Msg {
+                topic: m.channel.topic.clone(),
+                log_time: m.log_time,
+                json: serde_json::from_slice(&m.data).expect("json payload"),
+            }
+        })
+        .collect()
+}
+
+/// Messages per topic.
+pub fn by_topic(msgs: &[Msg]) -> BTreeMap<String, Vec<Msg>> {
+    let mut map: BTreeMap<String, Vec<Msg>> = BTreeMap::new();
+    for m in msgs {
+        map.entry(m.topic.clone()).or_default().push(m.clone());
     }
-    bin
+    map
 }

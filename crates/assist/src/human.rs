@@ -1,10 +1,15 @@
 //! A simulated human arm holding the wheel: the PID "human" of thesis Ch. 5 (Table 5.1 uses
-//! K_P = 2), with reaction delay, motor noise and weakness.
+//! K_P = 2), with reaction delay, motor noise and impairment — weakness, tremor (a
+//! band-limited oscillation around 4–6 Hz), reduced range of motion — and improvement over
+//! repetitions: recovery of strength and trial-to-trial learning of an anticipatory torque
+//! (the improvement that assist-as-needed must make room for).
 
+use crate::error::{AssistError, check_range};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use rand_distr::{Distribution, Normal};
+use rand_distr::{Distribution, Normal, StandardNormal};
 use serde::{Deserialize, Serialize};
+use std::f64::consts::TAU;
 
 /// Parameters of the simulated human.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -20,8 +25,32 @@ pub struct HumanArmParams {
     pub delay_s: f64,
     /// Standard deviation of additive motor noise, N·m.
     pub noise_nm: f64,
-    /// Strongest torque the arm can produce on the wheel, N·m (weakness lowers it).
+    /// Strongest torque the healthy arm can produce on the wheel, N·m.
     pub max_torque_nm: f64,
+    /// Fraction of strength lost to the impairment, in [0, 1): scales the PID gains and the
+    /// strength limit by `1 − weakness`.
+    pub weakness: f64,
+    /// RMS torque of the tremor, N·m (0 = none).
+    pub tremor_nm: f64,
+    /// Centre frequency of the tremor, Hz (pathological tremor: about 4–6 Hz).
+    pub tremor_hz: f64,
+    /// Half-width of the band the tremor frequency wanders in, Hz.
+    pub tremor_band_hz: f64,
+    /// Half range of active motion, rad: the arm aims no further than ±this.
+    pub range_of_motion_rad: f64,
+    /// Fraction of the remaining weakness recovered per repetition, in [0, 1) (0 = none).
+    pub recovery_per_repetition: f64,
+    /// Length of one repetition of the exercise, s (for counting repetitions and for the
+    /// phase of the learned anticipation).
+    pub repetition_period_s: f64,
+    /// Trial-to-trial learning gain `g_H` of the arm's anticipatory torque, N·m/rad (0 = the
+    /// arm does not learn). Model: Emken et al. 2007, `x_{k+1} = f_H x_k + g_H e_k` per phase.
+    pub learning_gain_nm_per_rad: f64,
+    /// Retention `f_H` of the learned anticipation per repetition, in [0, 1].
+    pub retention: f64,
+    /// How far ahead the arm anticipates when it learns, s (error at phase `φ + lead` updates
+    /// the torque at `φ`).
+    pub learning_lead_s: f64,
 }
 
 impl Default for HumanArmParams {
@@ -33,9 +62,131 @@ impl Default for HumanArmParams {
             delay_s: 0.05,
             noise_nm: 0.02,
             max_torque_nm: 4.0,
+            weakness: 0.0,
+            tremor_nm: 0.0,
+            tremor_hz: 5.0,
+            tremor_band_hz: 1.0,
+            range_of_motion_rad: std::f64::consts::PI,
+            recovery_per_repetition: 0.0,
+            repetition_period_s: 4.0,
+            learning_gain_nm_per_rad: 0.0,
+            retention: 0.98,
+            learning_lead_s: 0.2,
         }
     }
 }
+
+impl HumanArmParams {
+    /// Check the ranges of every field; the error names it as `human_arm.<field>`.
+    pub fn validate(&self) -> Result<(), AssistError> {
+        check_range(
+            "human_arm.kp_nm_per_rad",
+            self.kp_nm_per_rad,
+            0.0,
+            100.0,
+            "[0, 100] N·m/rad",
+        )?;
+        check_range(
+            "human_arm.ki_nm_per_rad_s",
+            self.ki_nm_per_rad_s,
+            0.0,
+            100.0,
+            "[0, 100] N·m/(rad·s)",
+        )?;
+        check_range(
+            "human_arm.kd_nm_s_per_rad",
+            self.kd_nm_s_per_rad,
+            0.0,
+            10.0,
+            "[0, 10] N·m·s/rad",
+        )?;
+        check_range("human_arm.delay_s", self.delay_s, 0.0, 1.0, "[0, 1] s")?;
+        check_range("human_arm.noise_nm", self.noise_nm, 0.0, 5.0, "[0, 5] N·m")?;
+        check_range(
+            "human_arm.max_torque_nm",
+            self.max_torque_nm,
+            0.0,
+            50.0,
+            "[0, 50] N·m",
+        )?;
+        check_range("human_arm.weakness", self.weakness, 0.0, 0.99, "[0, 0.99]")?;
+        check_range(
+            "human_arm.tremor_nm",
+            self.tremor_nm,
+            0.0,
+            2.0,
+            "[0, 2] N·m",
+        )?;
+        check_range(
+            "human_arm.tremor_hz",
+            self.tremor_hz,
+            1.0,
+            15.0,
+            "[1, 15] Hz",
+        )?;
+        check_range(
+            "human_arm.tremor_band_hz",
+            self.tremor_band_hz,
+            0.0,
+            5.0,
+            "[0, 5] Hz",
+        )?;
+        check_range(
+            "human_arm.range_of_motion_rad",
+            self.range_of_motion_rad,
+            0.05,
+            std::f64::consts::PI,
+            "[0.05, π] rad",
+        )?;
+        check_range(
+            "human_arm.recovery_per_repetition",
+            self.recovery_per_repetition,
+            0.0,
+            0.99,
+            "[0, 0.99]",
+        )?;
+        check_range(
+            "human_arm.repetition_period_s",
+            self.repetition_period_s,
+            0.1,
+            600.0,
+            "[0.1, 600] s",
+        )?;
+        check_range(
+            "human_arm.learning_gain_nm_per_rad",
+            self.learning_gain_nm_per_rad,
+            0.0,
+            20.0,
+            "[0, 20] N·m/rad",
+        )?;
+        check_range("human_arm.retention", self.retention, 0.0, 1.0, "[0, 1]")?;
+        check_range(
+            "human_arm.learning_lead_s",
+            self.learning_lead_s,
+            0.0,
+            2.0,
+            "[0, 2] s",
+        )
+    }
+
+    /// A weak, slow, tremulous post-stroke arm: 85 % weakness, 150 ms delay, 0.03 N·m RMS
+    /// tremor at 5 Hz, ±50° active range (a "weak patient" for the dial task).
+    pub fn weak_patient() -> Self {
+        Self {
+            weakness: 0.85,
+            delay_s: 0.15,
+            tremor_nm: 0.03,
+            range_of_motion_rad: 50f64.to_radians(),
+            ..Self::default()
+        }
+    }
+}
+
+/// Phase bins of the arm's learned anticipation per repetition.
+const LEARNING_BINS: usize = 40;
+
+/// Time constant of the tremor's frequency and amplitude wander, s.
+const TREMOR_WANDER_S: f64 = 0.5;
 
 /// The simulated arm: call [`HumanArm::step`] once per tick.
 #[derive(Clone, Debug)]
@@ -46,6 +197,16 @@ pub struct HumanArm {
     integral: f64,
     rng: ChaCha8Rng,
     noise: Normal<f64>,
+    weakness: f64,
+    tremor_phase: f64,
+    tremor_dev: f64,
+    tremor_amp: f64,
+    t_in_rep_s: f64,
+    repetitions: u64,
+    learned_nm: Vec<f64>,
+    bin: usize,
+    bin_err_sum: f64,
+    bin_err_n: u32,
 }
 
 impl HumanArm {
@@ -58,6 +219,11 @@ impl HumanArm {
         };
         let noise = Normal::new(0.0, params.noise_nm.abs())
             .unwrap_or(Normal::new(0.0, 0.0).expect("zero sd is valid"));
+        let weakness = if params.weakness.is_finite() {
+            params.weakness.clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
         Self {
             params,
             delay_line: vec![0.0; delay_ticks + 1],
@@ -65,28 +231,125 @@ impl HumanArm {
             integral: 0.0,
             rng: ChaCha8Rng::seed_from_u64(seed),
             noise,
+            weakness,
+            tremor_phase: 0.0,
+            tremor_dev: 0.0,
+            tremor_amp: 0.0,
+            t_in_rep_s: 0.0,
+            repetitions: 0,
+            learned_nm: vec![0.0; LEARNING_BINS],
+            bin: 0,
+            bin_err_sum: 0.0,
+            bin_err_n: 0,
         }
+    }
+
+    /// Mean magnitude of the arm's learned anticipatory torque, N·m.
+    pub fn mean_learned_nm(&self) -> f64 {
+        self.learned_nm.iter().map(|u| u.abs()).sum::<f64>() / LEARNING_BINS as f64
+    }
+
+    /// Learn and return the anticipatory torque at the current phase (before strength
+    /// scaling), N·m.
+    fn anticipation_nm(&mut self, err: f64) -> f64 {
+        let p = &self.params;
+        if p.learning_gain_nm_per_rad <= 0.0 || p.repetition_period_s <= 0.0 {
+            return 0.0;
+        }
+        let bin_s = p.repetition_period_s / LEARNING_BINS as f64;
+        let bin = ((self.t_in_rep_s / bin_s) as usize).min(LEARNING_BINS - 1);
+        if bin != self.bin {
+            if self.bin_err_n > 0 {
+                let lead = (p.learning_lead_s / bin_s).round() as usize % LEARNING_BINS;
+                let target = (self.bin + LEARNING_BINS - lead) % LEARNING_BINS;
+                let e = self.bin_err_sum / f64::from(self.bin_err_n);
+                let cap = p.max_torque_nm;
+                self.learned_nm[target] = (p.retention.clamp(0.0, 1.0) * self.learned_nm[target]
+                    + p.learning_gain_nm_per_rad * e)
+                    .clamp(-cap, cap);
+            }
+            self.bin = bin;
+            self.bin_err_sum = 0.0;
+            self.bin_err_n = 0;
+        }
+        self.bin_err_sum += err;
+        self.bin_err_n += 1;
+        self.learned_nm[bin]
+    }
+
+    /// Current fraction of full strength, `1 − weakness` (rises with recovery).
+    pub fn strength_fraction(&self) -> f64 {
+        1.0 - self.weakness
+    }
+
+    /// Completed repetitions.
+    pub fn repetitions(&self) -> u64 {
+        self.repetitions
+    }
+
+    /// Band-limited tremor torque: a sinusoid whose frequency and amplitude wander as
+    /// Ornstein–Uhlenbeck processes (time constant [`TREMOR_WANDER_S`]), frequency clamped to
+    /// `tremor_hz ± tremor_band_hz`; RMS ≈ `tremor_nm`.
+    fn tremor_nm(&mut self, dt_s: f64) -> f64 {
+        let p = &self.params;
+        if p.tremor_nm <= 0.0 || !p.tremor_nm.is_finite() {
+            return 0.0;
+        }
+        let a = (-dt_s / TREMOR_WANDER_S).exp();
+        let s = (1.0 - a * a).sqrt();
+        let n1: f64 = StandardNormal.sample(&mut self.rng);
+        let n2: f64 = StandardNormal.sample(&mut self.rng);
+        self.tremor_dev = a * self.tremor_dev + s * 0.5 * p.tremor_band_hz * n1;
+        self.tremor_amp = a * self.tremor_amp + s * 0.2 * n2;
+        let f = (p.tremor_hz + self.tremor_dev)
+            .clamp(
+                p.tremor_hz - p.tremor_band_hz,
+                p.tremor_hz + p.tremor_band_hz,
+            )
+            .max(0.0);
+        self.tremor_phase = (self.tremor_phase + TAU * f * dt_s) % TAU;
+        p.tremor_nm
+            * std::f64::consts::SQRT_2
+            * (1.0 + self.tremor_amp).max(0.0)
+            * self.tremor_phase.sin()
     }
 
     /// Hand torque on the wheel, N·m, for the target angle the human wants now, the wheel
     /// angle and velocity it feels (rad, rad/s), over a tick of `dt_s`.
     ///
-    /// The target passes through the reaction delay; the arm feels the wheel directly.
+    /// The target passes through the reaction delay and the range-of-motion limit; the arm
+    /// feels the wheel directly. Gains and strength are scaled by `1 − weakness`.
     pub fn step(&mut self, target_rad: f64, angle_rad: f64, vel_rad_s: f64, dt_s: f64) -> f64 {
         let n = self.delay_line.len();
         self.delay_line[self.head] = target_rad;
         self.head = (self.head + 1) % n;
-        let delayed_target = self.delay_line[self.head];
+        let rom = self.params.range_of_motion_rad.abs();
+        let delayed_target = self.delay_line[self.head].clamp(-rom, rom);
         let err = delayed_target - angle_rad;
+        let strength = 1.0 - self.weakness;
+        // Trial-to-trial learning works on the remembered error profile of the repetition,
+        // so it uses the undelayed error at each phase.
+        let anticipation = self.anticipation_nm(target_rad.clamp(-rom, rom) - angle_rad);
         let p = &self.params;
-        let unsat = p.kp_nm_per_rad * err + p.ki_nm_per_rad_s * self.integral
-            - p.kd_nm_s_per_rad * vel_rad_s;
+        let max_torque = p.max_torque_nm * strength;
+        let unsat = strength
+            * (p.kp_nm_per_rad * err + p.ki_nm_per_rad_s * self.integral
+                - p.kd_nm_s_per_rad * vel_rad_s
+                + anticipation);
         // Conditional integration: no windup while the arm is at its strength limit.
-        if unsat.abs() < p.max_torque_nm || unsat.signum() != err.signum() {
+        if unsat.abs() < max_torque || unsat.signum() != err.signum() {
             self.integral += err * dt_s;
         }
-        let torque = unsat + self.noise.sample(&mut self.rng);
-        torque.clamp(-p.max_torque_nm, p.max_torque_nm)
+        let torque = unsat + self.noise.sample(&mut self.rng) + self.tremor_nm(dt_s);
+        // Recovery over repetitions.
+        self.t_in_rep_s += dt_s;
+        let p = &self.params;
+        if p.repetition_period_s > 0.0 && self.t_in_rep_s >= p.repetition_period_s {
+            self.t_in_rep_s -= p.repetition_period_s;
+            self.repetitions += 1;
+            self.weakness *= 1.0 - p.recovery_per_repetition.clamp(0.0, 1.0);
+        }
+        torque.clamp(-max_torque, max_torque)
     }
 }
 
@@ -120,5 +383,101 @@ mod tests {
             let t = i as f64 * 0.01;
             assert_eq!(a.step(t, 0.0, 0.0, 0.001), b.step(t, 0.0, 0.0, 0.001));
         }
+    }
+
+    fn quiet(extra: HumanArmParams) -> HumanArm {
+        HumanArm::new(
+            HumanArmParams {
+                noise_nm: 0.0,
+                ki_nm_per_rad_s: 0.0,
+                kd_nm_s_per_rad: 0.0,
+                delay_s: 0.0,
+                ..extra
+            },
+            0.001,
+            3,
+        )
+    }
+
+    #[test]
+    fn defaults_and_weak_patient_validate_and_bad_values_are_named() {
+        HumanArmParams::default().validate().unwrap();
+        HumanArmParams::weak_patient().validate().unwrap();
+        let e = HumanArmParams {
+            tremor_hz: f64::NAN,
+            ..Default::default()
+        }
+        .validate()
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("human_arm.tremor_hz") && e.contains("[1, 15] Hz"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn weakness_scales_gain_and_strength_limit() {
+        let mut arm = quiet(HumanArmParams {
+            weakness: 0.75,
+            ..Default::default()
+        });
+        assert_eq!(arm.step(0.1, 0.0, 0.0, 0.001), 0.25 * 2.0 * 0.1);
+        assert_eq!(arm.step(100.0, 0.0, 0.0, 0.001), 0.25 * 4.0);
+    }
+
+    #[test]
+    fn range_of_motion_limits_the_aim() {
+        let mut arm = quiet(HumanArmParams {
+            range_of_motion_rad: 0.5,
+            ..Default::default()
+        });
+        // Aiming at 1.0 rad from 0.5 rad: no active torque beyond the range.
+        assert_eq!(arm.step(1.0, 0.5, 0.0, 0.001), 0.0);
+    }
+
+    #[test]
+    fn tremor_has_its_power_in_the_4_to_6_hz_band_and_the_requested_rms() {
+        let mut arm = quiet(HumanArmParams {
+            kp_nm_per_rad: 0.0,
+            tremor_nm: 0.05,
+            ..Default::default()
+        });
+        let n = 20_000;
+        let x: Vec<f64> = (0..n).map(|_| arm.step(0.0, 0.0, 0.0, 0.001)).collect();
+        let rms = (x.iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt();
+        assert!((rms - 0.05).abs() < 0.015, "rms {rms}");
+        // Goertzel-like DFT power: in band vs out of band.
+        let power = |f: f64| {
+            let (mut re, mut im) = (0.0, 0.0);
+            for (k, v) in x.iter().enumerate() {
+                let ph = TAU * f * k as f64 * 0.001;
+                re += v * ph.cos();
+                im += v * ph.sin();
+            }
+            re * re + im * im
+        };
+        let in_band: f64 = (40..=60).map(|f| power(f as f64 * 0.1)).sum();
+        let out_band: f64 = (10..=30)
+            .chain(80..=120)
+            .map(|f| power(f as f64 * 0.1))
+            .sum();
+        assert!(in_band > 10.0 * out_band, "in {in_band} out {out_band}");
+    }
+
+    #[test]
+    fn strength_recovers_over_repetitions() {
+        let mut arm = quiet(HumanArmParams {
+            weakness: 0.8,
+            recovery_per_repetition: 0.1,
+            repetition_period_s: 1.0,
+            ..Default::default()
+        });
+        for _ in 0..10_005 {
+            arm.step(0.0, 0.0, 0.0, 0.001);
+        }
+        assert_eq!(arm.repetitions(), 10);
+        let expect = 1.0 - 0.8 * 0.9f64.powi(10);
+        assert!((arm.strength_fraction() - expect).abs() < 1e-12);
     }
 }

@@ -1,8 +1,42 @@
-//! Active motion and force assist (thesis Chapter 5), and the simulated human that the
-//! controllers are designed and tested against.
+//! Active motion and force assist (thesis Chapter 5), made safe under a real wheel's torque
+//! ceiling and slew limit, plus assist-as-needed, difficulty adaptation, resistive modes and
+//! the simulated human that the controllers are designed and tested against.
 //!
 //! Pure: controllers are structs with a `step(..., dt)` method; no I/O, threads or clocks.
+//!
+//! The station's haptic loop uses [`Assist`]:
+//!
+//! ```
+//! use assist::{Assist, AssistSpec, Limits, Measurement};
+//! let spec: AssistSpec = toml::from_str("[mode]\nkind = \"motion\"\n").unwrap();
+//! let mut assist = Assist::new(&spec).unwrap();
+//! let limits = Limits { ceiling_nm: 1.87, slew_nm_per_s: 50.0 };
+//! let out = assist.step(Measurement { angle_rad: 0.0, vel_rad_s: 0.0 }, 0.1, limits, 0.001);
+//! assert!(out.torque_nm.abs() <= 1.87);
+//! ```
 
+pub mod aan;
+pub mod difficulty;
+pub mod error;
+pub mod force;
+pub mod governor;
 pub mod human;
+pub mod limits;
+pub mod model;
+pub mod motion;
+pub mod resist;
+pub mod runtime;
+pub mod sim;
+pub mod spec;
 
+pub use difficulty::{DifficultyAdapter, DifficultyParams};
+pub use error::AssistError;
+pub use governor::Infeasibility;
 pub use human::{HumanArm, HumanArmParams};
+pub use limits::Limits;
+pub use model::PlantParams;
+pub use runtime::{Assist, AssistOutput, AssistStatus, Measurement};
+pub use spec::{
+    AanParams, AssistMode, AssistSpec, ForceParams, HybridParams, ModelSpec, MotionParams,
+    ResistParams,
+};

@@ -1,5 +1,20 @@
 //! Kinematic calibration of the patient's arm (thesis Chapter 4).
 //!
+//! - [`fourbar`]: the planar arm–wheel four-bar (§4.2.1): global closed form, the thesis's
+//!   Gauss–Newton, robust Levenberg–Marquardt with gyro-bias terms, and an online estimator.
+//! - [`serial`]: serial-chain SE(3) calibration of initial frames (§4.3).
+//! - [`se3`]: the rigid-motion maps both use.
+//!
 //! Pure: arrays in, estimates out. No I/O, threads or clocks.
 
+pub mod error;
 pub mod fourbar;
+pub mod se3;
+pub mod serial;
+
+pub use error::CalibError;
+pub use fourbar::online::{OnlineFourbar, OnlineOptions};
+pub use fourbar::{
+    FourbarCalibration, FourbarMethod, FourbarOptions, FourbarParams, FourbarSamples, calibrate,
+};
+pub use serial::{SerialCalibration, SerialOptions, calibrate_serial_chain};

@@ -1,21 +1,51 @@
 //! The force-feedback wheel: the patient's sensor and the therapy's actuator (thesis §3.2.1).
 //!
-//! - [`Wheel`]: the device trait (read angle, command torque), with [`SimWheel`], a simulated
-//!   wheel with inertia, friction and encoder/torque quantisation.
-//! - [`SpringDamper`]: the haptic model of thesis eq. 3.5.
-//! - [`TorqueLimiter`]: the safety clamp every commanded torque passes through last.
+//! - [`Wheel`]: the device trait (read angle, command torque, profile, capabilities), with
+//!   [`SimWheel`], a simulated wheel with inertia, friction, end stops, encoder/torque
+//!   quantisation and a delayed, jittered USB command path; [`ZeroTorqueOnDrop`] guards any
+//!   wheel.
+//! - [`profile`]: per-model angle/torque scales (thesis eq. 3.1–3.3) and the per-driver
+//!   torque update rate policy; `CALIBRATION.md` tells how to measure a new wheel.
+//! - [`effects`]: the DirectInput effect set of the thesis toolbox (Appendix B), rendered
+//!   on the host in a fixed-capacity [`EffectStack`].
+//! - [`filter`]: the thesis moving average (eq. 3.4) and a Kalman velocity estimator.
+//! - [`model`]: the spring–mass–damper of eq. 3.5 and a Hannaford–Ryu passivity controller.
+//! - [`safety`]: limiter, soft start, fade-out, deadline watchdog.
+//! - [`HapticChain`]: all of the above as the one call per tick the haptic loop makes.
+//! - [`devices`]: `enumerate_devices()` for `telerehab devices`; `evdev_wheel` (Linux,
+//!   feature `evdev`): the kernel force-feedback backend; `peripherals` (feature `gilrs`):
+//!   pedals, buttons and gamepads.
 //!
 //! SI units inside: rad, rad/s, N·m, s. Device units are converted at the device edge.
 
+pub mod chain;
+pub mod devices;
+pub mod effects;
+#[cfg(all(target_os = "linux", feature = "evdev"))]
+pub mod evdev_wheel;
+pub mod filter;
 pub mod model;
+#[cfg(feature = "gilrs")]
+pub mod peripherals;
+pub mod profile;
 pub mod safety;
 pub mod sim;
 pub mod wheel;
 
-pub use model::SpringDamper;
-pub use safety::{LimitedTorque, TorqueLimiter};
+pub use chain::{
+    HapticChain, HapticChainConfig, HapticRegimen, HapticStats, TickInput, TickTelemetry,
+};
+pub use devices::{DeviceReport, enumerate_devices};
+pub use effects::{
+    Condition, ConditionKind, Effect, EffectError, EffectId, EffectKind, EffectStack, Envelope,
+    Periodic, Waveform, WheelState,
+};
+pub use filter::{KalmanEstimator, KalmanParams, MovingAverage, StateEstimator};
+pub use model::{PassivityController, PassivityParams, SpringDamper};
+pub use profile::{DeviceProfile, DriverFamily};
+pub use safety::{Fault, LimitedTorque, SafetyConfig, Supervisor, TorqueLimiter, WatchdogState};
 pub use sim::{SimWheel, SimWheelParams};
-pub use wheel::{Wheel, WheelError, WheelReading};
+pub use wheel::{Wheel, WheelCapabilities, WheelError, WheelReading, ZeroTorqueOnDrop};
 
 /// Torque range of the thesis wheel (Microsoft SideWinder FFB), N·m (thesis §3.2.1).
 pub const THESIS_WHEEL_MAX_TORQUE_NM: f64 = 1.87;

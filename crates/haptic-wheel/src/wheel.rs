@@ -1,5 +1,7 @@
 //! The device trait every wheel backend implements.
 
+use crate::profile::DeviceProfile;
+
 /// One reading of the wheel.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct WheelReading {
@@ -19,6 +21,43 @@ pub enum WheelError {
     /// A torque command that is not a finite number was refused.
     #[error("refused non-finite torque command {0}")]
     NonFiniteTorque(f64),
+    /// The operating system refused an operation on the device (open, ioctl, write).
+    #[error("wheel device I/O on {device}: {source}")]
+    Io {
+        /// The device node or name.
+        device: String,
+        /// The underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The device lacks something the backend needs (an axis, constant force).
+    #[error("wheel {device} is not usable: {reason}")]
+    Unsupported {
+        /// The device node or name.
+        device: String,
+        /// What is missing.
+        reason: String,
+    },
+    /// A configuration value is out of its allowed range.
+    #[error("invalid wheel configuration: {0}")]
+    InvalidConfig(String),
+}
+
+/// What a wheel backend can do, for logs, `telerehab devices` and the rate policy.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WheelCapabilities {
+    /// Human-readable device name.
+    pub name: String,
+    /// Largest torque the device can produce, N·m.
+    pub max_torque_nm: f64,
+    /// Half range of motion (lock to centre), rad.
+    pub half_range_rad: f64,
+    /// Smallest angle change the encoder reports, rad.
+    pub angle_resolution_rad: f64,
+    /// Highest useful torque update rate, Hz (per-driver rate policy).
+    pub max_update_rate_hz: f64,
+    /// Spring and friction can be uploaded to the device's firmware (run inside the wheel).
+    pub firmware_conditions: bool,
 }
 
 /// A steering wheel the haptic loop reads and drives.
@@ -29,4 +68,147 @@ pub trait Wheel {
     fn command_torque(&mut self, torque_nm: f64) -> Result<(), WheelError>;
     /// Largest torque the device can produce, N·m.
     fn max_torque_nm(&self) -> f64;
+
+    /// The named device profile (angle and torque scales, rate policy) this backend uses.
+    /// The default is the thesis SideWinder profile with this backend's torque range.
+    fn profile(&self) -> DeviceProfile {
+        DeviceProfile {
+            max_torque_nm: self.max_torque_nm(),
+            ..DeviceProfile::thesis_sidewinder()
+        }
+    }
+
+    /// What this backend can do. Derived from [`Wheel::profile`] unless the backend knows better.
+    fn capabilities(&self) -> WheelCapabilities {
+        let p = self.profile();
+        WheelCapabilities {
+            name: p.name.clone(),
+            max_torque_nm: p.max_torque_nm,
+            half_range_rad: p.half_range_rad,
+            angle_resolution_rad: p.ka_rad_per_unit,
+            max_update_rate_hz: p.max_update_rate_hz,
+            firmware_conditions: false,
+        }
+    }
+}
+
+impl<W: Wheel + ?Sized> Wheel for &mut W {
+    fn read(&mut self) -> Result<WheelReading, WheelError> {
+        (**self).read()
+    }
+    fn command_torque(&mut self, torque_nm: f64) -> Result<(), WheelError> {
+        (**self).command_torque(torque_nm)
+    }
+    fn max_torque_nm(&self) -> f64 {
+        (**self).max_torque_nm()
+    }
+    fn profile(&self) -> DeviceProfile {
+        (**self).profile()
+    }
+    fn capabilities(&self) -> WheelCapabilities {
+        (**self).capabilities()
+    }
+}
+
+impl<W: Wheel + ?Sized> Wheel for Box<W> {
+    fn read(&mut self) -> Result<WheelReading, WheelError> {
+        (**self).read()
+    }
+    fn command_torque(&mut self, torque_nm: f64) -> Result<(), WheelError> {
+        (**self).command_torque(torque_nm)
+    }
+    fn max_torque_nm(&self) -> f64 {
+        (**self).max_torque_nm()
+    }
+    fn profile(&self) -> DeviceProfile {
+        (**self).profile()
+    }
+    fn capabilities(&self) -> WheelCapabilities {
+        (**self).capabilities()
+    }
+}
+
+/// Owns a wheel and commands zero torque when dropped: on scope exit, on an early `return`
+/// or `?`, and on a panic that unwinds through the haptic thread (safety invariant 3).
+///
+/// Signals: the station's handler sets a flag the loop checks each tick; the loop then
+/// returns and this guard is dropped. With `panic = "abort"` nothing runs on panic, but the
+/// kernel erases the process's effects when the device file closes, and the evdev backend
+/// keeps every effect short and re-armed so the motor stops within one effect length anyway.
+#[derive(Debug)]
+pub struct ZeroTorqueOnDrop<W: Wheel> {
+    wheel: W,
+}
+
+impl<W: Wheel> ZeroTorqueOnDrop<W> {
+    /// Guard `wheel`.
+    pub fn new(wheel: W) -> Self {
+        Self { wheel }
+    }
+
+    /// The guarded wheel.
+    pub fn wheel(&mut self) -> &mut W {
+        &mut self.wheel
+    }
+}
+
+impl<W: Wheel> std::ops::Deref for ZeroTorqueOnDrop<W> {
+    type Target = W;
+    fn deref(&self) -> &W {
+        &self.wheel
+    }
+}
+
+impl<W: Wheel> std::ops::DerefMut for ZeroTorqueOnDrop<W> {
+    fn deref_mut(&mut self) -> &mut W {
+        &mut self.wheel
+    }
+}
+
+impl<W: Wheel> Drop for ZeroTorqueOnDrop<W> {
+    fn drop(&mut self) {
+        // Nothing useful can be done with an error while dropping: the device is gone, and
+        // a gone device applies no torque.
+        let _ = self.wheel.command_torque(0.0);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{SimWheel, SimWheelParams};
+
+    #[test]
+    fn guard_commands_zero_torque_when_dropped() {
+        let mut sim = SimWheel::new(SimWheelParams {
+            usb_delay_s: 0.0,
+            usb_jitter_s: 0.0,
+            ..Default::default()
+        });
+        {
+            let mut guard = ZeroTorqueOnDrop::new(&mut sim);
+            guard.command_torque(1.0).unwrap();
+            guard.wheel().advance(0.001, 0.0);
+            assert!(guard.motor_torque_nm() > 0.9);
+        }
+        sim.advance(0.001, 0.0);
+        assert_eq!(sim.motor_torque_nm(), 0.0);
+    }
+
+    #[test]
+    fn guard_commands_zero_torque_when_a_panic_unwinds() {
+        let mut sim = SimWheel::new(SimWheelParams {
+            usb_delay_s: 0.0,
+            usb_jitter_s: 0.0,
+            ..Default::default()
+        });
+        let res = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            let mut guard = ZeroTorqueOnDrop::new(&mut sim);
+            guard.command_torque(1.5).unwrap();
+            panic!("haptic thread bug");
+        }));
+        assert!(res.is_err());
+        sim.advance(0.001, 0.0);
+        assert_eq!(sim.motor_torque_nm(), 0.0);
+    }
 }

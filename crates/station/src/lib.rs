@@ -1,4 +1,17 @@
 //! The telerehab station: command line, configuration, threads, recorder and therapist hub.
+//!
+//! Thread layout (DESIGN.md): the `haptic` thread runs the 1 kHz loop ([`session::haptic`]),
+//! the `recorder` thread writes MCAP and thins summaries ([`recorder`]), a tokio runtime owns
+//! the therapist link ([`link`], [`therapist`]).
 
 pub mod cli;
+pub mod config;
+pub mod devices;
+pub mod link;
+pub mod recorder;
+pub mod recover;
 pub mod render;
+pub mod report;
+pub mod session;
+pub mod therapist;
+pub mod timing;

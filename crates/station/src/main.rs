@@ -1,5 +1,14 @@
 //! `telerehab`: the patient station and the therapist hub.
 
-fn main() -> anyhow::Result<()> {
-    station::cli::main()
+use std::process::ExitCode;
+
+fn main() -> ExitCode {
+    match station::cli::main() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            // `{:#}` prints the whole chain of causes on one line: what failed and why.
+            eprintln!("telerehab: error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
 }

@@ -4,26 +4,23 @@
 use crate::model::{DriverInput, VehicleParams, VehicleState};
 use crate::road::{Projection, Road};
 
-/// Preview steering: aims the car at the centre line a look-ahead time ahead.
-///
-/// δ = L·κ(s + ℓ) + k_y·(−e_y(ℓ)) + k_ψ·(−e_ψ): curvature feed-forward plus correction of the
-/// predicted lateral and heading errors at the preview distance ℓ = U·t_preview.
+/// Preview steering by pure pursuit: aim at the centre-line point a look-ahead distance
+/// ℓ = max(U·t_preview, ℓ_min) further along the road, on the circular arc through the car that
+/// is tangent to its heading: curvature κ = 2·y_c/ℓ² (y_c: the goal's lateral offset in the car
+/// frame), road-wheel angle δ = atan(L·κ).
 #[derive(Clone, Debug)]
 pub struct PreviewDriver {
     /// Look-ahead time, s.
     pub preview_s: f64,
-    /// Lateral-error gain, rad/m.
-    pub k_lateral_rad_per_m: f64,
-    /// Heading-error gain, rad/rad.
-    pub k_heading: f64,
+    /// Shortest look-ahead distance, m.
+    pub min_lookahead_m: f64,
 }
 
 impl Default for PreviewDriver {
     fn default() -> Self {
         Self {
-            preview_s: 0.8,
-            k_lateral_rad_per_m: 0.04,
-            k_heading: 0.5,
+            preview_s: 0.6,
+            min_lookahead_m: 4.0,
         }
     }
 }
@@ -37,16 +34,14 @@ impl PreviewDriver {
         here: &Projection,
         road: &dyn Road,
     ) -> f64 {
-        let lookahead_m = state.ux_m_s.max(1.0) * self.preview_s;
+        let lookahead_m = (state.ux_m_s.abs() * self.preview_s).max(self.min_lookahead_m);
+        let ([gx, gy], _, _) = road.centre(here.s_m + lookahead_m);
         let (sy, cy) = state.yaw_rad.sin_cos();
-        let px = state.x_m + cy * lookahead_m;
-        let py = state.y_m + sy * lookahead_m;
-        let ahead = road.project(px, py, here.s_m + lookahead_m);
-        let heading_err = wrap_angle(state.yaw_rad - ahead.heading_rad);
+        let (dx, dy) = (gx - state.x_m, gy - state.y_m);
+        let y_car = -sy * dx + cy * dy;
+        let dist2 = (dx * dx + dy * dy).max(1e-6);
         let wheelbase = params.cg_to_front_m + params.cg_to_rear_m;
-        wheelbase * ahead.curvature_1_m
-            - self.k_lateral_rad_per_m * ahead.lateral_m
-            - self.k_heading * heading_err
+        (wheelbase * 2.0 * y_car / dist2).atan()
     }
 }
 

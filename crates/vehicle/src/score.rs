@@ -13,7 +13,7 @@ impl LaneScore {
     /// Add `dt_s` seconds at lateral deviation `lateral_m` in a lane of `lane_width_m`.
     /// The car is in the lane while its centre is within half the lane width of the centre line.
     pub fn update(&mut self, lateral_m: f64, lane_width_m: f64, dt_s: f64) {
-        if !lateral_m.is_finite() || !(dt_s > 0.0) {
+        if !lateral_m.is_finite() || !dt_s.is_finite() || dt_s <= 0.0 {
             return;
         }
         self.sum_sq_m2_s += lateral_m * lateral_m * dt_s;
@@ -41,7 +41,7 @@ impl LaneScore {
     /// Percentage of time inside the lane, 0–100.
     pub fn pct_in_lane(&self) -> f64 {
         if self.time_s > 0.0 {
-            100.0 * self.time_in_lane_s / self.time_s
+            100.0 * (self.time_in_lane_s / self.time_s).min(1.0)
         } else {
             100.0
         }
@@ -69,5 +69,14 @@ mod tests {
         assert!((s.rms_m() - (2.5f64).sqrt()).abs() < 1e-12);
         assert_eq!(s.max_abs_m(), 2.0);
         assert!((s.pct_in_lane() - 50.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn always_in_lane_is_exactly_one_hundred_percent() {
+        let mut s = LaneScore::default();
+        for _ in 0..2600 {
+            s.update(0.1, 3.5, 0.001);
+        }
+        assert_eq!(s.pct_in_lane(), 100.0);
     }
 }

@@ -2,8 +2,11 @@
 
 The heavy lifting is in Rust (the same code the patient station runs); this package is a
 thin, typed facade over the private native module ``telerehab._native``.
+
+Submodules: :mod:`telerehab.calib` (arm calibration).
 """
 
 from telerehab._native import __version__
+from telerehab import calib
 
-__all__ = ["__version__"]
+__all__ = ["__version__", "calib"]

@@ -1,0 +1,360 @@
+//! The simulated patient's arm on the wheel and the IMUs strapped to it.
+//!
+//! Each tick the station gives the simulated wheel's angle and rate; [`SimArm`] solves the
+//! arm–wheel chain ([`crate::arm::solve`]) with the patient's own elbow swivel and forearm
+//! pronation, differentiates it for the segments' true body rates and the sensors' specific
+//! force, and passes both through the sensor model ([`crate::sensor`]) of each IMU, mounted at
+//! an arbitrary rotation on its segment.
+
+use nalgebra::{UnitQuaternion, Vector3};
+use serde::{Deserialize, Serialize};
+
+use crate::arm::{self, ArmGeometry, ArmState, JointAngles};
+use crate::device::{Imu, ImuDeviceInfo, ImuKind, ImuSample};
+use crate::error::{ImuError, check_range};
+use crate::sensor::{AccSpec, GyroSpec, SensorModel};
+use crate::sim::motion::GRAVITY_M_S2;
+use crate::so3;
+
+/// How the simulated patient holds the arm.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PatientArmConfig {
+    /// Arm and wheel geometry.
+    pub geometry: ArmGeometry,
+    /// Mean elbow swivel (rad, positive = elbow out).
+    pub swivel_mean_rad: f64,
+    /// Swivel following the wheel (rad per rad of wheel angle).
+    pub swivel_per_wheel: f64,
+    /// Amplitude of a slow free swivel oscillation (rad).
+    pub swivel_amp_rad: f64,
+    /// Frequency of that oscillation (Hz).
+    pub swivel_freq_hz: f64,
+    /// Forearm pronation following the wheel (rad per rad); zero pronation at wheel angle 0.
+    pub pronation_per_wheel: f64,
+    /// Where the upper-arm sensor sits, as a fraction of the segment from the shoulder.
+    pub upper_sensor_at: f64,
+    /// Where the forearm sensor sits, as a fraction of the segment from the elbow.
+    pub fore_sensor_at: f64,
+}
+
+impl Default for PatientArmConfig {
+    fn default() -> Self {
+        Self {
+            geometry: ArmGeometry::default(),
+            swivel_mean_rad: 0.35,
+            swivel_per_wheel: 0.2,
+            swivel_amp_rad: 0.15,
+            swivel_freq_hz: 0.07,
+            pronation_per_wheel: 0.3,
+            upper_sensor_at: 0.6,
+            fore_sensor_at: 0.7,
+        }
+    }
+}
+
+impl PatientArmConfig {
+    /// Check every field; the error names the field and its allowed range.
+    pub fn validate(&self) -> Result<(), ImuError> {
+        self.geometry.validate()?;
+        check_range(
+            "swivel_mean_rad",
+            self.swivel_mean_rad,
+            -1.5,
+            1.5,
+            "[-1.5, 1.5] rad",
+        )?;
+        check_range(
+            "swivel_per_wheel",
+            self.swivel_per_wheel,
+            -2.0,
+            2.0,
+            "[-2, 2]",
+        )?;
+        check_range(
+            "swivel_amp_rad",
+            self.swivel_amp_rad,
+            0.0,
+            1.0,
+            "[0, 1] rad",
+        )?;
+        check_range("swivel_freq_hz", self.swivel_freq_hz, 0.0, 5.0, "[0, 5] Hz")?;
+        check_range(
+            "pronation_per_wheel",
+            self.pronation_per_wheel,
+            -2.0,
+            2.0,
+            "[-2, 2]",
+        )?;
+        check_range("upper_sensor_at", self.upper_sensor_at, 0.0, 1.0, "[0, 1]")?;
+        check_range("fore_sensor_at", self.fore_sensor_at, 0.0, 1.0, "[0, 1]")
+    }
+
+    /// Swivel and pronation (rad) at time `t_s` and wheel angle `wheel_rad`.
+    pub fn posture(&self, t_s: f64, wheel_rad: f64) -> (f64, f64) {
+        let swivel = self.swivel_mean_rad
+            + self.swivel_per_wheel * wheel_rad
+            + self.swivel_amp_rad * (std::f64::consts::TAU * self.swivel_freq_hz * t_s).sin();
+        (swivel, self.pronation_per_wheel * wheel_rad)
+    }
+}
+
+/// A simulated IMU: the latest sample of a [`SimArm`] segment, handed out through [`Imu`].
+#[derive(Debug, Clone)]
+pub struct SimImu {
+    info: ImuDeviceInfo,
+    model: SensorModel,
+    /// Sensor-to-segment rotation.
+    mount: UnitQuaternion<f64>,
+    pending: Option<ImuSample>,
+}
+
+impl Imu for SimImu {
+    fn info(&self) -> &ImuDeviceInfo {
+        &self.info
+    }
+
+    fn poll(&mut self, out: &mut [ImuSample]) -> Result<usize, ImuError> {
+        match (out.first_mut(), self.pending.take()) {
+            (Some(slot), Some(s)) => {
+                *slot = s;
+                Ok(1)
+            }
+            (None, Some(s)) => {
+                self.pending = Some(s);
+                Ok(0)
+            }
+            _ => Ok(0),
+        }
+    }
+}
+
+/// The truth of one simulated tick.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SimArmTruth {
+    /// Segment orientations and joint positions.
+    pub state: ArmState,
+    /// Joint angles.
+    pub angles: JointAngles,
+    /// Elbow swivel (rad).
+    pub swivel_rad: f64,
+    /// Upper-arm sensor orientation (sensor-to-world).
+    pub upper_sensor: UnitQuaternion<f64>,
+    /// Forearm sensor orientation (sensor-to-world).
+    pub fore_sensor: UnitQuaternion<f64>,
+}
+
+/// The simulated patient's arm with an IMU on the upper arm and one on the forearm.
+#[derive(Debug, Clone)]
+pub struct SimArm {
+    cfg: PatientArmConfig,
+    upper: SimImu,
+    fore: SimImu,
+    prev_wheel_rate: Option<f64>,
+}
+
+impl SimArm {
+    /// An arm with sensors of the given specs, mounted with sensor-to-segment rotations
+    /// `mount_upper` and `mount_fore`; noise seeded from `seed`.
+    pub fn new(
+        cfg: PatientArmConfig,
+        gyro: GyroSpec,
+        acc: Option<AccSpec>,
+        mount_upper: UnitQuaternion<f64>,
+        mount_fore: UnitQuaternion<f64>,
+        seed: u64,
+    ) -> Result<Self, ImuError> {
+        cfg.validate()?;
+        let mk = |name: &str, mount, seed| -> Result<SimImu, ImuError> {
+            Ok(SimImu {
+                info: ImuDeviceInfo {
+                    kind: ImuKind::Simulated,
+                    name: name.to_string(),
+                    path: format!("sim://{name}"),
+                    vendor_id: 0,
+                    product_id: 0,
+                    bluetooth: false,
+                },
+                model: SensorModel::new(gyro, acc, seed)?,
+                mount,
+                pending: None,
+            })
+        };
+        Ok(Self {
+            cfg,
+            upper: mk("upper-arm", mount_upper, seed)?,
+            fore: mk("forearm", mount_fore, seed.wrapping_add(0x9e37_79b9))?,
+            prev_wheel_rate: None,
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &PatientArmConfig {
+        &self.cfg
+    }
+
+    /// The upper-arm IMU.
+    pub fn upper_imu(&mut self) -> &mut SimImu {
+        &mut self.upper
+    }
+
+    /// The forearm IMU.
+    pub fn fore_imu(&mut self) -> &mut SimImu {
+        &mut self.fore
+    }
+
+    /// The latest samples (upper, fore), if any tick has run.
+    pub fn latest(&self) -> Option<(ImuSample, ImuSample)> {
+        self.upper.pending.zip(self.fore.pending)
+    }
+
+    /// Simulate one tick at time `t_ns` with the wheel at `wheel_rad` turning at
+    /// `wheel_rate_rad_s`, `dt_s` after the previous tick. Leaves one sample in each IMU.
+    pub fn step(
+        &mut self,
+        t_ns: u64,
+        wheel_rad: f64,
+        wheel_rate_rad_s: f64,
+        dt_s: f64,
+    ) -> Result<SimArmTruth, ImuError> {
+        if !(wheel_rad.is_finite()
+            && wheel_rate_rad_s.is_finite()
+            && dt_s.is_finite()
+            && dt_s > 0.0)
+        {
+            return Err(ImuError::InvalidInput(format!(
+                "wheel {wheel_rad} rad, rate {wheel_rate_rad_s} rad/s, dt {dt_s} s must be finite (dt > 0)"
+            )));
+        }
+        let wheel_acc = self
+            .prev_wheel_rate
+            .map_or(0.0, |p| (wheel_rate_rad_s - p) / dt_s);
+        self.prev_wheel_rate = Some(wheel_rate_rad_s);
+        let t = t_ns as f64 * 1e-9;
+        let cfg = self.cfg;
+        let at = |h: f64| -> Result<ArmState, ImuError> {
+            let w = wheel_rad + wheel_rate_rad_s * h + 0.5 * wheel_acc * h * h;
+            let (sw, pr) = cfg.posture(t + h, w);
+            arm::solve(&cfg.geometry, w, sw, pr)
+        };
+        let h = 1e-3;
+        let (s0, sp, sm) = (at(0.0)?, at(h)?, at(-h)?);
+        let rate = |a: &nalgebra::Matrix3<f64>, b: &nalgebra::Matrix3<f64>| {
+            so3::log(&(a.transpose() * b)) / (2.0 * h)
+        };
+        let w_upper = rate(&sm.upper, &sp.upper);
+        let w_fore = rate(&sm.fore, &sp.fore);
+        let pos_u = |s: &ArmState| {
+            cfg.geometry.shoulder() + (s.elbow_m - cfg.geometry.shoulder()) * cfg.upper_sensor_at
+        };
+        let pos_f = |s: &ArmState| s.elbow_m + (s.grip_m - s.elbow_m) * cfg.fore_sensor_at;
+        let acc_u = (pos_u(&sp) - pos_u(&s0) * 2.0 + pos_u(&sm)) / (h * h);
+        let acc_f = (pos_f(&sp) - pos_f(&s0) * 2.0 + pos_f(&sm)) / (h * h);
+        let g = Vector3::z() * GRAVITY_M_S2;
+        let q_upper = arm::to_quat(&s0.upper) * self.upper.mount;
+        let q_fore = arm::to_quat(&s0.fore) * self.fore.mount;
+        for (imu, q_ws, w_seg, acc) in [
+            (&mut self.upper, q_upper, w_upper, acc_u),
+            (&mut self.fore, q_fore, w_fore, acc_f),
+        ] {
+            let w_s = imu.mount.inverse() * w_seg;
+            let f_s = q_ws.inverse() * (acc + g);
+            let r = imu.model.measure(&w_s, &f_s, dt_s);
+            let t_rep = (t_ns as f64 + r.time_error_s * 1e9).max(0.0) as u64;
+            imu.pending = Some(ImuSample {
+                t_ns: t_rep,
+                rate_rad_s: r.rate_rad_s,
+                acc_m_s2: r.acc_m_s2,
+            });
+        }
+        let (swivel, _) = cfg.posture(t, wheel_rad);
+        Ok(SimArmTruth {
+            state: s0,
+            angles: arm::joint_angles(&s0.upper, &s0.fore),
+            swivel_rad: swivel,
+            upper_sensor: q_upper,
+            fore_sensor: q_fore,
+        })
+    }
+}
+
+/// A steering-like wheel trajectory for tests and demos: a sum of two sines (a "sine road"),
+/// returning `(angle_rad, rate_rad_s)` at `t_s`.
+pub fn sine_road(t_s: f64, amp1_rad: f64, f1_hz: f64, amp2_rad: f64, f2_hz: f64) -> (f64, f64) {
+    let (w1, w2) = (std::f64::consts::TAU * f1_hz, std::f64::consts::TAU * f2_hz);
+    (
+        amp1_rad * (w1 * t_s).sin() + amp2_rad * (w2 * t_s + 1.0).sin(),
+        amp1_rad * w1 * (w1 * t_s).cos() + amp2_rad * w2 * (w2 * t_s + 1.0).cos(),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrate::QuatIntegrator;
+
+    #[test]
+    fn ideal_sensor_rates_integrate_to_the_true_sensor_orientation() {
+        let mount_u = so3::exp_quat(&Vector3::new(0.4, -1.0, 2.0));
+        let mount_f = so3::exp_quat(&Vector3::new(-2.0, 0.3, 0.5));
+        let mut arm = SimArm::new(
+            PatientArmConfig::default(),
+            GyroSpec::ideal(),
+            None,
+            mount_u,
+            mount_f,
+            1,
+        )
+        .unwrap();
+        let dt = 0.001;
+        let mut integ: Option<QuatIntegrator> = None;
+        let mut prev_rate = None;
+        let mut last = None;
+        for k in 0..20_000 {
+            let (w, wd) = sine_road(k as f64 * dt, 0.8, 0.3, 0.2, 0.11);
+            let truth = arm.step((k as f64 * dt * 1e9) as u64, w, wd, dt).unwrap();
+            let (su, _) = arm.latest().unwrap();
+            let i = integ.get_or_insert(QuatIntegrator::new(truth.upper_sensor));
+            if let Some(r) = prev_rate {
+                i.step(&r, dt);
+            }
+            prev_rate = Some(su.rate_rad_s);
+            last = Some((i.orientation(), truth.upper_sensor));
+        }
+        let (est, truth) = last.unwrap();
+        let err = so3::angle_between(&est, &truth).to_degrees();
+        assert!(err < 0.5, "{err}°");
+    }
+
+    #[test]
+    fn static_arm_accelerometer_reads_gravity_in_the_sensor_frame() {
+        let mount = so3::exp_quat(&Vector3::new(1.0, 0.2, -0.3));
+        let cfg = PatientArmConfig {
+            swivel_amp_rad: 0.0,
+            ..PatientArmConfig::default()
+        };
+        let mut arm = SimArm::new(
+            cfg,
+            GyroSpec::ideal(),
+            Some(AccSpec {
+                resolution_m_s2: 0.0,
+                bias_std_m_s2: 0.0,
+                noise_density_m_s2_sqrt_hz: 0.0,
+                saturation_m_s2: 100.0,
+            }),
+            mount,
+            mount,
+            2,
+        )
+        .unwrap();
+        let truth = arm.step(0, 0.3, 0.0, 0.001).unwrap();
+        let (u, _) = arm.latest().unwrap();
+        let expect = truth.upper_sensor.inverse() * Vector3::z() * GRAVITY_M_S2;
+        assert!((u.acc_m_s2.unwrap() - expect).norm() < 1e-6);
+        assert!(u.rate_rad_s.norm() < 1e-9);
+        let mut buf = [u; 2];
+        assert_eq!(arm.upper_imu().poll(&mut buf).unwrap(), 1);
+        assert_eq!(arm.upper_imu().poll(&mut buf).unwrap(), 0);
+        assert!(arm.step(0, f64::NAN, 0.0, 0.001).is_err());
+    }
+}

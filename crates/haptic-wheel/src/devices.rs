@@ -1,0 +1,318 @@
+//! `telerehab devices`: which wheels, pedals and gamepads are connected, what they can do,
+//! and — when nothing usable is found — a plain explanation of what to check.
+//!
+//! On Linux with the `evdev` feature every `/dev/input/event*` node is inspected. Nodes that
+//! exist but cannot be opened are counted (usually missing permissions: the udev rule in
+//! `packaging/udev/` fixes that). Elsewhere gamepads are listed through gilrs when that
+//! feature is on.
+
+use std::fmt;
+use std::path::PathBuf;
+
+use crate::profile::DeviceProfile;
+
+/// What kind of input device this is, for the haptic station.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DeviceClass {
+    /// Force feedback with constant force and a steering axis: the haptic loop can drive it.
+    Wheel,
+    /// Absolute axes without force feedback or gamepad buttons, e.g. pedals.
+    Pedals,
+    /// A gamepad (face buttons); may have rumble, which the station never uses on a wheel.
+    Gamepad,
+}
+
+/// The facts used to classify a device, independent of the OS API.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DeviceTraits {
+    /// Device name as reported by the driver.
+    pub name: String,
+    /// Force-feedback effect names supported (e.g. "constant", "spring", "gain").
+    pub ff_effects: Vec<&'static str>,
+    /// Absolute axis names present (e.g. "x", "wheel", "gas").
+    pub abs_axes: Vec<&'static str>,
+    /// Has gamepad face buttons (BTN_SOUTH / BTN_GAMEPAD).
+    pub gamepad_buttons: bool,
+}
+
+/// Classify a device from its traits; `None` for anything the station does not use
+/// (keyboards, mice, power buttons…).
+pub fn classify(t: &DeviceTraits) -> Option<DeviceClass> {
+    let steering = t.abs_axes.iter().any(|a| *a == "x" || *a == "wheel");
+    if t.ff_effects.contains(&"constant") && steering {
+        return Some(DeviceClass::Wheel);
+    }
+    if t.gamepad_buttons {
+        return Some(DeviceClass::Gamepad);
+    }
+    let pedal_axes = ["gas", "brake", "throttle", "rudder", "z", "rz", "y"];
+    let lower = t.name.to_lowercase();
+    if t.ff_effects.is_empty()
+        && (lower.contains("pedal")
+            || t.abs_axes
+                .iter()
+                .any(|a| ["gas", "brake", "throttle"].contains(a))
+            || (!t.abs_axes.is_empty() && t.abs_axes.iter().all(|a| pedal_axes.contains(a))))
+    {
+        return Some(DeviceClass::Pedals);
+    }
+    None
+}
+
+/// One input device found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DeviceInfo {
+    /// Device node (`/dev/input/eventN`) or backend id.
+    pub path: String,
+    /// What it is.
+    pub class: DeviceClass,
+    /// Name, axes, buttons, force-feedback effects.
+    pub traits: DeviceTraits,
+    /// USB vendor and product id, when known.
+    pub usb_id: Option<(u16, u16)>,
+    /// For wheels: the device profile the backend would use (scales, rate policy).
+    pub profile: Option<DeviceProfile>,
+    /// For wheels: how many effects the device can hold at once.
+    pub max_ff_effects: usize,
+}
+
+/// Everything `telerehab devices` prints.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DeviceReport {
+    /// Force-feedback wheels.
+    pub wheels: Vec<DeviceInfo>,
+    /// Pedal sets and other axis-only devices.
+    pub pedals: Vec<DeviceInfo>,
+    /// Gamepads.
+    pub gamepads: Vec<DeviceInfo>,
+    /// Input nodes that exist but could not be opened, with the reason.
+    pub unreadable: Vec<(PathBuf, String)>,
+    /// Plain-language notes: what was checked, what to do.
+    pub notes: Vec<String>,
+}
+
+/// Where the shipped udev rule lives and how to install it.
+pub const UDEV_HINT: &str = "install the udev rule shipped in packaging/udev/ \
+(see packaging/udev/README.md: `sudo cp packaging/udev/70-telerehab.rules /etc/udev/rules.d/ && \
+sudo udevadm control --reload && sudo udevadm trigger`), then unplug and replug the device";
+
+impl DeviceReport {
+    /// Whether a wheel the haptic loop can drive was found.
+    pub fn has_wheel(&self) -> bool {
+        !self.wheels.is_empty()
+    }
+
+    /// File a device under its class.
+    pub fn add(&mut self, d: DeviceInfo) {
+        match d.class {
+            DeviceClass::Wheel => self.wheels.push(d),
+            DeviceClass::Pedals => self.pedals.push(d),
+            DeviceClass::Gamepad => self.gamepads.push(d),
+        }
+    }
+
+    /// Add the plain explanation for what is missing (called once the scan is done).
+    fn explain(&mut self) {
+        if !self.unreadable.is_empty() {
+            self.notes.push(format!(
+                "{} input device(s) could not be opened (permission denied?): {}",
+                self.unreadable.len(),
+                UDEV_HINT
+            ));
+        }
+        if self.wheels.is_empty() {
+            self.notes.push(
+                "No force-feedback wheel found. Check that it is plugged in and powered (most \
+                 wheels need their own power supply for force feedback), that it is in PC mode, \
+                 and that its kernel driver is loaded (`lsmod | grep -E 'hid_lg|pidff|tmff|fanatec'`). \
+                 `telerehab run --sim` works without one."
+                    .into(),
+            );
+        }
+    }
+}
+
+fn list(f: &mut fmt::Formatter<'_>, title: &str, ds: &[DeviceInfo]) -> fmt::Result {
+    writeln!(f, "{title}: {}", ds.len())?;
+    for d in ds {
+        write!(f, "  {}  {}", d.path, d.traits.name)?;
+        if let Some((v, p)) = d.usb_id {
+            write!(f, "  [{v:04x}:{p:04x}]")?;
+        }
+        writeln!(f)?;
+        if !d.traits.abs_axes.is_empty() {
+            writeln!(f, "      axes: {}", d.traits.abs_axes.join(", "))?;
+        }
+        if !d.traits.ff_effects.is_empty() {
+            writeln!(
+                f,
+                "      force feedback: {} (up to {} effects)",
+                d.traits.ff_effects.join(", "),
+                d.max_ff_effects
+            )?;
+        }
+        if let Some(p) = &d.profile {
+            writeln!(
+                f,
+                "      profile: {}; torque updates up to {} Hz; ceiling {} N·m; range ±{:.0}°",
+                p.name,
+                p.max_update_rate_hz,
+                p.max_torque_nm,
+                p.half_range_rad.to_degrees()
+            )?;
+        }
+    }
+    Ok(())
+}
+
+impl fmt::Display for DeviceReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        list(f, "Wheels", &self.wheels)?;
+        list(f, "Pedals", &self.pedals)?;
+        list(f, "Gamepads", &self.gamepads)?;
+        for (p, why) in &self.unreadable {
+            writeln!(f, "Could not open {}: {why}", p.display())?;
+        }
+        for n in &self.notes {
+            writeln!(f, "{n}")?;
+        }
+        Ok(())
+    }
+}
+
+/// Scan for wheels, pedals and gamepads. Never panics and never fails: anything that goes
+/// wrong becomes a note in the report.
+pub fn enumerate_devices() -> DeviceReport {
+    let mut report = DeviceReport::default();
+    scan_platform(&mut report);
+    report.explain();
+    report
+}
+
+#[cfg(all(target_os = "linux", feature = "evdev"))]
+fn scan_platform(report: &mut DeviceReport) {
+    let dir = std::path::Path::new("/dev/input");
+    let entries = match std::fs::read_dir(dir) {
+        Ok(e) => e,
+        Err(e) => {
+            report.notes.push(format!(
+                "This system has no readable /dev/input ({e}): no input devices are visible to \
+                 this process (a container or VM without USB passthrough, or no devices at all)."
+            ));
+            return;
+        }
+    };
+    let mut paths: Vec<PathBuf> = entries
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| {
+            p.file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.starts_with("event"))
+        })
+        .collect();
+    paths.sort();
+    if paths.is_empty() {
+        report
+            .notes
+            .push("/dev/input has no event devices: nothing is connected.".into());
+    }
+    for path in paths {
+        match crate::evdev_wheel::inspect(&path) {
+            Ok(Some(info)) => report.add(info),
+            Ok(None) => {}
+            Err(e) => report.unreadable.push((path, e.to_string())),
+        }
+    }
+}
+
+#[cfg(not(all(target_os = "linux", feature = "evdev")))]
+fn scan_platform(report: &mut DeviceReport) {
+    report.notes.push(
+        "Force-feedback wheels are supported through the Linux kernel FF API (feature `evdev`); \
+         this build has no wheel backend."
+            .into(),
+    );
+    #[cfg(feature = "gilrs")]
+    match crate::peripherals::list_gamepads() {
+        Ok(list) => {
+            for d in list {
+                report.add(d);
+            }
+        }
+        Err(e) => report.notes.push(format!("gamepad scan failed: {e}")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn traits(name: &str, ff: &[&'static str], axes: &[&'static str], pad: bool) -> DeviceTraits {
+        DeviceTraits {
+            name: name.into(),
+            ff_effects: ff.to_vec(),
+            abs_axes: axes.to_vec(),
+            gamepad_buttons: pad,
+        }
+    }
+
+    #[test]
+    fn classifies_wheels_pedals_gamepads_and_ignores_the_rest() {
+        let g29 = traits(
+            "Logitech G29 Driving Force Racing Wheel",
+            &["constant", "autocenter", "gain"],
+            &["x", "y", "z", "rz", "hat0x", "hat0y"],
+            false,
+        );
+        assert_eq!(classify(&g29), Some(DeviceClass::Wheel));
+        let pedals = traits("Fanatec ClubSport Pedals", &[], &["x", "y", "z"], false);
+        assert_eq!(classify(&pedals), Some(DeviceClass::Pedals));
+        let ds4 = traits(
+            "Wireless Controller",
+            &["rumble", "periodic", "gain"],
+            &["x", "y", "rx", "ry", "z", "rz"],
+            true,
+        );
+        assert_eq!(classify(&ds4), Some(DeviceClass::Gamepad));
+        let kbd = traits("AT Translated Set 2 keyboard", &[], &[], false);
+        assert_eq!(classify(&kbd), None);
+        // Rumble alone does not make a wheel.
+        let rumble_stick = traits("stick", &["rumble"], &["x", "y"], false);
+        assert_ne!(classify(&rumble_stick), Some(DeviceClass::Wheel));
+    }
+
+    #[test]
+    fn enumerate_devices_explains_itself_when_nothing_is_found() {
+        // On this machine (no /dev/input) and on CI: no wheel, and a plain note why.
+        let r = enumerate_devices();
+        let text = r.to_string();
+        println!("{text}");
+        if !r.has_wheel() {
+            assert!(text.contains("No force-feedback wheel found"), "{text}");
+        }
+        assert!(!r.notes.is_empty() || r.has_wheel());
+    }
+
+    #[test]
+    fn report_lists_wheels_with_their_profile() {
+        let mut r = DeviceReport::default();
+        r.add(DeviceInfo {
+            path: "/dev/input/event7".into(),
+            class: DeviceClass::Wheel,
+            traits: traits("G29", &["constant", "gain"], &["x"], false),
+            usb_id: Some((0x046d, 0xc24f)),
+            profile: Some(DeviceProfile::for_usb_id(0x046d, 0xc24f)),
+            max_ff_effects: 16,
+        });
+        r.unreadable
+            .push(("/dev/input/event3".into(), "Permission denied".into()));
+        r.explain();
+        let text = r.to_string();
+        assert!(text.contains("Wheels: 1"), "{text}");
+        assert!(text.contains("046d:c24f"), "{text}");
+        assert!(text.contains("500 Hz"), "{text}");
+        assert!(text.contains("packaging/udev"), "{text}");
+        assert!(!text.contains("No force-feedback wheel found"), "{text}");
+    }
+}

@@ -1,0 +1,511 @@
+//! The wire format (pure: no I/O). See `PROTOCOL.md` for the normative description.
+//!
+//! ```text
+//! offset size field
+//! 0      4    magic   b"TRHB"
+//! 4      2    version u16 big-endian (= PROTOCOL_VERSION)
+//! 6      1    kind    u8 (FrameKind)
+//! 7      1    flags   u8, reserved, must be 0
+//! 8      4    length  u32 big-endian, payload bytes, ≤ MAX_PAYLOAD_LEN
+//! 12     len  payload JSON (UTF-8) of the frame body
+//! ```
+
+use crate::frame::{
+    Ack, Bye, ErrorFrame, Frame, FrameKind, Hello, PROTOCOL_VERSION, Regimen, Summary,
+};
+
+/// The four bytes every frame starts with.
+pub const MAGIC: [u8; 4] = *b"TRHB";
+
+/// Header length in bytes.
+pub const HEADER_LEN: usize = 12;
+
+/// Largest payload accepted or produced, bytes (64 KiB).
+pub const MAX_PAYLOAD_LEN: usize = 64 * 1024;
+
+/// Why bytes could not be decoded into a frame, or a frame could not be encoded.
+///
+/// After a decode error the byte stream has lost its framing: close the connection.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum CodecError {
+    /// The stream does not start with `TRHB`.
+    #[error("bad magic {found:02x?}: expected \"TRHB\" (54 52 48 42); not a telerehab peer?")]
+    BadMagic {
+        /// The bytes found (up to four).
+        found: Vec<u8>,
+    },
+    /// The peer speaks another protocol version.
+    #[error("unsupported protocol version {found}; this side speaks only {supported}")]
+    UnsupportedVersion {
+        /// Version in the header.
+        found: u16,
+        /// Version this crate speaks.
+        supported: u16,
+    },
+    /// The kind byte names no frame kind.
+    #[error("unknown frame kind {0} (known kinds 1..=6)")]
+    UnknownKind(u8),
+    /// Reserved flag bits are set.
+    #[error("reserved flags 0x{0:02x} set; version 1 requires flags = 0")]
+    ReservedFlags(u8),
+    /// The payload is larger than [`MAX_PAYLOAD_LEN`].
+    #[error("payload of {len} bytes exceeds the maximum of {max} bytes")]
+    Oversize {
+        /// Announced or produced payload length.
+        len: usize,
+        /// [`MAX_PAYLOAD_LEN`].
+        max: usize,
+    },
+    /// The payload is not valid JSON for the kind's body.
+    #[error("bad JSON in {kind} payload: {source}")]
+    BadJson {
+        /// Kind from the header.
+        kind: FrameKind,
+        /// The JSON error.
+        source: serde_json::Error,
+    },
+    /// The body decoded but a field is invalid (the message names it).
+    #[error("invalid {kind} frame: {reason}")]
+    Invalid {
+        /// Kind of the frame.
+        kind: FrameKind,
+        /// Which field, and its allowed range.
+        reason: String,
+    },
+}
+
+/// Appends the encoded `frame` to `out`. On error `out` is left as it was.
+///
+/// The body is validated first ([`Frame::validate`]) so a peer never receives a frame it
+/// would reject.
+pub fn encode(frame: &Frame, out: &mut Vec<u8>) -> Result<(), CodecError> {
+    let kind = frame.kind();
+    frame
+        .validate()
+        .map_err(|reason| CodecError::Invalid { kind, reason })?;
+    let start = out.len();
+    out.extend_from_slice(&MAGIC);
+    out.extend_from_slice(&PROTOCOL_VERSION.to_be_bytes());
+    out.push(kind.byte());
+    out.push(0);
+    out.extend_from_slice(&[0; 4]);
+    let written = match frame {
+        Frame::Hello(b) => serde_json::to_writer(&mut *out, b),
+        Frame::Summary(b) => serde_json::to_writer(&mut *out, b),
+        Frame::Ack(b) => serde_json::to_writer(&mut *out, b),
+        Frame::Regimen(b) => serde_json::to_writer(&mut *out, b),
+        Frame::Bye(b) => serde_json::to_writer(&mut *out, b),
+        Frame::Error(b) => serde_json::to_writer(&mut *out, b),
+    };
+    let len = out.len() - start - HEADER_LEN;
+    if let Err(source) = written {
+        out.truncate(start);
+        return Err(CodecError::BadJson { kind, source });
+    }
+    if len > MAX_PAYLOAD_LEN {
+        out.truncate(start);
+        return Err(CodecError::Oversize {
+            len,
+            max: MAX_PAYLOAD_LEN,
+        });
+    }
+    // `len` ≤ MAX_PAYLOAD_LEN, so it fits in u32.
+    out[start + 8..start + HEADER_LEN].copy_from_slice(&(len as u32).to_be_bytes());
+    Ok(())
+}
+
+/// Encodes `frame` into a new buffer.
+pub fn encode_to_vec(frame: &Frame) -> Result<Vec<u8>, CodecError> {
+    let mut out = Vec::with_capacity(256);
+    encode(frame, &mut out)?;
+    Ok(out)
+}
+
+/// Decodes the first frame in `buf`.
+///
+/// Returns `Ok(None)` if `buf` holds only a prefix of a frame (read more bytes), or the frame
+/// and the number of bytes it used. Header errors are reported as soon as the offending byte
+/// is present: a wrong magic after the first byte, an oversize length before its payload.
+pub fn decode(buf: &[u8]) -> Result<Option<(Frame, usize)>, CodecError> {
+    let magic_len = buf.len().min(MAGIC.len());
+    if buf[..magic_len] != MAGIC[..magic_len] {
+        return Err(CodecError::BadMagic {
+            found: buf[..magic_len].to_vec(),
+        });
+    }
+    if buf.len() >= 6 {
+        let version = u16::from_be_bytes([buf[4], buf[5]]);
+        if version != PROTOCOL_VERSION {
+            return Err(CodecError::UnsupportedVersion {
+                found: version,
+                supported: PROTOCOL_VERSION,
+            });
+        }
+    }
+    if buf.len() >= 7 && FrameKind::from_byte(buf[6]).is_none() {
+        return Err(CodecError::UnknownKind(buf[6]));
+    }
+    if buf.len() >= 8 && buf[7] != 0 {
+        return Err(CodecError::ReservedFlags(buf[7]));
+    }
+    if buf.len() < HEADER_LEN {
+        return Ok(None);
+    }
+    let len = u32::from_be_bytes([buf[8], buf[9], buf[10], buf[11]]) as usize;
+    if len > MAX_PAYLOAD_LEN {
+        return Err(CodecError::Oversize {
+            len,
+            max: MAX_PAYLOAD_LEN,
+        });
+    }
+    let total = HEADER_LEN + len;
+    if buf.len() < total {
+        return Ok(None);
+    }
+    let Some(kind) = FrameKind::from_byte(buf[6]) else {
+        return Err(CodecError::UnknownKind(buf[6]));
+    };
+    let payload = &buf[HEADER_LEN..total];
+    let bad_json = |source| CodecError::BadJson { kind, source };
+    let frame = match kind {
+        FrameKind::Hello => {
+            Frame::Hello(serde_json::from_slice::<Hello>(payload).map_err(bad_json)?)
+        }
+        FrameKind::Summary => {
+            Frame::Summary(serde_json::from_slice::<Summary>(payload).map_err(bad_json)?)
+        }
+        FrameKind::Ack => Frame::Ack(serde_json::from_slice::<Ack>(payload).map_err(bad_json)?),
+        FrameKind::Regimen => {
+            Frame::Regimen(serde_json::from_slice::<Regimen>(payload).map_err(bad_json)?)
+        }
+        FrameKind::Bye => Frame::Bye(serde_json::from_slice::<Bye>(payload).map_err(bad_json)?),
+        FrameKind::Error => {
+            Frame::Error(serde_json::from_slice::<ErrorFrame>(payload).map_err(bad_json)?)
+        }
+    };
+    frame
+        .validate()
+        .map_err(|reason| CodecError::Invalid { kind, reason })?;
+    Ok(Some((frame, total)))
+}
+
+/// Incremental decoder: feed it bytes as they arrive, take frames out as they complete.
+#[derive(Debug, Default)]
+pub struct FrameDecoder {
+    buf: Vec<u8>,
+    start: usize,
+}
+
+impl FrameDecoder {
+    /// An empty decoder.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Appends received bytes.
+    pub fn extend(&mut self, bytes: &[u8]) {
+        if self.start > 0 && self.start == self.buf.len() {
+            self.buf.clear();
+            self.start = 0;
+        }
+        self.buf.extend_from_slice(bytes);
+    }
+
+    /// The next complete frame, `Ok(None)` if more bytes are needed.
+    ///
+    /// After an error the stream's framing is lost; the decoder keeps returning errors.
+    pub fn next_frame(&mut self) -> Result<Option<Frame>, CodecError> {
+        match decode(&self.buf[self.start..])? {
+            Some((frame, used)) => {
+                self.start += used;
+                if self.start == self.buf.len() {
+                    self.buf.clear();
+                    self.start = 0;
+                } else if self.start > MAX_PAYLOAD_LEN {
+                    self.buf.drain(..self.start);
+                    self.start = 0;
+                }
+                Ok(Some(frame))
+            }
+            None => Ok(None),
+        }
+    }
+
+    /// Bytes received but not yet returned as frames.
+    pub fn buffered_len(&self) -> usize {
+        self.buf.len() - self.start
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::frame::tests::summary;
+    use proptest::prelude::*;
+
+    fn hello() -> Hello {
+        Hello {
+            protocol_version: PROTOCOL_VERSION,
+            station_id: "station-01".into(),
+            patient_id: "p-0042".into(),
+            session_id: "2026-11-21T09-30-00Z".into(),
+            exercise: "sine-road".into(),
+            started_unix_ms: 1_795_253_400_000,
+            software_version: "telerehab 0.1.0".into(),
+        }
+    }
+
+    fn one_of_each() -> Vec<Frame> {
+        let mut s = summary("2026-11-21T09-30-00Z", 7);
+        s.extra.insert("assist_level".into(), 0.5);
+        vec![
+            Frame::Hello(hello()),
+            Frame::Summary(s),
+            Frame::Ack(Ack {
+                session_id: "2026-11-21T09-30-00Z".into(),
+                seq: 7,
+            }),
+            Frame::Regimen(Regimen {
+                id: "reg-3".into(),
+                toml: "[exercise]\nname = \"sine-road\"\n".into(),
+            }),
+            Frame::Bye(Bye {
+                session_id: "2026-11-21T09-30-00Z".into(),
+                reason: "session complete".into(),
+                final_seq: Some(7),
+            }),
+            Frame::Error(ErrorFrame {
+                message: "bad magic".into(),
+            }),
+        ]
+    }
+
+    /// Renders bytes as printable ASCII with `\xNN` escapes, for readable snapshots.
+    fn escape(bytes: &[u8]) -> String {
+        bytes
+            .iter()
+            .map(|&b| {
+                if (0x20..0x7f).contains(&b) && b != b'\\' {
+                    (b as char).to_string()
+                } else {
+                    format!("\\x{b:02x}")
+                }
+            })
+            .collect()
+    }
+
+    /// The exact bytes of one frame of each kind. If this test fails, the wire format changed:
+    /// bump `PROTOCOL_VERSION` and update PROTOCOL.md instead of editing the snapshot.
+    #[test]
+    fn golden_bytes_of_each_frame_kind_are_unchanged() {
+        let expected = [
+            r#"TRHB\x00\x01\x01\x00\x00\x00\x00\xc6{"protocol_version":1,"station_id":"station-01","patient_id":"p-0042","session_id":"2026-11-21T09-30-00Z","exercise":"sine-road","started_unix_ms":1795253400000,"software_version":"telerehab 0.1.0"}"#,
+            r#"TRHB\x00\x01\x02\x00\x00\x00\x01${"session_id":"2026-11-21T09-30-00Z","seq":7,"t_s":0.7000000000000001,"exercise":"sine-road","speed_m_s":12.5,"lateral_m":-0.25,"rms_lateral_m":0.31,"max_lateral_m":0.9,"pct_in_lane":97.5,"max_abs_torque_nm":1.2,"loop_p99_us":45.0,"ticks":700,"dropped_records":0,"extra":{"assist_level":0.5}}"#,
+            r#"TRHB\x00\x01\x03\x00\x00\x00\x00-{"session_id":"2026-11-21T09-30-00Z","seq":7}"#,
+            r#"TRHB\x00\x01\x04\x00\x00\x00\x00:{"id":"reg-3","toml":"[exercise]\x5cnname = \x5c"sine-road\x5c"\x5cn"}"#,
+            r#"TRHB\x00\x01\x05\x00\x00\x00\x00O{"session_id":"2026-11-21T09-30-00Z","reason":"session complete","final_seq":7}"#,
+            r#"TRHB\x00\x01\x06\x00\x00\x00\x00\x17{"message":"bad magic"}"#,
+        ];
+        for (frame, want) in one_of_each().iter().zip(expected) {
+            let bytes = encode_to_vec(frame).unwrap();
+            assert_eq!(escape(&bytes), want, "{} frame bytes changed", frame.kind());
+        }
+    }
+
+    #[test]
+    fn every_frame_kind_round_trips() {
+        for frame in one_of_each() {
+            let bytes = encode_to_vec(&frame).unwrap();
+            let (back, used) = decode(&bytes).unwrap().unwrap();
+            assert_eq!(used, bytes.len());
+            assert_eq!(back, frame);
+        }
+    }
+
+    #[test]
+    fn every_strict_prefix_is_incomplete_not_an_error() {
+        let bytes = encode_to_vec(&Frame::Hello(hello())).unwrap();
+        for n in 0..bytes.len() {
+            assert!(decode(&bytes[..n]).unwrap().is_none(), "prefix {n}");
+        }
+    }
+
+    #[test]
+    fn bad_magic_is_reported_from_the_first_byte() {
+        let err = decode(b"G").unwrap_err();
+        assert!(matches!(err, CodecError::BadMagic { .. }), "{err}");
+        let err = decode(b"GET / HTTP/1.1\r\n").unwrap_err();
+        assert!(err.to_string().contains("bad magic"), "{err}");
+    }
+
+    #[test]
+    fn header_errors_are_distinguished() {
+        let mut bytes = encode_to_vec(&Frame::Hello(hello())).unwrap();
+        bytes[5] = 2;
+        assert!(matches!(
+            decode(&bytes),
+            Err(CodecError::UnsupportedVersion {
+                found: 2,
+                supported: 1
+            })
+        ));
+        bytes[5] = 1;
+        bytes[6] = 9;
+        assert!(matches!(decode(&bytes), Err(CodecError::UnknownKind(9))));
+        bytes[6] = 1;
+        bytes[7] = 0x80;
+        assert!(matches!(
+            decode(&bytes),
+            Err(CodecError::ReservedFlags(0x80))
+        ));
+    }
+
+    #[test]
+    fn oversize_length_is_rejected_before_its_payload_arrives() {
+        let mut header = b"TRHB\x00\x01\x02\x00".to_vec();
+        header.extend_from_slice(&((MAX_PAYLOAD_LEN as u32) + 1).to_be_bytes());
+        assert!(matches!(
+            decode(&header),
+            Err(CodecError::Oversize { len, .. }) if len == MAX_PAYLOAD_LEN + 1
+        ));
+    }
+
+    #[test]
+    fn oversize_frame_is_not_encoded_and_leaves_buffer_untouched() {
+        let frame = Frame::Regimen(Regimen {
+            id: "big".into(),
+            toml: "x".repeat(MAX_PAYLOAD_LEN),
+        });
+        let mut out = b"keep".to_vec();
+        assert!(matches!(
+            encode(&frame, &mut out),
+            Err(CodecError::Oversize { .. })
+        ));
+        assert_eq!(out, b"keep");
+    }
+
+    #[test]
+    fn bad_json_and_invalid_fields_name_the_problem() {
+        let mut bytes = b"TRHB\x00\x01\x03\x00".to_vec();
+        let payload = br#"{"session_id":"s","seq":"seven"}"#;
+        bytes.extend_from_slice(&(payload.len() as u32).to_be_bytes());
+        bytes.extend_from_slice(payload);
+        let err = decode(&bytes).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                CodecError::BadJson {
+                    kind: FrameKind::Ack,
+                    ..
+                }
+            ),
+            "{err}"
+        );
+
+        let mut bytes = b"TRHB\x00\x01\x03\x00".to_vec();
+        let payload = br#"{"session_id":"../../etc","seq":1}"#;
+        bytes.extend_from_slice(&(payload.len() as u32).to_be_bytes());
+        bytes.extend_from_slice(payload);
+        let err = decode(&bytes).unwrap_err().to_string();
+        assert!(err.contains("session_id"), "{err}");
+    }
+
+    #[test]
+    fn invalid_summary_is_refused_by_the_encoder() {
+        let mut s = summary("s", 1);
+        s.t_s = f64::NAN;
+        let err = encode_to_vec(&Frame::Summary(s)).unwrap_err().to_string();
+        assert!(err.contains("t_s"), "{err}");
+    }
+
+    #[test]
+    fn decoder_returns_frames_fed_one_byte_at_a_time() {
+        let frames = one_of_each();
+        let mut bytes = Vec::new();
+        for f in &frames {
+            encode(f, &mut bytes).unwrap();
+        }
+        let mut dec = FrameDecoder::new();
+        let mut got = Vec::new();
+        for b in &bytes {
+            dec.extend(std::slice::from_ref(b));
+            while let Some(f) = dec.next_frame().unwrap() {
+                got.push(f);
+            }
+        }
+        assert_eq!(got, frames);
+        assert_eq!(dec.buffered_len(), 0);
+    }
+
+    fn finite() -> impl Strategy<Value = f64> {
+        -1e6..1e6f64
+    }
+
+    prop_compose! {
+        fn arb_summary()(
+            seq in any::<u64>(),
+            t_s in 0.0..1e6f64,
+            speed in finite(), lat in finite(),
+            rms in 0.0..1e3f64, max in 0.0..1e3f64, pct in 0.0..=100.0f64,
+            torque in 0.0..10.0f64, p99 in 0.0..1e6f64,
+            ticks in any::<u64>(), dropped in any::<u64>(),
+            extra in proptest::collection::btree_map("[a-z_]{1,16}", finite(), 0..8),
+            session in "[A-Za-z0-9_-][A-Za-z0-9_.-]{0,63}",
+        ) -> Summary {
+            Summary {
+                session_id: session, seq, t_s, exercise: "sine-road".into(),
+                speed_m_s: speed, lateral_m: lat, rms_lateral_m: rms, max_lateral_m: max,
+                pct_in_lane: pct, max_abs_torque_nm: torque, loop_p99_us: p99,
+                ticks, dropped_records: dropped, extra,
+            }
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 256, rng_seed: proptest::test_runner::RngSeed::Fixed(7), ..ProptestConfig::default() })]
+
+        #[test]
+        fn summary_round_trips_exactly(s in arb_summary()) {
+            let frame = Frame::Summary(s);
+            let bytes = encode_to_vec(&frame).unwrap();
+            let (back, used) = decode(&bytes).unwrap().unwrap();
+            prop_assert_eq!(used, bytes.len());
+            prop_assert_eq!(back, frame);
+        }
+
+        #[test]
+        fn random_bytes_never_panic(bytes in proptest::collection::vec(any::<u8>(), 0..512)) {
+            let mut dec = FrameDecoder::new();
+            dec.extend(&bytes);
+            for _ in 0..4 {
+                match dec.next_frame() {
+                    Ok(Some(_)) => {}
+                    Ok(None) | Err(_) => break,
+                }
+            }
+        }
+
+        #[test]
+        fn corrupted_valid_frame_never_panics(
+            s in arb_summary(), pos in any::<proptest::sample::Index>(), byte in any::<u8>(),
+        ) {
+            let mut bytes = encode_to_vec(&Frame::Summary(s)).unwrap();
+            let i = pos.index(bytes.len());
+            bytes[i] = byte;
+            let _ = decode(&bytes);
+        }
+
+        #[test]
+        fn random_payload_behind_valid_header_never_panics(
+            kind in 1u8..=6, payload in proptest::collection::vec(any::<u8>(), 0..256),
+        ) {
+            let mut bytes = b"TRHB\x00\x01".to_vec();
+            bytes.push(kind);
+            bytes.push(0);
+            bytes.extend_from_slice(&(payload.len() as u32).to_be_bytes());
+            bytes.extend_from_slice(&payload);
+            prop_assert!(decode(&bytes).is_err());
+        }
+    }
+}

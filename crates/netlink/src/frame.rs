@@ -1,0 +1,413 @@
+//! Frame bodies exchanged between a station and a therapist hub, and their validation.
+//!
+//! Every body is serialised as JSON inside a frame (see [`crate::codec`]). Unknown JSON fields
+//! are ignored on decode so that a newer station can talk to an older hub; fields added after
+//! protocol version 1 carry `#[serde(default)]`.
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+
+/// The protocol version this crate speaks (the `version` field of every frame header).
+pub const PROTOCOL_VERSION: u16 = 1;
+
+/// Longest identifier (station, patient, session, regimen id) in bytes.
+pub const MAX_ID_LEN: usize = 64;
+
+/// Longest free-text field (exercise, software version, reason) in bytes.
+pub const MAX_TEXT_LEN: usize = 256;
+
+/// Longest error message in bytes.
+pub const MAX_MESSAGE_LEN: usize = 4096;
+
+/// Most entries allowed in [`Summary::extra`].
+pub const MAX_EXTRA_ENTRIES: usize = 64;
+
+/// The kind byte of a frame header.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum FrameKind {
+    /// Station → hub, first frame of every connection.
+    Hello = 1,
+    /// Station → hub, one periodic session summary.
+    Summary = 2,
+    /// Hub → station, cumulative acknowledgement.
+    Ack = 3,
+    /// Hub → station, a new exercise regimen (validated by the station).
+    Regimen = 4,
+    /// Either way: orderly end of a session.
+    Bye = 5,
+    /// Either way: the sender saw a protocol error and closes the connection.
+    Error = 6,
+}
+
+impl FrameKind {
+    /// The kind for a header byte, or `None` if the byte names no known kind.
+    pub fn from_byte(byte: u8) -> Option<Self> {
+        Some(match byte {
+            1 => Self::Hello,
+            2 => Self::Summary,
+            3 => Self::Ack,
+            4 => Self::Regimen,
+            5 => Self::Bye,
+            6 => Self::Error,
+            _ => return None,
+        })
+    }
+
+    /// The header byte of this kind.
+    pub fn byte(self) -> u8 {
+        self as u8
+    }
+}
+
+impl std::fmt::Display for FrameKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let name = match self {
+            Self::Hello => "Hello",
+            Self::Summary => "Summary",
+            Self::Ack => "Ack",
+            Self::Regimen => "Regimen",
+            Self::Bye => "Bye",
+            Self::Error => "Error",
+        };
+        f.write_str(name)
+    }
+}
+
+/// First frame a station sends on every (re)connection.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Hello {
+    /// Must equal [`PROTOCOL_VERSION`].
+    pub protocol_version: u16,
+    /// Identifier of the station (device); becomes a directory name in the hub's store.
+    pub station_id: String,
+    /// Pseudonymous patient identifier (never a name).
+    pub patient_id: String,
+    /// Identifier of this session; becomes a file name in the hub's store.
+    pub session_id: String,
+    /// Exercise name, e.g. `sine-road`.
+    pub exercise: String,
+    /// Session start, milliseconds since the Unix epoch (station clock).
+    pub started_unix_ms: u64,
+    /// Station software version, e.g. `telerehab 0.1.0`.
+    pub software_version: String,
+}
+
+/// One periodic summary of a running session (about every 100 ms).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    /// Session this summary belongs to (equals the connection's [`Hello::session_id`]).
+    pub session_id: String,
+    /// Sequence number, strictly increasing within a session; the receiver dedups on it.
+    pub seq: u64,
+    /// Session time of this summary, s (≥ 0).
+    pub t_s: f64,
+    /// Exercise name.
+    pub exercise: String,
+    /// Vehicle forward speed, m/s.
+    pub speed_m_s: f64,
+    /// Current lateral deviation from the road centre, m (signed).
+    pub lateral_m: f64,
+    /// RMS lateral deviation so far, m (≥ 0).
+    pub rms_lateral_m: f64,
+    /// Largest |lateral deviation| so far, m (≥ 0).
+    pub max_lateral_m: f64,
+    /// Percentage of session time within the lane so far, in [0, 100].
+    pub pct_in_lane: f64,
+    /// Largest |commanded wheel torque| so far, N·m (≥ 0).
+    pub max_abs_torque_nm: f64,
+    /// 99th percentile of the haptic loop period error so far, µs (≥ 0).
+    pub loop_p99_us: f64,
+    /// Haptic ticks run so far.
+    pub ticks: u64,
+    /// Records the station's recorder had to drop so far.
+    #[serde(default)]
+    pub dropped_records: u64,
+    /// Optional further metrics (assist level, joint angles, …), each finite; name → value.
+    #[serde(default)]
+    pub extra: BTreeMap<String, f64>,
+}
+
+/// Cumulative acknowledgement: every summary of `session_id` with sequence ≤ `seq` is stored.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Ack {
+    /// Session acknowledged.
+    pub session_id: String,
+    /// Highest sequence number stored (all lower ones are stored too, or were never sent).
+    pub seq: u64,
+}
+
+/// A new exercise regimen from the therapist. The text is opaque here: the station parses and
+/// validates it against its safety bounds before anything reaches the haptic thread.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Regimen {
+    /// Identifier of this regimen (for audit and acknowledgement in logs).
+    pub id: String,
+    /// Regimen as TOML text.
+    pub toml: String,
+}
+
+/// Orderly end of a session.
+///
+/// Station → hub: the session ended; `final_seq` is the last sequence number the station
+/// produced (`None` if it produced none). Hub → station (reply): the session file is synced to
+/// disk; `final_seq` is the last sequence number stored.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Bye {
+    /// Session ending.
+    pub session_id: String,
+    /// Why it ends, for humans.
+    pub reason: String,
+    /// Last sequence number produced (station) or stored (hub).
+    pub final_seq: Option<u64>,
+}
+
+/// The sender found a protocol error and is closing the connection.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ErrorFrame {
+    /// What went wrong, for humans.
+    pub message: String,
+}
+
+/// Any frame of the protocol.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum Frame {
+    /// See [`Hello`].
+    Hello(Hello),
+    /// See [`Summary`].
+    Summary(Summary),
+    /// See [`Ack`].
+    Ack(Ack),
+    /// See [`Regimen`].
+    Regimen(Regimen),
+    /// See [`Bye`].
+    Bye(Bye),
+    /// See [`ErrorFrame`].
+    Error(ErrorFrame),
+}
+
+impl Frame {
+    /// The header kind of this frame.
+    pub fn kind(&self) -> FrameKind {
+        match self {
+            Self::Hello(_) => FrameKind::Hello,
+            Self::Summary(_) => FrameKind::Summary,
+            Self::Ack(_) => FrameKind::Ack,
+            Self::Regimen(_) => FrameKind::Regimen,
+            Self::Bye(_) => FrameKind::Bye,
+            Self::Error(_) => FrameKind::Error,
+        }
+    }
+
+    /// Checks the body's fields; the message names the offending field and its allowed range.
+    pub fn validate(&self) -> Result<(), String> {
+        match self {
+            Self::Hello(h) => h.validate(),
+            Self::Summary(s) => s.validate(),
+            Self::Ack(a) => check_id("session_id", &a.session_id),
+            Self::Regimen(r) => check_id("id", &r.id),
+            Self::Bye(b) => {
+                check_id("session_id", &b.session_id)?;
+                check_text("reason", &b.reason, MAX_TEXT_LEN)
+            }
+            Self::Error(e) => check_text("message", &e.message, MAX_MESSAGE_LEN),
+        }
+    }
+}
+
+impl Hello {
+    /// Checks every field (identifiers are safe file names; see [`check_id`]).
+    pub fn validate(&self) -> Result<(), String> {
+        if self.protocol_version != PROTOCOL_VERSION {
+            return Err(format!(
+                "protocol_version is {}, this side speaks only {PROTOCOL_VERSION}",
+                self.protocol_version
+            ));
+        }
+        check_id("station_id", &self.station_id)?;
+        check_id("patient_id", &self.patient_id)?;
+        check_id("session_id", &self.session_id)?;
+        check_text("exercise", &self.exercise, MAX_TEXT_LEN)?;
+        check_text("software_version", &self.software_version, MAX_TEXT_LEN)
+    }
+}
+
+impl Summary {
+    /// Checks every field: identifiers, finiteness and the documented ranges.
+    pub fn validate(&self) -> Result<(), String> {
+        check_id("session_id", &self.session_id)?;
+        check_text("exercise", &self.exercise, MAX_TEXT_LEN)?;
+        let fields = [
+            ("t_s", self.t_s, 0.0, f64::MAX),
+            ("speed_m_s", self.speed_m_s, f64::MIN, f64::MAX),
+            ("lateral_m", self.lateral_m, f64::MIN, f64::MAX),
+            ("rms_lateral_m", self.rms_lateral_m, 0.0, f64::MAX),
+            ("max_lateral_m", self.max_lateral_m, 0.0, f64::MAX),
+            ("pct_in_lane", self.pct_in_lane, 0.0, 100.0),
+            ("max_abs_torque_nm", self.max_abs_torque_nm, 0.0, f64::MAX),
+            ("loop_p99_us", self.loop_p99_us, 0.0, f64::MAX),
+        ];
+        for (name, value, lo, hi) in fields {
+            if !value.is_finite() {
+                return Err(format!("{name} is {value}, must be finite"));
+            }
+            if value < lo || value > hi {
+                return Err(format!("{name} is {value}, allowed range [{lo}, {hi}]"));
+            }
+        }
+        if self.extra.len() > MAX_EXTRA_ENTRIES {
+            return Err(format!(
+                "extra has {} entries, at most {MAX_EXTRA_ENTRIES} allowed",
+                self.extra.len()
+            ));
+        }
+        for (key, value) in &self.extra {
+            check_text("extra key", key, MAX_ID_LEN)?;
+            if !value.is_finite() {
+                return Err(format!("extra[{key:?}] is {value}, must be finite"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Checks an identifier: 1 to [`MAX_ID_LEN`] bytes of ASCII letters, digits, `_`, `-`, `.`,
+/// not starting with `.`. Identifiers become file and directory names in the hub's store, so
+/// this is what keeps a hostile peer from writing outside it.
+pub fn check_id(name: &str, value: &str) -> Result<(), String> {
+    if value.is_empty() || value.len() > MAX_ID_LEN {
+        return Err(format!(
+            "{name} has {} bytes, allowed 1 to {MAX_ID_LEN}",
+            value.len()
+        ));
+    }
+    if value.starts_with('.') {
+        return Err(format!("{name} {value:?} must not start with '.'"));
+    }
+    if let Some(bad) = value
+        .chars()
+        .find(|c| !(c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.')))
+    {
+        return Err(format!(
+            "{name} {value:?} contains {bad:?}; allowed are ASCII letters, digits, '_', '-', '.'"
+        ));
+    }
+    Ok(())
+}
+
+/// `text` with control characters replaced by spaces, cut to at most `max` bytes on a
+/// character boundary: fit for a free-text frame field.
+pub(crate) fn printable(text: &str, max: usize) -> String {
+    let mut out = String::with_capacity(text.len().min(max));
+    for c in text.chars().map(|c| if c.is_control() { ' ' } else { c }) {
+        if out.len() + c.len_utf8() > max {
+            break;
+        }
+        out.push(c);
+    }
+    out
+}
+
+fn check_text(name: &str, value: &str, max: usize) -> Result<(), String> {
+    if value.len() > max {
+        return Err(format!(
+            "{name} has {} bytes, at most {max} allowed",
+            value.len()
+        ));
+    }
+    if value.chars().any(char::is_control) {
+        return Err(format!("{name} contains control characters"));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+
+    /// A valid summary for tests.
+    pub(crate) fn summary(session_id: &str, seq: u64) -> Summary {
+        Summary {
+            session_id: session_id.to_owned(),
+            seq,
+            t_s: seq as f64 * 0.1,
+            exercise: "sine-road".to_owned(),
+            speed_m_s: 12.5,
+            lateral_m: -0.25,
+            rms_lateral_m: 0.31,
+            max_lateral_m: 0.9,
+            pct_in_lane: 97.5,
+            max_abs_torque_nm: 1.2,
+            loop_p99_us: 45.0,
+            ticks: seq * 100,
+            dropped_records: 0,
+            extra: BTreeMap::new(),
+        }
+    }
+
+    #[test]
+    fn ids_with_path_separators_or_leading_dot_are_rejected() {
+        for bad in [
+            "",
+            "..",
+            ".hidden",
+            "a/b",
+            "a\\b",
+            "é",
+            "a b",
+            &"x".repeat(65),
+        ] {
+            assert!(check_id("station_id", bad).is_err(), "{bad:?} accepted");
+        }
+        for good in ["st-01", "session_2026.11.21", "A_b-9", &"x".repeat(64)] {
+            assert!(check_id("station_id", good).is_ok(), "{good:?} rejected");
+        }
+    }
+
+    #[test]
+    fn summary_with_nan_or_out_of_range_field_names_the_field() {
+        let mut s = summary("s1", 1);
+        s.rms_lateral_m = f64::NAN;
+        assert!(s.validate().unwrap_err().contains("rms_lateral_m"));
+        let mut s = summary("s1", 1);
+        s.pct_in_lane = 100.5;
+        assert!(s.validate().unwrap_err().contains("pct_in_lane"));
+        let mut s = summary("s1", 1);
+        s.extra.insert("assist_level".into(), f64::INFINITY);
+        assert!(s.validate().unwrap_err().contains("assist_level"));
+        assert!(summary("s1", 1).validate().is_ok());
+    }
+
+    #[test]
+    fn printable_cuts_on_char_boundary_and_removes_control_characters() {
+        assert_eq!(printable("a\nbé", 5), "a bé");
+        assert_eq!(printable("a\nbé", 4), "a b");
+    }
+
+    #[test]
+    fn hello_with_other_protocol_version_is_rejected() {
+        let h = Hello {
+            protocol_version: 2,
+            station_id: "st".into(),
+            patient_id: "p".into(),
+            session_id: "s".into(),
+            exercise: "sine-road".into(),
+            started_unix_ms: 0,
+            software_version: "x".into(),
+        };
+        assert!(h.validate().unwrap_err().contains("protocol_version"));
+    }
+
+    #[test]
+    fn summary_from_an_older_station_without_optional_fields_decodes() {
+        let json = r#"{"session_id":"s","seq":3,"t_s":0.3,"exercise":"e","speed_m_s":1.0,
+            "lateral_m":0.0,"rms_lateral_m":0.0,"max_lateral_m":0.0,"pct_in_lane":100.0,
+            "max_abs_torque_nm":0.0,"loop_p99_us":1.0,"ticks":300,"future_field":[1,2]}"#;
+        let s: Summary = serde_json::from_str(json).unwrap();
+        assert_eq!(s.dropped_records, 0);
+        assert!(s.extra.is_empty());
+        assert_eq!(s.seq, 3);
+    }
+}

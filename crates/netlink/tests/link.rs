@@ -1,0 +1,1042 @@
+//! End-to-end tests of the station link against the therapist hub on loopback.
+//!
+//! Every wait is a bounded loop or a timeout used as a liveness guard (a hung test fails
+//! instead of hanging CI); no test asserts on speed.
+
+use std::collections::BTreeMap;
+use std::net::SocketAddr;
+use std::path::Path;
+use std::time::Duration;
+
+use netlink::store::read_session;
+use netlink::{
+    Backoff, ClientTls, Frame, FrameDecoder, Hello, Identity, LinkStats, PROTOCOL_VERSION, Regimen,
+    SendError, ServerTls, StationLink, StationLinkConfig, Summary, SummarySender, TherapistConfig,
+    TherapistEvent, TherapistServer, encode_to_vec,
+};
+use tokio::io::{AsyncReadExt, AsyncWriteExt};
+use tokio::net::{TcpListener, TcpStream};
+use tokio::sync::mpsc;
+
+const GUARD: Duration = Duration::from_secs(30);
+
+fn hello(station: &str, session: &str) -> Hello {
+    Hello {
+        protocol_version: PROTOCOL_VERSION,
+        station_id: station.into(),
+        patient_id: format!("patient-of-{station}"),
+        session_id: session.into(),
+        exercise: "sine-road".into(),
+        started_unix_ms: 1_795_253_400_000,
+        software_version: "telerehab-test".into(),
+    }
+}
+
+fn summary(session: &str, seq: u64) -> Summary {
+    Summary {
+        session_id: session.into(),
+        seq,
+        t_s: seq as f64 * 0.1,
+        exercise: "sine-road".into(),
+        speed_m_s: 12.0,
+        lateral_m: 0.1,
+        rms_lateral_m: 0.2,
+        max_lateral_m: 0.5,
+        pct_in_lane: 99.0,
+        max_abs_torque_nm: 1.1,
+        loop_p99_us: 40.0,
+        ticks: seq * 100,
+        dropped_records: 0,
+        extra: BTreeMap::new(),
+    }
+}
+
+fn fast_config(addr: SocketAddr, tls: Option<ClientTls>, hello: Hello) -> StationLinkConfig {
+    let mut config = StationLinkConfig::new(addr, tls, hello);
+    config.reconnect = Backoff {
+        initial_ms: 20,
+        max_ms: 200,
+    };
+    config.connect_timeout_ms = 2_000;
+    config
+}
+
+async fn start_hub(
+    store: &Path,
+    tls: Option<ServerTls>,
+) -> (TherapistServer, mpsc::Receiver<TherapistEvent>) {
+    let listen: SocketAddr = "127.0.0.1:0".parse().unwrap();
+    TherapistServer::bind(TherapistConfig::new(listen, store, tls))
+        .await
+        .unwrap()
+}
+
+/// Polls `cond` every 20 ms for at most [`GUARD`].
+async fn wait_until(what: &str, mut cond: impl FnMut() -> bool) {
+    let tries = GUARD.as_millis() / 20;
+    for _ in 0..tries {
+        if cond() {
+            return;
+        }
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    panic!("timed out waiting for {what}");
+}
+
+async fn next_event(events: &mut mpsc::Receiver<TherapistEvent>) -> TherapistEvent {
+    tokio::time::timeout(GUARD, events.recv())
+        .await
+        .expect("no hub event within the guard time")
+        .expect("hub event channel closed")
+}
+
+fn stored_seqs(store: &Path, station: &str, session: &str) -> Vec<u64> {
+    read_session(store, station, session)
+        .unwrap()
+        .iter()
+        .map(|s| s.seq)
+        .collect()
+}
+
+fn send_range(sender: &SummarySender, session: &str, seqs: std::ops::Range<u64>) {
+    for seq in seqs {
+        sender.send(summary(session, seq)).unwrap();
+    }
+}
+
+fn assert_all_delivered(stats: &LinkStats, n: u64) {
+    assert_eq!(stats.acked, n, "{stats:?}");
+    assert_eq!(stats.pending, 0, "{stats:?}");
+    assert_eq!(stats.dropped, 0, "{stats:?}");
+    assert!(stats.bye_acknowledged, "{stats:?}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn plaintext_session_is_stored_once_and_reported_as_events() {
+    let store = tempfile::tempdir().unwrap();
+    let (hub, mut events) = start_hub(store.path(), None).await;
+    let (sender, link) = StationLink::spawn(
+        &tokio::runtime::Handle::current(),
+        fast_config(hub.local_addr(), None, hello("st-a", "sess-1")),
+    )
+    .unwrap();
+    send_range(&sender, "sess-1", 0..50);
+    let stats = link.finish(GUARD).await;
+    assert_all_delivered(&stats, 50);
+    assert_eq!(stats.sent, 50);
+    assert_eq!(stats.resent, 0);
+    assert_eq!(
+        stored_seqs(store.path(), "st-a", "sess-1"),
+        (0..50).collect::<Vec<_>>()
+    );
+    let hello_back: Hello = serde_json::from_slice(
+        &std::fs::read(store.path().join("st-a/sess-1.hello.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(hello_back, hello("st-a", "sess-1"));
+
+    match next_event(&mut events).await {
+        TherapistEvent::Connected { hello: h, .. } => assert_eq!(h.station_id, "st-a"),
+        other => panic!("expected Connected, got {other:?}"),
+    }
+    for seq in 0..50 {
+        match next_event(&mut events).await {
+            TherapistEvent::Summary {
+                station_id,
+                summary,
+            } => {
+                assert_eq!((station_id.as_str(), summary.seq), ("st-a", seq));
+            }
+            other => panic!("expected Summary {seq}, got {other:?}"),
+        }
+    }
+    match next_event(&mut events).await {
+        TherapistEvent::Disconnected { reason, .. } => {
+            assert_eq!(reason, "bye: session complete")
+        }
+        other => panic!("expected Disconnected, got {other:?}"),
+    }
+    hub.shutdown(GUARD).await;
+}
+
+struct Pki {
+    _dir: tempfile::TempDir,
+    server: ServerTls,
+    client: ClientTls,
+    /// A certificate for station `st-cert` signed by the same CA, for mutual TLS.
+    station: Identity,
+}
+
+/// A CA, a `localhost` hub leaf and a station leaf signed by it, generated now.
+fn pki() -> Pki {
+    use rcgen::{
+        BasicConstraints, CertificateParams, CertifiedIssuer, IsCa, KeyPair, KeyUsagePurpose,
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let mut ca_params = CertificateParams::new(Vec::<String>::new()).unwrap();
+    ca_params.is_ca = IsCa::Ca(BasicConstraints::Unconstrained);
+    ca_params.key_usages = vec![KeyUsagePurpose::KeyCertSign, KeyUsagePurpose::CrlSign];
+    let ca = CertifiedIssuer::self_signed(ca_params, KeyPair::generate().unwrap()).unwrap();
+    let leaf_key = KeyPair::generate().unwrap();
+    let leaf = CertificateParams::new(vec!["localhost".to_owned()])
+        .unwrap()
+        .signed_by(&leaf_key, &ca)
+        .unwrap();
+    let write = |name: &str, text: String| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    };
+    let station_key = KeyPair::generate().unwrap();
+    let station_cert = CertificateParams::new(vec!["st-cert".to_owned()])
+        .unwrap()
+        .signed_by(&station_key, &ca)
+        .unwrap();
+    let server = ServerTls {
+        cert_pem_path: write("hub.crt", leaf.pem()),
+        key_pem_path: write("hub.key", leaf_key.serialize_pem()),
+        client_ca_pem_path: None,
+    };
+    let client = ClientTls {
+        ca_pem_path: write("ca.crt", ca.pem()),
+        server_name: "localhost".into(),
+        identity: None,
+    };
+    let station = Identity {
+        cert_pem_path: write("station.crt", station_cert.pem()),
+        key_pem_path: write("station.key", station_key.serialize_pem()),
+    };
+    Pki {
+        _dir: dir,
+        server,
+        client,
+        station,
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn tls_round_trip_with_generated_certificates() {
+    let pki = pki();
+    let store = tempfile::tempdir().unwrap();
+    let (hub, _events) = start_hub(store.path(), Some(pki.server.clone())).await;
+    let (sender, link) = StationLink::spawn(
+        &tokio::runtime::Handle::current(),
+        fast_config(
+            hub.local_addr(),
+            Some(pki.client.clone()),
+            hello("st-tls", "s1"),
+        ),
+    )
+    .unwrap();
+    send_range(&sender, "s1", 1..21);
+    let stats = link.finish(GUARD).await;
+    assert_all_delivered(&stats, 20);
+    assert_eq!(
+        stored_seqs(store.path(), "st-tls", "s1"),
+        (1..21).collect::<Vec<_>>()
+    );
+    hub.shutdown(GUARD).await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn tls_station_refuses_a_hub_signed_by_another_ca() {
+    let hub_pki = pki();
+    let other_pki = pki();
+    let store = tempfile::tempdir().unwrap();
+    let (hub, mut events) = start_hub(store.path(), Some(hub_pki.server.clone())).await;
+    let (sender, link) = StationLink::spawn(
+        &tokio::runtime::Handle::current(),
+        fast_config(
+            hub.local_addr(),
+            Some(other_pki.client.clone()),
+            hello("st-x", "s1"),
+        ),
+    )
+    .unwrap();
+    send_range(&sender, "s1", 0..5);
+    wait_until("a failed handshake", || link.stats().connect_failures >= 1).await;
+    let stats = link.finish(Duration::from_millis(300)).await;
+    assert_eq!(stats.acked, 0);
+    assert_eq!(stats.pending, 5);
+    assert!(!stats.bye_acknowledged);
+    let error = stats.last_error.unwrap();
+    assert!(error.contains("TLS handshake"), "{error}");
+    match next_event(&mut events).await {
+        TherapistEvent::ProtocolError { error, .. } => assert!(error.contains("TLS"), "{error}"),
+        other => panic!("expected ProtocolError, got {other:?}"),
+    }
+    hub.shutdown(GUARD).await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn several_stations_at_once_each_get_their_own_session_file() {
+    let store = tempfile::tempdir().unwrap();
+    let (hub, _events) = start_hub(store.path(), None).await;
+    let handle = tokio::runtime::Handle::current();
+    let mut links = Vec::new();
+    for i in 0..5 {
+        let station = format!("st-{i}");
+        let (sender, link) = StationLink::spawn(
+            &handle,
+            fast_config(hub.local_addr(), None, hello(&station, "morning")),
+        )
+        .unwrap();
+        links.push((station, sender, link));
+    }
+    // Interleave the stations' summaries so their connections are busy at the same time.
+    for seq in 0..40 {
+        for (_, sender, _) in &links {
+            sender.send(summary("morning", seq)).unwrap();
+        }
+        if seq % 10 == 0 {
+            tokio::time::sleep(Duration::from_millis(5)).await;
+        }
+    }
+    wait_until("all stations connected", || {
+        hub.connected_stations().len() == 5
+    })
+    .await;
+    let finishes = links
+        .into_iter()
+        .map(|(station, _sender, link)| async move { (station, link.finish(GUARD).await) });
+    for (station, stats) in futures_join_all(finishes).await {
+        assert_all_delivered(&stats, 40);
+        assert_eq!(
+            stored_seqs(store.path(), &station, "morning"),
+            (0..40).collect::<Vec<_>>()
+        );
+    }
+    hub.shutdown(GUARD).await;
+}
+
+/// Joins futures concurrently by spawning them (keeps the dev-dependencies small).
+async fn futures_join_all<F>(futures: impl IntoIterator<Item = F>) -> Vec<F::Output>
+where
+    F: Future + Send + 'static,
+    F::Output: Send + 'static,
+{
+    let handles: Vec<_> = futures.into_iter().map(tokio::spawn).collect();
+    let mut out = Vec::new();
+    for h in handles {
+        out.push(h.await.unwrap());
+    }
+    out
+}
+
+/// A hub on its own runtime, so "killing" it (dropping the runtime) closes every socket
+/// abruptly, with no Bye and no flush, as a crashed process would.
+struct KillableHub {
+    runtime: tokio::runtime::Runtime,
+    server: Option<TherapistServer>,
+}
+
+impl KillableHub {
+    fn start(listen: SocketAddr, store: &Path) -> Self {
+        let runtime = tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(1)
+            .enable_all()
+            .build()
+            .unwrap();
+        let config = TherapistConfig::new(listen, store, None);
+        // Rebinding the port a killed hub used can briefly fail on some kernels; retry.
+        let mut result = None;
+        for _ in 0..100 {
+            match runtime.block_on(TherapistServer::bind(config.clone())) {
+                Ok((server, _events)) => {
+                    result = Some(server);
+                    break;
+                }
+                Err(_) => std::thread::sleep(Duration::from_millis(50)),
+            }
+        }
+        Self {
+            runtime,
+            server: Some(result.expect("could not bind the hub")),
+        }
+    }
+
+    fn addr(&self) -> SocketAddr {
+        self.server.as_ref().unwrap().local_addr()
+    }
+
+    fn kill(mut self) {
+        self.server.take();
+        self.runtime.shutdown_background();
+    }
+}
+
+#[test]
+fn therapist_killed_mid_session_and_restarted_stores_every_summary_exactly_once() {
+    let store = tempfile::tempdir().unwrap();
+    let station_rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(1)
+        .enable_all()
+        .build()
+        .unwrap();
+    let hub = KillableHub::start("127.0.0.1:0".parse().unwrap(), store.path());
+    let addr = hub.addr();
+    let (sender, link) = StationLink::spawn(
+        station_rt.handle(),
+        fast_config(addr, None, hello("st-k", "s1")),
+    )
+    .unwrap();
+
+    send_range(&sender, "s1", 0..30);
+    station_rt.block_on(wait_until("first 30 acknowledged", || {
+        link.stats().acked == 30
+    }));
+    // Kill while a second batch is in flight.
+    send_range(&sender, "s1", 30..60);
+    hub.kill();
+    station_rt.block_on(wait_until("the station to notice", || {
+        !link.stats().connected
+    }));
+    send_range(&sender, "s1", 60..90);
+    station_rt.block_on(wait_until("reconnect attempts to fail", || {
+        link.stats().connect_failures >= 2
+    }));
+    let stats = link.stats();
+    assert!(stats.pending > 0 && stats.acked < 90, "{stats:?}");
+
+    let hub = KillableHub::start(addr, store.path());
+    send_range(&sender, "s1", 90..100);
+    let stats = link.finish_blocking(station_rt.handle(), GUARD);
+    assert_all_delivered(&stats, 100);
+    assert!(stats.connections >= 2, "{stats:?}");
+    assert_eq!(
+        stored_seqs(store.path(), "st-k", "s1"),
+        (0..100).collect::<Vec<_>>()
+    );
+    hub.kill();
+}
+
+#[test]
+fn restarted_station_replaying_a_stored_session_adds_only_new_summaries() {
+    let store = tempfile::tempdir().unwrap();
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(1)
+        .enable_all()
+        .build()
+        .unwrap();
+    let hub = KillableHub::start("127.0.0.1:0".parse().unwrap(), store.path());
+    // A first station process stores 0..10, then "crashes" (its link is dropped unfinished).
+    let (sender, link) = StationLink::spawn(
+        rt.handle(),
+        fast_config(hub.addr(), None, hello("st-r", "s1")),
+    )
+    .unwrap();
+    send_range(&sender, "s1", 0..10);
+    rt.block_on(wait_until("10 acknowledged", || link.stats().acked == 10));
+    drop(link);
+    hub.kill();
+    // A restarted station replays the same session from its recording: 0..15.
+    let hub = KillableHub::start("127.0.0.1:0".parse().unwrap(), store.path());
+    let (sender, link) = StationLink::spawn(
+        rt.handle(),
+        fast_config(hub.addr(), None, hello("st-r", "s1")),
+    )
+    .unwrap();
+    send_range(&sender, "s1", 0..15);
+    let stats = link.finish_blocking(rt.handle(), GUARD);
+    assert_all_delivered(&stats, 15);
+    assert_eq!(
+        stored_seqs(store.path(), "st-r", "s1"),
+        (0..15).collect::<Vec<_>>()
+    );
+    hub.kill();
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn therapist_absent_for_the_whole_session_finish_reports_everything_undelivered() {
+    // Bind and release a port so that nothing listens on it.
+    let addr = TcpListener::bind("127.0.0.1:0")
+        .await
+        .unwrap()
+        .local_addr()
+        .unwrap();
+    let (sender, link) = StationLink::spawn(
+        &tokio::runtime::Handle::current(),
+        fast_config(addr, None, hello("st-alone", "s1")),
+    )
+    .unwrap();
+    send_range(&sender, "s1", 0..30);
+    wait_until("a refused connection", || {
+        link.stats().connect_failures >= 1
+    })
+    .await;
+    let stats = tokio::time::timeout(GUARD, link.finish(Duration::from_millis(300)))
+        .await
+        .expect("finish blocked past its timeout");
+    assert_eq!(stats.pending, 30);
+    assert_eq!((stats.acked, stats.sent, stats.dropped), (0, 0, 0));
+    assert!(!stats.connected && !stats.bye_acknowledged);
+    assert!(
+        stats
+            .last_error
+            .unwrap()
+            .contains("30 summaries not delivered")
+    );
+    // After finish the sender reports the link closed instead of pretending.
+    assert_eq!(sender.send(summary("s1", 30)), Err(SendError::Closed));
+    assert_eq!(sender.stats().dropped, 1);
+}
+
+/// Reads frames from a raw socket until it closes (bounded by the guard).
+async fn read_frames_until_close(stream: &mut TcpStream) -> Vec<Frame> {
+    let mut decoder = FrameDecoder::new();
+    let mut frames = Vec::new();
+    let mut buf = [0u8; 4096];
+    loop {
+        let n = tokio::time::timeout(GUARD, stream.read(&mut buf))
+            .await
+            .expect("hub kept the bad connection open")
+            .unwrap_or(0);
+        if n == 0 {
+            return frames;
+        }
+        decoder.extend(&buf[..n]);
+        while let Some(f) = decoder.next_frame().unwrap() {
+            frames.push(f);
+        }
+    }
+}
+
+async fn raw_exchange(addr: SocketAddr, bytes: &[u8]) -> Vec<Frame> {
+    let mut stream = TcpStream::connect(addr).await.unwrap();
+    stream.write_all(bytes).await.unwrap();
+    read_frames_until_close(&mut stream).await
+}
+
+fn single_error(frames: &[Frame]) -> &str {
+    match frames {
+        [Frame::Error(e)] => &e.message,
+        other => panic!("expected one Error frame, got {other:?}"),
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn malformed_frames_are_rejected_with_a_clear_error_and_the_hub_keeps_serving() {
+    let store = tempfile::tempdir().unwrap();
+    let (hub, mut events) = start_hub(store.path(), None).await;
+    let addr = hub.local_addr();
+
+    let frames = raw_exchange(addr, b"GET / HTTP/1.1\r\nHost: x\r\n\r\n").await;
+    assert!(single_error(&frames).contains("bad magic"));
+    match next_event(&mut events).await {
+        TherapistEvent::ProtocolError { error, .. } => assert!(error.contains("bad magic")),
+        other => panic!("expected ProtocolError, got {other:?}"),
+    }
+
+    let mut oversize = b"TRHB\x00\x01\x01\x00".to_vec();
+    oversize.extend_from_slice(&u32::MAX.to_be_bytes());
+    let frames = raw_exchange(addr, &oversize).await;
+    assert!(single_error(&frames).contains("exceeds the maximum"));
+
+    let mut bad_version = encode_to_vec(&Frame::Hello(hello("st", "s"))).unwrap();
+    bad_version[5] = 9;
+    let frames = raw_exchange(addr, &bad_version).await;
+    assert!(single_error(&frames).contains("unsupported protocol version 9"));
+
+    let first_summary = encode_to_vec(&Frame::Summary(summary("s", 0))).unwrap();
+    let frames = raw_exchange(addr, &first_summary).await;
+    assert!(single_error(&frames).contains("expected Hello first"));
+
+    // A hostile station id that would escape the store directory.
+    let payload = serde_json::to_vec(&serde_json::json!({
+        "protocol_version": 1, "station_id": "../../etc", "patient_id": "p",
+        "session_id": "s", "exercise": "e", "started_unix_ms": 0, "software_version": "v"
+    }))
+    .unwrap();
+    let mut traversal = b"TRHB\x00\x01\x01\x00".to_vec();
+    traversal.extend_from_slice(&(payload.len() as u32).to_be_bytes());
+    traversal.extend_from_slice(&payload);
+    let frames = raw_exchange(addr, &traversal).await;
+    assert!(single_error(&frames).contains("station_id"));
+    assert!(!store.path().join("../../etc").join("s.jsonl").exists());
+
+    // Valid Hello, then garbage mid-session: Error frame, connection closed, nothing stored
+    // from the garbage, the good summary kept.
+    let mut bytes = encode_to_vec(&Frame::Hello(hello("st-ok", "s"))).unwrap();
+    bytes.extend(encode_to_vec(&Frame::Summary(summary("s", 0))).unwrap());
+    bytes.extend_from_slice(b"TRHB\x00\x01\x02\x00\x00\x00\x00\x02{]");
+    let frames = raw_exchange(addr, &bytes).await;
+    match frames.as_slice() {
+        [Frame::Ack(a), Frame::Error(e)] => {
+            assert_eq!(a.seq, 0);
+            assert!(e.message.contains("bad JSON in Summary"), "{}", e.message);
+        }
+        other => panic!("expected Ack then Error, got {other:?}"),
+    }
+    assert_eq!(stored_seqs(store.path(), "st-ok", "s"), vec![0]);
+
+    // The hub still serves a well-behaved station.
+    let (sender, link) = StationLink::spawn(
+        &tokio::runtime::Handle::current(),
+        fast_config(addr, None, hello("st-good", "s2")),
+    )
+    .unwrap();
+    send_range(&sender, "s2", 0..3);
+    assert_all_delivered(&link.finish(GUARD).await, 3);
+    hub.shutdown(GUARD).await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn station_rejects_a_garbage_speaking_server_and_keeps_the_summaries() {
+    let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    let server = tokio::spawn(async move {
+        let (mut s, _) = listener.accept().await.unwrap();
+        s.write_all(b"SSH-2.0-OpenSSH_9.2\r\n").await.unwrap();
+        let mut sink = Vec::new();
+        let _ = tokio::time::timeout(GUARD, s.read_to_end(&mut sink)).await;
+    });
+    // No retry during the test, so the protocol error stays the last error.
+    let mut config = fast_config(addr, None, hello("st-g", "s1"));
+    config.reconnect.initial_ms = 60_000;
+    config.reconnect.max_ms = 60_000;
+    let (sender, link) = StationLink::spawn(&tokio::runtime::Handle::current(), config).unwrap();
+    send_range(&sender, "s1", 0..4);
+    wait_until("the bad server to be rejected", || {
+        link.stats()
+            .last_error
+            .is_some_and(|e| e.contains("bad magic"))
+    })
+    .await;
+    let stats = link.finish(Duration::from_millis(200)).await;
+    assert_eq!((stats.pending, stats.acked), (4, 0));
+    server.await.unwrap();
+}
+
+#[test]
+fn blocked_therapist_never_blocks_summary_sender() {
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(1)
+        .enable_all()
+        .build()
+        .unwrap();
+    // A "therapist" that accepts and then never reads: the station's socket buffers fill up.
+    let listener = rt.block_on(TcpListener::bind("127.0.0.1:0")).unwrap();
+    let addr = listener.local_addr().unwrap();
+    let (held_tx, held_rx) = std::sync::mpsc::channel();
+    rt.spawn(async move {
+        let (socket, _) = listener.accept().await.unwrap();
+        let _ = held_tx.send(());
+        tokio::time::sleep(GUARD * 2).await;
+        drop(socket);
+    });
+    let (sender, link) =
+        StationLink::spawn(rt.handle(), fast_config(addr, None, hello("st-b", "s1"))).unwrap();
+    held_rx
+        .recv_timeout(GUARD)
+        .expect("station never connected");
+    // 2 000 summaries of about 2 KB (4 MB) overflow any loopback socket buffer; the channel
+    // (4 096) is larger than the burst, so no send may fail either.
+    let n = 2_000u64;
+    let (done_tx, done_rx) = std::sync::mpsc::channel();
+    let sending = std::thread::spawn(move || {
+        let mut results = Vec::new();
+        for seq in 0..n {
+            let mut s = summary("s1", seq);
+            for k in 0..60 {
+                s.extra
+                    .insert(format!("joint_angle_{k:02}_rad"), k as f64 * 0.01);
+            }
+            results.push(sender.send(s));
+        }
+        let _ = done_tx.send(());
+        (sender, results)
+    });
+    done_rx
+        .recv_timeout(GUARD)
+        .expect("SummarySender::send blocked on a stalled therapist");
+    let (sender, results) = sending.join().unwrap();
+    assert!(results.iter().all(Result::is_ok));
+    rt.block_on(wait_until("all summaries queued", || {
+        link.stats().pending == n
+    }));
+    let stats = sender.stats();
+    assert_eq!((stats.dropped, stats.acked), (0, 0), "{stats:?}");
+    assert!(stats.connected, "{stats:?}");
+    let stats = link.finish_blocking(rt.handle(), Duration::from_millis(300));
+    assert_eq!(stats.pending, n);
+    assert!(!stats.bye_acknowledged);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn regimen_from_the_therapist_reaches_the_station_poll() {
+    let store = tempfile::tempdir().unwrap();
+    let (hub, mut events) = start_hub(store.path(), None).await;
+    let (sender, mut link) = StationLink::spawn(
+        &tokio::runtime::Handle::current(),
+        fast_config(hub.local_addr(), None, hello("st-reg", "s1")),
+    )
+    .unwrap();
+    sender.send(summary("s1", 0)).unwrap();
+    assert!(matches!(
+        next_event(&mut events).await,
+        TherapistEvent::Connected { .. }
+    ));
+    let err = hub
+        .send_regimen(
+            "nobody",
+            Regimen {
+                id: "r0".into(),
+                toml: String::new(),
+            },
+        )
+        .unwrap_err();
+    assert!(err.to_string().contains("not connected"));
+    let regimen = Regimen {
+        id: "reg-7".into(),
+        toml: "[assist]\nlevel = 0.4\n".into(),
+    };
+    hub.send_regimen("st-reg", regimen.clone()).unwrap();
+    let mut got = None;
+    wait_until("the regimen", || {
+        got = link.try_recv_regimen();
+        got.is_some()
+    })
+    .await;
+    assert_eq!(got, Some(regimen));
+    let stats = link.finish(GUARD).await;
+    assert_eq!(stats.regimens_received, 1);
+    assert_all_delivered(&stats, 1);
+    hub.shutdown(GUARD).await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn hub_shutdown_says_bye_and_the_station_resumes_with_a_new_hub() {
+    let store = tempfile::tempdir().unwrap();
+    let (hub, _events) = start_hub(store.path(), None).await;
+    let addr = hub.local_addr();
+    // A slow first retry, so the hub's Bye stays the last error while the test reads it.
+    let mut config = fast_config(addr, None, hello("st-s", "s1"));
+    config.reconnect.initial_ms = 1_000;
+    config.reconnect.max_ms = 1_000;
+    let (sender, link) = StationLink::spawn(&tokio::runtime::Handle::current(), config).unwrap();
+    send_range(&sender, "s1", 0..10);
+    wait_until("10 acknowledged", || link.stats().acked == 10).await;
+    hub.shutdown(GUARD).await;
+    wait_until("the station to notice", || !link.stats().connected).await;
+    let error = link.stats().last_error.unwrap();
+    assert!(error.contains("shutting down"), "{error}");
+    send_range(&sender, "s1", 10..20);
+    let (hub, _events) = TherapistServer::bind(TherapistConfig::new(addr, store.path(), None))
+        .await
+        .unwrap();
+    let stats = link.finish(GUARD).await;
+    assert_all_delivered(&stats, 20);
+    assert_eq!(
+        stored_seqs(store.path(), "st-s", "s1"),
+        (0..20).collect::<Vec<_>>()
+    );
+    hub.shutdown(GUARD).await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn sender_refuses_other_sessions_repeated_seqs_and_invalid_values() {
+    let addr: SocketAddr = "127.0.0.1:9".parse().unwrap();
+    let (sender, link) = StationLink::spawn(
+        &tokio::runtime::Handle::current(),
+        fast_config(addr, None, hello("st", "s1")),
+    )
+    .unwrap();
+    assert!(matches!(
+        sender.send(summary("other", 0)),
+        Err(SendError::WrongSession { .. })
+    ));
+    sender.send(summary("s1", 5)).unwrap();
+    assert_eq!(
+        sender.send(summary("s1", 5)),
+        Err(SendError::SeqNotIncreasing {
+            seq: 5,
+            previous: 5
+        })
+    );
+    let mut bad = summary("s1", 6);
+    bad.lateral_m = f64::NAN;
+    match sender.send(bad) {
+        Err(SendError::Invalid(m)) => assert!(m.contains("lateral_m"), "{m}"),
+        other => panic!("expected Invalid, got {other:?}"),
+    }
+    assert_eq!(sender.stats().rejected, 3);
+    link.finish(Duration::from_millis(100)).await;
+}
+
+#[test]
+fn plaintext_to_a_remote_address_is_refused() {
+    let rt = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .unwrap();
+    let remote: SocketAddr = "192.0.2.10:7878".parse().unwrap();
+    let err = StationLink::spawn(
+        rt.handle(),
+        StationLinkConfig::new(remote, None, hello("st", "s")),
+    )
+    .err()
+    .unwrap()
+    .to_string();
+    assert!(err.contains("plaintext"), "{err}");
+    let err = TherapistConfig::new("0.0.0.0:7878".parse().unwrap(), "/tmp/x", None)
+        .validate()
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("plaintext"), "{err}");
+}
+
+#[test]
+fn out_of_range_config_fields_are_named() {
+    let addr: SocketAddr = "127.0.0.1:7878".parse().unwrap();
+    let mut c = StationLinkConfig::new(addr, None, hello("st", "s"));
+    c.max_pending = 0;
+    assert!(
+        c.validate()
+            .unwrap_err()
+            .to_string()
+            .contains("max_pending")
+    );
+    let mut c = StationLinkConfig::new(addr, None, hello("st", "s"));
+    c.reconnect = Backoff {
+        initial_ms: 500,
+        max_ms: 100,
+    };
+    assert!(
+        c.validate()
+            .unwrap_err()
+            .to_string()
+            .contains("reconnect.max_ms")
+    );
+    let mut c = StationLinkConfig::new(addr, None, hello("st", "s"));
+    c.hello.station_id = "a/b".into();
+    assert!(c.validate().unwrap_err().to_string().contains("station_id"));
+    let mut t = TherapistConfig::new(addr, "/tmp/x", None);
+    t.idle_timeout_ms = 10;
+    assert!(
+        t.validate()
+            .unwrap_err()
+            .to_string()
+            .contains("idle_timeout_ms")
+    );
+    let bad: Result<TherapistConfig, _> =
+        serde_json::from_str(r#"{"listen":"127.0.0.1:1","store_dir":"d","colour":"red"}"#);
+    assert!(bad.unwrap_err().to_string().contains("colour"));
+}
+
+#[test]
+fn missing_pem_files_are_reported_with_their_path() {
+    let rt = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .unwrap();
+    let addr: SocketAddr = "127.0.0.1:7878".parse().unwrap();
+    let tls = ClientTls {
+        ca_pem_path: "/nonexistent/ca.pem".into(),
+        server_name: "localhost".into(),
+        identity: None,
+    };
+    let err = StationLink::spawn(
+        rt.handle(),
+        StationLinkConfig::new(addr, Some(tls), hello("st", "s")),
+    )
+    .err()
+    .unwrap()
+    .to_string();
+    assert!(err.contains("/nonexistent/ca.pem"), "{err}");
+}
+
+/// A TCP proxy in front of the hub. On its first connection it forwards station → hub but
+/// swallows every hub → station byte (the Acks are "lost") until told to cut the connection;
+/// later connections are forwarded both ways.
+async fn lossy_proxy(hub: SocketAddr) -> (SocketAddr, tokio::sync::oneshot::Sender<()>) {
+    let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    let (cut_tx, cut_rx) = tokio::sync::oneshot::channel::<()>();
+    tokio::spawn(async move {
+        let mut cut = Some(cut_rx);
+        loop {
+            let Ok((station, _)) = listener.accept().await else {
+                return;
+            };
+            let upstream = TcpStream::connect(hub).await.unwrap();
+            let (mut s_rd, mut s_wr) = station.into_split();
+            let (mut h_rd, mut h_wr) = upstream.into_split();
+            match cut.take() {
+                Some(cut_rx) => {
+                    tokio::spawn(async move {
+                        let up = tokio::io::copy(&mut s_rd, &mut h_wr);
+                        let mut lost = tokio::io::sink();
+                        let swallow = tokio::io::copy(&mut h_rd, &mut lost);
+                        tokio::select! {
+                            _ = up => {}
+                            _ = swallow => {}
+                            _ = cut_rx => {}
+                        }
+                        // Dropping every half closes both connections abruptly.
+                        drop((s_wr, h_wr));
+                    });
+                }
+                None => {
+                    tokio::spawn(async move {
+                        let _ = tokio::io::copy(&mut s_rd, &mut h_wr).await;
+                        let _ = h_wr.shutdown().await;
+                    });
+                    tokio::spawn(async move {
+                        let _ = tokio::io::copy(&mut h_rd, &mut s_wr).await;
+                        let _ = s_wr.shutdown().await;
+                    });
+                }
+            }
+        }
+    });
+    (addr, cut_tx)
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn lost_acks_cause_a_full_resend_that_the_hub_stores_only_once() {
+    let store = tempfile::tempdir().unwrap();
+    let (hub, _events) = start_hub(store.path(), None).await;
+    let (proxy, cut) = lossy_proxy(hub.local_addr()).await;
+    let (sender, link) = StationLink::spawn(
+        &tokio::runtime::Handle::current(),
+        fast_config(proxy, None, hello("st-l", "s1")),
+    )
+    .unwrap();
+    send_range(&sender, "s1", 0..25);
+    // The hub stores all 25 but none of its Acks reach the station.
+    wait_until("the hub to store 25", || {
+        read_session(store.path(), "st-l", "s1").is_ok_and(|s| s.len() == 25)
+    })
+    .await;
+    let stats = link.stats();
+    assert_eq!(
+        (stats.sent, stats.acked, stats.pending),
+        (25, 0, 25),
+        "{stats:?}"
+    );
+    cut.send(()).unwrap();
+    let stats = link.finish(GUARD).await;
+    assert_all_delivered(&stats, 25);
+    assert_eq!(stats.connections, 2, "{stats:?}");
+    // The station queues its whole backlog right after Hello, before it can read the hub's
+    // Hello-time Ack, so all 25 go out again and the hub must drop every one of them.
+    assert_eq!(stats.resent, 25, "{stats:?}");
+    assert_eq!(
+        stored_seqs(store.path(), "st-l", "s1"),
+        (0..25).collect::<Vec<_>>()
+    );
+    hub.shutdown(GUARD).await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn mutual_tls_hub_stores_only_stations_with_a_certificate() {
+    let pki = pki();
+    let store = tempfile::tempdir().unwrap();
+    let mut server_tls = pki.server.clone();
+    server_tls.client_ca_pem_path = Some(pki.client.ca_pem_path.clone());
+    let (hub, mut events) = start_hub(store.path(), Some(server_tls)).await;
+    let handle = tokio::runtime::Handle::current();
+
+    let mut with_cert = pki.client.clone();
+    with_cert.identity = Some(pki.station.clone());
+    let (sender, link) = StationLink::spawn(
+        &handle,
+        fast_config(hub.local_addr(), Some(with_cert), hello("st-cert", "s1")),
+    )
+    .unwrap();
+    send_range(&sender, "s1", 0..10);
+    assert_all_delivered(&link.finish(GUARD).await, 10);
+    assert_eq!(
+        stored_seqs(store.path(), "st-cert", "s1"),
+        (0..10).collect::<Vec<_>>()
+    );
+
+    let (sender, link) = StationLink::spawn(
+        &handle,
+        fast_config(
+            hub.local_addr(),
+            Some(pki.client.clone()),
+            hello("st-anon", "s1"),
+        ),
+    )
+    .unwrap();
+    send_range(&sender, "s1", 0..10);
+    let refused = loop {
+        match next_event(&mut events).await {
+            TherapistEvent::ProtocolError { error, .. } => break error,
+            TherapistEvent::Connected { hello, .. } => {
+                assert_eq!(hello.station_id, "st-cert", "anonymous station admitted")
+            }
+            _ => {}
+        }
+    };
+    assert!(refused.contains("TLS handshake failed"), "{refused}");
+    let stats = link.finish(Duration::from_millis(300)).await;
+    assert_eq!((stats.acked, stats.pending), (0, 10), "{stats:?}");
+    assert!(!store.path().join("st-anon").exists());
+
+    // A valid clinic certificate does not let one station speak for another.
+    let mut borrowed = pki.client.clone();
+    borrowed.identity = Some(pki.station.clone());
+    let (sender, link) = StationLink::spawn(
+        &handle,
+        fast_config(hub.local_addr(), Some(borrowed), hello("st-impostor", "s1")),
+    )
+    .unwrap();
+    send_range(&sender, "s1", 0..3);
+    let refused = loop {
+        match next_event(&mut events).await {
+            // Left over from the anonymous station's retries.
+            TherapistEvent::ProtocolError { error, .. } if error.contains("TLS handshake") => {}
+            TherapistEvent::ProtocolError { error, .. } => break error,
+            TherapistEvent::Connected { hello, .. } => {
+                assert_ne!(hello.station_id, "st-impostor", "impostor admitted")
+            }
+            _ => {}
+        }
+    };
+    assert!(
+        refused.contains("does not name station \"st-impostor\""),
+        "{refused}"
+    );
+    let stats = link.finish(Duration::from_millis(300)).await;
+    assert_eq!((stats.acked, stats.pending), (0, 3), "{stats:?}");
+    assert!(!store.path().join("st-impostor").exists());
+    hub.shutdown(GUARD).await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn hub_that_reads_but_never_acknowledges_is_abandoned_and_reconnected() {
+    // A hung hub: accepts and drains every connection, never answers.
+    let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    let hung = tokio::spawn(async move {
+        loop {
+            let (mut s, _) = listener.accept().await.unwrap();
+            tokio::spawn(async move {
+                let mut sink = Vec::new();
+                let _ = tokio::time::timeout(GUARD, s.read_to_end(&mut sink)).await;
+            });
+        }
+    });
+    let mut config = fast_config(addr, None, hello("st-h", "s1"));
+    config.ack_timeout_ms = 1_000;
+    let (sender, link) = StationLink::spawn(&tokio::runtime::Handle::current(), config).unwrap();
+    send_range(&sender, "s1", 0..5);
+    wait_until(
+        "the backlog resent on a new connection after the ack timeout",
+        || link.stats().resent >= 5,
+    )
+    .await;
+    let stats = link.finish(Duration::from_millis(200)).await;
+    assert!(
+        stats
+            .last_error
+            .as_deref()
+            .is_some_and(|e| e.contains("no acknowledgement")),
+        "{stats:?}"
+    );
+    assert!(stats.connections >= 2, "{stats:?}");
+    assert_eq!((stats.acked, stats.pending), (0, 5), "{stats:?}");
+    hung.abort();
+}

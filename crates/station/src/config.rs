@@ -1,0 +1,345 @@
+//! Station configuration: TOML with serde, every field defaulted, unknown fields rejected,
+//! and every value validated with a message naming the field and its allowed range.
+
+use assist::{AssistSpec, HumanArmParams};
+use gyro_imu::sim::arm::PatientArmConfig;
+use haptic_wheel::{PassivityParams, SafetyConfig, SimWheelParams, SpringDamper};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use vehicle::VehicleParams;
+
+/// Everything a session needs that is not a device handle.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct StationConfig {
+    /// Session length, loop rate, seed.
+    pub session: SessionConfig,
+    /// Torque limits and the haptic model rendered on the wheel.
+    pub haptic: HapticConfig,
+    /// Active assistance (none when absent).
+    pub assist: Option<AssistSpec>,
+    /// The virtual car.
+    pub vehicle: VehicleParams,
+    /// The simulated wheel (used with `--sim`).
+    pub sim_wheel: SimWheelParams,
+    /// The simulated patient's arm control (used with `--sim`).
+    pub sim_patient: HumanArmParams,
+    /// The simulated patient's arm geometry and posture, with IMUs on it (used with `--sim`).
+    pub sim_arm: PatientArmConfig,
+    /// The therapist link.
+    pub therapist: TherapistLinkConfig,
+}
+
+impl Default for StationConfig {
+    fn default() -> Self {
+        Self {
+            session: SessionConfig::default(),
+            haptic: HapticConfig::default(),
+            assist: None,
+            vehicle: VehicleParams::default(),
+            sim_wheel: SimWheelParams::default(),
+            sim_patient: default_sim_patient(),
+            sim_arm: PatientArmConfig::default(),
+            therapist: TherapistLinkConfig::default(),
+        }
+    }
+}
+
+/// The simulated patient holding the wheel: an unimpaired adult arm. The thesis's K_P = 2
+/// (Table 5.1) belongs to its J = 10 plant; on a 0.02 kg·m² wheel against a centring spring and
+/// road feel of up to ~1 N·m, an arm that keeps the wheel within a few degrees of its aim needs
+/// a stiffer grip (arm stiffness of several N·m/rad is typical of the human upper limb).
+pub fn default_sim_patient() -> HumanArmParams {
+    HumanArmParams {
+        kp_nm_per_rad: 8.0,
+        ki_nm_per_rad_s: 4.0,
+        kd_nm_s_per_rad: 0.3,
+        ..HumanArmParams::default()
+    }
+}
+
+/// Session length, loop rate and seed.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SessionConfig {
+    /// Session length, s.
+    pub duration_s: f64,
+    /// Haptic loop rate, Hz.
+    pub loop_rate_hz: f64,
+    /// Seed of every random source in simulated sessions.
+    pub seed: u64,
+    /// Exercise name (see `telerehab run --help`).
+    pub exercise: String,
+    /// Target car speed, m/s.
+    pub speed_m_s: f64,
+    /// Patient identifier sent to the therapist (no personal data: a pseudonym;
+    /// letters, digits, `_`, `.`, `-`).
+    pub patient_id: String,
+    /// This station's identifier at the therapist hub (letters, digits, `_`, `.`, `-`).
+    pub station_id: String,
+}
+
+impl Default for SessionConfig {
+    fn default() -> Self {
+        Self {
+            duration_s: 60.0,
+            loop_rate_hz: 1000.0,
+            seed: 7,
+            exercise: "sine-road".into(),
+            speed_m_s: 15.0,
+            patient_id: "patient-0".into(),
+            station_id: "station-1".into(),
+        }
+    }
+}
+
+/// Torque limits and haptic rendering (the `haptic-wheel` chain).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct HapticConfig {
+    /// Safety limits: per-patient ceiling (default: the device maximum), slew, soft start,
+    /// fade-out, deadline and stale-reading watchdog.
+    pub safety: SafetyConfig,
+    /// Centring spring–damper (thesis eq. 3.5); all-zero coefficients render nothing.
+    pub centring: SpringDamper,
+    /// Time-domain passivity controller (Hannaford–Ryu) on the rendered model.
+    pub passivity: PassivityParams,
+    /// Turn the passivity controller on.
+    pub passivity_enabled: bool,
+    /// Road feel: wheel torque per kN of front lateral tyre force, N·m/kN (thesis §3.3.4).
+    pub road_feel_nm_per_kn: f64,
+    /// Wheel angle per road-wheel angle (steering ratio), rad/rad.
+    pub steering_ratio: f64,
+}
+
+impl Default for HapticConfig {
+    fn default() -> Self {
+        Self {
+            safety: SafetyConfig {
+                fade_out_s: 0.1,
+                ..SafetyConfig::default()
+            },
+            centring: SpringDamper::default(),
+            passivity: PassivityParams::default(),
+            passivity_enabled: true,
+            road_feel_nm_per_kn: 0.12,
+            steering_ratio: 10.0,
+        }
+    }
+}
+
+/// The therapist link.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TherapistLinkConfig {
+    /// Therapist hub address `host:port`; empty means no link.
+    pub address: String,
+    /// PEM file of the certificate authority that signed the hub's certificate; enables TLS.
+    pub ca_pem: Option<std::path::PathBuf>,
+    /// Name in the hub's certificate (defaults to the host of `address`).
+    pub server_name: Option<String>,
+}
+
+/// A configuration problem, naming the field.
+#[derive(Debug, thiserror::Error)]
+pub enum ConfigError {
+    /// The file could not be read.
+    #[error("cannot read config file {path}: {source}")]
+    Read {
+        /// The file.
+        path: String,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The TOML did not parse or had unknown fields.
+    #[error("config file {path}: {message}")]
+    Parse {
+        /// The file.
+        path: String,
+        /// The parser's message (names the field and line).
+        message: String,
+    },
+    /// A section's own validation failed (its message names the field and range).
+    #[error("config section [{section}]: {message}")]
+    Section {
+        /// The TOML section.
+        section: String,
+        /// The section's message.
+        message: String,
+    },
+    /// A value is outside its allowed range.
+    #[error("config field `{field}` = {value} is out of range: allowed {allowed}")]
+    OutOfRange {
+        /// Dotted field name, e.g. `haptic.ceiling_nm`.
+        field: String,
+        /// The offending value.
+        value: String,
+        /// The allowed range, in words.
+        allowed: String,
+    },
+}
+
+fn check(field: &str, value: f64, lo: f64, hi: f64, unit: &str) -> Result<(), ConfigError> {
+    if value.is_finite() && value >= lo && value <= hi {
+        Ok(())
+    } else {
+        Err(ConfigError::OutOfRange {
+            field: field.into(),
+            value: value.to_string(),
+            allowed: format!("{lo} to {hi} {unit}"),
+        })
+    }
+}
+
+/// Map a section's own validation error into a [`ConfigError`] naming the section.
+fn in_section(section: &str) -> impl Fn(&dyn std::fmt::Display) -> ConfigError + '_ {
+    move |e| ConfigError::Section {
+        section: section.into(),
+        message: e.to_string(),
+    }
+}
+
+impl StationConfig {
+    /// Read and validate a TOML config file.
+    pub fn load(path: &Path) -> Result<Self, ConfigError> {
+        let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Read {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Self::from_toml(&text, &path.display().to_string())
+    }
+
+    /// Parse and validate TOML text; `origin` names it in messages.
+    pub fn from_toml(text: &str, origin: &str) -> Result<Self, ConfigError> {
+        let cfg: Self = toml::from_str(text).map_err(|e| ConfigError::Parse {
+            path: origin.into(),
+            message: e.to_string(),
+        })?;
+        cfg.validate()?;
+        Ok(cfg)
+    }
+
+    /// Check every value against its allowed range. Each crate validates its own section.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        let s = &self.session;
+        check("session.duration_s", s.duration_s, 0.001, 4.0 * 3600.0, "s")?;
+        check("session.loop_rate_hz", s.loop_rate_hz, 100.0, 2000.0, "Hz")?;
+        check("session.speed_m_s", s.speed_m_s, 0.0, 40.0, "m/s")?;
+        for (field, value) in [
+            ("session.patient_id", &s.patient_id),
+            ("session.station_id", &s.station_id),
+        ] {
+            netlink::frame::check_id(field, value).map_err(|m| in_section("session")(&m))?;
+        }
+        self.sim_wheel
+            .validate()
+            .map_err(|e| in_section("sim_wheel")(&e))?;
+        let h = &self.haptic;
+        h.safety
+            .validate(self.sim_wheel.max_torque_nm)
+            .map_err(|e| in_section("haptic.safety")(&e))?;
+        h.centring
+            .validate()
+            .map_err(|e| in_section("haptic.centring")(&e))?;
+        h.passivity
+            .validate()
+            .map_err(|e| in_section("haptic.passivity")(&e))?;
+        check(
+            "haptic.road_feel_nm_per_kn",
+            h.road_feel_nm_per_kn,
+            0.0,
+            2.0,
+            "N·m/kN",
+        )?;
+        check("haptic.steering_ratio", h.steering_ratio, 1.0, 40.0, "")?;
+        if let Some(a) = &self.assist {
+            a.validate().map_err(|e| in_section("assist")(&e))?;
+        }
+        self.sim_patient
+            .validate()
+            .map_err(|e| in_section("sim_patient")(&e))?;
+        self.sim_arm
+            .validate()
+            .map_err(|e| in_section("sim_arm")(&e))?;
+        let v = &self.vehicle;
+        check("vehicle.mass_kg", v.mass_kg, 100.0, 10_000.0, "kg")?;
+        check(
+            "vehicle.yaw_inertia_kg_m2",
+            v.yaw_inertia_kg_m2,
+            10.0,
+            100_000.0,
+            "kg·m²",
+        )?;
+        check("vehicle.cg_to_front_m", v.cg_to_front_m, 0.1, 5.0, "m")?;
+        check("vehicle.cg_to_rear_m", v.cg_to_rear_m, 0.1, 5.0, "m")?;
+        check("vehicle.track_width_m", v.track_width_m, 0.5, 3.0, "m")?;
+        check(
+            "vehicle.cornering_stiffness_front_n_per_rad",
+            v.cornering_stiffness_front_n_per_rad,
+            1e3,
+            1e7,
+            "N/rad",
+        )?;
+        check(
+            "vehicle.cornering_stiffness_rear_n_per_rad",
+            v.cornering_stiffness_rear_n_per_rad,
+            1e3,
+            1e7,
+            "N/rad",
+        )?;
+        check(
+            "vehicle.min_slip_speed_m_s",
+            v.min_slip_speed_m_s,
+            0.01,
+            10.0,
+            "m/s",
+        )?;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn empty_file_gives_the_defaults() {
+        let cfg = StationConfig::from_toml("", "test").unwrap();
+        assert_eq!(cfg, StationConfig::default());
+    }
+
+    #[test]
+    fn unknown_field_is_rejected_by_name() {
+        let err =
+            StationConfig::from_toml("[haptic.safety]\nceilng_nm = 1.0\n", "test").unwrap_err();
+        assert!(err.to_string().contains("ceilng_nm"), "{err}");
+    }
+
+    #[test]
+    fn ceiling_above_device_maximum_names_field_and_range() {
+        let err =
+            StationConfig::from_toml("[haptic.safety]\nceiling_nm = 5.0\n", "test").unwrap_err();
+        let msg = err.to_string();
+        assert!(
+            msg.contains("haptic.safety") && msg.contains("ceiling_nm") && msg.contains("1.87"),
+            "{msg}"
+        );
+    }
+
+    #[test]
+    fn simulated_patient_is_validated_by_its_own_rules() {
+        let err = StationConfig::from_toml("[sim_patient]\ndelay_s = -1.0\n", "test").unwrap_err();
+        let msg = err.to_string();
+        assert!(
+            msg.contains("sim_patient") && msg.contains("delay_s"),
+            "{msg}"
+        );
+    }
+
+    #[test]
+    fn nan_value_is_rejected() {
+        let err =
+            StationConfig::from_toml("[haptic.safety]\nslew_nm_per_s = nan\n", "test").unwrap_err();
+        assert!(err.to_string().contains("slew_nm_per_s"), "{err}");
+    }
+}

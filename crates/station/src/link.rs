@@ -1,0 +1,160 @@
+//! The station side of the therapist link: a small tokio runtime owning the netlink
+//! store-and-forward task. The recorder thread hands it summaries without ever waiting.
+
+use crate::config::StationConfig;
+use crate::report::LinkReport;
+use crate::session::LiveSummary;
+use anyhow::Context;
+use netlink::{
+    ClientTls, Hello, PROTOCOL_VERSION, StationLink, StationLinkConfig, Summary, SummarySender,
+};
+use std::net::ToSocketAddrs;
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
+
+/// How long the end of a session waits for the therapist to acknowledge what is pending.
+const FINISH_TIMEOUT: Duration = Duration::from_secs(3);
+
+/// The therapist link of one session (absent when no therapist is configured).
+pub struct Link {
+    inner: Option<Inner>,
+}
+
+struct Inner {
+    runtime: tokio::runtime::Runtime,
+    sender: SummarySender,
+    link: StationLink,
+    session_id: String,
+    exercise: String,
+    address: String,
+}
+
+/// A session identifier from the start time: `2026-11-21T09-30-00Z-s7` (seed appended).
+pub fn session_id(start: SystemTime, seed: u64) -> String {
+    let stamp = humantime::format_rfc3339_seconds(start)
+        .to_string()
+        .replace(':', "-");
+    format!("{stamp}-s{seed}")
+}
+
+impl Link {
+    /// Start the link if the configuration names a therapist. Plaintext is refused to
+    /// anything but loopback; `therapist.ca_pem` enables TLS.
+    pub fn start(cfg: &StationConfig) -> anyhow::Result<Self> {
+        let t = &cfg.therapist;
+        if t.address.is_empty() {
+            return Ok(Self { inner: None });
+        }
+        let addr = t
+            .address
+            .to_socket_addrs()
+            .with_context(|| format!("therapist address `{}` does not resolve", t.address))?
+            .next()
+            .with_context(|| format!("therapist address `{}` has no address", t.address))?;
+        let host = t
+            .address
+            .rsplit_once(':')
+            .map(|(h, _)| h)
+            .unwrap_or(&t.address);
+        let tls = t.ca_pem.as_ref().map(|ca| ClientTls {
+            ca_pem_path: ca.clone(),
+            server_name: t
+                .server_name
+                .clone()
+                .unwrap_or_else(|| host.trim_matches(['[', ']']).to_string()),
+            identity: None,
+        });
+        let start = SystemTime::now();
+        let hello = Hello {
+            protocol_version: PROTOCOL_VERSION,
+            station_id: cfg.session.station_id.clone(),
+            patient_id: cfg.session.patient_id.clone(),
+            session_id: session_id(start, cfg.session.seed),
+            exercise: cfg.session.exercise.clone(),
+            started_unix_ms: start
+                .duration_since(UNIX_EPOCH)
+                .map(|d| d.as_millis() as u64)
+                .unwrap_or(0),
+            software_version: concat!("telerehab ", env!("CARGO_PKG_VERSION")).into(),
+        };
+        let session_id = hello.session_id.clone();
+        let config = StationLinkConfig::new(addr, tls, hello);
+        config.validate().context("therapist link")?;
+        let runtime = tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(1)
+            .thread_name("netlink")
+            .enable_all()
+            .build()
+            .context("cannot start the network runtime")?;
+        let (sender, link) =
+            StationLink::spawn(runtime.handle(), config).context("therapist link")?;
+        tracing::info!(therapist = %t.address, tls = t.ca_pem.is_some(), session = %session_id, "therapist link started");
+        Ok(Self {
+            inner: Some(Inner {
+                runtime,
+                sender,
+                link,
+                session_id,
+                exercise: cfg.session.exercise.clone(),
+                address: t.address.clone(),
+            }),
+        })
+    }
+
+    /// Hand one summary to the link. Never waits: a full queue is counted in the link's
+    /// `dropped` figure and reported at the end.
+    pub fn send(&self, s: &LiveSummary) {
+        let Some(inner) = &self.inner else { return };
+        let r = &s.record;
+        let summary = Summary {
+            session_id: inner.session_id.clone(),
+            seq: s.seq,
+            t_s: r.t_ns as f64 * 1e-9,
+            exercise: inner.exercise.clone(),
+            speed_m_s: r.vehicle.ux_m_s,
+            lateral_m: r.vehicle.lateral_m,
+            rms_lateral_m: r.score.rms_lateral_m,
+            max_lateral_m: r.score.max_lateral_m,
+            pct_in_lane: r.score.pct_in_lane,
+            max_abs_torque_nm: s.max_abs_torque_nm,
+            loop_p99_us: s.loop_p99_us,
+            ticks: r.tick + 1,
+            dropped_records: r.timing.dropped_records,
+            extra: s.extra.clone(),
+        };
+        // Counted by the link (LinkStats::dropped/rejected) and reported at the end; logged
+        // here because a rejected summary is a bug worth seeing at once.
+        if let Err(e) = inner.sender.send(summary) {
+            tracing::warn!(seq = s.seq, "summary not queued for the therapist: {e}");
+        }
+    }
+
+    /// End the link: send Bye, wait a short while for the last acknowledgements, and report
+    /// honestly what was not delivered.
+    pub fn finish(self, produced: u64) -> Option<LinkReport> {
+        let inner = self.inner?;
+        let stats = inner
+            .link
+            .finish_blocking(inner.runtime.handle(), FINISH_TIMEOUT);
+        inner.runtime.shutdown_timeout(Duration::from_millis(200));
+        Some(LinkReport {
+            address: inner.address,
+            produced,
+            sent: stats.sent,
+            acked: stats.acked,
+            undelivered: produced.saturating_sub(stats.acked),
+            last_error: stats.last_error,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn session_id_is_a_valid_wire_identifier() {
+        let id = session_id(UNIX_EPOCH + Duration::from_secs(1_795_000_000), 7);
+        assert_eq!(id, "2026-11-18T11-06-40Z-s7");
+        netlink::frame::check_id("session_id", &id).unwrap();
+    }
+}

@@ -1,0 +1,154 @@
+//! The haptic thread: one tick per period at absolute deadlines, records out through a
+//! wait-free ring buffer, torque faded to zero on every way out.
+
+use crate::session::plant::Plant;
+use crate::session::record::{TickRecord, TimingSample};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// How the loop paces itself.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pacing {
+    /// One tick per period on the wall clock, at absolute deadlines (no drift).
+    RealTime,
+    /// As fast as the machine allows; waits for the recorder instead of dropping records.
+    Max,
+}
+
+/// What the haptic thread reports when it ends.
+#[derive(Clone, Debug, Default)]
+pub struct HapticOutcome {
+    /// Ticks run, including the fade-out.
+    pub ticks: u64,
+    /// Records the recorder ring had no room for (real-time pacing only).
+    pub dropped_records: u64,
+    /// Whether the session was stopped early (signal or stop request).
+    pub stopped_early: bool,
+    /// Whether the operating system granted real-time scheduling.
+    pub realtime_priority: bool,
+    /// Wall time the loop ran, s.
+    pub wall_s: f64,
+    /// Range of motion of each estimated joint angle over the session, rad (order of
+    /// `gyro_imu::arm::JointAngles::NAMES`); `None` without arm sensing.
+    pub range_of_motion_rad: Option<[f64; 5]>,
+}
+
+/// Sleep until the absolute `deadline`.
+fn sleep_until(deadline: Instant) {
+    let now = Instant::now();
+    if deadline > now {
+        std::thread::sleep(deadline - now);
+    }
+}
+
+/// Try to get real-time (SCHED_FIFO) scheduling for the calling thread; true when granted.
+/// Without it the loop still runs, with more jitter; the caller logs which one it got.
+pub fn request_realtime_priority() -> bool {
+    #[cfg(target_os = "linux")]
+    {
+        use thread_priority::{
+            RealtimeThreadSchedulePolicy, ThreadPriority, ThreadPriorityValue,
+            ThreadSchedulePolicy, set_thread_priority_and_policy, thread_native_id,
+        };
+        let Ok(value) = ThreadPriorityValue::try_from(80u8) else {
+            return false;
+        };
+        set_thread_priority_and_policy(
+            thread_native_id(),
+            ThreadPriority::Crossplatform(value),
+            ThreadSchedulePolicy::Realtime(RealtimeThreadSchedulePolicy::Fifo),
+        )
+        .is_ok()
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        false
+    }
+}
+
+/// Longest the supervisor may take to fade the torque out after a stop, s; past it the loop
+/// commands zero at once.
+const MAX_FADE_S: f64 = 2.0;
+
+/// Run the loop until `total_ticks` have run or `stop` is set, then let the safety supervisor
+/// fade the torque out and command zero. Every record goes to `out` (dropped and counted if
+/// the ring is full in real time).
+pub fn run(
+    plant: &mut Plant,
+    out: &mut rtrb::Producer<TickRecord>,
+    total_ticks: u64,
+    pacing: Pacing,
+    stop: &Arc<AtomicBool>,
+) -> HapticOutcome {
+    let realtime_priority = pacing == Pacing::RealTime && request_realtime_priority();
+    if pacing == Pacing::RealTime && !realtime_priority {
+        tracing::warn!(
+            "real-time scheduling (SCHED_FIFO) not granted: the haptic loop runs with normal priority and more jitter"
+        );
+    }
+    let period_ns = (plant.dt_s() * 1e9).round() as u64;
+    let max_fade_ticks = (MAX_FADE_S / plant.dt_s()).ceil() as u64;
+    let start = Instant::now();
+    let mut last_wake = start;
+    let mut dropped = 0u64;
+    let mut stopping_since: Option<u64> = None;
+    let mut stopped_early = false;
+    let mut tick = 0u64;
+    loop {
+        if stopping_since.is_none() && (tick >= total_ticks || stop.load(Ordering::Relaxed)) {
+            stopped_early = tick < total_ticks;
+            stopping_since = Some(tick);
+            plant.request_stop();
+        }
+        if let Some(since) = stopping_since
+            && (plant.stopped() || tick - since >= max_fade_ticks)
+        {
+            break;
+        }
+        let deadline = start + Duration::from_nanos(period_ns * tick);
+        let wake = if pacing == Pacing::RealTime {
+            sleep_until(deadline);
+            Instant::now()
+        } else {
+            Instant::now()
+        };
+        let mut rec = plant.tick();
+        let done = Instant::now();
+        rec.timing = TimingSample {
+            lateness_ns: if pacing == Pacing::RealTime {
+                wake.saturating_duration_since(deadline).as_nanos() as u64
+            } else {
+                0
+            },
+            period_ns: wake.saturating_duration_since(last_wake).as_nanos() as u64,
+            work_ns: done.saturating_duration_since(wake).as_nanos() as u64,
+            dropped_records: dropped,
+        };
+        last_wake = wake;
+        match pacing {
+            Pacing::RealTime => {
+                if out.push(rec).is_err() {
+                    dropped += 1;
+                }
+            }
+            Pacing::Max => {
+                let mut pending = rec;
+                while let Err(rtrb::PushError::Full(r)) = out.push(pending) {
+                    pending = r;
+                    std::thread::yield_now();
+                }
+            }
+        }
+        tick += 1;
+    }
+    plant.zero_torque();
+    HapticOutcome {
+        ticks: tick,
+        dropped_records: dropped,
+        stopped_early,
+        realtime_priority,
+        wall_s: start.elapsed().as_secs_f64(),
+        range_of_motion_rad: plant.range_of_motion_rad(),
+    }
+}

@@ -1,0 +1,173 @@
+//! The per-tick record the haptic thread hands to the recorder (plain `Copy` data: no
+//! allocation on the 1 kHz path). Each part is one MCAP channel; its JSON schema is derived
+//! from the struct, so the schema and the messages cannot drift apart.
+
+use haptic_wheel::{Fault, WatchdogState};
+use schemars::JsonSchema;
+use serde::Serialize;
+
+/// Everything one haptic tick measured, commanded and computed.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TickRecord {
+    /// Tick number since the session started.
+    pub tick: u64,
+    /// Session (simulation) time, ns since the start.
+    pub t_ns: u64,
+    /// Wheel side.
+    pub wheel: WheelSample,
+    /// Car and road side.
+    pub vehicle: VehicleSample,
+    /// Running score.
+    pub score: ScoreSample,
+    /// Active assistance.
+    pub assist: AssistSample,
+    /// Arm pose from the gyros (absent without arm sensing).
+    pub arm: Option<ArmSample>,
+    /// Loop timing on the wall clock.
+    pub timing: TimingSample,
+}
+
+/// Wheel state and torques in one tick (channel `/wheel`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, JsonSchema)]
+pub struct WheelSample {
+    /// Angle as read from the device (quantised), rad.
+    pub angle_rad: f64,
+    /// Estimated angular velocity (Kalman), rad/s.
+    pub velocity_rad_s: f64,
+    /// Torque of the haptic model (centring spring–damper, eq. 3.5), N·m.
+    pub model_nm: f64,
+    /// Road feel from the front lateral tyre force (§3.3.4), N·m.
+    pub road_feel_nm: f64,
+    /// Torque requested before the safety chain, N·m.
+    pub requested_nm: f64,
+    /// Torque commanded to the motor after the safety chain, N·m.
+    pub commanded_nm: f64,
+    /// The safety chain limited the request this tick.
+    pub clipped: bool,
+    /// Soft-start / fade-out scale of the safety supervisor, 0–1.
+    pub safety_scale: f64,
+    /// Safety supervisor state: soft-start, running, fault-missed-deadline,
+    /// fault-stale-reading, stopping, stopped.
+    pub watchdog: &'static str,
+    /// Passivity observer energy, J (negative: the rendered environment generated energy).
+    pub passivity_energy_j: f64,
+    /// Damping the passivity controller added, N·m·s/rad.
+    pub passivity_damping_nm_s_per_rad: f64,
+    /// True wheel angle, rad (simulation only; null with a real wheel).
+    pub true_angle_rad: Option<f64>,
+    /// Simulated patient's hand torque, N·m (simulation only; null with a real wheel).
+    pub hand_nm: Option<f64>,
+    /// Wheel angle the patient aims for, rad.
+    pub target_rad: f64,
+}
+
+/// The supervisor state as a stable label for recordings.
+pub fn watchdog_label(state: WatchdogState) -> &'static str {
+    match state {
+        WatchdogState::SoftStart => "soft-start",
+        WatchdogState::Running => "running",
+        WatchdogState::Fault(Fault::MissedDeadline) => "fault-missed-deadline",
+        WatchdogState::Fault(Fault::StaleReading) => "fault-stale-reading",
+        WatchdogState::Fault(_) => "fault",
+        WatchdogState::Stopping => "stopping",
+        WatchdogState::Stopped => "stopped",
+    }
+}
+
+/// Car and road state in one tick (channel `/vehicle`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, JsonSchema)]
+pub struct VehicleSample {
+    /// Global x, m.
+    pub x_m: f64,
+    /// Global y, m.
+    pub y_m: f64,
+    /// Heading, rad.
+    pub yaw_rad: f64,
+    /// Forward velocity, m/s.
+    pub ux_m_s: f64,
+    /// Lateral velocity, m/s.
+    pub uy_m_s: f64,
+    /// Yaw rate, rad/s.
+    pub r_rad_s: f64,
+    /// Road-wheel angle δ, rad.
+    pub steer_rad: f64,
+    /// Front lateral tyre force, N.
+    pub front_lateral_n: f64,
+    /// Distance along the road, m.
+    pub s_m: f64,
+    /// Lateral deviation from the road centre, m (positive left).
+    pub lateral_m: f64,
+}
+
+/// The running lane score (channel `/score`, every 100 ms).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, JsonSchema)]
+pub struct ScoreSample {
+    /// RMS lateral deviation so far, m.
+    pub rms_lateral_m: f64,
+    /// Largest |lateral deviation| so far, m.
+    pub max_lateral_m: f64,
+    /// Share of time in the lane so far, %.
+    pub pct_in_lane: f64,
+}
+
+/// Active assistance in one tick (channel `/assist`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, JsonSchema)]
+pub struct AssistSample {
+    /// Assist torque, N·m.
+    pub torque_nm: f64,
+    /// Reference the assist tracks (after the reference governor), rad.
+    pub reference_rad: f64,
+    /// Reference minus measured angle, rad.
+    pub error_rad: f64,
+    /// How much the robot helps, 0 (none) to 1 (full authority).
+    pub assistance_level: f64,
+    /// A torque limit cut the assist this tick.
+    pub saturated: bool,
+}
+
+/// The arm pose estimated from the two IMUs, beside the simulated truth (channel `/arm`).
+/// Angles follow `gyro_imu::arm::JointAngles`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, JsonSchema)]
+pub struct ArmSample {
+    /// Estimated humerus elevation from hanging, rad.
+    pub shoulder_elevation_rad: f64,
+    /// Estimated plane of elevation (0 lateral, π/2 forward), rad.
+    pub shoulder_plane_rad: f64,
+    /// Estimated humeral axial rotation (internal positive), rad.
+    pub shoulder_rotation_rad: f64,
+    /// Estimated elbow flexion (0 straight), rad.
+    pub elbow_flexion_rad: f64,
+    /// Estimated forearm pronation, rad.
+    pub forearm_pronation_rad: f64,
+    /// True humerus elevation (simulation only), rad.
+    pub true_shoulder_elevation_rad: f64,
+    /// True elbow flexion (simulation only), rad.
+    pub true_elbow_flexion_rad: f64,
+    /// RMS mismatch of the measured and fitted segment "up" directions, rad.
+    pub fit_residual_rad: f64,
+    /// Upper-arm gyro, sensor x, rad/s.
+    pub upper_gyro_x_rad_s: f64,
+    /// Upper-arm gyro, sensor y, rad/s.
+    pub upper_gyro_y_rad_s: f64,
+    /// Upper-arm gyro, sensor z, rad/s.
+    pub upper_gyro_z_rad_s: f64,
+    /// Forearm gyro, sensor x, rad/s.
+    pub fore_gyro_x_rad_s: f64,
+    /// Forearm gyro, sensor y, rad/s.
+    pub fore_gyro_y_rad_s: f64,
+    /// Forearm gyro, sensor z, rad/s.
+    pub fore_gyro_z_rad_s: f64,
+}
+
+/// Wall-clock timing of one tick (channel `/timing`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, JsonSchema)]
+pub struct TimingSample {
+    /// How late the tick started after its absolute deadline, ns (0 at `--speed max`).
+    pub lateness_ns: u64,
+    /// Wall time since the previous tick started, ns.
+    pub period_ns: u64,
+    /// Time spent computing this tick, ns.
+    pub work_ns: u64,
+    /// Records the recorder could not take so far (ring full), count.
+    pub dropped_records: u64,
+}

@@ -1,0 +1,72 @@
+//! `telerehab therapist`: the hub. Accepts many stations, prints a live line per summary,
+//! acknowledges and stores every session's summaries under the store directory.
+
+use crate::cli::TherapistArgs;
+use anyhow::Context;
+use netlink::{ServerTls, TherapistConfig, TherapistEvent, TherapistServer};
+use std::io::Write;
+use std::net::ToSocketAddrs;
+use std::time::Duration;
+
+/// Run the hub until SIGINT/SIGTERM.
+pub fn run(args: TherapistArgs) -> anyhow::Result<()> {
+    let listen = args
+        .listen
+        .to_socket_addrs()
+        .with_context(|| format!("--listen `{}` does not resolve", args.listen))?
+        .next()
+        .with_context(|| format!("--listen `{}` has no address", args.listen))?;
+    let tls = match (args.tls_cert, args.tls_key) {
+        (Some(cert), Some(key)) => Some(ServerTls {
+            cert_pem_path: cert,
+            key_pem_path: key,
+            client_ca_pem_path: None,
+        }),
+        _ => None,
+    };
+    std::fs::create_dir_all(&args.store)
+        .with_context(|| format!("cannot create the store directory {}", args.store.display()))?;
+    let config = TherapistConfig::new(listen, &args.store, tls);
+    config.validate().context("therapist hub")?;
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .thread_name("hub")
+        .enable_all()
+        .build()
+        .context("cannot start the network runtime")?;
+    runtime.block_on(async move {
+        let (server, mut events) = TherapistServer::bind(config)
+            .await
+            .context("therapist hub")?;
+        // The first line says where the hub listens (tests parse it; `--listen host:0` picks a port).
+        println!(
+            "listening on {} (store {})",
+            server.local_addr(),
+            args.store.display()
+        );
+        let _ = std::io::stdout().flush();
+        let mut sigterm = tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate())
+            .context("cannot install the SIGTERM handler")?;
+        loop {
+            tokio::select! {
+                ev = events.recv() => match ev {
+                    Some(ev) => print_event(&ev),
+                    None => break,
+                },
+                _ = tokio::signal::ctrl_c() => break,
+                _ = sigterm.recv() => break,
+            }
+        }
+        println!(
+            "hub stopping; stations connected: {:?}",
+            server.connected_stations()
+        );
+        server.shutdown(Duration::from_secs(2)).await;
+        anyhow::Ok(())
+    })
+}
+
+fn print_event(ev: &TherapistEvent) {
+    println!("{ev}");
+    let _ = std::io::stdout().flush();
+}

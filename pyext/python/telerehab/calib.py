@@ -1,0 +1,217 @@
+"""Kinematic calibration of the patient's arm (thesis Jadhav 2004, Chapter 4).
+
+- :func:`calibrate_planar_fourbar` — wheel crank, forearm, upper arm and ground link as a planar
+  four-bar (§4.2.1): a closed-form global solution (no initial guess) refined by a robust
+  Levenberg–Marquardt with gyro-bias terms; the thesis's Gauss–Newton is available for reference.
+- :class:`OnlinePlanarFourbar` — the same estimate updated sample by sample, with forgetting.
+- :func:`calibrate_serial_chain` — SE(3) calibration of the initial frames of a serial chain
+  (§4.3, eq. 4.25–4.49).
+
+Lengths are in metres, angles in radians. Bad input raises :class:`ValueError` naming the
+argument and the expected shape; the work runs with the GIL released.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Mapping, Optional, Sequence, Union
+
+import numpy as np
+
+from telerehab import _native
+
+PlanarFourbarResult = _native.PlanarFourbarResult
+SerialChainResult = _native.SerialChainResult
+
+__all__ = [
+    "calibrate_planar_fourbar",
+    "OnlinePlanarFourbar",
+    "calibrate_serial_chain",
+    "PlanarFourbarResult",
+    "SerialChainResult",
+]
+
+_PARAM_NAMES = ("l1", "l3", "l4", "theta2_0", "theta3_0", "theta4_0")
+
+
+def _float_array(name: str, value: Any, ndim: int, expected: str) -> np.ndarray:
+    """`value` as a C-contiguous float64 array of `ndim` dimensions, or ValueError."""
+    arr = np.asarray(value)
+    if arr.dtype == np.bool_ or arr.dtype.kind not in "fiu":
+        raise ValueError(f"{name} must be a real numeric array of shape {expected}, got dtype {arr.dtype}")
+    if arr.ndim != ndim:
+        raise ValueError(f"{name} must have shape {expected}, got {arr.shape}")
+    arr = np.ascontiguousarray(arr, dtype=np.float64)
+    if not np.all(np.isfinite(arr)):
+        bad = np.argwhere(~np.isfinite(arr))[0]
+        raise ValueError(f"{name} must be finite (shape {expected}); NaN or infinity at index {tuple(int(i) for i in bad)}")
+    return arr
+
+
+def _initial_vector(initial: Any) -> Optional[list]:
+    if initial is None:
+        return None
+    if isinstance(initial, Mapping):
+        missing = [k for k in _PARAM_NAMES if k not in initial]
+        if missing:
+            raise ValueError(f"initial is missing {missing}; expected keys {list(_PARAM_NAMES)}")
+        values = [float(initial[k]) for k in _PARAM_NAMES]
+        if "gyro_bias3" in initial or "gyro_bias4" in initial:
+            values += [float(initial.get("gyro_bias3", 0.0)), float(initial.get("gyro_bias4", 0.0))]
+        return values
+    if hasattr(initial, "l1") and hasattr(initial, "theta4_0"):
+        return [float(getattr(initial, k)) for k in _PARAM_NAMES]
+    values = _float_array("initial", initial, 1, "(6,) or (8,)")
+    return [float(v) for v in values]
+
+
+def calibrate_planar_fourbar(
+    phi2: Any,
+    phi3: Any,
+    phi4: Any,
+    l2: float,
+    *,
+    initial: Union[None, Mapping[str, float], Sequence[float], PlanarFourbarResult] = None,
+    method: str = "auto",
+    time_s: Any = None,
+    gyro_bias: bool = True,
+    robust: bool = True,
+    max_iterations: int = 200,
+    tolerance: float = 1e-12,
+    smoothing_half_window: int = 0,
+) -> PlanarFourbarResult:
+    """Calibrate the arm–wheel planar four-bar from one recording (thesis eq. 4.1–4.4).
+
+    The loop is ``l2·e^{iθ2} + l3·e^{iθ3} − l4·e^{iθ4} − l1 = 0`` with ``θj = Θj + φj``
+    (minus ``bj·t`` for the gyro-measured links when ``gyro_bias``), the ground link along +x
+    from the wheel centre to the shoulder.
+
+    Args:
+        phi2: (N,) wheel angle relative to the first sample (rad), from the wheel encoder.
+        phi3: (N,) forearm angle relative to the first sample (rad), integrated gyro.
+        phi4: (N,) upper-arm angle relative to the first sample (rad), integrated gyro.
+        l2: wheel radius, grip to wheel centre (m), known.
+        initial: optional start ``{l1, l3, l4, theta2_0, theta3_0, theta4_0}`` (mapping,
+            sequence of 6 or 8 values, or a previous result); required by ``"thesis"`` and
+            ``"lm"``, an extra start for ``"auto"``.
+        method: ``"auto"`` (global closed form + robust LM with gyro bias; default),
+            ``"global"`` (closed form only), ``"lm"`` (robust LM from ``initial``),
+            ``"thesis"`` (the thesis's Gauss–Newton from ``initial``, reference only).
+        time_s: optional (N,) sample times (s); gyro biases are then in rad/s (else rad/sample).
+        gyro_bias: estimate linear drift of φ3 and φ4 (``"auto"``, ``"lm"``).
+        robust: down-weight outlying samples (``"auto"``, ``"lm"``).
+        max_iterations, tolerance: limits of the iterative stage.
+        smoothing_half_window: half-width (samples) of a zero-phase Savitzky–Golay smoother
+            applied to the angles first (0 = off, up to 500). White angle noise biases every
+            least-squares fit of this loop; smoothing removes most of that bias. Keep the
+            window under a quarter of the motion's period (e.g. 25 at 100 Hz).
+
+    Returns:
+        A result with ``l1, l3, l4`` (m), ``theta2_0, theta3_0, theta4_0`` (rad),
+        ``gyro_bias3, gyro_bias4``, ``iterations``, ``converged``, ``rms_residual`` (m),
+        ``std_errors`` (dict, 1σ), ``condition_number``, ``outlier_fraction``, ``wheel_range``
+        (rad) and ``warnings`` (list of str, each with the remedy). ``std_errors`` describe
+        the random spread only, not the bias angle noise causes; after smoothing they are
+        optimistic (the residuals are then correlated).
+
+    Raises:
+        ValueError: wrong shape, dtype, NaN, too few samples, or data that do not determine
+            the parameters (with the motion to ask the patient for).
+    """
+    p2 = _float_array("phi2", phi2, 1, "(N,)")
+    n = p2.shape[0]
+    p3 = _float_array("phi3", phi3, 1, f"({n},) like phi2")
+    p4 = _float_array("phi4", phi4, 1, f"({n},) like phi2")
+    for name, arr in (("phi3", p3), ("phi4", p4)):
+        if arr.shape[0] != n:
+            raise ValueError(f"{name} must have shape ({n},) like phi2, got {arr.shape}")
+    t = None
+    if time_s is not None:
+        t = _float_array("time_s", time_s, 1, f"({n},) like phi2")
+        if t.shape[0] != n:
+            raise ValueError(f"time_s must have shape ({n},) like phi2, got {t.shape}")
+    return _native.calibrate_planar_fourbar(
+        p2, p3, p4, float(l2), _initial_vector(initial), str(method), t,
+        bool(gyro_bias), bool(robust), int(max_iterations), float(tolerance),
+        int(smoothing_half_window),
+    )
+
+
+class OnlinePlanarFourbar:
+    """Recursive least-squares four-bar calibration with exponential forgetting.
+
+    The square-root information form of the global method: no initial guess, nothing to
+    diverge, and old samples fade with factor ``forgetting`` per sample (memory ≈
+    ``1/(1 − forgetting)`` samples) so the estimate tracks changes during a session.
+
+    Example:
+        >>> est = OnlinePlanarFourbar(0.15)
+        >>> est.update(phi2, phi3, phi4)     # scalars or 1-D arrays
+        >>> est.estimate.l3                  # None until identifiable
+    """
+
+    def __init__(self, l2: float, *, forgetting: float = 0.999) -> None:
+        """``l2``: wheel radius (m); ``forgetting`` in [0.9, 1] (1 = never forget)."""
+        self._native = _native.OnlinePlanarFourbar(float(l2), float(forgetting))
+
+    def update(self, phi2: Any, phi3: Any, phi4: Any) -> None:
+        """Absorb one sample (floats) or a batch (equal-length 1-D arrays), in order (rad)."""
+        p2 = _float_array("phi2", np.atleast_1d(phi2), 1, "() or (N,)")
+        n = p2.shape[0]
+        p3 = _float_array("phi3", np.atleast_1d(phi3), 1, f"({n},) like phi2")
+        p4 = _float_array("phi4", np.atleast_1d(phi4), 1, f"({n},) like phi2")
+        for name, arr in (("phi3", p3), ("phi4", p4)):
+            if arr.shape[0] != n:
+                raise ValueError(f"{name} must have shape ({n},) like phi2, got {arr.shape}")
+        self._native.update_many(p2, p3, p4)
+
+    @property
+    def estimate(self) -> Optional[PlanarFourbarResult]:
+        """The current estimate, or None while the data do not yet determine it."""
+        return self._native.estimate
+
+    @property
+    def samples(self) -> int:
+        """Samples absorbed so far."""
+        return self._native.samples
+
+
+def calibrate_serial_chain(
+    nominal_frames: Any,
+    joint_motions: Any,
+    measured_end_poses: Any,
+    *,
+    max_iterations: int = 100,
+    tolerance: float = 1e-13,
+) -> SerialChainResult:
+    """Calibrate the initial frames of a serial chain (thesis §4.3, eq. 4.25–4.49).
+
+    Model ``T_end = F0·Q1·F1·Q2·…·Qn·Fn`` (eq. 4.25); frame errors right-multiplicative
+    ``F_i′ = F_i·exp(Δ_i)`` (eq. 4.30), residual ``log∨(T′·T⁻¹)`` (exact log map),
+    ``Y = A x`` stacked over measurements (eq. 4.48) and solved by truncated-SVD least squares
+    (eq. 4.49), iterated.
+
+    Args:
+        nominal_frames: (n+1, 4, 4) nominal initial frame-to-frame transforms F0 … Fn (m).
+        joint_motions: (m, n, 4, 4) the relative motions Q1 … Qn of each measurement.
+        measured_end_poses: (m, 4, 4) the measured end pose of each measurement.
+
+    Returns:
+        A result with ``frames`` (n+1, 4, 4), ``iterations``, ``converged``, ``rms_residual``,
+        ``rms_translation`` (m), ``rms_rotation`` (rad), ``condition_number``, ``rank`` (the
+        observable frame-error directions out of 6(n+1)) and ``warnings``.
+
+    Raises:
+        ValueError: wrong shape, dtype, NaN, non-rigid matrices or too few measurements.
+    """
+    f = _float_array("nominal_frames", nominal_frames, 3, "(n+1, 4, 4)")
+    if f.shape[1:] != (4, 4) or f.shape[0] < 1:
+        raise ValueError(f"nominal_frames must have shape (n+1, 4, 4), got {f.shape}")
+    n = f.shape[0] - 1
+    t = _float_array("measured_end_poses", measured_end_poses, 3, "(m, 4, 4)")
+    if t.shape[1:] != (4, 4):
+        raise ValueError(f"measured_end_poses must have shape (m, 4, 4), got {t.shape}")
+    m = t.shape[0]
+    q = _float_array("joint_motions", joint_motions, 4, f"(m, n, 4, 4) = ({m}, {n}, 4, 4)")
+    if q.shape != (m, n, 4, 4):
+        raise ValueError(f"joint_motions must have shape (m, n, 4, 4) = ({m}, {n}, 4, 4), got {q.shape}")
+    return _native.calibrate_serial_chain(f, q, t, int(max_iterations), float(tolerance))

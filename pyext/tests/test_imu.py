@@ -1,0 +1,95 @@
+import numpy as np
+import pytest
+
+from telerehab import imu
+
+
+def rot_z(a):
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def test_integrate_constant_rate_is_exact_and_starts_at_identity():
+    rates = np.tile([0.0, 0.0, 0.5], (200, 1))
+    r = imu.integrate(rates, 0.01)
+    assert r.shape == (201, 3, 3)
+    np.testing.assert_allclose(r[0], np.eye(3), atol=1e-15)
+    np.testing.assert_allclose(r[-1], rot_z(1.0), atol=1e-12)
+
+
+@pytest.mark.parametrize("method", imu.METHODS)
+def test_every_method_returns_rotations(method):
+    rng = np.random.default_rng(3)
+    r = imu.integrate(rng.normal(size=(500, 3)), 0.005, method=method)
+    eye = np.einsum("nij,nkj->nik", r, r)
+    np.testing.assert_allclose(eye, np.broadcast_to(np.eye(3), eye.shape), atol=1e-12)
+    np.testing.assert_allclose(np.linalg.det(r), 1.0, atol=1e-12)
+
+
+def test_integrate_magnus4_beats_exp_on_coning_motion():
+    beta, w = np.radians(10.0), 2 * np.pi
+    dt = 1 / 286
+    t = np.arange(286 * 60 + 2) * dt
+    rates = w * np.stack(
+        [-np.sin(beta) * np.sin(w * t), np.sin(beta) * np.cos(w * t), (np.cos(beta) - 1) * np.ones_like(t)], 1
+    )
+    n = 286 * 60
+    c, s = np.cos(beta), np.sin(beta)
+    rx = np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
+    # Integration starts at I: the truth is the motion relative to R(0) = Rx(β).
+    truth = rx.T @ rot_z(w * n * dt) @ rx @ rot_z(-w * n * dt)
+
+    def err(r):
+        return np.degrees(np.arccos(np.clip((np.trace(truth.T @ r) - 1) / 2, -1, 1)))
+
+    e_exp = err(imu.integrate(rates, dt, method="exp")[n])
+    e_m4 = err(imu.integrate(rates, dt, method="magnus4")[n])
+    assert e_exp > 1e-3
+    assert e_m4 < e_exp / 20
+
+
+def test_fuse_static_sensor_finds_gravity_and_returns_unit_quaternions():
+    n = 2000
+    acc = np.tile([0.0, 9.81, 0.0], (n, 1))  # sensor y axis up
+    gyr = np.tile(np.radians([0.3, -0.2, 0.1]), (n, 1))
+    q = imu.fuse(gyr, acc, 0.01)
+    assert q.shape == (n, 4)
+    np.testing.assert_allclose(np.linalg.norm(q, axis=1), 1.0, atol=1e-12)
+    w, x, y, z = q[-1]
+    # Sensor y axis expressed in earth frame must be +z.
+    y_earth = np.array([2 * (x * y - w * z), 1 - 2 * (x * x + z * z), 2 * (y * z + w * x)])
+    np.testing.assert_allclose(y_earth, [0, 0, 1], atol=1e-3)
+
+
+def test_estimate_bias_recovers_a_constant_offset():
+    rng = np.random.default_rng(1)
+    truth = np.radians([0.5, -0.4, 0.2])
+    rates = truth + rng.normal(scale=np.radians(0.3), size=(3000, 3))
+    b, frac = imu.estimate_bias(rates, 0.005)
+    assert frac > 0.8
+    assert np.degrees(np.linalg.norm(b - truth)) < 0.05
+
+
+@pytest.mark.parametrize(
+    "call, match",
+    [
+        (lambda: imu.integrate(np.zeros((5, 2)), 0.01), r"`rates` must have shape \(N, 3\)"),
+        (lambda: imu.integrate(np.zeros((5, 3)), -1.0), r"`dt`"),
+        (lambda: imu.integrate(np.zeros((5, 3)), 0.01, method="euler"), r"`method`"),
+        (lambda: imu.integrate([[0, 0, np.nan]], 0.01), r"`rates` row 0 is not finite"),
+        (lambda: imu.fuse(np.zeros((4, 3)), np.zeros((3, 3)), 0.01), r"`acc` has 3"),
+        (lambda: imu.fuse(np.zeros((4, 3)), np.zeros((4, 4)), 0.01), r"`acc` must have shape"),
+        (lambda: imu.fuse(np.zeros((4, 3)), [["a", "b", "c"]] * 4, 0.01), r"`acc` must be a numeric"),
+        (lambda: imu.estimate_bias(np.sin(np.arange(3000))[:, None] * np.ones((1, 3)), 0.01), r"no rest"),
+    ],
+)
+def test_bad_input_raises_value_error_naming_the_argument(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()
+
+
+def test_native_layer_rechecks_shapes():
+    from telerehab import _native
+
+    with pytest.raises(ValueError, match="rates"):
+        _native.imu_integrate(np.zeros((3, 4)), 0.01, "exp")

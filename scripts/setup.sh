@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Set up everything telerehab needs on a fresh Debian machine. Idempotent: safe to re-run.
+#   - Debian packages: a C toolchain, pkg-config + libudev (hidapi, gilrs), Mesa's software
+#     Vulkan/GL (headless rendering), Xvfb (window tests), python3-venv.
+#   - Rust (stable, via rustup if cargo is missing) with rustfmt and clippy.
+#   - A Python virtualenv in .venv with the test tools and the `telerehab` package (pyext).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+
+PKGS=(build-essential pkg-config libudev-dev mesa-vulkan-drivers libvulkan1 libgl1-mesa-dri
+      libegl1 xvfb xauth libxkbcommon-x11-0 libx11-xcb1 python3-venv python3-pip curl ca-certificates)
+missing=()
+for p in "${PKGS[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing Debian packages: ${missing[*]}"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+if ! command -v cargo >/dev/null 2>&1; then
+  if [ -x "$HOME/.cargo/bin/cargo" ]; then
+    export PATH="$HOME/.cargo/bin:$PATH"
+  else
+    echo "setup: installing Rust with rustup"
+    curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh -s -- -y --profile minimal
+    export PATH="$HOME/.cargo/bin:$PATH"
+  fi
+fi
+if command -v rustup >/dev/null 2>&1; then
+  rustup component add rustfmt clippy >/dev/null 2>&1 || true
+fi
+
+if [ ! -x .venv/bin/python ]; then
+  echo "setup: creating the Python virtualenv .venv"
+  python3 -m venv .venv
+fi
+.venv/bin/python -m pip install -q --upgrade pip
+.venv/bin/python -m pip install -q -r requirements-dev.txt
+echo "setup: building and installing the telerehab Python package (pyext)"
+.venv/bin/python -m pip install -q ./pyext
+echo "setup: done"

@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Run every check and test: formatting, lints, docs, Rust tests, Python tests.
+# Expects scripts/setup.sh to have run (it installs what this needs).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+if ! command -v cargo >/dev/null 2>&1; then export PATH="$HOME/.cargo/bin:$PATH"; fi
+
+# Headless rendering on Mesa wants a private runtime dir.
+XDG_RUNTIME_DIR="$(mktemp -d)"; chmod 700 "$XDG_RUNTIME_DIR"; export XDG_RUNTIME_DIR
+
+echo "== cargo fmt";    cargo fmt --all -- --check
+echo "== cargo clippy"; cargo clippy --workspace --all-targets -- -D warnings
+echo "== cargo doc";    RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
+echo "== cargo test";   cargo test --workspace
+echo "== pytest"
+cargo build --quiet -p station --bin telerehab
+TELEREHAB_BIN="$PWD/target/debug/telerehab" .venv/bin/python -m pytest -q pyext/tests tests/python
