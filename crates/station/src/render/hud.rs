@@ -1,0 +1,406 @@
+//! Heads-up display, dial task and start/pause/summary cards, laid out with egui.
+//!
+//! Layout is in egui points on a 1280×720 reference screen; `pixels_per_point` scales it to
+//! the real size, so text keeps the same share of the screen in a small window and in
+//! full-screen. Sizes are chosen for older patients: the smallest text is 22 pt at the
+//! reference size (≈ 3 % of the screen height), white on a dark panel or near-black on white.
+
+use egui::epaint::{ClippedPrimitive, Shape};
+use egui::{
+    Align2, Color32, Context, CornerRadius, FontId, Galley, Id, LayerId, Order, Painter, Pos2,
+    Rect, Stroke, TexturesDelta, Vec2, ViewportId, pos2, vec2,
+};
+use std::sync::Arc;
+
+use super::scene::{Dial, LiveScore, Scene, ScreenState};
+
+/// Reference layout size, points.
+pub const REFERENCE_SIZE: [f32; 2] = [1280.0, 720.0];
+
+/// Colour of the desired-angle needle (thesis Fig. 3-7a: red).
+pub const DESIRED_NEEDLE: Color32 = Color32::from_rgb(0xD3, 0x2F, 0x2F);
+/// Colour of the actual-angle needle (thesis Fig. 3-7a: black).
+pub const ACTUAL_NEEDLE: Color32 = Color32::from_rgb(0x14, 0x14, 0x14);
+
+const PANEL: Color32 = Color32::from_rgba_premultiplied(18, 24, 32, 190);
+const TEXT: Color32 = Color32::WHITE;
+const CARD: Color32 = Color32::from_rgb(0xFB, 0xFB, 0xF8);
+const CARD_TEXT: Color32 = Color32::from_rgb(0x1A, 0x1F, 0x26);
+const ACCENT: Color32 = Color32::from_rgb(0x4F, 0xA3, 0x6B);
+const MARGIN: f32 = 16.0;
+const PAD: f32 = 12.0;
+
+/// Tessellated HUD of one frame, ready for `egui_wgpu::Renderer`.
+pub struct HudFrame {
+    /// Triangles to draw.
+    pub primitives: Vec<ClippedPrimitive>,
+    /// Font atlas uploads and frees.
+    pub textures: TexturesDelta,
+    /// Physical pixels per egui point.
+    pub pixels_per_point: f32,
+}
+
+/// The egui context that lays out the HUD; keeps the font atlas between frames.
+pub struct HudPainter {
+    ctx: Context,
+}
+
+impl Default for HudPainter {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// Pixels per point so the reference layout fits a `width`×`height` pixel screen.
+pub fn pixels_per_point(width: u32, height: u32) -> f32 {
+    let s = (width as f32 / REFERENCE_SIZE[0]).min(height as f32 / REFERENCE_SIZE[1]);
+    s.clamp(0.4, 4.0)
+}
+
+impl HudPainter {
+    /// A HUD with egui's built-in fonts (no system font lookup: identical on every machine).
+    pub fn new() -> Self {
+        let ctx = Context::default();
+        ctx.set_visuals(egui::Visuals::light());
+        HudPainter { ctx }
+    }
+
+    /// Lays out and tessellates the HUD for `scene` on a `width`×`height` pixel target.
+    pub fn run(&mut self, scene: &Scene, width: u32, height: u32) -> HudFrame {
+        let ppp = pixels_per_point(width, height);
+        let size = vec2(width as f32 / ppp, height as f32 / ppp);
+        let mut input = egui::RawInput {
+            screen_rect: Some(Rect::from_min_size(Pos2::ZERO, size)),
+            ..Default::default()
+        };
+        input
+            .viewports
+            .entry(ViewportId::ROOT)
+            .or_default()
+            .native_pixels_per_point = Some(ppp);
+        let output = self.ctx.run_pass(input, |ctx| {
+            let painter = ctx.layer_painter(LayerId::new(Order::Foreground, Id::unique("hud")));
+            paint(&painter, scene, size);
+        });
+        let primitives = self.ctx.tessellate(output.shapes, output.pixels_per_point);
+        HudFrame {
+            primitives,
+            textures: output.textures_delta,
+            pixels_per_point: output.pixels_per_point,
+        }
+    }
+}
+
+fn galley(p: &Painter, text: impl Into<String>, size: f32, color: Color32) -> Arc<Galley> {
+    p.layout_no_wrap(text.into(), FontId::proportional(size), color)
+}
+
+/// A dark rounded panel holding `lines` (text, size), anchored at `anchor` by `align`.
+fn text_panel(p: &Painter, anchor: Pos2, align: Align2, lines: &[(String, f32)]) -> Rect {
+    let galleys: Vec<_> = lines
+        .iter()
+        .map(|(t, s)| galley(p, t.clone(), *s, TEXT))
+        .collect();
+    let w = galleys.iter().map(|g| g.size().x).fold(0.0, f32::max) + 2.0 * PAD;
+    let h = galleys.iter().map(|g| g.size().y).sum::<f32>() + 2.0 * PAD;
+    let rect = align.anchor_size(anchor, vec2(w, h));
+    p.rect_filled(rect, CornerRadius::same(12), PANEL);
+    let mut y = rect.top() + PAD;
+    for g in galleys {
+        let x = match align.x() {
+            egui::Align::Min => rect.left() + PAD,
+            egui::Align::Center => rect.center().x - g.size().x / 2.0,
+            egui::Align::Max => rect.right() - PAD - g.size().x,
+        };
+        let gh = g.size().y;
+        p.galley(pos2(x, y), g, TEXT);
+        y += gh;
+    }
+    rect
+}
+
+/// `m:ss` of a non-negative time, rounded up so "0:00" means the exercise is over.
+pub fn format_time_left(seconds: f64) -> String {
+    let s = seconds.max(0.0).ceil() as u64;
+    format!("{}:{:02}", s / 60, s % 60)
+}
+
+fn score_lines(score: &LiveScore) -> Vec<(String, f32)> {
+    match *score {
+        LiveScore::None => vec![],
+        LiveScore::Road {
+            rms_lateral_m,
+            in_lane_pct,
+        } => vec![
+            (format!("In lane {in_lane_pct:.0} %"), 30.0),
+            (format!("Off centre {rms_lateral_m:.2} m"), 24.0),
+        ],
+        LiveScore::Dial { rms_error_deg } => vec![(format!("Error {rms_error_deg:.1}°"), 30.0)],
+    }
+}
+
+fn paint(p: &Painter, scene: &Scene, size: Vec2) {
+    let hud = &scene.hud;
+    let (w, h) = (size.x, size.y);
+    if let Some(dial) = &scene.dial {
+        if scene.has_road() {
+            let r = 105.0;
+            paint_dial(p, dial, pos2(w - MARGIN - r - 10.0, h * 0.5), r, false);
+        } else {
+            let r = (w.min(h) * 0.33).max(40.0);
+            paint_dial(p, dial, pos2(w * 0.5, h * 0.52), r, true);
+        }
+    }
+    if !hud.exercise.is_empty() {
+        text_panel(
+            p,
+            pos2(MARGIN, MARGIN),
+            Align2::LEFT_TOP,
+            &[(hud.exercise.clone(), 30.0)],
+        );
+    }
+    text_panel(
+        p,
+        pos2(w * 0.5, MARGIN),
+        Align2::CENTER_TOP,
+        &[
+            ("Time left".into(), 22.0),
+            (format_time_left(hud.time_left_s), 44.0),
+        ],
+    );
+    let score = score_lines(&hud.score);
+    if !score.is_empty() {
+        text_panel(p, pos2(w - MARGIN, MARGIN), Align2::RIGHT_TOP, &score);
+    }
+    if scene.has_road() {
+        let kmh = hud.speed_m_s * 3.6;
+        text_panel(
+            p,
+            pos2(MARGIN, h - MARGIN),
+            Align2::LEFT_BOTTOM,
+            &[(format!("{kmh:.0} km/h"), 30.0)],
+        );
+    }
+    assist_bar(
+        p,
+        pos2(
+            MARGIN,
+            h - MARGIN - if scene.has_road() { 78.0 } else { 0.0 },
+        ),
+        hud.assist_level,
+    );
+    if !hud.devices.is_empty() {
+        let lines: Vec<_> = hud.devices.iter().map(|d| (d.clone(), 22.0)).collect();
+        text_panel(
+            p,
+            pos2(w - MARGIN, h - MARGIN),
+            Align2::RIGHT_BOTTOM,
+            &lines,
+        );
+    }
+    match &scene.screen {
+        ScreenState::Running => {}
+        ScreenState::Start => {
+            let title = if hud.exercise.is_empty() {
+                "Get ready".to_string()
+            } else {
+                hud.exercise.clone()
+            };
+            card(p, size, &title, &["Press Space to start".to_string()]);
+        }
+        ScreenState::Paused => card(p, size, "Paused", &["Press Space to continue".to_string()]),
+        ScreenState::Summary(lines) => card(p, size, "Session complete", lines),
+    }
+}
+
+/// "Help" label and a bar showing the assist level, bottom-left.
+fn assist_bar(p: &Painter, bottom_left: Pos2, level: f64) {
+    let label = galley(p, format!("Help {:.0} %", level * 100.0), 24.0, TEXT);
+    let bar = vec2(180.0, 16.0);
+    let size = vec2(
+        label.size().x.max(bar.x) + 2.0 * PAD,
+        label.size().y + bar.y + 8.0 + 2.0 * PAD,
+    );
+    let rect = Align2::LEFT_BOTTOM.anchor_size(bottom_left, size);
+    p.rect_filled(rect, CornerRadius::same(12), PANEL);
+    let lh = label.size().y;
+    p.galley(rect.left_top() + vec2(PAD, PAD), label, TEXT);
+    let track = Rect::from_min_size(rect.left_top() + vec2(PAD, PAD + lh + 8.0), bar);
+    p.rect_filled(track, CornerRadius::same(8), Color32::from_gray(90));
+    let fill = Rect::from_min_size(track.min, vec2(bar.x * level.clamp(0.0, 1.0) as f32, bar.y));
+    p.rect_filled(fill, CornerRadius::same(8), ACCENT);
+}
+
+/// A white card in the middle of a dimmed screen: title and lines.
+fn card(p: &Painter, size: Vec2, title: &str, lines: &[String]) {
+    p.rect_filled(
+        Rect::from_min_size(Pos2::ZERO, size),
+        CornerRadius::ZERO,
+        Color32::from_black_alpha(110),
+    );
+    let title_g = galley(p, title, 46.0, CARD_TEXT);
+    let line_g: Vec<_> = lines
+        .iter()
+        .map(|l| galley(p, l.clone(), 30.0, CARD_TEXT))
+        .collect();
+    let w = line_g
+        .iter()
+        .map(|g| g.size().x)
+        .fold(title_g.size().x, f32::max)
+        + 4.0 * PAD;
+    let h =
+        title_g.size().y + 12.0 + line_g.iter().map(|g| g.size().y + 4.0).sum::<f32>() + 4.0 * PAD;
+    let rect = Rect::from_center_size(pos2(size.x / 2.0, size.y / 2.0), vec2(w.max(420.0), h));
+    p.rect_filled(rect, CornerRadius::same(18), CARD);
+    let mut y = rect.top() + 2.0 * PAD;
+    let th = title_g.size().y;
+    p.galley(
+        pos2(rect.center().x - title_g.size().x / 2.0, y),
+        title_g,
+        CARD_TEXT,
+    );
+    y += th + 12.0;
+    for g in line_g {
+        let gh = g.size().y;
+        p.galley(pos2(rect.center().x - g.size().x / 2.0, y), g, CARD_TEXT);
+        y += gh + 4.0;
+    }
+}
+
+/// Screen direction (y down) of a needle at wheel angle `rad` (0 up, positive anticlockwise).
+pub fn needle_direction(rad: f64) -> Vec2 {
+    vec2(-(rad.sin() as f32), -(rad.cos() as f32))
+}
+
+/// The rotary dial of thesis Fig. 3-7(a): face, ticks, the error wedge, red desired needle
+/// under the black actual needle, and a legend when `legend`.
+fn paint_dial(p: &Painter, dial: &Dial, c: Pos2, r: f32, legend: bool) {
+    p.circle_filled(c + vec2(0.0, 4.0), r + 6.0, Color32::from_black_alpha(40));
+    p.circle_filled(c, r, CARD);
+    p.circle_stroke(
+        c,
+        r,
+        Stroke::new((r * 0.035).max(2.0), Color32::from_gray(70)),
+    );
+    for k in 0..36 {
+        let major = k % 3 == 0;
+        let d = needle_direction((k as f64 * 10.0).to_radians());
+        let inner = if major { 0.82 } else { 0.89 };
+        let width = if major { r * 0.022 } else { r * 0.012 };
+        p.line_segment(
+            [c + d * r * inner, c + d * r * 0.95],
+            Stroke::new(width.max(1.0), Color32::from_gray(80)),
+        );
+    }
+    // The error wedge between the needles: a light red fan, in chunks of at most 30° so each
+    // piece is convex.
+    let (a, b) = (dial.actual_rad, dial.desired_rad);
+    let span = b - a;
+    let chunks = ((span.abs() / 30f64.to_radians()).ceil() as usize).clamp(1, 48);
+    if span.abs() > 1e-3 {
+        for i in 0..chunks {
+            let t0 = a + span * i as f64 / chunks as f64;
+            let t1 = a + span * (i + 1) as f64 / chunks as f64;
+            let pts = vec![
+                c,
+                c + needle_direction(t0) * r * 0.8,
+                c + needle_direction(t1) * r * 0.8,
+            ];
+            p.add(Shape::convex_polygon(
+                pts,
+                Color32::from_rgba_unmultiplied(0xD3, 0x2F, 0x2F, 50),
+                Stroke::NONE,
+            ));
+        }
+    }
+    needle(p, c, dial.desired_rad, r * 0.86, r * 0.06, DESIRED_NEEDLE);
+    needle(p, c, dial.actual_rad, r * 0.74, r * 0.045, ACTUAL_NEEDLE);
+    p.circle_filled(c, r * 0.07, Color32::from_gray(40));
+    if legend {
+        let y = c.y + r + 34.0;
+        let fs = 26.0;
+        let target = galley(p, "Target", fs, CARD_TEXT);
+        let you = galley(p, "Your wheel", fs, CARD_TEXT);
+        let gap = 60.0;
+        let total = 28.0 + target.size().x + gap + 28.0 + you.size().x;
+        let mut x = c.x - total / 2.0;
+        for (g, color) in [(target, DESIRED_NEEDLE), (you, ACTUAL_NEEDLE)] {
+            p.line_segment([pos2(x, y), pos2(x + 20.0, y)], Stroke::new(8.0, color));
+            x += 28.0;
+            let gw = g.size().x;
+            p.galley(pos2(x, y - g.size().y / 2.0), g, CARD_TEXT);
+            x += gw + gap;
+        }
+    }
+}
+
+/// A tapered needle from a short tail behind the hub to `len` along `rad`.
+fn needle(p: &Painter, c: Pos2, rad: f64, len: f32, width: f32, color: Color32) {
+    let d = needle_direction(rad);
+    let n = vec2(-d.y, d.x);
+    let tail = c - d * len * 0.18;
+    // A convex pentagon: widest at the tail, tapering to the tip.
+    let outline = vec![
+        tail + n * width * 0.6,
+        c + n * width * 0.5 + d * len * 0.1,
+        c + d * len,
+        c - n * width * 0.5 + d * len * 0.1,
+        tail - n * width * 0.6,
+    ];
+    p.add(Shape::convex_polygon(outline, color, Stroke::NONE));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use egui::TextureId;
+
+    #[test]
+    fn time_left_rounds_up_and_never_goes_negative() {
+        assert_eq!(format_time_left(155.2), "2:36");
+        assert_eq!(format_time_left(0.0), "0:00");
+        assert_eq!(format_time_left(-3.0), "0:00");
+        assert_eq!(format_time_left(59.0), "0:59");
+    }
+
+    #[test]
+    fn needle_points_up_at_zero_and_left_at_plus_quarter_turn() {
+        let up = needle_direction(0.0);
+        assert!(up.x.abs() < 1e-6 && (up.y + 1.0).abs() < 1e-6);
+        let left = needle_direction(std::f64::consts::FRAC_PI_2);
+        assert!((left.x + 1.0).abs() < 1e-6 && left.y.abs() < 1e-6);
+    }
+
+    #[test]
+    fn layout_scale_fits_the_smaller_axis() {
+        assert_eq!(pixels_per_point(1280, 720), 1.0);
+        assert_eq!(pixels_per_point(2560, 1440), 2.0);
+        assert_eq!(pixels_per_point(1280, 1440), 1.0);
+    }
+
+    /// egui's font atlas, the HUD's only texture.
+    const FONT_TEXTURE: TextureId = TextureId::Managed(0);
+
+    #[test]
+    fn hud_produces_font_atlas_on_first_frame_only() {
+        let mut hud = HudPainter::new();
+        let scene = Scene {
+            screen: ScreenState::Paused,
+            ..Scene::default()
+        };
+        let mut first = hud.run(&scene, 640, 360);
+        assert!(!first.primitives.is_empty());
+        assert!(first.textures.set.iter().any(|(id, _)| *id == FONT_TEXTURE));
+        first.textures.clear();
+        let mut second = hud.run(&scene, 640, 360);
+        // Later frames only patch the atlas (positioned deltas), never replace it whole.
+        assert!(
+            second
+                .textures
+                .set
+                .iter()
+                .all(|(id, ds)| *id != FONT_TEXTURE || ds.iter().all(|d| d.pos.is_some()))
+        );
+        second.textures.clear();
+    }
+}

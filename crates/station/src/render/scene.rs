@@ -1,0 +1,300 @@
+//! The plain data one frame is drawn from: road, car, camera, dial and HUD.
+//!
+//! The renderer knows nothing about sessions, threads or devices; the station converts its
+//! state snapshot into a [`Scene`] each frame. World frame: x and y on the ground plane in
+//! metres, z up; yaw is measured counter-clockwise from +x (ISO 8855, as the vehicle crate).
+
+use super::RenderError;
+
+/// One centre-line point of the road, thesis §3.3.4 (the patient drives near the centre).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RoadPoint {
+    /// Centre-line x in the world frame, m.
+    pub x_m: f64,
+    /// Centre-line y in the world frame, m.
+    pub y_m: f64,
+    /// Width of the drivable lane at this point (edge line to edge line), m.
+    pub lane_width_m: f64,
+}
+
+/// Road geometry of the current exercise.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Road {
+    /// Centre-line polyline, in driving order; fewer than two points draws no road.
+    pub centre: Vec<RoadPoint>,
+    /// Barriers, each a polyline of ground points `[x_m, y_m]` drawn as a low wall.
+    pub barriers: Vec<Vec<[f64; 2]>>,
+    /// Traffic cones, ground points `[x_m, y_m]`.
+    pub cones: Vec<[f64; 2]>,
+}
+
+/// Pose of the patient's car on the ground plane.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct CarPose {
+    /// Position of the car's centre, x, m.
+    pub x_m: f64,
+    /// Position of the car's centre, y, m.
+    pub y_m: f64,
+    /// Heading, counter-clockwise from +x, rad.
+    pub yaw_rad: f64,
+    /// Front-wheel steering angle, positive to the left, rad.
+    pub steer_rad: f64,
+}
+
+/// Where the 3D camera sits.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum CameraMode {
+    /// Behind and above the car, looking ahead over its roof.
+    #[default]
+    Chase,
+    /// At the driver's eye; the car itself is not drawn.
+    Driver,
+}
+
+/// The rotary dial tracking task, thesis §3.3.3 and Fig. 3-7(a): the red needle shows the
+/// desired wheel angle, the black needle the wheel's actual angle.
+///
+/// Angles are wheel angles, positive counter-clockwise as the patient sees the wheel; 0 points
+/// the needle straight up.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Dial {
+    /// Desired wheel angle (red needle), rad.
+    pub desired_rad: f64,
+    /// Actual wheel angle (black needle), rad.
+    pub actual_rad: f64,
+}
+
+/// The live score shown in the HUD.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub enum LiveScore {
+    /// No score yet.
+    #[default]
+    None,
+    /// Driving: RMS lateral deviation from the lane centre (m) and share of time in lane (%).
+    Road {
+        /// RMS distance from the lane centre so far, m.
+        rms_lateral_m: f64,
+        /// Share of time with the car inside the lane, 0–100 %.
+        in_lane_pct: f64,
+    },
+    /// Dial tracking: RMS angle error between the needles so far, degrees.
+    Dial {
+        /// RMS difference between desired and actual angle, deg.
+        rms_error_deg: f64,
+    },
+}
+
+/// Text and numbers for the heads-up display.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Hud {
+    /// Name of the exercise, e.g. "Sine road".
+    pub exercise: String,
+    /// Time left in the exercise, s.
+    pub time_left_s: f64,
+    /// Live score.
+    pub score: LiveScore,
+    /// Car speed, m/s (shown in km/h).
+    pub speed_m_s: f64,
+    /// Assist level, 0 (patient does all the work) to 1 (full assist).
+    pub assist_level: f64,
+    /// One short line per device, e.g. "Wheel: connected".
+    pub devices: Vec<String>,
+}
+
+/// Which screen the patient sees on top of the exercise.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub enum ScreenState {
+    /// Before the exercise: a "get ready" card.
+    #[default]
+    Start,
+    /// The exercise is running: HUD only.
+    Running,
+    /// Paused by the patient or the therapist.
+    Paused,
+    /// End of the session: a summary card with these lines.
+    Summary(Vec<String>),
+}
+
+/// Everything one frame shows. Plain data: build it from a snapshot, never share it mutably.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Scene {
+    /// Road of the current exercise (empty for the dial task).
+    pub road: Road,
+    /// The car.
+    pub car: CarPose,
+    /// Camera placement.
+    pub camera: CameraMode,
+    /// The dial task; drawn full-screen when there is no road, as an inset otherwise.
+    pub dial: Option<Dial>,
+    /// Heads-up display data.
+    pub hud: Hud,
+    /// Start / running / paused / summary screen.
+    pub screen: ScreenState,
+}
+
+fn finite(field: &str, value: f64) -> Result<(), RenderError> {
+    if value.is_finite() {
+        Ok(())
+    } else {
+        Err(RenderError::InvalidScene(format!(
+            "{field} must be finite, got {value}"
+        )))
+    }
+}
+
+fn in_range(field: &str, value: f64, lo: f64, hi: f64) -> Result<(), RenderError> {
+    finite(field, value)?;
+    if (lo..=hi).contains(&value) {
+        Ok(())
+    } else {
+        Err(RenderError::InvalidScene(format!(
+            "{field} must be in [{lo}, {hi}], got {value}"
+        )))
+    }
+}
+
+/// Largest coordinate accepted, m: beyond this f32 vertex positions lose centimetres.
+pub const MAX_COORD_M: f64 = 1.0e5;
+
+impl Scene {
+    /// Checks every number the renderer uses; the error names the offending field.
+    pub fn validate(&self) -> Result<(), RenderError> {
+        for (i, p) in self.road.centre.iter().enumerate() {
+            in_range(
+                &format!("road.centre[{i}].x_m"),
+                p.x_m,
+                -MAX_COORD_M,
+                MAX_COORD_M,
+            )?;
+            in_range(
+                &format!("road.centre[{i}].y_m"),
+                p.y_m,
+                -MAX_COORD_M,
+                MAX_COORD_M,
+            )?;
+            in_range(
+                &format!("road.centre[{i}].lane_width_m"),
+                p.lane_width_m,
+                0.5,
+                50.0,
+            )?;
+        }
+        for (b, line) in self.road.barriers.iter().enumerate() {
+            for (i, p) in line.iter().enumerate() {
+                in_range(
+                    &format!("road.barriers[{b}][{i}].x"),
+                    p[0],
+                    -MAX_COORD_M,
+                    MAX_COORD_M,
+                )?;
+                in_range(
+                    &format!("road.barriers[{b}][{i}].y"),
+                    p[1],
+                    -MAX_COORD_M,
+                    MAX_COORD_M,
+                )?;
+            }
+        }
+        for (i, p) in self.road.cones.iter().enumerate() {
+            in_range(
+                &format!("road.cones[{i}].x"),
+                p[0],
+                -MAX_COORD_M,
+                MAX_COORD_M,
+            )?;
+            in_range(
+                &format!("road.cones[{i}].y"),
+                p[1],
+                -MAX_COORD_M,
+                MAX_COORD_M,
+            )?;
+        }
+        in_range("car.x_m", self.car.x_m, -MAX_COORD_M, MAX_COORD_M)?;
+        in_range("car.y_m", self.car.y_m, -MAX_COORD_M, MAX_COORD_M)?;
+        finite("car.yaw_rad", self.car.yaw_rad)?;
+        in_range("car.steer_rad", self.car.steer_rad, -1.5, 1.5)?;
+        if let Some(d) = &self.dial {
+            finite("dial.desired_rad", d.desired_rad)?;
+            finite("dial.actual_rad", d.actual_rad)?;
+        }
+        let h = &self.hud;
+        finite("hud.time_left_s", h.time_left_s)?;
+        finite("hud.speed_m_s", h.speed_m_s)?;
+        in_range("hud.assist_level", h.assist_level, 0.0, 1.0)?;
+        match h.score {
+            LiveScore::None => {}
+            LiveScore::Road {
+                rms_lateral_m,
+                in_lane_pct,
+            } => {
+                finite("hud.score.rms_lateral_m", rms_lateral_m)?;
+                in_range("hud.score.in_lane_pct", in_lane_pct, 0.0, 100.0)?;
+            }
+            LiveScore::Dial { rms_error_deg } => finite("hud.score.rms_error_deg", rms_error_deg)?,
+        }
+        Ok(())
+    }
+
+    /// True when the scene has a road to draw in 3D.
+    pub fn has_road(&self) -> bool {
+        self.road.centre.len() >= 2
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_scene_is_valid() {
+        assert!(Scene::default().validate().is_ok());
+    }
+
+    #[test]
+    fn nan_car_position_is_rejected_with_field_name() {
+        let mut s = Scene::default();
+        s.car.x_m = f64::NAN;
+        let err = s.validate().unwrap_err().to_string();
+        assert!(err.contains("car.x_m"), "{err}");
+    }
+
+    #[test]
+    fn narrow_lane_is_rejected_with_index() {
+        let mut s = Scene::default();
+        s.road.centre = vec![
+            RoadPoint {
+                x_m: 0.0,
+                y_m: 0.0,
+                lane_width_m: 3.5,
+            },
+            RoadPoint {
+                x_m: 1.0,
+                y_m: 0.0,
+                lane_width_m: 0.1,
+            },
+        ];
+        let err = s.validate().unwrap_err().to_string();
+        assert!(err.contains("road.centre[1].lane_width_m"), "{err}");
+    }
+
+    #[test]
+    fn assist_level_above_one_is_rejected() {
+        let mut s = Scene::default();
+        s.hud.assist_level = 1.5;
+        let err = s.validate().unwrap_err().to_string();
+        assert!(err.contains("hud.assist_level"), "{err}");
+    }
+
+    #[test]
+    fn infinite_dial_angle_is_rejected() {
+        let s = Scene {
+            dial: Some(Dial {
+                desired_rad: f64::INFINITY,
+                actual_rad: 0.0,
+            }),
+            ..Scene::default()
+        };
+        let err = s.validate().unwrap_err().to_string();
+        assert!(err.contains("dial.desired_rad"), "{err}");
+    }
+}

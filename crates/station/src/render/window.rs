@@ -1,0 +1,314 @@
+//! The patient's window: winit 0.30 event loop, wgpu surface, the shared draw path.
+//!
+//! The loop pulls the newest [`Scene`] from the caller's closure about 120 times a second
+//! (the closure reads a lock-free snapshot, so the haptic thread is never waited on) and
+//! presents with vsync, so drawing runs at the display rate. A minimised or hidden window keeps
+//! pulling scenes (to notice the end of the session) but skips drawing. Keys: Space asks to
+//! pause or resume, F11 toggles full screen, Esc or closing the window ends the session.
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use winit::application::ApplicationHandler;
+use winit::dpi::LogicalSize;
+use winit::event::{ElementState, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::keyboard::{Key, NamedKey};
+use winit::window::{Fullscreen, Window, WindowId};
+
+use super::gpu::{Renderer, instance_descriptor, request_adapter};
+use super::{AdapterSummary, RenderError, Scene};
+
+/// How often the loop asks for a new scene when nothing else wakes it.
+const PULL_PERIOD: Duration = Duration::from_micros(8_333);
+
+/// A request from the patient's keyboard, passed to the caller's callback.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum UserRequest {
+    /// Space: pause a running exercise, or start / resume it.
+    TogglePause,
+    /// Esc or the window's close button: end the session.
+    Quit,
+}
+
+/// Window settings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WindowOptions {
+    /// Window title.
+    pub title: String,
+    /// Initial inner size in logical pixels.
+    pub size: (u32, u32),
+    /// Start in borderless full screen.
+    pub fullscreen: bool,
+    /// Allow the event loop on a thread other than the main one (Linux only; for tests).
+    pub any_thread: bool,
+}
+
+impl WindowOptions {
+    /// A 1280×720 window with `title`.
+    pub fn new(title: &str) -> Self {
+        WindowOptions {
+            title: title.into(),
+            size: (1280, 720),
+            fullscreen: false,
+            any_thread: false,
+        }
+    }
+}
+
+/// Opens the window and draws scenes from `scene_source` until it returns `None` (session
+/// over), Esc is pressed or the window is closed. Space and Esc/close are reported to
+/// `on_request`. Must be called on the main thread.
+pub fn run(
+    title: &str,
+    scene_source: impl FnMut() -> Option<Scene>,
+    on_request: impl FnMut(UserRequest),
+) -> Result<(), RenderError> {
+    run_with(&WindowOptions::new(title), scene_source, on_request).map(|_| ())
+}
+
+/// What a window session did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WindowStats {
+    /// The adapter that drew the frames (None if the window never opened).
+    pub adapter: Option<AdapterSummary>,
+    /// Frames drawn and presented.
+    pub frames_drawn: u64,
+}
+
+/// [`run`] with explicit [`WindowOptions`], returning what was drawn.
+pub fn run_with(
+    options: &WindowOptions,
+    scene_source: impl FnMut() -> Option<Scene>,
+    on_request: impl FnMut(UserRequest),
+) -> Result<WindowStats, RenderError> {
+    let mut builder = EventLoop::builder();
+    #[cfg(target_os = "linux")]
+    if options.any_thread {
+        use winit::platform::x11::EventLoopBuilderExtX11;
+        builder.with_any_thread(true);
+    }
+    let event_loop = builder
+        .build()
+        .map_err(|e| RenderError::Window(format!("cannot open a display: {e}")))?;
+    let instance = wgpu::Instance::new(instance_descriptor(Some(Box::new(
+        event_loop.owned_display_handle(),
+    ))));
+    let mut app = App {
+        options: options.clone(),
+        instance,
+        gfx: None,
+        scene_source,
+        on_request,
+        scene: None,
+        next_pull: Instant::now(),
+        error: None,
+        frames_drawn: 0,
+    };
+    event_loop
+        .run_app(&mut app)
+        .map_err(|e| RenderError::Window(format!("event loop: {e}")))?;
+    match app.error {
+        Some(e) => Err(e),
+        None => Ok(WindowStats {
+            adapter: app.gfx.as_ref().map(|g| g.renderer.adapter().clone()),
+            frames_drawn: app.frames_drawn,
+        }),
+    }
+}
+
+/// Window, surface and renderer, created on `resumed`.
+struct Gfx {
+    // Field order matters: the surface must drop before the window it draws into.
+    surface: wgpu::Surface<'static>,
+    config: wgpu::SurfaceConfiguration,
+    renderer: Renderer,
+    window: Arc<Window>,
+}
+
+struct App<F, G> {
+    options: WindowOptions,
+    instance: wgpu::Instance,
+    gfx: Option<Gfx>,
+    scene_source: F,
+    on_request: G,
+    scene: Option<Scene>,
+    next_pull: Instant,
+    error: Option<RenderError>,
+    frames_drawn: u64,
+}
+
+impl<F: FnMut() -> Option<Scene>, G: FnMut(UserRequest)> App<F, G> {
+    fn fail(&mut self, event_loop: &ActiveEventLoop, e: RenderError) {
+        self.error.get_or_insert(e);
+        event_loop.exit();
+    }
+
+    fn create_gfx(&self, event_loop: &ActiveEventLoop) -> Result<Gfx, RenderError> {
+        let (w, h) = self.options.size;
+        let mut attrs = Window::default_attributes()
+            .with_title(self.options.title.clone())
+            .with_inner_size(LogicalSize::new(w, h))
+            .with_min_inner_size(LogicalSize::new(320, 180));
+        if self.options.fullscreen {
+            attrs = attrs.with_fullscreen(Some(Fullscreen::Borderless(None)));
+        }
+        let window = Arc::new(
+            event_loop
+                .create_window(attrs)
+                .map_err(|e| RenderError::Window(format!("creating the window: {e}")))?,
+        );
+        let surface = self
+            .instance
+            .create_surface(window.clone())
+            .map_err(|e| RenderError::Window(format!("creating the surface: {e}")))?;
+        let adapter = request_adapter(&self.instance, Some(&surface))?;
+        let caps = surface.get_capabilities(&adapter);
+        // egui and our colours are in display space: prefer a non-sRGB surface format.
+        let format = caps
+            .formats
+            .iter()
+            .copied()
+            .find(|f| !f.is_srgb())
+            .or_else(|| caps.formats.first().copied())
+            .ok_or_else(|| RenderError::Window("the surface supports no format".into()))?;
+        let size = window.inner_size();
+        let (pw, ph) = (size.width.max(1), size.height.max(1));
+        let renderer = Renderer::with_adapter(&adapter, format, pw, ph)?;
+        println!(
+            "render: adapter {}, surface format {format:?}",
+            renderer.adapter()
+        );
+        let mut config = surface
+            .get_default_config(&adapter, pw, ph)
+            .ok_or_else(|| RenderError::Window("surface is not supported by the adapter".into()))?;
+        config.format = format;
+        config.present_mode = wgpu::PresentMode::AutoVsync;
+        surface.configure(renderer.device(), &config);
+        Ok(Gfx {
+            surface,
+            config,
+            renderer,
+            window,
+        })
+    }
+
+    fn resize(&mut self, width: u32, height: u32) -> Result<(), RenderError> {
+        let Some(g) = &mut self.gfx else {
+            return Ok(());
+        };
+        if width == 0 || height == 0 {
+            return Ok(()); // minimised: keep the old size, draw nothing
+        }
+        g.renderer.resize(width, height)?;
+        g.config.width = width;
+        g.config.height = height;
+        g.surface.configure(g.renderer.device(), &g.config);
+        Ok(())
+    }
+
+    fn redraw(&mut self) -> Result<(), RenderError> {
+        let (Some(g), Some(scene)) = (&mut self.gfx, &self.scene) else {
+            return Ok(());
+        };
+        let size = g.window.inner_size();
+        if size.width == 0 || size.height == 0 {
+            return Ok(());
+        }
+        let frame = match g.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(f)
+            | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
+            wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => {
+                return Ok(());
+            }
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                g.surface.configure(g.renderer.device(), &g.config);
+                return Ok(());
+            }
+            wgpu::CurrentSurfaceTexture::Validation => {
+                return Err(RenderError::Window("surface validation error".into()));
+            }
+        };
+        let view = frame
+            .texture
+            .create_view(&wgpu::TextureViewDescriptor::default());
+        g.renderer.draw(scene, &view)?;
+        g.renderer.queue().present(frame);
+        self.frames_drawn += 1;
+        Ok(())
+    }
+
+    fn toggle_fullscreen(&self) {
+        if let Some(g) = &self.gfx {
+            let next = match g.window.fullscreen() {
+                Some(_) => None,
+                None => Some(Fullscreen::Borderless(None)),
+            };
+            g.window.set_fullscreen(next);
+        }
+    }
+}
+
+impl<F: FnMut() -> Option<Scene>, G: FnMut(UserRequest)> ApplicationHandler for App<F, G> {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.gfx.is_some() {
+            return;
+        }
+        match self.create_gfx(event_loop) {
+            Ok(g) => self.gfx = Some(g),
+            Err(e) => self.fail(event_loop, e),
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        match event {
+            WindowEvent::CloseRequested => {
+                (self.on_request)(UserRequest::Quit);
+                event_loop.exit();
+            }
+            WindowEvent::Resized(size) => {
+                if let Err(e) = self.resize(size.width, size.height) {
+                    self.fail(event_loop, e);
+                }
+            }
+            WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Pressed => {
+                match event.logical_key {
+                    Key::Named(NamedKey::Escape) => {
+                        (self.on_request)(UserRequest::Quit);
+                        event_loop.exit();
+                    }
+                    Key::Named(NamedKey::F11) if !event.repeat => self.toggle_fullscreen(),
+                    Key::Named(NamedKey::Space) if !event.repeat => {
+                        (self.on_request)(UserRequest::TogglePause);
+                    }
+                    _ => {}
+                }
+            }
+            WindowEvent::RedrawRequested => {
+                if let Err(e) = self.redraw() {
+                    self.fail(event_loop, e);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        let now = Instant::now();
+        if now >= self.next_pull {
+            match (self.scene_source)() {
+                Some(scene) => self.scene = Some(scene),
+                None => {
+                    event_loop.exit();
+                    return;
+                }
+            }
+            self.next_pull = now + PULL_PERIOD;
+            if let Some(g) = &self.gfx {
+                g.window.request_redraw();
+            }
+        }
+        event_loop.set_control_flow(ControlFlow::WaitUntil(self.next_pull));
+    }
+}
