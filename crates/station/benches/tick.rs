@@ -3,12 +3,16 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use station::config::StationConfig;
-use station::session::plant::Plant;
+use station::session::{course, plant::Plant};
 use std::hint::black_box;
 
 fn bench_tick(c: &mut Criterion) {
     let cfg = StationConfig::default();
-    let mut plant = Plant::simulated(&cfg).expect("the default configuration builds");
+    let mut plant = Plant::simulated(
+        &cfg,
+        course::build(&cfg, None).expect("the default course builds"),
+    )
+    .expect("the default configuration builds");
     c.bench_function("sim_plant_tick", |b| b.iter(|| black_box(plant.tick())));
 }
 

@@ -68,9 +68,15 @@ pub struct RunArgs {
     /// Seed for every random source of the simulation.
     #[arg(long)]
     pub seed: Option<u64>,
-    /// Exercise to run.
-    #[arg(long)]
+    /// Exercise to run, repeated to fill the session (one of: straight-road, sine-road,
+    /// triangle-road, clothoid-road, sharp-turns, s-bend, lane-change, slalom, dial-sine,
+    /// dial-multi-sine, dial-step, dial-ramp, dial-chirp).
+    #[arg(long, conflicts_with = "regimen")]
     pub exercise: Option<String>,
+    /// Regimen file (TOML): the prescribed exercises in order, with their haptic and
+    /// assistance settings (see regimens/*.toml).
+    #[arg(long)]
+    pub regimen: Option<PathBuf>,
     /// Record the session to this MCAP file.
     #[arg(long)]
     pub record: Option<PathBuf>,
@@ -208,7 +214,21 @@ fn real_body(_args: &RunArgs) -> anyhow::Result<BodyKind> {
 }
 
 fn run(args: RunArgs) -> anyhow::Result<()> {
-    let cfg = resolve_config(&args)?;
+    let mut cfg = resolve_config(&args)?;
+    let regimen = args
+        .regimen
+        .as_deref()
+        .map(crate::regimen::Regimen::load)
+        .transpose()?;
+    if let Some(r) = &regimen {
+        cfg.session.exercise = format!("regimen:{}", r.exercises.len());
+        if args.duration.is_none() {
+            // The regimen ends the session; the duration is only a safety cap then.
+            cfg.session.duration_s = 4.0 * 3600.0;
+        }
+    } else {
+        vehicle::ExerciseSpec::from_name(&cfg.session.exercise)?;
+    }
     let body = if args.sim {
         BodyKind::Simulated
     } else {
@@ -227,6 +247,7 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
         pacing,
         record: args.record.clone(),
         body,
+        regimen,
     };
     tracing::info!(
         exercise = %cfg.session.exercise,

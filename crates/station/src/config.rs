@@ -107,9 +107,8 @@ pub struct HapticConfig {
     /// Turn the passivity controller on.
     pub passivity_enabled: bool,
     /// Road feel: wheel torque per kN of front lateral tyre force, N·m/kN (thesis §3.3.4).
+    /// The steering ratio is `vehicle.steering_ratio`.
     pub road_feel_nm_per_kn: f64,
-    /// Wheel angle per road-wheel angle (steering ratio), rad/rad.
-    pub steering_ratio: f64,
 }
 
 impl Default for HapticConfig {
@@ -122,8 +121,7 @@ impl Default for HapticConfig {
             centring: SpringDamper::default(),
             passivity: PassivityParams::default(),
             passivity_enabled: true,
-            road_feel_nm_per_kn: 0.12,
-            steering_ratio: 10.0,
+            road_feel_nm_per_kn: vehicle::AligningTorque::default().nm_per_kn,
         }
     }
 }
@@ -251,7 +249,6 @@ impl StationConfig {
             2.0,
             "N·m/kN",
         )?;
-        check("haptic.steering_ratio", h.steering_ratio, 1.0, 40.0, "")?;
         if let Some(a) = &self.assist {
             a.validate().map_err(|e| in_section("assist")(&e))?;
         }
@@ -261,39 +258,9 @@ impl StationConfig {
         self.sim_arm
             .validate()
             .map_err(|e| in_section("sim_arm")(&e))?;
-        let v = &self.vehicle;
-        check("vehicle.mass_kg", v.mass_kg, 100.0, 10_000.0, "kg")?;
-        check(
-            "vehicle.yaw_inertia_kg_m2",
-            v.yaw_inertia_kg_m2,
-            10.0,
-            100_000.0,
-            "kg·m²",
-        )?;
-        check("vehicle.cg_to_front_m", v.cg_to_front_m, 0.1, 5.0, "m")?;
-        check("vehicle.cg_to_rear_m", v.cg_to_rear_m, 0.1, 5.0, "m")?;
-        check("vehicle.track_width_m", v.track_width_m, 0.5, 3.0, "m")?;
-        check(
-            "vehicle.cornering_stiffness_front_n_per_rad",
-            v.cornering_stiffness_front_n_per_rad,
-            1e3,
-            1e7,
-            "N/rad",
-        )?;
-        check(
-            "vehicle.cornering_stiffness_rear_n_per_rad",
-            v.cornering_stiffness_rear_n_per_rad,
-            1e3,
-            1e7,
-            "N/rad",
-        )?;
-        check(
-            "vehicle.min_slip_speed_m_s",
-            v.min_slip_speed_m_s,
-            0.01,
-            10.0,
-            "m/s",
-        )?;
+        self.vehicle
+            .validate()
+            .map_err(|e| in_section("vehicle")(&e))?;
         Ok(())
     }
 }

@@ -11,6 +11,7 @@ pub mod devices;
 pub mod link;
 pub mod recorder;
 pub mod recover;
+pub mod regimen;
 pub mod render;
 pub mod report;
 pub mod session;

@@ -208,7 +208,9 @@ impl McapRecorder {
     /// Record one tick on the per-tick channels, and the score when `with_score`.
     pub fn record(&mut self, rec: &TickRecord, with_score: bool) -> Result<(), RecorderError> {
         self.write(0, rec, rec.wheel)?;
-        self.write(1, rec, rec.vehicle)?;
+        if let Some(vehicle) = rec.vehicle {
+            self.write(1, rec, vehicle)?;
+        }
         if with_score {
             self.write(2, rec, rec.score)?;
         }
@@ -251,6 +253,8 @@ impl RecorderOutcome {
         );
         self.max_abs_torque_nm = self.max_abs_torque_nm.max(rec.wheel.commanded_nm.abs());
         self.clipped_ticks += u64::from(rec.wheel.clipped);
+        self.road_ticks += u64::from(rec.vehicle.is_some());
+        self.dial_ticks += u64::from(rec.vehicle.is_none());
         self.fault_ticks += u64::from(rec.wheel.watchdog.starts_with("fault"));
         if assisted {
             self.assist_ticks += 1;
@@ -275,6 +279,10 @@ pub struct RecorderOutcome {
     pub max_abs_torque_nm: f64,
     /// Ticks on which the safety chain limited the torque.
     pub clipped_ticks: u64,
+    /// Ticks spent on road exercises.
+    pub road_ticks: u64,
+    /// Ticks spent on the dial task.
+    pub dial_ticks: u64,
     /// Ticks on which the safety supervisor saw a fault (missed deadline, stale reading).
     pub fault_ticks: u64,
     /// Ticks with an active assist controller.

@@ -96,11 +96,28 @@ pub fn render(r: &SessionReport, link: Option<&LinkReport>) -> String {
         );
     }
     line!(
-        "RMS lateral dev.    {:.3} m (max {:.3} m)",
-        last.score.rms_lateral_m,
-        last.score.max_lateral_m
+        "exercises           {} ({} run)",
+        r.exercises,
+        last.score.exercise_index + 1
     );
-    line!("time in lane        {:.1} %", last.score.pct_in_lane);
+    if rec.road_ticks > 0 {
+        line!(
+            "RMS lateral dev.    {:.3} m (max {:.3} m)",
+            last.score.rms_lateral_m,
+            last.score.max_lateral_m
+        );
+        line!(
+            "time in lane        {:.1} %, cones hit {}",
+            last.score.pct_in_lane,
+            last.score.cone_hits
+        );
+    }
+    if rec.dial_ticks > 0 {
+        line!(
+            "dial tracking       RMS error {:.2}° (thesis Appendix E: about 3°)",
+            last.score.dial_rms_error_deg
+        );
+    }
     line!(
         "torque              max |τ| {:.3} N·m, clipped {:.2} % of ticks, watchdog faults {} ticks",
         rec.max_abs_torque_nm,

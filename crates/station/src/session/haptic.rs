@@ -23,7 +23,8 @@ pub struct HapticOutcome {
     pub ticks: u64,
     /// Records the recorder ring had no room for (real-time pacing only).
     pub dropped_records: u64,
-    /// Whether the session was stopped early (signal or stop request).
+    /// Whether the session was stopped early (signal or stop request) rather than by its
+    /// duration or the end of its course.
     pub stopped_early: bool,
     /// Whether the operating system granted real-time scheduling.
     pub realtime_priority: bool,
@@ -96,8 +97,10 @@ pub fn run(
     let mut stopped_early = false;
     let mut tick = 0u64;
     loop {
-        if stopping_since.is_none() && (tick >= total_ticks || stop.load(Ordering::Relaxed)) {
-            stopped_early = tick < total_ticks;
+        if stopping_since.is_none()
+            && (tick >= total_ticks || plant.course_done() || stop.load(Ordering::Relaxed))
+        {
+            stopped_early = tick < total_ticks && !plant.course_done();
             stopping_since = Some(tick);
             plant.request_stop();
         }

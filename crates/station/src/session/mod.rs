@@ -2,6 +2,7 @@
 //! together and torn down cleanly on every path.
 
 pub mod arm;
+pub mod course;
 pub mod haptic;
 pub mod plant;
 pub mod record;
@@ -34,6 +35,8 @@ pub struct SessionOptions {
     pub record: Option<PathBuf>,
     /// Simulated body or real devices.
     pub body: BodyKind,
+    /// The prescribed exercises; `None` repeats `config.session.exercise`.
+    pub regimen: Option<crate::regimen::Regimen>,
 }
 
 /// Who holds the wheel in a session.
@@ -76,6 +79,8 @@ pub struct SessionReport {
     pub summaries: u64,
     /// The loop was paced in real time (wall-clock timing figures apply).
     pub real_time: bool,
+    /// Exercises in the course (laps of one exercise, or the regimen's).
+    pub exercises: usize,
 }
 
 fn unix_ns() -> u64 {
@@ -98,10 +103,12 @@ pub fn run(
     let total_ticks = (cfg.session.duration_s * rate).round() as u64;
     let start_unix_ns = unix_ns();
     // Devices first: a session that cannot start must not leave an empty recording behind.
+    let course = course::build(cfg, opts.regimen.as_ref())?;
+    let exercises = course.len();
     let mut plant = match opts.body {
-        BodyKind::Simulated => plant::Plant::simulated(cfg)?,
+        BodyKind::Simulated => plant::Plant::simulated(cfg, course)?,
         #[cfg(target_os = "linux")]
-        BodyKind::RealWheel => plant::Plant::new(cfg, plant::Body::first_real_wheel()?)?,
+        BodyKind::RealWheel => plant::Plant::new(cfg, plant::Body::first_real_wheel()?, course)?,
     };
     let recorder = match &opts.record {
         Some(path) => {
@@ -167,6 +174,7 @@ pub fn run(
         record: opts.record.clone(),
         summaries,
         real_time: opts.pacing == Pacing::RealTime,
+        exercises,
     })
 }
 

@@ -5,16 +5,17 @@
 
 use crate::config::StationConfig;
 use crate::session::arm::SimArmSensing;
+use crate::session::course::Segment;
 use crate::session::record::{
     ArmSample, AssistSample, ScoreSample, TickRecord, VehicleSample, WheelSample, watchdog_label,
 };
 use anyhow::Context;
-use assist::{Assist, HumanArm, Limits, Measurement};
+use assist::{HumanArm, Limits, Measurement};
 use haptic_wheel::{
     HapticChain, HapticChainConfig, SimWheel, TickInput, WatchdogState, Wheel, ZeroTorqueOnDrop,
 };
 use vehicle::{
-    LaneScore, PreviewDriver, Projection, Road, SineRoad, SpeedController, Vehicle, VehicleState,
+    AligningTorque, DialScore, DrivingScore, PreviewDriver, Projection, SpeedController,
 };
 
 /// Who holds the wheel.
@@ -98,19 +99,21 @@ struct BodyMotion {
     arm: Option<ArmSample>,
 }
 
-/// Wheel, body, car and road, stepped together through the haptic chain.
+/// Wheel, body and course, stepped together through the haptic chain.
 pub struct Plant {
     body: Body,
     chain: HapticChain,
-    assist: Option<Assist>,
-    car: Vehicle,
-    road: Box<dyn Road + Send>,
+    course: Vec<Segment>,
+    segment: usize,
+    segment_start_s: f64,
+    course_done: bool,
     driver: PreviewDriver,
     cruise: SpeedController,
-    score: LaneScore,
+    feel: AligningTorque,
     projection: Projection,
-    road_feel_nm_per_kn: f64,
-    steering_ratio: f64,
+    driving: DrivingScore,
+    dial: DialScore,
+    params: vehicle::VehicleParams,
     ceiling_nm: f64,
     slew_nm_per_s: f64,
     dt_s: f64,
@@ -120,72 +123,67 @@ pub struct Plant {
 }
 
 impl Plant {
-    /// The fully simulated plant of a validated `cfg`; all noise is seeded from
+    /// The fully simulated plant of a validated `cfg` on `course`; all noise is seeded from
     /// `cfg.session.seed`.
-    pub fn simulated(cfg: &StationConfig) -> anyhow::Result<Self> {
-        Self::new(cfg, Body::simulated(cfg)?)
+    pub fn simulated(cfg: &StationConfig, course: Vec<Segment>) -> anyhow::Result<Self> {
+        Self::new(cfg, Body::simulated(cfg)?, course)
     }
 
-    /// The plant of a validated `cfg` around `body`.
-    pub fn new(cfg: &StationConfig, body: Body) -> anyhow::Result<Self> {
-        let dt_s = 1.0 / cfg.session.loop_rate_hz;
-        let road: Box<dyn Road + Send> = Box::new(SineRoad {
-            amplitude_m: 6.0,
-            wavelength_m: 100.0,
-            lane_width_m: 3.5,
-        });
-        // Start on the centre line, aligned with the road, at the target speed.
-        let ([x0, y0], heading0, _) = road.centre(0.0);
-        let car = Vehicle::new(
-            cfg.vehicle.clone(),
-            VehicleState {
-                x_m: x0,
-                y_m: y0,
-                yaw_rad: heading0,
-                ux_m_s: cfg.session.speed_m_s,
-                ..Default::default()
-            },
-        );
-        let projection = road.project(x0, y0, 0.0);
+    /// The plant of a validated `cfg` around `body`, running `course` (at least one exercise).
+    pub fn new(cfg: &StationConfig, body: Body, course: Vec<Segment>) -> anyhow::Result<Self> {
+        anyhow::ensure!(!course.is_empty(), "a session needs at least one exercise");
         let mut body = body;
         let h = &cfg.haptic;
         let chain_cfg = HapticChainConfig {
             safety: h.safety,
-            model: Some(h.centring),
+            model: Some(course[0].centring),
             passivity: h.passivity_enabled.then_some(h.passivity),
             ..HapticChainConfig::for_encoder_step(body.encoder_step_rad(cfg))
         };
         let device_max = body.wheel().max_torque_nm();
         let chain = HapticChain::new(chain_cfg, device_max).context("haptic chain")?;
-        let assist = cfg
-            .assist
-            .as_ref()
-            .map(Assist::new)
-            .transpose()
-            .context("assist")?;
-        Ok(Self {
+        let ceiling_nm = h.safety.ceiling_nm.unwrap_or(device_max).min(device_max);
+        let mut plant = Self {
             body,
             chain,
-            assist,
-            car,
-            road,
+            course,
+            segment: 0,
+            segment_start_s: 0.0,
+            course_done: false,
             driver: PreviewDriver::default(),
             cruise: SpeedController {
-                target_m_s: cfg.session.speed_m_s,
+                target_m_s: 0.0,
                 gain_n_per_m_s: 2000.0,
                 max_force_n: 8000.0,
             },
-            score: LaneScore::default(),
-            projection,
-            road_feel_nm_per_kn: h.road_feel_nm_per_kn,
-            steering_ratio: h.steering_ratio,
-            ceiling_nm: h.safety.ceiling_nm.unwrap_or(device_max).min(device_max),
+            feel: AligningTorque {
+                nm_per_kn: h.road_feel_nm_per_kn,
+                max_torque_nm: ceiling_nm,
+            },
+            projection: Projection::default(),
+            driving: DrivingScore::default(),
+            dial: DialScore::default(),
+            params: cfg.vehicle.clone(),
+            ceiling_nm,
             slew_nm_per_s: h.safety.slew_nm_per_s,
-            dt_s,
+            dt_s: 1.0 / cfg.session.loop_rate_hz,
             tick: 0,
             velocity_rad_s: 0.0,
             watchdog: WatchdogState::SoftStart,
-        })
+        };
+        plant.projection = plant.start_projection();
+        Ok(plant)
+    }
+
+    fn start_projection(&self) -> Projection {
+        let seg = &self.course[self.segment];
+        match &seg.exercise.road {
+            Some(road) => {
+                let s = seg.exercise.start_state();
+                road.project(s.x_m, s.y_m, 0.0)
+            }
+            None => Projection::default(),
+        }
     }
 
     /// The loop period, s.
@@ -193,7 +191,12 @@ impl Plant {
         self.dt_s
     }
 
-    /// Ask the safety supervisor to fade the torque out; [`SimPlant::stopped`] turns true
+    /// Every exercise of the course is done.
+    pub fn course_done(&self) -> bool {
+        self.course_done
+    }
+
+    /// Ask the safety supervisor to fade the torque out; [`Plant::stopped`] turns true
     /// when it reached zero.
     pub fn request_stop(&mut self) {
         self.chain.request_stop();
@@ -204,33 +207,83 @@ impl Plant {
         self.watchdog == WatchdogState::Stopped
     }
 
+    /// Move on to the next exercise, or mark the course done after the last one.
+    fn next_segment(&mut self, t_s: f64) {
+        if self.segment + 1 >= self.course.len() {
+            self.course_done = true;
+            return;
+        }
+        self.segment += 1;
+        self.segment_start_s = t_s;
+        self.projection = self.start_projection();
+        // Validated when the course was built; a refusal keeps the previous model.
+        let _ = self
+            .chain
+            .set_model(Some(self.course[self.segment].centring));
+    }
+
     /// Advance one loop period.
     pub fn tick(&mut self) -> TickRecord {
         let dt = self.dt_s;
+        let t_ns = self.tick * (dt * 1e9).round() as u64;
+        let t_s = t_ns as f64 * 1e-9;
         // 1. Read the wheel as the host sees it (quantised, delayed).
         let reading = self.body.wheel().read().ok();
         let angle = reading.map_or(0.0, |r| r.angle_rad);
 
-        // 2. Step the car with the wheel as its steering input.
-        let steer = angle / self.steering_ratio;
-        let st = *self.car.state();
-        let input = self.cruise.input(st.ux_m_s, steer);
-        self.car.step(input, dt);
-        let st = *self.car.state();
-        self.projection = self.road.project(st.x_m, st.y_m, self.projection.s_m);
-        self.score
-            .update(self.projection.lateral_m, self.road.lane_width_m(), dt);
-        let fyf = self.car.tyre_forces().front_lateral_n;
-        // Self-aligning road feel: proportional to the front lateral tyre force (§3.3.4).
-        let road_feel = -self.road_feel_nm_per_kn * fyf / 1000.0;
-
-        // 3. Where an ideal driver would hold the wheel: the reference for assistance and the
-        //    simulated patient's intention.
-        let desired_steer =
-            self.driver
-                .desired_steer_rad(self.car.params(), &st, &self.projection, &*self.road);
-        let target = desired_steer * self.steering_ratio;
-        let assist_out = match &mut self.assist {
+        // 2. The exercise: drive the car with the wheel, or show the dial's desired angle.
+        //    `target` is where an ideal patient would hold the wheel: the reference for
+        //    assistance and the simulated patient's intention.
+        let seg = &mut self.course[self.segment];
+        let t_in = t_s - self.segment_start_s;
+        let (target, road_feel, vehicle, finished) = match (&mut seg.world, &seg.exercise.road) {
+            (Some(world), Some(road)) => {
+                let steer = self.params.road_wheel_angle_rad(angle);
+                let st = world.state();
+                self.cruise.target_m_s = seg.exercise.target_speed_m_s(self.projection.s_m);
+                world.step(self.cruise.input(st.ux_m_s, steer), dt);
+                let st = world.state();
+                self.projection = road.project(st.x_m, st.y_m, self.projection.s_m);
+                // Contacts are rare: this allocates only on the tick a cone or edge is touched.
+                for event in world.drain_events() {
+                    self.driving.record(&event);
+                }
+                self.driving
+                    .update(&self.projection, st.yaw_rad, seg.exercise.lane_width_m, dt);
+                let fyf = world.tyre_forces().front_lateral_n;
+                let desired = self.driver.desired_steer_rad(
+                    &self.params,
+                    &st,
+                    &self.projection,
+                    road.as_ref(),
+                );
+                let vehicle = VehicleSample {
+                    x_m: st.x_m,
+                    y_m: st.y_m,
+                    yaw_rad: st.yaw_rad,
+                    ux_m_s: st.ux_m_s,
+                    uy_m_s: st.uy_m_s,
+                    r_rad_s: st.r_rad_s,
+                    steer_rad: steer,
+                    front_lateral_n: fyf,
+                    s_m: self.projection.s_m,
+                    lateral_m: self.projection.lateral_m,
+                };
+                (
+                    self.params.hand_wheel_angle_rad(desired),
+                    // Self-aligning road feel from the front lateral tyre force (§3.3.4).
+                    self.feel.torque_nm(fyf),
+                    Some(vehicle),
+                    seg.exercise.is_finished(t_in, self.projection.s_m),
+                )
+            }
+            _ => {
+                let desired = seg.exercise.desired_angle_rad(t_in).unwrap_or(0.0);
+                self.dial.update(desired, angle, dt);
+                (desired, 0.0, None, seg.exercise.is_finished(t_in, 0.0))
+            }
+        };
+        let assist_out = match &mut seg.assist {
             Some(a) => {
                 // The assist gets the torque budget the road feel leaves (the chain's limiter
                 // would otherwise clip torque the assist believes it delivered).
@@ -246,8 +299,12 @@ impl Plant {
             }
             None => Default::default(),
         };
+        let segment_index = self.segment as u32;
+        if finished {
+            self.next_segment(t_s + dt);
+        }
 
-        // 4. Haptic chain: model + road feel + assist → passivity → safety supervisor.
+        // 3. Haptic chain: model + road feel + assist → passivity → safety supervisor.
         let tel = self.chain.tick(TickInput {
             now_ns: self.body.now_ns(),
             reading,
@@ -258,10 +315,11 @@ impl Plant {
         // A failed command is caught by the next read (stale reading → supervisor fault).
         let _ = self.body.wheel().command_torque(tel.torque_nm);
 
-        // 5. Whoever holds the wheel moves it.
-        let t_ns = self.tick * (dt * 1e9).round() as u64;
+        // 4. Whoever holds the wheel moves it.
         let motion = self.move_body(target, angle, t_ns, dt);
 
+        let lane = self.driving.lane();
+        let dial = self.dial.summary();
         let rec = TickRecord {
             tick: self.tick,
             t_ns,
@@ -281,22 +339,14 @@ impl Plant {
                 hand_nm: motion.hand_nm,
                 target_rad: target,
             },
-            vehicle: VehicleSample {
-                x_m: st.x_m,
-                y_m: st.y_m,
-                yaw_rad: st.yaw_rad,
-                ux_m_s: st.ux_m_s,
-                uy_m_s: st.uy_m_s,
-                r_rad_s: st.r_rad_s,
-                steer_rad: steer,
-                front_lateral_n: fyf,
-                s_m: self.projection.s_m,
-                lateral_m: self.projection.lateral_m,
-            },
+            vehicle,
             score: ScoreSample {
-                rms_lateral_m: self.score.rms_m(),
-                max_lateral_m: self.score.max_abs_m(),
-                pct_in_lane: self.score.pct_in_lane(),
+                exercise_index: segment_index,
+                rms_lateral_m: lane.rms_m(),
+                max_lateral_m: lane.max_abs_m(),
+                pct_in_lane: lane.pct_in_lane(),
+                cone_hits: self.driving.summary().cone_hits,
+                dial_rms_error_deg: dial.rms_error_deg,
             },
             assist: AssistSample {
                 torque_nm: assist_out.torque_nm,

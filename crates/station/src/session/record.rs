@@ -15,8 +15,8 @@ pub struct TickRecord {
     pub t_ns: u64,
     /// Wheel side.
     pub wheel: WheelSample,
-    /// Car and road side.
-    pub vehicle: VehicleSample,
+    /// Car and road side (absent during the dial task).
+    pub vehicle: Option<VehicleSample>,
     /// Running score.
     pub score: ScoreSample,
     /// Active assistance.
@@ -99,15 +99,21 @@ pub struct VehicleSample {
     pub lateral_m: f64,
 }
 
-/// The running lane score (channel `/score`, every 100 ms).
+/// The running session score (channel `/score`, every 100 ms).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, JsonSchema)]
 pub struct ScoreSample {
+    /// Which exercise of the course is running (0-based).
+    pub exercise_index: u32,
     /// RMS lateral deviation so far, m.
     pub rms_lateral_m: f64,
     /// Largest |lateral deviation| so far, m.
     pub max_lateral_m: f64,
     /// Share of time in the lane so far, %.
     pub pct_in_lane: f64,
+    /// Cones hit so far.
+    pub cone_hits: u32,
+    /// RMS dial tracking error so far (thesis §3.3.3), degrees.
+    pub dial_rms_error_deg: f64,
 }
 
 /// Active assistance in one tick (channel `/assist`).

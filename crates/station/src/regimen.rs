@@ -1,0 +1,159 @@
+//! A regimen: the ordered exercises a therapist prescribes, each with its own haptic model and
+//! assistance. TOML, one `[[exercise]]` table per exercise:
+//!
+//! ```toml
+//! [[exercise]]
+//! kind = "sine"            # any vehicle::ExerciseSpec: kind + that kind's fields
+//! amplitude_m = 2.0
+//! duration_s = 90.0
+//! [exercise.haptic]        # optional: centring spring–damper of eq. 3.5 for this exercise
+//! k_nm_per_rad = 0.3
+//! [exercise.assist.mode]   # optional: assistance for this exercise (assist::AssistSpec)
+//! kind = "motion"
+//! ```
+//!
+//! Samples: `regimens/easy.toml`, `medium.toml`, `hard.toml`.
+
+use assist::AssistSpec;
+use haptic_wheel::SpringDamper;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use vehicle::ExerciseSpec;
+
+/// The prescribed exercises, in order.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Regimen {
+    /// The exercises, in the order the patient does them.
+    #[serde(rename = "exercise")]
+    pub exercises: Vec<RegimenEntry>,
+}
+
+/// One exercise of a regimen with its haptic and assistance settings.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RegimenEntry {
+    /// The exercise (its `kind` and parameters).
+    #[serde(flatten)]
+    pub exercise: ExerciseSpec,
+    /// Centring spring–damper for this exercise (default: the station's `haptic.centring`).
+    #[serde(default)]
+    pub haptic: Option<SpringDamper>,
+    /// Assistance for this exercise (default: the station's `assist`).
+    #[serde(default)]
+    pub assist: Option<AssistSpec>,
+}
+
+/// A regimen that cannot be used, naming the exercise and field.
+#[derive(Debug, thiserror::Error)]
+pub enum RegimenError {
+    /// The file could not be read.
+    #[error("cannot read regimen {path}: {source}")]
+    Read {
+        /// The file.
+        path: String,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The TOML did not parse (the message names the line and field).
+    #[error("regimen {path}: {message}")]
+    Parse {
+        /// The file.
+        path: String,
+        /// The parser's message.
+        message: String,
+    },
+    /// An exercise's values are out of range.
+    #[error("regimen {path}, exercise {index} ({name}): {message}")]
+    Invalid {
+        /// The file.
+        path: String,
+        /// 1-based position in the regimen.
+        index: usize,
+        /// The exercise's name.
+        name: String,
+        /// What is wrong (field and allowed range).
+        message: String,
+    },
+}
+
+impl Regimen {
+    /// Read and validate a regimen file.
+    pub fn load(path: &Path) -> Result<Self, RegimenError> {
+        let p = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|source| RegimenError::Read {
+            path: p.clone(),
+            source,
+        })?;
+        Self::from_toml(&text, &p)
+    }
+
+    /// Parse and validate regimen TOML; `origin` names it in messages.
+    pub fn from_toml(text: &str, origin: &str) -> Result<Self, RegimenError> {
+        let r: Self = toml::from_str(text).map_err(|e| RegimenError::Parse {
+            path: origin.into(),
+            message: e.to_string(),
+        })?;
+        if r.exercises.is_empty() {
+            return Err(RegimenError::Parse {
+                path: origin.into(),
+                message: "no [[exercise]] in the regimen".into(),
+            });
+        }
+        for (i, e) in r.exercises.iter().enumerate() {
+            let invalid = |message: String| RegimenError::Invalid {
+                path: origin.into(),
+                index: i + 1,
+                name: e.exercise.name(),
+                message,
+            };
+            e.exercise.validate().map_err(|m| invalid(m.to_string()))?;
+            if let Some(h) = &e.haptic {
+                h.validate().map_err(|m| invalid(format!("haptic: {m}")))?;
+            }
+            if let Some(a) = &e.assist {
+                a.validate().map_err(|m| invalid(format!("assist: {m}")))?;
+            }
+        }
+        Ok(r)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shipped_sample_regimens_parse_and_validate() {
+        for name in ["easy", "medium", "hard"] {
+            let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("../../regimens")
+                .join(format!("{name}.toml"));
+            let r = Regimen::load(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert!(!r.exercises.is_empty());
+        }
+    }
+
+    #[test]
+    fn bad_value_names_the_exercise_and_field() {
+        let text = "[[exercise]]\nkind = \"straight\"\n\n[[exercise]]\nkind = \"sine\"\namplitude_m = -3.0\n";
+        let msg = Regimen::from_toml(text, "r.toml").unwrap_err().to_string();
+        assert!(
+            msg.contains("exercise 2") && msg.contains("amplitude_m"),
+            "{msg}"
+        );
+    }
+
+    #[test]
+    fn per_exercise_haptic_and_assist_are_read() {
+        let text = "[[exercise]]\nkind = \"dial\"\n[exercise.haptic]\nk_nm_per_rad = 0.3\n[exercise.assist.mode]\nkind = \"motion\"\n";
+        let r = Regimen::from_toml(text, "r.toml").unwrap();
+        assert_eq!(r.exercises[0].haptic.unwrap().k_nm_per_rad, 0.3);
+        assert!(r.exercises[0].assist.is_some());
+    }
+
+    #[test]
+    fn misspelt_field_is_rejected() {
+        let text = "[[exercise]]\nkind = \"sine\"\namplitud_m = 3.0\n";
+        assert!(Regimen::from_toml(text, "r.toml").is_err());
+    }
+}

@@ -1,0 +1,99 @@
+//! The course of a session: the exercises in order, each built before the session starts
+//! (road, rapier world, haptic model, assist controller) so that switching from one to the
+//! next on the haptic thread allocates nothing.
+//!
+//! `--exercise NAME` repeats that exercise (laps) to fill `--duration`; `--regimen FILE` runs
+//! the prescribed exercises once, in order.
+
+use crate::config::StationConfig;
+use crate::regimen::{Regimen, RegimenEntry};
+use anyhow::Context;
+use assist::Assist;
+use haptic_wheel::SpringDamper;
+use vehicle::{Exercise, ExerciseSpec, World};
+
+/// Most laps one session prebuilds (a 45 s lap × 200 ≈ 2.5 h).
+pub const MAX_LAPS: usize = 200;
+
+/// One exercise, ready to run.
+pub struct Segment {
+    /// The exercise: road (or dial reference), speed profile, cones.
+    pub exercise: Exercise,
+    /// The rapier world of a road exercise; `None` for the dial task.
+    pub world: Option<World>,
+    /// Centring spring–damper rendered during this exercise.
+    pub centring: SpringDamper,
+    /// Assistance during this exercise.
+    pub assist: Option<Assist>,
+}
+
+/// How long one run of `exercise` takes, s: its time limit, or the road driven at its speed
+/// profile, whichever is shorter.
+pub fn nominal_time_s(exercise: &Exercise) -> f64 {
+    let driving = if exercise.road.is_some() {
+        let metres = exercise.length_m.ceil() as usize;
+        (0..metres)
+            .map(|s| 1.0 / exercise.target_speed_m_s(s as f64).max(1.0))
+            .sum::<f64>()
+    } else {
+        f64::INFINITY
+    };
+    exercise.duration_s.unwrap_or(f64::INFINITY).min(driving)
+}
+
+fn build_segment(cfg: &StationConfig, entry: &RegimenEntry) -> anyhow::Result<Segment> {
+    let name = entry.exercise.name();
+    let exercise = entry
+        .exercise
+        .build()
+        .with_context(|| format!("exercise {name}"))?;
+    let world = match exercise.road {
+        Some(_) => Some(
+            World::new(
+                cfg.vehicle.clone(),
+                exercise.start_state(),
+                exercise.track_layout(),
+            )
+            .with_context(|| format!("exercise {name}: vehicle world"))?,
+        ),
+        None => None,
+    };
+    let assist_spec = entry.assist.as_ref().or(cfg.assist.as_ref());
+    let assist = assist_spec
+        .map(Assist::new)
+        .transpose()
+        .with_context(|| format!("exercise {name}: assist"))?;
+    Ok(Segment {
+        exercise,
+        world,
+        centring: entry.haptic.unwrap_or(cfg.haptic.centring),
+        assist,
+    })
+}
+
+/// Build the course: the regimen's exercises in order, or laps of `cfg.session.exercise`
+/// enough to fill `cfg.session.duration_s`.
+pub fn build(cfg: &StationConfig, regimen: Option<&Regimen>) -> anyhow::Result<Vec<Segment>> {
+    match regimen {
+        Some(r) => r.exercises.iter().map(|e| build_segment(cfg, e)).collect(),
+        None => {
+            let entry = RegimenEntry {
+                exercise: ExerciseSpec::from_name(&cfg.session.exercise)?,
+                haptic: None,
+                assist: None,
+            };
+            let first = build_segment(cfg, &entry)?;
+            let lap_s = nominal_time_s(&first.exercise);
+            let laps = if lap_s.is_finite() && lap_s > 0.0 {
+                ((cfg.session.duration_s / lap_s).ceil() as usize).clamp(1, MAX_LAPS)
+            } else {
+                1
+            };
+            let mut course = vec![first];
+            for _ in 1..laps {
+                course.push(build_segment(cfg, &entry)?);
+            }
+            Ok(course)
+        }
+    }
+}
