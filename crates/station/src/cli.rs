@@ -1,12 +1,19 @@
 //! Command-line interface.
 
 use crate::config::StationConfig;
-use crate::session::{self, BodyKind, SessionOptions, haptic::Pacing};
+use crate::link::Link;
+use crate::regimen::Regimen;
+use crate::render::{ScreenState, window::UserRequest};
+use crate::screen::CourseView;
+use crate::session::record::TickRecord;
+use crate::session::{
+    self, BodyKind, LiveSummary, SessionObserver, SessionOptions, haptic::Pacing,
+};
 use anyhow::{Context, bail};
 use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
 use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// telerehab: home upper-limb rehabilitation with a force-feedback steering wheel.
 #[derive(Debug, Parser)]
@@ -29,6 +36,9 @@ pub enum Command {
     Therapist(TherapistArgs),
     /// List wheels, pedals, gamepads and IMUs.
     Devices,
+    /// Render a simulated session offscreen to PNG frames (the window's drawing code, on
+    /// Mesa's software Vulkan/GL where there is no GPU).
+    Render(RenderArgs),
     /// Finish the MCAP recording of a killed session into a complete file.
     Recover {
         /// The recording left by the killed session.
@@ -97,6 +107,51 @@ pub struct RunArgs {
     pub patient_id: Option<String>,
 }
 
+/// `telerehab render`.
+#[derive(Debug, clap::Args)]
+pub struct RenderArgs {
+    /// Exercise to render.
+    #[arg(long, default_value = "sine-road", conflicts_with = "regimen")]
+    pub exercise: String,
+    /// Regimen file to render instead of one exercise.
+    #[arg(long)]
+    pub regimen: Option<PathBuf>,
+    /// Station configuration (TOML).
+    #[arg(long)]
+    pub config: Option<PathBuf>,
+    /// Seed of the simulation.
+    #[arg(long, default_value_t = 7)]
+    pub seed: u64,
+    /// Frames to render.
+    #[arg(long, default_value_t = 120)]
+    pub frames: usize,
+    /// Frames per second of session time.
+    #[arg(long, default_value_t = 30.0)]
+    pub fps: f64,
+    /// Frame size, WIDTHxHEIGHT in pixels.
+    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Output directory for frame_0000.png, frame_0001.png, …
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("size `{s}` is not WIDTHxHEIGHT"))?;
+    let parse = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .map_err(|e| format!("size `{s}`: {e}"))
+    };
+    let (w, h) = (parse(w)?, parse(h)?);
+    if !(16..=8192).contains(&w) || !(16..=8192).contains(&h) {
+        return Err(format!("size `{s}`: each side must be 16 to 8192 pixels"));
+    }
+    Ok((w, h))
+}
+
 /// `telerehab therapist`.
 #[derive(Debug, clap::Args)]
 pub struct TherapistArgs {
@@ -122,6 +177,7 @@ pub fn main() -> anyhow::Result<()> {
         Command::Run(args) => run(args),
         Command::Therapist(args) => crate::therapist::run(args),
         Command::Devices => crate::devices::run(),
+        Command::Render(args) => render(args),
         Command::Recover { input, out } => {
             let r = crate::recover::recover(&input, &out)?;
             println!(
@@ -213,35 +269,60 @@ fn real_body(_args: &RunArgs) -> anyhow::Result<BodyKind> {
     )
 }
 
-fn run(args: RunArgs) -> anyhow::Result<()> {
-    let mut cfg = resolve_config(&args)?;
-    let regimen = args
-        .regimen
-        .as_deref()
-        .map(crate::regimen::Regimen::load)
-        .transpose()?;
-    if let Some(r) = &regimen {
-        cfg.session.exercise = format!("regimen:{}", r.exercises.len());
-        if args.duration.is_none() {
-            // The regimen ends the session; the duration is only a safety cap then.
-            cfg.session.duration_s = 4.0 * 3600.0;
+/// Resolve the run's configuration and its regimen.
+fn plan_run(args: &RunArgs) -> anyhow::Result<(StationConfig, Option<Regimen>)> {
+    let mut cfg = resolve_config(args)?;
+    let regimen = args.regimen.as_deref().map(Regimen::load).transpose()?;
+    match &regimen {
+        Some(r) => {
+            cfg.session.exercise = format!("regimen:{}", r.exercises.len());
+            if args.duration.is_none() {
+                // The regimen ends the session; the duration is only a safety cap then.
+                cfg.session.duration_s = 4.0 * 3600.0;
+            }
         }
-    } else {
-        vehicle::ExerciseSpec::from_name(&cfg.session.exercise)?;
+        None => {
+            vehicle::ExerciseSpec::from_name(&cfg.session.exercise)?;
+        }
     }
+    Ok((cfg, regimen))
+}
+
+/// The run's observers: the therapist link and, with a window, the latest tick for the screen.
+struct RunObserver<'a> {
+    link: &'a Link,
+    screen: Option<triple_buffer::Input<TickRecord>>,
+}
+
+impl SessionObserver for RunObserver<'_> {
+    fn on_tick(&mut self, record: &TickRecord) {
+        if let Some(s) = &mut self.screen {
+            s.write(*record);
+        }
+    }
+
+    fn on_summary(&mut self, summary: &LiveSummary) {
+        self.link.send(summary);
+    }
+}
+
+fn run(args: RunArgs) -> anyhow::Result<()> {
+    let (cfg, regimen) = plan_run(&args)?;
     let body = if args.sim {
         BodyKind::Simulated
     } else {
         real_body(&args)?
     };
-    if !args.headless {
-        tracing::warn!("the patient window is not available in this build; running headless");
-    }
     let pacing = match args.speed {
         Speed::Realtime => Pacing::RealTime,
         Speed::Max => Pacing::Max,
     };
     let stop = install_stop_flag()?;
+    let view = if args.headless {
+        None
+    } else {
+        Some(CourseView::new(&cfg, regimen.as_ref())?)
+    };
     let opts = SessionOptions {
         config: cfg.clone(),
         pacing,
@@ -254,14 +335,157 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
         duration_s = cfg.session.duration_s,
         seed = cfg.session.seed,
         simulated = args.sim,
+        window = !args.headless,
         "starting session"
     );
-    let link = crate::link::Link::start(&cfg)?;
-    let report = session::run(&opts, stop, |s| link.send(s))?;
+    let link = Link::start(&cfg)?;
+    let report = match view {
+        None => session::run(
+            &opts,
+            stop,
+            &mut RunObserver {
+                link: &link,
+                screen: None,
+            },
+        )?,
+        Some(view) => run_with_window(&opts, stop, &link, &view)?,
+    };
     let link_report = link.finish(report.summaries);
     print!("{}", crate::report::render(&report, link_report.as_ref()));
     if let Some(e) = &report.recorder.error {
         bail!("recording failed: {e}");
     }
     Ok(())
+}
+
+/// Collects the ticks to draw: one every `every` ticks, `frames` of them, then stops the session.
+struct FrameCollector {
+    every: u64,
+    frames: usize,
+    records: Vec<TickRecord>,
+    stop: Arc<AtomicBool>,
+}
+
+impl SessionObserver for FrameCollector {
+    fn on_tick(&mut self, record: &TickRecord) {
+        if self.records.len() < self.frames && record.tick % self.every == 0 {
+            self.records.push(*record);
+            if self.records.len() == self.frames {
+                self.stop.store(true, Ordering::Relaxed);
+            }
+        }
+    }
+}
+
+fn render(args: RenderArgs) -> anyhow::Result<()> {
+    anyhow::ensure!(args.frames > 0, "--frames must be at least 1");
+    anyhow::ensure!(
+        args.fps.is_finite() && (1.0..=240.0).contains(&args.fps),
+        "--fps must be 1 to 240"
+    );
+    let run_args = RunArgs {
+        sim: true,
+        headless: true,
+        config: args.config.clone(),
+        duration: Some(args.frames as f64 / args.fps + 1.0),
+        seed: Some(args.seed),
+        exercise: args.regimen.is_none().then(|| args.exercise.clone()),
+        regimen: args.regimen.clone(),
+        record: None,
+        therapist: None,
+        therapist_ca: None,
+        speed: Speed::Max,
+        station_id: None,
+        patient_id: None,
+    };
+    let (cfg, regimen) = plan_run(&run_args)?;
+    let view = CourseView::new(&cfg, regimen.as_ref())?;
+    let stop = install_stop_flag()?;
+    let every = ((cfg.session.loop_rate_hz / args.fps).round() as u64).max(1);
+    let mut frames = FrameCollector {
+        every,
+        frames: args.frames,
+        records: Vec::with_capacity(args.frames),
+        stop: stop.clone(),
+    };
+    let opts = SessionOptions {
+        config: cfg,
+        pacing: Pacing::Max,
+        record: None,
+        body: BodyKind::Simulated,
+        regimen,
+    };
+    session::run(&opts, stop, &mut frames)?;
+    let scenes = frames
+        .records
+        .iter()
+        .map(|r| view.scene(r, ScreenState::Running));
+    let (w, h) = args.size;
+    let stats = crate::render::headless_frames(scenes, w, h, &args.out)?;
+    println!(
+        "rendered {} frames of {w}×{h} to {} on {:?}: {:.1} ms mean, p99 {:.1} ms per frame",
+        stats.frames,
+        args.out.display(),
+        stats.adapter,
+        stats.mean_ms,
+        stats.p99_ms
+    );
+    Ok(())
+}
+
+/// The session on its own threads, the patient's window on this (the main) thread. The window
+/// only reads the latest tick through a wait-free triple buffer, so a slow, minimised or
+/// closed window changes nothing in the haptic loop. Without a usable GPU or display the
+/// session simply runs headless.
+fn run_with_window(
+    opts: &SessionOptions,
+    stop: Arc<AtomicBool>,
+    link: &Link,
+    view: &CourseView,
+) -> anyhow::Result<session::SessionReport> {
+    let (input, mut output) = triple_buffer::triple_buffer(&TickRecord::default());
+    let done = AtomicBool::new(false);
+    std::thread::scope(|scope| {
+        let session = std::thread::Builder::new()
+            .name("session".into())
+            .spawn_scoped(scope, || {
+                let r = session::run(
+                    opts,
+                    stop.clone(),
+                    &mut RunObserver {
+                        link,
+                        screen: Some(input),
+                    },
+                );
+                done.store(true, Ordering::Release);
+                r
+            })
+            .context("cannot start the session thread")?;
+        let source = || {
+            if done.load(Ordering::Acquire) {
+                return None;
+            }
+            let rec = *output.read();
+            Some(view.scene(
+                &rec,
+                if rec.tick == 0 {
+                    ScreenState::Start
+                } else {
+                    ScreenState::Running
+                },
+            ))
+        };
+        let on_request = |r: UserRequest| match r {
+            UserRequest::Quit => stop.store(true, Ordering::Relaxed),
+            UserRequest::TogglePause => {
+                tracing::info!("pause is not available yet; Esc ends the session")
+            }
+        };
+        if let Err(e) = crate::render::window::run("telerehab", source, on_request) {
+            tracing::warn!("no patient window ({e}); the session continues headless");
+        }
+        session
+            .join()
+            .map_err(|_| anyhow::anyhow!("session thread panicked (torque was zeroed)"))?
+    })
 }

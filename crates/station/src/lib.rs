@@ -14,6 +14,7 @@ pub mod recover;
 pub mod regimen;
 pub mod render;
 pub mod report;
+pub mod screen;
 pub mod session;
 pub mod therapist;
 pub mod timing;

@@ -90,12 +90,21 @@ fn unix_ns() -> u64 {
         .unwrap_or(0)
 }
 
-/// Run a simulated session until its duration is over or `stop` is set. `on_summary` gets
-/// each live summary on the recorder thread; it must not block.
+/// Who watches a running session from the recorder thread (the therapist link, the patient's
+/// screen). Both methods must return quickly and never block.
+pub trait SessionObserver: Send {
+    /// Every tick's record, in order.
+    fn on_tick(&mut self, _record: &TickRecord) {}
+    /// Every live summary (every [`SUMMARY_EVERY_S`] of session time).
+    fn on_summary(&mut self, _summary: &LiveSummary) {}
+}
+
+/// Run a session until its duration is over, its course is done or `stop` is set;
+/// `observer` watches it from the recorder thread.
 pub fn run(
     opts: &SessionOptions,
     stop: Arc<AtomicBool>,
-    on_summary: impl FnMut(&LiveSummary) + Send,
+    observer: &mut dyn SessionObserver,
 ) -> anyhow::Result<SessionReport> {
     let cfg = &opts.config;
     cfg.validate()?;
@@ -147,7 +156,7 @@ pub fn run(
         let rec_thread = std::thread::Builder::new()
             .name("recorder".into())
             .spawn_scoped(scope, move || {
-                recorder_loop(consumer, recorder, &done, plan, on_summary)
+                recorder_loop(consumer, recorder, &done, plan, observer)
             })
             .context("cannot start the recorder thread")?;
         let stop_h = stop.clone();
@@ -231,7 +240,7 @@ fn recorder_loop(
     mut mcap: Option<McapRecorder>,
     haptic_done: &AtomicBool,
     plan: RecorderPlan,
-    mut on_summary: impl FnMut(&LiveSummary),
+    observer: &mut dyn SessionObserver,
 ) -> (RecorderOutcome, u64) {
     let RecorderPlan {
         period_ns,
@@ -257,6 +266,7 @@ fn recorder_loop(
             }
         };
         out.add(&rec, assisted);
+        observer.on_tick(&rec);
         let summary_tick = rec.tick % summary_every == 0 && rec.tick > 0;
         if let Some(m) = mcap.as_mut() {
             let res = m.record(&rec, summary_tick).and_then(|()| {
@@ -273,7 +283,7 @@ fn recorder_loop(
             }
         }
         if summary_tick {
-            on_summary(&LiveSummary {
+            observer.on_summary(&LiveSummary {
                 seq,
                 record: rec,
                 max_abs_torque_nm: out.max_abs_torque_nm,

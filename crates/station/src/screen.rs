@@ -1,0 +1,115 @@
+//! The patient's screen for a session: the static geometry of each exercise of the course,
+//! and the conversion of a tick's record into a [`render::Scene`].
+
+use crate::config::StationConfig;
+use crate::regimen::Regimen;
+use crate::render::{self, CarPose, Dial, Hud, LiveScore, RoadPoint, Scene, ScreenState};
+use crate::session::record::TickRecord;
+use vehicle::ExerciseSpec;
+
+/// Centre-line sample spacing for the screen's road mesh, m.
+const ROAD_SAMPLE_M: f64 = 2.0;
+
+/// What the screen needs of one exercise.
+struct ExerciseView {
+    name: String,
+    road: Option<render::Road>,
+}
+
+/// The screen's view of a course: one entry per exercise, in course order.
+pub struct CourseView {
+    exercises: Vec<ExerciseView>,
+    duration_s: f64,
+}
+
+impl CourseView {
+    /// The view of the course a session of `cfg` (and `regimen`) runs. Laps of one exercise
+    /// share one view.
+    pub fn new(cfg: &StationConfig, regimen: Option<&Regimen>) -> anyhow::Result<Self> {
+        let specs: Vec<ExerciseSpec> = match regimen {
+            Some(r) => r.exercises.iter().map(|e| e.exercise.clone()).collect(),
+            None => vec![ExerciseSpec::from_name(&cfg.session.exercise)?],
+        };
+        let mut exercises = Vec::with_capacity(specs.len());
+        for spec in specs {
+            let ex = spec.build()?;
+            let road = ex.road.as_ref().map(|r| {
+                let n = (ex.length_m / ROAD_SAMPLE_M).ceil() as usize;
+                let centre = (0..=n)
+                    .map(|i| {
+                        let ([x, y], _, _) = r.centre((i as f64 * ROAD_SAMPLE_M).min(ex.length_m));
+                        RoadPoint {
+                            x_m: x,
+                            y_m: y,
+                            lane_width_m: ex.lane_width_m,
+                        }
+                    })
+                    .collect();
+                render::Road {
+                    centre,
+                    barriers: Vec::new(),
+                    cones: ex.cones.clone(),
+                }
+            });
+            exercises.push(ExerciseView {
+                name: ex.name.clone(),
+                road,
+            });
+        }
+        Ok(Self {
+            exercises,
+            duration_s: cfg.session.duration_s,
+        })
+    }
+
+    /// The scene for the tick `rec`.
+    pub fn scene(&self, rec: &TickRecord, screen: ScreenState) -> Scene {
+        let idx = (rec.score.exercise_index as usize).min(self.exercises.len() - 1);
+        let ex = &self.exercises[idx % self.exercises.len()];
+        let t_s = rec.t_ns as f64 * 1e-9;
+        let (road, car, dial, score, speed) = match (&ex.road, rec.vehicle) {
+            (Some(road), Some(v)) => (
+                road.clone(),
+                CarPose {
+                    x_m: v.x_m,
+                    y_m: v.y_m,
+                    yaw_rad: v.yaw_rad,
+                    steer_rad: v.steer_rad,
+                },
+                None,
+                LiveScore::Road {
+                    rms_lateral_m: rec.score.rms_lateral_m,
+                    in_lane_pct: rec.score.pct_in_lane,
+                },
+                v.ux_m_s,
+            ),
+            _ => (
+                render::Road::default(),
+                CarPose::default(),
+                Some(Dial {
+                    desired_rad: rec.wheel.target_rad,
+                    actual_rad: rec.wheel.angle_rad,
+                }),
+                LiveScore::Dial {
+                    rms_error_deg: rec.score.dial_rms_error_deg,
+                },
+                0.0,
+            ),
+        };
+        Scene {
+            road,
+            car,
+            camera: render::CameraMode::Chase,
+            dial,
+            hud: Hud {
+                exercise: ex.name.clone(),
+                time_left_s: (self.duration_s - t_s).max(0.0),
+                score,
+                speed_m_s: speed,
+                assist_level: rec.assist.assistance_level,
+                devices: vec![format!("wheel: {}", rec.wheel.watchdog)],
+            },
+            screen,
+        }
+    }
+}
