@@ -368,7 +368,7 @@ struct FrameCollector {
 
 impl SessionObserver for FrameCollector {
     fn on_tick(&mut self, record: &TickRecord) {
-        if self.records.len() < self.frames && record.tick % self.every == 0 {
+        if self.records.len() < self.frames && record.tick.is_multiple_of(self.every) {
             self.records.push(*record);
             if self.records.len() == self.frames {
                 self.stop.store(true, Ordering::Relaxed);
