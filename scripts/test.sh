@@ -11,7 +11,13 @@ XDG_RUNTIME_DIR="$(mktemp -d)"; chmod 700 "$XDG_RUNTIME_DIR"; export XDG_RUNTIME
 echo "== cargo fmt";    cargo fmt --all -- --check
 echo "== cargo clippy"; cargo clippy --workspace --all-targets -- -D warnings
 echo "== cargo doc";    RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
-echo "== cargo test";   cargo test --workspace
+# Under a virtual X display so the patient-window test opens a real window (Xvfb + Mesa).
+echo "== cargo test"
+if command -v xvfb-run >/dev/null 2>&1; then
+  xvfb-run -a -s "-screen 0 1280x720x24" cargo test --workspace
+else
+  cargo test --workspace
+fi
 echo "== pytest"
 cargo build --quiet -p station --bin telerehab
 TELEREHAB_BIN="$PWD/target/debug/telerehab" .venv/bin/python -m pytest -q pyext/tests tests/python
