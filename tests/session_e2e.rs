@@ -321,7 +321,7 @@ fn motion_assist_keeps_a_weak_simulated_patient_in_lane_and_says_so() {
 fn devices_without_hardware_explains_and_exits_zero() {
     let out = run_ok(&["devices"]);
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("Wheels:"), "{text}");
+    assert!(text.contains("Wheels:") && text.contains("IMUs:"), "{text}");
     assert!(
         text.contains("--sim"),
         "the message should point at the simulated session: {text}"
