@@ -329,6 +329,7 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
         record: args.record.clone(),
         body,
         regimen,
+        isolate_core: !args.headless,
     };
     tracing::info!(
         exercise = %cfg.session.exercise,
@@ -414,6 +415,7 @@ fn render(args: RenderArgs) -> anyhow::Result<()> {
         record: None,
         body: BodyKind::Simulated,
         regimen,
+        isolate_core: false,
     };
     session::run(&opts, stop, &mut frames)?;
     let scenes = frames
@@ -443,6 +445,8 @@ fn run_with_window(
     link: &Link,
     view: &CourseView,
 ) -> anyhow::Result<session::SessionReport> {
+    // The window and its (possibly software) renderer stay off the haptic thread's core.
+    session::haptic::cores::keep_off_the_haptic_core();
     let (input, mut output) = triple_buffer::triple_buffer(&TickRecord::default());
     let done = AtomicBool::new(false);
     std::thread::scope(|scope| {

@@ -6,8 +6,10 @@
 //! kind = "sine"            # any vehicle::ExerciseSpec: kind + that kind's fields
 //! amplitude_m = 2.0
 //! duration_s = 90.0
-//! [exercise.haptic]        # optional: centring spring–damper of eq. 3.5 for this exercise
+//! [exercise.haptic.model]  # optional: spring–mass–damper of eq. 3.5 for this exercise
 //! k_nm_per_rad = 0.3
+//! [[exercise.haptic.effects]]   # optional: DirectInput-style effects played throughout
+//! kind = { periodic = { shape = "sine", magnitude_nm = 0.1, offset_nm = 0.0, phase_rad = 0.0, period_s = 0.5 } }
 //! [exercise.assist.mode]   # optional: assistance for this exercise (assist::AssistSpec)
 //! kind = "motion"
 //! ```
@@ -15,10 +17,13 @@
 //! Samples: `regimens/easy.toml`, `medium.toml`, `hard.toml`.
 
 use assist::AssistSpec;
-use haptic_wheel::SpringDamper;
+use haptic_wheel::HapticRegimen;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use vehicle::ExerciseSpec;
+
+/// Strongest consumer force-feedback wheel torque a regimen may name, N·m.
+pub const MAX_DEVICE_TORQUE_NM: f64 = 20.0;
 
 /// The prescribed exercises, in order.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -35,9 +40,11 @@ pub struct RegimenEntry {
     /// The exercise (its `kind` and parameters).
     #[serde(flatten)]
     pub exercise: ExerciseSpec,
-    /// Centring spring–damper for this exercise (default: the station's `haptic.centring`).
+    /// Haptic rendering for this exercise: effects, spring–mass–damper model, ceiling
+    /// (default: the station's `haptic.centring` model, no effects). A ceiling here can only
+    /// lower the patient's ceiling, never raise it.
     #[serde(default)]
-    pub haptic: Option<SpringDamper>,
+    pub haptic: Option<HapticRegimen>,
     /// Assistance for this exercise (default: the station's `assist`).
     #[serde(default)]
     pub assist: Option<AssistSpec>,
@@ -108,7 +115,10 @@ impl Regimen {
             };
             e.exercise.validate().map_err(|m| invalid(m.to_string()))?;
             if let Some(h) = &e.haptic {
-                h.validate().map_err(|m| invalid(format!("haptic: {m}")))?;
+                // Checked against the strongest consumer wheel here; the session checks it
+                // again against the wheel it drives.
+                h.validate(MAX_DEVICE_TORQUE_NM)
+                    .map_err(|m| invalid(format!("haptic: {m}")))?;
             }
             if let Some(a) = &e.assist {
                 a.validate().map_err(|m| invalid(format!("assist: {m}")))?;
@@ -145,9 +155,13 @@ mod tests {
 
     #[test]
     fn per_exercise_haptic_and_assist_are_read() {
-        let text = "[[exercise]]\nkind = \"dial\"\n[exercise.haptic]\nk_nm_per_rad = 0.3\n[exercise.assist.mode]\nkind = \"motion\"\n";
+        let text = "[[exercise]]\nkind = \"dial\"\n[exercise.haptic.model]\nk_nm_per_rad = 0.3\n\
+                    [[exercise.haptic.effects]]\nkind = { constant = { level_nm = 0.2 } }\nduration_s = 1.0\n\
+                    [exercise.assist.mode]\nkind = \"motion\"\n";
         let r = Regimen::from_toml(text, "r.toml").unwrap();
-        assert_eq!(r.exercises[0].haptic.unwrap().k_nm_per_rad, 0.3);
+        let h = r.exercises[0].haptic.as_ref().unwrap();
+        assert_eq!(h.model.unwrap().k_nm_per_rad, 0.3);
+        assert_eq!(h.effects.len(), 1);
         assert!(r.exercises[0].assist.is_some());
     }
 

@@ -9,7 +9,7 @@ use crate::config::StationConfig;
 use crate::regimen::{Regimen, RegimenEntry};
 use anyhow::Context;
 use assist::Assist;
-use haptic_wheel::SpringDamper;
+use haptic_wheel::HapticRegimen;
 use vehicle::{Exercise, ExerciseSpec, World};
 
 /// Most laps one session prebuilds (a 45 s lap × 200 ≈ 2.5 h).
@@ -21,8 +21,8 @@ pub struct Segment {
     pub exercise: Exercise,
     /// The rapier world of a road exercise; `None` for the dial task.
     pub world: Option<World>,
-    /// Centring spring–damper rendered during this exercise.
-    pub centring: SpringDamper,
+    /// Haptic rendering during this exercise (effects, model, ceiling).
+    pub haptic: HapticRegimen,
     /// Assistance during this exercise.
     pub assist: Option<Assist>,
 }
@@ -63,10 +63,18 @@ fn build_segment(cfg: &StationConfig, entry: &RegimenEntry) -> anyhow::Result<Se
         .map(Assist::new)
         .transpose()
         .with_context(|| format!("exercise {name}: assist"))?;
+    let mut haptic = entry.haptic.clone().unwrap_or(HapticRegimen {
+        model: Some(cfg.haptic.centring),
+        ..HapticRegimen::default()
+    });
+    // A regimen may lower the patient's ceiling for an exercise, never raise it.
+    if let (Some(c), Some(patient)) = (haptic.ceiling_nm, cfg.haptic.safety.ceiling_nm) {
+        haptic.ceiling_nm = Some(c.min(patient));
+    }
     Ok(Segment {
         exercise,
         world,
-        centring: entry.haptic.unwrap_or(cfg.haptic.centring),
+        haptic,
         assist,
     })
 }

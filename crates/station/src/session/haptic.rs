@@ -35,11 +35,48 @@ pub struct HapticOutcome {
     pub range_of_motion_rad: Option<[f64; 5]>,
 }
 
-/// Sleep until the absolute `deadline`.
-fn sleep_until(deadline: Instant) {
+/// Sleep until the absolute `deadline`; with `spin` the last part is a busy wait, which keeps a
+/// dedicated core awake (a halted virtual CPU can take hundreds of µs to wake).
+fn sleep_until(deadline: Instant, spin: Duration) {
     let now = Instant::now();
-    if deadline > now {
-        std::thread::sleep(deadline - now);
+    if deadline > now + spin {
+        std::thread::sleep(deadline - now - spin);
+    }
+    while Instant::now() < deadline {
+        std::hint::spin_loop();
+    }
+}
+
+/// Busy-wait before each deadline when the haptic thread has a core of its own.
+const SPIN_ON_OWN_CORE: Duration = Duration::from_micros(300);
+
+/// Keep the haptic thread on the last core and everything else off it: the patient's window
+/// (with a software renderer it saturates every core it may use), the recorder and the network.
+pub mod cores {
+    use std::sync::OnceLock;
+
+    /// Every core of the machine, read once before any thread narrows its affinity (a pinned
+    /// thread only sees its own cores, and its children inherit that).
+    fn all() -> &'static [core_affinity::CoreId] {
+        static ALL: OnceLock<Vec<core_affinity::CoreId>> = OnceLock::new();
+        ALL.get_or_init(|| core_affinity::get_core_ids().unwrap_or_default())
+    }
+
+    /// Pin the calling thread to the last core; true when done (needs at least two cores).
+    pub fn pin_haptic_thread() -> bool {
+        match all() {
+            ids if ids.len() >= 2 => core_affinity::set_for_current(ids[ids.len() - 1]),
+            _ => false,
+        }
+    }
+
+    /// Pin the calling thread (and the threads it starts later, such as the renderer's) to the
+    /// first core, leaving the last one to the haptic thread; true when done.
+    pub fn keep_off_the_haptic_core() -> bool {
+        match all() {
+            ids if ids.len() >= 2 => core_affinity::set_for_current(ids[0]),
+            _ => false,
+        }
     }
 }
 
@@ -80,9 +117,19 @@ pub fn run(
     out: &mut rtrb::Producer<TickRecord>,
     total_ticks: u64,
     pacing: Pacing,
+    isolate_core: bool,
     stop: &Arc<AtomicBool>,
 ) -> HapticOutcome {
     let realtime_priority = pacing == Pacing::RealTime && request_realtime_priority();
+    let pinned = pacing == Pacing::RealTime && isolate_core && cores::pin_haptic_thread();
+    if isolate_core {
+        tracing::info!(pinned, "haptic thread pinned to the last core");
+    }
+    let spin = if pinned {
+        SPIN_ON_OWN_CORE
+    } else {
+        Duration::ZERO
+    };
     if pacing == Pacing::RealTime && !realtime_priority {
         tracing::warn!(
             "real-time scheduling (SCHED_FIFO) not granted: the haptic loop runs with normal priority and more jitter"
@@ -111,7 +158,7 @@ pub fn run(
         }
         let deadline = start + Duration::from_nanos(period_ns * tick);
         let wake = if pacing == Pacing::RealTime {
-            sleep_until(deadline);
+            sleep_until(deadline, spin);
             Instant::now()
         } else {
             Instant::now()

@@ -37,6 +37,8 @@ pub struct SessionOptions {
     pub body: BodyKind,
     /// The prescribed exercises; `None` repeats `config.session.exercise`.
     pub regimen: Option<crate::regimen::Regimen>,
+    /// Give the haptic thread a core of its own (the caller keeps its other threads off it).
+    pub isolate_core: bool,
 }
 
 /// Who holds the wheel in a session.
@@ -143,6 +145,7 @@ pub fn run(
     let summary_every = ((SUMMARY_EVERY_S * rate).round() as u64).max(1);
     let flush_every = ((FLUSH_EVERY_S * rate).round() as u64).max(1);
     let pacing = opts.pacing;
+    let isolate_core = opts.isolate_core;
     let plan = RecorderPlan {
         period_ns,
         expected_ticks: total_ticks,
@@ -163,7 +166,14 @@ pub fn run(
         let haptic_thread = std::thread::Builder::new()
             .name("haptic".into())
             .spawn_scoped(scope, move || {
-                haptic::run(&mut plant, &mut producer, total_ticks, pacing, &stop_h)
+                haptic::run(
+                    &mut plant,
+                    &mut producer,
+                    total_ticks,
+                    pacing,
+                    isolate_core,
+                    &stop_h,
+                )
             })
             .context("cannot start the haptic thread")?;
         let haptic = haptic_thread.join();

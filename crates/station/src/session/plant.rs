@@ -136,12 +136,24 @@ impl Plant {
         let h = &cfg.haptic;
         let chain_cfg = HapticChainConfig {
             safety: h.safety,
-            model: Some(course[0].centring),
+            model: course[0].haptic.model,
             passivity: h.passivity_enabled.then_some(h.passivity),
             ..HapticChainConfig::for_encoder_step(body.encoder_step_rad(cfg))
         };
         let device_max = body.wheel().max_torque_nm();
-        let chain = HapticChain::new(chain_cfg, device_max).context("haptic chain")?;
+        for (i, seg) in course.iter().enumerate() {
+            seg.haptic.validate(device_max).with_context(|| {
+                format!(
+                    "haptic settings of exercise {} ({})",
+                    i + 1,
+                    seg.exercise.name
+                )
+            })?;
+        }
+        let mut chain = HapticChain::new(chain_cfg, device_max).context("haptic chain")?;
+        chain
+            .apply_regimen(&course[0].haptic)
+            .context("haptic settings of the first exercise")?;
         let ceiling_nm = h.safety.ceiling_nm.unwrap_or(device_max).min(device_max);
         let mut plant = Self {
             body,
@@ -216,10 +228,8 @@ impl Plant {
         self.segment += 1;
         self.segment_start_s = t_s;
         self.projection = self.start_projection();
-        // Validated when the course was built; a refusal keeps the previous model.
-        let _ = self
-            .chain
-            .set_model(Some(self.course[self.segment].centring));
+        // Validated when the session started; a refusal keeps the previous settings.
+        let _ = self.chain.apply_regimen(&self.course[self.segment].haptic);
     }
 
     /// Advance one loop period.
