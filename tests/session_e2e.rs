@@ -1,8 +1,8 @@
 //! End-to-end: the binary runs whole simulated sessions and records them.
 
-use std::process::{Command, Stdio};
+use std::process::Command;
 use std::time::{Duration, Instant};
-use telerehab_tests::{by_topic, read_mcap, run_ok, telerehab_bin};
+use telerehab_tests::{by_topic, read_mcap, run_ok, spawn_recording_session, telerehab_bin};
 
 #[test]
 fn binary_reports_its_version() {
@@ -200,22 +200,7 @@ fn real_time_session_is_paced_at_the_loop_rate() {
 fn sigint_ends_the_session_cleanly_with_a_readable_recording() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("int.mcap");
-    let child = Command::new(telerehab_bin())
-        .args([
-            "run",
-            "--sim",
-            "--headless",
-            "--duration",
-            "60",
-            "--seed",
-            "7",
-            "--record",
-            path.to_str().unwrap(),
-        ])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let child = spawn_recording_session(&path);
     std::thread::sleep(Duration::from_millis(1500));
     let status = Command::new("kill")
         .args(["-INT", &child.id().to_string()])
@@ -357,20 +342,7 @@ fn killed_session_loses_at_most_the_last_second_and_recovers_to_a_finished_file(
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("killed.mcap");
     let fixed = dir.path().join("fixed.mcap");
-    let mut child = Command::new(telerehab_bin())
-        .args([
-            "run",
-            "--sim",
-            "--headless",
-            "--duration",
-            "60",
-            "--record",
-            path.to_str().unwrap(),
-        ])
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
+    let mut child = spawn_recording_session(&path);
     std::thread::sleep(Duration::from_millis(2600));
     child.kill().unwrap(); // SIGKILL: no chance to finish the file
     child.wait().unwrap();
@@ -437,22 +409,7 @@ fn report_number(report: &str, label: &str) -> f64 {
 
 #[test]
 fn simulated_patient_drives_every_exercise_of_the_library() {
-    let names = [
-        "straight-road",
-        "sine-road",
-        "triangle-road",
-        "clothoid-road",
-        "sharp-turns",
-        "s-bend",
-        "lane-change",
-        "slalom",
-        "dial-sine",
-        "dial-multi-sine",
-        "dial-step",
-        "dial-ramp",
-        "dial-chirp",
-    ];
-    for name in names {
+    for name in vehicle::EXERCISE_NAMES {
         let out = run_ok(&[
             "run",
             "--sim",

@@ -45,6 +45,28 @@ pub fn run_ok(args: &[&str]) -> Output {
     out
 }
 
+/// Start a 60 s real-time simulated session recording to `mcap`, output piped (tests stop it
+/// early with a signal).
+pub fn spawn_recording_session(mcap: &Path) -> std::process::Child {
+    let mcap = mcap.to_str().expect("utf-8 path");
+    Command::new(telerehab_bin())
+        .args([
+            "run",
+            "--sim",
+            "--headless",
+            "--duration",
+            "60",
+            "--seed",
+            "7",
+            "--record",
+            mcap,
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("start telerehab")
+}
+
 /// One decoded MCAP message.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Msg {
