@@ -7,10 +7,18 @@ if ! command -v cargo >/dev/null 2>&1; then export PATH="$HOME/.cargo/bin:$PATH"
 cargo build --release -p station --bin telerehab
 BIN=target/release/telerehab
 mkdir -p out
-"$BIN" therapist --listen 127.0.0.1:7878 --store out/therapist &
+# The hub picks a free port and says which on its first line.
+"$BIN" therapist --listen 127.0.0.1:0 --store out/therapist > out/hub.log 2>&1 &
 HUB=$!
 trap 'kill -INT $HUB 2>/dev/null || true; wait $HUB 2>/dev/null || true' EXIT
-sleep 0.5
+ADDR=""
+for _ in $(seq 100); do
+  ADDR=$(sed -n 's/^listening on \([^ ]*\).*/\1/p' out/hub.log | head -n1)
+  [ -n "$ADDR" ] && break
+  kill -0 $HUB 2>/dev/null || { echo "the therapist hub did not start:"; cat out/hub.log; exit 1; }
+  sleep 0.1
+done
+[ -n "$ADDR" ] || { echo "the therapist hub did not say where it listens"; exit 1; }
 "$BIN" run --sim --headless --duration "${DURATION:-60}" --seed 7 --exercise sine-road \
-  --record out/session.mcap --therapist 127.0.0.1:7878
-echo "therapist store:"; find out/therapist -type f | sort
+  --record out/session.mcap --therapist "$ADDR"
+echo "therapist hub log: out/hub.log; its store:"; find out/therapist -type f | sort
