@@ -2,7 +2,9 @@
 
 use std::process::Command;
 use std::time::{Duration, Instant};
-use telerehab_tests::{by_topic, read_mcap, run_ok, spawn_recording_session, telerehab_bin};
+use telerehab_tests::{
+    by_topic, read_mcap, run_ok, spawn_recording_session, telerehab_bin, wait_for_first_chunk,
+};
 
 #[test]
 fn binary_reports_its_version() {
@@ -201,7 +203,8 @@ fn sigint_ends_the_session_cleanly_with_a_readable_recording() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("int.mcap");
     let child = spawn_recording_session(&path);
-    std::thread::sleep(Duration::from_millis(1500));
+    wait_for_first_chunk(&path);
+    std::thread::sleep(Duration::from_millis(300));
     let status = Command::new("kill")
         .args(["-INT", &child.id().to_string()])
         .status()
@@ -343,7 +346,8 @@ fn killed_session_loses_at_most_the_last_second_and_recovers_to_a_finished_file(
     let path = dir.path().join("killed.mcap");
     let fixed = dir.path().join("fixed.mcap");
     let mut child = spawn_recording_session(&path);
-    std::thread::sleep(Duration::from_millis(2600));
+    wait_for_first_chunk(&path);
+    std::thread::sleep(Duration::from_millis(300));
     child.kill().unwrap(); // SIGKILL: no chance to finish the file
     child.wait().unwrap();
     let out = run_ok(&[

@@ -67,6 +67,22 @@ pub fn spawn_recording_session(mcap: &Path) -> std::process::Child {
         .expect("start telerehab")
 }
 
+/// Wait (up to 20 s) until the recording at `path` holds at least one closed chunk (the
+/// recorder closes one every 1000 ticks), so a test's signal lands mid-session whatever the
+/// machine's load.
+pub fn wait_for_first_chunk(path: &Path) {
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(20);
+    // 300 kB: past the first closed chunk (150–220 kB each at 1 kHz), so ≥ 1000 ticks are safe.
+    while std::fs::metadata(path).map(|m| m.len()).unwrap_or(0) < 300_000 {
+        assert!(
+            std::time::Instant::now() < deadline,
+            "no chunk in {} after 20 s",
+            path.display()
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+}
+
 /// One decoded MCAP message.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Msg {
