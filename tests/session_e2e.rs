@@ -470,3 +470,29 @@ fn unknown_exercise_lists_the_known_ones() {
         "{err}"
     );
 }
+
+#[test]
+fn assist_prescribed_for_one_exercise_of_a_regimen_is_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    let regimen = dir.path().join("r.toml");
+    std::fs::write(
+        &regimen,
+        "[[exercise]]\nkind = \"dial\"\nduration_s = 5.0\n[exercise.assist.mode]\nkind = \"motion\"\n\n\
+         [[exercise]]\nkind = \"straight\"\nlength_m = 100.0\n",
+    )
+    .unwrap();
+    let out = run_ok(&[
+        "run",
+        "--sim",
+        "--headless",
+        "--speed",
+        "max",
+        "--regimen",
+        regimen.to_str().unwrap(),
+    ]);
+    let report = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        report.contains("\nassist              mean level"),
+        "{report}"
+    );
+}

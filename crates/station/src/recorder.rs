@@ -244,7 +244,7 @@ impl McapRecorder {
 
 impl RecorderOutcome {
     /// Account for one tick.
-    pub fn add(&mut self, rec: &TickRecord, assisted: bool) {
+    pub fn add(&mut self, rec: &TickRecord) {
         self.records += 1;
         self.timing.add(
             rec.timing.lateness_ns,
@@ -256,7 +256,7 @@ impl RecorderOutcome {
         self.road_ticks += u64::from(rec.vehicle.is_some());
         self.dial_ticks += u64::from(rec.vehicle.is_none());
         self.fault_ticks += u64::from(rec.wheel.watchdog.starts_with("fault"));
-        if assisted {
+        if rec.assist.active {
             self.assist_ticks += 1;
             self.assist_level_sum += rec.assist.assistance_level;
             self.assist_error_sq_sum += rec.assist.error_rad * rec.assist.error_rad;

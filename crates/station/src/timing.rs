@@ -80,10 +80,10 @@ impl TimingStats {
         percentiles(&self.work_ns)
     }
 
-    /// 99th percentile of the lateness over the last `n` ticks, µs (for live summaries).
-    pub fn recent_lateness_p99_us(&self, n: usize) -> f64 {
-        let start = self.lateness_ns.len().saturating_sub(n);
-        percentiles(&self.lateness_ns[start..]).p99_us
+    /// 99th percentile of the period error over the last `n` ticks, µs (for live summaries).
+    pub fn recent_period_error_p99_us(&self, n: usize) -> f64 {
+        let start = self.period_error_ns.len().saturating_sub(n);
+        percentiles(&self.period_error_ns[start..]).p99_us
     }
 }
 

@@ -3,7 +3,6 @@
 
 use crate::session::plant::Plant;
 use crate::session::record::{TickRecord, TimingSample};
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
@@ -118,7 +117,7 @@ pub fn run(
     total_ticks: u64,
     pacing: Pacing,
     isolate_core: bool,
-    stop: &Arc<AtomicBool>,
+    stop: &AtomicBool,
 ) -> HapticOutcome {
     let realtime_priority = pacing == Pacing::RealTime && request_realtime_priority();
     let pinned = pacing == Pacing::RealTime && isolate_core && cores::pin_haptic_thread();

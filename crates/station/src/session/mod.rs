@@ -60,7 +60,7 @@ pub struct LiveSummary {
     pub record: TickRecord,
     /// Largest |commanded torque| so far, N·m.
     pub max_abs_torque_nm: f64,
-    /// 99th percentile of wake-up lateness over the last second, µs.
+    /// 99th percentile of the loop period error over the last second, µs.
     pub loop_p99_us: f64,
     /// Further metrics for the therapist (assist level, joint angles, …), name → value.
     pub extra: BTreeMap<String, f64>,
@@ -151,7 +151,6 @@ pub fn run(
         expected_ticks: total_ticks,
         summary_every,
         flush_every,
-        assisted: cfg.assist.is_some(),
     };
 
     let (haptic, recorder_outcome, summaries) = std::thread::scope(|scope| -> anyhow::Result<_> {
@@ -162,7 +161,6 @@ pub fn run(
                 recorder_loop(consumer, recorder, &done, plan, observer)
             })
             .context("cannot start the recorder thread")?;
-        let stop_h = stop.clone();
         let haptic_thread = std::thread::Builder::new()
             .name("haptic".into())
             .spawn_scoped(scope, move || {
@@ -172,7 +170,7 @@ pub fn run(
                     total_ticks,
                     pacing,
                     isolate_core,
-                    &stop_h,
+                    &stop,
                 )
             })
             .context("cannot start the haptic thread")?;
@@ -241,8 +239,6 @@ struct RecorderPlan {
     summary_every: u64,
     /// Ticks between MCAP chunk flushes.
     flush_every: u64,
-    /// An assist controller is active.
-    assisted: bool,
 }
 
 fn recorder_loop(
@@ -257,7 +253,6 @@ fn recorder_loop(
         expected_ticks,
         summary_every,
         flush_every,
-        assisted,
     } = plan;
     let mut out = RecorderOutcome {
         timing: TimingStats::new(period_ns, expected_ticks as usize + 1000),
@@ -275,7 +270,7 @@ fn recorder_loop(
                 continue;
             }
         };
-        out.add(&rec, assisted);
+        out.add(&rec);
         observer.on_tick(&rec);
         let summary_tick = rec.tick % summary_every == 0 && rec.tick > 0;
         if let Some(m) = mcap.as_mut() {
@@ -297,7 +292,7 @@ fn recorder_loop(
                 seq,
                 record: rec,
                 max_abs_torque_nm: out.max_abs_torque_nm,
-                loop_p99_us: out.timing.recent_lateness_p99_us(1000),
+                loop_p99_us: out.timing.recent_period_error_p99_us(1000),
                 extra: summary_extra(&out),
             });
             seq += 1;

@@ -114,7 +114,6 @@ pub struct Plant {
     driving: DrivingScore,
     dial: DialScore,
     params: vehicle::VehicleParams,
-    ceiling_nm: f64,
     slew_nm_per_s: f64,
     dt_s: f64,
     tick: u64,
@@ -154,7 +153,8 @@ impl Plant {
         chain
             .apply_regimen(&course[0].haptic)
             .context("haptic settings of the first exercise")?;
-        let ceiling_nm = h.safety.ceiling_nm.unwrap_or(device_max).min(device_max);
+        // The road-feel law never asks more than the chain's ceiling at the start.
+        let ceiling_nm = chain.ceiling_nm();
         let mut plant = Self {
             body,
             chain,
@@ -176,7 +176,6 @@ impl Plant {
             driving: DrivingScore::default(),
             dial: DialScore::default(),
             params: cfg.vehicle.clone(),
-            ceiling_nm,
             slew_nm_per_s: h.safety.slew_nm_per_s,
             dt_s: 1.0 / cfg.session.loop_rate_hz,
             tick: 0,
@@ -293,12 +292,14 @@ impl Plant {
                 (desired, 0.0, None, seg.exercise.is_finished(t_in, 0.0))
             }
         };
+        let seg_assisted = seg.assist.is_some();
         let assist_out = match &mut seg.assist {
             Some(a) => {
-                // The assist gets the torque budget the road feel leaves (the chain's limiter
-                // would otherwise clip torque the assist believes it delivered).
+                // The assist gets the torque budget the road feel leaves under the chain's
+                // ceiling now (a regimen may have lowered it): the chain's limiter would
+                // otherwise clip torque the assist believes it delivered.
                 let limits = Limits {
-                    ceiling_nm: (self.ceiling_nm - road_feel.abs()).max(0.0),
+                    ceiling_nm: (self.chain.ceiling_nm() - road_feel.abs()).max(0.0),
                     slew_nm_per_s: self.slew_nm_per_s,
                 };
                 let m = Measurement {
@@ -359,6 +360,7 @@ impl Plant {
                 dial_rms_error_deg: dial.rms_error_deg,
             },
             assist: AssistSample {
+                active: seg_assisted,
                 torque_nm: assist_out.torque_nm,
                 reference_rad: assist_out.reference_rad,
                 error_rad: assist_out.error_rad,

@@ -119,6 +119,8 @@ pub struct ScoreSample {
 /// Active assistance in one tick (channel `/assist`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, JsonSchema)]
 pub struct AssistSample {
+    /// An assist controller runs during this exercise.
+    pub active: bool,
     /// Assist torque, N·m.
     pub torque_nm: f64,
     /// Reference the assist tracks (after the reference governor), rad.
