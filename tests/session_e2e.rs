@@ -3,7 +3,7 @@
 use std::process::Command;
 use std::time::{Duration, Instant};
 use telerehab_tests::{
-    by_topic, read_mcap, run_ok, spawn_recording_session, telerehab_bin, wait_for_first_chunk,
+    by_topic, read_mcap, run_err, run_ok, spawn_recording_session, wait_for_first_chunk,
 };
 
 #[test]
@@ -237,31 +237,17 @@ fn bad_config_value_is_reported_by_field_and_range() {
     let dir = tempfile::tempdir().unwrap();
     let cfg = dir.path().join("bad.toml");
     std::fs::write(&cfg, "[haptic.safety]\nceiling_nm = 9.0\n").unwrap();
-    let out = Command::new(telerehab_bin())
-        .args([
-            "run",
-            "--sim",
-            "--headless",
-            "--config",
-            cfg.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = run_err(&[
+        "run",
+        "--sim",
+        "--headless",
+        "--config",
+        cfg.to_str().unwrap(),
+    ]);
     assert!(
         err.contains("haptic.safety") && err.contains("ceiling_nm") && err.contains("1.87"),
         "{err}"
     );
-}
-
-/// The report's RMS lateral deviation, m.
-fn rms_lateral_m(report: &str) -> f64 {
-    let line = report
-        .lines()
-        .find(|l| l.starts_with("RMS lateral dev."))
-        .expect("RMS line");
-    line.split_whitespace().nth(3).unwrap().parse().unwrap()
 }
 
 #[test]
@@ -289,7 +275,10 @@ fn motion_assist_keeps_a_weak_simulated_patient_in_lane_and_says_so() {
         "assisted.toml",
         &format!("{weak}[assist.mode]\nkind = \"motion\"\n"),
     );
-    let (e_alone, e_assisted) = (rms_lateral_m(&alone), rms_lateral_m(&assisted));
+    let (e_alone, e_assisted) = (
+        report_number(&alone, "RMS lateral dev."),
+        report_number(&assisted, "RMS lateral dev."),
+    );
     assert!(
         e_alone > 1.0,
         "a weak patient alone should leave the lane: {alone}"
@@ -320,19 +309,14 @@ fn devices_without_hardware_explains_and_exits_zero() {
 fn real_session_without_a_wheel_fails_clearly_and_records_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("none.mcap");
-    let out = Command::new(telerehab_bin())
-        .args([
-            "run",
-            "--headless",
-            "--duration",
-            "1",
-            "--record",
-            path.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = run_err(&[
+        "run",
+        "--headless",
+        "--duration",
+        "1",
+        "--record",
+        path.to_str().unwrap(),
+    ]);
     assert!(err.contains("telerehab devices"), "{err}");
     assert!(
         !path.exists(),
@@ -459,12 +443,7 @@ fn regimen_runs_its_exercises_in_order_and_ends_the_session() {
 
 #[test]
 fn unknown_exercise_lists_the_known_ones() {
-    let out = Command::new(telerehab_bin())
-        .args(["run", "--sim", "--headless", "--exercise", "moon-road"])
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = run_err(&["run", "--sim", "--headless", "--exercise", "moon-road"]);
     assert!(
         err.contains("moon-road") && err.contains("sine-road"),
         "{err}"

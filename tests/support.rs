@@ -45,6 +45,19 @@ pub fn run_ok(args: &[&str]) -> Output {
     out
 }
 
+/// Run `telerehab` with `args`, expecting it to fail; returns its standard error.
+pub fn run_err(args: &[&str]) -> String {
+    let out = Command::new(telerehab_bin())
+        .args(args)
+        .output()
+        .expect("run telerehab");
+    assert!(
+        !out.status.success(),
+        "telerehab {args:?} should have failed"
+    );
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
 /// Start a 60 s real-time simulated session recording to `mcap`, output piped (tests stop it
 /// early with a signal).
 pub fn spawn_recording_session(mcap: &Path) -> std::process::Child {

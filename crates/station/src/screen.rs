@@ -31,8 +31,10 @@ impl CourseView {
             None => vec![ExerciseSpec::from_name(&cfg.session.exercise)?],
         };
         let mut exercises = Vec::with_capacity(specs.len());
+        let mut course_s = 0.0;
         for spec in specs {
             let ex = spec.build()?;
+            course_s += crate::session::course::nominal_time_s(&ex);
             let road = ex.road.as_ref().map(|r| {
                 let n = (ex.length_m / ROAD_SAMPLE_M).ceil() as usize;
                 let centre = (0..=n)
@@ -58,14 +60,19 @@ impl CourseView {
         }
         Ok(Self {
             exercises,
-            duration_s: cfg.session.duration_s,
+            // A regimen ends the session when its exercises are done; laps fill the duration.
+            duration_s: if regimen.is_some() {
+                course_s.min(cfg.session.duration_s)
+            } else {
+                cfg.session.duration_s
+            },
         })
     }
 
     /// The scene for the tick `rec`.
     pub fn scene(&self, rec: &TickRecord, screen: ScreenState) -> Scene {
-        let idx = (rec.score.exercise_index as usize).min(self.exercises.len() - 1);
-        let ex = &self.exercises[idx % self.exercises.len()];
+        // Laps of one exercise share its view.
+        let ex = &self.exercises[(rec.score.exercise_index as usize).min(self.exercises.len() - 1)];
         let t_s = rec.t_ns as f64 * 1e-9;
         let (road, car, dial, score, speed) = match (&ex.road, rec.vehicle) {
             (Some(road), Some(v)) => (
