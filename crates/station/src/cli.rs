@@ -343,7 +343,7 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
     let report = match view {
         None => session::run(
             &opts,
-            stop,
+            &stop,
             &mut RunObserver {
                 link: &link,
                 screen: None,
@@ -417,7 +417,7 @@ fn render(args: RenderArgs) -> anyhow::Result<()> {
         regimen,
         isolate_core: false,
     };
-    session::run(&opts, stop, &mut frames)?;
+    session::run(&opts, &stop, &mut frames)?;
     let scenes = frames
         .records
         .iter()
@@ -455,7 +455,7 @@ fn run_with_window(
             .spawn_scoped(scope, || {
                 let r = session::run(
                     opts,
-                    stop.clone(),
+                    &stop,
                     &mut RunObserver {
                         link,
                         screen: Some(input),

@@ -144,6 +144,15 @@ mod tests {
     }
 
     #[test]
+    fn regimen_recorded_in_a_session_reads_back_the_same() {
+        let text = "[[exercise]]\nkind = \"dial\"\n[exercise.haptic.model]\nk_nm_per_rad = 0.3\n\
+                    [exercise.assist.mode]\nkind = \"motion\"\n\n[[exercise]]\nkind = \"slalom\"\n";
+        let r = Regimen::from_toml(text, "r.toml").unwrap();
+        let again = Regimen::from_toml(&toml::to_string(&r).unwrap(), "recorded").unwrap();
+        assert_eq!(r, again);
+    }
+
+    #[test]
     fn bad_value_names_the_exercise_and_field() {
         let text = "[[exercise]]\nkind = \"straight\"\n\n[[exercise]]\nkind = \"sine\"\namplitude_m = -3.0\n";
         let msg = Regimen::from_toml(text, "r.toml").unwrap_err().to_string();

@@ -105,7 +105,7 @@ pub trait SessionObserver: Send {
 /// `observer` watches it from the recorder thread.
 pub fn run(
     opts: &SessionOptions,
-    stop: Arc<AtomicBool>,
+    stop: &AtomicBool,
     observer: &mut dyn SessionObserver,
 ) -> anyhow::Result<SessionReport> {
     let cfg = &opts.config;
@@ -132,6 +132,13 @@ pub fn run(
                 "config_toml".into(),
                 toml::to_string(cfg).unwrap_or_default(),
             );
+            // A session is replayable only with its course: record the regimen as well.
+            if let Some(r) = &opts.regimen {
+                meta.insert(
+                    "regimen_toml".into(),
+                    toml::to_string(r).unwrap_or_default(),
+                );
+            }
             Some(
                 McapRecorder::create(path, start_unix_ns, &meta)
                     .context("cannot start recording")?,
@@ -170,7 +177,7 @@ pub fn run(
                     total_ticks,
                     pacing,
                     isolate_core,
-                    &stop,
+                    stop,
                 )
             })
             .context("cannot start the haptic thread")?;
