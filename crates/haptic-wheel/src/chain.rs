@@ -234,6 +234,12 @@ impl HapticChain {
         self.supervisor.request_stop();
     }
 
+    /// Pause the torque (fade to zero and hold) or resume it (soft start); see
+    /// [`Supervisor::set_paused`].
+    pub fn set_paused(&mut self, paused: bool) {
+        self.supervisor.set_paused(paused);
+    }
+
     /// The latest state estimate.
     pub fn state(&self) -> WheelState {
         self.state

@@ -170,6 +170,9 @@ pub enum WatchdogState {
     Running,
     /// A fault is present or was recent: ramping the torque scale down.
     Fault(Fault),
+    /// The patient paused the exercise: ramping down, then zero torque until resumed (a
+    /// resume soft-starts).
+    Paused,
     /// A stop was requested: ramping down, then [`WatchdogState::Stopped`].
     Stopping,
     /// Stopped for good: zero torque until a new supervisor is made.
@@ -197,7 +200,8 @@ pub struct Supervised {
 /// [`TorqueLimiter`]. The scale rises over `soft_start_s` while healthy and falls over
 /// `fade_out_s` while faulted or stopping. A fault keeps the scale falling for at least
 /// `fade_out_s` (so a single missed tick still ramps the torque to zero), after which a
-/// healthy loop soft-starts again. A stop is final.
+/// healthy loop soft-starts again. A pause fades like a stop but is not final: on resume the
+/// scale soft-starts from wherever it is. A stop is final.
 #[derive(Clone, Debug)]
 pub struct Supervisor {
     cfg: SafetyConfig,
@@ -206,6 +210,7 @@ pub struct Supervisor {
     last_tick_ns: Option<u64>,
     fault_until_ns: u64,
     fault: Option<Fault>,
+    paused: bool,
     stopping: bool,
 }
 
@@ -220,6 +225,7 @@ impl Supervisor {
             last_tick_ns: None,
             fault_until_ns: 0,
             fault: None,
+            paused: false,
             stopping: false,
         })
     }
@@ -251,6 +257,12 @@ impl Supervisor {
     /// Ask for a fade-out to zero and a final stop.
     pub fn request_stop(&mut self) {
         self.stopping = true;
+    }
+
+    /// Pause (fade to zero and hold there) or resume (soft start) the torque; a stop
+    /// overrides both.
+    pub fn set_paused(&mut self, paused: bool) {
+        self.paused = paused;
     }
 
     /// The last torque let through, N·m.
@@ -303,6 +315,9 @@ impl Supervisor {
             // Fade by the real gap: after a stall the torque has been stale for that long.
             self.scale = (self.scale - gap_s / self.cfg.fade_out_s).max(0.0);
             WatchdogState::Fault(f)
+        } else if self.paused {
+            self.scale = (self.scale - gap_s / self.cfg.fade_out_s).max(0.0);
+            WatchdogState::Paused
         } else {
             self.scale = (self.scale + dt / self.cfg.soft_start_s).min(1.0);
             if self.scale < 1.0 {
@@ -453,6 +468,38 @@ mod tests {
         assert_eq!(out.torque_nm, 0.0);
         let out = run(&mut s, 300, 1000, 1.5);
         assert_eq!(out.torque_nm, 0.0, "a stop is final");
+    }
+
+    #[test]
+    fn pause_fades_to_zero_holds_and_resume_soft_starts() {
+        let mut s = sup();
+        run(&mut s, 0, 200, 1.5);
+        s.set_paused(true);
+        let out = run(&mut s, 200, 100, 1.5);
+        assert_eq!(out.state, WatchdogState::Paused);
+        assert_eq!(out.torque_nm, 0.0);
+        let out = run(&mut s, 300, 1000, 1.5);
+        assert_eq!(out.torque_nm, 0.0, "held at zero while paused");
+        s.set_paused(false);
+        let out = run(&mut s, 1300, 50, 1.5);
+        assert_eq!(out.state, WatchdogState::SoftStart);
+        assert!(out.torque_nm > 0.0 && out.torque_nm < 1.5, "{out:?}");
+        let out = run(&mut s, 1350, 200, 1.5);
+        assert_eq!(out.state, WatchdogState::Running);
+        assert!((out.torque_nm - 1.5).abs() < 1e-9);
+    }
+
+    #[test]
+    fn stop_while_paused_is_final() {
+        let mut s = sup();
+        run(&mut s, 0, 200, 1.5);
+        s.set_paused(true);
+        run(&mut s, 200, 100, 1.5);
+        s.request_stop();
+        s.set_paused(false);
+        let out = run(&mut s, 300, 500, 1.5);
+        assert_eq!(out.state, WatchdogState::Stopped);
+        assert_eq!(out.torque_nm, 0.0);
     }
 
     #[test]

@@ -317,7 +317,7 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
         Speed::Realtime => Pacing::RealTime,
         Speed::Max => Pacing::Max,
     };
-    let stop = install_stop_flag()?;
+    let controls = session::Controls::with_stop(install_stop_flag()?);
     let view = if args.headless {
         None
     } else {
@@ -343,13 +343,13 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
     let report = match view {
         None => session::run(
             &opts,
-            &stop,
+            &controls,
             &mut RunObserver {
                 link: &link,
                 screen: None,
             },
         )?,
-        Some(view) => run_with_window(&opts, stop, &link, &view)?,
+        Some(view) => run_with_window(&opts, &controls, &link, &view)?,
     };
     let link_report = link.finish(report.summaries);
     print!("{}", crate::report::render(&report, link_report.as_ref()));
@@ -417,7 +417,7 @@ fn render(args: RenderArgs) -> anyhow::Result<()> {
         regimen,
         isolate_core: false,
     };
-    session::run(&opts, &stop, &mut frames)?;
+    session::run(&opts, &session::Controls::with_stop(stop), &mut frames)?;
     let scenes = frames
         .records
         .iter()
@@ -441,7 +441,7 @@ fn render(args: RenderArgs) -> anyhow::Result<()> {
 /// session simply runs headless.
 fn run_with_window(
     opts: &SessionOptions,
-    stop: Arc<AtomicBool>,
+    controls: &session::Controls,
     link: &Link,
     view: &CourseView,
 ) -> anyhow::Result<session::SessionReport> {
@@ -455,7 +455,7 @@ fn run_with_window(
             .spawn_scoped(scope, || {
                 let r = session::run(
                     opts,
-                    &stop,
+                    controls,
                     &mut RunObserver {
                         link,
                         screen: Some(input),
@@ -474,15 +474,17 @@ fn run_with_window(
                 &rec,
                 if rec.tick == 0 {
                     ScreenState::Start
+                } else if rec.score.paused {
+                    ScreenState::Paused
                 } else {
                     ScreenState::Running
                 },
             ))
         };
         let on_request = |r: UserRequest| match r {
-            UserRequest::Quit => stop.store(true, Ordering::Relaxed),
+            UserRequest::Quit => controls.stop.store(true, Ordering::Relaxed),
             UserRequest::TogglePause => {
-                tracing::info!("pause is not available yet; Esc ends the session")
+                controls.pause.fetch_xor(true, Ordering::Relaxed);
             }
         };
         if let Err(e) = crate::render::window::run("telerehab", source, on_request) {

@@ -253,8 +253,10 @@ impl RecorderOutcome {
         );
         self.max_abs_torque_nm = self.max_abs_torque_nm.max(rec.wheel.commanded_nm.abs());
         self.clipped_ticks += u64::from(rec.wheel.clipped);
-        self.road_ticks += u64::from(rec.vehicle.is_some());
-        self.dial_ticks += u64::from(rec.vehicle.is_none());
+        let active = !rec.score.paused;
+        self.road_ticks += u64::from(active && rec.vehicle.is_some());
+        self.dial_ticks += u64::from(active && rec.vehicle.is_none());
+        self.paused_ticks += u64::from(!active);
         self.fault_ticks += u64::from(rec.wheel.watchdog.starts_with("fault"));
         if rec.assist.active {
             self.assist_ticks += 1;
@@ -279,10 +281,12 @@ pub struct RecorderOutcome {
     pub max_abs_torque_nm: f64,
     /// Ticks on which the safety chain limited the torque.
     pub clipped_ticks: u64,
-    /// Ticks spent on road exercises.
+    /// Ticks spent on road exercises (not paused).
     pub road_ticks: u64,
-    /// Ticks spent on the dial task.
+    /// Ticks spent on the dial task (not paused).
     pub dial_ticks: u64,
+    /// Ticks the patient had the exercise paused.
+    pub paused_ticks: u64,
     /// Ticks on which the safety supervisor saw a fault (missed deadline, stale reading).
     pub fault_ticks: u64,
     /// Ticks with an active assist controller.

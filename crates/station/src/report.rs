@@ -100,6 +100,12 @@ pub fn render(r: &SessionReport, link: Option<&LinkReport>) -> String {
         r.exercises,
         last.score.exercise_index + 1
     );
+    if rec.paused_ticks > 0 {
+        line!(
+            "paused              {:.1} s (not counted in the exercise time)",
+            rec.paused_ticks as f64 / r.loop_rate_hz
+        );
+    }
     if rec.road_ticks > 0 {
         line!(
             "RMS lateral dev.    {:.3} m (max {:.3} m)",

@@ -73,7 +73,8 @@ impl CourseView {
     pub fn scene(&self, rec: &TickRecord, screen: ScreenState) -> Scene {
         // Laps of one exercise share its view.
         let ex = &self.exercises[(rec.score.exercise_index as usize).min(self.exercises.len() - 1)];
-        let t_s = rec.t_ns as f64 * 1e-9;
+        // Pauses do not count: the exercise clock stops with the car.
+        let t_s = rec.score.active_s;
         let (road, car, dial, score, speed) = match (&ex.road, rec.vehicle) {
             (Some(road), Some(v)) => (
                 road.clone(),

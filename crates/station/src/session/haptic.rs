@@ -1,9 +1,10 @@
 //! The haptic thread: one tick per period at absolute deadlines, records out through a
 //! wait-free ring buffer, torque faded to zero on every way out.
 
+use crate::session::Controls;
 use crate::session::plant::Plant;
 use crate::session::record::{TickRecord, TimingSample};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 /// How the loop paces itself.
@@ -117,7 +118,7 @@ pub fn run(
     total_ticks: u64,
     pacing: Pacing,
     isolate_core: bool,
-    stop: &AtomicBool,
+    controls: &Controls,
 ) -> HapticOutcome {
     let realtime_priority = pacing == Pacing::RealTime && request_realtime_priority();
     let pinned = pacing == Pacing::RealTime && isolate_core && cores::pin_haptic_thread();
@@ -142,11 +143,16 @@ pub fn run(
     let mut stopping_since: Option<u64> = None;
     let mut stopped_early = false;
     let mut tick = 0u64;
+    let mut paused = false;
     loop {
+        // The session's length counts exercise time: a pause lengthens it.
+        let active = plant.active_ticks();
         if stopping_since.is_none()
-            && (tick >= total_ticks || plant.course_done() || stop.load(Ordering::Relaxed))
+            && (active >= total_ticks
+                || plant.course_done()
+                || controls.stop.load(Ordering::Relaxed))
         {
-            stopped_early = tick < total_ticks && !plant.course_done();
+            stopped_early = active < total_ticks && !plant.course_done();
             stopping_since = Some(tick);
             plant.request_stop();
         }
@@ -162,6 +168,16 @@ pub fn run(
         } else {
             Instant::now()
         };
+        let pause = controls.pause.load(Ordering::Relaxed);
+        if pause != paused && stopping_since.is_none() {
+            paused = pause;
+            plant.set_paused(paused);
+            tracing::info!(
+                paused,
+                "exercise {}",
+                if paused { "paused" } else { "resumed" }
+            );
+        }
         let mut rec = plant.tick();
         let done = Instant::now();
         rec.timing = TimingSample {

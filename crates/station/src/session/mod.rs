@@ -6,6 +6,8 @@ pub mod course;
 pub mod haptic;
 pub mod plant;
 pub mod record;
+#[cfg(test)]
+mod tests;
 
 use crate::config::StationConfig;
 use crate::recorder::{McapRecorder, RecorderOutcome, SUMMARY_EVERY_S};
@@ -101,11 +103,30 @@ pub trait SessionObserver: Send {
     fn on_summary(&mut self, _summary: &LiveSummary) {}
 }
 
-/// Run a session until its duration is over, its course is done or `stop` is set;
-/// `observer` watches it from the recorder thread.
+/// What other threads (a signal handler, the patient's window) may ask of a running session.
+#[derive(Debug, Default)]
+pub struct Controls {
+    /// End the session: the torque fades out and everything is recorded and delivered.
+    pub stop: Arc<AtomicBool>,
+    /// While set, the exercise is paused (see [`plant::Plant::set_paused`]).
+    pub pause: AtomicBool,
+}
+
+impl Controls {
+    /// Controls around an existing stop flag (such as the one signal handlers set).
+    pub fn with_stop(stop: Arc<AtomicBool>) -> Self {
+        Self {
+            stop,
+            pause: AtomicBool::new(false),
+        }
+    }
+}
+
+/// Run a session until its exercise time reaches its duration, its course is done or
+/// `controls.stop` is set; `observer` watches it from the recorder thread.
 pub fn run(
     opts: &SessionOptions,
-    stop: &AtomicBool,
+    controls: &Controls,
     observer: &mut dyn SessionObserver,
 ) -> anyhow::Result<SessionReport> {
     let cfg = &opts.config;
@@ -177,7 +198,7 @@ pub fn run(
                     total_ticks,
                     pacing,
                     isolate_core,
-                    stop,
+                    controls,
                 )
             })
             .context("cannot start the haptic thread")?;

@@ -117,6 +117,11 @@ pub struct Plant {
     slew_nm_per_s: f64,
     dt_s: f64,
     tick: u64,
+    /// Ticks the exercise ran (not paused): the exercise clock.
+    active_ticks: u64,
+    paused: bool,
+    /// Where the patient aimed last, rad (held while paused).
+    last_target_rad: f64,
     velocity_rad_s: f64,
     watchdog: WatchdogState,
 }
@@ -179,6 +184,9 @@ impl Plant {
             slew_nm_per_s: h.safety.slew_nm_per_s,
             dt_s: 1.0 / cfg.session.loop_rate_hz,
             tick: 0,
+            active_ticks: 0,
+            paused: false,
+            last_target_rad: 0.0,
             velocity_rad_s: 0.0,
             watchdog: WatchdogState::SoftStart,
         };
@@ -213,6 +221,18 @@ impl Plant {
         self.chain.request_stop();
     }
 
+    /// Pause the exercise (its clock, the car and the scores freeze and the torque fades to
+    /// zero; the loop and the recording go on) or resume it (the torque soft-starts).
+    pub fn set_paused(&mut self, paused: bool) {
+        self.paused = paused;
+        self.chain.set_paused(paused);
+    }
+
+    /// Ticks the exercise has run, pauses excluded.
+    pub fn active_ticks(&self) -> u64 {
+        self.active_ticks
+    }
+
     /// The supervisor has faded the torque to zero for good.
     pub fn stopped(&self) -> bool {
         self.watchdog == WatchdogState::Stopped
@@ -234,8 +254,11 @@ impl Plant {
     /// Advance one loop period.
     pub fn tick(&mut self) -> TickRecord {
         let dt = self.dt_s;
-        let t_ns = self.tick * (dt * 1e9).round() as u64;
-        let t_s = t_ns as f64 * 1e-9;
+        let period_ns = (dt * 1e9).round() as u64;
+        let t_ns = self.tick * period_ns;
+        // The exercise runs on its own clock, which stops while paused.
+        let t_s = (self.active_ticks * period_ns) as f64 * 1e-9;
+        let paused = self.paused;
         // 1. Read the wheel as the host sees it (quantised, delayed).
         let reading = self.body.wheel().read().ok();
         let angle = reading.map_or(0.0, |r| r.angle_rad);
@@ -246,6 +269,12 @@ impl Plant {
         let seg = &mut self.course[self.segment];
         let t_in = t_s - self.segment_start_s;
         let (target, road_feel, vehicle, finished) = match (&mut seg.world, &seg.exercise.road) {
+            (Some(world), Some(_)) if paused => {
+                let steer = self.params.road_wheel_angle_rad(angle);
+                let vehicle = vehicle_sample(world, steer, &self.projection);
+                (self.last_target_rad, 0.0, Some(vehicle), false)
+            }
+            _ if paused => (self.last_target_rad, 0.0, None, false),
             (Some(world), Some(road)) => {
                 let steer = self.params.road_wheel_angle_rad(angle);
                 let st = world.state();
@@ -266,18 +295,7 @@ impl Plant {
                     &self.projection,
                     road.as_ref(),
                 );
-                let vehicle = VehicleSample {
-                    x_m: st.x_m,
-                    y_m: st.y_m,
-                    yaw_rad: st.yaw_rad,
-                    ux_m_s: st.ux_m_s,
-                    uy_m_s: st.uy_m_s,
-                    r_rad_s: st.r_rad_s,
-                    steer_rad: steer,
-                    front_lateral_n: fyf,
-                    s_m: self.projection.s_m,
-                    lateral_m: self.projection.lateral_m,
-                };
+                let vehicle = vehicle_sample(world, steer, &self.projection);
                 (
                     self.params.hand_wheel_angle_rad(desired),
                     // Self-aligning road feel from the front lateral tyre force (§3.3.4).
@@ -292,9 +310,10 @@ impl Plant {
                 (desired, 0.0, None, seg.exercise.is_finished(t_in, 0.0))
             }
         };
+        self.last_target_rad = target;
         let seg_assisted = seg.assist.is_some();
         let assist_out = match &mut seg.assist {
-            Some(a) => {
+            Some(a) if !paused => {
                 // The assist gets the torque budget the road feel leaves under the chain's
                 // ceiling now (a regimen may have lowered it): the chain's limiter would
                 // otherwise clip torque the assist believes it delivered.
@@ -308,7 +327,7 @@ impl Plant {
                 };
                 a.step(m, target, limits, dt)
             }
-            None => Default::default(),
+            _ => Default::default(),
         };
         let segment_index = self.segment as u32;
         if finished {
@@ -358,6 +377,8 @@ impl Plant {
                 pct_in_lane: lane.pct_in_lane(),
                 cone_hits: self.driving.summary().cone_hits,
                 dial_rms_error_deg: dial.rms_error_deg,
+                active_s: t_s,
+                paused,
             },
             assist: AssistSample {
                 active: seg_assisted,
@@ -371,6 +392,7 @@ impl Plant {
             timing: Default::default(),
         };
         self.tick += 1;
+        self.active_ticks += u64::from(!paused);
         rec
     }
 
@@ -425,5 +447,27 @@ impl Plant {
     /// Command zero torque directly (every exit path calls it; dropping the plant does too).
     pub fn zero_torque(&mut self) {
         let _ = self.body.wheel().command_torque(0.0);
+    }
+}
+
+/// The car's state on the road as recorded, with the road-wheel angle `steer_rad` the wheel
+/// asks for now.
+fn vehicle_sample(
+    world: &vehicle::World,
+    steer_rad: f64,
+    projection: &Projection,
+) -> VehicleSample {
+    let st = world.state();
+    VehicleSample {
+        x_m: st.x_m,
+        y_m: st.y_m,
+        yaw_rad: st.yaw_rad,
+        ux_m_s: st.ux_m_s,
+        uy_m_s: st.uy_m_s,
+        r_rad_s: st.r_rad_s,
+        steer_rad,
+        front_lateral_n: world.tyre_forces().front_lateral_n,
+        s_m: projection.s_m,
+        lateral_m: projection.lateral_m,
     }
 }

@@ -46,7 +46,7 @@ pub struct WheelSample {
     pub clipped: bool,
     /// Soft-start / fade-out scale of the safety supervisor, 0–1.
     pub safety_scale: f64,
-    /// Safety supervisor state: soft-start, running, fault-missed-deadline,
+    /// Safety supervisor state: soft-start, running, paused, fault-missed-deadline,
     /// fault-stale-reading, stopping, stopped.
     pub watchdog: &'static str,
     /// Passivity observer energy, J (negative: the rendered environment generated energy).
@@ -69,6 +69,7 @@ pub fn watchdog_label(state: WatchdogState) -> &'static str {
         WatchdogState::Fault(Fault::MissedDeadline) => "fault-missed-deadline",
         WatchdogState::Fault(Fault::StaleReading) => "fault-stale-reading",
         WatchdogState::Fault(_) => "fault",
+        WatchdogState::Paused => "paused",
         WatchdogState::Stopping => "stopping",
         WatchdogState::Stopped => "stopped",
     }
@@ -114,6 +115,11 @@ pub struct ScoreSample {
     pub cone_hits: u32,
     /// RMS dial tracking error so far (thesis §3.3.3), degrees.
     pub dial_rms_error_deg: f64,
+    /// Exercise time so far, s: the session clock without the pauses.
+    pub active_s: f64,
+    /// The patient paused the exercise (car, exercise clock and scores frozen; torque faded
+    /// to zero).
+    pub paused: bool,
 }
 
 /// Active assistance in one tick (channel `/assist`).

@@ -1,0 +1,137 @@
+//! Pausing an exercise: the plant freezes, the torque fades, and the session lengthens.
+
+use super::haptic::Pacing;
+use super::plant::Plant;
+use super::record::TickRecord;
+use super::{BodyKind, Controls, SessionObserver, SessionOptions, course};
+use crate::config::StationConfig;
+use std::sync::atomic::Ordering;
+
+fn config(exercise: &str, duration_s: f64) -> StationConfig {
+    let mut cfg = StationConfig::default();
+    cfg.session.exercise = exercise.into();
+    cfg.session.duration_s = duration_s;
+    cfg.session.seed = 7;
+    cfg.validate().unwrap();
+    cfg
+}
+
+fn plant(cfg: &StationConfig) -> Plant {
+    Plant::simulated(cfg, course::build(cfg, None).unwrap()).unwrap()
+}
+
+#[test]
+fn pause_freezes_car_clock_and_score_and_fades_torque_to_zero() {
+    let cfg = config("sine-road", 20.0);
+    let mut plant = plant(&cfg);
+    let before: Vec<TickRecord> = (0..4000).map(|_| plant.tick()).collect();
+    let last = before.last().unwrap();
+    assert!(
+        last.wheel.commanded_nm.abs() > 1e-3,
+        "torque before pausing"
+    );
+    plant.set_paused(true);
+    let paused: Vec<TickRecord> = (0..2000).map(|_| plant.tick()).collect();
+    let v0 = last.vehicle.unwrap();
+    for r in &paused {
+        assert!(r.score.paused);
+        assert_eq!(
+            r.score.active_s, paused[0].score.active_s,
+            "exercise clock stopped"
+        );
+        let v = r.vehicle.unwrap();
+        assert_eq!(
+            (v.x_m, v.y_m, v.yaw_rad),
+            (v0.x_m, v0.y_m, v0.yaw_rad),
+            "car frozen"
+        );
+        assert_eq!(
+            r.score.rms_lateral_m, last.score.rms_lateral_m,
+            "score frozen"
+        );
+        assert_eq!(r.assist.torque_nm, 0.0);
+    }
+    // The supervisor's fade (default 0.5 s or less) has brought the torque to zero.
+    for r in &paused[1000..] {
+        assert_eq!(r.wheel.commanded_nm, 0.0, "tick {}", r.tick);
+        assert_eq!(r.wheel.watchdog, "paused");
+    }
+    assert_eq!(plant.active_ticks(), 4000);
+    plant.set_paused(false);
+    let resumed: Vec<TickRecord> = (0..3000).map(|_| plant.tick()).collect();
+    assert_eq!(resumed[0].wheel.watchdog, "soft-start");
+    assert!(
+        resumed[2999].vehicle.unwrap().s_m > v0.s_m + 10.0,
+        "the car drives on"
+    );
+    assert!(
+        resumed[2999].wheel.commanded_nm.abs() > 1e-3,
+        "torque is back"
+    );
+    assert!(
+        (resumed[2999].score.active_s - (4000.0 + 2999.0) * 1e-3).abs() < 1e-9,
+        "the clock resumes where it stopped"
+    );
+}
+
+#[test]
+fn pause_holds_the_dial_target_and_its_score() {
+    let cfg = config("dial-sine", 20.0);
+    let mut plant = plant(&cfg);
+    let last = (0..3000).map(|_| plant.tick()).last().unwrap();
+    plant.set_paused(true);
+    for _ in 0..1500 {
+        let r = plant.tick();
+        assert_eq!(r.wheel.target_rad, last.wheel.target_rad);
+        assert_eq!(r.score.dial_rms_error_deg, last.score.dial_rms_error_deg);
+    }
+}
+
+/// Pauses the session from the first tick until the recorder has seen `hold` paused ticks.
+struct PauseThenResume<'a> {
+    controls: &'a Controls,
+    hold: usize,
+    records: Vec<TickRecord>,
+}
+
+impl SessionObserver for PauseThenResume<'_> {
+    fn on_tick(&mut self, record: &TickRecord) {
+        if record.score.paused
+            && self.records.iter().filter(|r| r.score.paused).count() + 1 >= self.hold
+        {
+            self.controls.pause.store(false, Ordering::Relaxed);
+        }
+        self.records.push(*record);
+    }
+}
+
+#[test]
+fn a_paused_session_runs_its_full_exercise_time_and_records_every_tick() {
+    let cfg = config("sine-road", 3.0);
+    let controls = Controls::default();
+    controls.pause.store(true, Ordering::Relaxed);
+    let opts = SessionOptions {
+        config: cfg,
+        pacing: Pacing::Max,
+        record: None,
+        body: BodyKind::Simulated,
+        regimen: None,
+        isolate_core: false,
+    };
+    let mut observer = PauseThenResume {
+        controls: &controls,
+        hold: 500,
+        records: Vec::new(),
+    };
+    let report = super::run(&opts, &controls, &mut observer).unwrap();
+    let recs = observer.records;
+    let paused = recs.iter().filter(|r| r.score.paused).count() as u64;
+    assert!(paused >= 500, "paused ticks {paused}");
+    assert!(recs[0].score.paused && recs[0].wheel.commanded_nm == 0.0);
+    assert!(!report.haptic.stopped_early);
+    // 3 s of exercise, plus the pause, plus the fade-out at the end.
+    let active = recs.iter().filter(|r| !r.score.paused).count() as u64;
+    assert!(active >= 3000, "active ticks {active}");
+    assert_eq!(report.haptic.ticks, recs.len() as u64);
+    assert!(recs.windows(2).all(|w| w[1].tick == w[0].tick + 1));
+}
