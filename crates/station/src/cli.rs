@@ -1,9 +1,11 @@
 //! Command-line interface.
 
+use crate::commands::bench::RenderImpact;
 use crate::config::StationConfig;
 use crate::link::Link;
 use crate::regimen::Regimen;
-use crate::render::{ScreenState, window::UserRequest};
+use crate::render::ScreenState;
+use crate::render::window::{UserRequest, WindowOptions, WindowStats};
 use crate::screen::CourseView;
 use crate::session::record::TickRecord;
 use crate::session::{
@@ -49,6 +51,8 @@ pub enum Command {
     },
     /// Run the vehicle model offline on a CSV of driver inputs.
     Vehicle(crate::commands::vehicle::VehicleArgs),
+    /// Measure the whole station (for BENCHMARKS.md).
+    Bench(crate::commands::bench::BenchArgs),
 }
 
 /// Loop pacing.
@@ -178,6 +182,9 @@ pub fn main() -> anyhow::Result<()> {
         Command::Therapist(args) => crate::therapist::run(args),
         Command::Devices => crate::devices::run(),
         Command::Render(args) => render(args),
+        Command::Bench(args) => match args.what {
+            crate::commands::bench::BenchCommand::Window(a) => bench_window(a),
+        },
         Command::Recover { input, out } => {
             let r = crate::recover::recover(&input, &out)?;
             println!(
@@ -288,16 +295,21 @@ fn plan_run(args: &RunArgs) -> anyhow::Result<(StationConfig, Option<Regimen>)> 
     Ok((cfg, regimen))
 }
 
-/// The run's observers: the therapist link and, with a window, the latest tick for the screen.
+/// The run's observers: the therapist link and, with a window, the latest tick for the screen
+/// (and the on/off phases of `telerehab bench window`).
 struct RunObserver<'a> {
     link: &'a Link,
     screen: Option<triple_buffer::Input<TickRecord>>,
+    impact: Option<&'a mut RenderImpact>,
 }
 
 impl SessionObserver for RunObserver<'_> {
     fn on_tick(&mut self, record: &TickRecord) {
         if let Some(s) = &mut self.screen {
             s.write(*record);
+        }
+        if let Some(ab) = &mut self.impact {
+            ab.on_tick(record);
         }
     }
 
@@ -347,9 +359,13 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
             &mut RunObserver {
                 link: &link,
                 screen: None,
+                impact: None,
             },
         )?,
-        Some(view) => run_with_window(&opts, &controls, &link, &view)?,
+        Some(view) => {
+            let window = WindowOptions::new("telerehab");
+            run_with_window(&opts, &controls, &link, &view, &window, None)?.0
+        }
     };
     let link_report = link.finish(report.summaries);
     print!("{}", crate::report::render(&report, link_report.as_ref()));
@@ -444,7 +460,9 @@ fn run_with_window(
     controls: &session::Controls,
     link: &Link,
     view: &CourseView,
-) -> anyhow::Result<session::SessionReport> {
+    window: &WindowOptions,
+    impact: Option<&mut RenderImpact>,
+) -> anyhow::Result<(session::SessionReport, Option<WindowStats>)> {
     // The window and its (possibly software) renderer stay off the haptic thread's core.
     session::haptic::cores::keep_off_the_haptic_core();
     let (input, mut output) = triple_buffer::triple_buffer(&TickRecord::default());
@@ -459,6 +477,7 @@ fn run_with_window(
                     &mut RunObserver {
                         link,
                         screen: Some(input),
+                        impact,
                     },
                 );
                 done.store(true, Ordering::Release);
@@ -487,11 +506,81 @@ fn run_with_window(
                 controls.pause.fetch_xor(true, Ordering::Relaxed);
             }
         };
-        if let Err(e) = crate::render::window::run("telerehab", source, on_request) {
-            tracing::warn!("no patient window ({e}); the session continues headless");
-        }
-        session
+        let stats = crate::render::window::run_with(window, source, on_request)
+            .inspect_err(|e| {
+                tracing::warn!("no patient window ({e}); the session continues headless")
+            })
+            .ok();
+        let report = session
             .join()
-            .map_err(|_| anyhow::anyhow!("session thread panicked (torque was zeroed)"))?
+            .map_err(|_| anyhow::anyhow!("session thread panicked (torque was zeroed)"))??;
+        Ok((report, stats))
     })
+}
+
+/// `telerehab bench window`: see [`crate::commands::bench`].
+fn bench_window(args: crate::commands::bench::BenchWindowArgs) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        args.phase.is_finite() && args.phase >= 0.5,
+        "--phase must be at least 0.5 s"
+    );
+    anyhow::ensure!(
+        args.duration.is_finite() && args.duration >= 6.0 * args.phase,
+        "--duration must cover at least six phases (two warm-up, two of each kind)"
+    );
+    if let Some(fps) = args.max_fps {
+        anyhow::ensure!(
+            fps.is_finite() && (1.0..=240.0).contains(&fps),
+            "--max-fps must be 1 to 240"
+        );
+    }
+    let run_args = RunArgs {
+        sim: true,
+        headless: false,
+        config: None,
+        duration: Some(args.duration),
+        seed: Some(args.seed),
+        exercise: Some(args.exercise.clone()),
+        regimen: None,
+        record: None,
+        therapist: None,
+        therapist_ca: None,
+        speed: Speed::Realtime,
+        station_id: None,
+        patient_id: None,
+    };
+    let (cfg, regimen) = plan_run(&run_args)?;
+    let view = CourseView::new(&cfg, regimen.as_ref())?;
+    let gate = Arc::new(AtomicBool::new(false));
+    let rate = cfg.session.loop_rate_hz;
+    let mut impact = RenderImpact::new(
+        gate.clone(),
+        args.phase,
+        rate,
+        (args.duration * rate) as usize,
+    );
+    let window = WindowOptions {
+        draw_gate: Some(gate),
+        max_fps: args.max_fps,
+        ..WindowOptions::new("telerehab bench")
+    };
+    let opts = SessionOptions {
+        config: cfg.clone(),
+        pacing: Pacing::RealTime,
+        record: None,
+        body: BodyKind::Simulated,
+        regimen,
+        isolate_core: true,
+    };
+    let controls = session::Controls::with_stop(install_stop_flag()?);
+    let link = Link::start(&cfg)?;
+    let (report, stats) =
+        run_with_window(&opts, &controls, &link, &view, &window, Some(&mut impact))?;
+    link.finish(report.summaries);
+    let stats = stats.context("the window did not open (is there a display? try xvfb-run -a)")?;
+    if let Some(a) = &stats.adapter {
+        println!("adapter: {a}");
+    }
+    print!("{}", impact.report(Some(stats.frames_drawn)));
+    Ok(())
 }

@@ -1,3 +1,4 @@
 //! Subcommands of `telerehab`.
 
+pub mod bench;
 pub mod vehicle;

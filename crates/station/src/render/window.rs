@@ -7,6 +7,7 @@
 //! pause or resume, F11 toggles full screen, Esc or closing the window ends the session.
 
 use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use winit::application::ApplicationHandler;
@@ -33,7 +34,7 @@ pub enum UserRequest {
 }
 
 /// Window settings.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct WindowOptions {
     /// Window title.
     pub title: String,
@@ -43,6 +44,12 @@ pub struct WindowOptions {
     pub fullscreen: bool,
     /// Allow the event loop on a thread other than the main one (Linux only; for tests).
     pub any_thread: bool,
+    /// Most frames drawn per second; `None` draws at the display rate (vsync). A software
+    /// rasteriser has no display rate to wait for and would otherwise draw flat out.
+    pub max_fps: Option<f64>,
+    /// Draw only while this flag is set (the loop still pulls scenes and handles keys);
+    /// `None` always draws. For measuring what drawing costs the rest of the machine.
+    pub draw_gate: Option<Arc<AtomicBool>>,
 }
 
 impl WindowOptions {
@@ -53,6 +60,8 @@ impl WindowOptions {
             size: (1280, 720),
             fullscreen: false,
             any_thread: false,
+            max_fps: None,
+            draw_gate: None,
         }
     }
 }
@@ -103,6 +112,7 @@ pub fn run_with(
         on_request,
         scene: None,
         next_pull: Instant::now(),
+        next_draw: Instant::now(),
         error: None,
         frames_drawn: 0,
     };
@@ -135,6 +145,8 @@ struct App<F, G> {
     on_request: G,
     scene: Option<Scene>,
     next_pull: Instant,
+    /// Earliest time of the next frame under `max_fps`.
+    next_draw: Instant,
     error: Option<RenderError>,
     frames_drawn: u64,
 }
@@ -305,7 +317,18 @@ impl<F: FnMut() -> Option<Scene>, G: FnMut(UserRequest)> ApplicationHandler for 
                 }
             }
             self.next_pull = now + PULL_PERIOD;
-            if let Some(g) = &self.gfx {
+            let gate_open = self
+                .options
+                .draw_gate
+                .as_ref()
+                .is_none_or(|g| g.load(Ordering::Relaxed));
+            if let Some(g) = &self.gfx
+                && gate_open
+                && now >= self.next_draw
+            {
+                if let Some(fps) = self.options.max_fps {
+                    self.next_draw = now + Duration::from_secs_f64(1.0 / fps);
+                }
                 g.window.request_redraw();
             }
         }

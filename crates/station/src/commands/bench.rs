@@ -1,0 +1,154 @@
+//! `telerehab bench`: measurements that need the whole station, not a micro-benchmark.
+//!
+//! `bench window` answers "does the patient's window disturb the 1 kHz haptic loop?" in one
+//! run, so that the noise of a shared machine hits both sides alike: a simulated real-time
+//! session runs with the window open, drawing is switched on and off every `--phase`
+//! seconds, and each tick's period error is counted in the phase it ran in.
+
+use crate::session::record::TickRecord;
+use crate::timing::{Percentiles, TimingStats};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// `telerehab bench`.
+#[derive(Debug, clap::Args)]
+pub struct BenchArgs {
+    /// What to measure.
+    #[command(subcommand)]
+    pub what: BenchCommand,
+}
+
+/// The benchmarks.
+#[derive(Debug, clap::Subcommand)]
+pub enum BenchCommand {
+    /// The window's effect on the haptic loop: drawing on and off in alternating phases of one
+    /// real-time session (needs a display; use `xvfb-run -a` on a machine without one).
+    Window(BenchWindowArgs),
+}
+
+/// `telerehab bench window`.
+#[derive(Debug, clap::Args)]
+pub struct BenchWindowArgs {
+    /// Session length, s (the first two phases are warm-up and not counted).
+    #[arg(long, default_value_t = 40.0)]
+    pub duration: f64,
+    /// Length of each drawing-on and drawing-off phase, s.
+    #[arg(long, default_value_t = 2.0)]
+    pub phase: f64,
+    /// Exercise to run.
+    #[arg(long, default_value = "sine-road")]
+    pub exercise: String,
+    /// Seed of the simulation.
+    #[arg(long, default_value_t = 7)]
+    pub seed: u64,
+    /// Most frames per second the window draws (default: the window's own choice).
+    #[arg(long)]
+    pub max_fps: Option<f64>,
+}
+
+/// Ticks at the start of each phase left out of its statistics: a frame in flight when
+/// drawing stops takes this long to finish.
+const SETTLE_S: f64 = 0.25;
+
+/// Drawing on/off phases over a session, and the loop timing of each.
+pub struct RenderImpact {
+    gate: Arc<AtomicBool>,
+    phase_ticks: u64,
+    settle_ticks: u64,
+    /// Loop timing while the window was drawing.
+    pub drawing: TimingStats,
+    /// Loop timing while the window was idle (open, but not drawing).
+    pub idle: TimingStats,
+}
+
+impl RenderImpact {
+    /// Phases of `phase_s` at a loop rate of `rate_hz`; `gate` is the window's draw gate.
+    pub fn new(gate: Arc<AtomicBool>, phase_s: f64, rate_hz: f64, expected_ticks: usize) -> Self {
+        let period_ns = (1e9 / rate_hz).round() as u64;
+        Self {
+            gate,
+            phase_ticks: ((phase_s * rate_hz).round() as u64).max(2),
+            settle_ticks: ((SETTLE_S * rate_hz).round() as u64).min((phase_s * rate_hz) as u64 / 2),
+            drawing: TimingStats::new(period_ns, expected_ticks / 2),
+            idle: TimingStats::new(period_ns, expected_ticks / 2),
+        }
+    }
+
+    /// Account for one tick (from the recorder thread) and open or close the draw gate at
+    /// phase boundaries. Phases 0 and 1 (window and shader start-up) are not counted; odd
+    /// phases draw.
+    pub fn on_tick(&mut self, rec: &TickRecord) {
+        let phase = rec.tick / self.phase_ticks;
+        let drawing = phase % 2 == 1;
+        self.gate.store(drawing, Ordering::Relaxed);
+        if phase < 2 || rec.tick % self.phase_ticks < self.settle_ticks {
+            return;
+        }
+        let t = &rec.timing;
+        let stats = if drawing {
+            &mut self.drawing
+        } else {
+            &mut self.idle
+        };
+        stats.add(t.lateness_ns, t.period_ns, t.work_ns);
+    }
+
+    /// The report: period-error and lateness percentiles per phase and their ratio.
+    pub fn report(&self, frames_drawn: Option<u64>) -> String {
+        fn row(name: &str, s: &TimingStats) -> String {
+            let (p, l): (Percentiles, Percentiles) = (s.period_error(), s.lateness());
+            format!(
+                "{name:<9} {:>7} ticks  period error p50 {:>7.1} µs  p99 {:>7.1} µs  max {:>8.1} µs  lateness p99 {:>7.1} µs\n",
+                s.ticks(),
+                p.p50_us,
+                p.p99_us,
+                p.max_us,
+                l.p99_us
+            )
+        }
+        let (on, off) = (self.drawing.period_error(), self.idle.period_error());
+        let mut out = String::from("── window impact on the haptic loop ──\n");
+        out += &row("drawing", &self.drawing);
+        out += &row("idle", &self.idle);
+        out += &format!(
+            "p99 ratio drawing / idle: {:.2}{}\n",
+            on.p99_us / off.p99_us.max(1e-3),
+            frames_drawn.map_or(String::new(), |f| format!("  ({f} frames drawn)"))
+        );
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tick(tick: u64, period_ns: u64) -> TickRecord {
+        let mut rec = TickRecord {
+            tick,
+            ..Default::default()
+        };
+        rec.timing.period_ns = period_ns;
+        rec
+    }
+
+    #[test]
+    fn ticks_go_to_their_phase_after_warm_up_and_settling() {
+        let gate = Arc::new(AtomicBool::new(true));
+        let mut ab = RenderImpact::new(gate.clone(), 1.0, 1000.0, 10_000);
+        // Phases of 1000 ticks: 0 and 1 warm-up, 2 idle, 3 drawing; 250 settling ticks each.
+        for t in 0..4000 {
+            let drawing = (t / 1000) % 2 == 1;
+            ab.on_tick(&tick(t, if drawing { 1_300_000 } else { 1_010_000 }));
+            assert_eq!(gate.load(Ordering::Relaxed), drawing, "tick {t}");
+        }
+        assert_eq!(ab.idle.ticks(), 750);
+        assert_eq!(ab.drawing.ticks(), 750);
+        assert!((ab.idle.period_error().p99_us - 10.0).abs() < 1e-9);
+        assert!((ab.drawing.period_error().p99_us - 300.0).abs() < 1e-9);
+        assert!(
+            ab.report(Some(3))
+                .contains("p99 ratio drawing / idle: 30.00")
+        );
+    }
+}
