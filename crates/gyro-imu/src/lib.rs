@@ -42,6 +42,7 @@ pub mod fusion;
 pub mod integrate;
 pub mod mounting;
 pub mod pose;
+pub mod procedure;
 pub mod sensor;
 pub mod sim;
 pub mod so3;

@@ -75,6 +75,13 @@ impl MountingCalibrator {
         })
     }
 
+    /// Make room for `n` motion samples now, so that [`MountingCalibrator::add_motion`] does
+    /// not allocate on a real-time thread.
+    pub fn reserve_motion(&mut self, n: usize) {
+        self.fore_sweep
+            .reserve(n.saturating_sub(self.fore_sweep.len()));
+    }
+
     /// Phase 1: a sample while the patient holds still at wheel angle `wheel_rad`.
     pub fn add_still(
         &mut self,

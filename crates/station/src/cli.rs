@@ -489,16 +489,7 @@ fn run_with_window(
                 return None;
             }
             let rec = *output.read();
-            Some(view.scene(
-                &rec,
-                if rec.tick == 0 {
-                    ScreenState::Start
-                } else if rec.score.paused {
-                    ScreenState::Paused
-                } else {
-                    ScreenState::Running
-                },
-            ))
+            Some(view.scene(&rec, crate::screen::live_screen_state(&rec)))
         };
         let on_request = |r: UserRequest| match r {
             UserRequest::Quit => controls.stop.store(true, Ordering::Relaxed),

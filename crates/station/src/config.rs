@@ -26,6 +26,8 @@ pub struct StationConfig {
     pub sim_patient: HumanArmParams,
     /// The simulated patient's arm geometry and posture, with IMUs on it (used with `--sim`).
     pub sim_arm: PatientArmConfig,
+    /// Arm sensing: IMU mounting and the real patient's arm geometry.
+    pub arm: crate::session::arm::ArmConfig,
     /// The therapist link.
     pub therapist: TherapistLinkConfig,
 }
@@ -40,6 +42,7 @@ impl Default for StationConfig {
             sim_wheel: SimWheelParams::default(),
             sim_patient: default_sim_patient(),
             sim_arm: PatientArmConfig::default(),
+            arm: Default::default(),
             therapist: TherapistLinkConfig::default(),
         }
     }
@@ -258,6 +261,7 @@ impl StationConfig {
         self.sim_arm
             .validate()
             .map_err(|e| in_section("sim_arm")(&e))?;
+        self.arm.validate().map_err(|e| in_section("arm")(&e))?;
         self.vehicle
             .validate()
             .map_err(|e| in_section("vehicle")(&e))?;

@@ -115,9 +115,36 @@ impl CourseView {
                 score,
                 speed_m_s: speed,
                 assist_level: rec.assist.assistance_level,
-                devices: vec![format!("wheel: {}", rec.wheel.watchdog)],
+                devices: std::iter::once(format!("wheel: {}", rec.wheel.watchdog))
+                    .chain(rec.arm.map(|a| format!("arm sensors: {}", a.setup)))
+                    .collect(),
             },
             screen,
         }
+    }
+}
+
+/// Which screen a live session shows for the tick `rec`: the start card, a set-up
+/// instruction from the arm sensing, the pause card, or the running exercise.
+pub fn live_screen_state(rec: &TickRecord) -> ScreenState {
+    let seconds = |s: f64| format!("{} s", s.ceil().max(0.0));
+    match rec.arm.map(|a| (a.setup, a.setup_remaining_s)) {
+        _ if rec.tick == 0 => ScreenState::Start,
+        Some(("hold-still", left)) => ScreenState::Instruction {
+            title: "Hold the wheel still".into(),
+            lines: vec![
+                "Rest both hands on the wheel, centred, and relax.".into(),
+                seconds(left),
+            ],
+        },
+        Some(("turn-wheel", left)) => ScreenState::Instruction {
+            title: "Turn the wheel slowly".into(),
+            lines: vec![
+                "Left and right, as far as is comfortable.".into(),
+                seconds(left),
+            ],
+        },
+        _ if rec.score.paused => ScreenState::Paused,
+        _ => ScreenState::Running,
     }
 }

@@ -209,6 +209,7 @@ fn paint(p: &Painter, scene: &Scene, size: Vec2) {
             card(p, size, &title, &["Press Space to start".to_string()]);
         }
         ScreenState::Paused => card(p, size, "Paused", &["Press Space to continue".to_string()]),
+        ScreenState::Instruction { title, lines } => card(p, size, title, lines),
         ScreenState::Summary(lines) => card(p, size, "Session complete", lines),
     }
 }

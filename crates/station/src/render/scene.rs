@@ -111,6 +111,14 @@ pub enum ScreenState {
     Running,
     /// Paused by the patient or the therapist.
     Paused,
+    /// The patient is asked to do something before the exercise goes on: a card with a
+    /// title and lines.
+    Instruction {
+        /// What to do, in a few words.
+        title: String,
+        /// How, and for how long.
+        lines: Vec<String>,
+    },
     /// End of the session: a summary card with these lines.
     Summary(Vec<String>),
 }

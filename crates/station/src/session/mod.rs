@@ -140,7 +140,7 @@ pub fn run(
     let mut plant = match opts.body {
         BodyKind::Simulated => plant::Plant::simulated(cfg, course)?,
         #[cfg(target_os = "linux")]
-        BodyKind::RealWheel => plant::Plant::new(cfg, plant::Body::first_real_wheel()?, course)?,
+        BodyKind::RealWheel => plant::Plant::new(cfg, plant::Body::first_real_wheel(cfg)?, course)?,
     };
     let recorder = match &opts.record {
         Some(path) => {

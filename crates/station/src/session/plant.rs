@@ -4,7 +4,8 @@
 //! One [`Plant::tick`] is one haptic-loop period; it allocates nothing.
 
 use crate::config::StationConfig;
-use crate::session::arm::SimArmSensing;
+use crate::session::arm::sim::SimArmSensing;
+use crate::session::arm::{SetupStep, WheelNow};
 use crate::session::course::Segment;
 use crate::session::record::{
     ArmSample, AssistSample, ScoreSample, TickRecord, VehicleSample, WheelSample, watchdog_label,
@@ -31,11 +32,14 @@ pub enum Body {
         /// The simulated arm kinematics, IMUs and pose estimator.
         sensing: Box<SimArmSensing>,
     },
-    /// A real force-feedback wheel (Linux kernel FF API) held by the patient.
+    /// A real force-feedback wheel (Linux kernel FF API) held by the patient, who may wear
+    /// two controller IMUs.
     #[cfg(target_os = "linux")]
     Evdev {
         /// The device (zero torque, effects erased and gain restored when dropped).
         wheel: ZeroTorqueOnDrop<haptic_wheel::evdev_wheel::EvdevWheel>,
+        /// The arm's IMUs, when two are present.
+        arm: Option<Box<crate::session::arm::hid::HidArmSensing>>,
     },
 }
 
@@ -49,27 +53,45 @@ impl Body {
             wheel: ZeroTorqueOnDrop::new(SimWheel::new(wheel_params)),
             arm: HumanArm::new(cfg.sim_patient.clone(), dt_s, cfg.session.seed),
             sensing: Box::new(
-                SimArmSensing::new(cfg.sim_arm, cfg.session.seed).context("simulated arm")?,
+                SimArmSensing::new(cfg.sim_arm, cfg.arm.sim_mounting, cfg.session.seed)
+                    .context("simulated arm")?,
             ),
         })
     }
 
-    /// The first force-feedback wheel found (see `telerehab devices`).
+    /// The first force-feedback wheel found, and the first two controller IMUs if there are
+    /// two (see `telerehab devices`).
     #[cfg(target_os = "linux")]
-    pub fn first_real_wheel() -> anyhow::Result<Self> {
-        use haptic_wheel::evdev_wheel::{EvdevWheel, EvdevWheelConfig};
+    pub fn first_real_wheel(cfg: &StationConfig) -> anyhow::Result<Self> {
+        use haptic_wheel::evdev_wheel::{EvdevWheel, EvdevWheelConfig, monotonic_ns};
         let wheel = EvdevWheel::open_first(EvdevWheelConfig::default())
             .context("no usable force-feedback wheel (run `telerehab devices`)")?;
+        let arm = crate::session::arm::hid::HidArmSensing::open_first_two(
+            cfg.arm.geometry,
+            cfg.arm.swivel_rad,
+            monotonic_ns,
+        )?
+        .map(Box::new);
         Ok(Body::Evdev {
             wheel: ZeroTorqueOnDrop::new(wheel),
+            arm,
         })
+    }
+
+    /// Where the arm sensing is; `None` without IMUs.
+    fn arm_setup(&self) -> Option<SetupStep> {
+        match self {
+            Body::Sim { sensing, .. } => Some(sensing.setup_step()),
+            #[cfg(target_os = "linux")]
+            Body::Evdev { arm, .. } => arm.as_ref().map(|a| a.setup_step()),
+        }
     }
 
     fn wheel(&mut self) -> &mut dyn Wheel {
         match self {
             Body::Sim { wheel, .. } => &mut **wheel,
             #[cfg(target_os = "linux")]
-            Body::Evdev { wheel } => &mut **wheel,
+            Body::Evdev { wheel, .. } => &mut **wheel,
         }
     }
 
@@ -87,7 +109,7 @@ impl Body {
         match self {
             Body::Sim { .. } => cfg.sim_wheel.encoder_step_rad,
             #[cfg(target_os = "linux")]
-            Body::Evdev { wheel } => wheel.profile().ka_rad_per_unit,
+            Body::Evdev { wheel, .. } => wheel.profile().ka_rad_per_unit,
         }
     }
 }
@@ -119,7 +141,10 @@ pub struct Plant {
     tick: u64,
     /// Ticks the exercise ran (not paused): the exercise clock.
     active_ticks: u64,
+    /// The patient paused the exercise.
     paused: bool,
+    /// The haptic chain is paused (by the patient, or while the arm set-up runs).
+    chain_paused: bool,
     /// Where the patient aimed last, rad (held while paused).
     last_target_rad: f64,
     velocity_rad_s: f64,
@@ -186,6 +211,7 @@ impl Plant {
             tick: 0,
             active_ticks: 0,
             paused: false,
+            chain_paused: false,
             last_target_rad: 0.0,
             velocity_rad_s: 0.0,
             watchdog: WatchdogState::SoftStart,
@@ -225,7 +251,6 @@ impl Plant {
     /// zero; the loop and the recording go on) or resume it (the torque soft-starts).
     pub fn set_paused(&mut self, paused: bool) {
         self.paused = paused;
-        self.chain.set_paused(paused);
     }
 
     /// Ticks the exercise has run, pauses excluded.
@@ -258,7 +283,14 @@ impl Plant {
         let t_ns = self.tick * period_ns;
         // The exercise runs on its own clock, which stops while paused.
         let t_s = (self.active_ticks * period_ns) as f64 * 1e-9;
-        let paused = self.paused;
+        // The exercise waits while the patient pauses it or the arm set-up asks them to do
+        // something else; the torque fades out meanwhile, so the wheel turns freely.
+        let setup = self.body.arm_setup().filter(|s| s.in_progress());
+        let paused = self.paused || setup.is_some();
+        if paused != self.chain_paused {
+            self.chain_paused = paused;
+            self.chain.set_paused(paused);
+        }
         // 1. Read the wheel as the host sees it (quantised, delayed).
         let reading = self.body.wheel().read().ok();
         let angle = reading.map_or(0.0, |r| r.angle_rad);
@@ -345,8 +377,25 @@ impl Plant {
         // A failed command is caught by the next read (stale reading → supervisor fault).
         let _ = self.body.wheel().command_torque(tel.torque_nm);
 
-        // 4. Whoever holds the wheel moves it.
-        let motion = self.move_body(target, angle, t_ns, dt);
+        // 4. Whoever holds the wheel moves it (following the arm set-up's prompts first).
+        let aim = match setup {
+            Some(SetupStep::TurnWheel { .. }) => {
+                // Slowly left and right, about ±60°.
+                let t = self.tick as f64 * dt;
+                1.05 * (std::f64::consts::TAU * 0.2 * t).sin()
+            }
+            Some(_) => 0.0,
+            None => target,
+        };
+        let motion = self.move_body(
+            aim,
+            WheelNow {
+                t_ns,
+                angle_rad: angle,
+                rate_rad_s: tel.vel_rad_s,
+                dt_s: dt,
+            },
+        );
 
         let lane = self.driving.lane();
         let dial = self.dial.summary();
@@ -398,7 +447,8 @@ impl Plant {
 
     /// The simulated patient looks at the road and moves the simulated wheel, and the arm
     /// pose is estimated from the simulated IMUs; a real patient moves a real wheel alone.
-    fn move_body(&mut self, target_rad: f64, read_rad: f64, t_ns: u64, dt: f64) -> BodyMotion {
+    fn move_body(&mut self, target_rad: f64, read: WheelNow) -> BodyMotion {
+        let dt = read.dt_s;
         match &mut self.body {
             Body::Sim {
                 wheel,
@@ -412,13 +462,8 @@ impl Plant {
                     dt,
                 );
                 wheel.advance(dt, hand);
-                let sample = sensing.step(
-                    t_ns,
-                    wheel.true_angle_rad(),
-                    wheel.true_velocity_rad_s(),
-                    read_rad,
-                    dt,
-                );
+                let sample =
+                    sensing.step(wheel.true_angle_rad(), wheel.true_velocity_rad_s(), read);
                 BodyMotion {
                     hand_nm: Some(hand),
                     true_angle_rad: Some(wheel.true_angle_rad()),
@@ -426,10 +471,10 @@ impl Plant {
                 }
             }
             #[cfg(target_os = "linux")]
-            Body::Evdev { .. } => BodyMotion {
+            Body::Evdev { arm, .. } => BodyMotion {
                 hand_nm: None,
                 true_angle_rad: None,
-                arm: None,
+                arm: arm.as_mut().map(|a| a.step(read)),
             },
         }
     }
@@ -440,7 +485,7 @@ impl Plant {
         match &self.body {
             Body::Sim { sensing, .. } => Some(sensing.range_of_motion_rad()),
             #[cfg(target_os = "linux")]
-            Body::Evdev { .. } => None,
+            Body::Evdev { arm, .. } => arm.as_ref().map(|a| a.range_of_motion_rad()),
         }
     }
 

@@ -159,6 +159,11 @@ pub struct ArmSample {
     pub true_elbow_flexion_rad: f64,
     /// RMS mismatch of the measured and fitted segment "up" directions, rad.
     pub fit_residual_rad: f64,
+    /// Arm sensing step: tracking, hold-still or turn-wheel (the guided mounting procedure;
+    /// angles are zero until it ends), or failed (no angles this session).
+    pub setup: &'static str,
+    /// Time left in the set-up step, s.
+    pub setup_remaining_s: f64,
     /// Upper-arm gyro, sensor x, rad/s.
     pub upper_gyro_x_rad_s: f64,
     /// Upper-arm gyro, sensor y, rad/s.

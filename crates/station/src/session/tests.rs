@@ -135,3 +135,69 @@ fn a_paused_session_runs_its_full_exercise_time_and_records_every_tick() {
     assert_eq!(report.haptic.ticks, recs.len() as u64);
     assert!(recs.windows(2).all(|w| w[1].tick == w[0].tick + 1));
 }
+
+/// Keeps every record.
+#[derive(Default)]
+struct Keep(Vec<TickRecord>);
+
+impl SessionObserver for Keep {
+    fn on_tick(&mut self, record: &TickRecord) {
+        self.0.push(*record);
+    }
+}
+
+#[test]
+fn guided_mounting_runs_first_then_the_exercise_and_tracks_the_arm_within_2_deg() {
+    let mut cfg = config("sine-road", 20.0);
+    cfg.arm.sim_mounting = super::arm::MountingMode::Guided;
+    let opts = SessionOptions {
+        config: cfg,
+        pacing: Pacing::Max,
+        record: None,
+        body: BodyKind::Simulated,
+        regimen: None,
+        isolate_core: false,
+    };
+    let mut keep = Keep::default();
+    super::run(&opts, &Controls::default(), &mut keep).unwrap();
+    let recs = keep.0;
+    let step = |r: &TickRecord| r.arm.unwrap().setup;
+    assert_eq!(step(&recs[0]), "hold-still");
+    let turn = recs.iter().position(|r| step(r) == "turn-wheel").unwrap();
+    let tracking = recs.iter().position(|r| step(r) == "tracking").unwrap();
+    assert!((2900..3100).contains(&turn), "hold still for 3 s: {turn}");
+    assert!(
+        tracking > turn + 14_000,
+        "turn the wheel for 15 s: {tracking}"
+    );
+    // The exercise waited for the set-up: its clock and the car start only then.
+    for r in &recs[..tracking] {
+        assert!(r.score.paused && r.score.active_s == 0.0);
+    }
+    assert!(!recs[tracking + 1].score.paused);
+    let wheel_range = recs[turn..tracking]
+        .iter()
+        .map(|r| r.wheel.angle_rad)
+        .fold((f64::MAX, f64::MIN), |(lo, hi), a| (lo.min(a), hi.max(a)));
+    assert!(
+        wheel_range.1 - wheel_range.0 > 1.5,
+        "the patient turned the wheel: {wheel_range:?}"
+    );
+    // Then the pose from the found mounting matches the simulated truth.
+    let after = &recs[tracking + 2000..];
+    let rms = |f: fn(&super::record::ArmSample) -> f64| {
+        (after
+            .iter()
+            .map(|r| f(&r.arm.unwrap()).powi(2))
+            .sum::<f64>()
+            / after.len() as f64)
+            .sqrt()
+            .to_degrees()
+    };
+    let elbow = rms(|a| a.elbow_flexion_rad - a.true_elbow_flexion_rad);
+    let shoulder = rms(|a| a.shoulder_elevation_rad - a.true_shoulder_elevation_rad);
+    assert!(
+        elbow < 3.0 && shoulder < 3.0,
+        "elbow {elbow:.2}°, shoulder {shoulder:.2}° RMS"
+    );
+}

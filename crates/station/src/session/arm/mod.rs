@@ -1,0 +1,269 @@
+//! The patient's arm from two IMUs and the wheel: the guided mounting procedure when the
+//! sensors' placement is unknown (always with real IMUs), then the pose estimator. The same
+//! [`ArmTracker`] runs behind simulated IMUs ([`sim`]) and controller IMUs over HID ([`hid`]).
+//! Allocation-free per tick.
+
+pub mod hid;
+pub mod sim;
+
+use crate::session::record::ArmSample;
+use gyro_imu::ImuError;
+use gyro_imu::arm::ArmGeometry;
+use gyro_imu::device::ImuSample;
+use gyro_imu::fusion::FusionConfig;
+use gyro_imu::pose::{ArmPoseEstimator, Mounting};
+use gyro_imu::procedure::{GuidedMounting, ProcedureConfig, Prompt};
+use serde::{Deserialize, Serialize};
+
+/// How the IMUs' placement on the arm is known.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MountingMode {
+    /// Simulated IMUs strapped on with their axes along the segments' (simulation only).
+    #[default]
+    Square,
+    /// Simulated IMUs strapped on at seeded random rotations, found by the guided procedure
+    /// at the start of the session, as with real IMUs.
+    Guided,
+}
+
+/// The `[arm]` section: arm sensing settings.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ArmConfig {
+    /// IMU placement in simulated sessions (real IMUs always run the guided procedure).
+    pub sim_mounting: MountingMode,
+    /// The real patient's arm and seat geometry (the simulated patient's is `sim_arm`).
+    pub geometry: ArmGeometry,
+    /// Elbow swivel (rad, positive = elbow out) the real patient holds during the guided
+    /// procedure.
+    pub swivel_rad: f64,
+}
+
+impl Default for ArmConfig {
+    fn default() -> Self {
+        Self {
+            sim_mounting: MountingMode::default(),
+            geometry: ArmGeometry::default(),
+            swivel_rad: 0.35,
+        }
+    }
+}
+
+impl ArmConfig {
+    /// Check every field; the error names the field and its allowed range.
+    pub fn validate(&self) -> Result<(), ImuError> {
+        self.geometry.validate()?;
+        if !(self.swivel_rad.is_finite() && self.swivel_rad.abs() <= 1.5) {
+            return Err(ImuError::InvalidConfig {
+                field: "swivel_rad",
+                value: self.swivel_rad,
+                allowed: "[-1.5, 1.5] rad",
+            });
+        }
+        gyro_imu::arm::solve(&self.geometry, 0.0, self.swivel_rad, 0.0).map(|_| ())
+    }
+}
+
+/// Where the arm sensing is: the label recorded on `/arm` and what the screen asks for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SetupStep {
+    /// The mounting is known: joint angles are being estimated.
+    Tracking,
+    /// Hold the wheel still, centred.
+    HoldStill {
+        /// Time left in this step, s.
+        remaining_s: f64,
+    },
+    /// Turn the wheel left and right.
+    TurnWheel {
+        /// Time left in this step, s.
+        remaining_s: f64,
+    },
+    /// The procedure failed: no joint angles this session (the exercise runs on).
+    Failed,
+}
+
+impl SetupStep {
+    /// The step as a stable label for recordings.
+    pub fn label(self) -> &'static str {
+        match self {
+            SetupStep::Tracking => "tracking",
+            SetupStep::HoldStill { .. } => "hold-still",
+            SetupStep::TurnWheel { .. } => "turn-wheel",
+            SetupStep::Failed => "failed",
+        }
+    }
+
+    /// Time left in the current step, s (0 when not in a step).
+    pub fn remaining_s(self) -> f64 {
+        match self {
+            SetupStep::HoldStill { remaining_s } | SetupStep::TurnWheel { remaining_s } => {
+                remaining_s
+            }
+            _ => 0.0,
+        }
+    }
+
+    /// The patient is being asked to do something (the exercise waits).
+    pub fn in_progress(self) -> bool {
+        matches!(
+            self,
+            SetupStep::HoldStill { .. } | SetupStep::TurnWheel { .. }
+        )
+    }
+}
+
+/// One tick of the wheel as the host sees it, for the arm.
+#[derive(Clone, Copy, Debug)]
+pub struct WheelNow {
+    /// Session time, ns.
+    pub t_ns: u64,
+    /// Angle read from the wheel, rad.
+    pub angle_rad: f64,
+    /// Estimated angular rate, rad/s.
+    pub rate_rad_s: f64,
+    /// Time since the previous tick, s.
+    pub dt_s: f64,
+}
+
+/// Mounting procedure, then pose estimation (see the module docs).
+pub struct ArmTracker {
+    geometry: ArmGeometry,
+    setup: Option<Box<GuidedMounting>>,
+    estimator: Option<ArmPoseEstimator>,
+    /// The second IMU is on the upper arm (found by the procedure).
+    swapped: bool,
+    step: SetupStep,
+    last: ArmSample,
+    /// Ticks on which the estimator refused the wheel angle (arm out of reach).
+    pub rejected: u64,
+}
+
+impl ArmTracker {
+    /// Tracking from the start, with a known `mounting`.
+    pub fn known(geometry: ArmGeometry, mounting: Mounting) -> Result<Self, ImuError> {
+        Ok(Self {
+            geometry,
+            setup: None,
+            estimator: Some(ArmPoseEstimator::new(
+                geometry,
+                mounting,
+                FusionConfig::default(),
+            )?),
+            swapped: false,
+            step: SetupStep::Tracking,
+            last: ArmSample::default(),
+            rejected: 0,
+        })
+    }
+
+    /// The guided procedure first, for a patient holding the wheel with elbow swivel
+    /// `swivel_rad`.
+    pub fn guided(geometry: ArmGeometry, swivel_rad: f64) -> Result<Self, ImuError> {
+        let cfg = ProcedureConfig::default();
+        Ok(Self {
+            geometry,
+            setup: Some(Box::new(GuidedMounting::new(geometry, swivel_rad, cfg)?)),
+            estimator: None,
+            swapped: false,
+            step: SetupStep::HoldStill {
+                remaining_s: cfg.still_s,
+            },
+            last: ArmSample::default(),
+            rejected: 0,
+        })
+    }
+
+    /// Where the sensing is now.
+    pub fn step_now(&self) -> SetupStep {
+        self.step
+    }
+
+    /// One tick with the latest sample of each IMU (`a` and `b` in the order the devices were
+    /// opened; the procedure finds which is on the upper arm).
+    pub fn update(&mut self, wheel: WheelNow, a: &ImuSample, b: &ImuSample) -> ArmSample {
+        if let Some(setup) = &mut self.setup {
+            let prompt = setup.step(wheel.t_ns, wheel.angle_rad, wheel.rate_rad_s, a, b);
+            self.step = match prompt {
+                Prompt::HoldStill { remaining_s } => SetupStep::HoldStill { remaining_s },
+                Prompt::TurnWheel { remaining_s, .. } => SetupStep::TurnWheel { remaining_s },
+                Prompt::Done => self.finish_setup(),
+            };
+        } else if let Some(est) = &mut self.estimator {
+            let (upper, fore) = if self.swapped { (b, a) } else { (a, b) };
+            match est.update(wheel.angle_rad, upper, fore, wheel.dt_s) {
+                Ok(pose) => {
+                    let x = pose.angles;
+                    self.last = ArmSample {
+                        shoulder_elevation_rad: x.shoulder_elevation_rad,
+                        shoulder_plane_rad: x.shoulder_plane_rad,
+                        shoulder_rotation_rad: x.shoulder_rotation_rad,
+                        elbow_flexion_rad: x.elbow_flexion_rad,
+                        forearm_pronation_rad: x.forearm_pronation_rad,
+                        fit_residual_rad: pose.fit_residual_rad,
+                        ..self.last
+                    };
+                }
+                Err(_) => self.rejected += 1,
+            }
+        }
+        let (upper, fore) = if self.swapped { (b, a) } else { (a, b) };
+        let [ux, uy, uz] = rates(upper);
+        let [fx, fy, fz] = rates(fore);
+        self.last.upper_gyro_x_rad_s = ux;
+        self.last.upper_gyro_y_rad_s = uy;
+        self.last.upper_gyro_z_rad_s = uz;
+        self.last.fore_gyro_x_rad_s = fx;
+        self.last.fore_gyro_y_rad_s = fy;
+        self.last.fore_gyro_z_rad_s = fz;
+        self.last.setup = self.step.label();
+        self.last.setup_remaining_s = self.step.remaining_s();
+        self.last
+    }
+
+    /// The procedure ended: start tracking with its mounting, or give up on arm sensing for
+    /// this session (logged once, with the reason and what to do).
+    fn finish_setup(&mut self) -> SetupStep {
+        let Some(setup) = self.setup.take() else {
+            return self.step;
+        };
+        let started = match setup.outcome() {
+            Some(Ok(out)) => {
+                tracing::info!(
+                    swapped = out.swapped,
+                    gravity_misfit_deg = ?(out.report.gravity_misfit_rad.0.to_degrees(), out.report.gravity_misfit_rad.1.to_degrees()),
+                    "IMU mounting found"
+                );
+                self.swapped = out.swapped;
+                ArmPoseEstimator::new(self.geometry, out.mounting, FusionConfig::default())
+            }
+            Some(Err(e)) => Err(ImuError::Calibration(e.to_string())),
+            None => Err(ImuError::Calibration(
+                "the procedure ended without a result".into(),
+            )),
+        };
+        match started {
+            Ok(est) => {
+                self.estimator = Some(est);
+                SetupStep::Tracking
+            }
+            Err(e) => {
+                tracing::warn!("arm sensing off for this session: {e}");
+                SetupStep::Failed
+            }
+        }
+    }
+
+    /// Range of motion of each estimated joint angle this session, rad (field order of
+    /// `gyro_imu::arm::JointAngles`); zeros before tracking starts.
+    pub fn range_of_motion_rad(&self) -> [f64; 5] {
+        self.estimator
+            .as_ref()
+            .map_or([0.0; 5], |e| e.range_of_motion().range_rad())
+    }
+}
+
+fn rates(s: &ImuSample) -> [f64; 3] {
+    [s.rate_rad_s.x, s.rate_rad_s.y, s.rate_rad_s.z]
+}

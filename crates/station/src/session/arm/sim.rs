@@ -1,0 +1,112 @@
+//! The simulated patient's arm: a simulated arm holding the wheel wears two simulated IMUs
+//! (consumer MEMS noise and bias), and the [`ArmTracker`] that runs on real IMUs turns their
+//! samples into joint angles. Allocation-free per tick.
+
+use super::{ArmTracker, MountingMode, SetupStep, WheelNow};
+use crate::session::record::ArmSample;
+use gyro_imu::ImuError;
+use gyro_imu::pose::Mounting;
+use gyro_imu::sensor::{AccSpec, GyroSpec};
+use gyro_imu::sim::arm::{PatientArmConfig, SimArm};
+use gyro_imu::so3;
+use nalgebra::{UnitQuaternion, Vector3};
+use rand::{Rng, SeedableRng};
+
+/// Simulated arm + IMUs + tracker.
+pub struct SimArmSensing {
+    arm: SimArm,
+    tracker: ArmTracker,
+    last: ArmSample,
+    /// Ticks on which the simulated arm could not reach the wheel.
+    pub unreachable: u64,
+}
+
+/// A rotation drawn uniformly enough for a sensor strapped on any way.
+fn random_rotation(rng: &mut impl Rng) -> UnitQuaternion<f64> {
+    let v = Vector3::new(
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+    );
+    so3::exp_quat(&(v * std::f64::consts::PI))
+}
+
+impl SimArmSensing {
+    /// The arm of `cfg` with seeded sensor noise. With [`MountingMode::Square`] the IMUs sit
+    /// along the segments and tracking starts at once; with [`MountingMode::Guided`] they sit at
+    /// seeded random rotations and the session starts with the guided procedure, which the
+    /// simulated patient follows.
+    pub fn new(cfg: PatientArmConfig, mode: MountingMode, seed: u64) -> Result<Self, ImuError> {
+        let (mu, mf) = match mode {
+            MountingMode::Square => (UnitQuaternion::identity(), UnitQuaternion::identity()),
+            MountingMode::Guided => {
+                let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed ^ 0x6d6f_756e_7469_6e67);
+                (random_rotation(&mut rng), random_rotation(&mut rng))
+            }
+        };
+        let arm = SimArm::new(
+            cfg,
+            GyroSpec::consumer_mems(),
+            Some(AccSpec::consumer_mems()),
+            mu,
+            mf,
+            seed,
+        )?;
+        let tracker = match mode {
+            MountingMode::Square => ArmTracker::known(
+                cfg.geometry,
+                Mounting {
+                    upper: mu,
+                    fore: mf,
+                },
+            )?,
+            MountingMode::Guided => ArmTracker::guided(cfg.geometry, cfg.swivel_mean_rad)?,
+        };
+        Ok(Self {
+            arm,
+            tracker,
+            last: ArmSample::default(),
+            unreachable: 0,
+        })
+    }
+
+    /// Where the arm sensing is (the simulated patient follows its prompts).
+    pub fn setup_step(&self) -> SetupStep {
+        self.tracker.step_now()
+    }
+
+    /// Move the arm with the true wheel (angle, rate) and estimate its pose from the IMU
+    /// samples and the wheel as the host reads it. If the arm cannot reach the wheel the
+    /// previous sample is kept and counted.
+    pub fn step(
+        &mut self,
+        true_wheel_rad: f64,
+        true_wheel_rate_rad_s: f64,
+        read: WheelNow,
+    ) -> ArmSample {
+        let truth = match self
+            .arm
+            .step(read.t_ns, true_wheel_rad, true_wheel_rate_rad_s, read.dt_s)
+        {
+            Ok(t) => t,
+            Err(_) => {
+                self.unreachable += 1;
+                return self.last;
+            }
+        };
+        let Some((upper, fore)) = self.arm.latest() else {
+            self.unreachable += 1;
+            return self.last;
+        };
+        let mut sample = self.tracker.update(read, &upper, &fore);
+        sample.true_shoulder_elevation_rad = truth.angles.shoulder_elevation_rad;
+        sample.true_elbow_flexion_rad = truth.angles.elbow_flexion_rad;
+        self.last = sample;
+        sample
+    }
+
+    /// Range of motion of each estimated joint angle this session, rad.
+    pub fn range_of_motion_rad(&self) -> [f64; 5] {
+        self.tracker.range_of_motion_rad()
+    }
+}
