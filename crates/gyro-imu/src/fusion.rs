@@ -1,47 +1,117 @@
 //! Gyro + accelerometer orientation fusion with online gyro-bias estimation.
 //!
-//! The structure follows VQF (Laidig & Seel, *Information Fusion* 2023): the gyro is
-//! strapdown-integrated (eq. 4.12/4.13) into an almost-inertial frame `I`; the accelerometer is
-//! rotated into `I` and low-pass filtered there (second-order Butterworth, time constant
-//! `tau_acc_s`), which removes the linear acceleration of ordinary motion without lagging the
-//! orientation; the filtered gravity direction then drives an inclination correction `I → E`.
-//! The gyro bias is estimated at rest (rest detector, averaging) and during motion from the
-//! inclination correction it causes (the two horizontal components); estimates are clipped.
-//! Heading is not observable without a magnetometer: it drifts only by the residual vertical
-//! bias, which rest phases remove. Earth frame `E`: z up, heading = the sensor's initial one.
+//! A port of the 6-D part of VQF (D. Laidig and T. Seel, "VQF: Highly accurate IMU orientation
+//! estimation with bias estimation and magnetic disturbance rejection", *Information Fusion* 91,
+//! 2023, §3–4; reference implementation `vqf` 2.1, © 2021 Daniel Laidig, MIT licence — the math is
+//! re-expressed here in Rust, not copied):
+//!
+//! - **Strapdown integration** of the bias-corrected rate (eq. 4.12/4.13 of the thesis, VQF
+//!   eq. 2) gives `q_gyr`, the sensor orientation in an almost-inertial frame `I`.
+//! - **Accelerometer low-pass in `I`**: the specific force is rotated into `I` and low-pass
+//!   filtered there (second-order Butterworth, time constant `tau_acc_s`, cutoff
+//!   `√2 / (2π·tau_acc_s)`), which removes the linear acceleration of ordinary motion without
+//!   lagging the orientation. The filtered direction, rotated by the current inclination
+//!   correction `q_inc`, is turned onto `+z` by the shortest rotation: `q_inc ← Δq · q_inc`.
+//!   Output `q_inc · q_gyr` (sensor-to-earth, earth z up, heading = the first sample's).
+//! - **Gyro bias** `b` is the state of a 3-state Kalman filter whose covariance `P` grows by
+//!   `V` per sample up to its initial value (bias forgetting: `(0.1 °/s)²` per
+//!   `bias_forgetting_time_s`). Each sample gives one measurement update:
+//!   - *at rest* (rest detector below): `y = gyr_lp − b`, measurement matrix `I`, noise from
+//!     `bias_sigma_rest_deg_s`;
+//!   - *in motion*: the inclination correction it just applied, divided by `dt`, is the
+//!     horizontal part of `R·(b_true − b)` (`R` = sensor-to-earth rotation). Both the
+//!     correction's inputs and `R` are low-pass filtered with the same filter as the
+//!     accelerometer, so the measurement is `y = [−a_y/dt, a_x/dt]` + `LP(R·b)` against the
+//!     model `LP(R)·b`; the vertical row is a pseudo-measurement `0` with a much larger noise
+//!     (`bias_vertical_forgetting_factor`), which only keeps the unobservable vertical component
+//!     from wandering. Noise from `bias_sigma_motion_deg_s`.
+//!
+//!   The innovation and the estimate are clipped to `±bias_clip_deg_s` per axis.
+//! - **Rest detection**: the rate and the specific force are low-pass filtered (second-order
+//!   Butterworth, `rest.filter_tau_s`); rest is declared when, for `rest.min_duration_s`, every
+//!   sample's deviation from its low-passed value stays below `rest.rate_threshold_deg_s` and
+//!   `rest.acc_threshold_m_s2`, and no axis of the low-passed rate exceeds the bias clip.
+//!
+//! All low-pass filters start with the running mean of their input for one time constant, then
+//! switch to the Butterworth recursion from that steady state (as VQF does). Heading is not
+//! observable without a magnetometer: it drifts only by the residual vertical bias, which rest
+//! phases remove.
+//!
+//! Departures from the reference: by default rest also requires the gravity direction to be
+//! still (`FusionConfig::rest_tilt_check`, see there; [`FusionConfig::reference_vqf`] turns it
+//! off and then matches the `vqf` package to rounding). Where VQF has no answer: a sample
+//! without accelerometer data (`None`) still runs rest detection (on the gyro alone) and the
+//! rest update of the bias; and `dt` may change from sample to sample (the coefficients follow
+//! it).
 
-use nalgebra::{UnitQuaternion, Vector3};
+use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector2, Vector3};
 use serde::{Deserialize, Serialize};
 
-use crate::bias::{RestConfig, RestDetector};
+use crate::bias::{RestConfig, lp_gain};
 use crate::error::{ImuError, check_range};
 use crate::so3;
 
-/// Fusion settings; the defaults need no per-recording tuning.
+/// Fusion settings (VQF's parameters and defaults); the defaults need no per-recording tuning.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FusionConfig {
     /// Time constant of the accelerometer low-pass in the almost-inertial frame (s).
     pub tau_acc_s: f64,
-    /// Time constant of bias estimation during motion (s); 0 disables it.
-    pub motion_bias_tau_s: f64,
-    /// Time constant of bias estimation at rest (s).
-    pub rest_bias_tau_s: f64,
-    /// Largest bias magnitude the motion estimator may reach (deg/s); a larger bias measured
-    /// at rest is kept.
+    /// Estimate the gyro bias during motion (from the inclination correction).
+    pub motion_bias_estimation: bool,
+    /// Estimate the gyro bias at rest (and detect rest).
+    pub rest_bias_estimation: bool,
+    /// Standard deviation of the initial bias estimate (deg/s); also the ceiling of the bias
+    /// uncertainty that forgetting can reach.
+    pub bias_sigma_init_deg_s: f64,
+    /// Time for the bias uncertainty to grow from 0 to 0.1 deg/s without measurements (s).
+    pub bias_forgetting_time_s: f64,
+    /// Largest bias magnitude per axis (deg/s): estimate and innovation are clipped to it, and
+    /// a low-passed rate above it is not rest.
     pub bias_clip_deg_s: f64,
-    /// Rest detection settings.
+    /// Bias uncertainty that motion alone keeps up (deg/s): sets the motion measurement noise.
+    pub bias_sigma_motion_deg_s: f64,
+    /// Ratio of the motion noise to the noise of the vertical pseudo-measurement (which holds
+    /// the unobservable vertical bias component still during motion); 1e-4 in VQF.
+    pub bias_vertical_forgetting_factor: f64,
+    /// Bias uncertainty that rest keeps up (deg/s): sets the rest measurement noise.
+    pub bias_sigma_rest_deg_s: f64,
+    /// Rest detection: `filter_tau_s`, `rate_threshold_deg_s`, `acc_threshold_m_s2` and
+    /// `min_duration_s` are used as in VQF; the largest believed bias is the smaller of
+    /// `max_bias_deg_s` and `bias_clip_deg_s`; `tilt_rate_threshold_deg_s` is used when
+    /// `rest_tilt_check` is on.
     pub rest: RestConfig,
+    /// Also require the gravity direction to stay still (`rest.tilt_rate_threshold_deg_s`)
+    /// before declaring rest. Not in VQF: it keeps slow real rotations (a drifting elbow,
+    /// which the rate-deviation test cannot see) out of the bias. `false` is reference VQF.
+    pub rest_tilt_check: bool,
 }
 
 impl Default for FusionConfig {
     fn default() -> Self {
         Self {
             tau_acc_s: 3.0,
-            motion_bias_tau_s: 40.0,
-            rest_bias_tau_s: 10.0,
+            motion_bias_estimation: true,
+            rest_bias_estimation: true,
+            bias_sigma_init_deg_s: 0.5,
+            bias_forgetting_time_s: 100.0,
             bias_clip_deg_s: 2.0,
+            bias_sigma_motion_deg_s: 0.1,
+            bias_vertical_forgetting_factor: 1e-4,
+            bias_sigma_rest_deg_s: 0.03,
             rest: RestConfig::default(),
+            rest_tilt_check: true,
+        }
+    }
+}
+
+impl FusionConfig {
+    /// The reference VQF's 6-D filter with its default parameters (our defaults without the
+    /// tilt-rate rest test); its output matches the `vqf` package to rounding.
+    pub fn reference_vqf() -> Self {
+        Self {
+            rest_tilt_check: false,
+            ..Self::default()
         }
     }
 }
@@ -51,99 +121,227 @@ impl FusionConfig {
     pub fn validate(&self) -> Result<(), ImuError> {
         check_range("tau_acc_s", self.tau_acc_s, 0.05, 60.0, "[0.05, 60] s")?;
         check_range(
-            "motion_bias_tau_s",
-            self.motion_bias_tau_s,
-            0.0,
-            3600.0,
-            "0 (off) or [10, 3600] s",
+            "bias_sigma_init_deg_s",
+            self.bias_sigma_init_deg_s,
+            1e-3,
+            50.0,
+            "[0.001, 50] deg/s",
         )?;
-        if self.motion_bias_tau_s > 0.0 && self.motion_bias_tau_s < 10.0 {
-            return Err(ImuError::InvalidConfig {
-                field: "motion_bias_tau_s",
-                value: self.motion_bias_tau_s,
-                allowed: "0 (off) or [10, 3600] s",
-            });
-        }
         check_range(
-            "rest_bias_tau_s",
-            self.rest_bias_tau_s,
-            0.1,
-            600.0,
-            "[0.1, 600] s",
+            "bias_forgetting_time_s",
+            self.bias_forgetting_time_s,
+            1.0,
+            1e5,
+            "[1, 1e5] s",
         )?;
         check_range(
             "bias_clip_deg_s",
             self.bias_clip_deg_s,
-            0.0,
+            0.01,
             50.0,
-            "[0, 50] deg/s",
+            "[0.01, 50] deg/s",
+        )?;
+        check_range(
+            "bias_sigma_motion_deg_s",
+            self.bias_sigma_motion_deg_s,
+            1e-3,
+            10.0,
+            "[0.001, 10] deg/s",
+        )?;
+        check_range(
+            "bias_vertical_forgetting_factor",
+            self.bias_vertical_forgetting_factor,
+            1e-10,
+            1.0,
+            "[1e-10, 1]",
+        )?;
+        check_range(
+            "bias_sigma_rest_deg_s",
+            self.bias_sigma_rest_deg_s,
+            1e-4,
+            10.0,
+            "[0.0001, 10] deg/s",
         )?;
         self.rest.validate()
     }
 }
 
-/// Second-order Butterworth low-pass on a 3-vector (bilinear transform, direct form I),
-/// cutoff `√2 / (2π·tau)` as in VQF; coefficients follow the actual `dt` of each step.
-#[derive(Debug, Clone, Copy, Default)]
-struct Butter2 {
-    x1: Vector3<f64>,
-    x2: Vector3<f64>,
-    y1: Vector3<f64>,
-    y2: Vector3<f64>,
+/// Second-order Butterworth low-pass coefficients `(b, a)` (`a0 = 1` omitted) for time constant
+/// `tau_s` at step `dt_s`: cutoff `√2 / (2π·tau_s)`, bilinear transform (VQF `filterCoeffs`).
+/// Below `tau_s < dt_s / 2` the filter passes its input through.
+fn butter2_coeffs(tau_s: f64, dt_s: f64) -> ([f64; 3], [f64; 2]) {
+    if tau_s < dt_s / 2.0 {
+        return ([1.0, 0.0, 0.0], [0.0, 0.0]);
+    }
+    let fc = std::f64::consts::SQRT_2 / (std::f64::consts::TAU * tau_s);
+    let c = (std::f64::consts::PI * fc * dt_s).tan();
+    let d = c * c + std::f64::consts::SQRT_2 * c + 1.0;
+    let b0 = c * c / d;
+    (
+        [b0, 2.0 * b0, b0],
+        [
+            2.0 * (c * c - 1.0) / d,
+            (1.0 - std::f64::consts::SQRT_2 * c + c * c) / d,
+        ],
+    )
 }
 
-impl Butter2 {
-    fn reset(&mut self, x: Vector3<f64>) {
-        *self = Self {
-            x1: x,
-            x2: x,
-            y1: x,
-            y2: x,
-        };
-    }
+/// A second-order low-pass on `N` channels that outputs the running mean of its input during
+/// its first `tau` seconds and then starts the recursion from that mean as a steady state (VQF
+/// `filterVec`). Direct form I (past inputs and outputs), so a steady signal stays exactly
+/// steady when the coefficients change with `dt`; VQF's transposed form gives the same output
+/// for a fixed `dt`.
+#[derive(Debug, Clone, Copy)]
+struct LowPass<const N: usize> {
+    /// Past inputs `x[k−1], x[k−2]` and outputs `y[k−1], y[k−2]`; while averaging, `y1` holds
+    /// the running sum.
+    x1: [f64; N],
+    x2: [f64; N],
+    y1: [f64; N],
+    y2: [f64; N],
+    /// Samples averaged so far.
+    count: f64,
+    running: bool,
+}
 
-    fn step(&mut self, x: Vector3<f64>, tau_s: f64, dt_s: f64) -> Vector3<f64> {
-        let fc = std::f64::consts::SQRT_2 / (std::f64::consts::TAU * tau_s);
-        let k = (std::f64::consts::PI * fc * dt_s).min(1.5).tan();
-        let norm = 1.0 / (1.0 + std::f64::consts::SQRT_2 * k + k * k);
-        let b0 = k * k * norm;
-        let a1 = 2.0 * (k * k - 1.0) * norm;
-        let a2 = (1.0 - std::f64::consts::SQRT_2 * k + k * k) * norm;
-        let y = (x + self.x1 * 2.0 + self.x2) * b0 - self.y1 * a1 - self.y2 * a2;
+impl<const N: usize> LowPass<N> {
+    const NEW: Self = Self {
+        x1: [0.0; N],
+        x2: [0.0; N],
+        y1: [0.0; N],
+        y2: [0.0; N],
+        count: 0.0,
+        running: false,
+    };
+
+    fn step(
+        &mut self,
+        x: &[f64; N],
+        tau_s: f64,
+        dt_s: f64,
+        b: &[f64; 3],
+        a: &[f64; 2],
+    ) -> [f64; N] {
+        let mut y = [0.0; N];
+        if !self.running {
+            self.count += 1.0;
+            for i in 0..N {
+                self.y1[i] += x[i];
+                y[i] = self.y1[i] / self.count;
+            }
+            if self.count * dt_s >= tau_s {
+                // Steady state at the mean: input and output history equal to it.
+                self.x1 = y;
+                self.x2 = y;
+                self.y1 = y;
+                self.y2 = y;
+                self.running = true;
+            }
+            return y;
+        }
+        for i in 0..N {
+            y[i] = b[0] * x[i] + b[1] * self.x1[i] + b[2] * self.x2[i]
+                - a[0] * self.y1[i]
+                - a[1] * self.y2[i];
+        }
         self.x2 = self.x1;
-        self.x1 = x;
+        self.x1 = *x;
         self.y2 = self.y1;
         self.y1 = y;
         y
     }
 }
 
-/// VQF-style 6-D orientation filter (see the module docs). Allocation-free per sample.
+/// Coefficients that depend on `dt`; recomputed only when `dt` changes.
+#[derive(Debug, Clone, Copy)]
+struct Coeffs {
+    dt_s: f64,
+    acc_b: [f64; 3],
+    acc_a: [f64; 2],
+    rest_b: [f64; 3],
+    rest_a: [f64; 2],
+    /// Covariance growth per sample ((0.01 deg/s)² units, as VQF).
+    bias_v: f64,
+    bias_motion_w: f64,
+    bias_vertical_w: f64,
+    bias_rest_w: f64,
+}
+
+impl Coeffs {
+    fn new(cfg: &FusionConfig, dt_s: f64) -> Self {
+        let (acc_b, acc_a) = butter2_coeffs(cfg.tau_acc_s, dt_s);
+        let (rest_b, rest_a) = butter2_coeffs(cfg.rest.filter_tau_s, dt_s);
+        // Covariances in (0.01 deg/s)²: V raises P from 0 to (0.1 deg/s)² in the forgetting
+        // time; W is chosen so that P settles at sigma² under one update per sample
+        // (steady state of P ← P + V − P²/(P + W)).
+        let bias_v = (0.1f64 * 100.0).powi(2) * dt_s / cfg.bias_forgetting_time_s;
+        let p_motion = (cfg.bias_sigma_motion_deg_s * 100.0).powi(2);
+        let bias_motion_w = p_motion * p_motion / bias_v + p_motion;
+        let p_rest = (cfg.bias_sigma_rest_deg_s * 100.0).powi(2);
+        Self {
+            dt_s,
+            acc_b,
+            acc_a,
+            rest_b,
+            rest_a,
+            bias_v,
+            bias_motion_w,
+            bias_vertical_w: bias_motion_w / cfg.bias_vertical_forgetting_factor.max(1e-10),
+            bias_rest_w: p_rest * p_rest / bias_v + p_rest,
+        }
+    }
+}
+
+/// VQF 6-D orientation filter (see the module docs). Allocation-free per sample.
 #[derive(Debug, Clone, Copy)]
 pub struct OrientationFilter {
     cfg: FusionConfig,
+    k: Coeffs,
+    /// Initial bias covariance, (0.01 deg/s)².
+    bias_p0: f64,
     q_gyr: UnitQuaternion<f64>,
     q_inc: UnitQuaternion<f64>,
-    acc_lp: Butter2,
+    acc_lp: LowPass<3>,
     bias_rad_s: Vector3<f64>,
-    rest: RestDetector,
+    /// Bias covariance, (0.01 deg/s)².
+    bias_p: Matrix3<f64>,
+    r_lp: LowPass<9>,
+    rb_lp: LowPass<2>,
+    rest_gyr_lp: LowPass<3>,
+    rest_acc_lp: LowPass<3>,
+    /// Fast and slow first-order low-passes of the specific force for the tilt-rate test.
+    rest_tilt_lp: Option<(Vector3<f64>, Vector3<f64>)>,
+    rest_gyr_lp_rad_s: Vector3<f64>,
     rest_time_s: f64,
-    started: bool,
+    rest: bool,
+}
+
+fn arr3(v: &Vector3<f64>) -> [f64; 3] {
+    [v.x, v.y, v.z]
 }
 
 impl OrientationFilter {
     /// A filter with validated settings.
     pub fn new(cfg: FusionConfig) -> Result<Self, ImuError> {
         cfg.validate()?;
+        let bias_p0 = (cfg.bias_sigma_init_deg_s * 100.0).powi(2);
         Ok(Self {
             cfg,
+            k: Coeffs::new(&cfg, 0.01),
+            bias_p0,
             q_gyr: UnitQuaternion::identity(),
             q_inc: UnitQuaternion::identity(),
-            acc_lp: Butter2::default(),
+            acc_lp: LowPass::NEW,
             bias_rad_s: Vector3::zeros(),
-            rest: RestDetector::new(cfg.rest)?,
+            bias_p: Matrix3::identity() * bias_p0,
+            r_lp: LowPass::NEW,
+            rb_lp: LowPass::NEW,
+            rest_gyr_lp: LowPass::NEW,
+            rest_acc_lp: LowPass::NEW,
+            rest_tilt_lp: None,
+            rest_gyr_lp_rad_s: Vector3::zeros(),
             rest_time_s: 0.0,
-            started: false,
+            rest: false,
         })
     }
 
@@ -159,67 +357,189 @@ impl OrientationFilter {
         if !(dt_s.is_finite() && dt_s > 0.0 && gyr_rad_s.iter().all(|x| x.is_finite())) {
             return self.orientation();
         }
-        let acc = acc_m_s2.filter(|a| a.iter().all(|x| x.is_finite()) && a.norm() > 1e-3);
-        // Rest: average the raw rate into the bias.
-        if self.rest.update(gyr_rad_s, acc, dt_s) {
-            // A running mean over the rest phase, then an exponential average (time constant
-            // `rest_bias_tau_s`), so even a short pause yields a full estimate.
-            self.rest_time_s += dt_s;
-            let k = (dt_s / self.rest_time_s.min(self.cfg.rest_bias_tau_s)).min(1.0);
-            self.bias_rad_s += (gyr_rad_s - self.bias_rad_s) * k;
-        } else {
-            self.rest_time_s = 0.0;
+        if dt_s != self.k.dt_s {
+            self.k = Coeffs::new(&self.cfg, dt_s);
         }
-        // Strapdown integration (eq. 4.12, 4.13).
+        let acc = acc_m_s2.filter(|a| a.iter().all(|x| x.is_finite()) && a.norm() > 1e-3);
+        let clip = self.cfg.bias_clip_deg_s.to_radians();
+        let rest_enabled = self.cfg.rest_bias_estimation;
+
+        // Rest detection, gyro part: deviation from the low-passed rate, and the low-passed
+        // rate itself must look like a believable bias.
+        if rest_enabled {
+            let lp = self.rest_gyr_lp.step(
+                &arr3(gyr_rad_s),
+                self.cfg.rest.filter_tau_s,
+                dt_s,
+                &self.k.rest_b,
+                &self.k.rest_a,
+            );
+            let lp = Vector3::from(lp);
+            let dev2 = (gyr_rad_s - lp).norm_squared();
+            let max_bias = clip.min(self.cfg.rest.max_bias_deg_s.to_radians());
+            if dev2 >= self.cfg.rest.rate_threshold_deg_s.to_radians().powi(2)
+                || lp.amax() > max_bias
+            {
+                self.rest_time_s = 0.0;
+                self.rest = false;
+            } else if acc.is_none() {
+                self.count_rest(dt_s);
+            }
+            self.rest_gyr_lp_rad_s = lp;
+        }
+
+        // Strapdown integration with the current bias estimate (eq. 4.12, 4.13).
         let w = gyr_rad_s - self.bias_rad_s;
         self.q_gyr =
             UnitQuaternion::new_normalize(*(self.q_gyr * so3::exp_quat(&(w * dt_s))).quaternion());
+
         let Some(acc) = acc else {
+            if rest_enabled {
+                self.bias_update(None);
+            }
             return self.orientation();
         };
-        let a_i = self.q_gyr * acc;
-        let first = !self.started;
-        if first {
-            self.started = true;
-            self.acc_lp.reset(a_i);
-        }
-        let a_lp = self.acc_lp.step(a_i, self.cfg.tau_acc_s, dt_s);
-        let a_e = (self.q_inc * a_lp).normalize();
-        // The rotation taking the filtered gravity direction onto +z.
-        let axis = a_e.cross(&Vector3::z());
-        let s = axis.norm();
-        if s > 1e-15 {
-            let corr = axis * (s.atan2(a_e.z) / s);
-            self.q_inc =
-                UnitQuaternion::new_normalize(*(so3::exp_quat(&corr) * self.q_inc).quaternion());
-            // The first correction is the initial alignment, not evidence of bias.
-            if self.cfg.motion_bias_tau_s > 0.0 && !self.rest.is_rest() && !first {
-                // corr ≈ −R_ES·(b − b̂)_horizontal·dt (first order): step b̂ toward b.
-                let r_es = self.q_inc * self.q_gyr;
-                let db = r_es.inverse() * corr * (-1.0 / self.cfg.motion_bias_tau_s);
-                // Motion may not push the bias beyond the clip (or beyond what rest measured).
-                let clip = self
-                    .cfg
-                    .bias_clip_deg_s
-                    .to_radians()
-                    .max(self.bias_rad_s.norm());
-                let b = self.bias_rad_s + db;
-                self.bias_rad_s = if b.norm() > clip {
-                    b * (clip / b.norm())
-                } else {
-                    b
-                };
+
+        // Rest detection, accelerometer part.
+        if rest_enabled {
+            let lp = self.rest_acc_lp.step(
+                &arr3(acc),
+                self.cfg.rest.filter_tau_s,
+                dt_s,
+                &self.k.rest_b,
+                &self.k.rest_a,
+            );
+            // Tilt rate (our addition): under a steady rotation of the gravity direction at
+            // rate r, first-order low-passes with time constants 0.2 and 0.7 × filter_tau_s
+            // differ in direction by r · 0.5 × filter_tau_s.
+            let tau = self.cfg.rest.filter_tau_s;
+            let (fast, slow) = self.rest_tilt_lp.get_or_insert((*acc, *acc));
+            *fast += (acc - *fast) * lp_gain(0.2 * tau, dt_s);
+            *slow += (acc - *slow) * lp_gain(0.7 * tau, dt_s);
+            let tilting = self.cfg.rest_tilt_check
+                && fast.angle(slow) / (0.5 * tau)
+                    >= self.cfg.rest.tilt_rate_threshold_deg_s.to_radians();
+            if (acc - Vector3::from(lp)).norm_squared() >= self.cfg.rest.acc_threshold_m_s2.powi(2)
+                || tilting
+            {
+                self.rest_time_s = 0.0;
+                self.rest = false;
+            } else {
+                self.count_rest(dt_s);
             }
+        }
+
+        // Low-pass in the almost-inertial frame, then the inclination correction onto +z.
+        let a_i = self.q_gyr * acc;
+        let a_lp = self.acc_lp.step(
+            &arr3(&a_i),
+            self.cfg.tau_acc_s,
+            dt_s,
+            &self.k.acc_b,
+            &self.k.acc_a,
+        );
+        let a_e = (self.q_inc * Vector3::from(a_lp)).normalize();
+        let qw = ((a_e.z + 1.0) * 0.5).sqrt();
+        let corr = if qw > 1e-6 {
+            Quaternion::new(qw, 0.5 * a_e.y / qw, -0.5 * a_e.x / qw, 0.0)
+        } else {
+            Quaternion::new(0.0, 1.0, 0.0, 0.0)
+        };
+        self.q_inc = UnitQuaternion::new_normalize(corr * *self.q_inc.quaternion());
+
+        if rest_enabled || self.cfg.motion_bias_estimation {
+            self.bias_update(Some(&a_e));
         }
         self.orientation()
     }
 
+    fn count_rest(&mut self, dt_s: f64) {
+        self.rest_time_s += dt_s;
+        if self.rest_time_s >= self.cfg.rest.min_duration_s {
+            self.rest = true;
+        }
+    }
+
+    /// One Kalman-filter step of the bias. `a_e`: the normalised, low-passed gravity direction
+    /// in the earth frame before this sample's inclination correction (`None`: no accelerometer,
+    /// so no motion measurement).
+    fn bias_update(&mut self, a_e: Option<&Vector3<f64>>) {
+        let clip = self.cfg.bias_clip_deg_s.to_radians();
+        let dt_s = self.k.dt_s;
+        let b = self.bias_rad_s;
+        // Low-passed rotation matrix and R·b (x and y), kept running in every phase.
+        let motion = match a_e {
+            Some(a_e) => {
+                let r = self.orientation().to_rotation_matrix().into_inner();
+                let rb = r * b;
+                // Row-major, as the rows pair with the earth-frame components.
+                let r_arr = [
+                    r[(0, 0)],
+                    r[(0, 1)],
+                    r[(0, 2)],
+                    r[(1, 0)],
+                    r[(1, 1)],
+                    r[(1, 2)],
+                    r[(2, 0)],
+                    r[(2, 1)],
+                    r[(2, 2)],
+                ];
+                let (tau, kb, ka) = (self.cfg.tau_acc_s, self.k.acc_b, self.k.acc_a);
+                let rl = self.r_lp.step(&r_arr, tau, dt_s, &kb, &ka);
+                let rbl = self.rb_lp.step(&[rb.x, rb.y], tau, dt_s, &kb, &ka);
+                Some((Matrix3::from_row_slice(&rl), Vector2::from(rbl), *a_e))
+            }
+            None => None,
+        };
+        let meas = if self.rest && self.cfg.rest_bias_estimation {
+            let w = self.k.bias_rest_w;
+            Some((
+                self.rest_gyr_lp_rad_s - b,
+                Matrix3::identity(),
+                Vector3::new(w, w, w),
+            ))
+        } else if let (true, Some((r_lp, rb_lp, a_e))) = (self.cfg.motion_bias_estimation, motion) {
+            let rb = r_lp * b;
+            let e = Vector3::new(
+                -a_e.y / dt_s + rb_lp.x - rb.x,
+                a_e.x / dt_s + rb_lp.y - rb.y,
+                -rb.z,
+            );
+            let (wm, wv) = (self.k.bias_motion_w, self.k.bias_vertical_w);
+            Some((e, r_lp, Vector3::new(wm, wm, wv)))
+        } else {
+            None
+        };
+        // Prediction: forgetting raises the variance, up to its initial value.
+        for i in 0..3 {
+            if self.bias_p[(i, i)] < self.bias_p0 {
+                self.bias_p[(i, i)] += self.k.bias_v;
+            }
+        }
+        let Some((e, h, w)) = meas else {
+            return;
+        };
+        // The clip also bounds the harm of the first (aligning) inclination correction.
+        let e = e.map(|x| x.clamp(-clip, clip));
+        let pht = self.bias_p * h.transpose();
+        let s = Matrix3::from_diagonal(&w) + h * pht;
+        let Some(s_inv) = s.try_inverse() else {
+            return;
+        };
+        let gain = pht * s_inv;
+        self.bias_rad_s = (b + gain * e).map(|x| x.clamp(-clip, clip));
+        self.bias_p -= gain * h * self.bias_p;
+    }
+
     /// Restart integration from orientation `q` (sensor-to-earth): e.g. a known initial pose
-    /// for a gyro-only sensor. The accelerometer still corrects inclination afterwards.
+    /// for a gyro-only sensor. The accelerometer still corrects inclination afterwards; the
+    /// bias estimate is kept.
     pub fn set_orientation(&mut self, q: UnitQuaternion<f64>) {
         self.q_gyr = q;
         self.q_inc = UnitQuaternion::identity();
-        self.started = false;
+        self.acc_lp = LowPass::NEW;
+        self.r_lp = LowPass::NEW;
+        self.rb_lp = LowPass::NEW;
     }
 
     /// The current sensor-to-earth orientation.
@@ -232,9 +552,20 @@ impl OrientationFilter {
         self.bias_rad_s
     }
 
+    /// The standard deviation of the bias estimate in its worst direction (rad/s): the
+    /// square root of a Gershgorin bound on the covariance's largest eigenvalue, capped at
+    /// `bias_sigma_init_deg_s`.
+    pub fn bias_sigma_rad_s(&self) -> f64 {
+        let p = (0..3)
+            .map(|i| self.bias_p.row(i).abs().sum())
+            .fold(0.0, f64::max)
+            .min(self.bias_p0);
+        (p.sqrt() / 100.0).to_radians()
+    }
+
     /// Whether the rest detector currently declares rest.
     pub fn is_rest(&self) -> bool {
-        self.rest.is_rest()
+        self.rest
     }
 }
 

@@ -1,5 +1,4 @@
 use super::*;
-use crate::bias::RestConfig;
 use crate::sensor::{AccSpec, GyroSpec, SensorModel};
 use crate::sim::motion::RandomMotion;
 
@@ -110,90 +109,187 @@ fn arm_like_motion_with_mems_noise_and_bias_keeps_inclination_under_1_deg_and_to
     }
 }
 
-/// The table in BENCHMARKS.md: how each error source and each part of the filter matters.
+/// The table in BENCHMARKS.md: how each error source and each part of the filter matters, for
+/// our filter and for the reference VQF (the same switches with `rest_tilt_check` off, which
+/// `matches_reference_vqf_on_golden_signal_to_1e_9` ties to the `vqf` package) on the same
+/// records. Ours must be within 0.1° of VQF's inclination RMS and 0.3° of its total RMS in
+/// every row.
 #[test]
-fn fusion_error_table_by_condition() {
+fn fusion_error_table_by_condition_is_within_reference_vqf_margins() {
     let dt = 1.0 / 200.0;
     let d = FusionConfig::default();
     let no_motion_bias = FusionConfig {
-        motion_bias_tau_s: 0.0,
+        motion_bias_estimation: false,
         ..d
     };
     let no_bias_at_all = FusionConfig {
-        motion_bias_tau_s: 0.0,
-        rest: RestConfig {
-            rate_threshold_deg_s: 0.01,
-            ..d.rest
-        },
+        motion_bias_estimation: false,
+        rest_bias_estimation: false,
         ..d
     };
+    let mems = GyroSpec::consumer_mems();
     let one_pct = GyroSpec {
         scale_error: 0.01,
-        ..GyroSpec::consumer_mems()
+        ..mems
     };
-    let rows: [(&str, Errors); 6] = [
+    // (condition, seed, bias deg/s, gyro, config, rest s per 40 s); the same records as the
+    // `fusion_table_data` example writes for scripts/compare_vqf.py.
+    let rows = [
+        ("default, random bias (seed 1)", 1, None, mems, d, 6.0),
+        ("default, bias 1 deg/s (seed 2)", 2, Some(1.0), mems, d, 6.0),
         (
-            "default, pauses, bias 1°/s",
-            run_spec(2, 5.0, dt, Some(1.0), d, 6.0, GyroSpec::consumer_mems()),
+            "default, bias 1.5 deg/s (seed 3)",
+            3,
+            Some(-1.5),
+            mems,
+            d,
+            6.0,
         ),
         (
             "no motion-bias estimation",
-            run_spec(
-                2,
-                5.0,
-                dt,
-                Some(1.0),
-                no_motion_bias,
-                6.0,
-                GyroSpec::consumer_mems(),
-            ),
+            2,
+            Some(1.0),
+            mems,
+            no_motion_bias,
+            6.0,
         ),
         (
             "no bias estimation at all",
-            run_spec(
-                2,
-                5.0,
-                dt,
-                Some(1.0),
-                no_bias_at_all,
-                6.0,
-                GyroSpec::consumer_mems(),
-            ),
+            2,
+            Some(1.0),
+            mems,
+            no_bias_at_all,
+            6.0,
+        ),
+        ("1 % gyro scale error", 2, Some(1.0), one_pct, d, 6.0),
+        ("no pauses, random bias (seed 1)", 1, None, mems, d, 0.0),
+        (
+            "no pauses, bias 1 deg/s (seed 2)",
+            2,
+            Some(1.0),
+            mems,
+            d,
+            0.0,
         ),
         (
-            "1 % gyro scale error",
-            run_spec(2, 5.0, dt, Some(1.0), d, 6.0, one_pct),
+            "no pauses, bias 1.5 deg/s (seed 3)",
+            3,
+            Some(-1.5),
+            mems,
+            d,
+            0.0,
         ),
         (
-            "no pauses (motion bias only)",
-            run_spec(2, 5.0, dt, Some(1.0), d, 0.0, GyroSpec::consumer_mems()),
-        ),
-        (
-            "no pauses, no motion bias",
-            run_spec(
-                2,
-                5.0,
-                dt,
-                Some(1.0),
-                no_motion_bias,
-                0.0,
-                GyroSpec::consumer_mems(),
-            ),
+            "no pauses, no motion-bias estimation",
+            2,
+            Some(1.0),
+            mems,
+            no_motion_bias,
+            0.0,
         ),
     ];
     println!(
-        "| condition (5 min, 200 Hz) | incl RMS (deg) | incl max | total RMS | total end | bias err (deg/s) |\n|---|---|---|---|---|---|"
+        "| condition (5 min, 200 Hz) | incl RMS (deg) | incl max | total RMS | total end | bias err (deg/s) | VQF incl RMS | VQF total RMS |\n|---|---|---|---|---|---|---|---|"
     );
-    for (name, e) in &rows {
+    let mut out = Vec::new();
+    for (name, seed, bias, spec, cfg, rest_s) in rows {
+        let e = run_spec(seed, 5.0, dt, bias, cfg, rest_s, spec);
+        let reference = FusionConfig {
+            rest_tilt_check: false,
+            ..cfg
+        };
+        let v = run_spec(seed, 5.0, dt, bias, reference, rest_s, spec);
         println!(
-            "| {name} | {:.3} | {:.3} | {:.3} | {:.3} | {:.4} |",
-            e.incl_rms_deg, e.incl_max_deg, e.total_rms_deg, e.total_end_deg, e.bias_err_deg_s
+            "| {name} | {:.3} | {:.3} | {:.3} | {:.3} | {:.4} | {:.3} | {:.3} |",
+            e.incl_rms_deg,
+            e.incl_max_deg,
+            e.total_rms_deg,
+            e.total_end_deg,
+            e.bias_err_deg_s,
+            v.incl_rms_deg,
+            v.total_rms_deg
+        );
+        out.push((name, e, v));
+    }
+    for (name, e, v) in &out {
+        assert!(
+            e.incl_rms_deg <= v.incl_rms_deg + 0.1,
+            "{name}: inclination RMS {} vs VQF {}",
+            e.incl_rms_deg,
+            v.incl_rms_deg
+        );
+        assert!(
+            e.total_rms_deg <= v.total_rms_deg + 0.3,
+            "{name}: total RMS {} vs VQF {}",
+            e.total_rms_deg,
+            v.total_rms_deg
         );
     }
     // Bias estimation must matter: without it the heading drifts away.
-    assert!(rows[0].1.total_rms_deg * 5.0 < rows[2].1.total_rms_deg);
+    assert!(out[1].1.total_rms_deg * 5.0 < out[4].1.total_rms_deg);
     // Without pauses, motion-bias estimation must still help the inclination.
-    assert!(rows[4].1.incl_rms_deg < rows[5].1.incl_rms_deg);
+    assert!(out[7].1.incl_rms_deg * 2.0 < out[9].1.incl_rms_deg);
+}
+
+/// Motion that never pauses: the Kalman-filter motion-bias estimate alone keeps inclination
+/// under 1° RMS. Heading is another matter: only where the motion turns the sensor enough for
+/// the whole bias to show in the horizontal plane (seed 2) does the total stay within a few
+/// degrees; seeds 1 and 3 drift in heading by tens of degrees, as the reference VQF does on
+/// the same records (`fusion_error_table_by_condition_is_within_reference_vqf_margins`).
+#[test]
+fn without_pauses_inclination_stays_under_1_deg_and_seed_2_total_under_8_deg() {
+    for (seed, bias) in [(1, None), (2, Some(1.0)), (3, Some(-1.5))] {
+        let e = run_with(seed, 5.0, 1.0 / 200.0, bias, FusionConfig::default(), 0.0);
+        println!(
+            "seed {seed}: inclination RMS {:.3}°, total RMS {:.3}°",
+            e.incl_rms_deg, e.total_rms_deg
+        );
+        assert!(
+            e.incl_rms_deg < 1.0,
+            "seed {seed}: inclination RMS {}",
+            e.incl_rms_deg
+        );
+        if seed == 2 {
+            assert!(e.total_rms_deg < 8.0, "total RMS {}", e.total_rms_deg);
+        }
+    }
+}
+
+#[test]
+fn gyro_only_sensor_still_estimates_bias_at_rest_and_its_sigma_shrinks() {
+    let mut f = OrientationFilter::new(FusionConfig::default()).unwrap();
+    let sigma0 = f.bias_sigma_rad_s().to_degrees();
+    assert!((sigma0 - 0.5).abs() < 1e-12, "initial sigma {sigma0}");
+    let bias = Vector3::new(0.8, -0.5, 0.3).map(f64::to_radians);
+    for _ in 0..2000 {
+        f.update(&bias, None, 0.01);
+    }
+    assert!(f.is_rest());
+    let err = (f.bias_rad_s() - bias).amax().to_degrees();
+    assert!(err < 0.01, "bias error {err} deg/s");
+    assert!(f.bias_sigma_rad_s().to_degrees() < 0.05);
+}
+
+#[test]
+fn jittery_sample_period_keeps_a_still_sensor_level_within_0_01_deg() {
+    // A still, tilted sensor sampled at 100 Hz and at alternating 5/15 ms. (The first,
+    // aligning correction nudges the bias, and rest pulls it back; the residue is ~1e-7 rad/s.)
+    let acc = Vector3::new(0.0, 9.81 * 0.5f64.sin(), 9.81 * 0.5f64.cos());
+    for jitter in [false, true] {
+        let mut f = OrientationFilter::new(FusionConfig::default()).unwrap();
+        for k in 0..2000 {
+            let dt = match (jitter, k % 2) {
+                (false, _) => 0.01,
+                (true, 0) => 0.005,
+                (true, _) => 0.015,
+            };
+            f.update(&Vector3::zeros(), Some(&acc), dt);
+        }
+        let up = f.orientation().inverse() * Vector3::z();
+        let err_deg = up.angle(&acc).to_degrees();
+        assert!(err_deg < 0.01, "jitter {jitter}: {err_deg}°");
+        assert!(f.is_rest());
+    }
 }
 
 #[test]
@@ -220,4 +316,279 @@ fn fuse_checks_lengths_and_config() {
         ..FusionConfig::default()
     };
     assert!(c.validate().unwrap_err().to_string().contains("tau_acc_s"));
+}
+
+/// Reference VQF 2.1 (C++ core, default parameters) on the signal of `golden_signal`, printed by
+/// `scripts/vqf_golden.py`: (sample, quaternion w x y z, bias rad/s, rest).
+const VQF_GOLDEN: [(usize, [f64; 4], [f64; 3], bool); 12] = [
+    (
+        999,
+        [
+            0.351861476903474,
+            -0.059960267884844404,
+            0.29070482772559975,
+            -0.8877437527144381,
+        ],
+        [
+            0.010621385942963541,
+            -0.001136152531465488,
+            0.005193950832283119,
+        ],
+        false,
+    ),
+    (
+        1999,
+        [
+            0.941548304540904,
+            0.22221571714216012,
+            0.21962818590470304,
+            -0.1259778759439692,
+        ],
+        [
+            0.011176268463063108,
+            -0.005158605288990705,
+            0.005811286628585505,
+        ],
+        false,
+    ),
+    (
+        2999,
+        [
+            0.9403222966559495,
+            0.22620306636675738,
+            0.21944800098958894,
+            -0.12833053432301492,
+        ],
+        [
+            0.01565189344275017,
+            -0.012232648266854298,
+            0.008687366642080167,
+        ],
+        true,
+    ),
+    (
+        3999,
+        [
+            0.4396109812677469,
+            -0.70351599575159,
+            0.40116457469630684,
+            -0.38842555641871584,
+        ],
+        [
+            0.01568025526335528,
+            -0.012238100831916822,
+            0.008702345727176236,
+        ],
+        false,
+    ),
+    (
+        4999,
+        [
+            -0.477467029164408,
+            -0.07624825655594307,
+            0.6477234411995321,
+            -0.5887833074686563,
+        ],
+        [
+            0.015675484113076475,
+            -0.012247037030418004,
+            0.008693217069588557,
+        ],
+        false,
+    ),
+    (
+        5999,
+        [
+            0.14778278832353642,
+            0.17452839030009035,
+            0.2861036729949774,
+            -0.9305078058529996,
+        ],
+        [
+            0.015682370020621082,
+            -0.012258257371060307,
+            0.008676279070400035,
+        ],
+        false,
+    ),
+    (
+        6999,
+        [
+            -0.8286576537953727,
+            0.1780552040533111,
+            0.009131734392468184,
+            -0.5306029104168839,
+        ],
+        [
+            0.01567509574528389,
+            -0.01222800045957156,
+            0.008680484500021936,
+        ],
+        false,
+    ),
+    (
+        7999,
+        [
+            -0.7409879913453915,
+            0.5873658604013662,
+            0.2478190635886078,
+            -0.21100676396492782,
+        ],
+        [
+            0.015671307983615542,
+            -0.012219857464148023,
+            0.008716034478940822,
+        ],
+        false,
+    ),
+    (
+        8999,
+        [
+            0.35149775638324043,
+            -0.03733445588351641,
+            -0.16006309769194027,
+            -0.9216481272257273,
+        ],
+        [
+            0.01565588126649269,
+            -0.012272172399292154,
+            0.008675515868392322,
+        ],
+        false,
+    ),
+    (
+        9999,
+        [
+            -0.13476307540937973,
+            -0.22244623615380504,
+            0.3529489317316715,
+            -0.8987678438377084,
+        ],
+        [
+            0.015694943448680415,
+            -0.012226748391035408,
+            0.008658673562796312,
+        ],
+        false,
+    ),
+    (
+        10999,
+        [
+            -0.3822062943759924,
+            -0.8648801233997816,
+            0.20671985028248865,
+            -0.2513317015152213,
+        ],
+        [
+            0.015761630740432988,
+            -0.012195458274888535,
+            0.008650685765301674,
+        ],
+        false,
+    ),
+    (
+        11999,
+        [
+            0.3596062295009685,
+            -0.8250146162653864,
+            0.4347629282153788,
+            -0.031865952083123816,
+        ],
+        [
+            0.01574935812739891,
+            -0.012224390062243549,
+            0.008664367007248047,
+        ],
+        false,
+    ),
+];
+
+/// The closed-form test signal of `scripts/vqf_golden.py`, built in the same order: 120 s at
+/// 100 Hz, motion, 10 s still from t = 20 s, then 90 s of motion without a pause; gyro bias
+/// (0.9, −0.7, 0.5) deg/s.
+fn golden_signal() -> Vec<(Vector3<f64>, Vector3<f64>)> {
+    let dt = 0.01;
+    let bias = Vector3::new(
+        0.9f64.to_radians(),
+        (-0.7f64).to_radians(),
+        0.5f64.to_radians(),
+    );
+    let s = 0.3f64.sin();
+    let mut q = [0.3f64.cos(), s * 0.6, s * 0.8, 0.0];
+    (0..12000)
+        .map(|k| {
+            let t = k as f64 * dt;
+            let m = if (20.0..30.0).contains(&t) { 0.0 } else { 1.0 };
+            let w = [
+                m * (1.1 * (1.3 * t).sin() + 0.4 * (3.1 * t + 0.5).sin()),
+                m * (-0.9 * (0.7 * t + 1.0).sin() + 0.3 * (2.3 * t).cos()),
+                m * (0.8 * (0.9 * t).cos() + 0.5 * (1.7 * t + 2.0).sin()),
+            ];
+            let a_e = [
+                m * 0.8 * (2.0 * t).sin(),
+                m * 0.6 * (1.5 * t).cos(),
+                9.81 + m * 0.5 * (1.1 * t).sin(),
+            ];
+            // Rotate by the inverse of q (earth → sensor), term by term as the script does.
+            let [qw, x, y, z] = [q[0], -q[1], -q[2], -q[3]];
+            let f = [
+                (1.0 - 2.0 * y * y - 2.0 * z * z) * a_e[0]
+                    + 2.0 * (x * y - qw * z) * a_e[1]
+                    + 2.0 * (x * z + qw * y) * a_e[2],
+                2.0 * (x * y + qw * z) * a_e[0]
+                    + (1.0 - 2.0 * x * x - 2.0 * z * z) * a_e[1]
+                    + 2.0 * (y * z - qw * x) * a_e[2],
+                2.0 * (x * z - qw * y) * a_e[0]
+                    + 2.0 * (y * z + qw * x) * a_e[1]
+                    + (1.0 - 2.0 * x * x - 2.0 * y * y) * a_e[2],
+            ];
+            let n = 1e-3 * (37.0 * k as f64).sin();
+            let gyr = Vector3::new(
+                w[0] + bias.x + n,
+                w[1] + bias.y - n,
+                w[2] + bias.z + 0.5 * n,
+            );
+            let acc = Vector3::new(f[0] + 10.0 * n, f[1] - 10.0 * n, f[2] + 5.0 * n);
+            let h = 0.5 * dt;
+            let th = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+            if th > 0.0 {
+                let s = (h * th).sin() / th;
+                let d = [(h * th).cos(), s * w[0], s * w[1], s * w[2]];
+                let p = [
+                    q[0] * d[0] - q[1] * d[1] - q[2] * d[2] - q[3] * d[3],
+                    q[0] * d[1] + q[1] * d[0] + q[2] * d[3] - q[3] * d[2],
+                    q[0] * d[2] - q[1] * d[3] + q[2] * d[0] + q[3] * d[1],
+                    q[0] * d[3] + q[1] * d[2] - q[2] * d[1] + q[3] * d[0],
+                ];
+                let nq = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3]).sqrt();
+                q = p.map(|c| c / nq);
+            }
+            (gyr, acc)
+        })
+        .collect()
+}
+
+#[test]
+fn matches_reference_vqf_on_golden_signal_to_1e_9() {
+    let data = golden_signal();
+    let mut f = OrientationFilter::new(FusionConfig::reference_vqf()).unwrap();
+    let mut checks = VQF_GOLDEN.iter().peekable();
+    let (mut max_q, mut max_b) = (0.0f64, 0.0f64);
+    for (k, (g, a)) in data.iter().enumerate() {
+        let q = f.update(g, Some(a), 0.01);
+        if let Some((_, q_ref, b_ref, rest)) = checks.next_if(|c| c.0 == k) {
+            let q_ref = Quaternion::new(q_ref[0], q_ref[1], q_ref[2], q_ref[3]);
+            // q and −q are the same rotation.
+            let dq = (q.quaternion() - q_ref)
+                .norm()
+                .min((q.quaternion() + q_ref).norm());
+            let db = (f.bias_rad_s() - Vector3::from(*b_ref)).amax();
+            max_q = max_q.max(dq);
+            max_b = max_b.max(db);
+            assert_eq!(f.is_rest(), *rest, "rest flag at sample {k}");
+        }
+    }
+    assert!(checks.next().is_none());
+    println!("largest quaternion difference {max_q:.2e}, bias {max_b:.2e} rad/s");
+    assert!(max_q < 1e-9 && max_b < 1e-9, "{max_q:e} {max_b:e}");
 }
