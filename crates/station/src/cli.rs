@@ -364,7 +364,7 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
         )?,
         Some(view) => {
             let window = WindowOptions::new("telerehab");
-            run_with_window(&opts, &controls, &link, &view, &window, None)?.0
+            run_with_window(&opts, &controls, &link, &view, &window, None, true)?.0
         }
     };
     let link_report = link.finish(report.summaries);
@@ -462,6 +462,7 @@ fn run_with_window(
     view: &CourseView,
     window: &WindowOptions,
     impact: Option<&mut RenderImpact>,
+    idle_priority: bool,
 ) -> anyhow::Result<(session::SessionReport, Option<WindowStats>)> {
     // The window and its (possibly software) renderer stay off the haptic thread's core.
     session::haptic::cores::keep_off_the_haptic_core();
@@ -484,6 +485,12 @@ fn run_with_window(
                 r
             })
             .context("cannot start the session thread")?;
+        // The session's threads are started: from here on, this thread and the renderer's
+        // workers take only the CPU time they leave over.
+        if idle_priority {
+            let idle = session::haptic::request_idle_priority();
+            tracing::debug!(idle, "patient window at idle scheduling priority");
+        }
         let source = || {
             if done.load(Ordering::Acquire) {
                 return None;
@@ -565,8 +572,15 @@ fn bench_window(args: crate::commands::bench::BenchWindowArgs) -> anyhow::Result
     };
     let controls = session::Controls::with_stop(install_stop_flag()?);
     let link = Link::start(&cfg)?;
-    let (report, stats) =
-        run_with_window(&opts, &controls, &link, &view, &window, Some(&mut impact))?;
+    let (report, stats) = run_with_window(
+        &opts,
+        &controls,
+        &link,
+        &view,
+        &window,
+        Some(&mut impact),
+        !args.normal_priority,
+    )?;
     link.finish(report.summaries);
     let stats = stats.context("the window did not open (is there a display? try xvfb-run -a)")?;
     if let Some(a) = &stats.adapter {

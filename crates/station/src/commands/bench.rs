@@ -44,6 +44,10 @@ pub struct BenchWindowArgs {
     /// Most frames per second the window draws (default: the window's own choice).
     #[arg(long)]
     pub max_fps: Option<f64>,
+    /// Leave the window at normal scheduling priority (the station puts it at idle
+    /// priority); for comparing the two.
+    #[arg(long)]
+    pub normal_priority: bool,
 }
 
 /// Ticks at the start of each phase left out of its statistics: a frame in flight when

@@ -23,6 +23,10 @@ use super::{AdapterSummary, RenderError, Scene};
 /// How often the loop asks for a new scene when nothing else wakes it.
 const PULL_PERIOD: Duration = Duration::from_micros(8_333);
 
+/// Frame-rate cap on a software rasteriser when the caller sets none: it has no display rate
+/// to wait for, and every frame it does not draw is CPU time the rest of the station keeps.
+pub const SOFTWARE_MAX_FPS: f64 = 30.0;
+
 /// A request from the patient's keyboard, passed to the caller's callback.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[non_exhaustive]
@@ -44,8 +48,8 @@ pub struct WindowOptions {
     pub fullscreen: bool,
     /// Allow the event loop on a thread other than the main one (Linux only; for tests).
     pub any_thread: bool,
-    /// Most frames drawn per second; `None` draws at the display rate (vsync). A software
-    /// rasteriser has no display rate to wait for and would otherwise draw flat out.
+    /// Most frames drawn per second; `None` draws at the display rate (vsync) on a GPU and
+    /// at [`SOFTWARE_MAX_FPS`] on a software rasteriser.
     pub max_fps: Option<f64>,
     /// Draw only while this flag is set (the loop still pulls scenes and handles keys);
     /// `None` always draws. For measuring what drawing costs the rest of the machine.
@@ -135,6 +139,8 @@ struct Gfx {
     config: wgpu::SurfaceConfiguration,
     renderer: Renderer,
     window: Arc<Window>,
+    /// The frame-rate cap in force.
+    max_fps: Option<f64>,
 }
 
 struct App<F, G> {
@@ -188,9 +194,17 @@ impl<F: FnMut() -> Option<Scene>, G: FnMut(UserRequest)> App<F, G> {
         let size = window.inner_size();
         let (pw, ph) = (size.width.max(1), size.height.max(1));
         let renderer = Renderer::with_adapter(&adapter, format, pw, ph)?;
+        let software = adapter.get_info().device_type == wgpu::DeviceType::Cpu;
+        let max_fps = self
+            .options
+            .max_fps
+            .or(software.then_some(SOFTWARE_MAX_FPS));
         println!(
-            "render: adapter {}, surface format {format:?}",
-            renderer.adapter()
+            "render: adapter {}, surface format {format:?}, {}",
+            renderer.adapter(),
+            max_fps.map_or("frames at the display rate".into(), |f| format!(
+                "at most {f} frames/s"
+            ))
         );
         let mut config = surface
             .get_default_config(&adapter, pw, ph)
@@ -203,6 +217,7 @@ impl<F: FnMut() -> Option<Scene>, G: FnMut(UserRequest)> App<F, G> {
             config,
             renderer,
             window,
+            max_fps,
         })
     }
 
@@ -326,7 +341,7 @@ impl<F: FnMut() -> Option<Scene>, G: FnMut(UserRequest)> ApplicationHandler for 
                 && gate_open
                 && now >= self.next_draw
             {
-                if let Some(fps) = self.options.max_fps {
+                if let Some(fps) = g.max_fps {
                     self.next_draw = now + Duration::from_secs_f64(1.0 / fps);
                 }
                 g.window.request_redraw();

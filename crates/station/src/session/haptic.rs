@@ -109,6 +109,29 @@ pub fn request_realtime_priority() -> bool {
     }
 }
 
+/// Put the calling thread, and the threads it starts later (a software rasteriser's workers),
+/// in the idle scheduling class (SCHED_IDLE): they run only on CPU time nothing else wants, so
+/// the recorder and the network never wait behind the patient's window. True when granted.
+pub fn request_idle_priority() -> bool {
+    #[cfg(target_os = "linux")]
+    {
+        use thread_priority::{
+            NormalThreadSchedulePolicy, ThreadPriority, ThreadSchedulePolicy,
+            set_thread_priority_and_policy, thread_native_id,
+        };
+        set_thread_priority_and_policy(
+            thread_native_id(),
+            ThreadPriority::Min,
+            ThreadSchedulePolicy::Normal(NormalThreadSchedulePolicy::Idle),
+        )
+        .is_ok()
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        false
+    }
+}
+
 /// Longest the supervisor may take to fade the torque out after a stop, s; past it the loop
 /// commands zero at once.
 const MAX_FADE_S: f64 = 2.0;
