@@ -63,9 +63,10 @@ def main():
         cases = {
             "telerehab global (no start)": lambda: ours("global"),
             "telerehab lm (same start, plain LS)": lambda: ours(
-                "lm", initial=x0, gyro_bias=False, robust=False, tolerance=1e-10
+                "lm", initial=x0, gyro_bias=False, robust=False, errors_in_variables=False,
+                tolerance=1e-10,
             ),
-            "telerehab auto (robust + bias)": lambda: ours("auto"),
+            "telerehab auto (default: robust + bias + noise correction)": lambda: ours("auto"),
             "scipy least_squares lm (analytic J)": lambda: least_squares(
                 residuals, x0, jac=jacobian, args=args, method="lm", xtol=1e-10
             ).x,

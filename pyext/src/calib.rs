@@ -168,7 +168,7 @@ fn to_vec(a: &PyReadonlyArray1<'_, f64>) -> Vec<f64> {
 
 /// Native four-bar calibration; see `telerehab.calib.calibrate_planar_fourbar`.
 #[pyfunction]
-#[pyo3(signature = (phi2, phi3, phi4, l2, initial, method, time_s, gyro_bias, robust, max_iterations, tolerance, smoothing_half_window))]
+#[pyo3(signature = (phi2, phi3, phi4, l2, initial, method, time_s, gyro_bias, robust, max_iterations, tolerance, smoothing_half_window, errors_in_variables))]
 #[allow(clippy::too_many_arguments)]
 fn calibrate_planar_fourbar(
     py: Python<'_>,
@@ -184,6 +184,7 @@ fn calibrate_planar_fourbar(
     max_iterations: u32,
     tolerance: f64,
     smoothing_half_window: usize,
+    errors_in_variables: bool,
 ) -> PyResult<PlanarFourbarResult> {
     let options = FourbarOptions {
         method: parse_method(method)?,
@@ -193,6 +194,7 @@ fn calibrate_planar_fourbar(
         max_iterations,
         tolerance,
         smoothing_half_window,
+        errors_in_variables,
     };
     let (p2, p3, p4) = (to_vec(&phi2), to_vec(&phi3), to_vec(&phi4));
     let t = time_s.as_ref().map(to_vec);

@@ -42,20 +42,26 @@ def test_every_method_is_reachable_by_name(method):
     assert r.method == method
 
 
-def test_noisy_recording_reports_its_uncertainty_and_smoothing_removes_noise_bias():
+def test_noisy_recording_reports_its_uncertainty_and_noise_correction_or_smoothing_removes_bias():
     rng = np.random.default_rng(0)
     phi2, phi3, phi4, t, truth = simulate(n=2000)
     noise = np.deg2rad(0.5)
     p3 = phi3 + rng.normal(0, noise, phi3.shape)
     p4 = phi4 + rng.normal(0, noise, phi4.shape)
-    raw = calib.calibrate_planar_fourbar(phi2, p3, p4, L2, time_s=t)
-    smooth = calib.calibrate_planar_fourbar(phi2, p3, p4, L2, time_s=t, smoothing_half_window=25)
-    for r in (raw, smooth):
+    raw = calib.calibrate_planar_fourbar(phi2, p3, p4, L2, time_s=t, errors_in_variables=False)
+    smooth = calib.calibrate_planar_fourbar(
+        phi2, p3, p4, L2, time_s=t, smoothing_half_window=25, errors_in_variables=False
+    )
+    corrected = calib.calibrate_planar_fourbar(phi2, p3, p4, L2, time_s=t)  # the default
+    for r in (raw, smooth, corrected):
         assert all(v > 0 for v in r.std_errors.values())
         assert 0 < r.rms_residual < 0.01
-    # angle noise biases the loop fit (errors in variables); smoothing first removes most of it
+    # angle noise biases the plain loop fit (errors in variables); the default's noise
+    # correction removes most of it, and so does smoothing first
+    assert rel_err(corrected, truth) < 0.5 * rel_err(raw, truth)
     assert rel_err(smooth, truth) < 0.5 * rel_err(raw, truth)
     assert abs(smooth.l3 - truth["l3"]) < 0.005
+    assert abs(corrected.l3 - truth["l3"]) < 0.005
 
 
 def test_small_wheel_motion_warns_and_says_what_to_ask_for():

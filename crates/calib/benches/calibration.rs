@@ -46,16 +46,38 @@ fn fourbar(c: &mut Criterion) {
         ..truth
     };
     let mut group = c.benchmark_group("fourbar_2000_samples");
-    for (name, method, initial) in [
-        ("global", FourbarMethod::Global, None),
-        ("auto", FourbarMethod::Auto, None),
-        ("thesis_gn", FourbarMethod::Thesis, Some(start)),
-        ("lm", FourbarMethod::Lm, Some(start)),
+    let plain = FourbarOptions {
+        gyro_bias: false,
+        robust: false,
+        errors_in_variables: false,
+        ..Default::default()
+    };
+    for (name, method, initial, base) in [
+        (
+            "global",
+            FourbarMethod::Global,
+            None,
+            FourbarOptions::default(),
+        ),
+        ("auto", FourbarMethod::Auto, None, FourbarOptions::default()),
+        ("thesis_gn", FourbarMethod::Thesis, Some(start), plain),
+        (
+            "lm",
+            FourbarMethod::Lm,
+            Some(start),
+            FourbarOptions::default(),
+        ),
+        (
+            "lm_plain_least_squares",
+            FourbarMethod::Lm,
+            Some(start),
+            plain,
+        ),
     ] {
         let o = FourbarOptions {
             method,
             initial,
-            ..Default::default()
+            ..base
         };
         group.bench_function(name, |b| {
             b.iter(|| calibrate(black_box(&s), 0.15, &o).unwrap())

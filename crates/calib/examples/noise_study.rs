@@ -43,15 +43,37 @@ fn main() {
     println!("|---|---|---|---|---|---|");
     for (pct, th3, th4) in thesis_table {
         let p = pct as f64 / 100.0;
-        for (name, method, initial) in [
-            ("thesis GN", FourbarMethod::Thesis, Some(start)),
-            ("global", FourbarMethod::Global, None),
+        for (name, method, initial, eiv, smoothing_half_window) in [
+            ("thesis GN", FourbarMethod::Thesis, Some(start), false, 0),
+            ("global", FourbarMethod::Global, None, false, 0),
             (
-                "auto (global + robust LM + bias)",
+                "auto without errors_in_variables (global + robust LM + bias)",
                 FourbarMethod::Auto,
                 None,
+                false,
+                0,
             ),
-            ("auto + Savitzky–Golay ±25", FourbarMethod::Auto, None),
+            (
+                "auto without errors_in_variables + Savitzky–Golay ±25",
+                FourbarMethod::Auto,
+                None,
+                false,
+                25,
+            ),
+            (
+                "**auto (default: noise-weighted, bias-corrected)**",
+                FourbarMethod::Auto,
+                None,
+                true,
+                0,
+            ),
+            (
+                "auto + Savitzky–Golay ±10",
+                FourbarMethod::Auto,
+                None,
+                true,
+                10,
+            ),
         ] {
             let (mut e3, mut e4, mut ok, mut failed) = (0.0, 0.0, 0, 0);
             for seed in 0..seeds {
@@ -65,11 +87,11 @@ fn main() {
                         .collect()
                 };
                 let (n2, n3, n4) = (noisy(&phi2), noisy(&phi3), noisy(&phi4));
-                let smoothing_half_window = if name.contains("Savitzky") { 25 } else { 0 };
                 let o = FourbarOptions {
                     method,
                     initial,
                     smoothing_half_window,
+                    errors_in_variables: eiv,
                     ..Default::default()
                 };
                 match calibrate(&FourbarSamples::new(&n2, &n3, &n4), 0.15, &o) {
@@ -113,6 +135,7 @@ fn random_starts(phi2: &[f64], phi3: &[f64], phi4: &[f64]) {
         initial,
         gyro_bias: false,
         robust: false,
+        errors_in_variables: false,
         ..Default::default()
     };
     let best = calibrate(&s, 0.15, &plain(FourbarMethod::Global, None))

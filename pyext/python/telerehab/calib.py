@@ -78,6 +78,7 @@ def calibrate_planar_fourbar(
     max_iterations: int = 200,
     tolerance: float = 1e-12,
     smoothing_half_window: int = 0,
+    errors_in_variables: bool = True,
 ) -> PlanarFourbarResult:
     """Calibrate the arm–wheel planar four-bar from one recording (thesis eq. 4.1–4.4).
 
@@ -103,7 +104,12 @@ def calibrate_planar_fourbar(
         smoothing_half_window: half-width (samples) of a zero-phase Savitzky–Golay smoother
             applied to the angles first (0 = off, up to 500). White angle noise biases every
             least-squares fit of this loop; smoothing removes most of that bias. Keep the
-            window under a quarter of the motion's period (e.g. 25 at 100 Hz).
+            window under a quarter of the motion's period (e.g. 25 at 100 Hz). Not needed
+            with ``errors_in_variables``.
+        errors_in_variables: estimate each sample's angle noise from the data (``"auto"``,
+            ``"lm"``), weight the samples by it and remove the bias white angle noise causes in
+            every least-squares fit of this loop (thesis Table 4.1's errors). Exact data give
+            the same answer either way; turn it off to minimise the plain cost of eq. 4.3.
 
     Returns:
         A result with ``l1, l3, l4`` (m), ``theta2_0, theta3_0, theta4_0`` (rad),
@@ -132,7 +138,7 @@ def calibrate_planar_fourbar(
     return _native.calibrate_planar_fourbar(
         p2, p3, p4, float(l2), _initial_vector(initial), str(method), t,
         bool(gyro_bias), bool(robust), int(max_iterations), float(tolerance),
-        int(smoothing_half_window),
+        int(smoothing_half_window), bool(errors_in_variables),
     )
 
 

@@ -81,6 +81,7 @@ def calibrate_planar_fourbar(
     max_iterations: int = ...,
     tolerance: float = ...,
     smoothing_half_window: int = ...,
+    errors_in_variables: bool = ...,
 ) -> PlanarFourbarResult: ...
 
 class OnlinePlanarFourbar:

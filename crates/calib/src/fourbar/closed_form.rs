@@ -15,13 +15,15 @@
 
 use nalgebra::{Matrix2, SMatrix, SVector, Vector2};
 
+use super::eiv::Gains;
 use super::model::{FourbarParams, FourbarSamples};
+use super::trig::Trig;
 use crate::error::CalibError;
 
 /// Number of real unknowns in `z`.
 pub(crate) const NZ: usize = 7;
 
-type Mat7 = SMatrix<f64, NZ, NZ>;
+pub(crate) type Mat7 = SMatrix<f64, NZ, NZ>;
 
 /// The two real rows of `M` for one sample: `[re; im]`.
 pub(crate) fn sample_rows(phi2: f64, phi3: f64, phi4: f64) -> [[f64; NZ]; 2] {
@@ -74,31 +76,19 @@ impl SqrtInfo {
         self.count += 1;
     }
 
-    /// Absorb a whole recording without forgetting (batch QR in chunks).
-    pub(crate) fn from_samples(s: &FourbarSamples<'_>) -> Self {
-        Self::from_weighted_samples(s, None)
+    /// Absorb a whole recording without forgetting.
+    pub(crate) fn from_samples(s: &FourbarSamples<'_>, trig: &Trig) -> Self {
+        Self::from_gram(s, trig, None)
     }
 
-    /// As [`Self::from_samples`] with per-sample weights (rows scaled by √w).
+    /// `R` of the (per-sample weighted) loop equations.
     ///
-    /// Fast path: accumulate the 7×7 normal matrix and take its Cholesky factor (the loop
-    /// matrix is well scaled — every row has unit-modulus entries — so squaring its condition
-    /// number costs little); if that factorisation fails or is nearly singular, fall back to a
+    /// Fast path: the 7×7 normal matrix from [`gram`] and its Cholesky factor (the loop matrix
+    /// is well scaled — every row has unit-modulus entries — so squaring its condition number
+    /// costs little); if that factorisation fails or is nearly singular, fall back to a
     /// Householder QR of the rows themselves.
-    pub(crate) fn from_weighted_samples(s: &FourbarSamples<'_>, weights: Option<&[f64]>) -> Self {
-        let mut a = Mat7::zeros();
-        for j in 0..s.len() {
-            let w = weights.map_or(1.0, |w| w[j]);
-            for row in sample_rows(s.phi2[j], s.phi3[j], s.phi4[j]) {
-                for (c, vc) in row.iter().enumerate() {
-                    let wc = w * vc;
-                    for (d, vd) in row.iter().enumerate().take(c + 1) {
-                        a[(c, d)] += wc * vd;
-                    }
-                }
-            }
-        }
-        a.fill_upper_triangle_with_lower_triangle();
+    pub(crate) fn from_gram(s: &FourbarSamples<'_>, trig: &Trig, weights: Option<&[f64]>) -> Self {
+        let a = gram(trig, weights, None);
         let n_eff = weights.map_or(s.len() as f64, |w| w.iter().sum());
         let scale = a.diagonal().amax();
         let chol = a
@@ -182,74 +172,233 @@ impl SqrtInfo {
             w = -w;
         }
         let cost = (smin * l2).powi(2);
-        let params = FourbarParams::from_vec8([
-            w[4],
-            w[0].hypot(w[1]),
-            w[2].hypot(w[3]),
-            a[1].atan2(a[0]),
-            w[1].atan2(w[0]),
-            w[3].atan2(w[2]),
-            0.0,
-            0.0,
-        ]);
-        Ok((params, cost))
+        Ok((params_from_z(&w, &a), cost))
     }
 
     /// Normal matrix `JᵀJ` of the six non-linear parameters `[l1, l3, l4, Θ2, Θ3, Θ4]` at `p`,
     /// through the chain rule `J = M·∂z/∂p`, so `JᵀJ = GᵀRᵀRG`.
     pub(crate) fn normal_matrix(&self, p: &FourbarParams, l2: f64) -> SMatrix<f64, 6, 6> {
-        let mut g = SMatrix::<f64, NZ, 6>::zeros();
-        let (s2, c2) = p.theta2_0_rad.sin_cos();
-        let (s3, c3) = p.theta3_0_rad.sin_cos();
-        let (s4, c4) = p.theta4_0_rad.sin_cos();
-        g[(0, 1)] = c3;
-        g[(0, 4)] = -p.l3_m * s3;
-        g[(1, 1)] = s3;
-        g[(1, 4)] = p.l3_m * c3;
-        g[(2, 2)] = c4;
-        g[(2, 5)] = -p.l4_m * s4;
-        g[(3, 2)] = s4;
-        g[(3, 5)] = p.l4_m * c4;
-        g[(4, 0)] = 1.0;
-        g[(5, 3)] = -l2 * s2;
-        g[(6, 3)] = l2 * c2;
-        let rg = self.r * g;
+        let rg = self.r * dz_dp(&p.to_vec8(), l2);
         rg.transpose() * rg
     }
 }
 
-/// Outlier-resistant global solution: the closed form re-solved with Cauchy weights
-/// `1/(1 + (|ΔX|/c)²)`, `c = 2.385σ̂` from the median residual (iteratively reweighted least
-/// squares, at most 30 rounds). Starts from the plain global solution, so still needs no
-/// initial guess; gross outliers (a slipped gyro strap) lose their pull on the fit.
-pub(crate) fn robust_global(s: &FourbarSamples<'_>, l2: f64) -> Result<FourbarParams, CalibError> {
-    let (mut p, _) = SqrtInfo::from_samples(s).solve(l2)?;
-    let mut w = vec![1.0; s.len()];
-    for _ in 0..30 {
-        let norms: Vec<f64> = (0..s.len())
-            .map(|k| {
-                let r = super::model::loop_residual(
-                    [p.l1_m, l2, p.l3_m, p.l4_m],
-                    p.theta2_0_rad + s.phi2[k],
-                    p.theta3_0_rad + s.phi3[k],
-                    p.theta4_0_rad + s.phi4[k],
-                );
-                r[0].hypot(r[1])
-            })
-            .collect();
-        let mut sorted = norms.clone();
-        let mid = sorted.len() / 2;
-        let (_, median, _) = sorted.select_nth_unstable_by(mid, f64::total_cmp);
-        let c = (2.385 * *median / 1.1774).max(1e-12 * l2);
-        for (wk, r) in w.iter_mut().zip(&norms) {
-            *wk = 1.0 / (1.0 + (r / c).powi(2));
+/// The linear unknowns `z = [Re b, Im b, Re c, Im c, l1, Re a, Im a]` at parameters
+/// `p = [l1, l3, l4, Θ2, Θ3, Θ4, …]` (eq. 4.1 with `a = l2·e^{iΘ2}`, `b = l3·e^{iΘ3}`,
+/// `c = l4·e^{iΘ4}`).
+pub(crate) fn z_of(p: &[f64; 8], l2: f64) -> SVector<f64, NZ> {
+    let (s2, c2) = p[3].sin_cos();
+    let (s3, c3) = p[4].sin_cos();
+    let (s4, c4) = p[5].sin_cos();
+    SVector::<f64, NZ>::from([
+        p[1] * c3,
+        p[1] * s3,
+        p[2] * c4,
+        p[2] * s4,
+        p[0],
+        l2 * c2,
+        l2 * s2,
+    ])
+}
+
+/// `∂z/∂p` (7×6) for `p = [l1, l3, l4, Θ2, Θ3, Θ4]`.
+pub(crate) fn dz_dp(p: &[f64; 8], l2: f64) -> SMatrix<f64, NZ, 6> {
+    let mut g = SMatrix::<f64, NZ, 6>::zeros();
+    let (s2, c2) = p[3].sin_cos();
+    let (s3, c3) = p[4].sin_cos();
+    let (s4, c4) = p[5].sin_cos();
+    g[(0, 1)] = c3;
+    g[(0, 4)] = -p[1] * s3;
+    g[(1, 1)] = s3;
+    g[(1, 4)] = p[1] * c3;
+    g[(2, 2)] = c4;
+    g[(2, 5)] = -p[2] * s4;
+    g[(3, 2)] = s4;
+    g[(3, 5)] = p[2] * c4;
+    g[(4, 0)] = 1.0;
+    g[(5, 3)] = -l2 * s2;
+    g[(6, 3)] = l2 * c2;
+    g
+}
+
+fn params_from_z(w: &SVector<f64, 5>, a: &Vector2<f64>) -> FourbarParams {
+    FourbarParams::from_vec8([
+        w[4],
+        w[0].hypot(w[1]),
+        w[2].hypot(w[3]),
+        a[1].atan2(a[0]),
+        w[1].atan2(w[0]),
+        w[3].atan2(w[2]),
+        0.0,
+        0.0,
+    ])
+}
+
+/// The normal matrix `H` (7×7) of the loop equations `M z = 0`, per-sample weighted by
+/// `weights` and, with `gains`, bias-corrected for angle noise ([`super::eiv`]): each unit
+/// vector `e^{iφⱼ}` scaled by its gain `gⱼ`, and the diagonal blocks put back to `Σw`, which is
+/// what `Σ w·|gⱼe^{iφⱼ}|² − Σ w·(gⱼ² − 1)` equals. `zᵀHz` is the (corrected) cost of eq. 4.3.
+///
+/// One pass over the samples with 13 running sums: every 2×2 block between two links is
+/// `[[Re w, Im w], [−Im w, Re w]]` with `w = Σ uᵢ·conj(uⱼ)` (`u = e^{iφ3}, −e^{iφ4}, e^{iφ2}`).
+pub(crate) fn gram(trig: &Trig, weights: Option<&[f64]>, gains: Option<&Gains>) -> Mat7 {
+    let n = trig.len();
+    // [Σw, Σ w·u_b (re, im), Σ w·u_c, Σ w·u_a, w_bc, w_ba, w_ca]
+    let mut acc = [0.0f64; 13];
+    for k in 0..n {
+        let w = weights.map_or(1.0, |w| w[k]);
+        let (g2, g3, g4) = gains.map_or((1.0, 1.0, 1.0), |g| (g.g2[k], g.g3[k], g.g4[k]));
+        let (c2, s2) = (trig.c2[k], trig.s2[k]);
+        let (c3, s3) = (trig.c3[k], trig.s3[k]);
+        let (c4, s4) = (trig.c4[k], trig.s4[k]);
+        let (w2, w3, w4) = (w * g2, w * g3, w * g4);
+        acc[0] += w;
+        acc[1] += w3 * c3;
+        acc[2] += w3 * s3;
+        acc[3] += w4 * c4;
+        acc[4] += w4 * s4;
+        acc[5] += w2 * c2;
+        acc[6] += w2 * s2;
+        let w34 = w3 * g4;
+        acc[7] += w34 * (c3 * c4 + s3 * s4);
+        acc[8] += w34 * (s3 * c4 - c3 * s4);
+        let w32 = w3 * g2;
+        acc[9] += w32 * (c3 * c2 + s3 * s2);
+        acc[10] += w32 * (s3 * c2 - c3 * s2);
+        let w42 = w4 * g2;
+        acc[11] += w42 * (c4 * c2 + s4 * s2);
+        acc[12] += w42 * (s4 * c2 - c4 * s2);
+    }
+    let mut h = Mat7::zeros();
+    for i in [0, 1, 2, 3, 4, 5, 6] {
+        h[(i, i)] = acc[0];
+    }
+    // l1 couples to each link through −Re(x·u): (l1, Re x) = −Σ Re u, (l1, Im x) = Σ Im u
+    let l1_row = [
+        (0, -acc[1]),
+        (1, acc[2]),
+        (2, acc[3]),
+        (3, -acc[4]),
+        (5, -acc[5]),
+        (6, acc[6]),
+    ];
+    for (j, v) in l1_row {
+        h[(4, j)] = v;
+        h[(j, 4)] = v;
+    }
+    // pairs (b, c): u_b·conj(u_c) = −e^{i(φ3−φ4)}; (b, a): e^{i(φ3−φ2)}; (c, a): −e^{i(φ4−φ2)}
+    for (i, j, wr, wi) in [
+        (0, 2, -acc[7], -acc[8]),
+        (0, 5, acc[9], acc[10]),
+        (2, 5, -acc[11], -acc[12]),
+    ] {
+        let block = [[wr, wi], [-wi, wr]];
+        for (di, row) in block.iter().enumerate() {
+            for (dj, v) in row.iter().enumerate() {
+                h[(i + di, j + dj)] = *v;
+                h[(j + dj, i + di)] = *v;
+            }
         }
-        let (next, _) = SqrtInfo::from_weighted_samples(s, Some(&w)).solve(l2)?;
+    }
+    h
+}
+
+/// The global minimiser of `zᵀHz` under `|a| = l2` for a symmetric `H` that need not be
+/// positive definite (a bias-corrected normal matrix): Schur complement of the 5×5 block of
+/// `[b, c, l1]` (which must be positive definite) and the 2×2 eigenvector of its smallest
+/// eigenvalue. Returns the parameters and the minimum cost.
+pub(crate) fn solve_gram(h: &Mat7, l2: f64) -> Result<(FourbarParams, f64), CalibError> {
+    let not_identifiable = || CalibError::NotIdentifiable {
+        reason: "the arm angles barely changed, so forearm, upper-arm and ground links \
+                 cannot be told apart; ask the patient for ±50–60° of wheel motion"
+            .into(),
+    };
+    let h_ww = h.fixed_view::<5, 5>(0, 0).into_owned();
+    let h_wa = h.fixed_view::<5, 2>(0, 5).into_owned();
+    let scale = h_ww.diagonal().amax();
+    let chol = h_ww
+        .cholesky()
+        .filter(|c| scale > 0.0 && c.l_dirty().diagonal().amin() > 1e-6 * scale.sqrt())
+        .ok_or_else(not_identifiable)?;
+    let x = chol.solve(&h_wa); // H_ww⁻¹ H_wa
+    let s: Matrix2<f64> = h.fixed_view::<2, 2>(5, 5).into_owned() - h_wa.transpose() * x;
+    let s = (s + s.transpose()) * 0.5;
+    let eig = s.symmetric_eigen();
+    let (imin, imax) = if eig.eigenvalues[0] <= eig.eigenvalues[1] {
+        (0, 1)
+    } else {
+        (1, 0)
+    };
+    let (emin, emax) = (eig.eigenvalues[imin], eig.eigenvalues[imax]);
+    let gap = emax - emin;
+    if gap.is_nan() || gap <= 1e-9 * emax.abs().max(f64::MIN_POSITIVE) {
+        return Err(CalibError::NotIdentifiable {
+            reason: "the initial wheel angle Θ2 is not determined by these data; ask the \
+                     patient for ±50–60° of wheel motion"
+                .into(),
+        });
+    }
+    let mut a: Vector2<f64> = eig.eigenvectors.column(imin) * l2;
+    let mut w = -(x * a);
+    if w[4] < 0.0 {
+        a = -a;
+        w = -w;
+    }
+    Ok((params_from_z(&w, &a), emin * l2 * l2))
+}
+
+/// The global solution used to start [`super::FourbarMethod::Auto`], still needing no initial
+/// guess:
+/// 1. the plain closed form ([`SqrtInfo::solve`]);
+/// 2. with a noise profile: re-solved twice with the noise weights at the current lengths and
+///    the errors-in-variables correction ([`super::eiv`], [`solve_gram`]);
+/// 3. when `robust`: iteratively re-weighted with Cauchy factors `1/(1 + (ρ/c)²)` of the
+///    standardised residual norms ρ, `c = 2.385σ̂` from their median (at most 5 rounds: the
+///    LM refinement that follows finishes the job), so
+///    gross outliers (a slipped gyro strap) lose their pull on the fit.
+pub(crate) fn global_fit(
+    s: &FourbarSamples<'_>,
+    trig: &Trig,
+    l2: f64,
+    noise: Option<&super::eiv::NoiseProfile>,
+    gains: Option<&Gains>,
+    robust: bool,
+) -> Result<FourbarParams, CalibError> {
+    let (mut p, _) = SqrtInfo::from_samples(s, trig).solve(l2)?;
+    let n = s.len();
+    let mut nw = vec![1.0; n];
+    // a corrected normal matrix can lose definiteness when the noise rivals the motion: then
+    // keep the weighted, uncorrected solution
+    let solve = |w: &[f64]| {
+        solve_gram(&gram(trig, Some(w), gains), l2)
+            .or_else(|_| solve_gram(&gram(trig, Some(w), None), l2))
+    };
+    if let Some(nz) = noise {
+        for _ in 0..2 {
+            nz.weights(l2, p.l3_m, p.l4_m, &mut nw);
+            p = solve(&nw)?.0;
+        }
+    }
+    if !robust {
+        return Ok(p);
+    }
+    let (mut norms, mut scratch, mut w) = (Vec::new(), Vec::new(), vec![1.0; n]);
+    for _ in 0..5 {
+        super::iterative::residual_norms(trig, l2, &p.to_vec8(), &mut norms);
+        for (r, wn) in norms.iter_mut().zip(&nw) {
+            *r *= wn.sqrt();
+        }
+        let median = super::iterative::median(&norms, &mut scratch);
+        let c = (2.385 * median / 1.1774).max(1e-12 * l2);
+        for ((wk, r), wn) in w.iter_mut().zip(&norms).zip(&nw) {
+            *wk = wn / (1.0 + (r / c).powi(2));
+        }
+        let next = solve(&w)?.0;
         let change = (next.to_vec8().iter().zip(p.to_vec8()))
             .map(|(a, b)| (a - b).abs())
             .fold(0.0, f64::max);
         p = next;
-        if change < 1e-12 {
+        if change < 1e-7 * l2 {
             break;
         }
     }

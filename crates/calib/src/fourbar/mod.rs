@@ -9,30 +9,41 @@
 //!   `robust`) refined by the robust LM (and, when
 //!   an initial guess is given, the LM from it too, keeping the lower cost);
 //!
+//! With `errors_in_variables` (the default for `Auto` and `Lm`) the fit weights each sample by
+//! the angle noise estimated from the data and removes the bias that noise causes ([`eiv`]).
+//!
 //! and [`online::OnlineFourbar`] tracks the parameters sample by sample.
 
 pub mod closed_form;
+pub mod eiv;
 mod iterative;
 pub mod model;
 pub mod online;
 pub mod quality;
 pub mod smoothing;
+mod trig;
 
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
+pub use eiv::NoiseProfile;
 pub use model::{FourbarGeometry, FourbarParams, FourbarSamples, MIN_SAMPLES, loop_residual};
 pub use quality::FourbarStdErrors;
 
 use crate::error::CalibError;
-use closed_form::SqrtInfo;
-use iterative::{Refined, gauss_newton, huber_threshold, levenberg_marquardt, normal_equations};
+use closed_form::{SqrtInfo, gram};
+use eiv::Gains;
+use iterative::{
+    Problem, Quadratic, Refined, gauss_newton, levenberg_marquardt, median, pass, residual_norms,
+};
+use trig::Trig;
 
 /// Which estimator to run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FourbarMethod {
-    /// Global closed form, then robust LM with gyro-bias terms (the default).
+    /// Global closed form, then robust LM with gyro-bias terms, both noise-weighted and
+    /// corrected for the errors-in-variables bias when `errors_in_variables` (the default).
     #[default]
     Auto,
     /// Closed-form global least squares only (no bias terms, no robust weighting).
@@ -73,10 +84,14 @@ pub struct FourbarOptions {
     /// Relative step tolerance of the iterative methods, in (0, 1e-3].
     pub tolerance: f64,
     /// Half-width (samples) of a zero-phase Savitzky–Golay smoother applied to φ2, φ3, φ4
-    /// before the fit, 0 (off) ..= 500. Removes the errors-in-variables bias that white angle
+    /// before the fit, 0 (off) ..= 500. Reduces the errors-in-variables bias that white angle
     /// noise causes; keep the window well under a quarter of the motion's period
-    /// ([`smoothing`]).
+    /// ([`smoothing`]). Not needed with `errors_in_variables`, which removes that bias itself.
     pub smoothing_half_window: usize,
+    /// Estimate the angle noise of each sample from the data (`Auto` and `Lm`), weight the
+    /// samples by it and correct the errors-in-variables bias it causes ([`eiv`]). Exact,
+    /// noise-free data give the same answer with or without it.
+    pub errors_in_variables: bool,
 }
 
 impl Default for FourbarOptions {
@@ -89,6 +104,7 @@ impl Default for FourbarOptions {
             max_iterations: 200,
             tolerance: 1e-12,
             smoothing_half_window: 0,
+            errors_in_variables: true,
         }
     }
 }
@@ -173,8 +189,12 @@ pub fn calibrate(
     check_l2(l2_m)?;
     samples.validate()?;
     options.validate()?;
+    let eiv = options.errors_in_variables
+        && matches!(options.method, FourbarMethod::Auto | FourbarMethod::Lm);
     if options.smoothing_half_window > 0 {
         let w = options.smoothing_half_window;
+        // the noise is estimated on the raw angles and carried through the filter
+        let noise = eiv.then(|| NoiseProfile::estimate(samples).smoothed(w));
         let (p2, p3, p4) = (
             smoothing::savitzky_golay(samples.phi2, w),
             smoothing::savitzky_golay(samples.phi3, w),
@@ -186,12 +206,32 @@ pub fn calibrate(
             phi4: &p4,
             time_s: samples.time_s,
         };
-        let unsmoothed = FourbarOptions {
-            smoothing_half_window: 0,
-            ..*options
-        };
-        return calibrate(&smoothed, l2_m, &unsmoothed);
+        return calibrate_with_noise(&smoothed, l2_m, options, noise.as_ref());
     }
+    let noise = eiv.then(|| NoiseProfile::estimate(samples));
+    calibrate_with_noise(samples, l2_m, options, noise.as_ref())
+}
+
+/// A refinement and the weights it ended with.
+struct Fit {
+    refined: Refined,
+    /// Final per-sample weights (noise × Huber).
+    weights: Vec<f64>,
+    /// Σ of the Huber factors (the effective sample count).
+    n_eff: f64,
+    /// Fraction of samples the Huber loss down-weighted.
+    outlier_fraction: f64,
+    /// The plain (unweighted, uncorrected) cost as a quadratic form, when the fit used it:
+    /// then the statistics need no further pass over the samples.
+    plain: Option<Quadratic>,
+}
+
+fn calibrate_with_noise(
+    samples: &FourbarSamples<'_>,
+    l2_m: f64,
+    options: &FourbarOptions,
+    noise: Option<&NoiseProfile>,
+) -> Result<FourbarCalibration, CalibError> {
     let tol = options.tolerance;
     let max_it = options.max_iterations;
     let np = if options.gyro_bias { 8 } else { 6 };
@@ -200,61 +240,61 @@ pub fn calibrate(
             .initial
             .ok_or(CalibError::MissingInitialGuess { method })
     };
+    let trig = Trig::new(samples);
+    let gains = noise.map(NoiseProfile::gains);
+    let refine = |p0: [f64; 8]| {
+        refine(
+            &trig,
+            l2_m,
+            p0,
+            np,
+            noise,
+            gains.as_ref(),
+            options.robust,
+            max_it,
+            tol,
+        )
+    };
     // The closed form's statistics come straight from its triangular factor (no second pass).
     let mut global_stats = None;
-    let (refined, robust_c) = match options.method {
+    let fit = match options.method {
         FourbarMethod::Global => {
-            let info = SqrtInfo::from_samples(samples);
+            let info = SqrtInfo::from_samples(samples, &trig);
             let (p, cost) = info.solve(l2_m)?;
             let normal = to_dynamic(&info.normal_matrix(&p, l2_m));
             global_stats = Some(quality::fit_stats(&normal, cost, info.n_eff));
-            (
-                Refined {
-                    p: p.to_vec8(),
-                    iterations: 0,
-                    converged: true,
-                },
-                None,
-            )
+            plain_fit(p.to_vec8(), 0, true, samples.len())
         }
         FourbarMethod::Thesis => {
             let p0 = need_initial("thesis")?.to_vec8();
-            (gauss_newton(p0, l2_m, samples, max_it, tol)?, None)
+            let q = Quadratic::new(gram(&trig, None, None), false);
+            let r = gauss_newton(p0, &q, l2_m, max_it, tol)?;
+            Fit {
+                plain: Some(q),
+                ..plain_fit(r.p, r.iterations, r.converged, samples.len())
+            }
         }
-        FourbarMethod::Lm => {
-            let p0 = need_initial("lm")?.to_vec8();
-            robust_lm(p0, np, l2_m, samples, options.robust, max_it, tol)
-        }
+        FourbarMethod::Lm => refine(need_initial("lm")?.to_vec8()),
         FourbarMethod::Auto => {
-            let global = if options.robust {
-                closed_form::robust_global(samples, l2_m)?
-            } else {
-                SqrtInfo::from_samples(samples).solve(l2_m)?.0
-            };
-            let mut best = robust_lm(
-                global.to_vec8(),
-                np,
-                l2_m,
+            let global = closed_form::global_fit(
                 samples,
+                &trig,
+                l2_m,
+                noise,
+                gains.as_ref(),
                 options.robust,
-                max_it,
-                tol,
-            );
+            )?;
+            let mut best = refine(global.to_vec8());
             if let Some(init) = options.initial {
-                let other = robust_lm(
-                    init.to_vec8(),
-                    np,
-                    l2_m,
-                    samples,
-                    options.robust,
-                    max_it,
-                    tol,
-                );
-                // compare both ends under the same loss (the global start's threshold)
-                let c = best.1;
-                let cost = |r: &(Refined, Option<f64>)| {
-                    normal_equations(&r.0.p, np, l2_m, samples, c).cost
+                let other = refine(init.to_vec8());
+                // compare both ends under the same cost (the global start's final weights)
+                let pb = Problem {
+                    trig: &trig,
+                    l2: l2_m,
+                    weights: Some(&best.weights),
+                    gains: gains.as_ref(),
                 };
+                let cost = |f: &Fit| pass::<8>(&pb, &f.refined.p).normal.cost;
                 if cost(&other) < cost(&best) {
                     best = other;
                 }
@@ -267,19 +307,39 @@ pub fn calibrate(
     } else {
         6
     };
+    let refined = fit.refined;
     let params = FourbarParams::from_vec8(refined.p);
-    let (stats, outlier_fraction) = match global_stats {
-        Some(stats) => (stats, 0.0),
-        None => {
-            let ne = normal_equations(&params.to_vec8(), np_used, l2_m, samples, robust_c);
-            let outliers = if robust_c.is_some() {
-                ne.outlier_fraction
-            } else {
-                0.0
+    let stats = match (global_stats, &fit.plain) {
+        (Some(stats), _) => stats,
+        (None, Some(q)) => {
+            // plain least squares without bias terms: everything from the 7×7 form
+            let ne = q.normal(l2_m, &params.to_vec8());
+            let jtj = DMatrix::from_fn(6, 6, |i, j| ne.jtj[(i, j)]);
+            quality::fit_stats(&jtj, ne.cost.max(0.0), samples.len() as f64)
+        }
+        (None, None) => {
+            let pb = Problem {
+                trig: &trig,
+                l2: l2_m,
+                weights: Some(&fit.weights),
+                gains: None,
             };
-            (quality::fit_stats(&ne.jtj, ne.ssr, ne.w_sum), outliers)
+            let p = params.to_vec8();
+            let (jtj, ssr_w, ssr) = if np_used == 8 {
+                let ps = pass::<8>(&pb, &p);
+                let jtj = DMatrix::from_fn(8, 8, |i, j| ps.normal.jtj[(i, j)]);
+                (jtj, ps.normal.cost, ps.ssr_unweighted)
+            } else {
+                let ps = pass::<6>(&pb, &p);
+                let jtj = DMatrix::from_fn(6, 6, |i, j| ps.normal.jtj[(i, j)]);
+                (jtj, ps.normal.cost, ps.ssr_unweighted)
+            };
+            let mut stats = quality::fit_stats(&jtj, ssr_w, fit.n_eff);
+            stats.rms_residual_m = (ssr / samples.len() as f64).sqrt();
+            stats
         }
     };
+    let outlier_fraction = fit.outlier_fraction;
     let range = samples.wheel_range_rad();
     let mut warnings = quality::warnings(&params, &stats, Some(range), samples.time_s.is_some());
     if !refined.converged {
@@ -310,35 +370,120 @@ pub fn calibrate(
     })
 }
 
-/// LM with Huber weighting whose threshold is re-estimated from the residuals until stable
-/// (at most three passes). Returns the refinement and the final threshold.
-fn robust_lm(
+fn plain_fit(p: [f64; 8], iterations: u32, converged: bool, n: usize) -> Fit {
+    Fit {
+        refined: Refined {
+            p,
+            iterations,
+            converged,
+        },
+        weights: vec![1.0; n],
+        n_eff: n as f64,
+        outlier_fraction: 0.0,
+        plain: None,
+    }
+}
+
+/// Huber threshold as a multiple of the robust residual scale σ̂ (median residual norm / 1.1774
+/// for a 2-D Gaussian residual).
+const HUBER_K: f64 = 2.5;
+
+/// Levenberg–Marquardt on the first `np` parameters from `p0`, with weights from the noise
+/// profile (when given) times Huber factors re-estimated from the residuals (when `robust`, at
+/// most three rounds, until the threshold is stable): iteratively re-weighted least squares.
+#[allow(clippy::too_many_arguments)]
+fn refine(
+    trig: &Trig,
+    l2: f64,
     p0: [f64; 8],
     np: usize,
-    l2: f64,
-    s: &FourbarSamples<'_>,
+    noise: Option<&NoiseProfile>,
+    gains: Option<&Gains>,
     robust: bool,
     max_it: u32,
     tol: f64,
-) -> (Refined, Option<f64>) {
-    if !robust {
-        return (levenberg_marquardt(p0, np, l2, s, None, max_it, tol), None);
+) -> Fit {
+    let n = trig.len();
+    let mut p = p0;
+    for v in p.iter_mut().skip(np) {
+        *v = 0.0;
     }
-    let mut c = huber_threshold(&p0, l2, s);
+    let (mut nw, mut u, mut h) = (vec![1.0; n], vec![1.0; n], vec![1.0; n]);
+    let (mut norms, mut scratch) = (Vec::new(), Vec::new());
+    // noise weights and Huber factors at p (threshold `c` re-estimated when `None`)
+    let mut reweight = |p: &[f64; 8], c: Option<f64>, nw: &mut Vec<f64>, h: &mut Vec<f64>| {
+        if let Some(nz) = noise {
+            nz.weights(l2, p[1].abs(), p[2].abs(), nw);
+        }
+        if !robust {
+            return 0.0;
+        }
+        residual_norms(trig, l2, p, &mut norms);
+        for (r, w) in norms.iter_mut().zip(nw.iter()) {
+            *r *= w.sqrt();
+        }
+        let c =
+            c.unwrap_or_else(|| (HUBER_K * median(&norms, &mut scratch) / 1.1774).max(1e-12 * l2));
+        for (hk, r) in h.iter_mut().zip(&norms) {
+            *hk = if *r > c { c / r } else { 1.0 };
+        }
+        c
+    };
     let mut total = 0;
-    let mut refined = levenberg_marquardt(p0, np, l2, s, Some(c), max_it, tol);
-    total += refined.iterations;
-    for _ in 0..2 {
-        let c_new = huber_threshold(&refined.p, l2, s);
-        if (c_new / c - 1.0).abs() < 0.3 {
+    let mut refined = Refined {
+        p,
+        iterations: 0,
+        converged: true,
+    };
+    let mut c_prev: Option<f64> = None;
+    let mut plain = None;
+    let rounds = if robust { 3 } else { 1 };
+    for _ in 0..rounds {
+        let c = reweight(&p, None, &mut nw, &mut h);
+        if let Some(cp) = c_prev
+            && (c / cp - 1.0).abs() < 0.3
+        {
             break;
         }
-        c = c_new;
-        refined = levenberg_marquardt(refined.p, np, l2, s, Some(c), max_it, tol);
+        c_prev = Some(c);
+        for k in 0..n {
+            u[k] = nw[k] * h[k];
+        }
+        let pb = Problem {
+            trig,
+            l2,
+            weights: Some(&u),
+            gains,
+        };
+        refined = if np == 8 {
+            levenberg_marquardt::<8>(p, |q| pass::<8>(&pb, q).normal, max_it, tol)
+        } else {
+            let unweighted = noise.is_none() && !robust;
+            let w = (!unweighted).then_some(u.as_slice());
+            let q = Quadratic::new(gram(trig, w, gains), gains.is_some());
+            let r = levenberg_marquardt::<6>(p, |x| q.normal(l2, x), max_it, tol);
+            if unweighted && matches!(q, Quadratic::Sqrt(_)) {
+                plain = Some(q);
+            }
+            r
+        };
         total += refined.iterations;
+        p = refined.p;
     }
     refined.iterations = total;
-    (refined, Some(c))
+    // the weights at the answer, under the last threshold
+    reweight(&p, c_prev, &mut nw, &mut h);
+    for k in 0..n {
+        u[k] = nw[k] * h[k];
+    }
+    let outliers = h.iter().filter(|&&v| v < 1.0).count();
+    Fit {
+        refined,
+        weights: u,
+        n_eff: h.iter().sum(),
+        outlier_fraction: outliers as f64 / n as f64,
+        plain,
+    }
 }
 
 /// Normal matrix as a dynamic matrix (for [`quality::fit_stats`]).

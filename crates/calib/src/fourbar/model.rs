@@ -238,49 +238,6 @@ impl<'a> FourbarSamples<'a> {
     }
 }
 
-/// Residual of sample `k` and its derivatives with respect to `[l1, l3, l4, Θ2, Θ3, Θ4, b3, b4]`
-/// (eq. 4.2 extended by the l1 and bias columns). Returns `(r, d_re, d_im)`.
-pub(crate) fn residual_and_jacobian(
-    p: &[f64; 8],
-    l2: f64,
-    s: &FourbarSamples<'_>,
-    k: usize,
-) -> ([f64; 2], [f64; 8], [f64; 8]) {
-    let t = s.time(k);
-    let th2 = p[3] + s.phi2[k];
-    let th3 = p[4] + s.phi3[k] - p[6] * t;
-    let th4 = p[5] + s.phi4[k] - p[7] * t;
-    let (s2, c2) = th2.sin_cos();
-    let (s3, c3) = th3.sin_cos();
-    let (s4, c4) = th4.sin_cos();
-    let (l1, l3, l4) = (p[0], p[1], p[2]);
-    let r = [
-        l2 * c2 + l3 * c3 - l4 * c4 - l1,
-        l2 * s2 + l3 * s3 - l4 * s4,
-    ];
-    let d_re = [
-        -1.0,
-        c3,
-        -c4,
-        -l2 * s2,
-        -l3 * s3,
-        l4 * s4,
-        l3 * s3 * t,
-        -l4 * s4 * t,
-    ];
-    let d_im = [
-        0.0,
-        s3,
-        -s4,
-        l2 * c2,
-        l3 * c3,
-        -l4 * c4,
-        -l3 * c3 * t,
-        l4 * c4 * t,
-    ];
-    (r, d_re, d_im)
-}
-
 /// A four-bar with known lengths, for simulation: wheel centre at the origin, shoulder at
 /// `(l1, 0)`, handgrip on the wheel rim, elbow where the forearm and upper-arm circles meet.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -382,23 +339,6 @@ mod tests {
                 r[0].abs() < 1e-14 && r[1].abs() < 1e-14,
                 "sample {k}: {r:?}"
             );
-        }
-    }
-
-    #[test]
-    fn jacobian_matches_finite_differences() {
-        let s_phi2 = [0.1, 0.2];
-        let s_phi3 = [0.3, -0.1];
-        let s_phi4 = [-0.2, 0.4];
-        let s = FourbarSamples::new(&s_phi2, &s_phi3, &s_phi4);
-        let p = [0.45, 0.35, 0.3, 1.2, -0.4, 2.0, 0.01, -0.02];
-        let (r0, dre, dim) = residual_and_jacobian(&p, 0.15, &s, 1);
-        for j in 0..8 {
-            let mut q = p;
-            q[j] += 1e-7;
-            let (r1, _, _) = residual_and_jacobian(&q, 0.15, &s, 1);
-            assert!(((r1[0] - r0[0]) / 1e-7 - dre[j]).abs() < 1e-6, "re col {j}");
-            assert!(((r1[1] - r0[1]) / 1e-7 - dim[j]).abs() < 1e-6, "im col {j}");
         }
     }
 

@@ -28,6 +28,29 @@ pub fn savitzky_golay(x: &[f64], half_window: usize) -> Vec<f64> {
         .collect()
 }
 
+/// Variance of [`savitzky_golay`]'s output when its input carries independent noise of
+/// per-sample variance `var`: `Σⱼ cⱼ²·var[k+j]` with the same (edge-shrunk) windows.
+pub fn savitzky_golay_variance(var: &[f64], half_window: usize) -> Vec<f64> {
+    let n = var.len();
+    (0..n)
+        .map(|k| {
+            let m = half_window.min(k).min(n - 1 - k);
+            if m < 2 {
+                return var[k];
+            }
+            let mf = m as f64;
+            let norm = (2.0 * mf - 1.0) * (2.0 * mf + 1.0) * (2.0 * mf + 3.0);
+            let mut acc = 0.0;
+            for j in -(m as isize)..=(m as isize) {
+                let jf = j as f64;
+                let c = 3.0 * (3.0 * mf * mf + 3.0 * mf - 1.0 - 5.0 * jf * jf) / norm;
+                acc += c * c * var[(k as isize + j) as usize];
+            }
+            acc
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -55,5 +78,14 @@ mod tests {
         let y = savitzky_golay(&x, 25);
         let power = |v: &[f64]| v[25..975].iter().map(|a| a * a).sum::<f64>() / 950.0;
         assert!(power(&y) < 0.05 * power(&x));
+    }
+
+    #[test]
+    fn smoothed_noise_variance_is_the_sum_of_squared_coefficients() {
+        // interior of a ±25 cubic filter: Σc² = c₀ = 3(3m²+3m−1)/((2m−1)(2m+1)(2m+3))
+        let v = savitzky_golay_variance(&vec![2.0; 200], 25);
+        let c0 = 3.0 * (3.0 * 625.0 + 75.0 - 1.0) / (49.0 * 51.0 * 53.0);
+        assert!((v[100] - 2.0 * c0).abs() < 1e-12, "{}", v[100]);
+        assert_eq!(v[0], 2.0);
     }
 }

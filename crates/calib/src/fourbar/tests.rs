@@ -366,41 +366,65 @@ fn online_rejects_bad_options() {
     ));
 }
 
-/// Thesis Table 4.1 (|% error| of l3, l4 at 5 / 10 / 25 % noise): with the angles smoothed
-/// first, our estimate beats the thesis's l3 at every level and l4 at 10 and 25 %; at 5 % the
-/// thesis's l4 (0.3 %) is about matched, not beaten, and our total l3 + l4 error is lower
-/// (mean over seeded recordings; noise: Gaussian, σ = p·|true value| per sample and channel —
-/// see examples/noise_study.rs and BENCHMARKS.md).
-#[test]
-fn smoothed_auto_beats_thesis_table_4_1_at_its_noise_levels() {
+/// Mean |% error| of l3 and l4 over `seeds` recordings with thesis-style noise at level `p`
+/// (Gaussian, σ = p·|true value| per sample and channel — see examples/noise_study.rs).
+fn table_4_1_errors(p: f64, seeds: u64, options: &FourbarOptions) -> (f64, f64) {
     let rec = recording(2000, 60.0);
+    let (mut e3, mut e4) = (0.0, 0.0);
+    for seed in 0..seeds {
+        let mut rng = ChaCha8Rng::seed_from_u64(7000 + seed);
+        let normal = Normal::new(0.0, 1.0).unwrap();
+        let mut noisy = |v: &[f64]| -> Vec<f64> {
+            v.iter()
+                .map(|x| x + p * x.abs() * normal.sample(&mut rng))
+                .collect()
+        };
+        let (n2, n3, n4) = (noisy(&rec.phi2), noisy(&rec.phi3), noisy(&rec.phi4));
+        let r = calibrate(&FourbarSamples::new(&n2, &n3, &n4), L2, options).unwrap();
+        e3 += (100.0 * (r.params.l3_m - 0.35) / 0.35).abs() / seeds as f64;
+        e4 += (100.0 * (r.params.l4_m - 0.30) / 0.30).abs() / seeds as f64;
+    }
+    (e3, e4)
+}
+
+/// Thesis Table 4.1 (|% error| of l3, l4 at 5 / 10 / 25 % noise: 4 / 0.3, 2 / 1, 4 / 6): the
+/// default estimator (noise-weighted, errors-in-variables corrected, no smoothing, nothing
+/// tuned per recording) beats every cell by at least 20 % (mean over 10 seeded recordings).
+#[test]
+fn default_auto_beats_every_cell_of_thesis_table_4_1() {
     let thesis = [(0.05, 4.0, 0.3), (0.10, 2.0, 1.0), (0.25, 4.0, 6.0)];
-    let seeds = 6;
     for (p, th3, th4) in thesis {
-        let (mut e3, mut e4) = (0.0, 0.0);
-        for seed in 0..seeds {
-            let mut rng = ChaCha8Rng::seed_from_u64(7000 + seed);
-            let normal = Normal::new(0.0, 1.0).unwrap();
-            let mut noisy = |v: &[f64]| -> Vec<f64> {
-                v.iter()
-                    .map(|x| x + p * x.abs() * normal.sample(&mut rng))
-                    .collect()
-            };
-            let (n2, n3, n4) = (noisy(&rec.phi2), noisy(&rec.phi3), noisy(&rec.phi4));
-            let o = FourbarOptions {
-                smoothing_half_window: 25,
-                ..Default::default()
-            };
-            let r = calibrate(&FourbarSamples::new(&n2, &n3, &n4), L2, &o).unwrap();
-            e3 += (100.0 * (r.params.l3_m - 0.35) / 0.35).abs() / seeds as f64;
-            e4 += (100.0 * (r.params.l4_m - 0.30) / 0.30).abs() / seeds as f64;
-        }
+        let (e3, e4) = table_4_1_errors(p, 10, &FourbarOptions::default());
         let msg = format!("noise {p}: l3 {e3:.2} % (thesis {th3}), l4 {e4:.2} % (thesis {th4})");
-        assert!(e3 < th3, "{msg}");
-        if p > 0.05 {
-            assert!(e4 < th4, "{msg}");
-        } else {
-            assert!(e3 + e4 < th3 + th4 && e4 < 2.0 * th4, "{msg}");
+        assert!(e3 < 0.8 * th3 && e4 < 0.8 * th4, "{msg}");
+    }
+}
+
+/// The plain least-squares fit is biased by angle noise (errors in variables) far beyond the
+/// thesis's figures; the correction is what removes it.
+#[test]
+fn without_the_noise_correction_the_fit_is_biased_at_table_4_1_noise() {
+    let plain = FourbarOptions {
+        errors_in_variables: false,
+        ..Default::default()
+    };
+    let (e3, e4) = table_4_1_errors(0.25, 3, &plain);
+    assert!(e3 > 10.0 && e4 > 10.0, "l3 {e3:.2} %, l4 {e4:.2} %");
+}
+
+/// Explicit Savitzky–Golay smoothing still works, with or without the correction, and beats
+/// the thesis's l3 at every level.
+#[test]
+fn smoothed_fits_beat_thesis_table_4_1_l3() {
+    for eiv in [false, true] {
+        let o = FourbarOptions {
+            smoothing_half_window: 25,
+            errors_in_variables: eiv,
+            ..Default::default()
+        };
+        for (p, th3) in [(0.05, 4.0), (0.10, 2.0), (0.25, 4.0)] {
+            let (e3, _) = table_4_1_errors(p, 4, &o);
+            assert!(e3 < th3, "eiv {eiv}, noise {p}: l3 {e3:.2} %");
         }
     }
 }
