@@ -49,3 +49,111 @@ fn session_without_a_display_runs_headless_and_says_so() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("no patient window"));
     assert!(String::from_utf8_lossy(&out.stdout).contains("session summary"));
 }
+
+/// Press `key` in the window titled "telerehab" with xdotool (the X test path a real
+/// keyboard takes: focus, then a key event).
+fn press(key: &str) {
+    let search = Command::new("xdotool")
+        .args(["search", "--sync", "--name", "^telerehab$"])
+        .output()
+        .expect("xdotool (installed by scripts/setup.sh)");
+    let window = String::from_utf8_lossy(&search.stdout)
+        .lines()
+        .next()
+        .expect("the patient window")
+        .to_string();
+    for args in [
+        vec!["windowfocus", "--sync", window.as_str()],
+        vec!["key", key],
+    ] {
+        assert!(
+            Command::new("xdotool")
+                .args(&args)
+                .status()
+                .unwrap()
+                .success()
+        );
+    }
+}
+
+#[test]
+fn space_in_the_patient_window_starts_pauses_and_resumes_the_exercise_and_esc_ends_it() {
+    if std::env::var_os("DISPLAY").is_none() {
+        eprintln!("SKIPPED: no display (run under xvfb-run to test the window)");
+        return;
+    }
+    use std::io::{BufRead, BufReader};
+    let dir = tempfile::tempdir().unwrap();
+    let mcap = dir.path().join("paused.mcap");
+    let mut child = Command::new(telerehab_bin())
+        .args([
+            "run",
+            "--sim",
+            "--duration",
+            "120",
+            "--seed",
+            "7",
+            "--record",
+        ])
+        .arg(&mcap)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    // The window prints its adapter once it can draw.
+    let mut stdout = BufReader::new(child.stdout.take().unwrap());
+    let mut line = String::new();
+    while stdout.read_line(&mut line).unwrap() > 0 && !line.contains("render: adapter") {
+        line.clear();
+    }
+    assert!(line.contains("render: adapter"), "the window never opened");
+    // The exercise waits for Space; then Space pauses it and Space again resumes it.
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    press("space");
+    std::thread::sleep(std::time::Duration::from_millis(1000));
+    press("space");
+    std::thread::sleep(std::time::Duration::from_millis(2000));
+    press("space");
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    press("Escape");
+    let mut report = String::new();
+    std::io::Read::read_to_string(&mut stdout, &mut report).unwrap();
+    assert!(child.wait().unwrap().success(), "{report}");
+    let paused_s: f64 = report
+        .lines()
+        .find_map(|l| l.strip_prefix("paused"))
+        .and_then(|l| l.split_whitespace().next()?.parse().ok())
+        .unwrap_or_else(|| panic!("no pause in the report:\n{report}"));
+    assert!(paused_s >= 2.0, "paused {paused_s} s");
+    // The recording shows both waits: before the start (exercise clock at 0) and the pause
+    // (clock held at a later time), with the exercise running between and after them.
+    let msgs = telerehab_tests::read_mcap(&mcap);
+    let scores: Vec<(bool, f64)> = telerehab_tests::by_topic(&msgs)["/score"]
+        .iter()
+        .map(|m| {
+            (
+                m.json["paused"] == true,
+                m.json["active_s"].as_f64().unwrap(),
+            )
+        })
+        .collect();
+    let mut stretches: Vec<(bool, Vec<f64>)> = Vec::new();
+    for (paused, t) in scores {
+        match stretches.last_mut() {
+            Some((p, ts)) if *p == paused => ts.push(t),
+            _ => stretches.push((paused, vec![t])),
+        }
+    }
+    let kinds: Vec<bool> = stretches.iter().map(|s| s.0).collect();
+    assert_eq!(
+        kinds,
+        [true, false, true, false],
+        "waiting, running, paused, running"
+    );
+    assert!(stretches[0].1.iter().all(|&t| t == 0.0));
+    let held = &stretches[2].1;
+    assert!(
+        held.len() >= 15 && held.iter().all(|&t| t == held[0] && t > 0.5),
+        "{held:?}"
+    );
+}

@@ -363,6 +363,8 @@ fn run(args: RunArgs) -> anyhow::Result<()> {
             },
         )?,
         Some(view) => {
+            // With a window the patient starts the exercise with Space when ready.
+            controls.pause.store(true, Ordering::Relaxed);
             let window = WindowOptions::new("telerehab");
             run_with_window(&opts, &controls, &link, &view, &window, None, true)?.0
         }
@@ -506,7 +508,9 @@ fn run_with_window(
         };
         let stats = crate::render::window::run_with(window, source, on_request)
             .inspect_err(|e| {
-                tracing::warn!("no patient window ({e}); the session continues headless")
+                tracing::warn!("no patient window ({e}); the session continues headless");
+                // Nobody can press Space now: start (or resume) the exercise.
+                controls.pause.store(false, Ordering::Relaxed);
             })
             .ok();
         let report = session

@@ -124,8 +124,9 @@ impl CourseView {
     }
 }
 
-/// Which screen a live session shows for the tick `rec`: the start card, a set-up
-/// instruction from the arm sensing, the pause card, or the running exercise.
+/// Which screen a live session shows for the tick `rec`: a set-up instruction from the arm
+/// sensing, the start card (until the patient first presses Space), the pause card, or the
+/// running exercise.
 pub fn live_screen_state(rec: &TickRecord) -> ScreenState {
     let seconds = |s: f64| format!("{} s", s.ceil().max(0.0));
     match rec.arm.map(|a| (a.setup, a.setup_remaining_s)) {
@@ -144,6 +145,8 @@ pub fn live_screen_state(rec: &TickRecord) -> ScreenState {
                 seconds(left),
             ],
         },
+        // Not started yet: the patient starts the exercise with Space.
+        _ if rec.score.paused && rec.score.active_s == 0.0 => ScreenState::Start,
         _ if rec.score.paused => ScreenState::Paused,
         _ => ScreenState::Running,
     }
