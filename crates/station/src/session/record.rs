@@ -164,6 +164,14 @@ pub struct ArmSample {
     pub setup: &'static str,
     /// Time left in the set-up step, s.
     pub setup_remaining_s: f64,
+    /// Upper-arm sensor-to-earth orientation (w, x, y, z; earth z up, heading that of the
+    /// wheel frame when tracking began).
+    pub upper_orientation_wxyz: [f64; 4],
+    /// Forearm sensor-to-earth orientation (w, x, y, z).
+    pub fore_orientation_wxyz: [f64; 4],
+    /// Range of motion so far of shoulder elevation, plane, rotation, elbow flexion and
+    /// forearm pronation, rad.
+    pub range_of_motion_rad: [f64; 5],
     /// Upper-arm gyro, sensor x, rad/s.
     pub upper_gyro_x_rad_s: f64,
     /// Upper-arm gyro, sensor y, rad/s.

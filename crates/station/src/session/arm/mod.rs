@@ -195,7 +195,12 @@ impl ArmTracker {
             match est.update(wheel.angle_rad, upper, fore, wheel.dt_s) {
                 Ok(pose) => {
                     let x = pose.angles;
+                    let (qu, qf) = est.sensor_orientations();
+                    let wxyz = |q: nalgebra::UnitQuaternion<f64>| [q.w, q.i, q.j, q.k];
                     self.last = ArmSample {
+                        upper_orientation_wxyz: wxyz(qu),
+                        fore_orientation_wxyz: wxyz(qf),
+                        range_of_motion_rad: est.range_of_motion().range_rad(),
                         shoulder_elevation_rad: x.shoulder_elevation_rad,
                         shoulder_plane_rad: x.shoulder_plane_rad,
                         shoulder_rotation_rad: x.shoulder_rotation_rad,
