@@ -140,7 +140,8 @@ pub struct RenderArgs {
     pub out: PathBuf,
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
+/// Parse `WIDTHxHEIGHT` (16 to 8192 pixels a side).
+pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s
         .split_once(['x', 'X'])
         .ok_or_else(|| format!("size `{s}` is not WIDTHxHEIGHT"))?;
@@ -564,6 +565,7 @@ fn bench_window(args: crate::commands::bench::BenchWindowArgs) -> anyhow::Result
     let window = WindowOptions {
         draw_gate: Some(gate),
         max_fps: args.max_fps,
+        size: args.size,
         ..WindowOptions::new("telerehab bench")
     };
     let opts = SessionOptions {

@@ -44,6 +44,9 @@ pub struct BenchWindowArgs {
     /// Most frames per second the window draws (default: the window's own choice).
     #[arg(long)]
     pub max_fps: Option<f64>,
+    /// Window size, WIDTHxHEIGHT in pixels.
+    #[arg(long, default_value = "1280x720", value_parser = crate::cli::parse_size)]
+    pub size: (u32, u32),
     /// Leave the window at normal scheduling priority (the station puts it at idle
     /// priority); for comparing the two.
     #[arg(long)]
