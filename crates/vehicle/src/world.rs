@@ -39,6 +39,11 @@ use crate::road::Road;
 /// of a long road far from the car.
 const SEGMENTS_PER_COLLIDER: usize = 16;
 
+/// Contacts (and events) one step is expected to produce at most; the buffers are sized for
+/// it up front so a step with contacts does not allocate in our code (rapier's own narrow
+/// phase may still grow its buffers the first time a pair touches).
+const MAX_EVENTS_PER_STEP: usize = 64;
+
 /// Which side of the road, looking along increasing arc length.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Side {
@@ -144,6 +149,8 @@ pub struct World {
     yaw_rad: f64,
     tyres: TyreForces,
     touching: Vec<Tag>,
+    /// Scratch list of the tags touching now, reused every step.
+    touching_now: Vec<Tag>,
     cones_hit: Vec<bool>,
     events: Vec<WorldEvent>,
 }
@@ -239,9 +246,11 @@ impl World {
             params,
             yaw_rad: start.yaw_rad,
             tyres: TyreForces::default(),
-            touching: Vec::new(),
+            touching: Vec::with_capacity(MAX_EVENTS_PER_STEP),
+            touching_now: Vec::with_capacity(MAX_EVENTS_PER_STEP),
             cones_hit,
-            events: Vec::new(),
+            // Room for more contacts than one step can produce: pushing never allocates.
+            events: Vec::with_capacity(MAX_EVENTS_PER_STEP),
         })
     }
 
@@ -282,9 +291,10 @@ impl World {
         self.cones_hit.iter().filter(|h| **h).count()
     }
 
-    /// Events since the last call, oldest first.
-    pub fn drain_events(&mut self) -> Vec<WorldEvent> {
-        std::mem::take(&mut self.events)
+    /// Events since the last call, oldest first. Drains in place: the buffer keeps its
+    /// capacity, so the haptic loop never allocates for contacts.
+    pub fn drain_events(&mut self) -> std::vec::Drain<'_, WorldEvent> {
+        self.events.drain(..)
     }
 
     /// Set the body's world velocity from body-frame velocities at heading `yaw` by applying
@@ -348,11 +358,13 @@ impl World {
     fn collect_events(&mut self) {
         let car = self.car_collider;
         let np = &self.physics.narrow_phase;
-        let mut now: Vec<Tag> = np
-            .intersection_pairs_with(car)
-            .filter(|(_, _, hit)| *hit)
-            .filter_map(|(a, b, _)| self.tag_of(if a == car { b } else { a }))
-            .collect();
+        let mut now = std::mem::take(&mut self.touching_now);
+        now.clear();
+        now.extend(
+            np.intersection_pairs_with(car)
+                .filter(|(_, _, hit)| *hit)
+                .filter_map(|(a, b, _)| self.tag_of(if a == car { b } else { a })),
+        );
         now.extend(
             np.contact_pairs_with(car)
                 .filter(|p| p.has_any_active_contact())
@@ -404,7 +416,8 @@ impl World {
                 self.events.push(WorldEvent::EdgeCleared { side, off_road });
             }
         }
-        self.touching = now;
+        // Keep both buffers (and their capacity) for the next step.
+        self.touching_now = std::mem::replace(&mut self.touching, now);
     }
 }
 

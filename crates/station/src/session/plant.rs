@@ -314,7 +314,7 @@ impl Plant {
                 world.step(self.cruise.input(st.ux_m_s, steer), dt);
                 let st = world.state();
                 self.projection = road.project(st.x_m, st.y_m, self.projection.s_m);
-                // Contacts are rare: this allocates only on the tick a cone or edge is touched.
+                // Drained in place: no allocation on a contact tick.
                 for event in world.drain_events() {
                     self.driving.record(&event);
                 }
