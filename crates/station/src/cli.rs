@@ -111,6 +111,28 @@ pub struct RunArgs {
     pub patient_id: Option<String>,
 }
 
+impl RunArgs {
+    /// A headless simulated session of `duration_s` at `seed`, real time, no recording or
+    /// therapist: the base that the commands built on `run` adjust.
+    fn simulated(duration_s: f64, seed: u64) -> Self {
+        RunArgs {
+            sim: true,
+            headless: true,
+            config: None,
+            duration: Some(duration_s),
+            seed: Some(seed),
+            exercise: None,
+            regimen: None,
+            record: None,
+            therapist: None,
+            therapist_ca: None,
+            speed: Speed::Realtime,
+            station_id: None,
+            patient_id: None,
+        }
+    }
+}
+
 /// `telerehab render`.
 #[derive(Debug, clap::Args)]
 pub struct RenderArgs {
@@ -404,19 +426,11 @@ fn render(args: RenderArgs) -> anyhow::Result<()> {
         "--fps must be 1 to 240"
     );
     let run_args = RunArgs {
-        sim: true,
-        headless: true,
         config: args.config.clone(),
-        duration: Some(args.frames as f64 / args.fps + 1.0),
-        seed: Some(args.seed),
         exercise: args.regimen.is_none().then(|| args.exercise.clone()),
         regimen: args.regimen.clone(),
-        record: None,
-        therapist: None,
-        therapist_ca: None,
         speed: Speed::Max,
-        station_id: None,
-        patient_id: None,
+        ..RunArgs::simulated(args.frames as f64 / args.fps + 1.0, args.seed)
     };
     let (cfg, regimen) = plan_run(&run_args)?;
     let view = CourseView::new(&cfg, regimen.as_ref())?;
@@ -538,19 +552,9 @@ fn bench_window(args: crate::commands::bench::BenchWindowArgs) -> anyhow::Result
         );
     }
     let run_args = RunArgs {
-        sim: true,
         headless: false,
-        config: None,
-        duration: Some(args.duration),
-        seed: Some(args.seed),
         exercise: Some(args.exercise.clone()),
-        regimen: None,
-        record: None,
-        therapist: None,
-        therapist_ca: None,
-        speed: Speed::Realtime,
-        station_id: None,
-        patient_id: None,
+        ..RunArgs::simulated(args.duration, args.seed)
     };
     let (cfg, regimen) = plan_run(&run_args)?;
     let view = CourseView::new(&cfg, regimen.as_ref())?;

@@ -8,6 +8,19 @@
 /// Quadratic/cubic Savitzky–Golay smoothing with a centred window of `2·half_window + 1`
 /// samples; near the ends the window shrinks symmetrically (so the filter stays zero-phase).
 pub fn savitzky_golay(x: &[f64], half_window: usize) -> Vec<f64> {
+    apply_window(x, half_window, |c| c)
+}
+
+/// Variance of [`savitzky_golay`]'s output when its input carries independent noise of
+/// per-sample variance `var`: `Σⱼ cⱼ²·var[k+j]` with the same (edge-shrunk) windows.
+pub fn savitzky_golay_variance(var: &[f64], half_window: usize) -> Vec<f64> {
+    apply_window(var, half_window, |c| c * c)
+}
+
+/// `Σⱼ weight(cⱼ)·x[k+j]` over the Savitzky–Golay window at every `k`, where `cⱼ` are the
+/// quadratic/cubic smoothing coefficients of the (edge-shrunk) window; windows under five
+/// samples pass the sample through.
+fn apply_window(x: &[f64], half_window: usize, weight: impl Fn(f64) -> f64) -> Vec<f64> {
     let n = x.len();
     (0..n)
         .map(|k| {
@@ -21,30 +34,7 @@ pub fn savitzky_golay(x: &[f64], half_window: usize) -> Vec<f64> {
             for j in -(m as isize)..=(m as isize) {
                 let jf = j as f64;
                 let c = 3.0 * (3.0 * mf * mf + 3.0 * mf - 1.0 - 5.0 * jf * jf) / norm;
-                acc += c * x[(k as isize + j) as usize];
-            }
-            acc
-        })
-        .collect()
-}
-
-/// Variance of [`savitzky_golay`]'s output when its input carries independent noise of
-/// per-sample variance `var`: `Σⱼ cⱼ²·var[k+j]` with the same (edge-shrunk) windows.
-pub fn savitzky_golay_variance(var: &[f64], half_window: usize) -> Vec<f64> {
-    let n = var.len();
-    (0..n)
-        .map(|k| {
-            let m = half_window.min(k).min(n - 1 - k);
-            if m < 2 {
-                return var[k];
-            }
-            let mf = m as f64;
-            let norm = (2.0 * mf - 1.0) * (2.0 * mf + 1.0) * (2.0 * mf + 3.0);
-            let mut acc = 0.0;
-            for j in -(m as isize)..=(m as isize) {
-                let jf = j as f64;
-                let c = 3.0 * (3.0 * mf * mf + 3.0 * mf - 1.0 - 5.0 * jf * jf) / norm;
-                acc += c * c * var[(k as isize + j) as usize];
+                acc += weight(c) * x[(k as isize + j) as usize];
             }
             acc
         })

@@ -16,6 +16,17 @@ fn config(exercise: &str, duration_s: f64) -> StationConfig {
     cfg
 }
 
+fn simulated_at_max_speed(config: StationConfig) -> SessionOptions {
+    SessionOptions {
+        config,
+        pacing: Pacing::Max,
+        record: None,
+        body: BodyKind::Simulated,
+        regimen: None,
+        isolate_core: false,
+    }
+}
+
 fn plant(cfg: &StationConfig) -> Plant {
     Plant::simulated(cfg, course::build(cfg, None).unwrap()).unwrap()
 }
@@ -110,14 +121,7 @@ fn a_paused_session_runs_its_full_exercise_time_and_records_every_tick() {
     let cfg = config("sine-road", 3.0);
     let controls = Controls::default();
     controls.pause.store(true, Ordering::Relaxed);
-    let opts = SessionOptions {
-        config: cfg,
-        pacing: Pacing::Max,
-        record: None,
-        body: BodyKind::Simulated,
-        regimen: None,
-        isolate_core: false,
-    };
+    let opts = simulated_at_max_speed(cfg);
     let mut observer = PauseThenResume {
         controls: &controls,
         hold: 500,
@@ -150,14 +154,7 @@ impl SessionObserver for Keep {
 fn guided_mounting_runs_first_then_the_exercise_and_tracks_the_arm_within_2_deg() {
     let mut cfg = config("sine-road", 20.0);
     cfg.arm.sim_mounting = super::arm::MountingMode::Guided;
-    let opts = SessionOptions {
-        config: cfg,
-        pacing: Pacing::Max,
-        record: None,
-        body: BodyKind::Simulated,
-        regimen: None,
-        isolate_core: false,
-    };
+    let opts = simulated_at_max_speed(cfg);
     let mut keep = Keep::default();
     super::run(&opts, &Controls::default(), &mut keep).unwrap();
     let recs = keep.0;
