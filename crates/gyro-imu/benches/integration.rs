@@ -1,4 +1,5 @@
-//! Throughput of gyro integration, orientation fusion and the arm-pose estimator.
+//! Throughput of gyro integration, orientation fusion, the arm-pose estimator and the guided
+//! mounting calibration.
 //!
 //! `cargo bench -p gyro-imu --bench integration -- --warm-up-time 1 --measurement-time 3`
 
@@ -110,5 +111,62 @@ fn bench_fusion(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench_integration, bench_fusion);
+/// The guided mounting calibration as the station runs it at 1 kHz: 5 s still, 20 s turning
+/// the wheel (default patient: swivel follows the wheel and wanders). `add` is the per-tick
+/// cost on the haptic thread, `finish` the one-off solve at the end of the procedure.
+fn bench_mounting(c: &mut Criterion) {
+    use gyro_imu::device::ImuSample;
+    use gyro_imu::mounting::MountingCalibrator;
+    let cfg = PatientArmConfig::default();
+    let id = UnitQuaternion::identity();
+    let mut arm = SimArm::new(
+        cfg,
+        GyroSpec::consumer_mems(),
+        Some(AccSpec::consumer_mems()),
+        id,
+        id,
+        9,
+    )
+    .unwrap();
+    let dt = 0.001;
+    let (n_still, n_sweep) = (5_000, 20_000);
+    let samples: Vec<(f64, f64, ImuSample, ImuSample)> = (0..n_still + n_sweep)
+        .map(|k| {
+            let t = k as f64 * dt;
+            let (w, wd) = if k < n_still {
+                (0.0, 0.0)
+            } else {
+                sine_road(t - 5.0, 1.0, 0.25, 0.0, 0.1)
+            };
+            arm.step((t * 1e9) as u64, w, wd, dt).unwrap();
+            let (u, f) = arm.latest().unwrap();
+            (w, wd, u, f)
+        })
+        .collect();
+    let fill = || {
+        let mut cal = MountingCalibrator::new(cfg.geometry, cfg.swivel_mean_rad).unwrap();
+        cal.reserve_motion(n_sweep);
+        for (k, (w, wd, u, f)) in samples.iter().enumerate() {
+            if k < n_still {
+                cal.add_still(*w, u, f).unwrap();
+            } else {
+                cal.add_motion(*w, *wd, u, f).unwrap();
+            }
+        }
+        cal
+    };
+    let mut g = c.benchmark_group("mounting");
+    g.throughput(Throughput::Elements(samples.len() as u64));
+    g.bench_function("add_25k_samples", |b| b.iter(|| black_box(fill())));
+    g.finish();
+    let cal = fill();
+    let mut g = c.benchmark_group("mounting");
+    g.sample_size(10);
+    g.bench_function("finish_20k_sweep", |b| {
+        b.iter(|| black_box(cal.finish().unwrap()))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench_integration, bench_fusion, bench_mounting);
 criterion_main!(benches);

@@ -103,6 +103,10 @@ pub enum Prompt {
         /// Range covered so far over the range required, 0–1.
         coverage: f64,
     },
+    /// The data are in: call [`GuidedMounting::solve_now`] here, or (on a real-time thread)
+    /// move the procedure elsewhere, [`GuidedMounting::solve`] it there (tens of ms) and hand
+    /// the result to [`GuidedMounting::set_outcome`]. Until then every step returns this.
+    ReadyToSolve,
     /// Finished: see [`GuidedMounting::outcome`].
     Done,
 }
@@ -122,6 +126,7 @@ pub struct GuidedOutcome {
 enum Step {
     Still,
     Sweep,
+    Solve,
     Finished,
 }
 
@@ -188,8 +193,10 @@ impl GuidedMounting {
         a: &ImuSample,
         b: &ImuSample,
     ) -> Prompt {
-        if self.step == Step::Finished {
-            return Prompt::Done;
+        match self.step {
+            Step::Finished => return Prompt::Done,
+            Step::Solve => return Prompt::ReadyToSolve,
+            Step::Still | Step::Sweep => {}
         }
         let start = *self.start_ns.get_or_insert(t_ns);
         let elapsed_s = |since: u64| t_ns.saturating_sub(since) as f64 * 1e-9;
@@ -252,16 +259,28 @@ impl GuidedMounting {
                     .clamp(0.0, 1.0);
                 let left = self.cfg.sweep_s - elapsed_s(self.step_start_ns);
                 if left <= 0.0 && coverage >= 1.0 {
-                    let outcome = self.solve();
-                    return self.finish(outcome);
+                    self.step = Step::Solve;
+                    return Prompt::ReadyToSolve;
                 }
                 Prompt::TurnWheel {
                     remaining_s: left.max(0.0),
                     coverage,
                 }
             }
+            Step::Solve => Prompt::ReadyToSolve,
             Step::Finished => Prompt::Done,
         }
+    }
+
+    /// Solve and finish in place (after [`Prompt::ReadyToSolve`]; offline use).
+    pub fn solve_now(&mut self) -> Prompt {
+        let outcome = self.solve();
+        self.set_outcome(outcome)
+    }
+
+    /// Finish with `outcome` (from [`GuidedMounting::solve`]); returns [`Prompt::Done`].
+    pub fn set_outcome(&mut self, outcome: Result<GuidedOutcome, ImuError>) -> Prompt {
+        self.finish(outcome)
     }
 
     fn fresh_calibrators(&mut self) -> Result<(), ImuError> {
@@ -278,8 +297,10 @@ impl GuidedMounting {
         Prompt::Done
     }
 
-    /// Both assignments; the one with the smaller gravity misfit wins.
-    fn solve(&self) -> Result<GuidedOutcome, ImuError> {
+    /// The mounting from the data so far: both assignments are solved and the one with the
+    /// smaller gravity misfit wins. Takes tens of milliseconds (see `BENCHMARKS.md`): keep it
+    /// off a real-time thread.
+    pub fn solve(&self) -> Result<GuidedOutcome, ImuError> {
         let misfit = |r: &MountingReport| r.gravity_misfit_rad.0 + r.gravity_misfit_rad.1;
         let best = match (self.direct.finish(), self.swapped.finish()) {
             (Ok(d), Ok(s)) if misfit(&s) < misfit(&d) => (s, true),
@@ -363,6 +384,9 @@ mod tests {
             let (u, f) = arm.latest().unwrap();
             let (a, b) = if swap { (f, u) } else { (u, f) };
             prompt = proc.step((t * 1e9) as u64, w, wd, &a, &b);
+            if prompt == Prompt::ReadyToSolve {
+                prompt = proc.solve_now();
+            }
             t += dt;
         }
         (proc, t)

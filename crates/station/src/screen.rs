@@ -145,6 +145,10 @@ pub fn live_screen_state(rec: &TickRecord) -> ScreenState {
                 seconds(left),
             ],
         },
+        Some(("solving", _)) => ScreenState::Instruction {
+            title: "Thank you".into(),
+            lines: vec!["Setting up the arm sensors…".into()],
+        },
         // Not started yet: the patient starts the exercise with Space.
         _ if rec.score.paused && rec.score.active_s == 0.0 => ScreenState::Start,
         _ if rec.score.paused => ScreenState::Paused,

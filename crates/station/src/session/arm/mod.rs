@@ -80,6 +80,8 @@ pub enum SetupStep {
         /// Time left in this step, s.
         remaining_s: f64,
     },
+    /// The mounting is being computed (a moment, off the haptic thread).
+    Solving,
     /// The procedure failed: no joint angles this session (the exercise runs on).
     Failed,
 }
@@ -91,6 +93,7 @@ impl SetupStep {
             SetupStep::Tracking => "tracking",
             SetupStep::HoldStill { .. } => "hold-still",
             SetupStep::TurnWheel { .. } => "turn-wheel",
+            SetupStep::Solving => "solving",
             SetupStep::Failed => "failed",
         }
     }
@@ -109,7 +112,7 @@ impl SetupStep {
     pub fn in_progress(self) -> bool {
         matches!(
             self,
-            SetupStep::HoldStill { .. } | SetupStep::TurnWheel { .. }
+            SetupStep::HoldStill { .. } | SetupStep::TurnWheel { .. } | SetupStep::Solving
         )
     }
 }
@@ -127,10 +130,44 @@ pub struct WheelNow {
     pub dt_s: f64,
 }
 
+/// Solves a finished procedure on a thread of its own: the solve takes tens of milliseconds,
+/// far more than a haptic tick. The procedure travels there and back in its box through
+/// wait-free rings (no allocation, no lock on the haptic thread).
+struct Solver {
+    to: rtrb::Producer<Box<GuidedMounting>>,
+    from: rtrb::Consumer<Box<GuidedMounting>>,
+}
+
+impl Solver {
+    fn spawn() -> std::io::Result<Self> {
+        let (to, mut requests) = rtrb::RingBuffer::<Box<GuidedMounting>>::new(1);
+        let (mut results, from) = rtrb::RingBuffer::<Box<GuidedMounting>>::new(1);
+        std::thread::Builder::new()
+            .name("arm-solver".into())
+            .spawn(move || {
+                loop {
+                    match requests.pop() {
+                        Ok(mut procedure) => {
+                            let outcome = procedure.solve();
+                            procedure.set_outcome(outcome);
+                            let _ = results.push(procedure);
+                            return;
+                        }
+                        // The session ended before the procedure did.
+                        Err(_) if requests.is_abandoned() => return,
+                        Err(_) => std::thread::sleep(std::time::Duration::from_millis(5)),
+                    }
+                }
+            })?;
+        Ok(Self { to, from })
+    }
+}
+
 /// Mounting procedure, then pose estimation (see the module docs).
 pub struct ArmTracker {
     geometry: ArmGeometry,
     setup: Option<Box<GuidedMounting>>,
+    solver: Option<Solver>,
     estimator: Option<ArmPoseEstimator>,
     /// The second IMU is on the upper arm (found by the procedure).
     swapped: bool,
@@ -146,6 +183,7 @@ impl ArmTracker {
         Ok(Self {
             geometry,
             setup: None,
+            solver: None,
             estimator: Some(ArmPoseEstimator::new(
                 geometry,
                 mounting,
@@ -162,9 +200,15 @@ impl ArmTracker {
     /// `swivel_rad`.
     pub fn guided(geometry: ArmGeometry, swivel_rad: f64) -> Result<Self, ImuError> {
         let cfg = ProcedureConfig::default();
+        let solver = Solver::spawn()
+            .inspect_err(|e| {
+                tracing::warn!("no solver thread ({e}): the mounting is solved in line")
+            })
+            .ok();
         Ok(Self {
             geometry,
             setup: Some(Box::new(GuidedMounting::new(geometry, swivel_rad, cfg)?)),
+            solver,
             estimator: None,
             swapped: false,
             step: SetupStep::HoldStill {
@@ -188,8 +232,14 @@ impl ArmTracker {
             self.step = match prompt {
                 Prompt::HoldStill { remaining_s } => SetupStep::HoldStill { remaining_s },
                 Prompt::TurnWheel { remaining_s, .. } => SetupStep::TurnWheel { remaining_s },
+                Prompt::ReadyToSolve => self.hand_over_to_solver(),
                 Prompt::Done => self.finish_setup(),
             };
+        } else if self.step == SetupStep::Solving {
+            if let Some(done) = self.solver.as_mut().and_then(|s| s.from.pop().ok()) {
+                self.setup = Some(done);
+                self.step = self.finish_setup();
+            }
         } else if let Some(est) = &mut self.estimator {
             let (upper, fore) = if self.swapped { (b, a) } else { (a, b) };
             match est.update(wheel.angle_rad, upper, fore, wheel.dt_s) {
@@ -225,6 +275,24 @@ impl ArmTracker {
         self.last.setup = self.step.label();
         self.last.setup_remaining_s = self.step.remaining_s();
         self.last
+    }
+
+    /// Send the finished procedure to the solver thread (or, without one, solve it here).
+    fn hand_over_to_solver(&mut self) -> SetupStep {
+        let Some(procedure) = self.setup.take() else {
+            return self.step;
+        };
+        let refused = match &mut self.solver {
+            Some(solver) => match solver.to.push(procedure) {
+                Ok(()) => return SetupStep::Solving,
+                Err(rtrb::PushError::Full(p)) => p,
+            },
+            None => procedure,
+        };
+        let mut procedure = refused;
+        procedure.solve_now();
+        self.setup = Some(procedure);
+        self.finish_setup()
     }
 
     /// The procedure ended: start tracking with its mounting, or give up on arm sensing for
