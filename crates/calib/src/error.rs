@@ -58,14 +58,6 @@ pub enum CalibError {
         /// Its norm.
         norm: f64,
     },
-    /// An optional argument is needed by the options chosen.
-    #[error("{argument} is missing: {reason}")]
-    MissingArgument {
-        /// The argument to pass.
-        argument: &'static str,
-        /// Why it is needed.
-        reason: &'static str,
-    },
     /// A 4×4 matrix is not a rigid transform (orthonormal rotation, det +1, last row 0 0 0 1).
     #[error("{argument}[{index}] is not a rigid transform: {reason}")]
     NotRigidTransform {

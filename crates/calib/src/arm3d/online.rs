@@ -5,8 +5,13 @@
 //! is a 7×7 eigen-decomposition and Cholesky solve. No initial guess, nothing to diverge.
 //!
 //! The heading offset here is the linearised one (valid for offsets up to ~10°: the error of
-//! the linearisation is ~ψ²/2 of the segment length); there is no re-rotation of past samples.
-//! With forgetting it follows a slow drift.
+//! the linearisation is ~ψ²/2 of the segment length); there is no re-rotation of past samples
+//! and no drift term. That is enough for white noise and slow drift (2°/min), not for the
+//! heading drift of consumer IMUs through the orientation filter (tens of degrees per minute
+//! from an uncorrected vertical gyro bias): there the online estimate is ~4 cm off where the
+//! batch [`super::calibrate_arm_3d`] with [`super::HeadingModel::OffsetAndDrift`] is ~4 mm off
+//! (BENCHMARKS.md). Until the online form re-rotates, run the batch fit on a recorded window
+//! off the 1 kHz thread for such sensors.
 
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
