@@ -88,7 +88,7 @@ pub const MAX_HEADING_OFFSET_RAD: f64 = 5.0 * std::f64::consts::PI / 180.0;
 
 /// The heading re-rotation stops when its correction falls below this (rad; 1e-10 rad moves a
 /// 0.3 m segment's end by 3e-11 m). With the errors-in-variables correction the passes
-/// converge linearly (about ×0.05 per pass), without it quadratically.
+/// converge linearly (about ×0.1 per pass on 1° white noise), without it quadratically.
 pub const HEADING_TOLERANCE_RAD: f64 = 1e-10;
 
 /// The remedy for poorly excited parameters.
