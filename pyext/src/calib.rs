@@ -1,5 +1,5 @@
-//! Calibration bindings: the planar four-bar (batch and online) and the serial-chain SE(3)
-//! calibration of crate `calib`. Arrays are copied out of numpy before the GIL is released, so
+//! Calibration bindings: the planar four-bar (batch and online), the spatial arm loop
+//! (`calib::arm3d`) and the serial-chain SE(3) calibration of crate `calib`. Arrays are copied out of numpy before the GIL is released, so
 //! other Python threads may run (and even mutate the inputs) during the work.
 
 use calib::fourbar::FourbarStdErrors;
@@ -8,7 +8,7 @@ use calib::{
     OnlineFourbar, OnlineOptions, SerialCalibration, SerialOptions,
 };
 use nalgebra::Matrix4;
-use numpy::{PyArray3, PyReadonlyArray1, PyReadonlyArray3, PyReadonlyArray4};
+use numpy::{PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3, PyReadonlyArray4};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -20,6 +20,8 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PlanarFourbarResult>()?;
     m.add_class::<OnlinePlanarFourbar>()?;
     m.add_class::<SerialChainResult>()?;
+    m.add_function(wrap_pyfunction!(calibrate_arm_3d, m)?)?;
+    m.add_class::<Arm3dResult>()?;
     Ok(())
 }
 
@@ -385,4 +387,153 @@ fn calibrate_serial_chain(
     py.detach(|| calib::calibrate_serial_chain(&frames, &motions, &measured, &options))
         .map(Into::into)
         .map_err(value_error)
+}
+
+/// A calibrated spatial arm (m, rad, wheel frame) and how far to trust it.
+#[pyclass(frozen, module = "telerehab._native")]
+pub struct Arm3dResult {
+    #[pyo3(get)]
+    shoulder_m: [f64; 3],
+    #[pyo3(get)]
+    upper_arm_m: f64,
+    #[pyo3(get)]
+    forearm_m: f64,
+    #[pyo3(get)]
+    heading_offset: [f64; 2],
+    #[pyo3(get)]
+    heading_drift: [f64; 2],
+    #[pyo3(get)]
+    heading_model: &'static str,
+    #[pyo3(get)]
+    iterations: u32,
+    #[pyo3(get)]
+    converged: bool,
+    #[pyo3(get)]
+    rms_residual: f64,
+    #[pyo3(get)]
+    condition_number: f64,
+    #[pyo3(get)]
+    direction_noise: [f64; 2],
+    #[pyo3(get)]
+    grip_spread_m: f64,
+    #[pyo3(get)]
+    warnings: Vec<String>,
+    std_errors: calib::arm3d::Arm3dStdErrors,
+}
+
+impl From<calib::Arm3dCalibration> for Arm3dResult {
+    fn from(c: calib::Arm3dCalibration) -> Self {
+        let p = c.params;
+        Self {
+            shoulder_m: p.shoulder_m,
+            upper_arm_m: p.upper_arm_m,
+            forearm_m: p.forearm_m,
+            heading_offset: p.heading_offset_rad,
+            heading_drift: p.heading_drift_rad_s,
+            heading_model: c.heading.name(),
+            iterations: c.iterations,
+            converged: c.converged,
+            rms_residual: c.rms_residual_m,
+            condition_number: c.condition_number,
+            direction_noise: c.direction_noise_rad,
+            grip_spread_m: c.grip_spread_m,
+            warnings: c.warnings,
+            std_errors: c.std_errors,
+        }
+    }
+}
+
+#[pymethods]
+impl Arm3dResult {
+    /// 1σ standard errors by parameter name (same units as the parameters).
+    #[getter]
+    fn std_errors<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = &self.std_errors;
+        let d = PyDict::new(py);
+        d.set_item("shoulder_m", s.shoulder_m)?;
+        d.set_item("upper_arm_m", s.upper_arm_m)?;
+        d.set_item("forearm_m", s.forearm_m)?;
+        if let Some(h) = s.heading_offset_rad {
+            d.set_item("heading_offset", h)?;
+        }
+        if let Some(h) = s.heading_drift_rad_s {
+            d.set_item("heading_drift", h)?;
+        }
+        Ok(d)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Arm3dResult(shoulder_m={:?}, upper_arm_m={:.6}, forearm_m={:.6}, \
+             heading_model='{}', rms_residual={:.3e}, condition_number={:.1}, warnings={:?})",
+            self.shoulder_m,
+            self.upper_arm_m,
+            self.forearm_m,
+            self.heading_model,
+            self.rms_residual,
+            self.condition_number,
+            self.warnings
+        )
+    }
+}
+
+fn rows3(a: &PyReadonlyArray2<'_, f64>) -> Vec<[f64; 3]> {
+    a.as_array()
+        .rows()
+        .into_iter()
+        .map(|r| [r[0], r[1], r[2]])
+        .collect()
+}
+
+/// Native spatial arm calibration; see `telerehab.calib.calibrate_arm_3d`.
+#[pyfunction]
+#[pyo3(signature = (upper_dirs, fore_dirs, grip_points, time_s, heading, errors_in_variables, max_iterations))]
+#[allow(clippy::too_many_arguments)]
+fn calibrate_arm_3d(
+    py: Python<'_>,
+    upper_dirs: PyReadonlyArray2<'_, f64>,
+    fore_dirs: PyReadonlyArray2<'_, f64>,
+    grip_points: PyReadonlyArray2<'_, f64>,
+    time_s: Option<PyReadonlyArray1<'_, f64>>,
+    heading: &str,
+    errors_in_variables: bool,
+    max_iterations: u32,
+) -> PyResult<Arm3dResult> {
+    for (name, a) in [
+        ("upper_dirs", &upper_dirs),
+        ("fore_dirs", &fore_dirs),
+        ("grip_points", &grip_points),
+    ] {
+        if a.as_array().ncols() != 3 {
+            return Err(PyValueError::new_err(format!(
+                "{name} must have shape (N, 3), got {:?}",
+                a.as_array().shape()
+            )));
+        }
+    }
+    let heading = match heading {
+        "exact" => calib::HeadingModel::Exact,
+        "offset" => calib::HeadingModel::Offset,
+        "offset_and_drift" => calib::HeadingModel::OffsetAndDrift,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "heading must be one of 'exact', 'offset', 'offset_and_drift', got {other:?}"
+            )));
+        }
+    };
+    let options = calib::ArmLoopOptions {
+        heading,
+        errors_in_variables,
+        max_iterations,
+    };
+    let (u, f, g) = (rows3(&upper_dirs), rows3(&fore_dirs), rows3(&grip_points));
+    let t = time_s.as_ref().map(to_vec);
+    let result = py.detach(|| {
+        let samples = calib::ArmLoopSamples {
+            time_s: t.as_deref(),
+            ..calib::ArmLoopSamples::new(&u, &f, &g)
+        };
+        calib::calibrate_arm_3d(&samples, &options)
+    });
+    result.map(Into::into).map_err(value_error)
 }

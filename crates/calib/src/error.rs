@@ -48,6 +48,16 @@ pub enum CalibError {
         /// The allowed range, in words.
         allowed: &'static str,
     },
+    /// A direction that must be a unit vector is not one.
+    #[error("{argument}[{index}] has norm {norm}, but it must be a unit vector (norm 1 ± 1e-6)")]
+    NotUnitVector {
+        /// Name of the offending argument.
+        argument: &'static str,
+        /// Index of the bad vector.
+        index: usize,
+        /// Its norm.
+        norm: f64,
+    },
     /// A 4×4 matrix is not a rigid transform (orthonormal rotation, det +1, last row 0 0 0 1).
     #[error("{argument}[{index}] is not a rigid transform: {reason}")]
     NotRigidTransform {

@@ -1,5 +1,7 @@
 //! Kinematic calibration of the patient's arm (thesis Chapter 4).
 //!
+//! - [`arm3d`]: the spatial arm loop (eq. 4.1 in 3-D): shoulder position and segment lengths
+//!   from the IMU segment directions and the grip point, in closed form, batch and online.
 //! - [`fourbar`]: the planar arm–wheel four-bar (§4.2.1): global closed form, the thesis's
 //!   Gauss–Newton, robust Levenberg–Marquardt with gyro-bias terms, and an online estimator.
 //! - [`serial`]: serial-chain SE(3) calibration of initial frames (§4.3).
@@ -7,11 +9,16 @@
 //!
 //! Pure: arrays in, estimates out. No I/O, threads or clocks.
 
+pub mod arm3d;
 pub mod error;
 pub mod fourbar;
 pub mod se3;
 pub mod serial;
 
+pub use arm3d::{
+    Arm3dCalibration, Arm3dParams, ArmLoopOptions, ArmLoopSamples, HeadingModel, OnlineArm3d,
+    OnlineArm3dOptions, calibrate_arm_3d,
+};
 pub use error::CalibError;
 pub use fourbar::online::{OnlineFourbar, OnlineOptions};
 pub use fourbar::{

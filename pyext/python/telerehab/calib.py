@@ -4,6 +4,9 @@
   four-bar (§4.2.1): a closed-form global solution (no initial guess) refined by a robust
   Levenberg–Marquardt with gyro-bias terms; the thesis's Gauss–Newton is available for reference.
 - :class:`OnlinePlanarFourbar` — the same estimate updated sample by sample, with forgetting.
+- :func:`calibrate_arm_3d` — the spatial arm loop (eq. 4.1 in 3-D): shoulder position and
+  upper-arm and forearm lengths from the IMU segment directions and the grip points, in closed
+  form (no initial guess).
 - :func:`calibrate_serial_chain` — SE(3) calibration of the initial frames of a serial chain
   (§4.3, eq. 4.25–4.49).
 
@@ -21,11 +24,14 @@ from telerehab import _native
 
 PlanarFourbarResult = _native.PlanarFourbarResult
 SerialChainResult = _native.SerialChainResult
+Arm3dResult = _native.Arm3dResult
 
 __all__ = [
     "calibrate_planar_fourbar",
     "OnlinePlanarFourbar",
     "calibrate_serial_chain",
+    "calibrate_arm_3d",
+    "Arm3dResult",
     "PlanarFourbarResult",
     "SerialChainResult",
 ]
@@ -221,3 +227,71 @@ def calibrate_serial_chain(
     if q.shape != (m, n, 4, 4):
         raise ValueError(f"joint_motions must have shape (m, n, 4, 4) = ({m}, {n}, 4, 4), got {q.shape}")
     return _native.calibrate_serial_chain(f, q, t, int(max_iterations), float(tolerance))
+
+
+def _vectors(name: str, value: Any, n: Optional[int], reference: str = "upper_dirs") -> np.ndarray:
+    expected = "(N, 3)" if n is None else f"({n}, 3) like {reference}"
+    arr = _float_array(name, value, 2, expected)
+    if arr.shape[1] != 3 or (n is not None and arr.shape[0] != n):
+        raise ValueError(f"{name} must have shape {expected}, got {arr.shape}")
+    return arr
+
+
+def calibrate_arm_3d(
+    upper_dirs: Any,
+    fore_dirs: Any,
+    grip_points: Any,
+    *,
+    time_s: Any = None,
+    heading: str = "offset_and_drift",
+    errors_in_variables: bool = True,
+    max_iterations: int = 20,
+) -> Arm3dResult:
+    """Calibrate the patient's arm in 3-D: shoulder position and segment lengths.
+
+    Loop closure at every sample (the thesis's eq. 4.1 written in 3-D, §4.3)::
+
+        S + upper_arm·u_k + forearm·f_k = G_k
+
+    which is linear in the shoulder ``S`` and the two lengths: the least-squares solution is
+    global and needs no initial guess. Frame: the wheel frame (origin at the wheel centre,
+    x forward, y left, z up).
+
+    Args:
+        upper_dirs: (N, 3) unit direction shoulder → elbow per sample, wheel frame (the upper-arm
+            segment's x axis from the IMU orientation and its mounting).
+        fore_dirs: (N, 3) unit direction elbow → grip per sample (the forearm's x axis).
+        grip_points: (N, 3) grip point on the rim at the measured wheel angle (m).
+        time_s: optional (N,) sample times (s); the heading drift is then per second, else
+            per sample.
+        heading: heading error of the IMU directions to estimate alongside: ``"exact"``
+            (none, 5 unknowns), ``"offset"`` (a constant offset per segment) or
+            ``"offset_and_drift"`` (offset and a linear drift per segment; the default: the
+            orientation filter's heading drifts by tens of degrees a minute with consumer
+            IMUs, which costs ~4 cm of length without it).
+        errors_in_variables: estimate the white direction noise from the data and remove the
+            length bias it causes (without it, 2° of noise shortens the arm by ~2 cm).
+        max_iterations: passes of the exact heading re-rotation, 1..50 (stops earlier when
+            converged).
+
+    Returns:
+        A result with ``shoulder_m`` (3 floats), ``upper_arm_m``, ``forearm_m``,
+        ``heading_offset`` (rad, [upper, fore], at the first sample), ``heading_drift``
+        (rad/s, or rad/sample without ``time_s``), ``rms_residual`` (m), ``std_errors`` (dict, 1σ), ``condition_number``,
+        ``direction_noise`` (rad), ``grip_spread_m``, ``iterations``, ``converged`` and
+        ``warnings`` (list of str, each with the remedy, e.g. "turn the wheel further").
+
+    Raises:
+        ValueError: wrong shape, dtype, NaN, directions that are not unit vectors, too few
+            samples, or a wheel that never turned (the parameters are then not identifiable).
+    """
+    u = _vectors("upper_dirs", upper_dirs, None)
+    n = u.shape[0]
+    f = _vectors("fore_dirs", fore_dirs, n)
+    g = _vectors("grip_points", grip_points, n)
+    t = None
+    if time_s is not None:
+        t = _float_array("time_s", time_s, 1, f"({n},) like upper_dirs")
+        if t.shape[0] != n:
+            raise ValueError(f"time_s must have shape ({n},) like upper_dirs, got {t.shape}")
+    return _native.calibrate_arm_3d(u, f, g, t, str(heading), bool(errors_in_variables), int(max_iterations))

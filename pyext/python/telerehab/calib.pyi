@@ -1,6 +1,6 @@
 """Type stubs for telerehab.calib (arm calibration, thesis Chapter 4)."""
 
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -100,3 +100,46 @@ def calibrate_serial_chain(
     max_iterations: int = ...,
     tolerance: float = ...,
 ) -> SerialChainResult: ...
+
+class Arm3dResult:
+    """A calibrated spatial arm (m, rad, wheel frame) and how far to trust it."""
+
+    @property
+    def shoulder_m(self) -> List[float]: ...
+    @property
+    def upper_arm_m(self) -> float: ...
+    @property
+    def forearm_m(self) -> float: ...
+    @property
+    def heading_offset(self) -> List[float]: ...
+    @property
+    def heading_drift(self) -> List[float]: ...
+    @property
+    def heading_model(self) -> str: ...
+    @property
+    def iterations(self) -> int: ...
+    @property
+    def converged(self) -> bool: ...
+    @property
+    def rms_residual(self) -> float: ...
+    @property
+    def std_errors(self) -> Dict[str, Union[float, List[float]]]: ...
+    @property
+    def condition_number(self) -> float: ...
+    @property
+    def direction_noise(self) -> List[float]: ...
+    @property
+    def grip_spread_m(self) -> float: ...
+    @property
+    def warnings(self) -> List[str]: ...
+
+def calibrate_arm_3d(
+    upper_dirs: _FloatArray,
+    fore_dirs: _FloatArray,
+    grip_points: _FloatArray,
+    *,
+    time_s: Optional[_FloatArray] = ...,
+    heading: Literal["exact", "offset", "offset_and_drift"] = ...,
+    errors_in_variables: bool = ...,
+    max_iterations: int = ...,
+) -> Arm3dResult: ...
