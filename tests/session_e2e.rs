@@ -32,7 +32,7 @@ fn short_session_records_every_tick_on_every_channel_with_schemas() {
     let report = String::from_utf8_lossy(&out.stdout);
     assert!(report.contains("time in lane"), "{report}");
 
-    // The summary section names the four channels with JSON-schema schemas.
+    // The summary section names every channel, each with a JSON-schema schema.
     let bytes = std::fs::read(&path).unwrap();
     let summary = mcap::Summary::read(&bytes)
         .unwrap()
@@ -55,6 +55,7 @@ fn short_session_records_every_tick_on_every_channel_with_schemas() {
         topics,
         vec![
             expect("/arm"),
+            expect("/arm_calibration"),
             expect("/assist"),
             expect("/score"),
             expect("/timing"),

@@ -4,6 +4,7 @@
 //! the `recorder` thread writes MCAP and thins summaries ([`recorder`]), a tokio runtime owns
 //! the therapist link ([`link`], [`therapist`]).
 
+pub mod arm_calibration;
 pub mod cli;
 pub mod commands;
 pub mod config;

@@ -3,6 +3,7 @@
 //!
 //! Runs on its own thread; the haptic thread never waits for it in real time.
 
+use crate::arm_calibration::ArmCalibrationSample;
 use crate::session::record::{
     ArmSample, AssistSample, ScoreSample, TickRecord, TimingSample, VehicleSample, WheelSample,
 };
@@ -29,6 +30,8 @@ pub mod topics {
     pub const TIMING: &str = "/timing";
     /// Arm pose from the IMUs and raw gyro rates, every tick.
     pub const ARM: &str = "/arm";
+    /// The patient's arm calibrated from the session's data, once at the end.
+    pub const ARM_CALIBRATION: &str = "/arm_calibration";
 }
 
 /// Session time between two score messages and two therapist summaries, s.
@@ -54,7 +57,7 @@ fn schema_of<T: JsonSchema>(title: &str) -> String {
 }
 
 /// The channels: (topic, schema name, JSON schema), in channel-index order.
-pub fn channel_schemas() -> [(&'static str, &'static str, String); 6] {
+pub fn channel_schemas() -> [(&'static str, &'static str, String); CHANNELS] {
     [
         (
             topics::WHEEL,
@@ -86,13 +89,21 @@ pub fn channel_schemas() -> [(&'static str, &'static str, String); 6] {
             "telerehab.Arm",
             schema_of::<ArmSample>("telerehab.Arm"),
         ),
+        (
+            topics::ARM_CALIBRATION,
+            "telerehab.ArmCalibration",
+            schema_of::<ArmCalibrationSample>("telerehab.ArmCalibration"),
+        ),
     ]
 }
+
+/// Channels in a recording.
+pub const CHANNELS: usize = 7;
 
 /// An MCAP file being written.
 pub struct McapRecorder {
     writer: mcap::Writer<BufWriter<File>>,
-    channels: [u16; 6],
+    channels: [u16; CHANNELS],
     sequence: u32,
     start_unix_ns: u64,
     path: PathBuf,
@@ -143,7 +154,7 @@ impl McapRecorder {
             .chunk_size(Some(1024 * 1024))
             .create(BufWriter::new(file))
             .map_err(mcap_err)?;
-        let mut channels = [0u16; 6];
+        let mut channels = [0u16; CHANNELS];
         for (i, (topic, name, schema)) in channel_schemas().into_iter().enumerate() {
             let schema_id = writer
                 .add_schema(name, "jsonschema", schema.as_bytes())
@@ -187,7 +198,7 @@ impl McapRecorder {
             t_s: rec.t_ns as f64 * 1e-9,
             data,
         };
-        serde_json::to_writer(&mut self.buf, &msg).expect("plain numeric structs always serialise");
+        serde_json::to_writer(&mut self.buf, &msg).expect("plain data structs always serialise");
         self.sequence = self.sequence.wrapping_add(1);
         let time = self.start_unix_ns + rec.t_ns;
         let header = MessageHeader {
@@ -220,6 +231,15 @@ impl McapRecorder {
             Some(arm) => self.write(5, rec, arm),
             None => Ok(()),
         }
+    }
+
+    /// Record the arm calibration fitted at the end of the session, stamped with the last tick.
+    pub fn record_arm_calibration(
+        &mut self,
+        last: &TickRecord,
+        calibration: &ArmCalibrationSample,
+    ) -> Result<(), RecorderError> {
+        self.write(6, last, calibration)
     }
 
     /// Close the current chunk and flush it to disk, so a killed process loses at most what
@@ -297,6 +317,8 @@ pub struct RecorderOutcome {
     pub assist_error_sq_sum: f64,
     /// Assisted ticks on which a torque limit cut the assist.
     pub assist_saturated_ticks: u64,
+    /// The arm calibrated from this session's data, or why not (None without arm sensing).
+    pub arm_calibration: Option<Result<ArmCalibrationSample, String>>,
     /// Size of the finished MCAP file, bytes (None without recording).
     pub mcap_bytes: Option<u64>,
     /// The first recording error, if any (recording stops, the session goes on).

@@ -150,6 +150,25 @@ pub fn render(r: &SessionReport, link: Option<&LinkReport>) -> String {
             rom[4]
         );
     }
+    match &rec.arm_calibration {
+        Some(Ok(c)) => {
+            let truth = r.sim_arm_truth_m.map_or(String::new(), |(u, f)| {
+                format!(" (simulated truth {:.3} / {:.3} m)", u, f)
+            });
+            line!(
+                "arm calibration     upper arm {:.3} ± {:.3} m, forearm {:.3} ± {:.3} m{truth}",
+                c.upper_arm_m,
+                c.upper_arm_se_m,
+                c.forearm_m,
+                c.forearm_se_m
+            );
+            for w in &c.warnings {
+                line!("                    note: {w}");
+            }
+        }
+        Some(Err(e)) => line!("arm calibration     not this time: {e}"),
+        None => {}
+    }
     match (&r.record, rec.mcap_bytes) {
         (Some(p), Some(b)) => line!(
             "recording           {} ({:.2} MB)",

@@ -85,6 +85,8 @@ pub struct SessionReport {
     pub real_time: bool,
     /// Exercises in the course (laps of one exercise, or the regimen's).
     pub exercises: usize,
+    /// The simulated patient's true upper-arm and forearm lengths, m (simulation only).
+    pub sim_arm_truth_m: Option<(f64, f64)>,
 }
 
 fn unix_ns() -> u64 {
@@ -220,6 +222,10 @@ pub fn run(
         summaries,
         real_time: opts.pacing == Pacing::RealTime,
         exercises,
+        sim_arm_truth_m: (opts.body == BodyKind::Simulated).then_some((
+            cfg.sim_arm.geometry.upper_arm_m,
+            cfg.sim_arm.geometry.forearm_m,
+        )),
     })
 }
 
@@ -287,6 +293,7 @@ fn recorder_loop(
         ..Default::default()
     };
     let mut seq = 0u64;
+    let mut arm_loop = crate::arm_calibration::ArmLoopCollector::new(1e9 / period_ns as f64);
     loop {
         let rec = match consumer.pop() {
             Ok(r) => r,
@@ -299,6 +306,7 @@ fn recorder_loop(
             }
         };
         out.add(&rec);
+        arm_loop.add(&rec);
         observer.on_tick(&rec);
         let summary_tick = rec.tick % summary_every == 0 && rec.tick > 0;
         if let Some(m) = mcap.as_mut() {
@@ -325,6 +333,18 @@ fn recorder_loop(
             });
             seq += 1;
         }
+    }
+    if !arm_loop.is_empty() || out.last.arm.is_some() {
+        let fitted = arm_loop
+            .calibrate()
+            .map(|c| crate::arm_calibration::ArmCalibrationSample::from(&c))
+            .map_err(|e| e.to_string());
+        if let (Ok(c), Some(m)) = (&fitted, mcap.as_mut())
+            && let Err(e) = m.record_arm_calibration(&out.last, c)
+        {
+            out.error.get_or_insert_with(|| e.to_string());
+        }
+        out.arm_calibration = Some(fitted);
     }
     if let Some(m) = mcap {
         match m.finish() {

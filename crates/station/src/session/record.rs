@@ -172,6 +172,13 @@ pub struct ArmSample {
     /// Range of motion so far of shoulder elevation, plane, rotation, elbow flexion and
     /// forearm pronation, rad.
     pub range_of_motion_rad: [f64; 5],
+    /// Upper arm's long axis (shoulder → elbow) in the wheel frame, from the upper-arm IMU's
+    /// orientation and mounting alone (not from the chain fit): the arm calibration's input.
+    pub upper_axis: [f64; 3],
+    /// Forearm's long axis (elbow → grip) in the wheel frame, from the forearm IMU alone.
+    pub fore_axis: [f64; 3],
+    /// Grip point on the wheel rim at the wheel angle read, m (wheel frame).
+    pub grip_m: [f64; 3],
     /// Upper-arm gyro, sensor x, rad/s.
     pub upper_gyro_x_rad_s: f64,
     /// Upper-arm gyro, sensor y, rad/s.

@@ -199,3 +199,33 @@ fn guided_mounting_runs_first_then_the_exercise_and_tracks_the_arm_within_2_deg(
         "elbow {elbow:.2}°, shoulder {shoulder:.2}° RMS"
     );
 }
+
+#[test]
+fn a_minute_of_dial_tracking_calibrates_the_arm_lengths_within_2_percent() {
+    let cfg = config("dial-sine", 60.0);
+    let truth = (
+        cfg.sim_arm.geometry.upper_arm_m,
+        cfg.sim_arm.geometry.forearm_m,
+    );
+    let report = super::run(
+        &simulated_at_max_speed(cfg),
+        &Controls::default(),
+        &mut Keep::default(),
+    )
+    .unwrap();
+    let cal = report
+        .recorder
+        .arm_calibration
+        .expect("arm sensing ran")
+        .expect("enough wheel motion to calibrate");
+    let err_pct = |est: f64, truth: f64| 100.0 * (est - truth).abs() / truth;
+    let (eu, ef) = (
+        err_pct(cal.upper_arm_m, truth.0),
+        err_pct(cal.forearm_m, truth.1),
+    );
+    println!("arm calibration error: upper arm {eu:.2} %, forearm {ef:.2} %");
+    assert!(
+        eu < 2.0 && ef < 2.0,
+        "upper arm {eu:.2} %, forearm {ef:.2} %"
+    );
+}

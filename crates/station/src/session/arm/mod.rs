@@ -166,6 +166,8 @@ impl Solver {
 /// Mounting procedure, then pose estimation (see the module docs).
 pub struct ArmTracker {
     geometry: ArmGeometry,
+    /// Sensor-to-segment rotations, once known.
+    mounting: Option<Mounting>,
     setup: Option<Box<GuidedMounting>>,
     solver: Option<Solver>,
     estimator: Option<ArmPoseEstimator>,
@@ -182,6 +184,7 @@ impl ArmTracker {
     pub fn known(geometry: ArmGeometry, mounting: Mounting) -> Result<Self, ImuError> {
         Ok(Self {
             geometry,
+            mounting: Some(mounting),
             setup: None,
             solver: None,
             estimator: Some(ArmPoseEstimator::new(
@@ -207,6 +210,7 @@ impl ArmTracker {
             .ok();
         Ok(Self {
             geometry,
+            mounting: None,
             setup: Some(Box::new(GuidedMounting::new(geometry, swivel_rad, cfg)?)),
             solver,
             estimator: None,
@@ -247,7 +251,19 @@ impl ArmTracker {
                     let x = pose.angles;
                     let (qu, qf) = est.sensor_orientations();
                     let wxyz = |q: nalgebra::UnitQuaternion<f64>| [q.w, q.i, q.j, q.k];
+                    // Segment long axes (x) from the IMUs: sensor-to-earth · segment-to-sensor.
+                    let (upper_axis, fore_axis) = self.mounting.map_or(([0.0; 3], [0.0; 3]), |m| {
+                        let axis = |q: nalgebra::UnitQuaternion<f64>| {
+                            let v = q * nalgebra::Vector3::x();
+                            [v.x, v.y, v.z]
+                        };
+                        (axis(qu * m.upper.inverse()), axis(qf * m.fore.inverse()))
+                    });
+                    let g = self.geometry.grip(wheel.angle_rad);
                     self.last = ArmSample {
+                        upper_axis,
+                        fore_axis,
+                        grip_m: [g.x, g.y, g.z],
                         upper_orientation_wxyz: wxyz(qu),
                         fore_orientation_wxyz: wxyz(qf),
                         range_of_motion_rad: est.range_of_motion().range_rad(),
@@ -309,6 +325,7 @@ impl ArmTracker {
                     "IMU mounting found"
                 );
                 self.swapped = out.swapped;
+                self.mounting = Some(out.mounting);
                 ArmPoseEstimator::new(self.geometry, out.mounting, FusionConfig::default())
             }
             Some(Err(e)) => Err(ImuError::Calibration(e.to_string())),

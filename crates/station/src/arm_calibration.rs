@@ -1,0 +1,124 @@
+//! The patient's arm calibrated from the session's own data (thesis Chapter 4, in its 3-D
+//! form `calib::arm3d`): the recorder thread keeps the segment axes measured by the IMUs and
+//! the grip points while the arm is tracked, and fits shoulder position and segment lengths
+//! when the session ends. Nothing of it runs on the haptic thread.
+
+use crate::session::record::TickRecord;
+use calib::{Arm3dCalibration, ArmLoopOptions, ArmLoopSamples, calibrate_arm_3d};
+use schemars::JsonSchema;
+use serde::Serialize;
+
+/// Samples kept per second of tracking.
+const SAMPLES_PER_S: f64 = 50.0;
+/// Most recent tracking kept for the fit, s (the fit also models heading drift over it).
+const WINDOW_S: f64 = 30.0 * 60.0;
+
+/// Collects the fit's inputs from the tick records (every tick is offered; 50 per second of
+/// tracking are kept, the most recent half hour).
+#[derive(Debug, Default)]
+pub struct ArmLoopCollector {
+    every: u64,
+    max: usize,
+    upper: Vec<[f64; 3]>,
+    fore: Vec<[f64; 3]>,
+    grip: Vec<[f64; 3]>,
+    time_s: Vec<f64>,
+}
+
+impl ArmLoopCollector {
+    /// A collector for a loop at `rate_hz`.
+    pub fn new(rate_hz: f64) -> Self {
+        Self {
+            every: ((rate_hz / SAMPLES_PER_S).round() as u64).max(1),
+            max: (WINDOW_S * SAMPLES_PER_S) as usize,
+            ..Default::default()
+        }
+    }
+
+    /// Offer one tick.
+    pub fn add(&mut self, rec: &TickRecord) {
+        let Some(arm) = rec.arm else { return };
+        let unit = |v: [f64; 3]| {
+            let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            (n - 1.0).abs() < 1e-6
+        };
+        if arm.setup != "tracking"
+            || rec.tick % self.every != 0
+            || !unit(arm.upper_axis)
+            || !unit(arm.fore_axis)
+            || !arm.grip_m.iter().all(|x| x.is_finite())
+        {
+            return;
+        }
+        if self.time_s.len() >= self.max {
+            let half = self.max / 2;
+            for v in [&mut self.upper, &mut self.fore, &mut self.grip] {
+                v.drain(..half);
+            }
+            self.time_s.drain(..half);
+        }
+        self.upper.push(arm.upper_axis);
+        self.fore.push(arm.fore_axis);
+        self.grip.push(arm.grip_m);
+        self.time_s.push(rec.t_ns as f64 * 1e-9);
+    }
+
+    /// Samples kept.
+    pub fn len(&self) -> usize {
+        self.time_s.len()
+    }
+
+    /// No sample kept.
+    pub fn is_empty(&self) -> bool {
+        self.time_s.is_empty()
+    }
+
+    /// Fit shoulder position and segment lengths (with each IMU's heading offset and drift);
+    /// the error says why not (too few samples, the wheel hardly turned, …).
+    pub fn calibrate(&self) -> Result<Arm3dCalibration, calib::CalibError> {
+        let samples = ArmLoopSamples {
+            time_s: Some(&self.time_s),
+            ..ArmLoopSamples::new(&self.upper, &self.fore, &self.grip)
+        };
+        calibrate_arm_3d(&samples, &ArmLoopOptions::default())
+    }
+}
+
+/// The arm calibration as recorded (channel `/arm_calibration`, once at the end).
+#[derive(Clone, Debug, Serialize, JsonSchema)]
+pub struct ArmCalibrationSample {
+    /// Shoulder joint centre in the wheel frame, m.
+    pub shoulder_m: [f64; 3],
+    /// Upper-arm length (shoulder to elbow), m.
+    pub upper_arm_m: f64,
+    /// Forearm length (elbow to grip), m.
+    pub forearm_m: f64,
+    /// 1σ standard error of the upper-arm length, m.
+    pub upper_arm_se_m: f64,
+    /// 1σ standard error of the forearm length, m.
+    pub forearm_se_m: f64,
+    /// RMS loop-closure residual, m.
+    pub rms_residual_m: f64,
+    /// Condition number of the fit (below 200 is well identified).
+    pub condition_number: f64,
+    /// Samples used.
+    pub samples: f64,
+    /// Warnings, each with what to do about it.
+    pub warnings: Vec<String>,
+}
+
+impl From<&Arm3dCalibration> for ArmCalibrationSample {
+    fn from(c: &Arm3dCalibration) -> Self {
+        Self {
+            shoulder_m: c.params.shoulder_m,
+            upper_arm_m: c.params.upper_arm_m,
+            forearm_m: c.params.forearm_m,
+            upper_arm_se_m: c.std_errors.upper_arm_m,
+            forearm_se_m: c.std_errors.forearm_m,
+            rms_residual_m: c.rms_residual_m,
+            condition_number: c.condition_number,
+            samples: c.samples,
+            warnings: c.warnings.clone(),
+        }
+    }
+}
