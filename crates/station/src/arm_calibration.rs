@@ -43,7 +43,7 @@ impl ArmLoopCollector {
             (n - 1.0).abs() < 1e-6
         };
         if arm.setup != "tracking"
-            || rec.tick % self.every != 0
+            || !rec.tick.is_multiple_of(self.every)
             || !unit(arm.upper_axis)
             || !unit(arm.fore_axis)
             || !arm.grip_m.iter().all(|x| x.is_finite())
