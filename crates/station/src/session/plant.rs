@@ -66,11 +66,17 @@ impl Body {
         use haptic_wheel::evdev_wheel::{EvdevWheel, EvdevWheelConfig, monotonic_ns};
         let wheel = EvdevWheel::open_first(EvdevWheelConfig::default())
             .context("no usable force-feedback wheel (run `telerehab devices`)")?;
+        // Arm sensing is optional: an IMU that cannot be opened (permissions, a flat battery)
+        // costs the joint angles, not the exercise.
         let arm = crate::session::arm::hid::HidArmSensing::open_first_two(
             cfg.arm.geometry,
             cfg.arm.swivel_rad,
             monotonic_ns,
-        )?
+        )
+        .unwrap_or_else(|e| {
+            tracing::warn!("no arm sensing this session: {e:#}");
+            None
+        })
         .map(Box::new);
         Ok(Body::Evdev {
             wheel: ZeroTorqueOnDrop::new(wheel),
