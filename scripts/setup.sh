@@ -42,5 +42,7 @@ fi
 .venv/bin/python -m pip install -q --upgrade pip
 .venv/bin/python -m pip install -q -r requirements-dev.txt
 echo "setup: building and installing the telerehab Python package (pyext)"
-.venv/bin/python -m pip install -q ./pyext
+# Built into the workspace's target directory (maturin develop), so that scripts/test.sh
+# rebuilds it incrementally and the tests never run a stale package.
+VIRTUAL_ENV="$PWD/.venv" .venv/bin/maturin develop --release -q -m pyext/Cargo.toml
 echo "setup: done"

@@ -19,5 +19,7 @@ else
   cargo test --workspace
 fi
 echo "== pytest"
+# Rebuild the Python package from the current sources (incremental; setup.sh built it first).
+VIRTUAL_ENV="$PWD/.venv" .venv/bin/maturin develop --release -q -m pyext/Cargo.toml
 cargo build --quiet -p station --bin telerehab
 TELEREHAB_BIN="$PWD/target/debug/telerehab" .venv/bin/python -m pytest -q pyext/tests tests/python
