@@ -140,7 +140,11 @@ pub fn run(
     let course = course::build(cfg, opts.regimen.as_ref())?;
     let exercises = course.len();
     let mut plant = match opts.body {
-        BodyKind::Simulated => plant::Plant::simulated(cfg, course)?,
+        BodyKind::Simulated => plant::Plant::new(
+            cfg,
+            plant::Body::simulated(cfg, opts.pacing == Pacing::RealTime)?,
+            course,
+        )?,
         #[cfg(target_os = "linux")]
         BodyKind::RealWheel => plant::Plant::new(cfg, plant::Body::first_real_wheel(cfg)?, course)?,
     };

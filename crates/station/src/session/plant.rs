@@ -44,8 +44,9 @@ pub enum Body {
 }
 
 impl Body {
-    /// The simulated body of `cfg`, seeded from `cfg.session.seed`.
-    pub fn simulated(cfg: &StationConfig) -> anyhow::Result<Self> {
+    /// The simulated body of `cfg`, seeded from `cfg.session.seed`; `real_time` when the
+    /// session runs on the wall clock.
+    pub fn simulated(cfg: &StationConfig, real_time: bool) -> anyhow::Result<Self> {
         let dt_s = 1.0 / cfg.session.loop_rate_hz;
         let mut wheel_params = cfg.sim_wheel.clone();
         wheel_params.seed = cfg.session.seed;
@@ -53,8 +54,13 @@ impl Body {
             wheel: ZeroTorqueOnDrop::new(SimWheel::new(wheel_params)),
             arm: HumanArm::new(cfg.sim_patient.clone(), dt_s, cfg.session.seed),
             sensing: Box::new(
-                SimArmSensing::new(cfg.sim_arm, cfg.arm.sim_mounting, cfg.session.seed)
-                    .context("simulated arm")?,
+                SimArmSensing::new(
+                    cfg.sim_arm,
+                    cfg.arm.sim_mounting,
+                    cfg.session.seed,
+                    real_time,
+                )
+                .context("simulated arm")?,
             ),
         })
     }
@@ -158,10 +164,10 @@ pub struct Plant {
 }
 
 impl Plant {
-    /// The fully simulated plant of a validated `cfg` on `course`; all noise is seeded from
-    /// `cfg.session.seed`.
+    /// The fully simulated plant of a validated `cfg` on `course`, run as fast as possible;
+    /// all noise is seeded from `cfg.session.seed`.
     pub fn simulated(cfg: &StationConfig, course: Vec<Segment>) -> anyhow::Result<Self> {
-        Self::new(cfg, Body::simulated(cfg)?, course)
+        Self::new(cfg, Body::simulated(cfg, false)?, course)
     }
 
     /// The plant of a validated `cfg` around `body`, running `course` (at least one exercise).

@@ -229,3 +229,28 @@ fn a_minute_of_dial_tracking_calibrates_the_arm_lengths_within_2_percent() {
         "upper arm {eu:.2} %, forearm {ef:.2} %"
     );
 }
+
+#[test]
+fn a_guided_session_as_fast_as_possible_is_the_same_on_every_run() {
+    let run = || {
+        let mut cfg = config("sine-road", 22.0);
+        cfg.arm.sim_mounting = super::arm::MountingMode::Guided;
+        let mut keep = Keep::default();
+        super::run(
+            &simulated_at_max_speed(cfg),
+            &Controls::default(),
+            &mut keep,
+        )
+        .unwrap();
+        keep.0
+            .iter()
+            .map(|r| (r.wheel, r.arm.unwrap()))
+            .collect::<Vec<_>>()
+    };
+    let (a, b) = (run(), run());
+    assert!(a.iter().any(|(_, arm)| arm.setup == "tracking"));
+    assert!(
+        a == b,
+        "the mounting solve must not depend on wall-clock time"
+    );
+}

@@ -98,7 +98,7 @@ impl HidArmSensing {
         Ok(Some(Self {
             a,
             b,
-            tracker: ArmTracker::guided(geometry, swivel_rad)?,
+            tracker: ArmTracker::guided(geometry, swivel_rad, true)?,
             last: ArmSample::default(),
         }))
     }

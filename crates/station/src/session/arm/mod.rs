@@ -130,6 +130,9 @@ pub struct WheelNow {
     pub dt_s: f64,
 }
 
+/// Longest the exercise waits for the solver thread (the solve takes ~20 ms).
+const SOLVE_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(10);
+
 /// Solves a finished procedure on a thread of its own: the solve takes tens of milliseconds,
 /// far more than a haptic tick. The procedure travels there and back in its box through
 /// wait-free rings (no allocation, no lock on the haptic thread).
@@ -174,6 +177,8 @@ pub struct ArmTracker {
     /// The second IMU is on the upper arm (found by the procedure).
     swapped: bool,
     step: SetupStep,
+    /// When the procedure went to the solver (wall clock).
+    solving_since: Option<std::time::Instant>,
     last: ArmSample,
     /// Ticks on which the estimator refused the wheel angle (arm out of reach).
     pub rejected: u64,
@@ -194,20 +199,31 @@ impl ArmTracker {
             )?),
             swapped: false,
             step: SetupStep::Tracking,
+            solving_since: None,
             last: ArmSample::default(),
             rejected: 0,
         })
     }
 
     /// The guided procedure first, for a patient holding the wheel with elbow swivel
-    /// `swivel_rad`.
-    pub fn guided(geometry: ArmGeometry, swivel_rad: f64) -> Result<Self, ImuError> {
+    /// `swivel_rad`. In real time the mounting is solved on a thread of its own; otherwise
+    /// (`real_time` false: a simulation as fast as possible) in line, which keeps the run
+    /// independent of wall-clock time.
+    pub fn guided(
+        geometry: ArmGeometry,
+        swivel_rad: f64,
+        real_time: bool,
+    ) -> Result<Self, ImuError> {
         let cfg = ProcedureConfig::default();
-        let solver = Solver::spawn()
-            .inspect_err(|e| {
-                tracing::warn!("no solver thread ({e}): the mounting is solved in line")
-            })
-            .ok();
+        let solver = if real_time {
+            Solver::spawn()
+                .inspect_err(|e| {
+                    tracing::warn!("no solver thread ({e}): the mounting is solved in line")
+                })
+                .ok()
+        } else {
+            None
+        };
         Ok(Self {
             geometry,
             mounting: None,
@@ -218,6 +234,7 @@ impl ArmTracker {
             step: SetupStep::HoldStill {
                 remaining_s: cfg.still_s,
             },
+            solving_since: None,
             last: ArmSample::default(),
             rejected: 0,
         })
@@ -236,13 +253,25 @@ impl ArmTracker {
             self.step = match prompt {
                 Prompt::HoldStill { remaining_s } => SetupStep::HoldStill { remaining_s },
                 Prompt::TurnWheel { remaining_s, .. } => SetupStep::TurnWheel { remaining_s },
-                Prompt::ReadyToSolve => self.hand_over_to_solver(),
+                Prompt::ReadyToSolve => {
+                    self.solving_since = Some(std::time::Instant::now());
+                    self.hand_over_to_solver()
+                }
                 Prompt::Done => self.finish_setup(),
             };
         } else if self.step == SetupStep::Solving {
             if let Some(done) = self.solver.as_mut().and_then(|s| s.from.pop().ok()) {
                 self.setup = Some(done);
                 self.step = self.finish_setup();
+            } else if self
+                .solving_since
+                .is_some_and(|t| t.elapsed() > SOLVE_TIMEOUT)
+            {
+                // The solver thread died or starves: the exercise must not wait forever.
+                tracing::warn!(
+                    "arm sensing off for this session: the mounting solve did not finish"
+                );
+                self.step = SetupStep::Failed;
             }
         } else if let Some(est) = &mut self.estimator {
             let (upper, fore) = if self.swapped { (b, a) } else { (a, b) };

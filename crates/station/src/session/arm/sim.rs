@@ -36,7 +36,13 @@ impl SimArmSensing {
     /// along the segments and tracking starts at once; with [`MountingMode::Guided`] they sit at
     /// seeded random rotations and the session starts with the guided procedure, which the
     /// simulated patient follows.
-    pub fn new(cfg: PatientArmConfig, mode: MountingMode, seed: u64) -> Result<Self, ImuError> {
+    /// `real_time`: the session runs on the wall clock (see [`ArmTracker::guided`]).
+    pub fn new(
+        cfg: PatientArmConfig,
+        mode: MountingMode,
+        seed: u64,
+        real_time: bool,
+    ) -> Result<Self, ImuError> {
         let (mu, mf) = match mode {
             MountingMode::Square => (UnitQuaternion::identity(), UnitQuaternion::identity()),
             MountingMode::Guided => {
@@ -60,7 +66,9 @@ impl SimArmSensing {
                     fore: mf,
                 },
             )?,
-            MountingMode::Guided => ArmTracker::guided(cfg.geometry, cfg.swivel_mean_rad)?,
+            MountingMode::Guided => {
+                ArmTracker::guided(cfg.geometry, cfg.swivel_mean_rad, real_time)?
+            }
         };
         Ok(Self {
             arm,
