@@ -157,3 +157,33 @@ fn space_in_the_patient_window_starts_pauses_and_resumes_the_exercise_and_esc_en
         "{held:?}"
     );
 }
+
+#[test]
+fn bench_window_reports_loop_timing_with_drawing_on_and_off() {
+    if std::env::var_os("DISPLAY").is_none() {
+        eprintln!("SKIPPED: no display (run under xvfb-run to test the window)");
+        return;
+    }
+    let out = run_ok(&[
+        "bench",
+        "window",
+        "--duration",
+        "6",
+        "--phase",
+        "1",
+        "--size",
+        "320x180",
+    ]);
+    let report = String::from_utf8_lossy(&out.stdout);
+    // Phases of 1 s: 0–1 warm-up, then idle 2, 4 and drawing 3, 5 (0.25 s settling each).
+    for (phase, ticks) in [("drawing", 1500), ("idle", 1500)] {
+        let line = report
+            .lines()
+            .find(|l| l.starts_with(phase))
+            .unwrap_or_else(|| panic!("no {phase} line in:\n{report}"));
+        let n: usize = line.split_whitespace().nth(1).unwrap().parse().unwrap();
+        assert!(n.abs_diff(ticks) <= 2, "{phase}: {n} ticks\n{report}");
+    }
+    assert!(report.contains("p99 ratio drawing / idle"), "{report}");
+    assert!(report.contains("frames drawn"), "{report}");
+}
