@@ -21,15 +21,15 @@ struct Source {
 }
 
 impl Source {
-    /// Take what arrived since the last tick; the newest sample is held until the next one
-    /// (zero-order hold at the device's rate). A read error (unplugged) stops this source.
+    /// Take what arrived since the last tick and hold it until the next arrival (zero-order
+    /// hold at the device's rate). A read error (unplugged) stops this source.
     fn poll(&mut self) {
         if self.failed {
             return;
         }
         match self.imu.poll(&mut self.buf) {
             Ok(0) => {}
-            Ok(n) => self.latest = Some(self.buf[n - 1]),
+            Ok(n) => self.latest = Some(mean_sample(&self.buf[..n])),
             Err(e) => {
                 self.failed = true;
                 tracing::warn!(
@@ -38,6 +38,32 @@ impl Source {
                 );
             }
         }
+    }
+}
+
+/// One sample standing for several that arrived together (a Joy-Con report carries three):
+/// the mean rate, so the integral over the interval is kept rather than the newest sample's
+/// alone, the mean specific force, and the newest time. `samples` must not be empty.
+fn mean_sample(samples: &[ImuSample]) -> ImuSample {
+    let last = samples[samples.len() - 1];
+    if samples.len() == 1 {
+        return last;
+    }
+    let n = samples.len() as f64;
+    let rate = samples
+        .iter()
+        .map(|s| s.rate_rad_s)
+        .sum::<nalgebra::Vector3<f64>>()
+        / n;
+    let acc = samples
+        .iter()
+        .map(|s| s.acc_m_s2)
+        .try_fold(nalgebra::Vector3::zeros(), |sum, a| a.map(|a| sum + a))
+        .map(|sum| sum / n);
+    ImuSample {
+        t_ns: last.t_ns,
+        rate_rad_s: rate,
+        acc_m_s2: acc,
     }
 }
 
@@ -124,5 +150,36 @@ impl HidArmSensing {
     /// Range of motion of each estimated joint angle this session, rad.
     pub fn range_of_motion_rad(&self) -> [f64; 5] {
         self.tracker.range_of_motion_rad()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Vector3;
+
+    fn sample(t_ns: u64, rate_x: f64, acc_z: Option<f64>) -> ImuSample {
+        ImuSample {
+            t_ns,
+            rate_rad_s: Vector3::new(rate_x, 0.0, 0.0),
+            acc_m_s2: acc_z.map(|z| Vector3::new(0.0, 0.0, z)),
+        }
+    }
+
+    #[test]
+    fn samples_arriving_together_keep_their_mean_rate_and_the_newest_time() {
+        let joycon_report = [
+            sample(10, 1.0, Some(9.0)),
+            sample(15, 2.0, Some(10.0)),
+            sample(20, 6.0, Some(11.0)),
+        ];
+        let m = mean_sample(&joycon_report);
+        assert_eq!(m.t_ns, 20);
+        assert_eq!(m.rate_rad_s.x, 3.0);
+        assert_eq!(m.acc_m_s2.unwrap().z, 10.0);
+        let one = sample(7, 0.5, None);
+        assert_eq!(mean_sample(&[one]), one);
+        let gyro_only_in_one = [sample(1, 1.0, Some(9.8)), sample(2, 1.0, None)];
+        assert_eq!(mean_sample(&gyro_only_in_one).acc_m_s2, None);
     }
 }
