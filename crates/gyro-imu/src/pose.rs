@@ -82,9 +82,9 @@ impl ArmPoseEstimator {
             return Err(ImuError::InvalidInput(format!("wheel angle {wheel_rad}")));
         }
         if !self.started {
-            // Start the filters at the chain's pose with the swivel and pronation at zero; the
-            // accelerometer then fixes inclination on the first sample.
-            let s = arm::solve(&self.geo, wheel_rad, 0.0, 0.0)?;
+            // Start the filters at the chain's pose with the initial swivel (zero unless set)
+            // and pronation zero; the accelerometer then fixes inclination on the first sample.
+            let s = arm::solve(&self.geo, wheel_rad, self.params.x, 0.0)?;
             self.upper
                 .set_orientation(arm::to_quat(&s.upper) * self.mount.upper);
             self.fore
@@ -157,6 +157,16 @@ impl ArmPoseEstimator {
     /// Ranges of motion accumulated since construction or the last [`Self::reset_range_of_motion`].
     pub fn range_of_motion(&self) -> &RangeOfMotion {
         &self.rom
+    }
+
+    /// Start from elbow swivel `swivel_rad` (rad, as in [`arm::solve`]) rather than zero: the
+    /// swivel the patient holds (e.g. found by the mounting procedure). The filters' initial
+    /// heading follows it, so a good value leaves no heading offset to drift from. Only before
+    /// the first update.
+    pub fn set_initial_swivel(&mut self, swivel_rad: f64) {
+        if !self.started && swivel_rad.is_finite() {
+            self.params.x = swivel_rad;
+        }
     }
 
     /// Start a new range-of-motion accumulation (e.g. a new exercise).

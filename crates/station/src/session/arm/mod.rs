@@ -169,6 +169,8 @@ impl Solver {
 /// Mounting procedure, then pose estimation (see the module docs).
 pub struct ArmTracker {
     geometry: ArmGeometry,
+    /// Elbow swivel assumed for the procedure's still step, rad.
+    swivel_rad: f64,
     /// Sensor-to-segment rotations, once known.
     mounting: Option<Mounting>,
     setup: Option<Box<GuidedMounting>>,
@@ -185,18 +187,22 @@ pub struct ArmTracker {
 }
 
 impl ArmTracker {
-    /// Tracking from the start, with a known `mounting`.
-    pub fn known(geometry: ArmGeometry, mounting: Mounting) -> Result<Self, ImuError> {
+    /// Tracking from the start, with a known `mounting`, for a patient who holds elbow swivel
+    /// `swivel_rad` at the start.
+    pub fn known(
+        geometry: ArmGeometry,
+        mounting: Mounting,
+        swivel_rad: f64,
+    ) -> Result<Self, ImuError> {
+        let mut estimator = ArmPoseEstimator::new(geometry, mounting, FusionConfig::default())?;
+        estimator.set_initial_swivel(swivel_rad);
         Ok(Self {
             geometry,
+            swivel_rad,
             mounting: Some(mounting),
             setup: None,
             solver: None,
-            estimator: Some(ArmPoseEstimator::new(
-                geometry,
-                mounting,
-                FusionConfig::default(),
-            )?),
+            estimator: Some(estimator),
             swapped: false,
             step: SetupStep::Tracking,
             solving_since: None,
@@ -226,6 +232,7 @@ impl ArmTracker {
         };
         Ok(Self {
             geometry,
+            swivel_rad,
             mounting: None,
             setup: Some(Box::new(GuidedMounting::new(geometry, swivel_rad, cfg)?)),
             solver,
@@ -355,7 +362,15 @@ impl ArmTracker {
                 );
                 self.swapped = out.swapped;
                 self.mounting = Some(out.mounting);
-                ArmPoseEstimator::new(self.geometry, out.mounting, FusionConfig::default())
+                ArmPoseEstimator::new(self.geometry, out.mounting, FusionConfig::default()).map(
+                    |mut est| {
+                        // Start from the swivel the patient held in the still step.
+                        est.set_initial_swivel(
+                            self.swivel_rad + out.report.still_swivel_offset_rad,
+                        );
+                        est
+                    },
+                )
             }
             Some(Err(e)) => Err(ImuError::Calibration(e.to_string())),
             None => Err(ImuError::Calibration(

@@ -65,6 +65,7 @@ impl SimArmSensing {
                     upper: mu,
                     fore: mf,
                 },
+                cfg.swivel_mean_rad,
             )?,
             MountingMode::Guided => {
                 ArmTracker::guided(cfg.geometry, cfg.swivel_mean_rad, real_time)?
