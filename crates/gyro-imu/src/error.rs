@@ -42,6 +42,10 @@ pub enum ImuError {
     /// A calibration procedure did not get usable data.
     #[error("calibration failed: {0}")]
     Calibration(String),
+    /// A guided procedure cannot go on; the text says what the patient should do. Static, so
+    /// that failing on a real-time thread allocates nothing.
+    #[error("calibration failed: {0}")]
+    Procedure(&'static str),
     /// A device backend error (HID open/read/write).
     #[error("device error: {0}")]
     Device(String),

@@ -278,6 +278,19 @@ impl MountingCalibrator {
             .reserve(blocks.saturating_sub(self.blocks.len()));
     }
 
+    /// Forget every sample (start the procedure again), keeping the room reserved: no
+    /// allocation, so a real-time thread may call it.
+    pub fn restart(&mut self) {
+        self.still_upper = Still::default();
+        self.still_fore = Still::default();
+        self.n_still = 0;
+        self.wheel_still_sum = 0.0;
+        self.blocks.clear();
+        self.open = OpenBlock::default();
+        self.rate2 = 0.0;
+        self.n_motion = 0;
+    }
+
     /// Phase 1: a sample while the patient holds still at wheel angle `wheel_rad`.
     pub fn add_still(
         &mut self,
@@ -286,8 +299,8 @@ impl MountingCalibrator {
         fore: &ImuSample,
     ) -> Result<(), ImuError> {
         let (Some(au), Some(af)) = (upper.acc_m_s2, fore.acc_m_s2) else {
-            return Err(ImuError::Calibration(
-                "mounting calibration needs accelerometers on both IMUs".into(),
+            return Err(ImuError::Procedure(
+                "mounting calibration needs accelerometers on both IMUs",
             ));
         };
         if !(upper.is_finite() && fore.is_finite() && wheel_rad.is_finite()) {
@@ -314,9 +327,8 @@ impl MountingCalibrator {
         fore: &ImuSample,
     ) -> Result<(), ImuError> {
         if self.n_still == 0 {
-            return Err(ImuError::Calibration(
-                "hold still first: the motion phase needs the gyro bias from the still phase"
-                    .into(),
+            return Err(ImuError::Procedure(
+                "hold still first: the motion phase needs the gyro bias from the still phase",
             ));
         }
         if !(upper.is_finite()
@@ -690,6 +702,28 @@ mod tests {
             assert!((upper.up(delta) - st.upper.transpose() * Vector3::z()).norm() < 1e-9);
             assert!((hinge.up(delta) - st.fore.transpose() * Vector3::z()).norm() < 1e-9);
         }
+    }
+
+    #[test]
+    fn restart_forgets_the_samples_and_keeps_the_reserved_room() {
+        let mut cal = MountingCalibrator::new(ArmGeometry::default(), 0.3).unwrap();
+        cal.reserve_motion(1_000);
+        let room = cal.blocks.capacity();
+        let s = ImuSample {
+            t_ns: 0,
+            rate_rad_s: Vector3::new(0.0, 0.0, 0.5),
+            acc_m_s2: Some(Vector3::z() * 9.81),
+        };
+        for _ in 0..20 {
+            cal.add_still(0.0, &s, &s).unwrap();
+        }
+        for _ in 0..100 {
+            cal.add_motion(0.1, 0.5, &s, &s).unwrap();
+        }
+        cal.restart();
+        assert_eq!(cal.blocks.capacity(), room);
+        let err = cal.finish().unwrap_err().to_string();
+        assert!(err.contains("only 0 still samples"), "{err}");
     }
 
     #[test]

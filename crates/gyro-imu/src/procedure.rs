@@ -134,8 +134,6 @@ enum Step {
 #[derive(Debug)]
 pub struct GuidedMounting {
     cfg: ProcedureConfig,
-    geometry: ArmGeometry,
-    swivel_rad: f64,
     /// First IMU on the upper arm.
     direct: MountingCalibrator,
     /// Second IMU on the upper arm.
@@ -164,8 +162,6 @@ impl GuidedMounting {
         };
         Ok(Self {
             cfg,
-            geometry,
-            swivel_rad,
             direct: calibrator()?,
             swapped: calibrator()?,
             step: Step::Still,
@@ -209,7 +205,7 @@ impl GuidedMounting {
                     "the wheel did not turn far enough: turn it slowly left and right, as far as is comfortable"
                 }
             };
-            return self.finish(Err(ImuError::Calibration(why.into())));
+            return self.finish(Err(ImuError::Procedure(why)));
         }
         match self.step {
             Step::Still => {
@@ -218,10 +214,8 @@ impl GuidedMounting {
                 if moving {
                     // Start the still step again, forgetting the samples so far.
                     self.step_start_ns = t_ns;
-                    match self.fresh_calibrators() {
-                        Ok(()) => {}
-                        Err(e) => return self.finish(Err(e)),
-                    }
+                    self.direct.restart();
+                    self.swapped.restart();
                 } else {
                     let added = self
                         .direct
@@ -281,14 +275,6 @@ impl GuidedMounting {
     /// Finish with `outcome` (from [`GuidedMounting::solve`]); returns [`Prompt::Done`].
     pub fn set_outcome(&mut self, outcome: Result<GuidedOutcome, ImuError>) -> Prompt {
         self.finish(outcome)
-    }
-
-    fn fresh_calibrators(&mut self) -> Result<(), ImuError> {
-        for c in [&mut self.direct, &mut self.swapped] {
-            *c = MountingCalibrator::new(self.geometry, self.swivel_rad)?;
-            c.reserve_motion(self.cfg.max_sweep_samples);
-        }
-        Ok(())
     }
 
     fn finish(&mut self, outcome: Result<GuidedOutcome, ImuError>) -> Prompt {
