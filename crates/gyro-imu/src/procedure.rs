@@ -179,6 +179,12 @@ impl GuidedMounting {
         self.outcome.as_ref()
     }
 
+    /// Move the result out once [`Prompt::Done`] (no copy, no allocation); `None` before, or
+    /// if already taken.
+    pub fn take_outcome(&mut self) -> Option<Result<GuidedOutcome, ImuError>> {
+        self.outcome.take()
+    }
+
     /// Feed one tick at `t_ns`: the wheel angle and rate (rad, rad/s) and the latest sample of
     /// each IMU. Returns the prompt to show now.
     pub fn step(

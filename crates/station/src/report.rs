@@ -150,6 +150,9 @@ pub fn render(r: &SessionReport, link: Option<&LinkReport>) -> String {
             rom[4]
         );
     }
+    if let Some(why) = &r.haptic.arm_failure {
+        line!("arm sensing         off: {why}");
+    }
     match &rec.arm_calibration {
         Some(Ok(c)) => {
             let truth = r.sim_arm_truth_m.map_or(String::new(), |(u, f)| {

@@ -33,6 +33,8 @@ pub struct HapticOutcome {
     /// Range of motion of each estimated joint angle over the session, rad (order of
     /// `gyro_imu::arm::JointAngles::NAMES`); `None` without arm sensing.
     pub range_of_motion_rad: Option<[f64; 5]>,
+    /// Why arm sensing stopped or never started, in words (told after the loop).
+    pub arm_failure: Option<String>,
 }
 
 /// Sleep until the absolute `deadline`; with `spin` the last part is a busy wait, which keeps a
@@ -170,7 +172,6 @@ pub fn run(
     let mut stopping_since: Option<u64> = None;
     let mut stopped_early = false;
     let mut tick = 0u64;
-    let mut paused = false;
     loop {
         // The session's length counts exercise time: a pause lengthens it.
         let active = plant.active_ticks();
@@ -195,15 +196,9 @@ pub fn run(
         } else {
             Instant::now()
         };
-        let pause = controls.pause.load(Ordering::Relaxed);
-        if pause != paused && stopping_since.is_none() {
-            paused = pause;
-            plant.set_paused(paused);
-            tracing::info!(
-                paused,
-                "exercise {}",
-                if paused { "paused" } else { "resumed" }
-            );
+        // A stop overrides a pause. (The recorder thread logs the changes: no I/O here.)
+        if stopping_since.is_none() {
+            plant.set_paused(controls.pause.load(Ordering::Relaxed));
         }
         let mut rec = plant.tick();
         let done = Instant::now();
@@ -242,5 +237,6 @@ pub fn run(
         realtime_priority,
         wall_s: start.elapsed().as_secs_f64(),
         range_of_motion_rad: plant.range_of_motion_rad(),
+        arm_failure: plant.arm_failure().map(|f| f.to_string()),
     }
 }

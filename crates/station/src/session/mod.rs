@@ -267,6 +267,38 @@ fn summary_extra(out: &RecorderOutcome) -> BTreeMap<String, f64> {
     extra
 }
 
+/// Logs what changes in a session from the recorded ticks (pauses, the arm set-up's steps),
+/// so that the haptic thread itself never writes a log line.
+#[derive(Default)]
+struct ChangeLog {
+    paused: bool,
+    arm_step: &'static str,
+}
+
+impl ChangeLog {
+    fn observe(&mut self, rec: &TickRecord) {
+        if rec.score.paused != self.paused {
+            self.paused = rec.score.paused;
+            tracing::info!(
+                tick = rec.tick,
+                paused = self.paused,
+                "exercise paused or resumed"
+            );
+        }
+        if let Some(arm) = &rec.arm
+            && arm.setup != self.arm_step
+        {
+            tracing::info!(
+                tick = rec.tick,
+                from = self.arm_step,
+                to = arm.setup,
+                "arm sensing"
+            );
+            self.arm_step = arm.setup;
+        }
+    }
+}
+
 /// The recorder thread's fixed settings.
 struct RecorderPlan {
     /// Nominal loop period, ns.
@@ -298,6 +330,7 @@ fn recorder_loop(
     };
     let mut seq = 0u64;
     let mut arm_loop = crate::arm_calibration::ArmLoopCollector::new(1e9 / period_ns as f64);
+    let mut changes = ChangeLog::default();
     loop {
         let rec = match consumer.pop() {
             Ok(r) => r,
@@ -311,6 +344,7 @@ fn recorder_loop(
         };
         out.add(&rec);
         arm_loop.add(&rec);
+        changes.observe(&rec);
         observer.on_tick(&rec);
         let summary_tick = rec.tick % summary_every == 0 && rec.tick > 0;
         if let Some(m) = mcap.as_mut() {

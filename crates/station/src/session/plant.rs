@@ -155,8 +155,6 @@ pub struct Plant {
     active_ticks: u64,
     /// The patient paused the exercise.
     paused: bool,
-    /// The haptic chain is paused (by the patient, or while the arm set-up runs).
-    chain_paused: bool,
     /// Where the patient aimed last, rad (held while paused).
     last_target_rad: f64,
     velocity_rad_s: f64,
@@ -223,7 +221,6 @@ impl Plant {
             tick: 0,
             active_ticks: 0,
             paused: false,
-            chain_paused: false,
             last_target_rad: 0.0,
             velocity_rad_s: 0.0,
             watchdog: WatchdogState::SoftStart,
@@ -299,10 +296,7 @@ impl Plant {
         // something else; the torque fades out meanwhile, so the wheel turns freely.
         let setup = self.body.arm_setup().filter(|s| s.in_progress());
         let paused = self.paused || setup.is_some();
-        if paused != self.chain_paused {
-            self.chain_paused = paused;
-            self.chain.set_paused(paused);
-        }
+        self.chain.set_paused(paused);
         // 1. Read the wheel as the host sees it (quantised, delayed).
         let reading = self.body.wheel().read().ok();
         let angle = reading.map_or(0.0, |r| r.angle_rad);
@@ -498,6 +492,15 @@ impl Plant {
             Body::Sim { sensing, .. } => Some(sensing.range_of_motion_rad()),
             #[cfg(target_os = "linux")]
             Body::Evdev { arm, .. } => arm.as_ref().map(|a| a.range_of_motion_rad()),
+        }
+    }
+
+    /// Why arm sensing stopped or never started, if it did.
+    pub fn arm_failure(&self) -> Option<&crate::session::arm::ArmFailure> {
+        match &self.body {
+            Body::Sim { sensing, .. } => sensing.failure(),
+            #[cfg(target_os = "linux")]
+            Body::Evdev { arm, .. } => arm.as_ref().and_then(|a| a.failure()),
         }
     }
 

@@ -5,6 +5,7 @@
 use super::{ArmTracker, WheelNow};
 use crate::session::record::ArmSample;
 use anyhow::Context;
+use gyro_imu::ImuError;
 use gyro_imu::arm::ArmGeometry;
 use gyro_imu::device::hid::HidImu;
 use gyro_imu::device::{Imu, ImuSample};
@@ -22,20 +23,21 @@ struct Source {
 
 impl Source {
     /// Take what arrived since the last tick and hold it until the next arrival (zero-order
-    /// hold at the device's rate). A read error (unplugged) stops this source.
-    fn poll(&mut self) {
+    /// hold at the device's rate). A read error (unplugged) stops this source; it is returned
+    /// once.
+    fn poll(&mut self) -> Result<(), ImuError> {
         if self.failed {
-            return;
+            return Ok(());
         }
         match self.imu.poll(&mut self.buf) {
-            Ok(0) => {}
-            Ok(n) => self.latest = Some(mean_sample(&self.buf[..n])),
+            Ok(0) => Ok(()),
+            Ok(n) => {
+                self.latest = Some(mean_sample(&self.buf[..n]));
+                Ok(())
+            }
             Err(e) => {
                 self.failed = true;
-                tracing::warn!(
-                    "IMU {} stopped ({e}); the arm pose is frozen for the rest of the session",
-                    self.imu.info().name
-                );
+                Err(e)
             }
         }
     }
@@ -134,17 +136,24 @@ impl HidArmSensing {
         self.tracker.step_now()
     }
 
-    /// Poll both devices and update the pose; before both have delivered a sample (or after
-    /// one stopped) the previous sample is kept.
+    /// Poll both devices and update the pose; before both have delivered a sample the
+    /// previous sample is kept, and after one stops the pose stays frozen (the tracker says
+    /// why in the session report).
     pub fn step(&mut self, wheel: WheelNow) -> ArmSample {
-        self.a.poll();
-        self.b.poll();
-        if let (Some(a), Some(b), false) =
-            (self.a.latest, self.b.latest, self.a.failed || self.b.failed)
-        {
+        for source in [&mut self.a, &mut self.b] {
+            if let Err(e) = source.poll() {
+                self.tracker.lose_sensor(e);
+            }
+        }
+        if let (Some(a), Some(b)) = (self.a.latest, self.b.latest) {
             self.last = self.tracker.update(wheel, &a, &b);
         }
         self.last
+    }
+
+    /// Why there are no (more) joint angles, if so.
+    pub fn failure(&self) -> Option<&super::ArmFailure> {
+        self.tracker.failure()
     }
 
     /// Range of motion of each estimated joint angle this session, rad.

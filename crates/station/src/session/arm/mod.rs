@@ -12,7 +12,8 @@ use gyro_imu::arm::ArmGeometry;
 use gyro_imu::device::ImuSample;
 use gyro_imu::fusion::FusionConfig;
 use gyro_imu::pose::{ArmPoseEstimator, Mounting};
-use gyro_imu::procedure::{GuidedMounting, ProcedureConfig, Prompt};
+use gyro_imu::procedure::{GuidedMounting, GuidedOutcome, ProcedureConfig, Prompt};
+use nalgebra::UnitQuaternion;
 use serde::{Deserialize, Serialize};
 
 /// How the IMUs' placement on the arm is known.
@@ -84,6 +85,8 @@ pub enum SetupStep {
     Solving,
     /// The procedure failed: no joint angles this session (the exercise runs on).
     Failed,
+    /// An IMU stopped answering: the pose is frozen for the rest of the session.
+    SensorLost,
 }
 
 impl SetupStep {
@@ -95,6 +98,7 @@ impl SetupStep {
             SetupStep::TurnWheel { .. } => "turn-wheel",
             SetupStep::Solving => "solving",
             SetupStep::Failed => "failed",
+            SetupStep::SensorLost => "sensor-lost",
         }
     }
 
@@ -133,27 +137,70 @@ pub struct WheelNow {
 /// Longest the exercise waits for the solver thread (the solve takes ~20 ms).
 const SOLVE_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(10);
 
+/// Why a session has no (more) joint angles: kept on the haptic thread without allocating,
+/// told in words after the session.
+#[derive(Debug)]
+pub enum ArmFailure {
+    /// The guided procedure gave up, or its data did not fit the arm (says what to do).
+    Procedure(ImuError),
+    /// The mounting solve did not come back within [`SOLVE_TIMEOUT`].
+    SolverTimedOut,
+    /// An IMU stopped answering.
+    SensorLost(ImuError),
+}
+
+impl std::fmt::Display for ArmFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ArmFailure::Procedure(e) => write!(f, "{e}"),
+            ArmFailure::SolverTimedOut => write!(
+                f,
+                "the sensor set-up did not finish computing within {} s",
+                SOLVE_TIMEOUT.as_secs()
+            ),
+            ArmFailure::SensorLost(e) => write!(f, "an IMU stopped answering ({e})"),
+        }
+    }
+}
+
+/// Say how the mounting came out (on the thread that solved it, never the haptic thread in
+/// real time).
+fn log_outcome(outcome: &Result<GuidedOutcome, ImuError>) {
+    match outcome {
+        Ok(out) => tracing::info!(
+            swapped = out.swapped,
+            gravity_misfit_deg = ?(
+                out.report.gravity_misfit_rad.0.to_degrees(),
+                out.report.gravity_misfit_rad.1.to_degrees()
+            ),
+            "IMU mounting found"
+        ),
+        Err(e) => tracing::warn!("arm sensing off for this session: {e}"),
+    }
+}
+
 /// Solves a finished procedure on a thread of its own: the solve takes tens of milliseconds,
-/// far more than a haptic tick. The procedure travels there and back in its box through
-/// wait-free rings (no allocation, no lock on the haptic thread).
+/// far more than a haptic tick, and freeing the procedure's buffers is no job for the haptic
+/// thread either. The procedure goes there in its box and only the outcome comes back, both
+/// through wait-free rings (no allocation, no lock on the haptic thread).
 struct Solver {
     to: rtrb::Producer<Box<GuidedMounting>>,
-    from: rtrb::Consumer<Box<GuidedMounting>>,
+    from: rtrb::Consumer<Result<GuidedOutcome, ImuError>>,
 }
 
 impl Solver {
     fn spawn() -> std::io::Result<Self> {
         let (to, mut requests) = rtrb::RingBuffer::<Box<GuidedMounting>>::new(1);
-        let (mut results, from) = rtrb::RingBuffer::<Box<GuidedMounting>>::new(1);
+        let (mut results, from) = rtrb::RingBuffer::new(1);
         std::thread::Builder::new()
             .name("arm-solver".into())
             .spawn(move || {
                 loop {
                     match requests.pop() {
-                        Ok(mut procedure) => {
+                        Ok(procedure) => {
                             let outcome = procedure.solve();
-                            procedure.set_outcome(outcome);
-                            let _ = results.push(procedure);
+                            log_outcome(&outcome);
+                            let _ = results.push(outcome);
                             return;
                         }
                         // The session ended before the procedure did.
@@ -166,19 +213,26 @@ impl Solver {
     }
 }
 
+/// What tracking needs once the mounting is known.
+struct Tracking {
+    estimator: ArmPoseEstimator,
+    mounting: Mounting,
+    /// The second IMU is on the upper arm (found by the procedure).
+    swapped: bool,
+}
+
 /// Mounting procedure, then pose estimation (see the module docs).
 pub struct ArmTracker {
     geometry: ArmGeometry,
     /// Elbow swivel assumed for the procedure's still step, rad.
     swivel_rad: f64,
-    /// Sensor-to-segment rotations, once known.
-    mounting: Option<Mounting>,
-    setup: Option<Box<GuidedMounting>>,
+    /// The guided procedure until it is handed to the solver (kept, not freed, if it fails on
+    /// its own: the haptic thread frees nothing).
+    procedure: Option<Box<GuidedMounting>>,
     solver: Option<Solver>,
-    estimator: Option<ArmPoseEstimator>,
-    /// The second IMU is on the upper arm (found by the procedure).
-    swapped: bool,
+    tracking: Option<Tracking>,
     step: SetupStep,
+    failure: Option<ArmFailure>,
     /// When the procedure went to the solver (wall clock).
     solving_since: Option<std::time::Instant>,
     last: ArmSample,
@@ -197,17 +251,13 @@ impl ArmTracker {
         let mut estimator = ArmPoseEstimator::new(geometry, mounting, FusionConfig::default())?;
         estimator.set_initial_swivel(swivel_rad);
         Ok(Self {
-            geometry,
-            swivel_rad,
-            mounting: Some(mounting),
-            setup: None,
-            solver: None,
-            estimator: Some(estimator),
-            swapped: false,
+            tracking: Some(Tracking {
+                estimator,
+                mounting,
+                swapped: false,
+            }),
             step: SetupStep::Tracking,
-            solving_since: None,
-            last: ArmSample::default(),
-            rejected: 0,
+            ..Self::empty(geometry, swivel_rad)
         })
     }
 
@@ -231,20 +281,28 @@ impl ArmTracker {
             None
         };
         Ok(Self {
-            geometry,
-            swivel_rad,
-            mounting: None,
-            setup: Some(Box::new(GuidedMounting::new(geometry, swivel_rad, cfg)?)),
+            procedure: Some(Box::new(GuidedMounting::new(geometry, swivel_rad, cfg)?)),
             solver,
-            estimator: None,
-            swapped: false,
             step: SetupStep::HoldStill {
                 remaining_s: cfg.still_s,
             },
+            ..Self::empty(geometry, swivel_rad)
+        })
+    }
+
+    fn empty(geometry: ArmGeometry, swivel_rad: f64) -> Self {
+        Self {
+            geometry,
+            swivel_rad,
+            procedure: None,
+            solver: None,
+            tracking: None,
+            step: SetupStep::Failed,
+            failure: None,
             solving_since: None,
             last: ArmSample::default(),
             rejected: 0,
-        })
+        }
     }
 
     /// Where the sensing is now.
@@ -252,70 +310,33 @@ impl ArmTracker {
         self.step
     }
 
+    /// Why there are no (more) joint angles, if so.
+    pub fn failure(&self) -> Option<&ArmFailure> {
+        self.failure.as_ref()
+    }
+
+    /// An IMU stopped answering (`error`): the pose stays frozen from now on.
+    pub fn lose_sensor(&mut self, error: ImuError) {
+        if self.failure.is_none() {
+            self.failure = Some(ArmFailure::SensorLost(error));
+        }
+        self.step = SetupStep::SensorLost;
+        self.last.setup = self.step.label();
+    }
+
     /// One tick with the latest sample of each IMU (`a` and `b` in the order the devices were
     /// opened; the procedure finds which is on the upper arm).
     pub fn update(&mut self, wheel: WheelNow, a: &ImuSample, b: &ImuSample) -> ArmSample {
-        if let Some(setup) = &mut self.setup {
-            let prompt = setup.step(wheel.t_ns, wheel.angle_rad, wheel.rate_rad_s, a, b);
-            self.step = match prompt {
-                Prompt::HoldStill { remaining_s } => SetupStep::HoldStill { remaining_s },
-                Prompt::TurnWheel { remaining_s, .. } => SetupStep::TurnWheel { remaining_s },
-                Prompt::ReadyToSolve => {
-                    self.solving_since = Some(std::time::Instant::now());
-                    self.hand_over_to_solver()
-                }
-                Prompt::Done => self.finish_setup(),
-            };
-        } else if self.step == SetupStep::Solving {
-            if let Some(done) = self.solver.as_mut().and_then(|s| s.from.pop().ok()) {
-                self.setup = Some(done);
-                self.step = self.finish_setup();
-            } else if self
-                .solving_since
-                .is_some_and(|t| t.elapsed() > SOLVE_TIMEOUT)
-            {
-                // The solver thread died or starves: the exercise must not wait forever.
-                tracing::warn!(
-                    "arm sensing off for this session: the mounting solve did not finish"
-                );
-                self.step = SetupStep::Failed;
+        match self.step {
+            SetupStep::HoldStill { .. } | SetupStep::TurnWheel { .. } => {
+                self.step = self.follow_procedure(wheel, a, b);
             }
-        } else if let Some(est) = &mut self.estimator {
-            let (upper, fore) = if self.swapped { (b, a) } else { (a, b) };
-            match est.update(wheel.angle_rad, upper, fore, wheel.dt_s) {
-                Ok(pose) => {
-                    let x = pose.angles;
-                    let (qu, qf) = est.sensor_orientations();
-                    let wxyz = |q: nalgebra::UnitQuaternion<f64>| [q.w, q.i, q.j, q.k];
-                    // Segment long axes (x) from the IMUs: sensor-to-earth · segment-to-sensor.
-                    let (upper_axis, fore_axis) = self.mounting.map_or(([0.0; 3], [0.0; 3]), |m| {
-                        let axis = |q: nalgebra::UnitQuaternion<f64>| {
-                            let v = q * nalgebra::Vector3::x();
-                            [v.x, v.y, v.z]
-                        };
-                        (axis(qu * m.upper.inverse()), axis(qf * m.fore.inverse()))
-                    });
-                    let g = self.geometry.grip(wheel.angle_rad);
-                    self.last = ArmSample {
-                        upper_axis,
-                        fore_axis,
-                        grip_m: [g.x, g.y, g.z],
-                        upper_orientation_wxyz: wxyz(qu),
-                        fore_orientation_wxyz: wxyz(qf),
-                        range_of_motion_rad: est.range_of_motion().range_rad(),
-                        shoulder_elevation_rad: x.shoulder_elevation_rad,
-                        shoulder_plane_rad: x.shoulder_plane_rad,
-                        shoulder_rotation_rad: x.shoulder_rotation_rad,
-                        elbow_flexion_rad: x.elbow_flexion_rad,
-                        forearm_pronation_rad: x.forearm_pronation_rad,
-                        fit_residual_rad: pose.fit_residual_rad,
-                        ..self.last
-                    };
-                }
-                Err(_) => self.rejected += 1,
-            }
+            SetupStep::Solving => self.step = self.wait_for_solver(),
+            SetupStep::Tracking => self.track(wheel, a, b),
+            SetupStep::Failed | SetupStep::SensorLost => {}
         }
-        let (upper, fore) = if self.swapped { (b, a) } else { (a, b) };
+        let swapped = self.tracking.as_ref().is_some_and(|t| t.swapped);
+        let (upper, fore) = if swapped { (b, a) } else { (a, b) };
         let [ux, uy, uz] = rates(upper);
         let [fx, fy, fz] = rates(fore);
         self.last.upper_gyro_x_rad_s = ux;
@@ -329,75 +350,175 @@ impl ArmTracker {
         self.last
     }
 
-    /// Send the finished procedure to the solver thread (or, without one, solve it here).
-    fn hand_over_to_solver(&mut self) -> SetupStep {
-        let Some(procedure) = self.setup.take() else {
-            return self.step;
+    /// One tick of the guided procedure.
+    fn follow_procedure(&mut self, wheel: WheelNow, a: &ImuSample, b: &ImuSample) -> SetupStep {
+        let Some(procedure) = &mut self.procedure else {
+            return SetupStep::Failed;
         };
-        let refused = match &mut self.solver {
+        match procedure.step(wheel.t_ns, wheel.angle_rad, wheel.rate_rad_s, a, b) {
+            Prompt::HoldStill { remaining_s } => SetupStep::HoldStill { remaining_s },
+            Prompt::TurnWheel { remaining_s, .. } => SetupStep::TurnWheel { remaining_s },
+            Prompt::ReadyToSolve => self.solve(),
+            // The procedure gave up by itself (it keeps its box until the session ends).
+            Prompt::Done => match procedure.take_outcome() {
+                Some(outcome) => self.finish(outcome),
+                None => SetupStep::Failed,
+            },
+        }
+    }
+
+    /// Hand the finished procedure to the solver thread, or solve it here without one.
+    fn solve(&mut self) -> SetupStep {
+        let Some(procedure) = self.procedure.take() else {
+            return SetupStep::Failed;
+        };
+        self.solving_since = Some(std::time::Instant::now());
+        let procedure = match &mut self.solver {
             Some(solver) => match solver.to.push(procedure) {
                 Ok(()) => return SetupStep::Solving,
                 Err(rtrb::PushError::Full(p)) => p,
             },
             None => procedure,
         };
-        let mut procedure = refused;
-        procedure.solve_now();
-        self.setup = Some(procedure);
-        self.finish_setup()
+        let outcome = procedure.solve();
+        log_outcome(&outcome);
+        self.finish(outcome)
     }
 
-    /// The procedure ended: start tracking with its mounting, or give up on arm sensing for
-    /// this session (logged once, with the reason and what to do).
-    fn finish_setup(&mut self) -> SetupStep {
-        let Some(setup) = self.setup.take() else {
-            return self.step;
-        };
-        let started = match setup.outcome() {
-            Some(Ok(out)) => {
-                tracing::info!(
-                    swapped = out.swapped,
-                    gravity_misfit_deg = ?(out.report.gravity_misfit_rad.0.to_degrees(), out.report.gravity_misfit_rad.1.to_degrees()),
-                    "IMU mounting found"
-                );
-                self.swapped = out.swapped;
-                self.mounting = Some(out.mounting);
-                ArmPoseEstimator::new(self.geometry, out.mounting, FusionConfig::default()).map(
-                    |mut est| {
-                        // Start from the swivel the patient held in the still step.
-                        est.set_initial_swivel(
-                            self.swivel_rad + out.report.still_swivel_offset_rad,
-                        );
-                        est
-                    },
-                )
-            }
-            Some(Err(e)) => Err(ImuError::Calibration(e.to_string())),
-            None => Err(ImuError::Calibration(
-                "the procedure ended without a result".into(),
-            )),
-        };
+    /// The solver's answer, or give up after [`SOLVE_TIMEOUT`] so that the exercise never
+    /// waits forever (a dead solver thread).
+    fn wait_for_solver(&mut self) -> SetupStep {
+        if let Some(outcome) = self.solver.as_mut().and_then(|s| s.from.pop().ok()) {
+            return self.finish(outcome);
+        }
+        if self
+            .solving_since
+            .is_some_and(|t| t.elapsed() > SOLVE_TIMEOUT)
+        {
+            self.failure = Some(ArmFailure::SolverTimedOut);
+            return SetupStep::Failed;
+        }
+        SetupStep::Solving
+    }
+
+    /// The procedure ended: track with its mounting, starting from the swivel the patient
+    /// held in the still step, or remember why not.
+    fn finish(&mut self, outcome: Result<GuidedOutcome, ImuError>) -> SetupStep {
+        let started = outcome.and_then(|out| {
+            let mut estimator =
+                ArmPoseEstimator::new(self.geometry, out.mounting, FusionConfig::default())?;
+            estimator.set_initial_swivel(self.swivel_rad + out.report.still_swivel_offset_rad);
+            Ok(Tracking {
+                estimator,
+                mounting: out.mounting,
+                swapped: out.swapped,
+            })
+        });
         match started {
-            Ok(est) => {
-                self.estimator = Some(est);
+            Ok(tracking) => {
+                self.tracking = Some(tracking);
                 SetupStep::Tracking
             }
             Err(e) => {
-                tracing::warn!("arm sensing off for this session: {e}");
+                self.failure = Some(ArmFailure::Procedure(e));
                 SetupStep::Failed
             }
         }
     }
 
+    /// One tick of pose estimation.
+    fn track(&mut self, wheel: WheelNow, a: &ImuSample, b: &ImuSample) {
+        let Some(t) = &mut self.tracking else { return };
+        let (upper, fore) = if t.swapped { (b, a) } else { (a, b) };
+        let pose = match t.estimator.update(wheel.angle_rad, upper, fore, wheel.dt_s) {
+            Ok(pose) => pose,
+            Err(_) => {
+                self.rejected += 1;
+                return;
+            }
+        };
+        let x = pose.angles;
+        let (qu, qf) = t.estimator.sensor_orientations();
+        let wxyz = |q: UnitQuaternion<f64>| [q.w, q.i, q.j, q.k];
+        // Segment long axes (x) from the IMUs alone: sensor-to-earth · segment-to-sensor.
+        let axis = |q: UnitQuaternion<f64>| {
+            let v = q * nalgebra::Vector3::x();
+            [v.x, v.y, v.z]
+        };
+        let g = self.geometry.grip(wheel.angle_rad);
+        self.last = ArmSample {
+            upper_axis: axis(qu * t.mounting.upper.inverse()),
+            fore_axis: axis(qf * t.mounting.fore.inverse()),
+            grip_m: [g.x, g.y, g.z],
+            upper_orientation_wxyz: wxyz(qu),
+            fore_orientation_wxyz: wxyz(qf),
+            range_of_motion_rad: t.estimator.range_of_motion().range_rad(),
+            shoulder_elevation_rad: x.shoulder_elevation_rad,
+            shoulder_plane_rad: x.shoulder_plane_rad,
+            shoulder_rotation_rad: x.shoulder_rotation_rad,
+            elbow_flexion_rad: x.elbow_flexion_rad,
+            forearm_pronation_rad: x.forearm_pronation_rad,
+            fit_residual_rad: pose.fit_residual_rad,
+            ..self.last
+        };
+    }
+
     /// Range of motion of each estimated joint angle this session, rad (field order of
     /// `gyro_imu::arm::JointAngles`); zeros before tracking starts.
     pub fn range_of_motion_rad(&self) -> [f64; 5] {
-        self.estimator
+        self.tracking
             .as_ref()
-            .map_or([0.0; 5], |e| e.range_of_motion().range_rad())
+            .map_or([0.0; 5], |t| t.estimator.range_of_motion().range_rad())
     }
 }
 
 fn rates(s: &ImuSample) -> [f64; 3] {
     [s.rate_rad_s.x, s.rate_rad_s.y, s.rate_rad_s.z]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Vector3;
+
+    #[test]
+    fn a_procedure_that_gives_up_leaves_tracking_off_with_the_reason_to_tell() {
+        let mut tracker = ArmTracker::guided(ArmGeometry::default(), 0.35, false).unwrap();
+        let still = ImuSample {
+            t_ns: 0,
+            rate_rad_s: Vector3::zeros(),
+            acc_m_s2: Some(Vector3::z() * 9.81),
+        };
+        // The patient holds still, then never turns the wheel: the procedure gives up at 90 s.
+        let mut sample = ArmSample::default();
+        for k in 0..20_000u64 {
+            let wheel = WheelNow {
+                t_ns: k * 5_000_000,
+                angle_rad: 0.0,
+                rate_rad_s: 0.0,
+                dt_s: 0.005,
+            };
+            sample = tracker.update(wheel, &still, &still);
+        }
+        assert_eq!(tracker.step_now(), SetupStep::Failed);
+        assert_eq!(sample.setup, "failed");
+        let why = tracker.failure().expect("a reason").to_string();
+        assert!(why.contains("did not turn far enough"), "{why}");
+    }
+
+    #[test]
+    fn a_lost_sensor_freezes_the_pose_and_says_so() {
+        let mounting = Mounting {
+            upper: UnitQuaternion::identity(),
+            fore: UnitQuaternion::identity(),
+        };
+        let mut tracker = ArmTracker::known(ArmGeometry::default(), mounting, 0.35).unwrap();
+        tracker.lose_sensor(ImuError::Device("read: device disconnected".into()));
+        assert_eq!(tracker.step_now(), SetupStep::SensorLost);
+        let why = tracker.failure().unwrap().to_string();
+        assert!(
+            why.contains("stopped answering") && why.contains("disconnected"),
+            "{why}"
+        );
+    }
 }

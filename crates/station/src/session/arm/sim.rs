@@ -114,6 +114,11 @@ impl SimArmSensing {
         sample
     }
 
+    /// Why there are no (more) joint angles, if so.
+    pub fn failure(&self) -> Option<&super::ArmFailure> {
+        self.tracker.failure()
+    }
+
     /// Range of motion of each estimated joint angle this session, rad.
     pub fn range_of_motion_rad(&self) -> [f64; 5] {
         self.tracker.range_of_motion_rad()
