@@ -13,7 +13,6 @@ use calib::arm3d::{
 };
 use gyro_imu::arm;
 use gyro_imu::fusion::{FusionConfig, OrientationFilter};
-use gyro_imu::sensor::{AccSpec, GyroSpec};
 use gyro_imu::sim::arm::{PatientArmConfig, SimArm, sine_road};
 use nalgebra::{UnitQuaternion, Vector3};
 use rand::SeedableRng;
@@ -112,15 +111,7 @@ fn recording(noise: Noise, seed: u64) -> Rec {
 fn imu_rec(seed: u64) -> Rec {
     let cfg = PatientArmConfig::default();
     let id = UnitQuaternion::identity();
-    let mut sim = SimArm::new(
-        cfg,
-        GyroSpec::consumer_mems(),
-        Some(AccSpec::consumer_mems()),
-        id,
-        id,
-        seed,
-    )
-    .unwrap();
+    let mut sim = SimArm::consumer_mems(cfg, id, id, seed).unwrap();
     let mut fu = OrientationFilter::new(FusionConfig::default()).unwrap();
     let mut ff = OrientationFilter::new(FusionConfig::default()).unwrap();
     let dt = 0.001;

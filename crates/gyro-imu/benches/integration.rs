@@ -70,15 +70,7 @@ fn bench_fusion(c: &mut Criterion) {
     // One arm-pose estimator tick (two filters + chain fit), the haptic thread's cost.
     let cfg = PatientArmConfig::default();
     let id = UnitQuaternion::identity();
-    let mut arm = SimArm::new(
-        cfg,
-        GyroSpec::consumer_mems(),
-        Some(AccSpec::consumer_mems()),
-        id,
-        id,
-        5,
-    )
-    .unwrap();
+    let mut arm = SimArm::consumer_mems(cfg, id, id, 5).unwrap();
     let ticks: Vec<_> = (0..2000)
         .map(|k| {
             let t = k as f64 * 0.001;
@@ -119,15 +111,7 @@ fn bench_mounting(c: &mut Criterion) {
     use gyro_imu::mounting::MountingCalibrator;
     let cfg = PatientArmConfig::default();
     let id = UnitQuaternion::identity();
-    let mut arm = SimArm::new(
-        cfg,
-        GyroSpec::consumer_mems(),
-        Some(AccSpec::consumer_mems()),
-        id,
-        id,
-        9,
-    )
-    .unwrap();
+    let mut arm = SimArm::consumer_mems(cfg, id, id, 9).unwrap();
     let dt = 0.001;
     let (n_still, n_sweep) = (5_000, 20_000);
     let samples: Vec<(f64, f64, ImuSample, ImuSample)> = (0..n_still + n_sweep)

@@ -10,13 +10,12 @@
 //! use gyro_imu::arm::ArmGeometry;
 //! use gyro_imu::fusion::FusionConfig;
 //! use gyro_imu::pose::{ArmPoseEstimator, Mounting};
-//! use gyro_imu::sensor::{AccSpec, GyroSpec};
 //! use gyro_imu::sim::arm::{PatientArmConfig, SimArm, sine_road};
 //! use nalgebra::UnitQuaternion;
 //!
 //! let id = UnitQuaternion::identity(); // sensor axes = segment axes (else: `mounting`)
 //! let cfg = PatientArmConfig::default();
-//! let mut arm = SimArm::new(cfg, GyroSpec::consumer_mems(), Some(AccSpec::consumer_mems()), id, id, 1)?;
+//! let mut arm = SimArm::consumer_mems(cfg, id, id, 1)?;
 //! let mounting = Mounting { upper: id, fore: id };
 //! let mut est = ArmPoseEstimator::new(cfg.geometry, mounting, FusionConfig::default())?;
 //! let dt = 0.001;

@@ -547,7 +547,6 @@ fn wahba(b: &Matrix3<f64>) -> (Matrix3<f64>, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sensor::{AccSpec, GyroSpec};
     use crate::sim::arm::{PatientArmConfig, SimArm, sine_road};
     use rand::{Rng, SeedableRng};
 
@@ -595,15 +594,7 @@ mod tests {
         let mut worst: (f64, f64) = (0.0, 0.0);
         for trial in 0..trials {
             let (mu, mf) = random_mountings(&mut rng);
-            let mut arm = SimArm::new(
-                cfg,
-                GyroSpec::consumer_mems(),
-                Some(AccSpec::consumer_mems()),
-                mu,
-                mf,
-                40 + trial,
-            )
-            .unwrap();
+            let mut arm = SimArm::consumer_mems(cfg, mu, mf, 40 + trial).unwrap();
             let rep = calibrate(&mut arm, 0.0, 0.005);
             let eu = so3::angle_between(&rep.mounting.upper, &mu).to_degrees();
             let ef = so3::angle_between(&rep.mounting.fore, &mf).to_degrees();

@@ -319,7 +319,6 @@ impl GuidedMounting {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sensor::{AccSpec, GyroSpec};
     use crate::sim::arm::{PatientArmConfig, SimArm, sine_road};
     use crate::so3;
     use nalgebra::Vector3;
@@ -343,15 +342,7 @@ mod tests {
         fidget_s: f64,
         sweep_amp_rad: f64,
     ) -> (GuidedMounting, f64) {
-        let mut arm = SimArm::new(
-            cfg,
-            GyroSpec::consumer_mems(),
-            Some(AccSpec::consumer_mems()),
-            mu,
-            mf,
-            5,
-        )
-        .unwrap();
+        let mut arm = SimArm::consumer_mems(cfg, mu, mf, 5).unwrap();
         let mut proc = GuidedMounting::new(
             cfg.geometry,
             cfg.swivel_mean_rad,

@@ -464,20 +464,11 @@ fn reported_standard_errors_match_the_spread_over_noise_realisations() {
 /// known (identity), directions decimated to 100 Hz.
 fn imu_recording(seconds: f64, seed: u64) -> Recording {
     use gyro_imu::fusion::{FusionConfig, OrientationFilter};
-    use gyro_imu::sensor::{AccSpec, GyroSpec};
     use gyro_imu::sim::arm::SimArm;
     use nalgebra::UnitQuaternion;
     let cfg = PatientArmConfig::default();
     let id = UnitQuaternion::identity();
-    let mut sim = SimArm::new(
-        cfg,
-        GyroSpec::consumer_mems(),
-        Some(AccSpec::consumer_mems()),
-        id,
-        id,
-        seed,
-    )
-    .unwrap();
+    let mut sim = SimArm::consumer_mems(cfg, id, id, seed).unwrap();
     let mut filters = [
         OrientationFilter::new(FusionConfig::default()).unwrap(),
         OrientationFilter::new(FusionConfig::default()).unwrap(),

@@ -188,6 +188,24 @@ impl SimArm {
         })
     }
 
+    /// An arm wearing two consumer-MEMS IMUs (gyro and accelerometer,
+    /// [`GyroSpec::consumer_mems`], [`AccSpec::consumer_mems`]): the usual simulated patient.
+    pub fn consumer_mems(
+        cfg: PatientArmConfig,
+        mount_upper: UnitQuaternion<f64>,
+        mount_fore: UnitQuaternion<f64>,
+        seed: u64,
+    ) -> Result<Self, ImuError> {
+        Self::new(
+            cfg,
+            GyroSpec::consumer_mems(),
+            Some(AccSpec::consumer_mems()),
+            mount_upper,
+            mount_fore,
+            seed,
+        )
+    }
+
     /// The configuration.
     pub fn config(&self) -> &PatientArmConfig {
         &self.cfg

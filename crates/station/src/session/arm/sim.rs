@@ -6,7 +6,6 @@ use super::{ArmTracker, MountingMode, SetupStep, WheelNow};
 use crate::session::record::ArmSample;
 use gyro_imu::ImuError;
 use gyro_imu::pose::Mounting;
-use gyro_imu::sensor::{AccSpec, GyroSpec};
 use gyro_imu::sim::arm::{PatientArmConfig, SimArm};
 use gyro_imu::so3;
 use nalgebra::{UnitQuaternion, Vector3};
@@ -50,14 +49,7 @@ impl SimArmSensing {
                 (random_rotation(&mut rng), random_rotation(&mut rng))
             }
         };
-        let arm = SimArm::new(
-            cfg,
-            GyroSpec::consumer_mems(),
-            Some(AccSpec::consumer_mems()),
-            mu,
-            mf,
-            seed,
-        )?;
+        let arm = SimArm::consumer_mems(cfg, mu, mf, seed)?;
         let tracker = match mode {
             MountingMode::Square => ArmTracker::known(
                 cfg.geometry,
