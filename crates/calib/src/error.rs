@@ -99,3 +99,17 @@ pub(crate) fn check_finite(argument: &'static str, values: &[f64]) -> Result<(),
         None => Ok(()),
     }
 }
+
+/// Check a recursive estimator's forgetting factor λ per sample: in [0.9, 1] (1 = never
+/// forget), else name the `forgetting` field.
+pub(crate) fn check_forgetting(forgetting: f64) -> Result<(), CalibError> {
+    if (0.9..=1.0).contains(&forgetting) {
+        Ok(())
+    } else {
+        Err(CalibError::OutOfRange {
+            argument: "forgetting",
+            value: forgetting,
+            allowed: "[0.9, 1]",
+        })
+    }
+}

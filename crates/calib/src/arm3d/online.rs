@@ -46,14 +46,7 @@ impl Default for OnlineArm3dOptions {
 impl OnlineArm3dOptions {
     /// Check every field, naming the one out of range.
     pub fn validate(&self) -> Result<(), CalibError> {
-        if !(0.9..=1.0).contains(&self.forgetting) {
-            return Err(CalibError::OutOfRange {
-                argument: "forgetting",
-                value: self.forgetting,
-                allowed: "[0.9, 1]",
-            });
-        }
-        Ok(())
+        crate::error::check_forgetting(self.forgetting)
     }
 }
 
