@@ -3,7 +3,7 @@
 //! the grip points while the arm is tracked, and fits shoulder position and segment lengths
 //! when the session ends. Nothing of it runs on the haptic thread.
 
-use crate::session::record::TickRecord;
+use crate::session::record::{ArmSetup, TickRecord};
 use calib::{Arm3dCalibration, ArmLoopOptions, ArmLoopSamples, calibrate_arm_3d};
 use schemars::JsonSchema;
 use serde::Serialize;
@@ -42,7 +42,7 @@ impl ArmLoopCollector {
             let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
             (n - 1.0).abs() < 1e-6
         };
-        if arm.setup != "tracking"
+        if arm.setup != ArmSetup::Tracking
             || !rec.tick.is_multiple_of(self.every)
             || !unit(arm.upper_axis)
             || !unit(arm.fore_axis)

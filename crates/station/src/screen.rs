@@ -4,7 +4,7 @@
 use crate::config::StationConfig;
 use crate::regimen::Regimen;
 use crate::render::{self, CarPose, Dial, Hud, LiveScore, RoadPoint, Scene, ScreenState};
-use crate::session::record::TickRecord;
+use crate::session::record::{ArmSetup, TickRecord};
 use vehicle::ExerciseSpec;
 
 /// Centre-line sample spacing for the screen's road mesh, m.
@@ -116,7 +116,10 @@ impl CourseView {
                 speed_m_s: speed,
                 assist_level: rec.assist.assistance_level,
                 devices: std::iter::once(format!("wheel: {}", rec.wheel.watchdog))
-                    .chain(rec.arm.map(|a| format!("arm sensors: {}", a.setup)))
+                    .chain(
+                        rec.arm
+                            .map(|a| format!("arm sensors: {}", a.setup.as_str())),
+                    )
                     .collect(),
             },
             screen,
@@ -131,21 +134,21 @@ pub fn live_screen_state(rec: &TickRecord) -> ScreenState {
     let seconds = |s: f64| format!("{} s", s.ceil().max(0.0));
     match rec.arm.map(|a| (a.setup, a.setup_remaining_s)) {
         _ if rec.tick == 0 => ScreenState::Start,
-        Some(("hold-still", left)) => ScreenState::Instruction {
+        Some((ArmSetup::HoldStill, left)) => ScreenState::Instruction {
             title: "Hold the wheel still".into(),
             lines: vec![
                 "Rest both hands on the wheel, centred, and relax.".into(),
                 seconds(left),
             ],
         },
-        Some(("turn-wheel", left)) => ScreenState::Instruction {
+        Some((ArmSetup::TurnWheel, left)) => ScreenState::Instruction {
             title: "Turn the wheel slowly".into(),
             lines: vec![
                 "Left and right, as far as is comfortable.".into(),
                 seconds(left),
             ],
         },
-        Some(("solving", _)) => ScreenState::Instruction {
+        Some((ArmSetup::Solving, _)) => ScreenState::Instruction {
             title: "Thank you".into(),
             lines: vec!["Setting up the arm sensors…".into()],
         },

@@ -272,7 +272,7 @@ fn summary_extra(out: &RecorderOutcome) -> BTreeMap<String, f64> {
 #[derive(Default)]
 struct ChangeLog {
     paused: bool,
-    arm_step: &'static str,
+    arm_step: Option<record::ArmSetup>,
 }
 
 impl ChangeLog {
@@ -286,15 +286,15 @@ impl ChangeLog {
             );
         }
         if let Some(arm) = &rec.arm
-            && arm.setup != self.arm_step
+            && self.arm_step != Some(arm.setup)
         {
             tracing::info!(
                 tick = rec.tick,
-                from = self.arm_step,
-                to = arm.setup,
+                from = ?self.arm_step,
+                to = ?arm.setup,
                 "arm sensing"
             );
-            self.arm_step = arm.setup;
+            self.arm_step = Some(arm.setup);
         }
     }
 }

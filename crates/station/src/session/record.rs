@@ -61,6 +61,39 @@ pub struct WheelSample {
     pub target_rad: f64,
 }
 
+/// Where the arm sensing is, as recorded (a kebab-case string in the JSON).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum ArmSetup {
+    /// Joint angles are being estimated.
+    #[default]
+    Tracking,
+    /// Guided procedure: hold the wheel still, centred.
+    HoldStill,
+    /// Guided procedure: turn the wheel left and right.
+    TurnWheel,
+    /// The mounting is being computed.
+    Solving,
+    /// The procedure failed: no joint angles this session.
+    Failed,
+    /// An IMU stopped answering: the pose is frozen.
+    SensorLost,
+}
+
+impl ArmSetup {
+    /// The label as recorded (and shown on the screen's device line).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ArmSetup::Tracking => "tracking",
+            ArmSetup::HoldStill => "hold-still",
+            ArmSetup::TurnWheel => "turn-wheel",
+            ArmSetup::Solving => "solving",
+            ArmSetup::Failed => "failed",
+            ArmSetup::SensorLost => "sensor-lost",
+        }
+    }
+}
+
 /// The supervisor state as a stable label for recordings.
 pub fn watchdog_label(state: WatchdogState) -> &'static str {
     match state {
@@ -159,9 +192,8 @@ pub struct ArmSample {
     pub true_elbow_flexion_rad: f64,
     /// RMS mismatch of the measured and fitted segment "up" directions, rad.
     pub fit_residual_rad: f64,
-    /// Arm sensing step: tracking, hold-still or turn-wheel (the guided mounting procedure;
-    /// angles are zero until it ends), or failed (no angles this session).
-    pub setup: &'static str,
+    /// Arm sensing step (angles are zero until tracking starts).
+    pub setup: ArmSetup,
     /// Time left in the set-up step, s.
     pub setup_remaining_s: f64,
     /// Upper-arm sensor-to-earth orientation (w, x, y, z; earth z up, heading that of the
@@ -204,4 +236,26 @@ pub struct TimingSample {
     pub work_ns: u64,
     /// Records the recorder could not take so far (ring full), count.
     pub dropped_records: u64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ArmSetup;
+
+    #[test]
+    fn arm_setup_labels_are_the_recorded_strings() {
+        for s in [
+            ArmSetup::Tracking,
+            ArmSetup::HoldStill,
+            ArmSetup::TurnWheel,
+            ArmSetup::Solving,
+            ArmSetup::Failed,
+            ArmSetup::SensorLost,
+        ] {
+            assert_eq!(
+                serde_json::to_string(&s).unwrap(),
+                format!("\"{}\"", s.as_str())
+            );
+        }
+    }
 }

@@ -2,7 +2,7 @@
 
 use super::haptic::Pacing;
 use super::plant::Plant;
-use super::record::TickRecord;
+use super::record::{ArmSetup, TickRecord};
 use super::{BodyKind, Controls, SessionObserver, SessionOptions, course};
 use crate::config::StationConfig;
 use std::sync::atomic::Ordering;
@@ -159,9 +159,15 @@ fn guided_mounting_runs_first_then_the_exercise_and_tracks_the_arm_within_2_deg(
     super::run(&opts, &Controls::default(), &mut keep).unwrap();
     let recs = keep.0;
     let step = |r: &TickRecord| r.arm.unwrap().setup;
-    assert_eq!(step(&recs[0]), "hold-still");
-    let turn = recs.iter().position(|r| step(r) == "turn-wheel").unwrap();
-    let tracking = recs.iter().position(|r| step(r) == "tracking").unwrap();
+    assert_eq!(step(&recs[0]), ArmSetup::HoldStill);
+    let turn = recs
+        .iter()
+        .position(|r| step(r) == ArmSetup::TurnWheel)
+        .unwrap();
+    let tracking = recs
+        .iter()
+        .position(|r| step(r) == ArmSetup::Tracking)
+        .unwrap();
     assert!((2900..3100).contains(&turn), "hold still for 3 s: {turn}");
     assert!(
         tracking > turn + 14_000,
@@ -248,7 +254,7 @@ fn a_guided_session_as_fast_as_possible_is_the_same_on_every_run() {
             .collect::<Vec<_>>()
     };
     let (a, b) = (run(), run());
-    assert!(a.iter().any(|(_, arm)| arm.setup == "tracking"));
+    assert!(a.iter().any(|(_, arm)| arm.setup == ArmSetup::Tracking));
     assert!(
         a == b,
         "the mounting solve must not depend on wall-clock time"

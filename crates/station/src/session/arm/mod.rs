@@ -6,7 +6,7 @@
 pub mod hid;
 pub mod sim;
 
-use crate::session::record::ArmSample;
+use crate::session::record::{ArmSample, ArmSetup};
 use gyro_imu::ImuError;
 use gyro_imu::arm::ArmGeometry;
 use gyro_imu::device::ImuSample;
@@ -90,15 +90,15 @@ pub enum SetupStep {
 }
 
 impl SetupStep {
-    /// The step as a stable label for recordings.
-    pub fn label(self) -> &'static str {
+    /// The step as recorded.
+    pub fn label(self) -> ArmSetup {
         match self {
-            SetupStep::Tracking => "tracking",
-            SetupStep::HoldStill { .. } => "hold-still",
-            SetupStep::TurnWheel { .. } => "turn-wheel",
-            SetupStep::Solving => "solving",
-            SetupStep::Failed => "failed",
-            SetupStep::SensorLost => "sensor-lost",
+            SetupStep::Tracking => ArmSetup::Tracking,
+            SetupStep::HoldStill { .. } => ArmSetup::HoldStill,
+            SetupStep::TurnWheel { .. } => ArmSetup::TurnWheel,
+            SetupStep::Solving => ArmSetup::Solving,
+            SetupStep::Failed => ArmSetup::Failed,
+            SetupStep::SensorLost => ArmSetup::SensorLost,
         }
     }
 
@@ -501,7 +501,7 @@ mod tests {
             sample = tracker.update(wheel, &still, &still);
         }
         assert_eq!(tracker.step_now(), SetupStep::Failed);
-        assert_eq!(sample.setup, "failed");
+        assert_eq!(sample.setup, ArmSetup::Failed);
         let why = tracker.failure().expect("a reason").to_string();
         assert!(why.contains("did not turn far enough"), "{why}");
     }
