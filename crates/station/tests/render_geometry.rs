@@ -2,24 +2,19 @@
 //! lines, asphalt, grass beside the road) are projected with the camera math and the rendered
 //! frame is checked to show the right surface at those pixels.
 
+mod common;
+
 use station::render::camera::Camera;
 use station::render::mesh::{DASH_LENGTH_M, DASH_PERIOD_M, EDGE_LINE_INSET_M};
 use station::render::{
-    CameraMode, CarPose, Hud, RenderError, Renderer, Road, RoadPoint, Scene, ScreenState, demo,
+    CameraMode, CarPose, Hud, Renderer, Road, RoadPoint, Scene, ScreenState, demo,
 };
 
 const W: u32 = 1280;
 const H: u32 = 720;
 
 fn renderer_or_skip() -> Option<Renderer> {
-    match Renderer::new_headless(W, H) {
-        Ok(r) => Some(r),
-        Err(RenderError::NoAdapter(msg)) => {
-            eprintln!("SKIPPED: no graphics adapter on this machine ({msg})");
-            None
-        }
-        Err(e) => panic!("renderer: {e}"),
-    }
+    common::renderer_or_skip(W, H)
 }
 
 type Px = [u8; 3];
@@ -100,6 +95,19 @@ fn arc_of_x(centre: &[RoadPoint], x: f64) -> f64 {
         acc += len;
     }
     acc
+}
+
+/// The straight demo road with no HUD and the car 20 m along it, `y_m` left of the centre.
+fn straight_with_car_at(y_m: f64) -> Scene {
+    let mut scene = demo::straight(0.0);
+    scene.hud = Hud::default();
+    scene.car = CarPose {
+        x_m: 20.0,
+        y_m,
+        yaw_rad: 0.0,
+        steer_rad: 0.0,
+    };
+    scene
 }
 
 fn running(road: Road, car: CarPose, camera: CameraMode) -> Scene {
@@ -222,14 +230,7 @@ fn straight_lane_markings_land_where_the_camera_projects_them() {
     let Some(mut r) = renderer_or_skip() else {
         return;
     };
-    let mut scene = demo::straight(0.0);
-    scene.hud = Hud::default();
-    scene.car = CarPose {
-        x_m: 20.0,
-        y_m: 0.0,
-        yaw_rad: 0.0,
-        steer_rad: 0.0,
-    };
+    let mut scene = straight_with_car_at(0.0);
     for camera in [CameraMode::Chase, CameraMode::Driver] {
         scene.camera = camera;
         let (n, gaps) = check_road(&mut r, &scene, 5.0, 40.0);
@@ -263,14 +264,7 @@ fn car_offset_from_centre_moves_the_lane_on_screen() {
     let Some(mut r) = renderer_or_skip() else {
         return;
     };
-    let mut scene = demo::straight(0.0);
-    scene.hud = Hud::default();
-    scene.car = CarPose {
-        x_m: 20.0,
-        y_m: 1.0,
-        yaw_rad: 0.0,
-        steer_rad: 0.0,
-    };
+    let mut scene = straight_with_car_at(1.0);
     scene.camera = CameraMode::Driver;
     let (n, _) = check_road(&mut r, &scene, 10.0, 40.0);
     assert!(n >= 3);

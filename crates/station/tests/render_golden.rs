@@ -5,6 +5,8 @@
 //! Regenerate after an intended change with
 //! `UPDATE_GOLDEN=1 cargo test -p station --test render_golden` and look at the PNGs.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use station::render::{self, CameraMode, RenderError, Renderer, Scene, ScreenState, demo};
@@ -23,14 +25,7 @@ fn golden_dir() -> PathBuf {
 }
 
 fn renderer_or_skip() -> Option<Renderer> {
-    match Renderer::new_headless(W, H) {
-        Ok(r) => Some(r),
-        Err(RenderError::NoAdapter(msg)) => {
-            eprintln!("SKIPPED: no graphics adapter on this machine ({msg})");
-            None
-        }
-        Err(e) => panic!("renderer: {e}"),
-    }
+    common::renderer_or_skip(W, H)
 }
 
 /// (mean absolute channel difference, share of pixels differing by more than the threshold)

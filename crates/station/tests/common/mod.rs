@@ -1,0 +1,16 @@
+//! Shared by the station's rendering tests.
+
+use station::render::{RenderError, Renderer};
+
+/// An offscreen renderer of `width`×`height`, or `None` (with a SKIPPED line) on a machine
+/// with no graphics adapter at all; any other failure fails the test.
+pub fn renderer_or_skip(width: u32, height: u32) -> Option<Renderer> {
+    match Renderer::new_headless(width, height) {
+        Ok(r) => Some(r),
+        Err(RenderError::NoAdapter(msg)) => {
+            eprintln!("SKIPPED: no graphics adapter on this machine ({msg})");
+            None
+        }
+        Err(e) => panic!("renderer: {e}"),
+    }
+}
