@@ -200,18 +200,21 @@ fn white_direction_noise_of_2_deg_shrinks_lengths_unless_corrected_for_errors_in
     );
 }
 
+/// Batch fit of `r` with `heading` and the other options at their defaults.
+fn fit_with_heading(r: &Recording, heading: HeadingModel) -> Arm3dCalibration {
+    let opts = ArmLoopOptions {
+        heading,
+        ..Default::default()
+    };
+    calibrate_arm_3d(&r.samples(), &opts).unwrap()
+}
+
 #[test]
 fn heading_drift_of_2_deg_per_min_is_estimated_and_removed() {
     let rate = [2f64.to_radians() / 60.0, -1.5f64.to_radians() / 60.0];
     let mut r = recording(60.0, 100.0, 1.0);
     r.add_heading_drift([0.0, 0.0], rate);
-    let fit = |heading| {
-        let opts = ArmLoopOptions {
-            heading,
-            ..Default::default()
-        };
-        calibrate_arm_3d(&r.samples(), &opts).unwrap()
-    };
+    let fit = |heading| fit_with_heading(&r, heading);
     let exact = fit(HeadingModel::Exact);
     let drift = fit(HeadingModel::OffsetAndDrift);
     let (eu, ef) = r.length_errors(&exact.params);
@@ -505,13 +508,7 @@ fn imu_recording(seconds: f64, seed: u64) -> Recording {
 #[test]
 fn filtered_imu_directions_need_the_heading_drift_model() {
     let r = imu_recording(60.0, 1000);
-    let fit = |heading| {
-        let opts = ArmLoopOptions {
-            heading,
-            ..Default::default()
-        };
-        calibrate_arm_3d(&r.samples(), &opts).unwrap()
-    };
+    let fit = |heading| fit_with_heading(&r, heading);
     let exact = fit(HeadingModel::Exact);
     let drift = fit(HeadingModel::OffsetAndDrift);
     let (eu, ef) = r.length_errors(&exact.params);
