@@ -143,7 +143,7 @@ const SOLVE_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(10);
 pub enum ArmFailure {
     /// The guided procedure gave up, or its data did not fit the arm (says what to do).
     Procedure(ImuError),
-    /// The mounting solve did not come back within [`SOLVE_TIMEOUT`].
+    /// The mounting solve did not come back within 10 s.
     SolverTimedOut,
     /// An IMU stopped answering.
     SensorLost(ImuError),
