@@ -20,11 +20,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         return Err("units must be within ±10000 and seconds within 0..60".into());
     }
     // A unit-less profile: 1 "N·m" = full scale, so torque = units / 10 000 of full scale.
+    // Marked as measured so that the unknown-wheel cap does not apply: this tool exists to
+    // measure the torque with hands off and known masses (CALIBRATION.md §2).
     let profile = DeviceProfile {
-        max_torque_nm: 1.0,
         torque_sign: 1.0,
         angle_sign: 1.0,
-        ..DeviceProfile::generic_pidff()
+        torque_source: haptic_wheel::profile::TorqueSource::Measured,
+        ..DeviceProfile::unknown(haptic_wheel::DriverFamily::HidPidff).with_rated_torque(1.0)
     };
     let wheel = EvdevWheel::open(
         std::path::Path::new(&args[1]),

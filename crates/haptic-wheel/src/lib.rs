@@ -42,7 +42,7 @@ pub use effects::{
 };
 pub use filter::{KalmanEstimator, KalmanParams, MovingAverage, StateEstimator};
 pub use model::{PassivityController, PassivityParams, SpringDamper};
-pub use profile::{DeviceProfile, DriverFamily};
+pub use profile::{DeviceProfile, DriverFamily, TorqueSource};
 pub use safety::{Fault, LimitedTorque, SafetyConfig, Supervisor, TorqueLimiter, WatchdogState};
 pub use sim::{SimWheel, SimWheelParams};
 pub use wheel::{Wheel, WheelCapabilities, WheelError, WheelReading, ZeroTorqueOnDrop};

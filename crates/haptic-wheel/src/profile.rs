@@ -51,6 +51,52 @@ impl DriverFamily {
     }
 }
 
+/// Where a profile's motor torque (`max_torque_nm`) comes from. The station states it in
+/// `telerehab devices` and the session log, because the safety ceiling in N·m is only as true
+/// as this figure.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+#[non_exhaustive]
+pub enum TorqueSource {
+    /// The maker's published figure for the model (a built-in profile; `reference` cites it).
+    Maker,
+    /// Measured on this wheel (`telerehab wheel calibrate`, or the hanging-mass procedure of
+    /// CALIBRATION.md).
+    #[default]
+    Measured,
+    /// Entered by the patient's clinician from the maker's sheet (`[wheel] rated_torque_nm`).
+    Clinician,
+    /// Not known: the strongest plausible consumer motor is assumed
+    /// ([`ASSUMED_UNKNOWN_MOTOR_NM`]) and the ceiling capped at [`UNKNOWN_WHEEL_CEILING_NM`].
+    Assumed,
+}
+
+impl TorqueSource {
+    /// Plain words for logs and `telerehab devices`.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Self::Maker => "maker's rating",
+            Self::Measured => "measured",
+            Self::Clinician => "entered by the clinician",
+            Self::Assumed => "UNKNOWN wheel: strongest plausible motor assumed",
+        }
+    }
+}
+
+/// Motor torque assumed for a wheel whose rating is not known, N·m: the strongest consumer
+/// direct-drive base sold for home use (Simucube 2 Ultimate, 32 N·m peak). Mapping N·m to the
+/// kernel's level with this figure means a commanded torque is never *more* than that torque
+/// on any plausible motor (on a weaker one it is proportionally less).
+pub const ASSUMED_UNKNOWN_MOTOR_NM: f64 = 32.0;
+
+/// Ceiling on an unknown wheel, N·m, whatever the patient's ceiling says: small and safe for a
+/// patient's hands even on the strongest motor (a Logitech G29 gives about 2.2 N·m at full
+/// force). Enter the rated torque (`[wheel] rated_torque_nm`) or calibrate the wheel to lift it.
+pub const UNKNOWN_WHEEL_CEILING_NM: f64 = 1.0;
+
+/// Largest motor torque a profile may state, N·m (above every consumer wheel).
+pub const MAX_PROFILE_TORQUE_NM: f64 = 40.0;
+
 /// A wheel model's calibration and limits. Serde so a user's measured profile can live in
 /// the station's TOML config; [`DeviceProfile::validate`] names any field out of range.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -68,8 +114,16 @@ pub struct DeviceProfile {
     pub ka_rad_per_unit: f64,
     /// Torque scale `Kt`, N·m per effect unit of the ±10 000 scale (thesis eq. 3.3).
     pub kt_nm_per_unit: f64,
-    /// Largest torque the motor produces at full scale, N·m.
+    /// Torque the motor produces at full scale (kernel level ±32767, gain 100 %), N·m. The
+    /// evdev backend maps N·m to the kernel level with it, so it must not be below the real
+    /// motor's: an unknown wheel assumes [`ASSUMED_UNKNOWN_MOTOR_NM`].
     pub max_torque_nm: f64,
+    /// Where `max_torque_nm` comes from.
+    #[serde(default)]
+    pub torque_source: TorqueSource,
+    /// The source of the figure (maker's page or sheet, measurement date), for the record.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub reference: String,
     /// Smallest torque step the device resolves, N·m (8-bit drivers: max/127).
     pub torque_step_nm: f64,
     /// Half range of motion (centre to lock), rad.
@@ -99,6 +153,8 @@ impl DeviceProfile {
             ka_rad_per_unit: crate::THESIS_KA_RAD_PER_UNIT,
             kt_nm_per_unit: crate::THESIS_KT_NM_PER_UNIT,
             max_torque_nm: crate::THESIS_WHEEL_MAX_TORQUE_NM,
+            torque_source: TorqueSource::Measured,
+            reference: "Jadhav 2004, §3.2.1, eq. 3.3 and Fig. 3-4 (hanging masses)".into(),
             torque_step_nm: crate::THESIS_KT_NM_PER_UNIT,
             half_range_rad: 1000.0 * crate::THESIS_KA_RAD_PER_UNIT,
             max_update_rate_hz: DriverFamily::HidPidff.max_update_rate_hz(),
@@ -142,6 +198,8 @@ impl DeviceProfile {
             ka_rad_per_unit: 2.0 * half_range_rad / 65_535.0,
             kt_nm_per_unit: max_torque_nm / EFFECT_FULL_SCALE_UNITS,
             max_torque_nm,
+            torque_source: TorqueSource::Maker,
+            reference: String::new(),
             torque_step_nm: max_torque_nm / torque_levels,
             half_range_rad,
             max_update_rate_hz: driver.max_update_rate_hz(),
@@ -152,26 +210,50 @@ impl DeviceProfile {
         }
     }
 
-    /// Any USB PID wheel on `hid-pidff` / `hid-universal-pidff`. Angle scale comes from the
-    /// device's axis range at open time; the torque range is unknown, so the ceiling is a
-    /// deliberately low 1.0 N·m until the wheel is measured (CALIBRATION.md).
-    pub fn generic_pidff() -> Self {
+    /// A wheel without a profile, on the kernel driver `driver`. Its motor torque is not known,
+    /// so the strongest plausible motor is assumed ([`ASSUMED_UNKNOWN_MOTOR_NM`]) and the
+    /// usable torque capped at [`UNKNOWN_WHEEL_CEILING_NM`] ([`DeviceProfile::usable_max_nm`])
+    /// until the clinician enters the rated torque or the wheel is calibrated. The angle
+    /// scale comes from the device's axis range at open time.
+    pub fn unknown(driver: DriverFamily) -> Self {
+        let max_torque_nm = ASSUMED_UNKNOWN_MOTOR_NM;
         Self {
-            name: "generic USB PID force-feedback wheel (hid-pidff)".into(),
+            name: "unknown force-feedback wheel".into(),
             usb_vendor: None,
             usb_products: Vec::new(),
-            driver: DriverFamily::HidPidff,
+            driver,
             ka_rad_per_unit: 2.0 * 450f64.to_radians() / 65_535.0,
-            kt_nm_per_unit: 1.0 / EFFECT_FULL_SCALE_UNITS,
-            max_torque_nm: 1.0,
-            torque_step_nm: 1.0 / 32_767.0,
+            kt_nm_per_unit: max_torque_nm / EFFECT_FULL_SCALE_UNITS,
+            max_torque_nm,
+            torque_source: TorqueSource::Assumed,
+            reference: "no rating known: assumed".into(),
+            torque_step_nm: max_torque_nm / 32_767.0,
             half_range_rad: 450f64.to_radians(),
-            max_update_rate_hz: DriverFamily::HidPidff.max_update_rate_hz(),
+            max_update_rate_hz: driver.max_update_rate_hz(),
             full_scale_velocity_rad_s: 10.0,
             full_scale_acceleration_rad_s2: 100.0,
             angle_sign: -1.0,
             torque_sign: 1.0,
         }
+    }
+
+    /// The most torque the station may ask of this wheel, N·m: the motor's full scale, capped
+    /// at [`UNKNOWN_WHEEL_CEILING_NM`] while the rating is only assumed.
+    pub fn usable_max_nm(&self) -> f64 {
+        match self.torque_source {
+            TorqueSource::Assumed => self.max_torque_nm.min(UNKNOWN_WHEEL_CEILING_NM),
+            _ => self.max_torque_nm,
+        }
+    }
+
+    /// This profile with the motor torque a clinician entered from the maker's sheet, N·m.
+    pub fn with_rated_torque(mut self, rated_torque_nm: f64) -> Self {
+        self.max_torque_nm = rated_torque_nm;
+        self.kt_nm_per_unit = rated_torque_nm / EFFECT_FULL_SCALE_UNITS;
+        self.torque_step_nm = self.torque_step_nm.min(rated_torque_nm);
+        self.torque_source = TorqueSource::Clinician;
+        self.reference = "rated torque entered in the station configuration".into();
+        self
     }
 
     /// The simulated wheel with the thesis wheel's scales.
@@ -188,18 +270,17 @@ impl DeviceProfile {
         }
     }
 
-    /// The built-in profiles, most specific first.
-    pub fn builtin() -> [DeviceProfile; 4] {
-        [
+    /// The built-in profiles of real wheels, most specific first.
+    pub fn builtin() -> Vec<DeviceProfile> {
+        vec![
             Self::thesis_sidewinder(),
             Self::logitech_g29(),
             Self::logitech_g920(),
-            Self::generic_pidff(),
         ]
     }
 
-    /// The built-in profile for a USB id, the generic hid-pidff profile when none matches.
-    /// Known vendors with their own drivers get that driver's rate policy.
+    /// The built-in profile for a USB id; an [`DeviceProfile::unknown`] wheel when none
+    /// matches (known vendors with their own drivers get that driver's rate policy).
     pub fn for_usb_id(vendor: u16, product: u16) -> Self {
         if let Some(p) = Self::builtin()
             .into_iter()
@@ -207,15 +288,12 @@ impl DeviceProfile {
         {
             return p;
         }
-        let mut p = Self::generic_pidff();
-        p.driver = match vendor {
+        Self::unknown(match vendor {
             0x044f => DriverFamily::Tmff2,
             0x0eb7 => DriverFamily::Fanatec,
             0x046d => DriverFamily::Lg4ff,
             _ => DriverFamily::HidPidff,
-        };
-        p.max_update_rate_hz = p.driver.max_update_rate_hz();
-        p
+        })
     }
 
     /// Check every field; the error names the field and its allowed range.
@@ -231,7 +309,7 @@ impl DeviceProfile {
         }
         pos("ka_rad_per_unit", self.ka_rad_per_unit, 1.0)?;
         pos("kt_nm_per_unit", self.kt_nm_per_unit, 0.01)?;
-        pos("max_torque_nm", self.max_torque_nm, 30.0)?;
+        pos("max_torque_nm", self.max_torque_nm, MAX_PROFILE_TORQUE_NM)?;
         pos("torque_step_nm", self.torque_step_nm, self.max_torque_nm)?;
         pos(
             "half_range_rad",

@@ -1,0 +1,221 @@
+//! The one injectable clock (DESIGN.md, "One injectable clock"; copper-rs's `RobotClock` with
+//! its mock is the model).
+//!
+//! Everything in the station that needs the time — the haptic thread's deadlines, the real and
+//! simulated devices' timestamps, the arm solver's time-out, the therapist link's wall-clock
+//! stamps — takes a [`Clock`] instead of calling `Instant::now` or `SystemTime::now` itself.
+//! A [`Clock::real`] reads the operating system; a [`Clock::mock`] returns a handle,
+//! [`MockClock`], that tests move by hand, so deadline lateness, the watchdog and time-outs are
+//! tested without sleeping. The pure crates never see a clock: they get `dt` or timestamps.
+//!
+//! Times are `u64` nanoseconds: monotonic since a process-wide epoch ([`Clock::now_ns`]), and
+//! wall-clock since the Unix epoch ([`Clock::unix_ns`]).
+//!
+//! ```
+//! let (clock, mock) = clock::Clock::mock();
+//! assert_eq!(clock.now_ns(), 0);
+//! mock.advance_ns(1_000_000);
+//! assert_eq!(clock.now_ns(), 1_000_000);
+//! ```
+
+use std::sync::Arc;
+use std::sync::OnceLock;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+
+/// Wall-clock time a mock clock starts at, ns since the Unix epoch (2026-01-01T00:00:00Z), so
+/// that wall-clock stamps made under test are plausible dates.
+pub const MOCK_UNIX_START_NS: u64 = 1_767_225_600_000_000_000;
+
+/// The process-wide monotonic epoch every real clock counts from, so that two real clocks
+/// (and [`monotonic_ns`]) agree.
+fn epoch() -> Instant {
+    static EPOCH: OnceLock<Instant> = OnceLock::new();
+    *EPOCH.get_or_init(Instant::now)
+}
+
+/// Nanoseconds on the real monotonic clock since the process-wide epoch: what
+/// [`Clock::real`]'s [`Clock::now_ns`] returns, for code handed a plain `fn() -> u64`.
+pub fn monotonic_ns() -> u64 {
+    u64::try_from(epoch().elapsed().as_nanos()).unwrap_or(u64::MAX)
+}
+
+#[derive(Debug)]
+enum Source {
+    Real,
+    Mock(AtomicU64),
+}
+
+/// A monotonic and a wall clock, real or mock. Cheap to clone (one `Arc`); clones share the
+/// same time.
+#[derive(Clone, Debug)]
+pub struct Clock {
+    source: Arc<Source>,
+}
+
+impl Default for Clock {
+    fn default() -> Self {
+        Self::real()
+    }
+}
+
+impl Clock {
+    /// The operating system's clocks.
+    pub fn real() -> Self {
+        // Fix the epoch now, so that the first reading is near zero rather than whenever
+        // somebody first asks.
+        let _ = epoch();
+        Self {
+            source: Arc::new(Source::Real),
+        }
+    }
+
+    /// A clock at 0 ns that moves only when the returned [`MockClock`] moves it.
+    pub fn mock() -> (Self, MockClock) {
+        let source = Arc::new(Source::Mock(AtomicU64::new(0)));
+        (
+            Self {
+                source: source.clone(),
+            },
+            MockClock { source },
+        )
+    }
+
+    /// True for a mock clock.
+    pub fn is_mock(&self) -> bool {
+        matches!(*self.source, Source::Mock(_))
+    }
+
+    /// Monotonic time, ns since the process-wide epoch (real) or since the mock's start.
+    pub fn now_ns(&self) -> u64 {
+        match &*self.source {
+            Source::Real => monotonic_ns(),
+            Source::Mock(ns) => ns.load(Ordering::Acquire),
+        }
+    }
+
+    /// Wall-clock time, ns since the Unix epoch (a mock starts at [`MOCK_UNIX_START_NS`] and
+    /// moves with its monotonic time).
+    pub fn unix_ns(&self) -> u64 {
+        match &*self.source {
+            Source::Real => SystemTime::now()
+                .duration_since(UNIX_EPOCH)
+                .map_or(0, |d| u64::try_from(d.as_nanos()).unwrap_or(u64::MAX)),
+            Source::Mock(ns) => MOCK_UNIX_START_NS.saturating_add(ns.load(Ordering::Acquire)),
+        }
+    }
+
+    /// The monotonic time at which something stamped with the wall-clock time `at` happened
+    /// (e.g. a kernel input event), ns; never later than now. Times before the epoch map to 0.
+    pub fn monotonic_of(&self, at: SystemTime) -> u64 {
+        let at_unix = at
+            .duration_since(UNIX_EPOCH)
+            .map_or(0, |d| u64::try_from(d.as_nanos()).unwrap_or(u64::MAX));
+        let age = self.unix_ns().saturating_sub(at_unix);
+        self.now_ns().saturating_sub(age)
+    }
+
+    /// Wait until monotonic time `deadline_ns`. A real clock sleeps, then busy-waits the last
+    /// `spin` (a halted virtual CPU can take hundreds of µs to wake); a mock clock jumps to the
+    /// deadline at once (tests run as fast as they can and time still adds up).
+    pub fn sleep_until_ns(&self, deadline_ns: u64, spin: Duration) {
+        match &*self.source {
+            Source::Real => {
+                let deadline = epoch() + Duration::from_nanos(deadline_ns);
+                let now = Instant::now();
+                if deadline > now + spin {
+                    std::thread::sleep(deadline - now - spin);
+                }
+                while Instant::now() < deadline {
+                    std::hint::spin_loop();
+                }
+            }
+            Source::Mock(ns) => {
+                ns.fetch_max(deadline_ns, Ordering::AcqRel);
+            }
+        }
+    }
+}
+
+/// The hand that moves a mock [`Clock`]. Time never goes backwards.
+#[derive(Clone, Debug)]
+pub struct MockClock {
+    source: Arc<Source>,
+}
+
+impl MockClock {
+    fn cell(&self) -> &AtomicU64 {
+        match &*self.source {
+            Source::Mock(ns) => ns,
+            Source::Real => unreachable!("a MockClock is only made with a mock source"),
+        }
+    }
+
+    /// Move the clock forward by `dt_ns`.
+    pub fn advance_ns(&self, dt_ns: u64) {
+        self.cell().fetch_add(dt_ns, Ordering::AcqRel);
+    }
+
+    /// Move the clock forward by `dt`.
+    pub fn advance(&self, dt: Duration) {
+        self.advance_ns(u64::try_from(dt.as_nanos()).unwrap_or(u64::MAX));
+    }
+
+    /// Set the clock to `t_ns` if that is later than now (time never goes backwards).
+    pub fn set_ns(&self, t_ns: u64) {
+        self.cell().fetch_max(t_ns, Ordering::AcqRel);
+    }
+
+    /// The mock's monotonic time, ns.
+    pub fn now_ns(&self) -> u64 {
+        self.cell().load(Ordering::Acquire)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_mock_clock_moves_only_when_told_and_its_clones_share_the_time() {
+        let (clock, mock) = Clock::mock();
+        let copy = clock.clone();
+        assert_eq!(clock.now_ns(), 0);
+        mock.advance(Duration::from_millis(3));
+        assert_eq!(copy.now_ns(), 3_000_000);
+        mock.set_ns(1_000);
+        assert_eq!(clock.now_ns(), 3_000_000, "time never goes backwards");
+        assert_eq!(clock.unix_ns(), MOCK_UNIX_START_NS + 3_000_000);
+    }
+
+    #[test]
+    fn sleeping_on_a_mock_clock_jumps_to_the_deadline() {
+        let (clock, _mock) = Clock::mock();
+        clock.sleep_until_ns(5_000_000, Duration::ZERO);
+        assert_eq!(clock.now_ns(), 5_000_000);
+        clock.sleep_until_ns(1_000, Duration::ZERO);
+        assert_eq!(clock.now_ns(), 5_000_000);
+    }
+
+    #[test]
+    fn a_wall_clock_stamp_maps_to_the_monotonic_time_it_happened() {
+        let (clock, mock) = Clock::mock();
+        mock.advance_ns(10_000_000);
+        let stamp = UNIX_EPOCH + Duration::from_nanos(clock.unix_ns() - 4_000_000);
+        assert_eq!(clock.monotonic_of(stamp), 6_000_000);
+        // A stamp from the future is "now", never later.
+        let future = UNIX_EPOCH + Duration::from_nanos(clock.unix_ns() + 1_000);
+        assert_eq!(clock.monotonic_of(future), 10_000_000);
+    }
+
+    #[test]
+    fn real_clocks_agree_and_never_go_backwards() {
+        let a = Clock::real();
+        let b = Clock::real();
+        let t0 = a.now_ns();
+        let t1 = b.now_ns();
+        let t2 = monotonic_ns();
+        assert!(t1 >= t0 && t2 >= t1);
+        assert!(a.unix_ns() > MOCK_UNIX_START_NS / 2);
+    }
+}
