@@ -5,7 +5,8 @@
 
 #[cfg(all(target_os = "linux", feature = "evdev"))]
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    use haptic_wheel::evdev_wheel::{EvdevWheel, EvdevWheelConfig};
+    use haptic_wheel::WheelConfig;
+    use haptic_wheel::evdev_wheel::EvdevWheel;
     use haptic_wheel::{DeviceProfile, Wheel, ZeroTorqueOnDrop, profile::EFFECT_FULL_SCALE_UNITS};
     use std::time::{Duration, Instant};
 
@@ -30,10 +31,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let wheel = EvdevWheel::open(
         std::path::Path::new(&args[1]),
-        EvdevWheelConfig {
+        WheelConfig {
             profile: Some(profile),
+            // A mass held still by the motor sends no input events: do not call that a hang.
+            max_silence_ms: 5000,
             ..Default::default()
         },
+        clock::Clock::real(),
     )?;
     let mut wheel = ZeroTorqueOnDrop::new(wheel);
     let start = Instant::now();

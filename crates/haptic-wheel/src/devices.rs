@@ -72,6 +72,9 @@ pub struct DeviceInfo {
     pub usb_id: Option<(u16, u16)>,
     /// For wheels: the device profile the backend would use (scales, rate policy).
     pub profile: Option<DeviceProfile>,
+    /// For wheels: the torque ceiling that would hold with the station's configuration
+    /// ([`DeviceReport::apply_config`]).
+    pub ceiling: Option<crate::wheel_config::CeilingReport>,
     /// For wheels: how many effects the device can hold at once.
     pub max_ff_effects: usize,
 }
@@ -97,6 +100,26 @@ pub const UDEV_HINT: &str = "install the udev rule shipped in packaging/udev/ \
 sudo udevadm control --reload && sudo udevadm trigger`), then unplug and replug the device";
 
 impl DeviceReport {
+    /// Resolve each wheel's profile with the station's `[wheel]` configuration and state the
+    /// torque ceiling that would hold for a patient ceiling `patient_ceiling_nm` (`None`: the
+    /// device maximum).
+    pub fn apply_config(
+        &mut self,
+        config: &crate::wheel_config::WheelConfig,
+        patient_ceiling_nm: Option<f64>,
+    ) {
+        for w in &mut self.wheels {
+            let (vendor, product) = w.usb_id.unwrap_or((0, 0));
+            let profile = config.resolve_profile(vendor, product);
+            w.ceiling = Some(crate::wheel_config::CeilingReport::new(
+                &profile,
+                config.gain,
+                patient_ceiling_nm,
+            ));
+            w.profile = Some(profile);
+        }
+    }
+
     /// Whether a wheel the haptic loop can drive was found.
     pub fn has_wheel(&self) -> bool {
         !self.wheels.is_empty()
@@ -154,12 +177,21 @@ fn list(f: &mut fmt::Formatter<'_>, title: &str, ds: &[DeviceInfo]) -> fmt::Resu
         if let Some(p) = &d.profile {
             writeln!(
                 f,
-                "      profile: {}; torque updates up to {} Hz; ceiling {} N·m; range ±{:.0}°",
+                "      profile: {}; torque updates up to {} Hz; motor {:.1} N·m ({}{}); range ±{:.0}°",
                 p.name,
                 p.max_update_rate_hz,
                 p.max_torque_nm,
+                p.torque_source.describe(),
+                if p.reference.is_empty() {
+                    String::new()
+                } else {
+                    format!(": {}", p.reference)
+                },
                 p.half_range_rad.to_degrees()
             )?;
+        }
+        if let Some(c) = &d.ceiling {
+            writeln!(f, "      {c}")?;
         }
     }
     Ok(())
@@ -189,20 +221,10 @@ pub fn enumerate_devices() -> DeviceReport {
     report
 }
 
-#[cfg(all(target_os = "linux", feature = "evdev"))]
-fn scan_platform(report: &mut DeviceReport) {
-    let dir = std::path::Path::new("/dev/input");
-    let entries = match std::fs::read_dir(dir) {
-        Ok(e) => e,
-        Err(e) => {
-            report.notes.push(format!(
-                "This system has no readable /dev/input ({e}): no input devices are visible to \
-                 this process (a container or VM without USB passthrough, or no devices at all)."
-            ));
-            return;
-        }
-    };
-    let mut paths: Vec<PathBuf> = entries
+/// Every `/dev/input/event*` node, sorted: the one place that walks `/dev/input` (the
+/// device listing and the wheel search both use it).
+pub fn event_nodes() -> std::io::Result<Vec<PathBuf>> {
+    let mut paths: Vec<PathBuf> = std::fs::read_dir("/dev/input")?
         .filter_map(Result::ok)
         .map(|e| e.path())
         .filter(|p| {
@@ -212,6 +234,21 @@ fn scan_platform(report: &mut DeviceReport) {
         })
         .collect();
     paths.sort();
+    Ok(paths)
+}
+
+#[cfg(all(target_os = "linux", feature = "evdev"))]
+fn scan_platform(report: &mut DeviceReport) {
+    let paths = match event_nodes() {
+        Ok(p) => p,
+        Err(e) => {
+            report.notes.push(format!(
+                "This system has no readable /dev/input ({e}): no input devices are visible to \
+                 this process (a container or VM without USB passthrough, or no devices at all)."
+            ));
+            return;
+        }
+    };
     if paths.is_empty() {
         report
             .notes
@@ -302,16 +339,30 @@ mod tests {
             class: DeviceClass::Wheel,
             traits: traits("G29", &["constant", "gain"], &["x"], false),
             usb_id: Some((0x046d, 0xc24f)),
-            profile: Some(DeviceProfile::for_usb_id(0x046d, 0xc24f)),
+            profile: None,
+            ceiling: None,
             max_ff_effects: 16,
         });
+        r.add(DeviceInfo {
+            path: "/dev/input/event9".into(),
+            class: DeviceClass::Wheel,
+            traits: traits("Mystery DD", &["constant", "gain"], &["x"], false),
+            usb_id: Some((0x1234, 0x0001)),
+            profile: None,
+            ceiling: None,
+            max_ff_effects: 16,
+        });
+        r.apply_config(&crate::WheelConfig::default(), None);
         r.unreadable
             .push(("/dev/input/event3".into(), "Permission denied".into()));
         r.explain();
         let text = r.to_string();
-        assert!(text.contains("Wheels: 1"), "{text}");
+        assert!(text.contains("Wheels: 2"), "{text}");
         assert!(text.contains("046d:c24f"), "{text}");
         assert!(text.contains("500 Hz"), "{text}");
+        // The ceiling in N·m and as a share of the motor, and the unknown wheel said so.
+        assert!(text.contains("torque ceiling 1.00 N·m = 3.1 % of the motor's 32.0 N·m"), "{text}");
+        assert!(text.contains("UNKNOWN"), "{text}");
         assert!(text.contains("packaging/udev"), "{text}");
         assert!(!text.contains("No force-feedback wheel found"), "{text}");
     }

@@ -31,6 +31,7 @@ pub mod profile;
 pub mod safety;
 pub mod sim;
 pub mod wheel;
+pub mod wheel_config;
 
 pub use chain::{
     HapticChain, HapticChainConfig, HapticRegimen, HapticStats, TickInput, TickTelemetry,
@@ -45,7 +46,10 @@ pub use model::{PassivityController, PassivityParams, SpringDamper};
 pub use profile::{DeviceProfile, DriverFamily, TorqueSource};
 pub use safety::{Fault, LimitedTorque, SafetyConfig, Supervisor, TorqueLimiter, WatchdogState};
 pub use sim::{SimWheel, SimWheelParams};
-pub use wheel::{Wheel, WheelCapabilities, WheelError, WheelReading, ZeroTorqueOnDrop};
+pub use wheel::{
+    Wheel, WheelCapabilities, WheelError, WheelFault, WheelReading, ZeroTorqueOnDrop,
+};
+pub use wheel_config::{CeilingReport, WheelConfig};
 
 /// Torque range of the thesis wheel (Microsoft SideWinder FFB), N·m (thesis §3.2.1).
 pub const THESIS_WHEEL_MAX_TORQUE_NM: f64 = 1.87;

@@ -134,6 +134,7 @@ pub fn list_gamepads() -> Result<Vec<DeviceInfo>, String> {
             },
             usb_id: g.vendor_id().zip(g.product_id()),
             profile: None,
+            ceiling: None,
             max_ff_effects: 0,
         })
         .collect())

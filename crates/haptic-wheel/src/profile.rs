@@ -226,7 +226,7 @@ impl DeviceProfile {
             kt_nm_per_unit: max_torque_nm / EFFECT_FULL_SCALE_UNITS,
             max_torque_nm,
             torque_source: TorqueSource::Assumed,
-            reference: "no rating known: assumed".into(),
+            reference: String::new(),
             torque_step_nm: max_torque_nm / 32_767.0,
             half_range_rad: 450f64.to_radians(),
             max_update_rate_hz: driver.max_update_rate_hz(),

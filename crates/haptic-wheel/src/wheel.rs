@@ -41,6 +41,54 @@ pub enum WheelError {
     /// A configuration value is out of its allowed range.
     #[error("invalid wheel configuration: {0}")]
     InvalidConfig(String),
+    /// A device fault found on the 1 kHz path (carries no heap data: the haptic thread makes
+    /// and drops it every tick while it lasts, and must not allocate).
+    #[error("wheel fault: {0}")]
+    Fault(WheelFault),
+}
+
+/// What went wrong with a running wheel, as the haptic loop sees it. `Copy`, so it can be
+/// reported every tick without allocating and told to the patient after the loop.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+#[non_exhaustive]
+pub enum WheelFault {
+    /// The device went away (unplugged; the kernel answers ENODEV).
+    Unplugged,
+    /// The wheel sent no input event for longer than `max_silence_ms` while a torque was
+    /// commanded: a hung device or firmware.
+    Silent,
+    /// A reading outside the axis range the device declared.
+    OutOfRange,
+}
+
+impl WheelFault {
+    /// Plain words for the patient and the session report.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Self::Unplugged => "the wheel was unplugged",
+            Self::Silent => "the wheel stopped reporting its position while a force was applied",
+            Self::OutOfRange => "the wheel reported an angle outside its own range",
+        }
+    }
+}
+
+impl std::fmt::Display for WheelFault {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.describe())
+    }
+}
+
+impl WheelError {
+    /// The running-wheel fault this error is, if it is one (every other error is a set-up
+    /// problem, or a refused command the safety chain already handled).
+    pub fn fault(&self) -> Option<WheelFault> {
+        match self {
+            Self::Fault(f) => Some(*f),
+            Self::Disconnected(_) => Some(WheelFault::Unplugged),
+            _ => None,
+        }
+    }
 }
 
 /// What a wheel backend can do, for logs, `telerehab devices` and the rate policy.
@@ -78,6 +126,12 @@ pub trait Wheel {
         }
     }
 
+    /// Let condition effects that run in the wheel's firmware (spring, damper, friction) play
+    /// (`true`) or stop them (`false`). The haptic loop calls it every tick with whether the
+    /// safety supervisor is running at full scale, so nothing moves the motor outside the
+    /// supervisor. Backends without firmware effects ignore it.
+    fn set_firmware_effects_active(&mut self, _active: bool) {}
+
     /// What this backend can do. Derived from [`Wheel::profile`] unless the backend knows better.
     fn capabilities(&self) -> WheelCapabilities {
         let p = self.profile();
@@ -105,6 +159,9 @@ impl<W: Wheel + ?Sized> Wheel for &mut W {
     fn profile(&self) -> DeviceProfile {
         (**self).profile()
     }
+    fn set_firmware_effects_active(&mut self, active: bool) {
+        (**self).set_firmware_effects_active(active)
+    }
     fn capabilities(&self) -> WheelCapabilities {
         (**self).capabilities()
     }
@@ -122,6 +179,9 @@ impl<W: Wheel + ?Sized> Wheel for Box<W> {
     }
     fn profile(&self) -> DeviceProfile {
         (**self).profile()
+    }
+    fn set_firmware_effects_active(&mut self, active: bool) {
+        (**self).set_firmware_effects_active(active)
     }
     fn capabilities(&self) -> WheelCapabilities {
         (**self).capabilities()

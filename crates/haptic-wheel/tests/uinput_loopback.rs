@@ -15,7 +15,8 @@ use evdev::{
     AbsInfo, AbsoluteAxisCode, AttributeSet, BusType, EventSummary, EventType, FFEffectCode,
     FFEffectData, FFEffectKind, InputEvent, InputId, UInputCode, UinputAbsSetup,
 };
-use haptic_wheel::evdev_wheel::{EvdevWheel, EvdevWheelConfig};
+use haptic_wheel::WheelConfig;
+use haptic_wheel::evdev_wheel::EvdevWheel;
 use haptic_wheel::{Condition, ConditionKind, DeviceProfile, Wheel};
 
 /// What the virtual firmware saw.
@@ -133,7 +134,7 @@ fn backend_streams_constant_force_and_uploads_conditions_to_a_virtual_wheel() {
 
     // The node's permissions may take a moment to settle (udev).
     let mut wheel = loop {
-        match EvdevWheel::open(&node, EvdevWheelConfig::default()) {
+        match EvdevWheel::open(&node, WheelConfig::default(), clock::Clock::real()) {
             Ok(w) => break w,
             Err(e) if Instant::now() < deadline => {
                 let _ = e;
@@ -143,7 +144,7 @@ fn backend_streams_constant_force_and_uploads_conditions_to_a_virtual_wheel() {
         }
     };
     let g29 = DeviceProfile::logitech_g29();
-    assert_eq!(wheel.min_update_interval(), Duration::from_millis(2));
+    assert_eq!(wheel.min_update_interval_ns(), 2_000_000);
 
     // Angle: G29 sign convention (device right = negative), 900° over the axis range.
     let r = wheel.read().unwrap();
@@ -162,7 +163,8 @@ fn backend_streams_constant_force_and_uploads_conditions_to_a_virtual_wheel() {
     }
     let streamed = start.elapsed();
     std::thread::sleep(Duration::from_millis(5));
-    wheel.command_torque(1.1).unwrap(); // half of the G29's 2.2 N·m
+    let half_nm = 0.5 * g29.max_torque_nm;
+    wheel.command_torque(half_nm).unwrap(); // half of the G29's rated torque
     let half_level = wheel.sent_level();
     let spring = Condition::symmetric(ConditionKind::Spring, 1.0, 5.0);
     let budget = wheel.upload_condition(&spring, 0.5).unwrap();
@@ -176,7 +178,8 @@ fn backend_streams_constant_force_and_uploads_conditions_to_a_virtual_wheel() {
     fw.join().unwrap().unwrap();
     let seen: Vec<Seen> = rx.try_iter().collect();
 
-    assert_eq!(half_level, 16384, "1.1 N·m is half of full scale");
+    // Truncated towards zero: the motor never gives more than asked.
+    assert_eq!(half_level, 16383, "half the rated torque is half of full scale");
     let constants: Vec<(i16, i16, u16)> = seen
         .iter()
         .filter_map(|s| match s {
