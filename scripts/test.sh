@@ -10,6 +10,7 @@ XDG_RUNTIME_DIR="$(mktemp -d)"; chmod 700 "$XDG_RUNTIME_DIR"; export XDG_RUNTIME
 
 echo "== cargo fmt";    cargo fmt --all -- --check
 echo "== cargo clippy"; cargo clippy --workspace --all-targets -- -D warnings
+echo "== layering";     python3 scripts/check_layering.py
 echo "== cargo doc";    RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
 # Under a virtual X display so the patient-window test opens a real window (Xvfb + Mesa).
 echo "== cargo test"

@@ -19,7 +19,7 @@ pub enum AssistError {
     Inconsistent(&'static str),
 }
 
-/// Check that `value` is finite and inside `[lo, hi]`, naming `field` otherwise.
+/// Check that `value` is finite and inside `[lo, hi]`, naming `field` and `allowed` otherwise.
 pub(crate) fn check_range(
     field: &'static str,
     value: f64,
@@ -27,13 +27,9 @@ pub(crate) fn check_range(
     hi: f64,
     allowed: &'static str,
 ) -> Result<(), AssistError> {
-    if value.is_finite() && value >= lo && value <= hi {
-        Ok(())
-    } else {
-        Err(AssistError::InvalidConfig {
-            field,
-            value,
-            allowed,
-        })
-    }
+    common::check_range(field, value, lo, hi).map_err(|e| AssistError::InvalidConfig {
+        field: e.field,
+        value: e.value,
+        allowed,
+    })
 }

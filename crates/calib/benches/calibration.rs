@@ -3,7 +3,7 @@
 //!
 //! `cargo bench -p calib --bench calibration -- --warm-up-time 1 --measurement-time 3`
 
-use calib::fourbar::FourbarGeometry;
+use calib::fourbar::testdata;
 use calib::serial::end_pose;
 use calib::{
     FourbarMethod, FourbarOptions, FourbarParams, FourbarSamples, OnlineFourbar, OnlineOptions,
@@ -16,25 +16,15 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use std::hint::black_box;
 
+/// The shared ±60° recording of 2 000 samples with 0.5° of Gaussian noise on φ3 and φ4.
 fn recording() -> (Vec<f64>, Vec<f64>, Vec<f64>, FourbarParams) {
-    let g = FourbarGeometry {
-        l1_m: 0.45,
-        l2_m: 0.15,
-        l3_m: 0.35,
-        l4_m: 0.30,
-        elbow_branch: 1.0,
-    };
-    let phi2: Vec<f64> = (0..2000)
-        .map(|k| 60f64.to_radians() * (std::f64::consts::TAU * 0.2 * k as f64 * 0.01).sin())
-        .collect();
-    let (mut phi3, mut phi4, t3, t4) = g.simulate(std::f64::consts::FRAC_PI_2, &phi2).unwrap();
+    let mut rec = testdata::recording(2000, 60.0);
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     let noise = Normal::new(0.0, 0.5f64.to_radians()).unwrap();
-    for v in phi3.iter_mut().chain(phi4.iter_mut()) {
+    for v in rec.phi3.iter_mut().chain(rec.phi4.iter_mut()) {
         *v += noise.sample(&mut rng);
     }
-    let truth = FourbarParams::new(0.45, 0.35, 0.30, std::f64::consts::FRAC_PI_2, t3, t4);
-    (phi2, phi3, phi4, truth)
+    (rec.phi2, rec.phi3, rec.phi4, rec.truth)
 }
 
 fn fourbar(c: &mut Criterion) {
@@ -80,12 +70,12 @@ fn fourbar(c: &mut Criterion) {
             ..base
         };
         group.bench_function(name, |b| {
-            b.iter(|| calibrate(black_box(&s), 0.15, &o).unwrap())
+            b.iter(|| calibrate(black_box(&s), testdata::L2, &o).unwrap())
         });
     }
     group.bench_function("online_update_and_estimate", |b| {
         b.iter(|| {
-            let mut est = OnlineFourbar::new(0.15, OnlineOptions::default()).unwrap();
+            let mut est = OnlineFourbar::new(testdata::L2, OnlineOptions::default()).unwrap();
             for k in 0..phi2.len() {
                 est.update(phi2[k], phi3[k], phi4[k]).unwrap();
             }

@@ -9,26 +9,20 @@
 //!
 //! `cargo run --release -p calib --example noise_study`
 
-use calib::fourbar::FourbarGeometry;
+use calib::fourbar::testdata;
 use calib::{FourbarMethod, FourbarOptions, FourbarParams, FourbarSamples, calibrate};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 
 fn main() {
-    let g = FourbarGeometry {
-        l1_m: 0.45,
-        l2_m: 0.15,
-        l3_m: 0.35,
-        l4_m: 0.30,
-        elbow_branch: 1.0,
-    };
-    let theta2_0 = std::f64::consts::FRAC_PI_2;
-    let phi2: Vec<f64> = (0..2000)
-        .map(|k| 60f64.to_radians() * (std::f64::consts::TAU * 0.2 * k as f64 * 0.01).sin())
-        .collect();
-    let (phi3, phi4, t3, t4) = g.simulate(theta2_0, &phi2).expect("loop closes");
-    let truth = FourbarParams::new(0.45, 0.35, 0.30, theta2_0, t3, t4);
+    let testdata::Recording {
+        phi2,
+        phi3,
+        phi4,
+        truth,
+        ..
+    } = testdata::recording(2000, 60.0);
     let start = FourbarParams {
         l1_m: 0.45 * 1.1,
         l3_m: 0.35 * 0.9,
@@ -94,7 +88,7 @@ fn main() {
                     errors_in_variables: eiv,
                     ..Default::default()
                 };
-                match calibrate(&FourbarSamples::new(&n2, &n3, &n4), 0.15, &o) {
+                match calibrate(&FourbarSamples::new(&n2, &n3, &n4), testdata::L2, &o) {
                     Ok(r) => {
                         e3 += (100.0 * (r.params.l3_m - 0.35) / 0.35).abs();
                         e4 += (100.0 * (r.params.l4_m - 0.30) / 0.30).abs();
@@ -138,7 +132,7 @@ fn random_starts(phi2: &[f64], phi3: &[f64], phi4: &[f64]) {
         errors_in_variables: false,
         ..Default::default()
     };
-    let best = calibrate(&s, 0.15, &plain(FourbarMethod::Global, None))
+    let best = calibrate(&s, testdata::L2, &plain(FourbarMethod::Global, None))
         .expect("global")
         .params;
     let mut ok = [0usize; 3];
@@ -159,7 +153,7 @@ fn random_starts(phi2: &[f64], phi3: &[f64], phi4: &[f64]) {
         .into_iter()
         .enumerate()
         {
-            if let Ok(r) = calibrate(&s, 0.15, &plain(method, Some(start)))
+            if let Ok(r) = calibrate(&s, testdata::L2, &plain(method, Some(start)))
                 && (r.params.l3_m - best.l3_m).abs() < 1e-7 * best.l3_m
                 && (r.params.l4_m - best.l4_m).abs() < 1e-7 * best.l4_m
                 && (r.params.l1_m - best.l1_m).abs() < 1e-7 * best.l1_m

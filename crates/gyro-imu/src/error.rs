@@ -51,7 +51,7 @@ pub enum ImuError {
     Device(String),
 }
 
-/// Check `value` is finite and in `[lo, hi]`, else name `field`.
+/// Check `value` is finite and in `[lo, hi]`, else name `field` and `allowed`.
 pub(crate) fn check_range(
     field: &'static str,
     value: f64,
@@ -59,13 +59,9 @@ pub(crate) fn check_range(
     hi: f64,
     allowed: &'static str,
 ) -> Result<(), ImuError> {
-    if value.is_finite() && value >= lo && value <= hi {
-        Ok(())
-    } else {
-        Err(ImuError::InvalidConfig {
-            field,
-            value,
-            allowed,
-        })
-    }
+    common::check_range(field, value, lo, hi).map_err(|e| ImuError::InvalidConfig {
+        field: e.field,
+        value: e.value,
+        allowed,
+    })
 }

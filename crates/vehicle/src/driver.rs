@@ -63,15 +63,8 @@ impl PreviewDriver {
     }
 }
 
-/// Wrap an angle to (−π, π], rad.
-pub fn wrap_angle(a: f64) -> f64 {
-    let t = a.rem_euclid(std::f64::consts::TAU);
-    if t > std::f64::consts::PI {
-        t - std::f64::consts::TAU
-    } else {
-        t
-    }
-}
+/// Wrap an angle to (−π, π], rad (one definition for the workspace, in `common`).
+pub use common::wrap_angle;
 
 /// Proportional cruise control producing drive and brake forces (eq. C.11's `Fad`, `Fbd`).
 #[derive(Clone, Debug)]
@@ -176,13 +169,5 @@ mod tests {
         let slow = c.input(9.0, 0.0);
         assert_eq!((slow.drive_force_n, slow.brake_force_n), (1000.0, 0.0));
         assert_eq!(fast.steer_rad, 0.1);
-    }
-
-    #[test]
-    fn wrap_angle_maps_into_half_open_interval() {
-        use std::f64::consts::PI;
-        assert!((wrap_angle(3.0 * PI) - PI).abs() < 1e-12);
-        assert!((wrap_angle(-PI) - PI).abs() < 1e-12);
-        assert!((wrap_angle(0.5 + 4.0 * PI) - 0.5).abs() < 1e-12);
     }
 }

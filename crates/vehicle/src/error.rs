@@ -41,14 +41,10 @@ pub(crate) fn check_range(
     hi: f64,
     unit: &str,
 ) -> Result<(), VehicleError> {
-    if value.is_finite() && value >= lo && value <= hi {
-        Ok(())
-    } else {
-        Err(VehicleError::OutOfRange {
-            context: context.to_string(),
-            field,
-            value,
-            allowed: format!("{lo} to {hi} {unit}").trim_end().to_string(),
-        })
-    }
+    common::check_range(field, value, lo, hi).map_err(|e| VehicleError::OutOfRange {
+        context: context.to_string(),
+        field: e.field,
+        value: e.value,
+        allowed: e.allowed(unit),
+    })
 }

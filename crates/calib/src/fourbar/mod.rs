@@ -21,6 +21,7 @@ pub mod model;
 pub mod online;
 pub mod quality;
 pub mod smoothing;
+pub mod testdata;
 mod trig;
 
 use nalgebra::DMatrix;

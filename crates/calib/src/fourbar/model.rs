@@ -128,12 +128,8 @@ fn canonical_link(l: f64, theta: f64) -> (f64, f64) {
     }
 }
 
-/// Wrap an angle to (−π, π] (rad).
-pub fn wrap_angle(a: f64) -> f64 {
-    use std::f64::consts::{PI, TAU};
-    let w = a.rem_euclid(TAU);
-    if w > PI { w - TAU } else { w }
-}
+/// Wrap an angle to (−π, π] (rad); one definition for the workspace, in `common`.
+pub use common::wrap_angle;
 
 /// Measured relative angles of one recording (rad), equal lengths: φ2 from the wheel encoder,
 /// φ3, φ4 from the integrated forearm and upper-arm gyros (thesis §4.2.1), and optional
@@ -319,13 +315,7 @@ mod tests {
 
     #[test]
     fn simulated_loop_closes_at_every_sample() {
-        let g = FourbarGeometry {
-            l1_m: 0.45,
-            l2_m: 0.15,
-            l3_m: 0.35,
-            l4_m: 0.30,
-            elbow_branch: 1.0,
-        };
+        let g = crate::fourbar::testdata::GEOMETRY;
         let phi2: Vec<f64> = (0..200).map(|k| (k as f64 * 0.05).sin()).collect();
         let (phi3, phi4, t3, t4) = g.simulate(1.5, &phi2).unwrap();
         for k in 0..phi2.len() {

@@ -6,57 +6,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 
-const L2: f64 = 0.15;
-const GEOMETRY: FourbarGeometry = FourbarGeometry {
-    l1_m: 0.45,
-    l2_m: L2,
-    l3_m: 0.35,
-    l4_m: 0.30,
-    elbow_branch: 1.0,
-};
-const THETA2_0: f64 = std::f64::consts::FRAC_PI_2;
-
-/// A recording: wheel swinging ±`amp_deg` at 0.2 Hz, sampled at 100 Hz for `n` samples.
-struct Recording {
-    phi2: Vec<f64>,
-    phi3: Vec<f64>,
-    phi4: Vec<f64>,
-    time_s: Vec<f64>,
-    truth: FourbarParams,
-}
-
-fn recording(n: usize, amp_deg: f64) -> Recording {
-    let time_s: Vec<f64> = (0..n).map(|k| k as f64 * 0.01).collect();
-    let phi2: Vec<f64> = time_s
-        .iter()
-        .map(|t| amp_deg.to_radians() * (std::f64::consts::TAU * 0.2 * t).sin())
-        .collect();
-    let (phi3, phi4, t3, t4) = GEOMETRY.simulate(THETA2_0, &phi2).unwrap();
-    let truth = FourbarParams::new(
-        GEOMETRY.l1_m,
-        GEOMETRY.l3_m,
-        GEOMETRY.l4_m,
-        THETA2_0,
-        t3,
-        t4,
-    );
-    Recording {
-        phi2,
-        phi3,
-        phi4,
-        time_s,
-        truth,
-    }
-}
-
-impl Recording {
-    fn samples(&self) -> FourbarSamples<'_> {
-        FourbarSamples {
-            time_s: Some(&self.time_s),
-            ..FourbarSamples::new(&self.phi2, &self.phi3, &self.phi4)
-        }
-    }
-}
+use crate::fourbar::testdata::{GEOMETRY, L2, THETA2_0, recording};
 
 fn opts(method: FourbarMethod, initial: Option<FourbarParams>) -> FourbarOptions {
     FourbarOptions {

@@ -1,0 +1,242 @@
+//! One connection of the link task: connect (TCP, then TLS), say `Hello`, send what is
+//! unacknowledged, read `Ack`s and regimens, and say `Bye` at the end.
+
+use std::sync::atomic::Ordering;
+use std::time::Duration;
+
+use tokio::net::TcpStream;
+use tokio::sync::mpsc;
+use tokio::time::Instant;
+
+use crate::codec::encode_to_vec;
+use crate::error::NetlinkError;
+use crate::frame::{Bye, ErrorFrame, Frame};
+use crate::transport::{BoxStream, FrameReader, Outgoing, spawn_writer};
+
+use super::task::{LinkTask, Pending};
+use super::*;
+
+/// How a connection ended.
+pub(super) enum ConnEnd {
+    /// The session is over (Bye answered, deadline reached or link dropped).
+    Done,
+    /// The connection broke; `progress` is true if an Ack arrived on it.
+    Lost { error: NetlinkError, progress: bool },
+}
+
+impl LinkTask {
+    /// Connects (TCP, then TLS if configured) within the connect timeout and the finish
+    /// deadline. `None` if the link should stop.
+    pub(super) async fn connect(&mut self) -> Option<Result<BoxStream, NetlinkError>> {
+        let addr = self.config.addr;
+        let limit = Duration::from_millis(self.config.connect_timeout_ms);
+        let tls = self.tls.clone();
+        let attempt = tokio::time::timeout(limit, async move {
+            let tcp = TcpStream::connect(addr)
+                .await
+                .map_err(|e| NetlinkError::io(format!("connecting to {addr}"), e))?;
+            let _ = tcp.set_nodelay(true);
+            let stream: BoxStream = match tls {
+                None => Box::new(tcp),
+                Some((connector, name)) => Box::new(
+                    connector
+                        .connect(name, tcp)
+                        .await
+                        .map_err(|e| NetlinkError::io(format!("TLS handshake with {addr}"), e))?,
+                ),
+            };
+            Ok(stream)
+        });
+        tokio::pin!(attempt);
+        loop {
+            let deadline = self.deadline();
+            tokio::select! {
+                r = &mut attempt => {
+                    return Some(r.unwrap_or_else(|_| Err(NetlinkError::io(
+                        format!("connecting to {addr}"),
+                        std::io::Error::new(std::io::ErrorKind::TimedOut, format!("no connection within {} ms", limit.as_millis())),
+                    ))));
+                }
+                q = self.rx.recv(), if self.rx_open => { self.on_queued(q); }
+                f = &mut self.finish_rx, if self.finish_rx_open => self.on_finish(f),
+                () = tokio::time::sleep_until(deadline) => return None,
+            }
+            if self.should_stop() {
+                return None;
+            }
+        }
+    }
+
+    pub(super) fn outgoing(&self, p: &Pending) -> Outgoing {
+        let shared = self.shared.clone();
+        let written = p.written.clone();
+        Outgoing {
+            bytes: p.bytes.clone(),
+            on_written: Some(Box::new(move || {
+                if written.swap(true, Ordering::Relaxed) {
+                    Shared::bump(&shared.resent);
+                } else {
+                    Shared::bump(&shared.sent);
+                }
+            })),
+        }
+    }
+
+    pub(super) async fn run_connection(&mut self, stream: BoxStream) -> ConnEnd {
+        let (rd, wr) = tokio::io::split(stream);
+        let (out_tx, out_rx) = mpsc::unbounded_channel();
+        let mut writer = spawn_writer(wr, out_rx);
+        let mut reader = FrameReader::new(rd);
+        let _ = out_tx.send(Outgoing::new(self.hello_bytes.clone()));
+        self.shared.connected.store(true, Ordering::Relaxed);
+        let ack_timeout = Duration::from_millis(self.config.ack_timeout_ms);
+        let mut liveness = tokio::time::interval(Duration::from_millis(500));
+        let mut enqueued_upto: Option<u64> = None;
+        let mut bye_sent = false;
+        let mut last_heard = Instant::now();
+        let mut progress = false;
+        let mut writer_done = false;
+        let session_id = self.config.hello.session_id.clone();
+        let lost = |error, progress| ConnEnd::Lost { error, progress };
+        let end = loop {
+            let start = self
+                .pending
+                .partition_point(|p| enqueued_upto.is_some_and(|u| p.seq <= u));
+            for p in self.pending.range(start..) {
+                let _ = out_tx.send(self.outgoing(p));
+                enqueued_upto = Some(p.seq);
+            }
+            if let Some(f) = self.finishing.as_ref().filter(|_| !bye_sent) {
+                let bye = Frame::Bye(Bye {
+                    session_id: session_id.clone(),
+                    reason: f.reason.clone(),
+                    final_seq: self.last_produced_seq,
+                });
+                match encode_to_vec(&bye) {
+                    Ok(bytes) => {
+                        let _ = out_tx.send(Outgoing::new(bytes.into()));
+                    }
+                    Err(e) => self.shared.set_error(format!("cannot encode Bye: {e}")),
+                }
+                bye_sent = true;
+            }
+            let deadline = self.deadline();
+            tokio::select! {
+                r = &mut writer => {
+                    writer_done = true;
+                    let error = match r {
+                        Ok(Ok(())) => NetlinkError::Closed,
+                        Ok(Err(e)) => e,
+                        Err(e) => NetlinkError::Protocol(format!("writer task failed: {e}")),
+                    };
+                    break lost(error, progress);
+                }
+                frame = reader.next_frame() => {
+                    last_heard = Instant::now();
+                    match frame {
+                        Ok(Some(Frame::Ack(ack))) => {
+                            if ack.session_id != session_id {
+                                break lost(NetlinkError::Protocol(format!(
+                                    "Ack for session {:?}, expected {session_id:?}", ack.session_id
+                                )), progress);
+                            }
+                            let mut n = 0;
+                            while self.pending.front().is_some_and(|p| p.seq <= ack.seq) {
+                                self.pending.pop_front();
+                                n += 1;
+                            }
+                            if n > 0 {
+                                progress = true;
+                                self.shared.acked.fetch_add(n, Ordering::Relaxed);
+                                self.update_pending();
+                            }
+                        }
+                        Ok(Some(Frame::Regimen(r))) => {
+                            Shared::bump(&self.shared.regimens_received);
+                            tracing::info!(id = %r.id, "regimen received from therapist");
+                            if self.regimen_tx.try_send(r).is_err() {
+                                self.shared.set_error(format!(
+                                    "regimen dropped: {REGIMEN_CAPACITY} unread regimens waiting"
+                                ));
+                            }
+                        }
+                        Ok(Some(Frame::Bye(b))) if bye_sent && self.pending.is_empty() => {
+                            tracing::info!(final_seq = ?b.final_seq, "therapist confirmed end of session");
+                            self.shared.bye_acknowledged.store(true, Ordering::Relaxed);
+                            break ConnEnd::Done;
+                        }
+                        Ok(Some(Frame::Bye(b))) => {
+                            break lost(NetlinkError::Protocol(format!(
+                                "therapist ended the connection: {} ({} summaries unacknowledged)",
+                                b.reason, self.pending.len()
+                            )), progress);
+                        }
+                        Ok(Some(Frame::Error(e))) => {
+                            break lost(NetlinkError::Protocol(format!(
+                                "therapist reported an error: {}", e.message
+                            )), progress);
+                        }
+                        Ok(Some(other)) => {
+                            let error = NetlinkError::Protocol(format!(
+                                "unexpected {} frame from the therapist", other.kind()
+                            ));
+                            send_error_frame(&out_tx, &error);
+                            break lost(error, progress);
+                        }
+                        Ok(None) => {
+                            break lost(NetlinkError::Protocol(
+                                "therapist closed the connection".into()
+                            ), progress);
+                        }
+                        Err(error) => {
+                            send_error_frame(&out_tx, &error);
+                            break lost(error, progress);
+                        }
+                    }
+                }
+                q = self.rx.recv(), if self.rx_open => {
+                    if self.on_queued(q) {
+                        last_heard = Instant::now();
+                    }
+                }
+                f = &mut self.finish_rx, if self.finish_rx_open => {
+                    self.on_finish(f);
+                    if self.finishing.is_none() {
+                        break ConnEnd::Done;
+                    }
+                }
+                () = tokio::time::sleep_until(deadline) => break ConnEnd::Done,
+                _ = liveness.tick() => {
+                    if !self.pending.is_empty() && last_heard.elapsed() > ack_timeout {
+                        break lost(NetlinkError::Protocol(format!(
+                            "no acknowledgement from the therapist for {} ms; reconnecting",
+                            ack_timeout.as_millis()
+                        )), progress);
+                    }
+                }
+            }
+        };
+        // Let the writer send what is queued (a Bye or an Error frame) and close the stream,
+        // but not past the deadline, and only briefly for a broken connection.
+        drop(out_tx);
+        if !writer_done {
+            let limit = match end {
+                ConnEnd::Done => self.deadline(),
+                ConnEnd::Lost { .. } => {
+                    (Instant::now() + Duration::from_millis(100)).min(self.deadline())
+                }
+            };
+            if tokio::time::timeout_at(limit, &mut writer).await.is_err() {
+                writer.abort();
+            }
+        }
+        end
+    }
+}
+
+fn send_error_frame(out_tx: &mpsc::UnboundedSender<Outgoing>, error: &NetlinkError) {
+    let message = crate::frame::printable(&error.to_string(), crate::frame::MAX_MESSAGE_LEN);
+    if let Ok(bytes) = encode_to_vec(&Frame::Error(ErrorFrame { message })) {
+        let _ = out_tx.send(Outgoing::new(bytes.into()));
+    }
+}

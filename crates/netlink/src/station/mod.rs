@@ -1,0 +1,239 @@
+//! Station side: a store-and-forward link that never blocks the caller.
+//!
+//! The station hands summaries to a [`SummarySender`] (a bounded channel, `try_send`). A task on
+//! the station's tokio runtime moves them into a queue of unacknowledged summaries, (re)connects
+//! with exponential backoff, sends `Hello` and then everything unacknowledged, and drops
+//! summaries from the queue only when the hub's cumulative `Ack` covers them. After a
+//! reconnect everything unacknowledged is sent again; the hub drops what it already stored, so
+//! the store holds each summary exactly once.
+
+mod config;
+mod connection;
+mod stats;
+mod task;
+
+use std::collections::VecDeque;
+use std::sync::atomic::Ordering;
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+use tokio::sync::{mpsc, oneshot};
+use tokio::task::JoinHandle;
+use tokio::time::Instant;
+
+use crate::codec::encode_to_vec;
+use crate::error::NetlinkError;
+use crate::frame::{Frame, Regimen, Summary};
+use crate::tls::ClientTls;
+
+pub use config::{Backoff, StationLinkConfig};
+pub use stats::LinkStats;
+use stats::Shared;
+use task::LinkTask;
+
+/// Why [`SummarySender::send`] did not queue a summary.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SendError {
+    /// A field is invalid (the message names it); counted in [`LinkStats::rejected`].
+    #[error("summary rejected: {0}")]
+    Invalid(String),
+    /// The summary belongs to another session than the link's Hello.
+    #[error("summary session_id {found:?} is not the link's session {expected:?}")]
+    WrongSession {
+        /// The link's session.
+        expected: String,
+        /// The summary's session.
+        found: String,
+    },
+    /// Sequence numbers must strictly increase.
+    #[error("summary seq {seq} is not above the previous seq {previous}")]
+    SeqNotIncreasing {
+        /// The refused sequence number.
+        seq: u64,
+        /// The previous one.
+        previous: u64,
+    },
+    /// The channel to the link task is full; counted in [`LinkStats::dropped`].
+    #[error("link channel full; summary dropped")]
+    Full,
+    /// The link has finished; counted in [`LinkStats::dropped`].
+    #[error("link finished; summary dropped")]
+    Closed,
+}
+
+/// An encoded summary on its way to the link task.
+struct Queued {
+    seq: u64,
+    bytes: Arc<[u8]>,
+}
+
+/// The station's handle for submitting summaries. Never waits on the network.
+///
+/// `Sync`: it may be shared (e.g. in an `Arc`) and used through `&self`.
+pub struct SummarySender {
+    tx: mpsc::Sender<Queued>,
+    shared: Arc<Shared>,
+    session_id: String,
+    /// Last accepted seq. Held while queuing, so concurrent callers cannot queue out of order
+    /// (the lock is uncontended in the intended one-thread use and never held across I/O).
+    previous_seq: Mutex<Option<u64>>,
+}
+
+impl SummarySender {
+    /// Validates, encodes and queues `summary` without waiting.
+    ///
+    /// Summaries must belong to the link's session and have strictly increasing `seq`.
+    pub fn send(&self, summary: Summary) -> Result<(), SendError> {
+        if summary.session_id != self.session_id {
+            Shared::bump(&self.shared.rejected);
+            return Err(SendError::WrongSession {
+                expected: self.session_id.clone(),
+                found: summary.session_id,
+            });
+        }
+        let seq = summary.seq;
+        let bytes = encode_to_vec(&Frame::Summary(summary)).map_err(|e| {
+            Shared::bump(&self.shared.rejected);
+            SendError::Invalid(e.to_string())
+        })?;
+        let mut previous_seq = self
+            .previous_seq
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some(previous) = previous_seq.filter(|&p| seq <= p) {
+            Shared::bump(&self.shared.rejected);
+            return Err(SendError::SeqNotIncreasing { seq, previous });
+        }
+        *previous_seq = Some(seq);
+        let queued = Queued {
+            seq,
+            bytes: bytes.into(),
+        };
+        self.tx.try_send(queued).map_err(|e| {
+            Shared::bump(&self.shared.dropped);
+            match e {
+                mpsc::error::TrySendError::Full(_) => {
+                    self.shared
+                        .set_error(format!("link channel full; summary {seq} dropped"));
+                    SendError::Full
+                }
+                mpsc::error::TrySendError::Closed(_) => SendError::Closed,
+            }
+        })
+    }
+
+    /// Counters of the link (same as [`StationLink::stats`]).
+    pub fn stats(&self) -> LinkStats {
+        self.shared.snapshot()
+    }
+}
+
+struct Finish {
+    reason: String,
+    deadline: Instant,
+}
+
+/// The running link; poll it for regimens, read its stats, finish it at the end of a session.
+pub struct StationLink {
+    shared: Arc<Shared>,
+    finish_tx: Option<oneshot::Sender<Finish>>,
+    task: JoinHandle<()>,
+    regimens: mpsc::Receiver<Regimen>,
+}
+
+/// Regimens buffered between the link task and the station's poll.
+const REGIMEN_CAPACITY: usize = 16;
+
+impl StationLink {
+    /// Validates `config`, loads the TLS files and starts the link task on `handle`.
+    pub fn spawn(
+        handle: &tokio::runtime::Handle,
+        config: StationLinkConfig,
+    ) -> Result<(SummarySender, StationLink), NetlinkError> {
+        config.validate()?;
+        let tls = config.tls.as_ref().map(ClientTls::connector).transpose()?;
+        let hello_bytes: Arc<[u8]> = encode_to_vec(&Frame::Hello(config.hello.clone()))?.into();
+        let shared = Arc::new(Shared::default());
+        let (tx, rx) = mpsc::channel(config.channel_capacity);
+        let (finish_tx, finish_rx) = oneshot::channel();
+        let (regimen_tx, regimens) = mpsc::channel(REGIMEN_CAPACITY);
+        let sender = SummarySender {
+            tx,
+            shared: shared.clone(),
+            session_id: config.hello.session_id.clone(),
+            previous_seq: Mutex::new(None),
+        };
+        let task = LinkTask {
+            tls,
+            hello_bytes,
+            shared: shared.clone(),
+            rx,
+            rx_open: true,
+            finish_rx,
+            finish_rx_open: true,
+            finishing: None,
+            pending: VecDeque::new(),
+            last_produced_seq: None,
+            regimen_tx,
+            config,
+        };
+        let task = handle.spawn(task.run());
+        Ok((
+            sender,
+            StationLink {
+                shared,
+                finish_tx: Some(finish_tx),
+                task,
+                regimens,
+            },
+        ))
+    }
+
+    /// Counters of the link; cheap (atomics and one short lock), safe from any thread.
+    pub fn stats(&self) -> LinkStats {
+        self.shared.snapshot()
+    }
+
+    /// A regimen received from the therapist, if any. The station must validate it.
+    pub fn try_recv_regimen(&mut self) -> Option<Regimen> {
+        self.regimens.try_recv().ok()
+    }
+
+    /// Ends the session: delivers what is pending, sends `Bye` and waits for the hub's reply,
+    /// giving up after `timeout`. The returned stats say honestly what was not delivered
+    /// ([`LinkStats::pending`]) and whether the hub confirmed ([`LinkStats::bye_acknowledged`]).
+    pub async fn finish(self, timeout: Duration) -> LinkStats {
+        self.finish_with_reason("session complete", timeout).await
+    }
+
+    /// [`Self::finish`] with the reason sent in `Bye` (control characters become spaces, cut
+    /// to 256 bytes).
+    pub async fn finish_with_reason(mut self, reason: &str, timeout: Duration) -> LinkStats {
+        let deadline = Instant::now() + timeout;
+        if let Some(tx) = self.finish_tx.take() {
+            let _ = tx.send(Finish {
+                reason: crate::frame::printable(reason, crate::frame::MAX_TEXT_LEN),
+                deadline,
+            });
+        }
+        // The task honours the deadline itself; the grace only covers its last bookkeeping.
+        let grace = Duration::from_millis(200);
+        if tokio::time::timeout_at(deadline + grace, &mut self.task)
+            .await
+            .is_err()
+        {
+            self.task.abort();
+            self.shared
+                .set_error("link task did not stop by the finish deadline; aborted".into());
+        }
+        self.shared.connected.store(false, Ordering::Relaxed);
+        self.shared.snapshot()
+    }
+
+    /// [`Self::finish`] for a thread outside the runtime (it blocks on `handle`; calling it
+    /// from a runtime thread panics, as `Handle::block_on` does).
+    pub fn finish_blocking(self, handle: &tokio::runtime::Handle, timeout: Duration) -> LinkStats {
+        handle.block_on(self.finish(timeout))
+    }
+}

@@ -1,0 +1,93 @@
+//! The hub's configuration: where it listens, where it stores, how many stations it takes.
+
+use std::net::SocketAddr;
+use std::path::PathBuf;
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::NetlinkError;
+use crate::tls::ServerTls;
+
+/// Configuration of a [`TherapistServer`](super::TherapistServer).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TherapistConfig {
+    /// Address to listen on.
+    pub listen: SocketAddr,
+    /// Root of the store: `DIR/<station_id>/<session_id>.jsonl` and `.hello.json`.
+    pub store_dir: PathBuf,
+    /// TLS settings; `None` means plaintext, allowed only on a loopback address.
+    #[serde(default)]
+    pub tls: Option<ServerTls>,
+    /// Most simultaneous connections, in [1, 10 000]. Default 256.
+    #[serde(default = "default_max_connections")]
+    pub max_connections: usize,
+    /// Time allowed for the TLS handshake and the station's Hello, ms, in [100, 600 000].
+    /// Default 10 000.
+    #[serde(default = "default_hello_timeout_ms")]
+    pub hello_timeout_ms: u64,
+    /// A connection silent for this long is closed, ms, in [1 000, 3 600 000]. Default 60 000
+    /// (stations send a summary every 100 ms).
+    #[serde(default = "default_idle_timeout_ms")]
+    pub idle_timeout_ms: u64,
+}
+
+fn default_max_connections() -> usize {
+    256
+}
+fn default_hello_timeout_ms() -> u64 {
+    10_000
+}
+fn default_idle_timeout_ms() -> u64 {
+    60_000
+}
+
+impl TherapistConfig {
+    /// A configuration with the documented defaults.
+    pub fn new(listen: SocketAddr, store_dir: impl Into<PathBuf>, tls: Option<ServerTls>) -> Self {
+        Self {
+            listen,
+            store_dir: store_dir.into(),
+            tls,
+            max_connections: default_max_connections(),
+            hello_timeout_ms: default_hello_timeout_ms(),
+            idle_timeout_ms: default_idle_timeout_ms(),
+        }
+    }
+
+    /// Checks every field; the error names the field and its allowed range.
+    ///
+    /// Plaintext (no `tls`) is refused unless `listen` is a loopback address.
+    pub fn validate(&self) -> Result<(), NetlinkError> {
+        let err = |m: String| Err(NetlinkError::Config(m));
+        if self.tls.is_none() && !self.listen.ip().is_loopback() {
+            return err(format!(
+                "listen {} is not loopback and no tls is configured; plaintext is allowed only on \
+                 127.0.0.1/::1",
+                self.listen
+            ));
+        }
+        if !(1..=10_000).contains(&self.max_connections) {
+            return err(format!(
+                "max_connections is {}, allowed [1, 10000]",
+                self.max_connections
+            ));
+        }
+        if !(100..=600_000).contains(&self.hello_timeout_ms) {
+            return err(format!(
+                "hello_timeout_ms is {}, allowed [100, 600000]",
+                self.hello_timeout_ms
+            ));
+        }
+        if !(1_000..=3_600_000).contains(&self.idle_timeout_ms) {
+            return err(format!(
+                "idle_timeout_ms is {}, allowed [1000, 3600000]",
+                self.idle_timeout_ms
+            ));
+        }
+        if self.store_dir.as_os_str().is_empty() {
+            return err("store_dir is empty".into());
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,310 @@
+//! One station's connection to the hub, from accept to close: TLS handshake, `Hello` (and the
+//! client certificate naming the station), registration for regimens, the frame loop, and
+//! clean-up.
+
+use std::net::SocketAddr;
+use std::sync::atomic::Ordering;
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+use rustls::pki_types::CertificateDer;
+use tokio::net::{TcpListener, TcpStream};
+use tokio::sync::{mpsc, watch};
+use tokio::task::JoinHandle;
+
+use crate::codec::encode_to_vec;
+use crate::error::NetlinkError;
+use crate::frame::{Ack, Bye, ErrorFrame, Frame, Hello, MAX_MESSAGE_LEN, printable};
+use crate::store::{SessionFile, write_hello};
+use crate::tls::certificate_names_station;
+use crate::transport::{BoxStream, FrameReader, Outgoing, spawn_writer};
+
+use super::session::{Failure, Reply, handle_frame, sync_file};
+use super::{Hub, StationRoute, TherapistEvent, lock};
+
+/// The writer side of a connection: frames queued for the station.
+type Out = mpsc::UnboundedSender<Outgoing>;
+/// The writer task; it ends with the first write error.
+type Writer = JoinHandle<Result<(), NetlinkError>>;
+/// A session's store, shared with the hub's session table.
+type File = Arc<Mutex<SessionFile>>;
+
+/// Accepts stations until `shutdown`, each served on its own task within `max_connections`.
+pub(super) async fn accept_loop(
+    hub: Arc<Hub>,
+    listener: TcpListener,
+    mut shutdown: watch::Receiver<bool>,
+) {
+    loop {
+        tokio::select! {
+            _ = shutdown.changed() => break,
+            accepted = listener.accept() => match accepted {
+                Ok((tcp, peer)) => {
+                    let Ok(permit) = hub.connections.clone().try_acquire_owned() else {
+                        hub.emit(TherapistEvent::ProtocolError {
+                            peer,
+                            error: format!(
+                                "refused: already {} connections (max_connections)",
+                                hub.config.max_connections
+                            ),
+                        });
+                        continue;
+                    };
+                    let _ = tcp.set_nodelay(true);
+                    let hub = hub.clone();
+                    let shutdown = shutdown.clone();
+                    tokio::spawn(async move {
+                        serve(hub, tcp, peer, shutdown).await;
+                        drop(permit);
+                    });
+                }
+                Err(e) => {
+                    // Typically EMFILE; back off briefly instead of spinning.
+                    tracing::warn!(error = %e, "therapist hub: accept failed");
+                    tokio::time::sleep(Duration::from_millis(100)).await;
+                }
+            },
+        }
+    }
+}
+
+fn error_outgoing(message: &str) -> Option<Outgoing> {
+    let message = printable(message, MAX_MESSAGE_LEN);
+    encode_to_vec(&Frame::Error(ErrorFrame { message }))
+        .ok()
+        .map(|b| Outgoing::new(b.into()))
+}
+
+fn frame_outgoing(frame: &Frame) -> Option<Outgoing> {
+    match encode_to_vec(frame) {
+        Ok(b) => Some(Outgoing::new(b.into())),
+        Err(e) => {
+            tracing::error!(error = %e, "therapist hub: cannot encode {}", frame.kind());
+            None
+        }
+    }
+}
+
+/// Queues `frame` for the station; a closed writer is noticed by the frame loop.
+fn send(out: &Out, frame: Option<Outgoing>) {
+    if let Some(o) = frame {
+        let _ = out.send(o);
+    }
+}
+
+/// Tells the station about a protocol error and reports it; the reason the connection ends.
+fn protocol_error(hub: &Hub, out: &Out, peer: SocketAddr, error: String) -> String {
+    send(out, error_outgoing(&error));
+    hub.emit(TherapistEvent::ProtocolError {
+        peer,
+        error: error.clone(),
+    });
+    format!("protocol error: {error}")
+}
+
+/// Serves one connection from TLS handshake to close. Never panics on peer input.
+async fn serve(hub: Arc<Hub>, tcp: TcpStream, peer: SocketAddr, shutdown: watch::Receiver<bool>) {
+    let Some((stream, client_cert)) = handshake(&hub, tcp, peer).await else {
+        return;
+    };
+    let (rd, wr) = tokio::io::split(stream);
+    let (out, out_rx) = mpsc::unbounded_channel();
+    let mut writer = spawn_writer(wr, out_rx);
+    let mut reader = FrameReader::new(rd);
+
+    let (hello, file) = match open_session(&hub, &mut reader, client_cert.as_ref()).await {
+        Ok(v) => v,
+        Err(error) => {
+            send(&out, error_outgoing(&error));
+            hub.emit(TherapistEvent::ProtocolError { peer, error });
+            close(out, writer).await;
+            return;
+        }
+    };
+    let conn_id = register(&hub, peer, &hello, &file, &out);
+    let reason = frame_loop(
+        &hub,
+        peer,
+        &hello,
+        &file,
+        &out,
+        &mut writer,
+        &mut reader,
+        shutdown,
+    )
+    .await;
+    unregister(&hub, &hello, conn_id, file, reason).await;
+    close(out, writer).await;
+}
+
+/// The TLS handshake (when the hub has TLS) within the Hello timeout: the stream and the
+/// station's certificate, if it presented one. `None` (reported) if the handshake failed.
+async fn handshake(
+    hub: &Hub,
+    tcp: TcpStream,
+    peer: SocketAddr,
+) -> Option<(BoxStream, Option<CertificateDer<'static>>)> {
+    let hello_timeout = Duration::from_millis(hub.config.hello_timeout_ms);
+    let Some(acceptor) = &hub.acceptor else {
+        return Some((Box::new(tcp), None));
+    };
+    let error = match tokio::time::timeout(hello_timeout, acceptor.accept(tcp)).await {
+        Ok(Ok(tls)) => {
+            let cert = tls
+                .get_ref()
+                .1
+                .peer_certificates()
+                .and_then(|chain| chain.first())
+                .map(|leaf| leaf.clone().into_owned());
+            return Some((Box::new(tls), cert));
+        }
+        Ok(Err(e)) => format!("TLS handshake failed: {e}"),
+        Err(_) => "TLS handshake timed out".into(),
+    };
+    hub.emit(TherapistEvent::ProtocolError { peer, error });
+    None
+}
+
+/// Reads the station's `Hello` within the timeout, checks that the client certificate names
+/// the station (when the hub requires one), stores the `Hello` and opens the session file.
+async fn open_session(
+    hub: &Hub,
+    reader: &mut FrameReader,
+    client_cert: Option<&CertificateDer<'static>>,
+) -> Result<(Hello, File), String> {
+    let hello_timeout = Duration::from_millis(hub.config.hello_timeout_ms);
+    let hello = match tokio::time::timeout(hello_timeout, reader.next_frame()).await {
+        Ok(Ok(Some(Frame::Hello(hello)))) => hello,
+        Ok(Ok(Some(other))) => return Err(format!("expected Hello first, got {}", other.kind())),
+        Ok(Ok(None)) => return Err("connection closed before Hello".into()),
+        Ok(Err(e)) => return Err(e.to_string()),
+        Err(_) => return Err(format!("no Hello within {} ms", hello_timeout.as_millis())),
+    };
+    let requires_identity = hub
+        .config
+        .tls
+        .as_ref()
+        .is_some_and(|t| t.client_ca_pem_path.is_some());
+    if requires_identity {
+        let cert = client_cert.ok_or("no client certificate presented")?;
+        certificate_names_station(cert, &hello.station_id)?;
+    }
+    // Hello first: if it fails, no session file has been registered yet.
+    write_hello(&hub.config.store_dir, &hello).map_err(|e| format!("cannot store Hello: {e}"))?;
+    let file = hub
+        .open_session(&hello)
+        .map_err(|e| format!("cannot open the session store: {e}"))?;
+    Ok((hello, file))
+}
+
+/// Routes regimens for the station to this connection, reports it connected and tells a
+/// reconnecting station what is already stored, so it need not resend it. The connection id.
+fn register(hub: &Hub, peer: SocketAddr, hello: &Hello, file: &File, out: &Out) -> u64 {
+    let conn_id = hub.next_conn_id.fetch_add(1, Ordering::Relaxed);
+    lock(&hub.stations).insert(
+        hello.station_id.clone(),
+        StationRoute {
+            conn_id,
+            out: out.clone(),
+        },
+    );
+    hub.emit(TherapistEvent::Connected {
+        peer,
+        hello: hello.clone(),
+    });
+    let last_stored = lock(file).last_seq();
+    if let Some(seq) = last_stored {
+        let ack = Frame::Ack(Ack {
+            session_id: hello.session_id.clone(),
+            seq,
+        });
+        send(out, frame_outgoing(&ack));
+    }
+    conn_id
+}
+
+/// Reads and answers frames until the session ends: hub shutdown, writer failure, idle
+/// timeout, close, protocol error or `Bye`. The reason it ended.
+#[allow(clippy::too_many_arguments)] // one connection's parts, borrowed from `serve`
+async fn frame_loop(
+    hub: &Hub,
+    peer: SocketAddr,
+    hello: &Hello,
+    file: &File,
+    out: &Out,
+    writer: &mut Writer,
+    reader: &mut FrameReader,
+    mut shutdown: watch::Receiver<bool>,
+) -> String {
+    let idle = Duration::from_millis(hub.config.idle_timeout_ms);
+    loop {
+        tokio::select! {
+            _ = shutdown.changed() => {
+                let bye = Frame::Bye(Bye {
+                    session_id: hello.session_id.clone(),
+                    reason: "therapist hub shutting down".into(),
+                    final_seq: lock(file).last_seq(),
+                });
+                send(out, frame_outgoing(&bye));
+                return "therapist hub shut down".to_owned();
+            }
+            r = &mut *writer => {
+                return match r {
+                    Ok(Err(e)) => e.to_string(),
+                    _ => "writer stopped".to_owned(),
+                };
+            }
+            frame = tokio::time::timeout(idle, reader.next_frame()) => {
+                let frame = match frame {
+                    Err(_) => return format!("nothing received for {} ms", idle.as_millis()),
+                    Ok(Ok(None)) => return "connection closed by station".to_owned(),
+                    Ok(Ok(Some(frame))) => frame,
+                    Ok(Err(e)) => return protocol_error(hub, out, peer, e.to_string()),
+                };
+                match handle_frame(hub, hello, file, frame).await {
+                    Ok(Reply::Ack(ack)) => send(out, frame_outgoing(&ack)),
+                    Ok(Reply::Bye(bye, why)) => {
+                        send(out, frame_outgoing(&bye));
+                        return why;
+                    }
+                    Err(Failure::Protocol(error)) => return protocol_error(hub, out, peer, error),
+                    Err(Failure::Closed(why)) => return why,
+                }
+            }
+        }
+    }
+}
+
+/// Stops routing regimens to this connection (unless a newer one took over), syncs and
+/// releases the session file and reports the station disconnected.
+async fn unregister(hub: &Hub, hello: &Hello, conn_id: u64, file: File, reason: String) {
+    {
+        let mut stations = lock(&hub.stations);
+        if stations
+            .get(&hello.station_id)
+            .is_some_and(|r| r.conn_id == conn_id)
+        {
+            stations.remove(&hello.station_id);
+        }
+    }
+    if let Err(e) = sync_file(&file).await {
+        tracing::error!(error = %e, "therapist hub: fsync failed");
+    }
+    hub.release_session(hello, file);
+    hub.emit(TherapistEvent::Disconnected {
+        station_id: hello.station_id.clone(),
+        session_id: hello.session_id.clone(),
+        reason,
+    });
+}
+
+/// Lets queued frames leave (bounded), then drops the connection.
+async fn close(out: Out, mut writer: Writer) {
+    drop(out);
+    if tokio::time::timeout(Duration::from_secs(1), &mut writer)
+        .await
+        .is_err()
+    {
+        writer.abort();
+    }
+}

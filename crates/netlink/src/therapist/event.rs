@@ -1,0 +1,85 @@
+//! What happens at the hub, reported to the CLI.
+
+use std::fmt;
+use std::net::SocketAddr;
+
+use crate::frame::{Hello, Summary};
+
+/// Something that happened at the hub, for the CLI to print.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum TherapistEvent {
+    /// A station connected and said Hello.
+    Connected {
+        /// Its address.
+        peer: SocketAddr,
+        /// Its Hello.
+        hello: Hello,
+    },
+    /// A new (not duplicate) summary was stored.
+    Summary {
+        /// The station it came from.
+        station_id: String,
+        /// The summary.
+        summary: Summary,
+    },
+    /// A station's connection ended.
+    Disconnected {
+        /// The station.
+        station_id: String,
+        /// Its session.
+        session_id: String,
+        /// Why, for humans (`bye: …` for an orderly end).
+        reason: String,
+    },
+    /// A peer broke the protocol (or the TLS handshake); its connection was closed.
+    ProtocolError {
+        /// Its address.
+        peer: SocketAddr,
+        /// What was wrong.
+        error: String,
+    },
+}
+
+impl fmt::Display for TherapistEvent {
+    /// One line per event, for a live console.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Connected { peer, hello } => write!(
+                f,
+                "[{}] connected from {peer}: patient {} session {} exercise {} ({})",
+                hello.station_id,
+                hello.patient_id,
+                hello.session_id,
+                hello.exercise,
+                hello.software_version
+            ),
+            Self::Summary {
+                station_id,
+                summary: s,
+            } => write!(
+                f,
+                "[{station_id}] t={:7.1} s seq={:<6} speed={:5.2} m/s lateral={:+.3} m \
+                 rms={:.3} m max={:.3} m in-lane={:5.1} % |torque|max={:.2} N·m p99={:.0} µs",
+                s.t_s,
+                s.seq,
+                s.speed_m_s,
+                s.lateral_m,
+                s.rms_lateral_m,
+                s.max_lateral_m,
+                s.pct_in_lane,
+                s.max_abs_torque_nm,
+                s.loop_p99_us
+            ),
+            Self::Disconnected {
+                station_id,
+                session_id,
+                reason,
+            } => write!(
+                f,
+                "[{station_id}] session {session_id} disconnected: {reason}"
+            ),
+            Self::ProtocolError { peer, error } => write!(f, "[{peer}] protocol error: {error}"),
+        }
+    }
+}

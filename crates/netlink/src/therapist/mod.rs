@@ -1,0 +1,180 @@
+//! Therapist side: a hub that accepts many stations, stores and acknowledges their summaries,
+//! reports what happens as [`TherapistEvent`]s and can push a [`Regimen`] to a station.
+
+mod config;
+mod connection;
+mod event;
+mod session;
+
+use std::collections::HashMap;
+use std::net::SocketAddr;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+use tokio::net::TcpListener;
+use tokio::sync::{Semaphore, mpsc, watch};
+use tokio::task::JoinHandle;
+
+use crate::codec::encode_to_vec;
+use crate::error::NetlinkError;
+use crate::frame::{Frame, Hello, Regimen};
+use crate::store::SessionFile;
+use crate::tls::ServerTls;
+use crate::transport::Outgoing;
+
+pub use config::TherapistConfig;
+use connection::accept_loop;
+pub use event::TherapistEvent;
+
+/// Events buffered for the CLI; beyond this they are dropped (and counted), never blocking
+/// the hub.
+const EVENT_CAPACITY: usize = 4_096;
+
+type SessionKey = (String, String);
+
+struct StationRoute {
+    conn_id: u64,
+    out: mpsc::UnboundedSender<Outgoing>,
+}
+
+struct Hub {
+    config: TherapistConfig,
+    acceptor: Option<tokio_rustls::TlsAcceptor>,
+    sessions: Mutex<HashMap<SessionKey, Arc<Mutex<SessionFile>>>>,
+    stations: Mutex<HashMap<String, StationRoute>>,
+    events: mpsc::Sender<TherapistEvent>,
+    events_dropped: AtomicU64,
+    next_conn_id: AtomicU64,
+    connections: Arc<Semaphore>,
+}
+
+/// A running hub. Dropping it stops it too; [`Self::shutdown`] also waits for connections to
+/// close and their files to be synced.
+pub struct TherapistServer {
+    hub: Arc<Hub>,
+    local_addr: SocketAddr,
+    shutdown_tx: watch::Sender<bool>,
+    accept_task: JoinHandle<()>,
+}
+
+impl TherapistServer {
+    /// Validates `config`, loads TLS files, binds and starts accepting (on the current runtime).
+    pub async fn bind(
+        config: TherapistConfig,
+    ) -> Result<(Self, mpsc::Receiver<TherapistEvent>), NetlinkError> {
+        config.validate()?;
+        let acceptor = config.tls.as_ref().map(ServerTls::acceptor).transpose()?;
+        std::fs::create_dir_all(&config.store_dir).map_err(|e| {
+            NetlinkError::io(format!("creating store {}", config.store_dir.display()), e)
+        })?;
+        let listener = TcpListener::bind(config.listen)
+            .await
+            .map_err(|e| NetlinkError::io(format!("listening on {}", config.listen), e))?;
+        let local_addr = listener
+            .local_addr()
+            .map_err(|e| NetlinkError::io("reading the listening address", e))?;
+        let (events, events_rx) = mpsc::channel(EVENT_CAPACITY);
+        let (shutdown_tx, shutdown_rx) = watch::channel(false);
+        let hub = Arc::new(Hub {
+            connections: Arc::new(Semaphore::new(config.max_connections)),
+            config,
+            acceptor,
+            sessions: Mutex::new(HashMap::new()),
+            stations: Mutex::new(HashMap::new()),
+            events,
+            events_dropped: AtomicU64::new(0),
+            next_conn_id: AtomicU64::new(1),
+        });
+        tracing::info!(%local_addr, tls = hub.acceptor.is_some(), "therapist hub listening");
+        let accept_task = tokio::spawn(accept_loop(hub.clone(), listener, shutdown_rx));
+        Ok((
+            Self {
+                hub,
+                local_addr,
+                shutdown_tx,
+                accept_task,
+            },
+            events_rx,
+        ))
+    }
+
+    /// The address actually bound (useful with port 0).
+    pub fn local_addr(&self) -> SocketAddr {
+        self.local_addr
+    }
+
+    /// Stations connected now, sorted.
+    pub fn connected_stations(&self) -> Vec<String> {
+        let mut ids: Vec<String> = lock(&self.hub.stations).keys().cloned().collect();
+        ids.sort();
+        ids
+    }
+
+    /// Events dropped because the receiver did not keep up.
+    pub fn events_dropped(&self) -> u64 {
+        self.hub.events_dropped.load(Ordering::Relaxed)
+    }
+
+    /// Queues `regimen` for the connected station `station_id`.
+    pub fn send_regimen(&self, station_id: &str, regimen: Regimen) -> Result<(), NetlinkError> {
+        let bytes = encode_to_vec(&Frame::Regimen(regimen))?;
+        let stations = lock(&self.hub.stations);
+        let route = stations
+            .get(station_id)
+            .ok_or_else(|| NetlinkError::NotConnected(station_id.to_owned()))?;
+        route
+            .out
+            .send(Outgoing::new(bytes.into()))
+            .map_err(|_| NetlinkError::NotConnected(station_id.to_owned()))
+    }
+
+    /// Stops accepting, tells every station (Bye), syncs their files and waits up to `timeout`
+    /// for the connections to close.
+    pub async fn shutdown(self, timeout: Duration) {
+        let _ = self.shutdown_tx.send(true);
+        let _ = self.accept_task.await;
+        let all = u32::try_from(self.hub.config.max_connections).unwrap_or(u32::MAX);
+        if tokio::time::timeout(timeout, self.hub.connections.acquire_many(all))
+            .await
+            .is_err()
+        {
+            tracing::warn!("therapist hub: connections still open after the shutdown timeout");
+        }
+    }
+}
+
+fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    // A panic while holding these locks cannot leave the maps inconsistent (single inserts
+    // and removes), so a poisoned lock is still usable.
+    m.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+impl Hub {
+    fn emit(&self, event: TherapistEvent) {
+        if self.events.try_send(event).is_err() {
+            self.events_dropped.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+
+    fn open_session(&self, hello: &Hello) -> Result<Arc<Mutex<SessionFile>>, NetlinkError> {
+        let key = (hello.station_id.clone(), hello.session_id.clone());
+        let mut sessions = lock(&self.sessions);
+        if let Some(file) = sessions.get(&key) {
+            return Ok(file.clone());
+        }
+        let file = SessionFile::open(&self.config.store_dir, &hello.station_id, &hello.session_id)?;
+        let file = Arc::new(Mutex::new(file));
+        sessions.insert(key, file.clone());
+        Ok(file)
+    }
+
+    /// Forgets a session file when its last connection ends.
+    fn release_session(&self, hello: &Hello, file: Arc<Mutex<SessionFile>>) {
+        let key = (hello.station_id.clone(), hello.session_id.clone());
+        let mut sessions = lock(&self.sessions);
+        if Arc::strong_count(&file) == 2 {
+            sessions.remove(&key);
+        }
+    }
+}

@@ -1,0 +1,170 @@
+#!/usr/bin/env python3
+"""Check the crate layering of DESIGN.md ("Crates and the direction of dependencies").
+
+Reads `cargo metadata --format-version 1 --no-deps` (or a JSON file given with --metadata) and
+fails, naming the crate and the dependency, when
+
+- a pure crate (common, vehicle, calib, assist) depends on anything outside its allow list
+  (in particular an I/O crate on the deny list: tokio, evdev, hidapi, wgpu, mcap, rustls...);
+- any arrow points up the diagram: a crate depends on one of our crates it may not use
+  (e.g. netlink on station, vehicle on haptic-wheel, pyext on netlink).
+
+Normal and build dependencies count; dev-dependencies (tests, benches, examples) are allowed
+our own lower crates and anything else, since they never reach the shipped code — but a
+dev-dependency that points up the diagram is still an error.
+
+Python 3 standard library only. Exit 0 with a one-line summary when clean, 1 otherwise.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+
+# What the station binary sits on: every crate of ours below it in the diagram.
+BELOW_STATION = {"common", "vehicle", "assist", "calib", "gyro-imu", "haptic-wheel", "netlink"}
+
+# Our crates, and which of our crates each one may depend on (the arrows of DESIGN.md).
+OUR_CRATES: dict[str, set[str]] = {
+    "common": set(),
+    "vehicle": {"common"},
+    "assist": {"common"},
+    "calib": {"common", "gyro-imu"},
+    "gyro-imu": {"common"},
+    "haptic-wheel": {"common"},
+    "netlink": {"common"},
+    "hub": {"common", "netlink"},
+    "station": BELOW_STATION,
+    "telerehab-py": {"common", "vehicle", "assist", "calib", "gyro-imu"},
+    "telerehab-tests": BELOW_STATION | {"station", "hub"},
+}
+
+PURE = ("common", "vehicle", "calib", "assist")
+
+# Third-party crates a pure crate may use: math, randomness with explicit seeds, errors, serde.
+PURE_ALLOW = {
+    "nalgebra",
+    "rapier2d",
+    "rapier2d-f64",
+    "rand",
+    "rand_chacha",
+    "rand_distr",
+    "thiserror",
+    "serde",
+    "serde_json",
+    "approx",
+    "glam",
+    "num-traits",
+}
+
+# Crates that do I/O, spawn threads, read clocks or render: never in a pure crate, not even
+# as a dev-dependency (named here so the message says why).
+IO_DENY = {
+    "tokio",
+    "tokio-rustls",
+    "rustls",
+    "rustls-webpki",
+    "mio",
+    "evdev",
+    "hidapi",
+    "gilrs",
+    "wgpu",
+    "winit",
+    "egui",
+    "egui-wgpu",
+    "mcap",
+    "rtrb",
+    "triple_buffer",
+    "thread-priority",
+    "core_affinity",
+    "signal-hook",
+    "tracing-subscriber",
+    "pyo3",
+    "numpy",
+    "png",
+    "pollster",
+    "anyhow",
+}
+
+
+def load_metadata(path: str | None) -> dict:
+    if path:
+        with open(path, encoding="utf-8") as f:
+            return json.load(f)
+    out = subprocess.run(
+        ["cargo", "metadata", "--format-version", "1", "--no-deps"],
+        check=True,
+        capture_output=True,
+        text=True,
+    )
+    return json.loads(out.stdout)
+
+
+def violations(metadata: dict) -> tuple[list[str], int]:
+    """The layering errors of the workspace in `metadata`, and how many edges were checked."""
+    members = set(metadata.get("workspace_members", []))
+    errors: list[str] = []
+    edges = 0
+    for pkg in metadata["packages"]:
+        if members and pkg["id"] not in members:
+            continue
+        name = pkg["name"]
+        for dep in pkg.get("dependencies", []):
+            dep_name = dep["name"]
+            kind = dep.get("kind") or "normal"
+            edges += 1
+            where = f"{name} -> {dep_name} ({kind} dependency)"
+            if dep_name in OUR_CRATES or dep.get("path"):
+                allowed = OUR_CRATES.get(name)
+                if allowed is None:
+                    errors.append(
+                        f"{where}: crate `{name}` is not in the layering table of "
+                        "scripts/check_layering.py; add it with the crates it may use"
+                    )
+                elif dep_name not in allowed and dep_name != name:
+                    if kind == "dev" and dep_name not in OUR_CRATES:
+                        continue
+                    errors.append(
+                        f"{where}: points up or across the DESIGN.md diagram; "
+                        f"`{name}` may use only {sorted(allowed) or 'no crate of ours'}"
+                    )
+                continue
+            if name in PURE:
+                if dep_name in IO_DENY:
+                    errors.append(
+                        f"{where}: pure crate `{name}` must not depend on the I/O crate "
+                        f"`{dep_name}`"
+                    )
+                elif kind != "dev" and dep_name not in PURE_ALLOW:
+                    errors.append(
+                        f"{where}: `{dep_name}` is not on the allow list of the pure crates "
+                        "(PURE_ALLOW in scripts/check_layering.py); add it there if it does "
+                        "no I/O, threads or clocks"
+                    )
+    return errors, edges
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument(
+        "--metadata", help="read this `cargo metadata` JSON instead of running cargo"
+    )
+    args = parser.parse_args(argv)
+    metadata = load_metadata(args.metadata)
+    errors, edges = violations(metadata)
+    if errors:
+        for e in errors:
+            print(f"layering: {e}", file=sys.stderr)
+        print(f"layering: {len(errors)} violation(s)", file=sys.stderr)
+        return 1
+    crates = sum(
+        1 for p in metadata["packages"] if p["id"] in set(metadata.get("workspace_members", []))
+    )
+    print(f"layering OK: {crates} crates, {edges} dependency edges, pure: {', '.join(PURE)}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
