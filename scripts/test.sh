@@ -22,5 +22,9 @@ fi
 echo "== pytest"
 # Rebuild the Python package from the current sources (incremental; setup.sh built it first).
 VIRTUAL_ENV="$PWD/.venv" .venv/bin/maturin develop --release -q -m pyext/Cargo.toml
+echo "== python types"
+# The stub of the native module against the module just built, then the typed facade.
+.venv/bin/python -m mypy.stubtest telerehab._native
+(cd pyext/python && ../../.venv/bin/python -m mypy --strict --cache-dir=/dev/null -p telerehab)
 cargo build --quiet -p station --bin telerehab
 TELEREHAB_BIN="$PWD/target/debug/telerehab" .venv/bin/python -m pytest -q pyext/tests tests/python

@@ -1,6 +1,7 @@
 //! Calibration bindings: the planar four-bar (batch and online), the spatial arm loop
-//! (`calib::arm3d`) and the serial-chain SE(3) calibration of crate `calib`. Arrays are copied out of numpy before the GIL is released, so
-//! other Python threads may run (and even mutate the inputs) during the work.
+//! (`calib::arm3d`) and the serial-chain SE(3) calibration of crate `calib`, following the
+//! convention in [`crate::check`]. Arrays are copied out of numpy before the GIL is released,
+//! so other Python threads may run (and even mutate the inputs) during the work.
 
 use calib::fourbar::FourbarStdErrors;
 use calib::{
@@ -9,9 +10,10 @@ use calib::{
 };
 use nalgebra::Matrix4;
 use numpy::{PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3, PyReadonlyArray4};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+
+use crate::check::{rows3, same_len, value_error, vec1};
 
 /// Add the calibration functions to the native module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -25,8 +27,37 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     Ok(())
 }
 
-fn value_error(e: CalibError) -> PyErr {
-    PyValueError::new_err(e.to_string())
+/// The Python name of a `calib` argument: the facade's names carry their unit.
+fn python_name(argument: &'static str) -> &'static str {
+    match argument {
+        "phi2" => "phi2_rad",
+        "phi3" => "phi3_rad",
+        "phi4" => "phi4_rad",
+        "l2" => "l2_m",
+        "grip_points" => "grip_points_m",
+        other => other,
+    }
+}
+
+/// A `ValueError` for `e`, naming the argument as Python knows it.
+fn calib_error(mut e: CalibError) -> PyErr {
+    match &mut e {
+        CalibError::NonFinite { argument, .. }
+        | CalibError::TooFewSamples { argument, .. }
+        | CalibError::OutOfRange { argument, .. }
+        | CalibError::NotUnitVector { argument, .. }
+        | CalibError::NotRigidTransform { argument, .. } => *argument = python_name(argument),
+        CalibError::LengthMismatch {
+            argument,
+            reference,
+            ..
+        } => {
+            *argument = python_name(argument);
+            *reference = python_name(reference);
+        }
+        _ => {}
+    }
+    value_error(e.to_string())
 }
 
 /// A calibrated planar four-bar (lengths m, angles rad in the frame where the ground link
@@ -141,7 +172,7 @@ fn parse_method(method: &str) -> PyResult<FourbarMethod> {
         "global" => Ok(FourbarMethod::Global),
         "thesis" => Ok(FourbarMethod::Thesis),
         "lm" => Ok(FourbarMethod::Lm),
-        other => Err(PyValueError::new_err(format!(
+        other => Err(value_error(format!(
             "method must be one of 'auto', 'global', 'lm', 'thesis', got {other:?}"
         ))),
     }
@@ -150,7 +181,7 @@ fn parse_method(method: &str) -> PyResult<FourbarMethod> {
 fn parse_initial(initial: Option<Vec<f64>>) -> PyResult<Option<FourbarParams>> {
     let Some(v) = initial else { return Ok(None) };
     if v.len() != 6 && v.len() != 8 {
-        return Err(PyValueError::new_err(format!(
+        return Err(value_error(format!(
             "initial must have 6 values (l1, l3, l4, theta2_0, theta3_0, theta4_0) or 8 (plus \
              gyro_bias3, gyro_bias4), got {}",
             v.len()
@@ -164,20 +195,16 @@ fn parse_initial(initial: Option<Vec<f64>>) -> PyResult<Option<FourbarParams>> {
     Ok(Some(p))
 }
 
-fn to_vec(a: &PyReadonlyArray1<'_, f64>) -> Vec<f64> {
-    a.as_array().to_vec()
-}
-
 /// Native four-bar calibration; see `telerehab.calib.calibrate_planar_fourbar`.
 #[pyfunction]
-#[pyo3(signature = (phi2, phi3, phi4, l2, initial, method, time_s, gyro_bias, robust, max_iterations, tolerance, smoothing_half_window, errors_in_variables))]
+#[pyo3(signature = (phi2_rad, phi3_rad, phi4_rad, l2_m, initial, method, time_s, gyro_bias, robust, max_iterations, tolerance, smoothing_half_window, errors_in_variables))]
 #[allow(clippy::too_many_arguments)]
 fn calibrate_planar_fourbar(
     py: Python<'_>,
-    phi2: PyReadonlyArray1<'_, f64>,
-    phi3: PyReadonlyArray1<'_, f64>,
-    phi4: PyReadonlyArray1<'_, f64>,
-    l2: f64,
+    phi2_rad: PyReadonlyArray1<'_, f64>,
+    phi3_rad: PyReadonlyArray1<'_, f64>,
+    phi4_rad: PyReadonlyArray1<'_, f64>,
+    l2_m: f64,
     initial: Option<Vec<f64>>,
     method: &str,
     time_s: Option<PyReadonlyArray1<'_, f64>>,
@@ -198,16 +225,16 @@ fn calibrate_planar_fourbar(
         smoothing_half_window,
         errors_in_variables,
     };
-    let (p2, p3, p4) = (to_vec(&phi2), to_vec(&phi3), to_vec(&phi4));
-    let t = time_s.as_ref().map(to_vec);
+    let (p2, p3, p4) = (vec1(&phi2_rad), vec1(&phi3_rad), vec1(&phi4_rad));
+    let t = time_s.as_ref().map(vec1);
     let result = py.detach(|| {
         let samples = FourbarSamples {
             time_s: t.as_deref(),
             ..FourbarSamples::new(&p2, &p3, &p4)
         };
-        calib::calibrate(&samples, l2, &options)
+        calib::calibrate(&samples, l2_m, &options)
     });
-    result.map(Into::into).map_err(value_error)
+    result.map(Into::into).map_err(calib_error)
 }
 
 /// Online (recursive least-squares with forgetting) four-bar calibration.
@@ -219,11 +246,11 @@ pub struct OnlinePlanarFourbar {
 #[pymethods]
 impl OnlinePlanarFourbar {
     #[new]
-    #[pyo3(signature = (l2, forgetting))]
-    fn new(l2: f64, forgetting: f64) -> PyResult<Self> {
-        OnlineFourbar::new(l2, OnlineOptions { forgetting })
+    #[pyo3(signature = (l2_m, forgetting))]
+    fn new(l2_m: f64, forgetting: f64) -> PyResult<Self> {
+        OnlineFourbar::new(l2_m, OnlineOptions { forgetting })
             .map(|inner| Self { inner })
-            .map_err(value_error)
+            .map_err(calib_error)
     }
 
     /// Absorb equal-length 1-D arrays of samples, in order. Stops at the first non-finite
@@ -231,19 +258,13 @@ impl OnlinePlanarFourbar {
     fn update_many(
         &mut self,
         py: Python<'_>,
-        phi2: PyReadonlyArray1<'_, f64>,
-        phi3: PyReadonlyArray1<'_, f64>,
-        phi4: PyReadonlyArray1<'_, f64>,
+        phi2_rad: PyReadonlyArray1<'_, f64>,
+        phi3_rad: PyReadonlyArray1<'_, f64>,
+        phi4_rad: PyReadonlyArray1<'_, f64>,
     ) -> PyResult<()> {
-        let (p2, p3, p4) = (to_vec(&phi2), to_vec(&phi3), to_vec(&phi4));
-        if p3.len() != p2.len() || p4.len() != p2.len() {
-            return Err(PyValueError::new_err(format!(
-                "phi2, phi3, phi4 must have equal lengths, got {}, {}, {}",
-                p2.len(),
-                p3.len(),
-                p4.len()
-            )));
-        }
+        let (p2, p3, p4) = (vec1(&phi2_rad), vec1(&phi3_rad), vec1(&phi4_rad));
+        same_len("phi3_rad", p3.len(), "phi2_rad", p2.len())?;
+        same_len("phi4_rad", p4.len(), "phi2_rad", p2.len())?;
         let inner = &mut self.inner;
         py.detach(|| {
             for k in 0..p2.len() {
@@ -251,7 +272,7 @@ impl OnlinePlanarFourbar {
             }
             Ok(())
         })
-        .map_err(value_error)
+        .map_err(calib_error)
     }
 
     /// The current estimate, or None while the data do not yet determine it.
@@ -344,7 +365,7 @@ fn matrices(a: numpy::ndarray::ArrayViewD<'_, f64>) -> Vec<Matrix4<f64>> {
 
 fn check_trailing_4x4(name: &str, shape: &[usize], expected: &str) -> PyResult<()> {
     if shape.len() < 2 || shape[shape.len() - 2..] != [4, 4] {
-        return Err(PyValueError::new_err(format!(
+        return Err(value_error(format!(
             "{name} must have shape {expected}, got {shape:?}"
         )));
     }
@@ -370,7 +391,7 @@ fn calibrate_serial_chain(
     check_trailing_4x4("measured_end_poses", &ts, "(m, 4, 4)")?;
     let n = fs[0].saturating_sub(1);
     if qs[0] != ts[0] || qs[1] != n {
-        return Err(PyValueError::new_err(format!(
+        return Err(value_error(format!(
             "joint_motions must have shape (m, n, 4, 4) = ({}, {n}, 4, 4) to match \
              measured_end_poses {ts:?} and nominal_frames {fs:?}, got {qs:?}",
             ts[0]
@@ -386,7 +407,7 @@ fn calibrate_serial_chain(
     };
     py.detach(|| calib::calibrate_serial_chain(&frames, &motions, &measured, &options))
         .map(Into::into)
-        .map_err(value_error)
+        .map_err(calib_error)
 }
 
 /// A calibrated spatial arm (m, rad, wheel frame) and how far to trust it.
@@ -477,46 +498,26 @@ impl Arm3dResult {
     }
 }
 
-fn rows3(a: &PyReadonlyArray2<'_, f64>) -> Vec<[f64; 3]> {
-    a.as_array()
-        .rows()
-        .into_iter()
-        .map(|r| [r[0], r[1], r[2]])
-        .collect()
-}
-
 /// Native spatial arm calibration; see `telerehab.calib.calibrate_arm_3d`.
 #[pyfunction]
-#[pyo3(signature = (upper_dirs, fore_dirs, grip_points, time_s, heading, errors_in_variables, max_iterations))]
+#[pyo3(signature = (upper_dirs, fore_dirs, grip_points_m, time_s, heading, errors_in_variables, max_iterations))]
 #[allow(clippy::too_many_arguments)]
 fn calibrate_arm_3d(
     py: Python<'_>,
     upper_dirs: PyReadonlyArray2<'_, f64>,
     fore_dirs: PyReadonlyArray2<'_, f64>,
-    grip_points: PyReadonlyArray2<'_, f64>,
+    grip_points_m: PyReadonlyArray2<'_, f64>,
     time_s: Option<PyReadonlyArray1<'_, f64>>,
     heading: &str,
     errors_in_variables: bool,
     max_iterations: u32,
 ) -> PyResult<Arm3dResult> {
-    for (name, a) in [
-        ("upper_dirs", &upper_dirs),
-        ("fore_dirs", &fore_dirs),
-        ("grip_points", &grip_points),
-    ] {
-        if a.as_array().ncols() != 3 {
-            return Err(PyValueError::new_err(format!(
-                "{name} must have shape (N, 3), got {:?}",
-                a.as_array().shape()
-            )));
-        }
-    }
     let heading = match heading {
         "exact" => calib::HeadingModel::Exact,
         "offset" => calib::HeadingModel::Offset,
         "offset_and_drift" => calib::HeadingModel::OffsetAndDrift,
         other => {
-            return Err(PyValueError::new_err(format!(
+            return Err(value_error(format!(
                 "heading must be one of 'exact', 'offset', 'offset_and_drift', got {other:?}"
             )));
         }
@@ -526,8 +527,12 @@ fn calibrate_arm_3d(
         errors_in_variables,
         max_iterations,
     };
-    let (u, f, g) = (rows3(&upper_dirs), rows3(&fore_dirs), rows3(&grip_points));
-    let t = time_s.as_ref().map(to_vec);
+    let u = rows3("upper_dirs", &upper_dirs)?;
+    let f = rows3("fore_dirs", &fore_dirs)?;
+    let g = rows3("grip_points_m", &grip_points_m)?;
+    same_len("fore_dirs", f.len(), "upper_dirs", u.len())?;
+    same_len("grip_points_m", g.len(), "upper_dirs", u.len())?;
+    let t = time_s.as_ref().map(vec1);
     let result = py.detach(|| {
         let samples = calib::ArmLoopSamples {
             time_s: t.as_deref(),
@@ -535,5 +540,5 @@ fn calibrate_arm_3d(
         };
         calib::calibrate_arm_3d(&samples, &options)
     });
-    result.map(Into::into).map_err(value_error)
+    result.map(Into::into).map_err(calib_error)
 }

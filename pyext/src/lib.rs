@@ -6,6 +6,7 @@
 use pyo3::prelude::*;
 
 mod calib;
+mod check;
 mod imu;
 
 /// The `telerehab._native` module.

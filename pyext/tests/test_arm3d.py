@@ -55,7 +55,7 @@ def test_bad_shapes_and_nan_raise_value_errors_naming_the_argument():
     u, f, g, _ = simulate(n=50)
     with pytest.raises(ValueError, match="fore_dirs"):
         calib.calibrate_arm_3d(u, f[:, :2], g)
-    with pytest.raises(ValueError, match="grip_points"):
+    with pytest.raises(ValueError, match=r"grip_points_m must have shape \(50, 3\) like upper_dirs"):
         calib.calibrate_arm_3d(u, f, g[:40])
     bad = u.copy()
     bad[3, 1] = np.nan

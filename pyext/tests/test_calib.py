@@ -112,11 +112,11 @@ def test_thesis_two_link_example_reaches_the_true_lengths():
 @pytest.mark.parametrize(
     "args, match",
     [
-        ((np.zeros((10, 2)), np.zeros(10), np.zeros(10)), r"phi2 must have shape \(N,\)"),
-        ((np.zeros(10), np.zeros(9), np.zeros(10)), r"phi3 must have shape \(10,\)"),
-        ((np.zeros(10), np.zeros(10), np.array(["a"] * 10)), r"phi4 must be a real numeric array"),
-        ((np.zeros(10), np.full(10, np.nan), np.zeros(10)), r"phi3 must be finite"),
-        ((np.zeros(5), np.zeros(5), np.zeros(5)), r"at least 10 are needed"),
+        ((np.zeros((10, 2)), np.zeros(10), np.zeros(10)), r"phi2_rad must have shape \(N,\)"),
+        ((np.zeros(10), np.zeros(9), np.zeros(10)), r"phi3_rad must have shape \(10,\) like phi2_rad"),
+        ((np.zeros(10), np.zeros(10), np.array(["a"] * 10)), r"phi4_rad must be a real numeric array"),
+        ((np.zeros(10), np.full(10, np.nan), np.zeros(10)), r"phi3_rad must be finite"),
+        ((np.zeros(5), np.zeros(5), np.zeros(5)), r"phi2_rad: 5 samples given, at least 10 are needed"),
     ],
 )
 def test_bad_planar_input_raises_value_error_naming_the_argument(args, match):
@@ -130,7 +130,7 @@ def test_bad_method_and_missing_initial_are_value_errors():
         calib.calibrate_planar_fourbar(phi2, phi3, phi4, L2, method="magic")
     with pytest.raises(ValueError, match="needs an initial guess"):
         calib.calibrate_planar_fourbar(phi2, phi3, phi4, L2, method="thesis")
-    with pytest.raises(ValueError, match="l2"):
+    with pytest.raises(ValueError, match="l2_m = -1 is out of range"):
         calib.calibrate_planar_fourbar(phi2, phi3, phi4, -1.0)
 
 

@@ -73,13 +73,13 @@ def test_estimate_bias_recovers_a_constant_offset():
 @pytest.mark.parametrize(
     "call, match",
     [
-        (lambda: imu.integrate(np.zeros((5, 2)), 0.01), r"`rates` must have shape \(N, 3\)"),
-        (lambda: imu.integrate(np.zeros((5, 3)), -1.0), r"`dt`"),
-        (lambda: imu.integrate(np.zeros((5, 3)), 0.01, method="euler"), r"`method`"),
-        (lambda: imu.integrate([[0, 0, np.nan]], 0.01), r"`rates` row 0 is not finite"),
-        (lambda: imu.fuse(np.zeros((4, 3)), np.zeros((3, 3)), 0.01), r"`acc` has 3"),
-        (lambda: imu.fuse(np.zeros((4, 3)), np.zeros((4, 4)), 0.01), r"`acc` must have shape"),
-        (lambda: imu.fuse(np.zeros((4, 3)), [["a", "b", "c"]] * 4, 0.01), r"`acc` must be a numeric"),
+        (lambda: imu.integrate(np.zeros((5, 2)), 0.01), r"rates_rad_s must have shape \(N, 3\)"),
+        (lambda: imu.integrate(np.zeros((5, 3)), -1.0), r"dt_s must be in \(0, 1\] s"),
+        (lambda: imu.integrate(np.zeros((5, 3)), 0.01, method="euler"), r"method must be one of"),
+        (lambda: imu.integrate([[0, 0, np.nan]], 0.01), r"rates_rad_s must be finite .*index \(0, 2\)"),
+        (lambda: imu.fuse(np.zeros((4, 3)), np.zeros((3, 3)), 0.01), r"acc_m_s2 must have shape \(4, 3\) like gyr_rad_s, got \(3, 3\)"),
+        (lambda: imu.fuse(np.zeros((4, 3)), np.zeros((4, 4)), 0.01), r"acc_m_s2 must have shape"),
+        (lambda: imu.fuse(np.zeros((4, 3)), [["a", "b", "c"]] * 4, 0.01), r"acc_m_s2 must be a real numeric array"),
         (lambda: imu.estimate_bias(np.sin(np.arange(3000))[:, None] * np.ones((1, 3)), 0.01), r"no rest"),
     ],
 )
@@ -91,5 +91,5 @@ def test_bad_input_raises_value_error_naming_the_argument(call, match):
 def test_native_layer_rechecks_shapes():
     from telerehab import _native
 
-    with pytest.raises(ValueError, match="rates"):
+    with pytest.raises(ValueError, match=r"rates_rad_s must have shape \(N, 3\)"):
         _native.imu_integrate(np.zeros((3, 4)), 0.01, "exp")

@@ -3,10 +3,11 @@
 The heavy lifting is in Rust (the same code the patient station runs); this package is a
 thin, typed facade over the private native module ``telerehab._native``.
 
-Submodules: :mod:`telerehab.calib` (arm calibration).
+Submodules: :mod:`telerehab.calib` (arm calibration), :mod:`telerehab.imu` (gyro
+integration, bias estimation, orientation fusion).
 """
 
 from telerehab._native import __version__
-from telerehab import calib
+from telerehab import calib, imu
 
-__all__ = ["__version__", "calib"]
+__all__ = ["__version__", "calib", "imu"]

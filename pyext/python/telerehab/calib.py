@@ -10,21 +10,21 @@
 - :func:`calibrate_serial_chain` — SE(3) calibration of the initial frames of a serial chain
   (§4.3, eq. 4.25–4.49).
 
-Lengths are in metres, angles in radians. Bad input raises :class:`ValueError` naming the
-argument and the expected shape; the work runs with the GIL released.
+Lengths are in metres, angles in radians; argument names carry their unit (``phi2_rad``,
+``l2_m``, ``grip_points_m``). Bad input raises :class:`ValueError` naming the argument and
+the expected shape; the work runs with the GIL released.
 """
 
 from __future__ import annotations
 
-from typing import Any, Mapping, Optional, Sequence, Union
+from typing import List, Literal, Mapping, Optional, Sequence, Union
 
 import numpy as np
+import numpy.typing as npt
 
 from telerehab import _native
-
-PlanarFourbarResult = _native.PlanarFourbarResult
-SerialChainResult = _native.SerialChainResult
-Arm3dResult = _native.Arm3dResult
+from telerehab._native import Arm3dResult, PlanarFourbarResult, SerialChainResult
+from telerehab._validate import float_array, samples, vectors
 
 __all__ = [
     "calibrate_planar_fourbar",
@@ -34,26 +34,25 @@ __all__ = [
     "Arm3dResult",
     "PlanarFourbarResult",
     "SerialChainResult",
+    "FourbarMethod",
+    "HeadingModel",
+    "InitialGuess",
 ]
+
+#: Four-bar calibration methods accepted by :func:`calibrate_planar_fourbar`.
+FourbarMethod = Literal["auto", "global", "lm", "thesis"]
+
+#: Heading error models accepted by :func:`calibrate_arm_3d`.
+HeadingModel = Literal["exact", "offset", "offset_and_drift"]
+
+#: A start for the four-bar fit: ``{l1, l3, l4, theta2_0, theta3_0, theta4_0}`` (optionally
+#: ``gyro_bias3, gyro_bias4``), a sequence of 6 or 8 values in that order, or a result.
+InitialGuess = Union[Mapping[str, float], Sequence[float], npt.NDArray[np.float64], PlanarFourbarResult]
 
 _PARAM_NAMES = ("l1", "l3", "l4", "theta2_0", "theta3_0", "theta4_0")
 
 
-def _float_array(name: str, value: Any, ndim: int, expected: str) -> np.ndarray:
-    """`value` as a C-contiguous float64 array of `ndim` dimensions, or ValueError."""
-    arr = np.asarray(value)
-    if arr.dtype == np.bool_ or arr.dtype.kind not in "fiu":
-        raise ValueError(f"{name} must be a real numeric array of shape {expected}, got dtype {arr.dtype}")
-    if arr.ndim != ndim:
-        raise ValueError(f"{name} must have shape {expected}, got {arr.shape}")
-    arr = np.ascontiguousarray(arr, dtype=np.float64)
-    if not np.all(np.isfinite(arr)):
-        bad = np.argwhere(~np.isfinite(arr))[0]
-        raise ValueError(f"{name} must be finite (shape {expected}); NaN or infinity at index {tuple(int(i) for i in bad)}")
-    return arr
-
-
-def _initial_vector(initial: Any) -> Optional[list]:
+def _initial_vector(initial: Optional[InitialGuess]) -> Optional[List[float]]:
     if initial is None:
         return None
     if isinstance(initial, Mapping):
@@ -64,21 +63,20 @@ def _initial_vector(initial: Any) -> Optional[list]:
         if "gyro_bias3" in initial or "gyro_bias4" in initial:
             values += [float(initial.get("gyro_bias3", 0.0)), float(initial.get("gyro_bias4", 0.0))]
         return values
-    if hasattr(initial, "l1") and hasattr(initial, "theta4_0"):
+    if isinstance(initial, PlanarFourbarResult):
         return [float(getattr(initial, k)) for k in _PARAM_NAMES]
-    values = _float_array("initial", initial, 1, "(6,) or (8,)")
-    return [float(v) for v in values]
+    return [float(v) for v in float_array("initial", initial, 1, "(6,) or (8,)")]
 
 
 def calibrate_planar_fourbar(
-    phi2: Any,
-    phi3: Any,
-    phi4: Any,
-    l2: float,
+    phi2_rad: npt.ArrayLike,
+    phi3_rad: npt.ArrayLike,
+    phi4_rad: npt.ArrayLike,
+    l2_m: float,
     *,
-    initial: Union[None, Mapping[str, float], Sequence[float], PlanarFourbarResult] = None,
-    method: str = "auto",
-    time_s: Any = None,
+    initial: Optional[InitialGuess] = None,
+    method: FourbarMethod = "auto",
+    time_s: Optional[npt.ArrayLike] = None,
     gyro_bias: bool = True,
     robust: bool = True,
     max_iterations: int = 200,
@@ -93,10 +91,10 @@ def calibrate_planar_fourbar(
     from the wheel centre to the shoulder.
 
     Args:
-        phi2: (N,) wheel angle relative to the first sample (rad), from the wheel encoder.
-        phi3: (N,) forearm angle relative to the first sample (rad), integrated gyro.
-        phi4: (N,) upper-arm angle relative to the first sample (rad), integrated gyro.
-        l2: wheel radius, grip to wheel centre (m), known.
+        phi2_rad: (N,) wheel angle relative to the first sample (rad), from the wheel encoder.
+        phi3_rad: (N,) forearm angle relative to the first sample (rad), integrated gyro.
+        phi4_rad: (N,) upper-arm angle relative to the first sample (rad), integrated gyro.
+        l2_m: wheel radius, grip to wheel centre (m), known.
         initial: optional start ``{l1, l3, l4, theta2_0, theta3_0, theta4_0}`` (mapping,
             sequence of 6 or 8 values, or a previous result); required by ``"thesis"`` and
             ``"lm"``, an extra start for ``"auto"``.
@@ -129,20 +127,13 @@ def calibrate_planar_fourbar(
         ValueError: wrong shape, dtype, NaN, too few samples, or data that do not determine
             the parameters (with the motion to ask the patient for).
     """
-    p2 = _float_array("phi2", phi2, 1, "(N,)")
+    p2 = samples("phi2_rad", phi2_rad)
     n = p2.shape[0]
-    p3 = _float_array("phi3", phi3, 1, f"({n},) like phi2")
-    p4 = _float_array("phi4", phi4, 1, f"({n},) like phi2")
-    for name, arr in (("phi3", p3), ("phi4", p4)):
-        if arr.shape[0] != n:
-            raise ValueError(f"{name} must have shape ({n},) like phi2, got {arr.shape}")
-    t = None
-    if time_s is not None:
-        t = _float_array("time_s", time_s, 1, f"({n},) like phi2")
-        if t.shape[0] != n:
-            raise ValueError(f"time_s must have shape ({n},) like phi2, got {t.shape}")
+    p3 = samples("phi3_rad", phi3_rad, n, "phi2_rad")
+    p4 = samples("phi4_rad", phi4_rad, n, "phi2_rad")
+    t = None if time_s is None else samples("time_s", time_s, n, "phi2_rad")
     return _native.calibrate_planar_fourbar(
-        p2, p3, p4, float(l2), _initial_vector(initial), str(method), t,
+        p2, p3, p4, float(l2_m), _initial_vector(initial), str(method), t,
         bool(gyro_bias), bool(robust), int(max_iterations), float(tolerance),
         int(smoothing_half_window), bool(errors_in_variables),
     )
@@ -157,23 +148,20 @@ class OnlinePlanarFourbar:
 
     Example:
         >>> est = OnlinePlanarFourbar(0.15)
-        >>> est.update(phi2, phi3, phi4)     # scalars or 1-D arrays
+        >>> est.update(phi2_rad, phi3_rad, phi4_rad)     # scalars or 1-D arrays
         >>> est.estimate.l3                  # None until identifiable
     """
 
-    def __init__(self, l2: float, *, forgetting: float = 0.999) -> None:
-        """``l2``: wheel radius (m); ``forgetting`` in [0.9, 1] (1 = never forget)."""
-        self._native = _native.OnlinePlanarFourbar(float(l2), float(forgetting))
+    def __init__(self, l2_m: float, *, forgetting: float = 0.999) -> None:
+        """``l2_m``: wheel radius (m); ``forgetting`` in [0.9, 1] (1 = never forget)."""
+        self._native = _native.OnlinePlanarFourbar(float(l2_m), float(forgetting))
 
-    def update(self, phi2: Any, phi3: Any, phi4: Any) -> None:
+    def update(self, phi2_rad: npt.ArrayLike, phi3_rad: npt.ArrayLike, phi4_rad: npt.ArrayLike) -> None:
         """Absorb one sample (floats) or a batch (equal-length 1-D arrays), in order (rad)."""
-        p2 = _float_array("phi2", np.atleast_1d(phi2), 1, "() or (N,)")
+        p2 = samples("phi2_rad", np.atleast_1d(phi2_rad))
         n = p2.shape[0]
-        p3 = _float_array("phi3", np.atleast_1d(phi3), 1, f"({n},) like phi2")
-        p4 = _float_array("phi4", np.atleast_1d(phi4), 1, f"({n},) like phi2")
-        for name, arr in (("phi3", p3), ("phi4", p4)):
-            if arr.shape[0] != n:
-                raise ValueError(f"{name} must have shape ({n},) like phi2, got {arr.shape}")
+        p3 = samples("phi3_rad", np.atleast_1d(phi3_rad), n, "phi2_rad")
+        p4 = samples("phi4_rad", np.atleast_1d(phi4_rad), n, "phi2_rad")
         self._native.update_many(p2, p3, p4)
 
     @property
@@ -188,9 +176,9 @@ class OnlinePlanarFourbar:
 
 
 def calibrate_serial_chain(
-    nominal_frames: Any,
-    joint_motions: Any,
-    measured_end_poses: Any,
+    nominal_frames: npt.ArrayLike,
+    joint_motions: npt.ArrayLike,
+    measured_end_poses: npt.ArrayLike,
     *,
     max_iterations: int = 100,
     tolerance: float = 1e-13,
@@ -215,35 +203,27 @@ def calibrate_serial_chain(
     Raises:
         ValueError: wrong shape, dtype, NaN, non-rigid matrices or too few measurements.
     """
-    f = _float_array("nominal_frames", nominal_frames, 3, "(n+1, 4, 4)")
+    f = float_array("nominal_frames", nominal_frames, 3, "(n+1, 4, 4)")
     if f.shape[1:] != (4, 4) or f.shape[0] < 1:
         raise ValueError(f"nominal_frames must have shape (n+1, 4, 4), got {f.shape}")
     n = f.shape[0] - 1
-    t = _float_array("measured_end_poses", measured_end_poses, 3, "(m, 4, 4)")
+    t = float_array("measured_end_poses", measured_end_poses, 3, "(m, 4, 4)")
     if t.shape[1:] != (4, 4):
         raise ValueError(f"measured_end_poses must have shape (m, 4, 4), got {t.shape}")
     m = t.shape[0]
-    q = _float_array("joint_motions", joint_motions, 4, f"(m, n, 4, 4) = ({m}, {n}, 4, 4)")
+    q = float_array("joint_motions", joint_motions, 4, f"(m, n, 4, 4) = ({m}, {n}, 4, 4)")
     if q.shape != (m, n, 4, 4):
         raise ValueError(f"joint_motions must have shape (m, n, 4, 4) = ({m}, {n}, 4, 4), got {q.shape}")
     return _native.calibrate_serial_chain(f, q, t, int(max_iterations), float(tolerance))
 
 
-def _vectors(name: str, value: Any, n: Optional[int], reference: str = "upper_dirs") -> np.ndarray:
-    expected = "(N, 3)" if n is None else f"({n}, 3) like {reference}"
-    arr = _float_array(name, value, 2, expected)
-    if arr.shape[1] != 3 or (n is not None and arr.shape[0] != n):
-        raise ValueError(f"{name} must have shape {expected}, got {arr.shape}")
-    return arr
-
-
 def calibrate_arm_3d(
-    upper_dirs: Any,
-    fore_dirs: Any,
-    grip_points: Any,
+    upper_dirs: npt.ArrayLike,
+    fore_dirs: npt.ArrayLike,
+    grip_points_m: npt.ArrayLike,
     *,
-    time_s: Any = None,
-    heading: str = "offset_and_drift",
+    time_s: Optional[npt.ArrayLike] = None,
+    heading: HeadingModel = "offset_and_drift",
     errors_in_variables: bool = True,
     max_iterations: int = 20,
 ) -> Arm3dResult:
@@ -261,7 +241,7 @@ def calibrate_arm_3d(
         upper_dirs: (N, 3) unit direction shoulder → elbow per sample, wheel frame (the upper-arm
             segment's x axis from the IMU orientation and its mounting).
         fore_dirs: (N, 3) unit direction elbow → grip per sample (the forearm's x axis).
-        grip_points: (N, 3) grip point on the rim at the measured wheel angle (m).
+        grip_points_m: (N, 3) grip point on the rim at the measured wheel angle (m).
         time_s: optional (N,) sample times (s); the heading drift is then per second, else
             per sample.
         heading: heading error of the IMU directions to estimate alongside: ``"exact"``
@@ -285,13 +265,9 @@ def calibrate_arm_3d(
         ValueError: wrong shape, dtype, NaN, directions that are not unit vectors, too few
             samples, or a wheel that never turned (the parameters are then not identifiable).
     """
-    u = _vectors("upper_dirs", upper_dirs, None)
+    u = vectors("upper_dirs", upper_dirs)
     n = u.shape[0]
-    f = _vectors("fore_dirs", fore_dirs, n)
-    g = _vectors("grip_points", grip_points, n)
-    t = None
-    if time_s is not None:
-        t = _float_array("time_s", time_s, 1, f"({n},) like upper_dirs")
-        if t.shape[0] != n:
-            raise ValueError(f"time_s must have shape ({n},) like upper_dirs, got {t.shape}")
+    f = vectors("fore_dirs", fore_dirs, n, "upper_dirs")
+    g = vectors("grip_points_m", grip_points_m, n, "upper_dirs")
+    t = None if time_s is None else samples("time_s", time_s, n, "upper_dirs")
     return _native.calibrate_arm_3d(u, f, g, t, str(heading), bool(errors_in_variables), int(max_iterations))

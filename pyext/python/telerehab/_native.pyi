@@ -1,0 +1,196 @@
+"""Type stubs for the private native module ``telerehab._native`` (pyo3, ``pyext/src``).
+
+The public API is the facade (:mod:`telerehab.calib`, :mod:`telerehab.imu`), which converts
+and checks its arguments before calling these functions: arrays here are C-contiguous
+float64 of the documented shape. Checked against the built module by ``mypy.stubtest`` in
+``scripts/test.sh``.
+"""
+
+from typing import Dict, Iterator, List, Optional, Union, final
+
+import numpy as np
+import numpy.typing as npt
+
+_F64 = npt.NDArray[np.float64]
+
+__all__ = [
+    "__version__",
+    "calibrate_planar_fourbar",
+    "calibrate_serial_chain",
+    "PlanarFourbarResult",
+    "OnlinePlanarFourbar",
+    "SerialChainResult",
+    "calibrate_arm_3d",
+    "Arm3dResult",
+    "imu_integrate",
+    "imu_fuse",
+    "imu_estimate_bias",
+    "BiasEstimate",
+]
+
+__version__: str
+
+# --- calib -------------------------------------------------------------------------------
+
+@final
+class PlanarFourbarResult:
+    """A calibrated planar four-bar (lengths m, angles rad, ground link along +x)."""
+
+    @property
+    def l1(self) -> float: ...
+    @property
+    def l3(self) -> float: ...
+    @property
+    def l4(self) -> float: ...
+    @property
+    def theta2_0(self) -> float: ...
+    @property
+    def theta3_0(self) -> float: ...
+    @property
+    def theta4_0(self) -> float: ...
+    @property
+    def gyro_bias3(self) -> float: ...
+    @property
+    def gyro_bias4(self) -> float: ...
+    @property
+    def method(self) -> str: ...
+    @property
+    def iterations(self) -> int: ...
+    @property
+    def converged(self) -> bool: ...
+    @property
+    def rms_residual(self) -> float: ...
+    @property
+    def condition_number(self) -> float: ...
+    @property
+    def outlier_fraction(self) -> float: ...
+    @property
+    def wheel_range(self) -> Optional[float]: ...
+    @property
+    def warnings(self) -> List[str]: ...
+    @property
+    def std_errors(self) -> Dict[str, float]: ...
+
+def calibrate_planar_fourbar(
+    phi2_rad: _F64,
+    phi3_rad: _F64,
+    phi4_rad: _F64,
+    l2_m: float,
+    initial: Optional[List[float]],
+    method: str,
+    time_s: Optional[_F64],
+    gyro_bias: bool,
+    robust: bool,
+    max_iterations: int,
+    tolerance: float,
+    smoothing_half_window: int,
+    errors_in_variables: bool,
+) -> PlanarFourbarResult: ...
+
+@final
+class OnlinePlanarFourbar:
+    """Recursive least-squares four-bar calibration with forgetting."""
+
+    def __new__(cls, l2_m: float, forgetting: float) -> OnlinePlanarFourbar: ...
+    def update_many(self, phi2_rad: _F64, phi3_rad: _F64, phi4_rad: _F64) -> None: ...
+    @property
+    def estimate(self) -> Optional[PlanarFourbarResult]: ...
+    @property
+    def samples(self) -> int: ...
+
+@final
+class SerialChainResult:
+    """Calibrated frames of a serial chain and how far to trust them."""
+
+    @property
+    def frames(self) -> _F64: ...
+    @property
+    def iterations(self) -> int: ...
+    @property
+    def converged(self) -> bool: ...
+    @property
+    def rms_residual(self) -> float: ...
+    @property
+    def rms_translation(self) -> float: ...
+    @property
+    def rms_rotation(self) -> float: ...
+    @property
+    def condition_number(self) -> float: ...
+    @property
+    def rank(self) -> int: ...
+    @property
+    def warnings(self) -> List[str]: ...
+
+def calibrate_serial_chain(
+    nominal_frames: _F64,
+    joint_motions: _F64,
+    measured_end_poses: _F64,
+    max_iterations: int,
+    tolerance: float,
+) -> SerialChainResult: ...
+
+@final
+class Arm3dResult:
+    """A calibrated spatial arm (m, rad, wheel frame) and how far to trust it."""
+
+    @property
+    def shoulder_m(self) -> List[float]: ...
+    @property
+    def upper_arm_m(self) -> float: ...
+    @property
+    def forearm_m(self) -> float: ...
+    @property
+    def heading_offset(self) -> List[float]: ...
+    @property
+    def heading_drift(self) -> List[float]: ...
+    @property
+    def heading_model(self) -> str: ...
+    @property
+    def iterations(self) -> int: ...
+    @property
+    def converged(self) -> bool: ...
+    @property
+    def rms_residual(self) -> float: ...
+    @property
+    def condition_number(self) -> float: ...
+    @property
+    def direction_noise(self) -> List[float]: ...
+    @property
+    def grip_spread_m(self) -> float: ...
+    @property
+    def warnings(self) -> List[str]: ...
+    @property
+    def std_errors(self) -> Dict[str, Union[float, List[float]]]: ...
+
+def calibrate_arm_3d(
+    upper_dirs: _F64,
+    fore_dirs: _F64,
+    grip_points_m: _F64,
+    time_s: Optional[_F64],
+    heading: str,
+    errors_in_variables: bool,
+    max_iterations: int,
+) -> Arm3dResult: ...
+
+# --- imu ---------------------------------------------------------------------------------
+
+def imu_integrate(rates_rad_s: _F64, dt_s: float, method: str) -> _F64: ...
+def imu_fuse(gyr_rad_s: _F64, acc_m_s2: _F64, dt_s: float, tau_acc_s: float) -> _F64: ...
+
+@final
+class BiasEstimate:
+    """A constant gyro bias from the rest periods; unpacks as ``(bias_rad_s, rest_fraction)``."""
+
+    @property
+    def bias_rad_s(self) -> _F64: ...
+    @property
+    def rest_fraction(self) -> float: ...
+    def __iter__(self) -> Iterator[Union[_F64, float]]: ...
+
+def imu_estimate_bias(
+    rates_rad_s: _F64,
+    dt_s: float,
+    acc_m_s2: Optional[_F64],
+    rate_threshold_deg_s: float,
+    min_rest_s: float,
+) -> BiasEstimate: ...
