@@ -2,9 +2,9 @@
 
 use super::haptic::Pacing;
 use super::plant::Plant;
-use super::record::{ArmSetup, TickRecord};
 use super::{BodyKind, Controls, SessionObserver, SessionOptions, course};
 use crate::config::StationConfig;
+use crate::record::{ArmSetup, TickRecord, Watchdog};
 use std::sync::atomic::Ordering;
 
 fn config(exercise: &str, duration_s: f64) -> StationConfig {
@@ -65,12 +65,12 @@ fn pause_freezes_car_clock_and_score_and_fades_torque_to_zero() {
     // The supervisor's fade (default 0.5 s or less) has brought the torque to zero.
     for r in &paused[1000..] {
         assert_eq!(r.wheel.commanded_nm, 0.0, "tick {}", r.tick);
-        assert_eq!(r.wheel.watchdog, "paused");
+        assert_eq!(r.wheel.watchdog, Watchdog::Paused);
     }
     assert_eq!(plant.active_ticks(), 4000);
     plant.set_paused(false);
     let resumed: Vec<TickRecord> = (0..3000).map(|_| plant.tick()).collect();
-    assert_eq!(resumed[0].wheel.watchdog, "soft-start");
+    assert_eq!(resumed[0].wheel.watchdog, Watchdog::SoftStart);
     assert!(
         resumed[2999].vehicle.unwrap().s_m > v0.s_m + 10.0,
         "the car drives on"
@@ -188,7 +188,7 @@ fn guided_mounting_runs_first_then_the_exercise_and_tracks_the_arm_within_2_deg(
     );
     // Then the pose from the found mounting matches the simulated truth.
     let after = &recs[tracking + 2000..];
-    let rms = |f: fn(&super::record::ArmSample) -> f64| {
+    let rms = |f: fn(&crate::record::ArmSample) -> f64| {
         (after
             .iter()
             .map(|r| f(&r.arm.unwrap()).powi(2))
