@@ -28,7 +28,7 @@ fn tick(n: u64) -> TickRecord {
             road_feel_nm: 0.2 * x,
             requested_nm: 0.3 * x,
             commanded_nm: 0.4 * x,
-            clipped: n % 2 == 0,
+            clipped: n.is_multiple_of(2),
             safety_scale: 0.5,
             watchdog: [
                 Watchdog::Running,
@@ -37,7 +37,7 @@ fn tick(n: u64) -> TickRecord {
             ][n as usize % 3],
             passivity_energy_j: -1e-3 * x,
             passivity_damping_nm_s_per_rad: 1e-4,
-            true_angle_rad: (n % 2 == 0).then_some(x + 1e-9),
+            true_angle_rad: (n.is_multiple_of(2)).then_some(x + 1e-9),
             hand_nm: None,
             target_rad: f64::MIN_POSITIVE,
         },
@@ -116,7 +116,7 @@ fn write_session(ticks: &[TickRecord]) -> Vec<u8> {
     )
     .unwrap();
     for t in ticks {
-        w.write_tick(t, t.tick % 2 == 0).unwrap();
+        w.write_tick(t, t.tick.is_multiple_of(2)).unwrap();
     }
     w.write_arm_calibration(ticks.last().unwrap(), &calibration())
         .unwrap();
@@ -143,7 +143,7 @@ fn every_channel_reads_back_equal() {
         ticks.iter().filter_map(|t| t.vehicle).collect::<Vec<_>>()
     );
     let score: Vec<_> = rec.score.iter().map(|m| (m.tick, m.data)).collect();
-    let even = ticks.iter().filter(|t| t.tick % 2 == 0);
+    let even = ticks.iter().filter(|t| t.tick.is_multiple_of(2));
     assert_eq!(score, even.map(|t| (t.tick, t.score)).collect::<Vec<_>>());
     let assist: Vec<_> = rec.assist.iter().map(|m| m.data).collect();
     assert_eq!(assist, ticks.iter().map(|t| t.assist).collect::<Vec<_>>());
@@ -287,7 +287,10 @@ fn a_killed_recording_recovers_to_one_that_reads_back() {
 
     let (copied, out) = recover(&killed, Cursor::new(Vec::new())).unwrap();
     // Ticks 0–2: wheel, assist and timing on each, vehicle and arm on two each.
-    assert_eq!((copied.messages, copied.channels), (3 * 3 + 2 + 2, CHANNELS.len()));
+    assert_eq!(
+        (copied.messages, copied.channels),
+        (3 * 3 + 2 + 2, CHANNELS.len())
+    );
     let rec = Recording::from_bytes(&out.into_inner()).unwrap();
     assert_eq!(rec.metadata, metadata());
     let wheel: Vec<_> = rec.ticks().map(|t| t.wheel).collect();

@@ -260,3 +260,42 @@ fn a_guided_session_as_fast_as_possible_is_the_same_on_every_run() {
         "the mounting solve must not depend on wall-clock time"
     );
 }
+
+#[test]
+fn a_recorded_session_reads_back_into_the_records_the_recorder_saw() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("s.mcap");
+    let opts = SessionOptions {
+        record: Some(path.clone()),
+        ..simulated_at_max_speed(config("sine-road", 2.0))
+    };
+    let mut keep = Keep::default();
+    let report = super::run(&opts, &Controls::default(), &mut keep).unwrap();
+    let rec = crate::record::Recording::open(&path).unwrap();
+
+    assert_eq!(rec.metadata.seed, 7);
+    assert_eq!(rec.metadata.exercise, "sine-road");
+    assert_eq!(rec.metadata.loop_rate_hz, opts.config.session.loop_rate_hz);
+    let back: Vec<TickRecord> = rec.ticks().collect();
+    assert_eq!(back.len(), keep.0.len());
+    for (read, seen) in back.iter().zip(&keep.0) {
+        // The score is recorded every 100 ms: in between, the read tick carries the last one.
+        assert_eq!(
+            TickRecord {
+                score: seen.score,
+                ..*read
+            },
+            *seen
+        );
+    }
+    let summary_ticks = rec.score.iter().map(|s| &keep.0[s.tick as usize]);
+    assert!(
+        rec.score
+            .iter()
+            .zip(summary_ticks)
+            .all(|(s, t)| s.data == t.score)
+    );
+    let calibration = report.recorder.arm_calibration.and_then(Result::ok);
+    let recorded = rec.arm_calibration.first().map(|m| m.data.clone());
+    assert_eq!(recorded, calibration);
+}
