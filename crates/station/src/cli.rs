@@ -3,11 +3,11 @@
 use crate::commands::bench::RenderImpact;
 use crate::config::StationConfig;
 use crate::link::Link;
+use crate::record::TickRecord;
 use crate::regimen::Regimen;
 use crate::render::ScreenState;
 use crate::render::window::{UserRequest, WindowOptions, WindowStats};
 use crate::screen::CourseView;
-use crate::session::record::TickRecord;
 use crate::session::{
     self, BodyKind, LiveSummary, SessionObserver, SessionOptions, haptic::Pacing,
 };

@@ -1,16 +1,15 @@
 //! The telerehab station: command line, configuration, threads, recorder and therapist hub.
 //!
 //! Thread layout (DESIGN.md): the `haptic` thread runs the 1 kHz loop ([`session::haptic`]),
-//! the `recorder` thread writes MCAP and thins summaries ([`recorder`]), a tokio runtime owns
-//! the therapist link ([`link`], [`therapist`]).
+//! the `recorder` thread ([`session::recorder`]) writes MCAP in the [`record`] format and thins
+//! summaries, a tokio runtime owns the therapist link ([`link`], [`therapist`]).
 
-pub mod arm_calibration;
 pub mod cli;
 pub mod commands;
 pub mod config;
 pub mod devices;
 pub mod link;
-pub mod recorder;
+pub mod record;
 pub mod recover;
 pub mod regimen;
 pub mod render;

@@ -5,7 +5,7 @@
 //! session runs with the window open, drawing is switched on and off every `--phase`
 //! seconds, and each tick's period error is counted in the phase it ran in.
 
-use crate::session::record::TickRecord;
+use crate::record::TickRecord;
 use crate::timing::{Percentiles, TimingStats};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -1,9 +1,9 @@
 //! The haptic thread: one tick per period at absolute deadlines, records out through a
 //! wait-free ring buffer, torque faded to zero on every way out.
 
+use crate::record::{TickRecord, TimingSample};
 use crate::session::Controls;
 use crate::session::plant::Plant;
-use crate::session::record::{TickRecord, TimingSample};
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 

@@ -2,24 +2,24 @@
 //! together and torn down cleanly on every path.
 
 pub mod arm;
+pub mod arm_calibration;
 pub mod course;
 pub mod haptic;
 pub mod plant;
-pub mod record;
+pub mod recorder;
 #[cfg(test)]
 mod tests;
 
 use crate::config::StationConfig;
-use crate::recorder::{McapRecorder, RecorderOutcome, SUMMARY_EVERY_S};
-use crate::timing::TimingStats;
+use crate::record::{SessionMetadata, TickRecord};
 use anyhow::Context;
 use haptic::{HapticOutcome, Pacing};
-use record::TickRecord;
+use recorder::{McapRecorder, RecorderOutcome, RecorderPlan, SUMMARY_EVERY_S, recorder_loop};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, SystemTime, UNIX_EPOCH};
+use std::time::{SystemTime, UNIX_EPOCH};
 
 /// Capacity of the haptic → recorder ring, records (8 s at 1 kHz).
 const RING_CAPACITY: usize = 8192;
@@ -150,22 +150,18 @@ pub fn run(
     };
     let recorder = match &opts.record {
         Some(path) => {
-            let mut meta = BTreeMap::new();
-            meta.insert("exercise".into(), cfg.session.exercise.clone());
-            meta.insert("seed".into(), cfg.session.seed.to_string());
-            meta.insert("patient_id".into(), cfg.session.patient_id.clone());
-            meta.insert("loop_rate_hz".into(), rate.to_string());
-            meta.insert(
-                "config_toml".into(),
-                toml::to_string(cfg).unwrap_or_default(),
-            );
-            // A session is replayable only with its course: record the regimen as well.
-            if let Some(r) = &opts.regimen {
-                meta.insert(
-                    "regimen_toml".into(),
-                    toml::to_string(r).unwrap_or_default(),
-                );
-            }
+            let meta = SessionMetadata {
+                exercise: cfg.session.exercise.clone(),
+                seed: cfg.session.seed,
+                patient_id: cfg.session.patient_id.clone(),
+                loop_rate_hz: rate,
+                config_toml: toml::to_string(cfg).unwrap_or_default(),
+                // A session is replayable only with its course: record the regimen as well.
+                regimen_toml: opts
+                    .regimen
+                    .as_ref()
+                    .map(|r| toml::to_string(r).unwrap_or_default()),
+            };
             Some(
                 McapRecorder::create(path, start_unix_ns, &meta)
                     .context("cannot start recording")?,
@@ -231,166 +227,4 @@ pub fn run(
             cfg.sim_arm.geometry.forearm_m,
         )),
     })
-}
-
-/// Metrics for the therapist beyond the fixed summary fields: safety and assistance so far.
-fn summary_extra(out: &RecorderOutcome) -> BTreeMap<String, f64> {
-    let ticks = out.records.max(1) as f64;
-    let mut extra = BTreeMap::new();
-    extra.insert(
-        "clipped_pct".into(),
-        100.0 * out.clipped_ticks as f64 / ticks,
-    );
-    extra.insert("watchdog_fault_ticks".into(), out.fault_ticks as f64);
-    if let Some(arm) = &out.last.arm {
-        extra.insert(
-            "shoulder_elevation_deg".into(),
-            arm.shoulder_elevation_rad.to_degrees(),
-        );
-        extra.insert(
-            "elbow_flexion_deg".into(),
-            arm.elbow_flexion_rad.to_degrees(),
-        );
-    }
-    if out.assist_ticks > 0 {
-        let n = out.assist_ticks as f64;
-        extra.insert("assist_level_mean".into(), out.assist_level_sum / n);
-        extra.insert(
-            "assist_rms_error_deg".into(),
-            (out.assist_error_sq_sum / n).sqrt().to_degrees(),
-        );
-        extra.insert(
-            "assist_saturated_pct".into(),
-            100.0 * out.assist_saturated_ticks as f64 / n,
-        );
-    }
-    extra
-}
-
-/// Logs what changes in a session from the recorded ticks (pauses, the arm set-up's steps),
-/// so that the haptic thread itself never writes a log line.
-#[derive(Default)]
-struct ChangeLog {
-    paused: bool,
-    arm_step: Option<record::ArmSetup>,
-}
-
-impl ChangeLog {
-    fn observe(&mut self, rec: &TickRecord) {
-        if rec.score.paused != self.paused {
-            self.paused = rec.score.paused;
-            tracing::info!(
-                tick = rec.tick,
-                paused = self.paused,
-                "exercise paused or resumed"
-            );
-        }
-        if let Some(arm) = &rec.arm
-            && self.arm_step != Some(arm.setup)
-        {
-            tracing::info!(
-                tick = rec.tick,
-                from = ?self.arm_step,
-                to = ?arm.setup,
-                "arm sensing"
-            );
-            self.arm_step = Some(arm.setup);
-        }
-    }
-}
-
-/// The recorder thread's fixed settings.
-struct RecorderPlan {
-    /// Nominal loop period, ns.
-    period_ns: u64,
-    /// Ticks the session should run (for preallocation).
-    expected_ticks: u64,
-    /// Ticks between summaries.
-    summary_every: u64,
-    /// Ticks between MCAP chunk flushes.
-    flush_every: u64,
-}
-
-fn recorder_loop(
-    mut consumer: rtrb::Consumer<TickRecord>,
-    mut mcap: Option<McapRecorder>,
-    haptic_done: &AtomicBool,
-    plan: RecorderPlan,
-    observer: &mut dyn SessionObserver,
-) -> (RecorderOutcome, u64) {
-    let RecorderPlan {
-        period_ns,
-        expected_ticks,
-        summary_every,
-        flush_every,
-    } = plan;
-    let mut out = RecorderOutcome {
-        timing: TimingStats::new(period_ns, expected_ticks as usize + 1000),
-        ..Default::default()
-    };
-    let mut seq = 0u64;
-    let mut arm_loop = crate::arm_calibration::ArmLoopCollector::new(1e9 / period_ns as f64);
-    let mut changes = ChangeLog::default();
-    loop {
-        let rec = match consumer.pop() {
-            Ok(r) => r,
-            Err(_) => {
-                if haptic_done.load(Ordering::Acquire) && consumer.is_empty() {
-                    break;
-                }
-                std::thread::sleep(Duration::from_micros(500));
-                continue;
-            }
-        };
-        out.add(&rec);
-        arm_loop.add(&rec);
-        changes.observe(&rec);
-        observer.on_tick(&rec);
-        let summary_tick = rec.tick % summary_every == 0 && rec.tick > 0;
-        if let Some(m) = mcap.as_mut() {
-            let res = m.record(&rec, summary_tick).and_then(|()| {
-                if rec.tick % flush_every == flush_every - 1 {
-                    m.flush()
-                } else {
-                    Ok(())
-                }
-            });
-            if let Err(e) = res {
-                // Keep the session running; report the first recording error once at the end.
-                out.error.get_or_insert_with(|| e.to_string());
-                mcap = None;
-            }
-        }
-        if summary_tick {
-            observer.on_summary(&LiveSummary {
-                seq,
-                record: rec,
-                max_abs_torque_nm: out.max_abs_torque_nm,
-                loop_p99_us: out.timing.recent_period_error_p99_us(1000),
-                extra: summary_extra(&out),
-            });
-            seq += 1;
-        }
-    }
-    if !arm_loop.is_empty() || out.last.arm.is_some() {
-        let fitted = arm_loop
-            .calibrate()
-            .map(|c| crate::arm_calibration::ArmCalibrationSample::from(&c))
-            .map_err(|e| e.to_string());
-        if let (Ok(c), Some(m)) = (&fitted, mcap.as_mut())
-            && let Err(e) = m.record_arm_calibration(&out.last, c)
-        {
-            out.error.get_or_insert_with(|| e.to_string());
-        }
-        out.arm_calibration = Some(fitted);
-    }
-    if let Some(m) = mcap {
-        match m.finish() {
-            Ok(bytes) => out.mcap_bytes = Some(bytes),
-            Err(e) => {
-                out.error.get_or_insert_with(|| e.to_string());
-            }
-        }
-    }
-    (out, seq)
 }

@@ -4,12 +4,10 @@
 //! One [`Plant::tick`] is one haptic-loop period; it allocates nothing.
 
 use crate::config::StationConfig;
+use crate::record::{ArmSample, AssistSample, ScoreSample, TickRecord, VehicleSample, WheelSample};
 use crate::session::arm::sim::SimArmSensing;
 use crate::session::arm::{SetupStep, WheelNow};
 use crate::session::course::Segment;
-use crate::session::record::{
-    ArmSample, AssistSample, ScoreSample, TickRecord, VehicleSample, WheelSample, watchdog_label,
-};
 use anyhow::Context;
 use assist::{HumanArm, Limits, Measurement};
 use haptic_wheel::{
@@ -417,7 +415,7 @@ impl Plant {
                 commanded_nm: tel.torque_nm,
                 clipped: tel.clipped,
                 safety_scale: tel.safety_scale,
-                watchdog: watchdog_label(tel.watchdog),
+                watchdog: tel.watchdog.into(),
                 passivity_energy_j: tel.passivity_energy_j,
                 passivity_damping_nm_s_per_rad: tel.passivity_damping_nm_s_per_rad,
                 true_angle_rad: motion.true_angle_rad,

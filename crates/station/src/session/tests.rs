@@ -2,9 +2,9 @@
 
 use super::haptic::Pacing;
 use super::plant::Plant;
-use super::record::{ArmSetup, TickRecord};
 use super::{BodyKind, Controls, SessionObserver, SessionOptions, course};
 use crate::config::StationConfig;
+use crate::record::{ArmSetup, TickRecord, Watchdog};
 use std::sync::atomic::Ordering;
 
 fn config(exercise: &str, duration_s: f64) -> StationConfig {
@@ -65,12 +65,12 @@ fn pause_freezes_car_clock_and_score_and_fades_torque_to_zero() {
     // The supervisor's fade (default 0.5 s or less) has brought the torque to zero.
     for r in &paused[1000..] {
         assert_eq!(r.wheel.commanded_nm, 0.0, "tick {}", r.tick);
-        assert_eq!(r.wheel.watchdog, "paused");
+        assert_eq!(r.wheel.watchdog, Watchdog::Paused);
     }
     assert_eq!(plant.active_ticks(), 4000);
     plant.set_paused(false);
     let resumed: Vec<TickRecord> = (0..3000).map(|_| plant.tick()).collect();
-    assert_eq!(resumed[0].wheel.watchdog, "soft-start");
+    assert_eq!(resumed[0].wheel.watchdog, Watchdog::SoftStart);
     assert!(
         resumed[2999].vehicle.unwrap().s_m > v0.s_m + 10.0,
         "the car drives on"
@@ -188,7 +188,7 @@ fn guided_mounting_runs_first_then_the_exercise_and_tracks_the_arm_within_2_deg(
     );
     // Then the pose from the found mounting matches the simulated truth.
     let after = &recs[tracking + 2000..];
-    let rms = |f: fn(&super::record::ArmSample) -> f64| {
+    let rms = |f: fn(&crate::record::ArmSample) -> f64| {
         (after
             .iter()
             .map(|r| f(&r.arm.unwrap()).powi(2))
@@ -259,4 +259,43 @@ fn a_guided_session_as_fast_as_possible_is_the_same_on_every_run() {
         a == b,
         "the mounting solve must not depend on wall-clock time"
     );
+}
+
+#[test]
+fn a_recorded_session_reads_back_into_the_records_the_recorder_saw() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("s.mcap");
+    let opts = SessionOptions {
+        record: Some(path.clone()),
+        ..simulated_at_max_speed(config("sine-road", 2.0))
+    };
+    let mut keep = Keep::default();
+    let report = super::run(&opts, &Controls::default(), &mut keep).unwrap();
+    let rec = crate::record::Recording::open(&path).unwrap();
+
+    assert_eq!(rec.metadata.seed, 7);
+    assert_eq!(rec.metadata.exercise, "sine-road");
+    assert_eq!(rec.metadata.loop_rate_hz, opts.config.session.loop_rate_hz);
+    let back: Vec<TickRecord> = rec.ticks().collect();
+    assert_eq!(back.len(), keep.0.len());
+    for (read, seen) in back.iter().zip(&keep.0) {
+        // The score is recorded every 100 ms: in between, the read tick carries the last one.
+        assert_eq!(
+            TickRecord {
+                score: seen.score,
+                ..*read
+            },
+            *seen
+        );
+    }
+    let summary_ticks = rec.score.iter().map(|s| &keep.0[s.tick as usize]);
+    assert!(
+        rec.score
+            .iter()
+            .zip(summary_ticks)
+            .all(|(s, t)| s.data == t.score)
+    );
+    let calibration = report.recorder.arm_calibration.and_then(Result::ok);
+    let recorded = rec.arm_calibration.first().map(|m| m.data.clone());
+    assert_eq!(recorded, calibration);
 }

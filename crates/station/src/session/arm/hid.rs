@@ -3,7 +3,7 @@
 //! either way round. Polled without blocking on the haptic thread; allocation-free per tick.
 
 use super::{ArmTracker, WheelNow};
-use crate::session::record::ArmSample;
+use crate::record::ArmSample;
 use anyhow::Context;
 use gyro_imu::ImuError;
 use gyro_imu::arm::ArmGeometry;

@@ -6,7 +6,7 @@
 pub mod hid;
 pub mod sim;
 
-use crate::session::record::{ArmSample, ArmSetup};
+use crate::record::{ArmSample, ArmSetup};
 use gyro_imu::ImuError;
 use gyro_imu::arm::ArmGeometry;
 use gyro_imu::device::ImuSample;

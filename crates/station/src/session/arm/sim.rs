@@ -3,7 +3,7 @@
 //! samples into joint angles. Allocation-free per tick.
 
 use super::{ArmTracker, MountingMode, SetupStep, WheelNow};
-use crate::session::record::ArmSample;
+use crate::record::ArmSample;
 use gyro_imu::ImuError;
 use gyro_imu::pose::Mounting;
 use gyro_imu::sim::arm::{PatientArmConfig, SimArm};

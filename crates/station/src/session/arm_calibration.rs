@@ -3,10 +3,8 @@
 //! the grip points while the arm is tracked, and fits shoulder position and segment lengths
 //! when the session ends. Nothing of it runs on the haptic thread.
 
-use crate::session::record::{ArmSetup, TickRecord};
+use crate::record::{ArmSetup, TickRecord};
 use calib::{Arm3dCalibration, ArmLoopOptions, ArmLoopSamples, calibrate_arm_3d};
-use schemars::JsonSchema;
-use serde::Serialize;
 
 /// Samples kept per second of tracking.
 const SAMPLES_PER_S: f64 = 50.0;
@@ -81,44 +79,5 @@ impl ArmLoopCollector {
             ..ArmLoopSamples::new(&self.upper, &self.fore, &self.grip)
         };
         calibrate_arm_3d(&samples, &ArmLoopOptions::default())
-    }
-}
-
-/// The arm calibration as recorded (channel `/arm_calibration`, once at the end).
-#[derive(Clone, Debug, Serialize, JsonSchema)]
-pub struct ArmCalibrationSample {
-    /// Shoulder joint centre in the wheel frame, m.
-    pub shoulder_m: [f64; 3],
-    /// Upper-arm length (shoulder to elbow), m.
-    pub upper_arm_m: f64,
-    /// Forearm length (elbow to grip), m.
-    pub forearm_m: f64,
-    /// 1σ standard error of the upper-arm length, m.
-    pub upper_arm_se_m: f64,
-    /// 1σ standard error of the forearm length, m.
-    pub forearm_se_m: f64,
-    /// RMS loop-closure residual, m.
-    pub rms_residual_m: f64,
-    /// Condition number of the fit (below 200 is well identified).
-    pub condition_number: f64,
-    /// Samples used.
-    pub samples: f64,
-    /// Warnings, each with what to do about it.
-    pub warnings: Vec<String>,
-}
-
-impl From<&Arm3dCalibration> for ArmCalibrationSample {
-    fn from(c: &Arm3dCalibration) -> Self {
-        Self {
-            shoulder_m: c.params.shoulder_m,
-            upper_arm_m: c.params.upper_arm_m,
-            forearm_m: c.params.forearm_m,
-            upper_arm_se_m: c.std_errors.upper_arm_m,
-            forearm_se_m: c.std_errors.forearm_m,
-            rms_residual_m: c.rms_residual_m,
-            condition_number: c.condition_number,
-            samples: c.samples,
-            warnings: c.warnings.clone(),
-        }
     }
 }

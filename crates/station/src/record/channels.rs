@@ -1,0 +1,157 @@
+//! The channels of a recording: topic, schema name and JSON schema, in one table.
+
+use super::types::{
+    ArmCalibrationSample, ArmSample, AssistSample, ScoreSample, Stamped, TimingSample,
+    VehicleSample, WheelSample,
+};
+use schemars::JsonSchema;
+
+/// Encoding of every channel's messages.
+pub const MESSAGE_ENCODING: &str = "json";
+/// Encoding of every channel's schema (JSON Schema, draft 2020-12).
+pub const SCHEMA_ENCODING: &str = "jsonschema";
+
+/// One MCAP channel of a recording.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Channel {
+    /// Wheel angle, velocity, torques and safety state, every tick ([`WheelSample`]).
+    Wheel,
+    /// Car pose, velocities and road position, every tick on the road ([`VehicleSample`]).
+    Vehicle,
+    /// Running score, every 100 ms of session time ([`ScoreSample`]).
+    Score,
+    /// Active assistance, every tick ([`AssistSample`]).
+    Assist,
+    /// Loop timing, every tick ([`TimingSample`]).
+    Timing,
+    /// Arm pose from the IMUs and raw gyro rates, every tick with arm sensing ([`ArmSample`]).
+    Arm,
+    /// The patient's arm calibrated from the session's data, once at the end
+    /// ([`ArmCalibrationSample`]).
+    ArmCalibration,
+}
+
+/// What the file says about one channel.
+#[derive(Clone, Copy, Debug)]
+pub struct ChannelSpec {
+    /// The channel.
+    pub channel: Channel,
+    /// MCAP topic.
+    pub topic: &'static str,
+    /// Schema name (also the schema's `title`).
+    pub schema_name: &'static str,
+    /// The message schema without its title.
+    schema: fn() -> schemars::Schema,
+}
+
+/// Every channel, in the order the writer registers them (`Channel as usize` indexes it).
+pub const CHANNELS: [ChannelSpec; 7] = [
+    spec::<WheelSample>(Channel::Wheel, "/wheel", "telerehab.Wheel"),
+    spec::<VehicleSample>(Channel::Vehicle, "/vehicle", "telerehab.Vehicle"),
+    spec::<ScoreSample>(Channel::Score, "/score", "telerehab.Score"),
+    spec::<AssistSample>(Channel::Assist, "/assist", "telerehab.Assist"),
+    spec::<TimingSample>(Channel::Timing, "/timing", "telerehab.LoopTiming"),
+    spec::<ArmSample>(Channel::Arm, "/arm", "telerehab.Arm"),
+    spec::<ArmCalibrationSample>(
+        Channel::ArmCalibration,
+        "/arm_calibration",
+        "telerehab.ArmCalibration",
+    ),
+];
+
+/// A channel whose messages are `Stamped<T>`.
+const fn spec<T: JsonSchema>(
+    channel: Channel,
+    topic: &'static str,
+    schema_name: &'static str,
+) -> ChannelSpec {
+    ChannelSpec {
+        channel,
+        topic,
+        schema_name,
+        schema: stamped_schema::<T>,
+    }
+}
+
+fn stamped_schema<T: JsonSchema>() -> schemars::Schema {
+    schemars::schema_for!(Stamped<T>)
+}
+
+impl ChannelSpec {
+    /// The message schema (JSON Schema draft 2020-12), titled with the schema name.
+    pub fn schema(&self) -> serde_json::Value {
+        let mut schema = serde_json::to_value((self.schema)()).expect("schemas serialise");
+        schema["title"] = self.schema_name.into();
+        schema
+    }
+}
+
+impl Channel {
+    /// Every channel, in registration order.
+    pub const ALL: [Channel; 7] = [
+        Channel::Wheel,
+        Channel::Vehicle,
+        Channel::Score,
+        Channel::Assist,
+        Channel::Timing,
+        Channel::Arm,
+        Channel::ArmCalibration,
+    ];
+
+    /// Its row of [`CHANNELS`].
+    pub fn spec(self) -> &'static ChannelSpec {
+        &CHANNELS[self as usize]
+    }
+
+    /// Its MCAP topic.
+    pub fn topic(self) -> &'static str {
+        self.spec().topic
+    }
+
+    /// The channel recorded on `topic`, if it is one of ours.
+    pub fn from_topic(topic: &str) -> Option<Self> {
+        CHANNELS
+            .iter()
+            .find(|c| c.topic == topic)
+            .map(|c| c.channel)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{CHANNELS, Channel};
+    use std::path::PathBuf;
+
+    #[test]
+    fn the_table_is_indexed_by_the_channel() {
+        for (i, c) in Channel::ALL.into_iter().enumerate() {
+            assert_eq!(CHANNELS[i].channel, c);
+            assert_eq!(Channel::from_topic(c.topic()), Some(c));
+        }
+        assert_eq!(Channel::from_topic("/nope"), None);
+    }
+
+    /// Every channel's schema is the checked-in snapshot: a change to the recording format
+    /// shows as a diff of `src/record/snapshots/`.
+    #[test]
+    fn schemas_match_the_snapshots() {
+        let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src/record/snapshots");
+        let update = std::env::var_os("UPDATE_SNAPSHOTS").is_some_and(|v| v == "1");
+        let mut stale = Vec::new();
+        for spec in &CHANNELS {
+            let file = dir.join(format!("{}.json", spec.schema_name));
+            let now = serde_json::to_string_pretty(&spec.schema()).unwrap() + "\n";
+            if update {
+                std::fs::write(&file, &now).unwrap();
+            } else if std::fs::read_to_string(&file).ok().as_deref() != Some(now.as_str()) {
+                stale.push(file.display().to_string());
+            }
+        }
+        assert!(
+            stale.is_empty(),
+            "the recorded JSON schema changed for {stale:?}; if that is intended, run \
+             `UPDATE_SNAPSHOTS=1 cargo test -p station --lib record::channels` and commit \
+             the snapshot diff"
+        );
+    }
+}

@@ -1,0 +1,40 @@
+//! The recording format: one type per MCAP channel, the channel table with their schemas, the
+//! writer and a reader.
+//!
+//! A leaf module: it depends on external crates and the workspace's library crates only,
+//! never on the session, the command line or the configuration. The recorder thread
+//! (`session::recorder`) writes with it; replay, reports, `recover` and Python read with it.
+//!
+//! # Example
+//!
+//! ```
+//! use station::record::{Recording, RecordWriter, SessionMetadata, TickRecord};
+//! use std::io::Cursor;
+//!
+//! let meta = SessionMetadata { seed: 7, loop_rate_hz: 1000.0, ..Default::default() };
+//! let mut writer = RecordWriter::new(Cursor::new(Vec::new()), 0, &meta)?;
+//! let tick = TickRecord { tick: 1, t_ns: 1_000_000, ..Default::default() };
+//! writer.write_tick(&tick, true)?;
+//! let bytes = writer.finish()?.into_inner();
+//!
+//! let recording = Recording::from_bytes(&bytes)?;
+//! assert_eq!(recording.metadata, meta);
+//! assert_eq!(recording.ticks().collect::<Vec<_>>(), [tick]);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+pub mod channels;
+pub mod reader;
+pub mod recover;
+#[cfg(test)]
+mod tests;
+pub mod types;
+pub mod writer;
+
+pub use channels::{CHANNELS, Channel, ChannelSpec};
+pub use reader::{ReadError, Recording};
+pub use types::{
+    ArmCalibrationSample, ArmSample, ArmSetup, AssistSample, ScoreSample, SessionMetadata, Stamped,
+    TickRecord, TimingSample, VehicleSample, Watchdog, WheelSample,
+};
+pub use writer::RecordWriter;

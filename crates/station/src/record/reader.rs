@@ -1,0 +1,180 @@
+//! Reads a recording back into the types it was written from (replay, reports, Python).
+
+use super::channels::Channel;
+use super::types::{
+    ArmCalibrationSample, ArmSample, AssistSample, MetadataError, ScoreSample, SessionMetadata,
+    Stamped, TickRecord, TimingSample, VehicleSample, WheelSample,
+};
+use mcap::records::Record;
+use serde::de::DeserializeOwned;
+use std::collections::BTreeMap;
+use std::io::Read;
+use std::path::Path;
+
+/// Why a recording could not be read.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ReadError {
+    /// The file or stream could not be read.
+    #[error("cannot read the recording{path}: {source}")]
+    Io {
+        /// `" <path>"` when read from a file, empty otherwise.
+        path: String,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// Not an MCAP file, or a damaged one (a killed session's file: run `telerehab recover`).
+    #[error("not a readable MCAP recording: {0}")]
+    Mcap(#[from] mcap::McapError),
+    /// A message is not what its channel's schema says.
+    #[error("message {index} of channel {topic} does not decode: {source}")]
+    Decode {
+        /// The channel's topic.
+        topic: &'static str,
+        /// The message's position within its channel, from 0.
+        index: usize,
+        /// What serde found.
+        source: serde_json::Error,
+    },
+    /// The session metadata record is missing.
+    #[error("the recording has no `session` metadata record")]
+    NoMetadata,
+    /// The session metadata record is incomplete or malformed.
+    #[error(transparent)]
+    Metadata(#[from] MetadataError),
+}
+
+/// A whole recording, decoded: the session metadata and every channel's messages in order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Recording {
+    /// The `session` metadata record.
+    pub metadata: SessionMetadata,
+    /// `/wheel`, every tick.
+    pub wheel: Vec<Stamped<WheelSample>>,
+    /// `/vehicle`, every tick on the road.
+    pub vehicle: Vec<Stamped<VehicleSample>>,
+    /// `/score`, every 100 ms of session time.
+    pub score: Vec<Stamped<ScoreSample>>,
+    /// `/assist`, every tick.
+    pub assist: Vec<Stamped<AssistSample>>,
+    /// `/timing`, every tick.
+    pub timing: Vec<Stamped<TimingSample>>,
+    /// `/arm`, every tick with arm sensing.
+    pub arm: Vec<Stamped<ArmSample>>,
+    /// `/arm_calibration`, at most once, at the end.
+    pub arm_calibration: Vec<Stamped<ArmCalibrationSample>>,
+}
+
+impl Recording {
+    /// Read the recording at `path`.
+    pub fn open(path: impl AsRef<Path>) -> Result<Self, ReadError> {
+        let path = path.as_ref();
+        let bytes = std::fs::read(path).map_err(|source| ReadError::Io {
+            path: format!(" {}", path.display()),
+            source,
+        })?;
+        Self::from_bytes(&bytes)
+    }
+
+    /// Read a recording from a stream (read to its end first).
+    pub fn read(mut reader: impl Read) -> Result<Self, ReadError> {
+        let mut bytes = Vec::new();
+        reader
+            .read_to_end(&mut bytes)
+            .map_err(|source| ReadError::Io {
+                path: String::new(),
+                source,
+            })?;
+        Self::from_bytes(&bytes)
+    }
+
+    /// Read a recording held in memory. Messages on topics that are not ours are skipped.
+    pub fn from_bytes(bytes: &[u8]) -> Result<Self, ReadError> {
+        let mut topics: BTreeMap<u16, Channel> = BTreeMap::new();
+        let mut raw: BTreeMap<Channel, Vec<Vec<u8>>> = BTreeMap::new();
+        let mut metadata = None;
+        for record in mcap::read::ChunkFlattener::new(bytes)? {
+            match record? {
+                Record::Channel(c) => {
+                    if let Some(channel) = Channel::from_topic(&c.topic) {
+                        topics.insert(c.id, channel);
+                    }
+                }
+                Record::Message { header, data } => {
+                    if let Some(channel) = topics.get(&header.channel_id) {
+                        raw.entry(*channel).or_default().push(data.into_owned());
+                    }
+                }
+                Record::Metadata(m) if m.name == SessionMetadata::NAME => {
+                    metadata = Some(SessionMetadata::from_map(&m.metadata)?);
+                }
+                _ => {}
+            }
+        }
+        let mut take = |channel| raw.remove(&channel).unwrap_or_default();
+        Ok(Self {
+            metadata: metadata.ok_or(ReadError::NoMetadata)?,
+            wheel: decode(Channel::Wheel, take(Channel::Wheel))?,
+            vehicle: decode(Channel::Vehicle, take(Channel::Vehicle))?,
+            score: decode(Channel::Score, take(Channel::Score))?,
+            assist: decode(Channel::Assist, take(Channel::Assist))?,
+            timing: decode(Channel::Timing, take(Channel::Timing))?,
+            arm: decode(Channel::Arm, take(Channel::Arm))?,
+            arm_calibration: decode(Channel::ArmCalibration, take(Channel::ArmCalibration))?,
+        })
+    }
+
+    /// The tick records again, in tick order, one per `/wheel` message: every per-tick
+    /// channel joined on the tick; the score is the latest recorded at or before the tick
+    /// (the default before the first), as the score is recorded every 100 ms only.
+    pub fn ticks(&self) -> impl Iterator<Item = TickRecord> + '_ {
+        let mut vehicle = self.vehicle.iter().peekable();
+        let mut score = self.score.iter().peekable();
+        let mut assist = self.assist.iter().peekable();
+        let mut timing = self.timing.iter().peekable();
+        let mut arm = self.arm.iter().peekable();
+        let mut last_score = ScoreSample::default();
+        self.wheel.iter().map(move |w| {
+            let tick = w.tick;
+            while let Some(s) = score.next_if(|s| s.tick <= tick) {
+                last_score = s.data;
+            }
+            TickRecord {
+                tick,
+                t_ns: w.t_ns(),
+                wheel: w.data,
+                vehicle: at_tick(&mut vehicle, tick),
+                score: last_score,
+                assist: at_tick(&mut assist, tick).unwrap_or_default(),
+                arm: at_tick(&mut arm, tick),
+                timing: at_tick(&mut timing, tick).unwrap_or_default(),
+            }
+        })
+    }
+}
+
+/// The message of `tick`, skipping any earlier ones.
+fn at_tick<'a, T: Copy + 'a>(
+    it: &mut std::iter::Peekable<impl Iterator<Item = &'a Stamped<T>>>,
+    tick: u64,
+) -> Option<T> {
+    while it.next_if(|m| m.tick < tick).is_some() {}
+    it.next_if(|m| m.tick == tick).map(|m| m.data)
+}
+
+fn decode<T: DeserializeOwned>(
+    channel: Channel,
+    messages: Vec<Vec<u8>>,
+) -> Result<Vec<Stamped<T>>, ReadError> {
+    messages
+        .iter()
+        .enumerate()
+        .map(|(index, m)| {
+            serde_json::from_slice(m).map_err(|source| ReadError::Decode {
+                topic: channel.topic(),
+                index,
+                source,
+            })
+        })
+        .collect()
+}

@@ -1,0 +1,301 @@
+//! Round trips: records written to memory read back equal, on every channel.
+
+use super::recover::recover;
+use super::*;
+use std::io::Cursor;
+
+fn metadata() -> SessionMetadata {
+    SessionMetadata {
+        exercise: "slalom".into(),
+        seed: 11,
+        patient_id: "patient-7".into(),
+        loop_rate_hz: 1000.0,
+        config_toml: "[session]\nseed = 11\n".into(),
+        regimen_toml: Some("name = \"week 3\"\n".into()),
+    }
+}
+
+/// A tick with every field set to something distinct (no zero that a default could fake).
+fn tick(n: u64) -> TickRecord {
+    let x = n as f64 + 0.123_456_789;
+    TickRecord {
+        tick: n,
+        t_ns: n * 1_000_000 + 7,
+        wheel: WheelSample {
+            angle_rad: x,
+            velocity_rad_s: -x,
+            model_nm: 0.1 * x,
+            road_feel_nm: 0.2 * x,
+            requested_nm: 0.3 * x,
+            commanded_nm: 0.4 * x,
+            clipped: n.is_multiple_of(2),
+            safety_scale: 0.5,
+            watchdog: [
+                Watchdog::Running,
+                Watchdog::FaultStaleReading,
+                Watchdog::Paused,
+            ][n as usize % 3],
+            passivity_energy_j: -1e-3 * x,
+            passivity_damping_nm_s_per_rad: 1e-4,
+            true_angle_rad: (n.is_multiple_of(2)).then_some(x + 1e-9),
+            hand_nm: None,
+            target_rad: f64::MIN_POSITIVE,
+        },
+        vehicle: (n != 2).then_some(VehicleSample {
+            x_m: x,
+            y_m: 2.0 * x,
+            yaw_rad: 0.3,
+            ux_m_s: 12.5,
+            uy_m_s: -0.01,
+            r_rad_s: 0.02,
+            steer_rad: 0.04,
+            front_lateral_n: 1234.5,
+            s_m: 100.0 + x,
+            lateral_m: -0.25,
+        }),
+        score: ScoreSample {
+            exercise_index: 1,
+            rms_lateral_m: 0.1,
+            max_lateral_m: 0.4,
+            pct_in_lane: 99.5,
+            cone_hits: n as u32,
+            dial_rms_error_deg: 3.1,
+            active_s: x,
+            paused: n == 3,
+        },
+        assist: AssistSample {
+            active: true,
+            torque_nm: 0.3,
+            reference_rad: x,
+            error_rad: 1e-3,
+            assistance_level: 0.75,
+            saturated: n == 1,
+        },
+        arm: (n != 1).then_some(ArmSample {
+            shoulder_elevation_rad: x,
+            setup: [
+                ArmSetup::HoldStill,
+                ArmSetup::Tracking,
+                ArmSetup::SensorLost,
+            ][n as usize % 3],
+            upper_orientation_wxyz: [1.0, 0.0, -0.0, 1e-300],
+            range_of_motion_rad: [0.1, 0.2, 0.3, 0.4, 0.5],
+            grip_m: [0.2, -0.1, x],
+            fore_gyro_z_rad_s: -x,
+            ..Default::default()
+        }),
+        timing: TimingSample {
+            lateness_ns: n,
+            period_ns: 1_000_000,
+            work_ns: u64::MAX - n,
+            dropped_records: 0,
+        },
+    }
+}
+
+fn calibration() -> ArmCalibrationSample {
+    ArmCalibrationSample {
+        shoulder_m: [-0.2, 0.35, 0.1],
+        upper_arm_m: 0.31,
+        forearm_m: 0.27,
+        upper_arm_se_m: 0.002,
+        forearm_se_m: 0.003,
+        rms_residual_m: 0.004,
+        condition_number: 42.0,
+        samples: 1500.0,
+        warnings: vec!["turn the wheel further".into()],
+    }
+}
+
+/// Ticks 0..5, the score on even ticks, the calibration at the end: bytes of a finished file.
+fn write_session(ticks: &[TickRecord]) -> Vec<u8> {
+    let mut w = RecordWriter::new(
+        Cursor::new(Vec::new()),
+        1_700_000_000_000_000_000,
+        &metadata(),
+    )
+    .unwrap();
+    for t in ticks {
+        w.write_tick(t, t.tick.is_multiple_of(2)).unwrap();
+    }
+    w.write_arm_calibration(ticks.last().unwrap(), &calibration())
+        .unwrap();
+    w.finish().unwrap().into_inner()
+}
+
+#[test]
+fn every_channel_reads_back_equal() {
+    let ticks: Vec<TickRecord> = (0..5).map(tick).collect();
+    let rec = Recording::from_bytes(&write_session(&ticks)).unwrap();
+
+    assert_eq!(rec.metadata, metadata());
+    let stamped = |t: &TickRecord| (t.tick, t.t_ns as f64 * 1e-9);
+    let pairs = |v: Vec<(u64, f64)>| v;
+    assert_eq!(
+        pairs(rec.wheel.iter().map(|m| (m.tick, m.t_s)).collect()),
+        ticks.iter().map(stamped).collect::<Vec<_>>()
+    );
+    let wheel: Vec<_> = rec.wheel.iter().map(|m| m.data).collect();
+    assert_eq!(wheel, ticks.iter().map(|t| t.wheel).collect::<Vec<_>>());
+    let vehicle: Vec<_> = rec.vehicle.iter().map(|m| m.data).collect();
+    assert_eq!(
+        vehicle,
+        ticks.iter().filter_map(|t| t.vehicle).collect::<Vec<_>>()
+    );
+    let score: Vec<_> = rec.score.iter().map(|m| (m.tick, m.data)).collect();
+    let even = ticks.iter().filter(|t| t.tick.is_multiple_of(2));
+    assert_eq!(score, even.map(|t| (t.tick, t.score)).collect::<Vec<_>>());
+    let assist: Vec<_> = rec.assist.iter().map(|m| m.data).collect();
+    assert_eq!(assist, ticks.iter().map(|t| t.assist).collect::<Vec<_>>());
+    let timing: Vec<_> = rec.timing.iter().map(|m| m.data).collect();
+    assert_eq!(timing, ticks.iter().map(|t| t.timing).collect::<Vec<_>>());
+    let arm: Vec<_> = rec.arm.iter().map(|m| (m.tick, m.data)).collect();
+    let with_arm = ticks.iter().filter_map(|t| Some((t.tick, t.arm?)));
+    assert_eq!(arm, with_arm.collect::<Vec<_>>());
+    assert_eq!(rec.arm_calibration.len(), 1);
+    assert_eq!(rec.arm_calibration[0].tick, 4);
+    assert_eq!(rec.arm_calibration[0].data, calibration());
+}
+
+#[test]
+fn ticks_rejoin_the_channels_with_the_latest_score() {
+    let ticks: Vec<TickRecord> = (0..5).map(tick).collect();
+    let rec = Recording::from_bytes(&write_session(&ticks)).unwrap();
+    let expected: Vec<TickRecord> = ticks
+        .iter()
+        .map(|t| TickRecord {
+            // The score is recorded on even ticks only: odd ticks carry the previous one.
+            score: ticks[(t.tick - t.tick % 2) as usize].score,
+            ..*t
+        })
+        .collect();
+    assert_eq!(rec.ticks().collect::<Vec<_>>(), expected);
+}
+
+#[test]
+fn messages_keep_the_json_recorded_before_the_reader() {
+    let t = tick(1);
+    let bytes = write_session(&[t]);
+    let wheel = mcap::MessageStream::new(&bytes)
+        .unwrap()
+        .map(Result::unwrap)
+        .find(|m| m.channel.topic == "/wheel")
+        .unwrap();
+    let json: serde_json::Value = serde_json::from_slice(&wheel.data).unwrap();
+    assert_eq!(json["tick"], 1);
+    assert_eq!(json["t_s"], t.t_ns as f64 * 1e-9);
+    assert_eq!(json["watchdog"], "fault-stale-reading");
+    assert_eq!(json["hand_nm"], serde_json::Value::Null);
+    assert_eq!(wheel.log_time, 1_700_000_000_000_000_000 + t.t_ns);
+    assert_eq!(wheel.channel.message_encoding, "json");
+    let schema = wheel.channel.schema.as_ref().unwrap();
+    assert_eq!(
+        (schema.name.as_str(), schema.encoding.as_str()),
+        ("telerehab.Wheel", "jsonschema")
+    );
+}
+
+#[test]
+fn a_message_that_does_not_decode_names_its_channel_and_index() {
+    let mut w = mcap::Writer::new(Cursor::new(Vec::new())).unwrap();
+    let ch = w
+        .add_channel(0, "/score", "json", &Default::default())
+        .unwrap();
+    w.write_metadata(&mcap::records::Metadata {
+        name: "session".into(),
+        metadata: metadata().to_map(),
+    })
+    .unwrap();
+    let score = serde_json::to_vec(&Stamped::at(&tick(0), tick(0).score)).unwrap();
+    for (i, data) in [&score[..], &score[..], br#"{"tick": 2, "t_s": 0.002}"#]
+        .iter()
+        .enumerate()
+    {
+        let header = mcap::records::MessageHeader {
+            channel_id: ch,
+            sequence: i as u32,
+            log_time: i as u64,
+            publish_time: i as u64,
+        };
+        w.write_to_known_channel(&header, data).unwrap();
+    }
+    w.finish().unwrap();
+    let bytes = w.into_inner().into_inner();
+    let err = Recording::from_bytes(&bytes).unwrap_err().to_string();
+    assert!(
+        err.starts_with("message 2 of channel /score does not decode: missing field"),
+        "{err}"
+    );
+}
+
+#[test]
+fn metadata_problems_are_named() {
+    let mut w = RecordWriter::new(Cursor::new(Vec::new()), 0, &metadata()).unwrap();
+    w.write_tick(&tick(0), true).unwrap();
+    let ok = w.finish().unwrap().into_inner();
+    assert!(Recording::from_bytes(&ok).is_ok());
+
+    let mut map = metadata().to_map();
+    map.insert("seed".into(), "eleven".into());
+    let err = SessionMetadata::from_map(&map).unwrap_err().to_string();
+    assert!(
+        err.starts_with("session metadata `seed`: not a number"),
+        "{err}"
+    );
+    map.remove("exercise");
+    let err = SessionMetadata::from_map(&map).unwrap_err().to_string();
+    assert_eq!(err, "session metadata `exercise`: missing");
+    let err = Recording::from_bytes(b"not an mcap file").unwrap_err();
+    assert!(matches!(err, ReadError::Mcap(_)), "{err}");
+}
+
+/// A sink whose bytes can be looked at while the writer still holds it: what is on disk.
+#[derive(Clone, Default)]
+struct Disk(std::rc::Rc<std::cell::RefCell<Cursor<Vec<u8>>>>);
+
+impl std::io::Write for Disk {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.0.borrow_mut().write(buf)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+impl std::io::Seek for Disk {
+    fn seek(&mut self, pos: std::io::SeekFrom) -> std::io::Result<u64> {
+        self.0.borrow_mut().seek(pos)
+    }
+}
+
+#[test]
+fn a_killed_recording_recovers_to_one_that_reads_back() {
+    let ticks: Vec<TickRecord> = (0..5).map(tick).collect();
+    let disk = Disk::default();
+    let mut w = RecordWriter::new(disk.clone(), 0, &metadata()).unwrap();
+    for t in &ticks[..3] {
+        w.write_tick(t, false).unwrap();
+    }
+    w.flush().unwrap();
+    for t in &ticks[3..] {
+        w.write_tick(t, false).unwrap();
+    }
+    // Killed here: the file ends after the flushed chunk, with no summary section.
+    let killed = disk.0.borrow().get_ref().clone();
+    drop(w);
+    assert!(!matches!(mcap::Summary::read(&killed), Ok(Some(_))));
+
+    let (copied, out) = recover(&killed, Cursor::new(Vec::new())).unwrap();
+    // Ticks 0–2: wheel, assist and timing on each, vehicle and arm on two each.
+    assert_eq!(
+        (copied.messages, copied.channels),
+        (3 * 3 + 2 + 2, CHANNELS.len())
+    );
+    let rec = Recording::from_bytes(&out.into_inner()).unwrap();
+    assert_eq!(rec.metadata, metadata());
+    let wheel: Vec<_> = rec.ticks().map(|t| t.wheel).collect();
+    assert_eq!(
+        wheel,
+        ticks[..3].iter().map(|t| t.wheel).collect::<Vec<_>>()
+    );
+}

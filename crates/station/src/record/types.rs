@@ -1,0 +1,491 @@
+//! One type per MCAP channel, as recorded and as read back.
+//!
+//! The haptic thread hands the recorder one [`TickRecord`] per tick (plain `Copy` data: no
+//! allocation on the 1 kHz path); each of its parts is one channel. Every message is a
+//! [`Stamped`] sample: the tick and session time, then the sample's own fields. The JSON
+//! schemas are derived from these structs ([`super::channels`]), so the schema, the messages
+//! and the reader cannot drift apart.
+
+use calib::Arm3dCalibration;
+use haptic_wheel::{Fault, WatchdogState};
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::fmt;
+
+/// Everything one haptic tick measured, commanded and computed.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TickRecord {
+    /// Tick number since the session started.
+    pub tick: u64,
+    /// Session (simulation) time, ns since the start.
+    pub t_ns: u64,
+    /// Wheel side.
+    pub wheel: WheelSample,
+    /// Car and road side (absent during the dial task).
+    pub vehicle: Option<VehicleSample>,
+    /// Running score.
+    pub score: ScoreSample,
+    /// Active assistance.
+    pub assist: AssistSample,
+    /// Arm pose from the gyros (absent without arm sensing).
+    pub arm: Option<ArmSample>,
+    /// Loop timing on the wall clock.
+    pub timing: TimingSample,
+}
+
+/// Wheel state and torques in one tick (channel `/wheel`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct WheelSample {
+    /// Angle as read from the device (quantised), rad.
+    pub angle_rad: f64,
+    /// Estimated angular velocity (Kalman), rad/s.
+    pub velocity_rad_s: f64,
+    /// Torque of the haptic model (centring spring–damper, eq. 3.5), N·m.
+    pub model_nm: f64,
+    /// Road feel from the front lateral tyre force (§3.3.4), N·m.
+    pub road_feel_nm: f64,
+    /// Torque requested before the safety chain, N·m.
+    pub requested_nm: f64,
+    /// Torque commanded to the motor after the safety chain, N·m.
+    pub commanded_nm: f64,
+    /// The safety chain limited the request this tick.
+    pub clipped: bool,
+    /// Soft-start / fade-out scale of the safety supervisor, 0–1.
+    pub safety_scale: f64,
+    /// Safety supervisor state.
+    pub watchdog: Watchdog,
+    /// Passivity observer energy, J (negative: the rendered environment generated energy).
+    pub passivity_energy_j: f64,
+    /// Damping the passivity controller added, N·m·s/rad.
+    pub passivity_damping_nm_s_per_rad: f64,
+    /// True wheel angle, rad (simulation only; null with a real wheel).
+    pub true_angle_rad: Option<f64>,
+    /// Simulated patient's hand torque, N·m (simulation only; null with a real wheel).
+    pub hand_nm: Option<f64>,
+    /// Wheel angle the patient aims for, rad.
+    pub target_rad: f64,
+}
+
+/// Where the arm sensing is, as recorded (a kebab-case string in the JSON).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum ArmSetup {
+    /// Joint angles are being estimated.
+    #[default]
+    Tracking,
+    /// Guided procedure: hold the wheel still, centred.
+    HoldStill,
+    /// Guided procedure: turn the wheel left and right.
+    TurnWheel,
+    /// The mounting is being computed.
+    Solving,
+    /// The procedure failed: no joint angles this session.
+    Failed,
+    /// An IMU stopped answering: the pose is frozen.
+    SensorLost,
+}
+
+impl ArmSetup {
+    /// The label as recorded (and shown on the screen's device line).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ArmSetup::Tracking => "tracking",
+            ArmSetup::HoldStill => "hold-still",
+            ArmSetup::TurnWheel => "turn-wheel",
+            ArmSetup::Solving => "solving",
+            ArmSetup::Failed => "failed",
+            ArmSetup::SensorLost => "sensor-lost",
+        }
+    }
+}
+
+impl fmt::Display for ArmSetup {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// The safety supervisor's state as recorded: `haptic_wheel::WatchdogState` with the fault
+/// named in the same string (fault-missed-deadline, not a nested object).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum Watchdog {
+    /// Ramping the torque scale up (start of session or recovery after a fault).
+    #[default]
+    SoftStart,
+    /// Full torque allowed.
+    Running,
+    /// Fading out: the gap since the previous tick was too long.
+    FaultMissedDeadline,
+    /// Fading out: the wheel reading was stale, from the future or missing.
+    FaultStaleReading,
+    /// Fading out: a fault this recording format has no name for.
+    Fault,
+    /// The patient paused the exercise: fading out, then zero torque until resumed.
+    Paused,
+    /// A stop was requested: fading out.
+    Stopping,
+    /// Stopped for good: zero torque.
+    Stopped,
+}
+
+impl Watchdog {
+    /// The supervisor saw a fault (the torque is fading out because of it).
+    pub fn is_fault(self) -> bool {
+        matches!(
+            self,
+            Watchdog::FaultMissedDeadline | Watchdog::FaultStaleReading | Watchdog::Fault
+        )
+    }
+
+    /// The label as recorded (and shown on the screen's device line).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Watchdog::SoftStart => "soft-start",
+            Watchdog::Running => "running",
+            Watchdog::FaultMissedDeadline => "fault-missed-deadline",
+            Watchdog::FaultStaleReading => "fault-stale-reading",
+            Watchdog::Fault => "fault",
+            Watchdog::Paused => "paused",
+            Watchdog::Stopping => "stopping",
+            Watchdog::Stopped => "stopped",
+        }
+    }
+}
+
+impl From<WatchdogState> for Watchdog {
+    fn from(state: WatchdogState) -> Self {
+        match state {
+            WatchdogState::SoftStart => Watchdog::SoftStart,
+            WatchdogState::Running => Watchdog::Running,
+            WatchdogState::Fault(Fault::MissedDeadline) => Watchdog::FaultMissedDeadline,
+            WatchdogState::Fault(Fault::StaleReading) => Watchdog::FaultStaleReading,
+            WatchdogState::Fault(_) => Watchdog::Fault,
+            WatchdogState::Paused => Watchdog::Paused,
+            WatchdogState::Stopping => Watchdog::Stopping,
+            WatchdogState::Stopped => Watchdog::Stopped,
+        }
+    }
+}
+
+impl fmt::Display for Watchdog {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// Car and road state in one tick (channel `/vehicle`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct VehicleSample {
+    /// Global x, m.
+    pub x_m: f64,
+    /// Global y, m.
+    pub y_m: f64,
+    /// Heading, rad.
+    pub yaw_rad: f64,
+    /// Forward velocity, m/s.
+    pub ux_m_s: f64,
+    /// Lateral velocity, m/s.
+    pub uy_m_s: f64,
+    /// Yaw rate, rad/s.
+    pub r_rad_s: f64,
+    /// Road-wheel angle δ, rad.
+    pub steer_rad: f64,
+    /// Front lateral tyre force, N.
+    pub front_lateral_n: f64,
+    /// Distance along the road, m.
+    pub s_m: f64,
+    /// Lateral deviation from the road centre, m (positive left).
+    pub lateral_m: f64,
+}
+
+/// The running session score (channel `/score`, every 100 ms).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct ScoreSample {
+    /// Which exercise of the course is running (0-based).
+    pub exercise_index: u32,
+    /// RMS lateral deviation so far, m.
+    pub rms_lateral_m: f64,
+    /// Largest |lateral deviation| so far, m.
+    pub max_lateral_m: f64,
+    /// Share of time in the lane so far, %.
+    pub pct_in_lane: f64,
+    /// Cones hit so far.
+    pub cone_hits: u32,
+    /// RMS dial tracking error so far (thesis §3.3.3), degrees.
+    pub dial_rms_error_deg: f64,
+    /// Exercise time so far, s: the session clock without the pauses.
+    pub active_s: f64,
+    /// The patient paused the exercise (car, exercise clock and scores frozen; torque faded
+    /// to zero).
+    pub paused: bool,
+}
+
+/// Active assistance in one tick (channel `/assist`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct AssistSample {
+    /// An assist controller runs during this exercise.
+    pub active: bool,
+    /// Assist torque, N·m.
+    pub torque_nm: f64,
+    /// Reference the assist tracks (after the reference governor), rad.
+    pub reference_rad: f64,
+    /// Reference minus measured angle, rad.
+    pub error_rad: f64,
+    /// How much the robot helps, 0 (none) to 1 (full authority).
+    pub assistance_level: f64,
+    /// A torque limit cut the assist this tick.
+    pub saturated: bool,
+}
+
+/// The arm pose estimated from the two IMUs, beside the simulated truth (channel `/arm`).
+/// Angles follow `gyro_imu::arm::JointAngles`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct ArmSample {
+    /// Estimated humerus elevation from hanging, rad.
+    pub shoulder_elevation_rad: f64,
+    /// Estimated plane of elevation (0 lateral, π/2 forward), rad.
+    pub shoulder_plane_rad: f64,
+    /// Estimated humeral axial rotation (internal positive), rad.
+    pub shoulder_rotation_rad: f64,
+    /// Estimated elbow flexion (0 straight), rad.
+    pub elbow_flexion_rad: f64,
+    /// Estimated forearm pronation, rad.
+    pub forearm_pronation_rad: f64,
+    /// True humerus elevation (simulation only), rad.
+    pub true_shoulder_elevation_rad: f64,
+    /// True elbow flexion (simulation only), rad.
+    pub true_elbow_flexion_rad: f64,
+    /// RMS mismatch of the measured and fitted segment "up" directions, rad.
+    pub fit_residual_rad: f64,
+    /// Arm sensing step (angles are zero until tracking starts).
+    pub setup: ArmSetup,
+    /// Time left in the set-up step, s.
+    pub setup_remaining_s: f64,
+    /// Upper-arm sensor-to-earth orientation (w, x, y, z; earth z up, heading that of the
+    /// wheel frame when tracking began).
+    pub upper_orientation_wxyz: [f64; 4],
+    /// Forearm sensor-to-earth orientation (w, x, y, z).
+    pub fore_orientation_wxyz: [f64; 4],
+    /// Range of motion so far of shoulder elevation, plane, rotation, elbow flexion and
+    /// forearm pronation, rad.
+    pub range_of_motion_rad: [f64; 5],
+    /// Upper arm's long axis (shoulder → elbow) in the wheel frame, from the upper-arm IMU's
+    /// orientation and mounting alone (not from the chain fit): the arm calibration's input.
+    pub upper_axis: [f64; 3],
+    /// Forearm's long axis (elbow → grip) in the wheel frame, from the forearm IMU alone.
+    pub fore_axis: [f64; 3],
+    /// Grip point on the wheel rim at the wheel angle read, m (wheel frame).
+    pub grip_m: [f64; 3],
+    /// Upper-arm gyro, sensor x, rad/s.
+    pub upper_gyro_x_rad_s: f64,
+    /// Upper-arm gyro, sensor y, rad/s.
+    pub upper_gyro_y_rad_s: f64,
+    /// Upper-arm gyro, sensor z, rad/s.
+    pub upper_gyro_z_rad_s: f64,
+    /// Forearm gyro, sensor x, rad/s.
+    pub fore_gyro_x_rad_s: f64,
+    /// Forearm gyro, sensor y, rad/s.
+    pub fore_gyro_y_rad_s: f64,
+    /// Forearm gyro, sensor z, rad/s.
+    pub fore_gyro_z_rad_s: f64,
+}
+
+/// Wall-clock timing of one tick (channel `/timing`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct TimingSample {
+    /// How late the tick started after its absolute deadline, ns (0 at `--speed max`).
+    pub lateness_ns: u64,
+    /// Wall time since the previous tick started, ns.
+    pub period_ns: u64,
+    /// Time spent computing this tick, ns.
+    pub work_ns: u64,
+    /// Records the recorder could not take so far (ring full), count.
+    pub dropped_records: u64,
+}
+
+/// The arm calibration as recorded (channel `/arm_calibration`, once at the end).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct ArmCalibrationSample {
+    /// Shoulder joint centre in the wheel frame, m.
+    pub shoulder_m: [f64; 3],
+    /// Upper-arm length (shoulder to elbow), m.
+    pub upper_arm_m: f64,
+    /// Forearm length (elbow to grip), m.
+    pub forearm_m: f64,
+    /// 1σ standard error of the upper-arm length, m.
+    pub upper_arm_se_m: f64,
+    /// 1σ standard error of the forearm length, m.
+    pub forearm_se_m: f64,
+    /// RMS loop-closure residual, m.
+    pub rms_residual_m: f64,
+    /// Condition number of the fit (below 200 is well identified).
+    pub condition_number: f64,
+    /// Samples used.
+    pub samples: f64,
+    /// Warnings, each with what to do about it.
+    pub warnings: Vec<String>,
+}
+
+impl From<&Arm3dCalibration> for ArmCalibrationSample {
+    fn from(c: &Arm3dCalibration) -> Self {
+        Self {
+            shoulder_m: c.params.shoulder_m,
+            upper_arm_m: c.params.upper_arm_m,
+            forearm_m: c.params.forearm_m,
+            upper_arm_se_m: c.std_errors.upper_arm_m,
+            forearm_se_m: c.std_errors.forearm_m,
+            rms_residual_m: c.rms_residual_m,
+            condition_number: c.condition_number,
+            samples: c.samples,
+            warnings: c.warnings.clone(),
+        }
+    }
+}
+
+/// A message: the tick and session time, then the sample's own fields.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct Stamped<T> {
+    /// Haptic tick number since the session start.
+    pub tick: u64,
+    /// Session time, s.
+    pub t_s: f64,
+    /// The sample.
+    #[serde(flatten)]
+    pub data: T,
+}
+
+impl<T> Stamped<T> {
+    /// `data` stamped with the tick and session time (ns) of `rec`.
+    pub fn at(rec: &TickRecord, data: T) -> Self {
+        Self {
+            tick: rec.tick,
+            t_s: rec.t_ns as f64 * 1e-9,
+            data,
+        }
+    }
+
+    /// Session time, ns (exact: the recorded seconds round back to the tick's nanoseconds).
+    pub fn t_ns(&self) -> u64 {
+        (self.t_s * 1e9).round() as u64
+    }
+}
+
+/// The session's metadata record (`"session"`): what a replay needs besides the messages.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SessionMetadata {
+    /// The configured exercise name.
+    pub exercise: String,
+    /// Random seed of the simulation.
+    pub seed: u64,
+    /// Pseudonymous patient identifier.
+    pub patient_id: String,
+    /// Haptic loop rate, Hz.
+    pub loop_rate_hz: f64,
+    /// The whole station configuration, TOML.
+    pub config_toml: String,
+    /// The prescribed regimen, TOML (absent when the session repeated one exercise).
+    pub regimen_toml: Option<String>,
+}
+
+/// Why a metadata record does not describe a session.
+#[derive(Debug, thiserror::Error)]
+#[error("session metadata `{key}`: {reason}")]
+pub struct MetadataError {
+    /// The key at fault.
+    pub key: &'static str,
+    /// What is wrong with it.
+    pub reason: String,
+}
+
+impl SessionMetadata {
+    /// The name of the MCAP metadata record.
+    pub const NAME: &'static str = "session";
+
+    /// The record's key → value map, as written.
+    pub fn to_map(&self) -> BTreeMap<String, String> {
+        let mut map = BTreeMap::new();
+        map.insert("exercise".into(), self.exercise.clone());
+        map.insert("seed".into(), self.seed.to_string());
+        map.insert("patient_id".into(), self.patient_id.clone());
+        map.insert("loop_rate_hz".into(), self.loop_rate_hz.to_string());
+        map.insert("config_toml".into(), self.config_toml.clone());
+        if let Some(r) = &self.regimen_toml {
+            map.insert("regimen_toml".into(), r.clone());
+        }
+        map
+    }
+
+    /// Read the record's map back (unknown keys are ignored).
+    pub fn from_map(map: &BTreeMap<String, String>) -> Result<Self, MetadataError> {
+        let get = |key: &'static str| {
+            map.get(key).cloned().ok_or(MetadataError {
+                key,
+                reason: "missing".into(),
+            })
+        };
+        let parse = |key: &'static str, e: &dyn fmt::Display| MetadataError {
+            key,
+            reason: format!("not a number ({e})"),
+        };
+        Ok(Self {
+            exercise: get("exercise")?,
+            seed: get("seed")?.parse().map_err(|e| parse("seed", &e))?,
+            patient_id: get("patient_id")?,
+            loop_rate_hz: get("loop_rate_hz")?
+                .parse()
+                .map_err(|e| parse("loop_rate_hz", &e))?,
+            config_toml: get("config_toml")?,
+            regimen_toml: map.get("regimen_toml").cloned(),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{ArmSetup, Watchdog};
+    use haptic_wheel::{Fault, WatchdogState};
+
+    #[test]
+    fn arm_setup_labels_are_the_recorded_strings() {
+        for s in [
+            ArmSetup::Tracking,
+            ArmSetup::HoldStill,
+            ArmSetup::TurnWheel,
+            ArmSetup::Solving,
+            ArmSetup::Failed,
+            ArmSetup::SensorLost,
+        ] {
+            assert_eq!(serde_json::to_string(&s).unwrap(), format!("\"{s}\""));
+        }
+    }
+
+    #[test]
+    fn watchdog_labels_are_the_strings_recorded_before_the_enum() {
+        for (state, label) in [
+            (WatchdogState::SoftStart, "soft-start"),
+            (WatchdogState::Running, "running"),
+            (
+                WatchdogState::Fault(Fault::MissedDeadline),
+                "fault-missed-deadline",
+            ),
+            (
+                WatchdogState::Fault(Fault::StaleReading),
+                "fault-stale-reading",
+            ),
+            (WatchdogState::Paused, "paused"),
+            (WatchdogState::Stopping, "stopping"),
+            (WatchdogState::Stopped, "stopped"),
+        ] {
+            let w = Watchdog::from(state);
+            assert_eq!(serde_json::to_string(&w).unwrap(), format!("\"{label}\""));
+            assert_eq!(w.as_str(), label);
+            assert_eq!(w.is_fault(), label.starts_with("fault"));
+        }
+        assert_eq!(
+            serde_json::to_string(&Watchdog::Fault).unwrap(),
+            "\"fault\""
+        );
+    }
+}

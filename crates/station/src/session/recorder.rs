@@ -1,0 +1,340 @@
+//! The recorder thread: per-tick records → MCAP (through [`crate::record`]), thinned summaries
+//! → the session's observer (the therapist link, the screen), the arm calibration at the end
+//! and the loop-timing statistics for the final report.
+//!
+//! The haptic thread never waits for it in real time.
+
+use super::arm_calibration::ArmLoopCollector;
+use super::{LiveSummary, SessionObserver};
+use crate::record::{ArmCalibrationSample, ArmSetup, RecordWriter, SessionMetadata, TickRecord};
+use crate::timing::TimingStats;
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+/// Session time between two score messages and two therapist summaries, s.
+pub const SUMMARY_EVERY_S: f64 = 0.1;
+
+/// A session's MCAP file being written.
+pub struct McapRecorder {
+    writer: RecordWriter<BufWriter<File>>,
+    path: PathBuf,
+}
+
+/// A recorder problem.
+#[derive(Debug, thiserror::Error)]
+pub enum RecorderError {
+    /// The file could not be created or written.
+    #[error("recording {path}: {source}")]
+    Io {
+        /// The MCAP file.
+        path: String,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The MCAP library refused.
+    #[error("recording {path}: {source}")]
+    Mcap {
+        /// The MCAP file.
+        path: String,
+        /// Why.
+        source: mcap::McapError,
+    },
+}
+
+impl McapRecorder {
+    /// Create `path` and register the channels. `start_unix_ns` anchors log times.
+    pub fn create(
+        path: &Path,
+        start_unix_ns: u64,
+        metadata: &SessionMetadata,
+    ) -> Result<Self, RecorderError> {
+        let file = File::create(path).map_err(|source| RecorderError::Io {
+            path: path.display().to_string(),
+            source,
+        })?;
+        let writer =
+            RecordWriter::new(BufWriter::new(file), start_unix_ns, metadata).map_err(|source| {
+                RecorderError::Mcap {
+                    path: path.display().to_string(),
+                    source,
+                }
+            })?;
+        Ok(Self {
+            writer,
+            path: path.to_path_buf(),
+        })
+    }
+
+    fn err(&self, source: mcap::McapError) -> RecorderError {
+        RecorderError::Mcap {
+            path: self.path.display().to_string(),
+            source,
+        }
+    }
+
+    /// Record one tick on the per-tick channels, and the score when `with_score`.
+    pub fn record(&mut self, rec: &TickRecord, with_score: bool) -> Result<(), RecorderError> {
+        self.writer
+            .write_tick(rec, with_score)
+            .map_err(|e| self.err(e))
+    }
+
+    /// Record the arm calibration fitted at the end of the session, stamped with the last tick.
+    pub fn record_arm_calibration(
+        &mut self,
+        last: &TickRecord,
+        calibration: &ArmCalibrationSample,
+    ) -> Result<(), RecorderError> {
+        self.writer
+            .write_arm_calibration(last, calibration)
+            .map_err(|e| self.err(e))
+    }
+
+    /// Close the current chunk and flush it to disk, so a killed process loses at most what
+    /// came after this call.
+    pub fn flush(&mut self) -> Result<(), RecorderError> {
+        self.writer.flush().map_err(|e| self.err(e))
+    }
+
+    /// Write the summary section and close the file; returns its size in bytes.
+    pub fn finish(self) -> Result<u64, RecorderError> {
+        let Self { writer, path } = self;
+        let path = path.display().to_string();
+        let file = match writer.finish() {
+            Ok(sink) => sink.into_inner().map_err(|e| e.into_error()),
+            Err(source) => return Err(RecorderError::Mcap { path, source }),
+        };
+        file.and_then(|f| f.metadata())
+            .map(|m| m.len())
+            .map_err(|source| RecorderError::Io { path, source })
+    }
+}
+
+impl RecorderOutcome {
+    /// Account for one tick.
+    pub fn add(&mut self, rec: &TickRecord) {
+        self.records += 1;
+        self.timing.add(
+            rec.timing.lateness_ns,
+            rec.timing.period_ns,
+            rec.timing.work_ns,
+        );
+        self.max_abs_torque_nm = self.max_abs_torque_nm.max(rec.wheel.commanded_nm.abs());
+        self.clipped_ticks += u64::from(rec.wheel.clipped);
+        let active = !rec.score.paused;
+        self.road_ticks += u64::from(active && rec.vehicle.is_some());
+        self.dial_ticks += u64::from(active && rec.vehicle.is_none());
+        self.paused_ticks += u64::from(!active);
+        self.fault_ticks += u64::from(rec.wheel.watchdog.is_fault());
+        if rec.assist.active {
+            self.assist_ticks += 1;
+            self.assist_level_sum += rec.assist.assistance_level;
+            self.assist_error_sq_sum += rec.assist.error_rad * rec.assist.error_rad;
+            self.assist_saturated_ticks += u64::from(rec.assist.saturated);
+        }
+        self.last = *rec;
+    }
+}
+
+/// What the recorder hands back when the session ends.
+#[derive(Debug, Default)]
+pub struct RecorderOutcome {
+    /// Records received from the haptic thread.
+    pub records: u64,
+    /// Loop timing statistics.
+    pub timing: TimingStats,
+    /// Last record (final score, pose).
+    pub last: TickRecord,
+    /// Largest |commanded torque|, N·m.
+    pub max_abs_torque_nm: f64,
+    /// Ticks on which the safety chain limited the torque.
+    pub clipped_ticks: u64,
+    /// Ticks spent on road exercises (not paused).
+    pub road_ticks: u64,
+    /// Ticks spent on the dial task (not paused).
+    pub dial_ticks: u64,
+    /// Ticks the patient had the exercise paused.
+    pub paused_ticks: u64,
+    /// Ticks on which the safety supervisor saw a fault (missed deadline, stale reading).
+    pub fault_ticks: u64,
+    /// Ticks with an active assist controller.
+    pub assist_ticks: u64,
+    /// Sum of the assistance level over assisted ticks.
+    pub assist_level_sum: f64,
+    /// Sum of the squared assist tracking error over assisted ticks, rad².
+    pub assist_error_sq_sum: f64,
+    /// Assisted ticks on which a torque limit cut the assist.
+    pub assist_saturated_ticks: u64,
+    /// The arm calibrated from this session's data, or why not (None without arm sensing).
+    pub arm_calibration: Option<Result<ArmCalibrationSample, String>>,
+    /// Size of the finished MCAP file, bytes (None without recording).
+    pub mcap_bytes: Option<u64>,
+    /// The first recording error, if any (recording stops, the session goes on).
+    pub error: Option<String>,
+}
+
+/// Metrics for the therapist beyond the fixed summary fields: safety and assistance so far.
+fn summary_extra(out: &RecorderOutcome) -> BTreeMap<String, f64> {
+    let ticks = out.records.max(1) as f64;
+    let mut extra = BTreeMap::new();
+    extra.insert(
+        "clipped_pct".into(),
+        100.0 * out.clipped_ticks as f64 / ticks,
+    );
+    extra.insert("watchdog_fault_ticks".into(), out.fault_ticks as f64);
+    if let Some(arm) = &out.last.arm {
+        extra.insert(
+            "shoulder_elevation_deg".into(),
+            arm.shoulder_elevation_rad.to_degrees(),
+        );
+        extra.insert(
+            "elbow_flexion_deg".into(),
+            arm.elbow_flexion_rad.to_degrees(),
+        );
+    }
+    if out.assist_ticks > 0 {
+        let n = out.assist_ticks as f64;
+        extra.insert("assist_level_mean".into(), out.assist_level_sum / n);
+        extra.insert(
+            "assist_rms_error_deg".into(),
+            (out.assist_error_sq_sum / n).sqrt().to_degrees(),
+        );
+        extra.insert(
+            "assist_saturated_pct".into(),
+            100.0 * out.assist_saturated_ticks as f64 / n,
+        );
+    }
+    extra
+}
+
+/// Logs what changes in a session from the recorded ticks (pauses, the arm set-up's steps),
+/// so that the haptic thread itself never writes a log line.
+#[derive(Default)]
+struct ChangeLog {
+    paused: bool,
+    arm_step: Option<ArmSetup>,
+}
+
+impl ChangeLog {
+    fn observe(&mut self, rec: &TickRecord) {
+        if rec.score.paused != self.paused {
+            self.paused = rec.score.paused;
+            tracing::info!(
+                tick = rec.tick,
+                paused = self.paused,
+                "exercise paused or resumed"
+            );
+        }
+        if let Some(arm) = &rec.arm
+            && self.arm_step != Some(arm.setup)
+        {
+            tracing::info!(
+                tick = rec.tick,
+                from = ?self.arm_step,
+                to = ?arm.setup,
+                "arm sensing"
+            );
+            self.arm_step = Some(arm.setup);
+        }
+    }
+}
+
+/// The recorder thread's fixed settings.
+pub(super) struct RecorderPlan {
+    /// Nominal loop period, ns.
+    pub(super) period_ns: u64,
+    /// Ticks the session should run (for preallocation).
+    pub(super) expected_ticks: u64,
+    /// Ticks between summaries.
+    pub(super) summary_every: u64,
+    /// Ticks between MCAP chunk flushes.
+    pub(super) flush_every: u64,
+}
+
+pub(super) fn recorder_loop(
+    mut consumer: rtrb::Consumer<TickRecord>,
+    mut mcap: Option<McapRecorder>,
+    haptic_done: &AtomicBool,
+    plan: RecorderPlan,
+    observer: &mut dyn SessionObserver,
+) -> (RecorderOutcome, u64) {
+    let RecorderPlan {
+        period_ns,
+        expected_ticks,
+        summary_every,
+        flush_every,
+    } = plan;
+    let mut out = RecorderOutcome {
+        timing: TimingStats::new(period_ns, expected_ticks as usize + 1000),
+        ..Default::default()
+    };
+    let mut seq = 0u64;
+    let mut arm_loop = ArmLoopCollector::new(1e9 / period_ns as f64);
+    let mut changes = ChangeLog::default();
+    loop {
+        let rec = match consumer.pop() {
+            Ok(r) => r,
+            Err(_) => {
+                if haptic_done.load(Ordering::Acquire) && consumer.is_empty() {
+                    break;
+                }
+                std::thread::sleep(Duration::from_micros(500));
+                continue;
+            }
+        };
+        out.add(&rec);
+        arm_loop.add(&rec);
+        changes.observe(&rec);
+        observer.on_tick(&rec);
+        let summary_tick = rec.tick % summary_every == 0 && rec.tick > 0;
+        if let Some(m) = mcap.as_mut() {
+            let res = m.record(&rec, summary_tick).and_then(|()| {
+                if rec.tick % flush_every == flush_every - 1 {
+                    m.flush()
+                } else {
+                    Ok(())
+                }
+            });
+            if let Err(e) = res {
+                // Keep the session running; report the first recording error once at the end.
+                out.error.get_or_insert_with(|| e.to_string());
+                mcap = None;
+            }
+        }
+        if summary_tick {
+            observer.on_summary(&LiveSummary {
+                seq,
+                record: rec,
+                max_abs_torque_nm: out.max_abs_torque_nm,
+                loop_p99_us: out.timing.recent_period_error_p99_us(1000),
+                extra: summary_extra(&out),
+            });
+            seq += 1;
+        }
+    }
+    if !arm_loop.is_empty() || out.last.arm.is_some() {
+        let fitted = arm_loop
+            .calibrate()
+            .map(|c| ArmCalibrationSample::from(&c))
+            .map_err(|e| e.to_string());
+        if let (Ok(c), Some(m)) = (&fitted, mcap.as_mut())
+            && let Err(e) = m.record_arm_calibration(&out.last, c)
+        {
+            out.error.get_or_insert_with(|| e.to_string());
+        }
+        out.arm_calibration = Some(fitted);
+    }
+    if let Some(m) = mcap {
+        match m.finish() {
+            Ok(bytes) => out.mcap_bytes = Some(bytes),
+            Err(e) => {
+                out.error.get_or_insert_with(|| e.to_string());
+            }
+        }
+    }
+    (out, seq)
+}
