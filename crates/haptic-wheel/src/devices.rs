@@ -361,7 +361,10 @@ mod tests {
         assert!(text.contains("046d:c24f"), "{text}");
         assert!(text.contains("500 Hz"), "{text}");
         // The ceiling in N·m and as a share of the motor, and the unknown wheel said so.
-        assert!(text.contains("torque ceiling 1.00 N·m = 3.1 % of the motor's 32.0 N·m"), "{text}");
+        assert!(
+            text.contains("torque ceiling 1.00 N·m = 3.1 % of the motor's 32.0 N·m"),
+            "{text}"
+        );
         assert!(text.contains("UNKNOWN"), "{text}");
         assert!(text.contains("packaging/udev"), "{text}");
         assert!(!text.contains("No force-feedback wheel found"), "{text}");

@@ -179,7 +179,10 @@ fn backend_streams_constant_force_and_uploads_conditions_to_a_virtual_wheel() {
     let seen: Vec<Seen> = rx.try_iter().collect();
 
     // Truncated towards zero: the motor never gives more than asked.
-    assert_eq!(half_level, 16383, "half the rated torque is half of full scale");
+    assert_eq!(
+        half_level, 16383,
+        "half the rated torque is half of full scale"
+    );
     let constants: Vec<(i16, i16, u16)> = seen
         .iter()
         .filter_map(|s| match s {

@@ -36,8 +36,8 @@ pub enum Command {
     Run(RunArgs),
     /// Run the therapist hub: receive live summaries from stations and store them.
     Therapist(TherapistArgs),
-    /// List wheels, pedals, gamepads and IMUs.
-    Devices,
+    /// List wheels, pedals, gamepads and IMUs, with each wheel's torque ceiling.
+    Devices(crate::commands::devices::DevicesArgs),
     /// Render a simulated session offscreen to PNG frames (the window's drawing code, on
     /// Mesa's software Vulkan/GL where there is no GPU).
     Render(RenderArgs),
@@ -203,7 +203,7 @@ pub fn main() -> anyhow::Result<()> {
     match cli.command {
         Command::Run(args) => run(args),
         Command::Therapist(args) => crate::therapist::run(args),
-        Command::Devices => crate::devices::run(),
+        Command::Devices(args) => crate::commands::devices::run(&args),
         Command::Render(args) => render(args),
         Command::Bench(args) => match args.what {
             crate::commands::bench::BenchCommand::Window(a) => bench_window(a),

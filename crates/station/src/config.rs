@@ -30,6 +30,9 @@ pub struct StationConfig {
     pub arm: crate::session::arm::ArmConfig,
     /// The therapist link.
     pub therapist: TherapistLinkConfig,
+    /// The real force-feedback wheel: profile, rated torque, gain, effect length, update rate
+    /// (see `crates/haptic-wheel/CALIBRATION.md`).
+    pub wheel: haptic_wheel::WheelConfig,
 }
 
 impl Default for StationConfig {
@@ -44,6 +47,7 @@ impl Default for StationConfig {
             sim_arm: PatientArmConfig::default(),
             arm: Default::default(),
             therapist: TherapistLinkConfig::default(),
+            wheel: haptic_wheel::WheelConfig::default(),
         }
     }
 }
@@ -201,13 +205,19 @@ fn in_section(section: &str) -> impl Fn(&dyn std::fmt::Display) -> ConfigError +
 }
 
 impl StationConfig {
-    /// Read and validate a TOML config file.
+    /// Read and validate a TOML config file, and the wheel profile file it names (relative
+    /// to the config file's folder).
     pub fn load(path: &Path) -> Result<Self, ConfigError> {
         let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Read {
             path: path.display().to_string(),
             source,
         })?;
-        Self::from_toml(&text, &path.display().to_string())
+        let mut cfg = Self::from_toml(&text, &path.display().to_string())?;
+        if let Some(file) = cfg.wheel.profile_file.take() {
+            let file = path.parent().unwrap_or(Path::new(".")).join(file);
+            cfg.wheel.profile = Some(load_wheel_profile(&file)?);
+        }
+        Ok(cfg)
     }
 
     /// Parse and validate TOML text; `origin` names it in messages.
@@ -265,8 +275,26 @@ impl StationConfig {
         self.vehicle
             .validate()
             .map_err(|e| in_section("vehicle")(&e))?;
+        self.wheel.validate().map_err(|e| in_section("wheel")(&e))?;
         Ok(())
     }
+}
+
+/// Read and validate a wheel profile file (TOML, the fields of `DeviceProfile`, as
+/// `telerehab wheel calibrate` writes it).
+pub fn load_wheel_profile(path: &Path) -> Result<haptic_wheel::DeviceProfile, ConfigError> {
+    let origin = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Read {
+        path: origin.clone(),
+        source,
+    })?;
+    let p: haptic_wheel::DeviceProfile = toml::from_str(&text).map_err(|e| ConfigError::Parse {
+        path: origin.clone(),
+        message: e.to_string(),
+    })?;
+    p.validate()
+        .map_err(|e| in_section("wheel.profile_file")(&format!("{origin}: {e}")))?;
+    Ok(p)
 }
 
 #[cfg(test)]

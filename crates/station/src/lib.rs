@@ -7,7 +7,6 @@
 pub mod cli;
 pub mod commands;
 pub mod config;
-pub mod devices;
 pub mod link;
 pub mod record;
 pub mod recover;

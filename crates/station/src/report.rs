@@ -39,6 +39,18 @@ pub fn render(r: &SessionReport, link: Option<&LinkReport>) -> String {
     };
     line!("── session summary ─────────────────────────────────────");
     line!("duration            {duration_s:.2} s session time{early}");
+    if let Some(fault) = r.haptic.wheel_fault {
+        line!("ended because       {fault} (torque faded to zero)");
+    }
+    if let Some(c) = &r.haptic.ceiling {
+        line!("{c}");
+    }
+    if r.haptic.skipped_deadlines > 0 {
+        line!(
+            "skipped deadlines   {} (after stalls; the watchdog faded the torque)",
+            r.haptic.skipped_deadlines
+        );
+    }
     line!(
         "ticks               {} ({} recorded, {} dropped)",
         r.haptic.ticks,

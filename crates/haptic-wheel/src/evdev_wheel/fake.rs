@@ -69,8 +69,11 @@ impl FakeState {
             let frac = match e.data.kind {
                 FFEffectKind::Constant { level, .. } => f64::from(level).abs() / 32_767.0,
                 FFEffectKind::Spring { condition } | FFEffectKind::Friction { condition } => {
-                    f64::from(condition[0].right_saturation.max(condition[0].left_saturation))
-                        / f64::from(u16::MAX)
+                    f64::from(
+                        condition[0]
+                            .right_saturation
+                            .max(condition[0].left_saturation),
+                    ) / f64::from(u16::MAX)
                 }
                 _ => 1.0,
             };
@@ -259,7 +262,11 @@ impl FfDevice for FakeFfDevice {
             return Ok(None);
         }
         // The newest event: one now if the motor moves the rim, else the pending reading's.
-        let at = if moving { Some(s.clock.unix_ns()) } else { pending };
+        let at = if moving {
+            Some(s.clock.unix_ns())
+        } else {
+            pending
+        };
         Ok(at.map(|ns| UNIX_EPOCH + Duration::from_nanos(ns)))
     }
 

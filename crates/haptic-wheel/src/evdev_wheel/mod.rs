@@ -446,8 +446,7 @@ impl<D: FfDevice> Wheel for EvdevWheel<D> {
         // whichever is later, for longer than allowed.
         if let Some(since) = self.torque_since_ns {
             let quiet_from = since.max(self.last_event_ns);
-            if now.saturating_sub(quiet_from) > u64::from(self.config.max_silence_ms) * 1_000_000
-            {
+            if now.saturating_sub(quiet_from) > u64::from(self.config.max_silence_ms) * 1_000_000 {
                 return Err(WheelError::Fault(WheelFault::Silent));
             }
         }
@@ -529,9 +528,10 @@ impl<D: FfDevice> Wheel for EvdevWheel<D> {
 impl<D: FfDevice> Drop for EvdevWheel<D> {
     fn drop(&mut self) {
         // Best effort: the device may already be gone, and a gone device applies no torque.
-        let _ = self
-            .dev
-            .update(self.constant, constant_data(0, self.config.effect_length_ms));
+        let _ = self.dev.update(
+            self.constant,
+            constant_data(0, self.config.effect_length_ms),
+        );
         let _ = self.dev.stop(self.constant);
         self.clear_conditions();
         self.dev.erase(self.constant);

@@ -35,7 +35,11 @@ fn an_unknown_direct_drive_wheel_gives_at_most_one_newton_metre_whatever_is_comm
     // full kernel level (25 N·m at the rim).
     let (mut w, fake, mock) = wheel_with(UNKNOWN_ID, 25.0, WheelConfig::default());
     assert_eq!(w.profile().torque_source, TorqueSource::Assumed);
-    assert_eq!(w.max_torque_nm(), 1.0, "the usable torque of an unknown wheel");
+    assert_eq!(
+        w.max_torque_nm(),
+        1.0,
+        "the usable torque of an unknown wheel"
+    );
     for cmd in [1.0, 5.0, 25.0, -100.0, f64::MAX] {
         mock.advance_ns(MS);
         let _ = w.command_torque(cmd);
@@ -48,7 +52,10 @@ fn an_unknown_direct_drive_wheel_gives_at_most_one_newton_metre_whatever_is_comm
     // 1 N·m commanded is 1/32 of the level: 0.78 N·m on this 25 N·m motor.
     mock.advance_ns(MS);
     w.command_torque(1.0).unwrap();
-    assert_eq!(w.sent_level(), (LEVEL_FULL_SCALE / ASSUMED_UNKNOWN_MOTOR_NM) as i16);
+    assert_eq!(
+        w.sent_level(),
+        (LEVEL_FULL_SCALE / ASSUMED_UNKNOWN_MOTOR_NM) as i16
+    );
     assert!((fake.motor_torque_nm() - 25.0 / 32.0).abs() < 1e-3);
 }
 
@@ -62,7 +69,11 @@ fn a_clinician_entered_rating_lifts_the_cap_and_torque_is_true_in_newton_metres(
     assert_eq!(w.max_torque_nm(), 8.0);
     mock.advance_ns(MS);
     w.command_torque(3.0).unwrap();
-    assert!((fake.motor_torque_nm() - 3.0).abs() < 1e-3, "{}", fake.motor_torque_nm());
+    assert!(
+        (fake.motor_torque_nm() - 3.0).abs() < 1e-3,
+        "{}",
+        fake.motor_torque_nm()
+    );
 }
 
 #[test]
@@ -74,10 +85,17 @@ fn the_device_gain_is_part_of_the_mapping() {
     };
     let (mut w, fake, mock) = wheel_with(UNKNOWN_ID, 10.0, cfg);
     assert_eq!(fake.gain(), 32_768);
-    assert!((w.max_torque_nm() - 5.0).abs() < 1e-3, "half the gain, half the usable torque");
+    assert!(
+        (w.max_torque_nm() - 5.0).abs() < 1e-3,
+        "half the gain, half the usable torque"
+    );
     mock.advance_ns(MS);
     w.command_torque(2.0).unwrap();
-    assert!((fake.motor_torque_nm() - 2.0).abs() < 1e-3, "{}", fake.motor_torque_nm());
+    assert!(
+        (fake.motor_torque_nm() - 2.0).abs() < 1e-3,
+        "{}",
+        fake.motor_torque_nm()
+    );
     mock.advance_ns(MS);
     w.command_torque(9.0).unwrap();
     assert!(fake.motor_torque_nm() <= w.max_torque_nm() + 1e-9);
@@ -106,8 +124,8 @@ fn any_profile() -> impl Strategy<Value = DeviceProfile> {
             Just(DriverFamily::Fanatec),
         ]
         .prop_map(DeviceProfile::unknown),
-        (0.1f64..40.0).prop_map(|t| DeviceProfile::unknown(DriverFamily::HidPidff)
-            .with_rated_torque(t)),
+        (0.1f64..40.0)
+            .prop_map(|t| DeviceProfile::unknown(DriverFamily::HidPidff).with_rated_torque(t)),
     ]
 }
 
@@ -241,7 +259,11 @@ fn firmware_conditions_play_only_while_the_supervisor_runs_and_are_capped() {
     // The budget caps the saturation: the spring may add at most 0.5 N·m.
     let added = w.upload_condition(&spring, 0.5).unwrap();
     assert_eq!(added, 0.5);
-    assert_eq!(fake.playing_conditions(), 0, "not before the supervisor runs");
+    assert_eq!(
+        fake.playing_conditions(),
+        0,
+        "not before the supervisor runs"
+    );
     w.set_firmware_effects_active(true);
     assert_eq!(fake.playing_conditions(), 1);
     assert!(fake.motor_torque_nm() <= 0.5 + 1e-9);

@@ -1,4 +1,5 @@
 //! Subcommands of `telerehab`.
 
 pub mod bench;
+pub mod devices;
 pub mod vehicle;

@@ -140,7 +140,8 @@ mod tests {
         let mut stale = Vec::new();
         for spec in &CHANNELS {
             let file = dir.join(format!("{}.json", spec.schema_name));
-            let now = serde_json::to_string_pretty(&spec.schema()).unwrap() + "\n";
+            let mut now = serde_json::to_string_pretty(&spec.schema()).unwrap();
+            now.push('\n');
             if update {
                 std::fs::write(&file, &now).unwrap();
             } else if std::fs::read_to_string(&file).ok().as_deref() != Some(now.as_str()) {

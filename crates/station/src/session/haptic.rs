@@ -35,6 +35,12 @@ pub struct HapticOutcome {
     pub range_of_motion_rad: Option<[f64; 5]>,
     /// Why arm sensing stopped or never started, in words (told after the loop).
     pub arm_failure: Option<String>,
+    /// The wheel fault that ended the session, if one did.
+    pub wheel_fault: Option<haptic_wheel::WheelFault>,
+    /// Deadlines skipped after a stall (the loop never bursts through missed ticks).
+    pub skipped_deadlines: u64,
+    /// The torque ceiling that held on the wheel, N·m and as a share of its motor.
+    pub ceiling: Option<haptic_wheel::CeilingReport>,
 }
 
 /// Sleep until the absolute `deadline`; with `spin` the last part is a busy wait, which keeps a
@@ -172,12 +178,16 @@ pub fn run(
     let mut stopping_since: Option<u64> = None;
     let mut stopped_early = false;
     let mut tick = 0u64;
+    // The deadline slot of the next tick; it runs ahead of `tick` after a stall.
+    let mut slot = 0u64;
+    let mut skipped_deadlines = 0u64;
     loop {
         // The session's length counts exercise time: a pause lengthens it.
         let active = plant.active_ticks();
         if stopping_since.is_none()
             && (active >= total_ticks
                 || plant.course_done()
+                || plant.wheel_fault().is_some()
                 || controls.stop.load(Ordering::Relaxed))
         {
             stopped_early = active < total_ticks && !plant.course_done();
@@ -189,7 +199,7 @@ pub fn run(
         {
             break;
         }
-        let deadline = start + Duration::from_nanos(period_ns * tick);
+        let deadline = start + Duration::from_nanos(period_ns * slot);
         let wake = if pacing == Pacing::RealTime {
             sleep_until(deadline, spin);
             Instant::now()
@@ -213,6 +223,16 @@ pub fn run(
             dropped_records: dropped,
         };
         last_wake = wake;
+        slot += 1;
+        if pacing == Pacing::RealTime {
+            // After a stall, skip the deadlines already past instead of bursting through them:
+            // the next tick is at the next slot still ahead (the supervisor has seen the gap).
+            let due = (done.saturating_duration_since(start).as_nanos() as u64) / period_ns + 1;
+            if due > slot {
+                skipped_deadlines += due - slot;
+                slot = due;
+            }
+        }
         match pacing {
             Pacing::RealTime => {
                 if out.push(rec).is_err() {
@@ -238,5 +258,8 @@ pub fn run(
         wall_s: start.elapsed().as_secs_f64(),
         range_of_motion_rad: plant.range_of_motion_rad(),
         arm_failure: plant.arm_failure().map(|f| f.to_string()),
+        wheel_fault: plant.wheel_fault(),
+        skipped_deadlines,
+        ceiling: Some(plant.ceiling()),
     }
 }

@@ -148,6 +148,14 @@ pub fn run(
         #[cfg(target_os = "linux")]
         BodyKind::RealWheel => plant::Plant::new(cfg, plant::Body::first_real_wheel(cfg)?, course)?,
     };
+    // The safety claim of this session, in N·m at the motor (and loudly when the wheel's
+    // rating is unknown).
+    let ceiling = plant.ceiling();
+    if ceiling.assumed {
+        tracing::warn!("{ceiling}");
+    } else {
+        tracing::info!("{ceiling}");
+    }
     let recorder = match &opts.record {
         Some(path) => {
             let meta = SessionMetadata {

@@ -11,7 +11,8 @@ use crate::session::course::Segment;
 use anyhow::Context;
 use assist::{HumanArm, Limits, Measurement};
 use haptic_wheel::{
-    HapticChain, HapticChainConfig, SimWheel, TickInput, WatchdogState, Wheel, ZeroTorqueOnDrop,
+    CeilingReport, HapticChain, HapticChainConfig, SimWheel, TickInput, WatchdogState, Wheel,
+    WheelFault, ZeroTorqueOnDrop,
 };
 use vehicle::{
     AligningTorque, DialScore, DrivingScore, PreviewDriver, Projection, SpeedController,
@@ -34,10 +35,13 @@ pub enum Body {
     /// two controller IMUs.
     #[cfg(target_os = "linux")]
     Evdev {
-        /// The device (zero torque, effects erased and gain restored when dropped).
-        wheel: ZeroTorqueOnDrop<haptic_wheel::evdev_wheel::EvdevWheel>,
+        /// The device (zero torque, effects erased and gain restored when dropped). Boxed so
+        /// that the kernel backend can run over any device seam (tests use an in-memory one).
+        wheel: ZeroTorqueOnDrop<Box<dyn Wheel + Send>>,
         /// The arm's IMUs, when two are present.
         arm: Option<Box<crate::session::arm::hid::HidArmSensing>>,
+        /// The clock of the wheel's readings.
+        clock: clock::Clock,
     },
 }
 
@@ -67,8 +71,9 @@ impl Body {
     /// two (see `telerehab devices`).
     #[cfg(target_os = "linux")]
     pub fn first_real_wheel(cfg: &StationConfig) -> anyhow::Result<Self> {
-        use haptic_wheel::evdev_wheel::{EvdevWheel, EvdevWheelConfig, monotonic_ns};
-        let wheel = EvdevWheel::open_first(EvdevWheelConfig::default())
+        use haptic_wheel::evdev_wheel::{EvdevWheel, monotonic_ns};
+        let clock = clock::Clock::real();
+        let wheel = EvdevWheel::open_first(cfg.wheel.clone(), clock.clone())
             .context("no usable force-feedback wheel (run `telerehab devices`)")?;
         // Arm sensing is optional: an IMU that cannot be opened (permissions, a flat battery)
         // costs the joint angles, not the exercise.
@@ -82,10 +87,22 @@ impl Body {
             None
         })
         .map(Box::new);
-        Ok(Body::Evdev {
+        Ok(Self::real_wheel(Box::new(wheel), arm, clock))
+    }
+
+    /// A real wheel backend (already opened) held by a patient, with optional arm sensing;
+    /// `clock` is the clock of the wheel's readings.
+    #[cfg(target_os = "linux")]
+    pub fn real_wheel(
+        wheel: Box<dyn Wheel + Send>,
+        arm: Option<Box<crate::session::arm::hid::HidArmSensing>>,
+        clock: clock::Clock,
+    ) -> Self {
+        Body::Evdev {
             wheel: ZeroTorqueOnDrop::new(wheel),
             arm,
-        })
+            clock,
+        }
     }
 
     /// Where the arm sensing is; `None` without IMUs.
@@ -110,7 +127,7 @@ impl Body {
         match self {
             Body::Sim { wheel, .. } => wheel.time_ns(),
             #[cfg(target_os = "linux")]
-            Body::Evdev { .. } => haptic_wheel::evdev_wheel::monotonic_ns(),
+            Body::Evdev { clock, .. } => clock.now_ns(),
         }
     }
 
@@ -157,6 +174,11 @@ pub struct Plant {
     last_target_rad: f64,
     velocity_rad_s: f64,
     watchdog: WatchdogState,
+    /// The first fault the wheel reported (unplugged, silent, out of range): the session
+    /// ends on it, and says why.
+    wheel_fault: Option<WheelFault>,
+    /// The torque ceiling in force, N·m and as a share of the motor, for the log and screen.
+    ceiling: CeilingReport,
 }
 
 impl Plant {
@@ -193,6 +215,13 @@ impl Plant {
             .context("haptic settings of the first exercise")?;
         // The road-feel law never asks more than the chain's ceiling at the start.
         let ceiling_nm = chain.ceiling_nm();
+        let profile = body.wheel().profile();
+        let ceiling = CeilingReport {
+            usable_max_nm: device_max,
+            ceiling_nm,
+            fraction_of_motor: ceiling_nm / profile.max_torque_nm,
+            ..CeilingReport::new(&profile, 1.0, Some(ceiling_nm))
+        };
         let mut plant = Self {
             body,
             chain,
@@ -222,6 +251,8 @@ impl Plant {
             last_target_rad: 0.0,
             velocity_rad_s: 0.0,
             watchdog: WatchdogState::SoftStart,
+            wheel_fault: None,
+            ceiling,
         };
         plant.projection = plant.start_projection();
         Ok(plant)
@@ -265,6 +296,16 @@ impl Plant {
         self.active_ticks
     }
 
+    /// The first fault the wheel reported, if any (the haptic loop ends the session on it).
+    pub fn wheel_fault(&self) -> Option<WheelFault> {
+        self.wheel_fault
+    }
+
+    /// The torque ceiling in force on this wheel, N·m and as a share of its motor.
+    pub fn ceiling(&self) -> CeilingReport {
+        self.ceiling
+    }
+
     /// The supervisor has faded the torque to zero for good.
     pub fn stopped(&self) -> bool {
         self.watchdog == WatchdogState::Stopped
@@ -296,7 +337,14 @@ impl Plant {
         let paused = self.paused || setup.is_some();
         self.chain.set_paused(paused);
         // 1. Read the wheel as the host sees it (quantised, delayed).
-        let reading = self.body.wheel().read().ok();
+        let reading = match self.body.wheel().read() {
+            Ok(r) => Some(r),
+            Err(e) => {
+                // No allocation: a running wheel's faults are `Copy` values.
+                self.wheel_fault = self.wheel_fault.or(e.fault());
+                None
+            }
+        };
         let angle = reading.map_or(0.0, |r| r.angle_rad);
 
         // 2. The exercise: drive the car with the wheel, or show the dial's desired angle.
@@ -378,6 +426,10 @@ impl Plant {
         });
         self.velocity_rad_s = tel.vel_rad_s;
         self.watchdog = tel.watchdog;
+        // Firmware effects play only while the supervisor runs at full scale.
+        self.body
+            .wheel()
+            .set_firmware_effects_active(tel.watchdog == WatchdogState::Running);
         // A failed command is caught by the next read (stale reading → supervisor fault).
         let _ = self.body.wheel().command_torque(tel.torque_nm);
 
@@ -502,8 +554,10 @@ impl Plant {
         }
     }
 
-    /// Command zero torque directly (every exit path calls it; dropping the plant does too).
+    /// Command zero torque directly and stop firmware effects (every exit path calls it;
+    /// dropping the plant does too).
     pub fn zero_torque(&mut self) {
+        self.body.wheel().set_firmware_effects_active(false);
         let _ = self.body.wheel().command_torque(0.0);
     }
 }

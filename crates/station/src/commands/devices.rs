@@ -1,7 +1,20 @@
 //! `telerehab devices`: list wheels, pedals, gamepads and arm IMUs (and what to check when
-//! there are none).
+//! there are none), with the torque ceiling each wheel would get in N·m and as a share of its
+//! motor under the station's configuration.
 
 use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use crate::config::StationConfig;
+
+/// `telerehab devices`.
+#[derive(Debug, clap::Args)]
+pub struct DevicesArgs {
+    /// Station configuration (TOML): its `[wheel]` section and patient ceiling
+    /// (`[haptic.safety] ceiling_nm`) decide the torque ceiling shown for each wheel.
+    #[arg(long)]
+    pub config: Option<PathBuf>,
+}
 
 /// The IMU part of the device list.
 fn imu_report() -> String {
@@ -38,8 +51,14 @@ fn imu_report() -> String {
 }
 
 /// Print the devices found; exits successfully when there are none (that is an answer).
-pub fn run() -> anyhow::Result<()> {
-    println!("{}", haptic_wheel::enumerate_devices());
+pub fn run(args: &DevicesArgs) -> anyhow::Result<()> {
+    let cfg = match &args.config {
+        Some(p) => StationConfig::load(p)?,
+        None => StationConfig::default(),
+    };
+    let mut report = haptic_wheel::enumerate_devices();
+    report.apply_config(&cfg.wheel, cfg.haptic.safety.ceiling_nm);
+    println!("{report}");
     print!("{}", imu_report());
     Ok(())
 }
