@@ -53,6 +53,8 @@ pub enum Command {
     Vehicle(crate::commands::vehicle::VehicleArgs),
     /// Measure the whole station (for BENCHMARKS.md).
     Bench(crate::commands::bench::BenchArgs),
+    /// Measure a real force-feedback wheel and write its profile (`wheel calibrate`).
+    Wheel(crate::commands::wheel::WheelArgs),
 }
 
 /// Loop pacing.
@@ -204,6 +206,7 @@ pub fn main() -> anyhow::Result<()> {
         Command::Run(args) => run(args),
         Command::Therapist(args) => crate::therapist::run(args),
         Command::Devices(args) => crate::commands::devices::run(&args),
+        Command::Wheel(args) => crate::commands::wheel::run(&args),
         Command::Render(args) => render(args),
         Command::Bench(args) => match args.what {
             crate::commands::bench::BenchCommand::Window(a) => bench_window(a),
