@@ -18,6 +18,7 @@
 //!
 //! SI units inside: rad, rad/s, N·m, s. Device units are converted at the device edge.
 
+pub mod calibrate;
 pub mod chain;
 pub mod devices;
 pub mod effects;

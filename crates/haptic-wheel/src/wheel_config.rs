@@ -188,7 +188,7 @@ impl std::fmt::Display for CeilingReport {
             100.0 * self.fraction_of_motor,
             self.motor_nm,
             if self.assumed {
-                " (motor rating UNKNOWN: strongest plausible motor assumed; enter [wheel] rated_torque_nm or run `telerehab wheel calibrate` to lift the cap)"
+                " (motor rating UNKNOWN: strongest plausible motor assumed; enter the rated torque from the maker's sheet as [wheel] rated_torque_nm, or with `telerehab wheel calibrate --rated-torque-nm`, to lift the cap)"
             } else {
                 ""
             }

@@ -82,7 +82,7 @@ fn firmware(mut dev: VirtualDevice, tx: mpsc::Sender<Seen>) -> std::io::Result<(
 fn backend_streams_constant_force_and_uploads_conditions_to_a_virtual_wheel() {
     if let Err(e) = uinput_usable() {
         println!(
-            "SKIP backend_streams_constant_force_and_uploads_conditions_to_a_virtual_wheel: \
+            "SKIPPED: backend_streams_constant_force_and_uploads_conditions_to_a_virtual_wheel: \
              /dev/uinput is not usable here ({e}); the evdev loopback test needs the uinput \
              module and write access to /dev/uinput"
         );

@@ -341,4 +341,61 @@ mod tests {
             StationConfig::from_toml("[haptic.safety]\nslew_nm_per_s = nan\n", "test").unwrap_err();
         assert!(err.to_string().contains("slew_nm_per_s"), "{err}");
     }
+
+    /// The ```toml blocks of the wheel guide, in order.
+    fn calibration_md_toml_blocks() -> Vec<String> {
+        let md = include_str!("../../haptic-wheel/CALIBRATION.md");
+        md.split("```toml\n")
+            .skip(1)
+            .map(|b| b.split("```").next().unwrap_or_default().to_string())
+            .collect()
+    }
+
+    #[test]
+    fn the_wheel_section_documented_in_calibration_md_parses_and_loads_its_profile_file() {
+        let blocks = calibration_md_toml_blocks();
+        let section = blocks
+            .iter()
+            .find(|b| b.trim_start().starts_with("[wheel]"))
+            .expect("CALIBRATION.md documents a [wheel] section");
+        let profile = blocks
+            .iter()
+            .find(|b| b.trim_start().starts_with("name ="))
+            .expect("CALIBRATION.md documents a profile file");
+        let cfg = StationConfig::from_toml(section, "CALIBRATION.md").unwrap();
+        assert_eq!(cfg.wheel.rated_torque_nm, Some(8.0));
+        // The documented profile file, where the documented section points.
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("wheel-profile.toml"), profile).unwrap();
+        std::fs::write(dir.path().join("station.toml"), section).unwrap();
+        let cfg = StationConfig::load(&dir.path().join("station.toml")).unwrap();
+        let p = cfg
+            .wheel
+            .profile
+            .as_ref()
+            .expect("the profile file is loaded");
+        assert_eq!(p.name, "My wheel");
+        // The clinician's rating applies over the file's figure.
+        let resolved = cfg.wheel.resolve_profile(0x1234, 0x5678);
+        assert_eq!(resolved.max_torque_nm, 8.0);
+    }
+
+    #[test]
+    fn a_bad_wheel_section_or_profile_file_is_named() {
+        let msg = StationConfig::from_toml("[wheel]\ngain = 2.0\n", "test")
+            .unwrap_err()
+            .to_string();
+        assert!(msg.contains("wheel.gain"), "{msg}");
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("p.toml"), "name = \"x\"\n").unwrap();
+        std::fs::write(
+            dir.path().join("station.toml"),
+            "[wheel]\nprofile_file = \"p.toml\"\n",
+        )
+        .unwrap();
+        let msg = StationConfig::load(&dir.path().join("station.toml"))
+            .unwrap_err()
+            .to_string();
+        assert!(msg.contains("p.toml"), "{msg}");
+    }
 }

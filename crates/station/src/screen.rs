@@ -115,12 +115,19 @@ impl CourseView {
                 score,
                 speed_m_s: speed,
                 assist_level: rec.assist.assistance_level,
-                devices: std::iter::once(format!("wheel: {}", rec.wheel.watchdog))
-                    .chain(
-                        rec.arm
-                            .map(|a| format!("arm sensors: {}", a.setup.as_str())),
+                devices: std::iter::once(if rec.wheel.motor_rating_known {
+                    format!("wheel: {}", rec.wheel.watchdog)
+                } else {
+                    format!(
+                        "wheel: {} · UNKNOWN motor: force capped at {:.1} N·m",
+                        rec.wheel.watchdog, rec.wheel.ceiling_nm
                     )
-                    .collect(),
+                })
+                .chain(
+                    rec.arm
+                        .map(|a| format!("arm sensors: {}", a.setup.as_str())),
+                )
+                .collect(),
             },
             screen,
         }

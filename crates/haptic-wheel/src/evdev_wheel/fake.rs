@@ -22,7 +22,6 @@ struct FakeEffect {
     erased: bool,
 }
 
-#[derive(Debug)]
 struct FakeState {
     clock: Clock,
     traits: DeviceTraits,
@@ -41,9 +40,53 @@ struct FakeState {
     pending_event_unix_ns: Option<u64>,
     peak_motor_nm: f64,
     effect_writes: u64,
+    /// The raw value as a function of time, ns (a person turning the wheel), if scripted.
+    script: Option<Box<dyn Fn(u64) -> i32 + Send>>,
+    /// Raw units the rim gives way per N·m of (signed) motor torque, hands off; 0: rigid.
+    compliance_units_per_nm: f64,
+}
+
+impl std::fmt::Debug for FakeScript<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(if self.0.is_some() { "scripted" } else { "none" })
+    }
+}
+
+struct FakeScript<'a>(&'a Option<Box<dyn Fn(u64) -> i32 + Send>>);
+
+impl std::fmt::Debug for FakeState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("FakeState")
+            .field("usb_id", &self.usb_id)
+            .field("motor_nm", &self.motor_nm)
+            .field("axis", &self.axis)
+            .field("unplugged", &self.unplugged)
+            .field("script", &FakeScript(&self.script))
+            .finish_non_exhaustive()
+    }
 }
 
 impl FakeState {
+    /// Signed torque of the constant-force effects now, N·m (positive: the kernel's "left").
+    fn signed_constant_nm(&self, now_ns: u64) -> f64 {
+        let gain = f64::from(self.gain) / f64::from(u16::MAX);
+        self.effects
+            .iter()
+            .filter(|e| {
+                !e.erased
+                    && e.playing_since_ns.is_some_and(|t| {
+                        now_ns.saturating_sub(t) < u64::from(e.data.replay.length) * 1_000_000
+                    })
+            })
+            .map(|e| match e.data.kind {
+                FFEffectKind::Constant { level, .. } => f64::from(level) / 32_767.0,
+                _ => 0.0,
+            })
+            .sum::<f64>()
+            * gain
+            * self.motor_nm
+    }
+
     fn err(&self) -> io::Result<()> {
         if self.unplugged {
             // ENODEV, what the kernel answers for a device that went away.
@@ -132,6 +175,8 @@ impl FakeFfDevice {
                 pending_event_unix_ns: None,
                 peak_motor_nm: 0.0,
                 effect_writes: 0,
+                script: None,
+                compliance_units_per_nm: 0.0,
             })),
         }
     }
@@ -225,6 +270,19 @@ impl FakeHandle {
         s.pending_event_unix_ns = Some(s.clock.unix_ns());
     }
 
+    /// Script the raw value as a function of the clock's time (a person turning the wheel);
+    /// `None` ends the script.
+    pub fn set_script(&self, script: Option<Box<dyn Fn(u64) -> i32 + Send>>) {
+        self.lock().script = script;
+    }
+
+    /// How far the rim gives way under the motor's torque, hands off: the raw value is the
+    /// current one minus `units_per_nm` × the signed constant torque (a left push lowers the
+    /// value, as on a Logitech wheel).
+    pub fn set_compliance(&self, units_per_nm: f64) {
+        self.lock().compliance_units_per_nm = units_per_nm;
+    }
+
     /// Declare another raw range for the steering axis.
     pub fn set_range(&self, minimum: i32, maximum: i32) {
         let mut s = self.lock();
@@ -249,7 +307,14 @@ impl FfDevice for FakeFfDevice {
     fn axis(&self, _axis: AbsoluteAxisCode) -> io::Result<AxisState> {
         let s = self.lock();
         s.err()?;
-        Ok(s.axis)
+        let now = s.clock.now_ns();
+        let mut axis = s.axis;
+        if let Some(script) = &s.script {
+            axis.value = script(now);
+        }
+        let give = s.compliance_units_per_nm * s.signed_constant_nm(now);
+        axis.value = (f64::from(axis.value) - give).round() as i32;
+        Ok(axis)
     }
 
     fn drain_events(&mut self) -> io::Result<Option<SystemTime>> {

@@ -30,6 +30,7 @@
 //!   models). On drop: torque to zero, effects erased, gain back to full and autocentre to
 //!   the configured exit value (the kernel cannot report the previous ones).
 
+pub mod calibrate;
 pub mod device;
 pub mod fake;
 

@@ -40,6 +40,8 @@ fn tick(n: u64) -> TickRecord {
             true_angle_rad: (n.is_multiple_of(2)).then_some(x + 1e-9),
             hand_nm: None,
             target_rad: f64::MIN_POSITIVE,
+            ceiling_nm: 1.87,
+            motor_rating_known: true,
         },
         vehicle: (n != 2).then_some(VehicleSample {
             x_m: x,

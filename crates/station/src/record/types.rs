@@ -65,6 +65,11 @@ pub struct WheelSample {
     pub hand_nm: Option<f64>,
     /// Wheel angle the patient aims for, rad.
     pub target_rad: f64,
+    /// The torque ceiling in force, N·m at the motor.
+    pub ceiling_nm: f64,
+    /// The motor's torque rating is known (built-in, measured or entered); false for an
+    /// unknown wheel, whose strongest plausible motor is assumed and ceiling capped.
+    pub motor_rating_known: bool,
 }
 
 /// Where the arm sensing is, as recorded (a kebab-case string in the JSON).

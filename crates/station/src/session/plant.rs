@@ -473,6 +473,8 @@ impl Plant {
                 true_angle_rad: motion.true_angle_rad,
                 hand_nm: motion.hand_nm,
                 target_rad: target,
+                ceiling_nm: self.chain.ceiling_nm(),
+                motor_rating_known: !self.ceiling.assumed,
             },
             vehicle,
             score: ScoreSample {

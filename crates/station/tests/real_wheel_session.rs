@@ -1,8 +1,11 @@
-//! The 1 kHz haptic thread allocates nothing on any path, faults included (issue 12): a
-//! counting global allocator counts every allocation made on the thread that runs the loop,
-//! over real-time sessions on a real-wheel backend (the kernel FF backend over an in-memory
-//! device) in which the wheel is unplugged, falls silent under torque, or reports an angle
-//! outside its range, and over the same loop stalled past the watchdog.
+//! Real-wheel sessions without hardware: the kernel FF backend over an in-memory device.
+//!
+//! - The torque at the motor stays under the ceiling in N·m, and an unknown direct-drive
+//!   wheel never gets more than 1 N·m (issue 12's defect).
+//! - The 1 kHz haptic thread allocates nothing on any path, faults included: a counting
+//!   global allocator counts every allocation made on the thread that runs the loop, over
+//!   real-time sessions in which the wheel is unplugged, falls silent under torque, or reports
+//!   an angle outside its range.
 // The allocator is the one unsafe item of this test binary: it forwards to the system
 // allocator and only counts.
 #![allow(unsafe_code)]
@@ -80,10 +83,26 @@ enum Fault {
     None,
 }
 
-/// Run a real-time session of up to `seconds` on a fake wheel (the thesis SideWinder's USB id,
-/// 1.87 N·m), disturb it with `fault` after `after`, and return the allocations made on the
-/// haptic thread, the wheel fault that ended it and the peak motor torque.
+/// The thesis SideWinder's USB id (built-in profile, 1.87 N·m).
+const SIDEWINDER: (u16, u16) = (0x045e, 0x0034);
+
+/// Run a real-time session of up to `seconds` on a fake SideWinder, disturb it with `fault`
+/// after `after`, and return the allocations made on the haptic thread, the wheel fault that
+/// ended it and the peak motor torque.
 fn session(fault: Fault, after: Duration, seconds: f64) -> (u64, Option<WheelFault>, f64) {
+    let (allocs, fault, peak, _) = session_on(SIDEWINDER, 1.87, fault, after, seconds);
+    (allocs, fault, peak)
+}
+
+/// [`session`] on a wheel with USB id `usb_id` and a motor of `motor_nm`; also returns the
+/// ceiling the station stated.
+fn session_on(
+    usb_id: (u16, u16),
+    motor_nm: f64,
+    fault: Fault,
+    after: Duration,
+    seconds: f64,
+) -> (u64, Option<WheelFault>, f64, haptic_wheel::CeilingReport) {
     let mut cfg = StationConfig {
         wheel: haptic_wheel::WheelConfig {
             max_silence_ms: 100,
@@ -95,12 +114,14 @@ fn session(fault: Fault, after: Duration, seconds: f64) -> (u64, Option<WheelFau
     // body is changed from outside (rapier 0.36; measured, see the closing note of issue 12).
     cfg.session.exercise = "dial-sine".into();
     let clock = Clock::real();
-    let dev = FakeFfDevice::wheel("fake SideWinder", (0x045e, 0x0034), 1.87, clock.clone());
+    let dev = FakeFfDevice::wheel("fake wheel", usb_id, motor_nm, clock.clone());
     let fake: FakeHandle = dev.handle();
     let wheel = EvdevWheel::with_device(dev, "fake", cfg.wheel.clone(), clock.clone()).unwrap();
     let body = Body::real_wheel(Box::new(wheel), None, clock);
     let course = course::build(&cfg, None).unwrap();
     let mut plant = Plant::new(&cfg, body, course).unwrap();
+    // Off centre: the centring model pushes from the first tick.
+    fake.set_value(20_000);
     let (mut producer, mut consumer) = rtrb::RingBuffer::<TickRecord>::new(16_384);
     let controls = Controls::default();
     let total_ticks = (seconds * cfg.session.loop_rate_hz) as u64;
@@ -151,7 +172,22 @@ fn session(fault: Fault, after: Duration, seconds: f64) -> (u64, Option<WheelFau
         allocations,
         outcome.wheel_fault,
         fake.peak_motor_torque_nm(),
+        plant.ceiling(),
     )
+}
+
+#[test]
+fn an_unknown_direct_drive_wheel_gets_at_most_one_newton_metre_and_the_station_says_so() {
+    // A 25 N·m motor the station has no profile for, rim off centre so the centring spring
+    // pushes as hard as it may.
+    let (_, fault, peak, ceiling) =
+        session_on((0x1d50, 0x6015), 25.0, Fault::None, Duration::ZERO, 1.5);
+    assert_eq!(fault, None);
+    assert!(ceiling.assumed);
+    assert_eq!(ceiling.ceiling_nm, 1.0);
+    assert!(ceiling.to_string().contains("UNKNOWN"), "{ceiling}");
+    assert!(peak > 0.0, "the spring pushed");
+    assert!(peak <= 1.0 + 1e-9, "{peak} N·m at the motor");
 }
 
 #[test]
