@@ -151,9 +151,12 @@ fn space_in_the_patient_window_starts_pauses_and_resumes_the_exercise_and_esc_en
         "waiting, running, paused, running"
     );
     assert!(stretches[0].1.iter().all(|&t| t == 0.0));
+    // Held at a time after the start. How much exercise time one wall second of running gives
+    // depends on the machine's load: the loop skips deadlines it missed instead of bursting
+    // through them, so a loaded machine runs the exercise clock slower than the wall.
     let held = &stretches[2].1;
     assert!(
-        held.len() >= 15 && held.iter().all(|&t| t == held[0] && t > 0.5),
+        held.len() >= 15 && held.iter().all(|&t| t == held[0] && t > 0.05),
         "{held:?}"
     );
 }
