@@ -226,11 +226,13 @@ pub fn run(
         slot += 1;
         if pacing == Pacing::RealTime {
             // After a stall, skip the deadlines already past instead of bursting through them:
-            // the next tick is at the next slot still ahead (the supervisor has seen the gap).
-            let due = (done.saturating_duration_since(start).as_nanos() as u64) / period_ns + 1;
-            if due > slot {
-                skipped_deadlines += due - slot;
-                slot = due;
+            // the next tick runs at once for the latest deadline passed, the older ones are
+            // dropped (the supervisor has seen the gap). A tick merely late for the next
+            // deadline is ordinary jitter and skips nothing.
+            let latest_past = (done.saturating_duration_since(start).as_nanos() as u64) / period_ns;
+            if latest_past > slot {
+                skipped_deadlines += latest_past - slot;
+                slot = latest_past;
             }
         }
         match pacing {
