@@ -204,7 +204,13 @@ mod tests {
         }
     }
 
-    fn wheel(usb_id: (u16, u16), motor_nm: f64) -> (EvdevWheel<FakeFfDevice>, FakeHandle) {
+    /// A fake wheel with a person at it who turns it when asked and lets go (`hands_off`) or
+    /// not when asked.
+    fn wheel(
+        usb_id: (u16, u16),
+        motor_nm: f64,
+        hands_off: bool,
+    ) -> (EvdevWheel<FakeFfDevice>, FakeHandle, Person) {
         let (clock, _mock) = Clock::mock();
         let dev = FakeFfDevice::wheel("fake", usb_id, motor_nm, clock.clone());
         let fake = dev.handle();
@@ -222,17 +228,17 @@ mod tests {
             x.round() as i32
         })));
         let w = EvdevWheel::with_device(dev, "fake", WheelConfig::default(), clock).unwrap();
-        (w, fake)
+        let person = Person {
+            fake: fake.clone(),
+            hands_off,
+            said: Vec::new(),
+        };
+        (w, fake, person)
     }
 
     #[test]
     fn the_procedure_measures_range_signs_and_rate_with_a_gentle_torque_only_after_hands_off() {
-        let (mut w, fake) = wheel((0x045e, 0x0034), 1.87);
-        let mut person = Person {
-            fake: fake.clone(),
-            hands_off: true,
-            said: Vec::new(),
-        };
+        let (mut w, fake, mut person) = wheel((0x045e, 0x0034), 1.87, true);
         let r = w.calibrate(&mut person, 8.0, None).unwrap();
         // The thesis SideWinder's profile spans ±2.25 rad over the declared range; the wheel
         // turned over three quarters of it.
@@ -255,12 +261,7 @@ mod tests {
 
     #[test]
     fn no_torque_is_ever_applied_without_the_hands_off_confirmation() {
-        let (mut w, fake) = wheel((0x1d50, 0x6015), 25.0);
-        let mut person = Person {
-            fake: fake.clone(),
-            hands_off: false,
-            said: Vec::new(),
-        };
+        let (mut w, fake, mut person) = wheel((0x1d50, 0x6015), 25.0, false);
         let err = w.calibrate(&mut person, 8.0, None).unwrap_err();
         assert!(matches!(err, CalibrateError::NotConfirmed), "{err}");
         assert_eq!(fake.peak_motor_torque_nm(), 0.0);
@@ -268,12 +269,7 @@ mod tests {
 
     #[test]
     fn an_unknown_wheel_is_pushed_with_at_most_a_tenth_of_its_capped_torque() {
-        let (mut w, fake) = wheel((0x1d50, 0x6015), 25.0);
-        let mut person = Person {
-            fake: fake.clone(),
-            hands_off: true,
-            said: Vec::new(),
-        };
+        let (mut w, fake, mut person) = wheel((0x1d50, 0x6015), 25.0, true);
         let r = w.calibrate(&mut person, 8.0, Some(25.0)).unwrap();
         assert!(
             fake.peak_motor_torque_nm() <= 0.1 + 1e-9,
