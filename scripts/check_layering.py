@@ -24,18 +24,30 @@ import subprocess
 import sys
 
 # What the station binary sits on: every crate of ours below it in the diagram.
-BELOW_STATION = {"common", "vehicle", "assist", "calib", "gyro-imu", "haptic-wheel", "netlink"}
+BELOW_STATION = {
+    "common",
+    "clock",
+    "vehicle",
+    "assist",
+    "calib",
+    "gyro-imu",
+    "haptic-wheel",
+    "netlink",
+}
 
 # Our crates, and which of our crates each one may depend on (the arrows of DESIGN.md).
 OUR_CRATES: dict[str, set[str]] = {
     "common": set(),
+    # The one injectable clock: a leaf the device crates and the link may use; never a pure
+    # crate (they get `dt` or timestamps).
+    "clock": set(),
     "vehicle": {"common"},
     "assist": {"common"},
     "calib": {"common", "gyro-imu"},
-    "gyro-imu": {"common"},
-    "haptic-wheel": {"common"},
-    "netlink": {"common"},
-    "hub": {"common", "netlink"},
+    "gyro-imu": {"common", "clock"},
+    "haptic-wheel": {"common", "clock"},
+    "netlink": {"common", "clock"},
+    "hub": {"common", "clock", "netlink"},
     "station": BELOW_STATION,
     "telerehab-py": {"common", "vehicle", "assist", "calib", "gyro-imu"},
     "telerehab-tests": BELOW_STATION | {"station", "hub"},

@@ -85,3 +85,9 @@ def test_pyext_may_not_use_netlink(tmp_path):
 def test_the_real_workspace_is_clean():
     r = subprocess.run([sys.executable, str(SCRIPT)], capture_output=True, text=True, cwd=SCRIPT.parents[1])
     assert r.returncode == 0, r.stderr
+
+
+def test_a_pure_crate_may_not_read_the_clock(tmp_path):
+    r = run(tmp_path, metadata(pkg("clock"), pkg("vehicle", dep("clock", path="crates/clock"))))
+    assert r.returncode == 1
+    assert "vehicle -> clock" in r.stderr
