@@ -362,7 +362,7 @@ mod tests {
         assert!(text.contains("500 Hz"), "{text}");
         // The ceiling in N·m and as a share of the motor, and the unknown wheel said so.
         assert!(
-            text.contains("torque ceiling 1.00 N·m = 3.1 % of the motor's 32.0 N·m"),
+            text.contains("torque ceiling 1.00 N·m = 3.1 % of the motor's 32.00 N·m"),
             "{text}"
         );
         assert!(text.contains("UNKNOWN"), "{text}");

@@ -183,7 +183,7 @@ impl std::fmt::Display for CeilingReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "torque ceiling {:.2} N·m = {:.1} % of the motor's {:.1} N·m{}",
+            "torque ceiling {:.2} N·m = {:.1} % of the motor's {:.2} N·m{}",
             self.ceiling_nm,
             100.0 * self.fraction_of_motor,
             self.motor_nm,
