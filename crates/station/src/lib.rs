@@ -2,18 +2,17 @@
 //!
 //! Thread layout (DESIGN.md): the `haptic` thread runs the 1 kHz loop ([`session::haptic`]),
 //! the `recorder` thread ([`session::recorder`]) writes MCAP in the [`record`] format and thins
-//! summaries, a tokio runtime owns the therapist link ([`link`], [`therapist`]).
+//! summaries, a tokio runtime owns the therapist link ([`link`], [`commands::therapist`]).
 
 pub mod cli;
 pub mod commands;
 pub mod config;
 pub mod link;
+pub mod logging;
 pub mod record;
-pub mod recover;
 pub mod regimen;
 pub mod render;
 pub mod report;
 pub mod screen;
 pub mod session;
-pub mod therapist;
 pub mod timing;

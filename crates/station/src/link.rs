@@ -3,7 +3,7 @@
 
 use crate::config::StationConfig;
 use crate::report::LinkReport;
-use crate::session::LiveSummary;
+use crate::session::{LiveSummary, SessionObserver};
 use anyhow::Context;
 use netlink::{
     ClientTls, Hello, PROTOCOL_VERSION, StationLink, StationLinkConfig, Summary, SummarySender,
@@ -144,6 +144,13 @@ impl Link {
             undelivered: produced.saturating_sub(stats.acked),
             last_error: stats.last_error,
         })
+    }
+}
+
+/// The link watches a session for its summaries.
+impl SessionObserver for &Link {
+    fn on_summary(&mut self, summary: &LiveSummary) {
+        self.send(summary);
     }
 }
 

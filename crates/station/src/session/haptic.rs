@@ -2,7 +2,7 @@
 //! wait-free ring buffer, torque faded to zero on every way out.
 
 use crate::record::{TickRecord, TimingSample};
-use crate::session::Controls;
+use crate::session::controls::Controls;
 use crate::session::plant::Plant;
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};

@@ -3,12 +3,15 @@
 
 pub mod arm;
 pub mod arm_calibration;
+mod controls;
 pub mod course;
 pub mod haptic;
 pub mod plant;
 pub mod recorder;
+pub mod signals;
 #[cfg(test)]
 mod tests;
+pub mod window;
 
 use crate::config::StationConfig;
 use crate::record::{SessionMetadata, TickRecord};
@@ -19,6 +22,8 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
+
+pub use controls::Controls;
 use std::time::{SystemTime, UNIX_EPOCH};
 
 /// Capacity of the haptic → recorder ring, records (8 s at 1 kHz).
@@ -105,22 +110,26 @@ pub trait SessionObserver: Send {
     fn on_summary(&mut self, _summary: &LiveSummary) {}
 }
 
-/// What other threads (a signal handler, the patient's window) may ask of a running session.
-#[derive(Debug, Default)]
-pub struct Controls {
-    /// End the session: the torque fades out and everything is recorded and delivered.
-    pub stop: Arc<AtomicBool>,
-    /// While set, the exercise is paused (see [`plant::Plant::set_paused`]).
-    pub pause: AtomicBool,
+impl<T: SessionObserver + ?Sized> SessionObserver for &mut T {
+    fn on_tick(&mut self, record: &TickRecord) {
+        (**self).on_tick(record);
+    }
+
+    fn on_summary(&mut self, summary: &LiveSummary) {
+        (**self).on_summary(summary);
+    }
 }
 
-impl Controls {
-    /// Controls around an existing stop flag (such as the one signal handlers set).
-    pub fn with_stop(stop: Arc<AtomicBool>) -> Self {
-        Self {
-            stop,
-            pause: AtomicBool::new(false),
-        }
+/// Two observers, told in order.
+impl<A: SessionObserver, B: SessionObserver> SessionObserver for (A, B) {
+    fn on_tick(&mut self, record: &TickRecord) {
+        self.0.on_tick(record);
+        self.1.on_tick(record);
+    }
+
+    fn on_summary(&mut self, summary: &LiveSummary) {
+        self.0.on_summary(summary);
+        self.1.on_summary(summary);
     }
 }
 
