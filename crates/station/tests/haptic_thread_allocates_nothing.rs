@@ -98,7 +98,7 @@ fn session(fault: Fault, after: Duration, seconds: f64) -> (u64, Option<WheelFau
     let dev = FakeFfDevice::wheel("fake SideWinder", (0x045e, 0x0034), 1.87, clock.clone());
     let fake: FakeHandle = dev.handle();
     let wheel = EvdevWheel::with_device(dev, "fake", cfg.wheel.clone(), clock.clone()).unwrap();
-    let body = Body::real_wheel(Box::new(wheel), None, clock);
+    let body = Body::real_wheel(Box::new(wheel), None, clock.clone());
     let course = course::build(&cfg, None).unwrap();
     let mut plant = Plant::new(&cfg, body, course).unwrap();
     let (mut producer, mut consumer) = rtrb::RingBuffer::<TickRecord>::new(16_384);
@@ -140,6 +140,7 @@ fn session(fault: Fault, after: Duration, seconds: f64) -> (u64, Option<WheelFau
         Pacing::RealTime,
         false,
         &controls,
+        &clock,
     );
     COUNTING.with(|c| c.set(false));
     let allocations = ALLOCATIONS.load(Ordering::Relaxed);

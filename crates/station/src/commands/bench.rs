@@ -14,6 +14,7 @@ use crate::session::signals::install_stop_flag;
 use crate::session::{self, BodyKind, SessionObserver, SessionOptions, haptic::Pacing};
 use crate::timing::{Percentiles, TimingStats};
 use anyhow::Context;
+use clock::Clock;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -180,6 +181,7 @@ fn window(args: BenchWindowArgs) -> anyhow::Result<()> {
         size: args.size,
         ..WindowOptions::new("telerehab bench")
     };
+    let clock = Clock::real();
     let opts = SessionOptions {
         config: cfg.clone(),
         pacing: Pacing::RealTime,
@@ -187,9 +189,10 @@ fn window(args: BenchWindowArgs) -> anyhow::Result<()> {
         body: BodyKind::Simulated,
         regimen,
         isolate_core: true,
+        clock: clock.clone(),
     };
     let controls = session::Controls::with_stop(install_stop_flag()?);
-    let link = Link::start(&cfg)?;
+    let link = Link::start(&cfg, &clock)?;
     let (report, stats) = session::window::run_with_window(
         &opts,
         &controls,

@@ -90,6 +90,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         body: BodyKind::Simulated,
         regimen,
         isolate_core: false,
+        clock: clock::Clock::real(),
     };
     session::run(&opts, &session::Controls::with_stop(stop), &mut frames)?;
     let scenes = frames

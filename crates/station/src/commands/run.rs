@@ -10,6 +10,7 @@ use crate::session::signals::install_stop_flag;
 use crate::session::{self, BodyKind, SessionOptions, haptic::Pacing};
 use anyhow::{Context, bail};
 use clap::ValueEnum;
+use clock::Clock;
 use std::path::PathBuf;
 use std::sync::atomic::Ordering;
 
@@ -176,6 +177,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     } else {
         Some(CourseView::new(&cfg, regimen.as_ref())?)
     };
+    let clock = Clock::real();
     let opts = SessionOptions {
         config: cfg.clone(),
         pacing,
@@ -183,6 +185,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         body,
         regimen,
         isolate_core: !args.headless,
+        clock: clock.clone(),
     };
     tracing::info!(
         exercise = %cfg.session.exercise,
@@ -192,7 +195,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         window = !args.headless,
         "starting session"
     );
-    let link = Link::start(&cfg)?;
+    let link = Link::start(&cfg, &clock)?;
     let report = match view {
         None => session::run(&opts, &controls, &mut &link)?,
         Some(view) => {

@@ -16,6 +16,7 @@ pub mod window;
 use crate::config::StationConfig;
 use crate::record::{SessionMetadata, TickRecord};
 use anyhow::Context;
+use clock::Clock;
 use haptic::{HapticOutcome, Pacing};
 use recorder::{McapRecorder, RecorderOutcome, RecorderPlan, SUMMARY_EVERY_S, recorder_loop};
 use std::collections::BTreeMap;
@@ -24,7 +25,6 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 pub use controls::Controls;
-use std::time::{SystemTime, UNIX_EPOCH};
 
 /// Capacity of the haptic → recorder ring, records (8 s at 1 kHz).
 const RING_CAPACITY: usize = 8192;
@@ -46,6 +46,9 @@ pub struct SessionOptions {
     pub regimen: Option<crate::regimen::Regimen>,
     /// Give the haptic thread a core of its own (the caller keeps its other threads off it).
     pub isolate_core: bool,
+    /// The session's clock: the haptic thread's deadlines and the recording's start time
+    /// (a mock clock runs a real-time session at once, with exact timing figures).
+    pub clock: Clock,
 }
 
 /// Who holds the wheel in a session.
@@ -94,13 +97,6 @@ pub struct SessionReport {
     pub sim_arm_truth_m: Option<(f64, f64)>,
 }
 
-fn unix_ns() -> u64 {
-    SystemTime::now()
-        .duration_since(UNIX_EPOCH)
-        .map(|d| d.as_nanos() as u64)
-        .unwrap_or(0)
-}
-
 /// Who watches a running session from the recorder thread (the therapist link, the patient's
 /// screen). Both methods must return quickly and never block.
 pub trait SessionObserver: Send {
@@ -144,7 +140,7 @@ pub fn run(
     cfg.validate()?;
     let rate = cfg.session.loop_rate_hz;
     let total_ticks = (cfg.session.duration_s * rate).round() as u64;
-    let start_unix_ns = unix_ns();
+    let start_unix_ns = opts.clock.unix_ns();
     // Devices first: a session that cannot start must not leave an empty recording behind.
     let course = course::build(cfg, opts.regimen.as_ref())?;
     let exercises = course.len();
@@ -193,6 +189,7 @@ pub fn run(
     let flush_every = ((FLUSH_EVERY_S * rate).round() as u64).max(1);
     let pacing = opts.pacing;
     let isolate_core = opts.isolate_core;
+    let clock = &opts.clock;
     let plan = RecorderPlan {
         period_ns,
         expected_ticks: total_ticks,
@@ -218,6 +215,7 @@ pub fn run(
                     pacing,
                     isolate_core,
                     controls,
+                    clock,
                 )
             })
             .context("cannot start the haptic thread")?;
