@@ -9,7 +9,7 @@ use super::run::RunArgs;
 use crate::link::Link;
 use crate::record::TickRecord;
 use crate::render::window::WindowOptions;
-use crate::screen::CourseView;
+use crate::screen::{CourseView, live_screen_state};
 use crate::session::signals::install_stop_flag;
 use crate::session::{self, BodyKind, SessionObserver, SessionOptions, haptic::Pacing};
 use crate::timing::{Percentiles, TimingStats};
@@ -196,7 +196,7 @@ fn window(args: BenchWindowArgs) -> anyhow::Result<()> {
     let (report, stats) = session::window::run_with_window(
         &opts,
         &controls,
-        &view,
+        |rec: &TickRecord| view.scene(rec, live_screen_state(rec)),
         &window,
         &mut (&link, &mut impact),
         !args.normal_priority,

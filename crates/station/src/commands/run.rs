@@ -3,9 +3,10 @@
 
 use crate::config::StationConfig;
 use crate::link::Link;
+use crate::record::TickRecord;
 use crate::regimen::Regimen;
 use crate::render::window::WindowOptions;
-use crate::screen::CourseView;
+use crate::screen::{CourseView, live_screen_state};
 use crate::session::signals::install_stop_flag;
 use crate::session::{self, BodyKind, SessionOptions, haptic::Pacing};
 use anyhow::{Context, bail};
@@ -202,7 +203,8 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
             // With a window the patient starts the exercise with Space when ready.
             controls.pause.store(true, Ordering::Relaxed);
             let window = WindowOptions::new("telerehab");
-            session::window::run_with_window(&opts, &controls, &view, &window, &mut &link, true)?.0
+            let scene = |rec: &TickRecord| view.scene(rec, live_screen_state(rec));
+            session::window::run_with_window(&opts, &controls, scene, &window, &mut &link, true)?.0
         }
     };
     let link_report = link.finish(report.summaries);

@@ -4,8 +4,8 @@
 
 use super::{Controls, LiveSummary, SessionObserver, SessionOptions, SessionReport};
 use crate::record::TickRecord;
+use crate::render::Scene;
 use crate::render::window::{UserRequest, WindowOptions, WindowStats};
-use crate::screen::CourseView;
 use anyhow::Context;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -27,14 +27,15 @@ impl SessionObserver for ScreenFeed<'_> {
 }
 
 /// Run the session on its own threads and the patient's window on this (the main) thread,
-/// drawing `view`; `observer` watches the session as in [`super::run`]. Space pauses and
+/// drawing the latest tick as `scene` makes it (e.g. [`crate::screen::CourseView::scene`]);
+/// `observer` watches the session as in [`super::run`]. Space pauses and
 /// resumes through `controls`, closing the window stops the session. With `idle_priority` the
 /// window and its renderer get only the CPU time the session leaves over. Without a usable
 /// GPU or display the session simply runs headless (the stats are then `None`).
 pub fn run_with_window(
     opts: &SessionOptions,
     controls: &Controls,
-    view: &CourseView,
+    scene: impl Fn(&TickRecord) -> Scene,
     window: &WindowOptions,
     observer: &mut dyn SessionObserver,
     idle_priority: bool,
@@ -70,7 +71,7 @@ pub fn run_with_window(
                 return None;
             }
             let rec = *output.read();
-            Some(view.scene(&rec, crate::screen::live_screen_state(&rec)))
+            Some(scene(&rec))
         };
         let on_request = |r: UserRequest| match r {
             UserRequest::Quit => controls.stop.store(true, Ordering::Relaxed),
