@@ -9,7 +9,7 @@ use clock::Clock;
 use netlink::{
     ClientTls, Hello, PROTOCOL_VERSION, StationLink, StationLinkConfig, Summary, SummarySender,
 };
-use std::net::ToSocketAddrs;
+use std::net::{SocketAddr, ToSocketAddrs};
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 /// How long the end of a session waits for the therapist to acknowledge what is pending.
@@ -27,6 +27,15 @@ struct Inner {
     session_id: String,
     exercise: String,
     address: String,
+}
+
+/// The first socket address `address` (`host:port`) resolves to; errors name it as `what`.
+pub(crate) fn resolve(what: &str, address: &str) -> anyhow::Result<SocketAddr> {
+    address
+        .to_socket_addrs()
+        .with_context(|| format!("{what} `{address}` does not resolve"))?
+        .next()
+        .with_context(|| format!("{what} `{address}` has no address"))
 }
 
 /// A session identifier from the start time: `2026-11-21T09-30-00Z-s7` (seed appended).
@@ -64,12 +73,7 @@ impl Link {
         if t.address.is_empty() {
             return Ok(Self { inner: None });
         }
-        let addr = t
-            .address
-            .to_socket_addrs()
-            .with_context(|| format!("therapist address `{}` does not resolve", t.address))?
-            .next()
-            .with_context(|| format!("therapist address `{}` has no address", t.address))?;
+        let addr = resolve("therapist address", &t.address)?;
         let host = t
             .address
             .rsplit_once(':')

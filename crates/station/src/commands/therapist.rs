@@ -4,7 +4,6 @@
 use anyhow::Context;
 use netlink::{ServerTls, TherapistConfig, TherapistEvent, TherapistServer};
 use std::io::Write;
-use std::net::ToSocketAddrs;
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -27,12 +26,7 @@ pub struct TherapistArgs {
 
 /// Run the hub until SIGINT/SIGTERM.
 pub fn run(args: TherapistArgs) -> anyhow::Result<()> {
-    let listen = args
-        .listen
-        .to_socket_addrs()
-        .with_context(|| format!("--listen `{}` does not resolve", args.listen))?
-        .next()
-        .with_context(|| format!("--listen `{}` has no address", args.listen))?;
+    let listen = crate::link::resolve("--listen", &args.listen)?;
     let tls = match (args.tls_cert, args.tls_key) {
         (Some(cert), Some(key)) => Some(ServerTls {
             cert_pem_path: cert,
