@@ -221,7 +221,10 @@ impl SimWheel {
         self.motor_nm
     }
 
-    /// Simulated time, ns since construction.
+    /// Simulated time, ns since construction. It is the wheel's own clock, moved only by
+    /// [`SimWheel::advance`]'s `dt` (never read from the operating system, nor from the
+    /// station's injectable `clock::Clock`): a simulated session gives the same readings
+    /// whatever its pacing, and its timestamps are exactly `k·dt`.
     pub fn time_ns(&self) -> u64 {
         self.t_ns
     }

@@ -1,19 +1,46 @@
 //! The telerehab station: command line, configuration, threads, recorder and therapist hub.
 //!
-//! Thread layout (DESIGN.md): the `haptic` thread runs the 1 kHz loop ([`session::haptic`]),
-//! the `recorder` thread ([`session::recorder`]) writes MCAP in the [`record`] format and thins
-//! summaries, a tokio runtime owns the therapist link ([`link`], [`therapist`]).
+//! # Module map
+//!
+//! - [`cli`]: the clap tree ([`cli::Cli`], [`cli::Command`]) and [`cli::dispatch`], nothing
+//!   else. [`logging`] sets up the one `tracing` subscriber.
+//! - [`commands`]: one file per subcommand, each owning its arguments and `run()`:
+//!   [`commands::run`] (a patient session), [`commands::render`], [`commands::therapist`]
+//!   (the hub), [`commands::recover`], [`commands::devices`], [`commands::vehicle`],
+//!   [`commands::bench`], [`commands::wheel`].
+//! - [`session`]: the threads of a running session. [`session::run`] wires them;
+//!   [`session::haptic`] is the 1 kHz loop driving a [`session::plant::Plant`] (wheel, patient,
+//!   car, haptic chain, assist) through the exercises of [`session::course`];
+//!   [`session::recorder`] writes the records and thins summaries; [`session::arm`] and
+//!   [`session::arm_calibration`] turn the IMUs into joint angles and arm lengths;
+//!   [`session::window`] puts the patient's window on the main thread; [`session::signals`]
+//!   turns SIGINT/SIGTERM into a stop request.
+//! - [`record`]: one type per MCAP channel, the writer, the reader and `recover`.
+//! - [`config`] (station TOML) and [`regimen`] (the therapist's prescription): validated input.
+//! - [`link`]: the therapist link (tokio runtime, store-and-forward through `netlink`).
+//! - [`screen`] (a tick → a [`render::Scene`]) and [`render`] (wgpu: window and offscreen).
+//! - [`report`] (the end-of-session text) and [`timing`] (loop-timing percentiles).
+//!
+//! Dependencies point down the list: `cli` → `commands` → `session`, `link`, `screen`,
+//! `report` → `record`, `config`, `regimen`, `render`, `timing`; nothing below `commands` knows
+//! a command, and `session` draws through a scene closure, not the screen. (One exception:
+//! `config` takes its `[arm]` section type from `session::arm`.) Time comes from one injectable [`clock::Clock`] in [`session::SessionOptions`]
+//! (mock clocks in tests); the pure crates get `dt` or timestamps.
+//!
+//! Threads (DESIGN.md): `haptic` (1 kHz, absolute deadlines, real-time priority where
+//! granted) → wait-free ring → `recorder` (MCAP, summaries) → the therapist link's tokio
+//! runtime and the window's triple buffer; the window runs on the main thread, the session on
+//! a `session` thread beside it.
 
 pub mod cli;
 pub mod commands;
 pub mod config;
 pub mod link;
+pub mod logging;
 pub mod record;
-pub mod recover;
 pub mod regimen;
 pub mod render;
 pub mod report;
 pub mod screen;
 pub mod session;
-pub mod therapist;
 pub mod timing;

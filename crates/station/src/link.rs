@@ -3,12 +3,13 @@
 
 use crate::config::StationConfig;
 use crate::report::LinkReport;
-use crate::session::LiveSummary;
+use crate::session::{LiveSummary, SessionObserver};
 use anyhow::Context;
+use clock::Clock;
 use netlink::{
     ClientTls, Hello, PROTOCOL_VERSION, StationLink, StationLinkConfig, Summary, SummarySender,
 };
-use std::net::ToSocketAddrs;
+use std::net::{SocketAddr, ToSocketAddrs};
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 /// How long the end of a session waits for the therapist to acknowledge what is pending.
@@ -28,6 +29,15 @@ struct Inner {
     address: String,
 }
 
+/// The first socket address `address` (`host:port`) resolves to; errors name it as `what`.
+pub(crate) fn resolve(what: &str, address: &str) -> anyhow::Result<SocketAddr> {
+    address
+        .to_socket_addrs()
+        .with_context(|| format!("{what} `{address}` does not resolve"))?
+        .next()
+        .with_context(|| format!("{what} `{address}` has no address"))
+}
+
 /// A session identifier from the start time: `2026-11-21T09-30-00Z-s7` (seed appended).
 pub fn session_id(start: SystemTime, seed: u64) -> String {
     let stamp = humantime::format_rfc3339_seconds(start)
@@ -36,20 +46,34 @@ pub fn session_id(start: SystemTime, seed: u64) -> String {
     format!("{stamp}-s{seed}")
 }
 
+/// The first frame of the link: who this station, patient and session are, started now on
+/// `clock`.
+fn hello(cfg: &StationConfig, clock: &Clock) -> Hello {
+    let start_unix_ns = clock.unix_ns();
+    Hello {
+        protocol_version: PROTOCOL_VERSION,
+        station_id: cfg.session.station_id.clone(),
+        patient_id: cfg.session.patient_id.clone(),
+        session_id: session_id(
+            UNIX_EPOCH + Duration::from_nanos(start_unix_ns),
+            cfg.session.seed,
+        ),
+        exercise: cfg.session.exercise.clone(),
+        started_unix_ms: start_unix_ns / 1_000_000,
+        software_version: concat!("telerehab ", env!("CARGO_PKG_VERSION")).into(),
+    }
+}
+
 impl Link {
     /// Start the link if the configuration names a therapist. Plaintext is refused to
-    /// anything but loopback; `therapist.ca_pem` enables TLS.
-    pub fn start(cfg: &StationConfig) -> anyhow::Result<Self> {
+    /// anything but loopback; `therapist.ca_pem` enables TLS. The session's start time (its
+    /// identifier at the hub) is read on `clock`.
+    pub fn start(cfg: &StationConfig, clock: &Clock) -> anyhow::Result<Self> {
         let t = &cfg.therapist;
         if t.address.is_empty() {
             return Ok(Self { inner: None });
         }
-        let addr = t
-            .address
-            .to_socket_addrs()
-            .with_context(|| format!("therapist address `{}` does not resolve", t.address))?
-            .next()
-            .with_context(|| format!("therapist address `{}` has no address", t.address))?;
+        let addr = resolve("therapist address", &t.address)?;
         let host = t
             .address
             .rsplit_once(':')
@@ -63,19 +87,7 @@ impl Link {
                 .unwrap_or_else(|| host.trim_matches(['[', ']']).to_string()),
             identity: None,
         });
-        let start = SystemTime::now();
-        let hello = Hello {
-            protocol_version: PROTOCOL_VERSION,
-            station_id: cfg.session.station_id.clone(),
-            patient_id: cfg.session.patient_id.clone(),
-            session_id: session_id(start, cfg.session.seed),
-            exercise: cfg.session.exercise.clone(),
-            started_unix_ms: start
-                .duration_since(UNIX_EPOCH)
-                .map(|d| d.as_millis() as u64)
-                .unwrap_or(0),
-            software_version: concat!("telerehab ", env!("CARGO_PKG_VERSION")).into(),
-        };
+        let hello = hello(cfg, clock);
         let session_id = hello.session_id.clone();
         let config = StationLinkConfig::new(addr, tls, hello);
         config.validate().context("therapist link")?;
@@ -147,6 +159,13 @@ impl Link {
     }
 }
 
+/// The link watches a session for its summaries.
+impl SessionObserver for &Link {
+    fn on_summary(&mut self, summary: &LiveSummary) {
+        self.send(summary);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -156,5 +175,19 @@ mod tests {
         let id = session_id(UNIX_EPOCH + Duration::from_secs(1_795_000_000), 7);
         assert_eq!(id, "2026-11-18T11-06-40Z-s7");
         netlink::frame::check_id("session_id", &id).unwrap();
+    }
+
+    #[test]
+    fn the_hello_is_stamped_on_the_sessions_clock() {
+        let (clock, mock) = Clock::mock();
+        mock.advance(Duration::from_millis(90_500));
+        let mut cfg = StationConfig::default();
+        cfg.session.seed = 3;
+        let hello = hello(&cfg, &clock);
+        assert_eq!(hello.session_id, "2026-01-01T00-01-30Z-s3");
+        assert_eq!(
+            hello.started_unix_ms,
+            clock::MOCK_UNIX_START_NS / 1_000_000 + 90_500
+        );
     }
 }

@@ -1,9 +1,13 @@
 //! `telerehab`: the patient station and the therapist hub.
 
+use clap::Parser;
+use station::cli::{Cli, dispatch};
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    match station::cli::main() {
+    let cli = Cli::parse();
+    station::logging::init(cli.log.as_deref());
+    match dispatch(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             // `{:#}` prints the whole chain of causes on one line: what failed and why.

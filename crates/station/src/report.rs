@@ -1,6 +1,7 @@
 //! The human summary printed at the end of a session.
 
 use crate::session::SessionReport;
+use crate::timing::Percentiles;
 use std::fmt::Write as _;
 
 /// Delivery figures of the therapist link, for the report.
@@ -20,140 +21,174 @@ pub struct LinkReport {
     pub last_error: Option<String>,
 }
 
-/// Render the end-of-session summary as text.
+/// Append one line to the report (a `String` never fails to take it).
+macro_rules! line {
+    ($s:expr, $($arg:tt)*) => {{
+        let _ = writeln!($s, $($arg)*);
+    }};
+}
+
+/// Render the end-of-session summary as text: one section after another.
 pub fn render(r: &SessionReport, link: Option<&LinkReport>) -> String {
     let mut s = String::new();
-    macro_rules! line {
-        ($($arg:tt)*) => {{
-            let _ = writeln!(s, $($arg)*);
-        }};
-    }
-    let rec = &r.recorder;
-    let last = &rec.last;
-    let ticks = rec.records.max(1) as f64;
+    outcome(&mut s, r);
+    loop_timing(&mut s, r);
+    exercise(&mut s, r);
+    torque(&mut s, r);
+    arm(&mut s, r);
+    delivery(&mut s, r, link);
+    s
+}
+
+/// How long the session ran, why it ended, its torque ceiling and its tick count.
+fn outcome(s: &mut String, r: &SessionReport) {
     let duration_s = r.haptic.ticks as f64 / r.loop_rate_hz;
     let early = if r.haptic.stopped_early {
         " (stopped early)"
     } else {
         ""
     };
-    line!("── session summary ─────────────────────────────────────");
-    line!("duration            {duration_s:.2} s session time{early}");
+    line!(
+        s,
+        "── session summary ─────────────────────────────────────"
+    );
+    line!(
+        s,
+        "duration            {duration_s:.2} s session time{early}"
+    );
     if let Some(fault) = r.haptic.wheel_fault {
-        line!("ended because       {fault} (torque faded to zero)");
+        line!(s, "ended because       {fault} (torque faded to zero)");
     }
     if let Some(c) = &r.haptic.ceiling {
-        line!("{c}");
+        line!(s, "{c}");
     }
     if r.haptic.skipped_deadlines > 0 {
         line!(
+            s,
             "skipped deadlines   {} (after stalls; the watchdog faded the torque)",
             r.haptic.skipped_deadlines
         );
     }
     line!(
+        s,
         "ticks               {} ({} recorded, {} dropped)",
         r.haptic.ticks,
-        rec.records,
+        r.recorder.records,
         r.haptic.dropped_records
     );
+}
+
+/// The loop's timing: on the wall clock in real time, the speed-up as fast as possible.
+fn loop_timing(s: &mut String, r: &SessionReport) {
+    let timing = &r.recorder.timing;
     if r.real_time {
         let rate = r.haptic.ticks as f64 / r.haptic.wall_s.max(1e-9);
-        let (pe, late, work) = (
-            rec.timing.period_error(),
-            rec.timing.lateness(),
-            rec.timing.work(),
-        );
         line!(
+            s,
             "loop rate           {rate:.1} Hz achieved (nominal {:.0} Hz), wall {:.2} s",
             r.loop_rate_hz,
             r.haptic.wall_s
         );
-        line!(
-            "period error        p50 {:.1} µs  p99 {:.1} µs  max {:.1} µs",
-            pe.p50_us,
-            pe.p99_us,
-            pe.max_us
-        );
-        line!(
-            "deadline lateness   p50 {:.1} µs  p99 {:.1} µs  max {:.1} µs",
-            late.p50_us,
-            late.p99_us,
-            late.max_us
-        );
-        line!(
-            "tick compute        p50 {:.1} µs  p99 {:.1} µs  max {:.1} µs",
-            work.p50_us,
-            work.p99_us,
-            work.max_us
-        );
+        percentiles(s, "period error       ", timing.period_error());
+        percentiles(s, "deadline lateness  ", timing.lateness());
+        percentiles(s, "tick compute       ", timing.work());
         let prio = if r.haptic.realtime_priority {
             "granted"
         } else {
             "not granted (normal scheduling)"
         };
-        line!("real-time priority  {prio}");
+        line!(s, "real-time priority  {prio}");
     } else {
-        let work = rec.timing.work();
+        let duration_s = r.haptic.ticks as f64 / r.loop_rate_hz;
         line!(
+            s,
             "loop pacing         --speed max: {:.0}× real time, wall {:.2} s",
             duration_s / r.haptic.wall_s.max(1e-9),
             r.haptic.wall_s
         );
-        line!(
-            "tick compute        p50 {:.1} µs  p99 {:.1} µs  max {:.1} µs",
-            work.p50_us,
-            work.p99_us,
-            work.max_us
-        );
+        percentiles(s, "tick compute       ", timing.work());
     }
+}
+
+/// One line of timing percentiles under `label`.
+fn percentiles(s: &mut String, label: &str, p: Percentiles) {
     line!(
+        s,
+        "{label} p50 {:.1} µs  p99 {:.1} µs  max {:.1} µs",
+        p.p50_us,
+        p.p99_us,
+        p.max_us
+    );
+}
+
+/// The course and the patient's scores on it.
+fn exercise(s: &mut String, r: &SessionReport) {
+    let rec = &r.recorder;
+    let score = &rec.last.score;
+    line!(
+        s,
         "exercises           {} ({} run)",
         r.exercises,
-        last.score.exercise_index + 1
+        score.exercise_index + 1
     );
     if rec.paused_ticks > 0 {
         line!(
+            s,
             "paused              {:.1} s (not counted in the exercise time)",
             rec.paused_ticks as f64 / r.loop_rate_hz
         );
     }
     if rec.road_ticks > 0 {
         line!(
+            s,
             "RMS lateral dev.    {:.3} m (max {:.3} m)",
-            last.score.rms_lateral_m,
-            last.score.max_lateral_m
+            score.rms_lateral_m,
+            score.max_lateral_m
         );
         line!(
+            s,
             "time in lane        {:.1} %, cones hit {}",
-            last.score.pct_in_lane,
-            last.score.cone_hits
+            score.pct_in_lane,
+            score.cone_hits
         );
     }
     if rec.dial_ticks > 0 {
         line!(
+            s,
             "dial tracking       RMS error {:.2}° (thesis Appendix E: about 3°)",
-            last.score.dial_rms_error_deg
+            score.dial_rms_error_deg
         );
     }
+}
+
+/// The torque the patient felt: peak, clipping, watchdog faults and the assist.
+fn torque(s: &mut String, r: &SessionReport) {
+    let rec = &r.recorder;
+    let ticks = rec.records.max(1) as f64;
     line!(
+        s,
         "torque              max |τ| {:.3} N·m, clipped {:.2} % of ticks, watchdog faults {} ticks",
         rec.max_abs_torque_nm,
         100.0 * rec.clipped_ticks as f64 / ticks,
         rec.fault_ticks
     );
     if rec.assist_ticks > 0 {
+        let assisted = rec.assist_ticks as f64;
         line!(
+            s,
             "assist              mean level {:.2}, RMS error {:.2}°, saturated {:.1} % of ticks",
-            rec.assist_level_sum / rec.assist_ticks as f64,
-            (rec.assist_error_sq_sum / rec.assist_ticks as f64)
-                .sqrt()
-                .to_degrees(),
-            100.0 * rec.assist_saturated_ticks as f64 / rec.assist_ticks as f64
+            rec.assist_level_sum / assisted,
+            (rec.assist_error_sq_sum / assisted).sqrt().to_degrees(),
+            100.0 * rec.assist_saturated_ticks as f64 / assisted
         );
     }
+}
+
+/// The arm: range of motion, why sensing stopped, and the calibrated segment lengths.
+fn arm(s: &mut String, r: &SessionReport) {
     if let Some(rom) = r.haptic.range_of_motion_rad.map(|r| r.map(f64::to_degrees)) {
         line!(
+            s,
             "arm range of motion shoulder elevation {:.1}°, plane {:.1}°, rotation {:.1}°; elbow flexion {:.1}°, pronation {:.1}°",
             rom[0],
             rom[1],
@@ -163,14 +198,15 @@ pub fn render(r: &SessionReport, link: Option<&LinkReport>) -> String {
         );
     }
     if let Some(why) = &r.haptic.arm_failure {
-        line!("arm sensing         off: {why}");
+        line!(s, "arm sensing         off: {why}");
     }
-    match &rec.arm_calibration {
+    match &r.recorder.arm_calibration {
         Some(Ok(c)) => {
             let truth = r.sim_arm_truth_m.map_or(String::new(), |(u, f)| {
                 format!(" (simulated truth {:.3} / {:.3} m)", u, f)
             });
             line!(
+                s,
                 "arm calibration     upper arm {:.3} ± {:.3} m, forearm {:.3} ± {:.3} m{truth}",
                 c.upper_arm_m,
                 c.upper_arm_se_m,
@@ -178,28 +214,36 @@ pub fn render(r: &SessionReport, link: Option<&LinkReport>) -> String {
                 c.forearm_se_m
             );
             for w in &c.warnings {
-                line!("                    note: {w}");
+                line!(s, "                    note: {w}");
             }
         }
-        Some(Err(e)) => line!("arm calibration     not this time: {e}"),
+        Some(Err(e)) => line!(s, "arm calibration     not this time: {e}"),
         None => {}
     }
+}
+
+/// Where the session went: the recording and the therapist.
+fn delivery(s: &mut String, r: &SessionReport, link: Option<&LinkReport>) {
+    let rec = &r.recorder;
     match (&r.record, rec.mcap_bytes) {
         (Some(p), Some(b)) => line!(
+            s,
             "recording           {} ({:.2} MB)",
             p.display(),
             b as f64 / 1e6
         ),
         (Some(p), None) => line!(
+            s,
             "recording           {} FAILED: {}",
             p.display(),
             rec.error.as_deref().unwrap_or("unknown")
         ),
-        (None, _) => line!("recording           off"),
+        (None, _) => line!(s, "recording           off"),
     }
     match link {
         Some(l) => {
             line!(
+                s,
                 "therapist {:<9} {} summaries: {} sent, {} acknowledged, {} NOT delivered",
                 l.address,
                 l.produced,
@@ -208,13 +252,159 @@ pub fn render(r: &SessionReport, link: Option<&LinkReport>) -> String {
                 l.undelivered
             );
             if let Some(e) = &l.last_error {
-                line!("therapist link      last error: {e}");
+                line!(s, "therapist link      last error: {e}");
             }
         }
         None => line!(
+            s,
             "therapist           off ({} summaries produced)",
             r.summaries
         ),
     }
-    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::record::ArmCalibrationSample;
+    use crate::session::haptic::HapticOutcome;
+    use crate::session::recorder::RecorderOutcome;
+    use crate::timing::TimingStats;
+    use haptic_wheel::{CeilingReport, WheelFault};
+    use std::path::PathBuf;
+
+    /// A real-time session on a real wheel that shows every line the report can have.
+    fn everything() -> SessionReport {
+        let mut timing = TimingStats::new(1_000_000, 100);
+        for i in 1..=100u64 {
+            timing.add(i * 700, 1_000_000 + i * 300 - 15_000, 40_000 + i * 100);
+        }
+        let mut recorder = RecorderOutcome {
+            records: 9_000,
+            timing,
+            max_abs_torque_nm: 1.234_5,
+            clipped_ticks: 45,
+            road_ticks: 6_000,
+            dial_ticks: 2_000,
+            paused_ticks: 1_500,
+            fault_ticks: 12,
+            assist_ticks: 4_000,
+            assist_level_sum: 1_800.0,
+            assist_error_sq_sum: 4_000.0 * 0.03_f64.powi(2),
+            assist_saturated_ticks: 80,
+            arm_calibration: Some(Ok(ArmCalibrationSample {
+                upper_arm_m: 0.301,
+                upper_arm_se_m: 0.004,
+                forearm_m: 0.327,
+                forearm_se_m: 0.006,
+                warnings: vec!["turn the wheel further".into()],
+                ..Default::default()
+            })),
+            mcap_bytes: Some(2_345_678),
+            ..Default::default()
+        };
+        recorder.last.score.exercise_index = 2;
+        recorder.last.score.rms_lateral_m = 0.123_4;
+        recorder.last.score.max_lateral_m = 0.456_7;
+        recorder.last.score.pct_in_lane = 97.25;
+        recorder.last.score.cone_hits = 3;
+        recorder.last.score.dial_rms_error_deg = 2.75;
+        SessionReport {
+            haptic: HapticOutcome {
+                ticks: 9_000,
+                dropped_records: 2,
+                stopped_early: true,
+                realtime_priority: true,
+                wall_s: 9.01,
+                range_of_motion_rad: Some([0.1, 0.2, 0.3, 0.4, 0.5]),
+                arm_failure: Some("an IMU stopped answering (unplugged)".into()),
+                wheel_fault: Some(WheelFault::Silent),
+                skipped_deadlines: 4,
+                ceiling: Some(CeilingReport {
+                    motor_nm: 2.5,
+                    usable_max_nm: 2.5,
+                    ceiling_nm: 1.5,
+                    fraction_of_motor: 0.6,
+                    assumed: false,
+                }),
+            },
+            recorder,
+            loop_rate_hz: 1000.0,
+            record: Some(PathBuf::from("out/session.mcap")),
+            summaries: 9,
+            real_time: true,
+            exercises: 4,
+            sim_arm_truth_m: Some((0.3, 0.33)),
+        }
+    }
+
+    /// A simulated session as fast as possible whose recording failed, without a therapist.
+    fn as_fast_as_possible() -> SessionReport {
+        let mut r = everything();
+        r.real_time = false;
+        r.haptic.stopped_early = false;
+        r.haptic.realtime_priority = false;
+        r.haptic.wall_s = 0.75;
+        r.haptic.wheel_fault = None;
+        r.haptic.skipped_deadlines = 0;
+        r.haptic.range_of_motion_rad = None;
+        r.haptic.arm_failure = None;
+        r.recorder.paused_ticks = 0;
+        r.recorder.dial_ticks = 0;
+        r.recorder.assist_ticks = 0;
+        r.recorder.arm_calibration = Some(Err("too little motion".into()));
+        r.recorder.mcap_bytes = None;
+        r.recorder.error = Some("disk full".into());
+        r
+    }
+
+    /// The smallest report: nothing optional happened.
+    fn bare() -> SessionReport {
+        SessionReport {
+            haptic: HapticOutcome::default(),
+            recorder: RecorderOutcome::default(),
+            loop_rate_hz: 1000.0,
+            record: None,
+            summaries: 0,
+            real_time: false,
+            exercises: 1,
+            sim_arm_truth_m: None,
+        }
+    }
+
+    /// The report's text is the checked-in snapshot: a change to it shows as a diff of
+    /// `src/snapshots/report_*.txt` (scripts and people read these lines).
+    #[test]
+    fn reports_match_the_snapshots() {
+        let link = LinkReport {
+            address: "127.0.0.1:7878".into(),
+            produced: 9,
+            sent: 9,
+            acked: 8,
+            undelivered: 1,
+            last_error: Some("connection reset".into()),
+        };
+        let cases = [
+            ("report_everything", render(&everything(), Some(&link))),
+            ("report_max_speed", render(&as_fast_as_possible(), None)),
+            ("report_bare", render(&bare(), None)),
+        ];
+        let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src/snapshots");
+        let update = std::env::var_os("UPDATE_SNAPSHOTS").is_some_and(|v| v == "1");
+        let mut stale = Vec::new();
+        for (name, now) in cases {
+            let file = dir.join(format!("{name}.txt"));
+            if update {
+                std::fs::create_dir_all(&dir).unwrap();
+                std::fs::write(&file, &now).unwrap();
+            } else if std::fs::read_to_string(&file).ok().as_deref() != Some(now.as_str()) {
+                stale.push(file.display().to_string());
+            }
+        }
+        assert!(
+            stale.is_empty(),
+            "the session report changed for {stale:?}; if that is intended, run \
+             `UPDATE_SNAPSHOTS=1 cargo test -p station --lib report` and commit the diff"
+        );
+    }
 }

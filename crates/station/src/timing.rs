@@ -20,21 +20,12 @@ pub struct Percentiles {
     pub max_us: f64,
 }
 
-/// The `q`-quantile (0–1) of sorted values, nearest rank.
-fn quantile(sorted: &[u64], q: f64) -> u64 {
-    if sorted.is_empty() {
-        return 0;
-    }
-    let rank = ((q * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len());
-    sorted[rank - 1]
-}
-
 fn percentiles(values: &[u64]) -> Percentiles {
     let mut v = values.to_vec();
     v.sort_unstable();
     Percentiles {
-        p50_us: quantile(&v, 0.50) as f64 / 1e3,
-        p99_us: quantile(&v, 0.99) as f64 / 1e3,
+        p50_us: common::quantile(&v, 0.50).unwrap_or(0) as f64 / 1e3,
+        p99_us: common::quantile(&v, 0.99).unwrap_or(0) as f64 / 1e3,
         max_us: v.last().copied().unwrap_or(0) as f64 / 1e3,
     }
 }

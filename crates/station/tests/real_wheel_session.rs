@@ -117,7 +117,7 @@ fn session_on(
     let dev = FakeFfDevice::wheel("fake wheel", usb_id, motor_nm, clock.clone());
     let fake: FakeHandle = dev.handle();
     let wheel = EvdevWheel::with_device(dev, "fake", cfg.wheel.clone(), clock.clone()).unwrap();
-    let body = Body::real_wheel(Box::new(wheel), None, clock);
+    let body = Body::real_wheel(Box::new(wheel), None, clock.clone());
     let course = course::build(&cfg, None).unwrap();
     let mut plant = Plant::new(&cfg, body, course).unwrap();
     // Off centre: the centring model pushes from the first tick.
@@ -161,6 +161,7 @@ fn session_on(
         Pacing::RealTime,
         false,
         &controls,
+        &clock,
     );
     COUNTING.with(|c| c.set(false));
     let allocations = ALLOCATIONS.load(Ordering::Relaxed);

@@ -5,8 +5,16 @@
 //! session runs with the window open, drawing is switched on and off every `--phase`
 //! seconds, and each tick's period error is counted in the phase it ran in.
 
+use super::run::RunArgs;
+use crate::link::Link;
 use crate::record::TickRecord;
+use crate::render::window::WindowOptions;
+use crate::screen::{CourseView, live_screen_state};
+use crate::session::signals::install_stop_flag;
+use crate::session::{self, BodyKind, SessionObserver, SessionOptions, haptic::Pacing};
 use crate::timing::{Percentiles, TimingStats};
+use anyhow::Context;
+use clock::Clock;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -45,7 +53,7 @@ pub struct BenchWindowArgs {
     #[arg(long)]
     pub max_fps: Option<f64>,
     /// Window size, WIDTHxHEIGHT in pixels.
-    #[arg(long, default_value = "1280x720", value_parser = crate::cli::parse_size)]
+    #[arg(long, default_value = "1280x720", value_parser = super::parse_size)]
     pub size: (u32, u32),
     /// Leave the window at normal scheduling priority (the station puts it at idle
     /// priority); for comparing the two.
@@ -81,25 +89,6 @@ impl RenderImpact {
         }
     }
 
-    /// Account for one tick (from the recorder thread) and open or close the draw gate at
-    /// phase boundaries. Phases 0 and 1 (window and shader start-up) are not counted; odd
-    /// phases draw.
-    pub fn on_tick(&mut self, rec: &TickRecord) {
-        let phase = rec.tick / self.phase_ticks;
-        let drawing = phase % 2 == 1;
-        self.gate.store(drawing, Ordering::Relaxed);
-        if phase < 2 || rec.tick % self.phase_ticks < self.settle_ticks {
-            return;
-        }
-        let t = &rec.timing;
-        let stats = if drawing {
-            &mut self.drawing
-        } else {
-            &mut self.idle
-        };
-        stats.add(t.lateness_ns, t.period_ns, t.work_ns);
-    }
-
     /// The report: period-error and lateness percentiles per phase and their ratio.
     pub fn report(&self, frames_drawn: Option<u64>) -> String {
         fn row(name: &str, s: &TimingStats) -> String {
@@ -124,6 +113,101 @@ impl RenderImpact {
         );
         out
     }
+}
+
+impl SessionObserver for RenderImpact {
+    /// Account for one tick (from the recorder thread) and open or close the draw gate at
+    /// phase boundaries. Phases 0 and 1 (window and shader start-up) are not counted; odd
+    /// phases draw.
+    fn on_tick(&mut self, rec: &TickRecord) {
+        let phase = rec.tick / self.phase_ticks;
+        let drawing = phase % 2 == 1;
+        self.gate.store(drawing, Ordering::Relaxed);
+        if phase < 2 || rec.tick % self.phase_ticks < self.settle_ticks {
+            return;
+        }
+        let t = &rec.timing;
+        let stats = if drawing {
+            &mut self.drawing
+        } else {
+            &mut self.idle
+        };
+        stats.add(t.lateness_ns, t.period_ns, t.work_ns);
+    }
+}
+
+/// Run `telerehab bench …`.
+pub fn run(args: BenchArgs) -> anyhow::Result<()> {
+    match args.what {
+        BenchCommand::Window(a) => window(a),
+    }
+}
+
+/// `telerehab bench window`: a real-time simulated session with the window open, drawing
+/// switched on and off, and the loop timing of each phase.
+fn window(args: BenchWindowArgs) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        args.phase.is_finite() && args.phase >= 0.5,
+        "--phase must be at least 0.5 s"
+    );
+    anyhow::ensure!(
+        args.duration.is_finite() && args.duration >= 6.0 * args.phase,
+        "--duration must cover at least six phases (two warm-up, two of each kind)"
+    );
+    if let Some(fps) = args.max_fps {
+        anyhow::ensure!(
+            fps.is_finite() && (1.0..=240.0).contains(&fps),
+            "--max-fps must be 1 to 240"
+        );
+    }
+    let run_args = RunArgs {
+        headless: false,
+        exercise: Some(args.exercise.clone()),
+        ..RunArgs::simulated(args.duration, args.seed)
+    };
+    let (cfg, regimen) = super::run::plan(&run_args)?;
+    let view = CourseView::new(&cfg, regimen.as_ref())?;
+    let gate = Arc::new(AtomicBool::new(false));
+    let rate = cfg.session.loop_rate_hz;
+    let mut impact = RenderImpact::new(
+        gate.clone(),
+        args.phase,
+        rate,
+        (args.duration * rate) as usize,
+    );
+    let window = WindowOptions {
+        draw_gate: Some(gate),
+        max_fps: args.max_fps,
+        size: args.size,
+        ..WindowOptions::new("telerehab bench")
+    };
+    let clock = Clock::real();
+    let opts = SessionOptions {
+        config: cfg.clone(),
+        pacing: Pacing::RealTime,
+        record: None,
+        body: BodyKind::Simulated,
+        regimen,
+        isolate_core: true,
+        clock: clock.clone(),
+    };
+    let controls = session::Controls::with_stop(install_stop_flag()?);
+    let link = Link::start(&cfg, &clock)?;
+    let (report, stats) = session::window::run_with_window(
+        &opts,
+        &controls,
+        |rec: &TickRecord| view.scene(rec, live_screen_state(rec)),
+        &window,
+        &mut (&link, &mut impact),
+        !args.normal_priority,
+    )?;
+    link.finish(report.summaries);
+    let stats = stats.context("the window did not open (is there a display? try xvfb-run -a)")?;
+    if let Some(a) = &stats.adapter {
+        println!("adapter: {a}");
+    }
+    print!("{}", impact.report(Some(stats.frames_drawn)));
+    Ok(())
 }
 
 #[cfg(test)]

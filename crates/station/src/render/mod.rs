@@ -138,15 +138,6 @@ pub struct RenderStats {
     pub max_ms: f64,
 }
 
-/// Value at quantile `q` (0–1) of sorted data, nearest rank; 0 for empty data.
-fn quantile(sorted: &[f64], q: f64) -> f64 {
-    if sorted.is_empty() {
-        return 0.0;
-    }
-    let rank = (q * sorted.len() as f64).ceil() as usize;
-    sorted[rank.clamp(1, sorted.len()) - 1]
-}
-
 impl RenderStats {
     fn from_times(adapter: AdapterSummary, mut times_ms: Vec<f64>) -> Self {
         times_ms.sort_by(f64::total_cmp);
@@ -159,8 +150,8 @@ impl RenderStats {
             } else {
                 times_ms.iter().sum::<f64>() / n as f64
             },
-            p50_ms: quantile(&times_ms, 0.5),
-            p99_ms: quantile(&times_ms, 0.99),
+            p50_ms: common::quantile(&times_ms, 0.5).unwrap_or(0.0),
+            p99_ms: common::quantile(&times_ms, 0.99).unwrap_or(0.0),
             max_ms: times_ms.last().copied().unwrap_or(0.0),
         }
     }
@@ -202,12 +193,19 @@ mod tests {
     use super::*;
 
     #[test]
-    fn quantile_uses_nearest_rank() {
-        let d: Vec<f64> = (1..=100).map(f64::from).collect();
-        assert_eq!(quantile(&d, 0.5), 50.0);
-        assert_eq!(quantile(&d, 0.99), 99.0);
-        assert_eq!(quantile(&d, 1.0), 100.0);
-        assert_eq!(quantile(&[], 0.5), 0.0);
+    fn frame_times_use_nearest_rank_quantiles() {
+        let adapter = || AdapterSummary {
+            name: "test".into(),
+            backend: "Gl".into(),
+            device_type: "Cpu".into(),
+        };
+        // Unsorted on purpose: the stats sort them.
+        let d: Vec<f64> = (1..=100).rev().map(f64::from).collect();
+        let s = RenderStats::from_times(adapter(), d);
+        assert_eq!((s.p50_ms, s.p99_ms, s.max_ms), (50.0, 99.0, 100.0));
+        assert_eq!((s.frames, s.mean_ms), (100, 50.5));
+        let none = RenderStats::from_times(adapter(), Vec::new());
+        assert_eq!((none.p50_ms, none.p99_ms, none.max_ms), (0.0, 0.0, 0.0));
     }
 
     #[test]

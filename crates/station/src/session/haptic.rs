@@ -1,11 +1,13 @@
 //! The haptic thread: one tick per period at absolute deadlines, records out through a
-//! wait-free ring buffer, torque faded to zero on every way out.
+//! wait-free ring buffer, torque faded to zero on every way out. Time comes from the session's
+//! [`Clock`] (a mock clock in tests: deadlines are met at once and the figures are exact).
 
 use crate::record::{TickRecord, TimingSample};
-use crate::session::Controls;
+use crate::session::controls::Controls;
 use crate::session::plant::Plant;
+use clock::Clock;
 use std::sync::atomic::Ordering;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// How the loop paces itself.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -43,15 +45,48 @@ pub struct HapticOutcome {
     pub ceiling: Option<haptic_wheel::CeilingReport>,
 }
 
-/// Sleep until the absolute `deadline`; with `spin` the last part is a busy wait, which keeps a
-/// dedicated core awake (a halted virtual CPU can take hundreds of µs to wake).
-fn sleep_until(deadline: Instant, spin: Duration) {
-    let now = Instant::now();
-    if deadline > now + spin {
-        std::thread::sleep(deadline - now - spin);
+/// The loop's deadline arithmetic, without a clock: the tick of slot `k` is due at
+/// `start_ns + k·period_ns` (absolute deadlines: no drift), and after a stall the slots
+/// already past are skipped rather than run in a burst.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Slots {
+    start_ns: u64,
+    period_ns: u64,
+    /// The slot of the next tick; it runs ahead of the tick count after a stall.
+    next: u64,
+    /// Slots skipped after stalls so far.
+    skipped: u64,
+}
+
+impl Slots {
+    /// Slot 0 due at `start_ns`, one slot every `period_ns` (> 0).
+    fn new(start_ns: u64, period_ns: u64) -> Self {
+        Self {
+            start_ns,
+            period_ns: period_ns.max(1),
+            next: 0,
+            skipped: 0,
+        }
     }
-    while Instant::now() < deadline {
-        std::hint::spin_loop();
+
+    /// When the next tick is due, ns on the loop's clock.
+    fn deadline_ns(&self) -> u64 {
+        self.start_ns + self.period_ns * self.next
+    }
+
+    /// The tick of the current slot finished at `done_ns`: move to the next slot or, with
+    /// `skip_past` (real-time pacing) after a stall, to the latest slot already past (it runs
+    /// at once), counting the older ones skipped (the supervisor has seen the gap). A tick
+    /// merely late for the next slot is ordinary jitter and skips nothing.
+    fn advance(&mut self, done_ns: u64, skip_past: bool) {
+        self.next += 1;
+        if skip_past {
+            let latest_past = done_ns.saturating_sub(self.start_ns) / self.period_ns;
+            if latest_past > self.next {
+                self.skipped += latest_past - self.next;
+                self.next = latest_past;
+            }
+        }
     }
 }
 
@@ -146,7 +181,8 @@ const MAX_FADE_S: f64 = 2.0;
 
 /// Run the loop until `total_ticks` have run or `stop` is set, then let the safety supervisor
 /// fade the torque out and command zero. Every record goes to `out` (dropped and counted if
-/// the ring is full in real time).
+/// the ring is full in real time). Deadlines, lateness and periods are read on `clock`; a mock
+/// clock asks for no real-time priority (nothing waits on it).
 pub fn run(
     plant: &mut Plant,
     out: &mut rtrb::Producer<TickRecord>,
@@ -154,8 +190,10 @@ pub fn run(
     pacing: Pacing,
     isolate_core: bool,
     controls: &Controls,
+    clock: &Clock,
 ) -> HapticOutcome {
-    let realtime_priority = pacing == Pacing::RealTime && request_realtime_priority();
+    let realtime_priority =
+        pacing == Pacing::RealTime && !clock.is_mock() && request_realtime_priority();
     let pinned = pacing == Pacing::RealTime && isolate_core && cores::pin_haptic_thread();
     if isolate_core {
         tracing::info!(pinned, "haptic thread pinned to the last core");
@@ -165,22 +203,20 @@ pub fn run(
     } else {
         Duration::ZERO
     };
-    if pacing == Pacing::RealTime && !realtime_priority {
+    if pacing == Pacing::RealTime && !realtime_priority && !clock.is_mock() {
         tracing::warn!(
             "real-time scheduling (SCHED_FIFO) not granted: the haptic loop runs with normal priority and more jitter"
         );
     }
     let period_ns = (plant.dt_s() * 1e9).round() as u64;
     let max_fade_ticks = (MAX_FADE_S / plant.dt_s()).ceil() as u64;
-    let start = Instant::now();
+    let start = clock.now_ns();
+    let mut slots = Slots::new(start, period_ns);
     let mut last_wake = start;
     let mut dropped = 0u64;
     let mut stopping_since: Option<u64> = None;
     let mut stopped_early = false;
     let mut tick = 0u64;
-    // The deadline slot of the next tick; it runs ahead of `tick` after a stall.
-    let mut slot = 0u64;
-    let mut skipped_deadlines = 0u64;
     loop {
         // The session's length counts exercise time: a pause lengthens it.
         let active = plant.active_ticks();
@@ -199,42 +235,30 @@ pub fn run(
         {
             break;
         }
-        let deadline = start + Duration::from_nanos(period_ns * slot);
-        let wake = if pacing == Pacing::RealTime {
-            sleep_until(deadline, spin);
-            Instant::now()
-        } else {
-            Instant::now()
-        };
+        let deadline = slots.deadline_ns();
+        if pacing == Pacing::RealTime {
+            clock.sleep_until_ns(deadline, spin);
+        }
+        let wake = clock.now_ns();
         // A stop overrides a pause. (The recorder thread logs the changes: no I/O here.)
         if stopping_since.is_none() {
             plant.set_paused(controls.pause.load(Ordering::Relaxed));
         }
         let mut rec = plant.tick();
-        let done = Instant::now();
+        let done = clock.now_ns();
         rec.timing = TimingSample {
             lateness_ns: if pacing == Pacing::RealTime {
-                wake.saturating_duration_since(deadline).as_nanos() as u64
+                wake.saturating_sub(deadline)
             } else {
                 0
             },
-            period_ns: wake.saturating_duration_since(last_wake).as_nanos() as u64,
-            work_ns: done.saturating_duration_since(wake).as_nanos() as u64,
+            period_ns: wake.saturating_sub(last_wake),
+            work_ns: done.saturating_sub(wake),
             dropped_records: dropped,
         };
         last_wake = wake;
-        slot += 1;
-        if pacing == Pacing::RealTime {
-            // After a stall, skip the deadlines already past instead of bursting through them:
-            // the next tick runs at once for the latest deadline passed, the older ones are
-            // dropped (the supervisor has seen the gap). A tick merely late for the next
-            // deadline is ordinary jitter and skips nothing.
-            let latest_past = (done.saturating_duration_since(start).as_nanos() as u64) / period_ns;
-            if latest_past > slot {
-                skipped_deadlines += latest_past - slot;
-                slot = latest_past;
-            }
-        }
+        // After a stall, skip the deadlines already past instead of bursting through them.
+        slots.advance(done, pacing == Pacing::RealTime);
         match pacing {
             Pacing::RealTime => {
                 if out.push(rec).is_err() {
@@ -257,11 +281,62 @@ pub fn run(
         dropped_records: dropped,
         stopped_early,
         realtime_priority,
-        wall_s: start.elapsed().as_secs_f64(),
+        wall_s: clock.now_ns().saturating_sub(start) as f64 * 1e-9,
         range_of_motion_rad: plant.range_of_motion_rad(),
         arm_failure: plant.arm_failure().map(|f| f.to_string()),
         wheel_fault: plant.wheel_fault(),
-        skipped_deadlines,
+        skipped_deadlines: slots.skipped,
         ceiling: Some(plant.ceiling()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const MS: u64 = 1_000_000;
+
+    #[test]
+    fn deadlines_are_absolute_and_lateness_is_measured_against_them() {
+        let (clock, mock) = Clock::mock();
+        mock.advance_ns(5 * MS);
+        let mut slots = Slots::new(clock.now_ns(), MS);
+        // On time: each tick finishes within its period, the next is due one period later.
+        for k in 0..3 {
+            assert_eq!(slots.deadline_ns(), 5 * MS + k * MS);
+            clock.sleep_until_ns(slots.deadline_ns(), Duration::ZERO);
+            mock.advance_ns(200_000); // the tick's work
+            slots.advance(clock.now_ns(), true);
+        }
+        assert_eq!(slots.deadline_ns(), 8 * MS, "no drift from the work time");
+        // A late wake-up: 30 µs past the deadline, measured against the deadline, and the
+        // next deadline does not move.
+        mock.set_ns(8 * MS + 30_000);
+        assert_eq!(clock.now_ns().saturating_sub(slots.deadline_ns()), 30_000);
+        slots.advance(clock.now_ns(), true);
+        assert_eq!((slots.deadline_ns(), slots.skipped), (9 * MS, 0));
+    }
+
+    #[test]
+    fn a_stall_skips_the_deadlines_already_past_instead_of_bursting_through_them() {
+        let (clock, mock) = Clock::mock();
+        let mut slots = Slots::new(clock.now_ns(), MS);
+        slots.advance(300_000, true);
+        assert_eq!((slots.next, slots.skipped), (1, 0));
+        // A tick merely late for the next slot (slot 1 ends at 1.2 ms) is jitter: slot 2 runs.
+        slots.advance(1_200_000, true);
+        assert_eq!((slots.deadline_ns(), slots.skipped), (2 * MS, 0));
+        // The tick of slot 2 stalls until 4.5 ms: slots 3 and 4 are past; 4, the latest, runs
+        // at once and 3 is skipped.
+        mock.set_ns(4_500_000);
+        slots.advance(clock.now_ns(), true);
+        assert_eq!((slots.deadline_ns(), slots.skipped), (4 * MS, 1));
+        // The tick of slot 4 finishes exactly at 7 ms: 5 and 6 are skipped, 7 runs now.
+        slots.advance(7 * MS, true);
+        assert_eq!((slots.deadline_ns(), slots.skipped), (7 * MS, 3));
+        // As fast as possible (no real-time pacing), nothing is ever skipped.
+        let mut max = Slots::new(0, MS);
+        max.advance(10 * MS, false);
+        assert_eq!((max.next, max.skipped), (1, 0));
     }
 }

@@ -3,23 +3,28 @@
 
 pub mod arm;
 pub mod arm_calibration;
+mod controls;
 pub mod course;
 pub mod haptic;
 pub mod plant;
 pub mod recorder;
+pub mod signals;
 #[cfg(test)]
 mod tests;
+pub mod window;
 
 use crate::config::StationConfig;
 use crate::record::{SessionMetadata, TickRecord};
 use anyhow::Context;
+use clock::Clock;
 use haptic::{HapticOutcome, Pacing};
 use recorder::{McapRecorder, RecorderOutcome, RecorderPlan, SUMMARY_EVERY_S, recorder_loop};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{SystemTime, UNIX_EPOCH};
+
+pub use controls::Controls;
 
 /// Capacity of the haptic → recorder ring, records (8 s at 1 kHz).
 const RING_CAPACITY: usize = 8192;
@@ -41,6 +46,9 @@ pub struct SessionOptions {
     pub regimen: Option<crate::regimen::Regimen>,
     /// Give the haptic thread a core of its own (the caller keeps its other threads off it).
     pub isolate_core: bool,
+    /// The session's clock: the haptic thread's deadlines and the recording's start time
+    /// (a mock clock runs a real-time session at once, with exact timing figures).
+    pub clock: Clock,
 }
 
 /// Who holds the wheel in a session.
@@ -89,13 +97,6 @@ pub struct SessionReport {
     pub sim_arm_truth_m: Option<(f64, f64)>,
 }
 
-fn unix_ns() -> u64 {
-    SystemTime::now()
-        .duration_since(UNIX_EPOCH)
-        .map(|d| d.as_nanos() as u64)
-        .unwrap_or(0)
-}
-
 /// Who watches a running session from the recorder thread (the therapist link, the patient's
 /// screen). Both methods must return quickly and never block.
 pub trait SessionObserver: Send {
@@ -105,22 +106,26 @@ pub trait SessionObserver: Send {
     fn on_summary(&mut self, _summary: &LiveSummary) {}
 }
 
-/// What other threads (a signal handler, the patient's window) may ask of a running session.
-#[derive(Debug, Default)]
-pub struct Controls {
-    /// End the session: the torque fades out and everything is recorded and delivered.
-    pub stop: Arc<AtomicBool>,
-    /// While set, the exercise is paused (see [`plant::Plant::set_paused`]).
-    pub pause: AtomicBool,
+impl<T: SessionObserver + ?Sized> SessionObserver for &mut T {
+    fn on_tick(&mut self, record: &TickRecord) {
+        (**self).on_tick(record);
+    }
+
+    fn on_summary(&mut self, summary: &LiveSummary) {
+        (**self).on_summary(summary);
+    }
 }
 
-impl Controls {
-    /// Controls around an existing stop flag (such as the one signal handlers set).
-    pub fn with_stop(stop: Arc<AtomicBool>) -> Self {
-        Self {
-            stop,
-            pause: AtomicBool::new(false),
-        }
+/// Two observers, told in order.
+impl<A: SessionObserver, B: SessionObserver> SessionObserver for (A, B) {
+    fn on_tick(&mut self, record: &TickRecord) {
+        self.0.on_tick(record);
+        self.1.on_tick(record);
+    }
+
+    fn on_summary(&mut self, summary: &LiveSummary) {
+        self.0.on_summary(summary);
+        self.1.on_summary(summary);
     }
 }
 
@@ -135,7 +140,7 @@ pub fn run(
     cfg.validate()?;
     let rate = cfg.session.loop_rate_hz;
     let total_ticks = (cfg.session.duration_s * rate).round() as u64;
-    let start_unix_ns = unix_ns();
+    let start_unix_ns = opts.clock.unix_ns();
     // Devices first: a session that cannot start must not leave an empty recording behind.
     let course = course::build(cfg, opts.regimen.as_ref())?;
     let exercises = course.len();
@@ -184,6 +189,7 @@ pub fn run(
     let flush_every = ((FLUSH_EVERY_S * rate).round() as u64).max(1);
     let pacing = opts.pacing;
     let isolate_core = opts.isolate_core;
+    let clock = &opts.clock;
     let plan = RecorderPlan {
         period_ns,
         expected_ticks: total_ticks,
@@ -209,6 +215,7 @@ pub fn run(
                     pacing,
                     isolate_core,
                     controls,
+                    clock,
                 )
             })
             .context("cannot start the haptic thread")?;

@@ -5,6 +5,7 @@ use super::plant::Plant;
 use super::{BodyKind, Controls, SessionObserver, SessionOptions, course};
 use crate::config::StationConfig;
 use crate::record::{ArmSetup, TickRecord, Watchdog};
+use clock::Clock;
 use std::sync::atomic::Ordering;
 
 fn config(exercise: &str, duration_s: f64) -> StationConfig {
@@ -24,6 +25,7 @@ fn simulated_at_max_speed(config: StationConfig) -> SessionOptions {
         body: BodyKind::Simulated,
         regimen: None,
         isolate_core: false,
+        clock: Clock::real(),
     }
 }
 
@@ -298,4 +300,34 @@ fn a_recorded_session_reads_back_into_the_records_the_recorder_saw() {
     let calibration = report.recorder.arm_calibration.and_then(Result::ok);
     let recorded = rec.arm_calibration.first().map(|m| m.data.clone());
     assert_eq!(recorded, calibration);
+}
+
+#[test]
+fn a_real_time_session_on_a_mock_clock_runs_at_once_with_exact_timing() {
+    let (clock, _mock) = Clock::mock();
+    let opts = SessionOptions {
+        pacing: Pacing::RealTime,
+        clock,
+        ..simulated_at_max_speed(config("sine-road", 2.0))
+    };
+    let mut keep = Keep::default();
+    let report = super::run(&opts, &Controls::default(), &mut keep).unwrap();
+    let h = &report.haptic;
+    assert!(h.ticks >= 2000 && !h.stopped_early, "{h:?}");
+    assert_eq!((h.skipped_deadlines, h.dropped_records), (0, 0));
+    assert!(
+        !h.realtime_priority,
+        "a mock clock asks for no real-time priority"
+    );
+    // Every deadline met to the nanosecond, one period apart, and no time spent in the work.
+    let timing: Vec<_> = keep.0.iter().map(|r| r.timing).collect();
+    assert_eq!(timing.len() as u64, h.ticks);
+    assert!(timing.iter().all(|t| t.lateness_ns == 0 && t.work_ns == 0));
+    assert_eq!(timing[0].period_ns, 0);
+    assert!(timing[1..].iter().all(|t| t.period_ns == 1_000_000));
+    assert!(
+        (h.wall_s - (h.ticks - 1) as f64 * 1e-3).abs() < 1e-12,
+        "{}",
+        h.wall_s
+    );
 }

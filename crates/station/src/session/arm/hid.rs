@@ -126,7 +126,8 @@ impl HidArmSensing {
         Ok(Some(Self {
             a,
             b,
-            tracker: ArmTracker::guided(geometry, swivel_rad, true)?,
+            // Real IMUs: the solver times out on the real clock.
+            tracker: ArmTracker::guided(geometry, swivel_rad, true, clock::Clock::real())?,
             last: ArmSample::default(),
         }))
     }

@@ -7,6 +7,7 @@ pub mod hid;
 pub mod sim;
 
 use crate::record::{ArmSample, ArmSetup};
+use clock::Clock;
 use gyro_imu::ImuError;
 use gyro_imu::arm::ArmGeometry;
 use gyro_imu::device::ImuSample;
@@ -15,6 +16,7 @@ use gyro_imu::pose::{ArmPoseEstimator, Mounting};
 use gyro_imu::procedure::{GuidedMounting, GuidedOutcome, ProcedureConfig, Prompt};
 use nalgebra::UnitQuaternion;
 use serde::{Deserialize, Serialize};
+use std::time::Duration;
 
 /// How the IMUs' placement on the arm is known.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -135,7 +137,7 @@ pub struct WheelNow {
 }
 
 /// Longest the exercise waits for the solver thread (the solve takes ~20 ms).
-const SOLVE_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(10);
+const SOLVE_TIMEOUT: Duration = Duration::from_secs(10);
 
 /// Why a session has no (more) joint angles: kept on the haptic thread without allocating,
 /// told in words after the session.
@@ -205,7 +207,7 @@ impl Solver {
                         }
                         // The session ended before the procedure did.
                         Err(_) if requests.is_abandoned() => return,
-                        Err(_) => std::thread::sleep(std::time::Duration::from_millis(5)),
+                        Err(_) => std::thread::sleep(Duration::from_millis(5)),
                     }
                 }
             })?;
@@ -233,8 +235,10 @@ pub struct ArmTracker {
     tracking: Option<Tracking>,
     step: SetupStep,
     failure: Option<ArmFailure>,
-    /// When the procedure went to the solver (wall clock).
-    solving_since: Option<std::time::Instant>,
+    /// The clock of the solver's time-out.
+    clock: Clock,
+    /// When the procedure went to the solver, ns on `clock`.
+    solving_since_ns: Option<u64>,
     last: ArmSample,
     /// Ticks on which the estimator refused the wheel angle (arm out of reach).
     pub rejected: u64,
@@ -257,18 +261,20 @@ impl ArmTracker {
                 swapped: false,
             }),
             step: SetupStep::Tracking,
-            ..Self::empty(geometry, swivel_rad)
+            // Nothing to time out: the mounting is known.
+            ..Self::empty(geometry, swivel_rad, Clock::real())
         })
     }
 
     /// The guided procedure first, for a patient holding the wheel with elbow swivel
     /// `swivel_rad`. In real time the mounting is solved on a thread of its own; otherwise
     /// (`real_time` false: a simulation as fast as possible) in line, which keeps the run
-    /// independent of wall-clock time.
+    /// independent of wall-clock time. The solver's time-out runs on `clock`.
     pub fn guided(
         geometry: ArmGeometry,
         swivel_rad: f64,
         real_time: bool,
+        clock: Clock,
     ) -> Result<Self, ImuError> {
         let cfg = ProcedureConfig::default();
         let solver = if real_time {
@@ -286,11 +292,11 @@ impl ArmTracker {
             step: SetupStep::HoldStill {
                 remaining_s: cfg.still_s,
             },
-            ..Self::empty(geometry, swivel_rad)
+            ..Self::empty(geometry, swivel_rad, clock)
         })
     }
 
-    fn empty(geometry: ArmGeometry, swivel_rad: f64) -> Self {
+    fn empty(geometry: ArmGeometry, swivel_rad: f64, clock: Clock) -> Self {
         Self {
             geometry,
             swivel_rad,
@@ -299,7 +305,8 @@ impl ArmTracker {
             tracking: None,
             step: SetupStep::Failed,
             failure: None,
-            solving_since: None,
+            clock,
+            solving_since_ns: None,
             last: ArmSample::default(),
             rejected: 0,
         }
@@ -372,7 +379,7 @@ impl ArmTracker {
         let Some(procedure) = self.procedure.take() else {
             return SetupStep::Failed;
         };
-        self.solving_since = Some(std::time::Instant::now());
+        self.solving_since_ns = Some(self.clock.now_ns());
         let procedure = match &mut self.solver {
             Some(solver) => match solver.to.push(procedure) {
                 Ok(()) => return SetupStep::Solving,
@@ -391,9 +398,10 @@ impl ArmTracker {
         if let Some(outcome) = self.solver.as_mut().and_then(|s| s.from.pop().ok()) {
             return self.finish(outcome);
         }
+        let now_ns = self.clock.now_ns();
         if self
-            .solving_since
-            .is_some_and(|t| t.elapsed() > SOLVE_TIMEOUT)
+            .solving_since_ns
+            .is_some_and(|t| Duration::from_nanos(now_ns.saturating_sub(t)) > SOLVE_TIMEOUT)
         {
             self.failure = Some(ArmFailure::SolverTimedOut);
             return SetupStep::Failed;
@@ -483,7 +491,8 @@ mod tests {
 
     #[test]
     fn a_procedure_that_gives_up_leaves_tracking_off_with_the_reason_to_tell() {
-        let mut tracker = ArmTracker::guided(ArmGeometry::default(), 0.35, false).unwrap();
+        let mut tracker =
+            ArmTracker::guided(ArmGeometry::default(), 0.35, false, Clock::real()).unwrap();
         let still = ImuSample {
             t_ns: 0,
             rate_rad_s: Vector3::zeros(),
@@ -504,6 +513,52 @@ mod tests {
         assert_eq!(sample.setup, ArmSetup::Failed);
         let why = tracker.failure().expect("a reason").to_string();
         assert!(why.contains("did not turn far enough"), "{why}");
+    }
+
+    #[test]
+    fn a_solver_that_never_answers_times_out_after_10_s_on_the_sessions_clock() {
+        let (clock, mock) = Clock::mock();
+        let mut tracker =
+            ArmTracker::guided(ArmGeometry::default(), 0.35, false, clock.clone()).unwrap();
+        // A solver thread that takes the procedure and never answers (the far ends are kept
+        // so the rings stay open).
+        let (to, _requests) = rtrb::RingBuffer::new(1);
+        let (_results, from) = rtrb::RingBuffer::new(1);
+        tracker.solver = Some(Solver { to, from });
+        mock.advance_ns(123_456);
+        tracker.step = tracker.solve();
+        assert_eq!(tracker.step_now(), SetupStep::Solving);
+        let still = ImuSample {
+            t_ns: 0,
+            rate_rad_s: Vector3::zeros(),
+            acc_m_s2: Some(Vector3::z() * 9.81),
+        };
+        let wheel = WheelNow {
+            t_ns: 0,
+            angle_rad: 0.0,
+            rate_rad_s: 0.0,
+            dt_s: 0.001,
+        };
+        mock.advance(SOLVE_TIMEOUT);
+        let sample = tracker.update(wheel, &still, &still);
+        assert_eq!(
+            (tracker.step_now(), sample.setup),
+            (SetupStep::Solving, ArmSetup::Solving),
+            "exactly 10 s is not past the time-out"
+        );
+        assert!(tracker.failure().is_none());
+        mock.advance_ns(1);
+        let sample = tracker.update(wheel, &still, &still);
+        assert_eq!(
+            (tracker.step_now(), sample.setup),
+            (SetupStep::Failed, ArmSetup::Failed)
+        );
+        assert!(matches!(
+            tracker.failure(),
+            Some(ArmFailure::SolverTimedOut)
+        ));
+        let why = tracker.failure().unwrap().to_string();
+        assert!(why.contains("within 10 s"), "{why}");
     }
 
     #[test]

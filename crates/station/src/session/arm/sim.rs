@@ -60,7 +60,14 @@ impl SimArmSensing {
                 cfg.swivel_mean_rad,
             )?,
             MountingMode::Guided => {
-                ArmTracker::guided(cfg.geometry, cfg.swivel_mean_rad, real_time)?
+                // The simulated patient's procedure times out on the wall clock, as a real one
+                // does (the solver only runs in real time).
+                ArmTracker::guided(
+                    cfg.geometry,
+                    cfg.swivel_mean_rad,
+                    real_time,
+                    clock::Clock::real(),
+                )?
             }
         };
         Ok(Self {

@@ -1,21 +1,32 @@
 //! `telerehab therapist`: the hub. Accepts many stations, prints a live line per summary,
 //! acknowledges and stores every session's summaries under the store directory.
 
-use crate::cli::TherapistArgs;
 use anyhow::Context;
 use netlink::{ServerTls, TherapistConfig, TherapistEvent, TherapistServer};
 use std::io::Write;
-use std::net::ToSocketAddrs;
+use std::path::PathBuf;
 use std::time::Duration;
+
+/// `telerehab therapist`.
+#[derive(Debug, clap::Args)]
+pub struct TherapistArgs {
+    /// Address to listen on, `host:port`.
+    #[arg(long, default_value = "127.0.0.1:7878")]
+    pub listen: String,
+    /// Directory where each session's summaries are stored.
+    #[arg(long)]
+    pub store: PathBuf,
+    /// Certificate chain (PEM) of this hub; with `--tls-key` enables TLS.
+    #[arg(long, requires = "tls_key")]
+    pub tls_cert: Option<PathBuf>,
+    /// Private key (PEM) of this hub.
+    #[arg(long, requires = "tls_cert")]
+    pub tls_key: Option<PathBuf>,
+}
 
 /// Run the hub until SIGINT/SIGTERM.
 pub fn run(args: TherapistArgs) -> anyhow::Result<()> {
-    let listen = args
-        .listen
-        .to_socket_addrs()
-        .with_context(|| format!("--listen `{}` does not resolve", args.listen))?
-        .next()
-        .with_context(|| format!("--listen `{}` has no address", args.listen))?;
+    let listen = crate::link::resolve("--listen", &args.listen)?;
     let tls = match (args.tls_cert, args.tls_key) {
         (Some(cert), Some(key)) => Some(ServerTls {
             cert_pem_path: cert,

@@ -4,7 +4,32 @@
 use crate::record::recover::{Recovered, recover as recover_bytes};
 use anyhow::Context;
 use std::io::{BufWriter, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// `telerehab recover`.
+#[derive(Debug, clap::Args)]
+pub struct RecoverArgs {
+    /// The recording left by the killed session.
+    pub input: PathBuf,
+    /// Where to write the finished file.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// Recover `args.input` into `args.out` and say what was copied.
+pub fn run(args: &RecoverArgs) -> anyhow::Result<()> {
+    let r = recover(&args.input, &args.out)?;
+    println!(
+        "recovered {} messages on {} channels into {}{}",
+        r.messages,
+        r.channels,
+        args.out.display(),
+        r.stopped_at
+            .map(|e| format!(" (the truncated tail was dropped: {e})"))
+            .unwrap_or_default()
+    );
+    Ok(())
+}
 
 /// Copy the readable part of `input` into a finished MCAP file `output`.
 pub fn recover(input: &Path, output: &Path) -> anyhow::Result<Recovered> {

@@ -1,0 +1,111 @@
+//! `telerehab render`: a simulated session drawn offscreen to PNG frames (the window's drawing
+//! code, on Mesa's software Vulkan/GL where there is no GPU).
+
+use super::run::{RunArgs, Speed};
+use crate::record::TickRecord;
+use crate::render::ScreenState;
+use crate::screen::CourseView;
+use crate::session::signals::install_stop_flag;
+use crate::session::{self, BodyKind, SessionObserver, SessionOptions, haptic::Pacing};
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// `telerehab render`.
+#[derive(Debug, clap::Args)]
+pub struct RenderArgs {
+    /// Exercise to render.
+    #[arg(long, default_value = "sine-road", conflicts_with = "regimen")]
+    pub exercise: String,
+    /// Regimen file to render instead of one exercise.
+    #[arg(long)]
+    pub regimen: Option<PathBuf>,
+    /// Station configuration (TOML).
+    #[arg(long)]
+    pub config: Option<PathBuf>,
+    /// Seed of the simulation.
+    #[arg(long, default_value_t = 7)]
+    pub seed: u64,
+    /// Frames to render.
+    #[arg(long, default_value_t = 120)]
+    pub frames: usize,
+    /// Frames per second of session time.
+    #[arg(long, default_value_t = 30.0)]
+    pub fps: f64,
+    /// Frame size, WIDTHxHEIGHT in pixels.
+    #[arg(long, default_value = "1280x720", value_parser = super::parse_size)]
+    pub size: (u32, u32),
+    /// Output directory for frame_0000.png, frame_0001.png, …
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// Collects the ticks to draw: one every `every` ticks, `frames` of them, then stops the session.
+struct FrameCollector {
+    every: u64,
+    frames: usize,
+    records: Vec<TickRecord>,
+    stop: Arc<AtomicBool>,
+}
+
+impl SessionObserver for FrameCollector {
+    fn on_tick(&mut self, record: &TickRecord) {
+        if self.records.len() < self.frames && record.tick.is_multiple_of(self.every) {
+            self.records.push(*record);
+            if self.records.len() == self.frames {
+                self.stop.store(true, Ordering::Relaxed);
+            }
+        }
+    }
+}
+
+/// Run `telerehab render`: simulate as fast as possible, then draw the collected ticks.
+pub fn run(args: RenderArgs) -> anyhow::Result<()> {
+    anyhow::ensure!(args.frames > 0, "--frames must be at least 1");
+    anyhow::ensure!(
+        args.fps.is_finite() && (1.0..=240.0).contains(&args.fps),
+        "--fps must be 1 to 240"
+    );
+    let run_args = RunArgs {
+        config: args.config.clone(),
+        exercise: args.regimen.is_none().then(|| args.exercise.clone()),
+        regimen: args.regimen.clone(),
+        speed: Speed::Max,
+        ..RunArgs::simulated(args.frames as f64 / args.fps + 1.0, args.seed)
+    };
+    let (cfg, regimen) = super::run::plan(&run_args)?;
+    let view = CourseView::new(&cfg, regimen.as_ref())?;
+    let stop = install_stop_flag()?;
+    let every = ((cfg.session.loop_rate_hz / args.fps).round() as u64).max(1);
+    let mut frames = FrameCollector {
+        every,
+        frames: args.frames,
+        records: Vec::with_capacity(args.frames),
+        stop: stop.clone(),
+    };
+    let opts = SessionOptions {
+        config: cfg,
+        pacing: Pacing::Max,
+        record: None,
+        body: BodyKind::Simulated,
+        regimen,
+        isolate_core: false,
+        clock: clock::Clock::real(),
+    };
+    session::run(&opts, &session::Controls::with_stop(stop), &mut frames)?;
+    let scenes = frames
+        .records
+        .iter()
+        .map(|r| view.scene(r, ScreenState::Running));
+    let (w, h) = args.size;
+    let stats = crate::render::headless_frames(scenes, w, h, &args.out)?;
+    println!(
+        "rendered {} frames of {w}×{h} to {} on {:?}: {:.1} ms mean, p99 {:.1} ms per frame",
+        stats.frames,
+        args.out.display(),
+        stats.adapter,
+        stats.mean_ms,
+        stats.p99_ms
+    );
+    Ok(())
+}
