@@ -147,11 +147,15 @@ pub fn run(
     let mut plant = match opts.body {
         BodyKind::Simulated => plant::Plant::new(
             cfg,
-            plant::Body::simulated(cfg, opts.pacing == Pacing::RealTime)?,
+            plant::Body::simulated(cfg, opts.pacing == Pacing::RealTime, opts.clock.clone())?,
             course,
         )?,
         #[cfg(target_os = "linux")]
-        BodyKind::RealWheel => plant::Plant::new(cfg, plant::Body::first_real_wheel(cfg)?, course)?,
+        BodyKind::RealWheel => plant::Plant::new(
+            cfg,
+            plant::Body::first_real_wheel(cfg, opts.clock.clone())?,
+            course,
+        )?,
     };
     // The safety claim of this session, in N·m at the motor (and loudly when the wheel's
     // rating is unknown).

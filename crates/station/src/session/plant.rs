@@ -47,8 +47,12 @@ pub enum Body {
 
 impl Body {
     /// The simulated body of `cfg`, seeded from `cfg.session.seed`; `real_time` when the
-    /// session runs on the wall clock.
-    pub fn simulated(cfg: &StationConfig, real_time: bool) -> anyhow::Result<Self> {
+    /// session runs on the wall clock; `clock` is the session's.
+    pub fn simulated(
+        cfg: &StationConfig,
+        real_time: bool,
+        clock: clock::Clock,
+    ) -> anyhow::Result<Self> {
         let dt_s = 1.0 / cfg.session.loop_rate_hz;
         let mut wheel_params = cfg.sim_wheel.clone();
         wheel_params.seed = cfg.session.seed;
@@ -61,6 +65,7 @@ impl Body {
                     cfg.arm.sim_mounting,
                     cfg.session.seed,
                     real_time,
+                    clock,
                 )
                 .context("simulated arm")?,
             ),
@@ -68,11 +73,11 @@ impl Body {
     }
 
     /// The first force-feedback wheel found, and the first two controller IMUs if there are
-    /// two (see `telerehab devices`).
+    /// two (see `telerehab devices`). `clock` is the session's (a real one: real devices stamp
+    /// their readings on it).
     #[cfg(target_os = "linux")]
-    pub fn first_real_wheel(cfg: &StationConfig) -> anyhow::Result<Self> {
+    pub fn first_real_wheel(cfg: &StationConfig, clock: clock::Clock) -> anyhow::Result<Self> {
         use haptic_wheel::evdev_wheel::{EvdevWheel, monotonic_ns};
-        let clock = clock::Clock::real();
         let wheel = EvdevWheel::open_first(cfg.wheel.clone(), clock.clone())
             .context("no usable force-feedback wheel (run `telerehab devices`)")?;
         // Arm sensing is optional: an IMU that cannot be opened (permissions, a flat battery)
@@ -81,6 +86,7 @@ impl Body {
             cfg.arm.geometry,
             cfg.arm.swivel_rad,
             monotonic_ns,
+            clock.clone(),
         )
         .unwrap_or_else(|e| {
             tracing::warn!("no arm sensing this session: {e:#}");
@@ -185,7 +191,11 @@ impl Plant {
     /// The fully simulated plant of a validated `cfg` on `course`, run as fast as possible;
     /// all noise is seeded from `cfg.session.seed`.
     pub fn simulated(cfg: &StationConfig, course: Vec<Segment>) -> anyhow::Result<Self> {
-        Self::new(cfg, Body::simulated(cfg, false)?, course)
+        Self::new(
+            cfg,
+            Body::simulated(cfg, false, clock::Clock::real())?,
+            course,
+        )
     }
 
     /// The plant of a validated `cfg` around `body`, running `course` (at least one exercise).

@@ -80,11 +80,12 @@ pub struct HidArmSensing {
 impl HidArmSensing {
     /// Open the first two supported controllers found, for a patient of `geometry`; `None`
     /// (with the reason logged) when fewer than two are present. `clock_ns` is the clock the
-    /// device timestamps are anchored to.
+    /// device timestamps are anchored to; `clock` times the guided procedure's solver out.
     pub fn open_first_two(
         geometry: ArmGeometry,
         swivel_rad: f64,
         clock_ns: fn() -> u64,
+        clock: clock::Clock,
     ) -> anyhow::Result<Option<Self>> {
         let found = match gyro_imu::device::enumerate() {
             Ok(f) => f,
@@ -126,8 +127,8 @@ impl HidArmSensing {
         Ok(Some(Self {
             a,
             b,
-            // Real IMUs: the solver times out on the real clock.
-            tracker: ArmTracker::guided(geometry, swivel_rad, true, clock::Clock::real())?,
+            // Real IMUs: the solver times out on the session's (real) clock.
+            tracker: ArmTracker::guided(geometry, swivel_rad, true, clock)?,
             last: ArmSample::default(),
         }))
     }

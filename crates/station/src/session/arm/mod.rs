@@ -15,58 +15,10 @@ use gyro_imu::fusion::FusionConfig;
 use gyro_imu::pose::{ArmPoseEstimator, Mounting};
 use gyro_imu::procedure::{GuidedMounting, GuidedOutcome, ProcedureConfig, Prompt};
 use nalgebra::UnitQuaternion;
-use serde::{Deserialize, Serialize};
 use std::time::Duration;
 
-/// How the IMUs' placement on the arm is known.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum MountingMode {
-    /// Simulated IMUs strapped on with their axes along the segments' (simulation only).
-    #[default]
-    Square,
-    /// Simulated IMUs strapped on at seeded random rotations, found by the guided procedure
-    /// at the start of the session, as with real IMUs.
-    Guided,
-}
-
-/// The `[arm]` section: arm sensing settings.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct ArmConfig {
-    /// IMU placement in simulated sessions (real IMUs always run the guided procedure).
-    pub sim_mounting: MountingMode,
-    /// The real patient's arm and seat geometry (the simulated patient's is `sim_arm`).
-    pub geometry: ArmGeometry,
-    /// Elbow swivel (rad, positive = elbow out) the real patient holds during the guided
-    /// procedure.
-    pub swivel_rad: f64,
-}
-
-impl Default for ArmConfig {
-    fn default() -> Self {
-        Self {
-            sim_mounting: MountingMode::default(),
-            geometry: ArmGeometry::default(),
-            swivel_rad: 0.35,
-        }
-    }
-}
-
-impl ArmConfig {
-    /// Check every field; the error names the field and its allowed range.
-    pub fn validate(&self) -> Result<(), ImuError> {
-        self.geometry.validate()?;
-        if !(self.swivel_rad.is_finite() && self.swivel_rad.abs() <= 1.5) {
-            return Err(ImuError::InvalidConfig {
-                field: "swivel_rad",
-                value: self.swivel_rad,
-                allowed: "[-1.5, 1.5] rad",
-            });
-        }
-        gyro_imu::arm::solve(&self.geometry, 0.0, self.swivel_rad, 0.0).map(|_| ())
-    }
-}
+// The `[arm]` section lives with the rest of the configuration (no config ↔ session circle).
+pub use crate::config::{ArmConfig, MountingMode};
 
 /// Where the arm sensing is: the label recorded on `/arm` and what the screen asks for.
 #[derive(Clone, Copy, Debug, PartialEq)]

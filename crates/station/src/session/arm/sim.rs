@@ -35,12 +35,14 @@ impl SimArmSensing {
     /// along the segments and tracking starts at once; with [`MountingMode::Guided`] they sit at
     /// seeded random rotations and the session starts with the guided procedure, which the
     /// simulated patient follows.
-    /// `real_time`: the session runs on the wall clock (see [`ArmTracker::guided`]).
+    /// `real_time`: the session runs on the wall clock (see [`ArmTracker::guided`]); `clock`
+    /// times the guided procedure's solver out.
     pub fn new(
         cfg: PatientArmConfig,
         mode: MountingMode,
         seed: u64,
         real_time: bool,
+        clock: clock::Clock,
     ) -> Result<Self, ImuError> {
         let (mu, mf) = match mode {
             MountingMode::Square => (UnitQuaternion::identity(), UnitQuaternion::identity()),
@@ -60,14 +62,9 @@ impl SimArmSensing {
                 cfg.swivel_mean_rad,
             )?,
             MountingMode::Guided => {
-                // The simulated patient's procedure times out on the wall clock, as a real one
-                // does (the solver only runs in real time).
-                ArmTracker::guided(
-                    cfg.geometry,
-                    cfg.swivel_mean_rad,
-                    real_time,
-                    clock::Clock::real(),
-                )?
+                // The simulated patient's procedure times out on the session's clock, as a
+                // real one does (the solver only runs in real time).
+                ArmTracker::guided(cfg.geometry, cfg.swivel_mean_rad, real_time, clock)?
             }
         };
         Ok(Self {
