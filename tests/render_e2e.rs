@@ -52,6 +52,10 @@ fn session_without_a_display_runs_headless_and_says_so() {
 
 /// Press `key` in the window titled "telerehab" with xdotool (the X test path a real
 /// keyboard takes: focus, then a key event).
+/// The window tests share one X display, and both windows are named "telerehab": run them one
+/// at a time, or a key press meant for one window can land in the other.
+static ONE_WINDOW_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 fn press(key: &str) {
     let search = Command::new("xdotool")
         .args(["search", "--sync", "--name", "^telerehab$"])
@@ -78,6 +82,9 @@ fn press(key: &str) {
 
 #[test]
 fn space_in_the_patient_window_starts_pauses_and_resumes_the_exercise_and_esc_ends_it() {
+    let _display = ONE_WINDOW_AT_A_TIME
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
     if std::env::var_os("DISPLAY").is_none() {
         eprintln!("SKIPPED: no display (run under xvfb-run to test the window)");
         return;
@@ -163,6 +170,9 @@ fn space_in_the_patient_window_starts_pauses_and_resumes_the_exercise_and_esc_en
 
 #[test]
 fn bench_window_reports_loop_timing_with_drawing_on_and_off() {
+    let _display = ONE_WINDOW_AT_A_TIME
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
     if std::env::var_os("DISPLAY").is_none() {
         eprintln!("SKIPPED: no display (run under xvfb-run to test the window)");
         return;
