@@ -7,7 +7,7 @@ use crate::effects::{EFFECT_SLOTS, Effect, EffectStack, WheelState};
 use crate::filter::{KalmanEstimator, KalmanParams, StateEstimator};
 use crate::model::{PassivityController, PassivityParams, SpringDamper};
 use crate::safety::{Fault, SafetyConfig, Supervisor, WatchdogState};
-use crate::wheel::{WheelError, WheelReading};
+use crate::wheel::{ConfigError, WheelError, WheelReading};
 use serde::{Deserialize, Serialize};
 
 /// Configuration of a [`HapticChain`].
@@ -38,7 +38,7 @@ impl HapticChainConfig {
     }
 
     /// Check every part; the error names the field and its allowed range.
-    pub fn validate(&self, device_max_nm: f64) -> Result<(), WheelError> {
+    pub fn validate(&self, device_max_nm: f64) -> Result<(), ConfigError> {
         self.safety.validate(device_max_nm)?;
         if let Some(m) = &self.model {
             m.validate()?;
@@ -210,10 +210,10 @@ impl HapticChain {
             let id = self
                 .effects
                 .add(*e)
-                .map_err(|err| WheelError::InvalidConfig(err.to_string()))?;
+                .map_err(|err| ConfigError(err.to_string()))?;
             self.effects
                 .play(id)
-                .map_err(|err| WheelError::InvalidConfig(err.to_string()))?;
+                .map_err(|err| ConfigError(err.to_string()))?;
         }
         Ok(())
     }
@@ -336,16 +336,16 @@ pub struct HapticRegimen {
 impl HapticRegimen {
     /// Check every effect, the model and the ceiling against a device producing at most
     /// `device_max_nm`; the error names the problem.
-    pub fn validate(&self, device_max_nm: f64) -> Result<(), WheelError> {
+    pub fn validate(&self, device_max_nm: f64) -> Result<(), ConfigError> {
         if self.effects.len() > EFFECT_SLOTS {
-            return Err(WheelError::InvalidConfig(format!(
+            return Err(ConfigError(format!(
                 "regimen.effects has {} effects, allowed at most {EFFECT_SLOTS}",
                 self.effects.len()
             )));
         }
         for (i, e) in self.effects.iter().enumerate() {
             e.validate()
-                .map_err(|err| WheelError::InvalidConfig(format!("regimen.effects[{i}]: {err}")))?;
+                .map_err(|err| ConfigError(format!("regimen.effects[{i}]: {err}")))?;
         }
         if let Some(m) = &self.model {
             m.validate()?;

@@ -9,7 +9,7 @@
 //! `filters` group of the criterion bench (figures in BENCHMARKS.md).
 
 use crate::effects::WheelState;
-use crate::wheel::WheelError;
+use crate::wheel::{ConfigError, WheelError};
 
 /// Turns a stream of quantised angles into angle, velocity and acceleration estimates.
 pub trait StateEstimator {
@@ -42,9 +42,9 @@ impl MovingAverage {
     /// A moving average over `len` samples (1..=100 000).
     pub fn new(len: usize) -> Result<Self, WheelError> {
         if !(1..=100_000).contains(&len) {
-            return Err(WheelError::InvalidConfig(format!(
-                "moving_average.len = {len}, allowed [1, 100000]"
-            )));
+            return Err(
+                ConfigError(format!("moving_average.len = {len}, allowed [1, 100000]")).into(),
+            );
         }
         Ok(Self::with_len(len))
     }
@@ -174,9 +174,9 @@ impl KalmanParams {
     }
 
     /// Check every field; the error names the field and its allowed range.
-    pub fn validate(&self) -> Result<(), WheelError> {
+    pub fn validate(&self) -> Result<(), ConfigError> {
         if !(self.jerk_psd.is_finite() && self.jerk_psd > 0.0 && self.jerk_psd <= 1e12) {
-            return Err(WheelError::InvalidConfig(format!(
+            return Err(ConfigError(format!(
                 "kalman.jerk_psd = {}, allowed (0, 1e12]",
                 self.jerk_psd
             )));
@@ -185,7 +185,7 @@ impl KalmanParams {
             && self.angle_noise_rad > 0.0
             && self.angle_noise_rad <= 1.0)
         {
-            return Err(WheelError::InvalidConfig(format!(
+            return Err(ConfigError(format!(
                 "kalman.angle_noise_rad = {}, allowed (0, 1]",
                 self.angle_noise_rad
             )));

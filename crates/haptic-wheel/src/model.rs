@@ -3,7 +3,7 @@
 //! on a delayed, sampled wheel.
 
 use crate::effects::WheelState;
-use crate::wheel::WheelError;
+use crate::wheel::{ConfigError, WheelError};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
@@ -36,12 +36,12 @@ impl Default for SpringDamper {
 
 impl SpringDamper {
     /// Check every field; the error names the field and its allowed range.
-    pub fn validate(&self) -> Result<(), WheelError> {
+    pub fn validate(&self) -> Result<(), ConfigError> {
         let check = |name: &str, v: f64, hi: f64| {
             if v.is_finite() && (0.0..=hi).contains(&v) {
                 Ok(())
             } else {
-                Err(WheelError::InvalidConfig(format!(
+                Err(ConfigError(format!(
                     "model.{name} = {v}, allowed [0, {hi}]"
                 )))
             }
@@ -50,7 +50,7 @@ impl SpringDamper {
         check("b_nm_s_per_rad", self.b_nm_s_per_rad, 10.0)?;
         check("i_kg_m2", self.i_kg_m2, 1.0)?;
         if !(self.centre_rad.is_finite() && self.centre_rad.abs() <= 4.0 * PI) {
-            return Err(WheelError::InvalidConfig(format!(
+            return Err(ConfigError(format!(
                 "model.centre_rad = {}, allowed [-4π, 4π]",
                 self.centre_rad
             )));
@@ -111,21 +111,21 @@ impl Default for PassivityParams {
 
 impl PassivityParams {
     /// Check every field; the error names the field and its allowed range.
-    pub fn validate(&self) -> Result<(), WheelError> {
+    pub fn validate(&self) -> Result<(), ConfigError> {
         let d = self.max_damping_nm_s_per_rad;
         if !(d.is_finite() && (0.0..=10.0).contains(&d)) {
-            return Err(WheelError::InvalidConfig(format!(
+            return Err(ConfigError(format!(
                 "passivity.max_damping_nm_s_per_rad = {d}, allowed [0, 10]"
             )));
         }
         let v = self.min_speed_rad_s;
         if !(v.is_finite() && v > 0.0 && v <= 10.0) {
-            return Err(WheelError::InvalidConfig(format!(
+            return Err(ConfigError(format!(
                 "passivity.min_speed_rad_s = {v}, allowed (0, 10]"
             )));
         }
         if self.port_delay_ticks >= PORT_HISTORY {
-            return Err(WheelError::InvalidConfig(format!(
+            return Err(ConfigError(format!(
                 "passivity.port_delay_ticks = {}, allowed [0, {}]",
                 self.port_delay_ticks,
                 PORT_HISTORY - 1

@@ -26,7 +26,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::wheel::WheelError;
+use crate::wheel::ConfigError;
 
 /// Full scale of DirectX / thesis-toolbox effect units (forces, coefficients, saturations).
 pub const EFFECT_FULL_SCALE_UNITS: f64 = 10_000.0;
@@ -269,12 +269,12 @@ impl DeviceProfile {
     }
 
     /// Check every field; the error names the field and its allowed range.
-    pub fn validate(&self) -> Result<(), WheelError> {
-        fn pos(name: &str, v: f64, hi: f64) -> Result<(), WheelError> {
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        fn pos(name: &str, v: f64, hi: f64) -> Result<(), ConfigError> {
             if v.is_finite() && v > 0.0 && v <= hi {
                 Ok(())
             } else {
-                Err(WheelError::InvalidConfig(format!(
+                Err(ConfigError(format!(
                     "profile.{name} = {v}, allowed (0, {hi}]"
                 )))
             }
@@ -304,7 +304,7 @@ impl DeviceProfile {
             ("torque_sign", self.torque_sign),
         ] {
             if v != 1.0 && v != -1.0 {
-                return Err(WheelError::InvalidConfig(format!(
+                return Err(ConfigError(format!(
                     "profile.{name} = {v}, allowed +1.0 or -1.0"
                 )));
             }

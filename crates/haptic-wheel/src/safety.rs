@@ -3,7 +3,7 @@
 //! fade-out, and a deadline watchdog that ramps torque to zero on a missed tick or a stale
 //! reading (DESIGN.md safety invariants 1–3).
 
-use crate::wheel::WheelError;
+use crate::wheel::{ConfigError, WheelError};
 use serde::{Deserialize, Serialize};
 
 /// A torque after the safety chain.
@@ -110,25 +110,25 @@ impl Default for SafetyConfig {
 impl SafetyConfig {
     /// Check every field against the device's maximum torque `device_max_nm`; the error
     /// names the field and its allowed range.
-    pub fn validate(&self, device_max_nm: f64) -> Result<(), WheelError> {
+    pub fn validate(&self, device_max_nm: f64) -> Result<(), ConfigError> {
         let check = |name: &str, v: f64, lo: f64, hi: f64| {
             if v.is_finite() && v > lo && v <= hi {
                 Ok(())
             } else {
-                Err(WheelError::InvalidConfig(format!(
+                Err(ConfigError(format!(
                     "safety.{name} = {v}, allowed ({lo}, {hi}]"
                 )))
             }
         };
         if !(device_max_nm.is_finite() && device_max_nm > 0.0) {
-            return Err(WheelError::InvalidConfig(format!(
+            return Err(ConfigError(format!(
                 "device max torque {device_max_nm} N·m is not a positive number"
             )));
         }
         if let Some(c) = self.ceiling_nm
             && !(c.is_finite() && (0.0..=device_max_nm).contains(&c))
         {
-            return Err(WheelError::InvalidConfig(format!(
+            return Err(ConfigError(format!(
                 "safety.ceiling_nm = {c}, allowed [0, {device_max_nm}] (the device maximum)"
             )));
         }

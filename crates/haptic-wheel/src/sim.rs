@@ -3,7 +3,7 @@
 //! hand torque comes in through [`SimWheel::advance`].
 
 use crate::profile::DeviceProfile;
-use crate::wheel::{Wheel, WheelError, WheelReading};
+use crate::wheel::{ConfigError, Wheel, WheelError, WheelReading};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
@@ -70,14 +70,14 @@ impl SimWheelParams {
     }
 
     /// Check every field; the error names the field and its allowed range.
-    pub fn validate(&self) -> Result<(), WheelError> {
+    pub fn validate(&self) -> Result<(), ConfigError> {
         let check = |name: &str, v: f64, lo: f64, hi: f64, lo_open: bool| {
             let ok = v.is_finite() && v <= hi && if lo_open { v > lo } else { v >= lo };
             if ok {
                 Ok(())
             } else {
                 let open = if lo_open { "(" } else { "[" };
-                Err(WheelError::InvalidConfig(format!(
+                Err(ConfigError(format!(
                     "sim_wheel.{name} = {v}, allowed {open}{lo}, {hi}]"
                 )))
             }

@@ -11,6 +11,13 @@ pub struct WheelReading {
     pub t_ns: u64,
 }
 
+/// A configuration value out of its allowed range: what every pure `validate()` of this crate
+/// returns (a configuration problem, not a device one); the message names the field and the
+/// allowed range.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("invalid wheel configuration: {0}")]
+pub struct ConfigError(pub String);
+
 /// What can go wrong talking to a wheel.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -39,8 +46,8 @@ pub enum WheelError {
         reason: String,
     },
     /// A configuration value is out of its allowed range.
-    #[error("invalid wheel configuration: {0}")]
-    InvalidConfig(String),
+    #[error(transparent)]
+    InvalidConfig(#[from] ConfigError),
     /// A device fault found on the 1 kHz path (carries no heap data: the haptic thread makes
     /// and drops it every tick while it lasts, and must not allocate).
     #[error("wheel fault: {0}")]

@@ -5,7 +5,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::profile::{DeviceProfile, DriverFamily, MAX_PROFILE_TORQUE_NM};
-use crate::wheel::WheelError;
+use crate::wheel::ConfigError;
 
 /// Settings of a real force-feedback wheel (serde, `deny_unknown_fields`; every field has a
 /// default). See `CALIBRATION.md` for how to fill it in.
@@ -53,13 +53,13 @@ impl Default for WheelConfig {
     }
 }
 
-fn invalid(msg: String) -> WheelError {
-    WheelError::InvalidConfig(msg)
+fn invalid(msg: String) -> ConfigError {
+    ConfigError(msg)
 }
 
 impl WheelConfig {
     /// Check every field; the error names the field and its allowed range.
-    pub fn validate(&self) -> Result<(), WheelError> {
+    pub fn validate(&self) -> Result<(), ConfigError> {
         if self.profile.is_some() && self.profile_file.is_some() {
             return Err(invalid(
                 "wheel.profile and wheel.profile_file are both set; keep one".into(),

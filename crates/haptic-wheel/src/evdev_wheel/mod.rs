@@ -46,7 +46,7 @@ pub use device::{AxisState, EffectSlot, FfDevice, KernelDevice, inspect};
 use crate::devices::{DeviceClass, classify};
 use crate::effects::{Condition, ConditionKind};
 use crate::profile::DeviceProfile;
-use crate::wheel::{Wheel, WheelCapabilities, WheelError, WheelFault, WheelReading};
+use crate::wheel::{ConfigError, Wheel, WheelCapabilities, WheelError, WheelFault, WheelReading};
 use crate::wheel_config::{WheelConfig, usable_max_nm};
 
 /// Linux FF direction for "towards the left" (`0x4000`, 90°, input.h); with a positive level
@@ -330,9 +330,10 @@ impl<D: FfDevice> EvdevWheel<D> {
             return Err(unsupported("four firmware conditions are already uploaded"));
         }
         if !(budget_nm.is_finite() && budget_nm >= 0.0) {
-            return Err(WheelError::InvalidConfig(format!(
+            return Err(ConfigError(format!(
                 "condition budget_nm = {budget_nm}, allowed finite and >= 0"
-            )));
+            ))
+            .into());
         }
         let budget_nm = budget_nm.min(self.usable_nm);
         // Level 1.0 is the motor's full torque at the gain in force.
