@@ -20,6 +20,13 @@ pub const MAX_TEXT_LEN: usize = 256;
 /// Longest error message in bytes.
 pub const MAX_MESSAGE_LEN: usize = 4096;
 
+/// Largest forward step of a summary's sequence number: a summary's `seq` must be at most
+/// `expected + MAX_SEQ_STEP`, where `expected` is the sequence number after the last one
+/// stored (0 for an empty session). 2^24 summaries are 19 days at 10 Hz — more than any gap a
+/// station can leave by dropping summaries — while a peer jumping as far as it may on every
+/// frame needs 2^40 summaries to reach `u64::MAX` and silence the session.
+pub const MAX_SEQ_STEP: u64 = 1 << 24;
+
 /// Most entries allowed in [`Summary::extra`].
 pub const MAX_EXTRA_ENTRIES: usize = 64;
 
@@ -271,6 +278,13 @@ impl Summary {
         }
         Ok(())
     }
+}
+
+/// The highest sequence number a summary may carry when `last` is the last one stored (or
+/// produced) in its session, `None` for none: `last + 1 + MAX_SEQ_STEP`, or `MAX_SEQ_STEP`.
+pub fn max_next_seq(last: Option<u64>) -> u64 {
+    last.map_or(0, |l| l.saturating_add(1))
+        .saturating_add(MAX_SEQ_STEP)
 }
 
 /// Checks an identifier: 1 to [`MAX_ID_LEN`] bytes of ASCII letters, digits, `_`, `-`, `.`,

@@ -45,7 +45,7 @@ fn summary(session: &str, seq: u64) -> Summary {
         pct_in_lane: 99.0,
         max_abs_torque_nm: 1.1,
         loop_p99_us: 40.0,
-        ticks: seq * 100,
+        ticks: seq.wrapping_mul(100),
         dropped_records: 0,
         extra: BTreeMap::new(),
     }
@@ -1039,4 +1039,112 @@ async fn hub_that_reads_but_never_acknowledges_is_abandoned_and_reconnected() {
     assert!(stats.connections >= 2, "{stats:?}");
     assert_eq!((stats.acked, stats.pending), (0, 5), "{stats:?}");
     hung.abort();
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn summary_jumping_to_u64_max_is_refused_and_the_session_stays_alive() {
+    let store = tempfile::tempdir().unwrap();
+    let (hub, _events) = start_hub(store.path(), None).await;
+    let addr = hub.local_addr();
+    // A hostile or buggy peer stores seq 0, then tries to jump to the end of the sequence space.
+    let mut bytes = encode_to_vec(&Frame::Hello(hello("st-j", "s1"))).unwrap();
+    bytes.extend(encode_to_vec(&Frame::Summary(summary("s1", 0))).unwrap());
+    bytes.extend(encode_to_vec(&Frame::Summary(summary("s1", u64::MAX))).unwrap());
+    let frames = raw_exchange(addr, &bytes).await;
+    match frames.as_slice() {
+        [Frame::Ack(a), Frame::Error(e)] => {
+            assert_eq!(a.seq, 0);
+            assert!(e.message.contains("jumps too far ahead"), "{}", e.message);
+        }
+        other => panic!("expected Ack then Error, got {other:?}"),
+    }
+    assert_eq!(stored_seqs(store.path(), "st-j", "s1"), vec![0]);
+    // The genuine station's next summaries are still stored: the session was not silenced.
+    let (sender, link) = StationLink::spawn(
+        &tokio::runtime::Handle::current(),
+        fast_config(addr, None, hello("st-j", "s1")),
+    )
+    .unwrap();
+    send_range(&sender, "s1", 1..6);
+    // The station itself refuses such a jump before it reaches the wire.
+    assert!(matches!(
+        sender.send(summary("s1", u64::MAX)),
+        Err(SendError::SeqJump {
+            seq: u64::MAX,
+            previous: Some(5),
+            ..
+        })
+    ));
+    assert_all_delivered(&link.finish(GUARD).await, 5);
+    assert_eq!(
+        stored_seqs(store.path(), "st-j", "s1"),
+        (0..6).collect::<Vec<_>>()
+    );
+    hub.shutdown(GUARD).await;
+}
+
+/// A TCP proxy in front of the hub whose first connection is a liar: it answers the station
+/// with an Ack for `bogus_seq` at once and forwards nothing to the hub. Later connections are
+/// forwarded both ways.
+async fn lying_ack_proxy(hub: SocketAddr, session: &str, bogus_seq: u64) -> SocketAddr {
+    let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    let bogus = encode_to_vec(&Frame::Ack(netlink::Ack {
+        session_id: session.into(),
+        seq: bogus_seq,
+    }))
+    .unwrap();
+    tokio::spawn(async move {
+        let mut first = true;
+        loop {
+            let Ok((mut station, _)) = listener.accept().await else {
+                return;
+            };
+            if std::mem::take(&mut first) {
+                let bogus = bogus.clone();
+                tokio::spawn(async move {
+                    let _ = station.write_all(&bogus).await;
+                    let mut sink = Vec::new();
+                    let _ = tokio::time::timeout(GUARD, station.read_to_end(&mut sink)).await;
+                });
+                continue;
+            }
+            let upstream = TcpStream::connect(hub).await.unwrap();
+            let (mut s_rd, mut s_wr) = station.into_split();
+            let (mut h_rd, mut h_wr) = upstream.into_split();
+            tokio::spawn(async move {
+                let _ = tokio::io::copy(&mut s_rd, &mut h_wr).await;
+                let _ = h_wr.shutdown().await;
+            });
+            tokio::spawn(async move {
+                let _ = tokio::io::copy(&mut h_rd, &mut s_wr).await;
+                let _ = s_wr.shutdown().await;
+            });
+        }
+    });
+    addr
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn ack_above_what_the_station_produced_is_a_protocol_error_and_nothing_is_lost() {
+    let store = tempfile::tempdir().unwrap();
+    let (hub, _events) = start_hub(store.path(), None).await;
+    let proxy = lying_ack_proxy(hub.local_addr(), "s1", 1_000).await;
+    let (sender, link) = StationLink::spawn(
+        &tokio::runtime::Handle::current(),
+        fast_config(proxy, None, hello("st-lie", "s1")),
+    )
+    .unwrap();
+    send_range(&sender, "s1", 0..5);
+    wait_until("a second connection", || link.stats().connections >= 2).await;
+    let error = link.stats().last_error.unwrap_or_default();
+    assert!(error.contains("impossible Ack"), "{error}");
+    assert!(error.contains("1000"), "{error}");
+    let stats = link.finish(GUARD).await;
+    assert_all_delivered(&stats, 5);
+    assert_eq!(
+        stored_seqs(store.path(), "st-lie", "s1"),
+        (0..5).collect::<Vec<_>>()
+    );
+    hub.shutdown(GUARD).await;
 }

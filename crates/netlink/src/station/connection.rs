@@ -140,6 +140,21 @@ impl LinkTask {
                                     "Ack for session {:?}, expected {session_id:?}", ack.session_id
                                 )), progress);
                             }
+                            // Everything handed to the link counts as produced, even if it
+                            // is still in the channel.
+                            self.drain_channel();
+                            if self.last_produced_seq.is_none_or(|p| ack.seq > p) {
+                                let error = NetlinkError::Protocol(format!(
+                                    "impossible Ack: the therapist acknowledged seq {} but this \
+                                     station has produced {}; reconnecting to resend what is \
+                                     unacknowledged",
+                                    ack.seq,
+                                    self.last_produced_seq
+                                        .map_or_else(|| "no summary".to_owned(), |p| format!("only up to seq {p}"))
+                                ));
+                                send_error_frame(&out_tx, &error);
+                                break lost(error, progress);
+                            }
                             let mut n = 0;
                             while self.pending.front().is_some_and(|p| p.seq <= ack.seq) {
                                 self.pending.pop_front();

@@ -54,6 +54,19 @@ pub enum SendError {
         /// The previous one.
         previous: u64,
     },
+    /// The sequence number jumps further ahead than the protocol allows
+    /// ([`MAX_SEQ_STEP`](crate::frame::MAX_SEQ_STEP)); the hub would refuse it.
+    #[error(
+        "summary seq {seq} jumps too far ahead of the previous seq {previous:?} (at most {limit})"
+    )]
+    SeqJump {
+        /// The refused sequence number.
+        seq: u64,
+        /// The previous one, `None` for the first summary.
+        previous: Option<u64>,
+        /// The highest sequence number allowed here.
+        limit: u64,
+    },
     /// The channel to the link task is full; counted in [`LinkStats::dropped`].
     #[error("link channel full; summary dropped")]
     Full,
@@ -104,6 +117,15 @@ impl SummarySender {
         if let Some(previous) = previous_seq.filter(|&p| seq <= p) {
             Shared::bump(&self.shared.rejected);
             return Err(SendError::SeqNotIncreasing { seq, previous });
+        }
+        let limit = crate::frame::max_next_seq(*previous_seq);
+        if seq > limit {
+            Shared::bump(&self.shared.rejected);
+            return Err(SendError::SeqJump {
+                seq,
+                previous: *previous_seq,
+                limit,
+            });
         }
         *previous_seq = Some(seq);
         let queued = Queued {

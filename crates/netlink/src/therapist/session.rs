@@ -4,7 +4,7 @@
 use std::sync::{Arc, Mutex};
 
 use crate::error::NetlinkError;
-use crate::frame::{Ack, Bye, Frame, Hello};
+use crate::frame::{Ack, Bye, Frame, Hello, MAX_SEQ_STEP, max_next_seq};
 use crate::store::{Appended, SessionFile};
 
 use super::*;
@@ -37,6 +37,15 @@ pub(super) async fn handle_frame(
             }
             let (appended, last) = {
                 let mut f = lock(file);
+                let limit = max_next_seq(f.last_seq());
+                if summary.seq > limit {
+                    return Err(Failure::Protocol(format!(
+                        "summary seq {} jumps too far ahead: the last stored is {:?}, at most {limit} \
+                         accepted (MAX_SEQ_STEP = {MAX_SEQ_STEP})",
+                        summary.seq,
+                        f.last_seq()
+                    )));
+                }
                 let appended = f
                     .append(&summary)
                     .map_err(|e| Failure::Closed(format!("storage failure: {e}")))?;
