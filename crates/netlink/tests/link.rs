@@ -1148,3 +1148,119 @@ async fn ack_above_what_the_station_produced_is_a_protocol_error_and_nothing_is_
     );
     hub.shutdown(GUARD).await;
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_station_that_floods_and_never_reads_keeps_the_hubs_queue_bounded() {
+    let store = tempfile::tempdir().unwrap();
+    let (hub, _events) = start_hub(store.path(), None).await;
+    let addr = hub.local_addr();
+    // The flooder: Hello, one summary, then duplicates as fast as the hub takes them for 3 s,
+    // never reading a byte of the hub's answers.
+    let flood = tokio::spawn(async move {
+        let mut stream = TcpStream::connect(addr).await.unwrap();
+        let mut first = encode_to_vec(&Frame::Hello(hello("st-flood", "s1"))).unwrap();
+        first.extend(encode_to_vec(&Frame::Summary(summary("s1", 0))).unwrap());
+        stream.write_all(&first).await.unwrap();
+        let dup = encode_to_vec(&Frame::Summary(summary("s1", 0))).unwrap();
+        let burst: Vec<u8> = dup.iter().copied().cycle().take(dup.len() * 100).collect();
+        let until = tokio::time::Instant::now() + Duration::from_secs(3);
+        let mut bursts = 0u64;
+        while tokio::time::Instant::now() < until {
+            match tokio::time::timeout_at(until, stream.write_all(&burst)).await {
+                Ok(Ok(())) => bursts += 1,
+                Ok(Err(e)) => panic!("hub closed the flooding connection: {e}"),
+                Err(_) => break,
+            }
+        }
+        (stream, bursts)
+    });
+    wait_until("the flooder connected", || {
+        hub.connected_stations() == ["st-flood"]
+    })
+    .await;
+    // Regimens of 32 KB pile up behind the flooder's full socket buffers: the outbox fills and
+    // further regimens are refused instead of queued.
+    let big = Regimen {
+        id: "big".into(),
+        toml: format!("# {}\n", "x".repeat(32 * 1024)),
+    };
+    let mut busy = 0;
+    for _ in 0..2_000 {
+        match hub.send_regimen("st-flood", big.clone()) {
+            Ok(()) => {}
+            Err(netlink::NetlinkError::Busy(m)) => {
+                assert!(m.contains("st-flood"), "{m}");
+                busy += 1;
+            }
+            Err(e) => panic!("unexpected error {e}"),
+        }
+    }
+    assert!(
+        busy > 0,
+        "2 000 regimens of 32 KB all queued for a peer that never reads"
+    );
+    // Meanwhile another station is served normally.
+    let (sender, link) = StationLink::spawn(
+        &tokio::runtime::Handle::current(),
+        fast_config(addr, None, hello("st-good", "s1")),
+    )
+    .unwrap();
+    send_range(&sender, "s1", 0..20);
+    assert_all_delivered(&link.finish(GUARD).await, 20);
+    let (_stream, bursts) = flood.await.unwrap();
+    assert!(bursts > 0);
+    let high = hub.outgoing_high_water();
+    assert!(
+        high <= TherapistServer::OUTBOX_CAPACITY + 1,
+        "{high} frames queued for one connection"
+    );
+    assert_eq!(stored_seqs(store.path(), "st-flood", "s1"), vec![0]);
+    hub.shutdown(GUARD).await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn connections_from_one_address_are_limited() {
+    let store = tempfile::tempdir().unwrap();
+    let listen: SocketAddr = "127.0.0.1:0".parse().unwrap();
+    let mut config = TherapistConfig::new(listen, store.path(), None);
+    assert_eq!(config.max_connections_per_address, 8);
+    config.max_connections_per_address = 2;
+    let (hub, mut events) = TherapistServer::bind(config).await.unwrap();
+    let addr = hub.local_addr();
+    let mut held = Vec::new();
+    for station in ["st-1", "st-2"] {
+        let mut s = TcpStream::connect(addr).await.unwrap();
+        s.write_all(&encode_to_vec(&Frame::Hello(hello(station, "s1"))).unwrap())
+            .await
+            .unwrap();
+        held.push(s);
+    }
+    wait_until("two stations connected", || {
+        hub.connected_stations().len() == 2
+    })
+    .await;
+    // A third connection from the same address is closed at once.
+    let mut third = TcpStream::connect(addr).await.unwrap();
+    let _ = third
+        .write_all(&encode_to_vec(&Frame::Hello(hello("st-3", "s1"))).unwrap())
+        .await;
+    assert!(read_frames_until_close(&mut third).await.is_empty());
+    let refused = loop {
+        match next_event(&mut events).await {
+            TherapistEvent::ProtocolError { error, .. } => break error,
+            TherapistEvent::Connected { hello, .. } => assert_ne!(hello.station_id, "st-3"),
+            _ => {}
+        }
+    };
+    assert!(refused.contains("max_connections_per_address"), "{refused}");
+    // Once one closes, a station from that address is served again.
+    drop(held.pop());
+    let (sender, link) = StationLink::spawn(
+        &tokio::runtime::Handle::current(),
+        fast_config(addr, None, hello("st-3", "s1")),
+    )
+    .unwrap();
+    send_range(&sender, "s1", 0..3);
+    assert_all_delivered(&link.finish(GUARD).await, 3);
+    hub.shutdown(GUARD).await;
+}

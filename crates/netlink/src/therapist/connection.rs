@@ -2,14 +2,14 @@
 //! client certificate naming the station), registration for regimens, the frame loop, and
 //! clean-up.
 
-use std::net::SocketAddr;
+use std::net::{IpAddr, SocketAddr};
 use std::sync::atomic::Ordering;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use rustls::pki_types::CertificateDer;
 use tokio::net::{TcpListener, TcpStream};
-use tokio::sync::{mpsc, watch};
+use tokio::sync::watch;
 use tokio::task::JoinHandle;
 
 use crate::codec::encode_to_vec;
@@ -17,13 +17,13 @@ use crate::error::NetlinkError;
 use crate::frame::{Ack, Bye, ErrorFrame, Frame, Hello, MAX_MESSAGE_LEN, printable};
 use crate::store::{SessionFile, write_hello};
 use crate::tls::certificate_names_station;
-use crate::transport::{BoxStream, FrameReader, Outgoing, spawn_writer};
+use crate::transport::{BoxStream, FrameReader, Outbox, Outgoing, spawn_outbox_writer};
 
 use super::session::{Failure, Reply, handle_frame, sync_file};
 use super::{Hub, StationRoute, TherapistEvent, lock};
 
-/// The writer side of a connection: frames queued for the station.
-type Out = mpsc::UnboundedSender<Outgoing>;
+/// The writer side of a connection: frames queued for the station (bounded) and its latest Ack.
+type Out = Outbox;
 /// The writer task; it ends with the first write error.
 type Writer = JoinHandle<Result<(), NetlinkError>>;
 /// A session's store, shared with the hub's session table.
@@ -40,6 +40,17 @@ pub(super) async fn accept_loop(
             _ = shutdown.changed() => break,
             accepted = listener.accept() => match accepted {
                 Ok((tcp, peer)) => {
+                    let Some(address_slot) = AddressSlot::take(&hub, peer.ip()) else {
+                        hub.emit(TherapistEvent::ProtocolError {
+                            peer,
+                            error: format!(
+                                "refused: already {} connections from {} (max_connections_per_address)",
+                                hub.config.max_connections_per_address,
+                                peer.ip()
+                            ),
+                        });
+                        continue;
+                    };
                     let Ok(permit) = hub.connections.clone().try_acquire_owned() else {
                         hub.emit(TherapistEvent::ProtocolError {
                             peer,
@@ -56,6 +67,7 @@ pub(super) async fn accept_loop(
                     tokio::spawn(async move {
                         serve(hub, tcp, peer, shutdown).await;
                         drop(permit);
+                        drop(address_slot);
                     });
                 }
                 Err(e) => {
@@ -64,6 +76,40 @@ pub(super) async fn accept_loop(
                     tokio::time::sleep(Duration::from_millis(100)).await;
                 }
             },
+        }
+    }
+}
+
+/// One connection counted against its remote address's limit; released on drop.
+struct AddressSlot {
+    hub: Arc<Hub>,
+    ip: IpAddr,
+}
+
+impl AddressSlot {
+    /// Counts a connection from `ip`, `None` if it already has the most allowed.
+    fn take(hub: &Arc<Hub>, ip: IpAddr) -> Option<Self> {
+        let mut per_address = lock(&hub.per_address);
+        let count = per_address.entry(ip).or_insert(0);
+        if *count >= hub.config.max_connections_per_address {
+            return None;
+        }
+        *count += 1;
+        Some(Self {
+            hub: hub.clone(),
+            ip,
+        })
+    }
+}
+
+impl Drop for AddressSlot {
+    fn drop(&mut self) {
+        let mut per_address = lock(&self.hub.per_address);
+        if let Some(count) = per_address.get_mut(&self.ip) {
+            *count -= 1;
+            if *count == 0 {
+                per_address.remove(&self.ip);
+            }
         }
     }
 }
@@ -85,10 +131,19 @@ fn frame_outgoing(frame: &Frame) -> Option<Outgoing> {
     }
 }
 
-/// Queues `frame` for the station; a closed writer is noticed by the frame loop.
+/// Queues `frame` for the station; a closed writer is noticed by the frame loop, a full outbox
+/// (a station that does not read) drops the frame, counted in the hub's outbox stats.
 fn send(out: &Out, frame: Option<Outgoing>) {
     if let Some(o) = frame {
-        let _ = out.send(o);
+        out.send(o);
+    }
+}
+
+/// Makes `ack` the next Ack for the station, replacing one not yet written.
+fn send_ack(out: &Out, ack: Ack) {
+    let seq = ack.seq;
+    if let Some(o) = frame_outgoing(&Frame::Ack(ack)) {
+        out.ack(seq, o.bytes);
     }
 }
 
@@ -108,8 +163,7 @@ async fn serve(hub: Arc<Hub>, tcp: TcpStream, peer: SocketAddr, shutdown: watch:
         return;
     };
     let (rd, wr) = tokio::io::split(stream);
-    let (out, out_rx) = mpsc::unbounded_channel();
-    let mut writer = spawn_writer(wr, out_rx);
+    let (out, mut writer) = spawn_outbox_writer(wr, hub.outbox_stats.clone());
     let mut reader = FrameReader::new(rd);
 
     let (hello, file) = match open_session(&hub, &mut reader, client_cert.as_ref()).await {
@@ -214,11 +268,11 @@ fn register(hub: &Hub, peer: SocketAddr, hello: &Hello, file: &File, out: &Out) 
     });
     let last_stored = lock(file).last_seq();
     if let Some(seq) = last_stored {
-        let ack = Frame::Ack(Ack {
+        let ack = Ack {
             session_id: hello.session_id.clone(),
             seq,
-        });
-        send(out, frame_outgoing(&ack));
+        };
+        send_ack(out, ack);
     }
     conn_id
 }
@@ -262,7 +316,7 @@ async fn frame_loop(
                     Ok(Err(e)) => return protocol_error(hub, out, peer, e.to_string()),
                 };
                 match handle_frame(hub, hello, file, frame).await {
-                    Ok(Reply::Ack(ack)) => send(out, frame_outgoing(&ack)),
+                    Ok(Reply::Ack(ack)) => send_ack(out, ack),
                     Ok(Reply::Bye(bye, why)) => {
                         send(out, frame_outgoing(&bye));
                         return why;

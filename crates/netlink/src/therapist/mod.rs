@@ -7,7 +7,7 @@ mod event;
 mod session;
 
 use std::collections::HashMap;
-use std::net::SocketAddr;
+use std::net::{IpAddr, SocketAddr};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -21,7 +21,7 @@ use crate::error::NetlinkError;
 use crate::frame::{Frame, Hello, Regimen};
 use crate::store::SessionFile;
 use crate::tls::ServerTls;
-use crate::transport::Outgoing;
+use crate::transport::{OUTBOX_CAPACITY, Outbox, OutboxStats, Outgoing};
 
 pub use config::TherapistConfig;
 use connection::accept_loop;
@@ -35,7 +35,7 @@ type SessionKey = (String, String);
 
 struct StationRoute {
     conn_id: u64,
-    out: mpsc::UnboundedSender<Outgoing>,
+    out: Outbox,
 }
 
 struct Hub {
@@ -47,6 +47,9 @@ struct Hub {
     events_dropped: AtomicU64,
     next_conn_id: AtomicU64,
     connections: Arc<Semaphore>,
+    /// Open connections per remote address (only addresses with at least one).
+    per_address: Mutex<HashMap<IpAddr, usize>>,
+    outbox_stats: Arc<OutboxStats>,
 }
 
 /// A running hub. Dropping it stops it too; [`Self::shutdown`] also waits for connections to
@@ -85,6 +88,8 @@ impl TherapistServer {
             events,
             events_dropped: AtomicU64::new(0),
             next_conn_id: AtomicU64::new(1),
+            per_address: Mutex::new(HashMap::new()),
+            outbox_stats: Arc::new(OutboxStats::default()),
         });
         tracing::info!(%local_addr, tls = hub.acceptor.is_some(), "therapist hub listening");
         let accept_task = tokio::spawn(accept_loop(hub.clone(), listener, shutdown_rx));
@@ -116,17 +121,44 @@ impl TherapistServer {
         self.hub.events_dropped.load(Ordering::Relaxed)
     }
 
+    /// The most frames ever waiting to be written to one connection: queued frames (at most
+    /// [`Self::OUTBOX_CAPACITY`]) plus the one latest Ack. Bounded whatever a station does.
+    pub fn outgoing_high_water(&self) -> usize {
+        self.hub.outbox_stats.high_water.load(Ordering::Relaxed)
+    }
+
+    /// Acks replaced by a newer one before they were written (a slow or non-reading station).
+    pub fn acks_coalesced(&self) -> u64 {
+        self.hub.outbox_stats.acks_coalesced.load(Ordering::Relaxed)
+    }
+
+    /// Frames (regimens, Bye, Error) not queued because a connection's outbox was full.
+    pub fn outgoing_refused(&self) -> u64 {
+        self.hub.outbox_stats.refused.load(Ordering::Relaxed)
+    }
+
+    /// Frames besides the latest Ack that may wait for one connection.
+    pub const OUTBOX_CAPACITY: usize = OUTBOX_CAPACITY;
+
     /// Queues `regimen` for the connected station `station_id`.
+    ///
+    /// Fails with [`NetlinkError::NotConnected`] if the station is not connected and with
+    /// [`NetlinkError::Busy`] if [`Self::OUTBOX_CAPACITY`] frames already wait for it (it is
+    /// not reading): try again later.
     pub fn send_regimen(&self, station_id: &str, regimen: Regimen) -> Result<(), NetlinkError> {
         let bytes = encode_to_vec(&Frame::Regimen(regimen))?;
         let stations = lock(&self.hub.stations);
         let route = stations
             .get(station_id)
             .ok_or_else(|| NetlinkError::NotConnected(station_id.to_owned()))?;
-        route
-            .out
-            .send(Outgoing::new(bytes.into()))
-            .map_err(|_| NetlinkError::NotConnected(station_id.to_owned()))
+        if route.out.send(Outgoing::new(bytes.into())) {
+            Ok(())
+        } else {
+            Err(NetlinkError::Busy(format!(
+                "{OUTBOX_CAPACITY} frames already wait for station {station_id:?} (it is not \
+                 reading, or has just disconnected); regimen not queued"
+            )))
+        }
     }
 
     /// Stops accepting, tells every station (Bye), syncs their files and waits up to `timeout`

@@ -10,7 +10,7 @@ use crate::store::{Appended, SessionFile};
 use super::*;
 
 pub(super) enum Reply {
-    Ack(Frame),
+    Ack(Ack),
     Bye(Frame, String),
 }
 
@@ -57,10 +57,10 @@ pub(super) async fn handle_frame(
                     summary,
                 });
             }
-            Ok(Reply::Ack(Frame::Ack(Ack {
+            Ok(Reply::Ack(Ack {
                 session_id: hello.session_id.clone(),
                 seq: last,
-            })))
+            }))
         }
         Frame::Bye(bye) => {
             if bye.session_id != hello.session_id {
