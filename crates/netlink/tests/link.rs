@@ -1264,3 +1264,103 @@ async fn connections_from_one_address_are_limited() {
     assert_all_delivered(&link.finish(GUARD).await, 3);
     hub.shutdown(GUARD).await;
 }
+
+/// A session file whose reading never ends (a FIFO: the hub's own handle keeps it open for
+/// writing, so a read waits forever) stands for a very slow disk. Opening it must stall only
+/// that station, never the hub's other stations.
+#[cfg(unix)]
+#[test]
+fn a_session_file_that_never_finishes_reading_stalls_only_its_own_station() {
+    let store = tempfile::tempdir().unwrap();
+    let slow = store.path().join("st-slow");
+    std::fs::create_dir_all(&slow).unwrap();
+    let fifo = slow.join("s1.jsonl");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    if !made.is_ok_and(|s| s.success()) {
+        eprintln!("skipped: mkfifo is not available");
+        return;
+    }
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .unwrap();
+    let (hub, _events) = rt.block_on(start_hub(store.path(), None));
+    let addr = hub.local_addr();
+    let (slow_sender, _slow_link) =
+        StationLink::spawn(rt.handle(), fast_config(addr, None, hello("st-slow", "s1"))).unwrap();
+    send_range(&slow_sender, "s1", 0..3);
+    // Give the slow station's connection time to start reading its file.
+    std::thread::sleep(Duration::from_millis(300));
+    // Checked from another thread: a hub stalled on its worker threads may stall timers too.
+    let (done_tx, done_rx) = std::sync::mpsc::channel();
+    let handle = rt.handle().clone();
+    std::thread::spawn(move || {
+        let stats = handle.block_on(async {
+            let (sender, link) = StationLink::spawn(
+                &tokio::runtime::Handle::current(),
+                fast_config(addr, None, hello("st-ok", "s1")),
+            )
+            .unwrap();
+            send_range(&sender, "s1", 0..10);
+            link.finish(GUARD).await
+        });
+        let _ = done_tx.send(stats);
+    });
+    let Ok(stats) = done_rx.recv_timeout(Duration::from_secs(10)) else {
+        // Dropping a runtime waits for its blocked threads: leave them behind instead.
+        rt.shutdown_background();
+        panic!("the hub stalled behind one station's session file");
+    };
+    assert_all_delivered(&stats, 10);
+    assert_eq!(
+        stored_seqs(store.path(), "st-ok", "s1"),
+        (0..10).collect::<Vec<_>>()
+    );
+    // The blocked read cannot be cancelled; leave it behind with the runtime.
+    drop(hub);
+    rt.shutdown_background();
+}
+
+#[test]
+fn two_stations_reconnecting_at_once_store_every_summary_exactly_once() {
+    let store = tempfile::tempdir().unwrap();
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .unwrap();
+    let hub = KillableHub::start("127.0.0.1:0".parse().unwrap(), store.path());
+    let addr = hub.addr();
+    let links: Vec<_> = ["st-c1", "st-c2"]
+        .into_iter()
+        .map(|station| {
+            let (sender, link) =
+                StationLink::spawn(rt.handle(), fast_config(addr, None, hello(station, "s1")))
+                    .unwrap();
+            send_range(&sender, "s1", 0..30);
+            (station, sender, link)
+        })
+        .collect();
+    for (_, _, link) in &links {
+        rt.block_on(wait_until("30 acknowledged", || link.stats().acked == 30));
+    }
+    hub.kill();
+    for (_, sender, link) in &links {
+        rt.block_on(wait_until("the station to notice", || {
+            !link.stats().connected
+        }));
+        send_range(sender, "s1", 30..60);
+    }
+    // Both reconnect to the restarted hub at the same time and resend their backlog.
+    let hub = KillableHub::start(addr, store.path());
+    for (station, _sender, link) in links {
+        let stats = link.finish_blocking(rt.handle(), GUARD);
+        assert_all_delivered(&stats, 60);
+        assert_eq!(
+            stored_seqs(store.path(), station, "s1"),
+            (0..60).collect::<Vec<_>>()
+        );
+    }
+    hub.kill();
+}

@@ -3,8 +3,8 @@
 //! clean-up.
 
 use std::net::{IpAddr, SocketAddr};
+use std::sync::Arc;
 use std::sync::atomic::Ordering;
-use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use rustls::pki_types::CertificateDer;
@@ -15,19 +15,19 @@ use tokio::task::JoinHandle;
 use crate::codec::encode_to_vec;
 use crate::error::NetlinkError;
 use crate::frame::{Ack, Bye, ErrorFrame, Frame, Hello, MAX_MESSAGE_LEN, printable};
-use crate::store::{SessionFile, write_hello};
+use crate::store::write_hello;
 use crate::tls::certificate_names_station;
 use crate::transport::{BoxStream, FrameReader, Outbox, Outgoing, spawn_outbox_writer};
 
-use super::session::{Failure, Reply, handle_frame, sync_file};
-use super::{Hub, StationRoute, TherapistEvent, lock};
+use super::session::{Failure, Reply, handle_frame, last_seq, sync_file};
+use super::{Hub, SessionSlot, StationRoute, TherapistEvent, lock};
 
 /// The writer side of a connection: frames queued for the station (bounded) and its latest Ack.
 type Out = Outbox;
 /// The writer task; it ends with the first write error.
 type Writer = JoinHandle<Result<(), NetlinkError>>;
 /// A session's store, shared with the hub's session table.
-type File = Arc<Mutex<SessionFile>>;
+type File = SessionSlot;
 
 /// Accepts stations until `shutdown`, each served on its own task within `max_connections`.
 pub(super) async fn accept_loop(
@@ -175,7 +175,7 @@ async fn serve(hub: Arc<Hub>, tcp: TcpStream, peer: SocketAddr, shutdown: watch:
             return;
         }
     };
-    let conn_id = register(&hub, peer, &hello, &file, &out);
+    let conn_id = register(&hub, peer, &hello, &file, &out).await;
     let reason = frame_loop(
         &hub,
         peer,
@@ -244,16 +244,22 @@ async fn open_session(
         certificate_names_station(cert, &hello.station_id)?;
     }
     // Hello first: if it fails, no session file has been registered yet.
-    write_hello(&hub.config.store_dir, &hello).map_err(|e| format!("cannot store Hello: {e}"))?;
+    let store_dir = hub.config.store_dir.clone();
+    let stored = hello.clone();
+    tokio::task::spawn_blocking(move || write_hello(&store_dir, &stored))
+        .await
+        .map_err(|e| format!("cannot store Hello: task failed: {e}"))?
+        .map_err(|e| format!("cannot store Hello: {e}"))?;
     let file = hub
         .open_session(&hello)
+        .await
         .map_err(|e| format!("cannot open the session store: {e}"))?;
     Ok((hello, file))
 }
 
 /// Routes regimens for the station to this connection, reports it connected and tells a
 /// reconnecting station what is already stored, so it need not resend it. The connection id.
-fn register(hub: &Hub, peer: SocketAddr, hello: &Hello, file: &File, out: &Out) -> u64 {
+async fn register(hub: &Hub, peer: SocketAddr, hello: &Hello, file: &File, out: &Out) -> u64 {
     let conn_id = hub.next_conn_id.fetch_add(1, Ordering::Relaxed);
     lock(&hub.stations).insert(
         hello.station_id.clone(),
@@ -266,7 +272,7 @@ fn register(hub: &Hub, peer: SocketAddr, hello: &Hello, file: &File, out: &Out) 
         peer,
         hello: hello.clone(),
     });
-    let last_stored = lock(file).last_seq();
+    let last_stored = last_seq(file).await;
     if let Some(seq) = last_stored {
         let ack = Ack {
             session_id: hello.session_id.clone(),
@@ -297,7 +303,7 @@ async fn frame_loop(
                 let bye = Frame::Bye(Bye {
                     session_id: hello.session_id.clone(),
                     reason: "therapist hub shutting down".into(),
-                    final_seq: lock(file).last_seq(),
+                    final_seq: last_seq(file).await,
                 });
                 send(out, frame_outgoing(&bye));
                 return "therapist hub shut down".to_owned();

@@ -33,6 +33,10 @@ const EVENT_CAPACITY: usize = 4_096;
 
 type SessionKey = (String, String);
 
+/// One session's file, `None` until it is opened; locked per session (async), never held
+/// across the hub-wide table's lock.
+type SessionSlot = Arc<tokio::sync::Mutex<Option<SessionFile>>>;
+
 struct StationRoute {
     conn_id: u64,
     out: Outbox,
@@ -41,7 +45,8 @@ struct StationRoute {
 struct Hub {
     config: TherapistConfig,
     acceptor: Option<tokio_rustls::TlsAcceptor>,
-    sessions: Mutex<HashMap<SessionKey, Arc<Mutex<SessionFile>>>>,
+    /// Open sessions; each has its own lock, so one session's file work never waits for another's.
+    sessions: Mutex<HashMap<SessionKey, SessionSlot>>,
     stations: Mutex<HashMap<String, StationRoute>>,
     events: mpsc::Sender<TherapistEvent>,
     events_dropped: AtomicU64,
@@ -189,22 +194,47 @@ impl Hub {
         }
     }
 
-    fn open_session(&self, hello: &Hello) -> Result<Arc<Mutex<SessionFile>>, NetlinkError> {
+    /// The session's slot, its file opened (on the blocking pool, holding only this session's
+    /// lock) if no other connection has it open. The hub-wide table is locked only to find or
+    /// insert the slot, never across file work.
+    async fn open_session(&self, hello: &Hello) -> Result<SessionSlot, NetlinkError> {
         let key = (hello.station_id.clone(), hello.session_id.clone());
-        let mut sessions = lock(&self.sessions);
-        if let Some(file) = sessions.get(&key) {
-            return Ok(file.clone());
+        let slot = lock(&self.sessions).entry(key).or_default().clone();
+        let opened = {
+            let mut guard = slot.lock().await;
+            if guard.is_none() {
+                let dir = self.config.store_dir.clone();
+                let (station, session) = (hello.station_id.clone(), hello.session_id.clone());
+                let open = move || SessionFile::open(&dir, &station, &session);
+                match tokio::task::spawn_blocking(open).await {
+                    Ok(Ok(file)) => {
+                        *guard = Some(file);
+                        Ok(())
+                    }
+                    Ok(Err(e)) => Err(e),
+                    Err(e) => Err(NetlinkError::Protocol(format!(
+                        "session open task failed: {e}"
+                    ))),
+                }
+            } else {
+                Ok(())
+            }
+        };
+        match opened {
+            Ok(()) => Ok(slot),
+            Err(e) => {
+                // Unless another connection waits for this slot, forget it.
+                self.release_session(hello, slot);
+                Err(e)
+            }
         }
-        let file = SessionFile::open(&self.config.store_dir, &hello.station_id, &hello.session_id)?;
-        let file = Arc::new(Mutex::new(file));
-        sessions.insert(key, file.clone());
-        Ok(file)
     }
 
     /// Forgets a session file when its last connection ends.
-    fn release_session(&self, hello: &Hello, file: Arc<Mutex<SessionFile>>) {
+    fn release_session(&self, hello: &Hello, file: SessionSlot) {
         let key = (hello.station_id.clone(), hello.session_id.clone());
         let mut sessions = lock(&self.sessions);
+        // Ours and the table's: no other connection holds or waits for this session.
         if Arc::strong_count(&file) == 2 {
             sessions.remove(&key);
         }
