@@ -1364,3 +1364,59 @@ fn two_stations_reconnecting_at_once_store_every_summary_exactly_once() {
     }
     hub.kill();
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_hub_name_that_does_not_resolve_never_blocks_the_station() {
+    let pki = pki();
+    let started = std::time::Instant::now();
+    let mut config = fast_config(
+        "127.0.0.1:1".parse().unwrap(),
+        Some(pki.client.clone()),
+        hello("st-dns", "s1"),
+    );
+    config.addr = "no-such-host.invalid:7878".into();
+    assert!(matches!(config.addr, netlink::HubAddress::Name(_)));
+    let (sender, link) = StationLink::spawn(&tokio::runtime::Handle::current(), config).unwrap();
+    for seq in 0..10 {
+        sender.send(summary("s1", seq)).unwrap();
+    }
+    assert!(
+        started.elapsed() < Duration::from_secs(2),
+        "creating the link and queuing took {:?}",
+        started.elapsed()
+    );
+    // Each failed resolution is one failed attempt, retried with backoff.
+    wait_until("two failed attempts", || link.stats().connect_failures >= 2).await;
+    let stats = tokio::time::timeout(GUARD, link.finish(Duration::from_millis(300)))
+        .await
+        .expect("finish blocked");
+    assert_eq!((stats.pending, stats.acked), (10, 0), "{stats:?}");
+    let error = stats.last_error.unwrap();
+    assert!(error.contains("no-such-host.invalid"), "{error}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_hub_given_by_name_is_resolved_and_reached() {
+    let store = tempfile::tempdir().unwrap();
+    let (hub, _events) = start_hub(store.path(), None).await;
+    let name = format!("localhost:{}", hub.local_addr().port());
+    // Plaintext by name is allowed only for localhost.
+    let remote = StationLinkConfig::new("hub.clinic.example:7878", None, hello("st", "s"));
+    assert!(
+        remote
+            .validate()
+            .unwrap_err()
+            .to_string()
+            .contains("plaintext")
+    );
+    let mut config = fast_config(hub.local_addr(), None, hello("st-name", "s1"));
+    config.addr = name.as_str().into();
+    let (sender, link) = StationLink::spawn(&tokio::runtime::Handle::current(), config).unwrap();
+    send_range(&sender, "s1", 0..5);
+    assert_all_delivered(&link.finish(GUARD).await, 5);
+    assert_eq!(
+        stored_seqs(store.path(), "st-name", "s1"),
+        (0..5).collect::<Vec<_>>()
+    );
+    hub.shutdown(GUARD).await;
+}

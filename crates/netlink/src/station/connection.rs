@@ -1,6 +1,7 @@
 //! One connection of the link task: connect (TCP, then TLS), say `Hello`, send what is
 //! unacknowledged, read `Ack`s and regimens, and say `Bye` at the end.
 
+use std::net::SocketAddr;
 use std::sync::atomic::Ordering;
 use std::time::Duration;
 
@@ -28,13 +29,44 @@ impl LinkTask {
     /// Connects (TCP, then TLS if configured) within the connect timeout and the finish
     /// deadline. `None` if the link should stop.
     pub(super) async fn connect(&mut self) -> Option<Result<BoxStream, NetlinkError>> {
-        let addr = self.config.addr;
+        let addr = self.config.addr.clone();
         let limit = Duration::from_millis(self.config.connect_timeout_ms);
         let tls = self.tls.clone();
+        let plaintext = tls.is_none();
         let attempt = tokio::time::timeout(limit, async move {
-            let tcp = TcpStream::connect(addr)
-                .await
-                .map_err(|e| NetlinkError::io(format!("connecting to {addr}"), e))?;
+            // Resolved on every attempt: a name that does not resolve now may later.
+            let mut candidates: Vec<SocketAddr> = match &addr {
+                HubAddress::Socket(a) => vec![*a],
+                HubAddress::Name(name) => tokio::net::lookup_host(name.as_str())
+                    .await
+                    .map_err(|e| NetlinkError::io(format!("resolving {name}"), e))?
+                    .collect(),
+            };
+            if plaintext {
+                // Without TLS only loopback may be reached, whatever a name resolves to.
+                candidates.retain(|a| a.ip().is_loopback());
+            }
+            let mut last_error = NetlinkError::io(
+                format!("resolving {addr}"),
+                std::io::Error::new(
+                    std::io::ErrorKind::NotFound,
+                    "no usable address (plaintext allows only loopback)",
+                ),
+            );
+            let mut connected = None;
+            for candidate in candidates {
+                match TcpStream::connect(candidate).await {
+                    Ok(tcp) => {
+                        connected = Some(tcp);
+                        break;
+                    }
+                    Err(e) => {
+                        last_error =
+                            NetlinkError::io(format!("connecting to {addr} ({candidate})"), e);
+                    }
+                }
+            }
+            let tcp = connected.ok_or(last_error)?;
             let _ = tcp.set_nodelay(true);
             let stream: BoxStream = match tls {
                 None => Box::new(tcp),
@@ -53,7 +85,7 @@ impl LinkTask {
             tokio::select! {
                 r = &mut attempt => {
                     return Some(r.unwrap_or_else(|_| Err(NetlinkError::io(
-                        format!("connecting to {addr}"),
+                        format!("connecting to {}", self.config.addr),
                         std::io::Error::new(std::io::ErrorKind::TimedOut, format!("no connection within {} ms", limit.as_millis())),
                     ))));
                 }

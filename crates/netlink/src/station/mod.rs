@@ -26,7 +26,7 @@ use crate::error::NetlinkError;
 use crate::frame::{Frame, Regimen, Summary};
 use crate::tls::ClientTls;
 
-pub use config::{Backoff, StationLinkConfig};
+pub use config::{Backoff, HubAddress, StationLinkConfig};
 pub use stats::LinkStats;
 use stats::Shared;
 use task::LinkTask;
