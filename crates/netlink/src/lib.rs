@@ -36,6 +36,7 @@
 //!     exercise: "sine-road".into(),
 //!     started_unix_ms: 1_795_253_400_000,
 //!     software_version: "telerehab 0.1.0".into(),
+//!     min_protocol_version: None,
 //! };
 //! let config = StationLinkConfig::new("localhost:7878", None, hello); // resolved on each attempt
 //! let (sender, mut link) = StationLink::spawn(runtime.handle(), config)?;

@@ -29,6 +29,7 @@ fn hello(station: &str, session: &str) -> Hello {
         exercise: "sine-road".into(),
         started_unix_ms: 1_795_253_400_000,
         software_version: "telerehab-test".into(),
+        min_protocol_version: None,
     }
 }
 
@@ -133,7 +134,10 @@ async fn plaintext_session_is_stored_once_and_reported_as_events() {
         &std::fs::read(store.path().join("st-a/sess-1.hello.json")).unwrap(),
     )
     .unwrap();
-    assert_eq!(hello_back, hello("st-a", "sess-1"));
+    // The link announces the range of versions it speaks.
+    let mut expected = hello("st-a", "sess-1");
+    expected.min_protocol_version = Some(netlink::frame::MIN_PROTOCOL_VERSION);
+    assert_eq!(hello_back, expected);
 
     match next_event(&mut events).await {
         TherapistEvent::Connected { hello: h, .. } => assert_eq!(h.station_id, "st-a"),
@@ -1419,4 +1423,91 @@ async fn a_hub_given_by_name_is_resolved_and_reached() {
         (0..5).collect::<Vec<_>>()
     );
     hub.shutdown(GUARD).await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn hub_answers_a_station_it_cannot_serve_with_update_required() {
+    let store = tempfile::tempdir().unwrap();
+    let (hub, _events) = start_hub(store.path(), None).await;
+    // A future station speaking only versions 2..=3 (its Hello still framed as version 1).
+    let mut future = hello("st-future", "s1");
+    future.protocol_version = 3;
+    future.min_protocol_version = Some(2);
+    let mut bytes = encode_to_vec(&Frame::Hello(future)).unwrap();
+    bytes.extend(encode_to_vec(&Frame::Summary(summary("s1", 0))).unwrap());
+    let frames = raw_exchange(hub.local_addr(), &bytes).await;
+    match frames.as_slice() {
+        [Frame::Error(e)] => {
+            assert_eq!(
+                e.code.as_deref(),
+                Some(netlink::frame::UPDATE_REQUIRED),
+                "{e:?}"
+            );
+            assert!(e.message.contains("2..=3"), "{}", e.message);
+        }
+        other => panic!("expected one Error frame, got {other:?}"),
+    }
+    assert!(!store.path().join("st-future").exists());
+    // A station from before version ranges (no min_protocol_version) is still served.
+    let mut old = encode_to_vec(&Frame::Hello(hello("st-old", "s1"))).unwrap();
+    old.extend(encode_to_vec(&Frame::Summary(summary("s1", 0))).unwrap());
+    let mut stream = TcpStream::connect(hub.local_addr()).await.unwrap();
+    stream.write_all(&old).await.unwrap();
+    wait_until("the old station's summary", || {
+        read_session(store.path(), "st-old", "s1").is_ok_and(|s| s.len() == 1)
+    })
+    .await;
+    drop(stream);
+    hub.shutdown(GUARD).await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn station_told_update_required_stops_retrying_and_says_so() {
+    let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    let accepted = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
+    let count = accepted.clone();
+    let refusal = encode_to_vec(&Frame::Error(netlink::ErrorFrame {
+        message: "update required: the station speaks protocol versions 1..=1, the hub 2..=2"
+            .into(),
+        code: Some(netlink::frame::UPDATE_REQUIRED.into()),
+    }))
+    .unwrap();
+    let server = tokio::spawn(async move {
+        loop {
+            let (mut s, _) = listener.accept().await.unwrap();
+            count.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+            let refusal = refusal.clone();
+            tokio::spawn(async move {
+                let mut buf = [0u8; 1024];
+                let _ = s.read(&mut buf).await;
+                let _ = s.write_all(&refusal).await;
+            });
+        }
+    });
+    let (sender, link) = StationLink::spawn(
+        &tokio::runtime::Handle::current(),
+        fast_config(addr, None, hello("st-upd", "s1")),
+    )
+    .unwrap();
+    send_range(&sender, "s1", 0..5);
+    wait_until("the update-required status", || {
+        link.stats().update_required.is_some()
+    })
+    .await;
+    let status = link.stats().update_required.unwrap();
+    assert!(status.contains("update required"), "{status}");
+    // Backoff is 20..200 ms: a retrying station would have reconnected many times by now.
+    tokio::time::sleep(Duration::from_millis(1_000)).await;
+    assert_eq!(accepted.load(std::sync::atomic::Ordering::SeqCst), 1);
+    // The exercise goes on: summaries are still accepted, and reported undelivered.
+    send_range(&sender, "s1", 5..8);
+    let stats = link.finish(Duration::from_millis(300)).await;
+    assert_eq!(
+        (stats.pending, stats.acked, stats.connections),
+        (8, 0, 1),
+        "{stats:?}"
+    );
+    assert!(stats.update_required.is_some());
+    server.abort();
 }

@@ -141,6 +141,9 @@ impl StationLinkConfig {
         self.hello
             .validate()
             .map_err(|m| NetlinkError::Config(format!("hello: {m}")))?;
+        self.hello
+            .negotiate()
+            .map_err(|m| NetlinkError::Config(format!("hello: {m}")))?;
         if let HubAddress::Name(name) = &self.addr {
             let port_ok = name
                 .rsplit_once(':')

@@ -23,6 +23,8 @@ pub(super) enum ConnEnd {
     Done,
     /// The connection broke; `progress` is true if an Ack arrived on it.
     Lost { error: NetlinkError, progress: bool },
+    /// The hub cannot serve any protocol version this station speaks: do not retry.
+    UpdateRequired(String),
 }
 
 impl LinkTask {
@@ -218,6 +220,11 @@ impl LinkTask {
                                 b.reason, self.pending.len()
                             )), progress);
                         }
+                        Ok(Some(Frame::Error(e)))
+                            if e.code.as_deref() == Some(crate::frame::UPDATE_REQUIRED) =>
+                        {
+                            break ConnEnd::UpdateRequired(e.message);
+                        }
                         Ok(Some(Frame::Error(e))) => {
                             break lost(NetlinkError::Protocol(format!(
                                 "therapist reported an error: {}", e.message
@@ -268,7 +275,7 @@ impl LinkTask {
         drop(out_tx);
         if !writer_done {
             let limit = match end {
-                ConnEnd::Done => self.deadline(),
+                ConnEnd::Done | ConnEnd::UpdateRequired(_) => self.deadline(),
                 ConnEnd::Lost { .. } => {
                     (Instant::now() + Duration::from_millis(100)).min(self.deadline())
                 }
@@ -283,7 +290,10 @@ impl LinkTask {
 
 fn send_error_frame(out_tx: &mpsc::UnboundedSender<Outgoing>, error: &NetlinkError) {
     let message = crate::frame::printable(&error.to_string(), crate::frame::MAX_MESSAGE_LEN);
-    if let Ok(bytes) = encode_to_vec(&Frame::Error(ErrorFrame { message })) {
+    if let Ok(bytes) = encode_to_vec(&Frame::Error(ErrorFrame {
+        message,
+        code: None,
+    })) {
         let _ = out_tx.send(Outgoing::new(bytes.into()));
     }
 }

@@ -173,6 +173,11 @@ impl StationLink {
         handle: &tokio::runtime::Handle,
         config: StationLinkConfig,
     ) -> Result<(SummarySender, StationLink), NetlinkError> {
+        let mut config = config;
+        if config.hello.min_protocol_version.is_none() {
+            // The link speaks the wire protocol: it announces every version it can.
+            config.hello.min_protocol_version = Some(crate::frame::MIN_PROTOCOL_VERSION);
+        }
         config.validate()?;
         let tls = config.tls.as_ref().map(ClientTls::connector).transpose()?;
         let hello_bytes: Arc<[u8]> = encode_to_vec(&Frame::Hello(config.hello.clone()))?.into();

@@ -115,10 +115,17 @@ impl Drop for AddressSlot {
 }
 
 fn error_outgoing(message: &str) -> Option<Outgoing> {
+    coded_error_outgoing(message, None)
+}
+
+fn coded_error_outgoing(message: &str, code: Option<&str>) -> Option<Outgoing> {
     let message = printable(message, MAX_MESSAGE_LEN);
-    encode_to_vec(&Frame::Error(ErrorFrame { message }))
-        .ok()
-        .map(|b| Outgoing::new(b.into()))
+    encode_to_vec(&Frame::Error(ErrorFrame {
+        message,
+        code: code.map(str::to_owned),
+    }))
+    .ok()
+    .map(|b| Outgoing::new(b.into()))
 }
 
 fn frame_outgoing(frame: &Frame) -> Option<Outgoing> {
@@ -168,8 +175,8 @@ async fn serve(hub: Arc<Hub>, tcp: TcpStream, peer: SocketAddr, shutdown: watch:
 
     let (hello, file) = match open_session(&hub, &mut reader, client_cert.as_ref()).await {
         Ok(v) => v,
-        Err(error) => {
-            send(&out, error_outgoing(&error));
+        Err((error, code)) => {
+            send(&out, coded_error_outgoing(&error, code));
             hub.emit(TherapistEvent::ProtocolError { peer, error });
             close(out, writer).await;
             return;
@@ -225,35 +232,47 @@ async fn open_session(
     hub: &Hub,
     reader: &mut FrameReader,
     client_cert: Option<&CertificateDer<'static>>,
-) -> Result<(Hello, File), String> {
+) -> Result<(Hello, File), (String, Option<&'static str>)> {
+    let plain = |e: String| (e, None);
     let hello_timeout = Duration::from_millis(hub.config.hello_timeout_ms);
     let hello = match tokio::time::timeout(hello_timeout, reader.next_frame()).await {
         Ok(Ok(Some(Frame::Hello(hello)))) => hello,
-        Ok(Ok(Some(other))) => return Err(format!("expected Hello first, got {}", other.kind())),
-        Ok(Ok(None)) => return Err("connection closed before Hello".into()),
-        Ok(Err(e)) => return Err(e.to_string()),
-        Err(_) => return Err(format!("no Hello within {} ms", hello_timeout.as_millis())),
+        Ok(Ok(Some(other))) => {
+            return Err(plain(format!("expected Hello first, got {}", other.kind())));
+        }
+        Ok(Ok(None)) => return Err(plain("connection closed before Hello".into())),
+        Ok(Err(e)) => return Err(plain(e.to_string())),
+        Err(_) => {
+            return Err(plain(format!(
+                "no Hello within {} ms",
+                hello_timeout.as_millis()
+            )));
+        }
     };
+    // No version both sides speak: not retriable, the station must stop and say so.
+    hello
+        .negotiate()
+        .map_err(|e| (e, Some(crate::frame::UPDATE_REQUIRED)))?;
     let requires_identity = hub
         .config
         .tls
         .as_ref()
         .is_some_and(|t| t.client_ca_pem_path.is_some());
     if requires_identity {
-        let cert = client_cert.ok_or("no client certificate presented")?;
-        certificate_names_station(cert, &hello.station_id)?;
+        let cert = client_cert.ok_or_else(|| plain("no client certificate presented".into()))?;
+        certificate_names_station(cert, &hello.station_id).map_err(plain)?;
     }
     // Hello first: if it fails, no session file has been registered yet.
     let store_dir = hub.config.store_dir.clone();
     let stored = hello.clone();
     tokio::task::spawn_blocking(move || write_hello(&store_dir, &stored))
         .await
-        .map_err(|e| format!("cannot store Hello: task failed: {e}"))?
-        .map_err(|e| format!("cannot store Hello: {e}"))?;
+        .map_err(|e| plain(format!("cannot store Hello: task failed: {e}")))?
+        .map_err(|e| plain(format!("cannot store Hello: {e}")))?;
     let file = hub
         .open_session(&hello)
         .await
-        .map_err(|e| format!("cannot open the session store: {e}"))?;
+        .map_err(|e| plain(format!("cannot open the session store: {e}")))?;
     Ok((hello, file))
 }
 
