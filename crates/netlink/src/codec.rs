@@ -253,6 +253,7 @@ mod tests {
             exercise: "sine-road".into(),
             started_unix_ms: 1_795_253_400_000,
             software_version: "telerehab 0.1.0".into(),
+            min_protocol_version: None,
         }
     }
 
@@ -277,6 +278,7 @@ mod tests {
             }),
             Frame::Error(ErrorFrame {
                 message: "bad magic".into(),
+                code: None,
             }),
         ]
     }
@@ -311,6 +313,27 @@ mod tests {
             let bytes = encode_to_vec(frame).unwrap();
             assert_eq!(escape(&bytes), want, "{} frame bytes changed", frame.kind());
         }
+    }
+
+    /// Fields added after the first release are absent when unset (the bytes above hold), and
+    /// pinned here when set.
+    #[test]
+    fn golden_bytes_of_version_range_and_error_code() {
+        let mut h = hello();
+        h.min_protocol_version = Some(1);
+        let bytes = encode_to_vec(&Frame::Hello(h)).unwrap();
+        assert_eq!(
+            escape(&bytes),
+            r#"TRHB\x00\x01\x01\x00\x00\x00\x00\xdf{"protocol_version":1,"station_id":"station-01","patient_id":"p-0042","session_id":"2026-11-21T09-30-00Z","exercise":"sine-road","started_unix_ms":1795253400000,"software_version":"telerehab 0.1.0","min_protocol_version":1}"#
+        );
+        let e = Frame::Error(ErrorFrame {
+            message: "update required".into(),
+            code: Some(crate::frame::UPDATE_REQUIRED.into()),
+        });
+        assert_eq!(
+            escape(&encode_to_vec(&e).unwrap()),
+            r#"TRHB\x00\x01\x06\x00\x00\x00\x006{"message":"update required","code":"update_required"}"#
+        );
     }
 
     #[test]

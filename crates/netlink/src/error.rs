@@ -41,6 +41,9 @@ pub enum NetlinkError {
     /// The named station is not connected to this hub.
     #[error("station {0:?} is not connected")]
     NotConnected(String),
+    /// A bounded queue is full (a peer that does not read); the message says which. Retry later.
+    #[error("busy: {0}")]
+    Busy(String),
     /// The hub or link has been shut down.
     #[error("the link has been shut down")]
     Closed,

@@ -8,8 +8,15 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
-/// The protocol version this crate speaks (the `version` field of every frame header).
+/// The newest protocol version this crate speaks (the `version` field of every frame header).
 pub const PROTOCOL_VERSION: u16 = 1;
+
+/// The oldest protocol version this crate speaks.
+pub const MIN_PROTOCOL_VERSION: u16 = 1;
+
+/// [`ErrorFrame::code`] of a hub that cannot serve any version the station speaks: the
+/// station stops retrying and tells the patient the software needs an update.
+pub const UPDATE_REQUIRED: &str = "update_required";
 
 /// Longest identifier (station, patient, session, regimen id) in bytes.
 pub const MAX_ID_LEN: usize = 64;
@@ -19,6 +26,13 @@ pub const MAX_TEXT_LEN: usize = 256;
 
 /// Longest error message in bytes.
 pub const MAX_MESSAGE_LEN: usize = 4096;
+
+/// Largest forward step of a summary's sequence number: a summary's `seq` must be at most
+/// `expected + MAX_SEQ_STEP`, where `expected` is the sequence number after the last one
+/// stored (0 for an empty session). 2^24 summaries are 19 days at 10 Hz — more than any gap a
+/// station can leave by dropping summaries — while a peer jumping as far as it may on every
+/// frame needs 2^40 summaries to reach `u64::MAX` and silence the session.
+pub const MAX_SEQ_STEP: u64 = 1 << 24;
 
 /// Most entries allowed in [`Summary::extra`].
 pub const MAX_EXTRA_ENTRIES: usize = 64;
@@ -78,7 +92,7 @@ impl std::fmt::Display for FrameKind {
 /// First frame a station sends on every (re)connection.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Hello {
-    /// Must equal [`PROTOCOL_VERSION`].
+    /// The newest protocol version the station speaks (= [`PROTOCOL_VERSION`] for this crate).
     pub protocol_version: u16,
     /// Identifier of the station (device); becomes a directory name in the hub's store.
     pub station_id: String,
@@ -92,6 +106,11 @@ pub struct Hello {
     pub started_unix_ms: u64,
     /// Station software version, e.g. `telerehab 0.1.0`.
     pub software_version: String,
+    /// The oldest protocol version the station speaks; `None` (absent on the wire, as from a
+    /// station older than this field) means `protocol_version` only. The station link fills it
+    /// in with [`MIN_PROTOCOL_VERSION`] when left `None`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_protocol_version: Option<u16>,
 }
 
 /// One periodic summary of a running session (about every 100 ms).
@@ -168,6 +187,10 @@ pub struct Bye {
 pub struct ErrorFrame {
     /// What went wrong, for humans.
     pub message: String,
+    /// A machine-readable reason, absent for an ordinary protocol error. [`UPDATE_REQUIRED`]
+    /// is not retriable: the station stops reconnecting.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub code: Option<String>,
 }
 
 /// Any frame of the protocol.
@@ -212,18 +235,52 @@ impl Frame {
                 check_id("session_id", &b.session_id)?;
                 check_text("reason", &b.reason, MAX_TEXT_LEN)
             }
-            Self::Error(e) => check_text("message", &e.message, MAX_MESSAGE_LEN),
+            Self::Error(e) => {
+                if let Some(code) = &e.code {
+                    check_id("code", code)?;
+                }
+                check_text("message", &e.message, MAX_MESSAGE_LEN)
+            }
         }
     }
 }
 
 impl Hello {
-    /// Checks every field (identifiers are safe file names; see [`check_id`]).
+    /// The range of protocol versions the station speaks, oldest and newest.
+    pub fn versions(&self) -> (u16, u16) {
+        (
+            self.min_protocol_version.unwrap_or(self.protocol_version),
+            self.protocol_version,
+        )
+    }
+
+    /// The newest version both the station and this crate speak, or why there is none.
+    pub fn negotiate(&self) -> Result<u16, String> {
+        let (min, max) = self.versions();
+        let best = max.min(PROTOCOL_VERSION);
+        if best >= min.max(MIN_PROTOCOL_VERSION) {
+            Ok(best)
+        } else {
+            Err(format!(
+                "update required: the station speaks protocol versions {min}..={max}, the hub \
+                 {MIN_PROTOCOL_VERSION}..={PROTOCOL_VERSION}; update the {} software",
+                if max < MIN_PROTOCOL_VERSION {
+                    "station"
+                } else {
+                    "hub"
+                }
+            ))
+        }
+    }
+
+    /// Checks every field (identifiers are safe file names; see [`check_id`]). The version
+    /// range need only be well formed here; whether it can be served is [`Self::negotiate`].
     pub fn validate(&self) -> Result<(), String> {
-        if self.protocol_version != PROTOCOL_VERSION {
+        let (min, max) = self.versions();
+        if min == 0 || min > max {
             return Err(format!(
-                "protocol_version is {}, this side speaks only {PROTOCOL_VERSION}",
-                self.protocol_version
+                "protocol versions {min}..={max}: min_protocol_version must be in [1, \
+                 protocol_version]"
             ));
         }
         check_id("station_id", &self.station_id)?;
@@ -271,6 +328,13 @@ impl Summary {
         }
         Ok(())
     }
+}
+
+/// The highest sequence number a summary may carry when `last` is the last one stored (or
+/// produced) in its session, `None` for none: `last + 1 + MAX_SEQ_STEP`, or `MAX_SEQ_STEP`.
+pub fn max_next_seq(last: Option<u64>) -> u64 {
+    last.map_or(0, |l| l.saturating_add(1))
+        .saturating_add(MAX_SEQ_STEP)
 }
 
 /// Checks an identifier: 1 to [`MAX_ID_LEN`] bytes of ASCII letters, digits, `_`, `-`, `.`,
@@ -387,7 +451,7 @@ pub(crate) mod tests {
     }
 
     #[test]
-    fn hello_with_other_protocol_version_is_rejected() {
+    fn hello_with_other_protocol_version_cannot_be_negotiated() {
         let h = Hello {
             protocol_version: 2,
             station_id: "st".into(),
@@ -396,8 +460,20 @@ pub(crate) mod tests {
             exercise: "sine-road".into(),
             started_unix_ms: 0,
             software_version: "x".into(),
+            min_protocol_version: None,
         };
-        assert!(h.validate().unwrap_err().contains("protocol_version"));
+        assert!(h.validate().is_ok());
+        assert!(h.negotiate().unwrap_err().contains("update required"));
+        let h = Hello {
+            min_protocol_version: Some(1),
+            ..h
+        };
+        assert_eq!(h.negotiate(), Ok(1));
+        let h = Hello {
+            min_protocol_version: Some(3),
+            ..h
+        };
+        assert!(h.validate().unwrap_err().contains("min_protocol_version"));
     }
 
     #[test]

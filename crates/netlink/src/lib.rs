@@ -36,8 +36,9 @@
 //!     exercise: "sine-road".into(),
 //!     started_unix_ms: 1_795_253_400_000,
 //!     software_version: "telerehab 0.1.0".into(),
+//!     min_protocol_version: None,
 //! };
-//! let config = StationLinkConfig::new("127.0.0.1:7878".parse()?, None, hello);
+//! let config = StationLinkConfig::new("localhost:7878", None, hello); // resolved on each attempt
 //! let (sender, mut link) = StationLink::spawn(runtime.handle(), config)?;
 //! for seq in 0..600 {
 //!     // From the recorder thread, every 100 ms: never blocks.
@@ -83,6 +84,8 @@ pub use error::NetlinkError;
 pub use frame::{
     Ack, Bye, ErrorFrame, Frame, FrameKind, Hello, PROTOCOL_VERSION, Regimen, Summary,
 };
-pub use station::{Backoff, LinkStats, SendError, StationLink, StationLinkConfig, SummarySender};
+pub use station::{
+    Backoff, HubAddress, LinkStats, SendError, StationLink, StationLinkConfig, SummarySender,
+};
 pub use therapist::{TherapistConfig, TherapistEvent, TherapistServer};
 pub use tls::{ClientTls, Identity, ServerTls};

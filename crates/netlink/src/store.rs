@@ -263,6 +263,7 @@ mod tests {
             exercise: "sine-road".into(),
             started_unix_ms: 5,
             software_version: "t".into(),
+            min_protocol_version: None,
         };
         write_hello(dir.path(), &hello).unwrap();
         let back: Hello =

@@ -29,6 +29,7 @@ fn hello(station: &str, session: &str) -> Hello {
         exercise: "sine-road".into(),
         started_unix_ms: 1_795_253_400_000,
         software_version: "telerehab-test".into(),
+        min_protocol_version: None,
     }
 }
 
@@ -45,7 +46,7 @@ fn summary(session: &str, seq: u64) -> Summary {
         pct_in_lane: 99.0,
         max_abs_torque_nm: 1.1,
         loop_p99_us: 40.0,
-        ticks: seq * 100,
+        ticks: seq.wrapping_mul(100),
         dropped_records: 0,
         extra: BTreeMap::new(),
     }
@@ -133,7 +134,10 @@ async fn plaintext_session_is_stored_once_and_reported_as_events() {
         &std::fs::read(store.path().join("st-a/sess-1.hello.json")).unwrap(),
     )
     .unwrap();
-    assert_eq!(hello_back, hello("st-a", "sess-1"));
+    // The link announces the range of versions it speaks.
+    let mut expected = hello("st-a", "sess-1");
+    expected.min_protocol_version = Some(netlink::frame::MIN_PROTOCOL_VERSION);
+    assert_eq!(hello_back, expected);
 
     match next_event(&mut events).await {
         TherapistEvent::Connected { hello: h, .. } => assert_eq!(h.station_id, "st-a"),
@@ -1039,4 +1043,471 @@ async fn hub_that_reads_but_never_acknowledges_is_abandoned_and_reconnected() {
     assert!(stats.connections >= 2, "{stats:?}");
     assert_eq!((stats.acked, stats.pending), (0, 5), "{stats:?}");
     hung.abort();
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn summary_jumping_to_u64_max_is_refused_and_the_session_stays_alive() {
+    let store = tempfile::tempdir().unwrap();
+    let (hub, _events) = start_hub(store.path(), None).await;
+    let addr = hub.local_addr();
+    // A hostile or buggy peer stores seq 0, then tries to jump to the end of the sequence space.
+    let mut bytes = encode_to_vec(&Frame::Hello(hello("st-j", "s1"))).unwrap();
+    bytes.extend(encode_to_vec(&Frame::Summary(summary("s1", 0))).unwrap());
+    bytes.extend(encode_to_vec(&Frame::Summary(summary("s1", u64::MAX))).unwrap());
+    let frames = raw_exchange(addr, &bytes).await;
+    match frames.as_slice() {
+        [Frame::Ack(a), Frame::Error(e)] => {
+            assert_eq!(a.seq, 0);
+            assert!(e.message.contains("jumps too far ahead"), "{}", e.message);
+        }
+        other => panic!("expected Ack then Error, got {other:?}"),
+    }
+    assert_eq!(stored_seqs(store.path(), "st-j", "s1"), vec![0]);
+    // The genuine station's next summaries are still stored: the session was not silenced.
+    let (sender, link) = StationLink::spawn(
+        &tokio::runtime::Handle::current(),
+        fast_config(addr, None, hello("st-j", "s1")),
+    )
+    .unwrap();
+    send_range(&sender, "s1", 1..6);
+    // The station itself refuses such a jump before it reaches the wire.
+    assert!(matches!(
+        sender.send(summary("s1", u64::MAX)),
+        Err(SendError::SeqJump {
+            seq: u64::MAX,
+            previous: Some(5),
+            ..
+        })
+    ));
+    assert_all_delivered(&link.finish(GUARD).await, 5);
+    assert_eq!(
+        stored_seqs(store.path(), "st-j", "s1"),
+        (0..6).collect::<Vec<_>>()
+    );
+    hub.shutdown(GUARD).await;
+}
+
+/// A TCP proxy in front of the hub whose first connection is a liar: it answers the station
+/// with an Ack for `bogus_seq` at once and forwards nothing to the hub. Later connections are
+/// forwarded both ways.
+async fn lying_ack_proxy(hub: SocketAddr, session: &str, bogus_seq: u64) -> SocketAddr {
+    let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    let bogus = encode_to_vec(&Frame::Ack(netlink::Ack {
+        session_id: session.into(),
+        seq: bogus_seq,
+    }))
+    .unwrap();
+    tokio::spawn(async move {
+        let mut first = true;
+        loop {
+            let Ok((mut station, _)) = listener.accept().await else {
+                return;
+            };
+            if std::mem::take(&mut first) {
+                let bogus = bogus.clone();
+                tokio::spawn(async move {
+                    let _ = station.write_all(&bogus).await;
+                    let mut sink = Vec::new();
+                    let _ = tokio::time::timeout(GUARD, station.read_to_end(&mut sink)).await;
+                });
+                continue;
+            }
+            let upstream = TcpStream::connect(hub).await.unwrap();
+            let (mut s_rd, mut s_wr) = station.into_split();
+            let (mut h_rd, mut h_wr) = upstream.into_split();
+            tokio::spawn(async move {
+                let _ = tokio::io::copy(&mut s_rd, &mut h_wr).await;
+                let _ = h_wr.shutdown().await;
+            });
+            tokio::spawn(async move {
+                let _ = tokio::io::copy(&mut h_rd, &mut s_wr).await;
+                let _ = s_wr.shutdown().await;
+            });
+        }
+    });
+    addr
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn ack_above_what_the_station_produced_is_a_protocol_error_and_nothing_is_lost() {
+    let store = tempfile::tempdir().unwrap();
+    let (hub, _events) = start_hub(store.path(), None).await;
+    let proxy = lying_ack_proxy(hub.local_addr(), "s1", 1_000).await;
+    let (sender, link) = StationLink::spawn(
+        &tokio::runtime::Handle::current(),
+        fast_config(proxy, None, hello("st-lie", "s1")),
+    )
+    .unwrap();
+    send_range(&sender, "s1", 0..5);
+    wait_until("a second connection", || link.stats().connections >= 2).await;
+    let error = link.stats().last_error.unwrap_or_default();
+    assert!(error.contains("impossible Ack"), "{error}");
+    assert!(error.contains("1000"), "{error}");
+    let stats = link.finish(GUARD).await;
+    assert_all_delivered(&stats, 5);
+    assert_eq!(
+        stored_seqs(store.path(), "st-lie", "s1"),
+        (0..5).collect::<Vec<_>>()
+    );
+    hub.shutdown(GUARD).await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_station_that_floods_and_never_reads_keeps_the_hubs_queue_bounded() {
+    let store = tempfile::tempdir().unwrap();
+    let (hub, _events) = start_hub(store.path(), None).await;
+    let addr = hub.local_addr();
+    // The flooder: Hello, one summary, then duplicates as fast as the hub takes them for 3 s,
+    // never reading a byte of the hub's answers.
+    let flood = tokio::spawn(async move {
+        let mut stream = TcpStream::connect(addr).await.unwrap();
+        let mut first = encode_to_vec(&Frame::Hello(hello("st-flood", "s1"))).unwrap();
+        first.extend(encode_to_vec(&Frame::Summary(summary("s1", 0))).unwrap());
+        stream.write_all(&first).await.unwrap();
+        let dup = encode_to_vec(&Frame::Summary(summary("s1", 0))).unwrap();
+        let burst: Vec<u8> = dup.iter().copied().cycle().take(dup.len() * 100).collect();
+        let until = tokio::time::Instant::now() + Duration::from_secs(3);
+        let mut bursts = 0u64;
+        while tokio::time::Instant::now() < until {
+            match tokio::time::timeout_at(until, stream.write_all(&burst)).await {
+                Ok(Ok(())) => bursts += 1,
+                Ok(Err(e)) => panic!("hub closed the flooding connection: {e}"),
+                Err(_) => break,
+            }
+        }
+        (stream, bursts)
+    });
+    wait_until("the flooder connected", || {
+        hub.connected_stations() == ["st-flood"]
+    })
+    .await;
+    // Regimens of 32 KB pile up behind the flooder's full socket buffers: the outbox fills and
+    // further regimens are refused instead of queued.
+    let big = Regimen {
+        id: "big".into(),
+        toml: format!("# {}\n", "x".repeat(32 * 1024)),
+    };
+    let mut busy = 0;
+    for _ in 0..2_000 {
+        match hub.send_regimen("st-flood", big.clone()) {
+            Ok(()) => {}
+            Err(netlink::NetlinkError::Busy(m)) => {
+                assert!(m.contains("st-flood"), "{m}");
+                busy += 1;
+            }
+            Err(e) => panic!("unexpected error {e}"),
+        }
+    }
+    assert!(
+        busy > 0,
+        "2 000 regimens of 32 KB all queued for a peer that never reads"
+    );
+    // Meanwhile another station is served normally.
+    let (sender, link) = StationLink::spawn(
+        &tokio::runtime::Handle::current(),
+        fast_config(addr, None, hello("st-good", "s1")),
+    )
+    .unwrap();
+    send_range(&sender, "s1", 0..20);
+    assert_all_delivered(&link.finish(GUARD).await, 20);
+    let (_stream, bursts) = flood.await.unwrap();
+    assert!(bursts > 0);
+    let high = hub.outgoing_high_water();
+    assert!(
+        high <= TherapistServer::OUTBOX_CAPACITY + 1,
+        "{high} frames queued for one connection"
+    );
+    assert_eq!(stored_seqs(store.path(), "st-flood", "s1"), vec![0]);
+    hub.shutdown(GUARD).await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn connections_from_one_address_are_limited() {
+    let store = tempfile::tempdir().unwrap();
+    let listen: SocketAddr = "127.0.0.1:0".parse().unwrap();
+    let mut config = TherapistConfig::new(listen, store.path(), None);
+    assert_eq!(config.max_connections_per_address, 8);
+    config.max_connections_per_address = 2;
+    let (hub, mut events) = TherapistServer::bind(config).await.unwrap();
+    let addr = hub.local_addr();
+    let mut held = Vec::new();
+    for station in ["st-1", "st-2"] {
+        let mut s = TcpStream::connect(addr).await.unwrap();
+        s.write_all(&encode_to_vec(&Frame::Hello(hello(station, "s1"))).unwrap())
+            .await
+            .unwrap();
+        held.push(s);
+    }
+    wait_until("two stations connected", || {
+        hub.connected_stations().len() == 2
+    })
+    .await;
+    // A third connection from the same address is closed at once.
+    let mut third = TcpStream::connect(addr).await.unwrap();
+    let _ = third
+        .write_all(&encode_to_vec(&Frame::Hello(hello("st-3", "s1"))).unwrap())
+        .await;
+    assert!(read_frames_until_close(&mut third).await.is_empty());
+    let refused = loop {
+        match next_event(&mut events).await {
+            TherapistEvent::ProtocolError { error, .. } => break error,
+            TherapistEvent::Connected { hello, .. } => assert_ne!(hello.station_id, "st-3"),
+            _ => {}
+        }
+    };
+    assert!(refused.contains("max_connections_per_address"), "{refused}");
+    // Once one closes, a station from that address is served again.
+    drop(held.pop());
+    let (sender, link) = StationLink::spawn(
+        &tokio::runtime::Handle::current(),
+        fast_config(addr, None, hello("st-3", "s1")),
+    )
+    .unwrap();
+    send_range(&sender, "s1", 0..3);
+    assert_all_delivered(&link.finish(GUARD).await, 3);
+    hub.shutdown(GUARD).await;
+}
+
+/// A session file whose reading never ends (a FIFO: the hub's own handle keeps it open for
+/// writing, so a read waits forever) stands for a very slow disk. Opening it must stall only
+/// that station, never the hub's other stations.
+#[cfg(unix)]
+#[test]
+fn a_session_file_that_never_finishes_reading_stalls_only_its_own_station() {
+    let store = tempfile::tempdir().unwrap();
+    let slow = store.path().join("st-slow");
+    std::fs::create_dir_all(&slow).unwrap();
+    let fifo = slow.join("s1.jsonl");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    if !made.is_ok_and(|s| s.success()) {
+        eprintln!("skipped: mkfifo is not available");
+        return;
+    }
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .unwrap();
+    let (hub, _events) = rt.block_on(start_hub(store.path(), None));
+    let addr = hub.local_addr();
+    let (slow_sender, _slow_link) =
+        StationLink::spawn(rt.handle(), fast_config(addr, None, hello("st-slow", "s1"))).unwrap();
+    send_range(&slow_sender, "s1", 0..3);
+    // Give the slow station's connection time to start reading its file.
+    std::thread::sleep(Duration::from_millis(300));
+    // Checked from another thread: a hub stalled on its worker threads may stall timers too.
+    let (done_tx, done_rx) = std::sync::mpsc::channel();
+    let handle = rt.handle().clone();
+    std::thread::spawn(move || {
+        let stats = handle.block_on(async {
+            let (sender, link) = StationLink::spawn(
+                &tokio::runtime::Handle::current(),
+                fast_config(addr, None, hello("st-ok", "s1")),
+            )
+            .unwrap();
+            send_range(&sender, "s1", 0..10);
+            link.finish(GUARD).await
+        });
+        let _ = done_tx.send(stats);
+    });
+    let Ok(stats) = done_rx.recv_timeout(Duration::from_secs(10)) else {
+        // Dropping a runtime waits for its blocked threads: leave them behind instead.
+        rt.shutdown_background();
+        panic!("the hub stalled behind one station's session file");
+    };
+    assert_all_delivered(&stats, 10);
+    assert_eq!(
+        stored_seqs(store.path(), "st-ok", "s1"),
+        (0..10).collect::<Vec<_>>()
+    );
+    // The blocked read cannot be cancelled; leave it behind with the runtime.
+    drop(hub);
+    rt.shutdown_background();
+}
+
+#[test]
+fn two_stations_reconnecting_at_once_store_every_summary_exactly_once() {
+    let store = tempfile::tempdir().unwrap();
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .unwrap();
+    let hub = KillableHub::start("127.0.0.1:0".parse().unwrap(), store.path());
+    let addr = hub.addr();
+    let links: Vec<_> = ["st-c1", "st-c2"]
+        .into_iter()
+        .map(|station| {
+            let (sender, link) =
+                StationLink::spawn(rt.handle(), fast_config(addr, None, hello(station, "s1")))
+                    .unwrap();
+            send_range(&sender, "s1", 0..30);
+            (station, sender, link)
+        })
+        .collect();
+    for (_, _, link) in &links {
+        rt.block_on(wait_until("30 acknowledged", || link.stats().acked == 30));
+    }
+    hub.kill();
+    for (_, sender, link) in &links {
+        rt.block_on(wait_until("the station to notice", || {
+            !link.stats().connected
+        }));
+        send_range(sender, "s1", 30..60);
+    }
+    // Both reconnect to the restarted hub at the same time and resend their backlog.
+    let hub = KillableHub::start(addr, store.path());
+    for (station, _sender, link) in links {
+        let stats = link.finish_blocking(rt.handle(), GUARD);
+        assert_all_delivered(&stats, 60);
+        assert_eq!(
+            stored_seqs(store.path(), station, "s1"),
+            (0..60).collect::<Vec<_>>()
+        );
+    }
+    hub.kill();
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_hub_name_that_does_not_resolve_never_blocks_the_station() {
+    let pki = pki();
+    let started = std::time::Instant::now();
+    let mut config = fast_config(
+        "127.0.0.1:1".parse().unwrap(),
+        Some(pki.client.clone()),
+        hello("st-dns", "s1"),
+    );
+    config.addr = "no-such-host.invalid:7878".into();
+    assert!(matches!(config.addr, netlink::HubAddress::Name(_)));
+    let (sender, link) = StationLink::spawn(&tokio::runtime::Handle::current(), config).unwrap();
+    for seq in 0..10 {
+        sender.send(summary("s1", seq)).unwrap();
+    }
+    assert!(
+        started.elapsed() < Duration::from_secs(2),
+        "creating the link and queuing took {:?}",
+        started.elapsed()
+    );
+    // Each failed resolution is one failed attempt, retried with backoff.
+    wait_until("two failed attempts", || link.stats().connect_failures >= 2).await;
+    let stats = tokio::time::timeout(GUARD, link.finish(Duration::from_millis(300)))
+        .await
+        .expect("finish blocked");
+    assert_eq!((stats.pending, stats.acked), (10, 0), "{stats:?}");
+    let error = stats.last_error.unwrap();
+    assert!(error.contains("no-such-host.invalid"), "{error}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_hub_given_by_name_is_resolved_and_reached() {
+    let store = tempfile::tempdir().unwrap();
+    let (hub, _events) = start_hub(store.path(), None).await;
+    let name = format!("localhost:{}", hub.local_addr().port());
+    // Plaintext by name is allowed only for localhost.
+    let remote = StationLinkConfig::new("hub.clinic.example:7878", None, hello("st", "s"));
+    assert!(
+        remote
+            .validate()
+            .unwrap_err()
+            .to_string()
+            .contains("plaintext")
+    );
+    let mut config = fast_config(hub.local_addr(), None, hello("st-name", "s1"));
+    config.addr = name.as_str().into();
+    let (sender, link) = StationLink::spawn(&tokio::runtime::Handle::current(), config).unwrap();
+    send_range(&sender, "s1", 0..5);
+    assert_all_delivered(&link.finish(GUARD).await, 5);
+    assert_eq!(
+        stored_seqs(store.path(), "st-name", "s1"),
+        (0..5).collect::<Vec<_>>()
+    );
+    hub.shutdown(GUARD).await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn hub_answers_a_station_it_cannot_serve_with_update_required() {
+    let store = tempfile::tempdir().unwrap();
+    let (hub, _events) = start_hub(store.path(), None).await;
+    // A future station speaking only versions 2..=3 (its Hello still framed as version 1).
+    let mut future = hello("st-future", "s1");
+    future.protocol_version = 3;
+    future.min_protocol_version = Some(2);
+    let mut bytes = encode_to_vec(&Frame::Hello(future)).unwrap();
+    bytes.extend(encode_to_vec(&Frame::Summary(summary("s1", 0))).unwrap());
+    let frames = raw_exchange(hub.local_addr(), &bytes).await;
+    match frames.as_slice() {
+        [Frame::Error(e)] => {
+            assert_eq!(
+                e.code.as_deref(),
+                Some(netlink::frame::UPDATE_REQUIRED),
+                "{e:?}"
+            );
+            assert!(e.message.contains("2..=3"), "{}", e.message);
+        }
+        other => panic!("expected one Error frame, got {other:?}"),
+    }
+    assert!(!store.path().join("st-future").exists());
+    // A station from before version ranges (no min_protocol_version) is still served.
+    let mut old = encode_to_vec(&Frame::Hello(hello("st-old", "s1"))).unwrap();
+    old.extend(encode_to_vec(&Frame::Summary(summary("s1", 0))).unwrap());
+    let mut stream = TcpStream::connect(hub.local_addr()).await.unwrap();
+    stream.write_all(&old).await.unwrap();
+    wait_until("the old station's summary", || {
+        read_session(store.path(), "st-old", "s1").is_ok_and(|s| s.len() == 1)
+    })
+    .await;
+    drop(stream);
+    hub.shutdown(GUARD).await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn station_told_update_required_stops_retrying_and_says_so() {
+    let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    let accepted = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
+    let count = accepted.clone();
+    let refusal = encode_to_vec(&Frame::Error(netlink::ErrorFrame {
+        message: "update required: the station speaks protocol versions 1..=1, the hub 2..=2"
+            .into(),
+        code: Some(netlink::frame::UPDATE_REQUIRED.into()),
+    }))
+    .unwrap();
+    let server = tokio::spawn(async move {
+        loop {
+            let (mut s, _) = listener.accept().await.unwrap();
+            count.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+            let refusal = refusal.clone();
+            tokio::spawn(async move {
+                let mut buf = [0u8; 1024];
+                let _ = s.read(&mut buf).await;
+                let _ = s.write_all(&refusal).await;
+            });
+        }
+    });
+    let (sender, link) = StationLink::spawn(
+        &tokio::runtime::Handle::current(),
+        fast_config(addr, None, hello("st-upd", "s1")),
+    )
+    .unwrap();
+    send_range(&sender, "s1", 0..5);
+    wait_until("the update-required status", || {
+        link.stats().update_required.is_some()
+    })
+    .await;
+    let status = link.stats().update_required.unwrap();
+    assert!(status.contains("update required"), "{status}");
+    // Backoff is 20..200 ms: a retrying station would have reconnected many times by now.
+    tokio::time::sleep(Duration::from_millis(1_000)).await;
+    assert_eq!(accepted.load(std::sync::atomic::Ordering::SeqCst), 1);
+    // The exercise goes on: summaries are still accepted, and reported undelivered.
+    send_range(&sender, "s1", 5..8);
+    let stats = link.finish(Duration::from_millis(300)).await;
+    assert_eq!(
+        (stats.pending, stats.acked, stats.connections),
+        (8, 0, 1),
+        "{stats:?}"
+    );
+    assert!(stats.update_required.is_some());
+    server.abort();
 }

@@ -28,11 +28,75 @@ impl Default for Backoff {
     }
 }
 
+/// Where the therapist hub is: a socket address, or a `host:port` name resolved afresh on
+/// every connection attempt (a name that does not resolve — home internet down — is just a
+/// failed attempt, retried with backoff; it never blocks the station).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum HubAddress {
+    /// An address used as is.
+    Socket(SocketAddr),
+    /// `host:port` (IPv6 literals in brackets), resolved on each connection attempt.
+    Name(String),
+}
+
+impl HubAddress {
+    /// The host part of a name (brackets removed), `None` for a socket address.
+    pub fn host(&self) -> Option<&str> {
+        match self {
+            Self::Socket(_) => None,
+            Self::Name(n) => Some(
+                n.rsplit_once(':')
+                    .map_or(n.as_str(), |(h, _)| h)
+                    .trim_matches(['[', ']']),
+            ),
+        }
+    }
+
+    /// True if every address this can stand for is loopback (`localhost` counts).
+    pub fn is_loopback(&self) -> bool {
+        match self {
+            Self::Socket(a) => a.ip().is_loopback(),
+            Self::Name(_) => self
+                .host()
+                .is_some_and(|h| h.eq_ignore_ascii_case("localhost")),
+        }
+    }
+}
+
+impl From<SocketAddr> for HubAddress {
+    fn from(addr: SocketAddr) -> Self {
+        Self::Socket(addr)
+    }
+}
+
+impl From<&str> for HubAddress {
+    /// A socket address if `text` parses as one, otherwise a name.
+    fn from(text: &str) -> Self {
+        text.parse()
+            .map_or_else(|_| Self::Name(text.to_owned()), Self::Socket)
+    }
+}
+
+impl From<String> for HubAddress {
+    fn from(text: String) -> Self {
+        Self::from(text.as_str())
+    }
+}
+
+impl std::fmt::Display for HubAddress {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Socket(a) => write!(f, "{a}"),
+            Self::Name(n) => f.write_str(n),
+        }
+    }
+}
+
 /// Configuration of a [`StationLink`](super::StationLink).
 #[derive(Debug, Clone, PartialEq)]
 pub struct StationLinkConfig {
-    /// The therapist hub's address.
-    pub addr: SocketAddr,
+    /// The therapist hub's address; a name is resolved on every connection attempt.
+    pub addr: HubAddress,
     /// TLS settings; `None` means plaintext, allowed only to a loopback address.
     pub tls: Option<ClientTls>,
     /// Sent first on every connection; its `session_id` is the session of every summary.
@@ -53,10 +117,11 @@ pub struct StationLinkConfig {
 }
 
 impl StationLinkConfig {
-    /// A configuration with the documented defaults.
-    pub fn new(addr: SocketAddr, tls: Option<ClientTls>, hello: Hello) -> Self {
+    /// A configuration with the documented defaults. `addr` is a [`SocketAddr`] or a
+    /// `host:port` string (never resolved here: see [`HubAddress`]).
+    pub fn new(addr: impl Into<HubAddress>, tls: Option<ClientTls>, hello: Hello) -> Self {
         Self {
-            addr,
+            addr: addr.into(),
             tls,
             hello,
             max_pending: 100_000,
@@ -76,10 +141,23 @@ impl StationLinkConfig {
         self.hello
             .validate()
             .map_err(|m| NetlinkError::Config(format!("hello: {m}")))?;
-        if self.tls.is_none() && !self.addr.ip().is_loopback() {
+        self.hello
+            .negotiate()
+            .map_err(|m| NetlinkError::Config(format!("hello: {m}")))?;
+        if let HubAddress::Name(name) = &self.addr {
+            let port_ok = name
+                .rsplit_once(':')
+                .is_some_and(|(h, p)| !h.is_empty() && p.parse::<u16>().is_ok());
+            if !port_ok {
+                return err(format!(
+                    "addr {name:?} is not host:port (e.g. hub.clinic.example:7878)"
+                ));
+            }
+        }
+        if self.tls.is_none() && !self.addr.is_loopback() {
             return err(format!(
                 "addr {} is not loopback and no tls is configured; plaintext is allowed only to \
-                 127.0.0.1/::1",
+                 127.0.0.1/::1/localhost",
                 self.addr
             ));
         }

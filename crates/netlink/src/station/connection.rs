@@ -1,6 +1,7 @@
 //! One connection of the link task: connect (TCP, then TLS), say `Hello`, send what is
 //! unacknowledged, read `Ack`s and regimens, and say `Bye` at the end.
 
+use std::net::SocketAddr;
 use std::sync::atomic::Ordering;
 use std::time::Duration;
 
@@ -22,19 +23,52 @@ pub(super) enum ConnEnd {
     Done,
     /// The connection broke; `progress` is true if an Ack arrived on it.
     Lost { error: NetlinkError, progress: bool },
+    /// The hub cannot serve any protocol version this station speaks: do not retry.
+    UpdateRequired(String),
 }
 
 impl LinkTask {
     /// Connects (TCP, then TLS if configured) within the connect timeout and the finish
     /// deadline. `None` if the link should stop.
     pub(super) async fn connect(&mut self) -> Option<Result<BoxStream, NetlinkError>> {
-        let addr = self.config.addr;
+        let addr = self.config.addr.clone();
         let limit = Duration::from_millis(self.config.connect_timeout_ms);
         let tls = self.tls.clone();
+        let plaintext = tls.is_none();
         let attempt = tokio::time::timeout(limit, async move {
-            let tcp = TcpStream::connect(addr)
-                .await
-                .map_err(|e| NetlinkError::io(format!("connecting to {addr}"), e))?;
+            // Resolved on every attempt: a name that does not resolve now may later.
+            let mut candidates: Vec<SocketAddr> = match &addr {
+                HubAddress::Socket(a) => vec![*a],
+                HubAddress::Name(name) => tokio::net::lookup_host(name.as_str())
+                    .await
+                    .map_err(|e| NetlinkError::io(format!("resolving {name}"), e))?
+                    .collect(),
+            };
+            if plaintext {
+                // Without TLS only loopback may be reached, whatever a name resolves to.
+                candidates.retain(|a| a.ip().is_loopback());
+            }
+            let mut last_error = NetlinkError::io(
+                format!("resolving {addr}"),
+                std::io::Error::new(
+                    std::io::ErrorKind::NotFound,
+                    "no usable address (plaintext allows only loopback)",
+                ),
+            );
+            let mut connected = None;
+            for candidate in candidates {
+                match TcpStream::connect(candidate).await {
+                    Ok(tcp) => {
+                        connected = Some(tcp);
+                        break;
+                    }
+                    Err(e) => {
+                        last_error =
+                            NetlinkError::io(format!("connecting to {addr} ({candidate})"), e);
+                    }
+                }
+            }
+            let tcp = connected.ok_or(last_error)?;
             let _ = tcp.set_nodelay(true);
             let stream: BoxStream = match tls {
                 None => Box::new(tcp),
@@ -53,7 +87,7 @@ impl LinkTask {
             tokio::select! {
                 r = &mut attempt => {
                     return Some(r.unwrap_or_else(|_| Err(NetlinkError::io(
-                        format!("connecting to {addr}"),
+                        format!("connecting to {}", self.config.addr),
                         std::io::Error::new(std::io::ErrorKind::TimedOut, format!("no connection within {} ms", limit.as_millis())),
                     ))));
                 }
@@ -140,6 +174,21 @@ impl LinkTask {
                                     "Ack for session {:?}, expected {session_id:?}", ack.session_id
                                 )), progress);
                             }
+                            // Everything handed to the link counts as produced, even if it
+                            // is still in the channel.
+                            self.drain_channel();
+                            if self.last_produced_seq.is_none_or(|p| ack.seq > p) {
+                                let error = NetlinkError::Protocol(format!(
+                                    "impossible Ack: the therapist acknowledged seq {} but this \
+                                     station has produced {}; reconnecting to resend what is \
+                                     unacknowledged",
+                                    ack.seq,
+                                    self.last_produced_seq
+                                        .map_or_else(|| "no summary".to_owned(), |p| format!("only up to seq {p}"))
+                                ));
+                                send_error_frame(&out_tx, &error);
+                                break lost(error, progress);
+                            }
                             let mut n = 0;
                             while self.pending.front().is_some_and(|p| p.seq <= ack.seq) {
                                 self.pending.pop_front();
@@ -170,6 +219,11 @@ impl LinkTask {
                                 "therapist ended the connection: {} ({} summaries unacknowledged)",
                                 b.reason, self.pending.len()
                             )), progress);
+                        }
+                        Ok(Some(Frame::Error(e)))
+                            if e.code.as_deref() == Some(crate::frame::UPDATE_REQUIRED) =>
+                        {
+                            break ConnEnd::UpdateRequired(e.message);
                         }
                         Ok(Some(Frame::Error(e))) => {
                             break lost(NetlinkError::Protocol(format!(
@@ -221,7 +275,7 @@ impl LinkTask {
         drop(out_tx);
         if !writer_done {
             let limit = match end {
-                ConnEnd::Done => self.deadline(),
+                ConnEnd::Done | ConnEnd::UpdateRequired(_) => self.deadline(),
                 ConnEnd::Lost { .. } => {
                     (Instant::now() + Duration::from_millis(100)).min(self.deadline())
                 }
@@ -236,7 +290,10 @@ impl LinkTask {
 
 fn send_error_frame(out_tx: &mpsc::UnboundedSender<Outgoing>, error: &NetlinkError) {
     let message = crate::frame::printable(&error.to_string(), crate::frame::MAX_MESSAGE_LEN);
-    if let Ok(bytes) = encode_to_vec(&Frame::Error(ErrorFrame { message })) {
+    if let Ok(bytes) = encode_to_vec(&Frame::Error(ErrorFrame {
+        message,
+        code: None,
+    })) {
         let _ = out_tx.send(Outgoing::new(bytes.into()));
     }
 }

@@ -26,7 +26,7 @@ use crate::error::NetlinkError;
 use crate::frame::{Frame, Regimen, Summary};
 use crate::tls::ClientTls;
 
-pub use config::{Backoff, StationLinkConfig};
+pub use config::{Backoff, HubAddress, StationLinkConfig};
 pub use stats::LinkStats;
 use stats::Shared;
 use task::LinkTask;
@@ -53,6 +53,19 @@ pub enum SendError {
         seq: u64,
         /// The previous one.
         previous: u64,
+    },
+    /// The sequence number jumps further ahead than the protocol allows
+    /// ([`MAX_SEQ_STEP`](crate::frame::MAX_SEQ_STEP)); the hub would refuse it.
+    #[error(
+        "summary seq {seq} jumps too far ahead of the previous seq {previous:?} (at most {limit})"
+    )]
+    SeqJump {
+        /// The refused sequence number.
+        seq: u64,
+        /// The previous one, `None` for the first summary.
+        previous: Option<u64>,
+        /// The highest sequence number allowed here.
+        limit: u64,
     },
     /// The channel to the link task is full; counted in [`LinkStats::dropped`].
     #[error("link channel full; summary dropped")]
@@ -105,6 +118,15 @@ impl SummarySender {
             Shared::bump(&self.shared.rejected);
             return Err(SendError::SeqNotIncreasing { seq, previous });
         }
+        let limit = crate::frame::max_next_seq(*previous_seq);
+        if seq > limit {
+            Shared::bump(&self.shared.rejected);
+            return Err(SendError::SeqJump {
+                seq,
+                previous: *previous_seq,
+                limit,
+            });
+        }
         *previous_seq = Some(seq);
         let queued = Queued {
             seq,
@@ -151,6 +173,11 @@ impl StationLink {
         handle: &tokio::runtime::Handle,
         config: StationLinkConfig,
     ) -> Result<(SummarySender, StationLink), NetlinkError> {
+        let mut config = config;
+        if config.hello.min_protocol_version.is_none() {
+            // The link speaks the wire protocol: it announces every version it can.
+            config.hello.min_protocol_version = Some(crate::frame::MIN_PROTOCOL_VERSION);
+        }
         config.validate()?;
         let tls = config.tls.as_ref().map(ClientTls::connector).transpose()?;
         let hello_bytes: Arc<[u8]> = encode_to_vec(&Frame::Hello(config.hello.clone()))?.into();

@@ -30,6 +30,11 @@ pub struct LinkStats {
     pub bye_acknowledged: bool,
     /// The most recent error, for humans.
     pub last_error: Option<String>,
+    /// Set when the hub answered that it cannot serve any protocol version this station
+    /// speaks (the hub's message). The link has stopped reconnecting for this session: show
+    /// the patient that the software needs an update. Summaries keep being queued and are
+    /// reported undelivered at the end.
+    pub update_required: Option<String>,
 }
 
 #[derive(Debug, Default)]
@@ -46,6 +51,7 @@ pub(super) struct Shared {
     pub(super) regimens_received: AtomicU64,
     pub(super) bye_acknowledged: AtomicBool,
     pub(super) last_error: Mutex<Option<String>>,
+    pub(super) update_required: Mutex<Option<String>>,
 }
 
 impl Shared {
@@ -75,6 +81,7 @@ impl Shared {
             regimens_received: get(&self.regimens_received),
             bye_acknowledged: self.bye_acknowledged.load(Ordering::Relaxed),
             last_error: self.last_error.lock().ok().and_then(|e| e.clone()),
+            update_required: self.update_required.lock().ok().and_then(|e| e.clone()),
         }
     }
 }

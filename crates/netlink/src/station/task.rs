@@ -72,6 +72,16 @@ impl LinkTask {
                         }
                     }
                     self.shared.connected.store(false, Ordering::Relaxed);
+                    if let ConnEnd::UpdateRequired(message) = end {
+                        // Not retriable: keep queuing (nothing recorded is lost; the MCAP
+                        // file has it all) until the session finishes, without reconnecting.
+                        self.shared.set_error(format!("therapist hub: {message}"));
+                        if let Ok(mut slot) = self.shared.update_required.lock() {
+                            *slot = Some(message);
+                        }
+                        while self.wait(Duration::from_secs(3_600)).await {}
+                        break;
+                    }
                     if let ConnEnd::Done = end {
                         break;
                     }

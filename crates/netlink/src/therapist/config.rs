@@ -22,6 +22,11 @@ pub struct TherapistConfig {
     /// Most simultaneous connections, in [1, 10 000]. Default 256.
     #[serde(default = "default_max_connections")]
     pub max_connections: usize,
+    /// Most simultaneous connections from one remote IP address, in [1, 10 000]. Default 8:
+    /// a home has one station; a few more cover reconnects racing an old connection's close.
+    /// Raise it for stations behind one NAT.
+    #[serde(default = "default_max_connections_per_address")]
+    pub max_connections_per_address: usize,
     /// Time allowed for the TLS handshake and the station's Hello, ms, in [100, 600 000].
     /// Default 10 000.
     #[serde(default = "default_hello_timeout_ms")]
@@ -34,6 +39,9 @@ pub struct TherapistConfig {
 
 fn default_max_connections() -> usize {
     256
+}
+fn default_max_connections_per_address() -> usize {
+    8
 }
 fn default_hello_timeout_ms() -> u64 {
     10_000
@@ -50,6 +58,7 @@ impl TherapistConfig {
             store_dir: store_dir.into(),
             tls,
             max_connections: default_max_connections(),
+            max_connections_per_address: default_max_connections_per_address(),
             hello_timeout_ms: default_hello_timeout_ms(),
             idle_timeout_ms: default_idle_timeout_ms(),
         }
@@ -71,6 +80,12 @@ impl TherapistConfig {
             return err(format!(
                 "max_connections is {}, allowed [1, 10000]",
                 self.max_connections
+            ));
+        }
+        if !(1..=10_000).contains(&self.max_connections_per_address) {
+            return err(format!(
+                "max_connections_per_address is {}, allowed [1, 10000]",
+                self.max_connections_per_address
             ));
         }
         if !(100..=600_000).contains(&self.hello_timeout_ms) {

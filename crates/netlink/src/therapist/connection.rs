@@ -2,32 +2,32 @@
 //! client certificate naming the station), registration for regimens, the frame loop, and
 //! clean-up.
 
-use std::net::SocketAddr;
+use std::net::{IpAddr, SocketAddr};
+use std::sync::Arc;
 use std::sync::atomic::Ordering;
-use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use rustls::pki_types::CertificateDer;
 use tokio::net::{TcpListener, TcpStream};
-use tokio::sync::{mpsc, watch};
+use tokio::sync::watch;
 use tokio::task::JoinHandle;
 
 use crate::codec::encode_to_vec;
 use crate::error::NetlinkError;
 use crate::frame::{Ack, Bye, ErrorFrame, Frame, Hello, MAX_MESSAGE_LEN, printable};
-use crate::store::{SessionFile, write_hello};
+use crate::store::write_hello;
 use crate::tls::certificate_names_station;
-use crate::transport::{BoxStream, FrameReader, Outgoing, spawn_writer};
+use crate::transport::{BoxStream, FrameReader, Outbox, Outgoing, spawn_outbox_writer};
 
-use super::session::{Failure, Reply, handle_frame, sync_file};
-use super::{Hub, StationRoute, TherapistEvent, lock};
+use super::session::{Failure, Reply, handle_frame, last_seq, sync_file};
+use super::{Hub, SessionSlot, StationRoute, TherapistEvent, lock};
 
-/// The writer side of a connection: frames queued for the station.
-type Out = mpsc::UnboundedSender<Outgoing>;
+/// The writer side of a connection: frames queued for the station (bounded) and its latest Ack.
+type Out = Outbox;
 /// The writer task; it ends with the first write error.
 type Writer = JoinHandle<Result<(), NetlinkError>>;
 /// A session's store, shared with the hub's session table.
-type File = Arc<Mutex<SessionFile>>;
+type File = SessionSlot;
 
 /// Accepts stations until `shutdown`, each served on its own task within `max_connections`.
 pub(super) async fn accept_loop(
@@ -40,6 +40,17 @@ pub(super) async fn accept_loop(
             _ = shutdown.changed() => break,
             accepted = listener.accept() => match accepted {
                 Ok((tcp, peer)) => {
+                    let Some(address_slot) = AddressSlot::take(&hub, peer.ip()) else {
+                        hub.emit(TherapistEvent::ProtocolError {
+                            peer,
+                            error: format!(
+                                "refused: already {} connections from {} (max_connections_per_address)",
+                                hub.config.max_connections_per_address,
+                                peer.ip()
+                            ),
+                        });
+                        continue;
+                    };
                     let Ok(permit) = hub.connections.clone().try_acquire_owned() else {
                         hub.emit(TherapistEvent::ProtocolError {
                             peer,
@@ -56,6 +67,7 @@ pub(super) async fn accept_loop(
                     tokio::spawn(async move {
                         serve(hub, tcp, peer, shutdown).await;
                         drop(permit);
+                        drop(address_slot);
                     });
                 }
                 Err(e) => {
@@ -68,11 +80,52 @@ pub(super) async fn accept_loop(
     }
 }
 
+/// One connection counted against its remote address's limit; released on drop.
+struct AddressSlot {
+    hub: Arc<Hub>,
+    ip: IpAddr,
+}
+
+impl AddressSlot {
+    /// Counts a connection from `ip`, `None` if it already has the most allowed.
+    fn take(hub: &Arc<Hub>, ip: IpAddr) -> Option<Self> {
+        let mut per_address = lock(&hub.per_address);
+        let count = per_address.entry(ip).or_insert(0);
+        if *count >= hub.config.max_connections_per_address {
+            return None;
+        }
+        *count += 1;
+        Some(Self {
+            hub: hub.clone(),
+            ip,
+        })
+    }
+}
+
+impl Drop for AddressSlot {
+    fn drop(&mut self) {
+        let mut per_address = lock(&self.hub.per_address);
+        if let Some(count) = per_address.get_mut(&self.ip) {
+            *count -= 1;
+            if *count == 0 {
+                per_address.remove(&self.ip);
+            }
+        }
+    }
+}
+
 fn error_outgoing(message: &str) -> Option<Outgoing> {
+    coded_error_outgoing(message, None)
+}
+
+fn coded_error_outgoing(message: &str, code: Option<&str>) -> Option<Outgoing> {
     let message = printable(message, MAX_MESSAGE_LEN);
-    encode_to_vec(&Frame::Error(ErrorFrame { message }))
-        .ok()
-        .map(|b| Outgoing::new(b.into()))
+    encode_to_vec(&Frame::Error(ErrorFrame {
+        message,
+        code: code.map(str::to_owned),
+    }))
+    .ok()
+    .map(|b| Outgoing::new(b.into()))
 }
 
 fn frame_outgoing(frame: &Frame) -> Option<Outgoing> {
@@ -85,10 +138,19 @@ fn frame_outgoing(frame: &Frame) -> Option<Outgoing> {
     }
 }
 
-/// Queues `frame` for the station; a closed writer is noticed by the frame loop.
+/// Queues `frame` for the station; a closed writer is noticed by the frame loop, a full outbox
+/// (a station that does not read) drops the frame, counted in the hub's outbox stats.
 fn send(out: &Out, frame: Option<Outgoing>) {
     if let Some(o) = frame {
-        let _ = out.send(o);
+        out.send(o);
+    }
+}
+
+/// Makes `ack` the next Ack for the station, replacing one not yet written.
+fn send_ack(out: &Out, ack: Ack) {
+    let seq = ack.seq;
+    if let Some(o) = frame_outgoing(&Frame::Ack(ack)) {
+        out.ack(seq, o.bytes);
     }
 }
 
@@ -108,20 +170,19 @@ async fn serve(hub: Arc<Hub>, tcp: TcpStream, peer: SocketAddr, shutdown: watch:
         return;
     };
     let (rd, wr) = tokio::io::split(stream);
-    let (out, out_rx) = mpsc::unbounded_channel();
-    let mut writer = spawn_writer(wr, out_rx);
+    let (out, mut writer) = spawn_outbox_writer(wr, hub.outbox_stats.clone());
     let mut reader = FrameReader::new(rd);
 
     let (hello, file) = match open_session(&hub, &mut reader, client_cert.as_ref()).await {
         Ok(v) => v,
-        Err(error) => {
-            send(&out, error_outgoing(&error));
+        Err((error, code)) => {
+            send(&out, coded_error_outgoing(&error, code));
             hub.emit(TherapistEvent::ProtocolError { peer, error });
             close(out, writer).await;
             return;
         }
     };
-    let conn_id = register(&hub, peer, &hello, &file, &out);
+    let conn_id = register(&hub, peer, &hello, &file, &out).await;
     let reason = frame_loop(
         &hub,
         peer,
@@ -171,35 +232,53 @@ async fn open_session(
     hub: &Hub,
     reader: &mut FrameReader,
     client_cert: Option<&CertificateDer<'static>>,
-) -> Result<(Hello, File), String> {
+) -> Result<(Hello, File), (String, Option<&'static str>)> {
+    let plain = |e: String| (e, None);
     let hello_timeout = Duration::from_millis(hub.config.hello_timeout_ms);
     let hello = match tokio::time::timeout(hello_timeout, reader.next_frame()).await {
         Ok(Ok(Some(Frame::Hello(hello)))) => hello,
-        Ok(Ok(Some(other))) => return Err(format!("expected Hello first, got {}", other.kind())),
-        Ok(Ok(None)) => return Err("connection closed before Hello".into()),
-        Ok(Err(e)) => return Err(e.to_string()),
-        Err(_) => return Err(format!("no Hello within {} ms", hello_timeout.as_millis())),
+        Ok(Ok(Some(other))) => {
+            return Err(plain(format!("expected Hello first, got {}", other.kind())));
+        }
+        Ok(Ok(None)) => return Err(plain("connection closed before Hello".into())),
+        Ok(Err(e)) => return Err(plain(e.to_string())),
+        Err(_) => {
+            return Err(plain(format!(
+                "no Hello within {} ms",
+                hello_timeout.as_millis()
+            )));
+        }
     };
+    // No version both sides speak: not retriable, the station must stop and say so.
+    hello
+        .negotiate()
+        .map_err(|e| (e, Some(crate::frame::UPDATE_REQUIRED)))?;
     let requires_identity = hub
         .config
         .tls
         .as_ref()
         .is_some_and(|t| t.client_ca_pem_path.is_some());
     if requires_identity {
-        let cert = client_cert.ok_or("no client certificate presented")?;
-        certificate_names_station(cert, &hello.station_id)?;
+        let cert = client_cert.ok_or_else(|| plain("no client certificate presented".into()))?;
+        certificate_names_station(cert, &hello.station_id).map_err(plain)?;
     }
     // Hello first: if it fails, no session file has been registered yet.
-    write_hello(&hub.config.store_dir, &hello).map_err(|e| format!("cannot store Hello: {e}"))?;
+    let store_dir = hub.config.store_dir.clone();
+    let stored = hello.clone();
+    tokio::task::spawn_blocking(move || write_hello(&store_dir, &stored))
+        .await
+        .map_err(|e| plain(format!("cannot store Hello: task failed: {e}")))?
+        .map_err(|e| plain(format!("cannot store Hello: {e}")))?;
     let file = hub
         .open_session(&hello)
-        .map_err(|e| format!("cannot open the session store: {e}"))?;
+        .await
+        .map_err(|e| plain(format!("cannot open the session store: {e}")))?;
     Ok((hello, file))
 }
 
 /// Routes regimens for the station to this connection, reports it connected and tells a
 /// reconnecting station what is already stored, so it need not resend it. The connection id.
-fn register(hub: &Hub, peer: SocketAddr, hello: &Hello, file: &File, out: &Out) -> u64 {
+async fn register(hub: &Hub, peer: SocketAddr, hello: &Hello, file: &File, out: &Out) -> u64 {
     let conn_id = hub.next_conn_id.fetch_add(1, Ordering::Relaxed);
     lock(&hub.stations).insert(
         hello.station_id.clone(),
@@ -212,13 +291,13 @@ fn register(hub: &Hub, peer: SocketAddr, hello: &Hello, file: &File, out: &Out) 
         peer,
         hello: hello.clone(),
     });
-    let last_stored = lock(file).last_seq();
+    let last_stored = last_seq(file).await;
     if let Some(seq) = last_stored {
-        let ack = Frame::Ack(Ack {
+        let ack = Ack {
             session_id: hello.session_id.clone(),
             seq,
-        });
-        send(out, frame_outgoing(&ack));
+        };
+        send_ack(out, ack);
     }
     conn_id
 }
@@ -243,7 +322,7 @@ async fn frame_loop(
                 let bye = Frame::Bye(Bye {
                     session_id: hello.session_id.clone(),
                     reason: "therapist hub shutting down".into(),
-                    final_seq: lock(file).last_seq(),
+                    final_seq: last_seq(file).await,
                 });
                 send(out, frame_outgoing(&bye));
                 return "therapist hub shut down".to_owned();
@@ -262,7 +341,7 @@ async fn frame_loop(
                     Ok(Err(e)) => return protocol_error(hub, out, peer, e.to_string()),
                 };
                 match handle_frame(hub, hello, file, frame).await {
-                    Ok(Reply::Ack(ack)) => send(out, frame_outgoing(&ack)),
+                    Ok(Reply::Ack(ack)) => send_ack(out, ack),
                     Ok(Reply::Bye(bye, why)) => {
                         send(out, frame_outgoing(&bye));
                         return why;

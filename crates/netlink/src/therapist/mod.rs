@@ -7,7 +7,7 @@ mod event;
 mod session;
 
 use std::collections::HashMap;
-use std::net::SocketAddr;
+use std::net::{IpAddr, SocketAddr};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -21,7 +21,7 @@ use crate::error::NetlinkError;
 use crate::frame::{Frame, Hello, Regimen};
 use crate::store::SessionFile;
 use crate::tls::ServerTls;
-use crate::transport::Outgoing;
+use crate::transport::{OUTBOX_CAPACITY, Outbox, OutboxStats, Outgoing};
 
 pub use config::TherapistConfig;
 use connection::accept_loop;
@@ -33,20 +33,28 @@ const EVENT_CAPACITY: usize = 4_096;
 
 type SessionKey = (String, String);
 
+/// One session's file, `None` until it is opened; locked per session (async), never held
+/// across the hub-wide table's lock.
+type SessionSlot = Arc<tokio::sync::Mutex<Option<SessionFile>>>;
+
 struct StationRoute {
     conn_id: u64,
-    out: mpsc::UnboundedSender<Outgoing>,
+    out: Outbox,
 }
 
 struct Hub {
     config: TherapistConfig,
     acceptor: Option<tokio_rustls::TlsAcceptor>,
-    sessions: Mutex<HashMap<SessionKey, Arc<Mutex<SessionFile>>>>,
+    /// Open sessions; each has its own lock, so one session's file work never waits for another's.
+    sessions: Mutex<HashMap<SessionKey, SessionSlot>>,
     stations: Mutex<HashMap<String, StationRoute>>,
     events: mpsc::Sender<TherapistEvent>,
     events_dropped: AtomicU64,
     next_conn_id: AtomicU64,
     connections: Arc<Semaphore>,
+    /// Open connections per remote address (only addresses with at least one).
+    per_address: Mutex<HashMap<IpAddr, usize>>,
+    outbox_stats: Arc<OutboxStats>,
 }
 
 /// A running hub. Dropping it stops it too; [`Self::shutdown`] also waits for connections to
@@ -85,6 +93,8 @@ impl TherapistServer {
             events,
             events_dropped: AtomicU64::new(0),
             next_conn_id: AtomicU64::new(1),
+            per_address: Mutex::new(HashMap::new()),
+            outbox_stats: Arc::new(OutboxStats::default()),
         });
         tracing::info!(%local_addr, tls = hub.acceptor.is_some(), "therapist hub listening");
         let accept_task = tokio::spawn(accept_loop(hub.clone(), listener, shutdown_rx));
@@ -116,17 +126,44 @@ impl TherapistServer {
         self.hub.events_dropped.load(Ordering::Relaxed)
     }
 
+    /// The most frames ever waiting to be written to one connection: queued frames (at most
+    /// [`Self::OUTBOX_CAPACITY`]) plus the one latest Ack. Bounded whatever a station does.
+    pub fn outgoing_high_water(&self) -> usize {
+        self.hub.outbox_stats.high_water.load(Ordering::Relaxed)
+    }
+
+    /// Acks replaced by a newer one before they were written (a slow or non-reading station).
+    pub fn acks_coalesced(&self) -> u64 {
+        self.hub.outbox_stats.acks_coalesced.load(Ordering::Relaxed)
+    }
+
+    /// Frames (regimens, Bye, Error) not queued because a connection's outbox was full.
+    pub fn outgoing_refused(&self) -> u64 {
+        self.hub.outbox_stats.refused.load(Ordering::Relaxed)
+    }
+
+    /// Frames besides the latest Ack that may wait for one connection.
+    pub const OUTBOX_CAPACITY: usize = OUTBOX_CAPACITY;
+
     /// Queues `regimen` for the connected station `station_id`.
+    ///
+    /// Fails with [`NetlinkError::NotConnected`] if the station is not connected and with
+    /// [`NetlinkError::Busy`] if [`Self::OUTBOX_CAPACITY`] frames already wait for it (it is
+    /// not reading): try again later.
     pub fn send_regimen(&self, station_id: &str, regimen: Regimen) -> Result<(), NetlinkError> {
         let bytes = encode_to_vec(&Frame::Regimen(regimen))?;
         let stations = lock(&self.hub.stations);
         let route = stations
             .get(station_id)
             .ok_or_else(|| NetlinkError::NotConnected(station_id.to_owned()))?;
-        route
-            .out
-            .send(Outgoing::new(bytes.into()))
-            .map_err(|_| NetlinkError::NotConnected(station_id.to_owned()))
+        if route.out.send(Outgoing::new(bytes.into())) {
+            Ok(())
+        } else {
+            Err(NetlinkError::Busy(format!(
+                "{OUTBOX_CAPACITY} frames already wait for station {station_id:?} (it is not \
+                 reading, or has just disconnected); regimen not queued"
+            )))
+        }
     }
 
     /// Stops accepting, tells every station (Bye), syncs their files and waits up to `timeout`
@@ -157,22 +194,47 @@ impl Hub {
         }
     }
 
-    fn open_session(&self, hello: &Hello) -> Result<Arc<Mutex<SessionFile>>, NetlinkError> {
+    /// The session's slot, its file opened (on the blocking pool, holding only this session's
+    /// lock) if no other connection has it open. The hub-wide table is locked only to find or
+    /// insert the slot, never across file work.
+    async fn open_session(&self, hello: &Hello) -> Result<SessionSlot, NetlinkError> {
         let key = (hello.station_id.clone(), hello.session_id.clone());
-        let mut sessions = lock(&self.sessions);
-        if let Some(file) = sessions.get(&key) {
-            return Ok(file.clone());
+        let slot = lock(&self.sessions).entry(key).or_default().clone();
+        let opened = {
+            let mut guard = slot.lock().await;
+            if guard.is_none() {
+                let dir = self.config.store_dir.clone();
+                let (station, session) = (hello.station_id.clone(), hello.session_id.clone());
+                let open = move || SessionFile::open(&dir, &station, &session);
+                match tokio::task::spawn_blocking(open).await {
+                    Ok(Ok(file)) => {
+                        *guard = Some(file);
+                        Ok(())
+                    }
+                    Ok(Err(e)) => Err(e),
+                    Err(e) => Err(NetlinkError::Protocol(format!(
+                        "session open task failed: {e}"
+                    ))),
+                }
+            } else {
+                Ok(())
+            }
+        };
+        match opened {
+            Ok(()) => Ok(slot),
+            Err(e) => {
+                // Unless another connection waits for this slot, forget it.
+                self.release_session(hello, slot);
+                Err(e)
+            }
         }
-        let file = SessionFile::open(&self.config.store_dir, &hello.station_id, &hello.session_id)?;
-        let file = Arc::new(Mutex::new(file));
-        sessions.insert(key, file.clone());
-        Ok(file)
     }
 
     /// Forgets a session file when its last connection ends.
-    fn release_session(&self, hello: &Hello, file: Arc<Mutex<SessionFile>>) {
+    fn release_session(&self, hello: &Hello, file: SessionSlot) {
         let key = (hello.station_id.clone(), hello.session_id.clone());
         let mut sessions = lock(&self.sessions);
+        // Ours and the table's: no other connection holds or waits for this session.
         if Arc::strong_count(&file) == 2 {
             sessions.remove(&key);
         }

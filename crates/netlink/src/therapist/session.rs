@@ -1,16 +1,14 @@
 //! One station's session at the hub: frames after `Hello` are stored, acknowledged or
 //! answered with `Bye`; the session file is synced to disk.
 
-use std::sync::{Arc, Mutex};
-
 use crate::error::NetlinkError;
-use crate::frame::{Ack, Bye, Frame, Hello};
+use crate::frame::{Ack, Bye, Frame, Hello, MAX_SEQ_STEP, max_next_seq};
 use crate::store::{Appended, SessionFile};
 
 use super::*;
 
 pub(super) enum Reply {
-    Ack(Frame),
+    Ack(Ack),
     Bye(Frame, String),
 }
 
@@ -24,7 +22,7 @@ pub(super) enum Failure {
 pub(super) async fn handle_frame(
     hub: &Hub,
     hello: &Hello,
-    file: &Arc<Mutex<SessionFile>>,
+    file: &SessionSlot,
     frame: Frame,
 ) -> Result<Reply, Failure> {
     match frame {
@@ -35,23 +33,47 @@ pub(super) async fn handle_frame(
                     summary.session_id, hello.session_id
                 )));
             }
-            let (appended, last) = {
-                let mut f = lock(file);
-                let appended = f
-                    .append(&summary)
-                    .map_err(|e| Failure::Closed(format!("storage failure: {e}")))?;
-                (appended, f.last_seq().unwrap_or(summary.seq))
+            let ack = |seq| {
+                Ok(Reply::Ack(Ack {
+                    session_id: hello.session_id.clone(),
+                    seq,
+                }))
             };
+            let mut guard = file.clone().lock_owned().await;
+            let Some(f) = guard.as_mut() else {
+                return Err(Failure::Closed("session file is not open".into()));
+            };
+            let last = f.last_seq();
+            let limit = max_next_seq(last);
+            if summary.seq > limit {
+                return Err(Failure::Protocol(format!(
+                    "summary seq {} jumps too far ahead: the last stored is {last:?}, at most \
+                     {limit} accepted (MAX_SEQ_STEP = {MAX_SEQ_STEP})",
+                    summary.seq
+                )));
+            }
+            if let Some(last) = last.filter(|&l| summary.seq <= l) {
+                // A duplicate: answered without touching the file.
+                return ack(last);
+            }
+            // The write runs on the blocking pool, holding only this session's lock.
+            let (summary, appended, last) = tokio::task::spawn_blocking(move || {
+                let f = guard.as_mut().expect("checked above, lock held");
+                let appended = f.append(&summary);
+                let last = f.last_seq().unwrap_or(summary.seq);
+                (summary, appended, last)
+            })
+            .await
+            .map_err(|e| Failure::Closed(format!("storage task failed: {e}")))?;
+            let appended =
+                appended.map_err(|e| Failure::Closed(format!("storage failure: {e}")))?;
             if appended == Appended::Stored {
                 hub.emit(TherapistEvent::Summary {
                     station_id: hello.station_id.clone(),
                     summary,
                 });
             }
-            Ok(Reply::Ack(Frame::Ack(Ack {
-                session_id: hello.session_id.clone(),
-                seq: last,
-            })))
+            ack(last)
         }
         Frame::Bye(bye) => {
             if bye.session_id != hello.session_id {
@@ -63,7 +85,7 @@ pub(super) async fn handle_frame(
             sync_file(file)
                 .await
                 .map_err(|e| Failure::Closed(format!("storage failure: {e}")))?;
-            let stored = lock(file).last_seq();
+            let stored = last_seq(file).await;
             Ok(Reply::Bye(
                 Frame::Bye(Bye {
                     session_id: hello.session_id.clone(),
@@ -84,9 +106,17 @@ pub(super) async fn handle_frame(
     }
 }
 
+/// The last sequence number stored in a session, `None` if none (or the file is not open).
+pub(super) async fn last_seq(file: &SessionSlot) -> Option<u64> {
+    file.lock().await.as_ref().and_then(SessionFile::last_seq)
+}
+
 /// fsyncs a session file on the blocking pool.
-pub(super) async fn sync_file(file: &Arc<Mutex<SessionFile>>) -> Result<(), NetlinkError> {
-    let handle = lock(file).try_clone_file()?;
+pub(super) async fn sync_file(file: &SessionSlot) -> Result<(), NetlinkError> {
+    let handle = match file.lock().await.as_ref() {
+        Some(f) => f.try_clone_file()?,
+        None => return Ok(()),
+    };
     tokio::task::spawn_blocking(move || handle.sync_data())
         .await
         .map_err(|e| NetlinkError::Protocol(format!("fsync task failed: {e}")))?
