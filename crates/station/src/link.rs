@@ -52,6 +52,7 @@ fn hello(cfg: &StationConfig, clock: &Clock) -> Hello {
     let start_unix_ns = clock.unix_ns();
     Hello {
         protocol_version: PROTOCOL_VERSION,
+        min_protocol_version: None,
         station_id: cfg.session.station_id.clone(),
         patient_id: cfg.session.patient_id.clone(),
         session_id: session_id(
@@ -73,7 +74,9 @@ impl Link {
         if t.address.is_empty() {
             return Ok(Self { inner: None });
         }
-        let addr = resolve("therapist address", &t.address)?;
+        // Resolved by the link on each connection attempt: a hub name that does not resolve
+        // (home internet down) never blocks or ends the exercise.
+        let addr = t.address.as_str();
         let host = t
             .address
             .rsplit_once(':')
@@ -154,7 +157,12 @@ impl Link {
             sent: stats.sent,
             acked: stats.acked,
             undelivered: produced.saturating_sub(stats.acked),
-            last_error: stats.last_error,
+            // A hub that cannot serve this station's protocol says so once and for all: that
+            // is what the patient (and their technician) must read.
+            last_error: stats
+                .update_required
+                .map(|m| format!("the hub requires a newer telerehab: {m}"))
+                .or(stats.last_error),
         })
     }
 }
