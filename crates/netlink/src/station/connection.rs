@@ -116,6 +116,49 @@ impl LinkTask {
         }
     }
 
+    /// Apply an Ack from the therapist: drop what it acknowledges; true when that was
+    /// progress. An Ack for another session or above what this station produced is a
+    /// protocol error (told to the hub in an Error frame when it is impossible).
+    fn on_ack(
+        &mut self,
+        ack: &crate::frame::Ack,
+        session_id: &str,
+        out_tx: &mpsc::UnboundedSender<Outgoing>,
+    ) -> Result<bool, NetlinkError> {
+        if ack.session_id != session_id {
+            return Err(NetlinkError::Protocol(format!(
+                "Ack for session {:?}, expected {session_id:?}",
+                ack.session_id
+            )));
+        }
+        // Everything handed to the link counts as produced, even if it is still in the
+        // channel.
+        self.drain_channel();
+        if self.last_produced_seq.is_none_or(|p| ack.seq > p) {
+            let error = NetlinkError::Protocol(format!(
+                "impossible Ack: the therapist acknowledged seq {} but this station has \
+                 produced {}; reconnecting to resend what is unacknowledged",
+                ack.seq,
+                self.last_produced_seq.map_or_else(
+                    || "no summary".to_owned(),
+                    |p| format!("only up to seq {p}")
+                )
+            ));
+            send_error_frame(out_tx, &error);
+            return Err(error);
+        }
+        let mut n = 0;
+        while self.pending.front().is_some_and(|p| p.seq <= ack.seq) {
+            self.pending.pop_front();
+            n += 1;
+        }
+        if n > 0 {
+            self.shared.acked.fetch_add(n, Ordering::Relaxed);
+            self.update_pending();
+        }
+        Ok(n > 0)
+    }
+
     pub(super) async fn run_connection(&mut self, stream: BoxStream) -> ConnEnd {
         let (rd, wr) = tokio::io::split(stream);
         let (out_tx, out_rx) = mpsc::unbounded_channel();
@@ -169,35 +212,9 @@ impl LinkTask {
                     last_heard = Instant::now();
                     match frame {
                         Ok(Some(Frame::Ack(ack))) => {
-                            if ack.session_id != session_id {
-                                break lost(NetlinkError::Protocol(format!(
-                                    "Ack for session {:?}, expected {session_id:?}", ack.session_id
-                                )), progress);
-                            }
-                            // Everything handed to the link counts as produced, even if it
-                            // is still in the channel.
-                            self.drain_channel();
-                            if self.last_produced_seq.is_none_or(|p| ack.seq > p) {
-                                let error = NetlinkError::Protocol(format!(
-                                    "impossible Ack: the therapist acknowledged seq {} but this \
-                                     station has produced {}; reconnecting to resend what is \
-                                     unacknowledged",
-                                    ack.seq,
-                                    self.last_produced_seq
-                                        .map_or_else(|| "no summary".to_owned(), |p| format!("only up to seq {p}"))
-                                ));
-                                send_error_frame(&out_tx, &error);
-                                break lost(error, progress);
-                            }
-                            let mut n = 0;
-                            while self.pending.front().is_some_and(|p| p.seq <= ack.seq) {
-                                self.pending.pop_front();
-                                n += 1;
-                            }
-                            if n > 0 {
-                                progress = true;
-                                self.shared.acked.fetch_add(n, Ordering::Relaxed);
-                                self.update_pending();
+                            match self.on_ack(&ack, &session_id, &out_tx) {
+                                Ok(acked) => progress |= acked,
+                                Err(error) => break lost(error, progress),
                             }
                         }
                         Ok(Some(Frame::Regimen(r))) => {
