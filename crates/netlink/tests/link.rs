@@ -564,13 +564,7 @@ async fn malformed_frames_are_rejected_with_a_clear_error_and_the_hub_keeps_serv
     bytes.extend(encode_to_vec(&Frame::Summary(summary("s", 0))).unwrap());
     bytes.extend_from_slice(b"TRHB\x00\x01\x02\x00\x00\x00\x00\x02{]");
     let frames = raw_exchange(addr, &bytes).await;
-    match frames.as_slice() {
-        [Frame::Ack(a), Frame::Error(e)] => {
-            assert_eq!(a.seq, 0);
-            assert!(e.message.contains("bad JSON in Summary"), "{}", e.message);
-        }
-        other => panic!("expected Ack then Error, got {other:?}"),
-    }
+    assert_ack_0_then_error(&frames, "bad JSON in Summary");
     assert_eq!(stored_seqs(store.path(), "st-ok", "s"), vec![0]);
 
     // The hub still serves a well-behaved station.
@@ -1055,13 +1049,7 @@ async fn summary_jumping_to_u64_max_is_refused_and_the_session_stays_alive() {
     bytes.extend(encode_to_vec(&Frame::Summary(summary("s1", 0))).unwrap());
     bytes.extend(encode_to_vec(&Frame::Summary(summary("s1", u64::MAX))).unwrap());
     let frames = raw_exchange(addr, &bytes).await;
-    match frames.as_slice() {
-        [Frame::Ack(a), Frame::Error(e)] => {
-            assert_eq!(a.seq, 0);
-            assert!(e.message.contains("jumps too far ahead"), "{}", e.message);
-        }
-        other => panic!("expected Ack then Error, got {other:?}"),
-    }
+    assert_ack_0_then_error(&frames, "jumps too far ahead");
     assert_eq!(stored_seqs(store.path(), "st-j", "s1"), vec![0]);
     // The genuine station's next summaries are still stored: the session was not silenced.
     let (sender, link) = StationLink::spawn(
@@ -1510,4 +1498,15 @@ async fn station_told_update_required_stops_retrying_and_says_so() {
     );
     assert!(stats.update_required.is_some());
     server.abort();
+}
+
+/// The hub acknowledged seq 0, then refused the rest with an Error frame saying `why`.
+fn assert_ack_0_then_error(frames: &[Frame], why: &str) {
+    match frames {
+        [Frame::Ack(a), Frame::Error(e)] => {
+            assert_eq!(a.seq, 0);
+            assert!(e.message.contains(why), "{}", e.message);
+        }
+        other => panic!("expected Ack then Error, got {other:?}"),
+    }
 }
