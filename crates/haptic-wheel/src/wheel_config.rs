@@ -168,13 +168,24 @@ impl CeilingReport {
     /// The ceiling on `profile` at `gain` for a patient ceiling `patient_ceiling_nm`.
     pub fn new(profile: &DeviceProfile, gain: f64, patient_ceiling_nm: Option<f64>) -> Self {
         let usable = usable_max_nm(profile, gain);
-        let ceiling = patient_ceiling_nm.unwrap_or(usable).clamp(0.0, usable);
         Self {
             motor_nm: profile.max_torque_nm,
             usable_max_nm: usable,
-            ceiling_nm: ceiling,
-            fraction_of_motor: ceiling / profile.max_torque_nm,
+            ceiling_nm: usable,
+            fraction_of_motor: usable / profile.max_torque_nm,
             assumed: profile.torque_source == crate::profile::TorqueSource::Assumed,
+        }
+        .with_ceiling(patient_ceiling_nm.unwrap_or(usable))
+    }
+
+    /// The same wheel with the ceiling `ceiling_nm` in force (never above the usable maximum),
+    /// e.g. after a regimen lowered it.
+    pub fn with_ceiling(self, ceiling_nm: f64) -> Self {
+        let ceiling_nm = ceiling_nm.clamp(0.0, self.usable_max_nm);
+        Self {
+            ceiling_nm,
+            fraction_of_motor: ceiling_nm / self.motor_nm,
+            ..self
         }
     }
 }

@@ -183,7 +183,7 @@ pub struct Plant {
     /// The first fault the wheel reported (unplugged, silent, out of range): the session
     /// ends on it, and says why.
     wheel_fault: Option<WheelFault>,
-    /// The torque ceiling in force, N·m and as a share of the motor, for the log and screen.
+    /// The wheel's motor and usable torque, for the ceiling stated in the log and report.
     ceiling: CeilingReport,
 }
 
@@ -226,12 +226,12 @@ impl Plant {
         // The road-feel law never asks more than the chain's ceiling at the start.
         let ceiling_nm = chain.ceiling_nm();
         let profile = body.wheel().profile();
+        // The wheel's usable maximum is what the backend reports (its gain included).
         let ceiling = CeilingReport {
             usable_max_nm: device_max,
-            ceiling_nm,
-            fraction_of_motor: ceiling_nm / profile.max_torque_nm,
-            ..CeilingReport::new(&profile, 1.0, Some(ceiling_nm))
-        };
+            ..CeilingReport::new(&profile, 1.0, None)
+        }
+        .with_ceiling(ceiling_nm);
         let mut plant = Self {
             body,
             chain,
@@ -311,9 +311,10 @@ impl Plant {
         self.wheel_fault
     }
 
-    /// The torque ceiling in force on this wheel, N·m and as a share of its motor.
+    /// The torque ceiling in force on this wheel now (a regimen may have lowered it), N·m and
+    /// as a share of its motor.
     pub fn ceiling(&self) -> CeilingReport {
-        self.ceiling
+        self.ceiling.with_ceiling(self.chain.ceiling_nm())
     }
 
     /// The supervisor has faded the torque to zero for good.
