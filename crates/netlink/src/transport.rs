@@ -74,6 +74,20 @@ impl Outgoing {
     }
 }
 
+/// Write one queued frame and run its "written" hook.
+async fn write_outgoing(
+    half: &mut WriteHalf<BoxStream>,
+    out: Outgoing,
+) -> Result<(), NetlinkError> {
+    half.write_all(&out.bytes)
+        .await
+        .map_err(|e| NetlinkError::io("writing to peer", e))?;
+    if let Some(hook) = out.on_written {
+        hook();
+    }
+    Ok(())
+}
+
 /// Spawns a task that writes queued frames in order and flushes after each burst.
 ///
 /// The task ends when the channel closes (after writing and shutting down the stream) or on
@@ -87,10 +101,7 @@ pub(crate) fn spawn_writer(
         while let Some(first) = rx.recv().await {
             let mut next = Some(first);
             while let Some(out) = next {
-                half.write_all(&out.bytes).await.map_err(write_err)?;
-                if let Some(hook) = out.on_written {
-                    hook();
-                }
+                write_outgoing(&mut half, out).await?;
                 next = rx.try_recv().ok();
             }
             half.flush().await.map_err(write_err)?;
@@ -225,10 +236,7 @@ pub(crate) fn spawn_outbox_writer(
                     last_ack = Some(seq);
                 }
                 let Some(out) = next else { break };
-                half.write_all(&out.bytes).await.map_err(write_err)?;
-                if let Some(hook) = out.on_written {
-                    hook();
-                }
+                write_outgoing(&mut half, out).await?;
                 next = rx.try_recv().ok();
             }
             half.flush().await.map_err(write_err)?;
