@@ -5,6 +5,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 if ! command -v cargo >/dev/null 2>&1; then export PATH="$HOME/.cargo/bin:$PATH"; fi
 
+# Incremental caches double the target directory and a CI build is a cold build anyway.
+export CARGO_INCREMENTAL="${CARGO_INCREMENTAL:-0}"
+echo "== disk before the build: $(df -h . | awk 'NR==2 {print $4 " free on " $6}')"
+
 # Headless rendering on Mesa wants a private runtime dir.
 XDG_RUNTIME_DIR="$(mktemp -d)"; chmod 700 "$XDG_RUNTIME_DIR"; export XDG_RUNTIME_DIR
 
@@ -28,3 +32,4 @@ echo "== python types"
 (cd pyext/python && ../../.venv/bin/python -m mypy --strict --cache-dir=/dev/null -p telerehab)
 cargo build --quiet -p station --bin telerehab
 TELEREHAB_BIN="$PWD/target/debug/telerehab" .venv/bin/python -m pytest -q pyext/tests tests/python
+echo "== disk after the tests: $(df -h . | awk 'NR==2 {print $4 " free"}'), target: $(du -sh target 2>/dev/null | cut -f1)"
