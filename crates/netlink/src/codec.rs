@@ -10,9 +10,7 @@
 //! 12     len  payload JSON (UTF-8) of the frame body
 //! ```
 
-use crate::frame::{
-    Ack, Bye, ErrorFrame, Frame, FrameKind, Hello, PROTOCOL_VERSION, Regimen, Summary,
-};
+use crate::frame::{Frame, FrameKind, PROTOCOL_VERSION};
 
 /// The four bytes every frame starts with.
 pub const MAGIC: [u8; 4] = *b"TRHB";
@@ -97,6 +95,10 @@ pub fn encode(frame: &Frame, out: &mut Vec<u8>) -> Result<(), CodecError> {
         Frame::Regimen(b) => serde_json::to_writer(&mut *out, b),
         Frame::Bye(b) => serde_json::to_writer(&mut *out, b),
         Frame::Error(b) => serde_json::to_writer(&mut *out, b),
+        Frame::PairStart(b) => serde_json::to_writer(&mut *out, b),
+        Frame::PairChallenge(b) => serde_json::to_writer(&mut *out, b),
+        Frame::PairFinish(b) => serde_json::to_writer(&mut *out, b),
+        Frame::Paired(b) => serde_json::to_writer(&mut *out, b),
     };
     let len = out.len() - start - HEADER_LEN;
     if let Err(source) = written {
@@ -167,22 +169,23 @@ pub fn decode(buf: &[u8]) -> Result<Option<(Frame, usize)>, CodecError> {
         return Err(CodecError::UnknownKind(buf[6]));
     };
     let payload = &buf[HEADER_LEN..total];
-    let bad_json = |source| CodecError::BadJson { kind, source };
+    fn body<T: serde::de::DeserializeOwned>(
+        kind: FrameKind,
+        payload: &[u8],
+    ) -> Result<T, CodecError> {
+        serde_json::from_slice(payload).map_err(|source| CodecError::BadJson { kind, source })
+    }
     let frame = match kind {
-        FrameKind::Hello => {
-            Frame::Hello(serde_json::from_slice::<Hello>(payload).map_err(bad_json)?)
-        }
-        FrameKind::Summary => {
-            Frame::Summary(serde_json::from_slice::<Summary>(payload).map_err(bad_json)?)
-        }
-        FrameKind::Ack => Frame::Ack(serde_json::from_slice::<Ack>(payload).map_err(bad_json)?),
-        FrameKind::Regimen => {
-            Frame::Regimen(serde_json::from_slice::<Regimen>(payload).map_err(bad_json)?)
-        }
-        FrameKind::Bye => Frame::Bye(serde_json::from_slice::<Bye>(payload).map_err(bad_json)?),
-        FrameKind::Error => {
-            Frame::Error(serde_json::from_slice::<ErrorFrame>(payload).map_err(bad_json)?)
-        }
+        FrameKind::Hello => Frame::Hello(body(kind, payload)?),
+        FrameKind::Summary => Frame::Summary(body(kind, payload)?),
+        FrameKind::Ack => Frame::Ack(body(kind, payload)?),
+        FrameKind::Regimen => Frame::Regimen(body(kind, payload)?),
+        FrameKind::Bye => Frame::Bye(body(kind, payload)?),
+        FrameKind::Error => Frame::Error(body(kind, payload)?),
+        FrameKind::PairStart => Frame::PairStart(body(kind, payload)?),
+        FrameKind::PairChallenge => Frame::PairChallenge(body(kind, payload)?),
+        FrameKind::PairFinish => Frame::PairFinish(body(kind, payload)?),
+        FrameKind::Paired => Frame::Paired(body(kind, payload)?),
     };
     frame
         .validate()
@@ -242,6 +245,7 @@ impl FrameDecoder {
 mod tests {
     use super::*;
     use crate::frame::tests::summary;
+    use crate::frame::{Ack, Bye, ErrorFrame, Hello, Regimen, Summary};
     use proptest::prelude::*;
 
     fn hello() -> Hello {
@@ -374,8 +378,8 @@ mod tests {
             })
         ));
         bytes[5] = 1;
-        bytes[6] = 9;
-        assert!(matches!(decode(&bytes), Err(CodecError::UnknownKind(9))));
+        bytes[6] = 99;
+        assert!(matches!(decode(&bytes), Err(CodecError::UnknownKind(99))));
         bytes[6] = 1;
         bytes[7] = 0x80;
         assert!(matches!(

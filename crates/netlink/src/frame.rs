@@ -53,6 +53,14 @@ pub enum FrameKind {
     Bye = 5,
     /// Either way: the sender saw a protocol error and closes the connection.
     Error = 6,
+    /// Station → hub, first frame of a pairing connection (instead of `Hello`).
+    PairStart = 7,
+    /// Hub → station, the hub's half of the password-authenticated key exchange.
+    PairChallenge = 8,
+    /// Station → hub, the station's certificate request, proven with the exchanged key.
+    PairFinish = 9,
+    /// Hub → station, the station's credential, proven with the exchanged key.
+    Paired = 10,
 }
 
 impl FrameKind {
@@ -65,6 +73,10 @@ impl FrameKind {
             4 => Self::Regimen,
             5 => Self::Bye,
             6 => Self::Error,
+            7 => Self::PairStart,
+            8 => Self::PairChallenge,
+            9 => Self::PairFinish,
+            10 => Self::Paired,
             _ => return None,
         })
     }
@@ -84,6 +96,10 @@ impl std::fmt::Display for FrameKind {
             Self::Regimen => "Regimen",
             Self::Bye => "Bye",
             Self::Error => "Error",
+            Self::PairStart => "PairStart",
+            Self::PairChallenge => "PairChallenge",
+            Self::PairFinish => "PairFinish",
+            Self::Paired => "Paired",
         };
         f.write_str(name)
     }
@@ -193,6 +209,59 @@ pub struct ErrorFrame {
     pub code: Option<String>,
 }
 
+/// Bytes of one SPAKE2 (Ed25519) message: a side byte and a 32-byte group element.
+pub const PAKE_MESSAGE_LEN: usize = 33;
+/// Bytes of an HMAC-SHA-256 tag.
+pub const MAC_LEN: usize = 32;
+/// Most bytes of a PEM text in a pairing frame.
+pub const MAX_PEM_LEN: usize = 16 * 1024;
+
+/// Station → hub, the first frame of a pairing connection. The pairing code `XXXX-XXXX` has a
+/// public half, `code_id` (which code), and a secret half that never crosses the wire: it is
+/// the password of a SPAKE2 exchange whose first message is `pake` (see `PROTOCOL.md`).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct PairStart {
+    /// The public half of the pairing code, e.g. `7KQ2`.
+    pub code_id: String,
+    /// The station's SPAKE2 message, lowercase hex.
+    pub pake: String,
+}
+
+/// Hub → station: the hub's SPAKE2 message, lowercase hex.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct PairChallenge {
+    /// The hub's SPAKE2 message, lowercase hex.
+    pub pake: String,
+}
+
+/// Station → hub: a certificate signing request for the station's own key (which never leaves
+/// the station), with `mac` = HMAC-SHA-256 under the exchanged key over the request and the
+/// hub's TLS certificate as the station saw it (so a relay in the middle is found out).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct PairFinish {
+    /// PKCS#10 certificate signing request, PEM.
+    pub csr_pem: String,
+    /// HMAC-SHA-256 tag, lowercase hex.
+    pub mac: String,
+}
+
+/// Hub → station: the station's credential, proven with the exchanged key.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Paired {
+    /// The identity the hub gave this station (its certificate names it).
+    pub station_id: String,
+    /// The pseudonymous patient the station speaks for.
+    pub patient_id: String,
+    /// The clinic's CA certificate, PEM: the only root the station trusts from now on.
+    pub ca_pem: String,
+    /// The station's certificate, PEM, signed by the CA.
+    pub cert_pem: String,
+    /// The name the hub's certificate carries, to check on every connection.
+    pub server_name: String,
+    /// HMAC-SHA-256 tag over all of the above under the exchanged key, lowercase hex.
+    pub mac: String,
+}
+
 /// Any frame of the protocol.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
@@ -209,6 +278,14 @@ pub enum Frame {
     Bye(Bye),
     /// See [`ErrorFrame`].
     Error(ErrorFrame),
+    /// See [`PairStart`].
+    PairStart(PairStart),
+    /// See [`PairChallenge`].
+    PairChallenge(PairChallenge),
+    /// See [`PairFinish`].
+    PairFinish(PairFinish),
+    /// See [`Paired`].
+    Paired(Paired),
 }
 
 impl Frame {
@@ -221,6 +298,10 @@ impl Frame {
             Self::Regimen(_) => FrameKind::Regimen,
             Self::Bye(_) => FrameKind::Bye,
             Self::Error(_) => FrameKind::Error,
+            Self::PairStart(_) => FrameKind::PairStart,
+            Self::PairChallenge(_) => FrameKind::PairChallenge,
+            Self::PairFinish(_) => FrameKind::PairFinish,
+            Self::Paired(_) => FrameKind::Paired,
         }
     }
 
@@ -240,6 +321,24 @@ impl Frame {
                     check_id("code", code)?;
                 }
                 check_text("message", &e.message, MAX_MESSAGE_LEN)
+            }
+            Self::PairStart(p) => {
+                check_id("code_id", &p.code_id)?;
+                check_hex("pake", &p.pake, PAKE_MESSAGE_LEN)
+            }
+            Self::PairChallenge(p) => check_hex("pake", &p.pake, PAKE_MESSAGE_LEN),
+            Self::PairFinish(p) => {
+                check_text("csr_pem", &p.csr_pem.replace(['\n', '\r'], ""), MAX_PEM_LEN)?;
+                check_hex("mac", &p.mac, MAC_LEN)
+            }
+            Self::Paired(p) => {
+                check_id("station_id", &p.station_id)?;
+                check_id("patient_id", &p.patient_id)?;
+                check_text("server_name", &p.server_name, MAX_TEXT_LEN)?;
+                for (name, pem) in [("ca_pem", &p.ca_pem), ("cert_pem", &p.cert_pem)] {
+                    check_text(name, &pem.replace(['\n', '\r'], ""), MAX_PEM_LEN)?;
+                }
+                check_hex("mac", &p.mac, MAC_LEN)
             }
         }
     }
@@ -372,6 +471,16 @@ pub(crate) fn printable(text: &str, max: usize) -> String {
         out.push(c);
     }
     out
+}
+
+fn check_hex(name: &str, value: &str, bytes: usize) -> Result<(), String> {
+    if value.len() != 2 * bytes || !value.bytes().all(|b| b.is_ascii_hexdigit()) {
+        return Err(format!(
+            "{name} must be {bytes} bytes as {} hex digits",
+            2 * bytes
+        ));
+    }
+    Ok(())
 }
 
 fn check_text(name: &str, value: &str, max: usize) -> Result<(), String> {

@@ -73,6 +73,8 @@
 pub mod codec;
 mod error;
 pub mod frame;
+pub mod pairing;
+pub mod pki;
 pub mod station;
 pub mod store;
 pub mod therapist;
@@ -87,5 +89,8 @@ pub use frame::{
 pub use station::{
     Backoff, HubAddress, LinkStats, SendError, StationLink, StationLinkConfig, SummarySender,
 };
-pub use therapist::{TherapistConfig, TherapistEvent, TherapistServer};
+pub use therapist::{
+    BoxFuture, FileStore, HubStore, Peer, Refusal, SessionStore, TherapistConfig, TherapistEvent,
+    TherapistServer,
+};
 pub use tls::{ClientTls, Identity, ServerTls};

@@ -142,6 +142,9 @@ impl ServerTls {
                     Arc::new(roots),
                     provider(),
                 )
+                // A station being paired has no certificate yet; every Hello still needs one
+                // (checked by the hub before anything is stored).
+                .allow_unauthenticated()
                 .build()
                 .map_err(|e| pem_error("client CA certificates", path, e))?;
                 builder.with_client_cert_verifier(verifier)
@@ -149,6 +152,17 @@ impl ServerTls {
         };
         let config = builder.with_single_cert(chain, key)?;
         Ok(tokio_rustls::TlsAcceptor::from(Arc::new(config)))
+    }
+}
+
+impl ServerTls {
+    /// SHA-256 of the hub's own (leaf) certificate, DER: what pairing binds to.
+    pub fn leaf_sha256(&self) -> Result<[u8; 32], NetlinkError> {
+        let chain = load_certs("certificate chain", &self.cert_pem_path)?;
+        let digest = ring::digest::digest(&ring::digest::SHA256, &chain[0]);
+        let mut out = [0u8; 32];
+        out.copy_from_slice(digest.as_ref());
+        Ok(out)
     }
 }
 

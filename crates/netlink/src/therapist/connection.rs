@@ -15,12 +15,11 @@ use tokio::task::JoinHandle;
 use crate::codec::encode_to_vec;
 use crate::error::NetlinkError;
 use crate::frame::{Ack, Bye, ErrorFrame, Frame, Hello, MAX_MESSAGE_LEN, printable};
-use crate::store::write_hello;
 use crate::tls::certificate_names_station;
 use crate::transport::{BoxStream, FrameReader, Outbox, Outgoing, spawn_outbox_writer};
 
 use super::session::{Failure, Reply, handle_frame, last_seq, sync_file};
-use super::{Hub, SessionSlot, StationRoute, TherapistEvent, lock};
+use super::{Hub, Peer, SessionSlot, StationRoute, TherapistEvent, lock};
 
 /// The writer side of a connection: frames queued for the station (bounded) and its latest Ack.
 type Out = Outbox;
@@ -114,7 +113,7 @@ impl Drop for AddressSlot {
     }
 }
 
-fn error_outgoing(message: &str) -> Option<Outgoing> {
+pub(super) fn error_outgoing(message: &str) -> Option<Outgoing> {
     coded_error_outgoing(message, None)
 }
 
@@ -128,7 +127,7 @@ fn coded_error_outgoing(message: &str, code: Option<&str>) -> Option<Outgoing> {
     .map(|b| Outgoing::new(b.into()))
 }
 
-fn frame_outgoing(frame: &Frame) -> Option<Outgoing> {
+pub(super) fn frame_outgoing(frame: &Frame) -> Option<Outgoing> {
     match encode_to_vec(frame) {
         Ok(b) => Some(Outgoing::new(b.into())),
         Err(e) => {
@@ -140,7 +139,7 @@ fn frame_outgoing(frame: &Frame) -> Option<Outgoing> {
 
 /// Queues `frame` for the station; a closed writer is noticed by the frame loop, a full outbox
 /// (a station that does not read) drops the frame, counted in the hub's outbox stats.
-fn send(out: &Out, frame: Option<Outgoing>) {
+pub(super) fn send(out: &Out, frame: Option<Outgoing>) {
     if let Some(o) = frame {
         out.send(o);
     }
@@ -173,7 +172,20 @@ async fn serve(hub: Arc<Hub>, tcp: TcpStream, peer: SocketAddr, shutdown: watch:
     let (out, mut writer) = spawn_outbox_writer(wr, hub.outbox_stats.clone());
     let mut reader = FrameReader::new(rd);
 
-    let (hello, file) = match open_session(&hub, &mut reader, client_cert.as_ref()).await {
+    let first = match first_frame(&hub, &mut reader).await {
+        Ok(Frame::PairStart(start)) => {
+            let outcome = super::pairing::serve(&hub, start, &mut reader, &out, peer).await;
+            hub.emit(TherapistEvent::Pairing { peer, outcome });
+            close(out, writer).await;
+            return;
+        }
+        other => other,
+    };
+    let peer_id = Peer {
+        addr: peer,
+        certificate: client_cert.as_ref(),
+    };
+    let (hello, file) = match open_session(&hub, first, peer_id).await {
         Ok(v) => v,
         Err((error, code)) => {
             send(&out, coded_error_outgoing(&error, code));
@@ -226,28 +238,36 @@ async fn handshake(
     None
 }
 
-/// Reads the station's `Hello` within the timeout, checks that the client certificate names
-/// the station (when the hub requires one), stores the `Hello` and opens the session file.
-async fn open_session(
+/// The connection's first frame (`Hello`, or `PairStart` from a station being paired), within
+/// the Hello timeout.
+async fn first_frame(
     hub: &Hub,
     reader: &mut FrameReader,
-    client_cert: Option<&CertificateDer<'static>>,
-) -> Result<(Hello, File), (String, Option<&'static str>)> {
+) -> Result<Frame, (String, Option<&'static str>)> {
     let plain = |e: String| (e, None);
     let hello_timeout = Duration::from_millis(hub.config.hello_timeout_ms);
-    let hello = match tokio::time::timeout(hello_timeout, reader.next_frame()).await {
-        Ok(Ok(Some(Frame::Hello(hello)))) => hello,
-        Ok(Ok(Some(other))) => {
-            return Err(plain(format!("expected Hello first, got {}", other.kind())));
-        }
-        Ok(Ok(None)) => return Err(plain("connection closed before Hello".into())),
-        Ok(Err(e)) => return Err(plain(e.to_string())),
-        Err(_) => {
-            return Err(plain(format!(
-                "no Hello within {} ms",
-                hello_timeout.as_millis()
-            )));
-        }
+    match tokio::time::timeout(hello_timeout, reader.next_frame()).await {
+        Ok(Ok(Some(frame @ (Frame::Hello(_) | Frame::PairStart(_))))) => Ok(frame),
+        Ok(Ok(Some(other))) => Err(plain(format!("expected Hello first, got {}", other.kind()))),
+        Ok(Ok(None)) => Err(plain("connection closed before Hello".into())),
+        Ok(Err(e)) => Err(plain(e.to_string())),
+        Err(_) => Err(plain(format!(
+            "no Hello within {} ms",
+            hello_timeout.as_millis()
+        ))),
+    }
+}
+
+/// Checks the station's `Hello` (the version range, the client certificate naming the station
+/// when the hub requires one, then the store's admission) and opens its session.
+async fn open_session(
+    hub: &Hub,
+    first: Result<Frame, (String, Option<&'static str>)>,
+    peer: Peer<'_>,
+) -> Result<(Hello, File), (String, Option<&'static str>)> {
+    let plain = |e: String| (e, None);
+    let Frame::Hello(hello) = first? else {
+        return Err(plain("expected Hello first".into()));
     };
     // No version both sides speak: not retriable, the station must stop and say so.
     hello
@@ -259,20 +279,15 @@ async fn open_session(
         .as_ref()
         .is_some_and(|t| t.client_ca_pem_path.is_some());
     if requires_identity {
-        let cert = client_cert.ok_or_else(|| plain("no client certificate presented".into()))?;
+        let cert = peer
+            .certificate
+            .ok_or_else(|| plain("no client certificate presented".into()))?;
         certificate_names_station(cert, &hello.station_id).map_err(plain)?;
     }
-    // Hello first: if it fails, no session file has been registered yet.
-    let store_dir = hub.config.store_dir.clone();
-    let stored = hello.clone();
-    tokio::task::spawn_blocking(move || write_hello(&store_dir, &stored))
-        .await
-        .map_err(|e| plain(format!("cannot store Hello: task failed: {e}")))?
-        .map_err(|e| plain(format!("cannot store Hello: {e}")))?;
     let file = hub
-        .open_session(&hello)
+        .open_session(&hello, peer)
         .await
-        .map_err(|e| plain(format!("cannot open the session store: {e}")))?;
+        .map_err(|r| (r.message, r.code))?;
     Ok((hello, file))
 }
 
@@ -366,7 +381,7 @@ async fn unregister(hub: &Hub, hello: &Hello, conn_id: u64, file: File, reason: 
             stations.remove(&hello.station_id);
         }
     }
-    if let Err(e) = sync_file(&file).await {
+    if let Err(e) = sync_file(&file, None).await {
         tracing::error!(error = %e, "therapist hub: fsync failed");
     }
     hub.release_session(hello, file);

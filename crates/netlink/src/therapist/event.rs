@@ -20,6 +20,8 @@ pub enum TherapistEvent {
     Summary {
         /// The station it came from.
         station_id: String,
+        /// The patient the station speaks for.
+        patient_id: String,
         /// The summary.
         summary: Summary,
     },
@@ -31,6 +33,13 @@ pub enum TherapistEvent {
         session_id: String,
         /// Why, for humans (`bye: …` for an orderly end).
         reason: String,
+    },
+    /// A station asked to be paired; how it ended.
+    Pairing {
+        /// Its address.
+        peer: SocketAddr,
+        /// `paired station … for patient …`, or why it was refused.
+        outcome: String,
     },
     /// A peer broke the protocol (or the TLS handshake); its connection was closed.
     ProtocolError {
@@ -57,6 +66,7 @@ impl fmt::Display for TherapistEvent {
             Self::Summary {
                 station_id,
                 summary: s,
+                ..
             } => write!(
                 f,
                 "[{station_id}] t={:7.1} s seq={:<6} speed={:5.2} m/s lateral={:+.3} m \
@@ -79,6 +89,7 @@ impl fmt::Display for TherapistEvent {
                 f,
                 "[{station_id}] session {session_id} disconnected: {reason}"
             ),
+            Self::Pairing { peer, outcome } => write!(f, "[{peer}] pairing: {outcome}"),
             Self::ProtocolError { peer, error } => write!(f, "[{peer}] protocol error: {error}"),
         }
     }

@@ -1,9 +1,11 @@
 //! Therapist side: a hub that accepts many stations, stores and acknowledges their summaries,
 //! reports what happens as [`TherapistEvent`]s and can push a [`Regimen`] to a station.
 
+mod backend;
 mod config;
 mod connection;
 mod event;
+mod pairing;
 mod session;
 
 use std::collections::HashMap;
@@ -19,10 +21,10 @@ use tokio::task::JoinHandle;
 use crate::codec::encode_to_vec;
 use crate::error::NetlinkError;
 use crate::frame::{Frame, Hello, Regimen};
-use crate::store::SessionFile;
 use crate::tls::ServerTls;
 use crate::transport::{OUTBOX_CAPACITY, Outbox, OutboxStats, Outgoing};
 
+pub use backend::{BoxFuture, FileStore, HubStore, Peer, Refusal, SessionStore};
 pub use config::TherapistConfig;
 use connection::accept_loop;
 pub use event::TherapistEvent;
@@ -33,9 +35,9 @@ const EVENT_CAPACITY: usize = 4_096;
 
 type SessionKey = (String, String);
 
-/// One session's file, `None` until it is opened; locked per session (async), never held
+/// One session's store, `None` until it is opened; locked per session (async), never held
 /// across the hub-wide table's lock.
-type SessionSlot = Arc<tokio::sync::Mutex<Option<SessionFile>>>;
+type SessionSlot = Arc<tokio::sync::Mutex<Option<Box<dyn SessionStore>>>>;
 
 struct StationRoute {
     conn_id: u64,
@@ -45,6 +47,9 @@ struct StationRoute {
 struct Hub {
     config: TherapistConfig,
     acceptor: Option<tokio_rustls::TlsAcceptor>,
+    store: Arc<dyn HubStore>,
+    /// SHA-256 of the hub's own TLS certificate (DER), which pairing binds to.
+    certificate_sha256: Option<[u8; 32]>,
     /// Open sessions; each has its own lock, so one session's file work never waits for another's.
     sessions: Mutex<HashMap<SessionKey, SessionSlot>>,
     stations: Mutex<HashMap<String, StationRoute>>,
@@ -67,15 +72,31 @@ pub struct TherapistServer {
 }
 
 impl TherapistServer {
-    /// Validates `config`, loads TLS files, binds and starts accepting (on the current runtime).
+    /// Validates `config`, loads TLS files, binds and starts accepting (on the current runtime),
+    /// storing into files under `config.store_dir` ([`FileStore`]).
     pub async fn bind(
         config: TherapistConfig,
     ) -> Result<(Self, mpsc::Receiver<TherapistEvent>), NetlinkError> {
         config.validate()?;
-        let acceptor = config.tls.as_ref().map(ServerTls::acceptor).transpose()?;
         std::fs::create_dir_all(&config.store_dir).map_err(|e| {
             NetlinkError::io(format!("creating store {}", config.store_dir.display()), e)
         })?;
+        let store = Arc::new(FileStore::new(config.store_dir.clone()));
+        Self::bind_with_store(config, store).await
+    }
+
+    /// As [`Self::bind`], storing into `store` (`config.store_dir` is then unused).
+    pub async fn bind_with_store(
+        config: TherapistConfig,
+        store: Arc<dyn HubStore>,
+    ) -> Result<(Self, mpsc::Receiver<TherapistEvent>), NetlinkError> {
+        config.validate()?;
+        let acceptor = config.tls.as_ref().map(ServerTls::acceptor).transpose()?;
+        let certificate_sha256 = config
+            .tls
+            .as_ref()
+            .map(ServerTls::leaf_sha256)
+            .transpose()?;
         let listener = TcpListener::bind(config.listen)
             .await
             .map_err(|e| NetlinkError::io(format!("listening on {}", config.listen), e))?;
@@ -88,6 +109,8 @@ impl TherapistServer {
             connections: Arc::new(Semaphore::new(config.max_connections)),
             config,
             acceptor,
+            store,
+            certificate_sha256,
             sessions: Mutex::new(HashMap::new()),
             stations: Mutex::new(HashMap::new()),
             events,
@@ -194,28 +217,21 @@ impl Hub {
         }
     }
 
-    /// The session's slot, its file opened (on the blocking pool, holding only this session's
-    /// lock) if no other connection has it open. The hub-wide table is locked only to find or
-    /// insert the slot, never across file work.
-    async fn open_session(&self, hello: &Hello) -> Result<SessionSlot, NetlinkError> {
+    /// The session's slot, its store opened (holding only this session's lock) if no other
+    /// connection has it open. The hub-wide table is locked only to find or insert the slot,
+    /// never across store work.
+    async fn open_session(&self, hello: &Hello, peer: Peer<'_>) -> Result<SessionSlot, Refusal> {
+        // Every connection passes the store's checks, even one joining an open session.
+        self.store.admit(hello, peer).await?;
         let key = (hello.station_id.clone(), hello.session_id.clone());
         let slot = lock(&self.sessions).entry(key).or_default().clone();
         let opened = {
             let mut guard = slot.lock().await;
             if guard.is_none() {
-                let dir = self.config.store_dir.clone();
-                let (station, session) = (hello.station_id.clone(), hello.session_id.clone());
-                let open = move || SessionFile::open(&dir, &station, &session);
-                match tokio::task::spawn_blocking(open).await {
-                    Ok(Ok(file)) => {
-                        *guard = Some(file);
-                        Ok(())
-                    }
-                    Ok(Err(e)) => Err(e),
-                    Err(e) => Err(NetlinkError::Protocol(format!(
-                        "session open task failed: {e}"
-                    ))),
-                }
+                self.store
+                    .open_session(hello)
+                    .await
+                    .map(|store| *guard = Some(store))
             } else {
                 Ok(())
             }

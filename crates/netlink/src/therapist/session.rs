@@ -3,7 +3,7 @@
 
 use crate::error::NetlinkError;
 use crate::frame::{Ack, Bye, Frame, Hello, MAX_SEQ_STEP, max_next_seq};
-use crate::store::{Appended, SessionFile};
+use crate::store::Appended;
 
 use super::*;
 
@@ -39,11 +39,11 @@ pub(super) async fn handle_frame(
                     seq,
                 }))
             };
-            let mut guard = file.clone().lock_owned().await;
-            let Some(f) = guard.as_mut() else {
-                return Err(Failure::Closed("session file is not open".into()));
+            let mut guard = file.lock().await;
+            let Some(store) = guard.as_mut() else {
+                return Err(Failure::Closed("session store is not open".into()));
             };
-            let last = f.last_seq();
+            let last = store.last_seq();
             let limit = max_next_seq(last);
             if summary.seq > limit {
                 return Err(Failure::Protocol(format!(
@@ -53,23 +53,20 @@ pub(super) async fn handle_frame(
                 )));
             }
             if let Some(last) = last.filter(|&l| summary.seq <= l) {
-                // A duplicate: answered without touching the file.
+                // A duplicate: answered without touching the store.
                 return ack(last);
             }
-            // The write runs on the blocking pool, holding only this session's lock.
-            let (summary, appended, last) = tokio::task::spawn_blocking(move || {
-                let f = guard.as_mut().expect("checked above, lock held");
-                let appended = f.append(&summary);
-                let last = f.last_seq().unwrap_or(summary.seq);
-                (summary, appended, last)
-            })
-            .await
-            .map_err(|e| Failure::Closed(format!("storage task failed: {e}")))?;
-            let appended =
-                appended.map_err(|e| Failure::Closed(format!("storage failure: {e}")))?;
+            // Holding only this session's lock; the store does its blocking work off the reactor.
+            let appended = store
+                .append(&summary)
+                .await
+                .map_err(|e| Failure::Closed(format!("storage failure: {e}")))?;
+            let last = store.last_seq().unwrap_or(summary.seq);
+            drop(guard);
             if appended == Appended::Stored {
                 hub.emit(TherapistEvent::Summary {
                     station_id: hello.station_id.clone(),
+                    patient_id: hello.patient_id.clone(),
                     summary,
                 });
             }
@@ -82,7 +79,7 @@ pub(super) async fn handle_frame(
                     bye.session_id, hello.session_id
                 )));
             }
-            sync_file(file)
+            sync_file(file, Some(&bye))
                 .await
                 .map_err(|e| Failure::Closed(format!("storage failure: {e}")))?;
             let stored = last_seq(file).await;
@@ -106,19 +103,15 @@ pub(super) async fn handle_frame(
     }
 }
 
-/// The last sequence number stored in a session, `None` if none (or the file is not open).
+/// The last sequence number stored in a session, `None` if none (or the store is not open).
 pub(super) async fn last_seq(file: &SessionSlot) -> Option<u64> {
-    file.lock().await.as_ref().and_then(SessionFile::last_seq)
+    file.lock().await.as_ref().and_then(|s| s.last_seq())
 }
 
-/// fsyncs a session file on the blocking pool.
-pub(super) async fn sync_file(file: &SessionSlot) -> Result<(), NetlinkError> {
-    let handle = match file.lock().await.as_ref() {
-        Some(f) => f.try_clone_file()?,
-        None => return Ok(()),
-    };
-    tokio::task::spawn_blocking(move || handle.sync_data())
-        .await
-        .map_err(|e| NetlinkError::Protocol(format!("fsync task failed: {e}")))?
-        .map_err(|e| NetlinkError::io("fsync of a session file", e))
+/// Makes a session's store durable; `bye` when the station ended the session in order.
+pub(super) async fn sync_file(file: &SessionSlot, bye: Option<&Bye>) -> Result<(), NetlinkError> {
+    match file.lock().await.as_mut() {
+        Some(store) => store.sync(bye).await,
+        None => Ok(()),
+    }
 }

@@ -1,0 +1,131 @@
+//! The clinic's own small certificate authority (rcgen): the CA, the hub's certificate and
+//! the stations' certificates, signed from their requests at pairing.
+
+use rcgen::{
+    BasicConstraints, CertificateParams, CertificateSigningRequestParams, DistinguishedName,
+    DnType, ExtendedKeyUsagePurpose, IsCa, Issuer, KeyPair, KeyUsagePurpose, SanType,
+};
+
+/// A certificate and its private key, PEM.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CertAndKey {
+    /// The certificate, PEM.
+    pub cert_pem: String,
+    /// The private key, PKCS#8 PEM.
+    pub key_pem: String,
+}
+
+/// The clinic's CA: signs the hub's certificate and every paired station's.
+pub struct ClinicCa {
+    pem: CertAndKey,
+    issuer: Issuer<'static, KeyPair>,
+}
+
+impl std::fmt::Debug for ClinicCa {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ClinicCa").finish_non_exhaustive()
+    }
+}
+
+fn err(what: &str) -> impl Fn(rcgen::Error) -> String + '_ {
+    move |e| format!("{what}: {e}")
+}
+
+/// Days a station's certificate is valid (revocation is immediate at the hub regardless).
+pub const STATION_CERT_DAYS: i64 = 5 * 365;
+
+/// Valid from a day ago (clocks differ) for `days` days.
+fn valid_for_days(params: &mut CertificateParams, days: i64) {
+    let now = time::OffsetDateTime::now_utc();
+    params.not_before = now - time::Duration::days(1);
+    params.not_after = now + time::Duration::days(days);
+}
+
+impl ClinicCa {
+    /// A new CA named `name` (e.g. the clinic), ECDSA P-256, valid 20 years.
+    pub fn create(name: &str) -> Result<Self, String> {
+        let key = KeyPair::generate().map_err(err("generating the CA key"))?;
+        let mut params = CertificateParams::new(Vec::<String>::new()).map_err(err("CA"))?;
+        params.is_ca = IsCa::Ca(BasicConstraints::Constrained(0));
+        params.key_usages = vec![KeyUsagePurpose::KeyCertSign, KeyUsagePurpose::CrlSign];
+        let mut dn = DistinguishedName::new();
+        dn.push(DnType::CommonName, format!("{name} telerehab CA"));
+        params.distinguished_name = dn;
+        valid_for_days(&mut params, 20 * 365);
+        let cert = params.self_signed(&key).map_err(err("signing the CA"))?;
+        let pem = CertAndKey {
+            cert_pem: cert.pem(),
+            key_pem: key.serialize_pem(),
+        };
+        Ok(Self {
+            issuer: Issuer::new(params, key),
+            pem,
+        })
+    }
+
+    /// The CA from its PEM certificate and key (as [`Self::pem`] gave them).
+    pub fn load(pem: CertAndKey) -> Result<Self, String> {
+        let key = KeyPair::from_pem(&pem.key_pem).map_err(err("reading the CA key"))?;
+        let issuer = Issuer::from_ca_cert_pem(&pem.cert_pem, key).map_err(err("reading the CA"))?;
+        Ok(Self { pem, issuer })
+    }
+
+    /// The CA's certificate and key, PEM (store the key 0600).
+    pub fn pem(&self) -> &CertAndKey {
+        &self.pem
+    }
+
+    /// A server certificate for the hub, naming `names` (DNS names or IP literals).
+    pub fn issue_server(&self, names: &[String]) -> Result<CertAndKey, String> {
+        let key = KeyPair::generate().map_err(err("generating the hub key"))?;
+        let mut params = CertificateParams::new(names.to_vec()).map_err(err("hub names"))?;
+        params.extended_key_usages = vec![ExtendedKeyUsagePurpose::ServerAuth];
+        valid_for_days(&mut params, 2 * 365);
+        let cert = params
+            .signed_by(&key, &self.issuer)
+            .map_err(err("signing the hub certificate"))?;
+        Ok(CertAndKey {
+            cert_pem: cert.pem(),
+            key_pem: key.serialize_pem(),
+        })
+    }
+
+    /// Signs a station's request: whatever names it asked for, the certificate names exactly
+    /// `station_id` (DNS subjectAltName) and serves only client authentication.
+    pub fn sign_station(&self, csr_pem: &str, station_id: &str) -> Result<String, String> {
+        let mut csr = CertificateSigningRequestParams::from_pem(csr_pem)
+            .map_err(err("the station's certificate request"))?;
+        let name = station_id
+            .to_owned()
+            .try_into()
+            .map_err(err("station id as a DNS name"))?;
+        let mut params = CertificateParams::default();
+        params.subject_alt_names = vec![SanType::DnsName(name)];
+        params.extended_key_usages = vec![ExtendedKeyUsagePurpose::ClientAuth];
+        let mut dn = DistinguishedName::new();
+        dn.push(DnType::CommonName, station_id);
+        params.distinguished_name = dn;
+        valid_for_days(&mut params, STATION_CERT_DAYS);
+        csr.params = params;
+        let cert = csr
+            .signed_by(&self.issuer)
+            .map_err(err("signing the station certificate"))?;
+        Ok(cert.pem())
+    }
+}
+
+/// SHA-256 of a certificate's DER, lowercase hex: how the hub names a station's credential.
+pub fn certificate_sha256_hex(der: &[u8]) -> String {
+    crate::pairing::to_hex(ring::digest::digest(&ring::digest::SHA256, der).as_ref())
+}
+
+/// The DER of the first certificate in a PEM text.
+pub fn first_certificate_der(pem: &str) -> Result<Vec<u8>, String> {
+    use rustls::pki_types::CertificateDer;
+    use rustls::pki_types::pem::PemObject;
+    CertificateDer::pem_slice_iter(pem.as_bytes())
+        .next()
+        .ok_or("no CERTIFICATE in the PEM text")?
+        .map(|c| c.to_vec())
+        .map_err(|e| format!("certificate PEM: {e}"))
+}

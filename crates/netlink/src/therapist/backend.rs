@@ -1,0 +1,187 @@
+//! Where a hub keeps what stations send, and who may send it: the [`HubStore`] seam.
+//!
+//! The hub's protocol logic (sequence bounds, duplicates, Acks, per-session locks) lives in
+//! [`super::TherapistServer`]; a store only admits sessions and persists summaries. Two stores
+//! exist: [`FileStore`] (one JSON-lines file per session under a directory, for
+//! `telerehab therapist --store DIR`) and the clinic hub's database (crate `hub`).
+
+use std::future::Future;
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::pin::Pin;
+use std::sync::{Arc, Mutex};
+
+use rustls::pki_types::CertificateDer;
+
+use crate::error::NetlinkError;
+use crate::frame::{Bye, Hello, Summary};
+use crate::pairing::PairingAuthority;
+use crate::store::{Appended, SessionFile, write_hello};
+
+/// A boxed future, so the store traits can be used as trait objects.
+pub type BoxFuture<'a, T> = Pin<Box<dyn Future<Output = T> + Send + 'a>>;
+
+/// What the hub knows of the connecting station before it trusts its `Hello`.
+#[derive(Debug, Clone, Copy)]
+pub struct Peer<'a> {
+    /// Remote address.
+    pub addr: SocketAddr,
+    /// The client certificate the station presented in the TLS handshake, leaf only (already
+    /// verified to chain to the hub's client CA), if any.
+    pub certificate: Option<&'a CertificateDer<'static>>,
+}
+
+/// A refusal the hub sends to the station as an `Error` frame before closing.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Refusal {
+    /// Why, for humans (names the problem).
+    pub message: String,
+    /// A machine-readable code, e.g. [`crate::frame::UPDATE_REQUIRED`]; `None` for ordinary
+    /// refusals.
+    pub code: Option<&'static str>,
+}
+
+impl Refusal {
+    /// A refusal without a code.
+    pub fn new(message: impl Into<String>) -> Self {
+        Self {
+            message: message.into(),
+            code: None,
+        }
+    }
+}
+
+/// The hub's persistence and admission policy.
+pub trait HubStore: Send + Sync + 'static {
+    /// Admits a connection whose `Hello` is well formed, before anything is stored: where the
+    /// store knows stations, that the certificate is the station's, that it is not revoked and
+    /// that it speaks for its own patient. Called for every connection. The default admits.
+    fn admit<'a>(&'a self, hello: &'a Hello, peer: Peer<'a>) -> BoxFuture<'a, Result<(), Refusal>> {
+        let _ = (hello, peer);
+        Box::pin(async { Ok(()) })
+    }
+
+    /// Records the `Hello` and opens its session for appending (only when no other connection
+    /// of the session has it open).
+    fn open_session<'a>(
+        &'a self,
+        hello: &'a Hello,
+    ) -> BoxFuture<'a, Result<Box<dyn SessionStore>, Refusal>>;
+
+    /// The authority that pairs new stations, if this hub pairs (the file store does not).
+    fn pairing(&self) -> Option<Arc<dyn PairingAuthority>> {
+        None
+    }
+}
+
+/// One open session in a [`HubStore`]. The hub calls it under the session's own lock, so
+/// calls never overlap; it asks for the last stored sequence number once, at open.
+pub trait SessionStore: Send {
+    /// The highest sequence number stored in this session, `None` if none.
+    fn last_seq(&self) -> Option<u64>;
+
+    /// Stores `summary` unless one with this or a higher sequence number is stored; durable
+    /// against a hub crash when it returns `Stored` (the hub acknowledges it next).
+    fn append<'a>(
+        &'a mut self,
+        summary: &'a Summary,
+    ) -> BoxFuture<'a, Result<Appended, NetlinkError>>;
+
+    /// Makes everything appended durable against power loss; `bye` is the station's, when the
+    /// session ended in order (`None` at a disconnect).
+    fn sync<'a>(&'a mut self, bye: Option<&'a Bye>) -> BoxFuture<'a, Result<(), NetlinkError>>;
+}
+
+/// The directory store: `DIR/<station_id>/<session_id>.jsonl` and `.hello.json` (see
+/// [`crate::store`]). It knows no stations, so it admits every well-formed `Hello` (the hub
+/// has already checked a client certificate against the station id when it requires one).
+#[derive(Debug, Clone)]
+pub struct FileStore {
+    dir: PathBuf,
+}
+
+impl FileStore {
+    /// A store rooted at `dir` (created when the hub binds).
+    pub fn new(dir: impl Into<PathBuf>) -> Self {
+        Self { dir: dir.into() }
+    }
+}
+
+/// Runs blocking file work on tokio's blocking pool.
+async fn blocking<T: Send + 'static>(
+    what: &'static str,
+    work: impl FnOnce() -> Result<T, NetlinkError> + Send + 'static,
+) -> Result<T, NetlinkError> {
+    tokio::task::spawn_blocking(work)
+        .await
+        .map_err(|e| NetlinkError::Protocol(format!("{what} task failed: {e}")))?
+}
+
+impl HubStore for FileStore {
+    fn open_session<'a>(
+        &'a self,
+        hello: &'a Hello,
+    ) -> BoxFuture<'a, Result<Box<dyn SessionStore>, Refusal>> {
+        Box::pin(async move {
+            let (dir, hello) = (self.dir.clone(), hello.clone());
+            let file = blocking("session open", move || {
+                write_hello(&dir, &hello)?;
+                SessionFile::open(&dir, &hello.station_id, &hello.session_id)
+            })
+            .await
+            .map_err(|e| Refusal::new(format!("cannot open the session store: {e}")))?;
+            let last_seq = file.last_seq();
+            Ok(Box::new(FileSession {
+                file: Arc::new(Mutex::new(file)),
+                last_seq,
+            }) as Box<dyn SessionStore>)
+        })
+    }
+}
+
+struct FileSession {
+    file: Arc<Mutex<SessionFile>>,
+    last_seq: Option<u64>,
+}
+
+fn lock_file(file: &Mutex<SessionFile>) -> std::sync::MutexGuard<'_, SessionFile> {
+    // Only this session's calls (never overlapping) take it; a panic mid-append leaves at worst
+    // a partial line, which the next open cuts off.
+    file.lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+impl SessionStore for FileSession {
+    fn last_seq(&self) -> Option<u64> {
+        self.last_seq
+    }
+
+    fn append<'a>(
+        &'a mut self,
+        summary: &'a Summary,
+    ) -> BoxFuture<'a, Result<Appended, NetlinkError>> {
+        Box::pin(async move {
+            let (file, summary) = (self.file.clone(), summary.clone());
+            let (appended, last) = blocking("storage", move || {
+                let mut f = lock_file(&file);
+                let appended = f.append(&summary)?;
+                Ok((appended, f.last_seq()))
+            })
+            .await?;
+            self.last_seq = last;
+            Ok(appended)
+        })
+    }
+
+    fn sync<'a>(&'a mut self, _bye: Option<&'a Bye>) -> BoxFuture<'a, Result<(), NetlinkError>> {
+        Box::pin(async move {
+            let handle = lock_file(&self.file).try_clone_file()?;
+            blocking("fsync", move || {
+                handle
+                    .sync_data()
+                    .map_err(|e| NetlinkError::io("fsync of a session file", e))
+            })
+            .await
+        })
+    }
+}
