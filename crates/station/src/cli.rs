@@ -1,7 +1,9 @@
 //! The `telerehab` command line: the clap tree and the dispatch, nothing else. Each
 //! subcommand's arguments and `run()` live in its own file under [`crate::commands`].
 
-use crate::commands::{bench, devices, recover, render, run, therapist, vehicle, wheel};
+use crate::commands::{
+    bench, devices, pair, recover, render, run, sync, therapist, vehicle, wheel,
+};
 use clap::{Parser, Subcommand};
 
 /// telerehab: home upper-limb rehabilitation with a force-feedback steering wheel.
@@ -36,6 +38,10 @@ pub enum Command {
     Bench(bench::BenchArgs),
     /// Measure a real force-feedback wheel and write its profile (`wheel calibrate`).
     Wheel(wheel::WheelArgs),
+    /// Pair this station with a clinic's hub using the code the clinic gave.
+    Pair(pair::PairArgs),
+    /// Deliver the summaries earlier sessions could not (they are also sent at the next run).
+    Sync(sync::SyncArgs),
 }
 
 /// Run one subcommand.
@@ -49,5 +55,7 @@ pub fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Vehicle(args) => vehicle::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Wheel(args) => wheel::run(&args),
+        Command::Pair(args) => pair::run(&args),
+        Command::Sync(args) => sync::run(&args),
     }
 }

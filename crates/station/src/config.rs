@@ -195,6 +195,10 @@ pub struct TherapistLinkConfig {
     pub ca_pem: Option<std::path::PathBuf>,
     /// Name in the hub's certificate (defaults to the host of `address`).
     pub server_name: Option<String>,
+    /// This station's certificate (PEM) for hubs that require mutual TLS; with `key_pem`.
+    pub cert_pem: Option<std::path::PathBuf>,
+    /// This station's private key (PEM); with `cert_pem`.
+    pub key_pem: Option<std::path::PathBuf>,
 }
 
 /// A configuration problem, naming the field.

@@ -35,6 +35,7 @@
 pub mod cli;
 pub mod commands;
 pub mod config;
+pub mod home;
 pub mod link;
 pub mod logging;
 pub mod record;

@@ -19,6 +19,9 @@ pub struct LinkReport {
     pub undelivered: u64,
     /// The last link error, if any.
     pub last_error: Option<String>,
+    /// Summaries kept in the on-disk queue for the next run or `telerehab sync` (`None`
+    /// without a queue, or when everything was delivered).
+    pub queued: Option<u64>,
 }
 
 /// Append one line to the report (a `String` never fails to take it).
@@ -254,6 +257,13 @@ fn delivery(s: &mut String, r: &SessionReport, link: Option<&LinkReport>) {
             if let Some(e) = &l.last_error {
                 line!(s, "therapist link      last error: {e}");
             }
+            if let Some(n) = l.queued {
+                line!(
+                    s,
+                    "therapist queue     {n} summaries kept on disk; sent at the next run or by \
+                     `telerehab sync`"
+                );
+            }
         }
         None => line!(
             s,
@@ -383,6 +393,7 @@ mod tests {
             acked: 8,
             undelivered: 1,
             last_error: Some("connection reset".into()),
+            queued: Some(1),
         };
         let cases = [
             ("report_everything", render(&everything(), Some(&link))),

@@ -192,7 +192,7 @@ fn window(args: BenchWindowArgs) -> anyhow::Result<()> {
         clock: clock.clone(),
     };
     let controls = session::Controls::with_stop(install_stop_flag()?);
-    let link = Link::start(&cfg, &clock)?;
+    let link = Link::start(&cfg, &clock, None)?;
     let (report, stats) = session::window::run_with_window(
         &opts,
         &controls,

@@ -4,9 +4,11 @@
 
 pub mod bench;
 pub mod devices;
+pub mod pair;
 pub mod recover;
 pub mod render;
 pub mod run;
+pub mod sync;
 pub mod therapist;
 pub mod vehicle;
 pub mod wheel;

@@ -2,6 +2,7 @@
 //! its end. The threads, window and signals of the session are [`crate::session`]'s.
 
 use crate::config::StationConfig;
+use crate::home::{Home, HomeArg};
 use crate::link::Link;
 use crate::record::TickRecord;
 use crate::regimen::Regimen;
@@ -69,6 +70,9 @@ pub struct RunArgs {
     /// The patient's pseudonymous identifier.
     #[arg(long)]
     pub patient_id: Option<String>,
+    /// The station's home (pairing, summary queue, recordings).
+    #[command(flatten)]
+    pub home: HomeArg,
 }
 
 impl RunArgs {
@@ -89,6 +93,77 @@ impl RunArgs {
             speed: Speed::Realtime,
             station_id: None,
             patient_id: None,
+            home: HomeArg::default(),
+        }
+    }
+}
+
+/// What the station's home adds to a run: the paired hub (unless a therapist is named) with
+/// this station's identity, a recording by default, and the on-disk queue.
+#[derive(Debug, Default)]
+pub(crate) struct HomePlan {
+    /// The home, when the run uses it (paired, or named by `--home`/`TELEREHAB_HOME`).
+    pub home: Option<Home>,
+    /// Where the session is recorded when `--record` is not given (paired stations).
+    pub default_recording: Option<PathBuf>,
+}
+
+/// Most recordings a paired station keeps in its home; the oldest go first.
+const RECORDINGS_KEPT: usize = 200;
+
+/// Applies the station's home to `cfg`: a paired station talks to its hub with its own
+/// certificate and records every session.
+fn apply_home(args: &RunArgs, cfg: &mut StationConfig) -> anyhow::Result<HomePlan> {
+    let home = Home::resolve(&args.home)?;
+    let Some(pairing) = home.pairing()? else {
+        // Named explicitly: the queue lives there even without a pairing.
+        let home = args.home.home.is_some().then_some(home);
+        return Ok(HomePlan {
+            home,
+            default_recording: None,
+        });
+    };
+    home.check_private()?;
+    if cfg.therapist.address.is_empty() {
+        let tls = home.client_tls(&pairing);
+        cfg.therapist.address = pairing.hub.clone();
+        cfg.therapist.ca_pem = Some(tls.ca_pem_path);
+        cfg.therapist.server_name = Some(pairing.server_name.clone());
+        if let Some(id) = tls.identity {
+            cfg.therapist.cert_pem = Some(id.cert_pem_path);
+            cfg.therapist.key_pem = Some(id.key_pem_path);
+        }
+        cfg.session.station_id = pairing.station_id.clone();
+        cfg.session.patient_id = pairing.patient_id.clone();
+    }
+    let dir = home.recordings_dir();
+    crate::home::private_dir(&dir)?;
+    prune_recordings(&dir, RECORDINGS_KEPT - 1);
+    let stamp = humantime::format_rfc3339_millis(std::time::SystemTime::now())
+        .to_string()
+        .replace(':', "-");
+    Ok(HomePlan {
+        default_recording: Some(dir.join(format!("session-{stamp}.mcap"))),
+        home: Some(home),
+    })
+}
+
+/// Removes the oldest `.mcap` files of `dir` beyond `keep` (names sort by time).
+fn prune_recordings(dir: &std::path::Path, keep: usize) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    let mut files: Vec<PathBuf> = entries
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|e| e == "mcap"))
+        .collect();
+    files.sort();
+    let excess = files.len().saturating_sub(keep);
+    for old in &files[..excess] {
+        match std::fs::remove_file(old) {
+            Ok(()) => tracing::info!(path = %old.display(), "oldest recording removed (retention)"),
+            Err(e) => tracing::warn!(path = %old.display(), "cannot remove an old recording: {e}"),
         }
     }
 }
@@ -162,7 +237,9 @@ fn real_body(_args: &RunArgs) -> anyhow::Result<BodyKind> {
 
 /// Run `telerehab run`: the session, then its report on stdout.
 pub fn run(args: RunArgs) -> anyhow::Result<()> {
-    let (cfg, regimen) = plan(&args)?;
+    let (mut cfg, regimen) = plan(&args)?;
+    let home = apply_home(&args, &mut cfg)?;
+    cfg.validate().context("invalid settings")?;
     let body = if args.sim {
         BodyKind::Simulated
     } else {
@@ -182,7 +259,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     let opts = SessionOptions {
         config: cfg.clone(),
         pacing,
-        record: args.record.clone(),
+        record: args.record.clone().or(home.default_recording),
         body,
         regimen,
         isolate_core: !args.headless,
@@ -196,7 +273,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         window = !args.headless,
         "starting session"
     );
-    let link = Link::start(&cfg, &clock)?;
+    let link = Link::start(&cfg, &clock, home.home.as_ref())?;
     let report = match view {
         None => session::run(&opts, &controls, &mut &link)?,
         Some(view) => {

@@ -1,15 +1,22 @@
 //! The station side of the therapist link: a small tokio runtime owning the netlink
-//! store-and-forward task. The recorder thread hands it summaries without ever waiting.
+//! store-and-forward task. The recorder thread hands it summaries without ever waiting; with a
+//! home directory each summary is first appended to the on-disk [`queue`].
+
+pub mod queue;
 
 use crate::config::StationConfig;
+use crate::home::Home;
 use crate::report::LinkReport;
 use crate::session::{LiveSummary, SessionObserver};
 use anyhow::Context;
 use clock::Clock;
 use netlink::{
-    ClientTls, Hello, PROTOCOL_VERSION, StationLink, StationLinkConfig, Summary, SummarySender,
+    ClientTls, Hello, Identity, PROTOCOL_VERSION, StationLink, StationLinkConfig, Summary,
+    SummarySender,
 };
+use queue::QueueFile;
 use std::net::{SocketAddr, ToSocketAddrs};
+use std::sync::Mutex;
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 /// How long the end of a session waits for the therapist to acknowledge what is pending.
@@ -27,6 +34,8 @@ struct Inner {
     session_id: String,
     exercise: String,
     address: String,
+    /// The session's on-disk queue (with a home directory).
+    queue: Option<Mutex<QueueFile>>,
 }
 
 /// The first socket address `address` (`host:port`) resolves to; errors name it as `what`.
@@ -38,12 +47,13 @@ pub(crate) fn resolve(what: &str, address: &str) -> anyhow::Result<SocketAddr> {
         .with_context(|| format!("{what} `{address}` has no address"))
 }
 
-/// A session identifier from the start time: `2026-11-21T09-30-00Z-s7` (seed appended).
-pub fn session_id(start: SystemTime, seed: u64) -> String {
-    let stamp = humantime::format_rfc3339_seconds(start)
+/// A session identifier from the start time to the millisecond, the seed and 32 random bits:
+/// `2026-11-21T09-30-00.123Z-s7-9f86d081`, unique even for two stations started at once.
+pub fn session_id(start: SystemTime, seed: u64, random: u32) -> String {
+    let stamp = humantime::format_rfc3339_millis(start)
         .to_string()
         .replace(':', "-");
-    format!("{stamp}-s{seed}")
+    format!("{stamp}-s{seed}-{random:08x}")
 }
 
 /// The first frame of the link: who this station, patient and session are, started now on
@@ -58,6 +68,7 @@ fn hello(cfg: &StationConfig, clock: &Clock) -> Hello {
         session_id: session_id(
             UNIX_EPOCH + Duration::from_nanos(start_unix_ns),
             cfg.session.seed,
+            rand::random(),
         ),
         exercise: cfg.session.exercise.clone(),
         started_unix_ms: start_unix_ns / 1_000_000,
@@ -69,7 +80,10 @@ impl Link {
     /// Start the link if the configuration names a therapist. Plaintext is refused to
     /// anything but loopback; `therapist.ca_pem` enables TLS. The session's start time (its
     /// identifier at the hub) is read on `clock`.
-    pub fn start(cfg: &StationConfig, clock: &Clock) -> anyhow::Result<Self> {
+    ///
+    /// With `home`, every summary is queued on disk first, and sessions an earlier run left
+    /// undelivered are sent in the background.
+    pub fn start(cfg: &StationConfig, clock: &Clock, home: Option<&Home>) -> anyhow::Result<Self> {
         let t = &cfg.therapist;
         if t.address.is_empty() {
             return Ok(Self { inner: None });
@@ -88,11 +102,18 @@ impl Link {
                 .server_name
                 .clone()
                 .unwrap_or_else(|| host.trim_matches(['[', ']']).to_string()),
-            identity: None,
+            identity: t
+                .cert_pem
+                .clone()
+                .zip(t.key_pem.clone())
+                .map(|(cert, key)| Identity {
+                    cert_pem_path: cert,
+                    key_pem_path: key,
+                }),
         });
         let hello = hello(cfg, clock);
         let session_id = hello.session_id.clone();
-        let config = StationLinkConfig::new(addr, tls, hello);
+        let config = StationLinkConfig::new(addr, tls.clone(), hello);
         config.validate().context("therapist link")?;
         let runtime = tokio::runtime::Builder::new_multi_thread()
             .worker_threads(1)
@@ -100,6 +121,14 @@ impl Link {
             .enable_all()
             .build()
             .context("cannot start the network runtime")?;
+        let queue = match home {
+            Some(home) => {
+                let dir = home.queue_dir();
+                spawn_delivery(&runtime, &dir, addr, tls.clone());
+                Some(Mutex::new(QueueFile::create(&dir, &config.hello)?))
+            }
+            None => None,
+        };
         let (sender, link) =
             StationLink::spawn(runtime.handle(), config).context("therapist link")?;
         tracing::info!(therapist = %t.address, tls = t.ca_pem.is_some(), session = %session_id, "therapist link started");
@@ -111,6 +140,7 @@ impl Link {
                 session_id,
                 exercise: cfg.session.exercise.clone(),
                 address: t.address.clone(),
+                queue,
             }),
         })
     }
@@ -136,6 +166,11 @@ impl Link {
             dropped_records: r.timing.dropped_records,
             extra: s.extra.clone(),
         };
+        if let Some(q) = &inner.queue {
+            q.lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .push(&summary);
+        }
         // Counted by the link (LinkStats::dropped/rejected) and reported at the end; logged
         // here because a rejected summary is a bug worth seeing at once.
         if let Err(e) = inner.sender.send(summary) {
@@ -151,12 +186,27 @@ impl Link {
             .link
             .finish_blocking(inner.runtime.handle(), FINISH_TIMEOUT);
         inner.runtime.shutdown_timeout(Duration::from_millis(200));
+        let mut queued = None;
+        if let Some(q) = inner.queue {
+            let q = q
+                .into_inner()
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            if let Some(e) = &q.error {
+                tracing::warn!("the on-disk summary queue stopped: {e}");
+            }
+            if stats.pending == 0 && stats.bye_acknowledged && q.error.is_none() {
+                q.delivered();
+            } else {
+                queued = Some(produced.saturating_sub(stats.acked));
+            }
+        }
         Some(LinkReport {
             address: inner.address,
             produced,
             sent: stats.sent,
             acked: stats.acked,
             undelivered: produced.saturating_sub(stats.acked),
+            queued,
             // A hub that cannot serve this station's protocol says so once and for all: that
             // is what the patient (and their technician) must read.
             last_error: stats
@@ -165,6 +215,29 @@ impl Link {
                 .or(stats.last_error),
         })
     }
+}
+
+/// Delivers, in the background on the link's runtime, the sessions an earlier run left in the
+/// queue (it ends with the runtime; what is not delivered stays for the next run or `sync`).
+fn spawn_delivery(
+    runtime: &tokio::runtime::Runtime,
+    dir: &std::path::Path,
+    address: &str,
+    tls: Option<ClientTls>,
+) {
+    let (dir, address) = (dir.to_owned(), address.to_owned());
+    runtime.spawn(async move {
+        match queue::deliver(&dir, &address, tls, Duration::from_secs(30)).await {
+            Ok(r) if r.sessions > 0 => tracing::info!(
+                sessions = r.sessions,
+                delivered = r.delivered,
+                remaining = r.remaining,
+                "queued sessions from earlier runs"
+            ),
+            Ok(_) => {}
+            Err(e) => tracing::warn!("queued sessions not delivered: {e:#}"),
+        }
+    });
 }
 
 /// The link watches a session for its summaries.
@@ -180,8 +253,12 @@ mod tests {
 
     #[test]
     fn session_id_is_a_valid_wire_identifier() {
-        let id = session_id(UNIX_EPOCH + Duration::from_secs(1_795_000_000), 7);
-        assert_eq!(id, "2026-11-18T11-06-40Z-s7");
+        let id = session_id(
+            UNIX_EPOCH + Duration::from_millis(1_795_000_000_123),
+            7,
+            0x9f86_d081,
+        );
+        assert_eq!(id, "2026-11-18T11-06-40.123Z-s7-9f86d081");
         netlink::frame::check_id("session_id", &id).unwrap();
     }
 
@@ -192,7 +269,16 @@ mod tests {
         let mut cfg = StationConfig::default();
         cfg.session.seed = 3;
         let hello = hello(&cfg, &clock);
-        assert_eq!(hello.session_id, "2026-01-01T00-01-30Z-s3");
+        assert!(
+            hello.session_id.starts_with("2026-01-01T00-01-30.500Z-s3-"),
+            "{}",
+            hello.session_id
+        );
+        assert_ne!(
+            hello.session_id,
+            super::hello(&cfg, &clock).session_id,
+            "random part"
+        );
         assert_eq!(
             hello.started_unix_ms,
             clock::MOCK_UNIX_START_NS / 1_000_000 + 90_500

@@ -1,0 +1,58 @@
+//! `telerehab sync`: deliver the summaries an earlier run could not, now.
+
+use crate::home::{Home, HomeArg};
+use crate::link::queue;
+use anyhow::{Context, bail};
+use std::time::Duration;
+
+/// `telerehab sync`.
+#[derive(Debug, clap::Args)]
+pub struct SyncArgs {
+    /// Hub address, `host:port`; default the paired hub.
+    #[arg(long)]
+    pub therapist: Option<String>,
+    /// Seconds allowed for each queued session.
+    #[arg(long, default_value_t = 30.0)]
+    pub timeout: f64,
+    /// The station's home (its queue and pairing).
+    #[command(flatten)]
+    pub home: HomeArg,
+}
+
+/// Sends every queued session and says what is left; fails if anything is left.
+pub fn run(args: &SyncArgs) -> anyhow::Result<()> {
+    let home = Home::resolve(&args.home)?;
+    let pairing = home.pairing()?;
+    let (address, tls) = match (&args.therapist, &pairing) {
+        (Some(a), _) => (a.clone(), None),
+        (None, Some(p)) => (p.hub.clone(), Some(home.client_tls(p))),
+        (None, None) => bail!(
+            "this station is not paired and no --therapist was given: nowhere to send the queue"
+        ),
+    };
+    if !(args.timeout.is_finite() && args.timeout > 0.0) {
+        bail!("--timeout must be a positive number of seconds");
+    }
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(1)
+        .enable_all()
+        .build()
+        .context("cannot start the network runtime")?;
+    let timeout = Duration::from_secs_f64(args.timeout);
+    let report = runtime.block_on(queue::deliver(&home.queue_dir(), &address, tls, timeout))?;
+    println!(
+        "sync: {} queued sessions, {} delivered, {} summaries still queued",
+        report.sessions, report.delivered, report.remaining
+    );
+    if report.delivered < report.sessions {
+        bail!(
+            "{} sessions not delivered to {address}: {}",
+            report.sessions - report.delivered,
+            report
+                .last_error
+                .as_deref()
+                .unwrap_or("no acknowledgement in time")
+        );
+    }
+    Ok(())
+}

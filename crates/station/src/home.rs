@@ -1,0 +1,234 @@
+//! The station's home directory: its pairing with a clinic's hub (the hub's CA and this
+//! station's own certificate and key), the queue of summaries not yet delivered, and its
+//! recordings. Health data and keys: files 0600 in 0700 directories.
+//!
+//! Where: `--home DIR`, else `$TELEREHAB_HOME`, else `$XDG_CONFIG_HOME/telerehab`, else
+//! `~/.config/telerehab`. Two stations on one machine (and every test) use their own.
+
+use anyhow::{Context, bail};
+use netlink::pairing::Credential;
+use netlink::{ClientTls, Identity};
+use serde::{Deserialize, Serialize};
+use std::fs::OpenOptions;
+use std::io::Write;
+use std::os::unix::fs::{DirBuilderExt, OpenOptionsExt, PermissionsExt};
+use std::path::{Path, PathBuf};
+
+/// `--home` (with `TELEREHAB_HOME`), shared by the station's commands.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct HomeArg {
+    /// The station's home directory (pairing, queue, recordings); default
+    /// `$XDG_CONFIG_HOME/telerehab` or `~/.config/telerehab`.
+    #[arg(long, env = "TELEREHAB_HOME", value_name = "DIR")]
+    pub home: Option<PathBuf>,
+}
+
+/// A station's home directory.
+#[derive(Debug, Clone)]
+pub struct Home {
+    dir: PathBuf,
+}
+
+/// What pairing left in the home directory (`pairing/hub.toml`), besides the PEM files.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Pairing {
+    /// The hub's address for stations, `host:port`.
+    pub hub: String,
+    /// The name on the hub's certificate.
+    pub server_name: String,
+    /// This station's identity at the hub.
+    pub station_id: String,
+    /// The patient this station speaks for.
+    pub patient_id: String,
+    /// When it was paired, ms since the Unix epoch.
+    pub paired_unix_ms: u64,
+}
+
+/// Writes `bytes` to `path` as a new 0600 file, atomically (temporary file, fsync, rename).
+pub fn write_private(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
+    let tmp = path.with_extension("tmp");
+    let mut f = OpenOptions::new()
+        .write(true)
+        .create(true)
+        .truncate(true)
+        .mode(0o600)
+        .open(&tmp)
+        .with_context(|| format!("cannot create {}", tmp.display()))?;
+    f.write_all(bytes)
+        .and_then(|()| f.sync_all())
+        .with_context(|| format!("cannot write {}", tmp.display()))?;
+    std::fs::rename(&tmp, path).with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// Creates `dir` (and parents) as 0700 if missing, and makes it 0700 if it exists.
+pub fn private_dir(dir: &Path) -> anyhow::Result<()> {
+    std::fs::DirBuilder::new()
+        .recursive(true)
+        .mode(0o700)
+        .create(dir)
+        .with_context(|| format!("cannot create {}", dir.display()))?;
+    std::fs::set_permissions(dir, std::fs::Permissions::from_mode(0o700))
+        .with_context(|| format!("cannot restrict {} to its owner", dir.display()))
+}
+
+impl Home {
+    /// The home named by `arg`, the environment or the platform default.
+    pub fn resolve(arg: &HomeArg) -> anyhow::Result<Self> {
+        if let Some(dir) = &arg.home {
+            return Ok(Self { dir: dir.clone() });
+        }
+        let base = std::env::var_os("XDG_CONFIG_HOME")
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+            .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".config")))
+            .context("no home directory: set --home or TELEREHAB_HOME")?;
+        Ok(Self {
+            dir: base.join("telerehab"),
+        })
+    }
+
+    /// A home at `dir`.
+    pub fn at(dir: impl Into<PathBuf>) -> Self {
+        Self { dir: dir.into() }
+    }
+
+    /// The directory.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    fn pairing_dir(&self) -> PathBuf {
+        self.dir.join("pairing")
+    }
+
+    /// Summaries not yet acknowledged by the hub, one file per session.
+    pub fn queue_dir(&self) -> PathBuf {
+        self.dir.join("queue")
+    }
+
+    /// Recordings of sessions (a paired station records every session).
+    pub fn recordings_dir(&self) -> PathBuf {
+        self.dir.join("recordings")
+    }
+
+    /// The pairing, if this station is paired.
+    pub fn pairing(&self) -> anyhow::Result<Option<Pairing>> {
+        let path = self.pairing_dir().join("hub.toml");
+        let text = match std::fs::read_to_string(&path) {
+            Ok(t) => t,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+            Err(e) => return Err(e).with_context(|| format!("cannot read {}", path.display())),
+        };
+        let pairing = toml::from_str(&text)
+            .with_context(|| format!("{} is damaged; pair again", path.display()))?;
+        Ok(Some(pairing))
+    }
+
+    /// Stores what pairing gave (replacing an earlier pairing).
+    pub fn save_pairing(
+        &self,
+        hub: &str,
+        cred: &Credential,
+        now_unix_ms: u64,
+    ) -> anyhow::Result<Pairing> {
+        let dir = self.pairing_dir();
+        private_dir(&self.dir)?;
+        private_dir(&dir)?;
+        write_private(&dir.join("ca.pem"), cred.ca_pem.as_bytes())?;
+        write_private(&dir.join("station.crt"), cred.cert_pem.as_bytes())?;
+        write_private(&dir.join("station.key"), cred.key_pem.as_bytes())?;
+        let pairing = Pairing {
+            hub: hub.to_owned(),
+            server_name: cred.server_name.clone(),
+            station_id: cred.station_id.clone(),
+            patient_id: cred.patient_id.clone(),
+            paired_unix_ms: now_unix_ms,
+        };
+        let text = toml::to_string(&pairing).context("cannot write the pairing")?;
+        write_private(&dir.join("hub.toml"), text.as_bytes())?;
+        Ok(pairing)
+    }
+
+    /// TLS to the paired hub: its CA only, and this station's certificate.
+    pub fn client_tls(&self, pairing: &Pairing) -> ClientTls {
+        let dir = self.pairing_dir();
+        ClientTls {
+            ca_pem_path: dir.join("ca.pem"),
+            server_name: pairing.server_name.clone(),
+            identity: Some(Identity {
+                cert_pem_path: dir.join("station.crt"),
+                key_pem_path: dir.join("station.key"),
+            }),
+        }
+    }
+
+    /// Refuses a home whose key is readable by others (someone could speak for the patient).
+    pub fn check_private(&self) -> anyhow::Result<()> {
+        let key = self.pairing_dir().join("station.key");
+        if let Ok(meta) = std::fs::metadata(&key)
+            && meta.permissions().mode() & 0o077 != 0
+        {
+            bail!(
+                "{} is readable by other users (mode {:o}); run `chmod 600` on it",
+                key.display(),
+                meta.permissions().mode() & 0o777
+            );
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn credential() -> Credential {
+        Credential {
+            station_id: "st-1".into(),
+            patient_id: "p-0042".into(),
+            ca_pem: "CA".into(),
+            cert_pem: "CERT".into(),
+            key_pem: "KEY".into(),
+            server_name: "clinic.example".into(),
+        }
+    }
+
+    #[test]
+    fn a_saved_pairing_reads_back_and_its_files_are_private() {
+        let tmp = tempfile::tempdir().unwrap();
+        let home = Home::at(tmp.path().join("home"));
+        assert_eq!(home.pairing().unwrap(), None);
+        let saved = home
+            .save_pairing("clinic.example:7878", &credential(), 1_795_000_000_000)
+            .unwrap();
+        assert_eq!(home.pairing().unwrap(), Some(saved));
+        let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode(home.dir()), 0o700);
+        assert_eq!(mode(&home.dir().join("pairing")), 0o700);
+        for f in ["ca.pem", "station.crt", "station.key", "hub.toml"] {
+            assert_eq!(mode(&home.dir().join("pairing").join(f)), 0o600, "{f}");
+        }
+        home.check_private().unwrap();
+        std::fs::set_permissions(
+            home.dir().join("pairing/station.key"),
+            std::fs::Permissions::from_mode(0o644),
+        )
+        .unwrap();
+        assert!(
+            home.check_private()
+                .unwrap_err()
+                .to_string()
+                .contains("chmod 600")
+        );
+    }
+
+    #[test]
+    fn a_damaged_pairing_file_says_to_pair_again() {
+        let tmp = tempfile::tempdir().unwrap();
+        let home = Home::at(tmp.path());
+        std::fs::create_dir_all(tmp.path().join("pairing")).unwrap();
+        std::fs::write(tmp.path().join("pairing/hub.toml"), "hub = 3").unwrap();
+        assert!(format!("{:#}", home.pairing().unwrap_err()).contains("pair again"));
+    }
+}
