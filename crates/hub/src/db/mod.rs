@@ -5,7 +5,8 @@
 //!   the embedded migrations (`crates/hub/migrations/`, versioned; re-opening is a no-op).
 //! - All SQL uses bound parameters written `$1`, `$2`, … (both backends accept them) and
 //!   portable types: TEXT ids, BIGINT times in milliseconds since the Unix epoch, BIGINT
-//!   0/1 flags, DOUBLE PRECISION floats.
+//!   0/1 flags, DOUBLE PRECISION floats. The `Any` driver decodes no NUMERIC: cast
+//!   PostgreSQL's `SUM(bigint)` (NUMERIC) back with `CAST(SUM(x) AS BIGINT)`.
 //! - Every method takes the current time as `now_ms` (milliseconds since the Unix epoch), so
 //!   tests are deterministic; the caller owns the clock.
 //!
@@ -164,7 +165,9 @@ impl Db {
         self.pool.close().await;
     }
 
-    pub(crate) fn pool(&self) -> &AnyPool {
+    /// The connection pool, for queries this type has no method for. Write placeholders as
+    /// `$1`, `$2`, … and use only portable SQL (see the module documentation).
+    pub fn pool(&self) -> &AnyPool {
         &self.pool
     }
 }
