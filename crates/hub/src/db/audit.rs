@@ -1,5 +1,7 @@
 //! The audit log: who read or changed what, when.
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use serde::Serialize;
 
 use super::{Db, col, hex, random_bytes};
@@ -11,7 +13,7 @@ pub const MAX_DETAIL_CHARS: usize = 1024;
 /// One audit log entry.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 pub struct AuditEntry {
-    /// Identifier: the time, zero-padded, and a random suffix (sorts by time).
+    /// Identifier: the time, zero-padded, a counter and a random suffix (sorts by time).
     pub id: String,
     /// When, ms since the Unix epoch.
     pub at_ms: i64,
@@ -24,6 +26,8 @@ pub struct AuditEntry {
     /// Free text for humans.
     pub detail: String,
 }
+
+static AUDIT_COUNTER: AtomicU64 = AtomicU64::new(0);
 
 fn clip(text: &str) -> String {
     text.chars()
@@ -42,7 +46,14 @@ impl Db {
         detail: &str,
         now_ms: i64,
     ) -> Result<(), HubError> {
-        let id = format!("{:016}-{}", now_ms.max(0), hex(&random_bytes::<6>()?));
+        // Time, then a per-process counter (entries of the same millisecond keep their order),
+        // then random bits (several hub processes on one PostgreSQL database).
+        let n = AUDIT_COUNTER.fetch_add(1, Ordering::Relaxed);
+        let id = format!(
+            "{:016}-{n:012}-{}",
+            now_ms.max(0),
+            hex(&random_bytes::<4>()?)
+        );
         sqlx::query(
             "INSERT INTO audit_log (id, at_ms, actor, action, target, detail) \
              VALUES ($1, $2, $3, $4, $5, $6)",

@@ -195,6 +195,9 @@ pub(crate) enum ApiError {
     BadRequest(String),
     /// 422: well-formed but refused (a regimen outside the safety bounds).
     Unprocessable(String),
+    /// A body axum's JSON extractor refused (malformed or wrong shape 400, wrong content type
+    /// 415, over [`MAX_BODY_BYTES`] 413), with that status.
+    Rejected(StatusCode, String),
     /// 500: details are logged, not shown.
     Internal,
 }
@@ -212,6 +215,7 @@ impl IntoResponse for ApiError {
             Self::NotFound(m) => (StatusCode::NOT_FOUND, m.as_str()),
             Self::BadRequest(m) => (StatusCode::BAD_REQUEST, m.as_str()),
             Self::Unprocessable(m) => (StatusCode::UNPROCESSABLE_ENTITY, m.as_str()),
+            Self::Rejected(status, m) => (*status, m.as_str()),
             Self::Internal => (
                 StatusCode::INTERNAL_SERVER_ERROR,
                 "internal error; the hub's log has the details",
@@ -237,7 +241,13 @@ impl From<HubError> for ApiError {
 
 impl From<axum::extract::rejection::JsonRejection> for ApiError {
     fn from(rejection: axum::extract::rejection::JsonRejection) -> Self {
-        Self::BadRequest(rejection.body_text())
+        // axum answers 422 for JSON of the wrong shape; this API keeps 422 for "well-formed
+        // but refused" (a regimen outside the bounds), so a malformed body is a 400.
+        let status = match rejection.status() {
+            StatusCode::UNPROCESSABLE_ENTITY => StatusCode::BAD_REQUEST,
+            other => other,
+        };
+        Self::Rejected(status, rejection.body_text())
     }
 }
 
