@@ -51,7 +51,12 @@ fn hello(station_id: &str, patient_id: &str, session_id: &str) -> Hello {
 /// A therapist, a patient and a paired station `st-1`.
 async fn paired(db: &Db) -> (hub::Therapist, hub::Patient) {
     let t = db
-        .add_therapist("ada@clinic.example", "correct horse battery", Role::Therapist, T0)
+        .add_therapist(
+            "ada@clinic.example",
+            "correct horse battery",
+            Role::Therapist,
+            T0,
+        )
         .await
         .unwrap();
     let p = db.add_patient("p-0042", Some(&t.id), T0).await.unwrap();
@@ -111,7 +116,12 @@ async fn schema_is_migrated(db: Db) {
 
 async fn therapists_and_lockout(db: Db) {
     let t = db
-        .add_therapist("Ada@Clinic.example", "correct horse battery", Role::Admin, T0)
+        .add_therapist(
+            "Ada@Clinic.example",
+            "correct horse battery",
+            Role::Admin,
+            T0,
+        )
         .await
         .unwrap();
     assert_eq!(t.email, "ada@clinic.example");
@@ -124,9 +134,17 @@ async fn therapists_and_lockout(db: Db) {
         .unwrap();
     assert!(hash.starts_with("$argon2id$"), "{hash}");
     let dup = db
-        .add_therapist("ada@clinic.example", "another long pass", Role::Therapist, T0)
+        .add_therapist(
+            "ada@clinic.example",
+            "another long pass",
+            Role::Therapist,
+            T0,
+        )
         .await;
-    assert!(matches!(dup, Err(HubError::AlreadyExists { .. })), "{dup:?}");
+    assert!(
+        matches!(dup, Err(HubError::AlreadyExists { .. })),
+        "{dup:?}"
+    );
     let short = db
         .add_therapist("bob@clinic.example", "short", Role::Therapist, T0)
         .await
@@ -160,7 +178,11 @@ async fn therapists_and_lockout(db: Db) {
         .await;
     assert!(matches!(locked, Err(HubError::LoginRefused)), "{locked:?}");
     let later = db
-        .verify_login("ada@clinic.example", "correct horse battery", T0 + 1 + LOCKOUT_MS)
+        .verify_login(
+            "ada@clinic.example",
+            "correct horse battery",
+            T0 + 1 + LOCKOUT_MS,
+        )
         .await;
     assert_eq!(later.unwrap().id, t.id);
 }
@@ -169,7 +191,10 @@ async fn login_sessions_expire(db: Db) {
     let (t, _) = paired(&db).await;
     let token = db.create_web_session(&t.id, T0, 10 * MIN).await.unwrap();
     assert_eq!(token.len(), 64);
-    assert_eq!(db.web_session(&token, T0 + MIN).await.unwrap(), Some(t.clone()));
+    assert_eq!(
+        db.web_session(&token, T0 + MIN).await.unwrap(),
+        Some(t.clone())
+    );
     assert_eq!(db.web_session(&token, T0 + 10 * MIN).await.unwrap(), None);
     assert_eq!(db.web_session("0000", T0).await.unwrap(), None);
     let stored: i64 = sqlx::query_scalar("SELECT COUNT(*) FROM web_sessions WHERE token_hash = $1")
@@ -185,19 +210,35 @@ async fn login_sessions_expire(db: Db) {
 async fn patients_and_caseload(db: Db) {
     let (t, p) = paired(&db).await;
     let admin = db
-        .add_therapist("root@clinic.example", "correct horse battery", Role::Admin, T0)
+        .add_therapist(
+            "root@clinic.example",
+            "correct horse battery",
+            Role::Admin,
+            T0,
+        )
         .await
         .unwrap();
     let other = db
-        .add_therapist("bob@clinic.example", "correct horse battery", Role::Therapist, T0)
+        .add_therapist(
+            "bob@clinic.example",
+            "correct horse battery",
+            Role::Therapist,
+            T0,
+        )
         .await
         .unwrap();
     let q = db.add_patient("q-7", Some(&other.id), T0).await.unwrap();
     let dup = db.add_patient("p-0042", None, T0).await;
-    assert!(matches!(dup, Err(HubError::AlreadyExists { .. })), "{dup:?}");
+    assert!(
+        matches!(dup, Err(HubError::AlreadyExists { .. })),
+        "{dup:?}"
+    );
     let ghost = db.add_patient("x", Some("t-nobody"), T0).await;
     assert!(matches!(ghost, Err(HubError::NotFound { .. })), "{ghost:?}");
-    assert_eq!(db.patient_by_pseudonym("p-0042").await.unwrap(), Some(p.clone()));
+    assert_eq!(
+        db.patient_by_pseudonym("p-0042").await.unwrap(),
+        Some(p.clone())
+    );
     assert_eq!(db.patient(&p.id).await.unwrap(), Some(p.clone()));
     assert_eq!(db.patient_by_pseudonym("nobody").await.unwrap(), None);
 
@@ -232,7 +273,13 @@ async fn hostile_pseudonyms_are_refused(db: Db) {
     ] {
         let err = db.add_patient(bad, None, T0).await.unwrap_err();
         assert!(
-            matches!(err, HubError::Invalid { field: "pseudonym", .. }),
+            matches!(
+                err,
+                HubError::Invalid {
+                    field: "pseudonym",
+                    ..
+                }
+            ),
             "{bad:?}: {err}"
         );
         assert!(err.to_string().contains("A-Z"), "{err}");
@@ -257,22 +304,35 @@ async fn pairing_codes_are_single_use(db: Db) {
     assert_eq!(stored, 0, "only the hash is stored");
     // Typed in lower case without the dash: same code.
     let typed = code.replace('-', "").to_lowercase();
-    assert_eq!(db.redeem_pairing_code(&typed, T0 + MIN).await.unwrap(), p.id);
+    assert_eq!(
+        db.redeem_pairing_code(&typed, T0 + MIN).await.unwrap(),
+        p.id
+    );
     let again = db.redeem_pairing_code(&code, T0 + MIN).await;
-    assert!(matches!(again, Err(HubError::Pair(PairRefusal::Used))), "{again:?}");
+    assert!(
+        matches!(again, Err(HubError::Pair(PairRefusal::Used))),
+        "{again:?}"
+    );
 
     let code2 = db.create_pairing_code(&p.id, T0, 15 * MIN).await.unwrap();
     let late = db.redeem_pairing_code(&code2, T0 + 15 * MIN).await;
-    assert!(matches!(late, Err(HubError::Pair(PairRefusal::Expired))), "{late:?}");
+    assert!(
+        matches!(late, Err(HubError::Pair(PairRefusal::Expired))),
+        "{late:?}"
+    );
     let unknown = db.redeem_pairing_code("2345-6789", T0).await;
     let garbage = db.redeem_pairing_code("'; DROP TABLE", T0).await;
     for r in [unknown, garbage] {
-        assert!(matches!(r, Err(HubError::Pair(PairRefusal::Unknown))), "{r:?}");
+        assert!(
+            matches!(r, Err(HubError::Pair(PairRefusal::Unknown))),
+            "{r:?}"
+        );
     }
-    let attempts: i64 = sqlx::query_scalar("SELECT CAST(SUM(failed_attempts) AS BIGINT) FROM pairing_codes")
-        .fetch_one(db.pool())
-        .await
-        .unwrap();
+    let attempts: i64 =
+        sqlx::query_scalar("SELECT CAST(SUM(failed_attempts) AS BIGINT) FROM pairing_codes")
+            .fetch_one(db.pool())
+            .await
+            .unwrap();
     assert_eq!(attempts, 2);
     let ghost = db.create_pairing_code("p-nobody", T0, MIN).await;
     assert!(matches!(ghost, Err(HubError::NotFound { .. })), "{ghost:?}");
@@ -282,14 +342,23 @@ async fn stations_and_revocation(db: Db) {
     let (_, p) = paired(&db).await;
     let st = db.station("st-1").await.unwrap().unwrap();
     assert_eq!(st.patient_id, p.id);
-    assert_eq!(db.station_by_fingerprint(FP1).await.unwrap(), Some(st.clone()));
+    assert_eq!(
+        db.station_by_fingerprint(FP1).await.unwrap(),
+        Some(st.clone())
+    );
     assert_eq!(db.station_by_fingerprint(FP2).await.unwrap(), None);
     let dup = db.add_station("st-2", &p.id, FP1, T0).await;
-    assert!(matches!(dup, Err(HubError::AlreadyExists { .. })), "{dup:?}");
+    assert!(
+        matches!(dup, Err(HubError::AlreadyExists { .. })),
+        "{dup:?}"
+    );
     let bad = db.add_station("../x", &p.id, FP2, T0).await;
     assert!(matches!(bad, Err(HubError::Invalid { .. })), "{bad:?}");
     let bad_fp = db.add_station("st-3", &p.id, "ABC", T0).await;
-    assert!(matches!(bad_fp, Err(HubError::Invalid { .. })), "{bad_fp:?}");
+    assert!(
+        matches!(bad_fp, Err(HubError::Invalid { .. })),
+        "{bad_fp:?}"
+    );
     db.touch_station("st-1", T0 + MIN).await.unwrap();
     assert_eq!(
         db.station("st-1").await.unwrap().unwrap().last_seen_ms,
@@ -297,14 +366,19 @@ async fn stations_and_revocation(db: Db) {
     );
     assert_eq!(db.stations_of(&p.id).await.unwrap().len(), 1);
 
-    db.open_session(&hello("st-1", &p.id, "s1"), T0).await.unwrap();
+    db.open_session(&hello("st-1", &p.id, "s1"), T0)
+        .await
+        .unwrap();
     db.revoke_station("st-1", T0 + 2 * MIN).await.unwrap();
     db.revoke_station("st-1", T0 + 3 * MIN).await.unwrap();
     let st = db.station("st-1").await.unwrap().unwrap();
     assert!(st.is_revoked());
     assert_eq!(st.revoked_at_ms, Some(T0 + 2 * MIN));
     let refused = db.open_session(&hello("st-1", &p.id, "s1"), T0).await;
-    assert!(matches!(refused, Err(HubError::StationRevoked(_))), "{refused:?}");
+    assert!(
+        matches!(refused, Err(HubError::StationRevoked(_))),
+        "{refused:?}"
+    );
     assert!(matches!(
         db.revoke_station("st-nobody", T0).await,
         Err(HubError::NotFound { .. })
@@ -317,7 +391,12 @@ async fn stations_and_revocation(db: Db) {
 
 async fn summaries_are_stored_exactly_once(db: Db) {
     let (_, p) = paired(&db).await;
-    assert_eq!(db.open_session(&hello("st-1", &p.id, "s1"), T0).await.unwrap(), None);
+    assert_eq!(
+        db.open_session(&hello("st-1", &p.id, "s1"), T0)
+            .await
+            .unwrap(),
+        None
+    );
     // In order, a duplicate, a reordered stale one, a gap (the station dropped some).
     let plan = [
         (0, Appended::Stored),
@@ -337,7 +416,9 @@ async fn summaries_are_stored_exactly_once(db: Db) {
     }
     // A reconnect resumes from the last stored.
     assert_eq!(
-        db.open_session(&hello("st-1", &p.id, "s1"), T0 + MIN).await.unwrap(),
+        db.open_session(&hello("st-1", &p.id, "s1"), T0 + MIN)
+            .await
+            .unwrap(),
         Some(4)
     );
     let seqs: Vec<u64> = db
@@ -358,19 +439,27 @@ async fn summaries_are_stored_exactly_once(db: Db) {
         .store_summary(&summary("s1", 4 + 1 + netlink::frame::MAX_SEQ_STEP), T0)
         .await;
     assert_eq!(ok.unwrap(), Appended::Stored);
-    let huge = db.store_summary(&summary("s1", u64::MAX), T0).await.unwrap_err();
+    let huge = db
+        .store_summary(&summary("s1", u64::MAX), T0)
+        .await
+        .unwrap_err();
     assert!(huge.to_string().contains("largest storable"), "{huge}");
     let mut nan = summary("s1", 99_999_999);
     nan.rms_lateral_m = f64::NAN;
     let nan = db.store_summary(&nan, T0).await.unwrap_err();
     assert!(nan.to_string().contains("rms_lateral_m"), "{nan}");
     let unknown = db.store_summary(&summary("s-nobody", 0), T0).await;
-    assert!(matches!(unknown, Err(HubError::NotFound { .. })), "{unknown:?}");
+    assert!(
+        matches!(unknown, Err(HubError::NotFound { .. })),
+        "{unknown:?}"
+    );
 }
 
 async fn concurrent_duplicates_are_stored_once(db: Db) {
     let (_, p) = paired(&db).await;
-    db.open_session(&hello("st-1", &p.id, "s1"), T0).await.unwrap();
+    db.open_session(&hello("st-1", &p.id, "s1"), T0)
+        .await
+        .unwrap();
     // Four writers each deliver the same 0..25, shuffled differently: every seq stored once,
     // and the stored sequence stays increasing.
     let mut tasks = Vec::new();
@@ -399,7 +488,10 @@ async fn concurrent_duplicates_are_stored_once(db: Db) {
         .map(|s| s.seq)
         .collect();
     all.sort_unstable();
-    assert_eq!(all, rows, "each stored summary reported Stored exactly once");
+    assert_eq!(
+        all, rows,
+        "each stored summary reported Stored exactly once"
+    );
     assert!(rows.windows(2).all(|w| w[0] < w[1]));
     assert_eq!(rows.last(), Some(&24));
 }
@@ -407,7 +499,9 @@ async fn concurrent_duplicates_are_stored_once(db: Db) {
 async fn session_of_another_station_is_refused(db: Db) {
     let (_, p) = paired(&db).await;
     db.add_station("st-2", &p.id, FP2, T0).await.unwrap();
-    db.open_session(&hello("st-1", &p.id, "s1"), T0).await.unwrap();
+    db.open_session(&hello("st-1", &p.id, "s1"), T0)
+        .await
+        .unwrap();
     let err = db
         .open_session(&hello("st-2", &p.id, "s1"), T0)
         .await
@@ -466,7 +560,9 @@ async fn sessions_close_and_list(db: Db) {
 
 async fn metrics_and_recordings(db: Db) {
     let (_, p) = paired(&db).await;
-    db.open_session(&hello("st-1", &p.id, "s1"), T0).await.unwrap();
+    db.open_session(&hello("st-1", &p.id, "s1"), T0)
+        .await
+        .unwrap();
     let mut m = BTreeMap::from([("rom_rad".to_owned(), 1.25), ("jerk".to_owned(), 3.5)]);
     db.put_metrics("s1", &m).await.unwrap();
     m.insert("jerk".to_owned(), 2.0);
@@ -498,13 +594,21 @@ async fn regimen_versions_increment(db: Db) {
     let (t, p) = paired(&db).await;
     assert_eq!(db.latest_regimen(&p.id).await.unwrap(), None);
     assert_eq!(db.put_regimen(&p.id, "a = 1", &t.id, T0).await.unwrap(), 1);
-    assert_eq!(db.put_regimen(&p.id, "a = 2", &t.id, T0 + MIN).await.unwrap(), 2);
+    assert_eq!(
+        db.put_regimen(&p.id, "a = 2", &t.id, T0 + MIN)
+            .await
+            .unwrap(),
+        2
+    );
     let latest = db.latest_regimen(&p.id).await.unwrap().unwrap();
     assert_eq!((latest.version, latest.toml.as_str()), (2, "a = 2"));
     assert_eq!(latest.prescribed_by, t.id);
     assert_eq!(latest.prescribed_at_ms, T0 + MIN);
     let history = db.regimen_history(&p.id).await.unwrap();
-    assert_eq!(history.iter().map(|r| r.version).collect::<Vec<_>>(), vec![1, 2]);
+    assert_eq!(
+        history.iter().map(|r| r.version).collect::<Vec<_>>(),
+        vec![1, 2]
+    );
     // Another patient starts at 1.
     let q = db.add_patient("q-1", None, T0).await.unwrap();
     assert_eq!(db.put_regimen(&q.id, "b = 1", &t.id, T0).await.unwrap(), 1);

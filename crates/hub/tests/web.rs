@@ -190,27 +190,67 @@ async fn login_sets_a_strict_cookie_and_locks_out_after_failures() {
     }
     let cookie = set.split(';').next().unwrap();
     let (status, _, me) = call(&f.app, Method::GET, "/api/me", Some(cookie), None).await;
-    assert_eq!((status, me["id"].as_str()), (StatusCode::OK, Some(f.ada.id.as_str())));
+    assert_eq!(
+        (status, me["id"].as_str()),
+        (StatusCode::OK, Some(f.ada.id.as_str()))
+    );
 
     let wrong = json!({"email": "ada@clinic.example", "password": "nope nope nope"});
     let unknown = json!({"email": "nobody@clinic.example", "password": PASSWORD});
-    let (s1, _, b1) = call(&f.app, Method::POST, "/api/login", None, Some(wrong.clone())).await;
+    let (s1, _, b1) = call(
+        &f.app,
+        Method::POST,
+        "/api/login",
+        None,
+        Some(wrong.clone()),
+    )
+    .await;
     let (s2, _, b2) = call(&f.app, Method::POST, "/api/login", None, Some(unknown)).await;
-    assert_eq!((s1, s2), (StatusCode::UNAUTHORIZED, StatusCode::UNAUTHORIZED));
+    assert_eq!(
+        (s1, s2),
+        (StatusCode::UNAUTHORIZED, StatusCode::UNAUTHORIZED)
+    );
     assert_eq!(b1, b2, "an unknown email answers like a wrong password");
     for _ in 0..4 {
-        call(&f.app, Method::POST, "/api/login", None, Some(wrong.clone())).await;
+        call(
+            &f.app,
+            Method::POST,
+            "/api/login",
+            None,
+            Some(wrong.clone()),
+        )
+        .await;
     }
     let right = json!({"email": "ada@clinic.example", "password": PASSWORD});
-    let (locked, _, _) = call(&f.app, Method::POST, "/api/login", None, Some(right.clone())).await;
+    let (locked, _, _) = call(
+        &f.app,
+        Method::POST,
+        "/api/login",
+        None,
+        Some(right.clone()),
+    )
+    .await;
     assert_eq!(locked, StatusCode::UNAUTHORIZED);
     f.clock.fetch_add(LOCKOUT_MS, Ordering::SeqCst);
     let (later, _, _) = call(&f.app, Method::POST, "/api/login", None, Some(right)).await;
     assert_eq!(later, StatusCode::OK);
     let log = actions(&f.db).await;
-    assert!(log.iter().any(|(a, act, t)| a == "web" && act == "login_failed" && t == "nobody@clinic.example"));
-    assert!(log.iter().any(|(a, act, _)| *a == f.ada.actor() && act == "login"));
-    let (bad, _, _) = call(&f.app, Method::POST, "/api/login", None, Some(json!({"email": 1}))).await;
+    assert!(
+        log.iter()
+            .any(|(a, act, t)| a == "web" && act == "login_failed" && t == "nobody@clinic.example")
+    );
+    assert!(
+        log.iter()
+            .any(|(a, act, _)| *a == f.ada.actor() && act == "login")
+    );
+    let (bad, _, _) = call(
+        &f.app,
+        Method::POST,
+        "/api/login",
+        None,
+        Some(json!({"email": 1})),
+    )
+    .await;
     assert_eq!(bad, StatusCode::BAD_REQUEST);
 }
 
@@ -220,8 +260,16 @@ async fn endpoints_need_a_valid_cookie_and_logout_ends_it() {
     let (health, _, body) = call(&f.app, Method::GET, "/api/health", None, None).await;
     assert_eq!((health, body), (StatusCode::OK, json!({"status": "ok"})));
     let forged = format!("{}={}", web::SESSION_COOKIE, "ab".repeat(32));
-    for cookie in [None, Some(forged.as_str()), Some("telerehab_session=../../etc")] {
-        for uri in ["/api/me", "/api/patients", &format!("/api/patients/{}", f.p_ada.id)] {
+    for cookie in [
+        None,
+        Some(forged.as_str()),
+        Some("telerehab_session=../../etc"),
+    ] {
+        for uri in [
+            "/api/me",
+            "/api/patients",
+            &format!("/api/patients/{}", f.p_ada.id),
+        ] {
             let (status, _, body) = call(&f.app, Method::GET, uri, cookie, None).await;
             assert_eq!(status, StatusCode::UNAUTHORIZED, "{uri} {cookie:?}");
             assert!(body["error"].as_str().unwrap().contains("log in"), "{body}");
@@ -240,18 +288,43 @@ async fn endpoints_need_a_valid_cookie_and_logout_ends_it() {
 #[tokio::test]
 async fn a_therapist_sees_only_their_patients_and_others_are_404() {
     let f = fixture().await;
-    f.db.add_station("st-1", &f.p_bob.id, &"ab".repeat(32), T0).await.unwrap();
-    f.db.open_session(&hello(&f.p_bob.id, "s-bob"), T0).await.unwrap();
+    f.db.add_station("st-1", &f.p_bob.id, &"ab".repeat(32), T0)
+        .await
+        .unwrap();
+    f.db.open_session(&hello(&f.p_bob.id, "s-bob"), T0)
+        .await
+        .unwrap();
     let ada = login(&f.app, "ada@clinic.example").await;
     let (_, _, list) = call(&f.app, Method::GET, "/api/patients", Some(&ada), None).await;
-    let ids: Vec<_> = list.as_array().unwrap().iter().map(|p| p["id"].clone()).collect();
+    let ids: Vec<_> = list
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["id"].clone())
+        .collect();
     assert_eq!(ids, vec![json!(f.p_ada.id)]);
     assert_eq!(list[0]["sessions_last_7_days"], 0);
 
-    let (s_other, _, b_other) =
-        call(&f.app, Method::GET, &format!("/api/patients/{}", f.p_bob.id), Some(&ada), None).await;
-    let (s_none, _, _) = call(&f.app, Method::GET, "/api/patients/p-nobody", Some(&ada), None).await;
-    assert_eq!((s_other, s_none), (StatusCode::NOT_FOUND, StatusCode::NOT_FOUND));
+    let (s_other, _, b_other) = call(
+        &f.app,
+        Method::GET,
+        &format!("/api/patients/{}", f.p_bob.id),
+        Some(&ada),
+        None,
+    )
+    .await;
+    let (s_none, _, _) = call(
+        &f.app,
+        Method::GET,
+        "/api/patients/p-nobody",
+        Some(&ada),
+        None,
+    )
+    .await;
+    assert_eq!(
+        (s_other, s_none),
+        (StatusCode::NOT_FOUND, StatusCode::NOT_FOUND)
+    );
     assert!(b_other["error"].as_str().unwrap().contains("no patient"));
     for uri in [
         format!("/api/patients/{}/sessions", f.p_bob.id),
@@ -267,8 +340,14 @@ async fn a_therapist_sees_only_their_patients_and_others_are_404() {
     let admin = login(&f.app, "root@clinic.example").await;
     let (_, _, all) = call(&f.app, Method::GET, "/api/patients", Some(&admin), None).await;
     assert_eq!(all.as_array().unwrap().len(), 2);
-    let (status, _, detail) =
-        call(&f.app, Method::GET, &format!("/api/patients/{}", f.p_bob.id), Some(&admin), None).await;
+    let (status, _, detail) = call(
+        &f.app,
+        Method::GET,
+        &format!("/api/patients/{}", f.p_bob.id),
+        Some(&admin),
+        None,
+    )
+    .await;
     assert_eq!(status, StatusCode::OK);
     assert_eq!(detail["pseudonym"], "p-bob-1");
     assert_eq!(detail["stations"][0]["station_id"], "st-1");
@@ -277,27 +356,53 @@ async fn a_therapist_sees_only_their_patients_and_others_are_404() {
 #[tokio::test]
 async fn sessions_summaries_and_metrics_are_served_and_audited() {
     let f = fixture().await;
-    f.db.add_station("st-1", &f.p_ada.id, &"ab".repeat(32), T0).await.unwrap();
-    f.db.open_session(&hello(&f.p_ada.id, "s1"), T0).await.unwrap();
+    f.db.add_station("st-1", &f.p_ada.id, &"ab".repeat(32), T0)
+        .await
+        .unwrap();
+    f.db.open_session(&hello(&f.p_ada.id, "s1"), T0)
+        .await
+        .unwrap();
     for seq in 0..3 {
         f.db.store_summary(&summary("s1", seq), T0).await.unwrap();
     }
-    f.db.put_metrics("s1", &[("rom_rad".to_owned(), 1.5)].into()).await.unwrap();
+    f.db.put_metrics("s1", &[("rom_rad".to_owned(), 1.5)].into())
+        .await
+        .unwrap();
     let ada = login(&f.app, "ada@clinic.example").await;
     let uri = format!("/api/patients/{}/sessions", f.p_ada.id);
     let (_, _, sessions) = call(&f.app, Method::GET, &uri, Some(&ada), None).await;
     assert_eq!(sessions[0]["session_id"], "s1");
     let (_, _, one) = call(&f.app, Method::GET, "/api/sessions/s1", Some(&ada), None).await;
     assert_eq!(one["last_seq"], 2);
-    let (_, _, sums) = call(&f.app, Method::GET, "/api/sessions/s1/summaries", Some(&ada), None).await;
+    let (_, _, sums) = call(
+        &f.app,
+        Method::GET,
+        "/api/sessions/s1/summaries",
+        Some(&ada),
+        None,
+    )
+    .await;
     assert_eq!(sums.as_array().unwrap().len(), 3);
     assert_eq!(sums[2]["seq"], 2);
-    let (_, _, metrics) = call(&f.app, Method::GET, "/api/sessions/s1/metrics", Some(&ada), None).await;
+    let (_, _, metrics) = call(
+        &f.app,
+        Method::GET,
+        "/api/sessions/s1/metrics",
+        Some(&ada),
+        None,
+    )
+    .await;
     assert_eq!(metrics, json!({"rom_rad": 1.5}));
     let log = actions(&f.db).await;
-    for action in ["read_sessions", "read_session", "read_summaries", "read_metrics"] {
+    for action in [
+        "read_sessions",
+        "read_session",
+        "read_summaries",
+        "read_metrics",
+    ] {
         assert!(
-            log.iter().any(|(a, act, _)| *a == f.ada.actor() && act == action),
+            log.iter()
+                .any(|(a, act, _)| *a == f.ada.actor() && act == action),
             "{action} not audited: {log:?}"
         );
     }
@@ -310,9 +415,18 @@ async fn regimen_put_makes_version_2_and_the_validator_can_refuse() {
     let uri = format!("/api/patients/{}/regimen", f.p_ada.id);
     let (_, _, empty) = call(&f.app, Method::GET, &uri, Some(&ada), None).await;
     assert_eq!(empty["current"], Value::Null);
-    for (i, text) in ["exercise = \"sine-road\"", "exercise = \"slalom\""].iter().enumerate() {
-        let (status, _, body) =
-            call(&f.app, Method::PUT, &uri, Some(&ada), Some(json!({"toml": text}))).await;
+    for (i, text) in ["exercise = \"sine-road\"", "exercise = \"slalom\""]
+        .iter()
+        .enumerate()
+    {
+        let (status, _, body) = call(
+            &f.app,
+            Method::PUT,
+            &uri,
+            Some(&ada),
+            Some(json!({"toml": text})),
+        )
+        .await;
         assert_eq!(status, StatusCode::OK, "{body}");
         assert_eq!(body["version"], i + 1);
         assert_eq!(body["prescribed_by"], json!(f.ada.id));
@@ -326,7 +440,10 @@ async fn regimen_put_makes_version_2_and_the_validator_can_refuse() {
     )
     .await;
     assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
-    assert!(body["error"].as_str().unwrap().contains("ceiling"), "{body}");
+    assert!(
+        body["error"].as_str().unwrap().contains("ceiling"),
+        "{body}"
+    );
     let (_, _, view) = call(&f.app, Method::GET, &uri, Some(&ada), None).await;
     assert_eq!(view["current"]["version"], 2);
     assert_eq!(view["current"]["toml"], "exercise = \"slalom\"");
@@ -336,15 +453,27 @@ async fn regimen_put_makes_version_2_and_the_validator_can_refuse() {
     let (status, _, _) = call(&f.app, Method::PUT, &uri, Some(&ada), Some(big)).await;
     assert_eq!(status, StatusCode::PAYLOAD_TOO_LARGE);
     let bob_patient = format!("/api/patients/{}/regimen", f.p_bob.id);
-    let (status, _, _) =
-        call(&f.app, Method::PUT, &bob_patient, Some(&ada), Some(json!({"toml": "a = 1"}))).await;
+    let (status, _, _) = call(
+        &f.app,
+        Method::PUT,
+        &bob_patient,
+        Some(&ada),
+        Some(json!({"toml": "a = 1"})),
+    )
+    .await;
     assert_eq!(status, StatusCode::NOT_FOUND);
     assert_eq!(f.db.latest_regimen(&f.p_bob.id).await.unwrap(), None);
 
     let log = actions(&f.db).await;
-    let puts = log.iter().filter(|(_, act, _)| act == "put_regimen").count();
+    let puts = log
+        .iter()
+        .filter(|(_, act, _)| act == "put_regimen")
+        .count();
     assert_eq!(puts, 2);
-    assert!(log.iter().any(|(_, act, t)| act == "regimen_rejected" && *t == f.p_ada.id));
+    assert!(
+        log.iter()
+            .any(|(_, act, t)| act == "regimen_rejected" && *t == f.p_ada.id)
+    );
 }
 
 #[tokio::test]
@@ -361,7 +490,14 @@ async fn path_like_ids_are_refused_with_400() {
         assert_eq!(status, StatusCode::BAD_REQUEST, "{uri}");
         assert!(body["error"].as_str().unwrap().contains("id"), "{body}");
     }
-    let (status, _, _) = call(&f.app, Method::GET, "/api/patients/../../etc", Some(&ada), None).await;
+    let (status, _, _) = call(
+        &f.app,
+        Method::GET,
+        "/api/patients/../../etc",
+        Some(&ada),
+        None,
+    )
+    .await;
     assert_eq!(status, StatusCode::NOT_FOUND);
 }
 
@@ -369,11 +505,25 @@ async fn path_like_ids_are_refused_with_400() {
 async fn the_audit_log_is_for_admins_and_records_reads() {
     let f = fixture().await;
     let ada = login(&f.app, "ada@clinic.example").await;
-    call(&f.app, Method::GET, &format!("/api/patients/{}", f.p_ada.id), Some(&ada), None).await;
+    call(
+        &f.app,
+        Method::GET,
+        &format!("/api/patients/{}", f.p_ada.id),
+        Some(&ada),
+        None,
+    )
+    .await;
     let (status, _, _) = call(&f.app, Method::GET, "/api/audit", Some(&ada), None).await;
     assert_eq!(status, StatusCode::FORBIDDEN);
     let admin = login(&f.app, "root@clinic.example").await;
-    let (status, _, log) = call(&f.app, Method::GET, "/api/audit?limit=50", Some(&admin), None).await;
+    let (status, _, log) = call(
+        &f.app,
+        Method::GET,
+        "/api/audit?limit=50",
+        Some(&admin),
+        None,
+    )
+    .await;
     assert_eq!(status, StatusCode::OK);
     let entries = log.as_array().unwrap();
     assert!(entries.iter().any(|e| e["actor"] == json!(f.ada.actor())
@@ -395,7 +545,10 @@ async fn live_stream_delivers_summaries_of_the_right_patient_only() {
         .await
         .unwrap();
     assert_eq!(response.status(), StatusCode::OK);
-    assert_eq!(response.headers()[header::CONTENT_TYPE], "text/event-stream");
+    assert_eq!(
+        response.headers()[header::CONTENT_TYPE],
+        "text/event-stream"
+    );
     let event = |patient: &Patient, session: &str, seq| LiveEvent {
         patient_id: patient.id.clone(),
         session_id: session.to_owned(),
@@ -424,7 +577,12 @@ async fn live_stream_delivers_summaries_of_the_right_patient_only() {
     assert_eq!(got["patient_id"], json!(f.p_ada.id));
     assert_eq!(got["summary"]["seq"], 3);
     assert!(!text.contains("s-bob"), "{text}");
-    assert!(actions(&f.db).await.iter().any(|(_, act, t)| act == "watch_live" && *t == f.p_ada.id));
+    assert!(
+        actions(&f.db)
+            .await
+            .iter()
+            .any(|(_, act, t)| act == "watch_live" && *t == f.p_ada.id)
+    );
 }
 
 #[tokio::test]
@@ -478,7 +636,10 @@ async fn https_round_trip_and_plain_http_only_on_loopback() {
         .unwrap();
     let response = sender.send_request(login).await.unwrap();
     assert_eq!(response.status(), StatusCode::OK);
-    let cookie = response.headers()[header::SET_COOKIE].to_str().unwrap().to_owned();
+    let cookie = response.headers()[header::SET_COOKIE]
+        .to_str()
+        .unwrap()
+        .to_owned();
     let cookie = cookie.split(';').next().unwrap().to_owned();
     response.into_body().collect().await.unwrap();
     let me = Request::get("/api/me")

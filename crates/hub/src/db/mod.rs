@@ -227,8 +227,12 @@ fn set_mode(_path: &Path, _mode: u32) -> Result<(), HubError> {
 /// `n` bytes from the operating system's CSPRNG.
 pub(crate) fn random_bytes<const N: usize>() -> Result<[u8; N], HubError> {
     let mut bytes = [0u8; N];
-    getrandom::fill(&mut bytes)
-        .map_err(|e| HubError::io("reading the OS random generator", std::io::Error::other(e.to_string())))?;
+    getrandom::fill(&mut bytes).map_err(|e| {
+        HubError::io(
+            "reading the OS random generator",
+            std::io::Error::other(e.to_string()),
+        )
+    })?;
     Ok(bytes)
 }
 

@@ -78,10 +78,10 @@ impl Db {
         now_ms: i64,
     ) -> Result<Patient, HubError> {
         check_pseudonym(pseudonym)?;
-        if let Some(t) = therapist_id {
-            if self.therapist(t).await?.is_none() {
-                return Err(HubError::not_found("therapist", t));
-            }
+        if let Some(t) = therapist_id
+            && self.therapist(t).await?.is_none()
+        {
+            return Err(HubError::not_found("therapist", t));
         }
         let id = new_id("p-")?;
         sqlx::query(

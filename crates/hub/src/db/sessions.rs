@@ -135,7 +135,11 @@ impl Db {
     /// session (as netlink's file store does), so duplicates and stale reorderings are
     /// [`Appended::Duplicate`]. Refused: an invalid summary, an unknown session, `seq` above
     /// `i64::MAX`, and a jump beyond netlink's `MAX_SEQ_STEP`.
-    pub async fn store_summary(&self, summary: &Summary, now_ms: i64) -> Result<Appended, HubError> {
+    pub async fn store_summary(
+        &self,
+        summary: &Summary,
+        now_ms: i64,
+    ) -> Result<Appended, HubError> {
         summary
             .validate()
             .map_err(|reason| HubError::invalid("summary", reason))?;
@@ -249,13 +253,12 @@ impl Db {
 
     /// A session's stored summaries in sequence order.
     pub async fn summaries_of(&self, session_id: &str) -> Result<Vec<Summary>, HubError> {
-        let bodies: Vec<String> = sqlx::query_scalar(
-            "SELECT body FROM summaries WHERE session_id = $1 ORDER BY seq",
-        )
-        .bind(session_id)
-        .fetch_all(self.pool())
-        .await
-        .map_err(HubError::db("reading summaries"))?;
+        let bodies: Vec<String> =
+            sqlx::query_scalar("SELECT body FROM summaries WHERE session_id = $1 ORDER BY seq")
+                .bind(session_id)
+                .fetch_all(self.pool())
+                .await
+                .map_err(HubError::db("reading summaries"))?;
         bodies
             .iter()
             .map(|b| {

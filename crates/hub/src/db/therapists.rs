@@ -2,8 +2,8 @@
 
 use std::sync::OnceLock;
 
-use argon2::password_hash::{PasswordHasher, PasswordVerifier};
 use argon2::Argon2;
+use argon2::password_hash::{PasswordHasher, PasswordVerifier};
 use serde::Serialize;
 use sqlx::any::AnyRow;
 
@@ -138,8 +138,7 @@ impl Db {
         now_ms: i64,
     ) -> Result<Therapist, HubError> {
         let email = normalise_email(email)?;
-        if password.chars().count() < MIN_PASSWORD_CHARS || password.len() > MAX_PASSWORD_BYTES
-        {
+        if password.chars().count() < MIN_PASSWORD_CHARS || password.len() > MAX_PASSWORD_BYTES {
             return Err(HubError::invalid(
                 "password",
                 format!(

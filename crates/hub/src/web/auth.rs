@@ -66,17 +66,24 @@ pub(crate) async fn login(
 ) -> Result<Response, ApiError> {
     let Json(login) = body?;
     let now = state.now();
-    match state.db.verify_login(&login.email, &login.password, now).await {
+    match state
+        .db
+        .verify_login(&login.email, &login.password, now)
+        .await
+    {
         Ok(therapist) => {
             let token = state
                 .db
                 .create_web_session(&therapist.id, now, state.login_ttl_ms)
                 .await?;
-            state.audit(&therapist.actor(), "login", &therapist.id, "").await?;
+            state
+                .audit(&therapist.actor(), "login", &therapist.id, "")
+                .await?;
             let mut response = Json(therapist).into_response();
-            response
-                .headers_mut()
-                .insert(header::SET_COOKIE, cookie(&token, state.login_ttl_ms / 1000)?);
+            response.headers_mut().insert(
+                header::SET_COOKIE,
+                cookie(&token, state.login_ttl_ms / 1000)?,
+            );
             Ok(response)
         }
         Err(HubError::LoginRefused) => {
@@ -96,7 +103,9 @@ pub(crate) async fn logout(
     if let Some(token) = token_of(&headers) {
         state.db.delete_web_session(&token, state.now()).await?;
     }
-    state.audit(&therapist.actor(), "logout", &therapist.id, "").await?;
+    state
+        .audit(&therapist.actor(), "logout", &therapist.id, "")
+        .await?;
     let mut response = StatusCode::NO_CONTENT.into_response();
     response
         .headers_mut()
@@ -126,6 +135,8 @@ pub(crate) async fn audit_log(
         ));
     }
     let limit = query.limit.unwrap_or(100);
-    state.audit(&therapist.actor(), "read_audit", "audit_log", "").await?;
+    state
+        .audit(&therapist.actor(), "read_audit", "audit_log", "")
+        .await?;
     Ok(Json(state.db.audit_log(limit).await?))
 }

@@ -31,7 +31,9 @@ use crate::error::HubError;
 
 pub use auth::SESSION_COOKIE;
 pub use live::LiveEvent;
-pub use serve::{acceptor_from_pem, serve, serve_router};
+pub use serve::{
+    SHUTDOWN_GRACE_S, TLS_HANDSHAKE_TIMEOUT_S, acceptor_from_pem, serve, serve_router,
+};
 
 /// Largest request body accepted, bytes.
 pub const MAX_BODY_BYTES: usize = 64 * 1024;

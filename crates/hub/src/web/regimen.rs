@@ -56,7 +56,9 @@ pub(crate) async fn put_regimen(
         state
             .audit(&therapist.actor(), "regimen_rejected", &patient.id, &reason)
             .await?;
-        return Err(ApiError::Unprocessable(format!("regimen refused: {reason}")));
+        return Err(ApiError::Unprocessable(format!(
+            "regimen refused: {reason}"
+        )));
     }
     let now = state.now();
     let version = state

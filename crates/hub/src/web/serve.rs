@@ -107,11 +107,8 @@ pub async fn serve_router(
     Ok(())
 }
 
-async fn serve_connection<S>(
-    stream: S,
-    app: Router,
-    watcher: hyper_util::server::graceful::Watcher,
-) where
+async fn serve_connection<S>(stream: S, app: Router, watcher: hyper_util::server::graceful::Watcher)
+where
     S: AsyncRead + AsyncWrite + Unpin + Send + 'static,
 {
     let connection = hyper::server::conn::http1::Builder::new()

@@ -49,7 +49,12 @@ pub(crate) async fn summaries(
     let session = visible_session(&state, &therapist, &id).await?;
     let summaries = state.db.summaries_of(&session.session_id).await?;
     state
-        .audit(&therapist.actor(), "read_summaries", &session.session_id, "")
+        .audit(
+            &therapist.actor(),
+            "read_summaries",
+            &session.session_id,
+            "",
+        )
         .await?;
     Ok(Json(summaries))
 }
