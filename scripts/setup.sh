@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Set up everything telerehab needs on a fresh Debian machine. Idempotent: safe to re-run.
 #   - Debian packages: a C toolchain, pkg-config + libudev (hidapi, gilrs), Mesa's software
-#     Vulkan/GL (headless rendering), Xvfb (window tests), python3-venv.
+#     Vulkan/GL (headless rendering), Xvfb (window tests), python3-venv, PostgreSQL (the hub's
+#     database tests run against a throwaway server: scripts/with-postgres.sh).
 #   - Rust (stable, via rustup if cargo is missing) with rustfmt and clippy.
 #   - A Python virtualenv in .venv with the test tools and the `telerehab` package (pyext).
 set -euo pipefail
@@ -11,7 +12,8 @@ SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 
 PKGS=(build-essential pkg-config libudev-dev mesa-vulkan-drivers libvulkan1 libgl1-mesa-dri
-      libegl1 xvfb xauth xdotool libxkbcommon-x11-0 libx11-xcb1 python3-venv python3-pip curl ca-certificates)
+      libegl1 xvfb xauth xdotool libxkbcommon-x11-0 libx11-xcb1 python3-venv python3-pip curl ca-certificates
+      postgresql)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -16,12 +16,13 @@ echo "== cargo fmt";    cargo fmt --all -- --check
 echo "== cargo clippy"; cargo clippy --workspace --all-targets -- -D warnings
 echo "== layering";     python3 scripts/check_layering.py
 echo "== cargo doc";    RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
-# Under a virtual X display so the patient-window test opens a real window (Xvfb + Mesa).
+# Under a virtual X display so the patient-window test opens a real window (Xvfb + Mesa), and
+# with a throwaway PostgreSQL server so the hub's database tests run on both backends.
 echo "== cargo test"
 if command -v xvfb-run >/dev/null 2>&1; then
-  xvfb-run -a -s "-screen 0 1280x720x24" cargo test --workspace
+  xvfb-run -a -s "-screen 0 1280x720x24" bash scripts/with-postgres.sh cargo test --workspace
 else
-  cargo test --workspace
+  bash scripts/with-postgres.sh cargo test --workspace
 fi
 echo "== pytest"
 # Rebuild the Python package from the current sources (incremental; setup.sh built it first).

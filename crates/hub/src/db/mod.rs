@@ -1,0 +1,281 @@
+//! The hub's system of record: one sqlx code path (the `Any` driver) for SQLite and
+//! PostgreSQL.
+//!
+//! - [`Db::open`] takes `sqlite://PATH?mode=rwc` or `postgres://USER@HOST:PORT/DB` and applies
+//!   the embedded migrations (`crates/hub/migrations/`, versioned; re-opening is a no-op).
+//! - All SQL uses bound parameters written `$1`, `$2`, … (both backends accept them) and
+//!   portable types: TEXT ids, BIGINT times in milliseconds since the Unix epoch, BIGINT
+//!   0/1 flags, DOUBLE PRECISION floats. The `Any` driver decodes no NUMERIC: cast
+//!   PostgreSQL's `SUM(bigint)` (NUMERIC) back with `CAST(SUM(x) AS BIGINT)`.
+//! - Every method takes the current time as `now_ms` (milliseconds since the Unix epoch), so
+//!   tests are deterministic; the caller owns the clock.
+//!
+//! ```no_run
+//! # async fn demo() -> Result<(), hub::HubError> {
+//! use hub::{Db, Role};
+//! let db = Db::open_sqlite(std::path::Path::new("/var/lib/telerehab/hub.db")).await?;
+//! let now_ms = 1_795_253_400_000;
+//! let t = db.add_therapist("ada@clinic.example", "correct horse battery", Role::Therapist, now_ms).await?;
+//! let p = db.add_patient("p-0042", Some(&t.id), now_ms).await?;
+//! let code = db.create_pairing_code(&p.id, now_ms, 15 * 60 * 1000).await?; // e.g. "7K3M-Q9XD"
+//! # Ok(())
+//! # }
+//! ```
+
+mod audit;
+mod pairing;
+mod patients;
+mod regimens;
+mod sessions;
+mod stations;
+mod therapists;
+
+use std::path::{Path, PathBuf};
+
+use sha2::{Digest, Sha256};
+use sqlx::any::{AnyPoolOptions, AnyRow};
+use sqlx::{AnyPool, Executor, Row};
+
+use crate::error::HubError;
+
+pub use audit::{AuditEntry, MAX_DETAIL_CHARS};
+pub use pairing::{CODE_ALPHABET, CODE_BITS, normalise_code};
+pub use patients::{MAX_PSEUDONYM_LEN, Patient, PatientOverview, WEEK_MS, check_pseudonym};
+pub use regimens::{MAX_REGIMEN_BYTES, RegimenVersion};
+pub use sessions::{Recording, SessionRow};
+pub use stations::Station;
+pub use therapists::{
+    LOCKOUT_MS, MAX_FAILED_LOGINS, MAX_PASSWORD_BYTES, MIN_PASSWORD_CHARS, Role, Therapist,
+};
+
+/// The embedded, versioned migrations of `crates/hub/migrations/`.
+static MIGRATOR: sqlx::migrate::Migrator = sqlx::migrate!("./migrations");
+
+/// How long a connection waits for a locked SQLite database before failing, ms.
+pub const SQLITE_BUSY_TIMEOUT_MS: u64 = 5_000;
+
+/// Which database engine a [`Db`] talks to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Backend {
+    /// A SQLite file (WAL mode, foreign keys on).
+    Sqlite,
+    /// A PostgreSQL server.
+    Postgres,
+}
+
+/// The hub's database: a connection pool, cheap to clone (clones share the pool).
+#[derive(Debug, Clone)]
+pub struct Db {
+    pool: AnyPool,
+    backend: Backend,
+}
+
+impl Db {
+    /// Opens `url` — `sqlite://PATH?mode=rwc` (file created if missing) or
+    /// `postgres://USER[:PASSWORD]@HOST[:PORT]/DATABASE` — and applies pending migrations.
+    ///
+    /// For SQLite, a missing parent directory is created with mode 0700 and a missing database
+    /// file with mode 0600 before the driver opens it.
+    pub async fn open(url: &str) -> Result<Self, HubError> {
+        sqlx::any::install_default_drivers();
+        let backend = if let Some(rest) = url.strip_prefix("sqlite:") {
+            let path = rest.trim_start_matches("//");
+            let path = path.split('?').next().unwrap_or_default();
+            if path.is_empty() || path == ":memory:" {
+                return Err(HubError::invalid(
+                    "database url",
+                    "a SQLite url must name a file: sqlite://PATH?mode=rwc",
+                ));
+            }
+            prepare_sqlite_file(Path::new(path))?;
+            Backend::Sqlite
+        } else if url.starts_with("postgres://") || url.starts_with("postgresql://") {
+            Backend::Postgres
+        } else {
+            return Err(HubError::invalid(
+                "database url",
+                "must start with sqlite:// or postgres://",
+            ));
+        };
+        let max_connections = match backend {
+            Backend::Sqlite => 4,
+            Backend::Postgres => 10,
+        };
+        let pool = AnyPoolOptions::new()
+            .max_connections(max_connections)
+            .after_connect(move |conn, _meta| {
+                Box::pin(async move {
+                    if backend == Backend::Sqlite {
+                        // WAL: readers do not block the writer; busy_timeout: a writer waits for
+                        // another instead of failing; foreign keys are off by default in SQLite.
+                        let pragmas = format!(
+                            "PRAGMA journal_mode = WAL; PRAGMA busy_timeout = \
+                             {SQLITE_BUSY_TIMEOUT_MS}; PRAGMA foreign_keys = ON; \
+                             PRAGMA synchronous = NORMAL;"
+                        );
+                        conn.execute(sqlx::raw_sql(sqlx::AssertSqlSafe(pragmas)))
+                            .await?;
+                    }
+                    Ok(())
+                })
+            })
+            .connect(url)
+            .await
+            .map_err(|source| HubError::Database {
+                context: format!("connecting to {}", redact_url(url)),
+                source,
+            })?;
+        MIGRATOR.run(&pool).await.map_err(|e| HubError::Database {
+            context: "applying migrations".to_owned(),
+            source: e.into(),
+        })?;
+        Ok(Self { pool, backend })
+    }
+
+    /// Opens (creating if needed) the SQLite database file at `path`; see [`Db::open`].
+    pub async fn open_sqlite(path: &Path) -> Result<Self, HubError> {
+        let text = path.to_str().ok_or_else(|| {
+            HubError::invalid("database path", format!("{} is not UTF-8", path.display()))
+        })?;
+        if text.contains(['?', '#', '%']) {
+            return Err(HubError::invalid(
+                "database path",
+                format!("{text:?} contains '?', '#' or '%', which a sqlite:// url cannot carry"),
+            ));
+        }
+        Self::open(&format!("sqlite://{text}?mode=rwc")).await
+    }
+
+    /// The engine behind this database.
+    pub fn backend(&self) -> Backend {
+        self.backend
+    }
+
+    /// The schema version applied (the highest migration number).
+    pub async fn schema_version(&self) -> Result<i64, HubError> {
+        sqlx::query_scalar("SELECT MAX(version) FROM _sqlx_migrations")
+            .fetch_one(&self.pool)
+            .await
+            .map_err(HubError::db("reading the schema version"))
+    }
+
+    /// Closes every connection (waits for those in use to be returned).
+    pub async fn close(&self) {
+        self.pool.close().await;
+    }
+
+    /// The connection pool, for queries this type has no method for. Write placeholders as
+    /// `$1`, `$2`, … and use only portable SQL (see the module documentation).
+    pub fn pool(&self) -> &AnyPool {
+        &self.pool
+    }
+}
+
+/// `url` without its password, for messages.
+fn redact_url(url: &str) -> String {
+    match (url.find("://"), url.rfind('@')) {
+        (Some(scheme), Some(at)) if at > scheme => {
+            let userinfo = &url[scheme + 3..at];
+            match userinfo.split_once(':') {
+                Some((user, _)) => format!("{}{user}:***{}", &url[..scheme + 3], &url[at..]),
+                None => url.to_owned(),
+            }
+        }
+        _ => url.to_owned(),
+    }
+}
+
+/// Creates the directory (0700) and the file (0600) of a SQLite database if missing, and
+/// narrows an existing file to 0600.
+fn prepare_sqlite_file(path: &Path) -> Result<(), HubError> {
+    let dir: PathBuf = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_owned(),
+        _ => PathBuf::from("."),
+    };
+    if !dir.exists() {
+        std::fs::create_dir_all(&dir)
+            .map_err(|e| HubError::io(format!("creating {}", dir.display()), e))?;
+        set_mode(&dir, 0o700)?;
+    }
+    let mut options = std::fs::OpenOptions::new();
+    options.create(true).append(true);
+    #[cfg(unix)]
+    std::os::unix::fs::OpenOptionsExt::mode(&mut options, 0o600);
+    options
+        .open(path)
+        .map_err(|e| HubError::io(format!("creating {}", path.display()), e))?;
+    set_mode(path, 0o600)
+}
+
+#[cfg(unix)]
+fn set_mode(path: &Path, mode: u32) -> Result<(), HubError> {
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(path, std::fs::Permissions::from_mode(mode)).map_err(|e| {
+        HubError::io(
+            format!("setting permissions {mode:o} on {}", path.display()),
+            e,
+        )
+    })
+}
+
+#[cfg(not(unix))]
+fn set_mode(_path: &Path, _mode: u32) -> Result<(), HubError> {
+    Ok(())
+}
+
+/// `n` bytes from the operating system's CSPRNG.
+pub(crate) fn random_bytes<const N: usize>() -> Result<[u8; N], HubError> {
+    let mut bytes = [0u8; N];
+    getrandom::fill(&mut bytes).map_err(|e| {
+        HubError::io(
+            "reading the OS random generator",
+            std::io::Error::other(e.to_string()),
+        )
+    })?;
+    Ok(bytes)
+}
+
+/// A new random identifier: `prefix` + 16 lowercase hex digits (64 bits).
+pub(crate) fn new_id(prefix: &str) -> Result<String, HubError> {
+    Ok(format!("{prefix}{}", hex(&random_bytes::<8>()?)))
+}
+
+/// Lowercase hex of `bytes`.
+pub(crate) fn hex(bytes: &[u8]) -> String {
+    use std::fmt::Write;
+    bytes.iter().fold(String::new(), |mut s, b| {
+        let _ = write!(s, "{b:02x}");
+        s
+    })
+}
+
+/// Lowercase hex SHA-256 of `data`.
+pub fn sha256_hex(data: &[u8]) -> String {
+    hex(&Sha256::digest(data))
+}
+
+/// Checks an identifier (patient, station, session id) with netlink's rule: 1 to 64 ASCII
+/// letters, digits, `_`, `-`, `.`, not starting with `.`.
+pub(crate) fn check_id(field: &'static str, value: &str) -> Result<(), HubError> {
+    netlink::frame::check_id(field, value).map_err(|reason| HubError::invalid(field, reason))
+}
+
+/// A `u64` from the protocol as a BIGINT, refusing values above `i64::MAX`.
+pub(crate) fn to_i64(field: &'static str, value: u64) -> Result<i64, HubError> {
+    i64::try_from(value).map_err(|_| {
+        HubError::invalid(
+            field,
+            format!("{value} is above the largest storable value {}", i64::MAX),
+        )
+    })
+}
+
+/// Column `col` of `row`, naming it on failure.
+pub(crate) fn col<'r, T>(row: &'r AnyRow, col: &str) -> Result<T, HubError>
+where
+    T: sqlx::Decode<'r, sqlx::Any> + sqlx::Type<sqlx::Any>,
+{
+    row.try_get(col)
+        .map_err(|e| HubError::Corrupt(format!("column {col}: {e}")))
+}

@@ -1,0 +1,115 @@
+//! Prescribed regimens: every change is a new version, the history is kept.
+
+use serde::Serialize;
+use sqlx::any::AnyRow;
+
+use super::{Db, check_id, col};
+use crate::error::HubError;
+
+/// Longest regimen text, bytes.
+pub const MAX_REGIMEN_BYTES: usize = 64 * 1024;
+
+/// One version of a patient's regimen.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct RegimenVersion {
+    /// The patient.
+    pub patient_id: String,
+    /// Version number, 1 for the first, increasing by one.
+    pub version: i64,
+    /// The regimen as TOML text (validated by the caller against the station's safety bounds).
+    pub toml: String,
+    /// Id of the therapist who prescribed it.
+    pub prescribed_by: String,
+    /// When, ms since the Unix epoch.
+    pub prescribed_at_ms: i64,
+}
+
+impl RegimenVersion {
+    fn from_row(row: &AnyRow) -> Result<Self, HubError> {
+        Ok(Self {
+            patient_id: col(row, "patient_id")?,
+            version: col(row, "version")?,
+            toml: col(row, "toml")?,
+            prescribed_by: col(row, "prescribed_by")?,
+            prescribed_at_ms: col(row, "prescribed_at_ms")?,
+        })
+    }
+}
+
+const COLUMNS: &str = "patient_id, version, toml, prescribed_by, prescribed_at_ms";
+
+impl Db {
+    /// Stores `toml` as the next version of the patient's regimen, prescribed by therapist
+    /// `by` at `now_ms`; returns the new version number. The text is not interpreted here.
+    pub async fn put_regimen(
+        &self,
+        patient_id: &str,
+        toml: &str,
+        by: &str,
+        now_ms: i64,
+    ) -> Result<i64, HubError> {
+        check_id("patient_id", patient_id)?;
+        if toml.len() > MAX_REGIMEN_BYTES || toml.contains('\0') {
+            return Err(HubError::invalid(
+                "regimen",
+                format!("must be text of at most {MAX_REGIMEN_BYTES} bytes without NUL"),
+            ));
+        }
+        if self.patient(patient_id).await?.is_none() {
+            return Err(HubError::not_found("patient", patient_id));
+        }
+        // One statement computes and inserts the next version; two concurrent writers on
+        // PostgreSQL can compute the same one: the loser hits the primary key and retries.
+        let mut attempts = 0;
+        loop {
+            attempts += 1;
+            let result: Result<i64, sqlx::Error> = sqlx::query_scalar(
+                "INSERT INTO regimens (patient_id, version, toml, prescribed_by, \
+                 prescribed_at_ms) \
+                 SELECT $1, COALESCE(MAX(version), 0) + 1, $2, $3, $4 FROM regimens \
+                 WHERE patient_id = $1 RETURNING version",
+            )
+            .bind(patient_id)
+            .bind(toml)
+            .bind(by)
+            .bind(now_ms)
+            .fetch_one(self.pool())
+            .await;
+            match result {
+                Ok(version) => return Ok(version),
+                Err(e) if HubError::is_unique_violation(&e) && attempts < 5 => continue,
+                Err(e) => return Err(HubError::db("storing a regimen")(e)),
+            }
+        }
+    }
+
+    /// The newest regimen of a patient, if any.
+    pub async fn latest_regimen(
+        &self,
+        patient_id: &str,
+    ) -> Result<Option<RegimenVersion>, HubError> {
+        let sql = sqlx::AssertSqlSafe(format!(
+            "SELECT {COLUMNS} FROM regimens WHERE patient_id = $1 \
+             ORDER BY version DESC LIMIT 1"
+        ));
+        let row = sqlx::query(sql)
+            .bind(patient_id)
+            .fetch_optional(self.pool())
+            .await
+            .map_err(HubError::db("reading a regimen"))?;
+        row.as_ref().map(RegimenVersion::from_row).transpose()
+    }
+
+    /// Every regimen version of a patient, oldest first.
+    pub async fn regimen_history(&self, patient_id: &str) -> Result<Vec<RegimenVersion>, HubError> {
+        let sql = sqlx::AssertSqlSafe(format!(
+            "SELECT {COLUMNS} FROM regimens WHERE patient_id = $1 ORDER BY version"
+        ));
+        let rows = sqlx::query(sql)
+            .bind(patient_id)
+            .fetch_all(self.pool())
+            .await
+            .map_err(HubError::db("reading regimen history"))?;
+        rows.iter().map(RegimenVersion::from_row).collect()
+    }
+}

@@ -1,0 +1,132 @@
+//! The crate's error type.
+
+/// Why a pairing code was not accepted (see [`crate::Db::redeem_pairing_code`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum PairRefusal {
+    /// No code with this value was ever issued.
+    Unknown,
+    /// The code was issued but its time to live has passed.
+    Expired,
+    /// The code has already been redeemed once (codes are single use).
+    Used,
+}
+
+impl std::fmt::Display for PairRefusal {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Unknown => "unknown pairing code",
+            Self::Expired => "the pairing code has expired; ask the clinic for a new one",
+            Self::Used => "the pairing code has already been used; ask the clinic for a new one",
+        })
+    }
+}
+
+/// Errors of the hub's database layer and API. The message names the problem and, for input,
+/// the offending field and what is allowed.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum HubError {
+    /// An input value is malformed (the message names the field and the allowed form).
+    #[error("invalid {field}: {reason}")]
+    Invalid {
+        /// The field or argument.
+        field: &'static str,
+        /// What is wrong and what is allowed.
+        reason: String,
+    },
+    /// The named thing does not exist.
+    #[error("{what} {id:?} does not exist")]
+    NotFound {
+        /// Kind of thing (patient, station, session, therapist).
+        what: &'static str,
+        /// Its identifier.
+        id: String,
+    },
+    /// The thing already exists (unique email, pseudonym, station id, fingerprint).
+    #[error("{what} {id:?} already exists")]
+    AlreadyExists {
+        /// Kind of thing.
+        what: &'static str,
+        /// Its identifier.
+        id: String,
+    },
+    /// Login refused. Deliberately the same for an unknown email, a wrong password and a
+    /// locked account, so the answer does not reveal which accounts exist.
+    #[error(
+        "login refused: wrong email or password, or the account is locked for 15 minutes \
+         after 5 failed logins"
+    )]
+    LoginRefused,
+    /// A pairing code was refused.
+    #[error("pairing refused: {0}")]
+    Pair(PairRefusal),
+    /// The station's access has been revoked by the clinic.
+    #[error("station {0:?} has been revoked")]
+    StationRevoked(String),
+    /// A Hello or Summary conflicts with what is stored (session of another station, patient
+    /// mismatch, sequence number jump); the message says what.
+    #[error("refused: {0}")]
+    Conflict(String),
+    /// The database could not be opened, migrated or queried.
+    #[error("database error while {context}: {source}")]
+    Database {
+        /// What was being done.
+        context: String,
+        /// The driver's error.
+        source: sqlx::Error,
+    },
+    /// A file-system operation failed.
+    #[error("{context}: {source}")]
+    Io {
+        /// What was being done.
+        context: String,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// Password hashing failed (not a wrong password: that is [`HubError::LoginRefused`]).
+    #[error("password hashing failed: {0}")]
+    PasswordHash(String),
+    /// TLS or server configuration refused.
+    #[error("server configuration error: {0}")]
+    Config(String),
+    /// A stored value could not be decoded (a damaged row).
+    #[error("stored data is damaged: {0}")]
+    Corrupt(String),
+}
+
+impl HubError {
+    pub(crate) fn invalid(field: &'static str, reason: impl Into<String>) -> Self {
+        Self::Invalid {
+            field,
+            reason: reason.into(),
+        }
+    }
+
+    pub(crate) fn not_found(what: &'static str, id: impl Into<String>) -> Self {
+        Self::NotFound {
+            what,
+            id: id.into(),
+        }
+    }
+
+    pub(crate) fn io(context: impl Into<String>, source: std::io::Error) -> Self {
+        Self::Io {
+            context: context.into(),
+            source,
+        }
+    }
+
+    /// A closure turning a driver error into [`HubError::Database`] naming `context`.
+    pub(crate) fn db(context: &'static str) -> impl FnOnce(sqlx::Error) -> Self {
+        move |source| Self::Database {
+            context: context.to_owned(),
+            source,
+        }
+    }
+
+    /// True for a unique or primary-key violation (on either backend).
+    pub(crate) fn is_unique_violation(e: &sqlx::Error) -> bool {
+        matches!(e, sqlx::Error::Database(d) if d.is_unique_violation())
+    }
+}

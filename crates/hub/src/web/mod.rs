@@ -1,0 +1,260 @@
+//! The therapist console's HTTPS JSON API (axum), documented in `crates/hub/API.md`.
+//!
+//! - [`router`] builds the routes over an [`AppState`]; [`serve`] runs them over TLS (or
+//!   plain HTTP on a loopback address only, for development and tests).
+//! - Authentication: `POST /api/login` sets an HttpOnly, Secure, SameSite=Strict cookie
+//!   holding a random 256-bit token; the database keeps only its SHA-256.
+//! - Authorisation: an admin sees every patient, a therapist their own; anyone else's patient
+//!   is answered 404, exactly like a patient that does not exist.
+//! - Every read of patient data and every change is written to the audit log.
+
+mod auth;
+mod live;
+mod patients;
+mod regimen;
+mod serve;
+mod sessions;
+
+use std::sync::Arc;
+
+use axum::Json;
+use axum::Router;
+use axum::extract::DefaultBodyLimit;
+use axum::http::{HeaderValue, StatusCode, header};
+use axum::response::{IntoResponse, Response};
+use axum::routing::{get, post};
+use serde::Serialize;
+use tokio::sync::broadcast;
+
+use crate::db::{Db, Patient, Therapist};
+use crate::error::HubError;
+
+pub use auth::SESSION_COOKIE;
+pub use live::LiveEvent;
+pub use serve::{
+    SHUTDOWN_GRACE_S, TLS_HANDSHAKE_TIMEOUT_S, acceptor_from_pem, serve, serve_router,
+};
+
+/// Largest request body accepted, bytes.
+pub const MAX_BODY_BYTES: usize = 64 * 1024;
+
+/// Default lifetime of a console login, ms (8 hours).
+pub const DEFAULT_LOGIN_TTL_MS: i64 = 8 * 60 * 60 * 1000;
+
+/// Checks a regimen's TOML text against the station's safety bounds; `Err` carries the reason
+/// shown to the therapist. Passed in because the bounds live in the station crate.
+pub type RegimenValidator = Arc<dyn Fn(&str) -> Result<(), String> + Send + Sync>;
+
+/// The current time, ms since the Unix epoch (injectable for tests).
+pub type NowMs = Arc<dyn Fn() -> i64 + Send + Sync>;
+
+/// What every request handler shares.
+#[derive(Clone)]
+pub struct AppState {
+    /// The system of record.
+    pub db: Db,
+    /// Validates regimens before they are stored.
+    pub validate_regimen: RegimenValidator,
+    /// Summaries of running sessions, as the ingest receives them (`/api/patients/{id}/live`).
+    pub live: broadcast::Sender<LiveEvent>,
+    /// The clock.
+    pub now_ms: NowMs,
+    /// Lifetime of a console login, ms.
+    pub login_ttl_ms: i64,
+}
+
+impl AppState {
+    /// State with the system clock and [`DEFAULT_LOGIN_TTL_MS`].
+    pub fn new(
+        db: Db,
+        validate_regimen: RegimenValidator,
+        live: broadcast::Sender<LiveEvent>,
+    ) -> Self {
+        Self {
+            db,
+            validate_regimen,
+            live,
+            now_ms: Arc::new(system_now_ms),
+            login_ttl_ms: DEFAULT_LOGIN_TTL_MS,
+        }
+    }
+
+    /// The same state with another clock.
+    pub fn with_clock(mut self, now_ms: NowMs) -> Self {
+        self.now_ms = now_ms;
+        self
+    }
+
+    fn now(&self) -> i64 {
+        (self.now_ms)()
+    }
+
+    /// Writes an audit entry; a failure is logged, and fails the request (an unaudited read
+    /// of patient data is not served).
+    async fn audit(
+        &self,
+        actor: &str,
+        action: &str,
+        target: &str,
+        detail: &str,
+    ) -> Result<(), ApiError> {
+        self.db
+            .audit(actor, action, target, detail, self.now())
+            .await
+            .map_err(ApiError::from)
+    }
+
+    /// The patient `id` if `therapist` may see it; 400 for a malformed id, 404 for a patient
+    /// that does not exist or is someone else's.
+    async fn visible_patient(&self, therapist: &Therapist, id: &str) -> Result<Patient, ApiError> {
+        check_path_id("patient id", id)?;
+        match self.db.patient(id).await? {
+            Some(p) if Db::may_see(therapist, &p) => Ok(p),
+            _ => Err(ApiError::NotFound(format!("no patient {id:?}"))),
+        }
+    }
+}
+
+impl std::fmt::Debug for AppState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("AppState")
+            .field("db", &self.db)
+            .field("login_ttl_ms", &self.login_ttl_ms)
+            .finish_non_exhaustive()
+    }
+}
+
+/// The system clock, ms since the Unix epoch.
+pub fn system_now_ms() -> i64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| i64::try_from(d.as_millis()).unwrap_or(i64::MAX))
+}
+
+/// The API's routes over `state`.
+pub fn router(state: AppState) -> Router {
+    Router::new()
+        .route("/api/health", get(health))
+        .route("/api/login", post(auth::login))
+        .route("/api/logout", post(auth::logout))
+        .route("/api/me", get(auth::me))
+        .route("/api/audit", get(auth::audit_log))
+        .route("/api/patients", get(patients::list))
+        .route("/api/patients/{id}", get(patients::one))
+        .route("/api/patients/{id}/sessions", get(patients::sessions))
+        .route(
+            "/api/patients/{id}/regimen",
+            get(regimen::get_regimen).put(regimen::put_regimen),
+        )
+        .route("/api/patients/{id}/live", get(live::live))
+        .route("/api/sessions/{id}", get(sessions::one))
+        .route("/api/sessions/{id}/summaries", get(sessions::summaries))
+        .route("/api/sessions/{id}/metrics", get(sessions::metrics))
+        .fallback(|| async { ApiError::NotFound("no such endpoint".to_owned()) })
+        .layer(axum::middleware::map_response(security_headers))
+        .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))
+        .with_state(state)
+}
+
+async fn security_headers(mut response: Response) -> Response {
+    let headers = response.headers_mut();
+    headers.insert(header::CACHE_CONTROL, HeaderValue::from_static("no-store"));
+    headers.insert(
+        header::X_CONTENT_TYPE_OPTIONS,
+        HeaderValue::from_static("nosniff"),
+    );
+    headers.insert(
+        header::STRICT_TRANSPORT_SECURITY,
+        HeaderValue::from_static("max-age=31536000"),
+    );
+    response
+}
+
+#[derive(Serialize)]
+struct Health {
+    status: &'static str,
+}
+
+async fn health() -> Json<Health> {
+    Json(Health { status: "ok" })
+}
+
+/// Checks an id taken from the URL (netlink's identifier rule), 400 naming it otherwise.
+fn check_path_id(what: &str, id: &str) -> Result<(), ApiError> {
+    netlink::frame::check_id(what, id).map_err(ApiError::BadRequest)
+}
+
+/// An error answer: the status and `{"error": "<message>"}`.
+#[derive(Debug)]
+pub(crate) enum ApiError {
+    /// 401: not logged in, or login refused.
+    Unauthorized(String),
+    /// 403: logged in but not allowed (admin-only endpoints).
+    Forbidden(String),
+    /// 404.
+    NotFound(String),
+    /// 400: malformed input.
+    BadRequest(String),
+    /// 422: well-formed but refused (a regimen outside the safety bounds).
+    Unprocessable(String),
+    /// A body axum's JSON extractor refused (malformed or wrong shape 400, wrong content type
+    /// 415, over [`MAX_BODY_BYTES`] 413), with that status.
+    Rejected(StatusCode, String),
+    /// 500: details are logged, not shown.
+    Internal,
+}
+
+#[derive(Serialize)]
+struct ErrorBody<'a> {
+    error: &'a str,
+}
+
+impl IntoResponse for ApiError {
+    fn into_response(self) -> Response {
+        let (status, message) = match &self {
+            Self::Unauthorized(m) => (StatusCode::UNAUTHORIZED, m.as_str()),
+            Self::Forbidden(m) => (StatusCode::FORBIDDEN, m.as_str()),
+            Self::NotFound(m) => (StatusCode::NOT_FOUND, m.as_str()),
+            Self::BadRequest(m) => (StatusCode::BAD_REQUEST, m.as_str()),
+            Self::Unprocessable(m) => (StatusCode::UNPROCESSABLE_ENTITY, m.as_str()),
+            Self::Rejected(status, m) => (*status, m.as_str()),
+            Self::Internal => (
+                StatusCode::INTERNAL_SERVER_ERROR,
+                "internal error; the hub's log has the details",
+            ),
+        };
+        (status, Json(ErrorBody { error: message })).into_response()
+    }
+}
+
+impl From<HubError> for ApiError {
+    fn from(e: HubError) -> Self {
+        match e {
+            HubError::Invalid { .. } => Self::BadRequest(e.to_string()),
+            HubError::NotFound { .. } => Self::NotFound(e.to_string()),
+            HubError::LoginRefused => Self::Unauthorized(e.to_string()),
+            other => {
+                tracing::error!(error = %other, "request failed");
+                Self::Internal
+            }
+        }
+    }
+}
+
+impl From<axum::extract::rejection::JsonRejection> for ApiError {
+    fn from(rejection: axum::extract::rejection::JsonRejection) -> Self {
+        // axum answers 422 for JSON of the wrong shape; this API keeps 422 for "well-formed
+        // but refused" (a regimen outside the bounds), so a malformed body is a 400.
+        let status = match rejection.status() {
+            StatusCode::UNPROCESSABLE_ENTITY => StatusCode::BAD_REQUEST,
+            other => other,
+        };
+        Self::Rejected(status, rejection.body_text())
+    }
+}
+
+impl From<axum::extract::rejection::PathRejection> for ApiError {
+    fn from(rejection: axum::extract::rejection::PathRejection) -> Self {
+        Self::BadRequest(rejection.body_text())
+    }
+}

@@ -1,0 +1,62 @@
+//! The caseload, one patient, and a patient's sessions.
+
+use axum::Json;
+use axum::extract::rejection::PathRejection;
+use axum::extract::{Path, State};
+use serde::Serialize;
+
+use super::auth::Authed;
+use super::{ApiError, AppState};
+use crate::db::{Patient, PatientOverview, SessionRow, Station};
+
+pub(crate) async fn list(
+    State(state): State<AppState>,
+    Authed(therapist): Authed,
+) -> Result<Json<Vec<PatientOverview>>, ApiError> {
+    let list = state.db.patients_for(&therapist, state.now()).await?;
+    state
+        .audit(
+            &therapist.actor(),
+            "list_patients",
+            "patients",
+            &format!("{} patients", list.len()),
+        )
+        .await?;
+    Ok(Json(list))
+}
+
+/// Answer of `GET /api/patients/{id}`.
+#[derive(Serialize)]
+pub(crate) struct PatientDetail {
+    #[serde(flatten)]
+    patient: Patient,
+    stations: Vec<Station>,
+}
+
+pub(crate) async fn one(
+    State(state): State<AppState>,
+    Authed(therapist): Authed,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<PatientDetail>, ApiError> {
+    let Path(id) = id?;
+    let patient = state.visible_patient(&therapist, &id).await?;
+    let stations = state.db.stations_of(&patient.id).await?;
+    state
+        .audit(&therapist.actor(), "read_patient", &patient.id, "")
+        .await?;
+    Ok(Json(PatientDetail { patient, stations }))
+}
+
+pub(crate) async fn sessions(
+    State(state): State<AppState>,
+    Authed(therapist): Authed,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<Vec<SessionRow>>, ApiError> {
+    let Path(id) = id?;
+    let patient = state.visible_patient(&therapist, &id).await?;
+    let sessions = state.db.sessions_of(&patient.id).await?;
+    state
+        .audit(&therapist.actor(), "read_sessions", &patient.id, "")
+        .await?;
+    Ok(Json(sessions))
+}

@@ -1,0 +1,74 @@
+//! One session, its summaries and its movement metrics.
+
+use std::collections::BTreeMap;
+
+use axum::Json;
+use axum::extract::rejection::PathRejection;
+use axum::extract::{Path, State};
+use netlink::Summary;
+
+use super::auth::Authed;
+use super::{ApiError, AppState, check_path_id};
+use crate::db::{SessionRow, Therapist};
+
+/// The session `id` if `therapist` may see its patient; 404 otherwise.
+async fn visible_session(
+    state: &AppState,
+    therapist: &Therapist,
+    id: &str,
+) -> Result<SessionRow, ApiError> {
+    check_path_id("session id", id)?;
+    let not_found = || ApiError::NotFound(format!("no session {id:?}"));
+    let session = state.db.session(id).await?.ok_or_else(not_found)?;
+    state
+        .visible_patient(therapist, &session.patient_id)
+        .await
+        .map_err(|_| not_found())?;
+    Ok(session)
+}
+
+pub(crate) async fn one(
+    State(state): State<AppState>,
+    Authed(therapist): Authed,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<SessionRow>, ApiError> {
+    let Path(id) = id?;
+    let session = visible_session(&state, &therapist, &id).await?;
+    state
+        .audit(&therapist.actor(), "read_session", &session.session_id, "")
+        .await?;
+    Ok(Json(session))
+}
+
+pub(crate) async fn summaries(
+    State(state): State<AppState>,
+    Authed(therapist): Authed,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<Vec<Summary>>, ApiError> {
+    let Path(id) = id?;
+    let session = visible_session(&state, &therapist, &id).await?;
+    let summaries = state.db.summaries_of(&session.session_id).await?;
+    state
+        .audit(
+            &therapist.actor(),
+            "read_summaries",
+            &session.session_id,
+            "",
+        )
+        .await?;
+    Ok(Json(summaries))
+}
+
+pub(crate) async fn metrics(
+    State(state): State<AppState>,
+    Authed(therapist): Authed,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<BTreeMap<String, f64>>, ApiError> {
+    let Path(id) = id?;
+    let session = visible_session(&state, &therapist, &id).await?;
+    let metrics = state.db.metrics_of(&session.session_id).await?;
+    state
+        .audit(&therapist.actor(), "read_metrics", &session.session_id, "")
+        .await?;
+    Ok(Json(metrics))
+}

@@ -1,0 +1,104 @@
+//! Databases for the hub's tests: a SQLite file in a temp dir, and a fresh PostgreSQL
+//! database on the server named by `TELEREHAB_TEST_PG_URL` (`scripts/with-postgres.sh`).
+
+#![allow(dead_code, missing_docs)]
+
+use hub::Db;
+use sqlx::Connection;
+
+/// The environment variable naming the PostgreSQL server for tests.
+pub const PG_ENV: &str = "TELEREHAB_TEST_PG_URL";
+
+/// A fresh SQLite database; keep the temp dir alive as long as the database.
+pub async fn sqlite_db() -> (Db, tempfile::TempDir) {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let db = Db::open_sqlite(&dir.path().join("hub.db"))
+        .await
+        .expect("open sqlite");
+    (db, dir)
+}
+
+/// A fresh database `t_<random>` on the test PostgreSQL server, dropped by [`PgDb::drop_db`].
+pub struct PgDb {
+    pub db: Db,
+    pub url: String,
+    admin_url: String,
+    name: String,
+}
+
+fn random_suffix() -> String {
+    let mut bytes = [0u8; 8];
+    getrandom::fill(&mut bytes).expect("random");
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+impl PgDb {
+    /// `None` (after printing why) when `TELEREHAB_TEST_PG_URL` is not set.
+    pub async fn create() -> Option<Self> {
+        let Ok(admin_url) = std::env::var(PG_ENV) else {
+            println!("SKIPPED: {PG_ENV} is not set (scripts/with-postgres.sh starts a server)");
+            return None;
+        };
+        sqlx::any::install_default_drivers();
+        let name = format!("t_{}", random_suffix());
+        let mut conn = sqlx::AnyConnection::connect(&admin_url)
+            .await
+            .expect("connect to the test PostgreSQL server");
+        sqlx::raw_sql(sqlx::AssertSqlSafe(format!("CREATE DATABASE {name}")))
+            .execute(&mut conn)
+            .await
+            .expect("create test database");
+        conn.close().await.ok();
+        let base = admin_url
+            .rsplit_once('/')
+            .map_or(admin_url.as_str(), |(base, _)| base);
+        let url = format!("{base}/{name}");
+        let db = Db::open(&url).await.expect("open postgres");
+        Some(Self {
+            db,
+            url,
+            admin_url,
+            name,
+        })
+    }
+
+    /// Closes the pool and drops the database.
+    pub async fn drop_db(self) {
+        self.db.close().await;
+        let mut conn = sqlx::AnyConnection::connect(&self.admin_url)
+            .await
+            .expect("connect to the test PostgreSQL server");
+        sqlx::raw_sql(sqlx::AssertSqlSafe(format!(
+            "DROP DATABASE IF EXISTS {} WITH (FORCE)",
+            self.name
+        )))
+        .execute(&mut conn)
+        .await
+        .expect("drop test database");
+        conn.close().await.ok();
+    }
+}
+
+/// Runs each named `async fn(Db)` on SQLite and on PostgreSQL: tests `<name>::sqlite` and
+/// `<name>::postgres`.
+#[macro_export]
+macro_rules! on_both_backends {
+    ($($name:ident),* $(,)?) => {$(
+        mod $name {
+            #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+            async fn sqlite() {
+                let (db, _dir) = $crate::common::sqlite_db().await;
+                super::$name(db).await;
+            }
+
+            #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+            async fn postgres() {
+                let Some(pg) = $crate::common::PgDb::create().await else {
+                    return;
+                };
+                super::$name(pg.db.clone()).await;
+                pg.drop_db().await;
+            }
+        }
+    )*};
+}

@@ -1,0 +1,679 @@
+//! The database layer on SQLite and PostgreSQL: every test body runs on both backends
+//! (`<name>::sqlite`, `<name>::postgres`; the latter needs `TELEREHAB_TEST_PG_URL`, see
+//! `scripts/with-postgres.sh`).
+
+mod common;
+
+use std::collections::BTreeMap;
+
+use hub::db::{LOCKOUT_MS, Recording};
+use hub::{Db, HubError, PairRefusal, Role};
+use netlink::store::Appended;
+use netlink::{Bye, Hello, PROTOCOL_VERSION, Summary};
+
+const T0: i64 = 1_795_253_400_000;
+const MIN: i64 = 60_000;
+const FP1: &str = "1111111111111111111111111111111111111111111111111111111111111111";
+const FP2: &str = "2222222222222222222222222222222222222222222222222222222222222222";
+
+fn summary(session_id: &str, seq: u64) -> Summary {
+    Summary {
+        session_id: session_id.to_owned(),
+        seq,
+        t_s: seq as f64 * 0.1,
+        exercise: "sine-road".to_owned(),
+        speed_m_s: 12.5,
+        lateral_m: -0.25,
+        rms_lateral_m: 0.31,
+        max_lateral_m: 0.9,
+        pct_in_lane: 97.5,
+        max_abs_torque_nm: 1.2,
+        loop_p99_us: 45.0,
+        ticks: seq.saturating_mul(100),
+        dropped_records: 0,
+        extra: BTreeMap::from([("assist_level".to_owned(), 0.25)]),
+    }
+}
+
+fn hello(station_id: &str, patient_id: &str, session_id: &str) -> Hello {
+    Hello {
+        protocol_version: PROTOCOL_VERSION,
+        station_id: station_id.to_owned(),
+        patient_id: patient_id.to_owned(),
+        session_id: session_id.to_owned(),
+        exercise: "sine-road".to_owned(),
+        started_unix_ms: T0 as u64,
+        software_version: "telerehab 0.1.0".to_owned(),
+        min_protocol_version: None,
+    }
+}
+
+/// A therapist, a patient and a paired station `st-1`.
+async fn paired(db: &Db) -> (hub::Therapist, hub::Patient) {
+    let t = db
+        .add_therapist(
+            "ada@clinic.example",
+            "correct horse battery",
+            Role::Therapist,
+            T0,
+        )
+        .await
+        .unwrap();
+    let p = db.add_patient("p-0042", Some(&t.id), T0).await.unwrap();
+    db.add_station("st-1", &p.id, FP1, T0).await.unwrap();
+    (t, p)
+}
+
+on_both_backends!(
+    dollar_placeholders_work,
+    schema_is_migrated,
+    therapists_and_lockout,
+    login_sessions_expire,
+    patients_and_caseload,
+    hostile_pseudonyms_are_refused,
+    pairing_codes_are_single_use,
+    stations_and_revocation,
+    summaries_are_stored_exactly_once,
+    concurrent_duplicates_are_stored_once,
+    session_of_another_station_is_refused,
+    sessions_close_and_list,
+    metrics_and_recordings,
+    regimen_versions_increment,
+    audit_log_keeps_entries,
+);
+
+async fn dollar_placeholders_work(db: Db) {
+    // Out of order and reused: both backends bind `$n` by number.
+    let v: i64 = sqlx::query_scalar("SELECT CAST($2 AS BIGINT) * 10 + CAST($1 AS BIGINT)")
+        .bind(1_i64)
+        .bind(4_i64)
+        .fetch_one(db.pool())
+        .await
+        .unwrap();
+    assert_eq!(v, 41);
+    let v: i64 = sqlx::query_scalar("SELECT CAST($1 AS BIGINT) + CAST($1 AS BIGINT)")
+        .bind(21_i64)
+        .fetch_one(db.pool())
+        .await
+        .unwrap();
+    assert_eq!(v, 42);
+    let s: String = sqlx::query_scalar("SELECT CAST($1 AS TEXT)")
+        .bind("'; DROP TABLE patients; --")
+        .fetch_one(db.pool())
+        .await
+        .unwrap();
+    assert_eq!(s, "'; DROP TABLE patients; --");
+}
+
+async fn schema_is_migrated(db: Db) {
+    assert_eq!(db.schema_version().await.unwrap(), 1);
+    let n: i64 = sqlx::query_scalar("SELECT COUNT(*) FROM audit_log")
+        .fetch_one(db.pool())
+        .await
+        .unwrap();
+    assert_eq!(n, 0);
+}
+
+async fn therapists_and_lockout(db: Db) {
+    let t = db
+        .add_therapist(
+            "Ada@Clinic.example",
+            "correct horse battery",
+            Role::Admin,
+            T0,
+        )
+        .await
+        .unwrap();
+    assert_eq!(t.email, "ada@clinic.example");
+    assert!(t.id.starts_with("t-"));
+    assert_eq!(db.therapist(&t.id).await.unwrap(), Some(t.clone()));
+    let hash: String = sqlx::query_scalar("SELECT password_hash FROM therapists WHERE id = $1")
+        .bind(&t.id)
+        .fetch_one(db.pool())
+        .await
+        .unwrap();
+    assert!(hash.starts_with("$argon2id$"), "{hash}");
+    let dup = db
+        .add_therapist(
+            "ada@clinic.example",
+            "another long pass",
+            Role::Therapist,
+            T0,
+        )
+        .await;
+    assert!(
+        matches!(dup, Err(HubError::AlreadyExists { .. })),
+        "{dup:?}"
+    );
+    let short = db
+        .add_therapist("bob@clinic.example", "short", Role::Therapist, T0)
+        .await
+        .unwrap_err();
+    assert!(short.to_string().contains("password"), "{short}");
+
+    let ok = db
+        .verify_login("ada@clinic.example", "correct horse battery", T0)
+        .await
+        .unwrap();
+    assert_eq!(ok.id, t.id);
+    let unknown = db
+        .verify_login("nobody@clinic.example", "correct horse battery", T0)
+        .await
+        .unwrap_err();
+    let wrong = db
+        .verify_login("ada@clinic.example", "wrong", T0)
+        .await
+        .unwrap_err();
+    // Same answer whether or not the email exists.
+    assert_eq!(unknown.to_string(), wrong.to_string());
+    for _ in 0..4 {
+        assert!(matches!(
+            db.verify_login("ada@clinic.example", "wrong", T0 + 1).await,
+            Err(HubError::LoginRefused)
+        ));
+    }
+    // Five failures: locked, even with the right password.
+    let locked = db
+        .verify_login("ada@clinic.example", "correct horse battery", T0 + 2)
+        .await;
+    assert!(matches!(locked, Err(HubError::LoginRefused)), "{locked:?}");
+    let later = db
+        .verify_login(
+            "ada@clinic.example",
+            "correct horse battery",
+            T0 + 1 + LOCKOUT_MS,
+        )
+        .await;
+    assert_eq!(later.unwrap().id, t.id);
+}
+
+async fn login_sessions_expire(db: Db) {
+    let (t, _) = paired(&db).await;
+    let token = db.create_web_session(&t.id, T0, 10 * MIN).await.unwrap();
+    assert_eq!(token.len(), 64);
+    assert_eq!(
+        db.web_session(&token, T0 + MIN).await.unwrap(),
+        Some(t.clone())
+    );
+    assert_eq!(db.web_session(&token, T0 + 10 * MIN).await.unwrap(), None);
+    assert_eq!(db.web_session("0000", T0).await.unwrap(), None);
+    let stored: i64 = sqlx::query_scalar("SELECT COUNT(*) FROM web_sessions WHERE token_hash = $1")
+        .bind(&token)
+        .fetch_one(db.pool())
+        .await
+        .unwrap();
+    assert_eq!(stored, 0, "the token itself is never stored");
+    db.delete_web_session(&token, T0).await.unwrap();
+    assert_eq!(db.web_session(&token, T0 + 1).await.unwrap(), None);
+}
+
+async fn patients_and_caseload(db: Db) {
+    let (t, p) = paired(&db).await;
+    let admin = db
+        .add_therapist(
+            "root@clinic.example",
+            "correct horse battery",
+            Role::Admin,
+            T0,
+        )
+        .await
+        .unwrap();
+    let other = db
+        .add_therapist(
+            "bob@clinic.example",
+            "correct horse battery",
+            Role::Therapist,
+            T0,
+        )
+        .await
+        .unwrap();
+    let q = db.add_patient("q-7", Some(&other.id), T0).await.unwrap();
+    let dup = db.add_patient("p-0042", None, T0).await;
+    assert!(
+        matches!(dup, Err(HubError::AlreadyExists { .. })),
+        "{dup:?}"
+    );
+    let ghost = db.add_patient("x", Some("t-nobody"), T0).await;
+    assert!(matches!(ghost, Err(HubError::NotFound { .. })), "{ghost:?}");
+    assert_eq!(
+        db.patient_by_pseudonym("p-0042").await.unwrap(),
+        Some(p.clone())
+    );
+    assert_eq!(db.patient(&p.id).await.unwrap(), Some(p.clone()));
+    assert_eq!(db.patient_by_pseudonym("nobody").await.unwrap(), None);
+
+    // Two sessions: one 8 days ago, one 1 day ago.
+    for (sid, age_days) in [("s-old", 8), ("s-new", 1)] {
+        let mut h = hello("st-1", &p.id, sid);
+        h.started_unix_ms = (T0 + 10 * 24 * 60 * MIN - age_days * 24 * 60 * MIN) as u64;
+        db.open_session(&h, T0).await.unwrap();
+    }
+    let now = T0 + 10 * 24 * 60 * MIN;
+    let own = db.patients_for(&t, now).await.unwrap();
+    assert_eq!(own.len(), 1);
+    assert_eq!(own[0].patient, p);
+    assert_eq!(own[0].sessions_last_7_days, 1);
+    assert_eq!(own[0].last_session_started_ms, Some(now - 24 * 60 * MIN));
+    let all = db.patients_for(&admin, now).await.unwrap();
+    let ids: Vec<_> = all.iter().map(|o| o.patient.id.clone()).collect();
+    assert_eq!(ids, vec![p.id.clone(), q.id.clone()]);
+    assert_eq!(all[1].sessions_last_7_days, 0);
+    assert_eq!(all[1].last_session_started_ms, None);
+    assert!(Db::may_see(&t, &p) && !Db::may_see(&t, &q) && Db::may_see(&admin, &q));
+}
+
+async fn hostile_pseudonyms_are_refused(db: Db) {
+    for bad in [
+        "'; DROP TABLE patients; --",
+        "../../etc",
+        "",
+        "a b",
+        "é",
+        &"x".repeat(65),
+    ] {
+        let err = db.add_patient(bad, None, T0).await.unwrap_err();
+        assert!(
+            matches!(
+                err,
+                HubError::Invalid {
+                    field: "pseudonym",
+                    ..
+                }
+            ),
+            "{bad:?}: {err}"
+        );
+        assert!(err.to_string().contains("A-Z"), "{err}");
+    }
+    let n: i64 = sqlx::query_scalar("SELECT COUNT(*) FROM patients")
+        .fetch_one(db.pool())
+        .await
+        .unwrap();
+    assert_eq!(n, 0);
+    db.add_patient(&"x".repeat(64), None, T0).await.unwrap();
+}
+
+async fn pairing_codes_are_single_use(db: Db) {
+    let (_, p) = paired(&db).await;
+    let code = db.create_pairing_code(&p.id, T0, 15 * MIN).await.unwrap();
+    assert_eq!(code.len(), 9);
+    let stored: i64 = sqlx::query_scalar("SELECT COUNT(*) FROM pairing_codes WHERE code_hash = $1")
+        .bind(&code)
+        .fetch_one(db.pool())
+        .await
+        .unwrap();
+    assert_eq!(stored, 0, "only the hash is stored");
+    // Typed in lower case without the dash: same code.
+    let typed = code.replace('-', "").to_lowercase();
+    assert_eq!(
+        db.redeem_pairing_code(&typed, T0 + MIN).await.unwrap(),
+        p.id
+    );
+    let again = db.redeem_pairing_code(&code, T0 + MIN).await;
+    assert!(
+        matches!(again, Err(HubError::Pair(PairRefusal::Used))),
+        "{again:?}"
+    );
+
+    let code2 = db.create_pairing_code(&p.id, T0, 15 * MIN).await.unwrap();
+    let late = db.redeem_pairing_code(&code2, T0 + 15 * MIN).await;
+    assert!(
+        matches!(late, Err(HubError::Pair(PairRefusal::Expired))),
+        "{late:?}"
+    );
+    let unknown = db.redeem_pairing_code("2345-6789", T0).await;
+    let garbage = db.redeem_pairing_code("'; DROP TABLE", T0).await;
+    for r in [unknown, garbage] {
+        assert!(
+            matches!(r, Err(HubError::Pair(PairRefusal::Unknown))),
+            "{r:?}"
+        );
+    }
+    let attempts: i64 =
+        sqlx::query_scalar("SELECT CAST(SUM(failed_attempts) AS BIGINT) FROM pairing_codes")
+            .fetch_one(db.pool())
+            .await
+            .unwrap();
+    assert_eq!(attempts, 2);
+    let ghost = db.create_pairing_code("p-nobody", T0, MIN).await;
+    assert!(matches!(ghost, Err(HubError::NotFound { .. })), "{ghost:?}");
+}
+
+async fn stations_and_revocation(db: Db) {
+    let (_, p) = paired(&db).await;
+    let st = db.station("st-1").await.unwrap().unwrap();
+    assert_eq!(st.patient_id, p.id);
+    assert_eq!(
+        db.station_by_fingerprint(FP1).await.unwrap(),
+        Some(st.clone())
+    );
+    assert_eq!(db.station_by_fingerprint(FP2).await.unwrap(), None);
+    let dup = db.add_station("st-2", &p.id, FP1, T0).await;
+    assert!(
+        matches!(dup, Err(HubError::AlreadyExists { .. })),
+        "{dup:?}"
+    );
+    let bad = db.add_station("../x", &p.id, FP2, T0).await;
+    assert!(matches!(bad, Err(HubError::Invalid { .. })), "{bad:?}");
+    let bad_fp = db.add_station("st-3", &p.id, "ABC", T0).await;
+    assert!(
+        matches!(bad_fp, Err(HubError::Invalid { .. })),
+        "{bad_fp:?}"
+    );
+    db.touch_station("st-1", T0 + MIN).await.unwrap();
+    assert_eq!(
+        db.station("st-1").await.unwrap().unwrap().last_seen_ms,
+        Some(T0 + MIN)
+    );
+    assert_eq!(db.stations_of(&p.id).await.unwrap().len(), 1);
+
+    db.open_session(&hello("st-1", &p.id, "s1"), T0)
+        .await
+        .unwrap();
+    db.revoke_station("st-1", T0 + 2 * MIN).await.unwrap();
+    db.revoke_station("st-1", T0 + 3 * MIN).await.unwrap();
+    let st = db.station("st-1").await.unwrap().unwrap();
+    assert!(st.is_revoked());
+    assert_eq!(st.revoked_at_ms, Some(T0 + 2 * MIN));
+    let refused = db.open_session(&hello("st-1", &p.id, "s1"), T0).await;
+    assert!(
+        matches!(refused, Err(HubError::StationRevoked(_))),
+        "{refused:?}"
+    );
+    assert!(matches!(
+        db.revoke_station("st-nobody", T0).await,
+        Err(HubError::NotFound { .. })
+    ));
+    assert!(matches!(
+        db.open_session(&hello("st-nobody", &p.id, "s2"), T0).await,
+        Err(HubError::NotFound { .. })
+    ));
+}
+
+async fn summaries_are_stored_exactly_once(db: Db) {
+    let (_, p) = paired(&db).await;
+    assert_eq!(
+        db.open_session(&hello("st-1", &p.id, "s1"), T0)
+            .await
+            .unwrap(),
+        None
+    );
+    // In order, a duplicate, a reordered stale one, a gap (the station dropped some).
+    let plan = [
+        (0, Appended::Stored),
+        (1, Appended::Stored),
+        (1, Appended::Duplicate),
+        (3, Appended::Stored),
+        (2, Appended::Duplicate),
+        (0, Appended::Duplicate),
+        (4, Appended::Stored),
+    ];
+    for (seq, expected) in plan {
+        assert_eq!(
+            db.store_summary(&summary("s1", seq), T0).await.unwrap(),
+            expected,
+            "seq {seq}"
+        );
+    }
+    // A reconnect resumes from the last stored.
+    assert_eq!(
+        db.open_session(&hello("st-1", &p.id, "s1"), T0 + MIN)
+            .await
+            .unwrap(),
+        Some(4)
+    );
+    let seqs: Vec<u64> = db
+        .summaries_of("s1")
+        .await
+        .unwrap()
+        .iter()
+        .map(|s| s.seq)
+        .collect();
+    assert_eq!(seqs, vec![0, 1, 3, 4]);
+    assert_eq!(db.summaries_of("s1").await.unwrap()[0], summary("s1", 0));
+
+    let jump = db
+        .store_summary(&summary("s1", 4 + 2 + netlink::frame::MAX_SEQ_STEP), T0)
+        .await;
+    assert!(matches!(jump, Err(HubError::Conflict(_))), "{jump:?}");
+    let ok = db
+        .store_summary(&summary("s1", 4 + 1 + netlink::frame::MAX_SEQ_STEP), T0)
+        .await;
+    assert_eq!(ok.unwrap(), Appended::Stored);
+    let huge = db
+        .store_summary(&summary("s1", u64::MAX), T0)
+        .await
+        .unwrap_err();
+    assert!(huge.to_string().contains("largest storable"), "{huge}");
+    let mut nan = summary("s1", 99_999_999);
+    nan.rms_lateral_m = f64::NAN;
+    let nan = db.store_summary(&nan, T0).await.unwrap_err();
+    assert!(nan.to_string().contains("rms_lateral_m"), "{nan}");
+    let unknown = db.store_summary(&summary("s-nobody", 0), T0).await;
+    assert!(
+        matches!(unknown, Err(HubError::NotFound { .. })),
+        "{unknown:?}"
+    );
+}
+
+async fn concurrent_duplicates_are_stored_once(db: Db) {
+    let (_, p) = paired(&db).await;
+    db.open_session(&hello("st-1", &p.id, "s1"), T0)
+        .await
+        .unwrap();
+    // Four writers each deliver the same 0..25, shuffled differently: every seq stored once,
+    // and the stored sequence stays increasing.
+    let mut tasks = Vec::new();
+    for w in 0..4_u64 {
+        let db = db.clone();
+        tasks.push(tokio::spawn(async move {
+            let mut stored = Vec::new();
+            for i in 0..25_u64 {
+                let seq = if w % 2 == 0 { i } else { (i * 7 + w) % 25 };
+                if db.store_summary(&summary("s1", seq), T0).await.unwrap() == Appended::Stored {
+                    stored.push(seq);
+                }
+            }
+            stored
+        }));
+    }
+    let mut all = Vec::new();
+    for t in tasks {
+        all.extend(t.await.unwrap());
+    }
+    let rows: Vec<u64> = db
+        .summaries_of("s1")
+        .await
+        .unwrap()
+        .iter()
+        .map(|s| s.seq)
+        .collect();
+    all.sort_unstable();
+    assert_eq!(
+        all, rows,
+        "each stored summary reported Stored exactly once"
+    );
+    assert!(rows.windows(2).all(|w| w[0] < w[1]));
+    assert_eq!(rows.last(), Some(&24));
+}
+
+async fn session_of_another_station_is_refused(db: Db) {
+    let (_, p) = paired(&db).await;
+    db.add_station("st-2", &p.id, FP2, T0).await.unwrap();
+    db.open_session(&hello("st-1", &p.id, "s1"), T0)
+        .await
+        .unwrap();
+    let err = db
+        .open_session(&hello("st-2", &p.id, "s1"), T0)
+        .await
+        .unwrap_err();
+    assert!(err.to_string().contains("another station"), "{err}");
+    let q = db.add_patient("q-1", None, T0).await.unwrap();
+    let err = db
+        .open_session(&hello("st-1", &q.id, "s9"), T0)
+        .await
+        .unwrap_err();
+    assert!(err.to_string().contains("paired with patient"), "{err}");
+    let err = db
+        .open_session(&hello("st-1", &p.id, "../../etc"), T0)
+        .await
+        .unwrap_err();
+    assert!(matches!(err, HubError::Invalid { .. }), "{err}");
+}
+
+async fn sessions_close_and_list(db: Db) {
+    let (_, p) = paired(&db).await;
+    let mut h = hello("st-1", &p.id, "s1");
+    db.open_session(&h, T0).await.unwrap();
+    h.session_id = "s2".into();
+    h.started_unix_ms += 1000;
+    db.open_session(&h, T0).await.unwrap();
+    for seq in 0..3 {
+        db.store_summary(&summary("s1", seq), T0).await.unwrap();
+    }
+    let bye = Bye {
+        session_id: "s1".into(),
+        reason: "patient pressed stop".into(),
+        final_seq: Some(2),
+    };
+    assert_eq!(db.close_session(&bye, T0 + MIN).await.unwrap(), Some(2));
+    let s1 = db.session("s1").await.unwrap().unwrap();
+    assert_eq!(s1.closed_at_ms, Some(T0 + MIN));
+    assert_eq!(s1.end_reason.as_deref(), Some("patient pressed stop"));
+    assert_eq!((s1.final_seq, s1.last_seq), (Some(2), Some(2)));
+    let ids: Vec<_> = db
+        .sessions_of(&p.id)
+        .await
+        .unwrap()
+        .into_iter()
+        .map(|s| s.session_id)
+        .collect();
+    assert_eq!(ids, vec!["s2", "s1"]);
+    let unknown = Bye {
+        session_id: "s-nobody".into(),
+        ..bye
+    };
+    assert!(matches!(
+        db.close_session(&unknown, T0).await,
+        Err(HubError::NotFound { .. })
+    ));
+}
+
+async fn metrics_and_recordings(db: Db) {
+    let (_, p) = paired(&db).await;
+    db.open_session(&hello("st-1", &p.id, "s1"), T0)
+        .await
+        .unwrap();
+    let mut m = BTreeMap::from([("rom_rad".to_owned(), 1.25), ("jerk".to_owned(), 3.5)]);
+    db.put_metrics("s1", &m).await.unwrap();
+    m.insert("jerk".to_owned(), 2.0);
+    db.put_metrics("s1", &m).await.unwrap();
+    assert_eq!(db.metrics_of("s1").await.unwrap(), m);
+    let bad = BTreeMap::from([("x".to_owned(), f64::INFINITY)]);
+    assert!(matches!(
+        db.put_metrics("s1", &bad).await,
+        Err(HubError::Invalid { .. })
+    ));
+
+    let mut rec = Recording {
+        session_id: "s1".into(),
+        sha256: FP2.into(),
+        size_bytes: 1000,
+        received_bytes: 10,
+        path: "recordings/s1.mcap".into(),
+        complete: false,
+    };
+    db.put_recording(&rec).await.unwrap();
+    rec.received_bytes = 1000;
+    rec.complete = true;
+    db.put_recording(&rec).await.unwrap();
+    assert_eq!(db.recording("s1").await.unwrap(), Some(rec));
+    assert_eq!(db.recording("s2").await.unwrap(), None);
+}
+
+async fn regimen_versions_increment(db: Db) {
+    let (t, p) = paired(&db).await;
+    assert_eq!(db.latest_regimen(&p.id).await.unwrap(), None);
+    assert_eq!(db.put_regimen(&p.id, "a = 1", &t.id, T0).await.unwrap(), 1);
+    assert_eq!(
+        db.put_regimen(&p.id, "a = 2", &t.id, T0 + MIN)
+            .await
+            .unwrap(),
+        2
+    );
+    let latest = db.latest_regimen(&p.id).await.unwrap().unwrap();
+    assert_eq!((latest.version, latest.toml.as_str()), (2, "a = 2"));
+    assert_eq!(latest.prescribed_by, t.id);
+    assert_eq!(latest.prescribed_at_ms, T0 + MIN);
+    let history = db.regimen_history(&p.id).await.unwrap();
+    assert_eq!(
+        history.iter().map(|r| r.version).collect::<Vec<_>>(),
+        vec![1, 2]
+    );
+    // Another patient starts at 1.
+    let q = db.add_patient("q-1", None, T0).await.unwrap();
+    assert_eq!(db.put_regimen(&q.id, "b = 1", &t.id, T0).await.unwrap(), 1);
+    let ghost = db.put_regimen("p-nobody", "a = 1", &t.id, T0).await;
+    assert!(matches!(ghost, Err(HubError::NotFound { .. })), "{ghost:?}");
+}
+
+async fn audit_log_keeps_entries(db: Db) {
+    db.audit("cli", "add_patient", "p-1", "from the command line", T0)
+        .await
+        .unwrap();
+    db.audit("therapist:t-1", "read_patient", "p-1", "", T0 + 1)
+        .await
+        .unwrap();
+    db.audit("station:st-1", "hello", "s1", "line\nbreak", T0 + 2)
+        .await
+        .unwrap();
+    let log = db.audit_log(2).await.unwrap();
+    assert_eq!(log.len(), 2);
+    assert_eq!(log[0].actor, "station:st-1");
+    assert_eq!(log[0].detail, "line break");
+    assert_eq!(log[1].action, "read_patient");
+    assert_eq!(db.audit_log(100).await.unwrap().len(), 3);
+}
+
+#[tokio::test]
+async fn sqlite_migrations_are_idempotent_and_files_private() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("new-dir/hub.db");
+    let db = Db::open_sqlite(&path).await.unwrap();
+    db.add_patient("p-1", None, T0).await.unwrap();
+    db.close().await;
+    let mode = |p: &std::path::Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+    assert_eq!(mode(&path), 0o600);
+    assert_eq!(mode(path.parent().unwrap()), 0o700);
+    let again = Db::open(&format!("sqlite://{}?mode=rwc", path.display()))
+        .await
+        .unwrap();
+    assert_eq!(again.schema_version().await.unwrap(), 1);
+    assert!(again.patient_by_pseudonym("p-1").await.unwrap().is_some());
+    let journal: String = sqlx::query_scalar("PRAGMA journal_mode")
+        .fetch_one(again.pool())
+        .await
+        .unwrap();
+    assert_eq!(journal, "wal");
+    let fk: i64 = sqlx::query_scalar("PRAGMA foreign_keys")
+        .fetch_one(again.pool())
+        .await
+        .unwrap();
+    assert_eq!(fk, 1);
+    let bad = Db::open("mysql://x").await.unwrap_err();
+    assert!(bad.to_string().contains("sqlite://"), "{bad}");
+}
+
+#[tokio::test]
+async fn postgres_migrations_are_idempotent() {
+    let Some(pg) = common::PgDb::create().await else {
+        return;
+    };
+    pg.db.add_patient("p-1", None, T0).await.unwrap();
+    let again = Db::open(&pg.url).await.unwrap();
+    assert_eq!(again.backend(), hub::Backend::Postgres);
+    assert_eq!(again.schema_version().await.unwrap(), 1);
+    assert!(again.patient_by_pseudonym("p-1").await.unwrap().is_some());
+    again.close().await;
+    pg.drop_db().await;
+}

@@ -1,0 +1,672 @@
+//! The console API: most tests call the router directly (`tower::ServiceExt::oneshot`), one
+//! makes a real HTTPS round trip.
+
+mod common;
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicI64, Ordering};
+use std::time::Duration;
+
+use axum::Router;
+use axum::body::Body;
+use axum::http::{HeaderMap, Method, Request, StatusCode, header};
+use http_body_util::BodyExt;
+use hub::db::LOCKOUT_MS;
+use hub::web::{self, AppState, LiveEvent};
+use hub::{Db, Patient, Role, Therapist};
+use netlink::{Hello, PROTOCOL_VERSION, Summary};
+use serde_json::{Value, json};
+use tokio::sync::broadcast;
+use tower::ServiceExt;
+
+const T0: i64 = 1_795_253_400_000;
+const PASSWORD: &str = "correct horse battery";
+
+struct Fixture {
+    app: Router,
+    db: Db,
+    live: broadcast::Sender<LiveEvent>,
+    clock: Arc<AtomicI64>,
+    admin: Therapist,
+    ada: Therapist,
+    p_ada: Patient,
+    p_bob: Patient,
+    _dir: tempfile::TempDir,
+}
+
+fn validator(toml: &str) -> Result<(), String> {
+    if toml.contains("max_torque_nm = 99") {
+        Err("max_torque_nm 99 N·m is above the device ceiling 1.87 N·m".to_owned())
+    } else {
+        Ok(())
+    }
+}
+
+async fn fixture() -> Fixture {
+    let (db, dir) = common::sqlite_db().await;
+    let admin = db
+        .add_therapist("root@clinic.example", PASSWORD, Role::Admin, T0)
+        .await
+        .unwrap();
+    let ada = db
+        .add_therapist("ada@clinic.example", PASSWORD, Role::Therapist, T0)
+        .await
+        .unwrap();
+    let bob = db
+        .add_therapist("bob@clinic.example", PASSWORD, Role::Therapist, T0)
+        .await
+        .unwrap();
+    let p_ada = db.add_patient("p-ada-1", Some(&ada.id), T0).await.unwrap();
+    let p_bob = db.add_patient("p-bob-1", Some(&bob.id), T0).await.unwrap();
+    let (live, _) = broadcast::channel(64);
+    let clock = Arc::new(AtomicI64::new(T0));
+    let now = Arc::clone(&clock);
+    let state = AppState::new(db.clone(), Arc::new(validator), live.clone())
+        .with_clock(Arc::new(move || now.load(Ordering::SeqCst)));
+    Fixture {
+        app: web::router(state),
+        db,
+        live,
+        clock,
+        admin,
+        ada,
+        p_ada,
+        p_bob,
+        _dir: dir,
+    }
+}
+
+fn request(method: Method, uri: &str, cookie: Option<&str>, body: Option<Value>) -> Request<Body> {
+    let mut builder = Request::builder().method(method).uri(uri);
+    if let Some(c) = cookie {
+        builder = builder.header(header::COOKIE, c);
+    }
+    match body {
+        Some(b) => builder
+            .header(header::CONTENT_TYPE, "application/json")
+            .body(Body::from(b.to_string())),
+        None => builder.body(Body::empty()),
+    }
+    .unwrap()
+}
+
+async fn call(
+    app: &Router,
+    method: Method,
+    uri: &str,
+    cookie: Option<&str>,
+    body: Option<Value>,
+) -> (StatusCode, HeaderMap, Value) {
+    let response = app
+        .clone()
+        .oneshot(request(method, uri, cookie, body))
+        .await
+        .unwrap();
+    let status = response.status();
+    let headers = response.headers().clone();
+    let bytes = response.into_body().collect().await.unwrap().to_bytes();
+    let value = if bytes.is_empty() {
+        Value::Null
+    } else {
+        serde_json::from_slice(&bytes)
+            .unwrap_or_else(|_| Value::String(String::from_utf8_lossy(&bytes).into_owned()))
+    };
+    (status, headers, value)
+}
+
+/// Logs in and returns the `Cookie` header value.
+async fn login(app: &Router, email: &str) -> String {
+    let (status, headers, body) = call(
+        app,
+        Method::POST,
+        "/api/login",
+        None,
+        Some(json!({"email": email, "password": PASSWORD})),
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK, "{body}");
+    let set = headers[header::SET_COOKIE].to_str().unwrap().to_owned();
+    set.split(';').next().unwrap().to_owned()
+}
+
+async fn actions(db: &Db) -> Vec<(String, String, String)> {
+    db.audit_log(1000)
+        .await
+        .unwrap()
+        .into_iter()
+        .map(|e| (e.actor, e.action, e.target))
+        .collect()
+}
+
+fn hello(patient_id: &str, session_id: &str) -> Hello {
+    Hello {
+        protocol_version: PROTOCOL_VERSION,
+        station_id: "st-1".into(),
+        patient_id: patient_id.into(),
+        session_id: session_id.into(),
+        exercise: "sine-road".into(),
+        started_unix_ms: T0 as u64,
+        software_version: "telerehab 0.1.0".into(),
+        min_protocol_version: None,
+    }
+}
+
+fn summary(session_id: &str, seq: u64) -> Summary {
+    Summary {
+        session_id: session_id.into(),
+        seq,
+        t_s: seq as f64 * 0.1,
+        exercise: "sine-road".into(),
+        speed_m_s: 12.0,
+        lateral_m: 0.1,
+        rms_lateral_m: 0.2,
+        max_lateral_m: 0.5,
+        pct_in_lane: 99.0,
+        max_abs_torque_nm: 1.1,
+        loop_p99_us: 40.0,
+        ticks: seq * 100,
+        dropped_records: 0,
+        extra: Default::default(),
+    }
+}
+
+#[tokio::test]
+async fn login_sets_a_strict_cookie_and_locks_out_after_failures() {
+    let f = fixture().await;
+    let (status, headers, body) = call(
+        &f.app,
+        Method::POST,
+        "/api/login",
+        None,
+        Some(json!({"email": "ada@clinic.example", "password": PASSWORD})),
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(body["email"], "ada@clinic.example");
+    assert!(body.get("password_hash").is_none());
+    let set = headers[header::SET_COOKIE].to_str().unwrap();
+    for attr in ["HttpOnly", "Secure", "SameSite=Strict", "Path=/"] {
+        assert!(set.contains(attr), "{set}");
+    }
+    let cookie = set.split(';').next().unwrap();
+    let (status, _, me) = call(&f.app, Method::GET, "/api/me", Some(cookie), None).await;
+    assert_eq!(
+        (status, me["id"].as_str()),
+        (StatusCode::OK, Some(f.ada.id.as_str()))
+    );
+
+    let wrong = json!({"email": "ada@clinic.example", "password": "nope nope nope"});
+    let unknown = json!({"email": "nobody@clinic.example", "password": PASSWORD});
+    let (s1, _, b1) = call(
+        &f.app,
+        Method::POST,
+        "/api/login",
+        None,
+        Some(wrong.clone()),
+    )
+    .await;
+    let (s2, _, b2) = call(&f.app, Method::POST, "/api/login", None, Some(unknown)).await;
+    assert_eq!(
+        (s1, s2),
+        (StatusCode::UNAUTHORIZED, StatusCode::UNAUTHORIZED)
+    );
+    assert_eq!(b1, b2, "an unknown email answers like a wrong password");
+    for _ in 0..4 {
+        call(
+            &f.app,
+            Method::POST,
+            "/api/login",
+            None,
+            Some(wrong.clone()),
+        )
+        .await;
+    }
+    let right = json!({"email": "ada@clinic.example", "password": PASSWORD});
+    let (locked, _, _) = call(
+        &f.app,
+        Method::POST,
+        "/api/login",
+        None,
+        Some(right.clone()),
+    )
+    .await;
+    assert_eq!(locked, StatusCode::UNAUTHORIZED);
+    f.clock.fetch_add(LOCKOUT_MS, Ordering::SeqCst);
+    let (later, _, _) = call(&f.app, Method::POST, "/api/login", None, Some(right)).await;
+    assert_eq!(later, StatusCode::OK);
+    let log = actions(&f.db).await;
+    assert!(
+        log.iter()
+            .any(|(a, act, t)| a == "web" && act == "login_failed" && t == "nobody@clinic.example")
+    );
+    assert!(
+        log.iter()
+            .any(|(a, act, _)| *a == f.ada.actor() && act == "login")
+    );
+    let (bad, _, _) = call(
+        &f.app,
+        Method::POST,
+        "/api/login",
+        None,
+        Some(json!({"email": 1})),
+    )
+    .await;
+    assert_eq!(bad, StatusCode::BAD_REQUEST);
+}
+
+#[tokio::test]
+async fn endpoints_need_a_valid_cookie_and_logout_ends_it() {
+    let f = fixture().await;
+    let (health, _, body) = call(&f.app, Method::GET, "/api/health", None, None).await;
+    assert_eq!((health, body), (StatusCode::OK, json!({"status": "ok"})));
+    let forged = format!("{}={}", web::SESSION_COOKIE, "ab".repeat(32));
+    for cookie in [
+        None,
+        Some(forged.as_str()),
+        Some("telerehab_session=../../etc"),
+    ] {
+        for uri in [
+            "/api/me",
+            "/api/patients",
+            &format!("/api/patients/{}", f.p_ada.id),
+        ] {
+            let (status, _, body) = call(&f.app, Method::GET, uri, cookie, None).await;
+            assert_eq!(status, StatusCode::UNAUTHORIZED, "{uri} {cookie:?}");
+            assert!(body["error"].as_str().unwrap().contains("log in"), "{body}");
+        }
+    }
+    let cookie = login(&f.app, "ada@clinic.example").await;
+    let (ok, headers, _) = call(&f.app, Method::GET, "/api/patients", Some(&cookie), None).await;
+    assert_eq!(ok, StatusCode::OK);
+    assert_eq!(headers[header::CACHE_CONTROL], "no-store");
+    let (out, _, _) = call(&f.app, Method::POST, "/api/logout", Some(&cookie), None).await;
+    assert_eq!(out, StatusCode::NO_CONTENT);
+    let (after, _, _) = call(&f.app, Method::GET, "/api/me", Some(&cookie), None).await;
+    assert_eq!(after, StatusCode::UNAUTHORIZED);
+}
+
+#[tokio::test]
+async fn a_therapist_sees_only_their_patients_and_others_are_404() {
+    let f = fixture().await;
+    f.db.add_station("st-1", &f.p_bob.id, &"ab".repeat(32), T0)
+        .await
+        .unwrap();
+    f.db.open_session(&hello(&f.p_bob.id, "s-bob"), T0)
+        .await
+        .unwrap();
+    let ada = login(&f.app, "ada@clinic.example").await;
+    let (_, _, list) = call(&f.app, Method::GET, "/api/patients", Some(&ada), None).await;
+    let ids: Vec<_> = list
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["id"].clone())
+        .collect();
+    assert_eq!(ids, vec![json!(f.p_ada.id)]);
+    assert_eq!(list[0]["sessions_last_7_days"], 0);
+
+    let (s_other, _, b_other) = call(
+        &f.app,
+        Method::GET,
+        &format!("/api/patients/{}", f.p_bob.id),
+        Some(&ada),
+        None,
+    )
+    .await;
+    let (s_none, _, _) = call(
+        &f.app,
+        Method::GET,
+        "/api/patients/p-nobody",
+        Some(&ada),
+        None,
+    )
+    .await;
+    assert_eq!(
+        (s_other, s_none),
+        (StatusCode::NOT_FOUND, StatusCode::NOT_FOUND)
+    );
+    assert!(b_other["error"].as_str().unwrap().contains("no patient"));
+    for uri in [
+        format!("/api/patients/{}/sessions", f.p_bob.id),
+        format!("/api/patients/{}/regimen", f.p_bob.id),
+        format!("/api/patients/{}/live", f.p_bob.id),
+        "/api/sessions/s-bob".to_owned(),
+        "/api/sessions/s-bob/summaries".to_owned(),
+        "/api/sessions/s-bob/metrics".to_owned(),
+    ] {
+        let (status, _, _) = call(&f.app, Method::GET, &uri, Some(&ada), None).await;
+        assert_eq!(status, StatusCode::NOT_FOUND, "{uri}");
+    }
+    let admin = login(&f.app, "root@clinic.example").await;
+    let (_, _, all) = call(&f.app, Method::GET, "/api/patients", Some(&admin), None).await;
+    assert_eq!(all.as_array().unwrap().len(), 2);
+    let (status, _, detail) = call(
+        &f.app,
+        Method::GET,
+        &format!("/api/patients/{}", f.p_bob.id),
+        Some(&admin),
+        None,
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(detail["pseudonym"], "p-bob-1");
+    assert_eq!(detail["stations"][0]["station_id"], "st-1");
+}
+
+#[tokio::test]
+async fn sessions_summaries_and_metrics_are_served_and_audited() {
+    let f = fixture().await;
+    f.db.add_station("st-1", &f.p_ada.id, &"ab".repeat(32), T0)
+        .await
+        .unwrap();
+    f.db.open_session(&hello(&f.p_ada.id, "s1"), T0)
+        .await
+        .unwrap();
+    for seq in 0..3 {
+        f.db.store_summary(&summary("s1", seq), T0).await.unwrap();
+    }
+    f.db.put_metrics("s1", &[("rom_rad".to_owned(), 1.5)].into())
+        .await
+        .unwrap();
+    let ada = login(&f.app, "ada@clinic.example").await;
+    let uri = format!("/api/patients/{}/sessions", f.p_ada.id);
+    let (_, _, sessions) = call(&f.app, Method::GET, &uri, Some(&ada), None).await;
+    assert_eq!(sessions[0]["session_id"], "s1");
+    let (_, _, one) = call(&f.app, Method::GET, "/api/sessions/s1", Some(&ada), None).await;
+    assert_eq!(one["last_seq"], 2);
+    let (_, _, sums) = call(
+        &f.app,
+        Method::GET,
+        "/api/sessions/s1/summaries",
+        Some(&ada),
+        None,
+    )
+    .await;
+    assert_eq!(sums.as_array().unwrap().len(), 3);
+    assert_eq!(sums[2]["seq"], 2);
+    let (_, _, metrics) = call(
+        &f.app,
+        Method::GET,
+        "/api/sessions/s1/metrics",
+        Some(&ada),
+        None,
+    )
+    .await;
+    assert_eq!(metrics, json!({"rom_rad": 1.5}));
+    let log = actions(&f.db).await;
+    for action in [
+        "read_sessions",
+        "read_session",
+        "read_summaries",
+        "read_metrics",
+    ] {
+        assert!(
+            log.iter()
+                .any(|(a, act, _)| *a == f.ada.actor() && act == action),
+            "{action} not audited: {log:?}"
+        );
+    }
+}
+
+#[tokio::test]
+async fn regimen_put_makes_version_2_and_the_validator_can_refuse() {
+    let f = fixture().await;
+    let ada = login(&f.app, "ada@clinic.example").await;
+    let uri = format!("/api/patients/{}/regimen", f.p_ada.id);
+    let (_, _, empty) = call(&f.app, Method::GET, &uri, Some(&ada), None).await;
+    assert_eq!(empty["current"], Value::Null);
+    for (i, text) in ["exercise = \"sine-road\"", "exercise = \"slalom\""]
+        .iter()
+        .enumerate()
+    {
+        let (status, _, body) = call(
+            &f.app,
+            Method::PUT,
+            &uri,
+            Some(&ada),
+            Some(json!({"toml": text})),
+        )
+        .await;
+        assert_eq!(status, StatusCode::OK, "{body}");
+        assert_eq!(body["version"], i + 1);
+        assert_eq!(body["prescribed_by"], json!(f.ada.id));
+    }
+    let (status, _, body) = call(
+        &f.app,
+        Method::PUT,
+        &uri,
+        Some(&ada),
+        Some(json!({"toml": "max_torque_nm = 99"})),
+    )
+    .await;
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert!(
+        body["error"].as_str().unwrap().contains("ceiling"),
+        "{body}"
+    );
+    let (_, _, view) = call(&f.app, Method::GET, &uri, Some(&ada), None).await;
+    assert_eq!(view["current"]["version"], 2);
+    assert_eq!(view["current"]["toml"], "exercise = \"slalom\"");
+    assert_eq!(view["history"].as_array().unwrap().len(), 2);
+
+    let big = json!({"toml": "x".repeat(web::MAX_BODY_BYTES + 1)});
+    let (status, _, _) = call(&f.app, Method::PUT, &uri, Some(&ada), Some(big)).await;
+    assert_eq!(status, StatusCode::PAYLOAD_TOO_LARGE);
+    let bob_patient = format!("/api/patients/{}/regimen", f.p_bob.id);
+    let (status, _, _) = call(
+        &f.app,
+        Method::PUT,
+        &bob_patient,
+        Some(&ada),
+        Some(json!({"toml": "a = 1"})),
+    )
+    .await;
+    assert_eq!(status, StatusCode::NOT_FOUND);
+    assert_eq!(f.db.latest_regimen(&f.p_bob.id).await.unwrap(), None);
+
+    let log = actions(&f.db).await;
+    let puts = log
+        .iter()
+        .filter(|(_, act, _)| act == "put_regimen")
+        .count();
+    assert_eq!(puts, 2);
+    assert!(
+        log.iter()
+            .any(|(_, act, t)| act == "regimen_rejected" && *t == f.p_ada.id)
+    );
+}
+
+#[tokio::test]
+async fn path_like_ids_are_refused_with_400() {
+    let f = fixture().await;
+    let ada = login(&f.app, "ada@clinic.example").await;
+    for uri in [
+        "/api/patients/..%2F..%2Fetc",
+        "/api/patients/..%2F..%2Fetc/sessions",
+        "/api/sessions/..%2F..%2Fetc/summaries",
+        "/api/patients/%27%3B%20DROP%20TABLE%20patients/regimen",
+    ] {
+        let (status, _, body) = call(&f.app, Method::GET, uri, Some(&ada), None).await;
+        assert_eq!(status, StatusCode::BAD_REQUEST, "{uri}");
+        assert!(body["error"].as_str().unwrap().contains("id"), "{body}");
+    }
+    let (status, _, _) = call(
+        &f.app,
+        Method::GET,
+        "/api/patients/../../etc",
+        Some(&ada),
+        None,
+    )
+    .await;
+    assert_eq!(status, StatusCode::NOT_FOUND);
+}
+
+#[tokio::test]
+async fn the_audit_log_is_for_admins_and_records_reads() {
+    let f = fixture().await;
+    let ada = login(&f.app, "ada@clinic.example").await;
+    call(
+        &f.app,
+        Method::GET,
+        &format!("/api/patients/{}", f.p_ada.id),
+        Some(&ada),
+        None,
+    )
+    .await;
+    let (status, _, _) = call(&f.app, Method::GET, "/api/audit", Some(&ada), None).await;
+    assert_eq!(status, StatusCode::FORBIDDEN);
+    let admin = login(&f.app, "root@clinic.example").await;
+    let (status, _, log) = call(
+        &f.app,
+        Method::GET,
+        "/api/audit?limit=50",
+        Some(&admin),
+        None,
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK);
+    let entries = log.as_array().unwrap();
+    assert!(entries.iter().any(|e| e["actor"] == json!(f.ada.actor())
+        && e["action"] == "read_patient"
+        && e["target"] == json!(f.p_ada.id)));
+    assert_eq!(entries[0]["actor"], json!(f.admin.actor()));
+    assert_eq!(entries[0]["action"], "read_audit");
+}
+
+#[tokio::test]
+async fn live_stream_delivers_summaries_of_the_right_patient_only() {
+    let f = fixture().await;
+    let ada = login(&f.app, "ada@clinic.example").await;
+    let uri = format!("/api/patients/{}/live", f.p_ada.id);
+    let response = f
+        .app
+        .clone()
+        .oneshot(request(Method::GET, &uri, Some(&ada), None))
+        .await
+        .unwrap();
+    assert_eq!(response.status(), StatusCode::OK);
+    assert_eq!(
+        response.headers()[header::CONTENT_TYPE],
+        "text/event-stream"
+    );
+    let event = |patient: &Patient, session: &str, seq| LiveEvent {
+        patient_id: patient.id.clone(),
+        session_id: session.to_owned(),
+        summary: summary(session, seq),
+    };
+    f.live.send(event(&f.p_bob, "s-bob", 7)).unwrap();
+    f.live.send(event(&f.p_ada, "s-ada", 3)).unwrap();
+    let mut body = response.into_body();
+    let mut text = String::new();
+    while !text.contains("\n\n") {
+        let frame = tokio::time::timeout(Duration::from_secs(5), body.frame())
+            .await
+            .expect("an event within 5 s")
+            .unwrap()
+            .unwrap();
+        if let Ok(data) = frame.into_data() {
+            text.push_str(&String::from_utf8_lossy(&data));
+        }
+    }
+    assert!(text.starts_with("event: summary\n"), "{text}");
+    let data = text
+        .lines()
+        .find_map(|l| l.strip_prefix("data: "))
+        .expect("a data line");
+    let got: Value = serde_json::from_str(data).unwrap();
+    assert_eq!(got["patient_id"], json!(f.p_ada.id));
+    assert_eq!(got["summary"]["seq"], 3);
+    assert!(!text.contains("s-bob"), "{text}");
+    assert!(
+        actions(&f.db)
+            .await
+            .iter()
+            .any(|(_, act, t)| act == "watch_live" && *t == f.p_ada.id)
+    );
+}
+
+#[tokio::test]
+async fn https_round_trip_and_plain_http_only_on_loopback() {
+    use rustls::pki_types::ServerName;
+    let f = fixture().await;
+    let dir = tempfile::tempdir().unwrap();
+    let cert = rcgen::generate_simple_self_signed(vec!["localhost".to_owned()]).unwrap();
+    let (cert_path, key_path) = (dir.path().join("hub.pem"), dir.path().join("hub.key"));
+    std::fs::write(&cert_path, cert.cert.pem()).unwrap();
+    std::fs::write(&key_path, cert.signing_key.serialize_pem()).unwrap();
+    let acceptor = web::acceptor_from_pem(&cert_path, &key_path).unwrap();
+
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
+    let server = tokio::spawn(web::serve_router(
+        listener,
+        Some(acceptor),
+        f.app.clone(),
+        async move {
+            stopped.await.ok();
+        },
+    ));
+
+    let mut roots = rustls::RootCertStore::empty();
+    roots.add(cert.cert.der().clone()).unwrap();
+    let provider = Arc::new(rustls::crypto::ring::default_provider());
+    let config = rustls::ClientConfig::builder_with_provider(provider)
+        .with_safe_default_protocol_versions()
+        .unwrap()
+        .with_root_certificates(roots)
+        .with_no_client_auth();
+    let connector = tokio_rustls::TlsConnector::from(Arc::new(config));
+    let tcp = tokio::net::TcpStream::connect(addr).await.unwrap();
+    let tls = connector
+        .connect(ServerName::try_from("localhost").unwrap(), tcp)
+        .await
+        .unwrap();
+    let (mut sender, connection) =
+        hyper::client::conn::http1::handshake(hyper_util::rt::TokioIo::new(tls))
+            .await
+            .unwrap();
+    tokio::spawn(connection);
+    let login = Request::post("/api/login")
+        .header(header::HOST, "localhost")
+        .header(header::CONTENT_TYPE, "application/json")
+        .body(http_body_util::Full::new(bytes_of(&json!({
+            "email": "ada@clinic.example", "password": PASSWORD
+        }))))
+        .unwrap();
+    let response = sender.send_request(login).await.unwrap();
+    assert_eq!(response.status(), StatusCode::OK);
+    let cookie = response.headers()[header::SET_COOKIE]
+        .to_str()
+        .unwrap()
+        .to_owned();
+    let cookie = cookie.split(';').next().unwrap().to_owned();
+    response.into_body().collect().await.unwrap();
+    let me = Request::get("/api/me")
+        .header(header::HOST, "localhost")
+        .header(header::COOKIE, cookie)
+        .body(http_body_util::Full::new(axum::body::Bytes::new()))
+        .unwrap();
+    let response = sender.send_request(me).await.unwrap();
+    assert_eq!(response.status(), StatusCode::OK);
+    let body = response.into_body().collect().await.unwrap().to_bytes();
+    let me: Value = serde_json::from_slice(&body).unwrap();
+    assert_eq!(me["email"], "ada@clinic.example");
+    drop(sender);
+    stop.send(()).unwrap();
+    tokio::time::timeout(Duration::from_secs(10), server)
+        .await
+        .expect("server stops")
+        .unwrap()
+        .unwrap();
+
+    let open = tokio::net::TcpListener::bind("0.0.0.0:0").await.unwrap();
+    let err = web::serve_router(open, None, f.app.clone(), async {})
+        .await
+        .unwrap_err();
+    assert!(err.to_string().contains("loopback"), "{err}");
+}
+
+fn bytes_of(value: &Value) -> axum::body::Bytes {
+    axum::body::Bytes::from(value.to_string())
+}
