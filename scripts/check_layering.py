@@ -48,7 +48,8 @@ OUR_CRATES: dict[str, set[str]] = {
     "haptic-wheel": {"common", "clock"},
     "netlink": {"common", "clock"},
     "hub": {"common", "clock", "netlink"},
-    "station": BELOW_STATION,
+    # The one binary also runs the clinic's hub (`telerehab hub ...`).
+    "station": BELOW_STATION | {"hub"},
     "telerehab-py": {"common", "vehicle", "assist", "calib", "gyro-imu"},
     "telerehab-tests": BELOW_STATION | {"station", "hub"},
 }

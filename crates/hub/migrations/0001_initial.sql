@@ -21,7 +21,10 @@ CREATE TABLE patients (
 CREATE INDEX patients_by_therapist ON patients (therapist_id);
 
 CREATE TABLE pairing_codes (
-    code_hash TEXT PRIMARY KEY,
+    -- The public half of the code; the secret half is the SPAKE2 password the hub needs in
+    -- clear to run the exchange (a code lives at most its TTL and pairs once).
+    code_id TEXT PRIMARY KEY,
+    secret TEXT NOT NULL,
     patient_id TEXT NOT NULL REFERENCES patients (id),
     created_at_ms BIGINT NOT NULL,
     expires_at_ms BIGINT NOT NULL,

@@ -296,44 +296,60 @@ async fn pairing_codes_are_single_use(db: Db) {
     let (_, p) = paired(&db).await;
     let code = db.create_pairing_code(&p.id, T0, 15 * MIN).await.unwrap();
     assert_eq!(code.len(), 9);
-    let stored: i64 = sqlx::query_scalar("SELECT COUNT(*) FROM pairing_codes WHERE code_hash = $1")
-        .bind(&code)
-        .fetch_one(db.pool())
-        .await
-        .unwrap();
-    assert_eq!(stored, 0, "only the hash is stored");
-    // Typed in lower case without the dash: same code.
-    let typed = code.replace('-', "").to_lowercase();
+    let code = netlink::pairing::PairingCode::parse(&code).unwrap();
+    let ticket = db.pairing_ticket(code.code_id(), T0 + MIN).await.unwrap();
     assert_eq!(
-        db.redeem_pairing_code(&typed, T0 + MIN).await.unwrap(),
+        (ticket.secret.as_str(), ticket.patient_id.as_str()),
+        (code.secret(), p.id.as_str())
+    );
+    assert_eq!(
+        db.redeem_pairing_code(code.code_id(), T0 + MIN)
+            .await
+            .unwrap(),
         p.id
     );
-    let again = db.redeem_pairing_code(&code, T0 + MIN).await;
+    let again = db.redeem_pairing_code(code.code_id(), T0 + MIN).await;
+    assert!(
+        matches!(again, Err(HubError::Pair(PairRefusal::Used))),
+        "{again:?}"
+    );
+    let again = db.pairing_ticket(code.code_id(), T0 + MIN).await;
     assert!(
         matches!(again, Err(HubError::Pair(PairRefusal::Used))),
         "{again:?}"
     );
 
     let code2 = db.create_pairing_code(&p.id, T0, 15 * MIN).await.unwrap();
-    let late = db.redeem_pairing_code(&code2, T0 + 15 * MIN).await;
+    let code2 = netlink::pairing::PairingCode::parse(&code2).unwrap();
+    let late = db.redeem_pairing_code(code2.code_id(), T0 + 15 * MIN).await;
     assert!(
         matches!(late, Err(HubError::Pair(PairRefusal::Expired))),
         "{late:?}"
     );
-    let unknown = db.redeem_pairing_code("2345-6789", T0).await;
-    let garbage = db.redeem_pairing_code("'; DROP TABLE", T0).await;
-    for r in [unknown, garbage] {
+
+    let code3 = db.create_pairing_code(&p.id, T0, 15 * MIN).await.unwrap();
+    let code3 = netlink::pairing::PairingCode::parse(&code3).unwrap();
+    for _ in 0..hub::db::MAX_FAILED_ATTEMPTS {
+        db.pairing_failed(code3.code_id()).await.unwrap();
+    }
+    let dead = db.pairing_ticket(code3.code_id(), T0).await;
+    assert!(
+        matches!(dead, Err(HubError::Pair(PairRefusal::TooManyAttempts))),
+        "{dead:?}"
+    );
+    let dead = db.redeem_pairing_code(code3.code_id(), T0).await;
+    assert!(
+        matches!(dead, Err(HubError::Pair(PairRefusal::TooManyAttempts))),
+        "{dead:?}"
+    );
+
+    for unknown in ["ZZZZ", "'; DROP TABLE pairing_codes; --"] {
+        let r = db.pairing_ticket(unknown, T0).await;
         assert!(
             matches!(r, Err(HubError::Pair(PairRefusal::Unknown))),
             "{r:?}"
         );
     }
-    let attempts: i64 =
-        sqlx::query_scalar("SELECT CAST(SUM(failed_attempts) AS BIGINT) FROM pairing_codes")
-            .fetch_one(db.pool())
-            .await
-            .unwrap();
-    assert_eq!(attempts, 2);
     let ghost = db.create_pairing_code("p-nobody", T0, MIN).await;
     assert!(matches!(ghost, Err(HubError::NotFound { .. })), "{ghost:?}");
 }

@@ -2,7 +2,7 @@
 //! subcommand's arguments and `run()` live in its own file under [`crate::commands`].
 
 use crate::commands::{
-    bench, devices, pair, recover, render, run, sync, therapist, vehicle, wheel,
+    bench, devices, hub, pair, recover, render, run, sync, therapist, vehicle, wheel,
 };
 use clap::{Parser, Subcommand};
 
@@ -38,6 +38,8 @@ pub enum Command {
     Bench(bench::BenchArgs),
     /// Measure a real force-feedback wheel and write its profile (`wheel calibrate`).
     Wheel(wheel::WheelArgs),
+    /// The clinic's hub: init, serve stations and the console, patients, stations, therapists.
+    Hub(hub::HubArgs),
     /// Pair this station with a clinic's hub using the code the clinic gave.
     Pair(pair::PairArgs),
     /// Deliver the summaries earlier sessions could not (they are also sent at the next run).
@@ -55,6 +57,7 @@ pub fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Vehicle(args) => vehicle::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Wheel(args) => wheel::run(&args),
+        Command::Hub(args) => hub::run(args),
         Command::Pair(args) => pair::run(&args),
         Command::Sync(args) => sync::run(&args),
     }

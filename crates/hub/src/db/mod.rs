@@ -39,7 +39,7 @@ use sqlx::{AnyPool, Executor, Row};
 use crate::error::HubError;
 
 pub use audit::{AuditEntry, MAX_DETAIL_CHARS};
-pub use pairing::{CODE_ALPHABET, CODE_BITS, normalise_code};
+pub use pairing::{MAX_FAILED_ATTEMPTS, PairingTicket};
 pub use patients::{MAX_PSEUDONYM_LEN, Patient, PatientOverview, WEEK_MS, check_pseudonym};
 pub use regimens::{MAX_REGIMEN_BYTES, RegimenVersion};
 pub use sessions::{Recording, SessionRow};

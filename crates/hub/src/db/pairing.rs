@@ -1,53 +1,28 @@
-//! One-time pairing codes: the clinic gives a patient `XXXX-XXXX`, their station redeems it
-//! once to be paired. Only the SHA-256 of the normalised code is stored.
+//! One-time pairing codes: the clinic gives a patient `XXXX-XXXX` ([`PairingCode`]); their
+//! station pairs with it once. The public half names the code; the secret half is the
+//! password of the SPAKE2 exchange of `netlink::pairing`, which the hub needs in clear.
 
-use super::{Db, check_id, col, random_bytes, sha256_hex};
+use netlink::pairing::PairingCode;
+
+use super::{Db, check_id, col};
 use crate::error::{HubError, PairRefusal};
 
-/// Alphabet of pairing codes: Crockford's base 32 (no I, L, O, U). On input `O` reads as
-/// `0` and `I`/`L` as `1`, so the look-alikes cannot be mistyped.
-pub const CODE_ALPHABET: &[u8; 32] = b"0123456789ABCDEFGHJKMNPQRSTVWXYZ";
+/// Wrong secrets a code survives; the next one kills it (an online guess of the 20-bit
+/// secret then succeeds with probability at most 3 / 2²⁰).
+pub const MAX_FAILED_ATTEMPTS: i64 = 3;
 
-/// Random bits in a pairing code (8 characters of 5 bits).
-pub const CODE_BITS: u32 = 40;
-
-/// The canonical form of a typed code: upper case, separators and spaces removed,
-/// look-alikes mapped (`O`→`0`, `I`/`L`→`1`); `None` if it cannot be a code.
-pub fn normalise_code(code: &str) -> Option<String> {
-    let mut out = String::with_capacity(8);
-    for c in code.chars() {
-        let c = match c.to_ascii_uppercase() {
-            '-' | ' ' => continue,
-            'O' => '0',
-            'I' | 'L' => '1',
-            c => c,
-        };
-        if !c.is_ascii() || !CODE_ALPHABET.contains(&(c as u8)) || out.len() == 8 {
-            return None;
-        }
-        out.push(c);
-    }
-    (out.len() == 8).then_some(out)
-}
-
-/// A new random code, `XXXX-XXXX` ([`CODE_BITS`] bits from the OS CSPRNG).
-fn new_code() -> Result<String, HubError> {
-    let bytes = random_bytes::<5>()?;
-    let bits = bytes.iter().fold(0u64, |acc, &b| (acc << 8) | u64::from(b));
-    let mut code = String::with_capacity(9);
-    for i in 0..8 {
-        if i == 4 {
-            code.push('-');
-        }
-        let index = (bits >> (35 - 5 * i)) & 0x1f;
-        code.push(char::from(CODE_ALPHABET[index as usize]));
-    }
-    Ok(code)
+/// A live code's secret and patient.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PairingTicket {
+    /// The secret half (SPAKE2 password).
+    pub secret: String,
+    /// The patient the code pairs a station for.
+    pub patient_id: String,
 }
 
 impl Db {
     /// Issues a single-use pairing code for `patient_id`, valid for `ttl_ms` after `now_ms`.
-    /// Returns the code to show (`XXXX-XXXX`); only its hash is stored.
+    /// Returns the code to show (`XXXX-XXXX`).
     pub async fn create_pairing_code(
         &self,
         patient_id: &str,
@@ -61,82 +36,103 @@ impl Db {
         if self.patient(patient_id).await?.is_none() {
             return Err(HubError::not_found("patient", patient_id));
         }
-        let code = new_code()?;
-        let canonical = normalise_code(&code)
-            .ok_or_else(|| HubError::Corrupt(format!("generated code {code} is malformed")))?;
-        sqlx::query(
-            "INSERT INTO pairing_codes (code_hash, patient_id, created_at_ms, expires_at_ms, \
-             failed_attempts) VALUES ($1, $2, $3, $4, 0)",
-        )
-        .bind(sha256_hex(canonical.as_bytes()))
-        .bind(patient_id)
-        .bind(now_ms)
-        .bind(now_ms.saturating_add(ttl_ms))
-        .execute(self.pool())
-        .await
-        .map_err(HubError::db("storing a pairing code"))?;
-        Ok(code)
+        // The public half must be unique among stored codes: retry on the rare collision.
+        for _ in 0..8 {
+            let code = PairingCode::generate().map_err(HubError::Corrupt)?;
+            let inserted = sqlx::query(
+                "INSERT INTO pairing_codes (code_id, secret, patient_id, created_at_ms, \
+                 expires_at_ms, failed_attempts) VALUES ($1, $2, $3, $4, $5, 0) \
+                 ON CONFLICT (code_id) DO NOTHING",
+            )
+            .bind(code.code_id())
+            .bind(code.secret())
+            .bind(patient_id)
+            .bind(now_ms)
+            .bind(now_ms.saturating_add(ttl_ms))
+            .execute(self.pool())
+            .await
+            .map_err(HubError::db("storing a pairing code"))?;
+            if inserted.rows_affected() == 1 {
+                return Ok(code.to_string());
+            }
+        }
+        Err(HubError::Corrupt(
+            "no free pairing code after 8 tries (remove expired codes)".into(),
+        ))
     }
 
-    /// Redeems a pairing code once, atomically: returns the patient id it was issued for, or
-    /// [`HubError::Pair`] saying whether it is unknown, expired or already used (a refused
-    /// attempt on a known code is counted in `failed_attempts`).
-    pub async fn redeem_pairing_code(&self, code: &str, now_ms: i64) -> Result<String, HubError> {
-        let Some(canonical) = normalise_code(code) else {
+    /// The live code named `code_id` (its public half), or why it cannot pair.
+    pub async fn pairing_ticket(
+        &self,
+        code_id: &str,
+        now_ms: i64,
+    ) -> Result<PairingTicket, HubError> {
+        let row = sqlx::query(
+            "SELECT secret, patient_id, expires_at_ms, used_at_ms, failed_attempts \
+             FROM pairing_codes WHERE code_id = $1",
+        )
+        .bind(code_id)
+        .fetch_optional(self.pool())
+        .await
+        .map_err(HubError::db("reading a pairing code"))?;
+        let Some(row) = row else {
             return Err(HubError::Pair(PairRefusal::Unknown));
         };
-        let hash = sha256_hex(canonical.as_bytes());
+        let refusal = if col::<Option<i64>>(&row, "used_at_ms")?.is_some() {
+            Some(PairRefusal::Used)
+        } else if col::<i64>(&row, "failed_attempts")? >= MAX_FAILED_ATTEMPTS {
+            Some(PairRefusal::TooManyAttempts)
+        } else if col::<i64>(&row, "expires_at_ms")? <= now_ms {
+            Some(PairRefusal::Expired)
+        } else {
+            None
+        };
+        match refusal {
+            Some(r) => Err(HubError::Pair(r)),
+            None => Ok(PairingTicket {
+                secret: col(&row, "secret")?,
+                patient_id: col(&row, "patient_id")?,
+            }),
+        }
+    }
+
+    /// Counts a wrong secret tried for `code_id`.
+    pub async fn pairing_failed(&self, code_id: &str) -> Result<(), HubError> {
+        sqlx::query(
+            "UPDATE pairing_codes SET failed_attempts = failed_attempts + 1 WHERE code_id = $1",
+        )
+        .bind(code_id)
+        .execute(self.pool())
+        .await
+        .map_err(HubError::db("counting a wrong pairing secret"))?;
+        Ok(())
+    }
+
+    /// Uses up the code named `code_id` once, atomically: the patient id it was issued for,
+    /// or [`HubError::Pair`] saying why not (two stations racing with one code: one wins).
+    pub async fn redeem_pairing_code(
+        &self,
+        code_id: &str,
+        now_ms: i64,
+    ) -> Result<String, HubError> {
         let redeemed: Option<String> = sqlx::query_scalar(
             "UPDATE pairing_codes SET used_at_ms = $2 \
-             WHERE code_hash = $1 AND used_at_ms IS NULL AND expires_at_ms > $2 \
-             RETURNING patient_id",
+             WHERE code_id = $1 AND used_at_ms IS NULL AND expires_at_ms > $2 \
+             AND failed_attempts < $3 RETURNING patient_id",
         )
-        .bind(&hash)
+        .bind(code_id)
         .bind(now_ms)
+        .bind(MAX_FAILED_ATTEMPTS)
         .fetch_optional(self.pool())
         .await
         .map_err(HubError::db("redeeming a pairing code"))?;
-        if let Some(patient_id) = redeemed {
-            return Ok(patient_id);
+        match redeemed {
+            Some(patient_id) => Ok(patient_id),
+            None => Err(self
+                .pairing_ticket(code_id, now_ms)
+                .await
+                .err()
+                .unwrap_or(HubError::Pair(PairRefusal::Used))),
         }
-        let row = sqlx::query(
-            "UPDATE pairing_codes SET failed_attempts = failed_attempts + 1 \
-             WHERE code_hash = $1 RETURNING used_at_ms",
-        )
-        .bind(&hash)
-        .fetch_optional(self.pool())
-        .await
-        .map_err(HubError::db("counting a refused pairing code"))?;
-        let refusal = match row {
-            None => PairRefusal::Unknown,
-            Some(row) if col::<Option<i64>>(&row, "used_at_ms")?.is_some() => PairRefusal::Used,
-            Some(_) => PairRefusal::Expired,
-        };
-        Err(HubError::Pair(refusal))
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn generated_codes_have_the_format_and_normalise() {
-        for _ in 0..100 {
-            let code = new_code().unwrap();
-            assert_eq!(code.len(), 9);
-            assert_eq!(&code[4..5], "-");
-            assert_eq!(normalise_code(&code).unwrap(), code.replace('-', ""));
-        }
-    }
-
-    #[test]
-    fn look_alikes_and_case_are_forgiven_but_wrong_lengths_are_not() {
-        assert_eq!(normalise_code("o1il-abcd").as_deref(), Some("0111ABCD"));
-        assert_eq!(normalise_code(" 7K3M Q9XD ").as_deref(), Some("7K3MQ9XD"));
-        assert_eq!(normalise_code("7K3M-Q9X"), None);
-        assert_eq!(normalise_code("7K3M-Q9XDD"), None);
-        assert_eq!(normalise_code("7K3M-Q9XU"), None);
-        assert_eq!(normalise_code("'; DROP TABLE"), None);
     }
 }

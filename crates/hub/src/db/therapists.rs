@@ -191,6 +191,19 @@ impl Db {
         row.as_ref().map(Therapist::from_row).transpose()
     }
 
+    /// The therapist with this e-mail (as given at creation), if any.
+    pub async fn therapist_by_email(&self, email: &str) -> Result<Option<Therapist>, HubError> {
+        let sql = sqlx::AssertSqlSafe(format!(
+            "SELECT {THERAPIST_COLUMNS} FROM therapists WHERE email = $1"
+        ));
+        let row = sqlx::query(sql)
+            .bind(email.trim().to_lowercase())
+            .fetch_optional(self.pool())
+            .await
+            .map_err(HubError::db("reading a therapist"))?;
+        row.as_ref().map(Therapist::from_row).transpose()
+    }
+
     /// Checks a login. [`MAX_FAILED_LOGINS`] failures in a row lock the account for
     /// [`LOCKOUT_MS`]; while locked even the right password is refused. Every refusal is the
     /// same [`HubError::LoginRefused`], whether or not the email exists.

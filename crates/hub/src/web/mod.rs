@@ -26,7 +26,7 @@ use axum::routing::{get, post};
 use serde::Serialize;
 use tokio::sync::broadcast;
 
-use crate::db::{Db, Patient, Therapist};
+use crate::db::{Db, Patient, RegimenVersion, Therapist};
 use crate::error::HubError;
 
 pub use auth::SESSION_COOKIE;
@@ -61,6 +61,9 @@ pub struct AppState {
     pub now_ms: NowMs,
     /// Lifetime of a console login, ms.
     pub login_ttl_ms: i64,
+    /// Where a newly prescribed regimen is announced (the hub pushes it to the patient's
+    /// station if connected); `None` when no station link runs.
+    pub prescribed: Option<broadcast::Sender<RegimenVersion>>,
 }
 
 impl AppState {
@@ -76,7 +79,14 @@ impl AppState {
             live,
             now_ms: Arc::new(system_now_ms),
             login_ttl_ms: DEFAULT_LOGIN_TTL_MS,
+            prescribed: None,
         }
+    }
+
+    /// The same state announcing each new regimen on `feed`.
+    pub fn with_prescribed_feed(mut self, feed: broadcast::Sender<RegimenVersion>) -> Self {
+        self.prescribed = Some(feed);
+        self
     }
 
     /// The same state with another clock.

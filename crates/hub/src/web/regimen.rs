@@ -73,11 +73,17 @@ pub(crate) async fn put_regimen(
             &format!("version {version}"),
         )
         .await?;
-    Ok(Json(RegimenVersion {
+    let prescribed = RegimenVersion {
         patient_id: patient.id,
         version,
         toml: body.toml,
         prescribed_by: therapist.id,
         prescribed_at_ms: now,
-    }))
+    };
+    if let Some(feed) = &state.prescribed {
+        // No receiver (no station link running) is not an error: the station fetches the
+        // regimen when it next connects.
+        let _ = feed.send(prescribed.clone());
+    }
+    Ok(Json(prescribed))
 }

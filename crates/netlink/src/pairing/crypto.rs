@@ -6,16 +6,17 @@ use ring::hmac;
 use ring::rand::{SecureRandom, SystemRandom};
 use spake2::{Ed25519Group, Identity, Password, Spake2};
 
-/// Letters and digits of a pairing code: no 0/O, 1/I/L, so it reads back from paper.
-pub const CODE_ALPHABET: &[u8] = b"23456789ABCDEFGHJKMNPQRSTUVWXYZ";
+/// Letters and digits of a pairing code: Crockford's base 32 (no I, L, O, U); on input `O`
+/// reads as `0` and `I`/`L` as `1`, so look-alikes cannot be mistyped from paper.
+pub const CODE_ALPHABET: &[u8; 32] = b"0123456789ABCDEFGHJKMNPQRSTVWXYZ";
 /// Characters in each half of a code.
 const HALF: usize = 4;
 
 const STATION_ID: &[u8] = b"telerehab station";
 const HUB_ID: &[u8] = b"telerehab hub";
 
-/// A pairing code `XXXX-XXXX`: the first half names the code (public), the second is the
-/// SPAKE2 password (secret, 31⁴ ≈ 2¹⁹·⁸ values; the hub allows a few guesses per code).
+/// A pairing code `XXXX-XXXX` (40 bits): the first half names the code (public), the second
+/// is the SPAKE2 password (secret, 2²⁰ values; the hub allows a few guesses per code).
 #[derive(Clone, PartialEq, Eq)]
 pub struct PairingCode {
     code_id: String,
@@ -35,12 +36,17 @@ impl fmt::Display for PairingCode {
 }
 
 impl PairingCode {
-    /// Reads a code as a person types it: case, spaces and dashes do not matter.
+    /// Reads a code as a person types it: case, spaces and dashes do not matter, and the
+    /// look-alikes `O`, `I`, `L` read as `0`, `1`, `1`.
     pub fn parse(text: &str) -> Result<Self, String> {
         let chars: String = text
             .chars()
             .filter(|c| !c.is_whitespace() && *c != '-')
-            .map(|c| c.to_ascii_uppercase())
+            .map(|c| match c.to_ascii_uppercase() {
+                'O' => '0',
+                'I' | 'L' => '1',
+                c => c,
+            })
             .collect();
         if chars.len() != 2 * HALF {
             return Err(format!(
@@ -62,26 +68,17 @@ impl PairingCode {
         })
     }
 
-    /// A new random code from the operating system's CSPRNG.
+    /// A new random code from the operating system's CSPRNG (5 random bits a character).
     pub fn generate() -> Result<Self, String> {
         let mut bytes = [0u8; 2 * HALF];
         SystemRandom::new()
             .fill(&mut bytes)
             .map_err(|_| "the operating system's random generator failed".to_owned())?;
-        // 256 is not a multiple of 31: reject the top values so every letter is as likely.
-        let limit = 256 - 256 % CODE_ALPHABET.len();
-        let mut out = String::with_capacity(2 * HALF);
-        let mut more = [0u8; 1];
-        for mut b in bytes {
-            while usize::from(b) >= limit {
-                SystemRandom::new()
-                    .fill(&mut more)
-                    .map_err(|_| "the operating system's random generator failed".to_owned())?;
-                b = more[0];
-            }
-            out.push(CODE_ALPHABET[usize::from(b) % CODE_ALPHABET.len()] as char);
-        }
-        Self::parse(&out)
+        let code: String = bytes
+            .iter()
+            .map(|b| CODE_ALPHABET[usize::from(b & 0x1f)] as char)
+            .collect();
+        Self::parse(&code)
     }
 
     /// The public half, e.g. `7KQ2`.
@@ -188,7 +185,10 @@ mod tests {
                 .unwrap_err()
                 .contains("has 7")
         );
-        assert!(PairingCode::parse("7KQ2-M9X0").unwrap_err().contains("'0'"));
+        assert!(PairingCode::parse("7KQ2-M9XU").unwrap_err().contains("'U'"));
+        let read = PairingCode::parse("o1il-abcd").unwrap();
+        assert_eq!(read.to_string(), "0111-ABCD", "look-alikes read as digits");
+        assert!(PairingCode::parse("'; DROP TABLE").is_err());
     }
 
     #[test]

@@ -4,6 +4,7 @@
 
 pub mod bench;
 pub mod devices;
+pub mod hub;
 pub mod pair;
 pub mod recover;
 pub mod render;

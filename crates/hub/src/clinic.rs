@@ -1,0 +1,355 @@
+//! A clinic's hub on disk and running: `hub init` makes the data directory (database, CA,
+//! hub certificate, first admin), `hub serve` runs the station link (mutual TLS) and the
+//! console API (HTTPS) over it.
+//!
+//! ```text
+//! DATA/hub.toml            names on the hub's certificate, database URL (default: hub.db)
+//! DATA/hub.db              SQLite database (0600), unless `database` names PostgreSQL
+//! DATA/tls/ca.crt, ca.key  the clinic's CA (key 0600)
+//! DATA/tls/hub.crt, hub.key  the hub's certificate, signed by the CA (key 0600)
+//! ```
+
+use std::fs::OpenOptions;
+use std::future::Future;
+use std::io::Write;
+use std::net::SocketAddr;
+use std::os::unix::fs::{DirBuilderExt, OpenOptionsExt};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use netlink::pki::{CertAndKey, ClinicCa};
+use netlink::{Regimen, ServerTls, TherapistConfig, TherapistEvent, TherapistServer};
+use serde::{Deserialize, Serialize};
+use tokio::sync::broadcast;
+
+use crate::db::{Db, RegimenVersion, Role};
+use crate::error::HubError;
+use crate::ingest::{DbStore, Ingest, REVOCATION_POLL};
+use crate::web::{self, AppState, LiveEvent, NowMs, RegimenValidator};
+
+/// `DATA/hub.toml`.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClinicConfig {
+    /// Names (DNS or IP literals) on the hub's certificate; stations check the first.
+    pub names: Vec<String>,
+    /// Database URL; empty means `DATA/hub.db` (SQLite).
+    #[serde(default)]
+    pub database: String,
+}
+
+/// What `hub init` made.
+#[derive(Debug, Clone)]
+pub struct Initialised {
+    /// The first admin's one-time password (printed once, stored only as an argon2 hash).
+    pub admin_password: String,
+    /// The database URL in use.
+    pub database: String,
+}
+
+/// A clinic's data directory.
+#[derive(Debug, Clone)]
+pub struct Clinic {
+    dir: PathBuf,
+}
+
+fn io(what: &str, path: &Path) -> impl Fn(std::io::Error) -> HubError {
+    let context = format!("{what} {}", path.display());
+    move |e| HubError::io(context.clone(), e)
+}
+
+/// Writes a new file, 0600, refusing to replace one.
+fn write_new_private(path: &Path, text: &str) -> Result<(), HubError> {
+    let mut f = OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .mode(0o600)
+        .open(path)
+        .map_err(io("creating", path))?;
+    f.write_all(text.as_bytes())
+        .and_then(|()| f.sync_all())
+        .map_err(io("writing", path))
+}
+
+impl Clinic {
+    /// The clinic whose data directory is `dir`.
+    pub fn at(dir: impl Into<PathBuf>) -> Self {
+        Self { dir: dir.into() }
+    }
+
+    /// The data directory.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    fn tls(&self, name: &str) -> PathBuf {
+        self.dir.join("tls").join(name)
+    }
+
+    /// Reads `DATA/hub.toml`.
+    pub fn config(&self) -> Result<ClinicConfig, HubError> {
+        let path = self.dir.join("hub.toml");
+        let text = std::fs::read_to_string(&path).map_err(|e| {
+            HubError::Config(format!(
+                "{} cannot be read ({e}); run `telerehab hub init --data {}` first",
+                path.display(),
+                self.dir.display()
+            ))
+        })?;
+        toml::from_str(&text).map_err(|e| HubError::Config(format!("{}: {e}", path.display())))
+    }
+
+    /// The database URL: `override_url`, else the configured one, else `DATA/hub.db`.
+    pub fn database_url(&self, override_url: Option<&str>) -> Result<String, HubError> {
+        if let Some(url) = override_url.filter(|u| !u.is_empty()) {
+            return Ok(url.to_owned());
+        }
+        let configured = self.config()?.database;
+        if configured.is_empty() {
+            Ok(self.sqlite_url())
+        } else {
+            Ok(configured)
+        }
+    }
+
+    fn sqlite_url(&self) -> String {
+        format!("sqlite://{}?mode=rwc", self.dir.join("hub.db").display())
+    }
+
+    /// Opens the database (migrations applied).
+    pub async fn open_db(&self, override_url: Option<&str>) -> Result<Db, HubError> {
+        Db::open(&self.database_url(override_url)?).await
+    }
+
+    /// Makes a new clinic: directories (0700), CA and hub certificate (keys 0600), the
+    /// database and its first admin. Refuses a directory that already holds a clinic.
+    pub async fn init(
+        &self,
+        admin_email: &str,
+        names: &[String],
+        database: Option<&str>,
+        now_ms: i64,
+    ) -> Result<Initialised, HubError> {
+        if self.dir.join("hub.toml").exists() {
+            return Err(HubError::Config(format!(
+                "{} already holds a clinic (hub.toml); nothing was changed",
+                self.dir.display()
+            )));
+        }
+        if names.is_empty() {
+            return Err(HubError::Config(
+                "the hub needs at least one name for its certificate".into(),
+            ));
+        }
+        let tls_dir = self.dir.join("tls");
+        std::fs::DirBuilder::new()
+            .recursive(true)
+            .mode(0o700)
+            .create(&tls_dir)
+            .map_err(io("creating", &tls_dir))?;
+        let ca = ClinicCa::create(&names[0]).map_err(HubError::Config)?;
+        let hub = ca.issue_server(names).map_err(HubError::Config)?;
+        write_new_private(&self.tls("ca.crt"), &ca.pem().cert_pem)?;
+        write_new_private(&self.tls("ca.key"), &ca.pem().key_pem)?;
+        write_new_private(&self.tls("hub.crt"), &hub.cert_pem)?;
+        write_new_private(&self.tls("hub.key"), &hub.key_pem)?;
+        let config = ClinicConfig {
+            names: names.to_vec(),
+            database: database.unwrap_or_default().to_owned(),
+        };
+        let url = match database.filter(|d| !d.is_empty()) {
+            Some(u) => u.to_owned(),
+            None => self.sqlite_url(),
+        };
+        let db = Db::open(&url).await?;
+        let admin_password = one_time_password()?;
+        let admin = db
+            .add_therapist(admin_email, &admin_password, Role::Admin, now_ms)
+            .await?;
+        db.audit("cli", "hub_init", &admin.actor(), &names.join(","), now_ms)
+            .await?;
+        db.close().await;
+        let text = toml::to_string(&config).map_err(|e| HubError::Config(e.to_string()))?;
+        write_new_private(&self.dir.join("hub.toml"), &text)?;
+        Ok(Initialised {
+            admin_password,
+            database: url,
+        })
+    }
+
+    /// The clinic's CA.
+    pub fn ca(&self) -> Result<ClinicCa, HubError> {
+        let read = |name: &str| {
+            let path = self.tls(name);
+            std::fs::read_to_string(&path).map_err(io("reading", &path))
+        };
+        ClinicCa::load(CertAndKey {
+            cert_pem: read("ca.crt")?,
+            key_pem: read("ca.key")?,
+        })
+        .map_err(HubError::Config)
+    }
+
+    /// The station link's TLS: the hub's certificate, stations' certificates from the CA.
+    pub fn server_tls(&self) -> ServerTls {
+        ServerTls {
+            cert_pem_path: self.tls("hub.crt"),
+            key_pem_path: self.tls("hub.key"),
+            client_ca_pem_path: Some(self.tls("ca.crt")),
+        }
+    }
+}
+
+/// 20 characters of Crockford base 32 (100 bits) from the OS CSPRNG.
+pub fn one_time_password() -> Result<String, HubError> {
+    let bytes = crate::db::random_bytes::<20>()?;
+    Ok(bytes
+        .iter()
+        .map(|b| netlink::pairing::CODE_ALPHABET[usize::from(b & 0x1f)] as char)
+        .collect())
+}
+
+/// Where `hub serve` listens.
+#[derive(Clone)]
+pub struct ServeOptions {
+    /// Stations' address (mutual TLS).
+    pub stations: SocketAddr,
+    /// Console API's address (HTTPS), if served.
+    pub web: Option<SocketAddr>,
+    /// Checks prescribed regimens against the station's safety bounds.
+    pub validate_regimen: RegimenValidator,
+    /// The clock.
+    pub now_ms: NowMs,
+}
+
+impl std::fmt::Debug for ServeOptions {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ServeOptions")
+            .field("stations", &self.stations)
+            .field("web", &self.web)
+            .finish_non_exhaustive()
+    }
+}
+
+/// The addresses `hub serve` bound (useful with port 0).
+#[derive(Debug, Clone, Copy)]
+pub struct Bound {
+    /// Stations' address.
+    pub stations: SocketAddr,
+    /// Console's address.
+    pub web: Option<SocketAddr>,
+}
+
+/// Runs the hub until `shutdown` completes: `on_bound` once listening, `on_event` for every
+/// station event (one line each for the operator).
+pub async fn serve(
+    clinic: &Clinic,
+    db: Db,
+    options: ServeOptions,
+    on_bound: impl FnOnce(Bound),
+    mut on_event: impl FnMut(&TherapistEvent) + Send,
+    shutdown: impl Future<Output = ()> + Send,
+) -> Result<(), HubError> {
+    let config = clinic.config()?;
+    let store = Arc::new(DbStore::new(
+        db.clone(),
+        clinic.ca()?,
+        config.names[0].clone(),
+        options.now_ms.clone(),
+    ));
+    store.refresh_revoked().await?;
+    let link_config =
+        TherapistConfig::new(options.stations, clinic.dir(), Some(clinic.server_tls()));
+    let (server, mut events) =
+        TherapistServer::bind_with_store(link_config, Arc::new(Ingest(store.clone())))
+            .await
+            .map_err(|e| HubError::Config(format!("station link: {e}")))?;
+    let (live, _) = broadcast::channel::<LiveEvent>(1024);
+    let (prescribed, mut prescriptions) = broadcast::channel::<RegimenVersion>(64);
+    let state = AppState::new(db.clone(), options.validate_regimen.clone(), live.clone())
+        .with_clock(options.now_ms.clone())
+        .with_prescribed_feed(prescribed);
+    let (stop_web, web_stopped) = tokio::sync::oneshot::channel::<()>();
+    let mut web_task = None;
+    let mut web_addr = None;
+    if let Some(addr) = options.web {
+        let listener = tokio::net::TcpListener::bind(addr)
+            .await
+            .map_err(|e| HubError::io(format!("listening on {addr}"), e))?;
+        web_addr = listener.local_addr().ok();
+        let acceptor = web::acceptor_from_pem(&clinic.tls("hub.crt"), &clinic.tls("hub.key"))?;
+        web_task = Some(tokio::spawn(web::serve(
+            listener,
+            Some(acceptor),
+            state,
+            async {
+                let _ = web_stopped.await;
+            },
+        )));
+    }
+    on_bound(Bound {
+        stations: server.local_addr(),
+        web: web_addr,
+    });
+    let mut revocation = tokio::time::interval(REVOCATION_POLL);
+    let mut shutdown = std::pin::pin!(shutdown);
+    loop {
+        tokio::select! {
+            () = &mut shutdown => break,
+            _ = revocation.tick() => {
+                if let Err(e) = store.refresh_revoked().await {
+                    tracing::error!("cannot re-read revoked stations: {e}");
+                }
+            }
+            Ok(regimen) = prescriptions.recv() => push_regimen(&server, &db, &regimen).await,
+            Some(event) = events.recv() => {
+                on_event(&event);
+                match &event {
+                    TherapistEvent::Summary { patient_id, summary, .. } => {
+                        let _ = live.send(LiveEvent {
+                            patient_id: patient_id.clone(),
+                            session_id: summary.session_id.clone(),
+                            summary: summary.clone(),
+                        });
+                    }
+                    TherapistEvent::Connected { hello, .. } => {
+                        if let Ok(Some(regimen)) = db.latest_regimen(&hello.patient_id).await {
+                            push_regimen(&server, &db, &regimen).await;
+                        }
+                    }
+                    _ => {}
+                }
+            }
+        }
+    }
+    let _ = stop_web.send(());
+    if let Some(task) = web_task {
+        match task.await {
+            Ok(r) => r?,
+            Err(e) => tracing::error!("console API task failed: {e}"),
+        }
+    }
+    server.shutdown(std::time::Duration::from_secs(5)).await;
+    db.close().await;
+    Ok(())
+}
+
+/// Sends `regimen` to every connected station of its patient (a station not connected gets
+/// it when it next connects).
+async fn push_regimen(server: &TherapistServer, db: &Db, regimen: &RegimenVersion) {
+    let Ok(stations) = db.stations_of(&regimen.patient_id).await else {
+        return;
+    };
+    for station in stations.iter().filter(|s| !s.is_revoked()) {
+        let frame = Regimen {
+            id: format!("{}-v{}", regimen.patient_id, regimen.version),
+            toml: regimen.toml.clone(),
+        };
+        match server.send_regimen(&station.station_id, frame) {
+            Ok(()) => {
+                tracing::info!(station = %station.station_id, version = regimen.version, "regimen pushed")
+            }
+            Err(e) => tracing::debug!(station = %station.station_id, "regimen not pushed now: {e}"),
+        }
+    }
+}

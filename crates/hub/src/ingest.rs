@@ -1,0 +1,330 @@
+//! The station side of the hub: netlink's [`HubStore`] over the database (who may speak,
+//! summaries stored exactly once) and its [`PairingAuthority`] (codes, rate limits, the
+//! clinic's CA).
+//!
+//! A station is known by the SHA-256 of its client certificate: the TLS handshake proves it
+//! holds the key, [`DbStore::admit`] that the certificate is the one issued at pairing, that the
+//! station is not revoked and that it speaks for its own patient. Revocation takes effect at
+//! once: the revoked set is re-read every [`REVOCATION_POLL`], and the next summary of an open
+//! session of a revoked station ends its connection.
+
+use std::collections::{HashMap, HashSet};
+use std::net::{IpAddr, SocketAddr};
+use std::sync::{Arc, Mutex, RwLock};
+use std::time::Duration;
+
+use netlink::pairing::{Issued, PairingAuthority, Ticket};
+use netlink::pki::{ClinicCa, certificate_sha256_hex};
+use netlink::store::Appended;
+use netlink::{
+    BoxFuture, Bye, Hello, HubStore, NetlinkError, Peer, Refusal, SessionStore, Summary,
+};
+
+use crate::db::Db;
+use crate::error::HubError;
+use crate::web::NowMs;
+
+/// How often the set of revoked stations is re-read.
+pub const REVOCATION_POLL: Duration = Duration::from_secs(1);
+/// Pairing attempts one address may begin per minute.
+pub const PAIRING_ATTEMPTS_PER_MINUTE: u32 = 10;
+
+/// The database as the station link's store, and the pairing authority.
+pub struct DbStore {
+    db: Db,
+    ca: ClinicCa,
+    /// The name on the hub's certificate, given to paired stations.
+    server_name: String,
+    revoked: Arc<RwLock<HashSet<String>>>,
+    pairing_attempts: Mutex<HashMap<IpAddr, (i64, u32)>>,
+    now_ms: NowMs,
+}
+
+impl std::fmt::Debug for DbStore {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("DbStore")
+            .field("server_name", &self.server_name)
+            .finish_non_exhaustive()
+    }
+}
+
+fn refusal(e: HubError) -> Refusal {
+    Refusal::new(e.to_string())
+}
+
+impl DbStore {
+    /// A store over `db` issuing certificates from `ca` for a hub named `server_name`.
+    pub fn new(db: Db, ca: ClinicCa, server_name: String, now_ms: NowMs) -> Self {
+        Self {
+            db,
+            ca,
+            server_name,
+            revoked: Arc::default(),
+            pairing_attempts: Mutex::default(),
+            now_ms,
+        }
+    }
+
+    fn now(&self) -> i64 {
+        (self.now_ms)()
+    }
+
+    /// Re-reads the revoked stations (called every [`REVOCATION_POLL`] by the hub).
+    pub async fn refresh_revoked(&self) -> Result<usize, HubError> {
+        let ids: Vec<String> =
+            sqlx::query_scalar("SELECT station_id FROM stations WHERE revoked_at_ms IS NOT NULL")
+                .fetch_all(self.db.pool())
+                .await
+                .map_err(HubError::db("reading revoked stations"))?;
+        let n = ids.len();
+        *self
+            .revoked
+            .write()
+            .unwrap_or_else(std::sync::PoisonError::into_inner) = ids.into_iter().collect();
+        Ok(n)
+    }
+
+    /// Counts a pairing attempt from `ip`; false beyond [`PAIRING_ATTEMPTS_PER_MINUTE`].
+    fn pairing_allowed(&self, ip: IpAddr) -> bool {
+        let now = self.now();
+        let mut attempts = self
+            .pairing_attempts
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        attempts.retain(|_, (start, _)| now - *start < 60_000);
+        let entry = attempts.entry(ip).or_insert((now, 0));
+        entry.1 += 1;
+        entry.1 <= PAIRING_ATTEMPTS_PER_MINUTE
+    }
+}
+
+impl HubStore for DbStore {
+    fn admit<'a>(&'a self, hello: &'a Hello, peer: Peer<'a>) -> BoxFuture<'a, Result<(), Refusal>> {
+        Box::pin(async move {
+            let cert = peer
+                .certificate
+                .ok_or_else(|| Refusal::new("no client certificate presented: pair first"))?;
+            let fingerprint = certificate_sha256_hex(cert);
+            let station = self
+                .db
+                .station(&hello.station_id)
+                .await
+                .map_err(refusal)?
+                .ok_or_else(|| Refusal::new(format!("unknown station {:?}", hello.station_id)))?;
+            if station.cert_fingerprint != fingerprint {
+                return Err(Refusal::new(format!(
+                    "the certificate presented is not station {:?}'s",
+                    hello.station_id
+                )));
+            }
+            if station.is_revoked() {
+                return Err(Refusal::new(format!(
+                    "station {:?} has been revoked by the clinic",
+                    hello.station_id
+                )));
+            }
+            if station.patient_id != hello.patient_id {
+                return Err(Refusal::new(format!(
+                    "station {:?} speaks for its own patient only",
+                    hello.station_id
+                )));
+            }
+            self.db
+                .touch_station(&hello.station_id, self.now())
+                .await
+                .map_err(refusal)
+        })
+    }
+
+    fn open_session<'a>(
+        &'a self,
+        hello: &'a Hello,
+    ) -> BoxFuture<'a, Result<Box<dyn SessionStore>, Refusal>> {
+        Box::pin(async move {
+            let last_seq = self
+                .db
+                .open_session(hello, self.now())
+                .await
+                .map_err(refusal)?;
+            Ok(Box::new(DbSession {
+                db: self.db.clone(),
+                station_id: hello.station_id.clone(),
+                last_seq,
+                revoked: self.revoked.clone(),
+                now_ms: self.now_ms.clone(),
+            }) as Box<dyn SessionStore>)
+        })
+    }
+}
+
+/// The store and authority together, shared by the station link.
+#[derive(Debug, Clone)]
+pub struct Ingest(pub Arc<DbStore>);
+
+impl HubStore for Ingest {
+    fn admit<'a>(&'a self, hello: &'a Hello, peer: Peer<'a>) -> BoxFuture<'a, Result<(), Refusal>> {
+        self.0.admit(hello, peer)
+    }
+
+    fn open_session<'a>(
+        &'a self,
+        hello: &'a Hello,
+    ) -> BoxFuture<'a, Result<Box<dyn SessionStore>, Refusal>> {
+        self.0.open_session(hello)
+    }
+
+    fn pairing(&self) -> Option<Arc<dyn PairingAuthority>> {
+        Some(self.0.clone())
+    }
+}
+
+struct DbSession {
+    db: Db,
+    station_id: String,
+    last_seq: Option<u64>,
+    revoked: Arc<RwLock<HashSet<String>>>,
+    now_ms: NowMs,
+}
+
+fn storage_error(e: HubError) -> NetlinkError {
+    NetlinkError::Protocol(e.to_string())
+}
+
+impl SessionStore for DbSession {
+    fn last_seq(&self) -> Option<u64> {
+        self.last_seq
+    }
+
+    fn append<'a>(
+        &'a mut self,
+        summary: &'a Summary,
+    ) -> BoxFuture<'a, Result<Appended, NetlinkError>> {
+        Box::pin(async move {
+            let revoked = self
+                .revoked
+                .read()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .contains(&self.station_id);
+            if revoked {
+                return Err(NetlinkError::Protocol(format!(
+                    "station {:?} has been revoked by the clinic",
+                    self.station_id
+                )));
+            }
+            let appended = self
+                .db
+                .store_summary(summary, (self.now_ms)())
+                .await
+                .map_err(storage_error)?;
+            if appended == Appended::Stored {
+                self.last_seq = Some(summary.seq);
+            }
+            Ok(appended)
+        })
+    }
+
+    fn sync<'a>(&'a mut self, bye: Option<&'a Bye>) -> BoxFuture<'a, Result<(), NetlinkError>> {
+        // Every summary was committed before it was acknowledged; a Bye closes the session.
+        Box::pin(async move {
+            if let Some(bye) = bye {
+                self.db
+                    .close_session(bye, (self.now_ms)())
+                    .await
+                    .map_err(storage_error)?;
+            }
+            Ok(())
+        })
+    }
+}
+
+impl PairingAuthority for DbStore {
+    fn begin<'a>(
+        &'a self,
+        code_id: &'a str,
+        peer: SocketAddr,
+    ) -> BoxFuture<'a, Result<Ticket, Refusal>> {
+        Box::pin(async move {
+            if !self.pairing_allowed(peer.ip()) {
+                return Err(Refusal::new(format!(
+                    "too many pairing attempts from {}; wait a minute",
+                    peer.ip()
+                )));
+            }
+            let ticket = self
+                .db
+                .pairing_ticket(code_id, self.now())
+                .await
+                .map_err(refusal)?;
+            Ok(Ticket {
+                secret: ticket.secret,
+                patient_id: ticket.patient_id,
+            })
+        })
+    }
+
+    fn failed<'a>(&'a self, code_id: &'a str, peer: SocketAddr) -> BoxFuture<'a, ()> {
+        Box::pin(async move {
+            if let Err(e) = self.db.pairing_failed(code_id).await {
+                tracing::error!("cannot count a wrong pairing secret: {e}");
+            }
+            let now = self.now();
+            let _ = self
+                .db
+                .audit(
+                    "station:pairing",
+                    "pairing_failed",
+                    code_id,
+                    &peer.to_string(),
+                    now,
+                )
+                .await;
+        })
+    }
+
+    fn complete<'a>(
+        &'a self,
+        code_id: &'a str,
+        csr_pem: &'a str,
+    ) -> BoxFuture<'a, Result<Issued, Refusal>> {
+        Box::pin(async move {
+            let now = self.now();
+            let patient_id = self
+                .db
+                .redeem_pairing_code(code_id, now)
+                .await
+                .map_err(refusal)?;
+            let station_id = new_station_id().map_err(refusal)?;
+            let cert_pem = self
+                .ca
+                .sign_station(csr_pem, &station_id)
+                .map_err(Refusal::new)?;
+            let der = netlink::pki::first_certificate_der(&cert_pem).map_err(Refusal::new)?;
+            self.db
+                .add_station(&station_id, &patient_id, &certificate_sha256_hex(&der), now)
+                .await
+                .map_err(refusal)?;
+            let _ = self
+                .db
+                .audit(
+                    "station:pairing",
+                    "station_paired",
+                    &station_id,
+                    &patient_id,
+                    now,
+                )
+                .await;
+            Ok(Issued {
+                station_id,
+                patient_id,
+                ca_pem: self.ca.pem().cert_pem.clone(),
+                cert_pem,
+                server_name: self.server_name.clone(),
+            })
+        })
+    }
+}
+
+/// `st-` + 16 random hex digits: a DNS label, so a certificate can name it.
+fn new_station_id() -> Result<String, HubError> {
+    crate::db::new_id("st-")
+}

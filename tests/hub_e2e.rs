@@ -1,0 +1,369 @@
+//! End-to-end: a clinic's hub and a paired station, as the README's acceptance path runs them
+//! (`hub init`, `hub patient add`, `hub serve`, `pair`, `run`, `hub patient show`), plus
+//! revocation, delivery after the hub was down, a station killed mid-session, and bad input.
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::Duration;
+use telerehab_tests::telerehab_bin;
+
+fn telerehab(args: &[&str], home: Option<&Path>) -> Output {
+    let mut cmd = Command::new(telerehab_bin());
+    cmd.args(args).env_remove("TELEREHAB_HOME");
+    if let Some(h) = home {
+        cmd.env("TELEREHAB_HOME", h);
+    }
+    cmd.output().unwrap()
+}
+
+fn ok(args: &[&str], home: Option<&Path>) -> String {
+    let out = telerehab(args, home);
+    assert!(
+        out.status.success(),
+        "telerehab {args:?} failed:\n{}\n{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// A clinic directory with one patient; the pairing code.
+fn clinic(dir: &Path) -> (PathBuf, String) {
+    let data = dir.join("clinic");
+    let d = data.to_str().unwrap();
+    let init = ok(
+        &["hub", "init", "--data", d, "--admin", "ana@clinic.example"],
+        None,
+    );
+    assert!(init.contains("one-time password: "), "{init}");
+    let add = ok(
+        &[
+            "hub",
+            "patient",
+            "add",
+            "--data",
+            d,
+            "--pseudonym",
+            "P-0042",
+        ],
+        None,
+    );
+    let code = add
+        .lines()
+        .find_map(|l| l.strip_prefix("pairing code: "))
+        .and_then(|r| r.split_whitespace().next())
+        .unwrap_or_else(|| panic!("no pairing code in {add:?}"))
+        .to_owned();
+    (data, code)
+}
+
+struct Hub {
+    child: Child,
+    stations: String,
+}
+
+impl Hub {
+    fn serve(data: &Path, stations: &str) -> Hub {
+        let mut child = Command::new(telerehab_bin())
+            .args([
+                "hub",
+                "serve",
+                "--data",
+                data.to_str().unwrap(),
+                "--stations",
+                stations,
+            ])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
+        let first = lines.next().expect("hub prints where it listens").unwrap();
+        let addr = first
+            .strip_prefix("stations listening on ")
+            .and_then(|r| r.split_whitespace().next())
+            .unwrap_or_else(|| panic!("unexpected first line {first:?}"));
+        let port = addr.rsplit(':').next().unwrap();
+        std::thread::spawn(move || for _ in lines {});
+        Hub {
+            child,
+            stations: format!("localhost:{port}"),
+        }
+    }
+
+    fn stop(mut self) {
+        let _ = Command::new("kill")
+            .args(["-TERM", &self.child.id().to_string()])
+            .status();
+        let _ = self.child.wait();
+    }
+}
+
+/// `hub patient show --json`: (summaries stored per session, revoked stations).
+fn show(data: &Path) -> (Vec<u64>, usize) {
+    let json = ok(
+        &[
+            "hub",
+            "patient",
+            "show",
+            "--data",
+            data.to_str().unwrap(),
+            "P-0042",
+            "--json",
+        ],
+        None,
+    );
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let stored = v["sessions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["summaries_stored"].as_u64().unwrap())
+        .collect();
+    let revoked = v["stations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|s| !s["revoked_at_ms"].is_null())
+        .count();
+    (stored, revoked)
+}
+
+/// The number of summaries a run's report says it produced.
+fn produced(report: &str) -> u64 {
+    let line = report
+        .lines()
+        .find(|l| l.starts_with("therapist "))
+        .unwrap_or_else(|| panic!("no therapist line in {report}"));
+    line.split_whitespace()
+        .find_map(|w| w.parse::<u64>().ok())
+        .unwrap_or_else(|| panic!("no count in {line:?}"))
+}
+
+fn run_session(home: &Path, seconds: &str) -> String {
+    ok(
+        &[
+            "run",
+            "--sim",
+            "--headless",
+            "--speed",
+            "max",
+            "--duration",
+            seconds,
+        ],
+        Some(home),
+    )
+}
+
+#[test]
+fn a_clinic_pairs_a_station_that_then_streams_every_session_over_mutual_tls() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (data, code) = clinic(tmp.path());
+    let hub = Hub::serve(&data, "127.0.0.1:0");
+    let home = tmp.path().join("station");
+    let paired = ok(
+        &["pair", "--hub", &hub.stations, "--code", &code],
+        Some(&home),
+    );
+    assert!(
+        paired.starts_with("paired: this station is st-"),
+        "{paired}"
+    );
+
+    let report = run_session(&home, "5");
+    let n = produced(&report);
+    assert!(
+        report.contains(&format!("{n} sent, {n} acknowledged, 0 NOT delivered")),
+        "{report}"
+    );
+    assert!(
+        !report.contains("therapist queue"),
+        "everything delivered: {report}"
+    );
+    let (stored, revoked) = show(&data);
+    assert_eq!((stored, revoked), (vec![n], 0));
+    // A paired station records every session in its home, private to its user.
+    let recordings: Vec<_> = std::fs::read_dir(home.join("recordings"))
+        .unwrap()
+        .collect();
+    assert_eq!(recordings.len(), 1);
+    // The code was single use.
+    let again = telerehab(
+        &["pair", "--hub", &hub.stations, "--code", &code],
+        Some(&tmp.path().join("s2")),
+    );
+    let err = String::from_utf8_lossy(&again.stderr);
+    assert!(
+        !again.status.success() && err.contains("already been used"),
+        "{err}"
+    );
+    hub.stop();
+}
+
+#[test]
+fn a_revoked_station_is_refused_and_keeps_its_summaries_on_disk() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (data, code) = clinic(tmp.path());
+    let hub = Hub::serve(&data, "127.0.0.1:0");
+    let home = tmp.path().join("station");
+    ok(
+        &["pair", "--hub", &hub.stations, "--code", &code],
+        Some(&home),
+    );
+    let pairing = std::fs::read_to_string(home.join("pairing/hub.toml")).unwrap();
+    let station = pairing
+        .lines()
+        .find_map(|l| l.strip_prefix("station_id = "))
+        .unwrap()
+        .trim_matches('"')
+        .to_owned();
+    ok(
+        &[
+            "hub",
+            "station",
+            "revoke",
+            "--data",
+            data.to_str().unwrap(),
+            &station,
+        ],
+        None,
+    );
+    let report = run_session(&home, "3");
+    assert!(
+        report.contains("has been revoked by the clinic"),
+        "{report}"
+    );
+    assert!(report.contains("summaries kept on disk"), "{report}");
+    let (stored, revoked) = show(&data);
+    assert_eq!(
+        (stored, revoked),
+        (vec![], 1),
+        "nothing stored from a revoked station"
+    );
+    hub.stop();
+}
+
+#[test]
+fn summaries_of_a_session_run_while_the_hub_was_down_are_delivered_once_by_sync() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (data, code) = clinic(tmp.path());
+    let hub = Hub::serve(&data, "127.0.0.1:0");
+    let port = hub.stations.rsplit(':').next().unwrap().to_owned();
+    let home = tmp.path().join("station");
+    ok(
+        &["pair", "--hub", &hub.stations, "--code", &code],
+        Some(&home),
+    );
+    hub.stop();
+
+    let report = run_session(&home, "3");
+    let n = produced(&report);
+    assert!(
+        report.contains(&format!("{n} summaries kept on disk")),
+        "{report}"
+    );
+
+    // The hub comes back where the station was paired with it.
+    let hub = Hub::serve(&data, &format!("127.0.0.1:{port}"));
+    let synced = ok(&["sync"], Some(&home));
+    assert!(
+        synced.contains("1 queued sessions, 1 delivered, 0 summaries still queued"),
+        "{synced}"
+    );
+    let again = ok(&["sync"], Some(&home));
+    assert!(again.contains("0 queued sessions"), "{again}");
+    assert_eq!(show(&data).0, vec![n], "every summary stored exactly once");
+    hub.stop();
+}
+
+#[test]
+fn a_station_killed_mid_session_delivers_what_it_queued_at_the_next_sync() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (data, code) = clinic(tmp.path());
+    let hub = Hub::serve(&data, "127.0.0.1:0");
+    let home = tmp.path().join("station");
+    ok(
+        &["pair", "--hub", &hub.stations, "--code", &code],
+        Some(&home),
+    );
+    let mut station = Command::new(telerehab_bin())
+        .args(["run", "--sim", "--headless", "--duration", "60"])
+        .env("TELEREHAB_HOME", &home)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    // Let it stream for a while, then kill it without warning.
+    let queue = home.join("queue");
+    let queued_lines = || -> usize {
+        std::fs::read_dir(&queue)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .filter(|e| e.path().extension().is_some_and(|x| x == "jsonl"))
+            .map(|e| {
+                std::fs::read_to_string(e.path())
+                    .unwrap_or_default()
+                    .lines()
+                    .count()
+            })
+            .sum()
+    };
+    for _ in 0..300 {
+        if queued_lines() >= 20 {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    station.kill().unwrap();
+    station.wait().unwrap();
+    let queued = queued_lines() as u64;
+    assert!(queued >= 20, "the queue holds what was produced: {queued}");
+    let synced = ok(&["sync"], Some(&home));
+    assert!(synced.contains("1 delivered"), "{synced}");
+    let (stored, _) = show(&data);
+    assert_eq!(stored.len(), 1);
+    assert!(
+        stored[0] >= queued,
+        "stored {} of {queued} queued",
+        stored[0]
+    );
+    hub.stop();
+}
+
+#[test]
+fn hostile_pseudonyms_and_a_second_init_are_refused_with_the_reason() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (data, _) = clinic(tmp.path());
+    let d = data.to_str().unwrap();
+    for bad in ["../../etc", "'; DROP TABLE patients; --", ""] {
+        let out = telerehab(
+            &["hub", "patient", "add", "--data", d, "--pseudonym", bad],
+            None,
+        );
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && err.contains("pseudonym"),
+            "{bad:?}: {err}"
+        );
+    }
+    let out = telerehab(
+        &["hub", "init", "--data", d, "--admin", "bob@clinic.example"],
+        None,
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("already holds a clinic"),
+        "{err}"
+    );
+    let out = telerehab(
+        &["pair", "--hub", "127.0.0.1:9", "--code", "7KQ2-M9XU"],
+        Some(&tmp.path().join("h")),
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("never contains 'U'"),
+        "{err}"
+    );
+}
