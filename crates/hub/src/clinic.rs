@@ -220,6 +220,8 @@ pub struct ServeOptions {
     pub validate_regimen: RegimenValidator,
     /// The clock.
     pub now_ms: NowMs,
+    /// Most simultaneous station connections, and from one address.
+    pub max_connections: (usize, usize),
 }
 
 impl std::fmt::Debug for ServeOptions {
@@ -258,8 +260,12 @@ pub async fn serve(
         options.now_ms.clone(),
     ));
     store.refresh_revoked().await?;
-    let link_config =
+    let mut link_config =
         TherapistConfig::new(options.stations, clinic.dir(), Some(clinic.server_tls()));
+    (
+        link_config.max_connections,
+        link_config.max_connections_per_address,
+    ) = options.max_connections;
     let (server, mut events) =
         TherapistServer::bind_with_store(link_config, Arc::new(Ingest(store.clone())))
             .await

@@ -13,6 +13,8 @@ use std::net::{IpAddr, SocketAddr};
 use std::sync::{Arc, Mutex, RwLock};
 use std::time::Duration;
 
+use tokio::sync::{mpsc, oneshot};
+
 use netlink::pairing::{Issued, PairingAuthority, Ticket};
 use netlink::pki::{ClinicCa, certificate_sha256_hex};
 use netlink::store::Appended;
@@ -29,9 +31,39 @@ pub const REVOCATION_POLL: Duration = Duration::from_secs(1);
 /// Pairing attempts one address may begin per minute.
 pub const PAIRING_ATTEMPTS_PER_MINUTE: u32 = 10;
 
+/// Most summaries one group commit takes.
+pub const MAX_BATCH: usize = 1024;
+
+/// A summary waiting for the group commit, and where its result goes.
+type Pending = (Summary, oneshot::Sender<Result<Appended, String>>);
+
+/// The group-commit writer: takes whatever summaries are waiting (at least one, at most
+/// [`MAX_BATCH`]) and stores them in one transaction. It never waits to fill a batch, so an
+/// idle hub commits each summary at once and a busy one commits many per transaction.
+async fn group_commit(db: Db, mut rx: mpsc::Receiver<Pending>, now_ms: NowMs) {
+    let mut batch: Vec<Pending> = Vec::with_capacity(MAX_BATCH);
+    while rx.recv_many(&mut batch, MAX_BATCH).await > 0 {
+        let summaries: Vec<Summary> = batch.iter().map(|(s, _)| s.clone()).collect();
+        match db.store_summaries(&summaries, now_ms()).await {
+            Ok(results) => {
+                for ((_, reply), result) in batch.drain(..).zip(results) {
+                    let _ = reply.send(result.map_err(|e| e.to_string()));
+                }
+            }
+            Err(e) => {
+                let message = e.to_string();
+                for (_, reply) in batch.drain(..) {
+                    let _ = reply.send(Err(message.clone()));
+                }
+            }
+        }
+    }
+}
+
 /// The database as the station link's store, and the pairing authority.
 pub struct DbStore {
     db: Db,
+    writer: mpsc::Sender<Pending>,
     ca: ClinicCa,
     /// The name on the hub's certificate, given to paired stations.
     server_name: String,
@@ -53,9 +85,13 @@ fn refusal(e: HubError) -> Refusal {
 }
 
 impl DbStore {
-    /// A store over `db` issuing certificates from `ca` for a hub named `server_name`.
+    /// A store over `db` issuing certificates from `ca` for a hub named `server_name`; its
+    /// group-commit writer runs on the current tokio runtime.
     pub fn new(db: Db, ca: ClinicCa, server_name: String, now_ms: NowMs) -> Self {
+        let (writer, rx) = mpsc::channel(4 * MAX_BATCH);
+        tokio::spawn(group_commit(db.clone(), rx, now_ms.clone()));
         Self {
+            writer,
             db,
             ca,
             server_name,
@@ -148,6 +184,7 @@ impl HubStore for DbStore {
                 .map_err(refusal)?;
             Ok(Box::new(DbSession {
                 db: self.db.clone(),
+                writer: self.writer.clone(),
                 station_id: hello.station_id.clone(),
                 last_seq,
                 revoked: self.revoked.clone(),
@@ -180,6 +217,7 @@ impl HubStore for Ingest {
 
 struct DbSession {
     db: Db,
+    writer: mpsc::Sender<Pending>,
     station_id: String,
     last_seq: Option<u64>,
     revoked: Arc<RwLock<HashSet<String>>>,
@@ -211,11 +249,15 @@ impl SessionStore for DbSession {
                     self.station_id
                 )));
             }
-            let appended = self
-                .db
-                .store_summary(summary, (self.now_ms)())
+            let (reply, result) = oneshot::channel();
+            self.writer
+                .send((summary.clone(), reply))
                 .await
-                .map_err(storage_error)?;
+                .map_err(|_| NetlinkError::Closed)?;
+            let appended = result
+                .await
+                .map_err(|_| NetlinkError::Closed)?
+                .map_err(NetlinkError::Protocol)?;
             if appended == Appended::Stored {
                 self.last_seq = Some(summary.seq);
             }

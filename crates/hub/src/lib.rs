@@ -6,6 +6,7 @@
 //! Layering (DESIGN.md): this crate uses `netlink`'s frame types and never the station's
 //! device crates.
 
+pub mod bench;
 pub mod clinic;
 pub mod db;
 mod error;

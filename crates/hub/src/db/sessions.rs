@@ -140,61 +140,92 @@ impl Db {
         summary: &Summary,
         now_ms: i64,
     ) -> Result<Appended, HubError> {
-        summary
-            .validate()
-            .map_err(|reason| HubError::invalid("summary", reason))?;
-        let seq = to_i64("seq", summary.seq)?;
+        self.store_summaries(std::slice::from_ref(summary), now_ms)
+            .await?
+            .pop()
+            .unwrap_or_else(|| Err(HubError::Corrupt("no result for one summary".into())))
+    }
+
+    /// Stores `summaries` (of any sessions) in ONE transaction — group commit, so a busy hub
+    /// commits once for many stations — each by the rule of [`Self::store_summary`]; one
+    /// result per summary, in order. A database error fails the whole batch.
+    pub async fn store_summaries(
+        &self,
+        summaries: &[Summary],
+        now_ms: i64,
+    ) -> Result<Vec<Result<Appended, HubError>>, HubError> {
         let step = to_i64("MAX_SEQ_STEP", MAX_SEQ_STEP)?;
-        let body = serde_json::to_string(summary)
-            .map_err(|e| HubError::invalid("summary", e.to_string()))?;
         let mut tx = self
             .pool()
             .begin()
             .await
             .map_err(HubError::db("starting a transaction"))?;
-        // The conditional UPDATE is the first statement: it takes the write lock and decides,
-        // so two concurrent writers of one session cannot both store.
-        let advanced = sqlx::query(
-            "UPDATE sessions SET last_seq = $2 WHERE session_id = $1 AND \
-             ((last_seq IS NULL AND $2 <= $3) OR (last_seq < $2 AND $2 - last_seq <= $3 + 1))",
-        )
-        .bind(&summary.session_id)
-        .bind(seq)
-        .bind(step)
-        .execute(&mut *tx)
-        .await
-        .map_err(HubError::db("advancing a session"))?;
-        if advanced.rows_affected() == 0 {
-            drop(tx);
-            let session = self
-                .session(&summary.session_id)
-                .await?
-                .ok_or_else(|| HubError::not_found("session", &summary.session_id))?;
-            return match session.last_seq {
-                Some(last) if seq <= last => Ok(Appended::Duplicate),
-                last => Err(HubError::Conflict(format!(
-                    "summary seq {seq} jumps more than {MAX_SEQ_STEP} past the last stored \
-                     ({last:?}) in session {:?}",
-                    summary.session_id
-                ))),
+        let mut results = Vec::with_capacity(summaries.len());
+        for summary in summaries {
+            let checked = summary
+                .validate()
+                .map_err(|reason| HubError::invalid("summary", reason))
+                .and_then(|()| to_i64("seq", summary.seq))
+                .and_then(|seq| {
+                    serde_json::to_string(summary)
+                        .map(|body| (seq, body))
+                        .map_err(|e| HubError::invalid("summary", e.to_string()))
+                });
+            let (seq, body) = match checked {
+                Ok(v) => v,
+                Err(e) => {
+                    results.push(Err(e));
+                    continue;
+                }
             };
+            // The conditional UPDATE decides (and takes the write lock), so two concurrent
+            // writers of one session cannot both store.
+            let advanced = sqlx::query(
+                "UPDATE sessions SET last_seq = $2 WHERE session_id = $1 AND \
+                 ((last_seq IS NULL AND $2 <= $3) OR (last_seq < $2 AND $2 - last_seq <= $3 + 1))",
+            )
+            .bind(&summary.session_id)
+            .bind(seq)
+            .bind(step)
+            .execute(&mut *tx)
+            .await
+            .map_err(HubError::db("advancing a session"))?;
+            if advanced.rows_affected() == 0 {
+                let last: Option<Option<i64>> =
+                    sqlx::query_scalar("SELECT last_seq FROM sessions WHERE session_id = $1")
+                        .bind(&summary.session_id)
+                        .fetch_optional(&mut *tx)
+                        .await
+                        .map_err(HubError::db("reading a session"))?;
+                results.push(match last {
+                    None => Err(HubError::not_found("session", &summary.session_id)),
+                    Some(Some(last)) if seq <= last => Ok(Appended::Duplicate),
+                    Some(last) => Err(HubError::Conflict(format!(
+                        "summary seq {seq} jumps more than {MAX_SEQ_STEP} past the last stored \
+                         ({last:?}) in session {:?}",
+                        summary.session_id
+                    ))),
+                });
+                continue;
+            }
+            sqlx::query(
+                "INSERT INTO summaries (session_id, seq, t_s, body, stored_at_ms) \
+                 VALUES ($1, $2, $3, $4, $5) ON CONFLICT (session_id, seq) DO NOTHING",
+            )
+            .bind(&summary.session_id)
+            .bind(seq)
+            .bind(summary.t_s)
+            .bind(body)
+            .bind(now_ms)
+            .execute(&mut *tx)
+            .await
+            .map_err(HubError::db("storing a summary"))?;
+            results.push(Ok(Appended::Stored));
         }
-        sqlx::query(
-            "INSERT INTO summaries (session_id, seq, t_s, body, stored_at_ms) \
-             VALUES ($1, $2, $3, $4, $5) ON CONFLICT (session_id, seq) DO NOTHING",
-        )
-        .bind(&summary.session_id)
-        .bind(seq)
-        .bind(summary.t_s)
-        .bind(body)
-        .bind(now_ms)
-        .execute(&mut *tx)
-        .await
-        .map_err(HubError::db("storing a summary"))?;
         tx.commit()
             .await
-            .map_err(HubError::db("committing a summary"))?;
-        Ok(Appended::Stored)
+            .map_err(HubError::db("committing summaries"))?;
+        Ok(results)
     }
 
     /// Records the end of a session from the station's `Bye`; returns the highest sequence

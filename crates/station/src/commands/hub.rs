@@ -58,6 +58,28 @@ pub enum HubCommand {
         /// Address of the therapists' console API, `host:port` (HTTPS).
         #[arg(long)]
         web: Option<String>,
+        /// Most simultaneous station connections.
+        #[arg(long, default_value_t = 2048)]
+        max_connections: usize,
+        /// Most simultaneous connections from one address (stations behind one NAT).
+        #[arg(long, default_value_t = 8)]
+        max_connections_per_address: usize,
+    },
+    /// Load test: N simulated stations on loopback against a hub in a child process, in a
+    /// fresh clinic (SQLite, or the empty database `--db` names).
+    Bench {
+        /// Simulated stations.
+        #[arg(long, default_value_t = 100)]
+        stations: usize,
+        /// Summaries per second from each station.
+        #[arg(long, default_value_t = 10.0)]
+        rate_hz: f64,
+        /// Length of the load, s.
+        #[arg(long, default_value_t = 20.0)]
+        seconds: f64,
+        /// Database URL (an empty PostgreSQL database); default SQLite in a temporary clinic.
+        #[arg(long)]
+        db: Option<String>,
     },
     /// Patients.
     #[command(subcommand)]
@@ -164,7 +186,18 @@ pub fn run(args: HubArgs) -> anyhow::Result<()> {
                 data,
                 stations,
                 web,
-            } => serve(&data, &stations, web.as_deref()).await,
+                max_connections,
+                max_connections_per_address,
+            } => {
+                let limits = (max_connections, max_connections_per_address);
+                serve(&data, &stations, web.as_deref(), limits).await
+            }
+            HubCommand::Bench {
+                stations,
+                rate_hz,
+                seconds,
+                db,
+            } => bench(stations, rate_hz, seconds, db.as_deref()).await,
             HubCommand::Patient(c) => patient(c).await,
             HubCommand::Station(StationCommand::Revoke { data, station_id }) => {
                 let (_, db) = open(&data).await?;
@@ -216,7 +249,12 @@ fn redact(url: &str) -> String {
     }
 }
 
-async fn serve(data: &DataArgs, stations: &str, web: Option<&str>) -> anyhow::Result<()> {
+async fn serve(
+    data: &DataArgs,
+    stations: &str,
+    web: Option<&str>,
+    max_connections: (usize, usize),
+) -> anyhow::Result<()> {
     let (clinic, db) = open(data).await?;
     let stations = crate::link::resolve("--stations", stations)?;
     let web = web.map(|w| crate::link::resolve("--web", w)).transpose()?;
@@ -229,6 +267,7 @@ async fn serve(data: &DataArgs, stations: &str, web: Option<&str>) -> anyhow::Re
                 .map_err(|e| e.to_string())
         }),
         now_ms: Arc::new(now_ms),
+        max_connections,
     };
     let mut sigterm = tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate())
         .context("cannot install the SIGTERM handler")?;
@@ -252,6 +291,90 @@ async fn serve(data: &DataArgs, stations: &str, web: Option<&str>) -> anyhow::Re
     };
     hub::clinic::serve(&clinic, db, options, on_bound, on_event, shutdown).await?;
     println!("hub stopped");
+    Ok(())
+}
+
+/// `hub bench`: a fresh clinic, `stations` provisioned, the hub in a child process.
+async fn bench(
+    stations: usize,
+    rate_hz: f64,
+    seconds: f64,
+    db: Option<&str>,
+) -> anyhow::Result<()> {
+    if !(1..=20_000).contains(&stations) || !(rate_hz > 0.0 && rate_hz <= 1000.0) {
+        bail!("--stations must be 1 to 20000 and --rate-hz in (0, 1000]");
+    }
+    if !(seconds.is_finite() && seconds >= 1.0) {
+        bail!("--seconds must be at least 1");
+    }
+    let tmp = tempfile::tempdir().context("cannot make a temporary clinic")?;
+    let data = tmp.path().join("clinic");
+    let clinic = Clinic::at(&data);
+    clinic
+        .init(
+            "bench@clinic.example",
+            &["localhost".to_owned()],
+            db,
+            now_ms(),
+        )
+        .await?;
+    let hub_db = clinic.open_db(db).await?;
+    println!("provisioning {stations} stations…");
+    let provisioned = hub::bench::provision(
+        &hub_db,
+        &clinic.ca()?,
+        "localhost",
+        stations,
+        &tmp.path().join("stations"),
+        now_ms(),
+    )
+    .await?;
+    hub_db.close().await;
+    let limit = (stations + 16).to_string();
+    let mut args = vec![
+        "hub",
+        "serve",
+        "--data",
+        data.to_str().context("temporary path")?,
+    ];
+    args.extend(["--stations", "127.0.0.1:0", "--max-connections", &limit]);
+    args.extend(["--max-connections-per-address", &limit]);
+    if let Some(url) = db {
+        args.extend(["--db", url]);
+    }
+    let mut child = tokio::process::Command::new(std::env::current_exe()?)
+        .args(&args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .kill_on_drop(true)
+        .spawn()
+        .context("cannot start the hub")?;
+    let stdout = child.stdout.take().context("hub stdout")?;
+    let mut lines = tokio::io::AsyncBufReadExt::lines(tokio::io::BufReader::new(stdout));
+    let first = lines.next_line().await?.context("the hub said nothing")?;
+    let addr: std::net::SocketAddr = first
+        .strip_prefix("stations listening on ")
+        .and_then(|r| r.split_whitespace().next())
+        .with_context(|| format!("unexpected first line {first:?}"))?
+        .parse()?;
+    tokio::spawn(async move { while let Ok(Some(_)) = lines.next_line().await {} });
+    let pid = child.id().context("hub pid")?;
+    let before = hub::bench::process_usage(pid);
+    let report = hub::bench::load(
+        addr,
+        provisioned,
+        rate_hz,
+        std::time::Duration::from_secs_f64(seconds),
+    )
+    .await;
+    let after = hub::bench::process_usage(pid);
+    let usage = before.zip(after).map(|(b, a)| (a.0 - b.0, a.1));
+    let _ = child.kill().await;
+    println!(
+        "hub bench: {stations} stations × {rate_hz} Hz for {seconds} s on {}",
+        if db.is_some() { "PostgreSQL" } else { "SQLite" }
+    );
+    print!("{}", hub::bench::describe(&report, seconds, rate_hz, usage));
     Ok(())
 }
 
