@@ -112,6 +112,12 @@ impl Home {
         self.dir.join("recordings")
     }
 
+    /// The regimen the clinic prescribed last (validated when it arrived), used by a session
+    /// started without `--regimen`.
+    pub fn regimen_path(&self) -> PathBuf {
+        self.dir.join("regimen.toml")
+    }
+
     /// The pairing, if this station is paired.
     pub fn pairing(&self) -> anyhow::Result<Option<Pairing>> {
         let path = self.pairing_dir().join("hub.toml");

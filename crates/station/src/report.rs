@@ -22,6 +22,8 @@ pub struct LinkReport {
     /// Summaries kept in the on-disk queue for the next run or `telerehab sync` (`None`
     /// without a queue, or when everything was delivered).
     pub queued: Option<u64>,
+    /// What became of a regimen the hub prescribed during the session, if one came.
+    pub regimen: Option<String>,
 }
 
 /// Append one line to the report (a `String` never fails to take it).
@@ -257,6 +259,9 @@ fn delivery(s: &mut String, r: &SessionReport, link: Option<&LinkReport>) {
             if let Some(e) = &l.last_error {
                 line!(s, "therapist link      last error: {e}");
             }
+            if let Some(r) = &l.regimen {
+                line!(s, "therapist regimen   {r}");
+            }
             if let Some(n) = l.queued {
                 line!(
                     s,
@@ -394,6 +399,7 @@ mod tests {
             undelivered: 1,
             last_error: Some("connection reset".into()),
             queued: Some(1),
+            regimen: Some("p-1-v2 kept for the next session".into()),
         };
         let cases = [
             ("report_everything", render(&everything(), Some(&link))),

@@ -227,6 +227,13 @@ impl StationLink {
         self.regimens.try_recv().ok()
     }
 
+    /// Takes the regimen queue, so regimens arriving until the link is finished (a hub pushes
+    /// one right after `Hello`) can still be read afterwards; this link then receives none.
+    pub fn take_regimens(&mut self) -> mpsc::Receiver<Regimen> {
+        let (_, closed) = mpsc::channel(1);
+        std::mem::replace(&mut self.regimens, closed)
+    }
+
     /// Ends the session: delivers what is pending, sends `Bye` and waits for the hub's reply,
     /// giving up after `timeout`. The returned stats say honestly what was not delivered
     /// ([`LinkStats::pending`]) and whether the hub confirmed ([`LinkStats::bye_acknowledged`]).

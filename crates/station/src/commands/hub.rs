@@ -115,6 +115,21 @@ pub enum PatientCommand {
         /// The patient's pseudonym.
         pseudonym: String,
     },
+    /// Prescribe a regimen (TOML, as `regimens/*.toml`): validated against the station's
+    /// safety bounds, stored as a new version, pushed to the patient's station.
+    Regimen {
+        /// Data directory and database.
+        #[command(flatten)]
+        data: DataArgs,
+        /// The patient's pseudonym.
+        pseudonym: String,
+        /// The regimen file.
+        #[arg(long)]
+        file: PathBuf,
+        /// The prescribing therapist's e-mail.
+        #[arg(long)]
+        by: String,
+    },
     /// A patient's stations and sessions.
     Show {
         /// Data directory and database.
@@ -406,6 +421,32 @@ async fn patient(command: PatientCommand) -> anyhow::Result<()> {
             let (_, db) = open(&data).await?;
             let p = find(&db, &pseudonym).await?;
             print_code(&db, &p.id, &pseudonym).await
+        }
+        PatientCommand::Regimen {
+            data,
+            pseudonym,
+            file,
+            by,
+        } => {
+            let (_, db) = open(&data).await?;
+            let p = find(&db, &pseudonym).await?;
+            let therapist = db
+                .therapist_by_email(&by)
+                .await?
+                .with_context(|| format!("no therapist {by}"))?;
+            let text = std::fs::read_to_string(&file)
+                .with_context(|| format!("cannot read {}", file.display()))?;
+            crate::regimen::Regimen::from_toml(&text, &file.display().to_string())?;
+            let version = db
+                .put_regimen(&p.id, &text, &therapist.id, now_ms())
+                .await?;
+            let detail = format!("version {version}");
+            db.audit(&therapist.actor(), "put_regimen", &p.id, &detail, now_ms())
+                .await?;
+            println!(
+                "regimen version {version} for {pseudonym}: sent to the station when it next connects"
+            );
+            Ok(())
         }
         PatientCommand::Show {
             data,

@@ -237,8 +237,22 @@ fn real_body(_args: &RunArgs) -> anyhow::Result<BodyKind> {
 
 /// Run `telerehab run`: the session, then its report on stdout.
 pub fn run(args: RunArgs) -> anyhow::Result<()> {
-    let (mut cfg, regimen) = plan(&args)?;
+    let (mut cfg, mut regimen) = plan(&args)?;
     let home = apply_home(&args, &mut cfg)?;
+    if regimen.is_none()
+        && args.exercise.is_none()
+        && let Some(h) = &home.home
+        && h.regimen_path().exists()
+    {
+        // The clinic's prescription, kept from an earlier session (validated again here).
+        let r = Regimen::load(&h.regimen_path())?;
+        cfg.session.exercise = format!("regimen:{}", r.exercises.len());
+        if args.duration.is_none() {
+            cfg.session.duration_s = 4.0 * 3600.0;
+        }
+        tracing::info!(path = %h.regimen_path().display(), "the clinic's regimen");
+        regimen = Some(r);
+    }
     cfg.validate().context("invalid settings")?;
     let body = if args.sim {
         BodyKind::Simulated

@@ -36,6 +36,8 @@ struct Inner {
     address: String,
     /// The session's on-disk queue (with a home directory).
     queue: Option<Mutex<QueueFile>>,
+    /// Where a regimen the hub prescribes is kept for the next session.
+    home: Option<Home>,
 }
 
 /// The first socket address `address` (`host:port`) resolves to; errors name it as `what`.
@@ -141,6 +143,7 @@ impl Link {
                 exercise: cfg.session.exercise.clone(),
                 address: t.address.clone(),
                 queue,
+                home: home.cloned(),
             }),
         })
     }
@@ -181,11 +184,13 @@ impl Link {
     /// End the link: send Bye, wait a short while for the last acknowledgements, and report
     /// honestly what was not delivered.
     pub fn finish(self, produced: u64) -> Option<LinkReport> {
-        let inner = self.inner?;
+        let mut inner = self.inner?;
+        let mut regimens = inner.link.take_regimens();
         let stats = inner
             .link
             .finish_blocking(inner.runtime.handle(), FINISH_TIMEOUT);
         inner.runtime.shutdown_timeout(Duration::from_millis(200));
+        let regimen = keep_prescribed_regimen(&mut regimens, inner.home.as_ref());
         let mut queued = None;
         if let Some(q) = inner.queue {
             let q = q
@@ -207,6 +212,7 @@ impl Link {
             acked: stats.acked,
             undelivered: produced.saturating_sub(stats.acked),
             queued,
+            regimen,
             // A hub that cannot serve this station's protocol says so once and for all: that
             // is what the patient (and their technician) must read.
             last_error: stats
@@ -214,6 +220,34 @@ impl Link {
                 .map(|m| format!("the hub requires a newer telerehab: {m}"))
                 .or(stats.last_error),
         })
+    }
+}
+
+/// The newest regimen the hub sent during the session, validated against the station's safety
+/// bounds and kept in the home for the next session (never applied mid-session). What
+/// happened, for the report.
+fn keep_prescribed_regimen(
+    regimens: &mut tokio::sync::mpsc::Receiver<netlink::Regimen>,
+    home: Option<&Home>,
+) -> Option<String> {
+    let mut newest = None;
+    while let Ok(r) = regimens.try_recv() {
+        newest = Some(r);
+    }
+    let r = newest?;
+    let Some(home) = home else {
+        return Some(format!(
+            "{} received; no home directory to keep it in",
+            r.id
+        ));
+    };
+    if let Err(e) = crate::regimen::Regimen::from_toml(&r.toml, &r.id) {
+        tracing::warn!("regimen {} from the hub refused: {e}", r.id);
+        return Some(format!("{} refused: {e}", r.id));
+    }
+    match crate::home::write_private(&home.regimen_path(), r.toml.as_bytes()) {
+        Ok(()) => Some(format!("{} kept for the next session", r.id)),
+        Err(e) => Some(format!("{} not kept: {e:#}", r.id)),
     }
 }
 
