@@ -2,7 +2,7 @@
 //!
 //! - [`sparc`] and [`ldlj_speed`]: smoothness of one movement's speed profile, as the
 //!   reference implementations compute them (Balasubramanian et al. 2015; monalysa).
-//! - [`segment`]: discrete movements in a continuous speed profile (a speed threshold, gap
+//! - [`segment`](fn@segment): discrete movements in a continuous speed profile (a speed threshold, gap
 //!   merging, a minimum duration), each scored.
 //! - [`session_measures`]: a session's wheel movements, their smoothness, speed, time and
 //!   peaks (medians and means), ranges of motion, time active — serialisable for the report.

@@ -6,7 +6,7 @@
 //! J NeuroEng Rehabil 12:112), LDLJ with monalysa's `log_dimensionless_jerk` for speed input
 //! (Balasubramanian, Melendez-Calderon & Burdet 2012, IEEE TBME 59(8); Hogan & Sternad 2009,
 //! J Mot Behav 41(6)). Both expect one movement (speed from rest to rest); segment a
-//! continuous recording first ([`crate::segment`]).
+//! continuous recording first ([`segment`](fn@crate::segment)).
 
 use rustfft::{FftPlanner, num_complex::Complex};
 use serde::{Deserialize, Serialize};
