@@ -202,3 +202,69 @@ impl LiveMeasures {
         self.skipped
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Three minimum-jerk turns of the wheel (0.5, 0.8, 0.3 rad) with rest between, 100 Hz.
+    fn three_turns() -> Vec<f64> {
+        let fs = 100.0;
+        let turns = [(0.5, 1.0, 0.5), (2.5, 0.8, -0.8), (4.0, 1.2, 0.3)];
+        (0..600)
+            .map(|i| {
+                let t = f64::from(i) / fs;
+                turns
+                    .iter()
+                    .map(|&(on, d, a)| {
+                        let tau = ((t - on) / d).clamp(0.0, 1.0);
+                        a * (10.0 * tau.powi(3) - 15.0 * tau.powi(4) + 6.0 * tau.powi(5))
+                    })
+                    .sum()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn live_time_active_and_movements_track_the_batch_measures() {
+        let angle = three_turns();
+        let mut live = LiveMeasures::new(100.0, &[], &SessionParams::default()).unwrap();
+        for &a in &angle {
+            live.update(a, &[]).unwrap();
+        }
+        let batch = crate::session_measures(&angle, 100.0, &[]).unwrap();
+        assert_eq!(batch.movements.len(), 3);
+        assert_eq!(live.movements(), 3);
+        assert!((live.total_s() - 6.0).abs() < 1e-12);
+        // Causal vs zero-phase filter and a running vs whole-session threshold: close, not equal.
+        assert!(
+            (live.active_s() - batch.active_s).abs() < 0.15,
+            "live {} vs batch {}",
+            live.active_s(),
+            batch.active_s
+        );
+        let rel = (live.session_peak_speed_rad_s() - batch.peak_speed_rad_s).abs()
+            / batch.peak_speed_rad_s;
+        assert!(rel < 0.05, "{rel}");
+        assert!((live.wheel_range().range - batch.wheel_range.range).abs() < 1e-12);
+        assert!(!live.moving());
+        // The last movement (0.3 rad in 1.2 s) peaks at 1.875 · 0.3 / 1.2 rad/s.
+        assert!((live.current_peak_speed_rad_s() - 1.875 * 0.3 / 1.2).abs() < 0.03);
+    }
+
+    #[test]
+    fn non_finite_samples_are_skipped_and_a_wrong_joint_count_is_an_error() {
+        let mut live = LiveMeasures::new(100.0, &["elbow"], &SessionParams::default()).unwrap();
+        live.update(0.1, &[1.0]).unwrap();
+        live.update(f64::NAN, &[f64::INFINITY]).unwrap();
+        live.update(0.2, &[-1.0]).unwrap();
+        assert_eq!(live.skipped_samples(), 2);
+        assert_eq!(live.joints()[0].range, 2.0);
+        assert!((live.wheel_range().range - 0.1).abs() < 1e-12);
+        let err = live.update(0.0, &[]).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "live measures track 1 joint(s) but got 0 sample(s)"
+        );
+    }
+}

@@ -201,4 +201,43 @@ mod tests {
         assert_eq!(Summary::of([4.0, 1.0, 2.0, 3.0]).median, Some(2.5));
         assert_eq!(Summary::of([]).mean, None);
     }
+
+    #[test]
+    fn session_measures_round_trip_through_json_and_add_up() {
+        // Two 1 s minimum-jerk turns of 0.6 rad, there and back, 1 s of rest around each.
+        let fs = 100.0;
+        let angle: Vec<f64> = (0..500)
+            .map(|i| {
+                let t = f64::from(i) / fs;
+                let s = |on: f64| {
+                    let tau = (t - on).clamp(0.0, 1.0);
+                    10.0 * tau.powi(3) - 15.0 * tau.powi(4) + 6.0 * tau.powi(5)
+                };
+                0.6 * (s(1.0) - s(3.0))
+            })
+            .collect();
+        let elbow: Vec<f64> = angle.iter().map(|a| 2.0 * a + 0.1).collect();
+        let m = session_measures(&angle, fs, &[("elbow", &elbow)]).unwrap();
+        assert_eq!(m.movements.len(), 2);
+        assert_eq!(m.sparc.n, 2);
+        // A clean minimum-jerk movement: one peak, SPARC near −1.4 (the reference −1.40583
+        // is for the whole profile; the segment is cut at 5 % of the peak).
+        assert!(m.movements.iter().all(|mv| mv.n_peaks == 1));
+        let s = m.sparc.median.unwrap();
+        assert!((-1.6..-1.3).contains(&s), "{s}");
+        // Peak speed 1.875 · 0.6 rad / 1 s.
+        assert!(
+            (m.peak_speed_rad_s - 1.125).abs() < 0.01,
+            "{}",
+            m.peak_speed_rad_s
+        );
+        assert!((m.wheel_range.range - 0.6).abs() < 1e-9);
+        assert!((m.joints[0].range - 1.2).abs() < 1e-9);
+        let sum: f64 = m.movements.iter().map(|mv| mv.duration_s).sum();
+        assert!((m.active_s - sum).abs() < 1e-12);
+        assert!((m.total_s - 5.0).abs() < 1e-12);
+        let json = serde_json::to_string(&m).unwrap();
+        let back: SessionMeasures = serde_json::from_str(&json).unwrap();
+        assert_eq!(back, m);
+    }
 }
