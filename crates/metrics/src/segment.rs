@@ -97,8 +97,8 @@ pub struct Movement {
     /// Its peak speed, in the unit of the speed (rad/s for the wheel).
     pub peak_speed: f64,
     /// Local maxima of the speed within the movement at or above `peak_fraction` of its peak
-    /// (a sample greater than its predecessor and not less than its successor; a plateau
-    /// counts once). 1 for a single smooth submovement.
+    /// (a sample, or a plateau of equal samples, higher than both neighbours; a plateau counts
+    /// once, a shelf on the way up or down not at all). 1 for a single smooth submovement.
     pub n_peaks: usize,
     /// SPARC of the movement's speed ([`sparc`]); `None` if undefined.
     pub sparc: Option<f64>,
@@ -184,23 +184,29 @@ fn movement(speed: &[f64], s: usize, e: usize, fs_hz: f64, params: &SegmentParam
     }
 }
 
-/// Local maxima of `v` at or above `min_height`: `v[i] > v[i−1]` and `v[i] ≥ v[i+1]`, the
-/// ends counting as maxima when higher than their one neighbour (a movement cut at the edge
-/// of the recording); a plateau counts once.
+/// Local maxima of `v` at or above `min_height`: a sample (or a plateau of equal samples)
+/// higher than the samples on both sides of it; an end of the signal counts as a maximum when
+/// higher than its one neighbour (a movement cut at the edge of the recording). A plateau
+/// counts once (a constant signal is one plateau: one peak); a shelf on the way up or down
+/// does not count.
 fn count_peaks(v: &[f64], min_height: f64) -> usize {
     let n = v.len();
-    match n {
-        0 => 0,
-        1 => usize::from(v[0] >= min_height),
-        _ => (0..n)
-            .filter(|&i| {
-                let rises = i == 0 || v[i] > v[i - 1];
-                let not_falling_next = if i + 1 < n { v[i] >= v[i + 1] } else { true };
-                let first_rises = i != 0 || v[0] > v[1];
-                rises && not_falling_next && first_rises && v[i] >= min_height
-            })
-            .count(),
+    let mut count = 0;
+    let mut i = 0;
+    while i < n {
+        // The plateau v[i..=j] of samples equal to v[i].
+        let mut j = i;
+        while j + 1 < n && v[j + 1] == v[i] {
+            j += 1;
+        }
+        let left_lower = i == 0 || v[i - 1] < v[i];
+        let right_lower = j + 1 == n || v[j + 1] < v[i];
+        if left_lower && right_lower && v[i] >= min_height {
+            count += 1;
+        }
+        i = j + 1;
     }
+    count
 }
 
 #[cfg(test)]
@@ -213,6 +219,9 @@ mod tests {
         assert_eq!(count_peaks(&[0.0, 1.0, 0.5, 1.0, 0.0], 0.1), 2);
         assert_eq!(count_peaks(&[0.0, 1.0, 0.01, 0.05, 0.0], 0.1), 1);
         assert_eq!(count_peaks(&[1.0, 0.5, 0.0], 0.1), 1);
+        assert_eq!(count_peaks(&[0.0, 2.0, 2.0, 3.0, 0.0], 0.1), 1);
+        assert_eq!(count_peaks(&[0.0, 3.0, 2.0, 2.0, 0.0], 0.1), 1);
+        assert_eq!(count_peaks(&[1.0, 1.0, 1.0], 0.1), 1);
     }
 
     #[test]
