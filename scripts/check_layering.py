@@ -4,7 +4,7 @@
 Reads `cargo metadata --format-version 1 --no-deps` (or a JSON file given with --metadata) and
 fails, naming the crate and the dependency, when
 
-- a pure crate (common, vehicle, calib, assist) depends on anything outside its allow list
+- a pure crate (common, vehicle, calib, assist, metrics) depends on anything outside its allow list
   (in particular an I/O crate on the deny list: tokio, evdev, hidapi, wgpu, mcap, rustls...);
 - any arrow points up the diagram: a crate depends on one of our crates it may not use
   (e.g. netlink on station, vehicle on haptic-wheel, pyext on netlink).
@@ -29,6 +29,7 @@ BELOW_STATION = {
     "clock",
     "vehicle",
     "assist",
+    "metrics",
     "calib",
     "gyro-imu",
     "haptic-wheel",
@@ -43,6 +44,8 @@ OUR_CRATES: dict[str, set[str]] = {
     "clock": set(),
     "vehicle": {"common"},
     "assist": {"common"},
+    # Movement measures of a session (SPARC, LDLJ, segmentation, range of motion).
+    "metrics": {"common"},
     "calib": {"common", "gyro-imu"},
     "gyro-imu": {"common", "clock"},
     "haptic-wheel": {"common", "clock"},
@@ -54,7 +57,7 @@ OUR_CRATES: dict[str, set[str]] = {
     "telerehab-tests": BELOW_STATION | {"station", "hub"},
 }
 
-PURE = ("common", "vehicle", "calib", "assist")
+PURE = ("common", "vehicle", "calib", "assist", "metrics")
 
 # Third-party crates a pure crate may use: math, randomness with explicit seeds, errors, serde.
 PURE_ALLOW = {
@@ -70,6 +73,8 @@ PURE_ALLOW = {
     "approx",
     "glam",
     "num-traits",
+    # FFT of the SPARC measure (metrics): pure math, no I/O, threads or clocks.
+    "rustfft",
 }
 
 # Crates that do I/O, spawn threads, read clocks or render: never in a pure crate, not even

@@ -1,0 +1,40 @@
+//! Movement measures of a rehabilitation session.
+//!
+//! - [`sparc`] and [`ldlj_speed`]: smoothness of one movement's speed profile, as the
+//!   reference implementations compute them (Balasubramanian et al. 2015; monalysa).
+//! - [`segment`](fn@segment): discrete movements in a continuous speed profile (a speed threshold, gap
+//!   merging, a minimum duration), each scored.
+//! - [`session_measures`]: a session's wheel movements, their smoothness, speed, time and
+//!   peaks (medians and means), ranges of motion, time active — serialisable for the report.
+//! - [`LiveMeasures`]: the cheap running subset for the live display.
+//!
+//! Pure: no I/O, no threads, no clock. Time comes in as a sampling rate `fs_hz`; angles in
+//! rad, speeds in rad/s.
+
+pub mod error;
+pub mod filter;
+pub mod live;
+pub mod segment;
+pub mod session;
+pub mod smoothness;
+
+pub use error::MetricError;
+pub use filter::{Biquad, derivative, speed_profile};
+pub use live::LiveMeasures;
+pub use segment::{Movement, SegmentParams, segment, threshold};
+pub use session::{
+    JointRange, SessionMeasures, SessionParams, Summary, range_of_motion, session_measures,
+    session_measures_with,
+};
+pub use smoothness::{MAX_PADLEVEL, MIN_SAMPLES, SparcParams, ldlj_speed, sparc};
+
+#[cfg(test)]
+mod tests {
+    /// The station hands these to its recorder and report threads.
+    #[test]
+    fn live_measures_and_session_measures_are_send() {
+        fn send<T: Send>() {}
+        send::<crate::LiveMeasures>();
+        send::<crate::SessionMeasures>();
+    }
+}

@@ -1,0 +1,240 @@
+//! Splitting a continuous speed profile into discrete movements.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{MetricError, check_fs, check_signal};
+use crate::smoothness::{SparcParams, ldlj_speed, sparc};
+
+/// Parameters of [`segment`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SegmentParams {
+    /// The speed threshold is this fraction of the whole signal's peak speed, or
+    /// [`floor`](Self::floor), whichever is larger. Default 0.05 (5 %), in [0, 1).
+    pub onset_fraction: f64,
+    /// Absolute floor of the threshold, in the unit of the speed (rad/s for the wheel): below
+    /// it nothing counts as moving, however quiet the session. Default 0.05 rad/s (≈ 2.9 °/s).
+    pub floor: f64,
+    /// Runs above the threshold separated by a gap shorter than this are one movement, s.
+    /// Default 0.1 s.
+    pub merge_gap_s: f64,
+    /// Movements shorter than this (after merging) are dropped, s. Default 0.2 s.
+    pub min_duration_s: f64,
+    /// A local maximum counts in [`Movement::n_peaks`] only at or above this fraction of the
+    /// movement's peak speed. Default 0.1 (10 %).
+    pub peak_fraction: f64,
+    /// SPARC parameters for each movement.
+    pub sparc: SparcParams,
+}
+
+impl Default for SegmentParams {
+    fn default() -> Self {
+        Self {
+            onset_fraction: 0.05,
+            floor: 0.05,
+            merge_gap_s: 0.1,
+            min_duration_s: 0.2,
+            peak_fraction: 0.1,
+            sparc: SparcParams::default(),
+        }
+    }
+}
+
+impl SegmentParams {
+    /// Check every field against its allowed range.
+    ///
+    /// # Errors
+    /// [`MetricError::BadParameter`] naming the first field out of range.
+    pub fn validate(&self) -> Result<(), MetricError> {
+        let check = |field, value: f64, ok: bool, allowed| {
+            if ok {
+                Ok(())
+            } else {
+                Err(MetricError::BadParameter {
+                    context: "SegmentParams",
+                    field,
+                    value,
+                    allowed,
+                })
+            }
+        };
+        let f = self.onset_fraction;
+        check("onset_fraction", f, (0.0..1.0).contains(&f), "0 <= x < 1")?;
+        let f = self.floor;
+        check("floor", f, f.is_finite() && f >= 0.0, "finite and >= 0")?;
+        let g = self.merge_gap_s;
+        check(
+            "merge_gap_s",
+            g,
+            g.is_finite() && g >= 0.0,
+            "finite and >= 0 s",
+        )?;
+        let d = self.min_duration_s;
+        check(
+            "min_duration_s",
+            d,
+            d.is_finite() && d >= 0.0,
+            "finite and >= 0 s",
+        )?;
+        let p = self.peak_fraction;
+        check("peak_fraction", p, (0.0..1.0).contains(&p), "0 <= x < 1")?;
+        self.sparc.validate()
+    }
+}
+
+/// One discrete movement found by [`segment`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Movement {
+    /// Index of its first sample (the first above the threshold).
+    pub start_index: usize,
+    /// One past its last sample (the first back below the threshold, or the signal's length):
+    /// the movement is `speed[start_index..end_index]`.
+    pub end_index: usize,
+    /// Its start time from the first sample, s.
+    pub start_s: f64,
+    /// Its duration `(end_index − start_index) / fs`, s.
+    pub duration_s: f64,
+    /// Its peak speed, in the unit of the speed (rad/s for the wheel).
+    pub peak_speed: f64,
+    /// Local maxima of the speed within the movement at or above `peak_fraction` of its peak
+    /// (a sample, or a plateau of equal samples, higher than both neighbours; a plateau counts
+    /// once, a shelf on the way up or down not at all). 1 for a single smooth submovement.
+    pub n_peaks: usize,
+    /// SPARC of the movement's speed ([`sparc`]); `None` if undefined.
+    pub sparc: Option<f64>,
+    /// LDLJ of the movement's speed ([`ldlj_speed`]); `None` if undefined.
+    pub ldlj: Option<f64>,
+}
+
+/// The threshold [`segment`] uses on `speed`: `max(onset_fraction · max(speed), floor)`.
+#[must_use]
+pub fn threshold(speed: &[f64], params: &SegmentParams) -> f64 {
+    let peak = speed.iter().copied().fold(0.0, f64::max);
+    (params.onset_fraction * peak).max(params.floor)
+}
+
+/// Find the discrete movements in a speed profile sampled at `fs_hz` (speed ≥ 0, e.g. rad/s).
+///
+/// 1. threshold `v_th = max(onset_fraction · max(speed), floor)` ([`threshold`]);
+/// 2. a movement starts at the first sample with `speed > v_th` and ends at the first sample
+///    back at or below it (one threshold both ways; the gap merging of step 3 is the
+///    hysteresis, in time rather than in speed);
+/// 3. movements separated by fewer than `merge_gap_s · fs` samples are merged;
+/// 4. movements shorter than `min_duration_s` are dropped.
+///
+/// Each movement gets its peak speed, number of peaks, SPARC and LDLJ, computed on the
+/// samples inside it as given (smooth the speed first: [`crate::speed_profile`]).
+///
+/// # Errors
+/// An empty signal, a non-finite sample (its index is named), `fs_hz` not finite and > 0, or
+/// parameters out of range.
+pub fn segment(
+    speed: &[f64],
+    fs_hz: f64,
+    params: SegmentParams,
+) -> Result<Vec<Movement>, MetricError> {
+    check_fs(fs_hz)?;
+    params.validate()?;
+    check_signal("speed", speed, 1)?;
+    let v_th = threshold(speed, &params);
+    // Runs above the threshold, half-open [start, end).
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    let mut start = None;
+    for (i, &v) in speed.iter().enumerate() {
+        match (start, v > v_th) {
+            (None, true) => start = Some(i),
+            (Some(s), false) => {
+                runs.push((s, i));
+                start = None;
+            }
+            _ => {}
+        }
+    }
+    if let Some(s) = start {
+        runs.push((s, speed.len()));
+    }
+    let merge_gap = params.merge_gap_s * fs_hz;
+    let mut merged: Vec<(usize, usize)> = Vec::with_capacity(runs.len());
+    for run in runs {
+        match merged.last_mut() {
+            Some(last) if ((run.0 - last.1) as f64) < merge_gap => last.1 = run.1,
+            _ => merged.push(run),
+        }
+    }
+    let min_len = params.min_duration_s * fs_hz;
+    Ok(merged
+        .into_iter()
+        .filter(|&(s, e)| (e - s) as f64 >= min_len)
+        .map(|(s, e)| movement(speed, s, e, fs_hz, &params))
+        .collect())
+}
+
+fn movement(speed: &[f64], s: usize, e: usize, fs_hz: f64, params: &SegmentParams) -> Movement {
+    let v = &speed[s..e];
+    let peak = v.iter().copied().fold(0.0, f64::max);
+    Movement {
+        start_index: s,
+        end_index: e,
+        start_s: s as f64 / fs_hz,
+        duration_s: (e - s) as f64 / fs_hz,
+        peak_speed: peak,
+        n_peaks: count_peaks(v, params.peak_fraction * peak),
+        sparc: sparc(v, fs_hz, params.sparc).ok(),
+        ldlj: ldlj_speed(v, fs_hz).ok(),
+    }
+}
+
+/// Local maxima of `v` at or above `min_height`: a sample (or a plateau of equal samples)
+/// higher than the samples on both sides of it; an end of the signal counts as a maximum when
+/// higher than its one neighbour (a movement cut at the edge of the recording). A plateau
+/// counts once (a constant signal is one plateau: one peak); a shelf on the way up or down
+/// does not count.
+fn count_peaks(v: &[f64], min_height: f64) -> usize {
+    let n = v.len();
+    let mut count = 0;
+    let mut i = 0;
+    while i < n {
+        // The plateau v[i..=j] of samples equal to v[i].
+        let mut j = i;
+        while j + 1 < n && v[j + 1] == v[i] {
+            j += 1;
+        }
+        let left_lower = i == 0 || v[i - 1] < v[i];
+        let right_lower = j + 1 == n || v[j + 1] < v[i];
+        if left_lower && right_lower && v[i] >= min_height {
+            count += 1;
+        }
+        i = j + 1;
+    }
+    count
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn peaks_count_plateaus_once_and_ignore_small_bumps() {
+        assert_eq!(count_peaks(&[0.0, 1.0, 2.0, 2.0, 1.0, 0.0], 0.2), 1);
+        assert_eq!(count_peaks(&[0.0, 1.0, 0.5, 1.0, 0.0], 0.1), 2);
+        assert_eq!(count_peaks(&[0.0, 1.0, 0.01, 0.05, 0.0], 0.1), 1);
+        assert_eq!(count_peaks(&[1.0, 0.5, 0.0], 0.1), 1);
+        assert_eq!(count_peaks(&[0.0, 2.0, 2.0, 3.0, 0.0], 0.1), 1);
+        assert_eq!(count_peaks(&[0.0, 3.0, 2.0, 2.0, 0.0], 0.1), 1);
+        assert_eq!(count_peaks(&[1.0, 1.0, 1.0], 0.1), 1);
+    }
+
+    #[test]
+    fn short_gaps_merge_and_short_blips_drop() {
+        let fs = 100.0;
+        let mut v = vec![0.0; 200];
+        // Two 0.3 s runs 0.05 s apart (merged), then a 0.05 s blip (dropped).
+        v[10..40].fill(1.0);
+        v[45..75].fill(1.0);
+        v[150..155].fill(1.0);
+        let m = segment(&v, fs, SegmentParams::default()).unwrap();
+        assert_eq!(m.len(), 1, "{m:?}");
+        assert_eq!((m[0].start_index, m[0].end_index), (10, 75));
+        assert!((m[0].duration_s - 0.65).abs() < 1e-12);
+    }
+}
