@@ -315,12 +315,17 @@ fn a_station_killed_mid_session_delivers_what_it_queued_at_the_next_sync() {
         if queued_lines() >= 20 {
             break;
         }
-        assert!(station.try_wait().unwrap().is_none(), "the station ended early");
+        assert!(
+            station.try_wait().unwrap().is_none(),
+            "the station ended early"
+        );
         std::thread::sleep(Duration::from_millis(50));
     }
+    let queued_at_kill = queued_lines();
     station.kill().unwrap();
     station.wait().unwrap();
     let queued = queued_lines() as u64;
+    eprintln!("queued {queued_at_kill} lines before the kill, {queued} after");
     assert!(queued >= 20, "the queue holds what was produced: {queued}");
     let synced = ok(&["sync"], Some(&home));
     assert!(synced.contains("1 delivered"), "{synced}");

@@ -126,7 +126,9 @@ impl Link {
         let queue = match home {
             Some(home) => {
                 let dir = home.queue_dir();
-                spawn_delivery(&runtime, &dir, addr, tls.clone());
+                // Listed before this session's own queue file exists.
+                let earlier = queue::pending(&dir)?;
+                spawn_delivery(&runtime, earlier, &dir, addr, tls.clone());
                 Some(Mutex::new(QueueFile::create(&dir, &config.hello)?))
             }
             None => None,
@@ -255,13 +257,18 @@ fn keep_prescribed_regimen(
 /// queue (it ends with the runtime; what is not delivered stays for the next run or `sync`).
 fn spawn_delivery(
     runtime: &tokio::runtime::Runtime,
+    earlier: Vec<queue::Queued>,
     dir: &std::path::Path,
     address: &str,
     tls: Option<ClientTls>,
 ) {
+    if earlier.is_empty() {
+        return;
+    }
     let (dir, address) = (dir.to_owned(), address.to_owned());
     runtime.spawn(async move {
-        match queue::deliver(&dir, &address, tls, Duration::from_secs(30)).await {
+        let timeout = Duration::from_secs(30);
+        match queue::deliver_sessions(earlier, &dir, &address, tls, timeout).await {
             Ok(r) if r.sessions > 0 => tracing::info!(
                 sessions = r.sessions,
                 delivered = r.delivered,

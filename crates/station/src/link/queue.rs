@@ -145,7 +145,18 @@ pub async fn deliver(
     tls: Option<ClientTls>,
     timeout: Duration,
 ) -> anyhow::Result<SyncReport> {
-    let queued = pending(dir)?;
+    deliver_sessions(pending(dir)?, dir, address, tls, timeout).await
+}
+
+/// As [`deliver`], for the sessions `queued` (read from `dir` before a new session's queue
+/// file was created there, so a running session is never taken for a queued one).
+pub async fn deliver_sessions(
+    queued: Vec<Queued>,
+    dir: &Path,
+    address: &str,
+    tls: Option<ClientTls>,
+    timeout: Duration,
+) -> anyhow::Result<SyncReport> {
     let mut report = SyncReport {
         sessions: queued.len(),
         ..SyncReport::default()
