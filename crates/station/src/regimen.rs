@@ -179,4 +179,42 @@ mod tests {
         let text = "[[exercise]]\nkind = \"sine\"\namplitud_m = 3.0\n";
         assert!(Regimen::from_toml(text, "r.toml").is_err());
     }
+
+    mod fuzz {
+        use super::*;
+        use proptest::prelude::*;
+
+        const MEDIUM: &str = include_str!("../../../regimens/medium.toml");
+
+        proptest! {
+            #![proptest_config(ProptestConfig {
+                cases: 256,
+                rng_seed: proptest::test_runner::RngSeed::Fixed(11),
+                ..ProptestConfig::default()
+            })]
+
+            /// A regimen arrives from the network: any text is parsed or refused with a
+            /// reason, never a panic, and whatever is accepted is within the safety bounds
+            /// (validated by the same parser).
+            #[test]
+            fn any_text_is_parsed_or_refused_without_panicking(text in ".{0,400}") {
+                if let Err(e) = Regimen::from_toml(&text, "hub") {
+                    prop_assert!(!e.to_string().is_empty());
+                }
+            }
+
+            #[test]
+            fn a_corrupted_valid_regimen_is_parsed_or_refused_without_panicking(
+                pos in any::<proptest::sample::Index>(), byte in 32u8..127,
+            ) {
+                let mut bytes = MEDIUM.as_bytes().to_vec();
+                let i = pos.index(bytes.len());
+                bytes[i] = byte;
+                let text = String::from_utf8_lossy(&bytes);
+                if let Ok(r) = Regimen::from_toml(&text, "hub") {
+                    prop_assert!(!r.exercises.is_empty());
+                }
+            }
+        }
+    }
 }

@@ -316,7 +316,7 @@ async fn bench(
     seconds: f64,
     db: Option<&str>,
 ) -> anyhow::Result<()> {
-    if !(1..=20_000).contains(&stations) || !(rate_hz > 0.0 && rate_hz <= 1000.0) {
+    if !((1..=20_000).contains(&stations) && rate_hz > 0.0 && rate_hz <= 1000.0) {
         bail!("--stations must be 1 to 20000 and --rate-hz in (0, 1000]");
     }
     if !(seconds.is_finite() && seconds >= 1.0) {
