@@ -161,22 +161,7 @@ pub async fn load(
 }
 
 fn summary(session_id: &str, seq: u64) -> Summary {
-    Summary {
-        session_id: session_id.to_owned(),
-        seq,
-        t_s: seq as f64 * 0.1,
-        exercise: "sine-road".into(),
-        speed_m_s: 12.0,
-        lateral_m: 0.1,
-        rms_lateral_m: 0.2,
-        max_lateral_m: 0.5,
-        pct_in_lane: 99.0,
-        max_abs_torque_nm: 1.1,
-        loop_p99_us: 40.0,
-        ticks: seq * 100,
-        dropped_records: 0,
-        extra: std::collections::BTreeMap::new(),
-    }
+    Summary::example(session_id, seq)
 }
 
 async fn one_station(

@@ -18,20 +18,8 @@ const FP2: &str = "2222222222222222222222222222222222222222222222222222222222222
 
 fn summary(session_id: &str, seq: u64) -> Summary {
     Summary {
-        session_id: session_id.to_owned(),
-        seq,
-        t_s: seq as f64 * 0.1,
-        exercise: "sine-road".to_owned(),
-        speed_m_s: 12.5,
-        lateral_m: -0.25,
-        rms_lateral_m: 0.31,
-        max_lateral_m: 0.9,
-        pct_in_lane: 97.5,
-        max_abs_torque_nm: 1.2,
-        loop_p99_us: 45.0,
-        ticks: seq.saturating_mul(100),
-        dropped_records: 0,
         extra: BTreeMap::from([("assist_level".to_owned(), 0.25)]),
+        ..Summary::example(session_id, seq)
     }
 }
 

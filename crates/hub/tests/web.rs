@@ -152,22 +152,7 @@ fn hello(patient_id: &str, session_id: &str) -> Hello {
 }
 
 fn summary(session_id: &str, seq: u64) -> Summary {
-    Summary {
-        session_id: session_id.into(),
-        seq,
-        t_s: seq as f64 * 0.1,
-        exercise: "sine-road".into(),
-        speed_m_s: 12.0,
-        lateral_m: 0.1,
-        rms_lateral_m: 0.2,
-        max_lateral_m: 0.5,
-        pct_in_lane: 99.0,
-        max_abs_torque_nm: 1.1,
-        loop_p99_us: 40.0,
-        ticks: seq * 100,
-        dropped_records: 0,
-        extra: Default::default(),
-    }
+    Summary::example(session_id, seq)
 }
 
 #[tokio::test]

@@ -391,6 +391,27 @@ impl Hello {
 }
 
 impl Summary {
+    /// A plausible summary of a sine-road session at `seq` (t = seq × 0.1 s): for examples,
+    /// tests and load generators.
+    pub fn example(session_id: &str, seq: u64) -> Self {
+        Self {
+            session_id: session_id.to_owned(),
+            seq,
+            t_s: seq as f64 * 0.1,
+            exercise: "sine-road".to_owned(),
+            speed_m_s: 12.5,
+            lateral_m: -0.25,
+            rms_lateral_m: 0.31,
+            max_lateral_m: 0.9,
+            pct_in_lane: 97.5,
+            max_abs_torque_nm: 1.2,
+            loop_p99_us: 45.0,
+            ticks: seq.saturating_mul(100),
+            dropped_records: 0,
+            extra: BTreeMap::new(),
+        }
+    }
+
     /// Checks every field: identifiers, finiteness and the documented ranges.
     pub fn validate(&self) -> Result<(), String> {
         check_id("session_id", &self.session_id)?;
@@ -502,22 +523,7 @@ pub(crate) mod tests {
 
     /// A valid summary for tests.
     pub(crate) fn summary(session_id: &str, seq: u64) -> Summary {
-        Summary {
-            session_id: session_id.to_owned(),
-            seq,
-            t_s: seq as f64 * 0.1,
-            exercise: "sine-road".to_owned(),
-            speed_m_s: 12.5,
-            lateral_m: -0.25,
-            rms_lateral_m: 0.31,
-            max_lateral_m: 0.9,
-            pct_in_lane: 97.5,
-            max_abs_torque_nm: 1.2,
-            loop_p99_us: 45.0,
-            ticks: seq * 100,
-            dropped_records: 0,
-            extra: BTreeMap::new(),
-        }
+        Summary::example(session_id, seq)
     }
 
     #[test]

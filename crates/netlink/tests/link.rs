@@ -3,7 +3,6 @@
 //! Every wait is a bounded loop or a timeout used as a liveness guard (a hung test fails
 //! instead of hanging CI); no test asserts on speed.
 
-use std::collections::BTreeMap;
 use std::net::SocketAddr;
 use std::path::Path;
 use std::time::Duration;
@@ -34,22 +33,7 @@ fn hello(station: &str, session: &str) -> Hello {
 }
 
 fn summary(session: &str, seq: u64) -> Summary {
-    Summary {
-        session_id: session.into(),
-        seq,
-        t_s: seq as f64 * 0.1,
-        exercise: "sine-road".into(),
-        speed_m_s: 12.0,
-        lateral_m: 0.1,
-        rms_lateral_m: 0.2,
-        max_lateral_m: 0.5,
-        pct_in_lane: 99.0,
-        max_abs_torque_nm: 1.1,
-        loop_p99_us: 40.0,
-        ticks: seq.wrapping_mul(100),
-        dropped_records: 0,
-        extra: BTreeMap::new(),
-    }
+    Summary::example(session, seq)
 }
 
 fn fast_config(addr: SocketAddr, tls: Option<ClientTls>, hello: Hello) -> StationLinkConfig {

@@ -1,7 +1,6 @@
 //! Pairing end to end on loopback: a code becomes a credential the station then uses for
 //! mutual TLS; wrong, used and unknown codes are refused with a reason.
 
-use std::collections::BTreeMap;
 use std::net::SocketAddr;
 use std::path::Path;
 use std::sync::{Arc, Mutex};
@@ -120,22 +119,7 @@ async fn start_pairing_hub(dir: &Path, code: &PairingCode) -> (TherapistServer, 
 }
 
 fn summary(seq: u64) -> Summary {
-    Summary {
-        session_id: "s1".into(),
-        seq,
-        t_s: seq as f64 * 0.1,
-        exercise: "sine-road".into(),
-        speed_m_s: 12.0,
-        lateral_m: 0.1,
-        rms_lateral_m: 0.2,
-        max_lateral_m: 0.5,
-        pct_in_lane: 99.0,
-        max_abs_torque_nm: 1.1,
-        loop_p99_us: 40.0,
-        ticks: seq * 100,
-        dropped_records: 0,
-        extra: BTreeMap::new(),
-    }
+    Summary::example("s1", seq)
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

@@ -178,30 +178,32 @@ impl Db {
         })
     }
 
-    /// The therapist with this id, if any.
-    pub async fn therapist(&self, id: &str) -> Result<Option<Therapist>, HubError> {
+    /// The therapist whose `column` (`id` or `email`, never input) equals `value`, if any.
+    async fn therapist_where(
+        &self,
+        column: &'static str,
+        value: &str,
+    ) -> Result<Option<Therapist>, HubError> {
         let sql = sqlx::AssertSqlSafe(format!(
-            "SELECT {THERAPIST_COLUMNS} FROM therapists WHERE id = $1"
+            "SELECT {THERAPIST_COLUMNS} FROM therapists WHERE {column} = $1"
         ));
         let row = sqlx::query(sql)
-            .bind(id)
+            .bind(value)
             .fetch_optional(self.pool())
             .await
             .map_err(HubError::db("reading a therapist"))?;
         row.as_ref().map(Therapist::from_row).transpose()
     }
 
-    /// The therapist with this e-mail (as given at creation), if any.
+    /// The therapist with this id, if any.
+    pub async fn therapist(&self, id: &str) -> Result<Option<Therapist>, HubError> {
+        self.therapist_where("id", id).await
+    }
+
+    /// The therapist with this e-mail (compared lowercased, as stored), if any.
     pub async fn therapist_by_email(&self, email: &str) -> Result<Option<Therapist>, HubError> {
-        let sql = sqlx::AssertSqlSafe(format!(
-            "SELECT {THERAPIST_COLUMNS} FROM therapists WHERE email = $1"
-        ));
-        let row = sqlx::query(sql)
-            .bind(email.trim().to_lowercase())
-            .fetch_optional(self.pool())
+        self.therapist_where("email", &email.trim().to_lowercase())
             .await
-            .map_err(HubError::db("reading a therapist"))?;
-        row.as_ref().map(Therapist::from_row).transpose()
     }
 
     /// Checks a login. [`MAX_FAILED_LOGINS`] failures in a row lock the account for
