@@ -293,7 +293,7 @@ pub fn describe(
 ) -> String {
     let (p50, p99, max) = report.latency_ms;
     let mut s = format!(
-        "stations connected {}\nsummaries sent {} acknowledged {} lost {}\nthroughput {:.0} summaries/s (target {:.0})\ningest latency p50 {p50:.2} ms p99 {p99:.2} ms max {max:.2} ms\n",
+        "stations connected {}\nsummaries sent {} acknowledged {} unacknowledged 15 s after the end {}\nthroughput {:.0} summaries/s (target {:.0})\ningest latency p50 {p50:.2} ms p99 {p99:.2} ms max {max:.2} ms\n",
         report.connected,
         report.sent,
         report.acked,

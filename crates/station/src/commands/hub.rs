@@ -64,6 +64,10 @@ pub enum HubCommand {
         /// Most simultaneous connections from one address (stations behind one NAT).
         #[arg(long, default_value_t = 8)]
         max_connections_per_address: usize,
+        /// Print a line for every summary received (a demo; connections, ends and errors are
+        /// always printed).
+        #[arg(long)]
+        print_summaries: bool,
     },
     /// Load test: N simulated stations on loopback against a hub in a child process, in a
     /// fresh clinic (SQLite, or the empty database `--db` names).
@@ -203,9 +207,10 @@ pub fn run(args: HubArgs) -> anyhow::Result<()> {
                 web,
                 max_connections,
                 max_connections_per_address,
+                print_summaries,
             } => {
                 let limits = (max_connections, max_connections_per_address);
-                serve(&data, &stations, web.as_deref(), limits).await
+                serve(&data, &stations, web.as_deref(), limits, print_summaries).await
             }
             HubCommand::Bench {
                 stations,
@@ -269,6 +274,7 @@ async fn serve(
     stations: &str,
     web: Option<&str>,
     max_connections: (usize, usize),
+    print_summaries: bool,
 ) -> anyhow::Result<()> {
     let (clinic, db) = open(data).await?;
     let stations = crate::link::resolve("--stations", stations)?;
@@ -300,7 +306,10 @@ async fn serve(
         }
         let _ = std::io::stdout().flush();
     };
-    let on_event = |ev: &netlink::TherapistEvent| {
+    let on_event = move |ev: &netlink::TherapistEvent| {
+        if !print_summaries && matches!(ev, netlink::TherapistEvent::Summary { .. }) {
+            return;
+        }
         println!("{ev}");
         let _ = std::io::stdout().flush();
     };
