@@ -257,6 +257,7 @@ pub async fn serve(
         db.clone(),
         clinic.ca()?,
         config.names[0].clone(),
+        clinic.dir().join("recordings"),
         options.now_ms.clone(),
     ));
     store.refresh_revoked().await?;

@@ -63,6 +63,8 @@ async fn group_commit(db: Db, mut rx: mpsc::Receiver<Pending>, now_ms: NowMs) {
 /// The database as the station link's store, and the pairing authority.
 pub struct DbStore {
     db: Db,
+    /// `DATA/recordings`: uploaded recordings, `<station>/<session>.mcap`.
+    recordings: std::path::PathBuf,
     writer: mpsc::Sender<Pending>,
     ca: ClinicCa,
     /// The name on the hub's certificate, given to paired stations.
@@ -87,10 +89,17 @@ fn refusal(e: HubError) -> Refusal {
 impl DbStore {
     /// A store over `db` issuing certificates from `ca` for a hub named `server_name`; its
     /// group-commit writer runs on the current tokio runtime.
-    pub fn new(db: Db, ca: ClinicCa, server_name: String, now_ms: NowMs) -> Self {
+    pub fn new(
+        db: Db,
+        ca: ClinicCa,
+        server_name: String,
+        recordings: std::path::PathBuf,
+        now_ms: NowMs,
+    ) -> Self {
         let (writer, rx) = mpsc::channel(4 * MAX_BATCH);
         tokio::spawn(group_commit(db.clone(), rx, now_ms.clone()));
         Self {
+            recordings,
             writer,
             db,
             ca,
@@ -135,6 +144,52 @@ impl DbStore {
 }
 
 impl HubStore for DbStore {
+    fn recording_path(&self, hello: &Hello) -> Option<std::path::PathBuf> {
+        // Identifiers were checked by the codec and admitted by `admit`: safe path components.
+        Some(
+            self.recordings
+                .join(&hello.station_id)
+                .join(format!("{}.mcap", hello.session_id)),
+        )
+    }
+
+    fn recording_stored<'a>(
+        &'a self,
+        hello: &'a Hello,
+        sha256: &'a str,
+        size_bytes: u64,
+        path: &'a std::path::Path,
+    ) -> BoxFuture<'a, ()> {
+        Box::pin(async move {
+            let recording = crate::db::Recording {
+                session_id: hello.session_id.clone(),
+                sha256: sha256.to_owned(),
+                size_bytes: i64::try_from(size_bytes).unwrap_or(i64::MAX),
+                received_bytes: i64::try_from(size_bytes).unwrap_or(i64::MAX),
+                path: path.display().to_string(),
+                complete: true,
+            };
+            if let Err(e) = self.db.put_recording(&recording).await {
+                tracing::error!(
+                    "recording of {} stored but not recorded: {e}",
+                    hello.session_id
+                );
+            }
+            let actor = format!("station:{}", hello.station_id);
+            let detail = format!("{size_bytes} bytes, sha256 {sha256}");
+            let _ = self
+                .db
+                .audit(
+                    &actor,
+                    "recording_uploaded",
+                    &hello.session_id,
+                    &detail,
+                    self.now(),
+                )
+                .await;
+        })
+    }
+
     fn admit<'a>(&'a self, hello: &'a Hello, peer: Peer<'a>) -> BoxFuture<'a, Result<(), Refusal>> {
         Box::pin(async move {
             let cert = peer
@@ -208,6 +263,20 @@ impl HubStore for Ingest {
         hello: &'a Hello,
     ) -> BoxFuture<'a, Result<Box<dyn SessionStore>, Refusal>> {
         self.0.open_session(hello)
+    }
+
+    fn recording_path(&self, hello: &Hello) -> Option<std::path::PathBuf> {
+        self.0.recording_path(hello)
+    }
+
+    fn recording_stored<'a>(
+        &'a self,
+        hello: &'a Hello,
+        sha256: &'a str,
+        size_bytes: u64,
+        path: &'a std::path::Path,
+    ) -> BoxFuture<'a, ()> {
+        self.0.recording_stored(hello, sha256, size_bytes, path)
     }
 
     fn pairing(&self) -> Option<Arc<dyn PairingAuthority>> {

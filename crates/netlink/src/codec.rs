@@ -99,6 +99,9 @@ pub fn encode(frame: &Frame, out: &mut Vec<u8>) -> Result<(), CodecError> {
         Frame::PairChallenge(b) => serde_json::to_writer(&mut *out, b),
         Frame::PairFinish(b) => serde_json::to_writer(&mut *out, b),
         Frame::Paired(b) => serde_json::to_writer(&mut *out, b),
+        Frame::UploadStart(b) => serde_json::to_writer(&mut *out, b),
+        Frame::UploadAt(b) => serde_json::to_writer(&mut *out, b),
+        Frame::UploadChunk(b) => serde_json::to_writer(&mut *out, b),
     };
     let len = out.len() - start - HEADER_LEN;
     if let Err(source) = written {
@@ -186,6 +189,9 @@ pub fn decode(buf: &[u8]) -> Result<Option<(Frame, usize)>, CodecError> {
         FrameKind::PairChallenge => Frame::PairChallenge(body(kind, payload)?),
         FrameKind::PairFinish => Frame::PairFinish(body(kind, payload)?),
         FrameKind::Paired => Frame::Paired(body(kind, payload)?),
+        FrameKind::UploadStart => Frame::UploadStart(body(kind, payload)?),
+        FrameKind::UploadAt => Frame::UploadAt(body(kind, payload)?),
+        FrameKind::UploadChunk => Frame::UploadChunk(body(kind, payload)?),
     };
     frame
         .validate()
@@ -525,7 +531,7 @@ mod tests {
 
         #[test]
         fn random_payload_behind_valid_header_never_panics(
-            kind in 1u8..=10, payload in proptest::collection::vec(any::<u8>(), 0..256),
+            kind in 1u8..=13, payload in proptest::collection::vec(any::<u8>(), 0..256),
         ) {
             let mut bytes = b"TRHB\x00\x01".to_vec();
             bytes.push(kind);

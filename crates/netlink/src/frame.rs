@@ -61,6 +61,12 @@ pub enum FrameKind {
     PairFinish = 9,
     /// Hub → station, the station's credential, proven with the exchanged key.
     Paired = 10,
+    /// Station → hub, after `Hello`: a session's recording is about to be uploaded.
+    UploadStart = 11,
+    /// Hub → station: where the upload resumes (bytes held), or that it is complete.
+    UploadAt = 12,
+    /// Station → hub: bytes of the recording at an offset.
+    UploadChunk = 13,
 }
 
 impl FrameKind {
@@ -77,6 +83,9 @@ impl FrameKind {
             8 => Self::PairChallenge,
             9 => Self::PairFinish,
             10 => Self::Paired,
+            11 => Self::UploadStart,
+            12 => Self::UploadAt,
+            13 => Self::UploadChunk,
             _ => return None,
         })
     }
@@ -100,6 +109,9 @@ impl std::fmt::Display for FrameKind {
             Self::PairChallenge => "PairChallenge",
             Self::PairFinish => "PairFinish",
             Self::Paired => "Paired",
+            Self::UploadStart => "UploadStart",
+            Self::UploadAt => "UploadAt",
+            Self::UploadChunk => "UploadChunk",
         };
         f.write_str(name)
     }
@@ -262,6 +274,50 @@ pub struct Paired {
     pub mac: String,
 }
 
+/// Largest recording a station may upload, bytes (an hour of session is about 2 GB today).
+pub const MAX_RECORDING_BYTES: u64 = 16 << 30;
+/// Most raw bytes in one [`UploadChunk`].
+pub const MAX_CHUNK_BYTES: usize = 32 * 1024;
+/// Most base64 characters in one [`UploadChunk`] (`MAX_CHUNK_BYTES` encoded).
+pub const MAX_CHUNK_BASE64_LEN: usize = MAX_CHUNK_BYTES.div_ceil(3) * 4;
+
+/// Station → hub, after `Hello` on a connection of that session: the session's recording
+/// (`size_bytes`, SHA-256 `sha256`) follows. The hub answers [`UploadAt`] with the offset to
+/// resume from (bytes it already holds of this very file).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct UploadStart {
+    /// The session recorded (the connection's).
+    pub session_id: String,
+    /// The file's size, bytes.
+    pub size_bytes: u64,
+    /// Lowercase hex SHA-256 of the whole file.
+    pub sha256: String,
+}
+
+/// Hub → station: the hub holds `offset` bytes; `complete` once the whole file arrived and its
+/// SHA-256 matched (then the recording is stored for the console's replay).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct UploadAt {
+    /// The session.
+    pub session_id: String,
+    /// Bytes the hub holds, from the start of the file.
+    pub offset: u64,
+    /// The upload is complete and verified.
+    pub complete: bool,
+}
+
+/// Station → hub: bytes of the recording starting at `offset` (which must be what the hub
+/// said it holds), base64 (standard alphabet, padded).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct UploadChunk {
+    /// The session.
+    pub session_id: String,
+    /// Where these bytes start in the file.
+    pub offset: u64,
+    /// The bytes, base64, at most [`MAX_CHUNK_BYTES`] decoded.
+    pub data: String,
+}
+
 /// Any frame of the protocol.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
@@ -286,6 +342,12 @@ pub enum Frame {
     PairFinish(PairFinish),
     /// See [`Paired`].
     Paired(Paired),
+    /// See [`UploadStart`].
+    UploadStart(UploadStart),
+    /// See [`UploadAt`].
+    UploadAt(UploadAt),
+    /// See [`UploadChunk`].
+    UploadChunk(UploadChunk),
 }
 
 impl Frame {
@@ -302,6 +364,9 @@ impl Frame {
             Self::PairChallenge(_) => FrameKind::PairChallenge,
             Self::PairFinish(_) => FrameKind::PairFinish,
             Self::Paired(_) => FrameKind::Paired,
+            Self::UploadStart(_) => FrameKind::UploadStart,
+            Self::UploadAt(_) => FrameKind::UploadAt,
+            Self::UploadChunk(_) => FrameKind::UploadChunk,
         }
     }
 
@@ -339,6 +404,28 @@ impl Frame {
                     check_text(name, &pem.replace(['\n', '\r'], ""), MAX_PEM_LEN)?;
                 }
                 check_hex("mac", &p.mac, MAC_LEN)
+            }
+            Self::UploadStart(u) => {
+                check_id("session_id", &u.session_id)?;
+                check_hex("sha256", &u.sha256, 32)?;
+                if u.size_bytes == 0 || u.size_bytes > MAX_RECORDING_BYTES {
+                    return Err(format!(
+                        "size_bytes is {}, allowed 1 to {MAX_RECORDING_BYTES}",
+                        u.size_bytes
+                    ));
+                }
+                Ok(())
+            }
+            Self::UploadAt(u) => check_id("session_id", &u.session_id),
+            Self::UploadChunk(c) => {
+                check_id("session_id", &c.session_id)?;
+                if c.data.is_empty() || c.data.len() > MAX_CHUNK_BASE64_LEN {
+                    return Err(format!(
+                        "data has {} base64 bytes, allowed 1 to {MAX_CHUNK_BASE64_LEN}",
+                        c.data.len()
+                    ));
+                }
+                Ok(())
             }
         }
     }

@@ -80,6 +80,7 @@ pub mod store;
 pub mod therapist;
 pub mod tls;
 mod transport;
+pub mod upload;
 
 pub use codec::{CodecError, FrameDecoder, decode, encode, encode_to_vec};
 pub use error::NetlinkError;

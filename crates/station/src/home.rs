@@ -107,6 +107,11 @@ impl Home {
         self.dir.join("queue")
     }
 
+    /// Recordings waiting to be uploaded to the hub.
+    pub fn uploads_dir(&self) -> PathBuf {
+        self.dir.join("uploads")
+    }
+
     /// Recordings of sessions (a paired station records every session).
     pub fn recordings_dir(&self) -> PathBuf {
         self.dir.join("recordings")

@@ -24,6 +24,8 @@ pub struct LinkReport {
     pub queued: Option<u64>,
     /// What became of a regimen the hub prescribed during the session, if one came.
     pub regimen: Option<String>,
+    /// The recording's upload to the hub, if the station queued one.
+    pub upload: Option<String>,
 }
 
 /// Append one line to the report (a `String` never fails to take it).
@@ -262,6 +264,9 @@ fn delivery(s: &mut String, r: &SessionReport, link: Option<&LinkReport>) {
             if let Some(r) = &l.regimen {
                 line!(s, "therapist regimen   {r}");
             }
+            if let Some(u) = &l.upload {
+                line!(s, "recording upload    {u}");
+            }
             if let Some(n) = l.queued {
                 line!(
                     s,
@@ -400,6 +405,7 @@ mod tests {
             last_error: Some("connection reset".into()),
             queued: Some(1),
             regimen: Some("p-1-v2 kept for the next session".into()),
+            upload: Some("1 uploaded (2.35 MB sent), 0 still queued".into()),
         };
         let cases = [
             ("report_everything", render(&everything(), Some(&link))),

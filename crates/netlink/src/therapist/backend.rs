@@ -72,6 +72,25 @@ pub trait HubStore: Send + Sync + 'static {
     fn pairing(&self) -> Option<Arc<dyn PairingAuthority>> {
         None
     }
+
+    /// Where the recording of `hello`'s session is kept once uploaded; `None`: this hub takes
+    /// no recordings.
+    fn recording_path(&self, hello: &Hello) -> Option<PathBuf> {
+        let _ = hello;
+        None
+    }
+
+    /// A recording arrived whole and verified at `path`.
+    fn recording_stored<'a>(
+        &'a self,
+        hello: &'a Hello,
+        sha256: &'a str,
+        size_bytes: u64,
+        path: &'a std::path::Path,
+    ) -> BoxFuture<'a, ()> {
+        let _ = (hello, sha256, size_bytes, path);
+        Box::pin(async {})
+    }
 }
 
 /// One open session in a [`HubStore`]. The hub calls it under the session's own lock, so
@@ -118,6 +137,15 @@ async fn blocking<T: Send + 'static>(
 }
 
 impl HubStore for FileStore {
+    fn recording_path(&self, hello: &Hello) -> Option<PathBuf> {
+        // Identifiers were checked by the codec: safe path components.
+        Some(
+            self.dir
+                .join(&hello.station_id)
+                .join(format!("{}.mcap", hello.session_id)),
+        )
+    }
+
     fn open_session<'a>(
         &'a self,
         hello: &'a Hello,

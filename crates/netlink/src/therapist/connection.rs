@@ -331,6 +331,7 @@ async fn frame_loop(
     mut shutdown: watch::Receiver<bool>,
 ) -> String {
     let idle = Duration::from_millis(hub.config.idle_timeout_ms);
+    let mut upload = None;
     loop {
         tokio::select! {
             _ = shutdown.changed() => {
@@ -355,8 +356,9 @@ async fn frame_loop(
                     Ok(Ok(Some(frame))) => frame,
                     Ok(Err(e)) => return protocol_error(hub, out, peer, e.to_string()),
                 };
-                match handle_frame(hub, hello, file, frame).await {
+                match handle_frame(hub, hello, file, &mut upload, frame).await {
                     Ok(Reply::Ack(ack)) => send_ack(out, ack),
+                    Ok(Reply::Frame(frame)) => send(out, frame_outgoing(&frame)),
                     Ok(Reply::Bye(bye, why)) => {
                         send(out, frame_outgoing(&bye));
                         return why;

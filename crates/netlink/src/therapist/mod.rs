@@ -7,6 +7,7 @@ mod connection;
 mod event;
 mod pairing;
 mod session;
+mod upload;
 
 use std::collections::HashMap;
 use std::net::{IpAddr, SocketAddr};

@@ -9,6 +9,8 @@ use super::*;
 
 pub(super) enum Reply {
     Ack(Ack),
+    /// Another answer (upload progress).
+    Frame(Frame),
     Bye(Frame, String),
 }
 
@@ -23,9 +25,18 @@ pub(super) async fn handle_frame(
     hub: &Hub,
     hello: &Hello,
     file: &SessionSlot,
+    upload: &mut Option<upload::Upload>,
     frame: Frame,
 ) -> Result<Reply, Failure> {
     match frame {
+        Frame::UploadStart(start) => {
+            let (state, at) = upload::start(hub, hello, start).await?;
+            *upload = state;
+            Ok(Reply::Frame(Frame::UploadAt(at)))
+        }
+        Frame::UploadChunk(chunk) => Ok(Reply::Frame(Frame::UploadAt(
+            upload::chunk(hub, hello, upload, chunk).await?,
+        ))),
         Frame::Summary(summary) => {
             if summary.session_id != hello.session_id {
                 return Err(Failure::Protocol(format!(

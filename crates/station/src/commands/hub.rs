@@ -471,7 +471,12 @@ async fn patient(command: PatientCommand) -> anyhow::Result<()> {
                 let mut rows = Vec::with_capacity(sessions.len());
                 for s in &sessions {
                     let stored = db.summaries_of(&s.session_id).await?.len();
-                    rows.push(serde_json::json!({ "session": s, "summaries_stored": stored }));
+                    let recording = db.recording(&s.session_id).await?;
+                    rows.push(serde_json::json!({
+                        "session": s,
+                        "summaries_stored": stored,
+                        "recording": recording,
+                    }));
                 }
                 let out =
                     serde_json::json!({ "patient": p, "stations": stations, "sessions": rows });

@@ -298,7 +298,12 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
             session::window::run_with_window(&opts, &controls, scene, &window, &mut &link, true)?.0
         }
     };
-    let link_report = link.finish(report.summaries);
+    // Only a recording that was written whole is uploaded.
+    let recorded = opts
+        .record
+        .as_deref()
+        .filter(|_| report.recorder.error.is_none() && report.recorder.mcap_bytes.is_some());
+    let link_report = link.finish(report.summaries, recorded);
     print!("{}", crate::report::render(&report, link_report.as_ref()));
     if let Some(e) = &report.recorder.error {
         bail!("recording failed: {e}");

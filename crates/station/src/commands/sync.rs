@@ -1,7 +1,7 @@
 //! `telerehab sync`: deliver the summaries an earlier run could not, now.
 
 use crate::home::{Home, HomeArg};
-use crate::link::queue;
+use crate::link::{queue, uploads};
 use anyhow::{Context, bail};
 use std::time::Duration;
 
@@ -11,9 +11,12 @@ pub struct SyncArgs {
     /// Hub address, `host:port`; default the paired hub.
     #[arg(long)]
     pub therapist: Option<String>,
-    /// Seconds allowed for each queued session.
+    /// Seconds allowed for each queued session (20 times that for the recordings).
     #[arg(long, default_value_t = 30.0)]
     pub timeout: f64,
+    /// Upload bandwidth cap for recordings, bytes/s.
+    #[arg(long, default_value_t = uploads::UPLOAD_BYTES_PER_S)]
+    pub upload_rate: u64,
     /// The station's home (its queue and pairing).
     #[command(flatten)]
     pub home: HomeArg,
@@ -39,11 +42,24 @@ pub fn run(args: &SyncArgs) -> anyhow::Result<()> {
         .build()
         .context("cannot start the network runtime")?;
     let timeout = Duration::from_secs_f64(args.timeout);
-    let report = runtime.block_on(queue::deliver(&home.queue_dir(), &address, tls, timeout))?;
+    let report = runtime.block_on(queue::deliver(
+        &home.queue_dir(),
+        &address,
+        tls.clone(),
+        timeout,
+    ))?;
     println!(
         "sync: {} queued sessions, {} delivered, {} summaries still queued",
         report.sessions, report.delivered, report.remaining
     );
+    let uploads = runtime.block_on(uploads::upload_all(
+        &home.uploads_dir(),
+        &address,
+        tls.as_ref(),
+        args.upload_rate,
+        timeout.saturating_mul(20),
+    ));
+    println!("sync: recordings {}", uploads.describe());
     if report.delivered < report.sessions {
         bail!(
             "{} sessions not delivered to {address}: {}",

@@ -3,6 +3,7 @@
 //! home directory each summary is first appended to the on-disk [`queue`].
 
 pub mod queue;
+pub mod uploads;
 
 use crate::config::StationConfig;
 use crate::home::Home;
@@ -38,6 +39,9 @@ struct Inner {
     queue: Option<Mutex<QueueFile>>,
     /// Where a regimen the hub prescribes is kept for the next session.
     home: Option<Home>,
+    /// The session's Hello and TLS, for the recording's upload.
+    hello: Hello,
+    tls: Option<ClientTls>,
 }
 
 /// The first socket address `address` (`host:port`) resolves to; errors name it as `what`.
@@ -115,7 +119,7 @@ impl Link {
         });
         let hello = hello(cfg, clock);
         let session_id = hello.session_id.clone();
-        let config = StationLinkConfig::new(addr, tls.clone(), hello);
+        let config = StationLinkConfig::new(addr, tls.clone(), hello.clone());
         config.validate().context("therapist link")?;
         let runtime = tokio::runtime::Builder::new_multi_thread()
             .worker_threads(1)
@@ -146,6 +150,8 @@ impl Link {
                 address: t.address.clone(),
                 queue,
                 home: home.cloned(),
+                hello,
+                tls,
             }),
         })
     }
@@ -185,12 +191,24 @@ impl Link {
 
     /// End the link: send Bye, wait a short while for the last acknowledgements, and report
     /// honestly what was not delivered.
-    pub fn finish(self, produced: u64) -> Option<LinkReport> {
+    ///
+    /// With a home, `recording` (the session's MCAP file, if one was written) is queued for
+    /// upload and sent for up to [`UPLOAD_WITHIN`]; the rest resumes later.
+    pub fn finish(self, produced: u64, recording: Option<&std::path::Path>) -> Option<LinkReport> {
         let mut inner = self.inner?;
         let mut regimens = inner.link.take_regimens();
         let stats = inner
             .link
             .finish_blocking(inner.runtime.handle(), FINISH_TIMEOUT);
+        let upload = match (&inner.home, recording) {
+            (Some(home), Some(path)) => Some(upload_now(
+                &inner.runtime,
+                (&inner.address, inner.tls.as_ref(), &inner.hello),
+                home,
+                path,
+            )),
+            _ => None,
+        };
         inner.runtime.shutdown_timeout(Duration::from_millis(200));
         let regimen = keep_prescribed_regimen(&mut regimens, inner.home.as_ref());
         let mut queued = None;
@@ -215,6 +233,7 @@ impl Link {
             undelivered: produced.saturating_sub(stats.acked),
             queued,
             regimen,
+            upload,
             // A hub that cannot serve this station's protocol says so once and for all: that
             // is what the patient (and their technician) must read.
             last_error: stats
@@ -223,6 +242,31 @@ impl Link {
                 .or(stats.last_error),
         })
     }
+}
+
+/// How long the end of a session spends uploading its recording before leaving the rest for
+/// the next run or `telerehab sync`.
+pub const UPLOAD_WITHIN: Duration = Duration::from_secs(20);
+
+/// Queues the session's recording and uploads what can be in [`UPLOAD_WITHIN`].
+fn upload_now(
+    runtime: &tokio::runtime::Runtime,
+    (address, tls, hello): (&str, Option<&ClientTls>, &Hello),
+    home: &Home,
+    path: &std::path::Path,
+) -> String {
+    let dir = home.uploads_dir();
+    if let Err(e) = uploads::enqueue(&dir, hello, path) {
+        return format!("not queued: {e:#}");
+    }
+    let report = runtime.block_on(uploads::upload_all(
+        &dir,
+        address,
+        tls,
+        uploads::UPLOAD_BYTES_PER_S,
+        UPLOAD_WITHIN,
+    ));
+    report.describe()
 }
 
 /// The newest regimen the hub sent during the session, validated against the station's safety

@@ -1,0 +1,172 @@
+//! The hub's side of a recording upload (see `UploadStart` in [`crate::frame`]): the file grows
+//! as `<session>.<sha256 prefix>.part` beside where the store keeps recordings, resumes from
+//! its length on the next connection, and becomes `<session>.mcap` only when its SHA-256 is the
+//! one announced.
+
+use std::path::PathBuf;
+
+use base64::Engine;
+use tokio::io::AsyncWriteExt;
+
+use crate::frame::{Hello, UploadAt, UploadChunk, UploadStart};
+
+use super::Hub;
+use super::session::Failure;
+
+/// One connection's upload in progress.
+#[derive(Debug)]
+pub(super) struct Upload {
+    path: PathBuf,
+    part: PathBuf,
+    size: u64,
+    sha256: String,
+    offset: u64,
+    file: tokio::fs::File,
+}
+
+fn closed(what: &str, path: &std::path::Path, e: std::io::Error) -> Failure {
+    Failure::Closed(format!("recording {what} {}: {e}", path.display()))
+}
+
+/// Lowercase hex SHA-256 of a file, read in a stream (off the reactor).
+pub(crate) async fn file_sha256(path: PathBuf) -> std::io::Result<(u64, String)> {
+    tokio::task::spawn_blocking(move || crate::upload::file_sha256(&path))
+        .await
+        .map_err(std::io::Error::other)?
+}
+
+fn at(hello: &Hello, offset: u64, complete: bool) -> UploadAt {
+    UploadAt {
+        session_id: hello.session_id.clone(),
+        offset,
+        complete,
+    }
+}
+
+/// Opens (or resumes) the upload `start` announces; the reply says where to resume.
+pub(super) async fn start(
+    hub: &Hub,
+    hello: &Hello,
+    start: UploadStart,
+) -> Result<(Option<Upload>, UploadAt), Failure> {
+    if start.session_id != hello.session_id {
+        return Err(Failure::Protocol(format!(
+            "upload for session {:?} on a connection for session {:?}",
+            start.session_id, hello.session_id
+        )));
+    }
+    let path = hub
+        .store
+        .recording_path(hello)
+        .ok_or_else(|| Failure::Protocol("this hub does not take recordings".into()))?;
+    if let Some(dir) = path.parent() {
+        // Health data: directories 0700, files 0600.
+        tokio::fs::DirBuilder::new()
+            .recursive(true)
+            .mode(0o700)
+            .create(dir)
+            .await
+            .map_err(|e| closed("directory", dir, e))?;
+    }
+    if tokio::fs::try_exists(&path).await.unwrap_or(false) {
+        let (size, sha) = file_sha256(path.clone())
+            .await
+            .map_err(|e| closed("check of", &path, e))?;
+        if sha == start.sha256 && size == start.size_bytes {
+            return Ok((None, at(hello, size, true)));
+        }
+        return Err(Failure::Protocol(format!(
+            "a different recording of session {:?} is already stored",
+            hello.session_id
+        )));
+    }
+    let part = path.with_extension(format!("{}.part", &start.sha256[..16]));
+    let file = tokio::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .mode(0o600)
+        .open(&part)
+        .await
+        .map_err(|e| closed("file", &part, e))?;
+    let mut offset = file
+        .metadata()
+        .await
+        .map_err(|e| closed("file", &part, e))?
+        .len();
+    if offset > start.size_bytes {
+        file.set_len(0)
+            .await
+            .map_err(|e| closed("file", &part, e))?;
+        offset = 0;
+    }
+    let upload = Upload {
+        path,
+        part,
+        size: start.size_bytes,
+        sha256: start.sha256,
+        offset,
+        file,
+    };
+    Ok((Some(upload), at(hello, offset, false)))
+}
+
+/// Appends a chunk; at the end verifies the file and stores it. The reply says what the hub
+/// holds now (a chunk at another offset is not written: the reply resynchronises).
+pub(super) async fn chunk(
+    hub: &Hub,
+    hello: &Hello,
+    upload: &mut Option<Upload>,
+    chunk: UploadChunk,
+) -> Result<UploadAt, Failure> {
+    let Some(up) = upload.as_mut() else {
+        return Err(Failure::Protocol("UploadChunk before UploadStart".into()));
+    };
+    if chunk.offset != up.offset {
+        return Ok(at(hello, up.offset, false));
+    }
+    let bytes = base64::engine::general_purpose::STANDARD
+        .decode(chunk.data.as_bytes())
+        .map_err(|e| Failure::Protocol(format!("upload chunk is not base64: {e}")))?;
+    let end = up.offset.saturating_add(bytes.len() as u64);
+    if end > up.size {
+        return Err(Failure::Protocol(format!(
+            "upload chunk ends at byte {end}, past the announced size {}",
+            up.size
+        )));
+    }
+    up.file
+        .write_all(&bytes)
+        .await
+        .map_err(|e| closed("write to", &up.part, e))?;
+    up.offset = end;
+    if end < up.size {
+        return Ok(at(hello, end, false));
+    }
+    let up = upload.take().expect("checked above");
+    finish(hub, hello, up).await
+}
+
+async fn finish(hub: &Hub, hello: &Hello, mut up: Upload) -> Result<UploadAt, Failure> {
+    up.file
+        .flush()
+        .await
+        .and(up.file.sync_all().await)
+        .map_err(|e| closed("sync of", &up.part, e))?;
+    let (size, sha) = file_sha256(up.part.clone())
+        .await
+        .map_err(|e| closed("check of", &up.part, e))?;
+    if sha != up.sha256 || size != up.size {
+        let _ = tokio::fs::remove_file(&up.part).await;
+        return Err(Failure::Protocol(format!(
+            "the recording's SHA-256 is {sha}, not the announced {}: discarded, upload again",
+            up.sha256
+        )));
+    }
+    tokio::fs::rename(&up.part, &up.path)
+        .await
+        .map_err(|e| closed("rename of", &up.part, e))?;
+    hub.store
+        .recording_stored(hello, &up.sha256, up.size, &up.path)
+        .await;
+    Ok(at(hello, size, true))
+}

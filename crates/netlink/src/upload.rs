@@ -1,0 +1,140 @@
+//! The station's side of a recording upload: [`upload_recording`] sends a session's MCAP file
+//! to the hub over a connection of that session (mutual TLS for a paired station), resuming
+//! where the hub's copy ends, at most `bytes_per_s`, and returns once the hub has verified it.
+
+use std::io::Read;
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use base64::Engine;
+use tokio::io::AsyncWriteExt;
+
+use crate::codec::encode_to_vec;
+use crate::frame::{Frame, Hello, MAX_CHUNK_BYTES, UploadChunk, UploadStart};
+use crate::station::HubAddress;
+use crate::tls::ClientTls;
+use crate::transport::{BoxStream, FrameReader};
+
+/// Size and lowercase hex SHA-256 of a file, read in a stream.
+pub fn file_sha256(path: &Path) -> std::io::Result<(u64, String)> {
+    let mut file = std::fs::File::open(path)?;
+    let mut ctx = ring::digest::Context::new(&ring::digest::SHA256);
+    let mut buf = vec![0u8; 1 << 16];
+    let mut size = 0u64;
+    loop {
+        let n = file.read(&mut buf)?;
+        if n == 0 {
+            break;
+        }
+        size += n as u64;
+        ctx.update(&buf[..n]);
+    }
+    Ok((size, crate::pairing::to_hex(ctx.finish().as_ref())))
+}
+
+/// What an upload did.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Uploaded {
+    /// The file's size, bytes.
+    pub size_bytes: u64,
+    /// Bytes sent on this connection (less than the size when resumed).
+    pub sent_bytes: u64,
+}
+
+fn fail(what: &str, e: impl std::fmt::Display) -> String {
+    format!("{what}: {e}")
+}
+
+async fn connect(addr: &str, tls: Option<&ClientTls>) -> Result<BoxStream, String> {
+    let plaintext = tls.is_none();
+    let address = HubAddress::from(addr);
+    if plaintext && !address.is_loopback() {
+        return Err(format!("plaintext upload to {addr} refused: only loopback"));
+    }
+    let tcp = tokio::net::TcpStream::connect(addr)
+        .await
+        .map_err(|e| fail(&format!("connecting to {addr}"), e))?;
+    let _ = tcp.set_nodelay(true);
+    Ok(match tls {
+        None => Box::new(tcp),
+        Some(tls) => {
+            let (connector, name) = tls.connector().map_err(|e| e.to_string())?;
+            Box::new(
+                connector
+                    .connect(name, tcp)
+                    .await
+                    .map_err(|e| fail("TLS handshake", e))?,
+            )
+        }
+    })
+}
+
+/// Uploads `path`, the recording of the session `hello` opened, to the hub at `addr`.
+pub async fn upload_recording(
+    addr: &str,
+    tls: Option<&ClientTls>,
+    hello: Hello,
+    path: &Path,
+    bytes_per_s: u64,
+) -> Result<Uploaded, String> {
+    let owned = path.to_owned();
+    let (size, sha256) = tokio::task::spawn_blocking(move || file_sha256(&owned))
+        .await
+        .map_err(|e| fail("hashing task", e))?
+        .map_err(|e| fail(&format!("reading {}", path.display()), e))?;
+    let stream = connect(addr, tls).await?;
+    let (rd, mut wr) = tokio::io::split(stream);
+    let mut reader = FrameReader::new(rd);
+    let session_id = hello.session_id.clone();
+    let mut send = async |frame: Frame| -> Result<(), String> {
+        let bytes = encode_to_vec(&frame).map_err(|e| e.to_string())?;
+        wr.write_all(&bytes).await.map_err(|e| fail("sending", e))
+    };
+    send(Frame::Hello(hello)).await?;
+    send(Frame::UploadStart(UploadStart {
+        session_id: session_id.clone(),
+        size_bytes: size,
+        sha256,
+    }))
+    .await?;
+    let mut file = std::fs::File::open(path).map_err(|e| fail("opening", e))?;
+    let mut buf = vec![0u8; MAX_CHUNK_BYTES];
+    let started = Instant::now();
+    let mut sent = 0u64;
+    loop {
+        let at = loop {
+            match reader.next_frame().await.map_err(|e| e.to_string())? {
+                Some(Frame::UploadAt(at)) => break at,
+                Some(Frame::Ack(_) | Frame::Regimen(_)) => {}
+                Some(Frame::Error(e)) => return Err(format!("the hub refused: {}", e.message)),
+                Some(other) => return Err(format!("unexpected {} during upload", other.kind())),
+                None => return Err("the hub closed the connection".into()),
+            }
+        };
+        if at.complete {
+            return Ok(Uploaded {
+                size_bytes: size,
+                sent_bytes: sent,
+            });
+        }
+        use std::io::Seek;
+        file.seek(std::io::SeekFrom::Start(at.offset))
+            .map_err(|e| fail("seeking", e))?;
+        let n = file.read(&mut buf).map_err(|e| fail("reading", e))?;
+        if n == 0 {
+            return Err(format!("the file ended at {} of {size} bytes", at.offset));
+        }
+        // Bandwidth cap: never ahead of `bytes_per_s` since the start.
+        let due = Duration::from_secs_f64(sent as f64 / bytes_per_s.max(1) as f64);
+        if let Some(wait) = due.checked_sub(started.elapsed()) {
+            tokio::time::sleep(wait).await;
+        }
+        send(Frame::UploadChunk(UploadChunk {
+            session_id: session_id.clone(),
+            offset: at.offset,
+            data: base64::engine::general_purpose::STANDARD.encode(&buf[..n]),
+        }))
+        .await?;
+        sent += n as u64;
+    }
+}
