@@ -114,7 +114,15 @@ const RECORDINGS_KEPT: usize = 200;
 /// Applies the station's home to `cfg`: a paired station talks to its hub with its own
 /// certificate and records every session.
 fn apply_home(args: &RunArgs, cfg: &mut StationConfig) -> anyhow::Result<HomePlan> {
-    let home = Home::resolve(&args.home)?;
+    let home = match Home::resolve(&args.home) {
+        Ok(h) => h,
+        // No home anywhere (no $HOME, no --home): an unpaired session still runs.
+        Err(e) if args.home.home.is_none() => {
+            tracing::debug!("no station home: {e:#}");
+            return Ok(HomePlan::default());
+        }
+        Err(e) => return Err(e),
+    };
     let Some(pairing) = home.pairing()? else {
         // Named explicitly: the queue lives there even without a pairing.
         let home = args.home.home.is_some().then_some(home);
