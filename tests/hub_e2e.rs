@@ -100,6 +100,14 @@ impl Hub {
     }
 }
 
+impl Drop for Hub {
+    /// A failing test still ends its hub (after `stop` this finds it gone).
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
 /// `hub patient show --json`: (summaries stored per session, revoked stations).
 fn show(data: &Path) -> (Vec<u64>, usize) {
     let json = ok(
