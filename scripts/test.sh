@@ -32,5 +32,7 @@ echo "== python types"
 .venv/bin/python -m mypy.stubtest telerehab._native
 (cd pyext/python && ../../.venv/bin/python -m mypy --strict --cache-dir=/dev/null -p telerehab)
 cargo build --quiet -p station --bin telerehab
-TELEREHAB_BIN="$PWD/target/debug/telerehab" .venv/bin/python -m pytest -q pyext/tests tests/python
-echo "== disk after the tests: $(df -h . | awk 'NR==2 {print $4 " free"}'), target: $(du -sh target 2>/dev/null | cut -f1)"
+# The binary cargo just built, wherever the target directory is (CARGO_TARGET_DIR honoured).
+TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}"
+TELEREHAB_BIN="$TARGET_DIR/debug/telerehab" .venv/bin/python -m pytest -q pyext/tests tests/python
+echo "== disk after the tests: $(df -h . | awk 'NR==2 {print $4 " free"}'), target: $(du -sh "$TARGET_DIR" 2>/dev/null | cut -f1)"
