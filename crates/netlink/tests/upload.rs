@@ -52,6 +52,9 @@ async fn a_recording_arrives_whole_resumes_from_a_partial_copy_and_is_verified()
     std::fs::create_dir_all(store.join("st-up")).unwrap();
     let part = store.join(format!("st-up/s-up.{}.part", &sha[..16]));
     std::fs::write(&part, &std::fs::read(&file).unwrap()[..70_000]).unwrap();
+    // A partial copy of another version of this recording is removed, not kept forever.
+    let stale = store.join("st-up/s-up.0123456789abcdef.part");
+    std::fs::write(&stale, [1u8; 1000]).unwrap();
     let done = upload_recording(&addr, None, hello(), &file, 50_000_000)
         .await
         .unwrap();
@@ -61,6 +64,7 @@ async fn a_recording_arrives_whole_resumes_from_a_partial_copy_and_is_verified()
         std::fs::read(&file).unwrap()
     );
     assert!(!part.exists());
+    assert!(!stale.exists(), "another version's partial copy is removed");
 
     // Again: the hub has it, nothing is sent.
     let again = upload_recording(&addr, None, hello(), &file, 50_000_000)

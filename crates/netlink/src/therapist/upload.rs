@@ -43,6 +43,26 @@ fn at(hello: &Hello, offset: u64, complete: bool) -> UploadAt {
     }
 }
 
+/// Removes partial copies of other versions of this session's recording: a station (or a
+/// broken one) announcing a new SHA-256 each time must not fill the hub's disk with parts.
+async fn remove_other_parts(path: &std::path::Path, keep: &std::path::Path) {
+    let (Some(dir), Some(stem)) = (path.parent(), path.file_stem().and_then(|s| s.to_str())) else {
+        return;
+    };
+    let Ok(mut entries) = tokio::fs::read_dir(dir).await else {
+        return;
+    };
+    let prefix = format!("{stem}.");
+    while let Ok(Some(entry)) = entries.next_entry().await {
+        let p = entry.path();
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        if p != keep && name.starts_with(&prefix) && name.ends_with(".part") {
+            let _ = tokio::fs::remove_file(&p).await;
+        }
+    }
+}
+
 /// Opens (or resumes) the upload `start` announces; the reply says where to resume.
 pub(super) async fn start(
     hub: &Hub,
@@ -81,6 +101,7 @@ pub(super) async fn start(
         )));
     }
     let part = path.with_extension(format!("{}.part", &start.sha256[..16]));
+    remove_other_parts(&path, &part).await;
     let file = tokio::fs::OpenOptions::new()
         .create(true)
         .append(true)
