@@ -207,18 +207,21 @@ pub fn resolve_config(args: &RunArgs) -> anyhow::Result<StationConfig> {
     Ok(cfg)
 }
 
+/// The session runs `regimen`: it names the session's exercise, and it ends the session (the
+/// duration is only a safety cap then, unless `--duration` was given).
+fn follow_regimen(cfg: &mut StationConfig, regimen: &Regimen, args: &RunArgs) {
+    cfg.session.exercise = format!("regimen:{}", regimen.exercises.len());
+    if args.duration.is_none() {
+        cfg.session.duration_s = 4.0 * 3600.0;
+    }
+}
+
 /// Resolve the run's configuration and its regimen (also for the commands built on `run`).
 pub(crate) fn plan(args: &RunArgs) -> anyhow::Result<(StationConfig, Option<Regimen>)> {
     let mut cfg = resolve_config(args)?;
     let regimen = args.regimen.as_deref().map(Regimen::load).transpose()?;
     match &regimen {
-        Some(r) => {
-            cfg.session.exercise = format!("regimen:{}", r.exercises.len());
-            if args.duration.is_none() {
-                // The regimen ends the session; the duration is only a safety cap then.
-                cfg.session.duration_s = 4.0 * 3600.0;
-            }
-        }
+        Some(r) => follow_regimen(&mut cfg, r, args),
         None => {
             vehicle::ExerciseSpec::from_name(&cfg.session.exercise)?;
         }
@@ -254,10 +257,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     {
         // The clinic's prescription, kept from an earlier session (validated again here).
         let r = Regimen::load(&h.regimen_path())?;
-        cfg.session.exercise = format!("regimen:{}", r.exercises.len());
-        if args.duration.is_none() {
-            cfg.session.duration_s = 4.0 * 3600.0;
-        }
+        follow_regimen(&mut cfg, &r, &args);
         tracing::info!(path = %h.regimen_path().display(), "the clinic's regimen");
         regimen = Some(r);
     }
