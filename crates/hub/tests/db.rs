@@ -63,6 +63,7 @@ on_both_backends!(
     stations_and_revocation,
     summaries_are_stored_exactly_once,
     concurrent_duplicates_are_stored_once,
+    a_batch_has_the_outcomes_of_storing_one_by_one,
     session_of_another_station_is_refused,
     sessions_close_and_list,
     metrics_and_recordings,
@@ -457,6 +458,94 @@ async fn summaries_are_stored_exactly_once(db: Db) {
         matches!(unknown, Err(HubError::NotFound { .. })),
         "{unknown:?}"
     );
+}
+
+/// Outcome of a store as a comparable string (errors by kind).
+fn outcome(r: &Result<Appended, HubError>) -> String {
+    match r {
+        Ok(a) => format!("{a:?}"),
+        Err(HubError::Conflict(_)) => "conflict".into(),
+        Err(HubError::NotFound { .. }) => "not found".into(),
+        Err(HubError::Invalid { .. }) => "invalid".into(),
+        Err(e) => format!("other: {e}"),
+    }
+}
+
+async fn a_batch_has_the_outcomes_of_storing_one_by_one(db: Db) {
+    let (_, p) = paired(&db).await;
+    for s in ["a1", "a2", "b1", "b2"] {
+        db.open_session(&hello("st-1", &p.id, s), T0).await.unwrap();
+    }
+    let far = 2 + netlink::frame::MAX_SEQ_STEP;
+    // Two sessions interleaved: in order, duplicates within the batch, stale reorderings, a
+    // gap, a jump too far, an unknown session and an invalid summary.
+    let plan: [(usize, u64); 14] = [
+        (1, 0),
+        (2, 5),
+        (1, 1),
+        (1, 1),
+        (2, 5),
+        (0, 0),
+        (1, 3),
+        (2, far + 5),
+        (1, 2),
+        (2, 6),
+        (1, 0),
+        (3, 7),
+        (1, 4),
+        (2, 4),
+    ];
+    let make = |prefix: &str, (who, seq): (usize, u64)| {
+        let mut s = match who {
+            0 => summary("s-nobody", seq),
+            1 => summary(&format!("{prefix}1"), seq),
+            _ => summary(&format!("{prefix}2"), seq),
+        };
+        if who == 3 {
+            s.rms_lateral_m = f64::NAN;
+        }
+        s
+    };
+    let batch: Vec<Summary> = plan.iter().map(|&x| make("a", x)).collect();
+    let together: Vec<String> = db
+        .store_summaries(&batch, T0)
+        .await
+        .unwrap()
+        .iter()
+        .map(outcome)
+        .collect();
+    let mut one_by_one = Vec::new();
+    for &x in &plan {
+        one_by_one.push(outcome(&db.store_summary(&make("b", x), T0).await));
+    }
+    assert_eq!(together, one_by_one);
+    assert_eq!(
+        together,
+        [
+            "Stored",
+            "Stored",
+            "Stored",
+            "Duplicate",
+            "Duplicate",
+            "not found",
+            "Stored",
+            "conflict",
+            "Duplicate",
+            "Stored",
+            "Duplicate",
+            "invalid",
+            "Stored",
+            "Duplicate"
+        ]
+    );
+    for (a, b) in [("a1", "b1"), ("a2", "b2")] {
+        let seqs = |s: Vec<Summary>| s.iter().map(|s| s.seq).collect::<Vec<_>>();
+        assert_eq!(
+            seqs(db.summaries_of(a).await.unwrap()),
+            seqs(db.summaries_of(b).await.unwrap())
+        );
+    }
+    assert_eq!(db.session("a2").await.unwrap().unwrap().last_seq, Some(6));
 }
 
 async fn concurrent_duplicates_are_stored_once(db: Db) {

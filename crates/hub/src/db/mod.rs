@@ -28,6 +28,7 @@ mod patients;
 mod regimens;
 mod sessions;
 mod stations;
+mod summaries;
 mod therapists;
 
 use std::path::{Path, PathBuf};

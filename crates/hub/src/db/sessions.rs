@@ -2,9 +2,7 @@
 
 use std::collections::BTreeMap;
 
-use netlink::frame::MAX_SEQ_STEP;
-use netlink::store::Appended;
-use netlink::{Bye, Hello, Summary};
+use netlink::{Bye, Hello};
 use serde::Serialize;
 use sqlx::any::AnyRow;
 
@@ -131,103 +129,6 @@ impl Db {
         last_seq_u64(session.last_seq)
     }
 
-    /// Stores a summary exactly once: only if its `seq` is above the last one stored for its
-    /// session (as netlink's file store does), so duplicates and stale reorderings are
-    /// [`Appended::Duplicate`]. Refused: an invalid summary, an unknown session, `seq` above
-    /// `i64::MAX`, and a jump beyond netlink's `MAX_SEQ_STEP`.
-    pub async fn store_summary(
-        &self,
-        summary: &Summary,
-        now_ms: i64,
-    ) -> Result<Appended, HubError> {
-        self.store_summaries(std::slice::from_ref(summary), now_ms)
-            .await?
-            .pop()
-            .unwrap_or_else(|| Err(HubError::Corrupt("no result for one summary".into())))
-    }
-
-    /// Stores `summaries` (of any sessions) in ONE transaction — group commit, so a busy hub
-    /// commits once for many stations — each by the rule of [`Self::store_summary`]; one
-    /// result per summary, in order. A database error fails the whole batch.
-    pub async fn store_summaries(
-        &self,
-        summaries: &[Summary],
-        now_ms: i64,
-    ) -> Result<Vec<Result<Appended, HubError>>, HubError> {
-        let step = to_i64("MAX_SEQ_STEP", MAX_SEQ_STEP)?;
-        let mut tx = self
-            .pool()
-            .begin()
-            .await
-            .map_err(HubError::db("starting a transaction"))?;
-        let mut results = Vec::with_capacity(summaries.len());
-        for summary in summaries {
-            let checked = summary
-                .validate()
-                .map_err(|reason| HubError::invalid("summary", reason))
-                .and_then(|()| to_i64("seq", summary.seq))
-                .and_then(|seq| {
-                    serde_json::to_string(summary)
-                        .map(|body| (seq, body))
-                        .map_err(|e| HubError::invalid("summary", e.to_string()))
-                });
-            let (seq, body) = match checked {
-                Ok(v) => v,
-                Err(e) => {
-                    results.push(Err(e));
-                    continue;
-                }
-            };
-            // The conditional UPDATE decides (and takes the write lock), so two concurrent
-            // writers of one session cannot both store.
-            let advanced = sqlx::query(
-                "UPDATE sessions SET last_seq = $2 WHERE session_id = $1 AND \
-                 ((last_seq IS NULL AND $2 <= $3) OR (last_seq < $2 AND $2 - last_seq <= $3 + 1))",
-            )
-            .bind(&summary.session_id)
-            .bind(seq)
-            .bind(step)
-            .execute(&mut *tx)
-            .await
-            .map_err(HubError::db("advancing a session"))?;
-            if advanced.rows_affected() == 0 {
-                let last: Option<Option<i64>> =
-                    sqlx::query_scalar("SELECT last_seq FROM sessions WHERE session_id = $1")
-                        .bind(&summary.session_id)
-                        .fetch_optional(&mut *tx)
-                        .await
-                        .map_err(HubError::db("reading a session"))?;
-                results.push(match last {
-                    None => Err(HubError::not_found("session", &summary.session_id)),
-                    Some(Some(last)) if seq <= last => Ok(Appended::Duplicate),
-                    Some(last) => Err(HubError::Conflict(format!(
-                        "summary seq {seq} jumps more than {MAX_SEQ_STEP} past the last stored \
-                         ({last:?}) in session {:?}",
-                        summary.session_id
-                    ))),
-                });
-                continue;
-            }
-            sqlx::query(
-                "INSERT INTO summaries (session_id, seq, t_s, body, stored_at_ms) \
-                 VALUES ($1, $2, $3, $4, $5) ON CONFLICT (session_id, seq) DO NOTHING",
-            )
-            .bind(&summary.session_id)
-            .bind(seq)
-            .bind(summary.t_s)
-            .bind(body)
-            .bind(now_ms)
-            .execute(&mut *tx)
-            .await
-            .map_err(HubError::db("storing a summary"))?;
-            results.push(Ok(Appended::Stored));
-        }
-        tx.commit()
-            .await
-            .map_err(HubError::db("committing summaries"))?;
-        Ok(results)
-    }
-
     /// Records the end of a session from the station's `Bye`; returns the highest sequence
     /// number stored (for the hub's `Bye` reply).
     pub async fn close_session(&self, bye: &Bye, now_ms: i64) -> Result<Option<u64>, HubError> {
@@ -280,23 +181,6 @@ impl Db {
             .await
             .map_err(HubError::db("listing sessions"))?;
         rows.iter().map(SessionRow::from_row).collect()
-    }
-
-    /// A session's stored summaries in sequence order.
-    pub async fn summaries_of(&self, session_id: &str) -> Result<Vec<Summary>, HubError> {
-        let bodies: Vec<String> =
-            sqlx::query_scalar("SELECT body FROM summaries WHERE session_id = $1 ORDER BY seq")
-                .bind(session_id)
-                .fetch_all(self.pool())
-                .await
-                .map_err(HubError::db("reading summaries"))?;
-        bodies
-            .iter()
-            .map(|b| {
-                serde_json::from_str(b)
-                    .map_err(|e| HubError::Corrupt(format!("summary of {session_id:?}: {e}")))
-            })
-            .collect()
     }
 
     /// Sets movement metrics of a session (name → value; replaces values of the same name).
