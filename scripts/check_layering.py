@@ -53,7 +53,7 @@ OUR_CRATES: dict[str, set[str]] = {
     "hub": {"common", "clock", "netlink"},
     # The one binary also runs the clinic's hub (`telerehab hub ...`).
     "station": BELOW_STATION | {"hub"},
-    "telerehab-py": {"common", "vehicle", "assist", "calib", "gyro-imu"},
+    "telerehab-py": {"common", "vehicle", "assist", "calib", "gyro-imu", "metrics"},
     "telerehab-tests": BELOW_STATION | {"station", "hub"},
 }
 

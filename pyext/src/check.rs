@@ -1,11 +1,12 @@
-//! The binding convention every native function follows (`calib` and `imu` alike):
+//! The binding convention every native function follows (`calib`, `imu` and `metrics` alike):
 //!
 //! - arrays arrive typed as float64 numpy arrays (the facade converts first); shapes and
 //!   finiteness are re-checked here so each native function is safe on its own;
 //! - every bad input is a `ValueError` that names the Python argument (with its unit suffix,
 //!   e.g. `phi2_rad`, `dt_s`) and what was expected;
 //! - inputs are copied out of numpy, then the GIL is released around the work (`py.detach`);
-//! - results with more than one value are frozen `#[pyclass]`es with unit-suffixed fields.
+//! - results with more than one value are frozen `#[pyclass]`es with unit-suffixed fields, or
+//!   plain tuples that the facade wraps in a frozen dataclass (`telerehab.metrics.Movement`).
 
 use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
@@ -42,6 +43,17 @@ pub fn rows3(name: &str, a: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<[f64; 3]
 /// check it and name the argument.
 pub fn vec1(a: &PyReadonlyArray1<'_, f64>) -> Vec<f64> {
     a.as_array().to_vec()
+}
+
+/// Check that every sample of argument `name` (shape `(N,)`) is finite, for the crate
+/// functions that do not check it themselves.
+pub fn finite(name: &str, x: &[f64]) -> PyResult<()> {
+    match x.iter().position(|v| !v.is_finite()) {
+        Some(i) => Err(value_error(format!(
+            "{name}[{i}] is not finite (NaN or infinity)"
+        ))),
+        None => Ok(()),
+    }
 }
 
 /// Check that `len` equals the reference length `n` of argument `reference`.

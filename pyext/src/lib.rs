@@ -8,6 +8,7 @@ use pyo3::prelude::*;
 mod calib;
 mod check;
 mod imu;
+mod metrics;
 
 /// The `telerehab._native` module.
 #[pymodule]
@@ -15,5 +16,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     calib::register(m)?;
     imu::register(m)?;
+    metrics::register(m)?;
     Ok(())
 }

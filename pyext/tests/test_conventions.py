@@ -1,5 +1,6 @@
-"""The binding convention shared by telerehab.calib and telerehab.imu: ValueErrors naming the
-argument (with its unit suffix), immutable typed results, the GIL released."""
+"""The binding convention shared by telerehab.calib, telerehab.imu and telerehab.metrics:
+ValueErrors naming the argument (with its unit suffix), immutable typed results, the GIL
+released. (telerehab.metrics' own cases are in test_metrics.py.)"""
 
 import inspect
 import threading
@@ -8,7 +9,7 @@ import numpy as np
 import pytest
 
 import telerehab
-from telerehab import _native, calib, imu
+from telerehab import _native, calib, imu, metrics
 
 from arm3d_sim import simulate as simulate_arm
 from fourbar_sim import GEOMETRY, simulate
@@ -102,8 +103,9 @@ def test_results_are_immutable():
         a.forearm_m = 0.0  # type: ignore[misc]
 
 
-def test_package_exposes_both_modules_and_the_native_stub_ships():
-    assert telerehab.imu is imu and telerehab.calib is calib
+def test_package_exposes_its_modules_and_the_native_stub_ships():
+    assert telerehab.imu is imu and telerehab.calib is calib and telerehab.metrics is metrics
+    assert set(telerehab.__all__) == {"__version__", "calib", "imu", "metrics"}
     from importlib import resources
 
     files = {p.name for p in resources.files("telerehab").iterdir()}
@@ -137,3 +139,9 @@ def test_imu_releases_the_gil():
     acc = np.tile([0.0, 0.0, 9.81], (400_000, 1))
     assert _runs_with_gil_released(lambda: imu.fuse(gyr, acc, 0.005))
     assert _runs_with_gil_released(lambda: imu.integrate(gyr, 0.005, method="magnus4"))
+
+
+def test_metrics_releases_the_gil():
+    rng = np.random.default_rng(7)
+    speed = np.abs(rng.normal(size=100_000))  # SPARC: a 2**21-point FFT
+    assert _runs_with_gil_released(lambda: metrics.sparc(speed, 100.0))

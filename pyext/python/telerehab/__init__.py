@@ -4,10 +4,11 @@ The heavy lifting is in Rust (the same code the patient station runs); this pack
 thin, typed facade over the private native module ``telerehab._native``.
 
 Submodules: :mod:`telerehab.calib` (arm calibration), :mod:`telerehab.imu` (gyro
-integration, bias estimation, orientation fusion).
+integration, bias estimation, orientation fusion), :mod:`telerehab.metrics` (movement
+smoothness by SPARC and LDLJ, movement segmentation, speed profile, session measures).
 """
 
 from telerehab._native import __version__
-from telerehab import calib, imu
+from telerehab import calib, imu, metrics
 
-__all__ = ["__version__", "calib", "imu"]
+__all__ = ["__version__", "calib", "imu", "metrics"]

@@ -1,12 +1,13 @@
 """Type stubs for the private native module ``telerehab._native`` (pyo3, ``pyext/src``).
 
-The public API is the facade (:mod:`telerehab.calib`, :mod:`telerehab.imu`), which converts
+The public API is the facade (:mod:`telerehab.calib`, :mod:`telerehab.imu`,
+:mod:`telerehab.metrics`), which converts
 and checks its arguments before calling these functions: arrays here are C-contiguous
 float64 of the documented shape. Checked against the built module by ``mypy.stubtest`` in
 ``scripts/test.sh``.
 """
 
-from typing import Dict, Iterator, List, Optional, Union, final
+from typing import Dict, Iterator, List, Optional, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
@@ -26,6 +27,11 @@ __all__ = [
     "imu_fuse",
     "imu_estimate_bias",
     "BiasEstimate",
+    "metrics_sparc",
+    "metrics_ldlj",
+    "metrics_segment",
+    "metrics_speed_profile",
+    "metrics_session_measures",
 ]
 
 __version__: str
@@ -194,3 +200,25 @@ def imu_estimate_bias(
     rate_threshold_deg_s: float,
     min_rest_s: float,
 ) -> BiasEstimate: ...
+
+# --- metrics -----------------------------------------------------------------------------
+
+def metrics_sparc(speed: _F64, fs: float, padlevel: int, fc: float, amp_th: float) -> float: ...
+def metrics_ldlj(speed: _F64, fs: float) -> float: ...
+
+# (start_index, end_index, start_s, duration_s, peak_speed, n_peaks, sparc, ldlj)
+_MovementTuple = Tuple[int, int, float, float, float, int, Optional[float], Optional[float]]
+
+def metrics_segment(
+    speed: _F64,
+    fs: float,
+    onset_fraction: float,
+    floor: float,
+    merge_gap_s: float,
+    min_duration_s: float,
+    peak_fraction: float,
+) -> List[_MovementTuple]: ...
+def metrics_speed_profile(angle_rad: _F64, fs: float, lowpass_hz: float) -> _F64: ...
+def metrics_session_measures(
+    wheel_angle_rad: _F64, fs: float, joints: List[Tuple[str, _F64]]
+) -> str: ...
