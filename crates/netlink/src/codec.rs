@@ -285,6 +285,7 @@ mod tests {
                 session_id: "2026-11-21T09-30-00Z".into(),
                 reason: "session complete".into(),
                 final_seq: Some(7),
+                measures: Default::default(),
             }),
             Frame::Error(ErrorFrame {
                 message: "bad magic".into(),
@@ -328,7 +329,7 @@ mod tests {
     /// Fields added after the first release are absent when unset (the bytes above hold), and
     /// pinned here when set.
     #[test]
-    fn golden_bytes_of_version_range_and_error_code() {
+    fn golden_bytes_of_version_range_error_code_and_measures() {
         let mut h = hello();
         h.min_protocol_version = Some(1);
         let bytes = encode_to_vec(&Frame::Hello(h)).unwrap();
@@ -344,6 +345,23 @@ mod tests {
             escape(&encode_to_vec(&e).unwrap()),
             r#"TRHB\x00\x01\x06\x00\x00\x00\x006{"message":"update required","code":"update_required"}"#
         );
+        let bye = Frame::Bye(Bye {
+            session_id: "s1".into(),
+            reason: "session complete".into(),
+            final_seq: Some(7),
+            measures: [("sparc_median".to_owned(), -1.5)].into(),
+        });
+        let bytes = encode_to_vec(&bye).unwrap();
+        assert_eq!(
+            escape(&bytes),
+            r#"TRHB\x00\x01\x05\x00\x00\x00\x00^{"session_id":"s1","reason":"session complete","final_seq":7,"measures":{"sparc_median":-1.5}}"#
+        );
+        assert_eq!(decode(&bytes).unwrap().unwrap().0, bye);
+        let mut nan = bye;
+        if let Frame::Bye(b) = &mut nan {
+            b.measures.insert("ldlj_median".into(), f64::NAN);
+        }
+        assert!(encode_to_vec(&nan).is_err(), "a NaN measure is refused");
     }
 
     #[test]

@@ -200,7 +200,7 @@ pub struct Regimen {
 /// Station → hub: the session ended; `final_seq` is the last sequence number the station
 /// produced (`None` if it produced none). Hub → station (reply): the session file is synced to
 /// disk; `final_seq` is the last sequence number stored.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Bye {
     /// Session ending.
     pub session_id: String,
@@ -208,6 +208,11 @@ pub struct Bye {
     pub reason: String,
     /// Last sequence number produced (station) or stored (hub).
     pub final_seq: Option<u64>,
+    /// Station → hub: the session's movement measures, name (unit in the name) → finite
+    /// value, computed at its end; at most [`MAX_EXTRA_ENTRIES`]. Empty in the hub's reply and
+    /// for a session without measures (absent from the JSON then).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub measures: BTreeMap<String, f64>,
 }
 
 /// The sender found a protocol error and is closing the connection.
@@ -379,7 +384,8 @@ impl Frame {
             Self::Regimen(r) => check_id("id", &r.id),
             Self::Bye(b) => {
                 check_id("session_id", &b.session_id)?;
-                check_text("reason", &b.reason, MAX_TEXT_LEN)
+                check_text("reason", &b.reason, MAX_TEXT_LEN)?;
+                check_named_values("measures", &b.measures)
             }
             Self::Error(e) => {
                 if let Some(code) = &e.code {
@@ -521,20 +527,29 @@ impl Summary {
                 return Err(format!("{name} is {value}, allowed range [{lo}, {hi}]"));
             }
         }
-        if self.extra.len() > MAX_EXTRA_ENTRIES {
-            return Err(format!(
-                "extra has {} entries, at most {MAX_EXTRA_ENTRIES} allowed",
-                self.extra.len()
-            ));
-        }
-        for (key, value) in &self.extra {
-            check_text("extra key", key, MAX_ID_LEN)?;
-            if !value.is_finite() {
-                return Err(format!("extra[{key:?}] is {value}, must be finite"));
-            }
-        }
-        Ok(())
+        check_named_values("extra", &self.extra)
     }
+}
+
+/// A map of named values (a summary's `extra`, a Bye's `measures`): at most
+/// [`MAX_EXTRA_ENTRIES`], printable names of at most [`MAX_ID_LEN`] bytes, finite values.
+pub(crate) fn check_named_values(
+    field: &str,
+    values: &BTreeMap<String, f64>,
+) -> Result<(), String> {
+    if values.len() > MAX_EXTRA_ENTRIES {
+        return Err(format!(
+            "{field} has {} entries, at most {MAX_EXTRA_ENTRIES} allowed",
+            values.len()
+        ));
+    }
+    for (key, value) in values {
+        check_text(&format!("{field} key"), key, MAX_ID_LEN)?;
+        if !value.is_finite() {
+            return Err(format!("{field}[{key:?}] is {value}, must be finite"));
+        }
+    }
+    Ok(())
 }
 
 /// The highest sequence number a summary may carry when `last` is the last one stored (or

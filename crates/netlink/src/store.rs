@@ -1,5 +1,6 @@
 //! The hub's on-disk store: `DIR/<station_id>/<session_id>.jsonl` (one JSON summary per line,
-//! in sequence order) and `DIR/<station_id>/<session_id>.hello.json`.
+//! in sequence order), `DIR/<station_id>/<session_id>.hello.json` and, once the station's
+//! `Bye` brought them, the session's movement measures in `<session_id>.measures.json`.
 //!
 //! Dedup survives reconnects and hub restarts: opening a session file reads the sequence
 //! number of its last complete line, and only summaries with a higher one are appended. A
@@ -10,7 +11,7 @@ use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
 use crate::error::NetlinkError;
-use crate::frame::{Hello, Summary, check_id};
+use crate::frame::{Bye, Hello, Summary, check_id};
 
 /// One session's summary file, open for appending.
 #[derive(Debug)]
@@ -47,14 +48,43 @@ pub fn session_path(
 
 /// Writes `DIR/<station_id>/<session_id>.hello.json` atomically (temp file + rename).
 pub fn write_hello(store_dir: &Path, hello: &Hello) -> Result<(), NetlinkError> {
-    let dir = station_dir(store_dir, &hello.station_id)?;
-    check_id("session_id", &hello.session_id).map_err(NetlinkError::Protocol)?;
+    write_session_json(
+        store_dir,
+        &hello.station_id,
+        &hello.session_id,
+        "hello",
+        hello,
+    )
+}
+
+/// Writes the session's movement measures from its `Bye` to
+/// `DIR/<station_id>/<session_id>.measures.json` atomically (a repeated Bye rewrites them).
+pub fn write_measures(store_dir: &Path, station_id: &str, bye: &Bye) -> Result<(), NetlinkError> {
+    write_session_json(
+        store_dir,
+        station_id,
+        &bye.session_id,
+        "measures",
+        &bye.measures,
+    )
+}
+
+/// Writes `DIR/<station_id>/<session_id>.<what>.json` atomically (temp file + rename).
+fn write_session_json<T: serde::Serialize>(
+    store_dir: &Path,
+    station_id: &str,
+    session_id: &str,
+    what: &str,
+    value: &T,
+) -> Result<(), NetlinkError> {
+    let dir = station_dir(store_dir, station_id)?;
+    check_id("session_id", session_id).map_err(NetlinkError::Protocol)?;
     std::fs::create_dir_all(&dir)
         .map_err(|e| NetlinkError::io(format!("creating {}", dir.display()), e))?;
-    let path = dir.join(format!("{}.hello.json", hello.session_id));
-    let tmp = dir.join(format!("{}.hello.json.tmp", hello.session_id));
-    let json = serde_json::to_vec_pretty(hello)
-        .map_err(|e| NetlinkError::Protocol(format!("cannot serialise hello: {e}")))?;
+    let path = dir.join(format!("{session_id}.{what}.json"));
+    let tmp = dir.join(format!("{session_id}.{what}.json.tmp"));
+    let json = serde_json::to_vec_pretty(value)
+        .map_err(|e| NetlinkError::Protocol(format!("cannot serialise the {what}: {e}")))?;
     std::fs::write(&tmp, json)
         .map_err(|e| NetlinkError::io(format!("writing {}", tmp.display()), e))?;
     std::fs::rename(&tmp, &path)

@@ -148,6 +148,54 @@ async fn plaintext_session_is_stored_once_and_reported_as_events() {
     hub.shutdown(GUARD).await;
 }
 
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_sessions_measures_travel_in_its_bye_and_invalid_ones_are_kept_back() {
+    let store = tempfile::tempdir().unwrap();
+    let (hub, _events) = start_hub(store.path(), None).await;
+    let spawn = |session: &str| {
+        StationLink::spawn(
+            &tokio::runtime::Handle::current(),
+            fast_config(hub.local_addr(), None, hello("st-m", session)),
+        )
+        .unwrap()
+    };
+    let measures = std::collections::BTreeMap::from([
+        ("sparc_median".to_owned(), -1.62),
+        ("wheel_rom_deg".to_owned(), 48.5),
+    ]);
+    let (sender, link) = spawn("sess-m");
+    send_range(&sender, "sess-m", 0..5);
+    let stats = link
+        .finish_with_measures("session complete", measures.clone(), GUARD)
+        .await;
+    assert_all_delivered(&stats, 5);
+    let kept: std::collections::BTreeMap<String, f64> = serde_json::from_slice(
+        &std::fs::read(store.path().join("st-m/sess-m.measures.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(kept, measures);
+
+    // A NaN would make the whole Bye unencodable: the measures stay home, the session still
+    // ends in order, and the station is told why.
+    let (sender, link) = spawn("sess-nan");
+    send_range(&sender, "sess-nan", 0..3);
+    let bad = std::collections::BTreeMap::from([("sparc_median".to_owned(), f64::NAN)]);
+    let stats = link
+        .finish_with_measures("session complete", bad, GUARD)
+        .await;
+    assert_all_delivered(&stats, 3);
+    assert!(
+        stats
+            .last_error
+            .as_deref()
+            .is_some_and(|e| e.contains("measures not sent") && e.contains("sparc_median")),
+        "{:?}",
+        stats.last_error
+    );
+    assert!(!store.path().join("st-m/sess-nan.measures.json").exists());
+    hub.shutdown(GUARD).await;
+}
+
 struct Pki {
     _dir: tempfile::TempDir,
     server: ServerTls,

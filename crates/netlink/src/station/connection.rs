@@ -188,6 +188,7 @@ impl LinkTask {
                     session_id: session_id.clone(),
                     reason: f.reason.clone(),
                     final_seq: self.last_produced_seq,
+                    measures: f.measures.clone(),
                 });
                 match encode_to_vec(&bye) {
                     Ok(bytes) => {

@@ -12,7 +12,7 @@ mod connection;
 mod stats;
 mod task;
 
-use std::collections::VecDeque;
+use std::collections::{BTreeMap, VecDeque};
 use std::sync::atomic::Ordering;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -153,6 +153,7 @@ impl SummarySender {
 
 struct Finish {
     reason: String,
+    measures: BTreeMap<String, f64>,
     deadline: Instant,
 }
 
@@ -243,11 +244,34 @@ impl StationLink {
 
     /// [`Self::finish`] with the reason sent in `Bye` (control characters become spaces, cut
     /// to 256 bytes).
-    pub async fn finish_with_reason(mut self, reason: &str, timeout: Duration) -> LinkStats {
+    pub async fn finish_with_reason(self, reason: &str, timeout: Duration) -> LinkStats {
+        self.finish_with_measures(reason, BTreeMap::new(), timeout)
+            .await
+    }
+
+    /// [`Self::finish_with_reason`], the `Bye` carrying the session's movement `measures`
+    /// (name → finite value). Measures the protocol would refuse (a non-finite value, a bad
+    /// name, too many) are not sent: the error is kept in [`LinkStats::last_error`] and the
+    /// session still ends in order.
+    pub async fn finish_with_measures(
+        mut self,
+        reason: &str,
+        measures: BTreeMap<String, f64>,
+        timeout: Duration,
+    ) -> LinkStats {
         let deadline = Instant::now() + timeout;
+        let measures = match crate::frame::check_named_values("measures", &measures) {
+            Ok(()) => measures,
+            Err(e) => {
+                self.shared
+                    .set_error(format!("session measures not sent: {e}"));
+                BTreeMap::new()
+            }
+        };
         if let Some(tx) = self.finish_tx.take() {
             let _ = tx.send(Finish {
                 reason: crate::frame::printable(reason, crate::frame::MAX_TEXT_LEN),
+                measures,
                 deadline,
             });
         }

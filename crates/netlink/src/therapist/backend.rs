@@ -151,10 +151,10 @@ impl HubStore for FileStore {
         hello: &'a Hello,
     ) -> BoxFuture<'a, Result<Box<dyn SessionStore>, Refusal>> {
         Box::pin(async move {
-            let (dir, hello) = (self.dir.clone(), hello.clone());
+            let (dir, owned) = (self.dir.clone(), hello.clone());
             let file = blocking("session open", move || {
-                write_hello(&dir, &hello)?;
-                SessionFile::open(&dir, &hello.station_id, &hello.session_id)
+                write_hello(&dir, &owned)?;
+                SessionFile::open(&dir, &owned.station_id, &owned.session_id)
             })
             .await
             .map_err(|e| Refusal::new(format!("cannot open the session store: {e}")))?;
@@ -162,6 +162,8 @@ impl HubStore for FileStore {
             Ok(Box::new(FileSession {
                 file: Arc::new(Mutex::new(file)),
                 last_seq,
+                dir: self.dir.clone(),
+                station_id: hello.station_id.clone(),
             }) as Box<dyn SessionStore>)
         })
     }
@@ -170,6 +172,9 @@ impl HubStore for FileStore {
 struct FileSession {
     file: Arc<Mutex<SessionFile>>,
     last_seq: Option<u64>,
+    /// The store's directory and the session's station, for the measures a `Bye` brings.
+    dir: PathBuf,
+    station_id: String,
 }
 
 fn lock_file(file: &Mutex<SessionFile>) -> std::sync::MutexGuard<'_, SessionFile> {
@@ -201,8 +206,15 @@ impl SessionStore for FileSession {
         })
     }
 
-    fn sync<'a>(&'a mut self, _bye: Option<&'a Bye>) -> BoxFuture<'a, Result<(), NetlinkError>> {
+    fn sync<'a>(&'a mut self, bye: Option<&'a Bye>) -> BoxFuture<'a, Result<(), NetlinkError>> {
         Box::pin(async move {
+            if let Some(bye) = bye.filter(|b| !b.measures.is_empty()) {
+                let (dir, station, bye) = (self.dir.clone(), self.station_id.clone(), bye.clone());
+                blocking("measures", move || {
+                    crate::store::write_measures(&dir, &station, &bye)
+                })
+                .await?;
+            }
             let handle = lock_file(&self.file).try_clone_file()?;
             blocking("fsync", move || {
                 handle

@@ -339,6 +339,7 @@ async fn frame_loop(
                     session_id: hello.session_id.clone(),
                     reason: "therapist hub shutting down".into(),
                     final_seq: last_seq(file).await,
+                    measures: Default::default(),
                 });
                 send(out, frame_outgoing(&bye));
                 return "therapist hub shut down".to_owned();

@@ -99,6 +99,7 @@ pub(super) async fn handle_frame(
                     session_id: hello.session_id.clone(),
                     reason: "stored".into(),
                     final_seq: stored,
+                    measures: Default::default(),
                 }),
                 format!("bye: {}", bye.reason),
             ))
