@@ -627,8 +627,17 @@ async fn sessions_close_and_list(db: Db) {
         session_id: "s1".into(),
         reason: "patient pressed stop".into(),
         final_seq: Some(2),
+        measures: BTreeMap::from([
+            ("sparc_median".to_owned(), -1.7),
+            ("movements".to_owned(), 12.0),
+        ]),
     };
     assert_eq!(db.close_session(&bye, T0 + MIN).await.unwrap(), Some(2));
+    assert_eq!(
+        db.metrics_of("s1").await.unwrap(),
+        bye.measures,
+        "the Bye's measures are kept"
+    );
     let s1 = db.session("s1").await.unwrap().unwrap();
     assert_eq!(s1.closed_at_ms, Some(T0 + MIN));
     assert_eq!(s1.end_reason.as_deref(), Some("patient pressed stop"));

@@ -129,8 +129,10 @@ impl Db {
         last_seq_u64(session.last_seq)
     }
 
-    /// Records the end of a session from the station's `Bye`; returns the highest sequence
-    /// number stored (for the hub's `Bye` reply).
+    /// Records the end of a session from the station's `Bye`, with the movement measures it
+    /// carries ([`Self::put_metrics`]); returns the highest sequence number stored (for the
+    /// hub's `Bye` reply). A repeated `Bye` (a station that did not hear the reply) records
+    /// the same again.
     pub async fn close_session(&self, bye: &Bye, now_ms: i64) -> Result<Option<u64>, HubError> {
         check_id("session_id", &bye.session_id)?;
         let final_seq = bye.final_seq.map(|s| to_i64("final_seq", s)).transpose()?;
@@ -148,6 +150,9 @@ impl Db {
         .map_err(HubError::db("closing a session"))?;
         if done.rows_affected() == 0 {
             return Err(HubError::not_found("session", &bye.session_id));
+        }
+        if !bye.measures.is_empty() {
+            self.put_metrics(&bye.session_id, &bye.measures).await?;
         }
         let session = self
             .session(&bye.session_id)
