@@ -10,8 +10,11 @@ from pathlib import Path
 
 REF = Path(__file__).resolve().parents[2] / "crates" / "metrics" / "tests" / "reference"
 
-# Same algorithm, same inputs: only a different numpy/scipy build's rounding may differ.
-REL_TOL = 1e-12
+# Same algorithm, same inputs: only a different numpy/scipy build's rounding may differ. The
+# minimum-jerk speed 30t²−60t³+30t⁴ cancels near t = 1, so its last samples move by a few
+# 1e-12 relative between numpy releases (2.4e-12 at speed[99] with numpy 2.4): 1e-9 still
+# catches any change of algorithm or input, which moves values by far more.
+REL_TOL = 1e-9
 
 
 def close(a, b, where):
