@@ -91,6 +91,13 @@ pub struct WheelNow {
 /// Longest the exercise waits for the solver thread (the solve takes ~20 ms).
 const SOLVE_TIMEOUT: Duration = Duration::from_secs(10);
 
+/// The mounting takes effect this long in session time after the procedure ended, however
+/// it was solved (on the solver thread in real time, in line as fast as possible), so that a
+/// real-time session and its replay change step on the same tick: `telerehab replay`
+/// reproduces it bit for bit. Well above the solve's 16 ms (release build); a solver slower
+/// than this delays the step, and only then does the session depend on the wall clock.
+const SOLVE_HOLD_NS: u64 = 250_000_000;
+
 /// Why a session has no (more) joint angles: kept on the haptic thread without allocating,
 /// told in words after the session.
 #[derive(Debug)]
@@ -191,6 +198,10 @@ pub struct ArmTracker {
     clock: Clock,
     /// When the procedure went to the solver, ns on `clock`.
     solving_since_ns: Option<u64>,
+    /// When the procedure ended, session time, ns ([`SOLVE_HOLD_NS`] runs from it).
+    solve_started_t_ns: u64,
+    /// The solver's answer, held until [`SOLVE_HOLD_NS`] has passed.
+    solved: Option<Result<GuidedOutcome, ImuError>>,
     last: ArmSample,
     /// Ticks on which the estimator refused the wheel angle (arm out of reach).
     pub rejected: u64,
@@ -259,6 +270,8 @@ impl ArmTracker {
             failure: None,
             clock,
             solving_since_ns: None,
+            solve_started_t_ns: 0,
+            solved: None,
             last: ArmSample::default(),
             rejected: 0,
         }
@@ -290,7 +303,7 @@ impl ArmTracker {
             SetupStep::HoldStill { .. } | SetupStep::TurnWheel { .. } => {
                 self.step = self.follow_procedure(wheel, a, b);
             }
-            SetupStep::Solving => self.step = self.wait_for_solver(),
+            SetupStep::Solving => self.step = self.wait_for_solver(wheel.t_ns),
             SetupStep::Tracking => self.track(wheel, a, b),
             SetupStep::Failed | SetupStep::SensorLost => {}
         }
@@ -317,7 +330,7 @@ impl ArmTracker {
         match procedure.step(wheel.t_ns, wheel.angle_rad, wheel.rate_rad_s, a, b) {
             Prompt::HoldStill { remaining_s } => SetupStep::HoldStill { remaining_s },
             Prompt::TurnWheel { remaining_s, .. } => SetupStep::TurnWheel { remaining_s },
-            Prompt::ReadyToSolve => self.solve(),
+            Prompt::ReadyToSolve => self.solve(wheel.t_ns),
             // The procedure gave up by itself (it keeps its box until the session ends).
             Prompt::Done => match procedure.take_outcome() {
                 Some(outcome) => self.finish(outcome),
@@ -326,12 +339,14 @@ impl ArmTracker {
         }
     }
 
-    /// Hand the finished procedure to the solver thread, or solve it here without one.
-    fn solve(&mut self) -> SetupStep {
+    /// Hand the finished procedure (at session time `t_ns`) to the solver thread, or solve it
+    /// here without one; either way the answer waits for [`SOLVE_HOLD_NS`].
+    fn solve(&mut self, t_ns: u64) -> SetupStep {
         let Some(procedure) = self.procedure.take() else {
             return SetupStep::Failed;
         };
         self.solving_since_ns = Some(self.clock.now_ns());
+        self.solve_started_t_ns = t_ns;
         let procedure = match &mut self.solver {
             Some(solver) => match solver.to.push(procedure) {
                 Ok(()) => return SetupStep::Solving,
@@ -341,14 +356,24 @@ impl ArmTracker {
         };
         let outcome = procedure.solve();
         log_outcome(&outcome);
-        self.finish(outcome)
+        self.solved = Some(outcome);
+        SetupStep::Solving
     }
 
-    /// The solver's answer, or give up after [`SOLVE_TIMEOUT`] so that the exercise never
-    /// waits forever (a dead solver thread).
-    fn wait_for_solver(&mut self) -> SetupStep {
-        if let Some(outcome) = self.solver.as_mut().and_then(|s| s.from.pop().ok()) {
-            return self.finish(outcome);
+    /// The solver's answer once [`SOLVE_HOLD_NS`] of session time has passed (`t_ns` now), or
+    /// give up after [`SOLVE_TIMEOUT`] so that the exercise never waits forever (a dead solver
+    /// thread).
+    fn wait_for_solver(&mut self, t_ns: u64) -> SetupStep {
+        if self.solved.is_none() {
+            self.solved = self.solver.as_mut().and_then(|s| s.from.pop().ok());
+        }
+        if self.solved.is_some() {
+            if t_ns.saturating_sub(self.solve_started_t_ns) < SOLVE_HOLD_NS {
+                return SetupStep::Solving;
+            }
+            if let Some(outcome) = self.solved.take() {
+                return self.finish(outcome);
+            }
         }
         let now_ns = self.clock.now_ns();
         if self
@@ -478,7 +503,7 @@ mod tests {
         let (_results, from) = rtrb::RingBuffer::new(1);
         tracker.solver = Some(Solver { to, from });
         mock.advance_ns(123_456);
-        tracker.step = tracker.solve();
+        tracker.step = tracker.solve(0);
         assert_eq!(tracker.step_now(), SetupStep::Solving);
         let still = ImuSample {
             t_ns: 0,
