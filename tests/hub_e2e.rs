@@ -110,19 +110,7 @@ impl Drop for Hub {
 
 /// `hub patient show --json`: (summaries stored per session, revoked stations).
 fn show(data: &Path) -> (Vec<u64>, usize) {
-    let json = ok(
-        &[
-            "hub",
-            "patient",
-            "show",
-            "--data",
-            data.to_str().unwrap(),
-            "P-0042",
-            "--json",
-        ],
-        None,
-    );
-    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let v = show_json(data);
     let stored = v["sessions"]
         .as_array()
         .unwrap()
@@ -136,6 +124,23 @@ fn show(data: &Path) -> (Vec<u64>, usize) {
         .filter(|s| !s["revoked_at_ms"].is_null())
         .count();
     (stored, revoked)
+}
+
+/// `hub patient show --json` of the patient P-0042.
+fn show_json(data: &Path) -> serde_json::Value {
+    let json = ok(
+        &[
+            "hub",
+            "patient",
+            "show",
+            "--data",
+            data.to_str().unwrap(),
+            "P-0042",
+            "--json",
+        ],
+        None,
+    );
+    serde_json::from_str(&json).unwrap()
 }
 
 /// The number of summaries a run's report says it produced.
@@ -191,6 +196,13 @@ fn a_clinic_pairs_a_station_that_then_streams_every_session_over_mutual_tls() {
     );
     let (stored, revoked) = show(&data);
     assert_eq!((stored, revoked), (vec![n], 0));
+    // The session's movement measures came with its end.
+    let metrics = &show_json(&data)["sessions"][0]["metrics"];
+    // 5 s of exercise and the torque's fade-out at the end.
+    let session_s = metrics["session_s"].as_f64().unwrap();
+    assert!((5.0..5.5).contains(&session_s), "{metrics}");
+    assert!(metrics["movements"].as_f64().unwrap() >= 1.0, "{metrics}");
+    assert!(metrics["sparc_median"].as_f64().unwrap() < 0.0, "{metrics}");
     // A paired station records every session in its home, private to its user.
     let recordings: Vec<_> = std::fs::read_dir(home.join("recordings"))
         .unwrap()
@@ -282,6 +294,11 @@ fn summaries_of_a_session_run_while_the_hub_was_down_are_delivered_once_by_sync(
     let again = ok(&["sync"], Some(&home));
     assert!(again.contains("0 queued sessions"), "{again}");
     assert_eq!(show(&data).0, vec![n], "every summary stored exactly once");
+    let metrics = &show_json(&data)["sessions"][0]["metrics"];
+    assert!(
+        metrics["movements"].is_number(),
+        "the measures waited in the queue for the hub: {metrics}"
+    );
     hub.stop();
 }
 

@@ -23,7 +23,7 @@ def test_recording_opens_in_python_mcap_with_json_schemas(tmp_path):
         summary = reader.get_summary()
         assert summary is not None
         encodings = {ch.topic: (ch.message_encoding, summary.schemas[ch.schema_id].encoding) for ch in summary.channels.values()}
-        assert encodings == {t: ("json", "jsonschema") for t in ("/wheel", "/vehicle", "/score", "/assist", "/timing", "/arm", "/arm_calibration")}
+        assert encodings == {t: ("json", "jsonschema") for t in ("/wheel", "/vehicle", "/score", "/assist", "/timing", "/arm", "/arm_calibration", "/metrics")}
         counts = Counter()
         last_t = {}
         for schema, channel, message in reader.iter_messages():

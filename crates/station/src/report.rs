@@ -42,6 +42,7 @@ pub fn render(r: &SessionReport, link: Option<&LinkReport>) -> String {
     loop_timing(&mut s, r);
     exercise(&mut s, r);
     torque(&mut s, r);
+    movement(&mut s, r);
     arm(&mut s, r);
     delivery(&mut s, r, link);
     s
@@ -191,6 +192,44 @@ fn torque(s: &mut String, r: &SessionReport) {
     }
 }
 
+/// The wheel's movements: how many, how smooth, how fast, how long active, and how much of
+/// the work was the patient's.
+fn movement(s: &mut String, r: &SessionReport) {
+    let m = &r.recorder.measures;
+    let n = |name: &str| m.named.get(name).copied();
+    if let Some(e) = &m.error {
+        line!(s, "movements           not measured: {e}");
+    }
+    if let (Some(count), Some(active)) = (n("movements"), n("active_s")) {
+        let smooth = match (n("sparc_median"), n("ldlj_median")) {
+            (Some(sparc), Some(ldlj)) => {
+                format!(", smoothness SPARC {sparc:.2}, LDLJ {ldlj:.2} (medians)")
+            }
+            _ => String::new(),
+        };
+        line!(
+            s,
+            "movements           {count:.0} in {active:.1} s active{smooth}"
+        );
+    }
+    if let (Some(peak), Some(time), Some(peaks)) = (
+        n("movement_peak_speed_deg_s_median"),
+        n("movement_time_s_median"),
+        n("speed_peaks_median"),
+    ) {
+        line!(
+            s,
+            "a typical movement  {time:.2} s, peak speed {peak:.0}°/s, {peaks:.0} speed peaks (medians)"
+        );
+    }
+    if let Some(pct) = n("patient_work_pct") {
+        line!(
+            s,
+            "patient's work      {pct:.0} % of the work on the wheel (the assist did the rest)"
+        );
+    }
+}
+
 /// The arm: range of motion, why sensing stopped, and the calibrated segment lengths.
 fn arm(s: &mut String, r: &SessionReport) {
     if let Some(rom) = r.haptic.range_of_motion_rad.map(|r| r.map(f64::to_degrees)) {
@@ -321,6 +360,22 @@ mod tests {
                 ..Default::default()
             })),
             mcap_bytes: Some(2_345_678),
+            measures: crate::session::measures::Measures {
+                named: [
+                    ("movements", 14.0),
+                    ("active_s", 5.25),
+                    ("sparc_median", -1.734),
+                    ("ldlj_median", -6.21),
+                    ("movement_peak_speed_deg_s_median", 48.2),
+                    ("movement_time_s_median", 0.84),
+                    ("speed_peaks_median", 2.0),
+                    ("patient_work_pct", 71.6),
+                ]
+                .into_iter()
+                .map(|(k, v)| (k.to_owned(), v))
+                .collect(),
+                ..Default::default()
+            },
             ..Default::default()
         };
         recorder.last.score.exercise_index = 2;
@@ -373,6 +428,9 @@ mod tests {
         r.recorder.dial_ticks = 0;
         r.recorder.assist_ticks = 0;
         r.recorder.arm_calibration = Some(Err("too little motion".into()));
+        r.recorder.measures.named.clear();
+        r.recorder.measures.error =
+            Some("the session is too short to measure (1 samples at 100 Hz)".into());
         r.recorder.mcap_bytes = None;
         r.recorder.error = Some("disk full".into());
         r

@@ -201,7 +201,7 @@ fn window(args: BenchWindowArgs) -> anyhow::Result<()> {
         &mut (&link, &mut impact),
         !args.normal_priority,
     )?;
-    link.finish(report.summaries, None);
+    link.finish(report.summaries, &report.recorder.measures.named, None);
     let stats = stats.context("the window did not open (is there a display? try xvfb-run -a)")?;
     if let Some(a) = &stats.adapter {
         println!("adapter: {a}");

@@ -84,6 +84,10 @@ pub enum HubCommand {
         /// Database URL (an empty PostgreSQL database); default SQLite in a temporary clinic.
         #[arg(long)]
         db: Option<String>,
+        /// Run the hub on these CPUs only (a `taskset -c` list, e.g. `0`), so that the load
+        /// generator (pin it with `taskset -c 1 telerehab hub bench …`) does not share them.
+        #[arg(long)]
+        hub_cpus: Option<String>,
     },
     /// Patients.
     #[command(subcommand)]
@@ -217,7 +221,17 @@ pub fn run(args: HubArgs) -> anyhow::Result<()> {
                 rate_hz,
                 seconds,
                 db,
-            } => bench(stations, rate_hz, seconds, db.as_deref()).await,
+                hub_cpus,
+            } => {
+                bench(
+                    stations,
+                    rate_hz,
+                    seconds,
+                    db.as_deref(),
+                    hub_cpus.as_deref(),
+                )
+                .await
+            }
             HubCommand::Patient(c) => patient(c).await,
             HubCommand::Station(StationCommand::Revoke { data, station_id }) => {
                 let (_, db) = open(&data).await?;
@@ -324,6 +338,7 @@ async fn bench(
     rate_hz: f64,
     seconds: f64,
     db: Option<&str>,
+    hub_cpus: Option<&str>,
 ) -> anyhow::Result<()> {
     if !((1..=20_000).contains(&stations) && rate_hz > 0.0 && rate_hz <= 1000.0) {
         bail!("--stations must be 1 to 20000 and --rate-hz in (0, 1000]");
@@ -366,7 +381,16 @@ async fn bench(
     if let Some(url) = db {
         args.extend(["--db", url]);
     }
-    let mut child = tokio::process::Command::new(std::env::current_exe()?)
+    let exe = std::env::current_exe()?;
+    let mut command = match hub_cpus {
+        Some(cpus) => {
+            let mut c = tokio::process::Command::new("taskset");
+            c.args(["-c", cpus]).arg(&exe);
+            c
+        }
+        None => tokio::process::Command::new(&exe),
+    };
+    let mut child = command
         .args(&args)
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::null())
@@ -395,8 +419,9 @@ async fn bench(
     let usage = before.zip(after).map(|(b, a)| (a.0 - b.0, a.1));
     let _ = child.kill().await;
     println!(
-        "hub bench: {stations} stations × {rate_hz} Hz for {seconds} s on {}",
-        if db.is_some() { "PostgreSQL" } else { "SQLite" }
+        "hub bench: {stations} stations × {rate_hz} Hz for {seconds} s on {}{}",
+        if db.is_some() { "PostgreSQL" } else { "SQLite" },
+        hub_cpus.map_or(String::new(), |c| format!(", hub on CPUs {c}"))
     );
     print!("{}", hub::bench::describe(&report, seconds, rate_hz, usage));
     Ok(())
@@ -472,10 +497,12 @@ async fn patient(command: PatientCommand) -> anyhow::Result<()> {
                 for s in &sessions {
                     let stored = db.summaries_of(&s.session_id).await?.len();
                     let recording = db.recording(&s.session_id).await?;
+                    let metrics = db.metrics_of(&s.session_id).await?;
                     rows.push(serde_json::json!({
                         "session": s,
                         "summaries_stored": stored,
                         "recording": recording,
+                        "metrics": metrics,
                     }));
                 }
                 let out =
@@ -492,19 +519,27 @@ async fn patient(command: PatientCommand) -> anyhow::Result<()> {
                 );
             }
             println!(
-                "  {:<44} {:<16} {:>10} {:>9} {:>10}",
-                "session", "exercise", "start (ms)", "length s", "summaries"
+                "  {:<44} {:<16} {:>10} {:>9} {:>10} {:>9} {:>6}",
+                "session", "exercise", "start (ms)", "length s", "summaries", "movements", "SPARC"
             );
             for s in &sessions {
                 let stored = db.summaries_of(&s.session_id).await?;
                 let length_s = stored.last().map_or(0.0, |x| x.t_s);
+                let metrics = db.metrics_of(&s.session_id).await?;
+                let measure = |name: &str, digits: usize| {
+                    metrics
+                        .get(name)
+                        .map_or("-".to_owned(), |v| format!("{v:.digits$}"))
+                };
                 println!(
-                    "  {:<44} {:<16} {:>10} {:>9.1} {:>10}",
+                    "  {:<44} {:<16} {:>10} {:>9.1} {:>10} {:>9} {:>6}",
                     s.session_id,
                     s.exercise,
                     s.started_unix_ms,
                     length_s,
-                    stored.len()
+                    stored.len(),
+                    measure("movements", 0),
+                    measure("sparc_median", 2)
                 );
             }
             Ok(())

@@ -311,7 +311,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         .record
         .as_deref()
         .filter(|_| report.recorder.error.is_none() && report.recorder.mcap_bytes.is_some());
-    let link_report = link.finish(report.summaries, recorded);
+    let link_report = link.finish(report.summaries, &report.recorder.measures.named, recorded);
     print!("{}", crate::report::render(&report, link_report.as_ref()));
     if let Some(e) = &report.recorder.error {
         bail!("recording failed: {e}");

@@ -16,6 +16,7 @@ use netlink::{
     SummarySender,
 };
 use queue::QueueFile;
+use std::collections::BTreeMap;
 use std::net::{SocketAddr, ToSocketAddrs};
 use std::sync::Mutex;
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
@@ -192,14 +193,28 @@ impl Link {
     /// End the link: send Bye, wait a short while for the last acknowledgements, and report
     /// honestly what was not delivered.
     ///
+    /// The session's movement `measures` (name → value) go in the Bye; with a home they are
+    /// queued first, so they reach the hub with the summaries however the session ends.
     /// With a home, `recording` (the session's MCAP file, if one was written) is queued for
     /// upload and sent for up to [`UPLOAD_WITHIN`]; the rest resumes later.
-    pub fn finish(self, produced: u64, recording: Option<&std::path::Path>) -> Option<LinkReport> {
+    pub fn finish(
+        self,
+        produced: u64,
+        measures: &BTreeMap<String, f64>,
+        recording: Option<&std::path::Path>,
+    ) -> Option<LinkReport> {
         let mut inner = self.inner?;
         let mut regimens = inner.link.take_regimens();
-        let stats = inner
-            .link
-            .finish_blocking(inner.runtime.handle(), FINISH_TIMEOUT);
+        if let Some(q) = &inner.queue {
+            q.lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .set_measures(measures);
+        }
+        let stats = inner.runtime.block_on(inner.link.finish_with_measures(
+            "session complete",
+            measures.clone(),
+            FINISH_TIMEOUT,
+        ));
         let upload = match (&inner.home, recording) {
             (Some(home), Some(path)) => Some(upload_now(
                 &inner.runtime,

@@ -1,12 +1,15 @@
 //! The station's on-disk queue of summaries: every summary is appended to
 //! `queue/<session_id>.jsonl` (with `queue/<session_id>.hello.json`) before the link sends it,
-//! so a session's summaries survive the station's own crash as well as a dropped link. A
-//! session's files are removed once the hub has acknowledged everything; what remains is
-//! delivered at the next run or by `telerehab sync` (the hub stores each summary once).
+//! so a session's summaries survive the station's own crash as well as a dropped link; the
+//! session's movement measures, computed at its end, wait in `queue/<session_id>.measures.json`
+//! and go in its `Bye`. A session's files are removed once the hub has acknowledged everything
+//! and confirmed the `Bye`; what remains is delivered at the next run or by `telerehab sync`
+//! (the hub stores each summary once).
 
 use crate::home::{private_dir, write_private};
 use anyhow::Context;
 use netlink::{ClientTls, Hello, StationLink, StationLinkConfig, Summary};
+use std::collections::BTreeMap;
 use std::fs::{File, OpenOptions};
 use std::io::{BufRead, BufReader, Write};
 use std::os::unix::fs::OpenOptionsExt;
@@ -16,25 +19,42 @@ use std::time::Duration;
 /// One session's queue file, open for appending.
 #[derive(Debug)]
 pub struct QueueFile {
+    dir: PathBuf,
+    session_id: String,
     summaries: PathBuf,
-    hello: PathBuf,
+    measures: PathBuf,
     file: File,
     /// The first write error, after which the queue stops (the link still sends).
     pub error: Option<String>,
 }
 
-fn paths(dir: &Path, session_id: &str) -> (PathBuf, PathBuf) {
-    (
+/// A session's queue files: its summaries, its Hello, its measures.
+fn paths(dir: &Path, session_id: &str) -> [PathBuf; 3] {
+    [
         dir.join(format!("{session_id}.jsonl")),
         dir.join(format!("{session_id}.hello.json")),
-    )
+        dir.join(format!("{session_id}.measures.json")),
+    ]
+}
+
+/// Removes a delivered session's queue files (those that exist).
+fn remove_session(dir: &Path, session_id: &str) {
+    for p in paths(dir, session_id) {
+        match std::fs::remove_file(&p) {
+            Ok(()) => {}
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+            Err(e) => {
+                tracing::warn!(path = %p.display(), "cannot remove a delivered queue file: {e}")
+            }
+        }
+    }
 }
 
 impl QueueFile {
     /// Starts the queue of the session `hello` opens, in `dir` (0700; files 0600).
     pub fn create(dir: &Path, hello: &Hello) -> anyhow::Result<Self> {
         private_dir(dir)?;
-        let (summaries, hello_path) = paths(dir, &hello.session_id);
+        let [summaries, hello_path, measures] = paths(dir, &hello.session_id);
         let json = serde_json::to_vec(hello).context("cannot encode the session's Hello")?;
         write_private(&hello_path, &json)?;
         let file = OpenOptions::new()
@@ -44,8 +64,10 @@ impl QueueFile {
             .open(&summaries)
             .with_context(|| format!("cannot create {}", summaries.display()))?;
         Ok(Self {
+            dir: dir.to_owned(),
+            session_id: hello.session_id.clone(),
             summaries,
-            hello: hello_path,
+            measures,
             file,
             error: None,
         })
@@ -69,13 +91,23 @@ impl QueueFile {
         }
     }
 
+    /// Keeps the session's movement measures for its `Bye` (written before the link says
+    /// it, so a crash or a dropped link leaves them for the next delivery).
+    pub fn set_measures(&mut self, measures: &BTreeMap<String, f64>) {
+        if self.error.is_some() || measures.is_empty() {
+            return;
+        }
+        let written = serde_json::to_vec(measures)
+            .map_err(|e| e.to_string())
+            .and_then(|json| write_private(&self.measures, &json).map_err(|e| format!("{e:#}")));
+        if let Err(e) = written {
+            self.error = Some(format!("{}: {e}", self.measures.display()));
+        }
+    }
+
     /// Removes the session's files: the hub has everything.
     pub fn delivered(self) {
-        for p in [&self.summaries, &self.hello] {
-            if let Err(e) = std::fs::remove_file(p) {
-                tracing::warn!(path = %p.display(), "cannot remove a delivered queue file: {e}");
-            }
-        }
+        remove_session(&self.dir, &self.session_id);
     }
 }
 
@@ -86,6 +118,8 @@ pub struct Queued {
     pub hello: Hello,
     /// Its summaries, in order (a partial last line, from a crash mid-write, is left out).
     pub summaries: Vec<Summary>,
+    /// Its movement measures, for its `Bye` (empty if the session did not end in order).
+    pub measures: BTreeMap<String, f64>,
 }
 
 /// The sessions waiting in `dir`, oldest first (by session id).
@@ -107,7 +141,7 @@ pub fn pending(dir: &Path) -> anyhow::Result<Vec<Queued>> {
             .with_context(|| format!("cannot read {}", hello_path.display()))?;
         let hello: Hello = serde_json::from_slice(&text)
             .with_context(|| format!("{} is not a session's Hello", hello_path.display()))?;
-        let (summaries_path, _) = paths(dir, &hello.session_id);
+        let [summaries_path, _, measures_path] = paths(dir, &hello.session_id);
         let mut summaries = Vec::new();
         if let Ok(f) = File::open(&summaries_path) {
             for line in BufReader::new(f).lines() {
@@ -119,7 +153,16 @@ pub fn pending(dir: &Path) -> anyhow::Result<Vec<Queued>> {
                 }
             }
         }
-        out.push(Queued { hello, summaries });
+        // Unreadable measures are not worth holding the summaries back for.
+        let measures = std::fs::read(&measures_path)
+            .ok()
+            .and_then(|json| serde_json::from_slice(&json).ok())
+            .unwrap_or_default();
+        out.push(Queued {
+            hello,
+            summaries,
+            measures,
+        });
     }
     Ok(out)
 }
@@ -173,12 +216,12 @@ pub async fn deliver_sessions(
                 tracing::warn!(session = %session_id, "queued summary not sent: {e}");
             }
         }
-        let stats = link.finish(timeout).await;
+        let stats = link
+            .finish_with_measures("session complete", q.measures, timeout)
+            .await;
         // The hub's Bye answer says it has synced everything it acknowledged.
         if stats.pending == 0 && stats.bye_acknowledged {
-            let (a, b) = paths(dir, &session_id);
-            let _ = std::fs::remove_file(a);
-            let _ = std::fs::remove_file(b);
+            remove_session(dir, &session_id);
             report.delivered += 1;
         } else {
             report.remaining += if stats.pending > 0 { stats.pending } else { n };

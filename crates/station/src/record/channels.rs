@@ -1,8 +1,8 @@
 //! The channels of a recording: topic, schema name and JSON schema, in one table.
 
 use super::types::{
-    ArmCalibrationSample, ArmSample, AssistSample, ScoreSample, Stamped, TimingSample,
-    VehicleSample, WheelSample,
+    ArmCalibrationSample, ArmSample, AssistSample, MetricsSample, ScoreSample, Stamped,
+    TimingSample, VehicleSample, WheelSample,
 };
 use schemars::JsonSchema;
 
@@ -29,6 +29,8 @@ pub enum Channel {
     /// The patient's arm calibrated from the session's data, once at the end
     /// ([`ArmCalibrationSample`]).
     ArmCalibration,
+    /// The session's movement measures, once at the end ([`MetricsSample`]).
+    Metrics,
 }
 
 /// What the file says about one channel.
@@ -45,7 +47,7 @@ pub struct ChannelSpec {
 }
 
 /// Every channel, in the order the writer registers them (`Channel as usize` indexes it).
-pub const CHANNELS: [ChannelSpec; 7] = [
+pub const CHANNELS: [ChannelSpec; 8] = [
     spec::<WheelSample>(Channel::Wheel, "/wheel", "telerehab.Wheel"),
     spec::<VehicleSample>(Channel::Vehicle, "/vehicle", "telerehab.Vehicle"),
     spec::<ScoreSample>(Channel::Score, "/score", "telerehab.Score"),
@@ -57,6 +59,7 @@ pub const CHANNELS: [ChannelSpec; 7] = [
         "/arm_calibration",
         "telerehab.ArmCalibration",
     ),
+    spec::<MetricsSample>(Channel::Metrics, "/metrics", "telerehab.Metrics"),
 ];
 
 /// A channel whose messages are `Stamped<T>`.
@@ -88,7 +91,7 @@ impl ChannelSpec {
 
 impl Channel {
     /// Every channel, in registration order.
-    pub const ALL: [Channel; 7] = [
+    pub const ALL: [Channel; 8] = [
         Channel::Wheel,
         Channel::Vehicle,
         Channel::Score,
@@ -96,6 +99,7 @@ impl Channel {
         Channel::Timing,
         Channel::Arm,
         Channel::ArmCalibration,
+        Channel::Metrics,
     ];
 
     /// Its row of [`CHANNELS`].
@@ -129,6 +133,36 @@ mod tests {
             assert_eq!(Channel::from_topic(c.topic()), Some(c));
         }
         assert_eq!(Channel::from_topic("/nope"), None);
+    }
+
+    /// Foxglove-family viewers (Lichtblick among them) reject `$ref` and `["number", "null"]`
+    /// unions: every schema is inline, and an optional field is left out, not null.
+    #[test]
+    fn schemas_have_no_refs_and_no_type_unions() {
+        fn walk(v: &serde_json::Value, at: &str, bad: &mut Vec<String>) {
+            match v {
+                serde_json::Value::Object(m) => {
+                    for (k, x) in m {
+                        let here = format!("{at}/{k}");
+                        if k == "$ref" || k == "$defs" || (k == "type" && x.is_array()) {
+                            bad.push(here.clone());
+                        }
+                        walk(x, &here, bad);
+                    }
+                }
+                serde_json::Value::Array(a) => {
+                    for (i, x) in a.iter().enumerate() {
+                        walk(x, &format!("{at}/{i}"), bad);
+                    }
+                }
+                _ => {}
+            }
+        }
+        let mut bad = Vec::new();
+        for spec in &CHANNELS {
+            walk(&spec.schema(), spec.schema_name, &mut bad);
+        }
+        assert!(bad.is_empty(), "refs or type unions at {bad:?}");
     }
 
     /// Every channel's schema is the checked-in snapshot: a change to the recording format

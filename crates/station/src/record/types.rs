@@ -59,9 +59,13 @@ pub struct WheelSample {
     pub passivity_energy_j: f64,
     /// Damping the passivity controller added, N·m·s/rad.
     pub passivity_damping_nm_s_per_rad: f64,
-    /// True wheel angle, rad (simulation only; null with a real wheel).
+    /// True wheel angle, rad (simulation only; absent with a real wheel).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "f64")]
     pub true_angle_rad: Option<f64>,
-    /// Simulated patient's hand torque, N·m (simulation only; null with a real wheel).
+    /// Simulated patient's hand torque, N·m (simulation only; absent with a real wheel).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "f64")]
     pub hand_nm: Option<f64>,
     /// Wheel angle the patient aims for, rad.
     pub target_rad: f64,
@@ -75,6 +79,7 @@ pub struct WheelSample {
 /// Where the arm sensing is, as recorded (a kebab-case string in the JSON).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
+#[schemars(inline)]
 pub enum ArmSetup {
     /// Joint angles are being estimated.
     #[default]
@@ -115,6 +120,7 @@ impl fmt::Display for ArmSetup {
 /// named in the same string (fault-missed-deadline, not a nested object).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
+#[schemars(inline)]
 pub enum Watchdog {
     /// Ramping the torque scale up (start of session or recovery after a fault).
     #[default]
@@ -345,6 +351,56 @@ impl From<&Arm3dCalibration> for ArmCalibrationSample {
             condition_number: c.condition_number,
             samples: c.samples,
             warnings: c.warnings.clone(),
+        }
+    }
+}
+
+/// The session's movement measures as recorded (channel `/metrics`, once at the end).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct MetricsSample {
+    /// Every measure by name, the unit in the name (`sparc_median`, `wheel_rom_deg`,
+    /// `active_s`, `patient_work_pct`, …); finite values only. The same set the hub stores.
+    pub measures: BTreeMap<String, f64>,
+    /// Rate of the series the movements were found in, Hz.
+    pub fs_hz: f64,
+    /// The wheel's movements, in time order (empty without the movement analysis).
+    pub movements: Vec<MovementSample>,
+    /// Why the movement analysis is missing; absent when it was made.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub error: String,
+}
+
+/// One movement of the wheel (within [`MetricsSample`]).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[schemars(inline)]
+pub struct MovementSample {
+    /// Its start from the session's start, s.
+    pub start_s: f64,
+    /// Its duration, s.
+    pub duration_s: f64,
+    /// Its peak speed, rad/s.
+    pub peak_speed_rad_s: f64,
+    /// Its speed peaks (1 for one smooth submovement).
+    pub n_peaks: u32,
+    /// Its spectral arc length (dimensionless, ≤ 0); absent when undefined.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "f64")]
+    pub sparc: Option<f64>,
+    /// Its log dimensionless jerk (dimensionless); absent when undefined.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "f64")]
+    pub ldlj: Option<f64>,
+}
+
+impl From<&metrics::Movement> for MovementSample {
+    fn from(m: &metrics::Movement) -> Self {
+        Self {
+            start_s: m.start_s,
+            duration_s: m.duration_s,
+            peak_speed_rad_s: m.peak_speed,
+            n_peaks: u32::try_from(m.n_peaks).unwrap_or(u32::MAX),
+            sparc: m.sparc,
+            ldlj: m.ldlj,
         }
     }
 }

@@ -4,7 +4,7 @@
 //! in tests); it knows nothing of paths, threads or clocks.
 
 use super::channels::{CHANNELS, Channel, MESSAGE_ENCODING, SCHEMA_ENCODING};
-use super::types::{ArmCalibrationSample, SessionMetadata, Stamped, TickRecord};
+use super::types::{ArmCalibrationSample, MetricsSample, SessionMetadata, Stamped, TickRecord};
 use mcap::records::MessageHeader;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -111,6 +111,15 @@ impl<W: Write + Seek> RecordWriter<W> {
         calibration: &ArmCalibrationSample,
     ) -> Result<(), mcap::McapError> {
         self.write(Channel::ArmCalibration, last, calibration)
+    }
+
+    /// Record the session's movement measures, stamped with `last`.
+    pub fn write_metrics(
+        &mut self,
+        last: &TickRecord,
+        metrics: &MetricsSample,
+    ) -> Result<(), mcap::McapError> {
+        self.write(Channel::Metrics, last, metrics)
     }
 
     /// Close the current chunk and flush it to the sink, so a killed process loses at most

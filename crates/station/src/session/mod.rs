@@ -6,6 +6,7 @@ pub mod arm_calibration;
 mod controls;
 pub mod course;
 pub mod haptic;
+pub mod measures;
 pub mod plant;
 pub mod recorder;
 pub mod signals;
@@ -115,6 +116,9 @@ impl<T: SessionObserver + ?Sized> SessionObserver for &mut T {
         (**self).on_summary(summary);
     }
 }
+
+/// Nobody watches (a replay, a benchmark).
+impl SessionObserver for () {}
 
 /// Two observers, told in order.
 impl<A: SessionObserver, B: SessionObserver> SessionObserver for (A, B) {

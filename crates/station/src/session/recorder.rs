@@ -5,8 +5,12 @@
 //! The haptic thread never waits for it in real time.
 
 use super::arm_calibration::ArmLoopCollector;
+use super::measures::{MeasureCollector, Measures};
 use super::{LiveSummary, SessionObserver};
-use crate::record::{ArmCalibrationSample, ArmSetup, RecordWriter, SessionMetadata, TickRecord};
+use crate::record::{
+    ArmCalibrationSample, ArmSetup, MetricsSample, MovementSample, RecordWriter, SessionMetadata,
+    TickRecord,
+};
 use crate::timing::TimingStats;
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -94,6 +98,17 @@ impl McapRecorder {
             .map_err(|e| self.err(e))
     }
 
+    /// Record the session's movement measures, stamped with the last tick.
+    pub fn record_metrics(
+        &mut self,
+        last: &TickRecord,
+        metrics: &MetricsSample,
+    ) -> Result<(), RecorderError> {
+        self.writer
+            .write_metrics(last, metrics)
+            .map_err(|e| self.err(e))
+    }
+
     /// Close the current chunk and flush it to disk, so a killed process loses at most what
     /// came after this call.
     pub fn flush(&mut self) -> Result<(), RecorderError> {
@@ -171,16 +186,19 @@ pub struct RecorderOutcome {
     pub assist_saturated_ticks: u64,
     /// The arm calibrated from this session's data, or why not (None without arm sensing).
     pub arm_calibration: Option<Result<ArmCalibrationSample, String>>,
+    /// The session's movement measures, computed at its end.
+    pub measures: Measures,
     /// Size of the finished MCAP file, bytes (None without recording).
     pub mcap_bytes: Option<u64>,
     /// The first recording error, if any (recording stops, the session goes on).
     pub error: Option<String>,
 }
 
-/// Metrics for the therapist beyond the fixed summary fields: safety and assistance so far.
-fn summary_extra(out: &RecorderOutcome) -> BTreeMap<String, f64> {
+/// Metrics for the therapist beyond the fixed summary fields: safety, assistance and the live
+/// movement measures so far.
+fn summary_extra(out: &RecorderOutcome, measures: &MeasureCollector) -> BTreeMap<String, f64> {
     let ticks = out.records.max(1) as f64;
-    let mut extra = BTreeMap::new();
+    let mut extra = measures.live();
     extra.insert(
         "clipped_pct".into(),
         100.0 * out.clipped_ticks as f64 / ticks,
@@ -274,6 +292,7 @@ pub(super) fn recorder_loop(
     };
     let mut seq = 0u64;
     let mut arm_loop = ArmLoopCollector::new(1e9 / period_ns as f64);
+    let mut measures = MeasureCollector::new(1e9 / period_ns as f64, expected_ticks);
     let mut changes = ChangeLog::default();
     loop {
         let rec = match consumer.pop() {
@@ -288,6 +307,7 @@ pub(super) fn recorder_loop(
         };
         out.add(&rec);
         arm_loop.add(&rec);
+        measures.add(&rec);
         changes.observe(&rec);
         observer.on_tick(&rec);
         let summary_tick = rec.tick % summary_every == 0 && rec.tick > 0;
@@ -311,7 +331,7 @@ pub(super) fn recorder_loop(
                 record: rec,
                 max_abs_torque_nm: out.max_abs_torque_nm,
                 loop_p99_us: out.timing.recent_period_error_p99_us(1000),
-                extra: summary_extra(&out),
+                extra: summary_extra(&out, &measures),
             });
             seq += 1;
         }
@@ -328,6 +348,12 @@ pub(super) fn recorder_loop(
         }
         out.arm_calibration = Some(fitted);
     }
+    out.measures = measures.finish(&out);
+    if let Some(m) = mcap.as_mut()
+        && let Err(e) = m.record_metrics(&out.last, &metrics_sample(&out.measures, &measures))
+    {
+        out.error.get_or_insert_with(|| e.to_string());
+    }
     if let Some(m) = mcap {
         match m.finish() {
             Ok(bytes) => out.mcap_bytes = Some(bytes),
@@ -337,4 +363,19 @@ pub(super) fn recorder_loop(
         }
     }
     (out, seq)
+}
+
+/// The measures as the `/metrics` channel records them.
+fn metrics_sample(m: &Measures, collector: &MeasureCollector) -> MetricsSample {
+    MetricsSample {
+        measures: m.named.clone(),
+        fs_hz: collector.fs_hz(),
+        movements: m
+            .session
+            .iter()
+            .flat_map(|s| &s.movements)
+            .map(MovementSample::from)
+            .collect(),
+        error: m.error.clone().unwrap_or_default(),
+    }
 }

@@ -1,0 +1,404 @@
+//! The session's movement measures: the recorder thread feeds every tick to a
+//! [`MeasureCollector`], which keeps the cheap live measures up to date for the summaries and,
+//! at the end, computes the whole session's measures (`metrics` crate: movements, SPARC,
+//! LDLJ, peak speed, movement time, speed peaks, ranges of motion, time active) and names
+//! them, with the session's scores, pauses, assistance and work, for the recording's
+//! `/metrics` channel and the hub.
+//!
+//! The measures sample the session at [`MEASURE_RATE_HZ`]: the wheel angle is averaged over
+//! each block of ticks (a boxcar against aliasing; arm movement lies below ~5 Hz and SPARC
+//! looks no higher than 10 Hz), which keeps an hour's series at 2.9 MB per signal instead of
+//! 29 MB. Joint angles are taken while the arm sensing is tracking.
+
+use crate::record::{ArmSetup, TickRecord};
+use metrics::{LiveMeasures, MetricError, SessionMeasures, SessionParams, session_measures_with};
+use std::collections::BTreeMap;
+
+/// Rate of the measures' series, Hz.
+pub const MEASURE_RATE_HZ: f64 = 100.0;
+
+/// The joints measured, in the order of [`LiveMeasures`]' samples.
+const JOINTS: [&str; 2] = ["shoulder_elevation", "elbow_flexion"];
+
+/// Collects a session's series and running measures, tick by tick.
+#[derive(Debug)]
+pub struct MeasureCollector {
+    /// Ticks averaged into one sample.
+    ticks_per_sample: u64,
+    /// One tick, s.
+    tick_s: f64,
+    /// Sum and count of the finite wheel angles of the current block, rad.
+    block_sum_rad: f64,
+    block_ticks: u64,
+    block_finite: u64,
+    /// The series at [`MEASURE_RATE_HZ`], rad.
+    wheel_rad: Vec<f64>,
+    shoulder_elevation_rad: Vec<f64>,
+    elbow_flexion_rad: Vec<f64>,
+    live: LiveMeasures,
+    /// Positive work of the assist torque on the wheel, J.
+    assist_work_j: f64,
+    /// Positive work of the patient's hand on the wheel, J (simulation only: a real wheel
+    /// does not measure the hand's torque).
+    patient_work_j: Option<f64>,
+}
+
+/// A session's measures at its end.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Measures {
+    /// The movement analysis; `None` when it could not be made ([`Self::error`] says why).
+    pub session: Option<SessionMeasures>,
+    /// Every measure by name, the unit in the name, finite values only: what the recording's
+    /// `/metrics` channel holds and the hub stores.
+    pub named: BTreeMap<String, f64>,
+    /// Why the movement analysis is missing.
+    pub error: Option<String>,
+}
+
+impl MeasureCollector {
+    /// A collector for a loop at `loop_rate_hz` expected to run `expected_ticks`.
+    pub fn new(loop_rate_hz: f64, expected_ticks: u64) -> Self {
+        let ticks_per_sample = ((loop_rate_hz / MEASURE_RATE_HZ).round() as u64).max(1);
+        let fs = loop_rate_hz / ticks_per_sample as f64;
+        let samples = (expected_ticks / ticks_per_sample) as usize + 1;
+        Self {
+            ticks_per_sample,
+            tick_s: 1.0 / loop_rate_hz,
+            block_sum_rad: 0.0,
+            block_ticks: 0,
+            block_finite: 0,
+            wheel_rad: Vec::with_capacity(samples),
+            shoulder_elevation_rad: Vec::new(),
+            elbow_flexion_rad: Vec::new(),
+            live: LiveMeasures::new(fs, &JOINTS, &SessionParams::default())
+                .expect("the default parameters and a positive rate are valid"),
+            assist_work_j: 0.0,
+            patient_work_j: None,
+        }
+    }
+
+    /// Sampling rate of the series, Hz.
+    pub fn fs_hz(&self) -> f64 {
+        1.0 / (self.tick_s * self.ticks_per_sample as f64)
+    }
+
+    /// Takes one tick.
+    pub fn add(&mut self, rec: &TickRecord) {
+        let w = &rec.wheel;
+        if w.velocity_rad_s.is_finite() {
+            if rec.assist.active && rec.assist.torque_nm.is_finite() {
+                self.assist_work_j +=
+                    (rec.assist.torque_nm * w.velocity_rad_s).max(0.0) * self.tick_s;
+            }
+            if let Some(hand_nm) = w.hand_nm.filter(|h| h.is_finite()) {
+                *self.patient_work_j.get_or_insert(0.0) +=
+                    (hand_nm * w.velocity_rad_s).max(0.0) * self.tick_s;
+            }
+        }
+        if w.angle_rad.is_finite() {
+            self.block_sum_rad += w.angle_rad;
+            self.block_finite += 1;
+        }
+        self.block_ticks += 1;
+        if self.block_ticks < self.ticks_per_sample {
+            return;
+        }
+        // A block without a finite reading holds the last sample, keeping the time base.
+        let angle = if self.block_finite > 0 {
+            self.block_sum_rad / self.block_finite as f64
+        } else {
+            self.wheel_rad.last().copied().unwrap_or(0.0)
+        };
+        (self.block_sum_rad, self.block_ticks, self.block_finite) = (0.0, 0, 0);
+        self.wheel_rad.push(angle);
+        let joints = match &rec.arm {
+            Some(arm) if arm.setup == ArmSetup::Tracking => {
+                let j = [arm.shoulder_elevation_rad, arm.elbow_flexion_rad];
+                if j.iter().all(|v| v.is_finite()) {
+                    self.shoulder_elevation_rad.push(j[0]);
+                    self.elbow_flexion_rad.push(j[1]);
+                }
+                j
+            }
+            _ => [f64::NAN; 2],
+        };
+        // Same joint count as given to `new`: cannot fail.
+        let _ = self.live.update(angle, &joints);
+    }
+
+    /// The live measures for a summary, name → value (unit in the name).
+    pub fn live(&self) -> BTreeMap<String, f64> {
+        let l = &self.live;
+        let mut m = BTreeMap::from([
+            ("movements".to_owned(), l.movements() as f64),
+            ("active_s".to_owned(), l.active_s()),
+            ("wheel_speed_deg_s".to_owned(), l.speed_rad_s().to_degrees()),
+            (
+                "peak_speed_deg_s".to_owned(),
+                l.session_peak_speed_rad_s().to_degrees(),
+            ),
+            (
+                "wheel_rom_deg".to_owned(),
+                l.wheel_range().range.to_degrees(),
+            ),
+        ]);
+        for j in l.joints().iter().filter(|j| j.min <= j.max) {
+            m.insert(format!("{}_rom_deg", j.name), j.range.to_degrees());
+        }
+        m
+    }
+
+    /// The session's measures, with the scores, pauses and assistance of `out`.
+    pub fn finish(&self, out: &super::recorder::RecorderOutcome) -> Measures {
+        let joints: Vec<(&str, &[f64])> = [
+            (JOINTS[0], self.shoulder_elevation_rad.as_slice()),
+            (JOINTS[1], self.elbow_flexion_rad.as_slice()),
+        ]
+        .into_iter()
+        .filter(|(_, x)| !x.is_empty())
+        .collect();
+        let analysed = if self.wheel_rad.len() < 2 {
+            Err(format!(
+                "the session is too short to measure ({} samples at {} Hz)",
+                self.wheel_rad.len(),
+                self.fs_hz()
+            ))
+        } else {
+            session_measures_with(
+                &self.wheel_rad,
+                self.fs_hz(),
+                &joints,
+                &SessionParams::default(),
+            )
+            .map_err(|e: MetricError| e.to_string())
+        };
+        let mut named = BTreeMap::new();
+        if let Ok(s) = &analysed {
+            name_movement_measures(&mut named, s);
+        }
+        self.name_session_figures(&mut named, out);
+        named.retain(|_, v| v.is_finite());
+        let (session, error) = match analysed {
+            Ok(s) => (Some(s), None),
+            Err(e) => (None, Some(e)),
+        };
+        Measures {
+            session,
+            named,
+            error,
+        }
+    }
+
+    /// Time, scores, assistance and work of the session.
+    fn name_session_figures(
+        &self,
+        named: &mut BTreeMap<String, f64>,
+        out: &super::recorder::RecorderOutcome,
+    ) {
+        let tick_s = self.tick_s;
+        let score = &out.last.score;
+        let mut put = |name: &str, v: f64| {
+            named.insert(name.to_owned(), v);
+        };
+        put("session_s", out.records as f64 * tick_s);
+        put("paused_s", out.paused_ticks as f64 * tick_s);
+        put("road_s", out.road_ticks as f64 * tick_s);
+        put("dial_s", out.dial_ticks as f64 * tick_s);
+        if out.road_ticks > 0 {
+            put("rms_lateral_m", score.rms_lateral_m);
+            put("max_lateral_m", score.max_lateral_m);
+            put("pct_in_lane", score.pct_in_lane);
+            put("cone_hits", f64::from(score.cone_hits));
+        }
+        if out.dial_ticks > 0 {
+            put("dial_rms_error_deg", score.dial_rms_error_deg);
+        }
+        put("max_abs_torque_nm", out.max_abs_torque_nm);
+        put(
+            "clipped_pct",
+            100.0 * out.clipped_ticks as f64 / out.records.max(1) as f64,
+        );
+        if out.assist_ticks > 0 {
+            let n = out.assist_ticks as f64;
+            put("assist_s", n * tick_s);
+            put("assist_level_mean", out.assist_level_sum / n);
+            put(
+                "assist_rms_error_deg",
+                (out.assist_error_sq_sum / n).sqrt().to_degrees(),
+            );
+        }
+        put("assist_work_j", self.assist_work_j);
+        if let Some(patient) = self.patient_work_j {
+            put("patient_work_j", patient);
+            let total = patient + self.assist_work_j;
+            if total > 0.0 {
+                put("patient_work_pct", (100.0 * patient / total).min(100.0));
+            }
+        }
+    }
+}
+
+/// The movement analysis's figures by name: counts, medians over the movements, peak speed,
+/// time active, ranges of motion (degrees, as a therapist reads them).
+fn name_movement_measures(named: &mut BTreeMap<String, f64>, s: &SessionMeasures) {
+    let mut put = |name: &str, v: f64| {
+        named.insert(name.to_owned(), v);
+    };
+    put("movements", s.movements.len() as f64);
+    put("active_s", s.active_s);
+    put("active_pct", 100.0 * s.active_fraction);
+    put("peak_speed_deg_s", s.peak_speed_rad_s.to_degrees());
+    for (name, summary, scale) in [
+        ("sparc", &s.sparc, 1.0),
+        ("ldlj", &s.ldlj, 1.0),
+        (
+            "movement_peak_speed_deg_s",
+            &s.movement_peak_speed_rad_s,
+            1.0_f64.to_degrees(),
+        ),
+        ("movement_time_s", &s.movement_time_s, 1.0),
+        ("speed_peaks", &s.n_peaks, 1.0),
+    ] {
+        if let (Some(median), Some(mean)) = (summary.median, summary.mean) {
+            put(&format!("{name}_median"), median * scale);
+            put(&format!("{name}_mean"), mean * scale);
+        }
+    }
+    put("wheel_rom_deg", s.wheel_range.range.to_degrees());
+    for j in &s.joints {
+        put(&format!("{}_rom_deg", j.name), j.range.to_degrees());
+        put(&format!("{}_min_deg", j.name), j.min.to_degrees());
+        put(&format!("{}_max_deg", j.name), j.max.to_degrees());
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::record::{ArmSample, AssistSample, WheelSample};
+    use crate::session::recorder::RecorderOutcome;
+
+    /// Two minimum-jerk turns of 0.6 rad at 1 kHz, there and back, with rest around them.
+    fn two_turns(rate_hz: f64) -> Vec<TickRecord> {
+        let n = (5.0 * rate_hz) as u64;
+        (0..n)
+            .map(|k| {
+                let t = k as f64 / rate_hz;
+                let s = |on: f64| {
+                    let tau = ((t - on) / 1.0).clamp(0.0, 1.0);
+                    10.0 * tau.powi(3) - 15.0 * tau.powi(4) + 6.0 * tau.powi(5)
+                };
+                let angle = 0.6 * (s(1.0) - s(3.0));
+                TickRecord {
+                    tick: k,
+                    t_ns: (t * 1e9) as u64,
+                    wheel: WheelSample {
+                        angle_rad: angle,
+                        velocity_rad_s: 1.0,
+                        hand_nm: Some(0.3),
+                        ..WheelSample::default()
+                    },
+                    assist: AssistSample {
+                        active: true,
+                        torque_nm: 0.1,
+                        ..AssistSample::default()
+                    },
+                    arm: Some(ArmSample {
+                        elbow_flexion_rad: 1.0 + angle,
+                        shoulder_elevation_rad: 0.5,
+                        ..ArmSample::default()
+                    }),
+                    ..TickRecord::default()
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn two_turns_are_two_smooth_movements_with_their_ranges() {
+        let mut c = MeasureCollector::new(1000.0, 5000);
+        let mut out = RecorderOutcome::default();
+        for rec in two_turns(1000.0) {
+            c.add(&rec);
+            out.add(&rec);
+        }
+        assert_eq!(c.fs_hz(), 100.0);
+        let m = c.finish(&out);
+        assert_eq!(m.error, None);
+        let s = m.session.as_ref().unwrap();
+        assert_eq!(s.movements.len(), 2);
+        assert_eq!(m.named["movements"], 2.0);
+        assert_eq!(m.named["speed_peaks_median"], 1.0);
+        let sparc = m.named["sparc_median"];
+        assert!((-1.6..-1.3).contains(&sparc), "{sparc}");
+        // 0.6 rad of wheel and of elbow; the shoulder did not move.
+        assert!((m.named["wheel_rom_deg"] - 0.6_f64.to_degrees()).abs() < 0.1);
+        assert!((m.named["elbow_flexion_rom_deg"] - 0.6_f64.to_degrees()).abs() < 0.1);
+        assert_eq!(m.named["shoulder_elevation_rom_deg"], 0.0);
+        assert!((m.named["session_s"] - 5.0).abs() < 1e-9);
+        // The hand did 0.3 N·m · 1 rad/s · 5 s, the assist 0.1 · 1 · 5: the patient 75 %.
+        assert!((m.named["patient_work_j"] - 1.5).abs() < 1e-9);
+        assert!((m.named["assist_work_j"] - 0.5).abs() < 1e-9);
+        assert!((m.named["patient_work_pct"] - 75.0).abs() < 1e-9);
+        assert!(m.named.values().all(|v| v.is_finite()));
+        // Within the protocol's limit on named values.
+        assert!(m.named.len() <= netlink::frame::MAX_EXTRA_ENTRIES);
+    }
+
+    #[test]
+    fn the_live_measures_follow_the_session() {
+        let mut c = MeasureCollector::new(1000.0, 5000);
+        let recs = two_turns(1000.0);
+        for rec in &recs[..2500] {
+            c.add(rec);
+        }
+        let live = c.live();
+        assert_eq!(live["movements"], 1.0, "{live:?}");
+        assert!(live["active_s"] > 0.5, "{live:?}");
+        assert!((live["wheel_rom_deg"] - 0.6_f64.to_degrees()).abs() < 0.1);
+    }
+
+    #[test]
+    fn nan_wheel_readings_and_a_lost_arm_do_not_spoil_the_measures() {
+        let mut c = MeasureCollector::new(1000.0, 5000);
+        let mut out = RecorderOutcome::default();
+        for (k, mut rec) in two_turns(1000.0).into_iter().enumerate() {
+            if k % 7 == 0 || (1200..1300).contains(&k) {
+                rec.wheel.angle_rad = f64::NAN;
+                rec.wheel.velocity_rad_s = f64::NAN;
+            }
+            if k > 4000 {
+                rec.arm = rec.arm.map(|a| ArmSample {
+                    setup: ArmSetup::SensorLost,
+                    elbow_flexion_rad: f64::NAN,
+                    ..a
+                });
+            }
+            c.add(&rec);
+            out.add(&rec);
+        }
+        let m = c.finish(&out);
+        assert_eq!(m.error, None);
+        assert_eq!(m.named["movements"], 2.0);
+        assert!(m.named.values().all(|v| v.is_finite()));
+    }
+
+    #[test]
+    fn a_session_too_short_to_measure_says_so_and_keeps_its_figures() {
+        let mut c = MeasureCollector::new(1000.0, 5);
+        let mut out = RecorderOutcome::default();
+        for rec in &two_turns(1000.0)[..5] {
+            c.add(rec);
+            out.add(rec);
+        }
+        let m = c.finish(&out);
+        assert!(m.session.is_none());
+        assert!(
+            m.error.as_deref().unwrap().contains("too short"),
+            "{:?}",
+            m.error
+        );
+        assert!(m.named.contains_key("session_s"));
+        assert!(!m.named.contains_key("movements"));
+    }
+}
