@@ -57,6 +57,7 @@ fn short_session_records_every_tick_on_every_channel_with_schemas() {
             expect("/arm"),
             expect("/arm_calibration"),
             expect("/assist"),
+            expect("/metrics"),
             expect("/score"),
             expect("/timing"),
             expect("/vehicle"),
@@ -83,7 +84,8 @@ fn short_session_records_every_tick_on_every_channel_with_schemas() {
     for pair in wheel.windows(2) {
         assert_eq!(pair[1].log_time - pair[0].log_time, 1_000_000);
     }
-    // Each message has exactly the fields its schema describes (optional ones are null).
+    // Each message has the fields its schema requires, and no field it does not describe
+    // (an optional field is left out, never null).
     for (topic, list) in &msgs {
         let c = summary
             .channels
@@ -92,22 +94,25 @@ fn short_session_records_every_tick_on_every_channel_with_schemas() {
             .unwrap();
         let schema: serde_json::Value =
             serde_json::from_slice(&c.schema.as_ref().unwrap().data).unwrap();
-        let mut want: Vec<&str> = schema["properties"]
-            .as_object()
+        let described = schema["properties"].as_object().unwrap();
+        let required: Vec<&str> = schema["required"]
+            .as_array()
             .unwrap()
-            .keys()
-            .map(|k| k.as_str())
+            .iter()
+            .map(|k| k.as_str().unwrap())
             .collect();
-        want.sort();
-        let mut got: Vec<&str> = list[0]
-            .json
-            .as_object()
-            .unwrap()
-            .keys()
-            .map(|k| k.as_str())
-            .collect();
-        got.sort();
-        assert_eq!(got, want, "{topic}");
+        for m in list {
+            let fields = m.json.as_object().unwrap();
+            assert!(
+                required.iter().all(|k| fields.contains_key(*k)),
+                "{topic}: {fields:?} lacks one of {required:?}"
+            );
+            assert!(
+                fields.keys().all(|k| described.contains_key(k)),
+                "{topic}: {fields:?} has a field the schema does not describe"
+            );
+            assert!(fields.values().all(|v| !v.is_null()), "{topic}: a null");
+        }
     }
     // The arm pose from the simulated IMUs follows the simulated truth.
     let arm = &msgs["/arm"];
@@ -132,6 +137,10 @@ fn short_session_records_every_tick_on_every_channel_with_schemas() {
         wheel.last().unwrap().json["commanded_nm"].as_f64().unwrap(),
         0.0
     );
+    // The recording holds all it takes to re-run the session bit for bit.
+    let out = run_ok(&["replay", path.to_str().unwrap()]);
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(said.contains("replay: identical"), "{said}");
 }
 
 fn simulation_payloads(path: &std::path::Path) -> Vec<(String, serde_json::Value)> {
@@ -165,8 +174,9 @@ fn same_seed_gives_identical_simulation_data_and_another_seed_does_not() {
     let a = run("11", "a.mcap");
     let b = run("11", "b.mcap");
     let c = run("12", "c.mcap");
-    // Four per-tick channels, a score every 100 ms, the arm calibration once at the end.
-    assert_eq!(a.len(), 2101 * 4 + 21 + 1);
+    // Four per-tick channels, a score every 100 ms, the arm calibration and the session's
+    // measures once at the end.
+    assert_eq!(a.len(), 2101 * 4 + 21 + 2);
     assert!(
         a == b,
         "same seed must give identical recorded simulation data"
@@ -231,6 +241,22 @@ fn sigint_ends_the_session_cleanly_with_a_readable_recording() {
     assert_eq!(
         wheel.last().unwrap().json["commanded_nm"].as_f64().unwrap(),
         0.0
+    );
+    // The stop was the patient's input: a replay runs the whole session, says why it will
+    // differ, and names where it first does (the stop's fade-out).
+    let out = Command::new(telerehab_tests::telerehab_bin())
+        .args(["replay", path.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let (said, err) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert!(!out.status.success(), "{said}");
+    assert!(said.contains("the session was stopped after"), "{said}");
+    assert!(
+        err.contains("replay differs: first at /wheel message"),
+        "{err}"
     );
 }
 
@@ -476,4 +502,35 @@ fn assist_prescribed_for_one_exercise_of_a_regimen_is_reported() {
         report.contains("\nassist              mean level"),
         "{report}"
     );
+}
+
+/// A real-time session with the guided arm procedure (its mounting solved on a thread of its
+/// own) replays bit for bit as fast as possible; the replay says so.
+#[test]
+fn a_real_time_session_replays_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("station.toml");
+    std::fs::write(&config, "[arm]\nsim_mounting = \"guided\"\n").unwrap();
+    let path = dir.path().join("s.mcap");
+    run_ok(&[
+        "run",
+        "--sim",
+        "--headless",
+        "--config",
+        config.to_str().unwrap(),
+        "--duration",
+        "12",
+        "--seed",
+        "11",
+        "--record",
+        path.to_str().unwrap(),
+    ]);
+    let arm = by_topic(&read_mcap(&path)).remove("/arm").unwrap();
+    assert!(
+        arm.iter().any(|m| m.json["setup"] == "tracking"),
+        "the procedure finished within the session"
+    );
+    let out = run_ok(&["replay", path.to_str().unwrap()]);
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(said.contains("replay: identical"), "{said}");
 }

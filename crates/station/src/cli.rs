@@ -2,7 +2,7 @@
 //! subcommand's arguments and `run()` live in its own file under [`crate::commands`].
 
 use crate::commands::{
-    bench, devices, hub, pair, recover, render, run, sync, therapist, vehicle, wheel,
+    bench, devices, hub, pair, recover, render, replay, run, sync, therapist, vehicle, wheel,
 };
 use clap::{Parser, Subcommand};
 
@@ -32,6 +32,8 @@ pub enum Command {
     Render(render::RenderArgs),
     /// Finish the MCAP recording of a killed session into a complete file.
     Recover(recover::RecoverArgs),
+    /// Re-run a recorded simulated session and say whether it is reproduced bit for bit.
+    Replay(replay::ReplayArgs),
     /// Run the vehicle model offline on a CSV of driver inputs.
     Vehicle(vehicle::VehicleArgs),
     /// Measure the whole station (for BENCHMARKS.md).
@@ -54,6 +56,7 @@ pub fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Devices(args) => devices::run(&args),
         Command::Render(args) => render::run(args),
         Command::Recover(args) => recover::run(&args),
+        Command::Replay(args) => replay::run(&args),
         Command::Vehicle(args) => vehicle::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Wheel(args) => wheel::run(&args),

@@ -8,6 +8,7 @@ pub mod hub;
 pub mod pair;
 pub mod recover;
 pub mod render;
+pub mod replay;
 pub mod run;
 pub mod sync;
 pub mod therapist;

@@ -32,9 +32,10 @@ pub mod types;
 pub mod writer;
 
 pub use channels::{CHANNELS, Channel, ChannelSpec};
-pub use reader::{ReadError, Recording};
+pub use reader::{RawMessages, ReadError, Recording, raw_messages};
 pub use types::{
-    ArmCalibrationSample, ArmSample, ArmSetup, AssistSample, ScoreSample, SessionMetadata, Stamped,
-    TickRecord, TimingSample, VehicleSample, Watchdog, WheelSample,
+    ArmCalibrationSample, ArmSample, ArmSetup, AssistSample, MetricsSample, MovementSample,
+    ScoreSample, SessionMetadata, Stamped, TickRecord, TimingSample, VehicleSample, Watchdog,
+    WheelSample,
 };
 pub use writer::RecordWriter;

@@ -2,8 +2,8 @@
 
 use super::channels::Channel;
 use super::types::{
-    ArmCalibrationSample, ArmSample, AssistSample, MetadataError, ScoreSample, SessionMetadata,
-    Stamped, TickRecord, TimingSample, VehicleSample, WheelSample,
+    ArmCalibrationSample, ArmSample, AssistSample, MetadataError, MetricsSample, ScoreSample,
+    SessionMetadata, Stamped, TickRecord, TimingSample, VehicleSample, WheelSample,
 };
 use mcap::records::Record;
 use serde::de::DeserializeOwned;
@@ -63,6 +63,8 @@ pub struct Recording {
     pub arm: Vec<Stamped<ArmSample>>,
     /// `/arm_calibration`, at most once, at the end.
     pub arm_calibration: Vec<Stamped<ArmCalibrationSample>>,
+    /// `/metrics`, at most once, at the end.
+    pub metrics: Vec<Stamped<MetricsSample>>,
 }
 
 impl Recording {
@@ -90,30 +92,10 @@ impl Recording {
 
     /// Read a recording held in memory. Messages on topics that are not ours are skipped.
     pub fn from_bytes(bytes: &[u8]) -> Result<Self, ReadError> {
-        let mut topics: BTreeMap<u16, Channel> = BTreeMap::new();
-        let mut raw: BTreeMap<Channel, Vec<Vec<u8>>> = BTreeMap::new();
-        let mut metadata = None;
-        for record in mcap::read::ChunkFlattener::new(bytes)? {
-            match record? {
-                Record::Channel(c) => {
-                    if let Some(channel) = Channel::from_topic(&c.topic) {
-                        topics.insert(c.id, channel);
-                    }
-                }
-                Record::Message { header, data } => {
-                    if let Some(channel) = topics.get(&header.channel_id) {
-                        raw.entry(*channel).or_default().push(data.into_owned());
-                    }
-                }
-                Record::Metadata(m) if m.name == SessionMetadata::NAME => {
-                    metadata = Some(SessionMetadata::from_map(&m.metadata)?);
-                }
-                _ => {}
-            }
-        }
+        let (metadata, mut raw) = raw_messages(bytes)?;
         let mut take = |channel| raw.remove(&channel).unwrap_or_default();
         Ok(Self {
-            metadata: metadata.ok_or(ReadError::NoMetadata)?,
+            metadata,
             wheel: decode(Channel::Wheel, take(Channel::Wheel))?,
             vehicle: decode(Channel::Vehicle, take(Channel::Vehicle))?,
             score: decode(Channel::Score, take(Channel::Score))?,
@@ -121,6 +103,7 @@ impl Recording {
             timing: decode(Channel::Timing, take(Channel::Timing))?,
             arm: decode(Channel::Arm, take(Channel::Arm))?,
             arm_calibration: decode(Channel::ArmCalibration, take(Channel::ArmCalibration))?,
+            metrics: decode(Channel::Metrics, take(Channel::Metrics))?,
         })
     }
 
@@ -151,6 +134,37 @@ impl Recording {
             }
         })
     }
+}
+
+/// Every message of each of our channels as written (JSON bytes), in file order.
+pub type RawMessages = BTreeMap<Channel, Vec<Vec<u8>>>;
+
+/// The session metadata and every message of our channels as written (JSON bytes), in file
+/// order, by channel: what `telerehab replay` compares bit for bit. Messages on topics that
+/// are not ours are skipped.
+pub fn raw_messages(bytes: &[u8]) -> Result<(SessionMetadata, RawMessages), ReadError> {
+    let mut topics: BTreeMap<u16, Channel> = BTreeMap::new();
+    let mut raw = RawMessages::new();
+    let mut metadata = None;
+    for record in mcap::read::ChunkFlattener::new(bytes)? {
+        match record? {
+            Record::Channel(c) => {
+                if let Some(channel) = Channel::from_topic(&c.topic) {
+                    topics.insert(c.id, channel);
+                }
+            }
+            Record::Message { header, data } => {
+                if let Some(channel) = topics.get(&header.channel_id) {
+                    raw.entry(*channel).or_default().push(data.into_owned());
+                }
+            }
+            Record::Metadata(m) if m.name == SessionMetadata::NAME => {
+                metadata = Some(SessionMetadata::from_map(&m.metadata)?);
+            }
+            _ => {}
+        }
+    }
+    Ok((metadata.ok_or(ReadError::NoMetadata)?, raw))
 }
 
 /// The message of `tick`, skipping any earlier ones.

@@ -1,0 +1,246 @@
+//! `telerehab replay`: re-run a recorded simulated session from its seed, configuration and
+//! regimen (all in the recording's `session` metadata) as fast as possible, and say whether
+//! every recorded output is reproduced bit for bit — the first difference named if not.
+//!
+//! Bit for bit means the same JSON bytes on every channel but `/timing` (wall-clock loop
+//! timing, which no two runs share): serde_json writes the shortest text that reads back to
+//! the same `f64`, so equal bytes are equal bits.
+
+use crate::config::StationConfig;
+use crate::record::{Channel, RawMessages, SessionMetadata, raw_messages};
+use crate::regimen::Regimen;
+use crate::session::haptic::Pacing;
+use crate::session::{self, BodyKind, Controls, SessionOptions};
+use anyhow::{Context, bail};
+use clock::Clock;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// `telerehab replay`.
+#[derive(Debug, clap::Args)]
+pub struct ReplayArgs {
+    /// The session's recording (MCAP), as `telerehab run --record` wrote it.
+    pub recording: PathBuf,
+}
+
+/// Where a replay first left the recording.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Difference {
+    /// The channel's topic.
+    pub topic: &'static str,
+    /// The message's index on its channel.
+    pub index: usize,
+    /// What differs, for a person.
+    pub what: String,
+}
+
+/// What a replay found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReplayOutcome {
+    /// Messages compared on each channel (recorded count).
+    pub compared: BTreeMap<&'static str, usize>,
+    /// The first difference, if any.
+    pub first_difference: Option<Difference>,
+    /// Why the recording cannot be reproduced exactly, if something says so in advance
+    /// (patient pauses, an early stop).
+    pub caveats: Vec<String>,
+}
+
+/// Replay `args.recording` and print what was reproduced; fails on a difference.
+pub fn run(args: &ReplayArgs) -> anyhow::Result<()> {
+    let outcome = replay(&args.recording)?;
+    let total: usize = outcome.compared.values().sum();
+    for c in &outcome.caveats {
+        println!("replay: note: {c}");
+    }
+    match &outcome.first_difference {
+        None => {
+            println!(
+                "replay: identical — every recorded output reproduced bit for bit ({total} messages on {} channels; /timing is wall-clock and not compared)",
+                outcome.compared.len()
+            );
+            Ok(())
+        }
+        Some(d) => bail!(
+            "replay differs: first at {} message {}: {}",
+            d.topic,
+            d.index,
+            d.what
+        ),
+    }
+}
+
+/// Re-run the simulated session recorded at `path` and compare every channel but `/timing`.
+pub fn replay(path: &Path) -> anyhow::Result<ReplayOutcome> {
+    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let (meta, recorded) = raw_messages(&bytes)
+        .with_context(|| format!("{} is not a readable recording", path.display()))?;
+    let wheel = recorded.get(&Channel::Wheel).map_or(&[][..], Vec::as_slice);
+    let first: serde_json::Value = match wheel.first() {
+        Some(m) => serde_json::from_slice(m).context("the first /wheel message")?,
+        None => bail!(
+            "{} has no /wheel messages: nothing to replay",
+            path.display()
+        ),
+    };
+    if first.get("true_angle_rad").is_none() {
+        bail!(
+            "{} is a session on a real wheel: its patient's hands cannot be re-run (replay \
+             re-runs simulated sessions; a real session's raw device readings are not recorded yet)",
+            path.display()
+        );
+    }
+    let (opts, caveats) = options(&meta, wheel.len(), &recorded)?;
+    let dir = tempfile::tempdir().context("cannot make a temporary directory")?;
+    let again_path = dir.path().join("replay.mcap");
+    let opts = SessionOptions {
+        record: Some(again_path.clone()),
+        ..opts
+    };
+    let report = session::run(&opts, &Controls::default(), &mut ())?;
+    if let Some(e) = report.recorder.error {
+        bail!("the replay's own recording failed: {e}");
+    }
+    let again_bytes = std::fs::read(&again_path).context("cannot read the replay's recording")?;
+    let (_, again) = raw_messages(&again_bytes).context("the replay's recording")?;
+    Ok(ReplayOutcome {
+        compared: Channel::ALL
+            .into_iter()
+            .filter(|c| *c != Channel::Timing)
+            .map(|c| (c.topic(), recorded.get(&c).map_or(0, Vec::len)))
+            .collect(),
+        first_difference: first_difference(&recorded, &again),
+        caveats,
+    })
+}
+
+/// The session options that re-run the recorded session, and what may keep it from being
+/// reproduced.
+fn options(
+    meta: &SessionMetadata,
+    recorded_ticks: usize,
+    recorded: &RawMessages,
+) -> anyhow::Result<(SessionOptions, Vec<String>)> {
+    let config = StationConfig::from_toml(&meta.config_toml, "the recording's configuration")?;
+    let regimen = meta
+        .regimen_toml
+        .as_deref()
+        .map(|t| Regimen::from_toml(t, "the recording's regimen"))
+        .transpose()?;
+    let mut caveats = Vec::new();
+    let expected = (config.session.duration_s * config.session.loop_rate_hz).round() as usize;
+    if recorded_ticks < expected {
+        caveats.push(format!(
+            "the session was stopped after {recorded_ticks} of {expected} ticks; the replay runs \
+             them all, so it differs from the stop on"
+        ));
+    }
+    let paused = recorded.get(&Channel::Score).is_some_and(|scores| {
+        scores.iter().any(|m| {
+            serde_json::from_slice::<serde_json::Value>(m).is_ok_and(|v| v["paused"] == true)
+        })
+    });
+    if paused {
+        caveats.push(
+            "the patient paused this session; pauses are not replayed, so it differs from the \
+             first pause on"
+                .into(),
+        );
+    }
+    Ok((
+        SessionOptions {
+            config,
+            pacing: Pacing::Max,
+            record: None,
+            body: BodyKind::Simulated,
+            regimen,
+            isolate_core: false,
+            clock: Clock::mock().0,
+        },
+        caveats,
+    ))
+}
+
+/// The first message (channel order, then index) whose bytes differ, named down to the field.
+fn first_difference(recorded: &RawMessages, again: &RawMessages) -> Option<Difference> {
+    let none = Vec::new();
+    Channel::ALL
+        .into_iter()
+        .filter(|c| *c != Channel::Timing)
+        .find_map(|channel| {
+            let (a, b) = (
+                recorded.get(&channel).unwrap_or(&none),
+                again.get(&channel).unwrap_or(&none),
+            );
+            let topic = channel.topic();
+            if let Some(index) = a.iter().zip(b).position(|(x, y)| x != y) {
+                return Some(Difference {
+                    topic,
+                    index,
+                    what: field_difference(&a[index], &b[index]),
+                });
+            }
+            (a.len() != b.len()).then(|| Difference {
+                topic,
+                index: a.len().min(b.len()),
+                what: format!("{} messages recorded, {} replayed", a.len(), b.len()),
+            })
+        })
+}
+
+/// The first field whose value differs between two messages of one channel.
+fn field_difference(recorded: &[u8], again: &[u8]) -> String {
+    let parse = |m: &[u8]| serde_json::from_slice::<serde_json::Map<String, serde_json::Value>>(m);
+    let (Ok(a), Ok(b)) = (parse(recorded), parse(again)) else {
+        return "the message bytes differ".into();
+    };
+    let at = format!("tick {}, t = {} s", a["tick"], a["t_s"]);
+    a.iter()
+        .find(|(k, v)| b.get(*k) != Some(v))
+        .map(|(k, v)| {
+            let replayed = b.get(k).map_or("absent".to_owned(), ToString::to_string);
+            format!("{at}: {k} recorded {v}, replayed {replayed}")
+        })
+        .or_else(|| {
+            b.keys()
+                .find(|k| !a.contains_key(*k))
+                .map(|k| format!("{at}: {k} absent from the recording, replayed {}", b[k]))
+        })
+        .unwrap_or_else(|| format!("{at}: the same values written differently"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn message(tick: u64, angle: f64) -> Vec<u8> {
+        serde_json::to_vec(
+            &serde_json::json!({"tick": tick, "t_s": tick as f64 / 1000.0, "angle_rad": angle}),
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn the_first_difference_is_named_by_channel_tick_and_field() {
+        let recorded = BTreeMap::from([(Channel::Wheel, vec![message(0, 0.5), message(1, 0.25)])]);
+        let mut again = recorded.clone();
+        assert_eq!(first_difference(&recorded, &again), None);
+        again.get_mut(&Channel::Wheel).unwrap()[1] = message(1, 0.250_000_000_000_000_06);
+        let d = first_difference(&recorded, &again).unwrap();
+        assert_eq!((d.topic, d.index), ("/wheel", 1));
+        assert_eq!(
+            d.what,
+            "tick 1, t = 0.001 s: angle_rad recorded 0.25, replayed 0.25000000000000006"
+        );
+        again.get_mut(&Channel::Wheel).unwrap().truncate(1);
+        let d = first_difference(&recorded, &again).unwrap();
+        assert_eq!(d.what, "2 messages recorded, 1 replayed");
+    }
+
+    #[test]
+    fn timing_is_not_compared() {
+        let recorded = BTreeMap::from([(Channel::Timing, vec![message(0, 1.0)])]);
+        let again = BTreeMap::from([(Channel::Timing, vec![message(0, 2.0)])]);
+        assert_eq!(first_difference(&recorded, &again), None);
+    }
+}
