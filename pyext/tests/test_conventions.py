@@ -105,7 +105,7 @@ def test_results_are_immutable():
 
 def test_package_exposes_its_modules_and_the_native_stub_ships():
     assert telerehab.imu is imu and telerehab.calib is calib and telerehab.metrics is metrics
-    assert set(telerehab.__all__) == {"__version__", "calib", "imu", "metrics"}
+    assert set(telerehab.__all__) == {"__version__", "calib", "imu", "metrics", "session"}
     from importlib import resources
 
     files = {p.name for p in resources.files("telerehab").iterdir()}

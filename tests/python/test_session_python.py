@@ -71,3 +71,13 @@ def test_not_a_recording_is_a_value_error_naming_the_file(tmp_path):
         telerehab.session.read(bad)
     with pytest.raises(FileNotFoundError):
         telerehab.session.read(tmp_path / "missing.mcap")
+
+
+def test_a_channel_is_a_pandas_frame_indexed_by_session_time(recording):
+    s = telerehab.session.read(recording)
+    frame = s.frame("/wheel")
+    assert frame.index.name == "t_s"
+    assert len(frame) == len(s.channels["/wheel"]["t_s"])
+    assert np.array_equal(frame["angle_rad"].to_numpy(), s.channels["/wheel"]["angle_rad"])
+    with pytest.raises(KeyError, match="/wheel"):
+        s.frame("/nope")

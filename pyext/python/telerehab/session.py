@@ -18,6 +18,7 @@ Pure Python over the ``mcap`` reader: the file is read once, message by message.
 
 from __future__ import annotations
 
+import importlib
 import json
 import os
 from dataclasses import dataclass, field
@@ -77,8 +78,8 @@ class Session:
         Raises ``ImportError`` without pandas (``pip install pandas``) and ``KeyError`` naming
         the topics present for an unknown one.
         """
-        import pandas as pd  # optional: numpy columns serve without it
-
+        # Optional (numpy columns serve without it), so imported here and untyped.
+        pd: Any = importlib.import_module("pandas")
         columns = self._channel(topic)
         flat = {k: v for k, v in columns.items() if v.ndim == 1}
         return pd.DataFrame(flat).set_index("t_s")
