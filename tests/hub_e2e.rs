@@ -30,12 +30,18 @@ fn ok(args: &[&str], home: Option<&Path>) -> String {
 
 /// A clinic directory with one patient; the pairing code.
 fn clinic(dir: &Path) -> (PathBuf, String) {
+    clinic_on(dir, None)
+}
+
+/// [`clinic`] with its database at `db` (a PostgreSQL URL) instead of SQLite in the directory.
+fn clinic_on(dir: &Path, db: Option<&str>) -> (PathBuf, String) {
     let data = dir.join("clinic");
     let d = data.to_str().unwrap();
-    let init = ok(
-        &["hub", "init", "--data", d, "--admin", "ana@clinic.example"],
-        None,
-    );
+    let mut args = vec!["hub", "init", "--data", d, "--admin", "ana@clinic.example"];
+    if let Some(url) = db {
+        args.extend(["--db", url]);
+    }
+    let init = ok(&args, None);
     assert!(init.contains("one-time password: "), "{init}");
     let add = ok(
         &[
@@ -459,5 +465,72 @@ fn a_prescribed_regimen_reaches_the_station_and_runs_at_its_next_session() {
         !second.contains("exercises           1 (1 run)"),
         "the regimen's exercises run: {second}"
     );
+    hub.stop();
+}
+
+/// A fresh database on the test PostgreSQL server (`scripts/with-postgres.sh` names it in
+/// `TELEREHAB_TEST_PG_URL`), made with `psql`; `None` after saying SKIPPED without one.
+fn fresh_postgres_database() -> Option<String> {
+    let Ok(admin) = std::env::var("TELEREHAB_TEST_PG_URL") else {
+        println!(
+            "SKIPPED: TELEREHAB_TEST_PG_URL is not set (scripts/with-postgres.sh starts a server)"
+        );
+        return None;
+    };
+    let name = format!(
+        "e2e_{}_{}",
+        std::process::id(),
+        std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .unwrap()
+            .as_nanos()
+    );
+    let out = Command::new("psql")
+        .args([
+            admin.as_str(),
+            "-v",
+            "ON_ERROR_STOP=1",
+            "-c",
+            &format!("CREATE DATABASE {name}"),
+        ])
+        .output()
+        .expect("psql (installed with postgresql by scripts/setup.sh)");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let base = admin.rsplit_once('/').map_or(admin.as_str(), |(b, _)| b);
+    Some(format!("{base}/{name}"))
+}
+
+/// The acceptance path of a clinic that chose PostgreSQL: `hub init --db postgres://…`, then
+/// every command finds the database from the clinic's directory.
+#[test]
+fn a_clinic_on_postgresql_pairs_streams_and_shows_the_patient() {
+    let Some(url) = fresh_postgres_database() else {
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let (data, code) = clinic_on(tmp.path(), Some(&url));
+    assert!(
+        !data.join("hub.db").exists(),
+        "no SQLite file beside PostgreSQL"
+    );
+    let hub = Hub::serve(&data, "127.0.0.1:0");
+    let home = tmp.path().join("station");
+    ok(
+        &["pair", "--hub", &hub.stations, "--code", &code],
+        Some(&home),
+    );
+    let report = run_session(&home, "3");
+    let n = produced(&report);
+    assert!(
+        report.contains(&format!("{n} sent, {n} acknowledged, 0 NOT delivered")),
+        "{report}"
+    );
+    let (stored, revoked) = show(&data);
+    assert_eq!((stored, revoked), (vec![n], 0));
+    assert!(show_json(&data)["sessions"][0]["metrics"]["movements"].is_number());
     hub.stop();
 }

@@ -86,6 +86,22 @@ fn refusal(e: HubError) -> Refusal {
     Refusal::new(e.to_string())
 }
 
+/// Checkpoints the database's write-ahead log every second, off the writer's path, for as
+/// long as the store's writer channel lives.
+async fn checkpoints(db: Db, writer: mpsc::WeakSender<Pending>) {
+    let mut every = tokio::time::interval(Duration::from_secs(1));
+    every.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    loop {
+        every.tick().await;
+        if writer.upgrade().is_none() {
+            return;
+        }
+        if let Err(e) = db.checkpoint().await {
+            tracing::warn!("{e}");
+        }
+    }
+}
+
 impl DbStore {
     /// A store over `db` issuing certificates from `ca` for a hub named `server_name`; its
     /// group-commit writer runs on the current tokio runtime.
@@ -98,6 +114,7 @@ impl DbStore {
     ) -> Self {
         let (writer, rx) = mpsc::channel(4 * MAX_BATCH);
         tokio::spawn(group_commit(db.clone(), rx, now_ms.clone()));
+        tokio::spawn(checkpoints(db.clone(), writer.downgrade()));
         Self {
             recordings,
             writer,

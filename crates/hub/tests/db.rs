@@ -64,6 +64,7 @@ on_both_backends!(
     summaries_are_stored_exactly_once,
     concurrent_duplicates_are_stored_once,
     a_batch_has_the_outcomes_of_storing_one_by_one,
+    a_checkpoint_keeps_every_summary_readable,
     session_of_another_station_is_refused,
     sessions_close_and_list,
     metrics_and_recordings,
@@ -658,6 +659,22 @@ async fn sessions_close_and_list(db: Db) {
         db.close_session(&unknown, T0).await,
         Err(HubError::NotFound { .. })
     ));
+}
+
+async fn a_checkpoint_keeps_every_summary_readable(db: Db) {
+    let (_, p) = paired(&db).await;
+    db.open_session(&hello("st-1", &p.id, "s1"), T0)
+        .await
+        .unwrap();
+    let batch: Vec<Summary> = (0..300).map(|seq| summary("s1", seq)).collect();
+    db.store_summaries(&batch, T0).await.unwrap();
+    // The hub's background checkpoint (SQLite; nothing to do on PostgreSQL) while writing.
+    let last = [summary("s1", 300)];
+    let (checkpointed, more) = tokio::join!(db.checkpoint(), db.store_summaries(&last, T0));
+    checkpointed.unwrap();
+    more.unwrap();
+    db.checkpoint().await.unwrap();
+    assert_eq!(db.summaries_of("s1").await.unwrap().len(), 301);
 }
 
 async fn metrics_and_recordings(db: Db) {

@@ -55,6 +55,13 @@ static MIGRATOR: sqlx::migrate::Migrator = sqlx::migrate!("./migrations");
 /// How long a connection waits for a locked SQLite database before failing, ms.
 pub const SQLITE_BUSY_TIMEOUT_MS: u64 = 5_000;
 
+/// WAL pages after which a committing SQLite connection checkpoints by itself (SQLite's
+/// default is 1 000, about 4 MB: once a second at 1 000 stations, and the commit that does it
+/// waits for the copy and its fsync, which was the ingest's latency tail). The hub checkpoints
+/// from a task of its own instead ([`Db::checkpoint`]); this only bounds the WAL (≈ 400 MB) if
+/// that task ever stops.
+const SQLITE_WAL_AUTOCHECKPOINT_PAGES: u32 = 100_000;
+
 /// Which database engine a [`Db`] talks to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[non_exhaustive]
@@ -113,7 +120,8 @@ impl Db {
                         let pragmas = format!(
                             "PRAGMA journal_mode = WAL; PRAGMA busy_timeout = \
                              {SQLITE_BUSY_TIMEOUT_MS}; PRAGMA foreign_keys = ON; \
-                             PRAGMA synchronous = NORMAL;"
+                             PRAGMA synchronous = NORMAL; \
+                             PRAGMA wal_autocheckpoint = {SQLITE_WAL_AUTOCHECKPOINT_PAGES};"
                         );
                         conn.execute(sqlx::raw_sql(sqlx::AssertSqlSafe(pragmas)))
                             .await?;
@@ -151,6 +159,19 @@ impl Db {
     /// The engine behind this database.
     pub fn backend(&self) -> Backend {
         self.backend
+    }
+
+    /// Copies what the SQLite write-ahead log holds into the database file without waiting
+    /// for (or blocking) the writer or readers (`wal_checkpoint(PASSIVE)`); the hub runs it
+    /// about once a second on a connection of its own. Nothing to do on PostgreSQL.
+    pub async fn checkpoint(&self) -> Result<(), HubError> {
+        if self.backend == Backend::Sqlite {
+            sqlx::raw_sql("PRAGMA wal_checkpoint(PASSIVE)")
+                .execute(&self.pool)
+                .await
+                .map_err(HubError::db("checkpointing the write-ahead log"))?;
+        }
+        Ok(())
     }
 
     /// The schema version applied (the highest migration number).

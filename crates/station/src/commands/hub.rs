@@ -408,6 +408,7 @@ async fn bench(
     tokio::spawn(async move { while let Ok(Some(_)) = lines.next_line().await {} });
     let pid = child.id().context("hub pid")?;
     let before = hub::bench::process_usage(pid);
+    let generator_before = hub::bench::process_usage(std::process::id());
     let report = hub::bench::load(
         addr,
         provisioned,
@@ -416,6 +417,7 @@ async fn bench(
     )
     .await;
     let after = hub::bench::process_usage(pid);
+    let generator_after = hub::bench::process_usage(std::process::id());
     let usage = before.zip(after).map(|(b, a)| (a.0 - b.0, a.1));
     let _ = child.kill().await;
     println!(
@@ -424,6 +426,13 @@ async fn bench(
         hub_cpus.map_or(String::new(), |c| format!(", hub on CPUs {c}"))
     );
     print!("{}", hub::bench::describe(&report, seconds, rate_hz, usage));
+    if let Some((b, a)) = generator_before.zip(generator_after) {
+        // The latency is measured here: a saturated generator reads its Acks late.
+        println!(
+            "load generator CPU {:.0} % of one core (this process)",
+            100.0 * (a.0 - b.0) / seconds
+        );
+    }
     Ok(())
 }
 
