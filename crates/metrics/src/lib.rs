@@ -24,7 +24,7 @@ pub use live::LiveMeasures;
 pub use segment::{Movement, SegmentParams, segment, threshold};
 pub use session::{
     JointRange, SessionMeasures, SessionParams, Summary, range_of_motion, session_measures,
-    session_measures_with,
+    session_measures_of_runs, session_measures_with,
 };
 pub use smoothness::{MAX_PADLEVEL, MIN_SAMPLES, SparcParams, ldlj_speed, sparc};
 

@@ -141,6 +141,15 @@ impl LiveMeasures {
         Ok(())
     }
 
+    /// The signal stops here and resumes with the next sample (an exercise paused): no speed
+    /// is taken across the gap; ranges, time and counts go on.
+    pub fn break_signal(&mut self) {
+        self.prev_angle = None;
+        self.state = [0.0; 2];
+        self.speed = 0.0;
+        self.moving = false;
+    }
+
     /// Range of motion of each joint so far, in the order given; before a joint's first
     /// finite sample its `min` is +∞, `max` −∞ and `range` 0.
     #[must_use]

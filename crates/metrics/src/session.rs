@@ -160,16 +160,39 @@ pub fn session_measures_with(
     joints: &[(&str, &[f64])],
     params: &SessionParams,
 ) -> Result<SessionMeasures, MetricError> {
+    session_measures_of_runs(&[wheel_angle_rad], fs_hz, joints, params)
+}
+
+/// [`session_measures_with`] for a session recorded in several runs (an exercise paused and
+/// resumed): the speed profile is taken within each run (no derivative across a pause, where
+/// the angle jumps), the runs' speeds are joined and segmented with one threshold, so the
+/// movements' indices and times count the joined samples; ranges of motion span every run.
+///
+/// # Errors
+/// As [`session_measures_with`]; an empty run is refused like an empty signal.
+pub fn session_measures_of_runs(
+    wheel_angle_runs_rad: &[&[f64]],
+    fs_hz: f64,
+    joints: &[(&str, &[f64])],
+    params: &SessionParams,
+) -> Result<SessionMeasures, MetricError> {
     check_fs(fs_hz)?;
-    check_signal("wheel angle", wheel_angle_rad, 1)?;
+    for run in wheel_angle_runs_rad {
+        check_signal("wheel angle", run, 1)?;
+    }
+    let wheel_angle_rad = wheel_angle_runs_rad.concat();
+    check_signal("wheel angle", &wheel_angle_rad, 1)?;
     let joints = joints
         .iter()
         .map(|(name, x)| range_of_motion(name, x))
         .collect::<Result<Vec<_>, _>>()?;
-    let mut wheel_range = range_of_motion("wheel", wheel_angle_rad)?;
+    let mut wheel_range = range_of_motion("wheel", &wheel_angle_rad)?;
     wheel_range.name = "wheel".to_owned();
 
-    let speed = speed_profile(wheel_angle_rad, fs_hz, params.lowpass_hz);
+    let speed: Vec<f64> = wheel_angle_runs_rad
+        .iter()
+        .flat_map(|run| speed_profile(run, fs_hz, params.lowpass_hz))
+        .collect();
     let movements = segment(&speed, fs_hz, params.segment)?;
     let total_s = wheel_angle_rad.len() as f64 / fs_hz;
     let active_s: f64 = movements.iter().map(|m| m.duration_s).sum();
@@ -194,6 +217,22 @@ pub fn session_measures_with(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn runs_are_differentiated_apart_so_a_jump_between_them_is_no_movement() {
+        let fs = 100.0;
+        let still_at = |a: f64| vec![a; 200];
+        let (first, second) = (still_at(0.0), still_at(1.0));
+        let m = session_measures_of_runs(&[&first, &second], fs, &[], &SessionParams::default())
+            .unwrap();
+        assert!(m.movements.is_empty(), "{:?}", m.movements);
+        assert!((m.wheel_range.range - 1.0).abs() < 1e-12);
+        assert!((m.total_s - 4.0).abs() < 1e-12);
+        assert_eq!(m.peak_speed_rad_s, 0.0);
+        // Joined into one signal, the jump would be a burst of speed.
+        let joined = [first, second].concat();
+        assert!(session_measures(&joined, fs, &[]).unwrap().peak_speed_rad_s > 1.0);
+    }
 
     #[test]
     fn summary_median_of_even_and_odd_counts() {

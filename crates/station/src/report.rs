@@ -225,7 +225,8 @@ fn movement(s: &mut String, r: &SessionReport) {
     if let Some(pct) = n("patient_work_pct") {
         line!(
             s,
-            "patient's work      {pct:.0} % of the work on the wheel (the assist did the rest)"
+            "patient's work      {pct:.0} % of the work moving the wheel, {:.0} % by the assist",
+            100.0 - pct
         );
     }
 }
@@ -430,7 +431,7 @@ mod tests {
         r.recorder.arm_calibration = Some(Err("too little motion".into()));
         r.recorder.measures.named.clear();
         r.recorder.measures.error =
-            Some("the session is too short to measure (1 samples at 100 Hz)".into());
+            Some("the exercise ran too briefly to measure (1 samples at 100 Hz)".into());
         r.recorder.mcap_bytes = None;
         r.recorder.error = Some("disk full".into());
         r

@@ -8,10 +8,15 @@
 //! The measures sample the session at [`MEASURE_RATE_HZ`]: the wheel angle is averaged over
 //! each block of ticks (a boxcar against aliasing; arm movement lies below ~5 Hz and SPARC
 //! looks no higher than 10 Hz), which keeps an hour's series at 2.9 MB per signal instead of
-//! 29 MB. Joint angles are taken while the arm sensing is tracking.
+//! 29 MB. Only the exercise is measured: ticks with the exercise paused (the arm procedure at
+//! the start, the patient's pauses) are left out, each stretch between pauses a run of its own
+//! (no speed is taken across a pause). Joint angles are taken while the arm sensing is
+//! tracking.
 
-use crate::record::{ArmSetup, TickRecord};
-use metrics::{LiveMeasures, MetricError, SessionMeasures, SessionParams, session_measures_with};
+use crate::record::{ArmSetup, MetricsSample, MovementSample, TickRecord};
+use metrics::{
+    LiveMeasures, MetricError, SessionMeasures, SessionParams, session_measures_of_runs,
+};
 use std::collections::BTreeMap;
 
 /// Rate of the measures' series, Hz.
@@ -31,8 +36,16 @@ pub struct MeasureCollector {
     block_sum_rad: f64,
     block_ticks: u64,
     block_finite: u64,
-    /// The series at [`MEASURE_RATE_HZ`], rad.
+    /// Session time of the current block's first tick, s.
+    block_t_s: f64,
+    /// The series at [`MEASURE_RATE_HZ`], rad, of the exercise's ticks only.
     wheel_rad: Vec<f64>,
+    /// Session time of each sample of `wheel_rad`, s.
+    t_s: Vec<f64>,
+    /// Where each run (a stretch of exercise between pauses) starts in `wheel_rad`.
+    runs: Vec<usize>,
+    /// The last sample went into the current run (no pause since).
+    in_run: bool,
     shoulder_elevation_rad: Vec<f64>,
     elbow_flexion_rad: Vec<f64>,
     live: LiveMeasures,
@@ -67,7 +80,11 @@ impl MeasureCollector {
             block_sum_rad: 0.0,
             block_ticks: 0,
             block_finite: 0,
+            block_t_s: 0.0,
             wheel_rad: Vec::with_capacity(samples),
+            t_s: Vec::with_capacity(samples),
+            runs: Vec::new(),
+            in_run: false,
             shoulder_elevation_rad: Vec::new(),
             elbow_flexion_rad: Vec::new(),
             live: LiveMeasures::new(fs, &JOINTS, &SessionParams::default())
@@ -82,8 +99,16 @@ impl MeasureCollector {
         1.0 / (self.tick_s * self.ticks_per_sample as f64)
     }
 
-    /// Takes one tick.
+    /// Takes one tick (nothing of it while the exercise is paused).
     pub fn add(&mut self, rec: &TickRecord) {
+        if rec.score.paused {
+            if self.in_run {
+                self.live.break_signal();
+            }
+            (self.block_sum_rad, self.block_ticks, self.block_finite) = (0.0, 0, 0);
+            self.in_run = false;
+            return;
+        }
         let w = &rec.wheel;
         if w.velocity_rad_s.is_finite() {
             if rec.assist.active && rec.assist.torque_nm.is_finite() {
@@ -95,6 +120,9 @@ impl MeasureCollector {
                     (hand_nm * w.velocity_rad_s).max(0.0) * self.tick_s;
             }
         }
+        if self.block_ticks == 0 {
+            self.block_t_s = rec.t_ns as f64 * 1e-9;
+        }
         if w.angle_rad.is_finite() {
             self.block_sum_rad += w.angle_rad;
             self.block_finite += 1;
@@ -103,14 +131,20 @@ impl MeasureCollector {
         if self.block_ticks < self.ticks_per_sample {
             return;
         }
-        // A block without a finite reading holds the last sample, keeping the time base.
+        if !self.in_run {
+            self.runs.push(self.wheel_rad.len());
+            self.in_run = true;
+        }
+        let run_start = self.runs.last().copied().unwrap_or(0);
+        // A block without a finite reading holds the run's last sample, keeping the time base.
         let angle = if self.block_finite > 0 {
             self.block_sum_rad / self.block_finite as f64
         } else {
-            self.wheel_rad.last().copied().unwrap_or(0.0)
+            self.wheel_rad[run_start..].last().copied().unwrap_or(0.0)
         };
         (self.block_sum_rad, self.block_ticks, self.block_finite) = (0.0, 0, 0);
         self.wheel_rad.push(angle);
+        self.t_s.push(self.block_t_s);
         let joints = match &rec.arm {
             Some(arm) if arm.setup == ArmSetup::Tracking => {
                 let j = [arm.shoulder_elevation_rad, arm.elbow_flexion_rad];
@@ -157,20 +191,27 @@ impl MeasureCollector {
         .into_iter()
         .filter(|(_, x)| !x.is_empty())
         .collect();
+        let ends = self
+            .runs
+            .iter()
+            .skip(1)
+            .copied()
+            .chain([self.wheel_rad.len()]);
+        let runs: Vec<&[f64]> = self
+            .runs
+            .iter()
+            .zip(ends)
+            .map(|(&a, b)| &self.wheel_rad[a..b])
+            .collect();
         let analysed = if self.wheel_rad.len() < 2 {
             Err(format!(
-                "the session is too short to measure ({} samples at {} Hz)",
+                "the exercise ran too briefly to measure ({} samples at {} Hz)",
                 self.wheel_rad.len(),
                 self.fs_hz()
             ))
         } else {
-            session_measures_with(
-                &self.wheel_rad,
-                self.fs_hz(),
-                &joints,
-                &SessionParams::default(),
-            )
-            .map_err(|e: MetricError| e.to_string())
+            session_measures_of_runs(&runs, self.fs_hz(), &joints, &SessionParams::default())
+                .map_err(|e: MetricError| e.to_string())
         };
         let mut named = BTreeMap::new();
         if let Ok(s) = &analysed {
@@ -186,6 +227,24 @@ impl MeasureCollector {
             session,
             named,
             error,
+        }
+    }
+
+    /// The measures as the `/metrics` channel records them (movement times in session time).
+    pub fn sample(&self, m: &Measures) -> MetricsSample {
+        MetricsSample {
+            measures: m.named.clone(),
+            fs_hz: self.fs_hz(),
+            movements: m
+                .session
+                .iter()
+                .flat_map(|s| &s.movements)
+                .map(|mv| MovementSample {
+                    start_s: self.t_s.get(mv.start_index).copied().unwrap_or(mv.start_s),
+                    ..MovementSample::from(mv)
+                })
+                .collect(),
+            error: m.error.clone().unwrap_or_default(),
         }
     }
 
@@ -346,6 +405,43 @@ mod tests {
     }
 
     #[test]
+    fn paused_ticks_are_not_measured_and_movement_times_stay_in_session_time() {
+        let mut c = MeasureCollector::new(1000.0, 7000);
+        let mut out = RecorderOutcome::default();
+        // 2 s paused (the arm procedure) with the wheel swept through 1.5 rad, then the turns.
+        let sweep = (0..2000u64).map(|k| TickRecord {
+            tick: k,
+            t_ns: k * 1_000_000,
+            wheel: WheelSample {
+                angle_rad: 1.5 * (k as f64 / 2000.0 * std::f64::consts::PI).sin(),
+                ..WheelSample::default()
+            },
+            score: crate::record::ScoreSample {
+                paused: true,
+                ..Default::default()
+            },
+            ..TickRecord::default()
+        });
+        let turns = two_turns(1000.0).into_iter().map(|mut r| {
+            r.tick += 2000;
+            r.t_ns += 2_000_000_000;
+            r
+        });
+        for rec in sweep.chain(turns) {
+            c.add(&rec);
+            out.add(&rec);
+        }
+        let m = c.finish(&out);
+        assert_eq!(m.named["movements"], 2.0, "the sweep is no movement");
+        assert!((m.named["wheel_rom_deg"] - 0.6_f64.to_degrees()).abs() < 0.1);
+        assert!((m.named["paused_s"] - 2.0).abs() < 1e-9);
+        let sample = c.sample(&m);
+        // The first turn starts near 1 s of exercise, 3 s of session time.
+        let start = sample.movements[0].start_s;
+        assert!((2.9..3.2).contains(&start), "{start}");
+    }
+
+    #[test]
     fn the_live_measures_follow_the_session() {
         let mut c = MeasureCollector::new(1000.0, 5000);
         let recs = two_turns(1000.0);
@@ -384,7 +480,7 @@ mod tests {
     }
 
     #[test]
-    fn a_session_too_short_to_measure_says_so_and_keeps_its_figures() {
+    fn an_exercise_too_brief_to_measure_says_so_and_keeps_its_figures() {
         let mut c = MeasureCollector::new(1000.0, 5);
         let mut out = RecorderOutcome::default();
         for rec in &two_turns(1000.0)[..5] {
@@ -394,7 +490,7 @@ mod tests {
         let m = c.finish(&out);
         assert!(m.session.is_none());
         assert!(
-            m.error.as_deref().unwrap().contains("too short"),
+            m.error.as_deref().unwrap().contains("too briefly"),
             "{:?}",
             m.error
         );

@@ -8,8 +8,7 @@ use super::arm_calibration::ArmLoopCollector;
 use super::measures::{MeasureCollector, Measures};
 use super::{LiveSummary, SessionObserver};
 use crate::record::{
-    ArmCalibrationSample, ArmSetup, MetricsSample, MovementSample, RecordWriter, SessionMetadata,
-    TickRecord,
+    ArmCalibrationSample, ArmSetup, MetricsSample, RecordWriter, SessionMetadata, TickRecord,
 };
 use crate::timing::TimingStats;
 use std::collections::BTreeMap;
@@ -350,7 +349,7 @@ pub(super) fn recorder_loop(
     }
     out.measures = measures.finish(&out);
     if let Some(m) = mcap.as_mut()
-        && let Err(e) = m.record_metrics(&out.last, &metrics_sample(&out.measures, &measures))
+        && let Err(e) = m.record_metrics(&out.last, &measures.sample(&out.measures))
     {
         out.error.get_or_insert_with(|| e.to_string());
     }
@@ -363,19 +362,4 @@ pub(super) fn recorder_loop(
         }
     }
     (out, seq)
-}
-
-/// The measures as the `/metrics` channel records them.
-fn metrics_sample(m: &Measures, collector: &MeasureCollector) -> MetricsSample {
-    MetricsSample {
-        measures: m.named.clone(),
-        fs_hz: collector.fs_hz(),
-        movements: m
-            .session
-            .iter()
-            .flat_map(|s| &s.movements)
-            .map(MovementSample::from)
-            .collect(),
-        error: m.error.clone().unwrap_or_default(),
-    }
 }
