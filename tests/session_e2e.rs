@@ -534,3 +534,58 @@ fn a_real_time_session_replays_bit_for_bit() {
     let said = String::from_utf8_lossy(&out.stdout);
     assert!(said.contains("replay: identical"), "{said}");
 }
+
+/// Two recorded sessions make one self-contained HTML report: measures, charts, progress.
+#[test]
+fn report_of_two_sessions_is_one_self_contained_html_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut paths = Vec::new();
+    for (seed, exercise) in [("1", "sine-road"), ("2", "dial-sine")] {
+        let p = dir.path().join(format!("s{seed}.mcap"));
+        run_ok(&[
+            "run",
+            "--sim",
+            "--headless",
+            "--speed",
+            "max",
+            "--duration",
+            "4",
+            "--seed",
+            seed,
+            "--exercise",
+            exercise,
+            "--record",
+            p.to_str().unwrap(),
+        ]);
+        paths.push(p.to_str().unwrap().to_owned());
+    }
+    let out = dir.path().join("report.html");
+    let mut args = vec!["report"];
+    args.extend(paths.iter().map(String::as_str));
+    args.extend(["--out", out.to_str().unwrap()]);
+    let said = String::from_utf8_lossy(&run_ok(&args).stdout).into_owned();
+    assert!(said.contains("report: 2 sessions"), "{said}");
+    let html = std::fs::read_to_string(&out).unwrap();
+    assert!(html.starts_with("<!DOCTYPE html>"));
+    for text in [
+        "Progress",
+        "Smoothness, SPARC",
+        "Lane keeping",
+        "Tracking error",
+        "Wheel speed",
+    ] {
+        assert!(html.contains(text), "{text} missing");
+    }
+    assert!(html.matches("<svg").count() >= 8, "charts inline");
+    assert!(
+        !html.contains("<script") && !html.contains("src=\"http"),
+        "self-contained"
+    );
+    let err = run_err(&[
+        "report",
+        &paths[0],
+        "--out",
+        dir.path().join("r.pdf").to_str().unwrap(),
+    ]);
+    assert!(err.contains("must name an .html file"), "{err}");
+}

@@ -2,7 +2,8 @@
 //! subcommand's arguments and `run()` live in its own file under [`crate::commands`].
 
 use crate::commands::{
-    bench, devices, hub, pair, recover, render, replay, run, sync, therapist, vehicle, wheel,
+    bench, devices, hub, pair, recover, render, replay, report, run, sync, therapist, vehicle,
+    wheel,
 };
 use clap::{Parser, Subcommand};
 
@@ -34,6 +35,8 @@ pub enum Command {
     Recover(recover::RecoverArgs),
     /// Re-run a recorded simulated session and say whether it is reproduced bit for bit.
     Replay(replay::ReplayArgs),
+    /// Write an HTML report of recorded sessions: measures, charts and progress.
+    Report(report::ReportArgs),
     /// Run the vehicle model offline on a CSV of driver inputs.
     Vehicle(vehicle::VehicleArgs),
     /// Measure the whole station (for BENCHMARKS.md).
@@ -57,6 +60,7 @@ pub fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Render(args) => render::run(args),
         Command::Recover(args) => recover::run(&args),
         Command::Replay(args) => replay::run(&args),
+        Command::Report(args) => report::run(&args),
         Command::Vehicle(args) => vehicle::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Wheel(args) => wheel::run(&args),

@@ -20,6 +20,8 @@
 //! - [`link`]: the therapist link (tokio runtime, store-and-forward through `netlink`).
 //! - [`screen`] (a tick → a [`render::Scene`]) and [`render`] (wgpu: window and offscreen).
 //! - [`report`] (the end-of-session text) and [`timing`] (loop-timing percentiles).
+//! - [`html_report`]: recorded sessions → one self-contained HTML report (reads `record`,
+//!   and the measures' rate from `session::measures`).
 //!
 //! Dependencies point down the list: `cli` → `commands` → `session`, `link`, `screen`,
 //! `report` → `record`, `config`, `regimen`, `render`, `timing`; nothing below `commands` knows
@@ -36,6 +38,7 @@ pub mod cli;
 pub mod commands;
 pub mod config;
 pub mod home;
+pub mod html_report;
 pub mod link;
 pub mod logging;
 pub mod record;

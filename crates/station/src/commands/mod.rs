@@ -9,6 +9,7 @@ pub mod pair;
 pub mod recover;
 pub mod render;
 pub mod replay;
+pub mod report;
 pub mod run;
 pub mod sync;
 pub mod therapist;

@@ -135,12 +135,7 @@ fn options(
              them all, so it differs from the stop on"
         ));
     }
-    let paused = recorded.get(&Channel::Score).is_some_and(|scores| {
-        scores.iter().any(|m| {
-            serde_json::from_slice::<serde_json::Value>(m).is_ok_and(|v| v["paused"] == true)
-        })
-    });
-    if paused {
+    if patient_paused(recorded) {
         caveats.push(
             "the patient paused this session; pauses are not replayed, so it differs from the \
              first pause on"
@@ -159,6 +154,32 @@ fn options(
         },
         caveats,
     ))
+}
+
+/// Whether the patient paused the exercise: a recorded pause after the arm procedure (which
+/// holds the exercise paused itself, and is replayed).
+fn patient_paused(recorded: &RawMessages) -> bool {
+    let json = |m: &Vec<u8>| serde_json::from_slice::<serde_json::Value>(m).unwrap_or_default();
+    let in_procedure = |v: &serde_json::Value| {
+        matches!(
+            v["setup"].as_str(),
+            Some("hold-still" | "turn-wheel" | "solving")
+        )
+    };
+    let procedure_end = recorded.get(&Channel::Arm).map_or(0, |arm| {
+        arm.iter()
+            .map(json)
+            .filter(in_procedure)
+            .filter_map(|v| v["tick"].as_u64())
+            .max()
+            .map_or(0, |t| t + 1)
+    });
+    recorded.get(&Channel::Score).is_some_and(|scores| {
+        scores
+            .iter()
+            .map(json)
+            .any(|v| v["paused"] == true && v["tick"].as_u64().is_some_and(|t| t > procedure_end))
+    })
 }
 
 /// The first message (channel order, then index) whose bytes differ, named down to the field.
@@ -235,6 +256,33 @@ mod tests {
         again.get_mut(&Channel::Wheel).unwrap().truncate(1);
         let d = first_difference(&recorded, &again).unwrap();
         assert_eq!(d.what, "2 messages recorded, 1 replayed");
+    }
+
+    #[test]
+    fn the_arm_procedures_pause_is_not_the_patients() {
+        let score = |tick: u64, paused: bool| {
+            serde_json::to_vec(&serde_json::json!({"tick": tick, "paused": paused})).unwrap()
+        };
+        let arm = |tick: u64, setup: &str| {
+            serde_json::to_vec(&serde_json::json!({"tick": tick, "setup": setup})).unwrap()
+        };
+        let mut recorded = BTreeMap::from([
+            (
+                Channel::Arm,
+                vec![
+                    arm(0, "hold-still"),
+                    arm(100, "solving"),
+                    arm(200, "tracking"),
+                ],
+            ),
+            (Channel::Score, vec![score(100, true), score(200, false)]),
+        ]);
+        assert!(!patient_paused(&recorded));
+        recorded
+            .get_mut(&Channel::Score)
+            .unwrap()
+            .push(score(300, true));
+        assert!(patient_paused(&recorded));
     }
 
     #[test]

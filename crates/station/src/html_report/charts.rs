@@ -1,0 +1,187 @@
+//! The report's charts: plotters drawing SVG text (no fonts needed: the browser sets the
+//! text), a colour-blind-safe palette (Okabe & Ito 2008), units on every axis, and long series
+//! thinned to what a page can show.
+
+use plotters::prelude::*;
+use plotters::style::RGBColor;
+
+/// Okabe–Ito colours, distinguishable with every common colour-vision deficiency.
+pub const PALETTE: [RGBColor; 6] = [
+    RGBColor(0, 114, 178),   // blue
+    RGBColor(213, 94, 0),    // vermillion
+    RGBColor(0, 158, 115),   // bluish green
+    RGBColor(204, 121, 167), // reddish purple
+    RGBColor(230, 159, 0),   // orange
+    RGBColor(86, 180, 233),  // sky blue
+];
+
+/// Most points drawn of one series: a chart 900 px wide shows no more.
+const MAX_POINTS: usize = 1800;
+
+/// Chart size, px.
+const SIZE: (u32, u32) = (900, 260);
+
+/// One line of a chart: its name in the legend and its points (x, y).
+pub struct Line<'a> {
+    /// Legend name, plain words with the unit.
+    pub name: &'a str,
+    /// Points in x order.
+    pub points: Vec<(f64, f64)>,
+}
+
+/// A chart: title, axis descriptions with units, lines, shaded x spans (e.g. movements).
+pub struct Chart<'a> {
+    /// Title above the chart.
+    pub title: &'a str,
+    /// x axis description, unit included.
+    pub x_desc: &'a str,
+    /// y axis description, unit included.
+    pub y_desc: &'a str,
+    /// The lines.
+    pub lines: Vec<Line<'a>>,
+    /// x spans shaded behind the lines.
+    pub spans: Vec<(f64, f64)>,
+    /// Draw markers at each point (a few points, e.g. one per session).
+    pub markers: bool,
+}
+
+/// `points` thinned to at most [`MAX_POINTS`] by keeping each bucket's lowest and highest
+/// sample in order (peaks survive, unlike taking every n-th).
+pub fn thin(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    if points.len() <= MAX_POINTS {
+        return points.to_vec();
+    }
+    let bucket = points.len().div_ceil(MAX_POINTS / 2);
+    points
+        .chunks(bucket)
+        .flat_map(|c| {
+            let lo = c.iter().min_by(|a, b| a.1.total_cmp(&b.1)).copied();
+            let hi = c.iter().max_by(|a, b| a.1.total_cmp(&b.1)).copied();
+            match (lo, hi) {
+                (Some(lo), Some(hi)) if lo.0 <= hi.0 => [lo, hi],
+                (Some(lo), Some(hi)) => [hi, lo],
+                _ => unreachable!("chunks are never empty"),
+            }
+        })
+        .collect()
+}
+
+/// The range of `values` with a margin, never empty.
+fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if !lo.is_finite() {
+        return (0.0, 1.0);
+    }
+    // A single value (one session, a constant) gets a tenth of itself either side.
+    let pad = if hi > lo {
+        (hi - lo) * 0.05
+    } else {
+        (hi.abs() * 0.1).max(1e-6)
+    };
+    (lo - pad, hi + pad)
+}
+
+/// The chart as an SVG document.
+pub fn svg(chart: &Chart<'_>) -> Result<String, String> {
+    let mut out = String::new();
+    draw(chart, &mut out).map_err(|e| format!("chart {:?}: {e}", chart.title))?;
+    Ok(out)
+}
+
+fn draw(chart: &Chart<'_>, out: &mut String) -> Result<(), Box<dyn std::error::Error>> {
+    let root = SVGBackend::with_string(out, SIZE).into_drawing_area();
+    root.fill(&WHITE)?;
+    let all = || chart.lines.iter().flat_map(|l| l.points.iter());
+    let (x0, x1) = range(all().map(|p| p.0));
+    let (y0, y1) = range(all().map(|p| p.1));
+    let mut c = ChartBuilder::on(&root)
+        .caption(chart.title, ("sans-serif", 18))
+        .margin(8)
+        .x_label_area_size(36)
+        .y_label_area_size(64)
+        .build_cartesian_2d(x0..x1, y0..y1)?;
+    c.configure_mesh()
+        .x_desc(chart.x_desc)
+        .y_desc(chart.y_desc)
+        .label_style(("sans-serif", 13))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()?;
+    c.draw_series(chart.spans.iter().map(|&(a, b)| {
+        Rectangle::new([(a, y0), (b, y1)], RGBColor(0, 158, 115).mix(0.12).filled())
+    }))?;
+    for (i, line) in chart.lines.iter().enumerate() {
+        let colour = PALETTE[i % PALETTE.len()];
+        let style = colour.stroke_width(2);
+        c.draw_series(LineSeries::new(thin(&line.points), style))?
+            .label(line.name)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+        if chart.markers {
+            c.draw_series(
+                line.points
+                    .iter()
+                    .map(|&p| Circle::new(p, 4, colour.filled())),
+            )?;
+        }
+    }
+    if chart.lines.len() > 1 {
+        c.configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .label_font(("sans-serif", 13))
+            .background_style(WHITE.mix(0.85))
+            .border_style(RGBColor(180, 180, 180))
+            .draw()?;
+    }
+    root.present()?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn thinning_keeps_the_peaks_and_the_order() {
+        let points: Vec<(f64, f64)> = (0..100_000)
+            .map(|i| (f64::from(i), if i == 54_321 { 9.0 } else { 0.0 }))
+            .collect();
+        let thin = thin(&points);
+        assert!(thin.len() <= MAX_POINTS, "{}", thin.len());
+        assert!(thin.iter().any(|p| p.1 == 9.0), "the peak survives");
+        assert!(thin.windows(2).all(|w| w[0].0 <= w[1].0));
+    }
+
+    #[test]
+    fn a_chart_has_its_title_axes_and_legend_as_text() {
+        let chart = Chart {
+            title: "Wheel angle",
+            x_desc: "time (s)",
+            y_desc: "angle (°)",
+            lines: vec![
+                Line {
+                    name: "wheel (°)",
+                    points: vec![(0.0, 1.0), (1.0, 2.0)],
+                },
+                Line {
+                    name: "target (°)",
+                    points: vec![(0.0, 0.0), (1.0, 3.0)],
+                },
+            ],
+            spans: vec![(0.2, 0.4)],
+            markers: false,
+        };
+        let svg = svg(&chart).unwrap();
+        for text in [
+            "Wheel angle",
+            "time (s)",
+            "angle (°)",
+            "wheel (°)",
+            "target (°)",
+        ] {
+            assert!(svg.contains(text), "{text} missing");
+        }
+    }
+}
