@@ -25,7 +25,7 @@ const SIZE: (u32, u32) = (900, 260);
 pub struct Line<'a> {
     /// Legend name, plain words with the unit.
     pub name: &'a str,
-    /// Points in x order.
+    /// Points in x order; a NaN y breaks the line there.
     pub points: Vec<(f64, f64)>,
 }
 
@@ -116,9 +116,18 @@ fn draw(chart: &Chart<'_>, out: &mut String) -> Result<(), Box<dyn std::error::E
     for (i, line) in chart.lines.iter().enumerate() {
         let colour = PALETTE[i % PALETTE.len()];
         let style = colour.stroke_width(2);
-        c.draw_series(LineSeries::new(thin(&line.points), style))?
-            .label(line.name)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+        let mut pieces = line
+            .points
+            .split(|p| !p.1.is_finite())
+            .filter(|piece| !piece.is_empty());
+        if let Some(first) = pieces.next() {
+            c.draw_series(LineSeries::new(thin(first), style))?
+                .label(line.name)
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+        }
+        for piece in pieces {
+            c.draw_series(LineSeries::new(thin(piece), style))?;
+        }
         if chart.markers {
             c.draw_series(
                 line.points

@@ -2,6 +2,7 @@
 //! (degrees, N·m, m), its movements and its measures.
 
 use crate::record::{ArmSetup, Recording};
+use crate::session::measures::MeasureCollector;
 use anyhow::Context;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -107,27 +108,26 @@ pub fn read(path: &Path) -> anyhow::Result<SessionData> {
     })
 }
 
-/// The wheel's speed as the session's measures saw it: block means at the measures' rate,
-/// differentiated and low-passed (`metrics::speed_profile`), in °/s.
+/// The wheel's speed as the session's measures saw it (the exercise only, paused stretches
+/// left out, a NaN between runs so the chart breaks there), in °/s: the recorded ticks run
+/// through the station's own collector.
 fn speed_profile(rec: &Recording) -> Vec<(f64, f64)> {
-    let rate = rec.metadata.loop_rate_hz;
-    let block = ((rate / crate::session::measures::MEASURE_RATE_HZ).round() as usize).max(1);
-    let fs = rate / block as f64;
-    let (t, angle): (Vec<f64>, Vec<f64>) = rec
-        .wheel
-        .chunks_exact(block)
-        .map(|c| {
-            let mean = c.iter().map(|m| m.data.angle_rad).sum::<f64>() / block as f64;
-            (c[0].t_s, mean)
-        })
-        .filter(|(_, a)| a.is_finite())
-        .unzip();
-    if angle.len() < 2 {
-        return Vec::new();
+    let mut collector = MeasureCollector::new(rec.metadata.loop_rate_hz, rec.wheel.len() as u64);
+    // The score (with the pause) is recorded every 100 ms: before its first message the
+    // exercise was as that message says.
+    let first = rec.score.first().map(|m| (m.tick, m.data));
+    for mut tick in rec.ticks() {
+        if let Some((_, score)) = first.filter(|(at, _)| tick.tick < *at) {
+            tick.score = score;
+        }
+        collector.add(&tick);
     }
-    let speed = metrics::speed_profile(&angle, fs, metrics::SessionParams::default().lowpass_hz);
-    t.into_iter()
-        .zip(speed)
-        .map(|(t, v)| (t, v.to_degrees()))
-        .collect()
+    let mut points = Vec::new();
+    for run in collector.speed_series() {
+        if let Some(&(t, _)) = run.last() {
+            points.extend(run.iter().map(|&(t, v)| (t, v.to_degrees())));
+            points.push((t, f64::NAN));
+        }
+    }
+    points
 }

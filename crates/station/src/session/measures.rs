@@ -191,18 +191,7 @@ impl MeasureCollector {
         .into_iter()
         .filter(|(_, x)| !x.is_empty())
         .collect();
-        let ends = self
-            .runs
-            .iter()
-            .skip(1)
-            .copied()
-            .chain([self.wheel_rad.len()]);
-        let runs: Vec<&[f64]> = self
-            .runs
-            .iter()
-            .zip(ends)
-            .map(|(&a, b)| &self.wheel_rad[a..b])
-            .collect();
+        let runs: Vec<&[f64]> = self.runs().map(|r| &self.wheel_rad[r]).collect();
         let analysed = if self.wheel_rad.len() < 2 {
             Err(format!(
                 "the exercise ran too briefly to measure ({} samples at {} Hz)",
@@ -228,6 +217,30 @@ impl MeasureCollector {
             named,
             error,
         }
+    }
+
+    /// Each run's samples, as index ranges into the series.
+    fn runs(&self) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
+        let ends = self
+            .runs
+            .iter()
+            .skip(1)
+            .copied()
+            .chain([self.wheel_rad.len()]);
+        self.runs.iter().zip(ends).map(|(&a, b)| a..b)
+    }
+
+    /// The wheel's speed as the measures see it, run by run, (session time s, rad/s): each
+    /// run's speed profile ([`metrics::speed_profile`]), the exercise's samples only.
+    pub fn speed_series(&self) -> Vec<Vec<(f64, f64)>> {
+        let lowpass_hz = SessionParams::default().lowpass_hz;
+        self.runs()
+            .map(|r| {
+                let speed =
+                    metrics::speed_profile(&self.wheel_rad[r.clone()], self.fs_hz(), lowpass_hz);
+                self.t_s[r].iter().copied().zip(speed).collect()
+            })
+            .collect()
     }
 
     /// The measures as the `/metrics` channel records them (movement times in session time).
@@ -435,6 +448,10 @@ mod tests {
         assert_eq!(m.named["movements"], 2.0, "the sweep is no movement");
         assert!((m.named["wheel_rom_deg"] - 0.6_f64.to_degrees()).abs() < 0.1);
         assert!((m.named["paused_s"] - 2.0).abs() < 1e-9);
+        // The speed the report draws is the exercise's only, in session time.
+        let speed = c.speed_series();
+        assert_eq!((speed.len(), speed[0].len()), (1, 500));
+        assert!((speed[0][0].0 - 2.0).abs() < 1e-9, "{:?}", speed[0][0]);
         let sample = c.sample(&m);
         // The first turn starts near 1 s of exercise, 3 s of session time.
         let start = sample.movements[0].start_s;
