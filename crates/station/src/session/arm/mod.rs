@@ -94,9 +94,10 @@ const SOLVE_TIMEOUT: Duration = Duration::from_secs(10);
 /// The mounting takes effect this long in session time after the procedure ended, however
 /// it was solved (on the solver thread in real time, in line as fast as possible), so that a
 /// real-time session and its replay change step on the same tick: `telerehab replay`
-/// reproduces it bit for bit. Well above the solve's 16 ms (release build); a solver slower
-/// than this delays the step, and only then does the session depend on the wall clock.
-const SOLVE_HOLD_NS: u64 = 250_000_000;
+/// reproduces it bit for bit. Far above the solve's 16 ms (release build), and above a debug
+/// build's on a loaded machine; a solver slower than this delays the step, and only then does
+/// the session depend on the wall clock. The patient sees "solving" for this second.
+const SOLVE_HOLD_NS: u64 = 1_000_000_000;
 
 /// Why a session has no (more) joint angles: kept on the haptic thread without allocating,
 /// told in words after the session.
