@@ -56,6 +56,7 @@ on_both_backends!(
     dollar_placeholders_work,
     schema_is_migrated,
     therapists_and_lockout,
+    a_changed_password_opens_the_account_and_ends_other_logins,
     login_sessions_expire,
     patients_and_caseload,
     hostile_pseudonyms_are_refused,
@@ -102,6 +103,27 @@ async fn schema_is_migrated(db: Db) {
         .await
         .unwrap();
     assert_eq!(n, 0);
+}
+
+async fn a_changed_password_opens_the_account_and_ends_other_logins(db: Db) {
+    let (t, _) = paired(&db).await;
+    let kept = db.create_web_session(&t.id, T0, MIN).await.unwrap();
+    let other = db.create_web_session(&t.id, T0, MIN).await.unwrap();
+    let old = "correct horse battery";
+    db.change_password(&t.email, old, "staple battery horse", &kept, T0)
+        .await
+        .unwrap();
+    assert!(db.web_session(&kept, T0).await.unwrap().is_some());
+    assert!(db.web_session(&other, T0).await.unwrap().is_none());
+    assert!(
+        db.verify_login(&t.email, "staple battery horse", T0)
+            .await
+            .is_ok()
+    );
+    assert!(matches!(
+        db.verify_login(&t.email, old, T0).await,
+        Err(HubError::LoginRefused)
+    ));
 }
 
 async fn therapists_and_lockout(db: Db) {

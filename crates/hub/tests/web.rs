@@ -271,6 +271,63 @@ async fn endpoints_need_a_valid_cookie_and_logout_ends_it() {
 }
 
 #[tokio::test]
+async fn a_password_change_checks_both_passwords_and_ends_the_other_logins() {
+    let f = fixture().await;
+    let here = login(&f.app, "ada@clinic.example").await;
+    let elsewhere = login(&f.app, "ada@clinic.example").await;
+    async fn change(app: &Router, cookie: &str, current: &str, new: &str) -> (StatusCode, Value) {
+        let body = json!({"current": current, "new": new});
+        let (status, _, body) = call(
+            app,
+            Method::POST,
+            "/api/me/password",
+            Some(cookie),
+            Some(body),
+        )
+        .await;
+        (status, body)
+    }
+    let (wrong, _) = change(&f.app, &here, "not my password", "a new passphrase").await;
+    assert_eq!(wrong, StatusCode::UNAUTHORIZED);
+    let (short, body) = change(&f.app, &here, PASSWORD, "short").await;
+    assert_eq!(short, StatusCode::BAD_REQUEST);
+    assert!(
+        body["error"].as_str().unwrap().contains("at least 10"),
+        "{body}"
+    );
+    let (same, body) = change(&f.app, &here, PASSWORD, PASSWORD).await;
+    assert_eq!(same, StatusCode::BAD_REQUEST);
+    assert!(body["error"].as_str().unwrap().contains("differ"), "{body}");
+    let (done, _) = change(&f.app, &here, PASSWORD, "a new passphrase").await;
+    assert_eq!(done, StatusCode::NO_CONTENT);
+    // This login stays, the other one ended; the old password no longer opens the account.
+    for (cookie, want) in [
+        (&here, StatusCode::OK),
+        (&elsewhere, StatusCode::UNAUTHORIZED),
+    ] {
+        let (status, _, _) = call(&f.app, Method::GET, "/api/me", Some(cookie), None).await;
+        assert_eq!(status, want);
+    }
+    for (password, want) in [
+        (PASSWORD, StatusCode::UNAUTHORIZED),
+        ("a new passphrase", StatusCode::OK),
+    ] {
+        let body = json!({"email": "ada@clinic.example", "password": password});
+        let (status, _, _) = call(&f.app, Method::POST, "/api/login", None, Some(body)).await;
+        assert_eq!(status, want, "{password}");
+    }
+    let audited: Vec<String> = actions(&f.db).await.into_iter().map(|a| a.1).collect();
+    assert!(
+        audited.iter().any(|a| a == "password_changed"),
+        "{audited:?}"
+    );
+    assert!(
+        audited.iter().any(|a| a == "password_change_refused"),
+        "{audited:?}"
+    );
+}
+
+#[tokio::test]
 async fn a_therapist_sees_only_their_patients_and_others_are_404() {
     let f = fixture().await;
     f.db.add_station("st-1", &f.p_bob.id, &"ab".repeat(32), T0)

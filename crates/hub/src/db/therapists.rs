@@ -103,6 +103,21 @@ fn normalise_email(email: &str) -> Result<String, HubError> {
     }
 }
 
+/// A password a therapist may choose: at least [`MIN_PASSWORD_CHARS`] characters, at most
+/// [`MAX_PASSWORD_BYTES`] bytes.
+fn check_new_password(password: &str) -> Result<(), HubError> {
+    if password.chars().count() < MIN_PASSWORD_CHARS || password.len() > MAX_PASSWORD_BYTES {
+        return Err(HubError::invalid(
+            "password",
+            format!(
+                "must have at least {MIN_PASSWORD_CHARS} characters and at most \
+                 {MAX_PASSWORD_BYTES} bytes"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 fn hash_password(password: &str) -> Result<String, HubError> {
     Argon2::default()
         .hash_password(password.as_bytes())
@@ -138,15 +153,7 @@ impl Db {
         now_ms: i64,
     ) -> Result<Therapist, HubError> {
         let email = normalise_email(email)?;
-        if password.chars().count() < MIN_PASSWORD_CHARS || password.len() > MAX_PASSWORD_BYTES {
-            return Err(HubError::invalid(
-                "password",
-                format!(
-                    "must have at least {MIN_PASSWORD_CHARS} characters and at most \
-                     {MAX_PASSWORD_BYTES} bytes"
-                ),
-            ));
-        }
+        check_new_password(password)?;
         let hash = hash_password(password)?;
         let id = new_id("t-")?;
         sqlx::query(
@@ -268,6 +275,49 @@ impl Db {
             tracing::warn!(therapist = %therapist.id, "account locked after failed logins");
         }
         Err(HubError::LoginRefused)
+    }
+
+    /// Changes the password of the therapist with `email` (the one-time password `hub init`
+    /// printed, or any other): `current` is checked as a login is (failures count towards the
+    /// lockout), the new one as at account creation and different from `current`. Every other
+    /// login session of the account ends (`keep_token` stays logged in).
+    pub async fn change_password(
+        &self,
+        email: &str,
+        current: &str,
+        new: &str,
+        keep_token: &str,
+        now_ms: i64,
+    ) -> Result<(), HubError> {
+        let therapist = self.verify_login(email, current, now_ms).await?;
+        check_new_password(new)?;
+        if new == current {
+            return Err(HubError::invalid(
+                "password",
+                "the new password must differ from the current one",
+            ));
+        }
+        let hash = hash_password(new)?;
+        let mut tx = self
+            .pool()
+            .begin()
+            .await
+            .map_err(HubError::db("starting a transaction"))?;
+        sqlx::query("UPDATE therapists SET password_hash = $2 WHERE id = $1")
+            .bind(&therapist.id)
+            .bind(&hash)
+            .execute(&mut *tx)
+            .await
+            .map_err(HubError::db("changing a password"))?;
+        sqlx::query("DELETE FROM web_sessions WHERE therapist_id = $1 AND token_hash <> $2")
+            .bind(&therapist.id)
+            .bind(sha256_hex(keep_token.as_bytes()))
+            .execute(&mut *tx)
+            .await
+            .map_err(HubError::db("ending other login sessions"))?;
+        tx.commit()
+            .await
+            .map_err(HubError::db("committing a password change"))
     }
 
     /// Starts a console login session for `therapist_id` lasting `ttl_ms`; returns the bearer

@@ -117,6 +117,45 @@ pub(crate) async fn me(Authed(therapist): Authed) -> Json<Therapist> {
     Json(therapist)
 }
 
+/// Body of `POST /api/me/password`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct PasswordChange {
+    current: String,
+    new: String,
+}
+
+/// Changes the logged-in therapist's password; their other login sessions end.
+pub(crate) async fn change_password(
+    State(state): State<AppState>,
+    Authed(therapist): Authed,
+    headers: HeaderMap,
+    body: Result<Json<PasswordChange>, JsonRejection>,
+) -> Result<Response, ApiError> {
+    let Json(change) = body?;
+    let token = token_of(&headers).unwrap_or_default();
+    let outcome = state
+        .db
+        .change_password(
+            &therapist.email,
+            &change.current,
+            &change.new,
+            &token,
+            state.now(),
+        )
+        .await;
+    let action = if outcome.is_ok() {
+        "password_changed"
+    } else {
+        "password_change_refused"
+    };
+    state
+        .audit(&therapist.actor(), action, &therapist.id, "")
+        .await?;
+    outcome?;
+    Ok(StatusCode::NO_CONTENT.into_response())
+}
+
 /// Query of `GET /api/audit`.
 #[derive(Deserialize)]
 pub(crate) struct AuditQuery {

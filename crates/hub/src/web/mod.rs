@@ -148,6 +148,7 @@ pub fn router(state: AppState) -> Router {
         .route("/api/login", post(auth::login))
         .route("/api/logout", post(auth::logout))
         .route("/api/me", get(auth::me))
+        .route("/api/me/password", post(auth::change_password))
         .route("/api/audit", get(auth::audit_log))
         .route("/api/patients", get(patients::list))
         .route("/api/patients/{id}", get(patients::one))
