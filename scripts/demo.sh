@@ -5,8 +5,11 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 if ! command -v cargo >/dev/null 2>&1; then export PATH="$HOME/.cargo/bin:$PATH"; fi
 cargo build --release -p station --bin telerehab
-BIN=target/release/telerehab
+# The binary cargo just built, wherever the target directory is (CARGO_TARGET_DIR honoured).
+BIN="${CARGO_TARGET_DIR:-$PWD/target}/release/telerehab"
 mkdir -p out
+# The station never overwrites a recording: this demo removes its own previous one.
+rm -f out/session.mcap
 # The hub picks a free port and says which on its first line.
 "$BIN" therapist --listen 127.0.0.1:0 --store out/therapist > out/hub.log 2>&1 &
 HUB=$!

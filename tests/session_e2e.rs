@@ -383,6 +383,49 @@ fn killed_session_loses_at_most_the_last_second_and_recovers_to_a_finished_file(
         assert_eq!(m.json["tick"], i as u64);
     }
     assert!(msgs["/vehicle"].len().abs_diff(wheel.len()) <= 1);
+    // Never over a file, above all not over its input (the only copy of the session).
+    let before = std::fs::read(&path).unwrap();
+    for out in [&path, &fixed] {
+        let err = run_err(&[
+            "recover",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(err.contains("never writes over an existing file"), "{err}");
+    }
+    assert_eq!(
+        std::fs::read(&path).unwrap(),
+        before,
+        "the input is untouched"
+    );
+}
+
+/// A second session asked to record over the first one's file is refused before it starts,
+/// and the first recording is untouched.
+#[test]
+fn a_recording_is_never_overwritten() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("s.mcap");
+    let record = [
+        "run",
+        "--sim",
+        "--headless",
+        "--speed",
+        "max",
+        "--duration",
+        "1",
+        "--record",
+        path.to_str().unwrap(),
+    ];
+    run_ok(&record);
+    let first = std::fs::read(&path).unwrap();
+    let err = run_err(&record);
+    assert!(
+        err.contains("already exists") && err.contains("never overwritten"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read(&path).unwrap(), first);
 }
 
 #[test]

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 pub struct RecoverArgs {
     /// The recording left by the killed session.
     pub input: PathBuf,
-    /// Where to write the finished file.
+    /// Where to write the finished file (a new file: never the input, never over another).
     #[arg(long)]
     pub out: PathBuf,
 }
@@ -34,8 +34,18 @@ pub fn run(args: &RecoverArgs) -> anyhow::Result<()> {
 /// Copy the readable part of `input` into a finished MCAP file `output`.
 pub fn recover(input: &Path, output: &Path) -> anyhow::Result<Recovered> {
     let bytes = std::fs::read(input).with_context(|| format!("cannot read {}", input.display()))?;
-    let file = std::fs::File::create(output)
-        .with_context(|| format!("cannot create {}", output.display()))?;
+    // Never over an existing file: above all not over the input, the only copy of the session.
+    let file = std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(output)
+        .with_context(|| {
+            format!(
+                "cannot create {} (recover never writes over an existing file, its input least \
+                 of all)",
+                output.display()
+            )
+        })?;
     let (copied, mut sink) = recover_bytes(&bytes, BufWriter::new(file))
         .with_context(|| format!("cannot recover {}", input.display()))?;
     sink.flush()

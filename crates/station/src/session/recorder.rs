@@ -38,6 +38,15 @@ pub enum RecorderError {
         /// Why.
         source: std::io::Error,
     },
+    /// A file is already there: a recording is never overwritten.
+    #[error(
+        "recording {path}: the file already exists, and a recording is never overwritten \
+         (choose another path, or move the old file away)"
+    )]
+    Exists {
+        /// The path asked for.
+        path: String,
+    },
     /// The MCAP library refused.
     #[error("recording {path}: {source}")]
     Mcap {
@@ -49,16 +58,26 @@ pub enum RecorderError {
 }
 
 impl McapRecorder {
-    /// Create `path` and register the channels. `start_unix_ns` anchors log times.
+    /// Create `path` (never over an existing file) and register the channels.
+    /// `start_unix_ns` anchors log times.
     pub fn create(
         path: &Path,
         start_unix_ns: u64,
         metadata: &SessionMetadata,
     ) -> Result<Self, RecorderError> {
-        let file = File::create(path).map_err(|source| RecorderError::Io {
-            path: path.display().to_string(),
-            source,
-        })?;
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(path)
+            .map_err(|source| match source.kind() {
+                std::io::ErrorKind::AlreadyExists => RecorderError::Exists {
+                    path: path.display().to_string(),
+                },
+                _ => RecorderError::Io {
+                    path: path.display().to_string(),
+                    source,
+                },
+            })?;
         let writer =
             RecordWriter::new(BufWriter::new(file), start_unix_ns, metadata).map_err(|source| {
                 RecorderError::Mcap {
