@@ -286,18 +286,8 @@ impl MeasureCollector {
             put("dial_rms_error_deg", score.dial_rms_error_deg);
         }
         put("max_abs_torque_nm", out.max_abs_torque_nm);
-        put(
-            "clipped_pct",
-            100.0 * out.clipped_ticks as f64 / out.records.max(1) as f64,
-        );
         if out.assist_ticks > 0 {
-            let n = out.assist_ticks as f64;
-            put("assist_s", n * tick_s);
-            put("assist_level_mean", out.assist_level_sum / n);
-            put(
-                "assist_rms_error_deg",
-                (out.assist_error_sq_sum / n).sqrt().to_degrees(),
-            );
+            put("assist_s", out.assist_ticks as f64 * tick_s);
         }
         put("assist_work_j", self.assist_work_j);
         if let Some(patient) = self.patient_work_j {
@@ -307,6 +297,7 @@ impl MeasureCollector {
                 put("patient_work_pct", (100.0 * patient / total).min(100.0));
             }
         }
+        named.extend(out.safety_and_assist());
     }
 }
 

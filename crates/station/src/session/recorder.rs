@@ -173,6 +173,37 @@ impl RecorderOutcome {
     }
 }
 
+impl RecorderOutcome {
+    /// Safety and assistance so far, by name (unit in the name): the share of ticks the
+    /// safety chain limited, the watchdog's fault ticks and, with assistance, its mean level,
+    /// RMS tracking error and saturated share. In every live summary and in the session's
+    /// measures.
+    pub fn safety_and_assist(&self) -> BTreeMap<String, f64> {
+        let mut figures = BTreeMap::from([
+            (
+                "clipped_pct".to_owned(),
+                100.0 * self.clipped_ticks as f64 / self.records.max(1) as f64,
+            ),
+            ("watchdog_fault_ticks".to_owned(), self.fault_ticks as f64),
+        ]);
+        if self.assist_ticks > 0 {
+            let n = self.assist_ticks as f64;
+            figures.extend([
+                ("assist_level_mean".to_owned(), self.assist_level_sum / n),
+                (
+                    "assist_rms_error_deg".to_owned(),
+                    (self.assist_error_sq_sum / n).sqrt().to_degrees(),
+                ),
+                (
+                    "assist_saturated_pct".to_owned(),
+                    100.0 * self.assist_saturated_ticks as f64 / n,
+                ),
+            ]);
+        }
+        figures
+    }
+}
+
 /// What the recorder hands back when the session ends.
 #[derive(Debug, Default)]
 pub struct RecorderOutcome {
@@ -215,13 +246,8 @@ pub struct RecorderOutcome {
 /// Metrics for the therapist beyond the fixed summary fields: safety, assistance and the live
 /// movement measures so far.
 fn summary_extra(out: &RecorderOutcome, measures: &MeasureCollector) -> BTreeMap<String, f64> {
-    let ticks = out.records.max(1) as f64;
     let mut extra = measures.live();
-    extra.insert(
-        "clipped_pct".into(),
-        100.0 * out.clipped_ticks as f64 / ticks,
-    );
-    extra.insert("watchdog_fault_ticks".into(), out.fault_ticks as f64);
+    extra.extend(out.safety_and_assist());
     if let Some(arm) = &out.last.arm {
         extra.insert(
             "shoulder_elevation_deg".into(),
@@ -230,18 +256,6 @@ fn summary_extra(out: &RecorderOutcome, measures: &MeasureCollector) -> BTreeMap
         extra.insert(
             "elbow_flexion_deg".into(),
             arm.elbow_flexion_rad.to_degrees(),
-        );
-    }
-    if out.assist_ticks > 0 {
-        let n = out.assist_ticks as f64;
-        extra.insert("assist_level_mean".into(), out.assist_level_sum / n);
-        extra.insert(
-            "assist_rms_error_deg".into(),
-            (out.assist_error_sq_sum / n).sqrt().to_degrees(),
-        );
-        extra.insert(
-            "assist_saturated_pct".into(),
-            100.0 * out.assist_saturated_ticks as f64 / n,
         );
     }
     extra
