@@ -496,7 +496,6 @@ mod tests {
             lateral_m: vec![],
             torque_nm: vec![(0.0, 0.1), (1.0, 0.2)],
             assist_nm: vec![],
-            assist_level: vec![],
             shoulder_deg: vec![],
             elbow_deg: vec![],
             speed_deg_s: vec![(0.0, 0.0), (0.5, 20.0), (1.0, 0.0)],

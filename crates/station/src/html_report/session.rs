@@ -19,7 +19,7 @@ pub struct SessionData {
     pub seed: u64,
     /// Patient (pseudonym or id) from the recording's metadata.
     pub patient: String,
-    /// The wheel's angle and the angle aimed for, (s, °).
+    /// The wheel's angle, (s, °).
     pub wheel_deg: Vec<(f64, f64)>,
     /// The target angle, (s, °).
     pub target_deg: Vec<(f64, f64)>,
@@ -29,8 +29,6 @@ pub struct SessionData {
     pub torque_nm: Vec<(f64, f64)>,
     /// Assist torque, (s, N·m).
     pub assist_nm: Vec<(f64, f64)>,
-    /// Assistance level, (s, 0–1).
-    pub assist_level: Vec<(f64, f64)>,
     /// Shoulder elevation and elbow flexion while tracked, (s, °).
     pub shoulder_deg: Vec<(f64, f64)>,
     /// Elbow flexion while tracked, (s, °).
@@ -84,11 +82,6 @@ pub fn read(path: &Path) -> anyhow::Result<SessionData> {
             .assist
             .iter()
             .map(|m| (m.t_s, m.data.torque_nm))
-            .collect(),
-        assist_level: rec
-            .assist
-            .iter()
-            .map(|m| (m.t_s, m.data.assistance_level))
             .collect(),
         shoulder_deg: tracked
             .clone()
