@@ -86,8 +86,8 @@ fn refusal(e: HubError) -> Refusal {
     Refusal::new(e.to_string())
 }
 
-/// Checkpoints the database's write-ahead log every second, off the writer's path, for as
-/// long as the store's writer channel lives.
+/// Checkpoints the SQLite database's write-ahead log every second, off the writer's path,
+/// for as long as the store's writer channel lives.
 async fn checkpoints(db: Db, writer: mpsc::WeakSender<Pending>) {
     let mut every = tokio::time::interval(Duration::from_secs(1));
     every.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
@@ -114,7 +114,9 @@ impl DbStore {
     ) -> Self {
         let (writer, rx) = mpsc::channel(4 * MAX_BATCH);
         tokio::spawn(group_commit(db.clone(), rx, now_ms.clone()));
-        tokio::spawn(checkpoints(db.clone(), writer.downgrade()));
+        if db.backend() == crate::Backend::Sqlite {
+            tokio::spawn(checkpoints(db.clone(), writer.downgrade()));
+        }
         Self {
             recordings,
             writer,
