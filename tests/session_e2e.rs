@@ -3,7 +3,8 @@
 use std::process::Command;
 use std::time::{Duration, Instant};
 use telerehab_tests::{
-    by_topic, read_mcap, run_err, run_ok, spawn_recording_session, wait_for_first_chunk,
+    by_topic, read_mcap, run_err, run_ok, sim_session_args, spawn_recording_session,
+    wait_for_first_chunk,
 };
 
 #[test]
@@ -407,17 +408,7 @@ fn killed_session_loses_at_most_the_last_second_and_recovers_to_a_finished_file(
 fn a_recording_is_never_overwritten() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("s.mcap");
-    let record = [
-        "run",
-        "--sim",
-        "--headless",
-        "--speed",
-        "max",
-        "--duration",
-        "1",
-        "--record",
-        path.to_str().unwrap(),
-    ];
+    let record = sim_session_args("1", &path, &[]);
     run_ok(&record);
     let first = std::fs::read(&path).unwrap();
     let err = run_err(&record);
@@ -585,21 +576,11 @@ fn report_of_two_sessions_is_one_self_contained_html_file() {
     let mut paths = Vec::new();
     for (seed, exercise) in [("1", "sine-road"), ("2", "dial-sine")] {
         let p = dir.path().join(format!("s{seed}.mcap"));
-        run_ok(&[
-            "run",
-            "--sim",
-            "--headless",
-            "--speed",
-            "max",
-            "--duration",
+        run_ok(&sim_session_args(
             "4",
-            "--seed",
-            seed,
-            "--exercise",
-            exercise,
-            "--record",
-            p.to_str().unwrap(),
-        ]);
+            &p,
+            &["--seed", seed, "--exercise", exercise],
+        ));
         paths.push(p.to_str().unwrap().to_owned());
     }
     let out = dir.path().join("report.html");

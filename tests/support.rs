@@ -58,6 +58,24 @@ pub fn run_err(args: &[&str]) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
+/// The arguments of a simulated headless session run as fast as possible for `seconds` of
+/// exercise and recorded to `mcap`, then `extra` (`--seed`, `--exercise`, …).
+pub fn sim_session_args<'a>(seconds: &'a str, mcap: &'a Path, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut args = vec![
+        "run",
+        "--sim",
+        "--headless",
+        "--speed",
+        "max",
+        "--duration",
+        seconds,
+        "--record",
+        mcap.to_str().expect("utf-8 path"),
+    ];
+    args.extend_from_slice(extra);
+    args
+}
+
 /// Start a 60 s real-time simulated session recording to `mcap`, output piped (tests stop it
 /// early with a signal).
 pub fn spawn_recording_session(mcap: &Path) -> std::process::Child {
