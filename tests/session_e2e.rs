@@ -33,7 +33,8 @@ fn short_session_records_every_tick_on_every_channel_with_schemas() {
     let report = String::from_utf8_lossy(&out.stdout);
     assert!(report.contains("time in lane"), "{report}");
 
-    // The summary section names every channel, each with a JSON-schema schema.
+    // The summary section names every channel: the high-rate ones as protobuf blocks, the
+    // low-rate ones as JSON with a JSON schema, and the arm's Foxglove 3-D scene.
     let bytes = std::fs::read(&path).unwrap();
     let summary = mcap::Summary::read(&bytes)
         .unwrap()
@@ -51,25 +52,28 @@ fn short_session_records_every_tick_on_every_channel_with_schemas() {
         })
         .collect();
     topics.sort();
-    let expect = |t: &str| (t.to_string(), "json".to_string(), "jsonschema".to_string());
+    let json = |t: &str| (t.to_string(), "json".to_string(), "jsonschema".to_string());
+    let proto = |t: &str| {
+        (
+            t.to_string(),
+            "protobuf".to_string(),
+            "protobuf".to_string(),
+        )
+    };
     assert_eq!(
         topics,
         vec![
-            expect("/arm"),
-            expect("/arm_calibration"),
-            expect("/assist"),
-            expect("/metrics"),
-            expect("/score"),
-            expect("/timing"),
-            expect("/vehicle"),
-            expect("/wheel")
+            proto("/arm"),
+            proto("/arm/scene"),
+            json("/arm_calibration"),
+            proto("/assist"),
+            json("/metrics"),
+            json("/score"),
+            proto("/timing"),
+            proto("/vehicle"),
+            proto("/wheel")
         ]
     );
-    for c in summary.channels.values() {
-        let schema: serde_json::Value =
-            serde_json::from_slice(&c.schema.as_ref().unwrap().data).unwrap();
-        assert_eq!(schema["type"], "object");
-    }
 
     let msgs = by_topic(&read_mcap(&path));
     // 3 s at 1 kHz plus the 0.1 s fade-out (and the tick that sees zero); a score every 100 ms.
@@ -85,16 +89,12 @@ fn short_session_records_every_tick_on_every_channel_with_schemas() {
     for pair in wheel.windows(2) {
         assert_eq!(pair[1].log_time - pair[0].log_time, 1_000_000);
     }
-    // Each message has the fields its schema requires, and no field it does not describe
-    // (an optional field is left out, never null).
+    // Each sample has the fields its channel's JSON schema requires, and no field it does not
+    // describe (an optional field is left out, never null): the block channels' samples
+    // against the record types' schemas, the JSON channels' against the file's.
     for (topic, list) in &msgs {
-        let c = summary
-            .channels
-            .values()
-            .find(|c| &c.topic == topic)
-            .unwrap();
-        let schema: serde_json::Value =
-            serde_json::from_slice(&c.schema.as_ref().unwrap().data).unwrap();
+        let spec = station::record::Channel::from_topic(topic).unwrap().spec();
+        let schema = spec.schema();
         let described = schema["properties"].as_object().unwrap();
         let required: Vec<&str> = schema["required"]
             .as_array()
@@ -256,7 +256,7 @@ fn sigint_ends_the_session_cleanly_with_a_readable_recording() {
     assert!(!out.status.success(), "{said}");
     assert!(said.contains("the session was stopped after"), "{said}");
     assert!(
-        err.contains("replay differs: first at /wheel message"),
+        err.contains("replay differs: first at /wheel sample"),
         "{err}"
     );
 }
@@ -612,4 +612,21 @@ fn report_of_two_sessions_is_one_self_contained_html_file() {
         dir.path().join("r.pdf").to_str().unwrap(),
     ]);
     assert!(err.contains("must name an .html file"), "{err}");
+}
+
+#[test]
+fn bench_recording_shows_the_compact_encoding_under_a_fifth_of_the_json_bytes() {
+    let out = run_ok(&["bench", "recording", "--duration", "3", "--repeats", "1"]);
+    let said = String::from_utf8_lossy(&out.stdout);
+    let line = said
+        .lines()
+        .find(|l| l.starts_with("compact / all-JSON: bytes "))
+        .unwrap_or_else(|| panic!("{said}"));
+    let ratio: f64 = line["compact / all-JSON: bytes ".len()..]
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(ratio > 0.0 && ratio <= 0.2, "{said}");
 }

@@ -1,4 +1,6 @@
-"""The station's MCAP recordings open in the Python `mcap` reader (what Foxglove-era tooling uses)."""
+"""The station's MCAP recordings open in the Python `mcap` reader and decode with Foxglove's own
+protobuf decoder (`mcap-protobuf-support`, what Foxglove-family tooling uses): the high-rate
+channels as protobuf blocks, the arm as a `foxglove.SceneUpdate`, the low-rate ones as JSON."""
 
 import json
 import os
@@ -6,34 +8,78 @@ import subprocess
 from collections import Counter
 from pathlib import Path
 
+import numpy as np
+import pytest
 from mcap.reader import make_reader
+from mcap_protobuf.decoder import DecoderFactory
+
+import telerehab
 
 BIN = os.environ.get("TELEREHAB_BIN", str(Path(__file__).resolve().parents[2] / "target" / "debug" / "telerehab"))
 
+BLOCKS = ("/wheel", "/vehicle", "/assist", "/timing", "/arm")
 
-def test_recording_opens_in_python_mcap_with_json_schemas(tmp_path):
-    path = tmp_path / "session.mcap"
+
+@pytest.fixture(scope="module")
+def recording(tmp_path_factory):
+    path = tmp_path_factory.mktemp("mcap") / "session.mcap"
     subprocess.run(
         [BIN, "run", "--sim", "--headless", "--duration", "2", "--seed", "3", "--speed", "max", "--record", str(path)],
         check=True,
         capture_output=True,
     )
-    with open(path, "rb") as f:
-        reader = make_reader(f)
-        summary = reader.get_summary()
-        assert summary is not None
-        encodings = {ch.topic: (ch.message_encoding, summary.schemas[ch.schema_id].encoding) for ch in summary.channels.values()}
-        assert encodings == {t: ("json", "jsonschema") for t in ("/wheel", "/vehicle", "/score", "/assist", "/timing", "/arm", "/arm_calibration", "/metrics")}
-        counts = Counter()
-        last_t = {}
-        for schema, channel, message in reader.iter_messages():
-            body = json.loads(message.data)
+    return path
+
+
+def test_every_channel_has_the_encoding_its_rate_calls_for(recording):
+    with open(recording, "rb") as f:
+        summary = make_reader(f).get_summary()
+    assert summary is not None
+    encodings = {ch.topic: (ch.message_encoding, summary.schemas[ch.schema_id].encoding) for ch in summary.channels.values()}
+    assert encodings == {
+        **{t: ("protobuf", "protobuf") for t in BLOCKS},
+        "/arm/scene": ("protobuf", "protobuf"),
+        **{t: ("json", "jsonschema") for t in ("/score", "/arm_calibration", "/metrics")},
+    }
+    names = {ch.topic: summary.schemas[ch.schema_id].name for ch in summary.channels.values()}
+    assert names["/wheel"] == "telerehab.WheelBlock" and names["/arm/scene"] == "foxglove.SceneUpdate"
+
+
+def test_foxglove_s_protobuf_decoder_reads_every_message(recording):
+    decoders = DecoderFactory()
+    counts = Counter()
+    ticks = Counter()
+    with open(recording, "rb") as f:
+        for schema, channel, message in make_reader(f).iter_messages():
+            if channel.message_encoding == "json":
+                body = json.loads(message.data)
+                counts[channel.topic] += 1
+                continue
+            decoded = decoders.decoder_for(channel.message_encoding, schema)(message.data)
             counts[channel.topic] += 1
-            assert body["t_s"] >= last_t.get(channel.topic, -1.0)
-            last_t[channel.topic] = body["t_s"]
-            if channel.topic == "/wheel":
-                assert abs(body["commanded_nm"]) <= 1.87
-    assert counts["/wheel"] == counts["/vehicle"] == counts["/timing"] == 2101
+            if channel.topic == "/arm/scene":
+                arm = next(e for e in decoded.entities if e.id == "arm")
+                shoulder, elbow, grip = arm.lines[0].points
+                # Nominal segment lengths (0.30 m, 0.33 m) between the drawn joints.
+                assert abs(np.linalg.norm([elbow.x - shoulder.x, elbow.y - shoulder.y, elbow.z - shoulder.z]) - 0.30) < 1e-9
+                assert abs(np.linalg.norm([grip.x - elbow.x, grip.y - elbow.y, grip.z - elbow.z]) - 0.33) < 1e-9
+            else:
+                ticks[channel.topic] += len(decoded.tick)
+    assert ticks["/wheel"] == ticks["/vehicle"] == ticks["/timing"] == 2101
+    assert counts["/wheel"] == 22  # blocks of at most 100 ticks, cut at each 1 s flush
     assert counts["/score"] == 21
-    meta = {m.name: m.metadata for m in make_reader(open(path, "rb")).iter_metadata()}
+    # 20 Hz from the first tick (the simulated arm is tracked from the start): 0 to 2.1 s.
+    assert counts["/arm/scene"] == 43
+    meta = {m.name: m.metadata for m in make_reader(open(recording, "rb")).iter_metadata()}
     assert meta["session"]["seed"] == "3"
+
+
+def test_block_columns_decode_to_the_recorded_samples(recording):
+    s = telerehab.session.read(recording)
+    wheel = s.channels["/wheel"]
+    assert np.array_equal(wheel["tick"], np.arange(2101))
+    assert np.all(np.abs(wheel["commanded_nm"]) <= wheel["ceiling_nm"] + 1e-12)
+    # Floats are whole numbers of their quantum (1 µrad for an angle).
+    micro = wheel["angle_rad"] * 1e6
+    assert np.max(np.abs(micro - np.round(micro))) < 1e-6
+    assert s.channels["/arm"]["upper_orientation_wxyz"].shape[1] == 4

@@ -2,12 +2,13 @@
 //! regimen (all in the recording's `session` metadata) as fast as possible, and say whether
 //! every recorded output is reproduced bit for bit — the first difference named if not.
 //!
-//! Bit for bit means the same JSON bytes on every channel but `/timing` (wall-clock loop
-//! timing, which no two runs share): serde_json writes the shortest text that reads back to
-//! the same `f64`, so equal bytes are equal bits.
+//! Bit for bit means the same recorded value of every field of every sample on every channel
+//! but `/timing` (wall-clock loop timing, which no two runs share): the high-rate channels
+//! record whole numbers of each field's quantum (`record::blocks`), the low-rate ones the
+//! shortest JSON text that reads back to the same `f64`; both are compared exactly.
 
 use crate::config::StationConfig;
-use crate::record::{Channel, RawMessages, SessionMetadata, raw_messages};
+use crate::record::{Channel, RecordedRows, Row, SessionMetadata, recorded_rows};
 use crate::regimen::Regimen;
 use crate::session::haptic::Pacing;
 use crate::session::{self, BodyKind, Controls, SessionOptions};
@@ -28,7 +29,7 @@ pub struct ReplayArgs {
 pub struct Difference {
     /// The channel's topic.
     pub topic: &'static str,
-    /// The message's index on its channel.
+    /// The sample's index on its channel.
     pub index: usize,
     /// What differs, for a person.
     pub what: String,
@@ -37,7 +38,7 @@ pub struct Difference {
 /// What a replay found.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ReplayOutcome {
-    /// Messages compared on each channel (recorded count).
+    /// Samples compared on each channel (recorded count).
     pub compared: BTreeMap<&'static str, usize>,
     /// The first difference, if any.
     pub first_difference: Option<Difference>,
@@ -56,13 +57,13 @@ pub fn run(args: &ReplayArgs) -> anyhow::Result<()> {
     match &outcome.first_difference {
         None => {
             println!(
-                "replay: identical — every recorded output reproduced bit for bit ({total} messages on {} channels; /timing is wall-clock and not compared)",
+                "replay: identical — every recorded output reproduced bit for bit ({total} samples on {} channels; /timing is wall-clock and not compared)",
                 outcome.compared.len()
             );
             Ok(())
         }
         Some(d) => bail!(
-            "replay differs: first at {} message {}: {}",
+            "replay differs: first at {} sample {}: {}",
             d.topic,
             d.index,
             d.what
@@ -73,11 +74,11 @@ pub fn run(args: &ReplayArgs) -> anyhow::Result<()> {
 /// Re-run the simulated session recorded at `path` and compare every channel but `/timing`.
 pub fn replay(path: &Path) -> anyhow::Result<ReplayOutcome> {
     let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
-    let (meta, recorded) = raw_messages(&bytes)
+    let (meta, recorded) = recorded_rows(&bytes)
         .with_context(|| format!("{} is not a readable recording", path.display()))?;
     let wheel = recorded.get(&Channel::Wheel).map_or(&[][..], Vec::as_slice);
-    let first: serde_json::Value = match wheel.first() {
-        Some(m) => serde_json::from_slice(m).context("the first /wheel message")?,
+    let first = match wheel.first() {
+        Some(m) => m,
         None => bail!(
             "{} has no /wheel messages: nothing to replay",
             path.display()
@@ -102,7 +103,7 @@ pub fn replay(path: &Path) -> anyhow::Result<ReplayOutcome> {
         bail!("the replay's own recording failed: {e}");
     }
     let again_bytes = std::fs::read(&again_path).context("cannot read the replay's recording")?;
-    let (_, again) = raw_messages(&again_bytes).context("the replay's recording")?;
+    let (_, again) = recorded_rows(&again_bytes).context("the replay's recording")?;
     Ok(ReplayOutcome {
         compared: Channel::ALL
             .into_iter()
@@ -119,7 +120,7 @@ pub fn replay(path: &Path) -> anyhow::Result<ReplayOutcome> {
 fn options(
     meta: &SessionMetadata,
     recorded_ticks: usize,
-    recorded: &RawMessages,
+    recorded: &RecordedRows,
 ) -> anyhow::Result<(SessionOptions, Vec<String>)> {
     let config = StationConfig::from_toml(&meta.config_toml, "the recording's configuration")?;
     let regimen = meta
@@ -158,9 +159,8 @@ fn options(
 
 /// Whether the patient paused the exercise: a recorded pause after the arm procedure (which
 /// holds the exercise paused itself, and is replayed).
-fn patient_paused(recorded: &RawMessages) -> bool {
-    let json = |m: &Vec<u8>| serde_json::from_slice::<serde_json::Value>(m).unwrap_or_default();
-    let in_procedure = |v: &serde_json::Value| {
+fn patient_paused(recorded: &RecordedRows) -> bool {
+    let in_procedure = |v: &&Row| {
         matches!(
             v["setup"].as_str(),
             Some("hold-still" | "turn-wheel" | "solving")
@@ -168,7 +168,6 @@ fn patient_paused(recorded: &RawMessages) -> bool {
     };
     let procedure_end = recorded.get(&Channel::Arm).map_or(0, |arm| {
         arm.iter()
-            .map(json)
             .filter(in_procedure)
             .filter_map(|v| v["tick"].as_u64())
             .max()
@@ -177,13 +176,12 @@ fn patient_paused(recorded: &RawMessages) -> bool {
     recorded.get(&Channel::Score).is_some_and(|scores| {
         scores
             .iter()
-            .map(json)
             .any(|v| v["paused"] == true && v["tick"].as_u64().is_some_and(|t| t > procedure_end))
     })
 }
 
-/// The first message (channel order, then index) whose bytes differ, named down to the field.
-fn first_difference(recorded: &RawMessages, again: &RawMessages) -> Option<Difference> {
+/// The first sample (channel order, then index) that differs, named down to the field.
+fn first_difference(recorded: &RecordedRows, again: &RecordedRows) -> Option<Difference> {
     let none = Vec::new();
     Channel::ALL
         .into_iter()
@@ -204,17 +202,13 @@ fn first_difference(recorded: &RawMessages, again: &RawMessages) -> Option<Diffe
             (a.len() != b.len()).then(|| Difference {
                 topic,
                 index: a.len().min(b.len()),
-                what: format!("{} messages recorded, {} replayed", a.len(), b.len()),
+                what: format!("{} samples recorded, {} replayed", a.len(), b.len()),
             })
         })
 }
 
-/// The first field whose value differs between two messages of one channel.
-fn field_difference(recorded: &[u8], again: &[u8]) -> String {
-    let parse = |m: &[u8]| serde_json::from_slice::<serde_json::Map<String, serde_json::Value>>(m);
-    let (Ok(a), Ok(b)) = (parse(recorded), parse(again)) else {
-        return "the message bytes differ".into();
-    };
+/// The first field whose value differs between two samples of one channel.
+fn field_difference(a: &Row, b: &Row) -> String {
     let at = format!("tick {}, t = {} s", a["tick"], a["t_s"]);
     a.iter()
         .find(|(k, v)| b.get(*k) != Some(v))
@@ -234,11 +228,12 @@ fn field_difference(recorded: &[u8], again: &[u8]) -> String {
 mod tests {
     use super::*;
 
-    fn message(tick: u64, angle: f64) -> Vec<u8> {
-        serde_json::to_vec(
-            &serde_json::json!({"tick": tick, "t_s": tick as f64 / 1000.0, "angle_rad": angle}),
-        )
-        .unwrap()
+    fn row(v: serde_json::Value) -> Row {
+        v.as_object().unwrap().clone()
+    }
+
+    fn message(tick: u64, angle: f64) -> Row {
+        row(serde_json::json!({"tick": tick, "t_s": tick as f64 / 1000.0, "angle_rad": angle}))
     }
 
     #[test]
@@ -255,17 +250,14 @@ mod tests {
         );
         again.get_mut(&Channel::Wheel).unwrap().truncate(1);
         let d = first_difference(&recorded, &again).unwrap();
-        assert_eq!(d.what, "2 messages recorded, 1 replayed");
+        assert_eq!(d.what, "2 samples recorded, 1 replayed");
     }
 
     #[test]
     fn the_arm_procedures_pause_is_not_the_patients() {
-        let score = |tick: u64, paused: bool| {
-            serde_json::to_vec(&serde_json::json!({"tick": tick, "paused": paused})).unwrap()
-        };
-        let arm = |tick: u64, setup: &str| {
-            serde_json::to_vec(&serde_json::json!({"tick": tick, "setup": setup})).unwrap()
-        };
+        let score =
+            |tick: u64, paused: bool| row(serde_json::json!({"tick": tick, "paused": paused}));
+        let arm = |tick: u64, setup: &str| row(serde_json::json!({"tick": tick, "setup": setup}));
         let mut recorded = BTreeMap::from([
             (
                 Channel::Arm,

@@ -1,15 +1,19 @@
 //! The channels of a recording: topic, schema name and JSON schema, in one table.
 
+use super::blocks::{BlockError, Layout};
 use super::types::{
     ArmCalibrationSample, ArmSample, AssistSample, MetricsSample, ScoreSample, Stamped,
     TimingSample, VehicleSample, WheelSample,
 };
 use schemars::JsonSchema;
+use serde::Serialize;
 
-/// Encoding of every channel's messages.
+/// Encoding of the low-rate channels' messages.
 pub const MESSAGE_ENCODING: &str = "json";
-/// Encoding of every channel's schema (JSON Schema, draft 2020-12).
+/// Encoding of the low-rate channels' schemas (JSON Schema, draft 2020-12).
 pub const SCHEMA_ENCODING: &str = "jsonschema";
+/// Samples per block message of a high-rate channel (0.1 s at 1 kHz).
+pub const BLOCK_SAMPLES: usize = 100;
 
 /// One MCAP channel of a recording.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -33,6 +37,9 @@ pub enum Channel {
     Metrics,
 }
 
+/// Makes the block layout of a channel from its schema name.
+type LayoutOf = fn(&str) -> Result<Layout, BlockError>;
+
 /// What the file says about one channel.
 #[derive(Clone, Copy, Debug)]
 pub struct ChannelSpec {
@@ -44,16 +51,19 @@ pub struct ChannelSpec {
     pub schema_name: &'static str,
     /// The message schema without its title.
     schema: fn() -> schemars::Schema,
+    /// The block layout of a high-rate channel (recorded in compact blocks, see
+    /// [`super::blocks`]); `None` for a low-rate JSON channel.
+    block: Option<LayoutOf>,
 }
 
 /// Every channel, in the order the writer registers them (`Channel as usize` indexes it).
 pub const CHANNELS: [ChannelSpec; 8] = [
-    spec::<WheelSample>(Channel::Wheel, "/wheel", "telerehab.Wheel"),
-    spec::<VehicleSample>(Channel::Vehicle, "/vehicle", "telerehab.Vehicle"),
+    blocks::<WheelSample>(Channel::Wheel, "/wheel", "telerehab.Wheel"),
+    blocks::<VehicleSample>(Channel::Vehicle, "/vehicle", "telerehab.Vehicle"),
     spec::<ScoreSample>(Channel::Score, "/score", "telerehab.Score"),
-    spec::<AssistSample>(Channel::Assist, "/assist", "telerehab.Assist"),
-    spec::<TimingSample>(Channel::Timing, "/timing", "telerehab.LoopTiming"),
-    spec::<ArmSample>(Channel::Arm, "/arm", "telerehab.Arm"),
+    blocks::<AssistSample>(Channel::Assist, "/assist", "telerehab.Assist"),
+    blocks::<TimingSample>(Channel::Timing, "/timing", "telerehab.LoopTiming"),
+    blocks::<ArmSample>(Channel::Arm, "/arm", "telerehab.Arm"),
     spec::<ArmCalibrationSample>(
         Channel::ArmCalibration,
         "/arm_calibration",
@@ -73,7 +83,30 @@ const fn spec<T: JsonSchema>(
         topic,
         schema_name,
         schema: stamped_schema::<T>,
+        block: None,
     }
+}
+
+/// A high-rate channel recorded in blocks of `T` samples (message `<schema_name>Block`).
+const fn blocks<T: JsonSchema + Serialize + Default>(
+    channel: Channel,
+    topic: &'static str,
+    schema_name: &'static str,
+) -> ChannelSpec {
+    ChannelSpec {
+        block: Some(block_layout::<T>),
+        ..spec::<T>(channel, topic, schema_name)
+    }
+}
+
+/// The layout of message `telerehab.<Name>Block` for schema name `telerehab.<Name>`.
+fn block_layout<T: JsonSchema + Serialize + Default>(
+    schema_name: &str,
+) -> Result<Layout, BlockError> {
+    let name = schema_name
+        .strip_prefix("telerehab.")
+        .unwrap_or(schema_name);
+    Layout::of::<T>(&format!("{name}Block"))
 }
 
 fn stamped_schema<T: JsonSchema>() -> schemars::Schema {
@@ -81,6 +114,11 @@ fn stamped_schema<T: JsonSchema>() -> schemars::Schema {
 }
 
 impl ChannelSpec {
+    /// The block layout of a high-rate channel, `None` for a JSON one.
+    pub fn block_layout(&self) -> Option<Result<Layout, BlockError>> {
+        self.block.map(|layout| layout(self.schema_name))
+    }
+
     /// The message schema (JSON Schema draft 2020-12), titled with the schema name.
     pub fn schema(&self) -> serde_json::Value {
         let mut schema = serde_json::to_value((self.schema)()).expect("schemas serialise");

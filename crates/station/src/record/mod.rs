@@ -23,16 +23,18 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod blocks;
 pub mod channels;
 pub mod reader;
 pub mod recover;
+pub mod scene;
 #[cfg(test)]
 mod tests;
 pub mod types;
 pub mod writer;
 
 pub use channels::{CHANNELS, Channel, ChannelSpec};
-pub use reader::{RawMessages, ReadError, Recording, raw_messages};
+pub use reader::{ReadError, RecordedRows, Recording, Row, recorded_rows};
 pub use types::{
     ArmCalibrationSample, ArmSample, ArmSetup, AssistSample, MetricsSample, MovementSample,
     ScoreSample, SessionMetadata, Stamped, TickRecord, TimingSample, VehicleSample, Watchdog,

@@ -1,5 +1,6 @@
 //! Reads a recording back into the types it was written from (replay, reports, Python).
 
+use super::blocks::{self, BlockError, Layout};
 use super::channels::Channel;
 use super::types::{
     ArmCalibrationSample, ArmSample, AssistSample, MetadataError, MetricsSample, ScoreSample,
@@ -31,10 +32,21 @@ pub enum ReadError {
     Decode {
         /// The channel's topic.
         topic: &'static str,
-        /// The message's position within its channel, from 0.
+        /// The sample's position within its channel, from 0.
         index: usize,
         /// What serde found.
         source: serde_json::Error,
+    },
+    /// A block message of a high-rate channel does not decode.
+    #[error("the block of channel {topic} from sample {index} does not decode: {source}")]
+    Block {
+        /// The channel's topic.
+        topic: &'static str,
+        /// The position of the block's first sample within its channel, from 0
+        /// (`usize::MAX`: the channel's layout).
+        index: usize,
+        /// What the block decoder found.
+        source: BlockError,
     },
     /// The session metadata record is missing.
     #[error("the recording has no `session` metadata record")]
@@ -92,7 +104,7 @@ impl Recording {
 
     /// Read a recording held in memory. Messages on topics that are not ours are skipped.
     pub fn from_bytes(bytes: &[u8]) -> Result<Self, ReadError> {
-        let (metadata, mut raw) = raw_messages(bytes)?;
+        let (metadata, mut raw) = recorded_rows(bytes)?;
         let mut take = |channel| raw.remove(&channel).unwrap_or_default();
         Ok(Self {
             metadata,
@@ -136,26 +148,74 @@ impl Recording {
     }
 }
 
-/// Every message of each of our channels as written (JSON bytes), in file order.
-pub type RawMessages = BTreeMap<Channel, Vec<Vec<u8>>>;
+/// One recorded sample as its fields: `tick`, `t_s`, then the sample's own, as written (a
+/// JSON object; a high-rate channel's block unpacked to its samples).
+pub type Row = serde_json::Map<String, serde_json::Value>;
 
-/// The session metadata and every message of our channels as written (JSON bytes), in file
-/// order, by channel: what `telerehab replay` compares bit for bit. Messages on topics that
-/// are not ours are skipped.
-pub fn raw_messages(bytes: &[u8]) -> Result<(SessionMetadata, RawMessages), ReadError> {
-    let mut topics: BTreeMap<u16, Channel> = BTreeMap::new();
-    let mut raw = RawMessages::new();
+/// Every sample of each of our channels as recorded, in file order, by channel.
+pub type RecordedRows = BTreeMap<Channel, Vec<Row>>;
+
+/// How one of our channels' messages decode.
+enum Decoder {
+    /// One JSON sample a message.
+    Json,
+    /// A block of samples a message.
+    Blocks(Box<Layout>),
+}
+
+/// The session metadata and every sample of our channels as recorded, in file order, by
+/// channel: what `telerehab replay` compares bit for bit. Messages on topics that are not
+/// ours are skipped.
+pub fn recorded_rows(bytes: &[u8]) -> Result<(SessionMetadata, RecordedRows), ReadError> {
+    let mut schemas: BTreeMap<u16, (String, Vec<u8>)> = BTreeMap::new();
+    let mut topics: BTreeMap<u16, (Channel, Decoder)> = BTreeMap::new();
+    let mut rows = RecordedRows::new();
     let mut metadata = None;
     for record in mcap::read::ChunkFlattener::new(bytes)? {
         match record? {
+            Record::Schema { header, data } => {
+                schemas.insert(header.id, (header.name, data.into_owned()));
+            }
             Record::Channel(c) => {
-                if let Some(channel) = Channel::from_topic(&c.topic) {
-                    topics.insert(c.id, channel);
-                }
+                let Some(channel) = Channel::from_topic(&c.topic) else {
+                    continue;
+                };
+                let decoder = if c.message_encoding == blocks::ENCODING {
+                    let (name, schema) = schemas.get(&c.schema_id).cloned().unwrap_or_default();
+                    let layout =
+                        Layout::from_file(&name, &schema, &c.metadata).map_err(|source| {
+                            ReadError::Block {
+                                topic: channel.topic(),
+                                index: usize::MAX,
+                                source,
+                            }
+                        })?;
+                    Decoder::Blocks(Box::new(layout))
+                } else {
+                    Decoder::Json
+                };
+                topics.insert(c.id, (channel, decoder));
             }
             Record::Message { header, data } => {
-                if let Some(channel) = topics.get(&header.channel_id) {
-                    raw.entry(*channel).or_default().push(data.into_owned());
+                let Some((channel, decoder)) = topics.get(&header.channel_id) else {
+                    continue;
+                };
+                let out = rows.entry(*channel).or_default();
+                match decoder {
+                    Decoder::Json => out.push(serde_json::from_slice(&data).map_err(|source| {
+                        ReadError::Decode {
+                            topic: channel.topic(),
+                            index: out.len(),
+                            source,
+                        }
+                    })?),
+                    Decoder::Blocks(layout) => {
+                        out.extend(layout.decode(&data).map_err(|source| ReadError::Block {
+                            topic: channel.topic(),
+                            index: out.len(),
+                            source,
+                        })?)
+                    }
                 }
             }
             Record::Metadata(m) if m.name == SessionMetadata::NAME => {
@@ -164,7 +224,7 @@ pub fn raw_messages(bytes: &[u8]) -> Result<(SessionMetadata, RawMessages), Read
             _ => {}
         }
     }
-    Ok((metadata.ok_or(ReadError::NoMetadata)?, raw))
+    Ok((metadata.ok_or(ReadError::NoMetadata)?, rows))
 }
 
 /// The message of `tick`, skipping any earlier ones.
@@ -178,16 +238,17 @@ fn at_tick<'a, T: Copy + 'a>(
 
 fn decode<T: DeserializeOwned>(
     channel: Channel,
-    messages: Vec<Vec<u8>>,
+    rows: Vec<Row>,
 ) -> Result<Vec<Stamped<T>>, ReadError> {
-    messages
-        .iter()
+    rows.into_iter()
         .enumerate()
-        .map(|(index, m)| {
-            serde_json::from_slice(m).map_err(|source| ReadError::Decode {
-                topic: channel.topic(),
-                index,
-                source,
+        .map(|(index, row)| {
+            serde_json::from_value(serde_json::Value::Object(row)).map_err(|source| {
+                ReadError::Decode {
+                    topic: channel.topic(),
+                    index,
+                    source,
+                }
             })
         })
         .collect()

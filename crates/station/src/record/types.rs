@@ -417,6 +417,22 @@ pub struct Stamped<T> {
     pub data: T,
 }
 
+impl TickRecord {
+    /// The tick as reading its recording gives it back: every float of the per-tick channels
+    /// rounded to its quantum ([`super::blocks`]); the score is recorded in full.
+    pub fn as_recorded(&self) -> Self {
+        use super::blocks::as_recorded;
+        Self {
+            wheel: as_recorded(&self.wheel),
+            vehicle: self.vehicle.as_ref().map(as_recorded),
+            assist: as_recorded(&self.assist),
+            arm: self.arm.as_ref().map(as_recorded),
+            timing: self.timing,
+            ..*self
+        }
+    }
+}
+
 impl<T> Stamped<T> {
     /// `data` stamped with the tick and session time (ns) of `rec`.
     pub fn at(rec: &TickRecord, data: T) -> Self {

@@ -1,10 +1,15 @@
-//! The MCAP writer: one JSON channel per stream, zstd chunks, the session metadata record.
+//! The MCAP writer: the high-rate channels in compact protobuf blocks ([`super::blocks`]), the
+//! low-rate ones in JSON, the arm as a Foxglove 3-D scene, zstd chunks, the session metadata
+//! record.
 //!
 //! Generic over any `Write + Seek` sink (a buffered file for a session, a `Cursor<Vec<u8>>`
 //! in tests); it knows nothing of paths, threads or clocks.
 
-use super::channels::{CHANNELS, Channel, MESSAGE_ENCODING, SCHEMA_ENCODING};
+use super::blocks::{self, BlockBuilder, BlockError, Layout};
+use super::channels::{BLOCK_SAMPLES, CHANNELS, Channel, MESSAGE_ENCODING, SCHEMA_ENCODING};
+use super::scene::{SCENE_RATE_HZ, arm_scene};
 use super::types::{ArmCalibrationSample, MetricsSample, SessionMetadata, Stamped, TickRecord};
+use foxglove::Encode as _;
 use mcap::records::MessageHeader;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -23,13 +28,31 @@ pub fn mcap_options(library: &str) -> mcap::WriteOptions {
         .chunk_size(Some(CHUNK_BYTES))
 }
 
+/// The topic of the arm's 3-D scene (`foxglove.SceneUpdate`).
+pub const SCENE_TOPIC: &str = "/arm/scene";
+
+/// A high-rate channel's samples gathering into its next block.
+struct Pending {
+    layout: Layout,
+    block: BlockBuilder,
+}
+
 /// A recording being written to `W`.
 pub struct RecordWriter<W: Write + Seek> {
     writer: mcap::Writer<W>,
     channels: [u16; CHANNELS.len()],
+    /// The block being gathered of each high-rate channel (`None`: a JSON channel).
+    pending: [Option<Pending>; CHANNELS.len()],
+    scene_channel: u16,
+    scene_every_ns: u64,
+    next_scene_ns: u64,
     sequence: u32,
     start_unix_ns: u64,
     buf: Vec<u8>,
+}
+
+fn block_error(e: BlockError) -> mcap::McapError {
+    mcap::McapError::Io(std::io::Error::other(e))
 }
 
 impl<W: Write + Seek> RecordWriter<W> {
@@ -43,12 +66,47 @@ impl<W: Write + Seek> RecordWriter<W> {
         let mut writer =
             mcap_options(concat!("telerehab ", env!("CARGO_PKG_VERSION"))).create(sink)?;
         let mut channels = [0u16; CHANNELS.len()];
-        for (id, spec) in channels.iter_mut().zip(&CHANNELS) {
-            let schema = spec.schema().to_string();
-            let schema_id =
-                writer.add_schema(spec.schema_name, SCHEMA_ENCODING, schema.as_bytes())?;
-            *id = writer.add_channel(schema_id, spec.topic, MESSAGE_ENCODING, &BTreeMap::new())?;
+        let mut pending: [Option<Pending>; CHANNELS.len()] = Default::default();
+        for ((id, pending), spec) in channels.iter_mut().zip(&mut pending).zip(&CHANNELS) {
+            match spec.block_layout().transpose().map_err(block_error)? {
+                Some(layout) => {
+                    let schema_id = writer.add_schema(
+                        layout.message_name(),
+                        blocks::ENCODING,
+                        layout.schema(),
+                    )?;
+                    *id = writer.add_channel(
+                        schema_id,
+                        spec.topic,
+                        blocks::ENCODING,
+                        &layout.channel_metadata(),
+                    )?;
+                    *pending = Some(Pending {
+                        layout,
+                        block: BlockBuilder::new(),
+                    });
+                }
+                None => {
+                    let schema = spec.schema().to_string();
+                    let schema_id =
+                        writer.add_schema(spec.schema_name, SCHEMA_ENCODING, schema.as_bytes())?;
+                    *id = writer.add_channel(
+                        schema_id,
+                        spec.topic,
+                        MESSAGE_ENCODING,
+                        &BTreeMap::new(),
+                    )?;
+                }
+            }
         }
+        let scene = foxglove::messages::SceneUpdate::get_schema().expect("a well-known schema");
+        let scene_schema = writer.add_schema(&scene.name, &scene.encoding, &scene.data)?;
+        let scene_channel = writer.add_channel(
+            scene_schema,
+            SCENE_TOPIC,
+            &foxglove::messages::SceneUpdate::get_message_encoding(),
+            &BTreeMap::new(),
+        )?;
         writer.write_metadata(&mcap::records::Metadata {
             name: SessionMetadata::NAME.into(),
             metadata: metadata.to_map(),
@@ -56,12 +114,30 @@ impl<W: Write + Seek> RecordWriter<W> {
         Ok(Self {
             writer,
             channels,
+            pending,
+            scene_channel,
+            scene_every_ns: 1_000_000_000 / SCENE_RATE_HZ,
+            next_scene_ns: 0,
             sequence: 0,
             start_unix_ns,
             buf: Vec::with_capacity(512),
         })
     }
 
+    /// Write `self.buf` as a message of MCAP channel `channel_id` at session time `t_ns`.
+    fn write_buf(&mut self, channel_id: u16, t_ns: u64) -> Result<(), mcap::McapError> {
+        self.sequence = self.sequence.wrapping_add(1);
+        let time = self.start_unix_ns + t_ns;
+        let header = MessageHeader {
+            channel_id,
+            sequence: self.sequence,
+            log_time: time,
+            publish_time: time,
+        };
+        self.writer.write_to_known_channel(&header, &self.buf)
+    }
+
+    /// Write one JSON message on a low-rate channel.
     fn write<T: Serialize>(
         &mut self,
         channel: Channel,
@@ -71,15 +147,48 @@ impl<W: Write + Seek> RecordWriter<W> {
         self.buf.clear();
         serde_json::to_writer(&mut self.buf, &Stamped::at(rec, data))
             .expect("plain data structs always serialise");
-        self.sequence = self.sequence.wrapping_add(1);
-        let time = self.start_unix_ns + rec.t_ns;
-        let header = MessageHeader {
-            channel_id: self.channels[channel as usize],
-            sequence: self.sequence,
-            log_time: time,
-            publish_time: time,
+        self.write_buf(self.channels[channel as usize], rec.t_ns)
+    }
+
+    /// Add one sample to a high-rate channel's block; write the block when it is full.
+    fn gather<T: Serialize>(
+        &mut self,
+        channel: Channel,
+        rec: &TickRecord,
+        data: &T,
+    ) -> Result<(), mcap::McapError> {
+        let full = {
+            let pending = self.pending[channel as usize]
+                .as_mut()
+                .expect("a high-rate channel has a block");
+            pending
+                .block
+                .push(rec.tick, rec.t_ns, data)
+                .map_err(block_error)?;
+            pending.block.len() >= BLOCK_SAMPLES
         };
-        self.writer.write_to_known_channel(&header, &self.buf)
+        if full {
+            self.write_block(channel as usize)?;
+        }
+        Ok(())
+    }
+
+    /// Write the block gathered on channel `index`, if any, stamped with its first sample.
+    fn write_block(&mut self, index: usize) -> Result<(), mcap::McapError> {
+        let Some(pending) = self.pending[index].as_mut() else {
+            return Ok(());
+        };
+        if pending.block.is_empty() {
+            return Ok(());
+        }
+        let t_ns = pending.block.first_t_ns();
+        self.buf = pending.block.take(&pending.layout).map_err(block_error)?;
+        self.write_buf(self.channels[index], t_ns)
+    }
+
+    /// Write every block gathered so far.
+    fn write_blocks(&mut self) -> Result<(), mcap::McapError> {
+        (0..CHANNELS.len()).try_for_each(|i| self.write_block(i))
     }
 
     /// Record one tick on the per-tick channels (vehicle and arm when present), and the
@@ -89,19 +198,29 @@ impl<W: Write + Seek> RecordWriter<W> {
         rec: &TickRecord,
         with_score: bool,
     ) -> Result<(), mcap::McapError> {
-        self.write(Channel::Wheel, rec, rec.wheel)?;
-        if let Some(vehicle) = rec.vehicle {
-            self.write(Channel::Vehicle, rec, vehicle)?;
+        self.gather(Channel::Wheel, rec, &rec.wheel)?;
+        if let Some(vehicle) = &rec.vehicle {
+            self.gather(Channel::Vehicle, rec, vehicle)?;
         }
         if with_score {
             self.write(Channel::Score, rec, rec.score)?;
         }
-        self.write(Channel::Assist, rec, rec.assist)?;
-        self.write(Channel::Timing, rec, rec.timing)?;
-        match rec.arm {
-            Some(arm) => self.write(Channel::Arm, rec, arm),
-            None => Ok(()),
+        self.gather(Channel::Assist, rec, &rec.assist)?;
+        self.gather(Channel::Timing, rec, &rec.timing)?;
+        if let Some(arm) = &rec.arm {
+            self.gather(Channel::Arm, rec, arm)?;
+            if rec.t_ns >= self.next_scene_ns {
+                self.next_scene_ns = rec.t_ns + self.scene_every_ns;
+                if let Some(scene) = arm_scene(arm, self.start_unix_ns + rec.t_ns) {
+                    self.buf.clear();
+                    scene
+                        .encode(&mut self.buf)
+                        .map_err(|e| mcap::McapError::Io(std::io::Error::other(e.to_string())))?;
+                    self.write_buf(self.scene_channel, rec.t_ns)?;
+                }
+            }
         }
+        Ok(())
     }
 
     /// Record the arm calibration fitted at the end of the session, stamped with `last`.
@@ -122,14 +241,16 @@ impl<W: Write + Seek> RecordWriter<W> {
         self.write(Channel::Metrics, last, metrics)
     }
 
-    /// Close the current chunk and flush it to the sink, so a killed process loses at most
-    /// what came after this call.
+    /// Write the blocks gathered so far, close the current chunk and flush it to the sink, so
+    /// a killed process loses at most what came after this call.
     pub fn flush(&mut self) -> Result<(), mcap::McapError> {
+        self.write_blocks()?;
         self.writer.flush()
     }
 
-    /// Write the summary section and the footer; returns the sink.
+    /// Write the blocks still gathering, the summary section and the footer; returns the sink.
     pub fn finish(mut self) -> Result<W, mcap::McapError> {
+        self.write_blocks()?;
         self.writer.finish()?;
         Ok(self.writer.into_inner())
     }

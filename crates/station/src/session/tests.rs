@@ -287,7 +287,7 @@ fn a_recorded_session_reads_back_into_the_records_the_recorder_saw() {
                 score: seen.score,
                 ..*read
             },
-            *seen
+            seen.as_recorded()
         );
     }
     let summary_ticks = rec.score.iter().map(|s| &keep.0[s.tick as usize]);

@@ -1,11 +1,10 @@
-//! `telerehab bench`: measurements that need the whole station, not a micro-benchmark.
-//!
-//! `bench window` answers "does the patient's window disturb the 1 kHz haptic loop?" in one
+//! `telerehab bench window` answers "does the patient's window disturb the 1 kHz haptic loop?" in one
 //! run, so that the noise of a shared machine hits both sides alike: a simulated real-time
 //! session runs with the window open, drawing is switched on and off every `--phase`
 //! seconds, and each tick's period error is counted in the phase it ran in.
 
-use super::run::RunArgs;
+use super::BenchWindowArgs;
+use crate::commands::run::{self, RunArgs};
 use crate::link::Link;
 use crate::record::TickRecord;
 use crate::render::window::WindowOptions;
@@ -17,49 +16,6 @@ use anyhow::Context;
 use clock::Clock;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-
-/// `telerehab bench`.
-#[derive(Debug, clap::Args)]
-pub struct BenchArgs {
-    /// What to measure.
-    #[command(subcommand)]
-    pub what: BenchCommand,
-}
-
-/// The benchmarks.
-#[derive(Debug, clap::Subcommand)]
-pub enum BenchCommand {
-    /// The window's effect on the haptic loop: drawing on and off in alternating phases of one
-    /// real-time session (needs a display; use `xvfb-run -a` on a machine without one).
-    Window(BenchWindowArgs),
-}
-
-/// `telerehab bench window`.
-#[derive(Debug, clap::Args)]
-pub struct BenchWindowArgs {
-    /// Session length, s (the first two phases are warm-up and not counted).
-    #[arg(long, default_value_t = 40.0)]
-    pub duration: f64,
-    /// Length of each drawing-on and drawing-off phase, s.
-    #[arg(long, default_value_t = 2.0)]
-    pub phase: f64,
-    /// Exercise to run.
-    #[arg(long, default_value = "sine-road")]
-    pub exercise: String,
-    /// Seed of the simulation.
-    #[arg(long, default_value_t = 7)]
-    pub seed: u64,
-    /// Most frames per second the window draws (default: the window's own choice).
-    #[arg(long)]
-    pub max_fps: Option<f64>,
-    /// Window size, WIDTHxHEIGHT in pixels.
-    #[arg(long, default_value = "1280x720", value_parser = super::parse_size)]
-    pub size: (u32, u32),
-    /// Leave the window at normal scheduling priority (the station puts it at idle
-    /// priority); for comparing the two.
-    #[arg(long)]
-    pub normal_priority: bool,
-}
 
 /// Ticks at the start of each phase left out of its statistics: a frame in flight when
 /// drawing stops takes this long to finish.
@@ -136,16 +92,9 @@ impl SessionObserver for RenderImpact {
     }
 }
 
-/// Run `telerehab bench …`.
-pub fn run(args: BenchArgs) -> anyhow::Result<()> {
-    match args.what {
-        BenchCommand::Window(a) => window(a),
-    }
-}
-
 /// `telerehab bench window`: a real-time simulated session with the window open, drawing
 /// switched on and off, and the loop timing of each phase.
-fn window(args: BenchWindowArgs) -> anyhow::Result<()> {
+pub(super) fn window(args: BenchWindowArgs) -> anyhow::Result<()> {
     anyhow::ensure!(
         args.phase.is_finite() && args.phase >= 0.5,
         "--phase must be at least 0.5 s"
@@ -165,7 +114,7 @@ fn window(args: BenchWindowArgs) -> anyhow::Result<()> {
         exercise: Some(args.exercise.clone()),
         ..RunArgs::simulated(args.duration, args.seed)
     };
-    let (cfg, regimen) = super::run::plan(&run_args)?;
+    let (cfg, regimen) = run::plan(&run_args)?;
     let view = CourseView::new(&cfg, regimen.as_ref())?;
     let gate = Arc::new(AtomicBool::new(false));
     let rate = cfg.session.loop_rate_hz;

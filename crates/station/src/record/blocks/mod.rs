@@ -1,0 +1,533 @@
+//! Compact blocks: the high-rate channels recorded as protobuf messages of one column per
+//! field over a block of consecutive samples, the protobuf descriptor in the file.
+//!
+//! A block message holds `tick` and `t_ns` (session time, ns) and each field of the sample as
+//! one packed repeated column, samples in order (an array field's elements interleaved,
+//! sample by sample). Numbers are stored as `sint64` *differences* from the previous sample's
+//! value of the same element (the first from 0, wrapping), so a smooth 1 kHz signal costs a
+//! byte or two a sample before the file's zstd; a float is first quantised to an integer
+//! number of its *quantum*: a millionth of its SI unit (1 µrad, 1 µN·m, 1 µm, 1 µs), a
+//! thousandth of a newton, a billionth for a unitless number (quaternion components, axes,
+//! levels) — finer than any sensor of the station measures. Four integers are reserved:
+//! [`ABSENT`] (an optional field left out), [`NAN`], [`NEG_INF`] and [`POS_INF`]; finite values
+//! saturate at ±2⁶² quanta. Flags are packed `bool`s, enum labels repeated strings (zstd folds
+//! their repeats).
+//!
+//! Every block channel's record carries its columns as JSON ([`COLUMNS_KEY`]: name, type,
+//! elements, quantum, description with the unit), so a reader needs only the file: the Python
+//! package decodes it with the `protobuf` package and numpy alone.
+//!
+//! The fields, their order and their names come from the sample's `Serialize` derive (through
+//! [`flatten`]) and their descriptions from its JSON schema: one definition per channel.
+
+pub mod flatten;
+
+use flatten::{FieldStart, Prim, Unsupported};
+use prost::Message as _;
+use prost_reflect::{DescriptorPool, DynamicMessage, MessageDescriptor, Value};
+use prost_types::field_descriptor_proto::{Label, Type};
+use prost_types::{DescriptorProto, FieldDescriptorProto, FileDescriptorProto, FileDescriptorSet};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// Schema and message encoding of a block channel.
+pub const ENCODING: &str = "protobuf";
+/// The channel metadata key of the columns (JSON).
+pub const COLUMNS_KEY: &str = "telerehab.columns";
+/// The channel metadata key naming the block encoding.
+pub const ENCODING_KEY: &str = "telerehab.encoding";
+/// The block encoding described above, by name.
+pub const ENCODING_NAME: &str = "delta-quantised-columns-v1";
+
+/// Stored for an optional field left out of a sample.
+pub const ABSENT: i64 = i64::MIN;
+/// Stored for a NaN.
+pub const NAN: i64 = i64::MIN + 1;
+/// Stored for −∞.
+pub const NEG_INF: i64 = i64::MIN + 2;
+/// Stored for +∞.
+pub const POS_INF: i64 = i64::MAX;
+/// Largest magnitude of a finite quantised value (2⁶²).
+const FINITE_LIMIT: f64 = (1u64 << 62) as f64;
+
+/// The type of one column.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Kind {
+    /// Floating point, quantised.
+    Float,
+    /// Unsigned integer, exact.
+    Int,
+    /// Flag.
+    Bool,
+    /// Enum label.
+    Text,
+}
+
+/// One column of a block channel.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Column {
+    /// The field's name (the sample's JSON field name).
+    pub name: String,
+    /// Its type.
+    #[serde(rename = "type")]
+    pub kind: Kind,
+    /// Elements per sample (1, or an array field's length).
+    pub elements: usize,
+    /// The quantum of a float, in the field's unit.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub quantum: Option<f64>,
+    /// What the field is, unit included (from the sample's documentation).
+    pub description: String,
+}
+
+/// Why a block does not encode or decode.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum BlockError {
+    /// The sample type holds a field blocks cannot store.
+    #[error(transparent)]
+    Unsupported(#[from] Unsupported),
+    /// The channel's columns or descriptor are not what this reader understands.
+    #[error("the block layout is unreadable: {0}")]
+    Layout(String),
+    /// A block message does not decode.
+    #[error("a block message does not decode: {0}")]
+    Decode(String),
+}
+
+/// The columns of a block channel and its protobuf descriptor.
+#[derive(Clone, Debug)]
+pub struct Layout {
+    columns: Vec<Column>,
+    /// Where each column's first element sits in a flattened row.
+    offsets: Vec<usize>,
+    row_width: usize,
+    descriptor: MessageDescriptor,
+    descriptor_set: Vec<u8>,
+}
+
+/// The two stamp columns every block starts with.
+fn stamp_columns() -> [Column; 2] {
+    let int = |name: &str, description: &str| Column {
+        name: name.into(),
+        kind: Kind::Int,
+        elements: 1,
+        quantum: None,
+        description: description.into(),
+    };
+    [
+        int("tick", "Haptic tick number since the session start."),
+        int("t_ns", "Session time, ns."),
+    ]
+}
+
+/// The quantum of a float field, from the unit its name ends with.
+pub fn quantum_of(name: &str) -> f64 {
+    const MICRO: [&str; 8] = [
+        "_rad",
+        "_rad_s",
+        "_m",
+        "_m_s",
+        "_nm",
+        "_s",
+        "_j",
+        "_nm_s_per_rad",
+    ];
+    if name.ends_with("_n") {
+        1e-3
+    } else if MICRO.iter().any(|u| name.ends_with(u)) {
+        1e-6
+    } else {
+        1e-9
+    }
+}
+
+impl Layout {
+    /// The layout of samples of type `T`, as message `telerehab.<message>`.
+    pub fn of<T: Serialize + Default + schemars::JsonSchema>(
+        message: &str,
+    ) -> Result<Self, BlockError> {
+        let schema = serde_json::to_value(schemars::schema_for!(T))
+            .map_err(|e| BlockError::Layout(e.to_string()))?;
+        let props = &schema["properties"];
+        let mut row = Vec::new();
+        let mut starts: Vec<FieldStart> = Vec::new();
+        flatten::flatten(&T::default(), &mut row, Some(&mut starts))?;
+        let mut columns = stamp_columns().to_vec();
+        for (i, start) in starts.iter().enumerate() {
+            let end = starts.get(i + 1).map_or(row.len(), |s| s.at);
+            let prop = &props[start.name];
+            let kind = match row[start.at] {
+                Prim::Float(_) => Kind::Float,
+                Prim::Int(_) => Kind::Int,
+                Prim::Bool(_) => Kind::Bool,
+                Prim::Text(_) => Kind::Text,
+                Prim::Absent if prop["type"] == "number" => Kind::Float,
+                Prim::Absent => {
+                    return Err(BlockError::Layout(format!(
+                        "optional field {} is not a number",
+                        start.name
+                    )));
+                }
+            };
+            columns.push(Column {
+                name: start.name.into(),
+                kind,
+                elements: end - start.at,
+                quantum: (kind == Kind::Float).then(|| quantum_of(start.name)),
+                description: prop["description"].as_str().unwrap_or_default().into(),
+            });
+        }
+        let descriptor_set = descriptor_set(message, &columns);
+        Self::new(message, columns, descriptor_set)
+    }
+
+    /// The layout a recording's channel declares: its columns (channel metadata) and its
+    /// schema (a `FileDescriptorSet` holding `telerehab.<message>`).
+    pub fn from_file(
+        schema_name: &str,
+        schema: &[u8],
+        metadata: &BTreeMap<String, String>,
+    ) -> Result<Self, BlockError> {
+        let columns: Vec<Column> = metadata
+            .get(COLUMNS_KEY)
+            .ok_or_else(|| BlockError::Layout(format!("no {COLUMNS_KEY} in the channel")))
+            .and_then(|j| serde_json::from_str(j).map_err(|e| BlockError::Layout(e.to_string())))?;
+        let message = schema_name
+            .strip_prefix("telerehab.")
+            .unwrap_or(schema_name);
+        Self::new(message, columns, schema.to_vec())
+    }
+
+    fn new(
+        message: &str,
+        columns: Vec<Column>,
+        descriptor_set: Vec<u8>,
+    ) -> Result<Self, BlockError> {
+        let pool = DescriptorPool::decode(descriptor_set.as_slice())
+            .map_err(|e| BlockError::Layout(e.to_string()))?;
+        let descriptor = pool
+            .get_message_by_name(&format!("telerehab.{message}"))
+            .ok_or_else(|| BlockError::Layout(format!("no message telerehab.{message}")))?;
+        if columns.len() < 2 || columns[..2] != stamp_columns() {
+            return Err(BlockError::Layout("the stamp columns are missing".into()));
+        }
+        for (number, c) in (1u32..).zip(&columns) {
+            if descriptor
+                .get_field(number)
+                .is_none_or(|f| f.name() != c.name)
+            {
+                return Err(BlockError::Layout(format!(
+                    "column {} is not field {number} of the descriptor",
+                    c.name
+                )));
+            }
+        }
+        let mut offsets = Vec::with_capacity(columns.len());
+        let mut row_width = 0;
+        for c in &columns {
+            offsets.push(row_width);
+            row_width += c.elements;
+        }
+        Ok(Self {
+            columns,
+            offsets,
+            row_width,
+            descriptor,
+            descriptor_set,
+        })
+    }
+
+    /// The columns, stamps first.
+    pub fn columns(&self) -> &[Column] {
+        &self.columns
+    }
+
+    /// The schema data: the serialised `FileDescriptorSet`.
+    pub fn schema(&self) -> &[u8] {
+        &self.descriptor_set
+    }
+
+    /// The message's full name (the MCAP schema name).
+    pub fn message_name(&self) -> &str {
+        self.descriptor.full_name()
+    }
+
+    /// The channel metadata that describes the columns.
+    pub fn channel_metadata(&self) -> BTreeMap<String, String> {
+        BTreeMap::from([
+            (ENCODING_KEY.into(), ENCODING_NAME.into()),
+            (
+                COLUMNS_KEY.into(),
+                serde_json::to_string(&self.columns).expect("columns serialise"),
+            ),
+        ])
+    }
+
+    /// Encode `rows` flattened samples (`prims`, stamps first) as one block message.
+    fn encode(&self, prims: &[Prim], rows: usize) -> Vec<u8> {
+        let mut msg = DynamicMessage::new(self.descriptor.clone());
+        for (number, (c, &offset)) in (1u32..).zip(self.columns.iter().zip(&self.offsets)) {
+            let mut prev = vec![0i64; c.elements];
+            let mut list = Vec::with_capacity(rows * c.elements);
+            for r in 0..rows {
+                let at = r * self.row_width + offset;
+                for (e, p) in prev.iter_mut().enumerate() {
+                    let prim = prims[at + e];
+                    list.push(match c.kind {
+                        Kind::Bool => Value::Bool(matches!(prim, Prim::Bool(true))),
+                        Kind::Text => Value::String(match prim {
+                            Prim::Text(t) => t.to_owned(),
+                            _ => String::new(),
+                        }),
+                        Kind::Float | Kind::Int => {
+                            let v = match prim {
+                                Prim::Float(x) => quantise(x, c.quantum.unwrap_or(1.0)),
+                                Prim::Int(n) => n as i64,
+                                _ => ABSENT,
+                            };
+                            let d = v.wrapping_sub(*p);
+                            *p = v;
+                            Value::I64(d)
+                        }
+                    });
+                }
+            }
+            msg.set_field_by_number(number, Value::List(list));
+        }
+        msg.encode_to_vec()
+    }
+
+    /// Decode one block message into its samples, each a JSON object (`tick`, `t_s`, then the
+    /// fields; an absent optional field left out, a NaN or infinity as null).
+    pub fn decode(
+        &self,
+        bytes: &[u8],
+    ) -> Result<Vec<serde_json::Map<String, serde_json::Value>>, BlockError> {
+        use serde_json::Value as J;
+        let msg = DynamicMessage::decode(self.descriptor.clone(), bytes)
+            .map_err(|e| BlockError::Decode(e.to_string()))?;
+        let lists: Vec<Vec<Value>> = (1u32..)
+            .take(self.columns.len())
+            .map(|n| match msg.get_field_by_number(n).as_deref() {
+                Some(Value::List(l)) => l.clone(),
+                _ => Vec::new(),
+            })
+            .collect();
+        let rows = lists[0].len();
+        let mut out = vec![serde_json::Map::new(); rows];
+        for (c, list) in self.columns.iter().zip(&lists) {
+            if list.len() != rows * c.elements {
+                return Err(BlockError::Decode(format!(
+                    "column {} holds {} values for {rows} samples of {} elements",
+                    c.name,
+                    list.len(),
+                    c.elements
+                )));
+            }
+            let mut prev = vec![0i64; c.elements];
+            for (r, row) in out.iter_mut().enumerate() {
+                let mut values = Vec::with_capacity(c.elements);
+                for (e, p) in prev.iter_mut().enumerate() {
+                    let v = &list[r * c.elements + e];
+                    values.push(match (c.kind, v) {
+                        (Kind::Bool, Value::Bool(b)) => Some(J::Bool(*b)),
+                        (Kind::Text, Value::String(s)) => Some(J::String(s.clone())),
+                        (Kind::Int | Kind::Float, Value::I64(d)) => {
+                            *p = p.wrapping_add(*d);
+                            match c.kind {
+                                Kind::Int => Some(J::from(*p as u64)),
+                                _ => unquantise(*p, c.quantum.unwrap_or(1.0)).map(|x| {
+                                    serde_json::Number::from_f64(x).map_or(J::Null, J::Number)
+                                }),
+                            }
+                        }
+                        _ => {
+                            return Err(BlockError::Decode(format!(
+                                "column {} holds a {v:?}",
+                                c.name
+                            )));
+                        }
+                    });
+                }
+                let value = if c.elements == 1 {
+                    values.pop().flatten()
+                } else {
+                    Some(J::Array(
+                        values.into_iter().map(Option::unwrap_or_default).collect(),
+                    ))
+                };
+                match (c.name.as_str(), value) {
+                    ("t_ns", Some(J::Number(n))) => {
+                        let t_ns = n.as_u64().unwrap_or_default();
+                        row.insert("t_s".into(), J::from(t_ns as f64 * 1e-9));
+                    }
+                    (name, Some(v)) => {
+                        row.insert(name.into(), v);
+                    }
+                    (_, None) => {}
+                }
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// `x` as a whole number of `quantum`s (the reserved values for NaN and infinities).
+pub fn quantise(x: f64, quantum: f64) -> i64 {
+    if x.is_nan() {
+        NAN
+    } else if x == f64::INFINITY {
+        POS_INF
+    } else if x == f64::NEG_INFINITY {
+        NEG_INF
+    } else {
+        (x / quantum).round().clamp(-FINITE_LIMIT, FINITE_LIMIT) as i64
+    }
+}
+
+/// The value `quantise` stored as `q` (`None` for an absent field).
+pub fn unquantise(q: i64, quantum: f64) -> Option<f64> {
+    match q {
+        ABSENT => None,
+        NAN => Some(f64::NAN),
+        NEG_INF => Some(f64::NEG_INFINITY),
+        POS_INF => Some(f64::INFINITY),
+        _ => Some(q as f64 * quantum),
+    }
+}
+
+/// `sample` as its recording reads back: every float rounded to its field's quantum (what a
+/// block stores), the rest unchanged. A NaN or infinite float does not read back into the
+/// sample type (JSON has no such number): such a sample is returned as it was.
+pub fn as_recorded<T: Serialize + serde::de::DeserializeOwned + Clone>(sample: &T) -> T {
+    fn round(name: &str, v: &mut serde_json::Value) {
+        match v {
+            serde_json::Value::Number(n) if n.is_f64() => {
+                let q = quantum_of(name);
+                let x = n.as_f64().and_then(|x| unquantise(quantise(x, q), q));
+                if let Some(n) = x.and_then(serde_json::Number::from_f64) {
+                    *v = serde_json::Value::Number(n);
+                }
+            }
+            serde_json::Value::Array(items) => items.iter_mut().for_each(|x| round(name, x)),
+            _ => {}
+        }
+    }
+    let Ok(mut json) = serde_json::to_value(sample) else {
+        return sample.clone();
+    };
+    if let Some(fields) = json.as_object_mut() {
+        fields.iter_mut().for_each(|(name, v)| round(name, v));
+    }
+    serde_json::from_value(json).unwrap_or_else(|_| sample.clone())
+}
+
+/// The `FileDescriptorSet` of message `telerehab.<message>`: one repeated field per column,
+/// numbered from 1 in column order.
+fn descriptor_set(message: &str, columns: &[Column]) -> Vec<u8> {
+    let field = columns
+        .iter()
+        .zip(1..)
+        .map(|(c, number)| FieldDescriptorProto {
+            name: Some(c.name.clone()),
+            number: Some(number),
+            label: Some(Label::Repeated as i32),
+            r#type: Some(match c.kind {
+                Kind::Float | Kind::Int => Type::Sint64,
+                Kind::Bool => Type::Bool,
+                Kind::Text => Type::String,
+            } as i32),
+            json_name: Some(c.name.clone()),
+            ..Default::default()
+        })
+        .collect();
+    FileDescriptorSet {
+        file: vec![FileDescriptorProto {
+            name: Some(format!("telerehab/{message}.proto")),
+            package: Some("telerehab".into()),
+            message_type: vec![DescriptorProto {
+                name: Some(message.into()),
+                field,
+                ..Default::default()
+            }],
+            syntax: Some("proto3".into()),
+            ..Default::default()
+        }],
+    }
+    .encode_to_vec()
+}
+
+/// Samples of one channel gathered into a block.
+#[derive(Debug)]
+pub struct BlockBuilder {
+    prims: Vec<Prim>,
+    rows: usize,
+    first_t_ns: u64,
+}
+
+impl BlockBuilder {
+    /// An empty block.
+    pub fn new() -> Self {
+        Self {
+            prims: Vec::new(),
+            rows: 0,
+            first_t_ns: 0,
+        }
+    }
+
+    /// Add one sample stamped with `tick` and `t_ns`.
+    pub fn push<T: Serialize>(
+        &mut self,
+        tick: u64,
+        t_ns: u64,
+        sample: &T,
+    ) -> Result<(), BlockError> {
+        if self.rows == 0 {
+            self.first_t_ns = t_ns;
+        }
+        self.prims.push(Prim::Int(tick));
+        self.prims.push(Prim::Int(t_ns));
+        flatten::flatten(sample, &mut self.prims, None)?;
+        self.rows += 1;
+        Ok(())
+    }
+
+    /// Samples gathered.
+    pub fn len(&self) -> usize {
+        self.rows
+    }
+
+    /// No sample gathered.
+    pub fn is_empty(&self) -> bool {
+        self.rows == 0
+    }
+
+    /// Session time of the first sample, ns.
+    pub fn first_t_ns(&self) -> u64 {
+        self.first_t_ns
+    }
+
+    /// The block's message in `layout`; the builder is emptied for the next block.
+    pub fn take(&mut self, layout: &Layout) -> Result<Vec<u8>, BlockError> {
+        if self.prims.len() != self.rows * layout.row_width {
+            return Err(BlockError::Layout(format!(
+                "{} values for {} samples of {} values",
+                self.prims.len(),
+                self.rows,
+                layout.row_width
+            )));
+        }
+        let bytes = layout.encode(&self.prims, self.rows);
+        self.prims.clear();
+        self.rows = 0;
+        Ok(bytes)
+    }
+}
+
+impl Default for BlockBuilder {
+    fn default() -> Self {
+        Self::new()
+    }
+}
