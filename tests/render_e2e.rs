@@ -57,8 +57,14 @@ fn session_without_a_display_runs_headless_and_says_so() {
 static ONE_WINDOW_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 fn press(key: &str) {
+    press_in("^telerehab$", key);
+}
+
+/// Press `key` in the first window whose name matches `name` (a regular expression), waiting
+/// for it to open.
+fn press_in(name: &str, key: &str) {
     let search = Command::new("xdotool")
-        .args(["search", "--sync", "--name", "^telerehab$"])
+        .args(["search", "--sync", "--name", name])
         .output()
         .expect("xdotool (installed by scripts/setup.sh)");
     let window = String::from_utf8_lossy(&search.stdout)
@@ -166,6 +172,35 @@ fn space_in_the_patient_window_starts_pauses_and_resumes_the_exercise_and_esc_en
         held.len() >= 15 && held.iter().all(|&t| t == held[0] && t > 0.05),
         "{held:?}"
     );
+}
+
+#[test]
+fn replay_window_plays_a_recording_and_seeks_with_the_arrow_keys() {
+    let _display = ONE_WINDOW_AT_A_TIME
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    if std::env::var_os("DISPLAY").is_none() {
+        eprintln!("SKIPPED: no display (run under xvfb-run to test the window)");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let mcap = dir.path().join("played.mcap");
+    run_ok(&telerehab_tests::sim_session_args("3", &mcap, &[]));
+    let child = Command::new(telerehab_bin())
+        .args(["replay", "--window", "--play-speed", "0.125"])
+        .arg(&mcap)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    // At an eighth of real time the 3.1 s recording would take 25 s; → jumps 5 s, to its end.
+    press_in("^telerehab replay", "Right");
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    press_in("^telerehab replay", "Escape");
+    let out = child.wait_with_output().unwrap();
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{said}");
+    assert!(said.contains("replay: played to 3.1 of 3.1 s"), "{said}");
 }
 
 #[test]

@@ -4,7 +4,8 @@
 //! (the closure reads a lock-free snapshot, so the haptic thread is never waited on) and
 //! presents with vsync, so drawing runs at the display rate. A minimised or hidden window keeps
 //! pulling scenes (to notice the end of the session) but skips drawing. Keys: Space asks to
-//! pause or resume, F11 toggles full screen, Esc or closing the window ends the session.
+//! pause or resume, F11 toggles full screen, Esc or closing the window ends the session; the
+//! arrows and Home are passed on for a replay's seek and speed.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -35,6 +36,16 @@ pub enum UserRequest {
     TogglePause,
     /// Esc or the window's close button: end the session.
     Quit,
+    /// ←: seek back (replay).
+    SeekBack,
+    /// →: seek forward (replay).
+    SeekForward,
+    /// ↑: play faster (replay).
+    Faster,
+    /// ↓: play slower (replay).
+    Slower,
+    /// Home: back to the start (replay).
+    Restart,
 }
 
 /// Window settings.
@@ -308,6 +319,19 @@ impl<F: FnMut() -> Option<Scene>, G: FnMut(UserRequest)> ApplicationHandler for 
                     Key::Named(NamedKey::F11) if !event.repeat => self.toggle_fullscreen(),
                     Key::Named(NamedKey::Space) if !event.repeat => {
                         (self.on_request)(UserRequest::TogglePause);
+                    }
+                    Key::Named(NamedKey::ArrowLeft) => (self.on_request)(UserRequest::SeekBack),
+                    Key::Named(NamedKey::ArrowRight) => {
+                        (self.on_request)(UserRequest::SeekForward);
+                    }
+                    Key::Named(NamedKey::ArrowUp) if !event.repeat => {
+                        (self.on_request)(UserRequest::Faster);
+                    }
+                    Key::Named(NamedKey::ArrowDown) if !event.repeat => {
+                        (self.on_request)(UserRequest::Slower);
+                    }
+                    Key::Named(NamedKey::Home) if !event.repeat => {
+                        (self.on_request)(UserRequest::Restart);
                     }
                     _ => {}
                 }

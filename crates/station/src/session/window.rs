@@ -78,6 +78,8 @@ pub fn run_with_window(
             UserRequest::TogglePause => {
                 controls.pause.fetch_xor(true, Ordering::Relaxed);
             }
+            // Seeking and speed are a replay's; a live session has neither.
+            _ => {}
         };
         let stats = crate::render::window::run_with(window, source, on_request)
             .inspect_err(|e| {

@@ -17,11 +17,26 @@ use clock::Clock;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+mod window;
+
+pub use window::Playback;
+
 /// `telerehab replay`.
 #[derive(Debug, clap::Args)]
 pub struct ReplayArgs {
     /// The session's recording (MCAP), as `telerehab run --record` wrote it.
     pub recording: PathBuf,
+    /// Play the recording in the patient's window instead of re-running it: Space plays and
+    /// pauses, ←/→ seek 5 s, ↑/↓ double or halve the speed, Home restarts, Esc closes.
+    #[arg(long)]
+    pub window: bool,
+    /// With `--window`: the playback speed to start at (1 = real time).
+    #[arg(long, default_value_t = 1.0, requires = "window")]
+    pub play_speed: f64,
+    /// With `--window`: close the window when the playback reaches the end (otherwise it
+    /// stays open on the last frame).
+    #[arg(long, requires = "window")]
+    pub close_at_end: bool,
 }
 
 /// Where a replay first left the recording.
@@ -49,6 +64,9 @@ pub struct ReplayOutcome {
 
 /// Replay `args.recording` and print what was reproduced; fails on a difference.
 pub fn run(args: &ReplayArgs) -> anyhow::Result<()> {
+    if args.window {
+        return window::play(args);
+    }
     let outcome = replay(&args.recording)?;
     let total: usize = outcome.compared.values().sum();
     for c in &outcome.caveats {
