@@ -13,7 +13,7 @@ if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 
 PKGS=(build-essential pkg-config libudev-dev mesa-vulkan-drivers libvulkan1 libgl1-mesa-dri
       libegl1 xvfb xauth xdotool libxkbcommon-x11-0 libx11-xcb1 python3-venv python3-pip curl ca-certificates
-      postgresql)
+      postgresql chromium chromium-driver)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

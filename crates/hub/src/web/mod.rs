@@ -9,6 +9,7 @@
 //! - Every read of patient data and every change is written to the audit log.
 
 mod auth;
+mod console;
 mod live;
 mod patients;
 mod regimen;
@@ -144,6 +145,8 @@ pub fn system_now_ms() -> i64 {
 /// The API's routes over `state`.
 pub fn router(state: AppState) -> Router {
     Router::new()
+        .route("/", get(console::index))
+        .route("/console/{*path}", get(console::asset))
         .route("/api/health", get(health))
         .route("/api/login", post(auth::login))
         .route("/api/logout", post(auth::logout))
@@ -177,6 +180,15 @@ async fn security_headers(mut response: Response) -> Response {
     headers.insert(
         header::STRICT_TRANSPORT_SECURITY,
         HeaderValue::from_static("max-age=31536000"),
+    );
+    headers.insert(
+        header::CONTENT_SECURITY_POLICY,
+        HeaderValue::from_static(console::CONTENT_SECURITY_POLICY),
+    );
+    headers.insert(header::X_FRAME_OPTIONS, HeaderValue::from_static("DENY"));
+    headers.insert(
+        header::REFERRER_POLICY,
+        HeaderValue::from_static("no-referrer"),
     );
     response
 }

@@ -203,6 +203,7 @@ pub fn run(
         expected_ticks: total_ticks,
         summary_every,
         flush_every,
+        arm_lengths_m: [cfg.arm.geometry.upper_arm_m, cfg.arm.geometry.forearm_m],
     };
 
     let (haptic, recorder_outcome, summaries) = std::thread::scope(|scope| -> anyhow::Result<_> {

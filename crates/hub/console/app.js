@@ -1,0 +1,184 @@
+// The therapist console: login, the caseload, and a patient's live view, progress and
+// prescription. A hash router over the console API; no inline script or style (the hub's
+// Content-Security-Policy forbids them), every value put into HTML escaped.
+import { api, ApiError, esc, when } from '/console/api.js';
+import { liveView } from '/console/live.js';
+import { lineChart } from '/console/charts.js';
+
+const app = document.getElementById('app');
+let leave = () => {};
+let me = null;
+
+/** The measures a therapist follows across sessions, with their plain names and units;
+ * `better` says which way is progress. */
+const MEASURES = [
+  ['pct_in_lane', 'time in lane', '%', 'up'],
+  ['rms_lateral_m', 'lane keeping error (RMS lateral deviation)', 'm', 'down'],
+  ['wheel_rom_deg', 'wheel range of motion', '°', 'up'],
+  ['shoulder_elevation_rom_deg', 'shoulder elevation range', '°', 'up'],
+  ['elbow_flexion_rom_deg', 'elbow flexion range', '°', 'up'],
+  ['sparc_median', 'movement smoothness (SPARC, closer to 0 is smoother)', '', 'up'],
+  ['assist_level_mean', 'assistance level', '0–1', 'down'],
+  ['active_s', 'active time', 's', 'up'],
+];
+
+async function route() {
+  leave(); leave = () => {};
+  const hash = location.hash || '#/patients';
+  try {
+    me = me || await api('GET', '/api/me');
+  } catch (e) {
+    if (e instanceof ApiError && e.status === 401) return loginView();
+    return fail(e);
+  }
+  document.getElementById('who').textContent = `${me.email} (${me.role})`;
+  document.getElementById('logout').hidden = false;
+  const m = hash.match(/^#\/patients\/([^/]+)(?:\/(live|progress|prescribe))?$/);
+  try {
+    if (m) await patientView(decodeURIComponent(m[1]), m[2] || 'live');
+    else await patientsView();
+  } catch (e) { fail(e); }
+  app.focus();
+}
+
+function fail(e) {
+  app.innerHTML = `<p class="error" role="alert">${esc(e.message || e)}</p><p><a href="#/patients">Back to the patients</a></p>`;
+}
+
+function loginView() {
+  document.getElementById('logout').hidden = true;
+  document.getElementById('who').textContent = '';
+  app.innerHTML = `
+    <h1>Log in</h1>
+    <form id="login" novalidate>
+      <label for="email">E-mail</label><input id="email" type="email" autocomplete="username" required>
+      <label for="password">Password</label><input id="password" type="password" autocomplete="current-password" required>
+      <p><button type="submit">Log in</button></p>
+      <p class="error" id="login-error" role="alert"></p>
+    </form>`;
+  const form = app.querySelector('#login');
+  form.addEventListener('submit', async ev => {
+    ev.preventDefault();
+    try {
+      me = await api('POST', '/api/login', { email: form.email.value, password: form.password.value });
+      location.hash = '#/patients';
+      route();
+    } catch (e) { app.querySelector('#login-error').textContent = e.message; }
+  });
+  app.querySelector('#email').focus();
+}
+
+async function patientsView() {
+  const patients = await api('GET', '/api/patients');
+  const rows = patients.map(p => {
+    const alert = p.sessions_last_7_days === 0 ? '<span class="badge alert">no session this week</span>'
+      : '<span class="badge ok">active</span>';
+    return `<tr><td><a href="#/patients/${encodeURIComponent(p.id)}">${esc(p.pseudonym)}</a></td>
+      <td>${esc(when(p.last_session_started_ms))}</td><td>${esc(p.sessions_last_7_days)}</td><td>${alert}</td></tr>`;
+  }).join('');
+  app.innerHTML = `<h1>Patients</h1>
+    <table><caption class="note">Your caseload. Open a patient to watch a running session, see progress or prescribe.</caption>
+    <thead><tr><th scope="col">Patient</th><th scope="col">Last session</th><th scope="col">Sessions in the last 7 days</th><th scope="col">Alerts</th></tr></thead>
+    <tbody>${rows || '<tr><td colspan="4">No patients yet.</td></tr>'}</tbody></table>`;
+}
+
+async function patientView(id, tab) {
+  const p = await api('GET', `/api/patients/${encodeURIComponent(id)}`);
+  const link = (t, label) => `<a href="#/patients/${encodeURIComponent(id)}/${t}"${t === tab ? ' aria-current="page"' : ''}>${label}</a>`;
+  app.innerHTML = `<h1>Patient ${esc(p.pseudonym)}</h1>
+    <nav class="tabs" aria-label="Patient">${link('live', 'Live')}${link('progress', 'Progress')}${link('prescribe', 'Prescribe')}</nav>
+    <div id="tab"></div>`;
+  const el = app.querySelector('#tab');
+  if (tab === 'live') { el.id = 'live'; leave = liveView(el, id); }
+  else if (tab === 'progress') await progressView(el, id, p);
+  else await prescribeView(el, id);
+}
+
+async function progressView(el, id, patient) {
+  const sessions = (await api('GET', `/api/patients/${encodeURIComponent(id)}/sessions`)).slice().reverse();
+  const metrics = await Promise.all(sessions.map(s => api('GET', `/api/sessions/${encodeURIComponent(s.session_id)}/metrics`).catch(() => ({}))));
+  const t = sessions.map(s => s.started_unix_ms / 1000);
+  const trend = key => {
+    const vs = metrics.map(m => m[key]).filter(v => typeof v === 'number');
+    if (vs.length < 2) return '';
+    const last = vs[vs.length - 1], before = vs.slice(0, -1).reduce((a, b) => a + b, 0) / (vs.length - 1);
+    const better = MEASURES.find(m => m[0] === key)[3];
+    if (Math.abs(last - before) <= 1e-9 * Math.max(1, Math.abs(before))) return '→ no change';
+    const up = last > before, good = up === (better === 'up');
+    return `<span class="${good ? 'up' : 'down'}">${up ? '↑' : '↓'} ${good ? 'better' : 'worse'}</span>`;
+  };
+  const rows = MEASURES.map(([key, label, unit]) => {
+    const last = metrics.length ? metrics[metrics.length - 1][key] : undefined;
+    return `<tr><th scope="row">${esc(label)}</th><td>${last === undefined ? '—' : `${esc(Number(last).toFixed(2))} ${esc(unit)}`}</td><td>${trend(key)}</td></tr>`;
+  }).join('');
+  const list = sessions.slice().reverse().map(s => `<tr><td>${esc(when(s.started_unix_ms))}</td><td>${esc(s.exercise)}</td>
+    <td>${esc(s.end_reason || (s.closed_at_ms ? 'ended' : 'running'))}</td></tr>`).join('');
+  el.innerHTML = `
+    <p><button type="button" id="print" class="secondary">Print a one-page summary</button></p>
+    <section class="panel" aria-labelledby="latest-h"><h2 id="latest-h">Latest session against the earlier ones</h2>
+      <table><thead><tr><th scope="col">Measure</th><th scope="col">Latest</th><th scope="col">Trend</th></tr></thead><tbody>${rows}</tbody></table></section>
+    <div class="grid">
+      <section class="panel"><h2>Lane keeping</h2><div class="chart" id="p-lane"></div></section>
+      <section class="panel"><h2>Ranges of motion</h2><div class="chart" id="p-rom"></div></section>
+      <section class="panel"><h2>Movement smoothness</h2><div class="chart" id="p-sparc"></div></section>
+      <section class="panel"><h2>Active time and assistance</h2><div class="chart" id="p-active"></div></section>
+    </div>
+    <section class="panel" aria-labelledby="sessions-h"><h2 id="sessions-h">Sessions (${sessions.length})</h2>
+      <table><thead><tr><th scope="col">Started</th><th scope="col">Exercise</th><th scope="col">End</th></tr></thead><tbody>${list}</tbody></table></section>`;
+  el.querySelector('#print').addEventListener('click', () => window.print());
+  const col = key => metrics.map(m => (typeof m[key] === 'number' ? m[key] : null));
+  const chart = (sel, title, y, series) => lineChart(el.querySelector(sel), { title, x: 'session date', y, time: true,
+    series: series.map(([, label]) => ({ label })) }).set([t, ...series.map(([key]) => col(key))]);
+  chart('#p-lane', 'Time in lane and lane keeping error', '% / m', [['pct_in_lane', 'time in lane (%)'], ['rms_lateral_m', 'lane keeping error (m)']]);
+  chart('#p-rom', 'Ranges of motion', 'range (°)', [['wheel_rom_deg', 'wheel (°)'], ['shoulder_elevation_rom_deg', 'shoulder elevation (°)'], ['elbow_flexion_rom_deg', 'elbow flexion (°)']]);
+  chart('#p-sparc', 'Smoothness (SPARC)', 'SPARC (dimensionless)', [['sparc_median', 'SPARC, median of movements']]);
+  chart('#p-active', 'Active time and assistance', 's / level', [['active_s', 'active time (s)'], ['assist_level_mean', 'assistance level (0–1)']]);
+  el.dataset.sessions = String(sessions.length);
+  void patient;
+}
+
+async function prescribeView(el, id) {
+  const r = await api('GET', `/api/patients/${encodeURIComponent(id)}/regimen`);
+  const cur = r.current;
+  el.id = 'prescribe';
+  el.innerHTML = `
+    <section class="panel" aria-labelledby="rx-h"><h2 id="rx-h">Regimen</h2>
+      <p id="rx-version">${cur ? `Version ${esc(cur.version)}, prescribed by ${esc(cur.prescribed_by)} on ${esc(when(cur.prescribed_at_ms))}.` : 'Nothing prescribed yet: the station runs its default exercise.'}</p>
+      <form id="rx">
+        <label for="toml">Exercises, durations, difficulty, haptic and assistance settings (TOML, as in the station's <code>regimens/</code>)</label>
+        <textarea id="toml" spellcheck="false" aria-describedby="bounds">${esc(cur ? cur.toml : '')}</textarea>
+        <p><button type="submit">Save as a new version</button></p>
+        <p id="rx-result" role="alert"></p>
+      </form>
+      <h3 id="bounds-h">Safety bounds the station enforces</h3>
+      <dl class="bounds" id="bounds">
+        <dt>Torque ceiling</dt><dd>at most 20 N·m in a prescription (the strongest consumer wheel), refused above; the station then caps it at its own wheel's ceiling (a prescription can lower the patient's ceiling, never raise it)</dd>
+        <dt>Torque changes</dt><dd>slew-limited by the station's safety chain whatever the prescription</dd>
+        <dt>Assistance</dt><dd>level 0–1; its torque shares the same ceiling</dd>
+        <dt>Durations</dt><dd>positive, within the station's session limits</dd>
+      </dl>
+      <p class="note">The hub checks a regimen with the station's own validator before storing it; the station picks the new version up at its next session.</p>
+    </section>`;
+  const form = el.querySelector('#rx'), out = el.querySelector('#rx-result');
+  form.addEventListener('submit', async ev => {
+    ev.preventDefault();
+    out.className = ''; out.textContent = 'Saving…';
+    try {
+      const v = await api('PUT', `/api/patients/${encodeURIComponent(id)}/regimen`, { toml: form.toml.value });
+      out.textContent = `Saved as version ${v.version}.`;
+      el.querySelector('#rx-version').textContent = `Version ${v.version}, prescribed by ${v.prescribed_by} just now.`;
+    } catch (e) {
+      out.className = 'error';
+      out.textContent = e.message;
+    }
+  });
+}
+
+document.getElementById('logout').addEventListener('click', async () => {
+  try { await api('POST', '/api/logout'); } catch { /* logged out either way */ }
+  me = null;
+  location.hash = '#/patients';
+  loginView();
+});
+window.addEventListener('hashchange', route);
+route();

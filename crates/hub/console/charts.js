@@ -1,0 +1,37 @@
+// Time-series charts (uPlot), colour-blind-safe series colours and a unit on every axis.
+import uPlot from '/console/vendor/uplot-1.6.32/uPlot.esm.js';
+
+export const COLOURS = ['#0072b2', '#e69f00', '#009e73', '#d55e00', '#cc79a7', '#56b4e9'];
+
+/**
+ * A line chart in `el`: `x` names the x axis (with unit), `series` are [{label, unit}], `y`
+ * names the y axis (with unit). `time` makes the x axis dates (seconds since the epoch).
+ */
+export function lineChart(el, { title, x, y, series, time = false }) {
+  const width = () => Math.max(280, el.clientWidth || 600);
+  const opts = {
+    title,
+    width: width(),
+    height: 220,
+    // One session alone still gets a readable date axis: a day either side of it.
+    scales: { x: { time, range: (u, min, max) => (time && max - min < 86400 ? [min - 86400, max + 86400] : [min, max]) } },
+    series: [
+      { label: x },
+      ...series.map((s, i) => ({ label: s.label, stroke: COLOURS[i % COLOURS.length], width: 2,
+                                  dash: i % 2 ? [6, 3] : undefined, points: { show: time } })),
+    ],
+    axes: [{ label: x }, { label: y }],
+  };
+  const data = [[], ...series.map(() => [])];
+  const chart = new uPlot(opts, data, el);
+  const resize = () => chart.setSize({ width: width(), height: 220 });
+  window.addEventListener('resize', resize);
+  return {
+    chart,
+    /** Replace the data: columns [xs, ys1, ys2, …]. */
+    set(columns) {
+      chart.setData(columns);
+      el.dataset.points = String(columns[0].length);
+    },
+  };
+}
