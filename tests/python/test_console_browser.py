@@ -131,6 +131,27 @@ def test_a_therapist_logs_in_watches_live_sees_progress_and_prescribes(clinic, b
     assert "time in lane" in d.find_element(By.ID, "tab").text
     shot(d, "3-progress")
 
+    # Replay of the session from its uploaded recording: play, seek, the cursor follows.
+    replay_url = d.find_element(By.LINK_TEXT, "Replay").get_attribute("href")
+    deadline = time.time() + 40
+    while True:  # the station uploads its recording after the session (seconds on loopback)
+        d.get(replay_url)
+        frames = wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#tab[data-frames], p.error"))[0]
+        if frames.get_attribute("data-frames") or time.time() > deadline:
+            break
+        time.sleep(1)
+    assert int(frames.get_attribute("data-frames")) >= 12 * 20, "20 frames a second of the 12 s session"
+    d.find_element(By.ID, "play").click()
+    wait(d, lambda d: float(d.find_element(By.ID, "tab").get_attribute("data-position")) > 0.5, timeout=10)
+    d.find_element(By.ID, "play").click()
+    d.execute_script("const s = document.getElementById('seek'); s.value = '5'; s.dispatchEvent(new Event('input'));")
+    assert d.find_element(By.ID, "tab").get_attribute("data-position") == "5.00"
+    assert d.find_element(By.ID, "clock").text.startswith("5.0 / ")
+    shot(d, "6-replay")
+    d.get(clinic["web"] + "/#/patients")
+    wait(d, lambda d: d.find_elements(By.LINK_TEXT, "P-0042"))[0].click()
+    wait(d, lambda d: d.find_elements(By.LINK_TEXT, "Prescribe"))
+
     # Prescribe: a regimen outside the safety bounds is refused with the reason, a good one saved.
     d.find_element(By.LINK_TEXT, "Prescribe").click()
     area = wait(d, lambda d: d.find_elements(By.ID, "toml"))[0]
@@ -165,3 +186,30 @@ def test_the_console_is_served_with_a_strict_content_security_policy(clinic):
         page = r.read().decode()
     assert "script-src 'self'" in csp and "unsafe-inline" not in csp and "frame-ancestors 'none'" in csp
     assert "<script>" not in page and "style=" not in page
+
+
+def test_the_console_works_from_the_keyboard_and_at_200_percent_zoom(clinic, browser):
+    from selenium.webdriver.common.keys import Keys
+
+    d = browser  # logged in by the test above (module-scoped browser)
+    # 200 % zoom of a 1400 px window: a 700 CSS px viewport at twice the pixel density.
+    d.execute_cdp_cmd("Emulation.setDeviceMetricsOverride",
+                      {"width": 700, "height": 550, "deviceScaleFactor": 2, "mobile": False})
+    try:
+        d.get(clinic["web"] + "/#/patients")
+        wait(d, lambda d: d.find_elements(By.LINK_TEXT, "P-0042"))
+        # Keyboard only: Tab to the patient's link, Enter opens the patient.
+        body = d.find_element(By.TAG_NAME, "body")
+        for _ in range(8):
+            body.send_keys(Keys.TAB)
+            if d.switch_to.active_element.text == "P-0042":
+                break
+        assert d.switch_to.active_element.text == "P-0042", "the patient link is reachable with Tab"
+        d.switch_to.active_element.send_keys(Keys.ENTER)
+        wait(d, lambda d: d.find_elements(By.LINK_TEXT, "Progress"))[0].click()
+        wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#tab[data-sessions]"))
+        overflow = d.execute_script("return document.documentElement.scrollWidth - document.documentElement.clientWidth")
+        assert overflow <= 0, f"the page scrolls sideways by {overflow} px at 200 %"
+        shot(d, "7-progress-200-percent")
+    finally:
+        d.execute_cdp_cmd("Emulation.clearDeviceMetricsOverride", {})

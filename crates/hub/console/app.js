@@ -4,6 +4,7 @@
 import { api, ApiError, esc, when } from '/console/api.js';
 import { liveView } from '/console/live.js';
 import { lineChart } from '/console/charts.js';
+import { replayView } from '/console/replay.js';
 
 const app = document.getElementById('app');
 let leave = () => {};
@@ -33,9 +34,9 @@ async function route() {
   }
   document.getElementById('who').textContent = `${me.email} (${me.role})`;
   document.getElementById('logout').hidden = false;
-  const m = hash.match(/^#\/patients\/([^/]+)(?:\/(live|progress|prescribe))?$/);
+  const m = hash.match(/^#\/patients\/([^/]+)(?:\/(live|progress|prescribe|replay)(?:\/([^/]+))?)?$/);
   try {
-    if (m) await patientView(decodeURIComponent(m[1]), m[2] || 'live');
+    if (m) await patientView(decodeURIComponent(m[1]), m[2] || 'live', m[3] && decodeURIComponent(m[3]));
     else await patientsView();
   } catch (e) { fail(e); }
   app.focus();
@@ -82,7 +83,7 @@ async function patientsView() {
     <tbody>${rows || '<tr><td colspan="4">No patients yet.</td></tr>'}</tbody></table>`;
 }
 
-async function patientView(id, tab) {
+async function patientView(id, tab, sessionId) {
   const p = await api('GET', `/api/patients/${encodeURIComponent(id)}`);
   const link = (t, label) => `<a href="#/patients/${encodeURIComponent(id)}/${t}"${t === tab ? ' aria-current="page"' : ''}>${label}</a>`;
   app.innerHTML = `<h1>Patient ${esc(p.pseudonym)}</h1>
@@ -91,6 +92,7 @@ async function patientView(id, tab) {
   const el = app.querySelector('#tab');
   if (tab === 'live') { el.id = 'live'; leave = liveView(el, id); }
   else if (tab === 'progress') await progressView(el, id, p);
+  else if (tab === 'replay') leave = await replayView(el, sessionId);
   else await prescribeView(el, id);
 }
 
@@ -112,7 +114,8 @@ async function progressView(el, id, patient) {
     return `<tr><th scope="row">${esc(label)}</th><td>${last === undefined ? '—' : `${esc(Number(last).toFixed(2))} ${esc(unit)}`}</td><td>${trend(key)}</td></tr>`;
   }).join('');
   const list = sessions.slice().reverse().map(s => `<tr><td>${esc(when(s.started_unix_ms))}</td><td>${esc(s.exercise)}</td>
-    <td>${esc(s.end_reason || (s.closed_at_ms ? 'ended' : 'running'))}</td></tr>`).join('');
+    <td>${esc(s.end_reason || (s.closed_at_ms ? 'ended' : 'running'))}</td>
+    <td><a href="#/patients/${encodeURIComponent(id)}/replay/${encodeURIComponent(s.session_id)}">Replay</a></td></tr>`).join('');
   el.innerHTML = `
     <p><button type="button" id="print" class="secondary">Print a one-page summary</button></p>
     <section class="panel" aria-labelledby="latest-h"><h2 id="latest-h">Latest session against the earlier ones</h2>
@@ -124,7 +127,7 @@ async function progressView(el, id, patient) {
       <section class="panel"><h2>Active time and assistance</h2><div class="chart" id="p-active"></div></section>
     </div>
     <section class="panel" aria-labelledby="sessions-h"><h2 id="sessions-h">Sessions (${sessions.length})</h2>
-      <table><thead><tr><th scope="col">Started</th><th scope="col">Exercise</th><th scope="col">End</th></tr></thead><tbody>${list}</tbody></table></section>`;
+      <table><thead><tr><th scope="col">Started</th><th scope="col">Exercise</th><th scope="col">End</th><th scope="col">Recording</th></tr></thead><tbody>${list}</tbody></table></section>`;
   el.querySelector('#print').addEventListener('click', () => window.print());
   const col = key => metrics.map(m => (typeof m[key] === 'number' ? m[key] : null));
   const chart = (sel, title, y, series) => lineChart(el.querySelector(sel), { title, x: 'session date', y, time: true,

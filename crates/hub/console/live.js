@@ -80,7 +80,7 @@ export function liveView(el, patientId) {
 
 function fmt(v, digits) { return v === undefined || v === null ? '—' : Number(v).toFixed(digits); }
 
-function drawRoad(canvas, cols, x) {
+export function drawRoad(canvas, cols, x) {
   const w = canvas.clientWidth || 400, h = canvas.clientHeight || 220;
   canvas.width = w; canvas.height = h;
   const g = canvas.getContext('2d');

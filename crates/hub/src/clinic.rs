@@ -222,6 +222,8 @@ pub struct ServeOptions {
     pub now_ms: NowMs,
     /// Most simultaneous station connections, and from one address.
     pub max_connections: (usize, usize),
+    /// Reads stored recordings for the console's replay (`None`: no replay).
+    pub replay: Option<web::ReplayReader>,
 }
 
 impl std::fmt::Debug for ServeOptions {
@@ -275,7 +277,8 @@ pub async fn serve(
     let (prescribed, mut prescriptions) = broadcast::channel::<RegimenVersion>(64);
     let state = AppState::new(db.clone(), options.validate_regimen.clone(), live.clone())
         .with_clock(options.now_ms.clone())
-        .with_prescribed_feed(prescribed);
+        .with_prescribed_feed(prescribed)
+        .with_replay(options.replay.clone());
     let (stop_web, web_stopped) = tokio::sync::oneshot::channel::<()>();
     let mut web_task = None;
     let mut web_addr = None;

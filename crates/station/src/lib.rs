@@ -47,4 +47,5 @@ pub mod render;
 pub mod report;
 pub mod screen;
 pub mod session;
+pub mod therapist_view;
 pub mod timing;

@@ -30,6 +30,7 @@ const ASSETS: &[Asset] = &[
     asset!("app.js", JS),
     asset!("api.js", JS),
     asset!("live.js", JS),
+    asset!("replay.js", JS),
     asset!("arm3d.js", JS),
     asset!("charts.js", JS),
     asset!("style.css", CSS),

@@ -46,6 +46,11 @@ pub const DEFAULT_LOGIN_TTL_MS: i64 = 8 * 60 * 60 * 1000;
 /// shown to the therapist. Passed in because the bounds live in the station crate.
 pub type RegimenValidator = Arc<dyn Fn(&str) -> Result<(), String> + Send + Sync>;
 
+/// Reads a stored recording into what the console's replay draws (JSON, columns by name).
+/// Passed in because the recording format lives in the station crate.
+pub type ReplayReader =
+    Arc<dyn Fn(&std::path::Path) -> Result<serde_json::Value, String> + Send + Sync>;
+
 /// The current time, ms since the Unix epoch (injectable for tests).
 pub type NowMs = Arc<dyn Fn() -> i64 + Send + Sync>;
 
@@ -65,6 +70,8 @@ pub struct AppState {
     /// Where a newly prescribed regimen is announced (the hub pushes it to the patient's
     /// station if connected); `None` when no station link runs.
     pub prescribed: Option<broadcast::Sender<RegimenVersion>>,
+    /// Reads stored recordings for the console's replay; `None`: replay is not offered.
+    pub replay: Option<ReplayReader>,
 }
 
 impl AppState {
@@ -81,7 +88,14 @@ impl AppState {
             now_ms: Arc::new(system_now_ms),
             login_ttl_ms: DEFAULT_LOGIN_TTL_MS,
             prescribed: None,
+            replay: None,
         }
+    }
+
+    /// The same state offering replays read by `reader`.
+    pub fn with_replay(mut self, reader: Option<ReplayReader>) -> Self {
+        self.replay = reader;
+        self
     }
 
     /// The same state announcing each new regimen on `feed`.
@@ -164,6 +178,7 @@ pub fn router(state: AppState) -> Router {
         .route("/api/sessions/{id}", get(sessions::one))
         .route("/api/sessions/{id}/summaries", get(sessions::summaries))
         .route("/api/sessions/{id}/metrics", get(sessions::metrics))
+        .route("/api/sessions/{id}/replay", get(sessions::replay))
         .fallback(|| async { ApiError::NotFound("no such endpoint".to_owned()) })
         .layer(axum::middleware::map_response(security_headers))
         .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))

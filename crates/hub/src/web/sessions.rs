@@ -72,3 +72,41 @@ pub(crate) async fn metrics(
         .await?;
     Ok(Json(metrics))
 }
+
+/// `GET /api/sessions/{id}/replay`: the session's uploaded recording as the console's replay
+/// draws it; 404 until the whole recording has arrived.
+pub(crate) async fn replay(
+    State(state): State<AppState>,
+    Authed(therapist): Authed,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<serde_json::Value>, ApiError> {
+    let Path(id) = id?;
+    let session = visible_session(&state, &therapist, &id).await?;
+    let reader = state
+        .replay
+        .clone()
+        .ok_or_else(|| ApiError::NotFound("this hub does not offer replays".to_owned()))?;
+    let recording = state
+        .db
+        .recording(&session.session_id)
+        .await?
+        .filter(|r| r.complete)
+        .ok_or_else(|| {
+            ApiError::NotFound(format!(
+                "the recording of session {:?} has not (fully) arrived yet",
+                session.session_id
+            ))
+        })?;
+    state
+        .audit(&therapist.actor(), "read_replay", &session.session_id, "")
+        .await?;
+    let path = std::path::PathBuf::from(&recording.path);
+    let frames = tokio::task::spawn_blocking(move || reader(&path))
+        .await
+        .map_err(|_| ApiError::Internal)?
+        .map_err(|e| {
+            tracing::warn!(session = %session.session_id, "replay unreadable: {e}");
+            ApiError::Internal
+        })?;
+    Ok(Json(frames))
+}

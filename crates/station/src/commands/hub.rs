@@ -303,6 +303,7 @@ async fn serve(
         }),
         now_ms: Arc::new(now_ms),
         max_connections,
+        replay: Some(Arc::new(crate::therapist_view::replay_frames)),
     };
     let mut sigterm = tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate())
         .context("cannot install the SIGTERM handler")?;

@@ -252,57 +252,8 @@ fn summary_extra(
 ) -> BTreeMap<String, f64> {
     let mut extra = measures.live();
     extra.extend(out.safety_and_assist());
-    extra.extend(live_pose(&out.last, arm_lengths_m));
+    extra.extend(crate::therapist_view::live_pose(&out.last, arm_lengths_m));
     extra
-}
-
-/// What the therapist's live view draws at the summary's tick: the wheel and its target, the
-/// torque against its ceiling, the car on the road, the joint angles, and the arm's pose in
-/// the wheel frame (grip point and segment directions, with the segment lengths the station
-/// was set up with). About 30 numbers, some 1 KB of JSON a summary: 10 KB/s at 10 Hz.
-fn live_pose(rec: &TickRecord, arm_lengths_m: [f64; 2]) -> Vec<(String, f64)> {
-    let mut v: Vec<(String, f64)> = vec![
-        ("wheel_angle_rad".into(), rec.wheel.angle_rad),
-        ("wheel_target_rad".into(), rec.wheel.target_rad),
-        ("torque_nm".into(), rec.wheel.commanded_nm),
-        ("ceiling_nm".into(), rec.wheel.ceiling_nm),
-        ("safety_scale".into(), rec.wheel.safety_scale),
-        ("assist_torque_nm".into(), rec.assist.torque_nm),
-        ("paused".into(), f64::from(u8::from(rec.score.paused))),
-        (
-            "watchdog_fault".into(),
-            f64::from(u8::from(rec.wheel.watchdog.is_fault())),
-        ),
-    ];
-    if let Some(car) = &rec.vehicle {
-        v.extend([
-            ("car_x_m".into(), car.x_m),
-            ("car_y_m".into(), car.y_m),
-            ("car_yaw_rad".into(), car.yaw_rad),
-        ]);
-    }
-    if let Some(arm) = &rec.arm {
-        let deg = |name: &str, rad: f64| (format!("{name}_deg"), rad.to_degrees());
-        v.extend([
-            deg("shoulder_elevation", arm.shoulder_elevation_rad),
-            deg("shoulder_plane", arm.shoulder_plane_rad),
-            deg("shoulder_rotation", arm.shoulder_rotation_rad),
-            deg("elbow_flexion", arm.elbow_flexion_rad),
-            deg("forearm_pronation", arm.forearm_pronation_rad),
-            ("upper_arm_m".into(), arm_lengths_m[0]),
-            ("forearm_m".into(), arm_lengths_m[1]),
-        ]);
-        for (name, xyz) in [
-            ("upper_axis", arm.upper_axis),
-            ("fore_axis", arm.fore_axis),
-            ("grip_m", arm.grip_m),
-        ] {
-            for (axis, x) in ["x", "y", "z"].iter().zip(xyz) {
-                v.push((format!("{name}_{axis}"), x));
-            }
-        }
-    }
-    v
 }
 
 /// Logs what changes in a session from the recorded ticks (pauses, the arm set-up's steps),
