@@ -20,7 +20,9 @@ ROOT = Path(__file__).resolve().parents[2]
 BIN = os.environ.get("TELEREHAB_BIN", str(ROOT / "target" / "debug" / "telerehab"))
 ARTIFACTS = Path(os.environ.get("TELEREHAB_ARTIFACTS", ROOT / "target" / "test-artifacts" / "console"))
 
-VALID = """[[exercise]]
+VALID = """sessions_per_week = 3
+
+[[exercise]]
 kind = "sine"
 amplitude_m = 2.0
 wavelength_m = 150.0
@@ -100,6 +102,7 @@ def test_a_therapist_logs_in_watches_live_sees_progress_and_prescribes(clinic, b
     d.find_element(By.ID, "password").send_keys(clinic["password"])
     d.find_element(By.CSS_SELECTOR, "#login button").click()
     link = wait(d, lambda d: d.find_elements(By.LINK_TEXT, "P-0042"))[0]
+    assert "no session yet" in d.find_element(By.TAG_NAME, "tbody").text
     shot(d, "1-patients")
 
     # A real-time simulated session on the paired station, watched live.
@@ -172,6 +175,10 @@ def test_a_therapist_logs_in_watches_live_sees_progress_and_prescribes(clinic, b
     telerehab("run", "--sim", "--headless", "--speed", "max", "--duration", "1", home=clinic["home"])
     received = (clinic["home"] / "regimen.toml").read_text()
     assert "wavelength_m = 150.0" in received
+    # The caseload now measures adherence against the prescription (2 sessions, 3 asked for).
+    d.get(clinic["web"] + "/#/patients")
+    row = wait(d, lambda d: [r for r in d.find_elements(By.CSS_SELECTOR, "tbody tr") if "P-0042" in r.text])[0]
+    assert "2 of 3 prescribed" in row.text and "2 of 3 sessions this week" in row.text, row.text
 
 
 def test_the_console_is_served_with_a_strict_content_security_policy(clinic):

@@ -72,10 +72,12 @@ function loginView() {
 async function patientsView() {
   const patients = await api('GET', '/api/patients');
   const rows = patients.map(p => {
-    const alert = p.sessions_last_7_days === 0 ? '<span class="badge alert">no session this week</span>'
-      : '<span class="badge ok">active</span>';
+    const alerts = p.alerts.length ? p.alerts.map(a => `<span class="badge alert">${esc(a)}</span>`).join(' ')
+      : '<span class="badge ok">none</span>';
+    const week = p.sessions_per_week_prescribed == null ? `${p.sessions_last_7_days}`
+      : `${p.sessions_last_7_days} of ${p.sessions_per_week_prescribed} prescribed`;
     return `<tr><td><a href="#/patients/${encodeURIComponent(p.id)}">${esc(p.pseudonym)}</a></td>
-      <td>${esc(when(p.last_session_started_ms))}</td><td>${esc(p.sessions_last_7_days)}</td><td>${alert}</td></tr>`;
+      <td>${esc(when(p.last_session_started_ms))}</td><td>${esc(week)}</td><td>${alerts}</td></tr>`;
   }).join('');
   app.innerHTML = `<h1>Patients</h1>
     <table><caption class="note">Your caseload. Open a patient to watch a running session, see progress or prescribe.</caption>

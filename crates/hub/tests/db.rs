@@ -271,6 +271,33 @@ async fn patients_and_caseload(db: Db) {
     assert_eq!(ids, vec![p.id.clone(), q.id.clone()]);
     assert_eq!(all[1].sessions_last_7_days, 0);
     assert_eq!(all[1].last_session_started_ms, None);
+    assert_eq!(all[1].alerts, ["no session yet"]);
+    assert_eq!(
+        own[0].alerts,
+        Vec::<String>::new(),
+        "a session this week, nothing prescribed"
+    );
+    // Three a week prescribed, a safety stop and clipping in the last session: all said.
+    db.put_regimen(&p.id, "sessions_per_week = 3\n", &t.id, now)
+        .await
+        .unwrap();
+    let faults = [
+        ("watchdog_fault_ticks".to_owned(), 40.0),
+        ("clipped_pct".to_owned(), 7.5),
+    ];
+    db.put_metrics("s-new", &faults.into_iter().collect())
+        .await
+        .unwrap();
+    let own = db.patients_for(&t, now).await.unwrap();
+    assert_eq!(own[0].sessions_per_week_prescribed, Some(3));
+    assert_eq!(
+        own[0].alerts,
+        [
+            "1 of 3 sessions this week",
+            "safety stop in the last session (torque faded out on a fault)",
+            "torque held at the ceiling for 5 % or more of the last session"
+        ]
+    );
     assert!(Db::may_see(&t, &p) && !Db::may_see(&t, &q) && Db::may_see(&admin, &q));
 }
 

@@ -29,6 +29,10 @@ pub const MAX_DEVICE_TORQUE_NM: f64 = 20.0;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Regimen {
+    /// Sessions a week the therapist asks for (1–28); the console measures adherence
+    /// against it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sessions_per_week: Option<u32>,
     /// The exercises, in the order the patient does them.
     #[serde(rename = "exercise")]
     pub exercises: Vec<RegimenEntry>,
@@ -106,6 +110,14 @@ impl Regimen {
                 message: "no [[exercise]] in the regimen".into(),
             });
         }
+        if let Some(n) = r.sessions_per_week
+            && !(1..=28).contains(&n)
+        {
+            return Err(RegimenError::Parse {
+                path: origin.into(),
+                message: format!("sessions_per_week = {n}, allowed 1 to 28"),
+            });
+        }
         for (i, e) in r.exercises.iter().enumerate() {
             let invalid = |message: String| RegimenError::Invalid {
                 path: origin.into(),
@@ -178,6 +190,24 @@ mod tests {
     fn misspelt_field_is_rejected() {
         let text = "[[exercise]]\nkind = \"sine\"\namplitud_m = 3.0\n";
         assert!(Regimen::from_toml(text, "r.toml").is_err());
+    }
+
+    #[test]
+    fn sessions_per_week_is_read_and_bounded() {
+        let one = "[[exercise]]\nkind = \"sine\"\n";
+        let r = Regimen::from_toml(&format!("sessions_per_week = 5\n{one}"), "r.toml").unwrap();
+        assert_eq!(r.sessions_per_week, Some(5));
+        assert_eq!(
+            Regimen::from_toml(one, "r.toml").unwrap().sessions_per_week,
+            None
+        );
+        let err = Regimen::from_toml(&format!("sessions_per_week = 40\n{one}"), "r.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("sessions_per_week = 40, allowed 1 to 28"),
+            "{err}"
+        );
     }
 
     mod fuzz {

@@ -26,7 +26,7 @@ pub struct Patient {
 }
 
 /// A row of a therapist's caseload: the patient and their adherence.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PatientOverview {
     /// The patient.
     #[serde(flatten)]
@@ -35,6 +35,41 @@ pub struct PatientOverview {
     pub last_session_started_ms: Option<i64>,
     /// Sessions started in the 7 days before `now_ms`.
     pub sessions_last_7_days: i64,
+    /// Sessions a week the current regimen asks for (its `sessions_per_week`), if it says.
+    pub sessions_per_week_prescribed: Option<i64>,
+    /// What the therapist should look at, in plain words: missed sessions against the
+    /// prescription, a safety fault or clipped torque in the last session.
+    pub alerts: Vec<String>,
+}
+
+/// The `sessions_per_week` a regimen's TOML text names, if any.
+fn prescribed_per_week(regimen_toml: Option<&str>) -> Option<i64> {
+    let value: toml::Value = toml::from_str(regimen_toml?).ok()?;
+    value.get("sessions_per_week")?.as_integer()
+}
+
+/// The caseload row's alerts, from its counts and its last session's measures.
+fn alerts(
+    week: i64,
+    prescribed: Option<i64>,
+    last_start: Option<i64>,
+    last_faults: Option<f64>,
+    last_clipped_pct: Option<f64>,
+) -> Vec<String> {
+    let mut out = Vec::new();
+    match (prescribed, last_start) {
+        (_, None) => out.push("no session yet".to_owned()),
+        (Some(p), _) if week < p => out.push(format!("{week} of {p} sessions this week")),
+        (None, _) if week == 0 => out.push("no session in the last 7 days".to_owned()),
+        _ => {}
+    }
+    if last_faults.is_some_and(|f| f > 0.0) {
+        out.push("safety stop in the last session (torque faded out on a fault)".to_owned());
+    }
+    if last_clipped_pct.is_some_and(|c| c >= 5.0) {
+        out.push("torque held at the ceiling for 5 % or more of the last session".to_owned());
+    }
+    out
 }
 
 /// Checks a pseudonym: 1–64 characters of ASCII letters, digits, `.`, `_`, `-`.
@@ -146,33 +181,50 @@ impl Db {
         therapist: &Therapist,
         now_ms: i64,
     ) -> Result<Vec<PatientOverview>, HubError> {
-        const ALL: &str = "SELECT p.id, p.pseudonym, p.therapist_id, p.created_at_ms, \
+        const CASELOAD: &str = "SELECT p.id, p.pseudonym, p.therapist_id, p.created_at_ms, \
             (SELECT MAX(s.started_unix_ms) FROM sessions s WHERE s.patient_id = p.id) AS last_start, \
             (SELECT COUNT(*) FROM sessions s WHERE s.patient_id = p.id \
-                AND s.started_unix_ms >= $1) AS week_count \
-            FROM patients p ORDER BY p.pseudonym";
-        const OWN: &str = "SELECT p.id, p.pseudonym, p.therapist_id, p.created_at_ms, \
-            (SELECT MAX(s.started_unix_ms) FROM sessions s WHERE s.patient_id = p.id) AS last_start, \
-            (SELECT COUNT(*) FROM sessions s WHERE s.patient_id = p.id \
-                AND s.started_unix_ms >= $1) AS week_count \
-            FROM patients p WHERE p.therapist_id = $2 ORDER BY p.pseudonym";
-        let query = if therapist.is_admin() {
-            sqlx::query(ALL).bind(now_ms.saturating_sub(WEEK_MS))
+                AND s.started_unix_ms >= $1) AS week_count, \
+            (SELECT r.toml FROM regimens r WHERE r.patient_id = p.id \
+                ORDER BY r.version DESC LIMIT 1) AS regimen_toml, \
+            (SELECT m.value FROM session_metrics m WHERE m.name = 'watchdog_fault_ticks' \
+                AND m.session_id = (SELECT s.session_id FROM sessions s WHERE s.patient_id = p.id \
+                    ORDER BY s.started_unix_ms DESC LIMIT 1)) AS last_faults, \
+            (SELECT m.value FROM session_metrics m WHERE m.name = 'clipped_pct' \
+                AND m.session_id = (SELECT s.session_id FROM sessions s WHERE s.patient_id = p.id \
+                    ORDER BY s.started_unix_ms DESC LIMIT 1)) AS last_clipped \
+            FROM patients p WHERE ($2 = '' OR p.therapist_id = $2) ORDER BY p.pseudonym";
+        // An admin sees every patient (an empty therapist id matches all).
+        let own = if therapist.is_admin() {
+            ""
         } else {
-            sqlx::query(OWN)
-                .bind(now_ms.saturating_sub(WEEK_MS))
-                .bind(therapist.id.as_str())
+            therapist.id.as_str()
         };
+        let query = sqlx::query(CASELOAD)
+            .bind(now_ms.saturating_sub(WEEK_MS))
+            .bind(own);
         let rows = query
             .fetch_all(self.pool())
             .await
             .map_err(HubError::db("listing patients"))?;
         rows.iter()
             .map(|row| {
+                let last_start: Option<i64> = col(row, "last_start")?;
+                let week: i64 = col(row, "week_count")?;
+                let regimen: Option<String> = col(row, "regimen_toml")?;
+                let prescribed = prescribed_per_week(regimen.as_deref());
                 Ok(PatientOverview {
                     patient: Patient::from_row(row)?,
-                    last_session_started_ms: col(row, "last_start")?,
-                    sessions_last_7_days: col(row, "week_count")?,
+                    last_session_started_ms: last_start,
+                    sessions_last_7_days: week,
+                    sessions_per_week_prescribed: prescribed,
+                    alerts: alerts(
+                        week,
+                        prescribed,
+                        last_start,
+                        col(row, "last_faults")?,
+                        col(row, "last_clipped")?,
+                    ),
                 })
             })
             .collect()
