@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 from selenium import webdriver
+from selenium.common.exceptions import StaleElementReferenceException
 from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.common.by import By
 from selenium.webdriver.support.ui import WebDriverWait
@@ -20,9 +21,7 @@ ROOT = Path(__file__).resolve().parents[2]
 BIN = os.environ.get("TELEREHAB_BIN", str(ROOT / "target" / "debug" / "telerehab"))
 ARTIFACTS = Path(os.environ.get("TELEREHAB_ARTIFACTS", ROOT / "target" / "test-artifacts" / "console"))
 
-VALID = """sessions_per_week = 3
-
-[[exercise]]
+VALID = """[[exercise]]
 kind = "sine"
 amplitude_m = 2.0
 wavelength_m = 150.0
@@ -87,7 +86,8 @@ def shot(driver, name):
 
 
 def wait(driver, what, timeout=30):
-    return WebDriverWait(driver, timeout).until(what)
+    # The console re-renders a view after a save: an element read mid-render is stale, not wrong.
+    return WebDriverWait(driver, timeout, ignored_exceptions=(StaleElementReferenceException,)).until(what)
 
 
 def test_a_therapist_logs_in_watches_live_sees_progress_and_prescribes(clinic, browser):
@@ -155,26 +155,41 @@ def test_a_therapist_logs_in_watches_live_sees_progress_and_prescribes(clinic, b
     wait(d, lambda d: d.find_elements(By.LINK_TEXT, "P-0042"))[0].click()
     wait(d, lambda d: d.find_elements(By.LINK_TEXT, "Prescribe"))
 
-    # Prescribe: a regimen outside the safety bounds is refused with the reason, a good one saved.
+    # Prescribe as TOML: a regimen outside the safety bounds is refused with the reason, a good
+    # one saved.
     d.find_element(By.LINK_TEXT, "Prescribe").click()
-    area = wait(d, lambda d: d.find_elements(By.ID, "toml"))[0]
+    wait(d, lambda d: d.find_elements(By.ID, "rx-form"))
+    d.find_element(By.CSS_SELECTOR, "details summary").click()
+    area = d.find_element(By.ID, "toml")
     area.clear()
     area.send_keys(TOO_STRONG)
     d.find_element(By.CSS_SELECTOR, "#rx button").click()
-    result = d.find_element(By.ID, "rx-result")
-    wait(d, lambda d: "refused" in result.text)
-    assert "ceiling" in result.text, result.text
+    wait(d, lambda d: "refused" in d.find_element(By.ID, "rx-result").text)
+    assert "ceiling" in d.find_element(By.ID, "rx-result").text
     shot(d, "4-refused")
     area.clear()
     area.send_keys(VALID)
     d.find_element(By.CSS_SELECTOR, "#rx button").click()
-    wait(d, lambda d: result.text == "Saved as version 1.")
+    wait(d, lambda d: d.find_element(By.ID, "rx-result").text == "Saved as version 1.")
+
+    # Prescribe in the form: the bounds beside each field are enforced before anything is sent.
+    ceiling = wait(d, lambda d: d.find_elements(By.ID, "ex0-ceiling"))[0]
+    ceiling.send_keys("25")
+    d.find_element(By.CSS_SELECTOR, "#rx-form button[type=submit]").click()
+    assert "outside its bounds" in d.find_element(By.ID, "rx-result").text
+    assert not d.execute_script("return document.getElementById('ex0-ceiling').checkValidity()")
+    ceiling.clear()
+    ceiling.send_keys("1.5")
+    d.find_element(By.ID, "rx-sessions").send_keys("3")
+    d.find_element(By.CSS_SELECTOR, "#rx-form button[type=submit]").click()
+    wait(d, lambda d: d.find_element(By.ID, "rx-result").text == "Saved as version 2.")
     shot(d, "5-saved")
 
     # The station picks the new version up when it next connects.
     telerehab("run", "--sim", "--headless", "--speed", "max", "--duration", "1", home=clinic["home"])
     received = (clinic["home"] / "regimen.toml").read_text()
-    assert "wavelength_m = 150.0" in received
+    assert "wavelength_m = 150" in received and "ceiling_nm = 1.5" in received, received
+    assert "sessions_per_week = 3" in received, received
     # The caseload now measures adherence against the prescription (2 sessions, 3 asked for).
     d.get(clinic["web"] + "/#/patients")
     row = wait(d, lambda d: [r for r in d.find_elements(By.CSS_SELECTOR, "tbody tr") if "P-0042" in r.text])[0]

@@ -142,41 +142,120 @@ async function progressView(el, id, patient) {
   void patient;
 }
 
+/** Exercise kinds a therapist can add from the form (the station's exercise library). */
+const KINDS = ['straight', 'sine', 'triangle', 'clothoid', 'sharp-turns', 's-bend', 'lane-change', 'slalom', 'dial'];
+
+/** The form's bounds: shown beside each field and enforced by the browser; the hub checks the
+ * whole regimen again with the station's own validator. */
+const BOUNDS = {
+  sessions_per_week: [1, 28, 1],
+  duration_s: [5, 3600, 5],
+  speed_m_s: [1, 30, 0.5],
+  ceiling_nm: [0, 20, 0.1],
+};
+
+function numberField(id, label, value, [min, max, step], unit) {
+  return `<label for="${id}">${esc(label)} <span class="note">(${min}–${max} ${esc(unit)})</span></label>
+    <input id="${id}" type="number" min="${min}" max="${max}" step="${step}" value="${value ?? ''}" inputmode="decimal">`;
+}
+
 async function prescribeView(el, id) {
   const r = await api('GET', `/api/patients/${encodeURIComponent(id)}/regimen`);
   const cur = r.current;
+  const model = r.current_fields || { exercise: [] };
+  if (!Array.isArray(model.exercise)) model.exercise = [];
   el.id = 'prescribe';
-  el.innerHTML = `
+  const render = () => {
+    const rows = model.exercise.map((e, i) => `
+      <fieldset class="panel"><legend>Exercise ${i + 1}: ${esc(e.kind)}</legend>
+        ${numberField(`ex${i}-duration`, 'Duration', e.duration_s, BOUNDS.duration_s, 's')}
+        ${e.kind === 'dial' ? '' : numberField(`ex${i}-speed`, 'Car speed', e.speed_m_s, BOUNDS.speed_m_s, 'm/s')}
+        ${numberField(`ex${i}-ceiling`, 'Torque ceiling (empty: the station\'s)', e.haptic && e.haptic.ceiling_nm, BOUNDS.ceiling_nm, 'N·m')}
+        <p class="note">${e.assist ? `Assistance: ${esc(JSON.stringify(e.assist.mode || e.assist))}` : 'Assistance: the station\'s setting.'}</p>
+        <p><button type="button" class="secondary" data-remove="${i}">Remove exercise ${i + 1}</button></p>
+      </fieldset>`).join('');
+    el.innerHTML = `
     <section class="panel" aria-labelledby="rx-h"><h2 id="rx-h">Regimen</h2>
       <p id="rx-version">${cur ? `Version ${esc(cur.version)}, prescribed by ${esc(cur.prescribed_by)} on ${esc(when(cur.prescribed_at_ms))}.` : 'Nothing prescribed yet: the station runs its default exercise.'}</p>
-      <form id="rx">
-        <label for="toml">Exercises, durations, difficulty, haptic and assistance settings (TOML, as in the station's <code>regimens/</code>)</label>
-        <textarea id="toml" spellcheck="false" aria-describedby="bounds">${esc(cur ? cur.toml : '')}</textarea>
+      <form id="rx-form" novalidate>
+        ${numberField('rx-sessions', 'Sessions a week', model.sessions_per_week, BOUNDS.sessions_per_week, 'sessions')}
+        ${rows || '<p>No exercise yet: add one.</p>'}
+        <label for="rx-add">Add an exercise</label>
+        <select id="rx-add">${KINDS.map(k => `<option>${k}</option>`).join('')}</select>
+        <button type="button" class="secondary" id="rx-add-btn">Add</button>
         <p><button type="submit">Save as a new version</button></p>
-        <p id="rx-result" role="alert"></p>
       </form>
-      <h3 id="bounds-h">Safety bounds the station enforces</h3>
+      <p id="rx-result" role="alert"></p>
+      <details><summary>Edit as TOML (every setting, as in the station's <code>regimens/</code>)</summary>
+        <form id="rx">
+          <label for="toml">Regimen (TOML)</label>
+          <textarea id="toml" spellcheck="false">${esc(cur ? cur.toml : '')}</textarea>
+          <p><button type="submit">Save the TOML as a new version</button></p>
+        </form>
+      </details>
+      <h3>Safety bounds the station enforces</h3>
       <dl class="bounds" id="bounds">
         <dt>Torque ceiling</dt><dd>at most 20 N·m in a prescription (the strongest consumer wheel), refused above; the station then caps it at its own wheel's ceiling (a prescription can lower the patient's ceiling, never raise it)</dd>
         <dt>Torque changes</dt><dd>slew-limited by the station's safety chain whatever the prescription</dd>
         <dt>Assistance</dt><dd>level 0–1; its torque shares the same ceiling</dd>
-        <dt>Durations</dt><dd>positive, within the station's session limits</dd>
+        <dt>Durations, speeds</dt><dd>within the ranges shown beside each field</dd>
       </dl>
       <p class="note">The hub checks a regimen with the station's own validator before storing it; the station picks the new version up at its next session.</p>
     </section>`;
-  const form = el.querySelector('#rx'), out = el.querySelector('#rx-result');
-  form.addEventListener('submit', async ev => {
-    ev.preventDefault();
-    out.className = ''; out.textContent = 'Saving…';
+    bind();
+  };
+  const out = () => el.querySelector('#rx-result');
+  const save = async body => {
+    out().className = ''; out().textContent = 'Saving…';
     try {
-      const v = await api('PUT', `/api/patients/${encodeURIComponent(id)}/regimen`, { toml: form.toml.value });
-      out.textContent = `Saved as version ${v.version}.`;
+      const v = await api('PUT', `/api/patients/${encodeURIComponent(id)}/regimen`, body);
+      const again = await api('GET', `/api/patients/${encodeURIComponent(id)}/regimen`);
+      Object.assign(model, again.current_fields);
+      render();
+      out().textContent = `Saved as version ${v.version}.`;
       el.querySelector('#rx-version').textContent = `Version ${v.version}, prescribed by ${v.prescribed_by} just now.`;
     } catch (e) {
-      out.className = 'error';
-      out.textContent = e.message;
+      out().className = 'error';
+      out().textContent = e.message;
     }
-  });
+  };
+  const readForm = () => {
+    const num = sel => { const v = el.querySelector(sel); return v && v.value !== '' ? Number(v.value) : undefined; };
+    const sessions = num('#rx-sessions');
+    if (sessions === undefined) delete model.sessions_per_week; else model.sessions_per_week = sessions;
+    model.exercise.forEach((e, i) => {
+      e.duration_s = num(`#ex${i}-duration`) ?? e.duration_s;
+      const speed = num(`#ex${i}-speed`);
+      if (speed !== undefined) e.speed_m_s = speed;
+      const ceiling = num(`#ex${i}-ceiling`);
+      if (ceiling === undefined) { if (e.haptic) delete e.haptic.ceiling_nm; } else { e.haptic = { ...(e.haptic || {}), ceiling_nm: ceiling }; }
+      if (e.haptic && !Object.keys(e.haptic).length) delete e.haptic;
+    });
+  };
+  const bind = () => {
+    el.querySelector('#rx-form').addEventListener('submit', ev => {
+      ev.preventDefault();
+      const form = ev.target;
+      if (!form.checkValidity()) { form.reportValidity(); out().className = 'error'; out().textContent = 'A value is outside its bounds (shown beside it).'; return; }
+      readForm();
+      save({ fields: model });
+    });
+    el.querySelector('#rx-add-btn').addEventListener('click', () => {
+      readForm();
+      model.exercise.push({ kind: el.querySelector('#rx-add').value, duration_s: 60 });
+      render();
+    });
+    el.querySelectorAll('[data-remove]').forEach(b => b.addEventListener('click', () => {
+      readForm();
+      model.exercise.splice(Number(b.dataset.remove), 1);
+      render();
+    }));
+    el.querySelector('#rx').addEventListener('submit', ev => {
+      ev.preventDefault();
+      save({ toml: el.querySelector('#toml').value });
+    });
+  };
+  render();
 }
 
 document.getElementById('logout').addEventListener('click', async () => {

@@ -16,6 +16,9 @@ pub(crate) struct RegimenView {
     current: Option<RegimenVersion>,
     /// Every version, oldest first.
     history: Vec<RegimenVersion>,
+    /// The newest version's TOML as JSON (tables as objects, arrays of tables as arrays), for
+    /// the console's form; `null` if none was prescribed.
+    current_fields: Option<serde_json::Value>,
 }
 
 pub(crate) async fn get_regimen(
@@ -29,18 +32,46 @@ pub(crate) async fn get_regimen(
     state
         .audit(&therapist.actor(), "read_regimen", &patient.id, "")
         .await?;
+    let current_fields = history
+        .last()
+        .and_then(|r| toml::from_str::<toml::Value>(&r.toml).ok())
+        .and_then(|v| serde_json::to_value(v).ok());
     Ok(Json(RegimenView {
         current: history.last().cloned(),
         history,
+        current_fields,
     }))
 }
 
-/// Body of `PUT /api/patients/{id}/regimen`.
+/// Body of `PUT /api/patients/{id}/regimen`: the regimen as TOML text, or as the fields the
+/// console's form edits (JSON, written as TOML here); exactly one of the two.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct PutRegimen {
     /// The regimen as TOML text.
-    toml: String,
+    #[serde(default)]
+    toml: Option<String>,
+    /// The regimen as JSON fields (the shape of `current_fields`).
+    #[serde(default)]
+    fields: Option<serde_json::Value>,
+}
+
+impl PutRegimen {
+    /// The regimen's TOML text.
+    fn into_toml(self) -> Result<String, ApiError> {
+        match (self.toml, self.fields) {
+            (Some(text), None) => Ok(text),
+            (None, Some(fields)) => {
+                let value: toml::Value = serde_json::from_value(fields)
+                    .map_err(|e| ApiError::BadRequest(format!("regimen fields: {e}")))?;
+                toml::to_string(&value)
+                    .map_err(|e| ApiError::BadRequest(format!("regimen fields: {e}")))
+            }
+            _ => Err(ApiError::BadRequest(
+                "give the regimen as \"toml\" or as \"fields\", not both or neither".to_owned(),
+            )),
+        }
+    }
 }
 
 pub(crate) async fn put_regimen(
@@ -52,7 +83,8 @@ pub(crate) async fn put_regimen(
     let Path(id) = id?;
     let patient = state.visible_patient(&therapist, &id).await?;
     let Json(body) = body?;
-    if let Err(reason) = (state.validate_regimen)(&body.toml) {
+    let text = body.into_toml()?;
+    if let Err(reason) = (state.validate_regimen)(&text) {
         state
             .audit(&therapist.actor(), "regimen_rejected", &patient.id, &reason)
             .await?;
@@ -63,7 +95,7 @@ pub(crate) async fn put_regimen(
     let now = state.now();
     let version = state
         .db
-        .put_regimen(&patient.id, &body.toml, &therapist.id, now)
+        .put_regimen(&patient.id, &text, &therapist.id, now)
         .await?;
     state
         .audit(
@@ -76,7 +108,7 @@ pub(crate) async fn put_regimen(
     let prescribed = RegimenVersion {
         patient_id: patient.id,
         version,
-        toml: body.toml,
+        toml: text,
         prescribed_by: therapist.id,
         prescribed_at_ms: now,
     };
