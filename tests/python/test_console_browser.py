@@ -4,6 +4,7 @@ progress, save a regimen the station then receives, and see one outside the safe
 refused with the reason. Screenshots go to $TELEREHAB_ARTIFACTS (default
 target/test-artifacts/console); look at them."""
 
+import base64
 import os
 import re
 import subprocess
@@ -133,6 +134,14 @@ def test_a_therapist_logs_in_watches_live_sees_progress_and_prescribes(clinic, b
     wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#tab[data-sessions='1']"))
     assert "time in lane" in d.find_element(By.ID, "tab").text
     shot(d, "3-progress")
+    # Printed (A4), the progress is the one-page summary a therapist files.
+    pdf = base64.b64decode(d.execute_cdp_cmd("Page.printToPDF", {"paperWidth": 8.27, "paperHeight": 11.69})["data"])
+    ARTIFACTS.mkdir(parents=True, exist_ok=True)
+    (ARTIFACTS / "3-progress-printed.pdf").write_bytes(pdf)
+    assert len(re.findall(rb"/Type\s*/Page[^s]", pdf)) == 1, "one page"
+    d.execute_cdp_cmd("Emulation.setEmulatedMedia", {"media": "print"})
+    shot(d, "3-progress-as-printed")
+    d.execute_cdp_cmd("Emulation.setEmulatedMedia", {"media": ""})
 
     # Replay of the session from its uploaded recording: play, seek, the cursor follows.
     replay_url = d.find_element(By.LINK_TEXT, "Replay").get_attribute("href")

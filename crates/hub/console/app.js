@@ -119,7 +119,7 @@ async function progressView(el, id, patient) {
     <td>${esc(s.end_reason || (s.closed_at_ms ? 'ended' : 'running'))}</td>
     <td><a href="#/patients/${encodeURIComponent(id)}/replay/${encodeURIComponent(s.session_id)}">Replay</a></td></tr>`).join('');
   el.innerHTML = `
-    <p><button type="button" id="print" class="secondary">Print a one-page summary</button></p>
+    <p class="print-hide"><button type="button" id="print" class="secondary">Print a one-page summary</button></p>
     <section class="panel" aria-labelledby="latest-h"><h2 id="latest-h">Latest session against the earlier ones</h2>
       <table><thead><tr><th scope="col">Measure</th><th scope="col">Latest</th><th scope="col">Trend</th></tr></thead><tbody>${rows}</tbody></table></section>
     <div class="grid">
@@ -128,7 +128,7 @@ async function progressView(el, id, patient) {
       <section class="panel"><h2>Movement smoothness</h2><div class="chart" id="p-sparc"></div></section>
       <section class="panel"><h2>Active time and assistance</h2><div class="chart" id="p-active"></div></section>
     </div>
-    <section class="panel" aria-labelledby="sessions-h"><h2 id="sessions-h">Sessions (${sessions.length})</h2>
+    <section class="panel print-hide" aria-labelledby="sessions-h"><h2 id="sessions-h">Sessions (${sessions.length})</h2>
       <table><thead><tr><th scope="col">Started</th><th scope="col">Exercise</th><th scope="col">End</th><th scope="col">Recording</th></tr></thead><tbody>${list}</tbody></table></section>`;
   el.querySelector('#print').addEventListener('click', () => window.print());
   const col = key => metrics.map(m => (typeof m[key] === 'number' ? m[key] : null));

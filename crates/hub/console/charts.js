@@ -13,8 +13,7 @@ export function lineChart(el, { title, x, y, series, time = false }) {
     title,
     width: width(),
     height: 220,
-    // One session alone still gets a readable date axis: a day either side of it.
-    scales: { x: { time, range: (u, min, max) => (time && max - min < 86400 ? [min - 86400, max + 86400] : [min, max]) } },
+    scales: { x: { time } },
     series: [
       { label: x },
       ...series.map((s, i) => ({ label: s.label, stroke: COLOURS[i % COLOURS.length], width: 2,
@@ -32,6 +31,12 @@ export function lineChart(el, { title, x, y, series, time = false }) {
     set(columns) {
       chart.setData(columns);
       el.dataset.points = String(columns[0].length);
+      // Sessions less than a day apart (or one alone) still get a readable date axis: three
+      // days either side of them.
+      const xs = columns[0];
+      if (time && xs.length && xs[xs.length - 1] - xs[0] < 86400) {
+        chart.setScale('x', { min: xs[0] - 3 * 86400, max: xs[xs.length - 1] + 3 * 86400 });
+      }
     },
   };
 }

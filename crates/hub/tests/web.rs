@@ -451,6 +451,42 @@ async fn sessions_summaries_and_metrics_are_served_and_audited() {
 }
 
 #[tokio::test]
+async fn a_regimen_can_be_put_as_fields_and_reads_back_as_fields() {
+    let f = fixture().await;
+    let ada = login(&f.app, "ada@clinic.example").await;
+    let uri = format!("/api/patients/{}/regimen", f.p_ada.id);
+    let fields =
+        json!({"sessions_per_week": 3, "exercise": [{"kind": "sine", "duration_s": 30.5}]});
+    let (status, _, body) = call(
+        &f.app,
+        Method::PUT,
+        &uri,
+        Some(&ada),
+        Some(json!({ "fields": fields })),
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK, "{body}");
+    let text = body["toml"].as_str().unwrap();
+    assert!(
+        text.contains("sessions_per_week = 3") && text.contains("[[exercise]]"),
+        "{text}"
+    );
+    let (_, _, view) = call(&f.app, Method::GET, &uri, Some(&ada), None).await;
+    assert_eq!(view["current_fields"], fields);
+    for bad in [json!({}), json!({"toml": "a = 1", "fields": {"a": 1}})] {
+        let (status, _, body) = call(&f.app, Method::PUT, &uri, Some(&ada), Some(bad)).await;
+        assert_eq!(status, StatusCode::BAD_REQUEST, "{body}");
+        assert!(
+            body["error"]
+                .as_str()
+                .unwrap()
+                .contains("not both or neither"),
+            "{body}"
+        );
+    }
+}
+
+#[tokio::test]
 async fn regimen_put_makes_version_2_and_the_validator_can_refuse() {
     let f = fixture().await;
     let ada = login(&f.app, "ada@clinic.example").await;
@@ -512,6 +548,7 @@ async fn regimen_put_makes_version_2_and_the_validator_can_refuse() {
         .filter(|(_, act, _)| act == "put_regimen")
         .count();
     assert_eq!(puts, 2);
+    assert_eq!(view["current_fields"], json!({"exercise": "slalom"}));
     assert!(
         log.iter()
             .any(|(_, act, t)| act == "regimen_rejected" && *t == f.p_ada.id)
