@@ -35,6 +35,10 @@ pub struct StationConfig {
     /// The real force-feedback wheel: profile, rated torque, gain, effect length, update rate
     /// (see `crates/haptic-wheel/CALIBRATION.md`).
     pub wheel: haptic_wheel::WheelConfig,
+    /// Faults injected into a simulated session (`[[faults]]`; `--fault KIND@S` adds more):
+    /// see `session::faults`. Ignored by nothing: a real wheel refuses them.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub faults: Vec<crate::session::faults::FaultSpec>,
 }
 
 impl Default for StationConfig {
@@ -50,6 +54,7 @@ impl Default for StationConfig {
             arm: Default::default(),
             therapist: TherapistLinkConfig::default(),
             wheel: haptic_wheel::WheelConfig::default(),
+            faults: Vec::new(),
         }
     }
 }
@@ -321,6 +326,9 @@ impl StationConfig {
         if let Some(a) = &self.assist {
             a.validate().map_err(|e| in_section("assist")(&e))?;
         }
+        for f in &self.faults {
+            f.validate().map_err(|e| in_section("faults")(&e))?;
+        }
         self.sim_patient
             .validate()
             .map_err(|e| in_section("sim_patient")(&e))?;
@@ -388,6 +396,26 @@ mod tests {
         assert!(
             msg.contains("sim_patient") && msg.contains("delay_s"),
             "{msg}"
+        );
+    }
+
+    #[test]
+    fn injected_faults_are_read_from_the_config_and_checked() {
+        let cfg = StationConfig::from_toml(
+            "[[faults]]\nkind = \"wheel-stall\"\nat_s = 2.0\nduration_s = 0.3\n",
+            "test",
+        )
+        .unwrap();
+        assert_eq!(
+            cfg.faults,
+            [crate::session::faults::FaultSpec::parse("wheel-stall@2+0.3").unwrap()]
+        );
+        let err = StationConfig::from_toml("[[faults]]\nkind = \"wheel-nan\"\nat_s = -1.0\n", "t")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("[faults]") && err.contains("wheel-nan"),
+            "{err}"
         );
     }
 

@@ -73,6 +73,11 @@ pub struct RunArgs {
     /// The station's home (pairing, summary queue, recordings).
     #[command(flatten)]
     pub home: HomeArg,
+    /// Inject a fault into the simulated session (repeatable): `KIND@SECONDS` or
+    /// `KIND@SECONDS+DURATION`, e.g. `wheel-stall@5+0.3` (kinds: wheel-unplug, wheel-nan,
+    /// wheel-stall). Needs --sim.
+    #[arg(long = "fault", value_name = "KIND@SECONDS", value_parser = crate::session::faults::FaultSpec::parse)]
+    pub faults: Vec<session::faults::FaultSpec>,
 }
 
 impl RunArgs {
@@ -94,6 +99,7 @@ impl RunArgs {
             station_id: None,
             patient_id: None,
             home: HomeArg::default(),
+            faults: Vec::new(),
         }
     }
 }
@@ -202,6 +208,12 @@ pub fn resolve_config(args: &RunArgs) -> anyhow::Result<StationConfig> {
     }
     if let Some(ca) = &args.therapist_ca {
         cfg.therapist.ca_pem = Some(ca.clone());
+    }
+    cfg.faults.extend(args.faults.iter().copied());
+    if !args.sim && !cfg.faults.is_empty() {
+        bail!(
+            "injected faults are for simulated sessions: add --sim (a real wheel fails by itself)"
+        );
     }
     cfg.validate().context("invalid settings")?;
     Ok(cfg)

@@ -5,6 +5,7 @@ pub mod arm;
 pub mod arm_calibration;
 mod controls;
 pub mod course;
+pub mod faults;
 pub mod haptic;
 pub mod measures;
 pub mod plant;

@@ -8,6 +8,7 @@ use crate::record::{ArmSample, AssistSample, ScoreSample, TickRecord, VehicleSam
 use crate::session::arm::sim::SimArmSensing;
 use crate::session::arm::{SetupStep, WheelNow};
 use crate::session::course::Segment;
+use crate::session::faults::FaultyWheel;
 use anyhow::Context;
 use assist::{HumanArm, Limits, Measurement};
 use haptic_wheel::{
@@ -24,8 +25,9 @@ use vehicle::{
 pub enum Body {
     /// A simulated wheel held by a simulated patient who wears simulated IMUs.
     Sim {
-        /// The simulated wheel (zero torque when dropped).
-        wheel: ZeroTorqueOnDrop<SimWheel>,
+        /// The simulated wheel (zero torque when dropped), failing as the session's injected
+        /// faults say.
+        wheel: ZeroTorqueOnDrop<FaultyWheel<SimWheel>>,
         /// The simulated patient's arm control.
         arm: HumanArm,
         /// The simulated arm kinematics, IMUs and pose estimator.
@@ -57,7 +59,10 @@ impl Body {
         let mut wheel_params = cfg.sim_wheel.clone();
         wheel_params.seed = cfg.session.seed;
         Ok(Body::Sim {
-            wheel: ZeroTorqueOnDrop::new(SimWheel::new(wheel_params)),
+            wheel: ZeroTorqueOnDrop::new(FaultyWheel::new(
+                SimWheel::new(wheel_params),
+                &cfg.faults,
+            )),
             arm: HumanArm::new(cfg.sim_patient.clone(), dt_s, cfg.session.seed),
             sensing: Box::new(
                 SimArmSensing::new(
@@ -183,6 +188,8 @@ pub struct Plant {
     /// The first fault the wheel reported (unplugged, silent, out of range): the session
     /// ends on it, and says why.
     wheel_fault: Option<WheelFault>,
+    /// The last finite wheel angle read, rad (what the car steers by without a reading).
+    last_angle_rad: f64,
     /// The wheel's motor and usable torque, for the ceiling stated in the log and report.
     ceiling: CeilingReport,
 }
@@ -262,6 +269,7 @@ impl Plant {
             velocity_rad_s: 0.0,
             watchdog: WatchdogState::SoftStart,
             wheel_fault: None,
+            last_angle_rad: 0.0,
             ceiling,
         };
         plant.projection = plant.start_projection();
@@ -349,14 +357,18 @@ impl Plant {
         self.chain.set_paused(paused);
         // 1. Read the wheel as the host sees it (quantised, delayed).
         let reading = match self.body.wheel().read() {
-            Ok(r) => Some(r),
+            Ok(r) if r.angle_rad.is_finite() => Some(r),
+            // A NaN or infinite angle is no reading: the supervisor fades the torque out as
+            // for a stale one, and the car keeps the last good angle.
+            Ok(_) => None,
             Err(e) => {
                 // No allocation: a running wheel's faults are `Copy` values.
                 self.wheel_fault = self.wheel_fault.or(e.fault());
                 None
             }
         };
-        let angle = reading.map_or(0.0, |r| r.angle_rad);
+        let angle = reading.map_or(self.last_angle_rad, |r| r.angle_rad);
+        self.last_angle_rad = angle;
 
         // 2. The exercise: drive the car with the wheel, or show the dial's desired angle.
         //    `target` is where an ideal patient would hold the wheel: the reference for

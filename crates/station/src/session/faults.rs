@@ -1,0 +1,302 @@
+//! Faults injected into a simulated session, compiled into the product so that tests and
+//! demos exercise the real safety paths (`telerehab run --sim --fault KIND@SECONDS`, or a
+//! `[[faults]]` table in the configuration).
+//!
+//! The wheel's faults act at the device seam, where a real wheel's do: [`FaultyWheel`] wraps
+//! the simulated wheel and, from the fault's session time on, answers as an unplugged,
+//! misbehaving or stalled device would. Everything above it — the haptic chain, its safety
+//! supervisor, the session's end — is the code a real wheel runs.
+
+use haptic_wheel::{Wheel, WheelError, WheelFault, WheelReading};
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// What goes wrong.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FaultKind {
+    /// The wheel is unplugged: every read and command fails as the kernel's ENODEV does.
+    WheelUnplug,
+    /// The wheel reports NaN angles for the fault's duration.
+    WheelNan,
+    /// The wheel's USB stalls: its readings freeze (same timestamp) for the fault's duration
+    /// (50–500 ms makes sense; default 200 ms).
+    WheelStall,
+}
+
+impl FaultKind {
+    /// Every kind, by its name.
+    pub const ALL: [FaultKind; 3] = [
+        FaultKind::WheelUnplug,
+        FaultKind::WheelNan,
+        FaultKind::WheelStall,
+    ];
+
+    /// The kind's name, as written after `--fault`.
+    pub fn name(self) -> &'static str {
+        match self {
+            FaultKind::WheelUnplug => "wheel-unplug",
+            FaultKind::WheelNan => "wheel-nan",
+            FaultKind::WheelStall => "wheel-stall",
+        }
+    }
+
+    /// How long the fault lasts when its spec does not say, s (`None`: for good).
+    fn default_duration_s(self) -> Option<f64> {
+        match self {
+            FaultKind::WheelUnplug => None,
+            FaultKind::WheelNan => Some(0.2),
+            FaultKind::WheelStall => Some(0.2),
+        }
+    }
+}
+
+impl fmt::Display for FaultKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// One injected fault: what, when (session time, s) and for how long (s; absent: the kind's
+/// default).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FaultSpec {
+    /// What goes wrong.
+    pub kind: FaultKind,
+    /// When it starts, s of session time.
+    pub at_s: f64,
+    /// How long it lasts, s.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub duration_s: Option<f64>,
+}
+
+impl FaultSpec {
+    /// Parse `KIND@SECONDS` or `KIND@SECONDS+DURATION` (e.g. `wheel-stall@5+0.3`); the error
+    /// names what is wrong and the kinds known.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let known = || {
+            FaultKind::ALL
+                .iter()
+                .map(|k| k.name())
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let (kind, when) = text
+            .split_once('@')
+            .ok_or_else(|| format!("fault {text:?}: write KIND@SECONDS (kinds: {})", known()))?;
+        let kind = FaultKind::ALL
+            .into_iter()
+            .find(|k| k.name() == kind)
+            .ok_or_else(|| format!("unknown fault kind {kind:?} (kinds: {})", known()))?;
+        let (at, duration) = match when.split_once('+') {
+            Some((at, d)) => (at, Some(d)),
+            None => (when, None),
+        };
+        let number = |what: &str, s: &str| {
+            s.parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite() && *v >= 0.0 && *v <= 4.0 * 3600.0)
+                .ok_or_else(|| format!("fault {text:?}: {what} {s:?} is not 0 to 14400 s"))
+        };
+        let spec = FaultSpec {
+            kind,
+            at_s: number("time", at)?,
+            duration_s: duration.map(|d| number("duration", d)).transpose()?,
+        };
+        spec.validate()?;
+        Ok(spec)
+    }
+
+    /// Check the times; the error names the fault.
+    pub fn validate(&self) -> Result<(), String> {
+        let ok = |v: f64| v.is_finite() && (0.0..=4.0 * 3600.0).contains(&v);
+        if !ok(self.at_s) || !self.duration_s.is_none_or(ok) {
+            return Err(format!(
+                "fault {}: at_s and duration_s must be 0 to 14400 s",
+                self.kind
+            ));
+        }
+        Ok(())
+    }
+
+    /// The session-time window it acts in, ns: `[start, end)`.
+    fn window_ns(&self) -> (u64, u64) {
+        let start = (self.at_s * 1e9).round() as u64;
+        let end = self
+            .duration_s
+            .or(self.kind.default_duration_s())
+            .map_or(u64::MAX, |d| start + (d * 1e9).round() as u64);
+        (start, end)
+    }
+}
+
+/// A wheel that fails as `faults` say, on the session time of its own readings.
+pub struct FaultyWheel<W> {
+    inner: W,
+    faults: Vec<(FaultKind, u64, u64)>,
+    /// The reading a stall repeats.
+    frozen: Option<WheelReading>,
+}
+
+impl<W: Wheel> FaultyWheel<W> {
+    /// `inner`, failing as the wheel faults among `faults` say (other kinds are ignored).
+    pub fn new(inner: W, faults: &[FaultSpec]) -> Self {
+        Self {
+            inner,
+            faults: faults
+                .iter()
+                .map(|f| {
+                    let (start, end) = f.window_ns();
+                    (f.kind, start, end)
+                })
+                .collect(),
+            frozen: None,
+        }
+    }
+
+    /// The fault acting at `t_ns`, if any.
+    fn acting(&self, t_ns: u64) -> Option<FaultKind> {
+        self.faults
+            .iter()
+            .find(|(_, start, end)| (*start..*end).contains(&t_ns))
+            .map(|(k, _, _)| *k)
+    }
+}
+
+/// The wrapped wheel's own methods (a simulated wheel's physics) go straight through.
+impl<W> std::ops::Deref for FaultyWheel<W> {
+    type Target = W;
+    fn deref(&self) -> &W {
+        &self.inner
+    }
+}
+
+impl<W> std::ops::DerefMut for FaultyWheel<W> {
+    fn deref_mut(&mut self) -> &mut W {
+        &mut self.inner
+    }
+}
+
+impl<W: Wheel> Wheel for FaultyWheel<W> {
+    fn read(&mut self) -> Result<WheelReading, WheelError> {
+        let reading = self.inner.read()?;
+        match self.acting(reading.t_ns) {
+            Some(FaultKind::WheelUnplug) => Err(WheelError::Fault(WheelFault::Unplugged)),
+            Some(FaultKind::WheelNan) => Ok(WheelReading {
+                angle_rad: f64::NAN,
+                ..reading
+            }),
+            Some(FaultKind::WheelStall) => Ok(*self.frozen.get_or_insert(reading)),
+            None => {
+                self.frozen = None;
+                Ok(reading)
+            }
+        }
+    }
+
+    fn command_torque(&mut self, torque_nm: f64) -> Result<(), WheelError> {
+        // An unplugged wheel takes no command: the motor is unpowered (the simulated one
+        // is told zero, as a wheel that lost USB power drops its force).
+        let now = self.inner.read().map(|r| r.t_ns).unwrap_or(0);
+        if self.acting(now) == Some(FaultKind::WheelUnplug) {
+            let _ = self.inner.command_torque(0.0);
+            return Err(WheelError::Fault(WheelFault::Unplugged));
+        }
+        self.inner.command_torque(torque_nm)
+    }
+
+    fn max_torque_nm(&self) -> f64 {
+        self.inner.max_torque_nm()
+    }
+
+    fn profile(&self) -> haptic_wheel::DeviceProfile {
+        self.inner.profile()
+    }
+
+    fn set_firmware_effects_active(&mut self, active: bool) {
+        self.inner.set_firmware_effects_active(active);
+    }
+
+    fn capabilities(&self) -> haptic_wheel::WheelCapabilities {
+        self.inner.capabilities()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use haptic_wheel::{SimWheel, SimWheelParams};
+
+    #[test]
+    fn a_fault_is_parsed_with_its_time_and_duration_or_refused_by_name() {
+        assert_eq!(
+            FaultSpec::parse("wheel-stall@5+0.3").unwrap(),
+            FaultSpec {
+                kind: FaultKind::WheelStall,
+                at_s: 5.0,
+                duration_s: Some(0.3)
+            }
+        );
+        assert_eq!(FaultSpec::parse("wheel-unplug@2").unwrap().duration_s, None);
+        let err = FaultSpec::parse("wheel-melt@2").unwrap_err();
+        assert!(
+            err.contains("unknown fault kind \"wheel-melt\"") && err.contains("wheel-nan"),
+            "{err}"
+        );
+        assert!(
+            FaultSpec::parse("wheel-nan")
+                .unwrap_err()
+                .contains("KIND@SECONDS")
+        );
+        assert!(
+            FaultSpec::parse("wheel-nan@-1")
+                .unwrap_err()
+                .contains("not 0 to 14400 s")
+        );
+        assert!(
+            FaultSpec::parse("wheel-nan@1+inf")
+                .unwrap_err()
+                .contains("duration")
+        );
+    }
+
+    #[test]
+    fn the_wheel_fails_in_its_window_only() {
+        let sim = SimWheel::new(SimWheelParams::default());
+        let faults = [
+            FaultSpec::parse("wheel-nan@0+0.002").unwrap(),
+            FaultSpec::parse("wheel-stall@0.005+0.002").unwrap(),
+            FaultSpec::parse("wheel-unplug@0.010").unwrap(),
+        ];
+        let mut w = FaultyWheel::new(sim, &faults);
+        let mut seen = Vec::new();
+        for _ in 0..12 {
+            let r = w.read();
+            seen.push(match r {
+                Ok(r) if r.angle_rad.is_nan() => "nan".to_owned(),
+                Ok(r) => format!("ok@{}", r.t_ns / 1_000_000),
+                Err(_) => "unplugged".to_owned(),
+            });
+            let _ = w.command_torque(0.0);
+            w.advance(0.001, 0.0);
+        }
+        assert_eq!(
+            seen,
+            [
+                "nan",
+                "nan",
+                "ok@2",
+                "ok@3",
+                "ok@4",
+                "ok@5",
+                "ok@5",
+                "ok@7",
+                "ok@8",
+                "ok@9",
+                "unplugged",
+                "unplugged"
+            ]
+        );
+    }
+}
