@@ -46,14 +46,21 @@ const RECORDED_NM: f64 = 1e-6;
 impl Faulted {
     /// Every tick: |torque| ≤ ceiling, and no step larger than the slew limit allows.
     fn assert_within_ceiling_and_slew(&self) {
+        self.assert_within_ceiling_and_slew_with_gap(None);
+    }
+
+    /// The same, the tick `gap.0` coming `gap.1` s later than the loop period (a stalled
+    /// loop: the slew limit holds over the real time between two commands).
+    fn assert_within_ceiling_and_slew_with_gap(&self, gap: Option<(usize, f64)>) {
         for (i, (&c, &lim)) in self.commanded_nm.iter().zip(&self.ceiling_nm).enumerate() {
             assert!(
                 c.is_finite() && c.abs() <= lim + RECORDED_NM,
                 "tick {i}: {c} N·m over {lim}"
             );
         }
-        let step = self.slew_nm_per_s * self.dt_s + 2.0 * RECORDED_NM;
         for (i, w) in self.commanded_nm.windows(2).enumerate() {
+            let late_s = gap.filter(|g| g.0 == i + 1).map_or(0.0, |g| g.1);
+            let step = self.slew_nm_per_s * (self.dt_s + late_s) + 2.0 * RECORDED_NM;
             assert!(
                 (w[1] - w[0]).abs() <= step,
                 "tick {i}: {} → {} N·m",
@@ -133,6 +140,27 @@ fn a_stalled_wheel_fades_the_torque_out_and_recovers() {
         assert!(*f.t_s.last().unwrap() >= 6.0, "the session went on");
         assert_eq!(f.watchdog.last().map(String::as_str), Some("stopped"));
     }
+}
+
+#[test]
+fn a_haptic_loop_stalled_past_the_watchdog_fades_the_torque_out_and_recovers() {
+    let f = faulted_session("6", "haptic-stall@3+0.1");
+    let at = f.tick_at(3.0);
+    // The tick after the stall comes 0.1 s late: the supervisor sees the missed deadline.
+    assert_eq!(
+        f.watchdog[at],
+        "fault-missed-deadline",
+        "{:?}",
+        &f.watchdog[at - 2..at + 2]
+    );
+    f.assert_within_ceiling_and_slew_with_gap(Some((at, 0.1)));
+    f.assert_zero_within(3.0, 0.25 + 0.002);
+    assert!(*f.t_s.last().unwrap() >= 6.0, "the session went on");
+    assert!(
+        f.commanded_nm[f.tick_at(5.0)..]
+            .iter()
+            .any(|c| c.abs() > 0.01)
+    );
 }
 
 #[test]

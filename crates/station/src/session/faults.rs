@@ -22,14 +22,18 @@ pub enum FaultKind {
     /// The wheel's USB stalls: its readings freeze (same timestamp) for the fault's duration
     /// (50–500 ms makes sense; default 200 ms).
     WheelStall,
+    /// The haptic loop stalls past the watchdog: no tick for the fault's duration (default
+    /// 100 ms) while the wheel's motor keeps its last command and the wheel moves on.
+    HapticStall,
 }
 
 impl FaultKind {
     /// Every kind, by its name.
-    pub const ALL: [FaultKind; 3] = [
+    pub const ALL: [FaultKind; 4] = [
         FaultKind::WheelUnplug,
         FaultKind::WheelNan,
         FaultKind::WheelStall,
+        FaultKind::HapticStall,
     ];
 
     /// The kind's name, as written after `--fault`.
@@ -38,6 +42,7 @@ impl FaultKind {
             FaultKind::WheelUnplug => "wheel-unplug",
             FaultKind::WheelNan => "wheel-nan",
             FaultKind::WheelStall => "wheel-stall",
+            FaultKind::HapticStall => "haptic-stall",
         }
     }
 
@@ -47,6 +52,7 @@ impl FaultKind {
             FaultKind::WheelUnplug => None,
             FaultKind::WheelNan => Some(0.2),
             FaultKind::WheelStall => Some(0.2),
+            FaultKind::HapticStall => Some(0.1),
         }
     }
 }
@@ -137,6 +143,8 @@ pub struct FaultyWheel<W> {
     faults: Vec<(FaultKind, u64, u64)>,
     /// The reading a stall repeats.
     frozen: Option<WheelReading>,
+    /// Haptic stalls already played (by start time, ns).
+    stalled: Vec<u64>,
 }
 
 impl<W: Wheel> FaultyWheel<W> {
@@ -152,6 +160,7 @@ impl<W: Wheel> FaultyWheel<W> {
                 })
                 .collect(),
             frozen: None,
+            stalled: Vec::new(),
         }
     }
 
@@ -161,6 +170,23 @@ impl<W: Wheel> FaultyWheel<W> {
             .iter()
             .find(|(_, start, end)| (*start..*end).contains(&t_ns))
             .map(|(k, _, _)| *k)
+    }
+}
+
+/// A wheel that can run on its own for a while, as a simulated wheel does while the loop
+/// that drives it is stalled.
+pub trait Stallable {
+    /// Let `dt_s` pass with nobody commanding or holding the wheel.
+    fn run_unattended(&mut self, dt_s: f64);
+}
+
+impl Stallable for haptic_wheel::SimWheel {
+    fn run_unattended(&mut self, dt_s: f64) {
+        // In 1 ms steps, as the physics would have run.
+        let steps = (dt_s / 1e-3).round() as u64;
+        for _ in 0..steps {
+            self.advance(1e-3, 0.0);
+        }
     }
 }
 
@@ -178,9 +204,19 @@ impl<W> std::ops::DerefMut for FaultyWheel<W> {
     }
 }
 
-impl<W: Wheel> Wheel for FaultyWheel<W> {
+impl<W: Wheel + Stallable> Wheel for FaultyWheel<W> {
     fn read(&mut self) -> Result<WheelReading, WheelError> {
-        let reading = self.inner.read()?;
+        let mut reading = self.inner.read()?;
+        // A haptic stall: the loop comes back after the stall's length, the wheel having
+        // moved on under its last command meanwhile (the supervisor sees the gap).
+        let stall = self.faults.iter().find(|(k, start, _)| {
+            *k == FaultKind::HapticStall && reading.t_ns >= *start && !self.stalled.contains(start)
+        });
+        if let Some(&(_, start, end)) = stall {
+            self.stalled.push(start);
+            self.inner.run_unattended((end - start) as f64 * 1e-9);
+            reading = self.inner.read()?;
+        }
         match self.acting(reading.t_ns) {
             Some(FaultKind::WheelUnplug) => Err(WheelError::Fault(WheelFault::Unplugged)),
             Some(FaultKind::WheelNan) => Ok(WheelReading {
@@ -188,7 +224,7 @@ impl<W: Wheel> Wheel for FaultyWheel<W> {
                 ..reading
             }),
             Some(FaultKind::WheelStall) => Ok(*self.frozen.get_or_insert(reading)),
-            None => {
+            Some(FaultKind::HapticStall) | None => {
                 self.frozen = None;
                 Ok(reading)
             }
