@@ -170,3 +170,49 @@ fn a_fault_on_a_real_wheel_or_of_an_unknown_kind_is_refused_by_name() {
     let err = telerehab_tests::run_err(&["run", "--sim", "--headless", "--fault", "wheel-melt@1"]);
     assert!(err.contains("unknown fault kind \"wheel-melt\""), "{err}");
 }
+
+#[test]
+fn a_full_disk_stops_the_recording_not_the_session_and_recover_keeps_what_reached_the_disk() {
+    let dir = tempfile::tempdir().unwrap();
+    let mcap = dir.path().join("full.mcap");
+    let out = std::process::Command::new(telerehab_tests::telerehab_bin())
+        .args(sim_session_args("6", &mcap, &["--fault", "disk-full@3"]))
+        .output()
+        .unwrap();
+    let report = String::from_utf8_lossy(&out.stdout);
+    let err = String::from_utf8_lossy(&out.stderr);
+    // The session ran to its end; the run says the recording failed, and why, in words.
+    assert!(!out.status.success(), "a failed recording fails the run");
+    assert!(
+        report.contains("FAILED") && report.contains("no storage space"),
+        "{report}"
+    );
+    assert!(report.contains("recording stopped at 3.0 s"), "{report}");
+    assert!(
+        report.contains("session time") && !report.contains("stopped early"),
+        "{report}"
+    );
+    assert!(
+        err.contains("recording stopped"),
+        "said at once in the log: {err}"
+    );
+    // Every tick up to the last chunk closed before the disk filled (one a second) is kept.
+    let fixed = dir.path().join("fixed.mcap");
+    run_ok(&[
+        "recover",
+        mcap.to_str().unwrap(),
+        "--out",
+        fixed.to_str().unwrap(),
+    ]);
+    let rec = Recording::open(&fixed).unwrap();
+    let ticks: Vec<u64> = rec.wheel.iter().map(|w| w.tick).collect();
+    assert!(
+        ticks.len() >= 2000 && ticks.len() <= 3000,
+        "{} ticks kept",
+        ticks.len()
+    );
+    assert!(
+        ticks.iter().enumerate().all(|(i, &t)| t == i as u64),
+        "no tick missing"
+    );
+}

@@ -68,7 +68,8 @@ export function liveView(el, patientId) {
       : x.paused ? '<span class="badge warn">paused</span>' : '<span class="badge ok">running</span>';
     status.innerHTML = `Session ${esc(session)} · ${esc(s.exercise)} · ${t.toFixed(1)} s ${state}
       · torque ${fmt(x.torque_nm, 2)} of ${fmt(x.ceiling_nm, 2)} N·m ceiling
-      · in lane ${fmt(s.pct_in_lane, 0)} %` + (delay == null ? '' : ` · delay ${delay.toFixed(2)} s`);
+      · in lane ${fmt(s.pct_in_lane, 0)} %` + (delay == null ? '' : ` · delay ${delay.toFixed(2)} s`)
+      + (x.recording_stopped_s === undefined ? '' : ` <span class="badge alert">recording stopped at ${fmt(x.recording_stopped_s, 1)} s</span>`);
     status.dataset.delayS = delay == null ? '' : delay.toFixed(3);
     status.dataset.summaries = String(Number(status.dataset.summaries || 0) + 1);
     el.querySelector('#angles').textContent = x.shoulder_elevation_deg === undefined ? 'No arm sensors in this session.'

@@ -279,12 +279,22 @@ fn delivery(s: &mut String, r: &SessionReport, link: Option<&LinkReport>) {
             p.display(),
             b as f64 / 1e6
         ),
-        (Some(p), None) => line!(
-            s,
-            "recording           {} FAILED: {}",
-            p.display(),
-            rec.error.as_deref().unwrap_or("unknown")
-        ),
+        (Some(p), None) => {
+            line!(
+                s,
+                "recording           {} FAILED: {}",
+                p.display(),
+                rec.error.as_deref().unwrap_or("unknown")
+            );
+            if let Some(t) = rec.recording_stopped_s {
+                line!(
+                    s,
+                    "                    recording stopped at {t:.1} s (the session went on); \
+                     `telerehab recover {}` keeps what reached the disk",
+                    p.display()
+                );
+            }
+        }
         (None, _) => line!(s, "recording           off"),
     }
     match link {

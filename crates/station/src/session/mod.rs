@@ -186,7 +186,8 @@ pub fn run(
             };
             Some(
                 McapRecorder::create(path, start_unix_ns, &meta)
-                    .context("cannot start recording")?,
+                    .context("cannot start recording")?
+                    .fill_disk_at(faults::disk_full_at_ns(&cfg.faults)),
             )
         }
         None => None,

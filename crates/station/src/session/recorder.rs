@@ -5,6 +5,7 @@
 //! The haptic thread never waits for it in real time.
 
 use super::arm_calibration::ArmLoopCollector;
+use super::faults::{Disk, FillingFile};
 use super::measures::{MeasureCollector, Measures};
 use super::{LiveSummary, SessionObserver};
 use crate::record::{
@@ -12,7 +13,6 @@ use crate::record::{
 };
 use crate::timing::TimingStats;
 use std::collections::BTreeMap;
-use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -23,8 +23,12 @@ pub const SUMMARY_EVERY_S: f64 = 0.1;
 
 /// A session's MCAP file being written.
 pub struct McapRecorder {
-    writer: RecordWriter<BufWriter<File>>,
+    writer: RecordWriter<BufWriter<FillingFile>>,
     path: PathBuf,
+    /// Session time an injected `disk-full` fault fills the disk at, ns.
+    disk_full_at_ns: Option<u64>,
+    /// The disk the file is on (filled by that fault).
+    disk: Disk,
 }
 
 /// A recorder problem.
@@ -78,28 +82,46 @@ impl McapRecorder {
                     source,
                 },
             })?;
-        let writer =
-            RecordWriter::new(BufWriter::new(file), start_unix_ns, metadata).map_err(|source| {
-                RecorderError::Mcap {
-                    path: path.display().to_string(),
-                    source,
-                }
-            })?;
+        let disk = Disk::default();
+        let writer = RecordWriter::new(
+            BufWriter::new(FillingFile::new(file, disk.clone())),
+            start_unix_ns,
+            metadata,
+        )
+        .map_err(|source| RecorderError::Mcap {
+            path: path.display().to_string(),
+            source,
+        })?;
         Ok(Self {
             writer,
             path: path.to_path_buf(),
+            disk_full_at_ns: None,
+            disk,
         })
     }
 
+    /// Fill the disk (an injected fault) at session time `at_ns`.
+    pub fn fill_disk_at(mut self, at_ns: Option<u64>) -> Self {
+        self.disk_full_at_ns = at_ns;
+        self
+    }
+
+    /// The error, named by its cause: the file's I/O error under the MCAP library's (a full
+    /// disk, a removed drive) is what the patient and the therapist are told, not "Record
+    /// parse failed".
     fn err(&self, source: mcap::McapError) -> RecorderError {
-        RecorderError::Mcap {
-            path: self.path.display().to_string(),
-            source,
+        let path = self.path.display().to_string();
+        match self.disk.last_error() {
+            Some(source) => RecorderError::Io { path, source },
+            None => RecorderError::Mcap { path, source },
         }
     }
 
     /// Record one tick on the per-tick channels, and the score when `with_score`.
     pub fn record(&mut self, rec: &TickRecord, with_score: bool) -> Result<(), RecorderError> {
+        if self.disk_full_at_ns.is_some_and(|at| rec.t_ns >= at) {
+            self.disk.fill();
+        }
         self.writer
             .write_tick(rec, with_score)
             .map_err(|e| self.err(e))
@@ -135,13 +157,13 @@ impl McapRecorder {
 
     /// Write the summary section and close the file; returns its size in bytes.
     pub fn finish(self) -> Result<u64, RecorderError> {
-        let Self { writer, path } = self;
+        let Self { writer, path, .. } = self;
         let path = path.display().to_string();
         let file = match writer.finish() {
             Ok(sink) => sink.into_inner().map_err(|e| e.into_error()),
             Err(source) => return Err(RecorderError::Mcap { path, source }),
         };
-        file.and_then(|f| f.metadata())
+        file.and_then(|f| f.file().metadata())
             .map(|m| m.len())
             .map_err(|source| RecorderError::Io { path, source })
     }
@@ -241,6 +263,8 @@ pub struct RecorderOutcome {
     pub mcap_bytes: Option<u64>,
     /// The first recording error, if any (recording stops, the session goes on).
     pub error: Option<String>,
+    /// Session time recording stopped at after an error, s.
+    pub recording_stopped_s: Option<f64>,
 }
 
 /// Metrics for the therapist beyond the fixed summary fields: safety, assistance and the live
@@ -252,6 +276,9 @@ fn summary_extra(
 ) -> BTreeMap<String, f64> {
     let mut extra = measures.live();
     extra.extend(out.safety_and_assist());
+    if let Some(t) = out.recording_stopped_s {
+        extra.insert("recording_stopped_s".into(), t);
+    }
     extra.extend(crate::therapist_view::live_pose(&out.last, arm_lengths_m));
     extra
 }
@@ -350,7 +377,11 @@ pub(super) fn recorder_loop(
                 }
             });
             if let Err(e) = res {
-                // Keep the session running; report the first recording error once at the end.
+                // Keep the session running; say at once that recording stopped (the log, the
+                // live summaries' `recording_stopped_s` for the hub and its console) and
+                // report the error at the end.
+                tracing::warn!(t_s = rec.t_ns as f64 * 1e-9, "recording stopped: {e}");
+                out.recording_stopped_s = Some(rec.t_ns as f64 * 1e-9);
                 out.error.get_or_insert_with(|| e.to_string());
                 mcap = None;
             }
