@@ -76,13 +76,20 @@ async function patientsView() {
       : '<span class="badge ok">none</span>';
     const week = p.sessions_per_week_prescribed == null ? `${p.sessions_last_7_days}`
       : `${p.sessions_last_7_days} of ${p.sessions_per_week_prescribed} prescribed`;
+    const trends = [['pct_in_lane', 'time in lane'], ['wheel_rom_deg', 'wheel range'], ['sparc_median', 'smoothness']]
+      .filter(([k]) => p.trends[k])
+      .map(([k, label]) => {
+        const t = p.trends[k];
+        const [arrow, cls, word] = t === 'up' ? ['↑', 'up', 'better'] : t === 'down' ? ['↓', 'down', 'worse'] : ['→', '', 'steady'];
+        return `<span class="${cls}">${esc(label)} ${arrow} ${word}</span>`;
+      }).join('<br>') || '—';
     return `<tr><td><a href="#/patients/${encodeURIComponent(p.id)}">${esc(p.pseudonym)}</a></td>
-      <td>${esc(when(p.last_session_started_ms))}</td><td>${esc(week)}</td><td>${alerts}</td></tr>`;
+      <td>${esc(when(p.last_session_started_ms))}</td><td>${esc(week)}</td><td>${trends}</td><td>${alerts}</td></tr>`;
   }).join('');
   app.innerHTML = `<h1>Patients</h1>
     <table><caption class="note">Your caseload. Open a patient to watch a running session, see progress or prescribe.</caption>
-    <thead><tr><th scope="col">Patient</th><th scope="col">Last session</th><th scope="col">Sessions in the last 7 days</th><th scope="col">Alerts</th></tr></thead>
-    <tbody>${rows || '<tr><td colspan="4">No patients yet.</td></tr>'}</tbody></table>`;
+    <thead><tr><th scope="col">Patient</th><th scope="col">Last session</th><th scope="col">Sessions in the last 7 days</th><th scope="col">Trend (last session)</th><th scope="col">Alerts</th></tr></thead>
+    <tbody>${rows || '<tr><td colspan="5">No patients yet.</td></tr>'}</tbody></table>`;
 }
 
 async function patientView(id, tab, sessionId) {

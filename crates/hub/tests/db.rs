@@ -284,18 +284,42 @@ async fn patients_and_caseload(db: Db) {
     let faults = [
         ("watchdog_fault_ticks".to_owned(), 40.0),
         ("clipped_pct".to_owned(), 7.5),
+        ("arm_sensors_lost".to_owned(), 1.0),
     ];
     db.put_metrics("s-new", &faults.into_iter().collect())
         .await
         .unwrap();
+    // Time in lane 90 % then 99 %, wheel range 40° then 30°, SPARC −2.0 twice.
+    for (sid, lane, rom) in [("s-old", 90.0, 40.0), ("s-new", 99.0, 30.0)] {
+        let m = [
+            ("pct_in_lane".to_owned(), lane),
+            ("wheel_rom_deg".to_owned(), rom),
+            ("sparc_median".to_owned(), -2.0),
+        ];
+        db.put_metrics(sid, &m.into_iter().collect()).await.unwrap();
+    }
     let own = db.patients_for(&t, now).await.unwrap();
     assert_eq!(own[0].sessions_per_week_prescribed, Some(3));
+    let trends: Vec<(&str, &str)> = own[0]
+        .trends
+        .iter()
+        .map(|(k, v)| (k.as_str(), v.as_str()))
+        .collect();
+    assert_eq!(
+        trends,
+        [
+            ("pct_in_lane", "up"),
+            ("sparc_median", "flat"),
+            ("wheel_rom_deg", "down")
+        ]
+    );
     assert_eq!(
         own[0].alerts,
         [
             "1 of 3 sessions this week",
             "safety stop in the last session (torque faded out on a fault)",
-            "torque held at the ceiling for 5 % or more of the last session"
+            "torque held at the ceiling for 5 % or more of the last session",
+            "arm sensors lost in the last session (no joint angles)"
         ]
     );
     assert!(Db::may_see(&t, &p) && !Db::may_see(&t, &q) && Db::may_see(&admin, &q));

@@ -2,6 +2,7 @@
 
 use serde::Serialize;
 use sqlx::any::AnyRow;
+use std::collections::BTreeMap;
 
 use super::{Db, Therapist, col, new_id};
 use crate::error::HubError;
@@ -37,8 +38,12 @@ pub struct PatientOverview {
     pub sessions_last_7_days: i64,
     /// Sessions a week the current regimen asks for (its `sessions_per_week`), if it says.
     pub sessions_per_week_prescribed: Option<i64>,
+    /// Trends of the main measures (`pct_in_lane`, `wheel_rom_deg`, `sparc_median`; for all
+    /// three, up is better): `"up"`, `"down"` or `"flat"` (within 2 %), the last session
+    /// against the mean of up to four before it; absent with fewer than two sessions.
+    pub trends: BTreeMap<String, String>,
     /// What the therapist should look at, in plain words: missed sessions against the
-    /// prescription, a safety fault or clipped torque in the last session.
+    /// prescription, a safety fault, clipped torque or lost arm sensors in the last session.
     pub alerts: Vec<String>,
 }
 
@@ -48,13 +53,40 @@ fn prescribed_per_week(regimen_toml: Option<&str>) -> Option<i64> {
     value.get("sessions_per_week")?.as_integer()
 }
 
+/// The measures the caseload shows a trend of (for each, up is better).
+pub const TREND_MEASURES: [&str; 3] = ["pct_in_lane", "wheel_rom_deg", "sparc_median"];
+
+/// `"up"`, `"down"` or `"flat"`: `newest_first[0]` against the mean of up to four after it.
+fn trend(newest_first: &[f64]) -> Option<String> {
+    let (&last, before) = newest_first.split_first()?;
+    let before = &before[..before.len().min(4)];
+    if before.is_empty() {
+        return None;
+    }
+    let mean = before.iter().sum::<f64>() / before.len() as f64;
+    let word = if (last - mean).abs() <= 0.02 * mean.abs().max(1e-9) {
+        "flat"
+    } else if last > mean {
+        "up"
+    } else {
+        "down"
+    };
+    Some(word.to_owned())
+}
+
+/// What the last session's measures say that a caseload alert needs.
+struct LastSession {
+    faults: Option<f64>,
+    clipped_pct: Option<f64>,
+    sensors_lost: Option<f64>,
+}
+
 /// The caseload row's alerts, from its counts and its last session's measures.
 fn alerts(
     week: i64,
     prescribed: Option<i64>,
     last_start: Option<i64>,
-    last_faults: Option<f64>,
-    last_clipped_pct: Option<f64>,
+    last: LastSession,
 ) -> Vec<String> {
     let mut out = Vec::new();
     match (prescribed, last_start) {
@@ -63,11 +95,14 @@ fn alerts(
         (None, _) if week == 0 => out.push("no session in the last 7 days".to_owned()),
         _ => {}
     }
-    if last_faults.is_some_and(|f| f > 0.0) {
+    if last.faults.is_some_and(|f| f > 0.0) {
         out.push("safety stop in the last session (torque faded out on a fault)".to_owned());
     }
-    if last_clipped_pct.is_some_and(|c| c >= 5.0) {
+    if last.clipped_pct.is_some_and(|c| c >= 5.0) {
         out.push("torque held at the ceiling for 5 % or more of the last session".to_owned());
+    }
+    if last.sensors_lost.is_some_and(|l| l > 0.0) {
+        out.push("arm sensors lost in the last session (no joint angles)".to_owned());
     }
     out
 }
@@ -192,7 +227,10 @@ impl Db {
                     ORDER BY s.started_unix_ms DESC LIMIT 1)) AS last_faults, \
             (SELECT m.value FROM session_metrics m WHERE m.name = 'clipped_pct' \
                 AND m.session_id = (SELECT s.session_id FROM sessions s WHERE s.patient_id = p.id \
-                    ORDER BY s.started_unix_ms DESC LIMIT 1)) AS last_clipped \
+                    ORDER BY s.started_unix_ms DESC LIMIT 1)) AS last_clipped, \
+            (SELECT m.value FROM session_metrics m WHERE m.name = 'arm_sensors_lost' \
+                AND m.session_id = (SELECT s.session_id FROM sessions s WHERE s.patient_id = p.id \
+                    ORDER BY s.started_unix_ms DESC LIMIT 1)) AS last_sensors_lost \
             FROM patients p WHERE ($2 = '' OR p.therapist_id = $2) ORDER BY p.pseudonym";
         // An admin sees every patient (an empty therapist id matches all).
         let own = if therapist.is_admin() {
@@ -207,7 +245,8 @@ impl Db {
             .fetch_all(self.pool())
             .await
             .map_err(HubError::db("listing patients"))?;
-        rows.iter()
+        let mut out: Vec<PatientOverview> = rows
+            .iter()
             .map(|row| {
                 let last_start: Option<i64> = col(row, "last_start")?;
                 let week: i64 = col(row, "week_count")?;
@@ -218,16 +257,52 @@ impl Db {
                     last_session_started_ms: last_start,
                     sessions_last_7_days: week,
                     sessions_per_week_prescribed: prescribed,
+                    trends: BTreeMap::new(),
                     alerts: alerts(
                         week,
                         prescribed,
                         last_start,
-                        col(row, "last_faults")?,
-                        col(row, "last_clipped")?,
+                        LastSession {
+                            faults: col(row, "last_faults")?,
+                            clipped_pct: col(row, "last_clipped")?,
+                            sensors_lost: col(row, "last_sensors_lost")?,
+                        },
                     ),
                 })
             })
-            .collect()
+            .collect::<Result<_, HubError>>()?;
+        for o in &mut out {
+            o.trends = self.trends_of(&o.patient.id).await?;
+        }
+        Ok(out)
+    }
+
+    /// The trends of [`TREND_MEASURES`] over the patient's last five sessions.
+    async fn trends_of(&self, patient_id: &str) -> Result<BTreeMap<String, String>, HubError> {
+        let rows = sqlx::query(
+            "SELECT m.name, m.value FROM session_metrics m \
+             JOIN sessions s ON s.session_id = m.session_id \
+             WHERE s.patient_id = $1 AND m.name IN ($2, $3, $4) \
+             ORDER BY s.started_unix_ms DESC LIMIT 15",
+        )
+        .bind(patient_id)
+        .bind(TREND_MEASURES[0])
+        .bind(TREND_MEASURES[1])
+        .bind(TREND_MEASURES[2])
+        .fetch_all(self.pool())
+        .await
+        .map_err(HubError::db("reading measure trends"))?;
+        let mut series: BTreeMap<String, Vec<f64>> = BTreeMap::new();
+        for row in &rows {
+            series
+                .entry(col(row, "name")?)
+                .or_default()
+                .push(col(row, "value")?);
+        }
+        Ok(series
+            .into_iter()
+            .filter_map(|(name, v)| Some((name, trend(&v)?)))
+            .collect())
     }
 
     /// True if `therapist` may see `patient`: an admin sees all, a therapist their own.

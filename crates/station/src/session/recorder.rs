@@ -197,7 +197,8 @@ impl RecorderOutcome {
 
 impl RecorderOutcome {
     /// Safety and assistance so far, by name (unit in the name): the share of ticks the
-    /// safety chain limited, the watchdog's fault ticks and, with assistance, its mean level,
+    /// safety chain limited, the watchdog's fault ticks, whether the arm sensors were lost
+    /// (with arm sensing) and, with assistance, its mean level,
     /// RMS tracking error and saturated share. In every live summary and in the session's
     /// measures.
     pub fn safety_and_assist(&self) -> BTreeMap<String, f64> {
@@ -208,6 +209,11 @@ impl RecorderOutcome {
             ),
             ("watchdog_fault_ticks".to_owned(), self.fault_ticks as f64),
         ]);
+        // Arm sensors that stopped answering or never set up: 1, else 0 (with arm sensing).
+        if let Some(arm) = &self.last.arm {
+            let lost = matches!(arm.setup, ArmSetup::SensorLost | ArmSetup::Failed);
+            figures.insert("arm_sensors_lost".to_owned(), f64::from(u8::from(lost)));
+        }
         if self.assist_ticks > 0 {
             let n = self.assist_ticks as f64;
             figures.extend([
