@@ -56,6 +56,18 @@ fn session_without_a_display_runs_headless_and_says_so() {
 /// at a time, or a key press meant for one window can land in the other.
 static ONE_WINDOW_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
+/// The X display, held for one window test at a time; `None` (saying SKIPPED) without one.
+fn the_display() -> Option<std::sync::MutexGuard<'static, ()>> {
+    let held = ONE_WINDOW_AT_A_TIME
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    if std::env::var_os("DISPLAY").is_none() {
+        eprintln!("SKIPPED: no display (run under xvfb-run to test the window)");
+        return None;
+    }
+    Some(held)
+}
+
 fn press(key: &str) {
     press_in("^telerehab$", key);
 }
@@ -88,13 +100,9 @@ fn press_in(name: &str, key: &str) {
 
 #[test]
 fn space_in_the_patient_window_starts_pauses_and_resumes_the_exercise_and_esc_ends_it() {
-    let _display = ONE_WINDOW_AT_A_TIME
-        .lock()
-        .unwrap_or_else(std::sync::PoisonError::into_inner);
-    if std::env::var_os("DISPLAY").is_none() {
-        eprintln!("SKIPPED: no display (run under xvfb-run to test the window)");
+    let Some(_display) = the_display() else {
         return;
-    }
+    };
     use std::io::{BufRead, BufReader};
     let dir = tempfile::tempdir().unwrap();
     let mcap = dir.path().join("paused.mcap");
@@ -176,13 +184,9 @@ fn space_in_the_patient_window_starts_pauses_and_resumes_the_exercise_and_esc_en
 
 #[test]
 fn replay_window_plays_a_recording_and_seeks_with_the_arrow_keys() {
-    let _display = ONE_WINDOW_AT_A_TIME
-        .lock()
-        .unwrap_or_else(std::sync::PoisonError::into_inner);
-    if std::env::var_os("DISPLAY").is_none() {
-        eprintln!("SKIPPED: no display (run under xvfb-run to test the window)");
+    let Some(_display) = the_display() else {
         return;
-    }
+    };
     let dir = tempfile::tempdir().unwrap();
     let mcap = dir.path().join("played.mcap");
     run_ok(&telerehab_tests::sim_session_args("3", &mcap, &[]));
@@ -205,13 +209,9 @@ fn replay_window_plays_a_recording_and_seeks_with_the_arrow_keys() {
 
 #[test]
 fn bench_window_reports_loop_timing_with_drawing_on_and_off() {
-    let _display = ONE_WINDOW_AT_A_TIME
-        .lock()
-        .unwrap_or_else(std::sync::PoisonError::into_inner);
-    if std::env::var_os("DISPLAY").is_none() {
-        eprintln!("SKIPPED: no display (run under xvfb-run to test the window)");
+    let Some(_display) = the_display() else {
         return;
-    }
+    };
     let out = run_ok(&[
         "bench",
         "window",

@@ -133,6 +133,19 @@ pub fn replay(path: &Path) -> anyhow::Result<ReplayOutcome> {
     })
 }
 
+/// The configuration and regimen a recorded session ran with (from its metadata).
+pub(crate) fn recorded_plan(
+    meta: &SessionMetadata,
+) -> anyhow::Result<(StationConfig, Option<Regimen>)> {
+    let config = StationConfig::from_toml(&meta.config_toml, "the recording's configuration")?;
+    let regimen = meta
+        .regimen_toml
+        .as_deref()
+        .map(|t| Regimen::from_toml(t, "the recording's regimen"))
+        .transpose()?;
+    Ok((config, regimen))
+}
+
 /// The session options that re-run the recorded session, and what may keep it from being
 /// reproduced.
 fn options(
@@ -140,12 +153,7 @@ fn options(
     recorded_ticks: usize,
     recorded: &RecordedRows,
 ) -> anyhow::Result<(SessionOptions, Vec<String>)> {
-    let config = StationConfig::from_toml(&meta.config_toml, "the recording's configuration")?;
-    let regimen = meta
-        .regimen_toml
-        .as_deref()
-        .map(|t| Regimen::from_toml(t, "the recording's regimen"))
-        .transpose()?;
+    let (config, regimen) = recorded_plan(meta)?;
     let mut caveats = Vec::new();
     let expected = (config.session.duration_s * config.session.loop_rate_hz).round() as usize;
     if recorded_ticks < expected {

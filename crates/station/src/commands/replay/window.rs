@@ -4,9 +4,7 @@
 //! hour's playback holds 360 000 ticks, not 3.6 million.
 
 use super::ReplayArgs;
-use crate::config::StationConfig;
 use crate::record::{Recording, TickRecord};
-use crate::regimen::Regimen;
 use crate::render::window::{UserRequest, WindowOptions};
 use crate::screen::{CourseView, live_screen_state};
 use anyhow::Context;
@@ -136,12 +134,7 @@ pub(super) fn play(args: &ReplayArgs) -> anyhow::Result<()> {
     let recording = Recording::open(path)
         .with_context(|| format!("{} is not a readable recording", path.display()))?;
     let meta = &recording.metadata;
-    let config = StationConfig::from_toml(&meta.config_toml, "the recording's configuration")?;
-    let regimen = meta
-        .regimen_toml
-        .as_deref()
-        .map(|t| Regimen::from_toml(t, "the recording's regimen"))
-        .transpose()?;
+    let (config, regimen) = super::recorded_plan(meta)?;
     let view = CourseView::new(&config, regimen.as_ref())?;
     let playback = RefCell::new(Playback::new(
         recording.ticks(),
