@@ -164,6 +164,71 @@ fn a_haptic_loop_stalled_past_the_watchdog_fades_the_torque_out_and_recovers() {
 }
 
 #[test]
+fn an_unplugged_arm_sensor_freezes_the_pose_and_the_exercise_goes_on() {
+    let dir = tempfile::tempdir().unwrap();
+    let mcap = dir.path().join("imu.mcap");
+    let out = run_ok(&sim_session_args("6", &mcap, &["--fault", "imu-unplug@3"]));
+    let report = String::from_utf8_lossy(&out.stdout);
+    let rec = Recording::open(&mcap).unwrap();
+    let at = |t: f64| rec.arm.iter().position(|a| a.t_s >= t - 1e-9).unwrap();
+    assert_eq!(rec.arm[at(2.9)].data.setup.as_str(), "tracking");
+    assert!(
+        rec.arm[at(3.0)..]
+            .iter()
+            .all(|a| a.data.setup.as_str() == "sensor-lost")
+    );
+    // Frozen, not wandering: the same pose from the loss on.
+    let frozen = rec.arm[at(3.0)].data.elbow_flexion_rad;
+    assert!(
+        rec.arm[at(3.0)..]
+            .iter()
+            .all(|a| a.data.elbow_flexion_rad == frozen)
+    );
+    assert!(
+        *rec.wheel.last().map(|w| &w.t_s).unwrap() >= 6.0,
+        "the exercise went on"
+    );
+    assert!(!report.contains("stopped early"), "{report}");
+    assert!(report.contains("unplugged (injected fault)"), "{report}");
+    let measures = &rec.metrics.last().unwrap().data.measures;
+    assert_eq!(measures["arm_sensors_lost"], 1.0);
+}
+
+#[test]
+fn nan_from_the_arm_sensors_never_reaches_the_pose_is_recorded_as_sent_and_tracking_resumes() {
+    let dir = tempfile::tempdir().unwrap();
+    let mcap = dir.path().join("imu-nan.mcap");
+    run_ok(&sim_session_args("6", &mcap, &["--fault", "imu-nan@3+0.5"]));
+    let rec = Recording::open(&mcap).unwrap();
+    for a in &rec.arm {
+        let d = &a.data;
+        let angles = [
+            d.shoulder_elevation_rad,
+            d.elbow_flexion_rad,
+            d.forearm_pronation_rad,
+        ];
+        assert!(
+            angles.iter().all(|x| x.is_finite()),
+            "t = {} s: {angles:?}",
+            a.t_s
+        );
+        assert!(
+            d.upper_orientation_wxyz.iter().all(|x| x.is_finite()),
+            "t = {} s",
+            a.t_s
+        );
+    }
+    let last = &rec.arm.last().unwrap().data;
+    assert_eq!(
+        last.setup.as_str(),
+        "tracking",
+        "tracking goes on after the NaNs"
+    );
+    let f = faulted_session("6", "imu-nan@3+0.5");
+    f.assert_within_ceiling_and_slew();
+}
+
+#[test]
 fn a_fault_on_a_real_wheel_or_of_an_unknown_kind_is_refused_by_name() {
     let err = telerehab_tests::run_err(&["run", "--headless", "--fault", "wheel-nan@1"]);
     assert!(err.contains("add --sim"), "{err}");

@@ -75,7 +75,7 @@ pub struct RunArgs {
     pub home: HomeArg,
     /// Inject a fault into the simulated session (repeatable): `KIND@SECONDS` or
     /// `KIND@SECONDS+DURATION`, e.g. `wheel-stall@5+0.3` (kinds: wheel-unplug, wheel-nan,
-    /// wheel-stall, haptic-stall, disk-full). Needs --sim.
+    /// wheel-stall, haptic-stall, disk-full, imu-unplug, imu-nan). Needs --sim.
     #[arg(long = "fault", value_name = "KIND@SECONDS", value_parser = crate::session::faults::FaultSpec::parse)]
     pub faults: Vec<session::faults::FaultSpec>,
 }

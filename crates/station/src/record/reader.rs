@@ -1,6 +1,7 @@
 //! Reads a recording back into the types it was written from (replay, reports, Python).
 
-use super::blocks::{self, BlockError, Layout};
+use super::blocks::unflatten::unflatten;
+use super::blocks::{self, BlockError, Cell, Layout};
 use super::channels::Channel;
 use super::types::{
     ArmCalibrationSample, ArmSample, AssistSample, MetadataError, MetricsSample, ScoreSample,
@@ -104,8 +105,8 @@ impl Recording {
 
     /// Read a recording held in memory. Messages on topics that are not ours are skipped.
     pub fn from_bytes(bytes: &[u8]) -> Result<Self, ReadError> {
-        let (metadata, mut raw) = recorded_rows(bytes)?;
-        let mut take = |channel| raw.remove(&channel).unwrap_or_default();
+        let (metadata, mut raw) = channel_messages(bytes)?;
+        let mut take = |channel| raw.remove(&channel);
         Ok(Self {
             metadata,
             wheel: decode(Channel::Wheel, take(Channel::Wheel))?,
@@ -163,13 +164,20 @@ enum Decoder {
     Blocks(Box<Layout>),
 }
 
-/// The session metadata and every sample of our channels as recorded, in file order, by
-/// channel: what `telerehab replay` compares bit for bit. Messages on topics that are not
-/// ours are skipped.
-pub fn recorded_rows(bytes: &[u8]) -> Result<(SessionMetadata, RecordedRows), ReadError> {
+/// One of our channels in a file: how its messages decode, and the messages in file order.
+struct ChannelMessages {
+    decoder: Decoder,
+    messages: Vec<Vec<u8>>,
+}
+
+/// The session metadata and every message of our channels, by channel. Messages on topics
+/// that are not ours are skipped.
+fn channel_messages(
+    bytes: &[u8],
+) -> Result<(SessionMetadata, BTreeMap<Channel, ChannelMessages>), ReadError> {
     let mut schemas: BTreeMap<u16, (String, Vec<u8>)> = BTreeMap::new();
-    let mut topics: BTreeMap<u16, (Channel, Decoder)> = BTreeMap::new();
-    let mut rows = RecordedRows::new();
+    let mut topics: BTreeMap<u16, Channel> = BTreeMap::new();
+    let mut out: BTreeMap<Channel, ChannelMessages> = BTreeMap::new();
     let mut metadata = None;
     for record in mcap::read::ChunkFlattener::new(bytes)? {
         match record? {
@@ -194,28 +202,17 @@ pub fn recorded_rows(bytes: &[u8]) -> Result<(SessionMetadata, RecordedRows), Re
                 } else {
                     Decoder::Json
                 };
-                topics.insert(c.id, (channel, decoder));
+                topics.insert(c.id, channel);
+                out.entry(channel).or_insert(ChannelMessages {
+                    decoder,
+                    messages: Vec::new(),
+                });
             }
             Record::Message { header, data } => {
-                let Some((channel, decoder)) = topics.get(&header.channel_id) else {
-                    continue;
-                };
-                let out = rows.entry(*channel).or_default();
-                match decoder {
-                    Decoder::Json => out.push(serde_json::from_slice(&data).map_err(|source| {
-                        ReadError::Decode {
-                            topic: channel.topic(),
-                            index: out.len(),
-                            source,
-                        }
-                    })?),
-                    Decoder::Blocks(layout) => {
-                        out.extend(layout.decode(&data).map_err(|source| ReadError::Block {
-                            topic: channel.topic(),
-                            index: out.len(),
-                            source,
-                        })?)
-                    }
+                if let Some(channel) = topics.get(&header.channel_id)
+                    && let Some(c) = out.get_mut(channel)
+                {
+                    c.messages.push(data.into_owned());
                 }
             }
             Record::Metadata(m) if m.name == SessionMetadata::NAME => {
@@ -224,7 +221,39 @@ pub fn recorded_rows(bytes: &[u8]) -> Result<(SessionMetadata, RecordedRows), Re
             _ => {}
         }
     }
-    Ok((metadata.ok_or(ReadError::NoMetadata)?, rows))
+    Ok((metadata.ok_or(ReadError::NoMetadata)?, out))
+}
+
+/// The session metadata and every sample of our channels as recorded, in file order, by
+/// channel: what `telerehab replay` compares bit for bit (a NaN or infinity as null). Messages
+/// on topics that are not ours are skipped.
+pub fn recorded_rows(bytes: &[u8]) -> Result<(SessionMetadata, RecordedRows), ReadError> {
+    let (metadata, channels) = channel_messages(bytes)?;
+    let mut rows = RecordedRows::new();
+    for (channel, c) in channels {
+        let out = rows.entry(channel).or_default();
+        for data in &c.messages {
+            match &c.decoder {
+                Decoder::Json => {
+                    out.push(
+                        serde_json::from_slice(data).map_err(|source| ReadError::Decode {
+                            topic: channel.topic(),
+                            index: out.len(),
+                            source,
+                        })?,
+                    )
+                }
+                Decoder::Blocks(layout) => {
+                    out.extend(layout.decode(data).map_err(|source| ReadError::Block {
+                        topic: channel.topic(),
+                        index: out.len(),
+                        source,
+                    })?)
+                }
+            }
+        }
+    }
+    Ok((metadata, rows))
 }
 
 /// The message of `tick`, skipping any earlier ones.
@@ -236,20 +265,64 @@ fn at_tick<'a, T: Copy + 'a>(
     it.next_if(|m| m.tick == tick).map(|m| m.data)
 }
 
+/// A channel's samples as `T`: JSON messages deserialised, blocks rebuilt cell by cell
+/// (NaN and infinities kept) when the file's columns are `T`'s own, through JSON otherwise.
 fn decode<T: DeserializeOwned>(
     channel: Channel,
-    rows: Vec<Row>,
+    messages: Option<ChannelMessages>,
 ) -> Result<Vec<Stamped<T>>, ReadError> {
-    rows.into_iter()
-        .enumerate()
-        .map(|(index, row)| {
-            serde_json::from_value(serde_json::Value::Object(row)).map_err(|source| {
-                ReadError::Decode {
+    let Some(c) = messages else {
+        return Ok(Vec::new());
+    };
+    let json_error = |index, source| ReadError::Decode {
+        topic: channel.topic(),
+        index,
+        source,
+    };
+    let mut out = Vec::new();
+    match &c.decoder {
+        Decoder::Json => {
+            for data in &c.messages {
+                out.push(serde_json::from_slice(data).map_err(|e| json_error(out.len(), e))?);
+            }
+        }
+        Decoder::Blocks(layout) => {
+            let own = channel.spec().block_layout().and_then(Result::ok);
+            let same = own.is_some_and(|own| own.column_names().eq(layout.column_names()));
+            for data in &c.messages {
+                let block_error = |index, source| ReadError::Block {
                     topic: channel.topic(),
                     index,
                     source,
+                };
+                if !same {
+                    for row in layout.decode(data).map_err(|e| block_error(out.len(), e))? {
+                        let v = serde_json::Value::Object(row);
+                        out.push(serde_json::from_value(v).map_err(|e| json_error(out.len(), e))?);
+                    }
+                    continue;
                 }
-            })
-        })
-        .collect()
+                for cells in layout
+                    .decode_cells(data)
+                    .map_err(|e| block_error(out.len(), e))?
+                {
+                    let (tick, t_ns) = match cells.get(..2) {
+                        Some([Cell::Int(tick), Cell::Int(t_ns)]) => (*tick, *t_ns),
+                        _ => {
+                            let what = BlockError::Decode("a sample without its stamps".into());
+                            return Err(block_error(out.len(), what));
+                        }
+                    };
+                    let data = unflatten(&cells[2..])
+                        .map_err(|e| block_error(out.len(), BlockError::Decode(e.to_string())))?;
+                    out.push(Stamped {
+                        tick,
+                        t_s: t_ns as f64 * 1e-9,
+                        data,
+                    });
+                }
+            }
+        }
+    }
+    Ok(out)
 }

@@ -27,16 +27,22 @@ pub enum FaultKind {
     HapticStall,
     /// The disk fills up: from then on every write of the recording fails with ENOSPC.
     DiskFull,
+    /// An arm IMU is unplugged: the arm sensing reports the sensor lost and freezes the pose.
+    ImuUnplug,
+    /// The arm IMUs send NaN rates for the fault's duration (default 200 ms).
+    ImuNan,
 }
 
 impl FaultKind {
     /// Every kind, by its name.
-    pub const ALL: [FaultKind; 5] = [
+    pub const ALL: [FaultKind; 7] = [
         FaultKind::WheelUnplug,
         FaultKind::WheelNan,
         FaultKind::WheelStall,
         FaultKind::HapticStall,
         FaultKind::DiskFull,
+        FaultKind::ImuUnplug,
+        FaultKind::ImuNan,
     ];
 
     /// The kind's name, as written after `--fault`.
@@ -47,14 +53,16 @@ impl FaultKind {
             FaultKind::WheelStall => "wheel-stall",
             FaultKind::HapticStall => "haptic-stall",
             FaultKind::DiskFull => "disk-full",
+            FaultKind::ImuUnplug => "imu-unplug",
+            FaultKind::ImuNan => "imu-nan",
         }
     }
 
     /// How long the fault lasts when its spec does not say, s (`None`: for good).
     fn default_duration_s(self) -> Option<f64> {
         match self {
-            FaultKind::WheelUnplug | FaultKind::DiskFull => None,
-            FaultKind::WheelNan => Some(0.2),
+            FaultKind::WheelUnplug | FaultKind::DiskFull | FaultKind::ImuUnplug => None,
+            FaultKind::WheelNan | FaultKind::ImuNan => Some(0.2),
             FaultKind::WheelStall => Some(0.2),
             FaultKind::HapticStall => Some(0.1),
         }
@@ -175,6 +183,18 @@ impl<W: Wheel> FaultyWheel<W> {
             .find(|(_, start, end)| (*start..*end).contains(&t_ns))
             .map(|(k, _, _)| *k)
     }
+}
+
+/// The arm-sensor faults among `faults`, with their session-time windows (ns).
+pub fn imu_faults(faults: &[FaultSpec]) -> Vec<(FaultKind, u64, u64)> {
+    faults
+        .iter()
+        .filter(|f| matches!(f.kind, FaultKind::ImuUnplug | FaultKind::ImuNan))
+        .map(|f| {
+            let (start, end) = f.window_ns();
+            (f.kind, start, end)
+        })
+        .collect()
 }
 
 /// When the disk fills up in a session with `faults`, ns of session time.
@@ -317,7 +337,13 @@ impl<W: Wheel + Stallable> Wheel for FaultyWheel<W> {
                 ..reading
             }),
             Some(FaultKind::WheelStall) => Ok(*self.frozen.get_or_insert(reading)),
-            Some(FaultKind::HapticStall | FaultKind::DiskFull) | None => {
+            Some(
+                FaultKind::HapticStall
+                | FaultKind::DiskFull
+                | FaultKind::ImuUnplug
+                | FaultKind::ImuNan,
+            )
+            | None => {
                 self.frozen = None;
                 Ok(reading)
             }

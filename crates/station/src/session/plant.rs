@@ -71,6 +71,7 @@ impl Body {
                     cfg.session.seed,
                     real_time,
                     clock,
+                    &cfg.faults,
                 )
                 .context("simulated arm")?,
             ),

@@ -21,6 +21,7 @@
 //! [`flatten`]) and their descriptions from its JSON schema: one definition per channel.
 
 pub mod flatten;
+pub mod unflatten;
 
 use flatten::{FieldStart, Prim, Unsupported};
 use prost::Message as _;
@@ -299,13 +300,9 @@ impl Layout {
         msg.encode_to_vec()
     }
 
-    /// Decode one block message into its samples, each a JSON object (`tick`, `t_s`, then the
-    /// fields; an absent optional field left out, a NaN or infinity as null).
-    pub fn decode(
-        &self,
-        bytes: &[u8],
-    ) -> Result<Vec<serde_json::Map<String, serde_json::Value>>, BlockError> {
-        use serde_json::Value as J;
+    /// Decode one block message into its samples, each the cells of every column in order
+    /// (stamps first, an array field's elements one cell each).
+    pub fn decode_cells(&self, bytes: &[u8]) -> Result<Vec<Vec<Cell>>, BlockError> {
         let msg = DynamicMessage::decode(self.descriptor.clone(), bytes)
             .map_err(|e| BlockError::Decode(e.to_string()))?;
         let lists: Vec<Vec<Value>> = (1u32..)
@@ -316,7 +313,7 @@ impl Layout {
             })
             .collect();
         let rows = lists[0].len();
-        let mut out = vec![serde_json::Map::new(); rows];
+        let mut out = vec![Vec::with_capacity(self.row_width); rows];
         for (c, list) in self.columns.iter().zip(&lists) {
             if list.len() != rows * c.elements {
                 return Err(BlockError::Decode(format!(
@@ -328,20 +325,19 @@ impl Layout {
             }
             let mut prev = vec![0i64; c.elements];
             for (r, row) in out.iter_mut().enumerate() {
-                let mut values = Vec::with_capacity(c.elements);
                 for (e, p) in prev.iter_mut().enumerate() {
                     let v = &list[r * c.elements + e];
-                    values.push(match (c.kind, v) {
-                        (Kind::Bool, Value::Bool(b)) => Some(J::Bool(*b)),
-                        (Kind::Text, Value::String(s)) => Some(J::String(s.clone())),
-                        (Kind::Int | Kind::Float, Value::I64(d)) => {
+                    row.push(match (c.kind, v) {
+                        (Kind::Bool, Value::Bool(b)) => Cell::Bool(*b),
+                        (Kind::Text, Value::String(s)) => Cell::Text(s.clone()),
+                        (Kind::Int, Value::I64(d)) => {
                             *p = p.wrapping_add(*d);
-                            match c.kind {
-                                Kind::Int => Some(J::from(*p as u64)),
-                                _ => unquantise(*p, c.quantum.unwrap_or(1.0)).map(|x| {
-                                    serde_json::Number::from_f64(x).map_or(J::Null, J::Number)
-                                }),
-                            }
+                            Cell::Int(*p as u64)
+                        }
+                        (Kind::Float, Value::I64(d)) => {
+                            *p = p.wrapping_add(*d);
+                            unquantise(*p, c.quantum.unwrap_or(1.0))
+                                .map_or(Cell::Absent, Cell::Float)
                         }
                         _ => {
                             return Err(BlockError::Decode(format!(
@@ -351,27 +347,69 @@ impl Layout {
                         }
                     });
                 }
-                let value = if c.elements == 1 {
-                    values.pop().flatten()
-                } else {
-                    Some(J::Array(
-                        values.into_iter().map(Option::unwrap_or_default).collect(),
-                    ))
-                };
-                match (c.name.as_str(), value) {
-                    ("t_ns", Some(J::Number(n))) => {
-                        let t_ns = n.as_u64().unwrap_or_default();
-                        row.insert("t_s".into(), J::from(t_ns as f64 * 1e-9));
-                    }
-                    (name, Some(v)) => {
-                        row.insert(name.into(), v);
-                    }
-                    (_, None) => {}
-                }
             }
         }
         Ok(out)
     }
+
+    /// Decode one block message into its samples, each a JSON object (`tick`, `t_s`, then the
+    /// fields; an absent optional field left out, a NaN or infinity as null).
+    pub fn decode(
+        &self,
+        bytes: &[u8],
+    ) -> Result<Vec<serde_json::Map<String, serde_json::Value>>, BlockError> {
+        use serde_json::Value as J;
+        let json = |cell: &Cell| match cell {
+            Cell::Float(x) => serde_json::Number::from_f64(*x).map_or(J::Null, J::Number),
+            Cell::Int(n) => J::from(*n),
+            Cell::Bool(b) => J::Bool(*b),
+            Cell::Text(t) => J::String(t.clone()),
+            Cell::Absent => J::Null,
+        };
+        let rows = self.decode_cells(bytes)?;
+        Ok(rows
+            .iter()
+            .map(|cells| {
+                let mut row = serde_json::Map::new();
+                for (c, &at) in self.columns.iter().zip(&self.offsets) {
+                    let cells = &cells[at..at + c.elements];
+                    match (c.name.as_str(), cells) {
+                        ("t_ns", [Cell::Int(t_ns)]) => {
+                            row.insert("t_s".into(), J::from(*t_ns as f64 * 1e-9));
+                        }
+                        (_, [Cell::Absent]) => {}
+                        (name, [one]) => {
+                            row.insert(name.into(), json(one));
+                        }
+                        (name, many) => {
+                            row.insert(name.into(), J::Array(many.iter().map(json).collect()));
+                        }
+                    }
+                }
+                row
+            })
+            .collect())
+    }
+
+    /// The column names, in order.
+    pub fn column_names(&self) -> impl Iterator<Item = &str> {
+        self.columns.iter().map(|c| c.name.as_str())
+    }
+}
+
+/// One decoded value of a block's sample.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Cell {
+    /// A float (NaN and infinities included).
+    Float(f64),
+    /// An unsigned integer.
+    Int(u64),
+    /// A flag.
+    Bool(bool),
+    /// An enum label.
+    Text(String),
+    /// An optional field left out.
+    Absent,
 }
 
 /// `x` as a whole number of `quantum`s (the reserved values for NaN and infinities).

@@ -4,6 +4,7 @@
 
 use super::{ArmTracker, MountingMode, SetupStep, WheelNow};
 use crate::record::ArmSample;
+use crate::session::faults::FaultKind;
 use gyro_imu::ImuError;
 use gyro_imu::pose::Mounting;
 use gyro_imu::sim::arm::{PatientArmConfig, SimArm};
@@ -18,6 +19,8 @@ pub struct SimArmSensing {
     last: ArmSample,
     /// Ticks on which the simulated arm could not reach the wheel.
     pub unreachable: u64,
+    /// Injected arm-sensor faults and their session-time windows, ns.
+    faults: Vec<(FaultKind, u64, u64)>,
 }
 
 /// A rotation drawn uniformly enough for a sensor strapped on any way.
@@ -43,6 +46,7 @@ impl SimArmSensing {
         seed: u64,
         real_time: bool,
         clock: clock::Clock,
+        faults: &[crate::session::faults::FaultSpec],
     ) -> Result<Self, ImuError> {
         let (mu, mf) = match mode {
             MountingMode::Square => (UnitQuaternion::identity(), UnitQuaternion::identity()),
@@ -72,6 +76,7 @@ impl SimArmSensing {
             tracker,
             last: ArmSample::default(),
             unreachable: 0,
+            faults: crate::session::faults::imu_faults(faults),
         })
     }
 
@@ -99,10 +104,25 @@ impl SimArmSensing {
                 return self.last;
             }
         };
-        let Some((upper, fore)) = self.arm.latest() else {
+        let Some((mut upper, mut fore)) = self.arm.latest() else {
             self.unreachable += 1;
             return self.last;
         };
+        // Injected faults act on what the IMUs deliver, as a real sensor's would.
+        let acting = |kind| {
+            self.faults
+                .iter()
+                .any(|&(k, start, end)| k == kind && (start..end).contains(&read.t_ns))
+        };
+        if acting(FaultKind::ImuUnplug) {
+            self.tracker.lose_sensor(ImuError::Device(
+                "an arm IMU was unplugged (injected fault)".into(),
+            ));
+        }
+        if acting(FaultKind::ImuNan) {
+            upper.rate_rad_s.fill(f64::NAN);
+            fore.rate_rad_s.fill(f64::NAN);
+        }
         let mut sample = self.tracker.update(read, &upper, &fore);
         sample.true_shoulder_elevation_rad = truth.angles.shoulder_elevation_rad;
         sample.true_elbow_flexion_rad = truth.angles.elbow_flexion_rad;
