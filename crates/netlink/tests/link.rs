@@ -1509,6 +1509,10 @@ async fn station_told_update_required_stops_retrying_and_says_so() {
                 let mut buf = [0u8; 1024];
                 let _ = s.read(&mut buf).await;
                 let _ = s.write_all(&refusal).await;
+                let _ = s.shutdown().await;
+                // Read until the station hangs up: a socket closed with unread data sends a
+                // reset, which can reach the station before the refusal it should read.
+                while matches!(s.read(&mut buf).await, Ok(n) if n > 0) {}
             });
         }
     });
