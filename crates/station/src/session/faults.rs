@@ -172,7 +172,8 @@ impl<W: Wheel> FaultyWheel<W> {
                 })
                 .collect(),
             frozen: None,
-            stalled: Vec::new(),
+            // Room for every stall up front: the haptic thread never allocates.
+            stalled: Vec::with_capacity(faults.len()),
         }
     }
 

@@ -21,6 +21,8 @@ pub struct SimArmSensing {
     pub unreachable: u64,
     /// Injected arm-sensor faults and their session-time windows, ns.
     faults: Vec<(FaultKind, u64, u64)>,
+    /// An injected unplug has been told to the tracker.
+    unplugged: bool,
 }
 
 /// A rotation drawn uniformly enough for a sensor strapped on any way.
@@ -77,6 +79,7 @@ impl SimArmSensing {
             last: ArmSample::default(),
             unreachable: 0,
             faults: crate::session::faults::imu_faults(faults),
+            unplugged: false,
         })
     }
 
@@ -114,7 +117,9 @@ impl SimArmSensing {
                 .iter()
                 .any(|&(k, start, end)| k == kind && (start..end).contains(&read.t_ns))
         };
-        if acting(FaultKind::ImuUnplug) {
+        // Told once: the loss is for good, and the haptic thread must not allocate each tick.
+        if acting(FaultKind::ImuUnplug) && !self.unplugged {
+            self.unplugged = true;
             self.tracker.lose_sensor(ImuError::Device(
                 "an arm IMU was unplugged (injected fault)".into(),
             ));
