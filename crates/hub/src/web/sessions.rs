@@ -73,6 +73,9 @@ pub(crate) async fn metrics(
     Ok(Json(metrics))
 }
 
+/// Largest recording the console replays, bytes (≈ 1.7 h of a compact 1 kHz recording).
+pub const MAX_REPLAY_BYTES: u64 = 512 << 20;
+
 /// `GET /api/sessions/{id}/replay`: the session's uploaded recording as the console's replay
 /// draws it; 404 until the whole recording has arrived.
 pub(crate) async fn replay(
@@ -101,6 +104,17 @@ pub(crate) async fn replay(
         .audit(&therapist.actor(), "read_replay", &session.session_id, "")
         .await?;
     let path = std::path::PathBuf::from(&recording.path);
+    // A station may upload up to netlink's 16 GiB; the reader holds a recording in memory, so
+    // the console replays only what the hub can hold (an hour at 1 kHz is about 300 MB).
+    let size = std::fs::metadata(&path).map_or(0, |m| m.len());
+    if size > MAX_REPLAY_BYTES {
+        return Err(ApiError::Unprocessable(format!(
+            "the recording of session {:?} is {} MB, more than the {} MB the console replays",
+            session.session_id,
+            size >> 20,
+            MAX_REPLAY_BYTES >> 20
+        )));
+    }
     let frames = tokio::task::spawn_blocking(move || reader(&path))
         .await
         .map_err(|_| ApiError::Internal)?
