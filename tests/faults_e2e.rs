@@ -5,7 +5,7 @@
 
 use station::config::StationConfig;
 use station::record::Recording;
-use telerehab_tests::{run_ok, sim_session_args};
+use telerehab_tests::{assert_within_ceiling_and_slew, run_ok, sim_session_args};
 
 /// What a faulted session recorded: every tick's commanded torque, ceiling and watchdog state,
 /// the slew limit and loop period it ran with, and its printed report.
@@ -40,9 +40,6 @@ fn faulted_session(seconds: &str, fault: &str) -> Faulted {
     }
 }
 
-/// The recorded torque is a whole number of µN·m: the bounds allow that much rounding.
-const RECORDED_NM: f64 = 1e-6;
-
 impl Faulted {
     /// Every tick: |torque| ≤ ceiling, and no step larger than the slew limit allows.
     fn assert_within_ceiling_and_slew(&self) {
@@ -52,22 +49,13 @@ impl Faulted {
     /// The same, the tick `gap.0` coming `gap.1` s later than the loop period (a stalled
     /// loop: the slew limit holds over the real time between two commands).
     fn assert_within_ceiling_and_slew_with_gap(&self, gap: Option<(usize, f64)>) {
-        for (i, (&c, &lim)) in self.commanded_nm.iter().zip(&self.ceiling_nm).enumerate() {
-            assert!(
-                c.is_finite() && c.abs() <= lim + RECORDED_NM,
-                "tick {i}: {c} N·m over {lim}"
-            );
-        }
-        for (i, w) in self.commanded_nm.windows(2).enumerate() {
-            let late_s = gap.filter(|g| g.0 == i + 1).map_or(0.0, |g| g.1);
-            let step = self.slew_nm_per_s * (self.dt_s + late_s) + 2.0 * RECORDED_NM;
-            assert!(
-                (w[1] - w[0]).abs() <= step,
-                "tick {i}: {} → {} N·m",
-                w[0],
-                w[1]
-            );
-        }
+        assert_within_ceiling_and_slew(
+            &self.commanded_nm,
+            &self.ceiling_nm,
+            self.slew_nm_per_s,
+            self.dt_s,
+            gap,
+        );
     }
 
     /// The index of the first tick at or after `t_s`.

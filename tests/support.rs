@@ -114,6 +114,39 @@ pub fn wait_for_first_chunk(path: &Path) {
     }
 }
 
+/// The recorded torque is a whole number of µN·m: the bounds allow that much rounding, N·m.
+pub const RECORDED_NM: f64 = 1e-6;
+
+/// Every tick of a recording: |commanded torque| ≤ that tick's ceiling, and no step between
+/// two ticks larger than the slew limit `slew_nm_per_s` allows over the loop period `dt_s`
+/// (the tick `gap.0` coming `gap.1` s late: a stalled loop, the limit holds over the real
+/// time between two commands). Torques in N·m at the motor.
+pub fn assert_within_ceiling_and_slew(
+    commanded_nm: &[f64],
+    ceiling_nm: &[f64],
+    slew_nm_per_s: f64,
+    dt_s: f64,
+    gap: Option<(usize, f64)>,
+) {
+    assert_eq!(commanded_nm.len(), ceiling_nm.len());
+    for (i, (&c, &lim)) in commanded_nm.iter().zip(ceiling_nm).enumerate() {
+        assert!(
+            c.is_finite() && c.abs() <= lim + RECORDED_NM,
+            "tick {i}: {c} N·m over {lim}"
+        );
+    }
+    for (i, w) in commanded_nm.windows(2).enumerate() {
+        let late_s = gap.filter(|g| g.0 == i + 1).map_or(0.0, |g| g.1);
+        let step = slew_nm_per_s * (dt_s + late_s) + 2.0 * RECORDED_NM;
+        assert!(
+            (w[1] - w[0]).abs() <= step,
+            "tick {i}: {} → {} N·m",
+            w[0],
+            w[1]
+        );
+    }
+}
+
 /// One recorded sample: a JSON message, or one sample of a high-rate channel's block.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Msg {
