@@ -237,3 +237,166 @@ fn bench_window_reports_loop_timing_with_drawing_on_and_off() {
     assert!(report.contains("p99 ratio drawing / idle"), "{report}");
     assert!(report.contains("frames drawn"), "{report}");
 }
+
+/// The pid of `parent`'s child process whose command line contains `needle`, waiting for it.
+fn child_process(parent: u32, needle: &str) -> u32 {
+    for _ in 0..300 {
+        for entry in std::fs::read_dir("/proc").unwrap().flatten() {
+            let Ok(pid) = entry.file_name().to_string_lossy().parse::<u32>() else {
+                continue;
+            };
+            let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap_or_default();
+            // The parent's pid is the second field after the command name in parentheses.
+            let ppid = stat
+                .rsplit_once(')')
+                .and_then(|(_, rest)| rest.split_whitespace().nth(1)?.parse::<u32>().ok());
+            let cmdline = std::fs::read(format!("/proc/{pid}/cmdline")).unwrap_or_default();
+            if ppid == Some(parent) && String::from_utf8_lossy(&cmdline).contains(needle) {
+                return pid;
+            }
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    panic!("process {parent} has no child running {needle}");
+}
+
+/// Read `stdout` until a line contains `needle`; false at its end.
+fn wait_for_line(stdout: &mut impl std::io::BufRead, needle: &str) -> bool {
+    let mut line = String::new();
+    loop {
+        line.clear();
+        if stdout.read_line(&mut line).unwrap() == 0 {
+            return false;
+        }
+        if line.contains(needle) {
+            return true;
+        }
+    }
+}
+
+/// A windowed session whose window process is sent `signal` while the exercise runs: the
+/// exercise must pause, the torque fade to zero, a new window open and Space resume it. Returns
+/// the report and the station's log; the recording is `window-lost.mcap` in `dir`.
+fn session_losing_its_window(dir: &std::path::Path, signal: &str) -> (String, String) {
+    use std::io::{BufReader, Read};
+    let mcap = dir.join("window-lost.mcap");
+    let mut station = Command::new(telerehab_bin())
+        .args(["run", "--sim", "--duration", "120", "--seed", "7"])
+        .arg("--record")
+        .arg(&mcap)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut log = station.stderr.take().unwrap();
+    let log = std::thread::spawn(move || {
+        let mut s = String::new();
+        log.read_to_string(&mut s).unwrap();
+        s
+    });
+    let mut stdout = BufReader::new(station.stdout.take().unwrap());
+    assert!(
+        wait_for_line(&mut stdout, "render: adapter"),
+        "the window never opened"
+    );
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    press("space");
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let window = child_process(station.id(), "window-process");
+    assert!(
+        Command::new("kill")
+            .args([signal, &window.to_string()])
+            .status()
+            .unwrap()
+            .success()
+    );
+    // A new window opens (after the hang timeout for a stopped one); Space resumes.
+    assert!(
+        wait_for_line(&mut stdout, "render: adapter"),
+        "no new window"
+    );
+    assert_ne!(child_process(station.id(), "window-process"), window);
+    std::thread::sleep(std::time::Duration::from_millis(1000));
+    press("space");
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    press("Escape");
+    let mut report = String::new();
+    stdout.read_to_string(&mut report).unwrap();
+    let log = log.join().unwrap();
+    assert!(station.wait().unwrap().success(), "{report}\n{log}");
+    (report, log)
+}
+
+/// From the recording in `dir`: the exercise ran, paused when the window was lost (the torque
+/// fading to zero within the supervisor's fade-out and staying there), and ran again; every
+/// tick's torque within the ceiling in N·m.
+fn assert_paused_safely_while_the_window_was_lost(dir: &std::path::Path) {
+    let rec = station::record::Recording::open(dir.join("window-lost.mcap")).unwrap();
+    let cfg =
+        station::config::StationConfig::from_toml(&rec.metadata.config_toml, "recording").unwrap();
+    let scores = &rec.score;
+    let mut stretches: Vec<(bool, usize)> = Vec::new();
+    for (i, s) in scores.iter().enumerate() {
+        if stretches.last().is_none_or(|l| l.0 != s.data.paused) {
+            stretches.push((s.data.paused, i));
+        }
+    }
+    let kinds: Vec<bool> = stretches.iter().map(|s| s.0).collect();
+    assert_eq!(
+        kinds,
+        [true, false, true, false],
+        "waiting, running, paused when the window was lost, running"
+    );
+    let paused_at_s = scores[stretches[2].1].t_s;
+    let resumed_at_s = scores[stretches[3].1].t_s;
+    let fade_s = cfg.haptic.safety.fade_out_s;
+    for w in &rec.wheel {
+        assert!(
+            w.data.commanded_nm.abs() <= w.data.ceiling_nm + 1e-6,
+            "{} N·m over {} at {} s",
+            w.data.commanded_nm,
+            w.data.ceiling_nm,
+            w.t_s
+        );
+        // Score samples come every 100 ms: the pause began at most that long before its
+        // first paused sample.
+        if w.t_s > paused_at_s + fade_s && w.t_s < resumed_at_s - 0.1 {
+            assert_eq!(
+                w.data.commanded_nm, 0.0,
+                "torque {} N·m at {} s while the window was lost",
+                w.data.commanded_nm, w.t_s
+            );
+        }
+    }
+}
+
+#[test]
+fn killing_the_window_process_pauses_the_exercise_and_a_new_window_takes_over() {
+    let Some(_display) = the_display() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let (report, log) = session_losing_its_window(dir.path(), "-KILL");
+    assert!(log.contains("killed by signal 9"), "{log}");
+    assert!(log.contains("the exercise is paused"), "{log}");
+    assert!(
+        report.contains("patient window      restarted 1 time"),
+        "{report}"
+    );
+    assert_paused_safely_while_the_window_was_lost(dir.path());
+}
+
+#[test]
+fn a_window_process_that_stops_answering_is_replaced_and_the_exercise_paused() {
+    let Some(_display) = the_display() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let (report, log) = session_losing_its_window(dir.path(), "-STOP");
+    assert!(log.contains("stopped answering"), "{log}");
+    assert!(
+        report.contains("patient window      restarted 1 time"),
+        "{report}"
+    );
+    assert_paused_safely_while_the_window_was_lost(dir.path());
+}

@@ -3,7 +3,7 @@
 
 use crate::commands::{
     bench, devices, hub, pair, recover, render, replay, report, run, sync, therapist, vehicle,
-    wheel,
+    wheel, window_process,
 };
 use clap::{Parser, Subcommand};
 
@@ -49,6 +49,9 @@ pub enum Command {
     Pair(pair::PairArgs),
     /// Deliver the summaries earlier sessions could not (they are also sent at the next run).
     Sync(sync::SyncArgs),
+    /// The patient window's own process, started by `run` (not for people to run).
+    #[command(hide = true)]
+    WindowProcess(window_process::WindowProcessArgs),
 }
 
 /// Run one subcommand.
@@ -67,5 +70,6 @@ pub fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Hub(args) => hub::run(args),
         Command::Pair(args) => pair::run(&args),
         Command::Sync(args) => sync::run(&args),
+        Command::WindowProcess(args) => window_process::run(&args),
     }
 }

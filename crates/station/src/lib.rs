@@ -13,7 +13,8 @@
 //!   car, haptic chain, assist) through the exercises of [`session::course`];
 //!   [`session::recorder`] writes the records and thins summaries; [`session::arm`] and
 //!   [`session::arm_calibration`] turn the IMUs into joint angles and arm lengths;
-//!   [`session::window`] puts the patient's window on the main thread; [`session::signals`]
+//!   [`session::window`] runs the patient's window in a process of its own (restarted,
+//!   the exercise paused, if it dies or hangs); [`session::signals`]
 //!   turns SIGINT/SIGTERM into a stop request.
 //! - [`record`]: one type per MCAP channel, the writer, the reader and `recover`.
 //! - [`config`] (station TOML) and [`regimen`] (the therapist's prescription): validated input.
@@ -31,8 +32,8 @@
 //!
 //! Threads (DESIGN.md): `haptic` (1 kHz, absolute deadlines, real-time priority where
 //! granted) → wait-free ring → `recorder` (MCAP, summaries) → the therapist link's tokio
-//! runtime and the window's triple buffer; the window runs on the main thread, the session on
-//! a `session` thread beside it.
+//! runtime and the window's triple buffer; the main thread answers the window process's pulls
+//! from that buffer and watches it, the session runs on a `session` thread beside it.
 
 pub mod cli;
 pub mod commands;

@@ -15,6 +15,7 @@ pub mod sync;
 pub mod therapist;
 pub mod vehicle;
 pub mod wheel;
+pub mod window_process;
 
 /// Parse `WIDTHxHEIGHT` (16 to 8192 pixels a side): the `--size` of `render` and `bench window`.
 pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {

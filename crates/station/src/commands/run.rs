@@ -4,10 +4,8 @@
 use crate::config::StationConfig;
 use crate::home::{Home, HomeArg};
 use crate::link::Link;
-use crate::record::TickRecord;
 use crate::regimen::Regimen;
 use crate::render::window::WindowOptions;
-use crate::screen::{CourseView, live_screen_state};
 use crate::session::signals::install_stop_flag;
 use crate::session::{self, BodyKind, SessionOptions, haptic::Pacing};
 use anyhow::{Context, bail};
@@ -284,11 +282,6 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         Speed::Max => Pacing::Max,
     };
     let controls = session::Controls::with_stop(install_stop_flag()?);
-    let view = if args.headless {
-        None
-    } else {
-        Some(CourseView::new(&cfg, regimen.as_ref())?)
-    };
     let clock = Clock::real();
     let opts = SessionOptions {
         config: cfg.clone(),
@@ -308,15 +301,17 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         "starting session"
     );
     let link = Link::start(&cfg, &clock, home.home.as_ref())?;
-    let report = match view {
-        None => session::run(&opts, &controls, &mut &link)?,
-        Some(view) => {
-            // With a window the patient starts the exercise with Space when ready.
-            controls.pause.store(true, Ordering::Relaxed);
-            let window = WindowOptions::new("telerehab");
-            let scene = |rec: &TickRecord| view.scene(rec, live_screen_state(rec));
-            session::window::run_with_window(&opts, &controls, scene, &window, &mut &link, true)?.0
-        }
+    let mut window_restarts = 0;
+    let report = if args.headless {
+        session::run(&opts, &controls, &mut &link)?
+    } else {
+        // With a window the patient starts the exercise with Space when ready.
+        controls.pause.store(true, Ordering::Relaxed);
+        let window = WindowOptions::new("telerehab");
+        let (report, account) =
+            session::window::run_with_window(&opts, &controls, &window, &mut &link, true)?;
+        window_restarts = account.map_or(0, |a| a.restarts);
+        report
     };
     // Only a recording that was written whole is uploaded.
     let recorded = opts
@@ -325,6 +320,11 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         .filter(|_| report.recorder.error.is_none() && report.recorder.mcap_bytes.is_some());
     let link_report = link.finish(report.summaries, &report.recorder.measures.named, recorded);
     print!("{}", crate::report::render(&report, link_report.as_ref()));
+    if window_restarts > 0 {
+        println!(
+            "patient window      restarted {window_restarts} time(s) after it died or hung (the exercise paused each time)"
+        );
+    }
     if let Some(e) = &report.recorder.error {
         bail!("recording failed: {e}");
     }

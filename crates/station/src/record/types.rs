@@ -13,8 +13,9 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::fmt;
 
-/// Everything one haptic tick measured, commanded and computed.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+/// Everything one haptic tick measured, commanded and computed (serialisable whole for the
+/// patient window's process; each part is recorded on its own channel).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct TickRecord {
     /// Tick number since the session started.
     pub tick: u64,

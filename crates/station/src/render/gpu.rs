@@ -71,7 +71,7 @@ impl FrameUniform {
 }
 
 /// Which GPU (or software rasteriser) draws the frames.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct AdapterSummary {
     /// Adapter name, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".
     pub name: String,

@@ -29,7 +29,7 @@ const PULL_PERIOD: Duration = Duration::from_micros(8_333);
 pub const SOFTWARE_MAX_FPS: f64 = 30.0;
 
 /// A request from the patient's keyboard, passed to the caller's callback.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[non_exhaustive]
 pub enum UserRequest {
     /// Space: pause a running exercise, or start / resume it.
@@ -65,6 +65,9 @@ pub struct WindowOptions {
     /// Draw only while this flag is set (the loop still pulls scenes and handles keys);
     /// `None` always draws. For measuring what drawing costs the rest of the machine.
     pub draw_gate: Option<Arc<AtomicBool>>,
+    /// Set once the window is open and can draw (for a caller on another thread, or in
+    /// another process, that must tell a window that never opened from one that died).
+    pub opened: Option<Arc<AtomicBool>>,
 }
 
 impl WindowOptions {
@@ -77,6 +80,7 @@ impl WindowOptions {
             any_thread: false,
             max_fps: None,
             draw_gate: None,
+            opened: None,
         }
     }
 }
@@ -294,7 +298,12 @@ impl<F: FnMut() -> Option<Scene>, G: FnMut(UserRequest)> ApplicationHandler for 
             return;
         }
         match self.create_gfx(event_loop) {
-            Ok(g) => self.gfx = Some(g),
+            Ok(g) => {
+                self.gfx = Some(g);
+                if let Some(opened) = &self.options.opened {
+                    opened.store(true, Ordering::Release);
+                }
+            }
             Err(e) => self.fail(event_loop, e),
         }
     }

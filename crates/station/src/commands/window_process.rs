@@ -1,0 +1,157 @@
+//! `telerehab window-process`: the patient window's own process, started by `telerehab run`
+//! with a socket as its standard input (not for people to run; hidden from `--help`). It opens
+//! the window, asks the station for the newest tick about 120 times a second, draws it, and
+//! passes the patient's keys back. It shares no memory with the station, so a graphics driver
+//! that crashes or hangs takes only this process down; the station notices, pauses the
+//! exercise and starts a new one ([`crate::session::window::supervisor`]).
+
+use crate::config::StationConfig;
+use crate::record::TickRecord;
+use crate::regimen::Regimen;
+use crate::render::window::{UserRequest, WindowOptions};
+use crate::screen::{CourseView, live_screen_state};
+use crate::session::window::wire::{self, FromWindow, Hello, ToWindow};
+use anyhow::Context;
+use std::io::Write;
+use std::os::fd::AsFd;
+use std::os::unix::net::UnixStream;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+
+/// What the reader thread last heard from the station.
+#[derive(Default)]
+struct Latest {
+    record: Option<TickRecord>,
+    /// The station closed the socket: the session is over.
+    ended: bool,
+}
+
+/// No arguments: everything comes over the socket.
+#[derive(Debug, clap::Args)]
+pub struct WindowProcessArgs {}
+
+/// Serve the station that started this process on its standard input.
+pub fn run(_args: &WindowProcessArgs) -> anyhow::Result<()> {
+    let fd = std::io::stdin().as_fd().try_clone_to_owned()?;
+    serve(UnixStream::from(fd))
+}
+
+/// Serve the station on `socket`: read its [`Hello`], open the window and draw until the
+/// station closes the socket or the patient closes the window.
+fn serve(socket: UnixStream) -> anyhow::Result<()> {
+    let mut reader = socket.try_clone().context("the station's socket")?;
+    let writer = Mutex::new(socket);
+    let hello: Hello = match wire::recv(&mut reader).context("the station's first message")? {
+        Some(ToWindow::Hello(hello)) => *hello,
+        Some(other) => anyhow::bail!("the station's first message is not a hello: {other:?}"),
+        None => return Ok(()), // the station went away before saying anything
+    };
+    let tell = |message: &FromWindow| -> bool {
+        let mut w = writer
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        wire::send(&mut *w, message)
+            .and_then(|()| w.flush())
+            .is_ok()
+    };
+    let view = match course_view(&hello) {
+        Ok(v) => v,
+        Err(e) => {
+            tell(&FromWindow::Failed(format!("{e:#}")));
+            return Err(e);
+        }
+    };
+    if hello.idle_priority {
+        let idle = crate::session::haptic::request_idle_priority();
+        tracing::debug!(idle, "patient window at idle scheduling priority");
+    }
+    let latest = Mutex::new(Latest::default());
+    let draw = Arc::new(AtomicBool::new(true));
+    let opened = Arc::new(AtomicBool::new(false));
+    let options = WindowOptions {
+        size: hello.size,
+        fullscreen: hello.fullscreen,
+        max_fps: hello.max_fps,
+        draw_gate: hello.gated.then(|| draw.clone()),
+        opened: Some(opened.clone()),
+        ..WindowOptions::new(&hello.title)
+    };
+    std::thread::scope(|scope| {
+        scope.spawn(|| read_frames(&mut reader, &latest, &draw));
+        let mut told_opened = false;
+        let source = || {
+            if !told_opened && opened.load(Ordering::Acquire) {
+                told_opened = tell(&FromWindow::Opened);
+            }
+            // Ask for the next frame now; this one shows the newest the station sent.
+            let asked = tell(&FromWindow::Pull);
+            let l = latest
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            if l.ended || !asked {
+                return None;
+            }
+            let rec = l.record.unwrap_or_default();
+            Some(view.scene(&rec, live_screen_state(&rec)))
+        };
+        let on_request = |r: UserRequest| {
+            tell(&FromWindow::Request(r));
+        };
+        let result = crate::render::window::run_with(&options, source, on_request);
+        let last = match &result {
+            Ok(stats) => FromWindow::Closed {
+                frames_drawn: stats.frames_drawn,
+                adapter: stats.adapter.clone(),
+            },
+            Err(e) => FromWindow::Failed(e.to_string()),
+        };
+        tell(&last);
+        // The reader thread ends when the station closes its side, which it does on our
+        // last message; shutting ours down ends it in any case.
+        if let Ok(w) = writer.lock() {
+            let _ = w.shutdown(std::net::Shutdown::Both);
+        }
+        result.map(|_| ()).map_err(anyhow::Error::from)
+    })
+}
+
+/// The view of the course from the session's configuration and regimen.
+fn course_view(hello: &Hello) -> anyhow::Result<CourseView> {
+    let cfg: StationConfig =
+        toml::from_str(&hello.config_toml).context("the session's configuration")?;
+    let regimen: Option<Regimen> = hello
+        .regimen_toml
+        .as_deref()
+        .map(toml::from_str)
+        .transpose()
+        .context("the session's regimen")?;
+    CourseView::new(&cfg, regimen.as_ref())
+}
+
+/// Keep `latest` up to date with the station's frames until it closes the socket.
+fn read_frames(reader: &mut UnixStream, latest: &Mutex<Latest>, draw: &AtomicBool) {
+    loop {
+        let frame = wire::recv::<ToWindow>(reader);
+        let mut l = latest
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        match frame {
+            Ok(Some(ToWindow::Frame { record, draw: d })) => {
+                l.record = Some(*record);
+                draw.store(d, Ordering::Relaxed);
+            }
+            Ok(Some(ToWindow::Hello(_))) => {
+                tracing::warn!("the station said hello twice; ignored");
+            }
+            Ok(None) => {
+                l.ended = true;
+                return;
+            }
+            Err(e) => {
+                tracing::warn!("the station's socket: {e}; closing the window");
+                l.ended = true;
+                return;
+            }
+        }
+    }
+}

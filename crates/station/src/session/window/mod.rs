@@ -1,0 +1,101 @@
+//! A session with the patient's window. The session runs on its own threads; the window runs
+//! in a process of its own (`telerehab window-process`, [`crate::commands::window_process`]), fed the newest tick on
+//! request over a socket ([`wire`]) by the calling (main) thread ([`supervisor`]). The window
+//! shares no memory with the haptic loop, which only writes each tick into a wait-free triple
+//! buffer: a slow, minimised, crashed or hung window changes nothing in the loop. When the
+//! window dies or stops answering, the exercise pauses (the torque fades out) and a new
+//! window is started.
+
+pub mod supervisor;
+pub mod wire;
+
+use super::{Controls, LiveSummary, SessionObserver, SessionOptions, SessionReport};
+use crate::record::TickRecord;
+use crate::render::window::WindowOptions;
+use anyhow::Context;
+use std::sync::atomic::{AtomicBool, Ordering};
+pub use supervisor::WindowAccount;
+
+/// Feeds the window's triple buffer with every tick before passing it on.
+struct ScreenFeed<'a> {
+    screen: triple_buffer::Input<TickRecord>,
+    inner: &'a mut dyn SessionObserver,
+}
+
+impl SessionObserver for ScreenFeed<'_> {
+    fn on_tick(&mut self, record: &TickRecord) {
+        self.screen.write(*record);
+        self.inner.on_tick(record);
+    }
+
+    fn on_summary(&mut self, summary: &LiveSummary) {
+        self.inner.on_summary(summary);
+    }
+}
+
+/// Run the session on its own threads and the patient's window in its own process, showing
+/// the session's course ([`crate::screen::CourseView`]); `observer` watches the session as in
+/// [`super::run`]. Space pauses and resumes through `controls`; closing the window stops the
+/// session. With `idle_priority` the window gets only the CPU time the session leaves over.
+/// Without a usable GPU or display the session simply runs headless (the account is then
+/// `None`).
+pub fn run_with_window(
+    opts: &SessionOptions,
+    controls: &Controls,
+    window: &WindowOptions,
+    observer: &mut dyn SessionObserver,
+    idle_priority: bool,
+) -> anyhow::Result<(SessionReport, Option<WindowAccount>)> {
+    // The window process (started from this thread) stays off the haptic thread's core.
+    super::haptic::cores::keep_off_the_haptic_core();
+    let hello = wire::Hello {
+        title: window.title.clone(),
+        size: window.size,
+        fullscreen: window.fullscreen,
+        max_fps: window.max_fps,
+        gated: window.draw_gate.is_some(),
+        idle_priority,
+        config_toml: toml::to_string(&opts.config).context("the session's configuration")?,
+        regimen_toml: opts
+            .regimen
+            .as_ref()
+            .map(toml::to_string)
+            .transpose()
+            .context("the session's regimen")?,
+    };
+    let launcher =
+        supervisor::Launcher::this_executable().context("cannot find the telerehab program")?;
+    let (input, mut output) = triple_buffer::triple_buffer(&TickRecord::default());
+    let done = AtomicBool::new(false);
+    std::thread::scope(|scope| {
+        let session = std::thread::Builder::new()
+            .name("session".into())
+            .spawn_scoped(scope, || {
+                let r = super::run(
+                    opts,
+                    controls,
+                    &mut ScreenFeed {
+                        screen: input,
+                        inner: observer,
+                    },
+                );
+                done.store(true, Ordering::Release);
+                r
+            })
+            .context("cannot start the session thread")?;
+        let account = supervisor::supervise(
+            &supervisor::Supervised {
+                launcher: &launcher,
+                hello: &hello,
+                gate: window.draw_gate.as_deref(),
+                controls,
+                done: &done,
+            },
+            &mut output,
+        );
+        let report = session
+            .join()
+            .map_err(|_| anyhow::anyhow!("session thread panicked (torque was zeroed)"))??;
+        Ok((report, account))
+    })
+}

@@ -1,0 +1,357 @@
+//! The station's side of the patient window: start `telerehab window-process`, answer its
+//! pulls with the newest tick, pass its keys to the session, and notice when it dies or stops
+//! answering. Then the exercise pauses (the haptic loop fades the torque out, as for Space)
+//! and a new window is started; the patient resumes with Space when it shows.
+//!
+//! Nothing here runs on the haptic thread, and nothing the window does can block it: the
+//! haptic thread only ever writes the newest tick into a wait-free triple buffer.
+
+use super::wire::{self, FromWindow, Hello, ToWindow};
+use crate::record::TickRecord;
+use crate::render::AdapterSummary;
+use crate::render::window::UserRequest;
+use crate::session::Controls;
+use std::os::unix::net::UnixStream;
+use std::os::unix::process::CommandExt;
+use std::process::{Child, Command, Stdio};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+/// Longest a window may take to open (a software rasteriser compiles its pipelines first).
+pub const OPEN_TIMEOUT: Duration = Duration::from_secs(30);
+/// A window that has not pulled a frame for this long has hung: it is killed and replaced.
+/// Long enough for a window at idle priority on a busy machine, short for a patient.
+pub const HANG_TIMEOUT: Duration = Duration::from_secs(5);
+/// How long a closing window may take to say goodbye before it is killed.
+const CLOSE_TIMEOUT: Duration = Duration::from_secs(3);
+/// A window that fails this many times in a row (without drawing in between) ends the
+/// session: the patient cannot see the exercise.
+pub const MAX_FAILURES_IN_A_ROW: u32 = 3;
+/// How often the supervisor looks at the clock and the session.
+const WATCH_PERIOD: Duration = Duration::from_millis(20);
+
+/// What the patient window did over a session.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct WindowAccount {
+    /// The adapter that drew the frames (the last window's).
+    pub adapter: Option<AdapterSummary>,
+    /// Frames drawn and presented, over every window of the session.
+    pub frames_drawn: u64,
+    /// Windows started again after one died or hung.
+    pub restarts: u32,
+}
+
+/// Why one window process ended.
+#[derive(Debug)]
+enum Ending {
+    /// The session is over and the window closed (or was closed).
+    SessionOver,
+    /// The patient closed the window or pressed Esc: the session is told to stop.
+    Quit,
+    /// It never opened: why.
+    NeverOpened(String),
+    /// It opened, then died or hung: why.
+    Lost(String),
+}
+
+/// How the station starts a window process.
+pub struct Launcher {
+    /// The executable (the `telerehab` binary itself).
+    pub program: std::path::PathBuf,
+    /// Its arguments.
+    pub args: Vec<String>,
+}
+
+impl Launcher {
+    /// This very executable, as `telerehab window-process`.
+    pub fn this_executable() -> std::io::Result<Self> {
+        Ok(Self {
+            program: std::env::current_exe()?,
+            args: vec!["window-process".into()],
+        })
+    }
+}
+
+/// Everything one window needs from the session.
+pub struct Supervised<'a> {
+    /// How to start it.
+    pub launcher: &'a Launcher,
+    /// Its first message.
+    pub hello: &'a Hello,
+    /// The draw gate (a benchmark's); `None` always draws.
+    pub gate: Option<&'a AtomicBool>,
+    /// The session's pause and stop.
+    pub controls: &'a Controls,
+    /// Set when the session has ended.
+    pub done: &'a AtomicBool,
+}
+
+/// Run patient windows until the session ends: `Ok(None)` if the first one never opened (the
+/// session goes on headless and the exercise is started, as nobody can press Space).
+pub fn supervise(
+    s: &Supervised<'_>,
+    output: &mut triple_buffer::Output<TickRecord>,
+) -> Option<WindowAccount> {
+    let mut account = WindowAccount::default();
+    let mut ever_opened = false;
+    let mut failures_in_a_row = 0;
+    while !s.done.load(Ordering::Acquire) {
+        let outcome = run_one(s, output).unwrap_or_else(|e| Outcome {
+            ending: Ending::NeverOpened(format!("cannot start it: {e}")),
+            opened: false,
+            closed: None,
+        });
+        if let Some((frames, adapter)) = outcome.closed {
+            account.frames_drawn += frames;
+            account.adapter = adapter.or(account.adapter.take());
+        }
+        ever_opened |= outcome.opened;
+        let why = match outcome.ending {
+            Ending::SessionOver | Ending::Quit => break,
+            Ending::NeverOpened(why) if !ever_opened && account.restarts == 0 => {
+                tracing::warn!("no patient window ({why}); the session continues headless");
+                // Nobody can press Space now: start (or resume) the exercise.
+                s.controls.pause.store(false, Ordering::Relaxed);
+                return None;
+            }
+            Ending::NeverOpened(why) => {
+                failures_in_a_row += 1;
+                format!("the new patient window did not open ({why})")
+            }
+            Ending::Lost(why) => {
+                failures_in_a_row = 1;
+                why
+            }
+        };
+        if s.done.load(Ordering::Acquire) || s.controls.stop.load(Ordering::Relaxed) {
+            break;
+        }
+        // The patient cannot see the exercise: pause it (the torque fades out) before anything
+        // else, then bring the screen back.
+        s.controls.pause.store(true, Ordering::Relaxed);
+        if failures_in_a_row >= MAX_FAILURES_IN_A_ROW {
+            tracing::error!(
+                "{why}; the patient window failed {failures_in_a_row} times in a row: ending the session"
+            );
+            s.controls.stop.store(true, Ordering::Relaxed);
+            break;
+        }
+        tracing::warn!("{why}: the exercise is paused and a new patient window is starting");
+        account.restarts += 1;
+        wait_or_done(
+            s.done,
+            Duration::from_millis(250 * u64::from(failures_in_a_row)),
+        );
+    }
+    Some(account)
+}
+
+/// Sleep `d`, or less if the session ends.
+fn wait_or_done(done: &AtomicBool, d: Duration) {
+    let end = Instant::now() + d;
+    while Instant::now() < end && !done.load(Ordering::Acquire) {
+        std::thread::sleep(WATCH_PERIOD);
+    }
+}
+
+/// What the window's reader thread tells the watcher.
+enum Heard {
+    Pulled,
+    Said(FromWindow),
+    Gone(Option<String>),
+}
+
+/// How one window process went: how it ended, whether it opened, and what it said it drew.
+struct Outcome {
+    ending: Ending,
+    opened: bool,
+    /// Frames drawn and the adapter, from its goodbye.
+    closed: Option<(u64, Option<AdapterSummary>)>,
+}
+
+/// One window process from start to end.
+fn run_one(
+    s: &Supervised<'_>,
+    output: &mut triple_buffer::Output<TickRecord>,
+) -> std::io::Result<Outcome> {
+    let (ours, theirs) = UnixStream::pair()?;
+    let mut child = Command::new(&s.launcher.program)
+        .args(&s.launcher.args)
+        .stdin(Stdio::from(std::os::fd::OwnedFd::from(theirs)))
+        // Its own process group: Ctrl-C in the terminal stops the session, which then closes
+        // the window, rather than killing the window first.
+        .process_group(0)
+        .spawn()?;
+    let mut to_window = ours.try_clone()?;
+    let mut from_window = ours.try_clone()?;
+    let outcome = std::thread::scope(|scope| {
+        let (tx, rx) = mpsc::channel();
+        if let Err(e) = wire::send(&mut to_window, &ToWindow::Hello(Box::new(s.hello.clone()))) {
+            return Outcome {
+                ending: Ending::NeverOpened(format!("cannot say hello to it: {e}")),
+                opened: false,
+                closed: None,
+            };
+        }
+        let gate = s.gate;
+        scope.spawn(move || {
+            let gone = loop {
+                match wire::recv::<FromWindow>(&mut from_window) {
+                    Ok(Some(FromWindow::Pull)) => {
+                        let frame = ToWindow::Frame {
+                            record: Box::new(*output.read()),
+                            draw: gate.is_none_or(|g| g.load(Ordering::Relaxed)),
+                        };
+                        if let Err(e) = wire::send(&mut to_window, &frame) {
+                            break Some(format!("cannot send it a frame: {e}"));
+                        }
+                        let _ = tx.send(Heard::Pulled);
+                    }
+                    Ok(Some(m)) => {
+                        let _ = tx.send(Heard::Said(m));
+                    }
+                    Ok(None) => break None,
+                    Err(e) => break Some(e.to_string()),
+                }
+            };
+            let _ = tx.send(Heard::Gone(gone));
+        });
+        let outcome = watch(s, &rx, &ours);
+        // Whatever happened, this window is finished: closing the socket ends the reader
+        // thread (even one blocked sending to a hung window).
+        let _ = ours.shutdown(std::net::Shutdown::Both);
+        outcome
+    });
+    let status = finish(
+        &mut child,
+        matches!(outcome.ending, Ending::SessionOver | Ending::Quit),
+    );
+    // When only the socket told us, say how the process ended.
+    let ending = match outcome.ending {
+        Ending::Lost(why) if why.is_empty() => Ending::Lost(format!("the patient window {status}")),
+        Ending::NeverOpened(why) if why.is_empty() => {
+            Ending::NeverOpened(format!("the window process {status}"))
+        }
+        other => other,
+    };
+    Ok(Outcome { ending, ..outcome })
+}
+
+/// Watch one window until it ends, the session ends, or it hangs.
+fn watch(s: &Supervised<'_>, rx: &mpsc::Receiver<Heard>, socket: &UnixStream) -> Outcome {
+    let started = Instant::now();
+    let mut last_heard = started;
+    let mut opened = false;
+    let mut quit = false;
+    let mut closing_since: Option<Instant> = None;
+    let mut closed = None;
+    let mut failed: Option<String> = None;
+    loop {
+        match rx.recv_timeout(WATCH_PERIOD) {
+            Ok(Heard::Pulled) => last_heard = Instant::now(),
+            Ok(Heard::Said(FromWindow::Opened)) => {
+                opened = true;
+                last_heard = Instant::now();
+            }
+            Ok(Heard::Said(FromWindow::Request(r))) => {
+                quit |= r == UserRequest::Quit;
+                apply(r, s.controls);
+            }
+            Ok(Heard::Said(FromWindow::Closed {
+                frames_drawn,
+                adapter,
+            })) => closed = Some((frames_drawn, adapter)),
+            Ok(Heard::Said(FromWindow::Failed(why))) => failed = Some(why),
+            // Pulls are answered by the reader thread and reach here as `Pulled`.
+            Ok(Heard::Said(FromWindow::Pull)) => {}
+            gone @ (Ok(Heard::Gone(_)) | Err(mpsc::RecvTimeoutError::Disconnected)) => {
+                let why = match gone {
+                    Ok(Heard::Gone(why)) => failed.or(why),
+                    _ => failed,
+                }
+                .unwrap_or_default();
+                let ending = if closing_since.is_some() || s.done.load(Ordering::Acquire) {
+                    Ending::SessionOver
+                } else if quit {
+                    Ending::Quit
+                } else if opened {
+                    Ending::Lost(why)
+                } else {
+                    Ending::NeverOpened(why)
+                };
+                return Outcome {
+                    ending,
+                    opened,
+                    closed,
+                };
+            }
+            Err(mpsc::RecvTimeoutError::Timeout) => {}
+        }
+        let now = Instant::now();
+        if s.done.load(Ordering::Acquire) && closing_since.is_none() {
+            // The session is over: closing our side ends the window's loop.
+            let _ = socket.shutdown(std::net::Shutdown::Write);
+            closing_since = Some(now);
+        }
+        let ending = match closing_since {
+            Some(t) if now - t > CLOSE_TIMEOUT => Ending::SessionOver,
+            Some(_) => continue,
+            None if !opened && now - started > OPEN_TIMEOUT => Ending::NeverOpened(format!(
+                "it did not open within {} s",
+                OPEN_TIMEOUT.as_secs()
+            )),
+            None if opened && now - last_heard > HANG_TIMEOUT => Ending::Lost(format!(
+                "the patient window stopped answering for {} s",
+                HANG_TIMEOUT.as_secs()
+            )),
+            None => continue,
+        };
+        return Outcome {
+            ending,
+            opened,
+            closed,
+        };
+    }
+}
+
+/// Apply a key the patient pressed in the window to the session.
+fn apply(r: UserRequest, controls: &Controls) {
+    match r {
+        UserRequest::Quit => controls.stop.store(true, Ordering::Relaxed),
+        UserRequest::TogglePause => {
+            controls.pause.fetch_xor(true, Ordering::Relaxed);
+        }
+        // Seeking and speed are a replay's; a live session has neither.
+        _ => {}
+    }
+}
+
+/// Reap the window process: wait a little if it is closing normally, kill it otherwise (a
+/// hung one does not close). Returns how it ended, in words.
+fn finish(child: &mut Child, closing: bool) -> String {
+    if closing {
+        let end = Instant::now() + CLOSE_TIMEOUT;
+        while Instant::now() < end {
+            if let Ok(Some(status)) = child.try_wait() {
+                return describe(status);
+            }
+            std::thread::sleep(WATCH_PERIOD);
+        }
+    }
+    let _ = child.kill();
+    match child.wait() {
+        Ok(status) => describe(status),
+        Err(e) => format!("could not be waited for ({e})"),
+    }
+}
+
+fn describe(status: std::process::ExitStatus) -> String {
+    use std::os::unix::process::ExitStatusExt;
+    match (status.code(), status.signal()) {
+        (_, Some(sig)) => format!("was killed by signal {sig}"),
+        (Some(0), _) => "exited".to_owned(),
+        (Some(code), _) => format!("exited with status {code}"),
+        (None, None) => "ended".to_owned(),
+    }
+}
