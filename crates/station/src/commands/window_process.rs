@@ -8,6 +8,7 @@
 use crate::config::StationConfig;
 use crate::record::TickRecord;
 use crate::regimen::Regimen;
+use crate::render::ScreenState;
 use crate::render::window::{UserRequest, WindowOptions};
 use crate::screen::{CourseView, live_screen_state};
 use crate::session::window::wire::{self, FromWindow, Hello, ToWindow};
@@ -79,6 +80,7 @@ fn serve(socket: UnixStream) -> anyhow::Result<()> {
     std::thread::scope(|scope| {
         scope.spawn(|| read_frames(&mut reader, &latest, &draw));
         let mut told_opened = false;
+        let mut explain_pause = hello.replaces_a_lost_window;
         let source = || {
             if !told_opened && opened.load(Ordering::Acquire) {
                 told_opened = tell(&FromWindow::Opened);
@@ -92,7 +94,16 @@ fn serve(socket: UnixStream) -> anyhow::Result<()> {
                 return None;
             }
             let rec = l.record.unwrap_or_default();
-            Some(view.scene(&rec, live_screen_state(&rec)))
+            let screen = match live_screen_state(&rec) {
+                // Until the patient resumes, say why the exercise paused by itself.
+                ScreenState::Paused if explain_pause => lost_window_card(),
+                ScreenState::Running => {
+                    explain_pause = false;
+                    ScreenState::Running
+                }
+                other => other,
+            };
+            Some(view.scene(&rec, screen))
         };
         let on_request = |r: UserRequest| {
             tell(&FromWindow::Request(r));
@@ -113,6 +124,17 @@ fn serve(socket: UnixStream) -> anyhow::Result<()> {
         }
         result.map(|_| ()).map_err(anyhow::Error::from)
     })
+}
+
+/// The pause card of a window that replaces a lost one.
+fn lost_window_card() -> ScreenState {
+    ScreenState::Instruction {
+        title: "Paused".into(),
+        lines: vec![
+            "The screen had to restart, so the exercise paused.".into(),
+            "Press Space to continue".into(),
+        ],
+    }
 }
 
 /// The view of the course from the session's configuration and regimen.

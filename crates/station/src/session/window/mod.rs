@@ -62,6 +62,7 @@ pub fn run_with_window(
             .map(toml::to_string)
             .transpose()
             .context("the session's regimen")?,
+        replaces_a_lost_window: false,
     };
     let launcher =
         supervisor::Launcher::this_executable().context("cannot find the telerehab program")?;

@@ -97,7 +97,7 @@ pub fn supervise(
     let mut ever_opened = false;
     let mut failures_in_a_row = 0;
     while !s.done.load(Ordering::Acquire) {
-        let outcome = run_one(s, output).unwrap_or_else(|e| Outcome {
+        let outcome = run_one(s, output, account.restarts > 0).unwrap_or_else(|e| Outcome {
             ending: Ending::NeverOpened(format!("cannot start it: {e}")),
             opened: false,
             closed: None,
@@ -170,10 +170,11 @@ struct Outcome {
     closed: Option<(u64, Option<AdapterSummary>)>,
 }
 
-/// One window process from start to end.
+/// One window process from start to end (`replacing`: one that was lost).
 fn run_one(
     s: &Supervised<'_>,
     output: &mut triple_buffer::Output<TickRecord>,
+    replacing: bool,
 ) -> std::io::Result<Outcome> {
     let (ours, theirs) = UnixStream::pair()?;
     let mut child = Command::new(&s.launcher.program)
@@ -187,7 +188,11 @@ fn run_one(
     let mut from_window = ours.try_clone()?;
     let outcome = std::thread::scope(|scope| {
         let (tx, rx) = mpsc::channel();
-        if let Err(e) = wire::send(&mut to_window, &ToWindow::Hello(Box::new(s.hello.clone()))) {
+        let hello = Hello {
+            replaces_a_lost_window: replacing,
+            ..s.hello.clone()
+        };
+        if let Err(e) = wire::send(&mut to_window, &ToWindow::Hello(Box::new(hello))) {
             return Outcome {
                 ending: Ending::NeverOpened(format!("cannot say hello to it: {e}")),
                 opened: false,

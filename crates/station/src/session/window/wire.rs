@@ -37,6 +37,10 @@ pub struct Hello {
     pub config_toml: String,
     /// The session's regimen, TOML, if it has one.
     pub regimen_toml: Option<String>,
+    /// This window replaces one that died or hung: the pause card says why the exercise
+    /// paused.
+    #[serde(default)]
+    pub replaces_a_lost_window: bool,
 }
 
 /// From the station to the window.
