@@ -51,6 +51,10 @@ pub struct BenchWindowArgs {
     /// priority); for comparing the two.
     #[arg(long)]
     pub normal_priority: bool,
+    /// Sessions to run one after the other; with more than one, the median of what drawing
+    /// added to the p99 period error is printed last.
+    #[arg(long, default_value_t = 1)]
+    pub runs: usize,
 }
 
 /// Run `telerehab bench …`.

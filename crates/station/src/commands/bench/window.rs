@@ -115,6 +115,32 @@ pub(super) fn window(args: BenchWindowArgs) -> anyhow::Result<()> {
             "--max-fps must be 1 to 240"
         );
     }
+    anyhow::ensure!((1..=50).contains(&args.runs), "--runs must be 1 to 50");
+    let mut excess_us = Vec::with_capacity(args.runs);
+    for run in 1..=args.runs {
+        if args.runs > 1 {
+            println!("── run {run} of {} ──", args.runs);
+        }
+        excess_us.push(one_run(&args)?);
+    }
+    if args.runs > 1 {
+        excess_us.sort_by(f64::total_cmp);
+        println!(
+            "p99 drawing − idle over {} runs: median {:.1} µs (each: {})",
+            args.runs,
+            excess_us[excess_us.len() / 2],
+            excess_us
+                .iter()
+                .map(|e| format!("{e:.1}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    Ok(())
+}
+
+/// One session of the benchmark; what drawing added to the p99 period error, µs.
+fn one_run(args: &BenchWindowArgs) -> anyhow::Result<f64> {
     let run_args = RunArgs {
         headless: false,
         exercise: Some(args.exercise.clone()),
@@ -160,7 +186,10 @@ pub(super) fn window(args: BenchWindowArgs) -> anyhow::Result<()> {
         println!("adapter: {a}");
     }
     print!("{}", impact.report(Some(stats.frames_drawn)));
-    Ok(())
+    if stats.restarts > 0 {
+        println!("(the window was restarted {} time(s))", stats.restarts);
+    }
+    Ok(impact.p99_excess_us())
 }
 
 #[cfg(test)]
