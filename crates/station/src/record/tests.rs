@@ -377,7 +377,7 @@ fn a_killed_recording_recovers_to_one_that_reads_back() {
     drop(w);
     assert!(!matches!(mcap::Summary::read(&killed), Ok(Some(_))));
 
-    let (copied, out) = recover(&killed, Cursor::new(Vec::new())).unwrap();
+    let (copied, out) = recover(killed.as_slice(), Cursor::new(Vec::new())).unwrap();
     // Ticks 0–2 in one block on each of wheel, vehicle, assist, timing and arm (the arm's
     // 3-D scene waits for its axes); every channel and the scene's.
     assert_eq!((copied.messages, copied.channels), (5, CHANNELS.len() + 1));
