@@ -273,12 +273,21 @@ fn arm(s: &mut String, r: &SessionReport) {
 fn delivery(s: &mut String, r: &SessionReport, link: Option<&LinkReport>) {
     let rec = &r.recorder;
     match (&r.record, rec.mcap_bytes) {
-        (Some(p), Some(b)) => line!(
-            s,
-            "recording           {} ({:.2} MB)",
-            p.display(),
-            b as f64 / 1e6
-        ),
+        (Some(p), Some(b)) => {
+            line!(
+                s,
+                "recording           {} ({:.2} MB)",
+                p.display(),
+                b as f64 / 1e6
+            );
+            // Stopped early but finished (low on disk space): readable as it is.
+            if let (Some(t), Some(e)) = (rec.recording_stopped_s, &rec.error) {
+                line!(
+                    s,
+                    "                    recording stopped at {t:.1} s (the session went on): {e}"
+                );
+            }
+        }
         (Some(p), None) => {
             line!(
                 s,

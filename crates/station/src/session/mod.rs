@@ -5,6 +5,7 @@ pub mod arm;
 pub mod arm_calibration;
 mod controls;
 pub mod course;
+pub mod disk_space;
 pub mod faults;
 pub mod haptic;
 pub mod measures;
@@ -172,6 +173,8 @@ pub fn run(
     }
     let recorder = match &opts.record {
         Some(path) => {
+            // Room for the whole planned recording, or no session.
+            disk_space::ensure_room(path, cfg.session.duration_s)?;
             let meta = SessionMetadata {
                 exercise: cfg.session.exercise.clone(),
                 seed: cfg.session.seed,

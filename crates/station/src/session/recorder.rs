@@ -5,6 +5,7 @@
 //! The haptic thread never waits for it in real time.
 
 use super::arm_calibration::ArmLoopCollector;
+use super::disk_space::{self, LowSpace};
 use super::faults::{Disk, FillingFile};
 use super::measures::{MeasureCollector, Measures};
 use super::{LiveSummary, SessionObserver};
@@ -16,10 +17,14 @@ use std::collections::BTreeMap;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// Session time between two score messages and two therapist summaries, s.
 pub const SUMMARY_EVERY_S: f64 = 0.1;
+
+/// Wall time between two syncs of the recording to the disk (`fsync`), after a chunk closes:
+/// a power cut loses at most about this much.
+pub const SYNC_EVERY: Duration = Duration::from_secs(1);
 
 /// A session's MCAP file being written.
 pub struct McapRecorder {
@@ -29,6 +34,14 @@ pub struct McapRecorder {
     disk_full_at_ns: Option<u64>,
     /// The disk the file is on (filled by that fault).
     disk: Disk,
+    /// The same open file, to sync it and measure its filesystem's free space.
+    file: std::fs::File,
+    /// Wall time between two syncs.
+    sync_every: Duration,
+    /// When the file was last synced.
+    last_sync: Option<Instant>,
+    /// Recording stops (the file finished) when fewer bytes than this are free, bytes.
+    reserve_bytes: u64,
 }
 
 /// A recorder problem.
@@ -59,6 +72,10 @@ pub enum RecorderError {
         /// Why.
         source: mcap::McapError,
     },
+    /// Free space on the recording's disk fell below the reserve: recording stops and the
+    /// file is finished while there is room.
+    #[error(transparent)]
+    LowSpace(LowSpace),
 }
 
 impl McapRecorder {
@@ -83,6 +100,10 @@ impl McapRecorder {
                 },
             })?;
         let disk = Disk::default();
+        let handle = file.try_clone().map_err(|source| RecorderError::Io {
+            path: path.display().to_string(),
+            source,
+        })?;
         let writer = RecordWriter::new(
             BufWriter::new(FillingFile::new(file, disk.clone())),
             start_unix_ns,
@@ -97,7 +118,25 @@ impl McapRecorder {
             path: path.to_path_buf(),
             disk_full_at_ns: None,
             disk,
+            file: handle,
+            sync_every: SYNC_EVERY,
+            last_sync: None,
+            reserve_bytes: disk_space::RESERVE_BYTES,
         })
+    }
+
+    /// Sync the file to the disk after a chunk closes at most once per `every` of wall time
+    /// (default [`SYNC_EVERY`]; `Duration::ZERO`: after every chunk, `Duration::MAX`: never).
+    pub fn sync_every(mut self, every: Duration) -> Self {
+        self.sync_every = every;
+        self
+    }
+
+    /// Stop recording when fewer than `reserve_bytes` are free on the file's filesystem
+    /// (default [`disk_space::RESERVE_BYTES`]), checked each time a chunk closes.
+    pub fn keep_free(mut self, reserve_bytes: u64) -> Self {
+        self.reserve_bytes = reserve_bytes;
+        self
     }
 
     /// Fill the disk (an injected fault) at session time `at_ns`.
@@ -149,10 +188,32 @@ impl McapRecorder {
             .map_err(|e| self.err(e))
     }
 
-    /// Close the current chunk and flush it to disk, so a killed process loses at most what
-    /// came after this call.
+    /// Close the current chunk and flush it to the file, so a killed process loses at most
+    /// what came after this call; sync the file to the disk if [`SYNC_EVERY`] has passed (a
+    /// power cut loses at most that much more); then check the free space: below the reserve
+    /// this returns [`RecorderError::LowSpace`] and the caller finishes the file.
     pub fn flush(&mut self) -> Result<(), RecorderError> {
-        self.writer.flush().map_err(|e| self.err(e))
+        self.writer.flush().map_err(|e| self.err(e))?;
+        if self
+            .last_sync
+            .is_none_or(|t| t.elapsed() >= self.sync_every)
+        {
+            self.last_sync = Some(Instant::now());
+            self.file.sync_data().map_err(|source| RecorderError::Io {
+                path: self.path.display().to_string(),
+                source,
+            })?;
+        }
+        match disk_space::free_bytes_of(&self.file) {
+            Ok(free) if free < self.reserve_bytes => Err(RecorderError::LowSpace(LowSpace {
+                path: self.path.clone(),
+                free_bytes: free,
+                needed_bytes: self.reserve_bytes,
+                planned_s: None,
+            })),
+            // Cannot measure: writing goes on, and a full disk still says so.
+            _ => Ok(()),
+        }
     }
 
     /// Write the summary section and close the file; returns its size in bytes.
@@ -389,6 +450,14 @@ pub(super) fn recorder_loop(
                 tracing::warn!(t_s = rec.t_ns as f64 * 1e-9, "recording stopped: {e}");
                 out.recording_stopped_s = Some(rec.t_ns as f64 * 1e-9);
                 out.error.get_or_insert_with(|| e.to_string());
+                // Low on space, not out of it: finish the file while there is room, so it
+                // reads without `telerehab recover`.
+                if let (RecorderError::LowSpace(_), Some(m)) = (&e, mcap.take()) {
+                    match m.finish() {
+                        Ok(bytes) => out.mcap_bytes = Some(bytes),
+                        Err(e) => tracing::warn!("cannot finish the recording: {e}"),
+                    }
+                }
                 mcap = None;
             }
         }

@@ -1,0 +1,220 @@
+//! Room on the recording's disk: checked before a session starts (refused when the planned
+//! session would not fit) and by the recorder thread each time it closes a chunk (recording
+//! stops cleanly, the file finished and readable, before the disk is full).
+//!
+//! Free space is what an unprivileged writer may use (`statvfs`'s `f_bavail × f_frsize`),
+//! measured on the filesystem that holds the recording.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// What a recording takes, bytes per second of session: the measured ~300 MB per hour at
+/// 1 kHz (`telerehab bench recording`, BENCHMARKS.md) plus a quarter for what varies (the
+/// exercise, the arm channels, paused time that still records).
+pub const RECORDING_BYTES_PER_S: u64 = 300_000_000 * 5 / 4 / 3600;
+
+/// Space the recorder never writes into, bytes: recording stops when less is free, leaving
+/// room to finish the file (the last chunk, the summary section and index, well under 1 MB
+/// for a 4 h session) and for the rest of the system.
+pub const RESERVE_BYTES: u64 = 64_000_000;
+
+/// Bytes free for the station on the filesystem holding `path` (the recording itself, or the
+/// directory it will be created in).
+pub fn free_bytes(path: &Path) -> std::io::Result<u64> {
+    let s = rustix::fs::statvfs(path)?;
+    Ok(s.f_bavail.saturating_mul(s.f_frsize))
+}
+
+/// Bytes free on the filesystem of the open file `file`.
+pub fn free_bytes_of(file: &std::fs::File) -> std::io::Result<u64> {
+    let s = rustix::fs::fstatvfs(file)?;
+    Ok(s.f_bavail.saturating_mul(s.f_frsize))
+}
+
+/// The directory a recording at `path` is created in.
+pub fn directory_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    }
+}
+
+/// Bytes a session of `duration_s` needs free before it starts: its recording at
+/// [`RECORDING_BYTES_PER_S`] plus the [`RESERVE_BYTES`] it never writes into.
+pub fn needed_bytes(duration_s: f64) -> u64 {
+    (duration_s.max(0.0) * RECORDING_BYTES_PER_S as f64).ceil() as u64 + RESERVE_BYTES
+}
+
+/// Too little room on the recording's disk.
+#[derive(Debug, thiserror::Error)]
+pub struct LowSpace {
+    /// The recording (or where it was to be created).
+    pub path: PathBuf,
+    /// Bytes free on its filesystem.
+    pub free_bytes: u64,
+    /// Bytes needed (before a session: the whole planned recording and the reserve; while
+    /// recording: the reserve).
+    pub needed_bytes: u64,
+    /// Planned session length, s (`None` while recording).
+    pub planned_s: Option<f64>,
+}
+
+/// `n` bytes as MB, one decimal.
+fn mb(n: u64) -> String {
+    format!("{:.1} MB", n as f64 / 1e6)
+}
+
+impl fmt::Display for LowSpace {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.planned_s {
+            Some(s) => write!(
+                f,
+                "not enough disk space to record {}: {} free on its filesystem, a {s:.0} s \
+                 session needs {} ({} per hour of recording plus {} kept free); free some \
+                 space, record elsewhere or plan a shorter session",
+                self.path.display(),
+                mb(self.free_bytes),
+                mb(self.needed_bytes),
+                mb(RECORDING_BYTES_PER_S * 3600),
+                mb(RESERVE_BYTES),
+            ),
+            None => write!(
+                f,
+                "recording {}: stopped before the disk filled up, {} free on its filesystem \
+                 (below the {} kept free); the file is finished and readable up to here",
+                self.path.display(),
+                mb(self.free_bytes),
+                mb(self.needed_bytes),
+            ),
+        }
+    }
+}
+
+/// Refuse a session of `duration_s` recorded at `path` when its filesystem has not room for
+/// it (see [`needed_bytes`]); a filesystem that cannot be measured is let through (creating
+/// the file then says what is wrong).
+pub fn ensure_room(path: &Path, duration_s: f64) -> Result<(), LowSpace> {
+    let Ok(free) = free_bytes(directory_of(path)) else {
+        return Ok(());
+    };
+    check_room(path, free, duration_s)
+}
+
+/// [`ensure_room`] with the free bytes measured.
+pub fn check_room(path: &Path, free_bytes: u64, duration_s: f64) -> Result<(), LowSpace> {
+    let needed = needed_bytes(duration_s);
+    if free_bytes >= needed {
+        return Ok(());
+    }
+    Err(LowSpace {
+        path: path.to_path_buf(),
+        free_bytes,
+        needed_bytes: needed,
+        planned_s: Some(duration_s),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_hour_needs_the_measured_rate_with_a_quarter_more_and_the_reserve() {
+        assert_eq!(RECORDING_BYTES_PER_S, 104_166);
+        let hour = needed_bytes(3600.0);
+        assert!((438_000_000..439_000_000).contains(&hour), "{hour}");
+        assert_eq!(needed_bytes(0.0), RESERVE_BYTES);
+    }
+
+    #[test]
+    fn a_session_that_does_not_fit_is_refused_naming_the_path_the_free_bytes_and_the_need() {
+        let path = Path::new("/data/session.mcap");
+        assert!(check_room(path, needed_bytes(600.0), 600.0).is_ok());
+        let err = check_room(path, needed_bytes(600.0) - 1, 600.0)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("/data/session.mcap"), "{err}");
+        assert!(err.contains("126.5 MB free"), "{err}");
+        assert!(err.contains("a 600 s session needs 126.5 MB"), "{err}");
+        assert!(err.contains("375.0 MB per hour"), "{err}");
+    }
+
+    /// Watches the live summaries for `recording_stopped_s`.
+    #[derive(Default)]
+    struct Summaries(Vec<Option<f64>>);
+
+    impl crate::session::SessionObserver for Summaries {
+        fn on_summary(&mut self, s: &crate::session::LiveSummary) {
+            self.0.push(s.extra.get("recording_stopped_s").copied());
+        }
+    }
+
+    #[test]
+    fn a_recorder_low_on_space_stops_at_a_chunk_and_leaves_a_finished_readable_file() {
+        use crate::record::{Recording, SessionMetadata, TickRecord};
+        use crate::session::recorder::{McapRecorder, RecorderPlan, recorder_loop};
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("low.mcap");
+        // Whatever is free on this disk is below a reserve of every byte there could be: the
+        // first chunk's check (a real statvfs) stops the recording.
+        let recorder = McapRecorder::create(&path, 0, &SessionMetadata::default())
+            .unwrap()
+            .keep_free(u64::MAX);
+        let (mut producer, consumer) = rtrb::RingBuffer::new(4096);
+        for tick in 0..2500u64 {
+            let rec = TickRecord {
+                tick,
+                t_ns: tick * 1_000_000,
+                ..Default::default()
+            };
+            producer.push(rec).unwrap();
+        }
+        let plan = RecorderPlan {
+            period_ns: 1_000_000,
+            expected_ticks: 2500,
+            summary_every: 100,
+            flush_every: 1000,
+            arm_lengths_m: [0.3, 0.25],
+        };
+        let mut summaries = Summaries::default();
+        let done = std::sync::atomic::AtomicBool::new(true);
+        let (out, _) = recorder_loop(consumer, Some(recorder), &done, plan, &mut summaries);
+        assert_eq!(out.records, 2500, "the session went on");
+        let at_s = out.recording_stopped_s.unwrap();
+        assert!((at_s - 0.999).abs() < 1e-9, "stopped at {at_s} s");
+        let err = out.error.unwrap();
+        assert!(err.contains("stopped before the disk filled up"), "{err}");
+        assert!(err.contains(path.to_str().unwrap()), "{err}");
+        // Said at once: every summary from the stop on carries it, none before.
+        let stopped: Vec<_> = summaries.0.iter().map(Option::is_some).collect();
+        assert_eq!(stopped.iter().filter(|s| !**s).count(), 9, "{stopped:?}");
+        assert!(stopped[9..].iter().all(|s| *s));
+        // Finished: it reads without recover, every tick up to the stop and none after.
+        let bytes = std::fs::read(&path).unwrap();
+        assert_eq!(out.mcap_bytes, Some(bytes.len() as u64));
+        assert!(mcap::Summary::read(&bytes).unwrap().is_some());
+        let ticks: Vec<u64> = Recording::open(&path)
+            .unwrap()
+            .wheel
+            .iter()
+            .map(|w| w.tick)
+            .collect();
+        assert_eq!(ticks, (0..1000).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn free_space_is_measured_on_the_recording_s_filesystem() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("s.mcap");
+        let free = free_bytes(directory_of(&path)).unwrap();
+        let file = std::fs::File::create(&path).unwrap();
+        let free_of = free_bytes_of(&file).unwrap();
+        // The same filesystem, a moment apart (others write to it too).
+        assert!(
+            free > 0 && free.abs_diff(free_of) < 1_000_000_000,
+            "{free} {free_of}"
+        );
+        assert!(free_bytes(&dir.path().join("missing/s.mcap")).is_err());
+        assert_eq!(directory_of(Path::new("s.mcap")), Path::new("."));
+    }
+}
