@@ -8,6 +8,9 @@ use crate::sim::{SimWheel, SimWheelParams};
 use crate::wheel::Wheel;
 use proptest::prelude::*;
 
+#[cfg(all(target_os = "linux", feature = "evdev"))]
+mod modes;
+
 const DT_NS: u64 = 1_000_000;
 
 fn chain(model: Option<SpringDamper>, passivity: Option<PassivityParams>) -> HapticChain {
