@@ -5,6 +5,7 @@
 
 use station::config::StationConfig;
 use station::record::Recording;
+use std::path::Path;
 use telerehab_tests::{assert_within_ceiling_and_slew, run_ok, sim_session_args};
 
 /// What a faulted session recorded: every tick's commanded torque, ceiling and watchdog state,
@@ -20,10 +21,21 @@ struct Faulted {
 }
 
 fn faulted_session(seconds: &str, fault: &str) -> Faulted {
+    faulted_session_with(seconds, &[fault])
+}
+
+/// A recorded max-speed session of `seconds` with every fault of `faults` injected.
+fn faulted_session_with(seconds: &str, faults: &[&str]) -> Faulted {
     let dir = tempfile::tempdir().unwrap();
     let mcap = dir.path().join("faulted.mcap");
-    let out = run_ok(&sim_session_args(seconds, &mcap, &["--fault", fault]));
-    let rec = Recording::open(&mcap).unwrap();
+    let extra: Vec<&str> = faults.iter().flat_map(|f| ["--fault", f]).collect();
+    let out = run_ok(&sim_session_args(seconds, &mcap, &extra));
+    faulted_recording(&mcap, &out)
+}
+
+/// What the recording `mcap` of a session whose run printed `out` holds.
+fn faulted_recording(mcap: &Path, out: &std::process::Output) -> Faulted {
+    let rec = Recording::open(mcap).unwrap();
     let cfg = StationConfig::from_toml(&rec.metadata.config_toml, "the recording").unwrap();
     Faulted {
         report: String::from_utf8_lossy(&out.stdout).into_owned(),
@@ -76,12 +88,17 @@ impl Faulted {
 }
 
 #[test]
-fn an_unplugged_wheel_ends_the_session_at_zero_torque_with_the_reason() {
+fn an_unplugged_wheel_not_back_within_the_grace_ends_the_session_at_zero_torque_with_the_reason() {
     let f = faulted_session("6", "wheel-unplug@3");
     f.assert_within_ceiling_and_slew();
-    // The session ends where the wheel went: the recording stops a fade-out after 3 s.
+    // Zero torque within the fade-out, and for the whole grace (30 s by default) it waited,
+    // paused, for the wheel to come back.
+    f.assert_zero_within(3.0, 0.25 + 0.002);
+    let gone = f.tick_at(3.25);
+    assert!(f.commanded_nm[gone..].iter().all(|&c| c == 0.0));
+    // The session ends when the grace is over: the recording stops a fade-out after 33 s.
     let last = *f.t_s.last().unwrap();
-    assert!((3.0..3.5).contains(&last), "last tick at {last} s");
+    assert!((33.0..33.5).contains(&last), "last tick at {last} s");
     assert_eq!(*f.commanded_nm.last().unwrap(), 0.0);
     assert!(f.report.contains("stopped early"), "{}", f.report);
     assert!(
@@ -268,4 +285,253 @@ fn a_full_disk_stops_the_recording_not_the_session_and_recover_keeps_what_reache
         ticks.iter().enumerate().all(|(i, &t)| t == i as u64),
         "no tick missing"
     );
+}
+
+#[test]
+fn a_wheel_plugged_back_within_the_grace_resumes_the_paused_exercise_with_a_soft_start() {
+    let f = faulted_session_with("6", &["wheel-unplug@3", "wheel-replug@5"]);
+    f.assert_within_ceiling_and_slew();
+    // Away: zero torque within the fade-out, and until it is back.
+    f.assert_zero_within(3.0, 0.25 + 0.002);
+    let (gone, back) = (f.tick_at(3.25), f.tick_at(5.0));
+    assert!(f.commanded_nm[gone..back].iter().all(|&c| c == 0.0));
+    // Back: the exercise resumes from paused with a soft start (the slew check above holds
+    // across it), and the session runs its 6 s of exercise: 2 s longer for the pause.
+    let resumed = (back..f.t_s.len())
+        .find(|&i| f.watchdog[i] == "soft-start")
+        .expect("a soft start after the replug");
+    assert_eq!(f.commanded_nm[resumed - 1], 0.0);
+    assert!(
+        f.commanded_nm[resumed..].iter().any(|c| c.abs() > 0.01),
+        "torque again"
+    );
+    assert!(*f.t_s.last().unwrap() >= 8.0, "the pause lengthened it");
+    assert!(!f.report.contains("stopped early"), "{}", f.report);
+    assert!(
+        f.report.contains("unplugged and plugged back 1 time"),
+        "{}",
+        f.report
+    );
+}
+
+#[test]
+fn a_frozen_or_saturated_wheel_encoder_never_takes_the_torque_out_of_its_limits() {
+    // A frozen angle cannot be told from a still hand: the torque stays within its limits and
+    // the exercise goes on.
+    let f = faulted_session("6", "wheel-frozen@3+1");
+    f.assert_within_ceiling_and_slew();
+    assert!(*f.t_s.last().unwrap() >= 6.0);
+    assert!(!f.report.contains("stopped early"), "{}", f.report);
+    // A saturated one (the end of its range, reached by a jump no hand makes) is no reading:
+    // the torque fades out as for a stale reading, then soft-starts again.
+    let f = faulted_session("6", "wheel-saturated@3+0.3");
+    f.assert_within_ceiling_and_slew();
+    let at = f.tick_at(3.0);
+    assert!(
+        f.watchdog[at..at + 50]
+            .iter()
+            .any(|w| w == "fault-stale-reading")
+    );
+    f.assert_zero_within(3.0, 0.25 + 0.002);
+    assert!(
+        f.commanded_nm[f.tick_at(5.0)..]
+            .iter()
+            .any(|c| c.abs() > 0.01)
+    );
+    assert!(!f.report.contains("stopped early"), "{}", f.report);
+}
+
+/// The estimated shoulder elevation's largest error against the simulated truth between
+/// `from_s` and `to_s`, rad (the elbow's is set by the wheel's angle; the shoulder's follows the
+/// IMUs' orientations).
+fn shoulder_error_rad(rec: &Recording, from_s: f64, to_s: f64) -> f64 {
+    rec.arm
+        .iter()
+        .filter(|a| (from_s..to_s).contains(&a.t_s))
+        .map(|a| (a.data.shoulder_elevation_rad - a.data.true_shoulder_elevation_rad).abs())
+        .fold(0.0, f64::max)
+}
+
+/// Largest error of the shoulder elevation the arm sensing may make, rad (2°; 0.8° before the
+/// faults here, 3° with a 1 s freeze integrated and 78° with 0.3 s of saturation integrated,
+/// seed 7).
+const SHOULDER_ERROR_RAD: f64 = 2.0 * std::f64::consts::PI / 180.0;
+
+#[test]
+fn an_arm_sensor_plugged_back_resumes_tracking_and_the_measures_count_the_lost_second() {
+    let dir = tempfile::tempdir().unwrap();
+    let mcap = dir.path().join("imu-replug.mcap");
+    let out = run_ok(&sim_session_args(
+        "6",
+        &mcap,
+        &["--fault", "imu-unplug@3", "--fault", "imu-replug@4"],
+    ));
+    let report = String::from_utf8_lossy(&out.stdout);
+    let rec = Recording::open(&mcap).unwrap();
+    let at = |t: f64| rec.arm.iter().position(|a| a.t_s >= t - 1e-9).unwrap();
+    let setup = |i: usize| rec.arm[i].data.setup.as_str();
+    assert_eq!(setup(at(2.99)), "tracking");
+    assert!((at(3.0)..at(4.0)).all(|i| setup(i) == "sensor-lost"));
+    assert!((at(4.0)..rec.arm.len()).all(|i| setup(i) == "tracking"));
+    // Tracking again, not frozen: the pose moves with the arm, as close to the truth as
+    // before the loss (the orientation re-acquired from the arm chain).
+    let after = &rec.arm[at(4.1)..];
+    assert!(
+        after
+            .iter()
+            .any(|a| a.data.elbow_flexion_rad != after[0].data.elbow_flexion_rad)
+    );
+    let resumed = shoulder_error_rad(&rec, 4.1, 6.0);
+    assert!(
+        resumed <= SHOULDER_ERROR_RAD,
+        "shoulder elevation off by {resumed} rad after the replug"
+    );
+    let measures = &rec.metrics.last().unwrap().data.measures;
+    assert_eq!(measures["arm_sensors_lost"], 0.0, "back at the end");
+    assert!(
+        (measures["arm_sensor_lost_s"] - 1.0).abs() < 0.01,
+        "{}",
+        measures["arm_sensor_lost_s"]
+    );
+    assert!(!report.contains("stopped early"), "{report}");
+    assert!(!report.contains("arm sensing         off"), "{report}");
+    faulted_recording(&mcap, &out).assert_within_ceiling_and_slew();
+}
+
+#[test]
+fn frozen_or_saturated_arm_sensors_never_move_the_pose_away_from_the_arm() {
+    for fault in ["imu-frozen@3+1", "imu-saturated@3+0.3"] {
+        let dir = tempfile::tempdir().unwrap();
+        let mcap = dir.path().join("imu.mcap");
+        let out = run_ok(&sim_session_args("6", &mcap, &["--fault", fault]));
+        let rec = Recording::open(&mcap).unwrap();
+        assert!(
+            rec.arm.iter().all(|a| a.data.setup.as_str() == "tracking"),
+            "{fault}: tracking throughout"
+        );
+        let during = shoulder_error_rad(&rec, 1.0, 6.0);
+        assert!(
+            during <= SHOULDER_ERROR_RAD,
+            "{fault}: shoulder elevation off by {during} rad"
+        );
+        faulted_recording(&mcap, &out).assert_within_ceiling_and_slew();
+    }
+}
+
+/// A running netlink hub (`telerehab therapist`) and the address it listens on.
+struct Hub {
+    child: std::process::Child,
+    addr: String,
+}
+
+impl Hub {
+    fn start(store: &Path) -> Hub {
+        use std::io::BufRead;
+        let mut child = std::process::Command::new(telerehab_tests::telerehab_bin())
+            .args([
+                "therapist",
+                "--listen",
+                "127.0.0.1:0",
+                "--store",
+                store.to_str().unwrap(),
+            ])
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        let mut lines = std::io::BufReader::new(child.stdout.take().unwrap()).lines();
+        let first = lines.next().expect("hub prints where it listens").unwrap();
+        let addr = first
+            .strip_prefix("listening on ")
+            .and_then(|r| r.split_whitespace().next())
+            .unwrap_or_else(|| panic!("unexpected first line {first:?}"))
+            .to_string();
+        // Keep draining the hub's live lines so it never blocks on a full pipe.
+        std::thread::spawn(move || for _ in lines {});
+        Hub { child, addr }
+    }
+}
+
+impl Drop for Hub {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// Every summary seq the hub stored for `station_id`, per session.
+fn stored_seqs(store: &Path, station_id: &str) -> Vec<Vec<u64>> {
+    let mut sessions = Vec::new();
+    for entry in std::fs::read_dir(store.join(station_id)).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "jsonl") {
+            let text = std::fs::read_to_string(&path).unwrap();
+            sessions.push(
+                text.lines()
+                    .map(|l| {
+                        serde_json::from_str::<serde_json::Value>(l).unwrap()["seq"]
+                            .as_u64()
+                            .unwrap()
+                    })
+                    .collect(),
+            );
+        }
+    }
+    sessions
+}
+
+#[test]
+fn the_hub_going_away_and_back_loses_no_summary_duplicates_none_and_leaves_the_torque_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let (store, home) = (dir.path().join("store"), dir.path().join("home"));
+    let mcap = dir.path().join("hub-down.mcap");
+    let hub = Hub::start(&store);
+    // In real time, so that the hub is away for 2 s of wall time: the link's connection is
+    // cut, its reconnections refused, and the summaries wait in the on-disk queue.
+    let out = std::process::Command::new(telerehab_tests::telerehab_bin())
+        .args([
+            "run",
+            "--sim",
+            "--headless",
+            "--duration",
+            "6",
+            "--therapist",
+            &hub.addr,
+            "--home",
+            home.to_str().unwrap(),
+            "--record",
+            mcap.to_str().unwrap(),
+            "--fault",
+            "hub-down@2",
+            "--fault",
+            "hub-up@4",
+        ])
+        .output()
+        .unwrap();
+    let report = String::from_utf8_lossy(&out.stdout);
+    let log = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{report}\n{log}");
+    assert!(
+        log.contains("hub went away") && log.contains("hub is back"),
+        "{log}"
+    );
+    // Every summary delivered exactly once, in order: 61 (every 100 ms of 6 s, and the last).
+    assert!(
+        report.contains("61 summaries") && report.contains("0 NOT delivered"),
+        "{report}"
+    );
+    assert_eq!(
+        stored_seqs(&store, "station-1"),
+        [(0..61).collect::<Vec<u64>>()]
+    );
+    // The torque is the one a session without the fault commands, tick for tick.
+    let f = faulted_recording(&mcap, &out);
+    f.assert_within_ceiling_and_slew();
+    let calm = dir.path().join("calm.mcap");
+    let calm_out = run_ok(&sim_session_args("6", &calm, &[]));
+    assert_eq!(
+        f.commanded_nm,
+        faulted_recording(&calm, &calm_out).commanded_nm
+    );
+    assert!(!report.contains("stopped early"), "{report}");
 }

@@ -169,6 +169,14 @@ impl ArmPoseEstimator {
         }
     }
 
+    /// Re-acquire the sensors' orientations after a gap in their samples (an IMU unplugged and
+    /// plugged back): the next update starts the filters again at the chain's pose for its
+    /// wheel angle and the swivel last fitted, as the first update does; the mounting, the
+    /// gyro-bias estimates and the range of motion are kept.
+    pub fn reacquire(&mut self) {
+        self.started = false;
+    }
+
     /// Start a new range-of-motion accumulation (e.g. a new exercise).
     pub fn reset_range_of_motion(&mut self) {
         self.rom = RangeOfMotion::default();

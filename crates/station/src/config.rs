@@ -173,6 +173,10 @@ pub struct HapticConfig {
     /// Road feel: wheel torque per kN of front lateral tyre force, N·m/kN (thesis §3.3.4).
     /// The steering ratio is `vehicle.steering_ratio`.
     pub road_feel_nm_per_kn: f64,
+    /// How long an unplugged wheel may take to come back, s, in [0, 600]: meanwhile the torque
+    /// is zero and the exercise paused; when it answers again the exercise resumes with a soft
+    /// start, and when it does not the session ends with the reason (0: at once).
+    pub replug_grace_s: f64,
 }
 
 impl Default for HapticConfig {
@@ -186,6 +190,7 @@ impl Default for HapticConfig {
             passivity: PassivityParams::default(),
             passivity_enabled: true,
             road_feel_nm_per_kn: vehicle::AligningTorque::default().nm_per_kn,
+            replug_grace_s: 30.0,
         }
     }
 }
@@ -323,12 +328,11 @@ impl StationConfig {
             2.0,
             "N·m/kN",
         )?;
+        check("haptic.replug_grace_s", h.replug_grace_s, 0.0, 600.0, "s")?;
         if let Some(a) = &self.assist {
             a.validate().map_err(|e| in_section("assist")(&e))?;
         }
-        for f in &self.faults {
-            f.validate().map_err(|e| in_section("faults")(&e))?;
-        }
+        crate::session::faults::validate_all(&self.faults).map_err(|e| in_section("faults")(&e))?;
         self.sim_patient
             .validate()
             .map_err(|e| in_section("sim_patient")(&e))?;

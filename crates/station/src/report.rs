@@ -64,6 +64,13 @@ fn outcome(s: &mut String, r: &SessionReport) {
         s,
         "duration            {duration_s:.2} s session time{early}"
     );
+    if r.haptic.wheel_replugs > 0 {
+        line!(
+            s,
+            "wheel               unplugged and plugged back {} time(s): the exercise paused at zero torque, resumed with a soft start",
+            r.haptic.wheel_replugs
+        );
+    }
     if let Some(fault) = r.haptic.wheel_fault {
         line!(s, "ended because       {fault} (torque faded to zero)");
     }
@@ -367,6 +374,7 @@ mod tests {
             dial_ticks: 2_000,
             paused_ticks: 1_500,
             fault_ticks: 12,
+            arm_lost_ns: 0,
             assist_ticks: 4_000,
             assist_level_sum: 1_800.0,
             assist_error_sq_sum: 4_000.0 * 0.03_f64.powi(2),
@@ -414,6 +422,7 @@ mod tests {
                 range_of_motion_rad: Some([0.1, 0.2, 0.3, 0.4, 0.5]),
                 arm_failure: Some("an IMU stopped answering (unplugged)".into()),
                 wheel_fault: Some(WheelFault::Silent),
+                wheel_replugs: 0,
                 skipped_deadlines: 4,
                 ceiling: Some(CeilingReport {
                     motor_nm: 2.5,

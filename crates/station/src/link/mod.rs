@@ -8,6 +8,7 @@ pub mod uploads;
 use crate::config::StationConfig;
 use crate::home::Home;
 use crate::report::LinkReport;
+use crate::session::faults::HubSwitch;
 use crate::session::{LiveSummary, SessionObserver};
 use anyhow::Context;
 use clock::Clock;
@@ -43,6 +44,8 @@ struct Inner {
     /// The session's Hello and TLS, for the recording's upload.
     hello: Hello,
     tls: Option<ClientTls>,
+    /// The relay an injected hub-down cuts, told the session time of each summary.
+    hub_switch: Option<HubSwitch>,
 }
 
 /// The first socket address `address` (`host:port`) resolves to; errors name it as `what`.
@@ -120,7 +123,7 @@ impl Link {
         });
         let hello = hello(cfg, clock);
         let session_id = hello.session_id.clone();
-        let config = StationLinkConfig::new(addr, tls.clone(), hello.clone());
+        let mut config = StationLinkConfig::new(addr, tls.clone(), hello.clone());
         config.validate().context("therapist link")?;
         let runtime = tokio::runtime::Builder::new_multi_thread()
             .worker_threads(1)
@@ -128,6 +131,13 @@ impl Link {
             .enable_all()
             .build()
             .context("cannot start the network runtime")?;
+        // An injected hub-down (a simulated session's fault) puts a relay between the link and
+        // its hub, checked above as the hub itself.
+        let hub_switch = HubSwitch::start(runtime.handle(), addr, &cfg.faults)
+            .context("the relay of the injected hub-down")?;
+        if let Some(switch) = &hub_switch {
+            config.addr = switch.address().into();
+        }
         let queue = match home {
             Some(home) => {
                 let dir = home.queue_dir();
@@ -153,6 +163,7 @@ impl Link {
                 home: home.cloned(),
                 hello,
                 tls,
+                hub_switch,
             }),
         })
     }
@@ -162,6 +173,9 @@ impl Link {
     pub fn send(&self, s: &LiveSummary) {
         let Some(inner) = &self.inner else { return };
         let r = &s.record;
+        if let Some(switch) = &inner.hub_switch {
+            switch.at(r.t_ns);
+        }
         let summary = Summary {
             session_id: inner.session_id.clone(),
             seq: s.seq,

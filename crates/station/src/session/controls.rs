@@ -2,7 +2,7 @@
 //! that the haptic thread depends on it and nothing else of [`super`]).
 
 use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, AtomicU32};
 
 /// What other threads (a signal handler, the patient's window) may ask of a running session.
 #[derive(Debug, Default)]
@@ -11,6 +11,11 @@ pub struct Controls {
     pub stop: Arc<AtomicBool>,
     /// While set, the exercise is paused (see [`super::plant::Plant::set_paused`]).
     pub pause: AtomicBool,
+    /// Told by the haptic thread: the wheel is away (unplugged, within the replug grace) or
+    /// settling after it came back.
+    pub wheel_away: AtomicBool,
+    /// Told by the haptic thread: times the wheel was unplugged and came back.
+    pub wheel_replugs: AtomicU32,
 }
 
 impl Controls {
@@ -18,7 +23,7 @@ impl Controls {
     pub fn with_stop(stop: Arc<AtomicBool>) -> Self {
         Self {
             stop,
-            pause: AtomicBool::new(false),
+            ..Self::default()
         }
     }
 }

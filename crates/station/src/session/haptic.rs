@@ -39,6 +39,8 @@ pub struct HapticOutcome {
     pub arm_failure: Option<String>,
     /// The wheel fault that ended the session, if one did.
     pub wheel_fault: Option<haptic_wheel::WheelFault>,
+    /// Times the wheel was unplugged and came back within the replug grace.
+    pub wheel_replugs: u32,
     /// Deadlines skipped after a stall (the loop never bursts through missed ticks).
     pub skipped_deadlines: u64,
     /// The torque ceiling that held on the wheel, N·m and as a share of its motor.
@@ -246,6 +248,13 @@ pub fn run(
         }
         let mut rec = plant.tick();
         let done = clock.now_ns();
+        // For the live summaries and the log (the recorder thread tells them).
+        controls
+            .wheel_away
+            .store(plant.wheel_away(), Ordering::Relaxed);
+        controls
+            .wheel_replugs
+            .store(plant.wheel_replugs(), Ordering::Relaxed);
         rec.timing = TimingSample {
             lateness_ns: if pacing == Pacing::RealTime {
                 wake.saturating_sub(deadline)
@@ -285,6 +294,7 @@ pub fn run(
         range_of_motion_rad: plant.range_of_motion_rad(),
         arm_failure: plant.arm_failure().map(|f| f.to_string()),
         wheel_fault: plant.wheel_fault(),
+        wheel_replugs: plant.wheel_replugs(),
         skipped_deadlines: slots.skipped,
         ceiling: Some(plant.ceiling()),
     }

@@ -13,7 +13,7 @@ use anyhow::Context;
 use assist::{HumanArm, Limits, Measurement};
 use haptic_wheel::{
     CeilingReport, HapticChain, HapticChainConfig, SimWheel, TickInput, WatchdogState, Wheel,
-    WheelFault, ZeroTorqueOnDrop,
+    WheelFault, WheelReading, ZeroTorqueOnDrop,
 };
 use vehicle::{
     AligningTorque, DialScore, DrivingScore, PreviewDriver, Projection, SpeedController,
@@ -186,9 +186,21 @@ pub struct Plant {
     last_target_rad: f64,
     velocity_rad_s: f64,
     watchdog: WatchdogState,
-    /// The first fault the wheel reported (unplugged, silent, out of range): the session
-    /// ends on it, and says why.
+    /// The first fault the wheel reported (unplugged past the replug grace, silent, out of
+    /// range): the session ends on it, and says why.
     wheel_fault: Option<WheelFault>,
+    /// When the wheel went away (unplugged), ns of loop time: it has the replug grace to come
+    /// back, the exercise paused and the torque at zero meanwhile.
+    wheel_gone_since_ns: Option<u64>,
+    /// The wheel came back: the exercise stays paused until the supervisor's fault has
+    /// cleared, then resumes with a soft start (never a torque step).
+    wheel_settling: bool,
+    /// Times the wheel went away and came back within the grace.
+    wheel_replugs: u32,
+    /// `[haptic] replug_grace_s`, ns.
+    replug_grace_ns: u64,
+    /// Tells a saturated encoder from a wheel turned to its end.
+    plausibility: AnglePlausibility,
     /// The last finite wheel angle read, rad (what the car steers by without a reading).
     last_angle_rad: f64,
     /// The wheel's motor and usable torque, for the ceiling stated in the log and report.
@@ -218,6 +230,7 @@ impl Plant {
             ..HapticChainConfig::for_encoder_step(body.encoder_step_rad(cfg))
         };
         let device_max = body.wheel().max_torque_nm();
+        let half_range_rad = body.wheel().capabilities().half_range_rad;
         for (i, seg) in course.iter().enumerate() {
             seg.haptic.validate(device_max).with_context(|| {
                 format!(
@@ -270,6 +283,11 @@ impl Plant {
             velocity_rad_s: 0.0,
             watchdog: WatchdogState::SoftStart,
             wheel_fault: None,
+            wheel_gone_since_ns: None,
+            wheel_settling: false,
+            wheel_replugs: 0,
+            replug_grace_ns: (h.replug_grace_s * 1e9).round() as u64,
+            plausibility: AnglePlausibility::new(half_range_rad),
             last_angle_rad: 0.0,
             ceiling,
         };
@@ -320,6 +338,40 @@ impl Plant {
         self.wheel_fault
     }
 
+    /// The wheel is away (unplugged, within the replug grace) or settling after it came back.
+    pub fn wheel_away(&self) -> bool {
+        self.wheel_gone_since_ns.is_some() || self.wheel_settling
+    }
+
+    /// Times the wheel was unplugged and came back within the replug grace.
+    pub fn wheel_replugs(&self) -> u32 {
+        self.wheel_replugs
+    }
+
+    /// A read of the wheel failed with `e` at loop time `t_ns`. An unplugged wheel has the
+    /// replug grace to come back (the exercise paused meanwhile); any other fault, or the
+    /// grace over, ends the session. No allocation: a running wheel's faults are `Copy`.
+    fn wheel_failed(&mut self, e: &haptic_wheel::WheelError, t_ns: u64) {
+        match e.fault() {
+            Some(WheelFault::Unplugged) if self.wheel_fault.is_none() => {
+                let since = *self.wheel_gone_since_ns.get_or_insert(t_ns);
+                if t_ns - since >= self.replug_grace_ns {
+                    self.wheel_fault = Some(WheelFault::Unplugged);
+                }
+            }
+            fault => self.wheel_fault = self.wheel_fault.or(fault),
+        }
+    }
+
+    /// The wheel answered a read: if it was away it is back, and the exercise resumes once
+    /// the supervisor's fault has cleared.
+    fn wheel_back(&mut self) {
+        if self.wheel_gone_since_ns.take().is_some() {
+            self.wheel_settling = true;
+            self.wheel_replugs += 1;
+        }
+    }
+
     /// The torque ceiling in force on this wheel now (a regimen may have lowered it), N·m and
     /// as a share of its motor.
     pub fn ceiling(&self) -> CeilingReport {
@@ -354,17 +406,22 @@ impl Plant {
         // The exercise waits while the patient pauses it or the arm set-up asks them to do
         // something else; the torque fades out meanwhile, so the wheel turns freely.
         let setup = self.body.arm_setup().filter(|s| s.in_progress());
-        let paused = self.paused || setup.is_some();
+        // …and while the wheel is away or settling after it came back.
+        let paused = self.paused || setup.is_some() || self.wheel_away();
         self.chain.set_paused(paused);
         // 1. Read the wheel as the host sees it (quantised, delayed).
-        let reading = match self.body.wheel().read() {
-            Ok(r) if r.angle_rad.is_finite() => Some(r),
-            // A NaN or infinite angle is no reading: the supervisor fades the torque out as
-            // for a stale one, and the car keeps the last good angle.
+        let read = self.body.wheel().read();
+        if read.is_ok() {
+            self.wheel_back();
+        }
+        let reading = match read {
+            Ok(r) if r.angle_rad.is_finite() && self.plausibility.accept(&r) => Some(r),
+            // A NaN or infinite angle is no reading, nor is a clipped (saturated) one: the
+            // supervisor fades the torque out as for a stale one, and the car keeps the last
+            // good angle.
             Ok(_) => None,
             Err(e) => {
-                // No allocation: a running wheel's faults are `Copy` values.
-                self.wheel_fault = self.wheel_fault.or(e.fault());
+                self.wheel_failed(&e, t_ns);
                 None
             }
         };
@@ -450,6 +507,8 @@ impl Plant {
         });
         self.velocity_rad_s = tel.vel_rad_s;
         self.watchdog = tel.watchdog;
+        // The fault after a replug has cleared: resume (from paused, so with a soft start).
+        self.wheel_settling &= tel.watchdog != WatchdogState::Paused;
         // Firmware effects play only while the supervisor runs at full scale.
         self.body
             .wheel()
@@ -585,6 +644,48 @@ impl Plant {
     pub fn zero_torque(&mut self) {
         self.body.wheel().set_firmware_effects_active(false);
         let _ = self.body.wheel().command_torque(0.0);
+    }
+}
+
+/// Fastest a hand (or a released wheel) turns a wheel, rad/s (~5700 °/s): a reading further
+/// from the last good one than this allows is a glitch, not a movement.
+const MAX_PLAUSIBLE_RATE_RAD_S: f64 = 100.0;
+
+/// Tells a saturated (clipped) encoder from a wheel turned to its end: a reading at the end of
+/// the range reached by a jump no hand could make is no reading, and neither are the readings
+/// that hold there after it; one reached by turning is a reading. Any other jump is a glitch
+/// and dropped. Allocation-free.
+#[derive(Clone, Copy, Debug)]
+struct AnglePlausibility {
+    half_range_rad: f64,
+    /// The last accepted reading: (t_ns, angle_rad).
+    last_good: Option<(u64, f64)>,
+    /// The encoder is clipped at its end since a jump there.
+    clipped: bool,
+}
+
+impl AnglePlausibility {
+    fn new(half_range_rad: f64) -> Self {
+        Self {
+            half_range_rad,
+            last_good: None,
+            clipped: false,
+        }
+    }
+
+    /// Whether `r` (a finite angle) is a reading of the wheel's position.
+    fn accept(&mut self, r: &WheelReading) -> bool {
+        let at_end = r.angle_rad.abs() >= self.half_range_rad * (1.0 - 1e-6);
+        let jump = self.last_good.is_some_and(|(t, a)| {
+            let dt_s = r.t_ns.saturating_sub(t) as f64 * 1e-9;
+            (r.angle_rad - a).abs() > MAX_PLAUSIBLE_RATE_RAD_S * dt_s.max(1e-3)
+        });
+        self.clipped = at_end && (jump || self.clipped);
+        if jump || self.clipped {
+            return false;
+        }
+        self.last_good = Some((r.t_ns, r.angle_rad));
+        true
     }
 }
 

@@ -246,6 +246,9 @@ impl RecorderOutcome {
         self.dial_ticks += u64::from(active && rec.vehicle.is_none());
         self.paused_ticks += u64::from(!active);
         self.fault_ticks += u64::from(rec.wheel.watchdog.is_fault());
+        if rec.arm.is_some_and(|a| a.setup == ArmSetup::SensorLost) {
+            self.arm_lost_ns += rec.t_ns.saturating_sub(self.last.t_ns);
+        }
         if rec.assist.active {
             self.assist_ticks += 1;
             self.assist_level_sum += rec.assist.assistance_level;
@@ -274,6 +277,11 @@ impl RecorderOutcome {
         if let Some(arm) = &self.last.arm {
             let lost = matches!(arm.setup, ArmSetup::SensorLost | ArmSetup::Failed);
             figures.insert("arm_sensors_lost".to_owned(), f64::from(u8::from(lost)));
+            // How long they were lost, s, however it ended (plugged back or not).
+            figures.insert(
+                "arm_sensor_lost_s".to_owned(),
+                self.arm_lost_ns as f64 * 1e-9,
+            );
         }
         if self.assist_ticks > 0 {
             let n = self.assist_ticks as f64;
@@ -314,6 +322,8 @@ pub struct RecorderOutcome {
     pub paused_ticks: u64,
     /// Ticks on which the safety supervisor saw a fault (missed deadline, stale reading).
     pub fault_ticks: u64,
+    /// Session time the arm sensing was lost (an IMU stopped answering), ns.
+    pub arm_lost_ns: u64,
     /// Ticks with an active assist controller.
     pub assist_ticks: u64,
     /// Sum of the assistance level over assisted ticks.

@@ -181,6 +181,50 @@ struct Tracking {
     mounting: Mounting,
     /// The second IMU is on the upper arm (found by the procedure).
     swapped: bool,
+    /// Frozen or saturated samples of each IMU (device order), kept from the estimator.
+    checks: [SampleCheck; 2],
+}
+
+/// Fresh samples with the very same three rates before an IMU counts as frozen: a MEMS gyro's
+/// noise (several LSB at rest) makes even two equal readings of three axes rare, and 20 in a
+/// row (20 ms at 1 kHz, 80 ms at 250 Hz) do not happen on a live sensor.
+const FROZEN_AFTER: u32 = 20;
+
+/// Tells a frozen or saturated IMU from a live one, sample by sample.
+#[derive(Clone, Copy, Debug, Default)]
+struct SampleCheck {
+    last_t_ns: u64,
+    last_rate: [f64; 3],
+    /// Fresh samples in a row with the same rates as the one before.
+    repeats: u32,
+}
+
+impl SampleCheck {
+    /// `s` as the estimator may use it: with NaN rates (which its filters ignore) when the
+    /// sensor is saturated (a rate at its full scale, which clips) or frozen.
+    fn usable(&mut self, s: &ImuSample) -> ImuSample {
+        let rate = rates(s);
+        if s.t_ns != self.last_t_ns {
+            self.repeats = if rate == self.last_rate {
+                self.repeats.saturating_add(1)
+            } else {
+                0
+            };
+            self.last_t_ns = s.t_ns;
+            self.last_rate = rate;
+        }
+        let saturated = rate
+            .iter()
+            .any(|r| r.abs() >= crate::session::faults::IMU_FULL_SCALE_RAD_S);
+        if saturated || self.repeats >= FROZEN_AFTER {
+            ImuSample {
+                rate_rad_s: nalgebra::Vector3::repeat(f64::NAN),
+                ..*s
+            }
+        } else {
+            *s
+        }
+    }
 }
 
 /// Mounting procedure, then pose estimation (see the module docs).
@@ -223,6 +267,7 @@ impl ArmTracker {
                 estimator,
                 mounting,
                 swapped: false,
+                checks: Default::default(),
             }),
             step: SetupStep::Tracking,
             // Nothing to time out: the mounting is known.
@@ -294,6 +339,27 @@ impl ArmTracker {
             self.failure = Some(ArmFailure::SensorLost(error));
         }
         self.step = SetupStep::SensorLost;
+        self.last.setup = self.step.label();
+    }
+
+    /// The lost IMU answers again: tracking resumes with the mounting found before (the straps
+    /// did not move: a cable or a radio link came back), the sensors' orientations re-acquired
+    /// from the arm chain at the wheel's angle on the next update. A sensor lost before its
+    /// mounting was known leaves the sensing failed (the guided procedure is not re-run in the
+    /// middle of an exercise).
+    pub fn regain_sensor(&mut self) {
+        if self.step != SetupStep::SensorLost {
+            return;
+        }
+        self.step = match &mut self.tracking {
+            Some(t) => {
+                t.estimator.reacquire();
+                t.checks = Default::default();
+                self.failure = None;
+                SetupStep::Tracking
+            }
+            None => SetupStep::Failed,
+        };
         self.last.setup = self.step.label();
     }
 
@@ -398,6 +464,7 @@ impl ArmTracker {
                 estimator,
                 mounting: out.mounting,
                 swapped: out.swapped,
+                checks: Default::default(),
             })
         });
         match started {
@@ -415,7 +482,9 @@ impl ArmTracker {
     /// One tick of pose estimation.
     fn track(&mut self, wheel: WheelNow, a: &ImuSample, b: &ImuSample) {
         let Some(t) = &mut self.tracking else { return };
-        let (upper, fore) = if t.swapped { (b, a) } else { (a, b) };
+        // Frozen or saturated rates carry no motion: the filters hold rather than integrate.
+        let (a, b) = (t.checks[0].usable(a), t.checks[1].usable(b));
+        let (upper, fore) = if t.swapped { (&b, &a) } else { (&a, &b) };
         let pose = match t.estimator.update(wheel.angle_rad, upper, fore, wheel.dt_s) {
             Ok(pose) => pose,
             Err(_) => {

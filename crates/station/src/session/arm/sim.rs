@@ -21,8 +21,10 @@ pub struct SimArmSensing {
     pub unreachable: u64,
     /// Injected arm-sensor faults and their session-time windows, ns.
     faults: Vec<(FaultKind, u64, u64)>,
-    /// An injected unplug has been told to the tracker.
+    /// An injected unplug has been told to the tracker (and its replug not yet).
     unplugged: bool,
+    /// The rates an injected freeze holds (upper, fore), rad/s.
+    held: Option<(Vector3<f64>, Vector3<f64>)>,
 }
 
 /// A rotation drawn uniformly enough for a sensor strapped on any way.
@@ -80,6 +82,7 @@ impl SimArmSensing {
             unreachable: 0,
             faults: crate::session::faults::imu_faults(faults),
             unplugged: false,
+            held: None,
         })
     }
 
@@ -117,16 +120,34 @@ impl SimArmSensing {
                 .iter()
                 .any(|&(k, start, end)| k == kind && (start..end).contains(&read.t_ns))
         };
-        // Told once: the loss is for good, and the haptic thread must not allocate each tick.
-        if acting(FaultKind::ImuUnplug) && !self.unplugged {
+        // Told once per unplug (the haptic thread must not allocate each tick), and the
+        // replug once when its window ends.
+        let unplugged = acting(FaultKind::ImuUnplug);
+        if unplugged && !self.unplugged {
             self.unplugged = true;
             self.tracker.lose_sensor(ImuError::Device(
                 "an arm IMU was unplugged (injected fault)".into(),
             ));
+        } else if !unplugged && self.unplugged {
+            self.unplugged = false;
+            self.tracker.regain_sensor();
         }
         if acting(FaultKind::ImuNan) {
             upper.rate_rad_s.fill(f64::NAN);
             fore.rate_rad_s.fill(f64::NAN);
+        }
+        if acting(FaultKind::ImuFrozen) {
+            let (u, f) = *self.held.get_or_insert((upper.rate_rad_s, fore.rate_rad_s));
+            (upper.rate_rad_s, fore.rate_rad_s) = (u, f);
+        } else {
+            self.held = None;
+        }
+        if acting(FaultKind::ImuSaturated) {
+            let full = |r: &mut Vector3<f64>| {
+                r.apply(|x| *x = crate::session::faults::IMU_FULL_SCALE_RAD_S.copysign(*x))
+            };
+            full(&mut upper.rate_rad_s);
+            full(&mut fore.rate_rad_s);
         }
         let mut sample = self.tracker.update(read, &upper, &fore);
         sample.true_shoulder_elevation_rad = truth.angles.shoulder_elevation_rad;
