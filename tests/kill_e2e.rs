@@ -138,7 +138,7 @@ fn a_session_that_would_not_fit_on_its_disk_is_refused_before_it_starts() {
         }
     };
     let path = disk.path().join("long.mcap");
-    // 600 s need 62.5 MB at 375 MB/h plus the 64 MB kept free: more than 80 MiB.
+    // 600 s need 100 MB at 600 MB/h plus the 64 MB kept free: more than 80 MiB.
     let err = telerehab_tests::run_err(&[
         "run",
         "--sim",
@@ -156,7 +156,7 @@ fn a_session_that_would_not_fit_on_its_disk_is_refused_before_it_starts() {
         "names the path: {err}"
     );
     assert!(err.contains("83.9 MB free"), "the free bytes: {err}");
-    assert!(err.contains("needs 126.5 MB"), "the need: {err}");
+    assert!(err.contains("needs 164.0 MB"), "the need: {err}");
     assert!(
         !path.exists(),
         "no recording for a session that never started"

@@ -194,9 +194,10 @@ impl McapRecorder {
     /// this returns [`RecorderError::LowSpace`] and the caller finishes the file.
     pub fn flush(&mut self) -> Result<(), RecorderError> {
         self.writer.flush().map_err(|e| self.err(e))?;
-        if self
-            .last_sync
-            .is_none_or(|t| t.elapsed() >= self.sync_every)
+        if self.sync_every != Duration::MAX
+            && self
+                .last_sync
+                .is_none_or(|t| t.elapsed() >= self.sync_every)
         {
             self.last_sync = Some(Instant::now());
             self.file.sync_data().map_err(|source| RecorderError::Io {
@@ -216,7 +217,8 @@ impl McapRecorder {
         }
     }
 
-    /// Write the summary section and close the file; returns its size in bytes.
+    /// Write the summary section, sync the file to the disk and close it; returns its size in
+    /// bytes.
     pub fn finish(self) -> Result<u64, RecorderError> {
         let Self { writer, path, .. } = self;
         let path = path.display().to_string();
@@ -224,7 +226,7 @@ impl McapRecorder {
             Ok(sink) => sink.into_inner().map_err(|e| e.into_error()),
             Err(source) => return Err(RecorderError::Mcap { path, source }),
         };
-        file.and_then(|f| f.file().metadata())
+        file.and_then(|f| f.file().sync_data().and_then(|()| f.file().metadata()))
             .map(|m| m.len())
             .map_err(|source| RecorderError::Io { path, source })
     }

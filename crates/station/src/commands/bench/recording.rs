@@ -5,17 +5,24 @@
 //! The ticks come from one simulated session at `--speed max`, kept in memory; each encoding
 //! then writes them all to memory `--repeats` times, alternating, and the median time counts.
 //! Both write zstd-compressed MCAP chunks of the same size: only the message encoding differs.
+//!
+//! Then the session's own recorder (`session::recorder::McapRecorder`) writes the compact
+//! encoding to a file in `--dir`, alternately without syncing and syncing (`fsync`) after every
+//! chunk: the difference per chunk is what a sync costs the recorder thread, which syncs at
+//! most once a second of wall time.
 
 use crate::commands::run::{self, RunArgs};
 use crate::record::channels::{MESSAGE_ENCODING, SCHEMA_ENCODING};
 use crate::record::writer::mcap_options;
 use crate::record::{CHANNELS, Channel, RecordWriter, SessionMetadata, Stamped, TickRecord};
+use crate::session::recorder::McapRecorder;
 use crate::session::{self, BodyKind, SessionObserver, SessionOptions, haptic::Pacing};
 use clock::Clock;
 use mcap::records::MessageHeader;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::io::Cursor;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 /// `telerehab bench recording`.
@@ -33,6 +40,10 @@ pub struct BenchRecordingArgs {
     /// Times each encoding writes the session (the median counts).
     #[arg(long, default_value_t = 5)]
     pub repeats: usize,
+    /// Directory the recorder's file is written to (the sync measurement; default: the
+    /// system's temporary directory).
+    #[arg(long)]
+    pub dir: Option<PathBuf>,
 }
 
 /// Every tick of a session, as the recorder thread saw them.
@@ -113,6 +124,34 @@ fn all_json(ticks: &[TickRecord], meta: &SessionMetadata) -> anyhow::Result<usiz
     Ok(w.into_inner().into_inner().len())
 }
 
+/// The session's recorder writing `ticks` to a new file in `dir`, a chunk closed every 1000
+/// ticks, synced after every chunk when `sync` (else never); the time it took, and the
+/// longest chunk close (flush, and sync).
+fn to_file(
+    ticks: &[TickRecord],
+    meta: &SessionMetadata,
+    dir: &Path,
+    sync: bool,
+) -> anyhow::Result<(Duration, Duration)> {
+    let tmp = tempfile::tempdir_in(dir)?;
+    let every = if sync { Duration::ZERO } else { Duration::MAX };
+    let mut rec = McapRecorder::create(&tmp.path().join("bench.mcap"), 0, meta)?
+        .sync_every(every)
+        .keep_free(0);
+    let mut longest = Duration::ZERO;
+    let t0 = Instant::now();
+    for (i, t) in ticks.iter().enumerate() {
+        rec.record(t, with_score(t))?;
+        if i % 1000 == 999 {
+            let f0 = Instant::now();
+            rec.flush()?;
+            longest = longest.max(f0.elapsed());
+        }
+    }
+    rec.finish()?;
+    Ok((t0.elapsed(), longest))
+}
+
 /// A sample written as the JSON message of its channel, whatever its type.
 mod erased {
     use super::{Serialize, Stamped, TickRecord};
@@ -178,6 +217,16 @@ pub(super) fn recording(args: BenchRecordingArgs) -> anyhow::Result<()> {
         t_compact.push(t0.elapsed());
     }
     let (t_compact, t_json) = (median(t_compact), median(t_json));
+    let dir = args.dir.clone().unwrap_or_else(std::env::temp_dir);
+    let (mut t_nosync, mut t_sync, mut longest) = (Vec::new(), Vec::new(), Duration::ZERO);
+    for _ in 0..args.repeats {
+        t_nosync.push(to_file(&ticks, &meta, &dir, false)?.0);
+        let (t, l) = to_file(&ticks, &meta, &dir, true)?;
+        t_sync.push(t);
+        longest = longest.max(l);
+    }
+    let (t_nosync, t_sync) = (median(t_nosync), median(t_sync));
+    let chunks = (ticks.len() / 1000).max(1) as f64;
     let hours = args.duration / 3600.0;
     let per_tick_us = |t: Duration| t.as_secs_f64() * 1e6 / ticks.len() as f64;
     println!(
@@ -202,6 +251,17 @@ pub(super) fn recording(args: BenchRecordingArgs) -> anyhow::Result<()> {
         b_compact as f64 / b_json as f64,
         b_json as f64 / b_compact as f64,
         t_compact.as_secs_f64() / t_json.as_secs_f64()
+    );
+    let per_sync_ms = (t_sync.as_secs_f64() - t_nosync.as_secs_f64()) * 1e3 / chunks;
+    println!(
+        "recorder to a file in {}: {:.2} µs/tick unsynced, {:.2} µs/tick synced after every \
+         chunk; a sync costs {per_sync_ms:.2} ms ({:.2} % of each second at one a second), \
+         longest chunk close with its sync {:.1} ms",
+        dir.display(),
+        per_tick_us(t_nosync),
+        per_tick_us(t_sync),
+        per_sync_ms / 10.0,
+        longest.as_secs_f64() * 1e3
     );
     Ok(())
 }
