@@ -62,9 +62,12 @@ fn serve(socket: UnixStream) -> anyhow::Result<()> {
             return Err(e);
         }
     };
-    if hello.idle_priority {
-        let idle = crate::session::haptic::request_idle_priority();
-        tracing::debug!(idle, "patient window at idle scheduling priority");
+    if hello.background_priority {
+        let idle = crate::session::haptic::request_background_priority();
+        tracing::debug!(
+            idle,
+            "patient window at the lowest normal priority (nice 19)"
+        );
     }
     let latest = Mutex::new(Latest::default());
     let draw = Arc::new(AtomicBool::new(true));

@@ -155,9 +155,11 @@ pub fn request_realtime_priority() -> bool {
 }
 
 /// Put the calling thread, and the threads it starts later (a software rasteriser's workers),
-/// in the idle scheduling class (SCHED_IDLE): they run only on CPU time nothing else wants, so
-/// the recorder and the network never wait behind the patient's window. True when granted.
-pub fn request_idle_priority() -> bool {
+/// at the lowest normal priority (nice 19): the recorder and the network come first, yet
+/// unlike the idle class (SCHED_IDLE) it keeps a small share of the CPU under any load, so a
+/// busy machine slows the patient's window down rather than starving it into looking hung to
+/// its supervisor. True when granted.
+pub fn request_background_priority() -> bool {
     #[cfg(target_os = "linux")]
     {
         use thread_priority::{
@@ -167,7 +169,7 @@ pub fn request_idle_priority() -> bool {
         set_thread_priority_and_policy(
             thread_native_id(),
             ThreadPriority::Min,
-            ThreadSchedulePolicy::Normal(NormalThreadSchedulePolicy::Idle),
+            ThreadSchedulePolicy::Normal(NormalThreadSchedulePolicy::Other),
         )
         .is_ok()
     }

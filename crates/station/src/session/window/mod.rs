@@ -36,7 +36,7 @@ impl SessionObserver for ScreenFeed<'_> {
 /// Run the session on its own threads and the patient's window in its own process, showing
 /// the session's course ([`crate::screen::CourseView`]); `observer` watches the session as in
 /// [`super::run`]. Space pauses and resumes through `controls`; closing the window stops the
-/// session. With `idle_priority` the window gets only the CPU time the session leaves over.
+/// session. With `background_priority` the window runs at the lowest normal priority (nice 19).
 /// Without a usable GPU or display the session simply runs headless (the account is then
 /// `None`).
 pub fn run_with_window(
@@ -44,7 +44,7 @@ pub fn run_with_window(
     controls: &Controls,
     window: &WindowOptions,
     observer: &mut dyn SessionObserver,
-    idle_priority: bool,
+    background_priority: bool,
 ) -> anyhow::Result<(SessionReport, Option<WindowAccount>)> {
     // The window process (started from this thread) stays off the haptic thread's core.
     super::haptic::cores::keep_off_the_haptic_core();
@@ -54,7 +54,7 @@ pub fn run_with_window(
         fullscreen: window.fullscreen,
         max_fps: window.max_fps,
         gated: window.draw_gate.is_some(),
-        idle_priority,
+        background_priority,
         config_toml: toml::to_string(&opts.config).context("the session's configuration")?,
         regimen_toml: opts
             .regimen

@@ -21,7 +21,7 @@ use std::time::{Duration, Instant};
 /// Longest a window may take to open (a software rasteriser compiles its pipelines first).
 pub const OPEN_TIMEOUT: Duration = Duration::from_secs(30);
 /// A window that has not pulled a frame for this long has hung: it is killed and replaced.
-/// Long enough for a window at idle priority on a busy machine, short for a patient.
+/// Long enough for a window at the lowest priority on a busy machine, short for a patient.
 pub const HANG_TIMEOUT: Duration = Duration::from_secs(5);
 /// How long a closing window may take to say goodbye before it is killed.
 const CLOSE_TIMEOUT: Duration = Duration::from_secs(3);

@@ -31,8 +31,8 @@ pub struct Hello {
     pub max_fps: Option<f64>,
     /// The station switches drawing on and off with each frame's `draw` (a benchmark).
     pub gated: bool,
-    /// Run the window at idle scheduling priority (only the CPU time the session leaves).
-    pub idle_priority: bool,
+    /// Run the window at the lowest normal priority (nice 19): the session's threads first.
+    pub background_priority: bool,
     /// The session's configuration, TOML (the window builds its view of the course from it).
     pub config_toml: String,
     /// The session's regimen, TOML, if it has one.
