@@ -62,6 +62,5 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     match args.what {
         BenchCommand::Window(a) => window::window(a),
         BenchCommand::Recording(a) => recording::recording(a),
-        BenchCommand::Soak(a) => soak::soak(a),
     }
 }
