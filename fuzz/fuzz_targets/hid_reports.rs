@@ -7,9 +7,9 @@
 #![no_main]
 
 use gyro_imu::ImuError;
+use gyro_imu::device::TickUnwrapper;
 use gyro_imu::device::sony::{self, SonyCalibration};
 use gyro_imu::device::switch::{self, SwitchCalibration};
-use gyro_imu::device::TickUnwrapper;
 use libfuzzer_sys::fuzz_target;
 
 fn check_error(e: &ImuError) {
@@ -44,7 +44,13 @@ fuzz_target!(|data: &[u8]| {
             // reports with the nominal and, when it parsed, the report's own calibration.
             let cal = match SonyCalibration::from_feature_report(report, which & 0x10 != 0) {
                 Ok(c) => {
-                    for v in c.gyro_bias.iter().chain(&c.gyro_scale).chain(&c.acc_bias).chain(&c.acc_scale) {
+                    for v in c
+                        .gyro_bias
+                        .iter()
+                        .chain(&c.gyro_scale)
+                        .chain(&c.acc_bias)
+                        .chain(&c.acc_scale)
+                    {
                         assert!(v.is_finite(), "{c:?}");
                     }
                     c
@@ -54,7 +60,11 @@ fuzz_target!(|data: &[u8]| {
                     SonyCalibration::nominal()
                 }
             };
-            check_sony(sony::parse_ds4(report, &cal), &mut ticks, sony::DS4_TICK_MODULUS);
+            check_sony(
+                sony::parse_ds4(report, &cal),
+                &mut ticks,
+                sony::DS4_TICK_MODULUS,
+            );
             check_sony(
                 sony::parse_dualsense(report, &cal),
                 &mut ticks,
@@ -79,7 +89,12 @@ fuzz_target!(|data: &[u8]| {
             if let Some(block) = switch::spi_reply(report, addr) {
                 assert!(block.len() <= report.len().saturating_sub(20));
                 match SwitchCalibration::from_spi(block) {
-                    Ok(c) => assert!(c.acc_scale.iter().chain(&c.gyro_scale).all(|v| v.is_finite())),
+                    Ok(c) => assert!(
+                        c.acc_scale
+                            .iter()
+                            .chain(&c.gyro_scale)
+                            .all(|v| v.is_finite())
+                    ),
                     Err(e) => check_error(&e),
                 }
             }
