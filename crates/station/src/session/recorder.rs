@@ -104,6 +104,11 @@ impl McapRecorder {
             path: path.display().to_string(),
             source,
         })?;
+        // The new name reaches the disk with its directory (the file's own syncs do not carry
+        // it), so a power cut keeps the recording findable.
+        if let Ok(dir) = std::fs::File::open(disk_space::directory_of(path)) {
+            let _ = dir.sync_all();
+        }
         let writer = RecordWriter::new(
             BufWriter::new(FillingFile::new(file, disk.clone())),
             start_unix_ns,
