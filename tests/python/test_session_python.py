@@ -88,3 +88,31 @@ def test_a_channel_is_a_pandas_frame_indexed_by_session_time(recording):
     assert np.array_equal(frame["angle_rad"].to_numpy(), s.channels["/wheel"]["angle_rad"])
     with pytest.raises(KeyError, match="/wheel"):
         s.frame("/nope")
+
+
+def test_the_raw_inputs_are_columns_with_units_and_hold_what_the_station_consumed(recording):
+    s = telerehab.session.read(recording)
+    wheel, raw, imu, arm = (s.channels[t] for t in ("/wheel", "/raw/wheel", "/raw/imu", "/arm"))
+    # /raw/wheel: one row a tick, the reading as the wheel gave it and the body clock.
+    assert np.array_equal(raw["tick"], wheel["tick"])
+    assert set(raw["read"]) == {"ok"}
+    assert raw["now_ns"].dtype == np.int64 and np.all(np.diff(raw["now_ns"]) == 1_000_000)
+    assert "rad" in s.units["/raw/wheel"]["angle_rad"]
+    assert np.array_equal(raw["angle_rad"], wheel["angle_rad"])  # no fault: the reading is the angle
+    assert not raw["paused"].any()
+    # The tracker is stepped except on ticks the simulated arm cannot reach the rim.
+    assert 0.5 < raw["arm_stepped"].mean()
+    # /raw/imu: every sample of both simulated IMUs, SI units after the device edge.
+    assert set(imu["sensor"]) == {0, 1}
+    assert "rad/s" in s.units["/raw/imu"]["gyro_x_rad_s"]
+    assert "m/s²" in s.units["/raw/imu"]["acc_z_m_s2"]
+    assert imu["device_t_ns"].dtype == np.int64
+    g = np.sqrt(imu["acc_x_m_s2"] ** 2 + imu["acc_y_m_s2"] ** 2 + imu["acc_z_m_s2"] ** 2)
+    assert 9.0 < np.median(g) < 10.6  # gravity plus the arm's motion, m/s²
+    # Exactly what the arm tracker consumed: the upper-arm gyro it reports on /arm, bit for bit.
+    upper = imu["sensor"] == 0
+    assert upper.sum() == raw["arm_stepped"].sum()  # a fresh sample every tick it was stepped
+    at = np.searchsorted(arm["tick"], imu["tick"][upper])
+    # (/arm records it on its own grid of 1 µrad/s, which holds /raw/imu's 100 µrad/s one.)
+    assert np.allclose(arm["upper_gyro_x_rad_s"][at], imu["gyro_x_rad_s"][upper], rtol=0, atol=1e-12)
+    assert np.allclose(imu["gyro_x_rad_s"] / 1e-4, np.round(imu["gyro_x_rad_s"] / 1e-4), rtol=0, atol=1e-6)

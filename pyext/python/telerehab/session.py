@@ -8,12 +8,17 @@
 
 Channels (one per MCAP topic): ``/wheel``, ``/assist``, ``/timing`` every haptic tick (1 kHz);
 ``/vehicle`` every tick on the road; ``/arm`` every tick with arm sensing; ``/score`` every
-100 ms; ``/arm_calibration`` and ``/metrics`` once at the end. Every sample carries ``tick``
+100 ms; ``/arm_calibration`` and ``/metrics`` once at the end; the raw inputs the station's
+pure code consumed, ``/raw/wheel`` every tick (the wheel's reading and its timestamp, the body
+clock, pause and stop, the arm tracker's events) and ``/raw/imu`` every IMU sample (``sensor``,
+``device_t_ns``, gyro rad/s, specific force m/s²), exactly as consumed, so ``telerehab replay``
+re-runs a session from them. Every sample carries ``tick``
 (haptic tick since the start) and ``t_s`` (session time, s). Units are in the field names
 (``_rad``, ``_nm``, ``_m_s``, ``_us``, …) and, in full, in :attr:`Session.units`, read from the
 file itself, so they cannot drift from what the station wrote.
 
-The high-rate channels (``/wheel``, ``/vehicle``, ``/assist``, ``/timing``, ``/arm``) are
+The high-rate channels (``/wheel``, ``/vehicle``, ``/assist``, ``/timing``, ``/arm``,
+``/raw/wheel``, ``/raw/imu``) are
 recorded in compact blocks: protobuf messages (descriptor in the file) of one column per field
 over 100 samples, numbers as differences of whole quanta (1 µrad, 1 µN·m, 1 µm, …, stated per
 field in the channel's ``telerehab.columns`` metadata). They are decoded here with the

@@ -1,6 +1,7 @@
 //! The channels of a recording: topic, schema name and JSON schema, in one table.
 
 use super::blocks::{BlockError, Layout};
+use super::raw::{RawImuSample, RawWheelSample};
 use super::types::{
     ArmCalibrationSample, ArmSample, AssistSample, MetricsSample, ScoreSample, Stamped,
     TimingSample, VehicleSample, WheelSample,
@@ -35,6 +36,11 @@ pub enum Channel {
     ArmCalibration,
     /// The session's movement measures, once at the end ([`MetricsSample`]).
     Metrics,
+    /// The raw inputs of every tick: the wheel's read, the body clock, pause and stop, the
+    /// arm tracker's events ([`RawWheelSample`]).
+    RawWheel,
+    /// Every IMU sample the arm tracker consumed ([`RawImuSample`]).
+    RawImu,
 }
 
 /// Makes the block layout of a channel from its schema name.
@@ -57,7 +63,7 @@ pub struct ChannelSpec {
 }
 
 /// Every channel, in the order the writer registers them (`Channel as usize` indexes it).
-pub const CHANNELS: [ChannelSpec; 8] = [
+pub const CHANNELS: [ChannelSpec; 10] = [
     blocks::<WheelSample>(Channel::Wheel, "/wheel", "telerehab.Wheel"),
     blocks::<VehicleSample>(Channel::Vehicle, "/vehicle", "telerehab.Vehicle"),
     spec::<ScoreSample>(Channel::Score, "/score", "telerehab.Score"),
@@ -70,6 +76,8 @@ pub const CHANNELS: [ChannelSpec; 8] = [
         "telerehab.ArmCalibration",
     ),
     spec::<MetricsSample>(Channel::Metrics, "/metrics", "telerehab.Metrics"),
+    blocks::<RawWheelSample>(Channel::RawWheel, "/raw/wheel", "telerehab.RawWheel"),
+    blocks::<RawImuSample>(Channel::RawImu, "/raw/imu", "telerehab.RawImu"),
 ];
 
 /// A channel whose messages are `Stamped<T>`.
@@ -129,7 +137,7 @@ impl ChannelSpec {
 
 impl Channel {
     /// Every channel, in registration order.
-    pub const ALL: [Channel; 8] = [
+    pub const ALL: [Channel; 10] = [
         Channel::Wheel,
         Channel::Vehicle,
         Channel::Score,
@@ -138,6 +146,8 @@ impl Channel {
         Channel::Arm,
         Channel::ArmCalibration,
         Channel::Metrics,
+        Channel::RawWheel,
+        Channel::RawImu,
     ];
 
     /// Its row of [`CHANNELS`].

@@ -25,6 +25,7 @@
 
 pub mod blocks;
 pub mod channels;
+pub mod raw;
 pub mod reader;
 pub mod recover;
 pub mod scene;
@@ -34,6 +35,7 @@ pub mod types;
 pub mod writer;
 
 pub use channels::{CHANNELS, Channel, ChannelSpec};
+pub use raw::{BodyFacts, RawImuSample, RawTick, RawWheelSample};
 pub use reader::{ReadError, RecordedRows, Recording, Row, recorded_rows};
 pub use types::{
     ArmCalibrationSample, ArmSample, ArmSetup, AssistSample, MetricsSample, MovementSample,

@@ -3,6 +3,7 @@
 use super::blocks::unflatten::unflatten;
 use super::blocks::{self, BlockError, Cell, Layout};
 use super::channels::Channel;
+use super::raw::{RawImuSample, RawTick, RawWheelSample};
 use super::types::{
     ArmCalibrationSample, ArmSample, AssistSample, MetadataError, MetricsSample, ScoreSample,
     SessionMetadata, Stamped, TickRecord, TimingSample, VehicleSample, WheelSample,
@@ -78,6 +79,10 @@ pub struct Recording {
     pub arm_calibration: Vec<Stamped<ArmCalibrationSample>>,
     /// `/metrics`, at most once, at the end.
     pub metrics: Vec<Stamped<MetricsSample>>,
+    /// `/raw/wheel`, every tick: the raw inputs besides the IMU samples.
+    pub raw_wheel: Vec<Stamped<RawWheelSample>>,
+    /// `/raw/imu`, every IMU sample the arm tracker consumed.
+    pub raw_imu: Vec<Stamped<RawImuSample>>,
 }
 
 impl Recording {
@@ -117,6 +122,8 @@ impl Recording {
             arm: decode(Channel::Arm, take(Channel::Arm))?,
             arm_calibration: decode(Channel::ArmCalibration, take(Channel::ArmCalibration))?,
             metrics: decode(Channel::Metrics, take(Channel::Metrics))?,
+            raw_wheel: decode(Channel::RawWheel, take(Channel::RawWheel))?,
+            raw_imu: decode(Channel::RawImu, take(Channel::RawImu))?,
         })
     }
 
@@ -129,11 +136,20 @@ impl Recording {
         let mut assist = self.assist.iter().peekable();
         let mut timing = self.timing.iter().peekable();
         let mut arm = self.arm.iter().peekable();
+        let mut raw_wheel = self.raw_wheel.iter().peekable();
+        let mut raw_imu = self.raw_imu.iter().peekable();
         let mut last_score = ScoreSample::default();
         self.wheel.iter().map(move |w| {
             let tick = w.tick;
             while let Some(s) = score.next_if(|s| s.tick <= tick) {
                 last_score = s.data;
+            }
+            let mut imu = [None; 2];
+            while raw_imu.next_if(|m| m.tick < tick).is_some() {}
+            while let Some(m) = raw_imu.next_if(|m| m.tick == tick) {
+                if let Some(slot) = imu.get_mut(m.data.sensor as usize) {
+                    *slot = Some(m.data);
+                }
             }
             TickRecord {
                 tick,
@@ -144,6 +160,10 @@ impl Recording {
                 assist: at_tick(&mut assist, tick).unwrap_or_default(),
                 arm: at_tick(&mut arm, tick),
                 timing: at_tick(&mut timing, tick).unwrap_or_default(),
+                raw: RawTick {
+                    wheel: at_tick(&mut raw_wheel, tick).unwrap_or_default(),
+                    imu,
+                },
             }
         })
     }

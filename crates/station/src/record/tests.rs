@@ -1,6 +1,7 @@
 //! Round trips: records written to memory read back as recorded (floats of the high-rate
 //! channels to their quantum, the rest exactly), on every channel.
 
+use super::raw::RawRead;
 use super::recover::recover;
 use super::*;
 use std::io::Cursor;
@@ -13,6 +14,17 @@ fn metadata() -> SessionMetadata {
         loop_rate_hz: 1000.0,
         config_toml: "[session]\nseed = 11\n".into(),
         regimen_toml: Some("name = \"week 3\"\n".into()),
+        body: Some(BodyFacts {
+            kind: raw::BodyKindName::Real,
+            wheel_profile: haptic_wheel::DeviceProfile::thesis_sidewinder(),
+            wheel_max_torque_nm: 1.5,
+            encoder_step_rad: 0.002_253,
+            arm: Some(raw::ArmFacts {
+                guided: true,
+                geometry: gyro_imu::arm::ArmGeometry::default(),
+                swivel_rad: 0.35,
+            }),
+        }),
     }
 }
 
@@ -92,6 +104,39 @@ fn tick(n: u64) -> TickRecord {
             period_ns: 1_000_000,
             work_ns: u64::MAX - n,
             dropped_records: 0,
+        },
+        raw: RawTick {
+            wheel: RawWheelSample {
+                read: [RawRead::Ok, RawRead::Silent, RawRead::Ok][n as usize % 3],
+                angle_rad: x,
+                reading_t_ns: n * 1_000_000 + 5,
+                now_ns: n * 1_000_000 + 6,
+                paused: n == 3,
+                stop: n == 4,
+                arm_stepped: n != 1,
+                arm_lost: n == 2,
+                arm_regained: n == 3,
+                solver_answered: n == 3,
+                solver_timed_out: n == 4,
+            },
+            imu: [
+                (n != 3).then_some(RawImuSample {
+                    sensor: 0,
+                    device_t_ns: 10_000_000_000 + n,
+                    gyro_x_rad_s: x,
+                    gyro_y_rad_s: -0.5,
+                    gyro_z_rad_s: 0.25,
+                    acc_x_m_s2: Some(9.81),
+                    acc_y_m_s2: Some(-x),
+                    acc_z_m_s2: Some(0.001),
+                }),
+                n.is_multiple_of(2).then_some(RawImuSample {
+                    sensor: 1,
+                    device_t_ns: 20_000_000_000 + n,
+                    gyro_x_rad_s: -x,
+                    ..Default::default()
+                }),
+            ],
         },
     }
 }
@@ -284,7 +329,7 @@ fn every_high_rate_channel_has_a_block_layout() {
             with_blocks += 1;
         }
     }
-    assert_eq!(with_blocks, 5);
+    assert_eq!(with_blocks, 7);
 }
 
 #[test]
@@ -378,9 +423,9 @@ fn a_killed_recording_recovers_to_one_that_reads_back() {
     assert!(!matches!(mcap::Summary::read(&killed), Ok(Some(_))));
 
     let (copied, out) = recover(killed.as_slice(), Cursor::new(Vec::new())).unwrap();
-    // Ticks 0–2 in one block on each of wheel, vehicle, assist, timing and arm (the arm's
-    // 3-D scene waits for its axes); every channel and the scene's.
-    assert_eq!((copied.messages, copied.channels), (5, CHANNELS.len() + 1));
+    // Ticks 0–2 in one block on each of wheel, vehicle, assist, timing, arm, raw wheel and
+    // raw IMU (the arm's 3-D scene waits for its axes); every channel and the scene's.
+    assert_eq!((copied.messages, copied.channels), (7, CHANNELS.len() + 1));
     let rec = Recording::from_bytes(&out.into_inner()).unwrap();
     assert_eq!(rec.metadata, metadata());
     let wheel: Vec<_> = rec.ticks().map(|t| t.wheel).collect();

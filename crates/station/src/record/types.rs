@@ -33,6 +33,10 @@ pub struct TickRecord {
     pub arm: Option<ArmSample>,
     /// Loop timing on the wall clock.
     pub timing: TimingSample,
+    /// The raw inputs the pure part consumed this tick (channels `/raw/wheel`, `/raw/imu`).
+    // Not shown on screen: the patient window process is not sent it.
+    #[serde(skip)]
+    pub raw: super::raw::RawTick,
 }
 
 /// Wheel state and torques in one tick (channel `/wheel`).
@@ -429,6 +433,10 @@ impl TickRecord {
             assist: as_recorded(&self.assist),
             arm: self.arm.as_ref().map(as_recorded),
             timing: self.timing,
+            raw: super::raw::RawTick {
+                wheel: as_recorded(&self.raw.wheel),
+                imu: self.raw.imu.map(|s| s.as_ref().map(as_recorded)),
+            },
             ..*self
         }
     }
@@ -465,6 +473,9 @@ pub struct SessionMetadata {
     pub config_toml: String,
     /// The prescribed regimen, TOML (absent when the session repeated one exercise).
     pub regimen_toml: Option<String>,
+    /// Who held the wheel, and the device facts a replay of the raw inputs needs (absent in
+    /// recordings made before the raw inputs were recorded).
+    pub body: Option<super::raw::BodyFacts>,
 }
 
 /// Why a metadata record does not describe a session.
@@ -492,6 +503,12 @@ impl SessionMetadata {
         if let Some(r) = &self.regimen_toml {
             map.insert("regimen_toml".into(), r.clone());
         }
+        if let Some(b) = &self.body {
+            map.insert(
+                "body".into(),
+                serde_json::to_string(b).expect("body facts serialise"),
+            );
+        }
         map
     }
 
@@ -516,6 +533,14 @@ impl SessionMetadata {
                 .map_err(|e| parse("loop_rate_hz", &e))?,
             config_toml: get("config_toml")?,
             regimen_toml: map.get("regimen_toml").cloned(),
+            body: map
+                .get("body")
+                .map(|b| serde_json::from_str(b))
+                .transpose()
+                .map_err(|e| MetadataError {
+                    key: "body",
+                    reason: format!("not the body's facts ({e})"),
+                })?,
         })
     }
 }

@@ -207,6 +207,10 @@ impl<W: Write + Seek> RecordWriter<W> {
         }
         self.gather(Channel::Assist, rec, &rec.assist)?;
         self.gather(Channel::Timing, rec, &rec.timing)?;
+        self.gather(Channel::RawWheel, rec, &rec.raw.wheel)?;
+        for sample in rec.raw.imu.iter().flatten() {
+            self.gather(Channel::RawImu, rec, sample)?;
+        }
         if let Some(arm) = &rec.arm {
             self.gather(Channel::Arm, rec, arm)?;
             if rec.t_ns >= self.next_scene_ns {

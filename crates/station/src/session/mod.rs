@@ -10,6 +10,7 @@ pub mod faults;
 pub mod haptic;
 pub mod measures;
 pub mod plant;
+pub mod recorded;
 pub mod recorder;
 pub mod signals;
 #[cfg(test)]
@@ -142,6 +143,64 @@ pub fn run(
     controls: &Controls,
     observer: &mut dyn SessionObserver,
 ) -> anyhow::Result<SessionReport> {
+    run_body(opts, controls, observer, None)
+}
+
+/// Run a session as [`run`] does, around `body` (a recording's raw inputs for a replay, a
+/// wheel opened by the caller) instead of the one `opts.body` names; `facts` describe it in
+/// the new recording (`None`: a body of the kind `opts.body` names).
+pub fn run_with_body(
+    opts: &SessionOptions,
+    controls: &Controls,
+    observer: &mut dyn SessionObserver,
+    body: plant::Body,
+    facts: Option<crate::record::BodyFacts>,
+) -> anyhow::Result<SessionReport> {
+    run_body(opts, controls, observer, Some((body, facts)))
+}
+
+/// What the recording says about who held the wheel in a session of `cfg` on `kind`.
+fn body_facts(
+    cfg: &StationConfig,
+    kind: BodyKind,
+    plant: &plant::Plant,
+) -> crate::record::BodyFacts {
+    use crate::record::raw::{ArmFacts, BodyKindName};
+    let wheel = plant.wheel_facts();
+    let (name, arm) = match kind {
+        BodyKind::Simulated => (
+            BodyKindName::Simulated,
+            Some(ArmFacts {
+                guided: cfg.arm.sim_mounting == crate::config::MountingMode::Guided,
+                geometry: cfg.sim_arm.geometry,
+                swivel_rad: cfg.sim_arm.swivel_mean_rad,
+            }),
+        ),
+        #[cfg(target_os = "linux")]
+        BodyKind::RealWheel => (
+            BodyKindName::Real,
+            plant.range_of_motion_rad().map(|_| ArmFacts {
+                guided: true,
+                geometry: cfg.arm.geometry,
+                swivel_rad: cfg.arm.swivel_rad,
+            }),
+        ),
+    };
+    crate::record::BodyFacts {
+        kind: name,
+        wheel_profile: wheel.profile.clone(),
+        wheel_max_torque_nm: wheel.max_torque_nm,
+        encoder_step_rad: wheel.encoder_step_rad,
+        arm,
+    }
+}
+
+fn run_body(
+    opts: &SessionOptions,
+    controls: &Controls,
+    observer: &mut dyn SessionObserver,
+    given: Option<(plant::Body, Option<crate::record::BodyFacts>)>,
+) -> anyhow::Result<SessionReport> {
     let cfg = &opts.config;
     cfg.validate()?;
     let rate = cfg.session.loop_rate_hz;
@@ -150,19 +209,24 @@ pub fn run(
     // Devices first: a session that cannot start must not leave an empty recording behind.
     let course = course::build(cfg, opts.regimen.as_ref())?;
     let exercises = course.len();
-    let mut plant = match opts.body {
-        BodyKind::Simulated => plant::Plant::new(
+    let (given_body, given_facts) = given.unzip();
+    let mut plant = match (given_body, opts.body) {
+        (Some(body), _) => plant::Plant::new(cfg, body, course)?,
+        (None, BodyKind::Simulated) => plant::Plant::new(
             cfg,
             plant::Body::simulated(cfg, opts.pacing == Pacing::RealTime, opts.clock.clone())?,
             course,
         )?,
         #[cfg(target_os = "linux")]
-        BodyKind::RealWheel => plant::Plant::new(
+        (None, BodyKind::RealWheel) => plant::Plant::new(
             cfg,
             plant::Body::first_real_wheel(cfg, opts.clock.clone())?,
             course,
         )?,
     };
+    let facts = given_facts
+        .flatten()
+        .unwrap_or_else(|| body_facts(cfg, opts.body, &plant));
     // The safety claim of this session, in N·m at the motor (and loudly when the wheel's
     // rating is unknown).
     let ceiling = plant.ceiling();
@@ -186,6 +250,7 @@ pub fn run(
                     .regimen
                     .as_ref()
                     .map(|r| toml::to_string(r).unwrap_or_default()),
+                body: Some(facts),
             };
             Some(
                 McapRecorder::create(path, start_unix_ns, &meta)

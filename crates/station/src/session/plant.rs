@@ -4,9 +4,13 @@
 //! One [`Plant::tick`] is one haptic-loop period; it allocates nothing.
 
 use crate::config::StationConfig;
+use crate::record::raw::{
+    ANGLE_QUANTUM_RAD, RawImuSample, RawRead, RawTick, RawWheelSample, TORQUE_QUANTUM_NM, on_grid,
+    same_sample,
+};
 use crate::record::{ArmSample, AssistSample, ScoreSample, TickRecord, VehicleSample, WheelSample};
 use crate::session::arm::sim::SimArmSensing;
-use crate::session::arm::{SetupStep, WheelNow};
+use crate::session::arm::{ArmSeam, SetupStep, WheelNow};
 use crate::session::course::Segment;
 use crate::session::faults::FaultyWheel;
 use anyhow::Context;
@@ -45,6 +49,8 @@ pub enum Body {
         /// The clock of the wheel's readings.
         clock: clock::Clock,
     },
+    /// A recording's raw inputs played back (`telerehab replay`).
+    Recorded(Box<crate::session::recorded::RecordedBody>),
 }
 
 impl Body {
@@ -123,6 +129,7 @@ impl Body {
             Body::Sim { sensing, .. } => Some(sensing.setup_step()),
             #[cfg(target_os = "linux")]
             Body::Evdev { arm, .. } => arm.as_ref().map(|a| a.setup_step()),
+            Body::Recorded(r) => r.arm_setup(),
         }
     }
 
@@ -131,6 +138,7 @@ impl Body {
             Body::Sim { wheel, .. } => &mut **wheel,
             #[cfg(target_os = "linux")]
             Body::Evdev { wheel, .. } => &mut **wheel,
+            Body::Recorded(r) => &mut **r,
         }
     }
 
@@ -140,6 +148,7 @@ impl Body {
             Body::Sim { wheel, .. } => wheel.time_ns(),
             #[cfg(target_os = "linux")]
             Body::Evdev { clock, .. } => clock.now_ns(),
+            Body::Recorded(r) => r.now_ns(),
         }
     }
 
@@ -149,15 +158,29 @@ impl Body {
             Body::Sim { .. } => cfg.sim_wheel.encoder_step_rad,
             #[cfg(target_os = "linux")]
             Body::Evdev { wheel, .. } => wheel.profile().ka_rad_per_unit,
+            Body::Recorded(r) => r.encoder_step_rad(),
         }
     }
 }
 
-/// What the body did this tick (simulation only: a real patient is not observed this way).
+/// What the body did this tick (simulation only: a real patient is not observed this way),
+/// and what the arm tracker was handed.
 struct BodyMotion {
     hand_nm: Option<f64>,
     true_angle_rad: Option<f64>,
     arm: Option<ArmSample>,
+    seam: Option<ArmSeam>,
+}
+
+/// The wheel as the plant was built around it: what a replay of the raw inputs needs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WheelFacts {
+    /// The wheel's profile as the plant read it.
+    pub profile: haptic_wheel::DeviceProfile,
+    /// The usable maximum torque the backend reported, N·m.
+    pub max_torque_nm: f64,
+    /// The encoder step the velocity estimator was tuned for, rad.
+    pub encoder_step_rad: f64,
 }
 
 /// Wheel, body and course, stepped together through the haptic chain.
@@ -205,6 +228,12 @@ pub struct Plant {
     last_angle_rad: f64,
     /// The wheel's motor and usable torque, for the ceiling stated in the log and report.
     ceiling: CeilingReport,
+    /// A stop has been asked for (recorded on `/raw/wheel`).
+    stop_requested: bool,
+    /// The IMU samples last recorded on `/raw/imu`, per sensor (a held one is not repeated).
+    last_imu: [Option<gyro_imu::device::ImuSample>; 2],
+    /// The wheel the plant was built around.
+    wheel_facts: WheelFacts,
 }
 
 impl Plant {
@@ -240,6 +269,11 @@ impl Plant {
                 )
             })?;
         }
+        let wheel_facts = WheelFacts {
+            profile: body.wheel().profile(),
+            max_torque_nm: device_max,
+            encoder_step_rad: body.encoder_step_rad(cfg),
+        };
         let mut chain = HapticChain::new(chain_cfg, device_max).context("haptic chain")?;
         chain
             .apply_regimen(&course[0].haptic)
@@ -290,6 +324,9 @@ impl Plant {
             plausibility: AnglePlausibility::new(half_range_rad),
             last_angle_rad: 0.0,
             ceiling,
+            stop_requested: false,
+            last_imu: [None; 2],
+            wheel_facts,
         };
         plant.projection = plant.start_projection();
         Ok(plant)
@@ -319,7 +356,13 @@ impl Plant {
     /// Ask the safety supervisor to fade the torque out; [`Plant::stopped`] turns true
     /// when it reached zero.
     pub fn request_stop(&mut self) {
+        self.stop_requested = true;
         self.chain.request_stop();
+    }
+
+    /// The wheel the plant was built around (for the recording's metadata).
+    pub fn wheel_facts(&self) -> &WheelFacts {
+        &self.wheel_facts
     }
 
     /// Pause the exercise (its clock, the car and the scores freeze and the torque fades to
@@ -403,6 +446,7 @@ impl Plant {
         let t_ns = self.tick * period_ns;
         // The exercise runs on its own clock, which stops while paused.
         let t_s = (self.active_ticks * period_ns) as f64 * 1e-9;
+        self.follow_recorded_pause();
         // The exercise waits while the patient pauses it or the arm set-up asks them to do
         // something else; the torque fades out meanwhile, so the wheel turns freely.
         let setup = self.body.arm_setup().filter(|s| s.in_progress());
@@ -410,10 +454,7 @@ impl Plant {
         let paused = self.paused || setup.is_some() || self.wheel_away();
         self.chain.set_paused(paused);
         // 1. Read the wheel as the host sees it (quantised, delayed).
-        let read = self.body.wheel().read();
-        if read.is_ok() {
-            self.wheel_back();
-        }
+        let (read, raw_read) = self.read_wheel();
         let reading = match read {
             Ok(r) if r.angle_rad.is_finite() && self.plausibility.accept(&r) => Some(r),
             // A NaN or infinite angle is no reading, nor is a clipped (saturated) one: the
@@ -580,10 +621,84 @@ impl Plant {
             },
             arm: motion.arm,
             timing: Default::default(),
+            raw: self.raw_tick(raw_read, tel.now_ns, motion.seam),
         };
         self.tick += 1;
         self.active_ticks += u64::from(!paused);
         rec
+    }
+
+    /// A replay pauses where the patient did.
+    fn follow_recorded_pause(&mut self) {
+        if let Body::Recorded(r) = &self.body {
+            self.paused = r.paused();
+        }
+    }
+
+    /// Read the wheel, its angle on the recording's grid (the device edge) so that
+    /// `/raw/wheel` holds exactly what the chain consumes (a wheel that answers is back); also
+    /// how the read came out and the reading, as recorded.
+    fn read_wheel(
+        &mut self,
+    ) -> (
+        Result<WheelReading, haptic_wheel::WheelError>,
+        (RawRead, Option<WheelReading>),
+    ) {
+        let read = self.body.wheel().read().map(|r| WheelReading {
+            angle_rad: on_grid(r.angle_rad, ANGLE_QUANTUM_RAD),
+            ..r
+        });
+        if read.is_ok() {
+            self.wheel_back();
+        }
+        let raw = (
+            crate::session::recorded::raw_read(&read),
+            read.as_ref().ok().copied(),
+        );
+        (read, raw)
+    }
+
+    /// This tick's raw inputs: how the wheel's read came out and its reading (`read`), the
+    /// body clock the chain ran at (`now_ns`), the patient's pause and stop, and what the arm
+    /// tracker was handed (`seam`).
+    fn raw_tick(
+        &mut self,
+        read: (RawRead, Option<WheelReading>),
+        now_ns: u64,
+        seam: Option<ArmSeam>,
+    ) -> RawTick {
+        let (read, reading) = read;
+        RawTick {
+            wheel: RawWheelSample {
+                read,
+                angle_rad: reading.map_or(0.0, |r| r.angle_rad),
+                reading_t_ns: reading.map_or(0, |r| r.t_ns),
+                now_ns,
+                paused: self.paused,
+                stop: self.stop_requested,
+                arm_stepped: seam.is_some_and(|s| s.stepped.is_some()),
+                arm_lost: seam.is_some_and(|s| s.lost),
+                arm_regained: seam.is_some_and(|s| s.regained),
+                solver_answered: seam.is_some_and(|s| s.solver_answered),
+                solver_timed_out: seam.is_some_and(|s| s.solver_timed_out),
+            },
+            imu: self.new_imu_samples(seam),
+        }
+    }
+
+    /// The IMU samples the tracker was stepped with this tick that `/raw/imu` does not hold
+    /// yet (a sample held over ticks is recorded once).
+    fn new_imu_samples(&mut self, seam: Option<ArmSeam>) -> [Option<RawImuSample>; 2] {
+        let mut out = [None; 2];
+        if let Some((a, b)) = seam.and_then(|s| s.stepped) {
+            for (i, s) in [a, b].into_iter().enumerate() {
+                if !self.last_imu[i].is_some_and(|last| same_sample(&last, &s)) {
+                    self.last_imu[i] = Some(s);
+                    out[i] = Some(RawImuSample::of(i as u32, &s));
+                }
+            }
+        }
+        out
     }
 
     /// The simulated patient looks at the road and moves the simulated wheel, and the arm
@@ -605,10 +720,13 @@ impl Plant {
                 wheel.advance(dt, hand);
                 let sample =
                     sensing.step(wheel.true_angle_rad(), wheel.true_velocity_rad_s(), read);
+                // What the simulation alone observes, on the recording's grid: a replay of
+                // the raw inputs takes it from the recording, and the measures must agree.
                 BodyMotion {
-                    hand_nm: Some(hand),
-                    true_angle_rad: Some(wheel.true_angle_rad()),
+                    hand_nm: Some(on_grid(hand, TORQUE_QUANTUM_NM)),
+                    true_angle_rad: Some(on_grid(wheel.true_angle_rad(), ANGLE_QUANTUM_RAD)),
                     arm: Some(sample),
+                    seam: Some(sensing.take_seam()),
                 }
             }
             #[cfg(target_os = "linux")]
@@ -616,7 +734,17 @@ impl Plant {
                 hand_nm: None,
                 true_angle_rad: None,
                 arm: arm.as_mut().map(|a| a.step(read)),
+                seam: arm.as_mut().map(|a| a.take_seam()),
             },
+            Body::Recorded(r) => {
+                let m = r.step(read);
+                BodyMotion {
+                    hand_nm: m.hand_nm,
+                    true_angle_rad: m.true_angle_rad,
+                    arm: m.arm,
+                    seam: m.seam,
+                }
+            }
         }
     }
 
@@ -627,6 +755,7 @@ impl Plant {
             Body::Sim { sensing, .. } => Some(sensing.range_of_motion_rad()),
             #[cfg(target_os = "linux")]
             Body::Evdev { arm, .. } => arm.as_ref().map(|a| a.range_of_motion_rad()),
+            Body::Recorded(r) => r.range_of_motion_rad(),
         }
     }
 
@@ -636,6 +765,7 @@ impl Plant {
             Body::Sim { sensing, .. } => sensing.failure(),
             #[cfg(target_os = "linux")]
             Body::Evdev { arm, .. } => arm.as_ref().and_then(|a| a.failure()),
+            Body::Recorded(r) => r.arm_failure(),
         }
     }
 

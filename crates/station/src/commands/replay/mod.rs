@@ -1,6 +1,8 @@
 //! `telerehab replay`: re-run a recorded simulated session from its seed, configuration and
 //! regimen (all in the recording's `session` metadata) as fast as possible, and say whether
-//! every recorded output is reproduced bit for bit — the first difference named if not.
+//! every recorded output is reproduced bit for bit — the first difference named if not. A
+//! real-device session (its metadata's `body` says so), or any session with `--from-raw`, is
+//! re-run from its recorded raw inputs instead (`raw.rs`).
 //!
 //! Bit for bit means the same recorded value of every field of every sample on every channel
 //! but `/timing` (wall-clock loop timing, which no two runs share): the high-rate channels
@@ -17,6 +19,7 @@ use clock::Clock;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+mod raw;
 mod window;
 
 pub use window::Playback;
@@ -37,6 +40,11 @@ pub struct ReplayArgs {
     /// stays open on the last frame).
     #[arg(long, requires = "window")]
     pub close_at_end: bool,
+    /// Re-run a simulated session from its recorded raw inputs (`/raw/wheel`, `/raw/imu`)
+    /// instead of its seed: the simulated body replaced by what it delivered, as a real
+    /// session is always replayed.
+    #[arg(long, conflicts_with = "window")]
+    pub from_raw: bool,
 }
 
 /// Where a replay first left the recording.
@@ -60,6 +68,9 @@ pub struct ReplayOutcome {
     /// Why the recording cannot be reproduced exactly, if something says so in advance
     /// (patient pauses, an early stop).
     pub caveats: Vec<String>,
+    /// Re-run from the recorded raw inputs (a real-device session, or `--from-raw`) rather
+    /// than from the seed.
+    pub from_raw: bool,
 }
 
 /// Replay `args.recording` and print what was reproduced; fails on a difference.
@@ -67,17 +78,32 @@ pub fn run(args: &ReplayArgs) -> anyhow::Result<()> {
     if args.window {
         return window::play(args);
     }
-    let outcome = replay(&args.recording)?;
+    let outcome = replay_with(&args.recording, args.from_raw)?;
     let total: usize = outcome.compared.values().sum();
     for c in &outcome.caveats {
         println!("replay: note: {c}");
     }
     match &outcome.first_difference {
         None => {
+            let how = if outcome.from_raw {
+                " from the recorded raw inputs"
+            } else {
+                ""
+            };
+            let not_compared = if outcome.from_raw {
+                "/timing is wall-clock and not compared"
+            } else {
+                "/timing is wall-clock and the raw inputs /raw/* are not compared"
+            };
             println!(
-                "replay: identical — every recorded output reproduced bit for bit ({total} samples on {} channels; /timing is wall-clock and not compared)",
+                "replay: identical — every recorded output reproduced bit for bit{how} ({total} samples on {} channels; {not_compared})",
                 outcome.compared.len()
             );
+            if outcome.from_raw {
+                println!(
+                    "replay: a simulated body's own observations (true wheel and joint angles, hand torque) are inputs here, taken from the recording"
+                );
+            }
             Ok(())
         }
         Some(d) => bail!(
@@ -91,9 +117,23 @@ pub fn run(args: &ReplayArgs) -> anyhow::Result<()> {
 
 /// Re-run the simulated session recorded at `path` and compare every channel but `/timing`.
 pub fn replay(path: &Path) -> anyhow::Result<ReplayOutcome> {
+    replay_with(path, false)
+}
+
+/// Re-run the session recorded at `path` and compare every channel but `/timing`: from its
+/// raw inputs when it was a real-device session or `from_raw`, else from its seed.
+pub fn replay_with(path: &Path, from_raw: bool) -> anyhow::Result<ReplayOutcome> {
     let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
     let (meta, recorded) = recorded_rows(&bytes)
         .with_context(|| format!("{} is not a readable recording", path.display()))?;
+    let real = meta
+        .body
+        .as_ref()
+        .is_some_and(|b| b.kind == crate::record::raw::BodyKindName::Real);
+    if from_raw || real {
+        return raw::replay_from_raw(&bytes, &meta, &recorded)
+            .with_context(|| format!("replaying {} from its raw inputs", path.display()));
+    }
     let wheel = recorded.get(&Channel::Wheel).map_or(&[][..], Vec::as_slice);
     let first = match wheel.first() {
         Some(m) => m,
@@ -104,8 +144,8 @@ pub fn replay(path: &Path) -> anyhow::Result<ReplayOutcome> {
     };
     if first.get("true_angle_rad").is_none() {
         bail!(
-            "{} is a session on a real wheel: its patient's hands cannot be re-run (replay \
-             re-runs simulated sessions; a real session's raw device readings are not recorded yet)",
+            "{} is a session on a real wheel recorded before the raw inputs were: its patient's \
+             hands cannot be re-run, nor its device readings replayed",
             path.display()
         );
     }
@@ -123,13 +163,12 @@ pub fn replay(path: &Path) -> anyhow::Result<ReplayOutcome> {
     let again_bytes = std::fs::read(&again_path).context("cannot read the replay's recording")?;
     let (_, again) = recorded_rows(&again_bytes).context("the replay's recording")?;
     Ok(ReplayOutcome {
-        compared: Channel::ALL
-            .into_iter()
-            .filter(|c| *c != Channel::Timing)
+        compared: compared(false)
             .map(|c| (c.topic(), recorded.get(&c).map_or(0, Vec::len)))
             .collect(),
         first_difference: first_difference(&recorded, &again),
         caveats,
+        from_raw: false,
     })
 }
 
@@ -206,31 +245,48 @@ fn patient_paused(recorded: &RecordedRows) -> bool {
     })
 }
 
-/// The first sample (channel order, then index) that differs, named down to the field.
+/// The channels a replay compares: every one but `/timing` (wall-clock); from the seed, not
+/// the raw inputs either (`/raw/wheel`, `/raw/imu`), which the seed does not fix: in real time
+/// the arm solver's answer comes from its thread when it does.
+fn compared(from_raw: bool) -> impl Iterator<Item = Channel> {
+    Channel::ALL.into_iter().filter(move |c| {
+        *c != Channel::Timing && (from_raw || !matches!(c, Channel::RawWheel | Channel::RawImu))
+    })
+}
+
+/// The first sample (channel order, then index) that differs, named down to the field, on
+/// the channels a replay from the seed compares.
 fn first_difference(recorded: &RecordedRows, again: &RecordedRows) -> Option<Difference> {
+    first_difference_on(recorded, again, false)
+}
+
+/// The first sample that differs on the channels a replay compares (`from_raw`: a replay
+/// from the raw inputs, which compares them too).
+fn first_difference_on(
+    recorded: &RecordedRows,
+    again: &RecordedRows,
+    from_raw: bool,
+) -> Option<Difference> {
     let none = Vec::new();
-    Channel::ALL
-        .into_iter()
-        .filter(|c| *c != Channel::Timing)
-        .find_map(|channel| {
-            let (a, b) = (
-                recorded.get(&channel).unwrap_or(&none),
-                again.get(&channel).unwrap_or(&none),
-            );
-            let topic = channel.topic();
-            if let Some(index) = a.iter().zip(b).position(|(x, y)| x != y) {
-                return Some(Difference {
-                    topic,
-                    index,
-                    what: field_difference(&a[index], &b[index]),
-                });
-            }
-            (a.len() != b.len()).then(|| Difference {
+    compared(from_raw).find_map(|channel| {
+        let (a, b) = (
+            recorded.get(&channel).unwrap_or(&none),
+            again.get(&channel).unwrap_or(&none),
+        );
+        let topic = channel.topic();
+        if let Some(index) = a.iter().zip(b).position(|(x, y)| x != y) {
+            return Some(Difference {
                 topic,
-                index: a.len().min(b.len()),
-                what: format!("{} samples recorded, {} replayed", a.len(), b.len()),
-            })
+                index,
+                what: field_difference(&a[index], &b[index]),
+            });
+        }
+        (a.len() != b.len()).then(|| Difference {
+            topic,
+            index: a.len().min(b.len()),
+            what: format!("{} samples recorded, {} replayed", a.len(), b.len()),
         })
+    })
 }
 
 /// The first field whose value differs between two samples of one channel.

@@ -6,9 +6,9 @@
 //! sample by sample). Numbers are stored as `sint64` *differences* from the previous sample's
 //! value of the same element (the first from 0, wrapping), so a smooth 1 kHz signal costs a
 //! byte or two a sample before the file's zstd; a float is first quantised to an integer
-//! number of its *quantum*: a millionth of its SI unit (1 µrad, 1 µN·m, 1 µm, 1 µs), a
-//! thousandth of a newton, a billionth for a unitless number (quaternion components, axes,
-//! levels) — finer than any sensor of the station measures. Four integers are reserved:
+//! number of its *quantum*: a millionth of its SI unit (1 µrad, 1 µN·m, 1 µm, 1 µm/s²,
+//! 1 µs), a thousandth of a newton, a billionth for a unitless number (quaternion components,
+//! axes, levels) — finer than any sensor of the station measures. Four integers are reserved:
 //! [`ABSENT`] (an optional field left out), [`NAN`], [`NEG_INF`] and [`POS_INF`]; finite values
 //! saturate at ±2⁶² quanta. Flags are packed `bool`s, enum labels repeated strings (zstd folds
 //! their repeats).
@@ -123,13 +123,20 @@ fn stamp_columns() -> [Column; 2] {
     ]
 }
 
-/// The quantum of a float field, from the unit its name ends with.
+/// The quantum of a float field, from the unit its name ends with; an IMU axis as the device
+/// delivered it (`gyro_…`, `acc_…` on `/raw/imu`) is recorded to 100 µrad/s or 100 µm/s², ten
+/// times finer than a game controller's least significant bit (its noise would cost two bytes a
+/// sample more at a millionth).
 pub fn quantum_of(name: &str) -> f64 {
-    const MICRO: [&str; 8] = [
+    if name.starts_with("gyro_") || name.starts_with("acc_") {
+        return 1e-4;
+    }
+    const MICRO: [&str; 9] = [
         "_rad",
         "_rad_s",
         "_m",
         "_m_s",
+        "_m_s2",
         "_nm",
         "_s",
         "_j",

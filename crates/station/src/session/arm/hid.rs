@@ -153,6 +153,11 @@ impl HidArmSensing {
         self.last
     }
 
+    /// This tick's raw inputs of the tracker, taken.
+    pub fn take_seam(&mut self) -> super::ArmSeam {
+        self.tracker.take_seam()
+    }
+
     /// Why there are no (more) joint angles, if so.
     pub fn failure(&self) -> Option<&super::ArmFailure> {
         self.tracker.failure()

@@ -6,6 +6,7 @@
 pub mod hid;
 pub mod sim;
 
+use crate::record::raw::imu_on_grid;
 use crate::record::{ArmSample, ArmSetup};
 use clock::Clock;
 use gyro_imu::ImuError;
@@ -175,6 +176,33 @@ impl Solver {
     }
 }
 
+/// What the tracker was handed in one tick besides the wheel: its raw inputs, recorded on
+/// `/raw/wheel` and `/raw/imu` so that a replay hands it the same.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ArmSeam {
+    /// The samples of both IMUs it was stepped with (on the recording's grid); `None` when
+    /// it was not stepped.
+    pub stepped: Option<(ImuSample, ImuSample)>,
+    /// An IMU stopped answering.
+    pub lost: bool,
+    /// The lost IMU answered again.
+    pub regained: bool,
+    /// The mounting solver's answer was in hand while the set-up waited for it.
+    pub solver_answered: bool,
+    /// The mounting solver timed out.
+    pub solver_timed_out: bool,
+}
+
+/// The solver's answer and time-out as a recording says they came (a replay), instead of
+/// from the solver thread and the clock.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RecordedSolver {
+    /// The answer was in hand this tick.
+    pub answered: bool,
+    /// The solver timed out this tick.
+    pub timed_out: bool,
+}
+
 /// What tracking needs once the mounting is known.
 struct Tracking {
     estimator: ArmPoseEstimator,
@@ -250,6 +278,10 @@ pub struct ArmTracker {
     last: ArmSample,
     /// Ticks on which the estimator refused the wheel angle (arm out of reach).
     pub rejected: u64,
+    /// This tick's raw inputs so far.
+    seam: ArmSeam,
+    /// In a replay: the solver's events as recorded for this tick.
+    recorded_solver: Option<RecordedSolver>,
 }
 
 impl ArmTracker {
@@ -320,7 +352,21 @@ impl ArmTracker {
             solved: None,
             last: ArmSample::default(),
             rejected: 0,
+            seam: ArmSeam::default(),
+            recorded_solver: None,
         }
+    }
+
+    /// This tick's raw inputs, taken (the next tick starts afresh).
+    pub fn take_seam(&mut self) -> ArmSeam {
+        std::mem::take(&mut self.seam)
+    }
+
+    /// In a replay: the solver's answer and time-out this tick as recorded. From the first
+    /// call on, a procedure is solved in line when it ends and its answer is used from the
+    /// recorded tick on; the solver thread and the clock are no longer asked.
+    pub fn replay_solver(&mut self, events: RecordedSolver) {
+        self.recorded_solver = Some(events);
     }
 
     /// Where the sensing is now.
@@ -335,6 +381,7 @@ impl ArmTracker {
 
     /// An IMU stopped answering (`error`): the pose stays frozen from now on.
     pub fn lose_sensor(&mut self, error: ImuError) {
+        self.seam.lost = true;
         if self.failure.is_none() {
             self.failure = Some(ArmFailure::SensorLost(error));
         }
@@ -348,6 +395,7 @@ impl ArmTracker {
     /// mounting was known leaves the sensing failed (the guided procedure is not re-run in the
     /// middle of an exercise).
     pub fn regain_sensor(&mut self) {
+        self.seam.regained = true;
         if self.step != SetupStep::SensorLost {
             return;
         }
@@ -366,6 +414,10 @@ impl ArmTracker {
     /// One tick with the latest sample of each IMU (`a` and `b` in the order the devices were
     /// opened; the procedure finds which is on the upper arm).
     pub fn update(&mut self, wheel: WheelNow, a: &ImuSample, b: &ImuSample) -> ArmSample {
+        // The device edge: on the recording's grid, so that `/raw/imu` holds exactly what is
+        // consumed here.
+        let (a, b) = (&imu_on_grid(a), &imu_on_grid(b));
+        self.seam.stepped = Some((*a, *b));
         match self.step {
             SetupStep::HoldStill { .. } | SetupStep::TurnWheel { .. } => {
                 self.step = self.follow_procedure(wheel, a, b);
@@ -415,11 +467,11 @@ impl ArmTracker {
         self.solving_since_ns = Some(self.clock.now_ns());
         self.solve_started_t_ns = t_ns;
         let procedure = match &mut self.solver {
-            Some(solver) => match solver.to.push(procedure) {
+            Some(solver) if self.recorded_solver.is_none() => match solver.to.push(procedure) {
                 Ok(()) => return SetupStep::Solving,
                 Err(rtrb::PushError::Full(p)) => p,
             },
-            None => procedure,
+            _ => procedure,
         };
         let outcome = procedure.solve();
         log_outcome(&outcome);
@@ -431,10 +483,16 @@ impl ArmTracker {
     /// give up after [`SOLVE_TIMEOUT`] so that the exercise never waits forever (a dead solver
     /// thread).
     fn wait_for_solver(&mut self, t_ns: u64) -> SetupStep {
-        if self.solved.is_none() {
+        if self.solved.is_none() && self.recorded_solver.is_none() {
             self.solved = self.solver.as_mut().and_then(|s| s.from.pop().ok());
         }
-        if self.solved.is_some() {
+        // In a replay the answer (solved in line) counts from the tick it came in the session.
+        let answered = match self.recorded_solver {
+            Some(r) => r.answered && self.solved.is_some(),
+            None => self.solved.is_some(),
+        };
+        self.seam.solver_answered = answered;
+        if answered {
             if t_ns.saturating_sub(self.solve_started_t_ns) < SOLVE_HOLD_NS {
                 return SetupStep::Solving;
             }
@@ -442,11 +500,16 @@ impl ArmTracker {
                 return self.finish(outcome);
             }
         }
-        let now_ns = self.clock.now_ns();
-        if self
-            .solving_since_ns
-            .is_some_and(|t| Duration::from_nanos(now_ns.saturating_sub(t)) > SOLVE_TIMEOUT)
-        {
+        let timed_out = match self.recorded_solver {
+            Some(r) => r.timed_out,
+            None => {
+                let now_ns = self.clock.now_ns();
+                self.solving_since_ns
+                    .is_some_and(|t| Duration::from_nanos(now_ns.saturating_sub(t)) > SOLVE_TIMEOUT)
+            }
+        };
+        if timed_out {
+            self.seam.solver_timed_out = true;
             self.failure = Some(ArmFailure::SolverTimedOut);
             return SetupStep::Failed;
         }

@@ -150,10 +150,18 @@ impl SimArmSensing {
             full(&mut fore.rate_rad_s);
         }
         let mut sample = self.tracker.update(read, &upper, &fore);
-        sample.true_shoulder_elevation_rad = truth.angles.shoulder_elevation_rad;
-        sample.true_elbow_flexion_rad = truth.angles.elbow_flexion_rad;
+        // The simulated truth on the recording's grid: a replay of the raw inputs takes it from
+        // the recording, and the session's measures must see the same values.
+        let grid = |x| crate::record::raw::on_grid(x, crate::record::raw::ANGLE_QUANTUM_RAD);
+        sample.true_shoulder_elevation_rad = grid(truth.angles.shoulder_elevation_rad);
+        sample.true_elbow_flexion_rad = grid(truth.angles.elbow_flexion_rad);
         self.last = sample;
         sample
+    }
+
+    /// This tick's raw inputs of the tracker, taken.
+    pub fn take_seam(&mut self) -> super::ArmSeam {
+        self.tracker.take_seam()
     }
 
     /// Why there are no (more) joint angles, if so.

@@ -1,0 +1,316 @@
+//! A body made of a recording's raw inputs (`/raw/wheel`, `/raw/imu`): the wheel reads what
+//! the device gave, the body clock says what it said, the patient pauses and stops when they
+//! did, and the arm tracker is handed the IMU samples and solver events it was handed. The
+//! plant around it — haptic chain, vehicle, assist, arm fusion and pose, scores — is the
+//! session's own code, so re-running it reproduces a session bit for bit (`telerehab replay`),
+//! whether a real patient or the simulated one held the wheel.
+//!
+//! A simulated session's body also recorded what it alone observes (the true wheel angle,
+//! the hand's torque, the true joint angles): they are taken from `/wheel` and `/arm` as they
+//! were recorded, as inputs, not re-run.
+
+use crate::record::raw::{ArmFacts, BodyFacts, RawRead, RawTick};
+use crate::record::{ArmSample, Recording};
+use crate::session::arm::{ArmSeam, ArmTracker, RecordedSolver, SetupStep, WheelNow};
+use anyhow::{Context, bail};
+use gyro_imu::ImuError;
+use gyro_imu::device::ImuSample;
+use gyro_imu::pose::Mounting;
+use haptic_wheel::{DeviceProfile, Wheel, WheelError, WheelFault, WheelReading};
+use nalgebra::UnitQuaternion;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// One tick of the recording as the body plays it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct InputTick {
+    raw: RawTick,
+    /// The simulated wheel's true angle, rad (simulation only).
+    true_angle_rad: Option<f64>,
+    /// The simulated hand's torque, N·m (simulation only).
+    hand_nm: Option<f64>,
+    /// The simulated arm's true shoulder elevation and elbow flexion, rad, on `/arm`.
+    true_arm_rad: Option<(f64, f64)>,
+}
+
+/// The raw inputs of a recorded session, tick by tick.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RecordedInputs {
+    ticks: Vec<InputTick>,
+}
+
+impl RecordedInputs {
+    /// The inputs of `recording`, which must hold `/raw/wheel` on every tick from 0 (a
+    /// real-time session whose recorder dropped ticks cannot be re-run: the inputs are gone).
+    pub fn from_recording(recording: &Recording) -> anyhow::Result<Self> {
+        if recording.raw_wheel.is_empty() {
+            bail!(
+                "the recording has no raw inputs (/raw/wheel): it was made before they were \
+                 recorded"
+            );
+        }
+        let mut ticks = Vec::with_capacity(recording.raw_wheel.len());
+        for (k, rec) in recording.ticks().enumerate() {
+            if rec.tick != k as u64 {
+                bail!(
+                    "the recording lacks the raw inputs of tick {k} (the next recorded is {}): \
+                     its recorder dropped ticks, so the session cannot be re-run from them",
+                    rec.tick
+                );
+            }
+            ticks.push(InputTick {
+                raw: rec.raw,
+                true_angle_rad: rec.wheel.true_angle_rad,
+                hand_nm: rec.wheel.hand_nm,
+                true_arm_rad: rec
+                    .arm
+                    .map(|a| (a.true_shoulder_elevation_rad, a.true_elbow_flexion_rad)),
+            });
+        }
+        let with_raw = recording.raw_wheel.len();
+        if with_raw != ticks.len() {
+            bail!(
+                "the recording holds {} ticks on /wheel but {with_raw} on /raw/wheel",
+                ticks.len()
+            );
+        }
+        Ok(Self { ticks })
+    }
+
+    /// Ticks recorded.
+    pub fn len(&self) -> usize {
+        self.ticks.len()
+    }
+
+    /// No tick recorded.
+    pub fn is_empty(&self) -> bool {
+        self.ticks.is_empty()
+    }
+
+    /// Change the wheel angle read on `tick` by `by_rad` (tests: a replay must notice).
+    #[cfg(test)]
+    pub(crate) fn nudge_angle(&mut self, tick: usize, by_rad: f64) {
+        self.ticks[tick].raw.wheel.angle_rad += by_rad;
+    }
+
+    /// Hold back the solver's answer, first in hand on tick `from`, by `ticks` (tests).
+    #[cfg(test)]
+    pub(crate) fn delay_solver_answer(&mut self, from: usize, ticks: usize) {
+        for t in &mut self.ticks[from..from + ticks] {
+            t.raw.wheel.solver_answered = false;
+        }
+    }
+}
+
+/// The arm tracker fed from the recording, as the session's sensing fed it.
+struct RecordedArm {
+    tracker: ArmTracker,
+    /// The latest sample of sensor 0 and 1 (held between a device's reports).
+    latest: [Option<ImuSample>; 2],
+    last: ArmSample,
+}
+
+/// What the recorded body did in one tick.
+pub struct RecordedMotion {
+    /// The simulated hand's torque, N·m, as recorded.
+    pub hand_nm: Option<f64>,
+    /// The simulated wheel's true angle, rad, as recorded.
+    pub true_angle_rad: Option<f64>,
+    /// The arm's pose, without arm sensing `None`.
+    pub arm: Option<ArmSample>,
+    /// The tracker's raw inputs this tick (recorded again by the replay).
+    pub seam: Option<ArmSeam>,
+}
+
+/// The body of a recorded session (see the module docs).
+pub struct RecordedBody {
+    inputs: RecordedInputs,
+    /// The tick being played.
+    k: usize,
+    profile: DeviceProfile,
+    max_torque_nm: f64,
+    encoder_step_rad: f64,
+    arm: Option<RecordedArm>,
+    /// The session's stop flag, raised when the recording says a stop was asked for.
+    stop: Arc<AtomicBool>,
+}
+
+impl RecordedBody {
+    /// The body of `inputs` with the device facts of `facts`; `stop` is the session's stop
+    /// flag (the haptic loop's `Controls::stop`).
+    pub fn new(
+        facts: &BodyFacts,
+        inputs: RecordedInputs,
+        stop: Arc<AtomicBool>,
+    ) -> anyhow::Result<Self> {
+        let arm = facts
+            .arm
+            .map(|a| -> anyhow::Result<RecordedArm> {
+                let mut tracker = tracker(&a).context("the recorded arm tracker")?;
+                tracker.replay_solver(RecordedSolver::default());
+                Ok(RecordedArm {
+                    tracker,
+                    latest: [None; 2],
+                    last: ArmSample::default(),
+                })
+            })
+            .transpose()?;
+        let body = Self {
+            inputs,
+            k: 0,
+            profile: facts.wheel_profile.clone(),
+            max_torque_nm: facts.wheel_max_torque_nm,
+            encoder_step_rad: facts.encoder_step_rad,
+            arm,
+            stop,
+        };
+        body.raise_stop();
+        Ok(body)
+    }
+
+    fn now(&self) -> Option<&InputTick> {
+        self.inputs.ticks.get(self.k)
+    }
+
+    /// Raise the stop flag before the tick that recorded a stop asked for.
+    fn raise_stop(&self) {
+        if self.now().is_some_and(|t| t.raw.wheel.stop) {
+            self.stop.store(true, Ordering::Relaxed);
+        }
+    }
+
+    /// The patient had the exercise paused this tick.
+    pub fn paused(&self) -> bool {
+        self.now().is_some_and(|t| t.raw.wheel.paused)
+    }
+
+    /// Now on the body clock, ns, as recorded (the last recorded past the end).
+    pub fn now_ns(&self) -> u64 {
+        self.now()
+            .or(self.inputs.ticks.last())
+            .map_or(0, |t| t.raw.wheel.now_ns)
+    }
+
+    /// The encoder step the velocity estimator was tuned for, rad.
+    pub fn encoder_step_rad(&self) -> f64 {
+        self.encoder_step_rad
+    }
+
+    /// Where the arm sensing is; `None` without it.
+    pub fn arm_setup(&self) -> Option<SetupStep> {
+        self.arm.as_ref().map(|a| a.tracker.step_now())
+    }
+
+    /// The body's part of the tick with the wheel as read (`read`); the next tick follows.
+    pub fn step(&mut self, read: WheelNow) -> RecordedMotion {
+        let tick = self.now().copied().unwrap_or_default();
+        let arm = self.arm.as_mut().map(|arm| {
+            for sample in tick.raw.imu.iter().flatten() {
+                if let Some(slot) = arm.latest.get_mut(sample.sensor as usize) {
+                    *slot = Some(sample.sample());
+                }
+            }
+            let w = &tick.raw.wheel;
+            arm.tracker.replay_solver(RecordedSolver {
+                answered: w.solver_answered,
+                timed_out: w.solver_timed_out,
+            });
+            if w.arm_lost {
+                arm.tracker.lose_sensor(ImuError::Device(
+                    "an IMU stopped answering (recorded)".into(),
+                ));
+            }
+            if w.arm_regained {
+                arm.tracker.regain_sensor();
+            }
+            if let (true, [Some(a), Some(b)]) = (w.arm_stepped, arm.latest) {
+                let mut sample = arm.tracker.update(read, &a, &b);
+                if let Some((shoulder, elbow)) = tick.true_arm_rad {
+                    sample.true_shoulder_elevation_rad = shoulder;
+                    sample.true_elbow_flexion_rad = elbow;
+                }
+                arm.last = sample;
+            }
+            (arm.last, arm.tracker.take_seam())
+        });
+        self.k += 1;
+        self.raise_stop();
+        RecordedMotion {
+            hand_nm: tick.hand_nm,
+            true_angle_rad: tick.true_angle_rad,
+            arm: arm.map(|(sample, _)| sample),
+            seam: arm.map(|(_, seam)| seam),
+        }
+    }
+
+    /// Range of motion of each estimated joint angle, rad; `None` without arm sensing.
+    pub fn range_of_motion_rad(&self) -> Option<[f64; 5]> {
+        self.arm.as_ref().map(|a| a.tracker.range_of_motion_rad())
+    }
+
+    /// Why arm sensing stopped or never started, if it did.
+    pub fn arm_failure(&self) -> Option<&crate::session::arm::ArmFailure> {
+        self.arm.as_ref().and_then(|a| a.tracker.failure())
+    }
+}
+
+/// The tracker the session built.
+fn tracker(a: &ArmFacts) -> Result<ArmTracker, ImuError> {
+    if a.guided {
+        // In line: the solver's answer is used from the recorded tick on.
+        ArmTracker::guided(a.geometry, a.swivel_rad, false, clock::Clock::real())
+    } else {
+        let square = Mounting {
+            upper: UnitQuaternion::identity(),
+            fore: UnitQuaternion::identity(),
+        };
+        ArmTracker::known(a.geometry, square, a.swivel_rad)
+    }
+}
+
+impl Wheel for RecordedBody {
+    fn read(&mut self) -> Result<WheelReading, WheelError> {
+        let Some(t) = self.now() else {
+            return Err(WheelError::Disconnected("the recording ends here".into()));
+        };
+        let w = t.raw.wheel;
+        match w.read {
+            RawRead::Ok => Ok(WheelReading {
+                angle_rad: w.angle_rad,
+                t_ns: w.reading_t_ns,
+            }),
+            RawRead::Unplugged => Err(WheelError::Fault(WheelFault::Unplugged)),
+            RawRead::Silent => Err(WheelError::Fault(WheelFault::Silent)),
+            RawRead::OutOfRange => Err(WheelError::Fault(WheelFault::OutOfRange)),
+            RawRead::Error => Err(WheelError::Unsupported {
+                device: "the recording".into(),
+                reason: "a read failed without a fault".into(),
+            }),
+        }
+    }
+
+    fn command_torque(&mut self, _torque_nm: f64) -> Result<(), WheelError> {
+        Ok(())
+    }
+
+    fn max_torque_nm(&self) -> f64 {
+        self.max_torque_nm
+    }
+
+    fn profile(&self) -> DeviceProfile {
+        self.profile.clone()
+    }
+}
+
+/// How the wheel's read came out, as recorded.
+pub fn raw_read(read: &Result<WheelReading, WheelError>) -> RawRead {
+    match read {
+        Ok(_) => RawRead::Ok,
+        Err(e) => match e.fault() {
+            Some(WheelFault::Unplugged) => RawRead::Unplugged,
+            Some(WheelFault::Silent) => RawRead::Silent,
+            Some(WheelFault::OutOfRange) => RawRead::OutOfRange,
+            _ => RawRead::Error,
+        },
+    }
+}

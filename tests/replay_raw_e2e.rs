@@ -1,0 +1,149 @@
+//! `telerehab replay --from-raw`: a simulated session re-run from its recorded raw inputs
+//! (`/raw/wheel`, `/raw/imu`) instead of its seed — the simulated body replaced by what it
+//! delivered, as a real-device session is always replayed — reproduces every recorded output
+//! bit for bit. That proves the raw inputs are enough, on the paths a real session takes:
+//! the guided arm procedure solved on its own thread, sensor faults, the patient's stop.
+
+use std::process::Command;
+use std::time::Duration;
+use telerehab_tests::{
+    by_topic, read_mcap, run_ok, sim_session_args, spawn_recording_session, telerehab_bin,
+    wait_for_first_chunk,
+};
+
+/// `telerehab replay ARGS`: (success, stdout, stderr).
+fn replay(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(telerehab_bin())
+        .arg("replay")
+        .args(args)
+        .output()
+        .expect("run telerehab replay");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// A session with the guided arm procedure and faults on the wheel and the IMUs replays bit
+/// for bit from its raw inputs, and the raw channels read back with their units.
+#[test]
+fn a_session_with_sensor_faults_replays_bit_for_bit_from_its_raw_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("station.toml");
+    std::fs::write(&config, "[arm]\nsim_mounting = \"guided\"\n").unwrap();
+    let path = dir.path().join("faults.mcap");
+    let config = config.to_str().unwrap();
+    run_ok(&sim_session_args(
+        "30",
+        &path,
+        &[
+            "--config",
+            config,
+            "--seed",
+            "3",
+            // After the guided procedure (solved at about 18 s).
+            "--fault",
+            "wheel-unplug@20",
+            "--fault",
+            "wheel-replug@20.5",
+            "--fault",
+            "imu-unplug@21",
+            "--fault",
+            "imu-replug@21.5",
+            "--fault",
+            "wheel-nan@22+0.05",
+            "--fault",
+            "wheel-stall@23+0.2",
+            "--fault",
+            "imu-nan@24+0.1",
+            "--fault",
+            "imu-unplug@27",
+        ],
+    ));
+    let topics = by_topic(&read_mcap(&path));
+    let raw = &topics["/raw/wheel"];
+    assert_eq!(
+        raw.len(),
+        topics["/wheel"].len(),
+        "raw inputs on every tick"
+    );
+    assert!(raw.iter().any(|m| m.json["solver_answered"] == true));
+    assert!(raw.iter().any(|m| m.json["arm_lost"] == true));
+    assert!(raw.iter().any(|m| m.json["arm_regained"] == true));
+    assert!(
+        raw.iter().any(|m| m.json["read"] == "unplugged"),
+        "the wheel was away"
+    );
+    assert!(
+        raw.iter().any(|m| m.json["angle_rad"].is_null()),
+        "the NaN the wheel sent is recorded as sent"
+    );
+    let imu = &topics["/raw/imu"];
+    assert!(
+        imu.len() > raw.len(),
+        "two sensors, a sample each most ticks"
+    );
+    assert!(
+        imu.iter().any(|m| m.json["gyro_x_rad_s"].is_null()),
+        "imu-nan"
+    );
+
+    let (ok, said, err) = replay(&["--from-raw", path.to_str().unwrap()]);
+    assert!(ok, "{said}\n{err}");
+    assert!(
+        said.contains("replay: identical") && said.contains("from the recorded raw inputs"),
+        "{said}"
+    );
+    // The seed reproduces it too.
+    let (ok, said, err) = replay(&[path.to_str().unwrap()]);
+    assert!(ok && said.contains("replay: identical"), "{said}\n{err}");
+}
+
+/// The patient's stop is a recorded input: a session stopped by a signal, which the seed
+/// alone cannot reproduce, replays bit for bit from its raw inputs.
+#[test]
+fn a_session_stopped_by_the_patient_replays_bit_for_bit_from_its_raw_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("int.mcap");
+    let child = spawn_recording_session(&path);
+    wait_for_first_chunk(&path);
+    std::thread::sleep(Duration::from_millis(300));
+    let status = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let out = child.wait_with_output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let raw = by_topic(&read_mcap(&path)).remove("/raw/wheel").unwrap();
+    let stop = raw
+        .iter()
+        .position(|m| m.json["stop"] == true)
+        .expect("the stop was recorded");
+    assert!(stop > 1000 && stop < 59_000, "{stop}");
+
+    let (ok, said, err) = replay(&[path.to_str().unwrap()]);
+    assert!(!ok && err.contains("replay differs"), "{said}\n{err}");
+    let (ok, said, err) = replay(&["--from-raw", path.to_str().unwrap()]);
+    assert!(ok, "{said}\n{err}");
+    assert!(said.contains("replay: identical"), "{said}");
+}
+
+/// The raw inputs are re-run, never played in the window: the two flags do not go together.
+#[test]
+fn replay_from_raw_refuses_the_window_flag() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("s.mcap");
+    run_ok(&sim_session_args("1", &path, &[]));
+    let (ok, _, err) = replay(&["--from-raw", "--window", path.to_str().unwrap()]);
+    assert!(!ok);
+    assert!(
+        err.contains("--window") && err.contains("--from-raw"),
+        "{err}"
+    );
+}
