@@ -123,6 +123,48 @@ impl<T: SessionObserver + ?Sized> SessionObserver for &mut T {
 /// Nobody watches (a replay, a benchmark).
 impl SessionObserver for () {}
 
+/// Tells the log and the live summaries when the wheel is away (unplugged, within the replug
+/// grace) and how often it came back, from what the haptic thread leaves in [`Controls`] (its
+/// state now: at `--speed max` it runs up to the recorder ring ahead of the tick watched).
+struct WheelWatch<'a, O> {
+    controls: &'a Controls,
+    inner: O,
+    away: bool,
+}
+
+impl<O: SessionObserver> SessionObserver for WheelWatch<'_, O> {
+    fn on_tick(&mut self, record: &TickRecord) {
+        let away = self.controls.wheel_away.load(Ordering::Relaxed);
+        if away != self.away {
+            self.away = away;
+            if away {
+                tracing::warn!(
+                    tick = record.tick,
+                    "the wheel is gone (unplugged?): the exercise is paused at zero torque until it is back"
+                );
+            } else {
+                tracing::info!(
+                    tick = record.tick,
+                    "the wheel is back: the exercise resumes with a soft start"
+                );
+            }
+        }
+        self.inner.on_tick(record);
+    }
+
+    fn on_summary(&mut self, summary: &LiveSummary) {
+        let mut summary = summary.clone();
+        summary
+            .extra
+            .insert("wheel_unplugged".to_owned(), f64::from(u8::from(self.away)));
+        let replugs = self.controls.wheel_replugs.load(Ordering::Relaxed);
+        summary
+            .extra
+            .insert("wheel_replugs".to_owned(), f64::from(replugs));
+        self.inner.on_summary(&summary);
+    }
+}
+
 /// Two observers, told in order.
 impl<A: SessionObserver, B: SessionObserver> SessionObserver for (A, B) {
     fn on_tick(&mut self, record: &TickRecord) {
@@ -281,7 +323,12 @@ fn run_body(
         let rec_thread = std::thread::Builder::new()
             .name("recorder".into())
             .spawn_scoped(scope, move || {
-                recorder_loop(consumer, recorder, &done, plan, observer)
+                let mut watched = WheelWatch {
+                    controls,
+                    inner: observer,
+                    away: false,
+                };
+                recorder_loop(consumer, recorder, &done, plan, &mut watched)
             })
             .context("cannot start the recorder thread")?;
         let haptic_thread = std::thread::Builder::new()

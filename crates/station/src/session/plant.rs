@@ -287,6 +287,14 @@ impl Plant {
             ..CeilingReport::new(&profile, 1.0, None)
         }
         .with_ceiling(ceiling_nm);
+        // Only a wheel that can come back is waited for: the simulated one answers again;
+        // re-opening a real wheel by its identity is not done yet, so an unplugged real wheel
+        // ends the session at once, as before there was a grace.
+        let replug_grace_ns = match &body {
+            #[cfg(target_os = "linux")]
+            Body::Evdev { .. } => 0,
+            _ => (h.replug_grace_s * 1e9).round() as u64,
+        };
         let mut plant = Self {
             body,
             chain,
@@ -320,7 +328,7 @@ impl Plant {
             wheel_gone_since_ns: None,
             wheel_settling: false,
             wheel_replugs: 0,
-            replug_grace_ns: (h.replug_grace_s * 1e9).round() as u64,
+            replug_grace_ns,
             plausibility: AnglePlausibility::new(half_range_rad),
             last_angle_rad: 0.0,
             ceiling,

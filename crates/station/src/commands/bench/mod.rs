@@ -2,9 +2,11 @@
 //! compares two things in one run, so that the noise of a shared machine hits both alike.
 
 mod recording;
+mod soak;
 mod window;
 
 pub use recording::BenchRecordingArgs;
+pub use soak::BenchSoakArgs;
 pub use window::RenderImpact;
 
 /// `telerehab bench`.
@@ -24,6 +26,9 @@ pub enum BenchCommand {
     /// The recording's bytes and the recorder's CPU: the compact encoding against the
     /// all-JSON one it replaced, on the same ticks of a simulated session.
     Recording(BenchRecordingArgs),
+    /// A long simulated, recorded session (1 h at `--speed max` by default) watched for
+    /// growing memory or descriptors, a recording that does not grow linearly and late ticks.
+    Soak(BenchSoakArgs),
 }
 
 /// `telerehab bench window`.
@@ -62,5 +67,6 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     match args.what {
         BenchCommand::Window(a) => window::window(a),
         BenchCommand::Recording(a) => recording::recording(a),
+        BenchCommand::Soak(a) => soak::soak(a),
     }
 }
