@@ -133,6 +133,8 @@ pub struct RecordedBody {
     arm: Option<RecordedArm>,
     /// The session's stop flag, raised when the recording says a stop was asked for.
     stop: Arc<AtomicBool>,
+    /// A real wheel held by a real patient was recorded.
+    real: bool,
 }
 
 impl RecordedBody {
@@ -163,6 +165,7 @@ impl RecordedBody {
             encoder_step_rad: facts.encoder_step_rad,
             arm,
             stop,
+            real: facts.kind == crate::record::raw::BodyKindName::Real,
         };
         body.raise_stop();
         Ok(body)
@@ -177,6 +180,11 @@ impl RecordedBody {
         if self.now().is_some_and(|t| t.raw.wheel.stop) {
             self.stop.store(true, Ordering::Relaxed);
         }
+    }
+
+    /// The recording is of a real wheel (which an unplug ends at once: no replug grace).
+    pub fn is_real(&self) -> bool {
+        self.real
     }
 
     /// The patient had the exercise paused this tick.
