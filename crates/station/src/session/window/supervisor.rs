@@ -208,10 +208,12 @@ fn run_one(
                             record: Box::new(*output.read()),
                             draw: gate.is_none_or(|g| g.load(Ordering::Relaxed)),
                         };
-                        if let Err(e) = wire::send(&mut to_window, &frame) {
-                            break Some(format!("cannot send it a frame: {e}"));
+                        // A frame that cannot be sent (the session is over and our side is
+                        // shut, or the window is going) is no reason to stop listening: its
+                        // goodbye may still come, and its end shows as the end of the stream.
+                        if wire::send(&mut to_window, &frame).is_ok() {
+                            let _ = tx.send(Heard::Pulled);
                         }
-                        let _ = tx.send(Heard::Pulled);
                     }
                     Ok(Some(m)) => {
                         let _ = tx.send(Heard::Said(m));
