@@ -338,6 +338,22 @@ fn a_recording_cut_inside_its_header_is_refused_as_not_mcap() {
     }
 }
 
+/// Found by the `recover_mcap` fuzz target: a header record whose profile string claims about
+/// 2 GB. The MCAP parser reserves the claimed length before it finds the record too short
+/// (an out-of-memory abort under the fuzzer's 2 GB malloc limit); recover must refuse it.
+#[test]
+fn a_header_claiming_a_two_gigabyte_string_is_refused() {
+    let input: [u8; 26] = [
+        0x89, 0x4d, 0x43, 0x41, 0x50, 0x30, 0x0d, 0x0a, 0x01, 0x09, 0x00, 0x00, 0x00, 0x00, 0x00,
+        0x00, 0x00, 0x00, 0xab, 0x95, 0xd9, 0x72, 0x52, 0x00, 0x35, 0x52,
+    ];
+    let msg = recover(&input[..], Cursor::new(Vec::new()))
+        .err()
+        .map(|e| e.to_string())
+        .expect("a header that cannot be read is refused");
+    assert!(msg.starts_with("not an MCAP file"), "{msg}");
+}
+
 #[test]
 fn a_config_error_in_a_section_names_the_section_and_field() {
     let msg = StationConfig::from_toml("[haptic.safety]\nfade_out_s = -1.0\n", "station.toml")
