@@ -14,7 +14,7 @@ use haptic_wheel::evdev_wheel::fake::FakeFfDevice;
 use station::commands::replay::replay;
 use station::config::StationConfig;
 use station::record::Recording;
-use station::record::raw::BodyKindName;
+use station::record::raw::{BodyKindName, RawRead};
 use station::session::haptic::Pacing;
 use station::session::plant::Body;
 use station::session::{self, BodyKind, Controls, SessionOptions};
@@ -22,10 +22,19 @@ use station::session::{self, BodyKind, Controls, SessionOptions};
 /// The thesis SideWinder's USB id (built-in profile, 1.87 N·m).
 const SIDEWINDER: (u16, u16) = (0x045e, 0x0034);
 
+/// How a recorded session ends early.
+#[derive(Clone, Copy, PartialEq)]
+enum End {
+    /// The patient stops it.
+    Stop,
+    /// The wheel is unplugged (a real one ends the session at once).
+    Unplug,
+}
+
 /// Record a real-time session of `exercise` on a fake SideWinder to `path`: the rim turned by
 /// a script on the wall clock and giving way under the motor, the exercise paused at 0.8 s
-/// for 0.3 s, the session stopped at 2.0 s (of its 3 s).
-fn record_real_session(path: &Path, exercise: &str) -> session::SessionReport {
+/// for 0.3 s, the session ended as `end` says at 2.0 s (of its 3 s).
+fn record_real_session(path: &Path, exercise: &str, end: End) -> session::SessionReport {
     let mut config = StationConfig::default();
     config.session.duration_s = 3.0;
     config.session.exercise = exercise.into();
@@ -57,16 +66,25 @@ fn record_real_session(path: &Path, exercise: &str) -> session::SessionReport {
             std::thread::sleep(Duration::from_millis(300));
             controls.pause.store(false, Ordering::Relaxed);
             std::thread::sleep(Duration::from_millis(900));
-            controls.stop.store(true, Ordering::Relaxed);
+            match end {
+                End::Stop => controls.stop.store(true, Ordering::Relaxed),
+                End::Unplug => fake.set_unplugged(true),
+            }
         });
         session::run_with_body(&opts, &controls, &mut (), body, None).unwrap()
     })
 }
 
-fn recording(dir: &Path, exercise: &str) -> PathBuf {
+fn recording(dir: &Path, exercise: &str, end: End) -> PathBuf {
     let path = dir.join(format!("{exercise}.mcap"));
-    let report = record_real_session(&path, exercise);
-    assert!(report.haptic.stopped_early, "the stop came from outside");
+    let report = record_real_session(&path, exercise, end);
+    assert!(report.haptic.stopped_early, "the end came from outside");
+    assert_eq!(
+        report.haptic.wheel_fault.is_some(),
+        end == End::Unplug,
+        "{:?}",
+        report.haptic.wheel_fault
+    );
     assert_eq!(report.recorder.error, None);
     path
 }
@@ -75,7 +93,7 @@ fn recording(dir: &Path, exercise: &str) -> PathBuf {
 fn a_real_wheel_session_with_a_pause_and_a_stop_replays_bit_for_bit_from_its_raw_inputs() {
     let dir = tempfile::tempdir().unwrap();
     for exercise in ["sine-road", "dial-sine"] {
-        let path = recording(dir.path(), exercise);
+        let path = recording(dir.path(), exercise, End::Stop);
         let rec = Recording::open(&path).unwrap();
         let body = rec.metadata.body.as_ref().expect("the body's facts");
         assert_eq!(body.kind, BodyKindName::Real);
@@ -108,4 +126,21 @@ fn a_real_wheel_session_with_a_pause_and_a_stop_replays_bit_for_bit_from_its_raw
         assert!(outcome.compared["/wheel"] > 1500, "{:?}", outcome.compared);
         assert_eq!(outcome.compared["/metrics"], 1);
     }
+}
+
+#[test]
+fn a_real_wheel_session_ended_by_an_unplug_replays_bit_for_bit_from_its_raw_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = recording(dir.path(), "sine-road", End::Unplug);
+    let rec = Recording::open(&path).unwrap();
+    let unplugged = rec
+        .raw_wheel
+        .iter()
+        .position(|w| w.data.read == RawRead::Unplugged)
+        .expect("the unplug was recorded");
+    // Ended at once (no replug grace for a real wheel): the fade-out, not 30 s.
+    assert!(rec.raw_wheel.len() - unplugged < 3000, "{unplugged}");
+    let outcome = replay(&path).unwrap();
+    assert!(outcome.from_raw);
+    assert_eq!(outcome.first_difference, None);
 }

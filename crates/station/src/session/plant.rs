@@ -293,6 +293,7 @@ impl Plant {
         let replug_grace_ns = match &body {
             #[cfg(target_os = "linux")]
             Body::Evdev { .. } => 0,
+            Body::Recorded(r) if r.is_real() => 0,
             _ => (h.replug_grace_s * 1e9).round() as u64,
         };
         let mut plant = Self {
