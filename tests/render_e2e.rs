@@ -278,7 +278,7 @@ fn wait_for_line(stdout: &mut impl std::io::BufRead, needle: &str) -> bool {
 /// exercise must pause, the torque fade to zero, a new window open and Space resume it. Returns
 /// the report and the station's log; the recording is `window-lost.mcap` in `dir`.
 fn session_losing_its_window(dir: &std::path::Path, signal: &str) -> (String, String) {
-    use std::io::{BufReader, Read};
+    use std::io::{BufRead, BufReader, Read};
     let mcap = dir.join("window-lost.mcap");
     let mut station = Command::new(telerehab_bin())
         .args(["run", "--sim", "--duration", "120", "--seed", "7"])
@@ -288,20 +288,44 @@ fn session_losing_its_window(dir: &std::path::Path, signal: &str) -> (String, St
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    let mut log = station.stderr.take().unwrap();
-    let log = std::thread::spawn(move || {
-        let mut s = String::new();
-        log.read_to_string(&mut s).unwrap();
-        s
-    });
+    // The station's log, line by line, so the test can wait for what it says.
+    let log_lines = std::sync::Arc::new(std::sync::Mutex::new(Vec::<String>::new()));
+    let log = {
+        let lines = log_lines.clone();
+        let stderr = BufReader::new(station.stderr.take().unwrap());
+        std::thread::spawn(move || {
+            for line in stderr.lines().map_while(Result::ok) {
+                lines.lock().unwrap().push(line);
+            }
+        })
+    };
+    // Wait (on a loaded machine, long) until the log has said the exercise was paused or
+    // resumed `times` times.
+    let wait_for_pause_changes = |times: usize| {
+        for _ in 0..600 {
+            let said = log_lines
+                .lock()
+                .unwrap()
+                .iter()
+                .filter(|l| l.contains("exercise paused or resumed"))
+                .count();
+            if said >= times {
+                return;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+        panic!("the exercise was not paused or resumed {times} times");
+    };
     let mut stdout = BufReader::new(station.stdout.take().unwrap());
     assert!(
         wait_for_line(&mut stdout, "render: adapter"),
         "the window never opened"
     );
+    // 1: paused at the start; 2: Space started it.
     std::thread::sleep(std::time::Duration::from_millis(500));
     press("space");
-    std::thread::sleep(std::time::Duration::from_millis(1500));
+    wait_for_pause_changes(2);
+    std::thread::sleep(std::time::Duration::from_millis(1000));
     let window = child_process(station.id(), "window-process");
     assert!(
         Command::new("kill")
@@ -310,19 +334,25 @@ fn session_losing_its_window(dir: &std::path::Path, signal: &str) -> (String, St
             .unwrap()
             .success()
     );
-    // A new window opens (after the hang timeout for a stopped one); Space resumes.
+    // 3: paused when the window was lost. A new window opens (after the hang timeout for a
+    // stopped one); 4: Space resumes.
+    wait_for_pause_changes(3);
     assert!(
         wait_for_line(&mut stdout, "render: adapter"),
         "no new window"
     );
     assert_ne!(child_process(station.id(), "window-process"), window);
-    std::thread::sleep(std::time::Duration::from_millis(1000));
+    std::thread::sleep(std::time::Duration::from_millis(500));
     press("space");
+    wait_for_pause_changes(4);
+    // Long enough for the resumed exercise to record scores (every 100 ms of exercise time)
+    // on a loaded machine, whose loop runs the exercise clock slower than the wall.
     std::thread::sleep(std::time::Duration::from_millis(1500));
     press("Escape");
     let mut report = String::new();
     stdout.read_to_string(&mut report).unwrap();
-    let log = log.join().unwrap();
+    log.join().unwrap();
+    let log = log_lines.lock().unwrap().join("\n");
     assert!(station.wait().unwrap().success(), "{report}\n{log}");
     (report, log)
 }

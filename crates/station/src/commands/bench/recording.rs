@@ -116,6 +116,11 @@ fn all_json(ticks: &[TickRecord], meta: &SessionMetadata) -> anyhow::Result<usiz
         if let Some(a) = &t.arm {
             write(&mut w, Channel::Arm, t, a)?;
         }
+        // The raw inputs too, so that both files hold the same content.
+        write(&mut w, Channel::RawWheel, t, &t.raw.wheel)?;
+        for sample in t.raw.imu.iter().flatten() {
+            write(&mut w, Channel::RawImu, t, sample)?;
+        }
         if i % 1000 == 999 {
             w.flush()?;
         }
