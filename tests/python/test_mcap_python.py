@@ -17,7 +17,7 @@ import telerehab
 
 BIN = os.environ.get("TELEREHAB_BIN", str(Path(__file__).resolve().parents[2] / "target" / "debug" / "telerehab"))
 
-BLOCKS = ("/wheel", "/vehicle", "/assist", "/timing", "/arm")
+BLOCKS = ("/wheel", "/vehicle", "/assist", "/timing", "/arm", "/raw/wheel", "/raw/imu")
 
 
 @pytest.fixture(scope="module")
