@@ -5,10 +5,8 @@
 //! the guided arm procedure solved on its own thread, sensor faults, the patient's stop.
 
 use std::process::Command;
-use std::time::Duration;
 use telerehab_tests::{
-    by_topic, read_mcap, run_ok, sim_session_args, spawn_recording_session, telerehab_bin,
-    wait_for_first_chunk,
+    by_topic, interrupted_recording_session, read_mcap, run_ok, sim_session_args, telerehab_bin,
 };
 
 /// `telerehab replay ARGS`: (success, stdout, stderr).
@@ -106,15 +104,7 @@ fn a_session_with_sensor_faults_replays_bit_for_bit_from_its_raw_inputs() {
 fn a_session_stopped_by_the_patient_replays_bit_for_bit_from_its_raw_inputs() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("int.mcap");
-    let child = spawn_recording_session(&path);
-    wait_for_first_chunk(&path);
-    std::thread::sleep(Duration::from_millis(300));
-    let status = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(status.success());
-    let out = child.wait_with_output().unwrap();
+    let out = interrupted_recording_session(&path);
     assert!(
         out.status.success(),
         "{}",

@@ -3,8 +3,8 @@
 use std::process::Command;
 use std::time::{Duration, Instant};
 use telerehab_tests::{
-    by_topic, read_mcap, run_err, run_ok, sim_session_args, spawn_recording_session,
-    wait_for_first_chunk,
+    by_topic, interrupted_recording_session, read_mcap, run_err, run_ok, sim_session_args,
+    spawn_recording_session, wait_for_first_chunk,
 };
 
 #[test]
@@ -219,15 +219,7 @@ fn real_time_session_is_paced_at_the_loop_rate() {
 fn sigint_ends_the_session_cleanly_with_a_readable_recording() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("int.mcap");
-    let child = spawn_recording_session(&path);
-    wait_for_first_chunk(&path);
-    std::thread::sleep(Duration::from_millis(300));
-    let status = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(status.success());
-    let out = child.wait_with_output().unwrap();
+    let out = interrupted_recording_session(&path);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
         out.status.success(),

@@ -114,6 +114,20 @@ pub fn wait_for_first_chunk(path: &Path) {
     }
 }
 
+/// A real-time recording session to `path` (as [`spawn_recording_session`]) interrupted by
+/// SIGINT 300 ms after its first chunk reached the disk; its output.
+pub fn interrupted_recording_session(path: &Path) -> Output {
+    let child = spawn_recording_session(path);
+    wait_for_first_chunk(path);
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    let status = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    child.wait_with_output().unwrap()
+}
+
 /// The recorded torque is a whole number of µN·m: the bounds allow that much rounding, N·m.
 pub const RECORDED_NM: f64 = 1e-6;
 
