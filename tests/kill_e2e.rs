@@ -100,6 +100,13 @@ struct Tmpfs {
 }
 
 impl Tmpfs {
+    /// Mount `mib` MiB of tmpfs; `None`, having said SKIPPED and why, where it cannot be.
+    fn mount_or_skip(mib: u64) -> Option<Self> {
+        Self::mount(mib)
+            .inspect_err(|why| println!("SKIPPED: {why}"))
+            .ok()
+    }
+
     /// Mount `mib` MiB of tmpfs, or say why not.
     fn mount(mib: u64) -> Result<Self, String> {
         let dir = tempfile::tempdir().unwrap();
@@ -130,12 +137,8 @@ impl Drop for Tmpfs {
 
 #[test]
 fn a_session_that_would_not_fit_on_its_disk_is_refused_before_it_starts() {
-    let disk = match Tmpfs::mount(80) {
-        Ok(d) => d,
-        Err(why) => {
-            println!("SKIPPED: {why}");
-            return;
-        }
+    let Some(disk) = Tmpfs::mount_or_skip(80) else {
+        return;
     };
     let path = disk.path().join("long.mcap");
     // 600 s need 100 MB at 600 MB/h plus the 64 MB kept free: more than 80 MiB.
@@ -179,12 +182,8 @@ fn a_session_that_would_not_fit_on_its_disk_is_refused_before_it_starts() {
 
 #[test]
 fn a_disk_running_low_mid_session_stops_the_recording_with_a_finished_file() {
-    let disk = match Tmpfs::mount(72) {
-        Ok(d) => d,
-        Err(why) => {
-            println!("SKIPPED: {why}");
-            return;
-        }
+    let Some(disk) = Tmpfs::mount_or_skip(72) else {
+        return;
     };
     let path = disk.path().join("low.mcap");
     let child = Command::new(telerehab_bin())
