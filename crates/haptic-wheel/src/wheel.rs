@@ -121,6 +121,15 @@ pub trait Wheel {
     fn read(&mut self) -> Result<WheelReading, WheelError>;
     /// Command a motor torque, N·m. The caller has already passed it through the safety chain.
     fn command_torque(&mut self, torque_nm: f64) -> Result<(), WheelError>;
+    /// The safety chain's ceiling in force, N·m. A backend that holds its last level between
+    /// updates (a driver's rate policy) brings a held level above it down at once, so a
+    /// lowered ceiling holds at the motor from this call, not one update interval later.
+    /// The haptic loop calls it every tick before [`Wheel::command_torque`]. A non-finite
+    /// ceiling is refused with the torque sent to zero. Backends that send every command as
+    /// it comes ignore it.
+    fn set_torque_ceiling_nm(&mut self, _ceiling_nm: f64) -> Result<(), WheelError> {
+        Ok(())
+    }
     /// Largest torque the device can produce, N·m.
     fn max_torque_nm(&self) -> f64;
 
@@ -160,6 +169,9 @@ impl<W: Wheel + ?Sized> Wheel for &mut W {
     fn command_torque(&mut self, torque_nm: f64) -> Result<(), WheelError> {
         (**self).command_torque(torque_nm)
     }
+    fn set_torque_ceiling_nm(&mut self, ceiling_nm: f64) -> Result<(), WheelError> {
+        (**self).set_torque_ceiling_nm(ceiling_nm)
+    }
     fn max_torque_nm(&self) -> f64 {
         (**self).max_torque_nm()
     }
@@ -180,6 +192,9 @@ impl<W: Wheel + ?Sized> Wheel for Box<W> {
     }
     fn command_torque(&mut self, torque_nm: f64) -> Result<(), WheelError> {
         (**self).command_torque(torque_nm)
+    }
+    fn set_torque_ceiling_nm(&mut self, ceiling_nm: f64) -> Result<(), WheelError> {
+        (**self).set_torque_ceiling_nm(ceiling_nm)
     }
     fn max_torque_nm(&self) -> f64 {
         (**self).max_torque_nm()

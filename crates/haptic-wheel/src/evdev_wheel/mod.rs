@@ -18,7 +18,9 @@
 //!   heap data: the 1 kHz loop makes them every tick while they last.
 //! - **Torque out.** One constant-force effect, updated in place with the same id: the
 //!   latest value wins, nothing queues. Updates are throttled to the driver's rate policy
-//!   ([`DriverFamily::max_update_rate_hz`](crate::DriverFamily)); zero is never throttled.
+//!   ([`DriverFamily::max_update_rate_hz`](crate::DriverFamily)); zero is never throttled,
+//!   and a held level above a lowered ceiling comes down at once
+//!   ([`Wheel::set_torque_ceiling_nm`]).
 //!   Every effect has a short replay length and is re-played at half of it, so if this
 //!   process hangs the motor stops within one length; if it dies, the kernel erases its
 //!   effects when the file closes.
@@ -485,6 +487,36 @@ impl<D: FfDevice> Wheel for EvdevWheel<D> {
         // Zero always goes out at once: stopping is never throttled.
         if due || level == 0 {
             self.send(level, now)
+        } else {
+            Ok(())
+        }
+    }
+
+    fn set_torque_ceiling_nm(&mut self, ceiling_nm: f64) -> Result<(), WheelError> {
+        if self.lost {
+            return Err(WheelError::Fault(WheelFault::Unplugged));
+        }
+        let now = self.clock.now_ns();
+        if !ceiling_nm.is_finite() {
+            self.send(0, now)?;
+            return Err(WheelError::NonFiniteTorque(ceiling_nm));
+        }
+        // The largest level within the ceiling (truncated towards zero like every level).
+        let bound = level_for(
+            ceiling_nm.abs(),
+            self.usable_nm,
+            self.profile.max_torque_nm,
+            self.config.gain,
+            1.0,
+        );
+        if self.level.unsigned_abs() > bound.unsigned_abs() {
+            // A held level over a lowered ceiling goes down at once, whatever the rate policy;
+            // the policy's own schedule is kept, so the command's level still follows within
+            // one update interval. One extra update per lowering, which is rare.
+            let scheduled = self.last_update_ns;
+            let sent = self.send(self.level.signum() * bound, now);
+            self.last_update_ns = scheduled;
+            sent
         } else {
             Ok(())
         }

@@ -307,6 +307,54 @@ fn torque_updates_follow_the_driver_rate_and_zero_is_never_throttled() {
 }
 
 #[test]
+fn a_lowered_ceiling_holds_at_the_motor_at_once_even_between_throttled_updates() {
+    // A Thrustmaster base on hid-tmff2: one update per 8 ms. The level sent a moment ago is
+    // held until the next update; a regimen lowering the ceiling meanwhile must not wait.
+    for usb_id in [(0x044f, 0xb66e), UNKNOWN_ID] {
+        // The motor as strong as the profile states (an unknown wheel: the strongest assumed).
+        let motor_nm = DeviceProfile::for_usb_id(usb_id.0, usb_id.1).max_torque_nm;
+        let (mut w, fake, mock) = wheel_with(usb_id, motor_nm, WheelConfig::default());
+        let usable = w.max_torque_nm();
+        w.set_torque_ceiling_nm(usable).unwrap();
+        w.command_torque(usable).unwrap();
+        let held_nm = fake.motor_torque_nm();
+        assert!(held_nm > 0.5 * usable.min(motor_nm), "{held_nm} N·m held");
+        mock.advance_ns(MS);
+        let ceiling = 0.25 * usable;
+        w.set_torque_ceiling_nm(ceiling).unwrap();
+        assert!(
+            fake.motor_torque_nm() <= ceiling + 1e-12,
+            "{usb_id:04x?}: {} N·m at the motor over the new {ceiling} N·m ceiling",
+            fake.motor_torque_nm()
+        );
+        // The command within the new ceiling still follows on the rate policy's schedule.
+        w.command_torque(0.1 * usable).unwrap();
+        assert!(fake.motor_torque_nm() <= ceiling + 1e-12);
+        mock.advance_ns(w.min_update_interval_ns());
+        w.command_torque(0.1 * usable).unwrap();
+        let p = w.profile();
+        let own = level_for(
+            0.1 * usable,
+            usable,
+            p.max_torque_nm,
+            w.gain(),
+            p.torque_sign,
+        );
+        assert_eq!(
+            w.sent_level(),
+            own,
+            "{usb_id:04x?}: the command's level one interval on"
+        );
+        // Raising the ceiling sends nothing by itself; a non-finite one sends zero.
+        let writes = fake.effect_writes();
+        w.set_torque_ceiling_nm(usable).unwrap();
+        assert_eq!(fake.effect_writes(), writes);
+        assert!(w.set_torque_ceiling_nm(f64::NAN).is_err());
+        assert_eq!(w.sent_level(), 0);
+    }
+}
+
+#[test]
 fn a_hung_host_stops_the_motor_within_one_effect_length() {
     let cfg = WheelConfig {
         effect_length_ms: 50,

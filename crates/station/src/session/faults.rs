@@ -479,6 +479,9 @@ impl<W: Wheel + Stallable> Wheel for FaultyWheel<W> {
         }
         self.inner.command_torque(torque_nm)
     }
+    fn set_torque_ceiling_nm(&mut self, ceiling_nm: f64) -> Result<(), WheelError> {
+        self.inner.set_torque_ceiling_nm(ceiling_nm)
+    }
 
     fn max_torque_nm(&self) -> f64 {
         self.inner.max_torque_nm()

@@ -564,7 +564,9 @@ impl Plant {
             .wheel()
             .set_firmware_effects_active(tel.watchdog == WatchdogState::Running);
         // A failed command is caught by the next read (stale reading → supervisor fault).
-        let _ = self.body.wheel().command_torque(tel.torque_nm);
+        let wheel = self.body.wheel();
+        let _ = wheel.set_torque_ceiling_nm(self.chain.ceiling_nm());
+        let _ = wheel.command_torque(tel.torque_nm);
 
         // 4. Whoever holds the wheel moves it (following the arm set-up's prompts first).
         let aim = match setup {

@@ -12,11 +12,13 @@
 //! - the command is finite, within the ceiling in force, and within the slew limit of the
 //!   previous command (a ceiling lowered at run time holds at once: the step goes to the new
 //!   ceiling, then the slew limit applies);
-//! - the motor's torque is within the ceiling (within one update interval of the driver's
-//!   rate policy after a lowered ceiling: the backend holds a non-zero level that long), and
-//!   within one kernel level of the command whenever the backend sent it;
-//! - between two torque updates the motor steps by no more than the slew limit allows over
-//!   the ticks in between, plus one kernel level;
+//! - the motor's torque is within the ceiling in force, at once after a lowered ceiling (the
+//!   backend is told the ceiling every tick, as the station's loop does, and brings a held
+//!   level down without waiting for its rate policy), and within one kernel level of the
+//!   command whenever the backend sent it;
+//! - between two updates to the command's own level the motor steps by no more than the slew
+//!   limit allows over the ticks in between, plus one kernel level; a held level only moves
+//!   towards zero (brought down to a lowered ceiling);
 //! - after a stop, a pause or a continuous fault, command and motor are zero once the fade
 //!   bound `fade_out_s + ceiling / slew` has passed on the supervisor's clock, and stay there.
 
@@ -256,8 +258,6 @@ struct Checker {
     ceiling_since_motor_nm: f64,
     /// When the backend last sent the command's own level (or would have sent the same), ns.
     last_in_step_ns: u64,
-    /// Ceilings of the last update interval: the motor may hold a level that long.
-    recent_ceilings: Vec<(u64, f64)>,
     /// Since a stop, a pause and the start of the current run of faulted ticks.
     since_stop: Option<Fade>,
     since_pause: Option<Fade>,
@@ -334,7 +334,6 @@ fn play_on_wheel(
         allowance_since_motor_nm: 0.0,
         ceiling_since_motor_nm: c.ceiling_nm(),
         last_in_step_ns: 0,
-        recent_ceilings: Vec::with_capacity(64),
         since_stop: None,
         since_pause: None,
         since_fault: None,
@@ -479,7 +478,8 @@ impl Rig {
             prop_assert_eq!(tel.watchdog, WatchdogState::Stopped);
         }
 
-        // The motor.
+        // The motor, driven as the station's loop drives it.
+        let _ = self.wheel.set_torque_ceiling_nm(ceiling);
         let _ = self.wheel.command_torque(cmd);
         let level = self.wheel.sent_level();
         let motor = f64::from(level) * self.k.motor_per_level_nm;
@@ -488,17 +488,9 @@ impl Rig {
             (magnitude - motor.abs()).abs() <= 1e-9,
             "{name}: the fake's motor {magnitude} N·m vs level {level}"
         );
-        self.k
-            .recent_ceilings
-            .retain(|&(t, _)| now_ns.saturating_sub(t) < self.interval_ns);
-        let allowed = self
-            .k
-            .recent_ceilings
-            .iter()
-            .fold(ceiling, |m, &(_, old)| m.max(old));
         prop_assert!(
-            motor.abs() <= allowed + 1e-9,
-            "{name}: {motor} N·m at the motor over the {allowed} N·m ceiling (now {ceiling})"
+            motor.abs() <= ceiling + 1e-9,
+            "{name}: {motor} N·m at the motor over the {ceiling} N·m ceiling"
         );
         let own = level_for(
             cmd,
@@ -524,7 +516,15 @@ impl Rig {
             );
         }
         self.k.allowance_since_motor_nm += allowance;
-        if motor != self.k.last_motor_nm {
+        if level != own {
+            // Held by the rate policy, or a held level brought down to a lowered ceiling: until
+            // the backend sends the command's own level, the motor only moves towards zero.
+            let last = self.k.last_motor_nm;
+            prop_assert!(
+                motor.abs() <= last.abs() + 1e-12 && motor * last >= 0.0,
+                "{name}: a held level moved the motor {last} → {motor} N·m"
+            );
+        } else if motor != self.k.last_motor_nm {
             let from = self.k.last_motor_nm.clamp(
                 -self.k.ceiling_since_motor_nm,
                 self.k.ceiling_since_motor_nm,
@@ -535,23 +535,20 @@ impl Rig {
                 "{name}: motor stepped {from} → {motor} N·m, slew allows {} N·m",
                 self.k.allowance_since_motor_nm
             );
-            self.k.last_motor_nm = motor;
             self.k.allowance_since_motor_nm = 0.0;
             self.k.ceiling_since_motor_nm = ceiling;
         }
+        self.k.last_motor_nm = motor;
         self.k.last_cmd_nm = cmd;
         self.k.ceiling_since_tick_nm = ceiling;
         Ok(())
     }
 
-    /// A ceiling change from `before` to `after` N·m.
-    fn note_ceiling(&mut self, before: f64, after: f64) {
+    /// A ceiling change to `after` N·m.
+    fn note_ceiling(&mut self, after: f64) {
         let k = &mut self.k;
         k.ceiling_since_tick_nm = k.ceiling_since_tick_nm.min(after);
         k.ceiling_since_motor_nm = k.ceiling_since_motor_nm.min(after);
-        if after < before {
-            k.recent_ceilings.push((self.mock.now_ns(), before));
-        }
     }
 
     /// Apply one operation of the script.
@@ -605,7 +602,7 @@ impl Rig {
                         prop_assert!(msg.contains('='), "{name}: the error names no field: {msg}");
                     }
                 }
-                self.note_ceiling(before, self.c.ceiling_nm());
+                self.note_ceiling(self.c.ceiling_nm());
             }
             Op::Ceiling(f) => {
                 let before = self.c.ceiling_nm();
@@ -623,7 +620,7 @@ impl Rig {
                     prop_assert!(e.to_string().contains("ceiling_nm"), "{name}: {e}");
                     prop_assert_eq!(self.c.ceiling_nm(), before);
                 }
-                self.note_ceiling(before, self.c.ceiling_nm());
+                self.note_ceiling(self.c.ceiling_nm());
             }
             Op::Effect(e) => match self.c.effects_mut().add(*e) {
                 Ok(id) => self.c.effects_mut().play(id).unwrap(),
