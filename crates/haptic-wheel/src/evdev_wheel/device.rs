@@ -34,6 +34,15 @@ pub trait FfDevice {
     fn traits(&self) -> DeviceTraits;
     /// USB vendor and product id.
     fn usb_id(&self) -> (u16, u16);
+    /// Where the device is plugged in (the kernel's `phys`, e.g.
+    /// `usb-0000:00:14.0-2/input0`), if the driver says.
+    fn phys(&self) -> Option<String> {
+        None
+    }
+    /// The unit's own id (the kernel's `uniq`, often a serial number), if the driver gives one.
+    fn uniq(&self) -> Option<String> {
+        None
+    }
     /// How many effects the device holds at once.
     fn max_ff_effects(&self) -> usize;
     /// The kernel's current state of `axis`.
@@ -162,6 +171,14 @@ impl FfDevice for KernelDevice {
     fn usb_id(&self) -> (u16, u16) {
         let id = self.dev.input_id();
         (id.vendor(), id.product())
+    }
+
+    fn phys(&self) -> Option<String> {
+        self.dev.physical_path().map(str::to_owned)
+    }
+
+    fn uniq(&self) -> Option<String> {
+        self.dev.unique_name().map(str::to_owned)
     }
 
     fn max_ff_effects(&self) -> usize {

@@ -22,10 +22,16 @@ struct FakeEffect {
     erased: bool,
 }
 
+/// How many of the first constant-force levels written the fake keeps.
+const FIRST_LEVELS: usize = 8;
+
 struct FakeState {
     clock: Clock,
     traits: DeviceTraits,
     usb_id: (u16, u16),
+    /// Where it is plugged in and its serial (`phys`, `uniq`).
+    phys: Option<String>,
+    uniq: Option<String>,
     motor_nm: f64,
     axis: AxisState,
     gain: u16,
@@ -40,6 +46,9 @@ struct FakeState {
     pending_event_unix_ns: Option<u64>,
     peak_motor_nm: f64,
     effect_writes: u64,
+    /// The first constant-force levels uploaded or updated, in order (fixed size: the fake
+    /// must not allocate on the haptic thread).
+    first_levels: [Option<i16>; FIRST_LEVELS],
     /// The raw value as a function of time, ns (a person turning the wheel), if scripted.
     script: Option<Box<dyn Fn(u64) -> i32 + Send>>,
     /// Raw units the rim gives way per N·m of (signed) motor torque, hands off; 0: rigid.
@@ -125,6 +134,14 @@ impl FakeState {
         total
     }
 
+    fn note_level(&mut self, data: &FFEffectData) {
+        if let FFEffectKind::Constant { level, .. } = data.kind
+            && let Some(slot) = self.first_levels.iter_mut().find(|l| l.is_none())
+        {
+            *slot = Some(level);
+        }
+    }
+
     fn note_torque(&mut self) {
         let now = self.clock.now_ns();
         let t = self.motor_nm_at(now);
@@ -160,6 +177,8 @@ impl FakeFfDevice {
                     gamepad_buttons: false,
                 },
                 usb_id,
+                phys: None,
+                uniq: None,
                 motor_nm,
                 axis: AxisState {
                     value: 32_768,
@@ -175,10 +194,21 @@ impl FakeFfDevice {
                 pending_event_unix_ns: None,
                 peak_motor_nm: 0.0,
                 effect_writes: 0,
+                first_levels: [None; FIRST_LEVELS],
                 script: None,
                 compliance_units_per_nm: 0.0,
             })),
         }
+    }
+
+    /// The same wheel plugged in at `phys` (a USB port), with serial `uniq`.
+    pub fn at(self, phys: Option<&str>, uniq: Option<&str>) -> Self {
+        {
+            let mut s = self.lock();
+            s.phys = phys.map(str::to_owned);
+            s.uniq = uniq.map(str::to_owned);
+        }
+        self
     }
 
     /// The test's handle.
@@ -207,6 +237,11 @@ impl FakeHandle {
     /// The largest torque the motor produced at any effect write so far, N·m.
     pub fn peak_motor_torque_nm(&self) -> f64 {
         self.lock().peak_motor_nm
+    }
+
+    /// The first constant-force levels the backend uploaded or updated, in order (up to 8).
+    pub fn first_constant_levels(&self) -> Vec<i16> {
+        self.lock().first_levels.iter().flatten().copied().collect()
     }
 
     /// How many effect uploads, updates and plays the backend made.
@@ -300,6 +335,14 @@ impl FfDevice for FakeFfDevice {
         self.lock().usb_id
     }
 
+    fn phys(&self) -> Option<String> {
+        self.lock().phys.clone()
+    }
+
+    fn uniq(&self) -> Option<String> {
+        self.lock().uniq.clone()
+    }
+
     fn max_ff_effects(&self) -> usize {
         16
     }
@@ -338,6 +381,7 @@ impl FfDevice for FakeFfDevice {
     fn upload(&mut self, data: FFEffectData) -> io::Result<EffectSlot> {
         let mut s = self.lock();
         s.err()?;
+        s.note_level(&data);
         s.effects.push(FakeEffect {
             data,
             playing_since_ns: None,
@@ -353,6 +397,7 @@ impl FfDevice for FakeFfDevice {
         let e = s.effects.get_mut(slot.0).filter(|e| !e.erased);
         let e = e.ok_or_else(|| io::Error::from(io::ErrorKind::NotFound))?;
         e.data = data;
+        s.note_level(&data);
         s.effect_writes += 1;
         s.note_torque();
         Ok(())

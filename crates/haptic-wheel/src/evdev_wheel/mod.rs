@@ -28,6 +28,9 @@
 //!   the wheel, outside the host's safety chain. Their saturations are capped to the usable
 //!   torque, and they play only while the haptic loop says the supervisor is running
 //!   ([`Wheel::set_firmware_effects_active`]): a pause, fault, stop or exit stops them.
+//! - **Unplugged and plugged back in** ([`EvdevWheel::reopen_with`], [`rejoin`]): the same
+//!   wheel (same model; the same unit or port preferred) is found again off the haptic thread,
+//!   re-initialised as at open, and driven from zero torque; another model is refused.
 //! - On open: gain set from the configuration, autocentre off (it would fight the haptic
 //!   models). On drop: torque to zero, effects erased, gain back to full and autocentre to
 //!   the configured exit value (the kernel cannot report the previous ones).
@@ -35,6 +38,7 @@
 pub mod calibrate;
 pub mod device;
 pub mod fake;
+pub mod rejoin;
 
 use std::path::{Path, PathBuf};
 
@@ -128,8 +132,15 @@ pub struct EvdevWheel<D: FfDevice = KernelDevice> {
     last_event_ns: u64,
     /// Since when a non-zero torque has been commanded, monotonic ns.
     torque_since_ns: Option<u64>,
-    /// The device went away; every call fails fast from now on.
+    /// The device went away; every call fails fast from now on (until it is found again,
+    /// with [`EvdevWheel::reopen_with`]).
     lost: bool,
+    /// The uploaded firmware conditions' parameters, to upload again on a re-opened device.
+    condition_data: Vec<FFEffectData>,
+    /// A re-opened device: the torque stays zero until zero is commanded once.
+    zero_first: bool,
+    /// Finds the wheel again when it goes away.
+    rejoin: Option<rejoin::Rejoin<D>>,
 }
 
 impl EvdevWheel<KernelDevice> {
@@ -192,11 +203,7 @@ impl<D: FfDevice> EvdevWheel<D> {
         let (vendor, product) = dev.usb_id();
         let profile = config.resolve_profile(vendor, product);
         profile.validate()?;
-        let axis = if traits.abs_axes.contains(&"wheel") {
-            AbsoluteAxisCode::ABS_WHEEL
-        } else {
-            AbsoluteAxisCode::ABS_X
-        };
+        let axis = rejoin::steering_axis(&traits);
         let info = dev.axis(axis).map_err(|e| io_err(node, e))?;
         let span = f64::from(info.maximum) - f64::from(info.minimum);
         if span <= 0.0 {
@@ -247,6 +254,9 @@ impl<D: FfDevice> EvdevWheel<D> {
             last_event_ns: now,
             torque_since_ns: None,
             lost: false,
+            condition_data: Vec::with_capacity(MAX_CONDITIONS),
+            zero_first: false,
+            rejoin: None,
             config: WheelConfig { gain, ..config },
             clock,
         })
@@ -274,6 +284,7 @@ impl<D: FfDevice> EvdevWheel<D> {
 
     fn lose(&mut self) -> WheelError {
         self.lost = true;
+        self.want_rejoin();
         WheelError::Fault(WheelFault::Unplugged)
     }
 
@@ -394,11 +405,13 @@ impl<D: FfDevice> EvdevWheel<D> {
             self.dev.play(slot).map_err(|e| io_err(&self.name, e))?;
         }
         self.conditions.push(slot);
+        self.condition_data.push(data);
         Ok(pos_sat.max(neg_sat))
     }
 
     /// Erase every firmware condition effect.
     pub fn clear_conditions(&mut self) {
+        self.condition_data.clear();
         for slot in self.conditions.drain(..) {
             let _ = self.dev.stop(slot);
             self.dev.erase(slot);
@@ -428,7 +441,8 @@ fn constant_data(level: i16, length_ms: u16) -> FFEffectData {
 
 impl<D: FfDevice> Wheel for EvdevWheel<D> {
     fn read(&mut self) -> Result<WheelReading, WheelError> {
-        if self.lost {
+        // A lost wheel answers again once a re-opened device has been taken.
+        if self.lost && !self.try_rejoin() {
             return Err(WheelError::Fault(WheelFault::Unplugged));
         }
         let now = self.clock.now_ns();
@@ -474,13 +488,18 @@ impl<D: FfDevice> Wheel for EvdevWheel<D> {
             self.send(0, now)?;
             return Err(WheelError::NonFiniteTorque(torque_nm));
         }
-        let level = level_for(
+        let mut level = level_for(
             torque_nm,
             self.usable_nm,
             self.profile.max_torque_nm,
             self.config.gain,
             self.profile.torque_sign,
         );
+        // A re-opened device gets zero until zero is asked for: never a step on re-open.
+        if self.zero_first {
+            self.zero_first = level != 0;
+            level = 0;
+        }
         let due = self
             .last_update_ns
             .is_none_or(|t| now.saturating_sub(t) >= self.min_interval_ns);
