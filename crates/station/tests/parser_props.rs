@@ -338,11 +338,12 @@ fn a_recording_cut_inside_its_header_is_refused_as_not_mcap() {
     }
 }
 
-/// Found by the `recover_mcap` fuzz target: a header record whose profile string claims about
-/// 2 GB. The MCAP parser reserves the claimed length before it finds the record too short
-/// (an out-of-memory abort under the fuzzer's 2 GB malloc limit); recover must refuse it.
+/// Found by the `recover_mcap` fuzz target: a 9-byte header record whose profile string claims
+/// 3.65 GB. The MCAP parser reserves the claimed length before it finds the record too short
+/// (an out-of-memory abort under the fuzzer's 2 GB malloc limit); recover checks every length
+/// inside a record against the record first and names the field.
 #[test]
-fn a_header_claiming_a_two_gigabyte_string_is_refused() {
+fn a_header_claiming_gigabytes_for_a_string_is_refused_before_parsing() {
     let input: [u8; 26] = [
         0x89, 0x4d, 0x43, 0x41, 0x50, 0x30, 0x0d, 0x0a, 0x01, 0x09, 0x00, 0x00, 0x00, 0x00, 0x00,
         0x00, 0x00, 0x00, 0xab, 0x95, 0xd9, 0x72, 0x52, 0x00, 0x35, 0x52,
@@ -351,7 +352,50 @@ fn a_header_claiming_a_two_gigabyte_string_is_refused() {
         .err()
         .map(|e| e.to_string())
         .expect("a header that cannot be read is refused");
-    assert!(msg.starts_with("not an MCAP file"), "{msg}");
+    assert!(
+        msg.starts_with("not an MCAP file") && msg.contains("profile claims 3650464512 bytes"),
+        "{msg}"
+    );
+}
+
+/// One MCAP record: opcode, little-endian u64 length, content.
+fn record(opcode: u8, content: &[u8]) -> Vec<u8> {
+    let mut r = vec![opcode];
+    r.extend_from_slice(&(content.len() as u64).to_le_bytes());
+    r.extend_from_slice(content);
+    r
+}
+
+/// An MCAP string or byte field: little-endian u32 length, bytes.
+fn prefixed(bytes: &[u8]) -> Vec<u8> {
+    let mut f = (bytes.len() as u32).to_le_bytes().to_vec();
+    f.extend_from_slice(bytes);
+    f
+}
+
+#[test]
+fn a_channel_whose_metadata_claims_more_than_its_record_ends_the_copy_there() {
+    let mut input = b"\x89MCAP0\r\n".to_vec();
+    input.extend(record(0x01, &[prefixed(b""), prefixed(b"test")].concat()));
+    // A metadata entry whose key claims 4 GB inside a map of 8 bytes.
+    let map = prefixed(&[0xff, 0xff, 0xff, 0xff, b'k', b'e', b'y', b'!']);
+    let channel = [
+        vec![1, 0, 0, 0],
+        prefixed(b"/wheel"),
+        prefixed(b"json"),
+        map,
+    ]
+    .concat();
+    input.extend(record(0x04, &channel));
+    let (copied, _) = recover(&input[..], Cursor::new(Vec::new())).unwrap();
+    assert_eq!(copied.channels, 0);
+    let why = copied
+        .stopped_at
+        .expect("the copy stops at the damaged channel");
+    assert!(
+        why.contains("0x04") && why.contains("channel metadata claims 4294967295 bytes"),
+        "{why}"
+    );
 }
 
 #[test]

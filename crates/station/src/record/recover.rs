@@ -8,7 +8,10 @@
 //!
 //! It streams: the input is read front to back once through mcap's sans-I/O linear reader,
 //! which holds at most one record (and one chunk's decompressed records) at a time, so memory
-//! stays bounded by [`MAX_RECORD_BYTES`] whatever the file's size.
+//! stays bounded by [`MAX_RECORD_BYTES`] whatever the file's size. Every length prefix inside
+//! a record is checked against the record's own length before the record is parsed (mcap's
+//! parser reserves a string's claimed length first: a damaged 26-byte header claiming a
+//! 2 GB string would allocate it), and records the copy does not use are not parsed.
 
 use super::writer::mcap_options;
 use mcap::records::Record;
@@ -38,7 +41,7 @@ pub struct Recovered {
 pub enum RecoverError {
     /// The input does not even start like an MCAP file.
     #[error("not an MCAP file: {0}")]
-    NotMcap(mcap::McapError),
+    NotMcap(Damaged),
     /// The input could not be read (an I/O error, not its end).
     #[error("cannot read the recording: {0}")]
     Read(std::io::Error),
@@ -55,8 +58,136 @@ pub enum RecoverError {
     Write(#[from] mcap::McapError),
 }
 
+/// Why the stream stops making sense at a record.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Damaged {
+    /// The MCAP reader refused it.
+    #[error(transparent)]
+    Mcap(#[from] mcap::McapError),
+    /// A length inside a record claims more bytes than the record has.
+    #[error(
+        "record opcode 0x{opcode:02x}: its {field} claims {claimed} bytes, {left} are left of \
+         the record's {record_len}"
+    )]
+    Overrun {
+        /// The record's opcode.
+        opcode: u8,
+        /// The field whose length prefix overruns.
+        field: &'static str,
+        /// The length the prefix claims, bytes.
+        claimed: u64,
+        /// Bytes of the record left at the field.
+        left: usize,
+        /// The record's length, bytes.
+        record_len: usize,
+    },
+}
+
 /// A record read, the reason the stream stops making sense, or the input's I/O error.
-type NextRecord = Result<Result<Record<'static>, mcap::McapError>, std::io::Error>;
+type NextRecord = Result<Result<Record<'static>, Damaged>, std::io::Error>;
+
+/// The records the copy uses (header, schema, channel, message, metadata); the rest of the
+/// stream (indexes, statistics, attachments, summary) is skipped unparsed.
+const COPIED: [u8; 5] = [
+    mcap::records::op::HEADER,
+    mcap::records::op::SCHEMA,
+    mcap::records::op::CHANNEL,
+    mcap::records::op::MESSAGE,
+    mcap::records::op::METADATA,
+];
+
+/// Walks a record's fields, checking each length prefix against what is left.
+struct Fields<'a> {
+    opcode: u8,
+    record_len: usize,
+    rest: &'a [u8],
+}
+
+impl<'a> Fields<'a> {
+    fn of(opcode: u8, data: &'a [u8]) -> Self {
+        Self {
+            opcode,
+            record_len: data.len(),
+            rest: data,
+        }
+    }
+
+    /// The next `n` bytes of `field`.
+    fn take(&mut self, field: &'static str, n: u64) -> Result<&'a [u8], Damaged> {
+        match usize::try_from(n) {
+            Ok(n) if n <= self.rest.len() => {
+                let (head, tail) = self.rest.split_at(n);
+                self.rest = tail;
+                Ok(head)
+            }
+            _ => Err(Damaged::Overrun {
+                opcode: self.opcode,
+                field,
+                claimed: n,
+                left: self.rest.len(),
+                record_len: self.record_len,
+            }),
+        }
+    }
+
+    /// A fixed-size field.
+    fn fixed(&mut self, field: &'static str, n: u64) -> Result<(), Damaged> {
+        self.take(field, n).map(drop)
+    }
+
+    /// A field behind a little-endian u32 length (a string, a map, schema data).
+    fn prefixed(&mut self, field: &'static str) -> Result<&'a [u8], Damaged> {
+        let len = self.take(field, 4)?;
+        let n = u32::from_le_bytes(len.try_into().expect("4 bytes"));
+        self.take(field, u64::from(n))
+    }
+
+    /// A `map<string, string>`: its byte length, then each key and value within it.
+    fn string_map(&mut self, field: &'static str) -> Result<(), Damaged> {
+        let mut entries = Fields {
+            rest: self.prefixed(field)?,
+            ..*self
+        };
+        while !entries.rest.is_empty() {
+            entries.prefixed(field)?;
+            entries.prefixed(field)?;
+        }
+        Ok(())
+    }
+}
+
+/// Checks every length inside a record the copy parses (MCAP specification, "Records"), so
+/// parsing it allocates no more than the record's own length.
+fn check_lengths(opcode: u8, data: &[u8]) -> Result<(), Damaged> {
+    use mcap::records::op;
+    let mut f = Fields::of(opcode, data);
+    match opcode {
+        op::HEADER => {
+            f.prefixed("profile")?;
+            f.prefixed("library")?;
+        }
+        op::SCHEMA => {
+            f.fixed("schema id", 2)?;
+            f.prefixed("schema name")?;
+            f.prefixed("schema encoding")?;
+            f.prefixed("schema data")?;
+        }
+        op::CHANNEL => {
+            f.fixed("channel and schema ids", 4)?;
+            f.prefixed("topic")?;
+            f.prefixed("message encoding")?;
+            f.string_map("channel metadata")?;
+        }
+        op::MESSAGE => f.fixed("message header", 2 + 4 + 8 + 8)?,
+        op::METADATA => {
+            f.prefixed("metadata name")?;
+            f.string_map("metadata")?;
+        }
+        _ => {}
+    }
+    Ok(())
+}
 
 /// The records of an MCAP stream read from `input` front to back, chunks unpacked: each item
 /// is the next record, `Err(McapError)` where the stream stops making sense (a truncated or
@@ -92,9 +223,16 @@ impl<R: Read> Records<R> {
                     self.reader.notify_read(n);
                 }
                 Ok(LinearReadEvent::Record { opcode, data }) => {
-                    return Some(Ok(mcap::parse_record(opcode, data).map(Record::into_owned)));
+                    if !COPIED.contains(&opcode) {
+                        continue;
+                    }
+                    return Some(Ok(check_lengths(opcode, data).and_then(|()| {
+                        mcap::parse_record(opcode, data)
+                            .map(Record::into_owned)
+                            .map_err(Damaged::from)
+                    })));
                 }
-                Err(e) => return Some(Ok(Err(e))),
+                Err(e) => return Some(Ok(Err(e.into()))),
             }
         }
     }

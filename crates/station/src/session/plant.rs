@@ -559,12 +559,10 @@ impl Plant {
         self.watchdog = tel.watchdog;
         // The fault after a replug has cleared: resume (from paused, so with a soft start).
         self.wheel_settling &= tel.watchdog != WatchdogState::Paused;
-        // Firmware effects play only while the supervisor runs at full scale.
-        self.body
-            .wheel()
-            .set_firmware_effects_active(tel.watchdog == WatchdogState::Running);
-        // A failed command is caught by the next read (stale reading → supervisor fault).
+        // Firmware effects play only while the supervisor runs at full scale; a failed
+        // command is caught by the next read (stale reading → supervisor fault).
         let wheel = self.body.wheel();
+        wheel.set_firmware_effects_active(tel.watchdog == WatchdogState::Running);
         let _ = wheel.set_torque_ceiling_nm(self.chain.ceiling_nm());
         let _ = wheel.command_torque(tel.torque_nm);
 
