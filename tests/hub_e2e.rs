@@ -6,7 +6,7 @@ use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::Duration;
-use telerehab_tests::telerehab_bin;
+use telerehab_tests::{Tmpfs, telerehab_bin, wait_for_first_chunk};
 
 fn telerehab(args: &[&str], home: Option<&Path>) -> Output {
     let mut cmd = Command::new(telerehab_bin());
@@ -223,6 +223,83 @@ fn a_clinic_pairs_a_station_that_then_streams_every_session_over_mutual_tls() {
     assert!(
         !again.status.success() && err.contains("already been used"),
         "{err}"
+    );
+    hub.stop();
+}
+
+/// The one file with extension `ext` under `dir` (searched two levels deep), once it exists.
+fn wait_for_file(dir: &Path, ext: &str) -> PathBuf {
+    let deadline = std::time::Instant::now() + Duration::from_secs(20);
+    loop {
+        let found: Vec<PathBuf> = std::fs::read_dir(dir)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .flat_map(|e| match std::fs::read_dir(e.path()) {
+                Ok(sub) => sub.flatten().map(|s| s.path()).collect(),
+                Err(_) => vec![e.path()],
+            })
+            .filter(|p| p.extension().is_some_and(|e| e == ext))
+            .collect();
+        match found.as_slice() {
+            [one] => return one.clone(),
+            [] => assert!(
+                std::time::Instant::now() < deadline,
+                "no .{ext} in {} after 20 s",
+                dir.display()
+            ),
+            many => panic!("several .{ext} files: {many:?}"),
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+#[test]
+fn a_recording_stopped_by_a_disk_running_low_is_finished_and_still_reaches_the_hub() {
+    let Some(disk) = Tmpfs::mount_or_skip(72) else {
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let (data, code) = clinic(tmp.path());
+    let hub = Hub::serve(&data, "127.0.0.1:0");
+    // The station's home, and so its recordings, on the small disk.
+    let home = disk.path().join("station");
+    ok(
+        &["pair", "--hub", &hub.stations, "--code", &code],
+        Some(&home),
+    );
+    let child = Command::new(telerehab_bin())
+        .args([
+            "run",
+            "--sim",
+            "--headless",
+            "--duration",
+            "5",
+            "--seed",
+            "7",
+        ])
+        .env("TELEREHAB_HOME", &home)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let recording = wait_for_file(&home.join("recordings"), "mcap");
+    wait_for_first_chunk(&recording);
+    disk.fill_under_the_reserve();
+    let out = child.wait_with_output().unwrap();
+    let report = String::from_utf8_lossy(&out.stdout);
+    assert!(!out.status.success(), "a stopped recording fails the run");
+    assert!(report.contains("recording stopped at"), "{report}");
+    // Finished while there was room, so what it holds is the therapist's too.
+    assert!(
+        report.contains("recording upload    1 uploaded"),
+        "{report}"
+    );
+    let stored = wait_for_file(&data.join("recordings"), "mcap");
+    assert_eq!(
+        std::fs::read(&stored).unwrap(),
+        std::fs::read(&recording).unwrap(),
+        "the hub holds the station's finished file"
     );
     hub.stop();
 }

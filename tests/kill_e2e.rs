@@ -12,7 +12,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 use telerehab_tests::{
-    assert_within_ceiling_and_slew, run_ok, spawn_recording_session, telerehab_bin,
+    Tmpfs, assert_within_ceiling_and_slew, run_ok, spawn_recording_session, telerehab_bin,
     wait_for_first_chunk,
 };
 
@@ -94,47 +94,6 @@ fn sigkill_at_a_random_moment_recovers_every_tick_up_to_the_last_closed_chunk() 
     assert!(ticks.len() < 10_000, "{} ticks", ticks.len());
 }
 
-/// A small tmpfs mounted for one test, unmounted when dropped.
-struct Tmpfs {
-    dir: tempfile::TempDir,
-}
-
-impl Tmpfs {
-    /// Mount `mib` MiB of tmpfs; `None`, having said SKIPPED and why, where it cannot be.
-    fn mount_or_skip(mib: u64) -> Option<Self> {
-        Self::mount(mib)
-            .inspect_err(|why| println!("SKIPPED: {why}"))
-            .ok()
-    }
-
-    /// Mount `mib` MiB of tmpfs, or say why not.
-    fn mount(mib: u64) -> Result<Self, String> {
-        let dir = tempfile::tempdir().unwrap();
-        let out = Command::new("mount")
-            .args(["-t", "tmpfs", "-o", &format!("size={mib}m"), "tmpfs"])
-            .arg(dir.path())
-            .output()
-            .map_err(|e| format!("cannot run mount: {e}"))?;
-        if !out.status.success() {
-            return Err(format!(
-                "cannot mount a tmpfs: {}",
-                String::from_utf8_lossy(&out.stderr).trim()
-            ));
-        }
-        Ok(Self { dir })
-    }
-
-    fn path(&self) -> &Path {
-        self.dir.path()
-    }
-}
-
-impl Drop for Tmpfs {
-    fn drop(&mut self) {
-        let _ = Command::new("umount").arg(self.dir.path()).status();
-    }
-}
-
 #[test]
 fn a_session_that_would_not_fit_on_its_disk_is_refused_before_it_starts() {
     let Some(disk) = Tmpfs::mount_or_skip(80) else {
@@ -203,15 +162,7 @@ fn a_disk_running_low_mid_session_stops_the_recording_with_a_finished_file() {
         .spawn()
         .unwrap();
     wait_for_first_chunk(&path);
-    // Something else fills the disk to 8 MB under the 64 MB the recorder keeps free.
-    let free = station::session::disk_space::free_bytes(disk.path()).unwrap();
-    let reserve = station::session::disk_space::RESERVE_BYTES;
-    let filler = vec![0xA5u8; 1 << 20];
-    let mut f = std::fs::File::create(disk.path().join("filler")).unwrap();
-    for _ in 0..(free - (reserve - 8_000_000)) >> 20 {
-        std::io::Write::write_all(&mut f, &filler).unwrap();
-    }
-    drop(f);
+    disk.fill_under_the_reserve();
     let out = child.wait_with_output().unwrap();
     let report = String::from_utf8_lossy(&out.stdout);
     let log = String::from_utf8_lossy(&out.stderr);

@@ -224,3 +224,56 @@ pub fn by_topic(msgs: &[Msg]) -> BTreeMap<String, Vec<Msg>> {
     }
     map
 }
+
+/// A small tmpfs mounted for one test, unmounted when dropped.
+pub struct Tmpfs {
+    dir: tempfile::TempDir,
+}
+
+impl Tmpfs {
+    /// Mount `mib` MiB of tmpfs; `None`, having said SKIPPED and why, where it cannot be.
+    pub fn mount_or_skip(mib: u64) -> Option<Self> {
+        Self::mount(mib)
+            .inspect_err(|why| println!("SKIPPED: {why}"))
+            .ok()
+    }
+
+    /// Mount `mib` MiB of tmpfs, or say why not.
+    fn mount(mib: u64) -> Result<Self, String> {
+        let dir = tempfile::tempdir().unwrap();
+        let out = Command::new("mount")
+            .args(["-t", "tmpfs", "-o", &format!("size={mib}m"), "tmpfs"])
+            .arg(dir.path())
+            .output()
+            .map_err(|e| format!("cannot run mount: {e}"))?;
+        if !out.status.success() {
+            return Err(format!(
+                "cannot mount a tmpfs: {}",
+                String::from_utf8_lossy(&out.stderr).trim()
+            ));
+        }
+        Ok(Self { dir })
+    }
+
+    pub fn path(&self) -> &Path {
+        self.dir.path()
+    }
+
+    /// Something else fills the disk to 8 MB under the free space the recorder keeps
+    /// ([`station::session::disk_space::RESERVE_BYTES`]).
+    pub fn fill_under_the_reserve(&self) {
+        let free = station::session::disk_space::free_bytes(self.path()).unwrap();
+        let reserve = station::session::disk_space::RESERVE_BYTES;
+        let filler = vec![0xA5u8; 1 << 20];
+        let mut f = std::fs::File::create(self.path().join("filler")).unwrap();
+        for _ in 0..(free - (reserve - 8_000_000)) >> 20 {
+            std::io::Write::write_all(&mut f, &filler).unwrap();
+        }
+    }
+}
+
+impl Drop for Tmpfs {
+    fn drop(&mut self) {
+        let _ = Command::new("umount").arg(self.dir.path()).status();
+    }
+}

@@ -313,11 +313,13 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         window_restarts = account.map_or(0, |a| a.restarts);
         report
     };
-    // Only a recording that was written whole is uploaded.
+    // A finished recording is uploaded, also one the recorder stopped and finished early
+    // because its disk ran low (the hub keeps it off that disk); a file left unfinished by a
+    // write error is not (`telerehab recover` finishes it first).
     let recorded = opts
         .record
         .as_deref()
-        .filter(|_| report.recorder.error.is_none() && report.recorder.mcap_bytes.is_some());
+        .filter(|_| report.recorder.mcap_bytes.is_some());
     let link_report = link.finish(report.summaries, &report.recorder.measures.named, recorded);
     print!("{}", crate::report::render(&report, link_report.as_ref()));
     if window_restarts > 0 {
