@@ -37,6 +37,10 @@ pub fn enumerate() -> Result<Vec<ImuDeviceInfo>, ImuError> {
             vendor_id: d.vendor_id(),
             product_id: d.product_id(),
             bluetooth: matches!(d.bus_type(), BusType::Bluetooth),
+            serial: d
+                .serial_number()
+                .filter(|s| !s.is_empty())
+                .map(str::to_owned),
         });
     }
     Ok(out)

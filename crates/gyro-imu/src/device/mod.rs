@@ -66,6 +66,10 @@ pub struct ImuDeviceInfo {
     pub product_id: u16,
     /// Whether connected over Bluetooth (otherwise USB).
     pub bluetooth: bool,
+    /// The unit's serial number (over Bluetooth usually its address), if it reports one: what
+    /// tells two controllers of the same model apart.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub serial: Option<String>,
 }
 
 /// A source of IMU samples. Reading never blocks and never allocates.

@@ -174,6 +174,7 @@ impl SimArm {
                     vendor_id: 0,
                     product_id: 0,
                     bluetooth: false,
+                    serial: None,
                 },
                 model: SensorModel::new(gyro, acc, seed)?,
                 mount,
