@@ -4,16 +4,16 @@
 //!   wheel never gets more than 1 N·m (issue 12's defect).
 //! - The 1 kHz haptic thread allocates nothing on any path, faults included: a counting
 //!   global allocator counts every allocation made on the thread that runs the loop, over
-//!   real-time sessions in which the wheel is unplugged, falls silent under torque, or reports
-//!   an angle outside its range.
+//!   real-time sessions in which the wheel is unplugged (and plugged back in, re-opened by its
+//!   identity), falls silent under torque, or reports an angle outside its range.
 // The allocator is the one unsafe item of this test binary: it forwards to the system
 // allocator and only counts.
 #![allow(unsafe_code)]
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use clock::Clock;
@@ -78,6 +78,8 @@ static GLOBAL: Counting = Counting;
 #[derive(Clone, Copy, Debug)]
 enum Fault {
     Unplug,
+    /// Unplugged, and plugged back in (a new device node) 0.5 s later.
+    Replug,
     Silence,
     OutOfRange,
     None,
@@ -86,9 +88,10 @@ enum Fault {
 /// The thesis SideWinder's USB id (built-in profile, 1.87 N·m).
 const SIDEWINDER: (u16, u16) = (0x045e, 0x0034);
 
-/// Run a real-time session of up to `seconds` on a fake SideWinder, disturb it with `fault`
-/// after `after`, and return the allocations made on the haptic thread, the wheel fault that
-/// ended it and the peak motor torque.
+/// Run a real-time session of up to `seconds` on a fake SideWinder (re-opened by its identity
+/// when plugged back in, with a 1 s replug grace), disturb it with `fault` after `after`, and
+/// return the allocations made on the haptic thread, the wheel fault that ended it and the
+/// peak motor torque.
 fn session(fault: Fault, after: Duration, seconds: f64) -> (u64, Option<WheelFault>, f64) {
     let (allocs, fault, peak, _) = session_on(SIDEWINDER, 1.87, fault, after, seconds);
     (allocs, fault, peak)
@@ -110,13 +113,23 @@ fn session_on(
         },
         ..Default::default()
     };
+    cfg.haptic.replug_grace_s = 1.0;
     // The dial task: the road exercises step rapier2d, whose island manager allocates when a
     // body is changed from outside (rapier 0.36; measured, see the closing note of issue 12).
     cfg.session.exercise = "dial-sine".into();
     let clock = Clock::real();
     let dev = FakeFfDevice::wheel("fake wheel", usb_id, motor_nm, clock.clone());
     let fake: FakeHandle = dev.handle();
-    let wheel = EvdevWheel::with_device(dev, "fake", cfg.wheel.clone(), clock.clone()).unwrap();
+    // The devices plugged in: each taken by the first scan (on the helper thread) that sees it.
+    let bus: Arc<Mutex<Vec<(String, FakeFfDevice)>>> = Arc::default();
+    let finder = {
+        let bus = bus.clone();
+        move || std::mem::take(&mut *bus.lock().unwrap())
+    };
+    let wheel = EvdevWheel::with_device(dev, "fake", cfg.wheel.clone(), clock.clone())
+        .unwrap()
+        .reopen_with(finder, Duration::from_millis(20))
+        .unwrap();
     let body = Body::real_wheel(Box::new(wheel), None, clock.clone());
     let course = course::build(&cfg, None).unwrap();
     let mut plant = Plant::new(&cfg, body, course).unwrap();
@@ -129,10 +142,18 @@ fn session_on(
     let injector = {
         let fake = fake.clone();
         let done = done.clone();
+        let clock = clock.clone();
         std::thread::spawn(move || {
             std::thread::sleep(after);
             match fault {
                 Fault::Unplug => fake.set_unplugged(true),
+                Fault::Replug => {
+                    fake.set_unplugged(true);
+                    std::thread::sleep(Duration::from_millis(500));
+                    let new = FakeFfDevice::wheel("fake wheel", usb_id, motor_nm, clock);
+                    new.handle().set_value(20_000);
+                    bus.lock().unwrap().push(("fake-again".into(), new));
+                }
                 Fault::Silence => {
                     // Hung with the rim off centre, so the centring spring pushes on it.
                     fake.set_moves_under_torque(false);
@@ -169,6 +190,10 @@ fn session_on(
     injector.join().unwrap();
     while consumer.pop().is_ok() {}
     assert_eq!(outcome.wheel_fault, plant.wheel_fault());
+    assert_eq!(
+        plant.wheel_replugs(),
+        u32::from(matches!(fault, Fault::Replug) && outcome.wheel_fault.is_none())
+    );
     (
         allocations,
         outcome.wheel_fault,
@@ -202,8 +227,19 @@ fn the_haptic_thread_allocates_nothing_on_a_healthy_session() {
 #[test]
 fn the_haptic_thread_allocates_nothing_when_the_wheel_is_unplugged_and_the_session_ends_saying_so()
 {
+    // Not back within the 1 s grace.
     let (allocs, fault, _) = session(Fault::Unplug, Duration::from_millis(300), 5.0);
     assert_eq!(fault, Some(WheelFault::Unplugged));
+    assert_eq!(allocs, 0, "allocations on the haptic thread");
+}
+
+#[test]
+fn the_haptic_thread_allocates_nothing_when_the_wheel_is_plugged_back_in_and_re_opened() {
+    // The scan, the open and the closing of the dead device happen on the helper thread; the
+    // haptic thread takes the new device, sets it up and drives it, without allocating.
+    let (allocs, fault, peak) = session(Fault::Replug, Duration::from_millis(300), 3.0);
+    assert_eq!(fault, None, "back within the grace");
+    assert!(peak <= 1.87 + 1e-9);
     assert_eq!(allocs, 0, "allocations on the haptic thread");
 }
 

@@ -2,19 +2,23 @@
 //! real-time session on the kernel force-feedback backend over an in-memory device, on the
 //! wall clock, with a person turning the wheel as the clock goes, a pause and a stop from
 //! another thread — everything a second run could not repeat — re-run by `telerehab replay`
-//! from `/raw/wheel`, every recorded output compared.
+//! from `/raw/wheel`, every recorded output compared. Also a real wheel unplugged and plugged
+//! back in (issue 17): the session pauses at zero torque, re-opens the wheel by its identity,
+//! resumes with a soft start, says so in its report, and replays bit for bit.
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use clock::Clock;
 use haptic_wheel::evdev_wheel::EvdevWheel;
-use haptic_wheel::evdev_wheel::fake::FakeFfDevice;
+use haptic_wheel::evdev_wheel::fake::{FakeFfDevice, FakeHandle};
 use station::commands::replay::replay;
 use station::config::StationConfig;
 use station::record::Recording;
 use station::record::raw::{BodyKindName, RawRead};
+use station::record::types::Watchdog;
 use station::session::haptic::Pacing;
 use station::session::plant::Body;
 use station::session::{self, BodyKind, Controls, SessionOptions};
@@ -27,27 +31,72 @@ const SIDEWINDER: (u16, u16) = (0x045e, 0x0034);
 enum End {
     /// The patient stops it.
     Stop,
-    /// The wheel is unplugged (a real one ends the session at once).
+    /// The wheel is unplugged and not plugged back in: the session ends when the 1 s replug
+    /// grace runs out.
     Unplug,
+    /// The wheel is unplugged, plugged back in 0.5 s later (a new device node on the same
+    /// port), and the patient stops the session 1 s after that.
+    Replug,
 }
 
-/// Record a real-time session of `exercise` on a fake SideWinder to `path`: the rim turned by
-/// a script on the wall clock and giving way under the motor, the exercise paused at 0.8 s
-/// for 0.3 s, the session ended as `end` says at 2.0 s (of its 3 s).
-fn record_real_session(path: &Path, exercise: &str, end: End) -> session::SessionReport {
-    let mut config = StationConfig::default();
-    config.session.duration_s = 3.0;
-    config.session.exercise = exercise.into();
-    let clock = Clock::real();
-    let dev = FakeFfDevice::wheel("fake wheel", SIDEWINDER, 1.87, clock.clone());
+/// The USB port the fake wheel sits on.
+const PORT: &str = "usb-0000:00:14.0-2/input0";
+
+/// A fake SideWinder on `PORT` turned by a person (a script on the wall clock from
+/// `start_ns`), its rim giving way under the motor.
+fn turned_wheel(clock: &Clock, start_ns: u64) -> FakeFfDevice {
+    let dev =
+        FakeFfDevice::wheel("fake wheel", SIDEWINDER, 1.87, clock.clone()).at(Some(PORT), None);
     let fake = dev.handle();
-    let start_ns = clock.now_ns();
     fake.set_script(Some(Box::new(move |t_ns| {
         let t = t_ns.saturating_sub(start_ns) as f64 * 1e-9;
         32_768 + (9_000.0 * (std::f64::consts::TAU * 0.7 * t).sin()) as i32
     })));
     fake.set_compliance(1500.0);
-    let wheel = EvdevWheel::with_device(dev, "fake", config.wheel.clone(), clock.clone()).unwrap();
+    dev
+}
+
+/// What the devices showed in a session with a replug.
+#[derive(Default)]
+struct Motors {
+    /// The unplugged device's motor torque just before the wheel was plugged back in, N·m.
+    old_away_nm: f64,
+    /// The device plugged back in.
+    new: Option<FakeHandle>,
+}
+
+/// Record a real-time session of `exercise` on a fake SideWinder to `path`: the rim turned by
+/// a script on the wall clock and giving way under the motor, the exercise paused at 0.8 s
+/// for 0.3 s, the wheel re-opened by its identity when plugged back in (1 s replug grace),
+/// the session ended as `end` says from 2.0 s on (of its 3 s).
+fn record_real_session(path: &Path, exercise: &str, end: End) -> session::SessionReport {
+    record_real_session_with(path, exercise, end, &mut Motors::default())
+}
+
+fn record_real_session_with(
+    path: &Path,
+    exercise: &str,
+    end: End,
+    motors: &mut Motors,
+) -> session::SessionReport {
+    let mut config = StationConfig::default();
+    config.session.duration_s = 3.0;
+    config.session.exercise = exercise.into();
+    config.haptic.replug_grace_s = 1.0;
+    let clock = Clock::real();
+    let start_ns = clock.now_ns();
+    let dev = turned_wheel(&clock, start_ns);
+    let fake = dev.handle();
+    // The devices plugged in: each one taken by the first scan that sees it.
+    let bus: Arc<Mutex<Vec<(String, FakeFfDevice)>>> = Arc::default();
+    let finder = {
+        let bus = bus.clone();
+        move || std::mem::take(&mut *bus.lock().unwrap())
+    };
+    let wheel = EvdevWheel::with_device(dev, "fake", config.wheel.clone(), clock.clone())
+        .unwrap()
+        .reopen_with(finder, Duration::from_millis(20))
+        .unwrap();
     let body = Body::real_wheel(Box::new(wheel), None, clock.clone());
     let opts = SessionOptions {
         config,
@@ -56,7 +105,7 @@ fn record_real_session(path: &Path, exercise: &str, end: End) -> session::Sessio
         body: BodyKind::RealWheel,
         regimen: None,
         isolate_core: false,
-        clock,
+        clock: clock.clone(),
     };
     let controls = Controls::default();
     std::thread::scope(|s| {
@@ -69,6 +118,16 @@ fn record_real_session(path: &Path, exercise: &str, end: End) -> session::Sessio
             match end {
                 End::Stop => controls.stop.store(true, Ordering::Relaxed),
                 End::Unplug => fake.set_unplugged(true),
+                End::Replug => {
+                    fake.set_unplugged(true);
+                    std::thread::sleep(Duration::from_millis(500));
+                    motors.old_away_nm = fake.motor_torque_nm();
+                    let new = turned_wheel(&clock, start_ns);
+                    motors.new = Some(new.handle());
+                    bus.lock().unwrap().push(("/dev/input/event9".into(), new));
+                    std::thread::sleep(Duration::from_millis(1000));
+                    controls.stop.store(true, Ordering::Relaxed);
+                }
             }
         });
         session::run_with_body(&opts, &controls, &mut (), body, None).unwrap()
@@ -133,13 +192,92 @@ fn a_real_wheel_session_ended_by_an_unplug_replays_bit_for_bit_from_its_raw_inpu
     let dir = tempfile::tempdir().unwrap();
     let path = recording(dir.path(), "sine-road", End::Unplug);
     let rec = Recording::open(&path).unwrap();
+    let body = rec.metadata.body.as_ref().unwrap();
+    assert_eq!(body.replug_grace_ns, Some(1_000_000_000));
     let unplugged = rec
         .raw_wheel
         .iter()
         .position(|w| w.data.read == RawRead::Unplugged)
         .expect("the unplug was recorded");
-    // Ended at once (no replug grace for a real wheel): the fade-out, not 30 s.
-    assert!(rec.raw_wheel.len() - unplugged < 3000, "{unplugged}");
+    // Ended when the 1 s grace ran out (a tick a millisecond; then at most the fade-out), not
+    // at once nor after 30 s; the replay waits exactly as long.
+    let away = rec.raw_wheel.len() - unplugged;
+    assert!(
+        (1000..1300).contains(&away),
+        "{away} ticks from the unplug to the end"
+    );
+    let outcome = replay(&path).unwrap();
+    assert!(outcome.from_raw);
+    assert_eq!(outcome.first_difference, None);
+}
+
+#[test]
+fn a_real_wheel_unplugged_and_plugged_back_in_pauses_resumes_says_so_and_replays_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("replug.mcap");
+    let mut motors = Motors::default();
+    let report = record_real_session_with(&path, "sine-road", End::Replug, &mut motors);
+    assert_eq!(
+        report.haptic.wheel_fault, None,
+        "it came back within the grace"
+    );
+    assert_eq!(report.haptic.wheel_replugs, 1);
+    let text = station::report::render(&report, None);
+    assert!(
+        text.contains("unplugged and plugged back 1 time(s)"),
+        "{text}"
+    );
+    assert_eq!(report.recorder.error, None);
+
+    let rec = Recording::open(&path).unwrap();
+    let reads: Vec<RawRead> = rec.raw_wheel.iter().map(|w| w.data.read).collect();
+    let gone = reads.iter().position(|r| *r == RawRead::Unplugged).unwrap();
+    let back = gone
+        + reads[gone..]
+            .iter()
+            .position(|r| *r == RawRead::Ok)
+            .unwrap();
+    assert!(back - gone > 300, "away {} ticks", back - gone);
+    assert!(reads[back..].iter().all(|r| *r == RawRead::Ok));
+    // Away: the torque faded to zero and stayed there, the exercise paused; the unplugged
+    // device's motor was free.
+    let fade = gone + 260;
+    assert!(
+        rec.wheel[fade..back]
+            .iter()
+            .all(|w| w.data.commanded_nm == 0.0)
+    );
+    let scores = |from: usize, to: usize| {
+        rec.score
+            .iter()
+            .filter(move |s| (from as u64..to as u64).contains(&s.tick))
+    };
+    assert!(scores(gone + 1, back).count() >= 3);
+    assert!(scores(gone + 1, back).all(|s| s.data.paused));
+    assert_eq!(motors.old_away_nm, 0.0);
+    // Back: from zero, soft-started, the exercise running again.
+    assert_eq!(rec.wheel[back].data.commanded_nm, 0.0);
+    let resumed = back
+        + rec.wheel[back..]
+            .iter()
+            .position(|w| w.data.watchdog == Watchdog::SoftStart)
+            .expect("a soft start after the replug");
+    assert_eq!(rec.wheel[resumed - 1].data.commanded_nm, 0.0);
+    assert!(
+        rec.wheel[resumed..]
+            .iter()
+            .any(|w| w.data.commanded_nm.abs() > 0.01)
+    );
+    assert!(scores(resumed, rec.wheel.len()).any(|s| !s.data.paused));
+    let new = motors.new.expect("plugged back in");
+    assert_eq!(
+        new.first_constant_levels()[..2],
+        [0, 0],
+        "the first levels sent"
+    );
+    assert!(new.peak_motor_torque_nm() > 0.0, "torque again");
+    assert!(new.peak_motor_torque_nm() <= 1.87 + 1e-9);
+
     let outcome = replay(&path).unwrap();
     assert!(outcome.from_raw);
     assert_eq!(outcome.first_difference, None);

@@ -187,6 +187,11 @@ pub struct BodyFacts {
     /// The arm tracker, if the session had arm sensing.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub arm: Option<ArmFacts>,
+    /// How long the session waited for an unplugged wheel to come back, ns (`[haptic]
+    /// replug_grace_s` as the plant applied it). `None` in recordings made before it was
+    /// recorded: a real wheel then had no grace, a simulated one the configured grace.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub replug_grace_ns: Option<u64>,
 }
 
 /// Simulated or real.

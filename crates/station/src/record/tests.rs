@@ -24,6 +24,7 @@ fn metadata() -> SessionMetadata {
                 geometry: gyro_imu::arm::ArmGeometry::default(),
                 swivel_rad: 0.35,
             }),
+            replug_grace_ns: Some(30_000_000_000),
         }),
     }
 }

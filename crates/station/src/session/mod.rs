@@ -234,6 +234,7 @@ fn body_facts(
         wheel_max_torque_nm: wheel.max_torque_nm,
         encoder_step_rad: wheel.encoder_step_rad,
         arm,
+        replug_grace_ns: Some(plant.replug_grace_ns()),
     }
 }
 

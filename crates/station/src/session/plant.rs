@@ -89,9 +89,13 @@ impl Body {
     /// their readings on it).
     #[cfg(target_os = "linux")]
     pub fn first_real_wheel(cfg: &StationConfig, clock: clock::Clock) -> anyhow::Result<Self> {
+        use haptic_wheel::evdev_wheel::rejoin::{KernelFinder, RESCAN_EVERY};
         use haptic_wheel::evdev_wheel::{EvdevWheel, monotonic_ns};
         let wheel = EvdevWheel::open_first(cfg.wheel.clone(), clock.clone())
-            .context("no usable force-feedback wheel (run `telerehab devices`)")?;
+            .context("no usable force-feedback wheel (run `telerehab devices`)")?
+            // Unplugged and plugged back in, it is found again (within the replug grace).
+            .reopen_with(KernelFinder, RESCAN_EVERY)
+            .context("cannot watch for the wheel being plugged back in")?;
         // Arm sensing is optional: an IMU that cannot be opened (permissions, a flat battery)
         // costs the joint angles, not the exercise.
         let arm = crate::session::arm::hid::HidArmSensing::open_first_two(
@@ -287,14 +291,13 @@ impl Plant {
             ..CeilingReport::new(&profile, 1.0, None)
         }
         .with_ceiling(ceiling_nm);
-        // Only a wheel that can come back is waited for: the simulated one answers again;
-        // re-opening a real wheel by its identity is not done yet, so an unplugged real wheel
-        // ends the session at once, as before there was a grace.
+        // An unplugged wheel is waited for: the simulated one answers again, a real one is
+        // re-opened by its identity (`EvdevWheel::reopen_with`; a backend without it stays
+        // lost and the grace runs out). A replay waits as long as the recorded session did.
+        let configured_grace_ns = (h.replug_grace_s * 1e9).round() as u64;
         let replug_grace_ns = match &body {
-            #[cfg(target_os = "linux")]
-            Body::Evdev { .. } => 0,
-            Body::Recorded(r) if r.is_real() => 0,
-            _ => (h.replug_grace_s * 1e9).round() as u64,
+            Body::Recorded(r) => r.replug_grace_ns(configured_grace_ns),
+            _ => configured_grace_ns,
         };
         let mut plant = Self {
             body,
@@ -398,6 +401,11 @@ impl Plant {
     /// Times the wheel was unplugged and came back within the replug grace.
     pub fn wheel_replugs(&self) -> u32 {
         self.wheel_replugs
+    }
+
+    /// How long an unplugged wheel is waited for, ns.
+    pub fn replug_grace_ns(&self) -> u64 {
+        self.replug_grace_ns
     }
 
     /// A read of the wheel failed with `e` at loop time `t_ns`. An unplugged wheel has the

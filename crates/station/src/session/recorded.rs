@@ -135,6 +135,8 @@ pub struct RecordedBody {
     stop: Arc<AtomicBool>,
     /// A real wheel held by a real patient was recorded.
     real: bool,
+    /// The replug grace the recorded session gave an unplugged wheel, ns, if recorded.
+    replug_grace_ns: Option<u64>,
 }
 
 impl RecordedBody {
@@ -166,6 +168,7 @@ impl RecordedBody {
             arm,
             stop,
             real: facts.kind == crate::record::raw::BodyKindName::Real,
+            replug_grace_ns: facts.replug_grace_ns,
         };
         body.raise_stop();
         Ok(body)
@@ -182,9 +185,21 @@ impl RecordedBody {
         }
     }
 
-    /// The recording is of a real wheel (which an unplug ends at once: no replug grace).
+    /// The recording is of a real wheel.
     pub fn is_real(&self) -> bool {
         self.real
+    }
+
+    /// How long the recorded session waited for an unplugged wheel to come back, ns: as
+    /// recorded, else (a recording made before it was) none for a real wheel, which an unplug
+    /// then ended at once, and `configured_ns` for a simulated one. A replay must wait as long
+    /// as the session did, or it ends elsewhere.
+    pub fn replug_grace_ns(&self, configured_ns: u64) -> u64 {
+        match self.replug_grace_ns {
+            Some(ns) => ns,
+            None if self.real => 0,
+            None => configured_ns,
+        }
     }
 
     /// The patient had the exercise paused this tick.
@@ -320,5 +335,42 @@ pub fn raw_read(read: &Result<WheelReading, WheelError>) -> RawRead {
             Some(WheelFault::OutOfRange) => RawRead::OutOfRange,
             _ => RawRead::Error,
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::record::raw::BodyKindName;
+
+    fn body(kind: BodyKindName, replug_grace_ns: Option<u64>) -> RecordedBody {
+        let facts = BodyFacts {
+            kind,
+            wheel_profile: DeviceProfile::thesis_sidewinder(),
+            wheel_max_torque_nm: 1.87,
+            encoder_step_rad: 0.002_253,
+            arm: None,
+            replug_grace_ns,
+        };
+        RecordedBody::new(&facts, RecordedInputs::default(), Arc::default()).unwrap()
+    }
+
+    #[test]
+    fn a_replay_waits_for_an_unplugged_wheel_as_long_as_the_recorded_session_did() {
+        let configured = 30_000_000_000;
+        // Recorded: whatever the configuration says now.
+        for kind in [BodyKindName::Real, BodyKindName::Simulated] {
+            assert_eq!(body(kind, Some(7)).replug_grace_ns(configured), 7);
+        }
+        // Recorded before the grace was: a real wheel was not waited for, a simulated one
+        // was, for the configured grace.
+        assert_eq!(
+            body(BodyKindName::Real, None).replug_grace_ns(configured),
+            0
+        );
+        assert_eq!(
+            body(BodyKindName::Simulated, None).replug_grace_ns(configured),
+            configured
+        );
     }
 }
