@@ -255,6 +255,7 @@ impl Tmpfs {
         Ok(Self { dir })
     }
 
+    /// Where it is mounted.
     pub fn path(&self) -> &Path {
         self.dir.path()
     }
