@@ -6,7 +6,7 @@ use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::Duration;
-use telerehab_tests::{Tmpfs, telerehab_bin, wait_for_first_chunk};
+use telerehab_tests::{Tmpfs, spawn_real_time_session, telerehab_bin, wait_for_first_chunk};
 
 fn telerehab(args: &[&str], home: Option<&Path>) -> Output {
     let mut cmd = Command::new(telerehab_bin());
@@ -268,21 +268,7 @@ fn a_recording_stopped_by_a_disk_running_low_is_finished_and_still_reaches_the_h
         &["pair", "--hub", &hub.stations, "--code", &code],
         Some(&home),
     );
-    let child = Command::new(telerehab_bin())
-        .args([
-            "run",
-            "--sim",
-            "--headless",
-            "--duration",
-            "5",
-            "--seed",
-            "7",
-        ])
-        .env("TELEREHAB_HOME", &home)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
+    let child = spawn_real_time_session("5", |c| c.env("TELEREHAB_HOME", &home));
     let recording = wait_for_file(&home.join("recordings"), "mcap");
     wait_for_first_chunk(&recording);
     disk.fill_under_the_reserve();

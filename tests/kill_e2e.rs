@@ -9,11 +9,10 @@
 use station::config::StationConfig;
 use station::record::Recording;
 use std::path::Path;
-use std::process::{Command, Stdio};
 use std::time::Duration;
 use telerehab_tests::{
-    Tmpfs, assert_within_ceiling_and_slew, run_ok, spawn_recording_session, telerehab_bin,
-    wait_for_first_chunk,
+    Tmpfs, assert_within_ceiling_and_slew, run_ok, spawn_real_time_session,
+    spawn_recording_session, wait_for_first_chunk,
 };
 
 /// splitmix64: a fixed seed gives the same "random" kill moment on every run.
@@ -145,22 +144,7 @@ fn a_disk_running_low_mid_session_stops_the_recording_with_a_finished_file() {
         return;
     };
     let path = disk.path().join("low.mcap");
-    let child = Command::new(telerehab_bin())
-        .args([
-            "run",
-            "--sim",
-            "--headless",
-            "--duration",
-            "5",
-            "--seed",
-            "7",
-        ])
-        .arg("--record")
-        .arg(&path)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let child = spawn_real_time_session("5", |c| c.arg("--record").arg(&path));
     wait_for_first_chunk(&path);
     disk.fill_under_the_reserve();
     let out = child.wait_with_output().unwrap();

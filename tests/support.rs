@@ -79,23 +79,28 @@ pub fn sim_session_args<'a>(seconds: &'a str, mcap: &'a Path, extra: &[&'a str])
 /// Start a 60 s real-time simulated session recording to `mcap`, output piped (tests stop it
 /// early with a signal).
 pub fn spawn_recording_session(mcap: &Path) -> std::process::Child {
-    let mcap = mcap.to_str().expect("utf-8 path");
-    Command::new(telerehab_bin())
-        .args([
-            "run",
-            "--sim",
-            "--headless",
-            "--duration",
-            "60",
-            "--seed",
-            "7",
-            "--record",
-            mcap,
-        ])
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("start telerehab")
+    spawn_real_time_session("60", |c| c.arg("--record").arg(mcap))
+}
+
+/// Start a real-time simulated headless session of `seconds` (seed 7), output piped, set up
+/// further by `with` (where it records, its home).
+pub fn spawn_real_time_session(
+    seconds: &str,
+    with: impl FnOnce(&mut Command) -> &mut Command,
+) -> std::process::Child {
+    let mut cmd = Command::new(telerehab_bin());
+    cmd.args([
+        "run",
+        "--sim",
+        "--headless",
+        "--duration",
+        seconds,
+        "--seed",
+        "7",
+    ])
+    .stdout(std::process::Stdio::piped())
+    .stderr(std::process::Stdio::piped());
+    with(&mut cmd).spawn().expect("start telerehab")
 }
 
 /// Wait (up to 20 s) until the recording at `path` holds at least one closed chunk (the
