@@ -116,7 +116,8 @@ fn speed_profile(rec: &Recording) -> Vec<(f64, f64)> {
         collector.add(&tick);
     }
     let mut points = Vec::new();
-    for run in collector.speed_series() {
+    // In memory: the series cannot be lost.
+    for run in collector.speed_series().unwrap_or_default() {
         if let Some(&(t, _)) = run.last() {
             points.extend(run.iter().map(|&(t, v)| (t, v.to_degrees())));
             points.push((t, f64::NAN));

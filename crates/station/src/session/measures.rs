@@ -12,12 +12,22 @@
 //! the start, the patient's pauses) are left out, each stretch between pauses a run of its own
 //! (no speed is taken across a pause). Joint angles are taken while the arm sensing is
 //! tracking.
+//!
+//! The series wait for the end of the session in a [`SeriesStore`]: a recorded session spills
+//! them to a temporary file on the recording's disk, so that its resident memory stays flat
+//! however long it runs ([`series`]).
 
 use crate::record::{ArmSetup, MetricsSample, MovementSample, TickRecord};
 use metrics::{
     LiveMeasures, MetricError, SessionMeasures, SessionParams, session_measures_of_runs,
 };
 use std::collections::BTreeMap;
+use std::path::Path;
+
+pub mod series;
+
+use series::SeriesSample;
+pub use series::{SeriesLost, SeriesStore};
 
 /// Rate of the measures' series, Hz.
 pub const MEASURE_RATE_HZ: f64 = 100.0;
@@ -38,16 +48,15 @@ pub struct MeasureCollector {
     block_finite: u64,
     /// Session time of the current block's first tick, s.
     block_t_s: f64,
-    /// The series at [`MEASURE_RATE_HZ`], rad, of the exercise's ticks only.
-    wheel_rad: Vec<f64>,
-    /// Session time of each sample of `wheel_rad`, s.
-    t_s: Vec<f64>,
-    /// Where each run (a stretch of exercise between pauses) starts in `wheel_rad`.
+    /// The series at [`MEASURE_RATE_HZ`] of the exercise's ticks only: wheel angle, its
+    /// session time, the joint angles.
+    series: SeriesStore,
+    /// Where each run (a stretch of exercise between pauses) starts in the series.
     runs: Vec<usize>,
     /// The last sample went into the current run (no pause since).
     in_run: bool,
-    shoulder_elevation_rad: Vec<f64>,
-    elbow_flexion_rad: Vec<f64>,
+    /// The current run's last wheel angle, rad (0 before its first sample).
+    run_last_rad: f64,
     live: LiveMeasures,
     /// Positive work of the assist torque on the wheel, J.
     assist_work_j: f64,
@@ -69,24 +78,35 @@ pub struct Measures {
 }
 
 impl MeasureCollector {
-    /// A collector for a loop at `loop_rate_hz` expected to run `expected_ticks`.
+    /// A collector for a loop at `loop_rate_hz` expected to run `expected_ticks`, its series
+    /// in memory (no recording directory to spill them to: a session not recorded, a
+    /// recording already read).
     pub fn new(loop_rate_hz: f64, expected_ticks: u64) -> Self {
-        let ticks_per_sample = ((loop_rate_hz / MEASURE_RATE_HZ).round() as u64).max(1);
-        let fs = loop_rate_hz / ticks_per_sample as f64;
-        let samples = (expected_ticks / ticks_per_sample) as usize + 1;
+        let samples = (expected_ticks / ticks_per_sample(loop_rate_hz)) as usize + 1;
+        Self::with_series(loop_rate_hz, SeriesStore::in_memory(samples))
+    }
+
+    /// A collector for a loop at `loop_rate_hz`, its series spilled to a temporary file in
+    /// `dir`, the recording's directory (in memory when no file can be made there).
+    pub fn spilling_in(dir: &Path, loop_rate_hz: f64) -> Self {
+        Self::with_series(loop_rate_hz, SeriesStore::spilled_in(dir))
+    }
+
+    /// A collector for a loop at `loop_rate_hz` keeping its series in `series`.
+    pub fn with_series(loop_rate_hz: f64, series: SeriesStore) -> Self {
+        let per_sample = ticks_per_sample(loop_rate_hz);
+        let fs = loop_rate_hz / per_sample as f64;
         Self {
-            ticks_per_sample,
+            ticks_per_sample: per_sample,
             tick_s: 1.0 / loop_rate_hz,
             block_sum_rad: 0.0,
             block_ticks: 0,
             block_finite: 0,
             block_t_s: 0.0,
-            wheel_rad: Vec::with_capacity(samples),
-            t_s: Vec::with_capacity(samples),
+            series,
             runs: Vec::new(),
             in_run: false,
-            shoulder_elevation_rad: Vec::new(),
-            elbow_flexion_rad: Vec::new(),
+            run_last_rad: 0.0,
             live: LiveMeasures::new(fs, &JOINTS, &SessionParams::default())
                 .expect("the default parameters and a positive rate are valid"),
             assist_work_j: 0.0,
@@ -132,30 +152,30 @@ impl MeasureCollector {
             return;
         }
         if !self.in_run {
-            self.runs.push(self.wheel_rad.len());
+            self.runs.push(self.series.len());
             self.in_run = true;
+            self.run_last_rad = 0.0;
         }
-        let run_start = self.runs.last().copied().unwrap_or(0);
         // A block without a finite reading holds the run's last sample, keeping the time base.
         let angle = if self.block_finite > 0 {
             self.block_sum_rad / self.block_finite as f64
         } else {
-            self.wheel_rad[run_start..].last().copied().unwrap_or(0.0)
+            self.run_last_rad
         };
         (self.block_sum_rad, self.block_ticks, self.block_finite) = (0.0, 0, 0);
-        self.wheel_rad.push(angle);
-        self.t_s.push(self.block_t_s);
+        self.run_last_rad = angle;
         let joints = match &rec.arm {
             Some(arm) if arm.setup == ArmSetup::Tracking => {
-                let j = [arm.shoulder_elevation_rad, arm.elbow_flexion_rad];
-                if j.iter().all(|v| v.is_finite()) {
-                    self.shoulder_elevation_rad.push(j[0]);
-                    self.elbow_flexion_rad.push(j[1]);
-                }
-                j
+                [arm.shoulder_elevation_rad, arm.elbow_flexion_rad]
             }
             _ => [f64::NAN; 2],
         };
+        // Joints kept when both are finite.
+        self.series.push(SeriesSample {
+            wheel_rad: angle,
+            t_s: self.block_t_s,
+            joints_rad: Some(joints),
+        });
         // Same joint count as given to `new`: cannot fail.
         let _ = self.live.update(angle, &joints);
     }
@@ -182,25 +202,34 @@ impl MeasureCollector {
         m
     }
 
-    /// The session's measures, with the scores, pauses and assistance of `out`.
-    pub fn finish(&self, out: &super::recorder::RecorderOutcome) -> Measures {
-        let joints: Vec<(&str, &[f64])> = [
-            (JOINTS[0], self.shoulder_elevation_rad.as_slice()),
-            (JOINTS[1], self.elbow_flexion_rad.as_slice()),
-        ]
-        .into_iter()
-        .filter(|(_, x)| !x.is_empty())
-        .collect();
-        let runs: Vec<&[f64]> = self.runs().map(|r| &self.wheel_rad[r]).collect();
-        let analysed = if self.wheel_rad.len() < 2 {
+    /// The session's measures, with the scores, pauses and assistance of `out`; the series
+    /// are read back whole for the analysis (and kept in memory for [`Self::sample`]).
+    pub fn finish(&mut self, out: &super::recorder::RecorderOutcome) -> Measures {
+        let analysed = if self.series.len() < 2 {
             Err(format!(
                 "the exercise ran too briefly to measure ({} samples at {} Hz)",
-                self.wheel_rad.len(),
+                self.series.len(),
                 self.fs_hz()
             ))
         } else {
-            session_measures_of_runs(&runs, self.fs_hz(), &joints, &SessionParams::default())
-                .map_err(|e: MetricError| e.to_string())
+            let fs_hz = self.fs_hz();
+            let runs: Vec<_> = self.runs().collect();
+            self.series
+                .load()
+                .map_err(|e| e.to_string())
+                .and_then(|series| {
+                    let joints: Vec<(&str, &[f64])> = [
+                        (JOINTS[0], series.shoulder_elevation_rad.as_slice()),
+                        (JOINTS[1], series.elbow_flexion_rad.as_slice()),
+                    ]
+                    .into_iter()
+                    .filter(|(_, x)| !x.is_empty())
+                    .collect();
+                    let runs: Vec<&[f64]> =
+                        runs.into_iter().map(|r| &series.wheel_rad[r]).collect();
+                    session_measures_of_runs(&runs, fs_hz, &joints, &SessionParams::default())
+                        .map_err(|e: MetricError| e.to_string())
+                })
         };
         let mut named = BTreeMap::new();
         if let Ok(s) = &analysed {
@@ -221,30 +250,32 @@ impl MeasureCollector {
 
     /// Each run's samples, as index ranges into the series.
     fn runs(&self) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
-        let ends = self
-            .runs
-            .iter()
-            .skip(1)
-            .copied()
-            .chain([self.wheel_rad.len()]);
+        let ends = self.runs.iter().skip(1).copied().chain([self.series.len()]);
         self.runs.iter().zip(ends).map(|(&a, b)| a..b)
     }
 
     /// The wheel's speed as the measures see it, run by run, (session time s, rad/s): each
-    /// run's speed profile ([`metrics::speed_profile`]), the exercise's samples only.
-    pub fn speed_series(&self) -> Vec<Vec<(f64, f64)>> {
+    /// run's speed profile ([`metrics::speed_profile`]), the exercise's samples only (the
+    /// series read back whole, as [`Self::finish`] does).
+    pub fn speed_series(&mut self) -> Result<Vec<Vec<(f64, f64)>>, SeriesLost> {
         let lowpass_hz = SessionParams::default().lowpass_hz;
-        self.runs()
+        let fs_hz = self.fs_hz();
+        let runs: Vec<_> = self.runs().collect();
+        let series = self.series.load()?;
+        Ok(runs
+            .into_iter()
             .map(|r| {
-                let speed =
-                    metrics::speed_profile(&self.wheel_rad[r.clone()], self.fs_hz(), lowpass_hz);
-                self.t_s[r].iter().copied().zip(speed).collect()
+                let speed = metrics::speed_profile(&series.wheel_rad[r.clone()], fs_hz, lowpass_hz);
+                series.t_s[r].iter().copied().zip(speed).collect()
             })
-            .collect()
+            .collect())
     }
 
-    /// The measures as the `/metrics` channel records them (movement times in session time).
+    /// The measures as the `/metrics` channel records them (movement times in session time),
+    /// `m` from [`Self::finish`].
     pub fn sample(&self, m: &Measures) -> MetricsSample {
+        // In memory after `finish` (which has no movements when the series are lost).
+        let t_s = self.series.loaded().map_or(&[][..], |s| s.t_s.as_slice());
         MetricsSample {
             measures: m.named.clone(),
             fs_hz: self.fs_hz(),
@@ -253,7 +284,7 @@ impl MeasureCollector {
                 .iter()
                 .flat_map(|s| &s.movements)
                 .map(|mv| MovementSample {
-                    start_s: self.t_s.get(mv.start_index).copied().unwrap_or(mv.start_s),
+                    start_s: t_s.get(mv.start_index).copied().unwrap_or(mv.start_s),
                     ..MovementSample::from(mv)
                 })
                 .collect(),
@@ -299,6 +330,11 @@ impl MeasureCollector {
         }
         named.extend(out.safety_and_assist());
     }
+}
+
+/// Ticks of a loop at `loop_rate_hz` averaged into one sample of the series.
+fn ticks_per_sample(loop_rate_hz: f64) -> u64 {
+    ((loop_rate_hz / MEASURE_RATE_HZ).round() as u64).max(1)
 }
 
 /// The movement analysis's figures by name: counts, medians over the movements, peak speed,
@@ -440,7 +476,7 @@ mod tests {
         assert!((m.named["wheel_rom_deg"] - 0.6_f64.to_degrees()).abs() < 0.1);
         assert!((m.named["paused_s"] - 2.0).abs() < 1e-9);
         // The speed the report draws is the exercise's only, in session time.
-        let speed = c.speed_series();
+        let speed = c.speed_series().unwrap();
         assert_eq!((speed.len(), speed[0].len()), (1, 500));
         assert!((speed[0][0].0 - 2.0).abs() < 1e-9, "{:?}", speed[0][0]);
         let sample = c.sample(&m);
@@ -485,6 +521,157 @@ mod tests {
         assert_eq!(m.error, None);
         assert_eq!(m.named["movements"], 2.0);
         assert!(m.named.values().all(|v| v.is_finite()));
+    }
+
+    /// Two minutes of a seeded session at 1 kHz: the wheel turned back and forth at a pace
+    /// and size that change, stretches paused, NaN readings, the arm tracked, lost, found.
+    fn seeded_session(seed: u64) -> Vec<TickRecord> {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        let (mut angle, mut phase, mut paused, mut tracking) = (0.0_f64, 0.0_f64, false, true);
+        let (mut amplitude, mut hz) = (0.5, 0.3);
+        (0..120_000u64)
+            .map(|k| {
+                if rng.random_bool(1e-3) {
+                    (amplitude, hz) = (rng.random_range(0.1..1.0), rng.random_range(0.1..0.8));
+                }
+                paused ^= rng.random_bool(if paused { 5e-4 } else { 1e-4 });
+                tracking ^= rng.random_bool(2e-4);
+                phase += std::f64::consts::TAU * hz * 1e-3;
+                angle += amplitude * phase.cos() * std::f64::consts::TAU * hz * 1e-3;
+                let reading = if rng.random_bool(0.01) {
+                    f64::NAN
+                } else {
+                    angle + rng.random_range(-1e-4..1e-4)
+                };
+                TickRecord {
+                    tick: k,
+                    t_ns: k * 1_000_000,
+                    wheel: WheelSample {
+                        angle_rad: reading,
+                        velocity_rad_s: amplitude * phase.cos(),
+                        hand_nm: Some(rng.random_range(-0.5..0.5)),
+                        ..WheelSample::default()
+                    },
+                    score: crate::record::ScoreSample {
+                        paused,
+                        ..Default::default()
+                    },
+                    arm: Some(ArmSample {
+                        setup: if tracking {
+                            ArmSetup::Tracking
+                        } else {
+                            ArmSetup::SensorLost
+                        },
+                        elbow_flexion_rad: 1.0 + angle,
+                        shoulder_elevation_rad: 0.5 + 0.1 * phase.sin(),
+                        ..ArmSample::default()
+                    }),
+                    ..TickRecord::default()
+                }
+            })
+            .collect()
+    }
+
+    /// `c` and the recorder's outcome fed `recs`.
+    fn fed(mut c: MeasureCollector, recs: &[TickRecord]) -> (MeasureCollector, RecorderOutcome) {
+        let mut out = RecorderOutcome::default();
+        for rec in recs {
+            c.add(rec);
+            out.add(rec);
+        }
+        (c, out)
+    }
+
+    /// `c`'s measures of `recs`, as the `/metrics` channel records them too.
+    fn measured(c: MeasureCollector, recs: &[TickRecord]) -> (Measures, MetricsSample) {
+        let (mut c, out) = fed(c, recs);
+        let m = c.finish(&out);
+        let sample = c.sample(&m);
+        (m, sample)
+    }
+
+    /// Exactly equal, bit for bit (the shortest round-trip digits of every `f64`, NaN too).
+    fn assert_exactly_equal<T: std::fmt::Debug>(a: &T, b: &T) {
+        assert_eq!(format!("{a:?}"), format!("{b:?}"));
+    }
+
+    #[test]
+    fn a_spilled_session_measures_exactly_as_one_kept_in_memory() {
+        let dir = tempfile::tempdir().unwrap();
+        let recs = seeded_session(17);
+        let memory = measured(MeasureCollector::new(1000.0, 120_000), &recs);
+        let c = MeasureCollector::spilling_in(dir.path(), 1000.0);
+        assert!(c.series.is_spilled());
+        let spilled = measured(c, &recs);
+        assert_eq!(memory.0.error, None);
+        let s = memory.0.session.as_ref().unwrap();
+        assert!(s.movements.len() > 10, "{}", s.movements.len());
+        assert!(memory.0.named.contains_key("shoulder_elevation_rom_deg"));
+        assert_exactly_equal(&spilled, &memory);
+        // The report's speed chart too.
+        let mut c = MeasureCollector::new(1000.0, 120_000);
+        let mut d = MeasureCollector::spilling_in(dir.path(), 1000.0);
+        for rec in &recs {
+            c.add(rec);
+            d.add(rec);
+        }
+        let speed = c.speed_series().unwrap();
+        assert!(
+            speed.len() > 2,
+            "several runs between pauses: {}",
+            speed.len()
+        );
+        assert_exactly_equal(&d.speed_series().unwrap(), &speed);
+    }
+
+    #[test]
+    fn a_spill_that_cannot_be_written_leaves_the_measures_whole() {
+        let recs = seeded_session(5);
+        let memory = measured(MeasureCollector::new(1000.0, 120_000), &recs);
+        // No directory to make the file in: in memory from the start.
+        let dir = tempfile::tempdir().unwrap();
+        let c = MeasureCollector::spilling_in(&dir.path().join("removed"), 1000.0);
+        assert!(!c.series.is_spilled());
+        assert_exactly_equal(&measured(c, &recs), &memory);
+        // The disk fills up mid-session: what was written is read back, the rest kept in
+        // memory.
+        let full = series::tests::FillingUp::new(20 * series::SPILL_BUFFER_BYTES as u64, false);
+        let c = MeasureCollector::with_series(
+            1000.0,
+            SeriesStore::spilled_to(Box::new(full), dir.path()),
+        );
+        let (mut c, out) = fed(c, &recs);
+        assert!(
+            !c.series.is_spilled(),
+            "back in memory when the disk filled up"
+        );
+        let m = c.finish(&out);
+        assert_exactly_equal(&(c.sample(&m), m), &(memory.1, memory.0));
+    }
+
+    #[test]
+    fn series_lost_to_a_failing_disk_say_so_and_keep_the_session_figures() {
+        let recs = seeded_session(5);
+        let failing = series::tests::FillingUp::new(20 * series::SPILL_BUFFER_BYTES as u64, true);
+        let c = MeasureCollector::with_series(
+            1000.0,
+            SeriesStore::spilled_to(Box::new(failing), Path::new("/recordings")),
+        );
+        let (m, sample) = measured(c, &recs);
+        assert!(m.session.is_none());
+        let e = m.error.as_deref().unwrap();
+        assert!(
+            e.starts_with(
+                "the measures' series are lost: writing them to their temporary file \
+                 in /recordings failed"
+            ),
+            "{e}"
+        );
+        assert_eq!(sample.error, e);
+        assert!(sample.movements.is_empty());
+        assert!(m.named.contains_key("session_s") && m.named.contains_key("patient_work_j"));
+        assert!(!m.named.contains_key("movements"));
     }
 
     #[test]

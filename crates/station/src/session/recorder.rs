@@ -433,7 +433,14 @@ pub(super) fn recorder_loop(
     };
     let mut seq = 0u64;
     let mut arm_loop = ArmLoopCollector::new(1e9 / period_ns as f64);
-    let mut measures = MeasureCollector::new(1e9 / period_ns as f64, expected_ticks);
+    // A recorded session spills the measures' series to the recording's disk: its memory
+    // stays flat however long it runs.
+    let mut measures = match &mcap {
+        Some(m) => {
+            MeasureCollector::spilling_in(disk_space::directory_of(&m.path), 1e9 / period_ns as f64)
+        }
+        None => MeasureCollector::new(1e9 / period_ns as f64, expected_ticks),
+    };
     let mut changes = ChangeLog::default();
     loop {
         let rec = match consumer.pop() {
