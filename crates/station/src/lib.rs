@@ -47,6 +47,7 @@ pub mod record;
 pub mod regimen;
 pub mod render;
 pub mod report;
+pub mod resident;
 pub mod screen;
 pub mod session;
 pub mod therapist_view;

@@ -16,7 +16,7 @@ pub const RECENT_TICKS: usize = 1000;
 /// Every value added, as counts: exact nearest-rank quantiles in bounded memory.
 #[derive(Clone, Debug, Default)]
 struct Counts {
-    /// `per_ns[v]`: how many values equal `v` ns (allocated on first use).
+    /// `per_ns[v]`: how many values equal `v` ns (allocated, resident, on first use).
     per_ns: Vec<u32>,
     /// Values of [`EXACT_BELOW_NS`] and more, in the order added.
     large: Vec<u64>,
@@ -31,7 +31,9 @@ impl Counts {
             return;
         }
         if self.per_ns.is_empty() {
-            self.per_ns = vec![0; EXACT_BELOW_NS as usize];
+            // 4 MiB, resident at once: taken page by page as the loop's jitter reaches new
+            // values, it would look like growth for the whole session.
+            self.per_ns = crate::resident::resident_vec(EXACT_BELOW_NS as usize, 1, 0);
         }
         let c = &mut self.per_ns[v as usize];
         *c = c.saturating_add(1);

@@ -48,6 +48,14 @@ impl ArmLoopCollector {
         {
             return;
         }
+        if self.time_s.is_empty() && self.time_s.capacity() < self.max {
+            // The half hour's room, resident at once (7 MB): filled as it comes, it would look
+            // like growth for the session's first half hour; never reallocated after.
+            let max = self.max;
+            let room = |_| crate::resident::resident_with_capacity(max, [1.0; 3]);
+            [self.upper, self.fore, self.grip] = [0, 1, 2].map(room);
+            self.time_s = crate::resident::resident_with_capacity(max, 1.0);
+        }
         if self.time_s.len() >= self.max {
             let half = self.max / 2;
             for v in [&mut self.upper, &mut self.fore, &mut self.grip] {
