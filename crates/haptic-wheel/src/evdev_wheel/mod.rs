@@ -288,6 +288,21 @@ impl<D: FfDevice> EvdevWheel<D> {
         WheelError::Fault(WheelFault::Unplugged)
     }
 
+    /// The kernel level for `torque_nm` N·m with the torque sign `sign` (±1), and the time
+    /// now; a lost wheel is refused, and so is a non-finite torque, with zero sent.
+    fn level_now(&mut self, torque_nm: f64, sign: f64) -> Result<(i16, u64), WheelError> {
+        if self.lost {
+            return Err(WheelError::Fault(WheelFault::Unplugged));
+        }
+        let now = self.clock.now_ns();
+        if !torque_nm.is_finite() {
+            self.send(0, now)?;
+            return Err(WheelError::NonFiniteTorque(torque_nm));
+        }
+        let (usable, motor, gain) = (self.usable_nm, self.profile.max_torque_nm, self.config.gain);
+        Ok((level_for(torque_nm, usable, motor, gain, sign), now))
+    }
+
     fn send(&mut self, level: i16, now_ns: u64) -> Result<(), WheelError> {
         let len = self.config.effect_length_ms;
         if self
@@ -480,21 +495,7 @@ impl<D: FfDevice> Wheel for EvdevWheel<D> {
     }
 
     fn command_torque(&mut self, torque_nm: f64) -> Result<(), WheelError> {
-        if self.lost {
-            return Err(WheelError::Fault(WheelFault::Unplugged));
-        }
-        let now = self.clock.now_ns();
-        if !torque_nm.is_finite() {
-            self.send(0, now)?;
-            return Err(WheelError::NonFiniteTorque(torque_nm));
-        }
-        let mut level = level_for(
-            torque_nm,
-            self.usable_nm,
-            self.profile.max_torque_nm,
-            self.config.gain,
-            self.profile.torque_sign,
-        );
+        let (mut level, now) = self.level_now(torque_nm, self.profile.torque_sign)?;
         // A re-opened device gets zero until zero is asked for: never a step on re-open.
         if self.zero_first {
             self.zero_first = level != 0;
@@ -512,22 +513,8 @@ impl<D: FfDevice> Wheel for EvdevWheel<D> {
     }
 
     fn set_torque_ceiling_nm(&mut self, ceiling_nm: f64) -> Result<(), WheelError> {
-        if self.lost {
-            return Err(WheelError::Fault(WheelFault::Unplugged));
-        }
-        let now = self.clock.now_ns();
-        if !ceiling_nm.is_finite() {
-            self.send(0, now)?;
-            return Err(WheelError::NonFiniteTorque(ceiling_nm));
-        }
         // The largest level within the ceiling (truncated towards zero like every level).
-        let bound = level_for(
-            ceiling_nm.abs(),
-            self.usable_nm,
-            self.profile.max_torque_nm,
-            self.config.gain,
-            1.0,
-        );
+        let (bound, now) = self.level_now(ceiling_nm.abs(), 1.0)?;
         if self.level.unsigned_abs() > bound.unsigned_abs() {
             // A held level over a lowered ceiling goes down at once, whatever the rate policy;
             // the policy's own schedule is kept, so the command's level still follows within
