@@ -13,13 +13,6 @@ const FILE_MIB: u64 = 256;
 /// The most the recovery may add to the peak resident set, MiB (a quarter of the file).
 const BOUND_MIB: u64 = 64;
 
-/// The process's peak resident set, kB (`None` without `/proc`).
-fn peak_rss_kb() -> Option<u64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    line.split_whitespace().nth(1)?.parse().ok()
-}
-
 /// A `FILE_MIB` recording written in uncompressed 1 MiB chunks (so the file is as large as its
 /// contents), then cut inside its last chunks as a SIGKILL leaves a file.
 fn big_killed_recording(path: &std::path::Path) -> u64 {
@@ -59,7 +52,7 @@ fn big_killed_recording(path: &std::path::Path) -> u64 {
 
 #[test]
 fn recovering_a_256_mib_killed_recording_grows_peak_memory_by_less_than_64_mib() {
-    if peak_rss_kb().is_none() {
+    if station::resident::status_kib("VmHWM").is_none() {
         println!("SKIPPED: no VmHWM in /proc/self/status (not Linux?)");
         return;
     }
@@ -70,10 +63,10 @@ fn recovering_a_256_mib_killed_recording_grows_peak_memory_by_less_than_64_mib()
     assert!(size > (FILE_MIB - 4) << 20, "{size} bytes");
     // Writing the file was streamed too; start the peak from here all the same.
     let reset = std::fs::write("/proc/self/clear_refs", "5").is_ok();
-    let before_kb = peak_rss_kb().unwrap();
+    let before_kb = station::resident::status_kib("VmHWM").unwrap();
     let out = dir.path().join("fixed.mcap");
     let copied = station::commands::recover::recover(&input, &out).unwrap();
-    let growth_mib = (peak_rss_kb().unwrap() - before_kb) / 1024;
+    let growth_mib = (station::resident::status_kib("VmHWM").unwrap() - before_kb) / 1024;
     println!(
         "recovered {} of {written} messages from {:.0} MiB: peak RSS +{growth_mib} MiB \
          (peak reset: {reset})",

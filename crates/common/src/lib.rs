@@ -109,6 +109,28 @@ pub fn quantile<T: Copy>(sorted: &[T], q: f64) -> Option<T> {
     Some(sorted[rank.clamp(1, n) - 1])
 }
 
+/// The least-squares line through `points` (x, y): `(slope, intercept)`. Fewer than two
+/// points, or all at one x, give a slope of 0 through the mean of the y values (0 without
+/// points).
+///
+/// ```
+/// let (slope, intercept) = common::line_fit(&[(0.0, 1.0), (1.0, 3.0), (2.0, 5.0)]);
+/// assert!((slope - 2.0).abs() < 1e-12 && (intercept - 1.0).abs() < 1e-12);
+/// assert_eq!(common::line_fit(&[(4.0, 7.0)]), (0.0, 7.0));
+/// ```
+pub fn line_fit(points: &[(f64, f64)]) -> (f64, f64) {
+    if points.is_empty() {
+        return (0.0, 0.0);
+    }
+    let n = points.len() as f64;
+    let mx = points.iter().map(|p| p.0).sum::<f64>() / n;
+    let my = points.iter().map(|p| p.1).sum::<f64>() / n;
+    let sxx: f64 = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let sxy: f64 = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let slope = if sxx > 0.0 { sxy / sxx } else { 0.0 };
+    (slope, my - slope * mx)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

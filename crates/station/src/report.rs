@@ -361,7 +361,7 @@ mod tests {
 
     /// A real-time session on a real wheel that shows every line the report can have.
     fn everything() -> SessionReport {
-        let mut timing = TimingStats::new(1_000_000, 100);
+        let mut timing = TimingStats::new(1_000_000);
         for i in 1..=100u64 {
             timing.add(i * 700, 1_000_000 + i * 300 - 15_000, 40_000 + i * 100);
         }

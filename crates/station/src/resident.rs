@@ -1,4 +1,4 @@
-//! Bounded buffers given their memory up front.
+//! Resident memory: bounded buffers given theirs up front, and the process's figures.
 //!
 //! A buffer that fills slowly up to a fixed bound over a session (the loop timing's counts,
 //! the arm calibration's half hour of samples) would take its pages as it fills, which looks
@@ -18,6 +18,16 @@ pub fn resident_vec<T: Clone>(len: usize, scratch: T, value: T) -> Vec<T> {
     v
 }
 
+/// A figure of this process's `/proc/self/status` in KiB (`VmRSS`: resident memory now,
+/// `VmHWM`: its peak), if readable.
+pub fn status_kib(field: &str) -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    status.lines().find_map(|l| {
+        let value = l.strip_prefix(field)?.strip_prefix(':')?;
+        value.trim().trim_end_matches("kB").trim().parse().ok()
+    })
+}
+
 /// An empty vector with room for `capacity` elements, all of it resident (`scratch` as in
 /// [`resident_vec`]).
 pub fn resident_with_capacity<T: Clone>(capacity: usize, scratch: T) -> Vec<T> {
@@ -31,16 +41,9 @@ pub fn resident_with_capacity<T: Clone>(capacity: usize, scratch: T) -> Vec<T> {
 mod tests {
     use super::*;
 
-    /// Resident memory of this process, bytes (`VmRSS`).
+    /// Resident memory of this process, bytes.
     fn rss_bytes() -> u64 {
-        let status = std::fs::read_to_string("/proc/self/status").unwrap();
-        let kib: u64 = status
-            .lines()
-            .find_map(|l| l.strip_prefix("VmRSS:"))
-            .and_then(|r| r.split_whitespace().next())
-            .and_then(|n| n.parse().ok())
-            .unwrap();
-        kib * 1024
+        status_kib("VmRSS").expect("VmRSS in /proc/self/status") * 1024
     }
 
     #[test]

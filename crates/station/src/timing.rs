@@ -109,9 +109,9 @@ fn percentiles(values: &[u64]) -> Percentiles {
 }
 
 impl TimingStats {
-    /// Statistics for a loop with a nominal period of `nominal_period_ns` (the memory no
-    /// longer depends on the expected number of ticks, which is kept for the callers).
-    pub fn new(nominal_period_ns: u64, _expected_ticks: usize) -> Self {
+    /// Statistics for a loop with a nominal period of `nominal_period_ns` (bounded memory,
+    /// whatever the number of ticks).
+    pub fn new(nominal_period_ns: u64) -> Self {
         Self {
             nominal_period_ns,
             recent_period_error_ns: VecDeque::with_capacity(RECENT_TICKS),
@@ -172,7 +172,7 @@ mod tests {
 
     #[test]
     fn percentiles_use_nearest_rank() {
-        let mut t = TimingStats::new(1_000_000, 100);
+        let mut t = TimingStats::new(1_000_000);
         for i in 1..=100u64 {
             t.add(i * 1000, 1_000_000 + i * 1000, 0);
         }
@@ -186,7 +186,7 @@ mod tests {
     fn percentiles_are_those_of_every_value_kept_in_bounded_memory() {
         use rand::{Rng, SeedableRng};
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(17);
-        let mut t = TimingStats::new(1_000_000, 0);
+        let mut t = TimingStats::new(1_000_000);
         let (mut late, mut err, mut work) = (Vec::new(), Vec::new(), Vec::new());
         for i in 0..20_000 {
             // Mostly microseconds, some past the exact range (late ticks of several ms).
@@ -225,7 +225,7 @@ mod tests {
 
     #[test]
     fn no_tick_means_zero_percentiles() {
-        let t = TimingStats::new(1_000_000, 0);
+        let t = TimingStats::new(1_000_000);
         assert_eq!(t.lateness(), Percentiles::default());
         assert_eq!(t.recent_period_error_p99_us(10), 0.0);
     }

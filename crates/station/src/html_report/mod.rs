@@ -393,17 +393,11 @@ fn unit_suffix(unit: &str) -> String {
 /// The least-squares slope of `points` (per unit of x, named by `per`), and whether that is
 /// better or worse.
 fn trend(m: &Measure, points: &[(f64, f64)], per: &str) -> String {
-    let n = points.len() as f64;
     if points.len() < 2 {
         return "–".into();
     }
-    let (mx, my) = (
-        points.iter().map(|p| p.0).sum::<f64>() / n,
-        points.iter().map(|p| p.1).sum::<f64>() / n,
-    );
-    let sxx: f64 = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    let sxy: f64 = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let change = if sxx > 0.0 { sxy / sxx } else { 0.0 };
+    let (change, _) = common::line_fit(points);
+    let my = points.iter().map(|p| p.1).sum::<f64>() / points.len() as f64;
     let scale = my.abs().max(1e-9);
     let (arrow, word) = if change.abs() < 0.01 * scale {
         ("→", "steady")

@@ -428,7 +428,7 @@ pub(super) fn recorder_loop(
         arm_lengths_m,
     } = plan;
     let mut out = RecorderOutcome {
-        timing: TimingStats::new(period_ns, expected_ticks as usize + 1000),
+        timing: TimingStats::new(period_ns),
         ..Default::default()
     };
     let mut seq = 0u64;

@@ -55,15 +55,6 @@ struct Sample {
     max_period_us: f64,
 }
 
-/// Resident memory of this process, KiB (`VmRSS`), if readable.
-fn rss_kib() -> Option<u64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    status
-        .lines()
-        .find_map(|l| l.strip_prefix("VmRSS:"))
-        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse().ok())
-}
-
 /// Open file descriptors of this process, if readable.
 fn open_fds() -> Option<u64> {
     Some(std::fs::read_dir("/proc/self/fd").ok()?.count() as u64)
@@ -93,7 +84,7 @@ impl SessionObserver for Sampler {
         self.next_ns += self.every_ns;
         self.samples.push(Sample {
             t_s: rec.t_ns as f64 * 1e-9,
-            rss_kib: rss_kib().unwrap_or(0),
+            rss_kib: crate::resident::status_kib("VmRSS").unwrap_or(0),
             fds: open_fds().unwrap_or(0),
             file_bytes: std::fs::metadata(&self.path).map_or(0, |m| m.len()),
             max_late_us: self.late_ns as f64 * 1e-3,
@@ -103,26 +94,15 @@ impl SessionObserver for Sampler {
     }
 }
 
-/// Least-squares line through `(x, y)`: slope, intercept and the RMS residual.
+/// Least-squares line through `(x, y)` ([`common::line_fit`]): slope, intercept and the RMS
+/// residual.
 fn fit(points: &[(f64, f64)]) -> (f64, f64, f64) {
-    let n = points.len() as f64;
-    if points.len() < 2 {
-        return (0.0, points.first().map_or(0.0, |p| p.1), 0.0);
-    }
-    let (mx, my) = (
-        points.iter().map(|p| p.0).sum::<f64>() / n,
-        points.iter().map(|p| p.1).sum::<f64>() / n,
-    );
-    let sxx: f64 = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    let sxy: f64 = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let slope = if sxx > 0.0 { sxy / sxx } else { 0.0 };
-    let intercept = my - slope * mx;
-    let rms = (points
+    let (slope, intercept) = common::line_fit(points);
+    let residual_sq: f64 = points
         .iter()
         .map(|p| (p.1 - slope * p.0 - intercept).powi(2))
-        .sum::<f64>()
-        / n)
-        .sqrt();
+        .sum();
+    let rms = (residual_sq / points.len().max(1) as f64).sqrt();
     (slope, intercept, rms)
 }
 

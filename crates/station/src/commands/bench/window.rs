@@ -33,14 +33,14 @@ pub struct RenderImpact {
 
 impl RenderImpact {
     /// Phases of `phase_s` at a loop rate of `rate_hz`; `gate` is the window's draw gate.
-    pub fn new(gate: Arc<AtomicBool>, phase_s: f64, rate_hz: f64, expected_ticks: usize) -> Self {
+    pub fn new(gate: Arc<AtomicBool>, phase_s: f64, rate_hz: f64) -> Self {
         let period_ns = (1e9 / rate_hz).round() as u64;
         Self {
             gate,
             phase_ticks: ((phase_s * rate_hz).round() as u64).max(2),
             settle_ticks: ((SETTLE_S * rate_hz).round() as u64).min((phase_s * rate_hz) as u64 / 2),
-            drawing: TimingStats::new(period_ns, expected_ticks / 2),
-            idle: TimingStats::new(period_ns, expected_ticks / 2),
+            drawing: TimingStats::new(period_ns),
+            idle: TimingStats::new(period_ns),
         }
     }
 
@@ -149,12 +149,7 @@ fn one_run(args: &BenchWindowArgs) -> anyhow::Result<f64> {
     let (cfg, regimen) = run::plan(&run_args)?;
     let gate = Arc::new(AtomicBool::new(false));
     let rate = cfg.session.loop_rate_hz;
-    let mut impact = RenderImpact::new(
-        gate.clone(),
-        args.phase,
-        rate,
-        (args.duration * rate) as usize,
-    );
+    let mut impact = RenderImpact::new(gate.clone(), args.phase, rate);
     let window = WindowOptions {
         draw_gate: Some(gate),
         max_fps: args.max_fps,
@@ -208,7 +203,7 @@ mod tests {
     #[test]
     fn ticks_go_to_their_phase_after_warm_up_and_settling() {
         let gate = Arc::new(AtomicBool::new(true));
-        let mut ab = RenderImpact::new(gate.clone(), 1.0, 1000.0, 10_000);
+        let mut ab = RenderImpact::new(gate.clone(), 1.0, 1000.0);
         // Phases of 1000 ticks: 0 and 1 warm-up, 2 idle, 3 drawing; 250 settling ticks each.
         for t in 0..4000 {
             let drawing = (t / 1000) % 2 == 1;
