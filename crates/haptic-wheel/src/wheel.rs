@@ -124,9 +124,9 @@ pub trait Wheel {
     /// The safety chain's ceiling in force, N·m. A backend that holds its last level between
     /// updates (a driver's rate policy) brings a held level above it down at once, so a
     /// lowered ceiling holds at the motor from this call, not one update interval later.
-    /// The haptic loop calls it every tick before [`Wheel::command_torque`]. A non-finite
-    /// ceiling is refused with the torque sent to zero. Backends that send every command as
-    /// it comes ignore it.
+    /// The haptic loop calls it every tick before [`Wheel::command_torque`]. Backends that
+    /// send every command as it comes ignore it (the default); the evdev backend refuses a
+    /// non-finite ceiling and sends zero.
     fn set_torque_ceiling_nm(&mut self, _ceiling_nm: f64) -> Result<(), WheelError> {
         Ok(())
     }

@@ -107,6 +107,28 @@ pub fn level_for(torque_nm: f64, usable_nm: f64, motor_nm: f64, gain: f64, sign:
     (frac * LEVEL_FULL_SCALE).trunc() as i16
 }
 
+/// The device-wide force-feedback controls a wheel has.
+#[derive(Clone, Copy, Debug)]
+struct Controls {
+    gain: bool,
+    autocenter: bool,
+}
+
+impl Controls {
+    /// Set `dev` up as the backend drives it, at open and when the wheel is found again: the
+    /// configured gain (where it has a gain control), autocentre off (it would fight the
+    /// haptic models), one constant-force effect at zero; that effect's slot.
+    fn arm<D: FfDevice>(self, dev: &mut D, config: &WheelConfig) -> std::io::Result<EffectSlot> {
+        if self.gain {
+            dev.set_gain(config.gain_level())?;
+        }
+        if self.autocenter {
+            dev.set_autocenter(0)?;
+        }
+        dev.upload(constant_data(0, config.effect_length_ms))
+    }
+}
+
 /// A force-feedback wheel driven through the Linux kernel FF API (by default the real device
 /// node; any [`FfDevice`] in tests).
 #[derive(Debug)]
@@ -123,6 +145,8 @@ pub struct EvdevWheel<D: FfDevice = KernelDevice> {
     constant: EffectSlot,
     conditions: Vec<EffectSlot>,
     firmware_conditions: bool,
+    /// The device-wide controls it has, set up at open and again when it is found again.
+    controls: Controls,
     conditions_active: bool,
     level: i16,
     min_interval_ns: u64,
@@ -217,19 +241,16 @@ impl<D: FfDevice> EvdevWheel<D> {
         let centre = 0.5 * (f64::from(info.maximum) + f64::from(info.minimum));
         let rate = config.update_rate_for(profile.driver, profile.max_update_rate_hz);
         let firmware_conditions = traits.ff_effects.contains(&"spring");
-        if traits.ff_effects.contains(&"gain") {
-            dev.set_gain(config.gain_level())
-                .map_err(|e| io_err(node, e))?;
-        }
-        if traits.ff_effects.contains(&"autocenter") {
-            dev.set_autocenter(0).map_err(|e| io_err(node, e))?;
-        }
-        let constant = dev
-            .upload(constant_data(0, config.effect_length_ms))
+        let controls = Controls {
+            gain: traits.ff_effects.contains(&"gain"),
+            autocenter: traits.ff_effects.contains(&"autocenter"),
+        };
+        let constant = controls
+            .arm(&mut dev, &config)
             .map_err(|e| io_err(node, e))?;
         // Without a gain control the device runs at full gain whatever the configuration says.
         // The gain the device really has is the 16-bit level sent, not the fraction asked.
-        let gain = if traits.ff_effects.contains(&"gain") {
+        let gain = if controls.gain {
             crate::wheel_config::quantised_gain(config.gain)
         } else {
             1.0
@@ -246,6 +267,7 @@ impl<D: FfDevice> EvdevWheel<D> {
             constant,
             conditions: Vec::with_capacity(MAX_CONDITIONS),
             firmware_conditions,
+            controls,
             conditions_active: false,
             level: 0,
             min_interval_ns: (1e9 / rate).round() as u64,
@@ -288,19 +310,18 @@ impl<D: FfDevice> EvdevWheel<D> {
         WheelError::Fault(WheelFault::Unplugged)
     }
 
-    /// The kernel level for `torque_nm` N·m with the torque sign `sign` (±1), and the time
-    /// now; a lost wheel is refused, and so is a non-finite torque, with zero sent.
-    fn level_now(&mut self, torque_nm: f64, sign: f64) -> Result<(i16, u64), WheelError> {
+    /// The kernel level for `torque_nm` N·m with the torque sign `sign` (±1); a lost wheel
+    /// is refused, and so is a non-finite torque, with zero sent.
+    fn level_within(&mut self, torque_nm: f64, sign: f64) -> Result<i16, WheelError> {
         if self.lost {
             return Err(WheelError::Fault(WheelFault::Unplugged));
         }
-        let now = self.clock.now_ns();
         if !torque_nm.is_finite() {
-            self.send(0, now)?;
+            self.send(0, self.clock.now_ns())?;
             return Err(WheelError::NonFiniteTorque(torque_nm));
         }
         let (usable, motor, gain) = (self.usable_nm, self.profile.max_torque_nm, self.config.gain);
-        Ok((level_for(torque_nm, usable, motor, gain, sign), now))
+        Ok(level_for(torque_nm, usable, motor, gain, sign))
     }
 
     fn send(&mut self, level: i16, now_ns: u64) -> Result<(), WheelError> {
@@ -495,7 +516,8 @@ impl<D: FfDevice> Wheel for EvdevWheel<D> {
     }
 
     fn command_torque(&mut self, torque_nm: f64) -> Result<(), WheelError> {
-        let (mut level, now) = self.level_now(torque_nm, self.profile.torque_sign)?;
+        let mut level = self.level_within(torque_nm, self.profile.torque_sign)?;
+        let now = self.clock.now_ns();
         // A re-opened device gets zero until zero is asked for: never a step on re-open.
         if self.zero_first {
             self.zero_first = level != 0;
@@ -514,8 +536,9 @@ impl<D: FfDevice> Wheel for EvdevWheel<D> {
 
     fn set_torque_ceiling_nm(&mut self, ceiling_nm: f64) -> Result<(), WheelError> {
         // The largest level within the ceiling (truncated towards zero like every level).
-        let (bound, now) = self.level_now(ceiling_nm.abs(), 1.0)?;
+        let bound = self.level_within(ceiling_nm.abs(), 1.0)?;
         if self.level.unsigned_abs() > bound.unsigned_abs() {
+            let now = self.clock.now_ns();
             // A held level over a lowered ceiling goes down at once, whatever the rate policy;
             // the policy's own schedule is kept, so the command's level still follows within
             // one update interval. One extra update per lowering, which is rare.

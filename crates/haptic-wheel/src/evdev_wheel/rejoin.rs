@@ -31,7 +31,7 @@ use std::time::Duration;
 use evdev::AbsoluteAxisCode;
 
 use super::device::{FfDevice, KernelDevice};
-use super::{EvdevWheel, constant_data, find_wheels, io_err};
+use super::{EvdevWheel, find_wheels, io_err};
 use crate::devices::{DeviceClass, DeviceTraits, classify};
 use crate::wheel::WheelError;
 
@@ -242,9 +242,6 @@ pub(super) struct Rejoin<D> {
     retired: rtrb::Producer<Retired<D>>,
     shared: Arc<Shared>,
     helper: Option<JoinHandle<()>>,
-    /// The wheel has a gain control, and an autocentre (set again on a re-opened device).
-    has_gain: bool,
-    has_autocenter: bool,
 }
 
 impl<D> std::fmt::Debug for Rejoin<D> {
@@ -360,8 +357,6 @@ impl<D: FfDevice> EvdevWheel<D> {
         let (retired_tx, retired_rx) = rtrb::RingBuffer::new(2);
         let shared = Arc::new(Shared::default());
         shared.wanted.store(self.lost, Ordering::Release);
-        let has_gain = identity.ff_effects.contains(&"gain");
-        let has_autocenter = identity.ff_effects.contains(&"autocenter");
         let helper = {
             let shared = shared.clone();
             std::thread::Builder::new()
@@ -374,8 +369,6 @@ impl<D: FfDevice> EvdevWheel<D> {
             retired: retired_tx,
             shared,
             helper: Some(helper),
-            has_gain,
-            has_autocenter,
         });
         Ok(self)
     }
@@ -412,8 +405,7 @@ impl<D: FfDevice> EvdevWheel<D> {
         // The ring has room for two and the helper empties it each scan; were it full, the
         // dead device would be closed here (freeing, once), which is still correct.
         let _ = r.retired.push(dead);
-        let (has_gain, has_autocenter) = (r.has_gain, r.has_autocenter);
-        if self.reinit(has_gain, has_autocenter).is_err() {
+        if self.reinit().is_err() {
             // Gone again already: the helper keeps looking, and the next one found replaces
             // this one.
             return false;
@@ -428,16 +420,8 @@ impl<D: FfDevice> EvdevWheel<D> {
     /// Set a re-opened device up as at open: gain, autocentre off, the constant effect at
     /// zero, the firmware conditions uploaded but stopped; torque held at zero until zero is
     /// commanded once.
-    fn reinit(&mut self, has_gain: bool, has_autocenter: bool) -> io::Result<()> {
-        if has_gain {
-            self.dev.set_gain(self.config.gain_level())?;
-        }
-        if has_autocenter {
-            self.dev.set_autocenter(0)?;
-        }
-        self.constant = self
-            .dev
-            .upload(constant_data(0, self.config.effect_length_ms))?;
+    fn reinit(&mut self) -> io::Result<()> {
+        self.constant = self.controls.arm(&mut self.dev, &self.config)?;
         self.conditions.clear();
         for i in 0..self.condition_data.len() {
             let slot = self.dev.upload(self.condition_data[i])?;
