@@ -379,7 +379,7 @@ fn an_arm_sensor_plugged_back_resumes_tracking_and_the_measures_count_the_lost_s
     assert!(
         after
             .iter()
-            .any(|a| a.data.elbow_flexion_rad != after[0].data.elbow_flexion_rad)
+            .any(|a| a.data.shoulder_elevation_rad != after[0].data.shoulder_elevation_rad)
     );
     let resumed = shoulder_error_rad(&rec, 4.1, 6.0);
     assert!(

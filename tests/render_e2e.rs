@@ -321,8 +321,8 @@ fn session_losing_its_window(dir: &std::path::Path, signal: &str) -> (String, St
         wait_for_line(&mut stdout, "render: adapter"),
         "the window never opened"
     );
-    // 1: paused at the start; 2: Space started it.
-    std::thread::sleep(std::time::Duration::from_millis(500));
+    // 1: paused at the start; 2: Space started it (once the window maps and takes keys).
+    std::thread::sleep(std::time::Duration::from_millis(1000));
     press("space");
     wait_for_pause_changes(2);
     std::thread::sleep(std::time::Duration::from_millis(1000));
@@ -342,7 +342,9 @@ fn session_losing_its_window(dir: &std::path::Path, signal: &str) -> (String, St
         "no new window"
     );
     assert_ne!(child_process(station.id(), "window-process"), window);
-    std::thread::sleep(std::time::Duration::from_millis(500));
+    // The new process has chosen its adapter; give its window time to map and take keys
+    // (a key sent before is lost, and the wait below would time out).
+    std::thread::sleep(std::time::Duration::from_millis(1000));
     press("space");
     wait_for_pause_changes(4);
     // Long enough for the resumed exercise to record scores (every 100 ms of exercise time)

@@ -182,7 +182,7 @@ fn a_real_wheel_session_with_a_pause_and_a_stop_replays_bit_for_bit_from_its_raw
         assert_eq!(outcome.first_difference, None, "{exercise}");
         assert!(outcome.caveats.is_empty(), "{:?}", outcome.caveats);
         assert_eq!(outcome.compared["/raw/wheel"], rec.raw_wheel.len());
-        assert!(outcome.compared["/wheel"] > 1500, "{:?}", outcome.compared);
+        assert!(outcome.compared["/wheel"] > 1000, "{:?}", outcome.compared);
         assert_eq!(outcome.compared["/metrics"], 1);
     }
 }
@@ -199,12 +199,15 @@ fn a_real_wheel_session_ended_by_an_unplug_replays_bit_for_bit_from_its_raw_inpu
         .iter()
         .position(|w| w.data.read == RawRead::Unplugged)
         .expect("the unplug was recorded");
-    // Ended when the 1 s grace ran out (a tick a millisecond; then at most the fade-out), not
-    // at once nor after 30 s; the replay waits exactly as long.
-    let away = rec.raw_wheel.len() - unplugged;
+    // Ended when the 1 s grace ran out (then at most the fade-out), not at once nor after
+    // 30 s, on the body's clock (a loaded machine skips missed ticks, so ticks would not
+    // count the time); the replay waits exactly as long.
+    let now_s =
+        |w: &station::record::Stamped<station::record::RawWheelSample>| w.data.now_ns as f64 * 1e-9;
+    let away_s = now_s(rec.raw_wheel.last().unwrap()) - now_s(&rec.raw_wheel[unplugged]);
     assert!(
-        (1000..1300).contains(&away),
-        "{away} ticks from the unplug to the end"
+        (1.0..1.3).contains(&away_s),
+        "{away_s} s from the unplug to the end"
     );
     let outcome = replay(&path).unwrap();
     assert!(outcome.from_raw);

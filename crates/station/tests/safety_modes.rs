@@ -2,7 +2,7 @@
 //! each assist mode + the regimen's effects and model → haptic chain → simulated wheel), for
 //! any regimen of short exercises (so the regimen changes mid-stream), any assist mode per
 //! exercise, pauses and resumes at any tick, injected wheel and IMU faults (NaN angles,
-//! stalls, frozen or saturated encoders, unplug), and a stop at the end. Every tick the
+//! stalls, frozen or saturated encoders), and a stop at the end. Every tick the
 //! command sent to the motor is finite, within the ceiling in force (N·m, as recorded) and
 //! within the slew limit of the previous one (a ceiling a new exercise lowers holds at once);
 //! while paused, and after the stop, it reaches zero within `fade_out_s + ceiling / slew`.
