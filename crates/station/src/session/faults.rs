@@ -117,6 +117,18 @@ impl FaultKind {
         }
     }
 
+    /// A fault of the wheel's readings (what [`FaultyWheel`] plays on each read).
+    fn acts_on_readings(self) -> bool {
+        matches!(
+            self,
+            FaultKind::WheelUnplug
+                | FaultKind::WheelNan
+                | FaultKind::WheelStall
+                | FaultKind::WheelFrozen
+                | FaultKind::WheelSaturated
+        )
+    }
+
     /// The kind that ends this one (`wheel-unplug` → `wheel-replug`, …), if any.
     pub fn ended_by(self) -> Option<FaultKind> {
         match self {
@@ -270,22 +282,27 @@ pub struct FaultyWheel<W> {
 }
 
 impl<W: Wheel> FaultyWheel<W> {
-    /// `inner`, failing as the wheel faults among `faults` say (other kinds are ignored).
+    /// `inner`, failing as the wheel faults among `faults` say (other kinds are ignored: an
+    /// arm, hub or disk fault at the same time must not hide a wheel fault).
     pub fn new(inner: W, faults: &[FaultSpec]) -> Self {
+        let wheel_faults = windows(faults)
+            .into_iter()
+            .filter(|(k, _, _)| k.acts_on_readings() || *k == FaultKind::HapticStall)
+            .collect();
         Self {
             inner,
-            faults: windows(faults),
+            faults: wheel_faults,
             frozen: None,
             // Room for every stall up front: the haptic thread never allocates.
             stalled: Vec::with_capacity(faults.len()),
         }
     }
 
-    /// The fault acting at `t_ns`, if any.
+    /// The fault of the wheel's readings acting at `t_ns`, if any.
     fn acting(&self, t_ns: u64) -> Option<FaultKind> {
         self.faults
             .iter()
-            .find(|(_, start, end)| (*start..*end).contains(&t_ns))
+            .find(|(k, start, end)| k.acts_on_readings() && (*start..*end).contains(&t_ns))
             .map(|(k, _, _)| *k)
     }
 }
@@ -680,6 +697,36 @@ mod tests {
                 "unplugged"
             ]
         );
+    }
+
+    #[test]
+    fn an_arm_hub_or_disk_fault_at_the_same_time_does_not_hide_a_wheel_fault() {
+        // Each of these lasts for good from 1 ms on; the wheel's NaN readings from 3 ms on
+        // must still come.
+        for other in [
+            "imu-unplug@0.001",
+            "hub-down@0.001",
+            "disk-full@0.001",
+            "imu-nan@0.001+1",
+        ] {
+            let faults = [
+                FaultSpec::parse(other).unwrap(),
+                FaultSpec::parse("wheel-nan@0.003+0.002").unwrap(),
+            ];
+            let mut w = FaultyWheel::new(SimWheel::new(SimWheelParams::default()), &faults);
+            let nan: Vec<bool> = (0..6)
+                .map(|_| {
+                    let nan = w.read().unwrap().angle_rad.is_nan();
+                    w.advance(0.001, 0.0);
+                    nan
+                })
+                .collect();
+            assert_eq!(
+                nan,
+                [false, false, false, true, true, false],
+                "with {other}"
+            );
+        }
     }
 
     #[test]
