@@ -185,11 +185,6 @@ impl RecordedBody {
         }
     }
 
-    /// The recording is of a real wheel.
-    pub fn is_real(&self) -> bool {
-        self.real
-    }
-
     /// How long the recorded session waited for an unplugged wheel to come back, ns: as
     /// recorded, else (a recording made before it was) none for a real wheel, which an unplug
     /// then ended at once, and `configured_ns` for a simulated one. A replay must wait as long

@@ -211,8 +211,12 @@ fn run_one(
                         // A frame that cannot be sent (the session is over and our side is
                         // shut, or the window is going) is no reason to stop listening: its
                         // goodbye may still come, and its end shows as the end of the stream.
-                        if wire::send(&mut to_window, &frame).is_ok() {
-                            let _ = tx.send(Heard::Pulled);
+                        match wire::send(&mut to_window, &frame) {
+                            Ok(()) => {
+                                let _ = tx.send(Heard::Pulled);
+                            }
+                            // Said, so a window later taken for hung shows why it starved.
+                            Err(e) => tracing::debug!("cannot send the window a frame: {e}"),
                         }
                     }
                     Ok(Some(m)) => {
