@@ -144,6 +144,8 @@ fn session_on(
         let done = done.clone();
         let clock = clock.clone();
         std::thread::spawn(move || {
+            // The device plugged back in, if one is: its motor counts too.
+            let mut replugged: Option<FakeHandle> = None;
             std::thread::sleep(after);
             match fault {
                 Fault::Unplug => fake.set_unplugged(true),
@@ -151,8 +153,10 @@ fn session_on(
                     fake.set_unplugged(true);
                     std::thread::sleep(Duration::from_millis(500));
                     let new = FakeFfDevice::wheel("fake wheel", usb_id, motor_nm, clock);
-                    new.handle().set_value(20_000);
+                    let plugged = new.handle();
+                    plugged.set_value(20_000);
                     bus.lock().unwrap().push(("fake-again".into(), new));
+                    replugged = Some(plugged);
                 }
                 Fault::Silence => {
                     // Hung with the rim off centre, so the centring spring pushes on it.
@@ -170,6 +174,7 @@ fn session_on(
             while !done.load(Ordering::Acquire) {
                 std::thread::sleep(Duration::from_millis(5));
             }
+            replugged
         })
     };
     TRACE.store(std::env::var_os("ALLOC_TRACE").is_some(), Ordering::Relaxed);
@@ -187,7 +192,7 @@ fn session_on(
     COUNTING.with(|c| c.set(false));
     let allocations = ALLOCATIONS.load(Ordering::Relaxed);
     done.store(true, Ordering::Release);
-    injector.join().unwrap();
+    let replugged = injector.join().unwrap();
     while consumer.pop().is_ok() {}
     assert_eq!(outcome.wheel_fault, plant.wheel_fault());
     assert_eq!(
@@ -197,7 +202,10 @@ fn session_on(
     (
         allocations,
         outcome.wheel_fault,
-        fake.peak_motor_torque_nm(),
+        // The largest torque at either motor, the first device's and the one plugged back in.
+        replugged
+            .map_or(0.0, |r| r.peak_motor_torque_nm())
+            .max(fake.peak_motor_torque_nm()),
         plant.ceiling(),
     )
 }
