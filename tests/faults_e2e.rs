@@ -6,7 +6,9 @@
 use station::config::StationConfig;
 use station::record::Recording;
 use std::path::Path;
-use telerehab_tests::{assert_within_ceiling_and_slew, run_ok, sim_session_args};
+use telerehab_tests::{
+    TherapistHub, assert_within_ceiling_and_slew, run_ok, sim_session_args, stored_seqs,
+};
 
 /// What a faulted session recorded: every tick's commanded torque, ceiling and watchdog state,
 /// the slew limit and loop period it ran with, and its printed report.
@@ -75,6 +77,23 @@ impl Faulted {
         self.t_s.iter().position(|&t| t >= t_s - 1e-9).unwrap()
     }
 
+    /// A reading fault from `t_s` that makes no reading (NaN, saturated): the supervisor
+    /// calls it stale within 50 ticks, the torque fades to zero within the fade-out, and
+    /// after it the exercise goes on to its end with torque again (a soft start).
+    fn assert_faded_as_stale_and_resumed(&self, t_s: f64) {
+        let at = self.tick_at(t_s);
+        assert!(
+            self.watchdog[at..at + 50]
+                .iter()
+                .any(|w| w == "fault-stale-reading")
+        );
+        self.assert_zero_within(t_s, 0.25 + 0.002);
+        assert!(*self.t_s.last().unwrap() >= 6.0);
+        let after = self.tick_at(t_s + 2.0);
+        assert!(self.commanded_nm[after..].iter().any(|c| c.abs() > 0.01));
+        assert!(!self.report.contains("stopped early"), "{}", self.report);
+    }
+
     /// The torque is zero at some tick within `bound_s` after `t_s`.
     fn assert_zero_within(&self, t_s: f64, bound_s: f64) {
         let from = self.tick_at(t_s);
@@ -112,19 +131,9 @@ fn an_unplugged_wheel_not_back_within_the_grace_ends_the_session_at_zero_torque_
 fn a_wheel_sending_nan_has_its_torque_faded_out_and_the_session_goes_on() {
     let f = faulted_session("6", "wheel-nan@3+0.3");
     f.assert_within_ceiling_and_slew();
-    let at = f.tick_at(3.0);
-    // A NaN angle is no reading: the supervisor calls it stale and fades the torque out.
-    assert!(
-        f.watchdog[at..at + 50]
-            .iter()
-            .any(|w| w == "fault-stale-reading")
-    );
-    f.assert_zero_within(3.0, 0.25 + 0.002);
-    // Then the exercise goes on to its end, the torque back after a soft start.
-    assert!(*f.t_s.last().unwrap() >= 6.0);
-    let after = f.tick_at(5.0);
-    assert!(f.commanded_nm[after..].iter().any(|c| c.abs() > 0.01));
-    assert!(!f.report.contains("stopped early"), "{}", f.report);
+    // A NaN angle is no reading: the supervisor calls it stale and fades the torque out; then
+    // the exercise goes on to its end, the torque back after a soft start.
+    f.assert_faded_as_stale_and_resumed(3.0);
 }
 
 #[test]
@@ -326,19 +335,7 @@ fn a_frozen_or_saturated_wheel_encoder_never_takes_the_torque_out_of_its_limits(
     // the torque fades out as for a stale reading, then soft-starts again.
     let f = faulted_session("6", "wheel-saturated@3+0.3");
     f.assert_within_ceiling_and_slew();
-    let at = f.tick_at(3.0);
-    assert!(
-        f.watchdog[at..at + 50]
-            .iter()
-            .any(|w| w == "fault-stale-reading")
-    );
-    f.assert_zero_within(3.0, 0.25 + 0.002);
-    assert!(
-        f.commanded_nm[f.tick_at(5.0)..]
-            .iter()
-            .any(|c| c.abs() > 0.01)
-    );
-    assert!(!f.report.contains("stopped early"), "{}", f.report);
+    f.assert_faded_as_stale_and_resumed(3.0);
 }
 
 /// The estimated shoulder elevation's largest error against the simulated truth between
@@ -418,74 +415,12 @@ fn frozen_or_saturated_arm_sensors_never_move_the_pose_away_from_the_arm() {
     }
 }
 
-/// A running netlink hub (`telerehab therapist`) and the address it listens on.
-struct Hub {
-    child: std::process::Child,
-    addr: String,
-}
-
-impl Hub {
-    fn start(store: &Path) -> Hub {
-        use std::io::BufRead;
-        let mut child = std::process::Command::new(telerehab_tests::telerehab_bin())
-            .args([
-                "therapist",
-                "--listen",
-                "127.0.0.1:0",
-                "--store",
-                store.to_str().unwrap(),
-            ])
-            .stdout(std::process::Stdio::piped())
-            .stderr(std::process::Stdio::null())
-            .spawn()
-            .unwrap();
-        let mut lines = std::io::BufReader::new(child.stdout.take().unwrap()).lines();
-        let first = lines.next().expect("hub prints where it listens").unwrap();
-        let addr = first
-            .strip_prefix("listening on ")
-            .and_then(|r| r.split_whitespace().next())
-            .unwrap_or_else(|| panic!("unexpected first line {first:?}"))
-            .to_string();
-        // Keep draining the hub's live lines so it never blocks on a full pipe.
-        std::thread::spawn(move || for _ in lines {});
-        Hub { child, addr }
-    }
-}
-
-impl Drop for Hub {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-/// Every summary seq the hub stored for `station_id`, per session.
-fn stored_seqs(store: &Path, station_id: &str) -> Vec<Vec<u64>> {
-    let mut sessions = Vec::new();
-    for entry in std::fs::read_dir(store.join(station_id)).unwrap() {
-        let path = entry.unwrap().path();
-        if path.extension().is_some_and(|e| e == "jsonl") {
-            let text = std::fs::read_to_string(&path).unwrap();
-            sessions.push(
-                text.lines()
-                    .map(|l| {
-                        serde_json::from_str::<serde_json::Value>(l).unwrap()["seq"]
-                            .as_u64()
-                            .unwrap()
-                    })
-                    .collect(),
-            );
-        }
-    }
-    sessions
-}
-
 #[test]
 fn the_hub_going_away_and_back_loses_no_summary_duplicates_none_and_leaves_the_torque_alone() {
     let dir = tempfile::tempdir().unwrap();
     let (store, home) = (dir.path().join("store"), dir.path().join("home"));
     let mcap = dir.path().join("hub-down.mcap");
-    let hub = Hub::start(&store);
+    let hub = TherapistHub::start(&store);
     // In real time, so that the hub is away for 2 s of wall time: the link's connection is
     // cut, its reconnections refused, and the summaries wait in the on-disk queue.
     let out = std::process::Command::new(telerehab_tests::telerehab_bin())

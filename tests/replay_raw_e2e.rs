@@ -4,23 +4,14 @@
 //! bit for bit. That proves the raw inputs are enough, on the paths a real session takes:
 //! the guided arm procedure solved on its own thread, sensor faults, the patient's stop.
 
-use std::process::Command;
 use telerehab_tests::{
-    by_topic, interrupted_recording_session, read_mcap, run_ok, sim_session_args, telerehab_bin,
+    by_topic, interrupted_recording_session, read_mcap, run_err, run_ok, sim_session_args,
 };
 
-/// `telerehab replay ARGS`: (success, stdout, stderr).
-fn replay(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(telerehab_bin())
-        .arg("replay")
-        .args(args)
-        .output()
-        .expect("run telerehab replay");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+/// `telerehab replay ARGS` run to success: what it said.
+fn replay_ok(args: &[&str]) -> String {
+    let out = run_ok(&[&["replay"], args].concat());
+    String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
 /// A session with the guided arm procedure and faults on the wheel and the IMUs replays bit
@@ -87,15 +78,14 @@ fn a_session_with_sensor_faults_replays_bit_for_bit_from_its_raw_inputs() {
         "imu-nan"
     );
 
-    let (ok, said, err) = replay(&["--from-raw", path.to_str().unwrap()]);
-    assert!(ok, "{said}\n{err}");
+    let said = replay_ok(&["--from-raw", path.to_str().unwrap()]);
     assert!(
         said.contains("replay: identical") && said.contains("from the recorded raw inputs"),
         "{said}"
     );
     // The seed reproduces it too.
-    let (ok, said, err) = replay(&[path.to_str().unwrap()]);
-    assert!(ok && said.contains("replay: identical"), "{said}\n{err}");
+    let said = replay_ok(&[path.to_str().unwrap()]);
+    assert!(said.contains("replay: identical"), "{said}");
 }
 
 /// The patient's stop is a recorded input: a session stopped by a signal, which the seed
@@ -117,10 +107,9 @@ fn a_session_stopped_by_the_patient_replays_bit_for_bit_from_its_raw_inputs() {
         .expect("the stop was recorded");
     assert!(stop > 1000 && stop < 59_000, "{stop}");
 
-    let (ok, said, err) = replay(&[path.to_str().unwrap()]);
-    assert!(!ok && err.contains("replay differs"), "{said}\n{err}");
-    let (ok, said, err) = replay(&["--from-raw", path.to_str().unwrap()]);
-    assert!(ok, "{said}\n{err}");
+    let err = run_err(&["replay", path.to_str().unwrap()]);
+    assert!(err.contains("replay differs"), "{err}");
+    let said = replay_ok(&["--from-raw", path.to_str().unwrap()]);
     assert!(said.contains("replay: identical"), "{said}");
 }
 
@@ -130,8 +119,7 @@ fn replay_from_raw_refuses_the_window_flag() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("s.mcap");
     run_ok(&sim_session_args("1", &path, &[]));
-    let (ok, _, err) = replay(&["--from-raw", "--window", path.to_str().unwrap()]);
-    assert!(!ok);
+    let err = run_err(&["replay", "--from-raw", "--window", path.to_str().unwrap()]);
     assert!(
         err.contains("--window") && err.contains("--from-raw"),
         "{err}"

@@ -283,3 +283,85 @@ impl Drop for Tmpfs {
         let _ = Command::new("umount").arg(self.dir.path()).status();
     }
 }
+
+/// A running netlink hub (`telerehab therapist`) storing under a directory, and the address it
+/// listens on; ended when dropped.
+pub struct TherapistHub {
+    child: std::process::Child,
+    /// Where it listens (`127.0.0.1:PORT`).
+    pub addr: String,
+}
+
+impl TherapistHub {
+    /// Start a hub storing under `store`, on a free loopback port.
+    pub fn start(store: &Path) -> Self {
+        use std::io::BufRead;
+        let mut child = Command::new(telerehab_bin())
+            .args([
+                "therapist",
+                "--listen",
+                "127.0.0.1:0",
+                "--store",
+                store.to_str().unwrap(),
+            ])
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        let mut lines = std::io::BufReader::new(child.stdout.take().unwrap()).lines();
+        let first = lines.next().expect("hub prints where it listens").unwrap();
+        let addr = first
+            .strip_prefix("listening on ")
+            .and_then(|r| r.split_whitespace().next())
+            .unwrap_or_else(|| panic!("unexpected first line {first:?}"))
+            .to_string();
+        // Keep draining the hub's live lines so it never blocks on a full pipe.
+        std::thread::spawn(move || for _ in lines {});
+        Self { child, addr }
+    }
+
+    /// Stop it as an operator does (SIGINT) and wait for it to end.
+    pub fn interrupt(mut self) {
+        let _ = Command::new("kill")
+            .args(["-INT", &self.child.id().to_string()])
+            .status();
+        let _ = self.child.wait();
+    }
+}
+
+impl TherapistHub {
+    /// Kill it outright (SIGKILL, as a crash would) and wait for it to end.
+    pub fn kill(mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+impl Drop for TherapistHub {
+    /// A failing test still ends its hub (after `interrupt` this finds it gone).
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// Every summary seq a [`TherapistHub`] stored under `store` for `station_id`, per session.
+pub fn stored_seqs(store: &Path, station_id: &str) -> Vec<Vec<u64>> {
+    let mut sessions = Vec::new();
+    for entry in std::fs::read_dir(store.join(station_id)).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "jsonl") {
+            let text = std::fs::read_to_string(&path).unwrap();
+            let seqs = text
+                .lines()
+                .map(|l| {
+                    serde_json::from_str::<serde_json::Value>(l).unwrap()["seq"]
+                        .as_u64()
+                        .unwrap()
+                })
+                .collect();
+            sessions.push(seqs);
+        }
+    }
+    sessions
+}
