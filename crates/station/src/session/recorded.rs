@@ -93,6 +93,17 @@ impl RecordedInputs {
         self.ticks[tick].raw.wheel.angle_rad += by_rad;
     }
 
+    /// Ticks recorded.
+    pub fn ticks(&self) -> usize {
+        self.ticks.len()
+    }
+
+    /// Keep the first `ticks` ticks only, as a killed session's file holds (tests).
+    #[cfg(test)]
+    pub(crate) fn cut_after(&mut self, ticks: usize) {
+        self.ticks.truncate(ticks);
+    }
+
     /// Hold back the solver's answer, first in hand on tick `from`, by `ticks` (tests).
     #[cfg(test)]
     pub(crate) fn delay_solver_answer(&mut self, from: usize, ticks: usize) {
@@ -137,6 +148,8 @@ pub struct RecordedBody {
     real: bool,
     /// The replug grace the recorded session gave an unplugged wheel, ns, if recorded.
     replug_grace_ns: Option<u64>,
+    /// The replay asked for a tick past the recording's last (a killed or cut-short session).
+    ran_out: Arc<AtomicBool>,
 }
 
 impl RecordedBody {
@@ -169,6 +182,7 @@ impl RecordedBody {
             stop,
             real: facts.kind == crate::record::raw::BodyKindName::Real,
             replug_grace_ns: facts.replug_grace_ns,
+            ran_out: Arc::default(),
         };
         body.raise_stop();
         Ok(body)
@@ -183,6 +197,12 @@ impl RecordedBody {
         if self.now().is_some_and(|t| t.raw.wheel.stop) {
             self.stop.store(true, Ordering::Relaxed);
         }
+    }
+
+    /// Raised when the replay asks for a tick past the recording's last: the recorded session
+    /// went on (it was killed, or its file cut short), its inputs did not.
+    pub fn ran_out(&self) -> Arc<AtomicBool> {
+        self.ran_out.clone()
     }
 
     /// How long the recorded session waited for an unplugged wheel to come back, ns: as
@@ -289,6 +309,10 @@ fn tracker(a: &ArmFacts) -> Result<ArmTracker, ImuError> {
 impl Wheel for RecordedBody {
     fn read(&mut self) -> Result<WheelReading, WheelError> {
         let Some(t) = self.now() else {
+            // Stop where the inputs end, rather than wait out the replug grace for a wheel
+            // that can never answer.
+            self.ran_out.store(true, Ordering::Relaxed);
+            self.stop.store(true, Ordering::Relaxed);
             return Err(WheelError::Disconnected("the recording ends here".into()));
         };
         let w = t.raw.wheel;

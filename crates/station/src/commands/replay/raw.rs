@@ -14,7 +14,7 @@ use crate::session::{self, BodyKind, Controls, SessionOptions};
 use anyhow::{Context, bail};
 use clock::Clock;
 use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Re-run the session recorded in `bytes` (its metadata `meta`, its samples `recorded`) from
 /// its raw inputs and compare every channel but `/timing`.
@@ -44,7 +44,9 @@ fn rerun(
 ) -> anyhow::Result<ReplayOutcome> {
     let (config, regimen) = recorded_plan(meta)?;
     let stop = Arc::new(AtomicBool::new(false));
+    let recorded_ticks = inputs.ticks();
     let body = RecordedBody::new(&facts, inputs, stop.clone())?;
+    let ran_out = body.ran_out();
     let dir = tempfile::tempdir().context("cannot make a temporary directory")?;
     let again_path = dir.path().join("replay.mcap");
     let opts = SessionOptions {
@@ -74,7 +76,15 @@ fn rerun(
             .map(|c| (c.topic(), recorded.get(&c).map_or(0, Vec::len)))
             .collect(),
         first_difference: first_difference_on(recorded, &again, true),
-        caveats: Vec::new(),
+        caveats: if ran_out.load(Ordering::Relaxed) {
+            vec![format!(
+                "the recording ends after {recorded_ticks} ticks without its session's end (a \
+                 killed session, recovered, or a file cut short): the replay stops where its \
+                 inputs end, so it differs from there on"
+            )]
+        } else {
+            Vec::new()
+        },
         from_raw: true,
     })
 }
@@ -126,6 +136,7 @@ mod tests {
 
         let same = rerun(&meta, &recorded, facts.clone(), inputs.clone()).unwrap();
         assert_eq!(same.first_difference, None);
+        assert!(same.caveats.is_empty(), "{:?}", same.caveats);
 
         // One wheel reading a micro-radian off: /wheel differs from that tick on.
         let mut nudged = inputs.clone();
@@ -152,5 +163,27 @@ mod tests {
             d.index,
             d.what
         );
+    }
+
+    #[test]
+    fn a_recording_cut_short_replays_up_to_its_end_stops_there_and_says_why() {
+        let bytes = recorded_session(6.0);
+        let (meta, recorded) = recorded_rows(&bytes).unwrap();
+        let recording = Recording::from_bytes(&bytes).unwrap();
+        let facts = meta.body.clone().unwrap();
+        let mut inputs = RecordedInputs::from_recording(&recording).unwrap();
+        // A session killed at 3 s: its inputs end there, its outputs (here) go on.
+        inputs.cut_after(3000);
+        let outcome = rerun(&meta, &recorded, facts, inputs).unwrap();
+        assert!(
+            outcome.caveats.len() == 1 && outcome.caveats[0].contains("ends after 3000 ticks"),
+            "{:?}",
+            outcome.caveats
+        );
+        // Identical up to where the inputs end; no replug grace waited out past it.
+        let d = outcome
+            .first_difference
+            .expect("a difference from the cut on");
+        assert!(d.index >= 3000, "{} {}: {}", d.topic, d.index, d.what);
     }
 }
