@@ -157,18 +157,30 @@ pub fn replay_with(path: &Path, from_raw: bool) -> anyhow::Result<ReplayOutcome>
         ..opts
     };
     let report = session::run(&opts, &Controls::default(), &mut ())?;
-    if let Some(e) = report.recorder.error {
+    compare(&report, &again_path, &recorded, caveats, false)
+}
+
+/// The replay's outcome: what the re-run (`report`, recorded to `again_path`) reproduced of
+/// `recorded`, the raw channels compared too when `from_raw`.
+fn compare(
+    report: &session::SessionReport,
+    again_path: &Path,
+    recorded: &RecordedRows,
+    caveats: Vec<String>,
+    from_raw: bool,
+) -> anyhow::Result<ReplayOutcome> {
+    if let Some(e) = &report.recorder.error {
         bail!("the replay's own recording failed: {e}");
     }
-    let again_bytes = std::fs::read(&again_path).context("cannot read the replay's recording")?;
+    let again_bytes = std::fs::read(again_path).context("cannot read the replay's recording")?;
     let (_, again) = recorded_rows(&again_bytes).context("the replay's recording")?;
     Ok(ReplayOutcome {
-        compared: compared(false)
+        compared: compared(from_raw)
             .map(|c| (c.topic(), recorded.get(&c).map_or(0, Vec::len)))
             .collect(),
-        first_difference: first_difference(&recorded, &again),
+        first_difference: first_difference_on(recorded, &again, from_raw),
         caveats,
-        from_raw: false,
+        from_raw,
     })
 }
 
@@ -255,13 +267,8 @@ fn compared(from_raw: bool) -> impl Iterator<Item = Channel> {
 }
 
 /// The first sample (channel order, then index) that differs, named down to the field, on
-/// the channels a replay from the seed compares.
-fn first_difference(recorded: &RecordedRows, again: &RecordedRows) -> Option<Difference> {
-    first_difference_on(recorded, again, false)
-}
-
-/// The first sample that differs on the channels a replay compares (`from_raw`: a replay
-/// from the raw inputs, which compares them too).
+/// the channels a replay compares (`from_raw`: a replay from the raw inputs, which compares
+/// them too).
 fn first_difference_on(
     recorded: &RecordedRows,
     again: &RecordedRows,
@@ -322,16 +329,16 @@ mod tests {
     fn the_first_difference_is_named_by_channel_tick_and_field() {
         let recorded = BTreeMap::from([(Channel::Wheel, vec![message(0, 0.5), message(1, 0.25)])]);
         let mut again = recorded.clone();
-        assert_eq!(first_difference(&recorded, &again), None);
+        assert_eq!(first_difference_on(&recorded, &again, false), None);
         again.get_mut(&Channel::Wheel).unwrap()[1] = message(1, 0.250_000_000_000_000_06);
-        let d = first_difference(&recorded, &again).unwrap();
+        let d = first_difference_on(&recorded, &again, false).unwrap();
         assert_eq!((d.topic, d.index), ("/wheel", 1));
         assert_eq!(
             d.what,
             "tick 1, t = 0.001 s: angle_rad recorded 0.25, replayed 0.25000000000000006"
         );
         again.get_mut(&Channel::Wheel).unwrap().truncate(1);
-        let d = first_difference(&recorded, &again).unwrap();
+        let d = first_difference_on(&recorded, &again, false).unwrap();
         assert_eq!(d.what, "2 samples recorded, 1 replayed");
     }
 
@@ -363,6 +370,6 @@ mod tests {
     fn timing_is_not_compared() {
         let recorded = BTreeMap::from([(Channel::Timing, vec![message(0, 1.0)])]);
         let again = BTreeMap::from([(Channel::Timing, vec![message(0, 2.0)])]);
-        assert_eq!(first_difference(&recorded, &again), None);
+        assert_eq!(first_difference_on(&recorded, &again, false), None);
     }
 }

@@ -5,8 +5,8 @@
 //! real-device session (no wheel or patient to re-run); `--from-raw` forces it on a simulated
 //! one, which proves the raw inputs enough.
 
-use super::{ReplayOutcome, compared, first_difference_on, recorded_plan};
-use crate::record::{BodyFacts, RecordedRows, Recording, SessionMetadata, recorded_rows};
+use super::{ReplayOutcome, compare, recorded_plan};
+use crate::record::{BodyFacts, RecordedRows, Recording, SessionMetadata};
 use crate::session::haptic::Pacing;
 use crate::session::plant::Body;
 use crate::session::recorded::{RecordedBody, RecordedInputs};
@@ -66,27 +66,16 @@ fn rerun(
         Body::Recorded(Box::new(body)),
         Some(facts),
     )?;
-    if let Some(e) = report.recorder.error {
-        bail!("the replay's own recording failed: {e}");
-    }
-    let again_bytes = std::fs::read(&again_path).context("cannot read the replay's recording")?;
-    let (_, again) = recorded_rows(&again_bytes).context("the replay's recording")?;
-    Ok(ReplayOutcome {
-        compared: compared(true)
-            .map(|c| (c.topic(), recorded.get(&c).map_or(0, Vec::len)))
-            .collect(),
-        first_difference: first_difference_on(recorded, &again, true),
-        caveats: if ran_out.load(Ordering::Relaxed) {
-            vec![format!(
-                "the recording ends after {recorded_ticks} ticks without its session's end (a \
-                 killed session, recovered, or a file cut short): the replay stops where its \
-                 inputs end, so it differs from there on"
-            )]
-        } else {
-            Vec::new()
-        },
-        from_raw: true,
-    })
+    let caveats = if ran_out.load(Ordering::Relaxed) {
+        vec![format!(
+            "the recording ends after {recorded_ticks} ticks without its session's end (a \
+             killed session, recovered, or a file cut short): the replay stops where its \
+             inputs end, so it differs from there on"
+        )]
+    } else {
+        Vec::new()
+    };
+    compare(&report, &again_path, recorded, caveats, true)
 }
 
 #[cfg(test)]
@@ -115,14 +104,39 @@ mod tests {
         std::fs::read(path).unwrap()
     }
 
+    /// A recorded session read back with what re-running it takes.
+    struct Rerunnable {
+        meta: SessionMetadata,
+        recorded: RecordedRows,
+        facts: BodyFacts,
+        recording: Recording,
+        inputs: RecordedInputs,
+    }
+
+    /// [`recorded_session`] of `seconds`, read back.
+    fn rerunnable(seconds: f64) -> Rerunnable {
+        let bytes = recorded_session(seconds);
+        let (meta, recorded) = crate::record::recorded_rows(&bytes).unwrap();
+        let recording = Recording::from_bytes(&bytes).unwrap();
+        Rerunnable {
+            facts: meta.body.clone().unwrap(),
+            inputs: RecordedInputs::from_recording(&recording).unwrap(),
+            meta,
+            recorded,
+            recording,
+        }
+    }
+
     #[test]
     fn the_raw_inputs_reproduce_a_session_and_a_changed_input_is_found_where_it_acts() {
-        let bytes = recorded_session(14.0);
-        let (meta, recorded) = recorded_rows(&bytes).unwrap();
-        let recording = Recording::from_bytes(&bytes).unwrap();
-        let facts = meta.body.clone().unwrap();
+        let Rerunnable {
+            meta,
+            recorded,
+            facts,
+            recording,
+            inputs,
+        } = rerunnable(14.0);
         assert_eq!(facts.kind, crate::record::raw::BodyKindName::Simulated);
-        let inputs = RecordedInputs::from_recording(&recording).unwrap();
         let answered = recording
             .raw_wheel
             .iter()
@@ -167,11 +181,13 @@ mod tests {
 
     #[test]
     fn a_recording_cut_short_replays_up_to_its_end_stops_there_and_says_why() {
-        let bytes = recorded_session(6.0);
-        let (meta, recorded) = recorded_rows(&bytes).unwrap();
-        let recording = Recording::from_bytes(&bytes).unwrap();
-        let facts = meta.body.clone().unwrap();
-        let mut inputs = RecordedInputs::from_recording(&recording).unwrap();
+        let Rerunnable {
+            meta,
+            recorded,
+            facts,
+            mut inputs,
+            ..
+        } = rerunnable(6.0);
         // A session killed at 3 s: its inputs end there, its outputs (here) go on.
         inputs.cut_after(3000);
         let outcome = rerun(&meta, &recorded, facts, inputs).unwrap();
