@@ -302,6 +302,8 @@ pub async fn serve(
         web: web_addr,
     });
     let mut revocation = tokio::time::interval(REVOCATION_POLL);
+    let mut sweep = tokio::time::interval(crate::uploads::PARTIAL_UPLOAD_SWEEP);
+    let recordings = clinic.dir().join("recordings");
     let mut shutdown = std::pin::pin!(shutdown);
     loop {
         tokio::select! {
@@ -309,6 +311,20 @@ pub async fn serve(
             _ = revocation.tick() => {
                 if let Err(e) = store.refresh_revoked().await {
                     tracing::error!("cannot re-read revoked stations: {e}");
+                }
+            }
+            _ = sweep.tick() => {
+                let dir = recordings.clone();
+                let expired = tokio::task::spawn_blocking(move || {
+                    crate::uploads::expire_partial_uploads(
+                        &dir,
+                        crate::uploads::PARTIAL_UPLOAD_MAX_AGE,
+                        std::time::SystemTime::now(),
+                    )
+                })
+                .await;
+                if let Ok(Err(e)) = expired {
+                    tracing::warn!("cannot expire partial uploads: {e}");
                 }
             }
             Ok(regimen) = prescriptions.recv() => push_regimen(&server, &db, &regimen).await,
@@ -332,17 +348,38 @@ pub async fn serve(
             }
         }
     }
+    // Both ports stop together, within STOP_WITHIN: open requests and station connections
+    // get the time left to finish; what a station was not acknowledged it sends again.
     let _ = stop_web.send(());
-    if let Some(task) = web_task {
-        match task.await {
-            Ok(r) => r?,
-            Err(e) => tracing::error!("console API task failed: {e}"),
+    let web_stopped = async {
+        match web_task {
+            Some(task) => match task.await {
+                Ok(r) => r,
+                Err(e) => {
+                    tracing::error!("console API task failed: {e}");
+                    Ok(())
+                }
+            },
+            None => Ok(()),
+        }
+    };
+    let stopped = tokio::time::timeout(STOP_WITHIN, async {
+        let (web, ()) = tokio::join!(web_stopped, server.shutdown(STOP_WITHIN));
+        db.close().await;
+        web
+    })
+    .await;
+    match stopped {
+        Ok(web) => web,
+        Err(_) => {
+            tracing::warn!("the hub stopped before every connection had closed");
+            Ok(())
         }
     }
-    server.shutdown(std::time::Duration::from_secs(5)).await;
-    db.close().await;
-    Ok(())
 }
+
+/// Longest `hub serve` takes to stop once asked (connections closing, the database closed).
+pub const STOP_WITHIN: std::time::Duration = std::time::Duration::from_secs(3);
 
 /// Sends `regimen` to every connected station of its patient (a station not connected gets
 /// it when it next connects).

@@ -10,8 +10,6 @@ pub enum PairRefusal {
     Expired,
     /// The code has already been redeemed once (codes are single use).
     Used,
-    /// Too many wrong secrets were tried for this code; it is dead.
-    TooManyAttempts,
 }
 
 impl std::fmt::Display for PairRefusal {
@@ -20,9 +18,6 @@ impl std::fmt::Display for PairRefusal {
             Self::Unknown => "unknown pairing code",
             Self::Expired => "the pairing code has expired; ask the clinic for a new one",
             Self::Used => "the pairing code has already been used; ask the clinic for a new one",
-            Self::TooManyAttempts => {
-                "too many wrong tries with this pairing code; ask the clinic for a new one"
-            }
         })
     }
 }

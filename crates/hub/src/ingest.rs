@@ -30,6 +30,8 @@ use crate::web::NowMs;
 pub const REVOCATION_POLL: Duration = Duration::from_secs(1);
 /// Pairing attempts one address may begin per minute.
 pub const PAIRING_ATTEMPTS_PER_MINUTE: u32 = 10;
+/// Failed pairing attempts one address may make per hour; beyond, it is refused for the hour.
+pub const PAIRING_FAILURES_PER_HOUR: u32 = 20;
 
 /// Most summaries one group commit takes.
 pub const MAX_BATCH: usize = 1024;
@@ -71,6 +73,7 @@ pub struct DbStore {
     server_name: String,
     revoked: Arc<RwLock<HashSet<String>>>,
     pairing_attempts: Mutex<HashMap<IpAddr, (i64, u32)>>,
+    pairing_failures: Mutex<HashMap<IpAddr, (i64, u32)>>,
     now_ms: NowMs,
 }
 
@@ -125,6 +128,7 @@ impl DbStore {
             server_name,
             revoked: Arc::default(),
             pairing_attempts: Mutex::default(),
+            pairing_failures: Mutex::default(),
             now_ms,
         }
     }
@@ -148,18 +152,36 @@ impl DbStore {
         Ok(n)
     }
 
-    /// Counts a pairing attempt from `ip`; false beyond [`PAIRING_ATTEMPTS_PER_MINUTE`].
+    /// Counts a pairing attempt from `ip`; false beyond [`PAIRING_ATTEMPTS_PER_MINUTE`] a
+    /// minute or after [`PAIRING_FAILURES_PER_HOUR`] failures within the hour.
     fn pairing_allowed(&self, ip: IpAddr) -> bool {
         let now = self.now();
-        let mut attempts = self
-            .pairing_attempts
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner);
-        attempts.retain(|_, (start, _)| now - *start < 60_000);
-        let entry = attempts.entry(ip).or_insert((now, 0));
-        entry.1 += 1;
-        entry.1 <= PAIRING_ATTEMPTS_PER_MINUTE
+        let failed = count_in_window(&self.pairing_failures, ip, now, 3_600_000, 0);
+        failed < PAIRING_FAILURES_PER_HOUR
+            && count_in_window(&self.pairing_attempts, ip, now, 60_000, 1)
+                <= PAIRING_ATTEMPTS_PER_MINUTE
     }
+}
+
+/// Adds `add` to `ip`'s count in a fixed window of `window_ms` starting at its first event
+/// (windows of other addresses that have ended are forgotten); the count after adding.
+fn count_in_window(
+    counts: &Mutex<HashMap<IpAddr, (i64, u32)>>,
+    ip: IpAddr,
+    now_ms: i64,
+    window_ms: i64,
+    add: u32,
+) -> u32 {
+    let mut counts = counts
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    counts.retain(|_, (start, _)| now_ms - *start < window_ms);
+    if add == 0 {
+        return counts.get(&ip).map_or(0, |(_, n)| *n);
+    }
+    let entry = counts.entry(ip).or_insert((now_ms, 0));
+    entry.1 = entry.1.saturating_add(add);
+    entry.1
 }
 
 impl HubStore for DbStore {
@@ -376,28 +398,40 @@ impl PairingAuthority for DbStore {
         Box::pin(async move {
             if !self.pairing_allowed(peer.ip()) {
                 return Err(Refusal::new(format!(
-                    "too many pairing attempts from {}; wait a minute",
+                    "too many pairing attempts from {}; try again later (each address may \
+                     begin {PAIRING_ATTEMPTS_PER_MINUTE} a minute and fail \
+                     {PAIRING_FAILURES_PER_HOUR} an hour)",
                     peer.ip()
                 )));
             }
             let ticket = self
                 .db
-                .pairing_ticket(code_id, self.now())
+                .begin_pairing_attempt(code_id, self.now())
                 .await
                 .map_err(refusal)?;
-            Ok(Ticket {
-                secret: ticket.secret,
-                patient_id: ticket.patient_id,
+            Ok(match ticket {
+                Some(t) => Ticket {
+                    secret: t.secret,
+                    patient_id: t.patient_id,
+                },
+                // Not a live code now: the exchange runs with a secret nobody knows, and
+                // fails exactly as a wrong secret does.
+                None => Ticket {
+                    secret: netlink::pairing::PairingCode::generate()
+                        .map_err(Refusal::new)?
+                        .secret()
+                        .to_owned(),
+                    patient_id: String::new(),
+                },
             })
         })
     }
 
     fn failed<'a>(&'a self, code_id: &'a str, peer: SocketAddr) -> BoxFuture<'a, ()> {
         Box::pin(async move {
-            if let Err(e) = self.db.pairing_failed(code_id).await {
-                tracing::error!("cannot count a wrong pairing secret: {e}");
-            }
+            // The code's own attempt was counted when it began; here the address's.
             let now = self.now();
+            count_in_window(&self.pairing_failures, peer.ip(), now, 3_600_000, 1);
             let _ = self
                 .db
                 .audit(
@@ -422,7 +456,7 @@ impl PairingAuthority for DbStore {
                 .db
                 .redeem_pairing_code(code_id, now)
                 .await
-                .map_err(refusal)?;
+                .map_err(|_| Refusal::new(netlink::pairing::CODE_NOT_ACCEPTED))?;
             let station_id = new_station_id().map_err(refusal)?;
             let cert_pem = self
                 .ca

@@ -37,6 +37,23 @@ fn hello(station_id: &str, patient_id: &str, session_id: &str) -> Hello {
 }
 
 /// A therapist, a patient and a paired station `st-1`.
+/// The version of the newest file in `migrations/` (`NNNN_name.sql`).
+fn latest_migration() -> i64 {
+    std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/migrations"))
+        .unwrap()
+        .filter_map(|e| {
+            e.ok()?
+                .file_name()
+                .to_str()?
+                .split('_')
+                .next()?
+                .parse()
+                .ok()
+        })
+        .max()
+        .unwrap()
+}
+
 async fn paired(db: &Db) -> (hub::Therapist, hub::Patient) {
     let t = db
         .add_therapist(
@@ -97,7 +114,7 @@ async fn dollar_placeholders_work(db: Db) {
 }
 
 async fn schema_is_migrated(db: Db) {
-    assert_eq!(db.schema_version().await.unwrap(), 1);
+    assert_eq!(db.schema_version().await.unwrap(), latest_migration());
     let n: i64 = sqlx::query_scalar("SELECT COUNT(*) FROM audit_log")
         .fetch_one(db.pool())
         .await
@@ -390,20 +407,46 @@ async fn pairing_codes_are_single_use(db: Db) {
         "{late:?}"
     );
 
+    // Parallel attempts at one code: exactly one gets the secret.
+    let code4 = db.create_pairing_code(&p.id, T0, 15 * MIN).await.unwrap();
+    let code4 = netlink::pairing::PairingCode::parse(&code4).unwrap();
+    let mut attempts = tokio::task::JoinSet::new();
+    for _ in 0..50 {
+        let (db, code_id) = (db.clone(), code4.code_id().to_owned());
+        attempts.spawn(async move { db.begin_pairing_attempt(&code_id, T0 + MIN).await });
+    }
+    let tickets = attempts.join_all().await;
+    assert_eq!(
+        tickets.iter().filter(|t| matches!(t, Ok(Some(_)))).count(),
+        1
+    );
+
+    // Wrong tries never kill a code: each attempt makes it wait, then it takes the next.
     let code3 = db.create_pairing_code(&p.id, T0, 15 * MIN).await.unwrap();
     let code3 = netlink::pairing::PairingCode::parse(&code3).unwrap();
-    for _ in 0..hub::db::MAX_FAILED_ATTEMPTS {
-        db.pairing_failed(code3.code_id()).await.unwrap();
+    let mut at = T0;
+    for n in 1..=6 {
+        let ticket = db.begin_pairing_attempt(code3.code_id(), at).await.unwrap();
+        assert_eq!(ticket.unwrap().secret, code3.secret(), "attempt {n}");
+        // Waiting: no ticket (the caller answers as for a wrong code), whoever asks.
+        let early = at + hub::db::attempt_wait_ms(n) - 1;
+        assert!(
+            db.begin_pairing_attempt(code3.code_id(), early)
+                .await
+                .unwrap()
+                .is_none()
+        );
+        at += hub::db::attempt_wait_ms(n);
     }
-    let dead = db.pairing_ticket(code3.code_id(), T0).await;
-    assert!(
-        matches!(dead, Err(HubError::Pair(PairRefusal::TooManyAttempts))),
-        "{dead:?}"
+    assert_eq!(
+        db.redeem_pairing_code(code3.code_id(), at).await.unwrap(),
+        p.id
     );
-    let dead = db.redeem_pairing_code(code3.code_id(), T0).await;
     assert!(
-        matches!(dead, Err(HubError::Pair(PairRefusal::TooManyAttempts))),
-        "{dead:?}"
+        db.begin_pairing_attempt(code3.code_id(), at)
+            .await
+            .unwrap()
+            .is_none()
     );
 
     for unknown in ["ZZZZ", "'; DROP TABLE pairing_codes; --"] {
@@ -840,7 +883,7 @@ async fn sqlite_migrations_are_idempotent_and_files_private() {
     let again = Db::open(&format!("sqlite://{}?mode=rwc", path.display()))
         .await
         .unwrap();
-    assert_eq!(again.schema_version().await.unwrap(), 1);
+    assert_eq!(again.schema_version().await.unwrap(), latest_migration());
     assert!(again.patient_by_pseudonym("p-1").await.unwrap().is_some());
     let journal: String = sqlx::query_scalar("PRAGMA journal_mode")
         .fetch_one(again.pool())
@@ -864,7 +907,7 @@ async fn postgres_migrations_are_idempotent() {
     pg.db.add_patient("p-1", None, T0).await.unwrap();
     let again = Db::open(&pg.url).await.unwrap();
     assert_eq!(again.backend(), hub::Backend::Postgres);
-    assert_eq!(again.schema_version().await.unwrap(), 1);
+    assert_eq!(again.schema_version().await.unwrap(), latest_migration());
     assert!(again.patient_by_pseudonym("p-1").await.unwrap().is_some());
     again.close().await;
     pg.drop_db().await;

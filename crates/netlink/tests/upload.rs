@@ -1,5 +1,7 @@
 //! Recording uploads on loopback: whole, resumed from a partial copy, refused when the bytes do
-//! not match the announced SHA-256 (then whole again), and idempotent once stored.
+//! not match the announced SHA-256 (then whole again), idempotent once stored, and held to the
+//! hub's own limits (size per session, bytes per station per day, rate) whatever the station
+//! does.
 
 use std::path::Path;
 
@@ -7,11 +9,15 @@ use netlink::upload::{file_sha256, upload_recording};
 use netlink::{Hello, PROTOCOL_VERSION, TherapistConfig, TherapistServer};
 
 fn hello() -> Hello {
+    hello_for("s-up")
+}
+
+fn hello_for(session_id: &str) -> Hello {
     Hello {
         protocol_version: PROTOCOL_VERSION,
         station_id: "st-up".into(),
         patient_id: "p-1".into(),
-        session_id: "s-up".into(),
+        session_id: session_id.into(),
         exercise: "sine-road".into(),
         started_unix_ms: 1_795_253_400_000,
         software_version: "telerehab-test".into(),
@@ -21,20 +27,30 @@ fn hello() -> Hello {
 
 /// 200 kB of deterministic bytes (a fixed LCG), standing in for an MCAP file.
 fn recording(dir: &Path) -> std::path::PathBuf {
+    recording_of(dir, "session.mcap", 200_000)
+}
+
+/// `len` deterministic bytes in `dir/name`.
+fn recording_of(dir: &Path, name: &str, len: usize) -> std::path::PathBuf {
     let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
-    let bytes: Vec<u8> = (0..200_000)
+    let bytes: Vec<u8> = (0..len)
         .map(|_| {
             x = x.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
             (x >> 56) as u8
         })
         .collect();
-    let path = dir.join("session.mcap");
+    let path = dir.join(name);
     std::fs::write(&path, bytes).unwrap();
     path
 }
 
 async fn hub(store: &Path) -> TherapistServer {
-    let config = TherapistConfig::new("127.0.0.1:0".parse().unwrap(), store, None);
+    hub_with(store, |_| {}).await
+}
+
+async fn hub_with(store: &Path, limits: impl FnOnce(&mut TherapistConfig)) -> TherapistServer {
+    let mut config = TherapistConfig::new("127.0.0.1:0".parse().unwrap(), store, None);
+    limits(&mut config);
     TherapistServer::bind(config).await.unwrap().0
 }
 
@@ -98,4 +114,74 @@ async fn a_corrupt_partial_copy_is_discarded_and_the_next_upload_is_whole() {
         std::fs::read(store.join("st-up/s-up.mcap")).unwrap(),
         std::fs::read(&file).unwrap()
     );
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_recording_over_the_hubs_session_cap_is_refused_before_a_byte_is_stored() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = recording_of(tmp.path(), "big.mcap", (1 << 20) + 1);
+    let store = tmp.path().join("store");
+    let server = hub_with(&store, |c| c.max_upload_bytes_per_session = 1 << 20).await;
+    let addr = server.local_addr().to_string();
+    let err = upload_recording(&addr, None, hello(), &file, 50_000_000)
+        .await
+        .unwrap_err();
+    assert!(err.contains("max_upload_bytes_per_session"), "{err}");
+    // The session's own files (hello, summaries) are there; no recording, not even a part.
+    let recordings: Vec<_> = std::fs::read_dir(store.join("st-up"))
+        .into_iter()
+        .flatten()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|e| e == "mcap" || e == "part"))
+        .collect();
+    assert!(recordings.is_empty(), "nothing kept: {recordings:?}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_station_past_its_daily_bytes_is_refused_until_tomorrow_and_others_are_not() {
+    let tmp = tempfile::tempdir().unwrap();
+    let store = tmp.path().join("store");
+    let server = hub_with(&store, |c| c.max_upload_bytes_per_station_day = 1 << 20).await;
+    let addr = server.local_addr().to_string();
+    // Three sessions of 400 kB: the third passes the station's 1 MiB a day.
+    for (i, session) in ["s-a", "s-b"].into_iter().enumerate() {
+        let file = recording_of(tmp.path(), &format!("{i}.mcap"), 400_000);
+        upload_recording(&addr, None, hello_for(session), &file, 50_000_000)
+            .await
+            .unwrap();
+    }
+    let file = recording_of(tmp.path(), "2.mcap", 400_000);
+    let err = upload_recording(&addr, None, hello_for("s-c"), &file, 50_000_000)
+        .await
+        .unwrap_err();
+    assert!(
+        err.contains("today") && err.contains("max_upload_bytes_per_station_day"),
+        "{err}"
+    );
+    // Another station's quota is its own.
+    let mut other = hello_for("s-c");
+    other.station_id = "st-other".into();
+    upload_recording(&addr, None, other, &file, 50_000_000)
+        .await
+        .unwrap();
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_hub_paces_an_upload_to_its_own_rate_whatever_the_station_sends() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = recording(tmp.path());
+    let store = tmp.path().join("store");
+    // 64 KiB/s at the hub; the station would send at 50 MB/s.
+    let server = hub_with(&store, |c| c.max_upload_bytes_per_s = 64 << 10).await;
+    let addr = server.local_addr().to_string();
+    let began = std::time::Instant::now();
+    let done = upload_recording(&addr, None, hello(), &file, 50_000_000)
+        .await
+        .unwrap();
+    let elapsed = began.elapsed().as_secs_f64();
+    // 200 kB at 64 KiB/s: 3.05 s; the last chunk's wait ends the upload, so at least the
+    // time for all but that chunk (a lower bound: a loaded machine is only slower).
+    let floor_s = (done.size_bytes - 32 * 1024) as f64 / f64::from(64u32 << 10);
+    assert!(elapsed >= floor_s, "{elapsed:.2} s < {floor_s:.2} s");
 }

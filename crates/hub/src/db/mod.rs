@@ -40,7 +40,10 @@ use sqlx::{AnyPool, Executor, Row};
 use crate::error::HubError;
 
 pub use audit::{AuditEntry, MAX_DETAIL_CHARS};
-pub use pairing::{MAX_FAILED_ATTEMPTS, PairingTicket};
+pub use pairing::{
+    ATTEMPTS_BEFORE_BACKOFF, MAX_ATTEMPT_WAIT_MS, MIN_ATTEMPT_WAIT_MS, PairingTicket,
+    attempt_wait_ms,
+};
 pub use patients::{MAX_PSEUDONYM_LEN, Patient, PatientOverview, WEEK_MS, check_pseudonym};
 pub use regimens::{MAX_REGIMEN_BYTES, RegimenVersion};
 pub use sessions::{Recording, SessionRow};

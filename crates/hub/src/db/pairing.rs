@@ -7,9 +7,30 @@ use netlink::pairing::PairingCode;
 use super::{Db, check_id, col};
 use crate::error::{HubError, PairRefusal};
 
-/// Wrong secrets a code survives; the next one kills it (an online guess of the 20-bit
-/// secret then succeeds with probability at most 3 / 2²⁰).
-pub const MAX_FAILED_ATTEMPTS: i64 = 3;
+/// Shortest wait after any attempt before a code takes the next, ms. Every attempt is counted
+/// when it begins (before the SPAKE2 exchange), so parallel guesses get one real try per wait.
+pub const MIN_ATTEMPT_WAIT_MS: i64 = 5_000;
+
+/// Longest wait between two attempts at one code, ms (1 h).
+pub const MAX_ATTEMPT_WAIT_MS: i64 = 3_600_000;
+
+/// Attempts a code takes with the shortest wait before the waits double.
+pub const ATTEMPTS_BEFORE_BACKOFF: i64 = 3;
+
+/// How long a code refuses another attempt after its `n`-th (1-based), ms:
+/// [`MIN_ATTEMPT_WAIT_MS`] for the first [`ATTEMPTS_BEFORE_BACKOFF`], then doubling up to
+/// [`MAX_ATTEMPT_WAIT_MS`].
+///
+/// A wrong guess never kills a code (anyone who knew its public half could otherwise burn a
+/// patient's code with three tries); it slows the next one instead. Over a 72 h code this
+/// allows at most 82 online guesses of the 20-bit secret (success ≤ 82 / 2²⁰ ≈ 8·10⁻⁵), and
+/// the per-address limits of the ingest bound what one address can try.
+pub fn attempt_wait_ms(n: i64) -> i64 {
+    let doublings = (n - ATTEMPTS_BEFORE_BACKOFF).clamp(0, 20);
+    MIN_ATTEMPT_WAIT_MS
+        .saturating_mul(1_i64 << doublings)
+        .min(MAX_ATTEMPT_WAIT_MS)
+}
 
 /// A live code's secret and patient.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -80,8 +101,6 @@ impl Db {
         };
         let refusal = if col::<Option<i64>>(&row, "used_at_ms")?.is_some() {
             Some(PairRefusal::Used)
-        } else if col::<i64>(&row, "failed_attempts")? >= MAX_FAILED_ATTEMPTS {
-            Some(PairRefusal::TooManyAttempts)
         } else if col::<i64>(&row, "expires_at_ms")? <= now_ms {
             Some(PairRefusal::Expired)
         } else {
@@ -96,16 +115,45 @@ impl Db {
         }
     }
 
-    /// Counts a wrong secret tried for `code_id`.
-    pub async fn pairing_failed(&self, code_id: &str) -> Result<(), HubError> {
-        sqlx::query(
-            "UPDATE pairing_codes SET failed_attempts = failed_attempts + 1 WHERE code_id = $1",
+    /// Begins one attempt at the code named `code_id`, atomically: counts it and sets when the
+    /// code takes the next ([`attempt_wait_ms`]), and returns its ticket; `None` when the code
+    /// is unknown, expired, used or still waiting after an earlier attempt. The caller then
+    /// runs the exchange with a decoy secret, so a station cannot tell these apart from a
+    /// wrong secret (nothing to enumerate).
+    pub async fn begin_pairing_attempt(
+        &self,
+        code_id: &str,
+        now_ms: i64,
+    ) -> Result<Option<PairingTicket>, HubError> {
+        // One statement takes the attempt and closes the code for the shortest wait, so
+        // parallel attempts cannot both pass; the second sets the whole wait.
+        let row = sqlx::query(
+            "UPDATE pairing_codes SET failed_attempts = failed_attempts + 1, \
+             next_attempt_at_ms = $3 \
+             WHERE code_id = $1 AND used_at_ms IS NULL AND expires_at_ms > $2 \
+             AND COALESCE(next_attempt_at_ms, 0) <= $2 \
+             RETURNING secret, patient_id, failed_attempts",
         )
         .bind(code_id)
-        .execute(self.pool())
+        .bind(now_ms)
+        .bind(now_ms.saturating_add(MIN_ATTEMPT_WAIT_MS))
+        .fetch_optional(self.pool())
         .await
-        .map_err(HubError::db("counting a wrong pairing secret"))?;
-        Ok(())
+        .map_err(HubError::db("beginning a pairing attempt"))?;
+        let Some(row) = row else {
+            return Ok(None);
+        };
+        let attempts: i64 = col(&row, "failed_attempts")?;
+        sqlx::query("UPDATE pairing_codes SET next_attempt_at_ms = $2 WHERE code_id = $1")
+            .bind(code_id)
+            .bind(now_ms.saturating_add(attempt_wait_ms(attempts)))
+            .execute(self.pool())
+            .await
+            .map_err(HubError::db("delaying the next pairing attempt"))?;
+        Ok(Some(PairingTicket {
+            secret: col(&row, "secret")?,
+            patient_id: col(&row, "patient_id")?,
+        }))
     }
 
     /// Uses up the code named `code_id` once, atomically: the patient id it was issued for,
@@ -118,11 +166,10 @@ impl Db {
         let redeemed: Option<String> = sqlx::query_scalar(
             "UPDATE pairing_codes SET used_at_ms = $2 \
              WHERE code_id = $1 AND used_at_ms IS NULL AND expires_at_ms > $2 \
-             AND failed_attempts < $3 RETURNING patient_id",
+             RETURNING patient_id",
         )
         .bind(code_id)
         .bind(now_ms)
-        .bind(MAX_FAILED_ATTEMPTS)
         .fetch_optional(self.pool())
         .await
         .map_err(HubError::db("redeeming a pairing code"))?;

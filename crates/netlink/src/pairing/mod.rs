@@ -3,7 +3,7 @@
 //! The clinic prints a code `XXXX-XXXX` (`telerehab hub patient add`). Its first half names the
 //! code; its second half is the password of a SPAKE2 exchange (RustCrypto's `spake2`, Ed25519
 //! group) and never crosses the wire, so an eavesdropper or a fake hub learns nothing it could
-//! guess offline, and each online guess costs the code one of its few attempts. The exchanged
+//! guess offline, and each online guess makes the code wait longer before the next. The exchanged
 //! key authenticates the rest both ways:
 //!
 //! 1. station → hub `PairStart { code_id, pake }` (over TLS whose certificate the station cannot
@@ -29,6 +29,13 @@ pub(crate) use crypto::{HubExchange, MacLabel, mac_hex, verify_mac};
 pub use station::{Credential, PairError, pair};
 
 use crate::therapist::{BoxFuture, Refusal};
+
+/// The one answer to every pairing attempt that fails at the hub, whatever the reason
+/// (mistyped, unknown, expired, used, or the code waiting after an earlier attempt): a station
+/// cannot tell which, so codes cannot be enumerated. Plain words for the patient.
+pub const CODE_NOT_ACCEPTED: &str = "this pairing code was not accepted: it may be mistyped, \
+    expired or already used. Check it and try again in a minute; if it still fails, ask the \
+    clinic for a new code";
 
 /// A live pairing code, as the hub's authority found it.
 #[derive(Debug, Clone, PartialEq, Eq)]

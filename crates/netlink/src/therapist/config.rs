@@ -35,6 +35,28 @@ pub struct TherapistConfig {
     /// (stations send a summary every 100 ms).
     #[serde(default = "default_idle_timeout_ms")]
     pub idle_timeout_ms: u64,
+    /// Largest recording taken for one session, bytes, in [1 MiB, 16 GiB]. Default 2 GiB
+    /// (an hour at 1 kHz with raw inputs is about 420 MB).
+    #[serde(default = "default_max_upload_bytes_per_session")]
+    pub max_upload_bytes_per_session: u64,
+    /// Most recording bytes taken from one station in a UTC day, in [1 MiB, 1 TiB]. Default
+    /// 4 GiB.
+    #[serde(default = "default_max_upload_bytes_per_station_day")]
+    pub max_upload_bytes_per_station_day: u64,
+    /// Fastest one upload is taken, bytes/s, in [16 KiB, 1 GiB]. Default 4 MB/s (stations
+    /// send at most 1 MB/s).
+    #[serde(default = "default_max_upload_bytes_per_s")]
+    pub max_upload_bytes_per_s: u64,
+}
+
+fn default_max_upload_bytes_per_session() -> u64 {
+    2 << 30
+}
+fn default_max_upload_bytes_per_station_day() -> u64 {
+    4 << 30
+}
+fn default_max_upload_bytes_per_s() -> u64 {
+    4_000_000
 }
 
 fn default_max_connections() -> usize {
@@ -61,6 +83,9 @@ impl TherapistConfig {
             max_connections_per_address: default_max_connections_per_address(),
             hello_timeout_ms: default_hello_timeout_ms(),
             idle_timeout_ms: default_idle_timeout_ms(),
+            max_upload_bytes_per_session: default_max_upload_bytes_per_session(),
+            max_upload_bytes_per_station_day: default_max_upload_bytes_per_station_day(),
+            max_upload_bytes_per_s: default_max_upload_bytes_per_s(),
         }
     }
 
@@ -99,6 +124,31 @@ impl TherapistConfig {
                 "idle_timeout_ms is {}, allowed [1000, 3600000]",
                 self.idle_timeout_ms
             ));
+        }
+        let uploads = [
+            (
+                "max_upload_bytes_per_session",
+                self.max_upload_bytes_per_session,
+                1 << 20,
+                crate::frame::MAX_RECORDING_BYTES,
+            ),
+            (
+                "max_upload_bytes_per_station_day",
+                self.max_upload_bytes_per_station_day,
+                1 << 20,
+                1 << 40,
+            ),
+            (
+                "max_upload_bytes_per_s",
+                self.max_upload_bytes_per_s,
+                16 << 10,
+                1 << 30,
+            ),
+        ];
+        for (name, value, min, max) in uploads {
+            if !(min..=max).contains(&value) {
+                return err(format!("{name} is {value}, allowed [{min}, {max}]"));
+            }
         }
         if self.store_dir.as_os_str().is_empty() {
             return err("store_dir is empty".into());

@@ -61,6 +61,8 @@ struct Hub {
     /// Open connections per remote address (only addresses with at least one).
     per_address: Mutex<HashMap<IpAddr, usize>>,
     outbox_stats: Arc<OutboxStats>,
+    /// Recording bytes taken from each station today.
+    daily_upload_bytes: upload::DailyBytes,
 }
 
 /// A running hub. Dropping it stops it too; [`Self::shutdown`] also waits for connections to
@@ -119,6 +121,7 @@ impl TherapistServer {
             next_conn_id: AtomicU64::new(1),
             per_address: Mutex::new(HashMap::new()),
             outbox_stats: Arc::new(OutboxStats::default()),
+            daily_upload_bytes: upload::DailyBytes::default(),
         });
         tracing::info!(%local_addr, tls = hub.acceptor.is_some(), "therapist hub listening");
         let accept_task = tokio::spawn(accept_loop(hub.clone(), listener, shutdown_rx));

@@ -71,9 +71,8 @@ async fn conversation(
     ];
     if !verify_mac(&key, MacLabel::StationFinish, &transcript, &finish.mac) {
         authority.failed(&start.code_id, peer).await;
-        return Err(
-            "the pairing code is wrong (or the connection was relayed); check the code".into(),
-        );
+        // A wrong code, or a relay in the middle: the same words as every other failure.
+        return Err(crate::pairing::CODE_NOT_ACCEPTED.into());
     }
     let issued = authority
         .complete(&start.code_id, &finish.csr_pem)

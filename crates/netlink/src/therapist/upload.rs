@@ -3,7 +3,10 @@
 //! its length on the next connection, and becomes `<session>.mcap` only when its SHA-256 is the
 //! one announced.
 
+use std::collections::HashMap;
 use std::path::PathBuf;
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
 
 use base64::Engine;
 use tokio::io::AsyncWriteExt;
@@ -22,6 +25,41 @@ pub(super) struct Upload {
     sha256: String,
     offset: u64,
     file: tokio::fs::File,
+    /// When this connection's upload began, and the bytes it has written since (the hub's
+    /// rate limit paces on them).
+    began: Instant,
+    written: u64,
+}
+
+/// Longest a chunk's answer is held back by the rate limit, s (a station's reply timeout is
+/// far longer).
+const MAX_PACING_WAIT: Duration = Duration::from_secs(5);
+
+/// The bytes each station has uploaded today (UTC days), against
+/// [`super::TherapistConfig::max_upload_bytes_per_station_day`]. Kept in memory: a restarted
+/// hub starts the day's count again (the per-session cap and the rate still hold).
+#[derive(Debug, Default)]
+pub(super) struct DailyBytes(Mutex<HashMap<String, (u64, u64)>>);
+
+impl DailyBytes {
+    /// Counts `n` more bytes for `station` today; `Err(total)` if that would pass `limit`.
+    fn add(&self, station: &str, n: u64, limit: u64) -> Result<(), u64> {
+        let day = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_secs() / 86_400);
+        let mut map = self
+            .0
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        map.retain(|_, (d, _)| *d == day);
+        let entry = map.entry(station.to_owned()).or_insert((day, 0));
+        let total = entry.1.saturating_add(n);
+        if total > limit {
+            return Err(entry.1);
+        }
+        entry.1 = total;
+        Ok(())
+    }
 }
 
 fn closed(what: &str, path: &std::path::Path, e: std::io::Error) -> Failure {
@@ -73,6 +111,15 @@ pub(super) async fn start(
         return Err(Failure::Protocol(format!(
             "upload for session {:?} on a connection for session {:?}",
             start.session_id, hello.session_id
+        )));
+    }
+    let limit = hub.config.max_upload_bytes_per_session;
+    if start.size_bytes > limit {
+        return Err(Failure::Protocol(format!(
+            "the recording is {} MB, more than the {} MB this hub takes for one session \
+             (max_upload_bytes_per_session); it stays on the station",
+            start.size_bytes >> 20,
+            limit >> 20
         )));
     }
     let path = hub
@@ -127,6 +174,8 @@ pub(super) async fn start(
         sha256: start.sha256,
         offset,
         file,
+        began: Instant::now(),
+        written: 0,
     };
     Ok((Some(upload), at(hello, offset, false)))
 }
@@ -155,16 +204,40 @@ pub(super) async fn chunk(
             up.size
         )));
     }
+    let daily = hub.config.max_upload_bytes_per_station_day;
+    if let Err(today) = hub
+        .daily_upload_bytes
+        .add(&hello.station_id, bytes.len() as u64, daily)
+    {
+        return Err(Failure::Protocol(format!(
+            "station {:?} has uploaded {} MB today, the most this hub takes from one station a \
+             day (max_upload_bytes_per_station_day = {} MB); the rest is taken tomorrow",
+            hello.station_id,
+            today >> 20,
+            daily >> 20
+        )));
+    }
     up.file
         .write_all(&bytes)
         .await
         .map_err(|e| closed("write to", &up.part, e))?;
     up.offset = end;
+    up.written += bytes.len() as u64;
+    pace(up.began, up.written, hub.config.max_upload_bytes_per_s).await;
     if end < up.size {
         return Ok(at(hello, end, false));
     }
     let up = upload.take().expect("checked above");
     finish(hub, hello, up).await
+}
+
+/// Holds the answer back until `written` bytes since `began` are within `bytes_per_s` (the
+/// station sends its next chunk only after the answer, so this is the hub's own rate limit).
+async fn pace(began: Instant, written: u64, bytes_per_s: u64) {
+    let due = Duration::from_secs_f64(written as f64 / bytes_per_s.max(1) as f64);
+    if let Some(wait) = due.checked_sub(began.elapsed()) {
+        tokio::time::sleep(wait.min(MAX_PACING_WAIT)).await;
+    }
 }
 
 async fn finish(hub: &Hub, hello: &Hello, mut up: Upload) -> Result<UploadAt, Failure> {
