@@ -97,7 +97,7 @@ async fn dollar_placeholders_work(db: Db) {
 }
 
 async fn schema_is_migrated(db: Db) {
-    assert_eq!(db.schema_version().await.unwrap(), 1);
+    assert_eq!(db.schema_version().await.unwrap(), 2);
     let n: i64 = sqlx::query_scalar("SELECT COUNT(*) FROM audit_log")
         .fetch_one(db.pool())
         .await
@@ -107,13 +107,16 @@ async fn schema_is_migrated(db: Db) {
 
 async fn a_changed_password_opens_the_account_and_ends_other_logins(db: Db) {
     let (t, _) = paired(&db).await;
-    let kept = db.create_web_session(&t.id, T0, MIN).await.unwrap();
+    let here = db.create_web_session(&t.id, T0, MIN).await.unwrap();
     let other = db.create_web_session(&t.id, T0, MIN).await.unwrap();
     let old = "correct horse battery";
-    db.change_password(&t.email, old, "staple battery horse", &kept, T0)
+    let rotated = db
+        .change_password(&t.email, old, "staple battery horse", T0, MIN)
         .await
         .unwrap();
-    assert!(db.web_session(&kept, T0).await.unwrap().is_some());
+    // Every old token ends, the changing one too; the new one replaces it.
+    assert!(db.web_session(&rotated, T0).await.unwrap().is_some());
+    assert!(db.web_session(&here, T0).await.unwrap().is_none());
     assert!(db.web_session(&other, T0).await.unwrap().is_none());
     assert!(
         db.verify_login(&t.email, "staple battery horse", T0)
@@ -184,11 +187,14 @@ async fn therapists_and_lockout(db: Db) {
             Err(HubError::LoginRefused)
         ));
     }
-    // Five failures: locked, even with the right password.
+    // Five failures: the next attempt waits, even with the right password.
     let locked = db
         .verify_login("ada@clinic.example", "correct horse battery", T0 + 2)
         .await;
-    assert!(matches!(locked, Err(HubError::LoginRefused)), "{locked:?}");
+    assert!(
+        matches!(locked, Err(HubError::Throttled { .. })),
+        "{locked:?}"
+    );
     let later = db
         .verify_login(
             "ada@clinic.example",
@@ -840,7 +846,7 @@ async fn sqlite_migrations_are_idempotent_and_files_private() {
     let again = Db::open(&format!("sqlite://{}?mode=rwc", path.display()))
         .await
         .unwrap();
-    assert_eq!(again.schema_version().await.unwrap(), 1);
+    assert_eq!(again.schema_version().await.unwrap(), 2);
     assert!(again.patient_by_pseudonym("p-1").await.unwrap().is_some());
     let journal: String = sqlx::query_scalar("PRAGMA journal_mode")
         .fetch_one(again.pool())
@@ -864,7 +870,7 @@ async fn postgres_migrations_are_idempotent() {
     pg.db.add_patient("p-1", None, T0).await.unwrap();
     let again = Db::open(&pg.url).await.unwrap();
     assert_eq!(again.backend(), hub::Backend::Postgres);
-    assert_eq!(again.schema_version().await.unwrap(), 1);
+    assert_eq!(again.schema_version().await.unwrap(), 2);
     assert!(again.patient_by_pseudonym("p-1").await.unwrap().is_some());
     again.close().await;
     pg.drop_db().await;
