@@ -102,6 +102,14 @@ def test_a_therapist_logs_in_watches_live_sees_progress_and_prescribes(clinic, b
     d.find_element(By.ID, "password").clear()
     d.find_element(By.ID, "password").send_keys(clinic["password"])
     d.find_element(By.CSS_SELECTOR, "#login button").click()
+    # The one-time password `hub init` printed must be replaced before anything else.
+    wait(d, lambda d: d.find_elements(By.ID, "password-form"))
+    assert "one-time password" in d.find_element(By.ID, "password-forced").text
+    shot(d, "0-change-password")
+    d.find_element(By.ID, "current-password").send_keys(clinic["password"])
+    d.find_element(By.ID, "new-password").send_keys("ana's own passphrase")
+    d.find_element(By.ID, "repeat-password").send_keys("ana's own passphrase")
+    d.find_element(By.CSS_SELECTOR, "#password-form button").click()
     link = wait(d, lambda d: d.find_elements(By.LINK_TEXT, "P-0042"))[0]
     assert "no session yet" in d.find_element(By.TAG_NAME, "tbody").text
     shot(d, "1-patients")

@@ -6,7 +6,10 @@ export class ApiError extends Error {
 
 export async function api(method, path, body) {
   const init = { method, credentials: 'same-origin', headers: {} };
+  if (body === undefined && method !== 'GET' && method !== 'HEAD') body = {};
   if (body !== undefined) {
+    // Every change is sent as JSON: a type no cross-site form or `no-cors` request can send,
+    // which the hub requires (e.g. of POST /api/logout).
     init.headers['Content-Type'] = 'application/json';
     init.body = JSON.stringify(body);
   }
@@ -15,7 +18,12 @@ export async function api(method, path, body) {
   const text = await res.text();
   let data = null;
   try { data = text ? JSON.parse(text) : null; } catch { data = null; }
-  if (!res.ok) throw new ApiError(res.status, (data && data.error) || `${res.status} ${res.statusText}`);
+  if (!res.ok) {
+    const error = new ApiError(res.status, (data && data.error) || `${res.status} ${res.statusText}`);
+    const retry = Number(res.headers.get('Retry-After'));
+    if (res.status === 429 && retry > 0) error.retryAfterS = retry;
+    throw error;
+  }
   return data;
 }
 

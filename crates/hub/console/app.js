@@ -34,6 +34,9 @@ async function route() {
   }
   document.getElementById('who').textContent = `${me.email} (${me.role})`;
   document.getElementById('logout').hidden = false;
+  document.getElementById('change-password').hidden = false;
+  if (me.must_change_password) return passwordView(true);
+  if (hash === '#/password') return passwordView(false);
   const m = hash.match(/^#\/patients\/([^/]+)(?:\/(live|progress|prescribe|replay)(?:\/([^/]+))?)?$/);
   try {
     if (m) await patientView(decodeURIComponent(m[1]), m[2] || 'live', m[3] && decodeURIComponent(m[3]));
@@ -46,8 +49,43 @@ function fail(e) {
   app.innerHTML = `<p class="error" role="alert">${esc(e.message || e)}</p><p><a href="#/patients">Back to the patients</a></p>`;
 }
 
+/** The change-password screen; `forced` for a one-time password, which the hub lets do
+ * nothing else until it is changed. */
+function passwordView(forced) {
+  app.innerHTML = `
+    <h1>${forced ? 'Choose your own password' : 'Change your password'}</h1>
+    ${forced ? '<p id="password-forced">You logged in with a one-time password. Choose your own before you continue.</p>' : ''}
+    <form id="password-form" novalidate>
+      <label for="current-password">${forced ? 'One-time password' : 'Current password'}</label>
+      <input id="current-password" type="password" autocomplete="current-password" required>
+      <label for="new-password">New password <span class="note">(at least 10 characters, not only spaces, not your e-mail, not a common password)</span></label>
+      <input id="new-password" type="password" autocomplete="new-password" minlength="10" required>
+      <label for="repeat-password">New password again</label>
+      <input id="repeat-password" type="password" autocomplete="new-password" minlength="10" required>
+      <p><button type="submit">Change the password</button></p>
+      <p class="error" id="password-error" role="alert"></p>
+    </form>`;
+  const form = app.querySelector('#password-form');
+  const error = app.querySelector('#password-error');
+  form.addEventListener('submit', async ev => {
+    ev.preventDefault();
+    const current = form.querySelector('#current-password').value;
+    const next = form.querySelector('#new-password').value;
+    if (next !== form.querySelector('#repeat-password').value) { error.textContent = 'The two new passwords differ.'; return; }
+    try {
+      // The hub ends every login of this account and answers with a new session cookie.
+      await api('POST', '/api/me/password', { current, new: next });
+      me = await api('GET', '/api/me');
+      location.hash = '#/patients';
+      route();
+    } catch (e) { error.textContent = e.message; }
+  });
+  form.querySelector('#current-password').focus();
+}
+
 function loginView() {
   document.getElementById('logout').hidden = true;
+  document.getElementById('change-password').hidden = true;
   document.getElementById('who').textContent = '';
   app.innerHTML = `
     <h1>Log in</h1>
@@ -265,6 +303,9 @@ async function prescribeView(el, id) {
   render();
 }
 
+document.getElementById('change-password').addEventListener('click', () => {
+  location.hash = '#/password';
+});
 document.getElementById('logout').addEventListener('click', async () => {
   try { await api('POST', '/api/logout'); } catch { /* logged out either way */ }
   me = null;

@@ -166,6 +166,7 @@ impl Clinic {
         let admin = db
             .add_therapist(admin_email, &admin_password, Role::Admin, now_ms)
             .await?;
+        db.require_password_change(&admin.id).await?;
         db.audit("cli", "hub_init", &admin.actor(), &names.join(","), now_ms)
             .await?;
         db.close().await;

@@ -52,12 +52,19 @@ pub enum HubError {
         id: String,
     },
     /// Login refused. Deliberately the same for an unknown email, a wrong password and a
-    /// locked account, so the answer does not reveal which accounts exist.
-    #[error(
-        "login refused: wrong email or password, or the account is locked for 15 minutes \
-         after 5 failed logins"
-    )]
+    /// revoked account, so the answer does not reveal which accounts exist.
+    #[error("login refused: wrong email or password")]
     LoginRefused,
+    /// Too many attempts (login throttling) or too much work queued (the password hashing
+    /// pool is full): nothing was evaluated; the same request may succeed after
+    /// `retry_after_ms`. Answered 429 with `Retry-After`.
+    #[error("{reason}; try again in {} s", (.retry_after_ms + 999) / 1000)]
+    Throttled {
+        /// What is throttled, for people.
+        reason: String,
+        /// How long to wait, ms.
+        retry_after_ms: i64,
+    },
     /// A pairing code was refused.
     #[error("pairing refused: {0}")]
     Pair(PairRefusal),

@@ -124,13 +124,16 @@ async fn schema_is_migrated(db: Db) {
 
 async fn a_changed_password_opens_the_account_and_ends_other_logins(db: Db) {
     let (t, _) = paired(&db).await;
-    let kept = db.create_web_session(&t.id, T0, MIN).await.unwrap();
+    let here = db.create_web_session(&t.id, T0, MIN).await.unwrap();
     let other = db.create_web_session(&t.id, T0, MIN).await.unwrap();
     let old = "correct horse battery";
-    db.change_password(&t.email, old, "staple battery horse", &kept, T0)
+    let rotated = db
+        .change_password(&t.email, old, "staple battery horse", T0, MIN)
         .await
         .unwrap();
-    assert!(db.web_session(&kept, T0).await.unwrap().is_some());
+    // Every old token ends, the changing one too; the new one replaces it.
+    assert!(db.web_session(&rotated, T0).await.unwrap().is_some());
+    assert!(db.web_session(&here, T0).await.unwrap().is_none());
     assert!(db.web_session(&other, T0).await.unwrap().is_none());
     assert!(
         db.verify_login(&t.email, "staple battery horse", T0)
@@ -201,11 +204,14 @@ async fn therapists_and_lockout(db: Db) {
             Err(HubError::LoginRefused)
         ));
     }
-    // Five failures: locked, even with the right password.
+    // Five failures: the next attempt waits, even with the right password.
     let locked = db
         .verify_login("ada@clinic.example", "correct horse battery", T0 + 2)
         .await;
-    assert!(matches!(locked, Err(HubError::LoginRefused)), "{locked:?}");
+    assert!(
+        matches!(locked, Err(HubError::Throttled { .. })),
+        "{locked:?}"
+    );
     let later = db
         .verify_login(
             "ada@clinic.example",

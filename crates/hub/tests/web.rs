@@ -156,7 +156,7 @@ fn summary(session_id: &str, seq: u64) -> Summary {
 }
 
 #[tokio::test]
-async fn login_sets_a_strict_cookie_and_locks_out_after_failures() {
+async fn login_sets_a_strict_cookie_and_delays_after_failures() {
     let f = fixture().await;
     let (status, headers, body) = call(
         &f.app,
@@ -215,7 +215,7 @@ async fn login_sets_a_strict_cookie_and_locks_out_after_failures() {
         Some(right.clone()),
     )
     .await;
-    assert_eq!(locked, StatusCode::UNAUTHORIZED);
+    assert_eq!(locked, StatusCode::TOO_MANY_REQUESTS);
     f.clock.fetch_add(LOCKOUT_MS, Ordering::SeqCst);
     let (later, _, _) = call(&f.app, Method::POST, "/api/login", None, Some(right)).await;
     assert_eq!(later, StatusCode::OK);
@@ -264,7 +264,14 @@ async fn endpoints_need_a_valid_cookie_and_logout_ends_it() {
     let (ok, headers, _) = call(&f.app, Method::GET, "/api/patients", Some(&cookie), None).await;
     assert_eq!(ok, StatusCode::OK);
     assert_eq!(headers[header::CACHE_CONTROL], "no-store");
-    let (out, _, _) = call(&f.app, Method::POST, "/api/logout", Some(&cookie), None).await;
+    let (out, _, _) = call(
+        &f.app,
+        Method::POST,
+        "/api/logout",
+        Some(&cookie),
+        Some(json!({})),
+    )
+    .await;
     assert_eq!(out, StatusCode::NO_CONTENT);
     let (after, _, _) = call(&f.app, Method::GET, "/api/me", Some(&cookie), None).await;
     assert_eq!(after, StatusCode::UNAUTHORIZED);
@@ -277,7 +284,7 @@ async fn a_password_change_checks_both_passwords_and_ends_the_other_logins() {
     let elsewhere = login(&f.app, "ada@clinic.example").await;
     async fn change(app: &Router, cookie: &str, current: &str, new: &str) -> (StatusCode, Value) {
         let body = json!({"current": current, "new": new});
-        let (status, _, body) = call(
+        let (status, headers, body) = call(
             app,
             Method::POST,
             "/api/me/password",
@@ -285,24 +292,40 @@ async fn a_password_change_checks_both_passwords_and_ends_the_other_logins() {
             Some(body),
         )
         .await;
-        (status, body)
+        let set = headers.get(header::SET_COOKIE).map(|v| {
+            let v = v.to_str().unwrap();
+            v.split(';').next().unwrap().to_owned()
+        });
+        (status, json!({"body": body, "cookie": set}))
     }
     let (wrong, _) = change(&f.app, &here, "not my password", "a new passphrase").await;
     assert_eq!(wrong, StatusCode::UNAUTHORIZED);
     let (short, body) = change(&f.app, &here, PASSWORD, "short").await;
     assert_eq!(short, StatusCode::BAD_REQUEST);
     assert!(
-        body["error"].as_str().unwrap().contains("at least 10"),
+        body["body"]["error"]
+            .as_str()
+            .unwrap()
+            .contains("at least 10"),
         "{body}"
     );
     let (same, body) = change(&f.app, &here, PASSWORD, PASSWORD).await;
     assert_eq!(same, StatusCode::BAD_REQUEST);
-    assert!(body["error"].as_str().unwrap().contains("differ"), "{body}");
-    let (done, _) = change(&f.app, &here, PASSWORD, "a new passphrase").await;
+    assert!(
+        body["body"]["error"].as_str().unwrap().contains("differ"),
+        "{body}"
+    );
+    let (done, body) = change(&f.app, &here, PASSWORD, "a new passphrase").await;
     assert_eq!(done, StatusCode::NO_CONTENT);
-    // This login stays, the other one ended; the old password no longer opens the account.
+    // Every login ended, this one too; the answer's new cookie replaces it. The old password
+    // no longer opens the account.
+    let rotated = body["cookie"]
+        .as_str()
+        .expect("a new session cookie")
+        .to_owned();
     for (cookie, want) in [
-        (&here, StatusCode::OK),
+        (&rotated, StatusCode::OK),
+        (&here, StatusCode::UNAUTHORIZED),
         (&elsewhere, StatusCode::UNAUTHORIZED),
     ] {
         let (status, _, _) = call(&f.app, Method::GET, "/api/me", Some(cookie), None).await;
@@ -604,7 +627,7 @@ async fn the_audit_log_is_for_admins_and_records_reads() {
     )
     .await;
     assert_eq!(status, StatusCode::OK);
-    let entries = log.as_array().unwrap();
+    let entries = log["entries"].as_array().unwrap();
     assert!(entries.iter().any(|e| e["actor"] == json!(f.ada.actor())
         && e["action"] == "read_patient"
         && e["target"] == json!(f.p_ada.id)));

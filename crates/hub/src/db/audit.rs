@@ -2,13 +2,34 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::{Db, col, hex, random_bytes};
 use crate::error::HubError;
 
 /// Longest stored detail text, characters (longer text is cut).
 pub const MAX_DETAIL_CHARS: usize = 1024;
+
+/// Most entries in one page of the audit log.
+pub const MAX_AUDIT_PAGE: i64 = 10_000;
+
+/// Where a page of the audit log starts: entries strictly older than this one.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct AuditCursor {
+    /// The time of the last entry of the previous page, ms since the Unix epoch.
+    pub before_ms: i64,
+    /// Its id (entries of the same millisecond are ordered by id).
+    pub before_id: String,
+}
+
+/// A page of the audit log, newest first.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct AuditPage {
+    /// The entries.
+    pub entries: Vec<AuditEntry>,
+    /// The next (older) page's cursor; `None` on the last page.
+    pub next: Option<AuditCursor>,
+}
 
 /// One audit log entry.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
@@ -72,15 +93,41 @@ impl Db {
 
     /// The newest `limit` entries of the audit log, newest first.
     pub async fn audit_log(&self, limit: i64) -> Result<Vec<AuditEntry>, HubError> {
-        let rows = sqlx::query(
-            "SELECT id, at_ms, actor, action, target, detail FROM audit_log \
-             ORDER BY at_ms DESC, id DESC LIMIT $1",
-        )
-        .bind(limit.clamp(0, 10_000))
-        .fetch_all(self.pool())
-        .await
+        Ok(self.audit_page(None, limit).await?.entries)
+    }
+
+    /// One page of the audit log, newest first: at most `limit` (1 to [`MAX_AUDIT_PAGE`])
+    /// entries older than `before` (all if `None`), and the cursor of the next page. Paging by
+    /// time and id keeps every entry reachable however fast new ones arrive.
+    pub async fn audit_page(
+        &self,
+        before: Option<&AuditCursor>,
+        limit: i64,
+    ) -> Result<AuditPage, HubError> {
+        let limit = limit.clamp(1, MAX_AUDIT_PAGE);
+        let select = "SELECT id, at_ms, actor, action, target, detail FROM audit_log";
+        let order = "ORDER BY at_ms DESC, id DESC LIMIT";
+        let rows = match before {
+            None => {
+                sqlx::query(sqlx::AssertSqlSafe(format!("{select} {order} $1")))
+                    .bind(limit + 1)
+                    .fetch_all(self.pool())
+                    .await
+            }
+            Some(cursor) => {
+                sqlx::query(sqlx::AssertSqlSafe(format!(
+                    "{select} WHERE at_ms < $1 OR (at_ms = $1 AND id < $2) {order} $3"
+                )))
+                .bind(cursor.before_ms)
+                .bind(&cursor.before_id)
+                .bind(limit + 1)
+                .fetch_all(self.pool())
+                .await
+            }
+        }
         .map_err(HubError::db("reading the audit log"))?;
-        rows.iter()
+        let mut entries = rows
+            .iter()
             .map(|row| {
                 Ok(AuditEntry {
                     id: col(row, "id")?,
@@ -91,6 +138,16 @@ impl Db {
                     detail: col(row, "detail")?,
                 })
             })
-            .collect()
+            .collect::<Result<Vec<_>, HubError>>()?;
+        let more = entries.len() > usize::try_from(limit).unwrap_or(usize::MAX);
+        entries.truncate(usize::try_from(limit).unwrap_or(usize::MAX));
+        let next = more
+            .then(|| entries.last())
+            .flatten()
+            .map(|last| AuditCursor {
+                before_ms: last.at_ms,
+                before_id: last.id.clone(),
+            });
+        Ok(AuditPage { entries, next })
     }
 }

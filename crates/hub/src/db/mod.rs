@@ -23,6 +23,7 @@
 //! ```
 
 mod audit;
+mod logins;
 mod pairing;
 mod patients;
 mod regimens;
@@ -39,7 +40,11 @@ use sqlx::{AnyPool, Executor, Row};
 
 use crate::error::HubError;
 
-pub use audit::{AuditEntry, MAX_DETAIL_CHARS};
+pub use audit::{AuditCursor, AuditEntry, AuditPage, MAX_AUDIT_PAGE, MAX_DETAIL_CHARS};
+pub use logins::{
+    ACCOUNT_FREE_FAILURES, ACCOUNT_MAX_DELAY_MS, ADDRESS_FREE_FAILURES, ADDRESS_MAX_DELAY_MS,
+    BASE_DELAY_MS, DEVICE_TTL_MS, HASH_QUEUE, REFUSAL_AUDITS_PER_MINUTE, THROTTLE_FORGET_MS,
+};
 pub use pairing::{
     ATTEMPTS_BEFORE_BACKOFF, MAX_ATTEMPT_WAIT_MS, MIN_ATTEMPT_WAIT_MS, PairingTicket,
     attempt_wait_ms,
@@ -49,7 +54,8 @@ pub use regimens::{MAX_REGIMEN_BYTES, RegimenVersion};
 pub use sessions::{Recording, SessionRow};
 pub use stations::Station;
 pub use therapists::{
-    LOCKOUT_MS, MAX_FAILED_LOGINS, MAX_PASSWORD_BYTES, MIN_PASSWORD_CHARS, Role, Therapist,
+    COMMON_PASSWORDS, LOCKOUT_MS, LoginAttempt, LoginOk, MAX_FAILED_LOGINS, MAX_PASSWORD_BYTES,
+    MIN_PASSWORD_CHARS, Role, Therapist, check_new_password,
 };
 
 /// The embedded, versioned migrations of `crates/hub/migrations/`.
@@ -80,6 +86,8 @@ pub enum Backend {
 pub struct Db {
     pool: AnyPool,
     backend: Backend,
+    /// Login throttling's hashing pool and refusal limiter, shared by clones.
+    guards: std::sync::Arc<logins::Guards>,
 }
 
 impl Db {
@@ -142,7 +150,11 @@ impl Db {
             context: "applying migrations".to_owned(),
             source: e.into(),
         })?;
-        Ok(Self { pool, backend })
+        Ok(Self {
+            pool,
+            backend,
+            guards: std::sync::Arc::new(logins::Guards::new()),
+        })
     }
 
     /// Opens (creating if needed) the SQLite database file at `path`; see [`Db::open`].

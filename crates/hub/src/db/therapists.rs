@@ -1,5 +1,8 @@
-//! Therapist accounts (argon2id password hashes, lockout) and console login sessions.
+//! Therapist accounts (argon2id password hashes, a password policy, one-time passwords that
+//! must be changed), logins (throttled: see the `logins` module for the design) and console
+//! login sessions.
 
+use std::net::IpAddr;
 use std::sync::OnceLock;
 
 use argon2::Argon2;
@@ -7,14 +10,48 @@ use argon2::password_hash::{PasswordHasher, PasswordVerifier};
 use serde::Serialize;
 use sqlx::any::AnyRow;
 
+use super::logins::{ACCOUNT_RULE, ADDRESS_RULE, account_key, address_key, device_key};
 use super::{Db, col, new_id, random_bytes, sha256_hex};
 use crate::error::HubError;
 
-/// Failed logins in a row that lock an account.
-pub const MAX_FAILED_LOGINS: i64 = 5;
+/// Failed logins of an account before its attempts are delayed (see
+/// [`super::ACCOUNT_FREE_FAILURES`]; there is no lock anyone could keep up).
+pub const MAX_FAILED_LOGINS: i64 = super::logins::ACCOUNT_FREE_FAILURES;
 
-/// How long a locked account stays locked, ms (15 minutes).
-pub const LOCKOUT_MS: i64 = 15 * 60 * 1000;
+/// Longest wait a run of failed logins can impose, ms (15 minutes, on the failing address;
+/// an account's own delay stops at [`super::ACCOUNT_MAX_DELAY_MS`]).
+pub const LOCKOUT_MS: i64 = super::logins::ADDRESS_MAX_DELAY_MS;
+
+/// Passwords refused whatever their length (compared lowercased, spaces removed): the most
+/// common ones of at least ten characters in breach corpora, and the product's own names.
+pub const COMMON_PASSWORDS: &[&str] = &[
+    "1234567890",
+    "0123456789",
+    "0987654321",
+    "1111111111",
+    "0000000000",
+    "1q2w3e4r5t",
+    "qwertyuiop",
+    "asdfghjkl;",
+    "1qaz2wsx3edc",
+    "password123",
+    "password1234",
+    "password12345",
+    "passw0rd123",
+    "qwerty12345",
+    "qwerty123456",
+    "iloveyou123",
+    "123456789a",
+    "abcdefghij",
+    "letmein123",
+    "welcome123",
+    "changeme123",
+    "administrator",
+    "telerehab",
+    "telerehab123",
+    "therapist1",
+    "therapist123",
+];
 
 /// Shortest password accepted, characters.
 pub const MIN_PASSWORD_CHARS: usize = 10;
@@ -62,6 +99,9 @@ pub struct Therapist {
     pub role: Role,
     /// Creation time, ms since the Unix epoch.
     pub created_at_ms: i64,
+    /// True while the account's password is a one-time password (`hub init`, `hub therapist
+    /// add`): the console must change it before anything else.
+    pub must_change_password: bool,
 }
 
 impl Therapist {
@@ -81,6 +121,7 @@ impl Therapist {
             email: col(row, "email")?,
             role: Role::parse(&col::<String>(row, "role")?)?,
             created_at_ms: col(row, "created_at_ms")?,
+            must_change_password: col::<i64>(row, "must_change_password")? != 0,
         })
     }
 }
@@ -103,17 +144,34 @@ fn normalise_email(email: &str) -> Result<String, HubError> {
     }
 }
 
-/// A password a therapist may choose: at least [`MIN_PASSWORD_CHARS`] characters, at most
-/// [`MAX_PASSWORD_BYTES`] bytes.
-fn check_new_password(password: &str) -> Result<(), HubError> {
+/// A password a therapist may choose: at least [`MIN_PASSWORD_CHARS`] characters of which
+/// some are not whitespace, at most [`MAX_PASSWORD_BYTES`] bytes, not the account's e-mail
+/// and not one of [`COMMON_PASSWORDS`].
+pub fn check_new_password(password: &str, email: &str) -> Result<(), HubError> {
+    let refuse = |why: String| Err(HubError::invalid("password", why));
     if password.chars().count() < MIN_PASSWORD_CHARS || password.len() > MAX_PASSWORD_BYTES {
-        return Err(HubError::invalid(
-            "password",
-            format!(
-                "must have at least {MIN_PASSWORD_CHARS} characters and at most \
-                 {MAX_PASSWORD_BYTES} bytes"
-            ),
+        return refuse(format!(
+            "must have at least {MIN_PASSWORD_CHARS} characters and at most \
+             {MAX_PASSWORD_BYTES} bytes"
         ));
+    }
+    let squeezed: String = password
+        .chars()
+        .filter(|c| !c.is_whitespace())
+        .flat_map(char::to_lowercase)
+        .collect();
+    if squeezed.chars().count() < MIN_PASSWORD_CHARS / 2 {
+        return refuse(format!(
+            "must not be only spaces: at least {} characters that are not whitespace",
+            MIN_PASSWORD_CHARS / 2
+        ));
+    }
+    let email = email.trim().to_lowercase();
+    if !email.is_empty() && (squeezed == email || password.trim().to_lowercase() == email) {
+        return refuse("must not be the account's e-mail address".to_owned());
+    }
+    if COMMON_PASSWORDS.contains(&squeezed.as_str()) {
+        return refuse("is one of the most common passwords; choose another".to_owned());
     }
     Ok(())
 }
@@ -140,11 +198,46 @@ fn password_matches(password: &str, hash: &str) -> bool {
         .is_ok()
 }
 
-const THERAPIST_COLUMNS: &str = "id, email, role, created_at_ms";
+const THERAPIST_COLUMNS: &str = "id, email, role, created_at_ms, must_change_password";
+
+/// One login attempt: who it claims to be and where it comes from.
+#[derive(Debug, Clone, Copy)]
+pub struct LoginAttempt<'a> {
+    /// The e-mail typed.
+    pub email: &'a str,
+    /// The password typed.
+    pub password: &'a str,
+    /// The client's address, throttled on its own; `None` when unknown (only the account's
+    /// or device's throttle applies).
+    pub address: Option<IpAddr>,
+    /// The browser's device cookie, if it sent one.
+    pub device: Option<&'a str>,
+}
+
+impl<'a> LoginAttempt<'a> {
+    /// An attempt from an unknown address without a device cookie (the command line, tests).
+    pub fn new(email: &'a str, password: &'a str) -> Self {
+        Self {
+            email,
+            password,
+            address: None,
+            device: None,
+        }
+    }
+}
+
+/// A successful login.
+#[derive(Debug, Clone)]
+pub struct LoginOk {
+    /// Who logged in.
+    pub therapist: Therapist,
+    /// True if the attempt carried a valid device cookie of this account (no new one needed).
+    pub known_device: bool,
+}
 
 impl Db {
-    /// Creates a therapist account; the password (≥ 10 characters) is stored as an argon2id
-    /// PHC string.
+    /// Creates a therapist account; the password must pass [`check_new_password`] and is
+    /// stored as an argon2id PHC string (hashed on the bounded pool).
     pub async fn add_therapist(
         &self,
         email: &str,
@@ -153,8 +246,9 @@ impl Db {
         now_ms: i64,
     ) -> Result<Therapist, HubError> {
         let email = normalise_email(email)?;
-        check_new_password(password)?;
-        let hash = hash_password(password)?;
+        check_new_password(password, &email)?;
+        let owned = password.to_owned();
+        let hash = self.hashing().run(move || hash_password(&owned)).await??;
         let id = new_id("t-")?;
         sqlx::query(
             "INSERT INTO therapists (id, email, password_hash, role, created_at_ms, \
@@ -182,7 +276,56 @@ impl Db {
             email,
             role,
             created_at_ms: now_ms,
+            must_change_password: false,
         })
+    }
+
+    /// Marks the account's password as one-time (`hub init`, `hub therapist add`): it must
+    /// be changed at the first login before anything else is served.
+    pub async fn require_password_change(&self, therapist_id: &str) -> Result<(), HubError> {
+        let done = sqlx::query("UPDATE therapists SET must_change_password = 1 WHERE id = $1")
+            .bind(therapist_id)
+            .execute(self.pool())
+            .await
+            .map_err(HubError::db("marking a one-time password"))?;
+        if done.rows_affected() == 0 {
+            return Err(HubError::not_found("therapist", therapist_id));
+        }
+        Ok(())
+    }
+
+    /// Revokes a therapist: no more logins, every login session, device cookie and live
+    /// stream of theirs ends (streams within a second).
+    pub async fn revoke_therapist(&self, therapist_id: &str, now_ms: i64) -> Result<(), HubError> {
+        let mut tx = self
+            .pool()
+            .begin()
+            .await
+            .map_err(HubError::db("starting a transaction"))?;
+        let done = sqlx::query(
+            "UPDATE therapists SET revoked_at_ms = $2 WHERE id = $1 AND revoked_at_ms IS NULL",
+        )
+        .bind(therapist_id)
+        .bind(now_ms)
+        .execute(&mut *tx)
+        .await
+        .map_err(HubError::db("revoking a therapist"))?;
+        for table in ["web_sessions", "login_devices"] {
+            sqlx::query(sqlx::AssertSqlSafe(format!(
+                "DELETE FROM {table} WHERE therapist_id = $1"
+            )))
+            .bind(therapist_id)
+            .execute(&mut *tx)
+            .await
+            .map_err(HubError::db("ending a revoked therapist's logins"))?;
+        }
+        tx.commit()
+            .await
+            .map_err(HubError::db("committing a revocation"))?;
+        if done.rows_affected() == 0 && self.therapist(therapist_id).await?.is_none() {
+            return Err(HubError::not_found("therapist", therapist_id));
+        }
+        Ok(())
     }
 
     /// The therapist whose `column` (`id` or `email`, never input) equals `value`, if any.
@@ -213,111 +356,174 @@ impl Db {
             .await
     }
 
-    /// Checks a login. [`MAX_FAILED_LOGINS`] failures in a row lock the account for
-    /// [`LOCKOUT_MS`]; while locked even the right password is refused. Every refusal is the
-    /// same [`HubError::LoginRefused`], whether or not the email exists.
+    /// Checks a login from an unknown address without a device cookie; see [`Db::login`].
     pub async fn verify_login(
         &self,
         email: &str,
         password: &str,
         now_ms: i64,
     ) -> Result<Therapist, HubError> {
-        let Ok(email) = normalise_email(email) else {
-            password_matches(password, dummy_hash());
-            return Err(HubError::LoginRefused);
-        };
-        let row = sqlx::query(
-            "SELECT id, email, role, created_at_ms, password_hash, locked_until_ms \
-             FROM therapists WHERE email = $1",
-        )
-        .bind(&email)
-        .fetch_optional(self.pool())
-        .await
-        .map_err(HubError::db("reading a login"))?;
-        let Some(row) = row else {
-            password_matches(password, dummy_hash());
-            return Err(HubError::LoginRefused);
-        };
-        let therapist = Therapist::from_row(&row)?;
-        let hash: String = col(&row, "password_hash")?;
-        let locked_until: Option<i64> = col(&row, "locked_until_ms")?;
-        let matches = password.len() <= MAX_PASSWORD_BYTES && password_matches(password, &hash);
-        if locked_until.is_some_and(|until| now_ms < until) {
-            return Err(HubError::LoginRefused);
-        }
-        if matches {
-            sqlx::query(
-                "UPDATE therapists SET failed_logins = 0, locked_until_ms = NULL WHERE id = $1",
-            )
-            .bind(&therapist.id)
-            .execute(self.pool())
-            .await
-            .map_err(HubError::db("recording a login"))?;
-            return Ok(therapist);
-        }
-        let failures: i64 = sqlx::query_scalar(
-            "UPDATE therapists SET failed_logins = failed_logins + 1 WHERE id = $1 \
-             RETURNING failed_logins",
-        )
-        .bind(&therapist.id)
-        .fetch_one(self.pool())
-        .await
-        .map_err(HubError::db("recording a failed login"))?;
-        if failures >= MAX_FAILED_LOGINS {
-            sqlx::query(
-                "UPDATE therapists SET failed_logins = 0, locked_until_ms = $2 WHERE id = $1",
-            )
-            .bind(&therapist.id)
-            .bind(now_ms.saturating_add(LOCKOUT_MS))
-            .execute(self.pool())
-            .await
-            .map_err(HubError::db("locking an account"))?;
-            tracing::warn!(therapist = %therapist.id, "account locked after failed logins");
-        }
-        Err(HubError::LoginRefused)
+        Ok(self
+            .login(LoginAttempt::new(email, password), now_ms)
+            .await?
+            .therapist)
     }
 
-    /// Changes the password of the therapist with `email` (the one-time password `hub init`
-    /// printed, or any other): `current` is checked as a login is (failures count towards the
-    /// lockout), the new one as at account creation and different from `current`. Every other
-    /// login session of the account ends (`keep_token` stays logged in).
+    /// Checks a login. Before any hashing the attempt is reserved, atomically, on the
+    /// address's throttle and on the account's (or, with a valid device cookie, the
+    /// device's): [`HubError::Throttled`] while either's delay runs, or when the hashing pool
+    /// is full. A wrong password, an unknown e-mail and a revoked account are the same
+    /// [`HubError::LoginRefused`], in the same time; a success clears the failures of the
+    /// account (or of the device, if it went through the device's throttle) and gives the
+    /// address its attempt back.
+    pub async fn login(&self, attempt: LoginAttempt<'_>, now_ms: i64) -> Result<LoginOk, HubError> {
+        // A full pool refuses before any other work: a flood costs this check only.
+        let ticket = self.hashing().ticket()?;
+        let email = normalise_email(attempt.email).ok();
+        let address = match attempt.address {
+            Some(ip) => Some(
+                self.reserve_attempt(&address_key(ip), ADDRESS_RULE, now_ms)
+                    .await?,
+            ),
+            None => None,
+        };
+        let give_back_address = || async {
+            if let Some(a) = &address {
+                self.give_back(a, now_ms).await?;
+            }
+            Ok::<(), HubError>(())
+        };
+        let known_device = match (attempt.device, &email) {
+            (Some(token), Some(email)) => self.device_of(token, email, now_ms).await?,
+            _ => false,
+        };
+        let gate_key = match (known_device, attempt.device, &email) {
+            (true, Some(token), _) => device_key(token),
+            (_, _, Some(email)) => account_key(email),
+            _ => account_key("(not an e-mail address)"),
+        };
+        let gate = match self.reserve_attempt(&gate_key, ACCOUNT_RULE, now_ms).await {
+            Ok(g) => g,
+            Err(e) => {
+                give_back_address().await?;
+                return Err(e);
+            }
+        };
+        let row = match &email {
+            Some(email) => sqlx::query(
+                "SELECT id, email, role, created_at_ms, must_change_password, password_hash, \
+                 revoked_at_ms FROM therapists WHERE email = $1",
+            )
+            .bind(email)
+            .fetch_optional(self.pool())
+            .await
+            .map_err(HubError::db("reading a login"))?,
+            None => None,
+        };
+        let (therapist, hash, revoked) = match &row {
+            Some(row) => (
+                Some(Therapist::from_row(row)?),
+                Some(col::<String>(row, "password_hash")?),
+                col::<Option<i64>>(row, "revoked_at_ms")?.is_some(),
+            ),
+            None => (None, None, false),
+        };
+        let password = attempt.password.to_owned();
+        let checked = ticket
+            .run(move || {
+                let matches = |hash: &str| {
+                    password.len() <= MAX_PASSWORD_BYTES && password_matches(&password, hash)
+                };
+                match &hash {
+                    Some(hash) => matches(hash),
+                    None => matches(dummy_hash()),
+                }
+            })
+            .await;
+        let matches = match checked {
+            Ok(m) => m,
+            Err(e) => {
+                // Nothing was evaluated: both attempts go back.
+                self.give_back(&gate, now_ms).await?;
+                give_back_address().await?;
+                return Err(e);
+            }
+        };
+        match therapist {
+            Some(therapist) if matches && !revoked => {
+                // Only the throttle this attempt went through: a success from the therapist's
+                // device must not hand an attacker a fresh allowance on the account.
+                self.clear_throttle(&gate_key).await?;
+                give_back_address().await?;
+                self.purge_throttles(now_ms).await?;
+                Ok(LoginOk {
+                    therapist,
+                    known_device,
+                })
+            }
+            _ => Err(HubError::LoginRefused),
+        }
+    }
+
+    /// Changes the password of the therapist with `email` (see [`Db::change_password_from`]);
+    /// returns the new login token.
     pub async fn change_password(
         &self,
         email: &str,
         current: &str,
         new: &str,
-        keep_token: &str,
         now_ms: i64,
-    ) -> Result<(), HubError> {
-        let therapist = self.verify_login(email, current, now_ms).await?;
-        check_new_password(new)?;
-        if new == current {
+        ttl_ms: i64,
+    ) -> Result<String, HubError> {
+        self.change_password_from(LoginAttempt::new(email, current), new, now_ms, ttl_ms)
+            .await
+    }
+
+    /// Changes a password: the current one is checked as a login is (throttled, failures
+    /// count), the new one must pass [`check_new_password`] and differ from it. Every login
+    /// session of the account ends, the one making the change too: the returned token (a new
+    /// session lasting `ttl_ms`) replaces it. A one-time password is no longer one.
+    pub async fn change_password_from(
+        &self,
+        attempt: LoginAttempt<'_>,
+        new: &str,
+        now_ms: i64,
+        ttl_ms: i64,
+    ) -> Result<String, HubError> {
+        let therapist = self.login(attempt, now_ms).await?.therapist;
+        check_new_password(new, &therapist.email)?;
+        if new == attempt.password {
             return Err(HubError::invalid(
                 "password",
                 "the new password must differ from the current one",
             ));
         }
-        let hash = hash_password(new)?;
+        let owned = new.to_owned();
+        let hash = self.hashing().run(move || hash_password(&owned)).await??;
         let mut tx = self
             .pool()
             .begin()
             .await
             .map_err(HubError::db("starting a transaction"))?;
-        sqlx::query("UPDATE therapists SET password_hash = $2 WHERE id = $1")
+        sqlx::query(
+            "UPDATE therapists SET password_hash = $2, must_change_password = 0 WHERE id = $1",
+        )
+        .bind(&therapist.id)
+        .bind(&hash)
+        .execute(&mut *tx)
+        .await
+        .map_err(HubError::db("changing a password"))?;
+        sqlx::query("DELETE FROM web_sessions WHERE therapist_id = $1")
             .bind(&therapist.id)
-            .bind(&hash)
             .execute(&mut *tx)
             .await
-            .map_err(HubError::db("changing a password"))?;
-        sqlx::query("DELETE FROM web_sessions WHERE therapist_id = $1 AND token_hash <> $2")
-            .bind(&therapist.id)
-            .bind(sha256_hex(keep_token.as_bytes()))
-            .execute(&mut *tx)
-            .await
-            .map_err(HubError::db("ending other login sessions"))?;
+            .map_err(HubError::db("ending the login sessions"))?;
+        let token = super::hex(&random_bytes::<32>()?);
+        insert_web_session(&mut tx, &token, &therapist.id, now_ms, ttl_ms).await?;
         tx.commit()
             .await
-            .map_err(HubError::db("committing a password change"))
+            .map_err(HubError::db("committing a password change"))?;
+        Ok(token)
     }
 
     /// Starts a console login session for `therapist_id` lasting `ttl_ms`; returns the bearer
@@ -329,30 +535,26 @@ impl Db {
         ttl_ms: i64,
     ) -> Result<String, HubError> {
         let token = super::hex(&random_bytes::<32>()?);
-        sqlx::query(
-            "INSERT INTO web_sessions (token_hash, therapist_id, created_at_ms, expires_at_ms) \
-             VALUES ($1, $2, $3, $4)",
-        )
-        .bind(sha256_hex(token.as_bytes()))
-        .bind(therapist_id)
-        .bind(now_ms)
-        .bind(now_ms.saturating_add(ttl_ms))
-        .execute(self.pool())
-        .await
-        .map_err(HubError::db("creating a login session"))?;
+        let mut conn = self
+            .pool()
+            .acquire()
+            .await
+            .map_err(HubError::db("creating a login session"))?;
+        insert_web_session(&mut conn, &token, therapist_id, now_ms, ttl_ms).await?;
         Ok(token)
     }
 
-    /// The therapist logged in with `token`, if the session exists and has not expired.
+    /// The therapist logged in with `token`, if the session exists, has not expired and the
+    /// therapist is not revoked. Live streams ask this again every second.
     pub async fn web_session(
         &self,
         token: &str,
         now_ms: i64,
     ) -> Result<Option<Therapist>, HubError> {
         let row = sqlx::query(
-            "SELECT t.id, t.email, t.role, t.created_at_ms FROM web_sessions w \
-             JOIN therapists t ON t.id = w.therapist_id \
-             WHERE w.token_hash = $1 AND w.expires_at_ms > $2",
+            "SELECT t.id, t.email, t.role, t.created_at_ms, t.must_change_password \
+             FROM web_sessions w JOIN therapists t ON t.id = w.therapist_id \
+             WHERE w.token_hash = $1 AND w.expires_at_ms > $2 AND t.revoked_at_ms IS NULL",
         )
         .bind(sha256_hex(token.as_bytes()))
         .bind(now_ms)
@@ -372,4 +574,25 @@ impl Db {
             .map_err(HubError::db("ending a login session"))?;
         Ok(())
     }
+}
+
+async fn insert_web_session(
+    conn: &mut sqlx::AnyConnection,
+    token: &str,
+    therapist_id: &str,
+    now_ms: i64,
+    ttl_ms: i64,
+) -> Result<(), HubError> {
+    sqlx::query(
+        "INSERT INTO web_sessions (token_hash, therapist_id, created_at_ms, expires_at_ms) \
+         VALUES ($1, $2, $3, $4)",
+    )
+    .bind(sha256_hex(token.as_bytes()))
+    .bind(therapist_id)
+    .bind(now_ms)
+    .bind(now_ms.saturating_add(ttl_ms))
+    .execute(conn)
+    .await
+    .map_err(HubError::db("creating a login session"))?;
+    Ok(())
 }

@@ -1,34 +1,78 @@
-//! Login, logout, the current therapist, and the admin's audit log view.
+//! Login, logout, the current therapist, password changes, the audit log view, and the audit
+//! of every refusal.
+//!
+//! Login throttling (growing delays per address, per account and per device cookie; see
+//! `crate::db::logins` for the design and its justification against OWASP's Authentication
+//! Cheat Sheet) and the bounded hashing pool live in the database layer; this module adds the
+//! HTTP side: the client's address, the device cookie, `429` with `Retry-After`.
+
+use std::net::{IpAddr, SocketAddr};
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
 
 use axum::Json;
 use axum::extract::rejection::JsonRejection;
-use axum::extract::{FromRequestParts, Query, State};
+use axum::extract::{ConnectInfo, FromRequestParts, Query, Request, State};
 use axum::http::request::Parts;
-use axum::http::{HeaderMap, HeaderValue, StatusCode, header};
+use axum::http::{Extensions, HeaderMap, HeaderValue, StatusCode, header};
+use axum::middleware::Next;
 use axum::response::{IntoResponse, Response};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use super::{ApiError, AppState};
-use crate::db::{AuditEntry, Therapist};
+use crate::db::{AuditCursor, AuditEntry, DEVICE_TTL_MS, LoginAttempt, Therapist};
 use crate::error::HubError;
 
 /// Name of the login cookie.
 pub const SESSION_COOKIE: &str = "telerehab_session";
 
-/// The logged-in therapist of a request (401 without a valid session cookie).
+/// Name of the device cookie: set at a successful login, sent only to `/api/login`; a
+/// browser holding one is throttled on its own, not by its account's failures elsewhere.
+pub const DEVICE_COOKIE: &str = "telerehab_device";
+
+/// How long a throttled or refused-as-busy login waits before its 429 is sent, ms: a client
+/// that retries at once cannot turn refusals into a request flood.
+const THROTTLED_ANSWER_DELAY_MS: u64 = 500;
+
+/// Endpoints a therapist with a one-time password may use.
+const ONE_TIME_PASSWORD_PATHS: &[&str] = &["/api/me", "/api/me/password", "/api/logout"];
+
+/// The logged-in therapist of a request (401 without a valid session cookie; 403 while the
+/// password is a one-time one, except on [`ONE_TIME_PASSWORD_PATHS`]).
 pub(crate) struct Authed(pub Therapist);
 
-/// The session token in the request's cookies, if any.
-fn token_of(headers: &HeaderMap) -> Option<String> {
+/// Who made a request, filled in by [`Authed`] for [`audit_refusals`].
+#[derive(Clone, Default)]
+struct ActorSlot(Arc<Mutex<Option<String>>>);
+
+/// A cookie's value in the request's headers, if any (64 hex digits only).
+fn cookie_of(headers: &HeaderMap, name: &str) -> Option<String> {
     headers
         .get_all(header::COOKIE)
         .iter()
         .filter_map(|v| v.to_str().ok())
         .flat_map(|v| v.split(';'))
         .filter_map(|kv| kv.trim().split_once('='))
-        .find(|(k, _)| *k == SESSION_COOKIE)
+        .find(|(k, _)| *k == name)
         .map(|(_, v)| v.to_owned())
         .filter(|v| v.len() == 64 && v.bytes().all(|b| b.is_ascii_hexdigit()))
+}
+
+/// The session token in the request's cookies, if any.
+pub(crate) fn token_of(headers: &HeaderMap) -> Option<String> {
+    cookie_of(headers, SESSION_COOKIE)
+}
+
+/// The client's address, when the server put it in the request (`ConnectInfo`).
+pub(crate) fn client_ip(extensions: &Extensions) -> Option<IpAddr> {
+    extensions
+        .get::<ConnectInfo<SocketAddr>>()
+        .map(|ConnectInfo(addr)| addr.ip())
+}
+
+/// A request's source as the audit log names it.
+fn source_of(extensions: &Extensions) -> String {
+    client_ip(extensions).map_or_else(|| "unknown address".to_owned(), |ip| ip.to_string())
 }
 
 impl FromRequestParts<AppState> for Authed {
@@ -37,11 +81,67 @@ impl FromRequestParts<AppState> for Authed {
     async fn from_request_parts(parts: &mut Parts, state: &AppState) -> Result<Self, ApiError> {
         let unauthorized = || ApiError::Unauthorized("log in first (POST /api/login)".to_owned());
         let token = token_of(&parts.headers).ok_or_else(unauthorized)?;
-        match state.db.web_session(&token, state.now()).await? {
-            Some(t) => Ok(Self(t)),
-            None => Err(unauthorized()),
+        let therapist = state
+            .db
+            .web_session(&token, state.now())
+            .await?
+            .ok_or_else(unauthorized)?;
+        if let Some(slot) = parts.extensions.get::<ActorSlot>()
+            && let Ok(mut actor) = slot.0.lock()
+        {
+            *actor = Some(therapist.actor());
+        }
+        if therapist.must_change_password && !ONE_TIME_PASSWORD_PATHS.contains(&parts.uri.path()) {
+            return Err(ApiError::Forbidden(
+                "your password is a one-time password: change it first (POST /api/me/password)"
+                    .to_owned(),
+            ));
+        }
+        Ok(Self(therapist))
+    }
+}
+
+/// Middleware: every refusal of an API request — 401, 403, 404 and 429 — is audited
+/// (rate-limited per client address, [`crate::db::REFUSAL_AUDITS_PER_MINUTE`]); the login
+/// endpoint audits its own refusals with the e-mail tried.
+pub(crate) async fn audit_refusals(
+    State(state): State<AppState>,
+    mut request: Request,
+    next: Next,
+) -> Response {
+    let path = request.uri().path().to_owned();
+    let method = request.method().clone();
+    let source = source_of(request.extensions());
+    let slot = ActorSlot::default();
+    request.extensions_mut().insert(slot.clone());
+    let response = next.run(request).await;
+    let status = response.status();
+    let refused = matches!(
+        status,
+        StatusCode::UNAUTHORIZED
+            | StatusCode::FORBIDDEN
+            | StatusCode::NOT_FOUND
+            | StatusCode::TOO_MANY_REQUESTS
+    );
+    if refused && path.starts_with("/api/") && path != "/api/login" {
+        let actor = slot
+            .0
+            .lock()
+            .ok()
+            .and_then(|a| a.clone())
+            .unwrap_or_else(|| "web".to_owned());
+        let action = format!("refused_{}", status.as_u16());
+        let target: String = path.chars().take(200).collect();
+        let detail = format!("{method} {target}");
+        if let Err(e) = state
+            .db
+            .audit_refusal(&actor, &action, &target, &detail, &source, state.now())
+            .await
+        {
+            tracing::error!("cannot audit a refusal: {e}");
         }
     }
+    response
 }
 
 /// Body of `POST /api/login`.
@@ -52,47 +152,108 @@ pub(crate) struct Login {
     password: String,
 }
 
-fn cookie(token: &str, max_age_s: i64) -> Result<HeaderValue, ApiError> {
+fn cookie(name: &str, token: &str, path: &str, max_age_s: i64) -> Result<HeaderValue, ApiError> {
     HeaderValue::from_str(&format!(
-        "{SESSION_COOKIE}={token}; Path=/; Max-Age={max_age_s}; HttpOnly; Secure; \
-         SameSite=Strict"
+        "{name}={token}; Path={path}; Max-Age={max_age_s}; HttpOnly; Secure; SameSite=Strict"
     ))
     .map_err(|_| ApiError::Internal)
 }
 
+fn session_cookie(token: &str, max_age_s: i64) -> Result<HeaderValue, ApiError> {
+    cookie(SESSION_COOKIE, token, "/", max_age_s)
+}
+
+/// Audits a refused login or password check (rate-limited) and turns it into the answer; a
+/// throttled one is answered after [`THROTTLED_ANSWER_DELAY_MS`].
+async fn refused_login(
+    state: &AppState,
+    extensions: &Extensions,
+    actor: &str,
+    email: &str,
+    error: HubError,
+) -> ApiError {
+    let action = match &error {
+        HubError::LoginRefused => "login_failed",
+        HubError::Throttled { .. } => "login_throttled",
+        _ => return error.into(),
+    };
+    let email: String = email.chars().take(254).collect();
+    let detail = match &error {
+        HubError::Throttled { reason, .. } => reason.clone(),
+        _ => String::new(),
+    };
+    if let Err(e) = state
+        .db
+        .audit_refusal(
+            actor,
+            action,
+            &email,
+            &detail,
+            &source_of(extensions),
+            state.now(),
+        )
+        .await
+    {
+        tracing::error!("cannot audit a refused login: {e}");
+    }
+    if matches!(error, HubError::Throttled { .. }) {
+        tokio::time::sleep(Duration::from_millis(THROTTLED_ANSWER_DELAY_MS)).await;
+    }
+    error.into()
+}
+
 pub(crate) async fn login(
     State(state): State<AppState>,
+    headers: HeaderMap,
+    extensions: Extensions,
     body: Result<Json<Login>, JsonRejection>,
 ) -> Result<Response, ApiError> {
     let Json(login) = body?;
     let now = state.now();
-    match state
+    let device = cookie_of(&headers, DEVICE_COOKIE);
+    let attempt = LoginAttempt {
+        email: &login.email,
+        password: &login.password,
+        address: client_ip(&extensions),
+        device: device.as_deref(),
+    };
+    let ok = match state.db.login(attempt, now).await {
+        Ok(ok) => ok,
+        Err(e) => return Err(refused_login(&state, &extensions, "web", &login.email, e).await),
+    };
+    let therapist = ok.therapist;
+    let token = state
         .db
-        .verify_login(&login.email, &login.password, now)
-        .await
-    {
-        Ok(therapist) => {
-            let token = state
-                .db
-                .create_web_session(&therapist.id, now, state.login_ttl_ms)
-                .await?;
-            state
-                .audit(&therapist.actor(), "login", &therapist.id, "")
-                .await?;
-            let mut response = Json(therapist).into_response();
-            response.headers_mut().insert(
-                header::SET_COOKIE,
-                cookie(&token, state.login_ttl_ms / 1000)?,
-            );
-            Ok(response)
-        }
-        Err(HubError::LoginRefused) => {
-            let email: String = login.email.chars().take(254).collect();
-            state.audit("web", "login_failed", &email, "").await?;
-            Err(HubError::LoginRefused.into())
-        }
-        Err(e) => Err(e.into()),
+        .create_web_session(&therapist.id, now, state.login_ttl_ms)
+        .await?;
+    state
+        .audit(&therapist.actor(), "login", &therapist.id, "")
+        .await?;
+    let mut response = Json(&therapist).into_response();
+    let set = response.headers_mut();
+    set.append(
+        header::SET_COOKIE,
+        session_cookie(&token, state.login_ttl_ms / 1000)?,
+    );
+    if !ok.known_device {
+        let device = state.db.create_device(&therapist.id, now).await?;
+        set.append(
+            header::SET_COOKIE,
+            cookie(DEVICE_COOKIE, &device, "/api/login", DEVICE_TTL_MS / 1000)?,
+        );
     }
+    Ok(response)
+}
+
+/// True for a request a cross-site or `no-cors` page cannot send: `Content-Type:
+/// application/json` is not one of the CORS-safelisted types, so a `no-cors` fetch or a form
+/// cannot set it.
+fn is_json_request(headers: &HeaderMap) -> bool {
+    headers
+        .get(header::CONTENT_TYPE)
+        .and_then(|v| v.to_str().ok())
+        .and_then(|v| v.split(';').next())
+        .is_some_and(|v| v.trim().eq_ignore_ascii_case("application/json"))
 }
 
 pub(crate) async fn logout(
@@ -100,6 +261,14 @@ pub(crate) async fn logout(
     Authed(therapist): Authed,
     headers: HeaderMap,
 ) -> Result<Response, ApiError> {
+    if !is_json_request(&headers) {
+        return Err(ApiError::Rejected(
+            StatusCode::UNSUPPORTED_MEDIA_TYPE,
+            "logout needs `Content-Type: application/json` (so that no other page can log you \
+             out)"
+                .to_owned(),
+        ));
+    }
     if let Some(token) = token_of(&headers) {
         state.db.delete_web_session(&token, state.now()).await?;
     }
@@ -109,7 +278,7 @@ pub(crate) async fn logout(
     let mut response = StatusCode::NO_CONTENT.into_response();
     response
         .headers_mut()
-        .insert(header::SET_COOKIE, cookie("", 0)?);
+        .insert(header::SET_COOKIE, session_cookie("", 0)?);
     Ok(response)
 }
 
@@ -125,35 +294,54 @@ pub(crate) struct PasswordChange {
     new: String,
 }
 
-/// Changes the logged-in therapist's password; their other login sessions end.
+/// Changes the logged-in therapist's password. Every login session of theirs ends, this one
+/// too: the answer sets a new session cookie (and live streams opened before end).
 pub(crate) async fn change_password(
     State(state): State<AppState>,
     Authed(therapist): Authed,
     headers: HeaderMap,
+    extensions: Extensions,
     body: Result<Json<PasswordChange>, JsonRejection>,
 ) -> Result<Response, ApiError> {
     let Json(change) = body?;
-    let token = token_of(&headers).unwrap_or_default();
+    let device = cookie_of(&headers, DEVICE_COOKIE);
+    let attempt = LoginAttempt {
+        email: &therapist.email,
+        password: &change.current,
+        address: client_ip(&extensions),
+        device: device.as_deref(),
+    };
     let outcome = state
         .db
-        .change_password(
-            &therapist.email,
-            &change.current,
-            &change.new,
-            &token,
-            state.now(),
-        )
+        .change_password_from(attempt, &change.new, state.now(), state.login_ttl_ms)
         .await;
-    let action = if outcome.is_ok() {
-        "password_changed"
-    } else {
-        "password_change_refused"
+    let token = match outcome {
+        Ok(token) => token,
+        Err(e @ (HubError::LoginRefused | HubError::Throttled { .. })) => {
+            let actor = therapist.actor();
+            return Err(refused_login(&state, &extensions, &actor, &therapist.id, e).await);
+        }
+        Err(e) => {
+            state
+                .audit(
+                    &therapist.actor(),
+                    "password_change_refused",
+                    &therapist.id,
+                    &e.to_string(),
+                )
+                .await?;
+            return Err(e.into());
+        }
     };
     state
-        .audit(&therapist.actor(), action, &therapist.id, "")
+        .audit(&therapist.actor(), "password_changed", &therapist.id, "")
         .await?;
-    outcome?;
-    Ok(StatusCode::NO_CONTENT.into_response())
+    let mut response = StatusCode::NO_CONTENT.into_response();
+    response.headers_mut().insert(
+        header::SET_COOKIE,
+        session_cookie(&token, state.login_ttl_ms / 1000)?,
+    );
+    Ok(response)
 }
 
 /// Query of `GET /api/audit`.
@@ -161,21 +349,48 @@ pub(crate) async fn change_password(
 pub(crate) struct AuditQuery {
     /// Most entries returned (default 100, at most 10 000).
     limit: Option<i64>,
+    /// Only entries of this time (ms) or older — with `before_id`, the `next` cursor of the
+    /// previous page.
+    before_ms: Option<i64>,
+    /// With `before_ms`: among entries of that millisecond, only those with a smaller id.
+    before_id: Option<String>,
+}
+
+/// Answer of `GET /api/audit`.
+#[derive(Serialize)]
+pub(crate) struct AuditAnswer {
+    entries: Vec<AuditEntry>,
+    /// Query parameters of the next (older) page; `null` on the last one.
+    next: Option<AuditCursor>,
 }
 
 pub(crate) async fn audit_log(
     State(state): State<AppState>,
     Authed(therapist): Authed,
     Query(query): Query<AuditQuery>,
-) -> Result<Json<Vec<AuditEntry>>, ApiError> {
+) -> Result<Json<AuditAnswer>, ApiError> {
     if !therapist.is_admin() {
         return Err(ApiError::Forbidden(
             "the audit log is for administrators".to_owned(),
         ));
     }
-    let limit = query.limit.unwrap_or(100);
+    let now = state.now();
+    // Counts of suppressed refusals whose minute is over are written before the log is read.
+    state.db.flush_refusal_audits(now).await?;
+    let before = query.before_ms.map(|before_ms| AuditCursor {
+        before_ms,
+        // Ids start with the zero-padded time, so "~" sorts after every id of that ms.
+        before_id: query.before_id.clone().unwrap_or_else(|| "~".to_owned()),
+    });
     state
         .audit(&therapist.actor(), "read_audit", "audit_log", "")
         .await?;
-    Ok(Json(state.db.audit_log(limit).await?))
+    let page = state
+        .db
+        .audit_page(before.as_ref(), query.limit.unwrap_or(100))
+        .await?;
+    Ok(Json(AuditAnswer {
+        entries: page.entries,
+        next: page.next,
+    }))
 }

@@ -1,19 +1,39 @@
-//! Server-Sent Events of a patient's running session.
+//! Server-Sent Events of a patient's running session. A stream lives only as long as the
+//! login that opened it: its login and the patient's assignment are checked again every
+//! [`LIVE_RECHECK_MS`], and at most [`MAX_LIVE_STREAMS_PER_LOGIN`] are open per login.
 
+use std::collections::HashMap;
 use std::convert::Infallible;
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
 
 use axum::extract::rejection::PathRejection;
 use axum::extract::{Path, State};
+use axum::http::HeaderMap;
 use axum::response::sse::{Event, KeepAlive, Sse};
 use netlink::Summary;
 use serde::Serialize;
+use tokio::sync::broadcast::error::RecvError;
+use tokio::sync::mpsc::error::TrySendError;
 use tokio_stream::Stream;
 use tokio_stream::StreamExt as _;
-use tokio_stream::wrappers::BroadcastStream;
-use tokio_stream::wrappers::errors::BroadcastStreamRecvError;
+use tokio_stream::wrappers::ReceiverStream;
 
-use super::auth::Authed;
+use super::auth::{Authed, token_of};
 use super::{ApiError, AppState};
+use crate::db::sha256_hex;
+
+/// How often a live stream checks again that its login is valid and its patient still
+/// visible, ms; a logout, expiry, password change, revocation or reassignment ends it within
+/// twice that.
+pub const LIVE_RECHECK_MS: u64 = 500;
+
+/// Most live streams open at once per login (one console tab needs one); more are answered
+/// 429.
+pub const MAX_LIVE_STREAMS_PER_LOGIN: usize = 4;
+
+/// Events a stream buffers for a slow client before it skips some (and says `lagged`).
+const STREAM_BUFFER: usize = 64;
 
 /// One summary of a running session, as broadcast by the ingest to the console's live views.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -26,32 +46,166 @@ pub struct LiveEvent {
     pub summary: Summary,
 }
 
+/// Live streams open per login (keyed by the token's hash).
+#[derive(Debug, Clone, Default)]
+pub struct StreamCounts(Arc<Mutex<HashMap<String, usize>>>);
+
+/// One open stream's place in [`StreamCounts`], given back when dropped.
+struct StreamSlot {
+    counts: StreamCounts,
+    key: String,
+}
+
+impl StreamCounts {
+    fn take(&self, key: &str) -> Option<StreamSlot> {
+        let mut map = self.0.lock().ok()?;
+        let n = map.entry(key.to_owned()).or_insert(0);
+        if *n >= MAX_LIVE_STREAMS_PER_LOGIN {
+            return None;
+        }
+        *n += 1;
+        Some(StreamSlot {
+            counts: self.clone(),
+            key: key.to_owned(),
+        })
+    }
+}
+
+impl Drop for StreamSlot {
+    fn drop(&mut self) {
+        if let Ok(mut map) = self.counts.0.lock()
+            && let Some(n) = map.get_mut(&self.key)
+        {
+            *n = n.saturating_sub(1);
+            if *n == 0 {
+                map.remove(&self.key);
+            }
+        }
+    }
+}
+
 /// `GET /api/patients/{id}/live`: events `summary` (data: a [`LiveEvent`] as JSON) for this
-/// patient only, `lagged` (data: how many were skipped) when the client is too slow.
+/// patient only, `lagged` (data: how many were skipped) when the client is too slow, and a
+/// last `ended` (data: why) when the login or the patient's assignment ends.
 pub(crate) async fn live(
     State(state): State<AppState>,
     Authed(therapist): Authed,
+    headers: HeaderMap,
     id: Result<Path<String>, PathRejection>,
 ) -> Result<Sse<impl Stream<Item = Result<Event, Infallible>>>, ApiError> {
     let Path(id) = id?;
     let patient = state.visible_patient(&therapist, &id).await?;
+    let token = token_of(&headers).ok_or(ApiError::Internal)?;
+    let slot = state
+        .live_streams
+        .take(&sha256_hex(token.as_bytes()))
+        .ok_or_else(|| {
+            ApiError::TooManyRequests(
+                format!(
+                    "at most {MAX_LIVE_STREAMS_PER_LOGIN} live streams per login; close one \
+                     first"
+                ),
+                1,
+            )
+        })?;
     // Subscribe before answering, so nothing broadcast after the answer is missed.
     let receiver = state.live.subscribe();
     state
         .audit(&therapist.actor(), "watch_live", &patient.id, "")
         .await?;
-    let patient_id = patient.id;
-    let stream = BroadcastStream::new(receiver).filter_map(move |message| match message {
-        Ok(event) if event.patient_id == patient_id => Some(Ok(
-            match Event::default().event("summary").json_data(&event) {
-                Ok(e) => e,
-                Err(e) => Event::default().event("error").data(e.to_string()),
-            },
-        )),
-        Ok(_) => None,
-        Err(BroadcastStreamRecvError::Lagged(n)) => {
-            Some(Ok(Event::default().event("lagged").data(n.to_string())))
+    let (tx, rx) = tokio::sync::mpsc::channel(STREAM_BUFFER);
+    let watch = Watch {
+        state,
+        token,
+        actor: therapist.actor(),
+        patient_id: patient.id,
+    };
+    tokio::spawn(watch.forward(receiver, tx, slot));
+    Ok(Sse::new(ReceiverStream::new(rx).map(Ok)).keep_alive(KeepAlive::default()))
+}
+
+/// What a live stream forwards and re-checks.
+struct Watch {
+    state: AppState,
+    token: String,
+    actor: String,
+    patient_id: String,
+}
+
+impl Watch {
+    /// Why the stream must end now, if it must.
+    async fn ended(&self) -> Option<&'static str> {
+        let now = self.state.now();
+        let therapist = match self.state.db.web_session(&self.token, now).await {
+            Ok(Some(t)) => t,
+            Ok(None) => return Some("your login ended (logout, expiry or password change)"),
+            Err(e) => {
+                tracing::warn!("a live stream cannot re-check its login: {e}");
+                return Some("the hub cannot check your login right now");
+            }
+        };
+        match self
+            .state
+            .visible_patient(&therapist, &self.patient_id)
+            .await
+        {
+            Ok(_) => None,
+            Err(_) => Some("this patient is no longer assigned to you"),
         }
-    });
-    Ok(Sse::new(stream).keep_alive(KeepAlive::default()))
+    }
+
+    /// Forwards this patient's summaries to the client until it goes away or [`Watch::ended`]
+    /// says the stream must end.
+    async fn forward(
+        self,
+        mut receiver: tokio::sync::broadcast::Receiver<LiveEvent>,
+        tx: tokio::sync::mpsc::Sender<Event>,
+        slot: StreamSlot,
+    ) {
+        let _slot = slot;
+        let mut check = tokio::time::interval(Duration::from_millis(LIVE_RECHECK_MS));
+        check.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+        let mut skipped: u64 = 0;
+        loop {
+            let event = tokio::select! {
+                biased;
+                () = tx.closed() => return,
+                _ = check.tick() => {
+                    if let Some(reason) = self.ended().await {
+                        let _ = tx.try_send(Event::default().event("ended").data(reason));
+                        if let Err(e) = self.state.audit(&self.actor, "live_ended", &self.patient_id, reason).await {
+                            tracing::error!("cannot audit the end of a live stream: {e:?}");
+                        }
+                        return;
+                    }
+                    continue;
+                }
+                message = receiver.recv() => match message {
+                    Ok(event) if event.patient_id == self.patient_id => {
+                        match Event::default().event("summary").json_data(&event) {
+                            Ok(e) => e,
+                            Err(e) => Event::default().event("error").data(e.to_string()),
+                        }
+                    }
+                    Ok(_) => continue,
+                    Err(RecvError::Lagged(n)) => {
+                        skipped += n;
+                        continue;
+                    }
+                    Err(RecvError::Closed) => return,
+                },
+            };
+            if skipped > 0 {
+                let lagged = Event::default().event("lagged").data(skipped.to_string());
+                if tx.try_send(lagged).is_ok() {
+                    skipped = 0;
+                }
+            }
+            match tx.try_send(event) {
+                Ok(()) => {}
+                Err(TrySendError::Full(_)) => skipped += 1,
+                Err(TrySendError::Closed(_)) => return,
+            }
+        }
+    }
 }

@@ -30,8 +30,9 @@ use tokio::sync::broadcast;
 use crate::db::{Db, Patient, RegimenVersion, Therapist};
 use crate::error::HubError;
 
+pub use auth::DEVICE_COOKIE;
 pub use auth::SESSION_COOKIE;
-pub use live::LiveEvent;
+pub use live::{LIVE_RECHECK_MS, LiveEvent, MAX_LIVE_STREAMS_PER_LOGIN};
 pub use serve::{
     SHUTDOWN_GRACE_S, TLS_HANDSHAKE_TIMEOUT_S, acceptor_from_pem, serve, serve_router,
 };
@@ -72,6 +73,8 @@ pub struct AppState {
     pub prescribed: Option<broadcast::Sender<RegimenVersion>>,
     /// Reads stored recordings for the console's replay; `None`: replay is not offered.
     pub replay: Option<ReplayReader>,
+    /// Open live streams per login (by token hash), for [`MAX_LIVE_STREAMS_PER_LOGIN`].
+    pub live_streams: live::StreamCounts,
 }
 
 impl AppState {
@@ -89,6 +92,7 @@ impl AppState {
             login_ttl_ms: DEFAULT_LOGIN_TTL_MS,
             prescribed: None,
             replay: None,
+            live_streams: live::StreamCounts::default(),
         }
     }
 
@@ -180,6 +184,10 @@ pub fn router(state: AppState) -> Router {
         .route("/api/sessions/{id}/metrics", get(sessions::metrics))
         .route("/api/sessions/{id}/replay", get(sessions::replay))
         .fallback(|| async { ApiError::NotFound("no such endpoint".to_owned()) })
+        .layer(axum::middleware::from_fn_with_state(
+            state.clone(),
+            auth::audit_refusals,
+        ))
         .layer(axum::middleware::map_response(security_headers))
         .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))
         .with_state(state)
@@ -235,6 +243,8 @@ pub(crate) enum ApiError {
     BadRequest(String),
     /// 422: well-formed but refused (a regimen outside the safety bounds).
     Unprocessable(String),
+    /// 429 with `Retry-After` (s): throttled or too busy; nothing was done.
+    TooManyRequests(String, i64),
     /// A body axum's JSON extractor refused (malformed or wrong shape 400, wrong content type
     /// 415, over [`MAX_BODY_BYTES`] 413), with that status.
     Rejected(StatusCode, String),
@@ -255,6 +265,14 @@ impl IntoResponse for ApiError {
             Self::NotFound(m) => (StatusCode::NOT_FOUND, m.as_str()),
             Self::BadRequest(m) => (StatusCode::BAD_REQUEST, m.as_str()),
             Self::Unprocessable(m) => (StatusCode::UNPROCESSABLE_ENTITY, m.as_str()),
+            Self::TooManyRequests(m, retry_after_s) => {
+                let mut response =
+                    (StatusCode::TOO_MANY_REQUESTS, Json(ErrorBody { error: m })).into_response();
+                response
+                    .headers_mut()
+                    .insert(header::RETRY_AFTER, HeaderValue::from(*retry_after_s));
+                return response;
+            }
             Self::Rejected(status, m) => (*status, m.as_str()),
             Self::Internal => (
                 StatusCode::INTERNAL_SERVER_ERROR,
@@ -271,6 +289,9 @@ impl From<HubError> for ApiError {
             HubError::Invalid { .. } => Self::BadRequest(e.to_string()),
             HubError::NotFound { .. } => Self::NotFound(e.to_string()),
             HubError::LoginRefused => Self::Unauthorized(e.to_string()),
+            HubError::Throttled { retry_after_ms, .. } => {
+                Self::TooManyRequests(e.to_string(), ((retry_after_ms + 999) / 1000).max(1))
+            }
             other => {
                 tracing::error!(error = %other, "request failed");
                 Self::Internal

@@ -246,6 +246,7 @@ pub fn run(args: HubArgs) -> anyhow::Result<()> {
                 let password = hub::clinic::one_time_password()?;
                 let role = if admin { Role::Admin } else { Role::Therapist };
                 let t = db.add_therapist(&email, &password, role, now_ms()).await?;
+                db.require_password_change(&t.id).await?;
                 db.audit("cli", "add_therapist", &t.actor(), role.as_str(), now_ms())
                     .await?;
                 println!(
