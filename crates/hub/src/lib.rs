@@ -1,7 +1,8 @@
 //! The clinic hub: the system of record for patients, stations, sessions and regimens
 //! ([`db`], SQLite or PostgreSQL through one code path) and the HTTPS JSON API of the
 //! therapist console ([`web`]); the station link's store and pairing authority ([`ingest`]);
-//! a clinic's data directory, `hub init` and `hub serve` ([`clinic`]).
+//! a clinic's data directory, `hub init` and `hub serve` ([`clinic`]); the load generator of
+//! `hub bench` ([`bench`]); the crate's errors ([`HubError`], [`PairRefusal`], module `error`).
 //!
 //! Layering (DESIGN.md): this crate uses `netlink`'s frame types and never the station's
 //! device crates.
