@@ -2,6 +2,10 @@
 //!
 //! A thin layer: numpy arrays in, checked for shape and dtype, calls into the pure crates,
 //! numpy arrays out. The Python facade in `python/telerehab` is the public API.
+//!
+//! Modules (private): `check` (the binding convention every function follows: shapes, dtypes,
+//! `ValueError`s, the GIL released), `calib` (`telerehab.calib`), `imu` (`telerehab.imu`),
+//! `metrics` (`telerehab.metrics`).
 
 use pyo3::prelude::*;
 

@@ -4,6 +4,20 @@
 //!
 //! Pure: controllers are structs with a `step(..., dt)` method; no I/O, threads or clocks.
 //!
+//! # Module map
+//!
+//! - [`runtime`]: [`Assist`], the one type the haptic loop calls, built from a [`spec`]
+//!   ([`AssistSpec`], as a regimen carries it); [`limits`]: the torque ceiling and slew it
+//!   must respect.
+//! - [`motion`] and [`force`]: motion and force assist by input–output linearisation
+//!   (§5.4.1–5.4.2) over the wheel + human [`model`] (eq. 5.5–5.32); [`governor`]: the
+//!   reference governor that keeps a request deliverable.
+//! - [`aan`]: assist-as-needed; [`resist`]: resistive modes; [`difficulty`]: session-to-session
+//!   difficulty adaptation.
+//! - [`human`]: the simulated human arm holding the wheel; [`sim`]: the RK4 plant simulator
+//!   the tests and benchmarks use.
+//! - [`error`]: [`AssistError`].
+//!
 //! The station's haptic loop uses [`Assist`]:
 //!
 //! ```

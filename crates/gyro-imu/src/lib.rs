@@ -4,6 +4,20 @@
 //! Everything except [`device`]'s HID backend is pure: no I/O, no threads, no clock; time comes
 //! in as `dt` or timestamps.
 //!
+//! # Module map
+//!
+//! - [`so3`]: exponential and logarithm maps; [`integrate`]: strapdown gyro integration
+//!   (eq. 4.8–4.13); [`bias`]: rest detection and gyro bias; [`sensor`]: sensor error models.
+//! - [`fusion`]: gyro + accelerometer orientation with online bias (VQF's 6-D part).
+//! - [`chain`]: orientation changes along a serial chain (eq. 4.16–4.24); [`arm`]: the
+//!   arm–wheel chain and its joint angles; [`pose`]: the real-time arm pose from two IMUs and
+//!   the wheel angle.
+//! - [`mounting`]: where each IMU sits on its segment; [`procedure`]: the guided mounting
+//!   procedure, tick by tick.
+//! - [`device`]: the `Imu` trait, samples, the game-controller report parsers and (feature
+//!   `hid`) the hidapi backend; [`sim`]: simulated motion, arm and IMUs.
+//! - [`error`]: [`ImuError`].
+//!
 //! # Example: the haptic thread's arm pose from a simulated patient
 //!
 //! ```

@@ -1,17 +1,20 @@
 //! The force-feedback wheel: the patient's sensor and the therapy's actuator (thesis §3.2.1).
 //!
-//! - [`Wheel`]: the device trait (read angle, command torque, profile, capabilities), with
-//!   [`SimWheel`], a simulated wheel with inertia, friction, end stops, encoder/torque
-//!   quantisation and a delayed, jittered USB command path; [`ZeroTorqueOnDrop`] guards any
-//!   wheel.
+//! - [`wheel`]: [`Wheel`], the device trait (read angle, command torque, the safety chain's
+//!   ceiling every tick, profile, capabilities); [`ZeroTorqueOnDrop`] guards any wheel.
+//! - [`sim`]: [`SimWheel`], a simulated wheel with inertia, friction, end stops, encoder/torque
+//!   quantisation and a delayed, jittered USB command path.
 //! - [`profile`]: per-model angle/torque scales (thesis eq. 3.1–3.3) and the per-driver
 //!   torque update rate policy; `CALIBRATION.md` tells how to measure a new wheel.
+//! - [`wheel_config`]: the station's `[wheel]` section (profile, rated torque, gain) and the
+//!   ceiling it gives in N·m; [`calibrate`]: the analysis behind `telerehab wheel calibrate`.
 //! - [`effects`]: the DirectInput effect set of the thesis toolbox (Appendix B), rendered
 //!   on the host in a fixed-capacity [`EffectStack`].
 //! - [`filter`]: the thesis moving average (eq. 3.4) and a Kalman velocity estimator.
 //! - [`model`]: the spring–mass–damper of eq. 3.5 and a Hannaford–Ryu passivity controller.
 //! - [`safety`]: limiter, soft start, fade-out, deadline watchdog.
-//! - [`HapticChain`]: all of the above as the one call per tick the haptic loop makes.
+//! - [`chain`]: [`HapticChain`], all of the above as the one call per tick the haptic loop
+//!   makes.
 //! - [`devices`]: `enumerate_devices()` for `telerehab devices`; `evdev_wheel` (Linux,
 //!   feature `evdev`): the kernel force-feedback backend; `peripherals` (feature `gilrs`):
 //!   pedals, buttons and gamepads.

@@ -1,12 +1,16 @@
 //! Movement measures of a rehabilitation session.
 //!
-//! - [`sparc`] and [`ldlj_speed`]: smoothness of one movement's speed profile, as the
-//!   reference implementations compute them (Balasubramanian et al. 2015; monalysa).
-//! - [`segment`](fn@segment): discrete movements in a continuous speed profile (a speed threshold, gap
-//!   merging, a minimum duration), each scored.
-//! - [`session_measures`]: a session's wheel movements, their smoothness, speed, time and
-//!   peaks (medians and means), ranges of motion, time active — serialisable for the report.
-//! - [`LiveMeasures`]: the cheap running subset for the live display.
+//! - [`smoothness`]: [`sparc`] and [`ldlj_speed`], smoothness of one movement's speed
+//!   profile, as the reference implementations compute them (Balasubramanian et al. 2015;
+//!   monalysa).
+//! - [`filter`]: the speed profile of an angle signal ([`speed_profile`]).
+//! - [`segment`](mod@segment): discrete movements in a continuous speed profile
+//!   ([`segment`](fn@segment): a speed threshold, gap merging, a minimum duration), each scored.
+//! - [`session`]: [`session_measures`], a session's wheel movements, their smoothness, speed,
+//!   time and peaks (medians and means), ranges of motion, time active — serialisable for the
+//!   report.
+//! - [`live`]: [`LiveMeasures`], the cheap running subset for the live display.
+//! - [`error`]: [`MetricError`].
 //!
 //! Pure: no I/O, no threads, no clock. Time comes in as a sampling rate `fs_hz`; angles in
 //! rad, speeds in rad/s.

@@ -6,6 +6,11 @@
 //! - [`therapist`]: [`TherapistServer`] — the hub that stores and acknowledges summaries.
 //! - [`store`]: the hub's on-disk layout, `DIR/<station_id>/<session_id>.jsonl`.
 //! - [`tls`]: rustls configuration from PEM files.
+//! - [`pairing`]: a one-time code becomes a station's credential (SPAKE2, both sides);
+//!   [`pki`]: the clinic's own certificate authority; [`upload`]: the station's side of a
+//!   recording upload.
+//! - Private: `transport` (the byte-stream plumbing both sides share) and `error`
+//!   ([`NetlinkError`]).
 //!
 //! Safety invariant 4 of DESIGN.md ("a dropped network link resumes without losing or
 //! duplicating a summary") rests on three rules: the station forgets a summary only when a

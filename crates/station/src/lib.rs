@@ -1,13 +1,17 @@
 //! The telerehab station: command line, configuration, threads, recorder and therapist hub.
+//! The design of the whole product is `docs/DESIGN.md`.
 //!
 //! # Module map
 //!
 //! - [`cli`]: the clap tree ([`cli::Cli`], [`cli::Command`]) and [`cli::dispatch`], nothing
 //!   else. [`logging`] sets up the one `tracing` subscriber.
 //! - [`commands`]: one file per subcommand, each owning its arguments and `run()`:
-//!   [`commands::run`] (a patient session), [`commands::render`], [`commands::therapist`]
-//!   (the hub), [`commands::recover`], [`commands::devices`], [`commands::vehicle`],
-//!   [`commands::bench`], [`commands::wheel`].
+//!   [`commands::run`] (a patient session), [`commands::window_process`] (the patient
+//!   window's own process), [`commands::replay`], [`commands::report`],
+//!   [`commands::recover`], [`commands::render`], [`commands::devices`],
+//!   [`commands::wheel`], [`commands::vehicle`], [`commands::bench`], [`commands::pair`] and
+//!   [`commands::sync`] (a station and its clinic), [`commands::hub`] (the clinic's hub),
+//!   [`commands::therapist`] (a file-store hub for development).
 //! - [`session`]: the threads of a running session. [`session::run`] wires them;
 //!   [`session::haptic`] is the 1 kHz loop driving a [`session::plant::Plant`] (wheel, patient,
 //!   car, haptic chain, assist) through the exercises of [`session::course`];
@@ -16,20 +20,29 @@
 //!   [`session::arm_calibration`] turn the IMUs into joint angles and arm lengths;
 //!   [`session::window`] runs the patient's window in a process of its own (restarted,
 //!   the exercise paused, if it dies or hangs); [`session::signals`]
-//!   turns SIGINT/SIGTERM into a stop request.
+//!   turns SIGINT/SIGTERM into a stop request and [`session::Controls`] carries stop and
+//!   pause to the loop; [`session::measures`] computes the movement measures;
+//!   [`session::recorded`] is a body made of a recording's raw inputs (replay);
+//!   [`session::faults`] injects faults into simulated sessions.
 //! - [`record`]: one type per MCAP channel, the writer, the reader and `recover`.
 //! - [`config`] (station TOML) and [`regimen`] (the therapist's prescription): validated input.
-//! - [`link`]: the therapist link (tokio runtime, store-and-forward through `netlink`).
+//! - [`link`]: the therapist link (tokio runtime, store-and-forward through `netlink`), its
+//!   on-disk queue and the recording uploads; [`home`]: the station's home directory
+//!   (pairing, queue, recordings).
 //! - [`screen`] (a tick → a [`render::Scene`]) and [`render`] (wgpu: window and offscreen).
 //! - [`report`] (the end-of-session text) and [`timing`] (loop-timing percentiles).
 //! - [`html_report`]: recorded sessions → one self-contained HTML report (reads `record`,
 //!   and the measures' rate from `session::measures`).
+//! - [`therapist_view`]: what the console draws of a session, live (every summary's extras)
+//!   and replayed (frames read from a recording for the hub).
+//! - [`resident`]: bounded buffers made resident up front, and the process's memory figures.
 //!
 //! Dependencies point down the list: `cli` → `commands` → `session`, `link`, `screen`,
 //! `report` → `record`, `config`, `regimen`, `render`, `timing`; nothing below `commands` knows
 //! a command, and `session` draws through a scene closure, not the screen. (One exception:
-//! `config` takes its `[arm]` section type from `session::arm`.) Time comes from one injectable [`clock::Clock`] in [`session::SessionOptions`]
-//! (mock clocks in tests); the pure crates get `dt` or timestamps.
+//! `config` takes its `[[faults]]` type from `session::faults`.) Time comes from one
+//! injectable [`clock::Clock`] in [`session::SessionOptions`] (mock clocks in tests); the pure
+//! crates get `dt` or timestamps.
 //!
 //! Threads (DESIGN.md): `haptic` (1 kHz, absolute deadlines, real-time priority where
 //! granted) → wait-free ring → `recorder` (MCAP, summaries) → the therapist link's tokio

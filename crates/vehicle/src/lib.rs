@@ -7,6 +7,12 @@
 //! road edges, barriers and cones. [`exercise`] is the therapist's parametric library of roads
 //! and the rotary dial task; [`score`] grades them; [`feel`] gives the steering-wheel torque.
 //!
+//! Also: [`road`] (a centre line and projection onto it) and [`path`] (arc-length roads from
+//! clothoids and sine waves), [`dial`] (the rotary dial task's signal), [`driver`] (preview
+//! steering and the speed controller standing in for the pedals), [`offline`] (the model run
+//! offline for `telerehab vehicle`), [`error`] ([`VehicleError`]); test-only: `reference`, an
+//! independent solution of eq. C.1–C.15.
+//!
 //! Pure: no I/O, no threads, no clock. Time comes in as `dt` in seconds.
 
 pub mod dial;
