@@ -76,6 +76,12 @@ export function liveView(el, patientId) {
       : `Shoulder elevation ${fmt(x.shoulder_elevation_deg, 0)}°, elbow flexion ${fmt(x.elbow_flexion_deg, 0)}°, forearm pronation ${fmt(x.forearm_pronation_deg, 0)}°`;
   });
   source.addEventListener('lagged', ev => { status.textContent = `The view fell behind and skipped ${ev.data} summaries.`; });
+  // The hub ends the stream when the login ends or the patient is no longer this therapist's:
+  // say so, and do not let the browser reconnect.
+  source.addEventListener('ended', ev => {
+    source.close();
+    status.textContent = `Live view stopped: ${ev.data}. Log in again to watch.`;
+  });
   return () => source.close();
 }
 

@@ -152,6 +152,43 @@ impl DbStore {
         Ok(n)
     }
 
+    /// Whether the station of `hello` may speak: its certificate is the one issued at pairing,
+    /// it is not revoked, and it speaks for its own patient.
+    async fn check_admission(&self, hello: &Hello, peer: Peer<'_>) -> Result<(), Refusal> {
+        let cert = peer
+            .certificate
+            .ok_or_else(|| Refusal::new("no client certificate presented: pair first"))?;
+        let fingerprint = certificate_sha256_hex(cert);
+        let station = self
+            .db
+            .station(&hello.station_id)
+            .await
+            .map_err(refusal)?
+            .ok_or_else(|| Refusal::new(format!("unknown station {:?}", hello.station_id)))?;
+        if station.cert_fingerprint != fingerprint {
+            return Err(Refusal::new(format!(
+                "the certificate presented is not station {:?}'s",
+                hello.station_id
+            )));
+        }
+        if station.is_revoked() {
+            return Err(Refusal::new(format!(
+                "station {:?} has been revoked by the clinic",
+                hello.station_id
+            )));
+        }
+        if station.patient_id != hello.patient_id {
+            return Err(Refusal::new(format!(
+                "station {:?} speaks for its own patient only",
+                hello.station_id
+            )));
+        }
+        self.db
+            .touch_station(&hello.station_id, self.now())
+            .await
+            .map_err(refusal)
+    }
+
     /// Counts a pairing attempt from `ip`; false beyond [`PAIRING_ATTEMPTS_PER_MINUTE`] a
     /// minute or after [`PAIRING_FAILURES_PER_HOUR`] failures within the hour.
     fn pairing_allowed(&self, ip: IpAddr) -> bool {
@@ -233,38 +270,26 @@ impl HubStore for DbStore {
 
     fn admit<'a>(&'a self, hello: &'a Hello, peer: Peer<'a>) -> BoxFuture<'a, Result<(), Refusal>> {
         Box::pin(async move {
-            let cert = peer
-                .certificate
-                .ok_or_else(|| Refusal::new("no client certificate presented: pair first"))?;
-            let fingerprint = certificate_sha256_hex(cert);
-            let station = self
-                .db
-                .station(&hello.station_id)
-                .await
-                .map_err(refusal)?
-                .ok_or_else(|| Refusal::new(format!("unknown station {:?}", hello.station_id)))?;
-            if station.cert_fingerprint != fingerprint {
-                return Err(Refusal::new(format!(
-                    "the certificate presented is not station {:?}'s",
-                    hello.station_id
-                )));
+            let admitted = self.check_admission(hello, peer).await;
+            if let Err(refused) = &admitted {
+                // Audited like every refusal, at a bounded rate per address.
+                let actor = format!("station:{}", hello.station_id);
+                let audited = self
+                    .db
+                    .audit_refusal(
+                        &actor,
+                        "station_refused",
+                        &hello.patient_id,
+                        &refused.message,
+                        &peer.addr.ip().to_string(),
+                        self.now(),
+                    )
+                    .await;
+                if let Err(e) = audited {
+                    tracing::warn!("cannot audit a station refusal: {e}");
+                }
             }
-            if station.is_revoked() {
-                return Err(Refusal::new(format!(
-                    "station {:?} has been revoked by the clinic",
-                    hello.station_id
-                )));
-            }
-            if station.patient_id != hello.patient_id {
-                return Err(Refusal::new(format!(
-                    "station {:?} speaks for its own patient only",
-                    hello.station_id
-                )));
-            }
-            self.db
-                .touch_station(&hello.station_id, self.now())
-                .await
-                .map_err(refusal)
+            admitted
         })
     }
 
