@@ -18,11 +18,16 @@ echo "== layering";     python3 scripts/check_layering.py
 echo "== cargo doc";    RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
 # Under a virtual X display so the patient-window test opens a real window (Xvfb + Mesa), and
 # with a throwaway PostgreSQL server so the hub's database tests run on both backends.
+# Every test's output is kept (--nocapture) so that each `SKIPPED: <reason>` line is seen:
+# scripts/check_skips.py counts them and, in CI, fails on any reason not on .ci/skip-allowlist.
+LOGS="$(mktemp -d)"
 echo "== cargo test"
 if command -v xvfb-run >/dev/null 2>&1; then
-  xvfb-run -a -s "-screen 0 1280x720x24" bash scripts/with-postgres.sh cargo test --workspace
+  xvfb-run -a -s "-screen 0 1280x720x24" bash scripts/with-postgres.sh \
+    cargo test --workspace -- --nocapture 2>&1 | tee "$LOGS/cargo-test.log"
 else
-  bash scripts/with-postgres.sh cargo test --workspace
+  bash scripts/with-postgres.sh cargo test --workspace -- --nocapture 2>&1 \
+    | tee "$LOGS/cargo-test.log"
 fi
 echo "== pytest"
 # Rebuild the Python package from the current sources (incremental; setup.sh built it first).
@@ -34,5 +39,7 @@ echo "== python types"
 cargo build --quiet -p station --bin telerehab
 # The binary cargo just built, wherever the target directory is (CARGO_TARGET_DIR honoured).
 TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}"
-TELEREHAB_BIN="$TARGET_DIR/debug/telerehab" .venv/bin/python -m pytest -q pyext/tests tests/python
+TELEREHAB_BIN="$TARGET_DIR/debug/telerehab" .venv/bin/python -m pytest -q -rs pyext/tests tests/python \
+  2>&1 | tee "$LOGS/pytest.log"
+python3 scripts/check_skips.py "$LOGS/cargo-test.log" "$LOGS/pytest.log"
 echo "== disk after the tests: $(df -h . | awk 'NR==2 {print $4 " free"}'), target: $(du -sh "$TARGET_DIR" 2>/dev/null | cut -f1)"
