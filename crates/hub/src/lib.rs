@@ -11,6 +11,7 @@ pub mod clinic;
 pub mod db;
 mod error;
 pub mod ingest;
+pub mod limits;
 pub mod web;
 
 pub use db::{Backend, Db, Patient, Role, Station, Therapist};
