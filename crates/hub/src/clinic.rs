@@ -25,6 +25,7 @@ use tokio::sync::broadcast;
 use crate::db::{Db, RegimenVersion, Role};
 use crate::error::HubError;
 use crate::ingest::{DbStore, Ingest, REVOCATION_POLL};
+use crate::limits::ConnectionBudget;
 use crate::web::{self, AppState, LiveEvent, NowMs, RegimenValidator};
 
 /// `DATA/hub.toml`.
@@ -225,6 +226,27 @@ pub struct ServeOptions {
     pub max_connections: (usize, usize),
     /// Reads stored recordings for the console's replay (`None`: no replay).
     pub replay: Option<web::ReplayReader>,
+    /// Caps on connections nobody has authenticated yet and the console's deadlines; with
+    /// `max_connections`, fitted to the open-file limit at start ([`crate::limits`]).
+    pub limits: HubLimits,
+}
+
+/// Connection caps and deadlines of `hub serve` besides [`ServeOptions::max_connections`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct HubLimits {
+    /// Station-port connections not admitted yet (TLS handshake, Hello, pairing), in all.
+    pub max_unauthenticated_stations: usize,
+    /// The console's port.
+    pub web: web::WebLimits,
+}
+
+impl Default for HubLimits {
+    fn default() -> Self {
+        Self {
+            max_unauthenticated_stations: netlink::therapist::DEFAULT_MAX_UNAUTHENTICATED,
+            web: web::WebLimits::default(),
+        }
+    }
 }
 
 impl std::fmt::Debug for ServeOptions {
@@ -243,6 +265,8 @@ pub struct Bound {
     pub stations: SocketAddr,
     /// Console's address.
     pub web: Option<SocketAddr>,
+    /// The connection caps in force, fitted to the open-file limit.
+    pub budget: ConnectionBudget,
 }
 
 /// Runs the hub until `shutdown` completes: `on_bound` once listening, `on_event` for every
@@ -264,12 +288,12 @@ pub async fn serve(
         options.now_ms.clone(),
     ));
     store.refresh_revoked().await?;
+    let (budget, web_limits) = fit_to_fd_limit(&options);
     let mut link_config =
         TherapistConfig::new(options.stations, clinic.dir(), Some(clinic.server_tls()));
-    (
-        link_config.max_connections,
-        link_config.max_connections_per_address,
-    ) = options.max_connections;
+    link_config.max_connections = budget.stations;
+    link_config.max_connections_per_address = options.max_connections.1;
+    link_config.max_unauthenticated = budget.stations_unauthenticated;
     let (server, mut events) =
         TherapistServer::bind_with_store(link_config, Arc::new(Ingest(store.clone())))
             .await
@@ -289,10 +313,11 @@ pub async fn serve(
             .map_err(|e| HubError::io(format!("listening on {addr}"), e))?;
         web_addr = listener.local_addr().ok();
         let acceptor = web::acceptor_from_pem(&clinic.tls("hub.crt"), &clinic.tls("hub.key"))?;
-        web_task = Some(tokio::spawn(web::serve(
+        web_task = Some(tokio::spawn(web::serve_with_limits(
             listener,
             Some(acceptor),
             state,
+            web_limits,
             async {
                 let _ = web_stopped.await;
             },
@@ -301,6 +326,7 @@ pub async fn serve(
     on_bound(Bound {
         stations: server.local_addr(),
         web: web_addr,
+        budget,
     });
     let mut revocation = tokio::time::interval(REVOCATION_POLL);
     let mut sweep = tokio::time::interval(crate::uploads::PARTIAL_UPLOAD_SWEEP);
@@ -381,6 +407,41 @@ pub async fn serve(
 
 /// Longest `hub serve` takes to stop once asked (connections closing, the database closed).
 pub const STOP_WITHIN: std::time::Duration = std::time::Duration::from_secs(3);
+
+/// Raises the open-file limit and fits the connection caps of `options` under it (warning if
+/// they had to shrink): the station port's and the console's.
+fn fit_to_fd_limit(options: &ServeOptions) -> (ConnectionBudget, web::WebLimits) {
+    let fd_limit = crate::limits::raise_fd_limit().unwrap_or_else(|e| {
+        tracing::warn!("{e}");
+        crate::limits::fd_limit()
+    });
+    let web = options.limits.web;
+    let wanted = ConnectionBudget {
+        stations: options.max_connections.0,
+        stations_unauthenticated: options.limits.max_unauthenticated_stations,
+        web_connections: if options.web.is_some() {
+            web.max_connections
+        } else {
+            0
+        },
+        web_unanswered: if options.web.is_some() {
+            web.max_unanswered.min(web.max_connections)
+        } else {
+            0
+        },
+    };
+    let (budget, warning) = wanted.fit(fd_limit);
+    if let Some(w) = warning {
+        tracing::warn!("{w}");
+    }
+    tracing::info!(?fd_limit, ?budget, "connection caps");
+    let web = web::WebLimits {
+        max_connections: budget.web_connections.max(1),
+        max_unanswered: budget.web_unanswered.max(1),
+        ..web
+    };
+    (budget, web)
+}
 
 /// Sends `regimen` to every connected station of its patient (a station not connected gets
 /// it when it next connects).

@@ -13,6 +13,7 @@ pub mod clinic;
 pub mod db;
 mod error;
 pub mod ingest;
+pub mod limits;
 pub mod uploads;
 pub mod web;
 

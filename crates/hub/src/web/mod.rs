@@ -36,6 +36,7 @@ pub use live::{LIVE_RECHECK_MS, LiveEvent, MAX_LIVE_STREAMS_PER_LOGIN};
 pub use serve::{
     SHUTDOWN_GRACE_S, TLS_HANDSHAKE_TIMEOUT_S, acceptor_from_pem, serve, serve_router,
 };
+pub use serve::{WebLimits, serve_router_with_limits, serve_with_limits};
 
 /// Largest request body accepted, bytes.
 pub const MAX_BODY_BYTES: usize = 64 * 1024;

@@ -1,16 +1,27 @@
 //! Serving the API over HTTPS (rustls with `ring`, HTTP/1.1) with graceful shutdown.
 
 use std::future::Future;
+use std::net::SocketAddr;
 use std::path::Path;
+use std::pin::Pin;
+use std::sync::{Arc, Mutex, PoisonError};
+use std::task::{Context, Poll};
 use std::time::Duration;
 
-use axum::Router;
+use axum::body::{Body, Bytes};
+use axum::http::Request;
+use axum::{BoxError, Router};
+use hyper::body::{Body as _, Incoming};
 use hyper_util::rt::TokioIo;
-use hyper_util::server::graceful::GracefulShutdown;
-use hyper_util::service::TowerToHyperService;
+use hyper_util::server::graceful::{GracefulShutdown, Watcher};
+use netlink::therapist::budget::{
+    ConnectionGate, Eviction, GateLimits, REFUSAL_LOG_INTERVAL, Ticket,
+};
 use tokio::io::{AsyncRead, AsyncWrite};
-use tokio::net::TcpListener;
+use tokio::net::{TcpListener, TcpStream};
+use tokio::sync::Semaphore;
 use tokio_rustls::TlsAcceptor;
+use tower::ServiceExt as _;
 
 use super::{AppState, router};
 use crate::error::HubError;
@@ -32,6 +43,45 @@ pub fn acceptor_from_pem(cert_pem: &Path, key_pem: &Path) -> Result<TlsAcceptor,
     .map_err(|e| HubError::Config(e.to_string()))
 }
 
+/// Deadlines and connection caps of the console's port.
+///
+/// A connection is *unanswered* until one of its requests has been answered: its TLS
+/// handshake, request head and body are still on their way. Unanswered connections are capped
+/// per address and in all; one over a cap replaces the oldest unanswered connection still
+/// sending its request (a client holding half-sent requests cannot lock anyone out). All
+/// connections together are capped by `max_connections`; answered ones idle longer than
+/// `header_read_timeout_ms` are closed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct WebLimits {
+    /// Longest a client may take to complete the TLS handshake, ms.
+    pub tls_handshake_timeout_ms: u64,
+    /// Longest a request head may take to arrive, ms, counted from when the connection is
+    /// ready for it: also how long an idle keep-alive connection stays open.
+    pub header_read_timeout_ms: u64,
+    /// Longest a request body may take to arrive, ms, counted from the end of its head; a
+    /// body not complete by then is refused (400) and the connection closed.
+    pub body_timeout_ms: u64,
+    /// Most simultaneous connections.
+    pub max_connections: usize,
+    /// Most simultaneous unanswered connections.
+    pub max_unanswered: usize,
+    /// Most simultaneous unanswered connections from one address.
+    pub max_unanswered_per_address: usize,
+}
+
+impl Default for WebLimits {
+    fn default() -> Self {
+        Self {
+            tls_handshake_timeout_ms: TLS_HANDSHAKE_TIMEOUT_S * 1000,
+            header_read_timeout_ms: 10_000,
+            body_timeout_ms: 10_000,
+            max_connections: 1_024,
+            max_unanswered: 512,
+            max_unanswered_per_address: 16,
+        }
+    }
+}
+
 /// Serves [`router`]`(state)` on `listener` until `shutdown` completes; see [`serve_router`].
 pub async fn serve(
     listener: TcpListener,
@@ -42,13 +92,35 @@ pub async fn serve(
     serve_router(listener, tls, router(state), shutdown).await
 }
 
+/// [`serve`] within `limits`.
+pub async fn serve_with_limits(
+    listener: TcpListener,
+    tls: Option<TlsAcceptor>,
+    state: AppState,
+    limits: WebLimits,
+    shutdown: impl Future<Output = ()> + Send,
+) -> Result<(), HubError> {
+    serve_router_with_limits(listener, tls, router(state), limits, shutdown).await
+}
+
 /// Serves `app` on `listener` over TLS until `shutdown` completes, then stops accepting and
 /// waits up to [`SHUTDOWN_GRACE_S`] for open requests. `tls: None` serves plain HTTP and is
-/// refused unless the listener is bound to a loopback address.
+/// refused unless the listener is bound to a loopback address. Default [`WebLimits`].
 pub async fn serve_router(
     listener: TcpListener,
     tls: Option<TlsAcceptor>,
     app: Router,
+    shutdown: impl Future<Output = ()> + Send,
+) -> Result<(), HubError> {
+    serve_router_with_limits(listener, tls, app, WebLimits::default(), shutdown).await
+}
+
+/// [`serve_router`] within `limits`.
+pub async fn serve_router_with_limits(
+    listener: TcpListener,
+    tls: Option<TlsAcceptor>,
+    app: Router,
+    limits: WebLimits,
     shutdown: impl Future<Output = ()> + Send,
 ) -> Result<(), HubError> {
     let local = listener
@@ -60,8 +132,18 @@ pub async fn serve_router(
              certificate and key"
         )));
     }
-    tracing::info!(address = %local, tls = tls.is_some(), "therapist console API listening");
+    tracing::info!(address = %local, tls = tls.is_some(), ?limits, "therapist console API listening");
+    let gate = ConnectionGate::new(
+        GateLimits {
+            max_total: limits.max_unanswered.max(1),
+            max_per_address: limits.max_unanswered_per_address.max(1),
+        },
+        "console port",
+    );
+    let connections = Arc::new(Semaphore::new(limits.max_connections.max(1)));
     let graceful = GracefulShutdown::new();
+    let mut summary = tokio::time::interval(REFUSAL_LOG_INTERVAL);
+    summary.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
     let mut shutdown = std::pin::pin!(shutdown);
     loop {
         let (stream, peer) = tokio::select! {
@@ -69,35 +151,45 @@ pub async fn serve_router(
                 Ok(pair) => pair,
                 Err(e) => {
                     // Out of file descriptors and the like: wait instead of spinning.
-                    tracing::warn!(error = %e, "accept failed");
+                    if gate.refusals().detail("accept failed") {
+                        tracing::warn!(error = %e, "accept failed");
+                    }
                     tokio::time::sleep(Duration::from_millis(100)).await;
                     continue;
                 }
             },
+            _ = summary.tick() => {
+                if let Some(s) = gate.refusals().take_summary() {
+                    tracing::warn!("console API: {s}");
+                }
+                continue;
+            }
             () = &mut shutdown => break,
         };
-        let app = app.clone();
+        let Ok(permit) = connections.clone().try_acquire_owned() else {
+            gate.refusals().count("refused: max_connections");
+            continue;
+        };
+        // Over a cap with nothing evictable: closed at once, counted.
+        let Some(ticket) = gate.admit(peer.ip()) else {
+            continue;
+        };
+        let conn = Conn {
+            app: app.clone(),
+            limits,
+            watcher: graceful.watcher(),
+            refusals: gate.clone(),
+        };
         let tls = tls.clone();
-        let watcher = graceful.watcher();
         tokio::spawn(async move {
-            match tls {
-                None => serve_connection(stream, app, watcher).await,
-                Some(acceptor) => {
-                    let handshake = tokio::time::timeout(
-                        Duration::from_secs(TLS_HANDSHAKE_TIMEOUT_S),
-                        acceptor.accept(stream),
-                    )
-                    .await;
-                    match handshake {
-                        Ok(Ok(tls_stream)) => serve_connection(tls_stream, app, watcher).await,
-                        Ok(Err(e)) => tracing::debug!(%peer, error = %e, "TLS handshake failed"),
-                        Err(_) => tracing::debug!(%peer, "TLS handshake timed out"),
-                    }
-                }
-            }
+            conn.run(stream, peer, tls, ticket).await;
+            drop(permit);
         });
     }
     drop(listener);
+    if let Some(s) = gate.refusals().take_summary_now() {
+        tracing::warn!("console API: {s}");
+    }
     tokio::select! {
         () = graceful.shutdown() => {}
         () = tokio::time::sleep(Duration::from_secs(SHUTDOWN_GRACE_S)) => {
@@ -107,15 +199,166 @@ pub async fn serve_router(
     Ok(())
 }
 
-async fn serve_connection<S>(stream: S, app: Router, watcher: hyper_util::server::graceful::Watcher)
-where
-    S: AsyncRead + AsyncWrite + Unpin + Send + 'static,
-{
-    let connection = hyper::server::conn::http1::Builder::new()
-        .timer(hyper_util::rt::TokioTimer::new())
-        .header_read_timeout(Duration::from_secs(30))
-        .serve_connection(TokioIo::new(stream), TowerToHyperService::new(app));
-    if let Err(e) = watcher.watch(connection).await {
-        tracing::debug!(error = %e, "connection ended with an error");
+/// A connection's ticket at the gate, shared with its requests: taken (uncounted) once a
+/// request is answered, held (no longer evictable) once a request has arrived whole.
+type SharedTicket = Arc<Mutex<Option<Ticket>>>;
+
+fn hold(ticket: &SharedTicket) {
+    if let Some(t) = ticket
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .as_mut()
+    {
+        t.hold();
+    }
+}
+
+/// What one connection's task needs.
+struct Conn {
+    app: Router,
+    limits: WebLimits,
+    watcher: Watcher,
+    refusals: Arc<ConnectionGate>,
+}
+
+impl Conn {
+    async fn run(
+        self,
+        stream: TcpStream,
+        peer: SocketAddr,
+        tls: Option<TlsAcceptor>,
+        mut ticket: Ticket,
+    ) {
+        let mut eviction = ticket.eviction();
+        let ticket: SharedTicket = Arc::new(Mutex::new(Some(ticket)));
+        let Some(acceptor) = tls else {
+            self.serve_connection(stream, peer, ticket, eviction).await;
+            return;
+        };
+        let handshake_timeout = Duration::from_millis(self.limits.tls_handshake_timeout_ms);
+        let handshake = tokio::select! {
+            h = tokio::time::timeout(handshake_timeout, acceptor.accept(stream)) => h,
+            () = eviction.wait() => return,
+        };
+        let refusals = self.refusals.refusals();
+        match handshake {
+            Ok(Ok(tls_stream)) => {
+                self.serve_connection(tls_stream, peer, ticket, eviction)
+                    .await;
+            }
+            Ok(Err(e)) => {
+                if refusals.detail("TLS handshake failed") {
+                    tracing::debug!(%peer, error = %e, "TLS handshake failed");
+                }
+            }
+            Err(_) => {
+                if refusals.detail("TLS handshake timed out") {
+                    tracing::debug!(%peer, "TLS handshake timed out");
+                }
+            }
+        }
+    }
+
+    /// Serves HTTP/1.1 on `stream` from `peer`; each request carries the client's address
+    /// (`ConnectInfo`), which the login throttle keys on.
+    async fn serve_connection<S>(
+        self,
+        stream: S,
+        peer: SocketAddr,
+        ticket: SharedTicket,
+        mut eviction: Eviction,
+    ) where
+        S: AsyncRead + AsyncWrite + Unpin + Send + 'static,
+    {
+        let Self {
+            app,
+            limits,
+            watcher,
+            ..
+        } = self;
+        let body_timeout = Duration::from_millis(limits.body_timeout_ms);
+        let service = hyper::service::service_fn(move |request: Request<Incoming>| {
+            let app = app.clone();
+            let ticket = ticket.clone();
+            async move {
+                if request.body().is_end_stream() {
+                    hold(&ticket);
+                }
+                let mut request = request;
+                request
+                    .extensions_mut()
+                    .insert(axum::extract::ConnectInfo(peer));
+                let request = request.map(|inner| {
+                    Body::new(DeadlineBody {
+                        inner,
+                        deadline: Box::pin(tokio::time::sleep(body_timeout)),
+                        timeout: body_timeout,
+                        ticket: ticket.clone(),
+                    })
+                });
+                let response = app.oneshot(request).await;
+                // Answered: no longer counted as unanswered.
+                drop(ticket.lock().unwrap_or_else(PoisonError::into_inner).take());
+                response
+            }
+        });
+        let connection = hyper::server::conn::http1::Builder::new()
+            .timer(hyper_util::rt::TokioTimer::new())
+            .header_read_timeout(Duration::from_millis(limits.header_read_timeout_ms))
+            .serve_connection(TokioIo::new(stream), service);
+        tokio::select! {
+            r = watcher.watch(connection) => {
+                if let Err(e) = r {
+                    tracing::debug!(error = %e, "connection ended with an error");
+                }
+            }
+            // Dropping the connection closes it.
+            () = eviction.wait() => {}
+        }
+    }
+}
+
+/// A request body that must arrive whole within a deadline (from the end of the request's
+/// head); past it, reading it fails, the handler answers 400 and hyper closes the connection.
+struct DeadlineBody {
+    inner: Incoming,
+    deadline: Pin<Box<tokio::time::Sleep>>,
+    timeout: Duration,
+    ticket: SharedTicket,
+}
+
+impl hyper::body::Body for DeadlineBody {
+    type Data = Bytes;
+    type Error = BoxError;
+
+    fn poll_frame(
+        mut self: Pin<&mut Self>,
+        cx: &mut Context<'_>,
+    ) -> Poll<Option<Result<hyper::body::Frame<Bytes>, BoxError>>> {
+        let this = &mut *self;
+        match Pin::new(&mut this.inner).poll_frame(cx) {
+            Poll::Ready(frame) => {
+                if frame.is_none() || this.inner.is_end_stream() {
+                    hold(&this.ticket);
+                }
+                Poll::Ready(frame.map(|f| f.map_err(BoxError::from)))
+            }
+            Poll::Pending => match this.deadline.as_mut().poll(cx) {
+                Poll::Ready(()) => Poll::Ready(Some(Err(format!(
+                    "the request body did not arrive within {} ms",
+                    this.timeout.as_millis()
+                )
+                .into()))),
+                Poll::Pending => Poll::Pending,
+            },
+        }
+    }
+
+    fn is_end_stream(&self) -> bool {
+        self.inner.is_end_stream()
+    }
+
+    fn size_hint(&self) -> hyper::body::SizeHint {
+        self.inner.size_hint()
     }
 }

@@ -19,14 +19,22 @@ pub struct TherapistConfig {
     /// TLS settings; `None` means plaintext, allowed only on a loopback address.
     #[serde(default)]
     pub tls: Option<ServerTls>,
-    /// Most simultaneous connections, in [1, 10 000]. Default 256.
+    /// Most stations connected at once (their Hello admitted by the store), in
+    /// [1, 100 000]. Default 2 048. A station over it is told so (`Error`) and retries later.
     #[serde(default = "default_max_connections")]
     pub max_connections: usize,
-    /// Most simultaneous connections from one remote IP address, in [1, 10 000]. Default 8:
-    /// a home has one station; a few more cover reconnects racing an old connection's close.
-    /// Raise it for stations behind one NAT.
+    /// Most simultaneous connections from one remote IP address that are not admitted yet
+    /// (TLS handshake, waiting for the Hello, pairing), in [1, 10 000]. Default 16. Admitted
+    /// stations do not count, so any number of stations may share one address (a NAT). A new
+    /// connection over it replaces that address's oldest one still waiting for its first
+    /// frame.
     #[serde(default = "default_max_connections_per_address")]
     pub max_connections_per_address: usize,
+    /// Most simultaneous connections not admitted yet, from all addresses, in [1, 100 000].
+    /// Default 1 024. A new connection over it replaces the oldest one still waiting for its
+    /// first frame, so idle connections cannot lock stations out.
+    #[serde(default = "default_max_unauthenticated")]
+    pub max_unauthenticated: usize,
     /// Time allowed for the TLS handshake and the station's Hello, ms, in [100, 600 000].
     /// Default 10 000.
     #[serde(default = "default_hello_timeout_ms")]
@@ -59,11 +67,21 @@ fn default_max_upload_bytes_per_s() -> u64 {
     4_000_000
 }
 
+/// Default [`TherapistConfig::max_connections`] (also `telerehab hub serve`'s).
+pub const DEFAULT_MAX_CONNECTIONS: usize = 2_048;
+/// Default [`TherapistConfig::max_connections_per_address`].
+pub const DEFAULT_MAX_CONNECTIONS_PER_ADDRESS: usize = 16;
+/// Default [`TherapistConfig::max_unauthenticated`].
+pub const DEFAULT_MAX_UNAUTHENTICATED: usize = 1_024;
+
 fn default_max_connections() -> usize {
-    256
+    DEFAULT_MAX_CONNECTIONS
 }
 fn default_max_connections_per_address() -> usize {
-    8
+    DEFAULT_MAX_CONNECTIONS_PER_ADDRESS
+}
+fn default_max_unauthenticated() -> usize {
+    DEFAULT_MAX_UNAUTHENTICATED
 }
 fn default_hello_timeout_ms() -> u64 {
     10_000
@@ -81,6 +99,7 @@ impl TherapistConfig {
             tls,
             max_connections: default_max_connections(),
             max_connections_per_address: default_max_connections_per_address(),
+            max_unauthenticated: default_max_unauthenticated(),
             hello_timeout_ms: default_hello_timeout_ms(),
             idle_timeout_ms: default_idle_timeout_ms(),
             max_upload_bytes_per_session: default_max_upload_bytes_per_session(),
@@ -101,10 +120,16 @@ impl TherapistConfig {
                 self.listen
             ));
         }
-        if !(1..=10_000).contains(&self.max_connections) {
+        if !(1..=100_000).contains(&self.max_connections) {
             return err(format!(
-                "max_connections is {}, allowed [1, 10000]",
+                "max_connections is {}, allowed [1, 100000]",
                 self.max_connections
+            ));
+        }
+        if !(1..=100_000).contains(&self.max_unauthenticated) {
+            return err(format!(
+                "max_unauthenticated is {}, allowed [1, 100000]",
+                self.max_unauthenticated
             ));
         }
         if !(1..=10_000).contains(&self.max_connections_per_address) {

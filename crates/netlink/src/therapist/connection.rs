@@ -2,14 +2,14 @@
 //! client certificate naming the station), registration for regimens, the frame loop, and
 //! clean-up.
 
-use std::net::{IpAddr, SocketAddr};
+use std::net::SocketAddr;
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
 use std::time::Duration;
 
 use rustls::pki_types::CertificateDer;
 use tokio::net::{TcpListener, TcpStream};
-use tokio::sync::watch;
+use tokio::sync::{mpsc, watch};
 use tokio::task::JoinHandle;
 
 use crate::codec::encode_to_vec;
@@ -18,6 +18,7 @@ use crate::frame::{Ack, Bye, ErrorFrame, Frame, Hello, MAX_MESSAGE_LEN, printabl
 use crate::tls::certificate_names_station;
 use crate::transport::{BoxStream, FrameReader, Outbox, Outgoing, spawn_outbox_writer};
 
+use super::budget::{REFUSAL_LOG_INTERVAL, Ticket};
 use super::session::{Failure, Reply, handle_frame, last_seq, sync_file};
 use super::{Hub, Peer, SessionSlot, StationRoute, TherapistEvent, lock};
 
@@ -28,89 +29,47 @@ type Writer = JoinHandle<Result<(), NetlinkError>>;
 /// A session's store, shared with the hub's session table.
 type File = SessionSlot;
 
-/// Accepts stations until `shutdown`, each served on its own task within `max_connections`.
+/// Accepts stations until `shutdown`, each served on its own task (which holds a clone of
+/// `tasks` until it ends). A connection is counted by the hub's gate (per address and in all)
+/// until the store admits its Hello, then against `max_connections`.
 pub(super) async fn accept_loop(
     hub: Arc<Hub>,
     listener: TcpListener,
     mut shutdown: watch::Receiver<bool>,
+    tasks: mpsc::Sender<()>,
 ) {
+    let mut summary = tokio::time::interval(REFUSAL_LOG_INTERVAL);
+    summary.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
     loop {
         tokio::select! {
             _ = shutdown.changed() => break,
+            _ = summary.tick() => hub.summarise_refusals(false),
             accepted = listener.accept() => match accepted {
                 Ok((tcp, peer)) => {
-                    let Some(address_slot) = AddressSlot::take(&hub, peer.ip()) else {
-                        hub.emit(TherapistEvent::ProtocolError {
-                            peer,
-                            error: format!(
-                                "refused: already {} connections from {} (max_connections_per_address)",
-                                hub.config.max_connections_per_address,
-                                peer.ip()
-                            ),
-                        });
-                        continue;
-                    };
-                    let Ok(permit) = hub.connections.clone().try_acquire_owned() else {
-                        hub.emit(TherapistEvent::ProtocolError {
-                            peer,
-                            error: format!(
-                                "refused: already {} connections (max_connections)",
-                                hub.config.max_connections
-                            ),
-                        });
+                    // Over a cap with nothing evictable: closed at once, counted.
+                    let Some(ticket) = hub.gate.admit(peer.ip()) else {
                         continue;
                     };
                     let _ = tcp.set_nodelay(true);
                     let hub = hub.clone();
                     let shutdown = shutdown.clone();
+                    let task = tasks.clone();
                     tokio::spawn(async move {
-                        serve(hub, tcp, peer, shutdown).await;
-                        drop(permit);
-                        drop(address_slot);
+                        serve(hub, tcp, peer, ticket, shutdown).await;
+                        drop(task);
                     });
                 }
                 Err(e) => {
                     // Typically EMFILE; back off briefly instead of spinning.
-                    tracing::warn!(error = %e, "therapist hub: accept failed");
+                    if hub.gate.refusals().detail("accept failed") {
+                        tracing::warn!(error = %e, "therapist hub: accept failed");
+                    }
                     tokio::time::sleep(Duration::from_millis(100)).await;
                 }
             },
         }
     }
-}
-
-/// One connection counted against its remote address's limit; released on drop.
-struct AddressSlot {
-    hub: Arc<Hub>,
-    ip: IpAddr,
-}
-
-impl AddressSlot {
-    /// Counts a connection from `ip`, `None` if it already has the most allowed.
-    fn take(hub: &Arc<Hub>, ip: IpAddr) -> Option<Self> {
-        let mut per_address = lock(&hub.per_address);
-        let count = per_address.entry(ip).or_insert(0);
-        if *count >= hub.config.max_connections_per_address {
-            return None;
-        }
-        *count += 1;
-        Some(Self {
-            hub: hub.clone(),
-            ip,
-        })
-    }
-}
-
-impl Drop for AddressSlot {
-    fn drop(&mut self) {
-        let mut per_address = lock(&self.hub.per_address);
-        if let Some(count) = per_address.get_mut(&self.ip) {
-            *count -= 1;
-            if *count == 0 {
-                per_address.remove(&self.ip);
-            }
-        }
-    }
+    hub.summarise_refusals(true);
 }
 
 pub(super) fn error_outgoing(message: &str) -> Option<Outgoing> {
@@ -163,16 +122,39 @@ fn protocol_error(hub: &Hub, out: &Out, peer: SocketAddr, error: String) -> Stri
     format!("protocol error: {error}")
 }
 
-/// Serves one connection from TLS handshake to close. Never panics on peer input.
-async fn serve(hub: Arc<Hub>, tcp: TcpStream, peer: SocketAddr, shutdown: watch::Receiver<bool>) {
-    let Some((stream, client_cert)) = handshake(&hub, tcp, peer).await else {
+/// Serves one connection from TLS handshake to close. Never panics on peer input. Until its
+/// first frame the connection may be evicted (`ticket`) to make room for a newer one, or
+/// ended by shutdown; then it stays counted as unauthenticated until the store admits it.
+async fn serve(
+    hub: Arc<Hub>,
+    tcp: TcpStream,
+    peer: SocketAddr,
+    mut ticket: Ticket,
+    mut shutdown: watch::Receiver<bool>,
+) {
+    let handshake = tokio::select! {
+        h = handshake(&hub, tcp, peer) => h,
+        () = ticket.evicted() => None,
+        _ = shutdown.changed() => None,
+    };
+    let Some((stream, client_cert)) = handshake else {
         return;
     };
     let (rd, wr) = tokio::io::split(stream);
     let (out, mut writer) = spawn_outbox_writer(wr, hub.outbox_stats.clone());
     let mut reader = FrameReader::new(rd);
 
-    let first = match first_frame(&hub, &mut reader).await {
+    let first = tokio::select! {
+        f = first_frame(&hub, &mut reader) => Some(f),
+        () = ticket.evicted() => None,
+        _ = shutdown.changed() => None,
+    };
+    let Some(first) = first else {
+        close(out, writer).await;
+        return;
+    };
+    ticket.hold();
+    let first = match first {
         Ok(Frame::PairStart(start)) => {
             let outcome = super::pairing::serve(&hub, start, &mut reader, &out, peer).await;
             hub.emit(TherapistEvent::Pairing { peer, outcome });
@@ -185,15 +167,29 @@ async fn serve(hub: Arc<Hub>, tcp: TcpStream, peer: SocketAddr, shutdown: watch:
         addr: peer,
         certificate: client_cert.as_ref(),
     };
-    let (hello, file) = match open_session(&hub, first, peer_id).await {
+    let admitted = match hub.connections.clone().try_acquire_owned() {
+        Ok(permit) => open_session(&hub, first, peer_id)
+            .await
+            .map(|(hello, file)| (hello, file, permit)),
+        Err(_) => Err((
+            format!(
+                "the hub already serves {} stations (max_connections); try again later",
+                hub.config.max_connections
+            ),
+            None,
+        )),
+    };
+    let (hello, file, permit) = match admitted {
         Ok(v) => v,
         Err((error, code)) => {
             send(&out, coded_error_outgoing(&error, code));
-            hub.emit(TherapistEvent::ProtocolError { peer, error });
+            hub.refuse(peer, "not admitted", error);
             close(out, writer).await;
             return;
         }
     };
+    // Admitted: no longer counted against the address or the unauthenticated cap.
+    drop(ticket);
     let conn_id = register(&hub, peer, &hello, &file, &out).await;
     let reason = frame_loop(
         &hub,
@@ -208,6 +204,7 @@ async fn serve(hub: Arc<Hub>, tcp: TcpStream, peer: SocketAddr, shutdown: watch:
     .await;
     unregister(&hub, &hello, conn_id, file, reason).await;
     close(out, writer).await;
+    drop(permit);
 }
 
 /// The TLS handshake (when the hub has TLS) within the Hello timeout: the stream and the
@@ -234,7 +231,7 @@ async fn handshake(
         Ok(Err(e)) => format!("TLS handshake failed: {e}"),
         Err(_) => "TLS handshake timed out".into(),
     };
-    hub.emit(TherapistEvent::ProtocolError { peer, error });
+    hub.refuse(peer, "TLS handshake failed or timed out", error);
     None
 }
 

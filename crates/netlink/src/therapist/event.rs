@@ -48,6 +48,17 @@ pub enum TherapistEvent {
         /// What was wrong.
         error: String,
     },
+    /// Connections refused or dropped before admission that were not reported one by one
+    /// (over a connection cap, or past the per-interval budget of [`Self::ProtocolError`]
+    /// lines): one summary per interval at most, however many there were.
+    Refused {
+        /// How many.
+        count: u64,
+        /// Over how long, s.
+        interval_s: u64,
+        /// How many for each reason.
+        reasons: String,
+    },
 }
 
 impl fmt::Display for TherapistEvent {
@@ -91,6 +102,14 @@ impl fmt::Display for TherapistEvent {
             ),
             Self::Pairing { peer, outcome } => write!(f, "[{peer}] pairing: {outcome}"),
             Self::ProtocolError { peer, error } => write!(f, "[{peer}] protocol error: {error}"),
+            Self::Refused {
+                count,
+                interval_s,
+                reasons,
+            } => write!(
+                f,
+                "refused {count} connections in the last {interval_s} s ({reasons})"
+            ),
         }
     }
 }

@@ -2,6 +2,7 @@
 //! reports what happens as [`TherapistEvent`]s and can push a [`Regimen`] to a station.
 
 mod backend;
+pub mod budget;
 mod config;
 mod connection;
 mod event;
@@ -10,7 +11,7 @@ mod session;
 mod upload;
 
 use std::collections::HashMap;
-use std::net::{IpAddr, SocketAddr};
+use std::net::SocketAddr;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -26,7 +27,11 @@ use crate::tls::ServerTls;
 use crate::transport::{OUTBOX_CAPACITY, Outbox, OutboxStats, Outgoing};
 
 pub use backend::{BoxFuture, FileStore, HubStore, Peer, Refusal, SessionStore};
-pub use config::TherapistConfig;
+use budget::{ConnectionGate, GateLimits};
+pub use config::{
+    DEFAULT_MAX_CONNECTIONS, DEFAULT_MAX_CONNECTIONS_PER_ADDRESS, DEFAULT_MAX_UNAUTHENTICATED,
+    TherapistConfig,
+};
 use connection::accept_loop;
 pub use event::TherapistEvent;
 
@@ -57,9 +62,10 @@ struct Hub {
     events: mpsc::Sender<TherapistEvent>,
     events_dropped: AtomicU64,
     next_conn_id: AtomicU64,
+    /// Admitted stations (`max_connections`); unauthenticated ones are counted by `gate`.
     connections: Arc<Semaphore>,
-    /// Open connections per remote address (only addresses with at least one).
-    per_address: Mutex<HashMap<IpAddr, usize>>,
+    /// Connections not admitted yet, per address and in all.
+    gate: Arc<ConnectionGate>,
     outbox_stats: Arc<OutboxStats>,
     /// Recording bytes taken from each station today.
     daily_upload_bytes: upload::DailyBytes,
@@ -72,6 +78,8 @@ pub struct TherapistServer {
     local_addr: SocketAddr,
     shutdown_tx: watch::Sender<bool>,
     accept_task: JoinHandle<()>,
+    /// Closed (`recv` gives `None`) once the accept loop and every connection task have ended.
+    tasks_done: mpsc::Receiver<()>,
 }
 
 impl TherapistServer {
@@ -108,8 +116,16 @@ impl TherapistServer {
             .map_err(|e| NetlinkError::io("reading the listening address", e))?;
         let (events, events_rx) = mpsc::channel(EVENT_CAPACITY);
         let (shutdown_tx, shutdown_rx) = watch::channel(false);
+        let gate = ConnectionGate::new(
+            GateLimits {
+                max_total: config.max_unauthenticated,
+                max_per_address: config.max_connections_per_address,
+            },
+            "station port",
+        );
         let hub = Arc::new(Hub {
             connections: Arc::new(Semaphore::new(config.max_connections)),
+            gate,
             config,
             acceptor,
             store,
@@ -119,18 +135,19 @@ impl TherapistServer {
             events,
             events_dropped: AtomicU64::new(0),
             next_conn_id: AtomicU64::new(1),
-            per_address: Mutex::new(HashMap::new()),
             outbox_stats: Arc::new(OutboxStats::default()),
             daily_upload_bytes: upload::DailyBytes::default(),
         });
         tracing::info!(%local_addr, tls = hub.acceptor.is_some(), "therapist hub listening");
-        let accept_task = tokio::spawn(accept_loop(hub.clone(), listener, shutdown_rx));
+        let (tasks, tasks_done) = mpsc::channel(1);
+        let accept_task = tokio::spawn(accept_loop(hub.clone(), listener, shutdown_rx, tasks));
         Ok((
             Self {
                 hub,
                 local_addr,
                 shutdown_tx,
                 accept_task,
+                tasks_done,
             },
             events_rx,
         ))
@@ -146,6 +163,11 @@ impl TherapistServer {
         let mut ids: Vec<String> = lock(&self.hub.stations).keys().cloned().collect();
         ids.sort();
         ids
+    }
+
+    /// Connections not admitted yet (TLS handshake, waiting for the Hello, pairing).
+    pub fn unauthenticated_connections(&self) -> usize {
+        self.hub.gate.waiting()
     }
 
     /// Events dropped because the receiver did not keep up.
@@ -195,11 +217,10 @@ impl TherapistServer {
 
     /// Stops accepting, tells every station (Bye), syncs their files and waits up to `timeout`
     /// for the connections to close.
-    pub async fn shutdown(self, timeout: Duration) {
+    pub async fn shutdown(mut self, timeout: Duration) {
         let _ = self.shutdown_tx.send(true);
         let _ = self.accept_task.await;
-        let all = u32::try_from(self.hub.config.max_connections).unwrap_or(u32::MAX);
-        if tokio::time::timeout(timeout, self.hub.connections.acquire_many(all))
+        if tokio::time::timeout(timeout, self.tasks_done.recv())
             .await
             .is_err()
         {
@@ -218,6 +239,33 @@ impl Hub {
     fn emit(&self, event: TherapistEvent) {
         if self.events.try_send(event).is_err() {
             self.events_dropped.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+
+    /// Reports a connection refused before admission: on its own line for the first few of
+    /// an interval, then only counted in the interval's summary.
+    fn refuse(&self, peer: SocketAddr, reason: &'static str, error: String) {
+        if self.gate.refusals().detail(reason) {
+            self.emit(TherapistEvent::ProtocolError { peer, error });
+        }
+    }
+
+    /// Emits the summary of refusals not reported one by one, once per interval at most
+    /// (`now`: at once, at shutdown).
+    fn summarise_refusals(&self, now: bool) {
+        let refusals = self.gate.refusals();
+        let summary = if now {
+            refusals.take_summary_now()
+        } else {
+            refusals.take_summary()
+        };
+        if let Some(s) = summary {
+            tracing::warn!("therapist hub: {s}");
+            self.emit(TherapistEvent::Refused {
+                count: s.count,
+                interval_s: s.interval_s,
+                reasons: s.reasons,
+            });
         }
     }
 

@@ -58,12 +58,18 @@ pub enum HubCommand {
         /// Address of the therapists' console API, `host:port` (HTTPS).
         #[arg(long)]
         web: Option<String>,
-        /// Most simultaneous station connections.
-        #[arg(long, default_value_t = 2048)]
+        /// Most stations connected at once (admitted). Like every cap here, shrunk at start
+        /// (with a warning) to fit the open-file limit, which is raised to the hard limit.
+        #[arg(long, default_value_t = netlink::therapist::DEFAULT_MAX_CONNECTIONS)]
         max_connections: usize,
-        /// Most simultaneous connections from one address (stations behind one NAT).
-        #[arg(long, default_value_t = 8)]
+        /// Most station-port connections from one address not admitted yet (TLS handshake,
+        /// Hello, pairing); admitted stations do not count, so a NAT may hide any number.
+        #[arg(long, default_value_t = netlink::therapist::DEFAULT_MAX_CONNECTIONS_PER_ADDRESS)]
         max_connections_per_address: usize,
+        /// Most station-port connections not admitted yet, from all addresses; a new one over
+        /// the cap replaces the oldest still waiting for its first frame.
+        #[arg(long, default_value_t = netlink::therapist::DEFAULT_MAX_UNAUTHENTICATED)]
+        max_unauthenticated: usize,
         /// Print a line for every summary received (a demo; connections, ends and errors are
         /// always printed).
         #[arg(long)]
@@ -211,10 +217,16 @@ pub fn run(args: HubArgs) -> anyhow::Result<()> {
                 web,
                 max_connections,
                 max_connections_per_address,
+                max_unauthenticated,
                 print_summaries,
             } => {
                 let limits = (max_connections, max_connections_per_address);
-                serve(&data, &stations, web.as_deref(), limits, print_summaries).await
+                let caps = hub::clinic::HubLimits {
+                    max_unauthenticated_stations: max_unauthenticated,
+                    ..Default::default()
+                };
+                let listen = (stations.as_str(), web.as_deref());
+                serve(&data, listen, limits, caps, print_summaries).await
             }
             HubCommand::Bench {
                 stations,
@@ -286,9 +298,9 @@ fn redact(url: &str) -> String {
 
 async fn serve(
     data: &DataArgs,
-    stations: &str,
-    web: Option<&str>,
+    (stations, web): (&str, Option<&str>),
     max_connections: (usize, usize),
+    limits: hub::clinic::HubLimits,
     print_summaries: bool,
 ) -> anyhow::Result<()> {
     let (clinic, db) = open(data).await?;
@@ -305,6 +317,7 @@ async fn serve(
         now_ms: Arc::new(now_ms),
         max_connections,
         replay: Some(Arc::new(crate::therapist_view::replay_frames)),
+        limits,
     };
     let mut sigterm = tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate())
         .context("cannot install the SIGTERM handler")?;
@@ -380,6 +393,8 @@ async fn bench(
     ];
     args.extend(["--stations", "127.0.0.1:0", "--max-connections", &limit]);
     args.extend(["--max-connections-per-address", &limit]);
+    // Every simulated station connects at once, all from 127.0.0.1.
+    args.extend(["--max-unauthenticated", &limit]);
     if let Some(url) = db {
         args.extend(["--db", url]);
     }
