@@ -127,6 +127,18 @@ pub async fn load(
     rate_hz: f64,
     duration: Duration,
 ) -> LoadReport {
+    load_run(addr, stations, rate_hz, duration, 0).await
+}
+
+/// [`load`] as run number `run` of several against one clinic: each run's sessions are new
+/// (`bench-r<run>-<station>`), so no summary of one run is taken for a duplicate of another's.
+pub async fn load_run(
+    addr: SocketAddr,
+    stations: Vec<BenchStation>,
+    rate_hz: f64,
+    duration: Duration,
+    run: u32,
+) -> LoadReport {
     let period = Duration::from_secs_f64(1.0 / rate_hz);
     let n = stations.len().max(1);
     let t0 = Instant::now();
@@ -142,6 +154,7 @@ pub async fn load(
                 duration,
                 ready: ready_tx.clone(),
                 start: start_rx.clone(),
+                run,
             };
             tokio::spawn(one_station(addr, st, plan))
         })
@@ -192,6 +205,8 @@ struct Plan {
     ready: tokio::sync::mpsc::Sender<()>,
     /// The common start, once every station is ready.
     start: tokio::sync::watch::Receiver<Option<Instant>>,
+    /// The run's number (part of the session id).
+    run: u32,
 }
 
 async fn one_station(addr: SocketAddr, st: BenchStation, plan: Plan) -> StationResult {
@@ -214,6 +229,7 @@ async fn drive(
         duration,
         ready,
         mut start,
+        run,
     } = plan;
     let (connector, name) = st.tls.connector().map_err(|e| e.to_string())?;
     let tcp = TcpStream::connect(addr).await.map_err(|e| e.to_string())?;
@@ -223,7 +239,11 @@ async fn drive(
         .await
         .map_err(|e| e.to_string())?;
     let (mut rd, mut wr) = tokio::io::split(tls);
-    let session_id = format!("bench-{}", st.station_id);
+    let session_id = if run == 0 {
+        format!("bench-{}", st.station_id)
+    } else {
+        format!("bench-r{run}-{}", st.station_id)
+    };
     let hello = Frame::Hello(Hello {
         protocol_version: PROTOCOL_VERSION,
         min_protocol_version: None,
@@ -347,4 +367,209 @@ pub fn describe(
         s.push_str(&format!("first error: {e}\n"));
     }
     s
+}
+
+/// CPU time (user + system, s) of `pid`, with that of its waited-for children when
+/// `children` (a PostgreSQL postmaster's exited backends).
+fn cpu_s(pid: u32, children: bool) -> Option<f64> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    let fields: Vec<&str> = stat.rsplit_once(')')?.1.split_whitespace().collect();
+    let field = |i: usize| fields.get(i).and_then(|f| f.parse::<f64>().ok());
+    let mut ticks = field(11)? + field(12)?;
+    if children {
+        ticks += field(13)? + field(14)?;
+    }
+    // USER_HZ is 100 on Linux.
+    Some(ticks / 100.0)
+}
+
+/// The parent of `pid`.
+fn parent_of(pid: u32) -> Option<u32> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    stat.rsplit_once(')')?
+        .1
+        .split_whitespace()
+        .nth(1)?
+        .parse()
+        .ok()
+}
+
+/// The TCP port of a `postgres://…` URL (5432 if none is given).
+pub fn postgres_port(url: &str) -> Option<u16> {
+    let rest = url.split_once("://")?.1;
+    let host_port = rest.rsplit_once('@').map_or(rest, |(_, h)| h);
+    let host_port = host_port.split(['/', '?']).next()?;
+    match host_port.rsplit_once(':') {
+        Some((_, port)) if !port.contains(']') => port.parse().ok(),
+        _ => Some(5432),
+    }
+}
+
+/// The process listening on TCP `port` of this machine (from /proc/net/tcp{,6} and the
+/// processes' descriptors), if visible to this user.
+fn listener_pid(port: u16) -> Option<u32> {
+    let hex_port = format!(":{port:04X}");
+    let mut inodes = std::collections::HashSet::new();
+    for table in ["/proc/net/tcp", "/proc/net/tcp6"] {
+        let Ok(text) = std::fs::read_to_string(table) else {
+            continue;
+        };
+        for line in text.lines().skip(1) {
+            let f: Vec<&str> = line.split_whitespace().collect();
+            // local_address, state 0A = LISTEN, inode.
+            if f.len() > 9 && f[1].ends_with(&hex_port) && f[3] == "0A" {
+                inodes.insert(format!("socket:[{}]", f[9]));
+            }
+        }
+    }
+    let procs = std::fs::read_dir("/proc").ok()?;
+    for entry in procs.filter_map(Result::ok) {
+        let Some(pid) = entry
+            .file_name()
+            .to_str()
+            .and_then(|n| n.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        let Ok(fds) = std::fs::read_dir(entry.path().join("fd")) else {
+            continue;
+        };
+        for fd in fds.filter_map(Result::ok) {
+            if let Ok(link) = std::fs::read_link(fd.path())
+                && inodes.contains(link.to_string_lossy().as_ref())
+            {
+                return Some(pid);
+            }
+        }
+    }
+    None
+}
+
+/// The PostgreSQL server behind `url` (on this machine): its postmaster and the processes it
+/// started, whose CPU [`postgres_cpu_s`] sums. `None` if it cannot be found.
+pub fn postgres_server(url: &str) -> Option<u32> {
+    listener_pid(postgres_port(url)?)
+}
+
+/// CPU time (s) of the PostgreSQL server whose postmaster is `postmaster`: itself with its
+/// exited children, and every live process it started (backends, writers).
+pub fn postgres_cpu_s(postmaster: u32) -> Option<f64> {
+    let mut total = cpu_s(postmaster, true)?;
+    for entry in std::fs::read_dir("/proc").ok()?.filter_map(Result::ok) {
+        let Some(pid) = entry
+            .file_name()
+            .to_str()
+            .and_then(|n| n.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        if parent_of(pid) == Some(postmaster) {
+            total += cpu_s(pid, false).unwrap_or(0.0);
+        }
+    }
+    Some(total)
+}
+
+/// One run's figures.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunFigures {
+    /// Ingest latency p50, ms.
+    pub p50_ms: f64,
+    /// Ingest latency p99, ms.
+    pub p99_ms: f64,
+    /// The hub's CPU, % of one core.
+    pub hub_cpu_pct: f64,
+    /// The PostgreSQL server's CPU, % of one core (`None` on SQLite).
+    pub db_cpu_pct: Option<f64>,
+    /// Summaries sent and not acknowledged.
+    pub lost: u64,
+}
+
+/// Median and range of `values` (NaN-free input), as `median [min–max]`.
+pub fn median_and_range(values: &[f64]) -> Option<(f64, f64, f64)> {
+    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+    if v.is_empty() {
+        return None;
+    }
+    v.sort_by(f64::total_cmp);
+    let mid = v.len() / 2;
+    let median = if v.len() % 2 == 1 {
+        v[mid]
+    } else {
+        f64::midpoint(v[mid - 1], v[mid])
+    };
+    Some((median, v[0], v[v.len() - 1]))
+}
+
+/// The closing lines of a multi-run bench: median and spread (min–max) of each figure.
+pub fn describe_runs(runs: &[RunFigures]) -> String {
+    let line = |name: &str, unit: &str, values: Vec<f64>| {
+        median_and_range(&values).map_or(String::new(), |(m, lo, hi)| {
+            format!("  {name:<22} {m:>8.2} {unit:<3} [{lo:.2}–{hi:.2}]\n")
+        })
+    };
+    let mut s = format!("median of {} runs [min–max]:\n", runs.len());
+    s.push_str(&line(
+        "ingest p50",
+        "ms",
+        runs.iter().map(|r| r.p50_ms).collect(),
+    ));
+    s.push_str(&line(
+        "ingest p99",
+        "ms",
+        runs.iter().map(|r| r.p99_ms).collect(),
+    ));
+    s.push_str(&line(
+        "hub CPU",
+        "%",
+        runs.iter().map(|r| r.hub_cpu_pct).collect(),
+    ));
+    let db: Vec<f64> = runs.iter().filter_map(|r| r.db_cpu_pct).collect();
+    if !db.is_empty() {
+        s.push_str(&line("PostgreSQL CPU", "%", db));
+    }
+    let lost: u64 = runs.iter().map(|r| r.lost).sum();
+    s.push_str(&format!("  unacknowledged (all runs) {lost}\n"));
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn median_and_range_of_three_runs_and_of_an_even_count() {
+        assert_eq!(
+            median_and_range(&[215.0, 32.0, 962.0]),
+            Some((215.0, 32.0, 962.0))
+        );
+        assert_eq!(
+            median_and_range(&[4.0, 1.0, 2.0, 3.0]),
+            Some((2.5, 1.0, 4.0))
+        );
+        assert_eq!(median_and_range(&[f64::NAN]), None);
+    }
+
+    #[test]
+    fn the_postgres_port_is_read_from_the_url_with_5432_by_default() {
+        assert_eq!(
+            postgres_port("postgres://postgres@127.0.0.1:5433/postgres"),
+            Some(5433)
+        );
+        assert_eq!(
+            postgres_port("postgres://u:p:w@localhost/db?sslmode=disable"),
+            Some(5432)
+        );
+        assert_eq!(postgres_port("postgresql://[::1]:6000/x"), Some(6000));
+    }
+
+    #[test]
+    fn this_process_cpu_time_and_parent_are_read_from_proc() {
+        assert!(cpu_s(std::process::id(), true).is_some_and(|s| s >= 0.0));
+        assert_eq!(
+            parent_of(std::process::id()),
+            Some(std::os::unix::process::parent_id())
+        );
+        assert_eq!(cpu_s(u32::MAX, false), None);
+    }
 }

@@ -94,7 +94,16 @@ pub enum HubCommand {
         /// generator (pin it with `taskset -c 1 telerehab hub bench …`) does not share them.
         #[arg(long)]
         hub_cpus: Option<String>,
+        /// Runs (each a fresh hub process and new sessions on the same clinic); the report
+        /// gives each run and the median and spread (min–max).
+        #[arg(long, default_value_t = 3)]
+        runs: u32,
     },
+    /// A compressed clinic day on two hubs sharing one PostgreSQL (its own throwaway
+    /// server), with hubs, stations and the database killed at random and restarted; fails
+    /// unless every summary is stored exactly once, every recording verified, no station stuck
+    /// and the audit log complete.
+    Chaos(crate::commands::hub_chaos::ChaosArgs),
     /// Patients.
     #[command(subcommand)]
     Patient(PatientCommand),
@@ -234,16 +243,17 @@ pub fn run(args: HubArgs) -> anyhow::Result<()> {
                 seconds,
                 db,
                 hub_cpus,
+                runs,
             } => {
-                bench(
+                let load = BenchLoad {
                     stations,
                     rate_hz,
                     seconds,
-                    db.as_deref(),
-                    hub_cpus.as_deref(),
-                )
-                .await
+                    runs,
+                };
+                bench(load, db.as_deref(), hub_cpus.as_deref()).await
             }
+            HubCommand::Chaos(args) => crate::commands::hub_chaos::run(args).await,
             HubCommand::Patient(c) => patient(c).await,
             HubCommand::Station(StationCommand::Revoke { data, station_id }) => {
                 let (_, db) = open(&data).await?;
@@ -347,19 +357,31 @@ async fn serve(
     Ok(())
 }
 
-/// `hub bench`: a fresh clinic, `stations` provisioned, the hub in a child process.
-async fn bench(
+/// What `hub bench` loads the hub with.
+struct BenchLoad {
     stations: usize,
     rate_hz: f64,
     seconds: f64,
-    db: Option<&str>,
-    hub_cpus: Option<&str>,
-) -> anyhow::Result<()> {
+    runs: u32,
+}
+
+/// `hub bench`: a fresh clinic, `stations` provisioned, then `runs` runs, each against a new
+/// hub child process.
+async fn bench(load: BenchLoad, db: Option<&str>, hub_cpus: Option<&str>) -> anyhow::Result<()> {
+    let BenchLoad {
+        stations,
+        rate_hz,
+        seconds,
+        runs,
+    } = load;
     if !((1..=20_000).contains(&stations) && rate_hz > 0.0 && rate_hz <= 1000.0) {
         bail!("--stations must be 1 to 20000 and --rate-hz in (0, 1000]");
     }
     if !(seconds.is_finite() && seconds >= 1.0) {
         bail!("--seconds must be at least 1");
+    }
+    if !(1..=100).contains(&runs) {
+        bail!("--runs must be 1 to 100");
     }
     let tmp = tempfile::tempdir().context("cannot make a temporary clinic")?;
     let data = tmp.path().join("clinic");
@@ -384,6 +406,36 @@ async fn bench(
     )
     .await?;
     hub_db.close().await;
+    // The PostgreSQL server's CPU is counted too: it does half of the storing.
+    let postmaster = db.and_then(hub::bench::postgres_server);
+    if db.is_some() && postmaster.is_none() {
+        println!("(the PostgreSQL server's process is not visible here: its CPU is not counted)");
+    }
+    println!(
+        "hub bench: {stations} stations × {rate_hz} Hz for {seconds} s on {}{}, {runs} runs",
+        if db.is_some() { "PostgreSQL" } else { "SQLite" },
+        hub_cpus.map_or(String::new(), |c| format!(", hub on CPUs {c}"))
+    );
+    let mut figures = Vec::new();
+    for run in 0..runs {
+        let spec = (data.as_path(), db, hub_cpus, postmaster);
+        let f = bench_run(spec, &provisioned, (rate_hz, seconds), run, stations).await?;
+        figures.push(f);
+    }
+    if runs > 1 {
+        print!("{}", hub::bench::describe_runs(&figures));
+    }
+    Ok(())
+}
+
+/// One run: a hub child process, the load, its figures (printed).
+async fn bench_run(
+    (data, db, hub_cpus, postmaster): (&std::path::Path, Option<&str>, Option<&str>, Option<u32>),
+    provisioned: &[hub::bench::BenchStation],
+    (rate_hz, seconds): (f64, f64),
+    run: u32,
+    stations: usize,
+) -> anyhow::Result<hub::bench::RunFigures> {
     let limit = (stations + 16).to_string();
     let mut args = vec![
         "hub",
@@ -426,23 +478,28 @@ async fn bench(
     let pid = child.id().context("hub pid")?;
     let before = hub::bench::process_usage(pid);
     let generator_before = hub::bench::process_usage(std::process::id());
-    let report = hub::bench::load(
+    let db_before = postmaster.and_then(hub::bench::postgres_cpu_s);
+    let report = hub::bench::load_run(
         addr,
-        provisioned,
+        provisioned.to_vec(),
         rate_hz,
         std::time::Duration::from_secs_f64(seconds),
+        run + 1,
     )
     .await;
     let after = hub::bench::process_usage(pid);
     let generator_after = hub::bench::process_usage(std::process::id());
+    let db_after = postmaster.and_then(hub::bench::postgres_cpu_s);
     let usage = before.zip(after).map(|(b, a)| (a.0 - b.0, a.1));
     let _ = child.kill().await;
-    println!(
-        "hub bench: {stations} stations × {rate_hz} Hz for {seconds} s on {}{}",
-        if db.is_some() { "PostgreSQL" } else { "SQLite" },
-        hub_cpus.map_or(String::new(), |c| format!(", hub on CPUs {c}"))
-    );
+    println!("run {}:", run + 1);
     print!("{}", hub::bench::describe(&report, seconds, rate_hz, usage));
+    let db_cpu_pct = db_before
+        .zip(db_after)
+        .map(|(b, a)| 100.0 * (a - b) / seconds);
+    if let Some(pct) = db_cpu_pct {
+        println!("PostgreSQL server CPU {pct:.0} % of one core (postmaster and its processes)");
+    }
     if let Some((b, a)) = generator_before.zip(generator_after) {
         // The latency is measured here: a saturated generator reads its Acks late.
         println!(
@@ -450,7 +507,13 @@ async fn bench(
             100.0 * (a.0 - b.0) / seconds
         );
     }
-    Ok(())
+    Ok(hub::bench::RunFigures {
+        p50_ms: report.latency_ms.0,
+        p99_ms: report.latency_ms.1,
+        hub_cpu_pct: usage.map_or(f64::NAN, |(cpu, _)| 100.0 * cpu / seconds),
+        db_cpu_pct,
+        lost: report.sent.saturating_sub(report.acked),
+    })
 }
 
 async fn patient(command: PatientCommand) -> anyhow::Result<()> {

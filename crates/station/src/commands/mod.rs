@@ -5,6 +5,7 @@
 pub mod bench;
 pub mod devices;
 pub mod hub;
+pub mod hub_chaos;
 pub mod pair;
 pub mod recover;
 pub mod render;

@@ -1,0 +1,426 @@
+//! `telerehab hub chaos`: a compressed clinic day on two hubs sharing one PostgreSQL database,
+//! with hubs (SIGKILL and SIGTERM), stations and the PostgreSQL server killed at random
+//! (seeded) and restarted. At the end every summary must be stored exactly once, every
+//! recording stored with the SHA-256 its station computed, every station done within the
+//! deadline and every pairing and upload in the audit log; the report lists each violation
+//! and the command fails if there is one.
+//!
+//! The PostgreSQL server is the command's own (see [`postgres`]: `initdb` and `pg_ctl` from
+//! `$TELEREHAB_PG_BINDIR` or `/usr/lib/postgresql/*/bin`); without one the command fails with
+//! "PostgreSQL unavailable: …". The hubs are `telerehab hub serve` child processes on one data
+//! directory (hence one CA), each on its own ports; the stations run in this process
+//! ([`station`]).
+
+mod check;
+mod hubs;
+mod postgres;
+mod station;
+
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, bail};
+use rand::{Rng, SeedableRng};
+use tokio::sync::mpsc;
+
+use hubs::{Hub, HubSpec, Signal};
+use postgres::Postgres;
+use station::{DayPlan, StationLedger, World};
+
+/// `telerehab hub chaos`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ChaosArgs {
+    /// Simulated stations.
+    #[arg(long, default_value_t = 100)]
+    pub stations: usize,
+    /// Seed of every random choice (what is killed when, for how long; recordings' bytes).
+    #[arg(long, default_value_t = 7)]
+    pub seed: u64,
+    /// Length of the compressed day, s: stations switch on in its first 30 %, their sessions
+    /// fill half of it, the chaos happens between 5 % and 80 % of it.
+    #[arg(long, default_value_t = 600.0)]
+    pub day_s: f64,
+    /// Sessions per station.
+    #[arg(long, default_value_t = 3)]
+    pub sessions: u32,
+    /// Kills over the day (each of the four kinds at least once when there are four or more);
+    /// default one per 15 s of the day.
+    #[arg(long)]
+    pub events: Option<usize>,
+    /// Every station must be done this long after the start, s; default 1.5 × the day.
+    #[arg(long)]
+    pub deadline_s: Option<f64>,
+    /// Keep the clinic, the stations' homes and the hubs' logs here (default: a temporary
+    /// directory, removed).
+    #[arg(long, value_name = "DIR")]
+    pub keep: Option<std::path::PathBuf>,
+}
+
+/// Now, ms since the Unix epoch.
+pub fn unix_ms() -> u64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| u64::try_from(d.as_millis()).unwrap_or(u64::MAX))
+}
+
+/// One kill in the day's schedule.
+#[derive(Debug, Clone, Copy)]
+enum Kind {
+    Hub(Signal),
+    Station,
+    Postgres,
+}
+
+/// The day's kills: (time s, kind, which, downtime s), in time order.
+fn schedule(rng: &mut impl Rng, day_s: f64, n: usize) -> Vec<(f64, Kind, usize, f64)> {
+    let kinds = [
+        Kind::Hub(Signal::Kill),
+        Kind::Hub(Signal::Term),
+        Kind::Station,
+        Kind::Postgres,
+    ];
+    let mut first: Vec<Kind> = kinds.to_vec();
+    // Every kind once (shuffled), then at random.
+    for k in (1..first.len()).rev() {
+        first.swap(k, rng.random_range(0..=k));
+    }
+    let mut events: Vec<(f64, Kind, usize, f64)> = (0..n)
+        .map(|k| {
+            let kind = first
+                .get(k)
+                .copied()
+                .unwrap_or_else(|| kinds[rng.random_range(0..kinds.len())]);
+            let at = day_s * rng.random_range(0.05..0.8);
+            let down = (day_s * rng.random_range(0.003..0.015)).max(0.5);
+            (at, kind, rng.random_range(0..usize::MAX), down)
+        })
+        .collect();
+    events.sort_by(|a, b| a.0.total_cmp(&b.0));
+    events
+}
+
+fn free_port() -> anyhow::Result<std::net::SocketAddr> {
+    let l = std::net::TcpListener::bind("127.0.0.1:0").context("no free port")?;
+    Ok(l.local_addr()?)
+}
+
+/// Runs the day and prints the report; an error if any promise was broken.
+pub async fn run(args: ChaosArgs) -> anyhow::Result<()> {
+    if !(1..=1000).contains(&args.stations) || !(1..=100).contains(&args.sessions) {
+        bail!("--stations must be 1 to 1000 and --sessions 1 to 100");
+    }
+    if !(args.day_s.is_finite() && (5.0..=86_400.0).contains(&args.day_s)) {
+        bail!("--day-s must be 5 to 86400");
+    }
+    let deadline_s = args.deadline_s.unwrap_or(args.day_s * 1.5);
+    let n_events = args.events.unwrap_or((args.day_s / 15.0).round() as usize);
+    let pg = Postgres::start_new()
+        .await
+        .map_err(|e| anyhow::anyhow!("PostgreSQL unavailable: {e:#}"))?;
+    let tmp = tempfile::tempdir().context("cannot make the day's directory")?;
+    let dir = args.keep.clone().unwrap_or_else(|| tmp.path().to_owned());
+    let result = day(&args, &pg, &dir, deadline_s, n_events).await;
+    if let Err(e) = pg.stop().await {
+        eprintln!("chaos: stopping PostgreSQL: {e:#}");
+    }
+    let violations = result?;
+    if violations > 0 {
+        bail!("the chaos day broke {violations} promises (listed above)");
+    }
+    Ok(())
+}
+
+/// The clinic, its patients and their pairing codes.
+async fn clinic(
+    dir: &std::path::Path,
+    url: &str,
+    stations: usize,
+) -> anyhow::Result<(hub::db::Db, Vec<StationLedger>)> {
+    let clinic = hub::clinic::Clinic::at(dir.join("clinic"));
+    let names = ["localhost".to_owned(), "127.0.0.1".to_owned()];
+    let now = i64::try_from(unix_ms()).unwrap_or(i64::MAX);
+    clinic
+        .init("chaos@clinic.example", &names, Some(url), now)
+        .await?;
+    let db = clinic.open_db(Some(url)).await?;
+    let mut ledger = Vec::with_capacity(stations);
+    for i in 0..stations {
+        let p = db.add_patient(&format!("CHAOS-{i:04}"), None, now).await?;
+        let code = db.create_pairing_code(&p.id, now, 3_600_000).await?;
+        ledger.push(StationLedger {
+            patient_id: p.id,
+            code,
+            phase: "off".into(),
+            ..StationLedger::default()
+        });
+    }
+    Ok((db, ledger))
+}
+
+async fn day(
+    args: &ChaosArgs,
+    pg: &Postgres,
+    dir: &std::path::Path,
+    deadline_s: f64,
+    n_events: usize,
+) -> anyhow::Result<usize> {
+    let url = pg.url();
+    let (db, ledger) = clinic(dir, &url, args.stations).await?;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(args.seed);
+    let exe = std::env::current_exe().context("cannot find this executable")?;
+    let mut hubs = Vec::new();
+    for k in 0..2 {
+        hubs.push(Hub::start(HubSpec {
+            exe: exe.clone(),
+            data: dir.join("clinic"),
+            db: url.clone(),
+            stations: free_port()?,
+            web: free_port()?,
+            log: dir.join(format!("hub-{k}.log")),
+        }));
+    }
+    let p = args.sessions;
+    let plan = DayPlan {
+        sessions: p,
+        session_s: args.day_s * 0.45 / f64::from(p),
+        gap_s: args.day_s * 0.05 / f64::from(p),
+        rate_hz: 10.0,
+        start_s: (0..args.stations)
+            .map(|_| rng.random_range(0.0..args.day_s * 0.3))
+            .collect(),
+        seed: args.seed,
+    };
+    let events = schedule(&mut rng, args.day_s, n_events);
+    println!(
+        "hub chaos: {} stations × {} sessions of {:.1} s at 10 Hz over a {} s day, seed {}, \
+         2 hubs on PostgreSQL {}, {} kills",
+        args.stations,
+        p,
+        plan.session_s,
+        args.day_s,
+        args.seed,
+        pg.version,
+        events.len()
+    );
+    let world = Arc::new(World {
+        hubs: [hubs[0].stations, hubs[1].stations],
+        ledger: Mutex::new(ledger),
+        desk: db.clone(),
+        plan,
+        t0: Instant::now(),
+        homes: dir.join("stations"),
+    });
+    let mut kills = Vec::with_capacity(args.stations);
+    let mut runners = tokio::task::JoinSet::new();
+    for i in 0..args.stations {
+        let (tx, rx) = mpsc::unbounded_channel();
+        kills.push(tx);
+        runners.spawn(station_runner(world.clone(), i, rx));
+    }
+    let mut tally = Tally::default();
+    let deadline = world.t0 + Duration::from_secs_f64(deadline_s);
+    let mut events = events.into_iter().peekable();
+    loop {
+        let next = events
+            .peek()
+            .map(|e| world.t0 + Duration::from_secs_f64(e.0));
+        tokio::select! {
+            () = sleep_until_opt(next) => {
+                if let Some(event) = events.next() {
+                    act(event, &world, &hubs, pg, &kills, &mut tally).await;
+                }
+            }
+            joined = runners.join_next() => if joined.is_none() { break },
+            () = tokio::time::sleep_until(deadline.into()) => break,
+        }
+    }
+    runners.abort_all();
+    // The checks read the database: make sure its server runs.
+    if tally.pg_down {
+        let _ = pg.start().await;
+    }
+    let ledger = world
+        .ledger
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+        .clone();
+    let verdict = check::check(&db, &ledger).await;
+    let mut stats = Vec::new();
+    for h in hubs {
+        stats.push(h.stop().await);
+    }
+    db.close().await;
+    Ok(report(&ledger, &verdict, &stats, &tally, deadline_s))
+}
+
+async fn sleep_until_opt(at: Option<Instant>) {
+    match at {
+        Some(t) => tokio::time::sleep_until(t.into()).await,
+        None => std::future::pending().await,
+    }
+}
+
+/// Runs a station until its day is done; a message kills it (its future is dropped) and it
+/// restarts from its home after the given pause.
+async fn station_runner(world: Arc<World>, i: usize, mut kills: mpsc::UnboundedReceiver<Duration>) {
+    loop {
+        tokio::select! {
+            () = station::run(world.clone(), i) => return,
+            Some(down) = kills.recv() => {
+                {
+                    let mut l = world.ledger.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+                    l[i].kills += 1;
+                    "killed".clone_into(&mut l[i].phase);
+                }
+                tokio::time::sleep(down).await;
+            }
+        }
+    }
+}
+
+/// What the chaos did.
+#[derive(Debug, Default)]
+struct Tally {
+    hub_kills: u32,
+    hub_terms: u32,
+    station_kills: u32,
+    pg_kills: u32,
+    skipped: u32,
+    pg_down: bool,
+    errors: Vec<String>,
+}
+
+async fn act(
+    (at, kind, which, down_s): (f64, Kind, usize, f64),
+    world: &World,
+    hubs: &[Hub],
+    pg: &Postgres,
+    kills: &[mpsc::UnboundedSender<Duration>],
+    tally: &mut Tally,
+) {
+    let down = Duration::from_secs_f64(down_s);
+    let what = match kind {
+        Kind::Hub(signal) => {
+            let h = which % hubs.len();
+            if hubs[h].kill(signal, down).await {
+                match signal {
+                    Signal::Kill => tally.hub_kills += 1,
+                    Signal::Term => tally.hub_terms += 1,
+                }
+                format!("{signal:?} hub {h}")
+            } else {
+                tally.skipped += 1;
+                format!("{signal:?} hub {h}: already down, skipped")
+            }
+        }
+        Kind::Station => {
+            let ledger = world
+                .ledger
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            let running: Vec<usize> = (0..ledger.len())
+                .filter(|&i| ledger[i].finished_s.is_none() && ledger[i].phase != "killed")
+                .collect();
+            drop(ledger);
+            if running.is_empty() {
+                tally.skipped += 1;
+                "kill a station: none running, skipped".into()
+            } else {
+                let i = running[which % running.len()];
+                let _ = kills[i].send(down);
+                tally.station_kills += 1;
+                format!("kill station {i}")
+            }
+        }
+        Kind::Postgres => {
+            tally.pg_kills += 1;
+            match pg.kill().await {
+                Ok(()) => tally.pg_down = true,
+                Err(e) => tally.errors.push(format!("killing PostgreSQL: {e:#}")),
+            }
+            tokio::time::sleep(down).await;
+            match pg.start().await {
+                Ok(()) => tally.pg_down = false,
+                Err(e) => tally.errors.push(format!("restarting PostgreSQL: {e:#}")),
+            }
+            "kill PostgreSQL (pg_ctl stop -m immediate)".into()
+        }
+    };
+    println!("  {at:6.1} s  {what}, down {down_s:.1} s");
+}
+
+/// Prints the report; the number of violations.
+fn report(
+    ledger: &[StationLedger],
+    v: &check::Verdict,
+    hubs: &[hubs::HubStats],
+    t: &Tally,
+    deadline_s: f64,
+) -> usize {
+    let sum = |f: fn(&StationLedger) -> u64| ledger.iter().map(f).sum::<u64>();
+    let own_exits: usize = hubs.iter().map(|h| h.own_exits.len()).sum();
+    println!(
+        "chaos: hub SIGKILL {}, hub SIGTERM {}, station kills {}, PostgreSQL kills {}, skipped {}; \
+         hub starts {}, hub exits on their own {own_exits}",
+        t.hub_kills,
+        t.hub_terms,
+        t.station_kills,
+        t.pg_kills,
+        t.skipped,
+        hubs.iter().map(|h| h.starts).sum::<u32>(),
+    );
+    println!(
+        "stations: {} paired, {} done (slowest at {:.1} s, deadline {deadline_s:.0} s); \
+         failovers {}, pairing codes reissued {}, pairings rate-limited {}",
+        v.paired,
+        v.finished,
+        v.slowest_s,
+        sum(|l| l.failovers),
+        sum(|l| u64::from(l.codes_reissued)),
+        sum(|l| u64::from(l.pairing_rate_limited)),
+    );
+    println!(
+        "summaries: {} produced in {} sessions, {} stored exactly once, {} missing, {} extra",
+        v.produced, v.sessions, v.stored_once, v.missing, v.extra
+    );
+    println!(
+        "recordings: {} written, {} stored and SHA-256 verified",
+        v.recordings, v.recordings_verified
+    );
+    println!(
+        "audit: {} station_paired, {} recording_uploaded entries",
+        v.audited.0, v.audited.1
+    );
+    let mut violations: Vec<String> = v.violations.clone();
+    for (k, h) in hubs.iter().enumerate() {
+        if h.slow_stops > 0 {
+            violations.push(format!(
+                "hub {k} did not stop within {} s of SIGTERM {} times",
+                hubs::TERM_WITHIN.as_secs(),
+                h.slow_stops
+            ));
+        }
+        for e in &h.spawn_errors {
+            violations.push(format!("hub {k} could not be started: {e}"));
+        }
+        for e in h.own_exits.iter().take(3) {
+            println!("note: hub {k} exited on its own (restarted): {e}");
+        }
+    }
+    violations.extend(t.errors.iter().cloned());
+    for line in violations.iter().take(30) {
+        println!("VIOLATION: {line}");
+    }
+    if violations.len() > 30 {
+        println!("… and {} more", violations.len() - 30);
+    }
+    println!(
+        "verdict: {}",
+        if violations.is_empty() {
+            "OK — nothing lost, nothing duplicated, nobody stuck".to_owned()
+        } else {
+            format!("{} violations", violations.len())
+        }
+    );
+    violations.len()
+}

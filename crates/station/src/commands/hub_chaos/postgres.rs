@@ -1,0 +1,204 @@
+//! A throwaway PostgreSQL server the chaos day owns: `initdb` into a temporary directory, then
+//! `pg_ctl start`, `pg_ctl stop -m immediate` (a crash: no checkpoint, clients cut off) and
+//! `pg_ctl start` again, as `scripts/with-postgres.sh` does. The binaries are taken from
+//! `$TELEREHAB_PG_BINDIR`, else the newest `/usr/lib/postgresql/*/bin`. Run as root, the server
+//! runs as the `postgres` OS user (initdb refuses root).
+
+use anyhow::{Context, bail};
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+/// The server: its binaries, cluster directory and port.
+#[derive(Debug)]
+pub struct Postgres {
+    bindir: PathBuf,
+    /// Owns the cluster; removed on drop.
+    dir: tempfile::TempDir,
+    port: u16,
+    /// `runuser -u postgres --` when running as root.
+    as_user: Vec<String>,
+    /// The server's version, e.g. `16.4`.
+    pub version: String,
+}
+
+/// The directory holding `initdb` and `pg_ctl`.
+fn bindir() -> anyhow::Result<PathBuf> {
+    if let Some(dir) = std::env::var_os("TELEREHAB_PG_BINDIR").filter(|d| !d.is_empty()) {
+        return Ok(PathBuf::from(dir));
+    }
+    let mut candidates: Vec<(u32, PathBuf)> = std::fs::read_dir("/usr/lib/postgresql")
+        .context("no /usr/lib/postgresql (install postgresql or set TELEREHAB_PG_BINDIR)")?
+        .filter_map(Result::ok)
+        .filter_map(|e| {
+            let major = e.file_name().to_str()?.parse::<u32>().ok()?;
+            Some((major, e.path().join("bin")))
+        })
+        .filter(|(_, bin)| bin.join("initdb").exists())
+        .collect();
+    candidates.sort();
+    candidates
+        .pop()
+        .map(|(_, bin)| bin)
+        .context("no initdb under /usr/lib/postgresql/*/bin")
+}
+
+fn free_port() -> anyhow::Result<u16> {
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").context("no free port")?;
+    Ok(listener.local_addr()?.port())
+}
+
+/// Runs `program args` (as the server's user), failing with the tail of its output.
+async fn run_as(as_user: &[String], program: &Path, args: &[&str]) -> anyhow::Result<()> {
+    let mut command = match as_user.split_first() {
+        Some((first, rest)) => {
+            let mut c = tokio::process::Command::new(first);
+            c.args(rest).arg(program);
+            c
+        }
+        None => tokio::process::Command::new(program),
+    };
+    let out = tokio::time::timeout(
+        Duration::from_secs(60),
+        command.args(args).kill_on_drop(true).output(),
+    )
+    .await
+    .with_context(|| format!("{} did not finish within 60 s", program.display()))?
+    .with_context(|| format!("cannot run {}", program.display()))?;
+    if !out.status.success() {
+        let text = format!(
+            "{}{}",
+            String::from_utf8_lossy(&out.stderr),
+            String::from_utf8_lossy(&out.stdout)
+        );
+        let tail: Vec<&str> = text.lines().rev().take(4).collect();
+        bail!(
+            "{} {}: {}",
+            program.display(),
+            out.status,
+            tail.into_iter().rev().collect::<Vec<_>>().join(" / ")
+        );
+    }
+    Ok(())
+}
+
+impl Postgres {
+    /// Makes a cluster and starts it. An error here means "PostgreSQL unavailable".
+    pub async fn start_new() -> anyhow::Result<Self> {
+        let bindir = bindir()?;
+        let dir = tempfile::Builder::new()
+            .prefix("telerehab-chaos-pg.")
+            .tempdir()
+            .context("cannot make the cluster's directory")?;
+        let mut as_user = Vec::new();
+        // /proc/self belongs to the process's effective user.
+        let euid = std::os::unix::fs::MetadataExt::uid(&std::fs::metadata("/proc/self")?);
+        if euid == 0 {
+            let uid = std::process::Command::new("id")
+                .args(["-u", "postgres"])
+                .output()
+                .ok()
+                .filter(|o| o.status.success())
+                .and_then(|o| {
+                    String::from_utf8_lossy(&o.stdout)
+                        .trim()
+                        .parse::<u32>()
+                        .ok()
+                })
+                .context("running as root but there is no `postgres` OS user to run the server")?;
+            std::os::unix::fs::chown(dir.path(), Some(uid), None)
+                .context("cannot give the cluster's directory to the postgres user")?;
+            as_user = ["runuser", "-u", "postgres", "--"]
+                .map(String::from)
+                .to_vec();
+        }
+        let version = std::process::Command::new(bindir.join("postgres"))
+            .arg("--version")
+            .output()
+            .ok()
+            .and_then(|o| {
+                String::from_utf8_lossy(&o.stdout)
+                    .split_whitespace()
+                    .nth(2)
+                    .map(str::to_owned)
+            })
+            .unwrap_or_else(|| "?".into());
+        let pg = Self {
+            port: free_port()?,
+            bindir,
+            dir,
+            as_user,
+            version,
+        };
+        let data = pg.data();
+        run_as(
+            &pg.as_user,
+            &pg.bindir.join("initdb"),
+            &[
+                "-D",
+                path_str(&data)?,
+                "-U",
+                "postgres",
+                "--auth=trust",
+                "-E",
+                "UTF8",
+                "--no-sync",
+            ],
+        )
+        .await?;
+        pg.start().await?;
+        Ok(pg)
+    }
+
+    fn data(&self) -> PathBuf {
+        self.dir.path().join("data")
+    }
+
+    /// The database URL.
+    pub fn url(&self) -> String {
+        format!("postgres://postgres@127.0.0.1:{}/postgres", self.port)
+    }
+
+    async fn pg_ctl(&self, args: &[&str]) -> anyhow::Result<()> {
+        let data = self.data();
+        let mut all = vec!["-D", path_str(&data)?];
+        all.extend_from_slice(args);
+        run_as(&self.as_user, &self.bindir.join("pg_ctl"), &all).await
+    }
+
+    /// Starts the server and waits until it accepts connections.
+    pub async fn start(&self) -> anyhow::Result<()> {
+        let log = self.dir.path().join("server.log");
+        let options = format!(
+            "-c listen_addresses=127.0.0.1 -p {} -k {} -c fsync=off -c max_connections=200",
+            self.port,
+            path_str(self.dir.path())?
+        );
+        self.pg_ctl(&[
+            "-l",
+            path_str(&log)?,
+            "-w",
+            "-t",
+            "30",
+            "-o",
+            &options,
+            "start",
+        ])
+        .await
+    }
+
+    /// Crashes the server: `pg_ctl stop -m immediate` (no checkpoint; recovery at restart).
+    pub async fn kill(&self) -> anyhow::Result<()> {
+        self.pg_ctl(&["-w", "-t", "30", "-m", "immediate", "stop"])
+            .await
+    }
+
+    /// Stops the server in order.
+    pub async fn stop(&self) -> anyhow::Result<()> {
+        self.pg_ctl(&["-w", "-t", "30", "-m", "fast", "stop"]).await
+    }
+}
+
+fn path_str(p: &Path) -> anyhow::Result<&str> {
+    p.to_str()
+        .with_context(|| format!("{} is not UTF-8", p.display()))
+}
