@@ -237,8 +237,30 @@ impl HubStore for DbStore {
         sha256: &'a str,
         size_bytes: u64,
         path: &'a std::path::Path,
-    ) -> BoxFuture<'a, ()> {
+    ) -> BoxFuture<'a, Result<(), String>> {
         Box::pin(async move {
+            let known = self
+                .db
+                .recording(&hello.session_id)
+                .await
+                .map_err(|e| e.to_string())?;
+            if known.is_some_and(|r| r.complete && r.sha256 == sha256) {
+                return Ok(());
+            }
+            // Audited first: a failure after it makes the station upload again (a second
+            // entry), never a recording without its entry.
+            let actor = format!("station:{}", hello.station_id);
+            let detail = format!("{size_bytes} bytes, sha256 {sha256}");
+            self.db
+                .audit(
+                    &actor,
+                    "recording_uploaded",
+                    &hello.session_id,
+                    &detail,
+                    self.now(),
+                )
+                .await
+                .map_err(|e| e.to_string())?;
             let recording = crate::db::Recording {
                 session_id: hello.session_id.clone(),
                 sha256: sha256.to_owned(),
@@ -247,24 +269,10 @@ impl HubStore for DbStore {
                 path: path.display().to_string(),
                 complete: true,
             };
-            if let Err(e) = self.db.put_recording(&recording).await {
-                tracing::error!(
-                    "recording of {} stored but not recorded: {e}",
-                    hello.session_id
-                );
-            }
-            let actor = format!("station:{}", hello.station_id);
-            let detail = format!("{size_bytes} bytes, sha256 {sha256}");
-            let _ = self
-                .db
-                .audit(
-                    &actor,
-                    "recording_uploaded",
-                    &hello.session_id,
-                    &detail,
-                    self.now(),
-                )
-                .await;
+            self.db
+                .put_recording(&recording)
+                .await
+                .map_err(|e| e.to_string())
         })
     }
 
@@ -341,7 +349,7 @@ impl HubStore for Ingest {
         sha256: &'a str,
         size_bytes: u64,
         path: &'a std::path::Path,
-    ) -> BoxFuture<'a, ()> {
+    ) -> BoxFuture<'a, Result<(), String>> {
         self.0.recording_stored(hello, sha256, size_bytes, path)
     }
 
@@ -477,31 +485,25 @@ impl PairingAuthority for DbStore {
     ) -> BoxFuture<'a, Result<Issued, Refusal>> {
         Box::pin(async move {
             let now = self.now();
-            let patient_id = self
-                .db
-                .redeem_pairing_code(code_id, now)
-                .await
-                .map_err(|_| Refusal::new(netlink::pairing::CODE_NOT_ACCEPTED))?;
+            // The certificate first (no database), then code, station and audit entry in
+            // one transaction: a failure leaves the code live.
             let station_id = new_station_id().map_err(refusal)?;
             let cert_pem = self
                 .ca
                 .sign_station(csr_pem, &station_id)
                 .map_err(Refusal::new)?;
             let der = netlink::pki::first_certificate_der(&cert_pem).map_err(Refusal::new)?;
-            self.db
-                .add_station(&station_id, &patient_id, &certificate_sha256_hex(&der), now)
-                .await
-                .map_err(refusal)?;
-            let _ = self
+            let patient_id = match self
                 .db
-                .audit(
-                    "station:pairing",
-                    "station_paired",
-                    &station_id,
-                    &patient_id,
-                    now,
-                )
-                .await;
+                .pair_station(code_id, &station_id, &certificate_sha256_hex(&der), now)
+                .await
+            {
+                Ok(p) => p,
+                Err(HubError::Pair(_)) => {
+                    return Err(Refusal::new(netlink::pairing::CODE_NOT_ACCEPTED));
+                }
+                Err(e) => return Err(refusal(e)),
+            };
             Ok(Issued {
                 station_id,
                 patient_id,

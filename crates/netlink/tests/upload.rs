@@ -185,3 +185,69 @@ async fn the_hub_paces_an_upload_to_its_own_rate_whatever_the_station_sends() {
     let floor_s = (done.size_bytes - 32 * 1024) as f64 / f64::from(64u32 << 10);
     assert!(elapsed >= floor_s, "{elapsed:.2} s < {floor_s:.2} s");
 }
+
+/// The directory store, whose recording record fails the first time: a hub that kept the
+/// file but could not record it (a database down at that moment).
+struct RecordFailsOnce {
+    files: netlink::FileStore,
+    failed: std::sync::atomic::AtomicBool,
+    recorded: std::sync::Mutex<Vec<String>>,
+}
+
+impl netlink::HubStore for RecordFailsOnce {
+    fn open_session<'a>(
+        &'a self,
+        hello: &'a Hello,
+    ) -> netlink::BoxFuture<'a, Result<Box<dyn netlink::SessionStore>, netlink::Refusal>> {
+        self.files.open_session(hello)
+    }
+
+    fn recording_path(&self, hello: &Hello) -> Option<std::path::PathBuf> {
+        self.files.recording_path(hello)
+    }
+
+    fn recording_stored<'a>(
+        &'a self,
+        hello: &'a Hello,
+        _sha256: &'a str,
+        _size_bytes: u64,
+        _path: &'a Path,
+    ) -> netlink::BoxFuture<'a, Result<(), String>> {
+        Box::pin(async move {
+            if !self.failed.swap(true, std::sync::atomic::Ordering::SeqCst) {
+                return Err("the database is down".into());
+            }
+            self.recorded.lock().unwrap().push(hello.session_id.clone());
+            Ok(())
+        })
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_recording_the_hub_could_not_record_is_not_complete_and_is_recorded_at_the_next_upload() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = recording(tmp.path());
+    let store = tmp.path().join("store");
+    let recorder = std::sync::Arc::new(RecordFailsOnce {
+        files: netlink::FileStore::new(store.clone()),
+        failed: std::sync::atomic::AtomicBool::new(false),
+        recorded: std::sync::Mutex::default(),
+    });
+    let config = TherapistConfig::new("127.0.0.1:0".parse().unwrap(), &store, None);
+    let server = TherapistServer::bind_with_store(config, recorder.clone())
+        .await
+        .unwrap()
+        .0;
+    let addr = server.local_addr().to_string();
+    let err = upload_recording(&addr, None, hello(), &file, 50_000_000)
+        .await
+        .unwrap_err();
+    assert!(err.contains("not recorded"), "the station is not told complete: {err}");
+    assert!(recorder.recorded.lock().unwrap().is_empty());
+    // The file is kept; the next upload sends nothing and has it recorded.
+    let again = upload_recording(&addr, None, hello(), &file, 50_000_000)
+        .await
+        .unwrap();
+    assert_eq!(again.sent_bytes, 0);
+    assert_eq!(*recorder.recorded.lock().unwrap(), vec!["s-up".to_owned()]);
+}

@@ -67,28 +67,7 @@ impl Db {
         detail: &str,
         now_ms: i64,
     ) -> Result<(), HubError> {
-        // Time, then a per-process counter (entries of the same millisecond keep their order),
-        // then random bits (several hub processes on one PostgreSQL database).
-        let n = AUDIT_COUNTER.fetch_add(1, Ordering::Relaxed);
-        let id = format!(
-            "{:016}-{n:012}-{}",
-            now_ms.max(0),
-            hex(&random_bytes::<4>()?)
-        );
-        sqlx::query(
-            "INSERT INTO audit_log (id, at_ms, actor, action, target, detail) \
-             VALUES ($1, $2, $3, $4, $5, $6)",
-        )
-        .bind(id)
-        .bind(now_ms)
-        .bind(clip(actor))
-        .bind(clip(action))
-        .bind(clip(target))
-        .bind(clip(detail))
-        .execute(self.pool())
-        .await
-        .map_err(HubError::db("writing the audit log"))?;
-        Ok(())
+        audit_on(self.pool(), actor, action, target, detail, now_ms).await
     }
 
     /// The newest `limit` entries of the audit log, newest first.
@@ -150,4 +129,41 @@ impl Db {
             });
         Ok(AuditPage { entries, next })
     }
+}
+
+/// Writes an audit entry with `executor`: the pool, or a transaction whose change the entry
+/// must stand or fall with.
+pub(crate) async fn audit_on<'e, E>(
+    executor: E,
+    actor: &str,
+    action: &str,
+    target: &str,
+    detail: &str,
+    now_ms: i64,
+) -> Result<(), HubError>
+where
+    E: sqlx::Executor<'e, Database = sqlx::Any>,
+{
+    // Time, then a per-process counter (entries of the same millisecond keep their order),
+    // then random bits (several hub processes on one PostgreSQL database).
+    let n = AUDIT_COUNTER.fetch_add(1, Ordering::Relaxed);
+    let id = format!(
+        "{:016}-{n:012}-{}",
+        now_ms.max(0),
+        hex(&random_bytes::<4>()?)
+    );
+    sqlx::query(
+        "INSERT INTO audit_log (id, at_ms, actor, action, target, detail) \
+         VALUES ($1, $2, $3, $4, $5, $6)",
+    )
+    .bind(id)
+    .bind(now_ms)
+    .bind(clip(actor))
+    .bind(clip(action))
+    .bind(clip(target))
+    .bind(clip(detail))
+    .execute(executor)
+    .await
+    .map_err(HubError::db("writing the audit log"))?;
+    Ok(())
 }

@@ -156,6 +156,67 @@ impl Db {
         }))
     }
 
+    /// Pairs a station with the code named `code_id`, in one transaction: uses up the code,
+    /// adds the station (`station_id`, its certificate's SHA-256 `fingerprint`) for the
+    /// code's patient and audits it; the patient id, or why not. A failure leaves the code
+    /// live and nothing stored (it once burned the code and left no audit entry).
+    pub async fn pair_station(
+        &self,
+        code_id: &str,
+        station_id: &str,
+        fingerprint: &str,
+        now_ms: i64,
+    ) -> Result<String, HubError> {
+        super::check_id("station_id", station_id)?;
+        let mut tx = self
+            .pool()
+            .begin()
+            .await
+            .map_err(HubError::db("starting a transaction"))?;
+        let redeemed: Option<String> = sqlx::query_scalar(
+            "UPDATE pairing_codes SET used_at_ms = $2 \
+             WHERE code_id = $1 AND used_at_ms IS NULL AND expires_at_ms > $2 \
+             RETURNING patient_id",
+        )
+        .bind(code_id)
+        .bind(now_ms)
+        .fetch_optional(&mut *tx)
+        .await
+        .map_err(HubError::db("redeeming a pairing code"))?;
+        let Some(patient_id) = redeemed else {
+            drop(tx);
+            return Err(self
+                .pairing_ticket(code_id, now_ms)
+                .await
+                .err()
+                .unwrap_or(HubError::Pair(PairRefusal::Used)));
+        };
+        sqlx::query(
+            "INSERT INTO stations (station_id, patient_id, cert_fingerprint, paired_at_ms) \
+             VALUES ($1, $2, $3, $4)",
+        )
+        .bind(station_id)
+        .bind(&patient_id)
+        .bind(fingerprint)
+        .bind(now_ms)
+        .execute(&mut *tx)
+        .await
+        .map_err(HubError::db("adding a station"))?;
+        super::audit::audit_on(
+            &mut *tx,
+            "station:pairing",
+            "station_paired",
+            station_id,
+            &patient_id,
+            now_ms,
+        )
+        .await?;
+        tx.commit()
+            .await
+            .map_err(HubError::db("committing a pairing"))?;
+        Ok(patient_id)
+    }
+
     /// Uses up the code named `code_id` once, atomically: the patient id it was issued for,
     /// or [`HubError::Pair`] saying why not (two stations racing with one code: one wins).
     pub async fn redeem_pairing_code(

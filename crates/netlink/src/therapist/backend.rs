@@ -80,16 +80,19 @@ pub trait HubStore: Send + Sync + 'static {
         None
     }
 
-    /// A recording arrived whole and verified at `path`.
+    /// A recording arrived whole and verified at `path` (also called again when a station
+    /// uploads a recording the hub already holds, so a record that failed before is made
+    /// then). The station is told `complete` only after this succeeds; an error makes it
+    /// upload again later.
     fn recording_stored<'a>(
         &'a self,
         hello: &'a Hello,
         sha256: &'a str,
         size_bytes: u64,
         path: &'a std::path::Path,
-    ) -> BoxFuture<'a, ()> {
+    ) -> BoxFuture<'a, Result<(), String>> {
         let _ = (hello, sha256, size_bytes, path);
-        Box::pin(async {})
+        Box::pin(async { Ok(()) })
     }
 }
 

@@ -363,6 +363,10 @@ async fn frame_loop(
                     }
                     Err(Failure::Protocol(error)) => return protocol_error(hub, out, peer, error),
                     Err(Failure::Closed(why)) => return why,
+                    Err(Failure::Unavailable(why)) => {
+                        send(out, error_outgoing(&why));
+                        return why;
+                    }
                 }
             }
         }

@@ -19,6 +19,9 @@ pub(super) enum Failure {
     Protocol(String),
     /// The connection ends for another reason.
     Closed(String),
+    /// The hub cannot do it now (its store failed): the station is told why, and tries again
+    /// later.
+    Unavailable(String),
 }
 
 pub(super) async fn handle_frame(

@@ -140,6 +140,8 @@ pub(super) async fn start(
             .await
             .map_err(|e| closed("check of", &path, e))?;
         if sha == start.sha256 && size == start.size_bytes {
+            // Held already; recorded again if recording it failed before.
+            recorded(hub, hello, &sha, size, &path).await?;
             return Ok((None, at(hello, size, true)));
         }
         return Err(Failure::Protocol(format!(
@@ -259,8 +261,25 @@ async fn finish(hub: &Hub, hello: &Hello, mut up: Upload) -> Result<UploadAt, Fa
     tokio::fs::rename(&up.part, &up.path)
         .await
         .map_err(|e| closed("rename of", &up.part, e))?;
-    hub.store
-        .recording_stored(hello, &up.sha256, up.size, &up.path)
-        .await;
+    recorded(hub, hello, &up.sha256, up.size, &up.path).await?;
     Ok(at(hello, size, true))
+}
+
+/// Has the store record a verified recording; the station is told `complete` only after.
+async fn recorded(
+    hub: &Hub,
+    hello: &Hello,
+    sha256: &str,
+    size: u64,
+    path: &std::path::Path,
+) -> Result<(), Failure> {
+    hub.store
+        .recording_stored(hello, sha256, size, path)
+        .await
+        .map_err(|e| {
+            Failure::Unavailable(format!(
+                "recording of session {:?} kept but not recorded ({e}); upload it again",
+                hello.session_id
+            ))
+        })
 }

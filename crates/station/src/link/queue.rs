@@ -208,19 +208,26 @@ pub async fn deliver_sessions(
     for q in queued {
         let n = q.summaries.len() as u64;
         let session_id = q.hello.session_id.clone();
-        let config = StationLinkConfig::new(address, tls.clone(), q.hello);
+        let mut config = StationLinkConfig::new(address, tls.clone(), q.hello);
+        // The whole session is handed over at once, without an await between sends: the
+        // link's channel must hold it all (a long session once overflowed the default 4 096
+        // and lost the rest when the queue file was then removed).
+        config.channel_capacity = config.channel_capacity.max(q.summaries.len() + 1);
         let (sender, link) = StationLink::spawn(&handle, config)
             .with_context(|| format!("queued session {session_id}"))?;
+        let mut unsent = 0_u64;
         for s in q.summaries {
             if let Err(e) = sender.send(s) {
+                unsent += 1;
                 tracing::warn!(session = %session_id, "queued summary not sent: {e}");
             }
         }
         let stats = link
             .finish_with_measures("session complete", q.measures, timeout)
             .await;
-        // The hub's Bye answer says it has synced everything it acknowledged.
-        if stats.pending == 0 && stats.bye_acknowledged {
+        // The hub's Bye answer says it has synced everything it acknowledged; a summary the
+        // link never took keeps the session queued.
+        if stats.pending == 0 && stats.bye_acknowledged && unsent == 0 {
             remove_session(dir, &session_id);
             report.delivered += 1;
         } else {
@@ -229,4 +236,58 @@ pub async fn deliver_sessions(
         }
     }
     Ok(report)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use netlink::{PROTOCOL_VERSION, TherapistConfig, TherapistServer};
+
+    fn hello() -> Hello {
+        Hello {
+            protocol_version: PROTOCOL_VERSION,
+            station_id: "station-1".into(),
+            patient_id: "p-1".into(),
+            session_id: "s-long".into(),
+            exercise: "sine-road".into(),
+            started_unix_ms: 1_795_253_400_000,
+            software_version: "telerehab-test".into(),
+            min_protocol_version: None,
+        }
+    }
+
+    /// A queued session longer than the link's default channel (4 096 summaries, about 7 min
+    /// at 10 Hz) is delivered whole on a one-thread runtime, as `sync` runs it; once it held
+    /// the first 4 096, dropped the rest and removed the queue anyway.
+    #[test]
+    fn a_queued_session_longer_than_the_links_channel_is_delivered_whole() {
+        let runtime = tokio::runtime::Builder::new_current_thread()
+            .enable_all()
+            .build()
+            .unwrap();
+        let tmp = tempfile::tempdir().unwrap();
+        let queue = tmp.path().join("queue");
+        let mut file = QueueFile::create(&queue, &hello()).unwrap();
+        let n = 6_000;
+        for seq in 0..n {
+            file.push(&Summary::example("s-long", seq));
+        }
+        assert!(file.error.is_none());
+        drop(file);
+        let store = tmp.path().join("store");
+        let report = runtime.block_on(async {
+            let config = TherapistConfig::new("127.0.0.1:0".parse().unwrap(), &store, None);
+            let (server, _events) = TherapistServer::bind(config).await.unwrap();
+            let addr = server.local_addr().to_string();
+            let report = deliver(&queue, &addr, None, Duration::from_secs(60))
+                .await
+                .unwrap();
+            server.shutdown(Duration::from_secs(5)).await;
+            report
+        });
+        assert_eq!((report.delivered, report.remaining), (1, 0), "{report:?}");
+        let stored = std::fs::read_to_string(store.join("station-1/s-long.jsonl")).unwrap();
+        assert_eq!(stored.lines().count() as u64, n);
+        assert!(pending(&queue).unwrap().is_empty());
+    }
 }
