@@ -224,6 +224,8 @@ pub struct ServeOptions {
     pub max_connections: (usize, usize),
     /// Reads stored recordings for the console's replay (`None`: no replay).
     pub replay: Option<web::ReplayReader>,
+    /// Largest recording file the console replays, bytes ([`web::DEFAULT_MAX_REPLAY_BYTES`]).
+    pub max_replay_bytes: u64,
 }
 
 impl std::fmt::Debug for ServeOptions {
@@ -278,7 +280,8 @@ pub async fn serve(
     let state = AppState::new(db.clone(), options.validate_regimen.clone(), live.clone())
         .with_clock(options.now_ms.clone())
         .with_prescribed_feed(prescribed)
-        .with_replay(options.replay.clone());
+        .with_replay(options.replay.clone())
+        .with_replay_max_bytes(options.max_replay_bytes);
     let (stop_web, web_stopped) = tokio::sync::oneshot::channel::<()>();
     let mut web_task = None;
     let mut web_addr = None;

@@ -35,6 +35,7 @@ pub use live::LiveEvent;
 pub use serve::{
     SHUTDOWN_GRACE_S, TLS_HANDSHAKE_TIMEOUT_S, acceptor_from_pem, serve, serve_router,
 };
+pub use sessions::{DEFAULT_MAX_REPLAY_BYTES, REPLAY_QUEUE_WAIT_S, REPLAYS_AT_ONCE, ReplayTurns};
 
 /// Largest request body accepted, bytes.
 pub const MAX_BODY_BYTES: usize = 64 * 1024;
@@ -46,10 +47,10 @@ pub const DEFAULT_LOGIN_TTL_MS: i64 = 8 * 60 * 60 * 1000;
 /// shown to the therapist. Passed in because the bounds live in the station crate.
 pub type RegimenValidator = Arc<dyn Fn(&str) -> Result<(), String> + Send + Sync>;
 
-/// Reads a stored recording into what the console's replay draws (JSON, columns by name).
+/// Reads a stored recording into what the console's replay draws (JSON bytes, columns by
+/// name), in bounded memory; `Err` says why the recording cannot be replayed (answered 422).
 /// Passed in because the recording format lives in the station crate.
-pub type ReplayReader =
-    Arc<dyn Fn(&std::path::Path) -> Result<serde_json::Value, String> + Send + Sync>;
+pub type ReplayReader = Arc<dyn Fn(&std::path::Path) -> Result<Vec<u8>, String> + Send + Sync>;
 
 /// The current time, ms since the Unix epoch (injectable for tests).
 pub type NowMs = Arc<dyn Fn() -> i64 + Send + Sync>;
@@ -72,6 +73,10 @@ pub struct AppState {
     pub prescribed: Option<broadcast::Sender<RegimenVersion>>,
     /// Reads stored recordings for the console's replay; `None`: replay is not offered.
     pub replay: Option<ReplayReader>,
+    /// Largest recording file replayed, bytes.
+    pub replay_max_bytes: u64,
+    /// Replays being prepared, per hub and per therapist.
+    pub replay_turns: Arc<ReplayTurns>,
 }
 
 impl AppState {
@@ -89,12 +94,20 @@ impl AppState {
             login_ttl_ms: DEFAULT_LOGIN_TTL_MS,
             prescribed: None,
             replay: None,
+            replay_max_bytes: DEFAULT_MAX_REPLAY_BYTES,
+            replay_turns: Arc::default(),
         }
     }
 
     /// The same state offering replays read by `reader`.
     pub fn with_replay(mut self, reader: Option<ReplayReader>) -> Self {
         self.replay = reader;
+        self
+    }
+
+    /// The same state replaying recording files of at most `bytes`.
+    pub fn with_replay_max_bytes(mut self, bytes: u64) -> Self {
+        self.replay_max_bytes = bytes;
         self
     }
 

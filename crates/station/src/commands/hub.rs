@@ -68,6 +68,10 @@ pub enum HubCommand {
         /// always printed).
         #[arg(long)]
         print_summaries: bool,
+        /// Largest recording file the console replays, MB (a replay is read as a stream in
+        /// bounded memory; this bounds the time it takes).
+        #[arg(long, default_value_t = hub::web::DEFAULT_MAX_REPLAY_BYTES >> 20)]
+        max_replay_mb: u64,
     },
     /// Load test: N simulated stations on loopback against a hub in a child process, in a
     /// fresh clinic (SQLite, or the empty database `--db` names).
@@ -212,9 +216,19 @@ pub fn run(args: HubArgs) -> anyhow::Result<()> {
                 max_connections,
                 max_connections_per_address,
                 print_summaries,
+                max_replay_mb,
             } => {
                 let limits = (max_connections, max_connections_per_address);
-                serve(&data, &stations, web.as_deref(), limits, print_summaries).await
+                let max_replay_bytes = max_replay_mb.saturating_mul(1 << 20);
+                serve(
+                    &data,
+                    &stations,
+                    web.as_deref(),
+                    limits,
+                    print_summaries,
+                    max_replay_bytes,
+                )
+                .await
             }
             HubCommand::Bench {
                 stations,
@@ -289,6 +303,7 @@ async fn serve(
     web: Option<&str>,
     max_connections: (usize, usize),
     print_summaries: bool,
+    max_replay_bytes: u64,
 ) -> anyhow::Result<()> {
     let (clinic, db) = open(data).await?;
     let stations = crate::link::resolve("--stations", stations)?;
@@ -304,6 +319,7 @@ async fn serve(
         now_ms: Arc::new(now_ms),
         max_connections,
         replay: Some(Arc::new(crate::therapist_view::replay_frames)),
+        max_replay_bytes,
     };
     let mut sigterm = tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate())
         .context("cannot install the SIGTERM handler")?;
