@@ -229,6 +229,8 @@ pub struct ServeOptions {
     /// Caps on connections nobody has authenticated yet and the console's deadlines; with
     /// `max_connections`, fitted to the open-file limit at start ([`crate::limits`]).
     pub limits: HubLimits,
+    /// Largest recording file the console replays, bytes ([`web::DEFAULT_MAX_REPLAY_BYTES`]).
+    pub max_replay_bytes: u64,
 }
 
 /// Connection caps and deadlines of `hub serve` besides [`ServeOptions::max_connections`].
@@ -245,6 +247,30 @@ impl Default for HubLimits {
         Self {
             max_unauthenticated_stations: netlink::therapist::DEFAULT_MAX_UNAUTHENTICATED,
             web: web::WebLimits::default(),
+        }
+    }
+}
+
+impl ServeOptions {
+    /// Options with the documented defaults: the system clock, netlink's connection caps,
+    /// [`HubLimits::default`], no replay (and the default replay size limit).
+    pub fn new(
+        stations: SocketAddr,
+        web: Option<SocketAddr>,
+        validate_regimen: RegimenValidator,
+    ) -> Self {
+        Self {
+            stations,
+            web,
+            validate_regimen,
+            now_ms: Arc::new(web::system_now_ms),
+            max_connections: (
+                netlink::therapist::DEFAULT_MAX_CONNECTIONS,
+                netlink::therapist::DEFAULT_MAX_CONNECTIONS_PER_ADDRESS,
+            ),
+            replay: None,
+            limits: HubLimits::default(),
+            max_replay_bytes: web::DEFAULT_MAX_REPLAY_BYTES,
         }
     }
 }
@@ -303,7 +329,8 @@ pub async fn serve(
     let state = AppState::new(db.clone(), options.validate_regimen.clone(), live.clone())
         .with_clock(options.now_ms.clone())
         .with_prescribed_feed(prescribed)
-        .with_replay(options.replay.clone());
+        .with_replay(options.replay.clone())
+        .with_replay_max_bytes(options.max_replay_bytes);
     let (stop_web, web_stopped) = tokio::sync::oneshot::channel::<()>();
     let mut web_task = None;
     let mut web_addr = None;

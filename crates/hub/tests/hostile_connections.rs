@@ -13,7 +13,7 @@ use std::time::{Duration, Instant};
 use axum::http::{Request, StatusCode, header};
 use http_body_util::BodyExt;
 use hub::bench::BenchStation;
-use hub::clinic::{Bound, Clinic, HubLimits, ServeOptions};
+use hub::clinic::{Bound, Clinic, ServeOptions};
 use hub::limits::ConnectionBudget;
 use hub::web::{self, AppState, WebLimits};
 use hub::{Db, Role};
@@ -124,16 +124,12 @@ async fn start_hub() -> RunningHub {
     .await
     .unwrap();
     let options = ServeOptions {
-        stations: "127.0.0.1:0".parse().unwrap(),
-        web: Some("127.0.0.1:0".parse().unwrap()),
-        validate_regimen: Arc::new(|_: &str| Ok(())),
         now_ms: Arc::new(now_ms),
-        max_connections: (
-            netlink::therapist::DEFAULT_MAX_CONNECTIONS,
-            netlink::therapist::DEFAULT_MAX_CONNECTIONS_PER_ADDRESS,
-        ),
-        replay: None,
-        limits: HubLimits::default(),
+        ..ServeOptions::new(
+            "127.0.0.1:0".parse().unwrap(),
+            Some("127.0.0.1:0".parse().unwrap()),
+            Arc::new(|_: &str| Ok(())),
+        )
     };
     let events = Arc::new(std::sync::Mutex::new(Vec::new()));
     let (bound_tx, bound_rx) = tokio::sync::oneshot::channel();

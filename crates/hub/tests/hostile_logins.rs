@@ -927,12 +927,12 @@ async fn a_login_flood_leaves_station_acks_within_twice_quiet() {
     .await
     .unwrap();
     let options = ServeOptions {
-        stations: "127.0.0.1:0".parse().unwrap(),
-        web: Some("127.0.0.1:0".parse().unwrap()),
-        validate_regimen: Arc::new(|_: &str| Ok(())),
-        now_ms: Arc::new(web::system_now_ms),
         max_connections: (256, 64),
-        replay: None,
+        ..ServeOptions::new(
+            "127.0.0.1:0".parse().unwrap(),
+            Some("127.0.0.1:0".parse().unwrap()),
+            Arc::new(|_: &str| Ok(())),
+        )
     };
     let (bound_tx, bound_rx) = tokio::sync::oneshot::channel::<Bound>();
     let (stop_tx, stop_rx) = tokio::sync::oneshot::channel::<()>();

@@ -4,7 +4,7 @@
 //! for `GET /api/sessions/{id}/replay`).
 
 use crate::config::StationConfig;
-use crate::record::{Recording, TickRecord};
+use crate::record::{Channel, StreamLimits, TickRecord, TickStream};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -60,44 +60,114 @@ pub fn live_pose(rec: &TickRecord, arm_lengths_m: [f64; 2]) -> Vec<(String, f64)
     v
 }
 
-/// The recording at `path` as the console's replay draws it: `{"rate_hz", "duration_s",
-/// "columns": {name: [value or null, …]}}`, one entry per frame at [`REPLAY_RATE_HZ`], the
-/// names of [`live_pose`] plus `t_s`, `lateral_m` and `pct_in_lane`.
-pub fn replay_frames(path: &Path) -> Result<serde_json::Value, String> {
-    let recording = Recording::open(path).map_err(|e| e.to_string())?;
-    let meta = &recording.metadata;
+/// Most frames in a replay: past this the frame rate halves (an hour of a 1 kHz session
+/// replays at 10 frames/s), so a replay's answer stays under some 15 MB whatever the length.
+pub const MAX_REPLAY_FRAMES: usize = 40_000;
+
+/// The channels a replay draws from (the rest of the recording is skipped unparsed).
+const REPLAY_CHANNELS: [Channel; 4] = [
+    Channel::Vehicle,
+    Channel::Score,
+    Channel::Assist,
+    Channel::Arm,
+];
+
+/// The recording at `path` as the console's replay draws it, as JSON: `{"rate_hz",
+/// "duration_s", "exercise", "columns": {name: [value or null, …]}}`, one entry per frame at
+/// [`REPLAY_RATE_HZ`] (fewer past [`MAX_REPLAY_FRAMES`]), the names of [`live_pose`] plus
+/// `t_s`, `lateral_m` and `pct_in_lane`, values to single precision. The recording is read as
+/// a stream within [`StreamLimits::default`] (it came from a station: untrusted input), so
+/// memory does not grow with its length; `Err` says what is wrong with it.
+pub fn replay_frames(path: &Path) -> Result<Vec<u8>, String> {
+    let stream = TickStream::open_path(path, StreamLimits::default(), &REPLAY_CHANNELS)
+        .map_err(|e| e.to_string())?;
+    replay_frames_of(stream, MAX_REPLAY_FRAMES)
+}
+
+/// The frames of the recording read by `stream`, at most `max_frames` of them, as JSON
+/// ([`replay_frames`]).
+pub fn replay_frames_of<R: std::io::Read>(
+    stream: TickStream<R>,
+    max_frames: usize,
+) -> Result<Vec<u8>, String> {
+    let meta = stream.metadata().clone();
     let config = StationConfig::from_toml(&meta.config_toml, "the recording's configuration")
         .map_err(|e| e.to_string())?;
     let lengths = [
         config.arm.geometry.upper_arm_m,
         config.arm.geometry.forearm_m,
     ];
-    let every = ((meta.loop_rate_hz / REPLAY_RATE_HZ).round() as usize).max(1);
-    let frames: Vec<TickRecord> = recording.ticks().step_by(every).collect();
-    let mut columns: BTreeMap<String, Vec<Option<f64>>> = BTreeMap::new();
-    for (i, rec) in frames.iter().enumerate() {
+    let mut every = ((meta.loop_rate_hz / REPLAY_RATE_HZ).round() as usize).max(1);
+    let mut frames = Frames::default();
+    for (i, rec) in stream.enumerate() {
+        let rec = rec.map_err(|e| e.to_string())?;
+        if i % every != 0 {
+            continue;
+        }
+        frames.push(&rec, lengths);
+        if frames.len > max_frames.max(1) {
+            frames.keep_every_other();
+            every *= 2;
+        }
+    }
+    #[derive(serde::Serialize)]
+    struct Replay<'a> {
+        rate_hz: f64,
+        duration_s: f64,
+        exercise: &'a str,
+        columns: &'a BTreeMap<String, Vec<Option<f32>>>,
+    }
+    serde_json::to_vec(&Replay {
+        rate_hz: meta.loop_rate_hz / every as f64,
+        duration_s: frames
+            .columns
+            .get("t_s")
+            .and_then(|t| t.last().copied().flatten())
+            .map_or(0.0, f64::from),
+        exercise: &meta.exercise,
+        columns: &frames.columns,
+    })
+    .map_err(|e| e.to_string())
+}
+
+/// A replay's frames as columns by name (`None`: absent at that frame, or not finite).
+#[derive(Default)]
+struct Frames {
+    columns: BTreeMap<String, Vec<Option<f32>>>,
+    len: usize,
+}
+
+impl Frames {
+    fn push(&mut self, rec: &TickRecord, lengths: [f64; 2]) {
         let mut values = live_pose(rec, lengths);
         values.push(("t_s".into(), rec.t_ns as f64 * 1e-9));
         values.push(("pct_in_lane".into(), rec.score.pct_in_lane));
         if let Some(v) = &rec.vehicle {
             values.push(("lateral_m".into(), v.lateral_m));
         }
+        let i = self.len;
         for (name, value) in values {
-            let column = columns.entry(name).or_insert_with(|| vec![None; i]);
+            let column = self.columns.entry(name).or_default();
             column.resize(i, None);
-            column.push(value.is_finite().then_some(value));
+            column.push(value.is_finite().then_some(value as f32));
+        }
+        self.len += 1;
+        for column in self.columns.values_mut() {
+            column.resize(self.len, None);
         }
     }
-    for column in columns.values_mut() {
-        column.resize(frames.len(), None);
+
+    /// Halves the frame rate: keeps frames 0, 2, 4, ….
+    fn keep_every_other(&mut self) {
+        for column in self.columns.values_mut() {
+            let mut i = 0;
+            column.retain(|_| {
+                i += 1;
+                i % 2 == 1
+            });
+        }
+        self.len = self.len.div_ceil(2);
     }
-    let duration_s = frames.last().map_or(0.0, |r| r.t_ns as f64 * 1e-9);
-    Ok(serde_json::json!({
-        "rate_hz": meta.loop_rate_hz / every as f64,
-        "duration_s": duration_s,
-        "exercise": meta.exercise,
-        "columns": columns,
-    }))
 }
 
 #[cfg(test)]
@@ -129,5 +199,65 @@ mod tests {
         }
         // Within netlink's limit of extra entries, with the live measures beside them.
         assert!(with_arm.len() <= 40, "{}", with_arm.len());
+    }
+
+    /// A recording of `seconds` at 1 kHz, the car on the road throughout.
+    fn recording(seconds: u64) -> Vec<u8> {
+        use crate::record::{RecordWriter, SessionMetadata, VehicleSample};
+        let meta = SessionMetadata {
+            loop_rate_hz: 1000.0,
+            exercise: "sine-road".into(),
+            config_toml: toml::to_string(&StationConfig::default()).unwrap(),
+            ..Default::default()
+        };
+        let mut w = RecordWriter::new(std::io::Cursor::new(Vec::new()), 0, &meta).unwrap();
+        for tick in 0..seconds * 1000 {
+            let mut rec = TickRecord {
+                tick,
+                t_ns: tick * 1_000_000,
+                vehicle: Some(VehicleSample::default()),
+                ..Default::default()
+            };
+            rec.wheel.angle_rad = (tick as f64 * 1e-3).sin();
+            w.write_tick(&rec, tick % 100 == 0).unwrap();
+        }
+        w.finish().unwrap().into_inner()
+    }
+
+    fn frames(bytes: Vec<u8>, max_frames: usize) -> serde_json::Value {
+        let stream =
+            TickStream::from_bytes(bytes, StreamLimits::default(), &REPLAY_CHANNELS).unwrap();
+        serde_json::from_slice(&replay_frames_of(stream, max_frames).unwrap()).unwrap()
+    }
+
+    #[test]
+    fn a_replay_has_20_frames_a_second_of_every_drawn_value() {
+        let r = frames(recording(3), MAX_REPLAY_FRAMES);
+        assert_eq!(r["rate_hz"], 20.0);
+        assert_eq!(r["exercise"], "sine-road");
+        let columns = r["columns"].as_object().unwrap();
+        for name in [
+            "t_s",
+            "wheel_angle_rad",
+            "car_x_m",
+            "lateral_m",
+            "pct_in_lane",
+        ] {
+            assert_eq!(columns[name].as_array().unwrap().len(), 60, "{name}");
+        }
+        let angle = columns["wheel_angle_rad"][20].as_f64().unwrap();
+        assert!((angle - 1f64.sin()).abs() < 1e-3, "{angle}");
+        assert!((r["duration_s"].as_f64().unwrap() - 2.95).abs() < 1e-6);
+    }
+
+    #[test]
+    fn a_long_replay_halves_its_frame_rate_to_stay_within_the_frame_limit() {
+        // 30 s at 20 frames/s is 600 frames; at most 100: 2.5 frames/s, 75 frames.
+        let r = frames(recording(30), 100);
+        assert_eq!(r["rate_hz"], 2.5);
+        let t = r["columns"]["t_s"].as_array().unwrap();
+        assert_eq!(t.len(), 75);
+        assert_eq!(t[1].as_f64().unwrap(), 0.4);
+        assert!((r["duration_s"].as_f64().unwrap() - 29.6).abs() < 1e-4);
     }
 }

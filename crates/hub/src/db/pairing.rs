@@ -167,7 +167,7 @@ impl Db {
         fingerprint: &str,
         now_ms: i64,
     ) -> Result<String, HubError> {
-        super::check_id("station_id", station_id)?;
+        check_id("station_id", station_id)?;
         let mut tx = self
             .pool()
             .begin()

@@ -37,6 +37,7 @@ pub use serve::{
     SHUTDOWN_GRACE_S, TLS_HANDSHAKE_TIMEOUT_S, acceptor_from_pem, serve, serve_router,
 };
 pub use serve::{WebLimits, serve_router_with_limits, serve_with_limits};
+pub use sessions::{DEFAULT_MAX_REPLAY_BYTES, REPLAY_QUEUE_WAIT_S, REPLAYS_AT_ONCE, ReplayTurns};
 
 /// Largest request body accepted, bytes.
 pub const MAX_BODY_BYTES: usize = 64 * 1024;
@@ -48,10 +49,10 @@ pub const DEFAULT_LOGIN_TTL_MS: i64 = 8 * 60 * 60 * 1000;
 /// shown to the therapist. Passed in because the bounds live in the station crate.
 pub type RegimenValidator = Arc<dyn Fn(&str) -> Result<(), String> + Send + Sync>;
 
-/// Reads a stored recording into what the console's replay draws (JSON, columns by name).
+/// Reads a stored recording into what the console's replay draws (JSON bytes, columns by
+/// name), in bounded memory; `Err` says why the recording cannot be replayed (answered 422).
 /// Passed in because the recording format lives in the station crate.
-pub type ReplayReader =
-    Arc<dyn Fn(&std::path::Path) -> Result<serde_json::Value, String> + Send + Sync>;
+pub type ReplayReader = Arc<dyn Fn(&std::path::Path) -> Result<Vec<u8>, String> + Send + Sync>;
 
 /// The current time, ms since the Unix epoch (injectable for tests).
 pub type NowMs = Arc<dyn Fn() -> i64 + Send + Sync>;
@@ -76,6 +77,10 @@ pub struct AppState {
     pub replay: Option<ReplayReader>,
     /// Open live streams per login (by token hash), for [`MAX_LIVE_STREAMS_PER_LOGIN`].
     pub live_streams: live::StreamCounts,
+    /// Largest recording file replayed, bytes.
+    pub replay_max_bytes: u64,
+    /// Replays being prepared, per hub and per therapist.
+    pub replay_turns: Arc<ReplayTurns>,
 }
 
 impl AppState {
@@ -94,12 +99,20 @@ impl AppState {
             prescribed: None,
             replay: None,
             live_streams: live::StreamCounts::default(),
+            replay_max_bytes: DEFAULT_MAX_REPLAY_BYTES,
+            replay_turns: Arc::default(),
         }
     }
 
     /// The same state offering replays read by `reader`.
     pub fn with_replay(mut self, reader: Option<ReplayReader>) -> Self {
         self.replay = reader;
+        self
+    }
+
+    /// The same state replaying recording files of at most `bytes`.
+    pub fn with_replay_max_bytes(mut self, bytes: u64) -> Self {
+        self.replay_max_bytes = bytes;
         self
     }
 

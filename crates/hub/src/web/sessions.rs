@@ -1,14 +1,18 @@
 //! One session, its summaries and its movement metrics.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashSet};
+use std::sync::{Arc, Mutex};
 
 use axum::Json;
 use axum::extract::rejection::PathRejection;
 use axum::extract::{Path, State};
+use axum::http::{HeaderValue, StatusCode, header};
+use axum::response::{IntoResponse, Response};
 use netlink::Summary;
+use tokio::sync::Semaphore;
 
 use super::auth::Authed;
-use super::{ApiError, AppState, check_path_id};
+use super::{ApiError, AppState, ErrorBody, check_path_id};
 use crate::db::{SessionRow, Therapist};
 
 /// The session `id` if `therapist` may see its patient; 404 otherwise.
@@ -73,16 +77,77 @@ pub(crate) async fn metrics(
     Ok(Json(metrics))
 }
 
-/// Largest recording the console replays, bytes (≈ 1.7 h of a compact 1 kHz recording).
-pub const MAX_REPLAY_BYTES: u64 = 512 << 20;
+/// Largest recording file the console replays by default, bytes (`hub serve --max-replay-mb`):
+/// about five hours of a 1 kHz session. The replay streams the file in bounded memory, so this
+/// bounds the time one replay takes, not the hub's memory.
+pub const DEFAULT_MAX_REPLAY_BYTES: u64 = 2048 << 20;
+
+/// Replays decoded at once by one hub; more wait their turn (up to [`REPLAY_QUEUE_WAIT_S`]).
+pub const REPLAYS_AT_ONCE: usize = 2;
+
+/// How long a replay waits for one of the [`REPLAYS_AT_ONCE`] turns before the hub answers
+/// 503, s.
+pub const REPLAY_QUEUE_WAIT_S: u64 = 60;
+
+/// The replays being decoded, and the therapists waiting for one: one replay per therapist
+/// at a time (a second is answered 429), [`REPLAYS_AT_ONCE`] per hub.
+#[derive(Debug)]
+pub struct ReplayTurns {
+    decoding: Arc<Semaphore>,
+    asking: Mutex<HashSet<String>>,
+}
+
+impl Default for ReplayTurns {
+    fn default() -> Self {
+        Self {
+            decoding: Arc::new(Semaphore::new(REPLAYS_AT_ONCE)),
+            asking: Mutex::new(HashSet::new()),
+        }
+    }
+}
+
+/// A therapist's replay, from the request until its decoding ends.
+struct Asking {
+    turns: Arc<ReplayTurns>,
+    therapist_id: String,
+}
+
+impl Asking {
+    /// `None` if the therapist already has a replay waiting or decoding.
+    fn begin(turns: &Arc<ReplayTurns>, therapist_id: &str) -> Option<Self> {
+        let mut asking = turns.asking.lock().unwrap_or_else(|e| e.into_inner());
+        asking.insert(therapist_id.to_owned()).then(|| Self {
+            turns: Arc::clone(turns),
+            therapist_id: therapist_id.to_owned(),
+        })
+    }
+}
+
+impl Drop for Asking {
+    fn drop(&mut self) {
+        let mut asking = self.turns.asking.lock().unwrap_or_else(|e| e.into_inner());
+        asking.remove(&self.therapist_id);
+    }
+}
+
+/// An answer asking the client to retry after `retry_after_s`, `{"error": message}`.
+fn retry_later(status: StatusCode, retry_after_s: u64, message: &str) -> Response {
+    let mut response = (status, Json(ErrorBody { error: message })).into_response();
+    response
+        .headers_mut()
+        .insert(header::RETRY_AFTER, HeaderValue::from(retry_after_s));
+    response
+}
 
 /// `GET /api/sessions/{id}/replay`: the session's uploaded recording as the console's replay
-/// draws it; 404 until the whole recording has arrived.
+/// draws it; 404 until the whole recording has arrived, 422 for a file over the hub's limit or
+/// one that cannot be read (a recording is a station's upload: untrusted), 429 while the same
+/// therapist's previous replay is still being prepared, 503 when the hub's turns stay busy.
 pub(crate) async fn replay(
     State(state): State<AppState>,
     Authed(therapist): Authed,
     id: Result<Path<String>, PathRejection>,
-) -> Result<Json<serde_json::Value>, ApiError> {
+) -> Result<Response, ApiError> {
     let Path(id) = id?;
     let session = visible_session(&state, &therapist, &id).await?;
     let reader = state
@@ -104,23 +169,49 @@ pub(crate) async fn replay(
         .audit(&therapist.actor(), "read_replay", &session.session_id, "")
         .await?;
     let path = std::path::PathBuf::from(&recording.path);
-    // A station may upload up to netlink's 16 GiB; the reader holds a recording in memory, so
-    // the console replays only what the hub can hold (an hour at 1 kHz is about 300 MB).
     let size = std::fs::metadata(&path).map_or(0, |m| m.len());
-    if size > MAX_REPLAY_BYTES {
+    if size > state.replay_max_bytes {
         return Err(ApiError::Unprocessable(format!(
-            "the recording of session {:?} is {} MB, more than the {} MB the console replays",
+            "the recording of session {:?} is {} MB, more than the {} MB this hub replays \
+             (hub serve --max-replay-mb)",
             session.session_id,
             size >> 20,
-            MAX_REPLAY_BYTES >> 20
+            state.replay_max_bytes >> 20
         )));
     }
-    let frames = tokio::task::spawn_blocking(move || reader(&path))
-        .await
-        .map_err(|_| ApiError::Internal)?
-        .map_err(|e| {
-            tracing::warn!(session = %session.session_id, "replay unreadable: {e}");
-            ApiError::Internal
-        })?;
-    Ok(Json(frames))
+    let Some(asking) = Asking::begin(&state.replay_turns, &therapist.id) else {
+        return Ok(retry_later(
+            StatusCode::TOO_MANY_REQUESTS,
+            5,
+            "a replay you asked for is still being prepared; ask again once it is shown",
+        ));
+    };
+    let decoding = Arc::clone(&state.replay_turns.decoding);
+    let wait = std::time::Duration::from_secs(REPLAY_QUEUE_WAIT_S);
+    let Ok(Ok(turn)) = tokio::time::timeout(wait, decoding.acquire_owned()).await else {
+        return Ok(retry_later(
+            StatusCode::SERVICE_UNAVAILABLE,
+            10,
+            &format!(
+                "the hub is busy preparing other replays ({REPLAYS_AT_ONCE} at a time); try \
+                 again in a moment"
+            ),
+        ));
+    };
+    // The turn and the therapist's claim are held until the decoding ends, even if the
+    // client has gone (a blocking task cannot be cancelled).
+    let frames = tokio::task::spawn_blocking(move || {
+        let _held = (turn, asking);
+        reader(&path)
+    })
+    .await
+    .map_err(|_| ApiError::Internal)?
+    .map_err(|e| {
+        tracing::warn!(session = %session.session_id, "replay refused: {e}");
+        ApiError::Unprocessable(format!(
+            "the recording of session {:?} cannot be replayed: {e}",
+            session.session_id
+        ))
+    })?;
+    Ok(([(header::CONTENT_TYPE, "application/json")], frames).into_response())
 }

@@ -74,6 +74,10 @@ pub enum HubCommand {
         /// always printed).
         #[arg(long)]
         print_summaries: bool,
+        /// Largest recording file the console replays, MB (a replay is read as a stream in
+        /// bounded memory; this bounds the time it takes).
+        #[arg(long, default_value_t = hub::web::DEFAULT_MAX_REPLAY_BYTES >> 20)]
+        max_replay_mb: u64,
     },
     /// Load test: N simulated stations on loopback against a hub in a child process, in a
     /// fresh clinic (SQLite, or the empty database `--db` names).
@@ -228,6 +232,7 @@ pub fn run(args: HubArgs) -> anyhow::Result<()> {
                 max_connections_per_address,
                 max_unauthenticated,
                 print_summaries,
+                max_replay_mb,
             } => {
                 let limits = (max_connections, max_connections_per_address);
                 let caps = hub::clinic::HubLimits {
@@ -235,7 +240,16 @@ pub fn run(args: HubArgs) -> anyhow::Result<()> {
                     ..Default::default()
                 };
                 let listen = (stations.as_str(), web.as_deref());
-                serve(&data, listen, limits, caps, print_summaries).await
+                let max_replay_bytes = max_replay_mb.saturating_mul(1 << 20);
+                serve(
+                    &data,
+                    listen,
+                    limits,
+                    caps,
+                    print_summaries,
+                    max_replay_bytes,
+                )
+                .await
             }
             HubCommand::Bench {
                 stations,
@@ -312,6 +326,7 @@ async fn serve(
     max_connections: (usize, usize),
     limits: hub::clinic::HubLimits,
     print_summaries: bool,
+    max_replay_bytes: u64,
 ) -> anyhow::Result<()> {
     let (clinic, db) = open(data).await?;
     let stations = crate::link::resolve("--stations", stations)?;
@@ -328,6 +343,7 @@ async fn serve(
         max_connections,
         replay: Some(Arc::new(crate::therapist_view::replay_frames)),
         limits,
+        max_replay_bytes,
     };
     let mut sigterm = tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate())
         .context("cannot install the SIGTERM handler")?;

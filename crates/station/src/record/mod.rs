@@ -1,5 +1,6 @@
 //! The recording format: one type per MCAP channel, the channel table with their schemas, the
-//! writer and a reader.
+//! writer, a reader of whole files ([`Recording`]) and a streaming one in bounded memory for
+//! untrusted or long recordings ([`TickStream`], which the hub's replay uses).
 //!
 //! A leaf module: it depends on external crates and the workspace's library crates only,
 //! never on the session, the command line or the configuration. The recorder thread
@@ -29,6 +30,7 @@ pub mod raw;
 pub mod reader;
 pub mod recover;
 pub mod scene;
+pub mod stream;
 #[cfg(test)]
 mod tests;
 pub mod types;
@@ -37,6 +39,7 @@ pub mod writer;
 pub use channels::{CHANNELS, Channel, ChannelSpec};
 pub use raw::{BodyFacts, RawImuSample, RawTick, RawWheelSample};
 pub use reader::{ReadError, RecordedRows, Recording, Row, recorded_rows};
+pub use stream::{StreamLimits, TickStream};
 pub use types::{
     ArmCalibrationSample, ArmSample, ArmSetup, AssistSample, MetricsSample, MovementSample,
     ScoreSample, SessionMetadata, Stamped, TickRecord, TimingSample, VehicleSample, Watchdog,

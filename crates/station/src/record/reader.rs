@@ -50,6 +50,37 @@ pub enum ReadError {
         /// What the block decoder found.
         source: BlockError,
     },
+    /// A record, chunk or message claims more bytes than the streaming reader accepts
+    /// ([`super::stream::StreamLimits`]): refused before any of it is allocated.
+    #[error(
+        "{what} claims {claimed_bytes} bytes, more than the {limit_bytes} this reader accepts \
+         (a damaged or hostile recording)"
+    )]
+    TooLarge {
+        /// What, and where (e.g. `the uncompressed data of chunk 3`).
+        what: String,
+        /// The length the file claims, bytes.
+        claimed_bytes: u64,
+        /// The limit, bytes.
+        limit_bytes: u64,
+    },
+    /// A chunk's data is not what its header declares (it decompresses to more or fewer bytes,
+    /// or a record inside overruns it).
+    #[error("chunk {chunk} {reason} (a damaged or hostile recording)")]
+    BadChunk {
+        /// The chunk's position in the file, from 1.
+        chunk: u64,
+        /// What is wrong.
+        reason: String,
+    },
+    /// A record's fields overrun the record.
+    #[error("a damaged record (in chunk {chunk}; 0: outside chunks): {reason}")]
+    Damaged {
+        /// The chunk holding it, from 1 (0: outside chunks).
+        chunk: u64,
+        /// What is wrong.
+        reason: String,
+    },
     /// The session metadata record is missing.
     #[error("the recording has no `session` metadata record")]
     NoMetadata,
@@ -177,11 +208,97 @@ pub type Row = serde_json::Map<String, serde_json::Value>;
 pub type RecordedRows = BTreeMap<Channel, Vec<Row>>;
 
 /// How one of our channels' messages decode.
-enum Decoder {
+pub(super) enum Decoder {
     /// One JSON sample a message.
     Json,
-    /// A block of samples a message.
-    Blocks(Box<Layout>),
+    /// A block of samples a message, and whether the file's columns are the channel's own
+    /// (rebuilt cell by cell) or another version's (rebuilt through JSON).
+    Blocks(Box<Layout>, bool),
+}
+
+impl Decoder {
+    /// The decoder of `channel` as the file declares it (`c`), its schema among `schemas`.
+    pub(super) fn of(
+        channel: Channel,
+        c: &mcap::records::Channel,
+        schemas: &BTreeMap<u16, (String, Vec<u8>)>,
+    ) -> Result<Self, ReadError> {
+        if c.message_encoding != blocks::ENCODING {
+            return Ok(Self::Json);
+        }
+        let (name, schema) = schemas.get(&c.schema_id).cloned().unwrap_or_default();
+        let layout =
+            Layout::from_file(&name, &schema, &c.metadata).map_err(|source| ReadError::Block {
+                topic: channel.topic(),
+                index: usize::MAX,
+                source,
+            })?;
+        let own = channel.spec().block_layout().and_then(Result::ok);
+        let same = own.is_some_and(|own| own.column_names().eq(layout.column_names()));
+        Ok(Self::Blocks(Box::new(layout), same))
+    }
+
+    /// Appends the samples of one message of `channel` to `out` as `T`: a JSON message
+    /// deserialised, a block rebuilt cell by cell (NaN and infinities kept) when the file's
+    /// columns are `T`'s own, through JSON otherwise. `index` is the position of the message's
+    /// first sample within its channel (for errors); returns the number of samples appended.
+    pub(super) fn decode_into<T: DeserializeOwned>(
+        &self,
+        channel: Channel,
+        data: &[u8],
+        index: usize,
+        out: &mut impl Extend<Stamped<T>>,
+    ) -> Result<usize, ReadError> {
+        let json_error = |index, source| ReadError::Decode {
+            topic: channel.topic(),
+            index,
+            source,
+        };
+        let block_error = |index, source| ReadError::Block {
+            topic: channel.topic(),
+            index,
+            source,
+        };
+        let mut n = 0;
+        match self {
+            Self::Json => {
+                let sample = serde_json::from_slice(data).map_err(|e| json_error(index, e))?;
+                out.extend([sample]);
+                n = 1;
+            }
+            Self::Blocks(layout, false) => {
+                for row in layout.decode(data).map_err(|e| block_error(index, e))? {
+                    let v = serde_json::Value::Object(row);
+                    let sample = serde_json::from_value(v).map_err(|e| json_error(index + n, e))?;
+                    out.extend([sample]);
+                    n += 1;
+                }
+            }
+            Self::Blocks(layout, true) => {
+                for cells in layout
+                    .decode_cells(data)
+                    .map_err(|e| block_error(index, e))?
+                {
+                    let (tick, t_ns) = match cells.get(..2) {
+                        Some([Cell::Int(tick), Cell::Int(t_ns)]) => (*tick, *t_ns),
+                        _ => {
+                            let what = BlockError::Decode("a sample without its stamps".into());
+                            return Err(block_error(index + n, what));
+                        }
+                    };
+                    let data = unflatten(&cells[2..])
+                        .map_err(|e| block_error(index + n, BlockError::Decode(e.to_string())))?;
+                    out.extend([Stamped {
+                        tick,
+                        t_s: t_ns as f64 * 1e-9,
+                        data,
+                    }]);
+                    n += 1;
+                }
+            }
+        }
+        Ok(n)
+    }
 }
 
 /// One of our channels in a file: how its messages decode, and the messages in file order.
@@ -208,20 +325,7 @@ fn channel_messages(
                 let Some(channel) = Channel::from_topic(&c.topic) else {
                     continue;
                 };
-                let decoder = if c.message_encoding == blocks::ENCODING {
-                    let (name, schema) = schemas.get(&c.schema_id).cloned().unwrap_or_default();
-                    let layout =
-                        Layout::from_file(&name, &schema, &c.metadata).map_err(|source| {
-                            ReadError::Block {
-                                topic: channel.topic(),
-                                index: usize::MAX,
-                                source,
-                            }
-                        })?;
-                    Decoder::Blocks(Box::new(layout))
-                } else {
-                    Decoder::Json
-                };
+                let decoder = Decoder::of(channel, &c, &schemas)?;
                 topics.insert(c.id, channel);
                 out.entry(channel).or_insert(ChannelMessages {
                     decoder,
@@ -263,7 +367,7 @@ pub fn recorded_rows(bytes: &[u8]) -> Result<(SessionMetadata, RecordedRows), Re
                         })?,
                     )
                 }
-                Decoder::Blocks(layout) => {
+                Decoder::Blocks(layout, _) => {
                     out.extend(layout.decode(data).map_err(|source| ReadError::Block {
                         topic: channel.topic(),
                         index: out.len(),
@@ -285,8 +389,7 @@ fn at_tick<'a, T: Copy + 'a>(
     it.next_if(|m| m.tick == tick).map(|m| m.data)
 }
 
-/// A channel's samples as `T`: JSON messages deserialised, blocks rebuilt cell by cell
-/// (NaN and infinities kept) when the file's columns are `T`'s own, through JSON otherwise.
+/// A channel's samples as `T` ([`Decoder::decode_into`]).
 fn decode<T: DeserializeOwned>(
     channel: Channel,
     messages: Option<ChannelMessages>,
@@ -294,55 +397,9 @@ fn decode<T: DeserializeOwned>(
     let Some(c) = messages else {
         return Ok(Vec::new());
     };
-    let json_error = |index, source| ReadError::Decode {
-        topic: channel.topic(),
-        index,
-        source,
-    };
     let mut out = Vec::new();
-    match &c.decoder {
-        Decoder::Json => {
-            for data in &c.messages {
-                out.push(serde_json::from_slice(data).map_err(|e| json_error(out.len(), e))?);
-            }
-        }
-        Decoder::Blocks(layout) => {
-            let own = channel.spec().block_layout().and_then(Result::ok);
-            let same = own.is_some_and(|own| own.column_names().eq(layout.column_names()));
-            for data in &c.messages {
-                let block_error = |index, source| ReadError::Block {
-                    topic: channel.topic(),
-                    index,
-                    source,
-                };
-                if !same {
-                    for row in layout.decode(data).map_err(|e| block_error(out.len(), e))? {
-                        let v = serde_json::Value::Object(row);
-                        out.push(serde_json::from_value(v).map_err(|e| json_error(out.len(), e))?);
-                    }
-                    continue;
-                }
-                for cells in layout
-                    .decode_cells(data)
-                    .map_err(|e| block_error(out.len(), e))?
-                {
-                    let (tick, t_ns) = match cells.get(..2) {
-                        Some([Cell::Int(tick), Cell::Int(t_ns)]) => (*tick, *t_ns),
-                        _ => {
-                            let what = BlockError::Decode("a sample without its stamps".into());
-                            return Err(block_error(out.len(), what));
-                        }
-                    };
-                    let data = unflatten(&cells[2..])
-                        .map_err(|e| block_error(out.len(), BlockError::Decode(e.to_string())))?;
-                    out.push(Stamped {
-                        tick,
-                        t_s: t_ns as f64 * 1e-9,
-                        data,
-                    });
-                }
-            }
-        }
+    for data in &c.messages {
+        c.decoder.decode_into(channel, data, out.len(), &mut out)?;
     }
     Ok(out)
 }

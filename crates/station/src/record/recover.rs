@@ -159,7 +159,7 @@ impl<'a> Fields<'a> {
 
 /// Checks every length inside a record the copy parses (MCAP specification, "Records"), so
 /// parsing it allocates no more than the record's own length.
-fn check_lengths(opcode: u8, data: &[u8]) -> Result<(), Damaged> {
+pub(super) fn check_lengths(opcode: u8, data: &[u8]) -> Result<(), Damaged> {
     use mcap::records::op;
     let mut f = Fields::of(opcode, data);
     match opcode {

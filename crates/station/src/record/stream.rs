@@ -1,0 +1,917 @@
+//! Reading a recording front to back in bounded memory, whatever its length, and whoever
+//! wrote it (the hub replays recordings uploaded by stations: untrusted input).
+//!
+//! [`TickStream`] reads the file once, chunk by chunk in file order, and gives the tick records
+//! back as [`super::Recording::ticks`] joins them, holding only the samples of the last few
+//! seconds. Every length is checked against [`StreamLimits`] before anything is allocated for
+//! it:
+//! - a record outside chunks, and a whole chunk record (its compressed data), at most
+//!   [`StreamLimits::max_record_bytes`] (mcap's sans-I/O linear reader enforces it);
+//! - a chunk's declared uncompressed size at most [`StreamLimits::max_chunk_bytes`], and the
+//!   chunk decompressed as a stream, one record at a time, never past what it declares (a zstd
+//!   bomb stops at its declared size, and that is bounded); the decoder's window is bounded
+//!   too ([`ZSTD_WINDOW_LOG_MAX`]);
+//! - a record inside a chunk at most [`StreamLimits::max_record_bytes`] and within the chunk;
+//! - a message of our channels at most [`StreamLimits::max_message_bytes`] (a block message
+//!   expands some 30× as it is decoded).
+//!
+//! Memory: one compressed chunk, one record, the decoder's window, and the samples of the
+//! join window ([`JOIN_WINDOW_TICKS`]) — a few MB for the station's own recordings (chunks of
+//! 1 MiB uncompressed), at most some 3 × [`StreamLimits::max_record_bytes`] for any file.
+
+use super::channels::Channel;
+use super::raw::{RawImuSample, RawTick, RawWheelSample};
+use super::reader::{Decoder, ReadError};
+use super::recover::check_lengths;
+use super::types::{
+    ArmSample, AssistSample, ScoreSample, SessionMetadata, Stamped, TickRecord, TimingSample,
+    VehicleSample, WheelSample,
+};
+use mcap::records::{Record, op};
+use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
+use serde::de::DeserializeOwned;
+use std::collections::{BTreeMap, VecDeque};
+use std::io::{Cursor, Read};
+use std::path::Path;
+
+/// The largest zstd window the chunk decoder accepts, log2 bytes (16 MiB; the station's
+/// chunks are 1 MiB, so their frames never need more).
+pub const ZSTD_WINDOW_LOG_MAX: u32 = 24;
+
+/// Ticks of `/wheel` held back while the other channels catch up: a high-rate channel's block
+/// is written when it holds 100 samples or at the recorder's flush every second, so a tick's
+/// samples are all in the file a little over a second after its `/wheel` sample. Beyond this
+/// many ticks the oldest is given out with what has arrived (a sample arriving later still is
+/// counted in [`TickStream::late_samples`]).
+pub const JOIN_WINDOW_TICKS: usize = 8192;
+
+/// Samples held on any one other channel, at most, before its oldest is dropped (counted as
+/// late): bounds the memory of a file whose `/wheel` lags or is missing.
+const QUEUE_CAP: usize = 4 * JOIN_WINDOW_TICKS;
+
+/// The bounds a streaming read enforces before it allocates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StreamLimits {
+    /// Largest record outside chunks, whole chunk record (compressed) or record inside a
+    /// chunk, bytes.
+    pub max_record_bytes: usize,
+    /// Largest uncompressed size a chunk may declare, bytes.
+    pub max_chunk_bytes: u64,
+    /// Largest message on one of our channels, bytes.
+    pub max_message_bytes: usize,
+}
+
+impl Default for StreamLimits {
+    /// 16 MiB records and chunks (the station's writer closes chunks at 1 MiB), 256 KiB
+    /// messages (a block of 100 samples is a few KB).
+    fn default() -> Self {
+        Self {
+            max_record_bytes: 16 << 20,
+            max_chunk_bytes: 16 << 20,
+            max_message_bytes: 256 << 10,
+        }
+    }
+}
+
+/// The chunk being read: its records, decompressed as they are read.
+struct Chunk {
+    /// Position in the file, from 1.
+    number: u64,
+    /// Uncompressed bytes it declares.
+    declared: u64,
+    /// Uncompressed bytes still to read.
+    left: u64,
+    /// Its records, uncompressed.
+    body: Box<dyn Read + Send>,
+}
+
+/// One record of the file's data section, chunks unpacked, as far as the stream needs it.
+enum Rec<'a> {
+    /// A record the stream does not use (parsed no further).
+    Other,
+    /// A record to parse: its opcode, bytes, and the chunk holding it (0: none).
+    Parse(u8, &'a [u8], u64),
+    /// The end of the data section.
+    End,
+}
+
+/// The records of a recording read front to back from `R`, chunks unpacked within the limits.
+struct Records<R> {
+    input: R,
+    reader: LinearReader,
+    limits: StreamLimits,
+    chunk: Option<Chunk>,
+    chunks: u64,
+    /// The record read from the current chunk.
+    record: Vec<u8>,
+}
+
+/// Records inside chunks the stream parses; the rest is skipped unparsed.
+const USED: [u8; 4] = [op::SCHEMA, op::CHANNEL, op::MESSAGE, op::METADATA];
+
+impl<R: Read> Records<R> {
+    fn new(input: R, limits: StreamLimits) -> Self {
+        let options = LinearReaderOptions::default()
+            .with_emit_chunks(true)
+            .with_record_length_limit(limits.max_record_bytes);
+        Self {
+            input,
+            reader: LinearReader::new_with_options(options),
+            limits,
+            chunk: None,
+            chunks: 0,
+            record: Vec::new(),
+        }
+    }
+
+    /// The next record; `None` after the end.
+    fn next(&mut self) -> Result<Rec<'_>, ReadError> {
+        loop {
+            if let Some(chunk) = &mut self.chunk {
+                if chunk.left > 0 {
+                    let opcode = next_in_chunk(chunk, &mut self.record, &self.limits)?;
+                    let number = chunk.number;
+                    return Ok(if USED.contains(&opcode) {
+                        Rec::Parse(opcode, &self.record, number)
+                    } else {
+                        Rec::Other
+                    });
+                }
+                let number = chunk.number;
+                let mut probe = [0u8; 1];
+                if read_full(&mut chunk.body, &mut probe, number)? > 0 {
+                    return Err(ReadError::BadChunk {
+                        chunk: number,
+                        reason: format!(
+                            "decompresses to more than the {} bytes it declares",
+                            chunk.declared
+                        ),
+                    });
+                }
+                self.chunk = None;
+            }
+            let Some(event) = self.reader.next_event() else {
+                return Ok(Rec::End);
+            };
+            let (limits, chunks) = (self.limits, self.chunks);
+            match event.map_err(|e| mcap_error(e, &limits, chunks))? {
+                LinearReadEvent::ReadRequest(need) => {
+                    let buf = self.reader.insert(need);
+                    let n = loop {
+                        match self.input.read(buf) {
+                            Ok(n) => break n,
+                            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+                            Err(source) => {
+                                return Err(ReadError::Io {
+                                    path: String::new(),
+                                    source,
+                                });
+                            }
+                        }
+                    };
+                    self.reader.notify_read(n);
+                }
+                LinearReadEvent::Record { opcode, data } => match opcode {
+                    op::CHUNK => {
+                        self.chunks += 1;
+                        let chunk = open_chunk(self.chunks, data, &self.limits)?;
+                        self.chunk = Some(chunk);
+                    }
+                    op::DATA_END => return Ok(Rec::End),
+                    op if USED.contains(&op) => {
+                        self.record.clear();
+                        self.record.extend_from_slice(data);
+                        return Ok(Rec::Parse(op, &self.record, 0));
+                    }
+                    _ => return Ok(Rec::Other),
+                },
+            }
+        }
+    }
+}
+
+/// mcap's length errors in this reader's words (`chunks`: the chunks read so far).
+fn mcap_error(e: mcap::McapError, limits: &StreamLimits, chunks: u64) -> ReadError {
+    let limit_bytes = limits.max_record_bytes as u64;
+    match e {
+        mcap::McapError::RecordTooLarge { opcode, len } => ReadError::TooLarge {
+            what: format!("a record (opcode 0x{opcode:02x})"),
+            claimed_bytes: len,
+            limit_bytes,
+        },
+        mcap::McapError::ChunkTooLarge(len) => ReadError::TooLarge {
+            what: format!("chunk {}", chunks + 1),
+            claimed_bytes: len,
+            limit_bytes,
+        },
+        other => ReadError::Mcap(other),
+    }
+}
+
+/// Reads `buf.len()` bytes of a chunk's body, or up to its end; returns the bytes read.
+fn read_full(body: &mut dyn Read, buf: &mut [u8], chunk: u64) -> Result<usize, ReadError> {
+    let mut got = 0;
+    while got < buf.len() {
+        match body.read(&mut buf[got..]) {
+            Ok(0) => break,
+            Ok(n) => got += n,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+            Err(e) => {
+                return Err(ReadError::BadChunk {
+                    chunk,
+                    reason: format!("does not decompress: {e}"),
+                });
+            }
+        }
+    }
+    Ok(got)
+}
+
+/// The next record of `chunk` into `record`; returns its opcode.
+fn next_in_chunk(
+    chunk: &mut Chunk,
+    record: &mut Vec<u8>,
+    limits: &StreamLimits,
+) -> Result<u8, ReadError> {
+    let number = chunk.number;
+    let short = |what: &str, left: u64| ReadError::BadChunk {
+        chunk: number,
+        reason: format!("ends in the middle of {what} ({left} of its declared bytes left)"),
+    };
+    if chunk.left < 9 {
+        return Err(short("a record header", chunk.left));
+    }
+    let mut head = [0u8; 9];
+    if read_full(&mut chunk.body, &mut head, number)? < 9 {
+        return Err(ReadError::BadChunk {
+            chunk: number,
+            reason: format!(
+                "decompresses to fewer than the {} bytes it declares",
+                chunk.declared
+            ),
+        });
+    }
+    chunk.left -= 9;
+    let opcode = head[0];
+    let len = u64::from_le_bytes(head[1..].try_into().expect("8 bytes"));
+    if len > chunk.left {
+        return Err(ReadError::BadChunk {
+            chunk: number,
+            reason: format!(
+                "holds a record (opcode 0x{opcode:02x}) of {len} bytes, past its end ({} bytes \
+                 left)",
+                chunk.left
+            ),
+        });
+    }
+    let limit = limits.max_record_bytes;
+    let len = match usize::try_from(len) {
+        Ok(n) if n <= limit => n,
+        _ => {
+            return Err(ReadError::TooLarge {
+                what: format!("a record (opcode 0x{opcode:02x}) in chunk {number}"),
+                claimed_bytes: len,
+                limit_bytes: limit as u64,
+            });
+        }
+    };
+    record.clear();
+    record.resize(len, 0);
+    if read_full(&mut chunk.body, record, number)? < len {
+        return Err(short("a record", chunk.left));
+    }
+    chunk.left -= len as u64;
+    Ok(opcode)
+}
+
+/// A chunk record's header checked against the limits, and its body ready to decompress.
+fn open_chunk(number: u64, data: &[u8], limits: &StreamLimits) -> Result<Chunk, ReadError> {
+    let bad = |reason: String| ReadError::BadChunk {
+        chunk: number,
+        reason,
+    };
+    // start time, end time, uncompressed size, uncompressed CRC, compression (u32 length and
+    // text), compressed size, then the records (MCAP specification, "Chunk").
+    let u64_at = |at: usize| {
+        data.get(at..at + 8)
+            .map(|b| u64::from_le_bytes(b.try_into().expect("8 bytes")))
+            .ok_or_else(|| bad("has a truncated header".to_owned()))
+    };
+    let declared = u64_at(16)?;
+    let name_len = data
+        .get(28..32)
+        .map(|b| u32::from_le_bytes(b.try_into().expect("4 bytes")) as usize)
+        .ok_or_else(|| bad("has a truncated header".to_owned()))?;
+    let name = data
+        .get(32..32 + name_len)
+        .ok_or_else(|| bad("has a truncated header".to_owned()))?;
+    let compressed = u64_at(32 + name_len)?;
+    let records = &data[(40 + name_len).min(data.len())..];
+    if compressed > records.len() as u64 {
+        return Err(bad(format!(
+            "declares {compressed} compressed bytes, {} are there",
+            records.len()
+        )));
+    }
+    if declared > limits.max_chunk_bytes {
+        return Err(ReadError::TooLarge {
+            what: format!("the uncompressed data of chunk {number}"),
+            claimed_bytes: declared,
+            limit_bytes: limits.max_chunk_bytes,
+        });
+    }
+    let records = records[..compressed as usize].to_vec();
+    let body: Box<dyn Read + Send> = match name {
+        b"" => {
+            if declared != compressed {
+                return Err(bad(format!(
+                    "is uncompressed but declares {declared} bytes of {compressed}"
+                )));
+            }
+            Box::new(Cursor::new(records))
+        }
+        b"zstd" => {
+            let mut decoder = zstd::stream::read::Decoder::with_buffer(Cursor::new(records))
+                .map_err(|e| bad(format!("cannot start its zstd decoder: {e}")))?;
+            decoder
+                .window_log_max(ZSTD_WINDOW_LOG_MAX)
+                .map_err(|e| bad(format!("cannot bound its zstd decoder: {e}")))?;
+            Box::new(decoder)
+        }
+        other => {
+            return Err(bad(format!(
+                "is compressed with {:?}, which this reader does not decode (the station \
+                 writes zstd)",
+                String::from_utf8_lossy(other)
+            )));
+        }
+    };
+    Ok(Chunk {
+        number,
+        declared,
+        left: declared,
+        body,
+    })
+}
+
+/// One channel's samples waiting to be joined into ticks.
+struct Queue<T> {
+    samples: VecDeque<Stamped<T>>,
+    /// Samples decoded so far (the index of the next one, for errors).
+    decoded: usize,
+    /// The tick of the last sample decoded.
+    last_tick: Option<u64>,
+}
+
+impl<T> Default for Queue<T> {
+    fn default() -> Self {
+        Self {
+            samples: VecDeque::new(),
+            decoded: 0,
+            last_tick: None,
+        }
+    }
+}
+
+impl<T: DeserializeOwned> Queue<T> {
+    /// Appends the samples of one message; returns how many samples were dropped (beyond
+    /// [`QUEUE_CAP`]).
+    fn push(&mut self, channel: Channel, decoder: &Decoder, data: &[u8]) -> Result<u64, ReadError> {
+        let n = decoder.decode_into(channel, data, self.decoded, &mut self.samples)?;
+        self.decoded += n;
+        if let Some(last) = self.samples.back() {
+            self.last_tick = Some(last.tick);
+        }
+        let over = self.samples.len().saturating_sub(QUEUE_CAP);
+        self.samples.drain(..over);
+        Ok(over as u64)
+    }
+
+    /// Whether every sample of `tick` has arrived: one past it has, or (`one_a_tick`) the
+    /// tick's own has.
+    fn past(&self, tick: u64, one_a_tick: bool) -> bool {
+        self.last_tick
+            .is_some_and(|t| t > tick || (one_a_tick && t == tick))
+    }
+}
+
+impl<T: Copy> Queue<T> {
+    /// The sample of `tick`, dropping earlier ones (counted in `late`).
+    fn at(&mut self, tick: u64, late: &mut u64) -> Option<T> {
+        while self.samples.front().is_some_and(|m| m.tick < tick) {
+            self.samples.pop_front();
+            *late += 1;
+        }
+        match self.samples.front() {
+            Some(m) if m.tick == tick => self.samples.pop_front().map(|m| m.data),
+            _ => None,
+        }
+    }
+}
+
+/// Every per-tick channel's waiting samples.
+#[derive(Default)]
+struct Queues {
+    wheel: Queue<WheelSample>,
+    vehicle: Queue<VehicleSample>,
+    score: Queue<ScoreSample>,
+    assist: Queue<AssistSample>,
+    timing: Queue<TimingSample>,
+    arm: Queue<ArmSample>,
+    raw_wheel: Queue<RawWheelSample>,
+    raw_imu: Queue<RawImuSample>,
+}
+
+/// The tick records of a recording, read front to back in bounded memory (the module's
+/// documentation says how). Gives the same records as [`super::Recording::ticks`] for the
+/// channels it reads (the others left at their defaults).
+pub struct TickStream<R> {
+    records: Records<R>,
+    metadata: SessionMetadata,
+    wanted: [bool; Channel::ALL.len()],
+    schemas: BTreeMap<u16, (String, Vec<u8>)>,
+    channels: BTreeMap<u16, (Channel, Decoder)>,
+    queues: Queues,
+    last_score: ScoreSample,
+    ended: bool,
+    failed: bool,
+    late: u64,
+}
+
+impl TickStream<std::io::BufReader<std::fs::File>> {
+    /// [`TickStream::open`] on the file at `path`.
+    pub fn open_path(
+        path: &Path,
+        limits: StreamLimits,
+        channels: &[Channel],
+    ) -> Result<Self, ReadError> {
+        let file = std::fs::File::open(path).map_err(|source| ReadError::Io {
+            path: format!(" {}", path.display()),
+            source,
+        })?;
+        Self::open(std::io::BufReader::new(file), limits, channels)
+    }
+}
+
+impl<R: Read> TickStream<R> {
+    /// Starts reading the recording from `input` up to its session metadata; the ticks
+    /// follow as the iterator is advanced. Only `channels` are decoded (`/wheel` always: a
+    /// tick is a `/wheel` sample); the others are skipped unparsed and left at their defaults
+    /// in the records.
+    pub fn open(input: R, limits: StreamLimits, channels: &[Channel]) -> Result<Self, ReadError> {
+        let mut wanted = [false; Channel::ALL.len()];
+        for c in channels.iter().chain([&Channel::Wheel]) {
+            wanted[*c as usize] = true;
+        }
+        let mut stream = Self {
+            records: Records::new(input, limits),
+            metadata: SessionMetadata::default(),
+            wanted,
+            schemas: BTreeMap::new(),
+            channels: BTreeMap::new(),
+            queues: Queues::default(),
+            last_score: ScoreSample::default(),
+            ended: false,
+            failed: false,
+            late: 0,
+        };
+        loop {
+            if stream.ended {
+                return Err(ReadError::NoMetadata);
+            }
+            if let Some(metadata) = stream.pump()? {
+                stream.metadata = metadata;
+                return Ok(stream);
+            }
+        }
+    }
+
+    /// The session metadata record.
+    pub fn metadata(&self) -> &SessionMetadata {
+        &self.metadata
+    }
+
+    /// Samples that arrived after their tick had been given out, or were dropped beyond the
+    /// join window (0 for any recording the station wrote).
+    pub fn late_samples(&self) -> u64 {
+        self.late
+    }
+
+    /// Reads one record; a session metadata record is returned.
+    fn pump(&mut self) -> Result<Option<SessionMetadata>, ReadError> {
+        let max_message = self.records.limits.max_message_bytes;
+        let (opcode, data, chunk) = match self.records.next()? {
+            Rec::End => {
+                self.ended = true;
+                return Ok(None);
+            }
+            Rec::Other => return Ok(None),
+            Rec::Parse(opcode, data, chunk) => (opcode, data, chunk),
+        };
+        if opcode == op::MESSAGE {
+            // Parsed by hand: the channel decides whether it is read at all.
+            // channel id (2 bytes), sequence (4), log and publish times (8 each), data.
+            if data.len() < 22 {
+                return Err(ReadError::Damaged {
+                    chunk,
+                    reason: format!("a message record of {} bytes", data.len()),
+                });
+            }
+            let id = u16::from_le_bytes([data[0], data[1]]);
+            let Some((channel, decoder)) = self.channels.get(&id) else {
+                return Ok(None);
+            };
+            let body = &data[22..];
+            if body.len() > max_message {
+                return Err(ReadError::TooLarge {
+                    what: format!("a message of channel {}", channel.topic()),
+                    claimed_bytes: body.len() as u64,
+                    limit_bytes: max_message as u64,
+                });
+            }
+            let q = &mut self.queues;
+            let dropped = match channel {
+                Channel::Wheel => q.wheel.push(*channel, decoder, body)?,
+                Channel::Vehicle => q.vehicle.push(*channel, decoder, body)?,
+                Channel::Score => q.score.push(*channel, decoder, body)?,
+                Channel::Assist => q.assist.push(*channel, decoder, body)?,
+                Channel::Timing => q.timing.push(*channel, decoder, body)?,
+                Channel::Arm => q.arm.push(*channel, decoder, body)?,
+                Channel::RawWheel => q.raw_wheel.push(*channel, decoder, body)?,
+                Channel::RawImu => q.raw_imu.push(*channel, decoder, body)?,
+                Channel::ArmCalibration | Channel::Metrics => 0,
+            };
+            self.late += dropped;
+            return Ok(None);
+        }
+        check_lengths(opcode, data).map_err(|e| ReadError::Damaged {
+            chunk,
+            reason: e.to_string(),
+        })?;
+        match mcap::parse_record(opcode, data)? {
+            Record::Schema { header, data } => {
+                self.schemas
+                    .insert(header.id, (header.name, data.into_owned()));
+            }
+            Record::Channel(c) => {
+                if let Some(channel) = Channel::from_topic(&c.topic)
+                    && self.wanted[channel as usize]
+                {
+                    let decoder = Decoder::of(channel, &c, &self.schemas)?;
+                    self.channels.insert(c.id, (channel, decoder));
+                }
+            }
+            Record::Metadata(m) if m.name == SessionMetadata::NAME => {
+                return Ok(Some(SessionMetadata::from_map(&m.metadata)?));
+            }
+            _ => {}
+        }
+        Ok(None)
+    }
+
+    /// Whether the oldest `/wheel` sample's tick can be given out: every channel read has
+    /// gone past it, the file has ended, or the join window is full.
+    fn ready(&self, tick: u64) -> bool {
+        let q = &self.queues;
+        let w = |c: Channel| !self.wanted[c as usize];
+        self.ended
+            || q.wheel.samples.len() > JOIN_WINDOW_TICKS
+            || ((w(Channel::Vehicle) || q.vehicle.past(tick, true))
+                && (w(Channel::Score) || q.score.past(tick, true))
+                && (w(Channel::Assist) || q.assist.past(tick, true))
+                && (w(Channel::Timing) || q.timing.past(tick, true))
+                && (w(Channel::Arm) || q.arm.past(tick, true))
+                && (w(Channel::RawWheel) || q.raw_wheel.past(tick, true))
+                && (w(Channel::RawImu) || q.raw_imu.past(tick, false)))
+    }
+
+    /// The record of the oldest `/wheel` sample, joined with what the other channels hold.
+    fn join(&mut self, w: Stamped<WheelSample>) -> TickRecord {
+        let tick = w.tick;
+        let q = &mut self.queues;
+        while q.score.samples.front().is_some_and(|s| s.tick <= tick) {
+            if let Some(s) = q.score.samples.pop_front() {
+                self.last_score = s.data;
+            }
+        }
+        let mut imu = [None; 2];
+        let late = &mut self.late;
+        while q.raw_imu.samples.front().is_some_and(|m| m.tick < tick) {
+            q.raw_imu.samples.pop_front();
+            *late += 1;
+        }
+        while let Some(m) = q.raw_imu.samples.front().filter(|m| m.tick == tick) {
+            if let Some(slot) = imu.get_mut(m.data.sensor as usize) {
+                *slot = Some(m.data);
+            }
+            q.raw_imu.samples.pop_front();
+        }
+        TickRecord {
+            tick,
+            t_ns: w.t_ns(),
+            wheel: w.data,
+            vehicle: q.vehicle.at(tick, late),
+            score: self.last_score,
+            assist: q.assist.at(tick, late).unwrap_or_default(),
+            arm: q.arm.at(tick, late),
+            timing: q.timing.at(tick, late).unwrap_or_default(),
+            raw: RawTick {
+                wheel: q.raw_wheel.at(tick, late).unwrap_or_default(),
+                imu,
+            },
+        }
+    }
+}
+
+impl<R: Read> Iterator for TickStream<R> {
+    type Item = Result<TickRecord, ReadError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.failed {
+            return None;
+        }
+        loop {
+            if let Some(tick) = self.queues.wheel.samples.front().map(|w| w.tick)
+                && self.ready(tick)
+            {
+                let w = self.queues.wheel.samples.pop_front()?;
+                return Some(Ok(self.join(w)));
+            }
+            if self.ended {
+                return None;
+            }
+            if let Err(e) = self.pump() {
+                self.failed = true;
+                return Some(Err(e));
+            }
+        }
+    }
+}
+
+/// Reads a whole buffered input through [`TickStream`] — for tests and small files.
+impl TickStream<Cursor<Vec<u8>>> {
+    /// [`TickStream::open`] on bytes in memory.
+    pub fn from_bytes(
+        bytes: Vec<u8>,
+        limits: StreamLimits,
+        channels: &[Channel],
+    ) -> Result<Self, ReadError> {
+        Self::open(Cursor::new(bytes), limits, channels)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::record::{RecordWriter, Recording};
+
+    /// A little generator with a fixed seed (xorshift64*).
+    struct Rng(u64);
+
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+        }
+
+        fn unit(&mut self) -> f64 {
+            (self.next() >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    /// `n` ticks at 1 kHz: the car on the road from tick 1500 to 3700, the arm sensed on most
+    /// ticks, IMU samples now and then (sometimes two a tick), a score every 100 ticks.
+    fn ticks(n: u64, seed: u64) -> Vec<(TickRecord, bool)> {
+        let mut rng = Rng(seed);
+        (0..n)
+            .map(|tick| {
+                let x = rng.unit();
+                let mut rec = TickRecord {
+                    tick,
+                    t_ns: tick * 1_000_000,
+                    ..Default::default()
+                };
+                rec.wheel.angle_rad = x;
+                rec.wheel.commanded_nm = 0.5 * x;
+                rec.assist.torque_nm = -x;
+                rec.timing.lateness_ns = tick % 7;
+                rec.raw.wheel.angle_rad = x;
+                rec.score.pct_in_lane = (tick / 100) as f64;
+                if (1500..3700).contains(&tick) {
+                    rec.vehicle = Some(VehicleSample {
+                        x_m: tick as f64,
+                        lateral_m: x - 0.5,
+                        ..Default::default()
+                    });
+                }
+                if rng.unit() < 0.9 {
+                    rec.arm = Some(ArmSample {
+                        elbow_flexion_rad: x,
+                        ..Default::default()
+                    });
+                }
+                for sensor in 0..2 {
+                    if rng.unit() < 0.2 {
+                        rec.raw.imu[sensor as usize] = Some(RawImuSample {
+                            sensor,
+                            gyro_x_rad_s: x,
+                            ..Default::default()
+                        });
+                    }
+                }
+                (rec, tick % 100 == 0)
+            })
+            .collect()
+    }
+
+    /// A recording of `ticks`, the chunk closed every `flush_every` ticks (0: never).
+    fn write(ticks: &[(TickRecord, bool)], flush_every: u64) -> Vec<u8> {
+        let meta = SessionMetadata {
+            loop_rate_hz: 1000.0,
+            ..Default::default()
+        };
+        let mut w = RecordWriter::new(Cursor::new(Vec::new()), 0, &meta).unwrap();
+        for (rec, with_score) in ticks {
+            w.write_tick(rec, *with_score).unwrap();
+            if flush_every > 0 && rec.tick % flush_every == flush_every - 1 {
+                w.flush().unwrap();
+            }
+        }
+        w.finish().unwrap().into_inner()
+    }
+
+    fn streamed(bytes: &[u8], limits: StreamLimits, channels: &[Channel]) -> Vec<TickRecord> {
+        let stream = TickStream::from_bytes(bytes.to_vec(), limits, channels).unwrap();
+        stream.collect::<Result<_, _>>().unwrap()
+    }
+
+    #[test]
+    fn the_stream_gives_the_ticks_the_whole_file_reader_gives() {
+        for flush_every in [0, 1000, 333] {
+            let bytes = write(&ticks(5000, 7), flush_every);
+            let whole: Vec<TickRecord> = Recording::from_bytes(&bytes).unwrap().ticks().collect();
+            let mut stream =
+                TickStream::from_bytes(bytes.clone(), StreamLimits::default(), &Channel::ALL)
+                    .unwrap();
+            let got: Vec<TickRecord> = stream.by_ref().collect::<Result<_, _>>().unwrap();
+            assert_eq!(got.len(), 5000);
+            assert_eq!(got, whole, "flushed every {flush_every} ticks");
+            assert_eq!(stream.late_samples(), 0);
+        }
+    }
+
+    #[test]
+    fn channels_left_out_are_skipped_and_left_at_their_defaults() {
+        let bytes = write(&ticks(2000, 3), 1000);
+        let whole: Vec<TickRecord> = Recording::from_bytes(&bytes).unwrap().ticks().collect();
+        let got = streamed(&bytes, StreamLimits::default(), &[Channel::Vehicle]);
+        assert_eq!(got.len(), whole.len());
+        for (g, w) in got.iter().zip(&whole) {
+            assert_eq!((g.wheel, g.vehicle), (w.wheel, w.vehicle));
+            assert_eq!((g.arm, g.raw), (None, RawTick::default()));
+        }
+    }
+
+    /// The records of a chunk record (MCAP specification, "Chunk") declaring `declared`
+    /// uncompressed bytes.
+    fn chunk_record(declared: u64, compression: &str, records: &[u8]) -> Vec<u8> {
+        let mut body = Vec::new();
+        body.extend(0u64.to_le_bytes());
+        body.extend(0u64.to_le_bytes());
+        body.extend(declared.to_le_bytes());
+        body.extend(0u32.to_le_bytes());
+        body.extend((compression.len() as u32).to_le_bytes());
+        body.extend(compression.as_bytes());
+        body.extend((records.len() as u64).to_le_bytes());
+        body.extend(records);
+        let mut record = vec![op::CHUNK];
+        record.extend((body.len() as u64).to_le_bytes());
+        record.extend(body);
+        record
+    }
+
+    /// A recording of a few ticks with `record` right after the header.
+    fn with_record_after_header(record: &[u8]) -> Vec<u8> {
+        let honest = write(&ticks(300, 1), 0);
+        let header_end = 8 + 9 + u64::from_le_bytes(honest[9..17].try_into().unwrap()) as usize;
+        let mut forged = honest[..header_end].to_vec();
+        forged.extend(record);
+        forged.extend(&honest[header_end..]);
+        forged
+    }
+
+    fn refused(bytes: Vec<u8>, limits: StreamLimits) -> ReadError {
+        match TickStream::from_bytes(bytes, limits, &Channel::ALL) {
+            Err(e) => e,
+            Ok(stream) => stream
+                .filter_map(Result::err)
+                .next()
+                .expect("the stream refuses it"),
+        }
+    }
+
+    #[test]
+    fn a_chunk_declaring_gigabytes_is_refused_before_it_is_decompressed() {
+        let zeros = zstd::bulk::compress(&vec![0u8; 1 << 20], 3).unwrap();
+        let bomb = with_record_after_header(&chunk_record(5_368_700_000, "zstd", &zeros));
+        let e = refused(bomb, StreamLimits::default());
+        assert!(
+            matches!(
+                e,
+                ReadError::TooLarge {
+                    claimed_bytes: 5_368_700_000,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        let text = e.to_string();
+        assert!(text.contains("uncompressed data of chunk 1"), "{text}");
+    }
+
+    #[test]
+    fn a_chunk_decompressing_past_what_it_declares_is_stopped_there() {
+        // 64 MiB of zeros (empty records of opcode 0) in a chunk declaring 900 000 bytes.
+        let mut encoder = zstd::stream::write::Encoder::new(Vec::new(), 3).unwrap();
+        let mib = vec![0u8; 1 << 20];
+        for _ in 0..64 {
+            std::io::Write::write_all(&mut encoder, &mib).unwrap();
+        }
+        let zeros = encoder.finish().unwrap();
+        let bomb = with_record_after_header(&chunk_record(900_000, "zstd", &zeros));
+        let e = refused(bomb, StreamLimits::default());
+        assert!(
+            e.to_string()
+                .contains("chunk 1 decompresses to more than the 900000 bytes it declares"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_record_claiming_more_than_its_chunk_or_the_limit_is_refused_unallocated() {
+        // A message record claiming 5 GB in an uncompressed chunk of 9 bytes.
+        let mut head = vec![op::MESSAGE];
+        head.extend(5_000_000_000u64.to_le_bytes());
+        let e = refused(
+            with_record_after_header(&chunk_record(9, "", &head)),
+            StreamLimits::default(),
+        );
+        assert!(e.to_string().contains("past its end"), "{e}");
+        // A 4 KiB record against a 1 KiB limit.
+        let mut big = vec![op::METADATA];
+        big.extend(4096u64.to_le_bytes());
+        big.extend(vec![0u8; 4096]);
+        let limits = StreamLimits {
+            max_record_bytes: 1024,
+            ..Default::default()
+        };
+        let e = refused(
+            with_record_after_header(&chunk_record(big.len() as u64, "", &big)),
+            limits,
+        );
+        assert!(
+            matches!(
+                e,
+                ReadError::TooLarge {
+                    limit_bytes: 1024,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_chunk_that_decompresses_to_less_than_it_declares_is_refused() {
+        let one = zstd::bulk::compress(&[0u8; 9], 3).unwrap();
+        let e = refused(
+            with_record_after_header(&chunk_record(18, "zstd", &one)),
+            StreamLimits::default(),
+        );
+        assert!(e.to_string().contains("fewer than the 18 bytes"), "{e}");
+    }
+
+    #[test]
+    fn an_oversized_message_on_our_channels_is_refused_by_name() {
+        let bytes = write(&ticks(300, 1), 0);
+        let limits = StreamLimits {
+            max_message_bytes: 64,
+            ..Default::default()
+        };
+        let e = refused(bytes, limits);
+        assert!(e.to_string().contains("a message of channel /"), "{e}");
+    }
+
+    #[test]
+    fn a_file_without_session_metadata_is_refused_at_open() {
+        let mut w = mcap::WriteOptions::new()
+            .create(Cursor::new(Vec::new()))
+            .unwrap();
+        w.finish().unwrap();
+        let bytes = w.into_inner().into_inner();
+        let e = TickStream::from_bytes(bytes, StreamLimits::default(), &[]).err();
+        assert!(matches!(e, Some(ReadError::NoMetadata)), "{e:?}");
+    }
+}

@@ -1,0 +1,606 @@
+//! End-to-end: the console's replay of recordings that paired stations uploaded
+//! (`GET /api/sessions/{id}/replay`) — an honest session, a decompression bomb, and eight
+//! therapists replaying a long recording at once — against `telerehab hub serve` over HTTPS.
+//!
+//! A recording reaches the hub as a station uploads it: a session run while the hub is down
+//! queues its recording; the file is replaced (a hostile or a long generated one) before
+//! `telerehab sync` uploads it on the session's own connection.
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::sync::Arc;
+use telerehab_tests::telerehab_bin;
+
+fn telerehab(args: &[&str], home: Option<&Path>) -> Output {
+    let mut cmd = Command::new(telerehab_bin());
+    cmd.args(args).env_remove("TELEREHAB_HOME");
+    if let Some(h) = home {
+        cmd.env("TELEREHAB_HOME", h);
+    }
+    cmd.output().unwrap()
+}
+
+fn ok(args: &[&str], home: Option<&Path>) -> String {
+    let out = telerehab(args, home);
+    assert!(
+        out.status.success(),
+        "telerehab {args:?} failed:\n{}\n{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// The text after `prefix` on the line that has it, up to the next space.
+fn after(text: &str, prefix: &str) -> String {
+    text.lines()
+        .find_map(|l| l.split(prefix).nth(1))
+        .and_then(|r| r.split_whitespace().next())
+        .unwrap_or_else(|| panic!("no {prefix:?} in {text:?}"))
+        .to_owned()
+}
+
+/// A hub serving stations and the console (`hub serve --web`).
+struct Hub {
+    child: Child,
+    stations_port: String,
+    web: String,
+}
+
+impl Hub {
+    fn serve(data: &Path, stations: &str) -> Hub {
+        let d = data.to_str().unwrap();
+        let mut child = Command::new(telerehab_bin())
+            .args(["hub", "serve", "--data", d, "--stations", stations])
+            .args(["--web", "127.0.0.1:0"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
+        let mut next = || lines.next().expect("hub prints where it listens").unwrap();
+        let (first, second) = (next(), next());
+        let stations = after(&first, "stations listening on ");
+        let web = after(&second, "console API on https://");
+        std::thread::spawn(move || for _ in lines {});
+        Hub {
+            child,
+            stations_port: stations.rsplit(':').next().unwrap().to_owned(),
+            web: web.trim_end_matches("/api/").to_owned(),
+        }
+    }
+
+    /// The hub's peak resident memory so far (`VmHWM`), bytes.
+    fn peak_rss_bytes(&self) -> u64 {
+        let status = std::fs::read_to_string(format!("/proc/{}/status", self.child.id())).unwrap();
+        let kb: u64 = after(&status, "VmHWM:").parse().unwrap();
+        kb * 1024
+    }
+
+    fn stop(mut self) {
+        let _ = Command::new("kill")
+            .args(["-TERM", &self.child.id().to_string()])
+            .status();
+        let _ = self.child.wait();
+    }
+}
+
+impl Drop for Hub {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// The console's HTTPS API, one request a connection, trusting the clinic's CA only.
+struct Console {
+    addr: String,
+    tls: Arc<rustls::ClientConfig>,
+}
+
+/// An answer: status, headers (lowercase names) and body.
+struct Answer {
+    status: u16,
+    headers: Vec<(String, String)>,
+    body: Vec<u8>,
+}
+
+impl Answer {
+    fn json(&self) -> serde_json::Value {
+        serde_json::from_slice(&self.body)
+            .unwrap_or_else(|_| panic!("{} {}", self.status, String::from_utf8_lossy(&self.body)))
+    }
+
+    fn header(&self, name: &str) -> Option<&str> {
+        self.headers
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_str())
+    }
+}
+
+impl Console {
+    fn new(data: &Path, addr: &str) -> Self {
+        use rustls::pki_types::CertificateDer;
+        use rustls::pki_types::pem::PemObject;
+        let mut roots = rustls::RootCertStore::empty();
+        for cert in CertificateDer::pem_file_iter(data.join("tls").join("ca.crt")).unwrap() {
+            roots.add(cert.unwrap()).unwrap();
+        }
+        let provider = Arc::new(rustls::crypto::ring::default_provider());
+        let tls = rustls::ClientConfig::builder_with_provider(provider)
+            .with_safe_default_protocol_versions()
+            .unwrap()
+            .with_root_certificates(roots)
+            .with_no_client_auth();
+        Self {
+            addr: addr.to_owned(),
+            tls: Arc::new(tls),
+        }
+    }
+
+    fn request(&self, method: &str, path: &str, cookie: Option<&str>, body: &str) -> Answer {
+        let name = rustls::pki_types::ServerName::try_from("localhost").unwrap();
+        let conn = rustls::ClientConnection::new(self.tls.clone(), name).unwrap();
+        let tcp = TcpStream::connect(&self.addr).unwrap();
+        let mut tls = rustls::StreamOwned::new(conn, tcp);
+        let mut head = format!(
+            "{method} {path} HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\
+             Content-Length: {}\r\n",
+            body.len()
+        );
+        if !body.is_empty() {
+            head.push_str("Content-Type: application/json\r\n");
+        }
+        if let Some(c) = cookie {
+            head.push_str(&format!("Cookie: {c}\r\n"));
+        }
+        head.push_str("\r\n");
+        tls.write_all(head.as_bytes()).unwrap();
+        tls.write_all(body.as_bytes()).unwrap();
+        let mut raw = Vec::new();
+        // The server closes after the answer (some TLS stacks skip close_notify).
+        if let Err(e) = tls.read_to_end(&mut raw) {
+            assert_eq!(e.kind(), std::io::ErrorKind::UnexpectedEof, "{e}");
+        }
+        let split = raw
+            .windows(4)
+            .position(|w| w == b"\r\n\r\n")
+            .expect("an HTTP answer");
+        let head = String::from_utf8_lossy(&raw[..split]).into_owned();
+        let mut lines = head.lines();
+        let status = lines
+            .next()
+            .unwrap()
+            .split(' ')
+            .nth(1)
+            .unwrap()
+            .parse()
+            .unwrap();
+        let headers: Vec<(String, String)> = lines
+            .filter_map(|l| l.split_once(':'))
+            .map(|(n, v)| (n.trim().to_lowercase(), v.trim().to_owned()))
+            .collect();
+        let mut body = raw[split + 4..].to_vec();
+        if headers
+            .iter()
+            .any(|(n, v)| n == "transfer-encoding" && v.contains("chunked"))
+        {
+            body = unchunk(&body);
+        }
+        Answer {
+            status,
+            headers,
+            body,
+        }
+    }
+
+    /// Logs in; the `Cookie` header value.
+    fn login(&self, email: &str, password: &str) -> String {
+        let body = serde_json::json!({"email": email, "password": password}).to_string();
+        let answer = self.request("POST", "/api/login", None, &body);
+        assert_eq!(
+            answer.status,
+            200,
+            "{}",
+            String::from_utf8_lossy(&answer.body)
+        );
+        let cookie = answer.header("set-cookie").expect("a cookie");
+        cookie.split(';').next().unwrap().to_owned()
+    }
+
+    fn get(&self, path: &str, cookie: &str) -> Answer {
+        self.request("GET", path, Some(cookie), "")
+    }
+}
+
+/// A chunked HTTP/1.1 body joined.
+fn unchunk(mut raw: &[u8]) -> Vec<u8> {
+    let mut out = Vec::new();
+    loop {
+        let line_end = raw.windows(2).position(|w| w == b"\r\n").unwrap();
+        let size_text = String::from_utf8_lossy(&raw[..line_end]).into_owned();
+        let size = usize::from_str_radix(size_text.split(';').next().unwrap().trim(), 16).unwrap();
+        raw = &raw[line_end + 2..];
+        if size == 0 {
+            return out;
+        }
+        out.extend_from_slice(&raw[..size]);
+        raw = &raw[size + 2..];
+    }
+}
+
+/// A clinic with one patient and its admin, a paired station, and one session run while the
+/// hub was down (its summaries and recording queued on the station).
+struct Clinic {
+    _tmp: tempfile::TempDir,
+    data: PathBuf,
+    home: PathBuf,
+    admin_password: String,
+    stations_port: String,
+}
+
+impl Clinic {
+    fn with_a_queued_session() -> Self {
+        let tmp = tempfile::tempdir().unwrap();
+        let data = tmp.path().join("clinic");
+        let d = data.to_str().unwrap();
+        let init = ok(
+            &["hub", "init", "--data", d, "--admin", "ana@clinic.example"],
+            None,
+        );
+        let admin_password = after(&init, "one-time password: ");
+        let add = ok(
+            &[
+                "hub",
+                "patient",
+                "add",
+                "--data",
+                d,
+                "--pseudonym",
+                "P-0042",
+            ],
+            None,
+        );
+        let code = after(&add, "pairing code: ");
+        let hub = Hub::serve(&data, "127.0.0.1:0");
+        let home = tmp.path().join("station");
+        let stations = format!("localhost:{}", hub.stations_port);
+        ok(&["pair", "--hub", &stations, "--code", &code], Some(&home));
+        let stations_port = hub.stations_port.clone();
+        hub.stop();
+        ok(
+            &[
+                "run",
+                "--sim",
+                "--headless",
+                "--speed",
+                "max",
+                "--duration",
+                "2",
+            ],
+            Some(&home),
+        );
+        Self {
+            _tmp: tmp,
+            data,
+            home,
+            admin_password,
+            stations_port,
+        }
+    }
+
+    /// The queued session's id and the recording file its upload will send.
+    fn queued_upload(&self) -> (String, PathBuf) {
+        let entries: Vec<PathBuf> = std::fs::read_dir(self.home.join("uploads"))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "json"))
+            .collect();
+        let [entry] = entries.as_slice() else {
+            panic!("one queued upload: {entries:?}");
+        };
+        let pending: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(entry).unwrap()).unwrap();
+        (
+            pending["hello"]["session_id"].as_str().unwrap().to_owned(),
+            PathBuf::from(pending["path"].as_str().unwrap()),
+        )
+    }
+
+    /// The hub back where the station was paired with it, the queue delivered by `sync`.
+    fn serve_and_sync(&self) -> Hub {
+        let hub = Hub::serve(&self.data, &format!("127.0.0.1:{}", self.stations_port));
+        let synced = ok(&["sync", "--upload-rate", "1000000000"], Some(&self.home));
+        assert!(synced.contains("1 uploaded"), "{synced}");
+        hub
+    }
+}
+
+/// The one `.mcap` file under `dir`, at any depth.
+fn find_mcap(dir: &Path) -> PathBuf {
+    let mut found = Vec::new();
+    let mut dirs = vec![dir.to_owned()];
+    while let Some(d) = dirs.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                dirs.push(p);
+            } else if p.extension().is_some_and(|e| e == "mcap") {
+                found.push(p);
+            }
+        }
+    }
+    let [one] = found.as_slice() else {
+        panic!("one recording under {}: {found:?}", dir.display());
+    };
+    one.clone()
+}
+
+/// `recording` with a zstd chunk that declares 5 368 700 000 uncompressed bytes and holds
+/// 64 MiB of zeros, right after the file's header: a few KB on disk.
+fn bomb(recording: &[u8]) -> Vec<u8> {
+    let mut encoder = zstd::stream::write::Encoder::new(Vec::new(), 3).unwrap();
+    let mib = vec![0u8; 1 << 20];
+    for _ in 0..64 {
+        encoder.write_all(&mib).unwrap();
+    }
+    let zeros = encoder.finish().unwrap();
+    let mut body = Vec::new();
+    body.extend(0u64.to_le_bytes()); // message start time
+    body.extend(0u64.to_le_bytes()); // message end time
+    body.extend(5_368_700_000u64.to_le_bytes()); // uncompressed size
+    body.extend(0u32.to_le_bytes()); // uncompressed CRC (none)
+    body.extend(4u32.to_le_bytes());
+    body.extend(b"zstd");
+    body.extend((zeros.len() as u64).to_le_bytes());
+    body.extend(&zeros);
+    let header_end = 8 + 9 + u64::from_le_bytes(recording[9..17].try_into().unwrap()) as usize;
+    let mut out = recording[..header_end].to_vec();
+    out.push(0x06); // chunk
+    out.extend((body.len() as u64).to_le_bytes());
+    out.extend(body);
+    out.extend(&recording[header_end..]);
+    out
+}
+
+#[test]
+fn a_paired_stations_uploaded_session_replays_at_20_frames_a_second() {
+    let clinic = Clinic::with_a_queued_session();
+    let (session, _) = clinic.queued_upload();
+    let hub = clinic.serve_and_sync();
+    let console = Console::new(&clinic.data, &hub.web);
+    let cookie = console.login("ana@clinic.example", &clinic.admin_password);
+    let answer = console.get(&format!("/api/sessions/{session}/replay"), &cookie);
+    assert_eq!(
+        answer.status,
+        200,
+        "{}",
+        String::from_utf8_lossy(&answer.body)
+    );
+    assert_eq!(answer.header("content-type"), Some("application/json"));
+    let replay = answer.json();
+    assert_eq!(replay["rate_hz"], 20.0);
+    let duration_s = replay["duration_s"].as_f64().unwrap();
+    assert!((2.0..2.6).contains(&duration_s), "{duration_s}");
+    let columns = replay["columns"].as_object().unwrap();
+    let frames = columns["t_s"].as_array().unwrap().len();
+    assert_eq!(frames as f64, (duration_s * 20.0).round() + 1.0);
+    for name in ["wheel_angle_rad", "torque_nm", "car_x_m", "pct_in_lane"] {
+        assert_eq!(columns[name].as_array().unwrap().len(), frames, "{name}");
+    }
+    // Someone else's session is not there; the replay read is audited.
+    let missing = console.get("/api/sessions/no-such-session/replay", &cookie);
+    assert_eq!(missing.status, 404);
+    let audit = console.get("/api/audit", &cookie).json();
+    assert!(
+        audit
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|e| e["action"] == "read_replay" && e["target"] == session),
+        "{audit}"
+    );
+    hub.stop();
+}
+
+#[test]
+fn a_decompression_bomb_from_a_paired_station_is_refused_by_name_and_the_hub_keeps_serving() {
+    let clinic = Clinic::with_a_queued_session();
+    let (session, recording) = clinic.queued_upload();
+    let honest = std::fs::read(&recording).unwrap();
+    std::fs::write(&recording, bomb(&honest)).unwrap();
+    let hub = clinic.serve_and_sync();
+    let stored = std::fs::metadata(find_mcap(&clinic.data.join("recordings")))
+        .unwrap()
+        .len();
+    assert!(stored < honest.len() as u64 + 64 * 1024, "{stored} bytes");
+    let console = Console::new(&clinic.data, &hub.web);
+    let cookie = console.login("ana@clinic.example", &clinic.admin_password);
+    for _ in 0..2 {
+        let answer = console.get(&format!("/api/sessions/{session}/replay"), &cookie);
+        assert_eq!(
+            answer.status,
+            422,
+            "{}",
+            String::from_utf8_lossy(&answer.body)
+        );
+        let error = answer.json()["error"].as_str().unwrap().to_owned();
+        assert!(
+            error.contains("cannot be replayed")
+                && error.contains("uncompressed data of chunk 1 claims 5368700000 bytes"),
+            "{error}"
+        );
+    }
+    assert_eq!(console.get("/api/health", &cookie).status, 200);
+    assert_eq!(console.get("/api/patients", &cookie).status, 200);
+    assert!(
+        hub.peak_rss_bytes() < 200 << 20,
+        "hub peak {} MB",
+        hub.peak_rss_bytes() >> 20
+    );
+    hub.stop();
+}
+
+/// Minutes of the generated recording the eight therapists replay
+/// (`TELEREHAB_REPLAY_MINUTES`; the figures in BENCHMARKS.md use 60 in a release build).
+fn replay_minutes() -> u64 {
+    std::env::var("TELEREHAB_REPLAY_MINUTES")
+        .ok()
+        .and_then(|m| m.parse().ok())
+        .unwrap_or(3)
+}
+
+/// A recording of `minutes` of a 1 kHz session with the station's own configuration, every
+/// per-tick channel written (the raw inputs too), values from a fixed seed.
+fn long_recording(path: &Path, minutes: u64, config_toml: String) {
+    use station::record::{
+        ArmSample, RawImuSample, RecordWriter, SessionMetadata, TickRecord, VehicleSample,
+    };
+    let meta = SessionMetadata {
+        exercise: "sine-road".into(),
+        seed: 42,
+        loop_rate_hz: 1000.0,
+        config_toml,
+        ..Default::default()
+    };
+    let file = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
+    let mut w = RecordWriter::new(file, 1_795_253_400_000_000_000, &meta).unwrap();
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut noise = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    for tick in 0..minutes * 60_000 {
+        let t = tick as f64 * 1e-3;
+        let mut rec = TickRecord {
+            tick,
+            t_ns: tick * 1_000_000,
+            ..Default::default()
+        };
+        rec.wheel.angle_rad = (0.5 * t).sin() + 0.01 * noise();
+        rec.wheel.target_rad = (0.5 * t).sin();
+        rec.wheel.commanded_nm = 0.3 * noise();
+        rec.wheel.ceiling_nm = 1.87;
+        rec.wheel.safety_scale = 1.0;
+        rec.assist.torque_nm = 0.1 * noise();
+        rec.timing.period_ns = 1_000_000;
+        rec.raw.wheel.angle_rad = rec.wheel.angle_rad;
+        rec.raw.wheel.now_ns = rec.t_ns;
+        rec.score.pct_in_lane = 90.0 + 5.0 * noise();
+        rec.vehicle = Some(VehicleSample {
+            x_m: 12.5 * t,
+            y_m: (0.5 * t).sin(),
+            lateral_m: 0.2 * noise(),
+            ..Default::default()
+        });
+        rec.arm = Some(ArmSample {
+            elbow_flexion_rad: 1.0 + 0.2 * (0.5 * t).sin() + 0.01 * noise(),
+            shoulder_elevation_rad: 0.4 + 0.01 * noise(),
+            grip_m: [0.3, 0.1 * noise(), 0.2],
+            ..Default::default()
+        });
+        if tick % 5 == 0 {
+            for sensor in 0..2 {
+                rec.raw.imu[sensor as usize] = Some(RawImuSample {
+                    sensor,
+                    device_t_ns: rec.t_ns,
+                    gyro_x_rad_s: noise(),
+                    gyro_y_rad_s: noise(),
+                    gyro_z_rad_s: noise(),
+                    ..Default::default()
+                });
+            }
+        }
+        w.write_tick(&rec, tick % 100 == 0).unwrap();
+        if tick % 1000 == 999 {
+            w.flush().unwrap();
+        }
+    }
+    w.finish().unwrap();
+}
+
+#[test]
+fn eight_therapists_replaying_a_long_recording_at_once_keep_the_hub_under_300_mb() {
+    let minutes = replay_minutes();
+    let clinic = Clinic::with_a_queued_session();
+    let (session, recording) = clinic.queued_upload();
+    let config_toml = station::record::Recording::open(&recording)
+        .unwrap()
+        .metadata
+        .config_toml;
+    let started = std::time::Instant::now();
+    long_recording(&recording, minutes, config_toml);
+    let file_bytes = std::fs::metadata(&recording).unwrap().len();
+    eprintln!(
+        "generated {minutes} min: {:.1} MB in {:.1} s",
+        file_bytes as f64 / 1e6,
+        started.elapsed().as_secs_f64()
+    );
+    let hub = clinic.serve_and_sync();
+    let d = clinic.data.to_str().unwrap();
+    let console = Arc::new(Console::new(&clinic.data, &hub.web));
+    let cookies: Vec<String> = (0..8)
+        .map(|i| {
+            let email = format!("t{i}@clinic.example");
+            let added = ok(
+                &[
+                    "hub",
+                    "therapist",
+                    "add",
+                    "--data",
+                    d,
+                    "--email",
+                    &email,
+                    "--admin",
+                ],
+                None,
+            );
+            console.login(&email, &after(&added, "one-time password: "))
+        })
+        .collect();
+    let idle_bytes = hub.peak_rss_bytes();
+    let started = std::time::Instant::now();
+    let replays: Vec<_> = cookies
+        .into_iter()
+        .map(|cookie| {
+            let console = Arc::clone(&console);
+            let path = format!("/api/sessions/{session}/replay");
+            std::thread::spawn(move || {
+                let answer = console.get(&path, &cookie);
+                (answer.status, answer.body.len(), answer.body)
+            })
+        })
+        .collect();
+    let answers: Vec<_> = replays.into_iter().map(|r| r.join().unwrap()).collect();
+    let elapsed_s = started.elapsed().as_secs_f64();
+    let peak_bytes = hub.peak_rss_bytes();
+    eprintln!(
+        "8 replays of {minutes} min ({:.1} MB file): {elapsed_s:.1} s, hub peak {} MB \
+         (idle {} MB), answers {:?}",
+        file_bytes as f64 / 1e6,
+        peak_bytes >> 20,
+        idle_bytes >> 20,
+        answers.iter().map(|(s, n, _)| (*s, *n)).collect::<Vec<_>>()
+    );
+    for (status, _, body) in &answers {
+        assert_eq!(*status, 200, "{}", String::from_utf8_lossy(body));
+        let replay: serde_json::Value = serde_json::from_slice(body).unwrap();
+        let frames = replay["columns"]["t_s"].as_array().unwrap().len();
+        assert!(frames <= 40_000, "{frames} frames");
+        let covered_s = frames as f64 / replay["rate_hz"].as_f64().unwrap();
+        assert!(covered_s >= minutes as f64 * 60.0 - 1.0, "{covered_s} s");
+    }
+    // Before streaming, one replay took about 11 times its file; eight at once, 88 times.
+    assert!(
+        peak_bytes < 300 << 20,
+        "hub peak {} MB for 8 replays of a {} MB file",
+        peak_bytes >> 20,
+        file_bytes >> 20
+    );
+    hub.stop();
+}
