@@ -2,178 +2,12 @@
 //! (`hub init`, `hub patient add`, `hub serve`, `pair`, `run`, `hub patient show`), plus
 //! revocation, delivery after the hub was down, a station killed mid-session, and bad input.
 
-use std::io::{BufRead, BufReader};
-use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output, Stdio};
+use std::process::{Command, Stdio};
 use std::time::Duration;
+use telerehab_tests::clinic::{
+    Hub, clinic, clinic_on, ok, produced, run_session, show, show_json, telerehab, wait_for_file,
+};
 use telerehab_tests::{Tmpfs, spawn_real_time_session, telerehab_bin, wait_for_first_chunk};
-
-fn telerehab(args: &[&str], home: Option<&Path>) -> Output {
-    let mut cmd = Command::new(telerehab_bin());
-    cmd.args(args).env_remove("TELEREHAB_HOME");
-    if let Some(h) = home {
-        cmd.env("TELEREHAB_HOME", h);
-    }
-    cmd.output().unwrap()
-}
-
-fn ok(args: &[&str], home: Option<&Path>) -> String {
-    let out = telerehab(args, home);
-    assert!(
-        out.status.success(),
-        "telerehab {args:?} failed:\n{}\n{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).unwrap()
-}
-
-/// A clinic directory with one patient; the pairing code.
-fn clinic(dir: &Path) -> (PathBuf, String) {
-    clinic_on(dir, None)
-}
-
-/// [`clinic`] with its database at `db` (a PostgreSQL URL) instead of SQLite in the directory.
-fn clinic_on(dir: &Path, db: Option<&str>) -> (PathBuf, String) {
-    let data = dir.join("clinic");
-    let d = data.to_str().unwrap();
-    let mut args = vec!["hub", "init", "--data", d, "--admin", "ana@clinic.example"];
-    if let Some(url) = db {
-        args.extend(["--db", url]);
-    }
-    let init = ok(&args, None);
-    assert!(init.contains("one-time password: "), "{init}");
-    let add = ok(
-        &[
-            "hub",
-            "patient",
-            "add",
-            "--data",
-            d,
-            "--pseudonym",
-            "P-0042",
-        ],
-        None,
-    );
-    let code = add
-        .lines()
-        .find_map(|l| l.strip_prefix("pairing code: "))
-        .and_then(|r| r.split_whitespace().next())
-        .unwrap_or_else(|| panic!("no pairing code in {add:?}"))
-        .to_owned();
-    (data, code)
-}
-
-struct Hub {
-    child: Child,
-    stations: String,
-}
-
-impl Hub {
-    fn serve(data: &Path, stations: &str) -> Hub {
-        let mut child = Command::new(telerehab_bin())
-            .args([
-                "hub",
-                "serve",
-                "--data",
-                data.to_str().unwrap(),
-                "--stations",
-                stations,
-            ])
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap();
-        let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
-        let first = lines.next().expect("hub prints where it listens").unwrap();
-        let addr = first
-            .strip_prefix("stations listening on ")
-            .and_then(|r| r.split_whitespace().next())
-            .unwrap_or_else(|| panic!("unexpected first line {first:?}"));
-        let port = addr.rsplit(':').next().unwrap();
-        std::thread::spawn(move || for _ in lines {});
-        Hub {
-            child,
-            stations: format!("localhost:{port}"),
-        }
-    }
-
-    fn stop(mut self) {
-        let _ = Command::new("kill")
-            .args(["-TERM", &self.child.id().to_string()])
-            .status();
-        let _ = self.child.wait();
-    }
-}
-
-impl Drop for Hub {
-    /// A failing test still ends its hub (after `stop` this finds it gone).
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-/// `hub patient show --json`: (summaries stored per session, revoked stations).
-fn show(data: &Path) -> (Vec<u64>, usize) {
-    let v = show_json(data);
-    let stored = v["sessions"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|s| s["summaries_stored"].as_u64().unwrap())
-        .collect();
-    let revoked = v["stations"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .filter(|s| !s["revoked_at_ms"].is_null())
-        .count();
-    (stored, revoked)
-}
-
-/// `hub patient show --json` of the patient P-0042.
-fn show_json(data: &Path) -> serde_json::Value {
-    let json = ok(
-        &[
-            "hub",
-            "patient",
-            "show",
-            "--data",
-            data.to_str().unwrap(),
-            "P-0042",
-            "--json",
-        ],
-        None,
-    );
-    serde_json::from_str(&json).unwrap()
-}
-
-/// The number of summaries a run's report says it produced.
-fn produced(report: &str) -> u64 {
-    let line = report
-        .lines()
-        .find(|l| l.starts_with("therapist "))
-        .unwrap_or_else(|| panic!("no therapist line in {report}"));
-    line.split_whitespace()
-        .find_map(|w| w.parse::<u64>().ok())
-        .unwrap_or_else(|| panic!("no count in {line:?}"))
-}
-
-fn run_session(home: &Path, seconds: &str) -> String {
-    ok(
-        &[
-            "run",
-            "--sim",
-            "--headless",
-            "--speed",
-            "max",
-            "--duration",
-            seconds,
-        ],
-        Some(home),
-    )
-}
 
 #[test]
 fn a_clinic_pairs_a_station_that_then_streams_every_session_over_mutual_tls() {
@@ -214,46 +48,21 @@ fn a_clinic_pairs_a_station_that_then_streams_every_session_over_mutual_tls() {
         .unwrap()
         .collect();
     assert_eq!(recordings.len(), 1);
-    // The code was single use.
+    // The code was single use; the refusal reads as every failed code does (nothing to
+    // enumerate), in words a patient can act on.
     let again = telerehab(
         &["pair", "--hub", &hub.stations, "--code", &code],
         Some(&tmp.path().join("s2")),
     );
     let err = String::from_utf8_lossy(&again.stderr);
     assert!(
-        !again.status.success() && err.contains("already been used"),
+        !again.status.success() && err.contains("mistyped, expired or already used"),
         "{err}"
     );
     hub.stop();
 }
 
 /// The one file with extension `ext` under `dir` (searched two levels deep), once it exists.
-fn wait_for_file(dir: &Path, ext: &str) -> PathBuf {
-    let deadline = std::time::Instant::now() + Duration::from_secs(20);
-    loop {
-        let found: Vec<PathBuf> = std::fs::read_dir(dir)
-            .into_iter()
-            .flatten()
-            .flatten()
-            .flat_map(|e| match std::fs::read_dir(e.path()) {
-                Ok(sub) => sub.flatten().map(|s| s.path()).collect(),
-                Err(_) => vec![e.path()],
-            })
-            .filter(|p| p.extension().is_some_and(|e| e == ext))
-            .collect();
-        match found.as_slice() {
-            [one] => return one.clone(),
-            [] => assert!(
-                std::time::Instant::now() < deadline,
-                "no .{ext} in {} after 20 s",
-                dir.display()
-            ),
-            many => panic!("several .{ext} files: {many:?}"),
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    }
-}
-
 #[test]
 fn a_recording_stopped_by_a_disk_running_low_is_finished_and_still_reaches_the_hub() {
     let Some(disk) = Tmpfs::mount_or_skip(72) else {

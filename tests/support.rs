@@ -5,6 +5,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::OnceLock;
 
+pub mod clinic;
+pub mod console;
+
 /// Path of the `telerehab` binary under test: `$TELEREHAB_BIN` if set, else the one in this
 /// target directory, (re)built once per test process with cargo so it is never stale.
 pub fn telerehab_bin() -> PathBuf {
@@ -330,6 +333,16 @@ impl TherapistHub {
 }
 
 impl TherapistHub {
+    /// Sends `signal` (`INT`, `TERM`) and waits up to `limit` for it to end; how long it took,
+    /// or `None` if it was still running (then it is killed).
+    pub fn signal_and_wait(
+        &mut self,
+        signal: &str,
+        limit: std::time::Duration,
+    ) -> Option<std::time::Duration> {
+        clinic::signal_and_wait(&mut self.child, signal, limit)
+    }
+
     /// Kill it outright (SIGKILL, as a crash would) and wait for it to end.
     pub fn kill(mut self) {
         let _ = self.child.kill();

@@ -16,7 +16,7 @@
 //!   difficulty adaptation.
 //! - [`human`]: the simulated human arm holding the wheel; [`sim`]: the RK4 plant simulator
 //!   the tests and benchmarks use.
-//! - [`error`]: [`AssistError`].
+//! - [`error`]: the errors, [`AssistError`].
 //!
 //! The station's haptic loop uses [`Assist`]:
 //!

@@ -6,7 +6,7 @@
 //!   Gauss–Newton, robust Levenberg–Marquardt with gyro-bias terms, and an online estimator.
 //! - [`serial`]: serial-chain SE(3) calibration of initial frames (§4.3).
 //! - [`se3`]: the rigid-motion maps both use.
-//! - [`error`]: [`CalibError`].
+//! - [`error`]: the errors, [`CalibError`].
 //!
 //! Pure: arrays in, estimates out. No I/O, threads or clocks.
 

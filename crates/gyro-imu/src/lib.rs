@@ -16,7 +16,7 @@
 //!   procedure, tick by tick.
 //! - [`device`]: the `Imu` trait, samples, the game-controller report parsers and (feature
 //!   `hid`) the hidapi backend; [`sim`]: simulated motion, arm and IMUs.
-//! - [`error`]: [`ImuError`].
+//! - [`error`]: the errors, [`ImuError`].
 //!
 //! # Example: the haptic thread's arm pose from a simulated patient
 //!

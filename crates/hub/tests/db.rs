@@ -417,10 +417,14 @@ async fn pairing_codes_are_single_use(db: Db) {
     // already paired) leaves the code live and no audit entry.
     let code5 = db.create_pairing_code(&p.id, T0, 15 * MIN).await.unwrap();
     let code5 = netlink::pairing::PairingCode::parse(&code5).unwrap();
-    let dup = db.pair_station(code5.code_id(), "st-dup", FP1, T0 + MIN).await;
+    let dup = db
+        .pair_station(code5.code_id(), "st-dup", FP1, T0 + MIN)
+        .await;
     assert!(dup.is_err(), "{dup:?}");
     let fp2 = "ab".repeat(32);
-    let paired = db.pair_station(code5.code_id(), "st-new", &fp2, T0 + MIN).await;
+    let paired = db
+        .pair_station(code5.code_id(), "st-new", &fp2, T0 + MIN)
+        .await;
     assert_eq!(paired.unwrap(), p.id);
     let audited: Vec<String> = db
         .audit_log(100)

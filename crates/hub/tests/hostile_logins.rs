@@ -851,7 +851,10 @@ async fn the_audit_api_pages_with_a_next_cursor() {
 // ----- a whole hub under a login flood -----
 
 /// 64 clients over TLS, each sending wrong passwords (a fresh e-mail each time, so no account
-/// throttle helps) as fast as the hub answers, until `stop`.
+/// throttle helps) as fast as the hub answers, until `stop`. Each client moves to a new
+/// loopback address (127.1.c.k) after every [`ADDRESS_FREE_FAILURES`] tries, so neither the
+/// per-address connection cap nor the address throttle takes the load off the password
+/// hashing: the worst case for the stations.
 fn login_flood(
     web: SocketAddr,
     tls: netlink::ClientTls,
@@ -866,37 +869,50 @@ fn login_flood(
         rt.block_on(async move {
             let (connector, name) = tls.connector().unwrap();
             let mut clients = tokio::task::JoinSet::new();
-            for c in 0..64_u32 {
+            for c in 0..64_u8 {
                 let (connector, name) = (connector.clone(), name.clone());
                 let (stop, answers) = (Arc::clone(&stop), Arc::clone(&answers));
                 clients.spawn(async move {
-                    let tcp = tokio::net::TcpStream::connect(web).await.unwrap();
-                    let tls = connector.connect(name, tcp).await.unwrap();
-                    let (mut sender, connection) = hyper::client::conn::http1::handshake(
-                        hyper_util::rt::TokioIo::new(tls),
-                    )
-                    .await
-                    .unwrap();
-                    tokio::spawn(connection);
                     let mut i = 0_u32;
-                    while !stop.load(Ordering::Relaxed) {
-                        i += 1;
-                        let body = json!({"email": format!("guess-{c}-{i}@clinic.example"), "password": format!("wrong guess {i}")});
-                        let request = Request::post("/api/login")
-                            .header(header::HOST, "localhost")
-                            .header(header::CONTENT_TYPE, "application/json")
-                            .body(http_body_util::Full::new(axum::body::Bytes::from(body.to_string())))
+                    for k in (1..=250_u8).cycle() {
+                        let socket = tokio::net::TcpSocket::new_v4().unwrap();
+                        socket
+                            .bind(SocketAddr::from(([127, 1, c, k], 0)))
                             .unwrap();
-                        let Ok(response) = sender.send_request(request).await else {
+                        let Ok(tcp) = socket.connect(web).await else {
                             return;
                         };
-                        let slot = match response.status() {
-                            StatusCode::UNAUTHORIZED => 0,
-                            StatusCode::TOO_MANY_REQUESTS => 1,
-                            _ => 2,
+                        let Ok(tls) = connector.connect(name.clone(), tcp).await else {
+                            return;
                         };
-                        answers[slot].fetch_add(1, Ordering::Relaxed);
-                        let _ = response.into_body().collect().await;
+                        let (mut sender, connection) = hyper::client::conn::http1::handshake(
+                            hyper_util::rt::TokioIo::new(tls),
+                        )
+                        .await
+                        .unwrap();
+                        tokio::spawn(connection);
+                        for _ in 0..hub::db::ADDRESS_FREE_FAILURES {
+                            if stop.load(Ordering::Relaxed) {
+                                return;
+                            }
+                            i += 1;
+                            let body = json!({"email": format!("guess-{c}-{i}@clinic.example"), "password": format!("wrong guess {i}")});
+                            let request = Request::post("/api/login")
+                                .header(header::HOST, "localhost")
+                                .header(header::CONTENT_TYPE, "application/json")
+                                .body(http_body_util::Full::new(axum::body::Bytes::from(body.to_string())))
+                                .unwrap();
+                            let Ok(response) = sender.send_request(request).await else {
+                                break;
+                            };
+                            let slot = match response.status() {
+                                StatusCode::UNAUTHORIZED => 0,
+                                StatusCode::TOO_MANY_REQUESTS => 1,
+                                _ => 2,
+                            };
+                            answers[slot].fetch_add(1, Ordering::Relaxed);
+                            let _ = response.into_body().collect().await;
+                        }
                     }
                 });
             }

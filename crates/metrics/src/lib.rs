@@ -10,7 +10,7 @@
 //!   time and peaks (medians and means), ranges of motion, time active — serialisable for the
 //!   report.
 //! - [`live`]: [`LiveMeasures`], the cheap running subset for the live display.
-//! - [`error`]: [`MetricError`].
+//! - [`error`]: the errors, [`MetricError`].
 //!
 //! Pure: no I/O, no threads, no clock. Time comes in as a sampling rate `fs_hz`; angles in
 //! rad, speeds in rad/s.

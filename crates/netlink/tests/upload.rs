@@ -242,7 +242,10 @@ async fn a_recording_the_hub_could_not_record_is_not_complete_and_is_recorded_at
     let err = upload_recording(&addr, None, hello(), &file, 50_000_000)
         .await
         .unwrap_err();
-    assert!(err.contains("not recorded"), "the station is not told complete: {err}");
+    assert!(
+        err.contains("not recorded"),
+        "the station is not told complete: {err}"
+    );
     assert!(recorder.recorded.lock().unwrap().is_empty());
     // The file is kept; the next upload sends nothing and has it recorded.
     let again = upload_recording(&addr, None, hello(), &file, 50_000_000)

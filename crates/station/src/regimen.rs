@@ -25,6 +25,13 @@ use vehicle::ExerciseSpec;
 /// Strongest consumer force-feedback wheel torque a regimen may name, N·m.
 pub const MAX_DEVICE_TORQUE_NM: f64 = 20.0;
 
+/// Most exercises one regimen may list (a long session is a few dozen at most).
+pub const MAX_EXERCISES: usize = 60;
+
+/// Longest session a regimen may plan, s (2 h): the sum of its exercises' planned durations
+/// (a road without a time limit counts the time to drive it at its target speeds).
+pub const MAX_PLANNED_SESSION_S: f64 = 2.0 * 3600.0;
+
 /// The prescribed exercises, in order.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -110,6 +117,15 @@ impl Regimen {
                 message: "no [[exercise]] in the regimen".into(),
             });
         }
+        if r.exercises.len() > MAX_EXERCISES {
+            return Err(RegimenError::Parse {
+                path: origin.into(),
+                message: format!(
+                    "{} exercises, allowed at most {MAX_EXERCISES}",
+                    r.exercises.len()
+                ),
+            });
+        }
         if let Some(n) = r.sessions_per_week
             && !(1..=28).contains(&n)
         {
@@ -136,7 +152,40 @@ impl Regimen {
                 a.validate().map_err(|m| invalid(format!("assist: {m}")))?;
             }
         }
+        let planned_s =
+            r.planned_duration_s()
+                .map_err(|(index, message)| RegimenError::Invalid {
+                    path: origin.into(),
+                    index: index + 1,
+                    name: r.exercises[index].exercise.name(),
+                    message,
+                })?;
+        if planned_s > MAX_PLANNED_SESSION_S {
+            return Err(RegimenError::Parse {
+                path: origin.into(),
+                message: format!(
+                    "the exercises add up to {:.0} min, allowed at most {:.0} min in one session",
+                    planned_s / 60.0,
+                    MAX_PLANNED_SESSION_S / 60.0
+                ),
+            });
+        }
         Ok(r)
+    }
+
+    /// The session's planned length, s: the sum of every exercise's planned duration; the
+    /// error names the exercise (0-based) that cannot be built.
+    pub fn planned_duration_s(&self) -> Result<f64, (usize, String)> {
+        self.exercises
+            .iter()
+            .enumerate()
+            .map(|(i, e)| {
+                e.exercise
+                    .build()
+                    .map(|x| x.planned_duration_s())
+                    .map_err(|m| (i, m.to_string()))
+            })
+            .sum()
     }
 }
 
@@ -162,6 +211,31 @@ mod tests {
         let r = Regimen::from_toml(text, "r.toml").unwrap();
         let again = Regimen::from_toml(&toml::to_string(&r).unwrap(), "recorded").unwrap();
         assert_eq!(r, again);
+    }
+
+    #[test]
+    fn a_regimen_longer_than_two_hours_or_with_too_many_exercises_is_refused() {
+        let dial = |s: f64| format!("[[exercise]]\nkind = \"dial\"\nduration_s = {s}\n");
+        let long: String = (0..3).map(|_| dial(3600.0)).collect();
+        let msg = Regimen::from_toml(&long, "r.toml").unwrap_err().to_string();
+        assert!(msg.contains("180 min") && msg.contains("120 min"), "{msg}");
+        let many: String = (0..=MAX_EXERCISES).map(|_| dial(10.0)).collect();
+        let msg = Regimen::from_toml(&many, "r.toml").unwrap_err().to_string();
+        assert!(msg.contains("61 exercises"), "{msg}");
+        // The probe: 1 111 exercises of an hour each.
+        let probe: String = (0..1111).map(|_| dial(3600.0)).collect();
+        assert!(Regimen::from_toml(&probe, "hub").is_err());
+        // Just inside both bounds: accepted.
+        let full: String = (0..MAX_EXERCISES).map(|_| dial(120.0)).collect();
+        let r = Regimen::from_toml(&full, "r.toml").unwrap();
+        assert_eq!(r.planned_duration_s().unwrap(), 7200.0);
+    }
+
+    #[test]
+    fn a_road_without_a_time_limit_counts_the_time_to_drive_it() {
+        let r = Regimen::from_toml("[[exercise]]\nkind = \"straight\"\n", "r.toml").unwrap();
+        let planned = r.planned_duration_s().unwrap();
+        assert!(planned > 5.0 && planned < 600.0, "{planned}");
     }
 
     #[test]

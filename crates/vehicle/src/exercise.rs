@@ -656,6 +656,19 @@ impl Exercise {
         }
     }
 
+    /// How long the exercise is planned to last, s: its time limit, or for a road without one
+    /// the time to drive the road at its target speed profile (one-metre steps).
+    pub fn planned_duration_s(&self) -> f64 {
+        if let Some(d) = self.duration_s {
+            return d;
+        }
+        self.speed_profile_m_s
+            .iter()
+            .take(self.length_m.ceil().max(0.0) as usize)
+            .map(|v| if *v > 0.0 { 1.0 / v } else { 0.0 })
+            .sum()
+    }
+
     /// Whether the exercise is over at time `t_s` with the car at arc length `s_m`.
     pub fn is_finished(&self, t_s: f64, s_m: f64) -> bool {
         let timed_out = self.duration_s.is_some_and(|d| t_s >= d);

@@ -221,7 +221,7 @@ async fn open(data: &DataArgs) -> anyhow::Result<(Clinic, Db)> {
 
 /// Run a `hub` subcommand.
 pub fn run(args: HubArgs) -> anyhow::Result<()> {
-    runtime()?.block_on(async move {
+    super::server_stop::run_to_stop(runtime()?, async move {
         match args.command {
             HubCommand::Init { data, admin, names } => init(&data, &admin, &names).await,
             HubCommand::Serve {
@@ -345,13 +345,11 @@ async fn serve(
         limits,
         max_replay_bytes,
     };
-    let mut sigterm = tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate())
-        .context("cannot install the SIGTERM handler")?;
+    let stop = super::server_stop::stop_signal()?;
     let shutdown = async move {
-        tokio::select! {
-            _ = tokio::signal::ctrl_c() => {}
-            _ = sigterm.recv() => {}
-        }
+        let signal = stop.await;
+        println!("{signal}: hub stopping");
+        let _ = std::io::stdout().flush();
     };
     let on_bound = |b: Bound| {
         // The first lines say where the hub listens (tests parse them; port 0 picks one).

@@ -12,6 +12,7 @@ pub mod render;
 pub mod replay;
 pub mod report;
 pub mod run;
+mod server_stop;
 pub mod sync;
 pub mod therapist;
 pub mod vehicle;

@@ -45,7 +45,7 @@ pub fn run(args: TherapistArgs) -> anyhow::Result<()> {
         .enable_all()
         .build()
         .context("cannot start the network runtime")?;
-    runtime.block_on(async move {
+    super::server_stop::run_to_stop(runtime, async move {
         let (server, mut events) = TherapistServer::bind(config)
             .await
             .context("therapist hub")?;
@@ -56,16 +56,16 @@ pub fn run(args: TherapistArgs) -> anyhow::Result<()> {
             args.store.display()
         );
         let _ = std::io::stdout().flush();
-        let mut sigterm = tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate())
-            .context("cannot install the SIGTERM handler")?;
+        let mut stop = std::pin::pin!(super::server_stop::stop_signal()?);
         loop {
             tokio::select! {
+                // A stop first, however many events wait.
+                biased;
+                _ = &mut stop => break,
                 ev = events.recv() => match ev {
                     Some(ev) => print_event(&ev),
                     None => break,
                 },
-                _ = tokio::signal::ctrl_c() => break,
-                _ = sigterm.recv() => break,
             }
         }
         println!(
