@@ -36,33 +36,51 @@ pub fn clinic(dir: &Path) -> (PathBuf, String) {
 
 /// [`clinic`] with its database at `db` (a PostgreSQL URL) instead of SQLite in the directory.
 pub fn clinic_on(dir: &Path, db: Option<&str>) -> (PathBuf, String) {
-    let data = dir.join("clinic");
-    let d = data.to_str().unwrap();
-    let mut args = vec!["hub", "init", "--data", d, "--admin", "ana@clinic.example"];
-    if let Some(url) = db {
-        args.extend(["--db", url]);
+    let made = NewClinic::make(dir, db);
+    (made.data, made.code)
+}
+
+/// A clinic `hub init` and `hub patient add` made: its data directory, the patient P-0042's
+/// pairing code and the admin's (ana@clinic.example) one-time password.
+pub struct NewClinic {
+    /// The data directory.
+    pub data: PathBuf,
+    /// P-0042's pairing code.
+    pub code: String,
+    /// The first admin's one-time password.
+    pub admin_password: String,
+}
+
+impl NewClinic {
+    /// Makes it in `dir/clinic`, its database at `db` (a PostgreSQL URL) or SQLite.
+    pub fn make(dir: &Path, db: Option<&str>) -> Self {
+        let data = dir.join("clinic");
+        let d = data.to_str().unwrap();
+        let mut args = vec!["hub", "init", "--data", d, "--admin", "ana@clinic.example"];
+        if let Some(url) = db {
+            args.extend(["--db", url]);
+        }
+        let init = ok(&args, None);
+        let admin_password = after(&init, "one-time password: ");
+        let add = ok(
+            &[
+                "hub",
+                "patient",
+                "add",
+                "--data",
+                d,
+                "--pseudonym",
+                "P-0042",
+            ],
+            None,
+        );
+        let code = after(&add, "pairing code: ");
+        Self {
+            data,
+            code,
+            admin_password,
+        }
     }
-    let init = ok(&args, None);
-    assert!(init.contains("one-time password: "), "{init}");
-    let add = ok(
-        &[
-            "hub",
-            "patient",
-            "add",
-            "--data",
-            d,
-            "--pseudonym",
-            "P-0042",
-        ],
-        None,
-    );
-    let code = add
-        .lines()
-        .find_map(|l| l.strip_prefix("pairing code: "))
-        .and_then(|r| r.split_whitespace().next())
-        .unwrap_or_else(|| panic!("no pairing code in {add:?}"))
-        .to_owned();
-    (data, code)
 }
 
 /// A running `hub serve`; killed when dropped.

@@ -9,7 +9,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use telerehab_tests::clinic::{Hub, after, ok};
+use telerehab_tests::clinic::{Hub, NewClinic, after, ok, run_session};
 use telerehab_tests::console::Console;
 
 /// A clinic with one patient and its admin, a paired station, and one session run while the
@@ -25,44 +25,20 @@ struct Clinic {
 impl Clinic {
     fn with_a_queued_session() -> Self {
         let tmp = tempfile::tempdir().unwrap();
-        let data = tmp.path().join("clinic");
-        let d = data.to_str().unwrap();
-        let init = ok(
-            &["hub", "init", "--data", d, "--admin", "ana@clinic.example"],
-            None,
-        );
-        let admin_password = after(&init, "one-time password: ");
-        let add = ok(
-            &[
-                "hub",
-                "patient",
-                "add",
-                "--data",
-                d,
-                "--pseudonym",
-                "P-0042",
-            ],
-            None,
-        );
-        let code = after(&add, "pairing code: ");
+        let NewClinic {
+            data,
+            code,
+            admin_password,
+        } = NewClinic::make(tmp.path(), None);
         let hub = Hub::serve_console(&data, "127.0.0.1:0");
         let home = tmp.path().join("station");
-        let stations = format!("localhost:{}", hub.stations_port());
-        ok(&["pair", "--hub", &stations, "--code", &code], Some(&home));
-        let stations_port = hub.stations_port().clone();
-        hub.stop();
         ok(
-            &[
-                "run",
-                "--sim",
-                "--headless",
-                "--speed",
-                "max",
-                "--duration",
-                "2",
-            ],
+            &["pair", "--hub", &hub.stations, "--code", &code],
             Some(&home),
         );
+        let stations_port = hub.stations_port();
+        hub.stop();
+        run_session(&home, "2");
         Self {
             _tmp: tmp,
             data,

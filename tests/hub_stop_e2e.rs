@@ -62,10 +62,6 @@ impl Flood {
     }
 }
 
-fn port_of(addr: &str) -> &str {
-    addr.rsplit(':').next().unwrap()
-}
-
 #[test]
 fn hub_serve_stops_within_5_s_of_sigint_under_a_flood_and_keeps_what_it_acknowledged() {
     let tmp = tempfile::tempdir().unwrap();
@@ -77,7 +73,7 @@ fn hub_serve_stops_within_5_s_of_sigint_under_a_flood_and_keeps_what_it_acknowle
         Some(&home),
     );
     let n = produced(&run_session(&home, "3"));
-    let station_port = port_of(&hub.stations).to_owned();
+    let station_port = hub.stations_port();
     let web = hub.web.clone().unwrap();
     let flood = Flood::start(&[format!("127.0.0.1:{station_port}"), web], 2);
     let took = hub.signal_and_wait("INT", STOP_LIMIT);
@@ -130,7 +126,7 @@ fn hub_serve_stops_within_5_s_of_sigterm_mid_upload_and_the_upload_resumes() {
     let tmp = tempfile::tempdir().unwrap();
     let (data, code) = clinic(tmp.path());
     let hub = Hub::serve(&data, "127.0.0.1:0");
-    let port = port_of(&hub.stations).to_owned();
+    let port = hub.stations_port();
     let home = tmp.path().join("station");
     ok(
         &["pair", "--hub", &hub.stations, "--code", &code],
@@ -180,7 +176,7 @@ fn hub_serve_stops_within_5_s_of_sigint_mid_pairing_and_the_code_still_pairs() {
     let tmp = tempfile::tempdir().unwrap();
     let (data, code) = clinic(tmp.path());
     let mut hub = Hub::serve(&data, "127.0.0.1:0");
-    let port = port_of(&hub.stations).to_owned();
+    let port = hub.stations_port();
     // A station that starts pairing and goes quiet: TLS, PairStart, the hub's challenge, and
     // no PairFinish (the hub waits for it).
     let mut client = Command::new("openssl")

@@ -1,6 +1,6 @@
 //! The crate's error type.
 
-/// Why a pairing code was not accepted (see [`crate::Db::redeem_pairing_code`]).
+/// Why a pairing code was not accepted (see [`crate::Db::pair_station`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum PairRefusal {

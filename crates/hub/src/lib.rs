@@ -2,8 +2,8 @@
 //! ([`db`], SQLite or PostgreSQL through one code path) and the HTTPS JSON API of the
 //! therapist console ([`web`]); the station link's store and pairing authority ([`ingest`]);
 //! a clinic's data directory, `hub init` and `hub serve` ([`clinic`]); partial uploads
-//! expired ([`uploads`]); the load generator of `hub bench` ([`bench`]); the crate's errors
-//! ([`HubError`], [`PairRefusal`], module `error`).
+//! expired ([`uploads`]); the load generator of `hub bench` ([`bench`](mod@bench)); the
+//! crate's errors ([`HubError`], [`PairRefusal`], module `error`).
 //!
 //! Layering (DESIGN.md): this crate uses `netlink`'s frame types and never the station's
 //! device crates.

@@ -389,12 +389,14 @@ async fn pairing_codes_are_single_use(db: Db) {
         (code.secret(), p.id.as_str())
     );
     assert_eq!(
-        db.redeem_pairing_code(code.code_id(), T0 + MIN)
+        db.pair_station(code.code_id(), "st-a", &"a".repeat(64), T0 + MIN)
             .await
             .unwrap(),
         p.id
     );
-    let again = db.redeem_pairing_code(code.code_id(), T0 + MIN).await;
+    let again = db
+        .pair_station(code.code_id(), "st-b", &"b".repeat(64), T0 + MIN)
+        .await;
     assert!(
         matches!(again, Err(HubError::Pair(PairRefusal::Used))),
         "{again:?}"
@@ -407,7 +409,9 @@ async fn pairing_codes_are_single_use(db: Db) {
 
     let code2 = db.create_pairing_code(&p.id, T0, 15 * MIN).await.unwrap();
     let code2 = netlink::pairing::PairingCode::parse(&code2).unwrap();
-    let late = db.redeem_pairing_code(code2.code_id(), T0 + 15 * MIN).await;
+    let late = db
+        .pair_station(code2.code_id(), "st-c", &"c".repeat(64), T0 + 15 * MIN)
+        .await;
     assert!(
         matches!(late, Err(HubError::Pair(PairRefusal::Expired))),
         "{late:?}"
@@ -468,7 +472,9 @@ async fn pairing_codes_are_single_use(db: Db) {
         at += hub::db::attempt_wait_ms(n);
     }
     assert_eq!(
-        db.redeem_pairing_code(code3.code_id(), at).await.unwrap(),
+        db.pair_station(code3.code_id(), "st-d", &"d".repeat(64), at)
+            .await
+            .unwrap(),
         p.id
     );
     assert!(

@@ -168,6 +168,7 @@ impl Db {
         now_ms: i64,
     ) -> Result<String, HubError> {
         check_id("station_id", station_id)?;
+        super::stations::check_fingerprint(fingerprint)?;
         let mut tx = self
             .pool()
             .begin()
@@ -215,32 +216,5 @@ impl Db {
             .await
             .map_err(HubError::db("committing a pairing"))?;
         Ok(patient_id)
-    }
-
-    /// Uses up the code named `code_id` once, atomically: the patient id it was issued for,
-    /// or [`HubError::Pair`] saying why not (two stations racing with one code: one wins).
-    pub async fn redeem_pairing_code(
-        &self,
-        code_id: &str,
-        now_ms: i64,
-    ) -> Result<String, HubError> {
-        let redeemed: Option<String> = sqlx::query_scalar(
-            "UPDATE pairing_codes SET used_at_ms = $2 \
-             WHERE code_id = $1 AND used_at_ms IS NULL AND expires_at_ms > $2 \
-             RETURNING patient_id",
-        )
-        .bind(code_id)
-        .bind(now_ms)
-        .fetch_optional(self.pool())
-        .await
-        .map_err(HubError::db("redeeming a pairing code"))?;
-        match redeemed {
-            Some(patient_id) => Ok(patient_id),
-            None => Err(self
-                .pairing_ticket(code_id, now_ms)
-                .await
-                .err()
-                .unwrap_or(HubError::Pair(PairRefusal::Used))),
-        }
     }
 }

@@ -41,7 +41,7 @@ impl Station {
     }
 }
 
-fn check_fingerprint(fingerprint: &str) -> Result<(), HubError> {
+pub(super) fn check_fingerprint(fingerprint: &str) -> Result<(), HubError> {
     if fingerprint.len() == 64
         && fingerprint
             .bytes()

@@ -5,11 +5,11 @@
 //! deadline and every pairing and upload in the audit log; the report lists each violation
 //! and the command fails if there is one.
 //!
-//! The PostgreSQL server is the command's own (see [`postgres`]: `initdb` and `pg_ctl` from
+//! The PostgreSQL server is the command's own (see module `postgres`: `initdb` and `pg_ctl` from
 //! `$TELEREHAB_PG_BINDIR` or `/usr/lib/postgresql/*/bin`); without one the command fails with
 //! "PostgreSQL unavailable: …". The hubs are `telerehab hub serve` child processes on one data
 //! directory (hence one CA), each on its own ports; the stations run in this process
-//! ([`station`]).
+//! (module `station`).
 
 mod check;
 mod hubs;
