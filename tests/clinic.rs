@@ -158,10 +158,7 @@ impl Hub {
 
     /// Stops it as an operator does (SIGTERM) and waits for it to end.
     pub fn stop(mut self) {
-        let _ = Command::new("kill")
-            .args(["-TERM", &self.child.id().to_string()])
-            .status();
-        let _ = self.child.wait();
+        let _ = self.signal_and_wait("TERM", std::time::Duration::from_secs(60));
     }
 
     /// Sends `signal` (`INT`, `TERM`) and waits up to `limit` for the process to end; how long

@@ -211,7 +211,8 @@ fn hub_serve_stops_within_5_s_of_sigint_mid_pairing_and_the_code_still_pairs() {
 
     // The interrupted attempt did not burn the code: after its wait, it pairs.
     let hub = Hub::serve(&data, &format!("127.0.0.1:{port}"));
-    std::thread::sleep(Duration::from_millis(5_100));
+    let wait_ms = u64::try_from(::hub::db::MIN_ATTEMPT_WAIT_MS).unwrap() + 100;
+    std::thread::sleep(Duration::from_millis(wait_ms));
     let home = tmp.path().join("station");
     let paired = ok(
         &["pair", "--hub", &hub.stations, "--code", &code],

@@ -357,6 +357,7 @@ pub async fn serve(
     });
     let mut revocation = tokio::time::interval(REVOCATION_POLL);
     let mut sweep = tokio::time::interval(crate::uploads::PARTIAL_UPLOAD_SWEEP);
+    let mut housekeeping = tokio::time::interval(HOUSEKEEPING);
     let recordings = clinic.dir().join("recordings");
     let mut shutdown = std::pin::pin!(shutdown);
     loop {
@@ -365,6 +366,17 @@ pub async fn serve(
             _ = revocation.tick() => {
                 if let Err(e) = store.refresh_revoked().await {
                     tracing::error!("cannot re-read revoked stations: {e}");
+                }
+            }
+            _ = housekeeping.tick() => {
+                // An attack that never succeeds must not grow the throttle table or hold back
+                // the suppressed-refusal counts until the next refusal.
+                let now = (options.now_ms)();
+                if let Err(e) = db.purge_throttles(now).await {
+                    tracing::warn!("cannot purge login throttles: {e}");
+                }
+                if let Err(e) = db.flush_refusal_audits(now).await {
+                    tracing::warn!("cannot write suppressed refusal counts: {e}");
                 }
             }
             _ = sweep.tick() => {
@@ -417,12 +429,14 @@ pub async fn serve(
             None => Ok(()),
         }
     };
-    let stopped = tokio::time::timeout(STOP_WITHIN, async {
-        let (web, ()) = tokio::join!(web_stopped, server.shutdown(STOP_WITHIN));
-        db.close().await;
+    // The connections get STOP_WITHIN less a margin, so the database is closed in any case.
+    let connections = STOP_WITHIN - std::time::Duration::from_millis(500);
+    let stopped = tokio::time::timeout(connections, async {
+        let (web, ()) = tokio::join!(web_stopped, server.shutdown(connections));
         web
     })
     .await;
+    let _ = tokio::time::timeout(std::time::Duration::from_millis(500), db.close()).await;
     match stopped {
         Ok(web) => web,
         Err(_) => {
@@ -431,6 +445,10 @@ pub async fn serve(
         }
     }
 }
+
+/// How often `hub serve` forgets stale login throttles and writes the counts of refusals
+/// left out of the audit log.
+pub const HOUSEKEEPING: std::time::Duration = std::time::Duration::from_secs(60);
 
 /// Longest `hub serve` takes to stop once asked (connections closing, the database closed).
 pub const STOP_WITHIN: std::time::Duration = std::time::Duration::from_secs(3);

@@ -72,8 +72,9 @@ pub struct DbStore {
     /// The name on the hub's certificate, given to paired stations.
     server_name: String,
     revoked: Arc<RwLock<HashSet<String>>>,
-    pairing_attempts: Mutex<HashMap<IpAddr, (i64, u32)>>,
-    pairing_failures: Mutex<HashMap<IpAddr, (i64, u32)>>,
+    /// Pairing attempts and failures per address (IPv6 per /64: one host holds a whole /64).
+    pairing_attempts: Mutex<HashMap<String, (i64, u32)>>,
+    pairing_failures: Mutex<HashMap<String, (i64, u32)>>,
     now_ms: NowMs,
 }
 
@@ -200,10 +201,11 @@ impl DbStore {
     }
 }
 
-/// Adds `add` to `ip`'s count in a fixed window of `window_ms` starting at its first event
+/// Adds `add` to `ip`'s count (keyed as the login throttle keys addresses,
+/// [`crate::db::address_key`]) in a fixed window of `window_ms` starting at its first event
 /// (windows of other addresses that have ended are forgotten); the count after adding.
 fn count_in_window(
-    counts: &Mutex<HashMap<IpAddr, (i64, u32)>>,
+    counts: &Mutex<HashMap<String, (i64, u32)>>,
     ip: IpAddr,
     now_ms: i64,
     window_ms: i64,
@@ -213,10 +215,11 @@ fn count_in_window(
         .lock()
         .unwrap_or_else(std::sync::PoisonError::into_inner);
     counts.retain(|_, (start, _)| now_ms - *start < window_ms);
+    let key = crate::db::address_key(ip);
     if add == 0 {
-        return counts.get(&ip).map_or(0, |(_, n)| *n);
+        return counts.get(&key).map_or(0, |(_, n)| *n);
     }
-    let entry = counts.entry(ip).or_insert((now_ms, 0));
+    let entry = counts.entry(key).or_insert((now_ms, 0));
     entry.1 = entry.1.saturating_add(add);
     entry.1
 }

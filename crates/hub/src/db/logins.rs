@@ -160,12 +160,17 @@ pub(crate) struct HashPool {
 /// costs a refused client nothing but this check); released when dropped.
 pub(crate) struct HashTicket<'a> {
     pool: &'a HashPool,
-    admitted: Arc<AtomicUsize>,
+    place: Place,
 }
 
-impl Drop for HashTicket<'_> {
+/// One of the pool's places, given back when dropped: by the ticket if it is never used, else
+/// by the job on the hashing thread once it has run (a client that goes away mid-wait does not
+/// free a place its queued check still holds).
+struct Place(Arc<AtomicUsize>);
+
+impl Drop for Place {
     fn drop(&mut self) {
-        self.admitted.fetch_sub(1, Ordering::AcqRel);
+        self.0.fetch_sub(1, Ordering::AcqRel);
     }
 }
 
@@ -215,7 +220,7 @@ impl HashPool {
         match admitted {
             Ok(_) => Ok(HashTicket {
                 pool: self,
-                admitted: Arc::clone(&self.admitted),
+                place: Place(Arc::clone(&self.admitted)),
             }),
             Err(_) => Err(HubError::Throttled {
                 reason: "the hub is busy checking other passwords".to_owned(),
@@ -240,17 +245,16 @@ impl HashTicket<'_> {
         job: impl FnOnce() -> T + Send + 'static,
     ) -> Result<T, HubError> {
         let (tx, rx) = tokio::sync::oneshot::channel();
+        let Self { pool, place } = self;
         let boxed: Job = Box::new(move || {
             let _ = tx.send(job());
+            drop(place);
         });
-        self.pool.sender().send(boxed).map_err(|_| {
+        pool.sender().send(boxed).map_err(|_| {
             HubError::PasswordHash("no password hashing thread is running".to_owned())
         })?;
-        let out = rx
-            .await
-            .map_err(|_| HubError::PasswordHash("the password hashing thread failed".to_owned()));
-        drop(self);
-        out
+        rx.await
+            .map_err(|_| HubError::PasswordHash("the password hashing thread failed".to_owned()))
     }
 }
 
@@ -404,8 +408,9 @@ impl Db {
     }
 
     /// Forgets throttles without a failure for [`THROTTLE_FORGET_MS`] and expired device
-    /// cookies (the table of guessed e-mails cannot grow without bound).
-    pub(crate) async fn purge_throttles(&self, now_ms: i64) -> Result<(), HubError> {
+    /// cookies (the table of guessed e-mails cannot grow without bound); `hub serve` calls it
+    /// every [`crate::clinic::HOUSEKEEPING`], whether or not anyone logs in.
+    pub async fn purge_throttles(&self, now_ms: i64) -> Result<(), HubError> {
         sqlx::query(
             "DELETE FROM login_throttle WHERE updated_at_ms < $1 AND next_allowed_ms <= $2",
         )

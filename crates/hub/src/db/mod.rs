@@ -24,6 +24,7 @@
 
 mod audit;
 mod logins;
+pub(crate) use logins::address_key;
 mod pairing;
 mod patients;
 mod regimens;

@@ -455,7 +455,6 @@ impl Db {
                 // device must not hand an attacker a fresh allowance on the account.
                 self.clear_throttle(&gate_key).await?;
                 give_back_address().await?;
-                self.purge_throttles(now_ms).await?;
                 Ok(LoginOk {
                     therapist,
                     known_device,

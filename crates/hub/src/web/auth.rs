@@ -70,9 +70,17 @@ pub(crate) fn client_ip(extensions: &Extensions) -> Option<IpAddr> {
         .map(|ConnectInfo(addr)| addr.ip())
 }
 
-/// A request's source as the audit log names it.
+/// A request's source as the audit log names it and its refusal limiter counts it: the
+/// address, an IPv6 one as its /64 (one host holds a whole /64, so changing address within it
+/// must not buy a fresh allowance of audit writes).
 fn source_of(extensions: &Extensions) -> String {
-    client_ip(extensions).map_or_else(|| "unknown address".to_owned(), |ip| ip.to_string())
+    client_ip(extensions).map_or_else(
+        || "unknown address".to_owned(),
+        |ip| {
+            let key = crate::db::address_key(ip);
+            key.strip_prefix("addr:").unwrap_or(&key).to_owned()
+        },
+    )
 }
 
 impl FromRequestParts<AppState> for Authed {

@@ -259,6 +259,8 @@ pub(crate) enum ApiError {
     Unprocessable(String),
     /// 429 with `Retry-After` (s): throttled or too busy; nothing was done.
     TooManyRequests(String, i64),
+    /// 503 with `Retry-After` (s): the hub's shared capacity stayed busy; nothing was done.
+    Unavailable(String, i64),
     /// A body axum's JSON extractor refused (malformed or wrong shape 400, wrong content type
     /// 415, over [`MAX_BODY_BYTES`] 413), with that status.
     Rejected(StatusCode, String),
@@ -280,12 +282,10 @@ impl IntoResponse for ApiError {
             Self::BadRequest(m) => (StatusCode::BAD_REQUEST, m.as_str()),
             Self::Unprocessable(m) => (StatusCode::UNPROCESSABLE_ENTITY, m.as_str()),
             Self::TooManyRequests(m, retry_after_s) => {
-                let mut response =
-                    (StatusCode::TOO_MANY_REQUESTS, Json(ErrorBody { error: m })).into_response();
-                response
-                    .headers_mut()
-                    .insert(header::RETRY_AFTER, HeaderValue::from(*retry_after_s));
-                return response;
+                return retry_later(StatusCode::TOO_MANY_REQUESTS, m, *retry_after_s);
+            }
+            Self::Unavailable(m, retry_after_s) => {
+                return retry_later(StatusCode::SERVICE_UNAVAILABLE, m, *retry_after_s);
             }
             Self::Rejected(status, m) => (*status, m.as_str()),
             Self::Internal => (
@@ -295,6 +295,15 @@ impl IntoResponse for ApiError {
         };
         (status, Json(ErrorBody { error: message })).into_response()
     }
+}
+
+/// `status` with `Retry-After: retry_after_s` and `{"error": message}`.
+fn retry_later(status: StatusCode, message: &str, retry_after_s: i64) -> Response {
+    let mut response = (status, Json(ErrorBody { error: message })).into_response();
+    response
+        .headers_mut()
+        .insert(header::RETRY_AFTER, HeaderValue::from(retry_after_s));
+    response
 }
 
 impl From<HubError> for ApiError {

@@ -6,13 +6,13 @@ use std::sync::{Arc, Mutex};
 use axum::Json;
 use axum::extract::rejection::PathRejection;
 use axum::extract::{Path, State};
-use axum::http::{HeaderValue, StatusCode, header};
+use axum::http::header;
 use axum::response::{IntoResponse, Response};
 use netlink::Summary;
 use tokio::sync::Semaphore;
 
 use super::auth::Authed;
-use super::{ApiError, AppState, ErrorBody, check_path_id};
+use super::{ApiError, AppState, check_path_id};
 use crate::db::{SessionRow, Therapist};
 
 /// The session `id` if `therapist` may see its patient; 404 otherwise.
@@ -130,15 +130,6 @@ impl Drop for Asking {
     }
 }
 
-/// An answer asking the client to retry after `retry_after_s`, `{"error": message}`.
-fn retry_later(status: StatusCode, retry_after_s: u64, message: &str) -> Response {
-    let mut response = (status, Json(ErrorBody { error: message })).into_response();
-    response
-        .headers_mut()
-        .insert(header::RETRY_AFTER, HeaderValue::from(retry_after_s));
-    response
-}
-
 /// `GET /api/sessions/{id}/replay`: the session's uploaded recording as the console's replay
 /// draws it; 404 until the whole recording has arrived, 422 for a file over the hub's limit or
 /// one that cannot be read (a recording is a station's upload: untrusted), 429 while the same
@@ -169,7 +160,17 @@ pub(crate) async fn replay(
         .audit(&therapist.actor(), "read_replay", &session.session_id, "")
         .await?;
     let path = std::path::PathBuf::from(&recording.path);
-    let size = std::fs::metadata(&path).map_or(0, |m| m.len());
+    // Off the async workers, and a file that cannot be read is refused, not taken as empty.
+    let size = tokio::fs::metadata(&path)
+        .await
+        .map_err(|e| {
+            tracing::warn!(session = %session.session_id, "replay file unreadable: {e}");
+            ApiError::Unprocessable(format!(
+                "the recording of session {:?} cannot be read on the hub",
+                session.session_id
+            ))
+        })?
+        .len();
     if size > state.replay_max_bytes {
         return Err(ApiError::Unprocessable(format!(
             "the recording of session {:?} is {} MB, more than the {} MB this hub replays \
@@ -180,22 +181,20 @@ pub(crate) async fn replay(
         )));
     }
     let Some(asking) = Asking::begin(&state.replay_turns, &therapist.id) else {
-        return Ok(retry_later(
-            StatusCode::TOO_MANY_REQUESTS,
+        return Err(ApiError::TooManyRequests(
+            "a replay you asked for is still being prepared; ask again once it is shown".into(),
             5,
-            "a replay you asked for is still being prepared; ask again once it is shown",
         ));
     };
     let decoding = Arc::clone(&state.replay_turns.decoding);
     let wait = std::time::Duration::from_secs(REPLAY_QUEUE_WAIT_S);
     let Ok(Ok(turn)) = tokio::time::timeout(wait, decoding.acquire_owned()).await else {
-        return Ok(retry_later(
-            StatusCode::SERVICE_UNAVAILABLE,
-            10,
-            &format!(
+        return Err(ApiError::Unavailable(
+            format!(
                 "the hub is busy preparing other replays ({REPLAYS_AT_ONCE} at a time); try \
                  again in a moment"
             ),
+            10,
         ));
     };
     // The turn and the therapist's claim are held until the decoding ends, even if the

@@ -167,6 +167,7 @@ impl ConnectionGate {
     /// address (or from all) when a cap is reached. `None` (counted as a refusal) only when
     /// every counted connection is past its first message and cannot be evicted.
     pub fn admit(self: &Arc<Self>, ip: IpAddr) -> Option<Ticket> {
+        let ip = address_of(ip);
         let mut state = self.lock();
         let from_ip = state.per_address.get(&ip).map_or(0, BTreeSet::len);
         if from_ip >= self.limits.max_per_address {
@@ -324,6 +325,22 @@ impl RefusalLog {
     }
 }
 
+/// The address a connection is counted under: itself for IPv4 (and IPv4-mapped IPv6), its
+/// /64 for IPv6 (one host holds a whole /64, so changing address within it must not buy a
+/// fresh per-address allowance).
+fn address_of(ip: IpAddr) -> IpAddr {
+    match ip {
+        IpAddr::V4(_) => ip,
+        IpAddr::V6(v6) => match v6.to_ipv4_mapped() {
+            Some(v4) => IpAddr::V4(v4),
+            None => {
+                let s = v6.segments();
+                IpAddr::from([s[0], s[1], s[2], s[3], 0, 0, 0, 0])
+            }
+        },
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -399,6 +416,34 @@ mod tests {
         assert!(
             log.take_summary_now().is_none(),
             "a new interval starts empty"
+        );
+    }
+
+    #[tokio::test]
+    async fn ipv6_addresses_of_one_slash_64_share_their_per_address_cap() {
+        let gate = ConnectionGate::new(
+            GateLimits {
+                max_total: 10,
+                max_per_address: 2,
+            },
+            "test",
+        );
+        let a: IpAddr = "2001:db8:1:2::1".parse().unwrap();
+        let b: IpAddr = "2001:db8:1:2:ffff::9".parse().unwrap();
+        let elsewhere: IpAddr = "2001:db8:1:3::1".parse().unwrap();
+        let mut first = gate.admit(a).unwrap();
+        let _second = gate.admit(b).unwrap();
+        let mut other = gate.admit(elsewhere).unwrap();
+        // A third address of the same /64 replaces its oldest, not a connection elsewhere.
+        let _third = gate.admit("2001:db8:1:2::77".parse().unwrap()).unwrap();
+        tokio::time::timeout(Duration::from_secs(1), first.evicted())
+            .await
+            .expect("the oldest of the /64 is evicted");
+        assert!(
+            tokio::time::timeout(Duration::from_millis(50), other.evicted())
+                .await
+                .is_err(),
+            "another /64 keeps its connection"
         );
     }
 }

@@ -191,6 +191,9 @@ pub async fn deliver(
     deliver_sessions(pending(dir)?, dir, address, tls, timeout).await
 }
 
+/// The largest channel a link accepts (`StationLinkConfig::channel_capacity`).
+const MAX_LINK_CHANNEL: usize = 1_000_000;
+
 /// As [`deliver`], for the sessions `queued` (read from `dir` before a new session's queue
 /// file was created there, so a running session is never taken for a queued one).
 pub async fn deliver_sessions(
@@ -212,7 +215,12 @@ pub async fn deliver_sessions(
         // The whole session is handed over at once, without an await between sends: the
         // link's channel must hold it all (a long session once overflowed the default 4 096
         // and lost the rest when the queue file was then removed).
-        config.channel_capacity = config.channel_capacity.max(q.summaries.len() + 1);
+        // (At most the link's own limit of a million, 28 h at 10 Hz; beyond, the summaries
+        // not taken keep the session queued below.)
+        config.channel_capacity = config
+            .channel_capacity
+            .max(q.summaries.len() + 1)
+            .min(MAX_LINK_CHANNEL);
         let (sender, link) = StationLink::spawn(&handle, config)
             .with_context(|| format!("queued session {session_id}"))?;
         let mut unsent = 0_u64;

@@ -422,6 +422,10 @@ struct Queues {
     raw_imu: Queue<RawImuSample>,
 }
 
+/// Most bytes of schema records a stream keeps, names included (the station's own are a
+/// few kilobytes in all).
+const MAX_SCHEMA_BYTES: usize = 4 << 20;
+
 /// The tick records of a recording, read front to back in bounded memory (the module's
 /// documentation says how). Gives the same records as [`super::Recording::ticks`] for the
 /// channels it reads (the others left at their defaults).
@@ -550,6 +554,18 @@ impl<R: Read> TickStream<R> {
         })?;
         match mcap::parse_record(opcode, data)? {
             Record::Schema { header, data } => {
+                // Each schema is within a record's limit; their sum is bounded too, or a file
+                // of many 16 MiB schemas would hold gigabytes (ours are a few kilobytes).
+                let kept: usize = self.schemas.values().map(|(n, d)| n.len() + d.len()).sum();
+                if kept + header.name.len() + data.len() > MAX_SCHEMA_BYTES {
+                    return Err(ReadError::Damaged {
+                        chunk,
+                        reason: format!(
+                            "its schemas add up to more than {} MiB",
+                            MAX_SCHEMA_BYTES >> 20
+                        ),
+                    });
+                }
                 self.schemas
                     .insert(header.id, (header.name, data.into_owned()));
             }
