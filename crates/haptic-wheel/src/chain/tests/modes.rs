@@ -265,11 +265,26 @@ struct Checker {
 }
 
 /// Time since a fade began on the supervisor's clock (the sum of min(gap, max_tick_gap)), s,
-/// and ticks since it passed the fade bound.
+/// ticks since it passed the fade bound, and the highest torque level the fade may have to
+/// come down from, N·m: the level when it began and every ceiling in force since. A ceiling
+/// lowered mid-fade clamps the torque lower at once, so the bound stays the one of the level
+/// the fade began at (measuring it against the new, lower ceiling blamed a fade that was
+/// within its bound all along).
 #[derive(Clone, Copy, Debug, Default)]
 struct Fade {
     since_s: f64,
     ticks_past_bound: u32,
+    from_nm: f64,
+}
+
+impl Fade {
+    /// A fade beginning at `level_nm`.
+    fn from(level_nm: f64) -> Self {
+        Self {
+            from_nm: level_nm,
+            ..Self::default()
+        }
+    }
 }
 
 impl Checker {
@@ -450,12 +465,17 @@ impl Rig {
         // The fade bounds, on the supervisor's clock: zero from the third tick past the bound
         // (the scale reaches exactly zero on the tick after its ramp crossed it, the limiter
         // then needs its last step).
-        let bound = self.k.fade_bound_s(ceiling);
+        let fault_from_nm = self.k.last_cmd_nm.abs().max(ceiling);
         self.k.since_fault = if faulted {
-            Some(self.k.since_fault.unwrap_or_default())
+            Some(
+                self.k
+                    .since_fault
+                    .unwrap_or_else(|| Fade::from(fault_from_nm)),
+            )
         } else {
             None
         };
+        let (fade_out_s, slew_nm_per_s) = (self.k.fade_out_s, self.k.slew_nm_per_s);
         for (what, fade) in [
             ("stop", &mut self.k.since_stop),
             ("pause", &mut self.k.since_pause),
@@ -463,6 +483,8 @@ impl Rig {
         ] {
             if let Some(f) = fade {
                 f.since_s += progress;
+                f.from_nm = f.from_nm.max(ceiling);
+                let bound = fade_out_s + f.from_nm / slew_nm_per_s;
                 if f.since_s >= bound {
                     f.ticks_past_bound += 1;
                 }
@@ -567,7 +589,8 @@ impl Rig {
             }
             Op::Pause => {
                 self.c.set_paused(true);
-                self.k.since_pause.get_or_insert_default();
+                let from_nm = self.k.last_cmd_nm.abs().max(self.c.ceiling_nm());
+                self.k.since_pause.get_or_insert(Fade::from(from_nm));
             }
             Op::Resume => {
                 self.c.set_paused(false);
@@ -644,7 +667,9 @@ impl Rig {
         // Whatever happened, a stop ends at zero torque within the fade bound, on healthy ticks
         // and on faulted ones alike.
         self.c.request_stop();
-        self.k.since_stop = Some(Fade::default());
+        self.k.since_stop = Some(Fade::from(
+            self.k.last_cmd_nm.abs().max(self.c.ceiling_nm()),
+        ));
         let bound_ticks = (self.k.fade_bound_s(self.c.ceiling_nm()) / 1e-3).ceil() as usize + 5;
         for i in 0..bound_ticks {
             let reading = if i % 7 == 3 {
