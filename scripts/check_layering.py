@@ -34,6 +34,8 @@ BELOW_STATION = {
     "gyro-imu",
     "haptic-wheel",
     "netlink",
+    "record",
+    "regimen",
 }
 
 # Our crates, and which of our crates each one may depend on (the arrows of DESIGN.md).
@@ -50,10 +52,14 @@ OUR_CRATES: dict[str, set[str]] = {
     "gyro-imu": {"common", "clock"},
     "haptic-wheel": {"common", "clock"},
     "netlink": {"common", "clock"},
-    "hub": {"common", "clock", "netlink"},
+    # The recording format: sample types of the sensing, wheel, calibration and metrics crates.
+    "record": {"common", "calib", "gyro-imu", "haptic-wheel", "metrics"},
+    # The prescription: exercises, haptic and assistance settings, and their safety bounds.
+    "regimen": {"common", "vehicle", "assist", "haptic-wheel"},
+    "hub": {"common", "clock", "netlink", "record", "regimen"},
     # The one binary also runs the clinic's hub (`telerehab hub ...`).
     "station": BELOW_STATION | {"hub"},
-    "telerehab-py": {"common", "vehicle", "assist", "calib", "gyro-imu", "metrics"},
+    "telerehab-py": {"common", "vehicle", "assist", "calib", "gyro-imu", "metrics", "record"},
     "telerehab-tests": BELOW_STATION | {"station", "hub"},
 }
 

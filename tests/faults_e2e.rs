@@ -3,8 +3,8 @@
 //! the slew limit, reaches zero within the stated bound when it must, and the session ends or
 //! goes on as designed with the reason in its report.
 
+use record::Recording;
 use station::config::StationConfig;
-use station::record::Recording;
 use std::path::Path;
 use telerehab_tests::{
     TherapistHub, assert_within_ceiling_and_slew, run_ok, sim_session_args, stored_seqs,

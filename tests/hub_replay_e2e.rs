@@ -212,7 +212,7 @@ fn replay_minutes() -> u64 {
 /// A recording of `minutes` of a 1 kHz session with the station's own configuration, every
 /// per-tick channel written (the raw inputs too), values from a fixed seed.
 fn long_recording(path: &Path, minutes: u64, config_toml: String) {
-    use station::record::{
+    use record::{
         ArmSample, RawImuSample, RecordWriter, SessionMetadata, TickRecord, VehicleSample,
     };
     let meta = SessionMetadata {
@@ -286,7 +286,7 @@ fn eight_therapists_replaying_a_long_recording_at_once_keep_the_hub_under_300_mb
     let minutes = replay_minutes();
     let clinic = Clinic::with_a_queued_session();
     let (session, recording) = clinic.queued_upload();
-    let config_toml = station::record::Recording::open(&recording)
+    let config_toml = record::Recording::open(&recording)
         .unwrap()
         .metadata
         .config_toml;

@@ -6,8 +6,8 @@
 //! The disk tests mount a small tmpfs (root with CAP_SYS_ADMIN); elsewhere they print
 //! `SKIPPED`.
 
+use record::Recording;
 use station::config::StationConfig;
-use station::record::Recording;
 use std::path::Path;
 use std::time::Duration;
 use telerehab_tests::{

@@ -363,7 +363,7 @@ fn session_losing_its_window(dir: &std::path::Path, signal: &str) -> (String, St
 /// fading to zero within the supervisor's fade-out and staying there), and ran again; every
 /// tick's torque within the ceiling in N·m.
 fn assert_paused_safely_while_the_window_was_lost(dir: &std::path::Path) {
-    let rec = station::record::Recording::open(dir.join("window-lost.mcap")).unwrap();
+    let rec = record::Recording::open(dir.join("window-lost.mcap")).unwrap();
     let cfg =
         station::config::StationConfig::from_toml(&rec.metadata.config_toml, "recording").unwrap();
     // Every tick's pause (the `/score` samples come every 100 ticks only, and a loop slowed

@@ -95,7 +95,7 @@ fn short_session_records_every_tick_on_every_channel_with_schemas() {
     // describe (an optional field is left out, never null): the block channels' samples
     // against the record types' schemas, the JSON channels' against the file's.
     for (topic, list) in &msgs {
-        let spec = station::record::Channel::from_topic(topic).unwrap().spec();
+        let spec = record::Channel::from_topic(topic).unwrap().spec();
         let schema = spec.schema();
         let described = schema["properties"].as_object().unwrap();
         let required: Vec<&str> = schema["required"]

@@ -184,13 +184,13 @@ pub struct Msg {
 /// Every sample of our channels in an MCAP file, in file order: JSON messages as they are,
 /// blocks unpacked with the layout their channel declares (the Foxglove scene is skipped).
 pub fn read_mcap(path: &Path) -> Vec<Msg> {
-    use station::record::blocks::{ENCODING, Layout};
+    use record::blocks::{ENCODING, Layout};
     let bytes = std::fs::read(path).expect("read mcap");
     let mut out = Vec::new();
     for m in mcap::MessageStream::new(&bytes).expect("mcap header") {
         let m = m.expect("mcap message");
         let topic = m.channel.topic.clone();
-        if station::record::Channel::from_topic(&topic).is_none() {
+        if record::Channel::from_topic(&topic).is_none() {
             continue;
         }
         if m.channel.message_encoding != ENCODING {
@@ -210,7 +210,7 @@ pub fn read_mcap(path: &Path) -> Vec<Msg> {
         let layout = Layout::from_file(&schema.name, &schema.data, &m.channel.metadata)
             .expect("block layout");
         let rows = layout.decode(&m.data).expect("block decodes");
-        let t_ns = |r: &station::record::Row| (r["t_s"].as_f64().unwrap() * 1e9).round() as u64;
+        let t_ns = |r: &record::Row| (r["t_s"].as_f64().unwrap() * 1e9).round() as u64;
         let first = rows.first().map_or(0, t_ns);
         for row in rows {
             let log_time = m.log_time + (t_ns(&row) - first);

@@ -26,7 +26,7 @@ use crate::db::{Db, RegimenVersion, Role};
 use crate::error::HubError;
 use crate::ingest::{DbStore, Ingest, REVOCATION_POLL};
 use crate::limits::ConnectionBudget;
-use crate::web::{self, AppState, LiveEvent, NowMs, RegimenValidator};
+use crate::web::{self, AppState, LiveEvent, NowMs};
 
 /// `DATA/hub.toml`.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
@@ -218,14 +218,10 @@ pub struct ServeOptions {
     pub stations: SocketAddr,
     /// Console API's address (HTTPS), if served.
     pub web: Option<SocketAddr>,
-    /// Checks prescribed regimens against the station's safety bounds.
-    pub validate_regimen: RegimenValidator,
     /// The clock.
     pub now_ms: NowMs,
     /// Most simultaneous station connections, and from one address.
     pub max_connections: (usize, usize),
-    /// Reads stored recordings for the console's replay (`None`: no replay).
-    pub replay: Option<web::ReplayReader>,
     /// Caps on connections nobody has authenticated yet and the console's deadlines; with
     /// `max_connections`, fitted to the open-file limit at start ([`crate::limits`]).
     pub limits: HubLimits,
@@ -253,22 +249,16 @@ impl Default for HubLimits {
 
 impl ServeOptions {
     /// Options with the documented defaults: the system clock, netlink's connection caps,
-    /// [`HubLimits::default`], no replay (and the default replay size limit).
-    pub fn new(
-        stations: SocketAddr,
-        web: Option<SocketAddr>,
-        validate_regimen: RegimenValidator,
-    ) -> Self {
+    /// [`HubLimits::default`] and the default replay size limit.
+    pub fn new(stations: SocketAddr, web: Option<SocketAddr>) -> Self {
         Self {
             stations,
             web,
-            validate_regimen,
             now_ms: Arc::new(web::system_now_ms),
             max_connections: (
                 netlink::therapist::DEFAULT_MAX_CONNECTIONS,
                 netlink::therapist::DEFAULT_MAX_CONNECTIONS_PER_ADDRESS,
             ),
-            replay: None,
             limits: HubLimits::default(),
             max_replay_bytes: web::DEFAULT_MAX_REPLAY_BYTES,
         }
@@ -326,10 +316,9 @@ pub async fn serve(
             .map_err(|e| HubError::Config(format!("station link: {e}")))?;
     let (live, _) = broadcast::channel::<LiveEvent>(1024);
     let (prescribed, mut prescriptions) = broadcast::channel::<RegimenVersion>(64);
-    let state = AppState::new(db.clone(), options.validate_regimen.clone(), live.clone())
+    let state = AppState::new(db.clone(), live.clone())
         .with_clock(options.now_ms.clone())
         .with_prescribed_feed(prescribed)
-        .with_replay(options.replay.clone())
         .with_replay_max_bytes(options.max_replay_bytes);
     let (stop_web, web_stopped) = tokio::sync::oneshot::channel::<()>();
     let mut web_task = None;

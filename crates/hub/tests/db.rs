@@ -301,7 +301,8 @@ async fn patients_and_caseload(db: Db) {
         "a session this week, nothing prescribed"
     );
     // Three a week prescribed, a safety stop and clipping in the last session: all said.
-    db.put_regimen(&p.id, "sessions_per_week = 3\n", &t.id, now)
+    let three_a_week = "sessions_per_week = 3\n[[exercise]]\nkind = \"sine\"\nduration_s = 60.0\n";
+    db.put_regimen(&p.id, three_a_week, &t.id, now)
         .await
         .unwrap();
     let faults = [

@@ -128,7 +128,6 @@ async fn start_hub() -> RunningHub {
         ..ServeOptions::new(
             "127.0.0.1:0".parse().unwrap(),
             Some("127.0.0.1:0".parse().unwrap()),
-            Arc::new(|_: &str| Ok(())),
         )
     };
     let events = Arc::new(std::sync::Mutex::new(Vec::new()));
@@ -376,7 +375,7 @@ async fn held_half_sent_requests_and_idle_station_connections_leave_a_station_an
 async fn console(limits: WebLimits) -> (SocketAddr, Db, tempfile::TempDir) {
     let (db, dir) = common::sqlite_db().await;
     let (live, _) = tokio::sync::broadcast::channel(16);
-    let state = AppState::new(db.clone(), Arc::new(|_: &str| Ok(())), live);
+    let state = AppState::new(db.clone(), live);
     let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
     let addr = listener.local_addr().unwrap();
     tokio::spawn(web::serve_with_limits(

@@ -360,7 +360,7 @@ async fn fixture() -> Fixture {
     let (live, _) = broadcast::channel(256);
     let clock = Arc::new(AtomicI64::new(T0));
     let now = Arc::clone(&clock);
-    let state = AppState::new(db.clone(), Arc::new(|_: &str| Ok(())), live.clone())
+    let state = AppState::new(db.clone(), live.clone())
         .with_clock(Arc::new(move || now.load(Ordering::SeqCst)));
     Fixture {
         app: web::router(state),
@@ -947,7 +947,6 @@ async fn a_login_flood_leaves_station_acks_within_twice_quiet() {
         ..ServeOptions::new(
             "127.0.0.1:0".parse().unwrap(),
             Some("127.0.0.1:0".parse().unwrap()),
-            Arc::new(|_: &str| Ok(())),
         )
     };
     let (bound_tx, bound_rx) = tokio::sync::oneshot::channel::<Bound>();

@@ -34,12 +34,9 @@ struct Fixture {
     _dir: tempfile::TempDir,
 }
 
-fn validator(toml: &str) -> Result<(), String> {
-    if toml.contains("max_torque_nm = 99") {
-        Err("max_torque_nm 99 N·m is above the device ceiling 1.87 N·m".to_owned())
-    } else {
-        Ok(())
-    }
+/// A valid one-exercise regimen of `kind`.
+fn one_exercise(kind: &str) -> String {
+    format!("[[exercise]]\nkind = \"{kind}\"\nduration_s = 30.0\n")
 }
 
 async fn fixture() -> Fixture {
@@ -61,7 +58,7 @@ async fn fixture() -> Fixture {
     let (live, _) = broadcast::channel(64);
     let clock = Arc::new(AtomicI64::new(T0));
     let now = Arc::clone(&clock);
-    let state = AppState::new(db.clone(), Arc::new(validator), live.clone())
+    let state = AppState::new(db.clone(), live.clone())
         .with_clock(Arc::new(move || now.load(Ordering::SeqCst)));
     Fixture {
         app: web::router(state),
@@ -516,7 +513,7 @@ async fn regimen_put_makes_version_2_and_the_validator_can_refuse() {
     let uri = format!("/api/patients/{}/regimen", f.p_ada.id);
     let (_, _, empty) = call(&f.app, Method::GET, &uri, Some(&ada), None).await;
     assert_eq!(empty["current"], Value::Null);
-    for (i, text) in ["exercise = \"sine-road\"", "exercise = \"slalom\""]
+    for (i, text) in [one_exercise("sine"), one_exercise("slalom")]
         .iter()
         .enumerate()
     {
@@ -537,7 +534,7 @@ async fn regimen_put_makes_version_2_and_the_validator_can_refuse() {
         Method::PUT,
         &uri,
         Some(&ada),
-        Some(json!({"toml": "max_torque_nm = 99"})),
+        Some(json!({"toml": format!("{}[exercise.haptic]\nceiling_nm = 99.0\n", one_exercise("sine"))})),
     )
     .await;
     assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
@@ -547,7 +544,7 @@ async fn regimen_put_makes_version_2_and_the_validator_can_refuse() {
     );
     let (_, _, view) = call(&f.app, Method::GET, &uri, Some(&ada), None).await;
     assert_eq!(view["current"]["version"], 2);
-    assert_eq!(view["current"]["toml"], "exercise = \"slalom\"");
+    assert_eq!(view["current"]["toml"], one_exercise("slalom"));
     assert_eq!(view["history"].as_array().unwrap().len(), 2);
 
     let big = json!({"toml": "x".repeat(web::MAX_BODY_BYTES + 1)});
@@ -571,7 +568,10 @@ async fn regimen_put_makes_version_2_and_the_validator_can_refuse() {
         .filter(|(_, act, _)| act == "put_regimen")
         .count();
     assert_eq!(puts, 2);
-    assert_eq!(view["current_fields"], json!({"exercise": "slalom"}));
+    assert_eq!(
+        view["current_fields"],
+        json!({"exercise": [{"kind": "slalom", "duration_s": 30.0}]})
+    );
     assert!(
         log.iter()
             .any(|(_, act, t)| act == "regimen_rejected" && *t == f.p_ada.id)

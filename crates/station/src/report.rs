@@ -352,11 +352,11 @@ fn delivery(s: &mut String, r: &SessionReport, link: Option<&LinkReport>) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::record::ArmCalibrationSample;
     use crate::session::haptic::HapticOutcome;
     use crate::session::recorder::RecorderOutcome;
     use crate::timing::TimingStats;
     use haptic_wheel::{CeilingReport, WheelFault};
+    use record::ArmCalibrationSample;
     use std::path::PathBuf;
 
     /// A real-time session on a real wheel that shows every line the report can have.

@@ -2,9 +2,9 @@
 //! and the conversion of a tick's record into a [`render::Scene`].
 
 use crate::config::StationConfig;
-use crate::record::{ArmSetup, TickRecord};
-use crate::regimen::Regimen;
 use crate::render::{self, CarPose, Dial, Hud, LiveScore, RoadPoint, Scene, ScreenState};
+use record::{ArmSetup, TickRecord};
+use regimen::Regimen;
 use vehicle::ExerciseSpec;
 
 /// Centre-line sample spacing for the screen's road mesh, m.

@@ -5,9 +5,9 @@
 //! same entry points run under cargo-fuzz: `fuzz/README.md`.
 
 use proptest::prelude::*;
+use record::recover::recover;
+use regimen::Regimen;
 use station::config::StationConfig;
-use station::record::recover::recover;
-use station::regimen::Regimen;
 use std::io::Cursor;
 use std::path::Path;
 

@@ -14,11 +14,11 @@ use std::time::Duration;
 use clock::Clock;
 use haptic_wheel::evdev_wheel::EvdevWheel;
 use haptic_wheel::evdev_wheel::fake::{FakeFfDevice, FakeHandle};
+use record::Recording;
+use record::raw::{BodyKindName, RawRead};
+use record::types::Watchdog;
 use station::commands::replay::replay;
 use station::config::StationConfig;
-use station::record::Recording;
-use station::record::raw::{BodyKindName, RawRead};
-use station::record::types::Watchdog;
 use station::session::haptic::Pacing;
 use station::session::plant::Body;
 use station::session::{self, BodyKind, Controls, SessionOptions};
@@ -202,8 +202,7 @@ fn a_real_wheel_session_ended_by_an_unplug_replays_bit_for_bit_from_its_raw_inpu
     // Ended when the 1 s grace ran out (then at most the fade-out), not at once nor after
     // 30 s, on the body's clock (a loaded machine skips missed ticks, so ticks would not
     // count the time); the replay waits exactly as long.
-    let now_s =
-        |w: &station::record::Stamped<station::record::RawWheelSample>| w.data.now_ns as f64 * 1e-9;
+    let now_s = |w: &record::Stamped<record::RawWheelSample>| w.data.now_ns as f64 * 1e-9;
     let away_s = now_s(rec.raw_wheel.last().unwrap()) - now_s(&rec.raw_wheel[unplugged]);
     assert!(
         (1.0..1.3).contains(&away_s),

@@ -11,9 +11,9 @@
 //! `chain::tests::modes`.
 
 use proptest::prelude::*;
+use record::Watchdog;
+use regimen::Regimen;
 use station::config::StationConfig;
-use station::record::Watchdog;
-use station::regimen::Regimen;
 use station::session::course;
 use station::session::faults::FaultSpec;
 use station::session::plant::Plant;

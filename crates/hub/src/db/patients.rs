@@ -47,10 +47,11 @@ pub struct PatientOverview {
     pub alerts: Vec<String>,
 }
 
-/// The `sessions_per_week` a regimen's TOML text names, if any.
+/// The `sessions_per_week` of a stored regimen, read with the regimen's own parser (every
+/// stored regimen was validated by it when prescribed).
 fn prescribed_per_week(regimen_toml: Option<&str>) -> Option<i64> {
-    let value: toml::Value = toml::from_str(regimen_toml?).ok()?;
-    value.get("sessions_per_week")?.as_integer()
+    let regimen = regimen::Regimen::from_toml(regimen_toml?, "the stored regimen").ok()?;
+    regimen.sessions_per_week.map(i64::from)
 }
 
 /// The measures the caseload shows a trend of (for each, up is better).

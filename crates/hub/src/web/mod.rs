@@ -45,15 +45,6 @@ pub const MAX_BODY_BYTES: usize = 64 * 1024;
 /// Default lifetime of a console login, ms (8 hours).
 pub const DEFAULT_LOGIN_TTL_MS: i64 = 8 * 60 * 60 * 1000;
 
-/// Checks a regimen's TOML text against the station's safety bounds; `Err` carries the reason
-/// shown to the therapist. Passed in because the bounds live in the station crate.
-pub type RegimenValidator = Arc<dyn Fn(&str) -> Result<(), String> + Send + Sync>;
-
-/// Reads a stored recording into what the console's replay draws (JSON bytes, columns by
-/// name), in bounded memory; `Err` says why the recording cannot be replayed (answered 422).
-/// Passed in because the recording format lives in the station crate.
-pub type ReplayReader = Arc<dyn Fn(&std::path::Path) -> Result<Vec<u8>, String> + Send + Sync>;
-
 /// The current time, ms since the Unix epoch (injectable for tests).
 pub type NowMs = Arc<dyn Fn() -> i64 + Send + Sync>;
 
@@ -62,8 +53,6 @@ pub type NowMs = Arc<dyn Fn() -> i64 + Send + Sync>;
 pub struct AppState {
     /// The system of record.
     pub db: Db,
-    /// Validates regimens before they are stored.
-    pub validate_regimen: RegimenValidator,
     /// Summaries of running sessions, as the ingest receives them (`/api/patients/{id}/live`).
     pub live: broadcast::Sender<LiveEvent>,
     /// The clock.
@@ -73,8 +62,6 @@ pub struct AppState {
     /// Where a newly prescribed regimen is announced (the hub pushes it to the patient's
     /// station if connected); `None` when no station link runs.
     pub prescribed: Option<broadcast::Sender<RegimenVersion>>,
-    /// Reads stored recordings for the console's replay; `None`: replay is not offered.
-    pub replay: Option<ReplayReader>,
     /// Open live streams per login (by token hash), for [`MAX_LIVE_STREAMS_PER_LOGIN`].
     pub live_streams: live::StreamCounts,
     /// Largest recording file replayed, bytes.
@@ -85,29 +72,17 @@ pub struct AppState {
 
 impl AppState {
     /// State with the system clock and [`DEFAULT_LOGIN_TTL_MS`].
-    pub fn new(
-        db: Db,
-        validate_regimen: RegimenValidator,
-        live: broadcast::Sender<LiveEvent>,
-    ) -> Self {
+    pub fn new(db: Db, live: broadcast::Sender<LiveEvent>) -> Self {
         Self {
             db,
-            validate_regimen,
             live,
             now_ms: Arc::new(system_now_ms),
             login_ttl_ms: DEFAULT_LOGIN_TTL_MS,
             prescribed: None,
-            replay: None,
             live_streams: live::StreamCounts::default(),
             replay_max_bytes: DEFAULT_MAX_REPLAY_BYTES,
             replay_turns: Arc::default(),
         }
-    }
-
-    /// The same state offering replays read by `reader`.
-    pub fn with_replay(mut self, reader: Option<ReplayReader>) -> Self {
-        self.replay = reader;
-        self
     }
 
     /// The same state replaying recording files of at most `bytes`.

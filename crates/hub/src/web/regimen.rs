@@ -84,7 +84,8 @@ pub(crate) async fn put_regimen(
     let patient = state.visible_patient(&therapist, &id).await?;
     let Json(body) = body?;
     let text = body.into_toml()?;
-    if let Err(reason) = (state.validate_regimen)(&text) {
+    if let Err(reason) = regimen::Regimen::from_toml(&text, "the prescribed regimen") {
+        let reason = reason.to_string();
         state
             .audit(&therapist.actor(), "regimen_rejected", &patient.id, &reason)
             .await?;

@@ -141,10 +141,6 @@ pub(crate) async fn replay(
 ) -> Result<Response, ApiError> {
     let Path(id) = id?;
     let session = visible_session(&state, &therapist, &id).await?;
-    let reader = state
-        .replay
-        .clone()
-        .ok_or_else(|| ApiError::NotFound("this hub does not offer replays".to_owned()))?;
     let recording = state
         .db
         .recording(&session.session_id)
@@ -201,7 +197,7 @@ pub(crate) async fn replay(
     // client has gone (a blocking task cannot be cancelled).
     let frames = tokio::task::spawn_blocking(move || {
         let _held = (turn, asking);
-        reader(&path)
+        record::view::replay_frames(&path)
     })
     .await
     .map_err(|_| ApiError::Internal)?

@@ -334,14 +334,8 @@ async fn serve(
     let options = ServeOptions {
         stations,
         web,
-        validate_regimen: Arc::new(|text: &str| {
-            crate::regimen::Regimen::from_toml(text, "the prescribed regimen")
-                .map(drop)
-                .map_err(|e| e.to_string())
-        }),
         now_ms: Arc::new(now_ms),
         max_connections,
-        replay: Some(Arc::new(crate::therapist_view::replay_frames)),
         limits,
         max_replay_bytes,
     };
@@ -573,7 +567,7 @@ async fn patient(command: PatientCommand) -> anyhow::Result<()> {
                 .with_context(|| format!("no therapist {by}"))?;
             let text = std::fs::read_to_string(&file)
                 .with_context(|| format!("cannot read {}", file.display()))?;
-            crate::regimen::Regimen::from_toml(&text, &file.display().to_string())?;
+            regimen::Regimen::from_toml(&text, &file.display().to_string())?;
             let version = db
                 .put_regimen(&p.id, &text, &therapist.id, now_ms())
                 .await?;

@@ -1,12 +1,12 @@
 //! `telerehab recover`: turn the recording of a killed session into a finished MCAP file
-//! (the copy itself is [`crate::record::recover`]).
+//! (the copy itself is [`record::recover`]).
 //!
 //! The input is streamed (memory does not grow with its size) and never written to; the
 //! output is written to a temporary file beside it, synced, then renamed into place, so a
 //! crash during recovery never leaves a half-written file under the asked-for name.
 
-use crate::record::recover::{Recovered, recover as recover_stream};
 use anyhow::{Context, bail};
+use record::recover::{Recovered, recover as recover_stream};
 use std::io::{BufReader, BufWriter};
 use std::os::unix::fs::MetadataExt;
 use std::path::{Path, PathBuf};
@@ -107,7 +107,7 @@ mod tests {
 
     /// A finished 3-tick recording at `path`, then the file cut to a killed session's.
     fn killed_recording(path: &std::path::Path) {
-        use crate::record::{RecordWriter, SessionMetadata, TickRecord};
+        use record::{RecordWriter, SessionMetadata, TickRecord};
         let meta = SessionMetadata {
             exercise: "sine-road".into(),
             seed: 7,

@@ -2,11 +2,11 @@
 //! code, on Mesa's software Vulkan/GL where there is no GPU).
 
 use super::run::{RunArgs, Speed};
-use crate::record::TickRecord;
 use crate::render::ScreenState;
 use crate::screen::CourseView;
 use crate::session::signals::install_stop_flag;
 use crate::session::{self, BodyKind, SessionObserver, SessionOptions, haptic::Pacing};
+use record::TickRecord;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -4,13 +4,13 @@
 use crate::config::StationConfig;
 use crate::home::{Home, HomeArg};
 use crate::link::Link;
-use crate::regimen::Regimen;
 use crate::render::window::WindowOptions;
 use crate::session::signals::install_stop_flag;
 use crate::session::{self, BodyKind, SessionOptions, haptic::Pacing};
 use anyhow::{Context, bail};
 use clap::ValueEnum;
 use clock::Clock;
+use regimen::Regimen;
 use std::path::PathBuf;
 use std::sync::atomic::Ordering;
 

@@ -6,13 +6,13 @@
 //! exercise and starts a new one ([`crate::session::window::supervisor`]).
 
 use crate::config::StationConfig;
-use crate::record::TickRecord;
-use crate::regimen::Regimen;
 use crate::render::ScreenState;
 use crate::render::window::{UserRequest, WindowOptions};
 use crate::screen::{CourseView, live_screen_state};
 use crate::session::window::wire::{self, FromWindow, Hello, ToWindow};
 use anyhow::Context;
+use record::TickRecord;
+use regimen::Regimen;
 use std::io::Write;
 use std::os::fd::AsFd;
 use std::os::unix::net::UnixStream;

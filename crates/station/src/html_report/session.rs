@@ -1,9 +1,9 @@
 //! One recorded session as the report shows it: its series in the units a therapist reads
 //! (degrees, N·m, m), its movements and its measures.
 
-use crate::record::{ArmSetup, Recording};
 use crate::session::measures::MeasureCollector;
 use anyhow::Context;
+use record::{ArmSetup, Recording};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -52,7 +52,7 @@ pub fn read(path: &Path) -> anyhow::Result<SessionData> {
         .and_then(|s| s.stats)
         .map_or(0, |s| s.message_start_time);
     let deg = f64::to_degrees;
-    let wheel = |f: fn(&crate::record::WheelSample) -> f64| {
+    let wheel = |f: fn(&record::WheelSample) -> f64| {
         rec.wheel
             .iter()
             .map(|m| (m.t_s, f(&m.data)))

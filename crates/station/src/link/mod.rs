@@ -316,7 +316,7 @@ fn keep_prescribed_regimen(
             r.id
         ));
     };
-    if let Err(e) = crate::regimen::Regimen::from_toml(&r.toml, &r.id) {
+    if let Err(e) = regimen::Regimen::from_toml(&r.toml, &r.id) {
         tracing::warn!("regimen {} from the hub refused: {e}", r.id);
         return Some(format!("{} refused: {e}", r.id));
     }

@@ -3,8 +3,8 @@
 //! the grip points while the arm is tracked, and fits shoulder position and segment lengths
 //! when the session ends. Nothing of it runs on the haptic thread.
 
-use crate::record::{ArmSetup, TickRecord};
 use calib::{Arm3dCalibration, ArmLoopOptions, ArmLoopSamples, calibrate_arm_3d};
+use record::{ArmSetup, TickRecord};
 
 /// Samples kept per second of tracking.
 const SAMPLES_PER_S: f64 = 50.0;

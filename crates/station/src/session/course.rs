@@ -6,10 +6,10 @@
 //! the prescribed exercises once, in order.
 
 use crate::config::StationConfig;
-use crate::regimen::{Regimen, RegimenEntry};
 use anyhow::Context;
 use assist::Assist;
 use haptic_wheel::HapticRegimen;
+use regimen::{Regimen, RegimenEntry};
 use vehicle::{Exercise, ExerciseSpec, World};
 
 /// Most laps one session prebuilds (a 45 s lap × 200 ≈ 2.5 h).

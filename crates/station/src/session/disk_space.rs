@@ -152,8 +152,8 @@ mod tests {
 
     #[test]
     fn a_recorder_low_on_space_stops_at_a_chunk_and_leaves_a_finished_readable_file() {
-        use crate::record::{Recording, SessionMetadata, TickRecord};
         use crate::session::recorder::{McapRecorder, RecorderPlan, recorder_loop};
+        use record::{Recording, SessionMetadata, TickRecord};
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("low.mcap");
         // Whatever is free on this disk is below a reserve of every byte there could be: the

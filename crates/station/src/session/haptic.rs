@@ -2,10 +2,10 @@
 //! wait-free ring buffer, torque faded to zero on every way out. Time comes from the session's
 //! [`Clock`] (a mock clock in tests: deadlines are met at once and the figures are exact).
 
-use crate::record::{TickRecord, TimingSample};
 use crate::session::controls::Controls;
 use crate::session::plant::Plant;
 use clock::Clock;
+use record::{TickRecord, TimingSample};
 use std::sync::atomic::Ordering;
 use std::time::Duration;
 

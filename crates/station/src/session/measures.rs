@@ -17,10 +17,10 @@
 //! them to a temporary file on the recording's disk, so that its resident memory stays flat
 //! however long it runs ([`series`]).
 
-use crate::record::{ArmSetup, MetricsSample, MovementSample, TickRecord};
 use metrics::{
     LiveMeasures, MetricError, SessionMeasures, SessionParams, session_measures_of_runs,
 };
+use record::{ArmSetup, MetricsSample, MovementSample, TickRecord};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -374,8 +374,8 @@ fn name_movement_measures(named: &mut BTreeMap<String, f64>, s: &SessionMeasures
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::record::{ArmSample, AssistSample, WheelSample};
     use crate::session::recorder::RecorderOutcome;
+    use record::{ArmSample, AssistSample, WheelSample};
 
     /// Two minimum-jerk turns of 0.6 rad at 1 kHz, there and back, with rest around them.
     fn two_turns(rate_hz: f64) -> Vec<TickRecord> {
@@ -456,7 +456,7 @@ mod tests {
                 angle_rad: 1.5 * (k as f64 / 2000.0 * std::f64::consts::PI).sin(),
                 ..WheelSample::default()
             },
-            score: crate::record::ScoreSample {
+            score: record::ScoreSample {
                 paused: true,
                 ..Default::default()
             },
@@ -553,7 +553,7 @@ mod tests {
                         hand_nm: Some(rng.random_range(-0.5..0.5)),
                         ..WheelSample::default()
                     },
-                    score: crate::record::ScoreSample {
+                    score: record::ScoreSample {
                         paused,
                         ..Default::default()
                     },

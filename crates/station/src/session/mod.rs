@@ -18,10 +18,10 @@ mod tests;
 pub mod window;
 
 use crate::config::StationConfig;
-use crate::record::{SessionMetadata, TickRecord};
 use anyhow::Context;
 use clock::Clock;
 use haptic::{HapticOutcome, Pacing};
+use record::{SessionMetadata, TickRecord};
 use recorder::{McapRecorder, RecorderOutcome, RecorderPlan, SUMMARY_EVERY_S, recorder_loop};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -47,7 +47,7 @@ pub struct SessionOptions {
     /// Simulated body or real devices.
     pub body: BodyKind,
     /// The prescribed exercises; `None` repeats `config.session.exercise`.
-    pub regimen: Option<crate::regimen::Regimen>,
+    pub regimen: Option<regimen::Regimen>,
     /// Give the haptic thread a core of its own (the caller keeps its other threads off it).
     pub isolate_core: bool,
     /// The session's clock: the haptic thread's deadlines and the recording's start time
@@ -196,18 +196,14 @@ pub fn run_with_body(
     controls: &Controls,
     observer: &mut dyn SessionObserver,
     body: plant::Body,
-    facts: Option<crate::record::BodyFacts>,
+    facts: Option<record::BodyFacts>,
 ) -> anyhow::Result<SessionReport> {
     run_body(opts, controls, observer, Some((body, facts)))
 }
 
 /// What the recording says about who held the wheel in a session of `cfg` on `kind`.
-fn body_facts(
-    cfg: &StationConfig,
-    kind: BodyKind,
-    plant: &plant::Plant,
-) -> crate::record::BodyFacts {
-    use crate::record::raw::{ArmFacts, BodyKindName};
+fn body_facts(cfg: &StationConfig, kind: BodyKind, plant: &plant::Plant) -> record::BodyFacts {
+    use record::raw::{ArmFacts, BodyKindName};
     let wheel = plant.wheel_facts();
     let (name, arm) = match kind {
         BodyKind::Simulated => (
@@ -228,7 +224,7 @@ fn body_facts(
             }),
         ),
     };
-    crate::record::BodyFacts {
+    record::BodyFacts {
         kind: name,
         wheel_profile: wheel.profile.clone(),
         wheel_max_torque_nm: wheel.max_torque_nm,
@@ -242,7 +238,7 @@ fn run_body(
     opts: &SessionOptions,
     controls: &Controls,
     observer: &mut dyn SessionObserver,
-    given: Option<(plant::Body, Option<crate::record::BodyFacts>)>,
+    given: Option<(plant::Body, Option<record::BodyFacts>)>,
 ) -> anyhow::Result<SessionReport> {
     let cfg = &opts.config;
     cfg.validate()?;

@@ -4,11 +4,6 @@
 //! One [`Plant::tick`] is one haptic-loop period; it allocates nothing.
 
 use crate::config::StationConfig;
-use crate::record::raw::{
-    ANGLE_QUANTUM_RAD, RawImuSample, RawRead, RawTick, RawWheelSample, TORQUE_QUANTUM_NM, on_grid,
-    same_sample,
-};
-use crate::record::{ArmSample, AssistSample, ScoreSample, TickRecord, VehicleSample, WheelSample};
 use crate::session::arm::sim::SimArmSensing;
 use crate::session::arm::{ArmSeam, SetupStep, WheelNow};
 use crate::session::course::Segment;
@@ -19,6 +14,11 @@ use haptic_wheel::{
     CeilingReport, HapticChain, HapticChainConfig, SimWheel, TickInput, WatchdogState, Wheel,
     WheelFault, WheelReading, ZeroTorqueOnDrop,
 };
+use record::raw::{
+    ANGLE_QUANTUM_RAD, RawImuSample, RawRead, RawTick, RawWheelSample, TORQUE_QUANTUM_NM, on_grid,
+    same_sample,
+};
+use record::{ArmSample, AssistSample, ScoreSample, TickRecord, VehicleSample, WheelSample};
 use vehicle::{
     AligningTorque, DialScore, DrivingScore, PreviewDriver, Projection, SpeedController,
 };

@@ -9,8 +9,6 @@
 //! the hand's torque, the true joint angles): they are taken from `/wheel` and `/arm` as they
 //! were recorded, as inputs, not re-run.
 
-use crate::record::raw::{ArmFacts, BodyFacts, RawRead, RawTick};
-use crate::record::{ArmSample, Recording};
 use crate::session::arm::{ArmSeam, ArmTracker, RecordedSolver, SetupStep, WheelNow};
 use anyhow::{Context, bail};
 use gyro_imu::ImuError;
@@ -18,6 +16,8 @@ use gyro_imu::device::ImuSample;
 use gyro_imu::pose::Mounting;
 use haptic_wheel::{DeviceProfile, Wheel, WheelError, WheelFault, WheelReading};
 use nalgebra::UnitQuaternion;
+use record::raw::{ArmFacts, BodyFacts, RawRead, RawTick};
+use record::{ArmSample, Recording};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -180,7 +180,7 @@ impl RecordedBody {
             encoder_step_rad: facts.encoder_step_rad,
             arm,
             stop,
-            real: facts.kind == crate::record::raw::BodyKindName::Real,
+            real: facts.kind == record::raw::BodyKindName::Real,
             replug_grace_ns: facts.replug_grace_ns,
             ran_out: Arc::default(),
         };
@@ -360,7 +360,7 @@ pub fn raw_read(read: &Result<WheelReading, WheelError>) -> RawRead {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::record::raw::BodyKindName;
+    use record::raw::BodyKindName;
 
     fn body(kind: BodyKindName, replug_grace_ns: Option<u64>) -> RecordedBody {
         let facts = BodyFacts {

@@ -1,4 +1,4 @@
-//! The recorder thread: per-tick records → MCAP (through [`crate::record`]), thinned summaries
+//! The recorder thread: per-tick records → MCAP (through [`record`]), thinned summaries
 //! → the session's observer (the therapist link, the screen), the arm calibration at the end
 //! and the loop-timing statistics for the final report.
 //!
@@ -9,10 +9,10 @@ use super::disk_space::{self, LowSpace};
 use super::faults::{Disk, FillingFile};
 use super::measures::{MeasureCollector, Measures};
 use super::{LiveSummary, SessionObserver};
-use crate::record::{
+use crate::timing::TimingStats;
+use record::{
     ArmCalibrationSample, ArmSetup, MetricsSample, RecordWriter, SessionMetadata, TickRecord,
 };
-use crate::timing::TimingStats;
 use std::collections::BTreeMap;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
@@ -363,7 +363,7 @@ fn summary_extra(
     if let Some(t) = out.recording_stopped_s {
         extra.insert("recording_stopped_s".into(), t);
     }
-    extra.extend(crate::therapist_view::live_pose(&out.last, arm_lengths_m));
+    extra.extend(record::view::live_pose(&out.last, arm_lengths_m));
     extra
 }
 

@@ -4,8 +4,8 @@ use super::haptic::Pacing;
 use super::plant::Plant;
 use super::{BodyKind, Controls, SessionObserver, SessionOptions, course};
 use crate::config::StationConfig;
-use crate::record::{ArmSetup, TickRecord, Watchdog};
 use clock::Clock;
+use record::{ArmSetup, TickRecord, Watchdog};
 use std::sync::atomic::Ordering;
 
 fn config(exercise: &str, duration_s: f64) -> StationConfig {
@@ -190,7 +190,7 @@ fn guided_mounting_runs_first_then_the_exercise_and_tracks_the_arm_within_2_deg(
     );
     // Then the pose from the found mounting matches the simulated truth.
     let after = &recs[tracking + 2000..];
-    let rms = |f: fn(&crate::record::ArmSample) -> f64| {
+    let rms = |f: fn(&record::ArmSample) -> f64| {
         (after
             .iter()
             .map(|r| f(&r.arm.unwrap()).powi(2))
@@ -273,7 +273,7 @@ fn a_recorded_session_reads_back_into_the_records_the_recorder_saw() {
     };
     let mut keep = Keep::default();
     let report = super::run(&opts, &Controls::default(), &mut keep).unwrap();
-    let rec = crate::record::Recording::open(&path).unwrap();
+    let rec = record::Recording::open(&path).unwrap();
 
     assert_eq!(rec.metadata.seed, 7);
     assert_eq!(rec.metadata.exercise, "sine-road");

@@ -12,13 +12,13 @@
 //! most once a second of wall time.
 
 use crate::commands::run::{self, RunArgs};
-use crate::record::channels::{MESSAGE_ENCODING, SCHEMA_ENCODING};
-use crate::record::writer::mcap_options;
-use crate::record::{CHANNELS, Channel, RecordWriter, SessionMetadata, Stamped, TickRecord};
 use crate::session::recorder::McapRecorder;
 use crate::session::{self, BodyKind, SessionObserver, SessionOptions, haptic::Pacing};
 use clock::Clock;
 use mcap::records::MessageHeader;
+use record::channels::{MESSAGE_ENCODING, SCHEMA_ENCODING};
+use record::writer::mcap_options;
+use record::{CHANNELS, Channel, RecordWriter, SessionMetadata, Stamped, TickRecord};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::io::Cursor;

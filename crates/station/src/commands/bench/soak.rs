@@ -7,9 +7,9 @@
 //! residual), no tick later than the watchdog allows (real time only).
 
 use crate::commands::run::{self, RunArgs};
-use crate::record::TickRecord;
 use crate::session::{self, BodyKind, SessionObserver, SessionOptions, haptic::Pacing};
 use clock::Clock;
+use record::TickRecord;
 use std::path::{Path, PathBuf};
 
 /// `telerehab bench soak`.

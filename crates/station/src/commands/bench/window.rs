@@ -6,13 +6,13 @@
 use super::BenchWindowArgs;
 use crate::commands::run::{self, RunArgs};
 use crate::link::Link;
-use crate::record::TickRecord;
 use crate::render::window::WindowOptions;
 use crate::session::signals::install_stop_flag;
 use crate::session::{self, BodyKind, SessionObserver, SessionOptions, haptic::Pacing};
 use crate::timing::{Percentiles, TimingStats};
 use anyhow::Context;
 use clock::Clock;
+use record::TickRecord;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 

@@ -10,12 +10,12 @@
 //! shortest JSON text that reads back to the same `f64`; both are compared exactly.
 
 use crate::config::StationConfig;
-use crate::record::{Channel, RecordedRows, Row, SessionMetadata, recorded_rows};
-use crate::regimen::Regimen;
 use crate::session::haptic::Pacing;
 use crate::session::{self, BodyKind, Controls, SessionOptions};
 use anyhow::{Context, bail};
 use clock::Clock;
+use record::{Channel, RecordedRows, Row, SessionMetadata, recorded_rows};
+use regimen::Regimen;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -129,7 +129,7 @@ pub fn replay_with(path: &Path, from_raw: bool) -> anyhow::Result<ReplayOutcome>
     let real = meta
         .body
         .as_ref()
-        .is_some_and(|b| b.kind == crate::record::raw::BodyKindName::Real);
+        .is_some_and(|b| b.kind == record::raw::BodyKindName::Real);
     if from_raw || real {
         return raw::replay_from_raw(&bytes, &meta, &recorded)
             .with_context(|| format!("replaying {} from its raw inputs", path.display()));

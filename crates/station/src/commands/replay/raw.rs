@@ -6,13 +6,13 @@
 //! one, which proves the raw inputs enough.
 
 use super::{ReplayOutcome, compare, recorded_plan};
-use crate::record::{BodyFacts, RecordedRows, Recording, SessionMetadata};
 use crate::session::haptic::Pacing;
 use crate::session::plant::Body;
 use crate::session::recorded::{RecordedBody, RecordedInputs};
 use crate::session::{self, BodyKind, Controls, SessionOptions};
 use anyhow::{Context, bail};
 use clock::Clock;
+use record::{BodyFacts, RecordedRows, Recording, SessionMetadata};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -116,7 +116,7 @@ mod tests {
     /// [`recorded_session`] of `seconds`, read back.
     fn rerunnable(seconds: f64) -> Rerunnable {
         let bytes = recorded_session(seconds);
-        let (meta, recorded) = crate::record::recorded_rows(&bytes).unwrap();
+        let (meta, recorded) = record::recorded_rows(&bytes).unwrap();
         let recording = Recording::from_bytes(&bytes).unwrap();
         Rerunnable {
             facts: meta.body.clone().unwrap(),
@@ -136,7 +136,7 @@ mod tests {
             recording,
             inputs,
         } = rerunnable(14.0);
-        assert_eq!(facts.kind, crate::record::raw::BodyKindName::Simulated);
+        assert_eq!(facts.kind, record::raw::BodyKindName::Simulated);
         let answered = recording
             .raw_wheel
             .iter()

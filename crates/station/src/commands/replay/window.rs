@@ -4,10 +4,10 @@
 //! hour's playback holds 360 000 ticks, not 3.6 million.
 
 use super::ReplayArgs;
-use crate::record::{Recording, TickRecord};
 use crate::render::window::{UserRequest, WindowOptions};
 use crate::screen::{CourseView, live_screen_state};
 use anyhow::Context;
+use record::{Recording, TickRecord};
 use std::cell::RefCell;
 use std::time::Instant;
 

@@ -20,12 +20,12 @@ use std::thread::JoinHandle;
 use std::time::Duration;
 
 use super::{ArmTracker, WheelNow};
-use crate::record::ArmSample;
 use anyhow::Context;
 use gyro_imu::ImuError;
 use gyro_imu::arm::ArmGeometry;
 use gyro_imu::device::hid::HidImu;
 use gyro_imu::device::{Imu, ImuDeviceInfo, ImuSample};
+use record::ArmSample;
 
 /// Samples one poll may return per device (a Joy-Con report carries three).
 const POLL_CAPACITY: usize = 24;

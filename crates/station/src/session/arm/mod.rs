@@ -6,8 +6,6 @@
 pub mod hid;
 pub mod sim;
 
-use crate::record::raw::imu_on_grid;
-use crate::record::{ArmSample, ArmSetup};
 use clock::Clock;
 use gyro_imu::ImuError;
 use gyro_imu::arm::ArmGeometry;
@@ -16,6 +14,8 @@ use gyro_imu::fusion::FusionConfig;
 use gyro_imu::pose::{ArmPoseEstimator, Mounting};
 use gyro_imu::procedure::{GuidedMounting, GuidedOutcome, ProcedureConfig, Prompt};
 use nalgebra::UnitQuaternion;
+use record::raw::imu_on_grid;
+use record::{ArmSample, ArmSetup};
 use std::time::Duration;
 
 // The `[arm]` section lives with the rest of the configuration (no config ↔ session circle).

@@ -3,7 +3,6 @@
 //! samples into joint angles. Allocation-free per tick.
 
 use super::{ArmTracker, MountingMode, SetupStep, WheelNow};
-use crate::record::ArmSample;
 use crate::session::faults::FaultKind;
 use gyro_imu::ImuError;
 use gyro_imu::pose::Mounting;
@@ -11,6 +10,7 @@ use gyro_imu::sim::arm::{PatientArmConfig, SimArm};
 use gyro_imu::so3;
 use nalgebra::{UnitQuaternion, Vector3};
 use rand::{Rng, SeedableRng};
+use record::ArmSample;
 
 /// Simulated arm + IMUs + tracker.
 pub struct SimArmSensing {
@@ -152,7 +152,7 @@ impl SimArmSensing {
         let mut sample = self.tracker.update(read, &upper, &fore);
         // The simulated truth on the recording's grid: a replay of the raw inputs takes it from
         // the recording, and the session's measures must see the same values.
-        let grid = |x| crate::record::raw::on_grid(x, crate::record::raw::ANGLE_QUANTUM_RAD);
+        let grid = |x| record::raw::on_grid(x, record::raw::ANGLE_QUANTUM_RAD);
         sample.true_shoulder_elevation_rad = grid(truth.angles.shoulder_elevation_rad);
         sample.true_elbow_flexion_rad = grid(truth.angles.elbow_flexion_rad);
         self.last = sample;

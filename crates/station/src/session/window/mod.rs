@@ -10,9 +10,9 @@ pub mod supervisor;
 pub mod wire;
 
 use super::{Controls, LiveSummary, SessionObserver, SessionOptions, SessionReport};
-use crate::record::TickRecord;
 use crate::render::window::WindowOptions;
 use anyhow::Context;
+use record::TickRecord;
 use std::sync::atomic::{AtomicBool, Ordering};
 pub use supervisor::WindowAccount;
 

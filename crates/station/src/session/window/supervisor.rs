@@ -7,10 +7,10 @@
 //! haptic thread only ever writes the newest tick into a wait-free triple buffer.
 
 use super::wire::{self, FromWindow, Hello, ToWindow};
-use crate::record::TickRecord;
 use crate::render::AdapterSummary;
 use crate::render::window::UserRequest;
 use crate::session::Controls;
+use record::TickRecord;
 use std::os::unix::net::UnixStream;
 use std::os::unix::process::CommandExt;
 use std::process::{Child, Command, Stdio};

@@ -7,9 +7,9 @@
 //! station answers with the newest tick: the station never writes more than the window reads,
 //! and the pulls are the window's heartbeat.
 
-use crate::record::TickRecord;
 use crate::render::AdapterSummary;
 use crate::render::window::UserRequest;
+use record::TickRecord;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use std::io::{self, Read, Write};
@@ -119,7 +119,7 @@ pub fn recv<T: DeserializeOwned>(input: &mut impl Read) -> io::Result<Option<T>>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::record::{ArmSample, VehicleSample};
+    use record::{ArmSample, VehicleSample};
 
     #[test]
     fn a_frame_reads_back_exactly_with_nan_infinity_and_absent_parts() {

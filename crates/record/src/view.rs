@@ -3,8 +3,7 @@
 //! from the session's recording at [`REPLAY_RATE_HZ`] (`replay_frames`, which the hub calls
 //! for `GET /api/sessions/{id}/replay`).
 
-use crate::config::StationConfig;
-use crate::record::{Channel, StreamLimits, TickRecord, TickStream};
+use crate::{Channel, StreamLimits, TickRecord, TickStream};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -91,12 +90,7 @@ pub fn replay_frames_of<R: std::io::Read>(
     max_frames: usize,
 ) -> Result<Vec<u8>, String> {
     let meta = stream.metadata().clone();
-    let config = StationConfig::from_toml(&meta.config_toml, "the recording's configuration")
-        .map_err(|e| e.to_string())?;
-    let lengths = [
-        config.arm.geometry.upper_arm_m,
-        config.arm.geometry.forearm_m,
-    ];
+    let lengths = arm_lengths_m(&meta.config_toml);
     let mut every = ((meta.loop_rate_hz / REPLAY_RATE_HZ).round() as usize).max(1);
     let mut frames = Frames::default();
     for (i, rec) in stream.enumerate() {
@@ -128,6 +122,30 @@ pub fn replay_frames_of<R: std::io::Read>(
         columns: &frames.columns,
     })
     .map_err(|e| e.to_string())
+}
+
+/// The patient's segment lengths `[upper arm, forearm]` (m) in a recorded station
+/// configuration, read leniently: only `[arm.geometry]` is looked at, so a configuration
+/// written by an older or newer station (renamed or unknown fields elsewhere) still replays;
+/// a length absent or not a positive number is the default geometry's.
+pub fn arm_lengths_m(config_toml: &str) -> [f64; 2] {
+    let default = gyro_imu::arm::ArmGeometry::default();
+    let table: toml::Table = config_toml.parse().unwrap_or_default();
+    let geometry = table
+        .get("arm")
+        .and_then(|arm| arm.get("geometry"))
+        .and_then(toml::Value::as_table);
+    let length = |name: &str, default_m: f64| {
+        geometry
+            .and_then(|g| g.get(name))
+            .and_then(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)))
+            .filter(|m| m.is_finite() && *m > 0.0)
+            .unwrap_or(default_m)
+    };
+    [
+        length("upper_arm_m", default.upper_arm_m),
+        length("forearm_m", default.forearm_m),
+    ]
 }
 
 /// A replay's frames as columns by name (`None`: absent at that frame, or not finite).
@@ -173,7 +191,7 @@ impl Frames {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::record::{ArmSample, VehicleSample};
+    use crate::{ArmSample, VehicleSample};
 
     #[test]
     fn the_live_pose_names_the_arm_only_when_there_is_one() {
@@ -203,11 +221,11 @@ mod tests {
 
     /// A recording of `seconds` at 1 kHz, the car on the road throughout.
     fn recording(seconds: u64) -> Vec<u8> {
-        use crate::record::{RecordWriter, SessionMetadata, VehicleSample};
+        use crate::{RecordWriter, SessionMetadata, VehicleSample};
         let meta = SessionMetadata {
             loop_rate_hz: 1000.0,
             exercise: "sine-road".into(),
-            config_toml: toml::to_string(&StationConfig::default()).unwrap(),
+            config_toml: "[arm.geometry]\nupper_arm_m = 0.31\nforearm_m = 0.29\n\n[a_section_renamed_since]\nx = 1\n".into(),
             ..Default::default()
         };
         let mut w = RecordWriter::new(std::io::Cursor::new(Vec::new()), 0, &meta).unwrap();
@@ -248,6 +266,23 @@ mod tests {
         let angle = columns["wheel_angle_rad"][20].as_f64().unwrap();
         assert!((angle - 1f64.sin()).abs() < 1e-3, "{angle}");
         assert!((r["duration_s"].as_f64().unwrap() - 2.95).abs() < 1e-6);
+    }
+
+    #[test]
+    fn the_arm_lengths_are_read_from_a_configuration_of_any_version() {
+        let r = frames(recording(1), MAX_REPLAY_FRAMES);
+        assert_eq!(r["exercise"], "sine-road");
+        assert_eq!(
+            arm_lengths_m("[arm.geometry]\nupper_arm_m = 0.31\nforearm_m = 0.29\n[zz]\nq=1"),
+            [0.31, 0.29]
+        );
+        let default = gyro_imu::arm::ArmGeometry::default();
+        let defaults = [default.upper_arm_m, default.forearm_m];
+        assert_eq!(arm_lengths_m("not toml at all ["), defaults);
+        assert_eq!(
+            arm_lengths_m("[arm.geometry]\nupper_arm_m = -1\n"),
+            defaults
+        );
     }
 
     #[test]

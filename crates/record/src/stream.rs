@@ -679,7 +679,7 @@ impl TickStream<Cursor<Vec<u8>>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::record::{RecordWriter, Recording};
+    use crate::{RecordWriter, Recording};
 
     /// A little generator with a fixed seed (xorshift64*).
     struct Rng(u64);

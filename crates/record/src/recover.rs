@@ -303,7 +303,7 @@ pub fn recover<R: Read, W: Write + Seek>(input: R, out: W) -> Result<(Recovered,
 #[cfg(test)]
 mod tests {
     use super::{RecoverError, recover};
-    use crate::record::{RecordWriter, SessionMetadata, TickRecord};
+    use crate::{RecordWriter, SessionMetadata, TickRecord};
     use std::io::{Cursor, Read};
 
     /// A killed session's file: 2500 ticks with a chunk closed every 1000, no summary.

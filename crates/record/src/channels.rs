@@ -214,10 +214,10 @@ mod tests {
     }
 
     /// Every channel's schema is the checked-in snapshot: a change to the recording format
-    /// shows as a diff of `src/record/snapshots/`.
+    /// shows as a diff of `src/snapshots/`.
     #[test]
     fn schemas_match_the_snapshots() {
-        let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src/record/snapshots");
+        let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src/snapshots");
         let update = std::env::var_os("UPDATE_SNAPSHOTS").is_some_and(|v| v == "1");
         let mut stale = Vec::new();
         for spec in &CHANNELS {

@@ -1,15 +1,17 @@
 //! The recording format: one type per MCAP channel, the channel table with their schemas, the
 //! writer, a reader of whole files ([`Recording`]) and a streaming one in bounded memory for
-//! untrusted or long recordings ([`TickStream`], which the hub's replay uses).
+//! untrusted or long recordings ([`TickStream`], which the hub's replay uses), and what the
+//! therapist's console draws of a recording ([`view`]).
 //!
-//! A leaf module: it depends on external crates and the workspace's library crates only,
-//! never on the session, the command line or the configuration. The recorder thread
-//! (`session::recorder`) writes with it; replay, reports, `recover` and Python read with it.
+//! Below the station, the hub and the Python package, which all read recordings with it: it
+//! depends on the sensing, wheel, calibration and metrics crates for their sample types only,
+//! never on the session, the command line or the configuration. The station's recorder thread
+//! writes with it; replay, reports, `recover`, the hub's replay and Python read with it.
 //!
 //! # Example
 //!
 //! ```
-//! use station::record::{Recording, RecordWriter, SessionMetadata, TickRecord};
+//! use record::{Recording, RecordWriter, SessionMetadata, TickRecord};
 //! use std::io::Cursor;
 //!
 //! let meta = SessionMetadata { seed: 7, loop_rate_hz: 1000.0, ..Default::default() };
@@ -34,6 +36,7 @@ pub mod stream;
 #[cfg(test)]
 mod tests;
 pub mod types;
+pub mod view;
 pub mod writer;
 
 pub use channels::{CHANNELS, Channel, ChannelSpec};

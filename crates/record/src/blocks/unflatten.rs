@@ -139,7 +139,7 @@ impl<'de> de::Deserializer<'de> for &mut Unflattener<'_> {
 mod tests {
     use super::super::flatten::{Prim, flatten};
     use super::*;
-    use crate::record::{ArmSample, ArmSetup, Watchdog, WheelSample};
+    use crate::{ArmSample, ArmSetup, Watchdog, WheelSample};
 
     fn cells_of<T: serde::Serialize>(sample: &T) -> Vec<Cell> {
         let mut prims = Vec::new();

@@ -219,7 +219,7 @@ pub struct ArmFacts {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::record::blocks::quantum_of;
+    use crate::blocks::quantum_of;
     use nalgebra::Vector3;
 
     #[test]
