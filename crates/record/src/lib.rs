@@ -8,6 +8,18 @@
 //! never on the session, the command line or the configuration. The station's recorder thread
 //! writes with it; replay, reports, `recover`, the hub's replay and Python read with it.
 //!
+//! # Module map
+//!
+//! - [`types`]: one type per channel ([`TickRecord`] holds a tick's samples), the session
+//!   metadata and the format version ([`FORMAT_VERSION`]); [`raw`]: the raw inputs and the
+//!   body's facts a replay needs; [`scene`]: the arm as a Foxglove 3-D scene.
+//! - [`channels`]: the channel table — topic, schema, encoding — with schema snapshots.
+//! - [`blocks`]: the compact codec of the high-rate channels (delta-coded quantised columns).
+//! - [`writer`]: [`RecordWriter`]; [`recover`]: a killed session's file finished, streaming.
+//! - [`reader`]: [`Recording`], a whole file in memory (small files and tests);
+//!   [`stream`]: [`TickStream`], ticks one at a time in bounded memory (untrusted or long files).
+//! - [`view`]: what the therapist's console draws of a session, live and replayed.
+//!
 //! # Example
 //!
 //! ```
@@ -44,8 +56,8 @@ pub use raw::{BodyFacts, RawImuSample, RawTick, RawWheelSample};
 pub use reader::{ReadError, RecordedRows, Recording, Row, recorded_rows};
 pub use stream::{StreamLimits, TickStream};
 pub use types::{
-    ArmCalibrationSample, ArmSample, ArmSetup, AssistSample, MetricsSample, MovementSample,
-    ScoreSample, SessionMetadata, Stamped, TickRecord, TimingSample, VehicleSample, Watchdog,
-    WheelSample,
+    ArmCalibrationSample, ArmSample, ArmSetup, AssistSample, FORMAT_VERSION, MetricsSample,
+    MovementSample, ScoreSample, SessionMetadata, Stamped, TickRecord, TimingSample, VehicleSample,
+    Watchdog, WheelSample,
 };
 pub use writer::RecordWriter;

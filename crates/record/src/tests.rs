@@ -8,6 +8,7 @@ use std::io::Cursor;
 
 fn metadata() -> SessionMetadata {
     SessionMetadata {
+        format_version: FORMAT_VERSION,
         exercise: "slalom".into(),
         seed: 11,
         patient_id: "patient-7".into(),

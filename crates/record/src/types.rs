@@ -458,9 +458,29 @@ impl<T> Stamped<T> {
     }
 }
 
+/// The recording format this build writes, in every recording's metadata (`format_version`).
+///
+/// 1. All-JSON: every channel JSON, one message a tick.
+/// 2. Compact: the high-rate channels as protobuf blocks of delta-coded quantised columns
+///    ([`crate::blocks`]), the arm as a Foxglove 3-D scene.
+/// 3. Raw inputs: `/raw/wheel` and `/raw/imu` and the body's facts in the metadata, so a real
+///    device's session replays.
+/// 4. The format version in the metadata; configuration and regimen read leniently.
+///
+/// Formats 1–3 carry no version (read as [`UNVERSIONED_FORMAT`]); every format this product has
+/// written stays readable (the golden recordings under `tests/golden/` are opened by every
+/// reader in CI). A change to what a channel holds or how it is encoded takes the next number.
+pub const FORMAT_VERSION: u32 = 4;
+
+/// The `format_version` of a recording written before versions were recorded (formats 1–3).
+pub const UNVERSIONED_FORMAT: u32 = 0;
+
 /// The session's metadata record (`"session"`): what a replay needs besides the messages.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct SessionMetadata {
+    /// The recording format ([`FORMAT_VERSION`] when written by this build,
+    /// [`UNVERSIONED_FORMAT`] when read from a recording of formats 1–3).
+    pub format_version: u32,
     /// The configured exercise name.
     pub exercise: String,
     /// Random seed of the simulation.
@@ -476,6 +496,21 @@ pub struct SessionMetadata {
     /// Who held the wheel, and the device facts a replay of the raw inputs needs (absent in
     /// recordings made before the raw inputs were recorded).
     pub body: Option<super::raw::BodyFacts>,
+}
+
+impl Default for SessionMetadata {
+    fn default() -> Self {
+        Self {
+            format_version: FORMAT_VERSION,
+            exercise: String::new(),
+            seed: 0,
+            patient_id: String::new(),
+            loop_rate_hz: 0.0,
+            config_toml: String::new(),
+            regimen_toml: None,
+            body: None,
+        }
+    }
 }
 
 /// Why a metadata record does not describe a session.
@@ -495,6 +530,7 @@ impl SessionMetadata {
     /// The record's key → value map, as written.
     pub fn to_map(&self) -> BTreeMap<String, String> {
         let mut map = BTreeMap::new();
+        map.insert("format_version".into(), self.format_version.to_string());
         map.insert("exercise".into(), self.exercise.clone());
         map.insert("seed".into(), self.seed.to_string());
         map.insert("patient_id".into(), self.patient_id.clone());
@@ -512,6 +548,18 @@ impl SessionMetadata {
         map
     }
 
+    /// What a reader should say about this recording's format: written by a newer telerehab
+    /// (read as far as this build knows the format), or `None`.
+    pub fn format_note(&self) -> Option<String> {
+        (self.format_version > FORMAT_VERSION).then(|| {
+            format!(
+                "recorded by a newer telerehab (recording format {}, this build knows up to {}): \
+                 what this version knows is read, the rest is skipped",
+                self.format_version, FORMAT_VERSION
+            )
+        })
+    }
+
     /// Read the record's map back (unknown keys are ignored).
     pub fn from_map(map: &BTreeMap<String, String>) -> Result<Self, MetadataError> {
         let get = |key: &'static str| {
@@ -524,7 +572,12 @@ impl SessionMetadata {
             key,
             reason: format!("not a number ({e})"),
         };
+        let format_version = match map.get("format_version") {
+            None => UNVERSIONED_FORMAT,
+            Some(v) => v.parse().map_err(|e| parse("format_version", &e))?,
+        };
         Ok(Self {
+            format_version,
             exercise: get("exercise")?,
             seed: get("seed")?.parse().map_err(|e| parse("seed", &e))?,
             patient_id: get("patient_id")?,

@@ -16,6 +16,8 @@
 //!
 //! Samples: `regimens/easy.toml`, `medium.toml`, `hard.toml`.
 
+pub mod lenient;
+
 use assist::AssistSpec;
 use haptic_wheel::HapticRegimen;
 use serde::{Deserialize, Serialize};
@@ -105,6 +107,19 @@ impl Regimen {
         Self::from_toml(&text, &p)
     }
 
+    /// A regimen as a recording keeps it, written by this or another version: read leniently
+    /// ([`lenient::from_toml_lenient`]: a field this version does not know is dropped, each
+    /// one named in the notes), then validated as [`Regimen::from_toml`] does.
+    pub fn from_recorded(text: &str, origin: &str) -> Result<(Self, Vec<String>), RegimenError> {
+        let parse_error = |message| RegimenError::Parse {
+            path: origin.into(),
+            message,
+        };
+        let read = lenient::from_toml_lenient::<Self>(text, None).map_err(parse_error)?;
+        let again = toml::to_string(&read.value).map_err(|e| parse_error(e.to_string()))?;
+        Ok((Self::from_toml(&again, origin)?, read.notes))
+    }
+
     /// Parse and validate regimen TOML; `origin` names it in messages.
     pub fn from_toml(text: &str, origin: &str) -> Result<Self, RegimenError> {
         let r: Self = toml::from_str(text).map_err(|e| RegimenError::Parse {
@@ -192,6 +207,19 @@ impl Regimen {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_recorded_regimen_with_a_field_of_another_version_still_reads_and_says_so() {
+        let text = "[[exercise]]\nkind = \"sine\"\nduration_s = 30.0\nretired_knob = 2\n";
+        assert!(Regimen::from_toml(text, "strict").is_err());
+        let (r, notes) = Regimen::from_recorded(text, "recorded").unwrap();
+        assert_eq!(r.exercises.len(), 1);
+        assert_eq!(notes.len(), 1, "{notes:?}");
+        assert!(notes[0].contains("retired_knob"), "{notes:?}");
+        // Still validated: a recorded regimen out of bounds is refused, not repaired.
+        let over = "[[exercise]]\nkind = \"sine\"\nduration_s = 1e9\n";
+        assert!(Regimen::from_recorded(over, "recorded").is_err());
+    }
 
     #[test]
     fn shipped_sample_regimens_parse_and_validate() {

@@ -5,7 +5,7 @@ use crate::commands::{
     bench, devices, hub, pair, recover, render, replay, report, run, sync, therapist, vehicle,
     wheel, window_process,
 };
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 /// telerehab: home upper-limb rehabilitation with a force-feedback steering wheel.
 #[derive(Debug, Parser)]
@@ -17,6 +17,30 @@ pub struct Cli {
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
+}
+
+impl Cli {
+    /// The command line of this process, `--version` naming the formats it speaks.
+    pub fn from_env() -> Self {
+        // Built once per process; clap takes a `'static` version text.
+        let version: &'static str = Box::leak(version().into_boxed_str());
+        let matches = Self::command().version(version).get_matches();
+        Self::from_arg_matches(&matches).unwrap_or_else(|e| e.exit())
+    }
+}
+
+/// What `telerehab --version` says: the release, the station–hub link protocol and the
+/// recording format it writes (it reads every earlier one).
+pub fn version() -> String {
+    format!(
+        "{} (link protocol {}, accepts {}–{}; recording format {}, reads 1–{})",
+        env!("CARGO_PKG_VERSION"),
+        netlink::frame::PROTOCOL_VERSION,
+        netlink::frame::MIN_PROTOCOL_VERSION,
+        netlink::frame::PROTOCOL_VERSION,
+        record::FORMAT_VERSION,
+        record::FORMAT_VERSION,
+    )
 }
 
 /// The subcommands.

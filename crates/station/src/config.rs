@@ -286,6 +286,22 @@ impl StationConfig {
         Ok(cfg)
     }
 
+    /// A configuration as a recording keeps it, written by this or another version: read
+    /// leniently (`regimen::lenient`: a field this version does not know is dropped, a field
+    /// it needs and the text lacks takes the default configuration's value, each named in the
+    /// notes), then validated as [`StationConfig::from_toml`] does.
+    pub fn from_recorded(text: &str, origin: &str) -> Result<(Self, Vec<String>), ConfigError> {
+        let parse_error = |message| ConfigError::Parse {
+            path: origin.into(),
+            message,
+        };
+        let defaults = regimen::lenient::defaults_of(&Self::default());
+        let read = regimen::lenient::from_toml_lenient::<Self>(text, defaults.as_ref())
+            .map_err(parse_error)?;
+        read.value.validate()?;
+        Ok((read.value, read.notes))
+    }
+
     /// Parse and validate TOML text; `origin` names it in messages.
     pub fn from_toml(text: &str, origin: &str) -> Result<Self, ConfigError> {
         let cfg: Self = toml::from_str(text).map_err(|e| ConfigError::Parse {
@@ -368,6 +384,23 @@ pub fn load_wheel_profile(path: &Path) -> Result<haptic_wheel::DeviceProfile, Co
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_recorded_configuration_of_another_version_reads_and_names_what_changed() {
+        let mut text = toml::to_string(&StationConfig::default()).unwrap();
+        text = text.replacen("[session]\n", "[session]\nretired_option = true\n", 1);
+        text.push_str("\n[section_of_a_later_version]\nx = 1\n");
+        assert!(StationConfig::from_toml(&text, "strict").is_err());
+        let (cfg, notes) = StationConfig::from_recorded(&text, "recorded").unwrap();
+        assert_eq!(cfg, StationConfig::default());
+        assert_eq!(notes.len(), 2, "{notes:?}");
+        assert!(notes.iter().any(|n| n.contains("session.retired_option")));
+        assert!(
+            notes
+                .iter()
+                .any(|n| n.contains("section_of_a_later_version"))
+        );
+    }
 
     #[test]
     fn empty_file_gives_the_defaults() {

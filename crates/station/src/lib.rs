@@ -24,8 +24,8 @@
 //!   pause to the loop; [`session::measures`] computes the movement measures;
 //!   [`session::recorded`] is a body made of a recording's raw inputs (replay);
 //!   [`session::faults`] injects faults into simulated sessions.
-//! - [`record`]: one type per MCAP channel, the writer, the reader and `recover`.
-//! - [`config`] (station TOML) and [`regimen`] (the therapist's prescription): validated input.
+//! - [`config`]: the station's TOML, validated input (the therapist's prescription is the
+//!   `regimen` crate; the recording format, the `record` crate).
 //! - [`link`]: the therapist link (tokio runtime, store-and-forward through `netlink`), its
 //!   on-disk queue and the recording uploads; [`home`]: the station's home directory
 //!   (pairing, queue, recordings).
@@ -33,12 +33,10 @@
 //! - [`report`] (the end-of-session text) and [`timing`] (loop-timing percentiles).
 //! - [`html_report`]: recorded sessions → one self-contained HTML report (reads `record`,
 //!   and the measures' rate from `session::measures`).
-//! - [`therapist_view`]: what the console draws of a session, live (every summary's extras)
-//!   and replayed (frames read from a recording for the hub).
 //! - [`resident`]: bounded buffers made resident up front, and the process's memory figures.
 //!
 //! Dependencies point down the list: `cli` → `commands` → `session`, `link`, `screen`,
-//! `report` → `record`, `config`, `regimen`, `render`, `timing`; nothing below `commands` knows
+//! `report` → `config`, `render`, `timing` (and the `record` and `regimen` crates); nothing below `commands` knows
 //! a command, and `session` draws through a scene closure, not the screen. (One exception:
 //! `config` takes its `[[faults]]` type from `session::faults`.) Time comes from one
 //! injectable [`clock::Clock`] in [`session::SessionOptions`] (mock clocks in tests); the pure

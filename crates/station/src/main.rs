@@ -1,11 +1,10 @@
 //! `telerehab`: the patient station and the therapist hub.
 
-use clap::Parser;
 use station::cli::{Cli, dispatch};
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = Cli::from_env();
     station::logging::init(cli.log.as_deref());
     match dispatch(cli.command) {
         Ok(()) => ExitCode::SUCCESS,

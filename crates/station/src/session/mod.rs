@@ -290,6 +290,7 @@ fn run_body(
                     .as_ref()
                     .map(|r| toml::to_string(r).unwrap_or_default()),
                 body: Some(facts),
+                format_version: record::types::FORMAT_VERSION,
             };
             Some(
                 McapRecorder::create(path, start_unix_ns, &meta)

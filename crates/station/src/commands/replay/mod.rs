@@ -184,16 +184,25 @@ fn compare(
     })
 }
 
-/// The configuration and regimen a recorded session ran with (from its metadata).
+/// The configuration and regimen a recorded session ran with (from its metadata), read
+/// leniently so that a recording of any version replays; what had to be dropped or defaulted,
+/// and a format newer than this build's, are said as notes.
 pub(crate) fn recorded_plan(
     meta: &SessionMetadata,
 ) -> anyhow::Result<(StationConfig, Option<Regimen>)> {
-    let config = StationConfig::from_toml(&meta.config_toml, "the recording's configuration")?;
-    let regimen = meta
-        .regimen_toml
-        .as_deref()
-        .map(|t| Regimen::from_toml(t, "the recording's regimen"))
-        .transpose()?;
+    let (config, mut notes) =
+        StationConfig::from_recorded(&meta.config_toml, "the recording's configuration")?;
+    let regimen = match meta.regimen_toml.as_deref() {
+        Some(text) => {
+            let (regimen, more) = Regimen::from_recorded(text, "the recording's regimen")?;
+            notes.extend(more);
+            Some(regimen)
+        }
+        None => None,
+    };
+    for note in meta.format_note().into_iter().chain(notes) {
+        println!("replay: note: {note}");
+    }
     Ok((config, regimen))
 }
 
