@@ -91,6 +91,7 @@ pub fn run_with_window(
                 gate: window.draw_gate.as_deref(),
                 controls,
                 done: &done,
+                clock: &opts.clock,
             },
             &mut output,
         );

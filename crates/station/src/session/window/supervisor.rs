@@ -10,13 +10,14 @@ use super::wire::{self, FromWindow, Hello, ToWindow};
 use crate::render::AdapterSummary;
 use crate::render::window::UserRequest;
 use crate::session::Controls;
+use clock::Clock;
 use record::TickRecord;
 use std::os::unix::net::UnixStream;
 use std::os::unix::process::CommandExt;
 use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// Longest a window may take to open (a software rasteriser compiles its pipelines first).
 pub const OPEN_TIMEOUT: Duration = Duration::from_secs(30);
@@ -85,6 +86,14 @@ pub struct Supervised<'a> {
     pub controls: &'a Controls,
     /// Set when the session has ended.
     pub done: &'a AtomicBool,
+    /// The session's clock: every deadline here (open, hang, close, back-off) is read from
+    /// it. A window runs only beside a live session, whose clock is the real one.
+    pub clock: &'a Clock,
+}
+
+/// Time on `clock` since `since_ns` (zero if the clock has not moved on).
+fn elapsed(clock: &Clock, since_ns: u64) -> Duration {
+    Duration::from_nanos(clock.now_ns().saturating_sub(since_ns))
 }
 
 /// Run patient windows until the session ends: `Ok(None)` if the first one never opened (the
@@ -139,18 +148,15 @@ pub fn supervise(
         }
         tracing::warn!("{why}: the exercise is paused and a new patient window is starting");
         account.restarts += 1;
-        wait_or_done(
-            s.done,
-            Duration::from_millis(250 * u64::from(failures_in_a_row)),
-        );
+        wait_or_done(s, Duration::from_millis(250 * u64::from(failures_in_a_row)));
     }
     Some(account)
 }
 
-/// Sleep `d`, or less if the session ends.
-fn wait_or_done(done: &AtomicBool, d: Duration) {
-    let end = Instant::now() + d;
-    while Instant::now() < end && !done.load(Ordering::Acquire) {
+/// Sleep `d` on the session's clock, or less if the session ends.
+fn wait_or_done(s: &Supervised<'_>, d: Duration) {
+    let start_ns = s.clock.now_ns();
+    while elapsed(s.clock, start_ns) < d && !s.done.load(Ordering::Acquire) {
         std::thread::sleep(WATCH_PERIOD);
     }
 }
@@ -237,6 +243,7 @@ fn run_one(
     let status = finish(
         &mut child,
         matches!(outcome.ending, Ending::SessionOver | Ending::Quit),
+        s.clock,
     );
     // When only the socket told us, say how the process ended.
     let ending = match outcome.ending {
@@ -251,19 +258,19 @@ fn run_one(
 
 /// Watch one window until it ends, the session ends, or it hangs.
 fn watch(s: &Supervised<'_>, rx: &mpsc::Receiver<Heard>, socket: &UnixStream) -> Outcome {
-    let started = Instant::now();
-    let mut last_heard = started;
+    let started_ns = s.clock.now_ns();
+    let mut last_heard_ns = started_ns;
     let mut opened = false;
     let mut quit = false;
-    let mut closing_since: Option<Instant> = None;
+    let mut closing_since_ns: Option<u64> = None;
     let mut closed = None;
     let mut failed: Option<String> = None;
     loop {
         match rx.recv_timeout(WATCH_PERIOD) {
-            Ok(Heard::Pulled) => last_heard = Instant::now(),
+            Ok(Heard::Pulled) => last_heard_ns = s.clock.now_ns(),
             Ok(Heard::Said(FromWindow::Opened)) => {
                 opened = true;
-                last_heard = Instant::now();
+                last_heard_ns = s.clock.now_ns();
             }
             Ok(Heard::Said(FromWindow::Request(r))) => {
                 quit |= r == UserRequest::Quit;
@@ -282,7 +289,7 @@ fn watch(s: &Supervised<'_>, rx: &mpsc::Receiver<Heard>, socket: &UnixStream) ->
                     _ => failed,
                 }
                 .unwrap_or_default();
-                let ending = if closing_since.is_some() || s.done.load(Ordering::Acquire) {
+                let ending = if closing_since_ns.is_some() || s.done.load(Ordering::Acquire) {
                     Ending::SessionOver
                 } else if quit {
                     Ending::Quit
@@ -299,23 +306,23 @@ fn watch(s: &Supervised<'_>, rx: &mpsc::Receiver<Heard>, socket: &UnixStream) ->
             }
             Err(mpsc::RecvTimeoutError::Timeout) => {}
         }
-        let now = Instant::now();
-        if s.done.load(Ordering::Acquire) && closing_since.is_none() {
+        if s.done.load(Ordering::Acquire) && closing_since_ns.is_none() {
             // The session is over: closing our side ends the window's loop.
             let _ = socket.shutdown(std::net::Shutdown::Write);
-            closing_since = Some(now);
+            closing_since_ns = Some(s.clock.now_ns());
         }
-        let ending = match closing_since {
-            Some(t) if now - t > CLOSE_TIMEOUT => Ending::SessionOver,
+        let ending = match closing_since_ns {
+            Some(t) if elapsed(s.clock, t) > CLOSE_TIMEOUT => Ending::SessionOver,
             Some(_) => continue,
-            None if !opened && now - started > OPEN_TIMEOUT => Ending::NeverOpened(format!(
-                "it did not open within {} s",
-                OPEN_TIMEOUT.as_secs()
-            )),
-            None if opened && now - last_heard > HANG_TIMEOUT => Ending::Lost(format!(
-                "the patient window stopped answering for {} s",
-                HANG_TIMEOUT.as_secs()
-            )),
+            None if !opened && elapsed(s.clock, started_ns) > OPEN_TIMEOUT => Ending::NeverOpened(
+                format!("it did not open within {} s", OPEN_TIMEOUT.as_secs()),
+            ),
+            None if opened && elapsed(s.clock, last_heard_ns) > HANG_TIMEOUT => {
+                Ending::Lost(format!(
+                    "the patient window stopped answering for {} s",
+                    HANG_TIMEOUT.as_secs()
+                ))
+            }
             None => continue,
         };
         return Outcome {
@@ -340,10 +347,10 @@ fn apply(r: UserRequest, controls: &Controls) {
 
 /// Reap the window process: wait a little if it is closing normally, kill it otherwise (a
 /// hung one does not close). Returns how it ended, in words.
-fn finish(child: &mut Child, closing: bool) -> String {
+fn finish(child: &mut Child, closing: bool, clock: &Clock) -> String {
     if closing {
-        let end = Instant::now() + CLOSE_TIMEOUT;
-        while Instant::now() < end {
+        let start_ns = clock.now_ns();
+        while elapsed(clock, start_ns) < CLOSE_TIMEOUT {
             if let Ok(Some(status)) = child.try_wait() {
                 return describe(status);
             }
