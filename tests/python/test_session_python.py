@@ -42,7 +42,7 @@ def test_every_channel_is_read_as_columns_of_one_row_per_sample(recording):
     assert {t: len(c["t_s"]) for t, c in s.channels.items()} == counts
     wheel = s.channels["/wheel"]
     assert wheel["angle_rad"].dtype == np.float64
-    assert wheel["tick"].dtype == np.int64
+    assert wheel["tick"].dtype == np.uint64  # Rust's u64
     assert wheel["clipped"].dtype == np.bool_
     assert np.all(np.diff(wheel["t_s"]) > 0)
     assert np.all(np.abs(wheel["commanded_nm"]) <= wheel["ceiling_nm"] + 1e-12)
@@ -96,7 +96,7 @@ def test_the_raw_inputs_are_columns_with_units_and_hold_what_the_station_consume
     # /raw/wheel: one row a tick, the reading as the wheel gave it and the body clock.
     assert np.array_equal(raw["tick"], wheel["tick"])
     assert set(raw["read"]) == {"ok"}
-    assert raw["now_ns"].dtype == np.int64 and np.all(np.diff(raw["now_ns"]) == 1_000_000)
+    assert raw["now_ns"].dtype == np.uint64 and np.all(np.diff(raw["now_ns"]) == 1_000_000)
     assert "rad" in s.units["/raw/wheel"]["angle_rad"]
     assert np.array_equal(raw["angle_rad"], wheel["angle_rad"])  # no fault: the reading is the angle
     assert not raw["paused"].any()
@@ -106,7 +106,7 @@ def test_the_raw_inputs_are_columns_with_units_and_hold_what_the_station_consume
     assert set(imu["sensor"]) == {0, 1}
     assert "rad/s" in s.units["/raw/imu"]["gyro_x_rad_s"]
     assert "m/s²" in s.units["/raw/imu"]["acc_z_m_s2"]
-    assert imu["device_t_ns"].dtype == np.int64
+    assert imu["device_t_ns"].dtype == np.uint64
     g = np.sqrt(imu["acc_x_m_s2"] ** 2 + imu["acc_y_m_s2"] ** 2 + imu["acc_z_m_s2"] ** 2)
     assert 9.0 < np.median(g) < 10.6  # gravity plus the arm's motion, m/s²
     # Exactly what the arm tracker consumed: the upper-arm gyro it reports on /arm, bit for bit.

@@ -28,6 +28,7 @@
 
 pub mod blocks;
 pub mod channels;
+pub mod columns;
 pub mod raw;
 pub mod reader;
 pub mod recover;
@@ -40,6 +41,7 @@ pub mod view;
 pub mod writer;
 
 pub use channels::{CHANNELS, Channel, ChannelSpec};
+pub use columns::{RecordingColumns, read_columns, read_columns_path};
 pub use raw::{BodyFacts, RawImuSample, RawTick, RawWheelSample};
 pub use reader::{ReadError, RecordedRows, Recording, Row, recorded_rows};
 pub use stream::{StreamLimits, TickStream};
