@@ -116,3 +116,36 @@ def test_the_raw_inputs_are_columns_with_units_and_hold_what_the_station_consume
     # (/arm records it on its own grid of 1 µrad/s, which holds /raw/imu's 100 µrad/s one.)
     assert np.allclose(arm["upper_gyro_x_rad_s"][at], imu["gyro_x_rad_s"][upper], rtol=0, atol=1e-12)
     assert np.allclose(imu["gyro_x_rad_s"] / 1e-4, np.round(imu["gyro_x_rad_s"] / 1e-4), rtol=0, atol=1e-6)
+
+
+def test_the_native_read_releases_the_gil(recording):
+    # Another thread stamps the time every 0.5 ms: it can only while it holds the GIL. With the
+    # GIL held through a read, no more than a stamp or two (a switch before the call starts)
+    # could fall within a read (more only while the OS holds the reader back); released, some
+    # 20 do.
+    import threading
+    import time
+
+    from telerehab import _native
+
+    stamps = []
+    stop = threading.Event()
+
+    def ticker():
+        while not stop.is_set():
+            stamps.append(time.perf_counter())
+            stop.wait(0.0005)
+
+    th = threading.Thread(target=ticker)
+    th.start()
+    windows = []
+    try:
+        for _ in range(20):
+            t0 = time.perf_counter()
+            _native.session_read(str(recording))
+            windows.append((t0, time.perf_counter()))
+    finally:
+        stop.set()
+        th.join()
+    inside = [sum(t0 < t < t1 for t in stamps) for t0, t1 in windows]
+    assert sorted(inside)[len(inside) // 2] >= 5, inside  # the median read
