@@ -80,6 +80,13 @@ def test_not_a_recording_is_a_value_error_naming_the_file(tmp_path):
         telerehab.session.read(tmp_path / "missing.mcap")
 
 
+def test_a_recording_cut_short_is_a_value_error_that_says_to_recover_it(recording, tmp_path):
+    cut = tmp_path / "killed.mcap"
+    cut.write_bytes(recording.read_bytes()[: recording.stat().st_size // 2])
+    with pytest.raises(ValueError, match=r"killed\.mcap .*telerehab recover"):
+        telerehab.session.read(cut)
+
+
 def test_a_channel_is_a_pandas_frame_indexed_by_session_time(recording):
     s = telerehab.session.read(recording)
     frame = s.frame("/wheel")
