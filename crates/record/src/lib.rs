@@ -1,7 +1,8 @@
 //! The recording format: one type per MCAP channel, the channel table with their schemas, the
 //! writer, a reader of whole files ([`Recording`]) and a streaming one in bounded memory for
-//! untrusted or long recordings ([`TickStream`], which the hub's replay uses), and what the
-//! therapist's console draws of a recording ([`view`]).
+//! untrusted or long recordings ([`TickStream`], which the hub's replay uses; [`columns`], the
+//! same reader giving one column per field, which Python's `telerehab.session.read` uses), and
+//! what the therapist's console draws of a recording ([`view`]).
 //!
 //! Below the station, the hub and the Python package, which all read recordings with it: it
 //! depends on the sensing, wheel, calibration and metrics crates for their sample types only,
