@@ -174,54 +174,24 @@ pub fn assert_within_ceiling_and_slew(
 pub struct Msg {
     /// Channel topic.
     pub topic: String,
-    /// Log time, ns (a block's sample: the block's log time plus the sample's session time
-    /// after the block's first).
-    pub log_time: u64,
     /// The sample's fields (`tick`, `t_s`, then its own).
     pub json: serde_json::Value,
 }
 
-/// Every sample of our channels in an MCAP file, in file order: JSON messages as they are,
-/// blocks unpacked with the layout their channel declares (the Foxglove scene is skipped).
+/// Every sample of our channels in an MCAP file, read by the recording crate
+/// ([`record::recorded_rows`]: JSON messages as they are, blocks unpacked with the layout their
+/// channel declares; the Foxglove scene skipped), channel by channel, each in file order.
 pub fn read_mcap(path: &Path) -> Vec<Msg> {
-    use record::blocks::{ENCODING, Layout};
     let bytes = std::fs::read(path).expect("read mcap");
-    let mut out = Vec::new();
-    for m in mcap::MessageStream::new(&bytes).expect("mcap header") {
-        let m = m.expect("mcap message");
-        let topic = m.channel.topic.clone();
-        if record::Channel::from_topic(&topic).is_none() {
-            continue;
-        }
-        if m.channel.message_encoding != ENCODING {
-            let json = serde_json::from_slice(&m.data).expect("json payload");
-            out.push(Msg {
-                topic,
-                log_time: m.log_time,
-                json,
-            });
-            continue;
-        }
-        let schema = m
-            .channel
-            .schema
-            .as_ref()
-            .expect("a block channel has a schema");
-        let layout = Layout::from_file(&schema.name, &schema.data, &m.channel.metadata)
-            .expect("block layout");
-        let rows = layout.decode(&m.data).expect("block decodes");
-        let t_ns = |r: &record::Row| (r["t_s"].as_f64().unwrap() * 1e9).round() as u64;
-        let first = rows.first().map_or(0, t_ns);
-        for row in rows {
-            let log_time = m.log_time + (t_ns(&row) - first);
-            out.push(Msg {
-                topic: topic.clone(),
-                log_time,
+    let (_, rows) = record::recorded_rows(&bytes).expect("a readable recording");
+    rows.into_iter()
+        .flat_map(|(channel, rows)| {
+            rows.into_iter().map(move |row| Msg {
+                topic: channel.topic().to_owned(),
                 json: serde_json::Value::Object(row),
-            });
-        }
-    }
-    out
+            })
+        })
+        .collect()
 }
 
 /// Messages per topic.

@@ -5,7 +5,8 @@
 //!
 //! Modules (private): `check` (the binding convention every function follows: shapes, dtypes,
 //! `ValueError`s, the GIL released), `calib` (`telerehab.calib`), `imu` (`telerehab.imu`),
-//! `metrics` (`telerehab.metrics`).
+//! `metrics` (`telerehab.metrics`), `session` (`telerehab.session`: recordings
+//! read by the `record` crate).
 
 use pyo3::prelude::*;
 
@@ -13,6 +14,7 @@ mod calib;
 mod check;
 mod imu;
 mod metrics;
+mod session;
 
 /// The `telerehab._native` module.
 #[pymodule]
@@ -21,5 +23,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     calib::register(m)?;
     imu::register(m)?;
     metrics::register(m)?;
+    session::register(m)?;
     Ok(())
 }

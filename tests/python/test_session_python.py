@@ -42,7 +42,7 @@ def test_every_channel_is_read_as_columns_of_one_row_per_sample(recording):
     assert {t: len(c["t_s"]) for t, c in s.channels.items()} == counts
     wheel = s.channels["/wheel"]
     assert wheel["angle_rad"].dtype == np.float64
-    assert wheel["tick"].dtype == np.int64
+    assert wheel["tick"].dtype == np.uint64  # Rust's u64
     assert wheel["clipped"].dtype == np.bool_
     assert np.all(np.diff(wheel["t_s"]) > 0)
     assert np.all(np.abs(wheel["commanded_nm"]) <= wheel["ceiling_nm"] + 1e-12)
@@ -80,6 +80,13 @@ def test_not_a_recording_is_a_value_error_naming_the_file(tmp_path):
         telerehab.session.read(tmp_path / "missing.mcap")
 
 
+def test_a_recording_cut_short_is_a_value_error_that_says_to_recover_it(recording, tmp_path):
+    cut = tmp_path / "killed.mcap"
+    cut.write_bytes(recording.read_bytes()[: recording.stat().st_size // 2])
+    with pytest.raises(ValueError, match=r"killed\.mcap .*telerehab recover"):
+        telerehab.session.read(cut)
+
+
 def test_a_channel_is_a_pandas_frame_indexed_by_session_time(recording):
     s = telerehab.session.read(recording)
     frame = s.frame("/wheel")
@@ -96,7 +103,7 @@ def test_the_raw_inputs_are_columns_with_units_and_hold_what_the_station_consume
     # /raw/wheel: one row a tick, the reading as the wheel gave it and the body clock.
     assert np.array_equal(raw["tick"], wheel["tick"])
     assert set(raw["read"]) == {"ok"}
-    assert raw["now_ns"].dtype == np.int64 and np.all(np.diff(raw["now_ns"]) == 1_000_000)
+    assert raw["now_ns"].dtype == np.uint64 and np.all(np.diff(raw["now_ns"]) == 1_000_000)
     assert "rad" in s.units["/raw/wheel"]["angle_rad"]
     assert np.array_equal(raw["angle_rad"], wheel["angle_rad"])  # no fault: the reading is the angle
     assert not raw["paused"].any()
@@ -106,7 +113,7 @@ def test_the_raw_inputs_are_columns_with_units_and_hold_what_the_station_consume
     assert set(imu["sensor"]) == {0, 1}
     assert "rad/s" in s.units["/raw/imu"]["gyro_x_rad_s"]
     assert "m/s²" in s.units["/raw/imu"]["acc_z_m_s2"]
-    assert imu["device_t_ns"].dtype == np.int64
+    assert imu["device_t_ns"].dtype == np.uint64
     g = np.sqrt(imu["acc_x_m_s2"] ** 2 + imu["acc_y_m_s2"] ** 2 + imu["acc_z_m_s2"] ** 2)
     assert 9.0 < np.median(g) < 10.6  # gravity plus the arm's motion, m/s²
     # Exactly what the arm tracker consumed: the upper-arm gyro it reports on /arm, bit for bit.
@@ -116,3 +123,36 @@ def test_the_raw_inputs_are_columns_with_units_and_hold_what_the_station_consume
     # (/arm records it on its own grid of 1 µrad/s, which holds /raw/imu's 100 µrad/s one.)
     assert np.allclose(arm["upper_gyro_x_rad_s"][at], imu["gyro_x_rad_s"][upper], rtol=0, atol=1e-12)
     assert np.allclose(imu["gyro_x_rad_s"] / 1e-4, np.round(imu["gyro_x_rad_s"] / 1e-4), rtol=0, atol=1e-6)
+
+
+def test_the_native_read_releases_the_gil(recording):
+    # Another thread stamps the time every 0.5 ms: it can only while it holds the GIL. With the
+    # GIL held through a read, no more than a stamp or two (a switch before the call starts)
+    # could fall within a read (more only while the OS holds the reader back); released, some
+    # 20 do.
+    import threading
+    import time
+
+    from telerehab import _native
+
+    stamps = []
+    stop = threading.Event()
+
+    def ticker():
+        while not stop.is_set():
+            stamps.append(time.perf_counter())
+            stop.wait(0.0005)
+
+    th = threading.Thread(target=ticker)
+    th.start()
+    windows = []
+    try:
+        for _ in range(20):
+            t0 = time.perf_counter()
+            _native.session_read(str(recording))
+            windows.append((t0, time.perf_counter()))
+    finally:
+        stop.set()
+        th.join()
+    inside = [sum(t0 < t < t1 for t in stamps) for t0, t1 in windows]
+    assert sorted(inside)[len(inside) // 2] >= 5, inside  # the median read

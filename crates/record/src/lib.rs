@@ -1,7 +1,8 @@
 //! The recording format: one type per MCAP channel, the channel table with their schemas, the
 //! writer, a reader of whole files ([`Recording`]) and a streaming one in bounded memory for
-//! untrusted or long recordings ([`TickStream`], which the hub's replay uses), and what the
-//! therapist's console draws of a recording ([`view`]).
+//! untrusted or long recordings ([`TickStream`], which the hub's replay uses; [`columns`], the
+//! same reader giving one column per field, which Python's `telerehab.session.read` uses), and
+//! what the therapist's console draws of a recording ([`view`]).
 //!
 //! Below the station, the hub and the Python package, which all read recordings with it: it
 //! depends on the sensing, wheel, calibration and metrics crates for their sample types only,
@@ -40,6 +41,7 @@
 
 pub mod blocks;
 pub mod channels;
+pub mod columns;
 pub mod raw;
 pub mod reader;
 pub mod recover;
@@ -52,6 +54,7 @@ pub mod view;
 pub mod writer;
 
 pub use channels::{CHANNELS, Channel, ChannelSpec};
+pub use columns::{RecordingColumns, read_columns, read_columns_path};
 pub use raw::{BodyFacts, RawImuSample, RawTick, RawWheelSample};
 pub use reader::{ReadError, RecordedRows, Recording, Row, recorded_rows};
 pub use stream::{StreamLimits, TickStream};

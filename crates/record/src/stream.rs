@@ -86,7 +86,7 @@ struct Chunk {
 }
 
 /// One record of the file's data section, chunks unpacked, as far as the stream needs it.
-enum Rec<'a> {
+pub(crate) enum Rec<'a> {
     /// A record the stream does not use (parsed no further).
     Other,
     /// A record to parse: its opcode, bytes, and the chunk holding it (0: none).
@@ -96,7 +96,7 @@ enum Rec<'a> {
 }
 
 /// The records of a recording read front to back from `R`, chunks unpacked within the limits.
-struct Records<R> {
+pub(crate) struct Records<R> {
     input: R,
     reader: LinearReader,
     limits: StreamLimits,
@@ -110,7 +110,7 @@ struct Records<R> {
 const USED: [u8; 4] = [op::SCHEMA, op::CHANNEL, op::MESSAGE, op::METADATA];
 
 impl<R: Read> Records<R> {
-    fn new(input: R, limits: StreamLimits) -> Self {
+    pub(crate) fn new(input: R, limits: StreamLimits) -> Self {
         let options = LinearReaderOptions::default()
             .with_emit_chunks(true)
             .with_record_length_limit(limits.max_record_bytes);
@@ -125,7 +125,7 @@ impl<R: Read> Records<R> {
     }
 
     /// The next record; `None` after the end.
-    fn next(&mut self) -> Result<Rec<'_>, ReadError> {
+    pub(crate) fn next(&mut self) -> Result<Rec<'_>, ReadError> {
         loop {
             if let Some(chunk) = &mut self.chunk {
                 if chunk.left > 0 {
@@ -424,7 +424,7 @@ struct Queues {
 
 /// Most bytes of schema records a stream keeps, names included (the station's own are a
 /// few kilobytes in all).
-const MAX_SCHEMA_BYTES: usize = 4 << 20;
+pub(crate) const MAX_SCHEMA_BYTES: usize = 4 << 20;
 
 /// The tick records of a recording, read front to back in bounded memory (the module's
 /// documentation says how). Gives the same records as [`super::Recording::ticks`] for the

@@ -1,13 +1,14 @@
 """Type stubs for the private native module ``telerehab._native`` (pyo3, ``pyext/src``).
 
 The public API is the facade (:mod:`telerehab.calib`, :mod:`telerehab.imu`,
-:mod:`telerehab.metrics`), which converts
+:mod:`telerehab.metrics`, :mod:`telerehab.session`), which converts
 and checks its arguments before calling these functions: arrays here are C-contiguous
 float64 of the documented shape. Checked against the built module by ``mypy.stubtest`` in
 ``scripts/test.sh``.
 """
 
-from typing import Dict, Iterator, List, Optional, Tuple, Union, final
+import os
+from typing import Any, Dict, Iterator, List, Optional, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
@@ -32,6 +33,7 @@ __all__ = [
     "metrics_segment",
     "metrics_speed_profile",
     "metrics_session_measures",
+    "session_read",
 ]
 
 __version__: str
@@ -222,3 +224,18 @@ def metrics_speed_profile(angle_rad: _F64, fs: float, lowpass_hz: float) -> _F64
 def metrics_session_measures(
     wheel_angle_rad: _F64, fs: float, joints: List[Tuple[str, _F64]]
 ) -> str: ...
+
+# --- session -----------------------------------------------------------------------------
+
+# A high-rate channel's column: float64, uint64 or bool, (N,) or (N, elements); an enum label
+# column as (uint32 codes, distinct labels).
+_Column = Union[npt.NDArray[Any], Tuple[npt.NDArray[np.uint32], List[str]]]
+
+def session_read(
+    path: Union[str, "os.PathLike[str]"],
+) -> Tuple[
+    Dict[str, str],
+    Dict[str, Dict[str, _Column]],
+    Dict[str, Dict[str, str]],
+    Dict[str, Tuple[bytes, List[bytes]]],
+]: ...

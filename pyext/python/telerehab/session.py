@@ -18,14 +18,13 @@ re-runs a session from them. Every sample carries ``tick``
 file itself, so they cannot drift from what the station wrote.
 
 The high-rate channels (``/wheel``, ``/vehicle``, ``/assist``, ``/timing``, ``/arm``,
-``/raw/wheel``, ``/raw/imu``) are
-recorded in compact blocks: protobuf messages (descriptor in the file) of one column per field
-over 100 samples, numbers as differences of whole quanta (1 µrad, 1 µN·m, 1 µm, …, stated per
-field in the channel's ``telerehab.columns`` metadata). They are decoded here with the
-``protobuf`` package and numpy; the low-rate channels are JSON. ``/arm/scene`` is the arm as a
-Foxglove 3-D scene (``foxglove.SceneUpdate``), for Foxglove, and is not read here.
-
-Pure Python over the ``mcap`` reader: the file is read once, message by message.
+``/raw/wheel``, ``/raw/imu``) are recorded in compact blocks (protobuf messages of one
+delta-coded, quantised column per field, the quantum of each field stated in the file). They
+are decoded by the station's own reader (the Rust crate ``record``, in the native module): the
+file is streamed once, chunk by chunk, with the GIL released, straight into the numpy columns,
+so a read holds little more than the columns it returns. The low-rate channels are JSON.
+``/arm/scene`` is the arm as a Foxglove 3-D scene (``foxglove.SceneUpdate``), for Foxglove,
+and is not read here.
 """
 
 from __future__ import annotations
@@ -39,6 +38,8 @@ from typing import Any, Dict, List, Mapping, Optional, Union
 import numpy as np
 import numpy.typing as npt
 
+from telerehab import _native
+
 __all__ = ["Session", "read"]
 
 Column = npt.NDArray[Any]
@@ -49,8 +50,8 @@ class Session:
     """One recorded session.
 
     ``channels[topic][field]``: a numpy array per field, one row per message in time order:
-    float64 for numbers (NaN where a message left an optional field out), int64 for integers,
-    bool for flags, str for names; a field holding lists (``shoulder_m``) is a 2-D array.
+    float64 for numbers (NaN where a message left an optional field out), uint64 for integers
+    (every integer the station records is unsigned, as in Rust), bool for flags, str for names; a field holding lists (``shoulder_m``) is a 2-D array.
     ``units[topic][field]``: the field's description from the file, unit included.
     ``metadata``: the ``session`` metadata record (exercise, seed, patient, loop rate, the
     configuration and regimen as TOML text). ``messages``: the low-rate (JSON) channels'
@@ -105,108 +106,40 @@ class Session:
 
 
 def read(path: Union[str, "os.PathLike[str]"]) -> Session:
-    """Read the station's recording at ``path`` (MCAP, JSON channels).
+    """Read the station's recording at ``path`` (MCAP).
 
     Raises ``FileNotFoundError`` for a missing file and ``ValueError`` naming the path for a
     file that is not a finished telerehab recording (run ``telerehab recover`` on one a killed
     session left behind).
     """
-    from mcap.exceptions import McapError
-    from mcap.reader import make_reader
-
-    from google.protobuf.message import DecodeError
-
     path = os.fspath(path)
+    metadata, blocks, block_units, json_channels = _native.session_read(path)
+    # A channel the file declares but holds no message of (/vehicle off the road) is left out.
+    channels: Dict[str, Dict[str, Column]] = {
+        topic: {name: _text(c) for name, c in cols.items()}
+        for topic, cols in blocks.items()
+        if len(cols["t_s"])
+    }
+    units = {topic: block_units[topic] for topic in channels}
     messages: Dict[str, List[Dict[str, Any]]] = {}
-    blocks: Dict[str, _Blocks] = {}
-    units: Dict[str, Dict[str, str]] = {}
-    metadata: Dict[str, str] = {}
-    with open(path, "rb") as f:
+    for topic, (schema, raw) in json_channels.items():
+        if not raw:
+            continue
         try:
-            reader = make_reader(f)
-            for schema, channel, message in reader.iter_messages(log_time_order=False):
-                if schema is None or channel.topic == "/arm/scene":
-                    continue
-                if channel.message_encoding == "protobuf":
-                    if channel.topic not in blocks:
-                        blocks[channel.topic] = _Blocks(schema.name, schema.data, channel.metadata)
-                        units[channel.topic] = blocks[channel.topic].units()
-                    blocks[channel.topic].add(message.data)
-                    continue
-                if channel.topic not in units:
-                    units[channel.topic] = _descriptions(schema.data)
-                messages.setdefault(channel.topic, []).append(json.loads(message.data))
-            for m in reader.iter_metadata():
-                if m.name == "session":
-                    metadata = dict(m.metadata)
-        except (McapError, DecodeError, json.JSONDecodeError, UnicodeDecodeError, AssertionError, KeyError) as e:
-            raise ValueError(f"{path} is not a readable telerehab recording: {e!r}") from None
-    if not metadata:
-        raise ValueError(f"{path} has no 'session' metadata record: not a telerehab recording")
-    channels = {topic: _columns(rows) for topic, rows in messages.items()}
-    channels.update({topic: b.columns() for topic, b in blocks.items()})
+            messages[topic] = [json.loads(m) for m in raw]
+        except (json.JSONDecodeError, UnicodeDecodeError) as e:
+            raise ValueError(f"{path} is not a readable telerehab recording: {topic}: {e}") from None
+        channels[topic] = _columns(messages[topic])
+        units[topic] = _descriptions(schema)
     return Session(path=path, metadata=metadata, channels=channels, units=units, messages=messages)
 
 
-# The integers a block reserves (``record::blocks`` in the station).
-_ABSENT = np.iinfo(np.int64).min
-_NAN = _ABSENT + 1
-_NEG_INF = _ABSENT + 2
-_POS_INF = np.iinfo(np.int64).max
-
-
-class _Blocks:
-    """One high-rate channel's block messages, decoded into columns."""
-
-    def __init__(self, name: str, descriptor_set: bytes, channel_metadata: Mapping[str, str]) -> None:
-        from google.protobuf import descriptor_pb2, descriptor_pool, message_factory
-
-        pool = descriptor_pool.DescriptorPool()
-        for file in descriptor_pb2.FileDescriptorSet.FromString(descriptor_set).file:
-            pool.Add(file)
-        self._cls = message_factory.GetMessageClass(pool.FindMessageTypeByName(name))
-        self._columns: List[Dict[str, Any]] = json.loads(channel_metadata["telerehab.columns"])
-        self._parts: Dict[str, List[Column]] = {c["name"]: [] for c in self._columns}
-
-    def units(self) -> Dict[str, str]:
-        out = {c["name"]: str(c["description"]) for c in self._columns if c["name"] != "t_ns"}
-        out["t_s"] = "Session time, s."
-        return out
-
-    def add(self, data: bytes) -> None:
-        msg = self._cls.FromString(data)
-        for c in self._columns:
-            values = getattr(msg, c["name"])
-            width = int(c["elements"])
-            if c["type"] in ("float", "int"):
-                # Differences from the previous sample's value of the same element, wrapping.
-                q = np.array(values, dtype=np.int64).reshape(-1, width)
-                with np.errstate(over="ignore"):
-                    q = np.cumsum(q, axis=0, dtype=np.int64)
-                col: Column = q if c["type"] == "int" else _unquantise(q, float(c["quantum"]))
-            elif c["type"] == "bool":
-                col = np.array(values, dtype=bool).reshape(-1, width)
-            else:
-                col = np.array(list(values), dtype=str).reshape(-1, width)
-            self._parts[c["name"]].append(col if width > 1 else col[:, 0])
-
-    def columns(self) -> Dict[str, Column]:
-        out: Dict[str, Column] = {}
-        for name, parts in self._parts.items():
-            col = np.concatenate(parts) if parts else np.array([])
-            if name == "t_ns":
-                out["t_s"] = col.astype(np.float64) * 1e-9
-            else:
-                out[name] = col
-        return out
-
-
-def _unquantise(q: Column, quantum: float) -> Column:
-    x = q.astype(np.float64) * quantum
-    x[(q == _ABSENT) | (q == _NAN)] = np.nan
-    x[q == _POS_INF] = np.inf
-    x[q == _NEG_INF] = -np.inf
-    return x
+def _text(column: Union[Column, "tuple[npt.NDArray[np.uint32], List[str]]"]) -> Column:
+    """A column as numpy: an enum label column arrives as codes into its distinct labels."""
+    if isinstance(column, tuple):
+        codes, labels = column
+        return np.asarray(labels, dtype=str)[codes] if labels else np.full(codes.shape, "", dtype=str)
+    return column
 
 
 def _descriptions(schema: bytes) -> Dict[str, str]:
@@ -231,8 +164,12 @@ def _column(values: List[Any]) -> Column:
     present = [v for v in values if v is not None]
     if present and all(isinstance(v, bool) for v in present) and len(present) == len(values):
         return np.array(values, dtype=bool)
-    if present and all(isinstance(v, int) and not isinstance(v, bool) for v in present) and len(present) == len(values):
-        return np.array(values, dtype=np.int64)
+    if (
+        present
+        and all(isinstance(v, int) and not isinstance(v, bool) and v >= 0 for v in present)
+        and len(present) == len(values)
+    ):
+        return np.array(values, dtype=np.uint64)
     if present and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in present):
         return np.array([np.nan if v is None else float(v) for v in values], dtype=np.float64)
     if present and all(isinstance(v, list) for v in present):

@@ -14,14 +14,16 @@
 //! their repeats).
 //!
 //! Every block channel's record carries its columns as JSON ([`COLUMNS_KEY`]: name, type,
-//! elements, quantum, description with the unit), so a reader needs only the file: the Python
-//! package decodes it with the `protobuf` package and numpy alone.
+//! elements, quantum, description with the unit), so a reader needs only the file (Foxglove's
+//! protobuf decoder reads the blocks; the Python package reads them through
+//! [`crate::columns`]).
 //!
 //! The fields, their order and their names come from the sample's `Serialize` derive (through
 //! [`flatten`]) and their descriptions from its JSON schema: one definition per channel.
 
 pub mod flatten;
 pub mod unflatten;
+mod wire;
 
 use flatten::{FieldStart, Prim, Unsupported};
 use prost::Message as _;
@@ -222,12 +224,17 @@ impl Layout {
             return Err(BlockError::Layout("the stamp columns are missing".into()));
         }
         for (number, c) in (1u32..).zip(&columns) {
+            let wire = match c.kind {
+                Kind::Float | Kind::Int => prost_reflect::Kind::Sint64,
+                Kind::Bool => prost_reflect::Kind::Bool,
+                Kind::Text => prost_reflect::Kind::String,
+            };
             if descriptor
                 .get_field(number)
-                .is_none_or(|f| f.name() != c.name)
+                .is_none_or(|f| f.name() != c.name || !f.is_list() || f.kind() != wire)
             {
                 return Err(BlockError::Layout(format!(
-                    "column {} is not field {number} of the descriptor",
+                    "column {} is not field {number} of the descriptor (repeated, of its type)",
                     c.name
                 )));
             }
@@ -307,55 +314,83 @@ impl Layout {
         msg.encode_to_vec()
     }
 
+    /// Decode one block message column by column: `visit` gets each column (stamps first)
+    /// with its values, every sample's elements in order (an array field's elements
+    /// interleaved, sample by sample). Returns the number of samples. What the block readers
+    /// ([`Layout::decode_cells`], [`crate::columns`]) share: the differences summed (wrapping),
+    /// every column checked to hold one value per element of every sample.
+    pub fn decode_columns(
+        &self,
+        bytes: &[u8],
+        mut visit: impl FnMut(&Column, ColumnValues) -> Result<(), BlockError>,
+    ) -> Result<usize, BlockError> {
+        let mut lists: Vec<ColumnValues> = self
+            .columns
+            .iter()
+            .map(|c| match c.kind {
+                Kind::Float | Kind::Int => ColumnValues::Stored(Vec::new()),
+                Kind::Bool => ColumnValues::Bools(Vec::new()),
+                Kind::Text => ColumnValues::Texts(Vec::new()),
+            })
+            .collect();
+        wire::decode(bytes, &mut lists).map_err(BlockError::Decode)?;
+        let mut rows = None;
+        for (c, mut values) in self.columns.iter().zip(lists) {
+            let n = values.len();
+            let rows = *rows.get_or_insert(n);
+            if n != rows * c.elements {
+                return Err(BlockError::Decode(format!(
+                    "column {} holds {n} values for {rows} samples of {} elements",
+                    c.name, c.elements
+                )));
+            }
+            if let ColumnValues::Stored(v) = &mut values {
+                // Differences from the previous sample's value of the same element.
+                let mut prev = vec![0i64; c.elements];
+                for (i, d) in v.iter_mut().enumerate() {
+                    let p = &mut prev[i % c.elements];
+                    *p = p.wrapping_add(*d);
+                    *d = *p;
+                }
+            }
+            visit(c, values)?;
+        }
+        Ok(rows.unwrap_or(0))
+    }
+
     /// Decode one block message into its samples, each the cells of every column in order
     /// (stamps first, an array field's elements one cell each).
     pub fn decode_cells(&self, bytes: &[u8]) -> Result<Vec<Vec<Cell>>, BlockError> {
-        let msg = DynamicMessage::decode(self.descriptor.clone(), bytes)
-            .map_err(|e| BlockError::Decode(e.to_string()))?;
-        let lists: Vec<Vec<Value>> = (1u32..)
-            .take(self.columns.len())
-            .map(|n| match msg.get_field_by_number(n).as_deref() {
-                Some(Value::List(l)) => l.clone(),
-                _ => Vec::new(),
-            })
-            .collect();
-        let rows = lists[0].len();
-        let mut out = vec![Vec::with_capacity(self.row_width); rows];
-        for (c, list) in self.columns.iter().zip(&lists) {
-            if list.len() != rows * c.elements {
-                return Err(BlockError::Decode(format!(
-                    "column {} holds {} values for {rows} samples of {} elements",
-                    c.name,
-                    list.len(),
-                    c.elements
-                )));
+        let mut out: Vec<Vec<Cell>> = Vec::new();
+        self.decode_columns(bytes, |c, values| {
+            let n = values.len();
+            if out.is_empty() && n > 0 {
+                out = vec![Vec::with_capacity(self.row_width); n / c.elements.max(1)];
             }
-            let mut prev = vec![0i64; c.elements];
-            for (r, row) in out.iter_mut().enumerate() {
-                for (e, p) in prev.iter_mut().enumerate() {
-                    let v = &list[r * c.elements + e];
-                    row.push(match (c.kind, v) {
-                        (Kind::Bool, Value::Bool(b)) => Cell::Bool(*b),
-                        (Kind::Text, Value::String(s)) => Cell::Text(s.clone()),
-                        (Kind::Int, Value::I64(d)) => {
-                            *p = p.wrapping_add(*d);
-                            Cell::Int(*p as u64)
-                        }
-                        (Kind::Float, Value::I64(d)) => {
-                            *p = p.wrapping_add(*d);
-                            unquantise(*p, c.quantum.unwrap_or(1.0))
-                                .map_or(Cell::Absent, Cell::Float)
-                        }
-                        _ => {
-                            return Err(BlockError::Decode(format!(
-                                "column {} holds a {v:?}",
-                                c.name
-                            )));
-                        }
-                    });
+            let width = c.elements.max(1);
+            match values {
+                ColumnValues::Stored(v) => {
+                    for (i, q) in v.into_iter().enumerate() {
+                        out[i / width].push(match c.kind {
+                            Kind::Int => Cell::Int(q as u64),
+                            _ => unquantise(q, c.quantum.unwrap_or(1.0))
+                                .map_or(Cell::Absent, Cell::Float),
+                        });
+                    }
+                }
+                ColumnValues::Bools(v) => {
+                    for (i, b) in v.into_iter().enumerate() {
+                        out[i / width].push(Cell::Bool(b));
+                    }
+                }
+                ColumnValues::Texts(v) => {
+                    for (i, t) in v.into_iter().enumerate() {
+                        out[i / width].push(Cell::Text(t));
+                    }
                 }
             }
-        }
+            Ok(())
+        })?;
         Ok(out)
     }
 
@@ -401,6 +436,35 @@ impl Layout {
     /// The column names, in order.
     pub fn column_names(&self) -> impl Iterator<Item = &str> {
         self.columns.iter().map(|c| c.name.as_str())
+    }
+}
+
+/// One column of a decoded block message ([`Layout::decode_columns`]), every sample's
+/// elements in order.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ColumnValues {
+    /// A float or integer column: the whole numbers stored (a float's quanta, the reserved
+    /// values included: [`unquantise`] gives the float; an integer is its `u64` bits).
+    Stored(Vec<i64>),
+    /// A flag column.
+    Bools(Vec<bool>),
+    /// An enum label column.
+    Texts(Vec<String>),
+}
+
+impl ColumnValues {
+    /// Values held.
+    pub fn len(&self) -> usize {
+        match self {
+            Self::Stored(v) => v.len(),
+            Self::Bools(v) => v.len(),
+            Self::Texts(v) => v.len(),
+        }
+    }
+
+    /// No value held.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
     }
 }
 

@@ -1,0 +1,194 @@
+//! The protobuf wire format of a block message, decoded straight into its columns: a block
+//! is one repeated field per column (`sint64`, `bool` or `string`, checked against the
+//! descriptor by [`super::Layout`]), so a reader needs only varints, zigzag and lengths
+//! (<https://protobuf.dev/programming-guides/encoding/>). Several times faster than a
+//! reflective decoder, whose value per element is what a long recording cannot afford.
+//! Packed and unpacked repeated fields are both read (a parser must accept both); fields of
+//! other numbers are skipped.
+
+use super::ColumnValues;
+
+/// Wire types (the low 3 bits of a field's key).
+const VARINT: u64 = 0;
+const I64: u64 = 1;
+const LEN: u64 = 2;
+const I32: u64 = 5;
+
+/// The reader's position in a message.
+struct Cursor<'a> {
+    bytes: &'a [u8],
+    at: usize,
+}
+
+impl<'a> Cursor<'a> {
+    fn done(&self) -> bool {
+        self.at >= self.bytes.len()
+    }
+
+    fn varint(&mut self) -> Result<u64, String> {
+        let mut value = 0u64;
+        for shift in (0..64).step_by(7) {
+            let Some(&b) = self.bytes.get(self.at) else {
+                return Err("the message ends inside a varint".into());
+            };
+            self.at += 1;
+            value |= u64::from(b & 0x7f) << shift;
+            if b & 0x80 == 0 {
+                return Ok(value);
+            }
+        }
+        Err("a varint longer than 10 bytes".into())
+    }
+
+    fn take(&mut self, n: u64) -> Result<&'a [u8], String> {
+        let end = usize::try_from(n)
+            .ok()
+            .and_then(|n| self.at.checked_add(n))
+            .filter(|&end| end <= self.bytes.len())
+            .ok_or_else(|| format!("a field of {n} bytes past the message's end"))?;
+        let out = &self.bytes[self.at..end];
+        self.at = end;
+        Ok(out)
+    }
+}
+
+/// A `sint64` as stored (zigzag).
+fn zigzag(v: u64) -> i64 {
+    ((v >> 1) as i64) ^ -((v & 1) as i64)
+}
+
+/// Appends the values of every field of message `bytes` numbered `1..=columns.len()` to
+/// `columns[number - 1]` (an integer column gets the `sint64` values, before any summing).
+pub(super) fn decode(bytes: &[u8], columns: &mut [ColumnValues]) -> Result<(), String> {
+    let mut cur = Cursor { bytes, at: 0 };
+    while !cur.done() {
+        let key = cur.varint()?;
+        let (number, wire) = (key >> 3, key & 7);
+        let column = usize::try_from(number)
+            .ok()
+            .and_then(|n| n.checked_sub(1))
+            .and_then(|i| columns.get_mut(i));
+        match (column, wire) {
+            (Some(ColumnValues::Stored(out)), VARINT) => out.push(zigzag(cur.varint()?)),
+            (Some(ColumnValues::Bools(out)), VARINT) => out.push(cur.varint()? != 0),
+            (Some(ColumnValues::Stored(out)), LEN) => {
+                let len = cur.varint()?;
+                let mut packed = Cursor {
+                    bytes: cur.take(len)?,
+                    at: 0,
+                };
+                while !packed.done() {
+                    out.push(zigzag(packed.varint()?));
+                }
+            }
+            (Some(ColumnValues::Bools(out)), LEN) => {
+                let len = cur.varint()?;
+                let mut packed = Cursor {
+                    bytes: cur.take(len)?,
+                    at: 0,
+                };
+                while !packed.done() {
+                    out.push(packed.varint()? != 0);
+                }
+            }
+            (Some(ColumnValues::Texts(out)), LEN) => {
+                let len = cur.varint()?;
+                let text = std::str::from_utf8(cur.take(len)?)
+                    .map_err(|e| format!("field {number} holds a string that is not UTF-8: {e}"))?;
+                out.push(text.to_owned());
+            }
+            (Some(_), _) => {
+                return Err(format!(
+                    "field {number} has wire type {wire}, not its column's"
+                ));
+            }
+            (None, VARINT) => {
+                cur.varint()?;
+            }
+            (None, I64) => {
+                cur.take(8)?;
+            }
+            (None, LEN) => {
+                let len = cur.varint()?;
+                cur.take(len)?;
+            }
+            (None, I32) => {
+                cur.take(4)?;
+            }
+            (None, _) => return Err(format!("field {number} has wire type {wire} (a group)")),
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use prost::Message as _;
+
+    /// A message of the same fields as a block of ours, encoded by prost.
+    #[derive(Clone, PartialEq, prost::Message)]
+    struct Block {
+        #[prost(sint64, repeated, tag = "1")]
+        ints: Vec<i64>,
+        #[prost(bool, repeated, tag = "2")]
+        flags: Vec<bool>,
+        #[prost(string, repeated, tag = "3")]
+        labels: Vec<String>,
+        #[prost(sint64, repeated, packed = "false", tag = "4")]
+        unpacked: Vec<i64>,
+        #[prost(double, tag = "9")]
+        other: f64,
+        #[prost(string, tag = "10")]
+        other_text: String,
+    }
+
+    #[test]
+    fn fields_packed_or_not_decode_and_unknown_fields_are_skipped() {
+        let block = Block {
+            ints: vec![0, -1, 1, i64::MIN, i64::MAX, 1 << 40],
+            flags: vec![true, false, true],
+            labels: vec!["ok".into(), "".into(), "stalled".into()],
+            unpacked: vec![-5, 7],
+            other: 1.5,
+            other_text: "skip me".into(),
+        };
+        let mut columns = vec![
+            ColumnValues::Stored(Vec::new()),
+            ColumnValues::Bools(Vec::new()),
+            ColumnValues::Texts(Vec::new()),
+            ColumnValues::Stored(Vec::new()),
+        ];
+        decode(&block.encode_to_vec(), &mut columns).unwrap();
+        assert_eq!(
+            columns,
+            [
+                ColumnValues::Stored(block.ints),
+                ColumnValues::Bools(block.flags),
+                ColumnValues::Texts(block.labels),
+                ColumnValues::Stored(block.unpacked),
+            ]
+        );
+    }
+
+    #[test]
+    fn a_cut_or_mistyped_message_is_an_error_not_a_panic() {
+        let block = Block {
+            ints: (0..100).collect(),
+            labels: vec!["ok".into()],
+            ..Default::default()
+        };
+        let bytes = block.encode_to_vec();
+        for end in 0..bytes.len() {
+            let mut columns = vec![
+                ColumnValues::Stored(Vec::new()),
+                ColumnValues::Bools(Vec::new()),
+                ColumnValues::Texts(Vec::new()),
+            ];
+            let _ = decode(&bytes[..end], &mut columns);
+        }
+        let mut wrong = vec![ColumnValues::Texts(Vec::new())];
+        let e = decode(&bytes, &mut wrong).unwrap_err();
+        assert!(e.contains("field 1"), "{e}");
+    }
+}
