@@ -78,17 +78,9 @@ fn firmware(mut dev: VirtualDevice, tx: mpsc::Sender<Seen>) -> std::io::Result<(
     }
 }
 
-#[test]
-fn backend_streams_constant_force_and_uploads_conditions_to_a_virtual_wheel() {
-    if let Err(e) = uinput_usable() {
-        println!(
-            "SKIPPED: backend_streams_constant_force_and_uploads_conditions_to_a_virtual_wheel: \
-             /dev/uinput is not usable here ({e}); the evdev loopback test needs the uinput \
-             module and write access to /dev/uinput"
-        );
-        return;
-    }
-    // A virtual Logitech G29: its profile's rate policy is 500 Hz.
+/// A virtual Logitech G29 (its profile's rate policy is 500 Hz) turned to a quarter of its
+/// axis, its event node, and until when the node's permissions may take to settle.
+fn virtual_g29() -> (VirtualDevice, std::path::PathBuf, Instant) {
     let ff = AttributeSet::from_iter([
         FFEffectCode::FF_CONSTANT,
         FFEffectCode::FF_SPRING,
@@ -129,6 +121,20 @@ fn backend_streams_constant_force_and_uploads_conditions_to_a_virtual_wheel() {
             None => panic!("the virtual wheel got no /dev/input/event node within 5 s"),
         }
     };
+    (dev, node, deadline)
+}
+
+#[test]
+fn backend_streams_constant_force_and_uploads_conditions_to_a_virtual_wheel() {
+    if let Err(e) = uinput_usable() {
+        println!(
+            "SKIPPED: backend_streams_constant_force_and_uploads_conditions_to_a_virtual_wheel: \
+             /dev/uinput is not usable here ({e}); the evdev loopback test needs the uinput \
+             module and write access to /dev/uinput"
+        );
+        return;
+    }
+    let (dev, node, deadline) = virtual_g29();
     let (tx, rx) = mpsc::channel();
     let fw = std::thread::spawn(move || firmware(dev, tx));
 
@@ -183,6 +189,12 @@ fn backend_streams_constant_force_and_uploads_conditions_to_a_virtual_wheel() {
         half_level, 16383,
         "half the rated torque is half of full scale"
     );
+    the_firmware_saw_streamed_torque_one_spring_and_a_clean_exit(&seen, streamed);
+}
+
+/// What the virtual wheel's firmware saw of a session that streamed torque for `streamed`
+/// (at most the G29's 500 Hz), uploaded one spring and dropped the wheel.
+fn the_firmware_saw_streamed_torque_one_spring_and_a_clean_exit(seen: &[Seen], streamed: Duration) {
     let constants: Vec<(i16, i16, u16)> = seen
         .iter()
         .filter_map(|s| match s {

@@ -357,49 +357,12 @@ pub async fn serve(
                     tracing::error!("cannot re-read revoked stations: {e}");
                 }
             }
-            _ = housekeeping.tick() => {
-                // An attack that never succeeds must not grow the throttle table or hold back
-                // the suppressed-refusal counts until the next refusal.
-                let now = (options.now_ms)();
-                if let Err(e) = db.purge_throttles(now).await {
-                    tracing::warn!("cannot purge login throttles: {e}");
-                }
-                if let Err(e) = db.flush_refusal_audits(now).await {
-                    tracing::warn!("cannot write suppressed refusal counts: {e}");
-                }
-            }
-            _ = sweep.tick() => {
-                let dir = recordings.clone();
-                let expired = tokio::task::spawn_blocking(move || {
-                    crate::uploads::expire_partial_uploads(
-                        &dir,
-                        crate::uploads::PARTIAL_UPLOAD_MAX_AGE,
-                        std::time::SystemTime::now(),
-                    )
-                })
-                .await;
-                if let Ok(Err(e)) = expired {
-                    tracing::warn!("cannot expire partial uploads: {e}");
-                }
-            }
+            _ = housekeeping.tick() => housekeep(&db, (options.now_ms)()).await,
+            _ = sweep.tick() => expire_partial_uploads(recordings.clone()).await,
             Ok(regimen) = prescriptions.recv() => push_regimen(&server, &db, &regimen).await,
             Some(event) = events.recv() => {
                 on_event(&event);
-                match &event {
-                    TherapistEvent::Summary { patient_id, summary, .. } => {
-                        let _ = live.send(LiveEvent {
-                            patient_id: patient_id.clone(),
-                            session_id: summary.session_id.clone(),
-                            summary: summary.clone(),
-                        });
-                    }
-                    TherapistEvent::Connected { hello, .. } => {
-                        if let Ok(Some(regimen)) = db.latest_regimen(&hello.patient_id).await {
-                            push_regimen(&server, &db, &regimen).await;
-                        }
-                    }
-                    _ => {}
-                }
+                on_station_event(&event, &server, &db, &live).await;
             }
         }
     }
@@ -432,6 +395,61 @@ pub async fn serve(
             tracing::warn!("the hub stopped before every connection had closed");
             Ok(())
         }
+    }
+}
+
+/// `hub serve`'s housekeeping at `now` (ms): an attack that never succeeds must not grow the
+/// throttle table or hold back the suppressed-refusal counts until the next refusal.
+async fn housekeep(db: &Db, now: i64) {
+    if let Err(e) = db.purge_throttles(now).await {
+        tracing::warn!("cannot purge login throttles: {e}");
+    }
+    if let Err(e) = db.flush_refusal_audits(now).await {
+        tracing::warn!("cannot write suppressed refusal counts: {e}");
+    }
+}
+
+/// Remove the partial uploads under `recordings` nobody has resumed for too long.
+async fn expire_partial_uploads(recordings: PathBuf) {
+    let expired = tokio::task::spawn_blocking(move || {
+        crate::uploads::expire_partial_uploads(
+            &recordings,
+            crate::uploads::PARTIAL_UPLOAD_MAX_AGE,
+            std::time::SystemTime::now(),
+        )
+    })
+    .await;
+    if let Ok(Err(e)) = expired {
+        tracing::warn!("cannot expire partial uploads: {e}");
+    }
+}
+
+/// A station's `event`: a summary goes to the console's live feed; a station that connects
+/// gets its patient's latest regimen.
+async fn on_station_event(
+    event: &TherapistEvent,
+    server: &TherapistServer,
+    db: &Db,
+    live: &broadcast::Sender<LiveEvent>,
+) {
+    match event {
+        TherapistEvent::Summary {
+            patient_id,
+            summary,
+            ..
+        } => {
+            let _ = live.send(LiveEvent {
+                patient_id: patient_id.clone(),
+                session_id: summary.session_id.clone(),
+                summary: summary.clone(),
+            });
+        }
+        TherapistEvent::Connected { hello, .. } => {
+            if let Ok(Some(regimen)) = db.latest_regimen(&hello.patient_id).await {
+                push_regimen(server, db, &regimen).await;
+            }
+        }
+        _ => {}
     }
 }
 

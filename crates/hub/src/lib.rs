@@ -1,7 +1,8 @@
 //! The clinic hub: the system of record for patients, stations, sessions and regimens
 //! ([`db`], SQLite or PostgreSQL through one code path) and the HTTPS JSON API of the
 //! therapist console ([`web`]); the station link's store and pairing authority ([`ingest`]);
-//! a clinic's data directory, `hub init` and `hub serve` ([`clinic`]); partial uploads
+//! a clinic's data directory, `hub init` and `hub serve` ([`clinic`]); what `hub patient …`
+//! does to the database ([`patients`]); partial uploads
 //! expired ([`uploads`]); the load generator of `hub bench` ([`bench`](mod@bench)); the
 //! crate's errors ([`HubError`], [`PairRefusal`], module `error`).
 //!
@@ -14,6 +15,7 @@ pub mod db;
 mod error;
 pub mod ingest;
 pub mod limits;
+pub mod patients;
 pub mod uploads;
 pub mod web;
 

@@ -400,146 +400,40 @@ impl ExerciseSpec {
     pub fn build(&self) -> Result<Exercise, VehicleError> {
         self.validate()?;
         let name = self.name();
-        let lead = |w: f64| PathBuilder::new(0.0, 0.0, 0.0, w).straight(LEAD_IN_M);
-        let (path, speed, duration, cones): (Option<PathRoad>, f64, Option<f64>, Vec<[f64; 2]>) =
-            match self {
-                Self::Straight(s) => (
-                    Some(
-                        lead(s.lane_width_m)
-                            .straight(s.length_m)
-                            .straight(LEAD_OUT_M)
-                            .build()?,
-                    ),
-                    s.speed_m_s,
-                    s.duration_s,
-                    Vec::new(),
-                ),
-                Self::Sine(s) => (
-                    Some(
-                        lead(s.lane_width_m)
-                            .sine(s.amplitude_m, s.wavelength_m, 2 * s.periods)
-                            .straight(LEAD_OUT_M)
-                            .build()?,
-                    ),
-                    s.speed_m_s,
-                    s.duration_s,
-                    Vec::new(),
-                ),
-                Self::Triangle(s) => {
-                    let (leg, phi) = triangle_leg(s.amplitude_m, s.wavelength_m);
-                    let r = s.corner_radius_m;
-                    let t_full = r * phi.tan(); // tangent length of a 2φ corner
-                    let t_half = r * (phi / 2.0).tan(); // of a φ corner
-                    let mut b = lead(s.lane_width_m)
-                        .arc(r, phi)
-                        .straight(leg / 2.0 - t_half - t_full);
-                    for i in 0..2 * s.periods {
-                        let sign = if i % 2 == 0 { -1.0 } else { 1.0 };
-                        let last = i + 1 == 2 * s.periods;
-                        b = b.arc(r, sign * 2.0 * phi).straight(if last {
-                            leg / 2.0 - t_full - t_half
-                        } else {
-                            leg - 2.0 * t_full
-                        });
-                    }
-                    (
-                        Some(b.arc(r, -phi).straight(LEAD_OUT_M).build()?),
-                        s.speed_m_s,
-                        s.duration_s,
-                        Vec::new(),
-                    )
-                }
-                Self::Clothoid(s) => (
-                    Some(
-                        lead(s.lane_width_m)
-                            .clothoid(s.length_m, 0.0, s.end_curvature_1_m)
-                            .clothoid(s.unwind_m, s.end_curvature_1_m, 0.0)
-                            .straight(LEAD_OUT_M)
-                            .build()?,
-                    ),
-                    s.speed_m_s,
-                    s.duration_s,
-                    Vec::new(),
-                ),
-                Self::SharpTurns(s) => {
-                    let mut b = lead(s.lane_width_m);
-                    for i in 0..s.count {
-                        let sign = if i % 2 == 0 { 1.0 } else { -1.0 };
-                        b = b
-                            .arc(s.radius_m, sign * s.angle_deg.to_radians())
-                            .straight(s.straight_m);
-                    }
-                    (
-                        Some(b.straight(LEAD_OUT_M).build()?),
-                        s.speed_m_s,
-                        s.duration_s,
-                        Vec::new(),
-                    )
-                }
-                Self::SBend(s) => {
-                    let a = s.angle_deg.to_radians();
-                    (
-                        Some(
-                            lead(s.lane_width_m)
-                                .arc(s.radius_m, a)
-                                .arc(s.radius_m, -a)
-                                .straight(LEAD_OUT_M)
-                                .build()?,
-                        ),
-                        s.speed_m_s,
-                        s.duration_s,
-                        Vec::new(),
-                    )
-                }
-                Self::LaneChange(s) => {
-                    // Two opposite arcs shift by d over length L: φ = 2 atan(d/L), R = L/(2 sin φ).
-                    let phi = 2.0 * (s.offset_m / s.transition_m).atan();
-                    let r = s.transition_m / (2.0 * phi.sin());
-                    let mut b = lead(s.lane_width_m);
-                    for i in 0..s.count {
-                        let sign = if i % 2 == 0 { 1.0 } else { -1.0 };
-                        b = b.arc(r, sign * phi).arc(r, -sign * phi).straight(s.hold_m);
-                    }
-                    (
-                        Some(b.straight(LEAD_OUT_M).build()?),
-                        s.speed_m_s,
-                        s.duration_s,
-                        Vec::new(),
-                    )
-                }
-                Self::Slalom(s) => {
-                    // Centre line y = w (1 − cos(π ξ / spacing)) after the lead-in; the cones
-                    // stand on its axis y = w at the crests and troughs ξ = k·spacing.
-                    let wavelength = 2.0 * s.cone_spacing_m;
-                    let cones = (1..=s.cone_count)
-                        .map(|k| [LEAD_IN_M + f64::from(k) * s.cone_spacing_m, s.weave_m])
-                        .collect();
-                    (
-                        Some(
-                            lead(s.lane_width_m)
-                                .sine(s.weave_m, wavelength, s.cone_count + 1)
-                                .straight(LEAD_OUT_M)
-                                .build()?,
-                        ),
-                        s.speed_m_s,
-                        s.duration_s,
-                        cones,
-                    )
-                }
-                Self::Dial(d) => {
-                    return Ok(Exercise {
-                        name,
-                        road: None,
-                        length_m: 0.0,
-                        lane_width_m: 0.0,
-                        duration_s: Some(d.duration_s),
-                        cones: Vec::new(),
-                        speed_profile_m_s: Vec::new(),
-                        dial: Some(d.reference.clone()),
-                    });
-                }
-            };
-        let road = path.ok_or_else(|| VehicleError::InvalidInput("no road".into()))?;
+        let (speed, duration, cones) = match self {
+            Self::Straight(s) => (s.speed_m_s, s.duration_s, Vec::new()),
+            Self::Sine(s) => (s.speed_m_s, s.duration_s, Vec::new()),
+            Self::Triangle(s) => (s.speed_m_s, s.duration_s, Vec::new()),
+            Self::Clothoid(s) => (s.speed_m_s, s.duration_s, Vec::new()),
+            Self::SharpTurns(s) => (s.speed_m_s, s.duration_s, Vec::new()),
+            Self::SBend(s) => (s.speed_m_s, s.duration_s, Vec::new()),
+            Self::LaneChange(s) => (s.speed_m_s, s.duration_s, Vec::new()),
+            Self::Slalom(s) => {
+                // The cones stand on the centre line's axis y = w at its crests and troughs
+                // ξ = k·spacing (see `centre_line`).
+                let cones = (1..=s.cone_count)
+                    .map(|k| [LEAD_IN_M + f64::from(k) * s.cone_spacing_m, s.weave_m])
+                    .collect();
+                (s.speed_m_s, s.duration_s, cones)
+            }
+            Self::Dial(d) => {
+                return Ok(Exercise {
+                    name,
+                    road: None,
+                    length_m: 0.0,
+                    lane_width_m: 0.0,
+                    duration_s: Some(d.duration_s),
+                    cones: Vec::new(),
+                    speed_profile_m_s: Vec::new(),
+                    dial: Some(d.reference.clone()),
+                });
+            }
+        };
+        let road = self
+            .centre_line()
+            .ok_or_else(|| VehicleError::InvalidInput("no road".into()))?
+            .straight(LEAD_OUT_M)
+            .build()?;
         let length_m = road.length_m();
         let lane_width_m = road.lane_width_m();
         let speed_profile_m_s = speed_profile(&road, speed);
@@ -552,6 +446,70 @@ impl ExerciseSpec {
             cones,
             speed_profile_m_s,
             dial: None,
+        })
+    }
+
+    /// A road exercise's centre line from its start to the end of its shape (the lead-out
+    /// straight follows); `None` for the dial task.
+    fn centre_line(&self) -> Option<PathBuilder> {
+        let lead = |w: f64| PathBuilder::new(0.0, 0.0, 0.0, w).straight(LEAD_IN_M);
+        Some(match self {
+            Self::Straight(s) => lead(s.lane_width_m).straight(s.length_m),
+            Self::Sine(s) => {
+                lead(s.lane_width_m).sine(s.amplitude_m, s.wavelength_m, 2 * s.periods)
+            }
+            Self::Triangle(s) => {
+                let (leg, phi) = triangle_leg(s.amplitude_m, s.wavelength_m);
+                let r = s.corner_radius_m;
+                let t_full = r * phi.tan(); // tangent length of a 2φ corner
+                let t_half = r * (phi / 2.0).tan(); // of a φ corner
+                let mut b = lead(s.lane_width_m)
+                    .arc(r, phi)
+                    .straight(leg / 2.0 - t_half - t_full);
+                for i in 0..2 * s.periods {
+                    let sign = if i % 2 == 0 { -1.0 } else { 1.0 };
+                    let last = i + 1 == 2 * s.periods;
+                    b = b.arc(r, sign * 2.0 * phi).straight(if last {
+                        leg / 2.0 - t_full - t_half
+                    } else {
+                        leg - 2.0 * t_full
+                    });
+                }
+                b.arc(r, -phi)
+            }
+            Self::Clothoid(s) => lead(s.lane_width_m)
+                .clothoid(s.length_m, 0.0, s.end_curvature_1_m)
+                .clothoid(s.unwind_m, s.end_curvature_1_m, 0.0),
+            Self::SharpTurns(s) => {
+                let mut b = lead(s.lane_width_m);
+                for i in 0..s.count {
+                    let sign = if i % 2 == 0 { 1.0 } else { -1.0 };
+                    b = b
+                        .arc(s.radius_m, sign * s.angle_deg.to_radians())
+                        .straight(s.straight_m);
+                }
+                b
+            }
+            Self::SBend(s) => {
+                let a = s.angle_deg.to_radians();
+                lead(s.lane_width_m).arc(s.radius_m, a).arc(s.radius_m, -a)
+            }
+            Self::LaneChange(s) => {
+                // Two opposite arcs shift by d over length L: φ = 2 atan(d/L), R = L/(2 sin φ).
+                let phi = 2.0 * (s.offset_m / s.transition_m).atan();
+                let r = s.transition_m / (2.0 * phi.sin());
+                let mut b = lead(s.lane_width_m);
+                for i in 0..s.count {
+                    let sign = if i % 2 == 0 { 1.0 } else { -1.0 };
+                    b = b.arc(r, sign * phi).arc(r, -sign * phi).straight(s.hold_m);
+                }
+                b
+            }
+            // Centre line y = w (1 − cos(π ξ / spacing)) after the lead-in.
+            Self::Slalom(s) => {
+                lead(s.lane_width_m).sine(s.weave_m, 2.0 * s.cone_spacing_m, s.cone_count + 1)
+            }
+            Self::Dial(_) => return None,
         })
     }
 }

@@ -52,33 +52,117 @@ pub(crate) struct Pass<const NP: usize> {
 /// One pass: residual and analytic derivatives of each sample folded straight into the
 /// `NP × NP` normal equations (eq. 4.2 extended by the l1 and bias columns).
 pub(crate) fn pass<const NP: usize>(pb: &Problem<'_>, p: &[f64; 8]) -> Pass<NP> {
-    let tr = pb.trig;
-    let l2 = pb.l2;
-    let (l1, l3, l4) = (p[0], p[1], p[2]);
-    let (b3, b4) = if NP > 6 { (p[6], p[7]) } else { (0.0, 0.0) };
-    let (st2, ct2) = sin_cos(p[3]);
-    let (st3, ct3) = sin_cos(p[4]);
-    let (st4, ct4) = sin_cos(p[5]);
-    let mut a = [[0.0f64; NP]; NP];
-    let mut g = [0.0f64; NP];
-    let (mut cost, mut ssr_u, mut d2, mut d3, mut d4) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    let at = At::new::<NP>(pb.l2, p);
+    let mut sums = Sums::<NP>::new();
+    for k in 0..pb.trig.len() {
+        sums.add_sample(pb, &at, k);
+    }
+    sums.into_pass(pb, &at)
+}
+
+/// The parameters of one pass, with the sines and cosines of its offsets.
+struct At {
+    /// Wheel radius (m).
+    l2: f64,
+    l1: f64,
+    l3: f64,
+    l4: f64,
+    /// Offsets Θ3, Θ4 (rad).
+    th3: f64,
+    th4: f64,
+    /// Gyro biases (rad/s; 0 without bias terms).
+    b3: f64,
+    b4: f64,
+    /// (sin, cos) of Θ2, Θ3, Θ4.
+    t2: (f64, f64),
+    t3: (f64, f64),
+    t4: (f64, f64),
+}
+
+impl At {
+    fn new<const NP: usize>(l2: f64, p: &[f64; 8]) -> Self {
+        let (b3, b4) = if NP > 6 { (p[6], p[7]) } else { (0.0, 0.0) };
+        Self {
+            l2,
+            l1: p[0],
+            l3: p[1],
+            l4: p[2],
+            th3: p[4],
+            th4: p[5],
+            b3,
+            b4,
+            t2: sin_cos(p[3]),
+            t3: sin_cos(p[4]),
+            t4: sin_cos(p[5]),
+        }
+    }
+}
+
+/// The running sums of one [`pass`].
+struct Sums<const NP: usize> {
+    a: [[f64; NP]; NP],
+    g: [f64; NP],
+    cost: f64,
+    ssr_u: f64,
+    d2: f64,
+    d3: f64,
+    d4: f64,
     // second-derivative sums: Σ w·g·(r·e), Σ w·g·(r·ie) and their t, t² moments
-    let (mut p2, mut p3, mut p3t, mut p3tt, mut q3, mut q3t) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-    let (mut p4, mut p4t, mut p4tt, mut q4, mut q4t) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    for k in 0..tr.len() {
+    p2: f64,
+    p3: f64,
+    p3t: f64,
+    p3tt: f64,
+    q3: f64,
+    q3t: f64,
+    p4: f64,
+    p4t: f64,
+    p4tt: f64,
+    q4: f64,
+    q4t: f64,
+}
+
+impl<const NP: usize> Sums<NP> {
+    fn new() -> Self {
+        Self {
+            a: [[0.0f64; NP]; NP],
+            g: [0.0f64; NP],
+            cost: 0.0,
+            ssr_u: 0.0,
+            d2: 0.0,
+            d3: 0.0,
+            d4: 0.0,
+            p2: 0.0,
+            p3: 0.0,
+            p3t: 0.0,
+            p3tt: 0.0,
+            q3: 0.0,
+            q3t: 0.0,
+            p4: 0.0,
+            p4t: 0.0,
+            p4tt: 0.0,
+            q4: 0.0,
+            q4t: 0.0,
+        }
+    }
+
+    /// Fold sample `k` in: its residual, and its derivatives into the normal equations.
+    fn add_sample(&mut self, pb: &Problem<'_>, at: &At, k: usize) {
+        let tr = pb.trig;
+        let (l1, l2, l3, l4) = (at.l1, at.l2, at.l3, at.l4);
+        let ((st2, ct2), (st3, ct3), (st4, ct4)) = (at.t2, at.t3, at.t4);
         let t = tr.t[k];
         let w = pb.weights.map_or(1.0, |w| w[k]);
         let (g2, g3, g4) = pb
             .gains
             .map_or((1.0, 1.0, 1.0), |g| (g.g2[k], g.g3[k], g.g4[k]));
         // offsets Θj − bj·t as unit vectors
-        let (so3, co3) = if b3 != 0.0 {
-            sin_cos(p[4] - b3 * t)
+        let (so3, co3) = if at.b3 != 0.0 {
+            sin_cos(at.th3 - at.b3 * t)
         } else {
             (st3, ct3)
         };
-        let (so4, co4) = if b4 != 0.0 {
-            sin_cos(p[5] - b4 * t)
+        let (so4, co4) = if at.b4 != 0.0 {
+            sin_cos(at.th4 - at.b4 * t)
         } else {
             (st4, ct4)
         };
@@ -105,30 +189,30 @@ pub(crate) fn pass<const NP: usize>(pb: &Problem<'_>, p: &[f64; 8]) -> Pass<NP> 
                 l2 * c2 + l3 * c3 - l4 * c4 - l1,
                 l2 * s2 + l3 * s3 - l4 * s4,
             ];
-            ssr_u += raw[0] * raw[0] + raw[1] * raw[1];
+            self.ssr_u += raw[0] * raw[0] + raw[1] * raw[1];
             let (e2, e3, e4) = (g2 * g2 - 1.0, g3 * g3 - 1.0, g4 * g4 - 1.0);
-            d2 += w * e2;
-            d3 += w * e3;
-            d4 += w * e4;
+            self.d2 += w * e2;
+            self.d3 += w * e3;
+            self.d4 += w * e4;
         } else {
-            ssr_u += r2;
+            self.ssr_u += r2;
         }
-        cost += w * r2;
+        self.cost += w * r2;
         let (wg2, wg3, wg4) = (w * g2, w * g3, w * g4);
-        p2 += wg2 * (r[0] * c2 + r[1] * s2);
+        self.p2 += wg2 * (r[0] * c2 + r[1] * s2);
         let (pp3, qq3) = (wg3 * (r[0] * c3 + r[1] * s3), wg3 * (r[1] * c3 - r[0] * s3));
         let (pp4, qq4) = (wg4 * (r[0] * c4 + r[1] * s4), wg4 * (r[1] * c4 - r[0] * s4));
-        p3 += pp3;
-        q3 += qq3;
-        p4 += pp4;
-        q4 += qq4;
+        self.p3 += pp3;
+        self.q3 += qq3;
+        self.p4 += pp4;
+        self.q4 += qq4;
         if NP > 6 {
-            p3t += t * pp3;
-            p3tt += t * t * pp3;
-            q3t += t * qq3;
-            p4t += t * pp4;
-            p4tt += t * t * pp4;
-            q4t += t * qq4;
+            self.p3t += t * pp3;
+            self.p3tt += t * t * pp3;
+            self.q3t += t * qq3;
+            self.p4t += t * pp4;
+            self.p4tt += t * t * pp4;
+            self.q4t += t * qq4;
         }
         let mut dre = [0.0f64; NP];
         let mut dim = [0.0f64; NP];
@@ -151,56 +235,71 @@ pub(crate) fn pass<const NP: usize>(pb: &Problem<'_>, p: &[f64; 8]) -> Pass<NP> 
         }
         for i in 0..NP {
             let (wre, wim) = (w * dre[i], w * dim[i]);
-            g[i] += wre * r[0] + wim * r[1];
+            self.g[i] += wre * r[0] + wim * r[1];
             for j in 0..=i {
-                a[i][j] += wre * dre[j] + wim * dim[j];
+                self.a[i][j] += wre * dre[j] + wim * dim[j];
             }
         }
     }
-    let mut jtj = SMatrix::<f64, NP, NP>::from_fn(|i, j| if j <= i { a[i][j] } else { a[j][i] });
-    let mut jtr = SVector::<f64, NP>::from_fn(|i, _| g[i]);
-    let cost_scale = cost;
-    if pb.gains.is_some() {
-        // − Σ w·lⱼ²(gⱼ² − 1): the noise's expected share of |r|²; its slope in l3, l4, and the
-        // same share taken out of the Gauss–Newton curvature of every column (so this equals
-        // the normal-matrix form `GᵀHG` of `compressed` exactly)
-        cost -= l2 * l2 * d2 + l3 * l3 * d3 + l4 * l4 * d4;
-        jtr[1] -= l3 * d3;
-        jtr[2] -= l4 * d4;
-        jtj[(1, 1)] -= d3;
-        jtj[(2, 2)] -= d4;
-    }
-    // ∂²r: (l3, Θ3) = g3·ie3, (Θ3, Θ3) = −l3g3·e3, (Θ2, Θ2) = −l2g2·e2, (l4, Θ4) = −g4·ie4,
-    // (Θ4, Θ4) = l4g4·e4, and each bias bj acts as −t·Θj
-    let mut curv = SMatrix::<f64, NP, NP>::zeros();
-    let mut set = |i: usize, j: usize, v: f64| {
-        curv[(i, j)] += v;
-        if i != j {
-            curv[(j, i)] += v;
+
+    /// The normal equations of the sums (the correction of the gains applied).
+    fn into_pass(self, pb: &Problem<'_>, at: &At) -> Pass<NP> {
+        let (l2, l3, l4) = (at.l2, at.l3, at.l4);
+        let (a, g) = (self.a, self.g);
+        let (d2, d3, d4) = (self.d2, self.d3, self.d4);
+        let mut cost = self.cost;
+        let mut jtj =
+            SMatrix::<f64, NP, NP>::from_fn(|i, j| if j <= i { a[i][j] } else { a[j][i] });
+        let mut jtr = SVector::<f64, NP>::from_fn(|i, _| g[i]);
+        let cost_scale = cost;
+        if pb.gains.is_some() {
+            // − Σ w·lⱼ²(gⱼ² − 1): the noise's expected share of |r|²; its slope in l3, l4, and
+            // the same share taken out of the Gauss–Newton curvature of every column (so this
+            // equals the normal-matrix form `GᵀHG` of `compressed` exactly)
+            cost -= l2 * l2 * d2 + l3 * l3 * d3 + l4 * l4 * d4;
+            jtr[1] -= l3 * d3;
+            jtr[2] -= l4 * d4;
+            jtj[(1, 1)] -= d3;
+            jtj[(2, 2)] -= d4;
         }
-    };
-    set(3, 3, -l2 * p2);
-    set(1, 4, q3);
-    set(4, 4, -l3 * p3);
-    set(2, 5, -q4);
-    set(5, 5, l4 * p4);
-    if NP > 6 {
-        set(1, 6, -q3t);
-        set(4, 6, l3 * p3t);
-        set(6, 6, -l3 * p3tt);
-        set(2, 7, q4t);
-        set(5, 7, -l4 * p4t);
-        set(7, 7, l4 * p4tt);
+        Pass {
+            normal: Normal {
+                jtj,
+                curv: self.curvature(at),
+                jtr,
+                cost,
+                cost_scale,
+            },
+            ssr_unweighted: self.ssr_u,
+        }
     }
-    Pass {
-        normal: Normal {
-            jtj,
-            curv,
-            jtr,
-            cost,
-            cost_scale,
-        },
-        ssr_unweighted: ssr_u,
+
+    /// `Σ w·Re(conj(r)·∂²r)`. ∂²r: (l3, Θ3) = g3·ie3, (Θ3, Θ3) = −l3g3·e3,
+    /// (Θ2, Θ2) = −l2g2·e2, (l4, Θ4) = −g4·ie4, (Θ4, Θ4) = l4g4·e4, and each bias bj acts
+    /// as −t·Θj.
+    fn curvature(&self, at: &At) -> SMatrix<f64, NP, NP> {
+        let (l2, l3, l4) = (at.l2, at.l3, at.l4);
+        let mut curv = SMatrix::<f64, NP, NP>::zeros();
+        let mut set = |i: usize, j: usize, v: f64| {
+            curv[(i, j)] += v;
+            if i != j {
+                curv[(j, i)] += v;
+            }
+        };
+        set(3, 3, -l2 * self.p2);
+        set(1, 4, self.q3);
+        set(4, 4, -l3 * self.p3);
+        set(2, 5, -self.q4);
+        set(5, 5, l4 * self.p4);
+        if NP > 6 {
+            set(1, 6, -self.q3t);
+            set(4, 6, l3 * self.p3t);
+            set(6, 6, -l3 * self.p3tt);
+            set(2, 7, self.q4t);
+            set(5, 7, -l4 * self.p4t);
+            set(7, 7, l4 * self.p4tt);
+        }
+        curv
     }
 }
 

@@ -308,38 +308,12 @@ fn calibrate_with_noise(
     } else {
         6
     };
-    let refined = fit.refined;
-    let params = FourbarParams::from_vec8(refined.p);
-    let stats = match (global_stats, &fit.plain) {
-        (Some(stats), _) => stats,
-        (None, Some(q)) => {
-            // plain least squares without bias terms: everything from the 7×7 form
-            let ne = q.normal(l2_m, &params.to_vec8());
-            let jtj = DMatrix::from_fn(6, 6, |i, j| ne.jtj[(i, j)]);
-            quality::fit_stats(&jtj, ne.cost.max(0.0), samples.len() as f64)
-        }
-        (None, None) => {
-            let pb = Problem {
-                trig: &trig,
-                l2: l2_m,
-                weights: Some(&fit.weights),
-                gains: None,
-            };
-            let p = params.to_vec8();
-            let (jtj, ssr_w, ssr) = if np_used == 8 {
-                let ps = pass::<8>(&pb, &p);
-                let jtj = DMatrix::from_fn(8, 8, |i, j| ps.normal.jtj[(i, j)]);
-                (jtj, ps.normal.cost, ps.ssr_unweighted)
-            } else {
-                let ps = pass::<6>(&pb, &p);
-                let jtj = DMatrix::from_fn(6, 6, |i, j| ps.normal.jtj[(i, j)]);
-                (jtj, ps.normal.cost, ps.ssr_unweighted)
-            };
-            let mut stats = quality::fit_stats(&jtj, ssr_w, fit.n_eff);
-            stats.rms_residual_m = (ssr / samples.len() as f64).sqrt();
-            stats
-        }
+    let params = FourbarParams::from_vec8(fit.refined.p);
+    let stats = match global_stats {
+        Some(stats) => stats,
+        None => fit_statistics(samples, &trig, l2_m, &fit, np_used, &params),
     };
+    let refined = fit.refined;
     let outlier_fraction = fit.outlier_fraction;
     let range = samples.wheel_range_rad();
     let mut warnings = quality::warnings(&params, &stats, Some(range), samples.time_s.is_some());
@@ -369,6 +343,47 @@ fn calibrate_with_noise(
         wheel_range_rad: Some(range),
         warnings,
     })
+}
+
+/// The statistics of `fit` (`np_used` parameters) of `samples`, but for the closed form's,
+/// which come from its triangular factor.
+fn fit_statistics(
+    samples: &FourbarSamples<'_>,
+    trig: &Trig,
+    l2_m: f64,
+    fit: &Fit,
+    np_used: usize,
+    params: &FourbarParams,
+) -> quality::FitStats {
+    match &fit.plain {
+        Some(q) => {
+            // plain least squares without bias terms: everything from the 7×7 form
+            let ne = q.normal(l2_m, &params.to_vec8());
+            let jtj = DMatrix::from_fn(6, 6, |i, j| ne.jtj[(i, j)]);
+            quality::fit_stats(&jtj, ne.cost.max(0.0), samples.len() as f64)
+        }
+        None => {
+            let pb = Problem {
+                trig,
+                l2: l2_m,
+                weights: Some(&fit.weights),
+                gains: None,
+            };
+            let p = params.to_vec8();
+            let (jtj, ssr_w, ssr) = if np_used == 8 {
+                let ps = pass::<8>(&pb, &p);
+                let jtj = DMatrix::from_fn(8, 8, |i, j| ps.normal.jtj[(i, j)]);
+                (jtj, ps.normal.cost, ps.ssr_unweighted)
+            } else {
+                let ps = pass::<6>(&pb, &p);
+                let jtj = DMatrix::from_fn(6, 6, |i, j| ps.normal.jtj[(i, j)]);
+                (jtj, ps.normal.cost, ps.ssr_unweighted)
+            };
+            let mut stats = quality::fit_stats(&jtj, ssr_w, fit.n_eff);
+            stats.rms_residual_m = (ssr / samples.len() as f64).sqrt();
+            stats
+        }
+    }
 }
 
 fn plain_fit(p: [f64; 8], iterations: u32, converged: bool, n: usize) -> Fit {

@@ -183,19 +183,8 @@ impl LinkTask {
                 let _ = out_tx.send(self.outgoing(p));
                 enqueued_upto = Some(p.seq);
             }
-            if let Some(f) = self.finishing.as_ref().filter(|_| !bye_sent) {
-                let bye = Frame::Bye(Bye {
-                    session_id: session_id.clone(),
-                    reason: f.reason.clone(),
-                    final_seq: self.last_produced_seq,
-                    measures: f.measures.clone(),
-                });
-                match encode_to_vec(&bye) {
-                    Ok(bytes) => {
-                        let _ = out_tx.send(Outgoing::new(bytes.into()));
-                    }
-                    Err(e) => self.shared.set_error(format!("cannot encode Bye: {e}")),
-                }
+            if self.finishing.is_some() && !bye_sent {
+                self.say_bye(&session_id, &out_tx);
                 bye_sent = true;
             }
             let deadline = self.deadline();
@@ -211,59 +200,9 @@ impl LinkTask {
                 }
                 frame = reader.next_frame() => {
                     last_heard = Instant::now();
-                    match frame {
-                        Ok(Some(Frame::Ack(ack))) => {
-                            match self.on_ack(&ack, &session_id, &out_tx) {
-                                Ok(acked) => progress |= acked,
-                                Err(error) => break lost(error, progress),
-                            }
-                        }
-                        Ok(Some(Frame::Regimen(r))) => {
-                            Shared::bump(&self.shared.regimens_received);
-                            tracing::info!(id = %r.id, "regimen received from therapist");
-                            if self.regimen_tx.try_send(r).is_err() {
-                                self.shared.set_error(format!(
-                                    "regimen dropped: {REGIMEN_CAPACITY} unread regimens waiting"
-                                ));
-                            }
-                        }
-                        Ok(Some(Frame::Bye(b))) if bye_sent && self.pending.is_empty() => {
-                            tracing::info!(final_seq = ?b.final_seq, "therapist confirmed end of session");
-                            self.shared.bye_acknowledged.store(true, Ordering::Relaxed);
-                            break ConnEnd::Done;
-                        }
-                        Ok(Some(Frame::Bye(b))) => {
-                            break lost(NetlinkError::Protocol(format!(
-                                "therapist ended the connection: {} ({} summaries unacknowledged)",
-                                b.reason, self.pending.len()
-                            )), progress);
-                        }
-                        Ok(Some(Frame::Error(e)))
-                            if e.code.as_deref() == Some(crate::frame::UPDATE_REQUIRED) =>
-                        {
-                            break ConnEnd::UpdateRequired(e.message);
-                        }
-                        Ok(Some(Frame::Error(e))) => {
-                            break lost(NetlinkError::Protocol(format!(
-                                "therapist reported an error: {}", e.message
-                            )), progress);
-                        }
-                        Ok(Some(other)) => {
-                            let error = NetlinkError::Protocol(format!(
-                                "unexpected {} frame from the therapist", other.kind()
-                            ));
-                            send_error_frame(&out_tx, &error);
-                            break lost(error, progress);
-                        }
-                        Ok(None) => {
-                            break lost(NetlinkError::Protocol(
-                                "therapist closed the connection".into()
-                            ), progress);
-                        }
-                        Err(error) => {
-                            send_error_frame(&out_tx, &error);
-                            break lost(error, progress);
-                        }
+                    let seen = (bye_sent, session_id.as_str(), &out_tx);
+                    if let Some(end) = self.on_frame(frame, seen, &mut progress) {
+                        break end;
                     }
                 }
                 q = self.rx.recv(), if self.rx_open => {
@@ -303,6 +242,95 @@ impl LinkTask {
             }
         }
         end
+    }
+
+    /// Queue the `Bye` of a finishing session on `out_tx`.
+    fn say_bye(&self, session_id: &str, out_tx: &mpsc::UnboundedSender<Outgoing>) {
+        let Some(f) = self.finishing.as_ref() else {
+            return;
+        };
+        let bye = Frame::Bye(Bye {
+            session_id: session_id.to_owned(),
+            reason: f.reason.clone(),
+            final_seq: self.last_produced_seq,
+            measures: f.measures.clone(),
+        });
+        match encode_to_vec(&bye) {
+            Ok(bytes) => {
+                let _ = out_tx.send(Outgoing::new(bytes.into()));
+            }
+            Err(e) => self.shared.set_error(format!("cannot encode Bye: {e}")),
+        }
+    }
+
+    /// What the hub sent (`frame`) on a connection that has sent its `Bye` or not, for
+    /// session `session_id`, answering on `out_tx`: how the connection ends, or `None` if it
+    /// goes on. `progress` turns true when an Ack acknowledged something.
+    fn on_frame(
+        &mut self,
+        frame: Result<Option<Frame>, NetlinkError>,
+        (bye_sent, session_id, out_tx): (bool, &str, &mpsc::UnboundedSender<Outgoing>),
+        progress: &mut bool,
+    ) -> Option<ConnEnd> {
+        let lost = |error, progress| Some(ConnEnd::Lost { error, progress });
+        match frame {
+            Ok(Some(Frame::Ack(ack))) => match self.on_ack(&ack, session_id, out_tx) {
+                Ok(acked) => {
+                    *progress |= acked;
+                    None
+                }
+                Err(error) => lost(error, *progress),
+            },
+            Ok(Some(Frame::Regimen(r))) => {
+                Shared::bump(&self.shared.regimens_received);
+                tracing::info!(id = %r.id, "regimen received from therapist");
+                if self.regimen_tx.try_send(r).is_err() {
+                    self.shared.set_error(format!(
+                        "regimen dropped: {REGIMEN_CAPACITY} unread regimens waiting"
+                    ));
+                }
+                None
+            }
+            Ok(Some(Frame::Bye(b))) if bye_sent && self.pending.is_empty() => {
+                tracing::info!(final_seq = ?b.final_seq, "therapist confirmed end of session");
+                self.shared.bye_acknowledged.store(true, Ordering::Relaxed);
+                Some(ConnEnd::Done)
+            }
+            Ok(Some(Frame::Bye(b))) => {
+                let error = NetlinkError::Protocol(format!(
+                    "therapist ended the connection: {} ({} summaries unacknowledged)",
+                    b.reason,
+                    self.pending.len()
+                ));
+                lost(error, *progress)
+            }
+            Ok(Some(Frame::Error(e)))
+                if e.code.as_deref() == Some(crate::frame::UPDATE_REQUIRED) =>
+            {
+                Some(ConnEnd::UpdateRequired(e.message))
+            }
+            Ok(Some(Frame::Error(e))) => {
+                let error =
+                    NetlinkError::Protocol(format!("therapist reported an error: {}", e.message));
+                lost(error, *progress)
+            }
+            Ok(Some(other)) => {
+                let error = NetlinkError::Protocol(format!(
+                    "unexpected {} frame from the therapist",
+                    other.kind()
+                ));
+                send_error_frame(out_tx, &error);
+                lost(error, *progress)
+            }
+            Ok(None) => {
+                let error = NetlinkError::Protocol("therapist closed the connection".into());
+                lost(error, *progress)
+            }
+            Err(error) => {
+                send_error_frame(out_tx, &error);
+                lost(error, *progress)
+            }
+        }
     }
 }
 

@@ -1,16 +1,16 @@
 //! `telerehab hub`: the clinic's system of record — `init` a data directory, `serve` the
 //! stations (mutual TLS) and the therapist console API (HTTPS), add patients (each with a
 //! one-time pairing code), show a patient's sessions, revoke a station, add therapists.
+//! The database work of `hub patient …` is in `hub::patients`: here the arguments are
+//! parsed and the answers printed.
 
 use anyhow::{Context, bail};
 use hub::clinic::{Bound, Clinic, ServeOptions};
 use hub::db::{Db, Role};
+use hub::patients;
 use std::io::Write;
 use std::path::PathBuf;
 use std::sync::Arc;
-
-/// How long a pairing code lives, ms (72 h).
-const PAIRING_TTL_MS: i64 = 72 * 3600 * 1000;
 
 /// `telerehab hub`.
 #[derive(Debug, clap::Args)]
@@ -532,26 +532,13 @@ async fn patient(command: PatientCommand) -> anyhow::Result<()> {
             therapist,
         } => {
             let (_, db) = open(&data).await?;
-            let therapist_id = match &therapist {
-                Some(email) => Some(
-                    db.therapist_by_email(email)
-                        .await?
-                        .with_context(|| format!("no therapist {email}"))?
-                        .id,
-                ),
-                None => None,
-            };
-            let p = db
-                .add_patient(&pseudonym, therapist_id.as_deref(), now_ms())
-                .await?;
-            db.audit("cli", "add_patient", &p.id, &pseudonym, now_ms())
-                .await?;
-            print_code(&db, &p.id, &pseudonym).await
+            let code = patients::add(&db, &pseudonym, therapist.as_deref(), now_ms()).await?;
+            print_code(&code, &pseudonym);
         }
         PatientCommand::Code { data, pseudonym } => {
             let (_, db) = open(&data).await?;
-            let p = find(&db, &pseudonym).await?;
-            print_code(&db, &p.id, &pseudonym).await
+            let code = patients::new_code(&db, &pseudonym, now_ms()).await?;
+            print_code(&code, &pseudonym);
         }
         PatientCommand::Regimen {
             data,
@@ -560,24 +547,14 @@ async fn patient(command: PatientCommand) -> anyhow::Result<()> {
             by,
         } => {
             let (_, db) = open(&data).await?;
-            let p = find(&db, &pseudonym).await?;
-            let therapist = db
-                .therapist_by_email(&by)
-                .await?
-                .with_context(|| format!("no therapist {by}"))?;
             let text = std::fs::read_to_string(&file)
                 .with_context(|| format!("cannot read {}", file.display()))?;
-            regimen::Regimen::from_toml(&text, &file.display().to_string())?;
-            let version = db
-                .put_regimen(&p.id, &text, &therapist.id, now_ms())
-                .await?;
-            let detail = format!("version {version}");
-            db.audit(&therapist.actor(), "put_regimen", &p.id, &detail, now_ms())
-                .await?;
+            let origin = file.display().to_string();
+            let version =
+                patients::prescribe(&db, &pseudonym, &text, &origin, &by, now_ms()).await?;
             println!(
                 "regimen version {version} for {pseudonym}: sent to the station when it next connects"
             );
-            Ok(())
         }
         PatientCommand::Show {
             data,
@@ -585,80 +562,71 @@ async fn patient(command: PatientCommand) -> anyhow::Result<()> {
             json,
         } => {
             let (_, db) = open(&data).await?;
-            let p = find(&db, &pseudonym).await?;
-            let stations = db.stations_of(&p.id).await?;
-            let sessions = db.sessions_of(&p.id).await?;
-            db.audit("cli", "show_patient", &p.id, "", now_ms()).await?;
+            let report = patients::show(&db, &pseudonym, now_ms()).await?;
             if json {
-                let mut rows = Vec::with_capacity(sessions.len());
-                for s in &sessions {
-                    let stored = db.summaries_of(&s.session_id).await?.len();
-                    let recording = db.recording(&s.session_id).await?;
-                    let metrics = db.metrics_of(&s.session_id).await?;
-                    rows.push(serde_json::json!({
-                        "session": s,
-                        "summaries_stored": stored,
-                        "recording": recording,
-                        "metrics": metrics,
-                    }));
-                }
-                let out =
-                    serde_json::json!({ "patient": p, "stations": stations, "sessions": rows });
-                println!("{}", serde_json::to_string_pretty(&out)?);
-                return Ok(());
+                println!("{}", serde_json::to_string_pretty(&report_json(&report))?);
+            } else {
+                print_report(&report);
             }
-            println!("patient {} ({})", p.pseudonym, p.id);
-            for st in &stations {
-                let state = if st.is_revoked() { "REVOKED" } else { "active" };
-                println!(
-                    "  station {} {state}, paired {}",
-                    st.station_id, st.paired_at_ms
-                );
-            }
-            println!(
-                "  {:<44} {:<16} {:>10} {:>9} {:>10} {:>9} {:>6}",
-                "session", "exercise", "start (ms)", "length s", "summaries", "movements", "SPARC"
-            );
-            for s in &sessions {
-                let stored = db.summaries_of(&s.session_id).await?;
-                let length_s = stored.last().map_or(0.0, |x| x.t_s);
-                let metrics = db.metrics_of(&s.session_id).await?;
-                let measure = |name: &str, digits: usize| {
-                    metrics
-                        .get(name)
-                        .map_or("-".to_owned(), |v| format!("{v:.digits$}"))
-                };
-                println!(
-                    "  {:<44} {:<16} {:>10} {:>9.1} {:>10} {:>9} {:>6}",
-                    s.session_id,
-                    s.exercise,
-                    s.started_unix_ms,
-                    length_s,
-                    stored.len(),
-                    measure("movements", 0),
-                    measure("sparc_median", 2)
-                );
-            }
-            Ok(())
         }
     }
+    Ok(())
 }
 
-async fn find(db: &Db, pseudonym: &str) -> anyhow::Result<hub::db::Patient> {
-    match db.patient_by_pseudonym(pseudonym).await? {
-        Some(p) => Ok(p),
-        None => bail!("no patient with pseudonym {pseudonym:?}"),
+/// `hub patient show --json`.
+fn report_json(report: &patients::PatientReport) -> serde_json::Value {
+    let rows: Vec<_> = report
+        .sessions
+        .iter()
+        .map(|s| {
+            serde_json::json!({
+                "session": s.session,
+                "summaries_stored": s.summaries_stored,
+                "recording": s.recording,
+                "metrics": s.metrics,
+            })
+        })
+        .collect();
+    serde_json::json!({ "patient": report.patient, "stations": report.stations, "sessions": rows })
+}
+
+/// `hub patient show`, for people.
+fn print_report(report: &patients::PatientReport) {
+    let p = &report.patient;
+    println!("patient {} ({})", p.pseudonym, p.id);
+    for st in &report.stations {
+        let state = if st.is_revoked() { "REVOKED" } else { "active" };
+        println!(
+            "  station {} {state}, paired {}",
+            st.station_id, st.paired_at_ms
+        );
+    }
+    println!(
+        "  {:<44} {:<16} {:>10} {:>9} {:>10} {:>9} {:>6}",
+        "session", "exercise", "start (ms)", "length s", "summaries", "movements", "SPARC"
+    );
+    for s in &report.sessions {
+        let measure = |name: &str, digits: usize| {
+            s.metrics
+                .get(name)
+                .map_or("-".to_owned(), |v| format!("{v:.digits$}"))
+        };
+        println!(
+            "  {:<44} {:<16} {:>10} {:>9.1} {:>10} {:>9} {:>6}",
+            s.session.session_id,
+            s.session.exercise,
+            s.session.started_unix_ms,
+            s.length_s,
+            s.summaries_stored,
+            measure("movements", 0),
+            measure("sparc_median", 2)
+        );
     }
 }
 
-async fn print_code(db: &Db, patient_id: &str, pseudonym: &str) -> anyhow::Result<()> {
-    let code = db
-        .create_pairing_code(patient_id, now_ms(), PAIRING_TTL_MS)
-        .await?;
-    db.audit("cli", "pairing_code", patient_id, "", now_ms())
-        .await?;
+fn print_code(code: &patients::PairingCode, pseudonym: &str) {
+    let (patient_id, code) = (&code.patient_id, &code.code);
     println!("patient {pseudonym} ({patient_id})");
     println!("pairing code: {code}  (single use, valid 72 h)");
     println!("on the patient's computer: telerehab pair --hub HUB:7878 --code {code}");
-    Ok(())
 }

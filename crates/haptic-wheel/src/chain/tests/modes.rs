@@ -374,6 +374,16 @@ fn play_on_wheel(
     rig.stop()
 }
 
+/// What the supervisor sees of a tick.
+struct TickView {
+    /// A tick gap, a clock going backwards or a stale reading.
+    faulted: bool,
+    /// The slew allowance of this tick, N·m.
+    allowance: f64,
+    /// Time the supervisor's fades advanced this tick, s.
+    progress: f64,
+}
+
 /// One wheel under test with its chain and the checker.
 struct Rig {
     name: String,
@@ -393,9 +403,27 @@ impl Rig {
     /// One tick: the clock moves by `gap`, the chain gets `reading` and `external_nm`, its
     /// command goes to the wheel; every invariant is checked.
     fn tick(&mut self, gap: Gap, reading: Reading, external_nm: f64) -> Result<(), TestCaseError> {
-        let name = self.name.clone();
-        let interval_ns = self.interval_ns;
-        let now_ns = match gap {
+        let now_ns = self.advance(gap);
+        let reading = self.reading(reading, now_ns);
+        let view = self.supervisor_view(now_ns, reading);
+        let tel = self.c.tick(TickInput {
+            now_ns,
+            reading,
+            external_nm,
+        });
+        let cmd = tel.torque_nm;
+        let ceiling = self.c.ceiling_nm();
+        self.check_command(&tel, ceiling, view.allowance)?;
+        self.check_fades(&tel, ceiling, &view)?;
+        self.check_motor(cmd, ceiling, view.allowance)?;
+        self.k.last_cmd_nm = cmd;
+        self.k.ceiling_since_tick_nm = ceiling;
+        Ok(())
+    }
+
+    /// Move the clock by `gap`; the chain's now, ns.
+    fn advance(&mut self, gap: Gap) -> u64 {
+        match gap {
             Gap::Nominal => {
                 self.mock.advance_ns(DT_NS);
                 self.mock.now_ns()
@@ -408,8 +436,12 @@ impl Rig {
                 .last_chain_ns
                 .unwrap_or(self.mock.now_ns())
                 .saturating_sub(b),
-        };
-        let reading = match reading {
+        }
+    }
+
+    /// The chain's reading of this tick at `now_ns`.
+    fn reading(&mut self, reading: Reading, now_ns: u64) -> Option<WheelReading> {
+        match reading {
             Reading::Wheel => self.wheel.read().ok(),
             Reading::Angle(a) => Some(WheelReading {
                 angle_rad: a,
@@ -424,8 +456,11 @@ impl Rig {
                 angle_rad: 0.1,
                 t_ns: now_ns + ahead,
             }),
-        };
-        // The supervisor's view of this tick.
+        }
+    }
+
+    /// The supervisor's view of a tick at `now_ns` with `reading`.
+    fn supervisor_view(&mut self, now_ns: u64, reading: Option<WheelReading>) -> TickView {
         let gap_s = self
             .last_chain_ns
             .map_or(0.0, |t| now_ns.saturating_sub(t) as f64 * 1e-9);
@@ -439,14 +474,22 @@ impl Rig {
         let slew_dt = gap_s.min(self.k.max_tick_gap_s).max(1e-4);
         let allowance = self.k.slew_nm_per_s * slew_dt;
         let progress = gap_s.min(self.k.max_tick_gap_s);
+        TickView {
+            faulted,
+            allowance,
+            progress,
+        }
+    }
 
-        let tel = self.c.tick(TickInput {
-            now_ns,
-            reading,
-            external_nm,
-        });
+    /// The chain's command `tel` under `ceiling` N·m, within the slew `allowance` N·m.
+    fn check_command(
+        &self,
+        tel: &TickTelemetry,
+        ceiling: f64,
+        allowance: f64,
+    ) -> Result<(), TestCaseError> {
+        let name = &self.name;
         let cmd = tel.torque_nm;
-        let ceiling = self.c.ceiling_nm();
         // The chain's command.
         prop_assert!(cmd.is_finite(), "{name}: non-finite command {cmd}");
         prop_assert!(
@@ -462,6 +505,18 @@ impl Rig {
             "{name}: command stepped {from} → {cmd} N·m, slew allows {allowance} N·m ({:?})",
             tel.watchdog
         );
+        Ok(())
+    }
+
+    /// The fade bounds of a stop, a pause and a fault, with the command `tel` under `ceiling`.
+    fn check_fades(
+        &mut self,
+        tel: &TickTelemetry,
+        ceiling: f64,
+        view: &TickView,
+    ) -> Result<(), TestCaseError> {
+        let name = self.name.clone();
+        let (cmd, faulted, progress) = (tel.torque_nm, view.faulted, view.progress);
         // The fade bounds, on the supervisor's clock: zero from the third tick past the bound
         // (the scale reaches exactly zero on the tick after its ramp crossed it, the limiter
         // then needs its last step).
@@ -500,7 +555,14 @@ impl Rig {
             prop_assert_eq!(tel.watchdog, WatchdogState::Stopped);
         }
 
-        // The motor, driven as the station's loop drives it.
+        Ok(())
+    }
+
+    /// The motor, driven with `cmd` under `ceiling` as the station's loop drives it, within
+    /// the slew `allowance` of this tick.
+    fn check_motor(&mut self, cmd: f64, ceiling: f64, allowance: f64) -> Result<(), TestCaseError> {
+        let name = self.name.clone();
+        let interval_ns = self.interval_ns;
         let _ = self.wheel.set_torque_ceiling_nm(ceiling);
         let _ = self.wheel.command_torque(cmd);
         let level = self.wheel.sent_level();
@@ -561,8 +623,6 @@ impl Rig {
             self.k.ceiling_since_motor_nm = ceiling;
         }
         self.k.last_motor_nm = motor;
-        self.k.last_cmd_nm = cmd;
-        self.k.ceiling_since_tick_nm = ceiling;
         Ok(())
     }
 

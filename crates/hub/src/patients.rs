@@ -1,0 +1,153 @@
+//! What `telerehab hub patient …` does to the clinic's database, a function per subcommand:
+//! add a patient, issue a pairing code, prescribe a regimen, show a patient's sessions. The
+//! station's command parses the arguments and prints; every change is audited here.
+
+use crate::db::{Db, Patient, Recording, SessionRow, Station};
+use crate::error::HubError;
+use std::collections::BTreeMap;
+
+/// How long a pairing code lives, ms (72 h).
+pub const PAIRING_TTL_MS: i64 = 72 * 3600 * 1000;
+
+/// A one-time pairing code issued to a patient.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PairingCode {
+    /// The patient's id.
+    pub patient_id: String,
+    /// The code (single use, valid [`PAIRING_TTL_MS`]).
+    pub code: String,
+}
+
+/// Everything `hub patient show` says about a patient.
+#[derive(Clone, Debug)]
+pub struct PatientReport {
+    /// The patient.
+    pub patient: Patient,
+    /// Their stations, newest first (revoked ones included).
+    pub stations: Vec<Station>,
+    /// Their sessions, newest first.
+    pub sessions: Vec<SessionReport>,
+}
+
+/// One session of a [`PatientReport`].
+#[derive(Clone, Debug)]
+pub struct SessionReport {
+    /// The session.
+    pub session: SessionRow,
+    /// Summaries stored.
+    pub summaries_stored: usize,
+    /// Session time of the last summary stored, s (0 without one).
+    pub length_s: f64,
+    /// Its recording, if the station announced one.
+    pub recording: Option<Recording>,
+    /// Its clinical measures, by name.
+    pub metrics: BTreeMap<String, f64>,
+}
+
+/// `hub patient add`: a new patient `pseudonym`, in the care of the therapist with the
+/// e-mail `therapist_email` if given, and their first pairing code.
+pub async fn add(
+    db: &Db,
+    pseudonym: &str,
+    therapist_email: Option<&str>,
+    now_ms: i64,
+) -> Result<PairingCode, HubError> {
+    let therapist_id = match therapist_email {
+        Some(email) => Some(therapist(db, email).await?.id),
+        None => None,
+    };
+    let p = db
+        .add_patient(pseudonym, therapist_id.as_deref(), now_ms)
+        .await?;
+    db.audit("cli", "add_patient", &p.id, pseudonym, now_ms)
+        .await?;
+    issue_code(db, &p.id, now_ms).await
+}
+
+/// `hub patient code`: a new pairing code for the patient `pseudonym`.
+pub async fn new_code(db: &Db, pseudonym: &str, now_ms: i64) -> Result<PairingCode, HubError> {
+    let p = find(db, pseudonym).await?;
+    issue_code(db, &p.id, now_ms).await
+}
+
+/// `hub patient regimen`: prescribe the regimen `toml` (read from `origin`, named in its
+/// errors) to the patient `pseudonym`, by the therapist with the e-mail `by`; its version.
+/// An invalid regimen is refused and nothing is stored.
+pub async fn prescribe(
+    db: &Db,
+    pseudonym: &str,
+    toml: &str,
+    origin: &str,
+    by: &str,
+    now_ms: i64,
+) -> Result<i64, HubError> {
+    let p = find(db, pseudonym).await?;
+    let therapist = therapist(db, by).await?;
+    regimen::Regimen::from_toml(toml, origin).map_err(|e| HubError::Invalid {
+        field: "regimen",
+        reason: e.to_string(),
+    })?;
+    let version = db.put_regimen(&p.id, toml, &therapist.id, now_ms).await?;
+    let detail = format!("version {version}");
+    db.audit(&therapist.actor(), "put_regimen", &p.id, &detail, now_ms)
+        .await?;
+    Ok(version)
+}
+
+/// `hub patient show`: the patient `pseudonym`, their stations and sessions (audited).
+pub async fn show(db: &Db, pseudonym: &str, now_ms: i64) -> Result<PatientReport, HubError> {
+    let patient = find(db, pseudonym).await?;
+    let stations = db.stations_of(&patient.id).await?;
+    let rows = db.sessions_of(&patient.id).await?;
+    db.audit("cli", "show_patient", &patient.id, "", now_ms)
+        .await?;
+    let mut sessions = Vec::with_capacity(rows.len());
+    for session in rows {
+        let stored = db.summaries_of(&session.session_id).await?;
+        sessions.push(SessionReport {
+            summaries_stored: stored.len(),
+            length_s: stored.last().map_or(0.0, |x| x.t_s),
+            recording: db.recording(&session.session_id).await?,
+            metrics: db.metrics_of(&session.session_id).await?,
+            session,
+        });
+    }
+    Ok(PatientReport {
+        patient,
+        stations,
+        sessions,
+    })
+}
+
+/// The patient `pseudonym`.
+async fn find(db: &Db, pseudonym: &str) -> Result<Patient, HubError> {
+    db.patient_by_pseudonym(pseudonym)
+        .await?
+        .ok_or_else(|| HubError::NotFound {
+            what: "patient",
+            id: pseudonym.to_owned(),
+        })
+}
+
+/// The therapist with the e-mail `email`.
+async fn therapist(db: &Db, email: &str) -> Result<crate::db::Therapist, HubError> {
+    db.therapist_by_email(email)
+        .await?
+        .ok_or_else(|| HubError::NotFound {
+            what: "therapist",
+            id: email.to_owned(),
+        })
+}
+
+/// A new pairing code for the patient `patient_id` (audited).
+async fn issue_code(db: &Db, patient_id: &str, now_ms: i64) -> Result<PairingCode, HubError> {
+    let code = db
+        .create_pairing_code(patient_id, now_ms, PAIRING_TTL_MS)
+        .await?;
+    db.audit("cli", "pairing_code", patient_id, "", now_ms)
+        .await?;
+    Ok(PairingCode {
+        patient_id: patient_id.to_owned(),
+        code,
+    })
+}

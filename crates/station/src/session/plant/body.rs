@@ -1,0 +1,232 @@
+//! Who holds the wheel: a simulated patient on a simulated wheel, a real patient on a real
+//! force-feedback wheel, or a recording's raw inputs played back.
+
+use crate::config::StationConfig;
+use crate::session::arm::sim::SimArmSensing;
+use crate::session::arm::{ArmSeam, SetupStep, WheelNow};
+use crate::session::faults::FaultyWheel;
+use anyhow::Context;
+use assist::HumanArm;
+use haptic_wheel::{SimWheel, Wheel, ZeroTorqueOnDrop};
+use record::ArmSample;
+use record::raw::{ANGLE_QUANTUM_RAD, TORQUE_QUANTUM_NM, on_grid};
+
+/// Who holds the wheel.
+// One body per session, built once and never moved on the hot path: its size does not matter.
+#[allow(clippy::large_enum_variant)]
+pub enum Body {
+    /// A simulated wheel held by a simulated patient who wears simulated IMUs.
+    Sim {
+        /// The simulated wheel (zero torque when dropped), failing as the session's injected
+        /// faults say.
+        wheel: ZeroTorqueOnDrop<FaultyWheel<SimWheel>>,
+        /// The simulated patient's arm control.
+        arm: HumanArm,
+        /// The simulated arm kinematics, IMUs and pose estimator.
+        sensing: Box<SimArmSensing>,
+    },
+    /// A real force-feedback wheel (Linux kernel FF API) held by the patient, who may wear
+    /// two controller IMUs.
+    #[cfg(target_os = "linux")]
+    Evdev {
+        /// The device (zero torque, effects erased and gain restored when dropped). Boxed so
+        /// that the kernel backend can run over any device seam (tests use an in-memory one).
+        wheel: ZeroTorqueOnDrop<Box<dyn Wheel + Send>>,
+        /// The arm's IMUs, when two are present.
+        arm: Option<Box<crate::session::arm::hid::HidArmSensing>>,
+        /// The clock of the wheel's readings.
+        clock: clock::Clock,
+    },
+    /// A recording's raw inputs played back (`telerehab replay`).
+    Recorded(Box<crate::session::recorded::RecordedBody>),
+}
+
+impl Body {
+    /// The simulated body of `cfg`, seeded from `cfg.session.seed`; `real_time` when the
+    /// session runs on the wall clock; `clock` is the session's.
+    pub fn simulated(
+        cfg: &StationConfig,
+        real_time: bool,
+        clock: clock::Clock,
+    ) -> anyhow::Result<Self> {
+        let dt_s = 1.0 / cfg.session.loop_rate_hz;
+        let mut wheel_params = cfg.sim_wheel.clone();
+        wheel_params.seed = cfg.session.seed;
+        Ok(Body::Sim {
+            wheel: ZeroTorqueOnDrop::new(FaultyWheel::new(
+                SimWheel::new(wheel_params),
+                &cfg.faults,
+            )),
+            arm: HumanArm::new(cfg.sim_patient.clone(), dt_s, cfg.session.seed),
+            sensing: Box::new(
+                SimArmSensing::new(
+                    cfg.sim_arm,
+                    cfg.arm.sim_mounting,
+                    cfg.session.seed,
+                    real_time,
+                    clock,
+                    &cfg.faults,
+                )
+                .context("simulated arm")?,
+            ),
+        })
+    }
+
+    /// The first force-feedback wheel found, and the first two controller IMUs if there are
+    /// two (see `telerehab devices`). `clock` is the session's (a real one: real devices stamp
+    /// their readings on it).
+    #[cfg(target_os = "linux")]
+    pub fn first_real_wheel(cfg: &StationConfig, clock: clock::Clock) -> anyhow::Result<Self> {
+        use haptic_wheel::evdev_wheel::rejoin::{KernelFinder, RESCAN_EVERY};
+        use haptic_wheel::evdev_wheel::{EvdevWheel, monotonic_ns};
+        let wheel = EvdevWheel::open_first(cfg.wheel.clone(), clock.clone())
+            .context("no usable force-feedback wheel (run `telerehab devices`)")?
+            // Unplugged and plugged back in, it is found again (within the replug grace).
+            .reopen_with(KernelFinder, RESCAN_EVERY)
+            .context("cannot watch for the wheel being plugged back in")?;
+        // Arm sensing is optional: an IMU that cannot be opened (permissions, a flat battery)
+        // costs the joint angles, not the exercise.
+        let arm = crate::session::arm::hid::HidArmSensing::open_first_two(
+            cfg.arm.geometry,
+            cfg.arm.swivel_rad,
+            monotonic_ns,
+            clock.clone(),
+        )
+        .unwrap_or_else(|e| {
+            tracing::warn!("no arm sensing this session: {e:#}");
+            None
+        })
+        .map(Box::new);
+        Ok(Self::real_wheel(Box::new(wheel), arm, clock))
+    }
+
+    /// A real wheel backend (already opened) held by a patient, with optional arm sensing;
+    /// `clock` is the clock of the wheel's readings.
+    #[cfg(target_os = "linux")]
+    pub fn real_wheel(
+        wheel: Box<dyn Wheel + Send>,
+        arm: Option<Box<crate::session::arm::hid::HidArmSensing>>,
+        clock: clock::Clock,
+    ) -> Self {
+        Body::Evdev {
+            wheel: ZeroTorqueOnDrop::new(wheel),
+            arm,
+            clock,
+        }
+    }
+
+    /// Where the arm sensing is; `None` without IMUs.
+    pub(super) fn arm_setup(&self) -> Option<SetupStep> {
+        match self {
+            Body::Sim { sensing, .. } => Some(sensing.setup_step()),
+            #[cfg(target_os = "linux")]
+            Body::Evdev { arm, .. } => arm.as_ref().map(|a| a.setup_step()),
+            Body::Recorded(r) => r.arm_setup(),
+        }
+    }
+
+    pub(super) fn wheel(&mut self) -> &mut dyn Wheel {
+        match self {
+            Body::Sim { wheel, .. } => &mut **wheel,
+            #[cfg(target_os = "linux")]
+            Body::Evdev { wheel, .. } => &mut **wheel,
+            Body::Recorded(r) => &mut **r,
+        }
+    }
+
+    /// Now, ns, on the clock of the wheel's readings.
+    pub(super) fn now_ns(&self) -> u64 {
+        match self {
+            Body::Sim { wheel, .. } => wheel.time_ns(),
+            #[cfg(target_os = "linux")]
+            Body::Evdev { clock, .. } => clock.now_ns(),
+            Body::Recorded(r) => r.now_ns(),
+        }
+    }
+
+    /// The encoder step of the wheel, rad (tunes the velocity estimator).
+    pub(super) fn encoder_step_rad(&self, cfg: &StationConfig) -> f64 {
+        match self {
+            Body::Sim { .. } => cfg.sim_wheel.encoder_step_rad,
+            #[cfg(target_os = "linux")]
+            Body::Evdev { wheel, .. } => wheel.profile().ka_rad_per_unit,
+            Body::Recorded(r) => r.encoder_step_rad(),
+        }
+    }
+
+    /// The simulated patient looks at the road and moves the simulated wheel, and the arm
+    /// pose is estimated from the simulated IMUs; a real patient moves a real wheel alone.
+    pub(super) fn move_to(&mut self, target_rad: f64, read: WheelNow) -> BodyMotion {
+        let dt = read.dt_s;
+        match self {
+            Body::Sim {
+                wheel,
+                arm,
+                sensing,
+            } => {
+                let hand = arm.step(
+                    target_rad,
+                    wheel.true_angle_rad(),
+                    wheel.true_velocity_rad_s(),
+                    dt,
+                );
+                wheel.advance(dt, hand);
+                let sample =
+                    sensing.step(wheel.true_angle_rad(), wheel.true_velocity_rad_s(), read);
+                // What the simulation alone observes, on the recording's grid: a replay of
+                // the raw inputs takes it from the recording, and the measures must agree.
+                BodyMotion {
+                    hand_nm: Some(on_grid(hand, TORQUE_QUANTUM_NM)),
+                    true_angle_rad: Some(on_grid(wheel.true_angle_rad(), ANGLE_QUANTUM_RAD)),
+                    arm: Some(sample),
+                    seam: Some(sensing.take_seam()),
+                }
+            }
+            #[cfg(target_os = "linux")]
+            Body::Evdev { arm, .. } => BodyMotion {
+                hand_nm: None,
+                true_angle_rad: None,
+                arm: arm.as_mut().map(|a| a.step(read)),
+                seam: arm.as_mut().map(|a| a.take_seam()),
+            },
+            Body::Recorded(r) => {
+                let m = r.step(read);
+                BodyMotion {
+                    hand_nm: m.hand_nm,
+                    true_angle_rad: m.true_angle_rad,
+                    arm: m.arm,
+                    seam: m.seam,
+                }
+            }
+        }
+    }
+
+    /// Range of motion of each estimated joint angle so far, rad; `None` without arm sensing.
+    pub(super) fn range_of_motion_rad(&self) -> Option<[f64; 5]> {
+        match self {
+            Body::Sim { sensing, .. } => Some(sensing.range_of_motion_rad()),
+            #[cfg(target_os = "linux")]
+            Body::Evdev { arm, .. } => arm.as_ref().map(|a| a.range_of_motion_rad()),
+            Body::Recorded(r) => r.range_of_motion_rad(),
+        }
+    }
+
+    /// Why arm sensing stopped or never started, if it did.
+    pub(super) fn arm_failure(&self) -> Option<&crate::session::arm::ArmFailure> {
+        match self {
+            Body::Sim { sensing, .. } => sensing.failure(),
+            #[cfg(target_os = "linux")]
+            Body::Evdev { arm, .. } => arm.as_ref().and_then(|a| a.failure()),
+            Body::Recorded(r) => r.arm_failure(),
+        }
+    }
+}
+
+/// What the body did this tick (simulation only: a real patient is not observed this way),
+/// and what the arm tracker was handed.
+pub(super) struct BodyMotion {
+    pub(super) hand_nm: Option<f64>,
+    pub(super) true_angle_rad: Option<f64>,
+    pub(super) arm: Option<ArmSample>,
+    pub(super) seam: Option<ArmSeam>,
+}

@@ -1,0 +1,446 @@
+//! The plant the haptic loop drives: a wheel and whoever holds it (a simulated patient on a
+//! simulated wheel, or a real patient on a real force-feedback wheel), the car on the road,
+//! and between them the haptic chain and the assist controller — the same code for both.
+//! One [`Plant::tick`] is one haptic-loop period; it allocates nothing. It reads as its
+//! stages: sense → exercise → assist → haptic chain and actuation → body → record.
+
+mod body;
+mod exercise;
+mod health;
+mod raw;
+
+pub use body::Body;
+
+use crate::config::StationConfig;
+use crate::session::arm::{SetupStep, WheelNow};
+use crate::session::course::Segment;
+use anyhow::Context;
+use assist::Measurement;
+use body::BodyMotion;
+use exercise::{AssistStep, Exercise, ExerciseStep};
+use haptic_wheel::{
+    CeilingReport, HapticChain, HapticChainConfig, TickInput, TickTelemetry, WatchdogState,
+    WheelFault, WheelReading,
+};
+use health::WheelHealth;
+use raw::RawInputs;
+use record::raw::{ANGLE_QUANTUM_RAD, RawRead, on_grid};
+use record::{TickRecord, WheelSample};
+
+/// The wheel as the plant was built around it: what a replay of the raw inputs needs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WheelFacts {
+    /// The wheel's profile as the plant read it.
+    pub profile: haptic_wheel::DeviceProfile,
+    /// The usable maximum torque the backend reported, N·m.
+    pub max_torque_nm: f64,
+    /// The encoder step the velocity estimator was tuned for, rad.
+    pub encoder_step_rad: f64,
+}
+
+/// Wheel, body and course, stepped together through the haptic chain.
+pub struct Plant {
+    body: Body,
+    chain: HapticChain,
+    exercise: Exercise,
+    health: WheelHealth,
+    raw: RawInputs,
+    clock: LoopClock,
+    /// The chain's velocity estimate of the last tick, rad/s (what the assist measures).
+    velocity_rad_s: f64,
+    watchdog: WatchdogState,
+    /// The wheel's motor and usable torque, for the ceiling stated in the log and report.
+    ceiling: CeilingReport,
+    /// The wheel the plant was built around.
+    wheel_facts: WheelFacts,
+}
+
+/// The loop's ticks.
+struct LoopClock {
+    dt_s: f64,
+    tick: u64,
+    /// Ticks the exercise ran (not paused): the exercise clock.
+    active_ticks: u64,
+}
+
+/// When a tick runs.
+#[derive(Clone, Copy)]
+struct LoopTime {
+    /// The tick's number.
+    tick: u64,
+    /// Loop time, ns.
+    t_ns: u64,
+    /// The exercise clock, which stops while paused, s.
+    t_s: f64,
+    /// The loop period, s.
+    dt_s: f64,
+}
+
+impl LoopClock {
+    fn now(&self) -> LoopTime {
+        let period_ns = (self.dt_s * 1e9).round() as u64;
+        LoopTime {
+            tick: self.tick,
+            t_ns: self.tick * period_ns,
+            t_s: (self.active_ticks * period_ns) as f64 * 1e-9,
+            dt_s: self.dt_s,
+        }
+    }
+
+    fn advance(&mut self, paused: bool) {
+        self.tick += 1;
+        self.active_ticks += u64::from(!paused);
+    }
+}
+
+/// The wheel as the sense stage found it.
+struct Sensed {
+    /// The reading the chain may use.
+    reading: Option<WheelReading>,
+    /// The angle the exercise runs on (the last good one without a reading), rad.
+    angle_rad: f64,
+    /// How the read came out and the reading, as `/raw/wheel` records them.
+    raw: (RawRead, Option<WheelReading>),
+}
+
+/// What the stages of one tick produced, for its record.
+struct Stages {
+    now: LoopTime,
+    paused: bool,
+    sensed: Sensed,
+    exercise: ExerciseStep,
+    assist: AssistStep,
+    tel: TickTelemetry,
+    motion: BodyMotion,
+}
+
+impl Plant {
+    /// The fully simulated plant of a validated `cfg` on `course`, run as fast as possible;
+    /// all noise is seeded from `cfg.session.seed`.
+    pub fn simulated(cfg: &StationConfig, course: Vec<Segment>) -> anyhow::Result<Self> {
+        Self::new(
+            cfg,
+            Body::simulated(cfg, false, clock::Clock::real())?,
+            course,
+        )
+    }
+
+    /// The plant of a validated `cfg` around `body`, running `course` (at least one exercise).
+    pub fn new(cfg: &StationConfig, body: Body, course: Vec<Segment>) -> anyhow::Result<Self> {
+        anyhow::ensure!(!course.is_empty(), "a session needs at least one exercise");
+        let mut body = body;
+        let h = &cfg.haptic;
+        let chain_cfg = HapticChainConfig {
+            safety: h.safety,
+            model: course[0].haptic.model,
+            passivity: h.passivity_enabled.then_some(h.passivity),
+            ..HapticChainConfig::for_encoder_step(body.encoder_step_rad(cfg))
+        };
+        let device_max = body.wheel().max_torque_nm();
+        let half_range_rad = body.wheel().capabilities().half_range_rad;
+        for (i, seg) in course.iter().enumerate() {
+            seg.haptic.validate(device_max).with_context(|| {
+                format!(
+                    "haptic settings of exercise {} ({})",
+                    i + 1,
+                    seg.exercise.name
+                )
+            })?;
+        }
+        let wheel_facts = WheelFacts {
+            profile: body.wheel().profile(),
+            max_torque_nm: device_max,
+            encoder_step_rad: body.encoder_step_rad(cfg),
+        };
+        let mut chain = HapticChain::new(chain_cfg, device_max).context("haptic chain")?;
+        chain
+            .apply_regimen(&course[0].haptic)
+            .context("haptic settings of the first exercise")?;
+        // The road-feel law never asks more than the chain's ceiling at the start.
+        let ceiling_nm = chain.ceiling_nm();
+        let profile = body.wheel().profile();
+        // The wheel's usable maximum is what the backend reports (its gain included).
+        let ceiling = CeilingReport {
+            usable_max_nm: device_max,
+            ..CeilingReport::new(&profile, 1.0, None)
+        }
+        .with_ceiling(ceiling_nm);
+        // An unplugged wheel is waited for: the simulated one answers again, a real one is
+        // re-opened by its identity (`EvdevWheel::reopen_with`; a backend without it stays
+        // lost and the grace runs out). A replay waits as long as the recorded session did.
+        let configured_grace_ns = (h.replug_grace_s * 1e9).round() as u64;
+        let replug_grace_ns = match &body {
+            Body::Recorded(r) => r.replug_grace_ns(configured_grace_ns),
+            _ => configured_grace_ns,
+        };
+        Ok(Self {
+            body,
+            chain,
+            exercise: Exercise::new(cfg, course, ceiling_nm),
+            health: WheelHealth::new(half_range_rad, replug_grace_ns),
+            raw: RawInputs::new(),
+            clock: LoopClock {
+                dt_s: 1.0 / cfg.session.loop_rate_hz,
+                tick: 0,
+                active_ticks: 0,
+            },
+            velocity_rad_s: 0.0,
+            watchdog: WatchdogState::SoftStart,
+            ceiling,
+            wheel_facts,
+        })
+    }
+
+    /// The loop period, s.
+    pub fn dt_s(&self) -> f64 {
+        self.clock.dt_s
+    }
+
+    /// Every exercise of the course is done.
+    pub fn course_done(&self) -> bool {
+        self.exercise.course_done
+    }
+
+    /// Ask the safety supervisor to fade the torque out; [`Plant::stopped`] turns true
+    /// when it reached zero.
+    pub fn request_stop(&mut self) {
+        self.raw.stop_requested = true;
+        self.chain.request_stop();
+    }
+
+    /// The wheel the plant was built around (for the recording's metadata).
+    pub fn wheel_facts(&self) -> &WheelFacts {
+        &self.wheel_facts
+    }
+
+    /// Pause the exercise (its clock, the car and the scores freeze and the torque fades to
+    /// zero; the loop and the recording go on) or resume it (the torque soft-starts).
+    pub fn set_paused(&mut self, paused: bool) {
+        self.raw.paused = paused;
+    }
+
+    /// Ticks the exercise has run, pauses excluded.
+    pub fn active_ticks(&self) -> u64 {
+        self.clock.active_ticks
+    }
+
+    /// The first fault the wheel reported, if any (the haptic loop ends the session on it).
+    pub fn wheel_fault(&self) -> Option<WheelFault> {
+        self.health.fault
+    }
+
+    /// The wheel is away (unplugged, within the replug grace) or settling after it came back.
+    pub fn wheel_away(&self) -> bool {
+        self.health.away()
+    }
+
+    /// Times the wheel was unplugged and came back within the replug grace.
+    pub fn wheel_replugs(&self) -> u32 {
+        self.health.replugs
+    }
+
+    /// How long an unplugged wheel is waited for, ns.
+    pub fn replug_grace_ns(&self) -> u64 {
+        self.health.replug_grace_ns
+    }
+
+    /// The torque ceiling in force on this wheel now (a regimen may have lowered it), N·m and
+    /// as a share of its motor.
+    pub fn ceiling(&self) -> CeilingReport {
+        self.ceiling.with_ceiling(self.chain.ceiling_nm())
+    }
+
+    /// The supervisor has faded the torque to zero for good.
+    pub fn stopped(&self) -> bool {
+        self.watchdog == WatchdogState::Stopped
+    }
+
+    /// Advance one loop period: sense → exercise → assist → haptic chain and actuation →
+    /// body → record.
+    ///
+    /// The IMUs are read after the torque is sent: the wheel is read first (stage 1) and
+    /// the torque computed from it goes out in stage 4, before anything else may delay it;
+    /// the arm's IMUs are read in stage 5, with the body, so the arm sample of a tick is
+    /// later than its wheel reading.
+    pub fn tick(&mut self) -> TickRecord {
+        let now = self.clock.now();
+        self.follow_recorded_pause();
+        // The exercise waits while the patient pauses it or the arm set-up asks them to do
+        // something else; the torque fades out meanwhile, so the wheel turns freely…
+        let setup = self.body.arm_setup().filter(|s| s.in_progress());
+        // …and while the wheel is away or settling after it came back.
+        let paused = self.raw.paused || setup.is_some() || self.health.away();
+        self.chain.set_paused(paused);
+        // 1. Read the wheel as the host sees it (quantised, delayed).
+        let sensed = self.sense(now.t_ns);
+        // 2. The exercise: drive the car with the wheel, or show the dial's desired angle.
+        let exercise = self.exercise.step(sensed.angle_rad, paused, now);
+        // 3. The assist controller helps towards the exercise's target.
+        let measured = Measurement {
+            angle_rad: sensed.angle_rad,
+            vel_rad_s: self.velocity_rad_s,
+        };
+        let ceiling_nm = self.chain.ceiling_nm();
+        let assist = self
+            .exercise
+            .assist(&exercise, measured, ceiling_nm, paused, now.dt_s);
+        if exercise.finished {
+            self.next_segment(now.t_s + now.dt_s);
+        }
+        // 4. Haptic chain: model + road feel + assist → passivity → safety supervisor; the
+        //    torque goes to the wheel.
+        let tel = self.actuate(sensed.reading, exercise.road_feel_nm + assist.out.torque_nm);
+        // 5. Whoever holds the wheel moves it (following the arm set-up's prompts first); the
+        //    arm's IMUs are read here.
+        let aim_rad = aim_rad(setup, exercise.target_rad, now);
+        let motion = self.body.move_to(
+            aim_rad,
+            WheelNow {
+                t_ns: now.t_ns,
+                angle_rad: sensed.angle_rad,
+                rate_rad_s: tel.vel_rad_s,
+                dt_s: now.dt_s,
+            },
+        );
+        // 6. Record what every stage did, and the raw inputs.
+        let rec = self.record(Stages {
+            now,
+            paused,
+            sensed,
+            exercise,
+            assist,
+            tel,
+            motion,
+        });
+        self.clock.advance(paused);
+        rec
+    }
+
+    /// A replay pauses where the patient did.
+    fn follow_recorded_pause(&mut self) {
+        if let Body::Recorded(r) = &self.body {
+            self.raw.paused = r.paused();
+        }
+    }
+
+    /// Stage 1: read the wheel at loop time `t_ns`, its angle on the recording's grid (the
+    /// device edge) so that `/raw/wheel` holds exactly what the chain consumes.
+    fn sense(&mut self, t_ns: u64) -> Sensed {
+        let read = self.body.wheel().read().map(|r| WheelReading {
+            angle_rad: on_grid(r.angle_rad, ANGLE_QUANTUM_RAD),
+            ..r
+        });
+        let raw = (
+            crate::session::recorded::raw_read(&read),
+            read.as_ref().ok().copied(),
+        );
+        let reading = self.health.reading(read, t_ns);
+        Sensed {
+            reading,
+            angle_rad: self.health.angle_rad(reading),
+            raw,
+        }
+    }
+
+    /// Move on to the next exercise at exercise time `t_s` (its haptic settings with it), or
+    /// mark the course done after the last one.
+    fn next_segment(&mut self, t_s: f64) {
+        if let Some(regimen) = self.exercise.next_segment(t_s) {
+            // Validated when the session started; a refusal keeps the previous settings.
+            let _ = self.chain.apply_regimen(regimen);
+        }
+    }
+
+    /// Stage 4: the haptic chain turns `reading` and the `external_nm` torque (road feel and
+    /// assist) into the torque the wheel is sent.
+    fn actuate(&mut self, reading: Option<WheelReading>, external_nm: f64) -> TickTelemetry {
+        let tel = self.chain.tick(TickInput {
+            now_ns: self.body.now_ns(),
+            reading,
+            external_nm,
+        });
+        self.velocity_rad_s = tel.vel_rad_s;
+        self.watchdog = tel.watchdog;
+        self.health.supervisor_is(tel.watchdog);
+        // Firmware effects play only while the supervisor runs at full scale; a failed
+        // command is caught by the next read (stale reading → supervisor fault).
+        let wheel = self.body.wheel();
+        wheel.set_firmware_effects_active(tel.watchdog == WatchdogState::Running);
+        let _ = wheel.set_torque_ceiling_nm(self.chain.ceiling_nm());
+        let _ = wheel.command_torque(tel.torque_nm);
+        tel
+    }
+
+    /// Stage 6: the tick's record.
+    fn record(&mut self, stages: Stages) -> TickRecord {
+        let Stages {
+            now,
+            paused,
+            sensed,
+            exercise,
+            assist,
+            tel,
+            motion,
+        } = stages;
+        TickRecord {
+            tick: now.tick,
+            t_ns: now.t_ns,
+            wheel: WheelSample {
+                angle_rad: sensed.angle_rad,
+                velocity_rad_s: tel.vel_rad_s,
+                model_nm: tel.model_nm,
+                road_feel_nm: exercise.road_feel_nm,
+                requested_nm: tel.requested_nm,
+                commanded_nm: tel.torque_nm,
+                clipped: tel.clipped,
+                safety_scale: tel.safety_scale,
+                watchdog: tel.watchdog.into(),
+                passivity_energy_j: tel.passivity_energy_j,
+                passivity_damping_nm_s_per_rad: tel.passivity_damping_nm_s_per_rad,
+                true_angle_rad: motion.true_angle_rad,
+                hand_nm: motion.hand_nm,
+                target_rad: exercise.target_rad,
+                ceiling_nm: self.chain.ceiling_nm(),
+                motor_rating_known: !self.ceiling.assumed,
+            },
+            vehicle: exercise.vehicle,
+            score: self.exercise.score(exercise.segment_index, now.t_s, paused),
+            assist: assist.sample(),
+            arm: motion.arm,
+            timing: Default::default(),
+            raw: self.raw.tick(sensed.raw, tel.now_ns, motion.seam),
+        }
+    }
+
+    /// Range of motion of each estimated joint angle so far, rad (order of
+    /// `gyro_imu::arm::JointAngles::NAMES`); `None` without arm sensing.
+    pub fn range_of_motion_rad(&self) -> Option<[f64; 5]> {
+        self.body.range_of_motion_rad()
+    }
+
+    /// Why arm sensing stopped or never started, if it did.
+    pub fn arm_failure(&self) -> Option<&crate::session::arm::ArmFailure> {
+        self.body.arm_failure()
+    }
+
+    /// Command zero torque directly and stop firmware effects (every exit path calls it;
+    /// dropping the plant does too).
+    pub fn zero_torque(&mut self) {
+        self.body.wheel().set_firmware_effects_active(false);
+        let _ = self.body.wheel().command_torque(0.0);
+    }
+}
+
+/// Where whoever holds the wheel aims it, rad: the exercise's `target_rad`, or what the arm
+/// set-up's `setup` step asks for.
+fn aim_rad(setup: Option<SetupStep>, target_rad: f64, now: LoopTime) -> f64 {
+    match setup {
+        Some(SetupStep::TurnWheel { .. }) => {
+            // Slowly left and right, about ±60°.
+            let t = now.tick as f64 * now.dt_s;
+            1.05 * (std::f64::consts::TAU * 0.2 * t).sin()
+        }
+        Some(_) => 0.0,
+        None => target_rad,
+    }
+}
