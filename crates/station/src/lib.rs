@@ -37,8 +37,8 @@
 //!
 //! Dependencies point down the list: `cli` → `commands` → `session`, `link`, `screen`,
 //! `report` → `config`, `render`, `timing` (and the `record` and `regimen` crates); nothing below `commands` knows
-//! a command, and `session` draws through a scene closure, not the screen. (One exception:
-//! `config` takes its `[[faults]]` type from `session::faults`.) Time comes from one
+//! a command, and `session` draws through a scene closure, not the screen (the `[[faults]]` a
+//! configuration names are `config::faults`; `session::faults` injects them). Time comes from one
 //! injectable [`clock::Clock`] in [`session::SessionOptions`] (mock clocks in tests); the pure
 //! crates get `dt` or timestamps.
 //!

@@ -1,7 +1,7 @@
 //! The `hub-down` fault: a relay between the station's link and its hub that cuts and
 //! refuses connections while the hub is down.
 
-use super::spec::{FaultKind, FaultSpec, windows};
+use crate::config::faults::{FaultKind, FaultSpec, windows};
 
 /// The therapist link's seam for `hub-down`: a relay on loopback between the station's link
 /// and its hub, on the link's runtime. In a hub-down window (session time, told by

@@ -7,17 +7,17 @@
 //! misbehaving or stalled device would. Everything above it — the haptic chain, its safety
 //! supervisor, the session's end — is the code a real wheel runs.
 //!
-//! `spec` parses the faults and gives their windows; `wheel` is the faulty wheel, `disk` the
-//! disk that fills up, `hub` the switch that takes the hub down.
+//! The faults' parsing and windows are `crate::config::faults` (the configuration names them);
+//! here `wheel` is the faulty wheel, `disk` the disk that fills up, `hub` the switch that takes
+//! the hub down.
 
 mod disk;
 mod hub;
-mod spec;
 mod wheel;
 
-pub use disk::{Disk, FillingFile};
-pub use hub::HubSwitch;
-pub use spec::{
+pub use crate::config::faults::{
     FaultKind, FaultSpec, IMU_FULL_SCALE_RAD_S, disk_full_at_ns, imu_faults, validate_all, windows,
 };
+pub use disk::{Disk, FillingFile};
+pub use hub::HubSwitch;
 pub use wheel::{FaultyWheel, Stallable};

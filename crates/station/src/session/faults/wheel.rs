@@ -1,7 +1,7 @@
 //! [`FaultyWheel`]: the simulated wheel failing as the session's faults say, at the device
 //! seam where a real wheel's faults act.
 
-use super::spec::{FaultKind, FaultSpec, windows};
+use crate::config::faults::{FaultKind, FaultSpec, windows};
 use haptic_wheel::{Wheel, WheelError, WheelFault, WheelReading};
 
 /// A wheel that fails as `faults` say, on the session time of its own readings.

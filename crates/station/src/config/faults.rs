@@ -111,7 +111,7 @@ impl FaultKind {
     }
 
     /// A fault of the wheel's readings (what [`FaultyWheel`] plays on each read).
-    pub(super) fn acts_on_readings(self) -> bool {
+    pub(crate) fn acts_on_readings(self) -> bool {
         matches!(
             self,
             FaultKind::WheelUnplug

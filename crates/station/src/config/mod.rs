@@ -1,6 +1,8 @@
 //! Station configuration: TOML with serde, every field defaulted, unknown fields rejected,
 //! and every value validated with a message naming the field and its allowed range.
 
+pub mod faults;
+
 use assist::{AssistSpec, HumanArmParams};
 use gyro_imu::ImuError;
 use gyro_imu::arm::ArmGeometry;
@@ -38,7 +40,7 @@ pub struct StationConfig {
     /// Faults injected into a simulated session (`[[faults]]`; `--fault KIND@S` adds more):
     /// see `session::faults`. Ignored by nothing: a real wheel refuses them.
     #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub faults: Vec<crate::session::faults::FaultSpec>,
+    pub faults: Vec<faults::FaultSpec>,
 }
 
 impl Default for StationConfig {
@@ -348,7 +350,7 @@ impl StationConfig {
         if let Some(a) = &self.assist {
             a.validate().map_err(|e| in_section("assist")(&e))?;
         }
-        crate::session::faults::validate_all(&self.faults).map_err(|e| in_section("faults")(&e))?;
+        faults::validate_all(&self.faults).map_err(|e| in_section("faults")(&e))?;
         self.sim_patient
             .validate()
             .map_err(|e| in_section("sim_patient")(&e))?;
@@ -445,7 +447,7 @@ mod tests {
         .unwrap();
         assert_eq!(
             cfg.faults,
-            [crate::session::faults::FaultSpec::parse("wheel-stall@2+0.3").unwrap()]
+            [faults::FaultSpec::parse("wheel-stall@2+0.3").unwrap()]
         );
         let err = StationConfig::from_toml("[[faults]]\nkind = \"wheel-nan\"\nat_s = -1.0\n", "t")
             .unwrap_err()
@@ -465,7 +467,7 @@ mod tests {
 
     /// The ```toml blocks of the wheel guide, in order.
     fn calibration_md_toml_blocks() -> Vec<String> {
-        let md = include_str!("../../haptic-wheel/CALIBRATION.md");
+        let md = include_str!("../../../haptic-wheel/CALIBRATION.md");
         md.split("```toml\n")
             .skip(1)
             .map(|b| b.split("```").next().unwrap_or_default().to_string())
