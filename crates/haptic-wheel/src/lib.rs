@@ -6,6 +6,7 @@
 //!   quantisation and a delayed, jittered USB command path.
 //! - [`profile`]: per-model angle/torque scales (thesis eq. 3.1–3.3) and the per-driver
 //!   torque update rate policy; `CALIBRATION.md` tells how to measure a new wheel.
+//! - [`config_error`]: [`config_error::ConfigError`], what every pure `validate()` returns.
 //! - [`wheel_config`]: the station's `[wheel]` section (profile, rated torque, gain) and the
 //!   ceiling it gives in N·m; [`calibrate`]: the analysis behind `telerehab wheel calibrate`.
 //! - [`effects`]: the DirectInput effect set of the thesis toolbox (Appendix B), rendered
@@ -23,6 +24,7 @@
 
 pub mod calibrate;
 pub mod chain;
+pub mod config_error;
 pub mod devices;
 pub mod effects;
 #[cfg(all(target_os = "linux", feature = "evdev"))]

@@ -26,7 +26,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::wheel::ConfigError;
+use crate::config_error::ConfigError;
 
 /// Full scale of DirectX / thesis-toolbox effect units (forces, coefficients, saturations).
 pub const EFFECT_FULL_SCALE_UNITS: f64 = 10_000.0;

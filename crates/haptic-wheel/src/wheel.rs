@@ -11,12 +11,7 @@ pub struct WheelReading {
     pub t_ns: u64,
 }
 
-/// A configuration value out of its allowed range: what every pure `validate()` of this crate
-/// returns (a configuration problem, not a device one); the message names the field and the
-/// allowed range.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("invalid wheel configuration: {0}")]
-pub struct ConfigError(pub String);
+pub use crate::config_error::ConfigError;
 
 /// What can go wrong talking to a wheel.
 #[derive(Debug, thiserror::Error)]
