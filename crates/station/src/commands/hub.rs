@@ -567,9 +567,15 @@ async fn patient(command: PatientCommand) -> anyhow::Result<()> {
                 .with_context(|| format!("no therapist {by}"))?;
             let text = std::fs::read_to_string(&file)
                 .with_context(|| format!("cannot read {}", file.display()))?;
-            regimen::Regimen::from_toml(&text, &file.display().to_string())?;
+            let parsed = regimen::Regimen::from_toml(&text, &file.display().to_string())?;
             let version = db
-                .put_regimen(&p.id, &text, &therapist.id, now_ms())
+                .put_regimen(
+                    &p.id,
+                    &text,
+                    parsed.sessions_per_week,
+                    &therapist.id,
+                    now_ms(),
+                )
                 .await?;
             let detail = format!("version {version}");
             db.audit(&therapist.actor(), "put_regimen", &p.id, &detail, now_ms())
