@@ -454,7 +454,7 @@ impl PairingAuthority for DbStore {
                 // fails exactly as a wrong secret does.
                 None => Ticket {
                     secret: netlink::pairing::PairingCode::generate()
-                        .map_err(Refusal::new)?
+                        .map_err(|e| Refusal::new(e.to_string()))?
                         .secret()
                         .to_owned(),
                     patient_id: String::new(),
