@@ -163,30 +163,18 @@ impl DialSignal {
 
     /// Check the parameters; `context` names the exercise in the message.
     pub fn validate(&self, context: &str) -> Result<(), VehicleError> {
-        let amp = |v: f64| {
-            check_range(
-                context,
-                "amplitude_deg",
-                v,
-                AMPLITUDE_DEG.min,
-                AMPLITUDE_DEG.max,
-                "deg",
-            )
+        let r = |field: &'static str, v: f64, b: Bound, unit: &str| {
+            check_range(context, field, v, b.min, b.max, unit)
         };
+        let amp = |v: f64| r("amplitude_deg", v, AMPLITUDE_DEG, "deg");
+        let freq = |field: &'static str, v: f64| r(field, v, FREQUENCY_RAD_S, "rad/s");
         match self {
             DialSignal::Sine {
                 amplitude_deg,
                 frequency_rad_s,
             } => {
                 amp(*amplitude_deg)?;
-                check_range(
-                    context,
-                    "frequency_rad_s",
-                    *frequency_rad_s,
-                    FREQUENCY_RAD_S.min,
-                    FREQUENCY_RAD_S.max,
-                    "rad/s",
-                )
+                freq("frequency_rad_s", *frequency_rad_s)
             }
             DialSignal::MultiSine { components } => {
                 if components.is_empty() {
@@ -197,40 +185,18 @@ impl DialSignal {
                         allowed: "1 to 16 sine components".into(),
                     });
                 }
-                check_range(
-                    context,
-                    "components",
-                    components.len() as f64,
-                    COMPONENTS.min,
-                    COMPONENTS.max,
-                    "sine components",
-                )?;
+                let n = components.len() as f64;
+                r("components", n, COMPONENTS, "sine components")?;
                 for c in components {
                     amp(c.amplitude_deg)?;
-                    check_range(
-                        context,
-                        "frequency_rad_s",
-                        c.frequency_rad_s,
-                        FREQUENCY_RAD_S.min,
-                        FREQUENCY_RAD_S.max,
-                        "rad/s",
-                    )?;
-                    check_range(
-                        context,
-                        "phase_rad",
-                        c.phase_rad,
-                        PHASE_RAD.min,
-                        PHASE_RAD.max,
-                        "rad",
-                    )?;
+                    freq("frequency_rad_s", c.frequency_rad_s)?;
+                    r("phase_rad", c.phase_rad, PHASE_RAD, "rad")?;
                 }
                 let total: f64 = components.iter().map(|c| c.amplitude_deg).sum();
-                check_range(
-                    context,
+                r(
                     "components (sum of amplitude_deg)",
                     total,
-                    AMPLITUDE_DEG.min,
-                    AMPLITUDE_DEG.max,
+                    AMPLITUDE_DEG,
                     "deg",
                 )
             }
@@ -239,21 +205,14 @@ impl DialSignal {
                 hold_s,
             } => {
                 amp(*amplitude_deg)?;
-                check_range(context, "hold_s", *hold_s, HOLD_S.min, HOLD_S.max, "s")
+                r("hold_s", *hold_s, HOLD_S, "s")
             }
             DialSignal::Ramp {
                 amplitude_deg,
                 rate_deg_s,
             } => {
                 amp(*amplitude_deg)?;
-                check_range(
-                    context,
-                    "rate_deg_s",
-                    *rate_deg_s,
-                    RATE_DEG_S.min,
-                    RATE_DEG_S.max,
-                    "deg/s",
-                )
+                r("rate_deg_s", *rate_deg_s, RATE_DEG_S, "deg/s")
             }
             DialSignal::Chirp {
                 amplitude_deg,
@@ -262,23 +221,9 @@ impl DialSignal {
                 sweep_s,
             } => {
                 amp(*amplitude_deg)?;
-                check_range(
-                    context,
-                    "start_rad_s",
-                    *start_rad_s,
-                    FREQUENCY_RAD_S.min,
-                    FREQUENCY_RAD_S.max,
-                    "rad/s",
-                )?;
-                check_range(
-                    context,
-                    "end_rad_s",
-                    *end_rad_s,
-                    FREQUENCY_RAD_S.min,
-                    FREQUENCY_RAD_S.max,
-                    "rad/s",
-                )?;
-                check_range(context, "sweep_s", *sweep_s, SWEEP_S.min, SWEEP_S.max, "s")
+                freq("start_rad_s", *start_rad_s)?;
+                freq("end_rad_s", *end_rad_s)?;
+                r("sweep_s", *sweep_s, SWEEP_S, "s")
             }
         }
     }
