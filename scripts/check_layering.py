@@ -81,6 +81,8 @@ PURE_ALLOW = {
     "num-traits",
     # FFT of the SPARC measure (metrics): pure math, no I/O, threads or clocks.
     "rustfft",
+    # JSON Schema of the regimen's types (vehicle, assist): serde-like derives, no I/O.
+    "schemars",
 }
 
 # Crates that do I/O, spawn threads, read clocks or render: never in a pure crate, not even

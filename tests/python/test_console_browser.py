@@ -91,6 +91,41 @@ def wait(driver, what, timeout=30):
     return WebDriverWait(driver, timeout, ignored_exceptions=(StaleElementReferenceException,)).until(what)
 
 
+def schema_number(value):
+    """A schema bound as the form writes it into an input's min/max attribute."""
+    return None if value is None else float(value)
+
+
+def input_bounds(driver, element_id):
+    el = driver.find_element(By.ID, element_id)
+    get = lambda name: None if el.get_attribute(name) in (None, "") else float(el.get_attribute(name))
+    return get("min"), get("max")
+
+
+def check_form_against_schema(d, schema):
+    """Every input of the prescribe form (a sine road, the first exercise) has the schema's
+    bounds, and the kinds offered are the schema's."""
+    defs = schema["$defs"]
+    variants = defs["RegimenEntry"]["oneOf"]
+    kinds = sorted(v["properties"]["kind"]["const"] for v in variants)
+    offered = sorted(o.get_attribute("value") for o in d.find_elements(By.CSS_SELECTOR, "#rx-add option"))
+    assert offered == kinds and len(kinds) == 9, (offered, kinds)
+    sine = next(v for v in variants if v["properties"]["kind"]["const"] == "sine")["properties"]
+    checked = 0
+    for name, field in sine.items():
+        if name == "kind":
+            continue
+        want = (schema_number(field.get("minimum")), schema_number(field.get("maximum")))
+        assert input_bounds(d, f"ex0-{name}") == want, (name, input_bounds(d, f"ex0-{name}"), want)
+        checked += 1
+    assert checked == 6, sine.keys()
+    ceiling = defs["HapticRegimen"]["properties"]["ceiling_nm"]
+    assert input_bounds(d, "ex0-ceiling") == (ceiling["minimum"], ceiling["maximum"]) == (0.0, 20.0)
+    sessions = schema["properties"]["sessions_per_week"]
+    assert input_bounds(d, "rx-sessions") == (sessions["minimum"], sessions["maximum"]) == (1.0, 28.0)
+    assert f"at most {ceiling['maximum']:g} N·m" in d.find_element(By.ID, "bounds").text
+
+
 def test_a_therapist_logs_in_watches_live_sees_progress_and_prescribes(clinic, browser):
     d = browser
     d.get(clinic["web"] + "/")
@@ -188,6 +223,15 @@ def test_a_therapist_logs_in_watches_live_sees_progress_and_prescribes(clinic, b
     area.send_keys(VALID)
     d.find_element(By.CSS_SELECTOR, "#rx button").click()
     wait(d, lambda d: d.find_element(By.ID, "rx-result").text == "Saved as version 1.")
+
+    # The form is built from the regimen's schema (GET /api/regimen/schema, derived from the
+    # validator): its kinds and every input's bounds are the schema's, none written in JavaScript.
+    wait(d, lambda d: d.find_elements(By.ID, "ex0-ceiling"))
+    schema = d.execute_async_script(
+        "const done = arguments[arguments.length - 1];"
+        "fetch('/api/regimen/schema', {credentials: 'same-origin'}).then(r => r.json()).then(done);")
+    check_form_against_schema(d, schema)
+    shot(d, "5a-form-from-schema")
 
     # Prescribe in the form: the bounds beside each field are enforced before anything is sent.
     ceiling = wait(d, lambda d: d.find_elements(By.ID, "ex0-ceiling"))[0]

@@ -7,17 +7,31 @@
 //! layer's slew limit bounds, which is why the rest of the crate keeps this structure.
 
 use crate::error::{AssistError, check_range};
+use common::Bound;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
+/// A plant's inertia `J`, kg·m² (above 0).
+pub const PLANT_INERTIA_KG_M2: Bound = Bound::new(0.0, 1e3);
+/// A plant's damping `B`, N·m·s/rad.
+pub const PLANT_DAMPING_NM_S_PER_RAD: Bound = Bound::new(0.0, 1e4);
+/// A plant's stiffness `C`, N·m/rad.
+pub const PLANT_STIFFNESS_NM_PER_RAD: Bound = Bound::new(0.0, 1e4);
+/// Each closed-loop pole of the motion assist, rad/s (real, stable).
+pub const POLE_RAD_S: Bound = Bound::new(-500.0, -0.1);
+
 /// A second-order rotational mass–spring–damper, `J θ̈ + B θ̇ + C θ = τ` (eq. 5.5 / 5.6).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PlantParams {
     /// Inertia `J` about the steering axis, kg·m².
+    #[schemars(range(max = PLANT_INERTIA_KG_M2.max), extend("exclusiveMinimum" = PLANT_INERTIA_KG_M2.min))]
     pub inertia_kg_m2: f64,
     /// Viscous damping `B`, N·m·s/rad.
+    #[schemars(range(min = PLANT_DAMPING_NM_S_PER_RAD.min, max = PLANT_DAMPING_NM_S_PER_RAD.max))]
     pub damping_nm_s_per_rad: f64,
     /// Rotational stiffness `C`, N·m/rad.
+    #[schemars(range(min = PLANT_STIFFNESS_NM_PER_RAD.min, max = PLANT_STIFFNESS_NM_PER_RAD.max))]
     pub stiffness_nm_per_rad: f64,
 }
 
@@ -55,26 +69,37 @@ impl PlantParams {
 
     /// Check the ranges: J in (0, 1e3], B and C in [0, 1e4]. `prefix` names the owner.
     pub fn validate(&self, fields: [&'static str; 3]) -> Result<(), AssistError> {
-        if !(self.inertia_kg_m2.is_finite() && self.inertia_kg_m2 > 0.0) {
+        if !(self.inertia_kg_m2.is_finite() && self.inertia_kg_m2 > PLANT_INERTIA_KG_M2.min) {
             return Err(AssistError::InvalidConfig {
                 field: fields[0],
                 value: self.inertia_kg_m2,
                 allowed: "(0, 1000] kg·m²",
             });
         }
-        check_range(fields[0], self.inertia_kg_m2, 0.0, 1e3, "(0, 1000] kg·m²")?;
+        let (j, b, c) = (
+            PLANT_INERTIA_KG_M2,
+            PLANT_DAMPING_NM_S_PER_RAD,
+            PLANT_STIFFNESS_NM_PER_RAD,
+        );
+        check_range(
+            fields[0],
+            self.inertia_kg_m2,
+            j.min,
+            j.max,
+            "(0, 1000] kg·m²",
+        )?;
         check_range(
             fields[1],
             self.damping_nm_s_per_rad,
-            0.0,
-            1e4,
+            b.min,
+            b.max,
             "[0, 10000] N·m·s/rad",
         )?;
         check_range(
             fields[2],
             self.stiffness_nm_per_rad,
-            0.0,
-            1e4,
+            c.min,
+            c.max,
             "[0, 10000] N·m/rad",
         )
     }
@@ -130,7 +155,13 @@ pub fn gains_for_poles(poles_rad_s: [f64; 3]) -> Result<[f64; 3], AssistError> {
         "motion.poles_rad_s[2]",
     ];
     for (p, field) in poles_rad_s.iter().zip(FIELDS) {
-        check_range(field, *p, -500.0, -0.1, "[-500, -0.1] rad/s (real, stable)")?;
+        check_range(
+            field,
+            *p,
+            POLE_RAD_S.min,
+            POLE_RAD_S.max,
+            "[-500, -0.1] rad/s (real, stable)",
+        )?;
     }
     let [p1, p2, p3] = poles_rad_s;
     Ok([-p1 * p2 * p3, p1 * p2 + p1 * p3 + p2 * p3, -(p1 + p2 + p3)])

@@ -11,11 +11,49 @@
 //! ```
 
 use crate::error::{AssistError, check_range};
-use crate::model::{PlantParams, gains_for_poles};
+use crate::model::{POLE_RAD_S, PlantParams, gains_for_poles};
+use common::Bound;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
+
+/// Every angle of a mode (`center_rad`, `lower_rad`, `upper_rad`), rad.
+pub const ANGLE_RAD: Bound = Bound::new(-PI, PI);
+/// Resist: `spring_nm_per_rad`, N·m/rad.
+pub const RESIST_SPRING_NM_PER_RAD: Bound = Bound::new(0.0, 20.0);
+/// Resist: `damper_nm_s_per_rad`, N·m·s/rad.
+pub const RESIST_DAMPER_NM_S_PER_RAD: Bound = Bound::new(0.0, 2.0);
+/// Resist: `inertia_kg_m2`, kg·m².
+pub const RESIST_INERTIA_KG_M2: Bound = Bound::new(0.0, 0.1);
+/// Motion: `authority` (a fraction of the ceiling, above 0).
+pub const AUTHORITY: Bound = Bound::new(1e-3, 1.0);
+/// Motion: `governor_budget`.
+pub const GOVERNOR_BUDGET: Bound = Bound::new(0.1, 1.0);
+/// `governor_bandwidth_rad_s` of motion and force, rad/s.
+pub const GOVERNOR_BANDWIDTH_RAD_S: Bound = Bound::new(0.5, 100.0);
+/// Force: `fraction`.
+pub const FORCE_FRACTION: Bound = Bound::new(0.0, 1.0);
+/// Force: `bias_nm`, N·m.
+pub const FORCE_BIAS_NM: Bound = Bound::new(-5.0, 5.0);
+/// The force-loop gain (`gain_per_s`, `force_gain_per_s`), 1/s.
+pub const FORCE_GAIN_PER_S: Bound = Bound::new(0.5, 500.0);
+/// Hybrid: `contact_nm`, N·m.
+pub const CONTACT_NM: Bound = Bound::new(0.0, 5.0);
+/// Hybrid: `blend_rad`, rad.
+pub const BLEND_RAD: Bound = Bound::new(0.005, 0.5);
+/// Assist as needed: `period_s`, s.
+pub const AAN_PERIOD_S: Bound = Bound::new(0.5, 120.0);
+/// Assist as needed: `bins`.
+pub const AAN_BINS: Bound = Bound::new(4.0, 256.0);
+/// Assist as needed: `forgetting`.
+pub const AAN_FORGETTING: Bound = Bound::new(0.0, 0.99);
+/// Assist as needed: `gain_nm_per_rad`, N·m/rad.
+pub const AAN_GAIN_NM_PER_RAD: Bound = Bound::new(0.0, 50.0);
+/// Assist as needed: `feedback_nm_per_rad`, N·m/rad.
+pub const AAN_FEEDBACK_NM_PER_RAD: Bound = Bound::new(0.0, 5.0);
 
 /// Which assist an exercise uses, and the assist's parameters.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct AssistSpec {
     /// The plant the model-based controllers are designed for.
@@ -26,7 +64,7 @@ pub struct AssistSpec {
 }
 
 /// Wheel and arm as seen at the steering axis (eq. 5.5 and 5.6; combined by eq. 5.7).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct ModelSpec {
     /// Rim + motor: J₁, B₁, C₁.
@@ -66,7 +104,7 @@ impl ModelSpec {
 }
 
 /// The assist modes a regimen can pick per exercise.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum AssistMode {
     /// No assist: zero torque. (A struct variant so that stray parameters are rejected.)
@@ -84,16 +122,20 @@ pub enum AssistMode {
 }
 
 /// Parameters of [`AssistMode::Resist`].
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct ResistParams {
     /// Virtual spring `K`, N·m/rad, in [0, 20].
+    #[schemars(range(min = RESIST_SPRING_NM_PER_RAD.min, max = RESIST_SPRING_NM_PER_RAD.max))]
     pub spring_nm_per_rad: f64,
     /// Virtual damper `B_v`, N·m·s/rad, in [0, 2].
+    #[schemars(range(min = RESIST_DAMPER_NM_S_PER_RAD.min, max = RESIST_DAMPER_NM_S_PER_RAD.max))]
     pub damper_nm_s_per_rad: f64,
     /// Virtual inertia `M`, kg·m², in [0, 0.1] (at most ~5× a consumer rim).
+    #[schemars(range(min = RESIST_INERTIA_KG_M2.min, max = RESIST_INERTIA_KG_M2.max))]
     pub inertia_kg_m2: f64,
     /// Spring rest angle, rad, in [−π, π].
+    #[schemars(range(min = ANGLE_RAD.min, max = ANGLE_RAD.max))]
     pub center_rad: f64,
 }
 
@@ -109,18 +151,22 @@ impl Default for ResistParams {
 }
 
 /// Parameters of [`AssistMode::Motion`] (also the motion part of [`AssistMode::Hybrid`]).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct MotionParams {
     /// Closed-loop poles of the linearised error dynamics, rad/s, each in [−500, −0.1]
     /// (Table 5.1: −10, −20, −30 give K = 6000, 1100, 60).
+    #[schemars(inner(range(min = POLE_RAD_S.min, max = POLE_RAD_S.max)))]
     pub poles_rad_s: [f64; 3],
     /// Fraction of the torque ceiling the assist may use, in (0, 1].
+    #[schemars(range(min = AUTHORITY.min, max = AUTHORITY.max))]
     pub authority: f64,
     /// Fraction of the (authority-scaled) limits the reference governor plans with, in
     /// [0.1, 1]; the rest is left to feedback.
+    #[schemars(range(min = GOVERNOR_BUDGET.min, max = GOVERNOR_BUDGET.max))]
     pub governor_budget: f64,
     /// Bandwidth of the reference governor, rad/s, in [0.5, 100].
+    #[schemars(range(min = GOVERNOR_BANDWIDTH_RAD_S.min, max = GOVERNOR_BANDWIDTH_RAD_S.max))]
     pub governor_bandwidth_rad_s: f64,
 }
 
@@ -138,36 +184,46 @@ impl Default for MotionParams {
 impl MotionParams {
     fn validate(&self) -> Result<(), AssistError> {
         gains_for_poles(self.poles_rad_s)?;
-        check_range("motion.authority", self.authority, 1e-3, 1.0, "(0, 1]")?;
+        check_range(
+            "motion.authority",
+            self.authority,
+            AUTHORITY.min,
+            AUTHORITY.max,
+            "(0, 1]",
+        )?;
         check_range(
             "motion.governor_budget",
             self.governor_budget,
-            0.1,
-            1.0,
+            GOVERNOR_BUDGET.min,
+            GOVERNOR_BUDGET.max,
             "[0.1, 1]",
         )?;
         check_range(
             "motion.governor_bandwidth_rad_s",
             self.governor_bandwidth_rad_s,
-            0.5,
-            100.0,
+            GOVERNOR_BANDWIDTH_RAD_S.min,
+            GOVERNOR_BANDWIDTH_RAD_S.max,
             "[0.5, 100] rad/s",
         )
     }
 }
 
 /// Parameters of [`AssistMode::Force`].
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct ForceParams {
     /// Fraction of the arm's own torque demand `J₂ r̈ + B₂ ṙ + C₂ r` along the (governed)
     /// reference that the wheel delivers to the hand, in [0, 1].
+    #[schemars(range(min = FORCE_FRACTION.min, max = FORCE_FRACTION.max))]
     pub fraction: f64,
     /// Constant extra hand torque, N·m, in [−5, 5] (isotonic loading or help).
+    #[schemars(range(min = FORCE_BIAS_NM.min, max = FORCE_BIAS_NM.max))]
     pub bias_nm: f64,
     /// Force-loop gain `K_f` of eq. 5.40, 1/s, in [0.5, 500].
+    #[schemars(range(min = FORCE_GAIN_PER_S.min, max = FORCE_GAIN_PER_S.max))]
     pub gain_per_s: f64,
     /// Bandwidth of the reference governor, rad/s, in [0.5, 100].
+    #[schemars(range(min = GOVERNOR_BANDWIDTH_RAD_S.min, max = GOVERNOR_BANDWIDTH_RAD_S.max))]
     pub governor_bandwidth_rad_s: f64,
 }
 
@@ -184,40 +240,57 @@ impl Default for ForceParams {
 
 impl ForceParams {
     fn validate(&self) -> Result<(), AssistError> {
-        check_range("force.fraction", self.fraction, 0.0, 1.0, "[0, 1]")?;
-        check_range("force.bias_nm", self.bias_nm, -5.0, 5.0, "[-5, 5] N·m")?;
+        check_range(
+            "force.fraction",
+            self.fraction,
+            FORCE_FRACTION.min,
+            FORCE_FRACTION.max,
+            "[0, 1]",
+        )?;
+        check_range(
+            "force.bias_nm",
+            self.bias_nm,
+            FORCE_BIAS_NM.min,
+            FORCE_BIAS_NM.max,
+            "[-5, 5] N·m",
+        )?;
         check_range(
             "force.gain_per_s",
             self.gain_per_s,
-            0.5,
-            500.0,
+            FORCE_GAIN_PER_S.min,
+            FORCE_GAIN_PER_S.max,
             "[0.5, 500] 1/s",
         )?;
         check_range(
             "force.governor_bandwidth_rad_s",
             self.governor_bandwidth_rad_s,
-            0.5,
-            100.0,
+            GOVERNOR_BANDWIDTH_RAD_S.min,
+            GOVERNOR_BANDWIDTH_RAD_S.max,
             "[0.5, 100] rad/s",
         )
     }
 }
 
 /// Parameters of [`AssistMode::Hybrid`].
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct HybridParams {
     /// Lower end of the free range, rad, in [−π, π].
+    #[schemars(range(min = ANGLE_RAD.min, max = ANGLE_RAD.max))]
     pub lower_rad: f64,
     /// Upper end of the free range, rad, in [−π, π], above `lower_rad`.
+    #[schemars(range(min = ANGLE_RAD.min, max = ANGLE_RAD.max))]
     pub upper_rad: f64,
     /// Hand torque regulated at the constraint, pushing back into the free range, N·m, in
     /// [0, 5].
+    #[schemars(range(min = CONTACT_NM.min, max = CONTACT_NM.max))]
     pub contact_nm: f64,
     /// Width of the band beyond the constraint over which motion hands over to force, rad,
     /// in [0.005, 0.5].
+    #[schemars(range(min = BLEND_RAD.min, max = BLEND_RAD.max))]
     pub blend_rad: f64,
     /// Force-loop gain `K_f` of eq. 5.40, 1/s, in [0.5, 500].
+    #[schemars(range(min = FORCE_GAIN_PER_S.min, max = FORCE_GAIN_PER_S.max))]
     pub force_gain_per_s: f64,
     /// The motion part.
     pub motion: MotionParams,
@@ -238,27 +311,44 @@ impl Default for HybridParams {
 
 impl HybridParams {
     fn validate(&self) -> Result<(), AssistError> {
-        let pi = std::f64::consts::PI;
-        check_range("hybrid.lower_rad", self.lower_rad, -pi, pi, "[-π, π] rad")?;
-        check_range("hybrid.upper_rad", self.upper_rad, -pi, pi, "[-π, π] rad")?;
+        check_range(
+            "hybrid.lower_rad",
+            self.lower_rad,
+            ANGLE_RAD.min,
+            ANGLE_RAD.max,
+            "[-π, π] rad",
+        )?;
+        check_range(
+            "hybrid.upper_rad",
+            self.upper_rad,
+            ANGLE_RAD.min,
+            ANGLE_RAD.max,
+            "[-π, π] rad",
+        )?;
         if self.upper_rad <= self.lower_rad {
             return Err(AssistError::Inconsistent(
                 "hybrid.upper_rad must be above hybrid.lower_rad",
             ));
         }
-        check_range("hybrid.contact_nm", self.contact_nm, 0.0, 5.0, "[0, 5] N·m")?;
+        check_range(
+            "hybrid.contact_nm",
+            self.contact_nm,
+            CONTACT_NM.min,
+            CONTACT_NM.max,
+            "[0, 5] N·m",
+        )?;
         check_range(
             "hybrid.blend_rad",
             self.blend_rad,
-            0.005,
-            0.5,
+            BLEND_RAD.min,
+            BLEND_RAD.max,
             "[0.005, 0.5] rad",
         )?;
         check_range(
             "hybrid.force_gain_per_s",
             self.force_gain_per_s,
-            0.5,
-            500.0,
+            FORCE_GAIN_PER_S.min,
+            FORCE_GAIN_PER_S.max,
             "[0.5, 500] 1/s",
         )?;
         self.motion.validate()
@@ -266,20 +356,26 @@ impl HybridParams {
 }
 
 /// Parameters of [`AssistMode::AssistAsNeeded`].
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct AanParams {
     /// Length of one repetition, s, in [0.5, 120].
+    #[schemars(range(min = AAN_PERIOD_S.min, max = AAN_PERIOD_S.max))]
     pub period_s: f64,
     /// Phase bins per repetition, in [4, 256].
+    #[schemars(range(min = AAN_BINS.min, max = AAN_BINS.max))]
     pub bins: usize,
     /// Forgetting factor `f`, in [0, 0.99] (must be below the patient's retention).
+    #[schemars(range(min = AAN_FORGETTING.min, max = AAN_FORGETTING.max))]
     pub forgetting: f64,
     /// Learning gain `g`, N·m/rad, in [0, 50].
+    #[schemars(range(min = AAN_GAIN_NM_PER_RAD.min, max = AAN_GAIN_NM_PER_RAD.max))]
     pub gain_nm_per_rad: f64,
     /// Phase lead `L` of the update, bins, in [0, bins/2].
+    #[schemars(range(min = 0))]
     pub lead_bins: usize,
     /// Compliant feedback `K_fb`, N·m/rad, in [0, 5].
+    #[schemars(range(min = AAN_FEEDBACK_NM_PER_RAD.min, max = AAN_FEEDBACK_NM_PER_RAD.max))]
     pub feedback_nm_per_rad: f64,
 }
 
@@ -301,29 +397,29 @@ impl AanParams {
         check_range(
             "assist_as_needed.period_s",
             self.period_s,
-            0.5,
-            120.0,
+            AAN_PERIOD_S.min,
+            AAN_PERIOD_S.max,
             "[0.5, 120] s",
         )?;
         check_range(
             "assist_as_needed.bins",
             self.bins as f64,
-            4.0,
-            256.0,
+            AAN_BINS.min,
+            AAN_BINS.max,
             "[4, 256]",
         )?;
         check_range(
             "assist_as_needed.forgetting",
             self.forgetting,
-            0.0,
-            0.99,
+            AAN_FORGETTING.min,
+            AAN_FORGETTING.max,
             "[0, 0.99]",
         )?;
         check_range(
             "assist_as_needed.gain_nm_per_rad",
             self.gain_nm_per_rad,
-            0.0,
-            50.0,
+            AAN_GAIN_NM_PER_RAD.min,
+            AAN_GAIN_NM_PER_RAD.max,
             "[0, 50] N·m/rad",
         )?;
         check_range(
@@ -336,8 +432,8 @@ impl AanParams {
         check_range(
             "assist_as_needed.feedback_nm_per_rad",
             self.feedback_nm_per_rad,
-            0.0,
-            5.0,
+            AAN_FEEDBACK_NM_PER_RAD.min,
+            AAN_FEEDBACK_NM_PER_RAD.max,
             "[0, 5] N·m/rad",
         )
     }
@@ -345,29 +441,34 @@ impl AanParams {
 
 impl ResistParams {
     fn validate(&self) -> Result<(), AssistError> {
-        let pi = std::f64::consts::PI;
         check_range(
             "resist.spring_nm_per_rad",
             self.spring_nm_per_rad,
-            0.0,
-            20.0,
+            RESIST_SPRING_NM_PER_RAD.min,
+            RESIST_SPRING_NM_PER_RAD.max,
             "[0, 20] N·m/rad",
         )?;
         check_range(
             "resist.damper_nm_s_per_rad",
             self.damper_nm_s_per_rad,
-            0.0,
-            2.0,
+            RESIST_DAMPER_NM_S_PER_RAD.min,
+            RESIST_DAMPER_NM_S_PER_RAD.max,
             "[0, 2] N·m·s/rad",
         )?;
         check_range(
             "resist.inertia_kg_m2",
             self.inertia_kg_m2,
-            0.0,
-            0.1,
+            RESIST_INERTIA_KG_M2.min,
+            RESIST_INERTIA_KG_M2.max,
             "[0, 0.1] kg·m²",
         )?;
-        check_range("resist.center_rad", self.center_rad, -pi, pi, "[-π, π] rad")
+        check_range(
+            "resist.center_rad",
+            self.center_rad,
+            ANGLE_RAD.min,
+            ANGLE_RAD.max,
+            "[-π, π] rad",
+        )
     }
 }
 

@@ -3,6 +3,8 @@
 //! - [`check_range`]: is a configuration value finite and inside its allowed range? The error
 //!   names the field and the range, so every crate's validation message reads the same
 //!   (house style 5); each crate wraps [`OutOfRange`] into its own error enum.
+//! - [`Bound`]: an allowed range written once, checked by a validator and stated in a JSON
+//!   Schema from the same constant.
 //! - [`wrap_angle`]: an angle mapped to (−π, π], rad.
 //! - [`quantile`]: the nearest-rank quantile of sorted data.
 //!
@@ -66,6 +68,29 @@ pub fn check_range(field: &'static str, value: f64, lo: f64, hi: f64) -> Result<
             lo,
             hi,
         })
+    }
+}
+
+/// A closed allowed range `[min, max]` written once: a validator checks it ([`Bound::check`])
+/// and a JSON Schema states it (`#[schemars(range(min = B.min, max = B.max))]`) from the same
+/// constant, so the form a therapist fills in and the validator cannot drift apart.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bound {
+    /// Lowest allowed value.
+    pub min: f64,
+    /// Highest allowed value.
+    pub max: f64,
+}
+
+impl Bound {
+    /// The range `[min, max]`.
+    pub const fn new(min: f64, max: f64) -> Self {
+        Self { min, max }
+    }
+
+    /// [`check_range`] against this range.
+    pub fn check(self, field: &'static str, value: f64) -> Result<(), OutOfRange> {
+        check_range(field, value, self.min, self.max)
     }
 }
 

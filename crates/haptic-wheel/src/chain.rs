@@ -322,14 +322,17 @@ impl HapticChain {
 /// so it travels in the regimen over the network and in TOML; check it with
 /// [`HapticRegimen::validate`] before it reaches the haptic thread, then apply it there with
 /// [`HapticChain::apply_regimen`] (which validates again and changes nothing on error).
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct HapticRegimen {
     /// Effects, all started when the regimen is applied (at most [`EFFECT_SLOTS`]).
+    #[schemars(length(max = EFFECT_SLOTS as u32))]
     pub effects: Vec<Effect>,
     /// The spring–mass–damper model, or none.
     pub model: Option<SpringDamper>,
-    /// Per-patient ceiling, N·m; `None` keeps the current one.
+    /// Per-patient ceiling, N·m; `None` keeps the current one. Its maximum is the device's
+    /// (the regimen's schema states the strongest wheel's).
+    #[schemars(range(min = 0.0))]
     pub ceiling_nm: Option<f64>,
 }
 

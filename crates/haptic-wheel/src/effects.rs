@@ -24,6 +24,7 @@
 //! phase) are converted only at the edge, by [`toolbox::to_effect`] with a
 //! [`DeviceProfile`](crate::DeviceProfile) (thesis eq. 3.2–3.3).
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 
@@ -67,7 +68,7 @@ pub struct WheelState {
 }
 
 /// Which kinematic quantity a condition effect reacts to (see the module table).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum ConditionKind {
     /// Reacts to angle.
@@ -81,7 +82,7 @@ pub enum ConditionKind {
 }
 
 /// A condition effect (DirectInput `DICONDITION`), in SI; units per kind in the module table.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Condition {
     /// Which quantity the condition reacts to.
@@ -93,10 +94,13 @@ pub struct Condition {
     /// Coefficient below `offset − deadband`.
     pub negative_coefficient: f64,
     /// Largest force magnitude above the offset, N·m (≥ 0).
+    #[schemars(range(min = 0.0))]
     pub positive_saturation_nm: f64,
     /// Largest force magnitude below the offset, N·m (≥ 0).
+    #[schemars(range(min = 0.0))]
     pub negative_saturation_nm: f64,
     /// Half width of the zone around the offset with no force (≥ 0, the metric's unit).
+    #[schemars(range(min = 0.0))]
     pub deadband: f64,
 }
 
@@ -202,7 +206,7 @@ pub fn saturated_spring_potential_j(k: f64, sat_nm: f64, x: f64) -> f64 {
 /// sine `sin 2πp`; square `+1` for `p < ½` else `−1`; triangle rising through zero at `p = 0`
 /// to `+1` at `p = ¼` and `−1` at `p = ¾` (same zero crossings as the sine); sawtooth-up
 /// `2p − 1`; sawtooth-down `1 − 2p`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Waveform {
     /// Sine.
@@ -245,7 +249,7 @@ impl Waveform {
 }
 
 /// A periodic force (DirectInput `DIPERIODIC`).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Periodic {
     /// Shape.
@@ -257,11 +261,12 @@ pub struct Periodic {
     /// Phase at the effect's start, rad.
     pub phase_rad: f64,
     /// Period, s (> 0).
+    #[schemars(extend("exclusiveMinimum" = 0.0))]
     pub period_s: f64,
 }
 
 /// What an effect renders.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum EffectKind {
     /// A condition effect; envelopes do not apply (as in DirectInput).
@@ -285,16 +290,20 @@ pub enum EffectKind {
 /// The envelope (DirectInput `DIENVELOPE`): the magnitude rises linearly from
 /// `attack_level_nm` to the effect's own magnitude over `attack_time_s`, holds, and moves
 /// linearly to `fade_level_nm` over the last `fade_time_s` of a finite duration.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Envelope {
     /// Magnitude at the start, N·m (≥ 0).
+    #[schemars(range(min = 0.0))]
     pub attack_level_nm: f64,
     /// Time to reach the sustain magnitude, s (≥ 0).
+    #[schemars(range(min = 0.0))]
     pub attack_time_s: f64,
     /// Magnitude at the end, N·m (≥ 0).
+    #[schemars(range(min = 0.0))]
     pub fade_level_nm: f64,
     /// Time over which the magnitude moves to the fade level, s (≥ 0).
+    #[schemars(range(min = 0.0))]
     pub fade_time_s: f64,
 }
 
@@ -319,7 +328,7 @@ impl Envelope {
 }
 
 /// One effect: what it renders and when.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Effect {
     /// What the effect renders.
@@ -328,11 +337,14 @@ pub struct Effect {
     pub envelope: Option<Envelope>,
     /// Time from `play` to the effect starting, s (≥ 0). Default 0.
     #[serde(default)]
+    #[schemars(range(min = 0.0))]
     pub start_delay_s: f64,
     /// How long the effect plays after its delay, s; `None` plays until stopped.
+    #[schemars(extend("exclusiveMinimum" = 0.0))]
     pub duration_s: Option<f64>,
     /// Per-effect gain in [0, 1]. Default 1.
     #[serde(default = "unit_gain")]
+    #[schemars(range(min = 0.0, max = 1.0))]
     pub gain: f64,
 }
 

@@ -4,22 +4,36 @@
 
 use crate::effects::WheelState;
 use crate::wheel::{ConfigError, WheelError};
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
+
+/// Largest spring constant `K` of a [`SpringDamper`], N·m/rad (smallest: 0).
+pub const MAX_K_NM_PER_RAD: f64 = 200.0;
+/// Largest damping `B` of a [`SpringDamper`], N·m·s/rad (smallest: 0).
+pub const MAX_B_NM_S_PER_RAD: f64 = 10.0;
+/// Largest virtual inertia `I` of a [`SpringDamper`], kg·m² (smallest: 0).
+pub const MAX_I_KG_M2: f64 = 1.0;
+/// Largest |rest angle| θ₀ of a [`SpringDamper`], rad (two turns either way).
+pub const MAX_CENTRE_RAD: f64 = 4.0 * PI;
 
 /// Torsional spring–mass–damper of thesis eq. 3.5, `τ_h = I·θ̈ + B·θ̇ + K·θ`.
 ///
 /// Rendered as the torque the motor applies against the patient: `τ = −(K·(θ−θ₀) + B·θ̇ + I·θ̈)`.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct SpringDamper {
     /// Spring constant `K`, N·m/rad.
+    #[schemars(range(min = 0.0, max = MAX_K_NM_PER_RAD))]
     pub k_nm_per_rad: f64,
     /// Damping `B`, N·m·s/rad.
+    #[schemars(range(min = 0.0, max = MAX_B_NM_S_PER_RAD))]
     pub b_nm_s_per_rad: f64,
     /// Virtual inertia `I`, kg·m².
+    #[schemars(range(min = 0.0, max = MAX_I_KG_M2))]
     pub i_kg_m2: f64,
     /// Spring rest angle θ₀, rad.
+    #[schemars(range(min = -MAX_CENTRE_RAD, max = MAX_CENTRE_RAD))]
     pub centre_rad: f64,
 }
 
@@ -46,10 +60,10 @@ impl SpringDamper {
                 )))
             }
         };
-        check("k_nm_per_rad", self.k_nm_per_rad, 200.0)?;
-        check("b_nm_s_per_rad", self.b_nm_s_per_rad, 10.0)?;
-        check("i_kg_m2", self.i_kg_m2, 1.0)?;
-        if !(self.centre_rad.is_finite() && self.centre_rad.abs() <= 4.0 * PI) {
+        check("k_nm_per_rad", self.k_nm_per_rad, MAX_K_NM_PER_RAD)?;
+        check("b_nm_s_per_rad", self.b_nm_s_per_rad, MAX_B_NM_S_PER_RAD)?;
+        check("i_kg_m2", self.i_kg_m2, MAX_I_KG_M2)?;
+        if !(self.centre_rad.is_finite() && self.centre_rad.abs() <= MAX_CENTRE_RAD) {
             return Err(ConfigError(format!(
                 "model.centre_rad = {}, allowed [-4π, 4π]",
                 self.centre_rad

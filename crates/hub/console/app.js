@@ -5,6 +5,7 @@ import { api, ApiError, esc, when } from '/console/api.js';
 import { liveView } from '/console/live.js';
 import { lineChart } from '/console/charts.js';
 import { replayView } from '/console/replay.js';
+import { exerciseKinds, regimenLimits, regimenSchema } from '/console/schema.js';
 
 const app = document.getElementById('app');
 let leave = () => {};
@@ -187,47 +188,55 @@ async function progressView(el, id, patient) {
   void patient;
 }
 
-/** Exercise kinds a therapist can add from the form (the station's exercise library). */
-const KINDS = ['straight', 'sine', 'triangle', 'clothoid', 'sharp-turns', 's-bend', 'lane-change', 'slalom', 'dial'];
-
-/** The form's bounds: shown beside each field and enforced by the browser; the hub checks the
- * whole regimen again with the station's own validator. */
-const BOUNDS = {
-  sessions_per_week: [1, 28, 1],
-  duration_s: [5, 3600, 5],
-  speed_m_s: [1, 30, 0.5],
-  ceiling_nm: [0, 20, 0.1],
-};
-
-function numberField(id, label, value, [min, max, step], unit) {
-  return `<label for="${id}">${esc(label)} <span class="note">(${min}–${max} ${esc(unit)})</span></label>
-    <input id="${id}" type="number" min="${min}" max="${max}" step="${step}" value="${value ?? ''}" inputmode="decimal">`;
+/** A number input with its bounds from the regimen's schema (enforced by the browser, shown
+ * beside it; the hub checks the whole regimen again with the station's own validator). An empty
+ * field leaves the setting at its default, shown as the placeholder. */
+function numberField(id, label, value, spec) {
+  const range = spec.min === undefined && spec.max === undefined ? ''
+    : `<span class="note">(${spec.min ?? '…'}–${spec.max ?? '…'})</span>`;
+  const attr = (name, v) => (v === undefined ? '' : ` ${name}="${esc(v)}"`);
+  return `<label for="${id}">${esc(label)} ${range}</label>
+    <input id="${id}" type="number"${attr('min', spec.min)}${attr('max', spec.max)} step="${spec.integer ? 1 : 'any'}"
+      value="${esc(value ?? '')}"${attr('placeholder', spec.default)} inputmode="decimal" data-field>`;
 }
 
+/** A field's label: its description's first sentence (it names the unit). */
+const labelOf = (name, spec) => (spec.description.split(/\.\s|\n/)[0] || name).replace(/\.$/, '').replace(/[`[\]]/g, '');
+
 async function prescribeView(el, id) {
-  const r = await api('GET', `/api/patients/${encodeURIComponent(id)}/regimen`);
+  const [r, schema] = await Promise.all([
+    api('GET', `/api/patients/${encodeURIComponent(id)}/regimen`), regimenSchema()]);
+  const kinds = exerciseKinds(schema);
+  const limits = regimenLimits(schema);
   const cur = r.current;
   const model = r.current_fields || { exercise: [] };
   if (!Array.isArray(model.exercise)) model.exercise = [];
   el.id = 'prescribe';
+  const kindOf = e => kinds.find(k => k.kind === e.kind);
   const render = () => {
-    const rows = model.exercise.map((e, i) => `
+    const rows = model.exercise.map((e, i) => {
+      const k = kindOf(e);
+      const fields = k ? k.fields.map(([name, spec]) => numberField(`ex${i}-${name}`, labelOf(name, spec), e[name], spec)).join('')
+        : '<p class="note">An exercise kind this hub does not know: edit it as TOML.</p>';
+      return `
       <fieldset class="panel"><legend>Exercise ${i + 1}: ${esc(e.kind)}</legend>
-        ${numberField(`ex${i}-duration`, 'Duration', e.duration_s, BOUNDS.duration_s, 's')}
-        ${e.kind === 'dial' ? '' : numberField(`ex${i}-speed`, 'Car speed', e.speed_m_s, BOUNDS.speed_m_s, 'm/s')}
-        ${numberField(`ex${i}-ceiling`, 'Torque ceiling (empty: the station\'s)', e.haptic && e.haptic.ceiling_nm, BOUNDS.ceiling_nm, 'N·m')}
+        ${fields}
+        ${numberField(`ex${i}-ceiling`, 'Torque ceiling, N·m (empty: the station\'s)', e.haptic && e.haptic.ceiling_nm, { ...limits.ceiling, default: undefined })}
         <p class="note">${e.assist ? `Assistance: ${esc(JSON.stringify(e.assist.mode || e.assist))}` : 'Assistance: the station\'s setting.'}</p>
         <p><button type="button" class="secondary" data-remove="${i}">Remove exercise ${i + 1}</button></p>
-      </fieldset>`).join('');
+      </fieldset>`;
+    }).join('');
+    const full = model.exercise.length >= limits.maxExercises;
     el.innerHTML = `
     <section class="panel" aria-labelledby="rx-h"><h2 id="rx-h">Regimen</h2>
       <p id="rx-version">${cur ? `Version ${esc(cur.version)}, prescribed by ${esc(cur.prescribed_by)} on ${esc(when(cur.prescribed_at_ms))}.` : 'Nothing prescribed yet: the station runs its default exercise.'}</p>
       <form id="rx-form" novalidate>
-        ${numberField('rx-sessions', 'Sessions a week', model.sessions_per_week, BOUNDS.sessions_per_week, 'sessions')}
+        ${numberField('rx-sessions', 'Sessions a week', model.sessions_per_week, { ...limits.sessionsPerWeek, default: undefined })}
         ${rows || '<p>No exercise yet: add one.</p>'}
         <label for="rx-add">Add an exercise</label>
-        <select id="rx-add">${KINDS.map(k => `<option>${k}</option>`).join('')}</select>
-        <button type="button" class="secondary" id="rx-add-btn">Add</button>
+        <select id="rx-add">${kinds.map(k => `<option value="${esc(k.kind)}" title="${esc(k.description)}">${esc(k.kind)}</option>`).join('')}</select>
+        <button type="button" class="secondary" id="rx-add-btn"${full ? ' disabled' : ''}>Add</button>
+        ${full ? `<p class="note">At most ${esc(limits.maxExercises)} exercises in a regimen.</p>` : ''}
         <p><button type="submit">Save as a new version</button></p>
       </form>
       <p id="rx-result" role="alert"></p>
@@ -240,12 +249,12 @@ async function prescribeView(el, id) {
       </details>
       <h3>Safety bounds the station enforces</h3>
       <dl class="bounds" id="bounds">
-        <dt>Torque ceiling</dt><dd>at most 20 N·m in a prescription (the strongest consumer wheel), refused above; the station then caps it at its own wheel's ceiling (a prescription can lower the patient's ceiling, never raise it)</dd>
+        <dt>Torque ceiling</dt><dd>at most ${esc(limits.ceiling.max)} N·m in a prescription (the strongest consumer wheel), refused above; the station then caps it at its own wheel's ceiling (a prescription can lower the patient's ceiling, never raise it)</dd>
         <dt>Torque changes</dt><dd>slew-limited by the station's safety chain whatever the prescription</dd>
-        <dt>Assistance</dt><dd>level 0–1; its torque shares the same ceiling</dd>
-        <dt>Durations, speeds</dt><dd>within the ranges shown beside each field</dd>
+        <dt>Session</dt><dd>at most ${esc(limits.maxExercises)} exercises planned to last at most ${esc(Math.round(limits.maxPlannedS / 60))} min together</dd>
+        <dt>Every other setting</dt><dd>within the range shown beside it</dd>
       </dl>
-      <p class="note">The hub checks a regimen with the station's own validator before storing it; the station picks the new version up at its next session.</p>
+      <p class="note">The form's ranges come from the regimen's schema, which the hub derives from the station's own validator; the hub checks the whole regimen with that validator before storing it, and the station picks the new version up at its next session.</p>
     </section>`;
     bind();
   };
@@ -269,9 +278,11 @@ async function prescribeView(el, id) {
     const sessions = num('#rx-sessions');
     if (sessions === undefined) delete model.sessions_per_week; else model.sessions_per_week = sessions;
     model.exercise.forEach((e, i) => {
-      e.duration_s = num(`#ex${i}-duration`) ?? e.duration_s;
-      const speed = num(`#ex${i}-speed`);
-      if (speed !== undefined) e.speed_m_s = speed;
+      const k = kindOf(e);
+      for (const [name] of k ? k.fields : []) {
+        const v = num(`#ex${i}-${name}`);
+        if (v === undefined) delete e[name]; else e[name] = v;
+      }
       const ceiling = num(`#ex${i}-ceiling`);
       if (ceiling === undefined) { if (e.haptic) delete e.haptic.ceiling_nm; } else { e.haptic = { ...(e.haptic || {}), ceiling_nm: ceiling }; }
       if (e.haptic && !Object.keys(e.haptic).length) delete e.haptic;
@@ -287,7 +298,7 @@ async function prescribeView(el, id) {
     });
     el.querySelector('#rx-add-btn').addEventListener('click', () => {
       readForm();
-      model.exercise.push({ kind: el.querySelector('#rx-add').value, duration_s: 60 });
+      model.exercise.push({ kind: el.querySelector('#rx-add').value });
       render();
     });
     el.querySelectorAll('[data-remove]').forEach(b => b.addEventListener('click', () => {

@@ -60,8 +60,8 @@ pub async fn provision(
         let station_id = format!("st-bench-{i:05}");
         let cert_pem = ca
             .sign_station(&csr, &station_id)
-            .map_err(HubError::Config)?;
-        let der = first_certificate_der(&cert_pem).map_err(HubError::Config)?;
+            .map_err(|e| HubError::Config(e.to_string()))?;
+        let der = first_certificate_der(&cert_pem).map_err(|e| HubError::Config(e.to_string()))?;
         db.add_station(
             &station_id,
             &patient.id,

@@ -148,8 +148,10 @@ impl Clinic {
             .mode(0o700)
             .create(&tls_dir)
             .map_err(io("creating", &tls_dir))?;
-        let ca = ClinicCa::create(&names[0]).map_err(HubError::Config)?;
-        let hub = ca.issue_server(names).map_err(HubError::Config)?;
+        let ca = ClinicCa::create(&names[0]).map_err(|e| HubError::Config(e.to_string()))?;
+        let hub = ca
+            .issue_server(names)
+            .map_err(|e| HubError::Config(e.to_string()))?;
         write_new_private(&self.tls("ca.crt"), &ca.pem().cert_pem)?;
         write_new_private(&self.tls("ca.key"), &ca.pem().key_pem)?;
         write_new_private(&self.tls("hub.crt"), &hub.cert_pem)?;
@@ -189,7 +191,7 @@ impl Clinic {
             cert_pem: read("ca.crt")?,
             key_pem: read("ca.key")?,
         })
-        .map_err(HubError::Config)
+        .map_err(|e| HubError::Config(e.to_string()))
     }
 
     /// The station link's TLS: the hub's certificate, stations' certificates from the CA.

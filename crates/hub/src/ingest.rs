@@ -454,7 +454,7 @@ impl PairingAuthority for DbStore {
                 // fails exactly as a wrong secret does.
                 None => Ticket {
                     secret: netlink::pairing::PairingCode::generate()
-                        .map_err(Refusal::new)?
+                        .map_err(|e| Refusal::new(e.to_string()))?
                         .secret()
                         .to_owned(),
                     patient_id: String::new(),
@@ -494,8 +494,9 @@ impl PairingAuthority for DbStore {
             let cert_pem = self
                 .ca
                 .sign_station(csr_pem, &station_id)
-                .map_err(Refusal::new)?;
-            let der = netlink::pki::first_certificate_der(&cert_pem).map_err(Refusal::new)?;
+                .map_err(|e| Refusal::new(e.to_string()))?;
+            let der = netlink::pki::first_certificate_der(&cert_pem)
+                .map_err(|e| Refusal::new(e.to_string()))?;
             let patient_id = match self
                 .db
                 .pair_station(code_id, &station_id, &certificate_sha256_hex(&der), now)

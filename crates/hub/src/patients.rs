@@ -83,11 +83,19 @@ pub async fn prescribe(
 ) -> Result<i64, HubError> {
     let p = find(db, pseudonym).await?;
     let therapist = therapist(db, by).await?;
-    regimen::Regimen::from_toml(toml, origin).map_err(|e| HubError::Invalid {
+    let parsed = regimen::Regimen::from_toml(toml, origin).map_err(|e| HubError::Invalid {
         field: "regimen",
         reason: e.to_string(),
     })?;
-    let version = db.put_regimen(&p.id, toml, &therapist.id, now_ms).await?;
+    let version = db
+        .put_regimen(
+            &p.id,
+            toml,
+            parsed.sessions_per_week,
+            &therapist.id,
+            now_ms,
+        )
+        .await?;
     let detail = format!("version {version}");
     db.audit(&therapist.actor(), "put_regimen", &p.id, &detail, now_ms)
         .await?;

@@ -302,7 +302,7 @@ async fn patients_and_caseload(db: Db) {
     );
     // Three a week prescribed, a safety stop and clipping in the last session: all said.
     let three_a_week = "sessions_per_week = 3\n[[exercise]]\nkind = \"sine\"\nduration_s = 60.0\n";
-    db.put_regimen(&p.id, three_a_week, &t.id, now)
+    db.put_regimen(&p.id, three_a_week, Some(3), &t.id, now)
         .await
         .unwrap();
     let faults = [
@@ -865,9 +865,14 @@ async fn metrics_and_recordings(db: Db) {
 async fn regimen_versions_increment(db: Db) {
     let (t, p) = paired(&db).await;
     assert_eq!(db.latest_regimen(&p.id).await.unwrap(), None);
-    assert_eq!(db.put_regimen(&p.id, "a = 1", &t.id, T0).await.unwrap(), 1);
     assert_eq!(
-        db.put_regimen(&p.id, "a = 2", &t.id, T0 + MIN)
+        db.put_regimen(&p.id, "a = 1", None, &t.id, T0)
+            .await
+            .unwrap(),
+        1
+    );
+    assert_eq!(
+        db.put_regimen(&p.id, "a = 2", None, &t.id, T0 + MIN)
             .await
             .unwrap(),
         2
@@ -883,8 +888,13 @@ async fn regimen_versions_increment(db: Db) {
     );
     // Another patient starts at 1.
     let q = db.add_patient("q-1", None, T0).await.unwrap();
-    assert_eq!(db.put_regimen(&q.id, "b = 1", &t.id, T0).await.unwrap(), 1);
-    let ghost = db.put_regimen("p-nobody", "a = 1", &t.id, T0).await;
+    assert_eq!(
+        db.put_regimen(&q.id, "b = 1", None, &t.id, T0)
+            .await
+            .unwrap(),
+        1
+    );
+    let ghost = db.put_regimen("p-nobody", "a = 1", None, &t.id, T0).await;
     assert!(matches!(ghost, Err(HubError::NotFound { .. })), "{ghost:?}");
 }
 
@@ -946,6 +956,50 @@ async fn postgres_migrations_are_idempotent() {
     assert_eq!(again.backend(), hub::Backend::Postgres);
     assert_eq!(again.schema_version().await.unwrap(), latest_migration());
     assert!(again.patient_by_pseudonym("p-1").await.unwrap().is_some());
+    again.close().await;
+    pg.drop_db().await;
+}
+
+/// Stores a regimen of 4 a week, then empties its `sessions_per_week` as a row stored before
+/// migration 0004 has it: the caseload reads the column (4, then none), not the TOML.
+async fn a_regimen_as_stored_before_migration_4(db: &Db) -> hub::Therapist {
+    let (t, p) = paired(db).await;
+    let text = "sessions_per_week = 4\n[[exercise]]\nkind = \"dial\"\n";
+    db.put_regimen(&p.id, text, Some(4), &t.id, T0)
+        .await
+        .unwrap();
+    let prescribed =
+        async |db: &Db| db.patients_for(&t, T0).await.unwrap()[0].sessions_per_week_prescribed;
+    assert_eq!(prescribed(db).await, Some(4));
+    sqlx::query("UPDATE regimens SET sessions_per_week = NULL")
+        .execute(db.pool())
+        .await
+        .unwrap();
+    assert_eq!(prescribed(db).await, None, "the caseload read the TOML");
+    t
+}
+
+#[tokio::test]
+async fn sqlite_fills_sessions_per_week_of_older_regimens_on_open() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("hub.db");
+    let db = Db::open_sqlite(&path).await.unwrap();
+    let t = a_regimen_as_stored_before_migration_4(&db).await;
+    db.close().await;
+    let again = Db::open_sqlite(&path).await.unwrap();
+    let caseload = again.patients_for(&t, T0).await.unwrap();
+    assert_eq!(caseload[0].sessions_per_week_prescribed, Some(4));
+}
+
+#[tokio::test]
+async fn postgres_fills_sessions_per_week_of_older_regimens_on_open() {
+    let Some(pg) = common::PgDb::create().await else {
+        return;
+    };
+    let t = a_regimen_as_stored_before_migration_4(&pg.db).await;
+    let again = Db::open(&pg.url).await.unwrap();
+    let caseload = again.patients_for(&t, T0).await.unwrap();
+    assert_eq!(caseload[0].sessions_per_week_prescribed, Some(4));
     again.close().await;
     pg.drop_db().await;
 }

@@ -471,6 +471,26 @@ async fn sessions_summaries_and_metrics_are_served_and_audited() {
 }
 
 #[tokio::test]
+async fn the_regimen_schema_needs_a_login_and_carries_the_validators_bounds() {
+    let f = fixture().await;
+    let (status, _, _) = call(&f.app, Method::GET, "/api/regimen/schema", None, None).await;
+    assert_eq!(status, StatusCode::UNAUTHORIZED);
+    let ada = login(&f.app, "ada@clinic.example").await;
+    let (status, _, schema) =
+        call(&f.app, Method::GET, "/api/regimen/schema", Some(&ada), None).await;
+    assert_eq!(status, StatusCode::OK, "{schema}");
+    assert_eq!(schema, regimen::Regimen::json_schema());
+    assert_eq!(
+        schema["$defs"]["HapticRegimen"]["properties"]["ceiling_nm"]["maximum"],
+        json!(regimen::MAX_DEVICE_TORQUE_NM)
+    );
+    assert_eq!(
+        schema["properties"]["sessions_per_week"]["maximum"],
+        json!(regimen::MAX_SESSIONS_PER_WEEK)
+    );
+}
+
+#[tokio::test]
 async fn a_regimen_can_be_put_as_fields_and_reads_back_as_fields() {
     let f = fixture().await;
     let ada = login(&f.app, "ada@clinic.example").await;

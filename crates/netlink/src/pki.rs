@@ -27,8 +27,29 @@ impl std::fmt::Debug for ClinicCa {
     }
 }
 
-fn err(what: &str) -> impl Fn(rcgen::Error) -> String + '_ {
-    move |e| format!("{what}: {e}")
+/// What went wrong making, signing or reading a certificate; the message names the step.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum PkiError {
+    /// A step of rcgen failed: generating a key, signing, or reading a key, the CA or a
+    /// station's certificate request.
+    #[error("{step}: {source}")]
+    Certificate {
+        /// The step, e.g. `signing the station certificate`.
+        step: &'static str,
+        /// rcgen's reason.
+        source: rcgen::Error,
+    },
+    /// A PEM text with no certificate in it.
+    #[error("no CERTIFICATE in the PEM text")]
+    NoCertificate,
+    /// A certificate's PEM that does not decode.
+    #[error("certificate PEM: {0}")]
+    Pem(rustls::pki_types::pem::Error),
+}
+
+fn err(step: &'static str) -> impl Fn(rcgen::Error) -> PkiError {
+    move |source| PkiError::Certificate { step, source }
 }
 
 /// Days a station's certificate is valid (revocation is immediate at the hub regardless).
@@ -43,7 +64,7 @@ fn valid_for_days(params: &mut CertificateParams, days: i64) {
 
 impl ClinicCa {
     /// A new CA named `name` (e.g. the clinic), ECDSA P-256, valid 20 years.
-    pub fn create(name: &str) -> Result<Self, String> {
+    pub fn create(name: &str) -> Result<Self, PkiError> {
         let key = KeyPair::generate().map_err(err("generating the CA key"))?;
         let mut params = CertificateParams::new(Vec::<String>::new()).map_err(err("CA"))?;
         params.is_ca = IsCa::Ca(BasicConstraints::Constrained(0));
@@ -64,7 +85,7 @@ impl ClinicCa {
     }
 
     /// The CA from its PEM certificate and key (as [`Self::pem`] gave them).
-    pub fn load(pem: CertAndKey) -> Result<Self, String> {
+    pub fn load(pem: CertAndKey) -> Result<Self, PkiError> {
         let key = KeyPair::from_pem(&pem.key_pem).map_err(err("reading the CA key"))?;
         let issuer = Issuer::from_ca_cert_pem(&pem.cert_pem, key).map_err(err("reading the CA"))?;
         Ok(Self { pem, issuer })
@@ -76,7 +97,7 @@ impl ClinicCa {
     }
 
     /// A server certificate for the hub, naming `names` (DNS names or IP literals).
-    pub fn issue_server(&self, names: &[String]) -> Result<CertAndKey, String> {
+    pub fn issue_server(&self, names: &[String]) -> Result<CertAndKey, PkiError> {
         let key = KeyPair::generate().map_err(err("generating the hub key"))?;
         let mut params = CertificateParams::new(names.to_vec()).map_err(err("hub names"))?;
         params.extended_key_usages = vec![ExtendedKeyUsagePurpose::ServerAuth];
@@ -92,7 +113,7 @@ impl ClinicCa {
 
     /// Signs a station's request: whatever names it asked for, the certificate names exactly
     /// `station_id` (DNS subjectAltName) and serves only client authentication.
-    pub fn sign_station(&self, csr_pem: &str, station_id: &str) -> Result<String, String> {
+    pub fn sign_station(&self, csr_pem: &str, station_id: &str) -> Result<String, PkiError> {
         let mut csr = CertificateSigningRequestParams::from_pem(csr_pem)
             .map_err(err("the station's certificate request"))?;
         let name = station_id
@@ -120,12 +141,42 @@ pub fn certificate_sha256_hex(der: &[u8]) -> String {
 }
 
 /// The DER of the first certificate in a PEM text.
-pub fn first_certificate_der(pem: &str) -> Result<Vec<u8>, String> {
+pub fn first_certificate_der(pem: &str) -> Result<Vec<u8>, PkiError> {
     use rustls::pki_types::CertificateDer;
     use rustls::pki_types::pem::PemObject;
     CertificateDer::pem_slice_iter(pem.as_bytes())
         .next()
-        .ok_or("no CERTIFICATE in the PEM text")?
+        .ok_or(PkiError::NoCertificate)?
         .map(|c| c.to_vec())
-        .map_err(|e| format!("certificate PEM: {e}"))
+        .map_err(PkiError::Pem)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_bad_certificate_request_or_pem_is_refused_naming_what_is_wrong() {
+        let ca = ClinicCa::create("Test clinic").unwrap();
+        match ca.sign_station("not a request", "st-1") {
+            Err(e @ PkiError::Certificate { step, .. }) => {
+                assert_eq!(step, "the station's certificate request");
+                assert!(
+                    e.to_string()
+                        .starts_with("the station's certificate request: "),
+                    "{e}"
+                );
+            }
+            other => panic!("{other:?}"),
+        }
+        assert!(matches!(
+            first_certificate_der("no pem here"),
+            Err(PkiError::NoCertificate)
+        ));
+        let garbled = "-----BEGIN CERTIFICATE-----\n!!!\n-----END CERTIFICATE-----\n";
+        let e = first_certificate_der(garbled).unwrap_err();
+        assert!(matches!(e, PkiError::Pem(_)), "{e:?}");
+        let cert = ca.issue_server(&["localhost".to_owned()]).unwrap();
+        assert!(!first_certificate_der(&cert.cert_pem).unwrap().is_empty());
+    }
 }

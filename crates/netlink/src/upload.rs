@@ -41,29 +41,78 @@ pub struct Uploaded {
     pub sent_bytes: u64,
 }
 
-fn fail(what: &str, e: impl std::fmt::Display) -> String {
-    format!("{what}: {e}")
+/// Why an upload stopped (it resumes where it stopped on the next attempt).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum UploadError {
+    /// A plaintext upload to an address other than loopback.
+    #[error("plaintext upload to {addr} refused: only loopback")]
+    Plaintext {
+        /// The hub's address.
+        addr: String,
+    },
+    /// Reading the file, connecting, the TLS handshake or sending failed.
+    #[error("{step}: {source}")]
+    Io {
+        /// What was being done, e.g. `connecting to 127.0.0.1:7000` or `seeking`.
+        step: String,
+        /// The reason.
+        source: std::io::Error,
+    },
+    /// The file could not be hashed (its task ended without an answer).
+    #[error("hashing task: {0}")]
+    Hashing(tokio::task::JoinError),
+    /// The link's TLS settings, the frame codec or the connection failed.
+    #[error(transparent)]
+    Link(#[from] crate::NetlinkError),
+    /// A frame could not be encoded.
+    #[error(transparent)]
+    Codec(#[from] crate::CodecError),
+    /// The hub answered with an error (e.g. a SHA-256 mismatch or a quota).
+    #[error("the hub refused: {0}")]
+    Refused(String),
+    /// The hub sent a frame that has no place in an upload.
+    #[error("unexpected {0} during upload")]
+    Unexpected(crate::frame::FrameKind),
+    /// The hub closed the connection before the upload was complete.
+    #[error("the hub closed the connection")]
+    Closed,
+    /// The file is shorter than where the hub asked to resume.
+    #[error("the file ended at {offset} of {size} bytes")]
+    FileEnded {
+        /// The offset the hub asked for.
+        offset: u64,
+        /// The file's size when the upload began.
+        size: u64,
+    },
 }
 
-async fn connect(addr: &str, tls: Option<&ClientTls>) -> Result<BoxStream, String> {
+fn io(step: impl Into<String>) -> impl FnOnce(std::io::Error) -> UploadError {
+    let step = step.into();
+    move |source| UploadError::Io { step, source }
+}
+
+async fn connect(addr: &str, tls: Option<&ClientTls>) -> Result<BoxStream, UploadError> {
     let plaintext = tls.is_none();
     let address = HubAddress::from(addr);
     if plaintext && !address.is_loopback() {
-        return Err(format!("plaintext upload to {addr} refused: only loopback"));
+        return Err(UploadError::Plaintext {
+            addr: addr.to_owned(),
+        });
     }
     let tcp = tokio::net::TcpStream::connect(addr)
         .await
-        .map_err(|e| fail(&format!("connecting to {addr}"), e))?;
+        .map_err(io(format!("connecting to {addr}")))?;
     let _ = tcp.set_nodelay(true);
     Ok(match tls {
         None => Box::new(tcp),
         Some(tls) => {
-            let (connector, name) = tls.connector().map_err(|e| e.to_string())?;
+            let (connector, name) = tls.connector()?;
             Box::new(
                 connector
                     .connect(name, tcp)
                     .await
-                    .map_err(|e| fail("TLS handshake", e))?,
+                    .map_err(io("TLS handshake"))?,
             )
         }
     })
@@ -76,19 +125,19 @@ pub async fn upload_recording(
     hello: Hello,
     path: &Path,
     bytes_per_s: u64,
-) -> Result<Uploaded, String> {
+) -> Result<Uploaded, UploadError> {
     let owned = path.to_owned();
     let (size, sha256) = tokio::task::spawn_blocking(move || file_sha256(&owned))
         .await
-        .map_err(|e| fail("hashing task", e))?
-        .map_err(|e| fail(&format!("reading {}", path.display()), e))?;
+        .map_err(UploadError::Hashing)?
+        .map_err(io(format!("reading {}", path.display())))?;
     let stream = connect(addr, tls).await?;
     let (rd, mut wr) = tokio::io::split(stream);
     let mut reader = FrameReader::new(rd);
     let session_id = hello.session_id.clone();
-    let mut send = async |frame: Frame| -> Result<(), String> {
-        let bytes = encode_to_vec(&frame).map_err(|e| e.to_string())?;
-        wr.write_all(&bytes).await.map_err(|e| fail("sending", e))
+    let mut send = async |frame: Frame| -> Result<(), UploadError> {
+        let bytes = encode_to_vec(&frame)?;
+        wr.write_all(&bytes).await.map_err(io("sending"))
     };
     send(Frame::Hello(hello)).await?;
     send(Frame::UploadStart(UploadStart {
@@ -97,18 +146,18 @@ pub async fn upload_recording(
         sha256,
     }))
     .await?;
-    let mut file = std::fs::File::open(path).map_err(|e| fail("opening", e))?;
+    let mut file = std::fs::File::open(path).map_err(io("opening"))?;
     let mut buf = vec![0u8; MAX_CHUNK_BYTES];
     let started = Instant::now();
     let mut sent = 0u64;
     loop {
         let at = loop {
-            match reader.next_frame().await.map_err(|e| e.to_string())? {
+            match reader.next_frame().await? {
                 Some(Frame::UploadAt(at)) => break at,
                 Some(Frame::Ack(_) | Frame::Regimen(_)) => {}
-                Some(Frame::Error(e)) => return Err(format!("the hub refused: {}", e.message)),
-                Some(other) => return Err(format!("unexpected {} during upload", other.kind())),
-                None => return Err("the hub closed the connection".into()),
+                Some(Frame::Error(e)) => return Err(UploadError::Refused(e.message)),
+                Some(other) => return Err(UploadError::Unexpected(other.kind())),
+                None => return Err(UploadError::Closed),
             }
         };
         if at.complete {
@@ -119,10 +168,13 @@ pub async fn upload_recording(
         }
         use std::io::Seek;
         file.seek(std::io::SeekFrom::Start(at.offset))
-            .map_err(|e| fail("seeking", e))?;
-        let n = file.read(&mut buf).map_err(|e| fail("reading", e))?;
+            .map_err(io("seeking"))?;
+        let n = file.read(&mut buf).map_err(io("reading"))?;
         if n == 0 {
-            return Err(format!("the file ended at {} of {size} bytes", at.offset));
+            return Err(UploadError::FileEnded {
+                offset: at.offset,
+                size,
+            });
         }
         // Bandwidth cap: never ahead of `bytes_per_s` since the start.
         let due = Duration::from_secs_f64(sent as f64 / bytes_per_s.max(1) as f64);

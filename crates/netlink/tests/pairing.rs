@@ -57,7 +57,7 @@ impl PairingAuthority for OneCode {
             let cert_pem = self
                 .ca
                 .sign_station(csr_pem, "st-paired")
-                .map_err(Refusal::new)?;
+                .map_err(|e| Refusal::new(e.to_string()))?;
             Ok(Issued {
                 station_id: "st-paired".into(),
                 patient_id: "p-0042".into(),

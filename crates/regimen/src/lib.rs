@@ -20,6 +20,7 @@ pub mod lenient;
 
 use assist::AssistSpec;
 use haptic_wheel::HapticRegimen;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use vehicle::ExerciseSpec;
@@ -34,21 +35,32 @@ pub const MAX_EXERCISES: usize = 60;
 /// (a road without a time limit counts the time to drive it at its target speeds).
 pub const MAX_PLANNED_SESSION_S: f64 = 2.0 * 3600.0;
 
+/// Fewest sessions a week a regimen may ask for.
+pub const MIN_SESSIONS_PER_WEEK: u32 = 1;
+/// Most sessions a week a regimen may ask for (four a day).
+pub const MAX_SESSIONS_PER_WEEK: u32 = 28;
+
+/// The schema's keyword for [`MAX_PLANNED_SESSION_S`] (a bound across exercises, which JSON
+/// Schema has no word for).
+pub const MAX_PLANNED_SESSION_KEYWORD: &str = "x-max-planned-session-s";
+
 /// The prescribed exercises, in order.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Regimen {
     /// Sessions a week the therapist asks for (1–28); the console measures adherence
     /// against it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(range(min = MIN_SESSIONS_PER_WEEK, max = MAX_SESSIONS_PER_WEEK))]
     pub sessions_per_week: Option<u32>,
     /// The exercises, in the order the patient does them.
     #[serde(rename = "exercise")]
+    #[schemars(length(min = 1, max = MAX_EXERCISES as u32))]
     pub exercises: Vec<RegimenEntry>,
 }
 
 /// One exercise of a regimen with its haptic and assistance settings.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct RegimenEntry {
     /// The exercise (its `kind` and parameters).
     #[serde(flatten)]
@@ -142,11 +154,14 @@ impl Regimen {
             });
         }
         if let Some(n) = r.sessions_per_week
-            && !(1..=28).contains(&n)
+            && !(MIN_SESSIONS_PER_WEEK..=MAX_SESSIONS_PER_WEEK).contains(&n)
         {
             return Err(RegimenError::Parse {
                 path: origin.into(),
-                message: format!("sessions_per_week = {n}, allowed 1 to 28"),
+                message: format!(
+                    "sessions_per_week = {n}, allowed {MIN_SESSIONS_PER_WEEK} to \
+                     {MAX_SESSIONS_PER_WEEK}"
+                ),
             });
         }
         for (i, e) in r.exercises.iter().enumerate() {
@@ -186,6 +201,25 @@ impl Regimen {
             });
         }
         Ok(r)
+    }
+
+    /// The regimen's JSON Schema (draft 2020-12), derived from the types: every field with its
+    /// description and the ranges [`Regimen::from_toml`] enforces (`minimum`/`maximum`,
+    /// `exclusiveMinimum`, `minItems`/`maxItems`), from the same constants. Bounds that no
+    /// single field carries are stated too: the haptic `ceiling_nm` at most
+    /// [`MAX_DEVICE_TORQUE_NM`], and the planned session at most [`MAX_PLANNED_SESSION_S`]
+    /// (root keyword [`MAX_PLANNED_SESSION_KEYWORD`]). A few limits depend on other fields and
+    /// are only in the descriptions and the validator (a triangle road's largest corner
+    /// radius, a multi-sine's summed amplitude, a hybrid's `upper_rad` above `lower_rad`,
+    /// assist-as-needed `lead_bins` at most `bins / 2`).
+    pub fn json_schema() -> serde_json::Value {
+        let mut schema = serde_json::to_value(schemars::schema_for!(Regimen))
+            .unwrap_or_else(|e| unreachable!("a schema is JSON: {e}"));
+        if let Some(ceiling) = schema.pointer_mut("/$defs/HapticRegimen/properties/ceiling_nm") {
+            ceiling["maximum"] = MAX_DEVICE_TORQUE_NM.into();
+        }
+        schema[MAX_PLANNED_SESSION_KEYWORD] = MAX_PLANNED_SESSION_S.into();
+        schema
     }
 
     /// The session's planned length, s: the sum of every exercise's planned duration; the

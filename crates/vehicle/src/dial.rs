@@ -5,66 +5,96 @@
 //! sweep from 0 to 2.5 rad/s over 200 s; both are here ([`DialSignal::Sine`],
 //! [`DialSignal::Chirp`]), with multi-sine, step and ramp references.
 
+use common::Bound;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{VehicleError, check_range};
 
 /// Largest reference amplitude, deg: the thesis wheel turns ±129°.
 pub const MAX_DIAL_AMPLITUDE_DEG: f64 = 129.0;
+/// `amplitude_deg` of every signal (a multi-sine's amplitudes together too), deg.
+pub const AMPLITUDE_DEG: Bound = Bound::new(0.0, MAX_DIAL_AMPLITUDE_DEG);
+/// Every frequency (`frequency_rad_s`, a chirp's `start_rad_s` and `end_rad_s`), rad/s.
+pub const FREQUENCY_RAD_S: Bound = Bound::new(0.0, 10.0);
+/// A multi-sine component's `phase_rad`, rad.
+pub const PHASE_RAD: Bound = Bound::new(-100.0, 100.0);
+/// How many components a multi-sine has.
+pub const COMPONENTS: Bound = Bound::new(1.0, 16.0);
+/// A step's `hold_s`, s.
+pub const HOLD_S: Bound = Bound::new(0.5, 600.0);
+/// A ramp's `rate_deg_s`, deg/s.
+pub const RATE_DEG_S: Bound = Bound::new(1.0, 720.0);
+/// A chirp's `sweep_s`, s.
+pub const SWEEP_S: Bound = Bound::new(1.0, 3600.0);
 
 /// One sine component of a multi-sine reference.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SineComponent {
     /// Amplitude, deg of wheel angle.
+    #[schemars(range(min = AMPLITUDE_DEG.min, max = AMPLITUDE_DEG.max))]
     pub amplitude_deg: f64,
     /// Angular frequency, rad/s.
+    #[schemars(range(min = FREQUENCY_RAD_S.min, max = FREQUENCY_RAD_S.max))]
     pub frequency_rad_s: f64,
     /// Phase, rad.
     #[serde(default)]
+    #[schemars(range(min = PHASE_RAD.min, max = PHASE_RAD.max))]
     pub phase_rad: f64,
 }
 
 /// Desired wheel angle over time. TOML: a table with `signal = "sine" | "multi-sine" | "step"
 /// | "ramp" | "chirp"` and the variant's fields.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(tag = "signal", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum DialSignal {
     /// `A sin(ω t)`: Appendix E's reference (A = 120°, ω = 1 rad/s).
     Sine {
         /// Amplitude, deg.
+        #[schemars(range(min = AMPLITUDE_DEG.min, max = AMPLITUDE_DEG.max))]
         amplitude_deg: f64,
         /// Angular frequency, rad/s.
+        #[schemars(range(min = FREQUENCY_RAD_S.min, max = FREQUENCY_RAD_S.max))]
         frequency_rad_s: f64,
     },
     /// A sum of sines (harder to anticipate than one sine).
     MultiSine {
         /// The components; their amplitudes together must stay within ±129°.
+        #[schemars(length(min = COMPONENTS.min as u32, max = COMPONENTS.max as u32))]
         components: Vec<SineComponent>,
     },
     /// Steps between +A and −A, holding each level for `hold_s` (starts at +A).
     Step {
         /// Step height from centre, deg.
+        #[schemars(range(min = AMPLITUDE_DEG.min, max = AMPLITUDE_DEG.max))]
         amplitude_deg: f64,
         /// Time at each level, s.
+        #[schemars(range(min = HOLD_S.min, max = HOLD_S.max))]
         hold_s: f64,
     },
     /// Constant-speed sweeps between −A and +A (a triangle wave, starting at 0 going up).
     Ramp {
         /// Turning point, deg.
+        #[schemars(range(min = AMPLITUDE_DEG.min, max = AMPLITUDE_DEG.max))]
         amplitude_deg: f64,
         /// Wheel speed, deg/s.
+        #[schemars(range(min = RATE_DEG_S.min, max = RATE_DEG_S.max))]
         rate_deg_s: f64,
     },
     /// Linear frequency sweep `A sin(ω0 t + (ω1 − ω0) t²/(2T))`, Appendix E's frequency test.
     Chirp {
         /// Amplitude, deg.
+        #[schemars(range(min = AMPLITUDE_DEG.min, max = AMPLITUDE_DEG.max))]
         amplitude_deg: f64,
         /// Start frequency ω0, rad/s.
+        #[schemars(range(min = FREQUENCY_RAD_S.min, max = FREQUENCY_RAD_S.max))]
         start_rad_s: f64,
         /// Frequency ω1 reached at `sweep_s`, rad/s.
+        #[schemars(range(min = FREQUENCY_RAD_S.min, max = FREQUENCY_RAD_S.max))]
         end_rad_s: f64,
         /// Sweep duration T, s (the frequency stays at ω1 afterwards).
+        #[schemars(range(min = SWEEP_S.min, max = SWEEP_S.max))]
         sweep_s: f64,
     },
 }
@@ -133,30 +163,18 @@ impl DialSignal {
 
     /// Check the parameters; `context` names the exercise in the message.
     pub fn validate(&self, context: &str) -> Result<(), VehicleError> {
-        let amp = |v: f64| {
-            check_range(
-                context,
-                "amplitude_deg",
-                v,
-                0.0,
-                MAX_DIAL_AMPLITUDE_DEG,
-                "deg",
-            )
+        let r = |field: &'static str, v: f64, b: Bound, unit: &str| {
+            check_range(context, field, v, b.min, b.max, unit)
         };
+        let amp = |v: f64| r("amplitude_deg", v, AMPLITUDE_DEG, "deg");
+        let freq = |field: &'static str, v: f64| r(field, v, FREQUENCY_RAD_S, "rad/s");
         match self {
             DialSignal::Sine {
                 amplitude_deg,
                 frequency_rad_s,
             } => {
                 amp(*amplitude_deg)?;
-                check_range(
-                    context,
-                    "frequency_rad_s",
-                    *frequency_rad_s,
-                    0.0,
-                    10.0,
-                    "rad/s",
-                )
+                freq("frequency_rad_s", *frequency_rad_s)
             }
             DialSignal::MultiSine { components } => {
                 if components.is_empty() {
@@ -167,33 +185,18 @@ impl DialSignal {
                         allowed: "1 to 16 sine components".into(),
                     });
                 }
-                check_range(
-                    context,
-                    "components",
-                    components.len() as f64,
-                    1.0,
-                    16.0,
-                    "sine components",
-                )?;
+                let n = components.len() as f64;
+                r("components", n, COMPONENTS, "sine components")?;
                 for c in components {
                     amp(c.amplitude_deg)?;
-                    check_range(
-                        context,
-                        "frequency_rad_s",
-                        c.frequency_rad_s,
-                        0.0,
-                        10.0,
-                        "rad/s",
-                    )?;
-                    check_range(context, "phase_rad", c.phase_rad, -100.0, 100.0, "rad")?;
+                    freq("frequency_rad_s", c.frequency_rad_s)?;
+                    r("phase_rad", c.phase_rad, PHASE_RAD, "rad")?;
                 }
                 let total: f64 = components.iter().map(|c| c.amplitude_deg).sum();
-                check_range(
-                    context,
+                r(
                     "components (sum of amplitude_deg)",
                     total,
-                    0.0,
-                    MAX_DIAL_AMPLITUDE_DEG,
+                    AMPLITUDE_DEG,
                     "deg",
                 )
             }
@@ -202,14 +205,14 @@ impl DialSignal {
                 hold_s,
             } => {
                 amp(*amplitude_deg)?;
-                check_range(context, "hold_s", *hold_s, 0.5, 600.0, "s")
+                r("hold_s", *hold_s, HOLD_S, "s")
             }
             DialSignal::Ramp {
                 amplitude_deg,
                 rate_deg_s,
             } => {
                 amp(*amplitude_deg)?;
-                check_range(context, "rate_deg_s", *rate_deg_s, 1.0, 720.0, "deg/s")
+                r("rate_deg_s", *rate_deg_s, RATE_DEG_S, "deg/s")
             }
             DialSignal::Chirp {
                 amplitude_deg,
@@ -218,9 +221,9 @@ impl DialSignal {
                 sweep_s,
             } => {
                 amp(*amplitude_deg)?;
-                check_range(context, "start_rad_s", *start_rad_s, 0.0, 10.0, "rad/s")?;
-                check_range(context, "end_rad_s", *end_rad_s, 0.0, 10.0, "rad/s")?;
-                check_range(context, "sweep_s", *sweep_s, 1.0, 3600.0, "s")
+                freq("start_rad_s", *start_rad_s)?;
+                freq("end_rad_s", *end_rad_s)?;
+                r("sweep_s", *sweep_s, SWEEP_S, "s")
             }
         }
     }

@@ -10,8 +10,10 @@
 //! Every road starts at the origin heading along +x, begins with a straight lead-in and ends
 //! with a straight lead-out, so a car placed by [`Exercise::start_state`] starts aligned.
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
+use self::bounds::*;
 use crate::dial::DialSignal;
 use crate::error::{VehicleError, check_range};
 use crate::model::VehicleState;
@@ -28,10 +30,62 @@ pub const MAX_LATERAL_ACCEL_M_S2: f64 = 3.0;
 /// Deceleration the target-speed profile plans with before a bend, m/s².
 pub const PLANNED_DECEL_M_S2: f64 = 1.5;
 
+/// The allowed range of every exercise field: [`ExerciseSpec::validate`] checks these and the
+/// JSON Schema (`schemars`) states them, from the same constants.
+pub mod bounds {
+    use common::Bound;
+
+    /// `lane_width_m`, m.
+    pub const LANE_WIDTH_M: Bound = Bound::new(2.0, 8.0);
+    /// `speed_m_s`, m/s.
+    pub const SPEED_M_S: Bound = Bound::new(1.0, 30.0);
+    /// `duration_s` (a road's time limit, a dial's length), s.
+    pub const DURATION_S: Bound = Bound::new(1.0, 3600.0);
+    /// A straight road's `length_m`, m.
+    pub const STRAIGHT_LENGTH_M: Bound = Bound::new(10.0, 20_000.0);
+    /// A sine road's `amplitude_m`, m.
+    pub const SINE_AMPLITUDE_M: Bound = Bound::new(0.0, 50.0);
+    /// A triangle road's `amplitude_m`, m.
+    pub const TRIANGLE_AMPLITUDE_M: Bound = Bound::new(0.5, 50.0);
+    /// `wavelength_m` of sine and triangle roads, m.
+    pub const WAVELENGTH_M: Bound = Bound::new(20.0, 2000.0);
+    /// Smallest triangle `corner_radius_m`, m (the largest depends on amplitude and
+    /// wavelength: the corners must fit on the legs).
+    pub const MIN_CORNER_RADIUS_M: f64 = 3.0;
+    /// `periods` of sine and triangle roads.
+    pub const PERIODS: Bound = Bound::new(1.0, 200.0);
+    /// A clothoid's `length_m`, m.
+    pub const CLOTHOID_LENGTH_M: Bound = Bound::new(10.0, 5000.0);
+    /// A clothoid's `end_curvature_1_m`, 1/m.
+    pub const END_CURVATURE_1_M: Bound = Bound::new(-0.2, 0.2);
+    /// A clothoid's `unwind_m`, m.
+    pub const UNWIND_M: Bound = Bound::new(5.0, 1000.0);
+    /// `angle_deg` of sharp turns and S-bends, deg.
+    pub const TURN_ANGLE_DEG: Bound = Bound::new(5.0, 180.0);
+    /// `radius_m` of sharp turns and S-bends, m.
+    pub const TURN_RADIUS_M: Bound = Bound::new(5.0, 500.0);
+    /// Sharp turns' `straight_m`, m.
+    pub const STRAIGHT_BETWEEN_M: Bound = Bound::new(5.0, 1000.0);
+    /// `count` of sharp turns and lane changes.
+    pub const COUNT: Bound = Bound::new(1.0, 100.0);
+    /// A lane change's `offset_m`, m.
+    pub const OFFSET_M: Bound = Bound::new(0.5, 20.0);
+    /// A lane change's `transition_m`, m.
+    pub const TRANSITION_M: Bound = Bound::new(5.0, 500.0);
+    /// A lane change's `hold_m`, m.
+    pub const HOLD_M: Bound = Bound::new(0.0, 1000.0);
+    /// A slalom's `cone_spacing_m`, m.
+    pub const CONE_SPACING_M: Bound = Bound::new(5.0, 200.0);
+    /// A slalom's `cone_count`.
+    pub const CONE_COUNT: Bound = Bound::new(1.0, 200.0);
+    /// A slalom's `weave_m`, m.
+    pub const WEAVE_M: Bound = Bound::new(0.5, 10.0);
+}
+
 macro_rules! spec_struct {
     ($(#[$m:meta])* $name:ident { $($(#[$fm:meta])* $field:ident : $ty:ty = $def:expr),* $(,)? }) => {
         $(#[$m])*
-        #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+        #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
         #[serde(deny_unknown_fields, default)]
         pub struct $name {
             $($(#[$fm])* pub $field: $ty,)*
@@ -48,12 +102,16 @@ spec_struct!(
     /// A straight road.
     StraightSpec {
         /// Length of the exercise part, m.
+        #[schemars(range(min = STRAIGHT_LENGTH_M.min, max = STRAIGHT_LENGTH_M.max))]
         length_m: f64 = 300.0,
         /// Lane width, m.
+        #[schemars(range(min = LANE_WIDTH_M.min, max = LANE_WIDTH_M.max))]
         lane_width_m: f64 = 3.5,
         /// Target speed, m/s.
+        #[schemars(range(min = SPEED_M_S.min, max = SPEED_M_S.max))]
         speed_m_s: f64 = 12.0,
         /// Time limit, s (the exercise ends at the road's end or at this time).
+        #[schemars(range(min = DURATION_S.min, max = DURATION_S.max))]
         duration_s: Option<f64> = None,
     }
 );
@@ -62,16 +120,22 @@ spec_struct!(
     /// The thesis's sine road: `y = A (1 − cos(2π x/λ))` after the lead-in.
     SineSpec {
         /// Amplitude `A`, m (peak-to-peak 2A).
+        #[schemars(range(min = SINE_AMPLITUDE_M.min, max = SINE_AMPLITUDE_M.max))]
         amplitude_m: f64 = 4.0,
         /// Wavelength `λ`, m.
+        #[schemars(range(min = WAVELENGTH_M.min, max = WAVELENGTH_M.max))]
         wavelength_m: f64 = 120.0,
         /// Number of whole waves.
+        #[schemars(range(min = PERIODS.min, max = PERIODS.max))]
         periods: u32 = 4,
         /// Lane width, m.
+        #[schemars(range(min = LANE_WIDTH_M.min, max = LANE_WIDTH_M.max))]
         lane_width_m: f64 = 3.5,
         /// Target speed, m/s.
+        #[schemars(range(min = SPEED_M_S.min, max = SPEED_M_S.max))]
         speed_m_s: f64 = 12.0,
         /// Time limit, s.
+        #[schemars(range(min = DURATION_S.min, max = DURATION_S.max))]
         duration_s: Option<f64> = None,
     }
 );
@@ -80,18 +144,25 @@ spec_struct!(
     /// A triangle-wave road: straight legs at ±atan(4A/λ) joined by arcs of `corner_radius_m`.
     TriangleSpec {
         /// Amplitude of the underlying triangle wave, m.
+        #[schemars(range(min = TRIANGLE_AMPLITUDE_M.min, max = TRIANGLE_AMPLITUDE_M.max))]
         amplitude_m: f64 = 4.0,
         /// Wavelength, m.
+        #[schemars(range(min = WAVELENGTH_M.min, max = WAVELENGTH_M.max))]
         wavelength_m: f64 = 120.0,
         /// Radius of the rounded corners, m.
+        #[schemars(range(min = MIN_CORNER_RADIUS_M))]
         corner_radius_m: f64 = 25.0,
         /// Number of whole waves.
+        #[schemars(range(min = PERIODS.min, max = PERIODS.max))]
         periods: u32 = 4,
         /// Lane width, m.
+        #[schemars(range(min = LANE_WIDTH_M.min, max = LANE_WIDTH_M.max))]
         lane_width_m: f64 = 3.5,
         /// Target speed, m/s.
+        #[schemars(range(min = SPEED_M_S.min, max = SPEED_M_S.max))]
         speed_m_s: f64 = 12.0,
         /// Time limit, s.
+        #[schemars(range(min = DURATION_S.min, max = DURATION_S.max))]
         duration_s: Option<f64> = None,
     }
 );
@@ -101,16 +172,22 @@ spec_struct!(
     /// short clothoid back to straight.
     ClothoidSpec {
         /// Length of the tightening clothoid, m.
+        #[schemars(range(min = CLOTHOID_LENGTH_M.min, max = CLOTHOID_LENGTH_M.max))]
         length_m: f64 = 150.0,
         /// Curvature reached at its end, 1/m (positive: turning left).
+        #[schemars(range(min = END_CURVATURE_1_M.min, max = END_CURVATURE_1_M.max))]
         end_curvature_1_m: f64 = 0.025,
         /// Length of the unwinding clothoid, m.
+        #[schemars(range(min = UNWIND_M.min, max = UNWIND_M.max))]
         unwind_m: f64 = 40.0,
         /// Lane width, m.
+        #[schemars(range(min = LANE_WIDTH_M.min, max = LANE_WIDTH_M.max))]
         lane_width_m: f64 = 3.5,
         /// Target speed, m/s.
+        #[schemars(range(min = SPEED_M_S.min, max = SPEED_M_S.max))]
         speed_m_s: f64 = 12.0,
         /// Time limit, s.
+        #[schemars(range(min = DURATION_S.min, max = DURATION_S.max))]
         duration_s: Option<f64> = None,
     }
 );
@@ -120,18 +197,25 @@ spec_struct!(
     /// right, separated by straights.
     SharpTurnsSpec {
         /// Turn angle, deg.
+        #[schemars(range(min = TURN_ANGLE_DEG.min, max = TURN_ANGLE_DEG.max))]
         angle_deg: f64 = 90.0,
         /// Turn radius, m.
+        #[schemars(range(min = TURN_RADIUS_M.min, max = TURN_RADIUS_M.max))]
         radius_m: f64 = 15.0,
         /// Straight between turns, m.
+        #[schemars(range(min = STRAIGHT_BETWEEN_M.min, max = STRAIGHT_BETWEEN_M.max))]
         straight_m: f64 = 50.0,
         /// Number of turns.
+        #[schemars(range(min = COUNT.min, max = COUNT.max))]
         count: u32 = 4,
         /// Lane width, m.
+        #[schemars(range(min = LANE_WIDTH_M.min, max = LANE_WIDTH_M.max))]
         lane_width_m: f64 = 3.5,
         /// Target speed on the straights, m/s (slower in the turns, see [`Exercise::target_speed_m_s`]).
+        #[schemars(range(min = SPEED_M_S.min, max = SPEED_M_S.max))]
         speed_m_s: f64 = 10.0,
         /// Time limit, s.
+        #[schemars(range(min = DURATION_S.min, max = DURATION_S.max))]
         duration_s: Option<f64> = None,
     }
 );
@@ -140,14 +224,19 @@ spec_struct!(
     /// An S-bend: a left arc then a right arc of the same radius and angle.
     SBendSpec {
         /// Radius of each arc, m.
+        #[schemars(range(min = TURN_RADIUS_M.min, max = TURN_RADIUS_M.max))]
         radius_m: f64 = 30.0,
         /// Angle of each arc, deg.
+        #[schemars(range(min = TURN_ANGLE_DEG.min, max = TURN_ANGLE_DEG.max))]
         angle_deg: f64 = 60.0,
         /// Lane width, m.
+        #[schemars(range(min = LANE_WIDTH_M.min, max = LANE_WIDTH_M.max))]
         lane_width_m: f64 = 3.5,
         /// Target speed, m/s.
+        #[schemars(range(min = SPEED_M_S.min, max = SPEED_M_S.max))]
         speed_m_s: f64 = 9.0,
         /// Time limit, s.
+        #[schemars(range(min = DURATION_S.min, max = DURATION_S.max))]
         duration_s: Option<f64> = None,
     }
 );
@@ -157,18 +246,25 @@ spec_struct!(
     /// made of two opposite arcs over `transition_m`, with `hold_m` of straight after each.
     LaneChangeSpec {
         /// Lateral shift, m.
+        #[schemars(range(min = OFFSET_M.min, max = OFFSET_M.max))]
         offset_m: f64 = 3.5,
         /// Longitudinal length of one change, m.
+        #[schemars(range(min = TRANSITION_M.min, max = TRANSITION_M.max))]
         transition_m: f64 = 30.0,
         /// Straight after each change, m.
+        #[schemars(range(min = HOLD_M.min, max = HOLD_M.max))]
         hold_m: f64 = 50.0,
         /// Number of changes.
+        #[schemars(range(min = COUNT.min, max = COUNT.max))]
         count: u32 = 4,
         /// Lane width, m.
+        #[schemars(range(min = LANE_WIDTH_M.min, max = LANE_WIDTH_M.max))]
         lane_width_m: f64 = 3.5,
         /// Target speed, m/s.
+        #[schemars(range(min = SPEED_M_S.min, max = SPEED_M_S.max))]
         speed_m_s: f64 = 12.0,
         /// Time limit, s.
+        #[schemars(range(min = DURATION_S.min, max = DURATION_S.max))]
         duration_s: Option<f64> = None,
     }
 );
@@ -178,16 +274,22 @@ spec_struct!(
     /// passing each at `weave_m` on alternate sides.
     SlalomSpec {
         /// Distance between cones, m.
+        #[schemars(range(min = CONE_SPACING_M.min, max = CONE_SPACING_M.max))]
         cone_spacing_m: f64 = 18.0,
         /// Number of cones.
+        #[schemars(range(min = CONE_COUNT.min, max = CONE_COUNT.max))]
         cone_count: u32 = 8,
         /// Lateral distance of the centre line from each cone, m.
+        #[schemars(range(min = WEAVE_M.min, max = WEAVE_M.max))]
         weave_m: f64 = 1.5,
         /// Lane width, m.
+        #[schemars(range(min = LANE_WIDTH_M.min, max = LANE_WIDTH_M.max))]
         lane_width_m: f64 = 3.0,
         /// Target speed, m/s.
+        #[schemars(range(min = SPEED_M_S.min, max = SPEED_M_S.max))]
         speed_m_s: f64 = 7.0,
         /// Time limit, s.
+        #[schemars(range(min = DURATION_S.min, max = DURATION_S.max))]
         duration_s: Option<f64> = None,
     }
 );
@@ -198,6 +300,7 @@ spec_struct!(
         /// The desired angle over time.
         reference: DialSignal = DialSignal::default(),
         /// Length of the exercise, s.
+        #[schemars(range(min = DURATION_S.min, max = DURATION_S.max))]
         duration_s: f64 = 60.0,
     }
 );
@@ -205,7 +308,7 @@ spec_struct!(
 /// A prescribed exercise. TOML: a table with `kind = "straight" | "sine" | "triangle" |
 /// "clothoid" | "sharp-turns" | "s-bend" | "lane-change" | "slalom" | "dial"` and that kind's
 /// fields (all optional, defaults above).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(tag = "kind", rename_all = "kebab-case")]
 pub enum ExerciseSpec {
     /// [`StraightSpec`].
@@ -299,32 +402,30 @@ impl ExerciseSpec {
     pub fn validate(&self) -> Result<(), VehicleError> {
         let c = format!("exercise {:?}", self.name());
         let c = c.as_str();
-        let lane = |w: f64| check_range(c, "lane_width_m", w, 2.0, 8.0, "m");
-        let speed = |v: f64| check_range(c, "speed_m_s", v, 1.0, 30.0, "m/s");
-        let duration = |d: Option<f64>| match d {
-            Some(d) => check_range(c, "duration_s", d, 1.0, 3600.0, "s"),
-            None => Ok(()),
+        let r = |field: &'static str, v: f64, b: common::Bound, unit: &str| {
+            check_range(c, field, v, b.min, b.max, unit)
         };
-        let count =
-            |field: &'static str, n: u32, hi: f64| check_range(c, field, f64::from(n), 1.0, hi, "");
+        // What every road has: lane width, target speed and an optional time limit.
+        let road = |lane_width_m: f64, speed_m_s: f64, duration_s: Option<f64>| {
+            r("lane_width_m", lane_width_m, LANE_WIDTH_M, "m")?;
+            r("speed_m_s", speed_m_s, SPEED_M_S, "m/s")?;
+            duration_s.map_or(Ok(()), |d| r("duration_s", d, DURATION_S, "s"))
+        };
+        let n = f64::from;
         match self {
             Self::Straight(s) => {
-                check_range(c, "length_m", s.length_m, 10.0, 20_000.0, "m")?;
-                lane(s.lane_width_m)?;
-                speed(s.speed_m_s)?;
-                duration(s.duration_s)
+                r("length_m", s.length_m, STRAIGHT_LENGTH_M, "m")?;
+                road(s.lane_width_m, s.speed_m_s, s.duration_s)
             }
             Self::Sine(s) => {
-                check_range(c, "amplitude_m", s.amplitude_m, 0.0, 50.0, "m")?;
-                check_range(c, "wavelength_m", s.wavelength_m, 20.0, 2000.0, "m")?;
-                count("periods", s.periods, 200.0)?;
-                lane(s.lane_width_m)?;
-                speed(s.speed_m_s)?;
-                duration(s.duration_s)
+                r("amplitude_m", s.amplitude_m, SINE_AMPLITUDE_M, "m")?;
+                r("wavelength_m", s.wavelength_m, WAVELENGTH_M, "m")?;
+                r("periods", n(s.periods), PERIODS, "")?;
+                road(s.lane_width_m, s.speed_m_s, s.duration_s)
             }
             Self::Triangle(s) => {
-                check_range(c, "amplitude_m", s.amplitude_m, 0.5, 50.0, "m")?;
-                check_range(c, "wavelength_m", s.wavelength_m, 20.0, 2000.0, "m")?;
+                r("amplitude_m", s.amplitude_m, TRIANGLE_AMPLITUDE_M, "m")?;
+                r("wavelength_m", s.wavelength_m, WAVELENGTH_M, "m")?;
                 let (leg, phi) = triangle_leg(s.amplitude_m, s.wavelength_m);
                 // The corner tangents must fit on the half legs at both ends.
                 let max_r = leg / (2.0 * (phi.tan() + (phi / 2.0).tan()));
@@ -332,66 +433,52 @@ impl ExerciseSpec {
                     c,
                     "corner_radius_m",
                     s.corner_radius_m,
-                    3.0,
-                    max_r.max(3.0),
+                    MIN_CORNER_RADIUS_M,
+                    max_r.max(MIN_CORNER_RADIUS_M),
                     "m (the corners must fit on the legs of this amplitude and wavelength)",
                 )?;
-                count("periods", s.periods, 200.0)?;
-                lane(s.lane_width_m)?;
-                speed(s.speed_m_s)?;
-                duration(s.duration_s)
+                r("periods", n(s.periods), PERIODS, "")?;
+                road(s.lane_width_m, s.speed_m_s, s.duration_s)
             }
             Self::Clothoid(s) => {
-                check_range(c, "length_m", s.length_m, 10.0, 5000.0, "m")?;
-                check_range(
-                    c,
+                r("length_m", s.length_m, CLOTHOID_LENGTH_M, "m")?;
+                r(
                     "end_curvature_1_m",
                     s.end_curvature_1_m,
-                    -0.2,
-                    0.2,
+                    END_CURVATURE_1_M,
                     "1/m",
                 )?;
-                check_range(c, "unwind_m", s.unwind_m, 5.0, 1000.0, "m")?;
-                lane(s.lane_width_m)?;
-                speed(s.speed_m_s)?;
-                duration(s.duration_s)
+                r("unwind_m", s.unwind_m, UNWIND_M, "m")?;
+                road(s.lane_width_m, s.speed_m_s, s.duration_s)
             }
             Self::SharpTurns(s) => {
-                check_range(c, "angle_deg", s.angle_deg, 5.0, 180.0, "deg")?;
-                check_range(c, "radius_m", s.radius_m, 5.0, 500.0, "m")?;
-                check_range(c, "straight_m", s.straight_m, 5.0, 1000.0, "m")?;
-                count("count", s.count, 100.0)?;
-                lane(s.lane_width_m)?;
-                speed(s.speed_m_s)?;
-                duration(s.duration_s)
+                r("angle_deg", s.angle_deg, TURN_ANGLE_DEG, "deg")?;
+                r("radius_m", s.radius_m, TURN_RADIUS_M, "m")?;
+                r("straight_m", s.straight_m, STRAIGHT_BETWEEN_M, "m")?;
+                r("count", n(s.count), COUNT, "")?;
+                road(s.lane_width_m, s.speed_m_s, s.duration_s)
             }
             Self::SBend(s) => {
-                check_range(c, "radius_m", s.radius_m, 5.0, 500.0, "m")?;
-                check_range(c, "angle_deg", s.angle_deg, 5.0, 180.0, "deg")?;
-                lane(s.lane_width_m)?;
-                speed(s.speed_m_s)?;
-                duration(s.duration_s)
+                r("radius_m", s.radius_m, TURN_RADIUS_M, "m")?;
+                r("angle_deg", s.angle_deg, TURN_ANGLE_DEG, "deg")?;
+                road(s.lane_width_m, s.speed_m_s, s.duration_s)
             }
             Self::LaneChange(s) => {
-                check_range(c, "offset_m", s.offset_m, 0.5, 20.0, "m")?;
-                check_range(c, "transition_m", s.transition_m, 5.0, 500.0, "m")?;
-                check_range(c, "hold_m", s.hold_m, 0.0, 1000.0, "m")?;
-                count("count", s.count, 100.0)?;
-                lane(s.lane_width_m)?;
-                speed(s.speed_m_s)?;
-                duration(s.duration_s)
+                r("offset_m", s.offset_m, OFFSET_M, "m")?;
+                r("transition_m", s.transition_m, TRANSITION_M, "m")?;
+                r("hold_m", s.hold_m, HOLD_M, "m")?;
+                r("count", n(s.count), COUNT, "")?;
+                road(s.lane_width_m, s.speed_m_s, s.duration_s)
             }
             Self::Slalom(s) => {
-                check_range(c, "cone_spacing_m", s.cone_spacing_m, 5.0, 200.0, "m")?;
-                count("cone_count", s.cone_count, 200.0)?;
-                check_range(c, "weave_m", s.weave_m, 0.5, 10.0, "m")?;
-                lane(s.lane_width_m)?;
-                speed(s.speed_m_s)?;
-                duration(s.duration_s)
+                r("cone_spacing_m", s.cone_spacing_m, CONE_SPACING_M, "m")?;
+                r("cone_count", n(s.cone_count), CONE_COUNT, "")?;
+                r("weave_m", s.weave_m, WEAVE_M, "m")?;
+                road(s.lane_width_m, s.speed_m_s, s.duration_s)
             }
             Self::Dial(d) => {
                 d.reference.validate(c)?;
-                check_range(c, "duration_s", d.duration_s, 1.0, 3600.0, "s")
+                r("duration_s", d.duration_s, DURATION_S, "s")
             }
         }
     }

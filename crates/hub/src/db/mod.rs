@@ -151,11 +151,13 @@ impl Db {
             context: "applying migrations".to_owned(),
             source: e.into(),
         })?;
-        Ok(Self {
+        let db = Self {
             pool,
             backend,
             guards: std::sync::Arc::new(logins::Guards::new()),
-        })
+        };
+        db.fill_sessions_per_week().await?;
+        Ok(db)
     }
 
     /// Opens (creating if needed) the SQLite database file at `path`; see [`Db::open`].

@@ -59,7 +59,7 @@ impl Db {
         }
         // The public half must be unique among stored codes: retry on the rare collision.
         for _ in 0..8 {
-            let code = PairingCode::generate().map_err(HubError::Corrupt)?;
+            let code = PairingCode::generate().map_err(|e| HubError::Corrupt(e.to_string()))?;
             let inserted = sqlx::query(
                 "INSERT INTO pairing_codes (code_id, secret, patient_id, created_at_ms, \
                  expires_at_ms, failed_attempts) VALUES ($1, $2, $3, $4, $5, 0) \

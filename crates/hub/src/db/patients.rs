@@ -47,13 +47,6 @@ pub struct PatientOverview {
     pub alerts: Vec<String>,
 }
 
-/// The `sessions_per_week` of a stored regimen, read with the regimen's own parser (every
-/// stored regimen was validated by it when prescribed).
-fn prescribed_per_week(regimen_toml: Option<&str>) -> Option<i64> {
-    let regimen = regimen::Regimen::from_toml(regimen_toml?, "the stored regimen").ok()?;
-    regimen.sessions_per_week.map(i64::from)
-}
-
 /// The measures the caseload shows a trend of (for each, up is better).
 pub const TREND_MEASURES: [&str; 3] = ["pct_in_lane", "wheel_rom_deg", "sparc_median"];
 
@@ -221,8 +214,8 @@ impl Db {
             (SELECT MAX(s.started_unix_ms) FROM sessions s WHERE s.patient_id = p.id) AS last_start, \
             (SELECT COUNT(*) FROM sessions s WHERE s.patient_id = p.id \
                 AND s.started_unix_ms >= $1) AS week_count, \
-            (SELECT r.toml FROM regimens r WHERE r.patient_id = p.id \
-                ORDER BY r.version DESC LIMIT 1) AS regimen_toml, \
+            (SELECT r.sessions_per_week FROM regimens r WHERE r.patient_id = p.id \
+                ORDER BY r.version DESC LIMIT 1) AS prescribed_per_week, \
             (SELECT m.value FROM session_metrics m WHERE m.name = 'watchdog_fault_ticks' \
                 AND m.session_id = (SELECT s.session_id FROM sessions s WHERE s.patient_id = p.id \
                     ORDER BY s.started_unix_ms DESC LIMIT 1)) AS last_faults, \
@@ -251,8 +244,8 @@ impl Db {
             .map(|row| {
                 let last_start: Option<i64> = col(row, "last_start")?;
                 let week: i64 = col(row, "week_count")?;
-                let regimen: Option<String> = col(row, "regimen_toml")?;
-                let prescribed = prescribed_per_week(regimen.as_deref());
+                // Stored from the parsed regimen when it was prescribed (migration 0004).
+                let prescribed: Option<i64> = col(row, "prescribed_per_week")?;
                 Ok(PatientOverview {
                     patient: Patient::from_row(row)?,
                     last_session_started_ms: last_start,

@@ -40,11 +40,14 @@ const COLUMNS: &str = "patient_id, version, toml, prescribed_by, prescribed_at_m
 
 impl Db {
     /// Stores `toml` as the next version of the patient's regimen, prescribed by therapist
-    /// `by` at `now_ms`; returns the new version number. The text is not interpreted here.
+    /// `by` at `now_ms`, with the `sessions_per_week` the caller parsed from it
+    /// (`regimen::Regimen::sessions_per_week`; the caseload reads it); returns the new version
+    /// number. The text is not interpreted here.
     pub async fn put_regimen(
         &self,
         patient_id: &str,
         toml: &str,
+        sessions_per_week: Option<u32>,
         by: &str,
         now_ms: i64,
     ) -> Result<i64, HubError> {
@@ -65,14 +68,15 @@ impl Db {
             attempts += 1;
             let result: Result<i64, sqlx::Error> = sqlx::query_scalar(
                 "INSERT INTO regimens (patient_id, version, toml, prescribed_by, \
-                 prescribed_at_ms) \
-                 SELECT $1, COALESCE(MAX(version), 0) + 1, $2, $3, $4 FROM regimens \
+                 prescribed_at_ms, sessions_per_week) \
+                 SELECT $1, COALESCE(MAX(version), 0) + 1, $2, $3, $4, $5 FROM regimens \
                  WHERE patient_id = $1 RETURNING version",
             )
             .bind(patient_id)
             .bind(toml)
             .bind(by)
             .bind(now_ms)
+            .bind(sessions_per_week.map(i64::from))
             .fetch_one(self.pool())
             .await;
             match result {
@@ -81,6 +85,42 @@ impl Db {
                 Err(e) => return Err(HubError::db("storing a regimen")(e)),
             }
         }
+    }
+
+    /// Fills `sessions_per_week` of regimens stored before migration 0004 (the column is NULL
+    /// there) with the regimen's own parser; a regimen that does not mention it, or no longer
+    /// parses, keeps NULL. Run by [`Db::open`]; quick when nothing is left to fill.
+    pub(crate) async fn fill_sessions_per_week(&self) -> Result<(), HubError> {
+        let rows = sqlx::query(
+            "SELECT patient_id, version, toml FROM regimens \
+             WHERE sessions_per_week IS NULL AND toml LIKE '%sessions_per_week%'",
+        )
+        .fetch_all(self.pool())
+        .await
+        .map_err(HubError::db(
+            "reading regimens to fill in sessions_per_week",
+        ))?;
+        for row in &rows {
+            let text: String = col(row, "toml")?;
+            let Some(n) = regimen::Regimen::from_toml(&text, "a stored regimen")
+                .ok()
+                .and_then(|r| r.sessions_per_week)
+            else {
+                continue;
+            };
+            let (patient_id, version): (String, i64) =
+                (col(row, "patient_id")?, col(row, "version")?);
+            sqlx::query(
+                "UPDATE regimens SET sessions_per_week = $1 WHERE patient_id = $2 AND version = $3",
+            )
+            .bind(i64::from(n))
+            .bind(patient_id)
+            .bind(version)
+            .execute(self.pool())
+            .await
+            .map_err(HubError::db("filling in sessions_per_week"))?;
+        }
+        Ok(())
     }
 
     /// The newest regimen of a patient, if any.

@@ -33,6 +33,7 @@ const ASSETS: &[Asset] = &[
     asset!("replay.js", JS),
     asset!("arm3d.js", JS),
     asset!("charts.js", JS),
+    asset!("schema.js", JS),
     asset!("style.css", CSS),
     asset!("vendor/three-0.181.2/three.module.min.js", JS),
     asset!("vendor/three-0.181.2/three.core.min.js", JS),

@@ -167,6 +167,7 @@ pub fn router(state: AppState) -> Router {
             "/api/patients/{id}/regimen",
             get(regimen::get_regimen).put(regimen::put_regimen),
         )
+        .route("/api/regimen/schema", get(regimen::regimen_schema))
         .route("/api/patients/{id}/live", get(live::live))
         .route("/api/sessions/{id}", get(sessions::one))
         .route("/api/sessions/{id}/summaries", get(sessions::summaries))

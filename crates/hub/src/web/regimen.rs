@@ -43,6 +43,17 @@ pub(crate) async fn get_regimen(
     }))
 }
 
+/// The regimen's JSON Schema, derived once from the regimen's types (with the validator's
+/// bounds).
+static REGIMEN_SCHEMA: std::sync::LazyLock<serde_json::Value> =
+    std::sync::LazyLock::new(regimen::Regimen::json_schema);
+
+/// `GET /api/regimen/schema`: the schema the console builds its prescribe form from. No
+/// patient data, so not audited; a login is still required, as for every endpoint.
+pub(crate) async fn regimen_schema(Authed(_): Authed) -> Json<serde_json::Value> {
+    Json(REGIMEN_SCHEMA.clone())
+}
+
 /// Body of `PUT /api/patients/{id}/regimen`: the regimen as TOML text, or as the fields the
 /// console's form edits (JSON, written as TOML here); exactly one of the two.
 #[derive(Deserialize)]
@@ -84,19 +95,28 @@ pub(crate) async fn put_regimen(
     let patient = state.visible_patient(&therapist, &id).await?;
     let Json(body) = body?;
     let text = body.into_toml()?;
-    if let Err(reason) = regimen::Regimen::from_toml(&text, "the prescribed regimen") {
-        let reason = reason.to_string();
-        state
-            .audit(&therapist.actor(), "regimen_rejected", &patient.id, &reason)
-            .await?;
-        return Err(ApiError::Unprocessable(format!(
-            "regimen refused: {reason}"
-        )));
-    }
+    let parsed = match regimen::Regimen::from_toml(&text, "the prescribed regimen") {
+        Ok(parsed) => parsed,
+        Err(reason) => {
+            let reason = reason.to_string();
+            state
+                .audit(&therapist.actor(), "regimen_rejected", &patient.id, &reason)
+                .await?;
+            return Err(ApiError::Unprocessable(format!(
+                "regimen refused: {reason}"
+            )));
+        }
+    };
     let now = state.now();
     let version = state
         .db
-        .put_regimen(&patient.id, &text, &therapist.id, now)
+        .put_regimen(
+            &patient.id,
+            &text,
+            parsed.sessions_per_week,
+            &therapist.id,
+            now,
+        )
         .await?;
     state
         .audit(

@@ -15,6 +15,37 @@ const HALF: usize = 4;
 const STATION_ID: &[u8] = b"telerehab station";
 const HUB_ID: &[u8] = b"telerehab hub";
 
+/// Why a pairing code could not be read or made.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum PairingCodeError {
+    /// Not 8 letters and digits (spaces and dashes aside).
+    #[error(
+        "a pairing code has {letters} letters and digits (like 7KQ2-M9XD); {text:?} has {found}",
+        letters = 2 * HALF
+    )]
+    Length {
+        /// The code as typed.
+        text: String,
+        /// Letters and digits found in it.
+        found: usize,
+    },
+    /// A character outside [`CODE_ALPHABET`] (after the look-alikes are mapped).
+    #[error(
+        "a pairing code never contains {0:?} (it uses {alphabet})",
+        alphabet = String::from_utf8_lossy(CODE_ALPHABET)
+    )]
+    Character(char),
+    /// The operating system's random generator failed (making a code).
+    #[error("the operating system's random generator failed")]
+    Random,
+}
+
+/// The SPAKE2 exchange failed: the peer's message was malformed.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("the pairing exchange failed: {0}")]
+pub(crate) struct ExchangeError(String);
+
 /// A pairing code `XXXX-XXXX` (40 bits): the first half names the code (public), the second
 /// is the SPAKE2 password (secret, 2²⁰ values; the hub allows a few guesses per code).
 #[derive(Clone, PartialEq, Eq)]
@@ -38,7 +69,7 @@ impl fmt::Display for PairingCode {
 impl PairingCode {
     /// Reads a code as a person types it: case, spaces and dashes do not matter, and the
     /// look-alikes `O`, `I`, `L` read as `0`, `1`, `1`.
-    pub fn parse(text: &str) -> Result<Self, String> {
+    pub fn parse(text: &str) -> Result<Self, PairingCodeError> {
         let chars: String = text
             .chars()
             .filter(|c| !c.is_whitespace() && *c != '-')
@@ -49,18 +80,13 @@ impl PairingCode {
             })
             .collect();
         if chars.len() != 2 * HALF {
-            return Err(format!(
-                "a pairing code has {} letters and digits (like 7KQ2-M9XD); {text:?} has {}",
-                2 * HALF,
-                chars.chars().count()
-            ));
+            return Err(PairingCodeError::Length {
+                text: text.to_owned(),
+                found: chars.chars().count(),
+            });
         }
         if let Some(bad) = chars.bytes().find(|b| !CODE_ALPHABET.contains(b)) {
-            return Err(format!(
-                "a pairing code never contains {:?} (it uses {})",
-                bad as char,
-                String::from_utf8_lossy(CODE_ALPHABET)
-            ));
+            return Err(PairingCodeError::Character(bad as char));
         }
         Ok(Self {
             code_id: chars[..HALF].to_owned(),
@@ -69,11 +95,11 @@ impl PairingCode {
     }
 
     /// A new random code from the operating system's CSPRNG (5 random bits a character).
-    pub fn generate() -> Result<Self, String> {
+    pub fn generate() -> Result<Self, PairingCodeError> {
         let mut bytes = [0u8; 2 * HALF];
         SystemRandom::new()
             .fill(&mut bytes)
-            .map_err(|_| "the operating system's random generator failed".to_owned())?;
+            .map_err(|_| PairingCodeError::Random)?;
         let code: String = bytes
             .iter()
             .map(|b| CODE_ALPHABET[usize::from(b & 0x1f)] as char)
@@ -104,10 +130,10 @@ pub(crate) enum MacLabel {
     HubPaired,
 }
 
-fn finish(state: Spake2<Ed25519Group>, theirs: &[u8]) -> Result<SharedKey, String> {
+fn finish(state: Spake2<Ed25519Group>, theirs: &[u8]) -> Result<SharedKey, ExchangeError> {
     let key = state
         .finish(theirs)
-        .map_err(|e| format!("the pairing exchange failed: {e:?}"))?;
+        .map_err(|e| ExchangeError(format!("{e:?}")))?;
     Ok(SharedKey(hmac::Key::new(hmac::HMAC_SHA256, &key)))
 }
 
@@ -126,7 +152,7 @@ impl StationExchange {
     }
 
     /// The key, from the hub's message.
-    pub(crate) fn finish(self, hub_msg: &[u8]) -> Result<SharedKey, String> {
+    pub(crate) fn finish(self, hub_msg: &[u8]) -> Result<SharedKey, ExchangeError> {
         finish(self.0, hub_msg)
     }
 }
@@ -139,7 +165,7 @@ impl HubExchange {
     pub(crate) fn respond(
         secret: &str,
         station_msg: &[u8],
-    ) -> Result<(Vec<u8>, SharedKey), String> {
+    ) -> Result<(Vec<u8>, SharedKey), ExchangeError> {
         let (state, msg) = Spake2::<Ed25519Group>::start_b(
             &Password::new(secret.as_bytes()),
             &Identity::new(STATION_ID),
@@ -180,12 +206,15 @@ mod tests {
         let code = PairingCode::parse(" 7kq2-m9xd ").unwrap();
         assert_eq!((code.code_id(), code.secret()), ("7KQ2", "M9XD"));
         assert_eq!(code.to_string(), "7KQ2-M9XD");
+        let short = PairingCode::parse("7KQ2-M9X").unwrap_err();
         assert!(
-            PairingCode::parse("7KQ2-M9X")
-                .unwrap_err()
-                .contains("has 7")
+            matches!(short, PairingCodeError::Length { found: 7, .. }),
+            "{short:?}"
         );
-        assert!(PairingCode::parse("7KQ2-M9XU").unwrap_err().contains("'U'"));
+        assert!(short.to_string().contains("has 7"), "{short}");
+        let u = PairingCode::parse("7KQ2-M9XU").unwrap_err();
+        assert_eq!(u, PairingCodeError::Character('U'));
+        assert!(u.to_string().contains("'U'") && u.to_string().contains("0123456789ABC"));
         let read = PairingCode::parse("o1il-abcd").unwrap();
         assert_eq!(read.to_string(), "0111-ABCD", "look-alikes read as digits");
         assert!(PairingCode::parse("'; DROP TABLE").is_err());

@@ -24,7 +24,7 @@ mod station;
 
 use std::net::SocketAddr;
 
-pub use crypto::{CODE_ALPHABET, PairingCode};
+pub use crypto::{CODE_ALPHABET, PairingCode, PairingCodeError};
 pub(crate) use crypto::{HubExchange, MacLabel, mac_hex, verify_mac};
 pub use station::{Credential, PairError, pair};
 

@@ -128,7 +128,7 @@ fn host_of(addr: &str) -> &str {
 /// Pairs with the hub at `addr` (`host:port`) using `code`, within `timeout`. On success the
 /// caller stores the credential; nothing is stored by this function.
 pub async fn pair(addr: &str, code: &str, timeout: Duration) -> Result<Credential, PairError> {
-    let code = PairingCode::parse(code).map_err(PairError::BadCode)?;
+    let code = PairingCode::parse(code).map_err(|e| PairError::BadCode(e.to_string()))?;
     match tokio::time::timeout(timeout, pair_inner(addr, &code)).await {
         Ok(r) => r,
         Err(_) => Err(PairError::Unreachable {
@@ -188,7 +188,9 @@ async fn pair_inner(addr: &str, code: &PairingCode) -> Result<Credential, PairEr
         Frame::PairChallenge(c) => from_hex(&c.pake).unwrap_or_default(),
         other => return Err(unexpected(other)),
     };
-    let key = exchange.finish(&hub_msg).map_err(PairError::NotAuthentic)?;
+    let key = exchange
+        .finish(&hub_msg)
+        .map_err(|e| PairError::NotAuthentic(e.to_string()))?;
 
     let (csr_pem, key_pem) = certificate_request().map_err(PairError::BadCode)?;
     let seen_sha256 = ring::digest::digest(&ring::digest::SHA256, &seen);

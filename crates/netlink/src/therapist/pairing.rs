@@ -48,7 +48,8 @@ async fn conversation(
         .await
         .map_err(|r| r.message)?;
     let station_msg = from_hex(&start.pake).unwrap_or_default();
-    let (hub_msg, key) = HubExchange::respond(&ticket.secret, &station_msg)?;
+    let (hub_msg, key) =
+        HubExchange::respond(&ticket.secret, &station_msg).map_err(|e| e.to_string())?;
     send(
         out,
         frame_outgoing(&Frame::PairChallenge(PairChallenge {

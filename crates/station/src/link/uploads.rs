@@ -100,7 +100,7 @@ pub async fn upload_all(
             }
             Ok(Err(e)) => {
                 report.remaining += 1;
-                report.last_error = Some(e);
+                report.last_error = Some(e.to_string());
             }
             Err(_) => {
                 report.remaining += 1;

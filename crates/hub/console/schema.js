@@ -1,0 +1,83 @@
+// The regimen's JSON Schema (GET /api/regimen/schema, derived from the regimen's Rust types
+// with the validator's bounds): what the prescribe form may offer — exercise kinds, their
+// fields, descriptions and ranges — read from it, none written here.
+import { api } from '/console/api.js';
+
+let cached = null;
+
+/** The schema, fetched once per page. */
+export async function regimenSchema() {
+  if (!cached) cached = api('GET', '/api/regimen/schema').catch(e => { cached = null; throw e; });
+  return cached;
+}
+
+/** `s` with its `$ref` followed (the referenced definition, with the referring object's own
+ * keywords beside it) and its `allOf` parts merged in. */
+function resolve(root, s) {
+  if (!s || typeof s !== 'object') return {};
+  let out = { ...s };
+  if (out.$ref) {
+    const name = out.$ref.replace(/^#\/\$defs\//, '');
+    const { $ref, ...rest } = out;
+    void $ref;
+    out = merge(resolve(root, root.$defs[name]), rest);
+  }
+  for (const part of out.allOf || []) out = merge(out, resolve(root, part));
+  return out;
+}
+
+function merge(a, b) {
+  const out = { ...a, ...b };
+  if (a.properties || b.properties) out.properties = { ...(a.properties || {}), ...(b.properties || {}) };
+  return out;
+}
+
+/** The non-null alternative of an optional value (`anyOf: [x, {type: null}]`). */
+function nonNull(root, s) {
+  const r = resolve(root, s);
+  const alt = (r.anyOf || r.oneOf || []).find(a => resolve(root, a).type !== 'null');
+  return alt && !r.properties ? resolve(root, alt) : r;
+}
+
+const types = s => [].concat(s.type || []);
+const isNumeric = s => types(s).some(t => t === 'number' || t === 'integer');
+
+/** A numeric field's bounds as the form uses them: `min`, `max` (either may be undefined),
+ * `integer`, the `default` and the description. */
+export function numberSpec(root, s) {
+  const r = nonNull(root, s);
+  return {
+    min: r.minimum ?? r.exclusiveMinimum,
+    max: r.maximum ?? r.exclusiveMaximum,
+    integer: types(r).includes('integer'),
+    default: r.default,
+    description: r.description || '',
+  };
+}
+
+/** The exercise kinds a regimen may list, in the schema's order: `{kind, description,
+ * fields}`, `fields` the kind's numeric fields as [name, numberSpec]. */
+export function exerciseKinds(root) {
+  const entry = resolve(root, root.properties.exercise.items);
+  const variants = (entry.oneOf || entry.anyOf || []).map(v => resolve(root, v));
+  return variants.filter(v => v.properties && v.properties.kind && v.properties.kind.const).map(v => ({
+    kind: v.properties.kind.const,
+    description: v.description || '',
+    fields: Object.entries(v.properties)
+      .filter(([name, p]) => name !== 'kind' && isNumeric(nonNull(root, p)))
+      .map(([name, p]) => [name, numberSpec(root, p)]),
+  }));
+}
+
+/** The regimen-wide fields: sessions a week, the haptic ceiling of an exercise, how many
+ * exercises, and the longest planned session (s). */
+export function regimenLimits(root) {
+  const entry = resolve(root, root.properties.exercise.items);
+  const haptic = nonNull(root, entry.properties.haptic);
+  return {
+    sessionsPerWeek: numberSpec(root, root.properties.sessions_per_week),
+    ceiling: numberSpec(root, haptic.properties.ceiling_nm),
+    maxExercises: root.properties.exercise.maxItems,
+    maxPlannedS: root['x-max-planned-session-s'],
+  };
+}
