@@ -240,13 +240,13 @@ impl HubStore for DbStore {
         sha256: &'a str,
         size_bytes: u64,
         path: &'a std::path::Path,
-    ) -> BoxFuture<'a, Result<(), String>> {
+    ) -> BoxFuture<'a, Result<(), NetlinkError>> {
         Box::pin(async move {
             let known = self
                 .db
                 .recording(&hello.session_id)
                 .await
-                .map_err(|e| e.to_string())?;
+                .map_err(storage_error)?;
             if known.is_some_and(|r| r.complete && r.sha256 == sha256) {
                 return Ok(());
             }
@@ -263,7 +263,7 @@ impl HubStore for DbStore {
                     self.now(),
                 )
                 .await
-                .map_err(|e| e.to_string())?;
+                .map_err(storage_error)?;
             let recording = crate::db::Recording {
                 session_id: hello.session_id.clone(),
                 sha256: sha256.to_owned(),
@@ -275,7 +275,7 @@ impl HubStore for DbStore {
             self.db
                 .put_recording(&recording)
                 .await
-                .map_err(|e| e.to_string())
+                .map_err(storage_error)
         })
     }
 
@@ -352,7 +352,7 @@ impl HubStore for Ingest {
         sha256: &'a str,
         size_bytes: u64,
         path: &'a std::path::Path,
-    ) -> BoxFuture<'a, Result<(), String>> {
+    ) -> BoxFuture<'a, Result<(), NetlinkError>> {
         self.0.recording_stored(hello, sha256, size_bytes, path)
     }
 
@@ -371,7 +371,7 @@ struct DbSession {
 }
 
 fn storage_error(e: HubError) -> NetlinkError {
-    NetlinkError::Protocol(e.to_string())
+    NetlinkError::Store(e.to_string())
 }
 
 impl SessionStore for DbSession {

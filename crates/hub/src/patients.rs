@@ -88,13 +88,7 @@ pub async fn prescribe(
         reason: e.to_string(),
     })?;
     let version = db
-        .put_regimen(
-            &p.id,
-            toml,
-            parsed.sessions_per_week,
-            &therapist.id,
-            now_ms,
-        )
+        .put_regimen(&p.id, toml, parsed.sessions_per_week, &therapist.id, now_ms)
         .await?;
     let detail = format!("version {version}");
     db.audit(&therapist.actor(), "put_regimen", &p.id, &detail, now_ms)

@@ -69,7 +69,7 @@ pub enum CodecError {
         /// Kind of the frame.
         kind: FrameKind,
         /// Which field, and its allowed range.
-        reason: String,
+        reason: crate::frame::FieldError,
     },
 }
 

@@ -47,6 +47,10 @@ pub enum NetlinkError {
     /// The hub or link has been shut down.
     #[error("the link has been shut down")]
     Closed,
+    /// The hub's system of record failed to store what the link received (the station is
+    /// told to send it again later).
+    #[error("the hub could not store it: {0}")]
+    Store(String),
 }
 
 impl NetlinkError {

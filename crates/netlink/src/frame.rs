@@ -376,7 +376,7 @@ impl Frame {
     }
 
     /// Checks the body's fields; the message names the offending field and its allowed range.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), FieldError> {
         match self {
             Self::Hello(h) => h.validate(),
             Self::Summary(s) => s.validate(),
@@ -415,10 +415,10 @@ impl Frame {
                 check_id("session_id", &u.session_id)?;
                 check_hex("sha256", &u.sha256, 32)?;
                 if u.size_bytes == 0 || u.size_bytes > MAX_RECORDING_BYTES {
-                    return Err(format!(
+                    return Err(FieldError(format!(
                         "size_bytes is {}, allowed 1 to {MAX_RECORDING_BYTES}",
                         u.size_bytes
-                    ));
+                    )));
                 }
                 Ok(())
             }
@@ -426,14 +426,27 @@ impl Frame {
             Self::UploadChunk(c) => {
                 check_id("session_id", &c.session_id)?;
                 if c.data.is_empty() || c.data.len() > MAX_CHUNK_BASE64_LEN {
-                    return Err(format!(
+                    return Err(FieldError(format!(
                         "data has {} base64 bytes, allowed 1 to {MAX_CHUNK_BASE64_LEN}",
                         c.data.len()
-                    ));
+                    )));
                 }
                 Ok(())
             }
         }
+    }
+}
+
+/// A frame field outside what the protocol allows, or a version range nobody can serve; the
+/// message names the field and its allowed range (it is what the peer is told).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct FieldError(pub String);
+
+impl From<FieldError> for String {
+    /// The message, for an answer or a log line.
+    fn from(e: FieldError) -> Self {
+        e.0
     }
 }
 
@@ -447,13 +460,13 @@ impl Hello {
     }
 
     /// The newest version both the station and this crate speak, or why there is none.
-    pub fn negotiate(&self) -> Result<u16, String> {
+    pub fn negotiate(&self) -> Result<u16, FieldError> {
         let (min, max) = self.versions();
         let best = max.min(PROTOCOL_VERSION);
         if best >= min.max(MIN_PROTOCOL_VERSION) {
             Ok(best)
         } else {
-            Err(format!(
+            Err(FieldError(format!(
                 "update required: the station speaks protocol versions {min}..={max}, the hub \
                  {MIN_PROTOCOL_VERSION}..={PROTOCOL_VERSION}; update the {} software",
                 if max < MIN_PROTOCOL_VERSION {
@@ -461,19 +474,19 @@ impl Hello {
                 } else {
                     "hub"
                 }
-            ))
+            )))
         }
     }
 
     /// Checks every field (identifiers are safe file names; see [`check_id`]). The version
     /// range need only be well formed here; whether it can be served is [`Self::negotiate`].
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), FieldError> {
         let (min, max) = self.versions();
         if min == 0 || min > max {
-            return Err(format!(
+            return Err(FieldError(format!(
                 "protocol versions {min}..={max}: min_protocol_version must be in [1, \
                  protocol_version]"
-            ));
+            )));
         }
         check_id("station_id", &self.station_id)?;
         check_id("patient_id", &self.patient_id)?;
@@ -506,7 +519,7 @@ impl Summary {
     }
 
     /// Checks every field: identifiers, finiteness and the documented ranges.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), FieldError> {
         check_id("session_id", &self.session_id)?;
         check_text("exercise", &self.exercise, MAX_TEXT_LEN)?;
         let fields = [
@@ -521,10 +534,12 @@ impl Summary {
         ];
         for (name, value, lo, hi) in fields {
             if !value.is_finite() {
-                return Err(format!("{name} is {value}, must be finite"));
+                return Err(FieldError(format!("{name} is {value}, must be finite")));
             }
             if value < lo || value > hi {
-                return Err(format!("{name} is {value}, allowed range [{lo}, {hi}]"));
+                return Err(FieldError(format!(
+                    "{name} is {value}, allowed range [{lo}, {hi}]"
+                )));
             }
         }
         check_named_values("extra", &self.extra)
@@ -536,17 +551,19 @@ impl Summary {
 pub(crate) fn check_named_values(
     field: &str,
     values: &BTreeMap<String, f64>,
-) -> Result<(), String> {
+) -> Result<(), FieldError> {
     if values.len() > MAX_EXTRA_ENTRIES {
-        return Err(format!(
+        return Err(FieldError(format!(
             "{field} has {} entries, at most {MAX_EXTRA_ENTRIES} allowed",
             values.len()
-        ));
+        )));
     }
     for (key, value) in values {
         check_text(&format!("{field} key"), key, MAX_ID_LEN)?;
         if !value.is_finite() {
-            return Err(format!("{field}[{key:?}] is {value}, must be finite"));
+            return Err(FieldError(format!(
+                "{field}[{key:?}] is {value}, must be finite"
+            )));
         }
     }
     Ok(())
@@ -562,23 +579,25 @@ pub fn max_next_seq(last: Option<u64>) -> u64 {
 /// Checks an identifier: 1 to [`MAX_ID_LEN`] bytes of ASCII letters, digits, `_`, `-`, `.`,
 /// not starting with `.`. Identifiers become file and directory names in the hub's store, so
 /// this is what keeps a hostile peer from writing outside it.
-pub fn check_id(name: &str, value: &str) -> Result<(), String> {
+pub fn check_id(name: &str, value: &str) -> Result<(), FieldError> {
     if value.is_empty() || value.len() > MAX_ID_LEN {
-        return Err(format!(
+        return Err(FieldError(format!(
             "{name} has {} bytes, allowed 1 to {MAX_ID_LEN}",
             value.len()
-        ));
+        )));
     }
     if value.starts_with('.') {
-        return Err(format!("{name} {value:?} must not start with '.'"));
+        return Err(FieldError(format!(
+            "{name} {value:?} must not start with '.'"
+        )));
     }
     if let Some(bad) = value
         .chars()
         .find(|c| !(c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.')))
     {
-        return Err(format!(
+        return Err(FieldError(format!(
             "{name} {value:?} contains {bad:?}; allowed are ASCII letters, digits, '_', '-', '.'"
-        ));
+        )));
     }
     Ok(())
 }
@@ -596,25 +615,25 @@ pub(crate) fn printable(text: &str, max: usize) -> String {
     out
 }
 
-fn check_hex(name: &str, value: &str, bytes: usize) -> Result<(), String> {
+fn check_hex(name: &str, value: &str, bytes: usize) -> Result<(), FieldError> {
     if value.len() != 2 * bytes || !value.bytes().all(|b| b.is_ascii_hexdigit()) {
-        return Err(format!(
+        return Err(FieldError(format!(
             "{name} must be {bytes} bytes as {} hex digits",
             2 * bytes
-        ));
+        )));
     }
     Ok(())
 }
 
-fn check_text(name: &str, value: &str, max: usize) -> Result<(), String> {
+fn check_text(name: &str, value: &str, max: usize) -> Result<(), FieldError> {
     if value.len() > max {
-        return Err(format!(
+        return Err(FieldError(format!(
             "{name} has {} bytes, at most {max} allowed",
             value.len()
-        ));
+        )));
     }
     if value.chars().any(char::is_control) {
-        return Err(format!("{name} contains control characters"));
+        return Err(FieldError(format!("{name} contains control characters")));
     }
     Ok(())
 }
@@ -651,13 +670,13 @@ pub(crate) mod tests {
     fn summary_with_nan_or_out_of_range_field_names_the_field() {
         let mut s = summary("s1", 1);
         s.rms_lateral_m = f64::NAN;
-        assert!(s.validate().unwrap_err().contains("rms_lateral_m"));
+        assert!(s.validate().unwrap_err().0.contains("rms_lateral_m"));
         let mut s = summary("s1", 1);
         s.pct_in_lane = 100.5;
-        assert!(s.validate().unwrap_err().contains("pct_in_lane"));
+        assert!(s.validate().unwrap_err().0.contains("pct_in_lane"));
         let mut s = summary("s1", 1);
         s.extra.insert("assist_level".into(), f64::INFINITY);
-        assert!(s.validate().unwrap_err().contains("assist_level"));
+        assert!(s.validate().unwrap_err().0.contains("assist_level"));
         assert!(summary("s1", 1).validate().is_ok());
     }
 
@@ -680,7 +699,7 @@ pub(crate) mod tests {
             min_protocol_version: None,
         };
         assert!(h.validate().is_ok());
-        assert!(h.negotiate().unwrap_err().contains("update required"));
+        assert!(h.negotiate().unwrap_err().0.contains("update required"));
         let h = Hello {
             min_protocol_version: Some(1),
             ..h
@@ -690,7 +709,7 @@ pub(crate) mod tests {
             min_protocol_version: Some(3),
             ..h
         };
-        assert!(h.validate().unwrap_err().contains("min_protocol_version"));
+        assert!(h.validate().unwrap_err().0.contains("min_protocol_version"));
     }
 
     #[test]

@@ -32,7 +32,7 @@ pub enum Appended {
 
 /// The directory of one station inside the store, checking the id is a safe path component.
 fn station_dir(store_dir: &Path, station_id: &str) -> Result<PathBuf, NetlinkError> {
-    check_id("station_id", station_id).map_err(NetlinkError::Protocol)?;
+    check_id("station_id", station_id).map_err(|e| NetlinkError::Protocol(e.to_string()))?;
     Ok(store_dir.join(station_id))
 }
 
@@ -42,7 +42,7 @@ pub fn session_path(
     station_id: &str,
     session_id: &str,
 ) -> Result<PathBuf, NetlinkError> {
-    check_id("session_id", session_id).map_err(NetlinkError::Protocol)?;
+    check_id("session_id", session_id).map_err(|e| NetlinkError::Protocol(e.to_string()))?;
     Ok(station_dir(store_dir, station_id)?.join(format!("{session_id}.jsonl")))
 }
 
@@ -78,7 +78,7 @@ fn write_session_json<T: serde::Serialize>(
     value: &T,
 ) -> Result<(), NetlinkError> {
     let dir = station_dir(store_dir, station_id)?;
-    check_id("session_id", session_id).map_err(NetlinkError::Protocol)?;
+    check_id("session_id", session_id).map_err(|e| NetlinkError::Protocol(e.to_string()))?;
     std::fs::create_dir_all(&dir)
         .map_err(|e| NetlinkError::io(format!("creating {}", dir.display()), e))?;
     let path = dir.join(format!("{session_id}.{what}.json"));

@@ -166,18 +166,29 @@ impl ServerTls {
     }
 }
 
+/// Why a client certificate cannot speak for the station it says it is.
+#[derive(Debug, thiserror::Error)]
+pub enum StationNameError {
+    /// The station id cannot be a certificate's DNS name.
+    #[error("station_id {0:?} is not a DNS name, so no certificate can name it")]
+    NotADnsName(String),
+    /// The certificate is not X.509 that webpki reads.
+    #[error("client certificate cannot be parsed: {0}")]
+    Unreadable(webpki::Error),
+    /// The certificate names other stations.
+    #[error("client certificate does not name station {0:?} (DNS subjectAltName)")]
+    OtherStation(String),
+}
+
 /// Checks that a station's client certificate carries `station_id` as a DNS subjectAltName,
 /// so a station holding a valid clinic certificate cannot speak for another station.
 pub fn certificate_names_station(
     cert: &CertificateDer<'_>,
     station_id: &str,
-) -> Result<(), String> {
-    let name = ServerName::try_from(station_id).map_err(|e| {
-        format!("station_id {station_id:?} is not a DNS name, so no certificate can name it: {e}")
-    })?;
-    let cert = webpki::EndEntityCert::try_from(cert)
-        .map_err(|e| format!("client certificate cannot be parsed: {e}"))?;
-    cert.verify_is_valid_for_subject_name(&name).map_err(|_| {
-        format!("client certificate does not name station {station_id:?} (DNS subjectAltName)")
-    })
+) -> Result<(), StationNameError> {
+    let name = ServerName::try_from(station_id)
+        .map_err(|_| StationNameError::NotADnsName(station_id.to_owned()))?;
+    let cert = webpki::EndEntityCert::try_from(cert).map_err(StationNameError::Unreadable)?;
+    cert.verify_is_valid_for_subject_name(&name)
+        .map_err(|_| StationNameError::OtherStation(station_id.to_owned()))
 }

@@ -217,10 +217,10 @@ impl netlink::HubStore for RecordFailsOnce {
         _sha256: &'a str,
         _size_bytes: u64,
         _path: &'a Path,
-    ) -> netlink::BoxFuture<'a, Result<(), String>> {
+    ) -> netlink::BoxFuture<'a, Result<(), netlink::NetlinkError>> {
         Box::pin(async move {
             if !self.failed.swap(true, std::sync::atomic::Ordering::SeqCst) {
-                return Err("the database is down".into());
+                return Err(netlink::NetlinkError::Store("the database is down".into()));
             }
             self.recorded.lock().unwrap().push(hello.session_id.clone());
             Ok(())

@@ -217,7 +217,7 @@ async fn health() -> Json<Health> {
 
 /// Checks an id taken from the URL (netlink's identifier rule), 400 naming it otherwise.
 fn check_path_id(what: &str, id: &str) -> Result<(), ApiError> {
-    netlink::frame::check_id(what, id).map_err(ApiError::BadRequest)
+    netlink::frame::check_id(what, id).map_err(|e| ApiError::BadRequest(e.into()))
 }
 
 /// An error answer: the status and `{"error": "<message>"}`.

@@ -57,6 +57,9 @@ pub enum PairError {
         "the hub's answer is not authentic ({0}); nothing was stored — check the address and the code"
     )]
     NotAuthentic(String),
+    /// This station could not make its key or certificate request (nothing was sent).
+    #[error("cannot make this station's key and certificate request: {0}")]
+    Key(#[from] rcgen::Error),
 }
 
 /// Accepts any certificate during the handshake (the station has no CA yet) but checks the
@@ -192,7 +195,7 @@ async fn pair_inner(addr: &str, code: &PairingCode) -> Result<Credential, PairEr
         .finish(&hub_msg)
         .map_err(|e| PairError::NotAuthentic(e.to_string()))?;
 
-    let (csr_pem, key_pem) = certificate_request().map_err(PairError::BadCode)?;
+    let (csr_pem, key_pem) = certificate_request()?;
     let seen_sha256 = ring::digest::digest(&ring::digest::SHA256, &seen);
     let transcript: [&[u8]; 4] = [
         &station_msg,
@@ -250,12 +253,11 @@ fn unexpected(frame: Frame) -> PairError {
 }
 
 /// A new key pair (ECDSA P-256) and a certificate request for it: (CSR PEM, key PEM).
-fn certificate_request() -> Result<(String, String), String> {
-    let key = rcgen::KeyPair::generate().map_err(|e| format!("cannot generate a key: {e}"))?;
+fn certificate_request() -> Result<(String, String), rcgen::Error> {
+    let key = rcgen::KeyPair::generate()?;
     let csr = rcgen::CertificateParams::new(Vec::<String>::new())
         .and_then(|p| p.serialize_request(&key))
-        .and_then(|csr| csr.pem())
-        .map_err(|e| format!("cannot make a certificate request: {e}"))?;
+        .and_then(|csr| csr.pem())?;
     Ok((csr, key.serialize_pem()))
 }
 

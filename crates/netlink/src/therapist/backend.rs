@@ -90,7 +90,7 @@ pub trait HubStore: Send + Sync + 'static {
         sha256: &'a str,
         size_bytes: u64,
         path: &'a std::path::Path,
-    ) -> BoxFuture<'a, Result<(), String>> {
+    ) -> BoxFuture<'a, Result<(), NetlinkError>> {
         let _ = (hello, sha256, size_bytes, path);
         Box::pin(async { Ok(()) })
     }

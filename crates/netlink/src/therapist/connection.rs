@@ -269,7 +269,7 @@ async fn open_session(
     // No version both sides speak: not retriable, the station must stop and say so.
     hello
         .negotiate()
-        .map_err(|e| (e, Some(crate::frame::UPDATE_REQUIRED)))?;
+        .map_err(|e| (e.to_string(), Some(crate::frame::UPDATE_REQUIRED)))?;
     let requires_identity = hub
         .config
         .tls
@@ -279,7 +279,7 @@ async fn open_session(
         let cert = peer
             .certificate
             .ok_or_else(|| plain("no client certificate presented".into()))?;
-        certificate_names_station(cert, &hello.station_id).map_err(plain)?;
+        certificate_names_station(cert, &hello.station_id).map_err(|e| plain(e.to_string()))?;
     }
     let file = hub
         .open_session(&hello, peer)
