@@ -28,6 +28,7 @@
 
 pub mod blocks;
 pub mod channels;
+pub mod compare;
 pub mod raw;
 pub mod reader;
 pub mod recover;
