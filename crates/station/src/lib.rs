@@ -33,7 +33,7 @@
 //! - [`report`] (the end-of-session text) and [`timing`] (loop-timing percentiles).
 //! - [`html_report`]: recorded sessions → one self-contained HTML report (reads `record`,
 //!   and the measures' rate from `session::measures`).
-//! - [`therapist_view`]: what the console draws of a session, live (every summary's extras)
+//! - `record::view` (now in the record crate): what the console draws of a session, live (every summary's extras)
 //!   and replayed (frames read from a recording for the hub).
 //! - [`resident`]: bounded buffers made resident up front, and the process's memory figures.
 //!

@@ -43,7 +43,7 @@ pub struct SessionData {
 }
 
 /// Reads the recording at `path`, front to back as a stream: what the charts draw is thinned
-/// as it is read ([`Thinner`]) and the speed profile's series is the measures' own (100 Hz),
+/// as it is read (`charts::Thinner`) and the speed profile's series is the measures' own (100 Hz),
 /// so memory does not grow with the session's length but by some 12 MB an hour.
 pub fn read(path: &Path) -> anyhow::Result<SessionData> {
     let unreadable = || format!("{} is not a readable recording", path.display());
