@@ -20,6 +20,9 @@ pub struct Answer {
     pub headers: Vec<(String, String)>,
     /// The body (de-chunked).
     pub body: Vec<u8>,
+    /// How long after the request the body's first line of replay frames (`{"frames"`) had
+    /// arrived, if one did (a streamed replay's time to its first frames).
+    pub first_frames_after: Option<std::time::Duration>,
 }
 
 impl Answer {
@@ -79,10 +82,30 @@ impl Console {
         head.push_str("\r\n");
         tls.write_all(head.as_bytes()).unwrap();
         tls.write_all(body.as_bytes()).unwrap();
+        let sent = std::time::Instant::now();
         let mut raw = Vec::new();
+        let mut first_frames_after = None;
+        let mut buf = vec![0u8; 64 << 10];
         // The server closes after the answer (some TLS stacks skip close_notify).
-        if let Err(e) = tls.read_to_end(&mut raw) {
-            assert_eq!(e.kind(), std::io::ErrorKind::UnexpectedEof, "{e}");
+        loop {
+            match tls.read(&mut buf) {
+                Ok(0) => break,
+                Ok(n) => {
+                    let from = raw.len().saturating_sub(16);
+                    raw.extend_from_slice(&buf[..n]);
+                    let frames = b"{\"frames\"";
+                    if first_frames_after.is_none()
+                        && raw[from..].windows(frames.len()).any(|w| w == frames)
+                    {
+                        first_frames_after = Some(sent.elapsed());
+                    }
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+                Err(e) => {
+                    assert_eq!(e.kind(), std::io::ErrorKind::UnexpectedEof, "{e}");
+                    break;
+                }
+            }
         }
         let split = raw
             .windows(4)
@@ -113,6 +136,7 @@ impl Console {
             status,
             headers,
             body,
+            first_frames_after,
         }
     }
 

@@ -122,6 +122,55 @@ fn bomb(recording: &[u8]) -> Vec<u8> {
     out
 }
 
+/// A replay's NDJSON lines (crates/hub/API.md) put together as the console does: `{"exercise",
+/// "rate_hz", "duration_s", "columns"}`, and the number of lines of frames.
+fn replay_of(body: &[u8]) -> (serde_json::Value, usize) {
+    let text = std::str::from_utf8(body).unwrap();
+    let mut lines = text
+        .lines()
+        .map(|l| serde_json::from_str::<serde_json::Value>(l).unwrap());
+    let head = lines.next().expect("a first line");
+    let mut answer = serde_json::json!({"exercise": head["exercise"], "rate_hz": head["rate_hz"]});
+    let (mut columns, mut n, mut chunks) = (serde_json::Map::new(), 0, 0);
+    for line in lines {
+        if let Some(k) = line["frames"].as_u64() {
+            chunks += 1;
+            for (name, values) in line["columns"].as_object().unwrap() {
+                let column = columns.entry(name.clone()).or_insert(serde_json::json!([]));
+                let column = column.as_array_mut().unwrap();
+                column.resize(n, serde_json::Value::Null);
+                column.extend(values.as_array().unwrap().iter().cloned());
+            }
+            n += k as usize;
+            for column in columns.values_mut() {
+                column
+                    .as_array_mut()
+                    .unwrap()
+                    .resize(n, serde_json::Value::Null);
+            }
+        } else if line["end"] == true {
+            answer["rate_hz"] = line["rate_hz"].clone();
+            answer["duration_s"] = line["duration_s"].clone();
+            answer["complete"] = true.into();
+        } else if let Some(rate) = line.get("rate_hz") {
+            for column in columns.values_mut() {
+                let mut i = 0;
+                column.as_array_mut().unwrap().retain(|_| {
+                    i += 1;
+                    i % 2 == 1
+                });
+            }
+            n = n.div_ceil(2);
+            answer["rate_hz"] = rate.clone();
+        } else {
+            panic!("an unexpected line: {line}");
+        }
+    }
+    assert_eq!(answer["complete"], true, "the replay ran to its end");
+    answer["columns"] = serde_json::Value::Object(columns);
+    (answer, chunks)
+}
+
 #[test]
 fn a_paired_stations_uploaded_session_replays_at_20_frames_a_second() {
     let clinic = Clinic::with_a_queued_session();
@@ -136,8 +185,9 @@ fn a_paired_stations_uploaded_session_replays_at_20_frames_a_second() {
         "{}",
         String::from_utf8_lossy(&answer.body)
     );
-    assert_eq!(answer.header("content-type"), Some("application/json"));
-    let replay = answer.json();
+    assert_eq!(answer.header("content-type"), Some("application/x-ndjson"));
+    let (replay, chunks) = replay_of(&answer.body);
+    assert!(chunks >= 2, "the first second comes on its own line");
     assert_eq!(replay["rate_hz"], 20.0);
     let duration_s = replay["duration_s"].as_f64().unwrap();
     assert!((2.0..2.6).contains(&duration_s), "{duration_s}");
@@ -329,7 +379,8 @@ fn eight_therapists_replaying_a_long_recording_at_once_keep_the_hub_under_300_mb
             let path = format!("/api/sessions/{session}/replay");
             std::thread::spawn(move || {
                 let answer = console.get(&path, &cookie);
-                (answer.status, answer.body.len(), answer.body)
+                let first_s = answer.first_frames_after.map(|d| d.as_secs_f64());
+                (answer.status, answer.body.len(), answer.body, first_s)
             })
         })
         .collect();
@@ -342,11 +393,21 @@ fn eight_therapists_replaying_a_long_recording_at_once_keep_the_hub_under_300_mb
         file_bytes as f64 / 1e6,
         peak_bytes >> 20,
         idle_bytes >> 20,
-        answers.iter().map(|(s, n, _)| (*s, *n)).collect::<Vec<_>>()
+        answers
+            .iter()
+            .map(|(s, n, _, _)| (*s, *n))
+            .collect::<Vec<_>>()
     );
-    for (status, _, body) in &answers {
+    eprintln!(
+        "first frames after (s): {:?}",
+        answers
+            .iter()
+            .map(|a| a.3.unwrap_or(f64::NAN))
+            .collect::<Vec<_>>()
+    );
+    for (status, _, body, _) in &answers {
         assert_eq!(*status, 200, "{}", String::from_utf8_lossy(body));
-        let replay: serde_json::Value = serde_json::from_slice(body).unwrap();
+        let (replay, _) = replay_of(body);
         let frames = replay["columns"]["t_s"].as_array().unwrap().len();
         assert!(frames <= 40_000, "{frames} frames");
         let covered_s = frames as f64 / replay["rate_hz"].as_f64().unwrap();

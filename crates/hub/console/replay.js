@@ -1,24 +1,69 @@
 // Replay of a stored session from its uploaded recording: the same 3-D arm, car and charts
 // as the live view, driven by a time cursor with play/pause, seek and speed, the charts'
-// cursors linked to it. The hub sends the recording at 20 frames per second of session time.
+// cursors linked to it. The hub streams the recording as NDJSON lines at 20 frames per second
+// of session time (crates/hub/API.md): the view draws the first second at once and grows as
+// the frames arrive; playback runs up to the frames received.
 import { ArmView } from '/console/arm3d.js';
 import { lineChart } from '/console/charts.js';
 import { drawRoad } from '/console/live.js';
-import { api, esc } from '/console/api.js';
+import { ApiError, esc } from '/console/api.js';
 
 const SPEEDS = [0.25, 0.5, 1, 2, 4, 8];
 
+/** Charts redrawn at most this often while frames arrive, ms. */
+const REDRAW_MS = 500;
+
+/** The answer's lines, parsed, as they arrive. */
+async function* lines(res) {
+  const reader = res.body.getReader();
+  const decoder = new TextDecoder();
+  let text = '';
+  for (;;) {
+    const { value, done } = await reader.read();
+    if (done) break;
+    text += decoder.decode(value, { stream: true });
+    let at;
+    while ((at = text.indexOf('\n')) >= 0) {
+      const line = text.slice(0, at);
+      text = text.slice(at + 1);
+      if (line.trim()) yield JSON.parse(line);
+    }
+  }
+  if (text.trim()) yield JSON.parse(text);
+}
+
+/** The replay's request: its lines, or the hub's refusal as the API's other calls give it. */
+async function request(sessionId, signal) {
+  const res = await fetch(`/api/sessions/${encodeURIComponent(sessionId)}/replay`, { credentials: 'same-origin', signal });
+  if (!res.ok) {
+    let data = null;
+    try { data = await res.json(); } catch { data = null; }
+    const error = new ApiError(res.status, (data && data.error) || `${res.status} ${res.statusText}`);
+    const retry = Number(res.headers.get('Retry-After'));
+    if (res.status === 429 && retry > 0) error.retryAfterS = retry;
+    throw error;
+  }
+  return lines(res);
+}
+
 export async function replayView(el, sessionId) {
   el.innerHTML = '<p role="status">Loading the recording…</p>';
-  const r = await api('GET', `/api/sessions/${encodeURIComponent(sessionId)}/replay`);
-  const c = r.columns, n = c.t_s.length;
+  const abort = new AbortController();
+  const stream = await request(sessionId, abort.signal);
+  const first = await stream.next();
+  if (first.done) throw new ApiError(502, 'the hub sent no replay');
+  const head = first.value;
+  let rateHz = head.rate_hz, duration = 0, n = 0, complete = false;
+  const expected = head.expected_duration_s || 0;
+  const c = { t_s: [] };
   el.innerHTML = `
-    <h2>Replay of session ${esc(sessionId)} (${esc(r.exercise)}, ${r.duration_s.toFixed(1)} s)</h2>
+    <h2>Replay of session ${esc(sessionId)} (${esc(head.exercise)}, <span id="length">${expected.toFixed(1)}</span> s)</h2>
+    <p class="note" id="loading" role="status">Receiving the recording…</p>
     <div class="tabs" role="group" aria-label="Playback">
       <button type="button" id="play">Play</button>
       <label for="seek" class="sr">Position</label>
-      <input id="seek" type="range" min="0" max="${r.duration_s}" step="0.05" value="0" aria-valuetext="0 s">
-      <span id="clock" aria-live="off">0.0 / ${r.duration_s.toFixed(1)} s</span>
+      <input id="seek" type="range" min="0" max="${expected}" step="0.05" value="0" aria-valuetext="0 s">
+      <span id="clock" aria-live="off">0.0 / ${expected.toFixed(1)} s</span>
       <label for="speed">Speed</label>
       <select id="speed">${SPEEDS.map(s => `<option value="${s}"${s === 1 ? ' selected' : ''}>×${s}</option>`).join('')}</select>
     </div>
@@ -31,10 +76,7 @@ export async function replayView(el, sessionId) {
       <section class="panel"><h2>Torque and assistance</h2><div class="chart" id="r-torque"></div></section>
       <section class="panel"><h2>Joint angles</h2><div class="chart" id="r-joints"></div></section>
     </div>`;
-  el.dataset.frames = String(n);
   const col = name => c[name] || new Array(n).fill(null);
-  const dial = c.t_s.map((_, i) => (c.car_x_m && c.car_x_m[i] !== null ? null
-    : ((col('wheel_target_rad')[i] ?? 0) - (col('wheel_angle_rad')[i] ?? 0)) * 180 / Math.PI));
   const charts = [
     lineChart(el.querySelector('#r-tracking'), { title: 'Lateral deviation and dial error', x: 'session time (s)', y: 'deviation (m) / error (°)',
       series: [{ label: 'lateral deviation (m)' }, { label: 'dial tracking error (°)' }] }),
@@ -43,32 +85,42 @@ export async function replayView(el, sessionId) {
     lineChart(el.querySelector('#r-joints'), { title: 'Joint angles', x: 'session time (s)', y: 'angle (°)',
       series: [{ label: 'shoulder elevation (°)' }, { label: 'elbow flexion (°)' }] }),
   ];
-  charts[0].set([c.t_s, col('lateral_m'), dial]);
-  charts[1].set([c.t_s, col('torque_nm'), col('assist_torque_nm'), col('ceiling_nm')]);
-  charts[2].set([c.t_s, col('shoulder_elevation_deg'), col('elbow_flexion_deg')]);
   const arm = new ArmView(el.querySelector('#arm3d'));
   const play = el.querySelector('#play'), seek = el.querySelector('#seek'), clock = el.querySelector('#clock');
-  const speed = el.querySelector('#speed');
-  let position = 0, playing = false, last = null, raf = 0;
+  const speed = el.querySelector('#speed'), loading = el.querySelector('#loading');
+  let position = 0, playing = false, last = null, raf = 0, drawn = 0;
+  // The whole length once known; meanwhile the configured one, or what has arrived.
+  const length = () => (complete ? duration : Math.max(expected, duration));
 
+  const redraw = () => {
+    drawn = performance.now();
+    const dial = c.t_s.map((_, i) => (c.car_x_m && c.car_x_m[i] !== null ? null
+      : ((col('wheel_target_rad')[i] ?? 0) - (col('wheel_angle_rad')[i] ?? 0)) * 180 / Math.PI));
+    charts[0].set([c.t_s, col('lateral_m'), dial]);
+    charts[1].set([c.t_s, col('torque_nm'), col('assist_torque_nm'), col('ceiling_nm')]);
+    charts[2].set([c.t_s, col('shoulder_elevation_deg'), col('elbow_flexion_deg')]);
+    seek.max = String(length());
+    el.querySelector('#length').textContent = length().toFixed(1);
+  };
   const show = () => {
-    const i = Math.min(n - 1, Math.max(0, Math.round(position * r.rate_hz)));
+    if (!n) return;
+    const i = Math.min(n - 1, Math.max(0, Math.round(position * rateHz)));
     const frame = {};
     for (const [name, values] of Object.entries(c)) if (values[i] !== null) frame[name] = values[i];
     arm.pose(frame);
-    const from = Math.max(0, i - Math.round(30 * r.rate_hz));
+    const from = Math.max(0, i - Math.round(30 * rateHz));
     drawRoad(el.querySelector('#road'), { x: col('car_x_m').slice(from, i + 1), y: col('car_y_m').slice(from, i + 1) }, frame);
     for (const ch of charts) ch.chart.setCursor({ left: ch.chart.valToPos(c.t_s[i], 'x'), top: 10 });
     seek.value = String(position);
     seek.setAttribute('aria-valuetext', `${position.toFixed(1)} s`);
-    clock.textContent = `${position.toFixed(1)} / ${r.duration_s.toFixed(1)} s`;
+    clock.textContent = `${position.toFixed(1)} / ${length().toFixed(1)} s`;
     el.dataset.position = position.toFixed(2);
   };
   const tick = now => {
-    if (last !== null) position = Math.min(r.duration_s, position + (now - last) / 1000 * Number(speed.value));
+    if (last !== null) position = Math.min(duration, position + (now - last) / 1000 * Number(speed.value));
     last = now;
     show();
-    if (position >= r.duration_s) setPlaying(false);
+    if (complete && position >= duration) setPlaying(false);
     else if (playing) raf = requestAnimationFrame(tick);
   };
   const setPlaying = on => {
@@ -77,12 +129,49 @@ export async function replayView(el, sessionId) {
     cancelAnimationFrame(raf);
     last = null;
     if (on) {
-      if (position >= r.duration_s) position = 0;
+      if (complete && position >= duration) position = 0;
       raf = requestAnimationFrame(tick);
     }
   };
   play.addEventListener('click', () => setPlaying(!playing));
-  seek.addEventListener('input', () => { position = Number(seek.value); show(); });
-  show();
-  return () => cancelAnimationFrame(raf);
+  seek.addEventListener('input', () => { position = Math.min(Number(seek.value), duration); show(); });
+
+  // One line of the answer taken in.
+  const take = line => {
+    if (line.frames !== undefined) {
+      for (const [name, values] of Object.entries(line.columns)) {
+        const column = c[name] || (c[name] = new Array(n).fill(null));
+        column.push(...values);
+      }
+      n += line.frames;
+      for (const column of Object.values(c)) while (column.length < n) column.push(null);
+      duration = c.t_s[n - 1] ?? 0;
+    } else if (line.end) {
+      complete = true;
+      duration = line.duration_s;
+    } else if (line.error) {
+      throw new ApiError(422, line.error);
+    } else if (line.rate_hz !== undefined) {
+      // The rate halved: keep the even frames, as the hub has.
+      for (const name of Object.keys(c)) c[name] = c[name].filter((_, i) => i % 2 === 0);
+      n = Math.ceil(n / 2);
+      rateHz = line.rate_hz;
+    }
+  };
+  (async () => {
+    try {
+      for await (const line of stream) {
+        take(line);
+        if (complete || performance.now() - drawn > REDRAW_MS) { redraw(); show(); }
+      }
+      if (!complete) throw new ApiError(502, 'the recording stopped arriving before its end');
+      loading.textContent = `${n} frames at ${rateHz} per second.`;
+      el.dataset.frames = String(n);
+    } catch (e) {
+      if (e.name === 'AbortError') return;
+      loading.className = 'error';
+      loading.textContent = `The replay stopped: ${e.message}`;
+    }
+  })();
+  return () => { abort.abort(); cancelAnimationFrame(raf); };
 }

@@ -42,6 +42,7 @@
 pub mod blocks;
 pub mod channels;
 pub mod columns;
+pub mod compare;
 pub mod raw;
 pub mod reader;
 pub mod recover;

@@ -24,8 +24,8 @@ use super::raw::{RawImuSample, RawTick, RawWheelSample};
 use super::reader::{Decoder, ReadError};
 use super::recover::check_lengths;
 use super::types::{
-    ArmSample, AssistSample, ScoreSample, SessionMetadata, Stamped, TickRecord, TimingSample,
-    VehicleSample, WheelSample,
+    ArmSample, AssistSample, MetricsSample, ScoreSample, SessionMetadata, Stamped, TickRecord,
+    TimingSample, VehicleSample, WheelSample,
 };
 use mcap::records::{Record, op};
 use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
@@ -440,6 +440,12 @@ pub struct TickStream<R> {
     ended: bool,
     failed: bool,
     late: u64,
+    /// The first `/score` sample read.
+    first_score: Option<Stamped<ScoreSample>>,
+    /// The last `/metrics` sample read (when `/metrics` is read).
+    metrics: Option<Stamped<MetricsSample>>,
+    /// The earliest log time of any message read, ns.
+    first_log_ns: Option<u64>,
 }
 
 impl TickStream<std::io::BufReader<std::fs::File>> {
@@ -478,6 +484,9 @@ impl<R: Read> TickStream<R> {
             ended: false,
             failed: false,
             late: 0,
+            first_score: None,
+            metrics: None,
+            first_log_ns: None,
         };
         loop {
             if stream.ended {
@@ -493,6 +502,30 @@ impl<R: Read> TickStream<R> {
     /// The session metadata record.
     pub fn metadata(&self) -> &SessionMetadata {
         &self.metadata
+    }
+
+    /// The first `/score` sample read (the score of the ticks before it; `None` before it is
+    /// read, or without `/score`).
+    pub fn first_score(&self) -> Option<&Stamped<ScoreSample>> {
+        self.first_score.as_ref()
+    }
+
+    /// The last `/metrics` sample read, when `/metrics` is one of the channels read (it is
+    /// recorded once, at the end).
+    pub fn metrics(&self) -> Option<&Stamped<MetricsSample>> {
+        self.metrics.as_ref()
+    }
+
+    /// The earliest log time of the messages read so far, ns since the Unix epoch (at the
+    /// end, the file's message start time).
+    pub fn first_log_ns(&self) -> Option<u64> {
+        self.first_log_ns
+    }
+
+    /// Whether the file has declared `channel` so far (and it is one read): a channel is
+    /// declared before its first message.
+    pub fn has_channel(&self, channel: Channel) -> bool {
+        self.channels.values().any(|(c, _)| *c == channel)
     }
 
     /// Samples that arrived after their tick had been given out, or were dropped beyond the
@@ -522,6 +555,8 @@ impl<R: Read> TickStream<R> {
                 });
             }
             let id = u16::from_le_bytes([data[0], data[1]]);
+            let log_ns = u64::from_le_bytes(data[6..14].try_into().expect("8 bytes"));
+            self.first_log_ns = Some(self.first_log_ns.map_or(log_ns, |t| t.min(log_ns)));
             let Some((channel, decoder)) = self.channels.get(&id) else {
                 return Ok(None);
             };
@@ -537,13 +572,27 @@ impl<R: Read> TickStream<R> {
             let dropped = match channel {
                 Channel::Wheel => q.wheel.push(*channel, decoder, body)?,
                 Channel::Vehicle => q.vehicle.push(*channel, decoder, body)?,
-                Channel::Score => q.score.push(*channel, decoder, body)?,
+                Channel::Score => {
+                    let dropped = q.score.push(*channel, decoder, body)?;
+                    if self.first_score.is_none() {
+                        self.first_score = q.score.samples.front().cloned();
+                    }
+                    dropped
+                }
                 Channel::Assist => q.assist.push(*channel, decoder, body)?,
                 Channel::Timing => q.timing.push(*channel, decoder, body)?,
                 Channel::Arm => q.arm.push(*channel, decoder, body)?,
                 Channel::RawWheel => q.raw_wheel.push(*channel, decoder, body)?,
                 Channel::RawImu => q.raw_imu.push(*channel, decoder, body)?,
-                Channel::ArmCalibration | Channel::Metrics => 0,
+                Channel::Metrics => {
+                    let mut one = Vec::new();
+                    decoder.decode_into(*channel, body, 0, &mut one)?;
+                    if let Some(m) = one.pop() {
+                        self.metrics = Some(m);
+                    }
+                    0
+                }
+                Channel::ArmCalibration => 0,
             };
             self.late += dropped;
             return Ok(None);

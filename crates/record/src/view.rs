@@ -64,7 +64,7 @@ pub fn live_pose(rec: &TickRecord, arm_lengths_m: [f64; 2]) -> Vec<(String, f64)
 pub const MAX_REPLAY_FRAMES: usize = 40_000;
 
 /// The channels a replay draws from (the rest of the recording is skipped unparsed).
-const REPLAY_CHANNELS: [Channel; 4] = [
+pub const REPLAY_CHANNELS: [Channel; 4] = [
     Channel::Vehicle,
     Channel::Score,
     Channel::Assist,
@@ -122,6 +122,123 @@ pub fn replay_frames_of<R: std::io::Read>(
         columns: &frames.columns,
     })
     .map_err(|e| e.to_string())
+}
+
+/// Frames in the first line of frames a streamed replay sends: one second of session time,
+/// so that the console draws at once.
+pub const FIRST_CHUNK_FRAMES: usize = 20;
+
+/// Frames in each later line of frames of a streamed replay.
+pub const CHUNK_FRAMES: usize = 1000;
+
+/// The frames of the recording read by `stream` as [`replay_frames_of`] makes them, given
+/// as they are made, as NDJSON lines (each ending in `\n`) handed to `send` (which answers
+/// whether to go on: `false` when the reader has gone):
+/// - first `{"exercise", "loop_rate_hz", "rate_hz", "expected_duration_s"}` (the duration the
+///   recorded configuration asked for, 0 if unknown);
+/// - then `{"frames": n, "columns": {name: [value or null, …]}}`, `n` frames more, each column
+///   `n` long (a name absent from a line: null in all its frames);
+/// - `{"rate_hz"}` when the frames passed `max_frames`: the rate halves, and the frames sent
+///   so far are to be thinned to their even ones (0, 2, 4, …), as the server has;
+/// - last `{"end": true, "duration_s", "rate_hz", "total_frames"}`, or `{"error"}` if the file
+///   turns out damaged part-way.
+///
+/// Memory is one line's frames, whatever the recording's length.
+pub fn replay_ndjson<R: std::io::Read>(
+    stream: TickStream<R>,
+    max_frames: usize,
+    mut send: impl FnMut(Vec<u8>) -> bool,
+) -> bool {
+    let meta = stream.metadata().clone();
+    let lengths = arm_lengths_m(&meta.config_toml);
+    let line = |v: serde_json::Value| {
+        let mut bytes = serde_json::to_vec(&v).unwrap_or_default();
+        bytes.push(b'\n');
+        bytes
+    };
+    let mut every = ((meta.loop_rate_hz / REPLAY_RATE_HZ).round() as usize).max(1);
+    let rate = |every: usize| meta.loop_rate_hz / every as f64;
+    if !send(line(serde_json::json!({
+        "exercise": meta.exercise,
+        "loop_rate_hz": meta.loop_rate_hz,
+        "rate_hz": rate(every),
+        "expected_duration_s": expected_duration_s(&meta.config_toml),
+    }))) {
+        return false;
+    }
+    let (mut held, mut chunk) = (0usize, Frames::default());
+    let mut last_t_s = 0.0;
+    let flush = |chunk: &mut Frames, send: &mut dyn FnMut(Vec<u8>) -> bool| {
+        if chunk.len == 0 {
+            return true;
+        }
+        /// A line of frames (the values written as the `f32` they are).
+        #[derive(serde::Serialize)]
+        struct Chunk<'a> {
+            frames: usize,
+            columns: &'a BTreeMap<String, Vec<Option<f32>>>,
+        }
+        let taken = std::mem::take(chunk);
+        let chunk = Chunk {
+            frames: taken.len,
+            columns: &taken.columns,
+        };
+        let mut bytes = serde_json::to_vec(&chunk).unwrap_or_default();
+        bytes.push(b'\n');
+        send(bytes)
+    };
+    for (i, rec) in stream.enumerate() {
+        let rec = match rec {
+            Ok(rec) => rec,
+            Err(e) => {
+                return flush(&mut chunk, &mut send)
+                    && send(line(serde_json::json!({"error": e.to_string()})));
+            }
+        };
+        if i % every != 0 {
+            continue;
+        }
+        chunk.push(&rec, lengths);
+        last_t_s = rec.t_ns as f64 * 1e-9;
+        held += 1;
+        if held > max_frames.max(1) {
+            every *= 2;
+            held = held.div_ceil(2);
+            if !(flush(&mut chunk, &mut send)
+                && send(line(serde_json::json!({"rate_hz": rate(every)}))))
+            {
+                return false;
+            }
+        }
+        let size = if held <= FIRST_CHUNK_FRAMES {
+            FIRST_CHUNK_FRAMES
+        } else {
+            CHUNK_FRAMES
+        };
+        if chunk.len >= size && !flush(&mut chunk, &mut send) {
+            return false;
+        }
+    }
+    let duration_s = f64::from(last_t_s as f32);
+    flush(&mut chunk, &mut send)
+        && send(line(serde_json::json!({
+            "end": true,
+            "duration_s": duration_s,
+            "rate_hz": rate(every),
+            "total_frames": held,
+        })))
+}
+
+/// The session length a recorded station configuration asked for, s (`[session]
+/// duration_s`, read leniently; 0 if absent).
+fn expected_duration_s(config_toml: &str) -> f64 {
+    let table: toml::Table = config_toml.parse().unwrap_or_default();
+    table
+        .get("session")
+        .and_then(|s| s.get("duration_s"))
+        .and_then(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)))
+        .filter(|s| s.is_finite() && *s > 0.0)
+        .unwrap_or(0.0)
 }
 
 /// The patient's segment lengths `[upper arm, forearm]` (m) in a recorded station
@@ -283,6 +400,65 @@ mod tests {
             arm_lengths_m("[arm.geometry]\nupper_arm_m = -1\n"),
             defaults
         );
+    }
+
+    /// The lines of [`replay_ndjson`] put together as the console does, in the shape of
+    /// [`replay_frames_of`]'s answer; and how many lines of frames came.
+    fn assembled(bytes: Vec<u8>, max_frames: usize) -> (serde_json::Value, usize) {
+        let stream =
+            TickStream::from_bytes(bytes, StreamLimits::default(), &REPLAY_CHANNELS).unwrap();
+        let mut lines = Vec::new();
+        assert!(replay_ndjson(stream, max_frames, |l| {
+            assert_eq!(l.last(), Some(&b'\n'));
+            lines.push(serde_json::from_slice::<serde_json::Value>(&l).unwrap());
+            true
+        }));
+        let (mut columns, mut n, mut chunks) = (serde_json::Map::new(), 0, 0);
+        let mut answer = serde_json::json!({"exercise": lines[0]["exercise"]});
+        for line in &lines[1..] {
+            if let Some(k) = line["frames"].as_u64() {
+                chunks += 1;
+                for (name, values) in line["columns"].as_object().unwrap() {
+                    let column = columns.entry(name.clone()).or_insert(serde_json::json!([]));
+                    let column = column.as_array_mut().unwrap();
+                    column.resize(n, serde_json::Value::Null);
+                    column.extend(values.as_array().unwrap().iter().cloned());
+                }
+                n += k as usize;
+                for column in columns.values_mut() {
+                    column
+                        .as_array_mut()
+                        .unwrap()
+                        .resize(n, serde_json::Value::Null);
+                }
+            } else if line.get("end").is_some() {
+                answer["rate_hz"] = line["rate_hz"].clone();
+                answer["duration_s"] = line["duration_s"].clone();
+                assert_eq!(line["total_frames"], n);
+            } else {
+                for column in columns.values_mut() {
+                    let mut i = 0;
+                    column.as_array_mut().unwrap().retain(|_| {
+                        i += 1;
+                        i % 2 == 1
+                    });
+                }
+                n = n.div_ceil(2);
+            }
+        }
+        answer["columns"] = serde_json::Value::Object(columns);
+        (answer, chunks)
+    }
+
+    #[test]
+    fn a_streamed_replay_puts_together_into_the_whole_answer_halvings_included() {
+        for (seconds, max_frames) in [(3, MAX_REPLAY_FRAMES), (30, 100), (7, 25)] {
+            let bytes = recording(seconds);
+            let whole = frames(bytes.clone(), max_frames);
+            let (streamed, chunks) = assembled(bytes, max_frames);
+            assert_eq!(streamed, whole, "{seconds} s, at most {max_frames} frames");
+            assert!(chunks >= 2, "the first second is sent on its own");
+        }
     }
 
     #[test]

@@ -82,8 +82,11 @@ pub(crate) async fn metrics(
 /// bounds the time one replay takes, not the hub's memory.
 pub const DEFAULT_MAX_REPLAY_BYTES: u64 = 2048 << 20;
 
-/// Replays decoded at once by one hub; more wait their turn (up to [`REPLAY_QUEUE_WAIT_S`]).
-pub const REPLAYS_AT_ONCE: usize = 2;
+/// Replays decoded (and streamed) at once by one hub; more wait their turn (up to
+/// [`REPLAY_QUEUE_WAIT_S`]). Each holds a few MB for a station's recording (at most some
+/// 50 MB for a hostile file within the stream's limits), and they share the CPU: eight
+/// therapists opening a replay together all see its first frames at once.
+pub const REPLAYS_AT_ONCE: usize = 8;
 
 /// How long a replay waits for one of the [`REPLAYS_AT_ONCE`] turns before the hub answers
 /// 503, s.
@@ -131,7 +134,8 @@ impl Drop for Asking {
 }
 
 /// `GET /api/sessions/{id}/replay`: the session's uploaded recording as the console's replay
-/// draws it; 404 until the whole recording has arrived, 422 for a file over the hub's limit or
+/// draws it, streamed as NDJSON lines while it is decoded (`record::view::replay_ndjson`), so
+/// the first frames show at once and the hub holds one line of frames a replay; 404 until the whole recording has arrived, 422 for a file over the hub's limit or
 /// one that cannot be read (a recording is a station's upload: untrusted), 429 while the same
 /// therapist's previous replay is still being prepared, 503 when the hub's turns stay busy.
 pub(crate) async fn replay(
@@ -193,11 +197,15 @@ pub(crate) async fn replay(
             10,
         ));
     };
-    // The turn and the therapist's claim are held until the decoding ends, even if the
-    // client has gone (a blocking task cannot be cancelled).
-    let frames = tokio::task::spawn_blocking(move || {
-        let _held = (turn, asking);
-        record::view::replay_frames(&path)
+    // The file is opened (and its start checked) before the answer begins, so that a file
+    // refused at once is a 422; the frames then follow as they are decoded.
+    let opened = tokio::task::spawn_blocking(move || {
+        record::TickStream::open_path(
+            &path,
+            record::StreamLimits::default(),
+            &record::view::REPLAY_CHANNELS,
+        )
+        .map_err(|e| e.to_string())
     })
     .await
     .map_err(|_| ApiError::Internal)?
@@ -208,5 +216,21 @@ pub(crate) async fn replay(
             session.session_id
         ))
     })?;
-    Ok(([(header::CONTENT_TYPE, "application/json")], frames).into_response())
+    // A few lines in flight: a slow console holds the decoder back rather than the hub's
+    // memory.
+    let (tx, rx) = tokio::sync::mpsc::channel::<Result<Vec<u8>, std::io::Error>>(4);
+    let id = session.session_id.clone();
+    // The turn and the therapist's claim are held until the decoding ends; a console gone
+    // away ends it at the next line.
+    tokio::task::spawn_blocking(move || {
+        let _held = (turn, asking);
+        let sent = record::view::replay_ndjson(opened, record::view::MAX_REPLAY_FRAMES, |line| {
+            tx.blocking_send(Ok(line)).is_ok()
+        });
+        if !sent {
+            tracing::debug!(session = %id, "replay ended early: the console went away");
+        }
+    });
+    let body = axum::body::Body::from_stream(tokio_stream::wrappers::ReceiverStream::new(rx));
+    Ok(([(header::CONTENT_TYPE, "application/x-ndjson")], body).into_response())
 }

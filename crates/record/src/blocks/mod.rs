@@ -400,37 +400,46 @@ impl Layout {
         &self,
         bytes: &[u8],
     ) -> Result<Vec<serde_json::Map<String, serde_json::Value>>, BlockError> {
-        use serde_json::Value as J;
-        let json = |cell: &Cell| match cell {
-            Cell::Float(x) => serde_json::Number::from_f64(*x).map_or(J::Null, J::Number),
-            Cell::Int(n) => J::from(*n),
-            Cell::Bool(b) => J::Bool(*b),
-            Cell::Text(t) => J::String(t.clone()),
-            Cell::Absent => J::Null,
-        };
         let rows = self.decode_cells(bytes)?;
-        Ok(rows
-            .iter()
-            .map(|cells| {
-                let mut row = serde_json::Map::new();
-                for (c, &at) in self.columns.iter().zip(&self.offsets) {
-                    let cells = &cells[at..at + c.elements];
-                    match (c.name.as_str(), cells) {
-                        ("t_ns", [Cell::Int(t_ns)]) => {
-                            row.insert("t_s".into(), J::from(*t_ns as f64 * 1e-9));
-                        }
-                        (_, [Cell::Absent]) => {}
-                        (name, [one]) => {
-                            row.insert(name.into(), json(one));
-                        }
-                        (name, many) => {
-                            row.insert(name.into(), J::Array(many.iter().map(json).collect()));
-                        }
-                    }
+        Ok(rows.iter().map(|cells| self.row_of(cells)).collect())
+    }
+
+    /// One sample's cells ([`Self::decode_cells`]) as a JSON object, as [`Self::decode`]
+    /// gives it.
+    pub fn row_of(&self, cells: &[Cell]) -> serde_json::Map<String, serde_json::Value> {
+        use serde_json::Value as J;
+        let json = Cell::json;
+        let mut row = serde_json::Map::new();
+        for (c, &at) in self.columns.iter().zip(&self.offsets) {
+            let Some(cells) = cells.get(at..at + c.elements) else {
+                break;
+            };
+            match (c.name.as_str(), cells) {
+                ("t_ns", [Cell::Int(t_ns)]) => {
+                    row.insert("t_s".into(), J::from(*t_ns as f64 * 1e-9));
                 }
-                row
+                (_, [Cell::Absent]) => {}
+                (name, [one]) => {
+                    row.insert(name.into(), json(one));
+                }
+                (name, many) => {
+                    row.insert(name.into(), J::Array(many.iter().map(json).collect()));
+                }
+            }
+        }
+        row
+    }
+
+    /// Whether `other` lays its samples out cell for cell as this one does (the same column
+    /// names, types, element counts and quanta): their cells then compare as their rows do.
+    pub fn same_cells_as(&self, other: &Layout) -> bool {
+        self.columns.len() == other.columns.len()
+            && self.columns.iter().zip(&other.columns).all(|(a, b)| {
+                a.name == b.name
+                    && a.kind == b.kind
+                    && a.elements == b.elements
+                    && a.quantum.map(f64::to_bits) == b.quantum.map(f64::to_bits)
             })
-            .collect())
     }
 
     /// The column names, in order.
@@ -481,6 +490,20 @@ pub enum Cell {
     Text(String),
     /// An optional field left out.
     Absent,
+}
+
+impl Cell {
+    /// The cell as a row holds it (a NaN or infinity, and an absent field, as null).
+    pub fn json(&self) -> serde_json::Value {
+        use serde_json::Value as J;
+        match self {
+            Cell::Float(x) => serde_json::Number::from_f64(*x).map_or(J::Null, J::Number),
+            Cell::Int(n) => J::from(*n),
+            Cell::Bool(b) => J::Bool(*b),
+            Cell::Text(t) => J::String(t.clone()),
+            Cell::Absent => J::Null,
+        }
+    }
 }
 
 /// `x` as a whole number of `quantum`s (the reserved values for NaN and infinities).

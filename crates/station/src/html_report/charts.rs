@@ -66,6 +66,99 @@ pub fn thin(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// A series thinned as it is taken, in memory bounded whatever its length: the lowest and
+/// highest point of each bucket of consecutive points (as [`thin`] keeps them), the buckets
+/// doubling in length whenever [`MAX_POINTS`] of them are full.
+#[derive(Clone, Debug)]
+pub struct Thinner {
+    /// Points a full bucket takes.
+    per_bucket: usize,
+    /// Full buckets.
+    buckets: Vec<Bucket>,
+    /// The bucket being filled and its points so far.
+    open: Option<(Bucket, usize)>,
+}
+
+/// The lowest and highest point of a bucket (the first lowest, the last highest, as
+/// [`thin`] picks them).
+#[derive(Clone, Copy, Debug)]
+struct Bucket {
+    lo: (f64, f64),
+    hi: (f64, f64),
+}
+
+impl Bucket {
+    /// The bucket of `self`'s points followed by `next`'s.
+    fn then(self, next: Bucket) -> Bucket {
+        use std::cmp::Ordering::Less;
+        Bucket {
+            lo: if next.lo.1.total_cmp(&self.lo.1) == Less {
+                next.lo
+            } else {
+                self.lo
+            },
+            hi: if next.hi.1.total_cmp(&self.hi.1) == Less {
+                self.hi
+            } else {
+                next.hi
+            },
+        }
+    }
+}
+
+impl Default for Thinner {
+    fn default() -> Self {
+        Self {
+            per_bucket: 1,
+            buckets: Vec::new(),
+            open: None,
+        }
+    }
+}
+
+impl Thinner {
+    /// Takes the next point (in x order).
+    pub fn push(&mut self, point: (f64, f64)) {
+        let one = Bucket {
+            lo: point,
+            hi: point,
+        };
+        let (bucket, n) = match self.open.take() {
+            Some((b, n)) => (b.then(one), n + 1),
+            None => (one, 1),
+        };
+        if n < self.per_bucket {
+            self.open = Some((bucket, n));
+            return;
+        }
+        self.buckets.push(bucket);
+        if self.buckets.len() >= MAX_POINTS {
+            self.buckets = self
+                .buckets
+                .chunks(2)
+                .map(|pair| pair.iter().copied().reduce(Bucket::then).expect("a pair"))
+                .collect();
+            self.per_bucket *= 2;
+        }
+    }
+
+    /// The points kept, in x order, at most [`MAX_POINTS`].
+    pub fn finish(self) -> Vec<(f64, f64)> {
+        let mut points = Vec::with_capacity(2 * (self.buckets.len() + 1));
+        for b in self.buckets.into_iter().chain(self.open.map(|(b, _)| b)) {
+            let same = b.lo.0.to_bits() == b.hi.0.to_bits() && b.lo.1.to_bits() == b.hi.1.to_bits();
+            if same {
+                points.push(b.lo);
+            } else if b.lo.0 <= b.hi.0 {
+                points.extend([b.lo, b.hi]);
+            } else {
+                points.extend([b.hi, b.lo]);
+            }
+        }
+        thin(&points)
+    }
+}
+
 /// The range of `values` with a margin, never empty.
 fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) = values
@@ -151,6 +244,34 @@ fn draw(chart: &Chart<'_>, out: &mut String) -> Result<(), Box<dyn std::error::E
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_series_thinned_as_it_comes_keeps_its_peaks_in_bounded_points() {
+        let wave = |i: usize| ((i as f64) * 0.01).sin() + if i == 123_457 { 5.0 } else { 0.0 };
+        let mut short = Thinner::default();
+        for i in 0..1000 {
+            short.push((i as f64, wave(i)));
+        }
+        let short = short.finish();
+        assert_eq!(short.len(), 1000, "a short series is kept whole");
+        assert_eq!(short[17], (17.0, wave(17)));
+        let mut long = Thinner::default();
+        for i in 0..1_000_000 {
+            long.push((i as f64, wave(i)));
+            assert!(long.buckets.len() < MAX_POINTS);
+        }
+        let long = long.finish();
+        assert!(
+            long.len() <= MAX_POINTS && long.len() > MAX_POINTS / 4,
+            "{}",
+            long.len()
+        );
+        assert!(long.windows(2).all(|w| w[0].0 <= w[1].0), "in order");
+        assert!(
+            long.contains(&(123_457.0, wave(123_457))),
+            "the peak survives"
+        );
+    }
 
     #[test]
     fn thinning_keeps_the_peaks_and_the_order() {

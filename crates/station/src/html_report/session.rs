@@ -1,9 +1,10 @@
 //! One recorded session as the report shows it: its series in the units a therapist reads
 //! (degrees, N·m, m), its movements and its measures.
 
+use super::charts::Thinner;
 use crate::session::measures::MeasureCollector;
 use anyhow::Context;
-use record::{ArmSetup, Recording};
+use record::{ArmSetup, Channel, StreamLimits, TickStream};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -41,56 +42,66 @@ pub struct SessionData {
     pub measures: BTreeMap<String, f64>,
 }
 
-/// Reads the recording at `path`.
+/// Reads the recording at `path`, front to back as a stream: what the charts draw is thinned
+/// as it is read (`charts::Thinner`) and the speed profile's series is the measures' own (100 Hz),
+/// so memory does not grow with the session's length but by some 12 MB an hour.
 pub fn read(path: &Path) -> anyhow::Result<SessionData> {
-    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
-    let rec = Recording::from_bytes(&bytes)
-        .with_context(|| format!("{} is not a readable recording", path.display()))?;
-    let start_unix_ns = mcap::Summary::read(&bytes)
-        .ok()
-        .flatten()
-        .and_then(|s| s.stats)
-        .map_or(0, |s| s.message_start_time);
-    let deg = f64::to_degrees;
-    let wheel = |f: fn(&record::WheelSample) -> f64| {
-        rec.wheel
-            .iter()
-            .map(|m| (m.t_s, f(&m.data)))
-            .collect::<Vec<_>>()
+    let unreadable = || format!("{} is not a readable recording", path.display());
+    // The station's own file: the `/metrics` message of a long session may be large.
+    let limits = StreamLimits {
+        max_message_bytes: 16 << 20,
+        ..StreamLimits::default()
     };
-    let tracked = rec
-        .arm
-        .iter()
-        .filter(|m| m.data.setup == ArmSetup::Tracking);
-    let metrics = rec.metrics.last().map(|m| &m.data);
-    let speed_deg_s = speed_profile(&rec);
+    let channels = [
+        Channel::Vehicle,
+        Channel::Score,
+        Channel::Assist,
+        Channel::Arm,
+        Channel::Metrics,
+    ];
+    let mut stream = TickStream::open_path(path, limits, &channels).with_context(unreadable)?;
+    let meta = stream.metadata().clone();
+    let mut lines: [Thinner; 7] = Default::default();
+    let mut collector = MeasureCollector::new(meta.loop_rate_hz, 0);
+    let deg = f64::to_degrees;
+    while let Some(tick) = stream.next() {
+        let mut tick = tick.with_context(unreadable)?;
+        let t = tick.t_ns as f64 * 1e-9;
+        let w = &tick.wheel;
+        lines[0].push((t, w.angle_rad.to_degrees()));
+        lines[1].push((t, w.target_rad.to_degrees()));
+        lines[3].push((t, w.commanded_nm));
+        lines[4].push((t, tick.assist.torque_nm));
+        if let Some(v) = &tick.vehicle {
+            lines[2].push((t, v.lateral_m));
+        }
+        if let Some(a) = tick.arm.filter(|a| a.setup == ArmSetup::Tracking) {
+            lines[5].push((t, deg(a.shoulder_elevation_rad)));
+            lines[6].push((t, deg(a.elbow_flexion_rad)));
+        }
+        // The score (with the pause) is recorded every 100 ms: before its first message the
+        // exercise was as that message says.
+        if let Some(first) = stream.first_score().filter(|f| tick.tick < f.tick) {
+            tick.score = first.data;
+        }
+        collector.add(&tick);
+    }
+    let metrics = stream.metrics().map(|m| &m.data);
+    let [wheel, target, lateral, torque, assist, shoulder, elbow] = lines.map(Thinner::finish);
     Ok(SessionData {
         path: path.to_path_buf(),
-        start_unix_ns,
-        exercise: rec.metadata.exercise.clone(),
-        seed: rec.metadata.seed,
-        patient: rec.metadata.patient_id.clone(),
-        wheel_deg: wheel(|w| w.angle_rad.to_degrees()),
-        target_deg: wheel(|w| w.target_rad.to_degrees()),
-        lateral_m: rec
-            .vehicle
-            .iter()
-            .map(|m| (m.t_s, m.data.lateral_m))
-            .collect(),
-        torque_nm: wheel(|w| w.commanded_nm),
-        assist_nm: rec
-            .assist
-            .iter()
-            .map(|m| (m.t_s, m.data.torque_nm))
-            .collect(),
-        shoulder_deg: tracked
-            .clone()
-            .map(|m| (m.t_s, deg(m.data.shoulder_elevation_rad)))
-            .collect(),
-        elbow_deg: tracked
-            .map(|m| (m.t_s, deg(m.data.elbow_flexion_rad)))
-            .collect(),
-        speed_deg_s,
+        start_unix_ns: stream.first_log_ns().unwrap_or(0),
+        exercise: meta.exercise.clone(),
+        seed: meta.seed,
+        patient: meta.patient_id.clone(),
+        wheel_deg: wheel,
+        target_deg: target,
+        lateral_m: lateral,
+        torque_nm: torque,
+        assist_nm: assist,
+        shoulder_deg: shoulder,
+        elbow_deg: elbow,
+        speed_deg_s: speed_profile(&mut collector),
         movements: metrics.map_or_else(Vec::new, |m| {
             m.movements
                 .iter()
@@ -102,26 +113,18 @@ pub fn read(path: &Path) -> anyhow::Result<SessionData> {
 }
 
 /// The wheel's speed as the session's measures saw it (the exercise only, paused stretches
-/// left out, a NaN between runs so the chart breaks there), in °/s: the recorded ticks run
-/// through the station's own collector.
-fn speed_profile(rec: &Recording) -> Vec<(f64, f64)> {
-    let mut collector = MeasureCollector::new(rec.metadata.loop_rate_hz, rec.wheel.len() as u64);
-    // The score (with the pause) is recorded every 100 ms: before its first message the
-    // exercise was as that message says.
-    let first = rec.score.first().map(|m| (m.tick, m.data));
-    for mut tick in rec.ticks() {
-        if let Some((_, score)) = first.filter(|(at, _)| tick.tick < *at) {
-            tick.score = score;
-        }
-        collector.add(&tick);
-    }
-    let mut points = Vec::new();
+/// left out, a NaN between runs so the chart breaks there), in °/s, thinned: the recorded
+/// ticks run through the station's own collector (`collector`, fed every tick).
+fn speed_profile(collector: &mut MeasureCollector) -> Vec<(f64, f64)> {
+    let mut points = Thinner::default();
     // In memory: the series cannot be lost.
     for run in collector.speed_series().unwrap_or_default() {
         if let Some(&(t, _)) = run.last() {
-            points.extend(run.iter().map(|&(t, v)| (t, v.to_degrees())));
+            for &(t, v) in &run {
+                points.push((t, v.to_degrees()));
+            }
             points.push((t, f64::NAN));
         }
     }
-    points
+    points.finish()
 }

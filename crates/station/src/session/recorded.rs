@@ -33,10 +33,43 @@ struct InputTick {
     true_arm_rad: Option<(f64, f64)>,
 }
 
-/// The raw inputs of a recorded session, tick by tick.
-#[derive(Clone, Debug, Default, PartialEq)]
+/// A recording's ticks read as a stream.
+type Ticks = record::TickStream<std::io::BufReader<std::fs::File>>;
+
+/// The raw inputs of a recorded session, tick by tick: held whole (tests), or read from the
+/// recording's file as the replay plays them, in bounded memory whatever its length.
+#[derive(Default)]
 pub struct RecordedInputs {
-    ticks: Vec<InputTick>,
+    /// The ticks held, from the next one to play on (reversed: the next is the last).
+    held: Vec<InputTick>,
+    /// The recording read as the ticks are played.
+    stream: Option<Box<Ticks>>,
+    /// Ticks given to the body so far.
+    given: usize,
+    /// The same, shared with the replay.
+    played: Arc<std::sync::atomic::AtomicUsize>,
+    /// Why the inputs ended before the recording did, if they did (shared with the replay).
+    failure: Arc<std::sync::Mutex<Option<String>>>,
+}
+
+/// Why the raw inputs of tick `k` cannot be played (the next recorded being `next`).
+fn dropped_tick(k: usize, next: u64) -> String {
+    format!(
+        "the recording lacks the raw inputs of tick {k} (the next recorded is {next}): its \
+         recorder dropped ticks, so the session cannot be re-run from them"
+    )
+}
+
+/// The inputs of one recorded tick.
+fn input_tick(rec: &record::TickRecord) -> InputTick {
+    InputTick {
+        raw: rec.raw,
+        true_angle_rad: rec.wheel.true_angle_rad,
+        hand_nm: rec.wheel.hand_nm,
+        true_arm_rad: rec
+            .arm
+            .map(|a| (a.true_shoulder_elevation_rad, a.true_elbow_flexion_rad)),
+    }
 }
 
 impl RecordedInputs {
@@ -52,20 +85,9 @@ impl RecordedInputs {
         let mut ticks = Vec::with_capacity(recording.raw_wheel.len());
         for (k, rec) in recording.ticks().enumerate() {
             if rec.tick != k as u64 {
-                bail!(
-                    "the recording lacks the raw inputs of tick {k} (the next recorded is {}): \
-                     its recorder dropped ticks, so the session cannot be re-run from them",
-                    rec.tick
-                );
+                bail!(dropped_tick(k, rec.tick));
             }
-            ticks.push(InputTick {
-                raw: rec.raw,
-                true_angle_rad: rec.wheel.true_angle_rad,
-                hand_nm: rec.wheel.hand_nm,
-                true_arm_rad: rec
-                    .arm
-                    .map(|a| (a.true_shoulder_elevation_rad, a.true_elbow_flexion_rad)),
-            });
+            ticks.push(input_tick(&rec));
         }
         let with_raw = recording.raw_wheel.len();
         if with_raw != ticks.len() {
@@ -74,40 +96,102 @@ impl RecordedInputs {
                 ticks.len()
             );
         }
-        Ok(Self { ticks })
+        ticks.reverse();
+        Ok(Self {
+            held: ticks,
+            ..Self::default()
+        })
     }
 
-    /// Ticks recorded.
-    pub fn len(&self) -> usize {
-        self.ticks.len()
+    /// The inputs of the recording at `path`, read tick by tick as they are played. A tick
+    /// missing (a recorder that dropped ticks) or a damaged file ends them there, and
+    /// [`Self::failure`] says why; a file without `/raw/wheel` is refused here.
+    pub fn stream_from(path: &std::path::Path) -> anyhow::Result<Self> {
+        let channels = [
+            record::Channel::Arm,
+            record::Channel::RawWheel,
+            record::Channel::RawImu,
+        ];
+        let mut stream =
+            record::TickStream::open_path(path, record::StreamLimits::default(), &channels)
+                .with_context(|| format!("{} is not a readable recording", path.display()))?;
+        // The first tick read, to know whether the file records raw inputs at all.
+        let first = stream.next().transpose().context("the recording")?;
+        if first.is_none() || !stream.has_channel(record::Channel::RawWheel) {
+            bail!(
+                "the recording has no raw inputs (/raw/wheel): it was made before they were \
+                 recorded"
+            );
+        }
+        let mut inputs = Self {
+            stream: Some(Box::new(stream)),
+            ..Self::default()
+        };
+        if let Some(rec) = first {
+            if rec.tick != 0 {
+                bail!(dropped_tick(0, rec.tick));
+            }
+            inputs.held.push(input_tick(&rec));
+        }
+        Ok(inputs)
     }
 
-    /// No tick recorded.
-    pub fn is_empty(&self) -> bool {
-        self.ticks.is_empty()
+    /// Why the inputs ended before the recording did (a dropped tick, a damaged file), once
+    /// they have.
+    pub fn failure(&self) -> Arc<std::sync::Mutex<Option<String>>> {
+        Arc::clone(&self.failure)
+    }
+
+    /// How many ticks have been played (shared: read it once the replay has run).
+    pub fn played(&self) -> Arc<std::sync::atomic::AtomicUsize> {
+        Arc::clone(&self.played)
+    }
+
+    /// The next tick's inputs; `None` past the last.
+    fn next(&mut self) -> Option<InputTick> {
+        let tick = match self.held.pop() {
+            Some(t) => Some(t),
+            None => self.next_streamed(),
+        };
+        if tick.is_some() {
+            self.given += 1;
+            self.played.store(self.given, Ordering::Relaxed);
+        }
+        tick
+    }
+
+    /// The next tick read from the file, if it is the tick due.
+    fn next_streamed(&mut self) -> Option<InputTick> {
+        let stream = self.stream.as_mut()?;
+        let why = match stream.next()? {
+            Ok(rec) if rec.tick == self.given as u64 => return Some(input_tick(&rec)),
+            Ok(rec) => dropped_tick(self.given, rec.tick),
+            Err(e) => format!("the recording cannot be read past tick {}: {e}", self.given),
+        };
+        self.stream = None;
+        *self.failure.lock().unwrap_or_else(|e| e.into_inner()) = Some(why);
+        None
     }
 
     /// Change the wheel angle read on `tick` by `by_rad` (tests: a replay must notice).
     #[cfg(test)]
     pub(crate) fn nudge_angle(&mut self, tick: usize, by_rad: f64) {
-        self.ticks[tick].raw.wheel.angle_rad += by_rad;
-    }
-
-    /// Ticks recorded.
-    pub fn ticks(&self) -> usize {
-        self.ticks.len()
+        let n = self.held.len();
+        self.held[n - 1 - tick].raw.wheel.angle_rad += by_rad;
     }
 
     /// Keep the first `ticks` ticks only, as a killed session's file holds (tests).
     #[cfg(test)]
     pub(crate) fn cut_after(&mut self, ticks: usize) {
-        self.ticks.truncate(ticks);
+        let n = self.held.len();
+        self.held.drain(..n - ticks);
     }
 
     /// Hold back the solver's answer, first in hand on tick `from`, by `ticks` (tests).
     #[cfg(test)]
     pub(crate) fn delay_solver_answer(&mut self, from: usize, ticks: usize) {
-        for t in &mut self.ticks[from..from + ticks] {
+        let n = self.held.len();
+        for t in &mut self.held[n - from - ticks..n - from] {
             t.raw.wheel.solver_answered = false;
         }
     }
@@ -136,8 +220,10 @@ pub struct RecordedMotion {
 /// The body of a recorded session (see the module docs).
 pub struct RecordedBody {
     inputs: RecordedInputs,
-    /// The tick being played.
-    k: usize,
+    /// The tick being played (`None` past the recording's last).
+    now: Option<InputTick>,
+    /// The last tick the recording holds, once played.
+    last: Option<InputTick>,
     profile: DeviceProfile,
     max_torque_nm: f64,
     encoder_step_rad: f64,
@@ -172,9 +258,12 @@ impl RecordedBody {
                 })
             })
             .transpose()?;
+        let mut inputs = inputs;
+        let now = inputs.next();
         let body = Self {
             inputs,
-            k: 0,
+            now,
+            last: now,
             profile: facts.wheel_profile.clone(),
             max_torque_nm: facts.wheel_max_torque_nm,
             encoder_step_rad: facts.encoder_step_rad,
@@ -189,7 +278,7 @@ impl RecordedBody {
     }
 
     fn now(&self) -> Option<&InputTick> {
-        self.inputs.ticks.get(self.k)
+        self.now.as_ref()
     }
 
     /// Raise the stop flag before the tick that recorded a stop asked for.
@@ -225,7 +314,7 @@ impl RecordedBody {
     /// Now on the body clock, ns, as recorded (the last recorded past the end).
     pub fn now_ns(&self) -> u64 {
         self.now()
-            .or(self.inputs.ticks.last())
+            .or(self.last.as_ref())
             .map_or(0, |t| t.raw.wheel.now_ns)
     }
 
@@ -271,7 +360,10 @@ impl RecordedBody {
             }
             (arm.last, arm.tracker.take_seam())
         });
-        self.k += 1;
+        self.now = self.inputs.next();
+        if self.now.is_some() {
+            self.last = self.now;
+        }
         self.raise_stop();
         RecordedMotion {
             hand_nm: tick.hand_nm,

@@ -14,7 +14,8 @@ use crate::session::haptic::Pacing;
 use crate::session::{self, BodyKind, Controls, SessionOptions};
 use anyhow::{Context, bail};
 use clock::Clock;
-use record::{Channel, RecordedRows, Row, SessionMetadata, recorded_rows};
+use record::compare::{ChannelComparison, MAX_PENDING_SAMPLES, Sample, SampleDifference};
+use record::{Channel, Row, SessionMetadata, StreamLimits, TickStream};
 use regimen::Regimen;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -121,35 +122,39 @@ pub fn replay(path: &Path) -> anyhow::Result<ReplayOutcome> {
 }
 
 /// Re-run the session recorded at `path` and compare every channel but `/timing`: from its
-/// raw inputs when it was a real-device session or `from_raw`, else from its seed.
+/// raw inputs when it was a real-device session or `from_raw`, else from its seed. Neither
+/// run is held: the re-run is recorded to a temporary file, and the two files are then read
+/// side by side and compared as they are read (`record::compare`), so memory does not grow
+/// with the session's length.
 pub fn replay_with(path: &Path, from_raw: bool) -> anyhow::Result<ReplayOutcome> {
-    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
-    let (meta, recorded) = recorded_rows(&bytes)
-        .with_context(|| format!("{} is not a readable recording", path.display()))?;
+    let unreadable = || format!("{} is not a readable recording", path.display());
+    let mut stream =
+        TickStream::open_path(path, StreamLimits::default(), &[]).with_context(unreadable)?;
+    let meta = stream.metadata().clone();
     let real = meta
         .body
         .as_ref()
         .is_some_and(|b| b.kind == record::raw::BodyKindName::Real);
     if from_raw || real {
-        return raw::replay_from_raw(&bytes, &meta, &recorded)
+        return raw::replay_from_raw(path, &meta)
             .with_context(|| format!("replaying {} from its raw inputs", path.display()));
     }
-    let wheel = recorded.get(&Channel::Wheel).map_or(&[][..], Vec::as_slice);
-    let first = match wheel.first() {
-        Some(m) => m,
+    let first = match stream.next() {
+        Some(tick) => tick.with_context(unreadable)?,
         None => bail!(
             "{} has no /wheel messages: nothing to replay",
             path.display()
         ),
     };
-    if first.get("true_angle_rad").is_none() {
+    drop(stream);
+    if first.wheel.true_angle_rad.is_none() {
         bail!(
             "{} is a session on a real wheel recorded before the raw inputs were: its patient's \
              hands cannot be re-run, nor its device readings replayed",
             path.display()
         );
     }
-    let (opts, caveats) = options(&meta, wheel.len(), &recorded)?;
+    let (opts, expected_ticks) = options(&meta)?;
     let dir = tempfile::tempdir().context("cannot make a temporary directory")?;
     let again_path = dir.path().join("replay.mcap");
     let opts = SessionOptions {
@@ -157,31 +162,64 @@ pub fn replay_with(path: &Path, from_raw: bool) -> anyhow::Result<ReplayOutcome>
         ..opts
     };
     let report = session::run(&opts, &Controls::default(), &mut ())?;
-    compare(&report, &again_path, &recorded, caveats, false)
+    let (mut outcome, pauses) = compare(path, &report, &again_path, false)?;
+    let recorded_ticks = outcome.compared.get(Channel::Wheel.topic()).copied();
+    let recorded_ticks = recorded_ticks.unwrap_or(0);
+    if recorded_ticks < expected_ticks {
+        outcome.caveats.push(format!(
+            "the session was stopped after {recorded_ticks} of {expected_ticks} ticks; the \
+             replay runs them all, so it differs from the stop on"
+        ));
+    }
+    if pauses.patient_paused() {
+        outcome.caveats.push(
+            "the patient paused this session; pauses are not replayed, so it differs from the \
+             first pause on"
+                .into(),
+        );
+    }
+    Ok(outcome)
 }
 
-/// The replay's outcome: what the re-run (`report`, recorded to `again_path`) reproduced of
-/// `recorded`, the raw channels compared too when `from_raw`.
+/// The replay's outcome (no caveats yet): what the re-run (`report`, recorded to
+/// `again_path`) reproduced of the recording at `recorded`, the raw channels compared too when
+/// `from_raw`; and the recording's pauses.
 fn compare(
+    recorded: &Path,
     report: &session::SessionReport,
     again_path: &Path,
-    recorded: &RecordedRows,
-    caveats: Vec<String>,
     from_raw: bool,
-) -> anyhow::Result<ReplayOutcome> {
+) -> anyhow::Result<(ReplayOutcome, Pauses)> {
     if let Some(e) = &report.recorder.error {
         bail!("the replay's own recording failed: {e}");
     }
-    let again_bytes = std::fs::read(again_path).context("cannot read the replay's recording")?;
-    let (_, again) = recorded_rows(&again_bytes).context("the replay's recording")?;
-    Ok(ReplayOutcome {
-        compared: compared(from_raw)
-            .map(|c| (c.topic(), recorded.get(&c).map_or(0, Vec::len)))
-            .collect(),
-        first_difference: first_difference_on(recorded, &again, from_raw),
-        caveats,
-        from_raw,
+    let channels: Vec<Channel> = compared(from_raw).collect();
+    let mut pauses = Pauses::default();
+    let comparison = record::compare::compare_files(recorded, again_path, &channels, |c, s| {
+        pauses.observe(c, s);
     })
+    .map_err(|e| {
+        let which = if e.second {
+            "the replay's recording".to_owned()
+        } else {
+            format!("{} is not a readable recording", recorded.display())
+        };
+        anyhow::Error::new(e.source).context(which)
+    })?;
+    Ok((
+        ReplayOutcome {
+            compared: comparison
+                .iter()
+                .map(|(c, cmp)| (c.topic(), cmp.samples[0]))
+                .collect(),
+            first_difference: channels
+                .iter()
+                .find_map(|c| comparison.get(c).and_then(|cmp| difference_on(*c, cmp))),
+            caveats: Vec::new(),
+            from_raw,
+        },
+        pauses,
+    ))
 }
 
 /// The configuration and regimen a recorded session ran with (from its metadata), read
@@ -206,29 +244,10 @@ pub(crate) fn recorded_plan(
     Ok((config, regimen))
 }
 
-/// The session options that re-run the recorded session, and what may keep it from being
-/// reproduced.
-fn options(
-    meta: &SessionMetadata,
-    recorded_ticks: usize,
-    recorded: &RecordedRows,
-) -> anyhow::Result<(SessionOptions, Vec<String>)> {
+/// The session options that re-run the recorded session, and the ticks it was to run.
+fn options(meta: &SessionMetadata) -> anyhow::Result<(SessionOptions, usize)> {
     let (config, regimen) = recorded_plan(meta)?;
-    let mut caveats = Vec::new();
     let expected = (config.session.duration_s * config.session.loop_rate_hz).round() as usize;
-    if recorded_ticks < expected {
-        caveats.push(format!(
-            "the session was stopped after {recorded_ticks} of {expected} ticks; the replay runs \
-             them all, so it differs from the stop on"
-        ));
-    }
-    if patient_paused(recorded) {
-        caveats.push(
-            "the patient paused this session; pauses are not replayed, so it differs from the \
-             first pause on"
-                .into(),
-        );
-    }
     Ok((
         SessionOptions {
             config,
@@ -239,31 +258,47 @@ fn options(
             isolate_core: false,
             clock: Clock::mock().0,
         },
-        caveats,
+        expected,
     ))
 }
 
-/// Whether the patient paused the exercise: a recorded pause after the arm procedure (which
-/// holds the exercise paused itself, and is replayed).
-fn patient_paused(recorded: &RecordedRows) -> bool {
-    let in_procedure = |v: &&Row| {
-        matches!(
-            v["setup"].as_str(),
-            Some("hold-still" | "turn-wheel" | "solving")
-        )
-    };
-    let procedure_end = recorded.get(&Channel::Arm).map_or(0, |arm| {
-        arm.iter()
-            .filter(in_procedure)
-            .filter_map(|v| v["tick"].as_u64())
-            .max()
-            .map_or(0, |t| t + 1)
-    });
-    recorded.get(&Channel::Score).is_some_and(|scores| {
-        scores
-            .iter()
-            .any(|v| v["paused"] == true && v["tick"].as_u64().is_some_and(|t| t > procedure_end))
-    })
+/// What a recording says of its pauses, gathered as it is read.
+#[derive(Debug, Default)]
+struct Pauses {
+    /// One past the last tick of the arm procedure (which holds the exercise paused itself,
+    /// and is replayed); 0 without one.
+    procedure_end: u64,
+    /// The tick of the last score recorded paused.
+    last_paused: Option<u64>,
+}
+
+impl Pauses {
+    /// Takes one recorded sample.
+    fn observe(&mut self, channel: Channel, sample: &Sample) {
+        match channel {
+            Channel::Arm => {
+                let setup = sample.field("setup");
+                if matches!(
+                    setup.as_ref().and_then(serde_json::Value::as_str),
+                    Some("hold-still" | "turn-wheel" | "solving")
+                ) && let Some(t) = sample.tick()
+                {
+                    self.procedure_end = self.procedure_end.max(t + 1);
+                }
+            }
+            Channel::Score if sample.field("paused") == Some(serde_json::Value::Bool(true)) => {
+                if let Some(t) = sample.tick() {
+                    self.last_paused = Some(self.last_paused.map_or(t, |l| l.max(t)));
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// Whether the patient paused the exercise: a recorded pause after the arm procedure.
+    fn patient_paused(&self) -> bool {
+        self.last_paused.is_some_and(|t| t > self.procedure_end)
+    }
 }
 
 /// The channels a replay compares: every one but `/timing` (wall-clock); from the seed, not
@@ -275,34 +310,34 @@ fn compared(from_raw: bool) -> impl Iterator<Item = Channel> {
     })
 }
 
-/// The first sample (channel order, then index) that differs, named down to the field, on
-/// the channels a replay compares (`from_raw`: a replay from the raw inputs, which compares
-/// them too).
-fn first_difference_on(
-    recorded: &RecordedRows,
-    again: &RecordedRows,
-    from_raw: bool,
-) -> Option<Difference> {
-    let none = Vec::new();
-    compared(from_raw).find_map(|channel| {
-        let (a, b) = (
-            recorded.get(&channel).unwrap_or(&none),
-            again.get(&channel).unwrap_or(&none),
-        );
-        let topic = channel.topic();
-        if let Some(index) = a.iter().zip(b).position(|(x, y)| x != y) {
-            return Some(Difference {
-                topic,
-                index,
-                what: field_difference(&a[index], &b[index]),
-            });
-        }
-        (a.len() != b.len()).then(|| Difference {
+/// The first difference on `channel` ([`ChannelComparison`]), named down to the field.
+fn difference_on(channel: Channel, c: &ChannelComparison) -> Option<Difference> {
+    let topic = channel.topic();
+    let [recorded, replayed] = c.samples;
+    match &c.difference {
+        Some(SampleDifference::Values {
+            index,
+            first,
+            second,
+        }) => Some(Difference {
             topic,
-            index: a.len().min(b.len()),
-            what: format!("{} samples recorded, {} replayed", a.len(), b.len()),
-        })
-    })
+            index: *index,
+            what: field_difference(first, second),
+        }),
+        Some(SampleDifference::Lag { index }) => Some(Difference {
+            topic,
+            index: *index,
+            what: format!(
+                "one run's samples lag the other's by more than {MAX_PENDING_SAMPLES}: not \
+                 compared from here"
+            ),
+        }),
+        None => (recorded != replayed).then(|| Difference {
+            topic,
+            index: recorded.min(replayed),
+            what: format!("{recorded} samples recorded, {replayed} replayed"),
+        }),
+    }
 }
 
 /// The first field whose value differs between two samples of one channel.
@@ -336,49 +371,64 @@ mod tests {
 
     #[test]
     fn the_first_difference_is_named_by_channel_tick_and_field() {
-        let recorded = BTreeMap::from([(Channel::Wheel, vec![message(0, 0.5), message(1, 0.25)])]);
-        let mut again = recorded.clone();
-        assert_eq!(first_difference_on(&recorded, &again, false), None);
-        again.get_mut(&Channel::Wheel).unwrap()[1] = message(1, 0.250_000_000_000_000_06);
-        let d = first_difference_on(&recorded, &again, false).unwrap();
+        let same = ChannelComparison {
+            samples: [2, 2],
+            difference: None,
+        };
+        assert_eq!(difference_on(Channel::Wheel, &same), None);
+        let values = ChannelComparison {
+            samples: [2, 2],
+            difference: Some(SampleDifference::Values {
+                index: 1,
+                first: message(1, 0.25),
+                second: message(1, 0.250_000_000_000_000_06),
+            }),
+        };
+        let d = difference_on(Channel::Wheel, &values).unwrap();
         assert_eq!((d.topic, d.index), ("/wheel", 1));
         assert_eq!(
             d.what,
             "tick 1, t = 0.001 s: angle_rad recorded 0.25, replayed 0.25000000000000006"
         );
-        again.get_mut(&Channel::Wheel).unwrap().truncate(1);
-        let d = first_difference_on(&recorded, &again, false).unwrap();
-        assert_eq!(d.what, "2 samples recorded, 1 replayed");
+        let shorter = ChannelComparison {
+            samples: [2, 1],
+            difference: None,
+        };
+        let d = difference_on(Channel::Wheel, &shorter).unwrap();
+        assert_eq!(
+            (d.index, d.what.as_str()),
+            (1, "2 samples recorded, 1 replayed")
+        );
     }
 
     #[test]
     fn the_arm_procedures_pause_is_not_the_patients() {
-        let score =
-            |tick: u64, paused: bool| row(serde_json::json!({"tick": tick, "paused": paused}));
-        let arm = |tick: u64, setup: &str| row(serde_json::json!({"tick": tick, "setup": setup}));
-        let mut recorded = BTreeMap::from([
-            (
-                Channel::Arm,
-                vec![
-                    arm(0, "hold-still"),
-                    arm(100, "solving"),
-                    arm(200, "tracking"),
-                ],
-            ),
-            (Channel::Score, vec![score(100, true), score(200, false)]),
-        ]);
-        assert!(!patient_paused(&recorded));
-        recorded
-            .get_mut(&Channel::Score)
-            .unwrap()
-            .push(score(300, true));
-        assert!(patient_paused(&recorded));
+        let score = |tick: u64, paused: bool| {
+            Sample::Row(row(serde_json::json!({"tick": tick, "paused": paused})))
+        };
+        let arm = |tick: u64, setup: &str| {
+            Sample::Row(row(serde_json::json!({"tick": tick, "setup": setup})))
+        };
+        let mut pauses = Pauses::default();
+        for (c, s) in [
+            (Channel::Arm, arm(0, "hold-still")),
+            (Channel::Score, score(100, true)),
+            (Channel::Arm, arm(100, "solving")),
+            (Channel::Score, score(200, false)),
+            (Channel::Arm, arm(200, "tracking")),
+        ] {
+            pauses.observe(c, &s);
+        }
+        assert!(!pauses.patient_paused());
+        pauses.observe(Channel::Score, &score(300, true));
+        assert!(pauses.patient_paused());
     }
 
     #[test]
-    fn timing_is_not_compared() {
-        let recorded = BTreeMap::from([(Channel::Timing, vec![message(0, 1.0)])]);
-        let again = BTreeMap::from([(Channel::Timing, vec![message(0, 2.0)])]);
-        assert_eq!(first_difference_on(&recorded, &again, false), None);
+    fn timing_is_not_compared_nor_the_raw_inputs_from_the_seed() {
+        assert!(!compared(true).any(|c| c == Channel::Timing));
+        assert!(compared(true).any(|c| c == Channel::RawImu));
+        assert!(!compared(false).any(|c| matches!(c, Channel::RawWheel | Channel::RawImu)));
+        assert_eq!(compared(false).count(), Channel::ALL.len() - 3);
     }
 }

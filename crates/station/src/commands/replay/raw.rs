@@ -12,16 +12,16 @@ use crate::session::recorded::{RecordedBody, RecordedInputs};
 use crate::session::{self, BodyKind, Controls, SessionOptions};
 use anyhow::{Context, bail};
 use clock::Clock;
-use record::{BodyFacts, RecordedRows, Recording, SessionMetadata};
+use record::{BodyFacts, SessionMetadata};
+use std::path::Path;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-/// Re-run the session recorded in `bytes` (its metadata `meta`, its samples `recorded`) from
-/// its raw inputs and compare every channel but `/timing`.
+/// Re-run the session recorded at `path` (its metadata `meta`) from its raw inputs, read as
+/// they are played, and compare every channel but `/timing`.
 pub(super) fn replay_from_raw(
-    bytes: &[u8],
+    path: &Path,
     meta: &SessionMetadata,
-    recorded: &RecordedRows,
 ) -> anyhow::Result<ReplayOutcome> {
     let Some(facts) = meta.body.clone() else {
         bail!(
@@ -29,22 +29,21 @@ pub(super) fn replay_from_raw(
              before the raw inputs were recorded, so it cannot be re-run from them"
         );
     };
-    let recording = Recording::from_bytes(bytes).context("the recording")?;
-    let inputs = RecordedInputs::from_recording(&recording)?;
-    rerun(meta, recorded, facts, inputs)
+    let inputs = RecordedInputs::stream_from(path)?;
+    rerun(path, meta, facts, inputs)
 }
 
 /// Re-run the session of `meta` around `inputs` (a body of `facts`) and compare its outputs
-/// with `recorded`.
+/// with the recording at `recorded`.
 fn rerun(
+    recorded: &Path,
     meta: &SessionMetadata,
-    recorded: &RecordedRows,
     facts: BodyFacts,
     inputs: RecordedInputs,
 ) -> anyhow::Result<ReplayOutcome> {
     let (config, regimen) = recorded_plan(meta)?;
     let stop = Arc::new(AtomicBool::new(false));
-    let recorded_ticks = inputs.ticks();
+    let (failure, played) = (inputs.failure(), inputs.played());
     let body = RecordedBody::new(&facts, inputs, stop.clone())?;
     let ran_out = body.ran_out();
     let dir = tempfile::tempdir().context("cannot make a temporary directory")?;
@@ -66,27 +65,35 @@ fn rerun(
         Body::Recorded(Box::new(body)),
         Some(facts),
     )?;
-    let caveats = if ran_out.load(Ordering::Relaxed) {
-        vec![format!(
+    if let Some(why) = failure.lock().unwrap_or_else(|e| e.into_inner()).take() {
+        bail!(why);
+    }
+    let (mut outcome, _) = compare(recorded, &report, &again_path, true)?;
+    let count = |topic: &str| outcome.compared.get(topic).copied().unwrap_or(0);
+    let (ticks, with_raw) = (count("/wheel"), count("/raw/wheel"));
+    if with_raw != ticks {
+        bail!("the recording holds {ticks} ticks on /wheel but {with_raw} on /raw/wheel");
+    }
+    if ran_out.load(Ordering::Relaxed) {
+        let recorded_ticks = played.load(Ordering::Relaxed);
+        outcome.caveats.push(format!(
             "the recording ends after {recorded_ticks} ticks without its session's end (a \
              killed session, recovered, or a file cut short): the replay stops where its \
              inputs end, so it differs from there on"
-        )]
-    } else {
-        Vec::new()
-    };
-    compare(&report, &again_path, recorded, caveats, true)
+        ));
+    }
+    Ok(outcome)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::config::MountingMode;
+    use record::Recording;
 
-    /// A simulated session of `seconds` with the guided arm procedure, recorded in memory.
-    fn recorded_session(seconds: f64) -> Vec<u8> {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("s.mcap");
+    /// A simulated session of `seconds` with the guided arm procedure, recorded in `dir`.
+    fn recorded_session(dir: &Path, seconds: f64) -> std::path::PathBuf {
+        let path = dir.join("s.mcap");
         let mut config = crate::config::StationConfig::default();
         config.session.duration_s = seconds;
         config.session.seed = 5;
@@ -101,42 +108,49 @@ mod tests {
             clock: Clock::mock().0,
         };
         session::run(&opts, &Controls::default(), &mut ()).unwrap();
-        std::fs::read(path).unwrap()
+        path
     }
 
     /// A recorded session read back with what re-running it takes.
     struct Rerunnable {
+        _dir: tempfile::TempDir,
+        path: std::path::PathBuf,
         meta: SessionMetadata,
-        recorded: RecordedRows,
         facts: BodyFacts,
         recording: Recording,
-        inputs: RecordedInputs,
+    }
+
+    impl Rerunnable {
+        /// Its inputs, held.
+        fn inputs(&self) -> RecordedInputs {
+            RecordedInputs::from_recording(&self.recording).unwrap()
+        }
+
+        /// Re-run around `inputs`.
+        fn rerun(&self, inputs: RecordedInputs) -> ReplayOutcome {
+            rerun(&self.path, &self.meta, self.facts.clone(), inputs).unwrap()
+        }
     }
 
     /// [`recorded_session`] of `seconds`, read back.
     fn rerunnable(seconds: f64) -> Rerunnable {
-        let bytes = recorded_session(seconds);
-        let (meta, recorded) = record::recorded_rows(&bytes).unwrap();
-        let recording = Recording::from_bytes(&bytes).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let path = recorded_session(dir.path(), seconds);
+        let recording = Recording::open(&path).unwrap();
         Rerunnable {
-            facts: meta.body.clone().unwrap(),
-            inputs: RecordedInputs::from_recording(&recording).unwrap(),
-            meta,
-            recorded,
+            facts: recording.metadata.body.clone().unwrap(),
+            meta: recording.metadata.clone(),
             recording,
+            path,
+            _dir: dir,
         }
     }
 
     #[test]
     fn the_raw_inputs_reproduce_a_session_and_a_changed_input_is_found_where_it_acts() {
-        let Rerunnable {
-            meta,
-            recorded,
-            facts,
-            recording,
-            inputs,
-        } = rerunnable(14.0);
-        assert_eq!(facts.kind, record::raw::BodyKindName::Simulated);
+        let r = rerunnable(14.0);
+        let recording = &r.recording;
+        assert_eq!(r.facts.kind, record::raw::BodyKindName::Simulated);
         let answered = recording
             .raw_wheel
             .iter()
@@ -148,28 +162,25 @@ mod tests {
             .position(|a| a.tick > answered as u64 && a.data.setup.as_str() == "tracking")
             .expect("tracking began within the session");
 
-        let same = rerun(&meta, &recorded, facts.clone(), inputs.clone()).unwrap();
+        let same = r.rerun(r.inputs());
         assert_eq!(same.first_difference, None);
         assert!(same.caveats.is_empty(), "{:?}", same.caveats);
+        // Read from the file as they are played, the inputs reproduce it too.
+        let streamed = r.rerun(RecordedInputs::stream_from(&r.path).unwrap());
+        assert_eq!(streamed, same);
 
         // One wheel reading a micro-radian off: /wheel differs from that tick on.
-        let mut nudged = inputs.clone();
+        let mut nudged = r.inputs();
         nudged.nudge_angle(500, 1e-6);
-        let d = rerun(&meta, &recorded, facts.clone(), nudged)
-            .unwrap()
-            .first_difference
-            .expect("a difference");
+        let d = r.rerun(nudged).first_difference.expect("a difference");
         assert_eq!((d.topic, d.index), ("/wheel", 500), "{}", d.what);
         assert!(d.what.contains("angle_rad"), "{}", d.what);
 
         // The solver's answer recorded 2 s later: tracking, and the exercise the set-up held
         // paused, begin later; nothing differs before the answer.
-        let mut late = inputs;
+        let mut late = r.inputs();
         late.delay_solver_answer(answered, 2000);
-        let d = rerun(&meta, &recorded, facts, late)
-            .unwrap()
-            .first_difference
-            .expect("a difference");
+        let d = r.rerun(late).first_difference.expect("a difference");
         assert_eq!(d.topic, "/wheel", "{}", d.what);
         assert!(
             (answered..=recording.arm[tracking].tick as usize + 2000).contains(&d.index),
@@ -181,16 +192,11 @@ mod tests {
 
     #[test]
     fn a_recording_cut_short_replays_up_to_its_end_stops_there_and_says_why() {
-        let Rerunnable {
-            meta,
-            recorded,
-            facts,
-            mut inputs,
-            ..
-        } = rerunnable(6.0);
+        let r = rerunnable(6.0);
         // A session killed at 3 s: its inputs end there, its outputs (here) go on.
+        let mut inputs = r.inputs();
         inputs.cut_after(3000);
-        let outcome = rerun(&meta, &recorded, facts, inputs).unwrap();
+        let outcome = r.rerun(inputs);
         assert!(
             outcome.caveats.len() == 1 && outcome.caveats[0].contains("ends after 3000 ticks"),
             "{:?}",

@@ -1,0 +1,545 @@
+//! Two recordings compared sample by sample, channel by channel, read side by side in bounded
+//! memory whatever their length (`telerehab replay` compares a session with its re-run so).
+//!
+//! Each file is read front to back as [`super::TickStream`] reads it (chunk by chunk, within
+//! [`StreamLimits`]); the file behind (by the tick of the last sample read) is read next, and
+//! each channel's samples are compared as soon as both files have given them. What is held is
+//! the samples one file has given and the other not yet: a second or so of each channel for the
+//! station's recordings (a channel's block is written every 100 samples or every second), at
+//! most [`MAX_PENDING_SAMPLES`] a channel.
+//!
+//! Samples compare as [`super::recorded_rows`] gives them (a NaN or infinity as null, the same
+//! fields with the same values): cell by cell when both files lay a channel out alike, which is
+//! the same and faster, through their JSON rows otherwise.
+
+use super::blocks::{Cell, Layout};
+use super::channels::Channel;
+use super::reader::{Decoder, ReadError, Row};
+use super::recover::check_lengths;
+use super::stream::{MAX_SCHEMA_BYTES, Rec, Records, StreamLimits};
+use mcap::records::{Record, op};
+use std::collections::{BTreeMap, VecDeque};
+use std::io::Read;
+use std::path::Path;
+use std::sync::Arc;
+
+/// Channels in all.
+const N: usize = Channel::ALL.len();
+
+/// Samples of one channel held for one file, at most, while the other file has not given
+/// them: past it the other file's channel is taken as lagging ([`SampleDifference::Lag`]), or,
+/// when the other file has ended, as shorter.
+pub const MAX_PENDING_SAMPLES: usize = 50_000;
+
+/// One recorded sample as read.
+#[derive(Clone, Debug)]
+pub enum Sample {
+    /// The cells of one sample of a block message, with the layout that decoded them.
+    Cells(Arc<Layout>, Vec<Cell>),
+    /// A JSON message's fields.
+    Row(Row),
+}
+
+impl Sample {
+    /// The sample as [`super::recorded_rows`] gives it.
+    pub fn row(&self) -> Row {
+        match self {
+            Self::Cells(layout, cells) => layout.row_of(cells),
+            Self::Row(row) => row.clone(),
+        }
+    }
+
+    /// Its tick.
+    pub fn tick(&self) -> Option<u64> {
+        match self {
+            Self::Cells(_, cells) => match cells.first() {
+                Some(Cell::Int(t)) => Some(*t),
+                _ => None,
+            },
+            Self::Row(row) => row.get("tick").and_then(serde_json::Value::as_u64),
+        }
+    }
+
+    /// One field of the sample (not its stamps), as its row holds it (`None`: absent).
+    pub fn field(&self, name: &str) -> Option<serde_json::Value> {
+        match self {
+            Self::Row(row) => row.get(name).cloned(),
+            Self::Cells(layout, cells) => {
+                let mut at = 0;
+                for c in layout.columns() {
+                    if c.name == name && c.elements == 1 {
+                        return match cells.get(at) {
+                            None | Some(Cell::Absent) => None,
+                            Some(cell) => Some(cell.json()),
+                        };
+                    }
+                    at += c.elements;
+                }
+                None
+            }
+        }
+    }
+}
+
+/// Where two recordings first part on one channel.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SampleDifference {
+    /// Sample `index` differs: each file's sample.
+    Values {
+        /// The sample's position on its channel, from 0.
+        index: usize,
+        /// The first file's sample.
+        first: Row,
+        /// The second file's sample.
+        second: Row,
+    },
+    /// From sample `index` on, one file gave more than [`MAX_PENDING_SAMPLES`] samples of the
+    /// channel that the other, still going, did not.
+    Lag {
+        /// The first sample not compared.
+        index: usize,
+    },
+}
+
+/// One channel of two recordings compared.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ChannelComparison {
+    /// Samples of the channel in the first and the second file.
+    pub samples: [usize; 2],
+    /// The first difference in their values; `None` if every sample both hold is the same
+    /// (the counts may still differ).
+    pub difference: Option<SampleDifference>,
+}
+
+/// A file of the two that could not be read.
+#[derive(Debug)]
+pub struct CompareError {
+    /// The second file (else the first).
+    pub second: bool,
+    /// Why.
+    pub source: ReadError,
+}
+
+impl std::fmt::Display for CompareError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let which = if self.second { "second" } else { "first" };
+        write!(f, "the {which} recording: {}", self.source)
+    }
+}
+
+impl std::error::Error for CompareError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        Some(&self.source)
+    }
+}
+
+/// Compares `channels` of the recordings at `first` and `second` ([`compare`]).
+pub fn compare_files(
+    first: &Path,
+    second: &Path,
+    channels: &[Channel],
+    observe: impl FnMut(Channel, &Sample),
+) -> Result<BTreeMap<Channel, ChannelComparison>, CompareError> {
+    let open = |path: &Path, second| {
+        std::fs::File::open(path)
+            .map(|f| std::io::BufReader::with_capacity(256 << 10, f))
+            .map_err(|source| CompareError {
+                second,
+                source: ReadError::Io {
+                    path: format!(" {}", path.display()),
+                    source,
+                },
+            })
+    };
+    compare(
+        open(first, false)?,
+        open(second, true)?,
+        StreamLimits::default(),
+        channels,
+        observe,
+    )
+}
+
+/// Compares `channels` of two recordings read side by side, every sample of the first file
+/// on them handed to `observe` as it is read; gives each channel's comparison.
+pub fn compare(
+    first: impl Read,
+    second: impl Read,
+    limits: StreamLimits,
+    channels: &[Channel],
+    mut observe: impl FnMut(Channel, &Sample),
+) -> Result<BTreeMap<Channel, ChannelComparison>, CompareError> {
+    let mut wanted = [false; N];
+    for c in channels {
+        wanted[*c as usize] = true;
+    }
+    let mut a = Side::new(first, limits, wanted);
+    let mut b = Side::new(second, limits, wanted);
+    let mut cmp = Comparer {
+        keep: wanted,
+        matched: [0; N],
+        difference: std::array::from_fn(|_| None),
+        layouts: Vec::new(),
+    };
+    loop {
+        let read_first = match (a.ended, b.ended) {
+            (true, true) => break,
+            (false, true) => true,
+            (true, false) => false,
+            (false, false) => a.progress <= b.progress,
+        };
+        if read_first {
+            a.pump(&cmp.keep, &mut observe)
+                .map_err(|source| CompareError {
+                    second: false,
+                    source,
+                })?;
+        } else {
+            b.pump(&cmp.keep, &mut |_, _| {})
+                .map_err(|source| CompareError {
+                    second: true,
+                    source,
+                })?;
+        }
+        cmp.settle(&mut a, &mut b);
+    }
+    let mut out = BTreeMap::new();
+    for c in channels {
+        let i = *c as usize;
+        out.insert(
+            *c,
+            ChannelComparison {
+                samples: [a.counts[i], b.counts[i]],
+                difference: cmp.difference[i].take(),
+            },
+        );
+    }
+    Ok(out)
+}
+
+/// The comparison so far.
+struct Comparer {
+    /// Channels still compared (not yet found different).
+    keep: [bool; N],
+    /// Samples found the same so far, per channel.
+    matched: [usize; N],
+    /// The first difference found, per channel.
+    difference: [Option<SampleDifference>; N],
+    /// Pairs of layouts (by address) and whether they lay samples out alike.
+    layouts: Vec<(usize, usize, bool)>,
+}
+
+impl Comparer {
+    /// Compares what both files have given; stops holding what can no longer be compared.
+    fn settle<A, B>(&mut self, a: &mut Side<A>, b: &mut Side<B>) {
+        for c in 0..N {
+            if !self.keep[c] {
+                continue;
+            }
+            while let (Some(x), Some(y)) = (a.pending[c].front(), b.pending[c].front()) {
+                if !self.same(x, y) {
+                    self.difference[c] = Some(SampleDifference::Values {
+                        index: self.matched[c],
+                        first: x.row(),
+                        second: y.row(),
+                    });
+                    self.drop_channel(c, a, b);
+                    break;
+                }
+                a.pending[c].pop_front();
+                b.pending[c].pop_front();
+                self.matched[c] += 1;
+            }
+            let (held_a, held_b) = (a.pending[c].len(), b.pending[c].len());
+            if (held_a > 0 && b.ended) || (held_b > 0 && a.ended) {
+                // Nothing more comes from the file that ended: the counts tell the rest.
+                self.drop_channel(c, a, b);
+            } else if held_a.max(held_b) > MAX_PENDING_SAMPLES {
+                self.difference[c] = Some(SampleDifference::Lag {
+                    index: self.matched[c],
+                });
+                self.drop_channel(c, a, b);
+            }
+        }
+    }
+
+    /// Channel `c` is decided: its samples are only counted from now on.
+    fn drop_channel<A, B>(&mut self, c: usize, a: &mut Side<A>, b: &mut Side<B>) {
+        self.keep[c] = false;
+        a.pending[c] = VecDeque::new();
+        b.pending[c] = VecDeque::new();
+    }
+
+    /// Whether two samples are the same as their rows would be.
+    fn same(&mut self, x: &Sample, y: &Sample) -> bool {
+        match (x, y) {
+            (Sample::Cells(lx, cx), Sample::Cells(ly, cy)) if self.alike(lx, ly) => {
+                same_cells(cx, cy)
+            }
+            _ => x.row() == y.row(),
+        }
+    }
+
+    /// Whether two layouts lay samples out alike (remembered by address).
+    fn alike(&mut self, x: &Arc<Layout>, y: &Arc<Layout>) -> bool {
+        let key = (Arc::as_ptr(x) as usize, Arc::as_ptr(y) as usize);
+        if let Some(&(_, _, alike)) = self.layouts.iter().find(|l| (l.0, l.1) == key) {
+            return alike;
+        }
+        let alike = x.same_cells_as(y);
+        self.layouts.push((key.0, key.1, alike));
+        alike
+    }
+}
+
+/// Whether two samples' cells give the same row: a NaN or infinity is null, so any two are
+/// the same.
+fn same_cells(x: &[Cell], y: &[Cell]) -> bool {
+    x.len() == y.len()
+        && x.iter().zip(y).all(|pair| match pair {
+            (Cell::Float(x), Cell::Float(y)) => x == y || (!x.is_finite() && !y.is_finite()),
+            (x, y) => x == y,
+        })
+}
+
+/// One file being read.
+struct Side<R> {
+    records: Records<R>,
+    limits: StreamLimits,
+    wanted: [bool; N],
+    schemas: BTreeMap<u16, (String, Vec<u8>)>,
+    /// Our channels by id: each one's layout (`None`: JSON messages).
+    channels: BTreeMap<u16, (Channel, Option<Arc<Layout>>)>,
+    /// Samples read and not yet compared, per channel.
+    pending: [VecDeque<Sample>; N],
+    /// Samples read, per channel.
+    counts: [usize; N],
+    /// The tick of the last sample read.
+    progress: u64,
+    ended: bool,
+}
+
+impl<R: Read> Side<R> {
+    fn new(input: R, limits: StreamLimits, wanted: [bool; N]) -> Self {
+        Self {
+            records: Records::new(input, limits),
+            limits,
+            wanted,
+            schemas: BTreeMap::new(),
+            channels: BTreeMap::new(),
+            pending: std::array::from_fn(|_| VecDeque::new()),
+            counts: [0; N],
+            progress: 0,
+            ended: false,
+        }
+    }
+
+    /// Reads one record: a message's samples are counted, handed to `observe` and, on the
+    /// channels still compared (`keep`), held.
+    fn pump(
+        &mut self,
+        keep: &[bool; N],
+        observe: &mut dyn FnMut(Channel, &Sample),
+    ) -> Result<(), ReadError> {
+        let (opcode, data, chunk) = match self.records.next()? {
+            Rec::End => {
+                self.ended = true;
+                return Ok(());
+            }
+            Rec::Other => return Ok(()),
+            Rec::Parse(opcode, data, chunk) => (opcode, data, chunk),
+        };
+        if opcode == op::MESSAGE {
+            // channel id (2 bytes), sequence (4), log and publish times (8 each), data.
+            if data.len() < 22 {
+                return Err(ReadError::Damaged {
+                    chunk,
+                    reason: format!("a message record of {} bytes", data.len()),
+                });
+            }
+            let id = u16::from_le_bytes([data[0], data[1]]);
+            let Some((channel, layout)) = self.channels.get(&id) else {
+                return Ok(());
+            };
+            let (channel, c) = (*channel, *channel as usize);
+            let body = &data[22..];
+            let max_message = self.limits.max_message_bytes;
+            if body.len() > max_message {
+                return Err(ReadError::TooLarge {
+                    what: format!("a message of channel {}", channel.topic()),
+                    claimed_bytes: body.len() as u64,
+                    limit_bytes: max_message as u64,
+                });
+            }
+            let index = self.counts[c];
+            let samples = match layout {
+                None => vec![Sample::Row(serde_json::from_slice(body).map_err(
+                    |source| ReadError::Decode {
+                        topic: channel.topic(),
+                        index,
+                        source,
+                    },
+                )?)],
+                Some(layout) => layout
+                    .decode_cells(body)
+                    .map_err(|source| ReadError::Block {
+                        topic: channel.topic(),
+                        index,
+                        source,
+                    })?
+                    .into_iter()
+                    .map(|cells| Sample::Cells(Arc::clone(layout), cells))
+                    .collect(),
+            };
+            for s in samples {
+                observe(channel, &s);
+                self.counts[c] += 1;
+                self.progress = self.progress.max(s.tick().unwrap_or(0));
+                if keep[c] {
+                    self.pending[c].push_back(s);
+                }
+            }
+            return Ok(());
+        }
+        check_lengths(opcode, data).map_err(|e| ReadError::Damaged {
+            chunk,
+            reason: e.to_string(),
+        })?;
+        match mcap::parse_record(opcode, data)? {
+            Record::Schema { header, data } => {
+                let kept: usize = self.schemas.values().map(|(n, d)| n.len() + d.len()).sum();
+                if kept + header.name.len() + data.len() > MAX_SCHEMA_BYTES {
+                    return Err(ReadError::Damaged {
+                        chunk,
+                        reason: format!(
+                            "its schemas add up to more than {} MiB",
+                            MAX_SCHEMA_BYTES >> 20
+                        ),
+                    });
+                }
+                self.schemas
+                    .insert(header.id, (header.name, data.into_owned()));
+            }
+            Record::Channel(c) => {
+                if let Some(channel) = Channel::from_topic(&c.topic)
+                    && self.wanted[channel as usize]
+                {
+                    let layout = match Decoder::of(channel, &c, &self.schemas)? {
+                        Decoder::Json => None,
+                        Decoder::Blocks(layout, _) => Some(Arc::from(layout)),
+                    };
+                    self.channels.insert(c.id, (channel, layout));
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{RecordWriter, SessionMetadata, TickRecord, recorded_rows};
+    use std::io::Cursor;
+
+    /// A recording of `n` ticks at 1 kHz (a score every 100), `change` applied to each tick,
+    /// flushed every `flush_every` ticks.
+    fn recording(n: u64, flush_every: u64, change: impl Fn(&mut TickRecord)) -> Vec<u8> {
+        let meta = SessionMetadata {
+            loop_rate_hz: 1000.0,
+            ..Default::default()
+        };
+        let mut w = RecordWriter::new(Cursor::new(Vec::new()), 0, &meta).unwrap();
+        for tick in 0..n {
+            let mut rec = TickRecord {
+                tick,
+                t_ns: tick * 1_000_000,
+                ..Default::default()
+            };
+            rec.wheel.angle_rad = (tick as f64 * 1e-3).sin();
+            rec.assist.torque_nm = 0.1;
+            change(&mut rec);
+            w.write_tick(&rec, tick % 100 == 0).unwrap();
+            if tick % flush_every == flush_every - 1 {
+                w.flush().unwrap();
+            }
+        }
+        w.finish().unwrap().into_inner()
+    }
+
+    fn compared(a: &[u8], b: &[u8]) -> BTreeMap<Channel, ChannelComparison> {
+        compare(
+            a,
+            b,
+            StreamLimits::default(),
+            &[Channel::Wheel, Channel::Score, Channel::Assist],
+            |_, _| {},
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn two_files_of_one_session_written_in_different_chunks_are_the_same() {
+        let a = recording(5000, 1000, |_| {});
+        let b = recording(5000, 333, |_| {});
+        assert_ne!(a, b);
+        for c in compared(&a, &b).values() {
+            assert_eq!(c.difference, None);
+            assert_eq!(c.samples[0], c.samples[1]);
+        }
+        assert_eq!(compared(&a, &b)[&Channel::Wheel].samples, [5000, 5000]);
+        assert_eq!(compared(&a, &b)[&Channel::Score].samples, [50, 50]);
+    }
+
+    #[test]
+    fn the_first_differing_sample_is_given_as_recorded_rows_give_it() {
+        let a = recording(5000, 1000, |_| {});
+        let b = recording(5000, 700, |r| {
+            if r.tick >= 3210 {
+                r.assist.torque_nm = 0.2;
+            }
+        });
+        let c = compared(&a, &b);
+        assert_eq!(c[&Channel::Wheel].difference, None);
+        let (_, rows_a) = recorded_rows(&a).unwrap();
+        let (_, rows_b) = recorded_rows(&b).unwrap();
+        assert_eq!(
+            c[&Channel::Assist].difference,
+            Some(SampleDifference::Values {
+                index: 3210,
+                first: rows_a[&Channel::Assist][3210].clone(),
+                second: rows_b[&Channel::Assist][3210].clone(),
+            })
+        );
+    }
+
+    #[test]
+    fn a_shorter_file_differs_in_its_counts_only() {
+        let a = recording(5000, 1000, |_| {});
+        let b = recording(3000, 1000, |_| {});
+        let c = compared(&a, &b);
+        assert_eq!(c[&Channel::Wheel].samples, [5000, 3000]);
+        assert_eq!(c[&Channel::Wheel].difference, None);
+    }
+
+    #[test]
+    fn every_sample_of_the_first_file_is_observed_with_its_fields() {
+        let a = recording(1000, 1000, |r| r.score.paused = r.tick >= 500);
+        let mut paused_ticks = Vec::new();
+        compare(
+            &a[..],
+            &a[..],
+            StreamLimits::default(),
+            &[Channel::Score],
+            |c, s| {
+                assert_eq!(c, Channel::Score);
+                if s.field("paused") == Some(serde_json::Value::Bool(true)) {
+                    paused_ticks.push(s.tick().unwrap());
+                }
+            },
+        )
+        .unwrap();
+        assert_eq!(paused_ticks, [500, 600, 700, 800, 900]);
+    }
+}
