@@ -106,13 +106,30 @@ fn every_golden_recording_reports_and_recovers() {
 
 #[test]
 fn every_golden_recording_draws_in_the_hubs_replay_view() {
+    use record::view::{MAX_REPLAY_FRAMES, REPLAY_CHANNELS, replay_ndjson};
     for (name, _) in GOLDEN {
-        let json =
-            record::view::replay_frames(&golden(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
-        let v: serde_json::Value = serde_json::from_slice(&json).unwrap();
-        let t = v["columns"]["t_s"].as_array().map_or(0, Vec::len);
-        assert!(t >= 18, "{name}: {t} frames for a second at 20/s");
-        assert!(v["columns"]["wheel_angle_rad"].is_array(), "{name}");
+        let stream = record::TickStream::open_path(
+            &golden(name),
+            record::StreamLimits::default(),
+            &REPLAY_CHANNELS,
+        )
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let mut lines: Vec<serde_json::Value> = Vec::new();
+        let done = replay_ndjson(stream, MAX_REPLAY_FRAMES, |line| {
+            lines.push(serde_json::from_slice(&line).unwrap());
+            true
+        });
+        assert!(done, "{name}");
+        let frames: u64 = lines.iter().filter_map(|l| l["frames"].as_u64()).sum();
+        assert!(frames >= 18, "{name}: {frames} frames for a second at 20/s");
+        assert!(
+            lines
+                .iter()
+                .any(|l| l["columns"]["wheel_angle_rad"].is_array()),
+            "{name}"
+        );
+        let last = lines.last().unwrap();
+        assert_eq!(last["end"], true, "{name}: {last}");
     }
 }
 
