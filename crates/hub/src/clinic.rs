@@ -256,7 +256,7 @@ impl ServeOptions {
         Self {
             stations,
             web,
-            now_ms: Arc::new(web::system_now_ms),
+            now_ms: web::now_ms_of(clock::Clock::real()),
             max_connections: (
                 netlink::therapist::DEFAULT_MAX_CONNECTIONS,
                 netlink::therapist::DEFAULT_MAX_CONNECTIONS_PER_ADDRESS,

@@ -792,3 +792,13 @@ async fn https_round_trip_and_plain_http_only_on_loopback() {
 fn bytes_of(value: &Value) -> axum::body::Bytes {
     axum::body::Bytes::from(value.to_string())
 }
+
+#[test]
+fn the_hubs_time_can_come_from_the_products_injected_clock() {
+    let (clock, mock) = clock::Clock::mock();
+    let now = web::now_ms_of(clock);
+    let start = now();
+    assert_eq!(start, (clock::MOCK_UNIX_START_NS / 1_000_000) as i64);
+    mock.advance_ns(2_500_000_000);
+    assert_eq!(now() - start, 2_500);
+}

@@ -19,6 +19,9 @@ pub struct CertAndKey {
 pub struct ClinicCa {
     pem: CertAndKey,
     issuer: Issuer<'static, KeyPair>,
+    /// Where "now" comes from for the validity of what it signs (the real clock unless a
+    /// test injects a mock: [`ClinicCa::with_clock`]).
+    clock: clock::Clock,
 }
 
 impl std::fmt::Debug for ClinicCa {
@@ -56,15 +59,21 @@ fn err(step: &'static str) -> impl Fn(rcgen::Error) -> PkiError {
 pub const STATION_CERT_DAYS: i64 = 5 * 365;
 
 /// Valid from a day ago (clocks differ) for `days` days.
-fn valid_for_days(params: &mut CertificateParams, days: i64) {
-    let now = time::OffsetDateTime::now_utc();
+fn valid_for_days(params: &mut CertificateParams, days: i64, clock: &clock::Clock) {
+    let now = time::OffsetDateTime::from_unix_timestamp_nanos(i128::from(clock.unix_ns()))
+        .unwrap_or(time::OffsetDateTime::UNIX_EPOCH);
     params.not_before = now - time::Duration::days(1);
     params.not_after = now + time::Duration::days(days);
 }
 
 impl ClinicCa {
-    /// A new CA named `name` (e.g. the clinic), ECDSA P-256, valid 20 years.
+    /// A new CA named `name` (e.g. the clinic), ECDSA P-256, valid 20 years from now.
     pub fn create(name: &str) -> Result<Self, PkiError> {
+        Self::create_with_clock(name, clock::Clock::real())
+    }
+
+    /// [`ClinicCa::create`] with "now" read from `clock` (for this CA and all it signs).
+    pub fn create_with_clock(name: &str, clock: clock::Clock) -> Result<Self, PkiError> {
         let key = KeyPair::generate().map_err(err("generating the CA key"))?;
         let mut params = CertificateParams::new(Vec::<String>::new()).map_err(err("CA"))?;
         params.is_ca = IsCa::Ca(BasicConstraints::Constrained(0));
@@ -72,7 +81,7 @@ impl ClinicCa {
         let mut dn = DistinguishedName::new();
         dn.push(DnType::CommonName, format!("{name} telerehab CA"));
         params.distinguished_name = dn;
-        valid_for_days(&mut params, 20 * 365);
+        valid_for_days(&mut params, 20 * 365, &clock);
         let cert = params.self_signed(&key).map_err(err("signing the CA"))?;
         let pem = CertAndKey {
             cert_pem: cert.pem(),
@@ -81,6 +90,7 @@ impl ClinicCa {
         Ok(Self {
             issuer: Issuer::new(params, key),
             pem,
+            clock,
         })
     }
 
@@ -88,7 +98,17 @@ impl ClinicCa {
     pub fn load(pem: CertAndKey) -> Result<Self, PkiError> {
         let key = KeyPair::from_pem(&pem.key_pem).map_err(err("reading the CA key"))?;
         let issuer = Issuer::from_ca_cert_pem(&pem.cert_pem, key).map_err(err("reading the CA"))?;
-        Ok(Self { pem, issuer })
+        Ok(Self {
+            pem,
+            issuer,
+            clock: clock::Clock::real(),
+        })
+    }
+
+    /// The same CA signing with "now" read from `clock`.
+    pub fn with_clock(mut self, clock: clock::Clock) -> Self {
+        self.clock = clock;
+        self
     }
 
     /// The CA's certificate and key, PEM (store the key 0600).
@@ -101,7 +121,7 @@ impl ClinicCa {
         let key = KeyPair::generate().map_err(err("generating the hub key"))?;
         let mut params = CertificateParams::new(names.to_vec()).map_err(err("hub names"))?;
         params.extended_key_usages = vec![ExtendedKeyUsagePurpose::ServerAuth];
-        valid_for_days(&mut params, 2 * 365);
+        valid_for_days(&mut params, 2 * 365, &self.clock);
         let cert = params
             .signed_by(&key, &self.issuer)
             .map_err(err("signing the hub certificate"))?;
@@ -126,7 +146,7 @@ impl ClinicCa {
         let mut dn = DistinguishedName::new();
         dn.push(DnType::CommonName, station_id);
         params.distinguished_name = dn;
-        valid_for_days(&mut params, STATION_CERT_DAYS);
+        valid_for_days(&mut params, STATION_CERT_DAYS, &self.clock);
         csr.params = params;
         let cert = csr
             .signed_by(&self.issuer)
@@ -154,6 +174,30 @@ pub fn first_certificate_der(pem: &str) -> Result<Vec<u8>, PkiError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn certificates_are_valid_from_the_injected_clocks_day_before() {
+        let (clock, mock) = clock::Clock::mock();
+        mock.advance_ns(3_600 * 1_000_000_000);
+        let ca = ClinicCa::create_with_clock("Clinic", clock.clone()).unwrap();
+        let unix_s = i64::try_from(clock.unix_ns() / 1_000_000_000).unwrap();
+        let ca_params = CertificateParams::from_ca_cert_pem(&ca.pem().cert_pem).unwrap();
+        assert_eq!(
+            ca_params.not_before.unix_timestamp(),
+            unix_s - 86_400,
+            "a day before the mock's now"
+        );
+        assert_eq!(
+            ca_params.not_after.unix_timestamp(),
+            unix_s + 20 * 365 * 86_400
+        );
+        let server = ca.issue_server(&["hub.example".into()]).unwrap();
+        let server_params = CertificateParams::from_ca_cert_pem(&server.cert_pem).unwrap();
+        assert_eq!(
+            server_params.not_after.unix_timestamp(),
+            unix_s + 2 * 365 * 86_400
+        );
+    }
 
     #[test]
     fn a_bad_certificate_request_or_pem_is_refused_naming_what_is_wrong() {

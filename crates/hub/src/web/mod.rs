@@ -76,7 +76,7 @@ impl AppState {
         Self {
             db,
             live,
-            now_ms: Arc::new(system_now_ms),
+            now_ms: now_ms_of(clock::Clock::real()),
             login_ttl_ms: DEFAULT_LOGIN_TTL_MS,
             prescribed: None,
             live_streams: live::StreamCounts::default(),
@@ -142,11 +142,19 @@ impl std::fmt::Debug for AppState {
     }
 }
 
-/// The system clock, ms since the Unix epoch.
+/// The system clock, ms since the Unix epoch (the real [`clock::Clock`]).
 pub fn system_now_ms() -> i64 {
-    std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| i64::try_from(d.as_millis()).unwrap_or(i64::MAX))
+    unix_ms(&clock::Clock::real())
+}
+
+/// `clock`'s wall-clock time, ms since the Unix epoch.
+pub fn unix_ms(clock: &clock::Clock) -> i64 {
+    i64::try_from(clock.unix_ns() / 1_000_000).unwrap_or(i64::MAX)
+}
+
+/// The hub's [`NowMs`] read from the product's one injectable clock (a mock in tests).
+pub fn now_ms_of(clock: clock::Clock) -> NowMs {
+    Arc::new(move || unix_ms(&clock))
 }
 
 /// The API's routes over `state`.
