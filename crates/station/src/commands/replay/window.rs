@@ -7,7 +7,7 @@ use super::ReplayArgs;
 use crate::render::window::{UserRequest, WindowOptions};
 use crate::screen::{CourseView, live_screen_state};
 use anyhow::Context;
-use record::{Recording, TickRecord};
+use record::{Channel, StreamLimits, TickRecord, TickStream};
 use std::cell::RefCell;
 use std::time::Instant;
 
@@ -131,17 +131,27 @@ pub(super) fn play(args: &ReplayArgs) -> anyhow::Result<()> {
         SPEEDS.1
     );
     let path = &args.recording;
-    let recording = Recording::open(path)
-        .with_context(|| format!("{} is not a readable recording", path.display()))?;
-    let meta = &recording.metadata;
-    let (config, regimen) = super::recorded_plan(meta)?;
+    let unreadable = || format!("{} is not a readable recording", path.display());
+    // Streamed: only the frames played back are kept (100 a second), never the whole file.
+    let drawn = [
+        Channel::Vehicle,
+        Channel::Score,
+        Channel::Assist,
+        Channel::Timing,
+        Channel::Arm,
+    ];
+    let limits = StreamLimits::default();
+    let stream = TickStream::open_path(path, limits, &drawn).with_context(unreadable)?;
+    let meta = stream.metadata().clone();
+    let (config, regimen) = super::recorded_plan(&meta)?;
     let view = CourseView::new(&config, regimen.as_ref())?;
-    let playback = RefCell::new(Playback::new(
-        recording.ticks(),
-        meta.loop_rate_hz,
-        args.play_speed,
-    ));
-    drop(recording);
+    let mut failed = None;
+    let ticks = stream.map_while(|t| t.map_err(|e| failed = Some(e)).ok());
+    let playback = Playback::new(ticks, meta.loop_rate_hz, args.play_speed);
+    if let Some(e) = failed {
+        return Err(e).with_context(unreadable);
+    }
+    let playback = RefCell::new(playback);
     anyhow::ensure!(
         playback.borrow().frame().is_some(),
         "{} has no ticks to play",
