@@ -14,6 +14,22 @@ fn binary_reports_its_version() {
 }
 
 #[test]
+fn a_log_written_to_a_file_has_no_colour_codes() {
+    let dir = tempfile::tempdir().unwrap();
+    let mcap = dir.path().join("plain.mcap");
+    let args = sim_session_args("0.2", &mcap, &[]);
+    // stderr is a pipe here, as a file or a service's journal would be.
+    let out = Command::new(telerehab_tests::telerehab_bin())
+        .args(&args)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let log = String::from_utf8_lossy(&out.stderr);
+    assert!(log.contains("INFO"), "{log}");
+    assert!(!log.contains('\u{1b}'), "ANSI codes in a piped log: {log:?}");
+}
+
+#[test]
 fn short_session_records_every_tick_on_every_channel_with_schemas() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("s.mcap");
