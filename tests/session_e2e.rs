@@ -26,7 +26,10 @@ fn a_log_written_to_a_file_has_no_colour_codes() {
     assert!(out.status.success());
     let log = String::from_utf8_lossy(&out.stderr);
     assert!(log.contains("INFO"), "{log}");
-    assert!(!log.contains('\u{1b}'), "ANSI codes in a piped log: {log:?}");
+    assert!(
+        !log.contains('\u{1b}'),
+        "ANSI codes in a piped log: {log:?}"
+    );
 }
 
 #[test]
