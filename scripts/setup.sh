@@ -3,7 +3,8 @@
 #   - Debian packages: a C toolchain, pkg-config + libudev (hidapi, gilrs), Mesa's software
 #     Vulkan/GL (headless rendering), Xvfb (window tests), python3-venv, PostgreSQL (the hub's
 #     database tests run against a throwaway server: scripts/with-postgres.sh), openssl (a
-#     test speaks TLS to the hub as a stalled station would).
+#     test speaks TLS to the hub as a stalled station would), systemd (systemd-analyze checks the
+#     hub's service unit offline).
 #   - Rust (stable, via rustup if cargo is missing) with rustfmt and clippy.
 #   - A Python virtualenv in .venv with the test tools and the `telerehab` package (pyext).
 set -euo pipefail
@@ -14,7 +15,7 @@ if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 
 PKGS=(build-essential pkg-config libudev-dev mesa-vulkan-drivers libvulkan1 libgl1-mesa-dri
       libegl1 xvfb xauth xdotool libxkbcommon-x11-0 libx11-xcb1 python3-venv python3-pip curl ca-certificates
-      postgresql chromium chromium-driver openssl)
+      postgresql chromium chromium-driver openssl systemd)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -305,6 +305,11 @@ async fn init(data: &DataArgs, admin: &str, names: &[String]) -> anyhow::Result<
     println!("hub certificate names: {}", names.join(", "));
     println!("admin {admin}, one-time password: {}", done.admin_password);
     println!("(shown once; only its hash is stored — change it at first login)");
+    println!(
+        "to run it as a service: the unit telerehab-hub.service (packaging/ in the sources) serves \
+         /var/lib/telerehab-hub as the user telerehab-hub, its addresses in \
+         /etc/telerehab/hub.env; `systemctl enable --now telerehab-hub`"
+    );
     Ok(())
 }
 
