@@ -2,8 +2,8 @@
 //! subcommand's arguments and `run()` live in its own file under [`crate::commands`].
 
 use crate::commands::{
-    bench, devices, hub, pair, recover, render, replay, report, run, sync, therapist, vehicle,
-    wheel, window_process,
+    bench, devices, docs, hub, pair, recover, render, replay, report, run, sync, therapist,
+    vehicle, wheel, window_process,
 };
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
@@ -76,6 +76,9 @@ pub enum Command {
     /// The patient window's own process, started by `run` (not for people to run).
     #[command(hide = true)]
     WindowProcess(window_process::WindowProcessArgs),
+    /// Write the man pages and shell completions (for packaging).
+    #[command(hide = true)]
+    Docs(docs::DocsArgs),
 }
 
 /// Run one subcommand.
@@ -95,5 +98,6 @@ pub fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Pair(args) => pair::run(&args),
         Command::Sync(args) => sync::run(&args),
         Command::WindowProcess(args) => window_process::run(&args),
+        Command::Docs(args) => docs::run(&args),
     }
 }

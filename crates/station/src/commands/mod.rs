@@ -4,6 +4,7 @@
 
 pub mod bench;
 pub mod devices;
+pub mod docs;
 pub mod hub;
 pub mod hub_chaos;
 pub mod pair;
