@@ -4,6 +4,7 @@
 
 pub mod bench;
 pub mod devices;
+pub mod doctor;
 pub mod hub;
 pub mod hub_chaos;
 pub mod pair;
