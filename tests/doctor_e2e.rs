@@ -110,3 +110,38 @@ fn doctor_with_a_home_it_cannot_read_exits_2_naming_the_home() {
     assert!(detail.contains(home.to_str().unwrap()), "{detail}");
     assert!(c["fix"].as_str().unwrap().contains("--home"), "{c}");
 }
+
+#[test]
+fn doctor_on_a_paired_station_states_the_certificate_and_reaches_the_hub_only_with_hub_flag() {
+    use telerehab_tests::clinic::{Hub, clinic, ok};
+    let dir = tempfile::tempdir().unwrap();
+    let (data, code) = clinic(dir.path());
+    let hub = Hub::serve(&data, "127.0.0.1:0");
+    let home = dir.path().join("station");
+    ok(
+        &["pair", "--hub", &hub.stations, "--code", &code],
+        Some(&home),
+    );
+
+    let quiet = json_of(&doctor(&home, &["--json"]));
+    let pairing = check(&quiet, "clinic pairing");
+    assert_eq!(pairing["status"], "pass", "{pairing}");
+    let detail = pairing["detail"].as_str().unwrap();
+    assert!(
+        detail.contains(&hub.stations) && detail.contains("certificate valid for"),
+        "{detail}"
+    );
+    assert_eq!(check(&quiet, "hub")["status"], "skip", "{quiet}");
+
+    let reached = json_of(&doctor(&home, &["--json", "--hub"]));
+    assert_eq!(check(&reached, "hub")["status"], "pass", "{reached}");
+
+    hub.stop();
+    let down = json_of(&doctor(&home, &["--json", "--hub"]));
+    let c = check(&down, "hub");
+    assert_eq!(c["status"], "warn", "{c}");
+    assert!(
+        c["detail"].as_str().unwrap().contains("cannot reach"),
+        "{c}"
+    );
+}
