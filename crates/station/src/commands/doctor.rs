@@ -689,4 +689,64 @@ mod tests {
             c.fix
         );
     }
+
+    fn found_wheel(usb_id: (u16, u16)) -> haptic_wheel::DeviceReport {
+        use haptic_wheel::devices::{DeviceClass, DeviceInfo, DeviceTraits};
+        let mut report = haptic_wheel::DeviceReport::default();
+        report.add(DeviceInfo {
+            path: "/dev/input/event7".into(),
+            class: DeviceClass::Wheel,
+            traits: DeviceTraits {
+                name: "Some Wheel".into(),
+                ff_effects: vec!["constant", "gain"],
+                abs_axes: vec!["x"],
+                gamepad_buttons: false,
+            },
+            usb_id: Some(usb_id),
+            profile: None,
+            ceiling: None,
+            max_ff_effects: 16,
+        });
+        report.apply_config(&haptic_wheel::wheel_config::WheelConfig::default(), None);
+        report
+    }
+
+    #[test]
+    fn doctor_names_a_known_wheel_with_its_effects_and_ceiling_and_an_unknown_one_as_such() {
+        let g29 = wheel_check(&found_wheel((0x046d, 0xc24f)));
+        assert_eq!(g29.status, Status::Pass, "{g29:?}");
+        assert!(
+            g29.detail.contains("Some Wheel [046d:c24f]"),
+            "{}",
+            g29.detail
+        );
+        assert!(
+            g29.detail.contains("force feedback: constant, gain"),
+            "{}",
+            g29.detail
+        );
+        assert!(g29.detail.contains("N·m"), "{}", g29.detail);
+        let odd = wheel_check(&found_wheel((0x1234, 0x5678)));
+        assert_eq!(odd.status, Status::Warn, "{odd:?}");
+        assert!(odd.detail.starts_with("unknown wheel: "), "{}", odd.detail);
+        assert!(odd.detail.contains("assumed"), "{}", odd.detail);
+        assert!(odd.fix.contains("rated_torque_nm"), "{}", odd.fix);
+    }
+
+    #[test]
+    fn doctor_names_a_node_it_cannot_open_and_the_uaccess_rule_that_fixes_it() {
+        let mut report = haptic_wheel::DeviceReport::default();
+        report.unreadable.push((
+            PathBuf::from("/dev/input/event9"),
+            "Permission denied (os error 13)".into(),
+        ));
+        let c = permissions_check(&report);
+        assert_eq!(c.status, Status::Fail);
+        assert!(
+            c.detail.contains("/dev/input/event9 (Permission denied"),
+            "{}",
+            c.detail
+        );
+        assert!(c.fix.contains("TAG+=\"uaccess\""), "{}", c.fix);
+    }
 }
