@@ -2,7 +2,7 @@
 //! subcommand's arguments and `run()` live in its own file under [`crate::commands`].
 
 use crate::commands::{
-    bench, devices, docs, hub, pair, recover, render, replay, report, run, sync, therapist,
+    bench, devices, docs, doctor, hub, pair, recover, render, replay, report, run, sync, therapist,
     vehicle, wheel, window_process,
 };
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
@@ -52,6 +52,9 @@ pub enum Command {
     Therapist(therapist::TherapistArgs),
     /// List wheels, pedals, gamepads and IMUs, with each wheel's torque ceiling.
     Devices(devices::DevicesArgs),
+    /// Is this station ready for a session? One line per check with what to do; exit status
+    /// 0 ready, 1 not ready, 2 could not check.
+    Doctor(doctor::DoctorArgs),
     /// Render a simulated session offscreen to PNG frames (the window's drawing code, on
     /// Mesa's software Vulkan/GL where there is no GPU).
     Render(render::RenderArgs),
@@ -87,6 +90,7 @@ pub fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Run(args) => run::run(args),
         Command::Therapist(args) => therapist::run(args),
         Command::Devices(args) => devices::run(&args),
+        Command::Doctor(args) => doctor::run(&args),
         Command::Render(args) => render::run(args),
         Command::Recover(args) => recover::run(&args),
         Command::Replay(args) => replay::run(&args),

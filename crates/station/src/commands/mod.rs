@@ -5,6 +5,7 @@
 pub mod bench;
 pub mod devices;
 pub mod docs;
+pub mod doctor;
 pub mod hub;
 pub mod hub_chaos;
 pub mod pair;

@@ -163,6 +163,14 @@ pub(crate) fn request_adapter(
     })
 }
 
+/// Which adapter a headless renderer would get, without creating a device (what
+/// `telerehab doctor` reports); the same backends and errors as [`Renderer::new_headless`].
+pub fn probe_adapter() -> Result<AdapterSummary, RenderError> {
+    let instance = wgpu::Instance::new(instance_descriptor(None));
+    let adapter = request_adapter(&instance, None)?;
+    Ok(AdapterSummary::from(&adapter.get_info()))
+}
+
 fn check_size(width: u32, height: u32) -> Result<(), RenderError> {
     if width == 0 || height == 0 || width > MAX_SIZE_PX || height > MAX_SIZE_PX {
         return Err(RenderError::InvalidSize { width, height });

@@ -24,6 +24,7 @@ use std::time::Instant;
 
 pub use gpu::{
     AdapterSummary, FRAME_UNIFORM_BYTES, MAX_SIZE_PX, MSAA_SAMPLES, Renderer, SKY_WGSL, WORLD_WGSL,
+    probe_adapter,
 };
 pub use scene::{
     CameraMode, CarPose, Dial, Hud, LiveScore, MAX_COORD_M, Road, RoadPoint, Scene, ScreenState,

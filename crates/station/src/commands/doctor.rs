@@ -1,0 +1,752 @@
+//! `telerehab doctor`: is this station ready for a session? One line per check in words a
+//! patient or a clinic's support understands, each with what to do when it fails; `--json`
+//! prints the same as one object. Exit status 0 ready, 1 not ready, 2 could not check (its
+//! home cannot be read).
+//!
+//! Every check uses what the session itself uses: the wheel scan of `telerehab devices`, the
+//! wheel profiles and ceilings, the IMU listing, the renderer's adapter request, the haptic
+//! thread's real-time request, the recorder's disk-space figures and the pairing in the home.
+
+use std::fmt::Write as _;
+use std::io::ErrorKind;
+use std::path::{Path, PathBuf};
+use std::sync::mpsc;
+use std::time::Duration;
+
+use anyhow::Context;
+use serde::Serialize;
+
+use crate::config::StationConfig;
+use crate::home::{Home, HomeArg, Pairing};
+use crate::session::disk_space;
+
+/// How long the graphics adapter request may take before the check is skipped, s.
+const ADAPTER_TIMEOUT_S: u64 = 10;
+/// How long connecting to the hub (`--hub`) may take, s.
+const HUB_TIMEOUT_S: u64 = 3;
+/// A station certificate expiring within this many days is a warning.
+const CERT_WARN_DAYS: i64 = 30;
+/// The session length the disk check plans for, s (one hour of recording).
+const PLANNED_SESSION_S: f64 = 3600.0;
+/// Below room for this long a recording, s, the disk check fails (above it, under an hour, warns).
+const SHORTEST_SESSION_S: f64 = 900.0;
+
+/// `telerehab doctor`.
+#[derive(Debug, clap::Args)]
+pub struct DoctorArgs {
+    /// Print one JSON object (`ready`, `checks`: name, status, detail, fix) instead of lines.
+    #[arg(long)]
+    pub json: bool,
+    /// Also try a TLS connection to the paired hub (3 s at most).
+    #[arg(long)]
+    pub hub: bool,
+    /// Station configuration (TOML): its `[wheel]` section and patient ceiling decide the
+    /// torque ceiling shown.
+    #[arg(long)]
+    pub config: Option<PathBuf>,
+    /// The station's home (pairing, recordings).
+    #[command(flatten)]
+    pub home: HomeArg,
+}
+
+/// How a check came out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Status {
+    /// Ready.
+    Pass,
+    /// A session cannot run (or cannot run safely) until this is fixed.
+    Fail,
+    /// A session runs, with less (no arm sensing, more jitter, software drawing…).
+    Warn,
+    /// Not checked, with the reason in the detail.
+    Skip,
+}
+
+impl Status {
+    fn tag(self) -> &'static str {
+        match self {
+            Status::Pass => "PASS",
+            Status::Fail => "FAIL",
+            Status::Warn => "WARN",
+            Status::Skip => "SKIP",
+        }
+    }
+}
+
+/// One check: what was found and what to do about it.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Check {
+    /// What was checked, e.g. "wheel".
+    pub name: String,
+    /// How it came out.
+    pub status: Status,
+    /// What was found.
+    pub detail: String,
+    /// What to do (empty when there is nothing to do).
+    pub fix: String,
+}
+
+fn check(name: &str, status: Status, detail: impl Into<String>, fix: impl Into<String>) -> Check {
+    Check {
+        name: name.into(),
+        status,
+        detail: detail.into(),
+        fix: fix.into(),
+    }
+}
+
+/// Everything `doctor` found.
+#[derive(Debug, Clone, Serialize)]
+pub struct Report {
+    /// No check failed and everything could be checked.
+    pub ready: bool,
+    /// The checks, in the order printed.
+    pub checks: Vec<Check>,
+    /// Something could not be checked at all (exit status 2).
+    #[serde(skip)]
+    pub could_not_check: bool,
+}
+
+impl Report {
+    fn new(checks: Vec<Check>, could_not_check: bool) -> Self {
+        let ready = !could_not_check && checks.iter().all(|c| c.status != Status::Fail);
+        Self {
+            ready,
+            checks,
+            could_not_check,
+        }
+    }
+
+    /// The process exit status: 0 ready, 1 not ready, 2 could not check.
+    pub fn exit_code(&self) -> u8 {
+        match (self.could_not_check, self.ready) {
+            (true, _) => 2,
+            (false, true) => 0,
+            (false, false) => 1,
+        }
+    }
+
+    /// One line per check, then the verdict.
+    pub fn to_text(&self) -> String {
+        let mut s = String::new();
+        for c in &self.checks {
+            let _ = write!(s, "{}  {}: {}", c.status.tag(), c.name, c.detail);
+            if !c.fix.is_empty() && c.status != Status::Pass {
+                let _ = write!(s, " → {}", c.fix);
+            }
+            s.push('\n');
+        }
+        let problems = self
+            .checks
+            .iter()
+            .filter(|c| c.status == Status::Fail)
+            .count();
+        s.push_str(match self.exit_code() {
+            0 => "Ready for a session.",
+            1 => "Not ready for a session:",
+            _ => "Could not check everything:",
+        });
+        if self.exit_code() != 0 {
+            let _ = write!(s, " {problems} problem(s) to fix above.");
+        }
+        s.push('\n');
+        s
+    }
+}
+
+/// The wheel: found (named, with its profile, force-feedback effects and torque ceiling) or
+/// what to plug in.
+fn wheel_check(report: &haptic_wheel::DeviceReport) -> Check {
+    let Some(w) = report.wheels.first() else {
+        return check(
+            "wheel",
+            Status::Fail,
+            "no force-feedback wheel found",
+            "plug in the wheel and turn it on (most wheels need their own power supply for \
+             force feedback), switch it to PC mode if it has one, then run `telerehab doctor` \
+             again",
+        );
+    };
+    let mut detail = w.traits.name.clone();
+    if let Some((v, p)) = w.usb_id {
+        let _ = write!(detail, " [{v:04x}:{p:04x}]");
+    }
+    let _ = write!(
+        detail,
+        "; force feedback: {} (up to {} effects)",
+        w.traits.ff_effects.join(", "),
+        w.max_ff_effects
+    );
+    if let Some(p) = &w.profile {
+        let _ = write!(detail, "; profile: {}", p.name);
+    }
+    let assumed = w.ceiling.as_ref().is_some_and(|c| c.assumed);
+    if let Some(c) = &w.ceiling {
+        let _ = write!(
+            detail,
+            "; torque ceiling {:.1} N·m (motor {:.1} N·m{})",
+            c.ceiling_nm,
+            c.motor_nm,
+            if c.assumed { ", assumed" } else { "" }
+        );
+    }
+    if report.wheels.len() > 1 {
+        let _ = write!(
+            detail,
+            "; {} wheels connected, the first is used",
+            report.wheels.len()
+        );
+    }
+    if assumed {
+        let fix = "this wheel has no built-in profile: its torque is capped low until the clinic \
+                   enters its rated torque (`[wheel] rated_torque_nm` in the station's \
+                   configuration) or measures it with `telerehab wheel calibrate`";
+        return check(
+            "wheel",
+            Status::Warn,
+            format!("unknown wheel: {detail}"),
+            fix,
+        );
+    }
+    check("wheel", Status::Pass, detail, "")
+}
+
+/// `/dev/hidraw*` nodes that exist but cannot be opened, with the reason.
+fn unopenable_hidraw() -> Vec<(PathBuf, String)> {
+    let Ok(entries) = std::fs::read_dir("/dev") else {
+        return Vec::new();
+    };
+    let mut nodes: Vec<PathBuf> = entries
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| {
+            p.file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.starts_with("hidraw"))
+        })
+        .collect();
+    nodes.sort();
+    nodes
+        .into_iter()
+        .filter_map(|p| {
+            let opened = std::fs::OpenOptions::new().read(true).write(true).open(&p);
+            opened.err().map(|e| (p, e.to_string()))
+        })
+        .collect()
+}
+
+/// Event and hidraw nodes that exist but cannot be opened: named, with the udev fix.
+fn permissions_check(report: &haptic_wheel::DeviceReport) -> Check {
+    let mut blocked = report.unreadable.clone();
+    blocked.extend(unopenable_hidraw());
+    if blocked.is_empty() {
+        return check(
+            "device permissions",
+            Status::Pass,
+            "every input and HID device node present can be opened",
+            "",
+        );
+    }
+    let named: Vec<String> = blocked
+        .iter()
+        .map(|(p, why)| format!("{} ({why})", p.display()))
+        .collect();
+    check(
+        "device permissions",
+        Status::Fail,
+        format!("cannot open {}", named.join(", ")),
+        format!(
+            "give the logged-in user access with a udev rule (`TAG+=\"uaccess\"`, sorted before \
+             73-seat-late.rules): {}",
+            haptic_wheel::devices::UDEV_HINT
+        ),
+    )
+}
+
+/// Arm sensors (controller IMUs): optional, a session runs without arm sensing.
+fn imu_check() -> Check {
+    let fix = "pair or plug in the arm sensor (DualShock 4, DualSense, Joy-Con or Pro \
+               Controller) and check the device permissions above";
+    match gyro_imu::device::enumerate() {
+        Ok(list) if list.is_empty() => check(
+            "arm sensors",
+            Status::Warn,
+            "no arm sensor found: sessions run without arm sensing",
+            fix,
+        ),
+        Ok(list) => {
+            let names: Vec<String> = list
+                .iter()
+                .map(|d| {
+                    let bt = if d.bluetooth { ", Bluetooth" } else { "" };
+                    format!("{} ({:?}{bt})", d.name, d.kind)
+                })
+                .collect();
+            check("arm sensors", Status::Pass, names.join(", "), "")
+        }
+        Err(e) => check(
+            "arm sensors",
+            Status::Warn,
+            format!("cannot list HID devices ({e}): sessions run without arm sensing"),
+            fix,
+        ),
+    }
+}
+
+/// The graphics adapter the patient's window would get; software rendering named.
+fn graphics_check() -> Check {
+    let (tx, rx) = mpsc::channel();
+    let spawned = std::thread::Builder::new()
+        .name("doctor-adapter".into())
+        .spawn(move || {
+            let _ = tx.send(crate::render::probe_adapter());
+        });
+    if let Err(e) = spawned {
+        return check(
+            "graphics",
+            Status::Skip,
+            format!("cannot start the adapter probe: {e}"),
+            "",
+        );
+    }
+    match rx.recv_timeout(Duration::from_secs(ADAPTER_TIMEOUT_S)) {
+        Ok(Ok(a)) if a.device_type == "Cpu" => check(
+            "graphics",
+            Status::Warn,
+            format!("software rendering only: {a}; the window draws slowly"),
+            "install the graphics card's driver (Mesa's radeonsi/iris or the vendor's) for \
+             smoother pictures; sessions run as they are",
+        ),
+        Ok(Ok(a)) => check("graphics", Status::Pass, a.to_string(), ""),
+        Ok(Err(e)) => check(
+            "graphics",
+            Status::Fail,
+            e.to_string(),
+            "install Mesa's drivers (`mesa-vulkan-drivers` or `libgl1-mesa-dri`)",
+        ),
+        Err(_) => check(
+            "graphics",
+            Status::Skip,
+            format!("the graphics driver did not answer within {ADAPTER_TIMEOUT_S} s"),
+            "",
+        ),
+    }
+}
+
+/// Whether the haptic thread would get SCHED_FIFO (asked from a throwaway thread).
+fn realtime_check() -> Check {
+    let granted = std::thread::Builder::new()
+        .name("doctor-rt".into())
+        .spawn(crate::session::haptic::request_realtime_priority)
+        .ok()
+        .and_then(|t| t.join().ok())
+        .unwrap_or(false);
+    if granted {
+        return check(
+            "real-time scheduling",
+            Status::Pass,
+            "granted (SCHED_FIFO)",
+            "",
+        );
+    }
+    check(
+        "real-time scheduling",
+        Status::Warn,
+        "not granted: the wheel's force loop runs at normal priority, with more jitter",
+        "allow this user real-time priority (e.g. `@audio - rtprio 95` in \
+         /etc/security/limits.d/ and the user in the `audio` group, then log in again)",
+    )
+}
+
+/// The nearest existing directory at or above `dir` (the home may not exist yet).
+fn existing_ancestor(dir: &Path) -> &Path {
+    dir.ancestors()
+        .find(|a| a.is_dir())
+        .unwrap_or_else(|| Path::new("/"))
+}
+
+/// Room for a session's recording given `free_bytes` on the home's filesystem.
+pub fn disk_check_for(free_bytes: u64, where_: &Path) -> Check {
+    let mb = |n: u64| format!("{:.0} MB", n as f64 / 1e6);
+    let hour = disk_space::needed_bytes(PLANNED_SESSION_S);
+    let minutes = free_bytes.saturating_sub(disk_space::RESERVE_BYTES) as f64
+        / disk_space::RECORDING_BYTES_PER_S as f64
+        / 60.0;
+    let detail = format!(
+        "{} free at {} (room for {minutes:.0} min of recording; an hour needs {})",
+        mb(free_bytes),
+        where_.display(),
+        mb(hour)
+    );
+    let fix = "free some disk space (old recordings already sent to the clinic can go)";
+    if free_bytes >= hour {
+        check("disk space", Status::Pass, detail, "")
+    } else if free_bytes >= disk_space::needed_bytes(SHORTEST_SESSION_S) {
+        check("disk space", Status::Warn, detail, fix)
+    } else {
+        check("disk space", Status::Fail, detail, fix)
+    }
+}
+
+fn disk_check(home: &Home) -> Check {
+    let at = existing_ancestor(home.dir());
+    match disk_space::free_bytes(at) {
+        Ok(free) => disk_check_for(free, at),
+        Err(e) => check(
+            "disk space",
+            Status::Skip,
+            format!("cannot measure free space at {}: {e}", at.display()),
+            "",
+        ),
+    }
+}
+
+/// Days from `now_unix_s` until the PEM certificate's expiry.
+pub fn days_left(cert_pem: &str, now_unix_s: i64) -> anyhow::Result<i64> {
+    let der = netlink::pki::first_certificate_der(cert_pem)?;
+    let (_, cert) = x509_parser::parse_x509_certificate(&der)
+        .map_err(|e| anyhow::anyhow!("not a readable certificate: {e}"))?;
+    Ok((cert.validity().not_after.timestamp() - now_unix_s).div_euclid(86_400))
+}
+
+/// The station certificate's expiry, given the days left.
+pub fn certificate_check_for(days: i64, pairing: &Pairing) -> Check {
+    let who = format!(
+        "paired with {} as station {} (patient {})",
+        pairing.hub, pairing.station_id, pairing.patient_id
+    );
+    let renew = "ask the clinic for a new pairing code, then `telerehab pair`";
+    if days < 0 {
+        return check(
+            "clinic pairing",
+            Status::Fail,
+            format!("{who}; its certificate expired {} day(s) ago", -days),
+            renew,
+        );
+    }
+    if days < CERT_WARN_DAYS {
+        return check(
+            "clinic pairing",
+            Status::Warn,
+            format!("{who}; its certificate expires in {days} day(s)"),
+            renew,
+        );
+    }
+    check(
+        "clinic pairing",
+        Status::Pass,
+        format!("{who}; certificate valid for {days} more days"),
+        "",
+    )
+}
+
+fn pairing_check(home: &Home, pairing: Option<&Pairing>) -> Check {
+    let Some(p) = pairing else {
+        return check(
+            "clinic pairing",
+            Status::Warn,
+            "not paired: sessions are not sent to a clinic",
+            "ask the clinic for a code, then `telerehab pair`",
+        );
+    };
+    let now_s = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs() as i64);
+    let cert_path = home.client_tls(p).identity.map(|i| i.cert_pem_path);
+    let days = cert_path
+        .as_deref()
+        .context("no station certificate")
+        .and_then(|path| {
+            let pem = std::fs::read_to_string(path)
+                .with_context(|| format!("cannot read {}", path.display()))?;
+            days_left(&pem, now_s)
+        });
+    match days {
+        Ok(d) => certificate_check_for(d, p),
+        Err(e) => check(
+            "clinic pairing",
+            Status::Fail,
+            format!("paired with {}, but the station certificate: {e:#}", p.hub),
+            "ask the clinic for a new pairing code, then `telerehab pair`",
+        ),
+    }
+}
+
+/// A TLS handshake with the paired hub (only with `--hub`).
+fn hub_check(home: &Home, pairing: Option<&Pairing>, try_hub: bool) -> Check {
+    let Some(p) = pairing else {
+        return check("hub", Status::Skip, "not paired: no hub to reach", "");
+    };
+    if !try_hub {
+        return check(
+            "hub",
+            Status::Skip,
+            format!("not tried (add --hub to connect to {})", p.hub),
+            "",
+        );
+    }
+    let fix = "check the internet connection; sessions still run and are sent later \
+               (`telerehab sync`)";
+    let result = (|| -> anyhow::Result<()> {
+        let (connector, name) = home.client_tls(p).connector()?;
+        let rt = tokio::runtime::Builder::new_current_thread()
+            .enable_all()
+            .build()
+            .context("cannot start the network runtime")?;
+        rt.block_on(async {
+            tokio::time::timeout(Duration::from_secs(HUB_TIMEOUT_S), async {
+                let tcp = tokio::net::TcpStream::connect(&p.hub).await?;
+                connector.connect(name, tcp).await?;
+                Ok::<(), std::io::Error>(())
+            })
+            .await
+            .map_err(|_| anyhow::anyhow!("no answer within {HUB_TIMEOUT_S} s"))?
+            .map_err(anyhow::Error::from)
+        })
+    })();
+    match result {
+        Ok(()) => check("hub", Status::Pass, format!("{} answers (TLS)", p.hub), ""),
+        Err(e) => check(
+            "hub",
+            Status::Warn,
+            format!("cannot reach {}: {e:#}", p.hub),
+            fix,
+        ),
+    }
+}
+
+fn versions_check() -> Check {
+    check(
+        "versions",
+        Status::Pass,
+        format!("telerehab {}", crate::cli::version()),
+        "",
+    )
+}
+
+/// Whether the home can be looked at: missing is fine (a station never run), anything else
+/// that stops reading it is the reason.
+fn home_problem(home: &Home) -> Option<String> {
+    let dir = home.dir();
+    match std::fs::read_dir(dir) {
+        Ok(_) => None,
+        Err(e) if e.kind() == ErrorKind::NotFound => None,
+        Err(e) => Some(format!(
+            "cannot read the station's home {}: {e}",
+            dir.display()
+        )),
+    }
+}
+
+/// Run every check.
+pub fn examine(args: &DoctorArgs) -> Report {
+    let cfg = match &args.config {
+        Some(p) => StationConfig::load(p).map_err(|e| format!("{e:#}")),
+        None => Ok(StationConfig::default()),
+    };
+    let mut devices = haptic_wheel::enumerate_devices();
+    let mut checks = Vec::new();
+    match &cfg {
+        Ok(cfg) => devices.apply_config(&cfg.wheel, cfg.haptic.safety.ceiling_nm),
+        Err(e) => checks.push(check(
+            "configuration",
+            Status::Fail,
+            e.clone(),
+            "correct the station configuration file",
+        )),
+    }
+    checks.push(wheel_check(&devices));
+    checks.push(permissions_check(&devices));
+    checks.push(imu_check());
+    checks.push(graphics_check());
+    checks.push(realtime_check());
+    let home = Home::resolve(&args.home).map_err(|e| format!("{e:#}"));
+    let home = home.and_then(|h| match home_problem(&h) {
+        Some(p) => Err(p),
+        None => Ok(h),
+    });
+    let home_fix = "give --home (or TELEREHAB_HOME) a directory this user can read and write";
+    let mut could_not_check = false;
+    match home {
+        Ok(home) => {
+            checks.push(disk_check(&home));
+            match home.pairing() {
+                Ok(pairing) => {
+                    checks.push(pairing_check(&home, pairing.as_ref()));
+                    checks.push(hub_check(&home, pairing.as_ref(), args.hub));
+                }
+                Err(e) => checks.push(check(
+                    "clinic pairing",
+                    Status::Fail,
+                    format!("{e:#}"),
+                    "ask the clinic for a new pairing code, then `telerehab pair`",
+                )),
+            }
+        }
+        Err(e) => {
+            could_not_check = true;
+            checks.push(check("station home", Status::Fail, e, home_fix));
+        }
+    }
+    checks.push(versions_check());
+    Report::new(checks, could_not_check)
+}
+
+/// Print the report and exit with its status (0 ready, 1 not ready, 2 could not check).
+pub fn run(args: &DoctorArgs) -> anyhow::Result<()> {
+    let report = examine(args);
+    if args.json {
+        println!("{}", serde_json::to_string(&report)?);
+    } else {
+        print!("{}", report.to_text());
+    }
+    use std::io::Write as _;
+    std::io::stdout().flush()?;
+    std::process::exit(i32::from(report.exit_code()));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pairing() -> Pairing {
+        Pairing {
+            hub: "127.0.0.1:7000".into(),
+            server_name: "hub.clinic".into(),
+            station_id: "st-1".into(),
+            patient_id: "p-0042".into(),
+            paired_unix_ms: 0,
+        }
+    }
+
+    #[test]
+    fn doctor_exit_code_is_0_ready_1_on_a_failure_2_when_it_could_not_check() {
+        let pass = check("a", Status::Pass, "", "");
+        let warn = check("b", Status::Warn, "", "x");
+        let fail = check("c", Status::Fail, "", "y");
+        assert_eq!(
+            Report::new(vec![pass.clone(), warn.clone()], false).exit_code(),
+            0
+        );
+        assert_eq!(Report::new(vec![pass.clone(), fail], false).exit_code(), 1);
+        let r = Report::new(vec![pass], true);
+        assert_eq!((r.exit_code(), r.ready), (2, false));
+    }
+
+    #[test]
+    fn doctor_text_has_one_line_per_check_and_the_fix_of_each_problem() {
+        let r = Report::new(
+            vec![
+                check("wheel", Status::Fail, "none", "plug it in"),
+                check("versions", Status::Pass, "1.0", "ignored"),
+            ],
+            false,
+        );
+        let text = r.to_text();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 3, "{text}");
+        assert_eq!(lines[0], "FAIL  wheel: none → plug it in");
+        assert_eq!(lines[1], "PASS  versions: 1.0");
+        assert!(lines[2].starts_with("Not ready"), "{text}");
+    }
+
+    #[test]
+    fn doctor_disk_check_passes_an_hour_warns_a_quarter_hour_and_fails_less() {
+        let at = Path::new("/home");
+        let hour = disk_space::needed_bytes(PLANNED_SESSION_S);
+        let quarter = disk_space::needed_bytes(SHORTEST_SESSION_S);
+        assert_eq!(disk_check_for(hour, at).status, Status::Pass);
+        assert_eq!(disk_check_for(hour - 1, at).status, Status::Warn);
+        assert_eq!(disk_check_for(quarter, at).status, Status::Warn);
+        assert_eq!(disk_check_for(quarter - 1, at).status, Status::Fail);
+        assert!(disk_check_for(hour, at).detail.contains("60 min"));
+    }
+
+    #[test]
+    fn doctor_reads_the_station_certificate_expiry_and_warns_under_30_days() {
+        let (clock, _mock) = clock::Clock::mock();
+        let ca = netlink::pki::ClinicCa::create_with_clock("Clinic", clock).unwrap();
+        let cert = ca.issue_server(&["hub.clinic".into()]).unwrap();
+        let days = days_left(&cert.cert_pem, 0).unwrap();
+        assert!(days > CERT_WARN_DAYS, "{days}");
+        let expiry_s = days * 86_400;
+        let near = days_left(&cert.cert_pem, expiry_s - 10 * 86_400).unwrap();
+        assert!((9..=10).contains(&near), "{near}");
+        let p = pairing();
+        assert_eq!(certificate_check_for(days, &p).status, Status::Pass);
+        assert_eq!(certificate_check_for(near, &p).status, Status::Warn);
+        assert_eq!(certificate_check_for(-1, &p).status, Status::Fail);
+    }
+
+    #[test]
+    fn doctor_names_a_missing_wheel_as_a_failure_with_what_to_plug_in() {
+        let c = wheel_check(&haptic_wheel::DeviceReport::default());
+        assert_eq!(c.status, Status::Fail);
+        assert!(
+            c.fix.contains("plug in the wheel and turn it on"),
+            "{}",
+            c.fix
+        );
+    }
+
+    fn found_wheel(usb_id: (u16, u16)) -> haptic_wheel::DeviceReport {
+        use haptic_wheel::devices::{DeviceClass, DeviceInfo, DeviceTraits};
+        let mut report = haptic_wheel::DeviceReport::default();
+        report.add(DeviceInfo {
+            path: "/dev/input/event7".into(),
+            class: DeviceClass::Wheel,
+            traits: DeviceTraits {
+                name: "Some Wheel".into(),
+                ff_effects: vec!["constant", "gain"],
+                abs_axes: vec!["x"],
+                gamepad_buttons: false,
+            },
+            usb_id: Some(usb_id),
+            profile: None,
+            ceiling: None,
+            max_ff_effects: 16,
+        });
+        report.apply_config(&haptic_wheel::wheel_config::WheelConfig::default(), None);
+        report
+    }
+
+    #[test]
+    fn doctor_names_a_known_wheel_with_its_effects_and_ceiling_and_an_unknown_one_as_such() {
+        let g29 = wheel_check(&found_wheel((0x046d, 0xc24f)));
+        assert_eq!(g29.status, Status::Pass, "{g29:?}");
+        assert!(
+            g29.detail.contains("Some Wheel [046d:c24f]"),
+            "{}",
+            g29.detail
+        );
+        assert!(
+            g29.detail.contains("force feedback: constant, gain"),
+            "{}",
+            g29.detail
+        );
+        assert!(g29.detail.contains("N·m"), "{}", g29.detail);
+        let odd = wheel_check(&found_wheel((0x1234, 0x5678)));
+        assert_eq!(odd.status, Status::Warn, "{odd:?}");
+        assert!(odd.detail.starts_with("unknown wheel: "), "{}", odd.detail);
+        assert!(odd.detail.contains("assumed"), "{}", odd.detail);
+        assert!(odd.fix.contains("rated_torque_nm"), "{}", odd.fix);
+    }
+
+    #[test]
+    fn doctor_names_a_node_it_cannot_open_and_the_uaccess_rule_that_fixes_it() {
+        let mut report = haptic_wheel::DeviceReport::default();
+        report.unreadable.push((
+            PathBuf::from("/dev/input/event9"),
+            "Permission denied (os error 13)".into(),
+        ));
+        let c = permissions_check(&report);
+        assert_eq!(c.status, Status::Fail);
+        assert!(
+            c.detail.contains("/dev/input/event9 (Permission denied"),
+            "{}",
+            c.detail
+        );
+        assert!(c.fix.contains("TAG+=\"uaccess\""), "{}", c.fix);
+    }
+}
