@@ -5,6 +5,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 if ! command -v cargo >/dev/null 2>&1; then export PATH="$HOME/.cargo/bin:$PATH"; fi
 
+# Fixed seeds everywhere: every proptest draws from this seed (a failure is then replayed
+# exactly by the same command; set PROPTEST_RNG_SEED to explore others).
+export PROPTEST_RNG_SEED="${PROPTEST_RNG_SEED:-20261127}"
+
 # Incremental caches double the target directory and a CI build is a cold build anyway.
 export CARGO_INCREMENTAL="${CARGO_INCREMENTAL:-0}"
 echo "== disk before the build: $(df -h . | awk 'NR==2 {print $4 " free on " $6}')"

@@ -247,6 +247,9 @@ pub fn recover<R: Read, W: Write + Seek>(input: R, out: W) -> Result<(Recovered,
         mcap_options(concat!("telerehab ", env!("CARGO_PKG_VERSION"), " recover")).create(out)?;
     let mut schemas: BTreeMap<u16, u16> = BTreeMap::new();
     let mut channels: BTreeMap<u16, u16> = BTreeMap::new();
+    // The channels written, by their id in the output: a damaged file may declare one input
+    // id twice with different contents (the later declaration wins for its messages).
+    let mut written = std::collections::BTreeSet::new();
     let mut copied = Recovered::default();
     let mut first = true;
     while let Some(record) = records.next_record() {
@@ -278,6 +281,7 @@ pub fn recover<R: Read, W: Write + Seek>(input: R, out: W) -> Result<(Recovered,
                 let id =
                     writer.add_channel(schema_id, &c.topic, &c.message_encoding, &c.metadata)?;
                 channels.insert(c.id, id);
+                written.insert(id);
             }
             Record::Message { header, data } => {
                 if let Some(&channel_id) = channels.get(&header.channel_id) {
@@ -295,7 +299,7 @@ pub fn recover<R: Read, W: Write + Seek>(input: R, out: W) -> Result<(Recovered,
             _ => {}
         }
     }
-    copied.channels = channels.len();
+    copied.channels = written.len();
     writer.finish()?;
     Ok((copied, writer.into_inner()))
 }
