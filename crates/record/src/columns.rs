@@ -14,7 +14,7 @@
 use super::blocks::{self, BlockError, ColumnValues, Kind, Layout};
 use super::reader::ReadError;
 use super::recover::check_lengths;
-use super::stream::{MAX_SCHEMA_BYTES, Rec, Records, StreamLimits};
+use super::stream::{Rec, Records, SchemaTable, StreamLimits};
 use mcap::records::{Record, op};
 use std::collections::{BTreeMap, HashMap};
 use std::io::Read;
@@ -166,7 +166,7 @@ pub fn read_columns_path(path: &Path, limits: StreamLimits) -> Result<RecordingC
 pub fn read_columns(input: impl Read, limits: StreamLimits) -> Result<RecordingColumns, ReadError> {
     let mut records = Records::new(input, limits);
     let mut out = RecordingColumns::default();
-    let mut schemas: BTreeMap<u16, (String, String, Vec<u8>)> = BTreeMap::new();
+    let mut schemas = SchemaTable::default();
     let mut reading: BTreeMap<u16, Reading> = BTreeMap::new();
     let mut metadata = None;
     loop {
@@ -184,20 +184,7 @@ pub fn read_columns(input: impl Read, limits: StreamLimits) -> Result<RecordingC
             reason: e.to_string(),
         })?;
         match mcap::parse_record(opcode, data)? {
-            Record::Schema { header, data } => {
-                let kept: usize = schemas.values().map(|(n, _, d)| n.len() + d.len()).sum();
-                if kept + header.name.len() + data.len() > MAX_SCHEMA_BYTES {
-                    return Err(ReadError::Damaged {
-                        chunk,
-                        reason: format!(
-                            "its schemas add up to more than {} MiB",
-                            MAX_SCHEMA_BYTES >> 20
-                        ),
-                    });
-                }
-                let schema = (header.name, header.encoding, data.into_owned());
-                schemas.insert(header.id, schema);
-            }
+            Record::Schema { header, data } => schemas.keep(header, data.into_owned(), chunk)?,
             Record::Channel(c) => {
                 if let Some(r) = channel(&mut out, &c, &schemas)? {
                     reading.insert(c.id, r);
@@ -220,10 +207,15 @@ fn record_name() -> &'static str {
 fn channel(
     out: &mut RecordingColumns,
     c: &mcap::records::Channel,
-    schemas: &BTreeMap<u16, (String, String, Vec<u8>)>,
+    schemas: &SchemaTable,
 ) -> Result<Option<Reading>, ReadError> {
     let topic: &'static str = super::Channel::from_topic(&c.topic).map_or("", |ch| ch.topic());
-    let (name, encoding, schema) = schemas.get(&c.schema_id).cloned().unwrap_or_default();
+    let (name, schema) = schemas
+        .by_id()
+        .get(&c.schema_id)
+        .cloned()
+        .unwrap_or_default();
+    let encoding = schemas.encoding(c.schema_id);
     let index = out.channels.iter().position(|(t, _)| *t == c.topic);
     let layout_error = |source| ReadError::Block {
         topic,

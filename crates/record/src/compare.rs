@@ -16,7 +16,7 @@ use super::blocks::{Cell, Layout};
 use super::channels::Channel;
 use super::reader::{Decoder, ReadError, Row};
 use super::recover::check_lengths;
-use super::stream::{MAX_SCHEMA_BYTES, Rec, Records, StreamLimits};
+use super::stream::{Rec, Records, SchemaTable, StreamLimits};
 use mcap::records::{Record, op};
 use std::collections::{BTreeMap, VecDeque};
 use std::io::Read;
@@ -307,7 +307,7 @@ struct Side<R> {
     records: Records<R>,
     limits: StreamLimits,
     wanted: [bool; N],
-    schemas: BTreeMap<u16, (String, Vec<u8>)>,
+    schemas: SchemaTable,
     /// Our channels by id: each one's layout (`None`: JSON messages).
     channels: BTreeMap<u16, (Channel, Option<Arc<Layout>>)>,
     /// Samples read and not yet compared, per channel.
@@ -325,7 +325,7 @@ impl<R: Read> Side<R> {
             records: Records::new(input, limits),
             limits,
             wanted,
-            schemas: BTreeMap::new(),
+            schemas: SchemaTable::default(),
             channels: BTreeMap::new(),
             pending: std::array::from_fn(|_| VecDeque::new()),
             counts: [0; N],
@@ -407,24 +407,13 @@ impl<R: Read> Side<R> {
         })?;
         match mcap::parse_record(opcode, data)? {
             Record::Schema { header, data } => {
-                let kept: usize = self.schemas.values().map(|(n, d)| n.len() + d.len()).sum();
-                if kept + header.name.len() + data.len() > MAX_SCHEMA_BYTES {
-                    return Err(ReadError::Damaged {
-                        chunk,
-                        reason: format!(
-                            "its schemas add up to more than {} MiB",
-                            MAX_SCHEMA_BYTES >> 20
-                        ),
-                    });
-                }
-                self.schemas
-                    .insert(header.id, (header.name, data.into_owned()));
+                self.schemas.keep(header, data.into_owned(), chunk)?;
             }
             Record::Channel(c) => {
                 if let Some(channel) = Channel::from_topic(&c.topic)
                     && self.wanted[channel as usize]
                 {
-                    let layout = match Decoder::of(channel, &c, &self.schemas)? {
+                    let layout = match Decoder::of(channel, &c, self.schemas.by_id())? {
                         Decoder::Json => None,
                         Decoder::Blocks(layout, _) => Some(Arc::from(layout)),
                     };

@@ -426,6 +426,59 @@ struct Queues {
 /// few kilobytes in all).
 pub(crate) const MAX_SCHEMA_BYTES: usize = 4 << 20;
 
+/// The schemas a file declares, by id (name and data, as [`Decoder::of`] takes them, and
+/// each one's encoding), kept within [`MAX_SCHEMA_BYTES`] in all: a file of many large
+/// schemas cannot make a reader hold gigabytes, and the running total makes each schema
+/// record cost the same however many a hostile file declares or re-declares.
+#[derive(Debug, Default)]
+pub(crate) struct SchemaTable {
+    by_id: BTreeMap<u16, (String, Vec<u8>)>,
+    encodings: BTreeMap<u16, String>,
+    bytes: usize,
+}
+
+impl SchemaTable {
+    /// Keeps the schema of `header` with `data` (replacing one of the same id), or refuses
+    /// the file, naming `chunk`, when the schemas would add up to more than the limit.
+    pub(crate) fn keep(
+        &mut self,
+        header: mcap::records::SchemaHeader,
+        data: Vec<u8>,
+        chunk: u64,
+    ) -> Result<(), ReadError> {
+        let size =
+            |name: &str, encoding: &str, data: &[u8]| name.len() + encoding.len() + data.len();
+        let replaced = match (self.by_id.get(&header.id), self.encodings.get(&header.id)) {
+            (Some((name, data)), Some(encoding)) => size(name, encoding, data),
+            _ => 0,
+        };
+        let bytes = self.bytes - replaced + size(&header.name, &header.encoding, &data);
+        if bytes > MAX_SCHEMA_BYTES {
+            return Err(ReadError::Damaged {
+                chunk,
+                reason: format!(
+                    "its schemas add up to more than {} MiB",
+                    MAX_SCHEMA_BYTES >> 20
+                ),
+            });
+        }
+        self.bytes = bytes;
+        self.encodings.insert(header.id, header.encoding);
+        self.by_id.insert(header.id, (header.name, data));
+        Ok(())
+    }
+
+    /// The schemas by id: name and data.
+    pub(crate) fn by_id(&self) -> &BTreeMap<u16, (String, Vec<u8>)> {
+        &self.by_id
+    }
+
+    /// The encoding of schema `id` (`""` if the file declared none by that id).
+    pub(crate) fn encoding(&self, id: u16) -> &str {
+        self.encodings.get(&id).map_or("", String::as_str)
+    }
+}
+
 /// The tick records of a recording, read front to back in bounded memory (the module's
 /// documentation says how). Gives the same records as [`super::Recording::ticks`] for the
 /// channels it reads (the others left at their defaults).
@@ -433,7 +486,7 @@ pub struct TickStream<R> {
     records: Records<R>,
     metadata: SessionMetadata,
     wanted: [bool; Channel::ALL.len()],
-    schemas: BTreeMap<u16, (String, Vec<u8>)>,
+    schemas: SchemaTable,
     channels: BTreeMap<u16, (Channel, Decoder)>,
     queues: Queues,
     last_score: ScoreSample,
@@ -477,7 +530,7 @@ impl<R: Read> TickStream<R> {
             records: Records::new(input, limits),
             metadata: SessionMetadata::default(),
             wanted,
-            schemas: BTreeMap::new(),
+            schemas: SchemaTable::default(),
             channels: BTreeMap::new(),
             queues: Queues::default(),
             last_score: ScoreSample::default(),
@@ -605,24 +658,13 @@ impl<R: Read> TickStream<R> {
             Record::Schema { header, data } => {
                 // Each schema is within a record's limit; their sum is bounded too, or a file
                 // of many 16 MiB schemas would hold gigabytes (ours are a few kilobytes).
-                let kept: usize = self.schemas.values().map(|(n, d)| n.len() + d.len()).sum();
-                if kept + header.name.len() + data.len() > MAX_SCHEMA_BYTES {
-                    return Err(ReadError::Damaged {
-                        chunk,
-                        reason: format!(
-                            "its schemas add up to more than {} MiB",
-                            MAX_SCHEMA_BYTES >> 20
-                        ),
-                    });
-                }
-                self.schemas
-                    .insert(header.id, (header.name, data.into_owned()));
+                self.schemas.keep(header, data.into_owned(), chunk)?;
             }
             Record::Channel(c) => {
                 if let Some(channel) = Channel::from_topic(&c.topic)
                     && self.wanted[channel as usize]
                 {
-                    let decoder = Decoder::of(channel, &c, &self.schemas)?;
+                    let decoder = Decoder::of(channel, &c, self.schemas.by_id())?;
                     self.channels.insert(c.id, (channel, decoder));
                 }
             }
@@ -728,6 +770,34 @@ impl TickStream<Cursor<Vec<u8>>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_schema_declared_again_replaces_its_bytes_and_the_sum_stays_bounded() {
+        let header = |id: u16| mcap::records::SchemaHeader {
+            id,
+            name: "telerehab.Wheel".into(),
+            encoding: "jsonschema".into(),
+        };
+        let mut table = SchemaTable::default();
+        let mib = vec![b'x'; 1 << 20];
+        for _ in 0..100 {
+            // The same id again and again: the total is one schema's, not a hundred.
+            table
+                .keep(header(1), [&mib[..], &mib[..], &mib[..]].concat(), 1)
+                .unwrap();
+        }
+        assert_eq!(table.by_id().len(), 1);
+        assert_eq!(table.encoding(1), "jsonschema");
+        assert_eq!(table.encoding(9), "");
+        let e = table
+            .keep(header(2), [&mib[..], &mib[..]].concat(), 3)
+            .unwrap_err();
+        assert!(
+            e.to_string().contains("schemas add up to more than 4 MiB"),
+            "{e}"
+        );
+        table.keep(header(2), mib[..1 << 19].to_vec(), 3).unwrap();
+    }
     use crate::{RecordWriter, Recording};
 
     /// A little generator with a fixed seed (xorshift64*).
