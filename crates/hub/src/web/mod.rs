@@ -37,7 +37,9 @@ pub use serve::{
     SHUTDOWN_GRACE_S, TLS_HANDSHAKE_TIMEOUT_S, acceptor_from_pem, serve, serve_router,
 };
 pub use serve::{WebLimits, serve_router_with_limits, serve_with_limits};
-pub use sessions::{DEFAULT_MAX_REPLAY_BYTES, REPLAY_QUEUE_WAIT_S, REPLAYS_AT_ONCE, ReplayTurns};
+pub use sessions::{
+    DEFAULT_MAX_REPLAY_BYTES, REPLAY_QUEUE_WAIT_S, REPLAY_STALL_S, REPLAYS_AT_ONCE, ReplayTurns,
+};
 
 /// Largest request body accepted, bytes.
 pub const MAX_BODY_BYTES: usize = 64 * 1024;

@@ -88,6 +88,11 @@ pub const DEFAULT_MAX_REPLAY_BYTES: u64 = 2048 << 20;
 /// therapists opening a replay together all see its first frames at once.
 pub const REPLAYS_AT_ONCE: usize = 8;
 
+/// Longest a streamed replay waits for the console to take its next line, s: a console that
+/// stops reading (a stalled or hostile client) gives its turn back instead of holding one of
+/// the [`REPLAYS_AT_ONCE`] and a blocking thread for ever.
+pub const REPLAY_STALL_S: u64 = 30;
+
 /// How long a replay waits for one of the [`REPLAYS_AT_ONCE`] turns before the hub answers
 /// 503, s.
 pub const REPLAY_QUEUE_WAIT_S: u64 = 60;
@@ -221,14 +226,19 @@ pub(crate) async fn replay(
     let (tx, rx) = tokio::sync::mpsc::channel::<Result<Vec<u8>, std::io::Error>>(4);
     let id = session.session_id.clone();
     // The turn and the therapist's claim are held until the decoding ends; a console gone
-    // away ends it at the next line.
+    // away, or not reading for REPLAY_STALL_S, ends it at the next line.
+    let runtime = tokio::runtime::Handle::current();
+    let stall = std::time::Duration::from_secs(REPLAY_STALL_S);
     tokio::task::spawn_blocking(move || {
         let _held = (turn, asking);
         let sent = record::view::replay_ndjson(opened, record::view::MAX_REPLAY_FRAMES, |line| {
-            tx.blocking_send(Ok(line)).is_ok()
+            matches!(
+                runtime.block_on(tokio::time::timeout(stall, tx.send(Ok(line)))),
+                Ok(Ok(()))
+            )
         });
         if !sent {
-            tracing::debug!(session = %id, "replay ended early: the console went away");
+            tracing::debug!(session = %id, "replay ended early: the console went away or stalled");
         }
     });
     let body = axum::body::Body::from_stream(tokio_stream::wrappers::ReceiverStream::new(rx));
