@@ -1,11 +1,10 @@
 //! What the therapist's console draws of a session, live and replayed: the same named numbers
 //! per instant (`live_pose`), sent in every live summary's `extra` and, for a replay, read
-//! from the session's recording at [`REPLAY_RATE_HZ`] (`replay_frames`, which the hub calls
-//! for `GET /api/sessions/{id}/replay`).
+//! from the session's recording at [`REPLAY_RATE_HZ`] ([`replay_ndjson`], which the hub
+//! streams for `GET /api/sessions/{id}/replay`).
 
-use crate::{Channel, StreamLimits, TickRecord, TickStream};
+use crate::{Channel, TickRecord, TickStream};
 use std::collections::BTreeMap;
-use std::path::Path;
 
 /// Frames per second of session time in a replay (the live view's summaries come at 10 Hz).
 pub const REPLAY_RATE_HZ: f64 = 20.0;
@@ -71,21 +70,12 @@ pub const REPLAY_CHANNELS: [Channel; 4] = [
     Channel::Arm,
 ];
 
-/// The recording at `path` as the console's replay draws it, as JSON: `{"rate_hz",
-/// "duration_s", "exercise", "columns": {name: [value or null, …]}}`, one entry per frame at
-/// [`REPLAY_RATE_HZ`] (fewer past [`MAX_REPLAY_FRAMES`]), the names of [`live_pose`] plus
-/// `t_s`, `lateral_m` and `pct_in_lane`, values to single precision. The recording is read as
-/// a stream within [`StreamLimits::default`] (it came from a station: untrusted input), so
-/// memory does not grow with its length; `Err` says what is wrong with it.
-pub fn replay_frames(path: &Path) -> Result<Vec<u8>, String> {
-    let stream = TickStream::open_path(path, StreamLimits::default(), &REPLAY_CHANNELS)
-        .map_err(|e| e.to_string())?;
-    replay_frames_of(stream, MAX_REPLAY_FRAMES)
-}
-
-/// The frames of the recording read by `stream`, at most `max_frames` of them, as JSON
-/// ([`replay_frames`]).
-pub fn replay_frames_of<R: std::io::Read>(
+/// The frames of the recording read by `stream`, at most `max_frames` of them, as one JSON
+/// answer: `{"rate_hz", "duration_s", "exercise", "columns": {name: [value or null, …]}}`.
+/// What the streamed lines of [`replay_ndjson`] must add up to (the tests' reference; the hub
+/// never holds a whole replay).
+#[cfg(test)]
+fn replay_frames_of<R: std::io::Read>(
     stream: TickStream<R>,
     max_frames: usize,
 ) -> Result<Vec<u8>, String> {
@@ -293,6 +283,7 @@ impl Frames {
     }
 
     /// Halves the frame rate: keeps frames 0, 2, 4, ….
+    #[cfg(test)]
     fn keep_every_other(&mut self) {
         for column in self.columns.values_mut() {
             let mut i = 0;
@@ -308,7 +299,7 @@ impl Frames {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{ArmSample, VehicleSample};
+    use crate::{ArmSample, StreamLimits, VehicleSample};
 
     #[test]
     fn the_live_pose_names_the_arm_only_when_there_is_one() {
