@@ -147,6 +147,9 @@ impl Db {
                 context: format!("connecting to {}", redact_url(url)),
                 source,
             })?;
+        // Regimens stored before migration 4 have their sessions_per_week filled in once, when
+        // it is applied, not scanned for at every open.
+        let fill_sessions_per_week = !migration_applied(&pool, 4).await;
         MIGRATOR.run(&pool).await.map_err(|e| HubError::Database {
             context: "applying migrations".to_owned(),
             source: e.into(),
@@ -156,7 +159,9 @@ impl Db {
             backend,
             guards: std::sync::Arc::new(logins::Guards::new()),
         };
-        db.fill_sessions_per_week().await?;
+        if fill_sessions_per_week {
+            db.fill_sessions_per_week().await?;
+        }
         Ok(db)
     }
 
@@ -318,4 +323,14 @@ where
 {
     row.try_get(col)
         .map_err(|e| HubError::Corrupt(format!("column {col}: {e}")))
+}
+
+/// Whether the database at `pool` has migration `version` applied (`false` for a new one,
+/// which has no migrations table yet).
+async fn migration_applied(pool: &AnyPool, version: i64) -> bool {
+    sqlx::query("SELECT version FROM _sqlx_migrations WHERE version = $1")
+        .bind(version)
+        .fetch_optional(pool)
+        .await
+        .is_ok_and(|row| row.is_some())
 }

@@ -89,7 +89,7 @@ impl Db {
 
     /// Fills `sessions_per_week` of regimens stored before migration 0004 (the column is NULL
     /// there) with the regimen's own parser; a regimen that does not mention it, or no longer
-    /// parses, keeps NULL. Run by [`Db::open`]; quick when nothing is left to fill.
+    /// parses, keeps NULL. Run by [`Db::open`] once, when it applies migration 4.
     pub(crate) async fn fill_sessions_per_week(&self) -> Result<(), HubError> {
         let rows = sqlx::query(
             "SELECT patient_id, version, toml FROM regimens \
