@@ -22,10 +22,16 @@ pub struct Cli {
 impl Cli {
     /// The command line of this process, `--version` naming the formats it speaks.
     pub fn from_env() -> Self {
-        // Built once per process; clap takes a `'static` version text.
-        let version: &'static str = Box::leak(version().into_boxed_str());
-        let matches = Self::command().version(version).get_matches();
+        let matches = Self::with_version().get_matches();
         Self::from_arg_matches(&matches).unwrap_or_else(|e| e.exit())
+    }
+
+    /// The clap command tree with `--version` naming the formats it speaks (for parsing, man
+    /// pages and completions).
+    pub fn with_version() -> clap::Command {
+        // Built once or twice per process; clap takes a `'static` version text.
+        let version: &'static str = Box::leak(version().into_boxed_str());
+        Self::command().version(version)
     }
 }
 

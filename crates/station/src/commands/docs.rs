@@ -3,7 +3,6 @@
 //! completions for bash, zsh and fish (clap_complete), so neither can drift from the CLI.
 
 use anyhow::Context;
-use clap::CommandFactory;
 use clap_complete::Shell;
 use std::path::PathBuf;
 
@@ -17,8 +16,7 @@ pub struct DocsArgs {
 
 /// Write the man pages and completions under `args.out`.
 pub fn run(args: &DocsArgs) -> anyhow::Result<()> {
-    let version: &'static str = Box::leak(crate::cli::version().into_boxed_str());
-    let cmd = crate::cli::Cli::command().version(version);
+    let cmd = crate::cli::Cli::with_version();
     let man = args.out.join("man1");
     let completions = args.out.join("completions");
     for dir in [&man, &completions] {
