@@ -121,7 +121,7 @@ pub const FIRST_CHUNK_FRAMES: usize = 20;
 /// Frames in each later line of frames of a streamed replay.
 pub const CHUNK_FRAMES: usize = 1000;
 
-/// The frames of the recording read by `stream` as [`replay_frames_of`] makes them, given
+/// The frames of the recording read by `stream` at [`REPLAY_RATE_HZ`] (halved past `max_frames`), given
 /// as they are made, as NDJSON lines (each ending in `\n`) handed to `send` (which answers
 /// whether to go on: `false` when the reader has gone):
 /// - first `{"exercise", "loop_rate_hz", "rate_hz", "expected_duration_s"}` (the duration the
