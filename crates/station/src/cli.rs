@@ -2,8 +2,8 @@
 //! subcommand's arguments and `run()` live in its own file under [`crate::commands`].
 
 use crate::commands::{
-    bench, devices, docs, doctor, hub, pair, recover, render, replay, report, run, sync, therapist,
-    vehicle, wheel, window_process,
+    bench, devices, docs, doctor, hub, pair, recover, render, replay, report, run, start, sync,
+    therapist, vehicle, wheel, window_process,
 };
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
@@ -14,9 +14,9 @@ pub struct Cli {
     /// Log filter (e.g. `info`, `debug`, `station=trace`); overrides RUST_LOG.
     #[arg(long, global = true)]
     pub log: Option<String>,
-    /// What to do.
+    /// What to do; none opens the patient's window (the first-run pages, then the session).
     #[command(subcommand)]
-    pub command: Command,
+    pub command: Option<Command>,
 }
 
 impl Cli {
@@ -90,8 +90,11 @@ pub enum Command {
     Docs(docs::DocsArgs),
 }
 
-/// Run one subcommand.
-pub fn dispatch(command: Command) -> anyhow::Result<()> {
+/// Run one subcommand; none opens the patient's window ([`start`]).
+pub fn dispatch(command: Option<Command>) -> anyhow::Result<()> {
+    let Some(command) = command else {
+        return start::run();
+    };
     match command {
         Command::Run(args) => run::run(args),
         Command::Therapist(args) => therapist::run(args),

@@ -23,6 +23,18 @@ pub struct HomeArg {
     pub home: Option<PathBuf>,
 }
 
+impl HomeArg {
+    /// The home named by `TELEREHAB_HOME` (a command without the `--home` flag, such as
+    /// `telerehab` with no arguments); an empty value names none.
+    pub fn from_env() -> Self {
+        Self {
+            home: std::env::var_os("TELEREHAB_HOME")
+                .filter(|v| !v.is_empty())
+                .map(PathBuf::from),
+        }
+    }
+}
+
 /// A station's home directory.
 #[derive(Debug, Clone)]
 pub struct Home {
@@ -78,13 +90,11 @@ impl Home {
         if let Some(dir) = &arg.home {
             return Ok(Self { dir: dir.clone() });
         }
-        let base = std::env::var_os("XDG_CONFIG_HOME")
-            .filter(|v| !v.is_empty())
-            .map(PathBuf::from)
-            .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".config")))
+        // The platform's configuration directory (XDG on Linux), never the working directory.
+        let dirs = directories::ProjectDirs::from("", "", "telerehab")
             .context("no home directory: set --home or TELEREHAB_HOME")?;
         Ok(Self {
-            dir: base.join("telerehab"),
+            dir: dirs.config_dir().to_path_buf(),
         })
     }
 

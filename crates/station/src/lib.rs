@@ -50,6 +50,7 @@
 pub mod cli;
 pub mod commands;
 pub mod config;
+pub mod front_door;
 pub mod home;
 pub mod html_report;
 pub mod link;
@@ -59,4 +60,5 @@ pub mod report;
 pub mod resident;
 pub mod screen;
 pub mod session;
+pub mod settings;
 pub mod timing;

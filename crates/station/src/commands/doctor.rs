@@ -237,7 +237,7 @@ fn unopenable_hidraw() -> Vec<(PathBuf, String)> {
 }
 
 /// Event and hidraw nodes that exist but cannot be opened: named, with the udev fix.
-fn permissions_check(report: &haptic_wheel::DeviceReport) -> Check {
+pub(crate) fn permissions_check(report: &haptic_wheel::DeviceReport) -> Check {
     let mut blocked = report.unreadable.clone();
     blocked.extend(unopenable_hidraw());
     if blocked.is_empty() {

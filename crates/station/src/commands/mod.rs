@@ -15,6 +15,7 @@ pub mod replay;
 pub mod report;
 pub mod run;
 mod server_stop;
+pub mod start;
 pub mod sync;
 pub mod therapist;
 pub mod vehicle;

@@ -76,7 +76,18 @@ pub struct RunArgs {
     /// wheel-stall, haptic-stall, disk-full, imu-unplug, imu-nan). Needs --sim.
     #[arg(long = "fault", value_name = "KIND@SECONDS", value_parser = crate::session::faults::FaultSpec::parse)]
     pub faults: Vec<session::faults::FaultSpec>,
+    /// Open the patient's window full screen (F11 toggles it).
+    #[arg(long)]
+    pub fullscreen: bool,
+    /// A short practice on the simulated wheel: neither recorded nor sent to the clinic, the
+    /// station's home untouched (the first-run page's F2). Implies --sim; 60 s unless
+    /// --duration says otherwise.
+    #[arg(long, conflicts_with_all = ["record", "therapist", "regimen"])]
+    pub try_out: bool,
 }
+
+/// How long a try-out lasts unless `--duration` says otherwise, s.
+pub const TRY_OUT_S: f64 = 60.0;
 
 impl RunArgs {
     /// A headless simulated session of `duration_s` at `seed`, real time, no recording or
@@ -98,6 +109,34 @@ impl RunArgs {
             patient_id: None,
             home: HomeArg::default(),
             faults: Vec::new(),
+            fullscreen: false,
+            try_out: false,
+        }
+    }
+
+    /// Today's session on the real devices with the patient's window, as the first-run page
+    /// starts it: the paired station's regimen, recording and hub.
+    pub(crate) fn patient(fullscreen: bool) -> Self {
+        RunArgs {
+            sim: false,
+            headless: false,
+            duration: None,
+            seed: None,
+            fullscreen,
+            home: HomeArg::from_env(),
+            ..Self::simulated(0.0, 0)
+        }
+    }
+
+    /// The first-run page's try-out: a short simulated session with the window.
+    pub(crate) fn try_out(fullscreen: bool) -> Self {
+        RunArgs {
+            headless: false,
+            duration: None,
+            seed: None,
+            fullscreen,
+            try_out: true,
+            ..Self::simulated(0.0, 0)
         }
     }
 }
@@ -118,6 +157,10 @@ const RECORDINGS_KEPT: usize = 200;
 /// Applies the station's home to `cfg`: a paired station talks to its hub with its own
 /// certificate and records every session.
 fn apply_home(args: &RunArgs, cfg: &mut StationConfig) -> anyhow::Result<HomePlan> {
+    if args.try_out {
+        // A practice: nothing recorded, queued or sent.
+        return Ok(HomePlan::default());
+    }
     let home = match Home::resolve(&args.home) {
         Ok(h) => h,
         // No home anywhere (no $HOME, no --home): an unpaired session still runs.
@@ -257,7 +300,11 @@ fn real_body(_args: &RunArgs) -> anyhow::Result<BodyKind> {
 }
 
 /// Run `telerehab run`: the session, then its report on stdout.
-pub fn run(args: RunArgs) -> anyhow::Result<()> {
+pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
+    if args.try_out {
+        args.sim = true;
+        args.duration = args.duration.or(Some(TRY_OUT_S));
+    }
     let (mut cfg, mut regimen) = plan(&args)?;
     let home = apply_home(&args, &mut cfg)?;
     if regimen.is_none()
@@ -307,7 +354,8 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     } else {
         // With a window the patient starts the exercise with Space when ready.
         controls.pause.store(true, Ordering::Relaxed);
-        let window = WindowOptions::new("telerehab");
+        let mut window = WindowOptions::new("telerehab");
+        window.fullscreen = args.fullscreen;
         let (report, account) =
             session::window::run_with_window(&opts, &controls, &window, &mut &link, true)?;
         window_restarts = account.map_or(0, |a| a.restarts);

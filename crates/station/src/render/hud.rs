@@ -14,6 +14,8 @@ use std::sync::Arc;
 
 use super::scene::{Dial, LiveScore, Scene, ScreenState};
 
+mod welcome;
+
 /// Reference layout size, points.
 pub const REFERENCE_SIZE: [f32; 2] = [1280.0, 720.0];
 
@@ -24,11 +26,11 @@ pub const ACTUAL_NEEDLE: Color32 = Color32::from_rgb(0x14, 0x14, 0x14);
 
 const PANEL: Color32 = Color32::from_rgba_premultiplied(18, 24, 32, 190);
 const TEXT: Color32 = Color32::WHITE;
-const CARD: Color32 = Color32::from_rgb(0xFB, 0xFB, 0xF8);
-const CARD_TEXT: Color32 = Color32::from_rgb(0x1A, 0x1F, 0x26);
-const ACCENT: Color32 = Color32::from_rgb(0x4F, 0xA3, 0x6B);
+pub(super) const CARD: Color32 = Color32::from_rgb(0xFB, 0xFB, 0xF8);
+pub(super) const CARD_TEXT: Color32 = Color32::from_rgb(0x1A, 0x1F, 0x26);
+pub(super) const ACCENT: Color32 = Color32::from_rgb(0x4F, 0xA3, 0x6B);
 const MARGIN: f32 = 16.0;
-const PAD: f32 = 12.0;
+pub(super) const PAD: f32 = 12.0;
 
 /// Tessellated HUD of one frame, ready for `egui_wgpu::Renderer`.
 pub struct HudFrame {
@@ -91,7 +93,12 @@ impl HudPainter {
     }
 }
 
-fn galley(p: &Painter, text: impl Into<String>, size: f32, color: Color32) -> Arc<Galley> {
+pub(super) fn galley(
+    p: &Painter,
+    text: impl Into<String>,
+    size: f32,
+    color: Color32,
+) -> Arc<Galley> {
     p.layout_no_wrap(text.into(), FontId::proportional(size), color)
 }
 
@@ -140,6 +147,10 @@ fn score_lines(score: &LiveScore) -> Vec<(String, f32)> {
 }
 
 fn paint(p: &Painter, scene: &Scene, size: Vec2) {
+    if let ScreenState::Welcome(page) = &scene.screen {
+        welcome::paint(p, page, size);
+        return;
+    }
     let hud = &scene.hud;
     let (w, h) = (size.x, size.y);
     if let Some(dial) = &scene.dial {
@@ -211,6 +222,7 @@ fn paint(p: &Painter, scene: &Scene, size: Vec2) {
         ScreenState::Paused => card(p, size, "Paused", &["Press Space to continue".to_string()]),
         ScreenState::Instruction { title, lines } => card(p, size, title, lines),
         ScreenState::Summary(lines) => card(p, size, "Session complete", lines),
+        ScreenState::Welcome(_) => {}
     }
 }
 

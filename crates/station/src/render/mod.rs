@@ -28,6 +28,7 @@ pub use gpu::{
 };
 pub use scene::{
     CameraMode, CarPose, Dial, Hud, LiveScore, MAX_COORD_M, Road, RoadPoint, Scene, ScreenState,
+    StatusLine, Welcome,
 };
 
 /// Everything that can go wrong while drawing the patient's screen.

@@ -121,6 +121,35 @@ pub enum ScreenState {
     },
     /// End of the session: a summary card with these lines.
     Summary(Vec<String>),
+    /// Before any session (first run, pairing, today's session, device check): a full-screen
+    /// page, drawn without the road or the car.
+    Welcome(Welcome),
+}
+
+/// A line of a [`Welcome`] page, with how it stands.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct StatusLine {
+    /// `Some(true)`: ready (a green tick); `Some(false)`: needs doing (a red cross, the line
+    /// says what); `None`: plain text.
+    pub ok: Option<bool>,
+    /// What to say, in plain words.
+    pub text: String,
+}
+
+/// A full-screen page before a session: a title, lines, an optional field being typed in and
+/// the keys the patient can press.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Welcome {
+    /// The page's title, e.g. "Welcome".
+    pub title: String,
+    /// What the page says, one line each.
+    pub lines: Vec<StatusLine>,
+    /// A field being typed: its label and what was typed so far.
+    pub field: Option<(String, String)>,
+    /// Something went wrong, in plain words (drawn in red under the field).
+    pub error: Option<String>,
+    /// The keys and what they do, e.g. "Space: start".
+    pub keys: Vec<String>,
 }
 
 /// Everything one frame shows. Plain data: build it from a snapshot, never share it mutably.

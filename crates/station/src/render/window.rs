@@ -5,7 +5,8 @@
 //! presents with vsync, so drawing runs at the display rate. A minimised or hidden window keeps
 //! pulling scenes (to notice the end of the session) but skips drawing. Keys: Space asks to
 //! pause or resume, F11 toggles full screen, Esc or closing the window ends the session; the
-//! arrows and Home are passed on for a replay's seek and speed.
+//! arrows and Home are passed on for a replay's seek and speed; typed characters, Backspace,
+//! Enter, Tab and F2 for the first-run screens.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -46,6 +47,16 @@ pub enum UserRequest {
     Slower,
     /// Home: back to the start (replay).
     Restart,
+    /// A printable character was typed (first-run screens: the pairing code).
+    Typed(char),
+    /// Backspace: erase the last character typed.
+    Erase,
+    /// Enter: confirm what was typed.
+    Confirm,
+    /// Tab: the next field.
+    NextField,
+    /// F2: a short simulated try-out (first-run screen).
+    TryOut,
 }
 
 /// Window settings.
@@ -134,6 +145,7 @@ pub fn run_with(
         next_draw: Instant::now(),
         error: None,
         frames_drawn: 0,
+        adapter: None,
     };
     event_loop
         .run_app(&mut app)
@@ -141,7 +153,7 @@ pub fn run_with(
     match app.error {
         Some(e) => Err(e),
         None => Ok(WindowStats {
-            adapter: app.gfx.as_ref().map(|g| g.renderer.adapter().clone()),
+            adapter: app.adapter,
             frames_drawn: app.frames_drawn,
         }),
     }
@@ -170,11 +182,21 @@ struct App<F, G> {
     next_draw: Instant,
     error: Option<RenderError>,
     frames_drawn: u64,
+    /// The adapter that drew (kept once the window is closed).
+    adapter: Option<AdapterSummary>,
 }
 
 impl<F: FnMut() -> Option<Scene>, G: FnMut(UserRequest)> App<F, G> {
     fn fail(&mut self, event_loop: &ActiveEventLoop, e: RenderError) {
         self.error.get_or_insert(e);
+        self.close(event_loop);
+    }
+
+    /// Closes the window while the loop still runs (so the display hears of it: a process
+    /// that goes on after the window, like the first-run pages before a session, leaves no
+    /// dead window on the screen), then ends the loop.
+    fn close(&mut self, event_loop: &ActiveEventLoop) {
+        self.gfx = None;
         event_loop.exit();
     }
 
@@ -299,6 +321,7 @@ impl<F: FnMut() -> Option<Scene>, G: FnMut(UserRequest)> ApplicationHandler for 
         }
         match self.create_gfx(event_loop) {
             Ok(g) => {
+                self.adapter = Some(g.renderer.adapter().clone());
                 self.gfx = Some(g);
                 if let Some(opened) = &self.options.opened {
                     opened.store(true, Ordering::Release);
@@ -312,7 +335,7 @@ impl<F: FnMut() -> Option<Scene>, G: FnMut(UserRequest)> ApplicationHandler for 
         match event {
             WindowEvent::CloseRequested => {
                 (self.on_request)(UserRequest::Quit);
-                event_loop.exit();
+                self.close(event_loop);
             }
             WindowEvent::Resized(size) => {
                 if let Err(e) = self.resize(size.width, size.height) {
@@ -323,7 +346,7 @@ impl<F: FnMut() -> Option<Scene>, G: FnMut(UserRequest)> ApplicationHandler for 
                 match event.logical_key {
                     Key::Named(NamedKey::Escape) => {
                         (self.on_request)(UserRequest::Quit);
-                        event_loop.exit();
+                        self.close(event_loop);
                     }
                     Key::Named(NamedKey::F11) if !event.repeat => self.toggle_fullscreen(),
                     Key::Named(NamedKey::Space) if !event.repeat => {
@@ -342,7 +365,25 @@ impl<F: FnMut() -> Option<Scene>, G: FnMut(UserRequest)> ApplicationHandler for 
                     Key::Named(NamedKey::Home) if !event.repeat => {
                         (self.on_request)(UserRequest::Restart);
                     }
-                    _ => {}
+                    Key::Named(NamedKey::Enter) if !event.repeat => {
+                        (self.on_request)(UserRequest::Confirm);
+                    }
+                    Key::Named(NamedKey::Tab) if !event.repeat => {
+                        (self.on_request)(UserRequest::NextField);
+                    }
+                    Key::Named(NamedKey::F2) if !event.repeat => {
+                        (self.on_request)(UserRequest::TryOut);
+                    }
+                    Key::Named(NamedKey::Backspace) => (self.on_request)(UserRequest::Erase),
+                    _ => {
+                        let typed = event.text.as_deref().unwrap_or_default();
+                        for c in typed
+                            .chars()
+                            .filter(|c| !c.is_control() && !c.is_whitespace())
+                        {
+                            (self.on_request)(UserRequest::Typed(c));
+                        }
+                    }
                 }
             }
             WindowEvent::RedrawRequested => {
@@ -360,7 +401,7 @@ impl<F: FnMut() -> Option<Scene>, G: FnMut(UserRequest)> ApplicationHandler for 
             match (self.scene_source)() {
                 Some(scene) => self.scene = Some(scene),
                 None => {
-                    event_loop.exit();
+                    self.close(event_loop);
                     return;
                 }
             }
