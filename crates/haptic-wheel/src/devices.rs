@@ -95,9 +95,10 @@ pub struct DeviceReport {
 }
 
 /// Where the shipped udev rule lives and how to install it.
-pub const UDEV_HINT: &str = "install the udev rule shipped in packaging/udev/ \
-(see packaging/udev/README.md: `sudo cp packaging/udev/70-telerehab.rules /etc/udev/rules.d/ && \
-sudo udevadm control --reload && sudo udevadm trigger`), then unplug and replug the device";
+pub const UDEV_HINT: &str = "install the telerehab package (it ships the udev rule as \
+/usr/lib/udev/rules.d/70-telerehab.rules and reloads udev), or from the sources \
+`sudo cp packaging/udev/70-telerehab.rules /etc/udev/rules.d/ && sudo udevadm control --reload \
+&& sudo udevadm trigger` (packaging/udev/README.md), then unplug and replug the device";
 
 impl DeviceReport {
     /// Resolve each wheel's profile with the station's `[wheel]` configuration and state the

@@ -11,7 +11,10 @@
 //!   [`commands::recover`], [`commands::render`], [`commands::devices`],
 //!   [`commands::wheel`], [`commands::vehicle`], [`commands::bench`], [`commands::pair`] and
 //!   [`commands::sync`] (a station and its clinic), [`commands::hub`] (the clinic's hub),
-//!   [`commands::therapist`] (a file-store hub for development).
+//!   [`commands::therapist`] (a file-store hub for development), [`commands::start`]
+//!   (`telerehab` with no arguments: the first-run pages, then a session).
+//! - [`front_door`]: the first-run pages' state (pairing, today's session, the device check
+//!   in plain words); [`settings`]: the patient's settings file.
 //! - [`session`]: the threads of a running session. [`session::run`] wires them;
 //!   [`session::haptic`] is the 1 kHz loop driving a [`session::plant::Plant`] (wheel, patient,
 //!   car, haptic chain, assist) through the exercises of [`session::course`];

@@ -47,7 +47,7 @@ use evdev::{
     AbsoluteAxisCode, FFCondition, FFEffectData, FFEffectKind, FFEnvelope, FFReplay, FFTrigger,
 };
 
-pub use device::{AxisState, EffectSlot, FfDevice, KernelDevice, inspect};
+pub use device::{AxisState, EffectSlot, FfDevice, KernelDevice, button_pressed_within, inspect};
 
 use crate::devices::{DeviceClass, classify};
 use crate::effects::{Condition, ConditionKind};

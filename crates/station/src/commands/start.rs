@@ -7,7 +7,7 @@ use crate::config::StationConfig;
 use crate::front_door::checks::check_devices;
 use crate::front_door::{Action, FrontDoor, Outcome, TodayPlan, pairing_error_words};
 use crate::home::{Home, HomeArg};
-use crate::render::window::{WindowOptions, run_with};
+use crate::render::window::{UserRequest, WindowOptions, run_with};
 use crate::render::{Scene, ScreenState};
 use crate::settings::Settings;
 use anyhow::Context;
@@ -106,6 +106,53 @@ fn lock(door: &Mutex<FrontDoor>) -> std::sync::MutexGuard<'_, FrontDoor> {
     door.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
+/// The device check every [`CHECK_PERIOD`] until `stop`; between checks, a press of a ready
+/// wheel's button counts as Space.
+fn watch_devices(
+    door: &Mutex<FrontDoor>,
+    outcome: &Mutex<Option<Outcome>>,
+    stop: &AtomicBool,
+    cfg: &StationConfig,
+) {
+    while !stop.load(Ordering::Relaxed) {
+        let check = check_devices(&cfg.wheel, cfg.haptic.safety.ceiling_nm);
+        lock(door).set_devices(check.lines, check.wheel_ready);
+        let wheel = check.wheel_path.filter(|_| check.wheel_ready);
+        if wheel_button(wheel.as_deref(), stop)
+            && let Action::Done(o) = lock(door).apply(UserRequest::Confirm)
+        {
+            *outcome.lock().unwrap_or_else(PoisonError::into_inner) = Some(o);
+        }
+    }
+}
+
+/// Waits [`CHECK_PERIOD`] (less if `stop`), watching the wheel at `path` for a button press.
+fn wheel_button(path: Option<&str>, stop: &AtomicBool) -> bool {
+    let step = Duration::from_millis(250);
+    let mut waited = Duration::ZERO;
+    while waited < CHECK_PERIOD && !stop.load(Ordering::Relaxed) {
+        match path.map(|p| button_pressed_within(p, step)) {
+            Some(Ok(true)) => return true,
+            Some(Ok(false)) => {}
+            // No wheel, or unplugged or unreadable (the next device check says so).
+            None | Some(Err(_)) => std::thread::sleep(step),
+        }
+        waited += step;
+    }
+    false
+}
+
+#[cfg(target_os = "linux")]
+fn button_pressed_within(path: &str, window: Duration) -> std::io::Result<bool> {
+    haptic_wheel::evdev_wheel::button_pressed_within(std::path::Path::new(path), window)
+}
+
+/// Wheels are driven on Linux only.
+#[cfg(not(target_os = "linux"))]
+fn button_pressed_within(_path: &str, _window: Duration) -> std::io::Result<bool> {
+    Ok(false)
+}
+
 /// Shows the pages until the patient starts, tries out or closes; the device check runs
 /// every [`CHECK_PERIOD`] meanwhile.
 fn show(
@@ -120,17 +167,7 @@ fn show(
     let mut options = WindowOptions::new("telerehab");
     options.fullscreen = fullscreen;
     let shown = std::thread::scope(|scope| {
-        scope.spawn(|| {
-            while !stop.load(Ordering::Relaxed) {
-                let check = check_devices(&cfg.wheel, cfg.haptic.safety.ceiling_nm);
-                lock(&door).set_devices(check.lines, check.wheel_ready);
-                let mut waited = Duration::ZERO;
-                while waited < CHECK_PERIOD && !stop.load(Ordering::Relaxed) {
-                    std::thread::sleep(Duration::from_millis(50));
-                    waited += Duration::from_millis(50);
-                }
-            }
-        });
+        scope.spawn(|| watch_devices(&door, &outcome, &stop, cfg));
         let mut logged_page = String::new();
         let shown = run_with(
             &options,

@@ -13,6 +13,8 @@ pub struct DeviceCheck {
     pub lines: Vec<StatusLine>,
     /// A force-feedback wheel is there and can be used.
     pub wheel_ready: bool,
+    /// The wheel's input node (its buttons start the session).
+    pub wheel_path: Option<String>,
 }
 
 fn line(ok: Option<bool>, text: String) -> StatusLine {
@@ -89,5 +91,6 @@ pub fn describe(
     DeviceCheck {
         lines,
         wheel_ready: wheel_ready && permissions.status != Status::Fail,
+        wheel_path: devices.wheels.first().map(|w| w.path.clone()),
     }
 }

@@ -141,7 +141,13 @@ impl FrontDoor {
             _ => String::new(),
         };
         self.page = match result {
-            Ok(plan) => Page::Today(plan),
+            Ok(plan) => {
+                self.notice = Some(StatusLine {
+                    ok: Some(true),
+                    text: format!("This computer is now connected to your clinic ({address})."),
+                });
+                Page::Today(plan)
+            }
             Err(error) => Page::Pairing {
                 address,
                 code: String::new(),

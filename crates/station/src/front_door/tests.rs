@@ -96,6 +96,13 @@ fn a_successful_pairing_shows_todays_session() {
         page.lines
     );
     assert!(page.lines[1].text.contains("Sine road"), "{:?}", page.lines);
+    assert!(
+        page.lines
+            .iter()
+            .any(|l| l.ok == Some(true) && l.text.contains("connected to your clinic (h:1)")),
+        "{:?}",
+        page.lines
+    );
 }
 
 #[test]
@@ -131,10 +138,7 @@ fn f2_tries_out_and_esc_closes_on_every_page() {
         FrontDoor::unpaired(None),
         FrontDoor::paired_with(TodayPlan::default_drive("sine-road", 60.0)),
     ] {
-        assert_eq!(
-            door.apply(TryOut),
-            Action::Done(Outcome::TryOut)
-        );
+        assert_eq!(door.apply(TryOut), Action::Done(Outcome::TryOut));
         assert_eq!(door.apply(Quit), Action::Done(Outcome::Quit));
     }
 }
