@@ -286,6 +286,7 @@ mod tests {
                 reason: "session complete".into(),
                 final_seq: Some(7),
                 measures: Default::default(),
+                hub_unix_ms: None,
             }),
             Frame::Error(ErrorFrame {
                 message: "bad magic".into(),
@@ -350,6 +351,7 @@ mod tests {
             reason: "session complete".into(),
             final_seq: Some(7),
             measures: [("sparc_median".to_owned(), -1.5)].into(),
+            hub_unix_ms: None,
         });
         let bytes = encode_to_vec(&bye).unwrap();
         assert_eq!(

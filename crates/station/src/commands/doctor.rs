@@ -18,12 +18,15 @@ use serde::Serialize;
 
 use crate::config::StationConfig;
 use crate::home::{Home, HomeArg, Pairing};
+use crate::link::hub_status::{HubStatus, check_hub};
 use crate::session::disk_space;
 
 /// How long the graphics adapter request may take before the check is skipped, s.
 const ADAPTER_TIMEOUT_S: u64 = 10;
 /// How long connecting to the hub (`--hub`) may take, s.
 const HUB_TIMEOUT_S: u64 = 3;
+/// A clock further than this from the hub's is a warning, ms.
+const CLOCK_WARN_MS: u64 = 5_000;
 /// A station certificate expiring within this many days is a warning.
 const CERT_WARN_DAYS: i64 = 30;
 /// The session length the disk check plans for, s (one hour of recording).
@@ -473,56 +476,95 @@ fn pairing_check(home: &Home, pairing: Option<&Pairing>) -> Check {
     }
 }
 
-/// A TLS handshake with the paired hub (only with `--hub`).
-fn hub_check(home: &Home, pairing: Option<&Pairing>, try_hub: bool) -> Check {
+/// The paired hub's answer (only with `--hub`): `None` when not paired or not asked.
+fn ask_hub(home: &Home, pairing: Option<&Pairing>, try_hub: bool) -> Option<HubStatus> {
+    let p = pairing.filter(|_| try_hub)?;
+    Some(check_hub(home, p, Duration::from_secs(HUB_TIMEOUT_S)))
+}
+
+/// The hub: reachable, or why not (not paired, not asked for, unreachable, refusing).
+pub fn hub_check_for(pairing: Option<&Pairing>, status: Option<&HubStatus>) -> Check {
     let Some(p) = pairing else {
         return check("hub", Status::Skip, "not paired: no hub to reach", "");
     };
-    if !try_hub {
-        return check(
+    let fix = "check the internet connection; sessions still run and are sent later \
+               (`telerehab sync`)";
+    match status {
+        None => check(
             "hub",
             Status::Skip,
             format!("not tried (add --hub to connect to {})", p.hub),
             "",
-        );
-    }
-    let fix = "check the internet connection; sessions still run and are sent later \
-               (`telerehab sync`)";
-    let result = (|| -> anyhow::Result<()> {
-        let (connector, name) = home.client_tls(p).connector()?;
-        let rt = tokio::runtime::Builder::new_current_thread()
-            .enable_all()
-            .build()
-            .context("cannot start the network runtime")?;
-        rt.block_on(async {
-            tokio::time::timeout(Duration::from_secs(HUB_TIMEOUT_S), async {
-                let tcp = tokio::net::TcpStream::connect(&p.hub).await?;
-                connector.connect(name, tcp).await?;
-                Ok::<(), std::io::Error>(())
-            })
-            .await
-            .map_err(|_| anyhow::anyhow!("no answer within {HUB_TIMEOUT_S} s"))?
-            .map_err(anyhow::Error::from)
-        })
-    })();
-    match result {
-        Ok(()) => check("hub", Status::Pass, format!("{} answers (TLS)", p.hub), ""),
-        Err(e) => check(
+        ),
+        Some(HubStatus::Reachable { .. }) => {
+            check("hub", Status::Pass, format!("{} answers (TLS)", p.hub), "")
+        }
+        // The hub answered: the versions line says what to do.
+        Some(HubStatus::UpdateRequired(_)) => check(
+            "hub",
+            Status::Pass,
+            format!("{} answers (TLS), but refuses this version", p.hub),
+            "",
+        ),
+        Some(HubStatus::Unreachable(why)) => check(
             "hub",
             Status::Warn,
-            format!("cannot reach {}: {e:#}", p.hub),
+            format!("cannot reach the hub: {why}"),
             fix,
         ),
     }
 }
 
-fn versions_check() -> Check {
-    check(
-        "versions",
-        Status::Pass,
-        format!("telerehab {}", crate::cli::version()),
-        "",
-    )
+/// The clock difference from the hub, when it told its time.
+pub fn clock_check_for(status: Option<&HubStatus>) -> Option<Check> {
+    let Some(HubStatus::Reachable { clock_offset_ms }) = status else {
+        return None;
+    };
+    let Some(offset_ms) = *clock_offset_ms else {
+        return Some(check(
+            "clock",
+            Status::Skip,
+            "the hub does not tell its time (older hub)",
+            "",
+        ));
+    };
+    let ahead = if offset_ms >= 0 { "ahead of" } else { "behind" };
+    let detail = format!(
+        "the hub's clock is {:.1} s {ahead} this station's",
+        offset_ms.unsigned_abs() as f64 / 1000.0
+    );
+    if offset_ms.unsigned_abs() <= CLOCK_WARN_MS {
+        Some(check("clock", Status::Pass, detail, ""))
+    } else {
+        Some(check(
+            "clock",
+            Status::Warn,
+            detail,
+            "turn on automatic time (`timedatectl set-ntp true`) so session times at the clinic \
+             are right",
+        ))
+    }
+}
+
+/// This station's version, and whether the hub serves it (when asked).
+pub fn versions_check_for(status: Option<&HubStatus>) -> Check {
+    let ours = format!("telerehab {}", crate::cli::version());
+    match status {
+        Some(HubStatus::UpdateRequired(message)) => check(
+            "versions",
+            Status::Fail,
+            format!("{message} ({ours})"),
+            "install the newest telerehab package; sessions still run and are recorded here \
+             meanwhile",
+        ),
+        Some(HubStatus::Reachable { .. }) => check(
+            "versions",
+            Status::Pass,
+            format!("{ours}; the hub serves it"),
+            "",
+        ),
+        _ => check("versions", Status::Pass, ours, ""),
+    }
 }
 
 /// Whether the home can be looked at: missing is fine (a station never run), anything else
@@ -568,13 +610,16 @@ pub fn examine(args: &DoctorArgs) -> Report {
     });
     let home_fix = "give --home (or TELEREHAB_HOME) a directory this user can read and write";
     let mut could_not_check = false;
+    let mut hub = None;
     match home {
         Ok(home) => {
             checks.push(disk_check(&home));
             match home.pairing() {
                 Ok(pairing) => {
                     checks.push(pairing_check(&home, pairing.as_ref()));
-                    checks.push(hub_check(&home, pairing.as_ref(), args.hub));
+                    hub = ask_hub(&home, pairing.as_ref(), args.hub);
+                    checks.push(hub_check_for(pairing.as_ref(), hub.as_ref()));
+                    checks.extend(clock_check_for(hub.as_ref()));
                 }
                 Err(e) => checks.push(check(
                     "clinic pairing",
@@ -589,7 +634,7 @@ pub fn examine(args: &DoctorArgs) -> Report {
             checks.push(check("station home", Status::Fail, e, home_fix));
         }
     }
-    checks.push(versions_check());
+    checks.push(versions_check_for(hub.as_ref()));
     Report::new(checks, could_not_check)
 }
 
@@ -748,5 +793,44 @@ mod tests {
             c.detail
         );
         assert!(c.fix.contains("TAG+=\"uaccess\""), "{}", c.fix);
+    }
+
+    #[test]
+    fn doctor_fails_versions_with_the_hubs_update_required_words_and_still_reaches_the_hub() {
+        let words = "update required: this station speaks link protocol 1, the hub needs ≥ 2 — \
+                     install the newest telerehab package";
+        let refused = HubStatus::UpdateRequired(words.into());
+        let v = versions_check_for(Some(&refused));
+        assert_eq!(v.status, Status::Fail);
+        assert!(v.detail.starts_with(words), "{}", v.detail);
+        let h = hub_check_for(Some(&pairing()), Some(&refused));
+        assert_eq!(h.status, Status::Pass, "{h:?}");
+        assert_eq!(clock_check_for(Some(&refused)), None);
+    }
+
+    #[test]
+    fn doctor_warns_of_a_clock_more_than_5_s_from_the_hubs_and_names_the_direction() {
+        let at = |ms| HubStatus::Reachable {
+            clock_offset_ms: Some(ms),
+        };
+        let near = clock_check_for(Some(&at(-1_200))).unwrap();
+        assert_eq!(near.status, Status::Pass);
+        assert!(near.detail.contains("1.2 s behind"), "{}", near.detail);
+        let far = clock_check_for(Some(&at(90_000))).unwrap();
+        assert_eq!(far.status, Status::Warn);
+        assert!(far.detail.contains("90.0 s ahead of"), "{}", far.detail);
+        let old_hub = HubStatus::Reachable {
+            clock_offset_ms: None,
+        };
+        assert_eq!(
+            clock_check_for(Some(&old_hub)).unwrap().status,
+            Status::Skip
+        );
+        let gone = HubStatus::Unreachable("no answer".into());
+        assert_eq!(
+            hub_check_for(Some(&pairing()), Some(&gone)).status,
+            Status::Warn
+        );
+        assert_eq!(versions_check_for(Some(&gone)).status, Status::Pass);
     }
 }
