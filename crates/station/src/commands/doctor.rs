@@ -7,8 +7,10 @@
 //! wheel profiles and ceilings, the IMU listing, the renderer's adapter request, the haptic
 //! thread's real-time request, the recorder's disk-space figures and the pairing in the home.
 
+pub mod pulse;
+
 use std::fmt::Write as _;
-use std::io::ErrorKind;
+use std::io::{ErrorKind, IsTerminal as _};
 use std::path::{Path, PathBuf};
 use std::sync::mpsc;
 use std::time::Duration;
@@ -43,6 +45,15 @@ pub struct DoctorArgs {
     /// Also try a TLS connection to the paired hub (3 s at most).
     #[arg(long)]
     pub hub: bool,
+    /// Also push the wheel gently left then right (a tenth of its torque, 0.3 s each way,
+    /// through the session's safety chain) and check that it turns. Asks first that nobody
+    /// holds the wheel.
+    #[arg(long)]
+    pub pulse: bool,
+    /// With --pulse: nobody is holding the wheel; do not ask (needed with --json or without a
+    /// terminal).
+    #[arg(long, requires = "pulse")]
+    pub yes_hands_off: bool,
     /// Station configuration (TOML): its `[wheel]` section and patient ceiling decide the
     /// torque ceiling shown.
     #[arg(long)]
@@ -215,6 +226,92 @@ fn wheel_check(report: &haptic_wheel::DeviceReport) -> Check {
     check("wheel", Status::Pass, detail, "")
 }
 
+/// Whether the patient confirms nobody holds the wheel: `--yes-hands-off`, or "y" typed at
+/// the prompt (never asked with `--json` or without a terminal). `Err`: why not asked.
+fn hands_off(args: &DoctorArgs) -> Result<bool, &'static str> {
+    if args.yes_hands_off {
+        return Ok(true);
+    }
+    if args.json || !std::io::stdin().is_terminal() {
+        return Err(
+            "not asked without a terminal or with --json: add --yes-hands-off once \
+                    nobody holds the wheel",
+        );
+    }
+    eprint!("Test pulse: take your hands off the wheel. Is nobody touching it? [y/N] ");
+    let mut answer = String::new();
+    let _ = std::io::stdin().read_line(&mut answer);
+    Ok(matches!(answer.trim(), "y" | "Y" | "yes" | "Yes"))
+}
+
+/// Words for a pulse's outcome.
+pub fn pulse_check_for(outcome: &pulse::PulseOutcome, plan: &pulse::PulsePlan) -> Check {
+    let detail = format!(
+        "{:.2} N·m for {:.1} s each way: turned {:.1}° left, {:.1}° right (largest torque sent \
+         {:.2} N·m)",
+        plan.torque_nm,
+        plan.each_s,
+        -outcome.left_rad.to_degrees(),
+        outcome.right_rad.to_degrees(),
+        outcome.peak_nm
+    );
+    if outcome.moved() {
+        return check("test pulse", Status::Pass, detail, "");
+    }
+    check(
+        "test pulse",
+        Status::Fail,
+        format!("the wheel did not turn: {detail}"),
+        "check the wheel's power supply (force feedback needs it), that nothing blocks the \
+         wheel, and that nobody holds it; then run `telerehab doctor --pulse` again",
+    )
+}
+
+/// The test pulse (`--pulse`), after the patient confirms hands off.
+fn pulse_check(args: &DoctorArgs, cfg: &StationConfig, wheel_found: bool) -> Check {
+    if !wheel_found {
+        return check("test pulse", Status::Skip, "no wheel to pulse", "");
+    }
+    match hands_off(args) {
+        Err(why) => return check("test pulse", Status::Skip, why, ""),
+        Ok(false) => {
+            return check("test pulse", Status::Skip, "not confirmed hands off", "");
+        }
+        Ok(true) => {}
+    }
+    match run_real_pulse(cfg) {
+        Ok((plan, outcome)) => pulse_check_for(&outcome, &plan),
+        Err(e) => check(
+            "test pulse",
+            Status::Fail,
+            format!("{e:#}"),
+            "check the device permissions above",
+        ),
+    }
+}
+
+#[cfg(target_os = "linux")]
+fn run_real_pulse(cfg: &StationConfig) -> anyhow::Result<(pulse::PulsePlan, pulse::PulseOutcome)> {
+    use haptic_wheel::Wheel as _;
+    use haptic_wheel::evdev_wheel::EvdevWheel;
+    let clock = clock::Clock::real();
+    let mut wheel = EvdevWheel::open_first(cfg.wheel.clone(), clock.clone())
+        .context("cannot open the wheel")?;
+    let safety = cfg.haptic.safety;
+    let ceiling_nm = safety.effective_ceiling_nm(wheel.max_torque_nm());
+    let plan = pulse::PulsePlan::for_wheel(&wheel.profile(), ceiling_nm, &safety);
+    let outcome = pulse::run_pulse(&mut wheel, &plan, safety, |_| {
+        std::thread::sleep(Duration::from_secs_f64(pulse::TICK_S));
+        clock.now_ns()
+    })?;
+    Ok((plan, outcome))
+}
+
+#[cfg(not(target_os = "linux"))]
+fn run_real_pulse(_: &StationConfig) -> anyhow::Result<(pulse::PulsePlan, pulse::PulseOutcome)> {
+    anyhow::bail!("pulsing a wheel needs the Linux kernel force-feedback API")
+}
+
 /// `/dev/hidraw*` nodes that exist but cannot be opened, with the reason.
 fn unopenable_hidraw() -> Vec<(PathBuf, String)> {
     let Ok(entries) = std::fs::read_dir("/dev") else {
@@ -267,34 +364,105 @@ fn permissions_check(report: &haptic_wheel::DeviceReport) -> Check {
     )
 }
 
-/// Arm sensors (controller IMUs): optional, a session runs without arm sensing.
-fn imu_check() -> Check {
+/// How long each arm sensor's samples are counted, s.
+const IMU_LISTEN_S: f64 = 1.0;
+/// Below this share of its nominal rate an arm sensor fails the check.
+const IMU_RATE_FLOOR: f64 = 0.5;
+
+/// The rate a controller's IMU reports at, samples/s: Sony's 250 Hz reports (more over
+/// Bluetooth), Nintendo's three samples in each of 66.7 reports a second.
+pub fn nominal_imu_rate_hz(kind: gyro_imu::device::ImuKind) -> f64 {
+    use gyro_imu::device::ImuKind;
+    match kind {
+        ImuKind::DualShock4 | ImuKind::DualSense => 250.0,
+        _ => 200.0,
+    }
+}
+
+/// One arm sensor's measured rate against its nominal one.
+pub fn imu_rate_check_for(name: &str, measured_hz: f64, nominal_hz: f64) -> Check {
+    let detail = format!("{name}: {measured_hz:.0} samples/s (nominal {nominal_hz:.0})");
+    if measured_hz >= IMU_RATE_FLOOR * nominal_hz {
+        return check("arm sensor rate", Status::Pass, detail, "");
+    }
+    check(
+        "arm sensor rate",
+        Status::Fail,
+        format!("{detail}: too slow to follow the arm"),
+        "charge the controller, bring it closer to the computer (Bluetooth) or plug it in with \
+         its USB cable, and close other programs that read it",
+    )
+}
+
+/// Counts `info`'s samples for [`IMU_LISTEN_S`], samples/s.
+fn measure_imu_rate_hz(info: &gyro_imu::device::ImuDeviceInfo) -> anyhow::Result<f64> {
+    {
+        use gyro_imu::device::Imu as _;
+        let (mut imu, _) = gyro_imu::device::hid::HidImu::open(info, clock::monotonic_ns)
+            .map_err(|e| anyhow::anyhow!("cannot open {}: {e}", info.name))?;
+        let mut buf = [gyro_imu::device::ImuSample {
+            t_ns: 0,
+            rate_rad_s: Default::default(),
+            acc_m_s2: None,
+        }; 64];
+        let start = std::time::Instant::now();
+        let mut n = 0usize;
+        // The first reports may predate the open; count from the first poll on.
+        let _ = imu.poll(&mut buf);
+        while start.elapsed().as_secs_f64() < IMU_LISTEN_S {
+            n += imu
+                .poll(&mut buf)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", info.name))?;
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        Ok(n as f64 / start.elapsed().as_secs_f64())
+    }
+}
+
+/// Arm sensors (controller IMUs): optional, a session runs without arm sensing. Each one
+/// found is listened to for a second and its sample rate reported.
+fn imu_checks() -> Vec<Check> {
     let fix = "pair or plug in the arm sensor (DualShock 4, DualSense, Joy-Con or Pro \
                Controller) and check the device permissions above";
-    match gyro_imu::device::enumerate() {
-        Ok(list) if list.is_empty() => check(
-            "arm sensors",
-            Status::Warn,
-            "no arm sensor found: sessions run without arm sensing",
-            fix,
-        ),
-        Ok(list) => {
-            let names: Vec<String> = list
-                .iter()
-                .map(|d| {
-                    let bt = if d.bluetooth { ", Bluetooth" } else { "" };
-                    format!("{} ({:?}{bt})", d.name, d.kind)
-                })
-                .collect();
-            check("arm sensors", Status::Pass, names.join(", "), "")
+    let list = match gyro_imu::device::enumerate() {
+        Ok(list) if list.is_empty() => {
+            return vec![check(
+                "arm sensors",
+                Status::Warn,
+                "no arm sensor found: sessions run without arm sensing",
+                fix,
+            )];
         }
-        Err(e) => check(
-            "arm sensors",
-            Status::Warn,
-            format!("cannot list HID devices ({e}): sessions run without arm sensing"),
-            fix,
-        ),
+        Ok(list) => list,
+        Err(e) => {
+            return vec![check(
+                "arm sensors",
+                Status::Warn,
+                format!("cannot list HID devices ({e}): sessions run without arm sensing"),
+                fix,
+            )];
+        }
+    };
+    let names: Vec<String> = list
+        .iter()
+        .map(|d| {
+            let bt = if d.bluetooth { ", Bluetooth" } else { "" };
+            format!("{} ({:?}{bt})", d.name, d.kind)
+        })
+        .collect();
+    let mut checks = vec![check("arm sensors", Status::Pass, names.join(", "), "")];
+    for info in list.iter().take(2) {
+        checks.push(match measure_imu_rate_hz(info) {
+            Ok(hz) => imu_rate_check_for(&info.name, hz, nominal_imu_rate_hz(info.kind)),
+            Err(e) => check(
+                "arm sensor rate",
+                Status::Fail,
+                format!("{e:#}"),
+                "check the device permissions above",
+            ),
+        });
     }
+    checks
 }
 
 /// The graphics adapter the patient's window would get; software rendering named.
@@ -587,6 +755,7 @@ pub fn examine(args: &DoctorArgs) -> Report {
         Some(p) => StationConfig::load(p).map_err(|e| format!("{e:#}")),
         None => Ok(StationConfig::default()),
     };
+    let default_cfg = StationConfig::default();
     let mut devices = haptic_wheel::enumerate_devices();
     let mut checks = Vec::new();
     match &cfg {
@@ -599,8 +768,16 @@ pub fn examine(args: &DoctorArgs) -> Report {
         )),
     }
     checks.push(wheel_check(&devices));
+    if args.pulse {
+        let found = !devices.wheels.is_empty();
+        checks.push(pulse_check(
+            args,
+            cfg.as_ref().unwrap_or(&default_cfg),
+            found,
+        ));
+    }
     checks.push(permissions_check(&devices));
-    checks.push(imu_check());
+    checks.extend(imu_checks());
     checks.push(graphics_check());
     checks.push(realtime_check());
     let home = Home::resolve(&args.home).map_err(|e| format!("{e:#}"));
@@ -832,5 +1009,66 @@ mod tests {
             Status::Warn
         );
         assert_eq!(versions_check_for(Some(&gone)).status, Status::Pass);
+    }
+
+    #[test]
+    fn doctor_fails_an_arm_sensor_under_half_its_nominal_rate() {
+        use gyro_imu::device::ImuKind;
+        let ds4 = nominal_imu_rate_hz(ImuKind::DualShock4);
+        let ok = imu_rate_check_for("DualShock 4", 0.9 * ds4, ds4);
+        assert_eq!(ok.status, Status::Pass, "{ok:?}");
+        assert!(ok.detail.contains("samples/s"), "{}", ok.detail);
+        let slow = imu_rate_check_for(
+            "Joy-Con (R)",
+            60.0,
+            nominal_imu_rate_hz(ImuKind::JoyConRight),
+        );
+        assert_eq!(slow.status, Status::Fail, "{slow:?}");
+    }
+
+    #[test]
+    fn doctor_passes_a_pulse_that_turned_the_wheel_both_ways_and_fails_one_that_did_not() {
+        let plan = pulse::PulsePlan {
+            torque_nm: 0.23,
+            settle_s: 1.1,
+            each_s: 0.3,
+        };
+        let turned = pulse::PulseOutcome {
+            left_rad: -0.2,
+            right_rad: 0.3,
+            peak_nm: 0.23,
+        };
+        let c = pulse_check_for(&turned, &plan);
+        assert_eq!(c.status, Status::Pass, "{c:?}");
+        assert!(c.detail.contains("11.5° left"), "{}", c.detail);
+        let stuck = pulse::PulseOutcome {
+            left_rad: 0.0,
+            right_rad: 0.0,
+            peak_nm: 0.23,
+        };
+        let c = pulse_check_for(&stuck, &plan);
+        assert_eq!(c.status, Status::Fail, "{c:?}");
+        assert!(c.fix.contains("power supply"), "{}", c.fix);
+    }
+
+    #[test]
+    fn doctor_never_pulses_with_json_unless_told_hands_off_and_never_without_a_wheel() {
+        let mut args = DoctorArgs {
+            json: true,
+            hub: false,
+            pulse: true,
+            yes_hands_off: false,
+            config: None,
+            home: HomeArg::default(),
+        };
+        let refused = hands_off(&args).unwrap_err();
+        assert!(refused.contains("--yes-hands-off"), "{refused}");
+        args.yes_hands_off = true;
+        assert_eq!(hands_off(&args), Ok(true));
+        let c = pulse_check(&args, &StationConfig::default(), false);
+        assert_eq!(
+            (c.status, c.detail.as_str()),
+            (Status::Skip, "no wheel to pulse")
+        );
     }
 }
