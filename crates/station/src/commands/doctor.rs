@@ -396,27 +396,25 @@ pub fn imu_rate_check_for(name: &str, measured_hz: f64, nominal_hz: f64) -> Chec
 
 /// Counts `info`'s samples for [`IMU_LISTEN_S`], samples/s.
 fn measure_imu_rate_hz(info: &gyro_imu::device::ImuDeviceInfo) -> anyhow::Result<f64> {
-    {
-        use gyro_imu::device::Imu as _;
-        let (mut imu, _) = gyro_imu::device::hid::HidImu::open(info, clock::monotonic_ns)
-            .map_err(|e| anyhow::anyhow!("cannot open {}: {e}", info.name))?;
-        let mut buf = [gyro_imu::device::ImuSample {
-            t_ns: 0,
-            rate_rad_s: Default::default(),
-            acc_m_s2: None,
-        }; 64];
-        let start = std::time::Instant::now();
-        let mut n = 0usize;
-        // The first reports may predate the open; count from the first poll on.
-        let _ = imu.poll(&mut buf);
-        while start.elapsed().as_secs_f64() < IMU_LISTEN_S {
-            n += imu
-                .poll(&mut buf)
-                .map_err(|e| anyhow::anyhow!("{}: {e}", info.name))?;
-            std::thread::sleep(Duration::from_millis(2));
-        }
-        Ok(n as f64 / start.elapsed().as_secs_f64())
+    use gyro_imu::device::Imu as _;
+    let (mut imu, _) = gyro_imu::device::hid::HidImu::open(info, clock::monotonic_ns)
+        .map_err(|e| anyhow::anyhow!("cannot open {}: {e}", info.name))?;
+    let mut buf = [gyro_imu::device::ImuSample {
+        t_ns: 0,
+        rate_rad_s: Default::default(),
+        acc_m_s2: None,
+    }; 64];
+    // Reports queued before the open are not counted: from the first poll on.
+    let _ = imu.poll(&mut buf);
+    let start = std::time::Instant::now();
+    let mut n = 0usize;
+    while start.elapsed().as_secs_f64() < IMU_LISTEN_S {
+        n += imu
+            .poll(&mut buf)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", info.name))?;
+        std::thread::sleep(Duration::from_millis(2));
     }
+    Ok(n as f64 / start.elapsed().as_secs_f64())
 }
 
 /// Arm sensors (controller IMUs): optional, a session runs without arm sensing. Each one

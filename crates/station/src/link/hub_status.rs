@@ -1,6 +1,6 @@
 //! Is the paired hub reachable, will it serve this station, and how far apart are the two
 //! clocks? One short conversation (`telerehab doctor --hub`, the first-run window): `Hello` for
-//! the session [`PROBE_SESSION_ID`], then at once `Bye`; the hub answers `Bye` with its clock
+//! the session [`probe_session_id`], then at once `Bye`; the hub answers `Bye` with its clock
 //! (`hub_unix_ms`, PROTOCOL.md) or `Error` `update_required` when this station is too old (or
 //! it too old for the station).
 
@@ -11,9 +11,19 @@ use tokio::io::{AsyncRead, AsyncReadExt, AsyncWrite, AsyncWriteExt};
 
 use crate::home::{Home, Pairing};
 
-/// The session id of the check's conversation: the hub keeps one such (empty) session per
-/// station, overwritten by each check.
-pub const PROBE_SESSION_ID: &str = "doctor-check";
+/// The exercise named in the check's `Hello`; its session id is [`probe_session_id`].
+pub const PROBE_EXERCISE: &str = "doctor-check";
+
+/// The session id of a station's checks: `doctor-check-` and a hash of the station id (session
+/// ids are unique across a hub's stations), the same at every check, so that the hub keeps one
+/// empty session per station for them.
+pub fn probe_session_id(station_id: &str) -> String {
+    // FNV-1a, 64 bits: stable across releases and platforms.
+    let hash = station_id.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    format!("{PROBE_EXERCISE}-{hash:016x}")
+}
 
 /// What the hub said.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -74,8 +84,8 @@ pub async fn probe(
         min_protocol_version: Some(netlink::frame::MIN_PROTOCOL_VERSION),
         station_id: station_id.to_owned(),
         patient_id: patient_id.to_owned(),
-        session_id: PROBE_SESSION_ID.to_owned(),
-        exercise: PROBE_SESSION_ID.to_owned(),
+        session_id: probe_session_id(station_id),
+        exercise: PROBE_EXERCISE.to_owned(),
         started_unix_ms: netlink::frame::unix_ms_now(),
         software_version: format!("telerehab {}", env!("CARGO_PKG_VERSION")),
     };
@@ -225,5 +235,72 @@ mod tests {
         assert!(update_required_message(old).ends_with("install the newest telerehab package"));
         let new = "update required: this station speaks link protocol 1, the hub needs ≥ 2 — x";
         assert_eq!(update_required_message(new), new);
+    }
+
+    /// `telerehab run` against a hub that needs a newer protocol, as `run` does it: the
+    /// session runs whole, its summaries wait in the home's queue, and the error names the
+    /// update.
+    #[test]
+    fn a_session_refused_by_a_newer_hub_runs_queues_its_summaries_and_names_the_update() {
+        use crate::session::{self, BodyKind, Controls, SessionOptions, haptic::Pacing};
+        let tmp = tempfile::tempdir().unwrap();
+        let hub_runtime = tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(1)
+            .enable_all()
+            .build()
+            .unwrap();
+        let mut hub_config = TherapistConfig::new(
+            "127.0.0.1:0".parse().unwrap(),
+            tmp.path().join("store"),
+            None,
+        );
+        hub_config.min_protocol_version = PROTOCOL_VERSION + 1;
+        let (server, _events) = hub_runtime
+            .block_on(TherapistServer::bind(hub_config))
+            .unwrap();
+        let mut cfg = crate::config::StationConfig::default();
+        cfg.session.duration_s = 2.0;
+        cfg.therapist.address = server.local_addr().to_string();
+        cfg.validate().unwrap();
+        let home = Home::at(tmp.path().join("home"));
+        let clock = clock::Clock::real();
+        let link = crate::link::Link::start(&cfg, &clock, Some(&home)).unwrap();
+        let opts = SessionOptions {
+            config: cfg,
+            pacing: Pacing::Max,
+            record: None,
+            body: BodyKind::Simulated,
+            regimen: None,
+            isolate_core: false,
+            clock,
+        };
+        let report = session::run(&opts, &Controls::default(), &mut &link).unwrap();
+        let linked = link
+            .finish(report.summaries, &Default::default(), None)
+            .unwrap();
+        hub_runtime.block_on(server.shutdown(Duration::from_secs(5)));
+        assert!(
+            report.summaries > 0 && !report.haptic.stopped_early,
+            "{report:?}"
+        );
+        assert_eq!((linked.acked, linked.queued), (0, Some(report.summaries)));
+        let error = linked.last_error.unwrap_or_default();
+        assert!(
+            error.starts_with(&format!(
+                "update required: this station speaks link protocol {PROTOCOL_VERSION}, the hub \
+                 needs ≥ {}",
+                PROTOCOL_VERSION + 1
+            )) && error.ends_with("install the newest telerehab package"),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn each_station_checks_in_its_own_valid_session_id() {
+        let a = probe_session_id("st-1");
+        assert_eq!(a, probe_session_id("st-1"));
+        assert_ne!(a, probe_session_id("st-2"));
+        assert!(netlink::frame::check_id("session_id", &a).is_ok(), "{a}");
+        assert!(netlink::frame::check_id("session_id", &probe_session_id(&"x".repeat(64))).is_ok());
     }
 }
