@@ -753,7 +753,6 @@ pub fn examine(args: &DoctorArgs) -> Report {
         Some(p) => StationConfig::load(p).map_err(|e| format!("{e:#}")),
         None => Ok(StationConfig::default()),
     };
-    let default_cfg = StationConfig::default();
     let mut devices = haptic_wheel::enumerate_devices();
     let mut checks = Vec::new();
     match &cfg {
@@ -767,12 +766,16 @@ pub fn examine(args: &DoctorArgs) -> Report {
     }
     checks.push(wheel_check(&devices));
     if args.pulse {
-        let found = !devices.wheels.is_empty();
-        checks.push(pulse_check(
-            args,
-            cfg.as_ref().unwrap_or(&default_cfg),
-            found,
-        ));
+        // The patient's ceiling comes from the configuration: none readable, no pulse.
+        checks.push(match &cfg {
+            Ok(cfg) => pulse_check(args, cfg, !devices.wheels.is_empty()),
+            Err(_) => check(
+                "test pulse",
+                Status::Skip,
+                "not pulsed: the configuration (the patient's torque ceiling) is unreadable",
+                "",
+            ),
+        });
     }
     checks.push(permissions_check(&devices));
     checks.extend(imu_checks());
