@@ -135,6 +135,25 @@ fn doctor_on_a_paired_station_states_the_certificate_and_reaches_the_hub_only_wi
 
     let reached = json_of(&doctor(&home, &["--json", "--hub"]));
     assert_eq!(check(&reached, "hub")["status"], "pass", "{reached}");
+    // The hub told its clock (same machine: within the 5 s the check allows) and serves
+    // this station's protocol.
+    let clock = check(&reached, "clock");
+    assert_eq!(clock["status"], "pass", "{clock}");
+    assert!(
+        clock["detail"]
+            .as_str()
+            .unwrap()
+            .contains("the hub's clock is"),
+        "{clock}"
+    );
+    let versions = check(&reached, "versions");
+    assert!(
+        versions["detail"]
+            .as_str()
+            .unwrap()
+            .contains("the hub serves it"),
+        "{versions}"
+    );
 
     hub.stop();
     let down = json_of(&doctor(&home, &["--json", "--hub"]));

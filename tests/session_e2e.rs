@@ -646,3 +646,72 @@ fn bench_recording_shows_the_compact_encoding_under_a_fifth_of_the_json_bytes() 
         .unwrap();
     assert!(ratio > 0.0 && ratio <= 0.2, "{said}");
 }
+
+/// A 1 s simulated session with `home` as the station's home; its stdout (the summary).
+fn session_in_home(home: &std::path::Path) -> String {
+    let out = run_ok(&[
+        "run",
+        "--sim",
+        "--headless",
+        "--duration",
+        "1",
+        "--speed",
+        "max",
+        "--home",
+        home.to_str().unwrap(),
+    ]);
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// The session log file the summary names.
+fn log_named_in(summary: &str) -> std::path::PathBuf {
+    let line = summary
+        .lines()
+        .find_map(|l| l.strip_prefix("session log "))
+        .unwrap_or_else(|| panic!("no `session log` line in the summary:\n{summary}"));
+    std::path::PathBuf::from(line.trim())
+}
+
+#[test]
+fn each_session_writes_its_own_plain_log_file_in_the_home_named_in_the_summary() {
+    let home = tempfile::tempdir().unwrap();
+    let first = log_named_in(&session_in_home(home.path()));
+    let second = log_named_in(&session_in_home(home.path()));
+    assert_ne!(first, second);
+    for log in [&first, &second] {
+        assert_eq!(log.parent(), Some(home.path().join("logs").as_path()));
+        let text = std::fs::read_to_string(log).unwrap();
+        assert!(text.contains("starting session"), "{text}");
+        assert!(
+            !text.contains('\u{1b}'),
+            "ANSI codes in {}: {text:?}",
+            log.display()
+        );
+    }
+    let files = std::fs::read_dir(home.path().join("logs")).unwrap().count();
+    assert_eq!(files, 2);
+}
+
+#[test]
+fn a_session_start_keeps_the_last_30_session_logs() {
+    let home = tempfile::tempdir().unwrap();
+    let logs = home.path().join("logs");
+    std::fs::create_dir_all(&logs).unwrap();
+    for i in 0..32 {
+        let old = logs.join(format!("session-2026-01-01T00-00-{i:02}.000Z.log"));
+        std::fs::write(old, "old\n").unwrap();
+    }
+    let new = log_named_in(&session_in_home(home.path()));
+    let mut left: Vec<_> = std::fs::read_dir(&logs)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    left.sort();
+    assert_eq!(left.len(), 30, "{left:?}");
+    assert!(left.contains(&new));
+    // The three oldest went; the 29 newest old ones stay.
+    assert!(
+        left[0].ends_with("session-2026-01-01T00-00-03.000Z.log"),
+        "{left:?}"
+    );
+}

@@ -785,6 +785,7 @@ async fn sessions_close_and_list(db: Db) {
             ("sparc_median".to_owned(), -1.7),
             ("movements".to_owned(), 12.0),
         ]),
+        hub_unix_ms: None,
     };
     assert_eq!(db.close_session(&bye, T0 + MIN).await.unwrap(), Some(2));
     assert_eq!(

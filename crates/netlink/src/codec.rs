@@ -286,6 +286,7 @@ mod tests {
                 reason: "session complete".into(),
                 final_seq: Some(7),
                 measures: Default::default(),
+                hub_unix_ms: None,
             }),
             Frame::Error(ErrorFrame {
                 message: "bad magic".into(),
@@ -350,6 +351,7 @@ mod tests {
             reason: "session complete".into(),
             final_seq: Some(7),
             measures: [("sparc_median".to_owned(), -1.5)].into(),
+            hub_unix_ms: None,
         });
         let bytes = encode_to_vec(&bye).unwrap();
         assert_eq!(
@@ -362,6 +364,20 @@ mod tests {
             b.measures.insert("ldlj_median".into(), f64::NAN);
         }
         assert!(encode_to_vec(&nan).is_err(), "a NaN measure is refused");
+        // The hub's reply with its clock: one field more at the end, nothing else changed.
+        let stored = Frame::Bye(Bye {
+            session_id: "s1".into(),
+            reason: "stored".into(),
+            final_seq: None,
+            measures: Default::default(),
+            hub_unix_ms: Some(1_795_253_400_123),
+        });
+        let bytes = encode_to_vec(&stored).unwrap();
+        assert_eq!(
+            escape(&bytes),
+            r#"TRHB\x00\x01\x05\x00\x00\x00\x00R{"session_id":"s1","reason":"stored","final_seq":null,"hub_unix_ms":1795253400123}"#
+        );
+        assert_eq!(decode(&bytes).unwrap().unwrap().0, stored);
     }
 
     #[test]

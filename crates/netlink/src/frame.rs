@@ -18,6 +18,14 @@ pub const MIN_PROTOCOL_VERSION: u16 = 1;
 /// station stops retrying and tells the patient the software needs an update.
 pub const UPDATE_REQUIRED: &str = "update_required";
 
+/// This machine's clock now, ms since the Unix epoch (0 before 1970): what a hub's Bye
+/// carries as [`Bye::hub_unix_ms`].
+pub fn unix_ms_now() -> u64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_millis() as u64)
+}
+
 /// Longest identifier (station, patient, session, regimen id) in bytes.
 pub const MAX_ID_LEN: usize = 64;
 
@@ -213,6 +221,11 @@ pub struct Bye {
     /// for a session without measures (absent from the JSON then).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub measures: BTreeMap<String, f64>,
+    /// Hub → station: the hub's clock when it answered, ms since the Unix epoch, for the
+    /// station to tell its clock difference (`telerehab doctor --hub`). Absent from a
+    /// station's Bye and from hubs older than this field.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hub_unix_ms: Option<u64>,
 }
 
 /// The sender found a protocol error and is closing the connection.
@@ -461,21 +474,31 @@ impl Hello {
 
     /// The newest version both the station and this crate speak, or why there is none.
     pub fn negotiate(&self) -> Result<u16, FieldError> {
+        self.negotiate_with(MIN_PROTOCOL_VERSION)
+    }
+
+    /// The newest version both the station and a hub serving `hub_min`..=[`PROTOCOL_VERSION`]
+    /// speak (`hub_min` above [`MIN_PROTOCOL_VERSION`] only in tests playing a newer hub), or
+    /// why there is none, in words the patient is shown as they are.
+    pub fn negotiate_with(&self, hub_min: u16) -> Result<u16, FieldError> {
         let (min, max) = self.versions();
+        let hub_min = hub_min.max(MIN_PROTOCOL_VERSION);
         let best = max.min(PROTOCOL_VERSION);
-        if best >= min.max(MIN_PROTOCOL_VERSION) {
-            Ok(best)
-        } else {
-            Err(FieldError(format!(
-                "update required: the station speaks protocol versions {min}..={max}, the hub \
-                 {MIN_PROTOCOL_VERSION}..={PROTOCOL_VERSION}; update the {} software",
-                if max < MIN_PROTOCOL_VERSION {
-                    "station"
-                } else {
-                    "hub"
-                }
-            )))
+        if best >= min.max(hub_min) {
+            return Ok(best);
         }
+        Err(FieldError(if max < hub_min {
+            format!(
+                "update required: this station speaks link protocol {max}, the hub needs \
+                 ≥ {hub_min} — install the newest telerehab package"
+            )
+        } else {
+            format!(
+                "update required: this station needs link protocol ≥ {min}, the hub speaks \
+                 at most {PROTOCOL_VERSION} — the clinic must install the newest telerehab \
+                 package on its hub"
+            )
+        }))
     }
 
     /// Checks every field (identifiers are safe file names; see [`check_id`]). The version

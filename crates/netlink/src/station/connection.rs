@@ -254,6 +254,7 @@ impl LinkTask {
             reason: f.reason.clone(),
             final_seq: self.last_produced_seq,
             measures: f.measures.clone(),
+            hub_unix_ms: None,
         });
         match encode_to_vec(&bye) {
             Ok(bytes) => {

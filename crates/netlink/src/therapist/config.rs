@@ -55,6 +55,15 @@ pub struct TherapistConfig {
     /// send at most 1 MB/s).
     #[serde(default = "default_max_upload_bytes_per_s")]
     pub max_upload_bytes_per_s: u64,
+    /// The oldest link protocol version this hub serves. Always
+    /// [`crate::frame::MIN_PROTOCOL_VERSION`] in the product (not read from a configuration
+    /// file); tests raise it to play a hub newer than the station under test.
+    #[serde(skip, default = "default_min_protocol_version")]
+    pub min_protocol_version: u16,
+}
+
+fn default_min_protocol_version() -> u16 {
+    crate::frame::MIN_PROTOCOL_VERSION
 }
 
 fn default_max_upload_bytes_per_session() -> u64 {
@@ -105,6 +114,7 @@ impl TherapistConfig {
             max_upload_bytes_per_session: default_max_upload_bytes_per_session(),
             max_upload_bytes_per_station_day: default_max_upload_bytes_per_station_day(),
             max_upload_bytes_per_s: default_max_upload_bytes_per_s(),
+            min_protocol_version: default_min_protocol_version(),
         }
     }
 

@@ -268,7 +268,7 @@ async fn open_session(
     };
     // No version both sides speak: not retriable, the station must stop and say so.
     hello
-        .negotiate()
+        .negotiate_with(hub.config.min_protocol_version)
         .map_err(|e| (e.to_string(), Some(crate::frame::UPDATE_REQUIRED)))?;
     let requires_identity = hub
         .config
@@ -337,6 +337,7 @@ async fn frame_loop(
                     reason: "therapist hub shutting down".into(),
                     final_seq: last_seq(file).await,
                     measures: Default::default(),
+                    hub_unix_ms: Some(crate::frame::unix_ms_now()),
                 });
                 send(out, frame_outgoing(&bye));
                 return "therapist hub shut down".to_owned();

@@ -103,6 +103,7 @@ pub(super) async fn handle_frame(
                     reason: "stored".into(),
                     final_seq: stored,
                     measures: Default::default(),
+                    hub_unix_ms: Some(crate::frame::unix_ms_now()),
                 }),
                 format!("bye: {}", bye.reason),
             ))

@@ -7,8 +7,10 @@
 //! wheel profiles and ceilings, the IMU listing, the renderer's adapter request, the haptic
 //! thread's real-time request, the recorder's disk-space figures and the pairing in the home.
 
+pub mod pulse;
+
 use std::fmt::Write as _;
-use std::io::ErrorKind;
+use std::io::{ErrorKind, IsTerminal as _};
 use std::path::{Path, PathBuf};
 use std::sync::mpsc;
 use std::time::Duration;
@@ -18,12 +20,15 @@ use serde::Serialize;
 
 use crate::config::StationConfig;
 use crate::home::{Home, HomeArg, Pairing};
+use crate::link::hub_status::{HubStatus, check_hub};
 use crate::session::disk_space;
 
 /// How long the graphics adapter request may take before the check is skipped, s.
 const ADAPTER_TIMEOUT_S: u64 = 10;
 /// How long connecting to the hub (`--hub`) may take, s.
 const HUB_TIMEOUT_S: u64 = 3;
+/// A clock further than this from the hub's is a warning, ms.
+const CLOCK_WARN_MS: u64 = 5_000;
 /// A station certificate expiring within this many days is a warning.
 const CERT_WARN_DAYS: i64 = 30;
 /// The session length the disk check plans for, s (one hour of recording).
@@ -40,6 +45,15 @@ pub struct DoctorArgs {
     /// Also try a TLS connection to the paired hub (3 s at most).
     #[arg(long)]
     pub hub: bool,
+    /// Also push the wheel gently left then right (a tenth of its torque, 0.3 s each way,
+    /// through the session's safety chain) and check that it turns. Asks first that nobody
+    /// holds the wheel.
+    #[arg(long)]
+    pub pulse: bool,
+    /// With --pulse: nobody is holding the wheel; do not ask (needed with --json or without a
+    /// terminal).
+    #[arg(long, requires = "pulse")]
+    pub yes_hands_off: bool,
     /// Station configuration (TOML): its `[wheel]` section and patient ceiling decide the
     /// torque ceiling shown.
     #[arg(long)]
@@ -212,6 +226,92 @@ fn wheel_check(report: &haptic_wheel::DeviceReport) -> Check {
     check("wheel", Status::Pass, detail, "")
 }
 
+/// Whether the patient confirms nobody holds the wheel: `--yes-hands-off`, or "y" typed at
+/// the prompt (never asked with `--json` or without a terminal). `Err`: why not asked.
+fn hands_off(args: &DoctorArgs) -> Result<bool, &'static str> {
+    if args.yes_hands_off {
+        return Ok(true);
+    }
+    if args.json || !std::io::stdin().is_terminal() {
+        return Err(
+            "not asked without a terminal or with --json: add --yes-hands-off once \
+                    nobody holds the wheel",
+        );
+    }
+    eprint!("Test pulse: take your hands off the wheel. Is nobody touching it? [y/N] ");
+    let mut answer = String::new();
+    let _ = std::io::stdin().read_line(&mut answer);
+    Ok(matches!(answer.trim(), "y" | "Y" | "yes" | "Yes"))
+}
+
+/// Words for a pulse's outcome.
+pub fn pulse_check_for(outcome: &pulse::PulseOutcome, plan: &pulse::PulsePlan) -> Check {
+    let detail = format!(
+        "{:.2} N·m for {:.1} s each way: turned {:.1}° left, {:.1}° right (largest torque sent \
+         {:.2} N·m)",
+        plan.torque_nm,
+        plan.each_s,
+        -outcome.left_rad.to_degrees(),
+        outcome.right_rad.to_degrees(),
+        outcome.peak_nm
+    );
+    if outcome.moved() {
+        return check("test pulse", Status::Pass, detail, "");
+    }
+    check(
+        "test pulse",
+        Status::Fail,
+        format!("the wheel did not turn: {detail}"),
+        "check the wheel's power supply (force feedback needs it), that nothing blocks the \
+         wheel, and that nobody holds it; then run `telerehab doctor --pulse` again",
+    )
+}
+
+/// The test pulse (`--pulse`), after the patient confirms hands off.
+fn pulse_check(args: &DoctorArgs, cfg: &StationConfig, wheel_found: bool) -> Check {
+    if !wheel_found {
+        return check("test pulse", Status::Skip, "no wheel to pulse", "");
+    }
+    match hands_off(args) {
+        Err(why) => return check("test pulse", Status::Skip, why, ""),
+        Ok(false) => {
+            return check("test pulse", Status::Skip, "not confirmed hands off", "");
+        }
+        Ok(true) => {}
+    }
+    match run_real_pulse(cfg) {
+        Ok((plan, outcome)) => pulse_check_for(&outcome, &plan),
+        Err(e) => check(
+            "test pulse",
+            Status::Fail,
+            format!("{e:#}"),
+            "check the device permissions above",
+        ),
+    }
+}
+
+#[cfg(target_os = "linux")]
+fn run_real_pulse(cfg: &StationConfig) -> anyhow::Result<(pulse::PulsePlan, pulse::PulseOutcome)> {
+    use haptic_wheel::Wheel as _;
+    use haptic_wheel::evdev_wheel::EvdevWheel;
+    let clock = clock::Clock::real();
+    let mut wheel = EvdevWheel::open_first(cfg.wheel.clone(), clock.clone())
+        .context("cannot open the wheel")?;
+    let safety = cfg.haptic.safety;
+    let ceiling_nm = safety.effective_ceiling_nm(wheel.max_torque_nm());
+    let plan = pulse::PulsePlan::for_wheel(&wheel.profile(), ceiling_nm, &safety);
+    let outcome = pulse::run_pulse(&mut wheel, &plan, safety, |_| {
+        std::thread::sleep(Duration::from_secs_f64(pulse::TICK_S));
+        clock.now_ns()
+    })?;
+    Ok((plan, outcome))
+}
+
+#[cfg(not(target_os = "linux"))]
+fn run_real_pulse(_: &StationConfig) -> anyhow::Result<(pulse::PulsePlan, pulse::PulseOutcome)> {
+    anyhow::bail!("pulsing a wheel needs the Linux kernel force-feedback API")
+}
+
 /// `/dev/hidraw*` nodes that exist but cannot be opened, with the reason.
 fn unopenable_hidraw() -> Vec<(PathBuf, String)> {
     let Ok(entries) = std::fs::read_dir("/dev") else {
@@ -264,34 +364,103 @@ pub(crate) fn permissions_check(report: &haptic_wheel::DeviceReport) -> Check {
     )
 }
 
-/// Arm sensors (controller IMUs): optional, a session runs without arm sensing.
-fn imu_check() -> Check {
+/// How long each arm sensor's samples are counted, s.
+const IMU_LISTEN_S: f64 = 1.0;
+/// Below this share of its nominal rate an arm sensor fails the check.
+const IMU_RATE_FLOOR: f64 = 0.5;
+
+/// The rate a controller's IMU reports at, samples/s: Sony's 250 Hz reports (more over
+/// Bluetooth), Nintendo's three samples in each of 66.7 reports a second.
+pub fn nominal_imu_rate_hz(kind: gyro_imu::device::ImuKind) -> f64 {
+    use gyro_imu::device::ImuKind;
+    match kind {
+        ImuKind::DualShock4 | ImuKind::DualSense => 250.0,
+        _ => 200.0,
+    }
+}
+
+/// One arm sensor's measured rate against its nominal one.
+pub fn imu_rate_check_for(name: &str, measured_hz: f64, nominal_hz: f64) -> Check {
+    let detail = format!("{name}: {measured_hz:.0} samples/s (nominal {nominal_hz:.0})");
+    if measured_hz >= IMU_RATE_FLOOR * nominal_hz {
+        return check("arm sensor rate", Status::Pass, detail, "");
+    }
+    check(
+        "arm sensor rate",
+        Status::Fail,
+        format!("{detail}: too slow to follow the arm"),
+        "charge the controller, bring it closer to the computer (Bluetooth) or plug it in with \
+         its USB cable, and close other programs that read it",
+    )
+}
+
+/// Counts `info`'s samples for [`IMU_LISTEN_S`], samples/s.
+fn measure_imu_rate_hz(info: &gyro_imu::device::ImuDeviceInfo) -> anyhow::Result<f64> {
+    use gyro_imu::device::Imu as _;
+    let (mut imu, _) = gyro_imu::device::hid::HidImu::open(info, clock::monotonic_ns)
+        .map_err(|e| anyhow::anyhow!("cannot open {}: {e}", info.name))?;
+    let mut buf = [gyro_imu::device::ImuSample {
+        t_ns: 0,
+        rate_rad_s: Default::default(),
+        acc_m_s2: None,
+    }; 64];
+    // Reports queued before the open are not counted: from the first poll on.
+    let _ = imu.poll(&mut buf);
+    let start = std::time::Instant::now();
+    let mut n = 0usize;
+    while start.elapsed().as_secs_f64() < IMU_LISTEN_S {
+        n += imu
+            .poll(&mut buf)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", info.name))?;
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    Ok(n as f64 / start.elapsed().as_secs_f64())
+}
+
+/// Arm sensors (controller IMUs): optional, a session runs without arm sensing. Each one
+/// found is listened to for a second and its sample rate reported.
+fn imu_checks() -> Vec<Check> {
     let fix = "pair or plug in the arm sensor (DualShock 4, DualSense, Joy-Con or Pro \
                Controller) and check the device permissions above";
-    match gyro_imu::device::enumerate() {
-        Ok(list) if list.is_empty() => check(
-            "arm sensors",
-            Status::Warn,
-            "no arm sensor found: sessions run without arm sensing",
-            fix,
-        ),
-        Ok(list) => {
-            let names: Vec<String> = list
-                .iter()
-                .map(|d| {
-                    let bt = if d.bluetooth { ", Bluetooth" } else { "" };
-                    format!("{} ({:?}{bt})", d.name, d.kind)
-                })
-                .collect();
-            check("arm sensors", Status::Pass, names.join(", "), "")
+    let list = match gyro_imu::device::enumerate() {
+        Ok(list) if list.is_empty() => {
+            return vec![check(
+                "arm sensors",
+                Status::Warn,
+                "no arm sensor found: sessions run without arm sensing",
+                fix,
+            )];
         }
-        Err(e) => check(
-            "arm sensors",
-            Status::Warn,
-            format!("cannot list HID devices ({e}): sessions run without arm sensing"),
-            fix,
-        ),
+        Ok(list) => list,
+        Err(e) => {
+            return vec![check(
+                "arm sensors",
+                Status::Warn,
+                format!("cannot list HID devices ({e}): sessions run without arm sensing"),
+                fix,
+            )];
+        }
+    };
+    let names: Vec<String> = list
+        .iter()
+        .map(|d| {
+            let bt = if d.bluetooth { ", Bluetooth" } else { "" };
+            format!("{} ({:?}{bt})", d.name, d.kind)
+        })
+        .collect();
+    let mut checks = vec![check("arm sensors", Status::Pass, names.join(", "), "")];
+    for info in list.iter().take(2) {
+        checks.push(match measure_imu_rate_hz(info) {
+            Ok(hz) => imu_rate_check_for(&info.name, hz, nominal_imu_rate_hz(info.kind)),
+            Err(e) => check(
+                "arm sensor rate",
+                Status::Fail,
+                format!("{e:#}"),
+                "check the device permissions above",
+            ),
+        });
     }
+    checks
 }
 
 /// The graphics adapter the patient's window would get; software rendering named.
@@ -473,56 +642,95 @@ fn pairing_check(home: &Home, pairing: Option<&Pairing>) -> Check {
     }
 }
 
-/// A TLS handshake with the paired hub (only with `--hub`).
-fn hub_check(home: &Home, pairing: Option<&Pairing>, try_hub: bool) -> Check {
+/// The paired hub's answer (only with `--hub`): `None` when not paired or not asked.
+fn ask_hub(home: &Home, pairing: Option<&Pairing>, try_hub: bool) -> Option<HubStatus> {
+    let p = pairing.filter(|_| try_hub)?;
+    Some(check_hub(home, p, Duration::from_secs(HUB_TIMEOUT_S)))
+}
+
+/// The hub: reachable, or why not (not paired, not asked for, unreachable, refusing).
+pub fn hub_check_for(pairing: Option<&Pairing>, status: Option<&HubStatus>) -> Check {
     let Some(p) = pairing else {
         return check("hub", Status::Skip, "not paired: no hub to reach", "");
     };
-    if !try_hub {
-        return check(
+    let fix = "check the internet connection; sessions still run and are sent later \
+               (`telerehab sync`)";
+    match status {
+        None => check(
             "hub",
             Status::Skip,
             format!("not tried (add --hub to connect to {})", p.hub),
             "",
-        );
-    }
-    let fix = "check the internet connection; sessions still run and are sent later \
-               (`telerehab sync`)";
-    let result = (|| -> anyhow::Result<()> {
-        let (connector, name) = home.client_tls(p).connector()?;
-        let rt = tokio::runtime::Builder::new_current_thread()
-            .enable_all()
-            .build()
-            .context("cannot start the network runtime")?;
-        rt.block_on(async {
-            tokio::time::timeout(Duration::from_secs(HUB_TIMEOUT_S), async {
-                let tcp = tokio::net::TcpStream::connect(&p.hub).await?;
-                connector.connect(name, tcp).await?;
-                Ok::<(), std::io::Error>(())
-            })
-            .await
-            .map_err(|_| anyhow::anyhow!("no answer within {HUB_TIMEOUT_S} s"))?
-            .map_err(anyhow::Error::from)
-        })
-    })();
-    match result {
-        Ok(()) => check("hub", Status::Pass, format!("{} answers (TLS)", p.hub), ""),
-        Err(e) => check(
+        ),
+        Some(HubStatus::Reachable { .. }) => {
+            check("hub", Status::Pass, format!("{} answers (TLS)", p.hub), "")
+        }
+        // The hub answered: the versions line says what to do.
+        Some(HubStatus::UpdateRequired(_)) => check(
+            "hub",
+            Status::Pass,
+            format!("{} answers (TLS), but refuses this version", p.hub),
+            "",
+        ),
+        Some(HubStatus::Unreachable(why)) => check(
             "hub",
             Status::Warn,
-            format!("cannot reach {}: {e:#}", p.hub),
+            format!("cannot reach the hub: {why}"),
             fix,
         ),
     }
 }
 
-fn versions_check() -> Check {
-    check(
-        "versions",
-        Status::Pass,
-        format!("telerehab {}", crate::cli::version()),
-        "",
-    )
+/// The clock difference from the hub, when it told its time.
+pub fn clock_check_for(status: Option<&HubStatus>) -> Option<Check> {
+    let Some(HubStatus::Reachable { clock_offset_ms }) = status else {
+        return None;
+    };
+    let Some(offset_ms) = *clock_offset_ms else {
+        return Some(check(
+            "clock",
+            Status::Skip,
+            "the hub does not tell its time (older hub)",
+            "",
+        ));
+    };
+    let ahead = if offset_ms >= 0 { "ahead of" } else { "behind" };
+    let detail = format!(
+        "the hub's clock is {:.1} s {ahead} this station's",
+        offset_ms.unsigned_abs() as f64 / 1000.0
+    );
+    if offset_ms.unsigned_abs() <= CLOCK_WARN_MS {
+        Some(check("clock", Status::Pass, detail, ""))
+    } else {
+        Some(check(
+            "clock",
+            Status::Warn,
+            detail,
+            "turn on automatic time (`timedatectl set-ntp true`) so session times at the clinic \
+             are right",
+        ))
+    }
+}
+
+/// This station's version, and whether the hub serves it (when asked).
+pub fn versions_check_for(status: Option<&HubStatus>) -> Check {
+    let ours = format!("telerehab {}", crate::cli::version());
+    match status {
+        Some(HubStatus::UpdateRequired(message)) => check(
+            "versions",
+            Status::Fail,
+            format!("{message} ({ours})"),
+            "install the newest telerehab package; sessions still run and are recorded here \
+             meanwhile",
+        ),
+        Some(HubStatus::Reachable { .. }) => check(
+            "versions",
+            Status::Pass,
+            format!("{ours}; the hub serves it"),
+            "",
+        ),
+        _ => check("versions", Status::Pass, ours, ""),
+    }
 }
 
 /// Whether the home can be looked at: missing is fine (a station never run), anything else
@@ -557,8 +765,20 @@ pub fn examine(args: &DoctorArgs) -> Report {
         )),
     }
     checks.push(wheel_check(&devices));
+    if args.pulse {
+        // The patient's ceiling comes from the configuration: none readable, no pulse.
+        checks.push(match &cfg {
+            Ok(cfg) => pulse_check(args, cfg, !devices.wheels.is_empty()),
+            Err(_) => check(
+                "test pulse",
+                Status::Skip,
+                "not pulsed: the configuration (the patient's torque ceiling) is unreadable",
+                "",
+            ),
+        });
+    }
     checks.push(permissions_check(&devices));
-    checks.push(imu_check());
+    checks.extend(imu_checks());
     checks.push(graphics_check());
     checks.push(realtime_check());
     let home = Home::resolve(&args.home).map_err(|e| format!("{e:#}"));
@@ -568,13 +788,16 @@ pub fn examine(args: &DoctorArgs) -> Report {
     });
     let home_fix = "give --home (or TELEREHAB_HOME) a directory this user can read and write";
     let mut could_not_check = false;
+    let mut hub = None;
     match home {
         Ok(home) => {
             checks.push(disk_check(&home));
             match home.pairing() {
                 Ok(pairing) => {
                     checks.push(pairing_check(&home, pairing.as_ref()));
-                    checks.push(hub_check(&home, pairing.as_ref(), args.hub));
+                    hub = ask_hub(&home, pairing.as_ref(), args.hub);
+                    checks.push(hub_check_for(pairing.as_ref(), hub.as_ref()));
+                    checks.extend(clock_check_for(hub.as_ref()));
                 }
                 Err(e) => checks.push(check(
                     "clinic pairing",
@@ -589,7 +812,7 @@ pub fn examine(args: &DoctorArgs) -> Report {
             checks.push(check("station home", Status::Fail, e, home_fix));
         }
     }
-    checks.push(versions_check());
+    checks.push(versions_check_for(hub.as_ref()));
     Report::new(checks, could_not_check)
 }
 
@@ -748,5 +971,105 @@ mod tests {
             c.detail
         );
         assert!(c.fix.contains("TAG+=\"uaccess\""), "{}", c.fix);
+    }
+
+    #[test]
+    fn doctor_fails_versions_with_the_hubs_update_required_words_and_still_reaches_the_hub() {
+        let words = "update required: this station speaks link protocol 1, the hub needs ≥ 2 — \
+                     install the newest telerehab package";
+        let refused = HubStatus::UpdateRequired(words.into());
+        let v = versions_check_for(Some(&refused));
+        assert_eq!(v.status, Status::Fail);
+        assert!(v.detail.starts_with(words), "{}", v.detail);
+        let h = hub_check_for(Some(&pairing()), Some(&refused));
+        assert_eq!(h.status, Status::Pass, "{h:?}");
+        assert_eq!(clock_check_for(Some(&refused)), None);
+    }
+
+    #[test]
+    fn doctor_warns_of_a_clock_more_than_5_s_from_the_hubs_and_names_the_direction() {
+        let at = |ms| HubStatus::Reachable {
+            clock_offset_ms: Some(ms),
+        };
+        let near = clock_check_for(Some(&at(-1_200))).unwrap();
+        assert_eq!(near.status, Status::Pass);
+        assert!(near.detail.contains("1.2 s behind"), "{}", near.detail);
+        let far = clock_check_for(Some(&at(90_000))).unwrap();
+        assert_eq!(far.status, Status::Warn);
+        assert!(far.detail.contains("90.0 s ahead of"), "{}", far.detail);
+        let old_hub = HubStatus::Reachable {
+            clock_offset_ms: None,
+        };
+        assert_eq!(
+            clock_check_for(Some(&old_hub)).unwrap().status,
+            Status::Skip
+        );
+        let gone = HubStatus::Unreachable("no answer".into());
+        assert_eq!(
+            hub_check_for(Some(&pairing()), Some(&gone)).status,
+            Status::Warn
+        );
+        assert_eq!(versions_check_for(Some(&gone)).status, Status::Pass);
+    }
+
+    #[test]
+    fn doctor_fails_an_arm_sensor_under_half_its_nominal_rate() {
+        use gyro_imu::device::ImuKind;
+        let ds4 = nominal_imu_rate_hz(ImuKind::DualShock4);
+        let ok = imu_rate_check_for("DualShock 4", 0.9 * ds4, ds4);
+        assert_eq!(ok.status, Status::Pass, "{ok:?}");
+        assert!(ok.detail.contains("samples/s"), "{}", ok.detail);
+        let slow = imu_rate_check_for(
+            "Joy-Con (R)",
+            60.0,
+            nominal_imu_rate_hz(ImuKind::JoyConRight),
+        );
+        assert_eq!(slow.status, Status::Fail, "{slow:?}");
+    }
+
+    #[test]
+    fn doctor_passes_a_pulse_that_turned_the_wheel_both_ways_and_fails_one_that_did_not() {
+        let plan = pulse::PulsePlan {
+            torque_nm: 0.23,
+            settle_s: 1.1,
+            each_s: 0.3,
+        };
+        let turned = pulse::PulseOutcome {
+            left_rad: -0.2,
+            right_rad: 0.3,
+            peak_nm: 0.23,
+        };
+        let c = pulse_check_for(&turned, &plan);
+        assert_eq!(c.status, Status::Pass, "{c:?}");
+        assert!(c.detail.contains("11.5° left"), "{}", c.detail);
+        let stuck = pulse::PulseOutcome {
+            left_rad: 0.0,
+            right_rad: 0.0,
+            peak_nm: 0.23,
+        };
+        let c = pulse_check_for(&stuck, &plan);
+        assert_eq!(c.status, Status::Fail, "{c:?}");
+        assert!(c.fix.contains("power supply"), "{}", c.fix);
+    }
+
+    #[test]
+    fn doctor_never_pulses_with_json_unless_told_hands_off_and_never_without_a_wheel() {
+        let mut args = DoctorArgs {
+            json: true,
+            hub: false,
+            pulse: true,
+            yes_hands_off: false,
+            config: None,
+            home: HomeArg::default(),
+        };
+        let refused = hands_off(&args).unwrap_err();
+        assert!(refused.contains("--yes-hands-off"), "{refused}");
+        args.yes_hands_off = true;
+        assert_eq!(hands_off(&args), Ok(true));
+        let c = pulse_check(&args, &StationConfig::default(), false);
+        assert_eq!(
+            (c.status, c.detail.as_str()),
+            (Status::Skip, "no wheel to pulse")
+        );
     }
 }

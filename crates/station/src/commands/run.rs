@@ -203,6 +203,32 @@ fn apply_home(args: &RunArgs, cfg: &mut StationConfig) -> anyhow::Result<HomePla
     })
 }
 
+/// The session's log file in the home (paired, or named by `--home`), named as its recording
+/// (`session-<time>.log`); `None` without a home. A log that cannot be written is a warning,
+/// never a reason not to run.
+fn start_session_log(home: &HomePlan) -> Option<crate::logging::SessionLog> {
+    let dir = home.home.as_ref()?.dir();
+    let name = home
+        .default_recording
+        .as_deref()
+        .and_then(|r| r.file_stem())
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| {
+            let stamp = humantime::format_rfc3339_millis(std::time::SystemTime::now());
+            format!("session-{}", stamp.to_string().replace(':', "-"))
+        });
+    match crate::logging::SessionLog::start(dir, &name) {
+        Ok(log) => {
+            tracing::info!(path = %log.path().display(), "session log");
+            Some(log)
+        }
+        Err(e) => {
+            tracing::warn!("{e:#}");
+            None
+        }
+    }
+}
+
 /// Removes the oldest `.mcap` files of `dir` beyond `keep` (names sort by time).
 fn prune_recordings(dir: &std::path::Path, keep: usize) {
     let Ok(entries) = std::fs::read_dir(dir) else {
@@ -330,6 +356,7 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     };
     let controls = session::Controls::with_stop(install_stop_flag()?);
     let clock = Clock::real();
+    let session_log = start_session_log(&home);
     let opts = SessionOptions {
         config: cfg.clone(),
         pacing,
@@ -370,6 +397,9 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
         .filter(|_| report.recorder.mcap_bytes.is_some());
     let link_report = link.finish(report.summaries, &report.recorder.measures.named, recorded);
     print!("{}", crate::report::render(&report, link_report.as_ref()));
+    if let Some(log) = &session_log {
+        println!("session log         {}", log.path().display());
+    }
     if window_restarts > 0 {
         println!(
             "patient window      restarted {window_restarts} time(s) after it died or hung (the exercise paused each time)"

@@ -2,6 +2,7 @@
 //! store-and-forward task. The recorder thread hands it summaries without ever waiting; with a
 //! home directory each summary is first appended to the on-disk [`queue`].
 
+pub mod hub_status;
 pub mod queue;
 pub mod uploads;
 
@@ -267,7 +268,7 @@ impl Link {
             // is what the patient (and their technician) must read.
             last_error: stats
                 .update_required
-                .map(|m| format!("the hub requires a newer telerehab: {m}"))
+                .map(|m| hub_status::update_required_message(&m))
                 .or(stats.last_error),
         })
     }
