@@ -18,6 +18,12 @@ pub const MIN_PROTOCOL_VERSION: u16 = 1;
 /// station stops retrying and tells the patient the software needs an update.
 pub const UPDATE_REQUIRED: &str = "update_required";
 
+/// [`Hello::exercise`] of a station's check (`telerehab doctor --hub`, the first-run page):
+/// the hub answers it as any `Hello` (versions, the station's certificate), then at once with a
+/// [`Bye`] carrying its clock, and stores nothing — no session, so a check never counts as a
+/// session done.
+pub const CHECK_EXERCISE: &str = "doctor-check";
+
 /// This machine's clock now, ms since the Unix epoch (0 before 1970): what a hub's Bye
 /// carries as [`Bye::hub_unix_ms`].
 pub fn unix_ms_now() -> u64 {

@@ -167,6 +167,20 @@ async fn serve(
         addr: peer,
         certificate: client_cert.as_ref(),
     };
+    if let Ok(Frame::Hello(hello)) = &first
+        && hello.exercise == crate::frame::CHECK_EXERCISE
+    {
+        // A station's check: answered as any Hello would be, nothing stored.
+        match admit(&hub, hello, peer_id) {
+            Ok(()) => send(&out, frame_outgoing(&Frame::Bye(check_answer(hello)))),
+            Err((error, code)) => {
+                send(&out, coded_error_outgoing(&error, code));
+                hub.refuse(peer, "check refused", error);
+            }
+        }
+        close(out, writer).await;
+        return;
+    }
     let admitted = match hub.connections.clone().try_acquire_owned() {
         Ok(permit) => open_session(&hub, first, peer_id)
             .await
@@ -255,17 +269,10 @@ async fn first_frame(
     }
 }
 
-/// Checks the station's `Hello` (the version range, the client certificate naming the station
-/// when the hub requires one, then the store's admission) and opens its session.
-async fn open_session(
-    hub: &Hub,
-    first: Result<Frame, (String, Option<&'static str>)>,
-    peer: Peer<'_>,
-) -> Result<(Hello, File), (String, Option<&'static str>)> {
+/// Whether the hub serves the station of `hello`: a version both speak, and the client
+/// certificate naming the station when the hub requires one.
+fn admit(hub: &Hub, hello: &Hello, peer: Peer<'_>) -> Result<(), (String, Option<&'static str>)> {
     let plain = |e: String| (e, None);
-    let Frame::Hello(hello) = first? else {
-        return Err(plain("expected Hello first".into()));
-    };
     // No version both sides speak: not retriable, the station must stop and say so.
     hello
         .negotiate_with(hub.config.min_protocol_version)
@@ -281,6 +288,31 @@ async fn open_session(
             .ok_or_else(|| plain("no client certificate presented".into()))?;
         certificate_names_station(cert, &hello.station_id).map_err(|e| plain(e.to_string()))?;
     }
+    Ok(())
+}
+
+/// The hub's answer to a station's check: `Bye` with its clock.
+fn check_answer(hello: &Hello) -> Bye {
+    Bye {
+        session_id: hello.session_id.clone(),
+        reason: "station check answered; nothing stored".into(),
+        final_seq: None,
+        measures: Default::default(),
+        hub_unix_ms: Some(crate::frame::unix_ms_now()),
+    }
+}
+
+/// Checks the station's `Hello` ([`admit`], then the store's admission) and opens its session.
+async fn open_session(
+    hub: &Hub,
+    first: Result<Frame, (String, Option<&'static str>)>,
+    peer: Peer<'_>,
+) -> Result<(Hello, File), (String, Option<&'static str>)> {
+    let plain = |e: String| (e, None);
+    let Frame::Hello(hello) = first? else {
+        return Err(plain("expected Hello first".into()));
+    };
+    admit(hub, &hello, peer)?;
     let file = hub
         .open_session(&hello, peer)
         .await

@@ -11,12 +11,13 @@ use tokio::io::{AsyncRead, AsyncReadExt, AsyncWrite, AsyncWriteExt};
 
 use crate::home::{Home, Pairing};
 
-/// The exercise named in the check's `Hello`; its session id is [`probe_session_id`].
-pub const PROBE_EXERCISE: &str = "doctor-check";
+/// The exercise named in the check's `Hello` (a hub of this version then stores nothing); its
+/// session id is [`probe_session_id`].
+pub const PROBE_EXERCISE: &str = netlink::frame::CHECK_EXERCISE;
 
 /// The session id of a station's checks: `doctor-check-` and a hash of the station id (session
-/// ids are unique across a hub's stations), the same at every check, so that the hub keeps one
-/// empty session per station for them.
+/// ids are unique across a hub's stations), the same at every check, so that a hub older than
+/// [`netlink::frame::CHECK_EXERCISE`] keeps one empty session per station for them.
 pub fn probe_session_id(station_id: &str) -> String {
     // FNV-1a, 64 bits: stable across releases and platforms.
     let hash = station_id.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
@@ -168,6 +169,26 @@ mod tests {
     use netlink::{TherapistConfig, TherapistServer};
 
     fn ask_hub_with_min_version(min_protocol_version: u16) -> HubStatus {
+        ask_hub_and_list_its_store(min_protocol_version).0
+    }
+
+    /// Files anywhere under `dir`.
+    fn files_under(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+        let mut out = Vec::new();
+        for entry in std::fs::read_dir(dir).unwrap().map(Result::unwrap) {
+            if entry.file_type().unwrap().is_dir() {
+                out.extend(files_under(&entry.path()));
+            } else {
+                out.push(entry.path());
+            }
+        }
+        out
+    }
+
+    /// The check's answer, and the files the hub's store holds after it.
+    fn ask_hub_and_list_its_store(
+        min_protocol_version: u16,
+    ) -> (HubStatus, Vec<std::path::PathBuf>) {
         let runtime = tokio::runtime::Builder::new_current_thread()
             .enable_all()
             .build()
@@ -180,8 +201,15 @@ mod tests {
             let addr = server.local_addr().to_string();
             let status = probe(&addr, None, ("st-1", "p-1"), Duration::from_secs(10)).await;
             server.shutdown(Duration::from_secs(5)).await;
-            status
+            (status, files_under(tmp.path()))
         })
+    }
+
+    #[test]
+    fn a_check_leaves_no_session_at_the_hub() {
+        let (status, stored) = ask_hub_and_list_its_store(netlink::frame::MIN_PROTOCOL_VERSION);
+        assert!(matches!(status, HubStatus::Reachable { .. }), "{status:?}");
+        assert_eq!(stored, Vec::<std::path::PathBuf>::new());
     }
 
     #[test]
