@@ -35,7 +35,9 @@ export XDG_RUNTIME_DIR="$T/run"; mkdir -m 0700 "$XDG_RUNTIME_DIR"
 START_S=$SECONDS
 
 step "install $(basename "$DEB")"
-DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "$DEB" >"$T/apt.log" 2>&1 \
+apt_install() { DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "$DEB"; }
+# Its dependencies come from Debian: refresh the package lists once if they are stale or absent.
+apt_install >"$T/apt.log" 2>&1 || { apt-get update -qq && apt_install; } >>"$T/apt.log" 2>&1 \
   || { cat "$T/apt.log"; fail "apt-get install"; }
 dpkg -L telerehab | sort > "$T/files"
 /usr/bin/telerehab --version | grep -q '^telerehab ' || fail "telerehab --version"
