@@ -46,4 +46,8 @@ TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}"
 TELEREHAB_BIN="$TARGET_DIR/debug/telerehab" .venv/bin/python -m pytest -q -rs pyext/tests tests/python \
   2>&1 | tee "$LOGS/pytest.log"
 python3 scripts/check_skips.py "$LOGS/cargo-test.log" "$LOGS/pytest.log"
+# The Debian package of the binary just tested (debug: CI builds no release), installed,
+# exercised and purged as root (scripts/test_package.sh; packaging/README.md).
+echo "== package"
+bash scripts/package.sh --binary "$TARGET_DIR/debug/telerehab" && bash scripts/test_package.sh
 echo "== disk after the tests: $(df -h . | awk 'NR==2 {print $4 " free"}'), target: $(du -sh "$TARGET_DIR" 2>/dev/null | cut -f1)"
