@@ -7,6 +7,8 @@ use crate::config::StationConfig;
 use crate::front_door::checks::check_devices;
 use crate::front_door::{Action, FrontDoor, Outcome, TodayPlan, pairing_error_words};
 use crate::home::{Home, HomeArg};
+use crate::link::hub_status::{HubStatus, check_hub};
+use crate::render::StatusLine;
 use crate::render::window::{UserRequest, WindowOptions, run_with};
 use crate::render::{Scene, ScreenState};
 use crate::settings::Settings;
@@ -23,6 +25,9 @@ other commands.";
 
 /// Exit status without a display: could not start.
 pub const NO_DISPLAY_EXIT: i32 = 2;
+
+/// How long the first-run page waits for the hub's answer.
+const HUB_CHECK_TIMEOUT: Duration = Duration::from_secs(10);
 
 /// How often the device check runs while the pages are up.
 const CHECK_PERIOD: Duration = Duration::from_secs(2);
@@ -106,6 +111,31 @@ fn lock(door: &Mutex<FrontDoor>) -> std::sync::MutexGuard<'_, FrontDoor> {
     door.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
+/// A paired station asks its hub once whether it is served (versions) and reachable; the
+/// answer becomes a line of today's page. Stores nothing at the hub.
+fn ask_the_hub(door: &Mutex<FrontDoor>, home: &Home) {
+    let Ok(Some(pairing)) = home.pairing() else {
+        return;
+    };
+    let notice = match check_hub(home, &pairing, HUB_CHECK_TIMEOUT) {
+        HubStatus::Reachable { .. } => return,
+        HubStatus::UpdateRequired(message) => StatusLine {
+            ok: Some(false),
+            text: format!("{}.", crate::front_door::capitalised(&message)),
+        },
+        HubStatus::Unreachable(why) => {
+            tracing::info!("the clinic's hub is not reachable: {why}");
+            StatusLine {
+                ok: None,
+                text: "Your clinic cannot be reached just now: today's session is kept on this \
+                       computer and sent later."
+                    .into(),
+            }
+        }
+    };
+    lock(door).set_notice(Some(notice));
+}
+
 /// The device check every [`CHECK_PERIOD`] until `stop`; between checks, a press of a ready
 /// wheel's button counts as Space.
 fn watch_devices(
@@ -168,6 +198,7 @@ fn show(
     options.fullscreen = fullscreen;
     let shown = std::thread::scope(|scope| {
         scope.spawn(|| watch_devices(&door, &outcome, &stop, cfg));
+        scope.spawn(|| ask_the_hub(&door, home));
         let mut logged_page = String::new();
         let shown = run_with(
             &options,
