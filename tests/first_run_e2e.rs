@@ -7,7 +7,7 @@ use std::process::{Command, Stdio};
 use std::sync::mpsc;
 use std::time::Duration;
 use telerehab_tests::clinic::{Hub, clinic};
-use telerehab_tests::telerehab_bin;
+use telerehab_tests::{Reaper, telerehab_bin};
 
 #[test]
 fn without_a_display_telerehab_says_so_points_to_doctor_and_exits_2() {
@@ -79,6 +79,7 @@ fn a_patient_pairs_from_the_first_run_page_by_typing_the_clinics_address_and_cod
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
+    let _reaper = Reaper(child.id());
     let (tx, lines) = mpsc::channel();
     let stderr = BufReader::new(child.stderr.take().unwrap());
     std::thread::spawn(move || {

@@ -1,7 +1,7 @@
 //! End-to-end: the patient's screen, headless on Mesa's software renderer.
 
 use std::process::Command;
-use telerehab_tests::{run_ok, telerehab_bin};
+use telerehab_tests::{Reaper, run_ok, telerehab_bin};
 
 #[test]
 fn render_command_writes_the_requested_frames_of_a_simulated_session() {
@@ -68,6 +68,21 @@ fn the_display() -> Option<std::sync::MutexGuard<'static, ()>> {
     Some(held)
 }
 
+/// Presses `key` until `done` holds (checked for 5 s after each press, at most 8 presses): on a
+/// loaded machine a window can take its first keys late, and a key sent before it does is lost.
+fn press_until(key: &str, done: impl Fn() -> bool) {
+    for _ in 0..8 {
+        press(key);
+        for _ in 0..100 {
+            if done() {
+                return;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+    }
+    panic!("pressing {key} changed nothing");
+}
+
 fn press(key: &str) {
     press_in("^telerehab$", key);
 }
@@ -121,6 +136,7 @@ fn space_in_the_patient_window_starts_pauses_and_resumes_the_exercise_and_esc_en
         .stderr(std::process::Stdio::null())
         .spawn()
         .unwrap();
+    let _reaper = Reaper(child.id());
     // The window prints its adapter once it can draw.
     let mut stdout = BufReader::new(child.stdout.take().unwrap());
     let mut line = String::new();
@@ -200,6 +216,7 @@ fn replay_window_plays_a_recording_and_seeks_with_the_arrow_keys() {
         .stderr(std::process::Stdio::null())
         .spawn()
         .unwrap();
+    let _reaper = Reaper(child.id());
     // At an eighth of real time the 3.1 s recording would take 25 s; → jumps 5 s, to its end.
     press_in("^telerehab replay", "Right");
     std::thread::sleep(std::time::Duration::from_millis(300));
@@ -302,15 +319,18 @@ fn session_losing_its_window(dir: &std::path::Path, signal: &str) -> (String, St
     };
     // Wait (on a loaded machine, long) until the log has said the exercise was paused or
     // resumed `times` times.
+    let _reaper = Reaper(station.id());
+    let pause_changes = || {
+        log_lines
+            .lock()
+            .unwrap()
+            .iter()
+            .filter(|l| l.contains("exercise paused or resumed"))
+            .count()
+    };
     let wait_for_pause_changes = |times: usize| {
         for _ in 0..600 {
-            let said = log_lines
-                .lock()
-                .unwrap()
-                .iter()
-                .filter(|l| l.contains("exercise paused or resumed"))
-                .count();
-            if said >= times {
+            if pause_changes() >= times {
                 return;
             }
             std::thread::sleep(std::time::Duration::from_millis(50));
@@ -324,8 +344,7 @@ fn session_losing_its_window(dir: &std::path::Path, signal: &str) -> (String, St
     );
     // 1: paused at the start; 2: Space started it (once the window maps and takes keys).
     std::thread::sleep(std::time::Duration::from_millis(1000));
-    press("space");
-    wait_for_pause_changes(2);
+    press_until("space", || pause_changes() >= 2);
     std::thread::sleep(std::time::Duration::from_millis(1000));
     let window = child_process(station.id(), "window-process");
     assert!(
@@ -346,8 +365,7 @@ fn session_losing_its_window(dir: &std::path::Path, signal: &str) -> (String, St
     // The new process has chosen its adapter; give its window time to map and take keys
     // (a key sent before is lost, and the wait below would time out).
     std::thread::sleep(std::time::Duration::from_millis(1000));
-    press("space");
-    wait_for_pause_changes(4);
+    press_until("space", || pause_changes() >= 4);
     // Long enough for the resumed exercise to record scores (every 100 ms of exercise time)
     // on a loaded machine, whose loop runs the exercise clock slower than the wall.
     std::thread::sleep(std::time::Duration::from_millis(1500));

@@ -348,3 +348,16 @@ pub fn stored_seqs(store: &Path, station_id: &str) -> Vec<Vec<u64>> {
     }
     sessions
 }
+
+/// Kills a process and its children (a station and its window process) when dropped, so a
+/// failing window test leaves no window behind for the next test's key presses to land in.
+pub struct Reaper(pub u32);
+
+impl Drop for Reaper {
+    fn drop(&mut self) {
+        let pid = self.0.to_string();
+        // Both fail harmlessly when the process has already ended.
+        let _ = Command::new("pkill").args(["-9", "-P", &pid]).status();
+        let _ = Command::new("kill").args(["-9", &pid]).status();
+    }
+}

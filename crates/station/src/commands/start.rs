@@ -121,7 +121,7 @@ fn ask_the_hub(door: &Mutex<FrontDoor>, home: &Home) {
         HubStatus::Reachable { .. } => return,
         HubStatus::UpdateRequired(message) => StatusLine {
             ok: Some(false),
-            text: format!("{}.", crate::front_door::capitalised(&message)),
+            text: crate::front_door::sentence(&message),
         },
         HubStatus::Unreachable(why) => {
             tracing::info!("the clinic's hub is not reachable: {why}");

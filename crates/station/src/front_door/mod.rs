@@ -330,6 +330,15 @@ pub(crate) fn capitalised(s: &str) -> String {
     })
 }
 
+/// `s` capitalised and ending with a full stop.
+pub(crate) fn sentence(s: &str) -> String {
+    let mut out = capitalised(s.trim_end());
+    if !out.ends_with(['.', '!', '?']) {
+        out.push('.');
+    }
+    out
+}
+
 /// What went wrong while pairing, in words for the patient (the technical reason follows in
 /// brackets for the clinic's support).
 pub fn pairing_error_words(e: &netlink::pairing::PairError) -> String {
@@ -343,7 +352,7 @@ pub fn pairing_error_words(e: &netlink::pairing::PairError) -> String {
              then press Enter to try again. ({reason})"
         ),
         // The hub's refusal is already written for the patient.
-        PairError::Refused(why) => capitalised(why),
+        PairError::Refused(why) => sentence(why),
         PairError::NotAuthentic(why) => format!(
             "The answer did not come from your clinic, so nothing was saved. Check the address \
              and the code. ({why})"

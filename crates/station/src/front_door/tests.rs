@@ -204,5 +204,5 @@ fn pairing_errors_read_as_plain_words() {
         "{words}"
     );
     let e = netlink::pairing::PairError::Refused("this code was already used".into());
-    assert_eq!(pairing_error_words(&e), "This code was already used");
+    assert_eq!(pairing_error_words(&e), "This code was already used.");
 }
