@@ -7,7 +7,7 @@ use std::process::{Command, Stdio};
 use std::sync::mpsc;
 use std::time::Duration;
 use telerehab_tests::clinic::{Hub, clinic};
-use telerehab_tests::{Reaper, telerehab_bin};
+use telerehab_tests::{Reaper, telerehab_bin, xdotool_in};
 
 #[test]
 fn without_a_display_telerehab_says_so_points_to_doctor_and_exits_2() {
@@ -28,27 +28,7 @@ fn without_a_display_telerehab_says_so_points_to_doctor_and_exits_2() {
 
 /// xdotool on the window titled "telerehab": focus it, then `args` (e.g. `type TEXT`).
 fn xdotool(args: &[&str]) {
-    let search = Command::new("xdotool")
-        .args(["search", "--sync", "--name", "^telerehab$"])
-        .output()
-        .expect("xdotool (installed by scripts/setup.sh)");
-    let window = String::from_utf8_lossy(&search.stdout)
-        .lines()
-        .next()
-        .expect("the patient window")
-        .to_owned();
-    let focus = Command::new("xdotool")
-        .args(["windowfocus", "--sync", &window])
-        .status()
-        .unwrap();
-    assert!(focus.success());
-    assert!(
-        Command::new("xdotool")
-            .args(args)
-            .status()
-            .unwrap()
-            .success()
-    );
+    xdotool_in("^telerehab$", args);
 }
 
 /// Waits for a log line containing `what` (the lines come from the process's stderr).

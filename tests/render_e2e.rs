@@ -1,7 +1,7 @@
 //! End-to-end: the patient's screen, headless on Mesa's software renderer.
 
 use std::process::Command;
-use telerehab_tests::{Reaper, run_ok, telerehab_bin};
+use telerehab_tests::{Reaper, run_ok, telerehab_bin, xdotool_in};
 
 #[test]
 fn render_command_writes_the_requested_frames_of_a_simulated_session() {
@@ -90,27 +90,7 @@ fn press(key: &str) {
 /// Press `key` in the first window whose name matches `name` (a regular expression), waiting
 /// for it to open.
 fn press_in(name: &str, key: &str) {
-    let search = Command::new("xdotool")
-        .args(["search", "--sync", "--name", name])
-        .output()
-        .expect("xdotool (installed by scripts/setup.sh)");
-    let window = String::from_utf8_lossy(&search.stdout)
-        .lines()
-        .next()
-        .expect("the patient window")
-        .to_string();
-    for args in [
-        vec!["windowfocus", "--sync", window.as_str()],
-        vec!["key", key],
-    ] {
-        assert!(
-            Command::new("xdotool")
-                .args(&args)
-                .status()
-                .unwrap()
-                .success()
-        );
-    }
+    xdotool_in(name, &["key", key]);
 }
 
 #[test]

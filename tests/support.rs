@@ -361,3 +361,31 @@ impl Drop for Reaper {
         let _ = Command::new("kill").args(["-9", &pid]).status();
     }
 }
+
+/// xdotool on the first window whose name matches `name` (a regular expression), waiting for it
+/// to open: focus it (the X test path a real keyboard takes), then `args` (e.g. `key space`,
+/// `type TEXT`).
+pub fn xdotool_in(name: &str, args: &[&str]) {
+    let search = Command::new("xdotool")
+        .args(["search", "--sync", "--name", name])
+        .output()
+        .expect("xdotool (installed by scripts/setup.sh)");
+    let window = String::from_utf8_lossy(&search.stdout)
+        .lines()
+        .next()
+        .expect("the window")
+        .to_owned();
+    let focus = Command::new("xdotool")
+        .args(["windowfocus", "--sync", &window])
+        .status()
+        .unwrap();
+    assert!(focus.success(), "xdotool could not focus {name}");
+    assert!(
+        Command::new("xdotool")
+            .args(args)
+            .status()
+            .unwrap()
+            .success(),
+        "xdotool {args:?}"
+    );
+}

@@ -830,7 +830,7 @@ pub fn run(args: &DoctorArgs) -> anyhow::Result<()> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     fn pairing() -> Pairing {
@@ -913,14 +913,16 @@ mod tests {
         );
     }
 
-    fn found_wheel(usb_id: (u16, u16)) -> haptic_wheel::DeviceReport {
+    /// A device report holding one force-feedback wheel named `name` (the front door's tests
+    /// use it too).
+    pub(crate) fn found_wheel(name: &str, usb_id: (u16, u16)) -> haptic_wheel::DeviceReport {
         use haptic_wheel::devices::{DeviceClass, DeviceInfo, DeviceTraits};
         let mut report = haptic_wheel::DeviceReport::default();
         report.add(DeviceInfo {
             path: "/dev/input/event7".into(),
             class: DeviceClass::Wheel,
             traits: DeviceTraits {
-                name: "Some Wheel".into(),
+                name: name.into(),
                 ff_effects: vec!["constant", "gain"],
                 abs_axes: vec!["x"],
                 gamepad_buttons: false,
@@ -936,7 +938,7 @@ mod tests {
 
     #[test]
     fn doctor_names_a_known_wheel_with_its_effects_and_ceiling_and_an_unknown_one_as_such() {
-        let g29 = wheel_check(&found_wheel((0x046d, 0xc24f)));
+        let g29 = wheel_check(&found_wheel("Some Wheel", (0x046d, 0xc24f)));
         assert_eq!(g29.status, Status::Pass, "{g29:?}");
         assert!(
             g29.detail.contains("Some Wheel [046d:c24f]"),
@@ -949,7 +951,7 @@ mod tests {
             g29.detail
         );
         assert!(g29.detail.contains("N·m"), "{}", g29.detail);
-        let odd = wheel_check(&found_wheel((0x1234, 0x5678)));
+        let odd = wheel_check(&found_wheel("Some Wheel", (0x1234, 0x5678)));
         assert_eq!(odd.status, Status::Warn, "{odd:?}");
         assert!(odd.detail.starts_with("unknown wheel: "), "{}", odd.detail);
         assert!(odd.detail.contains("assumed"), "{}", odd.detail);

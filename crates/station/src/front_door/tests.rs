@@ -207,29 +207,12 @@ fn pairing_errors_read_as_plain_words() {
     assert_eq!(pairing_error_words(&e), "This code was already used.");
 }
 
-fn report_with_wheel(name: &str, usb_id: (u16, u16)) -> haptic_wheel::DeviceReport {
-    let mut report = haptic_wheel::DeviceReport::default();
-    report.add(haptic_wheel::devices::DeviceInfo {
-        path: "/dev/input/event7".into(),
-        class: haptic_wheel::devices::DeviceClass::Wheel,
-        traits: haptic_wheel::devices::DeviceTraits {
-            name: name.into(),
-            ff_effects: vec!["constant"],
-            abs_axes: vec!["x"],
-            gamepad_buttons: false,
-        },
-        usb_id: Some(usb_id),
-        profile: None,
-        ceiling: None,
-        max_ff_effects: 16,
-    });
-    report.apply_config(&haptic_wheel::WheelConfig::default(), None);
-    report
-}
-
 #[test]
 fn a_known_wheel_is_a_green_line_with_its_strongest_push_in_newton_metres() {
-    let report = report_with_wheel("Logitech G29 Driving Force Racing Wheel", (0x046d, 0xc24f));
+    let report = crate::commands::doctor::tests::found_wheel(
+        "Logitech G29 Driving Force Racing Wheel",
+        (0x046d, 0xc24f),
+    );
     let ceiling_nm = report.wheels[0].ceiling.as_ref().unwrap().ceiling_nm;
     let check = describe(&report, &Ok(vec![]));
     assert_eq!(check.lines[0].ok, Some(true));
@@ -245,7 +228,7 @@ fn a_known_wheel_is_a_green_line_with_its_strongest_push_in_newton_metres() {
 #[test]
 fn an_unknown_wheel_is_named_as_such_with_its_low_assumed_push() {
     let check = describe(
-        &report_with_wheel("Acme Wheel", (0x1234, 0x5678)),
+        &crate::commands::doctor::tests::found_wheel("Acme Wheel", (0x1234, 0x5678)),
         &Ok(vec![]),
     );
     assert_eq!(check.lines[0].ok, Some(true));
