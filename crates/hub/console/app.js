@@ -144,9 +144,23 @@ async function patientView(id, tab, sessionId) {
   else await prescribeView(el, id);
 }
 
+/** A session's check-in in a few words (HTML, every part escaped); pain of 7 or more marked. */
+function checkinWords(c) {
+  if (!c) return '—';
+  const difficulty = { too_easy: 'too easy', about_right: 'about right', too_hard: 'too hard' };
+  const parts = [];
+  if (c.pain_0_10 != null) parts.push(`<span class="${c.pain_0_10 >= 7 ? 'badge alert' : ''}">pain ${esc(String(c.pain_0_10))}/10</span>`);
+  if (c.tiredness_0_10 != null) parts.push(`tiredness ${esc(String(c.tiredness_0_10))}/10`);
+  if (c.difficulty != null) parts.push(esc(difficulty[c.difficulty] || c.difficulty));
+  return parts.length ? parts.join(', ') : 'skipped';
+}
+
 async function progressView(el, id, patient) {
   const sessions = (await api('GET', `/api/patients/${encodeURIComponent(id)}/sessions`)).slice().reverse();
   const metrics = await Promise.all(sessions.map(s => api('GET', `/api/sessions/${encodeURIComponent(s.session_id)}/metrics`).catch(() => ({}))));
+  // The patient's own answers on each session's end screen (plain text, escaped).
+  const checkins = new Map((await api('GET', `/api/patients/${encodeURIComponent(id)}/checkins`).catch(() => []))
+    .map(c => [c.session_id, c]));
   const t = sessions.map(s => s.started_unix_ms / 1000);
   const trend = key => {
     const vs = metrics.map(m => m[key]).filter(v => typeof v === 'number');
@@ -163,6 +177,7 @@ async function progressView(el, id, patient) {
   }).join('');
   const list = sessions.slice().reverse().map(s => `<tr><td>${esc(when(s.started_unix_ms))}</td><td>${esc(s.exercise)}</td>
     <td>${esc(s.end_reason || (s.closed_at_ms ? 'ended' : 'running'))}</td>
+    <td class="checkin">${checkinWords(checkins.get(s.session_id))}</td>
     <td><a href="#/patients/${encodeURIComponent(id)}/replay/${encodeURIComponent(s.session_id)}">Replay</a></td></tr>`).join('');
   el.innerHTML = `
     <p class="print-hide"><button type="button" id="print" class="secondary">Print a one-page summary</button></p>
@@ -175,7 +190,7 @@ async function progressView(el, id, patient) {
       <section class="panel"><h2>Active time and assistance</h2><div class="chart" id="p-active"></div></section>
     </div>
     <section class="panel print-hide" aria-labelledby="sessions-h"><h2 id="sessions-h">Sessions (${sessions.length})</h2>
-      <table><thead><tr><th scope="col">Started</th><th scope="col">Exercise</th><th scope="col">End</th><th scope="col">Recording</th></tr></thead><tbody>${list}</tbody></table></section>`;
+      <table><thead><tr><th scope="col">Started</th><th scope="col">Exercise</th><th scope="col">End</th><th scope="col">Patient's check-in</th><th scope="col">Recording</th></tr></thead><tbody>${list}</tbody></table></section>`;
   el.querySelector('#print').addEventListener('click', () => window.print());
   const col = key => metrics.map(m => (typeof m[key] === 'number' ? m[key] : null));
   const chart = (sel, title, y, series) => lineChart(el.querySelector(sel), { title, x: 'session date', y, time: true,

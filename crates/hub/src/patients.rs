@@ -27,6 +27,8 @@ pub struct PatientReport {
     pub stations: Vec<Station>,
     /// Their sessions, newest first.
     pub sessions: Vec<SessionReport>,
+    /// Their answers on the sessions' end screens, newest first.
+    pub checkins: Vec<crate::db::SessionCheckIn>,
 }
 
 /// One session of a [`PatientReport`].
@@ -115,6 +117,7 @@ pub async fn show(db: &Db, pseudonym: &str, now_ms: i64) -> Result<PatientReport
         });
     }
     Ok(PatientReport {
+        checkins: db.checkins_of(&patient.id).await?,
         patient,
         stations,
         sessions,

@@ -85,6 +85,7 @@ on_both_backends!(
     a_checkpoint_keeps_every_summary_readable,
     session_of_another_station_is_refused,
     sessions_close_and_list,
+    a_byes_checkin_is_stored_and_high_or_rising_pain_raises_a_caseload_alert,
     metrics_and_recordings,
     regimen_versions_increment,
     audit_log_keeps_entries,
@@ -786,6 +787,7 @@ async fn sessions_close_and_list(db: Db) {
             ("movements".to_owned(), 12.0),
         ]),
         hub_unix_ms: None,
+        checkin: None,
     };
     assert_eq!(db.close_session(&bye, T0 + MIN).await.unwrap(), Some(2));
     assert_eq!(
@@ -813,6 +815,76 @@ async fn sessions_close_and_list(db: Db) {
         db.close_session(&unknown, T0).await,
         Err(HubError::NotFound { .. })
     ));
+}
+
+/// Closes session `id` (started `minute` minutes after T0) with `pain` answered.
+async fn session_with_pain(db: &Db, patient_id: &str, id: &str, minute: i64, pain: u8) {
+    let mut h = hello("st-1", patient_id, id);
+    h.started_unix_ms = (T0 + minute * MIN) as u64;
+    db.open_session(&h, T0).await.unwrap();
+    let bye = Bye {
+        session_id: id.into(),
+        reason: "session complete".into(),
+        final_seq: None,
+        measures: BTreeMap::new(),
+        hub_unix_ms: None,
+        checkin: Some(netlink::CheckIn {
+            pain_0_10: Some(pain),
+            tiredness_0_10: Some(4),
+            difficulty: Some("too_hard".into()),
+        }),
+    };
+    db.close_session(&bye, T0 + minute * MIN).await.unwrap();
+    // A repeated Bye (the station missed the reply) stores the same once.
+    db.close_session(&bye, T0 + minute * MIN).await.unwrap();
+}
+
+async fn a_byes_checkin_is_stored_and_high_or_rising_pain_raises_a_caseload_alert(db: Db) {
+    let (t, p) = paired(&db).await;
+    let pain_alerts = |db: Db, t: hub::Therapist| async move {
+        let list = db.patients_for(&t, T0).await.unwrap();
+        list[0]
+            .alerts
+            .iter()
+            .filter(|a| a.starts_with("pain"))
+            .cloned()
+            .collect::<Vec<_>>()
+    };
+    for (i, pain) in [2, 1, 3].into_iter().enumerate() {
+        session_with_pain(&db, &p.id, &format!("s{i}"), i as i64, pain).await;
+    }
+    assert!(
+        pain_alerts(db.clone(), t.clone()).await.is_empty(),
+        "3 against usual 1.5"
+    );
+    let stored = db.checkins_of(&p.id).await.unwrap();
+    assert_eq!(stored.len(), 3, "one row per session, repeats stored once");
+    assert_eq!(stored[0].session_id, "s2");
+    assert_eq!(
+        (
+            stored[0].pain_0_10,
+            stored[0].tiredness_0_10,
+            stored[0].difficulty.as_deref()
+        ),
+        (Some(3), Some(4), Some("too_hard"))
+    );
+    session_with_pain(&db, &p.id, "s3", 3, 4).await;
+    assert_eq!(
+        pain_alerts(db.clone(), t.clone()).await,
+        vec!["pain 4/10 after the last session (usually 2/10)".to_owned()]
+    );
+    session_with_pain(&db, &p.id, "s4", 4, 7).await;
+    assert_eq!(
+        pain_alerts(db.clone(), t.clone()).await,
+        vec!["pain 7/10 after the last session".to_owned()]
+    );
+    // An answer out of range never reaches the table.
+    let bad = netlink::CheckIn {
+        pain_0_10: Some(11),
+        ..Default::default()
+    };
+    let err = db.put_checkin("s4", &bad, T0).await.unwrap_err();
+    assert!(err.to_string().contains("pain_0_10"), "{err}");
 }
 
 async fn a_checkpoint_keeps_every_summary_readable(db: Db) {

@@ -471,6 +471,55 @@ async fn sessions_summaries_and_metrics_are_served_and_audited() {
 }
 
 #[tokio::test]
+async fn checkins_are_served_to_the_patients_therapist_only_audited_and_high_pain_alerts() {
+    let f = fixture().await;
+    f.db.add_station("st-1", &f.p_ada.id, &"ab".repeat(32), T0)
+        .await
+        .unwrap();
+    f.db.open_session(&hello(&f.p_ada.id, "s1"), T0)
+        .await
+        .unwrap();
+    let bye = netlink::Bye {
+        session_id: "s1".into(),
+        reason: "session complete".into(),
+        final_seq: None,
+        measures: Default::default(),
+        hub_unix_ms: None,
+        checkin: Some(netlink::CheckIn {
+            pain_0_10: Some(8),
+            tiredness_0_10: None,
+            difficulty: Some("about_right".into()),
+        }),
+    };
+    f.db.close_session(&bye, T0).await.unwrap();
+    let ada = login(&f.app, "ada@clinic.example").await;
+    let uri = format!("/api/patients/{}/checkins", f.p_ada.id);
+    let (status, _, list) = call(&f.app, Method::GET, &uri, Some(&ada), None).await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(list[0]["session_id"], "s1");
+    assert_eq!(list[0]["pain_0_10"], 8);
+    assert!(list[0]["tiredness_0_10"].is_null());
+    assert_eq!(list[0]["difficulty"], "about_right");
+    let (_, _, caseload) = call(&f.app, Method::GET, "/api/patients", Some(&ada), None).await;
+    let alerts = caseload[0]["alerts"].as_array().unwrap();
+    assert!(
+        alerts.contains(&json!("pain 8/10 after the last session")),
+        "{alerts:?}"
+    );
+    assert!(
+        actions(&f.db)
+            .await
+            .iter()
+            .any(|(a, act, _)| *a == f.ada.actor() && act == "read_checkins")
+    );
+    let other = format!("/api/patients/{}/checkins", f.p_bob.id);
+    let (status, _, _) = call(&f.app, Method::GET, &other, Some(&ada), None).await;
+    assert_eq!(status, StatusCode::NOT_FOUND);
+    let (status, _, _) = call(&f.app, Method::GET, &uri, None, None).await;
+    assert_eq!(status, StatusCode::UNAUTHORIZED);
+}
+
+#[tokio::test]
 async fn the_regimen_schema_needs_a_login_and_carries_the_validators_bounds() {
     let f = fixture().await;
     let (status, _, _) = call(&f.app, Method::GET, "/api/regimen/schema", None, None).await;

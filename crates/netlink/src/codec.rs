@@ -287,6 +287,7 @@ mod tests {
                 final_seq: Some(7),
                 measures: Default::default(),
                 hub_unix_ms: None,
+                checkin: None,
             }),
             Frame::Error(ErrorFrame {
                 message: "bad magic".into(),
@@ -352,6 +353,7 @@ mod tests {
             final_seq: Some(7),
             measures: [("sparc_median".to_owned(), -1.5)].into(),
             hub_unix_ms: None,
+            checkin: None,
         });
         let bytes = encode_to_vec(&bye).unwrap();
         assert_eq!(
@@ -371,6 +373,7 @@ mod tests {
             final_seq: None,
             measures: Default::default(),
             hub_unix_ms: Some(1_795_253_400_123),
+            checkin: None,
         });
         let bytes = encode_to_vec(&stored).unwrap();
         assert_eq!(
@@ -573,6 +576,42 @@ mod tests {
             bytes.extend_from_slice(&(payload.len() as u32).to_be_bytes());
             bytes.extend_from_slice(&payload);
             prop_assert!(decode(&bytes).is_err());
+        }
+    }
+
+    /// A station's Bye with the patient's check-in: the answers at the end, each optional; an
+    /// older hub ignores the field, and an answer out of range is refused.
+    #[test]
+    fn golden_bytes_of_a_bye_with_a_checkin_and_its_ranges() {
+        let bye = Frame::Bye(Bye {
+            session_id: "s1".into(),
+            reason: "session complete".into(),
+            final_seq: Some(7),
+            measures: Default::default(),
+            hub_unix_ms: None,
+            checkin: Some(crate::frame::CheckIn {
+                pain_0_10: Some(3),
+                tiredness_0_10: None,
+                difficulty: Some("about_right".into()),
+            }),
+        });
+        let bytes = encode_to_vec(&bye).unwrap();
+        assert_eq!(
+            escape(&bytes),
+            r#"TRHB\x00\x01\x05\x00\x00\x00\x00r{"session_id":"s1","reason":"session complete","final_seq":7,"checkin":{"pain_0_10":3,"difficulty":"about_right"}}"#
+        );
+        assert_eq!(decode(&bytes).unwrap().unwrap().0, bye);
+        for (pain, difficulty) in [(11, "about_right"), (3, "boring")] {
+            let mut bad = bye.clone();
+            if let Frame::Bye(b) = &mut bad {
+                b.checkin = Some(crate::frame::CheckIn {
+                    pain_0_10: Some(pain),
+                    tiredness_0_10: None,
+                    difficulty: Some(difficulty.into()),
+                });
+            }
+            let err = bad.validate().unwrap_err().0;
+            assert!(err.contains("checkin."), "{err}");
         }
     }
 }

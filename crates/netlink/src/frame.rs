@@ -232,6 +232,63 @@ pub struct Bye {
     /// station's Bye and from hubs older than this field.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hub_unix_ms: Option<u64>,
+    /// Station → hub: the patient's answers on the end screen (every one optional), if the
+    /// session asked. Absent from the hub's reply and from stations older than this field.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub checkin: Option<CheckIn>,
+}
+
+/// Highest answer of a 0–10 check-in question ([`CheckIn::pain_0_10`], [`CheckIn::tiredness_0_10`]).
+pub const MAX_CHECKIN_SCORE: u8 = 10;
+
+/// The answers [`CheckIn::difficulty`] may take.
+pub const CHECKIN_DIFFICULTIES: [&str; 3] = ["too_easy", "about_right", "too_hard"];
+
+/// The patient's answers to the end screen's three optional questions (`None`: skipped).
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct CheckIn {
+    /// Pain now, 0 (none) to 10 (worst imaginable).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pain_0_10: Option<u8>,
+    /// Tiredness now, 0 (not tired) to 10 (exhausted).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tiredness_0_10: Option<u8>,
+    /// How the session felt: one of [`CHECKIN_DIFFICULTIES`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub difficulty: Option<String>,
+}
+
+impl CheckIn {
+    /// True when every question was skipped.
+    pub fn is_empty(&self) -> bool {
+        self.pain_0_10.is_none() && self.tiredness_0_10.is_none() && self.difficulty.is_none()
+    }
+
+    /// Checks every answer is in its range; the message names the field.
+    pub fn validate(&self) -> Result<(), FieldError> {
+        for (name, v) in [
+            ("checkin.pain_0_10", self.pain_0_10),
+            ("checkin.tiredness_0_10", self.tiredness_0_10),
+        ] {
+            if let Some(v) = v
+                && v > MAX_CHECKIN_SCORE
+            {
+                return Err(FieldError(format!(
+                    "{name} is {v}, allowed 0 to {MAX_CHECKIN_SCORE}"
+                )));
+            }
+        }
+        if let Some(d) = &self.difficulty
+            && !CHECKIN_DIFFICULTIES.contains(&d.as_str())
+        {
+            return Err(FieldError(format!(
+                "checkin.difficulty is {:?}, allowed one of {}",
+                printable(d, 32),
+                CHECKIN_DIFFICULTIES.join(", ")
+            )));
+        }
+        Ok(())
+    }
 }
 
 /// The sender found a protocol error and is closing the connection.
@@ -404,6 +461,9 @@ impl Frame {
             Self::Bye(b) => {
                 check_id("session_id", &b.session_id)?;
                 check_text("reason", &b.reason, MAX_TEXT_LEN)?;
+                if let Some(c) = &b.checkin {
+                    c.validate()?;
+                }
                 check_named_values("measures", &b.measures)
             }
             Self::Error(e) => {

@@ -267,6 +267,8 @@ impl Db {
             .collect::<Result<_, HubError>>()?;
         for o in &mut out {
             o.trends = self.trends_of(&o.patient.id).await?;
+            // The patient's own word after the last session (migration 0006).
+            o.alerts.extend(self.pain_alert_of(&o.patient.id).await?);
         }
         Ok(out)
     }

@@ -154,6 +154,9 @@ impl Db {
         if !bye.measures.is_empty() {
             self.put_metrics(&bye.session_id, &bye.measures).await?;
         }
+        if let Some(checkin) = &bye.checkin {
+            self.put_checkin(&bye.session_id, checkin, now_ms).await?;
+        }
         let session = self
             .session(&bye.session_id)
             .await?

@@ -173,6 +173,7 @@ pub fn router(state: AppState) -> Router {
         .route("/api/patients", get(patients::list))
         .route("/api/patients/{id}", get(patients::one))
         .route("/api/patients/{id}/sessions", get(patients::sessions))
+        .route("/api/patients/{id}/checkins", get(patients::checkins))
         .route(
             "/api/patients/{id}/regimen",
             get(regimen::get_regimen).put(regimen::put_regimen),

@@ -60,3 +60,18 @@ pub(crate) async fn sessions(
         .await?;
     Ok(Json(sessions))
 }
+
+/// `GET /api/patients/{id}/checkins`: the patient's end-of-session answers, newest first.
+pub(crate) async fn checkins(
+    State(state): State<AppState>,
+    Authed(therapist): Authed,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<Vec<crate::db::SessionCheckIn>>, ApiError> {
+    let Path(id) = id?;
+    let patient = state.visible_patient(&therapist, &id).await?;
+    let checkins = state.db.checkins_of(&patient.id).await?;
+    state
+        .audit(&therapist.actor(), "read_checkins", &patient.id, "")
+        .await?;
+    Ok(Json(checkins))
+}

@@ -255,6 +255,7 @@ impl LinkTask {
             final_seq: self.last_produced_seq,
             measures: f.measures.clone(),
             hub_unix_ms: None,
+            checkin: f.checkin.clone(),
         });
         match encode_to_vec(&bye) {
             Ok(bytes) => {

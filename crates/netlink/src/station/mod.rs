@@ -155,6 +155,8 @@ struct Finish {
     reason: String,
     measures: BTreeMap<String, f64>,
     deadline: Instant,
+    /// The patient's check-in answers, if the session asked ([`StationLink::set_checkin`]).
+    checkin: Option<crate::frame::CheckIn>,
 }
 
 /// The running link; poll it for regimens, read its stats, finish it at the end of a session.
@@ -163,6 +165,8 @@ pub struct StationLink {
     finish_tx: Option<oneshot::Sender<Finish>>,
     task: JoinHandle<()>,
     regimens: mpsc::Receiver<Regimen>,
+    /// The check-in answers the `Bye` will carry ([`Self::set_checkin`]).
+    checkin: Option<crate::frame::CheckIn>,
 }
 
 /// Regimens buffered between the link task and the station's poll.
@@ -214,8 +218,24 @@ impl StationLink {
                 finish_tx: Some(finish_tx),
                 task,
                 regimens,
+                checkin: None,
             },
         ))
+    }
+
+    /// The patient's end-screen answers, sent in the session's `Bye`. Answers the protocol
+    /// would refuse (out of range) are not sent: the error is kept in
+    /// [`LinkStats::last_error`]. An empty check-in (every question skipped) is not sent.
+    pub fn set_checkin(&mut self, checkin: crate::frame::CheckIn) {
+        if checkin.is_empty() {
+            return;
+        }
+        match checkin.validate() {
+            Ok(()) => self.checkin = Some(checkin),
+            Err(e) => self
+                .shared
+                .set_error(format!("check-in answers not sent: {e}")),
+        }
     }
 
     /// Counters of the link; cheap (atomics and one short lock), safe from any thread.
@@ -273,6 +293,7 @@ impl StationLink {
                 reason: crate::frame::printable(reason, crate::frame::MAX_TEXT_LEN),
                 measures,
                 deadline,
+                checkin: self.checkin.take(),
             });
         }
         // The task honours the deadline itself; the grace only covers its last bookkeeping.

@@ -299,6 +299,7 @@ fn check_answer(hello: &Hello) -> Bye {
         final_seq: None,
         measures: Default::default(),
         hub_unix_ms: Some(crate::frame::unix_ms_now()),
+        checkin: None,
     }
 }
 
@@ -370,6 +371,7 @@ async fn frame_loop(
                     final_seq: last_seq(file).await,
                     measures: Default::default(),
                     hub_unix_ms: Some(crate::frame::unix_ms_now()),
+                    checkin: None,
                 });
                 send(out, frame_outgoing(&bye));
                 return "therapist hub shut down".to_owned();

@@ -104,6 +104,7 @@ pub(super) async fn handle_frame(
                     final_seq: stored,
                     measures: Default::default(),
                     hub_unix_ms: Some(crate::frame::unix_ms_now()),
+                    checkin: None,
                 }),
                 format!("bye: {}", bye.reason),
             ))

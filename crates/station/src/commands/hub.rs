@@ -592,7 +592,12 @@ fn report_json(report: &patients::PatientReport) -> serde_json::Value {
             })
         })
         .collect();
-    serde_json::json!({ "patient": report.patient, "stations": report.stations, "sessions": rows })
+    serde_json::json!({
+        "patient": report.patient,
+        "stations": report.stations,
+        "sessions": rows,
+        "checkins": report.checkins,
+    })
 }
 
 /// `hub patient show`, for people.

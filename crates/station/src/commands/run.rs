@@ -6,7 +6,7 @@ use crate::home::{Home, HomeArg};
 use crate::link::Link;
 use crate::render::window::WindowOptions;
 use crate::session::signals::install_stop_flag;
-use crate::session::{self, BodyKind, SessionOptions, haptic::Pacing};
+use crate::session::{self, BodyKind, SessionOptions, SessionReport, haptic::Pacing};
 use anyhow::{Context, bail};
 use clap::ValueEnum;
 use clock::Clock;
@@ -84,6 +84,11 @@ pub struct RunArgs {
     /// --duration says otherwise.
     #[arg(long, conflicts_with_all = ["record", "therapist", "regimen"])]
     pub try_out: bool,
+    /// After the last exercise the window shows the results and asks three optional
+    /// questions (pain, tiredness, difficulty), each page waiting at most this long, s; 0
+    /// shows no end screen (nor does a try-out, or a session stopped early).
+    #[arg(long, value_name = "S", default_value_t = crate::checkin::DEFAULT_QUESTION_TIMEOUT_S)]
+    pub checkin_timeout_s: u64,
 }
 
 /// How long a try-out lasts unless `--duration` says otherwise, s.
@@ -111,6 +116,7 @@ impl RunArgs {
             faults: Vec::new(),
             fullscreen: false,
             try_out: false,
+            checkin_timeout_s: crate::checkin::DEFAULT_QUESTION_TIMEOUT_S,
         }
     }
 
@@ -325,6 +331,27 @@ fn real_body(_args: &RunArgs) -> anyhow::Result<BodyKind> {
     )
 }
 
+/// The end screen of a windowed session (none for a try-out or with `--checkin-timeout-s 0`):
+/// its results against those the home keeps in `results_path`.
+fn end_screen(
+    args: &RunArgs,
+    results_path: Option<&std::path::Path>,
+) -> Option<impl Fn(&SessionReport) -> session::window::wire::EndScreen + Sync + use<>> {
+    if args.try_out || args.checkin_timeout_s == 0 {
+        return None;
+    }
+    let before = results_path
+        .map(crate::checkin::load_results)
+        .unwrap_or_default();
+    let question_timeout_s = args.checkin_timeout_s;
+    Some(
+        move |report: &SessionReport| session::window::wire::EndScreen {
+            lines: crate::checkin::result_lines(&crate::checkin::EndResults::of(report), &before),
+            question_timeout_s,
+        },
+    )
+}
+
 /// Run `telerehab run`: the session, then its report on stdout.
 pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     if args.try_out {
@@ -374,8 +401,10 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
         window = !args.headless,
         "starting session"
     );
-    let link = Link::start(&cfg, &clock, home.home.as_ref())?;
+    let mut link = Link::start(&cfg, &clock, home.home.as_ref())?;
     let mut window_restarts = 0;
+    let mut checkin = None;
+    let results_path = home.home.as_ref().map(|h| h.dir().join("results.json"));
     let report = if args.headless {
         session::run(&opts, &controls, &mut &link)?
     } else {
@@ -383,11 +412,32 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
         controls.pause.store(true, Ordering::Relaxed);
         let mut window = WindowOptions::new("telerehab");
         window.fullscreen = args.fullscreen;
-        let (report, account) =
-            session::window::run_with_window(&opts, &controls, &window, &mut &link, true)?;
-        window_restarts = account.map_or(0, |a| a.restarts);
+        let end = end_screen(&args, results_path.as_deref());
+        let (report, account) = session::window::run_with_window_and_end_screen(
+            &opts,
+            &controls,
+            &window,
+            &mut &link,
+            true,
+            end.as_ref().map(|f| f as _),
+        )?;
+        window_restarts = account.as_ref().map_or(0, |a| a.restarts);
+        checkin = account.and_then(|a| a.checkin);
         report
     };
+    if let Some(c) = &checkin {
+        link.set_checkin(c);
+    }
+    if let Some(path) = &results_path
+        && report.recorder.error.is_none()
+        && !args.try_out
+    {
+        let now = crate::checkin::EndResults::of(&report);
+        let before = crate::checkin::load_results(path);
+        if let Err(e) = crate::checkin::save_results(path, &now, &before) {
+            tracing::warn!("the session's results are not kept for the next end screen: {e:#}");
+        }
+    }
     // A finished recording is uploaded, also one the recorder stopped and finished early
     // because its disk ran low (the hub keeps it off that disk); a file left unfinished by a
     // write error is not (`telerehab recover` finishes it first).
@@ -399,6 +449,9 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     print!("{}", crate::report::render(&report, link_report.as_ref()));
     if let Some(log) = &session_log {
         println!("session log         {}", log.path().display());
+    }
+    if let Some(words) = checkin.as_ref().and_then(crate::checkin::answers_words) {
+        println!("check-in            {words}");
     }
     if window_restarts > 0 {
         println!(

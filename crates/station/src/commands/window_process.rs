@@ -5,11 +5,12 @@
 //! that crashes or hangs takes only this process down; the station notices, pauses the
 //! exercise and starts a new one ([`crate::session::window::supervisor`]).
 
+use crate::checkin::CheckInFlow;
 use crate::config::StationConfig;
 use crate::render::ScreenState;
 use crate::render::window::{UserRequest, WindowOptions};
 use crate::screen::{CourseView, live_screen_state};
-use crate::session::window::wire::{self, FromWindow, Hello, ToWindow};
+use crate::session::window::wire::{self, EndScreen, FromWindow, Hello, ToWindow};
 use anyhow::Context;
 use record::TickRecord;
 use regimen::Regimen;
@@ -25,6 +26,8 @@ struct Latest {
     record: Option<TickRecord>,
     /// The station closed the socket: the session is over.
     ended: bool,
+    /// The session is over and the station asked for the end screen (taken when shown).
+    end_screen: Option<EndScreen>,
 }
 
 /// No arguments: everything comes over the socket.
@@ -72,12 +75,17 @@ fn serve(socket: UnixStream) -> anyhow::Result<()> {
     let latest = Mutex::new(Latest::default());
     let draw = Arc::new(AtomicBool::new(true));
     let opened = Arc::new(AtomicBool::new(false));
+    // The end screen, once the station asks for it: it takes the keys, and Esc skips a
+    // question instead of closing the window.
+    let flow: Mutex<Option<CheckInFlow>> = Mutex::new(None);
+    let esc_keeps_open = Arc::new(AtomicBool::new(false));
     let options = WindowOptions {
         size: hello.size,
         fullscreen: hello.fullscreen,
         max_fps: hello.max_fps,
         draw_gate: hello.gated.then(|| draw.clone()),
         opened: Some(opened.clone()),
+        esc_keeps_open: Some(esc_keeps_open.clone()),
         ..WindowOptions::new(&hello.title)
     };
     std::thread::scope(|scope| {
@@ -90,13 +98,24 @@ fn serve(socket: UnixStream) -> anyhow::Result<()> {
             }
             // Ask for the next frame now; this one shows the newest the station sent.
             let asked = tell(&FromWindow::Pull);
-            let l = latest
+            let mut l = latest
                 .lock()
                 .unwrap_or_else(std::sync::PoisonError::into_inner);
+            let rec = l.record.unwrap_or_default();
+            let mut f = flow
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            if let Some(end) = l.end_screen.take() {
+                tracing::info!("end screen: the session's results and the check-in");
+                esc_keeps_open.store(true, Ordering::Release);
+                *f = Some(end_flow(end));
+            }
+            if let Some(flow) = f.as_mut() {
+                return end_screen_scene(flow, &view, &rec, &tell, &esc_keeps_open);
+            }
             if l.ended || !asked {
                 return None;
             }
-            let rec = l.record.unwrap_or_default();
             let screen = match live_screen_state(&rec) {
                 // Until the patient resumes, say why the exercise paused by itself.
                 ScreenState::Paused if explain_pause => lost_window_card(),
@@ -109,7 +128,15 @@ fn serve(socket: UnixStream) -> anyhow::Result<()> {
             Some(view.scene(&rec, screen))
         };
         let on_request = |r: UserRequest| {
-            tell(&FromWindow::Request(r));
+            let mut f = flow
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            match f.as_mut() {
+                Some(flow) => flow.apply(r, std::time::Instant::now()),
+                None => {
+                    tell(&FromWindow::Request(r));
+                }
+            }
         };
         let result = crate::render::window::run_with(&options, source, on_request);
         let last = match &result {
@@ -127,6 +154,34 @@ fn serve(socket: UnixStream) -> anyhow::Result<()> {
         }
         result.map(|_| ()).map_err(anyhow::Error::from)
     })
+}
+
+/// The end screen's pages from the station's request.
+fn end_flow(end: EndScreen) -> CheckInFlow {
+    CheckInFlow::new(
+        end.lines,
+        std::time::Duration::from_secs(end.question_timeout_s),
+        std::time::Instant::now(),
+    )
+}
+
+/// The end screen's page now, or `None` once it is over (its answers sent to the station, and
+/// the window closes).
+fn end_screen_scene(
+    flow: &mut CheckInFlow,
+    view: &CourseView,
+    rec: &TickRecord,
+    tell: &dyn Fn(&FromWindow) -> bool,
+    esc_keeps_open: &AtomicBool,
+) -> Option<crate::render::Scene> {
+    flow.tick(std::time::Instant::now());
+    if flow.is_done() {
+        tracing::info!(answers = ?flow.answers(), "end screen closed");
+        tell(&FromWindow::CheckIn(flow.answers().clone()));
+        esc_keeps_open.store(false, Ordering::Release);
+        return None;
+    }
+    Some(view.scene(rec, ScreenState::Welcome(flow.page())))
 }
 
 /// The pause card of a window that replaces a lost one.
@@ -165,6 +220,7 @@ fn read_frames(reader: &mut UnixStream, latest: &Mutex<Latest>, draw: &AtomicBoo
                 l.record = Some(*record);
                 draw.store(d, Ordering::Relaxed);
             }
+            Ok(Some(ToWindow::EndScreen(end))) => l.end_screen = Some(*end),
             Ok(Some(ToWindow::Hello(_))) => {
                 tracing::warn!("the station said hello twice; ignored");
             }

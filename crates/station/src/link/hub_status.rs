@@ -124,6 +124,7 @@ async fn converse<S: AsyncRead + AsyncWrite + Unpin>(mut stream: S, hello: &Hell
         final_seq: None,
         measures: Default::default(),
         hub_unix_ms: None,
+        checkin: None,
     });
     let mut bytes = match encode_to_vec(&Frame::Hello(hello.clone())) {
         Ok(b) => b,

@@ -205,6 +205,20 @@ impl Link {
         }
     }
 
+    /// The patient's end-screen answers, for the session's `Bye` (with a home, queued first
+    /// like the measures, so they reach the hub however the link fares).
+    pub fn set_checkin(&mut self, checkin: &netlink::CheckIn) {
+        let Some(inner) = self.inner.as_mut() else {
+            return;
+        };
+        if let Some(q) = &inner.queue {
+            q.lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .set_checkin(checkin);
+        }
+        inner.link.set_checkin(checkin.clone());
+    }
+
     /// End the link: send Bye, wait a short while for the last acknowledgements, and report
     /// honestly what was not delivered.
     ///

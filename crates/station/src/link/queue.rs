@@ -37,9 +37,15 @@ fn paths(dir: &Path, session_id: &str) -> [PathBuf; 3] {
     ]
 }
 
+/// A session's check-in answers, for its `Bye` (beside its measures).
+fn checkin_path(dir: &Path, session_id: &str) -> PathBuf {
+    dir.join(format!("{session_id}.checkin.json"))
+}
+
 /// Removes a delivered session's queue files (those that exist).
 fn remove_session(dir: &Path, session_id: &str) {
-    for p in paths(dir, session_id) {
+    let [summaries, hello, measures] = paths(dir, session_id);
+    for p in [summaries, hello, measures, checkin_path(dir, session_id)] {
         match std::fs::remove_file(&p) {
             Ok(()) => {}
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
@@ -105,6 +111,20 @@ impl QueueFile {
         }
     }
 
+    /// Keeps the patient's end-screen answers for the session's `Bye`, as the measures.
+    pub fn set_checkin(&mut self, checkin: &netlink::CheckIn) {
+        if self.error.is_some() || checkin.is_empty() {
+            return;
+        }
+        let path = checkin_path(&self.dir, &self.session_id);
+        let written = serde_json::to_vec(checkin)
+            .map_err(|e| e.to_string())
+            .and_then(|json| write_private(&path, &json).map_err(|e| format!("{e:#}")));
+        if let Err(e) = written {
+            self.error = Some(format!("{}: {e}", path.display()));
+        }
+    }
+
     /// Removes the session's files: the hub has everything.
     pub fn delivered(self) {
         remove_session(&self.dir, &self.session_id);
@@ -120,6 +140,8 @@ pub struct Queued {
     pub summaries: Vec<Summary>,
     /// Its movement measures, for its `Bye` (empty if the session did not end in order).
     pub measures: BTreeMap<String, f64>,
+    /// The patient's end-screen answers, for its `Bye`, if any.
+    pub checkin: Option<netlink::CheckIn>,
 }
 
 /// The sessions waiting in `dir`, oldest first (by session id).
@@ -158,10 +180,14 @@ pub fn pending(dir: &Path) -> anyhow::Result<Vec<Queued>> {
             .ok()
             .and_then(|json| serde_json::from_slice(&json).ok())
             .unwrap_or_default();
+        let checkin = std::fs::read(checkin_path(dir, &hello.session_id))
+            .ok()
+            .and_then(|json| serde_json::from_slice(&json).ok());
         out.push(Queued {
             hello,
             summaries,
             measures,
+            checkin,
         });
     }
     Ok(out)
@@ -221,8 +247,11 @@ pub async fn deliver_sessions(
             .channel_capacity
             .max(q.summaries.len() + 1)
             .min(MAX_LINK_CHANNEL);
-        let (sender, link) = StationLink::spawn(&handle, config)
+        let (sender, mut link) = StationLink::spawn(&handle, config)
             .with_context(|| format!("queued session {session_id}"))?;
+        if let Some(c) = q.checkin {
+            link.set_checkin(c);
+        }
         let mut unsent = 0_u64;
         for s in q.summaries {
             if let Err(e) = sender.send(s) {

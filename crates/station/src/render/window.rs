@@ -79,6 +79,9 @@ pub struct WindowOptions {
     /// Set once the window is open and can draw (for a caller on another thread, or in
     /// another process, that must tell a window that never opened from one that died).
     pub opened: Option<Arc<AtomicBool>>,
+    /// While this flag is set, Esc is only reported (the end screen's "skip this question")
+    /// and does not close the window; `None` or unset: Esc closes it.
+    pub esc_keeps_open: Option<Arc<AtomicBool>>,
 }
 
 impl WindowOptions {
@@ -92,6 +95,7 @@ impl WindowOptions {
             max_fps: None,
             draw_gate: None,
             opened: None,
+            esc_keeps_open: None,
         }
     }
 }
@@ -346,7 +350,10 @@ impl<F: FnMut() -> Option<Scene>, G: FnMut(UserRequest)> ApplicationHandler for 
                 match event.logical_key {
                     Key::Named(NamedKey::Escape) => {
                         (self.on_request)(UserRequest::Quit);
-                        self.close(event_loop);
+                        let keep = self.options.esc_keeps_open.as_ref();
+                        if !keep.is_some_and(|k| k.load(Ordering::Acquire)) {
+                            self.close(event_loop);
+                        }
                     }
                     Key::Named(NamedKey::F11) if !event.repeat => self.toggle_fullscreen(),
                     Key::Named(NamedKey::Space) if !event.repeat => {

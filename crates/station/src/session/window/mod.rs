@@ -14,7 +14,7 @@ use crate::render::window::WindowOptions;
 use anyhow::Context;
 use record::TickRecord;
 use std::sync::atomic::{AtomicBool, Ordering};
-pub use supervisor::WindowAccount;
+pub use supervisor::{EndPhase, WindowAccount};
 
 /// Feeds the window's triple buffer with every tick before passing it on.
 struct ScreenFeed<'a> {
@@ -46,6 +46,21 @@ pub fn run_with_window(
     observer: &mut dyn SessionObserver,
     background_priority: bool,
 ) -> anyhow::Result<(SessionReport, Option<WindowAccount>)> {
+    run_with_window_and_end_screen(opts, controls, window, observer, background_priority, None)
+}
+
+/// [`run_with_window`], then (if the session ran to its end, not stopped) the end screen
+/// `end` builds from the session's report: the haptic loop has stopped (torque zero) and the
+/// window stays up for the results and the check-in questions. The patient's answers are in
+/// the account's [`WindowAccount::checkin`].
+pub fn run_with_window_and_end_screen(
+    opts: &SessionOptions,
+    controls: &Controls,
+    window: &WindowOptions,
+    observer: &mut dyn SessionObserver,
+    background_priority: bool,
+    end: Option<&(dyn Fn(&SessionReport) -> wire::EndScreen + Sync)>,
+) -> anyhow::Result<(SessionReport, Option<WindowAccount>)> {
     // The window process (started from this thread) stays off the haptic thread's core.
     super::haptic::cores::keep_off_the_haptic_core();
     let hello = wire::Hello {
@@ -68,6 +83,7 @@ pub fn run_with_window(
         supervisor::Launcher::this_executable().context("cannot find the telerehab program")?;
     let (input, mut output) = triple_buffer::triple_buffer(&TickRecord::default());
     let done = AtomicBool::new(false);
+    let end_phase = EndPhase::default();
     std::thread::scope(|scope| {
         let session = std::thread::Builder::new()
             .name("session".into())
@@ -80,6 +96,15 @@ pub fn run_with_window(
                         inner: observer,
                     },
                 );
+                // The loop has stopped: the end screen, for a session not stopped early.
+                if let (Some(end), Ok(report)) = (end, &r)
+                    && !controls.stop.load(Ordering::Relaxed)
+                {
+                    *end_phase
+                        .screen
+                        .lock()
+                        .unwrap_or_else(std::sync::PoisonError::into_inner) = Some(end(report));
+                }
                 done.store(true, Ordering::Release);
                 r
             })
@@ -92,12 +117,24 @@ pub fn run_with_window(
                 controls,
                 done: &done,
                 clock: &opts.clock,
+                end_phase: end.is_some().then_some(&end_phase),
             },
             &mut output,
         );
         let report = session
             .join()
             .map_err(|_| anyhow::anyhow!("session thread panicked (torque was zeroed)"))??;
-        Ok((report, account))
+        let answers = end_phase
+            .answers
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .take();
+        Ok((
+            report,
+            account.map(|a| WindowAccount {
+                checkin: answers,
+                ..a
+            }),
+        ))
     })
 }

@@ -6,7 +6,7 @@
 //! Nothing here runs on the haptic thread, and nothing the window does can block it: the
 //! haptic thread only ever writes the newest tick into a wait-free triple buffer.
 
-use super::wire::{self, FromWindow, Hello, ToWindow};
+use super::wire::{self, EndScreen, FromWindow, Hello, ToWindow};
 use crate::render::AdapterSummary;
 use crate::render::window::UserRequest;
 use crate::session::Controls;
@@ -16,7 +16,7 @@ use std::os::unix::net::UnixStream;
 use std::os::unix::process::CommandExt;
 use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc;
+use std::sync::{Mutex, mpsc};
 use std::time::Duration;
 
 /// Longest a window may take to open (a software rasteriser compiles its pipelines first).
@@ -41,6 +41,46 @@ pub struct WindowAccount {
     pub frames_drawn: u64,
     /// Windows started again after one died or hung.
     pub restarts: u32,
+    /// The patient's answers on the end screen, if it was shown and answered.
+    pub checkin: Option<netlink::CheckIn>,
+}
+
+/// The end screen of a session: what it shows (set by the session's thread once the haptic
+/// loop has stopped, before the session is marked done) and the patient's answers.
+#[derive(Debug, Default)]
+pub struct EndPhase {
+    /// What to show; `None`: no end screen (the window closes when the session ends).
+    pub screen: Mutex<Option<EndScreen>>,
+    /// The answers, once the window sent them.
+    pub answers: Mutex<Option<netlink::CheckIn>>,
+    /// The end screen was sent to the window.
+    sent: AtomicBool,
+}
+
+impl EndPhase {
+    /// The screen to send the window now, once (the session is over).
+    fn take_screen_to_send(&self) -> Option<EndScreen> {
+        let screen = lock(&self.screen).clone()?;
+        (!self.sent.swap(true, Ordering::AcqRel)).then_some(screen)
+    }
+
+    /// The window should stay up for the end screen: there is one and it is not answered.
+    fn asking(&self) -> bool {
+        lock(&self.screen).is_some() && lock(&self.answers).is_none()
+    }
+
+    /// The longest the station keeps the window up for the end screen: every page's timeout
+    /// and a margin.
+    fn limit(&self) -> Duration {
+        let per_page = lock(&self.screen)
+            .as_ref()
+            .map_or(0, |s| s.question_timeout_s);
+        Duration::from_secs(per_page * 5 + 10)
+    }
+}
+
+fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 
 /// Why one window process ended.
@@ -89,6 +129,8 @@ pub struct Supervised<'a> {
     /// The session's clock: every deadline here (open, hang, close, back-off) is read from
     /// it. A window runs only beside a live session, whose clock is the real one.
     pub clock: &'a Clock,
+    /// The end screen, if the session has one: the window stays up for it after the session.
+    pub end_phase: Option<&'a EndPhase>,
 }
 
 /// Time on `clock` since `since_ns` (zero if the clock has not moved on).
@@ -205,14 +247,23 @@ fn run_one(
                 closed: None,
             };
         }
-        let gate = s.gate;
+        let (gate, done, end_phase) = (s.gate, s.done, s.end_phase);
         scope.spawn(move || {
             let gone = loop {
                 match wire::recv::<FromWindow>(&mut from_window) {
                     Ok(Some(FromWindow::Pull)) => {
-                        let frame = ToWindow::Frame {
-                            record: Box::new(*output.read()),
-                            draw: gate.is_none_or(|g| g.load(Ordering::Relaxed)),
+                        // Once the session is over, the next pull is answered with the end
+                        // screen (once); the window keeps pulling as its heartbeat.
+                        let end = done
+                            .load(Ordering::Acquire)
+                            .then(|| end_phase.and_then(EndPhase::take_screen_to_send))
+                            .flatten();
+                        let frame = match end {
+                            Some(screen) => ToWindow::EndScreen(Box::new(screen)),
+                            None => ToWindow::Frame {
+                                record: Box::new(*output.read()),
+                                draw: gate.is_none_or(|g| g.load(Ordering::Relaxed)),
+                            },
                         };
                         // A frame that cannot be sent (the session is over and our side is
                         // shut, or the window is going) is no reason to stop listening: its
@@ -263,6 +314,8 @@ fn watch(s: &Supervised<'_>, rx: &mpsc::Receiver<Heard>, socket: &UnixStream) ->
     let mut opened = false;
     let mut quit = false;
     let mut closing_since_ns: Option<u64> = None;
+    // When the end screen began (the session ended with the window up).
+    let mut end_since_ns: Option<u64> = None;
     let mut closed = None;
     let mut failed: Option<String> = None;
     loop {
@@ -281,6 +334,12 @@ fn watch(s: &Supervised<'_>, rx: &mpsc::Receiver<Heard>, socket: &UnixStream) ->
                 adapter,
             })) => closed = Some((frames_drawn, adapter)),
             Ok(Heard::Said(FromWindow::Failed(why))) => failed = Some(why),
+            Ok(Heard::Said(FromWindow::CheckIn(answers))) => {
+                if let Some(e) = s.end_phase {
+                    tracing::info!(?answers, "the patient answered the end screen");
+                    *lock(&e.answers) = Some(answers);
+                }
+            }
             // Pulls are answered by the reader thread and reach here as `Pulled`.
             Ok(Heard::Said(FromWindow::Pull)) => {}
             gone @ (Ok(Heard::Gone(_)) | Err(mpsc::RecvTimeoutError::Disconnected)) => {
@@ -306,7 +365,10 @@ fn watch(s: &Supervised<'_>, rx: &mpsc::Receiver<Heard>, socket: &UnixStream) ->
             }
             Err(mpsc::RecvTimeoutError::Timeout) => {}
         }
-        if s.done.load(Ordering::Acquire) && closing_since_ns.is_none() {
+        if s.done.load(Ordering::Acquire)
+            && closing_since_ns.is_none()
+            && !end_screen_holds(s, opened, &mut end_since_ns)
+        {
             // The session is over: closing our side ends the window's loop.
             let _ = socket.shutdown(std::net::Shutdown::Write);
             closing_since_ns = Some(s.clock.now_ns());
@@ -331,6 +393,16 @@ fn watch(s: &Supervised<'_>, rx: &mpsc::Receiver<Heard>, socket: &UnixStream) ->
             closed,
         };
     }
+}
+
+/// After the session: the open window stays up while it asks the end screen's questions,
+/// until answered or [`EndPhase::limit`] after the session ended.
+fn end_screen_holds(s: &Supervised<'_>, opened: bool, end_since_ns: &mut Option<u64>) -> bool {
+    let Some(e) = s.end_phase.filter(|e| opened && e.asking()) else {
+        return false;
+    };
+    let since = *end_since_ns.get_or_insert_with(|| s.clock.now_ns());
+    elapsed(s.clock, since) <= e.limit()
 }
 
 /// Apply a key the patient pressed in the window to the session.

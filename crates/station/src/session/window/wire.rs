@@ -55,6 +55,19 @@ pub enum ToWindow {
         /// Draw it (false: the window stays open without drawing).
         draw: bool,
     },
+    /// The session is over (the haptic loop has stopped, torque zero): show the end screen
+    /// and ask the check-in questions ([`crate::checkin`]), then answer
+    /// [`FromWindow::CheckIn`] and close.
+    EndScreen(Box<EndScreen>),
+}
+
+/// What the end screen shows and how long each of its pages waits.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct EndScreen {
+    /// The session's results in plain words, one line each.
+    pub lines: Vec<String>,
+    /// Longest wait on one page before it goes on as if skipped, s.
+    pub question_timeout_s: u64,
 }
 
 /// From the window to the station.
@@ -75,6 +88,8 @@ pub enum FromWindow {
     },
     /// The window could not open, or drawing failed.
     Failed(String),
+    /// The patient's answers on the end screen (each optional), just before it closes.
+    CheckIn(netlink::CheckIn),
 }
 
 /// Write one message.
