@@ -76,8 +76,9 @@ pub struct RunArgs {
     /// wheel-stall, haptic-stall, disk-full, imu-unplug, imu-nan). Needs --sim.
     #[arg(long = "fault", value_name = "KIND@SECONDS", value_parser = crate::session::faults::FaultSpec::parse)]
     pub faults: Vec<session::faults::FaultSpec>,
-    /// Open the patient's window full screen (F11 toggles it).
-    #[arg(long)]
+    /// Open the patient's window in a window rather than full screen, the default (F11
+    /// toggles it).
+    #[arg(long = "windowed", action = clap::ArgAction::SetFalse)]
     pub fullscreen: bool,
     /// A short practice on the simulated wheel: neither recorded nor sent to the clinic, the
     /// station's home untouched (the first-run page's F2). Implies --sim; 60 s unless

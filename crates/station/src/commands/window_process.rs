@@ -8,8 +8,9 @@
 use crate::config::StationConfig;
 use crate::render::ScreenState;
 use crate::render::window::{UserRequest, WindowOptions};
-use crate::screen::{CourseView, live_screen_state};
+use crate::screen::{CourseView, WindowState, live_screen_state};
 use crate::session::window::wire::{self, FromWindow, Hello, ToWindow};
+use crate::session::{BreakKind, BreakNow};
 use anyhow::Context;
 use record::TickRecord;
 use regimen::Regimen;
@@ -23,6 +24,8 @@ use std::sync::{Arc, Mutex};
 #[derive(Default)]
 struct Latest {
     record: Option<TickRecord>,
+    /// The break in progress.
+    brk: BreakNow,
     /// The station closed the socket: the session is over.
     ended: bool,
 }
@@ -78,8 +81,13 @@ fn serve(socket: UnixStream) -> anyhow::Result<()> {
         max_fps: hello.max_fps,
         draw_gate: hello.gated.then(|| draw.clone()),
         opened: Some(opened.clone()),
+        confirm_end: true,
         ..WindowOptions::new(&hello.title)
     };
+    // Esc was pressed once: the next Esc ends, Space goes on.
+    let confirming = AtomicBool::new(false);
+    let in_break = AtomicBool::new(false);
+    let shown_at = std::time::Instant::now();
     std::thread::scope(|scope| {
         scope.spawn(|| read_frames(&mut reader, &latest, &draw));
         let mut told_opened = false;
@@ -97,9 +105,21 @@ fn serve(socket: UnixStream) -> anyhow::Result<()> {
                 return None;
             }
             let rec = l.record.unwrap_or_default();
-            let screen = match live_screen_state(&rec) {
+            in_break.store(l.brk.kind != BreakKind::None, Ordering::Relaxed);
+            let state = WindowState {
+                brk: l.brk,
+                confirming_end: confirming.load(Ordering::Relaxed),
+                anim_s: shown_at.elapsed().as_secs_f64(),
+            };
+            let screen = match view.screen_state(&rec, &state) {
                 // Until the patient resumes, say why the exercise paused by itself.
-                ScreenState::Paused if explain_pause => lost_window_card(),
+                ScreenState::Instruction { .. }
+                    if explain_pause
+                        && !state.confirming_end
+                        && live_screen_state(&rec) == ScreenState::Paused =>
+                {
+                    lost_window_card()
+                }
                 ScreenState::Running => {
                     explain_pause = false;
                     ScreenState::Running
@@ -109,6 +129,23 @@ fn serve(socket: UnixStream) -> anyhow::Result<()> {
             Some(view.scene(&rec, screen))
         };
         let on_request = |r: UserRequest| {
+            let asking = confirming.load(Ordering::Relaxed);
+            let r = match r {
+                // Esc once asks (and the exercise waits); Esc again ends.
+                UserRequest::AskEnd if asking => UserRequest::Quit,
+                UserRequest::AskEnd => {
+                    confirming.store(true, Ordering::Relaxed);
+                    UserRequest::AskEnd
+                }
+                // Space (or R) after Esc: go on.
+                UserRequest::TogglePause | UserRequest::Typed('r' | 'R') if asking => {
+                    confirming.store(false, Ordering::Relaxed);
+                    UserRequest::TogglePause
+                }
+                UserRequest::TogglePause if in_break.load(Ordering::Relaxed) => UserRequest::GoOn,
+                UserRequest::Typed('r' | 'R') => UserRequest::Rest,
+                other => other,
+            };
             tell(&FromWindow::Request(r));
         };
         let result = crate::render::window::run_with(&options, source, on_request);
@@ -161,8 +198,13 @@ fn read_frames(reader: &mut UnixStream, latest: &Mutex<Latest>, draw: &AtomicBoo
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
         match frame {
-            Ok(Some(ToWindow::Frame { record, draw: d })) => {
+            Ok(Some(ToWindow::Frame {
+                record,
+                draw: d,
+                brk,
+            })) => {
                 l.record = Some(*record);
+                l.brk = brk;
                 draw.store(d, Ordering::Relaxed);
             }
             Ok(Some(ToWindow::Hello(_))) => {

@@ -37,6 +37,12 @@ pub enum UserRequest {
     TogglePause,
     /// Esc or the window's close button: end the session.
     Quit,
+    /// Esc in a window that asks before ending ([`WindowOptions::confirm_end`]).
+    AskEnd,
+    /// A rest now (the session window's R, or a wheel button).
+    Rest,
+    /// End the break in progress and go on now (Space during a rest).
+    GoOn,
     /// ←: seek back (replay).
     SeekBack,
     /// →: seek forward (replay).
@@ -79,6 +85,9 @@ pub struct WindowOptions {
     /// Set once the window is open and can draw (for a caller on another thread, or in
     /// another process, that must tell a window that never opened from one that died).
     pub opened: Option<Arc<AtomicBool>>,
+    /// Esc asks before ending ([`UserRequest::AskEnd`], the window stays open); the close
+    /// button still ends at once.
+    pub confirm_end: bool,
 }
 
 impl WindowOptions {
@@ -92,6 +101,7 @@ impl WindowOptions {
             max_fps: None,
             draw_gate: None,
             opened: None,
+            confirm_end: false,
         }
     }
 }
@@ -344,6 +354,11 @@ impl<F: FnMut() -> Option<Scene>, G: FnMut(UserRequest)> ApplicationHandler for 
             }
             WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Pressed => {
                 match event.logical_key {
+                    Key::Named(NamedKey::Escape) if self.options.confirm_end => {
+                        if !event.repeat {
+                            (self.on_request)(UserRequest::AskEnd);
+                        }
+                    }
                     Key::Named(NamedKey::Escape) => {
                         (self.on_request)(UserRequest::Quit);
                         self.close(event_loop);
