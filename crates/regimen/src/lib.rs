@@ -6,6 +6,7 @@
 //! kind = "sine"            # any vehicle::ExerciseSpec: kind + that kind's fields
 //! amplitude_m = 2.0
 //! duration_s = 90.0
+//! rest_s = 30.0            # optional: a rest after this exercise (0–600 s)
 //! [exercise.haptic.model]  # optional: spring–mass–damper of eq. 3.5 for this exercise
 //! k_nm_per_rad = 0.3
 //! [[exercise.haptic.effects]]   # optional: DirectInput-style effects played throughout

@@ -196,6 +196,29 @@ pub struct WindowState {
     pub anim_s: f64,
 }
 
+/// The page a session that cannot start shows instead: the device check's lines (what is
+/// missing, in plain words) and how to try again.
+pub fn cannot_start_page(lines: &[render::StatusLine]) -> render::Welcome {
+    let mut lines: Vec<render::StatusLine> = lines
+        .iter()
+        .filter(|l| l.ok == Some(false))
+        .map(|l| render::StatusLine {
+            ok: l.ok,
+            // This page does not update: the patient starts again once it is done.
+            text: l.text.replace(" This page updates by itself.", ""),
+        })
+        .collect();
+    lines.push(render::StatusLine {
+        ok: None,
+        text: "Then start telerehab again.".into(),
+    });
+    render::Welcome {
+        title: "The session cannot start yet".into(),
+        lines,
+        ..render::Welcome::default()
+    }
+}
+
 /// The question before ending a session early.
 pub fn confirm_end_card() -> ScreenState {
     ScreenState::Instruction {
@@ -217,17 +240,14 @@ impl CourseView {
         match live_screen_state(rec) {
             ScreenState::Start => self.next_card(index, None, w, "Space: start"),
             ScreenState::Paused if w.brk.kind != BreakKind::None => {
-                let heading = match w.brk.kind {
-                    BreakKind::Next => "Next",
-                    _ => "Rest",
-                };
                 let mut card = self.next_card(index, Some(w.brk.left_s), w, "Space: go on now");
                 if let ScreenState::Next(c) = &mut card {
-                    c.heading = if w.brk.kind == BreakKind::Asked {
-                        "Rest · then back to".into()
-                    } else {
-                        format!("{heading} · then")
-                    };
+                    c.heading = match w.brk.kind {
+                        BreakKind::Asked => "Rest · then back to",
+                        BreakKind::Prescribed => "Rest · next",
+                        _ => "Next",
+                    }
+                    .into();
                 }
                 card
             }

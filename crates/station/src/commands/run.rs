@@ -326,6 +326,41 @@ fn real_body(_args: &RunArgs) -> anyhow::Result<BodyKind> {
     )
 }
 
+/// A session on the real devices with the patient's window and no usable wheel: the reason
+/// and what to do, on the screen in plain words until a key is pressed (and in the terminal),
+/// then the error. Without a display, only the error.
+/// With a wheel, its input node (its buttons start, pause and resume).
+fn no_wheel_no_mystery(cfg: &StationConfig) -> anyhow::Result<Option<PathBuf>> {
+    let check = crate::front_door::checks::check_devices(&cfg.wheel, cfg.haptic.safety.ceiling_nm);
+    if check.wheel_ready {
+        return Ok(check.wheel_path.map(PathBuf::from));
+    }
+    let mut page = crate::screen::cannot_start_page(&check.lines);
+    page.keys = vec!["Any key: close".into()];
+    let scene = crate::render::Scene {
+        screen: crate::render::ScreenState::Welcome(page),
+        ..crate::render::Scene::default()
+    };
+    let closed = std::cell::Cell::new(false);
+    let mut window = WindowOptions::new("telerehab");
+    window.fullscreen = true;
+    let shown = crate::render::window::run_with(
+        &window,
+        || (!closed.get()).then(|| scene.clone()),
+        |_| closed.set(true),
+    );
+    if let Err(e) = shown {
+        tracing::warn!("cannot show why the session cannot start: {e}");
+    }
+    let why: Vec<&str> = check
+        .lines
+        .iter()
+        .filter(|l| l.ok == Some(false))
+        .map(|l| l.text.as_str())
+        .collect();
+    bail!("the session cannot start: {}", why.join(" "))
+}
+
 /// Run `telerehab run`: the session, then its report on stdout.
 pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     if args.try_out {
@@ -350,6 +385,11 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
         BodyKind::Simulated
     } else {
         real_body(&args)?
+    };
+    let wheel_node = if !args.sim && !args.headless {
+        no_wheel_no_mystery(&cfg)?
+    } else {
+        None
     };
     let pacing = match args.speed {
         Speed::Realtime => Pacing::RealTime,
@@ -384,8 +424,21 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
         controls.pause.store(true, Ordering::Relaxed);
         let mut window = WindowOptions::new("telerehab");
         window.fullscreen = args.fullscreen;
-        let (report, account) =
-            session::window::run_with_window(&opts, &controls, &window, &mut &link, true)?;
+        let buttons_done = std::sync::atomic::AtomicBool::new(false);
+        let (report, account) = std::thread::scope(|scope| {
+            // The wheel's and a gamepad's buttons do what Space does.
+            let buttons = std::thread::Builder::new()
+                .name("buttons".into())
+                .spawn_scoped(scope, || {
+                    session::buttons::watch(&controls, wheel_node.as_deref(), &buttons_done);
+                });
+            let r = session::window::run_with_window(&opts, &controls, &window, &mut &link, true);
+            buttons_done.store(true, Ordering::Release);
+            if let Ok(b) = buttons {
+                let _ = b.join();
+            }
+            r
+        })?;
         window_restarts = account.map_or(0, |a| a.restarts);
         report
     };
@@ -396,6 +449,12 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
         .record
         .as_deref()
         .filter(|_| report.recorder.mcap_bytes.is_some());
+    if report.haptic.paused_too_long {
+        tracing::warn!(
+            limit_s = cfg.session.pause_limit_s,
+            "the session ended: paused too long"
+        );
+    }
     let link_report = link.finish(report.summaries, &report.recorder.measures.named, recorded);
     print!("{}", crate::report::render(&report, link_report.as_ref()));
     if let Some(log) = &session_log {

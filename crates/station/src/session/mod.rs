@@ -4,6 +4,7 @@
 pub mod arm;
 pub mod arm_calibration;
 pub mod breaks;
+pub mod buttons;
 mod controls;
 pub mod course;
 pub mod disk_space;
