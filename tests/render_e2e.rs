@@ -87,6 +87,13 @@ fn press(key: &str) {
     press_in("^telerehab$", key);
 }
 
+/// End the session as a patient does: Esc, which asks (and the exercise waits), then Esc again.
+fn end_the_session() {
+    press("Escape");
+    std::thread::sleep(std::time::Duration::from_millis(1000));
+    press("Escape");
+}
+
 /// Press `key` in the first window whose name matches `name` (a regular expression), waiting
 /// for it to open.
 fn press_in(name: &str, key: &str) {
@@ -135,7 +142,7 @@ fn space_in_the_patient_window_starts_pauses_and_resumes_the_exercise_and_esc_en
     // on a loaded machine, whose loop skips deadlines and so runs the clock slower than the wall
     // (1.5 s once was not, with the whole suite running beside it).
     std::thread::sleep(std::time::Duration::from_millis(3000));
-    press("Escape");
+    end_the_session();
     let mut report = String::new();
     std::io::Read::read_to_string(&mut stdout, &mut report).unwrap();
     assert!(child.wait().unwrap().success(), "{report}");
@@ -167,8 +174,8 @@ fn space_in_the_patient_window_starts_pauses_and_resumes_the_exercise_and_esc_en
     let kinds: Vec<bool> = stretches.iter().map(|s| s.0).collect();
     assert_eq!(
         kinds,
-        [true, false, true, false],
-        "waiting, running, paused, running"
+        [true, false, true, false, true],
+        "waiting, running, paused, running, waiting while asked to end"
     );
     assert!(stretches[0].1.iter().all(|&t| t == 0.0));
     // Held at a time after the start. How much exercise time one wall second of running gives
@@ -349,7 +356,7 @@ fn session_losing_its_window(dir: &std::path::Path, signal: &str) -> (String, St
     // Long enough for the resumed exercise to record scores (every 100 ms of exercise time)
     // on a loaded machine, whose loop runs the exercise clock slower than the wall.
     std::thread::sleep(std::time::Duration::from_millis(1500));
-    press("Escape");
+    end_the_session();
     let mut report = String::new();
     stdout.read_to_string(&mut report).unwrap();
     log.join().unwrap();
@@ -377,8 +384,8 @@ fn assert_paused_safely_while_the_window_was_lost(dir: &std::path::Path) {
     let kinds: Vec<bool> = stretches.iter().map(|s| s.0).collect();
     assert_eq!(
         kinds,
-        [true, false, true, false],
-        "waiting, running, paused when the window was lost, running"
+        [true, false, true, false, true],
+        "waiting, running, paused when the window was lost, running, waiting while asked to end"
     );
     let paused_at_s = scores[stretches[2].1].t_s;
     let resumed_at_s = scores[stretches[3].1].t_s;
@@ -432,4 +439,109 @@ fn a_window_process_that_stops_answering_is_replaced_and_the_exercise_paused() {
         "{report}"
     );
     assert_paused_safely_while_the_window_was_lost(dir.path());
+}
+
+/// Where a window test saves what the screen showed (`$TELEREHAB_SCREENSHOTS`, for
+/// docs/screenshots), or nowhere.
+fn screenshot(name: &str) {
+    if let Some(dir) = std::env::var_os("TELEREHAB_SCREENSHOTS") {
+        let path = std::path::Path::new(&dir).join(format!("{name}.png"));
+        let ok = Command::new("import")
+            .args(["-window", "root"])
+            .arg(&path)
+            .status()
+            .is_ok_and(|s| s.success());
+        assert!(ok, "cannot take the screenshot {}", path.display());
+    }
+}
+
+#[test]
+fn a_prescribed_rest_counts_down_between_exercises_and_esc_asks_before_ending() {
+    let Some(_display) = the_display() else {
+        return;
+    };
+    use std::io::{BufReader, Read};
+    let dir = tempfile::tempdir().unwrap();
+    let regimen = dir.path().join("rest.toml");
+    std::fs::write(
+        &regimen,
+        "[[exercise]]\nkind = \"sine\"\nduration_s = 2.0\nrest_s = 60.0\n\n\
+         [[exercise]]\nkind = \"dial\"\nduration_s = 30.0\n",
+    )
+    .unwrap();
+    let mut child = Command::new(telerehab_bin())
+        .args(["run", "--sim", "--seed", "7", "--regimen"])
+        .arg(&regimen)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut stdout = BufReader::new(child.stdout.take().unwrap());
+    assert!(
+        wait_for_line(&mut stdout, "render: adapter"),
+        "the window never opened"
+    );
+    // The first exercise's card, then Space starts it; 2 s of exercise (twice the wall time
+    // on a loaded machine) and its rest begins, 60 s long.
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    screenshot("session-1-next-exercise");
+    press("space");
+    std::thread::sleep(std::time::Duration::from_millis(6000));
+    screenshot("session-2-rest-countdown");
+    // Esc asks, and the session goes on: Space answers "go on".
+    press("Escape");
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    screenshot("session-3-end-confirmation");
+    assert!(child.try_wait().unwrap().is_none(), "one Esc ended it");
+    press("space");
+    std::thread::sleep(std::time::Duration::from_millis(1000));
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "Space after Esc ended it"
+    );
+    end_the_session();
+    let mut report = String::new();
+    stdout.read_to_string(&mut report).unwrap();
+    assert!(child.wait().unwrap().success(), "{report}");
+    // One rest, under way when the session was ended (less than its 60 s).
+    let rest = report
+        .lines()
+        .find_map(|l| l.strip_prefix("rests"))
+        .unwrap_or_else(|| panic!("no rest in the report:\n{report}"));
+    let mut words = rest.split_whitespace();
+    assert_eq!(words.next(), Some("1"), "{rest}");
+    let rest_s: f64 = words
+        .next()
+        .and_then(|w| w.trim_start_matches('(').parse().ok())
+        .unwrap_or_else(|| panic!("{rest}"));
+    assert!(rest_s > 1.0 && rest_s < 60.0, "rested {rest_s} s");
+}
+
+#[test]
+fn a_session_without_a_wheel_says_why_on_the_screen_until_a_key_then_fails_saying_so() {
+    let Some(_display) = the_display() else {
+        return;
+    };
+    let cfg = station::config::StationConfig::default();
+    if station::front_door::checks::check_devices(&cfg.wheel, None).wheel_ready {
+        eprintln!("SKIPPED: a wheel is plugged in");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let child = Command::new(telerehab_bin())
+        .args(["run", "--duration", "5"])
+        .env("TELEREHAB_HOME", dir.path())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The card stays until a key: still there after a while.
+    std::thread::sleep(std::time::Duration::from_millis(2500));
+    screenshot("session-4-no-wheel");
+    press("space");
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(stderr.contains("the session cannot start"), "{stderr}");
+    assert!(stderr.contains("No steering wheel found"), "{stderr}");
 }

@@ -6,6 +6,7 @@
 //! kind = "sine"            # any vehicle::ExerciseSpec: kind + that kind's fields
 //! amplitude_m = 2.0
 //! duration_s = 90.0
+//! rest_s = 30.0            # optional: a rest after this exercise (0–600 s)
 //! [exercise.haptic.model]  # optional: spring–mass–damper of eq. 3.5 for this exercise
 //! k_nm_per_rad = 0.3
 //! [[exercise.haptic.effects]]   # optional: DirectInput-style effects played throughout
@@ -34,6 +35,9 @@ pub const MAX_EXERCISES: usize = 60;
 /// Longest session a regimen may plan, s (2 h): the sum of its exercises' planned durations
 /// (a road without a time limit counts the time to drive it at its target speeds).
 pub const MAX_PLANNED_SESSION_S: f64 = 2.0 * 3600.0;
+
+/// Longest rest a regimen may put after one exercise, s (10 min).
+pub const MAX_REST_S: f64 = 600.0;
 
 /// Fewest sessions a week a regimen may ask for.
 pub const MIN_SESSIONS_PER_WEEK: u32 = 1;
@@ -73,6 +77,11 @@ pub struct RegimenEntry {
     /// Assistance for this exercise (default: the station's `assist`).
     #[serde(default)]
     pub assist: Option<AssistSpec>,
+    /// A rest after this exercise, s (0–600): the torque fades out and the patient's screen
+    /// counts it down and says what comes next. Rests are not exercise time.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(range(min = 0.0, max = MAX_REST_S))]
+    pub rest_s: Option<f64>,
 }
 
 /// A regimen that cannot be used, naming the exercise and field.
@@ -180,6 +189,13 @@ impl Regimen {
             }
             if let Some(a) = &e.assist {
                 a.validate().map_err(|m| invalid(format!("assist: {m}")))?;
+            }
+            if let Some(rest) = e.rest_s
+                && !(0.0..=MAX_REST_S).contains(&rest)
+            {
+                return Err(invalid(format!(
+                    "rest_s = {rest}, allowed 0 to {MAX_REST_S} s"
+                )));
             }
         }
         let planned_s =
@@ -344,6 +360,27 @@ mod tests {
             err.contains("sessions_per_week = 40, allowed 1 to 28"),
             "{err}"
         );
+    }
+
+    #[test]
+    fn a_rest_after_an_exercise_is_read_and_bounded() {
+        let text =
+            "[[exercise]]\nkind = \"dial\"\nrest_s = 30.0\n\n[[exercise]]\nkind = \"sine\"\n";
+        let r = Regimen::from_toml(text, "r.toml").unwrap();
+        assert_eq!(r.exercises[0].rest_s, Some(30.0));
+        assert_eq!(r.exercises[1].rest_s, None);
+        let again = Regimen::from_toml(&toml::to_string(&r).unwrap(), "recorded").unwrap();
+        assert_eq!(r, again);
+        for bad in ["-1.0", "601.0", "nan"] {
+            let text = format!("[[exercise]]\nkind = \"dial\"\nrest_s = {bad}\n");
+            let msg = Regimen::from_toml(&text, "r.toml").unwrap_err().to_string();
+            assert!(
+                msg.contains("rest_s") && msg.contains("exercise 1"),
+                "{msg}"
+            );
+        }
+        let schema = Regimen::json_schema().to_string();
+        assert!(schema.contains("rest_s"), "{schema}");
     }
 
     mod fuzz {

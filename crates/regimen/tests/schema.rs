@@ -205,6 +205,8 @@ fn samples() -> Vec<Value> {
             "phase_rad": 0.0, "period_s": 0.5 } }, "duration_s": 3.0 },
     ]);
     let model = serde_json::to_value(haptic_wheel::SpringDamper::default()).unwrap();
+    // A rest after an exercise.
+    out.push(json!({ "exercise": [{ "kind": "dial", "duration_s": 60.0, "rest_s": 30.0 }] }));
     out.push(json!({ "exercise": [{ "kind": "dial", "duration_s": 60.0,
         "haptic": { "effects": effects, "model": model, "ceiling_nm": 5.0 } }] }));
     use assist::spec::*;

@@ -153,6 +153,17 @@ fn exercise(s: &mut String, r: &SessionReport) {
             rec.paused_ticks as f64 / r.loop_rate_hz
         );
     }
+    if r.haptic.rests > 0 {
+        line!(
+            s,
+            "rests               {} ({:.1} s, within the pauses)",
+            r.haptic.rests,
+            r.haptic.rest_s
+        );
+    }
+    if r.haptic.paused_too_long {
+        line!(s, "ended               paused too long");
+    }
     if rec.road_ticks > 0 {
         line!(
             s,
@@ -431,6 +442,9 @@ mod tests {
                     fraction_of_motor: 0.6,
                     assumed: false,
                 }),
+                rests: 0,
+                rest_s: 0.0,
+                paused_too_long: false,
             },
             recorder,
             loop_rate_hz: 1000.0,

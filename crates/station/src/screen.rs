@@ -1,17 +1,48 @@
 //! The patient's screen for a session: the static geometry of each exercise of the course,
-//! and the conversion of a tick's record into a [`render::Scene`].
+//! the conversion of a tick's record into a [`render::Scene`], and which card shows when
+//! ([`CourseView::screen_state`]): the exercise's card before it starts and between
+//! exercises, the rest's countdown, the pause, and the question before ending early.
+//!
+//! Everything on it is in plain words for the patient: exercise names, never internal ids
+//! (`triangle-road`), and no units a patient has no use for.
 
 use crate::config::StationConfig;
-use crate::render::{self, CarPose, Dial, Hud, LiveScore, RoadPoint, Scene, ScreenState};
-use record::{ArmSetup, TickRecord};
+use crate::render::{
+    self, CarPose, Dial, Hud, LiveScore, Movement, NextCard, RoadPoint, Scene, ScreenState,
+};
+use crate::session::{BreakKind, BreakNow};
+use record::{ArmSetup, TickRecord, Watchdog};
 use regimen::Regimen;
 use vehicle::ExerciseSpec;
 
 /// Centre-line sample spacing for the screen's road mesh, m.
 const ROAD_SAMPLE_M: f64 = 2.0;
 
+/// An exercise's name for the patient: its short name in words (`sine-road` → "Sine road").
+pub fn plain_name(short: &str) -> String {
+    let words = short.replace('-', " ");
+    let mut chars = words.chars();
+    chars.next().map_or_else(String::new, |first| {
+        first.to_uppercase().chain(chars).collect()
+    })
+}
+
+/// What an exercise asks of the patient, in plain words, from its short name.
+pub fn plain_instruction(short: &str) -> &'static str {
+    match short {
+        s if s.starts_with("dial") => "Turn the wheel so the black needle follows the red one",
+        "slalom" => "Steer between the cones and keep the car on the road",
+        "lane-change" => "Move into the other lane when the road does, then hold it",
+        "straight-road" => "Keep the car in the middle of the lane",
+        "sharp-turns" | "s-bend" => "Steer through the bends, keep the car in the lane",
+        _ => "Follow the winding road, keep the car in the lane",
+    }
+}
+
 /// What the screen needs of one exercise.
 struct ExerciseView {
+    /// The short name (`sine-road`).
+    short: String,
     name: String,
     road: Option<render::Road>,
 }
@@ -19,6 +50,8 @@ struct ExerciseView {
 /// The screen's view of a course: one entry per exercise, in course order.
 pub struct CourseView {
     exercises: Vec<ExerciseView>,
+    /// A prescribed course (each exercise once), not laps of one exercise.
+    in_regimen: bool,
     duration_s: f64,
 }
 
@@ -54,11 +87,13 @@ impl CourseView {
                 }
             });
             exercises.push(ExerciseView {
-                name: ex.name.clone(),
+                short: ex.name.clone(),
+                name: plain_name(&ex.name),
                 road,
             });
         }
         Ok(Self {
+            in_regimen: regimen.is_some(),
             exercises,
             // A regimen ends the session when its exercises are done; laps fill the duration.
             duration_s: if regimen.is_some() {
@@ -115,22 +150,147 @@ impl CourseView {
                 score,
                 speed_m_s: speed,
                 assist_level: rec.assist.assistance_level,
-                devices: std::iter::once(if rec.wheel.motor_rating_known {
-                    format!("wheel: {}", rec.wheel.watchdog)
-                } else {
-                    format!(
-                        "wheel: {} · UNKNOWN motor: force capped at {:.1} N·m",
-                        rec.wheel.watchdog, rec.wheel.ceiling_nm
-                    )
-                })
-                .chain(
-                    rec.arm
-                        .map(|a| format!("arm sensors: {}", a.setup.as_str())),
-                )
-                .collect(),
+                devices: device_lines(rec),
             },
             screen,
         }
+    }
+}
+
+/// The devices' lines of the HUD, in plain words.
+fn device_lines(rec: &TickRecord) -> Vec<String> {
+    let wheel = match rec.wheel.watchdog {
+        Watchdog::SoftStart | Watchdog::Running => "working",
+        Watchdog::Paused => "resting",
+        Watchdog::Stopping | Watchdog::Stopped => "stopping",
+        Watchdog::FaultMissedDeadline | Watchdog::FaultStaleReading | Watchdog::Fault => {
+            "problem, force off"
+        }
+    };
+    let wheel = if rec.wheel.motor_rating_known {
+        format!("Wheel: {wheel}")
+    } else {
+        format!("Wheel: {wheel} (gentle force only)")
+    };
+    let arm = rec.arm.map(|a| {
+        let words = match a.setup {
+            ArmSetup::Tracking => "working",
+            ArmSetup::HoldStill | ArmSetup::TurnWheel | ArmSetup::Solving => "setting up",
+            ArmSetup::Failed => "not working",
+            ArmSetup::SensorLost => "not answering",
+        };
+        format!("Arm sensors: {words}")
+    });
+    std::iter::once(wheel).chain(arm).collect()
+}
+
+/// What the patient's window knows beyond the tick: the break in progress (from the haptic
+/// thread) and whether it is asking the patient to confirm ending the session.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct WindowState {
+    /// The break in progress.
+    pub brk: BreakNow,
+    /// Esc was pressed once: the window asks before ending the session.
+    pub confirming_end: bool,
+    /// The cards' animation time, s.
+    pub anim_s: f64,
+}
+
+/// The page a session that cannot start shows instead: the device check's lines (what is
+/// missing, in plain words) and how to try again.
+pub fn cannot_start_page(lines: &[render::StatusLine]) -> render::Welcome {
+    let mut lines: Vec<render::StatusLine> = lines
+        .iter()
+        .filter(|l| l.ok == Some(false))
+        .map(|l| render::StatusLine {
+            ok: l.ok,
+            // This page does not update: the patient starts again once it is done.
+            text: l.text.replace(" This page updates by itself.", ""),
+        })
+        .collect();
+    lines.push(render::StatusLine {
+        ok: None,
+        text: "Then start telerehab again.".into(),
+    });
+    render::Welcome {
+        title: "The session cannot start yet".into(),
+        lines,
+        ..render::Welcome::default()
+    }
+}
+
+/// The question before ending a session early.
+pub fn confirm_end_card() -> ScreenState {
+    ScreenState::Instruction {
+        title: "End the session?".into(),
+        lines: vec!["Esc again to end".into(), "Space to go on".into()],
+    }
+}
+
+impl CourseView {
+    /// Which screen the patient's window shows for the tick `rec`: the question before
+    /// ending early over anything else, then the arm set-up's instructions, the card of the
+    /// first exercise before it starts, the rest or break between exercises with what comes
+    /// next, the pause card, or the running exercise.
+    pub fn screen_state(&self, rec: &TickRecord, w: &WindowState) -> ScreenState {
+        if w.confirming_end {
+            return confirm_end_card();
+        }
+        let index = (rec.score.exercise_index as usize).min(self.exercises.len() - 1);
+        match live_screen_state(rec) {
+            ScreenState::Start => self.next_card(index, None, w, "Space: start"),
+            ScreenState::Paused if w.brk.kind != BreakKind::None => {
+                let mut card = self.next_card(index, Some(w.brk.left_s), w, "Space: go on now");
+                if let ScreenState::Next(c) = &mut card {
+                    c.heading = match w.brk.kind {
+                        BreakKind::Asked => "Rest · then back to",
+                        BreakKind::Prescribed => "Rest · next",
+                        _ => "Next",
+                    }
+                    .into();
+                }
+                card
+            }
+            ScreenState::Paused => ScreenState::Instruction {
+                title: "Paused".into(),
+                lines: vec!["Space: go on".into(), "R: rest · Esc: end".into()],
+            },
+            other => other,
+        }
+    }
+
+    /// The card of exercise `index`, with a countdown and the key to go on.
+    fn next_card(
+        &self,
+        index: usize,
+        countdown_s: Option<f64>,
+        w: &WindowState,
+        key: &str,
+    ) -> ScreenState {
+        let ex = &self.exercises[index];
+        let title = if self.in_regimen && self.exercises.len() > 1 {
+            format!(
+                "Exercise {} of {}: {}",
+                index + 1,
+                self.exercises.len(),
+                ex.name
+            )
+        } else {
+            ex.name.clone()
+        };
+        ScreenState::Next(NextCard {
+            heading: "Get ready".into(),
+            title,
+            what: plain_instruction(&ex.short).into(),
+            movement: if ex.road.is_some() {
+                Movement::Steer
+            } else {
+                Movement::Dial
+            },
+            countdown_s,
+            keys: vec![format!("{key} (or a wheel button)")],
+            anim_s: w.anim_s,
+        })
     }
 }
 
@@ -163,5 +323,145 @@ pub fn live_screen_state(rec: &TickRecord) -> ScreenState {
         _ if rec.score.paused && rec.score.active_s == 0.0 => ScreenState::Start,
         _ if rec.score.paused => ScreenState::Paused,
         _ => ScreenState::Running,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn view() -> CourseView {
+        let text = "[[exercise]]\nkind = \"sine\"\nduration_s = 30.0\nrest_s = 20.0\n\n\
+                    [[exercise]]\nkind = \"dial\"\nduration_s = 30.0\n";
+        let r = Regimen::from_toml(text, "test").unwrap();
+        CourseView::new(&StationConfig::default(), Some(&r)).unwrap()
+    }
+
+    /// A tick `tick` of exercise `index` with `active_s` of exercise time.
+    fn tick(tick: u64, index: u32, active_s: f64, paused: bool) -> TickRecord {
+        let mut rec = TickRecord {
+            tick,
+            ..TickRecord::default()
+        };
+        rec.score.exercise_index = index;
+        rec.score.active_s = active_s;
+        rec.score.paused = paused;
+        rec
+    }
+
+    fn next_card(state: ScreenState) -> NextCard {
+        match state {
+            ScreenState::Next(card) => card,
+            other => panic!("not the exercise's card: {other:?}"),
+        }
+    }
+
+    #[test]
+    fn before_the_start_the_card_names_the_first_exercise_in_plain_words_and_how_to_start() {
+        let v = view();
+        let card = next_card(v.screen_state(&tick(0, 0, 0.0, true), &WindowState::default()));
+        assert_eq!(card.title, "Exercise 1 of 2: Sine road");
+        assert!(card.what.contains("winding road"), "{}", card.what);
+        assert_eq!(card.movement, Movement::Steer);
+        assert_eq!(card.countdown_s, None);
+        assert!(card.keys[0].contains("Space: start"), "{:?}", card.keys);
+        // The same while the patient has not started yet.
+        let waiting = v.screen_state(&tick(500, 0, 0.0, true), &WindowState::default());
+        assert_eq!(next_card(waiting).title, "Exercise 1 of 2: Sine road");
+    }
+
+    #[test]
+    fn a_prescribed_rest_shows_its_countdown_and_the_next_exercise_with_its_movement() {
+        let w = WindowState {
+            brk: BreakNow {
+                kind: BreakKind::Prescribed,
+                left_s: 17.2,
+            },
+            ..WindowState::default()
+        };
+        let card = next_card(view().screen_state(&tick(40_000, 1, 30.0, true), &w));
+        assert!(card.heading.starts_with("Rest"), "{}", card.heading);
+        assert_eq!(card.title, "Exercise 2 of 2: Dial sine");
+        assert_eq!(card.movement, Movement::Dial);
+        assert_eq!(card.countdown_s, Some(17.2));
+        assert!(card.keys[0].contains("go on now"), "{:?}", card.keys);
+        // The short card between exercises says "Next", a rest the patient asked for says
+        // they go back to the same exercise.
+        let next = WindowState {
+            brk: BreakNow {
+                kind: BreakKind::Next,
+                left_s: 3.0,
+            },
+            ..w
+        };
+        let card = next_card(view().screen_state(&tick(40_000, 1, 30.0, true), &next));
+        assert!(card.heading.starts_with("Next"), "{}", card.heading);
+        let asked = WindowState {
+            brk: BreakNow {
+                kind: BreakKind::Asked,
+                left_s: 50.0,
+            },
+            ..w
+        };
+        let card = next_card(view().screen_state(&tick(20_000, 0, 12.0, true), &asked));
+        assert!(card.heading.contains("back to"), "{}", card.heading);
+        assert_eq!(card.title, "Exercise 1 of 2: Sine road");
+    }
+
+    #[test]
+    fn esc_once_asks_before_ending_over_any_other_card_and_a_pause_says_the_keys() {
+        let v = view();
+        let asking = WindowState {
+            confirming_end: true,
+            ..WindowState::default()
+        };
+        for rec in [tick(0, 0, 0.0, true), tick(9000, 0, 8.0, false)] {
+            match v.screen_state(&rec, &asking) {
+                ScreenState::Instruction { title, lines } => {
+                    assert_eq!(title, "End the session?");
+                    assert_eq!(lines, ["Esc again to end", "Space to go on"]);
+                }
+                other => panic!("{other:?}"),
+            }
+        }
+        let plain = WindowState::default();
+        match v.screen_state(&tick(9000, 0, 8.0, true), &plain) {
+            ScreenState::Instruction { title, lines } => {
+                assert_eq!(title, "Paused");
+                assert!(lines.iter().any(|l| l.contains("R: rest")), "{lines:?}");
+            }
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(
+            v.screen_state(&tick(9000, 0, 8.0, false), &plain),
+            ScreenState::Running
+        );
+    }
+
+    #[test]
+    fn the_hud_names_exercises_and_devices_in_plain_words() {
+        let v = view();
+        let rec = tick(9000, 0, 8.0, false);
+        let scene = v.scene(&rec, ScreenState::Running);
+        assert_eq!(scene.hud.exercise, "Sine road");
+        assert_eq!(plain_name("triangle-road"), "Triangle road");
+        for line in &scene.hud.devices {
+            assert!(
+                line.starts_with(char::is_uppercase) && !line.contains("N·m"),
+                "{line}"
+            );
+        }
+        let with_arm = TickRecord {
+            arm: Some(record::ArmSample {
+                setup: ArmSetup::Tracking,
+                ..Default::default()
+            }),
+            ..rec
+        };
+        let devices = v.scene(&with_arm, ScreenState::Running).hud.devices;
+        assert!(
+            devices.contains(&"Arm sensors: working".to_string()),
+            "{devices:?}"
+        );
     }
 }

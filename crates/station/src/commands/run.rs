@@ -76,8 +76,9 @@ pub struct RunArgs {
     /// wheel-stall, haptic-stall, disk-full, imu-unplug, imu-nan). Needs --sim.
     #[arg(long = "fault", value_name = "KIND@SECONDS", value_parser = crate::session::faults::FaultSpec::parse)]
     pub faults: Vec<session::faults::FaultSpec>,
-    /// Open the patient's window full screen (F11 toggles it).
-    #[arg(long)]
+    /// Open the patient's window in a window rather than full screen, the default (F11
+    /// toggles it).
+    #[arg(long = "windowed", action = clap::ArgAction::SetFalse)]
     pub fullscreen: bool,
     /// A short practice on the simulated wheel: neither recorded nor sent to the clinic, the
     /// station's home untouched (the first-run page's F2). Implies --sim; 60 s unless
@@ -352,6 +353,88 @@ fn end_screen(
     )
 }
 
+/// A session on the real devices with the patient's window and no usable wheel: the reason
+/// and what to do, on the screen in plain words until a key is pressed (and in the terminal),
+/// then the error. Without a display, only the error.
+/// With a wheel, its input node (its buttons start, pause and resume).
+fn no_wheel_no_mystery(cfg: &StationConfig) -> anyhow::Result<Option<PathBuf>> {
+    let check = crate::front_door::checks::check_devices(&cfg.wheel, cfg.haptic.safety.ceiling_nm);
+    if check.wheel_ready {
+        return Ok(check.wheel_path.map(PathBuf::from));
+    }
+    let mut page = crate::screen::cannot_start_page(&check.lines);
+    page.keys = vec!["Any key: close".into()];
+    let scene = crate::render::Scene {
+        screen: crate::render::ScreenState::Welcome(page),
+        ..crate::render::Scene::default()
+    };
+    let closed = std::cell::Cell::new(false);
+    let mut window = WindowOptions::new("telerehab");
+    window.fullscreen = true;
+    let shown = crate::render::window::run_with(
+        &window,
+        || (!closed.get()).then(|| scene.clone()),
+        |_| closed.set(true),
+    );
+    if let Err(e) = shown {
+        tracing::warn!("cannot show why the session cannot start: {e}");
+    }
+    let why: Vec<&str> = check
+        .lines
+        .iter()
+        .filter(|l| l.ok == Some(false))
+        .map(|l| l.text.as_str())
+        .collect();
+    bail!("the session cannot start: {}", why.join(" "))
+}
+
+/// The session with the patient's window (the exercise waits for Space, a wheel or gamepad
+/// button), then its end screen when it ran to its end.
+fn windowed(
+    args: &RunArgs,
+    opts: &SessionOptions,
+    controls: &session::Controls,
+    link: &Link,
+    wheel_node: Option<&std::path::Path>,
+    results_path: Option<&std::path::Path>,
+) -> anyhow::Result<(SessionReport, Option<session::window::WindowAccount>)> {
+    controls.pause.store(true, Ordering::Relaxed);
+    let mut window = WindowOptions::new("telerehab");
+    window.fullscreen = args.fullscreen;
+    let end = end_screen(args, results_path);
+    let buttons_done = std::sync::atomic::AtomicBool::new(false);
+    std::thread::scope(|scope| {
+        // The wheel's and a gamepad's buttons do what Space does.
+        let buttons = std::thread::Builder::new()
+            .name("buttons".into())
+            .spawn_scoped(scope, || {
+                session::buttons::watch(controls, wheel_node, &buttons_done);
+            });
+        let r = session::window::run_with_window_and_end_screen(
+            opts,
+            controls,
+            &window,
+            &mut &*link,
+            true,
+            end.as_ref().map(|f| f as _),
+        );
+        buttons_done.store(true, Ordering::Release);
+        if let Ok(b) = buttons {
+            let _ = b.join();
+        }
+        r
+    })
+}
+
+/// Keeps this session's results in the home for the next end screen's comparison.
+fn keep_results(path: &std::path::Path, report: &SessionReport) {
+    let now = crate::checkin::EndResults::of(report);
+    let before = crate::checkin::load_results(path);
+    if let Err(e) = crate::checkin::save_results(path, &now, &before) {
+        tracing::warn!("the session's results are not kept for the next end screen: {e:#}");
+    }
+}
+
 /// Run `telerehab run`: the session, then its report on stdout.
 pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     if args.try_out {
@@ -376,6 +459,11 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
         BodyKind::Simulated
     } else {
         real_body(&args)?
+    };
+    let wheel_node = if !args.sim && !args.headless {
+        no_wheel_no_mystery(&cfg)?
+    } else {
+        None
     };
     let pacing = match args.speed {
         Speed::Realtime => Pacing::RealTime,
@@ -408,18 +496,13 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     let report = if args.headless {
         session::run(&opts, &controls, &mut &link)?
     } else {
-        // With a window the patient starts the exercise with Space when ready.
-        controls.pause.store(true, Ordering::Relaxed);
-        let mut window = WindowOptions::new("telerehab");
-        window.fullscreen = args.fullscreen;
-        let end = end_screen(&args, results_path.as_deref());
-        let (report, account) = session::window::run_with_window_and_end_screen(
+        let (report, account) = windowed(
+            &args,
             &opts,
             &controls,
-            &window,
-            &mut &link,
-            true,
-            end.as_ref().map(|f| f as _),
+            &link,
+            wheel_node.as_deref(),
+            results_path.as_deref(),
         )?;
         window_restarts = account.as_ref().map_or(0, |a| a.restarts);
         checkin = account.and_then(|a| a.checkin);
@@ -432,11 +515,7 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
         && report.recorder.error.is_none()
         && !args.try_out
     {
-        let now = crate::checkin::EndResults::of(&report);
-        let before = crate::checkin::load_results(path);
-        if let Err(e) = crate::checkin::save_results(path, &now, &before) {
-            tracing::warn!("the session's results are not kept for the next end screen: {e:#}");
-        }
+        keep_results(path, &report);
     }
     // A finished recording is uploaded, also one the recorder stopped and finished early
     // because its disk ran low (the hub keeps it off that disk); a file left unfinished by a
@@ -445,6 +524,12 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
         .record
         .as_deref()
         .filter(|_| report.recorder.mcap_bytes.is_some());
+    if report.haptic.paused_too_long {
+        tracing::warn!(
+            limit_s = cfg.session.pause_limit_s,
+            "the session ended: paused too long"
+        );
+    }
     let link_report = link.finish(report.summaries, &report.recorder.measures.named, recorded);
     print!("{}", crate::report::render(&report, link_report.as_ref()));
     if let Some(log) = &session_log {

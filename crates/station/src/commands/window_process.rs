@@ -9,8 +9,9 @@ use crate::checkin::CheckInFlow;
 use crate::config::StationConfig;
 use crate::render::ScreenState;
 use crate::render::window::{UserRequest, WindowOptions};
-use crate::screen::{CourseView, live_screen_state};
+use crate::screen::{CourseView, WindowState, live_screen_state};
 use crate::session::window::wire::{self, EndScreen, FromWindow, Hello, ToWindow};
+use crate::session::{BreakKind, BreakNow};
 use anyhow::Context;
 use record::TickRecord;
 use regimen::Regimen;
@@ -20,10 +21,43 @@ use std::os::unix::net::UnixStream;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
+/// At the lowest normal priority (nice 19) when the station asked for it.
+fn lower_priority_if_asked(hello: &Hello) {
+    if hello.background_priority {
+        let idle = crate::session::haptic::request_background_priority();
+        tracing::debug!(
+            idle,
+            "patient window at the lowest normal priority (nice 19)"
+        );
+    }
+}
+
+/// What a key means during the session: Esc once asks (the exercise waits) and again ends;
+/// Space or R after Esc goes on; Space during a break ends it; R asks for a rest.
+fn session_request(r: UserRequest, confirming: &AtomicBool, in_break: bool) -> UserRequest {
+    let asking = confirming.load(Ordering::Relaxed);
+    match r {
+        UserRequest::AskEnd if asking => UserRequest::Quit,
+        UserRequest::AskEnd => {
+            confirming.store(true, Ordering::Relaxed);
+            UserRequest::AskEnd
+        }
+        UserRequest::TogglePause | UserRequest::Typed('r' | 'R') if asking => {
+            confirming.store(false, Ordering::Relaxed);
+            UserRequest::TogglePause
+        }
+        UserRequest::TogglePause if in_break => UserRequest::GoOn,
+        UserRequest::Typed('r' | 'R') => UserRequest::Rest,
+        other => other,
+    }
+}
+
 /// What the reader thread last heard from the station.
 #[derive(Default)]
 struct Latest {
     record: Option<TickRecord>,
+    /// The break in progress.
+    brk: BreakNow,
     /// The station closed the socket: the session is over.
     ended: bool,
     /// The session is over and the station asked for the end screen (taken when shown).
@@ -65,13 +99,7 @@ fn serve(socket: UnixStream) -> anyhow::Result<()> {
             return Err(e);
         }
     };
-    if hello.background_priority {
-        let idle = crate::session::haptic::request_background_priority();
-        tracing::debug!(
-            idle,
-            "patient window at the lowest normal priority (nice 19)"
-        );
-    }
+    lower_priority_if_asked(&hello);
     let latest = Mutex::new(Latest::default());
     let draw = Arc::new(AtomicBool::new(true));
     let opened = Arc::new(AtomicBool::new(false));
@@ -86,8 +114,13 @@ fn serve(socket: UnixStream) -> anyhow::Result<()> {
         draw_gate: hello.gated.then(|| draw.clone()),
         opened: Some(opened.clone()),
         esc_keeps_open: Some(esc_keeps_open.clone()),
+        confirm_end: true,
         ..WindowOptions::new(&hello.title)
     };
+    // Esc was pressed once: the next Esc ends, Space goes on.
+    let confirming = AtomicBool::new(false);
+    let in_break = AtomicBool::new(false);
+    let shown_at = std::time::Instant::now();
     std::thread::scope(|scope| {
         scope.spawn(|| read_frames(&mut reader, &latest, &draw));
         let mut told_opened = false;
@@ -116,9 +149,21 @@ fn serve(socket: UnixStream) -> anyhow::Result<()> {
             if l.ended || !asked {
                 return None;
             }
-            let screen = match live_screen_state(&rec) {
+            in_break.store(l.brk.kind != BreakKind::None, Ordering::Relaxed);
+            let state = WindowState {
+                brk: l.brk,
+                confirming_end: confirming.load(Ordering::Relaxed),
+                anim_s: shown_at.elapsed().as_secs_f64(),
+            };
+            let screen = match view.screen_state(&rec, &state) {
                 // Until the patient resumes, say why the exercise paused by itself.
-                ScreenState::Paused if explain_pause => lost_window_card(),
+                ScreenState::Instruction { .. }
+                    if explain_pause
+                        && !state.confirming_end
+                        && live_screen_state(&rec) == ScreenState::Paused =>
+                {
+                    lost_window_card()
+                }
                 ScreenState::Running => {
                     explain_pause = false;
                     ScreenState::Running
@@ -131,12 +176,18 @@ fn serve(socket: UnixStream) -> anyhow::Result<()> {
             let mut f = flow
                 .lock()
                 .unwrap_or_else(std::sync::PoisonError::into_inner);
-            match f.as_mut() {
-                Some(flow) => flow.apply(r, std::time::Instant::now()),
-                None => {
-                    tell(&FromWindow::Request(r));
-                }
+            if let Some(flow) = f.as_mut() {
+                // The end screen takes the keys; there Esc skips a question.
+                let r = if r == UserRequest::AskEnd {
+                    UserRequest::Quit
+                } else {
+                    r
+                };
+                flow.apply(r, std::time::Instant::now());
+                return;
             }
+            let r = session_request(r, &confirming, in_break.load(Ordering::Relaxed));
+            tell(&FromWindow::Request(r));
         };
         let result = crate::render::window::run_with(&options, source, on_request);
         let last = match &result {
@@ -216,8 +267,13 @@ fn read_frames(reader: &mut UnixStream, latest: &Mutex<Latest>, draw: &AtomicBoo
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
         match frame {
-            Ok(Some(ToWindow::Frame { record, draw: d })) => {
+            Ok(Some(ToWindow::Frame {
+                record,
+                draw: d,
+                brk,
+            })) => {
                 l.record = Some(*record);
+                l.brk = brk;
                 draw.store(d, Ordering::Relaxed);
             }
             Ok(Some(ToWindow::EndScreen(end))) => l.end_screen = Some(*end),

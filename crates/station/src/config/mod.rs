@@ -143,6 +143,10 @@ pub struct SessionConfig {
     pub patient_id: String,
     /// This station's identifier at the therapist hub (letters, digits, `_`, `.`, `-`).
     pub station_id: String,
+    /// A rest the patient asks for (R, or a wheel button) lasts this long, s, in [5, 600].
+    pub asked_rest_s: f64,
+    /// A pause longer than this ends the session ("paused too long"), s, in [10, 7200].
+    pub pause_limit_s: f64,
 }
 
 impl Default for SessionConfig {
@@ -155,6 +159,8 @@ impl Default for SessionConfig {
             speed_m_s: 15.0,
             patient_id: "patient-0".into(),
             station_id: "station-1".into(),
+            asked_rest_s: 60.0,
+            pause_limit_s: 600.0,
         }
     }
 }
@@ -320,6 +326,8 @@ impl StationConfig {
         check("session.duration_s", s.duration_s, 0.001, 4.0 * 3600.0, "s")?;
         check("session.loop_rate_hz", s.loop_rate_hz, 100.0, 2000.0, "Hz")?;
         check("session.speed_m_s", s.speed_m_s, 0.0, 40.0, "m/s")?;
+        check("session.asked_rest_s", s.asked_rest_s, 5.0, 600.0, "s")?;
+        check("session.pause_limit_s", s.pause_limit_s, 10.0, 7200.0, "s")?;
         for (field, value) in [
             ("session.patient_id", &s.patient_id),
             ("session.station_id", &s.station_id),

@@ -14,10 +14,7 @@ pub struct TodayPlan {
     pub prescribed: bool,
 }
 
-/// An exercise's short name in words: `"sine-road"` → "Sine road".
-pub fn plain_name(short: &str) -> String {
-    super::capitalised(&short.replace('-', " "))
-}
+pub use crate::screen::plain_name;
 
 /// `m:ss` of a planned length.
 fn minutes(seconds: f64) -> String {

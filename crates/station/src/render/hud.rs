@@ -2,8 +2,11 @@
 //!
 //! Layout is in egui points on a 1280×720 reference screen; `pixels_per_point` scales it to
 //! the real size, so text keeps the same share of the screen in a small window and in
-//! full-screen. Sizes are chosen for older patients: the smallest text is 22 pt at the
-//! reference size (≈ 3 % of the screen height), white on a dark panel or near-black on white.
+//! full-screen. Sizes are chosen for older patients reading a TV from 2 m: the smallest text
+//! of a session's screen is [`MIN_TEXT_PT`] = 24 pt at the reference size, that is **36 px at
+//! 1080p** (3.3 % of the screen height: about 17 mm on a 40-inch TV, some 30 arc minutes at
+//! 2 m), white on a dark panel or near-black on white; the cards' lines are 32 pt (48 px at
+//! 1080p) and their titles 48–52 pt.
 
 use egui::epaint::{ClippedPrimitive, Shape};
 use egui::{
@@ -14,7 +17,11 @@ use std::sync::Arc;
 
 use super::scene::{Dial, LiveScore, Scene, ScreenState};
 
+mod next_card;
 mod welcome;
+
+/// The smallest text of a session's screen, points at the reference size (36 px at 1080p).
+pub const MIN_TEXT_PT: f32 = 24.0;
 
 /// Reference layout size, points.
 pub const REFERENCE_SIZE: [f32; 2] = [1280.0, 720.0];
@@ -132,6 +139,24 @@ pub fn format_time_left(seconds: f64) -> String {
     format!("{}:{:02}", s / 60, s % 60)
 }
 
+/// How close to the middle of the lane the car keeps, in words, from the RMS distance (m).
+pub fn middle_words(rms_lateral_m: f64) -> &'static str {
+    match rms_lateral_m {
+        m if m < 0.3 => "Close to the middle",
+        m if m < 0.8 => "A little off the middle",
+        _ => "Far from the middle",
+    }
+}
+
+/// How well the black needle follows the red one, in words, from the RMS error (degrees).
+pub fn dial_words(rms_error_deg: f64) -> &'static str {
+    match rms_error_deg {
+        e if e < 5.0 => "Following closely",
+        e if e < 15.0 => "Following",
+        _ => "Try to keep up",
+    }
+}
+
 fn score_lines(score: &LiveScore) -> Vec<(String, f32)> {
     match *score {
         LiveScore::None => vec![],
@@ -140,9 +165,12 @@ fn score_lines(score: &LiveScore) -> Vec<(String, f32)> {
             in_lane_pct,
         } => vec![
             (format!("In lane {in_lane_pct:.0} %"), 30.0),
-            (format!("Off centre {rms_lateral_m:.2} m"), 24.0),
+            (middle_words(rms_lateral_m).into(), MIN_TEXT_PT),
         ],
-        LiveScore::Dial { rms_error_deg } => vec![(format!("Error {rms_error_deg:.1}°"), 30.0)],
+        LiveScore::Dial { rms_error_deg } => vec![
+            (format!("Needles {rms_error_deg:.0}° apart"), 30.0),
+            (dial_words(rms_error_deg).into(), MIN_TEXT_PT),
+        ],
     }
 }
 
@@ -201,7 +229,11 @@ fn paint(p: &Painter, scene: &Scene, size: Vec2) {
         hud.assist_level,
     );
     if !hud.devices.is_empty() {
-        let lines: Vec<_> = hud.devices.iter().map(|d| (d.clone(), 22.0)).collect();
+        let lines: Vec<_> = hud
+            .devices
+            .iter()
+            .map(|d| (d.clone(), MIN_TEXT_PT))
+            .collect();
         text_panel(
             p,
             pos2(w - MARGIN, h - MARGIN),
@@ -221,6 +253,7 @@ fn paint(p: &Painter, scene: &Scene, size: Vec2) {
         }
         ScreenState::Paused => card(p, size, "Paused", &["Press Space to continue".to_string()]),
         ScreenState::Instruction { title, lines } => card(p, size, title, lines),
+        ScreenState::Next(next) => next_card::paint(p, size, next),
         ScreenState::Summary(lines) => card(p, size, "Session complete", lines),
         ScreenState::Welcome(_) => {}
     }
@@ -245,16 +278,16 @@ fn assist_bar(p: &Painter, bottom_left: Pos2, level: f64) {
 }
 
 /// A white card in the middle of a dimmed screen: title and lines.
-fn card(p: &Painter, size: Vec2, title: &str, lines: &[String]) {
+pub(super) fn card(p: &Painter, size: Vec2, title: &str, lines: &[String]) {
     p.rect_filled(
         Rect::from_min_size(Pos2::ZERO, size),
         CornerRadius::ZERO,
         Color32::from_black_alpha(110),
     );
-    let title_g = galley(p, title, 46.0, CARD_TEXT);
+    let title_g = galley(p, title, 48.0, CARD_TEXT);
     let line_g: Vec<_> = lines
         .iter()
-        .map(|l| galley(p, l.clone(), 30.0, CARD_TEXT))
+        .map(|l| galley(p, l.clone(), 32.0, CARD_TEXT))
         .collect();
     let w = line_g
         .iter()
@@ -287,7 +320,7 @@ pub fn needle_direction(rad: f64) -> Vec2 {
 
 /// The rotary dial of thesis Fig. 3-7(a): face, ticks, the error wedge, red desired needle
 /// under the black actual needle, and a legend when `legend`.
-fn paint_dial(p: &Painter, dial: &Dial, c: Pos2, r: f32, legend: bool) {
+pub(super) fn paint_dial(p: &Painter, dial: &Dial, c: Pos2, r: f32, legend: bool) {
     p.circle_filled(c + vec2(0.0, 4.0), r + 6.0, Color32::from_black_alpha(40));
     p.circle_filled(c, r, CARD);
     p.circle_stroke(

@@ -119,11 +119,44 @@ pub enum ScreenState {
         /// How, and for how long.
         lines: Vec<String>,
     },
+    /// Before an exercise (the first, or the next one after a break or rest): what comes
+    /// next in plain words, with a picture of the movement and the rest's countdown.
+    Next(NextCard),
     /// End of the session: a summary card with these lines.
     Summary(Vec<String>),
     /// Before any session (first run, pairing, today's session, device check): a full-screen
     /// page, drawn without the road or the car.
     Welcome(Welcome),
+}
+
+/// The movement an exercise asks for, drawn on the [`NextCard`].
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Movement {
+    /// Steering a car along a road: a wheel turning left and right.
+    #[default]
+    Steer,
+    /// Following the red needle of the dial with the black one.
+    Dial,
+}
+
+/// The card before an exercise: "Exercise 2 of 4", its name, what to do, the movement, and
+/// the rest's countdown if one is in progress.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct NextCard {
+    /// Above the title, e.g. "Rest" or "Next: exercise 2 of 4".
+    pub heading: String,
+    /// The exercise's name for the patient, e.g. "Exercise 2 of 4: Sine road".
+    pub title: String,
+    /// What to do, in plain words.
+    pub what: String,
+    /// The picture of the movement.
+    pub movement: Movement,
+    /// Time left of the rest or break, s (drawn as a large countdown).
+    pub countdown_s: Option<f64>,
+    /// The keys, e.g. "Space: start".
+    pub keys: Vec<String>,
+    /// The picture's animation time, s (any clock that moves on).
+    pub anim_s: f64,
 }
 
 /// A line of a [`Welcome`] page, with how it stands.

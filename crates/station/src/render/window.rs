@@ -37,6 +37,12 @@ pub enum UserRequest {
     TogglePause,
     /// Esc or the window's close button: end the session.
     Quit,
+    /// Esc in a window that asks before ending ([`WindowOptions::confirm_end`]).
+    AskEnd,
+    /// A rest now (the session window's R, or a wheel button).
+    Rest,
+    /// End the break in progress and go on now (Space during a rest).
+    GoOn,
     /// ←: seek back (replay).
     SeekBack,
     /// →: seek forward (replay).
@@ -82,6 +88,9 @@ pub struct WindowOptions {
     /// While this flag is set, Esc is only reported (the end screen's "skip this question")
     /// and does not close the window; `None` or unset: Esc closes it.
     pub esc_keeps_open: Option<Arc<AtomicBool>>,
+    /// Esc asks before ending ([`UserRequest::AskEnd`], the window stays open); the close
+    /// button still ends at once.
+    pub confirm_end: bool,
 }
 
 impl WindowOptions {
@@ -96,6 +105,7 @@ impl WindowOptions {
             draw_gate: None,
             opened: None,
             esc_keeps_open: None,
+            confirm_end: false,
         }
     }
 }
@@ -348,6 +358,11 @@ impl<F: FnMut() -> Option<Scene>, G: FnMut(UserRequest)> ApplicationHandler for 
             }
             WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Pressed => {
                 match event.logical_key {
+                    Key::Named(NamedKey::Escape) if self.options.confirm_end => {
+                        if !event.repeat {
+                            (self.on_request)(UserRequest::AskEnd);
+                        }
+                    }
                     Key::Named(NamedKey::Escape) => {
                         (self.on_request)(UserRequest::Quit);
                         let keep = self.options.esc_keeps_open.as_ref();

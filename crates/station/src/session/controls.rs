@@ -1,8 +1,9 @@
 //! What other threads may ask of a running session (kept apart from the session's wiring so
 //! that the haptic thread depends on it and nothing else of [`super`]).
 
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicU32};
+use std::sync::atomic::{AtomicBool, AtomicU8, AtomicU32, AtomicU64, Ordering};
 
 /// What other threads (a signal handler, the patient's window) may ask of a running session.
 #[derive(Debug, Default)]
@@ -16,6 +17,14 @@ pub struct Controls {
     pub wheel_away: AtomicBool,
     /// Told by the haptic thread: times the wheel was unplugged and came back.
     pub wheel_replugs: AtomicU32,
+    /// The patient asked for a rest (R, or a wheel button): the haptic thread takes it.
+    pub rest: AtomicBool,
+    /// The patient wants to go on now, ending the break in progress.
+    pub end_break: AtomicBool,
+    /// Told by the haptic thread: the break in progress ([`BreakKind`] as a number).
+    pub break_kind: AtomicU8,
+    /// Told by the haptic thread: what is left of the break in progress, ms.
+    pub break_left_ms: AtomicU64,
 }
 
 impl Controls {
@@ -26,4 +35,62 @@ impl Controls {
             ..Self::default()
         }
     }
+
+    /// The break in progress, as the haptic thread last told it.
+    pub fn break_now(&self) -> BreakNow {
+        BreakNow {
+            kind: BreakKind::from_u8(self.break_kind.load(Ordering::Relaxed)),
+            left_s: self.break_left_ms.load(Ordering::Relaxed) as f64 * 1e-3,
+        }
+    }
+}
+
+/// What kind of break the exercise is in.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum BreakKind {
+    /// None: the exercise runs (or is paused by the patient).
+    #[default]
+    None,
+    /// The short card between two exercises that says what comes next.
+    Next,
+    /// A rest the regimen prescribes after an exercise.
+    Prescribed,
+    /// A rest the patient asked for.
+    Asked,
+}
+
+impl BreakKind {
+    /// The number kept in [`Controls::break_kind`].
+    pub fn as_u8(self) -> u8 {
+        match self {
+            Self::None => 0,
+            Self::Next => 1,
+            Self::Prescribed => 2,
+            Self::Asked => 3,
+        }
+    }
+
+    /// Back from [`BreakKind::as_u8`] (an unknown number reads as none).
+    pub fn from_u8(n: u8) -> Self {
+        match n {
+            1 => Self::Next,
+            2 => Self::Prescribed,
+            3 => Self::Asked,
+            _ => Self::None,
+        }
+    }
+
+    /// A rest (prescribed or asked for), recorded as rest time.
+    pub fn is_rest(self) -> bool {
+        matches!(self, Self::Prescribed | Self::Asked)
+    }
+}
+
+/// The break in progress and what is left of it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct BreakNow {
+    /// Which kind.
+    pub kind: BreakKind,
+    /// What is left of it, s.
+    pub left_s: f64,
 }

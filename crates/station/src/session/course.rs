@@ -25,6 +25,36 @@ pub struct Segment {
     pub haptic: HapticRegimen,
     /// Assistance during this exercise.
     pub assist: Option<Assist>,
+    /// The break after this exercise, before the next (none after the last one, nor between
+    /// laps of one exercise).
+    pub break_after: Option<Break>,
+}
+
+/// Shortest break between two prescribed exercises, s: long enough to read the card that says
+/// what comes next. Not exercise time.
+pub const TRANSITION_S: f64 = 6.0;
+
+/// A break between two exercises: the exercise paused (the torque faded out, as for a pause)
+/// while the screen says what comes next.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Break {
+    /// How long, s.
+    pub length_s: f64,
+    /// The regimen prescribes a rest here (recorded as rest time); otherwise it is the short
+    /// card between two exercises ([`TRANSITION_S`]).
+    pub rest: bool,
+}
+
+impl Break {
+    /// The break after a prescribed exercise that rests `rest_s` (none or 0: just the card; a
+    /// rest shorter than the card's [`TRANSITION_S`] lasts that long).
+    pub fn after(rest_s: Option<f64>) -> Self {
+        let rest_s = rest_s.unwrap_or(0.0);
+        Self {
+            length_s: rest_s.max(TRANSITION_S),
+            rest: rest_s > 0.0,
+        }
+    }
 }
 
 /// How long one run of `exercise` takes, s: its time limit, or the road driven at its speed
@@ -76,6 +106,7 @@ fn build_segment(cfg: &StationConfig, entry: &RegimenEntry) -> anyhow::Result<Se
         world,
         haptic,
         assist,
+        break_after: None,
     })
 }
 
@@ -83,12 +114,24 @@ fn build_segment(cfg: &StationConfig, entry: &RegimenEntry) -> anyhow::Result<Se
 /// enough to fill `cfg.session.duration_s`.
 pub fn build(cfg: &StationConfig, regimen: Option<&Regimen>) -> anyhow::Result<Vec<Segment>> {
     match regimen {
-        Some(r) => r.exercises.iter().map(|e| build_segment(cfg, e)).collect(),
+        Some(r) => {
+            let last = r.exercises.len().saturating_sub(1);
+            r.exercises
+                .iter()
+                .enumerate()
+                .map(|(i, e)| {
+                    let mut segment = build_segment(cfg, e)?;
+                    segment.break_after = (i < last).then(|| Break::after(e.rest_s));
+                    Ok(segment)
+                })
+                .collect()
+        }
         None => {
             let entry = RegimenEntry {
                 exercise: ExerciseSpec::from_name(&cfg.session.exercise)?,
                 haptic: None,
                 assist: None,
+                rest_s: None,
             };
             let first = build_segment(cfg, &entry)?;
             let lap_s = nominal_time_s(&first.exercise);

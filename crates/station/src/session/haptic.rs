@@ -2,6 +2,7 @@
 //! wait-free ring buffer, torque faded to zero on every way out. Time comes from the session's
 //! [`Clock`] (a mock clock in tests: deadlines are met at once and the figures are exact).
 
+use crate::session::breaks::BreakClock;
 use crate::session::controls::Controls;
 use crate::session::plant::Plant;
 use clock::Clock;
@@ -45,6 +46,12 @@ pub struct HapticOutcome {
     pub skipped_deadlines: u64,
     /// The torque ceiling that held on the wheel, N·m and as a share of its motor.
     pub ceiling: Option<haptic_wheel::CeilingReport>,
+    /// Rests taken (prescribed or asked for).
+    pub rests: u32,
+    /// Time spent resting, s (not exercise time).
+    pub rest_s: f64,
+    /// The session ended because a pause lasted longer than `[session] pause_limit_s`.
+    pub paused_too_long: bool,
 }
 
 /// The loop's deadline arithmetic, without a clock: the tick of slot `k` is due at
@@ -221,6 +228,7 @@ pub fn run(
     let mut stopping_since: Option<u64> = None;
     let mut stopped_early = false;
     let mut tick = 0u64;
+    let mut breaks = BreakClock::new(plant.break_settings(), plant.dt_s());
     loop {
         // The session's length counts exercise time: a pause lengthens it.
         let active = plant.active_ticks();
@@ -228,6 +236,7 @@ pub fn run(
             && (active >= total_ticks
                 || plant.course_done()
                 || plant.wheel_fault().is_some()
+                || breaks.paused_too_long
                 || controls.stop.load(Ordering::Relaxed))
         {
             stopped_early = active < total_ticks && !plant.course_done();
@@ -246,9 +255,10 @@ pub fn run(
         let wake = clock.now_ns();
         // A stop overrides a pause. (The recorder thread logs the changes: no I/O here.)
         if stopping_since.is_none() {
-            plant.set_paused(controls.pause.load(Ordering::Relaxed));
+            plant.set_paused(breaks.before_tick(plant, controls));
         }
         let mut rec = plant.tick();
+        breaks.after_tick(&rec, plant, controls);
         let done = clock.now_ns();
         // For the live summaries and the log (the recorder thread tells them).
         controls
@@ -299,6 +309,9 @@ pub fn run(
         wheel_replugs: plant.wheel_replugs(),
         skipped_deadlines: slots.skipped,
         ceiling: Some(plant.ceiling()),
+        rests: breaks.rests,
+        rest_s: breaks.rest_s(),
+        paused_too_long: breaks.paused_too_long,
     }
 }
 

@@ -3,6 +3,8 @@
 
 pub mod arm;
 pub mod arm_calibration;
+pub mod breaks;
+pub mod buttons;
 mod controls;
 pub mod course;
 pub mod disk_space;
@@ -28,7 +30,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-pub use controls::Controls;
+pub use controls::{BreakKind, BreakNow, Controls};
 
 /// Capacity of the haptic → recorder ring, records (8 s at 1 kHz).
 const RING_CAPACITY: usize = 8192;
@@ -234,6 +236,15 @@ fn body_facts(cfg: &StationConfig, kind: BodyKind, plant: &plant::Plant) -> reco
     }
 }
 
+/// The recorder's account with the session's rests in its measures (time, s, and how many),
+/// so they reach the hub with them.
+fn with_rests(mut outcome: RecorderOutcome, haptic: &HapticOutcome) -> RecorderOutcome {
+    let named = &mut outcome.measures.named;
+    named.insert("rest_s".to_owned(), haptic.rest_s);
+    named.insert("rests".to_owned(), f64::from(haptic.rests));
+    outcome
+}
+
 fn run_body(
     opts: &SessionOptions,
     controls: &Controls,
@@ -353,6 +364,7 @@ fn run_body(
         Ok((haptic, rec, summaries))
     })?;
 
+    let recorder_outcome = with_rests(recorder_outcome, &haptic);
     Ok(SessionReport {
         haptic,
         recorder: recorder_outcome,

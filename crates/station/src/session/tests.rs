@@ -331,3 +331,115 @@ fn a_real_time_session_on_a_mock_clock_runs_at_once_with_exact_timing() {
         h.wall_s
     );
 }
+
+/// A regimen of two 2-s dial exercises, the first followed by `rest` (TOML value or none).
+fn two_dials(rest: Option<f64>) -> regimen::Regimen {
+    let rest = rest.map_or(String::new(), |r| format!("rest_s = {r}\n"));
+    let text = format!(
+        "[[exercise]]\nkind = \"dial\"\nduration_s = 2.0\n{rest}\n\
+         [[exercise]]\nkind = \"dial\"\nduration_s = 2.0\n"
+    );
+    regimen::Regimen::from_toml(&text, "test").unwrap()
+}
+
+fn run_regimen(r: regimen::Regimen) -> (super::SessionReport, Vec<TickRecord>) {
+    let mut opts = simulated_at_max_speed(config("dial-sine", 60.0));
+    opts.regimen = Some(r);
+    let mut keep = Keep::default();
+    let report = super::run(&opts, &Controls::default(), &mut keep).unwrap();
+    (report, keep.0)
+}
+
+#[test]
+fn a_prescribed_rest_pauses_between_exercises_with_the_torque_faded_and_is_not_exercise_time() {
+    let (report, recs) = run_regimen(two_dials(Some(8.0)));
+    assert_eq!(report.haptic.rests, 1);
+    assert!(
+        (report.haptic.rest_s - 8.0).abs() < 0.01,
+        "{}",
+        report.haptic.rest_s
+    );
+    let named = &report.recorder.measures.named;
+    assert_eq!(
+        (named["rest_s"], named["rests"]),
+        (report.haptic.rest_s, 1.0)
+    );
+    // The rest is paused time before the second exercise, the torque faded out within it.
+    let rest: Vec<&TickRecord> = recs.iter().filter(|r| r.score.paused).collect();
+    assert!((rest.len() as f64 - 8000.0).abs() < 5.0, "{}", rest.len());
+    assert!(rest.iter().all(|r| r.score.exercise_index == 1));
+    assert!(rest[1000..].iter().all(|r| r.wheel.commanded_nm == 0.0));
+    // The prescribed exercise time, 2 s + 2 s (and the fade-out after it): the rest is not in it.
+    let active_s = recs.last().unwrap().score.active_s;
+    assert!((4.0..4.3).contains(&active_s), "active {active_s} s");
+    assert!(!report.haptic.stopped_early && !report.haptic.paused_too_long);
+}
+
+#[test]
+fn without_a_rest_the_card_between_exercises_shows_for_its_short_break_and_is_no_rest() {
+    let (report, recs) = run_regimen(two_dials(None));
+    assert_eq!((report.haptic.rests, report.haptic.rest_s), (0, 0.0));
+    let between = recs.iter().filter(|r| r.score.paused).count() as f64;
+    let card_ticks = course::TRANSITION_S * 1000.0;
+    assert!((between - card_ticks).abs() < 5.0, "{between}");
+}
+
+/// Asks for a rest once the exercise has run `after_s`.
+struct AskRest<'a> {
+    controls: &'a Controls,
+    after_s: f64,
+    asked: bool,
+    records: Vec<TickRecord>,
+}
+
+impl SessionObserver for AskRest<'_> {
+    fn on_tick(&mut self, record: &TickRecord) {
+        if !self.asked && record.score.active_s >= self.after_s {
+            self.asked = true;
+            self.controls.rest.store(true, Ordering::Relaxed);
+        }
+        self.records.push(*record);
+    }
+}
+
+#[test]
+fn a_rest_the_patient_asks_for_lasts_its_set_time_then_the_exercise_goes_on_by_itself() {
+    let mut cfg = config("dial-sine", 3.0);
+    cfg.session.asked_rest_s = 5.0;
+    let opts = simulated_at_max_speed(cfg);
+    let controls = Controls::default();
+    let mut observer = AskRest {
+        controls: &controls,
+        after_s: 1.0,
+        asked: false,
+        records: Vec::new(),
+    };
+    let report = super::run(&opts, &controls, &mut observer).unwrap();
+    assert_eq!(report.haptic.rests, 1);
+    assert!(
+        (report.haptic.rest_s - 5.0).abs() < 0.01,
+        "{}",
+        report.haptic.rest_s
+    );
+    let active_s = observer.records.last().unwrap().score.active_s;
+    // (The last ticks are the fade-out after the 3 s.)
+    assert!(
+        (3.0..3.3).contains(&active_s),
+        "the full exercise time after the rest: {active_s}"
+    );
+    assert!(!report.haptic.stopped_early);
+}
+
+#[test]
+fn a_pause_longer_than_the_limit_ends_the_session_saying_so() {
+    let mut cfg = config("dial-sine", 30.0);
+    cfg.session.pause_limit_s = 10.0;
+    let opts = simulated_at_max_speed(cfg);
+    let controls = Controls::default();
+    controls.pause.store(true, Ordering::Relaxed);
+    let report = super::run(&opts, &controls, &mut ()).unwrap();
+    assert!(report.haptic.paused_too_long && report.haptic.stopped_early);
+    // Ended at the limit (plus the fade-out), not after the session's 30 s.
+    let ran_s = report.haptic.ticks as f64 / 1000.0;
+    assert!((10.0..12.5).contains(&ran_s), "ran {ran_s} s");
+}

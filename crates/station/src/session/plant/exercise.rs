@@ -194,6 +194,11 @@ impl Exercise {
         AssistStep { active, out }
     }
 
+    /// The break after exercise `segment` of the course, if any.
+    pub(super) fn break_after(&self, segment: usize) -> Option<crate::session::course::Break> {
+        self.course.get(segment).and_then(|s| s.break_after)
+    }
+
     /// Move on to the next exercise at exercise time `t_s`, and the haptic settings it
     /// brings; or mark the course done after the last one.
     pub(super) fn next_segment(&mut self, t_s: f64) -> Option<&HapticRegimen> {

@@ -53,6 +53,8 @@ pub struct Plant {
     ceiling: CeilingReport,
     /// The wheel the plant was built around.
     wheel_facts: WheelFacts,
+    /// How long an asked-for rest and a pause may last.
+    break_settings: crate::session::breaks::BreakSettings,
 }
 
 /// The loop's ticks.
@@ -188,6 +190,10 @@ impl Plant {
             watchdog: WatchdogState::SoftStart,
             ceiling,
             wheel_facts,
+            break_settings: crate::session::breaks::BreakSettings {
+                asked_rest_s: cfg.session.asked_rest_s,
+                pause_limit_s: cfg.session.pause_limit_s,
+            },
         })
     }
 
@@ -217,6 +223,16 @@ impl Plant {
     /// zero; the loop and the recording go on) or resume it (the torque soft-starts).
     pub fn set_paused(&mut self, paused: bool) {
         self.raw.paused = paused;
+    }
+
+    /// How long an asked-for rest and a pause may last (`[session]`).
+    pub fn break_settings(&self) -> crate::session::breaks::BreakSettings {
+        self.break_settings
+    }
+
+    /// The break after exercise `segment` of the course (0-based), if any.
+    pub fn break_after(&self, segment: usize) -> Option<crate::session::course::Break> {
+        self.exercise.break_after(segment)
     }
 
     /// Ticks the exercise has run, pauses excluded.

@@ -248,6 +248,7 @@ fn run_one(
             };
         }
         let (gate, done, end_phase) = (s.gate, s.done, s.end_phase);
+        let controls = s.controls;
         scope.spawn(move || {
             let gone = loop {
                 match wire::recv::<FromWindow>(&mut from_window) {
@@ -263,6 +264,7 @@ fn run_one(
                             None => ToWindow::Frame {
                                 record: Box::new(*output.read()),
                                 draw: gate.is_none_or(|g| g.load(Ordering::Relaxed)),
+                                brk: controls.break_now(),
                             },
                         };
                         // A frame that cannot be sent (the session is over and our side is
@@ -412,6 +414,11 @@ fn apply(r: UserRequest, controls: &Controls) {
         UserRequest::TogglePause => {
             controls.pause.fetch_xor(true, Ordering::Relaxed);
         }
+        // The window asks before ending: meanwhile the exercise waits.
+        UserRequest::AskEnd => controls.pause.store(true, Ordering::Relaxed),
+        // R: a rest now; Space during a break: go on now.
+        UserRequest::Rest => controls.rest.store(true, Ordering::Relaxed),
+        UserRequest::GoOn => controls.end_break.store(true, Ordering::Relaxed),
         // Seeking and speed are a replay's; a live session has neither.
         _ => {}
     }

@@ -54,6 +54,9 @@ pub enum ToWindow {
         record: Box<TickRecord>,
         /// Draw it (false: the window stays open without drawing).
         draw: bool,
+        /// The break in progress (a rest, or the card between exercises).
+        #[serde(default)]
+        brk: crate::session::BreakNow,
     },
     /// The session is over (the haptic loop has stopped, torque zero): show the end screen
     /// and ask the check-in questions ([`crate::checkin`]), then answer
@@ -156,10 +159,14 @@ mod tests {
         let sent = ToWindow::Frame {
             record: Box::new(record),
             draw: true,
+            brk: crate::session::BreakNow::default(),
         };
         send(&mut wire, &sent).unwrap();
         let back: ToWindow = recv(&mut wire.as_slice()).unwrap().unwrap();
-        let ToWindow::Frame { record: got, draw } = back else {
+        let ToWindow::Frame {
+            record: got, draw, ..
+        } = back
+        else {
             panic!("not a frame: {back:?}");
         };
         assert!(draw);
@@ -180,6 +187,7 @@ mod tests {
             &ToWindow::Frame {
                 record: Box::new(with_arm),
                 draw: false,
+                brk: crate::session::BreakNow::default(),
             },
         )
         .unwrap();
@@ -187,7 +195,7 @@ mod tests {
         assert_eq!(recv::<FromWindow>(&mut r).unwrap(), Some(FromWindow::Pull));
         assert!(matches!(
             recv::<ToWindow>(&mut r).unwrap(),
-            Some(ToWindow::Frame { record, draw: false }) if record.arm.is_some()
+            Some(ToWindow::Frame { record, draw: false, .. }) if record.arm.is_some()
         ));
         assert_eq!(recv::<ToWindow>(&mut r).unwrap(), None, "clean end");
     }

@@ -1,0 +1,119 @@
+//! Breaks on the haptic thread: the card between two prescribed exercises, the rests the
+//! regimen prescribes, the rests the patient asks for, and the limit on a pause. A break is a
+//! pause to the plant (the exercise clock stops and the torque fades out exactly as for Space),
+//! so rests are never exercise time and a replay follows them as it follows pauses.
+
+use super::controls::{BreakKind, Controls};
+use super::plant::Plant;
+use record::TickRecord;
+use std::sync::atomic::Ordering;
+
+/// How long a rest the patient asks for lasts, and how long a pause may last, s.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BreakSettings {
+    /// A rest the patient asks for (R, or a wheel button), s.
+    pub asked_rest_s: f64,
+    /// A pause longer than this ends the session ("paused too long"), s.
+    pub pause_limit_s: f64,
+}
+
+/// The breaks of one session, kept by the haptic thread.
+#[derive(Debug)]
+pub struct BreakClock {
+    settings: BreakSettings,
+    dt_s: f64,
+    kind: BreakKind,
+    left_ticks: u64,
+    /// The exercise of the last tick.
+    segment: u32,
+    /// Ticks the patient's pause has lasted so far.
+    paused_ticks: u64,
+    /// Rests taken (prescribed or asked for).
+    pub rests: u32,
+    /// Ticks spent resting.
+    pub rest_ticks: u64,
+    /// The patient's pause lasted longer than the limit.
+    pub paused_too_long: bool,
+}
+
+impl BreakClock {
+    /// No break yet, for a loop of period `dt_s`.
+    pub fn new(settings: BreakSettings, dt_s: f64) -> Self {
+        Self {
+            settings,
+            dt_s,
+            kind: BreakKind::None,
+            left_ticks: 0,
+            segment: 0,
+            paused_ticks: 0,
+            rests: 0,
+            rest_ticks: 0,
+            paused_too_long: false,
+        }
+    }
+
+    fn start(&mut self, kind: BreakKind, length_s: f64) {
+        self.kind = kind;
+        self.left_ticks = (length_s / self.dt_s).round() as u64;
+        self.rests += u32::from(kind.is_rest());
+    }
+
+    /// Before a tick: take the patient's requests; true when the exercise must be paused
+    /// (the patient paused it, or a break is in progress).
+    pub fn before_tick(&mut self, plant: &Plant, controls: &Controls) -> bool {
+        if controls.rest.swap(false, Ordering::Relaxed)
+            && self.left_ticks == 0
+            && plant.active_ticks() > 0
+        {
+            // A rest in place of a pause: the countdown shows, and the exercise goes on by
+            // itself after it.
+            controls.pause.store(false, Ordering::Relaxed);
+            self.start(BreakKind::Asked, self.settings.asked_rest_s);
+        }
+        if controls.end_break.swap(false, Ordering::Relaxed) {
+            self.left_ticks = 0;
+        }
+        let paused = controls.pause.load(Ordering::Relaxed);
+        self.paused_ticks = if paused { self.paused_ticks + 1 } else { 0 };
+        if self.paused_ticks as f64 * self.dt_s > self.settings.pause_limit_s {
+            self.paused_too_long = true;
+        }
+        paused || self.left_ticks > 0
+    }
+
+    /// After a tick: start the break after an exercise that just ended, count the one in
+    /// progress down, and tell `controls` (for the patient's screen).
+    pub fn after_tick(&mut self, rec: &TickRecord, plant: &Plant, controls: &Controls) {
+        let segment = rec.score.exercise_index;
+        if segment != self.segment {
+            if let Some(b) = plant.break_after(self.segment as usize) {
+                let kind = if b.rest {
+                    BreakKind::Prescribed
+                } else {
+                    BreakKind::Next
+                };
+                self.start(kind, b.length_s);
+            }
+            self.segment = segment;
+        }
+        if self.left_ticks > 0 {
+            self.left_ticks -= 1;
+            self.rest_ticks += u64::from(self.kind.is_rest());
+        }
+        if self.left_ticks == 0 {
+            self.kind = BreakKind::None;
+        }
+        controls
+            .break_kind
+            .store(self.kind.as_u8(), Ordering::Relaxed);
+        controls.break_left_ms.store(
+            (self.left_ticks as f64 * self.dt_s * 1e3).round() as u64,
+            Ordering::Relaxed,
+        );
+    }
+
+    /// Time spent resting, s.
+    pub fn rest_s(&self) -> f64 {
+        self.rest_ticks as f64 * self.dt_s
+    }
+}
