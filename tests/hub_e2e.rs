@@ -329,13 +329,75 @@ fn a_prescribed_regimen_reaches_the_station_and_runs_at_its_next_session() {
         &["pair", "--hub", &hub.stations, "--code", &code],
         Some(&home),
     );
+    // The first session after the prescription was saved runs it: the station asks the hub
+    // before it starts.
     let first = run_session(&home, "3");
-    assert!(first.contains("v1 kept for the next session"), "{first}");
-    let second = run_session(&home, "3");
-    assert!(second.contains("exercises "), "{second}");
     assert!(
-        !second.contains("exercises           1 (1 run)"),
-        "the regimen's exercises run: {second}"
+        first.contains("-v1 from the hub, received before the start"),
+        "{first}"
+    );
+    assert!(
+        !first.contains("exercises           1 (1 run)"),
+        "the regimen's exercises run: {first}"
+    );
+    // Kept for a session without the hub.
+    hub.stop();
+    let offline = run_session(&home, "3");
+    assert!(
+        offline.contains("prescription        kept ") && offline.contains("regimen.toml"),
+        "{offline}"
+    );
+    assert!(
+        !offline.contains("exercises           1 (1 run)"),
+        "the kept regimen runs: {offline}"
+    );
+}
+
+#[test]
+fn each_way_a_session_ends_reaches_the_hub_as_its_end_reason() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (data, code) = clinic(tmp.path());
+    let hub = Hub::serve(&data, "127.0.0.1:0");
+    let home = tmp.path().join("station");
+    ok(
+        &["pair", "--hub", &hub.stations, "--code", &code],
+        Some(&home),
+    );
+    let run = |faults: &[&str]| {
+        let mut args = vec![
+            "run",
+            "--sim",
+            "--headless",
+            "--speed",
+            "max",
+            "--duration",
+            "3",
+        ];
+        for f in faults {
+            args.extend(["--fault", f]);
+        }
+        // A recording that failed fails the run (after the session and its report).
+        let out = telerehab(&args, Some(&home));
+        let report = String::from_utf8_lossy(&out.stdout).into_owned();
+        let ended = report
+            .lines()
+            .find_map(|l| l.strip_prefix("ended               "))
+            .unwrap_or_else(|| panic!("no end line: {report}"))
+            .to_owned();
+        // Newest first at the hub: this session's row.
+        let stored = show_json(&data)["sessions"][0]["session"]["end_reason"]
+            .as_str()
+            .unwrap_or_default()
+            .to_owned();
+        assert_eq!(stored, ended, "the hub stores what the station said");
+        stored
+    };
+    assert_eq!(run(&[]), "complete");
+    assert_eq!(run(&["wheel-unplug@1"]), "wheel unplugged");
+    let full = run(&["disk-full@1"]);
+    assert!(
+        full.starts_with("complete; recording stopped: disk full at "),
+        "{full}"
     );
     hub.stop();
 }

@@ -176,7 +176,7 @@ async function progressView(el, id, patient) {
     return `<tr><th scope="row">${esc(label)}</th><td>${last === undefined ? '—' : `${esc(Number(last).toFixed(2))} ${esc(unit)}`}</td><td>${trend(key)}</td></tr>`;
   }).join('');
   const list = sessions.slice().reverse().map(s => `<tr><td>${esc(when(s.started_unix_ms))}</td><td>${esc(s.exercise)}</td>
-    <td>${esc(s.end_reason || (s.closed_at_ms ? 'ended' : 'running'))}</td>
+    <td>${esc(s.end_reason ? `ended: ${s.end_reason}` : (s.closed_at_ms ? 'ended' : 'running'))}</td>
     <td class="checkin">${checkinWords(checkins.get(s.session_id))}</td>
     <td><a href="#/patients/${encodeURIComponent(id)}/replay/${encodeURIComponent(s.session_id)}">Replay</a></td></tr>`).join('');
   el.innerHTML = `

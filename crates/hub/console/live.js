@@ -35,7 +35,22 @@ export function liveView(el, patientId) {
   let session = null;
   const status = el.querySelector('#live-status');
   const source = new EventSource(`/api/patients/${encodeURIComponent(patientId)}/live`);
+  // A session that stops sending is asked for its end: "ended: wheel unplugged", not "running"
+  // for ever (the station's Bye reason, stored as the session's end_reason).
+  let lastSummaryMs = 0, endShown = null;
+  const endCheck = setInterval(async () => {
+    if (!session || endShown === session || Date.now() - lastSummaryMs < 2000) return;
+    try {
+      const row = await api('GET', `/api/sessions/${encodeURIComponent(session)}`);
+      if (row.closed_at_ms || row.end_reason) {
+        endShown = session;
+        status.querySelectorAll('.badge.ok, .badge.warn').forEach(b => b.remove());
+        status.insertAdjacentHTML('beforeend', ` <span class="badge" data-ended="1">ended: ${esc(row.end_reason || 'no reason given')}</span>`);
+      }
+    } catch { /* asked again at the next tick */ }
+  }, 2000);
   source.addEventListener('summary', async ev => {
+    lastSummaryMs = Date.now();
     const msg = JSON.parse(ev.data);
     const s = msg.summary, x = s.extra || {};
     if (session !== msg.session_id) {
@@ -80,9 +95,10 @@ export function liveView(el, patientId) {
   // say so, and do not let the browser reconnect.
   source.addEventListener('ended', ev => {
     source.close();
+    clearInterval(endCheck);
     status.textContent = `Live view stopped: ${ev.data}. Log in again to watch.`;
   });
-  return () => source.close();
+  return () => { source.close(); clearInterval(endCheck); };
 }
 
 function fmt(v, digits) { return v === undefined || v === null ? '—' : Number(v).toFixed(digits); }

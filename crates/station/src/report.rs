@@ -74,6 +74,13 @@ fn outcome(s: &mut String, r: &SessionReport) {
     if let Some(fault) = r.haptic.wheel_fault {
         line!(s, "ended because       {fault} (torque faded to zero)");
     }
+    line!(s, "ended               {}", r.end_reason());
+    let active_s = (r.recorder.road_ticks + r.recorder.dial_ticks) as f64 / r.loop_rate_hz;
+    let paused_s = r.recorder.paused_ticks as f64 / r.loop_rate_hz;
+    line!(
+        s,
+        "active time         {active_s:.1} s of exercise; the patient's stops {paused_s:.1} s (not counted)"
+    );
     if let Some(c) = &r.haptic.ceiling {
         line!(s, "{c}");
     }

@@ -13,7 +13,6 @@ use crate::render::{
 use crate::session::{BreakKind, BreakNow};
 use record::{ArmSetup, TickRecord, Watchdog};
 use regimen::Regimen;
-use vehicle::ExerciseSpec;
 
 /// Centre-line sample spacing for the screen's road mesh, m.
 const ROAD_SAMPLE_M: f64 = 2.0;
@@ -56,18 +55,15 @@ pub struct CourseView {
 }
 
 impl CourseView {
-    /// The view of the course a session of `cfg` (and `regimen`) runs. Laps of one exercise
-    /// share one view.
+    /// The view of the course a session of `cfg` (and `regimen`) runs.
     pub fn new(cfg: &StationConfig, regimen: Option<&Regimen>) -> anyhow::Result<Self> {
-        let specs: Vec<ExerciseSpec> = match regimen {
-            Some(r) => r.exercises.iter().map(|e| e.exercise.clone()).collect(),
-            None => vec![ExerciseSpec::from_name(&cfg.session.exercise)?],
-        };
-        let mut exercises = Vec::with_capacity(specs.len());
+        let entries = crate::session::course::entries(cfg, regimen)?;
+        let mut exercises = Vec::with_capacity(entries.len());
         let mut course_s = 0.0;
-        for spec in specs {
-            let ex = spec.build()?;
-            course_s += crate::session::course::nominal_time_s(&ex);
+        for entry in entries {
+            // Built as the session builds it: the road drawn is the road driven.
+            let ex = entry.exercise.build()?;
+            course_s += ex.planned_duration_s();
             let road = ex.road.as_ref().map(|r| {
                 let n = (ex.length_m / ROAD_SAMPLE_M).ceil() as usize;
                 let centre = (0..=n)
@@ -95,18 +91,13 @@ impl CourseView {
         Ok(Self {
             in_regimen: regimen.is_some(),
             exercises,
-            // A regimen ends the session when its exercises are done; laps fill the duration.
-            duration_s: if regimen.is_some() {
-                course_s.min(cfg.session.duration_s)
-            } else {
-                cfg.session.duration_s
-            },
+            // The session ends when its exercises are done, or at its duration cap.
+            duration_s: course_s.min(cfg.session.duration_s),
         })
     }
 
     /// The scene for the tick `rec`.
     pub fn scene(&self, rec: &TickRecord, screen: ScreenState) -> Scene {
-        // Laps of one exercise share its view.
         let ex = &self.exercises[(rec.score.exercise_index as usize).min(self.exercises.len() - 1)];
         // Pauses do not count: the exercise clock stops with the car.
         let t_s = rec.score.active_s;

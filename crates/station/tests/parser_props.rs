@@ -42,7 +42,6 @@ fn outside(lo: f64, hi: f64, open_lo: bool) -> impl Strategy<Value = f64> {
 const CONFIG_FIELDS: &[(&str, &str, f64, f64, bool)] = &[
     ("session", "duration_s", 0.001, 4.0 * 3600.0, false),
     ("session", "loop_rate_hz", 100.0, 2000.0, false),
-    ("session", "speed_m_s", 0.0, 40.0, false),
     ("haptic", "road_feel_nm_per_kn", 0.0, 2.0, false),
     ("haptic", "replug_grace_s", 0.0, 600.0, false),
     ("haptic.safety", "slew_nm_per_s", 0.0, 10_000.0, true),

@@ -110,7 +110,8 @@ spec_struct!(
         /// Target speed, m/s.
         #[schemars(range(min = SPEED_M_S.min, max = SPEED_M_S.max))]
         speed_m_s: f64 = 12.0,
-        /// Time limit, s (the exercise ends at the road's end or at this time).
+        /// Prescribed duration, s: the exercise lasts exactly this long, the road continuing its
+        /// shape as long as needed; without it the road is driven once.
         #[schemars(range(min = DURATION_S.min, max = DURATION_S.max))]
         duration_s: Option<f64> = None,
     }
@@ -134,7 +135,7 @@ spec_struct!(
         /// Target speed, m/s.
         #[schemars(range(min = SPEED_M_S.min, max = SPEED_M_S.max))]
         speed_m_s: f64 = 12.0,
-        /// Time limit, s.
+        /// Prescribed duration, s (the road continues its shape to last it).
         #[schemars(range(min = DURATION_S.min, max = DURATION_S.max))]
         duration_s: Option<f64> = None,
     }
@@ -161,7 +162,7 @@ spec_struct!(
         /// Target speed, m/s.
         #[schemars(range(min = SPEED_M_S.min, max = SPEED_M_S.max))]
         speed_m_s: f64 = 12.0,
-        /// Time limit, s.
+        /// Prescribed duration, s (the road continues its shape to last it).
         #[schemars(range(min = DURATION_S.min, max = DURATION_S.max))]
         duration_s: Option<f64> = None,
     }
@@ -186,7 +187,7 @@ spec_struct!(
         /// Target speed, m/s.
         #[schemars(range(min = SPEED_M_S.min, max = SPEED_M_S.max))]
         speed_m_s: f64 = 12.0,
-        /// Time limit, s.
+        /// Prescribed duration, s (the road continues its shape to last it).
         #[schemars(range(min = DURATION_S.min, max = DURATION_S.max))]
         duration_s: Option<f64> = None,
     }
@@ -214,7 +215,7 @@ spec_struct!(
         /// Target speed on the straights, m/s (slower in the turns, see [`Exercise::target_speed_m_s`]).
         #[schemars(range(min = SPEED_M_S.min, max = SPEED_M_S.max))]
         speed_m_s: f64 = 10.0,
-        /// Time limit, s.
+        /// Prescribed duration, s (the road continues its shape to last it).
         #[schemars(range(min = DURATION_S.min, max = DURATION_S.max))]
         duration_s: Option<f64> = None,
     }
@@ -235,7 +236,7 @@ spec_struct!(
         /// Target speed, m/s.
         #[schemars(range(min = SPEED_M_S.min, max = SPEED_M_S.max))]
         speed_m_s: f64 = 9.0,
-        /// Time limit, s.
+        /// Prescribed duration, s (the road continues its shape to last it).
         #[schemars(range(min = DURATION_S.min, max = DURATION_S.max))]
         duration_s: Option<f64> = None,
     }
@@ -263,7 +264,7 @@ spec_struct!(
         /// Target speed, m/s.
         #[schemars(range(min = SPEED_M_S.min, max = SPEED_M_S.max))]
         speed_m_s: f64 = 12.0,
-        /// Time limit, s.
+        /// Prescribed duration, s (the road continues its shape to last it).
         #[schemars(range(min = DURATION_S.min, max = DURATION_S.max))]
         duration_s: Option<f64> = None,
     }
@@ -288,7 +289,7 @@ spec_struct!(
         /// Target speed, m/s.
         #[schemars(range(min = SPEED_M_S.min, max = SPEED_M_S.max))]
         speed_m_s: f64 = 7.0,
-        /// Time limit, s.
+        /// Prescribed duration, s (the road continues its shape to last it).
         #[schemars(range(min = DURATION_S.min, max = DURATION_S.max))]
         duration_s: Option<f64> = None,
     }
@@ -381,6 +382,23 @@ impl ExerciseSpec {
             },
         };
         Ok(spec)
+    }
+
+    /// The same exercise prescribed for `duration_s`.
+    pub fn with_duration_s(&self, duration_s: f64) -> Self {
+        let mut spec = self.clone();
+        match &mut spec {
+            Self::Straight(s) => s.duration_s = Some(duration_s),
+            Self::Sine(s) => s.duration_s = Some(duration_s),
+            Self::Triangle(s) => s.duration_s = Some(duration_s),
+            Self::Clothoid(s) => s.duration_s = Some(duration_s),
+            Self::SharpTurns(s) => s.duration_s = Some(duration_s),
+            Self::SBend(s) => s.duration_s = Some(duration_s),
+            Self::LaneChange(s) => s.duration_s = Some(duration_s),
+            Self::Slalom(s) => s.duration_s = Some(duration_s),
+            Self::Dial(d) => d.duration_s = duration_s,
+        }
+        spec
     }
 
     /// The stable short name (`"sine-road"`, `"dial-step"`, …).
@@ -487,7 +505,7 @@ impl ExerciseSpec {
     pub fn build(&self) -> Result<Exercise, VehicleError> {
         self.validate()?;
         let name = self.name();
-        let (speed, duration, cones) = match self {
+        let (speed, duration, mut cones) = match self {
             Self::Straight(s) => (s.speed_m_s, s.duration_s, Vec::new()),
             Self::Sine(s) => (s.speed_m_s, s.duration_s, Vec::new()),
             Self::Triangle(s) => (s.speed_m_s, s.duration_s, Vec::new()),
@@ -495,14 +513,7 @@ impl ExerciseSpec {
             Self::SharpTurns(s) => (s.speed_m_s, s.duration_s, Vec::new()),
             Self::SBend(s) => (s.speed_m_s, s.duration_s, Vec::new()),
             Self::LaneChange(s) => (s.speed_m_s, s.duration_s, Vec::new()),
-            Self::Slalom(s) => {
-                // The cones stand on the centre line's axis y = w at its crests and troughs
-                // ξ = k·spacing (see `centre_line`).
-                let cones = (1..=s.cone_count)
-                    .map(|k| [LEAD_IN_M + f64::from(k) * s.cone_spacing_m, s.weave_m])
-                    .collect();
-                (s.speed_m_s, s.duration_s, cones)
-            }
+            Self::Slalom(s) => (s.speed_m_s, s.duration_s, Vec::new()),
             Self::Dial(d) => {
                 return Ok(Exercise {
                     name,
@@ -516,11 +527,18 @@ impl ExerciseSpec {
                 });
             }
         };
-        let road = self
-            .centre_line()
-            .ok_or_else(|| VehicleError::InvalidInput("no road".into()))?
-            .straight(LEAD_OUT_M)
-            .build()?;
+        let reps = match duration {
+            Some(d) => self.repetitions_for(d, speed)?,
+            None => 1,
+        };
+        let road = self.road(reps)?;
+        if let Self::Slalom(s) = self {
+            // The cones stand on the centre line's axis y = w at its crests and troughs
+            // ξ = k·spacing (see `centre_line`).
+            cones = (1..=slalom_cones(s.cone_count, reps))
+                .map(|k| [LEAD_IN_M + f64::from(k) * s.cone_spacing_m, s.weave_m])
+                .collect();
+        }
         let length_m = road.length_m();
         let lane_width_m = road.lane_width_m();
         let speed_profile_m_s = speed_profile(&road, speed);
@@ -536,14 +554,43 @@ impl ExerciseSpec {
         })
     }
 
-    /// A road exercise's centre line from its start to the end of its shape (the lead-out
-    /// straight follows); `None` for the dial task.
-    fn centre_line(&self) -> Option<PathBuilder> {
+    /// The road with its shape `reps` times over, then the lead-out straight.
+    fn road(&self, reps: u32) -> Result<PathRoad, VehicleError> {
+        self.centre_line(reps)
+            .ok_or_else(|| VehicleError::InvalidInput("no road".into()))?
+            .straight(LEAD_OUT_M)
+            .build()
+    }
+
+    /// How many times the shape must repeat for a car following the target-speed profile to
+    /// still be on the road after `duration_s` (a prescribed duration is honoured exactly, the
+    /// road continued seamlessly rather than run out): the time to drive one shape at the
+    /// profile, with a quarter more road and 5 s spare for a car slower than its target.
+    fn repetitions_for(&self, duration_s: f64, speed_m_s: f64) -> Result<u32, VehicleError> {
+        let one = self.road(1)?;
+        let profile = speed_profile(&one, speed_m_s);
+        let drive_s: f64 = profile.iter().map(|v| 1.0 / v.max(0.1)).sum();
+        // The lead-in and lead-out are driven once, whatever the repetitions.
+        let shape_s = (drive_s - (LEAD_IN_M + LEAD_OUT_M) / speed_m_s).max(0.1);
+        let needed_s = 1.25 * duration_s + 5.0;
+        if drive_s >= needed_s {
+            return Ok(1);
+        }
+        Ok(((needed_s / shape_s).ceil() as u32).max(1))
+    }
+
+    /// A road exercise's centre line from its start to the end of its shape repeated `reps`
+    /// times (the lead-out straight follows); `None` for the dial task. Every repetition
+    /// continues the last one where it ended: roads that end turned (clothoid) mirror every
+    /// other repetition so they wind back, counted shapes (waves, turns, lane changes, cones)
+    /// continue their alternation.
+    fn centre_line(&self, reps: u32) -> Option<PathBuilder> {
         let lead = |w: f64| PathBuilder::new(0.0, 0.0, 0.0, w).straight(LEAD_IN_M);
+        let reps = reps.max(1);
         Some(match self {
-            Self::Straight(s) => lead(s.lane_width_m).straight(s.length_m),
+            Self::Straight(s) => lead(s.lane_width_m).straight(s.length_m * f64::from(reps)),
             Self::Sine(s) => {
-                lead(s.lane_width_m).sine(s.amplitude_m, s.wavelength_m, 2 * s.periods)
+                lead(s.lane_width_m).sine(s.amplitude_m, s.wavelength_m, 2 * s.periods * reps)
             }
             Self::Triangle(s) => {
                 let (leg, phi) = triangle_leg(s.amplitude_m, s.wavelength_m);
@@ -553,9 +600,9 @@ impl ExerciseSpec {
                 let mut b = lead(s.lane_width_m)
                     .arc(r, phi)
                     .straight(leg / 2.0 - t_half - t_full);
-                for i in 0..2 * s.periods {
+                for i in 0..2 * s.periods * reps {
                     let sign = if i % 2 == 0 { -1.0 } else { 1.0 };
-                    let last = i + 1 == 2 * s.periods;
+                    let last = i + 1 == 2 * s.periods * reps;
                     b = b.arc(r, sign * 2.0 * phi).straight(if last {
                         leg / 2.0 - t_full - t_half
                     } else {
@@ -564,12 +611,17 @@ impl ExerciseSpec {
                 }
                 b.arc(r, -phi)
             }
-            Self::Clothoid(s) => lead(s.lane_width_m)
-                .clothoid(s.length_m, 0.0, s.end_curvature_1_m)
-                .clothoid(s.unwind_m, s.end_curvature_1_m, 0.0),
+            Self::Clothoid(s) => {
+                let mut b = lead(s.lane_width_m);
+                for i in 0..reps {
+                    let k = if i % 2 == 0 { 1.0 } else { -1.0 } * s.end_curvature_1_m;
+                    b = b.clothoid(s.length_m, 0.0, k).clothoid(s.unwind_m, k, 0.0);
+                }
+                b
+            }
             Self::SharpTurns(s) => {
                 let mut b = lead(s.lane_width_m);
-                for i in 0..s.count {
+                for i in 0..s.count * reps {
                     let sign = if i % 2 == 0 { 1.0 } else { -1.0 };
                     b = b
                         .arc(s.radius_m, sign * s.angle_deg.to_radians())
@@ -579,26 +631,38 @@ impl ExerciseSpec {
             }
             Self::SBend(s) => {
                 let a = s.angle_deg.to_radians();
-                lead(s.lane_width_m).arc(s.radius_m, a).arc(s.radius_m, -a)
+                let mut b = lead(s.lane_width_m);
+                for _ in 0..reps {
+                    b = b.arc(s.radius_m, a).arc(s.radius_m, -a);
+                }
+                b
             }
             Self::LaneChange(s) => {
                 // Two opposite arcs shift by d over length L: φ = 2 atan(d/L), R = L/(2 sin φ).
                 let phi = 2.0 * (s.offset_m / s.transition_m).atan();
                 let r = s.transition_m / (2.0 * phi.sin());
                 let mut b = lead(s.lane_width_m);
-                for i in 0..s.count {
+                for i in 0..s.count * reps {
                     let sign = if i % 2 == 0 { 1.0 } else { -1.0 };
                     b = b.arc(r, sign * phi).arc(r, -sign * phi).straight(s.hold_m);
                 }
                 b
             }
             // Centre line y = w (1 − cos(π ξ / spacing)) after the lead-in.
-            Self::Slalom(s) => {
-                lead(s.lane_width_m).sine(s.weave_m, 2.0 * s.cone_spacing_m, s.cone_count + 1)
-            }
+            Self::Slalom(s) => lead(s.lane_width_m).sine(
+                s.weave_m,
+                2.0 * s.cone_spacing_m,
+                slalom_cones(s.cone_count, reps) + 1,
+            ),
             Self::Dial(_) => return None,
         })
     }
+}
+
+/// A slalom's cones when its shape repeats `reps` times: the weave continues, a cone at
+/// every crest and trough.
+fn slalom_cones(cone_count: u32, reps: u32) -> u32 {
+    (cone_count + 1) * reps.max(1) - 1
 }
 
 /// Leg length and leg angle of a triangle wave of amplitude `a` and wavelength `l`.
@@ -808,6 +872,39 @@ mod tests {
         match e.exercise {
             ExerciseSpec::Sine(s) => assert_eq!((s.amplitude_m, s.duration_s), (3.0, Some(20.0))),
             other => panic!("{other:?}"),
+        }
+    }
+
+    /// Every road kind prescribed for longer than its shape lasts is continued: the target
+    /// speed profile takes longer than the prescription to drive, the road ends straight or
+    /// on its own heading, and a slalom keeps a cone at every crest.
+    #[test]
+    fn a_prescribed_duration_longer_than_the_shape_continues_the_road() {
+        for name in EXERCISE_NAMES {
+            let spec = ExerciseSpec::from_name(name).unwrap();
+            let once = spec.build().unwrap();
+            let ex = spec.with_duration_s(600.0).build().unwrap();
+            assert_eq!(ex.planned_duration_s(), 600.0, "{name}");
+            let Some(road) = &ex.road else { continue };
+            assert!(ex.length_m > once.length_m, "{name}");
+            let drive_s: f64 = (0..ex.length_m as usize)
+                .map(|s| 1.0 / ex.target_speed_m_s(s as f64))
+                .sum();
+            assert!(drive_s > 600.0 * 1.2, "{name}: {drive_s} s of road");
+            // Seamless: heading and position continuous along the whole road.
+            let mut last = road.centre(0.0);
+            let mut s = 0.5;
+            while s < ex.length_m {
+                let c = road.centre(s);
+                let step = (c.0[0] - last.0[0]).hypot(c.0[1] - last.0[1]);
+                assert!((step - 0.5).abs() < 1e-3, "{name} jumps at {s}: {step}");
+                last = c;
+                s += 0.5;
+            }
+            for c in &ex.cones {
+                let p = road.project(c[0], c[1], f64::NAN);
+                assert!((p.lateral_m.abs() - 1.5).abs() < 1e-3, "{name} {p:?}");
+            }
         }
     }
 

@@ -13,6 +13,7 @@ use clock::Clock;
 use regimen::Regimen;
 use std::path::PathBuf;
 use std::sync::atomic::Ordering;
+use std::time::Duration;
 
 /// Loop pacing.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -435,6 +436,72 @@ fn keep_results(path: &std::path::Path, report: &SessionReport) {
     }
 }
 
+/// How long a session waits, before it starts, for the prescription the hub sends when the
+/// station connects (it pushes the patient's current regimen at once); after that the kept one
+/// runs.
+pub const PRESCRIPTION_WAIT: Duration = Duration::from_secs(3);
+
+/// Start the therapist link and settle the session's prescription: a `--regimen` or
+/// `--exercise` given runs as given; otherwise the regimen the hub sends within
+/// [`PRESCRIPTION_WAIT`] of the start (kept in the home for the sessions after), else the one
+/// kept from an earlier session, else the configured exercise. Says which ran (the log, and
+/// the line returned for the report).
+fn link_with_prescription(
+    args: &RunArgs,
+    cfg: &mut StationConfig,
+    regimen: &mut Option<Regimen>,
+    home: &HomePlan,
+    clock: &Clock,
+) -> anyhow::Result<(Link, Option<String>)> {
+    let asks_hub = regimen.is_none() && args.exercise.is_none();
+    let kept = match &home.home {
+        Some(h) if asks_hub && h.regimen_path().exists() => {
+            // The clinic's prescription, kept from an earlier session (validated again here).
+            let r = Regimen::load(&h.regimen_path())?;
+            follow_regimen(cfg, &r, args);
+            *regimen = Some(r);
+            Some(h.regimen_path())
+        }
+        _ => None,
+    };
+    let mut link = Link::start(cfg, clock, home.home.as_ref())?;
+    let (Some(h), true) = (&home.home, asks_hub) else {
+        return Ok((link, None));
+    };
+    let said = match link.await_prescription(PRESCRIPTION_WAIT) {
+        Some(fresh) => match Regimen::from_toml(&fresh.toml, &fresh.id) {
+            Ok(r) => {
+                if let Err(e) = crate::home::write_private(&h.regimen_path(), fresh.toml.as_bytes())
+                {
+                    tracing::warn!("regimen {} not kept for later sessions: {e:#}", fresh.id);
+                }
+                follow_regimen(cfg, &r, args);
+                link.set_exercise(&cfg.session.exercise);
+                *regimen = Some(r);
+                format!("{} from the hub, received before the start", fresh.id)
+            }
+            Err(e) => {
+                tracing::warn!("regimen {} from the hub refused: {e}", fresh.id);
+                format!("{} from the hub refused ({e}); the kept one runs", fresh.id)
+            }
+        },
+        None => match &kept {
+            Some(path) => format!(
+                "kept {} (the hub sent none within {} s)",
+                path.display(),
+                PRESCRIPTION_WAIT.as_secs()
+            ),
+            None => format!(
+                "none from the hub within {} s: exercise {}",
+                PRESCRIPTION_WAIT.as_secs(),
+                cfg.session.exercise
+            ),
+        },
+    };
+    tracing::info!(prescription = %said, "the session's prescription");
+    Ok((link, Some(said)))
+}
+
 /// Run `telerehab run`: the session, then its report on stdout.
 pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     if args.try_out {
@@ -443,17 +510,10 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     }
     let (mut cfg, mut regimen) = plan(&args)?;
     let home = apply_home(&args, &mut cfg)?;
-    if regimen.is_none()
-        && args.exercise.is_none()
-        && let Some(h) = &home.home
-        && h.regimen_path().exists()
-    {
-        // The clinic's prescription, kept from an earlier session (validated again here).
-        let r = Regimen::load(&h.regimen_path())?;
-        follow_regimen(&mut cfg, &r, &args);
-        tracing::info!(path = %h.regimen_path().display(), "the clinic's regimen");
-        regimen = Some(r);
-    }
+    let clock = Clock::real();
+    let session_log = start_session_log(&home);
+    let (mut link, prescription) =
+        link_with_prescription(&args, &mut cfg, &mut regimen, &home, &clock)?;
     cfg.validate().context("invalid settings")?;
     let body = if args.sim {
         BodyKind::Simulated
@@ -470,8 +530,6 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
         Speed::Max => Pacing::Max,
     };
     let controls = session::Controls::with_stop(install_stop_flag()?);
-    let clock = Clock::real();
-    let session_log = start_session_log(&home);
     let opts = SessionOptions {
         config: cfg.clone(),
         pacing,
@@ -489,7 +547,6 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
         window = !args.headless,
         "starting session"
     );
-    let mut link = Link::start(&cfg, &clock, home.home.as_ref())?;
     let mut window_restarts = 0;
     let mut checkin = None;
     let results_path = home.home.as_ref().map(|h| h.dir().join("results.json"));
@@ -524,14 +581,18 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
         .record
         .as_deref()
         .filter(|_| report.recorder.mcap_bytes.is_some());
-    if report.haptic.paused_too_long {
-        tracing::warn!(
-            limit_s = cfg.session.pause_limit_s,
-            "the session ended: paused too long"
-        );
-    }
-    let link_report = link.finish(report.summaries, &report.recorder.measures.named, recorded);
+    let end_reason = report.end_reason();
+    tracing::info!(reason = %end_reason, "session ended");
+    let link_report = link.finish(
+        report.summaries,
+        &report.recorder.measures.named,
+        recorded,
+        &end_reason,
+    );
     print!("{}", crate::report::render(&report, link_report.as_ref()));
+    if let Some(p) = &prescription {
+        println!("prescription        {p}");
+    }
     if let Some(log) = &session_log {
         println!("session log         {}", log.path().display());
     }

@@ -134,10 +134,10 @@ pub struct SessionConfig {
     pub loop_rate_hz: f64,
     /// Seed of every random source in simulated sessions.
     pub seed: u64,
-    /// Exercise name (see `telerehab run --help`).
+    /// Exercise name (see `telerehab run --help`). The car's target speed is the exercise's
+    /// own `speed_m_s` (a regimen sets it per exercise); `session.speed_m_s`, once validated
+    /// here and never read, is retired.
     pub exercise: String,
-    /// Target car speed, m/s.
-    pub speed_m_s: f64,
     /// Patient identifier sent to the therapist (no personal data: a pseudonym;
     /// letters, digits, `_`, `.`, `-`).
     pub patient_id: String,
@@ -156,7 +156,6 @@ impl Default for SessionConfig {
             loop_rate_hz: 1000.0,
             seed: 7,
             exercise: "sine-road".into(),
-            speed_m_s: 15.0,
             patient_id: "patient-0".into(),
             station_id: "station-1".into(),
             asked_rest_s: 60.0,
@@ -325,7 +324,6 @@ impl StationConfig {
         let s = &self.session;
         check("session.duration_s", s.duration_s, 0.001, 4.0 * 3600.0, "s")?;
         check("session.loop_rate_hz", s.loop_rate_hz, 100.0, 2000.0, "Hz")?;
-        check("session.speed_m_s", s.speed_m_s, 0.0, 40.0, "m/s")?;
         check("session.asked_rest_s", s.asked_rest_s, 5.0, 600.0, "s")?;
         check("session.pause_limit_s", s.pause_limit_s, 10.0, 7200.0, "s")?;
         for (field, value) in [

@@ -305,7 +305,12 @@ mod tests {
         };
         let report = session::run(&opts, &Controls::default(), &mut &link).unwrap();
         let linked = link
-            .finish(report.summaries, &Default::default(), None)
+            .finish(
+                report.summaries,
+                &Default::default(),
+                None,
+                &report.end_reason(),
+            )
             .unwrap();
         hub_runtime.block_on(server.shutdown(Duration::from_secs(5)));
         assert!(

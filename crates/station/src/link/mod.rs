@@ -49,6 +49,9 @@ struct Inner {
     hub_switch: Option<HubSwitch>,
 }
 
+/// How long [`Link::await_prescription`] waits for the hub's push once connected.
+pub const PUSH_GRACE: Duration = Duration::from_secs(1);
+
 /// The first socket address `address` (`host:port`) resolves to; errors name it as `what`.
 pub(crate) fn resolve(what: &str, address: &str) -> anyhow::Result<SocketAddr> {
     address
@@ -169,6 +172,47 @@ impl Link {
         })
     }
 
+    /// Waits, before the session starts, for the regimen the hub pushes when the link
+    /// connects (it sends the patient's current one right after the `Hello`): the newest one
+    /// received, or `None` once the link has been connected for [`PUSH_GRACE`] without one,
+    /// or after `within` (the hub unreachable). Without a link, `None` at once. Not validated
+    /// here: the caller validates it as any prescription.
+    pub fn await_prescription(&mut self, within: Duration) -> Option<netlink::Regimen> {
+        let inner = self.inner.as_mut()?;
+        let start = std::time::Instant::now();
+        let mut connected_at = None;
+        let mut newest = None;
+        while start.elapsed() < within {
+            while let Some(r) = inner.link.try_recv_regimen() {
+                newest = Some(r);
+            }
+            if newest.is_some() {
+                // A moment for a second push (the hub saving a newer one just now).
+                std::thread::sleep(Duration::from_millis(20));
+                while let Some(r) = inner.link.try_recv_regimen() {
+                    newest = Some(r);
+                }
+                return newest;
+            }
+            if inner.link.stats().connected {
+                let at = *connected_at.get_or_insert_with(std::time::Instant::now);
+                if at.elapsed() >= PUSH_GRACE {
+                    return None;
+                }
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        None
+    }
+
+    /// The exercise the summaries name (after a prescription received at the start changed
+    /// the session's).
+    pub fn set_exercise(&mut self, exercise: &str) {
+        if let Some(inner) = &mut self.inner {
+            inner.exercise = exercise.to_owned();
+        }
+    }
+
     /// Hand one summary to the link. Never waits: a full queue is counted in the link's
     /// `dropped` figure and reported at the end.
     pub fn send(&self, s: &LiveSummary) {
@@ -222,8 +266,8 @@ impl Link {
     /// End the link: send Bye, wait a short while for the last acknowledgements, and report
     /// honestly what was not delivered.
     ///
-    /// The session's movement `measures` (name → value) go in the Bye; with a home they are
-    /// queued first, so they reach the hub with the summaries however the session ends.
+    /// Why the session ended (`end_reason`, see `SessionReport::end_reason`) and its movement
+    /// `measures` (name → value) go in the Bye; with a home they are queued first, so they reach the hub with the summaries however the session ends.
     /// With a home, `recording` (the session's MCAP file, if one was written) is queued for
     /// upload and sent for up to [`UPLOAD_WITHIN`]; the rest resumes later.
     pub fn finish(
@@ -231,16 +275,17 @@ impl Link {
         produced: u64,
         measures: &BTreeMap<String, f64>,
         recording: Option<&std::path::Path>,
+        end_reason: &str,
     ) -> Option<LinkReport> {
         let mut inner = self.inner?;
         let mut regimens = inner.link.take_regimens();
         if let Some(q) = &inner.queue {
-            q.lock()
-                .unwrap_or_else(std::sync::PoisonError::into_inner)
-                .set_measures(measures);
+            let mut q = q.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+            q.set_measures(measures);
+            q.set_end_reason(end_reason);
         }
         let stats = inner.runtime.block_on(inner.link.finish_with_measures(
-            "session complete",
+            end_reason,
             measures.clone(),
             FINISH_TIMEOUT,
         ));

@@ -2,7 +2,8 @@
 //! `queue/<session_id>.jsonl` (with `queue/<session_id>.hello.json`) before the link sends it,
 //! so a session's summaries survive the station's own crash as well as a dropped link; the
 //! session's movement measures, computed at its end, wait in `queue/<session_id>.measures.json`
-//! and go in its `Bye`. A session's files are removed once the hub has acknowledged everything
+//! and go in its `Bye`, as does why it ended (`queue/<session_id>.end.txt`; a session without
+//! one ended with the station, and its `Bye` says so). A session's files are removed once the hub has acknowledged everything
 //! and confirmed the `Bye`; what remains is delivered at the next run or by `telerehab sync`
 //! (the hub stores each summary once).
 
@@ -23,17 +24,19 @@ pub struct QueueFile {
     session_id: String,
     summaries: PathBuf,
     measures: PathBuf,
+    end: PathBuf,
     file: File,
     /// The first write error, after which the queue stops (the link still sends).
     pub error: Option<String>,
 }
 
-/// A session's queue files: its summaries, its Hello, its measures.
-fn paths(dir: &Path, session_id: &str) -> [PathBuf; 3] {
+/// A session's queue files: its summaries, its Hello, its measures, why it ended.
+fn paths(dir: &Path, session_id: &str) -> [PathBuf; 4] {
     [
         dir.join(format!("{session_id}.jsonl")),
         dir.join(format!("{session_id}.hello.json")),
         dir.join(format!("{session_id}.measures.json")),
+        dir.join(format!("{session_id}.end.txt")),
     ]
 }
 
@@ -42,10 +45,17 @@ fn checkin_path(dir: &Path, session_id: &str) -> PathBuf {
     dir.join(format!("{session_id}.checkin.json"))
 }
 
+/// What a queued session's `Bye` says when the station stopped before the session's end
+/// (its reason was never written).
+pub const ENDED_WITH_THE_STATION: &str =
+    "ended with the station (it stopped before the session's end)";
+
 /// Removes a delivered session's queue files (those that exist).
 fn remove_session(dir: &Path, session_id: &str) {
-    let [summaries, hello, measures] = paths(dir, session_id);
-    for p in [summaries, hello, measures, checkin_path(dir, session_id)] {
+    for p in paths(dir, session_id)
+        .into_iter()
+        .chain([checkin_path(dir, session_id)])
+    {
         match std::fs::remove_file(&p) {
             Ok(()) => {}
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
@@ -60,7 +70,7 @@ impl QueueFile {
     /// Starts the queue of the session `hello` opens, in `dir` (0700; files 0600).
     pub fn create(dir: &Path, hello: &Hello) -> anyhow::Result<Self> {
         private_dir(dir)?;
-        let [summaries, hello_path, measures] = paths(dir, &hello.session_id);
+        let [summaries, hello_path, measures, end] = paths(dir, &hello.session_id);
         let json = serde_json::to_vec(hello).context("cannot encode the session's Hello")?;
         write_private(&hello_path, &json)?;
         let file = OpenOptions::new()
@@ -74,6 +84,7 @@ impl QueueFile {
             session_id: hello.session_id.clone(),
             summaries,
             measures,
+            end,
             file,
             error: None,
         })
@@ -125,6 +136,16 @@ impl QueueFile {
         }
     }
 
+    /// Keeps why the session ended for its `Bye`, like its measures.
+    pub fn set_end_reason(&mut self, reason: &str) {
+        if self.error.is_some() {
+            return;
+        }
+        if let Err(e) = write_private(&self.end, reason.as_bytes()) {
+            self.error = Some(format!("{}: {e:#}", self.end.display()));
+        }
+    }
+
     /// Removes the session's files: the hub has everything.
     pub fn delivered(self) {
         remove_session(&self.dir, &self.session_id);
@@ -142,6 +163,8 @@ pub struct Queued {
     pub measures: BTreeMap<String, f64>,
     /// The patient's end-screen answers, for its `Bye`, if any.
     pub checkin: Option<netlink::CheckIn>,
+    /// Why it ended, for its `Bye` (`None` if the session did not end in order).
+    pub end_reason: Option<String>,
 }
 
 /// The sessions waiting in `dir`, oldest first (by session id).
@@ -163,7 +186,7 @@ pub fn pending(dir: &Path) -> anyhow::Result<Vec<Queued>> {
             .with_context(|| format!("cannot read {}", hello_path.display()))?;
         let hello: Hello = serde_json::from_slice(&text)
             .with_context(|| format!("{} is not a session's Hello", hello_path.display()))?;
-        let [summaries_path, _, measures_path] = paths(dir, &hello.session_id);
+        let [summaries_path, _, measures_path, end_path] = paths(dir, &hello.session_id);
         let mut summaries = Vec::new();
         if let Ok(f) = File::open(&summaries_path) {
             for line in BufReader::new(f).lines() {
@@ -183,11 +206,13 @@ pub fn pending(dir: &Path) -> anyhow::Result<Vec<Queued>> {
         let checkin = std::fs::read(checkin_path(dir, &hello.session_id))
             .ok()
             .and_then(|json| serde_json::from_slice(&json).ok());
+        let end_reason = std::fs::read_to_string(&end_path).ok();
         out.push(Queued {
             hello,
             summaries,
             measures,
             checkin,
+            end_reason,
         });
     }
     Ok(out)
@@ -260,7 +285,11 @@ pub async fn deliver_sessions(
             }
         }
         let stats = link
-            .finish_with_measures("session complete", q.measures, timeout)
+            .finish_with_measures(
+                q.end_reason.as_deref().unwrap_or(ENDED_WITH_THE_STATION),
+                q.measures,
+                timeout,
+            )
             .await;
         // The hub's Bye answer says it has synced everything it acknowledged; a summary the
         // link never took keeps the session queued.

@@ -2,8 +2,9 @@
 //! (road, rapier world, haptic model, assist controller) so that switching from one to the
 //! next on the haptic thread allocates nothing.
 //!
-//! `--exercise NAME` repeats that exercise (laps) to fill `--duration`; `--regimen FILE` runs
-//! the prescribed exercises once, in order.
+//! `--exercise NAME` prescribes that exercise for `--duration`; `--regimen FILE` runs the
+//! prescribed exercises once, in order. Either way an exercise with a duration lasts exactly
+//! that long: its road continues its shape as far as needed (`vehicle::ExerciseSpec::build`).
 
 use crate::config::StationConfig;
 use anyhow::Context;
@@ -11,9 +12,6 @@ use assist::Assist;
 use haptic_wheel::HapticRegimen;
 use regimen::{Regimen, RegimenEntry};
 use vehicle::{Exercise, ExerciseSpec, World};
-
-/// Most laps one session prebuilds (a 45 s lap × 200 ≈ 2.5 h).
-pub const MAX_LAPS: usize = 200;
 
 /// One exercise, ready to run.
 pub struct Segment {
@@ -57,20 +55,6 @@ impl Break {
     }
 }
 
-/// How long one run of `exercise` takes, s: its time limit, or the road driven at its speed
-/// profile, whichever is shorter.
-pub fn nominal_time_s(exercise: &Exercise) -> f64 {
-    let driving = if exercise.road.is_some() {
-        let metres = exercise.length_m.ceil() as usize;
-        (0..metres)
-            .map(|s| 1.0 / exercise.target_speed_m_s(s as f64).max(1.0))
-            .sum::<f64>()
-    } else {
-        f64::INFINITY
-    };
-    exercise.duration_s.unwrap_or(f64::INFINITY).min(driving)
-}
-
 fn build_segment(cfg: &StationConfig, entry: &RegimenEntry) -> anyhow::Result<Segment> {
     let name = entry.exercise.name();
     let exercise = entry
@@ -110,41 +94,42 @@ fn build_segment(cfg: &StationConfig, entry: &RegimenEntry) -> anyhow::Result<Se
     })
 }
 
-/// Build the course: the regimen's exercises in order, or laps of `cfg.session.exercise`
-/// enough to fill `cfg.session.duration_s`.
+/// The exercises a session of `cfg` runs, in order: the regimen's, or `cfg.session.exercise`
+/// prescribed for `cfg.session.duration_s`.
+pub fn entries(
+    cfg: &StationConfig,
+    regimen: Option<&Regimen>,
+) -> anyhow::Result<Vec<RegimenEntry>> {
+    Ok(match regimen {
+        Some(r) => r.exercises.clone(),
+        None => vec![RegimenEntry {
+            // Within the exercise's own bounds (1 s to 1 h): a shorter session ends at its
+            // duration all the same; a longer one runs this exercise for its first hour.
+            exercise: ExerciseSpec::from_name(&cfg.session.exercise)?.with_duration_s(
+                cfg.session.duration_s.clamp(
+                    vehicle::exercise::bounds::DURATION_S.min,
+                    vehicle::exercise::bounds::DURATION_S.max,
+                ),
+            ),
+            haptic: None,
+            assist: None,
+            rest_s: None,
+        }],
+    })
+}
+
+/// Build the course: [`entries`], each ready to run, with the break after each but the last
+/// (its card, and the regimen's rest).
 pub fn build(cfg: &StationConfig, regimen: Option<&Regimen>) -> anyhow::Result<Vec<Segment>> {
-    match regimen {
-        Some(r) => {
-            let last = r.exercises.len().saturating_sub(1);
-            r.exercises
-                .iter()
-                .enumerate()
-                .map(|(i, e)| {
-                    let mut segment = build_segment(cfg, e)?;
-                    segment.break_after = (i < last).then(|| Break::after(e.rest_s));
-                    Ok(segment)
-                })
-                .collect()
-        }
-        None => {
-            let entry = RegimenEntry {
-                exercise: ExerciseSpec::from_name(&cfg.session.exercise)?,
-                haptic: None,
-                assist: None,
-                rest_s: None,
-            };
-            let first = build_segment(cfg, &entry)?;
-            let lap_s = nominal_time_s(&first.exercise);
-            let laps = if lap_s.is_finite() && lap_s > 0.0 {
-                ((cfg.session.duration_s / lap_s).ceil() as usize).clamp(1, MAX_LAPS)
-            } else {
-                1
-            };
-            let mut course = vec![first];
-            for _ in 1..laps {
-                course.push(build_segment(cfg, &entry)?);
-            }
-            Ok(course)
-        }
-    }
+    let entries = entries(cfg, regimen)?;
+    let last = entries.len().saturating_sub(1);
+    entries
+        .iter()
+        .enumerate()
+        .map(|(i, e)| {
+            let mut segment = build_segment(cfg, e)?;
+            segment.break_after = (i < last).then(|| Break::after(e.rest_s));
+            Ok(segment)
+        })
+        .collect()
 }

@@ -8,10 +8,13 @@ pub mod buttons;
 mod controls;
 pub mod course;
 pub mod disk_space;
+pub mod end_reason;
 pub mod faults;
 pub mod haptic;
 pub mod measures;
 pub mod plant;
+#[cfg(test)]
+mod prescription_tests;
 pub mod recorded;
 pub mod recorder;
 pub mod signals;

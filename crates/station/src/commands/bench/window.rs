@@ -175,7 +175,12 @@ fn one_run(args: &BenchWindowArgs) -> anyhow::Result<f64> {
         &mut (&link, &mut impact),
         !args.normal_priority,
     )?;
-    link.finish(report.summaries, &report.recorder.measures.named, None);
+    link.finish(
+        report.summaries,
+        &report.recorder.measures.named,
+        None,
+        &report.end_reason(),
+    );
     let stats = stats.context("the window did not open (is there a display? try xvfb-run -a)")?;
     if let Some(a) = &stats.adapter {
         println!("adapter: {a}");

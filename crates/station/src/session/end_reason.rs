@@ -1,0 +1,99 @@
+//! Why a session ended, in plain words: what the station's `Bye` carries to the hub (stored
+//! as the session's `end_reason`, shown in the console instead of "running") and what the
+//! end-of-run report says.
+
+use super::SessionReport;
+use haptic_wheel::WheelFault;
+
+/// The exercises ran their prescription.
+pub const COMPLETE: &str = "complete";
+/// A stop was asked before the end: Esc or the window closed by the patient, or a stop signal.
+pub const ENDED_EARLY: &str = "ended early by the patient (Esc, window closed or stop signal)";
+/// The exercise stayed paused longer than `[session] pause_limit_s`.
+pub const PAUSED_TOO_LONG: &str = "paused too long";
+/// The wheel went away.
+pub const WHEEL_UNPLUGGED: &str = "wheel unplugged";
+/// The start of the reason for any other wheel fault the safety supervisor stopped on.
+pub const SAFETY_STOP: &str = "safety stop";
+/// The start of what is added when the recording stopped because the disk filled up.
+pub const DISK_FULL: &str = "recording stopped: disk full";
+
+impl SessionReport {
+    /// Why the session ended: [`COMPLETE`], [`PAUSED_TOO_LONG`], [`ENDED_EARLY`],
+    /// [`WHEEL_UNPLUGGED`] or
+    /// "[`SAFETY_STOP`]: …"; with "; [`DISK_FULL`] at N s" (or "; recording stopped: …") when
+    /// the recording stopped while the session went on.
+    pub fn end_reason(&self) -> String {
+        let mut reason = match self.haptic.wheel_fault {
+            Some(WheelFault::Unplugged) => WHEEL_UNPLUGGED.to_owned(),
+            Some(fault) => format!("{SAFETY_STOP}: {}", fault.describe()),
+            None if self.haptic.paused_too_long => PAUSED_TOO_LONG.to_owned(),
+            None if self.haptic.stopped_early => ENDED_EARLY.to_owned(),
+            None => COMPLETE.to_owned(),
+        };
+        if let Some(t_s) = self.recorder.recording_stopped_s {
+            let error = self.recorder.error.as_deref().unwrap_or_default();
+            let disk_full = ["disk", "space", "ENOSPC", "os error 28"]
+                .iter()
+                .any(|w| error.contains(w));
+            if disk_full {
+                reason.push_str(&format!("; {DISK_FULL} at {t_s:.0} s"));
+            } else {
+                reason.push_str(&format!("; recording stopped at {t_s:.0} s"));
+            }
+        }
+        reason
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::StationConfig;
+    use crate::config::faults::FaultSpec;
+    use crate::session::haptic::Pacing;
+    use crate::session::{BodyKind, Controls, SessionOptions};
+    use clock::Clock;
+    use std::sync::atomic::Ordering;
+
+    /// The end reason of a 3 s simulated sine-road session under `faults`, recorded in a
+    /// temporary directory, stopped by the patient when `stop` is set.
+    fn reason(faults: &[&str], stop: bool) -> String {
+        let mut cfg = StationConfig::default();
+        cfg.session.duration_s = 3.0;
+        cfg.session.loop_rate_hz = 250.0;
+        cfg.haptic.replug_grace_s = 0.5;
+        cfg.faults = faults
+            .iter()
+            .map(|f| FaultSpec::parse(f).unwrap())
+            .collect();
+        cfg.validate().unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let opts = SessionOptions {
+            config: cfg,
+            pacing: Pacing::Max,
+            record: Some(dir.path().join("s.mcap")),
+            body: BodyKind::Simulated,
+            regimen: None,
+            isolate_core: false,
+            clock: Clock::real(),
+        };
+        let controls = Controls::default();
+        controls.stop.store(stop, Ordering::Relaxed);
+        crate::session::run(&opts, &controls, &mut ())
+            .unwrap()
+            .end_reason()
+    }
+
+    #[test]
+    fn each_way_a_session_ends_gives_its_own_reason() {
+        assert_eq!(reason(&[], false), COMPLETE);
+        assert_eq!(reason(&[], true), ENDED_EARLY);
+        assert_eq!(reason(&["wheel-unplug@1"], false), WHEEL_UNPLUGGED);
+        let full = reason(&["disk-full@1"], false);
+        assert!(
+            full.starts_with(&format!("{COMPLETE}; {DISK_FULL} at ")),
+            "{full}"
+        );
+    }
+}
