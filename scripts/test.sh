@@ -28,9 +28,9 @@ LOGS="$(mktemp -d)"
 echo "== cargo test"
 if command -v xvfb-run >/dev/null 2>&1; then
   xvfb-run -a -s "-screen 0 1280x720x24" bash scripts/with-postgres.sh \
-    cargo test --workspace -- --nocapture 2>&1 | tee "$LOGS/cargo-test.log"
+    cargo test --workspace --no-fail-fast -- --nocapture 2>&1 | tee "$LOGS/cargo-test.log"
 else
-  bash scripts/with-postgres.sh cargo test --workspace -- --nocapture 2>&1 \
+  bash scripts/with-postgres.sh cargo test --workspace --no-fail-fast -- --nocapture 2>&1 \
     | tee "$LOGS/cargo-test.log"
 fi
 echo "== pytest"

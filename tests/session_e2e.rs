@@ -199,9 +199,10 @@ fn same_seed_gives_identical_simulation_data_and_another_seed_does_not() {
     let a = run("11", "a.mcap");
     let b = run("11", "b.mcap");
     let c = run("12", "c.mcap");
-    // Four per-tick channels, a score every 100 ms, the arm calibration and the session's
-    // measures once at the end.
-    assert_eq!(a.len(), 2101 * 4 + 21 + 2);
+    // Four per-tick channels, a score every 100 ms and the session's measures once at the end
+    // (no arm calibration: 2 s of data do not determine the arm, and a fit outside the
+    // anthropometric bounds is rejected, never recorded as a result).
+    assert_eq!(a.len(), 2101 * 4 + 21 + 1);
     assert!(
         a == b,
         "same seed must give identical recorded simulation data"
