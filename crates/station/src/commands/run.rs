@@ -547,6 +547,7 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
         window = !args.headless,
         "starting session"
     );
+    link.session_starts_now(&clock);
     let mut window_restarts = 0;
     let mut checkin = None;
     let results_path = home.home.as_ref().map(|h| h.dir().join("results.json"));

@@ -47,6 +47,10 @@ struct Inner {
     tls: Option<ClientTls>,
     /// The relay an injected hub-down cuts, told the session time of each summary.
     hub_switch: Option<HubSwitch>,
+    /// From the Hello's `started_unix_ms` to the session's time 0, ns: the link starts (and
+    /// waits for the prescription) before the exercise does, and a summary's `t_s` counts
+    /// from the Hello's start, as the hub reads it.
+    t0_after_hello_ns: u64,
 }
 
 /// How long [`Link::await_prescription`] waits for the hub's push once connected.
@@ -168,6 +172,7 @@ impl Link {
                 hello,
                 tls,
                 hub_switch,
+                t0_after_hello_ns: 0,
             }),
         })
     }
@@ -213,6 +218,16 @@ impl Link {
         }
     }
 
+    /// The session's time 0 is now on `clock`: its summaries' times count from the Hello's
+    /// start, so a summary at session time t is stamped t plus the wait since the Hello (the
+    /// console's end-to-end delay and charts stay true).
+    pub fn session_starts_now(&mut self, clock: &Clock) {
+        if let Some(inner) = &mut self.inner {
+            let hello_ns = inner.hello.started_unix_ms.saturating_mul(1_000_000);
+            inner.t0_after_hello_ns = clock.unix_ns().saturating_sub(hello_ns);
+        }
+    }
+
     /// Hand one summary to the link. Never waits: a full queue is counted in the link's
     /// `dropped` figure and reported at the end.
     pub fn send(&self, s: &LiveSummary) {
@@ -224,7 +239,7 @@ impl Link {
         let summary = Summary {
             session_id: inner.session_id.clone(),
             seq: s.seq,
-            t_s: r.t_ns as f64 * 1e-9,
+            t_s: r.t_ns.saturating_add(inner.t0_after_hello_ns) as f64 * 1e-9,
             exercise: inner.exercise.clone(),
             speed_m_s: r.vehicle.map_or(0.0, |v| v.ux_m_s),
             lateral_m: r.vehicle.map_or(0.0, |v| v.lateral_m),
