@@ -5,36 +5,13 @@ use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 use std::sync::mpsc;
 use std::time::Duration;
-use telerehab_tests::clinic::{Hub, clinic, ok, show_json};
-use telerehab_tests::telerehab_bin;
+use telerehab_tests::clinic::{Hub, clinic, pair, show_json};
+use telerehab_tests::{telerehab_bin, xdotool_in};
 
 /// Press `keys` in the patient window (named "telerehab"), waiting for it to open.
 fn press(keys: &[&str]) {
-    let search = Command::new("xdotool")
-        .args(["search", "--sync", "--name", "^telerehab$"])
-        .output()
-        .expect("xdotool (installed by scripts/setup.sh)");
-    let window = String::from_utf8_lossy(&search.stdout)
-        .lines()
-        .next()
-        .expect("the patient window")
-        .to_owned();
-    let focus = ["windowfocus", "--sync", window.as_str()];
-    assert!(
-        Command::new("xdotool")
-            .args(focus)
-            .status()
-            .unwrap()
-            .success()
-    );
     for key in keys {
-        assert!(
-            Command::new("xdotool")
-                .args(["key", key])
-                .status()
-                .unwrap()
-                .success()
-        );
+        xdotool_in("^telerehab$", &["key", key]);
         std::thread::sleep(Duration::from_millis(300));
     }
 }
@@ -64,10 +41,7 @@ fn the_end_screen_asks_pain_tiredness_and_difficulty_and_the_answers_reach_the_h
     let (data, code) = clinic(tmp.path());
     let hub = Hub::serve(&data, "127.0.0.1:0");
     let home = tmp.path().join("station");
-    ok(
-        &["pair", "--hub", &hub.stations, "--code", &code],
-        Some(&home),
-    );
+    pair(&hub, &code, &home);
     let mut station = Command::new(telerehab_bin())
         .args(["run", "--sim", "--duration", "2", "--seed", "7"])
         .arg("--home")

@@ -29,6 +29,14 @@ pub fn ok(args: &[&str], home: Option<&Path>) -> String {
     String::from_utf8(out.stdout).unwrap()
 }
 
+/// `telerehab pair` of the station whose home is `home` with `hub`, using `code`; what it said.
+pub fn pair(hub: &Hub, code: &str, home: &Path) -> String {
+    ok(
+        &["pair", "--hub", &hub.stations, "--code", code],
+        Some(home),
+    )
+}
+
 /// A clinic directory with one patient; the pairing code.
 pub fn clinic(dir: &Path) -> (PathBuf, String) {
     clinic_on(dir, None)

@@ -5,7 +5,8 @@
 use std::process::{Command, Stdio};
 use std::time::Duration;
 use telerehab_tests::clinic::{
-    Hub, clinic, clinic_on, ok, produced, run_session, show, show_json, telerehab, wait_for_file,
+    Hub, clinic, clinic_on, ok, pair, produced, run_session, show, show_json, telerehab,
+    wait_for_file,
 };
 use telerehab_tests::{Tmpfs, spawn_real_time_session, telerehab_bin, wait_for_first_chunk};
 
@@ -15,10 +16,7 @@ fn a_clinic_pairs_a_station_that_then_streams_every_session_over_mutual_tls() {
     let (data, code) = clinic(tmp.path());
     let hub = Hub::serve(&data, "127.0.0.1:0");
     let home = tmp.path().join("station");
-    let paired = ok(
-        &["pair", "--hub", &hub.stations, "--code", &code],
-        Some(&home),
-    );
+    let paired = pair(&hub, &code, &home);
     assert!(
         paired.starts_with("paired: this station is st-"),
         "{paired}"
@@ -73,10 +71,7 @@ fn a_recording_stopped_by_a_disk_running_low_is_finished_and_still_reaches_the_h
     let hub = Hub::serve(&data, "127.0.0.1:0");
     // The station's home, and so its recordings, on the small disk.
     let home = disk.path().join("station");
-    ok(
-        &["pair", "--hub", &hub.stations, "--code", &code],
-        Some(&home),
-    );
+    pair(&hub, &code, &home);
     let child = spawn_real_time_session("5", |c| c.env("TELEREHAB_HOME", &home));
     let recording = wait_for_file(&home.join("recordings"), "mcap");
     wait_for_first_chunk(&recording);
@@ -105,10 +100,7 @@ fn a_revoked_station_is_refused_and_keeps_its_summaries_on_disk() {
     let (data, code) = clinic(tmp.path());
     let hub = Hub::serve(&data, "127.0.0.1:0");
     let home = tmp.path().join("station");
-    ok(
-        &["pair", "--hub", &hub.stations, "--code", &code],
-        Some(&home),
-    );
+    pair(&hub, &code, &home);
     let pairing = std::fs::read_to_string(home.join("pairing/hub.toml")).unwrap();
     let station = pairing
         .lines()
@@ -149,10 +141,7 @@ fn summaries_of_a_session_run_while_the_hub_was_down_are_delivered_once_by_sync(
     let hub = Hub::serve(&data, "127.0.0.1:0");
     let port = hub.stations.rsplit(':').next().unwrap().to_owned();
     let home = tmp.path().join("station");
-    ok(
-        &["pair", "--hub", &hub.stations, "--code", &code],
-        Some(&home),
-    );
+    pair(&hub, &code, &home);
     hub.stop();
 
     let report = run_session(&home, "3");
@@ -186,10 +175,7 @@ fn a_station_killed_mid_session_delivers_what_it_queued_at_the_next_sync() {
     let (data, code) = clinic(tmp.path());
     let hub = Hub::serve(&data, "127.0.0.1:0");
     let home = tmp.path().join("station");
-    ok(
-        &["pair", "--hub", &hub.stations, "--code", &code],
-        Some(&home),
-    );
+    pair(&hub, &code, &home);
     let mut station = Command::new(telerehab_bin())
         .args(["run", "--sim", "--headless", "--duration", "60"])
         .env("TELEREHAB_HOME", &home)
@@ -325,10 +311,7 @@ fn a_prescribed_regimen_reaches_the_station_and_runs_at_its_next_session() {
 
     let hub = Hub::serve(&data, "127.0.0.1:0");
     let home = tmp.path().join("station");
-    ok(
-        &["pair", "--hub", &hub.stations, "--code", &code],
-        Some(&home),
-    );
+    pair(&hub, &code, &home);
     // The first session after the prescription was saved runs it: the station asks the hub
     // before it starts.
     let first = run_session(&home, "3");
@@ -359,10 +342,7 @@ fn each_way_a_session_ends_reaches_the_hub_as_its_end_reason() {
     let (data, code) = clinic(tmp.path());
     let hub = Hub::serve(&data, "127.0.0.1:0");
     let home = tmp.path().join("station");
-    ok(
-        &["pair", "--hub", &hub.stations, "--code", &code],
-        Some(&home),
-    );
+    pair(&hub, &code, &home);
     let run = |faults: &[&str]| {
         let mut args = vec![
             "run",
@@ -453,10 +433,7 @@ fn a_clinic_on_postgresql_pairs_streams_and_shows_the_patient() {
     );
     let hub = Hub::serve(&data, "127.0.0.1:0");
     let home = tmp.path().join("station");
-    ok(
-        &["pair", "--hub", &hub.stations, "--code", &code],
-        Some(&home),
-    );
+    pair(&hub, &code, &home);
     let report = run_session(&home, "3");
     let n = produced(&report);
     assert!(

@@ -19,8 +19,12 @@ const ROAD_SAMPLE_M: f64 = 2.0;
 
 /// An exercise's name for the patient: its short name in words (`sine-road` → "Sine road").
 pub fn plain_name(short: &str) -> String {
-    let words = short.replace('-', " ");
-    let mut chars = words.chars();
+    capitalised(&short.replace('-', " "))
+}
+
+/// `s` with its first letter upper-case (words shown to the patient).
+pub fn capitalised(s: &str) -> String {
+    let mut chars = s.chars();
     chars.next().map_or_else(String::new, |first| {
         first.to_uppercase().chain(chars).collect()
     })

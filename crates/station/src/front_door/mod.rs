@@ -323,16 +323,9 @@ pub fn with_default_port(address: &str) -> String {
     }
 }
 
-pub(crate) fn capitalised(s: &str) -> String {
-    let mut chars = s.chars();
-    chars.next().map_or_else(String::new, |first| {
-        first.to_uppercase().chain(chars).collect()
-    })
-}
-
 /// `s` capitalised and ending with a full stop.
 pub(crate) fn sentence(s: &str) -> String {
-    let mut out = capitalised(s.trim_end());
+    let mut out = crate::screen::capitalised(s.trim_end());
     if !out.ends_with(['.', '!', '?']) {
         out.push('.');
     }
