@@ -125,3 +125,47 @@ fn replay_from_raw_refuses_the_window_flag() {
         "{err}"
     );
 }
+
+/// A regimen that gives the pedals to the patient: the simulated foot starts the car from
+/// rest and drives it at the exercise's speed at most; the pedals are a recorded input, so
+/// the session replays bit for bit from its raw inputs; an exercise with automatic speed
+/// after it leaves them released.
+#[test]
+fn pedals_drive_the_car_from_rest_within_the_exercise_speed_and_replay_from_the_raw_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let regimen = dir.path().join("pedals.toml");
+    std::fs::write(
+        &regimen,
+        "[[exercise]]\nkind = \"sine\"\nspeed_m_s = 12.0\nduration_s = 8.0\npedals = true\n\n\
+         [[exercise]]\nkind = \"straight\"\nspeed_m_s = 12.0\nduration_s = 2.0\n",
+    )
+    .unwrap();
+    let path = dir.path().join("pedals.mcap");
+    run_ok(&sim_session_args(
+        "60",
+        &path,
+        &["--regimen", regimen.to_str().unwrap()],
+    ));
+    let topics = by_topic(&read_mcap(&path));
+    let (raw, vehicle) = (&topics["/raw/wheel"], &topics["/vehicle"]);
+    let f = |j: &serde_json::Value, k: &str| j[k].as_f64().unwrap_or(0.0);
+    let speeds: Vec<f64> = vehicle.iter().map(|m| f(&m.json, "ux_m_s")).collect();
+    assert!(speeds[0] < 0.1, "the car starts at rest: {} m/s", speeds[0]);
+    let top = speeds.iter().copied().fold(0.0, f64::max);
+    assert!(top > 9.0 && top <= 12.0 + 1e-6, "top speed {top} m/s");
+    let throttle: Vec<f64> = raw.iter().map(|m| f(&m.json, "throttle")).collect();
+    assert!(
+        throttle[..1000].iter().any(|&t| t > 0.9),
+        "full throttle from rest"
+    );
+    // The automatic exercise at the end: the foot rests, the speed is the exercise's.
+    assert!(throttle[throttle.len() - 500..].iter().all(|&t| t == 0.0));
+    assert!(
+        (speeds[speeds.len() - 1] - 12.0).abs() < 0.5,
+        "{}",
+        speeds[speeds.len() - 1]
+    );
+
+    let said = replay_ok(&["--from-raw", path.to_str().unwrap()]);
+    assert!(said.contains("replay: identical"), "{said}");
+}

@@ -237,6 +237,8 @@ async function prescribeView(el, id) {
       <fieldset class="panel"><legend>Exercise ${i + 1}: ${esc(e.kind)}</legend>
         ${fields}
         ${numberField(`ex${i}-ceiling`, 'Torque ceiling, N·m (empty: the station\'s)', e.haptic && e.haptic.ceiling_nm, { ...limits.ceiling, default: undefined })}
+        ${e.kind === 'dial' ? '' : `<p><input type="checkbox" id="ex${i}-pedals"${e.pedals ? ' checked' : ''}>
+          <label for="ex${i}-pedals" class="inline">The patient sets the speed with the pedals (needs a duration; leave unticked for automatic speed)</label></p>`}
         <p class="note">${e.assist ? `Assistance: ${esc(JSON.stringify(e.assist.mode || e.assist))}` : 'Assistance: the station\'s setting.'}</p>
         <p><button type="button" class="secondary" data-remove="${i}">Remove exercise ${i + 1}</button></p>
       </fieldset>`;
@@ -301,6 +303,8 @@ async function prescribeView(el, id) {
       const ceiling = num(`#ex${i}-ceiling`);
       if (ceiling === undefined) { if (e.haptic) delete e.haptic.ceiling_nm; } else { e.haptic = { ...(e.haptic || {}), ceiling_nm: ceiling }; }
       if (e.haptic && !Object.keys(e.haptic).length) delete e.haptic;
+      const pedals = el.querySelector(`#ex${i}-pedals`);
+      if (pedals && pedals.checked) e.pedals = true; else delete e.pedals;
     });
   };
   const bind = () => {

@@ -233,7 +233,7 @@ mod tests {
         assert!(
             stale.is_empty(),
             "the recorded JSON schema changed for {stale:?}; if that is intended, run \
-             `UPDATE_SNAPSHOTS=1 cargo test -p station --lib record::channels` and commit \
+             `UPDATE_SNAPSHOTS=1 cargo test -p record --lib channels` and commit \
              the snapshot diff"
         );
     }

@@ -33,6 +33,9 @@ pub const ACC_QUANTUM_M_S2: f64 = 1e-4;
 /// Quantum of a torque, N·m (the simulated hand's, which a replay takes from `/wheel`).
 pub const TORQUE_QUANTUM_NM: f64 = 1e-6;
 
+/// Quantum of a pedal's travel (the `/raw/wheel` columns `throttle`, `brake`: unitless).
+pub const PEDAL_QUANTUM: f64 = 1e-9;
+
 /// `x` on the recording's grid of `quantum`: the value a block records and reads back
 /// (NaN and infinities kept). Idempotent, so a value on the grid records as itself.
 pub fn on_grid(x: f64, quantum: f64) -> f64 {
@@ -82,6 +85,13 @@ pub struct RawWheelSample {
     pub solver_answered: bool,
     /// The mounting solver timed out this tick.
     pub solver_timed_out: bool,
+    /// The accelerator pedal, 0 (released) to 1 (absent from recordings older than pedals:
+    /// released).
+    #[serde(default)]
+    pub throttle: f64,
+    /// The brake pedal, 0 (released) to 1 (absent from older recordings: released).
+    #[serde(default)]
+    pub brake: f64,
 }
 
 /// One IMU sample as the arm tracker consumed it (channel `/raw/imu`).
@@ -228,6 +238,8 @@ mod tests {
         assert_eq!(RATE_QUANTUM_RAD_S, quantum_of("gyro_x_rad_s"));
         assert_eq!(ACC_QUANTUM_M_S2, quantum_of("acc_x_m_s2"));
         assert_eq!(TORQUE_QUANTUM_NM, quantum_of("hand_nm"));
+        assert_eq!(PEDAL_QUANTUM, quantum_of("throttle"));
+        assert_eq!(PEDAL_QUANTUM, quantum_of("brake"));
         for x in [
             0.123_456_789_1,
             -3.000_000_4,

@@ -120,6 +120,8 @@ fn tick(n: u64) -> TickRecord {
                 arm_regained: n == 3,
                 solver_answered: n == 3,
                 solver_timed_out: n == 4,
+                throttle: n as f64 / 255.0,
+                brake: 0.5,
             },
             imu: [
                 (n != 3).then_some(RawImuSample {

@@ -82,6 +82,12 @@ pub struct RegimenEntry {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(range(min = 0.0, max = MAX_REST_S))]
     pub rest_s: Option<f64>,
+    /// The patient sets the car's speed with the throttle and brake pedals (a road exercise
+    /// with a `duration_s`: a patient who stops still ends on time); the exercise's speed is
+    /// then the top speed. Default `false`: the speed is automatic, for patients who cannot
+    /// use their feet.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub pedals: bool,
 }
 
 /// A regimen that cannot be used, naming the exercise and field.
@@ -190,6 +196,9 @@ impl Regimen {
             if let Some(a) = &e.assist {
                 a.validate().map_err(|m| invalid(format!("assist: {m}")))?;
             }
+            if e.pedals {
+                check_pedals(&e.exercise).map_err(invalid)?;
+            }
             if let Some(rest) = e.rest_s
                 && !(0.0..=MAX_REST_S).contains(&rest)
             {
@@ -254,6 +263,21 @@ impl Regimen {
     }
 }
 
+/// Pedals drive a car: a road exercise, and one with a time limit (with the speed in the
+/// patient's feet, a road without one might never end).
+fn check_pedals(spec: &ExerciseSpec) -> Result<(), String> {
+    let built = spec.build().map_err(|e| e.to_string())?;
+    if built.is_dial() {
+        return Err(
+            "pedals = true on a dial task, which has no car: allowed on road exercises only".into(),
+        );
+    }
+    if built.duration_s.is_none() {
+        return Err("pedals = true needs a duration_s (a patient who stops would otherwise never finish the road)".into());
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -273,7 +297,7 @@ mod tests {
 
     #[test]
     fn shipped_sample_regimens_parse_and_validate() {
-        for name in ["easy", "medium", "hard"] {
+        for name in ["easy", "medium", "hard", "pedals"] {
             let path = Path::new(env!("CARGO_MANIFEST_DIR"))
                 .join("../../regimens")
                 .join(format!("{name}.toml"));
@@ -314,6 +338,24 @@ mod tests {
         let r = Regimen::from_toml("[[exercise]]\nkind = \"straight\"\n", "r.toml").unwrap();
         let planned = r.planned_duration_s().unwrap();
         assert!(planned > 5.0 && planned < 600.0, "{planned}");
+    }
+
+    #[test]
+    fn pedals_are_refused_on_a_dial_and_on_a_road_without_a_duration() {
+        let ok = "[[exercise]]\nkind = \"sine\"\nduration_s = 60.0\npedals = true\n";
+        let r = Regimen::from_toml(ok, "r.toml").unwrap();
+        assert!(r.exercises[0].pedals);
+        let again = Regimen::from_toml(&toml::to_string(&r).unwrap(), "again").unwrap();
+        assert_eq!(r, again);
+        let dial = "[[exercise]]\nkind = \"dial\"\npedals = true\n";
+        let msg = Regimen::from_toml(dial, "r.toml").unwrap_err().to_string();
+        assert!(msg.contains("exercise 1") && msg.contains("dial"), "{msg}");
+        let open = "[[exercise]]\nkind = \"sine\"\npedals = true\n";
+        let msg = Regimen::from_toml(open, "r.toml").unwrap_err().to_string();
+        assert!(msg.contains("duration_s"), "{msg}");
+        // Automatic speed stays the default.
+        let auto = Regimen::from_toml("[[exercise]]\nkind = \"sine\"\n", "r.toml").unwrap();
+        assert!(!auto.exercises[0].pedals);
     }
 
     #[test]

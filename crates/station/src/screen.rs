@@ -48,6 +48,8 @@ struct ExerciseView {
     short: String,
     name: String,
     road: Option<render::Road>,
+    /// The patient drives the speed with the pedals.
+    pedals: bool,
 }
 
 /// The screen's view of a course: one entry per exercise, in course order.
@@ -90,6 +92,7 @@ impl CourseView {
                 short: ex.name.clone(),
                 name: plain_name(&ex.name),
                 road,
+                pedals: entry.pedals,
             });
         }
         Ok(Self {
@@ -145,11 +148,20 @@ impl CourseView {
                 score,
                 speed_m_s: speed,
                 assist_level: rec.assist.assistance_level,
-                devices: device_lines(rec),
+                devices: pedal_hint(ex.pedals, speed)
+                    .into_iter()
+                    .chain(device_lines(rec))
+                    .collect(),
             },
             screen,
         }
     }
+}
+
+/// What the patient is to do with the pedals, while the car stands still in an exercise they
+/// drive with them (at `speed_m_s`).
+fn pedal_hint(pedals: bool, speed_m_s: f64) -> Option<String> {
+    (pedals && speed_m_s < 0.5).then(|| "Press the accelerator pedal to drive".to_owned())
 }
 
 /// The devices' lines of the HUD, in plain words.
@@ -276,7 +288,14 @@ impl CourseView {
         ScreenState::Next(NextCard {
             heading: "Get ready".into(),
             title,
-            what: plain_instruction(&ex.short).into(),
+            what: if ex.pedals {
+                format!(
+                    "{}. Your feet set the speed: the accelerator to go, the brake to slow down",
+                    plain_instruction(&ex.short)
+                )
+            } else {
+                plain_instruction(&ex.short).into()
+            },
             movement: if ex.road.is_some() {
                 Movement::Steer
             } else {
@@ -349,6 +368,33 @@ mod tests {
             ScreenState::Next(card) => card,
             other => panic!("not the exercise's card: {other:?}"),
         }
+    }
+
+    #[test]
+    fn a_pedal_exercise_says_the_feet_set_the_speed_and_asks_for_the_accelerator_at_rest() {
+        let text = "[[exercise]]\nkind = \"sine\"\nduration_s = 30.0\npedals = true\n";
+        let r = Regimen::from_toml(text, "test").unwrap();
+        let v = CourseView::new(&StationConfig::default(), Some(&r)).unwrap();
+        let card = next_card(v.screen_state(&tick(0, 0, 0.0, true), &WindowState::default()));
+        assert!(card.what.contains("accelerator"), "{}", card.what);
+        let mut rec = tick(10, 0, 0.01, false);
+        rec.vehicle = Some(record::VehicleSample::default());
+        let at_rest = v.scene(&rec, ScreenState::Running);
+        assert_eq!(
+            at_rest.hud.devices[0],
+            "Press the accelerator pedal to drive"
+        );
+        rec.vehicle = Some(record::VehicleSample {
+            ux_m_s: 8.0,
+            ..Default::default()
+        });
+        let moving = v.scene(&rec, ScreenState::Running);
+        assert!(!moving.hud.devices.iter().any(|l| l.contains("accelerator")));
+        // Automatic speed: no word about pedals.
+        let auto = view().scene(&tick(10, 0, 0.01, false), ScreenState::Running);
+        assert!(!auto.hud.devices.iter().any(|l| l.contains("accelerator")));
+        let card = next_card(view().screen_state(&tick(0, 0, 0.0, true), &WindowState::default()));
+        assert!(!card.what.contains("accelerator"), "{}", card.what);
     }
 
     #[test]

@@ -23,6 +23,7 @@ pub mod feel;
 pub mod model;
 pub mod offline;
 pub mod path;
+pub mod pedals;
 #[cfg(test)]
 mod reference;
 pub mod road;
@@ -37,6 +38,7 @@ pub use feel::AligningTorque;
 pub use model::{DriverInput, TyreForces, TyreModel, Vehicle, VehicleParams, VehicleState};
 pub use offline::{TimedInput, simulate};
 pub use path::{PathBuilder, PathRoad};
+pub use pedals::{PedalDrive, Pedals, SimFoot};
 pub use road::{Projection, Road, SineRoad};
 pub use score::{DialScore, DialSummary, DrivingScore, DrivingSummary, LaneScore};
 pub use world::{Side, TrackLayout, World, WorldEvent};

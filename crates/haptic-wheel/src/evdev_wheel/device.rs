@@ -259,31 +259,3 @@ pub fn inspect(path: &Path) -> io::Result<Option<DeviceInfo>> {
         max_ff_effects: dev.max_ff_effects(),
     }))
 }
-
-/// Whether a button of the input device at `path` is pressed within `window` (any key or
-/// button going down, `BTN_*` or `KEY_*`): the wheel's buttons start a session from the
-/// first-run page. Opens the node read-only and never grabs it, so the session's own reading
-/// of the wheel is not disturbed.
-pub fn button_pressed_within(path: &Path, window: std::time::Duration) -> io::Result<bool> {
-    let mut dev = evdev::Device::open(path)?;
-    dev.set_nonblocking(true)?;
-    let deadline = std::time::Instant::now() + window;
-    loop {
-        match dev.fetch_events() {
-            Ok(events) => {
-                let pressed = events
-                    .into_iter()
-                    .any(|e| e.event_type() == EventType::KEY && e.value() == 1);
-                if pressed {
-                    return Ok(true);
-                }
-            }
-            Err(e) if e.kind() == io::ErrorKind::WouldBlock => {}
-            Err(e) => return Err(e),
-        }
-        if std::time::Instant::now() >= deadline {
-            return Ok(false);
-        }
-        std::thread::sleep(std::time::Duration::from_millis(20));
-    }
-}

@@ -36,6 +36,7 @@
 //!   the configured exit value (the kernel cannot report the previous ones).
 
 pub mod calibrate;
+pub mod controls;
 pub mod device;
 pub mod fake;
 pub mod rejoin;
@@ -47,7 +48,8 @@ use evdev::{
     AbsoluteAxisCode, FFCondition, FFEffectData, FFEffectKind, FFEnvelope, FFReplay, FFTrigger,
 };
 
-pub use device::{AxisState, EffectSlot, FfDevice, KernelDevice, button_pressed_within, inspect};
+pub use controls::{ControlsLook, PedalAxes, WheelControls, button_pressed_within};
+pub use device::{AxisState, EffectSlot, FfDevice, KernelDevice, inspect};
 
 use crate::devices::{DeviceClass, classify};
 use crate::effects::{Condition, ConditionKind};

@@ -1,6 +1,8 @@
-//! The wheel's and a gamepad's buttons during a session with the patient's window: any
-//! button of the wheel, a gamepad's south (A/✕) or start button does what Space does (start,
-//! pause, resume, or go on from a rest now); a gamepad's east button (B/○) asks for a rest.
+//! The wheel's and a gamepad's buttons and pedals during a session with the patient's window:
+//! any button of the wheel, a gamepad's south (A/✕) or start button does what Space does
+//! (start, pause, resume, or go on from a rest now); a gamepad's east button (B/○) asks for a
+//! rest; the pedals (the wheel's pedal port, separate USB pedals, or a gamepad's triggers)
+//! drive the car in an exercise the regimen gives the pedals.
 //! The wheel's input node is read without grabbing it (the session's own reading of the wheel
 //! is not disturbed); gamepads through gilrs with force feedback off. Nothing here runs on the
 //! haptic thread.
@@ -9,8 +11,9 @@ use super::controls::{BreakKind, Controls};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
-/// How long one look at the wheel's buttons lasts (and the gamepad's polling period).
-const LOOK: Duration = Duration::from_millis(100);
+/// How long one look at the wheel's buttons lasts (and the gamepad's and pedals' polling
+/// period).
+const LOOK: Duration = Duration::from_millis(20);
 
 /// Space's job: go on from a break, else pause or resume (and start).
 pub fn space(controls: &Controls) {
@@ -21,21 +24,32 @@ pub fn space(controls: &Controls) {
     }
 }
 
-/// Watch the buttons until `done`: the wheel's at `wheel_node` (its evdev node, if known) and
-/// any gamepad's.
+/// Watch the buttons and pedals until `done`: the wheel's at `wheel_node` (its evdev node,
+/// if known) and any gamepad's (its triggers, or separate USB pedals, as throttle and brake).
+/// The pedals reach the haptic thread through [`Controls::set_pedals`]: the further pressed of
+/// the wheel's and a gamepad's.
 pub fn watch(controls: &Controls, wheel_node: Option<&std::path::Path>, done: &AtomicBool) {
     let mut pads = haptic_wheel::peripherals::Peripherals::new(&[])
         .map_err(|e| tracing::debug!("no gamepad buttons this session: {e}"))
         .ok();
-    let mut wheel_node = wheel_node;
+    let mut wheel = wheel_node.and_then(|node| {
+        WheelInputs::open(node)
+            .map_err(|e| tracing::debug!("the wheel's buttons cannot be read: {e}"))
+            .ok()
+    });
     let mut last = haptic_wheel::peripherals::ControlState::default();
     while !done.load(Ordering::Acquire) && !controls.stop.load(Ordering::Relaxed) {
-        match wheel_node.map(button_only) {
-            Some(Ok(true)) => space(controls),
-            Some(Ok(false)) => {}
+        let mut pedals = vehicle::Pedals::default();
+        match wheel.as_mut().map(|w| w.look(LOOK)) {
+            Some(Ok((pressed, wheel_pedals))) => {
+                if pressed {
+                    space(controls);
+                }
+                pedals = wheel_pedals;
+            }
             Some(Err(e)) => {
                 tracing::debug!("the wheel's buttons cannot be read: {e}");
-                wheel_node = None;
+                wheel = None;
             }
             None => std::thread::sleep(LOOK),
         }
@@ -47,21 +61,56 @@ pub fn watch(controls: &Controls, wheel_node: Option<&std::path::Path>, done: &A
             if now.cancel && !last.cancel {
                 controls.rest.store(true, Ordering::Relaxed);
             }
+            pedals.throttle = pedals.throttle.max(f64::from(now.throttle));
+            pedals.brake = pedals.brake.max(f64::from(now.brake));
             last = now;
         }
+        controls.set_pedals(pedals);
+    }
+    controls.set_pedals(vehicle::Pedals::default());
+}
+
+/// The wheel's own buttons and pedals (Linux: its evdev node).
+#[cfg(target_os = "linux")]
+struct WheelInputs(haptic_wheel::evdev_wheel::WheelControls);
+
+#[cfg(target_os = "linux")]
+impl WheelInputs {
+    fn open(node: &std::path::Path) -> std::io::Result<Self> {
+        let c = haptic_wheel::evdev_wheel::WheelControls::open(node)?;
+        if let Some(axes) = c.pedal_axes() {
+            tracing::info!(
+                ?axes,
+                "the wheel's pedals drive the car where the regimen asks"
+            );
+        }
+        Ok(Self(c))
+    }
+
+    /// Whether a button went down within `window`, and the pedals.
+    fn look(&mut self, window: Duration) -> std::io::Result<(bool, vehicle::Pedals)> {
+        let l = self.0.look(window)?;
+        let (throttle, brake) = l.pedals.unwrap_or((0.0, 0.0));
+        Ok((l.pressed, vehicle::Pedals { throttle, brake }))
     }
 }
 
-#[cfg(target_os = "linux")]
-fn button_only(node: &std::path::Path) -> std::io::Result<bool> {
-    haptic_wheel::evdev_wheel::button_pressed_within(node, LOOK)
-}
+#[cfg(not(target_os = "linux"))]
+struct WheelInputs;
 
 #[cfg(not(target_os = "linux"))]
-fn button_only(_node: &std::path::Path) -> std::io::Result<bool> {
-    Err(std::io::Error::other(
-        "wheel buttons are read on Linux only",
-    ))
+impl WheelInputs {
+    fn open(_node: &std::path::Path) -> std::io::Result<Self> {
+        Err(std::io::Error::other(
+            "wheel buttons are read on Linux only",
+        ))
+    }
+
+    fn look(&mut self, _window: Duration) -> std::io::Result<(bool, vehicle::Pedals)> {
+        Err(std::io::Error::other(
+            "wheel buttons are read on Linux only",
+        ))
+    }
 }
 
 #[cfg(test)]

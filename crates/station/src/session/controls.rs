@@ -25,6 +25,8 @@ pub struct Controls {
     pub break_kind: AtomicU8,
     /// Told by the haptic thread: what is left of the break in progress, ms.
     pub break_left_ms: AtomicU64,
+    /// The pedals as last read (throttle and brake as `f32` bits, high and low half).
+    pedals_bits: AtomicU64,
 }
 
 impl Controls {
@@ -33,6 +35,23 @@ impl Controls {
         Self {
             stop,
             ..Self::default()
+        }
+    }
+
+    /// Tell the haptic thread where the pedals are now (each clamped to [0, 1]).
+    pub fn set_pedals(&self, pedals: vehicle::Pedals) {
+        let p = pedals.clamped();
+        let bits = (u64::from((p.throttle as f32).to_bits()) << 32)
+            | u64::from((p.brake as f32).to_bits());
+        self.pedals_bits.store(bits, Ordering::Relaxed);
+    }
+
+    /// The pedals as last read (released until a reader tells otherwise).
+    pub fn pedals(&self) -> vehicle::Pedals {
+        let bits = self.pedals_bits.load(Ordering::Relaxed);
+        vehicle::Pedals {
+            throttle: f64::from(f32::from_bits((bits >> 32) as u32)),
+            brake: f64::from(f32::from_bits(bits as u32)),
         }
     }
 

@@ -26,6 +26,9 @@ pub struct Segment {
     /// The break after this exercise, before the next (none after the last one, nor between
     /// laps of one exercise).
     pub break_after: Option<Break>,
+    /// The patient drives the speed with the pedals (the car starts at rest); otherwise the
+    /// speed is automatic.
+    pub pedals: bool,
 }
 
 /// Shortest break between two prescribed exercises, s: long enough to read the card that says
@@ -61,14 +64,15 @@ fn build_segment(cfg: &StationConfig, entry: &RegimenEntry) -> anyhow::Result<Se
         .exercise
         .build()
         .with_context(|| format!("exercise {name}"))?;
+    let mut start = exercise.start_state();
+    if entry.pedals {
+        // The patient's foot starts the car.
+        start.ux_m_s = 0.0;
+    }
     let world = match exercise.road {
         Some(_) => Some(
-            World::new(
-                cfg.vehicle.clone(),
-                exercise.start_state(),
-                exercise.track_layout(),
-            )
-            .with_context(|| format!("exercise {name}: vehicle world"))?,
+            World::new(cfg.vehicle.clone(), start, exercise.track_layout())
+                .with_context(|| format!("exercise {name}: vehicle world"))?,
         ),
         None => None,
     };
@@ -91,6 +95,7 @@ fn build_segment(cfg: &StationConfig, entry: &RegimenEntry) -> anyhow::Result<Se
         haptic,
         assist,
         break_after: None,
+        pedals: entry.pedals,
     })
 }
 
@@ -114,6 +119,7 @@ pub fn entries(
             haptic: None,
             assist: None,
             rest_s: None,
+            pedals: false,
         }],
     })
 }

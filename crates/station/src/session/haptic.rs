@@ -256,6 +256,7 @@ pub fn run(
         // A stop overrides a pause. (The recorder thread logs the changes: no I/O here.)
         if stopping_since.is_none() {
             plant.set_paused(breaks.before_tick(plant, controls));
+            plant.set_pedals(controls.pedals());
         }
         let mut rec = plant.tick();
         breaks.after_tick(&rec, plant, controls);

@@ -202,6 +202,11 @@ fn the_shipped_hard_regimen_runs_its_prescribed_durations() {
 }
 
 #[test]
+fn the_shipped_pedals_regimen_runs_its_prescribed_durations() {
+    shipped_regimen_runs_as_prescribed("pedals");
+}
+
+#[test]
 fn every_shipped_regimen_is_tested() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../regimens");
     let mut names: Vec<String> = std::fs::read_dir(&dir)
@@ -211,5 +216,9 @@ fn every_shipped_regimen_is_tested() {
         .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
         .collect();
     names.sort();
-    assert_eq!(names, ["easy", "hard", "medium"], "add a test for each");
+    assert_eq!(
+        names,
+        ["easy", "hard", "medium", "pedals"],
+        "add a test for each"
+    );
 }

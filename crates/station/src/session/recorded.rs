@@ -311,6 +311,15 @@ impl RecordedBody {
         self.now().is_some_and(|t| t.raw.wheel.paused)
     }
 
+    /// The pedals as recorded (released past the end).
+    pub fn pedals(&self) -> vehicle::Pedals {
+        self.now()
+            .map_or_else(vehicle::Pedals::default, |t| vehicle::Pedals {
+                throttle: t.raw.wheel.throttle,
+                brake: t.raw.wheel.brake,
+            })
+    }
+
     /// Now on the body clock, ns, as recorded (the last recorded past the end).
     pub fn now_ns(&self) -> u64 {
         self.now()

@@ -24,6 +24,8 @@ pub enum Body {
         arm: HumanArm,
         /// The simulated arm kinematics, IMUs and pose estimator.
         sensing: Box<SimArmSensing>,
+        /// The simulated patient's foot on the pedals.
+        foot: vehicle::SimFoot,
     },
     /// A real force-feedback wheel (Linux kernel FF API) held by the patient, who may wear
     /// two controller IMUs.
@@ -69,6 +71,7 @@ impl Body {
                 )
                 .context("simulated arm")?,
             ),
+            foot: vehicle::SimFoot::default(),
         })
     }
 
@@ -163,6 +166,7 @@ impl Body {
                 wheel,
                 arm,
                 sensing,
+                ..
             } => {
                 let hand = arm.step(
                     target_rad,
@@ -198,6 +202,26 @@ impl Body {
                     seam: m.seam,
                 }
             }
+        }
+    }
+
+    /// The pedals this tick, `dt_s` after the last: the simulated foot aims at the speed in
+    /// `speeds` (the car's and the exercise's, m/s; `None`: the exercise in progress is not
+    /// driven with the pedals, and the foot rests), a replay gives the recorded ones, and a
+    /// real patient's are `live` (as last read).
+    pub(super) fn pedals(
+        &mut self,
+        speeds: Option<(f64, f64)>,
+        live: vehicle::Pedals,
+        dt_s: f64,
+    ) -> vehicle::Pedals {
+        match self {
+            Body::Sim { foot, .. } => speeds.map_or_else(vehicle::Pedals::default, |(ux, aim)| {
+                foot.step(ux, aim, dt_s)
+            }),
+            #[cfg(target_os = "linux")]
+            Body::Evdev { .. } => live,
+            Body::Recorded(r) => r.pedals(),
         }
     }
 

@@ -9,7 +9,8 @@ use assist::{AssistOutput, Limits, Measurement};
 use haptic_wheel::HapticRegimen;
 use record::{AssistSample, ScoreSample, VehicleSample};
 use vehicle::{
-    AligningTorque, DialScore, DrivingScore, PreviewDriver, Projection, SpeedController,
+    AligningTorque, DialScore, DrivingScore, PedalDrive, Pedals, PreviewDriver, Projection,
+    SpeedController,
 };
 
 /// The course and where the patient is in it.
@@ -110,7 +111,13 @@ impl Exercise {
 
     /// One tick of the exercise with the wheel at `angle` rad: drive the car with it, or
     /// score it against the dial's desired angle. Frozen while `paused`.
-    pub(super) fn step(&mut self, angle: f64, paused: bool, now: LoopTime) -> ExerciseStep {
+    pub(super) fn step(
+        &mut self,
+        angle: f64,
+        paused: bool,
+        now: LoopTime,
+        pedals: Pedals,
+    ) -> ExerciseStep {
         let dt = now.dt_s;
         let segment_index = self.segment as u32;
         let seg = &mut self.course[self.segment];
@@ -126,7 +133,16 @@ impl Exercise {
                 let steer = self.params.road_wheel_angle_rad(angle);
                 let st = world.state();
                 self.cruise.target_m_s = seg.exercise.target_speed_m_s(self.projection.s_m);
-                world.step(self.cruise.input(st.ux_m_s, steer), dt);
+                let input = if seg.pedals {
+                    // The patient's feet, governed at the exercise's speed.
+                    PedalDrive {
+                        governor: self.cruise.clone(),
+                    }
+                    .input(pedals, st.ux_m_s, steer)
+                } else {
+                    self.cruise.input(st.ux_m_s, steer)
+                };
+                world.step(input, dt);
                 let st = world.state();
                 self.projection = road.project(st.x_m, st.y_m, self.projection.s_m);
                 // Drained in place: no allocation on a contact tick.
@@ -192,6 +208,19 @@ impl Exercise {
             _ => Default::default(),
         };
         AssistStep { active, out }
+    }
+
+    /// The car's forward speed and the exercise's speed there, m/s, while the exercise in
+    /// progress is driven with the pedals (what a foot on them aims at); `None` otherwise.
+    pub(super) fn pedal_speeds_m_s(&self) -> Option<(f64, f64)> {
+        let seg = &self.course[self.segment];
+        match (&seg.world, seg.pedals) {
+            (Some(world), true) => Some((
+                world.state().ux_m_s,
+                seg.exercise.target_speed_m_s(self.projection.s_m),
+            )),
+            _ => None,
+        }
     }
 
     /// The break after exercise `segment` of the course, if any.

@@ -55,6 +55,8 @@ pub struct Plant {
     wheel_facts: WheelFacts,
     /// How long an asked-for rest and a pause may last.
     break_settings: crate::session::breaks::BreakSettings,
+    /// The patient's pedals as last read off the haptic thread.
+    live_pedals: vehicle::Pedals,
 }
 
 /// The loop's ticks.
@@ -194,6 +196,7 @@ impl Plant {
                 asked_rest_s: cfg.session.asked_rest_s,
                 pause_limit_s: cfg.session.pause_limit_s,
             },
+            live_pedals: vehicle::Pedals::default(),
         })
     }
 
@@ -290,7 +293,8 @@ impl Plant {
         // 1. Read the wheel as the host sees it (quantised, delayed).
         let sensed = self.sense(now.t_ns);
         // 2. The exercise: drive the car with the wheel, or show the dial's desired angle.
-        let exercise = self.exercise.step(sensed.angle_rad, paused, now);
+        let pedals = self.pedals_now(now.dt_s);
+        let exercise = self.exercise.step(sensed.angle_rad, paused, now, pedals);
         // 3. The assist controller helps towards the exercise's target.
         let measured = Measurement {
             angle_rad: sensed.angle_rad,
@@ -330,6 +334,26 @@ impl Plant {
         });
         self.clock.advance(paused);
         rec
+    }
+
+    /// Where the patient's pedals are now (read off the haptic thread, see
+    /// [`crate::session::Controls::pedals`]); a simulated foot or a replay sets its own.
+    pub fn set_pedals(&mut self, pedals: vehicle::Pedals) {
+        self.live_pedals = pedals.clamped();
+    }
+
+    /// The pedals this tick: the simulated foot's (aiming at the exercise's speed), the
+    /// recording's, or the patient's as last read; released while the exercise in progress
+    /// is not driven with the pedals, for a simulated foot.
+    fn pedals_now(&mut self, dt_s: f64) -> vehicle::Pedals {
+        let speeds = self.exercise.pedal_speeds_m_s();
+        let p = self.body.pedals(speeds, self.live_pedals, dt_s);
+        // On the recording's grid: what a replay reads back is what drove the car.
+        self.raw.pedals = vehicle::Pedals {
+            throttle: on_grid(p.throttle, record::raw::PEDAL_QUANTUM),
+            brake: on_grid(p.brake, record::raw::PEDAL_QUANTUM),
+        };
+        self.raw.pedals
     }
 
     /// A replay pauses where the patient did.

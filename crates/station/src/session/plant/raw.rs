@@ -11,6 +11,8 @@ pub(super) struct RawInputs {
     pub(super) paused: bool,
     /// A stop has been asked for.
     pub(super) stop_requested: bool,
+    /// Where the pedals were (the patient's, or the simulated foot's).
+    pub(super) pedals: vehicle::Pedals,
     /// The IMU samples last recorded on `/raw/imu`, per sensor (a held one is not repeated).
     last_imu: [Option<gyro_imu::device::ImuSample>; 2],
 }
@@ -21,6 +23,7 @@ impl RawInputs {
         Self {
             paused: false,
             stop_requested: false,
+            pedals: vehicle::Pedals::default(),
             last_imu: [None; 2],
         }
     }
@@ -43,6 +46,8 @@ impl RawInputs {
                 now_ns,
                 paused: self.paused,
                 stop: self.stop_requested,
+                throttle: self.pedals.throttle,
+                brake: self.pedals.brake,
                 arm_stepped: seam.is_some_and(|s| s.stepped.is_some()),
                 arm_lost: seam.is_some_and(|s| s.lost),
                 arm_regained: seam.is_some_and(|s| s.regained),
