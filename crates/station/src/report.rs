@@ -452,6 +452,7 @@ mod tests {
                 rests: 0,
                 rest_s: 0.0,
                 paused_too_long: false,
+                window_lost: false,
             },
             recorder,
             loop_rate_hz: 1000.0,

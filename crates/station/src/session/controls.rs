@@ -25,6 +25,9 @@ pub struct Controls {
     pub break_kind: AtomicU8,
     /// Told by the haptic thread: what is left of the break in progress, ms.
     pub break_left_ms: AtomicU64,
+    /// Told by the window's supervisor with the stop: the patient's window failed again and
+    /// again, so the session ends ("window lost").
+    pub window_lost: AtomicBool,
     /// The pedals as last read (throttle and brake as `f32` bits, high and low half).
     pedals_bits: AtomicU64,
 }

@@ -11,6 +11,10 @@ pub const COMPLETE: &str = "complete";
 pub const ENDED_EARLY: &str = "ended early by the patient (Esc, window closed or stop signal)";
 /// The exercise stayed paused longer than `[session] pause_limit_s`.
 pub const PAUSED_TOO_LONG: &str = "paused too long";
+/// The patient's window failed again and again
+/// ([`crate::session::window::supervisor::MAX_FAILURES_IN_A_ROW`] times in a row): nobody could see the
+/// exercise.
+pub const WINDOW_LOST: &str = "window lost (the patient's screen failed again and again)";
 /// The wheel went away.
 pub const WHEEL_UNPLUGGED: &str = "wheel unplugged";
 /// The start of the reason for any other wheel fault the safety supervisor stopped on.
@@ -19,7 +23,7 @@ pub const SAFETY_STOP: &str = "safety stop";
 pub const DISK_FULL: &str = "recording stopped: disk full";
 
 impl SessionReport {
-    /// Why the session ended: [`COMPLETE`], [`PAUSED_TOO_LONG`], [`ENDED_EARLY`],
+    /// Why the session ended: [`COMPLETE`], [`PAUSED_TOO_LONG`], [`WINDOW_LOST`], [`ENDED_EARLY`],
     /// [`WHEEL_UNPLUGGED`] or
     /// "[`SAFETY_STOP`]: …"; with "; [`DISK_FULL`] at N s" (or "; recording stopped: …") when
     /// the recording stopped while the session went on.
@@ -28,6 +32,7 @@ impl SessionReport {
             Some(WheelFault::Unplugged) => WHEEL_UNPLUGGED.to_owned(),
             Some(fault) => format!("{SAFETY_STOP}: {}", fault.describe()),
             None if self.haptic.paused_too_long => PAUSED_TOO_LONG.to_owned(),
+            None if self.haptic.window_lost => WINDOW_LOST.to_owned(),
             None if self.haptic.stopped_early => ENDED_EARLY.to_owned(),
             None => COMPLETE.to_owned(),
         };
@@ -59,6 +64,12 @@ mod tests {
     /// The end reason of a 3 s simulated sine-road session under `faults`, recorded in a
     /// temporary directory, stopped by the patient when `stop` is set.
     fn reason(faults: &[&str], stop: bool) -> String {
+        reason_with(faults, stop, false)
+    }
+
+    /// [`reason`], with the window's supervisor having given the window up when
+    /// `window_lost` is set (it sets that with the stop).
+    fn reason_with(faults: &[&str], stop: bool, window_lost: bool) -> String {
         let mut cfg = StationConfig::default();
         cfg.session.duration_s = 3.0;
         cfg.session.loop_rate_hz = 250.0;
@@ -79,7 +90,8 @@ mod tests {
             clock: Clock::real(),
         };
         let controls = Controls::default();
-        controls.stop.store(stop, Ordering::Relaxed);
+        controls.stop.store(stop || window_lost, Ordering::Relaxed);
+        controls.window_lost.store(window_lost, Ordering::Relaxed);
         crate::session::run(&opts, &controls, &mut ())
             .unwrap()
             .end_reason()
@@ -90,6 +102,7 @@ mod tests {
         assert_eq!(reason(&[], false), COMPLETE);
         assert_eq!(reason(&[], true), ENDED_EARLY);
         assert_eq!(reason(&["wheel-unplug@1"], false), WHEEL_UNPLUGGED);
+        assert_eq!(reason_with(&[], false, true), WINDOW_LOST);
         let full = reason(&["disk-full@1"], false);
         assert!(
             full.starts_with(&format!("{COMPLETE}; {DISK_FULL} at ")),

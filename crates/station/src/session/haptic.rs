@@ -52,6 +52,8 @@ pub struct HapticOutcome {
     pub rest_s: f64,
     /// The session ended because a pause lasted longer than `[session] pause_limit_s`.
     pub paused_too_long: bool,
+    /// The session ended because the patient's window could not be kept up.
+    pub window_lost: bool,
 }
 
 /// The loop's deadline arithmetic, without a clock: the tick of slot `k` is due at
@@ -313,6 +315,7 @@ pub fn run(
         rests: breaks.rests,
         rest_s: breaks.rest_s(),
         paused_too_long: breaks.paused_too_long,
+        window_lost: controls.window_lost.load(Ordering::Relaxed),
     }
 }
 

@@ -185,6 +185,7 @@ pub fn supervise(
             tracing::error!(
                 "{why}; the patient window failed {failures_in_a_row} times in a row: ending the session"
             );
+            s.controls.window_lost.store(true, Ordering::Relaxed);
             s.controls.stop.store(true, Ordering::Relaxed);
             break;
         }
