@@ -255,6 +255,8 @@ def test_a_therapist_logs_in_watches_live_sees_progress_and_prescribes(clinic, b
     d.get(clinic["web"] + "/#/patients")
     row = wait(d, lambda d: [r for r in d.find_elements(By.CSS_SELECTOR, "tbody tr") if "P-0042" in r.text])[0]
     assert "2 of 3 prescribed" in row.text and "2 of 3 sessions this week" in row.text, row.text
+    # Adherence in minutes too: the active minutes against the regimen's planned minutes a week.
+    assert "prescribed active min" in row.text, row.text
     assert "time in lane" in row.text, "a trend once there are two sessions: " + row.text
     shot(d, "8-patients-adherence-trends")
 

@@ -113,8 +113,11 @@ async function patientsView() {
   const rows = patients.map(p => {
     const alerts = p.alerts.length ? p.alerts.map(a => `<span class="badge alert">${esc(a)}</span>`).join(' ')
       : '<span class="badge ok">none</span>';
-    const week = p.sessions_per_week_prescribed == null ? `${p.sessions_last_7_days}`
-      : `${p.sessions_last_7_days} of ${p.sessions_per_week_prescribed} prescribed`;
+    const sessions = p.sessions_per_week_prescribed == null ? `${p.sessions_last_7_days} sessions`
+      : `${p.sessions_last_7_days} of ${p.sessions_per_week_prescribed} prescribed sessions`;
+    const minutes = p.minutes_per_week_prescribed == null ? `${Math.round(p.active_minutes_last_7_days)} active min`
+      : `${Math.round(p.active_minutes_last_7_days)} of ${Math.round(p.minutes_per_week_prescribed)} prescribed active min`;
+    const week = `${sessions}, ${minutes}`;
     const trends = [['pct_in_lane', 'time in lane'], ['wheel_rom_deg', 'wheel range'], ['sparc_median', 'smoothness']]
       .filter(([k]) => p.trends[k])
       .map(([k, label]) => {
@@ -127,7 +130,7 @@ async function patientsView() {
   }).join('');
   app.innerHTML = `<h1>Patients</h1>
     <table><caption class="note">Your caseload. Open a patient to watch a running session, see progress or prescribe.</caption>
-    <thead><tr><th scope="col">Patient</th><th scope="col">Last session</th><th scope="col">Sessions in the last 7 days</th><th scope="col">Trend (last session)</th><th scope="col">Alerts</th></tr></thead>
+    <thead><tr><th scope="col">Patient</th><th scope="col">Last session</th><th scope="col">Last 7 days</th><th scope="col">Trend (last session)</th><th scope="col">Alerts</th></tr></thead>
     <tbody>${rows || '<tr><td colspan="5">No patients yet.</td></tr>'}</tbody></table>`;
 }
 

@@ -347,6 +347,28 @@ async fn patients_and_caseload(db: Db) {
             "arm sensors lost in the last session (no joint angles)"
         ]
     );
+    // Adherence in minutes: three sessions of a 60 s regimen a week is 3 active minutes.
+    assert_eq!(own[0].minutes_per_week_prescribed, Some(3.0));
+    assert_eq!(own[0].active_minutes_last_7_days, 0.0);
+    // One session a week of 10 minutes, done as one short one: the minutes say it.
+    let ten_once = "sessions_per_week = 1\n[[exercise]]\nkind = \"dial\"\nduration_s = 600.0\n";
+    db.put_regimen(&p.id, ten_once, Some(1), &t.id, now)
+        .await
+        .unwrap();
+    let active = [("active_s".to_owned(), 90.0)];
+    db.put_metrics("s-new", &active.into_iter().collect())
+        .await
+        .unwrap();
+    let own = db.patients_for(&t, now).await.unwrap();
+    assert_eq!(own[0].minutes_per_week_prescribed, Some(10.0));
+    assert_eq!(own[0].active_minutes_last_7_days, 1.5);
+    assert!(
+        own[0]
+            .alerts
+            .contains(&"2 of 10 active minutes this week".to_owned()),
+        "{:?}",
+        own[0].alerts
+    );
     assert!(Db::may_see(&t, &p) && !Db::may_see(&t, &q) && Db::may_see(&admin, &q));
 }
 

@@ -38,6 +38,12 @@ pub struct PatientOverview {
     pub sessions_last_7_days: i64,
     /// Sessions a week the current regimen asks for (its `sessions_per_week`), if it says.
     pub sessions_per_week_prescribed: Option<i64>,
+    /// Active exercise minutes (pauses and rests not counted: the sessions' `active_s`) of
+    /// the sessions started in the 7 days before `now_ms`.
+    pub active_minutes_last_7_days: f64,
+    /// Active minutes a week the current regimen asks for: its planned session length times
+    /// its `sessions_per_week`, if it says.
+    pub minutes_per_week_prescribed: Option<f64>,
     /// Trends of the main measures (`pct_in_lane`, `wheel_rom_deg`, `sparc_median`; for all
     /// three, up is better): `"up"`, `"down"` or `"flat"` (within 2 %), the last session
     /// against the mean of up to four before it; absent with fewer than two sessions.
@@ -68,6 +74,24 @@ fn trend(newest_first: &[f64]) -> Option<String> {
     Some(word.to_owned())
 }
 
+/// The patient's week against the prescription.
+struct Week {
+    sessions: i64,
+    prescribed: Option<i64>,
+    active_min: f64,
+    prescribed_min: Option<f64>,
+}
+
+/// Active minutes a week `toml` (the current regimen) asks for: its planned session length
+/// times its sessions a week; `None` if it does not say how many sessions, or cannot be read.
+fn prescribed_minutes(toml: Option<&str>) -> Option<f64> {
+    let r = regimen::Regimen::from_recorded(toml?, "the current regimen")
+        .ok()?
+        .0;
+    let planned_s = r.planned_duration_s().ok()?;
+    Some(planned_s / 60.0 * f64::from(r.sessions_per_week?))
+}
+
 /// What the last session's measures say that a caseload alert needs.
 struct LastSession {
     faults: Option<f64>,
@@ -76,18 +100,26 @@ struct LastSession {
 }
 
 /// The caseload row's alerts, from its counts and its last session's measures.
-fn alerts(
-    week: i64,
-    prescribed: Option<i64>,
-    last_start: Option<i64>,
-    last: LastSession,
-) -> Vec<String> {
+fn alerts(week: &Week, last_start: Option<i64>, last: LastSession) -> Vec<String> {
     let mut out = Vec::new();
-    match (prescribed, last_start) {
+    match (week.prescribed, last_start) {
         (_, None) => out.push("no session yet".to_owned()),
-        (Some(p), _) if week < p => out.push(format!("{week} of {p} sessions this week")),
-        (None, _) if week == 0 => out.push("no session in the last 7 days".to_owned()),
+        (Some(p), _) if week.sessions < p => {
+            out.push(format!("{} of {p} sessions this week", week.sessions));
+        }
+        (None, _) if week.sessions == 0 => out.push("no session in the last 7 days".to_owned()),
         _ => {}
+    }
+    // Enough sessions, but short ones: the minutes tell.
+    if let Some(p) = week.prescribed_min
+        && last_start.is_some()
+        && week.prescribed.is_none_or(|n| week.sessions >= n)
+        && week.active_min < 0.9 * p
+    {
+        out.push(format!(
+            "{:.0} of {p:.0} active minutes this week",
+            week.active_min
+        ));
     }
     if last.faults.is_some_and(|f| f > 0.0) {
         out.push("safety stop in the last session (torque faded out on a fault)".to_owned());
@@ -216,6 +248,11 @@ impl Db {
                 AND s.started_unix_ms >= $1) AS week_count, \
             (SELECT r.sessions_per_week FROM regimens r WHERE r.patient_id = p.id \
                 ORDER BY r.version DESC LIMIT 1) AS prescribed_per_week, \
+            (SELECT r.toml FROM regimens r WHERE r.patient_id = p.id \
+                ORDER BY r.version DESC LIMIT 1) AS regimen_toml, \
+            (SELECT SUM(m.value) FROM session_metrics m JOIN sessions s \
+                ON s.session_id = m.session_id WHERE s.patient_id = p.id \
+                AND s.started_unix_ms >= $1 AND m.name = 'active_s') AS week_active_s, \
             (SELECT m.value FROM session_metrics m WHERE m.name = 'watchdog_fault_ticks' \
                 AND m.session_id = (SELECT s.session_id FROM sessions s WHERE s.patient_id = p.id \
                     ORDER BY s.started_unix_ms DESC LIMIT 1)) AS last_faults, \
@@ -246,15 +283,24 @@ impl Db {
                 let week: i64 = col(row, "week_count")?;
                 // Stored from the parsed regimen when it was prescribed (migration 0004).
                 let prescribed: Option<i64> = col(row, "prescribed_per_week")?;
+                let toml: Option<String> = col(row, "regimen_toml")?;
+                let active_s: Option<f64> = col(row, "week_active_s")?;
+                let week = Week {
+                    sessions: week,
+                    prescribed,
+                    active_min: active_s.unwrap_or(0.0) / 60.0,
+                    prescribed_min: prescribed_minutes(toml.as_deref()),
+                };
                 Ok(PatientOverview {
                     patient: Patient::from_row(row)?,
                     last_session_started_ms: last_start,
-                    sessions_last_7_days: week,
+                    sessions_last_7_days: week.sessions,
                     sessions_per_week_prescribed: prescribed,
+                    active_minutes_last_7_days: week.active_min,
+                    minutes_per_week_prescribed: week.prescribed_min,
                     trends: BTreeMap::new(),
                     alerts: alerts(
-                        week,
-                        prescribed,
+                        &week,
                         last_start,
                         LastSession {
                             faults: col(row, "last_faults")?,
