@@ -7,7 +7,7 @@ mod common;
 use std::collections::BTreeMap;
 
 use hub::db::{LOCKOUT_MS, Recording};
-use hub::{Db, HubError, PairRefusal, Role};
+use hub::{Db, HubError, PairRefusal, Patient, Role, Therapist};
 use netlink::store::Appended;
 use netlink::{Bye, Hello, PROTOCOL_VERSION, Summary};
 
@@ -54,7 +54,7 @@ fn latest_migration() -> i64 {
         .unwrap()
 }
 
-async fn paired(db: &Db) -> (hub::Therapist, hub::Patient) {
+async fn paired(db: &Db) -> (Therapist, Patient) {
     let t = db
         .add_therapist(
             "ada@clinic.example",
@@ -347,6 +347,14 @@ async fn patients_and_caseload(db: Db) {
             "arm sensors lost in the last session (no joint angles)"
         ]
     );
+    adherence_counts_active_minutes(&db, &t, &p, now).await;
+    assert!(Db::may_see(&t, &p) && !Db::may_see(&t, &q) && Db::may_see(&admin, &q));
+}
+
+/// Adherence in minutes: the caseload row of `p` (whose last session, `s-new`, started within
+/// the week before `now`) against a 60 s regimen three times a week, then a 10-minute one once.
+async fn adherence_counts_active_minutes(db: &Db, t: &Therapist, p: &Patient, now: i64) {
+    let own = db.patients_for(t, now).await.unwrap();
     // Adherence in minutes: three sessions of a 60 s regimen a week is 3 active minutes.
     assert_eq!(own[0].minutes_per_week_prescribed, Some(3.0));
     assert_eq!(own[0].active_minutes_last_7_days, 0.0);
@@ -359,7 +367,7 @@ async fn patients_and_caseload(db: Db) {
     db.put_metrics("s-new", &active.into_iter().collect())
         .await
         .unwrap();
-    let own = db.patients_for(&t, now).await.unwrap();
+    let own = db.patients_for(t, now).await.unwrap();
     assert_eq!(own[0].minutes_per_week_prescribed, Some(10.0));
     assert_eq!(own[0].active_minutes_last_7_days, 1.5);
     assert!(
@@ -369,7 +377,6 @@ async fn patients_and_caseload(db: Db) {
         "{:?}",
         own[0].alerts
     );
-    assert!(Db::may_see(&t, &p) && !Db::may_see(&t, &q) && Db::may_see(&admin, &q));
 }
 
 async fn hostile_pseudonyms_are_refused(db: Db) {
