@@ -870,7 +870,7 @@ async fn session_with_pain(db: &Db, patient_id: &str, id: &str, minute: i64, pai
 
 async fn a_byes_checkin_is_stored_and_high_or_rising_pain_raises_a_caseload_alert(db: Db) {
     let (t, p) = paired(&db).await;
-    let pain_alerts = |db: Db, t: hub::Therapist| async move {
+    let pain_alerts = |db: Db, t: Therapist| async move {
         let list = db.patients_for(&t, T0).await.unwrap();
         list[0]
             .alerts
@@ -1064,7 +1064,7 @@ async fn postgres_migrations_are_idempotent() {
 
 /// Stores a regimen of 4 a week, then empties its `sessions_per_week` as a row stored before
 /// migration 0004 has it: the caseload reads the column (4, then none), not the TOML.
-async fn a_regimen_as_stored_before_migration_4(db: &Db) -> hub::Therapist {
+async fn a_regimen_as_stored_before_migration_4(db: &Db) -> Therapist {
     let (t, p) = paired(db).await;
     let text = "sessions_per_week = 4\n[[exercise]]\nkind = \"dial\"\n";
     db.put_regimen(&p.id, text, Some(4), &t.id, T0)
