@@ -1,7 +1,8 @@
 //! The end screen after the last exercise: the session's results in plain words (against the
 //! patient's last sessions when the home keeps them), then three optional questions — pain
 //! now (0–10), tiredness (0–10), and "too easy / about right / too hard" — answered with the
-//! arrow keys or digits and Enter (Esc skips one). Each page waits at most a set time, then
+//! wheel (a turn chooses, a button confirms: `session::buttons`), a gamepad (A confirms, B
+//! skips), or the arrow keys or digits and Enter (Esc skips one). Each page waits at most a set time, then
 //! goes on as if skipped. The answers ([`netlink::CheckIn`]) go to the hub in the session's
 //! `Bye`.
 //!
@@ -293,8 +294,8 @@ impl CheckInFlow {
             vec![plain(format!("0 = {lo}      10 = {hi}")), plain(marks)]
         };
         let question_keys = vec![
-            "Left / Right: choose (or type the number)".to_owned(),
-            "Enter: confirm".to_owned(),
+            "Turn the wheel (or Left / Right): choose".to_owned(),
+            "A wheel button (or Enter): confirm".to_owned(),
             "Esc: skip".to_owned(),
         ];
         let (title, lines, keys) = match self.page {
@@ -302,7 +303,7 @@ impl CheckInFlow {
                 "Well done — session complete",
                 self.results.iter().cloned().map(plain).collect(),
                 vec![
-                    "Enter: answer three short questions".to_owned(),
+                    "A wheel button (or Enter): answer three short questions".to_owned(),
                     "Esc: skip".to_owned(),
                 ],
             ),
@@ -333,7 +334,7 @@ impl CheckInFlow {
                 vec![plain(
                     "Your answers will reach your therapist. See you next time!".to_owned(),
                 )],
-                vec!["Enter: close".to_owned()],
+                vec!["A wheel button (or Enter): close".to_owned()],
             ),
         };
         let field = matches!(self.page, Page::Pain | Page::Tiredness).then(|| {

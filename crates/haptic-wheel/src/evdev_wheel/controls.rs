@@ -64,6 +64,17 @@ pub fn button_pressed_within(path: &Path, window: Duration) -> io::Result<bool> 
     Ok(WheelControls::open(path)?.look(window)?.pressed)
 }
 
+/// Where a steering axis at raw `value` within `minimum..=maximum` is turned: −1 (full left)
+/// to 1 (full right), 0 in the middle (and for a degenerate range).
+pub fn steering_fraction(value: i32, minimum: i32, maximum: i32) -> f64 {
+    let half = (f64::from(maximum) - f64::from(minimum)) / 2.0;
+    if half <= 0.0 {
+        return 0.0;
+    }
+    let mid = f64::from(minimum) + half;
+    ((f64::from(value) - mid) / half).clamp(-1.0, 1.0)
+}
+
 /// What one look at the wheel's controls saw.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ControlsLook {
@@ -71,12 +82,15 @@ pub struct ControlsLook {
     pub pressed: bool,
     /// The pedals' travel (throttle, brake), each in [0, 1], if the wheel has pedals.
     pub pedals: Option<(f64, f64)>,
+    /// Where the wheel is turned, −1 (full left) to 1 (full right) of its declared range.
+    pub steering: Option<f64>,
 }
 
 /// The wheel's input node, open for its buttons and pedals.
 pub struct WheelControls {
     dev: evdev::Device,
     pedals: Option<PedalAxes>,
+    steering: Option<AbsoluteAxisCode>,
 }
 
 impl std::fmt::Debug for WheelControls {
@@ -92,11 +106,19 @@ impl WheelControls {
     pub fn open(path: &Path) -> io::Result<Self> {
         let dev = evdev::Device::open(path)?;
         dev.set_nonblocking(true)?;
-        let pedals = PedalAxes::of(dev.input_id().vendor(), |a| {
+        let has = |a| {
             dev.supported_absolute_axes()
                 .is_some_and(|axes| axes.contains(a))
-        });
-        Ok(Self { dev, pedals })
+        };
+        let pedals = PedalAxes::of(dev.input_id().vendor(), has);
+        let steering = [AbsoluteAxisCode::ABS_WHEEL, AbsoluteAxisCode::ABS_X]
+            .into_iter()
+            .find(|&a| has(a));
+        Ok(Self {
+            dev,
+            pedals,
+            steering,
+        })
     }
 
     /// The pedal axes found, if any.
@@ -124,22 +146,24 @@ impl WheelControls {
             }
             std::thread::sleep(Duration::from_millis(10));
         }
+        let abs = self.dev.get_abs_state()?;
+        let info = |axis: AbsoluteAxisCode| AbsInfo::from(abs[axis.0 as usize]);
+        let pedals = self.pedals.map(|axes| {
+            let travel = |a| {
+                let i = info(a);
+                axes.travel(i.value(), i.minimum(), i.maximum())
+            };
+            (travel(axes.throttle), travel(axes.brake))
+        });
+        let steering = self.steering.map(|a| {
+            let i = info(a);
+            steering_fraction(i.value(), i.minimum(), i.maximum())
+        });
         Ok(ControlsLook {
             pressed,
-            pedals: self.pedals_now()?,
+            pedals,
+            steering,
         })
-    }
-
-    fn pedals_now(&self) -> io::Result<Option<(f64, f64)>> {
-        let Some(axes) = self.pedals else {
-            return Ok(None);
-        };
-        let abs = self.dev.get_abs_state()?;
-        let travel = |axis: AbsoluteAxisCode| {
-            let info = AbsInfo::from(abs[axis.0 as usize]);
-            axes.travel(info.value(), info.minimum(), info.maximum())
-        };
-        Ok(Some((travel(axes.throttle), travel(axes.brake))))
     }
 }
 
@@ -168,5 +192,14 @@ mod tests {
         );
         assert_eq!(gas.travel(5000, 0, 1023), 1.0);
         assert_eq!(gas.travel(7, 7, 7), 0.0);
+    }
+
+    #[test]
+    fn the_steering_axis_reads_from_full_left_to_full_right() {
+        assert_eq!(steering_fraction(0, 0, 65535), -1.0);
+        assert_eq!(steering_fraction(65535, 0, 65535), 1.0);
+        assert!(steering_fraction(32768, 0, 65535).abs() < 1e-4);
+        assert_eq!(steering_fraction(-20, -10, 10), -1.0, "clamped");
+        assert_eq!(steering_fraction(3, 3, 3), 0.0);
     }
 }

@@ -62,6 +62,8 @@ struct Latest {
     ended: bool,
     /// The session is over and the station asked for the end screen (taken when shown).
     end_screen: Option<EndScreen>,
+    /// Answers to the end screen given with the wheel or a gamepad, not yet applied.
+    end_input: Vec<UserRequest>,
 }
 
 /// No arguments: everything comes over the socket.
@@ -144,7 +146,8 @@ fn serve(socket: UnixStream) -> anyhow::Result<()> {
                 *f = Some(end_flow(end));
             }
             if let Some(flow) = f.as_mut() {
-                return end_screen_scene(flow, &view, &rec, &tell, &esc_keeps_open);
+                let (input, keeps_open) = (std::mem::take(&mut l.end_input), &esc_keeps_open);
+                return end_screen_scene(flow, input, &view, &rec, &tell, keeps_open);
             }
             if l.ended || !asked {
                 return None;
@@ -216,15 +219,19 @@ fn end_flow(end: EndScreen) -> CheckInFlow {
     )
 }
 
-/// The end screen's page now, or `None` once it is over (its answers sent to the station, and
-/// the window closes).
+/// The end screen's page now, after the wheel's and a gamepad's `input`, or `None` once it
+/// is over (its answers sent to the station, and the window closes).
 fn end_screen_scene(
     flow: &mut CheckInFlow,
+    input: Vec<UserRequest>,
     view: &CourseView,
     rec: &TickRecord,
     tell: &dyn Fn(&FromWindow) -> bool,
     esc_keeps_open: &AtomicBool,
 ) -> Option<crate::render::Scene> {
+    for r in input {
+        flow.apply(r, std::time::Instant::now());
+    }
     flow.tick(std::time::Instant::now());
     if flow.is_done() {
         tracing::info!(answers = ?flow.answers(), "end screen closed");
@@ -277,6 +284,7 @@ fn read_frames(reader: &mut UnixStream, latest: &Mutex<Latest>, draw: &AtomicBoo
                 draw.store(d, Ordering::Relaxed);
             }
             Ok(Some(ToWindow::EndScreen(end))) => l.end_screen = Some(*end),
+            Ok(Some(ToWindow::EndInput(input))) => l.end_input.extend(input),
             Ok(Some(ToWindow::Hello(_))) => {
                 tracing::warn!("the station said hello twice; ignored");
             }

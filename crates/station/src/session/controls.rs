@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicU8, AtomicU32, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicI32, AtomicU8, AtomicU32, AtomicU64, Ordering};
 
 /// What other threads (a signal handler, the patient's window) may ask of a running session.
 #[derive(Debug, Default)]
@@ -30,6 +30,58 @@ pub struct Controls {
     pub window_lost: AtomicBool,
     /// The pedals as last read (throttle and brake as `f32` bits, high and low half).
     pedals_bits: AtomicU64,
+    /// Told by the window's supervisor: the end screen is up, so the wheel and a gamepad
+    /// answer its questions ([`EndAnswers`]) instead of pausing.
+    pub end_screen_up: AtomicBool,
+    /// What the wheel and a gamepad said to the end screen, not yet passed on.
+    pub end_answers: EndAnswers,
+}
+
+/// The patient's answers to the end screen given with the wheel or a gamepad, counted until
+/// the window's supervisor passes them on: turns of the wheel choose (+1 right, −1 left), a
+/// button confirms, a gamepad's B skips.
+#[derive(Debug, Default)]
+pub struct EndAnswers {
+    steps: AtomicI32,
+    confirms: AtomicU32,
+    skips: AtomicU32,
+}
+
+/// [`EndAnswers`] taken at once, in the order the window applies them.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EndAnswersTaken {
+    /// Net choice steps: positive to the right (higher), negative to the left.
+    pub steps: i32,
+    /// Confirmations, after the steps.
+    pub confirms: u32,
+    /// Skipped pages, after those.
+    pub skips: u32,
+}
+
+impl EndAnswers {
+    /// The wheel turned one step: +1 right, −1 left.
+    pub fn step(&self, by: i32) {
+        self.steps.fetch_add(by, Ordering::Relaxed);
+    }
+
+    /// A button confirmed.
+    pub fn confirm(&self) {
+        self.confirms.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// A gamepad's B skipped the page.
+    pub fn skip(&self) {
+        self.skips.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// Everything said since the last take.
+    pub fn take(&self) -> EndAnswersTaken {
+        EndAnswersTaken {
+            steps: self.steps.swap(0, Ordering::Relaxed),
+            confirms: self.confirms.swap(0, Ordering::Relaxed),
+            skips: self.skips.swap(0, Ordering::Relaxed),
+        }
+    }
 }
 
 impl Controls {

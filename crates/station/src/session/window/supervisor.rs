@@ -196,6 +196,27 @@ pub fn supervise(
     Some(account)
 }
 
+/// What the wheel and a gamepad said to the end screen since the last frame, as the keys
+/// that mean the same (nothing before the end screen is up).
+fn end_answers(controls: &Controls) -> Vec<UserRequest> {
+    if !controls.end_screen_up.load(Ordering::Acquire) {
+        return Vec::new();
+    }
+    let t = controls.end_answers.take();
+    let step = if t.steps > 0 {
+        UserRequest::SeekForward
+    } else {
+        UserRequest::SeekBack
+    };
+    std::iter::repeat_n(step, t.steps.unsigned_abs() as usize)
+        .chain(std::iter::repeat_n(
+            UserRequest::Confirm,
+            t.confirms as usize,
+        ))
+        .chain(std::iter::repeat_n(UserRequest::Quit, t.skips as usize))
+        .collect()
+}
+
 /// Sleep `d` on the session's clock, or less if the session ends.
 fn wait_or_done(s: &Supervised<'_>, d: Duration) {
     let start_ns = s.clock.now_ns();
@@ -260,8 +281,13 @@ fn run_one(
                             .load(Ordering::Acquire)
                             .then(|| end_phase.and_then(EndPhase::take_screen_to_send))
                             .flatten();
+                        let answers = end_answers(controls);
                         let frame = match end {
-                            Some(screen) => ToWindow::EndScreen(Box::new(screen)),
+                            Some(screen) => {
+                                controls.end_screen_up.store(true, Ordering::Release);
+                                ToWindow::EndScreen(Box::new(screen))
+                            }
+                            None if !answers.is_empty() => ToWindow::EndInput(answers),
                             None => ToWindow::Frame {
                                 record: Box::new(*output.read()),
                                 draw: gate.is_none_or(|g| g.load(Ordering::Relaxed)),
@@ -451,5 +477,38 @@ fn describe(status: std::process::ExitStatus) -> String {
         (Some(0), _) => "exited".to_owned(),
         (Some(code), _) => format!("exited with status {code}"),
         (None, None) => "ended".to_owned(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_wheel_and_gamepad_answer_the_end_screen_only_once_it_is_up_as_keys_in_order() {
+        let c = Controls::default();
+        c.end_answers.step(1);
+        assert!(
+            end_answers(&c).is_empty(),
+            "not before the end screen is up"
+        );
+        c.end_screen_up.store(true, Ordering::Release);
+        c.end_answers.step(2);
+        c.end_answers.step(-1);
+        c.end_answers.confirm();
+        c.end_answers.skip();
+        // The step taken before the end screen was up is counted with the rest: 1 + 2 − 1.
+        assert_eq!(
+            end_answers(&c),
+            [
+                UserRequest::SeekForward,
+                UserRequest::SeekForward,
+                UserRequest::Confirm,
+                UserRequest::Quit
+            ]
+        );
+        assert!(end_answers(&c).is_empty(), "each answer passed on once");
+        c.end_answers.step(-3);
+        assert_eq!(end_answers(&c), [UserRequest::SeekBack; 3]);
     }
 }

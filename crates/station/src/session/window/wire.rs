@@ -62,6 +62,10 @@ pub enum ToWindow {
     /// and ask the check-in questions ([`crate::checkin`]), then answer
     /// [`FromWindow::CheckIn`] and close.
     EndScreen(Box<EndScreen>),
+    /// Answers to the end screen given with the wheel or a gamepad (turns, buttons), in
+    /// order, as the keys that mean the same: sent instead of a frame once the end screen
+    /// is up.
+    EndInput(Vec<UserRequest>),
 }
 
 /// What the end screen shows and how long each of its pages waits.
