@@ -25,6 +25,12 @@ pub struct Controls {
     pub break_kind: AtomicU8,
     /// Told by the haptic thread: what is left of the break in progress, ms.
     pub break_left_ms: AtomicU64,
+    /// The therapist's message for the session's start card, if any (set before the session
+    /// starts; the patient window shows it).
+    pub message: std::sync::Mutex<Option<String>>,
+    /// Told by the patient window's supervisor: when the message was first drawn on the
+    /// screen, ms since the Unix epoch; 0 until then.
+    pub message_shown_unix_ms: AtomicU64,
 }
 
 impl Controls {
