@@ -328,6 +328,7 @@ def test_a_message_written_in_the_console_shows_seen_once_the_station_showed_it(
     item = d.find_element(By.CSS_SELECTOR, "#msg-list .message-text")
     assert item.text == note, "shown as text, the markup not interpreted: " + item.text
     assert not d.find_elements(By.CSS_SELECTOR, "#msg-list b")
+    d.execute_script("document.getElementById('messages').scrollIntoView()")
     shot(d, "9a-message-not-seen")
     # The station's next session shows it on the start card; the exercise waits for Space,
     # but the "seen" goes at once. Then the station is stopped (it ends in order).
@@ -344,6 +345,7 @@ def test_a_message_written_in_the_console_shows_seen_once_the_station_showed_it(
             time.sleep(0.5)
             seen = d.find_element(By.ID, "msg-list").text
         assert re.search(r"(?<!not )seen \w", seen), seen
+        d.execute_script("document.getElementById('messages').scrollIntoView()")
         shot(d, "9b-message-seen")
     finally:
         station.terminate()

@@ -30,7 +30,7 @@ const el = (tag, props = {}, ...children) => {
 /** The messages panel of patient `id` in `section`: the form and the list, newest first. */
 export async function messagesPanel(section, id) {
   section.replaceChildren();
-  section.className = 'panel';
+  section.className = 'panel print-hide';
   section.setAttribute('aria-labelledby', 'msg-h');
   const list = el('ol', { id: 'msg-list', className: 'messages' });
   const text = el('textarea', { id: 'msg-text', maxLength: MAX_MESSAGE_CHARS, rows: 2 });
