@@ -300,3 +300,55 @@ def test_the_console_works_from_the_keyboard_and_at_200_percent_zoom(clinic, bro
         shot(d, "7-progress-200-percent")
     finally:
         d.execute_cdp_cmd("Emulation.clearDeviceMetricsOverride", {})
+
+
+def test_a_message_written_in_the_console_shows_seen_once_the_station_showed_it(clinic, browser):
+    """The therapist writes a note on the patient's page (text, never HTML; too long or a line
+    break refused with the reason); a windowed station session shows it on its start card
+    (needs a display: Xvfb) and the page then says "seen" with the time."""
+    if not os.environ.get("DISPLAY"):
+        pytest.skip("no display for the station's window (run under Xvfb)")
+    d = browser
+    d.get(clinic["web"] + "/#/patients")
+    if d.find_elements(By.ID, "email"):
+        d.find_element(By.ID, "email").send_keys("ana@clinic.example")
+        d.find_element(By.ID, "password").send_keys("ana's own passphrase")
+        d.find_element(By.CSS_SELECTOR, "#login button").click()
+    link = wait(d, lambda d: d.find_elements(By.LINK_TEXT, "P-0042"))[0]
+    link.click()
+    text = wait(d, lambda d: d.find_elements(By.ID, "msg-text"))[0]
+    send = d.find_element(By.CSS_SELECTOR, "#msg-form button[type=submit]")
+    # A line break is refused before anything is sent, naming the problem.
+    text.send_keys("two\nlines")
+    send.click()
+    assert "line break" in d.find_element(By.ID, "msg-result").text
+    text.clear()
+    note = "<b>Well done</b> — keep the car in the middle today"
+    text.send_keys(note)
+    send.click()
+    wait(d, lambda d: "not seen yet" in d.find_element(By.ID, "msg-list").text)
+    item = d.find_element(By.CSS_SELECTOR, "#msg-list .message-text")
+    assert item.text == note, "shown as text, the markup not interpreted: " + item.text
+    assert not d.find_elements(By.CSS_SELECTOR, "#msg-list b")
+    d.execute_script("document.getElementById('messages').scrollIntoView()")
+    shot(d, "9a-message-not-seen")
+    # The station's next session shows it on the start card; the exercise waits for Space,
+    # but the "seen" goes at once. Then the station is stopped (it ends in order).
+    env = {k: v for k, v in os.environ.items() if k != "TELEREHAB_HOME"}
+    env["TELEREHAB_HOME"] = str(clinic["home"])
+    station = subprocess.Popen([BIN, "run", "--sim", "--duration", "2", "--checkin-timeout-s", "0"],
+                               env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 90
+        seen = ""
+        while time.monotonic() < deadline and "seen " not in seen.replace("not seen", ""):
+            time.sleep(1)
+            d.find_element(By.ID, "msg-refresh").click()
+            time.sleep(0.5)
+            seen = d.find_element(By.ID, "msg-list").text
+        assert re.search(r"(?<!not )seen \w", seen), seen
+        d.execute_script("document.getElementById('messages').scrollIntoView()")
+        shot(d, "9b-message-seen")
+    finally:
+        station.terminate()
+        station.wait(timeout=60)

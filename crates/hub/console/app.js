@@ -6,6 +6,7 @@ import { liveView } from '/console/live.js';
 import { lineChart } from '/console/charts.js';
 import { replayView } from '/console/replay.js';
 import { exerciseKinds, regimenLimits, regimenSchema } from '/console/schema.js';
+import { messagesPanel, messageProblem, sendMessage } from '/console/messages.js';
 
 const app = document.getElementById('app');
 let leave = () => {};
@@ -139,12 +140,14 @@ async function patientView(id, tab, sessionId) {
   const link = (t, label) => `<a href="#/patients/${encodeURIComponent(id)}/${t}"${t === tab ? ' aria-current="page"' : ''}>${label}</a>`;
   app.innerHTML = `<h1>Patient ${esc(p.pseudonym)}</h1>
     <nav class="tabs" aria-label="Patient">${link('live', 'Live')}${link('progress', 'Progress')}${link('prescribe', 'Prescribe')}</nav>
-    <div id="tab"></div>`;
+    <div id="tab"></div>
+    <section id="messages"></section>`;
   const el = app.querySelector('#tab');
+  const refreshMessages = await messagesPanel(app.querySelector('#messages'), id);
   if (tab === 'live') { el.id = 'live'; leave = liveView(el, id); }
   else if (tab === 'progress') await progressView(el, id, p);
   else if (tab === 'replay') leave = await replayView(el, sessionId);
-  else await prescribeView(el, id);
+  else await prescribeView(el, id, refreshMessages);
 }
 
 /** A session's check-in in a few words (HTML, every part escaped); pain of 7 or more marked. */
@@ -221,7 +224,7 @@ function numberField(id, label, value, spec) {
 /** A field's label: its description's first sentence (it names the unit). */
 const labelOf = (name, spec) => (spec.description.split(/\.\s|\n/)[0] || name).replace(/\.$/, '').replace(/[`[\]]/g, '');
 
-async function prescribeView(el, id) {
+async function prescribeView(el, id, refreshMessages) {
   const [r, schema] = await Promise.all([
     api('GET', `/api/patients/${encodeURIComponent(id)}/regimen`), regimenSchema()]);
   const kinds = exerciseKinds(schema);
@@ -257,6 +260,8 @@ async function prescribeView(el, id) {
         <select id="rx-add">${kinds.map(k => `<option value="${esc(k.kind)}" title="${esc(k.description)}">${esc(k.kind)}</option>`).join('')}</select>
         <button type="button" class="secondary" id="rx-add-btn"${full ? ' disabled' : ''}>Add</button>
         ${full ? `<p class="note">At most ${esc(limits.maxExercises)} exercises in a regimen.</p>` : ''}
+        <label for="rx-note">A note for the patient with this prescription <span class="note">(optional, at most 500 characters, shown when their next session starts)</span></label>
+        <textarea id="rx-note" maxlength="500" rows="2"></textarea>
         <p><button type="submit">Save as a new version</button></p>
       </form>
       <p id="rx-result" role="alert"></p>
@@ -279,14 +284,17 @@ async function prescribeView(el, id) {
     bind();
   };
   const out = () => el.querySelector('#rx-result');
-  const save = async body => {
+  const save = async (body, note = '') => {
     out().className = ''; out().textContent = 'Saving…';
+    const problem = note && messageProblem(note);
+    if (problem) { out().className = 'error'; out().textContent = `The note: ${problem}`; return; }
     try {
       const v = await api('PUT', `/api/patients/${encodeURIComponent(id)}/regimen`, body);
+      if (note) { await sendMessage(id, note); await refreshMessages(); }
       const again = await api('GET', `/api/patients/${encodeURIComponent(id)}/regimen`);
       Object.assign(model, again.current_fields);
       render();
-      out().textContent = `Saved as version ${v.version}.`;
+      out().textContent = `Saved as version ${v.version}${note ? ', with the note' : ''}.`;
       el.querySelector('#rx-version').textContent = `Version ${v.version}, prescribed by ${v.prescribed_by} just now.`;
     } catch (e) {
       out().className = 'error';
@@ -316,7 +324,7 @@ async function prescribeView(el, id) {
       const form = ev.target;
       if (!form.checkValidity()) { form.reportValidity(); out().className = 'error'; out().textContent = 'A value is outside its bounds (shown beside it).'; return; }
       readForm();
-      save({ fields: model });
+      save({ fields: model }, el.querySelector('#rx-note').value);
     });
     el.querySelector('#rx-add-btn').addEventListener('click', () => {
       readForm();

@@ -364,7 +364,7 @@ pub async fn serve(
             Ok(regimen) = prescriptions.recv() => push_regimen(&server, &db, &regimen).await,
             Some(event) = events.recv() => {
                 on_event(&event);
-                on_station_event(&event, &server, &db, &live).await;
+                on_station_event(&event, &server, &db, &live, (options.now_ms)()).await;
             }
         }
     }
@@ -427,12 +427,13 @@ async fn expire_partial_uploads(recordings: PathBuf) {
 }
 
 /// A station's `event`: a summary goes to the console's live feed; a station that connects
-/// gets its patient's latest regimen.
+/// gets its patient's unseen messages and latest regimen.
 async fn on_station_event(
     event: &TherapistEvent,
     server: &TherapistServer,
     db: &Db,
     live: &broadcast::Sender<LiveEvent>,
+    now_ms: i64,
 ) {
     match event {
         TherapistEvent::Summary {
@@ -447,6 +448,9 @@ async fn on_station_event(
             });
         }
         TherapistEvent::Connected { hello, .. } => {
+            // Before the regimen: a station that waits for its prescription has its
+            // messages by then.
+            push_messages(server, db, hello, now_ms).await;
             if let Ok(Some(regimen)) = db.latest_regimen(&hello.patient_id).await {
                 push_regimen(server, db, &regimen).await;
             }
@@ -495,6 +499,45 @@ fn fit_to_fd_limit(options: &ServeOptions) -> (ConnectionBudget, web::WebLimits)
         ..web
     };
     (budget, web)
+}
+
+/// Sends the patient's unseen messages to the station of `hello`, oldest first, if its
+/// connection speaks a protocol version that knows them (an older station is sent none).
+async fn push_messages(server: &TherapistServer, db: &Db, hello: &netlink::Hello, now_ms: i64) {
+    let messages = match db.unseen_messages(&hello.patient_id).await {
+        Ok(m) => m,
+        Err(e) => {
+            tracing::warn!(patient = %hello.patient_id, "cannot read unseen messages: {e}");
+            return;
+        }
+    };
+    for m in messages {
+        let frame = netlink::Message {
+            id: m.id.clone(),
+            text: m.text.clone(),
+            sent_unix_ms: u64::try_from(m.created_at_ms).unwrap_or(0),
+        };
+        match server.send_message(&hello.station_id, frame) {
+            Ok(true) => {
+                tracing::info!(station = %hello.station_id, message = %m.id, "message pushed");
+                if let Err(e) = db.message_delivered(&m.id, now_ms).await {
+                    tracing::warn!("cannot note message {} delivered: {e}", m.id);
+                }
+            }
+            Ok(false) => {
+                tracing::info!(
+                    station = %hello.station_id,
+                    "the station's protocol version has no messages; {} not sent",
+                    m.id
+                );
+                return;
+            }
+            Err(e) => {
+                tracing::debug!(station = %hello.station_id, "message not pushed now: {e}");
+                return;
+            }
+        }
+    }
 }
 
 /// Sends `regimen` to every connected station of its patient (a station not connected gets

@@ -359,6 +359,47 @@ impl HubStore for Ingest {
     fn pairing(&self) -> Option<Arc<dyn PairingAuthority>> {
         Some(self.0.clone())
     }
+
+    fn message_seen<'a>(
+        &'a self,
+        hello: &'a Hello,
+        seen: &'a netlink::MessageSeen,
+    ) -> BoxFuture<'a, Result<(), NetlinkError>> {
+        self.0.message_seen(hello, seen)
+    }
+}
+
+impl DbStore {
+    /// Records that the station of `hello` showed message `seen.id` to its patient (audited
+    /// as the station); a message of another patient, or one already seen, changes nothing.
+    fn message_seen<'a>(
+        &'a self,
+        hello: &'a Hello,
+        seen: &'a netlink::MessageSeen,
+    ) -> BoxFuture<'a, Result<(), NetlinkError>> {
+        Box::pin(async move {
+            let changed = self
+                .db
+                .message_seen(&hello.patient_id, &seen.id, seen.seen_unix_ms)
+                .await
+                .map_err(storage_error)?;
+            if changed {
+                let actor = format!("station:{}", hello.station_id);
+                let detail = format!("message {} seen at {} ms", seen.id, seen.seen_unix_ms);
+                self.db
+                    .audit(
+                        &actor,
+                        "message_seen",
+                        &hello.patient_id,
+                        &detail,
+                        self.now(),
+                    )
+                    .await
+                    .map_err(storage_error)?;
+            }
+            Ok(())
+        })
+    }
 }
 
 struct DbSession {

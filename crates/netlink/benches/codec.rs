@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use netlink::{Frame, FrameDecoder, PROTOCOL_VERSION, Summary, decode, encode};
+use netlink::{Frame, FrameDecoder, Summary, decode, encode};
 
 fn summary(seq: u64, extra: usize) -> Summary {
     Summary {
@@ -29,7 +29,7 @@ fn summary(seq: u64, extra: usize) -> Summary {
 }
 
 fn bench_codec(c: &mut Criterion) {
-    assert_eq!(PROTOCOL_VERSION, 1);
+    assert_eq!(netlink::codec::HEADER_VERSION, 1);
     let mut group = c.benchmark_group("summary_frame");
     for extra in [0usize, 16] {
         let frame = Frame::Summary(summary(123_456, extra));

@@ -3,14 +3,19 @@
 //! ```text
 //! offset size field
 //! 0      4    magic   b"TRHB"
-//! 4      2    version u16 big-endian (= PROTOCOL_VERSION)
+//! 4      2    version u16 big-endian (= HEADER_VERSION, 1)
 //! 6      1    kind    u8 (FrameKind)
 //! 7      1    flags   u8, reserved, must be 0
 //! 8      4    length  u32 big-endian, payload bytes, ≤ MAX_PAYLOAD_LEN
 //! 12     len  payload JSON (UTF-8) of the frame body
 //! ```
 
-use crate::frame::{Frame, FrameKind, PROTOCOL_VERSION};
+use crate::frame::{Frame, FrameKind};
+
+/// The header's `version`: the framing's version, 1 for every frame of protocol versions 1
+/// and 2 (version 2 only adds frame kinds, sent only on connections negotiated at 2; see
+/// [`crate::frame::MESSAGES_VERSION`]).
+pub const HEADER_VERSION: u16 = 1;
 
 /// The four bytes every frame starts with.
 pub const MAGIC: [u8; 4] = *b"TRHB";
@@ -42,7 +47,7 @@ pub enum CodecError {
         supported: u16,
     },
     /// The kind byte names no frame kind.
-    #[error("unknown frame kind {0} (known kinds 1..=6)")]
+    #[error("unknown frame kind {0} (known kinds 1..=15)")]
     UnknownKind(u8),
     /// Reserved flag bits are set.
     #[error("reserved flags 0x{0:02x} set; version 1 requires flags = 0")]
@@ -84,7 +89,7 @@ pub fn encode(frame: &Frame, out: &mut Vec<u8>) -> Result<(), CodecError> {
         .map_err(|reason| CodecError::Invalid { kind, reason })?;
     let start = out.len();
     out.extend_from_slice(&MAGIC);
-    out.extend_from_slice(&PROTOCOL_VERSION.to_be_bytes());
+    out.extend_from_slice(&HEADER_VERSION.to_be_bytes());
     out.push(kind.byte());
     out.push(0);
     out.extend_from_slice(&[0; 4]);
@@ -102,6 +107,8 @@ pub fn encode(frame: &Frame, out: &mut Vec<u8>) -> Result<(), CodecError> {
         Frame::UploadStart(b) => serde_json::to_writer(&mut *out, b),
         Frame::UploadAt(b) => serde_json::to_writer(&mut *out, b),
         Frame::UploadChunk(b) => serde_json::to_writer(&mut *out, b),
+        Frame::Message(b) => serde_json::to_writer(&mut *out, b),
+        Frame::MessageSeen(b) => serde_json::to_writer(&mut *out, b),
     };
     let len = out.len() - start - HEADER_LEN;
     if let Err(source) = written {
@@ -141,10 +148,10 @@ pub fn decode(buf: &[u8]) -> Result<Option<(Frame, usize)>, CodecError> {
     }
     if buf.len() >= 6 {
         let version = u16::from_be_bytes([buf[4], buf[5]]);
-        if version != PROTOCOL_VERSION {
+        if version != HEADER_VERSION {
             return Err(CodecError::UnsupportedVersion {
                 found: version,
-                supported: PROTOCOL_VERSION,
+                supported: HEADER_VERSION,
             });
         }
     }
@@ -192,6 +199,8 @@ pub fn decode(buf: &[u8]) -> Result<Option<(Frame, usize)>, CodecError> {
         FrameKind::UploadStart => Frame::UploadStart(body(kind, payload)?),
         FrameKind::UploadAt => Frame::UploadAt(body(kind, payload)?),
         FrameKind::UploadChunk => Frame::UploadChunk(body(kind, payload)?),
+        FrameKind::Message => Frame::Message(body(kind, payload)?),
+        FrameKind::MessageSeen => Frame::MessageSeen(body(kind, payload)?),
     };
     frame
         .validate()
@@ -254,9 +263,10 @@ mod tests {
     use crate::frame::{Ack, Bye, ErrorFrame, Hello, Regimen, Summary};
     use proptest::prelude::*;
 
+    /// A version-1 station's Hello (the golden bytes are version 1's).
     fn hello() -> Hello {
         Hello {
-            protocol_version: PROTOCOL_VERSION,
+            protocol_version: 1,
             station_id: "station-01".into(),
             patient_id: "p-0042".into(),
             session_id: "2026-11-21T09-30-00Z".into(),
@@ -381,6 +391,59 @@ mod tests {
             r#"TRHB\x00\x01\x05\x00\x00\x00\x00R{"session_id":"s1","reason":"stored","final_seq":null,"hub_unix_ms":1795253400123}"#
         );
         assert_eq!(decode(&bytes).unwrap().unwrap().0, stored);
+    }
+
+    /// Version 2's frames (the therapist's messages), pinned; text counted in characters.
+    #[test]
+    fn golden_bytes_of_message_and_message_seen() {
+        let message = Frame::Message(crate::frame::Message {
+            id: "m-0123456789abcdef".into(),
+            text: "Bien joué — à jeudi".into(),
+            sent_unix_ms: 1_795_253_400_000,
+        });
+        let bytes = encode_to_vec(&message).unwrap();
+        assert_eq!(
+            escape(&bytes),
+            r#"TRHB\x00\x01\x0e\x00\x00\x00\x00Y{"id":"m-0123456789abcdef","text":"Bien jou\xc3\xa9 \xe2\x80\x94 \xc3\xa0 jeudi","sent_unix_ms":1795253400000}"#
+        );
+        assert_eq!(decode(&bytes).unwrap().unwrap().0, message);
+        let seen = Frame::MessageSeen(crate::frame::MessageSeen {
+            id: "m-0123456789abcdef".into(),
+            seen_unix_ms: 1_795_253_401_000,
+        });
+        let bytes = encode_to_vec(&seen).unwrap();
+        assert_eq!(
+            escape(&bytes),
+            r#"TRHB\x00\x01\x0f\x00\x00\x00\x008{"id":"m-0123456789abcdef","seen_unix_ms":1795253401000}"#
+        );
+        assert_eq!(decode(&bytes).unwrap().unwrap().0, seen);
+    }
+
+    #[test]
+    fn a_message_frame_with_a_bad_text_or_id_is_refused_naming_the_problem() {
+        let frame = |id: &str, text: String| {
+            Frame::Message(crate::frame::Message {
+                id: id.into(),
+                text,
+                sent_unix_ms: 0,
+            })
+        };
+        assert!(encode_to_vec(&frame("m-1", "é".repeat(500))).is_ok());
+        for (id, text, why) in [
+            ("m-1", "a".repeat(501), "too long: 501 characters"),
+            ("m-1", " ".into(), "empty"),
+            ("m-1", "two\nlines".into(), "control character"),
+            ("../m", "hi".into(), "id"),
+        ] {
+            let err = encode_to_vec(&frame(id, text)).unwrap_err().to_string();
+            assert!(err.contains(why), "{err:?} does not say {why:?}");
+        }
+        // A hostile peer's bytes are refused on decode too.
+        let mut bytes = encode_to_vec(&frame("m-1", "ok".into())).unwrap();
+        let at = bytes.windows(2).position(|w| w == b"ok").unwrap();
+        bytes[at] = 0x07;
+        let err = decode(&bytes).unwrap_err().to_string();
+        assert!(err.contains("control character"), "{err}");
     }
 
     #[test]

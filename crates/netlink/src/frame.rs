@@ -8,8 +8,17 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
-/// The newest protocol version this crate speaks (the `version` field of every frame header).
-pub const PROTOCOL_VERSION: u16 = 1;
+/// The newest protocol version this crate speaks (a station's [`Hello::protocol_version`]).
+/// Version 2 adds the therapist's messages ([`Message`], [`MessageSeen`]); the framing (the
+/// header's `version`, [`crate::codec::HEADER_VERSION`]) is version 1's.
+pub const PROTOCOL_VERSION: u16 = 2;
+
+/// The first protocol version with [`Message`] and [`MessageSeen`] frames: a hub sends a
+/// `Message` only on a connection negotiated at this version or above.
+pub const MESSAGES_VERSION: u16 = 2;
+
+/// Most characters (not bytes) of a therapist's message text ([`Message::text`]).
+pub const MAX_MESSAGE_TEXT_CHARS: usize = 500;
 
 /// The oldest protocol version this crate speaks.
 pub const MIN_PROTOCOL_VERSION: u16 = 1;
@@ -81,6 +90,10 @@ pub enum FrameKind {
     UploadAt = 12,
     /// Station → hub: bytes of the recording at an offset.
     UploadChunk = 13,
+    /// Hub → station (protocol ≥ 2): a message from the therapist to show the patient.
+    Message = 14,
+    /// Station → hub (protocol ≥ 2): a message was shown on the patient's screen.
+    MessageSeen = 15,
 }
 
 impl FrameKind {
@@ -100,6 +113,8 @@ impl FrameKind {
             11 => Self::UploadStart,
             12 => Self::UploadAt,
             13 => Self::UploadChunk,
+            14 => Self::Message,
+            15 => Self::MessageSeen,
             _ => return None,
         })
     }
@@ -126,6 +141,8 @@ impl std::fmt::Display for FrameKind {
             Self::UploadStart => "UploadStart",
             Self::UploadAt => "UploadAt",
             Self::UploadChunk => "UploadChunk",
+            Self::Message => "Message",
+            Self::MessageSeen => "MessageSeen",
         };
         f.write_str(name)
     }
@@ -399,6 +416,54 @@ pub struct UploadChunk {
     pub data: String,
 }
 
+/// Hub → station, after `Hello` on a connection negotiated at [`MESSAGES_VERSION`] or above:
+/// a message from the therapist, shown to the patient on the start card of the next session.
+/// The hub sends every message the station has not yet reported seen, oldest first, on each
+/// such connection; the station keeps each once (by `id`).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Message {
+    /// The message's identifier at the hub.
+    pub id: String,
+    /// Plain text: 1 to [`MAX_MESSAGE_TEXT_CHARS`] characters, no control characters, not
+    /// only spaces.
+    pub text: String,
+    /// When the therapist wrote it (hub clock), ms since the Unix epoch.
+    pub sent_unix_ms: u64,
+}
+
+/// Station → hub: message `id` was shown on the patient's screen at `seen_unix_ms` (station
+/// clock). Sent only for a message a hub sent, so only to a hub that speaks version 2; sent
+/// again on later connections until a `Bye` of the hub confirms the connection it went on.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct MessageSeen {
+    /// The message shown ([`Message::id`]).
+    pub id: String,
+    /// When it was shown, ms since the Unix epoch (station clock).
+    pub seen_unix_ms: u64,
+}
+
+/// Checks a therapist's message text: 1 to [`MAX_MESSAGE_TEXT_CHARS`] characters (counted
+/// as characters, not bytes), not only spaces, no control characters (a line break is one:
+/// the text is one paragraph). The message names the problem.
+pub fn check_message_text(text: &str) -> Result<(), FieldError> {
+    if text.trim().is_empty() {
+        return Err(FieldError("the message is empty".into()));
+    }
+    let chars = text.chars().count();
+    if chars > MAX_MESSAGE_TEXT_CHARS {
+        return Err(FieldError(format!(
+            "the message is too long: {chars} characters, at most {MAX_MESSAGE_TEXT_CHARS}"
+        )));
+    }
+    if let Some(c) = text.chars().find(|c| c.is_control()) {
+        return Err(FieldError(format!(
+            "the message contains a control character ({:?}); write plain text on one line",
+            c
+        )));
+    }
+    Ok(())
+}
+
 /// Any frame of the protocol.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
@@ -429,6 +494,10 @@ pub enum Frame {
     UploadAt(UploadAt),
     /// See [`UploadChunk`].
     UploadChunk(UploadChunk),
+    /// See [`Message`].
+    Message(Message),
+    /// See [`MessageSeen`].
+    MessageSeen(MessageSeen),
 }
 
 impl Frame {
@@ -448,6 +517,8 @@ impl Frame {
             Self::UploadStart(_) => FrameKind::UploadStart,
             Self::UploadAt(_) => FrameKind::UploadAt,
             Self::UploadChunk(_) => FrameKind::UploadChunk,
+            Self::Message(_) => FrameKind::Message,
+            Self::MessageSeen(_) => FrameKind::MessageSeen,
         }
     }
 
@@ -512,6 +583,11 @@ impl Frame {
                 }
                 Ok(())
             }
+            Self::Message(m) => {
+                check_id("id", &m.id)?;
+                check_message_text(&m.text).map_err(|e| FieldError(format!("text: {e}")))
+            }
+            Self::MessageSeen(m) => check_id("id", &m.id),
         }
     }
 }
@@ -778,7 +854,7 @@ pub(crate) mod tests {
     #[test]
     fn hello_with_other_protocol_version_cannot_be_negotiated() {
         let h = Hello {
-            protocol_version: 2,
+            protocol_version: PROTOCOL_VERSION + 1,
             station_id: "st".into(),
             patient_id: "p".into(),
             session_id: "s".into(),
@@ -793,9 +869,17 @@ pub(crate) mod tests {
             min_protocol_version: Some(1),
             ..h
         };
-        assert_eq!(h.negotiate(), Ok(1));
+        assert_eq!(h.negotiate(), Ok(PROTOCOL_VERSION));
+        // A version-1 station (before messages) is served at 1: it is sent no Message.
+        let v1 = Hello {
+            protocol_version: 1,
+            min_protocol_version: None,
+            ..h.clone()
+        };
+        assert_eq!(v1.negotiate(), Ok(1));
+        assert!(v1.negotiate().unwrap() < MESSAGES_VERSION);
         let h = Hello {
-            min_protocol_version: Some(3),
+            min_protocol_version: Some(PROTOCOL_VERSION + 2),
             ..h
         };
         assert!(h.validate().unwrap_err().0.contains("min_protocol_version"));

@@ -90,7 +90,8 @@ pub mod upload;
 pub use codec::{CodecError, FrameDecoder, decode, encode, encode_to_vec};
 pub use error::NetlinkError;
 pub use frame::{
-    Ack, Bye, CheckIn, ErrorFrame, Frame, FrameKind, Hello, PROTOCOL_VERSION, Regimen, Summary,
+    Ack, Bye, CheckIn, ErrorFrame, Frame, FrameKind, Hello, MAX_MESSAGE_TEXT_CHARS,
+    MESSAGES_VERSION, Message, MessageSeen, PROTOCOL_VERSION, Regimen, Summary, check_message_text,
 };
 pub use station::{
     Backoff, HubAddress, LinkStats, SendError, StationLink, StationLinkConfig, SummarySender,

@@ -1457,10 +1457,11 @@ async fn a_hub_given_by_name_is_resolved_and_reached() {
 async fn hub_answers_a_station_it_cannot_serve_with_update_required() {
     let store = tempfile::tempdir().unwrap();
     let (hub, _events) = start_hub(store.path(), None).await;
-    // A future station speaking only versions 2..=3 (its Hello still framed as version 1).
+    // A future station speaking only versions above this hub's (its Hello still framed as
+    // version 1).
     let mut future = hello("st-future", "s1");
-    future.protocol_version = 3;
-    future.min_protocol_version = Some(2);
+    future.protocol_version = PROTOCOL_VERSION + 2;
+    future.min_protocol_version = Some(PROTOCOL_VERSION + 1);
     let mut bytes = encode_to_vec(&Frame::Hello(future)).unwrap();
     bytes.extend(encode_to_vec(&Frame::Summary(summary("s1", 0))).unwrap());
     let frames = raw_exchange(hub.local_addr(), &bytes).await;
@@ -1472,8 +1473,11 @@ async fn hub_answers_a_station_it_cannot_serve_with_update_required() {
                 "{e:?}"
             );
             assert!(
-                e.message
-                    .contains("this station needs link protocol ≥ 2, the hub speaks at most 1"),
+                e.message.contains(&format!(
+                    "this station needs link protocol ≥ {}, the hub speaks at most {}",
+                    PROTOCOL_VERSION + 1,
+                    PROTOCOL_VERSION
+                )),
                 "{}",
                 e.message
             );
@@ -1558,4 +1562,74 @@ fn assert_ack_0_then_error(frames: &[Frame], why: &str) {
         }
         other => panic!("expected Ack then Error, got {other:?}"),
     }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_message_reaches_a_version_2_station_its_seen_reaches_the_hub_and_a_version_1_station_gets_none()
+ {
+    let store = tempfile::tempdir().unwrap();
+    let (hub, mut events) = start_hub(store.path(), None).await;
+    let (sender, mut link) = StationLink::spawn(
+        &tokio::runtime::Handle::current(),
+        fast_config(hub.local_addr(), None, hello("st-msg", "s1")),
+    )
+    .unwrap();
+    sender.send(summary("s1", 0)).unwrap();
+    assert!(matches!(
+        next_event(&mut events).await,
+        TherapistEvent::Connected { .. }
+    ));
+    let message = netlink::Message {
+        id: "m-1".into(),
+        text: "Well done — see you Thursday".into(),
+        sent_unix_ms: 1_795_253_400_000,
+    };
+    assert!(hub.send_message("st-msg", message.clone()).unwrap());
+    let mut got = None;
+    wait_until("the message", || {
+        got = link.try_recv_message();
+        got.is_some()
+    })
+    .await;
+    assert_eq!(got, Some(message.clone()));
+    link.report_seen(netlink::MessageSeen {
+        id: "m-1".into(),
+        seen_unix_ms: 1_795_253_401_000,
+    });
+    let seen = loop {
+        if let TherapistEvent::MessageSeen { seen, .. } = next_event(&mut events).await {
+            break seen;
+        }
+    };
+    assert_eq!(
+        (seen.id.as_str(), seen.seen_unix_ms),
+        ("m-1", 1_795_253_401_000)
+    );
+    assert_all_delivered(&link.finish(GUARD).await, 1);
+
+    // A station that speaks only version 1 is never sent the frame (it would not know it).
+    let old = Hello {
+        protocol_version: 1,
+        min_protocol_version: Some(1),
+        ..hello("st-old", "s2")
+    };
+    let (sender, link) = StationLink::spawn(
+        &tokio::runtime::Handle::current(),
+        fast_config(hub.local_addr(), None, old),
+    )
+    .unwrap();
+    sender.send(summary("s2", 0)).unwrap();
+    loop {
+        if let TherapistEvent::Connected { .. } = next_event(&mut events).await {
+            break;
+        }
+    }
+    assert!(
+        !hub.send_message("st-old", message).unwrap(),
+        "a version-1 station"
+    );
+    let stats = link.finish(GUARD).await;
+    assert_all_delivered(&stats, 1);
+    assert_eq!(stats.last_error, None, "{stats:?}");
+    hub.shutdown(GUARD).await;
 }

@@ -127,6 +127,11 @@ impl Home {
         self.dir.join("recordings")
     }
 
+    /// The therapist's messages the hub sent, and which were shown ([`crate::messages`]).
+    pub fn messages_path(&self) -> PathBuf {
+        self.dir.join("messages.json")
+    }
+
     /// The regimen the clinic prescribed last (validated when it arrived), used by a session
     /// started without `--regimen`.
     pub fn regimen_path(&self) -> PathBuf {

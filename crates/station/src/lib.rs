@@ -59,6 +59,7 @@ pub mod home;
 pub mod html_report;
 pub mod link;
 pub mod logging;
+pub mod messages;
 pub mod render;
 pub mod report;
 pub mod resident;

@@ -55,6 +55,8 @@ struct ExerciseView {
 /// The screen's view of a course: one entry per exercise, in course order.
 pub struct CourseView {
     exercises: Vec<ExerciseView>,
+    /// The therapist's message for the start card ([`Self::set_message`]).
+    message: Option<String>,
     /// A prescribed course (each exercise once), not laps of one exercise.
     in_regimen: bool,
     duration_s: f64,
@@ -98,9 +100,16 @@ impl CourseView {
         Ok(Self {
             in_regimen: regimen.is_some(),
             exercises,
+            message: None,
             // The session ends when its exercises are done, or at its duration cap.
             duration_s: course_s.min(cfg.session.duration_s),
         })
+    }
+
+    /// Shows `message` (the therapist's, plain text) on the start card, before the first
+    /// exercise starts.
+    pub fn set_message(&mut self, message: Option<String>) {
+        self.message = message;
     }
 
     /// The scene for the tick `rec`.
@@ -245,7 +254,13 @@ impl CourseView {
         }
         let index = (rec.score.exercise_index as usize).min(self.exercises.len() - 1);
         match live_screen_state(rec) {
-            ScreenState::Start => self.next_card(index, None, w, "Space: start"),
+            ScreenState::Start => {
+                let mut card = self.next_card(index, None, w, "Space: start");
+                if let ScreenState::Next(c) = &mut card {
+                    c.message.clone_from(&self.message);
+                }
+                card
+            }
             ScreenState::Paused if w.brk.kind != BreakKind::None => {
                 let mut card = self.next_card(index, Some(w.brk.left_s), w, "Space: go on now");
                 if let ScreenState::Next(c) = &mut card {
@@ -304,6 +319,7 @@ impl CourseView {
             countdown_s,
             keys: vec![format!("{key} (or a wheel button)")],
             anim_s: w.anim_s,
+            message: None,
         })
     }
 }

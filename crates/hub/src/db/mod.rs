@@ -26,6 +26,7 @@ mod audit;
 mod checkins;
 mod logins;
 pub(crate) use logins::address_key;
+mod messages;
 mod pairing;
 mod patients;
 mod regimens;
@@ -48,6 +49,7 @@ pub use logins::{
     ACCOUNT_FREE_FAILURES, ACCOUNT_MAX_DELAY_MS, ADDRESS_FREE_FAILURES, ADDRESS_MAX_DELAY_MS,
     BASE_DELAY_MS, DEVICE_TTL_MS, HASH_QUEUE, REFUSAL_AUDITS_PER_MINUTE, THROTTLE_FORGET_MS,
 };
+pub use messages::{MAX_MESSAGES_LISTED, PatientMessage};
 pub use pairing::{
     ATTEMPTS_BEFORE_BACKOFF, MAX_ATTEMPT_WAIT_MS, MIN_ATTEMPT_WAIT_MS, PairingTicket,
     attempt_wait_ms,

@@ -11,6 +11,7 @@
 mod auth;
 mod console;
 mod live;
+mod messages;
 mod patients;
 mod regimen;
 mod serve;
@@ -174,6 +175,10 @@ pub fn router(state: AppState) -> Router {
         .route("/api/patients/{id}", get(patients::one))
         .route("/api/patients/{id}/sessions", get(patients::sessions))
         .route("/api/patients/{id}/checkins", get(patients::checkins))
+        .route(
+            "/api/patients/{id}/messages",
+            get(messages::list).post(messages::post),
+        )
         .route(
             "/api/patients/{id}/regimen",
             get(regimen::get_regimen).put(regimen::put_regimen),

@@ -165,6 +165,12 @@ impl LinkTask {
         let mut writer = spawn_writer(wr, out_rx);
         let mut reader = FrameReader::new(rd);
         let _ = out_tx.send(Outgoing::new(self.hello_bytes.clone()));
+        while let Ok(seen) = self.seen_rx.try_recv() {
+            self.seen.push(seen);
+        }
+        for seen in &self.seen {
+            let _ = out_tx.send(Outgoing::new(seen.clone()));
+        }
         self.shared.connected.store(true, Ordering::Relaxed);
         let ack_timeout = Duration::from_millis(self.config.ack_timeout_ms);
         let mut liveness = tokio::time::interval(Duration::from_millis(500));
@@ -209,6 +215,10 @@ impl LinkTask {
                     if self.on_queued(q) {
                         last_heard = Instant::now();
                     }
+                }
+                Some(seen) = self.seen_rx.recv() => {
+                    let _ = out_tx.send(Outgoing::new(seen.clone()));
+                    self.seen.push(seen);
                 }
                 f = &mut self.finish_rx, if self.finish_rx_open => {
                     self.on_finish(f);
@@ -289,6 +299,16 @@ impl LinkTask {
                 if self.regimen_tx.try_send(r).is_err() {
                     self.shared.set_error(format!(
                         "regimen dropped: {REGIMEN_CAPACITY} unread regimens waiting"
+                    ));
+                }
+                None
+            }
+            Ok(Some(Frame::Message(m))) => {
+                tracing::info!(id = %m.id, "message received from therapist");
+                if self.message_tx.try_send(m).is_err() {
+                    self.shared.set_error(format!(
+                        "message dropped: {} unread messages waiting",
+                        MESSAGE_CAPACITY
                     ));
                 }
                 None

@@ -23,7 +23,7 @@ use tokio::time::Instant;
 
 use crate::codec::encode_to_vec;
 use crate::error::NetlinkError;
-use crate::frame::{Frame, Regimen, Summary};
+use crate::frame::{Frame, Message, MessageSeen, Regimen, Summary};
 use crate::tls::ClientTls;
 
 pub use config::{Backoff, HubAddress, StationLinkConfig};
@@ -165,12 +165,17 @@ pub struct StationLink {
     finish_tx: Option<oneshot::Sender<Finish>>,
     task: JoinHandle<()>,
     regimens: mpsc::Receiver<Regimen>,
+    messages: mpsc::Receiver<Message>,
+    seen_tx: mpsc::UnboundedSender<Arc<[u8]>>,
     /// The check-in answers the `Bye` will carry ([`Self::set_checkin`]).
     checkin: Option<crate::frame::CheckIn>,
 }
 
 /// Regimens buffered between the link task and the station's poll.
 const REGIMEN_CAPACITY: usize = 16;
+
+/// The therapist's messages buffered between the link task and the station's poll.
+pub(super) const MESSAGE_CAPACITY: usize = 64;
 
 impl StationLink {
     /// Validates `config`, loads the TLS files and starts the link task on `handle`.
@@ -190,6 +195,8 @@ impl StationLink {
         let (tx, rx) = mpsc::channel(config.channel_capacity);
         let (finish_tx, finish_rx) = oneshot::channel();
         let (regimen_tx, regimens) = mpsc::channel(REGIMEN_CAPACITY);
+        let (message_tx, messages) = mpsc::channel(MESSAGE_CAPACITY);
+        let (seen_tx, seen_rx) = mpsc::unbounded_channel();
         let sender = SummarySender {
             tx,
             shared: shared.clone(),
@@ -208,6 +215,9 @@ impl StationLink {
             pending: VecDeque::new(),
             last_produced_seq: None,
             regimen_tx,
+            message_tx,
+            seen_rx,
+            seen: Vec::new(),
             config,
         };
         let task = handle.spawn(task.run());
@@ -218,6 +228,8 @@ impl StationLink {
                 finish_tx: Some(finish_tx),
                 task,
                 regimens,
+                messages,
+                seen_tx,
                 checkin: None,
             },
         ))
@@ -253,6 +265,25 @@ impl StationLink {
     pub fn take_regimens(&mut self) -> mpsc::Receiver<Regimen> {
         let (_, closed) = mpsc::channel(1);
         std::mem::replace(&mut self.regimens, closed)
+    }
+
+    /// A message from the therapist received, if any (each arrives on every connection until
+    /// the station reports it seen: keep each once, by id).
+    pub fn try_recv_message(&mut self) -> Option<Message> {
+        self.messages.try_recv().ok()
+    }
+
+    /// Tells the hub that message `seen.id` was shown to the patient: sent now if connected
+    /// and again on every later connection of this link (the hub records it once). Delivered
+    /// once [`LinkStats::bye_acknowledged`]; until then the station keeps it and reports it
+    /// again on its next link. An invalid id is not sent (kept in [`LinkStats::last_error`]).
+    pub fn report_seen(&self, seen: MessageSeen) {
+        match encode_to_vec(&Frame::MessageSeen(seen)) {
+            Ok(bytes) => {
+                let _ = self.seen_tx.send(bytes.into());
+            }
+            Err(e) => self.shared.set_error(format!("message seen not sent: {e}")),
+        }
     }
 
     /// Ends the session: delivers what is pending, sends `Bye` and waits for the hub's reply,

@@ -9,7 +9,7 @@ use std::time::Duration;
 use tokio::sync::{mpsc, oneshot};
 use tokio::time::Instant;
 
-use crate::frame::Regimen;
+use crate::frame::{Message, Regimen};
 
 use super::connection::ConnEnd;
 use super::*;
@@ -36,6 +36,13 @@ pub(super) struct LinkTask {
     pub(super) pending: VecDeque<Pending>,
     pub(super) last_produced_seq: Option<u64>,
     pub(super) regimen_tx: mpsc::Sender<Regimen>,
+    /// The therapist's messages received, for the station to keep and show.
+    pub(super) message_tx: mpsc::Sender<Message>,
+    /// Encoded `MessageSeen` frames from [`StationLink::report_seen`], not yet taken.
+    pub(super) seen_rx: mpsc::UnboundedReceiver<Arc<[u8]>>,
+    /// Every `MessageSeen` reported: said on each connection, since only the hub's `Bye`
+    /// confirms a connection's frames were handled.
+    pub(super) seen: Vec<Arc<[u8]>>,
 }
 
 /// A pause in [delay/2, delay], spread by a hash of the station id and attempt number, so

@@ -14,7 +14,7 @@ use std::sync::{Arc, Mutex};
 use rustls::pki_types::CertificateDer;
 
 use crate::error::NetlinkError;
-use crate::frame::{Bye, Hello, Summary};
+use crate::frame::{Bye, Hello, MessageSeen, Summary};
 use crate::pairing::PairingAuthority;
 use crate::store::{Appended, SessionFile, write_hello};
 
@@ -92,6 +92,18 @@ pub trait HubStore: Send + Sync + 'static {
         path: &'a std::path::Path,
     ) -> BoxFuture<'a, Result<(), NetlinkError>> {
         let _ = (hello, sha256, size_bytes, path);
+        Box::pin(async { Ok(()) })
+    }
+
+    /// The station of `hello` showed the therapist's message `seen.id` to its patient. A
+    /// store that keeps messages records when (an id it does not know for that patient is
+    /// ignored); an error makes the station say it again later. The default keeps nothing.
+    fn message_seen<'a>(
+        &'a self,
+        hello: &'a Hello,
+        seen: &'a MessageSeen,
+    ) -> BoxFuture<'a, Result<(), NetlinkError>> {
+        let _ = (hello, seen);
         Box::pin(async { Ok(()) })
     }
 }

@@ -330,6 +330,10 @@ async fn register(hub: &Hub, peer: SocketAddr, hello: &Hello, file: &File, out: 
         StationRoute {
             conn_id,
             out: out.clone(),
+            // Admitted, so a version was negotiated.
+            version: hello
+                .negotiate_with(hub.config.min_protocol_version)
+                .unwrap_or(crate::frame::MIN_PROTOCOL_VERSION),
         },
     );
     hub.emit(TherapistEvent::Connected {
@@ -391,6 +395,7 @@ async fn frame_loop(
                 };
                 match handle_frame(hub, hello, file, &mut upload, frame).await {
                     Ok(Reply::Ack(ack)) => send_ack(out, ack),
+                    Ok(Reply::Nothing) => {}
                     Ok(Reply::Frame(frame)) => send(out, frame_outgoing(&frame)),
                     Ok(Reply::Bye(bye, why)) => {
                         send(out, frame_outgoing(&bye));

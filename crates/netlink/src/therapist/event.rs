@@ -3,7 +3,7 @@
 use std::fmt;
 use std::net::SocketAddr;
 
-use crate::frame::{Hello, Summary};
+use crate::frame::{Hello, MessageSeen, Summary};
 
 /// Something that happened at the hub, for the CLI to print.
 #[derive(Debug, Clone, PartialEq)]
@@ -59,6 +59,15 @@ pub enum TherapistEvent {
         /// How many for each reason.
         reasons: String,
     },
+    /// A station showed a therapist's message to its patient (and the store recorded it).
+    MessageSeen {
+        /// The station.
+        station_id: String,
+        /// The patient the station speaks for.
+        patient_id: String,
+        /// Which message, and when it was shown (station clock).
+        seen: MessageSeen,
+    },
 }
 
 impl fmt::Display for TherapistEvent {
@@ -109,6 +118,15 @@ impl fmt::Display for TherapistEvent {
             } => write!(
                 f,
                 "refused {count} connections in the last {interval_s} s ({reasons})"
+            ),
+            Self::MessageSeen {
+                station_id,
+                patient_id,
+                seen,
+            } => write!(
+                f,
+                "[{station_id}] patient {patient_id} was shown message {} at {} ms",
+                seen.id, seen.seen_unix_ms
             ),
         }
     }

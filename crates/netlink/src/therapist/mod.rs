@@ -22,7 +22,7 @@ use tokio::task::JoinHandle;
 
 use crate::codec::encode_to_vec;
 use crate::error::NetlinkError;
-use crate::frame::{Frame, Hello, Regimen};
+use crate::frame::{Frame, Hello, MESSAGES_VERSION, Message, Regimen};
 use crate::tls::ServerTls;
 use crate::transport::{OUTBOX_CAPACITY, Outbox, OutboxStats, Outgoing};
 
@@ -48,6 +48,8 @@ type SessionSlot = Arc<tokio::sync::Mutex<Option<Box<dyn SessionStore>>>>;
 struct StationRoute {
     conn_id: u64,
     out: Outbox,
+    /// The protocol version negotiated on this connection (what frames it may be sent).
+    version: u16,
 }
 
 struct Hub {
@@ -211,6 +213,30 @@ impl TherapistServer {
             Err(NetlinkError::Busy(format!(
                 "{OUTBOX_CAPACITY} frames already wait for station {station_id:?} (it is not \
                  reading, or has just disconnected); regimen not queued"
+            )))
+        }
+    }
+
+    /// Queues the therapist's `message` for the connected station `station_id`: `Ok(true)`
+    /// when queued, `Ok(false)` when the station's connection was negotiated below
+    /// [`MESSAGES_VERSION`] (an older station, which must never receive the frame).
+    ///
+    /// Fails as [`Self::send_regimen`] does.
+    pub fn send_message(&self, station_id: &str, message: Message) -> Result<bool, NetlinkError> {
+        let bytes = encode_to_vec(&Frame::Message(message))?;
+        let stations = lock(&self.hub.stations);
+        let route = stations
+            .get(station_id)
+            .ok_or_else(|| NetlinkError::NotConnected(station_id.to_owned()))?;
+        if route.version < MESSAGES_VERSION {
+            return Ok(false);
+        }
+        if route.out.send(Outgoing::new(bytes.into())) {
+            Ok(true)
+        } else {
+            Err(NetlinkError::Busy(format!(
+                "{OUTBOX_CAPACITY} frames already wait for station {station_id:?}; message not \
+                 queued"
             )))
         }
     }

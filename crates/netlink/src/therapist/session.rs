@@ -12,6 +12,8 @@ pub(super) enum Reply {
     /// Another answer (upload progress).
     Frame(Frame),
     Bye(Frame, String),
+    /// Nothing to answer (a `MessageSeen`).
+    Nothing,
 }
 
 pub(super) enum Failure {
@@ -108,6 +110,18 @@ pub(super) async fn handle_frame(
                 }),
                 format!("bye: {}", bye.reason),
             ))
+        }
+        Frame::MessageSeen(seen) => {
+            hub.store
+                .message_seen(hello, &seen)
+                .await
+                .map_err(|e| Failure::Unavailable(format!("cannot store a message seen: {e}")))?;
+            hub.emit(TherapistEvent::MessageSeen {
+                station_id: hello.station_id.clone(),
+                patient_id: hello.patient_id.clone(),
+                seen,
+            });
+            Ok(Reply::Nothing)
         }
         Frame::Error(e) => Err(Failure::Closed(format!(
             "station reported an error: {}",

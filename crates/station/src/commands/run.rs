@@ -411,6 +411,8 @@ fn windowed(
             .spawn_scoped(scope, || {
                 session::buttons::watch(controls, wheel_node, &buttons_done);
             });
+        // The therapist's message: said seen as soon as the window has drawn it.
+        let seen = scope.spawn(|| tell_message_seen(controls, link, &buttons_done));
         let r = session::window::run_with_window_and_end_screen(
             opts,
             controls,
@@ -420,11 +422,33 @@ fn windowed(
             end.as_ref().map(|f| f as _),
         );
         buttons_done.store(true, Ordering::Release);
+        let _ = seen.join();
         if let Ok(b) = buttons {
             let _ = b.join();
         }
         r
     })
+}
+
+/// Waits (until `done`) for the patient window to have drawn the therapist's message, then
+/// tells the link; at once if it was drawn just before `done`.
+fn tell_message_seen(
+    controls: &session::Controls,
+    link: &Link,
+    done: &std::sync::atomic::AtomicBool,
+) {
+    loop {
+        let finished = done.load(Ordering::Acquire);
+        let at_ms = controls.message_shown_unix_ms.load(Ordering::Acquire);
+        if at_ms > 0 {
+            link.message_shown(at_ms);
+            return;
+        }
+        if finished {
+            return;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
 }
 
 /// Keeps this session's results in the home for the next end screen's comparison.
@@ -529,7 +553,14 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
         Speed::Realtime => Pacing::RealTime,
         Speed::Max => Pacing::Max,
     };
-    let controls = session::Controls::with_stop(install_stop_flag()?);
+    let mut controls = session::Controls::with_stop(install_stop_flag()?);
+    if !args.headless {
+        // Only a window can show it (and so only a window's session says it was seen).
+        *controls
+            .message
+            .get_mut()
+            .unwrap_or_else(std::sync::PoisonError::into_inner) = link.message_for_start();
+    }
     let opts = SessionOptions {
         config: cfg.clone(),
         pacing,

@@ -126,11 +126,13 @@ fn serve(socket: UnixStream) -> anyhow::Result<()> {
     std::thread::scope(|scope| {
         scope.spawn(|| read_frames(&mut reader, &latest, &draw));
         let mut told_opened = false;
+        let mut message = MessageShown::default();
         let mut explain_pause = hello.replaces_a_lost_window;
         let source = || {
             if !told_opened && opened.load(Ordering::Acquire) {
                 told_opened = tell(&FromWindow::Opened);
             }
+            message.before_next_frame(&tell);
             // Ask for the next frame now; this one shows the newest the station sent.
             let asked = tell(&FromWindow::Pull);
             let mut l = latest
@@ -158,21 +160,8 @@ fn serve(socket: UnixStream) -> anyhow::Result<()> {
                 confirming_end: confirming.load(Ordering::Relaxed),
                 anim_s: shown_at.elapsed().as_secs_f64(),
             };
-            let screen = match view.screen_state(&rec, &state) {
-                // Until the patient resumes, say why the exercise paused by itself.
-                ScreenState::Instruction { .. }
-                    if explain_pause
-                        && !state.confirming_end
-                        && live_screen_state(&rec) == ScreenState::Paused =>
-                {
-                    lost_window_card()
-                }
-                ScreenState::Running => {
-                    explain_pause = false;
-                    ScreenState::Running
-                }
-                other => other,
-            };
+            let screen = screen_now(&view, &rec, &state, &mut explain_pause);
+            message.drawing(&screen);
             Some(view.scene(&rec, screen))
         };
         let on_request = |r: UserRequest| {
@@ -242,6 +231,31 @@ fn end_screen_scene(
     Some(view.scene(rec, ScreenState::Welcome(flow.page())))
 }
 
+/// What the window shows for the tick `rec`: the view's screen, except that until the
+/// patient resumes a window that replaces a lost one (`explain_pause`) says why the exercise
+/// paused by itself.
+fn screen_now(
+    view: &CourseView,
+    rec: &TickRecord,
+    state: &WindowState,
+    explain_pause: &mut bool,
+) -> ScreenState {
+    match view.screen_state(rec, state) {
+        ScreenState::Instruction { .. }
+            if *explain_pause
+                && !state.confirming_end
+                && live_screen_state(rec) == ScreenState::Paused =>
+        {
+            lost_window_card()
+        }
+        ScreenState::Running => {
+            *explain_pause = false;
+            ScreenState::Running
+        }
+        other => other,
+    }
+}
+
 /// The pause card of a window that replaces a lost one.
 fn lost_window_card() -> ScreenState {
     ScreenState::Instruction {
@@ -253,7 +267,30 @@ fn lost_window_card() -> ScreenState {
     }
 }
 
-/// The view of the course from the session's configuration and regimen.
+/// Says once that the start card with the therapist's message was presented: it was handed to
+/// the window to draw, and the window has asked for the frame after it.
+#[derive(Default)]
+struct MessageShown {
+    drawn: bool,
+    told: bool,
+}
+
+impl MessageShown {
+    /// Before the next frame: tell the station if the message's frame was presented.
+    fn before_next_frame(&mut self, tell: &dyn Fn(&FromWindow) -> bool) {
+        if self.drawn && !self.told {
+            self.told = tell(&FromWindow::MessageShown);
+        }
+    }
+
+    /// The window is handed `screen` to draw.
+    fn drawing(&mut self, screen: &ScreenState) {
+        self.drawn |= matches!(screen, ScreenState::Next(c) if c.message.is_some());
+    }
+}
+
+/// The view of the course from the session's configuration and regimen, with the
+/// therapist's message for the start card.
 fn course_view(hello: &Hello) -> anyhow::Result<CourseView> {
     let cfg: StationConfig =
         toml::from_str(&hello.config_toml).context("the session's configuration")?;
@@ -263,7 +300,9 @@ fn course_view(hello: &Hello) -> anyhow::Result<CourseView> {
         .map(toml::from_str)
         .transpose()
         .context("the session's regimen")?;
-    CourseView::new(&cfg, regimen.as_ref())
+    let mut view = CourseView::new(&cfg, regimen.as_ref())?;
+    view.set_message(hello.message.clone());
+    Ok(view)
 }
 
 /// Keep `latest` up to date with the station's frames until it closes the socket.

@@ -51,6 +51,45 @@ struct Inner {
     /// waits for the prescription) before the exercise does, and a summary's `t_s` counts
     /// from the Hello's start, as the hub reads it.
     t0_after_hello_ns: u64,
+    /// The therapist's messages kept in the home, the one the start card shows, and the
+    /// "seen" said on this link (confirmed when the hub answers its `Bye`).
+    messages: Mutex<Messages>,
+}
+
+/// The link's part in the therapist's messages.
+#[derive(Default)]
+struct Messages {
+    inbox: Option<crate::messages::Inbox>,
+    showing: Option<String>,
+    said: Vec<netlink::MessageSeen>,
+}
+
+impl Inner {
+    /// Keeps the messages the link received since the last look (saved if any was new).
+    fn keep_new_messages(&mut self) {
+        let m = self
+            .messages
+            .get_mut()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        let Some(inbox) = m.inbox.as_mut() else {
+            return;
+        };
+        let mut new = false;
+        while let Some(message) = self.link.try_recv_message() {
+            new |= inbox.add(message);
+        }
+        if new {
+            m.save();
+        }
+    }
+}
+
+impl Messages {
+    fn save(&self) {
+        if let Some(Err(e)) = self.inbox.as_ref().map(crate::messages::Inbox::save) {
+            tracing::warn!("the therapist's messages are not kept: {e:#}");
+        }
+    }
 }
 
 /// How long [`Link::await_prescription`] waits for the hub's push once connected.
@@ -158,6 +197,20 @@ impl Link {
         };
         let (sender, link) =
             StationLink::spawn(runtime.handle(), config).context("therapist link")?;
+        let mut messages = Messages {
+            inbox: home.map(|h| crate::messages::Inbox::load(&h.messages_path())),
+            ..Messages::default()
+        };
+        // Shown before but not confirmed by a hub: said again on this link.
+        for seen in messages
+            .inbox
+            .as_ref()
+            .map(|i| i.unconfirmed())
+            .unwrap_or_default()
+        {
+            link.report_seen(seen.clone());
+            messages.said.push(seen);
+        }
         tracing::info!(therapist = %t.address, tls = t.ca_pem.is_some(), session = %session_id, "therapist link started");
         Ok(Self {
             inner: Some(Inner {
@@ -173,6 +226,7 @@ impl Link {
                 tls,
                 hub_switch,
                 t0_after_hello_ns: 0,
+                messages: Mutex::new(messages),
             }),
         })
     }
@@ -208,6 +262,45 @@ impl Link {
             std::thread::sleep(Duration::from_millis(10));
         }
         None
+    }
+
+    /// The therapist's message for this session's start card: the newest not yet shown of
+    /// those the hub has sent (now, or before and kept in the home, so it shows when the hub
+    /// is unreachable too). `None` without a link or a message.
+    pub fn message_for_start(&mut self) -> Option<String> {
+        let inner = self.inner.as_mut()?;
+        inner.keep_new_messages();
+        let m = inner
+            .messages
+            .get_mut()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        let (id, text) = m
+            .inbox
+            .as_ref()?
+            .to_show()
+            .map(|k| (k.id.clone(), k.text.clone()))?;
+        tracing::info!(message = %id, "the start card shows the therapist's message");
+        m.showing = Some(id);
+        Some(text)
+    }
+
+    /// The start card's message was drawn on the screen at `at_unix_ms`: kept as seen in the
+    /// home and said to the hub (now if connected, and on every later link until a hub
+    /// confirms it).
+    pub fn message_shown(&self, at_unix_ms: u64) {
+        let Some(inner) = &self.inner else { return };
+        let mut m = inner
+            .messages
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        let Some(id) = m.showing.take() else { return };
+        let Some(seen) = m.inbox.as_mut().and_then(|i| i.mark_seen(&id, at_unix_ms)) else {
+            return;
+        };
+        m.save();
+        tracing::info!(message = %id, at_unix_ms, "the therapist's message was shown");
+        inner.link.report_seen(seen.clone());
+        m.said.push(seen);
     }
 
     /// The exercise the summaries name (after a prescription received at the start changed
@@ -294,6 +387,9 @@ impl Link {
     ) -> Option<LinkReport> {
         let mut inner = self.inner?;
         let mut regimens = inner.link.take_regimens();
+        // Messages that arrived too late for this session's start card (or in a session
+        // without a window) are kept for the next one.
+        inner.keep_new_messages();
         if let Some(q) = &inner.queue {
             let mut q = q.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
             q.set_measures(measures);
@@ -315,6 +411,17 @@ impl Link {
         };
         inner.runtime.shutdown_timeout(Duration::from_millis(200));
         let regimen = keep_prescribed_regimen(&mut regimens, inner.home.as_ref());
+        let messages = inner
+            .messages
+            .into_inner()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let (Some(mut inbox), true) = (messages.inbox, stats.bye_acknowledged) {
+            // The hub handled every frame before its Bye, the "seen" among them.
+            inbox.confirm(&messages.said);
+            if let Err(e) = inbox.save() {
+                tracing::warn!("the therapist's messages are not kept: {e:#}");
+            }
+        }
         let mut queued = None;
         if let Some(q) = inner.queue {
             let q = q

@@ -157,6 +157,8 @@ pub struct NextCard {
     pub keys: Vec<String>,
     /// The picture's animation time, s (any clock that moves on).
     pub anim_s: f64,
+    /// A message from the therapist, shown on the session's start card in large plain type.
+    pub message: Option<String>,
 }
 
 /// A line of a [`Welcome`] page, with how it stands.

@@ -35,6 +35,12 @@ pub struct Controls {
     pub end_screen_up: AtomicBool,
     /// What the wheel and a gamepad said to the end screen, not yet passed on.
     pub end_answers: EndAnswers,
+    /// The therapist's message for the session's start card, if any (set before the session
+    /// starts; the patient window shows it).
+    pub message: std::sync::Mutex<Option<String>>,
+    /// Told by the patient window's supervisor: when the message was first drawn on the
+    /// screen, ms since the Unix epoch; 0 until then.
+    pub message_shown_unix_ms: AtomicU64,
 }
 
 /// The patient's answers to the end screen given with the wheel or a gamepad, counted until

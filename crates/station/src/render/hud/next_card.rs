@@ -1,7 +1,7 @@
 //! The card before an exercise: what comes next in plain words, a small animation of the
 //! movement (a wheel turning left and right, or the dial's needles), and a rest's countdown.
 
-use super::{ACCENT, CARD, CARD_TEXT, PAD, galley, needle_direction, paint_dial};
+use super::{ACCENT, CARD, CARD_TEXT, MIN_TEXT_PT, PAD, galley, needle_direction, paint_dial};
 use crate::render::scene::{Dial, Movement, NextCard};
 use egui::{Color32, CornerRadius, Painter, Pos2, Rect, Stroke, Vec2, pos2, vec2};
 
@@ -54,6 +54,15 @@ pub(super) fn paint(p: &Painter, size: Vec2, next: &NextCard) {
     line(&next.heading, 32.0, ACCENT, &mut y);
     line(&next.title, 48.0, CARD_TEXT, &mut y);
     line(&next.what, 34.0, CARD_TEXT, &mut y);
+    if let Some(message) = &next.message {
+        let keys_h = next.keys.len() as f32 * 40.0 + 2.0 * PAD;
+        paint_message(
+            p,
+            message,
+            (text_left, width),
+            (y + 6.0, rect.bottom() - keys_h),
+        );
+    }
     if let Some(left) = next.countdown_s {
         let s = left.max(0.0).ceil() as u64;
         let text = format!("{}:{:02}", s / 60, s % 60);
@@ -66,6 +75,37 @@ pub(super) fn paint(p: &Painter, size: Vec2, next: &NextCard) {
         ky -= g.size().y;
         p.galley(pos2(text_left, ky), g, Color32::from_gray(70));
     }
+}
+
+/// The therapist's message in the card's text column (`left`, `width`) between `top` and
+/// `bottom`: "A message from your therapist:" then the text, in the largest type from 34 pt
+/// down to [`MIN_TEXT_PT`] that fits (a 500-character message fits at the smallest).
+fn paint_message(p: &Painter, message: &str, (left, width): (f32, f32), (top, bottom): (f32, f32)) {
+    let heading = p.layout(
+        "A message from your therapist:".to_owned(),
+        egui::FontId::proportional(30.0),
+        ACCENT,
+        width,
+    );
+    let heading_h = heading.size().y;
+    p.galley(pos2(left, top), heading, ACCENT);
+    let top = top + heading_h + 6.0;
+    let text = |pt: f32| {
+        p.layout(
+            message.to_owned(),
+            egui::FontId::proportional(pt),
+            CARD_TEXT,
+            width,
+        )
+    };
+    let mut g = text(34.0);
+    for pt in [30.0, 27.0, MIN_TEXT_PT] {
+        if top + g.size().y <= bottom {
+            break;
+        }
+        g = text(pt);
+    }
+    p.galley(pos2(left, top), g, CARD_TEXT);
 }
 
 /// A steering wheel of radius `r` at `c`, turned by `turn_rad` (positive anticlockwise), with

@@ -78,6 +78,11 @@ pub fn run_with_window_and_end_screen(
             .transpose()
             .context("the session's regimen")?,
         replaces_a_lost_window: false,
+        message: controls
+            .message
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .clone(),
     };
     let launcher =
         supervisor::Launcher::this_executable().context("cannot find the telerehab program")?;

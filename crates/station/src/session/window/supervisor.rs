@@ -369,6 +369,19 @@ fn watch(s: &Supervised<'_>, rx: &mpsc::Receiver<Heard>, socket: &UnixStream) ->
                     *lock(&e.answers) = Some(answers);
                 }
             }
+            Ok(Heard::Said(FromWindow::MessageShown)) => {
+                let at_ms = (s.clock.unix_ns() / 1_000_000).max(1);
+                // The first time only (a replacement window shows it again).
+                let first = s.controls.message_shown_unix_ms.compare_exchange(
+                    0,
+                    at_ms,
+                    Ordering::AcqRel,
+                    Ordering::Acquire,
+                );
+                if first.is_ok() {
+                    tracing::info!(at_ms, "the therapist's message is on the screen");
+                }
+            }
             // Pulls are answered by the reader thread and reach here as `Pulled`.
             Ok(Heard::Said(FromWindow::Pull)) => {}
             gone @ (Ok(Heard::Gone(_)) | Err(mpsc::RecvTimeoutError::Disconnected)) => {

@@ -41,6 +41,9 @@ pub struct Hello {
     /// paused.
     #[serde(default)]
     pub replaces_a_lost_window: bool,
+    /// The therapist's message for the start card, if any.
+    #[serde(default)]
+    pub message: Option<String>,
 }
 
 /// From the station to the window.
@@ -97,6 +100,8 @@ pub enum FromWindow {
     Failed(String),
     /// The patient's answers on the end screen (each optional), just before it closes.
     CheckIn(netlink::CheckIn),
+    /// The start card with the therapist's message was drawn and presented (said once).
+    MessageShown,
 }
 
 /// Write one message.
