@@ -43,8 +43,14 @@ echo "== python types"
 cargo build --quiet -p station --bin telerehab
 # The binary cargo just built, wherever the target directory is (CARGO_TARGET_DIR honoured).
 TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}"
-TELEREHAB_BIN="$TARGET_DIR/debug/telerehab" .venv/bin/python -m pytest -q -rs pyext/tests tests/python \
-  2>&1 | tee "$LOGS/pytest.log"
+# Under a display as the Rust tests are: the console's browser tests start windowed stations.
+PYTEST=(.venv/bin/python -m pytest -q -rs pyext/tests tests/python)
+if command -v xvfb-run >/dev/null 2>&1; then
+  TELEREHAB_BIN="$TARGET_DIR/debug/telerehab" xvfb-run -a -s "-screen 0 1280x720x24" "${PYTEST[@]}" \
+    2>&1 | tee "$LOGS/pytest.log"
+else
+  TELEREHAB_BIN="$TARGET_DIR/debug/telerehab" "${PYTEST[@]}" 2>&1 | tee "$LOGS/pytest.log"
+fi
 python3 scripts/check_skips.py "$LOGS/cargo-test.log" "$LOGS/pytest.log"
 # The Debian package of the binary just tested (debug: CI builds no release), installed,
 # exercised and purged as root (scripts/test_package.sh; packaging/README.md).

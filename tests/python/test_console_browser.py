@@ -352,3 +352,66 @@ def test_a_message_written_in_the_console_shows_seen_once_the_station_showed_it(
     finally:
         station.terminate()
         station.wait(timeout=60)
+
+
+def press_in_station_window(*keys):
+    """Press `keys` in the patient window (named "telerehab"), waiting for it to map."""
+    found = subprocess.run(["xdotool", "search", "--sync", "--name", "^telerehab$"],
+                           capture_output=True, text=True, timeout=120)
+    window = found.stdout.split()[0]
+    subprocess.run(["xdotool", "windowfocus", "--sync", window], check=True, timeout=30)
+    subprocess.run(["xdotool", "key", *keys], check=True, timeout=30)
+
+
+def test_a_painful_check_in_raises_a_caseload_alert_and_the_session_says_how_it_ended(clinic, browser):
+    """A windowed station session (Xvfb) runs to its end; on the end screen the patient answers
+    pain 8 with the keys. The caseload then raises the pain alert, and the patient's progress
+    lists the session as "ended: complete" with the answers."""
+    if not os.environ.get("DISPLAY"):
+        pytest.skip("no display for the station's window (run under Xvfb)")
+    env = {k: v for k, v in os.environ.items() if k != "TELEREHAB_HOME"}
+    env["TELEREHAB_HOME"] = str(clinic["home"])
+    station = subprocess.Popen([BIN, "run", "--sim", "--duration", "2", "--checkin-timeout-s", "60"],
+                               env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    lines = []
+    reader = __import__("threading").Thread(target=lambda: lines.extend(station.stderr), daemon=True)
+    reader.start()
+
+    def said(what, timeout=120):
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            if any(what in line for line in list(lines)):
+                return True
+            time.sleep(0.2)
+        return False
+
+    try:
+        # Space starts the exercise once the window takes keys (a key sent before is lost).
+        for _ in range(30):
+            press_in_station_window("space")
+            if said("paused=false", timeout=2):
+                break
+        assert said("paused=false", timeout=1), "".join(lines)
+        assert said("end screen: the session's results"), "".join(lines)
+        time.sleep(0.5)
+        # Results → pain 8 → tiredness skipped → "about right" → thanks.
+        press_in_station_window("Return", "8", "Return", "Escape", "2", "Return", "Return")
+        assert station.wait(timeout=120) == 0, "".join(lines)
+    finally:
+        if station.poll() is None:
+            station.terminate()
+            station.wait(timeout=60)
+    d = browser
+    d.get(clinic["web"] + "/#/patients")
+    if d.find_elements(By.ID, "email"):
+        d.find_element(By.ID, "email").send_keys("ana@clinic.example")
+        d.find_element(By.ID, "password").send_keys("ana's own passphrase")
+        d.find_element(By.CSS_SELECTOR, "#login button").click()
+    row = wait(d, lambda d: [r for r in d.find_elements(By.CSS_SELECTOR, "tbody tr") if "P-0042" in r.text])[0]
+    assert "pain 8/10 after the last session" in row.text, row.text
+    shot(d, "10a-caseload-pain-alert")
+    d.get(clinic["web"] + "/#/patients/" + row.find_element(By.TAG_NAME, "a").get_attribute("href").split("/")[-1]
+          + "/progress")
+    listed = wait(d, lambda d: [r for r in d.find_elements(By.CSS_SELECTOR, "tr") if "pain 8" in r.text])[0]
+    assert "ended: complete" in listed.text and "about right" in listed.text.lower(), listed.text
+    shot(d, "10b-progress-end-reason-and-check-in")
