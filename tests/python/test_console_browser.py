@@ -310,10 +310,12 @@ def test_the_therapist_turns_adaptation_on_in_the_form_and_sees_the_difficulty_h
     assert input_bounds(d, "rx-d-lowest") == (0.0, 1.0)
     assert input_bounds(d, "rx-d-target_success") == (0.5, 0.95)
     d.find_element(By.ID, "rx-d-adapt").click()
-    for field, value in (("lowest", "0.3"), ("highest", "0.6"), ("start", "0.6")):
+    for field, value in (("lowest", "0.3"), ("highest", "0.6"), ("start", "0.4")):
         d.find_element(By.ID, f"rx-d-{field}").send_keys(value)
     d.find_element(By.CSS_SELECTOR, "#rx-form button[type=submit]").click()
     wait(d, lambda d: d.find_element(By.ID, "rx-result").text.startswith("Saved as version"))
+    d.execute_script("document.getElementById('rx-difficulty').scrollIntoView()")
+    assert d.find_element(By.ID, "rx-d-adapt").is_selected(), "the saved regimen adapts"
     shot(d, "9-prescribe-difficulty")
     # Three sessions: the station adapts each within the bounds and tells the hub why.
     for _ in range(3):
@@ -323,9 +325,10 @@ def test_the_therapist_turns_adaptation_on_in_the_form_and_sees_the_difficulty_h
     wait(d, lambda d: d.find_elements(By.LINK_TEXT, "P-0042"))[0].click()
     wait(d, lambda d: d.find_elements(By.LINK_TEXT, "Progress"))[0].click()
     panel = wait(d, lambda d: d.find_elements(By.ID, "difficulty"))[0]
-    rows = panel.find_elements(By.CSS_SELECTOR, "tbody tr")
+    rows = panel.find_elements(By.CSS_SELECTOR, "#difficulty-table tbody tr")
     assert len(rows) == 3, panel.text
-    assert "first session: the therapist's start 0.60" in rows[-1].text, panel.text
+    assert "first session: the therapist's start 0.40" in rows[-1].text, panel.text
+    assert "above the 70 % target: +0.10" in rows[0].text, panel.text  # a road kept in lane
     for row in rows:
         level = float(row.find_elements(By.TAG_NAME, "td")[1].text)
         assert 0.3 <= level <= 0.6, row.text

@@ -166,7 +166,7 @@ function difficultyPanel(history) {
   return `<section class="panel" id="difficulty" aria-labelledby="difficulty-h"><h2 id="difficulty-h">Difficulty that follows the patient</h2>
       <p class="note">0: half the prescribed speed and shape with all its assistance; 1: the regimen as written. Set by the station within the regimen's [difficulty] bounds.</p>
       <div class="chart" id="p-difficulty"></div>
-      <table><thead><tr><th scope="col">Started</th><th scope="col">Difficulty</th><th scope="col">Change</th><th scope="col">Success</th><th scope="col">Why</th></tr></thead><tbody>${rows}</tbody></table></section>`;
+      <table id="difficulty-table"><thead><tr><th scope="col">Started</th><th scope="col">Difficulty</th><th scope="col">Change</th><th scope="col">Success</th><th scope="col">Why</th></tr></thead><tbody>${rows}</tbody></table></section>`;
 }
 
 async function progressView(el, id, patient) {
@@ -217,9 +217,10 @@ async function progressView(el, id, patient) {
   chart('#p-sparc', 'Smoothness (SPARC)', 'SPARC (dimensionless)', [['sparc_median', 'SPARC, median of movements']]);
   chart('#p-active', 'Active time and assistance', 's / level', [['active_s', 'active time (s)'], ['assist_level_mean', 'assistance level (0–1)']]);
   if (difficulty.length) {
-    lineChart(el.querySelector('#p-difficulty'), { title: 'Difficulty and success', x: 'session date', y: '0–1', time: true,
+    // By session (1: the first adapted one): a change reads the same a day or a week apart.
+    lineChart(el.querySelector('#p-difficulty'), { title: 'Difficulty and success', x: 'adapted session', y: '0–1', time: false,
       series: [{ label: 'difficulty (0–1)' }, { label: 'success rate (0–1)' }] })
-      .set([difficulty.map(d => d.started_unix_ms / 1000), difficulty.map(d => d.difficulty), difficulty.map(d => d.success_rate ?? null)]);
+      .set([difficulty.map((_, i) => i + 1), difficulty.map(d => d.difficulty), difficulty.map(d => d.success_rate ?? null)]);
   }
   el.dataset.sessions = String(sessions.length);
   void patient;

@@ -81,13 +81,13 @@ pub struct DifficultySpec {
     #[serde(default = "default_target")]
     #[schemars(range(min = MIN_TARGET_SUCCESS, max = MAX_TARGET_SUCCESS))]
     pub target_success: f64,
-    /// The easiest difficulty allowed, 0–1 (0: half the prescribed speed and shape, all its
-    /// assistance).
+    /// The easiest difficulty allowed, 0–1. At 0: half the prescribed speed and shape, all
+    /// its assistance.
     #[serde(default)]
     #[schemars(range(min = 0.0, max = 1.0))]
     pub lowest: f64,
-    /// The hardest difficulty allowed, 0–1, not below `lowest` (1: as prescribed, half its
-    /// assistance).
+    /// The hardest difficulty allowed, 0–1, not below the easiest. At 1: as prescribed, half
+    /// its assistance.
     #[serde(default = "default_highest")]
     #[schemars(range(min = 0.0, max = 1.0))]
     pub highest: f64,
