@@ -83,6 +83,23 @@ fn three_sessions_adapt_the_difficulty_within_the_therapists_bounds_and_the_hub_
     // The station keeps its history in its home, one line a session.
     let history = std::fs::read_to_string(home.join("difficulty.jsonl")).unwrap();
     assert_eq!(history.lines().count(), 3, "{history}");
+    // Each recording keeps the difficulty it ran at, and the regimen as run at it.
+    let mut recordings: Vec<_> = std::fs::read_dir(home.join("recordings"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "mcap"))
+        .collect();
+    recordings.sort();
+    assert_eq!(recordings.len(), 3, "{recordings:?}");
+    for (path, (d, why)) in recordings.iter().zip(&ran) {
+        let meta = record::Recording::open(path).unwrap().metadata;
+        let note = meta
+            .difficulty
+            .unwrap_or_else(|| panic!("{}", path.display()));
+        assert!((note.difficulty - d).abs() < 0.006, "{why}: {note:?}");
+        assert!(why.contains(&note.reason), "{why}: {note:?}");
+        assert!(meta.regimen_toml.unwrap().contains("[difficulty]"));
+    }
     // The hub has the history, newest first, with each session's reason and success.
     let shown = show_json(&data);
     let stored = shown["difficulty"].as_array().unwrap();
