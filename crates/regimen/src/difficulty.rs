@@ -434,6 +434,28 @@ mod tests {
     }
 
     #[test]
+    fn every_shipped_regimen_at_any_difficulty_validates_lasts_as_long_and_keeps_its_haptics() {
+        for name in ["easy", "medium", "hard"] {
+            let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("../../regimens")
+                .join(format!("{name}.toml"));
+            let mut r = Regimen::load(&path).unwrap();
+            r.difficulty = Some(DifficultySpec::default());
+            let planned_s = r.planned_duration_s().unwrap();
+            for tenth in 0..=10 {
+                let at = r.at_difficulty(f64::from(tenth) / 10.0);
+                let text = toml::to_string(&at).unwrap();
+                let again = Regimen::from_toml(&text, name).unwrap_or_else(|e| panic!("{e}"));
+                let at_s = again.planned_duration_s().unwrap();
+                assert!((at_s - planned_s).abs() < 1.0, "{name} {tenth}: {at_s} s");
+                for (a, b) in again.exercises.iter().zip(&r.exercises) {
+                    assert_eq!((&a.haptic, a.rest_s), (&b.haptic, b.rest_s), "{name}");
+                }
+            }
+        }
+    }
+
+    #[test]
     fn the_first_session_starts_midway_unless_told() {
         let mut s = DifficultySpec {
             lowest: 0.2,
