@@ -415,3 +415,39 @@ def test_a_painful_check_in_raises_a_caseload_alert_and_the_session_says_how_it_
     listed = wait(d, lambda d: [r for r in d.find_elements(By.CSS_SELECTOR, "tr") if "pain 8" in r.text])[0]
     assert "ended: complete" in listed.text and "about right" in listed.text.lower(), listed.text
     shot(d, "10b-progress-end-reason-and-check-in")
+def test_the_therapist_turns_adaptation_on_in_the_form_and_sees_the_difficulty_history(clinic, browser):
+    d = browser  # logged in by the first test (module-scoped browser)
+    d.get(clinic["web"] + "/#/patients")
+    wait(d, lambda d: d.find_elements(By.LINK_TEXT, "P-0042"))[0].click()
+    wait(d, lambda d: d.find_elements(By.LINK_TEXT, "Prescribe"))[0].click()
+    wait(d, lambda d: d.find_elements(By.ID, "rx-difficulty"))
+    # The form's bounds are the schema's (0–1, the target 0.5–0.95).
+    assert input_bounds(d, "rx-d-lowest") == (0.0, 1.0)
+    assert input_bounds(d, "rx-d-target_success") == (0.5, 0.95)
+    d.find_element(By.ID, "rx-d-adapt").click()
+    for field, value in (("lowest", "0.3"), ("highest", "0.6"), ("start", "0.4")):
+        d.find_element(By.ID, f"rx-d-{field}").send_keys(value)
+    d.find_element(By.CSS_SELECTOR, "#rx-form button[type=submit]").click()
+    wait(d, lambda d: d.find_element(By.ID, "rx-result").text.startswith("Saved as version"))
+    d.execute_script("document.getElementById('rx-difficulty').scrollIntoView()")
+    assert d.find_element(By.ID, "rx-d-adapt").is_selected(), "the saved regimen adapts"
+    shot(d, "9-prescribe-difficulty")
+    # Three sessions: the station adapts each within the bounds and tells the hub why.
+    for _ in range(3):
+        out = telerehab("run", "--sim", "--headless", "--speed", "max", "--duration", "3", home=clinic["home"])
+        assert re.search(r"^difficulty +0\.[3-6]", out, re.M), out
+    d.get(clinic["web"] + "/#/patients")
+    wait(d, lambda d: d.find_elements(By.LINK_TEXT, "P-0042"))[0].click()
+    wait(d, lambda d: d.find_elements(By.LINK_TEXT, "Progress"))[0].click()
+    panel = wait(d, lambda d: d.find_elements(By.ID, "difficulty"))[0]
+    rows = panel.find_elements(By.CSS_SELECTOR, "#difficulty-table tbody tr")
+    assert len(rows) == 3, panel.text
+    assert "first session: the therapist's start 0.40" in rows[-1].text, panel.text
+    assert "above the 70 % target: +0.10" in rows[0].text, panel.text  # a road kept in lane
+    for row in rows:
+        level = float(row.find_elements(By.TAG_NAME, "td")[1].text)
+        assert 0.3 <= level <= 0.6, row.text
+        assert "%" in row.text, row.text
+    assert int(d.find_element(By.ID, "p-difficulty").get_attribute("data-points") or 0) > 0
+    d.execute_script("document.getElementById('difficulty').scrollIntoView()")
+    shot(d, "10-difficulty-history")

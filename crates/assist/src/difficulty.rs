@@ -98,6 +98,15 @@ impl DifficultyAdapter {
         self.difficulty
     }
 
+    /// Moves to `difficulty` (clamped to `[0, 1]`), keeping the integral: when something
+    /// besides the success rate set the last session's difficulty (the patient's own word,
+    /// the therapist's bounds).
+    pub fn set_difficulty(&mut self, difficulty: f64) {
+        if difficulty.is_finite() {
+            self.difficulty = difficulty.clamp(0.0, 1.0);
+        }
+    }
+
     /// Weighted up-down step after one trial; returns the new difficulty.
     pub fn record_trial(&mut self, success: bool) -> f64 {
         let p = self.params.target_success;

@@ -5,7 +5,7 @@ import { api, ApiError, esc, when } from '/console/api.js';
 import { liveView } from '/console/live.js';
 import { lineChart } from '/console/charts.js';
 import { replayView } from '/console/replay.js';
-import { exerciseKinds, regimenLimits, regimenSchema } from '/console/schema.js';
+import { difficultyFields, exerciseKinds, regimenLimits, regimenSchema } from '/console/schema.js';
 import { messagesPanel, messageProblem, sendMessage } from '/console/messages.js';
 
 const app = document.getElementById('app');
@@ -161,12 +161,28 @@ function checkinWords(c) {
   return parts.length ? parts.join(', ') : 'skipped';
 }
 
+/** The difficulty history (oldest first): a chart and a table of each change and its reason,
+ * the station's words escaped; nothing when no session adapted. */
+function difficultyPanel(history) {
+  if (!history.length) return '';
+  const signed = x => (x < -0.0005 ? `−${(-x).toFixed(2)}` : `+${x.toFixed(2)}`);
+  const rows = history.slice().reverse().map(d => `<tr><td>${esc(when(d.started_unix_ms))}</td>
+    <td class="num">${esc(d.difficulty.toFixed(2))}</td><td class="num">${esc(signed(d.change))}</td>
+    <td>${d.success_rate == null ? '—' : `${esc(Math.round(d.success_rate * 100))} %`}</td><td class="reason">${esc(d.reason)}</td></tr>`).join('');
+  return `<section class="panel" id="difficulty" aria-labelledby="difficulty-h"><h2 id="difficulty-h">Difficulty that follows the patient</h2>
+      <p class="note">0: half the prescribed speed and shape with all its assistance; 1: the regimen as written. Set by the station within the regimen's [difficulty] bounds.</p>
+      <div class="chart" id="p-difficulty"></div>
+      <table id="difficulty-table"><thead><tr><th scope="col">Started</th><th scope="col">Difficulty</th><th scope="col">Change</th><th scope="col">Success</th><th scope="col">Why</th></tr></thead><tbody>${rows}</tbody></table></section>`;
+}
+
 async function progressView(el, id, patient) {
   const sessions = (await api('GET', `/api/patients/${encodeURIComponent(id)}/sessions`)).slice().reverse();
   const metrics = await Promise.all(sessions.map(s => api('GET', `/api/sessions/${encodeURIComponent(s.session_id)}/metrics`).catch(() => ({}))));
   // The patient's own answers on each session's end screen (plain text, escaped).
   const checkins = new Map((await api('GET', `/api/patients/${encodeURIComponent(id)}/checkins`).catch(() => []))
     .map(c => [c.session_id, c]));
+  // The difficulty each adapted session ran at and why (newest first from the hub).
+  const difficulty = (await api('GET', `/api/patients/${encodeURIComponent(id)}/difficulty`).catch(() => [])).slice().reverse();
   const t = sessions.map(s => s.started_unix_ms / 1000);
   const trend = key => {
     const vs = metrics.map(m => m[key]).filter(v => typeof v === 'number');
@@ -195,6 +211,7 @@ async function progressView(el, id, patient) {
       <section class="panel"><h2>Movement smoothness</h2><div class="chart" id="p-sparc"></div></section>
       <section class="panel"><h2>Active time and assistance</h2><div class="chart" id="p-active"></div></section>
     </div>
+    ${difficultyPanel(difficulty)}
     <section class="panel print-hide" aria-labelledby="sessions-h"><h2 id="sessions-h">Sessions (${sessions.length})</h2>
       <table><thead><tr><th scope="col">Started</th><th scope="col">Exercise</th><th scope="col">End</th><th scope="col">Patient's check-in</th><th scope="col">Recording</th></tr></thead><tbody>${list}</tbody></table></section>`;
   el.querySelector('#print').addEventListener('click', () => window.print());
@@ -205,6 +222,12 @@ async function progressView(el, id, patient) {
   chart('#p-rom', 'Ranges of motion', 'range (°)', [['wheel_rom_deg', 'wheel (°)'], ['shoulder_elevation_rom_deg', 'shoulder elevation (°)'], ['elbow_flexion_rom_deg', 'elbow flexion (°)']]);
   chart('#p-sparc', 'Smoothness (SPARC)', 'SPARC (dimensionless)', [['sparc_median', 'SPARC, median of movements']]);
   chart('#p-active', 'Active time and assistance', 's / level', [['active_s', 'active time (s)'], ['assist_level_mean', 'assistance level (0–1)']]);
+  if (difficulty.length) {
+    // By session (1: the first adapted one): a change reads the same a day or a week apart.
+    lineChart(el.querySelector('#p-difficulty'), { title: 'Difficulty and success', x: 'adapted session', y: '0–1', time: false,
+      series: [{ label: 'difficulty (0–1)' }, { label: 'success rate (0–1)' }] })
+      .set([difficulty.map((_, i) => i + 1), difficulty.map(d => d.difficulty), difficulty.map(d => d.success_rate ?? null)]);
+  }
   el.dataset.sessions = String(sessions.length);
   void patient;
 }
@@ -221,6 +244,33 @@ function numberField(id, label, value, spec) {
       value="${esc(value ?? '')}"${attr('placeholder', spec.default)} inputmode="decimal" data-field>`;
 }
 
+/** The prescribe form's `[difficulty]` fields: adapt on or off, the bounds (from the schema),
+ * and what the difficulty changes. */
+function difficultyForm(d, adapt) {
+  const on = !!d;
+  const fields = adapt.fields.map(([name, spec]) => numberField(`rx-d-${name}`, labelOf(name, spec), d && d[name], spec)).join('');
+  const changes = d && d.changes ? d.changes : adapt.aspects;
+  const boxes = adapt.aspects.map(a => `<label><input type="checkbox" id="rx-d-change-${esc(a)}" data-aspect="${esc(a)}"${changes.includes(a) ? ' checked' : ''}> ${esc(a)}</label>`).join(' ');
+  return `<fieldset class="panel" id="rx-difficulty"><legend>Difficulty that follows the patient</legend>
+    <label><input type="checkbox" id="rx-d-adapt"${on && d.adapt !== false ? ' checked' : ''}> Adapt each session's difficulty to the patient (aiming at the target success rate, honouring "too easy / too hard")</label>
+    ${fields}
+    <p>Changes: ${boxes}</p>
+    <p class="note">Difficulty 1 is the regimen as written; 0 is half its speed and shape with all its assistance. Never beyond the prescription; the torque ceiling never changes.</p>
+  </fieldset>`;
+}
+
+/** Reads the `[difficulty]` fields into `model` (none when adaptation is off and no bound set). */
+function readDifficulty(el, model, adapt, num) {
+  const on = el.querySelector('#rx-d-adapt').checked;
+  const d = {};
+  for (const [name] of adapt.fields) { const v = num(`#rx-d-${name}`); if (v !== undefined) d[name] = v; }
+  const changes = [...el.querySelectorAll('[data-aspect]')].filter(b => b.checked).map(b => b.dataset.aspect);
+  if (!on && !Object.keys(d).length) { delete model.difficulty; return; }
+  d.adapt = on;
+  if (changes.length !== adapt.aspects.length) d.changes = changes;
+  model.difficulty = d;
+}
+
 /** A field's label: its description's first sentence (it names the unit). */
 const labelOf = (name, spec) => (spec.description.split(/\.\s|\n/)[0] || name).replace(/\.$/, '').replace(/[`[\]]/g, '');
 
@@ -229,6 +279,7 @@ async function prescribeView(el, id, refreshMessages) {
     api('GET', `/api/patients/${encodeURIComponent(id)}/regimen`), regimenSchema()]);
   const kinds = exerciseKinds(schema);
   const limits = regimenLimits(schema);
+  const adapt = difficultyFields(schema);
   const cur = r.current;
   const model = r.current_fields || { exercise: [] };
   if (!Array.isArray(model.exercise)) model.exercise = [];
@@ -255,6 +306,7 @@ async function prescribeView(el, id, refreshMessages) {
       <p id="rx-version">${cur ? `Version ${esc(cur.version)}, prescribed by ${esc(cur.prescribed_by)} on ${esc(when(cur.prescribed_at_ms))}.` : 'Nothing prescribed yet: the station runs its default exercise.'}</p>
       <form id="rx-form" novalidate>
         ${numberField('rx-sessions', 'Sessions a week', model.sessions_per_week, { ...limits.sessionsPerWeek, default: undefined })}
+        ${adapt ? difficultyForm(model.difficulty, adapt) : ''}
         ${rows || '<p>No exercise yet: add one.</p>'}
         <label for="rx-add">Add an exercise</label>
         <select id="rx-add">${kinds.map(k => `<option value="${esc(k.kind)}" title="${esc(k.description)}">${esc(k.kind)}</option>`).join('')}</select>
@@ -305,6 +357,7 @@ async function prescribeView(el, id, refreshMessages) {
     const num = sel => { const v = el.querySelector(sel); return v && v.value !== '' ? Number(v.value) : undefined; };
     const sessions = num('#rx-sessions');
     if (sessions === undefined) delete model.sessions_per_week; else model.sessions_per_week = sessions;
+    if (adapt) readDifficulty(el, model, adapt, num);
     model.exercise.forEach((e, i) => {
       const k = kindOf(e);
       for (const [name] of k ? k.fields : []) {

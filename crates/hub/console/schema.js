@@ -81,3 +81,16 @@ export function regimenLimits(root) {
     maxPlannedS: root['x-max-planned-session-s'],
   };
 }
+
+/** The `[difficulty]` table's numeric fields (the therapist's bounds on a difficulty that
+ * follows the patient) as [name, numberSpec], and the aspects it may change. */
+export function difficultyFields(root) {
+  const d = root.properties.difficulty ? nonNull(root, root.properties.difficulty) : null;
+  if (!d || !d.properties) return null;
+  const changes = resolve(root, d.properties.changes.items);
+  return {
+    fields: ['target_success', 'lowest', 'highest', 'start'].filter(n => d.properties[n])
+      .map(n => [n, numberSpec(root, d.properties[n])]),
+    aspects: (changes.enum || (changes.oneOf || []).map(v => resolve(root, v).const)).filter(Boolean),
+  };
+}

@@ -29,6 +29,8 @@ pub struct PatientReport {
     pub sessions: Vec<SessionReport>,
     /// Their answers on the sessions' end screens, newest first.
     pub checkins: Vec<crate::db::SessionCheckIn>,
+    /// The difficulty each adapted session ran at and why, newest first.
+    pub difficulty: Vec<crate::db::SessionDifficulty>,
 }
 
 /// One session of a [`PatientReport`].
@@ -118,6 +120,7 @@ pub async fn show(db: &Db, pseudonym: &str, now_ms: i64) -> Result<PatientReport
     }
     Ok(PatientReport {
         checkins: db.checkins_of(&patient.id).await?,
+        difficulty: db.difficulty_of(&patient.id).await?,
         patient,
         stations,
         sessions,

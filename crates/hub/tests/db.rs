@@ -86,6 +86,7 @@ on_both_backends!(
     session_of_another_station_is_refused,
     sessions_close_and_list,
     a_byes_checkin_is_stored_and_high_or_rising_pain_raises_a_caseload_alert,
+    a_byes_difficulty_is_stored_once_per_session_newest_first,
     metrics_and_recordings,
     regimen_versions_increment,
     audit_log_keeps_entries,
@@ -817,6 +818,7 @@ async fn sessions_close_and_list(db: Db) {
         ]),
         hub_unix_ms: None,
         checkin: None,
+        difficulty: None,
     };
     assert_eq!(db.close_session(&bye, T0 + MIN).await.unwrap(), Some(2));
     assert_eq!(
@@ -862,10 +864,66 @@ async fn session_with_pain(db: &Db, patient_id: &str, id: &str, minute: i64, pai
             tiredness_0_10: Some(4),
             difficulty: Some("too_hard".into()),
         }),
+        difficulty: None,
     };
     db.close_session(&bye, T0 + minute * MIN).await.unwrap();
     // A repeated Bye (the station missed the reply) stores the same once.
     db.close_session(&bye, T0 + minute * MIN).await.unwrap();
+}
+
+async fn a_byes_difficulty_is_stored_once_per_session_newest_first(db: Db) {
+    let (_, p) = paired(&db).await;
+    for (i, (d, change, reason)) in [
+        (0.5, 0.0, "first session: the therapist's start 0.50"),
+        (0.4, -0.1, "patient said too hard: \u{2212}0.10"),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let id = format!("s{i}");
+        let mut h = hello("st-1", &p.id, &id);
+        h.started_unix_ms = (T0 + i as i64 * MIN) as u64;
+        db.open_session(&h, T0).await.unwrap();
+        let bye = Bye {
+            session_id: id,
+            reason: "session complete".into(),
+            final_seq: None,
+            measures: BTreeMap::new(),
+            hub_unix_ms: None,
+            checkin: None,
+            difficulty: Some(netlink::DifficultyChange {
+                difficulty: d,
+                change,
+                reason: reason.into(),
+                success_rate: (i == 1).then_some(0.82),
+            }),
+        };
+        db.close_session(&bye, T0 + MIN).await.unwrap();
+        // A repeated Bye stores the same once.
+        db.close_session(&bye, T0 + MIN).await.unwrap();
+    }
+    let stored = db.difficulty_of(&p.id).await.unwrap();
+    assert_eq!(stored.len(), 2, "one row per session: {stored:?}");
+    assert_eq!(stored[0].session_id, "s1");
+    assert_eq!(
+        (
+            stored[0].difficulty,
+            stored[0].change,
+            stored[0].success_rate
+        ),
+        (0.4, -0.1, Some(0.82))
+    );
+    assert_eq!(stored[0].reason, "patient said too hard: \u{2212}0.10");
+    assert_eq!(stored[1].success_rate, None);
+    // A value out of range never reaches the table.
+    let bad = netlink::DifficultyChange {
+        difficulty: 1.5,
+        change: 0.0,
+        reason: String::new(),
+        success_rate: None,
+    };
+    let err = db.put_difficulty("s1", &bad, T0).await.unwrap_err();
+    assert!(err.to_string().contains("difficulty.difficulty"), "{err}");
 }
 
 async fn a_byes_checkin_is_stored_and_high_or_rising_pain_raises_a_caseload_alert(db: Db) {

@@ -490,6 +490,7 @@ async fn checkins_are_served_to_the_patients_therapist_only_audited_and_high_pai
             tiredness_0_10: None,
             difficulty: Some("about_right".into()),
         }),
+        difficulty: None,
     };
     f.db.close_session(&bye, T0).await.unwrap();
     let ada = login(&f.app, "ada@clinic.example").await;
@@ -850,4 +851,50 @@ fn the_hubs_time_can_come_from_the_products_injected_clock() {
     assert_eq!(start, (clock::MOCK_UNIX_START_NS / 1_000_000) as i64);
     mock.advance_ns(2_500_000_000);
     assert_eq!(now() - start, 2_500);
+}
+
+#[tokio::test]
+async fn the_difficulty_history_is_served_to_the_patients_therapist_only_and_audited() {
+    let f = fixture().await;
+    f.db.add_station("st-1", &f.p_ada.id, &"ab".repeat(32), T0)
+        .await
+        .unwrap();
+    f.db.open_session(&hello(&f.p_ada.id, "s1"), T0)
+        .await
+        .unwrap();
+    let bye = netlink::Bye {
+        session_id: "s1".into(),
+        reason: "session complete".into(),
+        final_seq: None,
+        measures: Default::default(),
+        hub_unix_ms: None,
+        checkin: None,
+        difficulty: Some(netlink::DifficultyChange {
+            difficulty: 0.45,
+            change: -0.1,
+            reason: "patient said too hard: \u{2212}0.10".into(),
+            success_rate: Some(0.82),
+        }),
+    };
+    f.db.close_session(&bye, T0).await.unwrap();
+    let ada = login(&f.app, "ada@clinic.example").await;
+    let uri = format!("/api/patients/{}/difficulty", f.p_ada.id);
+    let (status, _, list) = call(&f.app, Method::GET, &uri, Some(&ada), None).await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(list[0]["session_id"], "s1");
+    assert_eq!(list[0]["difficulty"], 0.45);
+    assert_eq!(list[0]["change"], -0.1);
+    assert_eq!(list[0]["success_rate"], 0.82);
+    assert_eq!(list[0]["reason"], "patient said too hard: \u{2212}0.10");
+    assert!(
+        actions(&f.db)
+            .await
+            .iter()
+            .any(|(a, act, _)| *a == f.ada.actor() && act == "read_difficulty")
+    );
+    let other = format!("/api/patients/{}/difficulty", f.p_bob.id);
+    let (status, _, _) = call(&f.app, Method::GET, &other, Some(&ada), None).await;
+    assert_eq!(status, StatusCode::NOT_FOUND);
+    let (status, _, _) = call(&f.app, Method::GET, &uri, None, None).await;
+    assert_eq!(status, StatusCode::UNAUTHORIZED);
 }

@@ -298,6 +298,7 @@ mod tests {
                 measures: Default::default(),
                 hub_unix_ms: None,
                 checkin: None,
+                difficulty: None,
             }),
             Frame::Error(ErrorFrame {
                 message: "bad magic".into(),
@@ -364,6 +365,7 @@ mod tests {
             measures: [("sparc_median".to_owned(), -1.5)].into(),
             hub_unix_ms: None,
             checkin: None,
+            difficulty: None,
         });
         let bytes = encode_to_vec(&bye).unwrap();
         assert_eq!(
@@ -384,6 +386,7 @@ mod tests {
             measures: Default::default(),
             hub_unix_ms: Some(1_795_253_400_123),
             checkin: None,
+            difficulty: None,
         });
         let bytes = encode_to_vec(&stored).unwrap();
         assert_eq!(
@@ -657,6 +660,7 @@ mod tests {
                 tiredness_0_10: None,
                 difficulty: Some("about_right".into()),
             }),
+            difficulty: None,
         });
         let bytes = encode_to_vec(&bye).unwrap();
         assert_eq!(
@@ -675,6 +679,51 @@ mod tests {
             }
             let err = bad.validate().unwrap_err().0;
             assert!(err.contains("checkin."), "{err}");
+        }
+    }
+
+    /// A station's Bye with the difficulty its session ran at: additive, an older hub ignores
+    /// it, and a value out of range or a reason with control characters is refused.
+    #[test]
+    fn golden_bytes_of_a_bye_with_a_difficulty_and_its_ranges() {
+        let bye = Frame::Bye(Bye {
+            session_id: "s1".into(),
+            reason: "session complete".into(),
+            final_seq: Some(7),
+            measures: Default::default(),
+            hub_unix_ms: None,
+            checkin: None,
+            difficulty: Some(crate::frame::DifficultyChange {
+                difficulty: 0.55,
+                change: 0.05,
+                reason: "success 82 % above the 70 % target: +0.05".into(),
+                success_rate: Some(0.75),
+            }),
+        });
+        let bytes = encode_to_vec(&bye).unwrap();
+        assert_eq!(
+            escape(&bytes),
+            r#"TRHB\x00\x01\x05\x00\x00\x00\x00\xb5{"session_id":"s1","reason":"session complete","final_seq":7,"difficulty":{"difficulty":0.55,"change":0.05,"reason":"success 82 % above the 70 % target: +0.05","success_rate":0.75}}"#
+        );
+        assert_eq!(decode(&bytes).unwrap().unwrap().0, bye);
+        let older: serde_json::Value = serde_json::from_str(
+            r#"{"session_id":"s1","reason":"session complete","final_seq":7}"#,
+        )
+        .unwrap();
+        let read: Bye = serde_json::from_value(older).unwrap();
+        assert_eq!(read.difficulty, None);
+        for (d, change, reason) in [(1.2, 0.0, "ok"), (0.5, f64::NAN, "ok"), (0.5, 0.0, "a\nb")] {
+            let mut bad = bye.clone();
+            if let Frame::Bye(b) = &mut bad {
+                b.difficulty = Some(crate::frame::DifficultyChange {
+                    difficulty: d,
+                    change,
+                    reason: reason.into(),
+                    success_rate: None,
+                });
+            }
+            let err = bad.validate().unwrap_err().0;
+            assert!(err.contains("difficulty."), "{err}");
         }
     }
 }

@@ -253,6 +253,45 @@ pub struct Bye {
     /// session asked. Absent from the hub's reply and from stations older than this field.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub checkin: Option<CheckIn>,
+    /// Station → hub: the difficulty the session ran at and why it changed, when its regimen
+    /// adapts the difficulty (`[difficulty]`). Absent otherwise, from the hub's reply and
+    /// from stations older than this field.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub difficulty: Option<DifficultyChange>,
+}
+
+/// The difficulty a session ran at (its regimen's `[difficulty]` adapting it), in a Bye.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DifficultyChange {
+    /// The difficulty the session ran at, in [0, 1].
+    pub difficulty: f64,
+    /// The change from the session before, in [−1, 1] (0 for the first session).
+    pub change: f64,
+    /// Why, in words, e.g. `success 82 % above the 70 % target: +0.05`; at most
+    /// [`MAX_TEXT_LEN`] bytes.
+    pub reason: String,
+    /// The session's success rate, in [0, 1], when it ran long enough to tell.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub success_rate: Option<f64>,
+}
+
+impl DifficultyChange {
+    /// Checks every field's range; the message names the field.
+    pub fn validate(&self) -> Result<(), FieldError> {
+        let check = |name: &str, v: f64, lo: f64, hi: f64| {
+            if v.is_finite() && (lo..=hi).contains(&v) {
+                Ok(())
+            } else {
+                Err(FieldError(format!("{name} is {v}, allowed {lo} to {hi}")))
+            }
+        };
+        check("difficulty.difficulty", self.difficulty, 0.0, 1.0)?;
+        check("difficulty.change", self.change, -1.0, 1.0)?;
+        if let Some(r) = self.success_rate {
+            check("difficulty.success_rate", r, 0.0, 1.0)?;
+        }
+        check_text("difficulty.reason", &self.reason, MAX_TEXT_LEN)
+    }
 }
 
 /// Highest answer of a 0–10 check-in question ([`CheckIn::pain_0_10`], [`CheckIn::tiredness_0_10`]).
@@ -534,6 +573,9 @@ impl Frame {
                 check_text("reason", &b.reason, MAX_TEXT_LEN)?;
                 if let Some(c) = &b.checkin {
                     c.validate()?;
+                }
+                if let Some(d) = &b.difficulty {
+                    d.validate()?;
                 }
                 check_named_values("measures", &b.measures)
             }

@@ -27,6 +27,11 @@ fn metadata() -> SessionMetadata {
             }),
             replug_grace_ns: Some(30_000_000_000),
         }),
+        difficulty: Some(DifficultyNote {
+            difficulty: 0.45,
+            change: -0.1,
+            reason: "patient said too hard: -0.10".into(),
+        }),
     }
 }
 

@@ -496,6 +496,20 @@ pub struct SessionMetadata {
     /// Who held the wheel, and the device facts a replay of the raw inputs needs (absent in
     /// recordings made before the raw inputs were recorded).
     pub body: Option<super::raw::BodyFacts>,
+    /// The difficulty the session ran at, when its regimen adapts it (`[difficulty]`), with
+    /// its change and the reason (absent otherwise and in older recordings).
+    pub difficulty: Option<DifficultyNote>,
+}
+
+/// The difficulty a session ran at (`regimen::Regimen::at_difficulty`) and why it changed.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct DifficultyNote {
+    /// The difficulty, in [0, 1].
+    pub difficulty: f64,
+    /// The change from the session before.
+    pub change: f64,
+    /// Why, in words (`success 82 % above the 70 % target: +0.05`).
+    pub reason: String,
 }
 
 impl Default for SessionMetadata {
@@ -509,6 +523,7 @@ impl Default for SessionMetadata {
             config_toml: String::new(),
             regimen_toml: None,
             body: None,
+            difficulty: None,
         }
     }
 }
@@ -543,6 +558,12 @@ impl SessionMetadata {
             map.insert(
                 "body".into(),
                 serde_json::to_string(b).expect("body facts serialise"),
+            );
+        }
+        if let Some(d) = &self.difficulty {
+            map.insert(
+                "difficulty".into(),
+                serde_json::to_string(d).expect("a difficulty serialises"),
             );
         }
         map
@@ -593,6 +614,14 @@ impl SessionMetadata {
                 .map_err(|e| MetadataError {
                     key: "body",
                     reason: format!("not the body's facts ({e})"),
+                })?,
+            difficulty: map
+                .get("difficulty")
+                .map(|d| serde_json::from_str(d))
+                .transpose()
+                .map_err(|e| MetadataError {
+                    key: "difficulty",
+                    reason: format!("not a difficulty ({e})"),
                 })?,
         })
     }

@@ -15,9 +15,15 @@
 //! kind = "motion"
 //! ```
 //!
+//! An optional `[difficulty]` table lets the station adapt each session's difficulty within the
+//! therapist's bounds ([`difficulty`]).
+//!
 //! Samples: `regimens/easy.toml`, `medium.toml`, `hard.toml`.
 
+pub mod difficulty;
 pub mod lenient;
+
+pub use difficulty::{Aspect, DifficultySpec};
 
 use assist::AssistSpec;
 use haptic_wheel::HapticRegimen;
@@ -57,6 +63,10 @@ pub struct Regimen {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(range(min = MIN_SESSIONS_PER_WEEK, max = MAX_SESSIONS_PER_WEEK))]
     pub sessions_per_week: Option<u32>,
+    /// The therapist's bounds on a difficulty that follows the patient (`[difficulty]`;
+    /// absent: every session runs as written). See [`difficulty`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub difficulty: Option<DifficultySpec>,
     /// The exercises, in the order the patient does them.
     #[serde(rename = "exercise")]
     #[schemars(length(min = 1, max = MAX_EXERCISES as u32))]
@@ -178,6 +188,12 @@ impl Regimen {
                      {MAX_SESSIONS_PER_WEEK}"
                 ),
             });
+        }
+        if let Some(d) = &r.difficulty {
+            d.validate().map_err(|message| RegimenError::Parse {
+                path: origin.into(),
+                message,
+            })?;
         }
         for (i, e) in r.exercises.iter().enumerate() {
             let invalid = |message: String| RegimenError::Invalid {

@@ -50,6 +50,7 @@
 //! runtime and the window's triple buffer; the main thread answers the window process's pulls
 //! from that buffer and watches it, the session runs on a `session` thread beside it.
 
+pub mod adapt;
 pub mod checkin;
 pub mod cli;
 pub mod commands;

@@ -105,6 +105,7 @@ fn record_real_session_with(
         body: BodyKind::RealWheel,
         regimen: None,
         isolate_core: false,
+        difficulty: None,
         clock: clock.clone(),
     };
     let controls = Controls::default();

@@ -157,6 +157,9 @@ impl Db {
         if let Some(checkin) = &bye.checkin {
             self.put_checkin(&bye.session_id, checkin, now_ms).await?;
         }
+        if let Some(d) = &bye.difficulty {
+            self.put_difficulty(&bye.session_id, d, now_ms).await?;
+        }
         let session = self
             .session(&bye.session_id)
             .await?

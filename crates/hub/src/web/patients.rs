@@ -75,3 +75,19 @@ pub(crate) async fn checkins(
         .await?;
     Ok(Json(checkins))
 }
+
+/// `GET /api/patients/{id}/difficulty`: the difficulty each session ran at, its change and
+/// why, newest first (sessions whose regimen adapts it).
+pub(crate) async fn difficulty(
+    State(state): State<AppState>,
+    Authed(therapist): Authed,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<Vec<crate::db::SessionDifficulty>>, ApiError> {
+    let Path(id) = id?;
+    let patient = state.visible_patient(&therapist, &id).await?;
+    let history = state.db.difficulty_of(&patient.id).await?;
+    state
+        .audit(&therapist.actor(), "read_difficulty", &patient.id, "")
+        .await?;
+    Ok(Json(history))
+}

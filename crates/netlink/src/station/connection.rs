@@ -266,6 +266,7 @@ impl LinkTask {
             measures: f.measures.clone(),
             hub_unix_ms: None,
             checkin: f.checkin.clone(),
+            difficulty: f.difficulty.clone(),
         });
         match encode_to_vec(&bye) {
             Ok(bytes) => {

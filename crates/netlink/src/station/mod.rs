@@ -157,6 +157,8 @@ struct Finish {
     deadline: Instant,
     /// The patient's check-in answers, if the session asked ([`StationLink::set_checkin`]).
     checkin: Option<crate::frame::CheckIn>,
+    /// The session's difficulty and its change ([`StationLink::set_difficulty`]).
+    difficulty: Option<crate::frame::DifficultyChange>,
 }
 
 /// The running link; poll it for regimens, read its stats, finish it at the end of a session.
@@ -169,6 +171,8 @@ pub struct StationLink {
     seen_tx: mpsc::UnboundedSender<Arc<[u8]>>,
     /// The check-in answers the `Bye` will carry ([`Self::set_checkin`]).
     checkin: Option<crate::frame::CheckIn>,
+    /// The difficulty the `Bye` will carry ([`Self::set_difficulty`]).
+    difficulty: Option<crate::frame::DifficultyChange>,
 }
 
 /// Regimens buffered between the link task and the station's poll.
@@ -231,6 +235,7 @@ impl StationLink {
                 messages,
                 seen_tx,
                 checkin: None,
+                difficulty: None,
             },
         ))
     }
@@ -247,6 +252,17 @@ impl StationLink {
             Err(e) => self
                 .shared
                 .set_error(format!("check-in answers not sent: {e}")),
+        }
+    }
+
+    /// The difficulty the session ran at and why, sent in the session's `Bye`. A value the
+    /// protocol would refuse is not sent: the error is kept in [`LinkStats::last_error`].
+    pub fn set_difficulty(&mut self, difficulty: crate::frame::DifficultyChange) {
+        match difficulty.validate() {
+            Ok(()) => self.difficulty = Some(difficulty),
+            Err(e) => self
+                .shared
+                .set_error(format!("the session's difficulty not sent: {e}")),
         }
     }
 
@@ -325,6 +341,7 @@ impl StationLink {
                 measures,
                 deadline,
                 checkin: self.checkin.take(),
+                difficulty: self.difficulty.take(),
             });
         }
         // The task honours the deadline itself; the grace only covers its last bookkeeping.

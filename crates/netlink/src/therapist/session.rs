@@ -107,6 +107,7 @@ pub(super) async fn handle_frame(
                     measures: Default::default(),
                     hub_unix_ms: Some(crate::frame::unix_ms_now()),
                     checkin: None,
+                    difficulty: None,
                 }),
                 format!("bye: {}", bye.reason),
             ))

@@ -597,6 +597,7 @@ fn report_json(report: &patients::PatientReport) -> serde_json::Value {
         "stations": report.stations,
         "sessions": rows,
         "checkins": report.checkins,
+        "difficulty": report.difficulty,
     })
 }
 

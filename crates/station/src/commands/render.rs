@@ -90,6 +90,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         body: BodyKind::Simulated,
         regimen,
         isolate_core: false,
+        difficulty: None,
         clock: clock::Clock::real(),
     };
     session::run(&opts, &session::Controls::with_stop(stop), &mut frames)?;

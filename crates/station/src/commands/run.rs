@@ -526,6 +526,29 @@ fn link_with_prescription(
     Ok((link, Some(said)))
 }
 
+/// After a session that adapted its difficulty: the difficulty and the session's success rate
+/// go in its `Bye`, and (`keep`) into the home's history with the check-in's answer; the
+/// report's line.
+fn settle_difficulty(
+    adapted: &crate::adapt::Adapted,
+    link: &mut Link,
+    report: &SessionReport,
+    checkin: Option<&netlink::CheckIn>,
+    keep: bool,
+) -> String {
+    let success_rate = crate::adapt::success_rate(report);
+    link.set_difficulty(&adapted.decision.change_for_hub(success_rate));
+    if keep {
+        let felt = checkin.and_then(|c| c.difficulty.as_deref());
+        adapted.remember(success_rate, felt, netlink::frame::unix_ms_now());
+    }
+    let rate = success_rate.map_or(String::new(), |r| format!(", success {:.0} %", r * 100.0));
+    format!(
+        "difficulty          {:.2} ({}){rate}",
+        adapted.decision.difficulty, adapted.decision.reason
+    )
+}
+
 /// Run `telerehab run`: the session, then its report on stdout.
 pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     if args.try_out {
@@ -539,6 +562,12 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     let (mut link, prescription) =
         link_with_prescription(&args, &mut cfg, &mut regimen, &home, &clock)?;
     cfg.validate().context("invalid settings")?;
+    // A regimen with `[difficulty]` runs at the difficulty the patient's history calls for.
+    let adapted = crate::adapt::Adapted::plan(
+        &mut regimen,
+        home.home.as_ref().map(Home::dir),
+        &cfg.session.patient_id,
+    );
     let body = if args.sim {
         BodyKind::Simulated
     } else {
@@ -568,6 +597,7 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
         body,
         regimen,
         isolate_core: !args.headless,
+        difficulty: adapted.as_ref().map(|a| a.decision.note()),
         clock: clock.clone(),
     };
     tracing::info!(
@@ -600,6 +630,10 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     if let Some(c) = &checkin {
         link.set_checkin(c);
     }
+    let difficulty_line = adapted.as_ref().map(|a| {
+        let keep = report.recorder.error.is_none() && !args.try_out;
+        settle_difficulty(a, &mut link, &report, checkin.as_ref(), keep)
+    });
     if let Some(path) = &results_path
         && report.recorder.error.is_none()
         && !args.try_out
@@ -627,6 +661,9 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     }
     if let Some(log) = &session_log {
         println!("session log         {}", log.path().display());
+    }
+    if let Some(line) = &difficulty_line {
+        println!("{line}");
     }
     if let Some(words) = checkin.as_ref().and_then(crate::checkin::answers_words) {
         println!("check-in            {words}");

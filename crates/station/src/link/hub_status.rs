@@ -125,6 +125,7 @@ async fn converse<S: AsyncRead + AsyncWrite + Unpin>(mut stream: S, hello: &Hell
         measures: Default::default(),
         hub_unix_ms: None,
         checkin: None,
+        difficulty: None,
     });
     let mut bytes = match encode_to_vec(&Frame::Hello(hello.clone())) {
         Ok(b) => b,
@@ -301,6 +302,7 @@ mod tests {
             body: BodyKind::Simulated,
             regimen: None,
             isolate_core: false,
+            difficulty: None,
             clock,
         };
         let report = session::run(&opts, &Controls::default(), &mut &link).unwrap();

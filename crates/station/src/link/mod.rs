@@ -371,6 +371,20 @@ impl Link {
         inner.link.set_checkin(checkin.clone());
     }
 
+    /// The difficulty the session ran at and why, for the session's `Bye` (with a home,
+    /// queued first like the check-in).
+    pub fn set_difficulty(&mut self, difficulty: &netlink::DifficultyChange) {
+        let Some(inner) = self.inner.as_mut() else {
+            return;
+        };
+        if let Some(q) = &inner.queue {
+            q.lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .set_difficulty(difficulty);
+        }
+        inner.link.set_difficulty(difficulty.clone());
+    }
+
     /// End the link: send Bye, wait a short while for the last acknowledgements, and report
     /// honestly what was not delivered.
     ///

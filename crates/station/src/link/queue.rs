@@ -45,6 +45,11 @@ fn checkin_path(dir: &Path, session_id: &str) -> PathBuf {
     dir.join(format!("{session_id}.checkin.json"))
 }
 
+/// A session's difficulty and its change, for its `Bye` (beside its check-in).
+fn difficulty_path(dir: &Path, session_id: &str) -> PathBuf {
+    dir.join(format!("{session_id}.difficulty.json"))
+}
+
 /// What a queued session's `Bye` says when the station stopped before the session's end
 /// (its reason was never written).
 pub const ENDED_WITH_THE_STATION: &str =
@@ -52,10 +57,10 @@ pub const ENDED_WITH_THE_STATION: &str =
 
 /// Removes a delivered session's queue files (those that exist).
 fn remove_session(dir: &Path, session_id: &str) {
-    for p in paths(dir, session_id)
-        .into_iter()
-        .chain([checkin_path(dir, session_id)])
-    {
+    for p in paths(dir, session_id).into_iter().chain([
+        checkin_path(dir, session_id),
+        difficulty_path(dir, session_id),
+    ]) {
         match std::fs::remove_file(&p) {
             Ok(()) => {}
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
@@ -136,6 +141,20 @@ impl QueueFile {
         }
     }
 
+    /// Keeps the session's difficulty for its `Bye`, as the check-in.
+    pub fn set_difficulty(&mut self, difficulty: &netlink::DifficultyChange) {
+        if self.error.is_some() {
+            return;
+        }
+        let path = difficulty_path(&self.dir, &self.session_id);
+        let written = serde_json::to_vec(difficulty)
+            .map_err(|e| e.to_string())
+            .and_then(|json| write_private(&path, &json).map_err(|e| format!("{e:#}")));
+        if let Err(e) = written {
+            self.error = Some(format!("{}: {e}", path.display()));
+        }
+    }
+
     /// Keeps why the session ended for its `Bye`, like its measures.
     pub fn set_end_reason(&mut self, reason: &str) {
         if self.error.is_some() {
@@ -163,6 +182,8 @@ pub struct Queued {
     pub measures: BTreeMap<String, f64>,
     /// The patient's end-screen answers, for its `Bye`, if any.
     pub checkin: Option<netlink::CheckIn>,
+    /// The session's difficulty and its change, for its `Bye`, if it adapted.
+    pub difficulty: Option<netlink::DifficultyChange>,
     /// Why it ended, for its `Bye` (`None` if the session did not end in order).
     pub end_reason: Option<String>,
 }
@@ -206,12 +227,16 @@ pub fn pending(dir: &Path) -> anyhow::Result<Vec<Queued>> {
         let checkin = std::fs::read(checkin_path(dir, &hello.session_id))
             .ok()
             .and_then(|json| serde_json::from_slice(&json).ok());
+        let difficulty = std::fs::read(difficulty_path(dir, &hello.session_id))
+            .ok()
+            .and_then(|json| serde_json::from_slice(&json).ok());
         let end_reason = std::fs::read_to_string(&end_path).ok();
         out.push(Queued {
             hello,
             summaries,
             measures,
             checkin,
+            difficulty,
             end_reason,
         });
     }
@@ -276,6 +301,9 @@ pub async fn deliver_sessions(
             .with_context(|| format!("queued session {session_id}"))?;
         if let Some(c) = q.checkin {
             link.set_checkin(c);
+        }
+        if let Some(d) = q.difficulty {
+            link.set_difficulty(d);
         }
         let mut unsent = 0_u64;
         for s in q.summaries {

@@ -87,6 +87,7 @@ mod tests {
             body: BodyKind::Simulated,
             regimen: None,
             isolate_core: false,
+            difficulty: None,
             clock: Clock::real(),
         };
         let controls = Controls::default();

@@ -53,6 +53,9 @@ pub struct SessionOptions {
     pub body: BodyKind,
     /// The prescribed exercises; `None` repeats `config.session.exercise`.
     pub regimen: Option<regimen::Regimen>,
+    /// The difficulty the regimen runs at and why, when it adapts (recorded in the session's
+    /// metadata; the regimen above is already the one at that difficulty).
+    pub difficulty: Option<record::DifficultyNote>,
     /// Give the haptic thread a core of its own (the caller keeps its other threads off it).
     pub isolate_core: bool,
     /// The session's clock: the haptic thread's deadlines and the recording's start time
@@ -248,6 +251,26 @@ fn with_rests(mut outcome: RecorderOutcome, haptic: &HapticOutcome) -> RecorderO
     outcome
 }
 
+/// What the recording says of the session: its settings, its course and who held the wheel.
+fn metadata(opts: &SessionOptions, facts: record::BodyFacts) -> SessionMetadata {
+    let cfg = &opts.config;
+    SessionMetadata {
+        exercise: cfg.session.exercise.clone(),
+        seed: cfg.session.seed,
+        patient_id: cfg.session.patient_id.clone(),
+        loop_rate_hz: cfg.session.loop_rate_hz,
+        config_toml: toml::to_string(cfg).unwrap_or_default(),
+        // A session is replayable only with its course: record the regimen (as run) as well.
+        regimen_toml: opts
+            .regimen
+            .as_ref()
+            .map(|r| toml::to_string(r).unwrap_or_default()),
+        body: Some(facts),
+        format_version: record::types::FORMAT_VERSION,
+        difficulty: opts.difficulty.clone(),
+    }
+}
+
 fn run_body(
     opts: &SessionOptions,
     controls: &Controls,
@@ -292,22 +315,8 @@ fn run_body(
         Some(path) => {
             // Room for the whole planned recording, or no session.
             disk_space::ensure_room(path, cfg.session.duration_s)?;
-            let meta = SessionMetadata {
-                exercise: cfg.session.exercise.clone(),
-                seed: cfg.session.seed,
-                patient_id: cfg.session.patient_id.clone(),
-                loop_rate_hz: rate,
-                config_toml: toml::to_string(cfg).unwrap_or_default(),
-                // A session is replayable only with its course: record the regimen as well.
-                regimen_toml: opts
-                    .regimen
-                    .as_ref()
-                    .map(|r| toml::to_string(r).unwrap_or_default()),
-                body: Some(facts),
-                format_version: record::types::FORMAT_VERSION,
-            };
             Some(
-                McapRecorder::create(path, start_unix_ns, &meta)
+                McapRecorder::create(path, start_unix_ns, &metadata(opts, facts))
                     .context("cannot start recording")?
                     .fill_disk_at(faults::disk_full_at_ns(&cfg.faults)),
             )

@@ -53,6 +53,7 @@ fn run_regimen(regimen: &Regimen, loop_rate_hz: f64) -> Vec<(f64, f64)> {
         body: BodyKind::Simulated,
         regimen: Some(regimen.clone()),
         isolate_core: false,
+        difficulty: None,
         clock: Clock::real(),
     };
     let mut seen = PerExercise::default();

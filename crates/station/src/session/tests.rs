@@ -25,6 +25,7 @@ fn simulated_at_max_speed(config: StationConfig) -> SessionOptions {
         body: BodyKind::Simulated,
         regimen: None,
         isolate_core: false,
+        difficulty: None,
         clock: Clock::real(),
     }
 }

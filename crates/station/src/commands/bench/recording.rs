@@ -200,6 +200,7 @@ pub(super) fn recording(args: BenchRecordingArgs) -> anyhow::Result<()> {
         body: BodyKind::Simulated,
         regimen,
         isolate_core: false,
+        difficulty: None,
         clock: Clock::real(),
     };
     let mut keep = Keep::default();

@@ -208,6 +208,7 @@ pub(super) fn soak(args: BenchSoakArgs) -> anyhow::Result<()> {
         body: BodyKind::Simulated,
         regimen,
         isolate_core: false,
+        difficulty: None,
         clock: Clock::real(),
     };
     let every_ns = (args.every * 1e9).round() as u64;

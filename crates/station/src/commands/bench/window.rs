@@ -164,6 +164,7 @@ fn one_run(args: &BenchWindowArgs) -> anyhow::Result<f64> {
         body: BodyKind::Simulated,
         regimen,
         isolate_core: true,
+        difficulty: None,
         clock: clock.clone(),
     };
     let controls = session::Controls::with_stop(install_stop_flag()?);

@@ -256,6 +256,7 @@ fn options(meta: &SessionMetadata) -> anyhow::Result<(SessionOptions, usize)> {
             body: BodyKind::Simulated,
             regimen,
             isolate_core: false,
+            difficulty: None,
             clock: Clock::mock().0,
         },
         expected,

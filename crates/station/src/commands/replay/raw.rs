@@ -56,6 +56,7 @@ fn rerun(
         body: BodyKind::Simulated,
         regimen,
         isolate_core: false,
+        difficulty: None,
         clock: Clock::mock().0,
     };
     let report = session::run_with_body(
@@ -105,6 +106,7 @@ mod tests {
             body: BodyKind::Simulated,
             regimen: None,
             isolate_core: false,
+            difficulty: None,
             clock: Clock::mock().0,
         };
         session::run(&opts, &Controls::default(), &mut ()).unwrap();
