@@ -788,6 +788,7 @@ async fn sessions_close_and_list(db: Db) {
         ]),
         hub_unix_ms: None,
         checkin: None,
+        exercises: Vec::new(),
     };
     assert_eq!(db.close_session(&bye, T0 + MIN).await.unwrap(), Some(2));
     assert_eq!(
@@ -833,6 +834,7 @@ async fn session_with_pain(db: &Db, patient_id: &str, id: &str, minute: i64, pai
             tiredness_0_10: Some(4),
             difficulty: Some("too_hard".into()),
         }),
+        exercises: Vec::new(),
     };
     db.close_session(&bye, T0 + minute * MIN).await.unwrap();
     // A repeated Bye (the station missed the reply) stores the same once.

@@ -490,6 +490,7 @@ async fn checkins_are_served_to_the_patients_therapist_only_audited_and_high_pai
             tiredness_0_10: None,
             difficulty: Some("about_right".into()),
         }),
+        exercises: Vec::new(),
     };
     f.db.close_session(&bye, T0).await.unwrap();
     let ada = login(&f.app, "ada@clinic.example").await;

@@ -256,6 +256,7 @@ impl LinkTask {
             measures: f.measures.clone(),
             hub_unix_ms: None,
             checkin: f.checkin.clone(),
+            exercises: f.exercises.clone(),
         });
         match encode_to_vec(&bye) {
             Ok(bytes) => {

@@ -300,6 +300,7 @@ fn check_answer(hello: &Hello) -> Bye {
         measures: Default::default(),
         hub_unix_ms: Some(crate::frame::unix_ms_now()),
         checkin: None,
+        exercises: Vec::new(),
     }
 }
 
@@ -372,6 +373,7 @@ async fn frame_loop(
                     measures: Default::default(),
                     hub_unix_ms: Some(crate::frame::unix_ms_now()),
                     checkin: None,
+                    exercises: Vec::new(),
                 });
                 send(out, frame_outgoing(&bye));
                 return "therapist hub shut down".to_owned();

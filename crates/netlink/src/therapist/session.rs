@@ -105,6 +105,7 @@ pub(super) async fn handle_frame(
                     measures: Default::default(),
                     hub_unix_ms: Some(crate::frame::unix_ms_now()),
                     checkin: None,
+                    exercises: Vec::new(),
                 }),
                 format!("bye: {}", bye.reason),
             ))
