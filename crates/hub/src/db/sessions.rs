@@ -157,6 +157,9 @@ impl Db {
         if let Some(checkin) = &bye.checkin {
             self.put_checkin(&bye.session_id, checkin, now_ms).await?;
         }
+        if !bye.exercises.is_empty() {
+            self.put_exercises(&bye.session_id, &bye.exercises).await?;
+        }
         let session = self
             .session(&bye.session_id)
             .await?
