@@ -1140,7 +1140,10 @@ async fn a_byes_exercise_results_are_stored_in_course_order_exactly(db: Db) {
     for (got, sent) in stored.iter().zip([&bye.exercises[1], &bye.exercises[0]]) {
         assert_eq!(got.index, i64::from(sent.index));
         assert_eq!((&got.kind, &got.name), (&sent.kind, &sent.name));
-        assert_eq!((got.prescribed_s, got.active_s), (sent.prescribed_s, sent.active_s));
+        assert_eq!(
+            (got.prescribed_s, got.active_s),
+            (sent.prescribed_s, sent.active_s)
+        );
         assert_eq!(got.scores, sent.scores, "every value exactly");
     }
     // A station older than the field: no results, not an error.
@@ -1154,7 +1157,11 @@ async fn a_byes_exercise_results_are_stored_in_course_order_exactly(db: Db) {
     // Out of bounds is refused by name and stores nothing.
     let mut bad = two_exercise_results();
     bad[0].active_s = -1.0;
-    let err = db.put_exercises("s-old", &bad).await.unwrap_err().to_string();
+    let err = db
+        .put_exercises("s-old", &bad)
+        .await
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("exercises[1].active_s"), "{err}");
     assert!(db.exercises_of("s-old").await.unwrap().is_empty());
 }

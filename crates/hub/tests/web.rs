@@ -578,12 +578,25 @@ async fn exercise_results_are_served_per_session_to_the_patients_therapist_only_
         ..hello(&f.p_bob.id, "s-bob")
     };
     f.db.open_session(&bob_hello, T0).await.unwrap();
-    let (status, _, _) =
-        call(&f.app, Method::GET, "/api/sessions/s-bob/exercises", Some(&ada), None).await;
+    let (status, _, _) = call(
+        &f.app,
+        Method::GET,
+        "/api/sessions/s-bob/exercises",
+        Some(&ada),
+        None,
+    )
+    .await;
     assert_eq!(status, StatusCode::NOT_FOUND);
     let (status, _, _) = call(&f.app, Method::GET, uri, None, None).await;
     assert_eq!(status, StatusCode::UNAUTHORIZED);
-    let (status, _, _) = call(&f.app, Method::GET, "/api/sessions/..%2Fx/exercises", Some(&ada), None).await;
+    let (status, _, _) = call(
+        &f.app,
+        Method::GET,
+        "/api/sessions/..%2Fx/exercises",
+        Some(&ada),
+        None,
+    )
+    .await;
     assert!(status.is_client_error(), "{status}");
 }
 

@@ -301,10 +301,7 @@ pub fn check_exercise_results(exercises: &[ExerciseResult]) -> Result<(), FieldE
     for e in exercises {
         e.validate()?;
         if !seen.insert(e.index) {
-            return Err(FieldError(format!(
-                "exercises[{}] appears twice",
-                e.index
-            )));
+            return Err(FieldError(format!("exercises[{}] appears twice", e.index)));
         }
     }
     Ok(())

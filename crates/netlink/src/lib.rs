@@ -90,7 +90,8 @@ pub mod upload;
 pub use codec::{CodecError, FrameDecoder, decode, encode, encode_to_vec};
 pub use error::NetlinkError;
 pub use frame::{
-    Ack, Bye, CheckIn, ErrorFrame, ExerciseResult, Frame, FrameKind, Hello, PROTOCOL_VERSION, Regimen, Summary,
+    Ack, Bye, CheckIn, ErrorFrame, ExerciseResult, Frame, FrameKind, Hello, PROTOCOL_VERSION,
+    Regimen, Summary,
 };
 pub use station::{
     Backoff, HubAddress, LinkStats, SendError, StationLink, StationLinkConfig, SummarySender,

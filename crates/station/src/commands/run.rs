@@ -569,6 +569,7 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     if let Some(c) = &checkin {
         link.set_checkin(c);
     }
+    link.set_exercises(&report.recorder.exercises);
     if let Some(path) = &results_path
         && report.recorder.error.is_none()
         && !args.try_out

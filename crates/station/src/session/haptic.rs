@@ -52,6 +52,8 @@ pub struct HapticOutcome {
     pub rest_s: f64,
     /// The session ended because a pause lasted longer than `[session] pause_limit_s`.
     pub paused_too_long: bool,
+    /// Each exercise's own scores, of the exercises started (in course order).
+    pub exercise_scores: Vec<crate::session::plant::ExerciseScores>,
 }
 
 /// The loop's deadline arithmetic, without a clock: the tick of slot `k` is due at
@@ -312,6 +314,7 @@ pub fn run(
         rests: breaks.rests,
         rest_s: breaks.rest_s(),
         paused_too_long: breaks.paused_too_long,
+        exercise_scores: plant.exercise_scores(),
     }
 }
 

@@ -10,6 +10,7 @@ mod health;
 mod raw;
 
 pub use body::Body;
+pub use exercise::ExerciseScores;
 
 use crate::config::StationConfig;
 use crate::session::arm::{SetupStep, WheelNow};
@@ -211,6 +212,7 @@ impl Plant {
     /// when it reached zero.
     pub fn request_stop(&mut self) {
         self.raw.stop_requested = true;
+        self.exercise.stop();
         self.chain.request_stop();
     }
 
@@ -330,6 +332,11 @@ impl Plant {
         });
         self.clock.advance(paused);
         rec
+    }
+
+    /// Each exercise's own scores so far, of the exercises started (in course order).
+    pub fn exercise_scores(&self) -> Vec<ExerciseScores> {
+        self.exercise.exercise_scores()
     }
 
     /// A replay pauses where the patient did.
