@@ -451,3 +451,44 @@ def test_the_therapist_turns_adaptation_on_in_the_form_and_sees_the_difficulty_h
     assert int(d.find_element(By.ID, "p-difficulty").get_attribute("data-points") or 0) > 0
     d.execute_script("document.getElementById('difficulty').scrollIntoView()")
     shot(d, "10-difficulty-history")
+TWO_EXERCISES = """[[exercise]]
+kind = "dial"
+duration_s = 4.0
+
+[[exercise]]
+kind = "sine"
+duration_s = 4.0
+"""
+
+
+def test_a_sessions_results_show_exercise_by_exercise(clinic, browser, tmp_path):
+    d = browser  # logged in by the first test (module-scoped browser)
+    regimen = tmp_path / "two.toml"
+    regimen.write_text(TWO_EXERCISES)
+    telerehab("run", "--sim", "--headless", "--speed", "max", "--regimen", str(regimen), home=clinic["home"])
+    d.get(clinic["web"] + "/#/patients")
+    wait(d, lambda d: d.find_elements(By.LINK_TEXT, "P-0042"))[0].click()
+    wait(d, lambda d: d.find_elements(By.LINK_TEXT, "Progress"))[0].click()
+    wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#tab[data-sessions]"))
+    # The newest session is listed first.
+    d.find_elements(By.LINK_TEXT, "Each exercise")[0].click()
+    table = wait(d, lambda d: d.find_elements(By.ID, "exercise-results"))[0]
+    assert d.find_element(By.ID, "tab").get_attribute("data-exercises") == "2"
+    heads = [th.text for th in table.find_elements(By.CSS_SELECTOR, "thead th")]
+    assert heads[1].startswith("1. Dial") and heads[2].startswith("2. Sine road"), heads
+
+    def row(key):
+        return [td.text for td in table.find_elements(By.CSS_SELECTOR, f"tr[data-key='{key}'] td")]
+
+    assert row("time") == ["4.0 of 4", "4.0 of 4"], row("time")
+    dial_mean_abs = row("dial_mean_abs_error_deg")
+    assert float(dial_mean_abs[0]) > 0 and dial_mean_abs[1] == "—", dial_mean_abs
+    assert "Appendix E" in table.text and "mean absolute" in table.text
+    lane = row("rms_lateral_m")
+    assert lane[0] == "—" and float(lane[1]) >= 0, lane
+    tracking = row("tracking_rms_error_deg")
+    assert all(float(v) > 0 for v in tracking) and tracking[0] != tracking[1], tracking
+    assert "ended: complete" in d.find_element(By.ID, "tab").text
+    shot(d, "9-exercise-results")
+    if os.environ.get("TELEREHAB_SCREENSHOTS"):
+        d.save_screenshot(str(Path(os.environ["TELEREHAB_SCREENSHOTS"]) / "results-console.png"))

@@ -156,3 +156,17 @@ def test_the_native_read_releases_the_gil(recording):
         th.join()
     inside = [sum(t0 < t < t1 for t in stamps) for t0, t1 in windows]
     assert sorted(inside)[len(inside) // 2] >= 5, inside  # the median read
+
+
+def test_each_exercises_results_and_the_end_reason_are_read(recording):
+    s = telerehab.session.read(recording)
+    assert s.end_reason == "complete"
+    assert len(s.exercises) == 1, s.exercises
+    e = s.exercises[0]
+    assert (e["index"], e["kind"], e["name"]) == (0, "dial-sine", "Dial sine")
+    assert abs(e["active_s"] - 6.0) < 0.01 and e["prescribed_s"] == 6.0
+    scores = e["scores"]
+    assert scores["dial_mean_abs_error_deg"] > 0 and scores["dial_rms_error_deg"] >= scores["dial_mean_abs_error_deg"]
+    assert "rms_lateral_m" not in scores
+    # One exercise: its movements are the session's.
+    assert scores["movements"] == s.metrics["movements"]

@@ -5,6 +5,7 @@ import { api, ApiError, esc, when } from '/console/api.js';
 import { liveView } from '/console/live.js';
 import { lineChart } from '/console/charts.js';
 import { replayView } from '/console/replay.js';
+import { exercisesView } from '/console/exercises.js';
 import { difficultyFields, exerciseKinds, regimenLimits, regimenSchema } from '/console/schema.js';
 import { messagesPanel, messageProblem, sendMessage } from '/console/messages.js';
 
@@ -39,7 +40,7 @@ async function route() {
   document.getElementById('change-password').hidden = false;
   if (me.must_change_password) return passwordView(true);
   if (hash === '#/password') return passwordView(false);
-  const m = hash.match(/^#\/patients\/([^/]+)(?:\/(live|progress|prescribe|replay)(?:\/([^/]+))?)?$/);
+  const m = hash.match(/^#\/patients\/([^/]+)(?:\/(live|progress|prescribe|replay|exercises)(?:\/([^/]+))?)?$/);
   try {
     if (m) await patientView(decodeURIComponent(m[1]), m[2] || 'live', m[3] && decodeURIComponent(m[3]));
     else await patientsView();
@@ -147,6 +148,7 @@ async function patientView(id, tab, sessionId) {
   if (tab === 'live') { el.id = 'live'; leave = liveView(el, id); }
   else if (tab === 'progress') await progressView(el, id, p);
   else if (tab === 'replay') leave = await replayView(el, sessionId);
+  else if (tab === 'exercises') await exercisesView(el, id, sessionId);
   else await prescribeView(el, id, refreshMessages);
 }
 
@@ -200,7 +202,8 @@ async function progressView(el, id, patient) {
   const list = sessions.slice().reverse().map(s => `<tr><td>${esc(when(s.started_unix_ms))}</td><td>${esc(s.exercise)}</td>
     <td>${esc(s.end_reason ? `ended: ${s.end_reason}` : (s.closed_at_ms ? 'ended' : 'running'))}</td>
     <td class="checkin">${checkinWords(checkins.get(s.session_id))}</td>
-    <td><a href="#/patients/${encodeURIComponent(id)}/replay/${encodeURIComponent(s.session_id)}">Replay</a></td></tr>`).join('');
+    <td><a href="#/patients/${encodeURIComponent(id)}/exercises/${encodeURIComponent(s.session_id)}">Each exercise</a>
+      · <a href="#/patients/${encodeURIComponent(id)}/replay/${encodeURIComponent(s.session_id)}">Replay</a></td></tr>`).join('');
   el.innerHTML = `
     <p class="print-hide"><button type="button" id="print" class="secondary">Print a one-page summary</button></p>
     <section class="panel" aria-labelledby="latest-h"><h2 id="latest-h">Latest session against the earlier ones</h2>
@@ -213,7 +216,7 @@ async function progressView(el, id, patient) {
     </div>
     ${difficultyPanel(difficulty)}
     <section class="panel print-hide" aria-labelledby="sessions-h"><h2 id="sessions-h">Sessions (${sessions.length})</h2>
-      <table><thead><tr><th scope="col">Started</th><th scope="col">Exercise</th><th scope="col">End</th><th scope="col">Patient's check-in</th><th scope="col">Recording</th></tr></thead><tbody>${list}</tbody></table></section>`;
+      <table><thead><tr><th scope="col">Started</th><th scope="col">Exercise</th><th scope="col">End</th><th scope="col">Patient's check-in</th><th scope="col">Results and recording</th></tr></thead><tbody>${list}</tbody></table></section>`;
   el.querySelector('#print').addEventListener('click', () => window.print());
   const col = key => metrics.map(m => (typeof m[key] === 'number' ? m[key] : null));
   const chart = (sel, title, y, series) => lineChart(el.querySelector(sel), { title, x: 'session date', y, time: true,

@@ -278,7 +278,7 @@ async fn drive(
         tokio::select! {
             _ = ticker.tick(), if !bye_sent => {
                 if Instant::now() >= end {
-                    let bye = Frame::Bye(Bye { session_id: session_id.clone(), reason: "bench done".into(), final_seq: seq.checked_sub(1), measures: Default::default(), hub_unix_ms: None, checkin: None, difficulty: None });
+                    let bye = Frame::Bye(Bye { session_id: session_id.clone(), reason: "bench done".into(), final_seq: seq.checked_sub(1), measures: Default::default(), hub_unix_ms: None, checkin: None, difficulty: None, exercises: Vec::new() });
                     wr.write_all(&write(&bye)?).await.map_err(|e| e.to_string())?;
                     bye_sent = true;
                     continue;

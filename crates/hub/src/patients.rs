@@ -46,6 +46,8 @@ pub struct SessionReport {
     pub recording: Option<Recording>,
     /// Its clinical measures, by name.
     pub metrics: BTreeMap<String, f64>,
+    /// Each exercise's own results, in course order.
+    pub exercises: Vec<crate::db::SessionExercise>,
 }
 
 /// `hub patient add`: a new patient `pseudonym`, in the care of the therapist with the
@@ -115,6 +117,7 @@ pub async fn show(db: &Db, pseudonym: &str, now_ms: i64) -> Result<PatientReport
             length_s: stored.last().map_or(0.0, |x| x.t_s),
             recording: db.recording(&session.session_id).await?,
             metrics: db.metrics_of(&session.session_id).await?,
+            exercises: db.exercises_of(&session.session_id).await?,
             session,
         });
     }

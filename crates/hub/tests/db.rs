@@ -87,6 +87,7 @@ on_both_backends!(
     sessions_close_and_list,
     a_byes_checkin_is_stored_and_high_or_rising_pain_raises_a_caseload_alert,
     a_byes_difficulty_is_stored_once_per_session_newest_first,
+    a_byes_exercise_results_are_stored_in_course_order_exactly,
     metrics_and_recordings,
     regimen_versions_increment,
     audit_log_keeps_entries,
@@ -819,6 +820,7 @@ async fn sessions_close_and_list(db: Db) {
         hub_unix_ms: None,
         checkin: None,
         difficulty: None,
+        exercises: Vec::new(),
     };
     assert_eq!(db.close_session(&bye, T0 + MIN).await.unwrap(), Some(2));
     assert_eq!(
@@ -865,6 +867,7 @@ async fn session_with_pain(db: &Db, patient_id: &str, id: &str, minute: i64, pai
             difficulty: Some("too_hard".into()),
         }),
         difficulty: None,
+        exercises: Vec::new(),
     };
     db.close_session(&bye, T0 + minute * MIN).await.unwrap();
     // A repeated Bye (the station missed the reply) stores the same once.
@@ -891,6 +894,7 @@ async fn a_byes_difficulty_is_stored_once_per_session_newest_first(db: Db) {
             measures: BTreeMap::new(),
             hub_unix_ms: None,
             checkin: None,
+            exercises: Vec::new(),
             difficulty: Some(netlink::DifficultyChange {
                 difficulty: d,
                 change,
@@ -1169,4 +1173,84 @@ async fn postgres_fills_sessions_per_week_of_older_regimens_on_open() {
     assert_eq!(caseload[0].sessions_per_week_prescribed, Some(4));
     again.close().await;
     pg.drop_db().await;
+}
+
+/// Two exercises' results, a road and a dial, with values of their own.
+fn two_exercise_results() -> Vec<netlink::ExerciseResult> {
+    vec![
+        netlink::ExerciseResult {
+            index: 1,
+            kind: "dial-sine".into(),
+            name: "Dial sine".into(),
+            prescribed_s: 45.0,
+            active_s: 44.996,
+            scores: BTreeMap::from([
+                ("dial_mean_abs_error_deg".to_owned(), 3.125),
+                ("dial_rms_error_deg".to_owned(), 4.0000000001),
+            ]),
+        },
+        netlink::ExerciseResult {
+            index: 0,
+            kind: "sine-road".into(),
+            name: "Sine road".into(),
+            prescribed_s: 90.0,
+            active_s: 90.0,
+            scores: BTreeMap::from([
+                ("rms_lateral_m".to_owned(), 0.1234567890123),
+                ("pct_in_lane".to_owned(), 99.5),
+            ]),
+        },
+    ]
+}
+
+async fn a_byes_exercise_results_are_stored_in_course_order_exactly(db: Db) {
+    let (_, p) = paired(&db).await;
+    db.open_session(&hello("st-1", &p.id, "s1"), T0)
+        .await
+        .unwrap();
+    db.open_session(&hello("st-1", &p.id, "s-old"), T0)
+        .await
+        .unwrap();
+    let bye = Bye {
+        session_id: "s1".into(),
+        reason: "complete".into(),
+        final_seq: None,
+        measures: BTreeMap::new(),
+        hub_unix_ms: None,
+        checkin: None,
+        difficulty: None,
+        exercises: two_exercise_results(),
+    };
+    db.close_session(&bye, T0 + MIN).await.unwrap();
+    // A repeated Bye (the station missed the reply) stores the same once.
+    db.close_session(&bye, T0 + MIN).await.unwrap();
+    let stored = db.exercises_of("s1").await.unwrap();
+    assert_eq!(stored.len(), 2);
+    for (got, sent) in stored.iter().zip([&bye.exercises[1], &bye.exercises[0]]) {
+        assert_eq!(got.index, i64::from(sent.index));
+        assert_eq!((&got.kind, &got.name), (&sent.kind, &sent.name));
+        assert_eq!(
+            (got.prescribed_s, got.active_s),
+            (sent.prescribed_s, sent.active_s)
+        );
+        assert_eq!(got.scores, sent.scores, "every value exactly");
+    }
+    // A station older than the field: no results, not an error.
+    let old = Bye {
+        session_id: "s-old".into(),
+        exercises: Vec::new(),
+        ..bye.clone()
+    };
+    db.close_session(&old, T0 + MIN).await.unwrap();
+    assert!(db.exercises_of("s-old").await.unwrap().is_empty());
+    // Out of bounds is refused by name and stores nothing.
+    let mut bad = two_exercise_results();
+    bad[0].active_s = -1.0;
+    let err = db
+        .put_exercises("s-old", &bad)
+        .await
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("exercises[1].active_s"), "{err}");
+    assert!(db.exercises_of("s-old").await.unwrap().is_empty());
 }

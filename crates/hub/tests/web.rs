@@ -491,6 +491,7 @@ async fn checkins_are_served_to_the_patients_therapist_only_audited_and_high_pai
             difficulty: Some("about_right".into()),
         }),
         difficulty: None,
+        exercises: Vec::new(),
     };
     f.db.close_session(&bye, T0).await.unwrap();
     let ada = login(&f.app, "ada@clinic.example").await;
@@ -518,6 +519,87 @@ async fn checkins_are_served_to_the_patients_therapist_only_audited_and_high_pai
     assert_eq!(status, StatusCode::NOT_FOUND);
     let (status, _, _) = call(&f.app, Method::GET, &uri, None, None).await;
     assert_eq!(status, StatusCode::UNAUTHORIZED);
+}
+
+#[tokio::test]
+async fn exercise_results_are_served_per_session_to_the_patients_therapist_only_and_audited() {
+    let f = fixture().await;
+    f.db.add_station("st-1", &f.p_ada.id, &"ab".repeat(32), T0)
+        .await
+        .unwrap();
+    f.db.open_session(&hello(&f.p_ada.id, "s1"), T0)
+        .await
+        .unwrap();
+    let result = |index: u32, kind: &str, score: (&str, f64)| netlink::ExerciseResult {
+        index,
+        kind: kind.into(),
+        name: format!("Exercise {index}"),
+        prescribed_s: 30.0,
+        active_s: 29.5,
+        scores: [(score.0.to_owned(), score.1)].into(),
+    };
+    let bye = netlink::Bye {
+        session_id: "s1".into(),
+        reason: "complete".into(),
+        final_seq: None,
+        measures: Default::default(),
+        hub_unix_ms: None,
+        checkin: None,
+        difficulty: None,
+        exercises: vec![
+            result(0, "sine-road", ("rms_lateral_m", 0.25)),
+            result(1, "dial-sine", ("dial_mean_abs_error_deg", 3.5)),
+        ],
+    };
+    f.db.close_session(&bye, T0).await.unwrap();
+    let ada = login(&f.app, "ada@clinic.example").await;
+    let uri = "/api/sessions/s1/exercises";
+    let (status, _, list) = call(&f.app, Method::GET, uri, Some(&ada), None).await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(list.as_array().unwrap().len(), 2, "{list}");
+    assert_eq!(list[0]["index"], 0);
+    assert_eq!(list[0]["kind"], "sine-road");
+    assert_eq!(list[0]["scores"]["rms_lateral_m"], 0.25);
+    assert_eq!(list[1]["name"], "Exercise 1");
+    assert_eq!(list[1]["prescribed_s"], 30.0);
+    assert_eq!(list[1]["active_s"], 29.5);
+    assert_eq!(list[1]["scores"]["dial_mean_abs_error_deg"], 3.5);
+    assert!(
+        actions(&f.db)
+            .await
+            .iter()
+            .any(|(a, act, d)| *a == f.ada.actor() && act == "read_exercises" && d == "s1"),
+        "audited"
+    );
+    // Another therapist's patient's session is not found; no login is refused.
+    f.db.add_station("st-2", &f.p_bob.id, &"cd".repeat(32), T0)
+        .await
+        .unwrap();
+    let bob_hello = Hello {
+        station_id: "st-2".into(),
+        ..hello(&f.p_bob.id, "s-bob")
+    };
+    f.db.open_session(&bob_hello, T0).await.unwrap();
+    let (status, _, _) = call(
+        &f.app,
+        Method::GET,
+        "/api/sessions/s-bob/exercises",
+        Some(&ada),
+        None,
+    )
+    .await;
+    assert_eq!(status, StatusCode::NOT_FOUND);
+    let (status, _, _) = call(&f.app, Method::GET, uri, None, None).await;
+    assert_eq!(status, StatusCode::UNAUTHORIZED);
+    let (status, _, _) = call(
+        &f.app,
+        Method::GET,
+        "/api/sessions/..%2Fx/exercises",
+        Some(&ada),
+        None,
+    )
+    .await;
+    assert!(status.is_client_error(), "{status}");
 }
 
 #[tokio::test]
@@ -869,6 +951,7 @@ async fn the_difficulty_history_is_served_to_the_patients_therapist_only_and_aud
         measures: Default::default(),
         hub_unix_ms: None,
         checkin: None,
+        exercises: Vec::new(),
         difficulty: Some(netlink::DifficultyChange {
             difficulty: 0.45,
             change: -0.1,

@@ -299,6 +299,7 @@ mod tests {
                 hub_unix_ms: None,
                 checkin: None,
                 difficulty: None,
+                exercises: Vec::new(),
             }),
             Frame::Error(ErrorFrame {
                 message: "bad magic".into(),
@@ -366,6 +367,7 @@ mod tests {
             hub_unix_ms: None,
             checkin: None,
             difficulty: None,
+            exercises: Vec::new(),
         });
         let bytes = encode_to_vec(&bye).unwrap();
         assert_eq!(
@@ -387,6 +389,7 @@ mod tests {
             hub_unix_ms: Some(1_795_253_400_123),
             checkin: None,
             difficulty: None,
+            exercises: Vec::new(),
         });
         let bytes = encode_to_vec(&stored).unwrap();
         assert_eq!(
@@ -661,6 +664,7 @@ mod tests {
                 difficulty: Some("about_right".into()),
             }),
             difficulty: None,
+            exercises: Vec::new(),
         });
         let bytes = encode_to_vec(&bye).unwrap();
         assert_eq!(
@@ -682,6 +686,73 @@ mod tests {
         }
     }
 
+    /// A station's Bye with each exercise's results: index, kind, the patient's name for it,
+    /// prescribed and active time, scores with units in their names; an older hub ignores the
+    /// field, an older station's Bye reads as none, and a result out of bounds is refused.
+    #[test]
+    fn golden_bytes_of_a_bye_with_exercise_results_and_their_bounds() {
+        use crate::frame::{ExerciseResult, MAX_EXERCISE_RESULTS};
+        use std::collections::BTreeMap;
+        let result = ExerciseResult {
+            index: 1,
+            kind: "dial-sine".into(),
+            name: "Dial sine".into(),
+            prescribed_s: 45.0,
+            active_s: 44.5,
+            scores: BTreeMap::from([("dial_mean_abs_error_deg".to_owned(), 3.25)]),
+        };
+        let bye = Frame::Bye(Bye {
+            session_id: "s1".into(),
+            reason: "complete".into(),
+            final_seq: Some(7),
+            measures: Default::default(),
+            hub_unix_ms: None,
+            checkin: None,
+            exercises: vec![result.clone()],
+            difficulty: None,
+        });
+        let bytes = encode_to_vec(&bye).unwrap();
+        assert_eq!(
+            escape(&bytes),
+            r#"TRHB\x00\x01\x05\x00\x00\x00\x00\xc3{"session_id":"s1","reason":"complete","final_seq":7,"exercises":[{"index":1,"kind":"dial-sine","name":"Dial sine","prescribed_s":45.0,"active_s":44.5,"scores":{"dial_mean_abs_error_deg":3.25}}]}"#
+        );
+        assert_eq!(decode(&bytes).unwrap().unwrap().0, bye);
+        let older = br#"{"session_id":"s1","reason":"complete","final_seq":7}"#;
+        let mut framed = b"TRHB\x00\x01\x05\x00".to_vec();
+        framed.extend_from_slice(&(older.len() as u32).to_be_bytes());
+        framed.extend_from_slice(older);
+        let Frame::Bye(b) = decode(&framed).unwrap().unwrap().0 else {
+            panic!("not a Bye")
+        };
+        assert!(b.exercises.is_empty());
+        let refused = |edit: &dyn Fn(&mut Vec<ExerciseResult>)| {
+            let mut bad = bye.clone();
+            if let Frame::Bye(b) = &mut bad {
+                edit(&mut b.exercises);
+            }
+            bad.validate().unwrap_err().0
+        };
+        let err = refused(&|e| e[0].active_s = f64::NAN);
+        assert!(err.contains("exercises[1].active_s"), "{err}");
+        let err = refused(&|e| e[0].kind = "../x".into());
+        assert!(err.contains("exercises[1].kind"), "{err}");
+        let err = refused(&|e| {
+            e[0].scores.insert("x_deg".into(), f64::INFINITY);
+        });
+        assert!(err.contains("exercises[1].scores"), "{err}");
+        let err = refused(&|e| e.push(e[0].clone()));
+        assert!(err.contains("twice"), "{err}");
+        let err = refused(&|e| {
+            *e = (0..=MAX_EXERCISE_RESULTS as u32)
+                .map(|index| ExerciseResult {
+                    index,
+                    ..e[0].clone()
+                })
+                .collect()
+        });
+        assert!(err.contains("at most 60"), "{err}");
+    }
+
     /// A station's Bye with the difficulty its session ran at: additive, an older hub ignores
     /// it, and a value out of range or a reason with control characters is refused.
     #[test]
@@ -699,6 +770,7 @@ mod tests {
                 reason: "success 82 % above the 70 % target: +0.05".into(),
                 success_rate: Some(0.75),
             }),
+            exercises: Vec::new(),
         });
         let bytes = encode_to_vec(&bye).unwrap();
         assert_eq!(

@@ -258,6 +258,11 @@ pub struct Bye {
     /// from stations older than this field.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub difficulty: Option<DifficultyChange>,
+    /// Station → hub: each exercise's own results, in course order; at most
+    /// [`MAX_EXERCISE_RESULTS`]. Empty in the hub's reply and from stations older than this
+    /// field (absent from the JSON then).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub exercises: Vec<ExerciseResult>,
 }
 
 /// The difficulty a session ran at (its regimen's `[difficulty]` adapting it), in a Bye.
@@ -292,6 +297,70 @@ impl DifficultyChange {
         }
         check_text("difficulty.reason", &self.reason, MAX_TEXT_LEN)
     }
+}
+
+/// Most exercises a [`Bye`] reports results of (a regimen holds at most 60).
+pub const MAX_EXERCISE_RESULTS: usize = 60;
+
+/// Longest an exercise's prescription or active time may be in a [`Bye`], s (a day).
+pub const MAX_EXERCISE_S: f64 = 86_400.0;
+
+/// One exercise's own results in a session ([`Bye::exercises`]).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct ExerciseResult {
+    /// Its place in the session's course, from 0.
+    pub index: u32,
+    /// Its kind, the regimen's short name (`sine-road`, `dial-sine`).
+    pub kind: String,
+    /// Its name as the patient sees it (`Sine road`).
+    pub name: String,
+    /// The prescribed duration, s.
+    pub prescribed_s: f64,
+    /// The time it ran, s (the patient's pauses left out).
+    pub active_s: f64,
+    /// Its scores and movement measures, name (unit in the name) → finite value; at most
+    /// [`MAX_EXTRA_ENTRIES`].
+    #[serde(default)]
+    pub scores: BTreeMap<String, f64>,
+}
+
+impl ExerciseResult {
+    /// Checks the fields; the message names the exercise and the field.
+    pub fn validate(&self) -> Result<(), FieldError> {
+        let at = format!("exercises[{}]", self.index);
+        check_id(&format!("{at}.kind"), &self.kind)?;
+        check_text(&format!("{at}.name"), &self.name, MAX_ID_LEN)?;
+        for (name, v) in [
+            ("prescribed_s", self.prescribed_s),
+            ("active_s", self.active_s),
+        ] {
+            if !(0.0..=MAX_EXERCISE_S).contains(&v) {
+                return Err(FieldError(format!(
+                    "{at}.{name} is {v}, allowed 0 to {MAX_EXERCISE_S}"
+                )));
+            }
+        }
+        check_named_values(&format!("{at}.scores"), &self.scores)
+    }
+}
+
+/// Checks a [`Bye`]'s exercise results: at most [`MAX_EXERCISE_RESULTS`], each valid, their
+/// indices distinct.
+pub fn check_exercise_results(exercises: &[ExerciseResult]) -> Result<(), FieldError> {
+    if exercises.len() > MAX_EXERCISE_RESULTS {
+        return Err(FieldError(format!(
+            "exercises has {} entries, at most {MAX_EXERCISE_RESULTS} allowed",
+            exercises.len()
+        )));
+    }
+    let mut seen = std::collections::BTreeSet::new();
+    for e in exercises {
+        e.validate()?;
+        if !seen.insert(e.index) {
+            return Err(FieldError(format!("exercises[{}] appears twice", e.index)));
+        }
+    }
+    Ok(())
 }
 
 /// Highest answer of a 0–10 check-in question ([`CheckIn::pain_0_10`], [`CheckIn::tiredness_0_10`]).
@@ -577,6 +646,7 @@ impl Frame {
                 if let Some(d) = &b.difficulty {
                     d.validate()?;
                 }
+                check_exercise_results(&b.exercises)?;
                 check_named_values("measures", &b.measures)
             }
             Self::Error(e) => {

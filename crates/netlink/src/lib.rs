@@ -90,7 +90,7 @@ pub mod upload;
 pub use codec::{CodecError, FrameDecoder, decode, encode, encode_to_vec};
 pub use error::NetlinkError;
 pub use frame::{
-    Ack, Bye, CheckIn, DifficultyChange, ErrorFrame, Frame, FrameKind, Hello,
+    Ack, Bye, CheckIn, DifficultyChange, ErrorFrame, ExerciseResult, Frame, FrameKind, Hello,
     MAX_MESSAGE_TEXT_CHARS, MESSAGES_VERSION, Message, MessageSeen, PROTOCOL_VERSION, Regimen,
     Summary, check_message_text,
 };

@@ -32,6 +32,11 @@ const N: usize = Channel::ALL.len();
 /// when the other file has ended, as shorter.
 pub const MAX_PENDING_SAMPLES: usize = 50_000;
 
+/// Optional fields added to JSON channels since recordings were first written (`/metrics`'
+/// each exercise's results and end reason): absent from the first recording compared, the
+/// second's are not compared.
+pub const ADDED_JSON_FIELDS: &[&str] = &["exercises", "end_reason"];
+
 /// One recorded sample as read.
 #[derive(Clone, Debug)]
 pub enum Sample {
@@ -285,7 +290,17 @@ impl Comparer {
                 second.retain(|k, _| k == "t_s" || lx.column_names().any(|n| n == k));
                 x.row() == second
             }
-            _ => x.row() == y.row(),
+            _ => {
+                let (x, mut y) = (x.row(), y.row());
+                // Fields a later version added to a JSON channel: a replay of an older
+                // recording writes them, which is no difference.
+                for key in ADDED_JSON_FIELDS {
+                    if !x.contains_key(*key) {
+                        y.remove(*key);
+                    }
+                }
+                x == y
+            }
         }
     }
 
@@ -509,6 +524,36 @@ mod tests {
                 first: rows_a[&Channel::Assist][3210].clone(),
                 second: rows_b[&Channel::Assist][3210].clone(),
             })
+        );
+    }
+
+    #[test]
+    fn fields_added_since_an_older_recording_are_no_difference_but_their_values_are() {
+        let mut cmp = Comparer {
+            keep: [true; N],
+            matched: [0; N],
+            difference: std::array::from_fn(|_| None),
+            layouts: Vec::new(),
+        };
+        let row = |v: serde_json::Value| Sample::Row(v.as_object().unwrap().clone());
+        let older = row(serde_json::json!({"tick": 9, "measures": {"movements": 2.0}}));
+        let replayed = row(
+            serde_json::json!({"tick": 9, "measures": {"movements": 2.0},
+            "end_reason": "complete", "exercises": [{"index": 0}]}),
+        );
+        assert!(cmp.same(&older, &replayed));
+        let other = row(
+            serde_json::json!({"tick": 9, "measures": {"movements": 3.0},
+            "end_reason": "complete"}),
+        );
+        assert!(!cmp.same(&older, &other), "the other fields still compared");
+        let newer = row(
+            serde_json::json!({"tick": 9, "measures": {"movements": 2.0},
+            "end_reason": "ended early"}),
+        );
+        assert!(
+            !cmp.same(&newer, &replayed),
+            "recorded on both sides: compared"
         );
     }
 

@@ -373,6 +373,36 @@ pub struct MetricsSample {
     /// Why the movement analysis is missing; absent when it was made.
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub error: String,
+    /// Each exercise's own results, in course order (absent from recordings made before
+    /// they were recorded).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub exercises: Vec<ExerciseResult>,
+    /// How the session ended, in the words its `Bye` carries (`complete`, `ended early by the
+    /// patient (…)`, `wheel unplugged`, `safety stop: …`); absent from recordings made before
+    /// it was recorded.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub end_reason: String,
+}
+
+/// One exercise's own results in a session (within [`MetricsSample`]).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[schemars(inline)]
+pub struct ExerciseResult {
+    /// Its place in the session's course, from 0.
+    pub index: u32,
+    /// Its kind, the regimen's short name (`sine-road`, `dial-sine`).
+    pub kind: String,
+    /// Its name as the patient sees it (`Sine road`).
+    pub name: String,
+    /// Its prescribed duration, s.
+    pub prescribed_s: f64,
+    /// The time it ran, s (the patient's pauses left out).
+    pub active_s: f64,
+    /// Its scores and movement measures over its own span, name (unit in the name) → finite
+    /// value: `rms_lateral_m`, `pct_in_lane`, `heading_rms_error_deg`, `cone_hits`,
+    /// `completion_time_s`, `tracking_rms_error_deg`, `dial_mean_abs_error_deg` (the thesis's
+    /// Appendix E measure), `dial_rms_error_deg`, `movements`, `sparc_median`, ….
+    pub scores: BTreeMap<String, f64>,
 }
 
 /// One movement of the wheel (within [`MetricsSample`]).

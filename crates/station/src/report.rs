@@ -41,6 +41,7 @@ pub fn render(r: &SessionReport, link: Option<&LinkReport>) -> String {
     outcome(&mut s, r);
     loop_timing(&mut s, r);
     exercise(&mut s, r);
+    each_exercise(&mut s, r);
     torque(&mut s, r);
     movement(&mut s, r);
     arm(&mut s, r);
@@ -98,6 +99,27 @@ fn outcome(s: &mut String, r: &SessionReport) {
         r.recorder.records,
         r.haptic.dropped_records
     );
+}
+
+/// Each exercise's own results, one line each (a session of one exercise has none: its
+/// results are the session's).
+fn each_exercise(s: &mut String, r: &SessionReport) {
+    let exercises = &r.recorder.exercises;
+    if exercises.len() < 2 {
+        return;
+    }
+    for e in exercises {
+        line!(
+            s,
+            "exercise {:<10} {} ({}): {:.1} of {:.0} s; {}",
+            e.index + 1,
+            e.name,
+            e.kind,
+            e.active_s,
+            e.prescribed_s,
+            crate::html_report::exercise_words(e)
+        );
+    }
 }
 
 /// The loop's timing: on the wall clock in real time, the speed-up as fast as possible.
@@ -453,6 +475,7 @@ mod tests {
                 rest_s: 0.0,
                 paused_too_long: false,
                 window_lost: false,
+                exercise_scores: Vec::new(),
             },
             recorder,
             loop_rate_hz: 1000.0,

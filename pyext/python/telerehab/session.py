@@ -81,6 +81,22 @@ class Session:
         return list(end[-1]["movements"]) if end else []
 
     @property
+    def exercises(self) -> List[Dict[str, Any]]:
+        """Each exercise's own results (``/metrics``), in course order: ``index``, ``kind``,
+        ``name`` (the patient's), ``prescribed_s``, ``active_s`` and ``scores`` (name → value, the
+        unit in the name: ``rms_lateral_m``, ``dial_mean_abs_error_deg``, ``sparc_median``, …);
+        empty for a recording made before they were recorded."""
+        end = self.messages.get("/metrics", [])
+        return list(end[-1].get("exercises", [])) if end else []
+
+    @property
+    def end_reason(self) -> str:
+        """How the session ended (``/metrics``), as its ``Bye`` said: ``complete``, ``ended early
+        by the patient (…)``, ``wheel unplugged``, …; empty when not recorded."""
+        end = self.messages.get("/metrics", [])
+        return str(end[-1].get("end_reason", "")) if end else ""
+
+    @property
     def arm_calibration(self) -> Optional[Dict[str, Any]]:
         """The arm calibrated from the session (``/arm_calibration``), or ``None``."""
         end = self.messages.get("/arm_calibration", [])

@@ -25,6 +25,7 @@
 mod audit;
 mod checkins;
 mod difficulty;
+mod exercises;
 mod logins;
 pub(crate) use logins::address_key;
 mod messages;
@@ -47,6 +48,7 @@ use crate::error::HubError;
 pub use audit::{AuditCursor, AuditEntry, AuditPage, MAX_AUDIT_PAGE, MAX_DETAIL_CHARS};
 pub use checkins::{PAIN_ALERT_AT, PAIN_RISE_ALERT, SessionCheckIn, pain_alert};
 pub use difficulty::SessionDifficulty;
+pub use exercises::SessionExercise;
 pub use logins::{
     ACCOUNT_FREE_FAILURES, ACCOUNT_MAX_DELAY_MS, ADDRESS_FREE_FAILURES, ADDRESS_MAX_DELAY_MS,
     BASE_DELAY_MS, DEVICE_TTL_MS, HASH_QUEUE, REFUSAL_AUDITS_PER_MINUTE, THROTTLE_FORGET_MS,

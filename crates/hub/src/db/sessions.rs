@@ -160,6 +160,9 @@ impl Db {
         if let Some(d) = &bye.difficulty {
             self.put_difficulty(&bye.session_id, d, now_ms).await?;
         }
+        if !bye.exercises.is_empty() {
+            self.put_exercises(&bye.session_id, &bye.exercises).await?;
+        }
         let session = self
             .session(&bye.session_id)
             .await?

@@ -31,6 +31,7 @@ const ASSETS: &[Asset] = &[
     asset!("api.js", JS),
     asset!("live.js", JS),
     asset!("replay.js", JS),
+    asset!("exercises.js", JS),
     asset!("arm3d.js", JS),
     asset!("charts.js", JS),
     asset!("schema.js", JS),

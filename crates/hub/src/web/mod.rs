@@ -189,6 +189,7 @@ pub fn router(state: AppState) -> Router {
         .route("/api/sessions/{id}", get(sessions::one))
         .route("/api/sessions/{id}/summaries", get(sessions::summaries))
         .route("/api/sessions/{id}/metrics", get(sessions::metrics))
+        .route("/api/sessions/{id}/exercises", get(sessions::exercises))
         .route("/api/sessions/{id}/replay", get(sessions::replay))
         .fallback(|| async { ApiError::NotFound("no such endpoint".to_owned()) })
         .layer(axum::middleware::from_fn_with_state(

@@ -77,6 +77,26 @@ pub(crate) async fn metrics(
     Ok(Json(metrics))
 }
 
+/// `GET /api/sessions/{id}/exercises`: each exercise's own results, in course order.
+pub(crate) async fn exercises(
+    State(state): State<AppState>,
+    Authed(therapist): Authed,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<Vec<crate::db::SessionExercise>>, ApiError> {
+    let Path(id) = id?;
+    let session = visible_session(&state, &therapist, &id).await?;
+    let exercises = state.db.exercises_of(&session.session_id).await?;
+    state
+        .audit(
+            &therapist.actor(),
+            "read_exercises",
+            &session.session_id,
+            "",
+        )
+        .await?;
+    Ok(Json(exercises))
+}
+
 /// Largest recording file the console replays by default, bytes (`hub serve --max-replay-mb`):
 /// about five hours of a 1 kHz session. The replay streams the file in bounded memory, so this
 /// bounds the time one replay takes, not the hub's memory.

@@ -267,6 +267,7 @@ impl LinkTask {
             hub_unix_ms: None,
             checkin: f.checkin.clone(),
             difficulty: f.difficulty.clone(),
+            exercises: f.exercises.clone(),
         });
         match encode_to_vec(&bye) {
             Ok(bytes) => {

@@ -159,7 +159,13 @@ struct Finish {
     checkin: Option<crate::frame::CheckIn>,
     /// The session's difficulty and its change ([`StationLink::set_difficulty`]).
     difficulty: Option<crate::frame::DifficultyChange>,
+    /// Each exercise's results ([`StationLink::set_exercises`]).
+    exercises: Vec<crate::frame::ExerciseResult>,
 }
+
+/// Most bytes of JSON a `Bye`'s exercise results may take: the rest of the frame (measures,
+/// check-in, reason) stays well within [`crate::codec::MAX_PAYLOAD_LEN`].
+pub const MAX_EXERCISES_JSON_BYTES: usize = 48 * 1024;
 
 /// The running link; poll it for regimens, read its stats, finish it at the end of a session.
 pub struct StationLink {
@@ -173,6 +179,8 @@ pub struct StationLink {
     checkin: Option<crate::frame::CheckIn>,
     /// The difficulty the `Bye` will carry ([`Self::set_difficulty`]).
     difficulty: Option<crate::frame::DifficultyChange>,
+    /// The exercise results the `Bye` will carry ([`Self::set_exercises`]).
+    exercises: Vec<crate::frame::ExerciseResult>,
 }
 
 /// Regimens buffered between the link task and the station's poll.
@@ -236,6 +244,7 @@ impl StationLink {
                 seen_tx,
                 checkin: None,
                 difficulty: None,
+                exercises: Vec::new(),
             },
         ))
     }
@@ -264,6 +273,31 @@ impl StationLink {
                 .shared
                 .set_error(format!("the session's difficulty not sent: {e}")),
         }
+    }
+
+    /// Each exercise's results, sent in the session's `Bye`. Results the protocol would refuse
+    /// are not sent (the error is kept in [`LinkStats::last_error`]); when their JSON is over
+    /// [`MAX_EXERCISES_JSON_BYTES`] the last exercises are left out, and the error says so.
+    pub fn set_exercises(&mut self, mut exercises: Vec<crate::frame::ExerciseResult>) {
+        if let Err(e) = crate::frame::check_exercise_results(&exercises) {
+            self.shared
+                .set_error(format!("exercise results not sent: {e}"));
+            return;
+        }
+        let all = exercises.len();
+        while serde_json::to_vec(&exercises).map_or(usize::MAX, |j| j.len())
+            > MAX_EXERCISES_JSON_BYTES
+        {
+            exercises.pop();
+        }
+        if exercises.len() < all {
+            self.shared.set_error(format!(
+                "exercise results: only the first {} of {all} sent (the rest would not fit \
+                 in one Bye)",
+                exercises.len()
+            ));
+        }
+        self.exercises = exercises;
     }
 
     /// Counters of the link; cheap (atomics and one short lock), safe from any thread.
@@ -342,6 +376,7 @@ impl StationLink {
                 deadline,
                 checkin: self.checkin.take(),
                 difficulty: self.difficulty.take(),
+                exercises: std::mem::take(&mut self.exercises),
             });
         }
         // The task honours the deadline itself; the grace only covers its last bookkeeping.

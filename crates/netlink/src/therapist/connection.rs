@@ -301,6 +301,7 @@ fn check_answer(hello: &Hello) -> Bye {
         hub_unix_ms: Some(crate::frame::unix_ms_now()),
         checkin: None,
         difficulty: None,
+        exercises: Vec::new(),
     }
 }
 
@@ -378,6 +379,7 @@ async fn frame_loop(
                     hub_unix_ms: Some(crate::frame::unix_ms_now()),
                     checkin: None,
                     difficulty: None,
+                    exercises: Vec::new(),
                 });
                 send(out, frame_outgoing(&bye));
                 return "therapist hub shut down".to_owned();

@@ -108,6 +108,7 @@ pub(super) async fn handle_frame(
                     hub_unix_ms: Some(crate::frame::unix_ms_now()),
                     checkin: None,
                     difficulty: None,
+                    exercises: Vec::new(),
                 }),
                 format!("bye: {}", bye.reason),
             ))

@@ -589,6 +589,7 @@ fn report_json(report: &patients::PatientReport) -> serde_json::Value {
                 "summaries_stored": s.summaries_stored,
                 "recording": s.recording,
                 "metrics": s.metrics,
+                "exercises": s.exercises,
             })
         })
         .collect();

@@ -549,6 +549,25 @@ fn settle_difficulty(
     )
 }
 
+/// Who holds the wheel, and the real wheel's input node for its buttons and pedals (a
+/// windowed session on a real wheel; one that cannot start says why on the screen).
+fn body_and_wheel_node(
+    args: &RunArgs,
+    cfg: &StationConfig,
+) -> anyhow::Result<(BodyKind, Option<PathBuf>)> {
+    let body = if args.sim {
+        BodyKind::Simulated
+    } else {
+        real_body(args)?
+    };
+    let wheel_node = if !args.sim && !args.headless {
+        no_wheel_no_mystery(cfg)?
+    } else {
+        None
+    };
+    Ok((body, wheel_node))
+}
+
 /// Run `telerehab run`: the session, then its report on stdout.
 pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     if args.try_out {
@@ -568,16 +587,7 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
         home.home.as_ref().map(Home::dir),
         &cfg.session.patient_id,
     );
-    let body = if args.sim {
-        BodyKind::Simulated
-    } else {
-        real_body(&args)?
-    };
-    let wheel_node = if !args.sim && !args.headless {
-        no_wheel_no_mystery(&cfg)?
-    } else {
-        None
-    };
+    let (body, wheel_node) = body_and_wheel_node(&args, &cfg)?;
     let pacing = match args.speed {
         Speed::Realtime => Pacing::RealTime,
         Speed::Max => Pacing::Max,
@@ -630,6 +640,7 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     if let Some(c) = &checkin {
         link.set_checkin(c);
     }
+    link.set_exercises(&report.recorder.exercises);
     let difficulty_line = adapted.as_ref().map(|a| {
         let keep = report.recorder.error.is_none() && !args.try_out;
         settle_difficulty(a, &mut link, &report, checkin.as_ref(), keep)

@@ -138,6 +138,160 @@ const MEASURES: [Measure; 17] = [
     ),
 ];
 
+/// An exercise's own results shown in the per-exercise table, in order (rows no exercise has
+/// are left out).
+const EXERCISE_MEASURES: [Measure; 16] = [
+    m(
+        "rms_lateral_m",
+        "Lane keeping: lateral deviation (RMS)",
+        "m",
+        3,
+        Better::Lower,
+    ),
+    m("pct_in_lane", "Time in lane", "%", 1, Better::Higher),
+    m(
+        "heading_rms_error_deg",
+        "Heading error (RMS)",
+        "°",
+        1,
+        Better::Lower,
+    ),
+    m("cone_hits", "Cones hit", "", 0, Better::Lower),
+    m(
+        "completion_time_s",
+        "Completion time",
+        "s",
+        1,
+        Better::Neither,
+    ),
+    m(
+        "tracking_rms_error_deg",
+        "Tracking error: wheel to the ideal angle (RMS)",
+        "°",
+        2,
+        Better::Lower,
+    ),
+    m(
+        "dial_mean_abs_error_deg",
+        "Dial angle error (mean absolute, as the thesis's Appendix E)",
+        "°",
+        2,
+        Better::Lower,
+    ),
+    m(
+        "dial_rms_error_deg",
+        "Dial angle error (RMS)",
+        "°",
+        2,
+        Better::Lower,
+    ),
+    m("movements", "Movements", "", 0, Better::Neither),
+    m("active_pct", "Time moving", "%", 0, Better::Higher),
+    m(
+        "sparc_median",
+        "Smoothness, SPARC (median)",
+        "",
+        2,
+        Better::Higher,
+    ),
+    m(
+        "ldlj_median",
+        "Smoothness, LDLJ (median)",
+        "",
+        2,
+        Better::Higher,
+    ),
+    m(
+        "movement_peak_speed_deg_s_median",
+        "Peak speed of a movement (median)",
+        "°/s",
+        0,
+        Better::Higher,
+    ),
+    m(
+        "wheel_rom_deg",
+        "Wheel range of motion",
+        "°",
+        0,
+        Better::Higher,
+    ),
+    m(
+        "shoulder_elevation_rom_deg",
+        "Shoulder elevation range",
+        "°",
+        0,
+        Better::Higher,
+    ),
+    m(
+        "elbow_flexion_rom_deg",
+        "Elbow flexion range",
+        "°",
+        0,
+        Better::Higher,
+    ),
+];
+
+/// An exercise's results in words for the text report, in the table's order: "Lane keeping:
+/// lateral deviation (RMS) 0.123 m, Time in lane 99.5 %, …".
+pub(crate) fn exercise_words(e: &record::ExerciseResult) -> String {
+    EXERCISE_MEASURES
+        .iter()
+        .filter_map(|m| {
+            let v = e.scores.get(m.key)?;
+            let unit = if m.unit.is_empty() {
+                String::new()
+            } else {
+                format!(" {}", m.unit)
+            };
+            Some(format!("{} {:.*}{unit}", m.label, m.decimals, v))
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The per-exercise table: a column per exercise (its place, the patient's name for it, its
+/// kind), a row per result any of them has; "–" where one does not apply.
+fn exercise_table(html: &mut String, exercises: &[record::ExerciseResult]) {
+    if exercises.is_empty() {
+        return;
+    }
+    html.push_str("<h3>Each exercise</h3><table class=\"exercises\"><tr><th>Result</th>");
+    for e in exercises {
+        let _ = write!(
+            html,
+            "<th>{}. {}<br><span class=\"sub\">{}</span></th>",
+            e.index + 1,
+            esc(&e.name),
+            esc(&e.kind)
+        );
+    }
+    html.push_str("</tr><tr><td>Time: active of prescribed (s)</td>");
+    for e in exercises {
+        let _ = write!(
+            html,
+            "<td class=\"num\">{:.1} of {:.0}</td>",
+            e.active_s, e.prescribed_s
+        );
+    }
+    html.push_str("</tr>");
+    for m in &EXERCISE_MEASURES {
+        if exercises.iter().all(|e| !e.scores.contains_key(m.key)) {
+            continue;
+        }
+        let _ = write!(html, "<tr><td>{}{}</td>", m.label, unit_suffix(m.unit));
+        for e in exercises {
+            match e.scores.get(m.key) {
+                Some(v) => {
+                    let _ = write!(html, "<td class=\"num\">{:.*}</td>", m.decimals, v);
+                }
+                None => html.push_str("<td class=\"num\">–</td>"),
+            }
+        }
+        html.push_str("</tr>");
+    }
+    html.push_str("</table>");
+}
+
 /// The measures charted across sessions, each chart's lines by key.
 const PROGRESS: [(&str, &str, &[&str]); 6] = [
     (
@@ -225,6 +379,11 @@ fn one_session(html: &mut String, s: &SessionData) -> Result<(), String> {
         s.seed,
         esc(&s.path.display().to_string())
     );
+    let _ = write!(
+        html,
+        "<p class=\"ended\">{}</p>",
+        esc(&crate::session::end_reason::sentence(&s.end_reason))
+    );
     html.push_str("<table><tr><th>Measure</th><th>Value</th></tr>");
     for m in &MEASURES {
         if let Some(v) = s.measures.get(m.key) {
@@ -239,6 +398,7 @@ fn one_session(html: &mut String, s: &SessionData) -> Result<(), String> {
     if s.measures.is_empty() {
         html.push_str("<p>No measures: the session did not end in order.</p>");
     }
+    exercise_table(html, &s.exercises);
     let mut chart = |title, y_desc, lines: Vec<Line<'_>>, spans: Vec<(f64, f64)>| {
         if lines.iter().all(|l| l.points.is_empty()) {
             return Ok(());
@@ -459,6 +619,7 @@ h1 { font-size: 1.7em; margin-bottom: 0.1em; } h2 { font-size: 1.3em; border-bot
 .sub { color: #555; font-size: 0.9em; }
 table { border-collapse: collapse; margin: 0.8em 0; } td, th { padding: 0.25em 0.8em; border-bottom: 1px solid #ddd; text-align: left; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; }
+p.ended { font-weight: 600; }
 .better { color: #007a5a; font-weight: 600; } .worse { color: #b34700; font-weight: 600; } .steady, .changing { color: #333; }
 figure.chart { margin: 1em 0; } figure.chart svg { max-width: 100%; height: auto; }
 section { margin-bottom: 2.5em; }
@@ -498,6 +659,8 @@ mod tests {
                 ("sparc_median".to_owned(), sparc),
                 ("movements".to_owned(), 4.0),
             ]),
+            exercises: vec![],
+            end_reason: String::new(),
         }
     }
 
@@ -530,6 +693,51 @@ mod tests {
             html.matches("<svg").count() >= 3,
             "tracking, torque and speed charts"
         );
+    }
+
+    #[test]
+    fn each_exercise_has_its_column_and_the_end_reason_is_said() {
+        let mut s = session(0, -1.7);
+        let result =
+            |index: u32, kind: &str, name: &str, scores: &[(&str, f64)]| record::ExerciseResult {
+                index,
+                kind: kind.into(),
+                name: name.into(),
+                prescribed_s: 45.0,
+                active_s: 44.95,
+                scores: scores.iter().map(|(k, v)| ((*k).to_owned(), *v)).collect(),
+            };
+        s.exercises = vec![
+            result(0, "sine-road", "Sine road", &[("rms_lateral_m", 0.1234)]),
+            result(
+                1,
+                "dial-sine",
+                "Dial <sine>",
+                &[("dial_mean_abs_error_deg", 3.216)],
+            ),
+        ];
+        s.end_reason = crate::session::end_reason::ENDED_EARLY.into();
+        let html = render(vec![s]).unwrap();
+        assert!(html.contains("<h3>Each exercise</h3>"), "{html}");
+        assert!(html.contains("1. Sine road"));
+        assert!(html.contains("2. Dial &lt;sine&gt;"), "escaped");
+        assert!(html.contains("44.9 of 45") || html.contains("45.0 of 45"));
+        // A row per result, "–" where it does not apply.
+        assert!(html.contains(
+            "<td>Lane keeping: lateral deviation (RMS) (m)</td><td class=\"num\">0.123</td><td class=\"num\">–</td>"
+        ));
+        assert!(html.contains(
+            "<td>Dial angle error (mean absolute, as the thesis's Appendix E) (°)</td><td class=\"num\">–</td><td class=\"num\">3.22</td>"
+        ));
+        assert!(html.contains("Ended early by the patient"), "{html}");
+        let mut old = session(0, -1.7);
+        old.end_reason = String::new();
+        let html = render(vec![old]).unwrap();
+        assert!(html.contains("How it ended is not recorded"));
+        assert!(!html.contains("Each exercise"));
+        let mut done = session(0, -1.7);
+        done.end_reason = "complete".into();
+        assert!(render(vec![done]).unwrap().contains("Ended: complete"));
     }
 
     #[test]

@@ -40,6 +40,10 @@ pub struct SessionData {
     pub movements: Vec<(f64, f64)>,
     /// Every measure by name (the recording's `/metrics`).
     pub measures: BTreeMap<String, f64>,
+    /// Each exercise's own results (empty in recordings made before they were recorded).
+    pub exercises: Vec<record::ExerciseResult>,
+    /// How the session ended, as its `Bye` said (empty when not recorded).
+    pub end_reason: String,
 }
 
 /// Reads the recording at `path`, front to back as a stream: what the charts draw is thinned
@@ -109,6 +113,8 @@ pub fn read(path: &Path) -> anyhow::Result<SessionData> {
                 .collect()
         }),
         measures: metrics.map(|m| m.measures.clone()).unwrap_or_default(),
+        exercises: metrics.map(|m| m.exercises.clone()).unwrap_or_default(),
+        end_reason: metrics.map(|m| m.end_reason.clone()).unwrap_or_default(),
     })
 }
 

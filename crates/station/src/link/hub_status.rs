@@ -126,6 +126,7 @@ async fn converse<S: AsyncRead + AsyncWrite + Unpin>(mut stream: S, hello: &Hell
         hub_unix_ms: None,
         checkin: None,
         difficulty: None,
+        exercises: Vec::new(),
     });
     let mut bytes = match encode_to_vec(&Frame::Hello(hello.clone())) {
         Ok(b) => b,

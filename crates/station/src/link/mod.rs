@@ -385,6 +385,22 @@ impl Link {
         inner.link.set_difficulty(difficulty.clone());
     }
 
+    /// Each exercise's own results, for the session's `Bye` (with a home, queued first like
+    /// the measures).
+    pub fn set_exercises(&mut self, exercises: &[record::ExerciseResult]) {
+        let Some(inner) = self.inner.as_mut() else {
+            return;
+        };
+        let exercises: Vec<netlink::ExerciseResult> =
+            exercises.iter().map(exercise_for_the_hub).collect();
+        if let Some(q) = &inner.queue {
+            q.lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .set_exercises(&exercises);
+        }
+        inner.link.set_exercises(exercises);
+    }
+
     /// End the link: send Bye, wait a short while for the last acknowledgements, and report
     /// honestly what was not delivered.
     ///
@@ -554,6 +570,18 @@ fn spawn_delivery(
 impl SessionObserver for &Link {
     fn on_summary(&mut self, summary: &LiveSummary) {
         self.send(summary);
+    }
+}
+
+/// An exercise's results as the `Bye` carries them.
+pub fn exercise_for_the_hub(e: &record::ExerciseResult) -> netlink::ExerciseResult {
+    netlink::ExerciseResult {
+        index: e.index,
+        kind: e.kind.clone(),
+        name: e.name.clone(),
+        prescribed_s: e.prescribed_s,
+        active_s: e.active_s,
+        scores: e.scores.clone(),
     }
 }
 

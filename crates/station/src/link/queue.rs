@@ -50,6 +50,11 @@ fn difficulty_path(dir: &Path, session_id: &str) -> PathBuf {
     dir.join(format!("{session_id}.difficulty.json"))
 }
 
+/// A session's exercise results, for its `Bye` (beside its measures).
+fn exercises_path(dir: &Path, session_id: &str) -> PathBuf {
+    dir.join(format!("{session_id}.exercises.json"))
+}
+
 /// What a queued session's `Bye` says when the station stopped before the session's end
 /// (its reason was never written).
 pub const ENDED_WITH_THE_STATION: &str =
@@ -60,6 +65,7 @@ fn remove_session(dir: &Path, session_id: &str) {
     for p in paths(dir, session_id).into_iter().chain([
         checkin_path(dir, session_id),
         difficulty_path(dir, session_id),
+        exercises_path(dir, session_id),
     ]) {
         match std::fs::remove_file(&p) {
             Ok(()) => {}
@@ -155,6 +161,20 @@ impl QueueFile {
         }
     }
 
+    /// Keeps each exercise's results for the session's `Bye`, as the measures.
+    pub fn set_exercises(&mut self, exercises: &[netlink::ExerciseResult]) {
+        if self.error.is_some() || exercises.is_empty() {
+            return;
+        }
+        let path = exercises_path(&self.dir, &self.session_id);
+        let written = serde_json::to_vec(exercises)
+            .map_err(|e| e.to_string())
+            .and_then(|json| write_private(&path, &json).map_err(|e| format!("{e:#}")));
+        if let Err(e) = written {
+            self.error = Some(format!("{}: {e}", path.display()));
+        }
+    }
+
     /// Keeps why the session ended for its `Bye`, like its measures.
     pub fn set_end_reason(&mut self, reason: &str) {
         if self.error.is_some() {
@@ -184,6 +204,8 @@ pub struct Queued {
     pub checkin: Option<netlink::CheckIn>,
     /// The session's difficulty and its change, for its `Bye`, if it adapted.
     pub difficulty: Option<netlink::DifficultyChange>,
+    /// Each exercise's results, for its `Bye` (empty if the session did not end in order).
+    pub exercises: Vec<netlink::ExerciseResult>,
     /// Why it ended, for its `Bye` (`None` if the session did not end in order).
     pub end_reason: Option<String>,
 }
@@ -230,6 +252,10 @@ pub fn pending(dir: &Path) -> anyhow::Result<Vec<Queued>> {
         let difficulty = std::fs::read(difficulty_path(dir, &hello.session_id))
             .ok()
             .and_then(|json| serde_json::from_slice(&json).ok());
+        let exercises = std::fs::read(exercises_path(dir, &hello.session_id))
+            .ok()
+            .and_then(|json| serde_json::from_slice(&json).ok())
+            .unwrap_or_default();
         let end_reason = std::fs::read_to_string(&end_path).ok();
         out.push(Queued {
             hello,
@@ -237,6 +263,7 @@ pub fn pending(dir: &Path) -> anyhow::Result<Vec<Queued>> {
             measures,
             checkin,
             difficulty,
+            exercises,
             end_reason,
         });
     }
@@ -304,6 +331,9 @@ pub async fn deliver_sessions(
         }
         if let Some(d) = q.difficulty {
             link.set_difficulty(d);
+        }
+        if !q.exercises.is_empty() {
+            link.set_exercises(q.exercises);
         }
         let mut unsent = 0_u64;
         for s in q.summaries {

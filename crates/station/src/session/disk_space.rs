@@ -179,7 +179,14 @@ mod tests {
         };
         let mut summaries = Summaries::default();
         let done = std::sync::atomic::AtomicBool::new(true);
-        let (out, _) = recorder_loop(consumer, Some(recorder), &done, plan, &mut summaries);
+        let (out, _) = recorder_loop(
+            consumer,
+            Some(recorder),
+            &done,
+            plan,
+            &mut summaries,
+            &Default::default(),
+        );
         assert_eq!(out.records, 2500, "the session went on");
         let at_s = out.recording_stopped_s.unwrap();
         assert!((at_s - 0.999).abs() < 1e-9, "stopped at {at_s} s");

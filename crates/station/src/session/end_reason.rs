@@ -3,6 +3,8 @@
 //! end-of-run report says.
 
 use super::SessionReport;
+use super::haptic::HapticOutcome;
+use super::recorder::RecorderOutcome;
 use haptic_wheel::WheelFault;
 
 /// The exercises ran their prescription.
@@ -28,26 +30,47 @@ impl SessionReport {
     /// "[`SAFETY_STOP`]: …"; with "; [`DISK_FULL`] at N s" (or "; recording stopped: …") when
     /// the recording stopped while the session went on.
     pub fn end_reason(&self) -> String {
-        let mut reason = match self.haptic.wheel_fault {
-            Some(WheelFault::Unplugged) => WHEEL_UNPLUGGED.to_owned(),
-            Some(fault) => format!("{SAFETY_STOP}: {}", fault.describe()),
-            None if self.haptic.paused_too_long => PAUSED_TOO_LONG.to_owned(),
-            None if self.haptic.window_lost => WINDOW_LOST.to_owned(),
-            None if self.haptic.stopped_early => ENDED_EARLY.to_owned(),
-            None => COMPLETE.to_owned(),
-        };
-        if let Some(t_s) = self.recorder.recording_stopped_s {
-            let error = self.recorder.error.as_deref().unwrap_or_default();
-            let disk_full = ["disk", "space", "ENOSPC", "os error 28"]
-                .iter()
-                .any(|w| error.contains(w));
-            if disk_full {
-                reason.push_str(&format!("; {DISK_FULL} at {t_s:.0} s"));
-            } else {
-                reason.push_str(&format!("; recording stopped at {t_s:.0} s"));
-            }
+        with_recording(ended_by(&self.haptic), &self.recorder)
+    }
+}
+
+/// Why the haptic loop ended ([`SessionReport::end_reason`] without the recording's part).
+pub fn ended_by(haptic: &HapticOutcome) -> String {
+    match haptic.wheel_fault {
+        Some(WheelFault::Unplugged) => WHEEL_UNPLUGGED.to_owned(),
+        Some(fault) => format!("{SAFETY_STOP}: {}", fault.describe()),
+        None if haptic.paused_too_long => PAUSED_TOO_LONG.to_owned(),
+        None if haptic.window_lost => WINDOW_LOST.to_owned(),
+        None if haptic.stopped_early => ENDED_EARLY.to_owned(),
+        None => COMPLETE.to_owned(),
+    }
+}
+
+/// `reason` with "; [`DISK_FULL`] at N s" (or "; recording stopped at N s") when the
+/// recorder's account says the recording stopped while the session went on.
+pub fn with_recording(mut reason: String, recorder: &RecorderOutcome) -> String {
+    if let Some(t_s) = recorder.recording_stopped_s {
+        let error = recorder.error.as_deref().unwrap_or_default();
+        let disk_full = ["disk", "space", "ENOSPC", "os error 28"]
+            .iter()
+            .any(|w| error.contains(w));
+        if disk_full {
+            reason.push_str(&format!("; {DISK_FULL} at {t_s:.0} s"));
+        } else {
+            reason.push_str(&format!("; recording stopped at {t_s:.0} s"));
         }
-        reason
+    }
+    reason
+}
+
+/// How a session ended in the report's words: "Ended: complete", "Ended early by the
+/// patient (…)", "Ended: wheel unplugged" (the stored reason after "Ended: " unless it says
+/// "ended" itself); "How it ended is not recorded" for a recording older than the reason.
+pub fn sentence(reason: &str) -> String {
+    match reason.trim() {
+        "" => "How it ended is not recorded".to_owned(),
+        r if r.starts_with("ended") => crate::screen::capitalised(r),
+        r => format!("Ended: {r}"),
     }
 }
 

@@ -54,6 +54,8 @@ pub struct HapticOutcome {
     pub paused_too_long: bool,
     /// The session ended because the patient's window could not be kept up.
     pub window_lost: bool,
+    /// Each exercise's own scores, of the exercises started (in course order).
+    pub exercise_scores: Vec<crate::session::plant::ExerciseScores>,
 }
 
 /// The loop's deadline arithmetic, without a clock: the tick of slot `k` is due at
@@ -316,6 +318,7 @@ pub fn run(
         rest_s: breaks.rest_s(),
         paused_too_long: breaks.paused_too_long,
         window_lost: controls.window_lost.load(Ordering::Relaxed),
+        exercise_scores: plant.exercise_scores(),
     }
 }
 

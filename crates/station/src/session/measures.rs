@@ -17,10 +17,11 @@
 //! them to a temporary file on the recording's disk, so that its resident memory stays flat
 //! however long it runs ([`series`]).
 
+use super::plant::ExerciseScores;
 use metrics::{
     LiveMeasures, MetricError, SessionMeasures, SessionParams, session_measures_of_runs,
 };
-use record::{ArmSetup, MetricsSample, MovementSample, TickRecord};
+use record::{ArmSetup, ExerciseResult, MetricsSample, MovementSample, TickRecord, Watchdog};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -63,6 +64,35 @@ pub struct MeasureCollector {
     /// Positive work of the patient's hand on the wheel, J (simulation only: a real wheel
     /// does not measure the hand's torque).
     patient_work_j: Option<f64>,
+    /// The exercise of each run (parallel to `runs`): a run never spans two exercises.
+    run_exercise: Vec<u32>,
+    /// The exercise of the last tick taken.
+    exercise_now: u32,
+    /// Each exercise's own tallies, by its index in the course.
+    tallies: Vec<ExerciseTally>,
+}
+
+/// What the collector counts of one exercise, tick by tick.
+#[derive(Clone, Debug, Default)]
+struct ExerciseTally {
+    /// Ticks the exercise ran (not paused).
+    active_ticks: u64,
+    /// Sum of the squared wheel tracking error (ideal angle − wheel angle) and its ticks, rad².
+    tracking_sq_rad2: f64,
+    tracking_ticks: u64,
+    /// Smallest and largest shoulder elevation and elbow flexion while tracked, rad.
+    joint_min_rad: [f64; 2],
+    joint_max_rad: [f64; 2],
+}
+
+impl ExerciseTally {
+    fn new() -> Self {
+        Self {
+            joint_min_rad: [f64::INFINITY; 2],
+            joint_max_rad: [f64::NEG_INFINITY; 2],
+            ..Self::default()
+        }
+    }
 }
 
 /// A session's measures at its end.
@@ -111,7 +141,19 @@ impl MeasureCollector {
                 .expect("the default parameters and a positive rate are valid"),
             assist_work_j: 0.0,
             patient_work_j: None,
+            run_exercise: Vec::new(),
+            exercise_now: 0,
+            tallies: Vec::new(),
         }
+    }
+
+    /// The tally of exercise `index`, made on its first tick.
+    fn tally(&mut self, index: u32) -> &mut ExerciseTally {
+        let i = index as usize;
+        if self.tallies.len() <= i {
+            self.tallies.resize(i + 1, ExerciseTally::new());
+        }
+        &mut self.tallies[i]
     }
 
     /// Sampling rate of the series, Hz.
@@ -129,7 +171,28 @@ impl MeasureCollector {
             self.in_run = false;
             return;
         }
+        let exercise = rec.score.exercise_index;
+        let changed = exercise != self.exercise_now;
+        if changed {
+            // A run never spans two exercises: each is measured over its own span.
+            (self.block_sum_rad, self.block_ticks, self.block_finite) = (0.0, 0, 0);
+            self.in_run = false;
+            self.exercise_now = exercise;
+        }
         let w = &rec.wheel;
+        // The session's fade-out is no exercise's own time.
+        let stopping = matches!(w.watchdog, Watchdog::Stopping | Watchdog::Stopped);
+        let tally = self.tally(exercise);
+        let tracking_rad = w.target_rad - w.angle_rad;
+        if !stopping {
+            tally.active_ticks += 1;
+            // An exercise's first tick runs before the card between two exercises, with the
+            // wheel where the last one left it: no tracking error of the new one's.
+            if tracking_rad.is_finite() && !changed {
+                tally.tracking_sq_rad2 += tracking_rad * tracking_rad;
+                tally.tracking_ticks += 1;
+            }
+        }
         if w.velocity_rad_s.is_finite() {
             if rec.assist.active && rec.assist.torque_nm.is_finite() {
                 self.assist_work_j +=
@@ -153,6 +216,7 @@ impl MeasureCollector {
         }
         if !self.in_run {
             self.runs.push(self.series.len());
+            self.run_exercise.push(self.exercise_now);
             self.in_run = true;
             self.run_last_rad = 0.0;
         }
@@ -170,6 +234,13 @@ impl MeasureCollector {
             }
             _ => [f64::NAN; 2],
         };
+        if joints.iter().all(|j| j.is_finite()) {
+            let tally = self.tally(exercise);
+            for (k, j) in joints.iter().enumerate() {
+                tally.joint_min_rad[k] = tally.joint_min_rad[k].min(*j);
+                tally.joint_max_rad[k] = tally.joint_max_rad[k].max(*j);
+            }
+        }
         // Joints kept when both are finite.
         self.series.push(SeriesSample {
             wheel_rad: angle,
@@ -271,6 +342,65 @@ impl MeasureCollector {
             .collect())
     }
 
+    /// Each exercise's own results after [`Self::finish`]: the haptic thread's `scores` of
+    /// each exercise started, with its active time, its wheel tracking error and the movement
+    /// measures over its own runs (joint ranges while tracked); `name` gives the patient's
+    /// name of a kind.
+    pub fn exercise_results(
+        &self,
+        scores: &[ExerciseScores],
+        name: impl Fn(&str) -> String,
+    ) -> Vec<ExerciseResult> {
+        scores
+            .iter()
+            .map(|s| {
+                let mut named = BTreeMap::new();
+                let tally = self.tallies.get(s.index as usize);
+                if let Some(m) = self.exercise_measures(s.index) {
+                    name_movement_measures(&mut named, &m);
+                }
+                if let Some(t) = tally {
+                    for (k, joint) in JOINTS.iter().enumerate() {
+                        if t.joint_min_rad[k] <= t.joint_max_rad[k] {
+                            let range = t.joint_max_rad[k] - t.joint_min_rad[k];
+                            named.insert(format!("{joint}_rom_deg"), range.to_degrees());
+                        }
+                    }
+                    if t.tracking_ticks > 0 {
+                        let rms = (t.tracking_sq_rad2 / t.tracking_ticks as f64).sqrt();
+                        named.insert("tracking_rms_error_deg".to_owned(), rms.to_degrees());
+                    }
+                }
+                name_exercise_scores(&mut named, s);
+                named.retain(|_, v| v.is_finite());
+                ExerciseResult {
+                    index: s.index,
+                    kind: s.kind.clone(),
+                    name: name(&s.kind),
+                    prescribed_s: s.prescribed_s,
+                    active_s: tally.map_or(0.0, |t| t.active_ticks as f64 * self.tick_s),
+                    scores: named,
+                }
+            })
+            .collect()
+    }
+
+    /// The movement analysis of exercise `index`'s runs alone (none before [`Self::finish`],
+    /// or when it ran too briefly).
+    fn exercise_measures(&self, index: u32) -> Option<SessionMeasures> {
+        let series = self.series.loaded()?;
+        let runs: Vec<&[f64]> = self
+            .runs()
+            .zip(&self.run_exercise)
+            .filter(|(r, e)| **e == index && !r.is_empty())
+            .map(|(r, _)| &series.wheel_rad[r])
+            .collect();
+        if runs.iter().map(|r| r.len()).sum::<usize>() < 2 {
+            return None;
+        }
+        session_measures_of_runs(&runs, self.fs_hz(), &[], &SessionParams::default()).ok()
+    }
+
     /// The measures as the `/metrics` channel records them (movement times in session time),
     /// `m` from [`Self::finish`].
     pub fn sample(&self, m: &Measures) -> MetricsSample {
@@ -289,6 +419,8 @@ impl MeasureCollector {
                 })
                 .collect(),
             error: m.error.clone().unwrap_or_default(),
+            exercises: Vec::new(),
+            end_reason: String::new(),
         }
     }
 
@@ -329,6 +461,32 @@ impl MeasureCollector {
             }
         }
         named.extend(out.safety_and_assist());
+    }
+}
+
+/// An exercise's own scores by name: lane keeping, time in lane, heading error and cones of
+/// a road; the dial's mean absolute (the thesis's Appendix E measure) and RMS angle error;
+/// the time it took when it ran to its end.
+fn name_exercise_scores(named: &mut BTreeMap<String, f64>, s: &ExerciseScores) {
+    let mut put = |name: &str, v: f64| {
+        named.insert(name.to_owned(), v);
+    };
+    if let Some(d) = &s.driving {
+        put("rms_lateral_m", d.rms_lateral_m);
+        put("max_lateral_m", d.max_lateral_m);
+        put("pct_in_lane", d.pct_in_lane);
+        put("heading_rms_error_deg", d.rms_heading_error_deg);
+        put("heading_max_error_deg", d.max_heading_error_deg);
+        put("cone_hits", f64::from(d.cone_hits));
+        put("road_exits", f64::from(d.road_exits));
+    }
+    if let Some(d) = &s.dial {
+        put("dial_mean_abs_error_deg", d.mean_abs_error_deg);
+        put("dial_rms_error_deg", d.rms_error_deg);
+        put("dial_max_abs_error_deg", d.max_abs_error_deg);
+    }
+    if let Some(t) = s.completion_time_s {
+        put("completion_time_s", t);
     }
 }
 

@@ -251,24 +251,41 @@ fn with_rests(mut outcome: RecorderOutcome, haptic: &HapticOutcome) -> RecorderO
     outcome
 }
 
-/// What the recording says of the session: its settings, its course and who held the wheel.
-fn metadata(opts: &SessionOptions, facts: record::BodyFacts) -> SessionMetadata {
+/// The session's recording, created with its metadata (none without `opts.record`).
+fn start_recording(
+    opts: &SessionOptions,
+    start_unix_ns: u64,
+    facts: record::BodyFacts,
+) -> anyhow::Result<Option<McapRecorder>> {
     let cfg = &opts.config;
-    SessionMetadata {
-        exercise: cfg.session.exercise.clone(),
-        seed: cfg.session.seed,
-        patient_id: cfg.session.patient_id.clone(),
-        loop_rate_hz: cfg.session.loop_rate_hz,
-        config_toml: toml::to_string(cfg).unwrap_or_default(),
-        // A session is replayable only with its course: record the regimen (as run) as well.
-        regimen_toml: opts
-            .regimen
-            .as_ref()
-            .map(|r| toml::to_string(r).unwrap_or_default()),
-        body: Some(facts),
-        format_version: record::types::FORMAT_VERSION,
-        difficulty: opts.difficulty.clone(),
-    }
+    let rate = cfg.session.loop_rate_hz;
+    Ok(match &opts.record {
+        Some(path) => {
+            // Room for the whole planned recording, or no session.
+            disk_space::ensure_room(path, cfg.session.duration_s)?;
+            let meta = SessionMetadata {
+                exercise: cfg.session.exercise.clone(),
+                seed: cfg.session.seed,
+                patient_id: cfg.session.patient_id.clone(),
+                loop_rate_hz: rate,
+                config_toml: toml::to_string(cfg).unwrap_or_default(),
+                // A session is replayable only with its course: record the regimen as well.
+                regimen_toml: opts
+                    .regimen
+                    .as_ref()
+                    .map(|r| toml::to_string(r).unwrap_or_default()),
+                body: Some(facts),
+                format_version: record::types::FORMAT_VERSION,
+                difficulty: opts.difficulty.clone(),
+            };
+            Some(
+                McapRecorder::create(path, start_unix_ns, &meta)
+                    .context("cannot start recording")?
+                    .fill_disk_at(faults::disk_full_at_ns(&cfg.faults)),
+            )
+        }
+        None => None,
+    })
 }
 
 fn run_body(
@@ -311,18 +328,7 @@ fn run_body(
     } else {
         tracing::info!("{ceiling}");
     }
-    let recorder = match &opts.record {
-        Some(path) => {
-            // Room for the whole planned recording, or no session.
-            disk_space::ensure_room(path, cfg.session.duration_s)?;
-            Some(
-                McapRecorder::create(path, start_unix_ns, &metadata(opts, facts))
-                    .context("cannot start recording")?
-                    .fill_disk_at(faults::disk_full_at_ns(&cfg.faults)),
-            )
-        }
-        None => None,
-    };
+    let recorder = start_recording(opts, start_unix_ns, facts)?;
     let (mut producer, consumer) = rtrb::RingBuffer::<TickRecord>::new(RING_CAPACITY);
     let haptic_done = Arc::new(AtomicBool::new(false));
     let period_ns = (1e9 / rate).round() as u64;
@@ -339,8 +345,10 @@ fn run_body(
         arm_lengths_m: [cfg.arm.geometry.upper_arm_m, cfg.arm.geometry.forearm_m],
     };
 
+    let ending = std::sync::OnceLock::new();
     let (haptic, recorder_outcome, summaries) = std::thread::scope(|scope| -> anyhow::Result<_> {
         let done = haptic_done.clone();
+        let ending = &ending;
         let rec_thread = std::thread::Builder::new()
             .name("recorder".into())
             .spawn_scoped(scope, move || {
@@ -349,7 +357,7 @@ fn run_body(
                     inner: observer,
                     away: false,
                 };
-                recorder_loop(consumer, recorder, &done, plan, &mut watched)
+                recorder_loop(consumer, recorder, &done, plan, &mut watched, ending)
             })
             .context("cannot start the recorder thread")?;
         let haptic_thread = std::thread::Builder::new()
@@ -367,6 +375,12 @@ fn run_body(
             })
             .context("cannot start the haptic thread")?;
         let haptic = haptic_thread.join();
+        if let Ok(h) = &haptic {
+            let _ = ending.set(recorder::SessionEnding {
+                reason: end_reason::ended_by(h),
+                scores: h.exercise_scores.clone(),
+            });
+        }
         haptic_done.store(true, Ordering::Release);
         let (rec, summaries) = rec_thread
             .join()

@@ -343,6 +343,8 @@ pub struct RecorderOutcome {
     pub arm_calibration: Option<Result<ArmCalibrationSample, String>>,
     /// The session's movement measures, computed at its end.
     pub measures: Measures,
+    /// Each exercise's own results, computed at its end (as `/metrics` records them).
+    pub exercises: Vec<record::ExerciseResult>,
     /// Size of the finished MCAP file, bytes (None without recording).
     pub mcap_bytes: Option<u64>,
     /// The first recording error, if any (recording stops, the session goes on).
@@ -413,12 +415,23 @@ pub(super) struct RecorderPlan {
     pub(super) arm_lengths_m: [f64; 2],
 }
 
+/// What the haptic thread leaves the recorder when it ends, for the recording's `/metrics`:
+/// why the loop ended and each exercise's own scores.
+#[derive(Debug, Default)]
+pub struct SessionEnding {
+    /// [`super::end_reason::ended_by`] of the haptic thread's outcome.
+    pub reason: String,
+    /// Each exercise's own scores, of the exercises started.
+    pub scores: Vec<super::plant::ExerciseScores>,
+}
+
 pub(super) fn recorder_loop(
     mut consumer: rtrb::Consumer<TickRecord>,
     mut mcap: Option<McapRecorder>,
     haptic_done: &AtomicBool,
     plan: RecorderPlan,
     observer: &mut dyn SessionObserver,
+    ending: &std::sync::OnceLock<SessionEnding>,
 ) -> (RecorderOutcome, u64) {
     let RecorderPlan {
         period_ns,
@@ -509,8 +522,20 @@ pub(super) fn recorder_loop(
         out.arm_calibration = Some(fitted);
     }
     out.measures = measures.finish(&out);
+    let ending = ending.get();
+    out.exercises = measures.exercise_results(
+        ending.map_or(&[][..], |e| e.scores.as_slice()),
+        crate::screen::plain_name,
+    );
+    let sample = MetricsSample {
+        exercises: out.exercises.clone(),
+        end_reason: ending.map_or_else(String::new, |e| {
+            super::end_reason::with_recording(e.reason.clone(), &out)
+        }),
+        ..measures.sample(&out.measures)
+    };
     if let Some(m) = mcap.as_mut()
-        && let Err(e) = m.record_metrics(&out.last, &measures.sample(&out.measures))
+        && let Err(e) = m.record_metrics(&out.last, &sample)
     {
         out.error.get_or_insert_with(|| e.to_string());
     }

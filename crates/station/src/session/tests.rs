@@ -444,3 +444,138 @@ fn a_pause_longer_than_the_limit_ends_the_session_saying_so() {
     let ran_s = report.haptic.ticks as f64 / 1000.0;
     assert!((10.0..12.5).contains(&ran_s), "ran {ran_s} s");
 }
+
+/// Root mean square and mean absolute of `errors`.
+fn rms_and_mean_abs(errors: &[f64]) -> (f64, f64) {
+    let n = errors.len().max(1) as f64;
+    let rms = (errors.iter().map(|e| e * e).sum::<f64>() / n).sqrt();
+    (rms, errors.iter().map(|e| e.abs()).sum::<f64>() / n)
+}
+
+/// `a` within `rel` of `b` (relative), or within `abs`.
+fn close(a: f64, b: f64, rel: f64, abs: f64) -> bool {
+    (a - b).abs() <= (rel * b.abs()).max(abs)
+}
+
+#[test]
+fn a_dial_then_road_regimen_gives_each_exercise_its_own_results_matching_the_recording() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("s.mcap");
+    let text = "[[exercise]]\nkind = \"dial\"\nduration_s = 8.0\n\n\
+                [[exercise]]\nkind = \"sine\"\nduration_s = 8.0\n";
+    let mut opts = simulated_at_max_speed(config("dial-sine", 60.0));
+    opts.regimen = Some(regimen::Regimen::from_toml(text, "test").unwrap());
+    opts.record = Some(path.clone());
+    let report = super::run(&opts, &Controls::default(), &mut ()).unwrap();
+    let results = &report.recorder.exercises;
+    assert_eq!(results.len(), 2, "{results:?}");
+    let (dial, road) = (&results[0], &results[1]);
+    assert_eq!((dial.index, road.index), (0, 1));
+    assert!(dial.kind.starts_with("dial"), "{}", dial.kind);
+    assert_eq!(
+        (road.kind.as_str(), road.name.as_str()),
+        ("sine-road", "Sine road")
+    );
+    for e in results {
+        assert_eq!(e.prescribed_s, 8.0);
+        // Its own time, without the session's fade-out after the last one.
+        assert!((e.active_s - 8.0).abs() <= 2e-3, "{e:?}");
+        assert!(e.scores.len() <= netlink::frame::MAX_EXTRA_ENTRIES);
+        assert!(e.scores.contains_key("movements") && e.scores.contains_key("sparc_median"));
+        assert!((e.scores["completion_time_s"] - 8.0).abs() <= 2e-3, "{e:?}");
+    }
+    // Each exercise has the scores that apply to it, and its own values.
+    assert!(dial.scores.contains_key("dial_mean_abs_error_deg"));
+    assert!(!dial.scores.contains_key("rms_lateral_m"));
+    for key in [
+        "rms_lateral_m",
+        "pct_in_lane",
+        "heading_rms_error_deg",
+        "cone_hits",
+    ] {
+        assert!(road.scores.contains_key(key), "{key}: {:?}", road.scores);
+    }
+    assert!(!road.scores.contains_key("dial_rms_error_deg"));
+    for key in ["tracking_rms_error_deg", "sparc_median", "wheel_rom_deg"] {
+        assert_ne!(dial.scores[key], road.scores[key], "{key}");
+    }
+    // The session's totals stay as they were: its lane score is the road's, with the
+    // session's fade-out after it.
+    let totals = &report.recorder.measures.named;
+    assert!(close(
+        totals["rms_lateral_m"],
+        road.scores["rms_lateral_m"],
+        0.05,
+        1e-3
+    ));
+    assert!(totals.contains_key("dial_rms_error_deg") && totals.contains_key("movements"));
+
+    // The recording holds them, with how the session ended, and they recompute from its ticks.
+    let rec = record::Recording::open(&path).unwrap();
+    let metrics = &rec.metrics.last().unwrap().data;
+    assert_eq!(&metrics.exercises, results);
+    assert_eq!(metrics.end_reason, super::end_reason::COMPLETE);
+    let ticks: Vec<TickRecord> = rec.ticks().collect();
+    // Each tick's watchdog says whether the exercise ran (a pause fades to `Paused`, the end
+    // to `Stopping`); the exercise is the last score message's (every 100 ms: it changes
+    // within the break between two exercises, which is paused).
+    let of = |index: u32| -> Vec<&TickRecord> {
+        ticks
+            .iter()
+            .filter(|t| {
+                t.score.exercise_index == index
+                    && matches!(t.wheel.watchdog, Watchdog::SoftStart | Watchdog::Running)
+            })
+            .collect()
+    };
+    let tracking = |ts: &[&TickRecord]| -> Vec<f64> {
+        ts.iter()
+            .map(|t| t.wheel.target_rad - t.wheel.angle_rad)
+            .collect()
+    };
+    let (dial_rms, dial_mean_abs) = rms_and_mean_abs(&tracking(&of(0)));
+    assert!(
+        close(
+            dial.scores["dial_rms_error_deg"],
+            dial_rms.to_degrees(),
+            0.02,
+            0.01
+        ),
+        "{} vs {}",
+        dial.scores["dial_rms_error_deg"],
+        dial_rms.to_degrees()
+    );
+    assert!(
+        close(
+            dial.scores["dial_mean_abs_error_deg"],
+            dial_mean_abs.to_degrees(),
+            0.02,
+            0.01
+        ),
+        "{} vs {}",
+        dial.scores["dial_mean_abs_error_deg"],
+        dial_mean_abs.to_degrees()
+    );
+    let (road_tracking, _) = rms_and_mean_abs(&tracking(&of(1)));
+    assert!(
+        close(
+            road.scores["tracking_rms_error_deg"],
+            road_tracking.to_degrees(),
+            0.02,
+            0.01
+        ),
+        "{} vs {}",
+        road.scores["tracking_rms_error_deg"],
+        road_tracking.to_degrees()
+    );
+    let lateral: Vec<f64> = of(1)
+        .iter()
+        .filter_map(|t| t.vehicle.map(|v| v.lateral_m))
+        .collect();
+    let (lane_rms, _) = rms_and_mean_abs(&lateral);
+    assert!(
+        close(road.scores["rms_lateral_m"], lane_rms, 0.02, 1e-3),
+        "{} vs {lane_rms}",
+        road.scores["rms_lateral_m"]
+    );
+}

@@ -30,6 +30,37 @@ pub(super) struct Exercise {
     slew_nm_per_s: f64,
     /// Where the patient aimed last, rad (held while paused).
     last_target_rad: f64,
+    /// Each exercise's own scores, in course order (allocated before the session).
+    own: Vec<OwnScore>,
+    /// The session is stopping: its fade-out is no exercise's own time.
+    stopping: bool,
+}
+
+/// One exercise's own scores, kept beside the session's cumulative ones.
+#[derive(Clone, Default)]
+struct OwnScore {
+    driving: DrivingScore,
+    dial: DialScore,
+    /// Exercise time it took, s, when it ran to its end.
+    completed_s: Option<f64>,
+}
+
+/// One exercise's own scores at the end of a session (what the recorder names and records
+/// as its results).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExerciseScores {
+    /// Its place in the course, from 0.
+    pub index: u32,
+    /// The regimen's short name (`sine-road`).
+    pub kind: String,
+    /// Its prescribed duration, s.
+    pub prescribed_s: f64,
+    /// Its driving scores (a road exercise).
+    pub driving: Option<vehicle::DrivingSummary>,
+    /// Its dial scores (the dial task).
+    pub dial: Option<vehicle::DialSummary>,
+    /// Exercise time it took, s, when it ran to its end (`None`: the session ended first).
+    pub completion_time_s: Option<f64>,
 }
 
 /// What the exercise asks of the wheel this tick.
@@ -93,7 +124,10 @@ impl Exercise {
             params: cfg.vehicle.clone(),
             slew_nm_per_s: cfg.haptic.safety.slew_nm_per_s,
             last_target_rad: 0.0,
+            own: Vec::new(),
+            stopping: false,
         };
+        exercise.own = vec![OwnScore::default(); exercise.course.len()];
         exercise.projection = exercise.start_projection();
         exercise
     }
@@ -121,6 +155,9 @@ impl Exercise {
         let dt = now.dt_s;
         let segment_index = self.segment as u32;
         let seg = &mut self.course[self.segment];
+        let own = &mut self.own[self.segment];
+        // An exercise's own scores end with it (the last one goes on through the fade-out).
+        let own_counts = !self.stopping && own.completed_s.is_none();
         let t_in = now.t_s - self.segment_start_s;
         let (target, road_feel, vehicle, finished) = match (&mut seg.world, &seg.exercise.road) {
             (Some(world), Some(_)) if paused => {
@@ -148,9 +185,16 @@ impl Exercise {
                 // Drained in place: no allocation on a contact tick.
                 for event in world.drain_events() {
                     self.driving.record(&event);
+                    if own_counts {
+                        own.driving.record(&event);
+                    }
                 }
+                let lane_m = seg.exercise.lane_width_m;
                 self.driving
-                    .update(&self.projection, st.yaw_rad, seg.exercise.lane_width_m, dt);
+                    .update(&self.projection, st.yaw_rad, lane_m, dt);
+                if own_counts {
+                    own.driving.update(&self.projection, st.yaw_rad, lane_m, dt);
+                }
                 let fyf = world.tyre_forces().front_lateral_n;
                 let desired = self.driver.desired_steer_rad(
                     &self.params,
@@ -170,6 +214,9 @@ impl Exercise {
             _ => {
                 let desired = seg.exercise.desired_angle_rad(t_in).unwrap_or(0.0);
                 self.dial.update(desired, angle, dt);
+                if own_counts {
+                    own.dial.update(desired, angle, dt);
+                }
                 (desired, 0.0, None, seg.exercise.is_finished(t_in, 0.0))
             }
         };
@@ -223,6 +270,11 @@ impl Exercise {
         }
     }
 
+    /// The session is stopping: what follows is its fade-out, no exercise's own time.
+    pub(super) fn stop(&mut self) {
+        self.stopping = true;
+    }
+
     /// The break after exercise `segment` of the course, if any.
     pub(super) fn break_after(&self, segment: usize) -> Option<crate::session::course::Break> {
         self.course.get(segment).and_then(|s| s.break_after)
@@ -231,6 +283,9 @@ impl Exercise {
     /// Move on to the next exercise at exercise time `t_s`, and the haptic settings it
     /// brings; or mark the course done after the last one.
     pub(super) fn next_segment(&mut self, t_s: f64) -> Option<&HapticRegimen> {
+        // The first end counts: the last exercise goes on through the session's fade-out.
+        let took_s = t_s - self.segment_start_s;
+        self.own[self.segment].completed_s.get_or_insert(took_s);
         if self.segment + 1 >= self.course.len() {
             self.course_done = true;
             return None;
@@ -239,6 +294,27 @@ impl Exercise {
         self.segment_start_s = t_s;
         self.projection = self.start_projection();
         Some(&self.course[self.segment].haptic)
+    }
+
+    /// Each exercise's own scores so far, of the exercises started (in course order).
+    pub(super) fn exercise_scores(&self) -> Vec<ExerciseScores> {
+        self.course
+            .iter()
+            .zip(&self.own)
+            .enumerate()
+            .take(self.segment + 1)
+            .map(|(i, (seg, own))| {
+                let road = seg.exercise.road.is_some();
+                ExerciseScores {
+                    index: i as u32,
+                    kind: seg.exercise.name.clone(),
+                    prescribed_s: seg.exercise.planned_duration_s(),
+                    driving: road.then(|| own.driving.summary()),
+                    dial: (!road).then(|| own.dial.summary()),
+                    completion_time_s: own.completed_s,
+                }
+            })
+            .collect()
     }
 
     /// The scores so far, as recorded on `/score`.

@@ -10,6 +10,7 @@ mod health;
 mod raw;
 
 pub use body::Body;
+pub use exercise::ExerciseScores;
 
 use crate::config::StationConfig;
 use crate::session::arm::{SetupStep, WheelNow};
@@ -214,6 +215,7 @@ impl Plant {
     /// when it reached zero.
     pub fn request_stop(&mut self) {
         self.raw.stop_requested = true;
+        self.exercise.stop();
         self.chain.request_stop();
     }
 
@@ -354,6 +356,11 @@ impl Plant {
             brake: on_grid(p.brake, record::raw::PEDAL_QUANTUM),
         };
         self.raw.pedals
+    }
+
+    /// Each exercise's own scores so far, of the exercises started (in course order).
+    pub fn exercise_scores(&self) -> Vec<ExerciseScores> {
+        self.exercise.exercise_scores()
     }
 
     /// A replay pauses where the patient did.
