@@ -207,6 +207,17 @@ fn samples() -> Vec<Value> {
     let model = serde_json::to_value(haptic_wheel::SpringDamper::default()).unwrap();
     // A rest after an exercise.
     out.push(json!({ "exercise": [{ "kind": "dial", "duration_s": 60.0, "rest_s": 30.0 }] }));
+    // Difficulty that follows the patient, over the widest bounds.
+    // (The start lies between the lowest and the highest: each is pushed to its edges in a
+    // sample of its own, the others at their defaults.)
+    out.push(
+        json!({ "exercise": [{ "kind": "dial", "duration_s": 60.0 }],
+        "difficulty": { "target_success": 0.7, "lowest": 0.0, "highest": 1.0 } }),
+    );
+    out.push(
+        json!({ "exercise": [{ "kind": "dial", "duration_s": 60.0 }],
+        "difficulty": { "start": 0.5 } }),
+    );
     out.push(json!({ "exercise": [{ "kind": "dial", "duration_s": 60.0,
         "haptic": { "effects": effects, "model": model, "ceiling_nm": 5.0 } }] }));
     use assist::spec::*;

@@ -32,6 +32,9 @@ pub(super) struct Exercise {
     last_target_rad: f64,
     /// Each exercise's own scores, in course order (allocated before the session).
     own: Vec<OwnScore>,
+    /// What [`Self::exercise_scores`] hands over, built before the session (names included)
+    /// so that the haptic thread allocates nothing at its end either.
+    handed: Vec<ExerciseScores>,
     /// The session is stopping: its fade-out is no exercise's own time.
     stopping: bool,
 }
@@ -125,9 +128,23 @@ impl Exercise {
             slew_nm_per_s: cfg.haptic.safety.slew_nm_per_s,
             last_target_rad: 0.0,
             own: Vec::new(),
+            handed: Vec::new(),
             stopping: false,
         };
         exercise.own = vec![OwnScore::default(); exercise.course.len()];
+        exercise.handed = exercise
+            .course
+            .iter()
+            .enumerate()
+            .map(|(i, seg)| ExerciseScores {
+                index: i as u32,
+                kind: seg.exercise.name.clone(),
+                prescribed_s: seg.exercise.planned_duration_s(),
+                driving: None,
+                dial: None,
+                completion_time_s: None,
+            })
+            .collect();
         exercise.projection = exercise.start_projection();
         exercise
     }
@@ -296,25 +313,18 @@ impl Exercise {
         Some(&self.course[self.segment].haptic)
     }
 
-    /// Each exercise's own scores so far, of the exercises started (in course order).
-    pub(super) fn exercise_scores(&self) -> Vec<ExerciseScores> {
-        self.course
-            .iter()
-            .zip(&self.own)
-            .enumerate()
-            .take(self.segment + 1)
-            .map(|(i, (seg, own))| {
-                let road = seg.exercise.road.is_some();
-                ExerciseScores {
-                    index: i as u32,
-                    kind: seg.exercise.name.clone(),
-                    prescribed_s: seg.exercise.planned_duration_s(),
-                    driving: road.then(|| own.driving.summary()),
-                    dial: (!road).then(|| own.dial.summary()),
-                    completion_time_s: own.completed_s,
-                }
-            })
-            .collect()
+    /// Each exercise's own scores so far, of the exercises started (in course order), handed
+    /// over once (a second call gives none): without allocating, at the session's end.
+    pub(super) fn exercise_scores(&mut self) -> Vec<ExerciseScores> {
+        let mut handed = std::mem::take(&mut self.handed);
+        handed.truncate(self.segment + 1);
+        for ((out, seg), own) in handed.iter_mut().zip(&self.course).zip(&self.own) {
+            let road = seg.exercise.road.is_some();
+            out.driving = road.then(|| own.driving.summary());
+            out.dial = (!road).then(|| own.dial.summary());
+            out.completion_time_s = own.completed_s;
+        }
+        handed
     }
 
     /// The scores so far, as recorded on `/score`.

@@ -358,8 +358,9 @@ impl Plant {
         self.raw.pedals
     }
 
-    /// Each exercise's own scores so far, of the exercises started (in course order).
-    pub fn exercise_scores(&self) -> Vec<ExerciseScores> {
+    /// Each exercise's own scores so far, of the exercises started (in course order), handed
+    /// over once, at the session's end (it allocates nothing).
+    pub fn exercise_scores(&mut self) -> Vec<ExerciseScores> {
         self.exercise.exercise_scores()
     }
 
