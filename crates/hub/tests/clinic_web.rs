@@ -25,11 +25,15 @@ struct Fixture {
     ada: Therapist,
     bob: Therapist,
     p_bob: Patient,
-    _dir: tempfile::TempDir,
+    _dir: Option<tempfile::TempDir>,
 }
 
 async fn fixture() -> Fixture {
     let (db, dir) = common::sqlite_db().await;
+    fixture_on(db, Some(dir)).await
+}
+
+async fn fixture_on(db: Db, dir: Option<tempfile::TempDir>) -> Fixture {
     db.add_therapist("root@clinic.example", PASSWORD, Role::Admin, T0)
         .await
         .unwrap();
@@ -106,7 +110,10 @@ async fn audited(db: &Db, action: &str) -> Vec<(String, String, String)> {
 
 #[tokio::test]
 async fn a_therapist_adds_a_patient_into_their_own_care_with_a_72_hour_pairing_code() {
-    let f = fixture().await;
+    adds_a_patient_with_a_code(&fixture().await).await;
+}
+
+async fn adds_a_patient_with_a_code(f: &Fixture) {
     let ada = login(&f.app, "ada@clinic.example", PASSWORD).await;
     let body = json!({"pseudonym": "P-0042"});
     let (status, added) = call(
@@ -239,7 +246,10 @@ async fn a_new_pairing_code_is_for_the_patients_therapist_or_an_admin_only() {
 
 #[tokio::test]
 async fn an_admin_adds_a_therapist_whose_one_time_password_must_be_changed_first() {
-    let f = fixture().await;
+    adds_a_therapist(&fixture().await).await;
+}
+
+async fn adds_a_therapist(f: &Fixture) {
     let ada = login(&f.app, "ada@clinic.example", PASSWORD).await;
     let new = json!({"email": "cy@clinic.example"});
     let (status, _) = call(
@@ -314,7 +324,10 @@ async fn an_admin_adds_a_therapist_whose_one_time_password_must_be_changed_first
 
 #[tokio::test]
 async fn a_station_is_revoked_by_its_patients_therapist_or_an_admin_not_by_another() {
-    let f = fixture().await;
+    revokes_a_station(&fixture().await).await;
+}
+
+async fn revokes_a_station(f: &Fixture) {
     f.db.add_station("st-bob-1", &f.p_bob.id, &"ab".repeat(32), T0)
         .await
         .unwrap();
@@ -358,5 +371,24 @@ async fn a_station_is_revoked_by_its_patients_therapist_or_an_admin_not_by_anoth
         audited(&f.db, "revoke_station").await,
         [(f.bob.actor(), "st-bob-1".to_owned(), f.p_bob.id.clone())]
     );
-    let _ = &f.ada;
+    // An admin may revoke any station (again: the first revocation time stays).
+    let root = login(&f.app, "root@clinic.example", PASSWORD).await;
+    let (status, station) = call(&f.app, Method::POST, uri, Some(&root), Some(json!({}))).await;
+    assert_eq!(
+        (status, &station["revoked_at_ms"]),
+        (StatusCode::OK, &json!(T0))
+    );
+}
+
+#[tokio::test]
+async fn the_clinic_endpoints_behave_the_same_on_postgresql() {
+    let Some(pg) = common::PgDb::create().await else {
+        return;
+    };
+    let f = fixture_on(pg.db.clone(), None).await;
+    adds_a_patient_with_a_code(&f).await;
+    adds_a_therapist(&f).await;
+    revokes_a_station(&f).await;
+    drop(f);
+    pg.drop_db().await;
 }
