@@ -236,6 +236,12 @@ async fn a_new_pairing_code_is_for_the_patients_therapist_or_an_admin_only() {
     let ada = login(&f.app, "ada@clinic.example", PASSWORD).await;
     let (status, _) = call(&f.app, Method::POST, &uri, Some(&ada), Some(json!({}))).await;
     assert_eq!(status, StatusCode::NOT_FOUND, "someone else's patient");
+    let (status, _) = call(&f.app, Method::POST, &uri, Some(&ada), None).await;
+    assert_eq!(
+        status,
+        StatusCode::UNSUPPORTED_MEDIA_TYPE,
+        "a change is JSON"
+    );
     let bob = login(&f.app, "bob@clinic.example", PASSWORD).await;
     let (status, code) = call(&f.app, Method::POST, &uri, Some(&bob), Some(json!({}))).await;
     assert_eq!(status, StatusCode::OK, "{code}");
@@ -357,6 +363,20 @@ async fn revokes_a_station(f: &Fixture) {
             .is_revoked()
     );
     let bob = login(&f.app, "bob@clinic.example", PASSWORD).await;
+    let (status, _) = call(&f.app, Method::POST, uri, Some(&bob), None).await;
+    assert_eq!(
+        status,
+        StatusCode::UNSUPPORTED_MEDIA_TYPE,
+        "no form can revoke"
+    );
+    assert!(
+        !f.db
+            .station("st-bob-1")
+            .await
+            .unwrap()
+            .unwrap()
+            .is_revoked()
+    );
     let (status, station) = call(&f.app, Method::POST, uri, Some(&bob), Some(json!({}))).await;
     assert_eq!(status, StatusCode::OK, "{station}");
     assert_eq!(station["revoked_at_ms"], T0);

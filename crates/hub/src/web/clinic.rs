@@ -39,6 +39,12 @@ fn admins_only(therapist: &Therapist, what: &str) -> Result<(), ApiError> {
     }
 }
 
+/// The body `{}` of a change that needs no input: being JSON, no cross-site form can send it
+/// (415 otherwise), as `POST /api/logout` requires.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct NoInput {}
+
 /// A pairing code as the console prints it.
 #[derive(Serialize)]
 pub(crate) struct Pairing {
@@ -143,8 +149,10 @@ pub(crate) async fn new_code(
     State(state): State<AppState>,
     Authed(therapist): Authed,
     id: Result<Path<String>, PathRejection>,
+    body: Result<Json<NoInput>, JsonRejection>,
 ) -> Result<Json<Pairing>, ApiError> {
     let Path(id) = id?;
+    let Json(NoInput {}) = body?;
     let patient = state.visible_patient(&therapist, &id).await?;
     Ok(Json(issue_code(&state, &therapist, &patient).await?))
 }
@@ -154,8 +162,10 @@ pub(crate) async fn revoke_station(
     State(state): State<AppState>,
     Authed(therapist): Authed,
     id: Result<Path<String>, PathRejection>,
+    body: Result<Json<NoInput>, JsonRejection>,
 ) -> Result<Json<Station>, ApiError> {
     let Path(id) = id?;
+    let Json(NoInput {}) = body?;
     check_path_id("station id", &id)?;
     let not_found = || ApiError::NotFound(format!("no station {id:?}"));
     let station = state.db.station(&id).await?.ok_or_else(not_found)?;
