@@ -8,6 +8,7 @@ import { replayView } from '/console/replay.js';
 import { exercisesView } from '/console/exercises.js';
 import { difficultyFields, exerciseKinds, regimenLimits, regimenSchema } from '/console/schema.js';
 import { messagesPanel, messageProblem, sendMessage } from '/console/messages.js';
+import { clinicView } from '/console/clinic.js';
 
 const app = document.getElementById('app');
 let leave = () => {};
@@ -40,6 +41,8 @@ async function route() {
   document.getElementById('change-password').hidden = false;
   if (me.must_change_password) return passwordView(true);
   if (hash === '#/password') return passwordView(false);
+  document.getElementById('clinic-link').hidden = false;
+  if (hash.startsWith('#/clinic')) return clinicView(app, hash, me).catch(fail).then(() => app.focus());
   const m = hash.match(/^#\/patients\/([^/]+)(?:\/(live|progress|prescribe|replay|exercises)(?:\/([^/]+))?)?$/);
   try {
     if (m) await patientView(decodeURIComponent(m[1]), m[2] || 'live', m[3] && decodeURIComponent(m[3]));
@@ -89,6 +92,7 @@ function passwordView(forced) {
 function loginView() {
   document.getElementById('logout').hidden = true;
   document.getElementById('change-password').hidden = true;
+  document.getElementById('clinic-link').hidden = true;
   document.getElementById('who').textContent = '';
   app.innerHTML = `
     <h1>Log in</h1>
@@ -140,7 +144,7 @@ async function patientView(id, tab, sessionId) {
   const p = await api('GET', `/api/patients/${encodeURIComponent(id)}`);
   const link = (t, label) => `<a href="#/patients/${encodeURIComponent(id)}/${t}"${t === tab ? ' aria-current="page"' : ''}>${label}</a>`;
   app.innerHTML = `<h1>Patient ${esc(p.pseudonym)}</h1>
-    <nav class="tabs" aria-label="Patient">${link('live', 'Live')}${link('progress', 'Progress')}${link('prescribe', 'Prescribe')}</nav>
+    <nav class="tabs" aria-label="Patient">${link('live', 'Live')}${link('progress', 'Progress')}${link('prescribe', 'Prescribe')}<a href="#/clinic/patients/${encodeURIComponent(id)}">Stations and pairing</a></nav>
     <div id="tab"></div>
     <section id="messages"></section>`;
   const el = app.querySelector('#tab');

@@ -345,6 +345,18 @@ impl Db {
         row.as_ref().map(Therapist::from_row).transpose()
     }
 
+    /// Every therapist account not revoked, by e-mail.
+    pub async fn therapists(&self) -> Result<Vec<Therapist>, HubError> {
+        let sql = sqlx::AssertSqlSafe(format!(
+            "SELECT {THERAPIST_COLUMNS} FROM therapists WHERE revoked_at_ms IS NULL ORDER BY email"
+        ));
+        let rows = sqlx::query(sql)
+            .fetch_all(self.pool())
+            .await
+            .map_err(HubError::db("listing therapists"))?;
+        rows.iter().map(Therapist::from_row).collect()
+    }
+
     /// The therapist with this id, if any.
     pub async fn therapist(&self, id: &str) -> Result<Option<Therapist>, HubError> {
         self.therapist_where("id", id).await

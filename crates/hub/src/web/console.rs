@@ -36,6 +36,8 @@ const ASSETS: &[Asset] = &[
     asset!("charts.js", JS),
     asset!("schema.js", JS),
     asset!("messages.js", JS),
+    asset!("clinic.js", JS),
+    asset!("clinic.css", CSS),
     asset!("style.css", CSS),
     asset!("vendor/three-0.181.2/three.module.min.js", JS),
     asset!("vendor/three-0.181.2/three.core.min.js", JS),

@@ -9,6 +9,7 @@
 //! - Every read of patient data and every change is written to the audit log.
 
 mod auth;
+mod clinic;
 mod console;
 mod live;
 mod messages;
@@ -171,7 +172,10 @@ pub fn router(state: AppState) -> Router {
         .route("/api/me", get(auth::me))
         .route("/api/me/password", post(auth::change_password))
         .route("/api/audit", get(auth::audit_log))
-        .route("/api/patients", get(patients::list))
+        .route(
+            "/api/patients",
+            get(patients::list).post(clinic::add_patient),
+        )
         .route("/api/patients/{id}", get(patients::one))
         .route("/api/patients/{id}/sessions", get(patients::sessions))
         .route("/api/patients/{id}/checkins", get(patients::checkins))
@@ -191,6 +195,12 @@ pub fn router(state: AppState) -> Router {
         .route("/api/sessions/{id}/metrics", get(sessions::metrics))
         .route("/api/sessions/{id}/exercises", get(sessions::exercises))
         .route("/api/sessions/{id}/replay", get(sessions::replay))
+        .route("/api/patients/{id}/pairing-code", post(clinic::new_code))
+        .route("/api/stations/{id}/revoke", post(clinic::revoke_station))
+        .route(
+            "/api/therapists",
+            get(clinic::therapists).post(clinic::add_therapist),
+        )
         .fallback(|| async { ApiError::NotFound("no such endpoint".to_owned()) })
         .layer(axum::middleware::from_fn_with_state(
             state.clone(),

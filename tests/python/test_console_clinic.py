@@ -1,0 +1,151 @@
+"""The clinic from the browser (Chromium, headless): the first login forced to replace the
+one-time password, adding a patient and printing their pairing sheet (one page) whose code then
+pairs a real station, adding a therapist whose own first login is forced to change the printed
+password, and revoking a station — each change in the audit log under the therapist who made it.
+Screenshots (clinic-*.png) go to $TELEREHAB_ARTIFACTS (default target/test-artifacts/console)."""
+
+import base64
+import json
+import re
+import subprocess
+
+import pytest
+from selenium.webdriver.common.by import By
+
+from test_console_browser import BIN, browser, shot, telerehab, wait  # noqa: F401 (fixture)
+
+NEW_PASSWORD = "a clinic passphrase of my own"
+
+
+@pytest.fixture(scope="module")
+def clinic(tmp_path_factory):
+    """A clinic (admin ana, patient P-0042 with a paired station) served on loopback."""
+    tmp = tmp_path_factory.mktemp("clinic")
+    data = tmp / "clinic"
+    init = telerehab("hub", "init", "--data", str(data), "--admin", "ana@clinic.example")
+    password = re.search(r"one-time password: (\S+)", init).group(1)
+    added = telerehab("hub", "patient", "add", "--data", str(data), "--pseudonym", "P-0042")
+    code = re.search(r"pairing code: (\S+)", added).group(1)
+    hub = subprocess.Popen(
+        [BIN, "hub", "serve", "--data", str(data), "--stations", "127.0.0.1:0", "--web", "127.0.0.1:0"],
+        stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
+    )
+    stations = re.search(r"stations listening on (\S+)", hub.stdout.readline()).group(1)
+    web = re.search(r"console API on https://(\S+)/api/", hub.stdout.readline()).group(1)
+    address = "localhost:" + stations.rsplit(":", 1)[1]
+    telerehab("pair", "--hub", address, "--code", code, home=tmp / "station-1")
+    yield {"web": f"https://{web}", "password": password, "address": address, "tmp": tmp}
+    hub.terminate()
+    hub.wait(timeout=20)
+
+
+def fetch_json(d, path):
+    """GET `path` of the console API with the browser's login cookie."""
+    return json.loads(d.execute_async_script(
+        "const done = arguments[arguments.length - 1];"
+        "fetch(arguments[0], {credentials: 'same-origin'}).then(r => r.text()).then(done);", path))
+
+
+def log_in_and_replace_the_one_time_password(d, web, email, one_time):
+    d.get(web + "/")
+    wait(d, lambda d: d.find_elements(By.ID, "email"))
+    d.find_element(By.ID, "email").send_keys(email)
+    d.find_element(By.ID, "password").send_keys(one_time)
+    d.find_element(By.CSS_SELECTOR, "#login button").click()
+    wait(d, lambda d: d.find_elements(By.ID, "password-forced"))
+    assert not d.find_elements(By.CSS_SELECTOR, "table"), "nothing else is shown before the change"
+    d.find_element(By.ID, "current-password").send_keys(one_time)
+    d.find_element(By.ID, "new-password").send_keys(NEW_PASSWORD)
+    d.find_element(By.ID, "repeat-password").send_keys(NEW_PASSWORD + " typo")
+    d.find_element(By.CSS_SELECTOR, "#password-form button").click()
+    wait(d, lambda d: "differ" in d.find_element(By.ID, "password-error").text)
+    d.find_element(By.ID, "repeat-password").clear()
+    d.find_element(By.ID, "repeat-password").send_keys(NEW_PASSWORD)
+    d.find_element(By.CSS_SELECTOR, "#password-form button").click()
+    wait(d, lambda d: d.find_elements(By.XPATH, "//h1[text()='Patients']"))
+
+
+def pdf_pages(d):
+    pdf = base64.b64decode(d.execute_cdp_cmd("Page.printToPDF", {"paperWidth": 8.27, "paperHeight": 11.69})["data"])
+    return len(re.findall(rb"/Type\s*/Page[^s]", pdf))
+
+
+def test_a_clinic_adds_a_patient_prints_the_pairing_sheet_adds_a_therapist_and_revokes_a_station(clinic, browser):
+    d, web = browser, clinic["web"]
+    log_in_and_replace_the_one_time_password(d, web, "ana@clinic.example", clinic["password"])
+    shot(d, "clinic-1-own-password-chosen")
+
+    # Add a patient: a pseudonym that is a name is refused in plain words.
+    d.find_element(By.ID, "clinic-link").click()
+    wait(d, lambda d: d.find_elements(By.ID, "new-patient"))
+    d.find_element(By.ID, "np-pseudonym").send_keys("Jane Doe")
+    d.find_element(By.CSS_SELECTOR, "#new-patient button").click()
+    wait(d, lambda d: "pseudonym" in d.find_element(By.ID, "np-error").text)
+    d.find_element(By.ID, "np-pseudonym").clear()
+    d.find_element(By.ID, "np-pseudonym").send_keys("P-0043")
+    d.find_element(By.ID, "np-address").clear()
+    d.find_element(By.ID, "np-address").send_keys(clinic["address"])
+    shot(d, "clinic-2-add-a-patient")
+    d.find_element(By.CSS_SELECTOR, "#new-patient button").click()
+    wait(d, lambda d: d.find_elements(By.ID, "pairing-sheet"))
+    code = d.find_element(By.ID, "sheet-code").text
+    assert re.fullmatch(r"[0-9A-Z]{4}-[0-9A-Z]{4}", code), code
+    assert d.find_element(By.ID, "sheet-patient").text == "P-0043"
+    assert d.find_element(By.ID, "sheet-address").text == clinic["address"]
+    assert "for one station only" in d.find_element(By.ID, "sheet-expiry").text
+    steps = [li.text for li in d.find_elements(By.CSS_SELECTOR, ".steps li")]
+    assert len(steps) == 5 and "wheel" in steps[0] and "telerehab" in steps[1] and "pairing code" in steps[3]
+    shot(d, "clinic-3-pairing-sheet")
+    assert pdf_pages(d) == 1, "the pairing sheet prints on one A4 page"
+    d.execute_cdp_cmd("Emulation.setEmulatedMedia", {"media": "print"})
+    shot(d, "clinic-4-pairing-sheet-as-printed")
+    assert not d.find_element(By.ID, "print-sheet").is_displayed()
+    d.execute_cdp_cmd("Emulation.setEmulatedMedia", {"media": ""})
+    # The printed code pairs a real station with the new patient.
+    telerehab("pair", "--hub", clinic["address"], "--code", code, home=clinic["tmp"] / "station-2")
+
+    # Add a therapist (admins only): the one-time password is shown once.
+    d.get(web + "/#/clinic")
+    wait(d, lambda d: d.find_elements(By.ID, "new-therapist"))
+    d.find_element(By.ID, "nt-email").send_keys("bo@clinic.example")
+    d.find_element(By.CSS_SELECTOR, "#new-therapist button").click()
+    wait(d, lambda d: d.find_elements(By.ID, "nt-password"))
+    bo_password = d.find_element(By.ID, "nt-password").text
+    assert len(bo_password) == 20
+    assert "bo@clinic.example" in d.find_element(By.ID, "therapists").text
+    shot(d, "clinic-5-therapist-added")
+
+    # Revoke P-0042's station from the patient's page, after a confirmation.
+    patients = fetch_json(d, "/api/patients")
+    p42 = next(p for p in patients if p["pseudonym"] == "P-0042")
+    d.get(web + f"/#/patients/{p42['id']}/progress")
+    wait(d, lambda d: d.find_elements(By.LINK_TEXT, "Stations and pairing"))
+    d.find_element(By.LINK_TEXT, "Stations and pairing").click()
+    wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "[data-revoke]"))
+    station = d.find_element(By.CSS_SELECTOR, "[data-revoke]").get_attribute("data-revoke")
+    d.find_element(By.CSS_SELECTOR, "[data-revoke]").click()
+    wait(d, lambda d: d.find_elements(By.ID, "rv-yes"))
+    shot(d, "clinic-6-revoke-confirm")
+    d.find_element(By.ID, "rv-yes").click()
+    wait(d, lambda d: d.find_elements(By.ID, "revoked"))
+    assert "revoked" in d.find_element(By.ID, "stations").text
+    assert not d.find_elements(By.CSS_SELECTOR, "[data-revoke]")
+    shot(d, "clinic-7-station-revoked")
+    revoked = fetch_json(d, f"/api/patients/{p42['id']}")["stations"][0]
+    assert revoked["station_id"] == station and revoked["revoked_at_ms"] is not None
+
+    # Every change audited with the admin who made it.
+    me = fetch_json(d, "/api/me")
+    audit = fetch_json(d, "/api/audit?limit=500")["entries"]
+    mine = {e["action"] for e in audit if e["actor"] == f"therapist:{me['id']}"}
+    assert {"password_changed", "add_patient", "pairing_code", "add_therapist", "revoke_station"} <= mine, mine
+
+    # The new therapist's first login is forced to change the printed password; no clinic admin.
+    d.find_element(By.ID, "logout").click()
+    wait(d, lambda d: d.find_elements(By.ID, "email"))
+    log_in_and_replace_the_one_time_password(d, web, "bo@clinic.example", bo_password)
+    d.find_element(By.ID, "clinic-link").click()
+    wait(d, lambda d: d.find_elements(By.ID, "new-patient"))
+    assert not d.find_elements(By.ID, "new-therapist")
+    assert "your care" in d.find_element(By.ID, "new-patient").text
+    shot(d, "clinic-8-therapist-clinic-screen")
