@@ -14,6 +14,7 @@ mod live;
 mod messages;
 mod patients;
 mod regimen;
+mod regimen_words;
 mod serve;
 mod sessions;
 
