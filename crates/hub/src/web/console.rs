@@ -36,6 +36,7 @@ const ASSETS: &[Asset] = &[
     asset!("charts.js", JS),
     asset!("schema.js", JS),
     asset!("messages.js", JS),
+    asset!("words.js", JS),
     asset!("style.css", CSS),
     asset!("vendor/three-0.181.2/three.module.min.js", JS),
     asset!("vendor/three-0.181.2/three.core.min.js", JS),
