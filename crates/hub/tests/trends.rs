@@ -151,7 +151,7 @@ async fn trends_compare_the_latest_kind_and_leave_out_sessions_ended_early(db: D
 }
 
 async fn sessions_are_named_by_their_exercises_in_words(db: Db) {
-    let (_, p) = paired(&db).await;
+    let (t, p) = paired(&db).await;
     session(&db, &p, ("s1", "sine-road", 1, "complete"), &[], vec![]).await;
     let course = vec![
         result(0, "dial-sine", "Dial sine", 45.0),
@@ -166,6 +166,17 @@ async fn sessions_are_named_by_their_exercises_in_words(db: Db) {
         vec![],
     )
     .await;
+    // A station that reports no exercises: the regimen prescribed before the session names
+    // them (not a later version).
+    let two = "[[exercise]]\nkind = \"slalom\"\n\n[[exercise]]\nkind = \"dial\"\n";
+    db.put_regimen(&p.id, two, None, &t.id, T0 + 3 * HOUR_MS + 1)
+        .await
+        .unwrap();
+    session(&db, &p, ("s4", "regimen:2", 4, "complete"), &[], vec![]).await;
+    let one = "[[exercise]]\nkind = \"sine\"\n";
+    db.put_regimen(&p.id, one, None, &t.id, T0 + 5 * HOUR_MS)
+        .await
+        .unwrap();
     let named = db.named_sessions_of(&p.id).await.unwrap();
     let words: Vec<(&str, &str, bool, Option<f64>)> = named
         .iter()
@@ -181,6 +192,7 @@ async fn sessions_are_named_by_their_exercises_in_words(db: Db) {
     assert_eq!(
         words,
         [
+            ("Slalom, then Dial sine", "dial+road", true, None),
             ("A regimen of 2 exercises", "regimen", false, None),
             ("Dial sine, then Sine road", "dial+road", true, Some(105.0)),
             ("Sine road", "road", true, None),

@@ -55,8 +55,8 @@ pub struct NamedSession {
     #[serde(flatten)]
     pub row: SessionRow,
     /// The exercise as the patient saw it: `Sine road`; a regimen session by its exercises
-    /// in order (`Dial sine, then Sine road`), or `A regimen of 2 exercises` when the station
-    /// did not report them.
+    /// in order (`Dial sine, then Sine road`, as the station reported them, else as the
+    /// regimen prescribed last before it lists them), or `A regimen of 2 exercises`.
     pub exercise_name: String,
     /// The kind of exercise, for like-with-like comparisons: `road`, `dial`, another exercise's
     /// own short name, the kinds of a regimen's exercises joined by `+` (`dial+road`), or
@@ -70,8 +70,9 @@ pub struct NamedSession {
     pub prescribed_s: Option<f64>,
 }
 
-/// One reported exercise of a session: its short name and prescribed time.
-type Reported = Vec<(String, String, f64)>;
+/// A session's exercises: each one's short name, patient-facing name and prescribed time, s
+/// (unknown when read from the regimen rather than reported by the station).
+type Reported = Vec<(String, String, Option<f64>)>;
 
 /// Names session `row` from its reported exercises (`kind`, `name`, `prescribed_s`).
 fn name_session(row: SessionRow, reported: Option<&Reported>) -> NamedSession {
@@ -85,7 +86,7 @@ fn name_session(row: SessionRow, reported: Option<&Reported>) -> NamedSession {
             (
                 names.join(", then "),
                 kinds.join("+"),
-                Some(list.iter().map(|(_, _, s)| s).sum()),
+                list.iter().map(|(_, _, s)| *s).sum::<Option<f64>>(),
             )
         }
         _ => match row.exercise.strip_prefix("regimen:") {
@@ -165,9 +166,11 @@ impl Db {
             by_session.entry(col(r, "session_id")?).or_default().push((
                 col(r, "kind")?,
                 col(r, "name")?,
-                col(r, "prescribed_s")?,
+                Some(col(r, "prescribed_s")?),
             ));
         }
+        self.regimen_exercises(patient_id, &rows, &mut by_session)
+            .await?;
         Ok(rows
             .into_iter()
             .map(|row| {
@@ -175,6 +178,54 @@ impl Db {
                 name_session(row, reported)
             })
             .collect())
+    }
+
+    /// Fills in, for the regimen sessions (`regimen:N`) whose station reported no exercises,
+    /// the exercises of the regimen version prescribed last before the session started, when
+    /// it has the session's N of them.
+    async fn regimen_exercises(
+        &self,
+        patient_id: &str,
+        rows: &[SessionRow],
+        by_session: &mut BTreeMap<String, Reported>,
+    ) -> Result<(), HubError> {
+        let unnamed: Vec<&SessionRow> = rows
+            .iter()
+            .filter(|r| {
+                r.exercise.starts_with("regimen:") && !by_session.contains_key(&r.session_id)
+            })
+            .collect();
+        if unnamed.is_empty() {
+            return Ok(());
+        }
+        let history = self.regimen_history(patient_id).await?;
+        for row in unnamed {
+            let Some(version) = history
+                .iter()
+                .rev()
+                .find(|v| v.prescribed_at_ms <= row.started_unix_ms)
+            else {
+                continue;
+            };
+            let Ok((regimen, _)) = regimen::Regimen::from_recorded(&version.toml, "a regimen")
+            else {
+                continue;
+            };
+            let count = row.exercise.trim_start_matches("regimen:");
+            if count != regimen.exercises.len().to_string() {
+                continue;
+            }
+            let list = regimen
+                .exercises
+                .iter()
+                .map(|e| {
+                    let short = e.exercise.name();
+                    (short.clone(), plain_name(&short), None)
+                })
+                .collect();
+            by_session.insert(row.session_id.clone(), list);
+        }
+        Ok(())
     }
 
     /// The trends of `measures` like with like (see [`like_with_like`]), with the kind of
