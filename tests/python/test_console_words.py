@@ -154,7 +154,7 @@ def test_progress_names_sessions_in_words_and_trends_road_against_road(clinic, b
     assert "regimen:" not in text, text
     assert rows[0].get_attribute("data-early") == "1"
     assert "ended early" in rows[0].text and "not in the trends" in rows[0].text, rows[0].text
-    assert all("completed" in r.text and r.get_attribute("data-early") is None for r in rows[1:]), text
+    assert all("ended: complete" in r.text and r.get_attribute("data-early") is None for r in rows[1:]), text
 
     compared = d.find_element(By.ID, "compared").text
     assert "road sessions" in compared and "Sine road" in compared, compared

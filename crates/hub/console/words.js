@@ -31,7 +31,7 @@ export function kindWords(kind) {
 /** How a session ended, as HTML (escaped): ran as prescribed, still running, or ended early
  * with the station's reason, marked. */
 export function endWords(s) {
-  if (s.ran_as_prescribed) return 'completed';
+  if (s.ran_as_prescribed) return 'ended: complete';
   if (!s.closed_at_ms && !s.end_reason) return 'running';
   return `<span class="badge warn">ended early</span> ${esc(s.end_reason || 'no reason given')}
     <span class="note">(not in the trends)</span>`;
