@@ -9,6 +9,7 @@ import { exercisesView } from '/console/exercises.js';
 import { difficultyFields, exerciseKinds, regimenLimits, regimenSchema } from '/console/schema.js';
 import { messagesPanel, messageProblem, sendMessage } from '/console/messages.js';
 import { clinicView } from '/console/clinic.js';
+import { activeWords, endWords, kindWords, likeWithLike, sessionWords, trendWords } from '/console/words.js';
 
 const app = document.getElementById('app');
 let leave = () => {};
@@ -131,8 +132,9 @@ async function patientsView() {
         const [arrow, cls, word] = t === 'up' ? ['↑', 'up', 'better'] : t === 'down' ? ['↓', 'down', 'worse'] : ['→', '', 'steady'];
         return `<span class="${cls}">${esc(label)} ${arrow} ${word}</span>`;
       }).join('<br>') || '—';
+    const trendsOf = p.trend_exercise_kind && trends !== '—' ? `<span class="note">${esc(kindWords(p.trend_exercise_kind))} sessions:</span><br>${trends}` : trends;
     return `<tr><td><a href="#/patients/${encodeURIComponent(p.id)}">${esc(p.pseudonym)}</a></td>
-      <td>${esc(when(p.last_session_started_ms))}</td><td>${esc(week)}</td><td>${trends}</td><td>${alerts}</td></tr>`;
+      <td>${esc(when(p.last_session_started_ms))}</td><td>${esc(week)}</td><td>${trendsOf}</td><td>${alerts}</td></tr>`;
   }).join('');
   app.innerHTML = `<h1>Patients</h1>
     <table><caption class="note">Your caseload. Open a patient to watch a running session, see progress or prescribe.</caption>
@@ -190,28 +192,28 @@ async function progressView(el, id, patient) {
   // The difficulty each adapted session ran at and why (newest first from the hub).
   const difficulty = (await api('GET', `/api/patients/${encodeURIComponent(id)}/difficulty`).catch(() => [])).slice().reverse();
   const t = sessions.map(s => s.started_unix_ms / 1000);
-  const trend = key => {
-    const vs = metrics.map(m => m[key]).filter(v => typeof v === 'number');
-    if (vs.length < 2) return '';
-    const last = vs[vs.length - 1], before = vs.slice(0, -1).reduce((a, b) => a + b, 0) / (vs.length - 1);
-    const better = MEASURES.find(m => m[0] === key)[3];
-    if (Math.abs(last - before) <= 1e-9 * Math.max(1, Math.abs(before))) return '→ no change';
-    const up = last > before, good = up === (better === 'up');
-    return `<span class="${good ? 'up' : 'down'}">${up ? '↑' : '↓'} ${good ? 'better' : 'worse'}</span>`;
-  };
-  const rows = MEASURES.map(([key, label, unit]) => {
-    const last = metrics.length ? metrics[metrics.length - 1][key] : undefined;
-    return `<tr><th scope="row">${esc(label)}</th><td>${last === undefined ? '—' : `${esc(Number(last).toFixed(2))} ${esc(unit)}`}</td><td>${trend(key)}</td></tr>`;
+  // Like with like: the latest session that ran as prescribed against earlier ones of its kind.
+  const like = likeWithLike(sessions);
+  const latest = like.length ? sessions[like[0]] : null;
+  const rows = MEASURES.map(([key, label, unit, better]) => {
+    const values = like.map(i => metrics[i][key]);
+    const last = values[0];
+    const head = `<tr data-key="${esc(key)}"><th scope="row">${esc(label)}</th>`;
+    if (key === 'active_s') return `${head}<td>${esc(activeWords(last, latest && latest.prescribed_s))}</td><td class="note">against the prescription, not a trend</td></tr>`;
+    return `${head}<td>${last === undefined ? '—' : `${esc(Number(last).toFixed(2))} ${esc(unit)}`}</td><td>${trendWords(values, better)}</td></tr>`;
   }).join('');
-  const list = sessions.slice().reverse().map(s => `<tr><td>${esc(when(s.started_unix_ms))}</td><td>${esc(s.exercise)}</td>
-    <td>${esc(s.end_reason ? `ended: ${s.end_reason}` : (s.closed_at_ms ? 'ended' : 'running'))}</td>
+  const compared = latest ? `The latest session that ran as prescribed (${esc(sessionWords(latest))}) against up to four earlier ${esc(kindWords(latest.exercise_kind))} sessions that did too; sessions ended early are shown below, not compared.`
+    : 'No session has run as prescribed yet: nothing to compare.';
+  const list = sessions.slice().reverse().map(s => `<tr${s.ran_as_prescribed ? '' : ' data-early="1"'}><td>${esc(when(s.started_unix_ms))}</td><td>${esc(s.exercise_name || s.exercise)}</td>
+    <td>${endWords(s)}</td>
     <td class="checkin">${checkinWords(checkins.get(s.session_id))}</td>
     <td><a href="#/patients/${encodeURIComponent(id)}/exercises/${encodeURIComponent(s.session_id)}">Each exercise</a>
       · <a href="#/patients/${encodeURIComponent(id)}/replay/${encodeURIComponent(s.session_id)}">Replay</a></td></tr>`).join('');
   el.innerHTML = `
     <p class="print-hide"><button type="button" id="print" class="secondary">Print a one-page summary</button></p>
-    <section class="panel" aria-labelledby="latest-h"><h2 id="latest-h">Latest session against the earlier ones</h2>
-      <table><thead><tr><th scope="col">Measure</th><th scope="col">Latest</th><th scope="col">Trend</th></tr></thead><tbody>${rows}</tbody></table></section>
+    <section class="panel" aria-labelledby="latest-h"><h2 id="latest-h">${latest ? `Latest ${esc(kindWords(latest.exercise_kind))} session against the earlier ones` : 'Latest session against the earlier ones'}</h2>
+      <p class="note print-hide" id="compared">${compared}</p>
+      <table id="latest-table"><thead><tr><th scope="col">Measure</th><th scope="col">Latest</th><th scope="col">Trend</th></tr></thead><tbody>${rows}</tbody></table></section>
     <div class="grid">
       <section class="panel"><h2>Lane keeping</h2><div class="chart" id="p-lane"></div></section>
       <section class="panel"><h2>Ranges of motion</h2><div class="chart" id="p-rom"></div></section>
@@ -310,7 +312,7 @@ async function prescribeView(el, id, refreshMessages) {
     const full = model.exercise.length >= limits.maxExercises;
     el.innerHTML = `
     <section class="panel" aria-labelledby="rx-h"><h2 id="rx-h">Regimen</h2>
-      <p id="rx-version">${cur ? `Version ${esc(cur.version)}, prescribed by ${esc(cur.prescribed_by)} on ${esc(when(cur.prescribed_at_ms))}.` : 'Nothing prescribed yet: the station runs its default exercise.'}</p>
+      <p id="rx-version">${cur ? `Version ${esc(cur.version)}, prescribed by ${esc(r.current_prescribed_by_email || 'a therapist no longer at the clinic')} on ${esc(when(cur.prescribed_at_ms))}.` : 'Nothing prescribed yet: the station runs its default exercise.'}</p>
       <form id="rx-form" novalidate>
         ${numberField('rx-sessions', 'Sessions a week', model.sessions_per_week, { ...limits.sessionsPerWeek, default: undefined })}
         ${adapt ? difficultyForm(model.difficulty, adapt) : ''}
@@ -354,7 +356,7 @@ async function prescribeView(el, id, refreshMessages) {
       Object.assign(model, again.current_fields);
       render();
       out().textContent = `Saved as version ${v.version}${note ? ', with the note' : ''}.`;
-      el.querySelector('#rx-version').textContent = `Version ${v.version}, prescribed by ${v.prescribed_by} just now.`;
+      el.querySelector('#rx-version').textContent = `Version ${v.version}, prescribed by ${me.email} just now.`;
     } catch (e) {
       out().className = 'error';
       out().textContent = e.message;

@@ -3,7 +3,8 @@
 // rate (10 Hz). The end-to-end delay is the summary's session time against the wall clock.
 import { ArmView } from '/console/arm3d.js';
 import { lineChart } from '/console/charts.js';
-import { api, esc } from '/console/api.js';
+import { api, esc, when } from '/console/api.js';
+import { plainName } from '/console/words.js';
 
 const WINDOW_S = 30;
 
@@ -81,7 +82,7 @@ export function liveView(el, patientId) {
     const delay = start ? (Date.now() - (start + t * 1000)) / 1000 : null;
     const state = x.watchdog_fault ? '<span class="badge alert">safety fault: torque fading to zero</span>'
       : x.paused ? '<span class="badge warn">paused</span>' : '<span class="badge ok">running</span>';
-    status.innerHTML = `Session ${esc(session)} · ${esc(s.exercise)} · ${t.toFixed(1)} s ${state}
+    status.innerHTML = `Session of ${esc(start ? when(start) : 'just now')} · ${esc(plainName(s.exercise))} · ${t.toFixed(1)} s ${state}
       · torque ${fmt(x.torque_nm, 2)} of ${fmt(x.ceiling_nm, 2)} N·m ceiling
       · in lane ${fmt(s.pct_in_lane, 0)} %` + (delay == null ? '' : ` · delay ${delay.toFixed(2)} s`)
       + (x.recording_stopped_s === undefined ? '' : ` <span class="badge alert">recording stopped at ${fmt(x.recording_stopped_s, 1)} s</span>`);

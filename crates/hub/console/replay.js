@@ -6,7 +6,8 @@
 import { ArmView } from '/console/arm3d.js';
 import { lineChart } from '/console/charts.js';
 import { drawRoad } from '/console/live.js';
-import { ApiError, esc } from '/console/api.js';
+import { ApiError, api, esc, when } from '/console/api.js';
+import { plainName } from '/console/words.js';
 
 const SPEEDS = [0.25, 0.5, 1, 2, 4, 8];
 
@@ -49,6 +50,8 @@ async function request(sessionId, signal) {
 export async function replayView(el, sessionId) {
   el.innerHTML = '<p role="status">Loading the recording…</p>';
   const abort = new AbortController();
+  // Named by its date and time, never by its id.
+  const row = await api('GET', `/api/sessions/${encodeURIComponent(sessionId)}`).catch(() => null);
   const stream = await request(sessionId, abort.signal);
   const first = await stream.next();
   if (first.done) throw new ApiError(502, 'the hub sent no replay');
@@ -57,7 +60,7 @@ export async function replayView(el, sessionId) {
   const expected = head.expected_duration_s || 0;
   const c = { t_s: [] };
   el.innerHTML = `
-    <h2>Replay of session ${esc(sessionId)} (${esc(head.exercise)}, <span id="length">${expected.toFixed(1)}</span> s)</h2>
+    <h2>Replay of the session of ${esc(row ? when(row.started_unix_ms) : 'an unknown time')} (${esc(plainName(head.exercise))}, <span id="length">${expected.toFixed(1)}</span> s)</h2>
     <p class="note" id="loading" role="status">Receiving the recording…</p>
     <div class="tabs" role="group" aria-label="Playback">
       <button type="button" id="play">Play</button>

@@ -324,6 +324,18 @@ async fn patients_and_caseload(db: Db) {
             ("sparc_median".to_owned(), -2.0),
         ];
         db.put_metrics(sid, &m.into_iter().collect()).await.unwrap();
+        // Trends count only sessions that ran as prescribed.
+        let bye = Bye {
+            session_id: sid.to_owned(),
+            reason: "complete".to_owned(),
+            final_seq: None,
+            measures: BTreeMap::new(),
+            hub_unix_ms: None,
+            checkin: None,
+            difficulty: None,
+            exercises: Vec::new(),
+        };
+        db.close_session(&bye, now).await.unwrap();
     }
     let own = db.patients_for(&t, now).await.unwrap();
     assert_eq!(own[0].sessions_per_week_prescribed, Some(3));

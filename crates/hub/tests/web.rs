@@ -981,3 +981,46 @@ async fn the_difficulty_history_is_served_to_the_patients_therapist_only_and_aud
     let (status, _, _) = call(&f.app, Method::GET, &uri, None, None).await;
     assert_eq!(status, StatusCode::UNAUTHORIZED);
 }
+
+#[tokio::test]
+async fn a_regimen_typo_is_refused_naming_its_line_and_field_and_the_prescriber_reads_as_email() {
+    let f = fixture().await;
+    let ada = login(&f.app, "ada@clinic.example").await;
+    let uri = format!("/api/patients/{}/regimen", f.p_ada.id);
+    let typo = "sessions_per_week = 3\n[[exercise]]\nkind = \"sine\"\nduration_s = 30,5\n";
+    let wrong_type = "[[exercise]]\nkind = \"sine\"\nduration_s = \"half a minute\"\n";
+    for (text, line, field) in [
+        (typo, "Line 4", ""),
+        (wrong_type, "Line 3", "\"duration_s\""),
+    ] {
+        let (status, _, body) = call(
+            &f.app,
+            Method::PUT,
+            &uri,
+            Some(&ada),
+            Some(json!({ "toml": text })),
+        )
+        .await;
+        assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY, "{body}");
+        let error = body["error"].as_str().unwrap();
+        assert!(error.contains(line) && error.contains(field), "{error}");
+        assert!(
+            !error.contains("TOML parse error") && !error.contains("f64"),
+            "{error}"
+        );
+    }
+    let (status, _, _) = call(
+        &f.app,
+        Method::PUT,
+        &uri,
+        Some(&ada),
+        Some(json!({ "toml": one_exercise("sine") })),
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK);
+    let (_, _, view) = call(&f.app, Method::GET, &uri, Some(&ada), None).await;
+    assert_eq!(
+        view["current_prescribed_by_email"],
+        json!("ada@clinic.example")
+    );
+}

@@ -36,6 +36,7 @@ mod sessions;
 mod stations;
 mod summaries;
 mod therapists;
+mod words;
 
 use std::path::{Path, PathBuf};
 
@@ -65,6 +66,10 @@ pub use stations::Station;
 pub use therapists::{
     COMMON_PASSWORDS, LOCKOUT_MS, LoginAttempt, LoginOk, MAX_FAILED_LOGINS, MAX_PASSWORD_BYTES,
     MIN_PASSWORD_CHARS, Role, Therapist, check_new_password,
+};
+pub use words::{
+    COMPLETE, NamedSession, TREND_BASELINE_SESSIONS, exercise_kind, like_with_like, plain_name,
+    trend,
 };
 
 /// The embedded, versioned migrations of `crates/hub/migrations/`.

@@ -45,9 +45,14 @@ pub struct PatientOverview {
     /// its `sessions_per_week`, if it says.
     pub minutes_per_week_prescribed: Option<f64>,
     /// Trends of the main measures (`pct_in_lane`, `wheel_rom_deg`, `sparc_median`; for all
-    /// three, up is better): `"up"`, `"down"` or `"flat"` (within 2 %), the last session
-    /// against the mean of up to four before it; absent with fewer than two sessions.
+    /// three, up is better): `"up"`, `"down"` or `"flat"` (within 2 %), like with like: the
+    /// last session that ran as prescribed (`end_reason` = `complete`) against the mean of up
+    /// to four before it of the same exercise kind that did too; absent with fewer than two
+    /// such sessions having the measure.
     pub trends: BTreeMap<String, String>,
+    /// The exercise kind the trends compare (`road`, `dial`, …, as the sessions'
+    /// `exercise_kind`); `null` when no session ran as prescribed.
+    pub trend_exercise_kind: Option<String>,
     /// What the therapist should look at, in plain words: missed sessions against the
     /// prescription, a safety fault, clipped torque or lost arm sensors in the last session.
     pub alerts: Vec<String>,
@@ -55,24 +60,6 @@ pub struct PatientOverview {
 
 /// The measures the caseload shows a trend of (for each, up is better).
 pub const TREND_MEASURES: [&str; 3] = ["pct_in_lane", "wheel_rom_deg", "sparc_median"];
-
-/// `"up"`, `"down"` or `"flat"`: `newest_first[0]` against the mean of up to four after it.
-fn trend(newest_first: &[f64]) -> Option<String> {
-    let (&last, before) = newest_first.split_first()?;
-    let before = &before[..before.len().min(4)];
-    if before.is_empty() {
-        return None;
-    }
-    let mean = before.iter().sum::<f64>() / before.len() as f64;
-    let word = if (last - mean).abs() <= 0.02 * mean.abs().max(1e-9) {
-        "flat"
-    } else if last > mean {
-        "up"
-    } else {
-        "down"
-    };
-    Some(word.to_owned())
-}
 
 /// The patient's week against the prescription.
 struct Week {
@@ -299,6 +286,7 @@ impl Db {
                     active_minutes_last_7_days: week.active_min,
                     minutes_per_week_prescribed: week.prescribed_min,
                     trends: BTreeMap::new(),
+                    trend_exercise_kind: None,
                     alerts: alerts(
                         &week,
                         last_start,
@@ -312,39 +300,13 @@ impl Db {
             })
             .collect::<Result<_, HubError>>()?;
         for o in &mut out {
-            o.trends = self.trends_of(&o.patient.id).await?;
+            (o.trends, o.trend_exercise_kind) = self
+                .like_with_like_trends(&o.patient.id, &TREND_MEASURES)
+                .await?;
             // The patient's own word after the last session (migration 0006).
             o.alerts.extend(self.pain_alert_of(&o.patient.id).await?);
         }
         Ok(out)
-    }
-
-    /// The trends of [`TREND_MEASURES`] over the patient's last five sessions.
-    async fn trends_of(&self, patient_id: &str) -> Result<BTreeMap<String, String>, HubError> {
-        let rows = sqlx::query(
-            "SELECT m.name, m.value FROM session_metrics m \
-             JOIN sessions s ON s.session_id = m.session_id \
-             WHERE s.patient_id = $1 AND m.name IN ($2, $3, $4) \
-             ORDER BY s.started_unix_ms DESC LIMIT 15",
-        )
-        .bind(patient_id)
-        .bind(TREND_MEASURES[0])
-        .bind(TREND_MEASURES[1])
-        .bind(TREND_MEASURES[2])
-        .fetch_all(self.pool())
-        .await
-        .map_err(HubError::db("reading measure trends"))?;
-        let mut series: BTreeMap<String, Vec<f64>> = BTreeMap::new();
-        for row in &rows {
-            series
-                .entry(col(row, "name")?)
-                .or_default()
-                .push(col(row, "value")?);
-        }
-        Ok(series
-            .into_iter()
-            .filter_map(|(name, v)| Some((name, trend(&v)?)))
-            .collect())
     }
 
     /// True if `therapist` may see `patient`: an admin sees all, a therapist their own.

@@ -38,6 +38,7 @@ const ASSETS: &[Asset] = &[
     asset!("messages.js", JS),
     asset!("clinic.js", JS),
     asset!("clinic.css", CSS),
+    asset!("words.js", JS),
     asset!("style.css", CSS),
     asset!("vendor/three-0.181.2/three.module.min.js", JS),
     asset!("vendor/three-0.181.2/three.core.min.js", JS),

@@ -15,6 +15,7 @@ mod live;
 mod messages;
 mod patients;
 mod regimen;
+mod regimen_words;
 mod serve;
 mod sessions;
 

@@ -7,7 +7,7 @@ use serde::Serialize;
 
 use super::auth::Authed;
 use super::{ApiError, AppState};
-use crate::db::{Patient, PatientOverview, SessionRow, Station};
+use crate::db::{NamedSession, Patient, PatientOverview, Station};
 
 pub(crate) async fn list(
     State(state): State<AppState>,
@@ -51,10 +51,10 @@ pub(crate) async fn sessions(
     State(state): State<AppState>,
     Authed(therapist): Authed,
     id: Result<Path<String>, PathRejection>,
-) -> Result<Json<Vec<SessionRow>>, ApiError> {
+) -> Result<Json<Vec<NamedSession>>, ApiError> {
     let Path(id) = id?;
     let patient = state.visible_patient(&therapist, &id).await?;
-    let sessions = state.db.sessions_of(&patient.id).await?;
+    let sessions = state.db.named_sessions_of(&patient.id).await?;
     state
         .audit(&therapist.actor(), "read_sessions", &patient.id, "")
         .await?;

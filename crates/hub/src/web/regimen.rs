@@ -19,6 +19,9 @@ pub(crate) struct RegimenView {
     /// The newest version's TOML as JSON (tables as objects, arrays of tables as arrays), for
     /// the console's form; `null` if none was prescribed.
     current_fields: Option<serde_json::Value>,
+    /// The e-mail of the therapist who prescribed the newest version (`null` if none, or the
+    /// account is gone): the console names them by it, not by their id.
+    current_prescribed_by_email: Option<String>,
 }
 
 pub(crate) async fn get_regimen(
@@ -36,10 +39,15 @@ pub(crate) async fn get_regimen(
         .last()
         .and_then(|r| toml::from_str::<toml::Value>(&r.toml).ok())
         .and_then(|v| serde_json::to_value(v).ok());
+    let current_prescribed_by_email = match history.last() {
+        Some(r) => state.db.therapist(&r.prescribed_by).await?.map(|t| t.email),
+        None => None,
+    };
     Ok(Json(RegimenView {
         current: history.last().cloned(),
         history,
         current_fields,
+        current_prescribed_by_email,
     }))
 }
 
@@ -98,7 +106,10 @@ pub(crate) async fn put_regimen(
     let parsed = match regimen::Regimen::from_toml(&text, "the prescribed regimen") {
         Ok(parsed) => parsed,
         Err(reason) => {
-            let reason = reason.to_string();
+            // A TOML slip in plain words, naming its line and field; the regimen's own bounds
+            // keep their message (it names the field already).
+            let reason =
+                super::regimen_words::toml_problem(&text).unwrap_or_else(|| reason.to_string());
             state
                 .audit(&therapist.actor(), "regimen_rejected", &patient.id, &reason)
                 .await?;

@@ -1,0 +1,284 @@
+//! Sessions in words (issue 29): each session's exercise by its patient-facing name and its
+//! exercise kind (`road`, `dial`, …), so that trends compare like with like and leave out
+//! sessions that did not run as prescribed.
+
+use std::collections::BTreeMap;
+
+use serde::Serialize;
+
+use super::{Db, SessionRow, col};
+use crate::error::HubError;
+
+/// The `end_reason` of a session that ran as prescribed (the station's
+/// `session::end_reason::COMPLETE`).
+pub const COMPLETE: &str = "complete";
+
+/// How many earlier sessions of the same kind a trend compares the latest with.
+pub const TREND_BASELINE_SESSIONS: usize = 4;
+
+/// The name the patient sees for an exercise's short name (`sine-road` → `Sine road`), as the
+/// station's `screen::plain_name` writes it.
+pub fn plain_name(short: &str) -> String {
+    let spaced = short.replace('-', " ");
+    let mut chars = spaced.chars();
+    chars.next().map_or_else(String::new, |first| {
+        first.to_uppercase().chain(chars).collect()
+    })
+}
+
+/// The kind of exercise a short name is, for comparing like with like: `dial` for the dial
+/// tasks, `road` for the driving ones; any other exercise is its own kind.
+pub fn exercise_kind(short: &str) -> String {
+    const ROADS: [&str; 8] = [
+        "sine",
+        "straight",
+        "triangle",
+        "clothoid",
+        "slalom",
+        "lane-change",
+        "sharp-turns",
+        "s-bend",
+    ];
+    if short.starts_with("dial") {
+        "dial".to_owned()
+    } else if short.ends_with("-road") || ROADS.contains(&short) {
+        "road".to_owned()
+    } else {
+        short.to_owned()
+    }
+}
+
+/// A session as the console names it: the stored row plus its exercise in words.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct NamedSession {
+    /// The session as stored.
+    #[serde(flatten)]
+    pub row: SessionRow,
+    /// The exercise as the patient saw it: `Sine road`; a regimen session by its exercises
+    /// in order (`Dial sine, then Sine road`, as the station reported them, else as the
+    /// regimen prescribed last before it lists them), or `A regimen of 2 exercises`.
+    pub exercise_name: String,
+    /// The kind of exercise, for like-with-like comparisons: `road`, `dial`, another exercise's
+    /// own short name, the kinds of a regimen's exercises joined by `+` (`dial+road`), or
+    /// `regimen` when they are not known.
+    pub exercise_kind: String,
+    /// True when the session ended as prescribed (`end_reason` = `complete`); trends count
+    /// only these.
+    pub ran_as_prescribed: bool,
+    /// The prescribed exercise time, s (the sum over the exercises the station reported);
+    /// `null` when not reported.
+    pub prescribed_s: Option<f64>,
+}
+
+/// A session's exercises: each one's short name, patient-facing name and prescribed time, s
+/// (unknown when read from the regimen rather than reported by the station).
+type Reported = Vec<(String, String, Option<f64>)>;
+
+/// Names session `row` from its reported exercises (`kind`, `name`, `prescribed_s`).
+fn name_session(row: SessionRow, reported: Option<&Reported>) -> NamedSession {
+    let ran_as_prescribed = row.end_reason.as_deref() == Some(COMPLETE);
+    let (exercise_name, exercise_kind, prescribed_s) = match reported {
+        Some(list) if !list.is_empty() => {
+            let names: Vec<&str> = list.iter().map(|(_, n, _)| n.as_str()).collect();
+            let mut kinds: Vec<String> = list.iter().map(|(k, _, _)| exercise_kind(k)).collect();
+            kinds.sort();
+            kinds.dedup();
+            (
+                names.join(", then "),
+                kinds.join("+"),
+                list.iter().map(|(_, _, s)| *s).sum::<Option<f64>>(),
+            )
+        }
+        _ => match row.exercise.strip_prefix("regimen:") {
+            Some(n) => (
+                format!(
+                    "A regimen of {n} exercise{}",
+                    if n == "1" { "" } else { "s" }
+                ),
+                "regimen".to_owned(),
+                None,
+            ),
+            None => (
+                plain_name(&row.exercise),
+                exercise_kind(&row.exercise),
+                None,
+            ),
+        },
+    };
+    NamedSession {
+        row,
+        exercise_name,
+        exercise_kind,
+        ran_as_prescribed,
+        prescribed_s,
+    }
+}
+
+/// `"up"`, `"down"` or `"flat"` (within 2 %): `newest_first[0]` against the mean of up to
+/// [`TREND_BASELINE_SESSIONS`] after it; `None` without an earlier value.
+pub fn trend(newest_first: &[f64]) -> Option<String> {
+    let (&last, before) = newest_first.split_first()?;
+    let before = &before[..before.len().min(TREND_BASELINE_SESSIONS)];
+    if before.is_empty() {
+        return None;
+    }
+    let mean = before.iter().sum::<f64>() / before.len() as f64;
+    let word = if (last - mean).abs() <= 0.02 * mean.abs().max(1e-9) {
+        "flat"
+    } else if last > mean {
+        "up"
+    } else {
+        "down"
+    };
+    Some(word.to_owned())
+}
+
+/// The sessions a trend compares, newest first: the newest session that ran as prescribed
+/// and up to [`TREND_BASELINE_SESSIONS`] earlier ones of its kind that did too.
+pub fn like_with_like(newest_first: &[NamedSession]) -> Vec<&NamedSession> {
+    let mut done = newest_first.iter().filter(|s| s.ran_as_prescribed);
+    let Some(latest) = done.next() else {
+        return Vec::new();
+    };
+    std::iter::once(latest)
+        .chain(
+            done.filter(|s| s.exercise_kind == latest.exercise_kind)
+                .take(TREND_BASELINE_SESSIONS),
+        )
+        .collect()
+}
+
+impl Db {
+    /// A patient's sessions in words, newest first.
+    pub async fn named_sessions_of(&self, patient_id: &str) -> Result<Vec<NamedSession>, HubError> {
+        let rows = self.sessions_of(patient_id).await?;
+        let reported = sqlx::query(
+            "SELECT e.session_id, e.kind, e.name, e.prescribed_s FROM session_exercises e \
+             JOIN sessions s ON s.session_id = e.session_id WHERE s.patient_id = $1 \
+             ORDER BY e.session_id, e.exercise_index",
+        )
+        .bind(patient_id)
+        .fetch_all(self.pool())
+        .await
+        .map_err(HubError::db("reading the sessions' exercises"))?;
+        let mut by_session: BTreeMap<String, Reported> = BTreeMap::new();
+        for r in &reported {
+            by_session.entry(col(r, "session_id")?).or_default().push((
+                col(r, "kind")?,
+                col(r, "name")?,
+                Some(col(r, "prescribed_s")?),
+            ));
+        }
+        self.regimen_exercises(patient_id, &rows, &mut by_session)
+            .await?;
+        Ok(rows
+            .into_iter()
+            .map(|row| {
+                let reported = by_session.get(&row.session_id);
+                name_session(row, reported)
+            })
+            .collect())
+    }
+
+    /// Fills in, for the regimen sessions (`regimen:N`) whose station reported no exercises,
+    /// the exercises of the regimen version prescribed last before the session started, when
+    /// it has the session's N of them.
+    async fn regimen_exercises(
+        &self,
+        patient_id: &str,
+        rows: &[SessionRow],
+        by_session: &mut BTreeMap<String, Reported>,
+    ) -> Result<(), HubError> {
+        let unnamed: Vec<&SessionRow> = rows
+            .iter()
+            .filter(|r| {
+                r.exercise.starts_with("regimen:") && !by_session.contains_key(&r.session_id)
+            })
+            .collect();
+        if unnamed.is_empty() {
+            return Ok(());
+        }
+        let history = self.regimen_history(patient_id).await?;
+        for row in unnamed {
+            let Some(version) = history
+                .iter()
+                .rev()
+                .find(|v| v.prescribed_at_ms <= row.started_unix_ms)
+            else {
+                continue;
+            };
+            let Ok((regimen, _)) = regimen::Regimen::from_recorded(&version.toml, "a regimen")
+            else {
+                continue;
+            };
+            let count = row.exercise.trim_start_matches("regimen:");
+            if count != regimen.exercises.len().to_string() {
+                continue;
+            }
+            let list = regimen
+                .exercises
+                .iter()
+                .map(|e| {
+                    let short = e.exercise.name();
+                    (short.clone(), plain_name(&short), None)
+                })
+                .collect();
+            by_session.insert(row.session_id.clone(), list);
+        }
+        Ok(())
+    }
+
+    /// The trends of `measures` like with like (see [`like_with_like`]), with the kind of
+    /// exercise they compare; no trend for a measure fewer than two of those sessions have.
+    pub async fn like_with_like_trends(
+        &self,
+        patient_id: &str,
+        measures: &[&str],
+    ) -> Result<(BTreeMap<String, String>, Option<String>), HubError> {
+        let sessions = self.named_sessions_of(patient_id).await?;
+        let compared = like_with_like(&sessions);
+        let mut series: BTreeMap<&str, Vec<f64>> = BTreeMap::new();
+        for s in &compared {
+            let metrics = self.metrics_of(&s.row.session_id).await?;
+            for m in measures {
+                if let Some(&v) = metrics.get(*m) {
+                    series.entry(m).or_default().push(v);
+                }
+            }
+        }
+        let trends = series
+            .into_iter()
+            .filter_map(|(name, v)| Some((name.to_owned(), trend(&v)?)))
+            .collect();
+        Ok((trends, compared.first().map(|s| s.exercise_kind.clone())))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exercise_names_read_as_the_patient_sees_them() {
+        assert_eq!(plain_name("sine-road"), "Sine road");
+        assert_eq!(plain_name("dial-sine"), "Dial sine");
+        assert_eq!(exercise_kind("sine-road"), "road");
+        assert_eq!(exercise_kind("slalom"), "road");
+        assert_eq!(exercise_kind("clothoid"), "road");
+        assert_eq!(exercise_kind("dial-sine"), "dial");
+        assert_eq!(exercise_kind("grip"), "grip");
+    }
+
+    #[test]
+    fn a_trend_is_the_latest_against_the_mean_of_up_to_four_before() {
+        assert_eq!(trend(&[10.0]), None);
+        assert_eq!(trend(&[11.0, 10.0]).as_deref(), Some("up"));
+        assert_eq!(trend(&[9.0, 10.0, 10.0]).as_deref(), Some("down"));
+        assert_eq!(trend(&[10.1, 10.0]).as_deref(), Some("flat"));
+        // The sixth value (100) is beyond the four compared.
+        assert_eq!(
+            trend(&[11.0, 10.0, 10.0, 10.0, 10.0, 100.0]).as_deref(),
+            Some("up")
+        );
+    }
+}

@@ -1,0 +1,206 @@
+//! Like with like (issue 29): the caseload's trends compare sessions of one exercise kind that
+//! ran as prescribed, and a patient's sessions are named in words. On SQLite and on
+//! PostgreSQL (the latter needs `TELEREHAB_TEST_PG_URL`, see `scripts/with-postgres.sh`).
+
+mod common;
+
+use std::collections::BTreeMap;
+
+use hub::{Db, Patient, Role, Therapist};
+use netlink::{Bye, ExerciseResult, Hello, PROTOCOL_VERSION};
+
+const T0: i64 = 1_795_253_400_000;
+const HOUR_MS: i64 = 3_600_000;
+const FP1: &str = "1111111111111111111111111111111111111111111111111111111111111111";
+
+async fn paired(db: &Db) -> (Therapist, Patient) {
+    let t = db
+        .add_therapist(
+            "ada@clinic.example",
+            "correct horse battery",
+            Role::Therapist,
+            T0,
+        )
+        .await
+        .unwrap();
+    let p = db.add_patient("P-0042", Some(&t.id), T0).await.unwrap();
+    db.add_station("st-1", &p.id, FP1, T0).await.unwrap();
+    (t, p)
+}
+
+/// Runs session `sid` of `exercise` at hour `hour`, ending for `reason` with `measures` and
+/// the per-exercise results `exercises`.
+async fn session(
+    db: &Db,
+    p: &Patient,
+    (sid, exercise, hour, reason): (&str, &str, i64, &str),
+    measures: &[(&str, f64)],
+    exercises: Vec<ExerciseResult>,
+) {
+    let hello = Hello {
+        protocol_version: PROTOCOL_VERSION,
+        station_id: "st-1".to_owned(),
+        patient_id: p.id.clone(),
+        session_id: sid.to_owned(),
+        exercise: exercise.to_owned(),
+        started_unix_ms: (T0 + hour * HOUR_MS) as u64,
+        software_version: "telerehab 0.1.0".to_owned(),
+        min_protocol_version: None,
+    };
+    db.open_session(&hello, T0 + hour * HOUR_MS).await.unwrap();
+    let bye = Bye {
+        session_id: sid.to_owned(),
+        reason: reason.to_owned(),
+        final_seq: None,
+        measures: measures
+            .iter()
+            .map(|(k, v)| ((*k).to_owned(), *v))
+            .collect(),
+        hub_unix_ms: None,
+        checkin: None,
+        difficulty: None,
+        exercises,
+    };
+    db.close_session(&bye, T0 + hour * HOUR_MS + 600_000)
+        .await
+        .unwrap();
+}
+
+fn result(index: u32, kind: &str, name: &str, prescribed_s: f64) -> ExerciseResult {
+    ExerciseResult {
+        index,
+        kind: kind.to_owned(),
+        name: name.to_owned(),
+        prescribed_s,
+        active_s: prescribed_s,
+        scores: BTreeMap::new(),
+    }
+}
+
+/// The caseload row's trends as `(measure, word)` pairs and the kind they compare.
+async fn trends(db: &Db, t: &Therapist) -> (Vec<(String, String)>, Option<String>) {
+    let row = db.patients_for(t, T0 + 100 * HOUR_MS).await.unwrap();
+    (
+        row[0].trends.clone().into_iter().collect(),
+        row[0].trend_exercise_kind.clone(),
+    )
+}
+
+fn pairs(list: &[(&str, &str)]) -> Vec<(String, String)> {
+    list.iter()
+        .map(|(a, b)| ((*a).to_owned(), (*b).to_owned()))
+        .collect()
+}
+
+async fn trends_compare_the_latest_kind_and_leave_out_sessions_ended_early(db: Db) {
+    let (t, p) = paired(&db).await;
+    let road = |lane: f64, rom: f64| [("pct_in_lane", lane), ("wheel_rom_deg", rom)];
+    session(
+        &db,
+        &p,
+        ("r1", "sine-road", 1, "complete"),
+        &road(80.0, 40.0),
+        vec![],
+    )
+    .await;
+    session(
+        &db,
+        &p,
+        ("r2", "slalom", 2, "complete"),
+        &road(80.0, 40.0),
+        vec![],
+    )
+    .await;
+    session(
+        &db,
+        &p,
+        ("r3", "sine-road", 3, "complete"),
+        &road(90.0, 40.0),
+        vec![],
+    )
+    .await;
+    // Cut short by a fault: far worse, but not how the patient does as prescribed.
+    let early = road(10.0, 5.0);
+    session(
+        &db,
+        &p,
+        ("r4", "sine-road", 4, "safety fault"),
+        &early,
+        vec![],
+    )
+    .await;
+    assert_eq!(
+        trends(&db, &t).await,
+        (
+            pairs(&[("pct_in_lane", "up"), ("wheel_rom_deg", "flat")]),
+            Some("road".to_owned())
+        ),
+        "the early session is left out; slalom counts as a road"
+    );
+    // A dial session: no road to compare it with, and no lane measure at all.
+    let dial = [("wheel_rom_deg", 60.0)];
+    session(&db, &p, ("d1", "dial-sine", 5, "complete"), &dial, vec![]).await;
+    assert_eq!(trends(&db, &t).await, (vec![], Some("dial".to_owned())));
+    let dial = [("wheel_rom_deg", 50.0)];
+    session(&db, &p, ("d2", "dial-steps", 6, "complete"), &dial, vec![]).await;
+    assert_eq!(
+        trends(&db, &t).await,
+        (pairs(&[("wheel_rom_deg", "down")]), Some("dial".to_owned())),
+        "the dial against the dial, not against the roads' 40°"
+    );
+}
+
+async fn sessions_are_named_by_their_exercises_in_words(db: Db) {
+    let (t, p) = paired(&db).await;
+    session(&db, &p, ("s1", "sine-road", 1, "complete"), &[], vec![]).await;
+    let course = vec![
+        result(0, "dial-sine", "Dial sine", 45.0),
+        result(1, "sine-road", "Sine road", 60.0),
+    ];
+    session(&db, &p, ("s2", "regimen:2", 2, "complete"), &[], course).await;
+    session(
+        &db,
+        &p,
+        ("s3", "regimen:2", 3, "patient pressed stop"),
+        &[],
+        vec![],
+    )
+    .await;
+    // A station that reports no exercises: the regimen prescribed before the session names
+    // them (not a later version).
+    let two = "[[exercise]]\nkind = \"slalom\"\n\n[[exercise]]\nkind = \"dial\"\n";
+    db.put_regimen(&p.id, two, None, &t.id, T0 + 3 * HOUR_MS + 1)
+        .await
+        .unwrap();
+    session(&db, &p, ("s4", "regimen:2", 4, "complete"), &[], vec![]).await;
+    let one = "[[exercise]]\nkind = \"sine\"\n";
+    db.put_regimen(&p.id, one, None, &t.id, T0 + 5 * HOUR_MS)
+        .await
+        .unwrap();
+    let named = db.named_sessions_of(&p.id).await.unwrap();
+    let words: Vec<(&str, &str, bool, Option<f64>)> = named
+        .iter()
+        .map(|s| {
+            (
+                s.exercise_name.as_str(),
+                s.exercise_kind.as_str(),
+                s.ran_as_prescribed,
+                s.prescribed_s,
+            )
+        })
+        .collect();
+    assert_eq!(
+        words,
+        [
+            ("Slalom, then Dial sine", "dial+road", true, None),
+            ("A regimen of 2 exercises", "regimen", false, None),
+            ("Dial sine, then Sine road", "dial+road", true, Some(105.0)),
+            ("Sine road", "road", true, None),
+        ]
+    );
+}
+
+on_both_backends!(
+    trends_compare_the_latest_kind_and_leave_out_sessions_ended_early,
+    sessions_are_named_by_their_exercises_in_words,
+);
