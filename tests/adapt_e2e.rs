@@ -3,13 +3,10 @@
 //! within the therapist's bounds and the hub keeps the history; and a "too hard" answer on
 //! the end screen (under a display) lowering the next session's difficulty.
 
-use std::io::{BufRead, BufReader};
 use std::path::Path;
-use std::process::{Command, Stdio};
-use std::sync::mpsc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 use telerehab_tests::clinic::{Hub, clinic, ok, pair, run_session, show_json};
-use telerehab_tests::{telerehab_bin, xdotool_in};
+use telerehab_tests::windowed::{WindowedStation, press};
 
 /// The therapist's bounds: 0.30–0.60, starting at 0.60; one short dial exercise.
 const REGIMEN: &str = "[difficulty]\ntarget_success = 0.7\nlowest = 0.3\nhighest = 0.6\n\
@@ -115,70 +112,16 @@ fn three_sessions_adapt_the_difficulty_within_the_therapists_bounds_and_the_hub_
     );
 }
 
-/// Press `keys` in the patient window (named "telerehab").
-fn press(keys: &[&str]) {
-    for key in keys {
-        xdotool_in("^telerehab$", &["key", key]);
-        std::thread::sleep(Duration::from_millis(300));
-    }
-}
-
-/// Wait (generously: a loaded machine draws slowly) for a log line containing `what`.
-fn wait_for(lines: &mpsc::Receiver<String>, what: &str) -> bool {
-    let deadline = Instant::now() + Duration::from_secs(40);
-    while let Some(left) = deadline.checked_duration_since(Instant::now()) {
-        match lines.recv_timeout(left) {
-            Ok(l) if l.contains(what) => return true,
-            Ok(_) => {}
-            Err(_) => return false,
-        }
-    }
-    false
-}
-
 /// A windowed session from `home` answered "too hard" on the end screen (pain and
 /// tiredness skipped); its report.
 fn windowed_session_felt_too_hard(home: &Path) -> String {
-    let mut station = Command::new(telerehab_bin())
-        .args(["run", "--sim", "--duration", "4", "--seed", "7", "--home"])
-        .arg(home)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let (tx, lines) = mpsc::channel();
-    let stderr = BufReader::new(station.stderr.take().unwrap());
-    std::thread::spawn(move || {
-        for line in stderr.lines().map_while(Result::ok) {
-            let _ = tx.send(line);
-        }
-    });
-    let mut stdout = BufReader::new(station.stdout.take().unwrap());
-    let mut line = String::new();
-    while stdout.read_line(&mut line).unwrap() > 0 && !line.contains("render: adapter") {
-        line.clear();
-    }
-    // Space starts the exercise once the window takes keys: press again until it started.
-    let started = (0..30).any(|_| {
-        press(&["space"]);
-        let deadline = Instant::now() + Duration::from_secs(2);
-        while let Some(left) = deadline.checked_duration_since(Instant::now()) {
-            match lines.recv_timeout(left) {
-                Ok(l) if l.contains("paused=false") => return true,
-                Ok(_) => {}
-                Err(_) => break,
-            }
-        }
-        false
-    });
-    assert!(started, "Space never started the exercise");
-    assert!(wait_for(&lines, "end screen: the session's results"));
+    let mut station = WindowedStation::start(home, &["--duration", "4"]);
+    station.start_the_exercise();
+    station.wait_for("end screen: the session's results");
     std::thread::sleep(Duration::from_millis(500));
     // Results → pain: Esc → tiredness: Esc → difficulty: 3 (too hard) → thanks.
     press(&["Return", "Escape", "Escape", "3", "Return", "Return"]);
-    let mut report = String::new();
-    std::io::Read::read_to_string(&mut stdout, &mut report).unwrap();
-    assert!(station.wait().unwrap().success(), "{report}");
+    let report = station.finish();
     assert!(report.contains("too hard"), "{report}");
     report
 }

@@ -1,6 +1,7 @@
 //! End-to-end: the patient's screen, headless on Mesa's software renderer.
 
 use std::process::Command;
+use telerehab_tests::windowed::screenshot;
 use telerehab_tests::{Reaper, run_ok, telerehab_bin, xdotool_in};
 
 #[test]
@@ -439,20 +440,6 @@ fn a_window_process_that_stops_answering_is_replaced_and_the_exercise_paused() {
         "{report}"
     );
     assert_paused_safely_while_the_window_was_lost(dir.path());
-}
-
-/// Where a window test saves what the screen showed (`$TELEREHAB_SCREENSHOTS`, for
-/// docs/screenshots), or nowhere.
-fn screenshot(name: &str) {
-    if let Some(dir) = std::env::var_os("TELEREHAB_SCREENSHOTS") {
-        let path = std::path::Path::new(&dir).join(format!("{name}.png"));
-        let ok = Command::new("import")
-            .args(["-window", "root"])
-            .arg(&path)
-            .status()
-            .is_ok_and(|s| s.success());
-        assert!(ok, "cannot take the screenshot {}", path.display());
-    }
 }
 
 #[test]

@@ -6,22 +6,12 @@ time against the prescribed time, the prescriber by e-mail, and a TOML slip refu
 words naming its line and field. Screenshots go to $TELEREHAB_ARTIFACTS (default
 target/test-artifacts/console); look at them."""
 
-import os
 import re
-import subprocess
 import time
-from pathlib import Path
 
-import pytest
-from selenium import webdriver
-from selenium.common.exceptions import StaleElementReferenceException
-from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.common.by import By
-from selenium.webdriver.support.ui import WebDriverWait
 
-ROOT = Path(__file__).resolve().parents[2]
-BIN = os.environ.get("TELEREHAB_BIN", str(ROOT / "target" / "debug" / "telerehab"))
-ARTIFACTS = Path(os.environ.get("TELEREHAB_ARTIFACTS", ROOT / "target" / "test-artifacts" / "console"))
+from test_console_browser import browser, clinic, shot, telerehab, wait  # noqa: F401 (fixtures)
 
 # A session id as the station makes them (2026-11-27T08-51-25.154Z-s7-f7575b1c): never shown.
 SESSION_ID = re.compile(r"\d{4}-\d\d-\d\dT\d\d-\d\d-\d\d")
@@ -43,61 +33,6 @@ VALID = """[[exercise]]
 kind = "sine"
 duration_s = 30.0
 """
-
-
-def telerehab(*args, home=None, check=True):
-    env = {k: v for k, v in os.environ.items() if k != "TELEREHAB_HOME"}
-    if home is not None:
-        env["TELEREHAB_HOME"] = str(home)
-    out = subprocess.run([BIN, *args], env=env, capture_output=True, text=True)
-    if check:
-        assert out.returncode == 0, f"telerehab {args}: {out.stdout}\n{out.stderr}"
-    return out.stdout
-
-
-@pytest.fixture(scope="module")
-def clinic(tmp_path_factory):
-    tmp = tmp_path_factory.mktemp("clinic")
-    data = tmp / "clinic"
-    init = telerehab("hub", "init", "--data", str(data), "--admin", "ana@clinic.example")
-    password = re.search(r"one-time password: (\S+)", init).group(1)
-    added = telerehab("hub", "patient", "add", "--data", str(data), "--pseudonym", "P-0042")
-    code = re.search(r"pairing code: (\S+)", added).group(1)
-    hub = subprocess.Popen(
-        [BIN, "hub", "serve", "--data", str(data), "--stations", "127.0.0.1:0", "--web", "127.0.0.1:0"],
-        stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
-    )
-    stations = re.search(r"stations listening on (\S+)", hub.stdout.readline()).group(1)
-    web = re.search(r"console API on https://(\S+)/api/", hub.stdout.readline()).group(1)
-    home = tmp / "station"
-    telerehab("pair", "--hub", "localhost:" + stations.rsplit(":", 1)[1], "--code", code, home=home)
-    yield {"web": f"https://{web}", "password": password, "home": home}
-    hub.terminate()
-    hub.wait(timeout=20)
-
-
-@pytest.fixture(scope="module")
-def browser():
-    opts = webdriver.ChromeOptions()
-    opts.binary_location = "/usr/bin/chromium"
-    for arg in ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--window-size=1400,1100",
-                "--use-angle=swiftshader", "--enable-unsafe-swiftshader"):
-        opts.add_argument(arg)
-    # The clinic's own CA signed the hub's certificate; the browser does not know that CA.
-    opts.accept_insecure_certs = True
-    driver = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=opts)
-    yield driver
-    driver.quit()
-
-
-def shot(driver, name):
-    ARTIFACTS.mkdir(parents=True, exist_ok=True)
-    driver.save_screenshot(str(ARTIFACTS / f"{name}.png"))
-
-
-def wait(driver, what, timeout=30):
-    # The console re-renders a view after a save: an element read mid-render is stale, not wrong.
-    return WebDriverWait(driver, timeout, ignored_exceptions=(StaleElementReferenceException,)).until(what)
 
 
 def run_session(clinic, exercise, seed, *extra, check=True):
