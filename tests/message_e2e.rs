@@ -36,7 +36,8 @@ fn a_message_from_the_console_shows_on_the_next_start_card_and_the_hub_learns_it
     pair(&hub, &clinic.code, &home);
 
     // A windowed session (no end screen).
-    let mut station = WindowedStation::start(&home, &["--duration", "2", "--checkin-timeout-s", "0"]);
+    let mut station =
+        WindowedStation::start(&home, &["--duration", "2", "--checkin-timeout-s", "0"]);
     station.wait_for("the start card shows the therapist's message");
     station.wait_for("the therapist's message is on the screen");
     std::thread::sleep(Duration::from_millis(500));
