@@ -44,7 +44,7 @@ impl WindowedStation {
         }
     }
 
-    /// Waits for a log line containing `what` (each line within [`PATIENCE`]); the line.
+    /// Waits for a log line containing `what` (each line within a minute); the line.
     pub fn wait_for(&self, what: &str) -> String {
         let mut seen = Vec::new();
         loop {
