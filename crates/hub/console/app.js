@@ -139,7 +139,8 @@ async function patientsView() {
   app.innerHTML = `<h1>Patients</h1>
     <table><caption class="note">Your caseload. Open a patient to watch a running session, see progress or prescribe.</caption>
     <thead><tr><th scope="col">Patient</th><th scope="col">Last session</th><th scope="col">Last 7 days</th><th scope="col">Trend (last session)</th><th scope="col">Alerts</th></tr></thead>
-    <tbody>${rows || '<tr><td colspan="5">No patients yet.</td></tr>'}</tbody></table>`;
+    <tbody>${rows || '<tr><td colspan="5">No patients yet.</td></tr>'}</tbody></table>
+    <p><a href="#/clinic">Add a patient</a> (and print the pairing sheet)</p>`;
 }
 
 async function patientView(id, tab, sessionId) {

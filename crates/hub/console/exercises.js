@@ -37,7 +37,7 @@ export async function exercisesView(el, patientId, sessionId) {
     el.innerHTML = `${head}<p>No results per exercise: the station that ran this session was older than them, or the session did not end in order.</p>`;
     return;
   }
-  const cols = exercises.map(e => `<th scope="col">${esc(e.index + 1)}. ${esc(e.name)}<br><span class="note">${esc(e.kind)}</span></th>`).join('');
+  const cols = exercises.map(e => `<th scope="col">${esc(e.index + 1)}. ${esc(e.name)}</th>`).join('');
   const time = exercises.map(e => `<td class="num">${esc(e.active_s.toFixed(1))} of ${esc(e.prescribed_s.toFixed(0))}</td>`).join('');
   const rows = RESULTS.filter(([key]) => exercises.some(e => typeof e.scores[key] === 'number'))
     .map(([key, label, unit, digits]) => {
