@@ -1162,6 +1162,43 @@ async fn a_regimen_as_stored_before_migration_4(db: &Db) -> Therapist {
     t
 }
 
+/// A regimen of one minute four times a week, stored as a hub before migration 10 kept it
+/// (no planned length): the caseload's prescribed minutes are read from the column alone.
+async fn a_regimen_as_stored_before_migration_10(db: &Db) -> Therapist {
+    let (t, p) = paired(db).await;
+    let text = "sessions_per_week = 4\n[[exercise]]\nkind = \"dial\"\nduration_s = 60.0\n";
+    db.put_regimen(&p.id, text, Some(4), &t.id, T0)
+        .await
+        .unwrap();
+    let minutes =
+        async |db: &Db| db.patients_for(&t, T0).await.unwrap()[0].minutes_per_week_prescribed;
+    assert_eq!(minutes(db).await, Some(4.0), "stored when prescribed");
+    sqlx::query("UPDATE regimens SET planned_session_s = NULL")
+        .execute(db.pool())
+        .await
+        .unwrap();
+    assert_eq!(minutes(db).await, None, "the caseload parses no TOML");
+    for undo in [
+        "DELETE FROM _sqlx_migrations WHERE version = 10",
+        "ALTER TABLE regimens DROP COLUMN planned_session_s",
+    ] {
+        sqlx::query(undo).execute(db.pool()).await.unwrap();
+    }
+    t
+}
+
+#[tokio::test]
+async fn sqlite_fills_the_planned_length_of_older_regimens_on_open() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("hub.db");
+    let db = Db::open_sqlite(&path).await.unwrap();
+    let t = a_regimen_as_stored_before_migration_10(&db).await;
+    db.close().await;
+    let again = Db::open_sqlite(&path).await.unwrap();
+    let caseload = again.patients_for(&t, T0).await.unwrap();
+    assert_eq!(caseload[0].minutes_per_week_prescribed, Some(4.0));
+}
+
 #[tokio::test]
 async fn sqlite_fills_sessions_per_week_of_older_regimens_on_open() {
     let dir = tempfile::tempdir().unwrap();

@@ -163,6 +163,8 @@ impl Db {
         // Regimens stored before migration 4 have their sessions_per_week filled in once, when
         // it is applied, not scanned for at every open.
         let fill_sessions_per_week = !migration_applied(&pool, 4).await;
+        // And their planned session length, once, when migration 10 is applied.
+        let fill_planned_session_s = !migration_applied(&pool, 10).await;
         MIGRATOR.run(&pool).await.map_err(|e| HubError::Database {
             context: "applying migrations".to_owned(),
             source: e.into(),
@@ -174,6 +176,9 @@ impl Db {
         };
         if fill_sessions_per_week {
             db.fill_sessions_per_week().await?;
+        }
+        if fill_planned_session_s {
+            db.fill_planned_session_s().await?;
         }
         Ok(db)
     }

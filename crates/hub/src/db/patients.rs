@@ -69,16 +69,6 @@ struct Week {
     prescribed_min: Option<f64>,
 }
 
-/// Active minutes a week `toml` (the current regimen) asks for: its planned session length
-/// times its sessions a week; `None` if it does not say how many sessions, or cannot be read.
-fn prescribed_minutes(toml: Option<&str>) -> Option<f64> {
-    let r = regimen::Regimen::from_recorded(toml?, "the current regimen")
-        .ok()?
-        .0;
-    let planned_s = r.planned_duration_s().ok()?;
-    Some(planned_s / 60.0 * f64::from(r.sessions_per_week?))
-}
-
 /// What the last session's measures say that a caseload alert needs.
 struct LastSession {
     faults: Option<f64>,
@@ -235,8 +225,8 @@ impl Db {
                 AND s.started_unix_ms >= $1) AS week_count, \
             (SELECT r.sessions_per_week FROM regimens r WHERE r.patient_id = p.id \
                 ORDER BY r.version DESC LIMIT 1) AS prescribed_per_week, \
-            (SELECT r.toml FROM regimens r WHERE r.patient_id = p.id \
-                ORDER BY r.version DESC LIMIT 1) AS regimen_toml, \
+            (SELECT r.planned_session_s FROM regimens r WHERE r.patient_id = p.id \
+                ORDER BY r.version DESC LIMIT 1) AS planned_session_s, \
             (SELECT SUM(m.value) FROM session_metrics m JOIN sessions s \
                 ON s.session_id = m.session_id WHERE s.patient_id = p.id \
                 AND s.started_unix_ms >= $1 AND m.name = 'active_s') AS week_active_s, \
@@ -270,13 +260,14 @@ impl Db {
                 let week: i64 = col(row, "week_count")?;
                 // Stored from the parsed regimen when it was prescribed (migration 0004).
                 let prescribed: Option<i64> = col(row, "prescribed_per_week")?;
-                let toml: Option<String> = col(row, "regimen_toml")?;
+                // Stored from the parsed regimen when it was prescribed (migration 0010).
+                let planned_s: Option<f64> = col(row, "planned_session_s")?;
                 let active_s: Option<f64> = col(row, "week_active_s")?;
                 let week = Week {
                     sessions: week,
                     prescribed,
                     active_min: active_s.unwrap_or(0.0) / 60.0,
-                    prescribed_min: prescribed_minutes(toml.as_deref()),
+                    prescribed_min: planned_s.zip(prescribed).map(|(s, n)| s / 60.0 * n as f64),
                 };
                 Ok(PatientOverview {
                     patient: Patient::from_row(row)?,

@@ -80,7 +80,11 @@ impl Db {
             .fetch_one(self.pool())
             .await;
             match result {
-                Ok(version) => return Ok(version),
+                Ok(version) => {
+                    self.set_planned_session_s(patient_id, version, toml)
+                        .await?;
+                    return Ok(version);
+                }
                 Err(e) if HubError::is_unique_violation(&e) && attempts < 5 => continue,
                 Err(e) => return Err(HubError::db("storing a regimen")(e)),
             }
@@ -123,6 +127,52 @@ impl Db {
         Ok(())
     }
 
+    /// Stores the planned session length of regimen `version` of `patient_id` (its `toml`),
+    /// which the caseload reads for adherence in minutes; left NULL for a text the parser
+    /// refuses (nothing is bound as NULL: `sqlx::Any` cannot type it on PostgreSQL).
+    async fn set_planned_session_s(
+        &self,
+        patient_id: &str,
+        version: i64,
+        toml: &str,
+    ) -> Result<(), HubError> {
+        let Some(planned_s) = planned_session_s(toml) else {
+            return Ok(());
+        };
+        sqlx::query(
+            "UPDATE regimens SET planned_session_s = $1 WHERE patient_id = $2 AND version = $3",
+        )
+        .bind(planned_s)
+        .bind(patient_id)
+        .bind(version)
+        .execute(self.pool())
+        .await
+        .map_err(HubError::db("storing a regimen's planned length"))?;
+        Ok(())
+    }
+
+    /// Fills `planned_session_s` of regimens stored before migration 0010.
+    pub(crate) async fn fill_planned_session_s(&self) -> Result<(), HubError> {
+        let rows = sqlx::query(
+            "SELECT patient_id, version, toml FROM regimens WHERE planned_session_s IS NULL",
+        )
+        .fetch_all(self.pool())
+        .await
+        .map_err(HubError::db(
+            "reading regimens to fill in their planned length",
+        ))?;
+        for row in &rows {
+            let (patient_id, version, toml): (String, i64, String) = (
+                col(row, "patient_id")?,
+                col(row, "version")?,
+                col(row, "toml")?,
+            );
+            self.set_planned_session_s(&patient_id, version, &toml)
+                .await?;
+        }
+        Ok(())
+    }
+
     /// The newest regimen of a patient, if any.
     pub async fn latest_regimen(
         &self,
@@ -152,4 +202,13 @@ impl Db {
             .map_err(HubError::db("reading regimen history"))?;
         rows.iter().map(RegimenVersion::from_row).collect()
     }
+}
+
+/// The planned session length of a regimen's text, s (`None` if it does not parse).
+fn planned_session_s(toml: &str) -> Option<f64> {
+    regimen::Regimen::from_recorded(toml, "a stored regimen")
+        .ok()?
+        .0
+        .planned_duration_s()
+        .ok()
 }
