@@ -47,6 +47,7 @@ if [ ! -x .venv/bin/python ]; then
 fi
 .venv/bin/python -m pip install -q --upgrade pip
 .venv/bin/python -m pip install -q -r requirements-dev.txt
+bash scripts/fetch_axe.sh
 echo "setup: building and installing the telerehab Python package (pyext)"
 # Built into the workspace's target directory (maturin develop), so that scripts/test.sh
 # rebuilds it incrementally and the tests never run a stale package.
