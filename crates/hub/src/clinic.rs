@@ -204,14 +204,7 @@ impl Clinic {
     }
 }
 
-/// 20 characters of Crockford base 32 (100 bits) from the OS CSPRNG.
-pub fn one_time_password() -> Result<String, HubError> {
-    let bytes = crate::db::random_bytes::<20>()?;
-    Ok(bytes
-        .iter()
-        .map(|b| netlink::pairing::CODE_ALPHABET[usize::from(b & 0x1f)] as char)
-        .collect())
-}
+pub use crate::db::one_time_password;
 
 /// Where `hub serve` listens.
 #[derive(Clone)]

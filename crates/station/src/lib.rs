@@ -26,7 +26,8 @@
 //!   turns SIGINT/SIGTERM into a stop request and [`session::Controls`] carries stop and
 //!   pause to the loop; [`session::measures`] computes the movement measures;
 //!   [`session::recorded`] is a body made of a recording's raw inputs (replay);
-//!   [`session::faults`] injects faults into simulated sessions.
+//!   [`session::faults`] injects faults into simulated sessions; [`session::words`] names
+//!   exercises and instructions for the patient (the screen and the end reasons speak them).
 //! - [`config`]: the station's TOML, validated input (the therapist's prescription is the
 //!   `regimen` crate; the recording format, the `record` crate).
 //! - [`link`]: the therapist link (tokio runtime, store-and-forward through `netlink`), its

@@ -299,6 +299,15 @@ pub(crate) fn random_bytes<const N: usize>() -> Result<[u8; N], HubError> {
     Ok(bytes)
 }
 
+/// 20 characters of Crockford base 32 (100 bits) from the OS CSPRNG.
+pub fn one_time_password() -> Result<String, HubError> {
+    let bytes = random_bytes::<20>()?;
+    Ok(bytes
+        .iter()
+        .map(|b| netlink::pairing::CODE_ALPHABET[usize::from(b & 0x1f)] as char)
+        .collect())
+}
+
 /// A new random identifier: `prefix` + 16 lowercase hex digits (64 bits).
 pub(crate) fn new_id(prefix: &str) -> Result<String, HubError> {
     Ok(format!("{prefix}{}", hex(&random_bytes::<8>()?)))

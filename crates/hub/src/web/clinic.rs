@@ -212,7 +212,7 @@ pub(crate) async fn add_therapist(
 ) -> Result<Response, ApiError> {
     admins_only(&admin, "adding a therapist")?;
     let Json(new) = body?;
-    let password = crate::clinic::one_time_password()?;
+    let password = crate::db::one_time_password()?;
     let role = if new.admin {
         Role::Admin
     } else {

@@ -69,7 +69,7 @@ pub fn with_recording(mut reason: String, recorder: &RecorderOutcome) -> String 
 pub fn sentence(reason: &str) -> String {
     match reason.trim() {
         "" => "How it ended is not recorded".to_owned(),
-        r if r.starts_with("ended") => crate::screen::capitalised(r),
+        r if r.starts_with("ended") => crate::session::words::capitalised(r),
         r => format!("Ended: {r}"),
     }
 }

@@ -21,6 +21,7 @@ pub mod signals;
 #[cfg(test)]
 mod tests;
 pub mod window;
+pub mod words;
 
 use crate::config::StationConfig;
 use anyhow::Context;

@@ -525,7 +525,7 @@ pub(super) fn recorder_loop(
     let ending = ending.get();
     out.exercises = measures.exercise_results(
         ending.map_or(&[][..], |e| e.scores.as_slice()),
-        crate::screen::plain_name,
+        crate::session::words::plain_name,
     );
     let sample = MetricsSample {
         exercises: out.exercises.clone(),
