@@ -102,9 +102,19 @@ def input_bounds(driver, element_id):
     return get("min"), get("max")
 
 
-def check_form_against_schema(d, schema):
+def patient_wheel(d):
+    """The wheel of the patient whose page is open, as the hub tells the console (None before
+    their station told one)."""
+    return d.execute_async_script(
+        "const done = arguments[arguments.length - 1];"
+        "const id = location.hash.split('/')[2];"
+        "fetch('/api/patients/' + id, {credentials: 'same-origin'}).then(r => r.json()).then(p => done(p.wheel));")
+
+
+def check_form_against_schema(d, schema, wheel=None):
     """Every input of the prescribe form (a sine road, the first exercise) has the schema's
-    bounds, and the kinds offered are the schema's."""
+    bounds, and the kinds offered are the schema's; a torque's maximum is the patient's own
+    (their wheel's effective ceiling, never above the schema's device maximum)."""
     defs = schema["$defs"]
     variants = defs["RegimenEntry"]["oneOf"]
     kinds = sorted(v["properties"]["kind"]["const"] for v in variants)
@@ -120,10 +130,12 @@ def check_form_against_schema(d, schema):
         checked += 1
     assert checked == 6, sine.keys()
     ceiling = defs["HapticRegimen"]["properties"]["ceiling_nm"]
-    assert input_bounds(d, "ex0-ceiling") == (ceiling["minimum"], ceiling["maximum"]) == (0.0, 20.0)
+    assert (ceiling["minimum"], ceiling["maximum"]) == (0.0, 20.0)
+    own = ceiling["maximum"] if wheel is None else min(ceiling["maximum"], wheel["stated_ceiling_nm"])
+    assert input_bounds(d, "ex0-ceiling") == (ceiling["minimum"], own)
     sessions = schema["properties"]["sessions_per_week"]
     assert input_bounds(d, "rx-sessions") == (sessions["minimum"], sessions["maximum"]) == (1.0, 28.0)
-    assert f"at most {ceiling['maximum']:g} N·m" in d.find_element(By.ID, "bounds").text
+    assert f"at most {own:g} N·m" in d.find_element(By.ID, "bounds").text
 
 
 def test_a_therapist_logs_in_watches_live_sees_progress_and_prescribes(clinic, browser):
@@ -230,7 +242,10 @@ def test_a_therapist_logs_in_watches_live_sees_progress_and_prescribes(clinic, b
     schema = d.execute_async_script(
         "const done = arguments[arguments.length - 1];"
         "fetch('/api/regimen/schema', {credentials: 'same-origin'}).then(r => r.json()).then(done);")
-    check_form_against_schema(d, schema)
+    # The session above told the hub its (simulated) wheel: the form's torque bounds are its.
+    wheel = patient_wheel(d)
+    assert wheel is not None and wheel["model"] == "simulated wheel", wheel
+    check_form_against_schema(d, schema, wheel)
     shot(d, "5a-form-from-schema")
 
     # Prescribe in the form: the bounds beside each field are enforced before anything is sent.

@@ -9,6 +9,9 @@ import { exercisesView } from '/console/exercises.js';
 import { difficultyFields, exerciseKinds, regimenLimits, regimenSchema } from '/console/schema.js';
 import { messagesPanel, messageProblem, sendMessage } from '/console/messages.js';
 import { clinicView } from '/console/clinic.js';
+import { bindNoteCells, noteCell, notesSection } from '/console/notes.js';
+import { assistModes, assistFields, readAssist } from '/console/assist.js';
+import { wheelBounds } from '/console/wheel.js';
 import { activeWords, endWords, kindWords, likeWithLike, sessionWords, trendWords } from '/console/words.js';
 
 const app = document.getElementById('app');
@@ -155,7 +158,7 @@ async function patientView(id, tab, sessionId) {
   if (tab === 'live') { el.id = 'live'; leave = liveView(el, id); }
   else if (tab === 'progress') await progressView(el, id, p);
   else if (tab === 'replay') leave = await replayView(el, sessionId);
-  else if (tab === 'exercises') await exercisesView(el, id, sessionId);
+  else if (tab === 'exercises') { await exercisesView(el, id, sessionId); await notesSection(el, sessionId); }
   else await prescribeView(el, id, refreshMessages);
 }
 
@@ -209,7 +212,8 @@ async function progressView(el, id, patient) {
     <td>${endWords(s)}</td>
     <td class="checkin">${checkinWords(checkins.get(s.session_id))}</td>
     <td><a href="#/patients/${encodeURIComponent(id)}/exercises/${encodeURIComponent(s.session_id)}">Each exercise</a>
-      · <a href="#/patients/${encodeURIComponent(id)}/replay/${encodeURIComponent(s.session_id)}">Replay</a></td></tr>`).join('');
+      · <a href="#/patients/${encodeURIComponent(id)}/replay/${encodeURIComponent(s.session_id)}">Replay</a></td>
+    <td>${noteCell(s.session_id, `the session of ${when(s.started_unix_ms)}`, esc)}</td></tr>`).join('');
   el.innerHTML = `
     <p class="print-hide"><button type="button" id="print" class="secondary">Print a one-page summary</button></p>
     <section class="panel" aria-labelledby="latest-h"><h2 id="latest-h">${latest ? `Latest ${esc(kindWords(latest.exercise_kind))} session against the earlier ones` : 'Latest session against the earlier ones'}</h2>
@@ -223,8 +227,9 @@ async function progressView(el, id, patient) {
     </div>
     ${difficultyPanel(difficulty)}
     <section class="panel print-hide" aria-labelledby="sessions-h"><h2 id="sessions-h">Sessions (${sessions.length})</h2>
-      <table><thead><tr><th scope="col">Started</th><th scope="col">Exercise</th><th scope="col">End</th><th scope="col">Patient's check-in</th><th scope="col">Results and recording</th></tr></thead><tbody>${list}</tbody></table></section>`;
+      <table><thead><tr><th scope="col">Started</th><th scope="col">Exercise</th><th scope="col">End</th><th scope="col">Patient's check-in</th><th scope="col">Results and recording</th><th scope="col">Therapist's notes</th></tr></thead><tbody>${list}</tbody></table></section>`;
   el.querySelector('#print').addEventListener('click', () => window.print());
+  bindNoteCells(el);
   const col = key => metrics.map(m => (typeof m[key] === 'number' ? m[key] : null));
   const chart = (sel, title, y, series) => lineChart(el.querySelector(sel), { title, x: 'session date', y, time: true,
     series: series.map(([, label]) => ({ label })) }).set([t, ...series.map(([key]) => col(key))]);
@@ -285,8 +290,12 @@ function readDifficulty(el, model, adapt, num) {
 const labelOf = (name, spec) => (spec.description.split(/\.\s|\n/)[0] || name).replace(/\.$/, '').replace(/[`[\]]/g, '');
 
 async function prescribeView(el, id, refreshMessages) {
-  const [r, schema] = await Promise.all([
-    api('GET', `/api/patients/${encodeURIComponent(id)}/regimen`), regimenSchema()]);
+  const [r, schema, patient] = await Promise.all([
+    api('GET', `/api/patients/${encodeURIComponent(id)}/regimen`), regimenSchema(),
+    api('GET', `/api/patients/${encodeURIComponent(id)}`)]);
+  // The patient's own bounds: their wheel's ceiling, never above the schema's device maximum.
+  const wheel = wheelBounds(patient.wheel);
+  const modes = assistModes(schema);
   const kinds = exerciseKinds(schema);
   const limits = regimenLimits(schema);
   const adapt = difficultyFields(schema);
@@ -303,10 +312,10 @@ async function prescribeView(el, id, refreshMessages) {
       return `
       <fieldset class="panel"><legend>Exercise ${i + 1}: ${esc(e.kind)}</legend>
         ${fields}
-        ${numberField(`ex${i}-ceiling`, 'Torque ceiling, N·m (empty: the station\'s)', e.haptic && e.haptic.ceiling_nm, { ...limits.ceiling, default: undefined })}
+        ${numberField(`ex${i}-ceiling`, 'Torque ceiling, N·m (empty: the station\'s)', e.haptic && e.haptic.ceiling_nm, wheel.torque({ ...limits.ceiling, default: undefined }))}
         ${e.kind === 'dial' ? '' : `<p><input type="checkbox" id="ex${i}-pedals"${e.pedals ? ' checked' : ''}>
           <label for="ex${i}-pedals" class="inline">The patient sets the speed with the pedals (needs a duration; leave unticked for automatic speed)</label></p>`}
-        <p class="note">${e.assist ? `Assistance: ${esc(JSON.stringify(e.assist.mode || e.assist))}` : 'Assistance: the station\'s setting.'}</p>
+        ${assistFields(i, e.assist, modes, numberField, esc)}
         <p><button type="button" class="secondary" data-remove="${i}">Remove exercise ${i + 1}</button></p>
       </fieldset>`;
     }).join('');
@@ -314,6 +323,7 @@ async function prescribeView(el, id, refreshMessages) {
     el.innerHTML = `
     <section class="panel" aria-labelledby="rx-h"><h2 id="rx-h">Regimen</h2>
       <p id="rx-version">${cur ? `Version ${esc(cur.version)}, prescribed by ${esc(r.current_prescribed_by_email || 'a therapist no longer at the clinic')} on ${esc(when(cur.prescribed_at_ms))}.` : 'Nothing prescribed yet: the station runs its default exercise.'}</p>
+      ${wheel.line}
       <form id="rx-form" novalidate>
         ${numberField('rx-sessions', 'Sessions a week', model.sessions_per_week, { ...limits.sessionsPerWeek, default: undefined })}
         ${adapt ? difficultyForm(model.difficulty, adapt) : ''}
@@ -336,7 +346,7 @@ async function prescribeView(el, id, refreshMessages) {
       </details>
       <h3>Safety bounds the station enforces</h3>
       <dl class="bounds" id="bounds">
-        <dt>Torque ceiling</dt><dd>at most ${esc(limits.ceiling.max)} N·m in a prescription (the strongest consumer wheel), refused above; the station then caps it at its own wheel's ceiling (a prescription can lower the patient's ceiling, never raise it)</dd>
+        <dt>Torque ceiling</dt><dd>at most ${esc(wheel.ceiling ?? limits.ceiling.max)} N·m in a prescription (${wheel.ceiling == null ? 'the strongest consumer wheel' : 'what this patient\'s wheel can give'}), refused above; the station then caps it at its own wheel's ceiling (a prescription can lower the patient's ceiling, never raise it)</dd>
         <dt>Torque changes</dt><dd>slew-limited by the station's safety chain whatever the prescription</dd>
         <dt>Session</dt><dd>at most ${esc(limits.maxExercises)} exercises planned to last at most ${esc(Math.round(limits.maxPlannedS / 60))} min together</dd>
         <dt>Every other setting</dt><dd>within the range shown beside it</dd>
@@ -377,6 +387,7 @@ async function prescribeView(el, id, refreshMessages) {
       const ceiling = num(`#ex${i}-ceiling`);
       if (ceiling === undefined) { if (e.haptic) delete e.haptic.ceiling_nm; } else { e.haptic = { ...(e.haptic || {}), ceiling_nm: ceiling }; }
       if (e.haptic && !Object.keys(e.haptic).length) delete e.haptic;
+      readAssist(el, i, e, num);
       const pedals = el.querySelector(`#ex${i}-pedals`);
       if (pedals && pedals.checked) e.pedals = true; else delete e.pedals;
     });
@@ -394,6 +405,7 @@ async function prescribeView(el, id, refreshMessages) {
       model.exercise.push({ kind: el.querySelector('#rx-add').value });
       render();
     });
+    el.querySelectorAll('[data-assist]').forEach(s => s.addEventListener('change', () => { readForm(); render(); }));
     el.querySelectorAll('[data-remove]').forEach(b => b.addEventListener('click', () => {
       readForm();
       model.exercise.splice(Number(b.dataset.remove), 1);

@@ -94,3 +94,24 @@ export function difficultyFields(root) {
     aspects: (changes.enum || (changes.oneOf || []).map(v => resolve(root, v).const)).filter(Boolean),
   };
 }
+
+/** The assistance modes an exercise may prescribe (`[exercise.assist.mode]`), in the schema's
+ * order: `{kind, description, fields}`, `fields` the mode's numeric fields as [name, numberSpec]
+ * and `motion` the numeric fields of its motion part (a hybrid's), if any. */
+export function assistModes(root) {
+  const entry = resolve(root, root.properties.exercise.items);
+  if (!entry.properties || !entry.properties.assist) return [];
+  const spec = nonNull(root, entry.properties.assist);
+  const mode = resolve(root, spec.properties && spec.properties.mode);
+  const numeric = v => Object.entries(v.properties || {})
+    .filter(([name, p]) => name !== 'kind' && isNumeric(nonNull(root, p)))
+    .map(([name, p]) => [name, numberSpec(root, p)]);
+  return (mode.oneOf || mode.anyOf || []).map(v => resolve(root, v))
+    .filter(v => v.properties && v.properties.kind && v.properties.kind.const)
+    .map(v => ({
+      kind: v.properties.kind.const,
+      description: v.description || '',
+      fields: numeric(v),
+      motion: v.properties.motion ? numeric(nonNull(root, v.properties.motion)) : [],
+    }));
+}

@@ -247,6 +247,7 @@ async fn drive(
     let hello = Frame::Hello(Hello {
         protocol_version: PROTOCOL_VERSION,
         min_protocol_version: None,
+        wheel: None,
         station_id: st.station_id.clone(),
         patient_id: st.patient_id.clone(),
         session_id: session_id.clone(),

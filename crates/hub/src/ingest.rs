@@ -187,7 +187,16 @@ impl DbStore {
         self.db
             .touch_station(&hello.station_id, self.now())
             .await
-            .map_err(refusal)
+            .map_err(refusal)?;
+        // The patient's wheel, as the station tells it: the prescribe form's bounds.
+        match &hello.wheel {
+            Some(wheel) => self
+                .db
+                .note_station_wheel(&hello.station_id, wheel, self.now())
+                .await
+                .map_err(refusal),
+            None => Ok(()),
+        }
     }
 
     /// Counts a pairing attempt from `ip`; false beyond [`PAIRING_ATTEMPTS_PER_MINUTE`] a

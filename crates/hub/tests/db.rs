@@ -33,6 +33,7 @@ fn hello(station_id: &str, patient_id: &str, session_id: &str) -> Hello {
         started_unix_ms: T0 as u64,
         software_version: "telerehab 0.1.0".to_owned(),
         min_protocol_version: None,
+        wheel: None,
     }
 }
 

@@ -46,6 +46,7 @@ async fn session(
         started_unix_ms: (T0 + hour * HOUR_MS) as u64,
         software_version: "telerehab 0.1.0".to_owned(),
         min_protocol_version: None,
+        wheel: None,
     };
     db.open_session(&hello, T0 + hour * HOUR_MS).await.unwrap();
     let bye = Bye {

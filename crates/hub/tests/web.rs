@@ -145,6 +145,7 @@ fn hello(patient_id: &str, session_id: &str) -> Hello {
         started_unix_ms: T0 as u64,
         software_version: "telerehab 0.1.0".into(),
         min_protocol_version: None,
+        wheel: None,
     }
 }
 

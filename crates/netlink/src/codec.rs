@@ -274,6 +274,7 @@ mod tests {
             started_unix_ms: 1_795_253_400_000,
             software_version: "telerehab 0.1.0".into(),
             min_protocol_version: None,
+            wheel: None,
         }
     }
 
@@ -397,6 +398,41 @@ mod tests {
             r#"TRHB\x00\x01\x05\x00\x00\x00\x00R{"session_id":"s1","reason":"stored","final_seq":null,"hub_unix_ms":1795253400123}"#
         );
         assert_eq!(decode(&bytes).unwrap().unwrap().0, stored);
+    }
+
+    /// The Hello's optional wheel (absent above when unset), pinned when set; an older
+    /// hub's reading ignores it, and a Hello without it still decodes.
+    #[test]
+    fn golden_bytes_of_a_hello_with_its_wheel() {
+        let mut h = hello();
+        h.wheel = Some(crate::frame::WheelInfo {
+            model: "Logitech G29".into(),
+            rated_torque_nm: 2.2,
+            ceiling_nm: 1.87,
+            unknown: false,
+        });
+        let frame = Frame::Hello(h);
+        let bytes = encode_to_vec(&frame).unwrap();
+        assert_eq!(
+            escape(&bytes),
+            r#"TRHB\x00\x01\x01\x00\x00\x00\x01\x0f{"protocol_version":1,"station_id":"station-01","patient_id":"p-0042","session_id":"2026-11-21T09-30-00Z","exercise":"sine-road","started_unix_ms":1795253400000,"software_version":"telerehab 0.1.0","wheel":{"model":"Logitech G29","rated_torque_nm":2.2,"ceiling_nm":1.87}}"#
+        );
+        assert_eq!(decode(&bytes).unwrap().unwrap().0, frame);
+    }
+
+    #[test]
+    fn a_hello_whose_wheel_ceiling_is_above_its_rating_is_refused_naming_the_field() {
+        let mut h = hello();
+        h.wheel = Some(crate::frame::WheelInfo {
+            model: "unknown wheel 1234:5678".into(),
+            rated_torque_nm: 5.0,
+            ceiling_nm: 6.0,
+            unknown: true,
+        });
+        let err = h.validate().unwrap_err().0;
+        assert!(err.contains("wheel.ceiling_nm"), "{err}");
+        h.wheel.as_mut().unwrap().ceiling_nm = 3.0;
+        assert!(h.validate().is_ok());
     }
 
     /// Version 2's frames (the therapist's messages), pinned; text counted in characters.

@@ -170,6 +170,60 @@ pub struct Hello {
     /// in with [`MIN_PROTOCOL_VERSION`] when left `None`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub min_protocol_version: Option<u16>,
+    /// The patient's wheel as the station drives it; `None` (absent on the wire, as from a
+    /// station older than this field) when the station did not say.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wheel: Option<WheelInfo>,
+}
+
+/// Most torque a [`WheelInfo`] may state, N·m (well above any consumer wheel's motor).
+pub const MAX_WHEEL_TORQUE_NM: f64 = 100.0;
+
+/// The patient's force-feedback wheel, as the station tells the hub in its [`Hello`]: what the
+/// clinic's prescribe form bounds every torque by.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WheelInfo {
+    /// The wheel's model in words, e.g. `Logitech G29` (`unknown wheel …` for a model the
+    /// station has no profile for).
+    pub model: String,
+    /// The motor's rated (peak) torque, N·m: the maker's figure, a measured or entered one, or
+    /// the assumed figure of an unknown wheel.
+    pub rated_torque_nm: f64,
+    /// The most torque the station's safety chain lets this wheel give the patient, in this
+    /// configuration (the wheel's usable maximum at its gain, capped by the station's patient
+    /// ceiling), N·m.
+    pub ceiling_nm: f64,
+    /// The model is unknown to the station: its rating is assumed and its ceiling the
+    /// conservative one for unknown wheels.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub unknown: bool,
+}
+
+impl WheelInfo {
+    /// Checks the model's text and that both torques are finite, ceiling within
+    /// [0, `rated_torque_nm`] and rating within (0, [`MAX_WHEEL_TORQUE_NM`]].
+    pub fn validate(&self) -> Result<(), FieldError> {
+        check_text("wheel.model", &self.model, MAX_TEXT_LEN)?;
+        if !(self.rated_torque_nm.is_finite()
+            && self.rated_torque_nm > 0.0
+            && self.rated_torque_nm <= MAX_WHEEL_TORQUE_NM)
+        {
+            return Err(FieldError(format!(
+                "wheel.rated_torque_nm = {}, allowed (0, {MAX_WHEEL_TORQUE_NM}] N·m",
+                self.rated_torque_nm
+            )));
+        }
+        if !(self.ceiling_nm.is_finite()
+            && self.ceiling_nm >= 0.0
+            && self.ceiling_nm <= self.rated_torque_nm)
+        {
+            return Err(FieldError(format!(
+                "wheel.ceiling_nm = {}, allowed [0, rated_torque_nm = {}] N·m",
+                self.ceiling_nm, self.rated_torque_nm
+            )));
+        }
+        Ok(())
+    }
 }
 
 /// One periodic summary of a running session (about every 100 ms).
@@ -769,7 +823,8 @@ impl Hello {
         check_id("patient_id", &self.patient_id)?;
         check_id("session_id", &self.session_id)?;
         check_text("exercise", &self.exercise, MAX_TEXT_LEN)?;
-        check_text("software_version", &self.software_version, MAX_TEXT_LEN)
+        check_text("software_version", &self.software_version, MAX_TEXT_LEN)?;
+        self.wheel.as_ref().map_or(Ok(()), WheelInfo::validate)
     }
 }
 
@@ -974,6 +1029,7 @@ pub(crate) mod tests {
             started_unix_ms: 0,
             software_version: "x".into(),
             min_protocol_version: None,
+            wheel: None,
         };
         assert!(h.validate().is_ok());
         assert!(h.negotiate().unwrap_err().0.contains("update required"));

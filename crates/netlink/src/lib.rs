@@ -42,6 +42,7 @@
 //!     started_unix_ms: 1_795_253_400_000,
 //!     software_version: "telerehab 0.1.0".into(),
 //!     min_protocol_version: None,
+//!     wheel: None,
 //! };
 //! let config = StationLinkConfig::new("localhost:7878", None, hello); // resolved on each attempt
 //! let (sender, mut link) = StationLink::spawn(runtime.handle(), config)?;
@@ -92,7 +93,7 @@ pub use error::NetlinkError;
 pub use frame::{
     Ack, Bye, CheckIn, DifficultyChange, ErrorFrame, ExerciseResult, Frame, FrameKind, Hello,
     MAX_MESSAGE_TEXT_CHARS, MESSAGES_VERSION, Message, MessageSeen, PROTOCOL_VERSION, Regimen,
-    Summary, check_message_text,
+    Summary, WheelInfo, check_message_text,
 };
 pub use station::{
     Backoff, HubAddress, LinkStats, SendError, StationLink, StationLinkConfig, SummarySender,

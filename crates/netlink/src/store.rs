@@ -294,6 +294,7 @@ mod tests {
             started_unix_ms: 5,
             software_version: "t".into(),
             min_protocol_version: None,
+            wheel: None,
         };
         write_hello(dir.path(), &hello).unwrap();
         let back: Hello =

@@ -29,6 +29,7 @@ fn hello(station: &str, session: &str) -> Hello {
         started_unix_ms: 1_795_253_400_000,
         software_version: "telerehab-test".into(),
         min_protocol_version: None,
+        wheel: None,
     }
 }
 

@@ -156,6 +156,7 @@ async fn a_paired_station_speaks_over_mutual_tls_with_the_credential_it_received
         started_unix_ms: 1_795_253_400_000,
         software_version: "telerehab-test".into(),
         min_protocol_version: None,
+        wheel: None,
     };
     let config = StationLinkConfig::new(addr.as_str(), Some(tls), hello);
     let handle = tokio::runtime::Handle::current();

@@ -22,6 +22,7 @@ fn hello_for(session_id: &str) -> Hello {
         started_unix_ms: 1_795_253_400_000,
         software_version: "telerehab-test".into(),
         min_protocol_version: None,
+        wheel: None,
     }
 }
 

@@ -29,6 +29,7 @@ mod exercises;
 mod logins;
 pub(crate) use logins::address_key;
 mod messages;
+mod notes;
 mod pairing;
 mod patients;
 mod regimens;
@@ -36,6 +37,7 @@ mod sessions;
 mod stations;
 mod summaries;
 mod therapists;
+mod wheels;
 mod words;
 
 use std::path::{Path, PathBuf};
@@ -55,6 +57,7 @@ pub use logins::{
     BASE_DELAY_MS, DEVICE_TTL_MS, HASH_QUEUE, REFUSAL_AUDITS_PER_MINUTE, THROTTLE_FORGET_MS,
 };
 pub use messages::{MAX_MESSAGES_LISTED, PatientMessage};
+pub use notes::{MAX_NOTE_CHARS, MAX_NOTES_LISTED, SessionNote, check_note_text};
 pub use pairing::{
     ATTEMPTS_BEFORE_BACKOFF, MAX_ATTEMPT_WAIT_MS, MIN_ATTEMPT_WAIT_MS, PairingTicket,
     attempt_wait_ms,
@@ -67,6 +70,7 @@ pub use therapists::{
     COMMON_PASSWORDS, LOCKOUT_MS, LoginAttempt, LoginOk, MAX_FAILED_LOGINS, MAX_PASSWORD_BYTES,
     MIN_PASSWORD_CHARS, Role, Therapist, check_new_password,
 };
+pub use wheels::PatientWheel;
 pub use words::{
     COMPLETE, NamedSession, TREND_BASELINE_SESSIONS, exercise_kind, like_with_like, plain_name,
     trend,

@@ -13,11 +13,13 @@ mod clinic;
 mod console;
 mod live;
 mod messages;
+mod notes;
 mod patients;
 mod regimen;
 mod regimen_words;
 mod serve;
 mod sessions;
+mod wheel_bounds;
 
 use std::sync::Arc;
 
@@ -195,6 +197,10 @@ pub fn router(state: AppState) -> Router {
         .route("/api/sessions/{id}/summaries", get(sessions::summaries))
         .route("/api/sessions/{id}/metrics", get(sessions::metrics))
         .route("/api/sessions/{id}/exercises", get(sessions::exercises))
+        .route(
+            "/api/sessions/{id}/notes",
+            get(notes::list).post(notes::post),
+        )
         .route("/api/sessions/{id}/replay", get(sessions::replay))
         .route("/api/patients/{id}/pairing-code", post(clinic::new_code))
         .route("/api/stations/{id}/revoke", post(clinic::revoke_station))

@@ -7,7 +7,7 @@ use serde::Serialize;
 
 use super::auth::Authed;
 use super::{ApiError, AppState};
-use crate::db::{NamedSession, Patient, PatientOverview, Station};
+use crate::db::{NamedSession, Patient, PatientOverview, PatientWheel, Station};
 
 pub(crate) async fn list(
     State(state): State<AppState>,
@@ -31,6 +31,18 @@ pub(crate) struct PatientDetail {
     #[serde(flatten)]
     patient: Patient,
     stations: Vec<Station>,
+    /// The wheel the patient's stations last told the hub of (`null`: none yet), with
+    /// `stated_ceiling_nm`, the ceiling as the console states it.
+    wheel: Option<WheelView>,
+}
+
+/// The patient's wheel as `GET /api/patients/{id}` shows it.
+#[derive(Serialize)]
+pub(crate) struct WheelView {
+    #[serde(flatten)]
+    wheel: PatientWheel,
+    /// The effective ceiling cut to 0.01 N·m: the form's maximum for every torque bound.
+    stated_ceiling_nm: f64,
 }
 
 pub(crate) async fn one(
@@ -41,10 +53,22 @@ pub(crate) async fn one(
     let Path(id) = id?;
     let patient = state.visible_patient(&therapist, &id).await?;
     let stations = state.db.stations_of(&patient.id).await?;
+    let wheel = state
+        .db
+        .wheel_of(&patient.id)
+        .await?
+        .map(|wheel| WheelView {
+            stated_ceiling_nm: super::wheel_bounds::stated_ceiling_nm(&wheel),
+            wheel,
+        });
     state
         .audit(&therapist.actor(), "read_patient", &patient.id, "")
         .await?;
-    Ok(Json(PatientDetail { patient, stations }))
+    Ok(Json(PatientDetail {
+        patient,
+        stations,
+        wheel,
+    }))
 }
 
 pub(crate) async fn sessions(

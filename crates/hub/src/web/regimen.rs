@@ -118,6 +118,8 @@ pub(crate) async fn put_regimen(
             )));
         }
     };
+    // Never above what the patient's own wheel can give.
+    super::wheel_bounds::check(&state, &therapist, &patient, &parsed).await?;
     let now = state.now();
     let version = state
         .db

@@ -16,7 +16,7 @@ use super::{ApiError, AppState, check_path_id};
 use crate::db::{SessionRow, Therapist};
 
 /// The session `id` if `therapist` may see its patient; 404 otherwise.
-async fn visible_session(
+pub(crate) async fn visible_session(
     state: &AppState,
     therapist: &Therapist,
     id: &str,

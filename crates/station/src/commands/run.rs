@@ -488,7 +488,11 @@ fn link_with_prescription(
         }
         _ => None,
     };
-    let mut link = Link::start(cfg, clock, home.home.as_ref())?;
+    // The hub bounds the patient's prescriptions by the wheel it is told of.
+    let wheel = (!cfg.therapist.address.is_empty())
+        .then(|| crate::link::wheel::for_hub(cfg, args.sim))
+        .flatten();
+    let mut link = Link::start_with_wheel(cfg, clock, home.home.as_ref(), wheel)?;
     let (Some(h), true) = (&home.home, asks_hub) else {
         return Ok((link, None));
     };

@@ -83,6 +83,7 @@ pub async fn probe(
     let hello = Hello {
         protocol_version: PROTOCOL_VERSION,
         min_protocol_version: Some(netlink::frame::MIN_PROTOCOL_VERSION),
+        wheel: None,
         station_id: station_id.to_owned(),
         patient_id: patient_id.to_owned(),
         session_id: probe_session_id(station_id),

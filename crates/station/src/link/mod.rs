@@ -5,6 +5,7 @@
 pub mod hub_status;
 pub mod queue;
 pub mod uploads;
+pub mod wheel;
 
 use crate::config::StationConfig;
 use crate::home::Home;
@@ -114,8 +115,8 @@ pub fn session_id(start: SystemTime, seed: u64, random: u32) -> String {
 }
 
 /// The first frame of the link: who this station, patient and session are, started now on
-/// `clock`.
-fn hello(cfg: &StationConfig, clock: &Clock) -> Hello {
+/// `clock`, and the patient's wheel when known.
+fn hello(cfg: &StationConfig, clock: &Clock, wheel: Option<netlink::WheelInfo>) -> Hello {
     let start_unix_ns = clock.unix_ns();
     Hello {
         protocol_version: PROTOCOL_VERSION,
@@ -130,6 +131,7 @@ fn hello(cfg: &StationConfig, clock: &Clock) -> Hello {
         exercise: cfg.session.exercise.clone(),
         started_unix_ms: start_unix_ns / 1_000_000,
         software_version: concat!("telerehab ", env!("CARGO_PKG_VERSION")).into(),
+        wheel,
     }
 }
 
@@ -141,6 +143,17 @@ impl Link {
     /// With `home`, every summary is queued on disk first, and sessions an earlier run left
     /// undelivered are sent in the background.
     pub fn start(cfg: &StationConfig, clock: &Clock, home: Option<&Home>) -> anyhow::Result<Self> {
+        Self::start_with_wheel(cfg, clock, home, None)
+    }
+
+    /// [`Link::start`], telling the hub the patient's `wheel` in every `Hello` (see
+    /// [`wheel::for_hub`]).
+    pub fn start_with_wheel(
+        cfg: &StationConfig,
+        clock: &Clock,
+        home: Option<&Home>,
+        wheel: Option<netlink::WheelInfo>,
+    ) -> anyhow::Result<Self> {
         let t = &cfg.therapist;
         if t.address.is_empty() {
             return Ok(Self { inner: None });
@@ -168,7 +181,7 @@ impl Link {
                     key_pem_path: key,
                 }),
         });
-        let hello = hello(cfg, clock);
+        let hello = hello(cfg, clock, wheel);
         let session_id = hello.session_id.clone();
         let mut config = StationLinkConfig::new(addr, tls.clone(), hello.clone());
         config.validate().context("therapist link")?;
@@ -606,7 +619,7 @@ mod tests {
         mock.advance(Duration::from_millis(90_500));
         let mut cfg = StationConfig::default();
         cfg.session.seed = 3;
-        let hello = hello(&cfg, &clock);
+        let hello = hello(&cfg, &clock, None);
         assert!(
             hello.session_id.starts_with("2026-01-01T00-01-30.500Z-s3-"),
             "{}",
@@ -614,7 +627,7 @@ mod tests {
         );
         assert_ne!(
             hello.session_id,
-            super::hello(&cfg, &clock).session_id,
+            super::hello(&cfg, &clock, None).session_id,
             "random part"
         );
         assert_eq!(

@@ -337,6 +337,7 @@ async fn session(
     let hello = Hello {
         protocol_version: PROTOCOL_VERSION,
         min_protocol_version: None,
+        wheel: None,
         station_id: pairing.station_id.clone(),
         patient_id: pairing.patient_id.clone(),
         session_id: session_id.clone(),
