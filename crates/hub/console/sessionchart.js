@@ -106,7 +106,8 @@ export function sessionChart(el, { title, y, labels, series, integer = false, ra
  * series' value, whether it counts); `status` [{counts, early}] a session.
  */
 export function numbersTable(title, labels, columns, status, integer = false) {
-  const word = st => (st.counts ? (st.early ? 'yes (ended early, included)' : 'yes') : 'no: ended early');
+  const word = st => (st.counts ? (st.early ? 'yes (ended early, included)' : 'yes')
+    : st.early ? 'no: ended early' : 'no: still running');
   const head = columns.map(c => `<th scope="col">${esc(c.label)}</th>`).join('');
   const rows = labels.map((label, i) => `<tr${status[i].early ? ' data-early="1"' : ''}><th scope="row">${esc(label)}</th>
     ${columns.map(c => `<td class="num">${esc(cellNumber(c.values[i], integer))}</td>`).join('')}
