@@ -199,7 +199,7 @@ def test_a_therapist_logs_in_watches_live_sees_progress_and_prescribes(clinic, b
     d.execute_cdp_cmd("Emulation.setEmulatedMedia", {"media": ""})
 
     # Replay of the session from its uploaded recording: play, seek, the cursor follows.
-    replay_url = d.find_element(By.LINK_TEXT, "Replay").get_attribute("href")
+    replay_url = d.find_element(By.ID, "tab").find_element(By.LINK_TEXT, "Replay").get_attribute("href")
     deadline = time.time() + 40
     while True:  # the station uploads its recording after the session (seconds on loopback)
         d.get(replay_url)

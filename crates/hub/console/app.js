@@ -3,33 +3,21 @@
 // Content-Security-Policy forbids them), every value put into HTML escaped.
 import { api, ApiError, esc, when } from '/console/api.js';
 import { liveView } from '/console/live.js';
-import { lineChart } from '/console/charts.js';
 import { replayView } from '/console/replay.js';
+import { replayList } from '/console/replays.js';
+import { progressView } from '/console/progress.js';
 import { exercisesView } from '/console/exercises.js';
 import { difficultyFields, exerciseKinds, regimenLimits, regimenSchema } from '/console/schema.js';
 import { messagesPanel, messageProblem, sendMessage } from '/console/messages.js';
 import { clinicView } from '/console/clinic.js';
-import { bindNoteCells, noteCell, notesSection } from '/console/notes.js';
+import { notesSection } from '/console/notes.js';
 import { assistModes, assistFields, readAssist } from '/console/assist.js';
 import { wheelBounds } from '/console/wheel.js';
-import { activeWords, endWords, kindWords, likeWithLike, sessionWords, trendWords } from '/console/words.js';
+import { kindWords } from '/console/words.js';
 
 const app = document.getElementById('app');
 let leave = () => {};
 let me = null;
-
-/** The measures a therapist follows across sessions, with their plain names and units;
- * `better` says which way is progress. */
-const MEASURES = [
-  ['pct_in_lane', 'time in lane', '%', 'up'],
-  ['rms_lateral_m', 'lane keeping error (RMS lateral deviation)', 'm', 'down'],
-  ['wheel_rom_deg', 'wheel range of motion', '°', 'up'],
-  ['shoulder_elevation_rom_deg', 'shoulder elevation range', '°', 'up'],
-  ['elbow_flexion_rom_deg', 'elbow flexion range', '°', 'up'],
-  ['sparc_median', 'movement smoothness (SPARC, closer to 0 is smoother)', '', 'up'],
-  ['assist_level_mean', 'assistance level', '0–1', 'down'],
-  ['active_s', 'active time', 's', 'up'],
-];
 
 async function route() {
   leave(); leave = () => {};
@@ -150,101 +138,16 @@ async function patientView(id, tab, sessionId) {
   const p = await api('GET', `/api/patients/${encodeURIComponent(id)}`);
   const link = (t, label) => `<a href="#/patients/${encodeURIComponent(id)}/${t}"${t === tab ? ' aria-current="page"' : ''}>${label}</a>`;
   app.innerHTML = `<h1>Patient ${esc(p.pseudonym)}</h1>
-    <nav class="tabs" aria-label="Patient">${link('live', 'Live')}${link('progress', 'Progress')}${link('prescribe', 'Prescribe')}<a href="#/clinic/patients/${encodeURIComponent(id)}">Stations and pairing</a></nav>
+    <nav class="tabs" aria-label="Patient">${link('live', 'Live')}${link('progress', 'Progress')}${link('replay', 'Replay')}${link('prescribe', 'Prescribe')}<a href="#/clinic/patients/${encodeURIComponent(id)}">Stations and pairing</a></nav>
     <div id="tab"></div>
     <section id="messages"></section>`;
   const el = app.querySelector('#tab');
   const refreshMessages = await messagesPanel(app.querySelector('#messages'), id);
   if (tab === 'live') { el.id = 'live'; leave = liveView(el, id); }
-  else if (tab === 'progress') await progressView(el, id, p);
-  else if (tab === 'replay') leave = await replayView(el, sessionId);
+  else if (tab === 'progress') leave = await progressView(el, id);
+  else if (tab === 'replay') leave = sessionId ? await replayView(el, sessionId) : (await replayList(el, id), () => {});
   else if (tab === 'exercises') { await exercisesView(el, id, sessionId); await notesSection(el, sessionId); }
   else await prescribeView(el, id, refreshMessages);
-}
-
-/** A session's check-in in a few words (HTML, every part escaped); pain of 7 or more marked. */
-function checkinWords(c) {
-  if (!c) return '—';
-  const difficulty = { too_easy: 'too easy', about_right: 'about right', too_hard: 'too hard' };
-  const parts = [];
-  if (c.pain_0_10 != null) parts.push(`<span class="${c.pain_0_10 >= 7 ? 'badge alert' : ''}">pain ${esc(String(c.pain_0_10))}/10</span>`);
-  if (c.tiredness_0_10 != null) parts.push(`tiredness ${esc(String(c.tiredness_0_10))}/10`);
-  if (c.difficulty != null) parts.push(esc(difficulty[c.difficulty] || c.difficulty));
-  return parts.length ? parts.join(', ') : 'skipped';
-}
-
-/** The difficulty history (oldest first): a chart and a table of each change and its reason,
- * the station's words escaped; nothing when no session adapted. */
-function difficultyPanel(history) {
-  if (!history.length) return '';
-  const signed = x => (x < -0.0005 ? `−${(-x).toFixed(2)}` : `+${x.toFixed(2)}`);
-  const rows = history.slice().reverse().map(d => `<tr><td>${esc(when(d.started_unix_ms))}</td>
-    <td class="num">${esc(d.difficulty.toFixed(2))}</td><td class="num">${esc(signed(d.change))}</td>
-    <td>${d.success_rate == null ? '—' : `${esc(Math.round(d.success_rate * 100))} %`}</td><td class="reason">${esc(d.reason)}</td></tr>`).join('');
-  return `<section class="panel" id="difficulty" aria-labelledby="difficulty-h"><h2 id="difficulty-h">Difficulty that follows the patient</h2>
-      <p class="note">0: half the prescribed speed and shape with all its assistance; 1: the regimen as written. Set by the station within the regimen's [difficulty] bounds.</p>
-      <div class="chart" id="p-difficulty"></div>
-      <table id="difficulty-table"><thead><tr><th scope="col">Started</th><th scope="col">Difficulty</th><th scope="col">Change</th><th scope="col">Success</th><th scope="col">Why</th></tr></thead><tbody>${rows}</tbody></table></section>`;
-}
-
-async function progressView(el, id, patient) {
-  const sessions = (await api('GET', `/api/patients/${encodeURIComponent(id)}/sessions`)).slice().reverse();
-  const metrics = await Promise.all(sessions.map(s => api('GET', `/api/sessions/${encodeURIComponent(s.session_id)}/metrics`).catch(() => ({}))));
-  // The patient's own answers on each session's end screen (plain text, escaped).
-  const checkins = new Map((await api('GET', `/api/patients/${encodeURIComponent(id)}/checkins`).catch(() => []))
-    .map(c => [c.session_id, c]));
-  // The difficulty each adapted session ran at and why (newest first from the hub).
-  const difficulty = (await api('GET', `/api/patients/${encodeURIComponent(id)}/difficulty`).catch(() => [])).slice().reverse();
-  const t = sessions.map(s => s.started_unix_ms / 1000);
-  // Like with like: the latest session that ran as prescribed against earlier ones of its kind.
-  const like = likeWithLike(sessions);
-  const latest = like.length ? sessions[like[0]] : null;
-  const rows = MEASURES.map(([key, label, unit, better]) => {
-    const values = like.map(i => metrics[i][key]);
-    const last = values[0];
-    const head = `<tr data-key="${esc(key)}"><th scope="row">${esc(label)}</th>`;
-    if (key === 'active_s') return `${head}<td>${esc(activeWords(last, latest && latest.prescribed_s))}</td><td class="note">against the prescription, not a trend</td></tr>`;
-    return `${head}<td>${last === undefined ? '—' : `${esc(Number(last).toFixed(2))} ${esc(unit)}`}</td><td>${trendWords(values, better)}</td></tr>`;
-  }).join('');
-  const compared = latest ? `The latest session that ran as prescribed (${esc(sessionWords(latest))}) against up to four earlier ${esc(kindWords(latest.exercise_kind))} sessions that did too; sessions ended early are shown below, not compared.`
-    : 'No session has run as prescribed yet: nothing to compare.';
-  const list = sessions.slice().reverse().map(s => `<tr${s.ran_as_prescribed ? '' : ' data-early="1"'}><td>${esc(when(s.started_unix_ms))}</td><td>${esc(s.exercise_name || s.exercise)}</td>
-    <td>${endWords(s)}</td>
-    <td class="checkin">${checkinWords(checkins.get(s.session_id))}</td>
-    <td><a href="#/patients/${encodeURIComponent(id)}/exercises/${encodeURIComponent(s.session_id)}">Each exercise</a>
-      · <a href="#/patients/${encodeURIComponent(id)}/replay/${encodeURIComponent(s.session_id)}">Replay</a></td>
-    <td>${noteCell(s.session_id, `the session of ${when(s.started_unix_ms)}`, esc)}</td></tr>`).join('');
-  el.innerHTML = `
-    <p class="print-hide"><button type="button" id="print" class="secondary">Print a one-page summary</button></p>
-    <section class="panel" aria-labelledby="latest-h"><h2 id="latest-h">${latest ? `Latest ${esc(kindWords(latest.exercise_kind))} session against the earlier ones` : 'Latest session against the earlier ones'}</h2>
-      <p class="note print-hide" id="compared">${compared}</p>
-      <table id="latest-table"><thead><tr><th scope="col">Measure</th><th scope="col">Latest</th><th scope="col">Trend</th></tr></thead><tbody>${rows}</tbody></table></section>
-    <div class="grid">
-      <section class="panel"><h2>Lane keeping</h2><div class="chart" id="p-lane"></div></section>
-      <section class="panel"><h2>Ranges of motion</h2><div class="chart" id="p-rom"></div></section>
-      <section class="panel"><h2>Movement smoothness</h2><div class="chart" id="p-sparc"></div></section>
-      <section class="panel"><h2>Active time and assistance</h2><div class="chart" id="p-active"></div></section>
-    </div>
-    ${difficultyPanel(difficulty)}
-    <section class="panel print-hide" aria-labelledby="sessions-h"><h2 id="sessions-h">Sessions (${sessions.length})</h2>
-      <table><thead><tr><th scope="col">Started</th><th scope="col">Exercise</th><th scope="col">End</th><th scope="col">Patient's check-in</th><th scope="col">Results and recording</th><th scope="col">Therapist's notes</th></tr></thead><tbody>${list}</tbody></table></section>`;
-  el.querySelector('#print').addEventListener('click', () => window.print());
-  bindNoteCells(el);
-  const col = key => metrics.map(m => (typeof m[key] === 'number' ? m[key] : null));
-  const chart = (sel, title, y, series) => lineChart(el.querySelector(sel), { title, x: 'session date', y, time: true,
-    series: series.map(([, label]) => ({ label })) }).set([t, ...series.map(([key]) => col(key))]);
-  chart('#p-lane', 'Time in lane and lane keeping error', '% / m', [['pct_in_lane', 'time in lane (%)'], ['rms_lateral_m', 'lane keeping error (m)']]);
-  chart('#p-rom', 'Ranges of motion', 'range (°)', [['wheel_rom_deg', 'wheel (°)'], ['shoulder_elevation_rom_deg', 'shoulder elevation (°)'], ['elbow_flexion_rom_deg', 'elbow flexion (°)']]);
-  chart('#p-sparc', 'Smoothness (SPARC)', 'SPARC (dimensionless)', [['sparc_median', 'SPARC, median of movements']]);
-  chart('#p-active', 'Active time and assistance', 's / level', [['active_s', 'active time (s)'], ['assist_level_mean', 'assistance level (0–1)']]);
-  if (difficulty.length) {
-    // By session (1: the first adapted one): a change reads the same a day or a week apart.
-    lineChart(el.querySelector('#p-difficulty'), { title: 'Difficulty and success', x: 'adapted session', y: '0–1', time: false,
-      series: [{ label: 'difficulty (0–1)' }, { label: 'success rate (0–1)' }] })
-      .set([difficulty.map((_, i) => i + 1), difficulty.map(d => d.difficulty), difficulty.map(d => d.success_rate ?? null)]);
-  }
-  el.dataset.sessions = String(sessions.length);
-  void patient;
 }
 
 /** A number input with its bounds from the regimen's schema (enforced by the browser, shown

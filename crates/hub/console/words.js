@@ -4,10 +4,6 @@
 // kind (road, dial, …) that did too, as the hub's caseload does (crates/hub/API.md).
 import { esc, when } from '/console/api.js';
 
-/** How many earlier sessions a trend compares the latest with (the hub's
- * TREND_BASELINE_SESSIONS). */
-const BASELINE_SESSIONS = 4;
-
 /** An exercise's short name as the patient sees it (`sine-road` → `Sine road`; the station's
  * `screen::plain_name`); a regimen session (`regimen:2`) as "A regimen of 2 exercises". */
 export function plainName(short) {
@@ -35,16 +31,6 @@ export function endWords(s) {
   if (!s.closed_at_ms && !s.end_reason) return 'running';
   return `<span class="badge warn">ended early</span> ${esc(s.end_reason || 'no reason given')}
     <span class="note">(not in the trends)</span>`;
-}
-
-/** The sessions the trends compare, as indices into `sessions` (oldest first), newest first:
- * the latest that ran as prescribed and up to four earlier of its kind that did too. */
-export function likeWithLike(sessions) {
-  const done = [];
-  for (let i = sessions.length - 1; i >= 0; i--) if (sessions[i].ran_as_prescribed) done.push(i);
-  if (!done.length) return [];
-  const kind = sessions[done[0]].exercise_kind;
-  return [done[0], ...done.slice(1).filter(i => sessions[i].exercise_kind === kind).slice(0, BASELINE_SESSIONS)];
 }
 
 /** The trend of `values` (newest first, numbers or undefined) as HTML: the latest against the

@@ -201,7 +201,39 @@ async fn sessions_are_named_by_their_exercises_in_words(db: Db) {
     );
 }
 
+async fn a_session_says_its_recording_arrived_only_once_every_byte_did(db: Db) {
+    let (_, p) = paired(&db).await;
+    for (sid, hour) in [("none", 1), ("half", 2), ("whole", 3)] {
+        session(&db, &p, (sid, "sine-road", hour, "complete"), &[], vec![]).await;
+    }
+    let mut rec = hub::db::Recording {
+        session_id: "half".to_owned(),
+        sha256: FP1.to_owned(),
+        size_bytes: 1000,
+        received_bytes: 500,
+        path: "/nowhere/half.mcap".to_owned(),
+        complete: false,
+    };
+    db.put_recording(&rec).await.unwrap();
+    rec.session_id = "whole".to_owned();
+    rec.received_bytes = 1000;
+    rec.complete = true;
+    db.put_recording(&rec).await.unwrap();
+    let named = db.named_sessions_of(&p.id).await.unwrap();
+    let uploaded: Vec<(&str, bool)> = named
+        .iter()
+        .map(|s| (s.row.session_id.as_str(), s.recording_uploaded))
+        .collect();
+    assert_eq!(
+        uploaded,
+        [("whole", true), ("half", false), ("none", false)]
+    );
+    let json = serde_json::to_value(&named[0]).unwrap();
+    assert_eq!(json["recording_uploaded"], serde_json::json!(true));
+}
+
 on_both_backends!(
     trends_compare_the_latest_kind_and_leave_out_sessions_ended_early,
     sessions_are_named_by_their_exercises_in_words,
+    a_session_says_its_recording_arrived_only_once_every_byte_did,
 );

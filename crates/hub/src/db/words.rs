@@ -2,7 +2,7 @@
 //! exercise kind (`road`, `dial`, …), so that trends compare like with like and leave out
 //! sessions that did not run as prescribed.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use serde::Serialize;
 
@@ -68,6 +68,9 @@ pub struct NamedSession {
     /// The prescribed exercise time, s (the sum over the exercises the station reported);
     /// `null` when not reported.
     pub prescribed_s: Option<f64>,
+    /// True once the session's recording has fully arrived (every byte, its hash checked):
+    /// the console's replay can then open it.
+    pub recording_uploaded: bool,
 }
 
 /// A session's exercises: each one's short name, patient-facing name and prescribed time, s
@@ -75,7 +78,12 @@ pub struct NamedSession {
 type Reported = Vec<(String, String, Option<f64>)>;
 
 /// Names session `row` from its reported exercises (`kind`, `name`, `prescribed_s`).
-fn name_session(row: SessionRow, reported: Option<&Reported>) -> NamedSession {
+/// `recording_uploaded` says whether its whole recording has arrived.
+fn name_session(
+    row: SessionRow,
+    reported: Option<&Reported>,
+    recording_uploaded: bool,
+) -> NamedSession {
     let ran_as_prescribed = row.end_reason.as_deref() == Some(COMPLETE);
     let (exercise_name, exercise_kind, prescribed_s) = match reported {
         Some(list) if !list.is_empty() => {
@@ -111,6 +119,7 @@ fn name_session(row: SessionRow, reported: Option<&Reported>) -> NamedSession {
         exercise_kind,
         ran_as_prescribed,
         prescribed_s,
+        recording_uploaded,
     }
 }
 
@@ -171,13 +180,28 @@ impl Db {
         }
         self.regimen_exercises(patient_id, &rows, &mut by_session)
             .await?;
+        let uploaded = self.uploaded_recordings(patient_id).await?;
         Ok(rows
             .into_iter()
             .map(|row| {
                 let reported = by_session.get(&row.session_id);
-                name_session(row, reported)
+                let recording = uploaded.contains(&row.session_id);
+                name_session(row, reported, recording)
             })
             .collect())
+    }
+
+    /// The sessions of `patient_id` whose recording has fully arrived.
+    async fn uploaded_recordings(&self, patient_id: &str) -> Result<BTreeSet<String>, HubError> {
+        let rows = sqlx::query(
+            "SELECT r.session_id FROM recordings r JOIN sessions s ON s.session_id = r.session_id \
+             WHERE s.patient_id = $1 AND r.complete <> 0",
+        )
+        .bind(patient_id)
+        .fetch_all(self.pool())
+        .await
+        .map_err(HubError::db("reading which recordings have arrived"))?;
+        rows.iter().map(|r| col(r, "session_id")).collect()
     }
 
     /// Fills in, for the regimen sessions (`regimen:N`) whose station reported no exercises,

@@ -1,0 +1,154 @@
+"""Readable progress and the Replay tab (issue 29), in a real browser (Debian's chromium,
+headless): the progress charts grouped by exercise kind (newest kind first) with an axis by
+session, so that sessions of one day sit apart; the latest table with the patient's own baseline;
+every chart's numbers as a table; a session ended early drawn hollow and left out until the
+therapist ticks "Include sessions that ended early"; the Replay tab listing the sessions and
+opening a replay; axe-core finds no violation on Progress or the Replay tab. Screenshots (1366×768)
+go to $TELEREHAB_ARTIFACTS (default target/test-artifacts/console); look at them."""
+
+import re
+import time
+
+from selenium.webdriver.common.by import By
+
+from axe_audit import assert_no_violations
+from test_console_browser import browser, clinic, shot, telerehab, wait  # noqa: F401 (fixtures)
+from test_console_words import log_in, run_session
+
+
+def api_sessions_with_metrics(d):
+    """The patient's sessions (newest first) as the API gives them, each with its metrics."""
+    return d.execute_async_script(
+        "const done = arguments[arguments.length - 1];"
+        "const p = location.hash.split('/')[2];"
+        "fetch(`/api/patients/${p}/sessions`).then(r => r.json()).then(async list => {"
+        "  for (const s of list) s.metrics = await (await fetch(`/api/sessions/${s.session_id}/metrics`)).json();"
+        "  done(list); });")
+
+
+def cells(d, key):
+    row = d.find_element(By.CSS_SELECTOR, f"#latest-table tr[data-key='{key}']")
+    return [td.text for td in row.find_elements(By.TAG_NAME, "td")]
+
+
+def test_progress_charts_by_kind_and_session_with_a_baseline_and_an_early_session_set_aside(clinic, browser):
+    # A dial task, three road sessions (all today: same-day sessions), then a road session cut
+    # short by an unplugged wheel.
+    run_session(clinic, "dial-sine", 1)
+    for seed in (2, 3, 4):
+        run_session(clinic, "sine-road", seed)
+    run_session(clinic, "sine-road", 5, "--fault", "wheel-unplug@3", check=False)
+    d = browser
+    d.set_window_size(1366, 768)
+    log_in(d, clinic)
+    d.find_element(By.LINK_TEXT, "P-0042").click()
+    wait(d, lambda d: d.find_elements(By.LINK_TEXT, "Progress"))[0].click()
+    wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#tab[data-sessions='5']"))
+    sessions = api_sessions_with_metrics(d)
+    assert [s["exercise_kind"] for s in sessions] == ["road"] * 4 + ["dial"]
+    assert [s["ran_as_prescribed"] for s in sessions] == [False] + [True] * 4
+
+    # Grouped by kind, the newest kind first, named in words.
+    groups = d.find_elements(By.CSS_SELECTOR, "#charts .kind-group")
+    assert [g.get_attribute("data-kind") for g in groups] == ["road", "dial"]
+    assert groups[0].find_element(By.TAG_NAME, "h2").text == "Road sessions (4)"
+    assert groups[1].find_element(By.TAG_NAME, "h2").text == "Dial sessions (1)"
+    # No lane chart among the dial task's.
+    assert not groups[1].find_elements(By.CSS_SELECTOR, "[id$='-lane']")
+
+    # One step a session: the four road sessions of one day at four x positions, four labels.
+    lane = d.find_element(By.ID, "p-road-lane")
+    assert lane.get_attribute("data-xs") == "1 2 3 4"
+    labels = lane.get_attribute("data-labels").split("|")
+    assert len(set(labels)) == 4, labels
+    # The early session drawn apart and not counted.
+    assert lane.get_attribute("data-early") == "4"
+    assert lane.get_attribute("data-counted") == "1 2 3"
+    # One unit an axis: the lane's error and time in lane are separate charts.
+    assert d.find_elements(By.ID, "p-road-lateral")
+    y_labels = [c.get_attribute("data-y-axis") for c in d.find_elements(By.CSS_SELECTOR, "#charts .chart")]
+    assert "time in lane (%)" in y_labels and "RMS deviation (m)" in y_labels, y_labels
+    assert not any("/" in y for y in y_labels), y_labels
+
+    # Every chart's numbers as a table, a row a session.
+    for chart in d.find_elements(By.CSS_SELECTOR, "#charts .chart"):
+        panel = chart.find_element(By.XPATH, "..")
+        table = panel.find_element(By.CSS_SELECTOR, "details.numbers table")
+        rows = table.find_elements(By.CSS_SELECTOR, "tbody tr")
+        group = chart.get_attribute("data-kind")
+        assert len(rows) == (4 if group == "road" else 1), chart.get_attribute("id")
+        assert table.find_elements(By.CSS_SELECTOR, "caption")
+        assert rows[0].find_elements(By.CSS_SELECTOR, "th[scope='row']")
+
+    # The latest table: the newest complete road session, against its baseline (the mean of
+    # the first three road sessions), with units.
+    roads = [s["metrics"] for s in sessions[1:4]][::-1]  # oldest first
+    base = sum(m["wheel_rom_deg"] for m in roads) / 3
+    latest, baseline, trend = cells(d, "wheel_rom_deg")
+    assert latest == f"{roads[-1]['wheel_rom_deg']:.2f} °", latest
+    assert baseline == f"{base:.2f} °", (baseline, roads)
+    assert "steady" in trend or "better" in trend or "worse" in trend, trend
+    active = cells(d, "active_s")
+    assert "not a trend" in active[2] and "better" not in active[2] and "worse" not in active[2], active
+    assert re.fullmatch(r"\d+ s( of \d+ s prescribed)?", active[1]), active
+    assert not d.find_elements(By.CSS_SELECTOR, "#latest-table tr[data-key='dial_rms_error_deg']")
+    assert_no_violations(d, "Progress")
+    shot(d, "progress-1-latest-and-baseline")
+    d.execute_script("document.getElementById('p-road-lane').scrollIntoView()")
+    shot(d, "progress-2-charts-by-session")
+
+    # Ticked: the early session counts (latest and baseline unchanged: it is the fourth).
+    early = sessions[0]["metrics"]
+    assert early["wheel_rom_deg"] != roads[-1]["wheel_rom_deg"], "the early session must differ to tell"
+    d.find_element(By.ID, "include-early").click()
+    wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#tab[data-include-early='1']"))
+    lane = d.find_element(By.ID, "p-road-lane")
+    assert lane.get_attribute("data-counted") == "1 2 3 4"
+    assert lane.get_attribute("data-early") == "4", "still drawn apart"
+    latest, baseline, _ = cells(d, "wheel_rom_deg")
+    assert latest == f"{early['wheel_rom_deg']:.2f} °", latest
+    assert baseline == f"{base:.2f} °", baseline
+    assert "ended early are included" in d.find_element(By.ID, "compared").text
+    lane_table = lane.find_element(By.XPATH, "..").find_element(By.CSS_SELECTOR, "details.numbers")
+    lane_table.find_element(By.TAG_NAME, "summary").click()
+    assert "ended early, included" in lane_table.text
+    assert_no_violations(d, "Progress, sessions ended early included")
+    d.execute_script("document.getElementById('p-road-lane').scrollIntoView()")
+    shot(d, "progress-3-early-included")
+    d.find_element(By.ID, "include-early").click()
+    wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#tab[data-include-early='0']"))
+    assert d.find_element(By.ID, "p-road-lane").get_attribute("data-counted") == "1 2 3"
+
+
+def test_the_replay_tab_lists_the_sessions_and_opens_a_replay(clinic, browser):
+    d = browser  # logged in by the first test (module-scoped browser)
+    nav = wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "nav.tabs"))[0]
+    assert [a.text for a in nav.find_elements(By.TAG_NAME, "a")][:4] == ["Live", "Progress", "Replay", "Prescribe"]
+    wait(d, lambda d: d.find_element(By.CSS_SELECTOR, "nav.tabs").find_element(By.LINK_TEXT, "Replay")).click()
+    deadline = time.time() + 40
+    while True:  # the station uploads its recording after the session (seconds on loopback)
+        table = wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#tab[data-replays] #replays"))[0]
+        rows = table.find_elements(By.CSS_SELECTOR, "tbody tr")
+        if all(r.get_attribute("data-recording") == "1" for r in rows[1:]) or time.time() > deadline:
+            break
+        time.sleep(1)
+        d.refresh()
+    assert len(rows) == 5
+    # Newest first, by date and time and exercise name; every session either opens or says why not.
+    assert [r.find_elements(By.TAG_NAME, "td")[0].text for r in rows] == ["Sine road"] * 4 + ["Dial sine"]
+    for r in rows:
+        if r.get_attribute("data-recording") == "1":
+            assert r.find_element(By.CSS_SELECTOR, "th a").get_attribute("href").count("/replay/") == 1
+        else:
+            assert "has not arrived yet" in r.text or "Still running" in r.text, r.text
+    assert rows[1].get_attribute("data-recording") == "1", rows[1].text
+    assert_no_violations(d, "Replay tab")
+    shot(d, "progress-4-replay-tab")
+    started = rows[1].find_element(By.CSS_SELECTOR, "th a").text
+    rows[1].find_element(By.CSS_SELECTOR, "th a").click()
+    head = wait(d, lambda d: [e for e in d.find_elements(By.CSS_SELECTOR, "#tab h2") if e.text.startswith("Replay of the session of ")])[0]
+    assert "Sine road" in head.text, head.text
+    assert started in head.text, (started, head.text)
+    assert d.find_element(By.CSS_SELECTOR, "nav.tabs a[aria-current='page']").text == "Replay"
+    wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#tab[data-frames]"))
+    shot(d, "progress-5-replay-opened")
