@@ -68,7 +68,7 @@ def test_every_console_screen_has_no_accessibility_violation(clinic, browser):
     d.get(f"{web}/#{patient}/progress")
     audit(d, "progress", "#tab[data-sessions='1']")
     exercises = d.find_element(By.LINK_TEXT, "Each exercise").get_attribute("href")
-    replay = d.find_element(By.LINK_TEXT, "Replay").get_attribute("href")
+    replay = d.find_element(By.CSS_SELECTOR, "#tab a[href*='/replay/']").get_attribute("href")
     d.get(exercises)
     audit(d, "each-exercise", "#tab table")
     deadline = time.time() + 40
@@ -79,6 +79,8 @@ def test_every_console_screen_has_no_accessibility_violation(clinic, browser):
             break
         time.sleep(1)
     audit(d, "replay", "#tab[data-frames]")
+    d.get(f"{web}/#{patient}/replay")
+    audit(d, "replay-list", "#tab a[href*='/replay/']")
     d.get(f"{web}/#{patient}/prescribe")
     audit(d, "prescribe", "#rx-form")
     d.get(f"{web}/#/password")
