@@ -106,5 +106,12 @@ def test_the_live_view_draws_the_road_around_the_car_then_the_dial_without_lanes
         assert dial_session.wait(timeout=60) == 0
         ended = wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#live-status [data-ended]"), timeout=20)[0]
         assert ended.text == "ended: complete, as prescribed", ended.text
+
+        # At 200 % zoom (a 700 CSS px window) the panels stack in one column, nothing sideways.
+        d.execute_cdp_cmd("Emulation.setDeviceMetricsOverride",
+                          {"width": 700, "height": 550, "deviceScaleFactor": 2, "mobile": False})
+        overflow = d.execute_script("return document.documentElement.scrollWidth - document.documentElement.clientWidth")
+        assert overflow <= 0, f"the live view scrolls sideways by {overflow} px at 200 %"
+        shot(d, "live-3-dial-200-percent")
     finally:
         d.execute_cdp_cmd("Emulation.clearDeviceMetricsOverride", {})
