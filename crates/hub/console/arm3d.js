@@ -1,6 +1,7 @@
 // The patient's arm and the wheel in 3-D (three.js), posed from the live summary: the grip on
 // the rim at the wheel angle and the forearm's and upper arm's directions from their IMUs,
-// drawn at the segment lengths the station was set up with. Drag (or the arrow keys with the
+// drawn at the segment lengths the station was set up with, as a person's — upper arm, forearm
+// and hand on the rim, with the shoulders, trunk and head beside them for context. Drag (or the arrow keys with the
 // view focused) turns the camera around the wheel.
 import * as THREE from '/console/vendor/three-0.181.2/three.module.min.js';
 
@@ -16,15 +17,15 @@ export class ArmView {
     this.renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
     this.renderer.setClearColor(0xf0f4f8);
     this.scene = new THREE.Scene();
-    this.scene.add(new THREE.AmbientLight(0xffffff, 1.2));
-    const sun = new THREE.DirectionalLight(0xffffff, 2.0);
+    // Soft light: sky and floor, and a weak sun for the shapes' relief.
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x9aa3ad, 2.2));
+    const sun = new THREE.DirectionalLight(0xffffff, 1.1);
     sun.position.set(1, 2, 1.5);
     this.scene.add(sun);
-    this.camera = new THREE.PerspectiveCamera(45, 1, 0.05, 10);
-    this.yaw = 1.0; this.pitch = 0.35; this.distance = 1.9;
+    this.camera = new THREE.PerspectiveCamera(40, 1, 0.05, 10);
+    this.yaw = 1.25; this.pitch = 0.3; this.distance = 2.2;
 
-    const arm = new THREE.MeshStandardMaterial({ color: 0x0072b2 });
-    const wheel = new THREE.MeshStandardMaterial({ color: 0xe69f00 });
+    const wheel = new THREE.MeshStandardMaterial({ color: 0xe69f00, roughness: 0.6 });
     // The wheel: a rim in its tilted plane and a spoke to the grip.
     this.wheelGroup = new THREE.Group();
     const rim = new THREE.Mesh(new THREE.TorusGeometry(GRIP_RADIUS_M, 0.012, 12, 64), wheel);
@@ -39,11 +40,8 @@ export class ArmView {
     const normal = new THREE.Vector3().crossVectors(left, up).normalize();
     this.wheelGroup.quaternion.setFromRotationMatrix(new THREE.Matrix4().makeBasis(left.clone().negate(), up, normal.clone().negate()));
     this.scene.add(this.wheelGroup);
-    // The arm: two segments and three joints.
-    this.upper = new THREE.Mesh(new THREE.CylinderGeometry(0.035, 0.03, 1, 16), arm);
-    this.fore = new THREE.Mesh(new THREE.CylinderGeometry(0.03, 0.025, 1, 16), arm);
-    this.joints = [0.05, 0.045, 0.04].map(r => new THREE.Mesh(new THREE.SphereGeometry(r, 16, 12), arm));
-    this.scene.add(this.upper, this.fore, ...this.joints);
+    this.person = new Person();
+    this.scene.add(this.person.group);
     this.scene.add(new THREE.GridHelper(2, 20, 0xb0b0b0, 0xd8d8d8).translateY(-0.6));
     this.posed = false;
     this.bindCamera();
@@ -94,25 +92,75 @@ export class ArmView {
     if (foreDir.length() < 0.5 || upperDir.length() < 0.5) { this.draw(); return false; }
     const elbow = grip.clone().addScaledVector(foreDir, -(extra.forearm_m ?? 0.33));
     const shoulder = elbow.clone().addScaledVector(upperDir, -(extra.upper_arm_m ?? 0.30));
-    this.segment(this.upper, shoulder, elbow);
-    this.segment(this.fore, elbow, grip);
-    [shoulder, elbow, grip].forEach((p, i) => this.joints[i].position.copy(p));
+    this.person.pose(shoulder, elbow, grip, foreDir);
     this.posed = true;
     this.draw();
     return true;
   }
 
-  segment(mesh, from, to) {
-    const d = to.clone().sub(from);
-    mesh.position.copy(from).addScaledVector(d, 0.5);
-    mesh.scale.set(1, d.length(), 1);
-    mesh.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), d.normalize());
-  }
-
   draw() {
     const c = this.camera, r = this.distance;
     c.position.set(r * Math.sin(this.yaw) * Math.cos(this.pitch), r * Math.sin(this.pitch), r * Math.cos(this.yaw) * Math.cos(this.pitch));
-    c.lookAt(0.05, 0.0, 0.2);
+    c.lookAt(0.0, -0.05, 0.3);
     this.renderer.render(this.scene, c);
+  }
+}
+
+/** Puts `mesh` (a unit-long shape along y) from `from` to `to`. */
+function segment(mesh, from, to) {
+  const d = to.clone().sub(from);
+  mesh.position.copy(from).addScaledVector(d, 0.5);
+  mesh.scale.set(1, d.length(), 1);
+  mesh.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), d.normalize());
+}
+
+/**
+ * The patient as simple shapes: trunk, head and both shoulders for context, and the measured
+ * arm — upper arm in a sleeve, forearm and hand on the rim — as capsules (cylinders with
+ * rounded joints). Only the arm is measured; the trunk is placed beside its shoulder.
+ */
+class Person {
+  constructor() {
+    const skin = new THREE.MeshStandardMaterial({ color: 0xd9a88a, roughness: 0.8 });
+    const shirt = new THREE.MeshStandardMaterial({ color: 0x5b8fc7, roughness: 0.9 });
+    const trunkShirt = new THREE.MeshStandardMaterial({ color: 0x5b8fc7, roughness: 0.9, transparent: true, opacity: 0.85 });
+    this.group = new THREE.Group();
+    this.group.visible = false;
+    this.trunk = new THREE.Mesh(new THREE.BoxGeometry(0.36, 0.5, 0.2), trunkShirt);
+    this.neck = new THREE.Mesh(new THREE.CylinderGeometry(0.045, 0.05, 0.08, 16), skin);
+    this.head = new THREE.Mesh(new THREE.SphereGeometry(0.095, 24, 16), skin);
+    this.head.scale.set(0.9, 1.1, 1);
+    this.otherShoulder = new THREE.Mesh(new THREE.SphereGeometry(0.06, 16, 12), shirt);
+    this.shoulder = new THREE.Mesh(new THREE.SphereGeometry(0.06, 16, 12), shirt);
+    this.upper = new THREE.Mesh(new THREE.CylinderGeometry(0.05, 0.043, 1, 20), shirt);
+    this.elbow = new THREE.Mesh(new THREE.SphereGeometry(0.042, 16, 12), skin);
+    this.fore = new THREE.Mesh(new THREE.CylinderGeometry(0.04, 0.031, 1, 20), skin);
+    this.wrist = new THREE.Mesh(new THREE.SphereGeometry(0.032, 16, 12), skin);
+    this.hand = new THREE.Mesh(new THREE.SphereGeometry(0.05, 20, 14), skin);
+    this.hand.scale.set(0.85, 1.35, 0.5);
+    this.group.add(this.trunk, this.neck, this.head, this.otherShoulder, this.shoulder, this.upper,
+                   this.elbow, this.fore, this.wrist, this.hand);
+  }
+
+  /** Poses the arm from its joints (three.js frame) and puts the trunk behind its shoulder. */
+  pose(shoulder, elbow, grip, foreDir) {
+    // The trunk's middle is toward the body's midline from the measured shoulder: a right arm
+    // (its shoulder to the wheel's right, three.js +x) has the trunk to its left.
+    const inward = shoulder.x >= 0 ? -1 : 1;
+    const mid = new THREE.Vector3(shoulder.x + inward * 0.18, shoulder.y, shoulder.z + 0.04);
+    this.trunk.position.set(mid.x, mid.y - 0.27, mid.z);
+    this.neck.position.set(mid.x, mid.y + 0.04, mid.z);
+    this.head.position.set(mid.x, mid.y + 0.17, mid.z);
+    this.otherShoulder.position.set(mid.x + inward * 0.18, shoulder.y - 0.01, shoulder.z + 0.04);
+    this.shoulder.position.copy(shoulder);
+    segment(this.upper, shoulder, elbow);
+    this.elbow.position.copy(elbow);
+    const wrist = grip.clone().addScaledVector(foreDir, -0.05);
+    segment(this.fore, elbow, wrist);
+    this.wrist.position.copy(wrist);
+    // The hand closed on the rim: its length along the forearm, centred on the grip.
+    this.hand.position.copy(grip).addScaledVector(foreDir, 0.01);
+    this.hand.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), foreDir.clone().normalize());
+    this.group.visible = true;
   }
 }

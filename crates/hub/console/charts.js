@@ -5,14 +5,15 @@ export const COLOURS = ['#0072b2', '#e69f00', '#009e73', '#d55e00', '#cc79a7', '
 
 /**
  * A line chart in `el`: `x` names the x axis (with unit), `series` are [{label, unit}], `y`
- * names the y axis (with unit). `time` makes the x axis dates (seconds since the epoch).
+ * names the y axis (with unit). `time` makes the x axis dates (seconds since the epoch);
+ * `height` is the plot's, px.
  */
-export function lineChart(el, { title, x, y, series, time = false }) {
+export function lineChart(el, { title, x, y, series, time = false, height = 220 }) {
   const width = () => Math.max(280, el.clientWidth || 600);
   const opts = {
     title,
     width: width(),
-    height: 220,
+    height,
     scales: { x: { time } },
     series: [
       { label: x },
@@ -23,10 +24,12 @@ export function lineChart(el, { title, x, y, series, time = false }) {
   };
   const data = [[], ...series.map(() => [])];
   const chart = new uPlot(opts, data, el);
-  const resize = () => chart.setSize({ width: width(), height: 220 });
+  const resize = () => chart.setSize({ width: width(), height });
   window.addEventListener('resize', resize);
   return {
     chart,
+    /** Remove the chart (and its resize listener). */
+    destroy() { window.removeEventListener('resize', resize); chart.destroy(); },
     /** Replace the data: columns [xs, ys1, ys2, …]. */
     set(columns) {
       chart.setData(columns);

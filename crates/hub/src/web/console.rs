@@ -30,6 +30,8 @@ const ASSETS: &[Asset] = &[
     asset!("app.js", JS),
     asset!("api.js", JS),
     asset!("live.js", JS),
+    asset!("live-road.js", JS),
+    asset!("legend.js", JS),
     asset!("replay.js", JS),
     asset!("exercises.js", JS),
     asset!("arm3d.js", JS),

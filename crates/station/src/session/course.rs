@@ -124,6 +124,24 @@ pub fn entries(
     })
 }
 
+/// The road of each exercise [`build`] makes of the same `cfg` and `regimen` (`None`: the
+/// dial task), for the road around the car in the live summaries.
+pub fn roads(
+    cfg: &StationConfig,
+    regimen: Option<&Regimen>,
+) -> anyhow::Result<Vec<Option<Box<dyn vehicle::Road + Send>>>> {
+    entries(cfg, regimen)?
+        .iter()
+        .map(|e| {
+            let name = e.exercise.name();
+            Ok(e.exercise
+                .build()
+                .with_context(|| format!("exercise {name}"))?
+                .road)
+        })
+        .collect()
+}
+
 /// Build the course: [`entries`], each ready to run, with the break after each but the last
 /// (its card, and the regimen's rest).
 pub fn build(cfg: &StationConfig, regimen: Option<&Regimen>) -> anyhow::Result<Vec<Segment>> {

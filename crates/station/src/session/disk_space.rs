@@ -176,6 +176,7 @@ mod tests {
             summary_every: 100,
             flush_every: 1000,
             arm_lengths_m: [0.3, 0.25],
+            roads: Vec::new(),
         };
         let mut summaries = Summaries::default();
         let done = std::sync::atomic::AtomicBool::new(true);

@@ -11,6 +11,7 @@ pub mod disk_space;
 pub mod end_reason;
 pub mod faults;
 pub mod haptic;
+pub mod live_road;
 pub mod measures;
 pub mod plant;
 #[cfg(test)]
@@ -344,6 +345,7 @@ fn run_body(
         summary_every,
         flush_every,
         arm_lengths_m: [cfg.arm.geometry.upper_arm_m, cfg.arm.geometry.forearm_m],
+        roads: course::roads(cfg, opts.regimen.as_ref())?,
     };
 
     let ending = std::sync::OnceLock::new();

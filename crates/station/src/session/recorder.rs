@@ -359,6 +359,7 @@ fn summary_extra(
     out: &RecorderOutcome,
     measures: &MeasureCollector,
     arm_lengths_m: [f64; 2],
+    roads: &[Option<Box<dyn vehicle::Road + Send>>],
 ) -> BTreeMap<String, f64> {
     let mut extra = measures.live();
     extra.extend(out.safety_and_assist());
@@ -366,6 +367,10 @@ fn summary_extra(
         extra.insert("recording_stopped_s".into(), t);
     }
     extra.extend(record::view::live_pose(&out.last, arm_lengths_m));
+    let road = roads.get(out.last.score.exercise_index as usize);
+    if let (Some(car), Some(Some(road))) = (&out.last.vehicle, road) {
+        extra.extend(super::live_road::road_around(road.as_ref(), car));
+    }
     extra
 }
 
@@ -413,6 +418,9 @@ pub(super) struct RecorderPlan {
     pub(super) flush_every: u64,
     /// Upper-arm and forearm lengths the station was set up with, m (for the live view).
     pub(super) arm_lengths_m: [f64; 2],
+    /// Each exercise's road in the course (`None`: the dial task), for the road around the car
+    /// in the live summaries.
+    pub(super) roads: Vec<Option<Box<dyn vehicle::Road + Send>>>,
 }
 
 /// What the haptic thread leaves the recorder when it ends, for the recording's `/metrics`:
@@ -439,6 +447,7 @@ pub(super) fn recorder_loop(
         summary_every,
         flush_every,
         arm_lengths_m,
+        roads,
     } = plan;
     let mut out = RecorderOutcome {
         timing: TimingStats::new(period_ns),
@@ -504,7 +513,7 @@ pub(super) fn recorder_loop(
                 record: rec,
                 max_abs_torque_nm: out.max_abs_torque_nm,
                 loop_p99_us: out.timing.recent_period_error_p99_us(1000),
-                extra: summary_extra(&out, &measures, arm_lengths_m),
+                extra: summary_extra(&out, &measures, arm_lengths_m, &roads),
             });
             seq += 1;
         }
