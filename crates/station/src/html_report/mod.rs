@@ -494,7 +494,7 @@ section { margin-bottom: 2.5em; } section section { margin-bottom: 1.5em; }
 caption { text-align: left; font-weight: 600; padding: 0.3em 0; }
 dl.front { display: grid; grid-template-columns: max-content 1fr; gap: 0.2em 1em; margin: 0.5em 0 1em; }
 dl.front dt { font-weight: 600; } dl.front dd { margin: 0; }
-nav ol { margin: 0.3em 0; } nav a, td a, th a { display: inline-block; min-height: 24px; padding: 2px 0; } nav h2 { font-size: 1.1em; border: none; }
+nav ol { margin: 0.3em 0; } nav a, td a, th a { display: inline-block; min-height: 24px; padding: 2px 0; } #glance th a { white-space: nowrap; } nav h2 { font-size: 1.1em; border: none; }
 p.arm { background: #f2f6fa; padding: 0.4em 0.6em; border-left: 4px solid #0072b2; }
 details { margin: 0.3em 0 1em; } summary { cursor: pointer; color: #00527f; }
 td.path { word-break: break-all; font-family: ui-monospace, monospace; font-size: 0.85em; }
