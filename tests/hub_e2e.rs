@@ -21,6 +21,12 @@ fn a_clinic_pairs_a_station_that_then_streams_every_session_over_mutual_tls() {
         paired.starts_with("paired: this station is st-"),
         "{paired}"
     );
+    // The hub told the station the patient's pseudonym, which its recordings then carry.
+    let pairing = std::fs::read_to_string(home.join("pairing/hub.toml")).unwrap();
+    assert!(
+        pairing.contains("patient_pseudonym = \"P-0042\""),
+        "{pairing}"
+    );
 
     let report = run_session(&home, "5");
     let n = produced(&report);

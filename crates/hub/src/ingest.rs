@@ -558,12 +558,21 @@ impl PairingAuthority for DbStore {
                 }
                 Err(e) => return Err(refusal(e)),
             };
+            // The station names its sessions by it; a lookup that fails only leaves it out.
+            let patient_pseudonym = match self.db.patient(&patient_id).await {
+                Ok(p) => p.map(|p| p.pseudonym),
+                Err(e) => {
+                    tracing::warn!(patient = %patient_id, "pseudonym not sent at pairing: {e}");
+                    None
+                }
+            };
             Ok(Issued {
                 station_id,
                 patient_id,
                 ca_pem: self.ca.pem().cert_pem.clone(),
                 cert_pem,
                 server_name: self.server_name.clone(),
+                patient_pseudonym,
             })
         })
     }

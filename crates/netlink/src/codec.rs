@@ -263,6 +263,11 @@ mod tests {
     use crate::frame::{Ack, Bye, ErrorFrame, Hello, Regimen, Summary};
     use proptest::prelude::*;
 
+    /// A Paired frame as hubs before the pseudonym sent it.
+    const PAIRED_OLD_GOLDEN: &str = r#"TRHB\x00\x01\x0a\x00\x00\x00\x00\xaf{"station_id":"st-1","patient_id":"p-0042","ca_pem":"CA","cert_pem":"CERT","server_name":"hub.clinic","mac":"abababababababababababababababababababababababababababababababab"}"#;
+    /// The same with the pseudonym.
+    const PAIRED_NEW_GOLDEN: &str = r#"TRHB\x00\x01\x0a\x00\x00\x00\x00\xcc{"station_id":"st-1","patient_id":"p-0042","ca_pem":"CA","cert_pem":"CERT","server_name":"hub.clinic","mac":"abababababababababababababababababababababababababababababababab","patient_pseudonym":"P-0042"}"#;
+
     /// A version-1 station's Hello (the golden bytes are version 1's).
     fn hello() -> Hello {
         Hello {
@@ -339,6 +344,35 @@ mod tests {
             let bytes = encode_to_vec(frame).unwrap();
             assert_eq!(escape(&bytes), want, "{} frame bytes changed", frame.kind());
         }
+    }
+
+    /// A Paired frame from an older hub (no pseudonym) keeps its bytes; the pseudonym is one
+    /// field more at the end, and an older station's reading of it is the frame it knew.
+    #[test]
+    fn golden_bytes_of_paired_with_and_without_the_pseudonym() {
+        let mut paired = crate::frame::Paired {
+            station_id: "st-1".into(),
+            patient_id: "p-0042".into(),
+            ca_pem: "CA".into(),
+            cert_pem: "CERT".into(),
+            server_name: "hub.clinic".into(),
+            mac: "ab".repeat(32),
+            patient_pseudonym: None,
+        };
+        let old = encode_to_vec(&Frame::Paired(paired.clone())).unwrap();
+        assert_eq!(escape(&old), PAIRED_OLD_GOLDEN);
+        paired.patient_pseudonym = Some("P-0042".into());
+        let new = encode_to_vec(&Frame::Paired(paired.clone())).unwrap();
+        assert_eq!(escape(&new), PAIRED_NEW_GOLDEN);
+        assert_eq!(
+            decode(&new).unwrap().unwrap().0,
+            Frame::Paired(paired.clone())
+        );
+        paired.patient_pseudonym = Some("P\n1".into());
+        assert!(
+            encode_to_vec(&Frame::Paired(paired)).is_err(),
+            "control characters in the pseudonym are refused"
+        );
     }
 
     /// Fields added after the first release are absent when unset (the bytes above hold), and

@@ -532,6 +532,12 @@ pub struct Paired {
     pub server_name: String,
     /// HMAC-SHA-256 tag over all of the above under the exchanged key, lowercase hex.
     pub mac: String,
+    /// The patient's pseudonym as the clinic knows it (`P-0042`), for the station to name
+    /// its sessions by. Not under `mac` (older stations check the MAC without it): the
+    /// connection's TLS, whose certificate the MAC proves, keeps it intact. Absent from hubs
+    /// older than this field.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub patient_pseudonym: Option<String>,
 }
 
 /// Largest recording a station may upload, bytes (an hour of session is about 2 GB today).
@@ -722,6 +728,9 @@ impl Frame {
                 check_id("station_id", &p.station_id)?;
                 check_id("patient_id", &p.patient_id)?;
                 check_text("server_name", &p.server_name, MAX_TEXT_LEN)?;
+                if let Some(pseudonym) = &p.patient_pseudonym {
+                    check_text("patient_pseudonym", pseudonym, MAX_ID_LEN)?;
+                }
                 for (name, pem) in [("ca_pem", &p.ca_pem), ("cert_pem", &p.cert_pem)] {
                     check_text(name, &pem.replace(['\n', '\r'], ""), MAX_PEM_LEN)?;
                 }

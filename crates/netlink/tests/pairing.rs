@@ -64,6 +64,7 @@ impl PairingAuthority for OneCode {
                 ca_pem: self.ca.pem().cert_pem.clone(),
                 cert_pem,
                 server_name: "localhost".into(),
+                patient_pseudonym: Some("P-0042".into()),
             })
         })
     }
@@ -135,6 +136,11 @@ async fn a_paired_station_speaks_over_mutual_tls_with_the_credential_it_received
     assert_eq!(
         (cred.station_id.as_str(), cred.patient_id.as_str()),
         ("st-paired", "p-0042")
+    );
+    assert_eq!(
+        cred.patient_pseudonym.as_deref(),
+        Some("P-0042"),
+        "the clinic's pseudonym reaches the station"
     );
     assert_eq!(*authority.failures.lock().unwrap(), 0);
 

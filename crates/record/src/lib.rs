@@ -60,8 +60,8 @@ pub use raw::{BodyFacts, RawImuSample, RawTick, RawWheelSample};
 pub use reader::{ReadError, RecordedRows, Recording, Row, recorded_rows};
 pub use stream::{StreamLimits, TickStream};
 pub use types::{
-    ArmCalibrationSample, ArmSample, ArmSetup, AssistSample, DifficultyNote, ExerciseResult,
-    FORMAT_VERSION, MetricsSample, MovementSample, ScoreSample, SessionMetadata, Stamped,
-    TickRecord, TimingSample, VehicleSample, Watchdog, WheelSample,
+    ArmCalibrationSample, ArmSample, ArmSetup, AssistSample, ClinicNote, DifficultyNote,
+    ExerciseResult, FORMAT_VERSION, MetricsSample, MovementSample, ScoreSample, SessionMetadata,
+    Stamped, TickRecord, TimingSample, VehicleSample, Watchdog, WheelSample,
 };
 pub use writer::RecordWriter;

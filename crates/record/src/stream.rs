@@ -24,8 +24,8 @@ use super::raw::{RawImuSample, RawTick, RawWheelSample};
 use super::reader::{Decoder, ReadError};
 use super::recover::check_lengths;
 use super::types::{
-    ArmSample, AssistSample, MetricsSample, ScoreSample, SessionMetadata, Stamped, TickRecord,
-    TimingSample, VehicleSample, WheelSample,
+    ArmCalibrationSample, ArmSample, AssistSample, MetricsSample, ScoreSample, SessionMetadata,
+    Stamped, TickRecord, TimingSample, VehicleSample, WheelSample,
 };
 use mcap::records::{Record, op};
 use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
@@ -497,6 +497,8 @@ pub struct TickStream<R> {
     first_score: Option<Stamped<ScoreSample>>,
     /// The last `/metrics` sample read (when `/metrics` is read).
     metrics: Option<Stamped<MetricsSample>>,
+    /// The last `/arm_calibration` sample read (when `/arm_calibration` is read).
+    arm_calibration: Option<Stamped<ArmCalibrationSample>>,
     /// The earliest log time of any message read, ns.
     first_log_ns: Option<u64>,
 }
@@ -539,6 +541,7 @@ impl<R: Read> TickStream<R> {
             late: 0,
             first_score: None,
             metrics: None,
+            arm_calibration: None,
             first_log_ns: None,
         };
         loop {
@@ -567,6 +570,12 @@ impl<R: Read> TickStream<R> {
     /// recorded once, at the end).
     pub fn metrics(&self) -> Option<&Stamped<MetricsSample>> {
         self.metrics.as_ref()
+    }
+
+    /// The last `/arm_calibration` sample read, when it is one of the channels read (it is
+    /// recorded once, at the end, by sessions with arm sensors).
+    pub fn arm_calibration(&self) -> Option<&Stamped<ArmCalibrationSample>> {
+        self.arm_calibration.as_ref()
     }
 
     /// The earliest log time of the messages read so far, ns since the Unix epoch (at the
@@ -645,7 +654,14 @@ impl<R: Read> TickStream<R> {
                     }
                     0
                 }
-                Channel::ArmCalibration => 0,
+                Channel::ArmCalibration => {
+                    let mut one = Vec::new();
+                    decoder.decode_into(*channel, body, 0, &mut one)?;
+                    if let Some(c) = one.pop() {
+                        self.arm_calibration = Some(c);
+                    }
+                    0
+                }
             };
             self.late += dropped;
             return Ok(None);
@@ -907,6 +923,39 @@ mod tests {
             assert_eq!((g.wheel, g.vehicle), (w.wheel, w.vehicle));
             assert_eq!((g.arm, g.raw), (None, RawTick::default()));
         }
+    }
+
+    #[test]
+    fn the_arm_calibration_recorded_at_the_end_is_read_when_asked_for() {
+        let ticks = ticks(300, 5);
+        let meta = SessionMetadata {
+            loop_rate_hz: 1000.0,
+            ..Default::default()
+        };
+        let mut w = RecordWriter::new(Cursor::new(Vec::new()), 0, &meta).unwrap();
+        for (rec, with_score) in &ticks {
+            w.write_tick(rec, *with_score).unwrap();
+        }
+        let fit = ArmCalibrationSample {
+            upper_arm_m: 0.31,
+            forearm_m: 0.27,
+            rms_residual_m: 0.004,
+            ..Default::default()
+        };
+        w.write_arm_calibration(&ticks[299].0, &fit).unwrap();
+        let bytes = w.finish().unwrap().into_inner();
+        let mut stream = TickStream::from_bytes(
+            bytes.clone(),
+            StreamLimits::default(),
+            &[Channel::ArmCalibration],
+        )
+        .unwrap();
+        assert_eq!(stream.by_ref().count(), 300);
+        assert_eq!(stream.arm_calibration().map(|c| &c.data), Some(&fit));
+        let mut without =
+            TickStream::from_bytes(bytes, StreamLimits::default(), &[Channel::Vehicle]).unwrap();
+        assert_eq!(without.by_ref().count(), 300);
+        assert!(without.arm_calibration().is_none(), "not asked for");
     }
 
     /// The records of a chunk record (MCAP specification, "Chunk") declaring `declared`

@@ -32,6 +32,11 @@ fn metadata() -> SessionMetadata {
             change: -0.1,
             reason: "patient said too hard: -0.10".into(),
         }),
+        clinic: Some(ClinicNote {
+            patient_pseudonym: "P-0042".into(),
+            clinic: "hub.clinic.example".into(),
+            therapist: "t.ruiz@clinic.example".into(),
+        }),
     }
 }
 
@@ -393,6 +398,30 @@ fn metadata_problems_are_named() {
     assert_eq!(err, "session metadata `exercise`: missing");
     let err = Recording::from_bytes(b"not an mcap file").unwrap_err();
     assert!(matches!(err, ReadError::Mcap(_)), "{err}");
+}
+
+#[test]
+fn the_clinic_note_round_trips_and_a_damaged_or_partial_one_does_not_stop_reading() {
+    let meta = metadata();
+    let back = SessionMetadata::from_map(&meta.to_map()).unwrap();
+    assert_eq!(back.clinic, meta.clinic);
+    let mut map = meta.to_map();
+    map.insert("clinic".into(), "{not json".into());
+    let back = SessionMetadata::from_map(&map).unwrap();
+    assert_eq!(back.clinic, None, "damaged: left out");
+    assert_eq!(back.seed, 11, "the rest read");
+    // A note from a hub that did not give the pseudonym, with a field from a newer writer.
+    map.insert(
+        "clinic".into(),
+        r#"{"clinic": "hub.example", "later": 1}"#.into(),
+    );
+    let note = SessionMetadata::from_map(&map).unwrap().clinic.unwrap();
+    assert_eq!(
+        (note.clinic.as_str(), note.patient_pseudonym.as_str()),
+        ("hub.example", "")
+    );
+    map.remove("clinic");
+    assert_eq!(SessionMetadata::from_map(&map).unwrap().clinic, None);
 }
 
 /// A sink whose bytes can be looked at while the writer still holds it: what is on disk.

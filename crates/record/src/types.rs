@@ -529,6 +529,26 @@ pub struct SessionMetadata {
     /// The difficulty the session ran at, when its regimen adapts it (`[difficulty]`), with
     /// its change and the reason (absent otherwise and in older recordings).
     pub difficulty: Option<DifficultyNote>,
+    /// Whom the session was for as the clinic knows them, when the station is paired (absent
+    /// when unpaired and in older recordings; a damaged one is read as absent).
+    pub clinic: Option<ClinicNote>,
+}
+
+/// Whom a paired station's session was for, in the clinic's own words: what the report and
+/// every reader name the session by (never the internal patient id).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct ClinicNote {
+    /// The patient's pseudonym as the clinic knows it (`P-0042`); empty when the hub that
+    /// paired the station did not say it (hubs older than this field).
+    #[serde(default)]
+    pub patient_pseudonym: String,
+    /// The clinic: the name on its hub's certificate (and address), as the pairing gave it.
+    #[serde(default)]
+    pub clinic: String,
+    /// The therapist who prescribed the session's regimen (name or e-mail), when the station
+    /// was told; empty otherwise.
+    #[serde(default)]
+    pub therapist: String,
 }
 
 /// The difficulty a session ran at (`regimen::Regimen::at_difficulty`) and why it changed.
@@ -554,6 +574,7 @@ impl Default for SessionMetadata {
             regimen_toml: None,
             body: None,
             difficulty: None,
+            clinic: None,
         }
     }
 }
@@ -594,6 +615,12 @@ impl SessionMetadata {
             map.insert(
                 "difficulty".into(),
                 serde_json::to_string(d).expect("a difficulty serialises"),
+            );
+        }
+        if let Some(c) = &self.clinic {
+            map.insert(
+                "clinic".into(),
+                serde_json::to_string(c).expect("a clinic note serialises"),
             );
         }
         map
@@ -653,6 +680,9 @@ impl SessionMetadata {
                     key: "difficulty",
                     reason: format!("not a difficulty ({e})"),
                 })?,
+            // Words for people, not needed to replay: a damaged note is left out, never a
+            // reason not to read the session.
+            clinic: map.get("clinic").and_then(|c| serde_json::from_str(c).ok()),
         })
     }
 }

@@ -55,6 +55,23 @@ pub struct Pairing {
     pub patient_id: String,
     /// When it was paired, ms since the Unix epoch.
     pub paired_unix_ms: u64,
+    /// The patient's pseudonym as the clinic knows it (absent when the hub did not say it,
+    /// and in pairings made before it did).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub patient_pseudonym: Option<String>,
+}
+
+impl Pairing {
+    /// Whom this station's sessions are for in the clinic's words, for their recordings: the
+    /// pseudonym (empty if the hub did not say it) and the clinic by its hub's name. The
+    /// therapist is not known at pairing.
+    pub fn clinic_note(&self) -> record::ClinicNote {
+        record::ClinicNote {
+            patient_pseudonym: self.patient_pseudonym.clone().unwrap_or_default(),
+            clinic: self.server_name.clone(),
+            therapist: String::new(),
+        }
+    }
 }
 
 /// Writes `bytes` to `path` as a new 0600 file, atomically (temporary file, fsync, rename).
@@ -170,6 +187,7 @@ impl Home {
             station_id: cred.station_id.clone(),
             patient_id: cred.patient_id.clone(),
             paired_unix_ms: now_unix_ms,
+            patient_pseudonym: cred.patient_pseudonym.clone(),
         };
         let text = toml::to_string(&pairing).context("cannot write the pairing")?;
         write_private(&dir.join("hub.toml"), text.as_bytes())?;
@@ -217,7 +235,32 @@ mod tests {
             cert_pem: "CERT".into(),
             key_pem: "KEY".into(),
             server_name: "clinic.example".into(),
+            patient_pseudonym: Some("P-0042".into()),
         }
+    }
+
+    #[test]
+    fn the_pseudonym_is_kept_and_a_pairing_made_before_it_was_sent_still_reads() {
+        let tmp = tempfile::tempdir().unwrap();
+        let home = Home::at(tmp.path().join("home"));
+        let saved = home
+            .save_pairing("clinic.example:7878", &credential(), 1)
+            .unwrap();
+        let note = home.pairing().unwrap().unwrap().clinic_note();
+        assert_eq!(
+            (note.patient_pseudonym.as_str(), note.clinic.as_str()),
+            ("P-0042", "clinic.example")
+        );
+        let old = toml::to_string(&Pairing {
+            patient_pseudonym: None,
+            ..saved
+        })
+        .unwrap();
+        assert!(!old.contains("pseudonym"), "{old}");
+        std::fs::write(home.dir().join("pairing/hub.toml"), old).unwrap();
+        let read = home.pairing().unwrap().unwrap();
+        assert_eq!(read.patient_pseudonym, None);
+        assert_eq!(read.clinic_note().patient_pseudonym, "");
     }
 
     #[test]

@@ -12,7 +12,8 @@
 //! 3. station → hub `PairFinish { csr_pem, mac }`: a certificate request for a key generated on
 //!    the station (it never leaves), MAC'd together with the hub certificate the station saw —
 //!    a relay in the middle presents another certificate, so its MAC fails at the hub;
-//! 4. hub → station `Paired { station_id, patient_id, ca_pem, cert_pem, server_name, mac }`:
+//! 4. hub → station `Paired { station_id, patient_id, ca_pem, cert_pem, server_name, mac,
+//!    patient_pseudonym }` (the pseudonym optional, outside the MAC):
 //!    the station checks the MAC and that the certificate it saw chains to `ca_pem` for
 //!    `server_name`, then trusts only that CA from now on (mutual TLS with its certificate).
 //!
@@ -59,6 +60,8 @@ pub struct Issued {
     pub cert_pem: String,
     /// The name on the hub's certificate.
     pub server_name: String,
+    /// The patient's pseudonym as the clinic knows it, if the hub says it.
+    pub patient_pseudonym: Option<String>,
 }
 
 /// The hub's pairing policy: which codes are live, how many guesses they allow, and how a

@@ -31,6 +31,8 @@ pub struct Credential {
     pub key_pem: String,
     /// The name to check on the hub's certificate.
     pub server_name: String,
+    /// The patient's pseudonym as the clinic knows it (`None` from hubs that do not say it).
+    pub patient_pseudonym: Option<String>,
 }
 
 /// Why pairing failed.
@@ -229,6 +231,7 @@ async fn pair_inner(addr: &str, code: &PairingCode) -> Result<Credential, PairEr
         cert_pem: paired.cert_pem,
         key_pem,
         server_name: paired.server_name,
+        patient_pseudonym: paired.patient_pseudonym,
     })
 }
 

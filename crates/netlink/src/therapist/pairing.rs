@@ -86,6 +86,7 @@ async fn conversation(
         cert_pem: issued.cert_pem,
         server_name: issued.server_name,
         mac: String::new(),
+        patient_pseudonym: issued.patient_pseudonym,
     };
     let mut parts: Vec<&[u8]> = vec![&station_msg, &hub_msg];
     parts.extend(paired_parts(&paired));

@@ -840,6 +840,7 @@ pub(crate) mod tests {
             station_id: "st-1".into(),
             patient_id: "p-0042".into(),
             paired_unix_ms: 0,
+            patient_pseudonym: None,
         }
     }
 

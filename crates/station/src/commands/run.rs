@@ -198,6 +198,7 @@ fn apply_home(args: &RunArgs, cfg: &mut StationConfig) -> anyhow::Result<HomePla
         }
         cfg.session.station_id = pairing.station_id.clone();
         cfg.session.patient_id = pairing.patient_id.clone();
+        cfg.session.clinic = Some(pairing.clinic_note());
     }
     let dir = home.recordings_dir();
     crate::home::private_dir(&dir)?;

@@ -147,6 +147,11 @@ pub struct SessionConfig {
     pub asked_rest_s: f64,
     /// A pause longer than this ends the session ("paused too long"), s, in [10, 7200].
     pub pause_limit_s: f64,
+    /// Whom the session is for in the clinic's words (pseudonym, clinic, therapist), from the
+    /// station's pairing: recorded in the session's metadata. Never read from or written to a
+    /// configuration file.
+    #[serde(skip)]
+    pub clinic: Option<record::ClinicNote>,
 }
 
 impl Default for SessionConfig {
@@ -160,6 +165,7 @@ impl Default for SessionConfig {
             station_id: "station-1".into(),
             asked_rest_s: 60.0,
             pause_limit_s: 600.0,
+            clinic: None,
         }
     }
 }

@@ -43,6 +43,84 @@ pub struct Chart<'a> {
     pub spans: Vec<(f64, f64)>,
     /// Draw markers at each point (a few points, e.g. one per session).
     pub markers: bool,
+    /// Names of the integer x positions 1, 2, … (sessions by date and time); empty: x is a
+    /// number with its unit in `x_desc`.
+    pub x_labels: Vec<String>,
+}
+
+/// Most rows of a chart's numbers table: a time series is sampled at this many instants.
+const MAX_TABLE_ROWS: usize = 40;
+
+/// The chart's numbers as an HTML table inside a `<details>` (a chart is a picture: its
+/// numbers must be readable as text too): a row per session for a chart over sessions, else
+/// the series at up to [`MAX_TABLE_ROWS`] evenly spaced instants (each line's latest value at
+/// or before it).
+pub fn numbers_table(chart: &Chart<'_>, decimals: usize) -> String {
+    use std::fmt::Write as _;
+    let esc = super::esc;
+    let mut html = format!(
+        "<details><summary>The numbers of “{}”</summary><table><caption>{}: numbers</caption>\
+         <thead><tr><th scope=\"col\">{}</th>",
+        esc(chart.title),
+        esc(chart.title),
+        esc(if chart.x_labels.is_empty() {
+            chart.x_desc
+        } else {
+            "session"
+        })
+    );
+    for l in &chart.lines {
+        let _ = write!(html, "<th scope=\"col\">{}</th>", esc(l.name));
+    }
+    html.push_str("</tr></thead><tbody>");
+    let xs: Vec<(f64, String)> = if chart.x_labels.is_empty() {
+        let all = || {
+            chart
+                .lines
+                .iter()
+                .flat_map(|l| l.points.iter().map(|p| p.0))
+        };
+        let (lo, hi) = all().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(x), b.max(x))
+        });
+        if lo.is_finite() {
+            let n = MAX_TABLE_ROWS.min(all().count()).max(1);
+            (0..n)
+                .map(|i| {
+                    let x = lo + (hi - lo) * i as f64 / (n - 1).max(1) as f64;
+                    (x, format!("{x:.1}"))
+                })
+                .collect()
+        } else {
+            Vec::new()
+        }
+    } else {
+        chart
+            .x_labels
+            .iter()
+            .enumerate()
+            .map(|(i, l)| ((i + 1) as f64, l.clone()))
+            .collect()
+    };
+    for (x, label) in xs {
+        let _ = write!(html, "<tr><th scope=\"row\">{}</th>", esc(&label));
+        for l in &chart.lines {
+            let at = if chart.x_labels.is_empty() {
+                l.points.iter().take_while(|p| p.0 <= x + 1e-9).last()
+            } else {
+                l.points.iter().find(|p| (p.0 - x).abs() < 1e-9)
+            };
+            match at.filter(|p| p.1.is_finite()) {
+                Some(p) => {
+                    let _ = write!(html, "<td class=\"num\">{:.*}</td>", decimals, p.1);
+                }
+                None => html.push_str("<td class=\"num\">–</td>"),
+            }
+        }
+        html.push_str("</tr>");
+    }
+    html.push_str("</tbody></table></details>");
+    html
 }
 
 /// `points` thinned to at most [`MAX_POINTS`] by keeping each bucket's lowest and highest
@@ -189,7 +267,12 @@ fn draw(chart: &Chart<'_>, out: &mut String) -> Result<(), Box<dyn std::error::E
     let root = SVGBackend::with_string(out, SIZE).into_drawing_area();
     root.fill(&WHITE)?;
     let all = || chart.lines.iter().flat_map(|l| l.points.iter());
-    let (x0, x1) = range(all().map(|p| p.0));
+    let (x0, x1) = if chart.x_labels.is_empty() {
+        range(all().map(|p| p.0))
+    } else {
+        // Sessions at 1, 2, …, n with half a step either side.
+        (0.5, chart.x_labels.len() as f64 + 0.5)
+    };
     let (y0, y1) = range(all().map(|p| p.1));
     let mut c = ChartBuilder::on(&root)
         .caption(chart.title, ("sans-serif", 18))
@@ -197,12 +280,32 @@ fn draw(chart: &Chart<'_>, out: &mut String) -> Result<(), Box<dyn std::error::E
         .x_label_area_size(36)
         .y_label_area_size(64)
         .build_cartesian_2d(x0..x1, y0..y1)?;
-    c.configure_mesh()
-        .x_desc(chart.x_desc)
+    let n = chart.x_labels.len();
+    // A label every `every` sessions, so that dates never overlap (900 px fit about eight).
+    let every = n.div_ceil(8).max(1);
+    let session_label = |x: &f64| {
+        let i = x.round();
+        if (x - i).abs() > 1e-6 || i < 1.0 || !(i as usize - 1).is_multiple_of(every) {
+            return String::new();
+        }
+        chart
+            .x_labels
+            .get(i as usize - 1)
+            .cloned()
+            .unwrap_or_default()
+    };
+    let mut mesh = c.configure_mesh();
+    mesh.x_desc(chart.x_desc)
         .y_desc(chart.y_desc)
         .label_style(("sans-serif", 13))
-        .light_line_style(RGBColor(235, 235, 235))
-        .draw()?;
+        .light_line_style(RGBColor(235, 235, 235));
+    if n > 0 {
+        // Ticks fine enough to land on every whole session; only those are labelled.
+        mesh.x_labels(4 * n + 4)
+            .x_label_formatter(&session_label)
+            .disable_x_mesh();
+    }
+    mesh.draw()?;
     c.draw_series(chart.spans.iter().map(|&(a, b)| {
         Rectangle::new([(a, y0), (b, y1)], RGBColor(0, 158, 115).mix(0.12).filled())
     }))?;
@@ -302,6 +405,7 @@ mod tests {
             ],
             spans: vec![(0.2, 0.4)],
             markers: false,
+            x_labels: vec![],
         };
         let svg = svg(&chart).unwrap();
         for text in [

@@ -1,284 +1,330 @@
 //! `telerehab report`: one self-contained HTML file (charts as inline SVG, no script, no
-//! network) with each session's measures and charts and, for several sessions, the progress
-//! between them with trends.
+//! network) for a clinician: whom it is for (the clinic's pseudonym), each session by date and
+//! time with its exercises prescribed against performed, how it ended and its arm set-up, the
+//! progress between sessions of the same kind, and the technical details (seeds, files,
+//! versions) in an appendix at the end. Structured as the console is: landmarks, headings in
+//! order, captioned tables, every chart's numbers also as a table.
 
 mod charts;
+mod measures;
+mod progress;
 mod session;
+mod words;
 
 use charts::{Chart, Line};
+use measures::{EXERCISE_MEASURES, MEASURES, unit_suffix};
 use session::SessionData;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
+pub(crate) use measures::exercise_words;
 pub use session::read;
 
-/// Which way a measure is better.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Better {
-    Higher,
-    Lower,
-    Neither,
+/// Escapes text for HTML.
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
 }
 
-/// A measure as a therapist reads it: the recording's name, plain words, unit, decimals.
-struct Measure {
-    key: &'static str,
-    label: &'static str,
-    unit: &'static str,
-    decimals: usize,
-    better: Better,
+/// The `id` of session `i`'s section.
+fn session_id(i: usize) -> String {
+    format!("session-{}", i + 1)
 }
 
-const fn m(
-    key: &'static str,
-    label: &'static str,
-    unit: &'static str,
-    decimals: usize,
-    better: Better,
-) -> Measure {
-    Measure {
-        key,
-        label,
-        unit,
-        decimals,
-        better,
+/// The whole report for `sessions` (in any order; shown oldest first).
+pub fn render(mut sessions: Vec<SessionData>) -> Result<String, String> {
+    sessions.sort_by_key(|s| s.start_unix_ns);
+    let patients = listed(&distinct(&sessions, words::patient));
+    let mut html = HEAD.replace(
+        "<title>Rehabilitation report — telerehab</title>",
+        &format!(
+            "<title>Rehabilitation report: {} — telerehab</title>",
+            esc(&patients)
+        ),
+    );
+    front(&mut html, &sessions);
+    contents(&mut html, &sessions);
+    html.push_str("<main id=\"main\">");
+    at_a_glance(&mut html, &sessions);
+    if sessions.len() > 1 {
+        progress::section(&mut html, &sessions)?;
+    }
+    for (i, s) in sessions.iter().enumerate() {
+        one_session(&mut html, i, s)?;
+    }
+    html.push_str(DEFINITIONS);
+    technical(&mut html, &sessions);
+    html.push_str("</main></body></html>\n");
+    Ok(html)
+}
+
+/// `a`, or `a, b and c`.
+fn listed(items: &[String]) -> String {
+    match items {
+        [] => String::new(),
+        [one] => one.clone(),
+        [rest @ .., last] => format!("{} and {last}", rest.join(", ")),
     }
 }
 
-/// The measures shown, in order (those a session lacks are left out).
-const MEASURES: [Measure; 17] = [
-    m("session_s", "Session length", "s", 0, Better::Neither),
-    m("paused_s", "Paused", "s", 0, Better::Neither),
-    m("movements", "Movements", "", 0, Better::Neither),
-    m("active_pct", "Time moving", "%", 0, Better::Higher),
-    m(
-        "sparc_median",
-        "Smoothness, SPARC (median; closer to 0 is smoother)",
-        "",
-        2,
-        Better::Higher,
-    ),
-    m(
-        "ldlj_median",
-        "Smoothness, LDLJ (median; closer to 0 is smoother)",
-        "",
-        2,
-        Better::Higher,
-    ),
-    m(
-        "movement_peak_speed_deg_s_median",
-        "Peak speed of a movement (median)",
-        "°/s",
-        0,
-        Better::Higher,
-    ),
-    m(
-        "movement_time_s_median",
-        "Duration of a movement (median)",
-        "s",
-        2,
-        Better::Neither,
-    ),
-    m(
-        "speed_peaks_median",
-        "Speed peaks in a movement (median)",
-        "",
-        0,
-        Better::Lower,
-    ),
-    m(
-        "wheel_rom_deg",
-        "Wheel range of motion",
-        "°",
-        0,
-        Better::Higher,
-    ),
-    m(
-        "shoulder_elevation_rom_deg",
-        "Shoulder elevation range",
-        "°",
-        0,
-        Better::Higher,
-    ),
-    m(
-        "elbow_flexion_rom_deg",
-        "Elbow flexion range",
-        "°",
-        0,
-        Better::Higher,
-    ),
-    m(
-        "rms_lateral_m",
-        "Lane keeping: lateral deviation (RMS)",
-        "m",
-        3,
-        Better::Lower,
-    ),
-    m("pct_in_lane", "Time in lane", "%", 1, Better::Higher),
-    m(
-        "dial_rms_error_deg",
-        "Tracking error (RMS)",
-        "°",
-        2,
-        Better::Lower,
-    ),
-    m(
-        "assist_level_mean",
-        "Assist level (mean, 0–1)",
-        "",
-        2,
-        Better::Lower,
-    ),
-    m(
-        "patient_work_pct",
-        "Patient's share of the work",
-        "%",
-        0,
-        Better::Higher,
-    ),
-];
-
-/// An exercise's own results shown in the per-exercise table, in order (rows no exercise has
-/// are left out).
-const EXERCISE_MEASURES: [Measure; 16] = [
-    m(
-        "rms_lateral_m",
-        "Lane keeping: lateral deviation (RMS)",
-        "m",
-        3,
-        Better::Lower,
-    ),
-    m("pct_in_lane", "Time in lane", "%", 1, Better::Higher),
-    m(
-        "heading_rms_error_deg",
-        "Heading error (RMS)",
-        "°",
-        1,
-        Better::Lower,
-    ),
-    m("cone_hits", "Cones hit", "", 0, Better::Lower),
-    m(
-        "completion_time_s",
-        "Completion time",
-        "s",
-        1,
-        Better::Neither,
-    ),
-    m(
-        "tracking_rms_error_deg",
-        "Tracking error: wheel to the ideal angle (RMS)",
-        "°",
-        2,
-        Better::Lower,
-    ),
-    m(
-        "dial_mean_abs_error_deg",
-        "Dial angle error (mean absolute, as the thesis's Appendix E)",
-        "°",
-        2,
-        Better::Lower,
-    ),
-    m(
-        "dial_rms_error_deg",
-        "Dial angle error (RMS)",
-        "°",
-        2,
-        Better::Lower,
-    ),
-    m("movements", "Movements", "", 0, Better::Neither),
-    m("active_pct", "Time moving", "%", 0, Better::Higher),
-    m(
-        "sparc_median",
-        "Smoothness, SPARC (median)",
-        "",
-        2,
-        Better::Higher,
-    ),
-    m(
-        "ldlj_median",
-        "Smoothness, LDLJ (median)",
-        "",
-        2,
-        Better::Higher,
-    ),
-    m(
-        "movement_peak_speed_deg_s_median",
-        "Peak speed of a movement (median)",
-        "°/s",
-        0,
-        Better::Higher,
-    ),
-    m(
-        "wheel_rom_deg",
-        "Wheel range of motion",
-        "°",
-        0,
-        Better::Higher,
-    ),
-    m(
-        "shoulder_elevation_rom_deg",
-        "Shoulder elevation range",
-        "°",
-        0,
-        Better::Higher,
-    ),
-    m(
-        "elbow_flexion_rom_deg",
-        "Elbow flexion range",
-        "°",
-        0,
-        Better::Higher,
-    ),
-];
-
-/// An exercise's results in words for the text report, in the table's order: "Lane keeping:
-/// lateral deviation (RMS) 0.123 m, Time in lane 99.5 %, …".
-pub(crate) fn exercise_words(e: &record::ExerciseResult) -> String {
-    EXERCISE_MEASURES
-        .iter()
-        .filter_map(|m| {
-            let v = e.scores.get(m.key)?;
-            let unit = if m.unit.is_empty() {
-                String::new()
-            } else {
-                format!(" {}", m.unit)
-            };
-            Some(format!("{} {:.*}{unit}", m.label, m.decimals, v))
-        })
-        .collect::<Vec<_>>()
-        .join(", ")
+/// The distinct non-empty values of `f` over the sessions, in order.
+fn distinct(sessions: &[SessionData], f: impl Fn(&SessionData) -> String) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for v in sessions.iter().map(f).filter(|v| !v.is_empty()) {
+        if !out.contains(&v) {
+            out.push(v);
+        }
+    }
+    out
 }
 
-/// The per-exercise table: a column per exercise (its place, the patient's name for it, its
-/// kind), a row per result any of them has; "–" where one does not apply.
+/// The header: whom the report is for, clinic and therapist when paired, the sessions' dates.
+fn front(html: &mut String, sessions: &[SessionData]) {
+    html.push_str("<header><h1>Rehabilitation report</h1><dl class=\"front\">");
+    let mut row = |term: &str, value: String| {
+        let _ = write!(html, "<dt>{term}</dt><dd>{}</dd>", esc(&value));
+    };
+    row("Patient", listed(&distinct(sessions, words::patient)));
+    let clinic = |s: &SessionData| {
+        s.clinic
+            .as_ref()
+            .map(|c| c.clinic.clone())
+            .unwrap_or_default()
+    };
+    let clinics = distinct(sessions, clinic);
+    if !clinics.is_empty() {
+        row("Clinic", listed(&clinics));
+    }
+    let therapist = |s: &SessionData| {
+        s.clinic
+            .as_ref()
+            .map(|c| c.therapist.clone())
+            .unwrap_or_default()
+    };
+    let therapists = distinct(sessions, therapist);
+    if !therapists.is_empty() {
+        row("Prescribed by", listed(&therapists));
+    } else if !clinics.is_empty() {
+        row(
+            "Prescribed by",
+            "not known to the station (see the clinic's console)".to_owned(),
+        );
+    }
+    if let (Some(first), Some(last)) = (sessions.first(), sessions.last()) {
+        let (a, b) = (
+            words::date(first.start_unix_ns),
+            words::date(last.start_unix_ns),
+        );
+        let range = if a == b { a } else { format!("{a} to {b}") };
+        row(
+            "Sessions",
+            format!("{}, {range}", count(sessions.len(), "session")),
+        );
+    }
+    html.push_str("</dl></header>");
+}
+
+/// `n session(s)`.
+fn count(n: usize, thing: &str) -> String {
+    format!("{n} {thing}{}", if n == 1 { "" } else { "s" })
+}
+
+/// The contents: a link to every section.
+fn contents(html: &mut String, sessions: &[SessionData]) {
+    html.push_str(
+        "<nav aria-label=\"Contents\"><h2>Contents</h2><ol><li><a href=\"#glance\">Sessions at a glance</a></li>",
+    );
+    if sessions.len() > 1 {
+        html.push_str("<li><a href=\"#progress\">Progress</a><ol>");
+        for (id, title) in progress::kinds(sessions) {
+            let _ = write!(html, "<li><a href=\"#{id}\">{}</a></li>", esc(&title));
+        }
+        html.push_str("</ol></li>");
+    }
+    for (i, s) in sessions.iter().enumerate() {
+        let _ = write!(
+            html,
+            "<li><a href=\"#{}\">Session {}, {}</a></li>",
+            session_id(i),
+            i + 1,
+            esc(&words::date_time(s.start_unix_ns))
+        );
+    }
+    html.push_str(
+        "<li><a href=\"#definitions\">How the measures are made</a></li>\
+         <li><a href=\"#technical\">Technical details</a></li></ol></nav>",
+    );
+}
+
+/// Prescribed and performed time of a session, s (the sum over its exercises), when known.
+fn times(s: &SessionData) -> Option<(f64, f64)> {
+    (!s.exercises.is_empty()).then(|| {
+        (
+            s.exercises.iter().map(|e| e.prescribed_s).sum(),
+            s.exercises.iter().map(|e| e.active_s).sum(),
+        )
+    })
+}
+
+/// Whether an exercise ran its prescribed time (within a second, or 2 %).
+fn completed(e: &record::ExerciseResult) -> bool {
+    e.active_s + (0.02 * e.prescribed_s).max(1.0) >= e.prescribed_s
+}
+
+/// A row per session: when, its exercises, prescribed against performed, how it ended, and
+/// whether it counts in the trends.
+fn at_a_glance(html: &mut String, sessions: &[SessionData]) {
+    html.push_str(
+        "<section id=\"glance\" aria-labelledby=\"glance-h\"><h2 id=\"glance-h\">Sessions at a glance</h2>\
+         <table><caption>Each session: its exercises, the time prescribed and the time the \
+         patient was active, and how it ended</caption><thead><tr><th scope=\"col\">Session</th>\
+         <th scope=\"col\">Exercises</th><th scope=\"col\">Prescribed (min)</th>\
+         <th scope=\"col\">Performed, active (min)</th><th scope=\"col\">How it ended</th>\
+         <th scope=\"col\">In the trends</th></tr></thead><tbody>",
+    );
+    for (i, s) in sessions.iter().enumerate() {
+        let (prescribed, performed) = match times(s) {
+            Some((p, a)) => (format!("{:.1}", p / 60.0), format!("{:.1}", a / 60.0)),
+            None => ("–".to_owned(), "–".to_owned()),
+        };
+        let trended = if words::ran_as_prescribed(s) {
+            "yes"
+        } else {
+            "<strong>no: not as prescribed</strong>"
+        };
+        let _ = write!(
+            html,
+            "<tr><th scope=\"row\"><a href=\"#{}\">{}</a></th><td>{}</td><td class=\"num\">{prescribed}</td>\
+             <td class=\"num\">{performed}</td><td>{}</td><td>{trended}</td></tr>",
+            session_id(i),
+            esc(&words::date_time(s.start_unix_ns)),
+            esc(&words::exercises_in_words(s)),
+            esc(&crate::session::end_reason::sentence(&s.end_reason)),
+        );
+    }
+    html.push_str("</tbody></table></section>");
+}
+
+/// Each exercise as prescribed and as performed: prescribed time, active time, completed.
+fn prescribed_performed(html: &mut String, s: &SessionData) {
+    if s.exercises.is_empty() {
+        html.push_str(
+            "<p>This recording does not say each exercise's prescribed and active time (it \
+             was made before they were recorded).</p>",
+        );
+        return;
+    }
+    html.push_str(
+        "<table><caption>Prescribed against performed, per exercise</caption><thead><tr>\
+         <th scope=\"col\">Exercise</th><th scope=\"col\">Prescribed (s)</th>\
+         <th scope=\"col\">Performed, active (s)</th><th scope=\"col\">Completed</th></tr></thead><tbody>",
+    );
+    for e in &s.exercises {
+        let done = if completed(e) {
+            "yes".to_owned()
+        } else {
+            format!(
+                "<strong>no</strong>: {:.0} % of the prescribed time",
+                100.0 * e.active_s / e.prescribed_s.max(1e-9)
+            )
+        };
+        let _ = write!(
+            html,
+            "<tr><th scope=\"row\">{}. {}</th><td class=\"num\">{:.0}</td><td class=\"num\">{:.0}</td><td>{done}</td></tr>",
+            e.index + 1,
+            esc(&e.name),
+            e.prescribed_s,
+            e.active_s
+        );
+    }
+    html.push_str("</tbody></table>");
+}
+
+/// One session: when and what, prescribed against performed, how it ended, the arm set-up,
+/// its measures and its charts.
+fn one_session(html: &mut String, i: usize, s: &SessionData) -> Result<(), String> {
+    let id = session_id(i);
+    let _ = write!(
+        html,
+        "<section id=\"{id}\" aria-labelledby=\"{id}-h\"><h2 id=\"{id}-h\">Session {}, {}: {}</h2>",
+        i + 1,
+        esc(&words::date_time(s.start_unix_ns)),
+        esc(&words::exercises_in_words(s)),
+    );
+    let marked = if words::ran_as_prescribed(s) {
+        ""
+    } else {
+        " Not as prescribed: left out of the trends."
+    };
+    let _ = write!(
+        html,
+        "<p class=\"ended\">{}.{marked}</p>",
+        esc(&crate::session::end_reason::sentence(&s.end_reason))
+    );
+    let _ = write!(
+        html,
+        "<p class=\"arm\">{}</p>",
+        esc(&s.arm.as_ref().map_or_else(
+            || "Arm calibration: none (no arm sensors in this session).".to_owned(),
+            words::arm_line
+        ))
+    );
+    prescribed_performed(html, s);
+    if s.measures.is_empty() {
+        html.push_str("<p>No measures: the session did not end in order.</p>");
+    } else {
+        html.push_str(
+            "<table><caption>The session's measures</caption><thead><tr><th scope=\"col\">Measure</th>\
+             <th scope=\"col\">Value</th></tr></thead><tbody>",
+        );
+        for m in &MEASURES {
+            if let Some(v) = s.measures.get(m.key) {
+                let _ = write!(
+                    html,
+                    "<tr><th scope=\"row\">{}</th><td class=\"num\">{:.*} {}</td></tr>",
+                    m.label, m.decimals, v, m.unit
+                );
+            }
+        }
+        html.push_str("</tbody></table>");
+    }
+    exercise_table(html, &s.exercises);
+    session_charts(html, s)?;
+    html.push_str("</section>");
+    Ok(())
+}
+
+/// The per-exercise table: a column per exercise (its place, the patient's name for it), a
+/// row per result any of them has; "–" where one does not apply.
 fn exercise_table(html: &mut String, exercises: &[record::ExerciseResult]) {
     if exercises.is_empty() {
         return;
     }
-    html.push_str("<h3>Each exercise</h3><table class=\"exercises\"><tr><th>Result</th>");
+    html.push_str(
+        "<h3>Each exercise</h3><table class=\"exercises\"><caption>Each exercise's own results</caption>\
+         <thead><tr><th scope=\"col\">Result</th>",
+    );
     for e in exercises {
         let _ = write!(
             html,
-            "<th>{}. {}<br><span class=\"sub\">{}</span></th>",
+            "<th scope=\"col\">{}. {}</th>",
             e.index + 1,
-            esc(&e.name),
-            esc(&e.kind)
+            esc(&e.name)
         );
     }
-    html.push_str("</tr><tr><td>Time: active of prescribed (s)</td>");
-    for e in exercises {
-        let _ = write!(
-            html,
-            "<td class=\"num\">{:.1} of {:.0}</td>",
-            e.active_s, e.prescribed_s
-        );
-    }
-    html.push_str("</tr>");
+    html.push_str("</tr></thead><tbody>");
     for m in &EXERCISE_MEASURES {
         if exercises.iter().all(|e| !e.scores.contains_key(m.key)) {
             continue;
         }
-        let _ = write!(html, "<tr><td>{}{}</td>", m.label, unit_suffix(m.unit));
+        let _ = write!(
+            html,
+            "<tr><th scope=\"row\">{}{}</th>",
+            m.label,
+            unit_suffix(m.unit)
+        );
         for e in exercises {
             match e.scores.get(m.key) {
                 Some(v) => {
@@ -289,293 +335,115 @@ fn exercise_table(html: &mut String, exercises: &[record::ExerciseResult]) {
         }
         html.push_str("</tr>");
     }
-    html.push_str("</table>");
+    html.push_str("</tbody></table>");
 }
 
-/// The measures charted across sessions, each chart's lines by key.
-const PROGRESS: [(&str, &str, &[&str]); 6] = [
-    (
-        "Smoothness (SPARC, median; closer to 0 is smoother)",
-        "SPARC",
-        &["sparc_median"],
-    ),
-    (
-        "Ranges of motion",
-        "range (°)",
-        &[
-            "wheel_rom_deg",
-            "shoulder_elevation_rom_deg",
-            "elbow_flexion_rom_deg",
-        ],
-    ),
-    (
-        "Lane keeping",
-        "lateral deviation, RMS (m)",
-        &["rms_lateral_m"],
-    ),
-    ("Tracking error", "RMS error (°)", &["dial_rms_error_deg"]),
-    (
-        "Time moving and the patient's share of the work",
-        "%",
-        &["active_pct", "patient_work_pct"],
-    ),
-    ("Assist level", "level (0–1)", &["assist_level_mean"]),
-];
+/// A chart over a session's time: title, y axis, lines, shaded spans, decimals of its table.
+type SessionChart<'a> = (&'a str, &'a str, Vec<Line<'a>>, Vec<(f64, f64)>, usize);
 
-fn measure(key: &str) -> Option<&'static Measure> {
-    MEASURES.iter().find(|m| m.key == key)
-}
-
-/// Escapes text for HTML.
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-}
-
-/// The session's start as `YYYY-MM-DD HH:MM UTC`.
-fn when(unix_ns: u64) -> String {
-    let t = std::time::UNIX_EPOCH + std::time::Duration::from_nanos(unix_ns);
-    let s = humantime::format_rfc3339_seconds(t).to_string();
-    format!("{} {} UTC", &s[..10], &s[11..16])
-}
-
-/// The whole report for `sessions` (in any order; shown oldest first).
-pub fn render(mut sessions: Vec<SessionData>) -> Result<String, String> {
-    sessions.sort_by_key(|s| s.start_unix_ns);
-    let mut html = String::from(HEAD);
-    let patients: Vec<&str> = {
-        let mut p: Vec<&str> = sessions.iter().map(|s| s.patient.as_str()).collect();
-        p.dedup();
-        p
+/// The session's charts over its time, each with its numbers as a table.
+fn session_charts(html: &mut String, s: &SessionData) -> Result<(), String> {
+    let line = |name, points: &Vec<(f64, f64)>| Line {
+        name,
+        points: points.clone(),
     };
-    let _ = write!(
-        html,
-        "<h1>Rehabilitation report</h1><p class=\"sub\">Patient {} · {} session{} · made by telerehab {}</p>",
-        esc(&patients.join(", ")),
-        sessions.len(),
-        if sessions.len() == 1 { "" } else { "s" },
-        env!("CARGO_PKG_VERSION")
-    );
-    if sessions.len() > 1 {
-        progress(&mut html, &sessions)?;
-    }
-    for s in &sessions {
-        one_session(&mut html, s)?;
-    }
-    html.push_str(DEFINITIONS);
-    html.push_str("</body></html>\n");
-    Ok(html)
-}
-
-/// One session: its measures and charts.
-fn one_session(html: &mut String, s: &SessionData) -> Result<(), String> {
-    let _ = write!(
-        html,
-        "<section><h2>{} — {} (seed {})</h2><p class=\"sub\">{}</p>",
-        when(s.start_unix_ns),
-        esc(&s.exercise),
-        s.seed,
-        esc(&s.path.display().to_string())
-    );
-    let _ = write!(
-        html,
-        "<p class=\"ended\">{}</p>",
-        esc(&crate::session::end_reason::sentence(&s.end_reason))
-    );
-    html.push_str("<table><tr><th>Measure</th><th>Value</th></tr>");
-    for m in &MEASURES {
-        if let Some(v) = s.measures.get(m.key) {
-            let _ = write!(
-                html,
-                "<tr><td>{}</td><td class=\"num\">{:.*} {}</td></tr>",
-                m.label, m.decimals, v, m.unit
-            );
-        }
-    }
-    html.push_str("</table>");
-    if s.measures.is_empty() {
-        html.push_str("<p>No measures: the session did not end in order.</p>");
-    }
-    exercise_table(html, &s.exercises);
-    let mut chart = |title, y_desc, lines: Vec<Line<'_>>, spans: Vec<(f64, f64)>| {
+    let charts: [SessionChart<'_>; 5] = [
+        (
+            "Tracking: the wheel and the angle aimed for",
+            "wheel angle (°)",
+            vec![
+                line("wheel (°)", &s.wheel_deg),
+                line("aimed for (°)", &s.target_deg),
+            ],
+            vec![],
+            1,
+        ),
+        (
+            "Lane keeping: lateral deviation from the lane centre",
+            "deviation (m)",
+            vec![line("lateral deviation (m)", &s.lateral_m)],
+            vec![],
+            2,
+        ),
+        (
+            "Torque at the wheel and assistance",
+            "torque (N·m)",
+            vec![
+                line("motor torque (N·m)", &s.torque_nm),
+                line("assist torque (N·m)", &s.assist_nm),
+            ],
+            vec![],
+            2,
+        ),
+        (
+            "Joint angles",
+            "angle (°)",
+            vec![
+                line("shoulder elevation (°)", &s.shoulder_deg),
+                line("elbow flexion (°)", &s.elbow_deg),
+            ],
+            vec![],
+            0,
+        ),
+        (
+            "Wheel speed, with the movements found shaded",
+            "speed (°/s)",
+            vec![line("wheel speed (°/s)", &s.speed_deg_s)],
+            s.movements.clone(),
+            0,
+        ),
+    ];
+    let mut any = false;
+    for (title, y_desc, lines, spans, decimals) in charts {
         if lines.iter().all(|l| l.points.is_empty()) {
-            return Ok(());
+            continue;
         }
-        let svg = charts::svg(&Chart {
+        if !any {
+            html.push_str("<h3>Over the session</h3>");
+            any = true;
+        }
+        let chart = Chart {
             title,
             x_desc: "session time (s)",
             y_desc,
             lines,
             spans,
             markers: false,
-        })?;
-        let _ = write!(html, "<figure class=\"chart\">{svg}</figure>");
-        Ok::<(), String>(())
-    };
-    let line = |name, points: &Vec<(f64, f64)>| Line {
-        name,
-        points: points.clone(),
-    };
-    chart(
-        "Tracking: the wheel and the angle aimed for",
-        "wheel angle (°)",
-        vec![
-            line("wheel (°)", &s.wheel_deg),
-            line("aimed for (°)", &s.target_deg),
-        ],
-        vec![],
-    )?;
-    chart(
-        "Lane keeping: lateral deviation from the lane centre",
-        "deviation (m)",
-        vec![line("lateral deviation (m)", &s.lateral_m)],
-        vec![],
-    )?;
-    chart(
-        "Torque at the wheel and assistance",
-        "torque (N·m)",
-        vec![
-            line("motor torque (N·m)", &s.torque_nm),
-            line("assist torque (N·m)", &s.assist_nm),
-        ],
-        vec![],
-    )?;
-    chart(
-        "Joint angles",
-        "angle (°)",
-        vec![
-            line("shoulder elevation (°)", &s.shoulder_deg),
-            line("elbow flexion (°)", &s.elbow_deg),
-        ],
-        vec![],
-    )?;
-    chart(
-        "Wheel speed, with the movements found shaded",
-        "speed (°/s)",
-        vec![line("wheel speed (°/s)", &s.speed_deg_s)],
-        s.movements.clone(),
-    )?;
-    html.push_str("</section>");
-    Ok(())
-}
-
-/// Sessions spanning less than this are placed by their number, not their date, days.
-const MIN_SPAN_DAYS: f64 = 1.0;
-
-/// Progress across sessions: a table with each measure's trend, and charts over time (over
-/// the sessions' numbers when they all fall within a day).
-fn progress(html: &mut String, sessions: &[SessionData]) -> Result<(), String> {
-    let t0 = sessions[0].start_unix_ns;
-    let days = |s: &SessionData| s.start_unix_ns.saturating_sub(t0) as f64 / 86_400e9;
-    let by_date = sessions.last().is_some_and(|s| days(s) >= MIN_SPAN_DAYS);
-    let xs: Vec<f64> = sessions
-        .iter()
-        .enumerate()
-        .map(|(i, s)| if by_date { days(s) } else { (i + 1) as f64 })
-        .collect();
-    let (x_desc, per) = if by_date {
-        ("days since the first session", " per day")
-    } else {
-        ("session (all within a day)", " per session")
-    };
-    html.push_str("<section><h2>Progress</h2><table><tr><th>Measure</th>");
-    for s in sessions {
-        let _ = write!(html, "<th>{}</th>", &when(s.start_unix_ns)[5..16]);
-    }
-    html.push_str("<th>Trend</th></tr>");
-    for m in &MEASURES {
-        let values: Vec<Option<f64>> = sessions
-            .iter()
-            .map(|s| s.measures.get(m.key).copied())
-            .collect();
-        if values.iter().all(Option::is_none) {
-            continue;
-        }
-        let _ = write!(html, "<tr><td>{}{}</td>", m.label, unit_suffix(m.unit));
-        for v in &values {
-            match v {
-                Some(v) => {
-                    let _ = write!(html, "<td class=\"num\">{:.*}</td>", m.decimals, v);
-                }
-                None => html.push_str("<td class=\"num\">–</td>"),
-            }
-        }
-        let points: Vec<(f64, f64)> = xs
-            .iter()
-            .zip(&values)
-            .filter_map(|(x, v)| v.map(|v| (*x, v)))
-            .collect();
-        let _ = write!(html, "<td>{}</td></tr>", trend(m, &points, per));
-    }
-    html.push_str("</table>");
-    for (title, y_desc, keys) in PROGRESS {
-        let lines: Vec<Line<'_>> = keys
-            .iter()
-            .filter_map(|k| measure(k))
-            .map(|m| Line {
-                name: m.label,
-                points: sessions
-                    .iter()
-                    .zip(&xs)
-                    .filter_map(|(s, x)| s.measures.get(m.key).map(|v| (*x, *v)))
-                    .collect(),
-            })
-            .filter(|l| !l.points.is_empty())
-            .collect();
-        // A trend needs two sessions with the measure.
-        if lines.iter().all(|l| l.points.len() < 2) {
-            continue;
-        }
-        let svg = charts::svg(&Chart {
-            title,
-            x_desc,
-            y_desc,
-            lines,
-            spans: vec![],
-            markers: true,
-        })?;
-        let _ = write!(html, "<figure class=\"chart\">{svg}</figure>");
-    }
-    html.push_str("</section>");
-    Ok(())
-}
-
-fn unit_suffix(unit: &str) -> String {
-    if unit.is_empty() {
-        String::new()
-    } else {
-        format!(" ({unit})")
-    }
-}
-
-/// The least-squares slope of `points` (per unit of x, named by `per`), and whether that is
-/// better or worse.
-fn trend(m: &Measure, points: &[(f64, f64)], per: &str) -> String {
-    if points.len() < 2 {
-        return "–".into();
-    }
-    let (change, _) = common::line_fit(points);
-    let my = points.iter().map(|p| p.1).sum::<f64>() / points.len() as f64;
-    let scale = my.abs().max(1e-9);
-    let (arrow, word) = if change.abs() < 0.01 * scale {
-        ("→", "steady")
-    } else {
-        let up = change > 0.0;
-        let arrow = if up { "↑" } else { "↓" };
-        let word = match (m.better, up) {
-            (Better::Higher, true) | (Better::Lower, false) => "better",
-            (Better::Higher, false) | (Better::Lower, true) => "worse",
-            (Better::Neither, _) => "changing",
+            x_labels: vec![],
         };
-        (arrow, word)
-    };
-    format!(
-        "<span class=\"{word}\">{arrow} {word}</span> <span class=\"sub\">({change:+.*}{}{per})</span>",
-        m.decimals + 1,
-        m.unit
-    )
+        let svg = charts::svg(&chart)?;
+        let _ = write!(
+            html,
+            "<figure class=\"chart\">{svg}{}</figure>",
+            charts::numbers_table(&chart, decimals)
+        );
+    }
+    Ok(())
+}
+
+/// The appendix: what a technician needs and a clinician does not (files, seeds, versions).
+fn technical(html: &mut String, sessions: &[SessionData]) {
+    let _ = write!(
+        html,
+        "<section id=\"technical\" aria-labelledby=\"technical-h\"><h2 id=\"technical-h\">Technical details</h2>\
+         <p>Made by telerehab {}. A session can be replayed from its file.</p>\
+         <table><caption>Each session's recording</caption><thead><tr><th scope=\"col\">Session</th>\
+         <th scope=\"col\">File</th><th scope=\"col\">Exercise setting</th><th scope=\"col\">Seed</th>\
+         <th scope=\"col\">Recording format</th></tr></thead><tbody>",
+        env!("CARGO_PKG_VERSION")
+    );
+    for s in sessions {
+        let _ = write!(
+            html,
+            "<tr><th scope=\"row\">{}</th><td class=\"path\">{}</td><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td></tr>",
+            esc(&words::date_time(s.start_unix_ns)),
+            esc(&s.path.display().to_string()),
+            esc(&s.exercise),
+            s.seed,
+            s.format_version
+        );
+    }
+    html.push_str("</tbody></table></section>");
 }
 
 /// Summary numbers of a written report, for the command's one line.
@@ -622,16 +490,23 @@ td.num { text-align: right; font-variant-numeric: tabular-nums; }
 p.ended { font-weight: 600; }
 .better { color: #007a5a; font-weight: 600; } .worse { color: #b34700; font-weight: 600; } .steady, .changing { color: #333; }
 figure.chart { margin: 1em 0; } figure.chart svg { max-width: 100%; height: auto; }
-section { margin-bottom: 2.5em; }
-@media print { body { margin: 0; max-width: none; } section, figure.chart { break-inside: avoid; } }
+section { margin-bottom: 2.5em; } section section { margin-bottom: 1.5em; }
+caption { text-align: left; font-weight: 600; padding: 0.3em 0; }
+dl.front { display: grid; grid-template-columns: max-content 1fr; gap: 0.2em 1em; margin: 0.5em 0 1em; }
+dl.front dt { font-weight: 600; } dl.front dd { margin: 0; }
+nav ol { margin: 0.3em 0; } nav a, td a, th a { display: inline-block; min-height: 24px; padding: 2px 0; } #glance th a { white-space: nowrap; } nav h2 { font-size: 1.1em; border: none; }
+p.arm { background: #f2f6fa; padding: 0.4em 0.6em; border-left: 4px solid #0072b2; }
+details { margin: 0.3em 0 1em; } summary { cursor: pointer; color: #00527f; }
+td.path { word-break: break-all; font-family: ui-monospace, monospace; font-size: 0.85em; }
+@media print { body { margin: 0; max-width: none; } nav { display: none; } figure.chart, table { break-inside: avoid; } h2, h3 { break-after: avoid; } }
 </style></head><body>
 "#;
 
-const DEFINITIONS: &str = r#"<section><h2>How the measures are made</h2>
+const DEFINITIONS: &str = r#"<section id="definitions" aria-labelledby="definitions-h"><h2 id="definitions-h">How the measures are made</h2>
 <p>The wheel's angle is averaged to 100 Hz, differentiated and low-passed (10 Hz, forward and backward); a movement is where its speed is above 5 % of the session's peak (at least 0.05 rad/s), gaps under 0.1 s joined, movements under 0.2 s left out.
 SPARC is the spectral arc length of each movement's speed (Balasubramanian et al. 2015: padding level 4, 10 Hz cut-off, amplitude threshold 0.05); LDLJ the log dimensionless jerk from speed, −ln(T³/v<sub>peak</sub>² ∫ (d²v/dt²)² dt). For both, closer to 0 is smoother.
 Ranges of motion are from the arm sensors while the arm is tracked. The patient's share of the work is the positive work of the hand on the wheel over that of the hand and the assist (known in simulated sessions).
-Trends are least-squares slopes over the sessions' dates.</p></section>
+Trends are least-squares slopes per session over the sessions of one kind of exercise that ran as prescribed; the baseline is the first of them.</p></section>
 "#;
 
 #[cfg(test)]
@@ -639,13 +514,28 @@ mod tests {
     use super::*;
     use std::collections::BTreeMap;
 
-    fn session(day: u64, sparc: f64) -> SessionData {
+    /// 2026-11-27T08:51:25Z.
+    const T0_NS: u64 = 1_795_769_485_000_000_000;
+
+    fn result(index: u32, kind: &str, prescribed_s: f64, active_s: f64) -> record::ExerciseResult {
+        record::ExerciseResult {
+            index,
+            kind: kind.into(),
+            name: crate::screen::plain_name(kind),
+            prescribed_s,
+            active_s,
+            scores: BTreeMap::from([("rms_lateral_m".to_owned(), 0.1234)]),
+        }
+    }
+
+    /// A complete session of `kind` `hours` after T0, paired for P-0042.
+    fn session(hours: u64, kind: &str, sparc: f64) -> SessionData {
         SessionData {
-            path: PathBuf::from(format!("day{day}.mcap")),
-            start_unix_ns: 1_795_000_000_000_000_000 + day * 86_400_000_000_000,
-            exercise: "sine-road".into(),
-            seed: day,
-            patient: "P-0042".into(),
+            path: PathBuf::from(format!("/data/rec/h{hours}.mcap")),
+            start_unix_ns: T0_NS + hours * 3_600_000_000_000,
+            exercise: kind.into(),
+            seed: 4711 + hours,
+            patient: "p-a82cb5671882d4c7".into(),
             wheel_deg: vec![(0.0, 0.0), (1.0, 10.0)],
             target_deg: vec![(0.0, 1.0), (1.0, 9.0)],
             lateral_m: vec![],
@@ -659,92 +549,247 @@ mod tests {
                 ("sparc_median".to_owned(), sparc),
                 ("movements".to_owned(), 4.0),
             ]),
-            exercises: vec![],
-            end_reason: String::new(),
+            exercises: vec![result(0, kind, 60.0, 60.0)],
+            end_reason: "complete".into(),
+            clinic: Some(record::ClinicNote {
+                patient_pseudonym: "P-0042".into(),
+                clinic: "hub.clinic.example".into(),
+                therapist: String::new(),
+            }),
+            arm: None,
+            regimen_kinds: vec![],
+            format_version: 4,
+        }
+    }
+
+    /// The text of the report's section `id` (up to the next `<section id=` at its level).
+    fn section<'a>(html: &'a str, id: &str) -> &'a str {
+        let start = html.find(&format!("<section id=\"{id}\"")).unwrap();
+        let rest = &html[start + 1..];
+        let end = rest
+            .find("<section id=\"session-")
+            .map_or(rest.len(), |e| e + 1);
+        &html[start..start + end]
+    }
+
+    #[test]
+    fn sessions_of_one_kind_show_a_trend_over_sessions_labelled_by_date_and_time() {
+        let html = render(vec![
+            session(3, "sine-road", -1.6),
+            session(0, "sine-road", -2.0),
+            session(7, "slalom", -1.5),
+        ])
+        .unwrap();
+        let progress = section(&html, "progress");
+        assert!(progress.contains("<h3 id=\"progress-road-h\">Road exercises</h3>"));
+        // Smoother over the sessions: SPARC rises, which is better; per session, not per day.
+        assert!(progress.contains("↑ better"), "{progress}");
+        assert!(progress.contains("a session)"), "{progress}");
+        // The axis: sessions by date and time, at whole positions only.
+        assert!(progress.contains(">27 Nov 08:51<"), "{progress}");
+        assert!(progress.contains(">27 Nov 15:51<"), "{progress}");
+        for half in [">1.5<", ">2.5<", ">0.5<"] {
+            assert!(!progress.contains(half), "no tick between sessions: {half}");
+        }
+        assert!(!html.contains("all within a day"));
+        // Oldest first; nothing to fetch, no script.
+        assert!(html.find("h0.mcap").unwrap() < html.find("h7.mcap").unwrap());
+        assert!(!html.contains("<script"), "no script");
+        assert!(!html.contains("src=\"http") && !html.contains("href=\"http"));
+    }
+
+    #[test]
+    fn a_session_ended_early_is_listed_marked_and_left_out_of_the_trends() {
+        let mut early = session(5, "sine-road", -9.0);
+        early.end_reason = crate::session::end_reason::ENDED_EARLY.into();
+        early.exercises = vec![result(0, "sine-road", 60.0, 21.0)];
+        let html = render(vec![
+            session(0, "sine-road", -2.0),
+            early,
+            session(9, "sine-road", -1.8),
+        ])
+        .unwrap();
+        let progress = section(&html, "progress");
+        assert!(progress.contains("2 sessions as prescribed; not in the trends: 27 Nov 2026, 13:51 UTC (ended early by the patient"), "{progress}");
+        // Its SPARC of −9 is not in the trend's table: −2.00 to −1.80 only.
+        assert!(!progress.contains("-9.00"), "{progress}");
+        assert!(progress.contains("↑ better"), "{progress}");
+        let s2 = section(&html, "session-2");
+        assert!(
+            s2.contains("Not as prescribed: left out of the trends."),
+            "{s2}"
+        );
+        assert!(
+            s2.contains("<strong>no</strong>: 35 % of the prescribed time"),
+            "{s2}"
+        );
+        let glance = section(&html, "glance");
+        assert!(
+            glance.contains("<strong>no: not as prescribed</strong>"),
+            "{glance}"
+        );
+        assert!(glance.contains("Ended early by the patient"), "{glance}");
+    }
+
+    #[test]
+    fn sessions_of_different_kinds_are_never_trended_together() {
+        let html = render(vec![
+            session(0, "sine-road", -2.0),
+            session(1, "dial-step", -1.0),
+        ])
+        .unwrap();
+        let progress = section(&html, "progress");
+        assert!(progress.contains("Road exercises") && progress.contains("Dial exercises"));
+        assert!(
+            !progress.contains("↑") && !progress.contains("↓"),
+            "{progress}"
+        );
+        assert_eq!(
+            progress.matches("A trend needs two sessions").count(),
+            2,
+            "{progress}"
+        );
+    }
+
+    #[test]
+    fn seeds_and_file_paths_appear_only_in_the_technical_appendix_at_the_end() {
+        let html = render(vec![
+            session(0, "sine-road", -2.0),
+            session(2, "sine-road", -1.9),
+        ])
+        .unwrap();
+        let appendix = html.find("<section id=\"technical\"").unwrap();
+        let (body, tail) = html.split_at(appendix);
+        for technical in ["/data/rec/h0.mcap", "4711", "4713", "seed", "format"] {
+            assert!(
+                !body.to_lowercase().contains(technical),
+                "{technical} before the appendix"
+            );
+            assert!(
+                tail.to_lowercase().contains(technical),
+                "{technical} in the appendix"
+            );
+        }
+        assert!(tail.contains(env!("CARGO_PKG_VERSION")));
+        assert!(!body.contains(env!("CARGO_PKG_VERSION")), "the version too");
+        assert!(!body.contains("p-a82cb5671882d4c7") && !tail.contains("p-a82cb5671882d4c7"));
+    }
+
+    #[test]
+    fn the_front_names_the_patient_clinic_and_dates_and_an_unpaired_one_says_so() {
+        let html = render(vec![
+            session(0, "sine-road", -2.0),
+            session(30, "sine-road", -1.9),
+        ])
+        .unwrap();
+        let header = &html[html.find("<header>").unwrap()..html.find("</header>").unwrap()];
+        assert!(
+            header.contains("<dt>Patient</dt><dd>P-0042</dd>"),
+            "{header}"
+        );
+        assert!(
+            header.contains("<dt>Clinic</dt><dd>hub.clinic.example</dd>"),
+            "{header}"
+        );
+        assert!(
+            header.contains("2 sessions, 27 Nov 2026 to 28 Nov 2026"),
+            "{header}"
+        );
+        assert!(html.contains("<title>Rehabilitation report: P-0042 — telerehab</title>"));
+        let mut unpaired = session(0, "sine-road", -2.0);
+        unpaired.clinic = None;
+        unpaired.patient = "patient-0".into();
+        let html = render(vec![unpaired]).unwrap();
+        assert!(
+            html.contains("<dt>Patient</dt><dd>not paired with a clinic</dd>"),
+            "{html}"
+        );
+        assert!(!html.contains("patient-0") && !html.contains("<dt>Clinic"));
+    }
+
+    #[test]
+    fn a_session_gives_its_exercises_prescribed_against_performed_and_its_arm_line() {
+        let mut s = session(0, "sine-road", -1.7);
+        s.exercises = vec![
+            result(0, "sine-road", 90.0, 90.0),
+            result(1, "dial-sine", 60.0, 59.5),
+        ];
+        s.arm = Some(record::ArmCalibrationSample {
+            upper_arm_m: 0.3,
+            forearm_m: 0.25,
+            rms_residual_m: 0.003,
+            condition_number: 20.0,
+            samples: 1000.0,
+            ..Default::default()
+        });
+        let html = render(vec![s]).unwrap();
+        let one = section(&html, "session-1");
+        assert!(
+            one.contains("Session 1, 27 Nov 2026, 08:51 UTC: Sine road, then Dial sine"),
+            "{one}"
+        );
+        assert!(one.contains("<th scope=\"row\">1. Sine road</th><td class=\"num\">90</td><td class=\"num\">90</td><td>yes</td>"), "{one}");
+        assert!(one.contains("<th scope=\"row\">2. Dial sine</th><td class=\"num\">60</td><td class=\"num\">60</td><td>yes</td>"), "{one}");
+        assert!(one.contains("Arm calibration: upper arm 30.0 cm"), "{one}");
+        assert!(one.contains("Ended: complete."), "{one}");
+        let glance = section(&html, "glance");
+        assert!(
+            glance.contains("<td class=\"num\">2.5</td>"),
+            "2.5 min prescribed: {glance}"
+        );
+        let mut none = session(0, "sine-road", -1.7);
+        none.end_reason = String::new();
+        let html = render(vec![none]).unwrap();
+        assert!(html.contains("Arm calibration: none (no arm sensors in this session)."));
+        assert!(html.contains("How it ended is not recorded"));
+    }
+
+    #[test]
+    fn the_report_has_landmarks_captions_and_every_chart_as_a_table() {
+        let html = render(vec![
+            session(0, "sine-road", -2.0),
+            session(2, "sine-road", -1.9),
+        ])
+        .unwrap();
+        assert!(html.contains("<html lang=\"en\">"));
+        for landmark in [
+            "<header>",
+            "<nav aria-label=\"Contents\">",
+            "<main id=\"main\">",
+        ] {
+            assert_eq!(html.matches(landmark).count(), 1, "{landmark}");
+        }
+        assert_eq!(html.matches("<h1>").count(), 1);
+        assert_eq!(
+            html.matches("<table>").count() + html.matches("<table class=").count(),
+            html.matches("<caption>").count()
+        );
+        assert_eq!(
+            html.matches("<figure").count(),
+            html.matches("<details>").count()
+        );
+        assert!(
+            html.matches("<svg").count() >= 4,
+            "session and progress charts"
+        );
+        // Every link of the contents leads to a section.
+        for id in html
+            .split("href=\"#")
+            .skip(1)
+            .map(|r| &r[..r.find('"').unwrap()])
+        {
+            assert!(html.contains(&format!(" id=\"{id}\"")), "#{id}");
         }
     }
 
     #[test]
-    fn several_sessions_show_progress_with_the_trend_judged_by_the_measure() {
-        let html = render(vec![session(3, -1.6), session(0, -2.0), session(7, -1.5)]).unwrap();
-        assert!(html.contains("Progress"));
-        // Smoother over the weeks: SPARC rises, which is better.
-        assert!(html.contains("↑ better"), "{html}");
-        // Oldest first.
-        let (a, b) = (
-            html.find("day0.mcap").unwrap(),
-            html.find("day7.mcap").unwrap(),
-        );
-        assert!(a < b);
-        assert!(!html.contains("<script"), "no script");
-        assert!(
-            !html.contains("src=\"http") && !html.contains("href=\"http"),
-            "nothing fetched from the network"
-        );
-    }
-
-    #[test]
-    fn one_session_has_its_measures_and_charts_and_no_progress() {
-        let html = render(vec![session(0, -1.7)]).unwrap();
-        assert!(!html.contains("<h2>Progress"));
-        assert!(html.contains("Smoothness, SPARC"));
-        assert!(html.contains("-1.70"));
-        assert!(
-            html.matches("<svg").count() >= 3,
-            "tracking, torque and speed charts"
-        );
-    }
-
-    #[test]
-    fn each_exercise_has_its_column_and_the_end_reason_is_said() {
-        let mut s = session(0, -1.7);
-        let result =
-            |index: u32, kind: &str, name: &str, scores: &[(&str, f64)]| record::ExerciseResult {
-                index,
-                kind: kind.into(),
-                name: name.into(),
-                prescribed_s: 45.0,
-                active_s: 44.95,
-                scores: scores.iter().map(|(k, v)| ((*k).to_owned(), *v)).collect(),
-            };
-        s.exercises = vec![
-            result(0, "sine-road", "Sine road", &[("rms_lateral_m", 0.1234)]),
-            result(
-                1,
-                "dial-sine",
-                "Dial <sine>",
-                &[("dial_mean_abs_error_deg", 3.216)],
-            ),
-        ];
-        s.end_reason = crate::session::end_reason::ENDED_EARLY.into();
-        let html = render(vec![s]).unwrap();
-        assert!(html.contains("<h3>Each exercise</h3>"), "{html}");
-        assert!(html.contains("1. Sine road"));
-        assert!(html.contains("2. Dial &lt;sine&gt;"), "escaped");
-        assert!(html.contains("44.9 of 45") || html.contains("45.0 of 45"));
-        // A row per result, "–" where it does not apply.
-        assert!(html.contains(
-            "<td>Lane keeping: lateral deviation (RMS) (m)</td><td class=\"num\">0.123</td><td class=\"num\">–</td>"
-        ));
-        assert!(html.contains(
-            "<td>Dial angle error (mean absolute, as the thesis's Appendix E) (°)</td><td class=\"num\">–</td><td class=\"num\">3.22</td>"
-        ));
-        assert!(html.contains("Ended early by the patient"), "{html}");
-        let mut old = session(0, -1.7);
-        old.end_reason = String::new();
-        let html = render(vec![old]).unwrap();
-        assert!(html.contains("How it ended is not recorded"));
-        assert!(!html.contains("Each exercise"));
-        let mut done = session(0, -1.7);
-        done.end_reason = "complete".into();
-        assert!(render(vec![done]).unwrap().contains("Ended: complete"));
-    }
-
-    #[test]
     fn names_from_the_recording_are_escaped() {
-        let mut s = session(0, -1.7);
-        s.patient = "<b>P</b>".into();
+        let mut s = session(0, "sine-road", -1.7);
+        s.clinic.as_mut().unwrap().patient_pseudonym = "<b>P</b>".into();
+        s.exercises[0].name = "Dial <sine>".into();
         let html = render(vec![s]).unwrap();
         assert!(html.contains("&lt;b&gt;P&lt;/b&gt;"));
+        assert!(html.contains("1. Dial &lt;sine&gt;"));
+        assert!(!html.contains("<b>P"));
     }
 }

@@ -44,6 +44,17 @@ pub struct SessionData {
     pub exercises: Vec<record::ExerciseResult>,
     /// How the session ended, as its `Bye` said (empty when not recorded).
     pub end_reason: String,
+    /// Whom the session was for in the clinic's words (absent when the station was not
+    /// paired, and in older recordings).
+    pub clinic: Option<record::ClinicNote>,
+    /// The arm's segment lengths and fit the session's arm set-up found (absent without arm
+    /// sensors).
+    pub arm: Option<record::ArmCalibrationSample>,
+    /// The exercises the regimen prescribed, by their short names (`sine-road`), when the
+    /// recording holds a regimen (for recordings without per-exercise results).
+    pub regimen_kinds: Vec<String>,
+    /// The recording's format version.
+    pub format_version: u32,
 }
 
 /// Reads the recording at `path`, front to back as a stream: what the charts draw is thinned
@@ -62,6 +73,7 @@ pub fn read(path: &Path) -> anyhow::Result<SessionData> {
         Channel::Assist,
         Channel::Arm,
         Channel::Metrics,
+        Channel::ArmCalibration,
     ];
     let mut stream = TickStream::open_path(path, limits, &channels).with_context(unreadable)?;
     let meta = stream.metadata().clone();
@@ -115,7 +127,19 @@ pub fn read(path: &Path) -> anyhow::Result<SessionData> {
         measures: metrics.map(|m| m.measures.clone()).unwrap_or_default(),
         exercises: metrics.map(|m| m.exercises.clone()).unwrap_or_default(),
         end_reason: metrics.map(|m| m.end_reason.clone()).unwrap_or_default(),
+        clinic: meta.clinic.clone(),
+        arm: stream.arm_calibration().map(|c| c.data.clone()),
+        regimen_kinds: regimen_kinds(meta.regimen_toml.as_deref()),
+        format_version: meta.format_version,
     })
+}
+
+/// The short names of the exercises of a recorded regimen, in order (none without one, or
+/// when it cannot be read).
+fn regimen_kinds(toml: Option<&str>) -> Vec<String> {
+    toml.and_then(|t| regimen::Regimen::from_recorded(t, "the recording's regimen").ok())
+        .map(|(r, _)| r.exercises.iter().map(|e| e.exercise.name()).collect())
+        .unwrap_or_default()
 }
 
 /// The wheel's speed as the session's measures saw it (the exercise only, paused stretches

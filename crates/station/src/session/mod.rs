@@ -279,6 +279,7 @@ fn start_recording(
                 body: Some(facts),
                 format_version: record::types::FORMAT_VERSION,
                 difficulty: opts.difficulty.clone(),
+                clinic: cfg.session.clinic.clone(),
             };
             Some(
                 McapRecorder::create(path, start_unix_ns, &meta)

@@ -1,0 +1,282 @@
+//! The measures the report shows: each by the recording's key, in plain words with its unit,
+//! and which way is better.
+
+/// Which way a measure is better.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(super) enum Better {
+    Higher,
+    Lower,
+    Neither,
+}
+
+/// A measure as a therapist reads it: the recording's name, plain words, unit, decimals.
+pub(super) struct Measure {
+    pub(super) key: &'static str,
+    pub(super) label: &'static str,
+    pub(super) unit: &'static str,
+    pub(super) decimals: usize,
+    pub(super) better: Better,
+}
+
+const fn m(
+    key: &'static str,
+    label: &'static str,
+    unit: &'static str,
+    decimals: usize,
+    better: Better,
+) -> Measure {
+    Measure {
+        key,
+        label,
+        unit,
+        decimals,
+        better,
+    }
+}
+
+/// The measures shown, in order (those a session lacks are left out).
+pub(super) const MEASURES: [Measure; 17] = [
+    m("session_s", "Session length", "s", 0, Better::Neither),
+    m("paused_s", "Paused", "s", 0, Better::Neither),
+    m("movements", "Movements", "", 0, Better::Neither),
+    m("active_pct", "Time moving", "%", 0, Better::Higher),
+    m(
+        "sparc_median",
+        "Smoothness, SPARC (median; closer to 0 is smoother)",
+        "",
+        2,
+        Better::Higher,
+    ),
+    m(
+        "ldlj_median",
+        "Smoothness, LDLJ (median; closer to 0 is smoother)",
+        "",
+        2,
+        Better::Higher,
+    ),
+    m(
+        "movement_peak_speed_deg_s_median",
+        "Peak speed of a movement (median)",
+        "°/s",
+        0,
+        Better::Higher,
+    ),
+    m(
+        "movement_time_s_median",
+        "Duration of a movement (median)",
+        "s",
+        2,
+        Better::Neither,
+    ),
+    m(
+        "speed_peaks_median",
+        "Speed peaks in a movement (median)",
+        "",
+        0,
+        Better::Lower,
+    ),
+    m(
+        "wheel_rom_deg",
+        "Wheel range of motion",
+        "°",
+        0,
+        Better::Higher,
+    ),
+    m(
+        "shoulder_elevation_rom_deg",
+        "Shoulder elevation range",
+        "°",
+        0,
+        Better::Higher,
+    ),
+    m(
+        "elbow_flexion_rom_deg",
+        "Elbow flexion range",
+        "°",
+        0,
+        Better::Higher,
+    ),
+    m(
+        "rms_lateral_m",
+        "Lane keeping: lateral deviation (RMS)",
+        "m",
+        3,
+        Better::Lower,
+    ),
+    m("pct_in_lane", "Time in lane", "%", 1, Better::Higher),
+    m(
+        "dial_rms_error_deg",
+        "Tracking error (RMS)",
+        "°",
+        2,
+        Better::Lower,
+    ),
+    m(
+        "assist_level_mean",
+        "Assist level (mean, 0–1)",
+        "",
+        2,
+        Better::Lower,
+    ),
+    m(
+        "patient_work_pct",
+        "Patient's share of the work",
+        "%",
+        0,
+        Better::Higher,
+    ),
+];
+
+/// An exercise's own results shown in the per-exercise table, in order (rows no exercise has
+/// are left out).
+pub(super) const EXERCISE_MEASURES: [Measure; 16] = [
+    m(
+        "rms_lateral_m",
+        "Lane keeping: lateral deviation (RMS)",
+        "m",
+        3,
+        Better::Lower,
+    ),
+    m("pct_in_lane", "Time in lane", "%", 1, Better::Higher),
+    m(
+        "heading_rms_error_deg",
+        "Heading error (RMS)",
+        "°",
+        1,
+        Better::Lower,
+    ),
+    m("cone_hits", "Cones hit", "", 0, Better::Lower),
+    m(
+        "completion_time_s",
+        "Completion time",
+        "s",
+        1,
+        Better::Neither,
+    ),
+    m(
+        "tracking_rms_error_deg",
+        "Tracking error: wheel to the ideal angle (RMS)",
+        "°",
+        2,
+        Better::Lower,
+    ),
+    m(
+        "dial_mean_abs_error_deg",
+        "Dial angle error (mean absolute, as the thesis's Appendix E)",
+        "°",
+        2,
+        Better::Lower,
+    ),
+    m(
+        "dial_rms_error_deg",
+        "Dial angle error (RMS)",
+        "°",
+        2,
+        Better::Lower,
+    ),
+    m("movements", "Movements", "", 0, Better::Neither),
+    m("active_pct", "Time moving", "%", 0, Better::Higher),
+    m(
+        "sparc_median",
+        "Smoothness, SPARC (median)",
+        "",
+        2,
+        Better::Higher,
+    ),
+    m(
+        "ldlj_median",
+        "Smoothness, LDLJ (median)",
+        "",
+        2,
+        Better::Higher,
+    ),
+    m(
+        "movement_peak_speed_deg_s_median",
+        "Peak speed of a movement (median)",
+        "°/s",
+        0,
+        Better::Higher,
+    ),
+    m(
+        "wheel_rom_deg",
+        "Wheel range of motion",
+        "°",
+        0,
+        Better::Higher,
+    ),
+    m(
+        "shoulder_elevation_rom_deg",
+        "Shoulder elevation range",
+        "°",
+        0,
+        Better::Higher,
+    ),
+    m(
+        "elbow_flexion_rom_deg",
+        "Elbow flexion range",
+        "°",
+        0,
+        Better::Higher,
+    ),
+];
+
+/// An exercise's results in words for the text report, in the table's order: "Lane keeping:
+/// lateral deviation (RMS) 0.123 m, Time in lane 99.5 %, …".
+pub(crate) fn exercise_words(e: &record::ExerciseResult) -> String {
+    EXERCISE_MEASURES
+        .iter()
+        .filter_map(|m| {
+            let v = e.scores.get(m.key)?;
+            let unit = if m.unit.is_empty() {
+                String::new()
+            } else {
+                format!(" {}", m.unit)
+            };
+            Some(format!("{} {:.*}{unit}", m.label, m.decimals, v))
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The measures charted across sessions, each chart's lines by key.
+pub(super) const PROGRESS: [(&str, &str, &[&str]); 6] = [
+    (
+        "Smoothness (SPARC, median; closer to 0 is smoother)",
+        "SPARC",
+        &["sparc_median"],
+    ),
+    (
+        "Ranges of motion",
+        "range (°)",
+        &[
+            "wheel_rom_deg",
+            "shoulder_elevation_rom_deg",
+            "elbow_flexion_rom_deg",
+        ],
+    ),
+    (
+        "Lane keeping",
+        "lateral deviation, RMS (m)",
+        &["rms_lateral_m"],
+    ),
+    ("Tracking error", "RMS error (°)", &["dial_rms_error_deg"]),
+    (
+        "Time moving and the patient's share of the work",
+        "%",
+        &["active_pct", "patient_work_pct"],
+    ),
+    ("Assist level", "level (0–1)", &["assist_level_mean"]),
+];
+
+pub(super) fn measure(key: &str) -> Option<&'static Measure> {
+    MEASURES.iter().find(|m| m.key == key)
+}
+
+/// ` (unit)`, or nothing for a measure without a unit.
+pub(super) fn unit_suffix(unit: &str) -> String {
+    if unit.is_empty() {
+        String::new()
+    } else {
+        format!(" ({unit})")
+    }
+}
