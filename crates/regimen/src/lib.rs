@@ -294,9 +294,37 @@ fn check_pedals(spec: &ExerciseSpec) -> Result<(), String> {
     Ok(())
 }
 
+/// The kind of exercise a short name (`sine-road`, `slalom`, `dial-step`) or `kind` is, for
+/// comparing like with like: `dial` for the dial tasks, `road` for the driving ones, by the
+/// exercise the name makes ([`ExerciseSpec::from_name`]); a name no exercise has (newer or
+/// older than this build) is a dial or road by its prefix or suffix, else its own kind.
+pub fn exercise_kind(short: &str) -> String {
+    let kind = match ExerciseSpec::from_name(short) {
+        Ok(ExerciseSpec::Dial(_)) => "dial",
+        Ok(_) => "road",
+        Err(_) if short.starts_with("dial") => "dial",
+        Err(_) if short.ends_with("-road") => "road",
+        Err(_) => short,
+    };
+    kind.to_owned()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn every_built_in_exercise_is_a_road_or_a_dial_and_an_unknown_name_its_own_kind() {
+        for name in vehicle::EXERCISE_NAMES {
+            let want = if name.starts_with("dial") { "dial" } else { "road" };
+            assert_eq!(exercise_kind(name), want, "{name}");
+        }
+        assert_eq!(exercise_kind("lane-change"), "road");
+        assert_eq!(exercise_kind("dial"), "dial");
+        assert_eq!(exercise_kind("dial-newer-signal"), "dial");
+        assert_eq!(exercise_kind("mountain-road"), "road");
+        assert_eq!(exercise_kind("grip"), "grip");
+    }
 
     #[test]
     fn a_recorded_regimen_with_a_field_of_another_version_still_reads_and_says_so() {

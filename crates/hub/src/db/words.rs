@@ -8,6 +8,7 @@ use serde::Serialize;
 
 use super::{Db, SessionRow, col};
 use crate::error::HubError;
+pub use regimen::exercise_kind;
 
 /// The `end_reason` of a session that ran as prescribed (the station's
 /// `session::end_reason::COMPLETE`).
@@ -24,28 +25,6 @@ pub fn plain_name(short: &str) -> String {
     chars.next().map_or_else(String::new, |first| {
         first.to_uppercase().chain(chars).collect()
     })
-}
-
-/// The kind of exercise a short name is, for comparing like with like: `dial` for the dial
-/// tasks, `road` for the driving ones; any other exercise is its own kind.
-pub fn exercise_kind(short: &str) -> String {
-    const ROADS: [&str; 8] = [
-        "sine",
-        "straight",
-        "triangle",
-        "clothoid",
-        "slalom",
-        "lane-change",
-        "sharp-turns",
-        "s-bend",
-    ];
-    if short.starts_with("dial") {
-        "dial".to_owned()
-    } else if short.ends_with("-road") || ROADS.contains(&short) {
-        "road".to_owned()
-    } else {
-        short.to_owned()
-    }
 }
 
 /// A session as the console names it: the stored row plus its exercise in words.

@@ -3,6 +3,7 @@
 //! its arm set-up found.
 
 use super::session::SessionData;
+use regimen::exercise_kind;
 
 /// The `end_reason` of a session that ran as prescribed (`session::end_reason::COMPLETE`).
 const COMPLETE: &str = crate::session::end_reason::COMPLETE;
@@ -75,29 +76,6 @@ pub fn continuing(s: &str) -> String {
     chars.next().map_or_else(String::new, |first| {
         first.to_lowercase().chain(chars).collect()
     })
-}
-
-/// The kind of exercise a short name is, for comparing like with like: `dial` for the dial
-/// tasks, `road` for the driving ones; any other exercise is its own kind (as the hub's
-/// console groups them, `hub::db::words::exercise_kind`).
-pub fn exercise_kind(short: &str) -> String {
-    const ROADS: [&str; 8] = [
-        "sine",
-        "straight",
-        "triangle",
-        "clothoid",
-        "slalom",
-        "lane-change",
-        "sharp-turns",
-        "s-bend",
-    ];
-    if short.starts_with("dial") {
-        "dial".to_owned()
-    } else if short.ends_with("-road") || ROADS.contains(&short) {
-        "road".to_owned()
-    } else {
-        short.to_owned()
-    }
 }
 
 /// A kind as a heading: `Road exercises`, `Dial exercises`, `Road and dial exercises`.
