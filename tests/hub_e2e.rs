@@ -18,7 +18,8 @@ fn a_clinic_pairs_a_station_that_then_streams_every_session_over_mutual_tls() {
     let home = tmp.path().join("station");
     let paired = pair(&hub, &code, &home);
     assert!(
-        paired.starts_with("paired: this station is st-"),
+        paired.starts_with("paired: this station is st-")
+            && paired.contains("for patient P-0042 at"),
         "{paired}"
     );
     // The hub told the station the patient's pseudonym, which its recordings then carry.

@@ -42,7 +42,7 @@ def run_stopped_early(home, exercise, seed):
 @pytest.fixture(scope="module")
 def recordings(tmp_path_factory):
     """Four sessions of a station paired for P-0042: a road, a dial task, a road the patient
-    stopped early, and another road — oldest first."""
+    stopped early, and the sine road ana@clinic.example prescribed — oldest first."""
     tmp = tmp_path_factory.mktemp("report")
     data = tmp / "clinic"
     telerehab("hub", "init", "--data", str(data), "--admin", "ana@clinic.example")
@@ -59,7 +59,13 @@ def recordings(tmp_path_factory):
         run(home, "sine-road", 11)
         run(home, "dial-step", 12)
         run_stopped_early(home, "sine-road", 13)
-        run(home, "sine-road", 14)
+        # The fourth runs the regimen the clinic prescribed (the hub names its prescriber).
+        regimen = tmp / "sine.toml"
+        regimen.write_text('[[exercise]]\nkind = "sine"\nduration_s = 12.0\n')
+        telerehab("hub", "patient", "regimen", "--data", str(data), "P-0042", "--file", str(regimen),
+                  "--by", "ana@clinic.example")
+        telerehab("run", "--sim", "--headless", "--speed", "max", "--seed", "14", "--checkin-timeout-s", "0",
+                  home=home)
     finally:
         hub.terminate()
         hub.wait(timeout=20)
@@ -136,6 +142,8 @@ def test_trends_count_only_sessions_of_one_kind_that_ran_as_prescribed(browser, 
     browser.set_window_size(1366, 768)
     browser.get(out.as_uri())
     assert_no_violations(browser, "report of four sessions")
+    # The prescribed session names its prescriber as the clinic does (the hub told the station).
+    assert "ana@clinic.example" in text_of(browser, "header"), text_of(browser, "header")
     road = text_of(browser, "#progress-road")
     assert "2 sessions as prescribed; not in the trends:" in road, road
     assert "Baseline" in road and "Latest" in road and "Trend" in road

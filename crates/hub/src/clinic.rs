@@ -539,10 +539,17 @@ async fn push_regimen(server: &TherapistServer, db: &Db, regimen: &RegimenVersio
     let Ok(stations) = db.stations_of(&regimen.patient_id).await else {
         return;
     };
+    // The station names the prescriber in its recordings and report by the clinic's words
+    // for them (their e-mail), never the internal therapist id.
+    let prescribed_by = match db.therapist(&regimen.prescribed_by).await {
+        Ok(Some(t)) => Some(t.email),
+        _ => None,
+    };
     for station in stations.iter().filter(|s| !s.is_revoked()) {
         let frame = Regimen {
             id: format!("{}-v{}", regimen.patient_id, regimen.version),
             toml: regimen.toml.clone(),
+            prescribed_by: prescribed_by.clone(),
         };
         match server.send_regimen(&station.station_id, frame) {
             Ok(()) => {

@@ -296,6 +296,7 @@ mod tests {
             Frame::Regimen(Regimen {
                 id: "reg-3".into(),
                 toml: "[exercise]\nname = \"sine-road\"\n".into(),
+                prescribed_by: None,
             }),
             Frame::Bye(Bye {
                 session_id: "2026-11-21T09-30-00Z".into(),
@@ -469,6 +470,29 @@ mod tests {
         assert!(h.validate().is_ok());
     }
 
+    /// The regimen's optional prescriber (absent in the frames above when unset), pinned when
+    /// set; a prescriber with a control character is refused naming the field.
+    #[test]
+    fn golden_bytes_of_a_regimen_with_its_prescriber() {
+        let frame = Frame::Regimen(Regimen {
+            id: "p-0042-v3".into(),
+            toml: "[[exercise]]\nkind = \"sine\"\n".into(),
+            prescribed_by: Some("ana@clinic.example".into()),
+        });
+        let bytes = encode_to_vec(&frame).unwrap();
+        assert_eq!(
+            escape(&bytes),
+            r#"TRHB\x00\x01\x04\x00\x00\x00\x00`{"id":"p-0042-v3","toml":"[[exercise]]\x5cnkind = \x5c"sine\x5c"\x5cn","prescribed_by":"ana@clinic.example"}"#
+        );
+        assert_eq!(decode(&bytes).unwrap().unwrap().0, frame);
+        let Frame::Regimen(mut bad) = frame else {
+            unreachable!()
+        };
+        bad.prescribed_by = Some("ana\u{7}@clinic.example".into());
+        let err = Frame::Regimen(bad).validate().unwrap_err().0;
+        assert!(err.contains("prescribed_by"), "{err}");
+    }
+
     /// Version 2's frames (the therapist's messages), pinned; text counted in characters.
     #[test]
     fn golden_bytes_of_message_and_message_seen() {
@@ -585,6 +609,7 @@ mod tests {
         let frame = Frame::Regimen(Regimen {
             id: "big".into(),
             toml: "x".repeat(MAX_PAYLOAD_LEN),
+            prescribed_by: None,
         });
         let mut out = b"keep".to_vec();
         assert!(matches!(

@@ -278,6 +278,11 @@ pub struct Regimen {
     pub id: String,
     /// Regimen as TOML text.
     pub toml: String,
+    /// Who prescribed it, as the clinic names its therapists (their e-mail), for the
+    /// station's recordings and report; at most [`MAX_TEXT_LEN`] bytes. Absent from hubs
+    /// older than this field.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub prescribed_by: Option<String>,
 }
 
 /// Orderly end of a session.
@@ -696,7 +701,13 @@ impl Frame {
             Self::Hello(h) => h.validate(),
             Self::Summary(s) => s.validate(),
             Self::Ack(a) => check_id("session_id", &a.session_id),
-            Self::Regimen(r) => check_id("id", &r.id),
+            Self::Regimen(r) => {
+                check_id("id", &r.id)?;
+                match &r.prescribed_by {
+                    Some(by) => check_text("prescribed_by", by, MAX_TEXT_LEN),
+                    None => Ok(()),
+                }
+            }
             Self::Bye(b) => {
                 check_id("session_id", &b.session_id)?;
                 check_text("reason", &b.reason, MAX_TEXT_LEN)?;

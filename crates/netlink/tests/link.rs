@@ -714,6 +714,7 @@ async fn regimen_from_the_therapist_reaches_the_station_poll() {
             Regimen {
                 id: "r0".into(),
                 toml: String::new(),
+                prescribed_by: None,
             },
         )
         .unwrap_err();
@@ -721,6 +722,7 @@ async fn regimen_from_the_therapist_reaches_the_station_poll() {
     let regimen = Regimen {
         id: "reg-7".into(),
         toml: "[assist]\nlevel = 0.4\n".into(),
+        prescribed_by: Some("ana@clinic.example".into()),
     };
     hub.send_regimen("st-reg", regimen.clone()).unwrap();
     let mut got = None;
@@ -1215,6 +1217,7 @@ async fn a_station_that_floods_and_never_reads_keeps_the_hubs_queue_bounded() {
     let big = Regimen {
         id: "big".into(),
         toml: format!("# {}\n", "x".repeat(32 * 1024)),
+        prescribed_by: None,
     };
     let mut busy = 0;
     for _ in 0..2_000 {

@@ -316,7 +316,11 @@ mod tests {
     #[test]
     fn every_built_in_exercise_is_a_road_or_a_dial_and_an_unknown_name_its_own_kind() {
         for name in vehicle::EXERCISE_NAMES {
-            let want = if name.starts_with("dial") { "dial" } else { "road" };
+            let want = if name.starts_with("dial") {
+                "dial"
+            } else {
+                "road"
+            };
             assert_eq!(exercise_kind(name), want, "{name}");
         }
         assert_eq!(exercise_kind("lane-change"), "road");

@@ -155,6 +155,35 @@ impl Home {
         self.dir.join("regimen.toml")
     }
 
+    /// Who prescribed the kept regimen (the clinic's e-mail for them), beside it.
+    pub fn regimen_prescriber_path(&self) -> PathBuf {
+        self.dir.join("regimen-prescriber.txt")
+    }
+
+    /// Keeps a regimen the hub sent (already validated) for the next sessions, with who
+    /// prescribed it; a regimen from a hub that did not say leaves no prescriber.
+    pub fn keep_regimen(&self, r: &netlink::Regimen) -> anyhow::Result<()> {
+        write_private(&self.regimen_path(), r.toml.as_bytes())?;
+        let by = self.regimen_prescriber_path();
+        match &r.prescribed_by {
+            Some(name) => write_private(&by, name.as_bytes()),
+            None => match std::fs::remove_file(&by) {
+                Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                    Err(e).with_context(|| format!("cannot remove {}", by.display()))
+                }
+                _ => Ok(()),
+            },
+        }
+    }
+
+    /// Who prescribed the kept regimen, if the hub said (a damaged file names nobody).
+    pub fn regimen_prescriber(&self) -> Option<String> {
+        let text = std::fs::read_to_string(self.regimen_prescriber_path()).ok()?;
+        let name = text.trim();
+        let fits = !name.is_empty() && name.len() <= netlink::frame::MAX_TEXT_LEN;
+        (fits && !name.chars().any(char::is_control)).then(|| name.to_owned())
+    }
+
     /// The pairing, if this station is paired.
     pub fn pairing(&self) -> anyhow::Result<Option<Pairing>> {
         let path = self.pairing_dir().join("hub.toml");
@@ -290,6 +319,35 @@ mod tests {
                 .to_string()
                 .contains("chmod 600")
         );
+    }
+
+    #[test]
+    fn a_kept_regimen_names_its_prescriber_until_a_regimen_without_one_replaces_it() {
+        let tmp = tempfile::tempdir().unwrap();
+        let home = Home::at(tmp.path());
+        let regimen = |by: Option<&str>| netlink::Regimen {
+            id: "p-v1".into(),
+            toml: "[[exercise]]\nkind = \"sine\"\n".into(),
+            prescribed_by: by.map(str::to_owned),
+        };
+        assert_eq!(home.regimen_prescriber(), None);
+        home.keep_regimen(&regimen(Some("ana@clinic.example")))
+            .unwrap();
+        assert_eq!(
+            home.regimen_prescriber().as_deref(),
+            Some("ana@clinic.example")
+        );
+        assert!(
+            std::fs::read_to_string(home.regimen_path())
+                .unwrap()
+                .contains("sine")
+        );
+        // An older hub's regimen says nobody: the earlier prescriber is not carried over.
+        home.keep_regimen(&regimen(None)).unwrap();
+        assert_eq!(home.regimen_prescriber(), None);
+        // A damaged file (a control character) names nobody.
+        std::fs::write(home.regimen_prescriber_path(), "ana\u{1b}[31m").unwrap();
+        assert_eq!(home.regimen_prescriber(), None);
     }
 
     #[test]

@@ -34,10 +34,14 @@ pub fn run(args: &PairArgs) -> anyhow::Result<()> {
         .context("pairing failed")?;
     let now_ms = clock::Clock::real().unix_ns() / 1_000_000;
     let pairing = home.save_pairing(&args.hub, &credential, now_ms)?;
+    // The patient as the clinic knows them; a hub older than the pseudonym gives its id only.
+    let patient = pairing
+        .patient_pseudonym
+        .clone()
+        .unwrap_or_else(|| pairing.patient_id.clone());
     println!(
-        "paired: this station is {} for patient {} at {} (stored in {})",
+        "paired: this station is {} for patient {patient} at {} (stored in {})",
         pairing.station_id,
-        pairing.patient_id,
         pairing.hub,
         home.dir().display()
     );

@@ -484,6 +484,7 @@ fn link_with_prescription(
             // The clinic's prescription, kept from an earlier session (validated again here).
             let r = Regimen::load(&h.regimen_path())?;
             follow_regimen(cfg, &r, args);
+            name_prescriber(cfg, h);
             *regimen = Some(r);
             Some(h.regimen_path())
         }
@@ -500,11 +501,11 @@ fn link_with_prescription(
     let said = match link.await_prescription(PRESCRIPTION_WAIT) {
         Some(fresh) => match Regimen::from_toml(&fresh.toml, &fresh.id) {
             Ok(r) => {
-                if let Err(e) = crate::home::write_private(&h.regimen_path(), fresh.toml.as_bytes())
-                {
+                if let Err(e) = h.keep_regimen(&fresh) {
                     tracing::warn!("regimen {} not kept for later sessions: {e:#}", fresh.id);
                 }
                 follow_regimen(cfg, &r, args);
+                name_prescriber(cfg, h);
                 link.set_exercise(&cfg.session.exercise);
                 *regimen = Some(r);
                 format!("{} from the hub, received before the start", fresh.id)
@@ -529,6 +530,14 @@ fn link_with_prescription(
     };
     tracing::info!(prescription = %said, "the session's prescription");
     Ok((link, Some(said)))
+}
+
+/// The clinic's session note names who prescribed the regimen the session runs (the kept
+/// one's prescriber, as the hub said), for the recording and its report.
+fn name_prescriber(cfg: &mut StationConfig, home: &Home) {
+    if let (Some(note), Some(by)) = (cfg.session.clinic.as_mut(), home.regimen_prescriber()) {
+        note.therapist = by;
+    }
 }
 
 /// After a session that adapted its difficulty: the difficulty and the session's success rate

@@ -545,7 +545,7 @@ fn keep_prescribed_regimen(
         tracing::warn!("regimen {} from the hub refused: {e}", r.id);
         return Some(format!("{} refused: {e}", r.id));
     }
-    match crate::home::write_private(&home.regimen_path(), r.toml.as_bytes()) {
+    match home.keep_regimen(&r) {
         Ok(()) => Some(format!("{} kept for the next session", r.id)),
         Err(e) => Some(format!("{} not kept: {e:#}", r.id)),
     }
