@@ -120,6 +120,9 @@ def check_form_against_schema(d, schema, wheel=None):
     kinds = sorted(v["properties"]["kind"]["const"] for v in variants)
     offered = sorted(o.get_attribute("value") for o in d.find_elements(By.CSS_SELECTOR, "#rx-add option"))
     assert offered == kinds and len(kinds) == 9, (offered, kinds)
+    # Offered by name, as the schema's words say it ("Sine road: …"), never as the TOML kind.
+    names = {o.get_attribute("value"): o.text for o in d.find_elements(By.CSS_SELECTOR, "#rx-add option")}
+    assert names["sine"] == "Sine road" and names["lane-change"] == "Lane change", names
     sine = next(v for v in variants if v["properties"]["kind"]["const"] == "sine")["properties"]
     checked = 0
     for name, field in sine.items():

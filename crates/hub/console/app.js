@@ -191,6 +191,9 @@ function readDifficulty(el, model, adapt, num) {
 
 /** A field's label: its description's first sentence (it names the unit). */
 const labelOf = (name, spec) => (spec.description.split(/\.\s|\n/)[0] || name).replace(/\.$/, '').replace(/[`[\]]/g, '');
+/** An exercise kind's name for a therapist: the words before the colon of its schema
+ * description ("Sine road: …"), else the kind itself. */
+const kindName = k => (k && k.description.includes(':') ? k.description.split(':')[0] : (k ? k.kind : ''));
 
 async function prescribeView(el, id, refreshMessages) {
   const [r, schema, patient] = await Promise.all([
@@ -213,7 +216,7 @@ async function prescribeView(el, id, refreshMessages) {
       const fields = k ? k.fields.map(([name, spec]) => numberField(`ex${i}-${name}`, labelOf(name, spec), e[name], spec)).join('')
         : '<p class="note">An exercise kind this hub does not know: edit it as TOML.</p>';
       return `
-      <fieldset class="panel"><legend>Exercise ${i + 1}: ${esc(e.kind)}</legend>
+      <fieldset class="panel"><legend>Exercise ${i + 1}: ${esc(kindName(kindOf(e)) || e.kind)}</legend>
         ${fields}
         ${numberField(`ex${i}-ceiling`, 'Torque ceiling, N·m (empty: the station\'s)', e.haptic && e.haptic.ceiling_nm, wheel.torque({ ...limits.ceiling, default: undefined }))}
         ${e.kind === 'dial' ? '' : `<p><input type="checkbox" id="ex${i}-pedals"${e.pedals ? ' checked' : ''}>
@@ -232,7 +235,7 @@ async function prescribeView(el, id, refreshMessages) {
         ${adapt ? difficultyForm(model.difficulty, adapt) : ''}
         ${rows || '<p>No exercise yet: add one.</p>'}
         <label for="rx-add">Add an exercise</label>
-        <select id="rx-add">${kinds.map(k => `<option value="${esc(k.kind)}" title="${esc(k.description)}">${esc(k.kind)}</option>`).join('')}</select>
+        <select id="rx-add">${kinds.map(k => `<option value="${esc(k.kind)}" title="${esc(k.description)}">${esc(kindName(k))}</option>`).join('')}</select>
         <button type="button" class="secondary" id="rx-add-btn"${full ? ' disabled' : ''}>Add</button>
         ${full ? `<p class="note">At most ${esc(limits.maxExercises)} exercises in a regimen.</p>` : ''}
         <label for="rx-note">A note for the patient with this prescription <span class="note">(optional, at most 500 characters, shown when their next session starts)</span></label>

@@ -314,6 +314,23 @@ mod tests {
     use super::*;
 
     #[test]
+    fn every_exercise_kind_is_described_in_words_a_therapist_reads() {
+        let schema = Regimen::json_schema();
+        let variants = schema["$defs"]["RegimenEntry"]["oneOf"].as_array().unwrap();
+        assert_eq!(variants.len(), 9);
+        for v in variants {
+            let kind = &v["properties"]["kind"]["const"];
+            let words = v["description"].as_str().unwrap_or_default();
+            let (name, what) = words.split_once(':').unwrap_or_default();
+            assert!(!name.is_empty() && what.len() > 10, "{kind}: {words:?}");
+            assert!(
+                !words.contains(['`', '[', ']']),
+                "{kind}: no code in {words:?}"
+            );
+        }
+    }
+
+    #[test]
     fn every_built_in_exercise_is_a_road_or_a_dial_and_an_unknown_name_its_own_kind() {
         for name in vehicle::EXERCISE_NAMES {
             let want = if name.starts_with("dial") {

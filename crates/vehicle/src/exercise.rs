@@ -308,27 +308,29 @@ spec_struct!(
 
 /// A prescribed exercise. TOML: a table with `kind = "straight" | "sine" | "triangle" |
 /// "clothoid" | "sharp-turns" | "s-bend" | "lane-change" | "slalom" | "dial"` and that kind's
-/// fields (all optional, defaults above).
+/// fields (all optional, defaults above: [`StraightSpec`], [`SineSpec`], …). Each variant's
+/// doc is what the regimen's JSON Schema says of it, read by a therapist in the console's
+/// prescribe form: the words before its colon name the exercise.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(tag = "kind", rename_all = "kebab-case")]
 pub enum ExerciseSpec {
-    /// [`StraightSpec`].
+    /// Straight road: keep the car in the middle of a straight lane.
     Straight(StraightSpec),
-    /// [`SineSpec`].
+    /// Sine road: a road winding left and right in smooth waves (the thesis's road).
     Sine(SineSpec),
-    /// [`TriangleSpec`].
+    /// Triangle road: straight stretches at an angle joined by rounded corners.
     Triangle(TriangleSpec),
-    /// [`ClothoidSpec`].
+    /// Clothoid road: a bend that tightens steadily, then straightens.
     Clothoid(ClothoidSpec),
-    /// [`SharpTurnsSpec`].
+    /// Sharp turns: turns alternating left and right, separated by straights.
     SharpTurns(SharpTurnsSpec),
-    /// [`SBendSpec`].
+    /// S-bend: a left bend then a right bend of the same radius.
     SBend(SBendSpec),
-    /// [`LaneChangeSpec`].
+    /// Lane change: move into the other lane when the road does, then hold it.
     LaneChange(LaneChangeSpec),
-    /// [`SlalomSpec`].
+    /// Slalom: steer between cones set in a line.
     Slalom(SlalomSpec),
-    /// [`DialSpec`].
+    /// Dial: turn the wheel so the needle follows the moving target.
     Dial(DialSpec),
 }
 
