@@ -3,65 +3,17 @@
 
 mod common;
 
+use common::api::{PASSWORD, actions, call, login};
+
 use std::sync::Arc;
 
-use axum::Router;
-use axum::body::Body;
-use axum::http::{Method, Request, StatusCode, header};
-use http_body_util::BodyExt;
+use axum::http::{Method, StatusCode};
 use hub::web::{self, AppState};
 use hub::{Db, Role};
-use serde_json::{Value, json};
+use serde_json::json;
 use tokio::sync::broadcast;
-use tower::ServiceExt;
 
 const T0: i64 = 1_795_253_400_000;
-const PASSWORD: &str = "correct horse battery";
-
-async fn call(
-    app: &Router,
-    method: Method,
-    uri: &str,
-    cookie: Option<&str>,
-    body: Option<Value>,
-) -> (StatusCode, Value, Option<String>) {
-    let mut builder = Request::builder().method(method).uri(uri);
-    if let Some(c) = cookie {
-        builder = builder.header(header::COOKIE, c);
-    }
-    let request = match body {
-        Some(b) => builder
-            .header(header::CONTENT_TYPE, "application/json")
-            .body(Body::from(b.to_string())),
-        None => builder.body(Body::empty()),
-    }
-    .unwrap();
-    let response = app.clone().oneshot(request).await.unwrap();
-    let status = response.status();
-    let cookie = response
-        .headers()
-        .get(header::SET_COOKIE)
-        .map(|v| v.to_str().unwrap().split(';').next().unwrap().to_owned());
-    let bytes = response.into_body().collect().await.unwrap().to_bytes();
-    let value = serde_json::from_slice(&bytes).unwrap_or(Value::Null);
-    (status, value, cookie)
-}
-
-async fn login(app: &Router, email: &str) -> String {
-    let body = json!({"email": email, "password": PASSWORD});
-    let (status, value, cookie) = call(app, Method::POST, "/api/login", None, Some(body)).await;
-    assert_eq!(status, StatusCode::OK, "{value}");
-    cookie.unwrap()
-}
-
-async fn actions(db: &Db) -> Vec<(String, String, String)> {
-    db.audit_log(1000)
-        .await
-        .unwrap()
-        .into_iter()
-        .map(|e| (e.actor, e.action, e.target))
-        .collect()
-}
 
 async fn a_message_is_posted_listed_newest_first_audited_and_seen_once(db: Db) {
     let ada = db

@@ -3,6 +3,8 @@
 
 #![allow(dead_code, missing_docs)]
 
+pub mod api;
+
 use hub::Db;
 use sqlx::Connection;
 
