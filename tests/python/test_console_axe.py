@@ -4,15 +4,13 @@ exercise of a session, its replay, the prescribe form, the clinic screen with it
 and a patient's stations, each with zero violations of WCAG 2.2 A/AA and axe's best practices.
 A screen added to the console is added here."""
 
-import re
-import subprocess
 import time
 
 import pytest
 from selenium.webdriver.common.by import By
 
 from axe_audit import assert_no_violations
-from test_console_browser import BIN, browser, shot, telerehab, wait  # noqa: F401 (fixture)
+from test_console_browser import browser, serve_clinic, shot, telerehab, wait  # noqa: F401 (fixture)
 
 PASSWORD = "an audited passphrase"
 
@@ -20,24 +18,10 @@ PASSWORD = "an audited passphrase"
 @pytest.fixture(scope="module")
 def clinic(tmp_path_factory):
     """A clinic with patient P-0042 whose paired station ran one short simulated session."""
-    tmp = tmp_path_factory.mktemp("axe")
-    data = tmp / "clinic"
-    init = telerehab("hub", "init", "--data", str(data), "--admin", "ana@clinic.example")
-    password = re.search(r"one-time password: (\S+)", init).group(1)
-    added = telerehab("hub", "patient", "add", "--data", str(data), "--pseudonym", "P-0042")
-    code = re.search(r"pairing code: (\S+)", added).group(1)
-    hub = subprocess.Popen(
-        [BIN, "hub", "serve", "--data", str(data), "--stations", "127.0.0.1:0", "--web", "127.0.0.1:0"],
-        stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
-    )
-    stations = re.search(r"stations listening on (\S+)", hub.stdout.readline()).group(1)
-    web = re.search(r"console API on https://(\S+)/api/", hub.stdout.readline()).group(1)
-    home = tmp / "station"
-    telerehab("pair", "--hub", "localhost:" + stations.rsplit(":", 1)[1], "--code", code, home=home)
-    telerehab("run", "--sim", "--headless", "--speed", "max", "--duration", "4", "--seed", "2", home=home)
-    yield {"web": f"https://{web}", "password": password}
-    hub.terminate()
-    hub.wait(timeout=20)
+    with serve_clinic(tmp_path_factory.mktemp("clinic")) as served:
+        telerehab("run", "--sim", "--headless", "--speed", "max", "--duration", "4", "--seed", "2",
+                  home=served["home"])
+        yield served
 
 
 def audit(d, screen, ready):

@@ -5,6 +5,7 @@ refused with the reason. Screenshots go to $TELEREHAB_ARTIFACTS (default
 target/test-artifacts/console); look at them."""
 
 import base64
+import contextlib
 import os
 import re
 import subprocess
@@ -46,9 +47,11 @@ def telerehab(*args, home=None, check=True):
     return out.stdout
 
 
-@pytest.fixture(scope="module")
-def clinic(tmp_path_factory):
-    tmp = tmp_path_factory.mktemp("clinic")
+@contextlib.contextmanager
+def serve_clinic(tmp):
+    """A clinic in `tmp` (admin ana@clinic.example, patient P-0042 whose station is paired in
+    tmp/station) served on loopback: its console address, the admin's one-time password, the
+    stations' address, the station's home and `tmp`."""
     data = tmp / "clinic"
     init = telerehab("hub", "init", "--data", str(data), "--admin", "ana@clinic.example")
     password = re.search(r"one-time password: (\S+)", init).group(1)
@@ -58,13 +61,22 @@ def clinic(tmp_path_factory):
         [BIN, "hub", "serve", "--data", str(data), "--stations", "127.0.0.1:0", "--web", "127.0.0.1:0"],
         stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
     )
-    stations = re.search(r"stations listening on (\S+)", hub.stdout.readline()).group(1)
-    web = re.search(r"console API on https://(\S+)/api/", hub.stdout.readline()).group(1)
-    home = tmp / "station"
-    telerehab("pair", "--hub", "localhost:" + stations.rsplit(":", 1)[1], "--code", code, home=home)
-    yield {"web": f"https://{web}", "password": password, "home": home}
-    hub.terminate()
-    hub.wait(timeout=20)
+    try:
+        stations = re.search(r"stations listening on (\S+)", hub.stdout.readline()).group(1)
+        web = re.search(r"console API on https://(\S+)/api/", hub.stdout.readline()).group(1)
+        address = "localhost:" + stations.rsplit(":", 1)[1]
+        home = tmp / "station"
+        telerehab("pair", "--hub", address, "--code", code, home=home)
+        yield {"web": f"https://{web}", "password": password, "address": address, "home": home, "tmp": tmp}
+    finally:
+        hub.terminate()
+        hub.wait(timeout=20)
+
+
+@pytest.fixture(scope="module")
+def clinic(tmp_path_factory):
+    with serve_clinic(tmp_path_factory.mktemp("clinic")) as served:
+        yield served
 
 
 @pytest.fixture(scope="module")
@@ -430,7 +442,9 @@ def test_a_painful_check_in_raises_a_caseload_alert_and_the_session_says_how_it_
     shot(d, "10a-caseload-pain-alert")
     d.get(clinic["web"] + "/#/patients/" + row.find_element(By.TAG_NAME, "a").get_attribute("href").split("/")[-1]
           + "/progress")
-    listed = wait(d, lambda d: [r for r in d.find_elements(By.CSS_SELECTOR, "tr") if "pain 8" in r.text])[0]
+    # The progress view replaces the caseload in the same page: wait for it, then its rows.
+    wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#tab[data-sessions]"))
+    listed = wait(d, lambda d: [r for r in d.find_elements(By.CSS_SELECTOR, "#tab tr") if "pain 8" in r.text])[0]
     assert "ended: complete" in listed.text and "about right" in listed.text.lower(), listed.text
     shot(d, "10b-progress-end-reason-and-check-in")
 def test_the_therapist_turns_adaptation_on_in_the_form_and_sees_the_difficulty_history(clinic, browser):

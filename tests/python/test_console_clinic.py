@@ -7,12 +7,11 @@ Screenshots (clinic-*.png) go to $TELEREHAB_ARTIFACTS (default target/test-artif
 import base64
 import json
 import re
-import subprocess
 
 import pytest
 from selenium.webdriver.common.by import By
 
-from test_console_browser import BIN, browser, shot, telerehab, wait  # noqa: F401 (fixture)
+from test_console_browser import browser, serve_clinic, shot, telerehab, wait  # noqa: F401 (fixture)
 
 NEW_PASSWORD = "a clinic passphrase of my own"
 
@@ -20,23 +19,8 @@ NEW_PASSWORD = "a clinic passphrase of my own"
 @pytest.fixture(scope="module")
 def clinic(tmp_path_factory):
     """A clinic (admin ana, patient P-0042 with a paired station) served on loopback."""
-    tmp = tmp_path_factory.mktemp("clinic")
-    data = tmp / "clinic"
-    init = telerehab("hub", "init", "--data", str(data), "--admin", "ana@clinic.example")
-    password = re.search(r"one-time password: (\S+)", init).group(1)
-    added = telerehab("hub", "patient", "add", "--data", str(data), "--pseudonym", "P-0042")
-    code = re.search(r"pairing code: (\S+)", added).group(1)
-    hub = subprocess.Popen(
-        [BIN, "hub", "serve", "--data", str(data), "--stations", "127.0.0.1:0", "--web", "127.0.0.1:0"],
-        stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
-    )
-    stations = re.search(r"stations listening on (\S+)", hub.stdout.readline()).group(1)
-    web = re.search(r"console API on https://(\S+)/api/", hub.stdout.readline()).group(1)
-    address = "localhost:" + stations.rsplit(":", 1)[1]
-    telerehab("pair", "--hub", address, "--code", code, home=tmp / "station-1")
-    yield {"web": f"https://{web}", "password": password, "address": address, "tmp": tmp}
-    hub.terminate()
-    hub.wait(timeout=20)
+    with serve_clinic(tmp_path_factory.mktemp("clinic")) as served:
+        yield served
 
 
 def fetch_json(d, path):

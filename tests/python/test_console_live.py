@@ -13,7 +13,7 @@ import pytest
 from selenium.webdriver.common.by import By
 
 from axe_audit import assert_no_violations
-from test_console_browser import BIN, browser, shot, telerehab, wait  # noqa: F401 (fixture)
+from test_console_browser import BIN, browser, serve_clinic, shot, telerehab, wait  # noqa: F401 (fixture)
 from test_console_clinic import log_in_and_replace_the_one_time_password
 
 NUMBER = re.compile(r"^-?\d+(\.\d+)?$")
@@ -22,23 +22,8 @@ NUMBER = re.compile(r"^-?\d+(\.\d+)?$")
 @pytest.fixture(scope="module")
 def clinic(tmp_path_factory):
     """A clinic (admin ana, patient P-0042 with a paired station) served on loopback."""
-    tmp = tmp_path_factory.mktemp("clinic")
-    data = tmp / "clinic"
-    init = telerehab("hub", "init", "--data", str(data), "--admin", "ana@clinic.example")
-    password = re.search(r"one-time password: (\S+)", init).group(1)
-    added = telerehab("hub", "patient", "add", "--data", str(data), "--pseudonym", "P-0042")
-    code = re.search(r"pairing code: (\S+)", added).group(1)
-    hub = subprocess.Popen(
-        [BIN, "hub", "serve", "--data", str(data), "--stations", "127.0.0.1:0", "--web", "127.0.0.1:0"],
-        stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
-    )
-    stations = re.search(r"stations listening on (\S+)", hub.stdout.readline()).group(1)
-    web = re.search(r"console API on https://(\S+)/api/", hub.stdout.readline()).group(1)
-    home = tmp / "station"
-    telerehab("pair", "--hub", "localhost:" + stations.rsplit(":", 1)[1], "--code", code, home=home)
-    yield {"web": f"https://{web}", "password": password, "home": home}
-    hub.terminate()
-    hub.wait(timeout=20)
+    with serve_clinic(tmp_path_factory.mktemp("clinic")) as served:
+        yield served
 
 
 def start_session(clinic, exercise, seconds):
