@@ -623,14 +623,24 @@ fn a_default_simulated_session_calibrates_the_arm_online_and_the_live_pose_switc
         .clone()
         .expect("arm sensing ran");
     println!(
-        "online at {:.0} s: upper arm {:.4} m, forearm {:.4} m (truth {:.4}, {:.4}); batch {:?}",
+        "during the session, at {:.0} s: upper arm {:.4} m, forearm {:.4} m, RMS residual {:.4} m; \
+         recursive then: {:.4} m, {:.4} m, RMS residual {:.4} m; truth {:.4} m, {:.4} m",
         online.converged_at_s,
         online.upper_arm_m,
         online.forearm_m,
+        online.rms_residual_m,
+        online.recursive_upper_arm_m,
+        online.recursive_forearm_m,
+        online.recursive_rms_residual_m,
         truth.0,
-        truth.1,
-        batch.as_ref().map(|b| (b.upper_arm_m, b.forearm_m))
+        truth.1
     );
+    if let Ok(b) = &batch {
+        println!(
+            "end of session (batch): upper arm {:.4} m, forearm {:.4} m, RMS residual {:.4} m",
+            b.upper_arm_m, b.forearm_m, b.rms_residual_m
+        );
+    }
     let err_pct = |est: f64, truth: f64| 100.0 * (est - truth).abs() / truth;
     assert!(
         err_pct(online.upper_arm_m, truth.0) < 5.0 && err_pct(online.forearm_m, truth.1) < 5.0,
