@@ -221,6 +221,11 @@ impl SensorModel {
         })
     }
 
+    /// The gyro's full scale (rad/s): readings are clamped to ± this.
+    pub fn gyro_full_scale_rad_s(&self) -> f64 {
+        self.gyro.saturation_deg_s.to_radians()
+    }
+
     /// The current true gyro bias (rad/s), for tests and tables.
     pub fn gyro_bias_rad_s(&self) -> Vector3<f64> {
         self.gyro_bias_rad_s

@@ -61,7 +61,8 @@ pub use reader::{ReadError, RecordedRows, Recording, Row, recorded_rows};
 pub use stream::{StreamLimits, TickStream};
 pub use types::{
     ArmCalibrationSample, ArmSample, ArmSetup, AssistSample, ClinicNote, DifficultyNote,
-    ExerciseResult, FORMAT_VERSION, MetricsSample, MovementSample, ScoreSample, SessionMetadata,
-    Stamped, TickRecord, TimingSample, VehicleSample, Watchdog, WheelSample,
+    ExerciseResult, FORMAT_VERSION, MetricsSample, MovementSample, OnlineArmCalibrationSample,
+    ScoreSample, SessionMetadata, Stamped, TickRecord, TimingSample, VehicleSample, Watchdog,
+    WheelSample,
 };
 pub use writer::RecordWriter;

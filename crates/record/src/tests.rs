@@ -155,6 +155,22 @@ fn tick(n: u64) -> TickRecord {
     }
 }
 
+fn record_online() -> OnlineArmCalibrationSample {
+    OnlineArmCalibrationSample {
+        converged_at_s: 42.0,
+        shoulder_m: [-0.2, -0.3, 0.1],
+        upper_arm_m: 0.31,
+        forearm_m: 0.32,
+        upper_arm_se_m: 0.001,
+        forearm_se_m: 0.002,
+        rms_residual_m: 0.004,
+        samples: 1500.0,
+        recursive_upper_arm_m: 0.2,
+        recursive_forearm_m: 0.3,
+        recursive_rms_residual_m: 0.02,
+    }
+}
+
 fn calibration() -> ArmCalibrationSample {
     ArmCalibrationSample {
         shoulder_m: [-0.2, 0.35, 0.1],
@@ -166,6 +182,7 @@ fn calibration() -> ArmCalibrationSample {
         condition_number: 42.0,
         samples: 1500.0,
         warnings: vec!["turn the wheel further".into()],
+        online: Some(record_online()),
     }
 }
 

@@ -342,6 +342,41 @@ pub struct ArmCalibrationSample {
     pub samples: f64,
     /// Warnings, each with what to do about it.
     pub warnings: Vec<String>,
+    /// The online estimate (`calib::arm3d::OnlineArm3d`, run during the session) when it
+    /// converged, if it did; absent in recordings made before it existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "OnlineArmCalibrationSample")]
+    pub online: Option<OnlineArmCalibrationSample>,
+}
+
+/// The arm calibration estimated during the session, when its convergence rule first held
+/// (the live view's pose switched to these lengths then).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[schemars(inline)]
+pub struct OnlineArmCalibrationSample {
+    /// Session time it converged at, s.
+    pub converged_at_s: f64,
+    /// Shoulder joint centre in the wheel frame, m.
+    pub shoulder_m: [f64; 3],
+    /// Upper-arm length (shoulder to elbow), m.
+    pub upper_arm_m: f64,
+    /// Forearm length (elbow to grip), m.
+    pub forearm_m: f64,
+    /// 1σ standard error of the upper-arm length, m.
+    pub upper_arm_se_m: f64,
+    /// 1σ standard error of the forearm length, m.
+    pub forearm_se_m: f64,
+    /// RMS loop-closure residual of its samples, m.
+    pub rms_residual_m: f64,
+    /// Samples it fitted.
+    pub samples: f64,
+    /// The recursive estimator's (`OnlineArm3d`, no heading-drift term) upper-arm length at
+    /// the same moment, m (NaN while it had none): for the comparison only.
+    pub recursive_upper_arm_m: f64,
+    /// The recursive estimator's forearm length then, m.
+    pub recursive_forearm_m: f64,
+    /// The recursive estimator's RMS loop-closure residual then, m.
+    pub recursive_rms_residual_m: f64,
 }
 
 impl From<&Arm3dCalibration> for ArmCalibrationSample {
@@ -356,6 +391,7 @@ impl From<&Arm3dCalibration> for ArmCalibrationSample {
             condition_number: c.condition_number,
             samples: c.samples,
             warnings: c.warnings.clone(),
+            online: None,
         }
     }
 }

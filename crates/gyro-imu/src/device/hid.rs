@@ -186,6 +186,13 @@ impl Imu for HidImu {
         &self.info
     }
 
+    fn gyro_range(&self) -> super::GyroRange {
+        match &self.proto {
+            Protocol::Sony { cal, .. } => cal.gyro_range(),
+            Protocol::Switch { cal } => cal.gyro_range(),
+        }
+    }
+
     fn poll(&mut self, out: &mut [ImuSample]) -> Result<usize, ImuError> {
         let mut written = 0;
         while out.len() - written >= 3 {

@@ -72,10 +72,56 @@ pub struct ImuDeviceInfo {
     pub serial: Option<String>,
 }
 
+/// The rates a gyro can read before it clips, per axis (rad/s): each device's own, from its
+/// report parser's scale and bias (a DualShock 4 at nominal scale reads at most
+/// 32767 · 2000/32768 = 1999.94 °/s one way and 2000 °/s the other).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GyroRange {
+    /// The most negative rate each axis reads (its smallest count), rad/s.
+    pub min_rad_s: [f64; 3],
+    /// The most positive rate each axis reads (its largest count), rad/s.
+    pub max_rad_s: [f64; 3],
+    /// Half a count of each axis, rad/s: a reading this close to a limit is at it.
+    pub half_count_rad_s: [f64; 3],
+}
+
+impl GyroRange {
+    /// A gyro reading signed 16-bit counts as `(count − bias) · scale` (rad/s per count).
+    pub fn from_i16_counts(bias: [f64; 3], scale_rad_s: [f64; 3]) -> Self {
+        Self {
+            min_rad_s: std::array::from_fn(|i| (f64::from(i16::MIN) - bias[i]) * scale_rad_s[i]),
+            max_rad_s: std::array::from_fn(|i| (f64::from(i16::MAX) - bias[i]) * scale_rad_s[i]),
+            half_count_rad_s: scale_rad_s.map(|s| 0.5 * s.abs()),
+        }
+    }
+
+    /// A gyro clamped to ±`full_scale_rad_s` on every axis, read without quantisation (a
+    /// simulated sensor).
+    pub fn symmetric(full_scale_rad_s: f64) -> Self {
+        Self {
+            min_rad_s: [-full_scale_rad_s; 3],
+            max_rad_s: [full_scale_rad_s; 3],
+            half_count_rad_s: [0.0; 3],
+        }
+    }
+
+    /// Whether any axis of `rate_rad_s` reads at (within half a count of) or beyond its
+    /// limit: the sensor clipped, and the reading is not the motion.
+    pub fn clips(&self, rate_rad_s: &Vector3<f64>) -> bool {
+        (0..3).any(|i| {
+            let (r, h) = (rate_rad_s[i], self.half_count_rad_s[i]);
+            r >= self.max_rad_s[i] - h || r <= self.min_rad_s[i] + h
+        })
+    }
+}
+
 /// A source of IMU samples. Reading never blocks and never allocates.
 pub trait Imu {
     /// What this device is.
     fn info(&self) -> &ImuDeviceInfo;
+
+    /// The rates this device's gyro reads before it clips (its own scale and bias).
+    fn gyro_range(&self) -> GyroRange;
 
     /// Move the samples received since the last call into `out` (oldest first); returns how
     /// many were written. Samples that do not fit are kept for the next call.

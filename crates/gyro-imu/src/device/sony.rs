@@ -85,6 +85,12 @@ impl SonyCalibration {
         Ok(cal)
     }
 
+    /// The rates this calibration reads at the 16-bit counts' extremes: the gyro's own full
+    /// scale (±2000 °/s nominal reads at most 1999.94 °/s up, 2000 °/s down).
+    pub fn gyro_range(&self) -> super::GyroRange {
+        super::GyroRange::from_i16_counts(self.gyro_bias, self.gyro_scale)
+    }
+
     fn convert(&self, gyro: [i16; 3], acc: [i16; 3]) -> (Vector3<f64>, Vector3<f64>) {
         let g =
             Vector3::from_fn(|i, _| (f64::from(gyro[i]) - self.gyro_bias[i]) * self.gyro_scale[i]);
@@ -273,6 +279,46 @@ mod tests {
         bt[2..65].copy_from_slice(&usb[1..64]);
         let b = parse_dualsense(&bt, &cal).unwrap();
         assert_eq!(b, s);
+    }
+
+    #[test]
+    fn a_dualshock_4_clips_at_its_own_full_scale_of_1999_94_deg_s_not_2000() {
+        let cal = SonyCalibration::nominal();
+        let range = cal.gyro_range();
+        assert!((range.max_rad_s[0].to_degrees() - 1999.939).abs() < 1e-3);
+        assert!((range.min_rad_s[0].to_degrees() + 2000.0).abs() < 1e-9);
+        let mut r = vec![0u8; 64];
+        r[0] = 0x01;
+        let rate = |r: &mut Vec<u8>, x: i16| {
+            put(r, 13, x);
+            parse_ds4(r, &cal).unwrap().rate_rad_s
+        };
+        // The largest count reads 1999.94 °/s: clipped, though below 2000.
+        let top = rate(&mut r, i16::MAX);
+        assert!(top.x.to_degrees() < 2000.0 && range.clips(&top));
+        // One count below it is a rate the sensor measured.
+        assert!(!range.clips(&rate(&mut r, i16::MAX - 1)));
+        assert!(range.clips(&rate(&mut r, i16::MIN)));
+        assert!(!range.clips(&rate(&mut r, i16::MIN + 1)));
+    }
+
+    #[test]
+    fn a_dualsense_clips_at_its_calibrated_full_scale_per_axis() {
+        // Factory calibration of 540 °/s over 8900 counts each way, bias −7: the y axis reads
+        // at most (32767 + 7) · 1080/17800 = 1988.5 °/s.
+        let mut c = ds4_usb_calibration();
+        c[0] = 0x05;
+        let cal = SonyCalibration::from_feature_report(&c, true).unwrap();
+        let range = cal.gyro_range();
+        let expected_deg_s = (32767.0 - 9.0) * 1080.0 / 17800.0;
+        assert!((range.max_rad_s[1].to_degrees() - expected_deg_s).abs() < 1e-9);
+        let mut usb = vec![0u8; 64];
+        usb[0] = 0x01;
+        put(&mut usb, 18, i16::MAX);
+        let top = parse_dualsense(&usb, &cal).unwrap().rate_rad_s;
+        assert!(top.y.to_degrees() < 1990.0 && range.clips(&top));
+        put(&mut usb, 18, i16::MAX - 1);
+        assert!(!range.clips(&parse_dualsense(&usb, &cal).unwrap().rate_rad_s));
     }
 
     #[test]

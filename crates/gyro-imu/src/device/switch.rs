@@ -89,6 +89,12 @@ impl SwitchCalibration {
         }
     }
 
+    /// The rates this calibration reads at the 16-bit counts' extremes: the gyro's own full
+    /// scale (nominal: 32767 · 936/13371 = 2293.8 °/s up, 2293.9 °/s down).
+    pub fn gyro_range(&self) -> super::GyroRange {
+        super::GyroRange::from_i16_counts(self.gyro_origin, self.gyro_scale)
+    }
+
     /// Decode the 24-byte SPI calibration block.
     pub fn from_spi(block: &[u8]) -> Result<Self, ImuError> {
         if block.len() < 24 {
@@ -231,5 +237,27 @@ mod tests {
         assert!(rep.rate_rad_s[0].y.abs() < 1e-12);
         assert!(parse_full_report(&r[..40], &cal).is_err());
         assert!(parse_full_report(&[0x3f; 49], &cal).is_err());
+    }
+
+    #[test]
+    fn a_joy_con_clips_at_its_own_full_scale_of_about_2294_deg_s() {
+        let cal = SwitchCalibration::nominal();
+        let range = cal.gyro_range();
+        let expected_deg_s = 32767.0 * 936.0 / 13371.0;
+        assert!((range.max_rad_s[2].to_degrees() - expected_deg_s).abs() < 1e-9);
+        let mut r = vec![0u8; 49];
+        r[0] = 0x30;
+        // Frame 0's gyro z at the largest count, frame 1's one count below it.
+        r[13 + 10..13 + 12].copy_from_slice(&i16::MAX.to_le_bytes());
+        r[25 + 10..25 + 12].copy_from_slice(&(i16::MAX - 1).to_le_bytes());
+        let rep = parse_full_report(&r, &cal).unwrap();
+        // 2293.8 °/s: far above a Sony controller's 2000, and a clipped reading here.
+        assert!(rep.rate_rad_s[0].z.to_degrees() > 2290.0 && range.clips(&rep.rate_rad_s[0]));
+        assert!(!range.clips(&rep.rate_rad_s[1]));
+        // A DualShock 4's full scale is a rate a Joy-Con measures.
+        let ds4_top = super::super::sony::SonyCalibration::nominal()
+            .gyro_range()
+            .max_rad_s;
+        assert!(!range.clips(&Vector3::from(ds4_top)));
     }
 }

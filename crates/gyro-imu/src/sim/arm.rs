@@ -114,6 +114,10 @@ impl Imu for SimImu {
         &self.info
     }
 
+    fn gyro_range(&self) -> crate::device::GyroRange {
+        crate::device::GyroRange::symmetric(self.model.gyro_full_scale_rad_s())
+    }
+
     fn poll(&mut self, out: &mut [ImuSample]) -> Result<usize, ImuError> {
         match (out.first_mut(), self.pending.take()) {
             (Some(slot), Some(s)) => {

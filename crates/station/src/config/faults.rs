@@ -47,8 +47,9 @@ pub enum FaultKind {
     HubUp,
 }
 
-/// Full scale of a consumer controller's gyro, rad/s (±2000 °/s: DualShock 4, DualSense,
-/// Joy-Con): a rate at or beyond it is clipped by the sensor.
+/// Full scale of the simulated consumer gyro, rad/s (±2000 °/s, `GyroSpec::consumer_mems`):
+/// a rate at or beyond it is clipped by the sensor. Real controllers clip at their own full
+/// scale (`gyro_imu::device::GyroRange`: a DualShock 4 at 1999.94 °/s, a Joy-Con at 2294 °/s).
 pub const IMU_FULL_SCALE_RAD_S: f64 = 2000.0 * std::f64::consts::PI / 180.0;
 
 impl FaultKind {

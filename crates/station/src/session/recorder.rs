@@ -4,7 +4,7 @@
 //!
 //! The haptic thread never waits for it in real time.
 
-use super::arm_calibration::ArmLoopCollector;
+use super::arm_calibration::{ArmLoopCollector, OnlineArmCalibration};
 use super::disk_space::{self, LowSpace};
 use super::faults::{Disk, FillingFile};
 use super::measures::{MeasureCollector, Measures};
@@ -341,6 +341,8 @@ pub struct RecorderOutcome {
     pub assist_saturated_ticks: u64,
     /// The arm calibrated from this session's data, or why not (None without arm sensing).
     pub arm_calibration: Option<Result<ArmCalibrationSample, String>>,
+    /// The arm calibrated during the session, when it converged (None if it did not).
+    pub online_arm_calibration: Option<record::OnlineArmCalibrationSample>,
     /// The session's movement measures, computed at its end.
     pub measures: Measures,
     /// Each exercise's own results, computed at its end (as `/metrics` records them).
@@ -355,10 +357,13 @@ pub struct RecorderOutcome {
 
 /// Metrics for the therapist beyond the fixed summary fields: safety, assistance and the live
 /// movement measures so far.
+/// The arm is drawn with the configured lengths until the online calibration converges, then
+/// with its lengths (`arm_calibrated` 1, `arm_calibrated_at_s` when).
 fn summary_extra(
     out: &RecorderOutcome,
     measures: &MeasureCollector,
     arm_lengths_m: [f64; 2],
+    online: &OnlineArmCalibration,
     roads: &[Option<Box<dyn vehicle::Road + Send>>],
 ) -> BTreeMap<String, f64> {
     let mut extra = measures.live();
@@ -366,7 +371,15 @@ fn summary_extra(
     if let Some(t) = out.recording_stopped_s {
         extra.insert("recording_stopped_s".into(), t);
     }
-    extra.extend(record::view::live_pose(&out.last, arm_lengths_m));
+    let lengths = online.lengths_m().unwrap_or(arm_lengths_m);
+    extra.extend(record::view::live_pose(&out.last, lengths));
+    if out.last.arm.is_some() {
+        let at = online.at_convergence().map(|c| c.converged_at_s);
+        extra.insert("arm_calibrated".into(), f64::from(u8::from(at.is_some())));
+        if let Some(at) = at {
+            extra.insert("arm_calibrated_at_s".into(), at);
+        }
+    }
     let road = roads.get(out.last.score.exercise_index as usize);
     if let (Some(car), Some(Some(road))) = (&out.last.vehicle, road) {
         extra.extend(super::live_road::road_around(road.as_ref(), car));
@@ -455,6 +468,7 @@ pub(super) fn recorder_loop(
     };
     let mut seq = 0u64;
     let mut arm_loop = ArmLoopCollector::new(1e9 / period_ns as f64);
+    let mut online_arm = OnlineArmCalibration::new(1e9 / period_ns as f64);
     // A recorded session spills the measures' series to the recording's disk: its memory
     // stays flat however long it runs.
     let mut measures = match &mcap {
@@ -477,6 +491,7 @@ pub(super) fn recorder_loop(
         };
         out.add(&rec);
         arm_loop.add(&rec);
+        online_arm.add(&rec, &arm_loop);
         measures.add(&rec);
         changes.observe(&rec);
         observer.on_tick(&rec);
@@ -513,16 +528,21 @@ pub(super) fn recorder_loop(
                 record: rec,
                 max_abs_torque_nm: out.max_abs_torque_nm,
                 loop_p99_us: out.timing.recent_period_error_p99_us(1000),
-                extra: summary_extra(&out, &measures, arm_lengths_m, &roads),
+                extra: summary_extra(&out, &measures, arm_lengths_m, &online_arm, &roads),
             });
             seq += 1;
         }
     }
     if !arm_loop.is_empty() || out.last.arm.is_some() {
+        let online = online_arm.at_convergence().cloned();
         let fitted = arm_loop
             .calibrate()
-            .map(|c| ArmCalibrationSample::from(&c))
+            .map(|c| ArmCalibrationSample {
+                online: online.clone(),
+                ..ArmCalibrationSample::from(&c)
+            })
             .map_err(|e| e.to_string());
+        out.online_arm_calibration = online;
         if let (Ok(c), Some(m)) = (&fitted, mcap.as_mut())
             && let Err(e) = m.record_arm_calibration(&out.last, c)
         {

@@ -579,3 +579,91 @@ fn a_dial_then_road_regimen_gives_each_exercise_its_own_results_matching_the_rec
         road.scores["rms_lateral_m"]
     );
 }
+
+/// Each live summary's arm lengths and calibration flag: (t_s, upper arm, forearm, calibrated).
+#[derive(Default)]
+struct KeepArmLengths(Vec<(f64, f64, f64, f64)>);
+
+impl SessionObserver for KeepArmLengths {
+    fn on_summary(&mut self, s: &super::LiveSummary) {
+        let x = |k: &str| s.extra.get(k).copied().unwrap_or(f64::NAN);
+        self.0.push((
+            s.record.t_ns as f64 * 1e-9,
+            x("upper_arm_m"),
+            x("forearm_m"),
+            x("arm_calibrated"),
+        ));
+    }
+}
+
+#[test]
+fn a_default_simulated_session_calibrates_the_arm_online_and_the_live_pose_switches_to_it() {
+    let mut cfg = StationConfig::default();
+    cfg.session.seed = 7;
+    let configured = (cfg.arm.geometry.upper_arm_m, cfg.arm.geometry.forearm_m);
+    let truth = (
+        cfg.sim_arm.geometry.upper_arm_m,
+        cfg.sim_arm.geometry.forearm_m,
+    );
+    let mut keep = KeepArmLengths::default();
+    let report = super::run(
+        &simulated_at_max_speed(cfg),
+        &Controls::default(),
+        &mut keep,
+    )
+    .unwrap();
+    let online = report
+        .recorder
+        .online_arm_calibration
+        .clone()
+        .expect("the online estimate converges in the default session");
+    let batch = report
+        .recorder
+        .arm_calibration
+        .clone()
+        .expect("arm sensing ran");
+    println!(
+        "during the session, at {:.0} s: upper arm {:.4} m, forearm {:.4} m, RMS residual {:.4} m; \
+         recursive then: {:.4} m, {:.4} m, RMS residual {:.4} m; truth {:.4} m, {:.4} m",
+        online.converged_at_s,
+        online.upper_arm_m,
+        online.forearm_m,
+        online.rms_residual_m,
+        online.recursive_upper_arm_m,
+        online.recursive_forearm_m,
+        online.recursive_rms_residual_m,
+        truth.0,
+        truth.1
+    );
+    if let Ok(b) = &batch {
+        println!(
+            "end of session (batch): upper arm {:.4} m, forearm {:.4} m, RMS residual {:.4} m",
+            b.upper_arm_m, b.forearm_m, b.rms_residual_m
+        );
+    }
+    let err_pct = |est: f64, truth: f64| 100.0 * (est - truth).abs() / truth;
+    assert!(
+        err_pct(online.upper_arm_m, truth.0) < 5.0 && err_pct(online.forearm_m, truth.1) < 5.0,
+        "{online:?} against {truth:?}"
+    );
+    let (before, after): (Vec<&(f64, f64, f64, f64)>, Vec<_>) =
+        keep.0.iter().partition(|s| s.0 < online.converged_at_s);
+    assert!(!before.is_empty() && !after.is_empty());
+    // Before: the configured lengths, not calibrated; from its summary on: the online ones.
+    assert!(
+        before
+            .iter()
+            .all(|s| (s.1, s.2) == configured && s.3 != 1.0),
+        "{before:?}"
+    );
+    assert!(
+        after
+            .iter()
+            .all(|s| (s.1, s.2) == (online.upper_arm_m, online.forearm_m) && s.3 == 1.0),
+        "{after:?}"
+    );
+    // The recording's calibration carries it.
+    if let Ok(b) = batch {
+        assert_eq!(b.online.as_ref(), Some(&online));
+    }
+}

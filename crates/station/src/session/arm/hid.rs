@@ -408,6 +408,8 @@ impl HidArmSensing {
         refind: Option<(Box<dyn ImuFinder>, Duration)>,
     ) -> Self {
         let infos = [a.info().clone(), b.info().clone()];
+        let mut tracker = tracker;
+        tracker.set_gyro_ranges([a.gyro_range(), b.gyro_range()]);
         let refind = refind.and_then(|(finder, every)| {
             Refind::start(infos, finder, every)
                 .inspect_err(|e| {
@@ -463,6 +465,9 @@ impl HidArmSensing {
             source.failed = false;
             // The old device's last sample is not held over: the pose waits for the new one.
             source.latest = None;
+            // A controller of another model may stand in: its own full scale from now on.
+            let ranges = [self.a.imu.gyro_range(), self.b.imu.gyro_range()];
+            self.tracker.set_gyro_ranges(ranges);
             r.shared.wanted[i].store(false, Ordering::Release);
             if !self.a.failed && !self.b.failed {
                 self.tracker.regain_sensor();
@@ -588,6 +593,10 @@ mod tests {
     impl Imu for FakeImu {
         fn info(&self) -> &ImuDeviceInfo {
             &self.info
+        }
+
+        fn gyro_range(&self) -> gyro_imu::device::GyroRange {
+            gyro_imu::device::sony::SonyCalibration::nominal().gyro_range()
         }
 
         fn poll(&mut self, out: &mut [ImuSample]) -> Result<usize, ImuError> {

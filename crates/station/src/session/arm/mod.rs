@@ -9,7 +9,7 @@ pub mod sim;
 use clock::Clock;
 use gyro_imu::ImuError;
 use gyro_imu::arm::ArmGeometry;
-use gyro_imu::device::ImuSample;
+use gyro_imu::device::{GyroRange, ImuSample};
 use gyro_imu::fusion::FusionConfig;
 use gyro_imu::pose::{ArmPoseEstimator, Mounting};
 use gyro_imu::procedure::{GuidedMounting, GuidedOutcome, ProcedureConfig, Prompt};
@@ -219,17 +219,30 @@ struct Tracking {
 const FROZEN_AFTER: u32 = 20;
 
 /// Tells a frozen or saturated IMU from a live one, sample by sample.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 struct SampleCheck {
     last_t_ns: u64,
     last_rate: [f64; 3],
     /// Fresh samples in a row with the same rates as the one before.
     repeats: u32,
+    /// The rates this sensor reads before it clips (its device's own full scale).
+    range: GyroRange,
+}
+
+impl Default for SampleCheck {
+    fn default() -> Self {
+        Self {
+            last_t_ns: 0,
+            last_rate: [0.0; 3],
+            repeats: 0,
+            range: GyroRange::symmetric(crate::session::faults::IMU_FULL_SCALE_RAD_S),
+        }
+    }
 }
 
 impl SampleCheck {
     /// `s` as the estimator may use it: with NaN rates (which its filters ignore) when the
-    /// sensor is saturated (a rate at its full scale, which clips) or frozen.
+    /// sensor is saturated (a rate at its device's full scale, which clips) or frozen.
     fn usable(&mut self, s: &ImuSample) -> ImuSample {
         let rate = rates(s);
         if s.t_ns != self.last_t_ns {
@@ -241,9 +254,7 @@ impl SampleCheck {
             self.last_t_ns = s.t_ns;
             self.last_rate = rate;
         }
-        let saturated = rate
-            .iter()
-            .any(|r| r.abs() >= crate::session::faults::IMU_FULL_SCALE_RAD_S);
+        let saturated = self.range.clips(&s.rate_rad_s);
         if saturated || self.repeats >= FROZEN_AFTER {
             ImuSample {
                 rate_rad_s: nalgebra::Vector3::repeat(f64::NAN),
@@ -282,6 +293,8 @@ pub struct ArmTracker {
     seam: ArmSeam,
     /// In a replay: the solver's events as recorded for this tick.
     recorded_solver: Option<RecordedSolver>,
+    /// The rates each IMU (device order) reads before it clips.
+    gyro_ranges: [GyroRange; 2],
 }
 
 impl ArmTracker {
@@ -354,7 +367,28 @@ impl ArmTracker {
             rejected: 0,
             seam: ArmSeam::default(),
             recorded_solver: None,
+            gyro_ranges: [GyroRange::symmetric(crate::session::faults::IMU_FULL_SCALE_RAD_S); 2],
         }
+    }
+
+    /// The full scale of each IMU's gyro (`a`, `b` in device order), each device's own (a
+    /// DualShock 4 clips at 1999.94 °/s, a Joy-Con at 2294 °/s): a rate at it is clipped and
+    /// not used. Without this call, ±[`crate::session::faults::IMU_FULL_SCALE_RAD_S`] (the
+    /// simulated sensors').
+    pub fn set_gyro_ranges(&mut self, ranges: [GyroRange; 2]) {
+        self.gyro_ranges = ranges;
+        if let Some(t) = &mut self.tracking {
+            t.checks[0].range = ranges[0];
+            t.checks[1].range = ranges[1];
+        }
+    }
+
+    /// Fresh sample checks with each IMU's full scale.
+    fn fresh_checks(&self) -> [SampleCheck; 2] {
+        self.gyro_ranges.map(|range| SampleCheck {
+            range,
+            ..SampleCheck::default()
+        })
     }
 
     /// This tick's raw inputs, taken (the next tick starts afresh).
@@ -399,10 +433,11 @@ impl ArmTracker {
         if self.step != SetupStep::SensorLost {
             return;
         }
+        let checks = self.fresh_checks();
         self.step = match &mut self.tracking {
             Some(t) => {
                 t.estimator.reacquire();
-                t.checks = Default::default();
+                t.checks = checks;
                 self.failure = None;
                 SetupStep::Tracking
             }
@@ -519,6 +554,7 @@ impl ArmTracker {
     /// The procedure ended: track with its mounting, starting from the swivel the patient
     /// held in the still step, or remember why not.
     fn finish(&mut self, outcome: Result<GuidedOutcome, ImuError>) -> SetupStep {
+        let checks = self.fresh_checks();
         let started = outcome.and_then(|out| {
             let mut estimator =
                 ArmPoseEstimator::new(self.geometry, out.mounting, FusionConfig::default())?;
@@ -527,7 +563,7 @@ impl ArmTracker {
                 estimator,
                 mounting: out.mounting,
                 swapped: out.swapped,
-                checks: Default::default(),
+                checks,
             })
         });
         match started {
@@ -669,6 +705,47 @@ mod tests {
         ));
         let why = tracker.failure().unwrap().to_string();
         assert!(why.contains("within 10 s"), "{why}");
+    }
+
+    #[test]
+    fn the_saturation_check_uses_each_devices_own_full_scale() {
+        let ds4 = gyro_imu::device::sony::SonyCalibration::nominal().gyro_range();
+        let joycon = gyro_imu::device::switch::SwitchCalibration::nominal().gyro_range();
+        let at = |deg_s: f64| ImuSample {
+            t_ns: 1,
+            rate_rad_s: Vector3::new(deg_s.to_radians(), 0.0, 0.0),
+            acc_m_s2: None,
+        };
+        let used = |range: GyroRange, deg_s: f64| {
+            let mut check = SampleCheck {
+                range,
+                ..SampleCheck::default()
+            };
+            check.usable(&at(deg_s)).rate_rad_s.x.is_finite()
+        };
+        // A DualShock 4's largest count, 1999.94 °/s, is clipped though below 2000 °/s.
+        let ds4_top_deg_s = ds4.max_rad_s[0].to_degrees();
+        assert!(ds4_top_deg_s < 2000.0);
+        assert!(!used(ds4, ds4_top_deg_s));
+        assert!(used(ds4, ds4_top_deg_s - 0.061));
+        assert!(!used(ds4, -2000.0));
+        // A Joy-Con measures 2100 °/s; a DualShock 4 cannot.
+        assert!(used(joycon, 2100.0));
+        assert!(!used(ds4, 2100.0));
+        assert!(!used(joycon, joycon.max_rad_s[0].to_degrees()));
+        // The tracker hands each IMU its own range, the second device's to the second check.
+        let mounting = Mounting {
+            upper: UnitQuaternion::identity(),
+            fore: UnitQuaternion::identity(),
+        };
+        let mut tracker = ArmTracker::known(ArmGeometry::default(), mounting, 0.35).unwrap();
+        tracker.set_gyro_ranges([ds4, joycon]);
+        let checks = tracker.tracking.as_mut().unwrap().checks;
+        assert_eq!(checks.map(|c| c.range), [ds4, joycon]);
+        tracker.lose_sensor(ImuError::Device("gone".into()));
+        tracker.regain_sensor();
+        let checks = tracker.tracking.as_mut().unwrap().checks;
+        assert_eq!(checks.map(|c| c.range), [ds4, joycon]);
     }
 
     #[test]
