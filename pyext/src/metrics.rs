@@ -109,8 +109,18 @@ fn metrics_ldlj(py: Python<'_>, speed: PyReadonlyArray1<'_, f64>, fs: f64) -> Py
 }
 
 /// One movement as a tuple `(start_index, end_index, start_s, duration_s, peak_speed, n_peaks,
-/// sparc, ldlj)`; the facade makes it a frozen `Movement`.
-type MovementTuple = (usize, usize, f64, f64, f64, usize, Option<f64>, Option<f64>);
+/// sparc, ldlj, speed_metric)`; the facade makes it a frozen `Movement`.
+type MovementTuple = (
+    usize,
+    usize,
+    f64,
+    f64,
+    f64,
+    usize,
+    Option<f64>,
+    Option<f64>,
+    f64,
+);
 
 fn movement_tuple(m: Movement) -> MovementTuple {
     (
@@ -122,6 +132,7 @@ fn movement_tuple(m: Movement) -> MovementTuple {
         m.n_peaks,
         m.sparc,
         m.ldlj,
+        m.speed_metric,
     )
 }
 

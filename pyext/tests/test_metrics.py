@@ -163,7 +163,8 @@ def test_movement_is_a_frozen_dataclass():
     with pytest.raises(dataclasses.FrozenInstanceError):
         m.start_s = 0.0  # type: ignore[misc]
     assert [f.name for f in dataclasses.fields(m)] == [
-        "start_index", "end_index", "start_s", "duration_s", "peak_speed", "n_peaks", "sparc", "ldlj"
+        "start_index", "end_index", "start_s", "duration_s", "peak_speed", "n_peaks", "sparc", "ldlj",
+        "speed_metric",
     ]
 
 

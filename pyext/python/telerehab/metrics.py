@@ -116,6 +116,8 @@ class Movement:
     sparc: Optional[float]
     #: LDLJ of its speed samples (:func:`ldlj`), or None if undefined.
     ldlj: Optional[float]
+    #: Mean over peak speed of its samples (:func:`speed_metric`), in (0, 1].
+    speed_metric: float
 
 
 def segment(
