@@ -18,6 +18,9 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(metrics_segment, m)?)?;
     m.add_function(wrap_pyfunction!(metrics_speed_profile, m)?)?;
     m.add_function(wrap_pyfunction!(metrics_session_measures, m)?)?;
+    m.add_function(wrap_pyfunction!(metrics_speed_metric, m)?)?;
+    m.add_function(wrap_pyfunction!(metrics_steering_reversals, m)?)?;
+    m.add_function(wrap_pyfunction!(metrics_step_responses, m)?)?;
     Ok(())
 }
 
@@ -106,8 +109,18 @@ fn metrics_ldlj(py: Python<'_>, speed: PyReadonlyArray1<'_, f64>, fs: f64) -> Py
 }
 
 /// One movement as a tuple `(start_index, end_index, start_s, duration_s, peak_speed, n_peaks,
-/// sparc, ldlj)`; the facade makes it a frozen `Movement`.
-type MovementTuple = (usize, usize, f64, f64, f64, usize, Option<f64>, Option<f64>);
+/// sparc, ldlj, speed_metric)`; the facade makes it a frozen `Movement`.
+type MovementTuple = (
+    usize,
+    usize,
+    f64,
+    f64,
+    f64,
+    usize,
+    Option<f64>,
+    Option<f64>,
+    f64,
+);
 
 fn movement_tuple(m: Movement) -> MovementTuple {
     (
@@ -119,6 +132,7 @@ fn movement_tuple(m: Movement) -> MovementTuple {
         m.n_peaks,
         m.sparc,
         m.ldlj,
+        m.speed_metric,
     )
 }
 
@@ -201,4 +215,89 @@ fn metrics_session_measures(
         .map_err(metric_error)?;
     serde_json::to_string(&measures)
         .map_err(|e| PyRuntimeError::new_err(format!("serialising the session measures: {e}")))
+}
+
+/// Mean over peak speed of one movement's speed profile; see `telerehab.metrics.speed_metric`.
+#[pyfunction]
+#[pyo3(signature = (speed))]
+fn metrics_speed_metric(speed: PyReadonlyArray1<'_, f64>) -> PyResult<Option<f64>> {
+    let v = vec1(&speed);
+    if let Some((index, &value)) = v.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+        return Err(metric_error(MetricError::NonFinite {
+            signal: "speed".to_owned(),
+            index,
+            value,
+        }));
+    }
+    Ok(metrics::speed_metric(&v))
+}
+
+/// Steering reversals of an angle signal with a gap; see
+/// `telerehab.metrics.steering_reversals`.
+#[pyfunction]
+#[pyo3(signature = (angle_rad, gap_rad))]
+fn metrics_steering_reversals(
+    py: Python<'_>,
+    angle_rad: PyReadonlyArray1<'_, f64>,
+    gap_rad: f64,
+) -> PyResult<usize> {
+    let v = vec1(&angle_rad);
+    py.detach(|| metrics::steering_reversals(&v, gap_rad))
+        .map_err(|e| metric_error(rename_angle(e)))
+}
+
+/// One step response as a tuple `(step_index, target_rad, reaction_time_s,
+/// initial_direction_error_deg, path_length_ratio)`.
+type ResponseTuple = (usize, f64, Option<f64>, Option<f64>, Option<f64>);
+
+/// The wheel's responses to steps of the target; see `telerehab.metrics.step_responses`.
+#[pyfunction]
+#[pyo3(signature = (angle_rad, fs, step_indices, step_targets_rad))]
+fn metrics_step_responses(
+    py: Python<'_>,
+    angle_rad: PyReadonlyArray1<'_, f64>,
+    fs: f64,
+    step_indices: Vec<usize>,
+    step_targets_rad: Vec<f64>,
+) -> PyResult<Vec<ResponseTuple>> {
+    if step_indices.len() != step_targets_rad.len() {
+        return Err(value_error(format!(
+            "step_indices has {} entries but step_targets_rad {}: one target a step",
+            step_indices.len(),
+            step_targets_rad.len()
+        )));
+    }
+    let steps: Vec<metrics::TargetStep> = step_indices
+        .iter()
+        .zip(&step_targets_rad)
+        .map(|(&index, &target_rad)| metrics::TargetStep { index, target_rad })
+        .collect();
+    let v = vec1(&angle_rad);
+    let responses = py
+        .detach(|| metrics::step_responses(&v, fs, &steps, &metrics::ResponseParams::default()))
+        .map_err(|e| metric_error(rename_angle(e)))?;
+    Ok(responses
+        .into_iter()
+        .map(|r| {
+            (
+                r.step.index,
+                r.step.target_rad,
+                r.reaction_time_s,
+                r.initial_direction_error_deg,
+                r.path_length_ratio,
+            )
+        })
+        .collect())
+}
+
+/// The crate's "wheel angle" is the Python `angle_rad` in these functions.
+fn rename_angle(mut e: MetricError) -> MetricError {
+    if let MetricError::Empty { signal }
+    | MetricError::TooShort { signal, .. }
+    | MetricError::NonFinite { signal, .. } = &mut e
+        && signal == "wheel angle"
+    {
+        *signal = "angle_rad".to_owned();
+    }
+    e
 }

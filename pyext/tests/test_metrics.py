@@ -163,7 +163,8 @@ def test_movement_is_a_frozen_dataclass():
     with pytest.raises(dataclasses.FrozenInstanceError):
         m.start_s = 0.0  # type: ignore[misc]
     assert [f.name for f in dataclasses.fields(m)] == [
-        "start_index", "end_index", "start_s", "duration_s", "peak_speed", "n_peaks", "sparc", "ldlj"
+        "start_index", "end_index", "start_s", "duration_s", "peak_speed", "n_peaks", "sparc", "ldlj",
+        "speed_metric",
     ]
 
 
@@ -313,3 +314,33 @@ def test_native_layer_takes_float64_only():
         _native.metrics_sparc(min_jerk().astype(np.float32), FS, 4, 10.0, 0.05)
     with pytest.raises(TypeError):
         _native.metrics_ldlj(list(min_jerk()), FS)  # type: ignore[arg-type]
+
+
+def test_robot_measures_have_their_known_answers_on_synthetic_signals():
+    # Speed metric: a constant speed 1, a whole minimum-jerk movement 1/1.875.
+    assert metrics.speed_metric(np.full(50, 0.7)) == pytest.approx(1.0)
+    assert metrics.speed_metric(min_jerk()) == pytest.approx(1 / 1.875, abs=0.01)
+    assert metrics.speed_metric([0.0, 0.0]) is None
+    # Three cycles of a 0.5 rad sine: six reversals; fixed-seed noise under the gap: none.
+    t = np.arange(601) / FS
+    assert metrics.steering_reversals(0.5 * np.sin(2 * np.pi * 0.5 * t)) == 6
+    noise = np.random.default_rng(30).uniform(-0.015, 0.015, 2000)
+    assert metrics.steering_reversals(noise) == 0
+    # A step to 0.5 rad at 1 s, the wheel turning 0.3 s later in 0.8 s (minimum jerk).
+    tau = np.clip((np.arange(500) / FS - 1.3) / 0.8, 0.0, 1.0)
+    angle = 0.5 * (10 * tau**3 - 15 * tau**4 + 6 * tau**5)
+    (r,) = metrics.step_responses(angle, FS, [100], [0.5])
+    assert r.reaction_time_s == pytest.approx(0.37, abs=0.02)
+    assert r.initial_direction_error_deg == 0.0
+    assert r.path_length_ratio == pytest.approx(1.0, abs=0.05)
+    # The wrong way: 180°.
+    (wrong,) = metrics.step_responses(angle, FS, [100], [-0.5])
+    assert wrong.initial_direction_error_deg == 180.0
+    with pytest.raises(ValueError, match="step_targets_rad"):
+        metrics.step_responses(angle, FS, [100], [])
+    with pytest.raises(ValueError, match="angle_rad"):
+        metrics.steering_reversals([0.0, float("nan")])
+    # The session measures carry the dose.
+    m = metrics.session_measures(angle, FS)
+    assert m["movements_per_min"] == pytest.approx(len(m["movements"]) * 60 / 5.0)
+    assert m["speed_metric"]["n"] == len(m["movements"])

@@ -18,6 +18,15 @@ const MEASURES = [
   ['elbow_flexion_rom_deg', 'elbow flexion range', '°', 'up'],
   ['sparc_median', 'movement smoothness (SPARC, closer to 0 is smoother)', '', 'up'],
   ['assist_level_mean', 'assistance level', '0–1', 'down'],
+  // Robot-grade movement measures (issue 30; the metrics crate's `robot` module has their
+  // definitions and references).
+  ['speed_metric_median', 'speed metric (mean over peak speed of a movement)', '', 'up'],
+  ['speed_peaks_median', 'speed peaks in a movement', '', 'down'],
+  ['movement_time_s_median', 'movement time', 's', 'down'],
+  ['reaction_time_s_median', 'reaction time to a step of the target', 's', 'down'],
+  ['initial_direction_error_deg_mean', 'initial direction error (180° = every start the wrong way)', '°', 'down'],
+  ['path_length_ratio_median', 'path length ratio (wheel path over the distance needed)', '', 'down'],
+  ['movements_per_min', 'dose: movements per active minute', 'per min', 'up'],
   ['active_s', 'active time', 's', 'up'],
 ];
 
@@ -32,6 +41,12 @@ const CHARTS = [
   ['active', 'Active time against the prescribed time', 'time (s)', [['active_s', 'active time (s)'], ['prescribed_s', 'prescribed time (s)']]],
   ['assist', 'Assistance level', 'level (0–1)', [['assist_level_mean', 'assistance level (0–1)']], false, [0, 1]],
   ['cones', 'Cones hit', 'cones (count)', [['cone_hits', 'cones hit']], true],
+  ['speedmetric', 'Speed metric (mean over peak speed)', 'speed metric (0–1)', [['speed_metric_median', 'speed metric, median of movements']], false, [0, 1]],
+  ['peaks', 'Speed peaks in a movement', 'peaks (count)', [['speed_peaks_median', 'speed peaks, median of movements']]],
+  ['times', 'Movement and reaction times', 'time (s)', [['movement_time_s_median', 'movement time, median (s)'], ['reaction_time_s_median', 'reaction time to a target step, median (s)']]],
+  ['direction', 'Initial direction error', 'error (°)', [['initial_direction_error_deg_mean', 'initial direction error, mean (°)']], false, [0, 180]],
+  ['pathratio', 'Path length ratio', 'ratio (no unit)', [['path_length_ratio_median', 'path length ratio, median']]],
+  ['dose', 'Dose: movements and steering reversals per active minute', 'count per minute', [['movements_per_min', 'movements per minute'], ['reversals_per_min', 'steering reversals per minute']]],
 ];
 
 /** How many of a kind's first sessions make the patient's baseline. */

@@ -9,6 +9,9 @@
 //! - [`session`]: [`session_measures`], a session's wheel movements, their smoothness, speed,
 //!   time and peaks (medians and means), ranges of motion, time active — serialisable for the
 //!   report.
+//! - [`robot`]: measures as robot assessments of stroke report them (InMotion, Kinarm):
+//!   [`speed_metric`], [`steering_reversals`], [`step_responses`] (reaction time, initial
+//!   direction error, path length ratio), with their references.
 //! - [`live`]: [`LiveMeasures`], the cheap running subset for the live display.
 //! - [`error`]: the errors, [`MetricError`].
 //!
@@ -18,6 +21,7 @@
 pub mod error;
 pub mod filter;
 pub mod live;
+pub mod robot;
 pub mod segment;
 pub mod session;
 pub mod smoothness;
@@ -25,6 +29,9 @@ pub mod smoothness;
 pub use error::MetricError;
 pub use filter::{Biquad, derivative, speed_profile};
 pub use live::LiveMeasures;
+pub use robot::{
+    ResponseParams, StepResponse, TargetStep, speed_metric, steering_reversals, step_responses,
+};
 pub use segment::{Movement, SegmentParams, segment, threshold};
 pub use session::{
     JointRange, SessionMeasures, SessionParams, Summary, range_of_motion, session_measures,

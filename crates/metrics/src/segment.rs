@@ -100,6 +100,9 @@ pub struct Movement {
     /// (a sample, or a plateau of equal samples, higher than both neighbours; a plateau counts
     /// once, a shelf on the way up or down not at all). 1 for a single smooth submovement.
     pub n_peaks: usize,
+    /// Mean speed over peak speed ([`crate::speed_metric`], Rohrer et al. 2002), in (0, 1].
+    #[serde(default)]
+    pub speed_metric: f64,
     /// SPARC of the movement's speed ([`sparc`]); `None` if undefined.
     pub sparc: Option<f64>,
     /// LDLJ of the movement's speed ([`ldlj_speed`]); `None` if undefined.
@@ -179,6 +182,7 @@ fn movement(speed: &[f64], s: usize, e: usize, fs_hz: f64, params: &SegmentParam
         duration_s: (e - s) as f64 / fs_hz,
         peak_speed: peak,
         n_peaks: count_peaks(v, params.peak_fraction * peak),
+        speed_metric: crate::robot::speed_metric(v).unwrap_or(0.0),
         sparc: sparc(v, fs_hz, params.sparc).ok(),
         ldlj: ldlj_speed(v, fs_hz).ok(),
     }

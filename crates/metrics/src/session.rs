@@ -5,6 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{MetricError, check_fs, check_signal};
 use crate::filter::speed_profile;
+use crate::robot::steering_reversals;
 use crate::segment::{Movement, SegmentParams, segment};
 
 /// Parameters of [`session_measures_with`].
@@ -18,6 +19,14 @@ pub struct SessionParams {
     pub lowpass_hz: f64,
     /// Segmentation of the wheel's speed (rad/s).
     pub segment: SegmentParams,
+    /// Gap of the steering reversals ([`crate::steering_reversals`]), rad. Default 2°
+    /// (0.0349 rad; Markkula & Engström 2006 study gaps of 0.1° to 10°).
+    #[serde(default = "default_reversal_gap_rad")]
+    pub reversal_gap_rad: f64,
+}
+
+fn default_reversal_gap_rad() -> f64 {
+    2.0_f64.to_radians()
 }
 
 impl Default for SessionParams {
@@ -25,6 +34,7 @@ impl Default for SessionParams {
         Self {
             lowpass_hz: 10.0,
             segment: SegmentParams::default(),
+            reversal_gap_rad: default_reversal_gap_rad(),
         }
     }
 }
@@ -41,6 +51,12 @@ pub struct Summary {
 }
 
 impl Summary {
+    /// No values: `n = 0`, no median, no mean.
+    #[must_use]
+    pub fn empty() -> Self {
+        Self::of([])
+    }
+
     /// Median and mean of the values (NaN-free by construction of the callers).
     #[must_use]
     pub fn of(values: impl IntoIterator<Item = f64>) -> Self {
@@ -126,6 +142,20 @@ pub struct SessionMeasures {
     pub movement_time_s: Summary,
     /// Number of speed peaks of each movement.
     pub n_peaks: Summary,
+    /// Speed metric of each movement, mean over peak speed ([`crate::speed_metric`]).
+    #[serde(default = "Summary::empty")]
+    pub speed_metric: Summary,
+    /// Steering reversals of the wheel over every run ([`crate::steering_reversals`] with
+    /// `reversal_gap_rad`).
+    #[serde(default)]
+    pub reversals: usize,
+    /// The dose: movements per active minute, an active minute being a minute of the
+    /// recording given (the exercise running: the station leaves pauses out), 1/min.
+    #[serde(default)]
+    pub movements_per_min: f64,
+    /// The dose: steering reversals per active minute, 1/min.
+    #[serde(default)]
+    pub reversals_per_min: f64,
     /// The wheel's range of motion, rad.
     pub wheel_range: JointRange,
     /// Range of motion of each joint given, in the joint's unit, in the order given.
@@ -195,6 +225,11 @@ pub fn session_measures_of_runs(
         .collect();
     let movements = segment(&speed, fs_hz, params.segment)?;
     let total_s = wheel_angle_rad.len() as f64 / fs_hz;
+    let mut reversals = 0;
+    for run in wheel_angle_runs_rad {
+        reversals += steering_reversals(run, params.reversal_gap_rad)?;
+    }
+    let per_min = 60.0 / total_s;
     let active_s: f64 = movements.iter().map(|m| m.duration_s).sum();
     Ok(SessionMeasures {
         fs_hz,
@@ -208,6 +243,10 @@ pub fn session_measures_of_runs(
         movement_peak_speed_rad_s: Summary::of(movements.iter().map(|m| m.peak_speed)),
         movement_time_s: Summary::of(movements.iter().map(|m| m.duration_s)),
         n_peaks: Summary::of(movements.iter().map(|m| m.n_peaks as f64)),
+        speed_metric: Summary::of(movements.iter().map(|m| m.speed_metric)),
+        reversals,
+        movements_per_min: movements.len() as f64 * per_min,
+        reversals_per_min: reversals as f64 * per_min,
         movements,
         wheel_range,
         joints,
@@ -275,6 +314,14 @@ mod tests {
         let sum: f64 = m.movements.iter().map(|mv| mv.duration_s).sum();
         assert!((m.active_s - sum).abs() < 1e-12);
         assert!((m.total_s - 5.0).abs() < 1e-12);
+        // The dose: 2 movements and 1 reversal (out, then back) in 5 s.
+        assert!((m.movements_per_min - 24.0).abs() < 1e-9);
+        assert_eq!(m.reversals, 1);
+        assert!((m.reversals_per_min - 12.0).abs() < 1e-9);
+        // Cut at 5 % of the peak, a minimum-jerk movement's mean over peak is a little above
+        // the whole one's 1/1.875.
+        let sm = m.speed_metric.median.unwrap();
+        assert!((0.53..0.62).contains(&sm), "{sm}");
         let json = serde_json::to_string(&m).unwrap();
         let back: SessionMeasures = serde_json::from_str(&json).unwrap();
         assert_eq!(back, m);

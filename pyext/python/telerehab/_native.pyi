@@ -33,6 +33,9 @@ __all__ = [
     "metrics_segment",
     "metrics_speed_profile",
     "metrics_session_measures",
+    "metrics_speed_metric",
+    "metrics_steering_reversals",
+    "metrics_step_responses",
     "session_read",
 ]
 
@@ -208,8 +211,8 @@ def imu_estimate_bias(
 def metrics_sparc(speed: _F64, fs: float, padlevel: int, fc: float, amp_th: float) -> float: ...
 def metrics_ldlj(speed: _F64, fs: float) -> float: ...
 
-# (start_index, end_index, start_s, duration_s, peak_speed, n_peaks, sparc, ldlj)
-_MovementTuple = Tuple[int, int, float, float, float, int, Optional[float], Optional[float]]
+# (start_index, end_index, start_s, duration_s, peak_speed, n_peaks, sparc, ldlj, speed_metric)
+_MovementTuple = Tuple[int, int, float, float, float, int, Optional[float], Optional[float], float]
 
 def metrics_segment(
     speed: _F64,
@@ -224,6 +227,15 @@ def metrics_speed_profile(angle_rad: _F64, fs: float, lowpass_hz: float) -> _F64
 def metrics_session_measures(
     wheel_angle_rad: _F64, fs: float, joints: List[Tuple[str, _F64]]
 ) -> str: ...
+def metrics_speed_metric(speed: _F64) -> Optional[float]: ...
+def metrics_steering_reversals(angle_rad: _F64, gap_rad: float) -> int: ...
+
+# (step_index, target_rad, reaction_time_s, initial_direction_error_deg, path_length_ratio)
+_ResponseTuple = Tuple[int, float, Optional[float], Optional[float], Optional[float]]
+
+def metrics_step_responses(
+    angle_rad: _F64, fs: float, step_indices: List[int], step_targets_rad: List[float]
+) -> List[_ResponseTuple]: ...
 
 # --- session -----------------------------------------------------------------------------
 

@@ -11,6 +11,9 @@
   Butterworth low-pass, absolute value.
 - :func:`session_measures` — a session's movements, their smoothness, speed, time and peaks,
   ranges of motion and time active, as the station's report computes them.
+- :func:`speed_metric`, :func:`steering_reversals`, :func:`step_responses` — the robot-grade
+  measures (InMotion, Kinarm: Rohrer et al. 2002, Coderre et al. 2010, Markkula & Engström
+  2006), as the crate ``metrics``' module ``robot`` defines them.
 
 Thin facade over ``telerehab._native`` (the same Rust code the patient station runs, crate
 ``metrics``). Sampling rates ``fs`` are in Hz; times carry their unit (``merge_gap_s``); angles
@@ -32,7 +35,18 @@ import numpy.typing as npt
 from telerehab import _native
 from telerehab._validate import FloatArray, samples
 
-__all__ = ["sparc", "ldlj", "segment", "Movement", "speed_profile", "session_measures"]
+__all__ = [
+    "sparc",
+    "ldlj",
+    "segment",
+    "Movement",
+    "speed_profile",
+    "session_measures",
+    "speed_metric",
+    "steering_reversals",
+    "StepResponse",
+    "step_responses",
+]
 
 
 def sparc(
@@ -102,6 +116,8 @@ class Movement:
     sparc: Optional[float]
     #: LDLJ of its speed samples (:func:`ldlj`), or None if undefined.
     ldlj: Optional[float]
+    #: Mean over peak speed of its samples (:func:`speed_metric`), in (0, 1].
+    speed_metric: float
 
 
 def segment(
@@ -182,6 +198,9 @@ def session_measures(
     - ``sparc``, ``ldlj``, ``movement_peak_speed_rad_s``, ``movement_time_s`` (s), ``n_peaks``:
       each ``{"n", "median", "mean"}`` over the movements (``median``/``mean`` None when
       ``n`` is 0);
+    - ``speed_metric`` (mean over peak speed) the same over the movements; ``reversals``
+      (:func:`steering_reversals`, 2° gap), ``movements_per_min`` and ``reversals_per_min``
+      (the dose, per minute of the signal given);
     - ``wheel_range`` (rad) and ``joints`` (a list, in the order given): each ``{"name",
       "min", "max", "range"}``.
 
@@ -192,3 +211,64 @@ def session_measures(
     named = [(name, samples(f"joints[{name!r}]", x)) for name, x in (joints or {}).items()]
     measures: Dict[str, Any] = json.loads(_native.metrics_session_measures(wheel, float(fs), named))
     return measures
+
+
+def speed_metric(speed: npt.ArrayLike) -> Optional[float]:
+    """Mean speed over peak speed of one movement's speed profile, in (0, 1] (Rohrer et al.
+    2002, J Neurosci 22:8297): 1 for a constant speed, 1/1.875 ≈ 0.533 for a whole
+    minimum-jerk movement; None for an empty or all-zero profile.
+
+    Raises ``ValueError`` for a NaN or infinite sample (its index is named).
+    """
+    return _native.metrics_speed_metric(samples("speed", speed))
+
+
+def steering_reversals(angle_rad: npt.ArrayLike, gap_rad: float = 0.03490658503988659) -> int:
+    """Steering reversals of an angle signal (rad) with a gap (default 2°; Markkula & Engström
+    2006): after the angle has moved ``gap_rad`` one way, each return by at least ``gap_rad``
+    from its furthest point is one reversal. A sine of amplitude ≥ the gap over k whole cycles
+    has 2k.
+
+    Raises ``ValueError`` for a NaN or infinite sample or ``gap_rad`` not finite and > 0.
+    """
+    return _native.metrics_steering_reversals(samples("angle_rad", angle_rad), float(gap_rad))
+
+
+@dataclass(frozen=True)
+class StepResponse:
+    """The wheel's response to one step of the target (Coderre et al. 2010, for one angle)."""
+
+    #: Index of the step (the first sample with the new target).
+    step_index: int
+    #: The new target, rad.
+    target_rad: float
+    #: From the step to the movement's onset (speed above 10 % of the response's peak), s.
+    reaction_time_s: Optional[float]
+    #: 0° when the first movement (onset to first speed peak) goes towards the target, 180°
+    #: when it goes the other way (a 1-D angle has nothing in between).
+    initial_direction_error_deg: Optional[float]
+    #: Path travelled by the angle from onset to the end of the movement over the distance
+    #: needed, ``|target − angle at the step|``; 1 for a direct movement.
+    path_length_ratio: Optional[float]
+
+
+def step_responses(
+    angle_rad: npt.ArrayLike,
+    fs: float,
+    step_indices: List[int],
+    step_targets_rad: List[float],
+) -> List[StepResponse]:
+    """The wheel's response to each step of the target in one continuous angle signal (rad,
+    sampled at ``fs`` Hz): the steps at ``step_indices`` (in time order) to
+    ``step_targets_rad``. A step's window runs to the next step, 4 s, or the signal's end.
+
+    Raises ``ValueError`` for a NaN or infinite angle, ``fs`` not finite and > 0, steps out of
+    order or past the signal, or lists of different lengths.
+    """
+    rows = _native.metrics_step_responses(
+        samples("angle_rad", angle_rad),
+        float(fs),
+        [operator.index(i) for i in step_indices],
+        [float(t) for t in step_targets_rad],
+    )
+    return [StepResponse(*row) for row in rows]

@@ -35,7 +35,7 @@ const fn m(
 }
 
 /// The measures shown, in order (those a session lacks are left out).
-pub(super) const MEASURES: [Measure; 17] = [
+pub(super) const MEASURES: [Measure; 23] = [
     m("session_s", "Session length", "s", 0, Better::Neither),
     m("paused_s", "Paused", "s", 0, Better::Neither),
     m("movements", "Movements", "", 0, Better::Neither),
@@ -74,6 +74,48 @@ pub(super) const MEASURES: [Measure; 17] = [
         "",
         0,
         Better::Lower,
+    ),
+    m(
+        "speed_metric_median",
+        "Speed metric: mean over peak speed of a movement (median; Rohrer 2002)",
+        "",
+        2,
+        Better::Higher,
+    ),
+    m(
+        "reaction_time_s_median",
+        "Reaction time to a step of the target (median)",
+        "s",
+        2,
+        Better::Lower,
+    ),
+    m(
+        "initial_direction_error_deg_mean",
+        "Initial direction error (mean; 180° = every start the wrong way)",
+        "°",
+        0,
+        Better::Lower,
+    ),
+    m(
+        "path_length_ratio_median",
+        "Path length ratio: wheel path over the distance needed (median)",
+        "",
+        2,
+        Better::Lower,
+    ),
+    m(
+        "movements_per_min",
+        "Dose: movements per active minute",
+        "/min",
+        1,
+        Better::Higher,
+    ),
+    m(
+        "reversals_per_min",
+        "Dose: steering reversals per active minute",
+        "/min",
+        1,
+        Better::Neither,
     ),
     m(
         "wheel_rom_deg",
@@ -129,7 +171,7 @@ pub(super) const MEASURES: [Measure; 17] = [
 
 /// An exercise's own results shown in the per-exercise table, in order (rows no exercise has
 /// are left out).
-pub(super) const EXERCISE_MEASURES: [Measure; 16] = [
+pub(super) const EXERCISE_MEASURES: [Measure; 22] = [
     m(
         "rms_lateral_m",
         "Lane keeping: lateral deviation (RMS)",
@@ -217,6 +259,48 @@ pub(super) const EXERCISE_MEASURES: [Measure; 16] = [
         "°",
         0,
         Better::Higher,
+    ),
+    m(
+        "speed_metric_median",
+        "Speed metric: mean over peak speed of a movement (median; Rohrer 2002)",
+        "",
+        2,
+        Better::Higher,
+    ),
+    m(
+        "reaction_time_s_median",
+        "Reaction time to a step of the target (median)",
+        "s",
+        2,
+        Better::Lower,
+    ),
+    m(
+        "initial_direction_error_deg_mean",
+        "Initial direction error (mean; 180° = every start the wrong way)",
+        "°",
+        0,
+        Better::Lower,
+    ),
+    m(
+        "path_length_ratio_median",
+        "Path length ratio: wheel path over the distance needed (median)",
+        "",
+        2,
+        Better::Lower,
+    ),
+    m(
+        "movements_per_min",
+        "Dose: movements per active minute",
+        "/min",
+        1,
+        Better::Higher,
+    ),
+    m(
+        "reversals_per_min",
+        "Dose: steering reversals per active minute",
+        "/min",
+        1,
+        Better::Neither,
     ),
 ];
 

@@ -19,7 +19,8 @@
 
 use super::plant::ExerciseScores;
 use metrics::{
-    LiveMeasures, MetricError, SessionMeasures, SessionParams, session_measures_of_runs,
+    LiveMeasures, MetricError, ResponseParams, SessionMeasures, SessionParams, StepResponse,
+    TargetStep, session_measures_of_runs, step_responses,
 };
 use record::{ArmSetup, ExerciseResult, MetricsSample, MovementSample, TickRecord, Watchdog};
 use std::collections::BTreeMap;
@@ -32,6 +33,14 @@ pub use series::{SeriesLost, SeriesStore};
 
 /// Rate of the measures' series, Hz.
 pub const MEASURE_RATE_HZ: f64 = 100.0;
+
+/// A change of the target by at least this much from one tick to the next is a step of the
+/// target (a dial step jumps by twice its amplitude in one tick; a continuous target moving
+/// this fast in 1 ms would turn at 50 rad/s), rad.
+pub const TARGET_STEP_MIN_RAD: f64 = 0.05;
+
+/// The most target steps kept (a step every 2 s for over 5 hours), so memory stays bounded.
+const MAX_TARGET_STEPS: usize = 10_000;
 
 /// The joints measured, in the order of [`LiveMeasures`]' samples.
 const JOINTS: [&str; 2] = ["shoulder_elevation", "elbow_flexion"];
@@ -70,6 +79,11 @@ pub struct MeasureCollector {
     exercise_now: u32,
     /// Each exercise's own tallies, by its index in the course.
     tallies: Vec<ExerciseTally>,
+    /// The steps of the target, (index into the series of the sample they fall in, the new
+    /// target rad), in time order, at most [`MAX_TARGET_STEPS`].
+    target_steps: Vec<(usize, f64)>,
+    /// The last tick's target, rad (`None` at the start of an exercise).
+    last_target_rad: Option<f64>,
 }
 
 /// What the collector counts of one exercise, tick by tick.
@@ -144,6 +158,8 @@ impl MeasureCollector {
             run_exercise: Vec::new(),
             exercise_now: 0,
             tallies: Vec::new(),
+            target_steps: Vec::new(),
+            last_target_rad: None,
         }
     }
 
@@ -182,6 +198,7 @@ impl MeasureCollector {
         let w = &rec.wheel;
         // The session's fade-out is no exercise's own time.
         let stopping = matches!(w.watchdog, Watchdog::Stopping | Watchdog::Stopped);
+        self.note_target(w.target_rad, changed || stopping);
         let tally = self.tally(exercise);
         let tracking_rad = w.target_rad - w.angle_rad;
         if !stopping {
@@ -251,6 +268,57 @@ impl MeasureCollector {
         let _ = self.live.update(angle, &joints);
     }
 
+    /// Notes a step of the target between the last tick and this one (none across a change
+    /// of exercise or in the fade-out: `skip`).
+    fn note_target(&mut self, target_rad: f64, skip: bool) {
+        if !target_rad.is_finite() {
+            return;
+        }
+        if let Some(last) = self.last_target_rad.filter(|_| !skip)
+            && (target_rad - last).abs() >= TARGET_STEP_MIN_RAD
+            && self.target_steps.len() < MAX_TARGET_STEPS
+        {
+            self.target_steps.push((self.series.len(), target_rad));
+        }
+        self.last_target_rad = Some(target_rad);
+    }
+
+    /// The wheel's responses to the target's steps, run by run, of exercise `only` or of all;
+    /// empty before [`Self::finish`] (the series not in memory).
+    fn responses(&self, only: Option<u32>) -> Vec<StepResponse> {
+        let Some(series) = self.series.loaded() else {
+            return Vec::new();
+        };
+        let mut out = Vec::new();
+        for (r, &e) in self.runs().zip(&self.run_exercise) {
+            if only.is_some_and(|o| o != e) || r.len() < 2 {
+                continue;
+            }
+            let mut steps: Vec<TargetStep> = self
+                .target_steps
+                .iter()
+                .filter(|(i, _)| r.contains(i))
+                .map(|&(i, target_rad)| TargetStep {
+                    index: i - r.start,
+                    target_rad,
+                })
+                .collect();
+            let angle = &series.wheel_rad[r];
+            // Two steps in one sample: the first one's window is empty, the later one counts.
+            steps.dedup_by(|later, first| {
+                later.index == first.index && {
+                    *first = *later;
+                    true
+                }
+            });
+            if let Ok(rs) = step_responses(angle, self.fs_hz(), &steps, &ResponseParams::default())
+            {
+                out.extend(rs);
+            }
+        }
+        out
+    }
+
     /// The live measures for a summary, name → value (unit in the name).
     pub fn live(&self) -> BTreeMap<String, f64> {
         let l = &self.live;
@@ -305,6 +373,7 @@ impl MeasureCollector {
         let mut named = BTreeMap::new();
         if let Ok(s) = &analysed {
             name_movement_measures(&mut named, s);
+            name_step_responses(&mut named, &self.responses(None));
         }
         self.name_session_figures(&mut named, out);
         named.retain(|_, v| v.is_finite());
@@ -358,6 +427,7 @@ impl MeasureCollector {
                 let tally = self.tallies.get(s.index as usize);
                 if let Some(m) = self.exercise_measures(s.index) {
                     name_movement_measures(&mut named, &m);
+                    name_step_responses(&mut named, &self.responses(Some(s.index)));
                 }
                 if let Some(t) = tally {
                     for (k, joint) in JOINTS.iter().enumerate() {
@@ -515,17 +585,64 @@ fn name_movement_measures(named: &mut BTreeMap<String, f64>, s: &SessionMeasures
         ),
         ("movement_time_s", &s.movement_time_s, 1.0),
         ("speed_peaks", &s.n_peaks, 1.0),
+        ("speed_metric", &s.speed_metric, 1.0),
     ] {
         if let (Some(median), Some(mean)) = (summary.median, summary.mean) {
             put(&format!("{name}_median"), median * scale);
             put(&format!("{name}_mean"), mean * scale);
         }
     }
+    put("movements_per_min", s.movements_per_min);
+    put("reversals_per_min", s.reversals_per_min);
     put("wheel_rom_deg", s.wheel_range.range.to_degrees());
     for j in &s.joints {
         put(&format!("{}_rom_deg", j.name), j.range.to_degrees());
         put(&format!("{}_min_deg", j.name), j.min.to_degrees());
         put(&format!("{}_max_deg", j.name), j.max.to_degrees());
+    }
+}
+
+/// The wheel's responses to the target's steps by name (none without a step): how many, the
+/// median reaction time, the mean initial direction error (0° the right way, 180° the wrong
+/// way: 180° × the share of wrong-way starts) and the median path length ratio
+/// ([`metrics::robot`]). Medians alone, to keep the Bye's measures within their 64 entries.
+fn name_step_responses(named: &mut BTreeMap<String, f64>, responses: &[StepResponse]) {
+    if responses.is_empty() {
+        return;
+    }
+    named.insert("step_responses".to_owned(), responses.len() as f64);
+    for (name, values) in [
+        (
+            "reaction_time_s",
+            responses
+                .iter()
+                .filter_map(|r| r.reaction_time_s)
+                .collect::<Vec<_>>(),
+        ),
+        (
+            "initial_direction_error_deg",
+            responses
+                .iter()
+                .filter_map(|r| r.initial_direction_error_deg)
+                .collect(),
+        ),
+        (
+            "path_length_ratio",
+            responses
+                .iter()
+                .filter_map(|r| r.path_length_ratio)
+                .collect(),
+        ),
+    ] {
+        let summary = metrics::Summary::of(values);
+        let (key, value) = if name == "initial_direction_error_deg" {
+            ("mean", summary.mean)
+        } else {
+            ("median", summary.median)
+        };
+        if let Some(v) = value {
+            named.insert(format!("{name}_{key}"), v);
+        }
     }
 }
 
@@ -600,6 +717,53 @@ mod tests {
         assert!(m.named.values().all(|v| v.is_finite()));
         // Within the protocol's limit on named values.
         assert!(m.named.len() <= netlink::frame::MAX_EXTRA_ENTRIES);
+    }
+
+    /// A dial stepping from 0 to 0.5 rad at 1 s and the wheel following it after `delay_s`
+    /// with a 0.8 s minimum-jerk turn, at 1 kHz for 4 s.
+    fn a_step_followed(delay_s: f64) -> Vec<TickRecord> {
+        (0..4000_u64)
+            .map(|k| {
+                let t = k as f64 / 1000.0;
+                let tau = ((t - 1.0 - delay_s) / 0.8).clamp(0.0, 1.0);
+                let turn = 10.0 * tau.powi(3) - 15.0 * tau.powi(4) + 6.0 * tau.powi(5);
+                TickRecord {
+                    tick: k,
+                    t_ns: k * 1_000_000,
+                    wheel: WheelSample {
+                        angle_rad: 0.5 * turn,
+                        target_rad: if t < 1.0 { 0.0 } else { 0.5 },
+                        ..WheelSample::default()
+                    },
+                    ..TickRecord::default()
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_step_of_the_target_gives_reaction_time_direction_and_path_ratio_to_the_hub() {
+        let recs = a_step_followed(0.4);
+        let (m, _) = measured(MeasureCollector::new(1000.0, 4000), &recs);
+        let n = &m.named;
+        assert_eq!(n["step_responses"], 1.0);
+        // The delay, plus the ~0.07 s of the turn before its speed reaches 10 % of its peak.
+        let rt = n["reaction_time_s_median"];
+        assert!((0.4..0.55).contains(&rt), "{rt}");
+        assert_eq!(n["initial_direction_error_deg_mean"], 0.0);
+        let p = n["path_length_ratio_median"];
+        assert!((0.9..1.05).contains(&p), "{p}");
+        // One movement and no reversal in 4 s of exercise: 15 movements per active minute.
+        assert!((n["movements_per_min"] - 15.0).abs() < 1e-9);
+        assert_eq!(n["reversals_per_min"], 0.0);
+        let sm = n["speed_metric_median"];
+        assert!((0.5..0.65).contains(&sm), "{sm}");
+        assert!(n.keys().all(|k| k.len() <= 64));
+        assert!(n.len() <= netlink::frame::MAX_EXTRA_ENTRIES);
+        // A later start gives a longer reaction time: the measure follows the patient.
+        let (later, _) = measured(MeasureCollector::new(1000.0, 4000), &a_step_followed(0.9));
+        let rt_later = later.named["reaction_time_s_median"];
+        assert!((rt_later - rt - 0.5).abs() < 0.02, "{rt} then {rt_later}");
     }
 
     #[test]

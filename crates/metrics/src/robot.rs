@@ -1,0 +1,400 @@
+//! Movement measures as robot assessments of stroke report them (InMotion, Kinarm), defined
+//! for the wheel's one angle.
+//!
+//! - **Speed metric** ([`speed_metric`]): a movement's mean speed over its peak speed, 1 for a
+//!   constant speed, 0.533 for a whole minimum-jerk movement (1/1.875); it rises as the
+//!   speed profile fills out with recovery. Rohrer B, Fasoli S, Krebs HI, Hughes R, Volpe B,
+//!   Frontera WR, Stein J, Hogan N (2002) "Movement smoothness changes during stroke
+//!   recovery", J Neurosci 22(18):8297–8304.
+//! - **Number of speed peaks** and **movement time**: per movement, [`crate::Movement`]'s
+//!   `n_peaks` and `duration_s` (Rohrer et al. 2002; Coderre AM, Zeid AA, Dukelow SP, Demmer
+//!   MJ, Moore KD, Demers MJ, Bretzke H, Herter TM, Glasgow JI, Norman KE, Bagg SD, Scott SH
+//!   (2010) "Assessment of upper-limb sensorimotor function of subacute stroke patients using
+//!   visually guided reaching", Neurorehabil Neural Repair 24(6):528–541).
+//! - **Reaction time**, **initial direction error**, **path length ratio**: per step change
+//!   of the target ([`step_responses`]), as Coderre et al. 2010 define them for a reach to a
+//!   target that appears, restated for a 1-D wheel angle (see [`StepResponse`]).
+//! - **Dose** ([`steering_reversals`]; per minute in [`crate::SessionMeasures`]): movements
+//!   and steering reversals per active minute. Reversals as Markkula G, Engström J (2006) "A
+//!   steering wheel reversal rate metric for assessing effects of visual and cognitive
+//!   secondary task load", ITS World Congress, London, count them: a change of the wheel's
+//!   direction once it has gone back by at least a gap from its last extremum. Krebs HI,
+//!   Hogan N et al. (InMotion; e.g. Krebs et al. 2004 "Rehabilitation robotics: pilot trial of
+//!   a spatial extension for MIT-Manus", J NeuroEng Rehabil 1:5) and Lang CE et al. (2009) "Observation
+//!   of amounts of movement practice provided during stroke rehabilitation", Arch Phys Med
+//!   Rehabil 90(10):1692–1698, count the dose in movements.
+//!
+//! SPARC, the smoothness measure of these robots' later studies, is in [`crate::sparc`]
+//! (Balasubramanian S, Melendez-Calderon A, Burdet E (2012) "A robust and sensitive metric for
+//! quantifying movement smoothness", IEEE Trans Biomed Eng 59(8):2126–2136; Balasubramanian
+//! et al. 2015, J NeuroEng Rehabil 12:112).
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{MetricError, check_fs, check_signal};
+use crate::filter::speed_profile;
+
+/// A movement's speed metric: mean speed over peak speed, in (0, 1]; `None` for an empty or
+/// all-zero profile (Rohrer et al. 2002).
+#[must_use]
+pub fn speed_metric(speed: &[f64]) -> Option<f64> {
+    let peak = speed.iter().copied().fold(0.0, f64::max);
+    if speed.is_empty() || peak <= 0.0 || !peak.is_finite() {
+        return None;
+    }
+    let mean = speed.iter().sum::<f64>() / speed.len() as f64;
+    Some(mean / peak)
+}
+
+/// Steering reversals of an angle signal (rad) with a gap of `gap_rad` (Markkula & Engström
+/// 2006): once the angle has moved `gap_rad` one way from where it started, each time it goes
+/// back by at least `gap_rad` from its furthest point is one reversal. The first direction
+/// taken is no reversal; movements smaller than the gap (tremor, noise) are none. A sine of
+/// amplitude `A ≥ gap_rad` over `k` whole cycles from 0 has `2k` reversals.
+///
+/// # Errors
+/// A non-finite sample (its index is named), or `gap_rad` not finite and > 0.
+pub fn steering_reversals(angle_rad: &[f64], gap_rad: f64) -> Result<usize, MetricError> {
+    if !(gap_rad.is_finite() && gap_rad > 0.0) {
+        return Err(MetricError::BadParameter {
+            context: "steering_reversals",
+            field: "gap_rad",
+            value: gap_rad,
+            allowed: "finite and > 0 rad",
+        });
+    }
+    if angle_rad.is_empty() {
+        return Ok(0);
+    }
+    check_signal("wheel angle", angle_rad, 1)?;
+    let (mut lo, mut hi) = (angle_rad[0], angle_rad[0]);
+    // +1 going up (`hi` its furthest point), −1 going down (`lo`), 0 not yet a gap either way.
+    let mut dir = 0_i8;
+    let mut reversals = 0;
+    for &x in angle_rad {
+        lo = lo.min(x);
+        hi = hi.max(x);
+        match dir {
+            1 if hi - x >= gap_rad => {
+                (dir, lo, reversals) = (-1, x, reversals + 1);
+            }
+            -1 if x - lo >= gap_rad => {
+                (dir, hi, reversals) = (1, x, reversals + 1);
+            }
+            0 if x - lo >= gap_rad => (dir, hi) = (1, x),
+            0 if hi - x >= gap_rad => (dir, lo) = (-1, x),
+            _ => {}
+        }
+    }
+    Ok(reversals)
+}
+
+/// A step change of the target: at sample `index` the target jumps to `target_rad`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TargetStep {
+    /// The first sample with the new target.
+    pub index: usize,
+    /// The new target, rad.
+    pub target_rad: f64,
+}
+
+/// Parameters of [`step_responses`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ResponseParams {
+    /// Low-pass cut-off of the speed profile ([`speed_profile`]), Hz. Default 10 Hz.
+    pub lowpass_hz: f64,
+    /// Movement onset: the speed first above this fraction of the response's peak speed (or
+    /// [`floor_rad_s`](Self::floor_rad_s), whichever is larger). Default 0.1 (Coderre et al.
+    /// 2010 use 10 % of peak hand speed).
+    pub onset_fraction: f64,
+    /// Below this speed nothing counts as a response, rad/s. Default 0.05 rad/s.
+    pub floor_rad_s: f64,
+    /// A response is looked for until the next step or this long after the step, s.
+    /// Default 4 s.
+    pub max_window_s: f64,
+    /// Steps asking for less movement than this (the wheel already near the new target) get
+    /// no direction error nor path length ratio, rad. Default 0.05 rad (≈ 2.9°).
+    pub min_distance_rad: f64,
+}
+
+impl Default for ResponseParams {
+    fn default() -> Self {
+        Self {
+            lowpass_hz: 10.0,
+            onset_fraction: 0.1,
+            floor_rad_s: 0.05,
+            max_window_s: 4.0,
+            min_distance_rad: 0.05,
+        }
+    }
+}
+
+impl ResponseParams {
+    /// Check every field against its allowed range.
+    ///
+    /// # Errors
+    /// [`MetricError::BadParameter`] naming the first field out of range.
+    pub fn validate(&self) -> Result<(), MetricError> {
+        let fields = [
+            ("lowpass_hz", self.lowpass_hz, self.lowpass_hz > 0.0),
+            (
+                "onset_fraction",
+                self.onset_fraction,
+                (0.0..1.0).contains(&self.onset_fraction),
+            ),
+            ("floor_rad_s", self.floor_rad_s, self.floor_rad_s >= 0.0),
+            ("max_window_s", self.max_window_s, self.max_window_s > 0.0),
+            (
+                "min_distance_rad",
+                self.min_distance_rad,
+                self.min_distance_rad >= 0.0,
+            ),
+        ];
+        for (field, value, ok) in fields {
+            if !(ok && value.is_finite()) {
+                return Err(MetricError::BadParameter {
+                    context: "ResponseParams",
+                    field,
+                    value,
+                    allowed: "finite; fractions in [0, 1), times and rates > 0, floors >= 0",
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The wheel's response to one step of the target, as Coderre et al. 2010 measure a reach to
+/// a target that appears, for one angle.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct StepResponse {
+    /// The step responded to.
+    pub step: TargetStep,
+    /// From the step to the movement's onset (the speed first above
+    /// `max(onset_fraction · peak, floor)` within the response window), s; `None` when the
+    /// wheel did not move in the window.
+    pub reaction_time_s: Option<f64>,
+    /// The initial direction error of a 1-D wheel angle: the direction of the wheel's
+    /// displacement from the movement's onset to its first speed peak against the direction
+    /// from the wheel's angle at the step to the new target: 0° the right way, 180° the
+    /// wrong way (a single angle has no angles in between). `None` without a movement or
+    /// when less than `min_distance_rad` was asked.
+    pub initial_direction_error_deg: Option<f64>,
+    /// Path travelled by the wheel angle (`Σ|Δθ|`) from the movement's onset to its end (the
+    /// last sample above the onset threshold in the window) over the straight distance
+    /// needed, `|target − θ(step)|`; 1 for a direct movement that stops on the target, more
+    /// with overshoots and corrections. `None` without a movement or when less than
+    /// `min_distance_rad` was asked.
+    pub path_length_ratio: Option<f64>,
+}
+
+/// The wheel's response to each step of the target in one continuous angle signal (rad,
+/// sampled at `fs_hz`); `steps` in time order, indices into `angle_rad`. The window of a step
+/// runs to the next step, `max_window_s`, or the signal's end, whichever is first.
+///
+/// # Errors
+/// `fs_hz` not finite and > 0, a non-finite angle sample (its index named), parameters out of
+/// range, or steps out of order or past the signal's end.
+pub fn step_responses(
+    angle_rad: &[f64],
+    fs_hz: f64,
+    steps: &[TargetStep],
+    params: &ResponseParams,
+) -> Result<Vec<StepResponse>, MetricError> {
+    check_fs(fs_hz)?;
+    params.validate()?;
+    if steps.is_empty() {
+        return Ok(Vec::new());
+    }
+    check_signal("wheel angle", angle_rad, 2)?;
+    let n = angle_rad.len();
+    for (k, s) in steps.iter().enumerate() {
+        let ordered = k == 0 || steps[k - 1].index < s.index;
+        if s.index >= n || !ordered || !s.target_rad.is_finite() {
+            return Err(MetricError::BadParameter {
+                context: "step_responses",
+                field: "steps",
+                value: s.index as f64,
+                allowed: "indices in time order within the signal, finite targets",
+            });
+        }
+    }
+    let speed = speed_profile(angle_rad, fs_hz, params.lowpass_hz);
+    let max_window = ((params.max_window_s * fs_hz).round() as usize).max(1);
+    Ok(steps
+        .iter()
+        .enumerate()
+        .map(|(k, &step)| {
+            let next = steps.get(k + 1).map_or(n, |s| s.index);
+            let end = next.min(step.index + max_window).min(n);
+            respond(angle_rad, &speed, fs_hz, step, end, params)
+        })
+        .collect())
+}
+
+/// The response to `step` within `angle[step.index..end]`.
+fn respond(
+    angle: &[f64],
+    speed: &[f64],
+    fs_hz: f64,
+    step: TargetStep,
+    end: usize,
+    params: &ResponseParams,
+) -> StepResponse {
+    let none = StepResponse {
+        step,
+        reaction_time_s: None,
+        initial_direction_error_deg: None,
+        path_length_ratio: None,
+    };
+    let i0 = step.index;
+    let window = &speed[i0..end];
+    let peak = window.iter().copied().fold(0.0, f64::max);
+    let v_th = (params.onset_fraction * peak).max(params.floor_rad_s);
+    let Some(onset) = window.iter().position(|&v| v > v_th).map(|k| i0 + k) else {
+        return none;
+    };
+    let last = i0 + window.iter().rposition(|&v| v > v_th).unwrap_or(0);
+    // The first speed peak: the first sample after the onset not exceeded by the next one.
+    let first_peak = (onset..last)
+        .find(|&j| speed[j + 1] < speed[j])
+        .unwrap_or(last);
+    let needed = step.target_rad - angle[i0];
+    let asked = needed.abs() >= params.min_distance_rad;
+    let before_onset = onset.saturating_sub(1).max(i0);
+    let initial = angle[first_peak] - angle[before_onset];
+    let initial_direction_error_deg = (asked && initial != 0.0).then(|| {
+        if initial.signum() == needed.signum() {
+            0.0
+        } else {
+            180.0
+        }
+    });
+    let path: f64 = angle[before_onset..=last]
+        .windows(2)
+        .map(|w| (w[1] - w[0]).abs())
+        .sum();
+    StepResponse {
+        step,
+        reaction_time_s: Some((onset - i0) as f64 / fs_hz),
+        initial_direction_error_deg,
+        path_length_ratio: asked.then(|| path / needed.abs()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Minimum-jerk position from 0 to 1 over `tau` in [0, 1].
+    fn min_jerk(tau: f64) -> f64 {
+        let t = tau.clamp(0.0, 1.0);
+        10.0 * t.powi(3) - 15.0 * t.powi(4) + 6.0 * t.powi(5)
+    }
+
+    #[test]
+    fn a_constant_speed_has_speed_metric_one_and_minimum_jerk_1_over_1_875() {
+        assert!((speed_metric(&[0.7; 50]).unwrap() - 1.0).abs() < 1e-12);
+        assert_eq!(speed_metric(&[0.0; 5]), None);
+        assert_eq!(speed_metric(&[]), None);
+        // The speed of a minimum-jerk movement: 30 τ² (1 − τ)², peak 1.875 at τ = ½.
+        let n = 10_000;
+        let v: Vec<f64> = (0..=n)
+            .map(|i| {
+                let t = f64::from(i) / f64::from(n);
+                30.0 * t * t * (1.0 - t) * (1.0 - t)
+            })
+            .collect();
+        let s = speed_metric(&v).unwrap();
+        assert!((s - 1.0 / 1.875).abs() < 1e-3, "{s}");
+    }
+
+    #[test]
+    fn a_sine_of_three_cycles_has_six_reversals_and_noise_below_the_gap_none() {
+        let fs = 100.0;
+        let gap = 2.0_f64.to_radians();
+        let sine: Vec<f64> = (0..=600)
+            .map(|i| 0.5 * (std::f64::consts::TAU * 0.5 * f64::from(i) / fs).sin())
+            .collect();
+        assert_eq!(steering_reversals(&sine, gap).unwrap(), 6);
+        // Uniform noise of ±0.9° (a fixed-seed LCG) around a hold: never a 2° swing.
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let noise: Vec<f64> = (0..5000)
+            .map(|_| {
+                state = state
+                    .wrapping_mul(6_364_136_223_846_793_005)
+                    .wrapping_add(1_442_695_040_888_963_407);
+                let u = (state >> 11) as f64 / (1_u64 << 53) as f64;
+                0.3 + (2.0 * u - 1.0) * 0.9_f64.to_radians()
+            })
+            .collect();
+        assert_eq!(steering_reversals(&noise, gap).unwrap(), 0);
+        assert_eq!(steering_reversals(&[], gap).unwrap(), 0);
+        assert!(steering_reversals(&sine, 0.0).is_err());
+    }
+
+    /// A step at 1 s to 0.5 rad; the wheel waits `delay_s`, then makes a minimum-jerk turn of
+    /// 0.5 rad · `direction` over 0.8 s, then (when `direction` < 0) turns back over 1.6 s.
+    fn response_to_a_step(delay_s: f64, direction: f64) -> (Vec<f64>, TargetStep) {
+        let fs = 100.0;
+        let angle = (0..500)
+            .map(|i| {
+                let t = f64::from(i) / fs - 1.0 - delay_s;
+                let out = 0.5 * direction * min_jerk(t / 0.8);
+                let back = if direction < 0.0 {
+                    min_jerk((t - 0.8) / 1.6)
+                } else {
+                    0.0
+                };
+                out + (0.5 - out) * back
+            })
+            .collect();
+        let step = TargetStep {
+            index: 100,
+            target_rad: 0.5,
+        };
+        (angle, step)
+    }
+
+    #[test]
+    fn a_direct_response_has_its_delay_as_reaction_time_no_direction_error_and_path_ratio_one() {
+        let (angle, step) = response_to_a_step(0.3, 1.0);
+        let r = step_responses(&angle, 100.0, &[step], &ResponseParams::default()).unwrap();
+        let r = r[0];
+        // The onset at 10 % of the peak speed comes 0.8 · 0.086 ≈ 0.069 s into the turn
+        // (30 τ²(1−τ)² = 0.1875 at τ ≈ 0.086).
+        let rt = r.reaction_time_s.unwrap();
+        assert!((rt - (0.3 + 0.069)).abs() < 0.02, "{rt}");
+        assert_eq!(r.initial_direction_error_deg, Some(0.0));
+        let p = r.path_length_ratio.unwrap();
+        assert!((0.95..1.01).contains(&p), "{p}");
+    }
+
+    #[test]
+    fn a_response_that_starts_the_wrong_way_has_180_degrees_and_path_ratio_three() {
+        let (angle, step) = response_to_a_step(0.2, -1.0);
+        let r = step_responses(&angle, 100.0, &[step], &ResponseParams::default()).unwrap()[0];
+        assert_eq!(r.initial_direction_error_deg, Some(180.0));
+        // Out 0.5 rad the wrong way, then back 1 rad: 1.5 rad for 0.5 rad needed.
+        let p = r.path_length_ratio.unwrap();
+        assert!((2.85..3.01).contains(&p), "{p}");
+        assert!(r.reaction_time_s.unwrap() > 0.2);
+    }
+
+    #[test]
+    fn a_wheel_that_never_moves_has_no_response_and_bad_steps_are_refused() {
+        let still = vec![0.1; 300];
+        let step = TargetStep {
+            index: 50,
+            target_rad: 0.6,
+        };
+        let r = step_responses(&still, 100.0, &[step], &ResponseParams::default()).unwrap();
+        assert_eq!(r[0].reaction_time_s, None);
+        assert_eq!(r[0].path_length_ratio, None);
+        let late = TargetStep { index: 300, ..step };
+        assert!(step_responses(&still, 100.0, &[late], &ResponseParams::default()).is_err());
+        let unordered = [step, step];
+        assert!(step_responses(&still, 100.0, &unordered, &ResponseParams::default()).is_err());
+    }
+}
