@@ -13,30 +13,25 @@
 //! (0.0023 rad steps on the thesis wheel), so differentiating it twice is noise.
 //!
 //! **Observer.** A linear *extended-state observer* (Gao, "Scaling and bandwidth-
-//! parameterization based controller tuning", ACC 2003; the disturbance observer of ADRC) on
-//! the wheel's kinematics, states `[θ̂, ω̂, â]` (angle, velocity, acceleration; the
-//! acceleration is the "extended" state, modelled constant):
+//! parameterization based controller tuning", ACC 2003: the disturbance observer of ADRC) of
+//! that law, the hand's torque its extended state (modelled constant between ticks), with the
+//! torque acting on the wheel as its known input — the command sent `delay_ticks` ticks
+//! earlier, as the passivity observer pairs them:
 //!
 //! ```text
 //! e = θ − θ̂
-//! θ̂' = ω̂ + 3·ω₀·e,   ω̂' = â + 3·ω₀²·e,   â' = ω₀³·e          (E.1)
+//! θ̂' = ω̂ + 3·ω₀·e
+//! ω̂' = (τ_act − B ω̂ − τ_c sat(ω̂ / v_c) + τ̂_h) / J + 3·ω₀²·e          (E.1)
+//! τ̂_h' = J·ω₀³·e                                                        (E.2)
 //! ```
 //!
-//! with all three poles at `−ω₀` (`bandwidth_rad_s`). It needs no differentiation: the angle
-//! error is integrated. The hand's torque is then eq. 5.8 inverted with the observer's states
-//! and the torque that was acting on the wheel (the command sent `1 + delay_ticks` ticks ago,
-//! as the passivity observer pairs them):
-//!
-//! ```text
-//! τ̂_h = J â + B ω̂ + τ_c sat(ω̂ / v_c) − τ_act(k − 1 − D)          (E.2)
-//! ```
-//!
-//! The motor torque enters (E.2) unfiltered, so where the hand mostly balances the motor (a
-//! spring, a resistance, a slow movement) the estimate has no lag at all: the observer's lag
-//! (about `3/ω₀`) touches only the inertial term `J â`, which is small at the speeds of
-//! rehabilitation. The full disturbance-observer form (τ_act as the model's input and the
-//! whole of `τ_h` the extended state) lags on the whole torque instead; with the station's
-//! simulated patient it was the worse of the two (see BENCHMARKS.md, "Hand torque estimate").
+//! all three poles at `−ω₀` (`bandwidth_rad_s`). It needs no differentiation (the angle error
+//! is integrated), and `τ̂_h` follows the hand's torque through `ω₀³/(s + ω₀)³`: a lag of
+//! about `3/ω₀` (50 ms at the default 60 rad/s), with the encoder's quantisation let through
+//! as `≈ J ω₀² Δθ`. The form with the motor's torque fed through unfiltered (the observer
+//! estimating only `J θ̈`) had no lag where the hand balances the motor but an error of the
+//! whole inertial torque wherever the motor chatters (motion assist): it was the worse of the
+//! two on the station's simulated patient (BENCHMARKS.md, "Hand torque estimate").
 //!
 //! Allocation-free and a handful of multiplications a tick: it runs on the haptic thread. It
 //! only *observes*: nothing it computes is ever commanded.
@@ -77,7 +72,7 @@ pub struct ObserverTuning {
     /// Bandwidth `ω₀` of (E.1), rad/s: higher follows faster, and lets more encoder
     /// quantisation through (`≈ J ω₀² Δθ` of noise).
     pub bandwidth_rad_s: f64,
-    /// Velocity `v_c` below which the Coulomb term of (E.2) fades linearly to zero, rad/s
+    /// Velocity `v_c` below which the Coulomb term of (E.1) fades linearly to zero, rad/s
     /// (the wheel at rest holds any torque within ±τ_c: unobservable).
     pub coulomb_fade_rad_s: f64,
 }
@@ -91,7 +86,7 @@ impl Default for ObserverTuning {
     }
 }
 
-/// The estimator of eq. (E.1)–(E.2). Call [`step`](Self::step) with each tick's measured
+/// The observer of eq. (E.1)–(E.2). Call [`step`](Self::step) with each tick's measured
 /// angle, then [`commit`](Self::commit) with the torque sent to the motor that tick.
 #[derive(Clone, Debug)]
 pub struct HandTorqueObserver {
@@ -130,8 +125,8 @@ impl HandTorqueObserver {
     }
 
     /// Observe the angle `angle_rad` measured `dt_s` after the last and return the hand's
-    /// torque estimate (E.2), N·m. A non-finite angle or `dt_s` observes nothing and returns
-    /// the last estimate's kinematics with the current motor torque.
+    /// torque estimate `τ̂_h` (E.2), N·m: the torque of the step that angle ended. A non-finite
+    /// angle or `dt_s` observes nothing and returns the last estimate.
     pub fn step(&mut self, angle_rad: f64, dt_s: f64) -> f64 {
         if angle_rad.is_finite() && dt_s.is_finite() && dt_s > 0.0 {
             if self.started {
