@@ -16,6 +16,8 @@
 //!   difficulty adaptation.
 //! - [`human`]: the simulated human arm holding the wheel; [`sim`]: the RK4 plant simulator
 //!   the tests and benchmarks use.
+//! - [`effort`]: the patient's hand torque estimated from the wheel's dynamics and the
+//!   motor's command (an extended-state observer, eq. E.1–E.2).
 //! - [`error`]: the errors, [`AssistError`].
 //!
 //! The station's haptic loop uses [`Assist`]:
@@ -31,6 +33,7 @@
 
 pub mod aan;
 pub mod difficulty;
+pub mod effort;
 pub mod error;
 pub mod force;
 pub mod governor;
@@ -44,6 +47,7 @@ pub mod sim;
 pub mod spec;
 
 pub use difficulty::{DifficultyAdapter, DifficultyParams};
+pub use effort::{HandTorqueObserver, ObserverTuning, WheelDynamics};
 pub use error::AssistError;
 pub use governor::Infeasibility;
 pub use human::{HumanArm, HumanArmParams};

@@ -64,6 +64,7 @@ fn tick(n: u64) -> TickRecord {
             passivity_damping_nm_s_per_rad: 1e-4,
             true_angle_rad: (n.is_multiple_of(2)).then_some(x + 1e-9),
             hand_nm: None,
+            hand_est_nm: None,
             target_rad: f64::MIN_POSITIVE,
             ceiling_nm: 1.87,
             motor_rating_known: true,

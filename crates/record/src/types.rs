@@ -72,6 +72,12 @@ pub struct WheelSample {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(with = "f64")]
     pub hand_nm: Option<f64>,
+    /// The patient's hand torque estimated from the wheel's dynamics and the torque sent to
+    /// the motor (`assist::effort`, eq. E.1–E.2), N·m; on every wheel. Absent in recordings
+    /// made before it was estimated.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "f64")]
+    pub hand_est_nm: Option<f64>,
     /// Wheel angle the patient aims for, rad.
     pub target_rad: f64,
     /// The torque ceiling in force, N·m at the motor.

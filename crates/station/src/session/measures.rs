@@ -70,8 +70,9 @@ pub struct MeasureCollector {
     live: LiveMeasures,
     /// Positive work of the assist torque on the wheel, J.
     assist_work_j: f64,
-    /// Positive work of the patient's hand on the wheel, J (simulation only: a real wheel
-    /// does not measure the hand's torque).
+    /// Positive work of the patient's hand on the wheel, J, from the hand's torque as
+    /// estimated on every wheel (`assist::effort`; the simulation's true torque is only its
+    /// check). `None` for recordings made before the estimate.
     patient_work_j: Option<f64>,
     /// The exercise of each run (parallel to `runs`): a run never spans two exercises.
     run_exercise: Vec<u32>,
@@ -215,7 +216,7 @@ impl MeasureCollector {
                 self.assist_work_j +=
                     (rec.assist.torque_nm * w.velocity_rad_s).max(0.0) * self.tick_s;
             }
-            if let Some(hand_nm) = w.hand_nm.filter(|h| h.is_finite()) {
+            if let Some(hand_nm) = w.hand_est_nm.filter(|h| h.is_finite()) {
                 *self.patient_work_j.get_or_insert(0.0) +=
                     (hand_nm * w.velocity_rad_s).max(0.0) * self.tick_s;
             }
@@ -669,7 +670,7 @@ mod tests {
                     wheel: WheelSample {
                         angle_rad: angle,
                         velocity_rad_s: 1.0,
-                        hand_nm: Some(0.3),
+                        hand_est_nm: Some(0.3),
                         ..WheelSample::default()
                     },
                     assist: AssistSample {
@@ -872,7 +873,7 @@ mod tests {
                     wheel: WheelSample {
                         angle_rad: reading,
                         velocity_rad_s: amplitude * phase.cos(),
-                        hand_nm: Some(rng.random_range(-0.5..0.5)),
+                        hand_est_nm: Some(rng.random_range(-0.5..0.5)),
                         ..WheelSample::default()
                     },
                     score: record::ScoreSample {

@@ -8,6 +8,7 @@ pub mod buttons;
 mod controls;
 pub mod course;
 pub mod disk_space;
+pub mod effort_check;
 pub mod end_reason;
 pub mod faults;
 pub mod haptic;

@@ -288,6 +288,11 @@ impl RecordedBody {
         }
     }
 
+    /// The recorded session ran on a real wheel (not the simulated one).
+    pub fn real(&self) -> bool {
+        self.real
+    }
+
     /// Raised when the replay asks for a tick past the recording's last: the recorded session
     /// went on (it was killed, or its file cut short), its inputs did not.
     pub fn ran_out(&self) -> Arc<AtomicBool> {

@@ -157,6 +157,32 @@ impl Body {
         }
     }
 
+    /// The wheel's dynamics the patient's torque is estimated with: the simulated wheel's
+    /// own (also when a simulated session is replayed); for a real wheel the nominal consumer
+    /// wheel's ([`assist::WheelDynamics::NOMINAL`]: `telerehab wheel calibrate` does not
+    /// measure inertia and friction yet). `dt_s` is the loop period (for the USB delay).
+    pub(super) fn wheel_dynamics(&self, cfg: &StationConfig, dt_s: f64) -> assist::WheelDynamics {
+        let sim = match self {
+            Body::Sim { .. } => true,
+            #[cfg(target_os = "linux")]
+            Body::Evdev { .. } => false,
+            Body::Recorded(r) => !r.real(),
+        };
+        if !sim {
+            return assist::WheelDynamics::NOMINAL;
+        }
+        let w = &cfg.sim_wheel;
+        // A command is due `delay + jitter` after it is sent (half the jitter on average) and
+        // acts from the first step at or after it.
+        let delay_ticks = ((w.usb_delay_s + 0.5 * w.usb_jitter_s) / dt_s - 1e-9).ceil();
+        assist::WheelDynamics {
+            inertia_kg_m2: w.inertia_kg_m2,
+            viscous_nm_s_per_rad: w.viscous_nm_s_per_rad,
+            coulomb_nm: w.coulomb_nm,
+            delay_ticks: delay_ticks.clamp(0.0, 62.0) as usize,
+        }
+    }
+
     /// The simulated patient looks at the road and moves the simulated wheel, and the arm
     /// pose is estimated from the simulated IMUs; a real patient moves a real wheel alone.
     pub(super) fn move_to(&mut self, target_rad: f64, read: WheelNow) -> BodyMotion {

@@ -58,6 +58,9 @@ pub struct Plant {
     break_settings: crate::session::breaks::BreakSettings,
     /// The patient's pedals as last read off the haptic thread.
     live_pedals: vehicle::Pedals,
+    /// The patient's own torque on the wheel, estimated from the wheel's dynamics and the
+    /// torque sent (it observes only: nothing it computes is commanded).
+    effort: assist::HandTorqueObserver,
 }
 
 /// The loop's ticks.
@@ -117,6 +120,8 @@ struct Stages {
     assist: AssistStep,
     tel: TickTelemetry,
     motion: BodyMotion,
+    /// The patient's torque estimate, N·m.
+    hand_est_nm: f64,
 }
 
 impl Plant {
@@ -158,6 +163,11 @@ impl Plant {
             encoder_step_rad: body.encoder_step_rad(cfg),
         };
         let mut chain = HapticChain::new(chain_cfg, device_max).context("haptic chain")?;
+        let dt_s = 1.0 / cfg.session.loop_rate_hz;
+        let effort = assist::HandTorqueObserver::new(
+            body.wheel_dynamics(cfg, dt_s),
+            assist::ObserverTuning::default(),
+        );
         chain
             .apply_regimen(&course[0].haptic)
             .context("haptic settings of the first exercise")?;
@@ -185,7 +195,7 @@ impl Plant {
             health: WheelHealth::new(half_range_rad, replug_grace_ns),
             raw: RawInputs::new(),
             clock: LoopClock {
-                dt_s: 1.0 / cfg.session.loop_rate_hz,
+                dt_s,
                 tick: 0,
                 active_ticks: 0,
             },
@@ -198,6 +208,7 @@ impl Plant {
                 pause_limit_s: cfg.session.pause_limit_s,
             },
             live_pedals: vehicle::Pedals::default(),
+            effort,
         })
     }
 
@@ -312,6 +323,10 @@ impl Plant {
         // 4. Haptic chain: model + road feel + assist → passivity → safety supervisor; the
         //    torque goes to the wheel.
         let tel = self.actuate(sensed.reading, exercise.road_feel_nm + assist.out.torque_nm);
+        //    The patient's torque from the angle read and the torques sent (eq. E.2).
+        let read_rad = sensed.reading.map_or(f64::NAN, |r| r.angle_rad);
+        let hand_est_nm = self.effort.step(read_rad, now.dt_s);
+        self.effort.commit(tel.torque_nm);
         // 5. Whoever holds the wheel moves it (following the arm set-up's prompts first); the
         //    arm's IMUs are read here.
         let aim_rad = aim_rad(setup, exercise.target_rad, now);
@@ -333,6 +348,7 @@ impl Plant {
             assist,
             tel,
             motion,
+            hand_est_nm,
         });
         self.clock.advance(paused);
         rec
@@ -429,6 +445,7 @@ impl Plant {
             assist,
             tel,
             motion,
+            hand_est_nm,
         } = stages;
         TickRecord {
             tick: now.tick,
@@ -447,6 +464,7 @@ impl Plant {
                 passivity_damping_nm_s_per_rad: tel.passivity_damping_nm_s_per_rad,
                 true_angle_rad: motion.true_angle_rad,
                 hand_nm: motion.hand_nm,
+                hand_est_nm: Some(hand_est_nm),
                 target_rad: exercise.target_rad,
                 ceiling_nm: self.chain.ceiling_nm(),
                 motor_rating_known: !self.ceiling.assumed,
