@@ -433,14 +433,15 @@ impl Link {
         // Messages that arrived too late for this session's start card (or in a session
         // without a window) are kept for the next one.
         inner.keep_new_messages();
+        let measures = within_bye_limit(measures);
         if let Some(q) = &inner.queue {
             let mut q = q.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-            q.set_measures(measures);
+            q.set_measures(&measures);
             q.set_end_reason(end_reason);
         }
         let stats = inner.runtime.block_on(inner.link.finish_with_measures(
             end_reason,
-            measures.clone(),
+            measures,
             FINISH_TIMEOUT,
         ));
         let upload = match (&inner.home, recording) {
@@ -523,6 +524,67 @@ fn upload_now(
     report.describe()
 }
 
+/// The measures the clinic reads first (the caseload's trends, the console's progress and the
+/// report's front), kept first when a session names more than a `Bye` may carry.
+const FIRST_MEASURES: [&str; 24] = [
+    "pct_in_lane",
+    "rms_lateral_m",
+    "dial_rms_error_deg",
+    "wheel_rom_deg",
+    "shoulder_elevation_rom_deg",
+    "elbow_flexion_rom_deg",
+    "sparc_median",
+    "assist_level_mean",
+    "active_s",
+    "session_s",
+    "patient_work_pct",
+    "max_abs_torque_nm",
+    "cone_hits",
+    "movements",
+    "speed_metric_median",
+    "speed_peaks_median",
+    "movement_time_s_median",
+    "reaction_time_s_median",
+    "initial_direction_error_deg_mean",
+    "path_length_ratio_median",
+    "movements_per_min",
+    "reversals_per_min",
+    "ldlj_median",
+    "active_pct",
+];
+
+/// At most [`netlink::frame::MAX_EXTRA_ENTRIES`] of a session's measures, as a `Bye` may carry
+/// (a hub refuses more): the clinic's first measures ([`FIRST_MEASURES`]), then the others in
+/// name order; what is left out is logged by name (the recording keeps every measure).
+fn within_bye_limit(measures: &BTreeMap<String, f64>) -> BTreeMap<String, f64> {
+    let max = netlink::frame::MAX_EXTRA_ENTRIES;
+    if measures.len() <= max {
+        return measures.clone();
+    }
+    let first = FIRST_MEASURES
+        .iter()
+        .filter_map(|k| measures.get_key_value(*k));
+    let rest = measures
+        .iter()
+        .filter(|(k, _)| !FIRST_MEASURES.contains(&k.as_str()));
+    let kept: BTreeMap<String, f64> = first
+        .chain(rest)
+        .take(max)
+        .map(|(k, v)| (k.clone(), *v))
+        .collect();
+    let left: Vec<&str> = measures
+        .keys()
+        .filter(|k| !kept.contains_key(*k))
+        .map(String::as_str)
+        .collect();
+    tracing::warn!(
+        "the session named {} measures, a Bye carries {max}: left out of the hub's copy (the recording keeps them): {}",
+        measures.len(),
+        left.join(", ")
+    );
+    kept
+}
+
 /// The newest regimen the hub sent during the session, validated against the station's safety
 /// bounds and kept in the home for the next session (never applied mid-session). What
 /// happened, for the report.
@@ -601,6 +663,37 @@ pub fn exercise_for_the_hub(e: &record::ExerciseResult) -> netlink::ExerciseResu
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_session_naming_more_measures_than_a_bye_carries_keeps_the_clinics_first() {
+        let mut measures: BTreeMap<String, f64> = (0..80)
+            .map(|i| (format!("aaa_extra_{i:02}"), f64::from(i)))
+            .collect();
+        measures.insert("pct_in_lane".into(), 97.0);
+        measures.insert("sparc_median".into(), -1.8);
+        measures.insert("reaction_time_s_median".into(), 0.4);
+        let kept = within_bye_limit(&measures);
+        assert_eq!(kept.len(), netlink::frame::MAX_EXTRA_ENTRIES);
+        assert_eq!(kept["pct_in_lane"], 97.0);
+        assert_eq!(kept["sparc_median"], -1.8);
+        assert_eq!(kept["reaction_time_s_median"], 0.4);
+        assert!(kept.contains_key("aaa_extra_00") && !kept.contains_key("aaa_extra_79"));
+        // A Bye with them is one the hub accepts.
+        let bye = netlink::Bye {
+            session_id: "s".into(),
+            reason: "complete".into(),
+            final_seq: None,
+            measures: kept,
+            hub_unix_ms: None,
+            checkin: None,
+            difficulty: None,
+            exercises: Vec::new(),
+        };
+        assert!(netlink::Frame::Bye(bye).validate().is_ok());
+        // Within the limit, every measure goes.
+        measures.retain(|k, _| !k.starts_with("aaa_extra_"));
+        assert_eq!(within_bye_limit(&measures), measures);
+    }
 
     #[test]
     fn session_id_is_a_valid_wire_identifier() {
