@@ -210,6 +210,8 @@ fn scale_speed(spec: &mut ExerciseSpec, k: f64) {
                 DialSignal::Step { .. } => {}
             }
         }
+        // A strength test has no speed: the patient sets its pace.
+        ExerciseSpec::Strength(_) => {}
     }
 }
 
@@ -246,6 +248,8 @@ fn scale_shape(spec: &mut ExerciseSpec, k: f64) {
                 }
             }
         }
+        // Nor a shape: the patient pushes as hard as they comfortably can.
+        ExerciseSpec::Strength(_) => {}
     }
 }
 
@@ -261,7 +265,7 @@ fn scale_assist(mode: &mut AssistMode, k: f64) {
 
 /// A road driven once keeps its prescribed time when its speed changes.
 fn keep_duration(spec: &mut ExerciseSpec, prescribed: &ExerciseSpec) {
-    if matches!(spec, ExerciseSpec::Dial(_)) {
+    if matches!(spec, ExerciseSpec::Dial(_) | ExerciseSpec::Strength(_)) {
         return;
     }
     let Ok(built) = prescribed.build() else {
@@ -279,7 +283,7 @@ fn keep_duration(spec: &mut ExerciseSpec, prescribed: &ExerciseSpec) {
         ExerciseSpec::SBend(s) => &mut s.duration_s,
         ExerciseSpec::LaneChange(s) => &mut s.duration_s,
         ExerciseSpec::Slalom(s) => &mut s.duration_s,
-        ExerciseSpec::Dial(_) => return,
+        ExerciseSpec::Dial(_) | ExerciseSpec::Strength(_) => return,
     };
     d.get_or_insert(fixed);
 }

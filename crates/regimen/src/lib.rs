@@ -283,10 +283,11 @@ impl Regimen {
 /// patient's feet, a road without one might never end).
 fn check_pedals(spec: &ExerciseSpec) -> Result<(), String> {
     let built = spec.build().map_err(|e| e.to_string())?;
-    if built.is_dial() {
-        return Err(
-            "pedals = true on a dial task, which has no car: allowed on road exercises only".into(),
-        );
+    if built.road.is_none() {
+        return Err(format!(
+            "pedals = true on {:?}, which has no car: allowed on road exercises only",
+            built.name
+        ));
     }
     if built.duration_s.is_none() {
         return Err("pedals = true needs a duration_s (a patient who stops would otherwise never finish the road)".into());
@@ -296,11 +297,13 @@ fn check_pedals(spec: &ExerciseSpec) -> Result<(), String> {
 
 /// The kind of exercise a short name (`sine-road`, `slalom`, `dial-step`) or `kind` is, for
 /// comparing like with like: `dial` for the dial tasks, `road` for the driving ones, by the
-/// exercise the name makes ([`ExerciseSpec::from_name`]); a name no exercise has (newer or
+/// exercise the name makes ([`ExerciseSpec::from_name`]), `strength` for the strength test;
+/// a name no exercise has (newer or
 /// older than this build) is a dial or road by its prefix or suffix, else its own kind.
 pub fn exercise_kind(short: &str) -> String {
     let kind = match ExerciseSpec::from_name(short) {
         Ok(ExerciseSpec::Dial(_)) => "dial",
+        Ok(ExerciseSpec::Strength(_)) => "strength",
         Ok(_) => "road",
         Err(_) if short.starts_with("dial") => "dial",
         Err(_) if short.ends_with("-road") => "road",
@@ -317,7 +320,7 @@ mod tests {
     fn every_exercise_kind_is_described_in_words_a_therapist_reads() {
         let schema = Regimen::json_schema();
         let variants = schema["$defs"]["RegimenEntry"]["oneOf"].as_array().unwrap();
-        assert_eq!(variants.len(), 9);
+        assert_eq!(variants.len(), 10);
         for v in variants {
             let kind = &v["properties"]["kind"]["const"];
             let words = v["description"].as_str().unwrap_or_default();
@@ -331,10 +334,12 @@ mod tests {
     }
 
     #[test]
-    fn every_built_in_exercise_is_a_road_or_a_dial_and_an_unknown_name_its_own_kind() {
+    fn every_built_in_exercise_is_a_road_a_dial_or_strength_and_an_unknown_name_its_own_kind() {
         for name in vehicle::EXERCISE_NAMES {
             let want = if name.starts_with("dial") {
                 "dial"
+            } else if name == "strength" {
+                "strength"
             } else {
                 "road"
             };

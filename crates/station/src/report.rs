@@ -207,12 +207,31 @@ fn exercise(s: &mut String, r: &SessionReport) {
             score.cone_hits
         );
     }
-    if rec.dial_ticks > 0 {
+    let named = &rec.measures.named;
+    // A strength test has no car either, but no needles: no dial line for it alone.
+    let strength_alone = named.keys().any(|k| k.starts_with("strength_"))
+        && !named.contains_key("dial_rms_error_deg");
+    if rec.dial_ticks > 0 && !strength_alone {
         line!(
             s,
             "dial tracking       RMS error {:.2}° (thesis Appendix E: about 3°)",
             score.dial_rms_error_deg
         );
+    }
+    for side in ["left", "right"] {
+        let m = |what: &str| named.get(&format!("strength_{what}_{side}_nm")).copied();
+        if let (Some(peak), Some(held)) = (m("peak"), m("sustained")) {
+            let ceiling = named.get(&format!("strength_{side}_at_ceiling")) == Some(&1.0);
+            line!(
+                s,
+                "strength {side:<5}      peak {peak:.2} N·m, sustained 1 s {held:.2} N·m{}",
+                if ceiling {
+                    " (reached the ceiling)"
+                } else {
+                    ""
+                }
+            );
+        }
     }
 }
 

@@ -110,6 +110,24 @@ impl CourseView {
                 },
                 v.ux_m_s,
             ),
+            // The strength test: the side from where the patient is asked to aim, the push
+            // from the spring's torque (recorded as the road feel).
+            _ if ex.short == "strength" => {
+                let side =
+                    rec.wheel.target_rad.signum() as i8 * i8::from(rec.wheel.target_rad != 0.0);
+                let push_nm = (-f64::from(side) * rec.wheel.road_feel_nm).max(0.0);
+                (
+                    render::Road::default(),
+                    CarPose::default(),
+                    None,
+                    LiveScore::Strength {
+                        side,
+                        push_nm: if push_nm.is_finite() { push_nm } else { 0.0 },
+                        ceiling_nm: rec.wheel.ceiling_nm,
+                    },
+                    0.0,
+                )
+            }
             _ => (
                 render::Road::default(),
                 CarPose::default(),

@@ -80,6 +80,12 @@ pub mod bounds {
     pub const CONE_COUNT: Bound = Bound::new(1.0, 200.0);
     /// A slalom's `weave_m`, m.
     pub const WEAVE_M: Bound = Bound::new(0.5, 10.0);
+    /// The strength test's `stiffness_nm_per_rad`, N·m/rad (stiff: the wheel barely moves).
+    pub const STIFFNESS_NM_PER_RAD: Bound = Bound::new(5.0, 200.0);
+    /// The strength test's `ramp_nm_per_s`, N·m/s (slow: the patient meets it gradually).
+    pub const RAMP_NM_PER_S: Bound = Bound::new(0.05, 5.0);
+    /// The strength test's `side_s`, s.
+    pub const SIDE_S: Bound = Bound::new(3.0, 60.0);
 }
 
 macro_rules! spec_struct {
@@ -306,8 +312,31 @@ spec_struct!(
     }
 );
 
+spec_struct!(
+    /// The strength test (see [`crate::strength`]): a stiff spring ramped slowly up to the
+    /// torque ceiling holds the wheel while the patient pushes left, then right.
+    StrengthSpec {
+        /// Stiffness of the spring holding the wheel at the centre, N·m/rad.
+        #[schemars(range(min = STIFFNESS_NM_PER_RAD.min, max = STIFFNESS_NM_PER_RAD.max))]
+        stiffness_nm_per_rad: f64 = 40.0,
+        /// How fast the spring's torque limit rises to the ceiling, N·m/s.
+        #[schemars(range(min = RAMP_NM_PER_S.min, max = RAMP_NM_PER_S.max))]
+        ramp_nm_per_s: f64 = 0.5,
+        /// Time limit of each side, s.
+        #[schemars(range(min = SIDE_S.min, max = SIDE_S.max))]
+        side_s: f64 = 12.0,
+    }
+);
+
+impl StrengthSpec {
+    /// The longest the test lasts, s: both sides and the rest between them.
+    pub fn duration_s(&self) -> f64 {
+        2.0 * self.side_s + crate::strength::REST_S
+    }
+}
+
 /// A prescribed exercise. TOML: a table with `kind = "straight" | "sine" | "triangle" |
-/// "clothoid" | "sharp-turns" | "s-bend" | "lane-change" | "slalom" | "dial"` and that kind's
+/// "clothoid" | "sharp-turns" | "s-bend" | "lane-change" | "slalom" | "dial" | "strength"` and that kind's
 /// fields (all optional, defaults above: [`StraightSpec`], [`SineSpec`], …). Each variant's
 /// doc is what the regimen's JSON Schema says of it, read by a therapist in the console's
 /// prescribe form: the words before its colon name the exercise.
@@ -332,10 +361,13 @@ pub enum ExerciseSpec {
     Slalom(SlalomSpec),
     /// Dial: turn the wheel so the needle follows the moving target.
     Dial(DialSpec),
+    /// Strength: push the wheel left, then right, as hard as you comfortably can against a
+    /// spring that stiffens slowly; gives the peak and sustained torque each way.
+    Strength(StrengthSpec),
 }
 
 /// The built-in exercise names, each with its default parameters ([`ExerciseSpec::from_name`]).
-pub const EXERCISE_NAMES: [&str; 13] = [
+pub const EXERCISE_NAMES: [&str; 14] = [
     "straight-road",
     "sine-road",
     "triangle-road",
@@ -349,6 +381,7 @@ pub const EXERCISE_NAMES: [&str; 13] = [
     "dial-step",
     "dial-ramp",
     "dial-chirp",
+    "strength",
 ];
 
 impl ExerciseSpec {
@@ -367,6 +400,7 @@ impl ExerciseSpec {
             "lane-change" => Self::LaneChange(Default::default()),
             "slalom" => Self::Slalom(Default::default()),
             "dial" => Self::Dial(Default::default()),
+            "strength" => Self::Strength(Default::default()),
             other => match other
                 .strip_prefix("dial-")
                 .and_then(DialSignal::default_named)
@@ -399,6 +433,11 @@ impl ExerciseSpec {
             Self::LaneChange(s) => s.duration_s = Some(duration_s),
             Self::Slalom(s) => s.duration_s = Some(duration_s),
             Self::Dial(d) => d.duration_s = duration_s,
+            // Both sides share the time, less the rest between them.
+            Self::Strength(d) => {
+                d.side_s =
+                    ((duration_s - crate::strength::REST_S) / 2.0).clamp(SIDE_S.min, SIDE_S.max);
+            }
         }
         spec
     }
@@ -415,6 +454,7 @@ impl ExerciseSpec {
             Self::LaneChange(_) => "lane-change".into(),
             Self::Slalom(_) => "slalom".into(),
             Self::Dial(d) => format!("dial-{}", d.reference.name()),
+            Self::Strength(_) => "strength".into(),
         }
     }
 
@@ -500,6 +540,16 @@ impl ExerciseSpec {
                 d.reference.validate(c)?;
                 r("duration_s", d.duration_s, DURATION_S, "s")
             }
+            Self::Strength(d) => {
+                r(
+                    "stiffness_nm_per_rad",
+                    d.stiffness_nm_per_rad,
+                    STIFFNESS_NM_PER_RAD,
+                    "N·m/rad",
+                )?;
+                r("ramp_nm_per_s", d.ramp_nm_per_s, RAMP_NM_PER_S, "N·m/s")?;
+                r("side_s", d.side_s, SIDE_S, "s")
+            }
         }
     }
 
@@ -526,6 +576,20 @@ impl ExerciseSpec {
                     cones: Vec::new(),
                     speed_profile_m_s: Vec::new(),
                     dial: Some(d.reference.clone()),
+                    strength: None,
+                });
+            }
+            Self::Strength(d) => {
+                return Ok(Exercise {
+                    name,
+                    road: None,
+                    length_m: 0.0,
+                    lane_width_m: 0.0,
+                    duration_s: Some(d.duration_s()),
+                    cones: Vec::new(),
+                    speed_profile_m_s: Vec::new(),
+                    dial: None,
+                    strength: Some(d.clone()),
                 });
             }
         };
@@ -553,6 +617,7 @@ impl ExerciseSpec {
             cones,
             speed_profile_m_s,
             dial: None,
+            strength: None,
         })
     }
 
@@ -656,7 +721,7 @@ impl ExerciseSpec {
                 2.0 * s.cone_spacing_m,
                 slalom_cones(s.cone_count, reps) + 1,
             ),
-            Self::Dial(_) => return None,
+            Self::Dial(_) | Self::Strength(_) => return None,
         })
     }
 }
@@ -708,6 +773,7 @@ pub struct Exercise {
     pub cones: Vec<[f64; 2]>,
     speed_profile_m_s: Vec<f64>,
     dial: Option<DialSignal>,
+    strength: Option<StrengthSpec>,
 }
 
 impl std::fmt::Debug for Exercise {
@@ -718,6 +784,7 @@ impl std::fmt::Debug for Exercise {
             .field("duration_s", &self.duration_s)
             .field("cones", &self.cones.len())
             .field("dial", &self.dial)
+            .field("strength", &self.strength)
             .finish()
     }
 }
@@ -726,6 +793,11 @@ impl Exercise {
     /// `true` for the rotary dial task (no road, no car).
     pub fn is_dial(&self) -> bool {
         self.dial.is_some()
+    }
+
+    /// The strength test's settings; `None` for every other exercise.
+    pub fn strength(&self) -> Option<&StrengthSpec> {
+        self.strength.as_ref()
     }
 
     /// Desired wheel angle at `t_s` for the dial task, rad; `None` for road exercises.
@@ -829,6 +901,8 @@ mod tests {
                     0.0,
                     "{name} ends straight"
                 );
+            } else if let Some(s) = ex.strength() {
+                assert_eq!(ex.planned_duration_s(), s.duration_s(), "{name}");
             } else {
                 assert!(ex.is_dial() && ex.desired_angle_rad(1.0).is_some());
             }
@@ -882,7 +956,8 @@ mod tests {
     /// on its own heading, and a slalom keeps a cone at every crest.
     #[test]
     fn a_prescribed_duration_longer_than_the_shape_continues_the_road() {
-        for name in EXERCISE_NAMES {
+        // The strength test's sides have their own time limits (its own test below).
+        for name in EXERCISE_NAMES.iter().filter(|n| **n != "strength") {
             let spec = ExerciseSpec::from_name(name).unwrap();
             let once = spec.build().unwrap();
             let ex = spec.with_duration_s(600.0).build().unwrap();
@@ -1005,5 +1080,25 @@ mod tests {
         let before = ex.target_speed_m_s(LEAD_IN_M - 3.0);
         assert!(before > in_turn && before < 10.0);
         assert!(!ex.is_finished(10.0, 5.0) && ex.is_finished(10.0, ex.length_m));
+    }
+
+    #[test]
+    fn a_strength_test_shares_its_duration_between_its_sides_within_their_bounds() {
+        let spec = ExerciseSpec::from_name("strength").unwrap();
+        let ex = spec.with_duration_s(33.0).build().unwrap();
+        assert_eq!(ex.planned_duration_s(), 33.0);
+        assert_eq!(ex.strength().unwrap().side_s, 15.0);
+        // A side is at most a minute: a longer prescription is capped.
+        let long = spec.with_duration_s(600.0).build().unwrap();
+        assert_eq!(long.strength().unwrap().side_s, SIDE_S.max);
+        let soft = ExerciseSpec::Strength(StrengthSpec {
+            stiffness_nm_per_rad: 1.0,
+            ..Default::default()
+        });
+        let err = soft.validate().unwrap_err().to_string();
+        assert!(
+            err.contains("stiffness_nm_per_rad") && err.contains("N·m/rad"),
+            "{err}"
+        );
     }
 }

@@ -28,6 +28,7 @@ pub mod pedals;
 mod reference;
 pub mod road;
 pub mod score;
+pub mod strength;
 pub mod world;
 
 pub use dial::DialSignal;
@@ -41,6 +42,7 @@ pub use path::{PathBuilder, PathRoad};
 pub use pedals::{PedalDrive, Pedals, SimFoot};
 pub use road::{Projection, Road, SineRoad};
 pub use score::{DialScore, DialSummary, DrivingScore, DrivingSummary, LaneScore};
+pub use strength::{StrengthSide, StrengthStop, StrengthSummary, StrengthTest};
 pub use world::{Side, TrackLayout, World, WorldEvent};
 
 #[cfg(test)]

@@ -35,7 +35,7 @@ const fn m(
 }
 
 /// The measures shown, in order (those a session lacks are left out).
-pub(super) const MEASURES: [Measure; 23] = [
+pub(super) const MEASURES: [Measure; 27] = [
     m("session_s", "Session length", "s", 0, Better::Neither),
     m("paused_s", "Paused", "s", 0, Better::Neither),
     m("movements", "Movements", "", 0, Better::Neither),
@@ -154,6 +154,34 @@ pub(super) const MEASURES: [Measure; 23] = [
         Better::Lower,
     ),
     m(
+        "strength_peak_left_nm",
+        "Strength pushing left: peak",
+        "N·m",
+        2,
+        Better::Higher,
+    ),
+    m(
+        "strength_sustained_left_nm",
+        "Strength pushing left: held 1 s",
+        "N·m",
+        2,
+        Better::Higher,
+    ),
+    m(
+        "strength_peak_right_nm",
+        "Strength pushing right: peak",
+        "N·m",
+        2,
+        Better::Higher,
+    ),
+    m(
+        "strength_sustained_right_nm",
+        "Strength pushing right: held 1 s",
+        "N·m",
+        2,
+        Better::Higher,
+    ),
+    m(
         "assist_level_mean",
         "Assist level (mean, 0–1)",
         "",
@@ -171,7 +199,7 @@ pub(super) const MEASURES: [Measure; 23] = [
 
 /// An exercise's own results shown in the per-exercise table, in order (rows no exercise has
 /// are left out).
-pub(super) const EXERCISE_MEASURES: [Measure; 22] = [
+pub(super) const EXERCISE_MEASURES: [Measure; 26] = [
     m(
         "rms_lateral_m",
         "Lane keeping: lateral deviation (RMS)",
@@ -215,6 +243,34 @@ pub(super) const EXERCISE_MEASURES: [Measure; 22] = [
         "°",
         2,
         Better::Lower,
+    ),
+    m(
+        "strength_peak_left_nm",
+        "Strength pushing left: peak",
+        "N·m",
+        2,
+        Better::Higher,
+    ),
+    m(
+        "strength_sustained_left_nm",
+        "Strength pushing left: held 1 s",
+        "N·m",
+        2,
+        Better::Higher,
+    ),
+    m(
+        "strength_peak_right_nm",
+        "Strength pushing right: peak",
+        "N·m",
+        2,
+        Better::Higher,
+    ),
+    m(
+        "strength_sustained_right_nm",
+        "Strength pushing right: held 1 s",
+        "N·m",
+        2,
+        Better::Higher,
     ),
     m("movements", "Movements", "", 0, Better::Neither),
     m("active_pct", "Time moving", "%", 0, Better::Higher),
@@ -323,7 +379,7 @@ pub(crate) fn exercise_words(e: &record::ExerciseResult) -> String {
 }
 
 /// The measures charted across sessions, each chart's lines by key.
-pub(super) const PROGRESS: [(&str, &str, &[&str]); 6] = [
+pub(super) const PROGRESS: [(&str, &str, &[&str]); 7] = [
     (
         "Smoothness (SPARC, median; closer to 0 is smoother)",
         "SPARC",
@@ -344,6 +400,11 @@ pub(super) const PROGRESS: [(&str, &str, &[&str]); 6] = [
         &["rms_lateral_m"],
     ),
     ("Tracking error", "RMS error (°)", &["dial_rms_error_deg"]),
+    (
+        "Strength",
+        "torque held 1 s (N·m)",
+        &["strength_sustained_left_nm", "strength_sustained_right_nm"],
+    ),
     (
         "Time moving and the patient's share of the work",
         "%",

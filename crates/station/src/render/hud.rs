@@ -171,7 +171,57 @@ fn score_lines(score: &LiveScore) -> Vec<(String, f32)> {
             (format!("Needles {rms_error_deg:.0}° apart"), 30.0),
             (dial_words(rms_error_deg).into(), MIN_TEXT_PT),
         ],
+        // The strength test draws its own instruction and bar (`strength_bar`).
+        LiveScore::Strength { .. } => vec![],
     }
+}
+
+/// What the strength test asks now, in plain words (`side`: +1 left, −1 right, 0 rest).
+pub fn strength_words(side: i8) -> &'static str {
+    match side {
+        1 => "Push the wheel to the left as hard as you comfortably can",
+        -1 => "Push the wheel to the right as hard as you comfortably can",
+        _ => "Let go of the wheel and rest",
+    }
+}
+
+/// The strength test's instruction and a bar of the patient's torque (full at the ceiling),
+/// in the middle of the screen.
+fn strength_bar(p: &Painter, size: Vec2, side: i8, push_nm: f64, ceiling_nm: f64) {
+    let words = galley(p, strength_words(side), 32.0, TEXT);
+    let bar = vec2((size.x * 0.6).max(200.0), 48.0);
+    let panel = vec2(
+        words.size().x.max(bar.x) + 4.0 * PAD,
+        words.size().y + bar.y + 3.0 * PAD,
+    );
+    let rect = Rect::from_center_size(pos2(size.x * 0.5, size.y * 0.5), panel);
+    p.rect_filled(rect, CornerRadius::same(12), PANEL);
+    let wh = words.size().y;
+    p.galley(
+        pos2(rect.center().x - words.size().x / 2.0, rect.top() + PAD),
+        words,
+        TEXT,
+    );
+    let track = Rect::from_center_size(
+        pos2(rect.center().x, rect.top() + 2.0 * PAD + wh + bar.y / 2.0),
+        bar,
+    );
+    p.rect_filled(track, CornerRadius::same(8), Color32::from_gray(90));
+    let share = if ceiling_nm > 0.0 {
+        (push_nm / ceiling_nm).clamp(0.0, 1.0) as f32
+    } else {
+        0.0
+    };
+    // The bar grows the way the patient pushes: from the right end for left, and back.
+    let fill = if side < 0 {
+        Rect::from_min_size(track.min, vec2(bar.x * share, bar.y))
+    } else {
+        Rect::from_min_size(
+            pos2(track.max.x - bar.x * share, track.min.y),
+            vec2(bar.x * share, bar.y),
+        )
+    };
+    p.rect_filled(fill, CornerRadius::same(8), ACCENT);
 }
 
 fn paint(p: &Painter, scene: &Scene, size: Vec2) {
@@ -207,6 +257,14 @@ fn paint(p: &Painter, scene: &Scene, size: Vec2) {
             (format_time_left(hud.time_left_s), 44.0),
         ],
     );
+    if let LiveScore::Strength {
+        side,
+        push_nm,
+        ceiling_nm,
+    } = hud.score
+    {
+        strength_bar(p, size, side, push_nm, ceiling_nm);
+    }
     let score = score_lines(&hud.score);
     if !score.is_empty() {
         text_panel(p, pos2(w - MARGIN, MARGIN), Align2::RIGHT_TOP, &score);

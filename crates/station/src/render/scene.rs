@@ -82,6 +82,15 @@ pub enum LiveScore {
         /// RMS difference between desired and actual angle, deg.
         rms_error_deg: f64,
     },
+    /// The strength test: which way to push and how hard the patient pushes now.
+    Strength {
+        /// +1 push left, −1 push right, 0 rest.
+        side: i8,
+        /// The patient's torque the spring holds, N·m (≥ 0).
+        push_nm: f64,
+        /// The torque ceiling, N·m (the bar's full length).
+        ceiling_nm: f64,
+    },
 }
 
 /// Text and numbers for the heads-up display.
@@ -303,6 +312,14 @@ impl Scene {
                 in_range("hud.score.in_lane_pct", in_lane_pct, 0.0, 100.0)?;
             }
             LiveScore::Dial { rms_error_deg } => finite("hud.score.rms_error_deg", rms_error_deg)?,
+            LiveScore::Strength {
+                push_nm,
+                ceiling_nm,
+                ..
+            } => {
+                finite("hud.score.push_nm", push_nm)?;
+                finite("hud.score.ceiling_nm", ceiling_nm)?;
+            }
         }
         Ok(())
     }

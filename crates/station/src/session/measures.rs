@@ -556,8 +556,40 @@ fn name_exercise_scores(named: &mut BTreeMap<String, f64>, s: &ExerciseScores) {
         put("dial_rms_error_deg", d.rms_error_deg);
         put("dial_max_abs_error_deg", d.max_abs_error_deg);
     }
+    if let Some(st) = &s.strength {
+        for (side, r) in [("left", st.left), ("right", st.right)] {
+            if let Some(r) = r {
+                put(&format!("strength_peak_{side}_nm"), r.peak_nm);
+                put(&format!("strength_sustained_{side}_nm"), r.sustained_nm);
+                put(&format!("strength_{side}_s"), r.duration_s);
+                let at_ceiling = r.stop == vehicle::StrengthStop::Ceiling;
+                put(
+                    &format!("strength_{side}_at_ceiling"),
+                    f64::from(u8::from(at_ceiling)),
+                );
+            }
+        }
+    }
     if let Some(t) = s.completion_time_s {
         put("completion_time_s", t);
+    }
+}
+
+/// The session's strength figures: each `strength_*` measure of its exercises, the highest
+/// when the test ran more than once; and no dial figure when no exercise was a dial task (the
+/// strength test has no car either, but no needles).
+pub fn strength_of_exercises(named: &mut BTreeMap<String, f64>, exercises: &[ExerciseResult]) {
+    let no_dial = !exercises
+        .iter()
+        .any(|e| e.scores.contains_key("dial_rms_error_deg"));
+    if !exercises.is_empty() && no_dial {
+        named.remove("dial_rms_error_deg");
+    }
+    for (k, v) in exercises.iter().flat_map(|e| &e.scores) {
+        if k.starts_with("strength_") && v.is_finite() {
+            let best = named.entry(k.clone()).or_insert(*v);
+            *best = best.max(*v);
+        }
     }
 }
 

@@ -556,6 +556,7 @@ pub(super) fn recorder_loop(
         ending.map_or(&[][..], |e| e.scores.as_slice()),
         crate::session::words::plain_name,
     );
+    super::measures::strength_of_exercises(&mut out.measures.named, &out.exercises);
     let sample = MetricsSample {
         exercises: out.exercises.clone(),
         end_reason: ending.map_or_else(String::new, |e| {

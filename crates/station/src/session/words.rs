@@ -19,6 +19,7 @@ pub fn capitalised(s: &str) -> String {
 pub fn plain_instruction(short: &str) -> &'static str {
     match short {
         s if s.starts_with("dial") => "Turn the wheel so the black needle follows the red one",
+        "strength" => "Push the wheel left, then right, as hard as you comfortably can",
         "slalom" => "Steer between the cones and keep the car on the road",
         "lane-change" => "Move into the other lane when the road does, then hold it",
         "straight-road" => "Keep the car in the middle of the lane",

@@ -37,6 +37,8 @@ pub(super) struct Exercise {
     handed: Vec<ExerciseScores>,
     /// The session is stopping: its fade-out is no exercise's own time.
     stopping: bool,
+    /// The torque ceiling in force, N·m (the strength test's spring ramps up to it).
+    pub(super) ceiling_nm: f64,
 }
 
 /// One exercise's own scores, kept beside the session's cumulative ones.
@@ -44,6 +46,8 @@ pub(super) struct Exercise {
 struct OwnScore {
     driving: DrivingScore,
     dial: DialScore,
+    /// The strength test in progress (the strength exercise only).
+    strength: Option<vehicle::StrengthTest>,
     /// Exercise time it took, s, when it ran to its end.
     completed_s: Option<f64>,
 }
@@ -62,6 +66,8 @@ pub struct ExerciseScores {
     pub driving: Option<vehicle::DrivingSummary>,
     /// Its dial scores (the dial task).
     pub dial: Option<vehicle::DialSummary>,
+    /// Its strength results (the strength test).
+    pub strength: Option<vehicle::StrengthSummary>,
     /// Exercise time it took, s, when it ran to its end (`None`: the session ended first).
     pub completion_time_s: Option<f64>,
 }
@@ -71,7 +77,8 @@ pub(super) struct ExerciseStep {
     /// Where an ideal patient would hold the wheel, rad: the reference for assistance and
     /// the simulated patient's intention.
     pub(super) target_rad: f64,
-    /// The self-aligning road feel, N·m.
+    /// The exercise's own torque on the wheel, N·m: the self-aligning road feel, or the
+    /// strength test's spring (recorded as the road feel: the chain adds it alike).
     pub(super) road_feel_nm: f64,
     /// The car on the road (`None` in the dial task).
     pub(super) vehicle: Option<VehicleSample>,
@@ -130,8 +137,24 @@ impl Exercise {
             own: Vec::new(),
             handed: Vec::new(),
             stopping: false,
+            ceiling_nm,
         };
-        exercise.own = vec![OwnScore::default(); exercise.course.len()];
+        let dt_s = 1.0 / cfg.session.loop_rate_hz;
+        exercise.own = exercise
+            .course
+            .iter()
+            .map(|seg| OwnScore {
+                strength: seg.exercise.strength().map(|s| {
+                    vehicle::StrengthTest::new(
+                        s.stiffness_nm_per_rad,
+                        s.ramp_nm_per_s,
+                        s.side_s,
+                        dt_s,
+                    )
+                }),
+                ..OwnScore::default()
+            })
+            .collect();
         exercise.handed = exercise
             .course
             .iter()
@@ -142,6 +165,7 @@ impl Exercise {
                 prescribed_s: seg.exercise.planned_duration_s(),
                 driving: None,
                 dial: None,
+                strength: None,
                 completion_time_s: None,
             })
             .collect();
@@ -228,6 +252,13 @@ impl Exercise {
                     seg.exercise.is_finished(t_in, self.projection.s_m),
                 )
             }
+            _ if own.strength.is_some() => {
+                // The spring holds the wheel; the patient pushes where the test asks.
+                let test = own.strength.as_mut().expect("checked just above");
+                let st = test.step(angle, self.ceiling_nm, dt);
+                let over = st.done || seg.exercise.is_finished(t_in, 0.0);
+                (test.aim_rad(), st.torque_nm, None, over)
+            }
             _ => {
                 let desired = seg.exercise.desired_angle_rad(t_in).unwrap_or(0.0);
                 self.dial.update(desired, angle, dt);
@@ -260,9 +291,11 @@ impl Exercise {
         dt_s: f64,
     ) -> AssistStep {
         let seg = &mut self.course[self.segment];
-        let active = seg.assist.is_some();
+        // The strength test measures the patient alone: no assist pushes with them.
+        let strength = seg.exercise.strength().is_some();
+        let active = seg.assist.is_some() && !strength;
         let out = match &mut seg.assist {
-            Some(a) if !paused => {
+            Some(a) if !paused && !strength => {
                 let limits = Limits {
                     ceiling_nm: (ceiling_nm - step.road_feel_nm.abs()).max(0.0),
                     slew_nm_per_s: self.slew_nm_per_s,
@@ -320,8 +353,9 @@ impl Exercise {
         handed.truncate(self.segment + 1);
         for ((out, seg), own) in handed.iter_mut().zip(&self.course).zip(&self.own) {
             let road = seg.exercise.road.is_some();
+            out.strength = own.strength.as_ref().map(|t| t.summary());
             out.driving = road.then(|| own.driving.summary());
-            out.dial = (!road).then(|| own.dial.summary());
+            out.dial = (!road && out.strength.is_none()).then(|| own.dial.summary());
             out.completion_time_s = own.completed_s;
         }
         handed

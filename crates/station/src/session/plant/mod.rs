@@ -307,6 +307,7 @@ impl Plant {
         let sensed = self.sense(now.t_ns);
         // 2. The exercise: drive the car with the wheel, or show the dial's desired angle.
         let pedals = self.pedals_now(now.dt_s);
+        self.exercise.ceiling_nm = self.chain.ceiling_nm();
         let exercise = self.exercise.step(sensed.angle_rad, paused, now, pedals);
         // 3. The assist controller helps towards the exercise's target.
         let measured = Measurement {

@@ -1,0 +1,414 @@
+//! The strength test: the wheel held at the centre by a stiff spring whose torque limit ramps
+//! slowly up to the torque ceiling, the patient pushing left, then (after a rest) right. Each
+//! side stops at the first of: the spring's torque reaching the ceiling (the patient is at
+//! least that strong), the side's time limit, or the patient letting go.
+//!
+//! What is measured is the torque the spring commands, `min(k·θ, L(t))` for the wheel angle
+//! θ (positive to the left, the vehicle's convention) and the ramped limit L: held nearly
+//! still, the wheel's torque balances the patient's, so the spring's torque is the patient's
+//! isometric torque (no estimator of the hand's torque is needed). Per side: the peak, and the
+//! sustained torque, the highest torque held for at least [`SUSTAIN_S`] (the largest minimum
+//! over any window of that length).
+
+use std::collections::VecDeque;
+
+/// Window of the sustained torque, s: the highest torque held this long.
+pub const SUSTAIN_S: f64 = 1.0;
+/// Rest between the two sides, s (no torque: the patient lets go).
+pub const REST_S: f64 = 3.0;
+/// Fraction of the ceiling at which the ceiling counts as reached.
+pub const CEILING_FRACTION: f64 = 0.98;
+/// Torque the patient must have held before letting go can end a side, N·m.
+pub const LOADED_NM: f64 = 0.2;
+/// Below this fraction of the side's peak for [`LET_GO_S`], the patient has let go.
+pub const LET_GO_FRACTION: f64 = 0.2;
+/// How long the torque must stay low to count as letting go, s.
+pub const LET_GO_S: f64 = 0.5;
+/// Where the patient is asked to push, rad (the simulated patient aims there): 30°.
+pub const PUSH_AIM_RAD: f64 = std::f64::consts::FRAC_PI_6;
+
+/// A side of the test.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StrengthSide {
+    /// Pushing to the left (positive wheel angle).
+    Left,
+    /// Pushing to the right (negative wheel angle).
+    Right,
+}
+
+impl StrengthSide {
+    /// +1 to the left, −1 to the right.
+    pub fn sign(self) -> f64 {
+        match self {
+            Self::Left => 1.0,
+            Self::Right => -1.0,
+        }
+    }
+}
+
+/// Why a side stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StrengthStop {
+    /// The spring's torque reached the torque ceiling.
+    Ceiling,
+    /// The side's time limit passed.
+    TimeLimit,
+    /// The patient let go.
+    LetGo,
+}
+
+/// One side's result.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SideResult {
+    /// Highest torque, N·m.
+    pub peak_nm: f64,
+    /// Highest torque held for [`SUSTAIN_S`], N·m (0 when the side lasted less).
+    pub sustained_nm: f64,
+    /// Why it stopped.
+    pub stop: StrengthStop,
+    /// How long it lasted, s.
+    pub duration_s: f64,
+}
+
+/// Both sides' results (a side not done is `None`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StrengthSummary {
+    /// Pushing left.
+    pub left: Option<SideResult>,
+    /// Pushing right.
+    pub right: Option<SideResult>,
+}
+
+/// What the test asks of the wheel this tick.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StrengthStep {
+    /// The spring's torque on the wheel, N·m (within the ceiling).
+    pub torque_nm: f64,
+    /// The side in progress (`None` while resting or done).
+    pub side: Option<StrengthSide>,
+    /// The patient's torque the spring balances, in the side's direction, N·m (≥ 0).
+    pub push_nm: f64,
+    /// The spring's torque limit now, N·m.
+    pub limit_nm: f64,
+    /// Both sides are over.
+    pub done: bool,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Phase {
+    Side(StrengthSide),
+    Rest,
+    Done,
+}
+
+/// The strength test in progress (allocation-free once built).
+#[derive(Clone, Debug)]
+pub struct StrengthTest {
+    stiffness_nm_per_rad: f64,
+    ramp_nm_per_s: f64,
+    side_s: f64,
+    phase: Phase,
+    /// Time in the phase, s.
+    t_s: f64,
+    peak_nm: f64,
+    sustained_nm: f64,
+    /// Time the torque has been low after the patient loaded the spring, s.
+    low_s: f64,
+    loaded: bool,
+    /// The sliding window's minimum candidates: (time, torque), torque increasing.
+    window: VecDeque<(f64, f64)>,
+    summary: StrengthSummary,
+}
+
+impl StrengthTest {
+    /// A test with a spring of `stiffness_nm_per_rad` whose limit rises at `ramp_nm_per_s`,
+    /// each side lasting at most `side_s`, ticking about every `dt_s`.
+    pub fn new(stiffness_nm_per_rad: f64, ramp_nm_per_s: f64, side_s: f64, dt_s: f64) -> Self {
+        let per_window = (SUSTAIN_S / dt_s.max(1e-5)).ceil() as usize + 4;
+        Self {
+            stiffness_nm_per_rad,
+            ramp_nm_per_s,
+            side_s,
+            phase: Phase::Side(StrengthSide::Left),
+            t_s: 0.0,
+            peak_nm: 0.0,
+            sustained_nm: 0.0,
+            low_s: 0.0,
+            loaded: false,
+            window: VecDeque::with_capacity(per_window.min(1 << 20)),
+            summary: StrengthSummary::default(),
+        }
+    }
+
+    /// The results so far.
+    pub fn summary(&self) -> StrengthSummary {
+        self.summary
+    }
+
+    /// Where the patient is asked to aim the wheel now, rad.
+    pub fn aim_rad(&self) -> f64 {
+        match self.phase {
+            Phase::Side(s) => s.sign() * PUSH_AIM_RAD,
+            _ => 0.0,
+        }
+    }
+
+    /// One tick `dt_s` long with the wheel at `angle_rad` under a torque ceiling of
+    /// `ceiling_nm`.
+    pub fn step(&mut self, angle_rad: f64, ceiling_nm: f64, dt_s: f64) -> StrengthStep {
+        let ceiling_nm = if ceiling_nm.is_finite() {
+            ceiling_nm.max(0.0)
+        } else {
+            0.0
+        };
+        let angle = if angle_rad.is_finite() {
+            angle_rad
+        } else {
+            0.0
+        };
+        let idle = |done| StrengthStep {
+            torque_nm: 0.0,
+            side: None,
+            push_nm: 0.0,
+            limit_nm: 0.0,
+            done,
+        };
+        let side = match self.phase {
+            Phase::Done => return idle(true),
+            Phase::Rest => {
+                self.t_s += dt_s;
+                if self.t_s >= REST_S {
+                    self.start(Phase::Side(StrengthSide::Right));
+                }
+                return idle(false);
+            }
+            Phase::Side(s) => s,
+        };
+        let limit = (self.ramp_nm_per_s * self.t_s).min(ceiling_nm);
+        let spring = (self.stiffness_nm_per_rad * angle).clamp(-limit, limit);
+        let push = (side.sign() * spring).max(0.0);
+        self.take(push, dt_s);
+        let stop = if ceiling_nm > 0.0 && push >= CEILING_FRACTION * ceiling_nm {
+            Some(StrengthStop::Ceiling)
+        } else if self.loaded && self.low_s >= LET_GO_S {
+            Some(StrengthStop::LetGo)
+        } else if self.t_s >= self.side_s {
+            Some(StrengthStop::TimeLimit)
+        } else {
+            None
+        };
+        self.t_s += dt_s;
+        if let Some(stop) = stop {
+            let result = SideResult {
+                peak_nm: self.peak_nm,
+                sustained_nm: self.sustained_nm,
+                stop,
+                duration_s: self.t_s,
+            };
+            match side {
+                StrengthSide::Left => {
+                    self.summary.left = Some(result);
+                    self.start(Phase::Rest);
+                }
+                StrengthSide::Right => {
+                    self.summary.right = Some(result);
+                    self.start(Phase::Done);
+                }
+            }
+        }
+        StrengthStep {
+            torque_nm: -spring,
+            side: Some(side),
+            push_nm: push,
+            limit_nm: limit,
+            done: self.phase == Phase::Done,
+        }
+    }
+
+    /// Take the patient's torque `push` at the phase's time, for a tick `dt_s` long: peak,
+    /// sustained, letting go.
+    fn take(&mut self, push: f64, dt_s: f64) {
+        self.peak_nm = self.peak_nm.max(push);
+        let t = self.t_s;
+        while self.window.back().is_some_and(|b| b.1 >= push) {
+            self.window.pop_back();
+        }
+        if self.window.len() < self.window.capacity() {
+            self.window.push_back((t, push));
+        }
+        while self
+            .window
+            .front()
+            .is_some_and(|f| f.0 < t - SUSTAIN_S - 1e-9)
+        {
+            self.window.pop_front();
+        }
+        if t >= SUSTAIN_S - 1e-9
+            && let Some(f) = self.window.front()
+        {
+            self.sustained_nm = self.sustained_nm.max(f.1);
+        }
+        if push >= LOADED_NM {
+            self.loaded = true;
+        }
+        if self.loaded && push < LET_GO_FRACTION * self.peak_nm {
+            self.low_s += dt_s;
+        } else {
+            self.low_s = 0.0;
+        }
+    }
+
+    fn start(&mut self, phase: Phase) {
+        self.phase = phase;
+        self.t_s = 0.0;
+        self.peak_nm = 0.0;
+        self.sustained_nm = 0.0;
+        self.low_s = 0.0;
+        self.loaded = false;
+        self.window.clear();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const DT_S: f64 = 1e-3;
+    const K: f64 = 40.0;
+
+    /// Run a test whose patient pushes `push_nm(side, t)` against a wheel held nearly still (the
+    /// wheel's angle is the one at which the spring balances the push, or where the push
+    /// carries it past the limit), until done; the ticks of each side.
+    fn run(
+        ceiling_nm: f64,
+        side_s: f64,
+        push_nm: impl Fn(StrengthSide, f64) -> f64,
+    ) -> (StrengthSummary, Vec<StrengthStep>) {
+        let mut test = StrengthTest::new(K, 0.5, side_s, DT_S);
+        let mut angle = 0.0;
+        let mut t_in = 0.0;
+        let mut last_side = None;
+        let mut steps = Vec::new();
+        for _ in 0..200_000 {
+            let step = test.step(angle, ceiling_nm, DT_S);
+            steps.push(step);
+            if step.done {
+                break;
+            }
+            if step.side != last_side {
+                t_in = 0.0;
+                last_side = step.side;
+            }
+            t_in += DT_S;
+            // Quasi-static: the wheel settles where the spring balances the hand, or goes
+            // 0.2 rad further when the hand beats the limit.
+            angle = match step.side {
+                Some(s) => {
+                    let p = push_nm(s, t_in);
+                    let held = p / K;
+                    let beaten = p > step.limit_nm + 1e-12;
+                    s.sign()
+                        * if beaten {
+                            held.max(step.limit_nm / K) + 0.2
+                        } else {
+                            held
+                        }
+                }
+                None => 0.0,
+            };
+        }
+        (test.summary(), steps)
+    }
+
+    #[test]
+    fn a_patient_stronger_than_the_ceiling_stops_each_side_at_the_ceiling() {
+        let (s, steps) = run(2.0, 30.0, |_, _| 5.0);
+        for side in [s.left.unwrap(), s.right.unwrap()] {
+            assert_eq!(side.stop, StrengthStop::Ceiling);
+            assert!(
+                side.peak_nm <= 2.0 && side.peak_nm >= 0.98 * 2.0,
+                "{side:?}"
+            );
+            // The limit rises at 0.5 N·m/s: about 4 s to the ceiling.
+            assert!((3.8..4.3).contains(&side.duration_s), "{side:?}");
+        }
+        assert!(steps.iter().all(|st| st.torque_nm.abs() <= 2.0));
+    }
+
+    #[test]
+    fn a_patient_weaker_than_the_ceiling_stops_each_side_at_the_time_limit() {
+        let (s, _) = run(3.0, 10.0, |side, _| match side {
+            StrengthSide::Left => 1.5,
+            StrengthSide::Right => 1.0,
+        });
+        let (l, r) = (s.left.unwrap(), s.right.unwrap());
+        assert_eq!(
+            (l.stop, r.stop),
+            (StrengthStop::TimeLimit, StrengthStop::TimeLimit)
+        );
+        assert!((l.duration_s - 10.0).abs() < 0.01, "{l:?}");
+        assert!((l.peak_nm - 1.5).abs() < 1e-9 && (r.peak_nm - 1.0).abs() < 1e-9);
+        assert!((l.sustained_nm - 1.5).abs() < 1e-9 && (r.sustained_nm - 1.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_patient_letting_go_stops_the_side_half_a_second_later() {
+        // Pushes 1.2 N·m from 1 s to 4 s, then lets go.
+        let (s, _) = run(
+            3.0,
+            20.0,
+            |_, t| if (1.0..4.0).contains(&t) { 1.2 } else { 0.0 },
+        );
+        for side in [s.left.unwrap(), s.right.unwrap()] {
+            assert_eq!(side.stop, StrengthStop::LetGo);
+            assert!((4.4..4.7).contains(&side.duration_s), "{side:?}");
+            assert!((side.peak_nm - 1.2).abs() < 1e-9, "{side:?}");
+        }
+    }
+
+    #[test]
+    fn peak_and_sustained_torque_of_a_known_trace() {
+        // A brief 2.5 N·m spike of 0.3 s on a 1.6 N·m hold of 2 s, on a 1 N·m base: the peak
+        // is the spike, the sustained torque the hold (the spike lasts less than 1 s).
+        let trace = |t: f64| {
+            if (5.0..5.3).contains(&t) {
+                2.5
+            } else if (5.0..7.0).contains(&t) {
+                1.6
+            } else {
+                1.0
+            }
+        };
+        let (s, _) = run(3.0, 10.0, |side, t| match side {
+            StrengthSide::Left => trace(t),
+            // A hold of 0.9 s is too short: the sustained torque is the base.
+            StrengthSide::Right => {
+                if (6.0..6.9).contains(&t) {
+                    2.0
+                } else {
+                    0.8
+                }
+            }
+        });
+        let (l, r) = (s.left.unwrap(), s.right.unwrap());
+        assert!((l.peak_nm - 2.5).abs() < 1e-9, "{l:?}");
+        assert!((l.sustained_nm - 1.6).abs() < 1e-9, "{l:?}");
+        assert!((r.peak_nm - 2.0).abs() < 1e-9, "{r:?}");
+        assert!((r.sustained_nm - 0.8).abs() < 1e-9, "{r:?}");
+    }
+
+    #[test]
+    fn the_spring_never_asks_more_than_the_ceiling_whatever_the_angle() {
+        let mut test = StrengthTest::new(200.0, 5.0, 60.0, DT_S);
+        for i in 0..20_000 {
+            let angle = [f64::NAN, f64::INFINITY, -3.0, 3.0, 0.01][i % 5];
+            let ceiling = [1.0, 0.5, f64::NAN, 2.0][i % 4];
+            let st = test.step(angle, ceiling, DT_S);
+            let bound = if ceiling.is_finite() { ceiling } else { 0.0 };
+            assert!(
+                st.torque_nm.is_finite() && st.torque_nm.abs() <= bound,
+                "{st:?}"
+            );
+        }
+    }
+}
