@@ -10,6 +10,7 @@ pub(super) enum Better {
 }
 
 /// A measure as a therapist reads it: the recording's name, plain words, unit, decimals.
+#[derive(Clone, Copy)]
 pub(super) struct Measure {
     pub(super) key: &'static str,
     pub(super) label: &'static str,
@@ -197,17 +198,40 @@ pub(super) const MEASURES: [Measure; 27] = [
     ),
 ];
 
+/// `a == b`, at compile time.
+const fn same(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
+/// The session table's measure `key`, for a table that shows it in the same words (a key not
+/// in [`MEASURES`] does not build).
+const fn shared(key: &str) -> Measure {
+    let mut i = 0;
+    while i < MEASURES.len() {
+        if same(MEASURES[i].key, key) {
+            return MEASURES[i];
+        }
+        i += 1;
+    }
+    panic!("a measure shared with the session table must be in it")
+}
+
 /// An exercise's own results shown in the per-exercise table, in order (rows no exercise has
 /// are left out).
 pub(super) const EXERCISE_MEASURES: [Measure; 26] = [
-    m(
-        "rms_lateral_m",
-        "Lane keeping: lateral deviation (RMS)",
-        "m",
-        3,
-        Better::Lower,
-    ),
-    m("pct_in_lane", "Time in lane", "%", 1, Better::Higher),
+    shared("rms_lateral_m"),
+    shared("pct_in_lane"),
     m(
         "heading_rms_error_deg",
         "Heading error (RMS)",
@@ -244,36 +268,12 @@ pub(super) const EXERCISE_MEASURES: [Measure; 26] = [
         2,
         Better::Lower,
     ),
-    m(
-        "strength_peak_left_nm",
-        "Strength pushing left: peak",
-        "N·m",
-        2,
-        Better::Higher,
-    ),
-    m(
-        "strength_sustained_left_nm",
-        "Strength pushing left: held 1 s",
-        "N·m",
-        2,
-        Better::Higher,
-    ),
-    m(
-        "strength_peak_right_nm",
-        "Strength pushing right: peak",
-        "N·m",
-        2,
-        Better::Higher,
-    ),
-    m(
-        "strength_sustained_right_nm",
-        "Strength pushing right: held 1 s",
-        "N·m",
-        2,
-        Better::Higher,
-    ),
-    m("movements", "Movements", "", 0, Better::Neither),
-    m("active_pct", "Time moving", "%", 0, Better::Higher),
+    shared("strength_peak_left_nm"),
+    shared("strength_sustained_left_nm"),
+    shared("strength_peak_right_nm"),
+    shared("strength_sustained_right_nm"),
+    shared("movements"),
+    shared("active_pct"),
     m(
         "sparc_median",
         "Smoothness, SPARC (median)",
@@ -288,76 +288,16 @@ pub(super) const EXERCISE_MEASURES: [Measure; 26] = [
         2,
         Better::Higher,
     ),
-    m(
-        "movement_peak_speed_deg_s_median",
-        "Peak speed of a movement (median)",
-        "°/s",
-        0,
-        Better::Higher,
-    ),
-    m(
-        "wheel_rom_deg",
-        "Wheel range of motion",
-        "°",
-        0,
-        Better::Higher,
-    ),
-    m(
-        "shoulder_elevation_rom_deg",
-        "Shoulder elevation range",
-        "°",
-        0,
-        Better::Higher,
-    ),
-    m(
-        "elbow_flexion_rom_deg",
-        "Elbow flexion range",
-        "°",
-        0,
-        Better::Higher,
-    ),
-    m(
-        "speed_metric_median",
-        "Speed metric: mean over peak speed of a movement (median; Rohrer 2002)",
-        "",
-        2,
-        Better::Higher,
-    ),
-    m(
-        "reaction_time_s_median",
-        "Reaction time to a step of the target (median)",
-        "s",
-        2,
-        Better::Lower,
-    ),
-    m(
-        "initial_direction_error_deg_mean",
-        "Initial direction error (mean; 180° = every start the wrong way)",
-        "°",
-        0,
-        Better::Lower,
-    ),
-    m(
-        "path_length_ratio_median",
-        "Path length ratio: wheel path over the distance needed (median)",
-        "",
-        2,
-        Better::Lower,
-    ),
-    m(
-        "movements_per_min",
-        "Dose: movements per active minute",
-        "/min",
-        1,
-        Better::Higher,
-    ),
-    m(
-        "reversals_per_min",
-        "Dose: steering reversals per active minute",
-        "/min",
-        1,
-        Better::Neither,
-    ),
+    shared("movement_peak_speed_deg_s_median"),
+    shared("wheel_rom_deg"),
+    shared("shoulder_elevation_rom_deg"),
+    shared("elbow_flexion_rom_deg"),
+    shared("speed_metric_median"),
+    shared("reaction_time_s_median"),
+    shared("initial_direction_error_deg_mean"),
+    shared("path_length_ratio_median"),
+    shared("movements_per_min"),
+    shared("reversals_per_min"),
 ];
 
 /// An exercise's results in words for the text report, in the table's order: "Lane keeping:
