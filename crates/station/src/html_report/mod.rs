@@ -411,12 +411,7 @@ fn session_charts(html: &mut String, s: &SessionData) -> Result<(), String> {
             markers: false,
             x_labels: vec![],
         };
-        let svg = charts::svg(&chart)?;
-        let _ = write!(
-            html,
-            "<figure class=\"chart\">{svg}{}</figure>",
-            charts::numbers_table(&chart, decimals)
-        );
+        html.push_str(&charts::figure(&chart, decimals)?);
     }
     Ok(())
 }

@@ -203,12 +203,7 @@ fn charts(html: &mut String, title: &str, sessions: &[&SessionData]) -> Result<(
             markers: true,
             x_labels: labels.clone(),
         };
-        let svg = charts::svg(&chart)?;
-        let _ = write!(
-            html,
-            "<figure class=\"chart\">{svg}{}</figure>",
-            charts::numbers_table(&chart, decimals)
-        );
+        html.push_str(&charts::figure(&chart, decimals)?);
     }
     Ok(())
 }
