@@ -4,14 +4,15 @@
 
 mod common;
 
+use common::{T0, hello};
+
 use std::collections::BTreeMap;
 
 use hub::db::{LOCKOUT_MS, Recording};
 use hub::{Db, HubError, PairRefusal, Patient, Role, Therapist};
 use netlink::store::Appended;
-use netlink::{Bye, Hello, PROTOCOL_VERSION, Summary};
+use netlink::{Bye, Summary};
 
-const T0: i64 = 1_795_253_400_000;
 const MIN: i64 = 60_000;
 const FP1: &str = "1111111111111111111111111111111111111111111111111111111111111111";
 const FP2: &str = "2222222222222222222222222222222222222222222222222222222222222222";
@@ -20,20 +21,6 @@ fn summary(session_id: &str, seq: u64) -> Summary {
     Summary {
         extra: BTreeMap::from([("assist_level".to_owned(), 0.25)]),
         ..Summary::example(session_id, seq)
-    }
-}
-
-fn hello(station_id: &str, patient_id: &str, session_id: &str) -> Hello {
-    Hello {
-        protocol_version: PROTOCOL_VERSION,
-        station_id: station_id.to_owned(),
-        patient_id: patient_id.to_owned(),
-        session_id: session_id.to_owned(),
-        exercise: "sine-road".to_owned(),
-        started_unix_ms: T0 as u64,
-        software_version: "telerehab 0.1.0".to_owned(),
-        min_protocol_version: None,
-        wheel: None,
     }
 }
 

@@ -4,6 +4,8 @@
 
 mod common;
 
+use common::{T0, hello};
+
 use common::api::{PASSWORD, actions, call, login};
 
 use std::sync::Arc;
@@ -12,25 +14,9 @@ use axum::Router;
 use axum::http::{Method, StatusCode};
 use hub::web::{self, AppState};
 use hub::{Db, Role};
-use netlink::{Hello, PROTOCOL_VERSION, WheelInfo};
+use netlink::WheelInfo;
 use serde_json::json;
 use tokio::sync::broadcast;
-
-const T0: i64 = 1_795_253_400_000;
-
-fn hello(station_id: &str, patient_id: &str, session_id: &str) -> Hello {
-    Hello {
-        protocol_version: PROTOCOL_VERSION,
-        station_id: station_id.to_owned(),
-        patient_id: patient_id.to_owned(),
-        session_id: session_id.to_owned(),
-        exercise: "sine-road".to_owned(),
-        started_unix_ms: T0 as u64,
-        software_version: "telerehab 0.1.0".to_owned(),
-        min_protocol_version: None,
-        wheel: None,
-    }
-}
 
 fn g29() -> WheelInfo {
     WheelInfo {

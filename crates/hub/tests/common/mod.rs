@@ -8,6 +8,24 @@ pub mod api;
 use hub::Db;
 use sqlx::Connection;
 
+/// The tests' "now": 2026-11-18 14:10 UTC, ms since the Unix epoch.
+pub const T0: i64 = 1_795_253_400_000;
+
+/// A station's `Hello` opening session `session_id` of a sine road at [`T0`].
+pub fn hello(station_id: &str, patient_id: &str, session_id: &str) -> netlink::Hello {
+    netlink::Hello {
+        protocol_version: netlink::PROTOCOL_VERSION,
+        station_id: station_id.to_owned(),
+        patient_id: patient_id.to_owned(),
+        session_id: session_id.to_owned(),
+        exercise: "sine-road".to_owned(),
+        started_unix_ms: T0 as u64,
+        software_version: "telerehab 0.1.0".to_owned(),
+        min_protocol_version: None,
+        wheel: None,
+    }
+}
+
 /// The environment variable naming the PostgreSQL server for tests.
 pub const PG_ENV: &str = "TELEREHAB_TEST_PG_URL";
 
