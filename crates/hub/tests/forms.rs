@@ -207,6 +207,20 @@ async fn a_session_note_is_posted_listed_with_its_therapist_audited_and_hidden_f
     .await;
     assert_eq!(status, StatusCode::NOT_FOUND);
     assert_eq!(db.notes_of_session("s-1").await.unwrap().len(), 1);
+    // A long record lists its newest notes: the one written after 200 others shows.
+    for k in 0..hub::db::MAX_NOTES_LISTED {
+        db.add_session_note("s-1", &ada.id, &format!("note {k}"), T0 + 1 + k)
+            .await
+            .unwrap();
+    }
+    let listed = db.notes_of_session("s-1").await.unwrap();
+    assert_eq!(listed.len() as i64, hub::db::MAX_NOTES_LISTED);
+    assert_eq!(listed.last().unwrap().text, "note 199", "the newest, last");
+    assert!(
+        listed
+            .windows(2)
+            .all(|w| w[0].created_at_ms <= w[1].created_at_ms)
+    );
 }
 
 async fn a_note_empty_too_long_or_with_control_characters_is_refused_naming_why(db: Db) {

@@ -86,19 +86,20 @@ impl Db {
         })
     }
 
-    /// A session's notes, oldest first (at most [`MAX_NOTES_LISTED`]), each with its
-    /// therapist's e-mail.
+    /// A session's newest [`MAX_NOTES_LISTED`] notes, oldest first, each with its therapist's
+    /// e-mail (a note written after the first 200 is listed, not hidden behind them).
     pub async fn notes_of_session(&self, session_id: &str) -> Result<Vec<SessionNote>, HubError> {
         let rows = sqlx::query(sqlx::AssertSqlSafe(format!(
             "SELECT n.id, n.session_id, n.therapist_id, t.email, n.body, n.created_at_ms \
              FROM session_notes n LEFT JOIN therapists t ON t.id = n.therapist_id \
-             WHERE n.session_id = $1 ORDER BY n.created_at_ms, n.id LIMIT {MAX_NOTES_LISTED}"
+             WHERE n.session_id = $1 ORDER BY n.created_at_ms DESC, n.id DESC LIMIT {MAX_NOTES_LISTED}"
         )))
         .bind(session_id)
         .fetch_all(self.pool())
         .await
         .map_err(HubError::db("reading session notes"))?;
         rows.iter()
+            .rev()
             .map(|row| {
                 Ok(SessionNote {
                     id: col(row, "id")?,
