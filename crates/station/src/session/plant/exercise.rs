@@ -255,9 +255,21 @@ impl Exercise {
             _ if own.strength.is_some() => {
                 // The spring holds the wheel; the patient pushes where the test asks.
                 let test = own.strength.as_mut().expect("checked just above");
-                let st = test.step(angle, self.ceiling_nm, dt);
-                let over = st.done || seg.exercise.is_finished(t_in, 0.0);
-                (test.aim_rad(), st.torque_nm, None, over)
+                if own_counts {
+                    let st = test.step(angle, self.ceiling_nm, dt);
+                    let over = st.done || seg.exercise.is_finished(t_in, 0.0);
+                    (test.aim_rad(), st.torque_nm, None, over)
+                } else {
+                    // Stopping (the fade-out of a stop or a fault): the torque the wheel
+                    // delivers is no longer the spring's, so the test asks for none and
+                    // measures nothing; its results stand as they were.
+                    (
+                        test.aim_rad(),
+                        0.0,
+                        None,
+                        seg.exercise.is_finished(t_in, 0.0),
+                    )
+                }
             }
             _ => {
                 let desired = seg.exercise.desired_angle_rad(t_in).unwrap_or(0.0);
