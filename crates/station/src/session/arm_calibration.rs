@@ -171,6 +171,11 @@ impl ConvergenceRule {
     pub const MAX_STEP_M: f64 = 0.005;
     /// How long the estimate must be steady, s (four estimates in a row).
     pub const HOLD_S: f64 = 15.0;
+    /// Session time after which an estimate that has not converged is no longer tried, s:
+    /// each try solves over every sample kept so far on the recorder thread, so the tries stop
+    /// while that is still some milliseconds (the end of the session's batch solve still
+    /// calibrates the arm).
+    pub const GIVE_UP_S: f64 = 600.0;
 
     /// Take the estimate at session time `t_s`: lengths (upper arm, elbow to grip) and their
     /// standard errors, m, or `None` while there is none. Returns the lengths once, the
@@ -256,7 +261,10 @@ impl OnlineArmCalibration {
                 .update(arm.upper_axis, arm.fore_axis, arm.grip_m);
         }
         let t_s = rec.t_ns as f64 * 1e-9;
-        if t_s < self.next_estimate_s || self.rule.converged().is_some() {
+        if t_s < self.next_estimate_s
+            || t_s > ConvergenceRule::GIVE_UP_S
+            || self.rule.converged().is_some()
+        {
             return false;
         }
         self.next_estimate_s = t_s + ConvergenceRule::EVERY_S;
