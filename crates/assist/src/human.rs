@@ -23,8 +23,17 @@ pub struct HumanArmParams {
     pub kd_nm_s_per_rad: f64,
     /// Sensorimotor delay between seeing the target and acting, s.
     pub delay_s: f64,
-    /// Standard deviation of additive motor noise, N·m.
+    /// RMS of the motor noise in the torque the muscles produce, N·m (a neural noise
+    /// low-passed by the muscles' activation, see `activation_s`; white when that is 0).
     pub noise_nm: f64,
+    /// Time constant of the muscles' activation, s: the torque the muscles produce follows
+    /// the neural command through a first-order lag (Winters & Stark 1985 give 10–40 ms for
+    /// the arm's muscles; Zajac 1989 eq. 2). 0: the torque follows at once.
+    pub activation_s: f64,
+    /// Inertia of the arm reflected to the wheel's axis, kg·m² (a forearm and hand on a
+    /// rim of 0.14 m: about 0.05–0.2 kg·m², the range `assist`'s `RELAXED_ARM` is taken from).
+    /// The hand's torque on the rim is the muscles' torque less what accelerates the arm.
+    pub inertia_kg_m2: f64,
     /// Strongest torque the healthy arm can produce on the wheel, N·m.
     pub max_torque_nm: f64,
     /// Fraction of strength lost to the impairment, in [0, 1): scales the PID gains and the
@@ -61,6 +70,8 @@ impl Default for HumanArmParams {
             kd_nm_s_per_rad: 0.2,
             delay_s: 0.05,
             noise_nm: 0.02,
+            activation_s: 0.02,
+            inertia_kg_m2: 0.06,
             max_torque_nm: 4.0,
             weakness: 0.0,
             tremor_nm: 0.0,
@@ -102,6 +113,20 @@ impl HumanArmParams {
         )?;
         check_range("human_arm.delay_s", self.delay_s, 0.0, 1.0, "[0, 1] s")?;
         check_range("human_arm.noise_nm", self.noise_nm, 0.0, 5.0, "[0, 5] N·m")?;
+        check_range(
+            "human_arm.activation_s",
+            self.activation_s,
+            0.0,
+            0.2,
+            "[0, 0.2] s",
+        )?;
+        check_range(
+            "human_arm.inertia_kg_m2",
+            self.inertia_kg_m2,
+            0.0,
+            1.0,
+            "[0, 1] kg·m²",
+        )?;
         check_range(
             "human_arm.max_torque_nm",
             self.max_torque_nm,
@@ -182,6 +207,24 @@ impl HumanArmParams {
     }
 }
 
+/// The share of the way a first-order activation of time constant `activation_s` moves
+/// towards its command in a tick of `dt_s` (1: at once).
+fn activation_step(activation_s: f64, dt_s: f64) -> f64 {
+    if activation_s > 0.0 && dt_s > 0.0 {
+        1.0 - (-dt_s / activation_s).exp()
+    } else {
+        1.0
+    }
+}
+
+/// The factor on a white noise sample so that, low-passed by an activation of time constant
+/// `activation_s` at the tick `dt_s`, its RMS is the sample's standard deviation: a first-order
+/// lag `y' = a (u − y)` passes a white variance σ² as `σ² a / (2 − a)`.
+fn activated_noise_gain(activation_s: f64, dt_s: f64) -> f64 {
+    let a = activation_step(activation_s, dt_s);
+    ((2.0 - a) / a).sqrt()
+}
+
 /// Phase bins of the arm's learned anticipation per repetition.
 const LEARNING_BINS: usize = 40;
 
@@ -198,6 +241,10 @@ pub struct HumanArm {
     rng: ChaCha8Rng,
     noise: Normal<f64>,
     weakness: f64,
+    /// The muscles' torque now (after activation), N·m.
+    activated_nm: f64,
+    /// Scale of the white neural noise so that the activated noise has RMS `noise_nm`.
+    noise_gain: f64,
     tremor_phase: f64,
     tremor_dev: f64,
     tremor_amp: f64,
@@ -224,6 +271,7 @@ impl HumanArm {
         } else {
             0.0
         };
+        let noise_gain = activated_noise_gain(params.activation_s, dt_s);
         Self {
             params,
             delay_line: vec![0.0; delay_ticks + 1],
@@ -232,6 +280,8 @@ impl HumanArm {
             rng: ChaCha8Rng::seed_from_u64(seed),
             noise,
             weakness,
+            activated_nm: 0.0,
+            noise_gain,
             tremor_phase: 0.0,
             tremor_dev: 0.0,
             tremor_amp: 0.0,
@@ -242,6 +292,11 @@ impl HumanArm {
             bin_err_sum: 0.0,
             bin_err_n: 0,
         }
+    }
+
+    /// The parameters the arm was built with.
+    pub fn params(&self) -> &HumanArmParams {
+        &self.params
     }
 
     /// Mean magnitude of the arm's learned anticipatory torque, N·m.
@@ -332,15 +387,21 @@ impl HumanArm {
         let anticipation = self.anticipation_nm(target_rad.clamp(-rom, rom) - angle_rad);
         let p = &self.params;
         let max_torque = p.max_torque_nm * strength;
-        let unsat = strength
-            * (p.kp_nm_per_rad * err + p.ki_nm_per_rad_s * self.integral
-                - p.kd_nm_s_per_rad * vel_rad_s
-                + anticipation);
+        // The muscles' active torque, and the arm's intrinsic (passive, at once) damping.
+        let active =
+            strength * (p.kp_nm_per_rad * err + p.ki_nm_per_rad_s * self.integral + anticipation);
+        let passive = strength * p.kd_nm_s_per_rad * vel_rad_s;
+        let unsat = active - passive;
         // Conditional integration: no windup while the arm is at its strength limit.
         if unsat.abs() < max_torque || unsat.signum() != err.signum() {
             self.integral += err * dt_s;
         }
-        let torque = unsat + self.noise.sample(&mut self.rng) + self.tremor_nm(dt_s);
+        // The muscles follow the command and the neural noise through their activation.
+        let command = (active + self.noise_gain * self.noise.sample(&mut self.rng))
+            .clamp(-max_torque, max_torque);
+        let a = activation_step(self.params.activation_s, dt_s);
+        self.activated_nm += a * (command - self.activated_nm);
+        let torque = self.activated_nm - passive + self.tremor_nm(dt_s);
         // Recovery over repetitions.
         self.t_in_rep_s += dt_s;
         let p = &self.params;
@@ -363,6 +424,7 @@ mod tests {
             ki_nm_per_rad_s: 0.0,
             kd_nm_s_per_rad: 0.0,
             noise_nm: 0.0,
+            activation_s: 0.0,
             delay_s: 0.005,
             ..Default::default()
         };
@@ -389,6 +451,7 @@ mod tests {
         HumanArm::new(
             HumanArmParams {
                 noise_nm: 0.0,
+                activation_s: 0.0,
                 ki_nm_per_rad_s: 0.0,
                 kd_nm_s_per_rad: 0.0,
                 delay_s: 0.0,
@@ -479,5 +542,54 @@ mod tests {
         assert_eq!(arm.repetitions(), 10);
         let expect = 1.0 - 0.8 * 0.9f64.powi(10);
         assert!((arm.strength_fraction() - expect).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_muscles_torque_follows_a_step_of_the_command_through_its_activation() {
+        let mut arm = HumanArm::new(
+            HumanArmParams {
+                noise_nm: 0.0,
+                ki_nm_per_rad_s: 0.0,
+                kd_nm_s_per_rad: 0.0,
+                delay_s: 0.0,
+                activation_s: 0.02,
+                ..Default::default()
+            },
+            0.001,
+            3,
+        );
+        // K_P = 2 on a 0.1 rad error: 0.2 N·m, reached as 1 − e^{−t/20 ms}.
+        let out: Vec<f64> = (0..100).map(|_| arm.step(0.1, 0.0, 0.0, 0.001)).collect();
+        let at_20ms = out[19] / 0.2;
+        assert!(
+            (at_20ms - (1.0 - (-1.0_f64).exp())).abs() < 0.01,
+            "{at_20ms}"
+        );
+        assert!((out[99] / 0.2 - 1.0).abs() < 0.01);
+    }
+
+    #[test]
+    fn the_activated_motor_noise_keeps_its_stated_rms() {
+        let mut arm = HumanArm::new(
+            HumanArmParams {
+                kp_nm_per_rad: 0.0,
+                ki_nm_per_rad_s: 0.0,
+                kd_nm_s_per_rad: 0.0,
+                noise_nm: 0.05,
+                activation_s: 0.02,
+                ..Default::default()
+            },
+            0.001,
+            11,
+        );
+        let out: Vec<f64> = (0..200_000)
+            .map(|_| arm.step(0.0, 0.0, 0.0, 0.001))
+            .collect();
+        let rms = (out.iter().map(|x| x * x).sum::<f64>() / out.len() as f64).sqrt();
+        assert!((rms - 0.05).abs() < 0.005, "RMS {rms}");
+        // Low-passed: neighbouring ticks nearly equal (white noise would not be).
+        let diff =
+            (out.windows(2).map(|w| (w[1] - w[0]).powi(2)).sum::<f64>() / out.len() as f64).sqrt();
+        assert!(diff < 0.5 * rms, "tick-to-tick {diff}");
     }
 }

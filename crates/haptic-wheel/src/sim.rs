@@ -241,32 +241,72 @@ impl SimWheel {
     /// (semi-implicit Euler; friction cannot reverse the motion within a step). Torque
     /// commands whose delay has elapsed take effect at the start of the step.
     pub fn advance(&mut self, dt_s: f64, hand_nm: f64) {
+        self.advance_held(dt_s, hand_nm, 0.0);
+    }
+
+    /// Advance as [`SimWheel::advance`] with the rim held by an arm of inertia
+    /// `arm_inertia_kg_m2` (reflected to the axis) whose muscles apply `muscle_nm`: the arm
+    /// moves with the rim, so the two accelerate together (eq. 5.7: the inertias add), and the
+    /// torque the hand passes to the rim is the muscles' less the arm's own inertial torque,
+    /// `τ_h = τ_m − J_arm θ̈`. Returns that hand torque, N·m.
+    pub fn advance_held(&mut self, dt_s: f64, muscle_nm: f64, arm_inertia_kg_m2: f64) -> f64 {
+        let muscle = if muscle_nm.is_finite() {
+            muscle_nm
+        } else {
+            0.0
+        };
         if !(dt_s.is_finite() && dt_s > 0.0) {
-            return;
+            return muscle;
         }
+        let arm_j = if arm_inertia_kg_m2.is_finite() {
+            arm_inertia_kg_m2.max(0.0)
+        } else {
+            0.0
+        };
         if let Some(t) = self.delay.pop_due(self.t_ns) {
             self.motor_nm = t;
         }
         let p = &self.params;
-        let hand = if hand_nm.is_finite() { hand_nm } else { 0.0 };
-        let over = self.angle_rad.abs() - p.range_rad;
-        let stop = if over > 0.0 {
-            -self.angle_rad.signum() * (p.end_stop_k_nm_per_rad * over)
-                - p.end_stop_b_nm_s_per_rad * self.vel_rad_s
-        } else {
-            0.0
-        };
-        let drive = self.motor_nm + hand + stop - p.viscous_nm_s_per_rad * self.vel_rad_s;
-        let mut vel = self.vel_rad_s + drive / p.inertia_kg_m2 * dt_s;
-        let friction_dv = p.coulomb_nm / p.inertia_kg_m2 * dt_s;
+        let inertia = p.inertia_kg_m2 + arm_j;
+        let stop = end_stop_nm(
+            self.angle_rad,
+            self.vel_rad_s,
+            p.range_rad,
+            p.end_stop_k_nm_per_rad,
+            p.end_stop_b_nm_s_per_rad,
+        );
+        let drive = self.motor_nm + muscle + stop - p.viscous_nm_s_per_rad * self.vel_rad_s;
+        let mut vel = self.vel_rad_s + drive / inertia * dt_s;
+        let friction_dv = p.coulomb_nm / inertia * dt_s;
         vel = if vel.abs() <= friction_dv {
             0.0
         } else {
             vel - vel.signum() * friction_dv
         };
+        let accel = (vel - self.vel_rad_s) / dt_s;
         self.vel_rad_s = vel;
         self.angle_rad += vel * dt_s;
         self.t_ns += (dt_s * 1e9).round() as u64;
+        muscle - arm_j * accel
+    }
+}
+
+/// The end stop's torque on the rim at `angle_rad` moving at `vel_rad_s`, N·m: a spring
+/// `k_nm_per_rad` and a damper `b_nm_s_per_rad` beyond `range_rad` that push the rim back and
+/// never pull it into the stop (a stop is a contact: the damper lets go as the rim leaves).
+pub fn end_stop_nm(
+    angle_rad: f64,
+    vel_rad_s: f64,
+    range_rad: f64,
+    k_nm_per_rad: f64,
+    b_nm_s_per_rad: f64,
+) -> f64 {
+    let over = angle_rad.abs() - range_rad;
+    if over > 0.0 {
+        let outward_rad_s = vel_rad_s * angle_rad.signum();
+        -angle_rad.signum() * (k_nm_per_rad * over + b_nm_s_per_rad * outward_rad_s).max(0.0)
+    } else {
+        0.0
     }
 }
 

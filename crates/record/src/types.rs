@@ -73,8 +73,10 @@ pub struct WheelSample {
     #[schemars(with = "f64")]
     pub hand_nm: Option<f64>,
     /// The patient's hand torque estimated from the wheel's dynamics and the torque sent to
-    /// the motor (`assist::effort`, eq. E.1–E.2), N·m; on every wheel. Absent in recordings
-    /// made before it was estimated.
+    /// the motor (`assist::effort`, eq. E.1–E.3), N·m, on every wheel: the torque of 50 ms
+    /// before this tick (`assist::HAND_ESTIMATE_LAG_S`, the estimate's stated lag; pair it
+    /// with the wheel's motion of that time). Absent while the rim is at its end stop, and in
+    /// recordings made before it was estimated.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(with = "f64")]
     pub hand_est_nm: Option<f64>,

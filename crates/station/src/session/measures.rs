@@ -22,7 +22,9 @@ use metrics::{
     LiveMeasures, MetricError, ResponseParams, SessionMeasures, SessionParams, StepResponse,
     TargetStep, session_measures_of_runs, step_responses,
 };
-use record::{ArmSetup, ExerciseResult, MetricsSample, MovementSample, TickRecord, Watchdog};
+use record::{
+    ArmSetup, ExerciseResult, MetricsSample, MovementSample, TickRecord, Watchdog, WheelSample,
+};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -74,6 +76,12 @@ pub struct MeasureCollector {
     /// estimated on every wheel (`assist::effort`; the simulation's true torque is only its
     /// check). `None` for recordings made before the estimate.
     patient_work_j: Option<f64>,
+    /// The wheel's velocity of the last ticks, oldest first (rad/s): the hand's estimate is
+    /// of `assist::HAND_ESTIMATE_LAG_S` before its tick, and its power is taken with the
+    /// velocity of that time.
+    recent_vel_rad_s: std::collections::VecDeque<f64>,
+    /// That lag in ticks.
+    hand_lag_ticks: usize,
     /// The exercise of each run (parallel to `runs`): a run never spans two exercises.
     run_exercise: Vec<u32>,
     /// The exercise of the last tick taken.
@@ -137,6 +145,23 @@ impl MeasureCollector {
         Self::with_series(loop_rate_hz, SeriesStore::spilled_in(dir))
     }
 
+    /// The hand's positive work on the wheel this tick: its estimated torque (of
+    /// `assist::HAND_ESTIMATE_LAG_S` ago) times the wheel's velocity of that time.
+    fn add_patient_work(&mut self, w: &WheelSample) {
+        let lag = self.hand_lag_ticks;
+        if self.recent_vel_rad_s.len() > lag {
+            self.recent_vel_rad_s.pop_front();
+        }
+        self.recent_vel_rad_s.push_back(w.velocity_rad_s);
+        let then_rad_s = self.recent_vel_rad_s[0];
+        if let Some(hand_nm) = w.hand_est_nm.filter(|h| h.is_finite()) {
+            let work = self.patient_work_j.get_or_insert(0.0);
+            if self.recent_vel_rad_s.len() > lag && then_rad_s.is_finite() {
+                *work += (hand_nm * then_rad_s).max(0.0) * self.tick_s;
+            }
+        }
+    }
+
     /// A collector for a loop at `loop_rate_hz` keeping its series in `series`.
     pub fn with_series(loop_rate_hz: f64, series: SeriesStore) -> Self {
         let per_sample = ticks_per_sample(loop_rate_hz);
@@ -156,6 +181,8 @@ impl MeasureCollector {
                 .expect("the default parameters and a positive rate are valid"),
             assist_work_j: 0.0,
             patient_work_j: None,
+            recent_vel_rad_s: std::collections::VecDeque::new(),
+            hand_lag_ticks: (assist::HAND_ESTIMATE_LAG_S * loop_rate_hz).round() as usize,
             run_exercise: Vec::new(),
             exercise_now: 0,
             tallies: Vec::new(),
@@ -211,16 +238,10 @@ impl MeasureCollector {
                 tally.tracking_ticks += 1;
             }
         }
-        if w.velocity_rad_s.is_finite() {
-            if rec.assist.active && rec.assist.torque_nm.is_finite() {
-                self.assist_work_j +=
-                    (rec.assist.torque_nm * w.velocity_rad_s).max(0.0) * self.tick_s;
-            }
-            if let Some(hand_nm) = w.hand_est_nm.filter(|h| h.is_finite()) {
-                *self.patient_work_j.get_or_insert(0.0) +=
-                    (hand_nm * w.velocity_rad_s).max(0.0) * self.tick_s;
-            }
+        if w.velocity_rad_s.is_finite() && rec.assist.active && rec.assist.torque_nm.is_finite() {
+            self.assist_work_j += (rec.assist.torque_nm * w.velocity_rad_s).max(0.0) * self.tick_s;
         }
+        self.add_patient_work(w);
         if self.block_ticks == 0 {
             self.block_t_s = rec.t_ns as f64 * 1e-9;
         }
@@ -743,10 +764,12 @@ mod tests {
         assert!((m.named["elbow_flexion_rom_deg"] - 0.6_f64.to_degrees()).abs() < 0.1);
         assert_eq!(m.named["shoulder_elevation_rom_deg"], 0.0);
         assert!((m.named["session_s"] - 5.0).abs() < 1e-9);
-        // The hand did 0.3 N·m · 1 rad/s · 5 s, the assist 0.1 · 1 · 5: the patient 75 %.
-        assert!((m.named["patient_work_j"] - 1.5).abs() < 1e-9);
+        // The hand did 0.3 N·m · 1 rad/s · 5 s, the assist 0.1 · 1 · 5: the patient 75 %; the
+        // hand's first 50 ms are before its first estimate (which is of 50 ms before its tick).
+        assert!((m.named["patient_work_j"] - 0.3 * 4.95).abs() < 1e-9);
         assert!((m.named["assist_work_j"] - 0.5).abs() < 1e-9);
-        assert!((m.named["patient_work_pct"] - 75.0).abs() < 1e-9);
+        let pct = 100.0 * 0.3 * 4.95 / (0.3 * 4.95 + 0.5);
+        assert!((m.named["patient_work_pct"] - pct).abs() < 1e-9);
         assert!(m.named.values().all(|v| v.is_finite()));
         // Within the protocol's limit on named values.
         assert!(m.named.len() <= netlink::frame::MAX_EXTRA_ENTRIES);

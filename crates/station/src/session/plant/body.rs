@@ -160,8 +160,15 @@ impl Body {
     /// The wheel's dynamics the patient's torque is estimated with: the simulated wheel's
     /// own (also when a simulated session is replayed); for a real wheel the nominal consumer
     /// wheel's ([`assist::WheelDynamics::NOMINAL`]: `telerehab wheel calibrate` does not
-    /// measure inertia and friction yet). `dt_s` is the loop period (for the USB delay).
-    pub(super) fn wheel_dynamics(&self, cfg: &StationConfig, dt_s: f64) -> assist::WheelDynamics {
+    /// measure inertia and friction yet) with its own encoder step and `half_range_rad`.
+    /// `dt_s` is the loop period (for the USB delay).
+    pub(super) fn wheel_dynamics(
+        &self,
+        cfg: &StationConfig,
+        dt_s: f64,
+        half_range_rad: f64,
+    ) -> assist::WheelDynamics {
+        let encoder_step_rad = self.encoder_step_rad(cfg);
         let sim = match self {
             Body::Sim { .. } => true,
             #[cfg(target_os = "linux")]
@@ -169,7 +176,12 @@ impl Body {
             Body::Recorded(r) => !r.real(),
         };
         if !sim {
-            return assist::WheelDynamics::NOMINAL;
+            // Its range is known (the estimate is absent at its stop), its stop's feel not.
+            return assist::WheelDynamics {
+                encoder_step_rad,
+                half_range_rad,
+                ..assist::WheelDynamics::NOMINAL
+            };
         }
         let w = &cfg.sim_wheel;
         // A command is due `delay + jitter` after it is sent (half the jitter on average) and
@@ -180,6 +192,10 @@ impl Body {
             viscous_nm_s_per_rad: w.viscous_nm_s_per_rad,
             coulomb_nm: w.coulomb_nm,
             delay_ticks: delay_ticks.clamp(0.0, 62.0) as usize,
+            encoder_step_rad,
+            half_range_rad: w.range_rad,
+            end_stop_nm_per_rad: w.end_stop_k_nm_per_rad,
+            end_stop_nm_s_per_rad: w.end_stop_b_nm_s_per_rad,
         }
     }
 
@@ -194,13 +210,15 @@ impl Body {
                 sensing,
                 ..
             } => {
-                let hand = arm.step(
+                let muscle_nm = arm.step(
                     target_rad,
                     wheel.true_angle_rad(),
                     wheel.true_velocity_rad_s(),
                     dt,
                 );
-                wheel.advance(dt, hand);
+                // The arm moves with the rim: what reaches the rim is the muscles' torque
+                // less the arm's own inertial torque.
+                let hand = wheel.advance_held(dt, muscle_nm, arm.params().inertia_kg_m2);
                 let sample =
                     sensing.step(wheel.true_angle_rad(), wheel.true_velocity_rad_s(), read);
                 // What the simulation alone observes, on the recording's grid: a replay of

@@ -120,8 +120,9 @@ struct Stages {
     assist: AssistStep,
     tel: TickTelemetry,
     motion: BodyMotion,
-    /// The patient's torque estimate, N·m.
-    hand_est_nm: f64,
+    /// The patient's torque estimate, N·m (`assist::HAND_ESTIMATE_LAG_S` before the tick;
+    /// `None` at the end stop).
+    hand_est_nm: Option<f64>,
 }
 
 impl Plant {
@@ -165,7 +166,7 @@ impl Plant {
         let mut chain = HapticChain::new(chain_cfg, device_max).context("haptic chain")?;
         let dt_s = 1.0 / cfg.session.loop_rate_hz;
         let effort = assist::HandTorqueObserver::new(
-            body.wheel_dynamics(cfg, dt_s),
+            body.wheel_dynamics(cfg, dt_s, half_range_rad),
             assist::ObserverTuning::default(),
         );
         chain
@@ -465,7 +466,7 @@ impl Plant {
                 passivity_damping_nm_s_per_rad: tel.passivity_damping_nm_s_per_rad,
                 true_angle_rad: motion.true_angle_rad,
                 hand_nm: motion.hand_nm,
-                hand_est_nm: Some(hand_est_nm),
+                hand_est_nm,
                 target_rad: exercise.target_rad,
                 ceiling_nm: self.chain.ceiling_nm(),
                 motor_rating_known: !self.ceiling.assumed,
