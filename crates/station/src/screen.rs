@@ -8,7 +8,8 @@
 
 use crate::config::StationConfig;
 use crate::render::{
-    self, CarPose, Dial, Hud, LiveScore, Movement, NextCard, RoadPoint, Scene, ScreenState,
+    self, ArmInset, CarPose, Dial, Hud, LiveScore, Movement, NextCard, RoadPoint, Scene,
+    ScreenState,
 };
 use crate::session::{BreakKind, BreakNow};
 use record::{ArmSetup, TickRecord, Watchdog};
@@ -18,6 +19,15 @@ use regimen::Regimen;
 const ROAD_SAMPLE_M: f64 = 2.0;
 
 pub use crate::session::words::{capitalised, plain_instruction, plain_name};
+
+/// The patient's own arm lengths (upper arm, elbow to grip, m) a live summary carries once
+/// the session has measured them (`arm_calibrated` 1), for the screen's arm inset.
+pub fn measured_arm_lengths_m(summary: &crate::session::LiveSummary) -> Option<[f64; 2]> {
+    let x = |k: &str| summary.extra.get(k).copied();
+    (x("arm_calibrated") == Some(1.0))
+        .then(|| Some([x("upper_arm_m")?, x("forearm_m")?]))
+        .flatten()
+}
 
 /// What the screen needs of one exercise.
 struct ExerciseView {
@@ -37,6 +47,9 @@ pub struct CourseView {
     /// A prescribed course (each exercise once), not laps of one exercise.
     in_regimen: bool,
     duration_s: f64,
+    /// The arm and wheel geometry the station was set up with (the lengths drawn until the
+    /// session measures the patient's own).
+    arm_geometry: gyro_imu::arm::ArmGeometry,
 }
 
 impl CourseView {
@@ -80,6 +93,7 @@ impl CourseView {
             message: None,
             // The session ends when its exercises are done, or at its duration cap.
             duration_s: course_s.min(cfg.session.duration_s),
+            arm_geometry: cfg.arm.geometry,
         })
     }
 
@@ -89,8 +103,45 @@ impl CourseView {
         self.message = message;
     }
 
-    /// The scene for the tick `rec`.
+    /// The scene for the tick `rec`, the arm drawn with the lengths the station was set up
+    /// with.
     pub fn scene(&self, rec: &TickRecord, screen: ScreenState) -> Scene {
+        self.scene_with_arm(rec, screen, None)
+    }
+
+    /// The arm inset for the tick `rec`: while the arm is tracked, its pose with the segment
+    /// lengths in use: `measured_m` (upper arm, elbow to grip, m) once the session has
+    /// measured them, the configured ones before. `None` without arm sensing or tracking.
+    pub fn arm_inset(&self, rec: &TickRecord, measured_m: Option<[f64; 2]>) -> Option<ArmInset> {
+        let arm = rec.arm?;
+        let unit =
+            |v: [f64; 3]| ((v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt() - 1.0).abs() < 1e-3;
+        let pose_ok = arm.setup == ArmSetup::Tracking
+            && unit(arm.upper_axis)
+            && unit(arm.fore_axis)
+            && arm.grip_m.iter().all(|x| x.is_finite());
+        let g = &self.arm_geometry;
+        let [upper_arm_m, forearm_m] = measured_m.unwrap_or([g.upper_arm_m, g.forearm_m]);
+        pose_ok.then_some(ArmInset {
+            grip_m: arm.grip_m,
+            upper_axis: arm.upper_axis,
+            fore_axis: arm.fore_axis,
+            upper_arm_m,
+            forearm_m,
+            rim_radius_m: g.grip_radius_m,
+            wheel_tilt_rad: g.wheel_tilt_rad,
+            measured: measured_m.is_some(),
+        })
+    }
+
+    /// The scene for the tick `rec`, the arm drawn with the patient's own lengths
+    /// `measured_m` (upper arm, elbow to grip, m) once the session has measured them.
+    pub fn scene_with_arm(
+        &self,
+        rec: &TickRecord,
+        screen: ScreenState,
+        measured_m: Option<[f64; 2]>,
+    ) -> Scene {
         let ex = &self.exercises[(rec.score.exercise_index as usize).min(self.exercises.len() - 1)];
         // Pauses do not count: the exercise clock stops with the car.
         let t_s = rec.score.active_s;
@@ -158,6 +209,7 @@ impl CourseView {
                     .collect(),
             },
             screen,
+            arm: self.arm_inset(rec, measured_m),
         }
     }
 }
@@ -515,5 +567,75 @@ mod tests {
             devices.contains(&"Arm sensors: working".to_string()),
             "{devices:?}"
         );
+    }
+}
+
+#[cfg(test)]
+mod arm_inset_tests {
+    use super::*;
+    use record::ArmSample;
+
+    fn tracked(setup: ArmSetup) -> TickRecord {
+        TickRecord {
+            arm: Some(ArmSample {
+                setup,
+                upper_axis: [0.6, 0.0, -0.8],
+                fore_axis: [1.0, 0.0, 0.0],
+                grip_m: [0.0, -0.14, 0.0],
+                ..ArmSample::default()
+            }),
+            ..TickRecord::default()
+        }
+    }
+
+    #[test]
+    fn the_arm_inset_draws_the_configured_lengths_until_the_patients_own_are_measured() {
+        let cfg = StationConfig::default();
+        let view = CourseView::new(&cfg, None).unwrap();
+        let configured = [cfg.arm.geometry.upper_arm_m, cfg.arm.geometry.forearm_m];
+        let rec = tracked(ArmSetup::Tracking);
+        let before = view
+            .scene_with_arm(&rec, ScreenState::Running, None)
+            .arm
+            .expect("a tracked arm is drawn");
+        assert_eq!([before.upper_arm_m, before.forearm_m], configured);
+        assert!(!before.measured);
+        let after = view
+            .scene_with_arm(&rec, ScreenState::Running, Some([0.28, 0.35]))
+            .arm
+            .unwrap();
+        assert_eq!([after.upper_arm_m, after.forearm_m], [0.28, 0.35]);
+        assert!(after.measured);
+        // The joints follow the lengths in use: the elbow one forearm behind the grip, the
+        // shoulder one upper arm behind the elbow.
+        let [ex, _, ez] = after.elbow_m();
+        let [sx, _, sz] = after.shoulder_m();
+        assert!((ex + 0.35).abs() < 1e-12 && ez.abs() < 1e-12, "{ex} {ez}");
+        assert!((sx - (ex - 0.28 * 0.6)).abs() < 1e-12, "{sx}");
+        assert!((sz - 0.28 * 0.8).abs() < 1e-12, "{sz}");
+        assert!(view.scene(&rec, ScreenState::Running).validate().is_ok());
+    }
+
+    #[test]
+    fn no_arm_inset_without_arm_sensing_or_while_the_arm_is_not_tracked() {
+        let view = CourseView::new(&StationConfig::default(), None).unwrap();
+        let none = TickRecord::default();
+        assert_eq!(view.scene(&none, ScreenState::Running).arm, None);
+        for setup in [
+            ArmSetup::HoldStill,
+            ArmSetup::TurnWheel,
+            ArmSetup::Solving,
+            ArmSetup::Failed,
+            ArmSetup::SensorLost,
+        ] {
+            let rec = tracked(setup);
+            assert_eq!(view.arm_inset(&rec, Some([0.3, 0.3])), None, "{setup:?}");
+        }
+        // Tracking but no pose yet (zero axes): nothing drawn rather than a collapsed arm.
+        let mut rec = tracked(ArmSetup::Tracking);
+        if let Some(a) = rec.arm.as_mut() {
+            a.upper_axis = [0.0; 3];
+        }
+        assert_eq!(view.arm_inset(&rec, None), None);
     }
 }

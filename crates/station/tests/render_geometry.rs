@@ -118,6 +118,7 @@ fn running(road: Road, car: CarPose, camera: CameraMode) -> Scene {
         dial: None,
         hud: Hud::default(),
         screen: ScreenState::Running,
+        arm: None,
     }
 }
 

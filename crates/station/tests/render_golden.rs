@@ -86,6 +86,11 @@ fn goldens() -> Vec<(&'static str, Scene)> {
     ]);
     let mut start = demo::dial(0.0);
     start.screen = ScreenState::Start;
+    // The arm inset once the session has measured the patient's arm: the words and a tick.
+    let mut measured = demo::sine_road(6.0);
+    if let Some(arm) = measured.arm.as_mut() {
+        arm.measured = true;
+    }
     vec![
         ("straight_chase", demo::straight(2.0)),
         ("sine_road_chase", demo::sine_road(5.0)),
@@ -94,6 +99,7 @@ fn goldens() -> Vec<(&'static str, Scene)> {
         ("dial", demo::dial(1.3)),
         ("slalom_summary", summary),
         ("dial_start", start),
+        ("sine_road_arm_measured", measured),
     ]
 }
 

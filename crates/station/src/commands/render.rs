@@ -40,21 +40,29 @@ pub struct RenderArgs {
     pub out: PathBuf,
 }
 
-/// Collects the ticks to draw: one every `every` ticks, `frames` of them, then stops the session.
+/// Collects the ticks to draw: one every `every` ticks, `frames` of them, then stops the
+/// session; each with the patient's own arm lengths once the session has measured them.
 struct FrameCollector {
     every: u64,
     frames: usize,
-    records: Vec<TickRecord>,
+    records: Vec<(TickRecord, Option<[f64; 2]>)>,
+    arm_measured_m: Option<[f64; 2]>,
     stop: Arc<AtomicBool>,
 }
 
 impl SessionObserver for FrameCollector {
     fn on_tick(&mut self, record: &TickRecord) {
         if self.records.len() < self.frames && record.tick.is_multiple_of(self.every) {
-            self.records.push(*record);
+            self.records.push((*record, self.arm_measured_m));
             if self.records.len() == self.frames {
                 self.stop.store(true, Ordering::Relaxed);
             }
+        }
+    }
+
+    fn on_summary(&mut self, summary: &session::LiveSummary) {
+        if let Some(lengths) = crate::screen::measured_arm_lengths_m(summary) {
+            self.arm_measured_m.get_or_insert(lengths);
         }
     }
 }
@@ -81,6 +89,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         every,
         frames: args.frames,
         records: Vec::with_capacity(args.frames),
+        arm_measured_m: None,
         stop: stop.clone(),
     };
     let opts = SessionOptions {
@@ -97,7 +106,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     let scenes = frames
         .records
         .iter()
-        .map(|r| view.scene(r, ScreenState::Running));
+        .map(|(r, arm)| view.scene_with_arm(r, ScreenState::Running, *arm));
     let (w, h) = args.size;
     let stats = crate::render::headless_frames(scenes, w, h, &args.out)?;
     println!(

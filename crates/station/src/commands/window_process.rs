@@ -58,6 +58,8 @@ struct Latest {
     record: Option<TickRecord>,
     /// The break in progress.
     brk: BreakNow,
+    /// The patient's own arm lengths once the session has measured them.
+    arm_measured_m: Option<[f64; 2]>,
     /// The station closed the socket: the session is over.
     ended: bool,
     /// The session is over and the station asked for the end screen (taken when shown).
@@ -162,7 +164,7 @@ fn serve(socket: UnixStream) -> anyhow::Result<()> {
             };
             let screen = screen_now(&view, &rec, &state, &mut explain_pause);
             message.drawing(&screen);
-            Some(view.scene(&rec, screen))
+            Some(view.scene_with_arm(&rec, screen, l.arm_measured_m))
         };
         let on_request = |r: UserRequest| {
             let mut f = flow
@@ -317,9 +319,11 @@ fn read_frames(reader: &mut UnixStream, latest: &Mutex<Latest>, draw: &AtomicBoo
                 record,
                 draw: d,
                 brk,
+                arm_measured_m,
             })) => {
                 l.record = Some(*record);
                 l.brk = brk;
+                l.arm_measured_m = arm_measured_m;
                 draw.store(d, Ordering::Relaxed);
             }
             Ok(Some(ToWindow::EndScreen(end))) => l.end_screen = Some(*end),

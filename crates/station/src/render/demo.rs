@@ -7,7 +7,7 @@
 use std::f64::consts::TAU;
 
 use super::scene::{
-    CameraMode, CarPose, Dial, Hud, LiveScore, Road, RoadPoint, Scene, ScreenState,
+    ArmInset, CameraMode, CarPose, Dial, Hud, LiveScore, Road, RoadPoint, Scene, ScreenState,
 };
 
 /// Speed of the scripted car, m/s.
@@ -84,18 +84,46 @@ pub fn straight(t_s: f64) -> Scene {
         dial: None,
         hud: road_hud("Straight road", t_s),
         screen: ScreenState::Running,
+        arm: None,
     }
 }
 
-/// `y = A sin(2π x / λ)`, the thesis's sine road, with the car on its centre line.
+/// The default adult arm (`gyro_imu::arm::ArmGeometry::default`) holding the wheel at
+/// `wheel_rad`, elbow swivelled 0.35 rad out; `measured`: its lengths are the patient's own.
+pub fn arm(wheel_rad: f64, measured: bool) -> ArmInset {
+    let geo = gyro_imu::arm::ArmGeometry::default();
+    let (upper_axis, fore_axis, grip_m) = match gyro_imu::arm::solve(&geo, wheel_rad, 0.35, 0.0) {
+        Ok(state) => {
+            let x = |m: nalgebra::Matrix3<f64>| [m[(0, 0)], m[(1, 0)], m[(2, 0)]];
+            (x(state.upper), x(state.fore), state.grip_m.into())
+        }
+        // Out of reach (a wheel angle no arm holds): the arm straight ahead.
+        Err(_) => ([1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0; 3]),
+    };
+    ArmInset {
+        grip_m,
+        upper_axis,
+        fore_axis,
+        upper_arm_m: geo.upper_arm_m,
+        forearm_m: geo.forearm_m,
+        rim_radius_m: geo.grip_radius_m,
+        wheel_tilt_rad: geo.wheel_tilt_rad,
+        measured,
+    }
+}
+
+/// `y = A sin(2π x / λ)`, the thesis's sine road, with the car on its centre line and the
+/// arm inset (the wheel turned with the road's bends).
 pub fn sine_road(t_s: f64) -> Scene {
     let f = |x: f64| SINE_AMPLITUDE_M * (TAU * x / SINE_WAVELENGTH_M).sin();
+    let car = car_on(f, SPEED_M_S * t_s);
     Scene {
+        arm: Some(arm(car.steer_rad * 10.0, false)),
         road: Road {
             centre: road_from(f, 3.6),
             ..Road::default()
         },
-        car: car_on(f, SPEED_M_S * t_s),
+        car,
         camera: CameraMode::Chase,
         dial: None,
         hud: road_hud("Sine road", t_s),
@@ -125,6 +153,7 @@ pub fn slalom(t_s: f64) -> Scene {
         dial: None,
         hud: road_hud("Cone slalom", t_s),
         screen: ScreenState::Running,
+        arm: None,
     }
 }
 

@@ -17,6 +17,7 @@ use std::sync::Arc;
 
 use super::scene::{Dial, LiveScore, Scene, ScreenState};
 
+pub mod arm_inset;
 mod next_card;
 mod welcome;
 
@@ -298,6 +299,9 @@ fn paint(p: &Painter, scene: &Scene, size: Vec2) {
             Align2::RIGHT_BOTTOM,
             &lines,
         );
+    }
+    if let Some(arm) = &scene.arm {
+        arm_inset::paint(p, arm, arm_inset::anchor(size));
     }
     match &scene.screen {
         ScreenState::Running => {}

@@ -196,6 +196,43 @@ pub struct Welcome {
     pub keys: Vec<String>,
 }
 
+/// The patient's arm on the wheel, drawn small in a corner as seen from the patient's right
+/// (only with arm sensing): shoulder, elbow and the hand on the rim, with the segment lengths
+/// the station uses now. Wheel frame: origin at the wheel centre, x forward (away from the
+/// patient), y left, z up.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ArmInset {
+    /// The hand's grip point on the rim, m.
+    pub grip_m: [f64; 3],
+    /// Unit direction of the upper arm (shoulder → elbow).
+    pub upper_axis: [f64; 3],
+    /// Unit direction of the forearm (elbow → grip).
+    pub fore_axis: [f64; 3],
+    /// Upper-arm length drawn, m: the configured one, or the patient's own once measured.
+    pub upper_arm_m: f64,
+    /// Elbow-to-grip length drawn, m: the configured one, or the patient's own once measured.
+    pub forearm_m: f64,
+    /// Radius of the rim where the hand grips, m.
+    pub rim_radius_m: f64,
+    /// Tilt of the wheel's top toward the patient from vertical, rad.
+    pub wheel_tilt_rad: f64,
+    /// The lengths are the patient's own, measured during this session (a discreet tick).
+    pub measured: bool,
+}
+
+impl ArmInset {
+    /// The elbow: the grip less the forearm along its axis, m.
+    pub fn elbow_m(&self) -> [f64; 3] {
+        std::array::from_fn(|i| self.grip_m[i] - self.forearm_m * self.fore_axis[i])
+    }
+
+    /// The shoulder: the elbow less the upper arm along its axis, m.
+    pub fn shoulder_m(&self) -> [f64; 3] {
+        let e = self.elbow_m();
+        std::array::from_fn(|i| e[i] - self.upper_arm_m * self.upper_axis[i])
+    }
+}
+
 /// Everything one frame shows. Plain data: build it from a snapshot, never share it mutably.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Scene {
@@ -211,6 +248,8 @@ pub struct Scene {
     pub hud: Hud,
     /// Start / running / paused / summary screen.
     pub screen: ScreenState,
+    /// The patient's arm, drawn as a small inset (only with arm sensing, while tracked).
+    pub arm: Option<ArmInset>,
 }
 
 fn finite(field: &str, value: f64) -> Result<(), RenderError> {
@@ -297,6 +336,21 @@ impl Scene {
         if let Some(d) = &self.dial {
             finite("dial.desired_rad", d.desired_rad)?;
             finite("dial.actual_rad", d.actual_rad)?;
+        }
+        if let Some(a) = &self.arm {
+            for (field, xyz) in [
+                ("arm.grip_m", a.grip_m),
+                ("arm.upper_axis", a.upper_axis),
+                ("arm.fore_axis", a.fore_axis),
+            ] {
+                for (i, x) in xyz.iter().enumerate() {
+                    in_range(&format!("{field}[{i}]"), *x, -10.0, 10.0)?;
+                }
+            }
+            in_range("arm.upper_arm_m", a.upper_arm_m, 0.0, 2.0)?;
+            in_range("arm.forearm_m", a.forearm_m, 0.0, 2.0)?;
+            in_range("arm.rim_radius_m", a.rim_radius_m, 0.0, 2.0)?;
+            in_range("arm.wheel_tilt_rad", a.wheel_tilt_rad, -1.6, 1.6)?;
         }
         let h = &self.hud;
         finite("hud.time_left_s", h.time_left_s)?;

@@ -580,24 +580,36 @@ fn a_dial_then_road_regimen_gives_each_exercise_its_own_results_matching_the_rec
     );
 }
 
-/// Each live summary's arm lengths and calibration flag: (t_s, upper arm, forearm, calibrated).
+/// Each live summary's arm lengths and calibration flag: (t_s, upper arm, forearm, calibrated);
+/// and what the patient's screen draws of the arm at that tick (as its window is fed: the
+/// measured lengths from the summaries): (t_s, upper arm, forearm, measured).
 #[derive(Default)]
-struct KeepArmLengths(Vec<(f64, f64, f64, f64)>);
+struct KeepArmLengths {
+    summaries: Vec<(f64, f64, f64, f64)>,
+    screen: Vec<(f64, f64, f64, bool)>,
+    view: Option<crate::screen::CourseView>,
+}
 
 impl SessionObserver for KeepArmLengths {
     fn on_summary(&mut self, s: &super::LiveSummary) {
         let x = |k: &str| s.extra.get(k).copied().unwrap_or(f64::NAN);
-        self.0.push((
-            s.record.t_ns as f64 * 1e-9,
-            x("upper_arm_m"),
-            x("forearm_m"),
-            x("arm_calibrated"),
-        ));
+        let t_s = s.record.t_ns as f64 * 1e-9;
+        self.summaries
+            .push((t_s, x("upper_arm_m"), x("forearm_m"), x("arm_calibrated")));
+        let measured = crate::screen::measured_arm_lengths_m(s);
+        if let Some(arm) = self.view.as_ref().and_then(|v| {
+            v.scene_with_arm(&s.record, crate::render::ScreenState::Running, measured)
+                .arm
+        }) {
+            self.screen
+                .push((t_s, arm.upper_arm_m, arm.forearm_m, arm.measured));
+        }
     }
 }
 
 #[test]
-fn a_default_simulated_session_calibrates_the_arm_online_and_the_live_pose_switches_to_it() {
+fn a_default_simulated_session_moves_the_grip_enough_and_the_live_pose_and_screen_switch_to_the_arm_calibrated_online()
+ {
     let mut cfg = StationConfig::default();
     cfg.session.seed = 7;
     let configured = (cfg.arm.geometry.upper_arm_m, cfg.arm.geometry.forearm_m);
@@ -605,7 +617,10 @@ fn a_default_simulated_session_calibrates_the_arm_online_and_the_live_pose_switc
         cfg.sim_arm.geometry.upper_arm_m,
         cfg.sim_arm.geometry.forearm_m,
     );
-    let mut keep = KeepArmLengths::default();
+    let mut keep = KeepArmLengths {
+        view: Some(crate::screen::CourseView::new(&cfg, None).unwrap()),
+        ..KeepArmLengths::default()
+    };
     let report = super::run(
         &simulated_at_max_speed(cfg),
         &Controls::default(),
@@ -641,13 +656,25 @@ fn a_default_simulated_session_calibrates_the_arm_online_and_the_live_pose_switc
             b.upper_arm_m, b.forearm_m, b.rms_residual_m
         );
     }
+    // The grip moves enough for the calibration (no "the grip moved only … mm" warning).
+    let warnings = batch
+        .as_ref()
+        .expect("the batch fit succeeds")
+        .warnings
+        .clone();
+    assert!(
+        !warnings.iter().any(|w| w.contains("grip moved only")),
+        "{warnings:?}"
+    );
     let err_pct = |est: f64, truth: f64| 100.0 * (est - truth).abs() / truth;
     assert!(
         err_pct(online.upper_arm_m, truth.0) < 5.0 && err_pct(online.forearm_m, truth.1) < 5.0,
         "{online:?} against {truth:?}"
     );
-    let (before, after): (Vec<&(f64, f64, f64, f64)>, Vec<_>) =
-        keep.0.iter().partition(|s| s.0 < online.converged_at_s);
+    let (before, after): (Vec<&(f64, f64, f64, f64)>, Vec<_>) = keep
+        .summaries
+        .iter()
+        .partition(|s| s.0 < online.converged_at_s);
     assert!(!before.is_empty() && !after.is_empty());
     // Before: the configured lengths, not calibrated; from its summary on: the online ones.
     assert!(
@@ -660,6 +687,22 @@ fn a_default_simulated_session_calibrates_the_arm_online_and_the_live_pose_switc
         after
             .iter()
             .all(|s| (s.1, s.2) == (online.upper_arm_m, online.forearm_m) && s.3 == 1.0),
+        "{after:?}"
+    );
+    // The patient's screen draws the arm with the same lengths, and says it is measured.
+    let (before, after): (Vec<&(f64, f64, f64, bool)>, Vec<_>) = keep
+        .screen
+        .iter()
+        .partition(|s| s.0 < online.converged_at_s);
+    assert!(!before.is_empty() && !after.is_empty());
+    assert!(
+        before.iter().all(|s| (s.1, s.2) == configured && !s.3),
+        "{before:?}"
+    );
+    assert!(
+        after
+            .iter()
+            .all(|s| (s.1, s.2) == (online.upper_arm_m, online.forearm_m) && s.3),
         "{after:?}"
     );
     // The recording's calibration carries it.

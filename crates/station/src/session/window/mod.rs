@@ -16,9 +16,11 @@ use record::TickRecord;
 use std::sync::atomic::{AtomicBool, Ordering};
 pub use supervisor::{EndPhase, WindowAccount};
 
-/// Feeds the window's triple buffer with every tick before passing it on.
+/// Feeds the window's triple buffer with every tick before passing it on, and keeps the
+/// patient's own arm lengths once the session has measured them (the arm inset switches).
 struct ScreenFeed<'a> {
     screen: triple_buffer::Input<TickRecord>,
+    arm_measured_m: &'a std::sync::OnceLock<[f64; 2]>,
     inner: &'a mut dyn SessionObserver,
 }
 
@@ -29,6 +31,9 @@ impl SessionObserver for ScreenFeed<'_> {
     }
 
     fn on_summary(&mut self, summary: &LiveSummary) {
+        if let Some(lengths) = crate::screen::measured_arm_lengths_m(summary) {
+            let _ = self.arm_measured_m.set(lengths);
+        }
         self.inner.on_summary(summary);
     }
 }
@@ -88,6 +93,7 @@ pub fn run_with_window_and_end_screen(
         supervisor::Launcher::this_executable().context("cannot find the telerehab program")?;
     let (input, mut output) = triple_buffer::triple_buffer(&TickRecord::default());
     let done = AtomicBool::new(false);
+    let arm_measured_m = std::sync::OnceLock::new();
     let end_phase = EndPhase::default();
     std::thread::scope(|scope| {
         let session = std::thread::Builder::new()
@@ -98,6 +104,7 @@ pub fn run_with_window_and_end_screen(
                     controls,
                     &mut ScreenFeed {
                         screen: input,
+                        arm_measured_m: &arm_measured_m,
                         inner: observer,
                     },
                 );
@@ -123,6 +130,7 @@ pub fn run_with_window_and_end_screen(
                 done: &done,
                 clock: &opts.clock,
                 end_phase: end.is_some().then_some(&end_phase),
+                arm_measured_m: &arm_measured_m,
             },
             &mut output,
         );

@@ -131,6 +131,9 @@ pub struct Supervised<'a> {
     pub clock: &'a Clock,
     /// The end screen, if the session has one: the window stays up for it after the session.
     pub end_phase: Option<&'a EndPhase>,
+    /// The patient's own arm lengths (upper arm, elbow to grip, m) once the session has
+    /// measured them: sent with each frame for the arm inset.
+    pub arm_measured_m: &'a std::sync::OnceLock<[f64; 2]>,
 }
 
 /// Time on `clock` since `since_ns` (zero if the clock has not moved on).
@@ -270,7 +273,7 @@ fn run_one(
             };
         }
         let (gate, done, end_phase) = (s.gate, s.done, s.end_phase);
-        let controls = s.controls;
+        let (controls, arm_measured_m) = (s.controls, s.arm_measured_m);
         scope.spawn(move || {
             let gone = loop {
                 match wire::recv::<FromWindow>(&mut from_window) {
@@ -292,6 +295,7 @@ fn run_one(
                                 record: Box::new(*output.read()),
                                 draw: gate.is_none_or(|g| g.load(Ordering::Relaxed)),
                                 brk: controls.break_now(),
+                                arm_measured_m: arm_measured_m.get().copied(),
                             },
                         };
                         // A frame that cannot be sent (the session is over and our side is

@@ -60,6 +60,10 @@ pub enum ToWindow {
         /// The break in progress (a rest, or the card between exercises).
         #[serde(default)]
         brk: crate::session::BreakNow,
+        /// The patient's own arm lengths (upper arm, elbow to grip, m) once the session has
+        /// measured them; absent before (the arm inset draws the configured ones).
+        #[serde(default)]
+        arm_measured_m: Option<[f64; 2]>,
     },
     /// The session is over (the haptic loop has stopped, torque zero): show the end screen
     /// and ask the check-in questions ([`crate::checkin`]), then answer
@@ -169,6 +173,7 @@ mod tests {
             record: Box::new(record),
             draw: true,
             brk: crate::session::BreakNow::default(),
+            arm_measured_m: Some([0.31, 0.32]),
         };
         send(&mut wire, &sent).unwrap();
         let back: ToWindow = recv(&mut wire.as_slice()).unwrap().unwrap();
@@ -197,6 +202,7 @@ mod tests {
                 record: Box::new(with_arm),
                 draw: false,
                 brk: crate::session::BreakNow::default(),
+                arm_measured_m: None,
             },
         )
         .unwrap();
