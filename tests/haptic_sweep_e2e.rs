@@ -60,7 +60,7 @@ fn a_simulated_sweep_records_error_against_level_rising_with_frequency_and_bande
     assert!(frequency[2].1 > 4.0 * frequency[0].1, "{frequency:?}");
     // The spring: within a band at every level (measured 6.1 to 11.1°). Unlike the thesis's
     // subject, whose error stayed about 3° whatever K, the simulated arm (a PID with a
-    // reaction delay, no adaptation of its own stiffness) loses some of its pull to the spring.
+    // reaction delay, no feed-forward of the load) is pulled off its aim by the spring.
     for (k, e) in &spring {
         assert!((4.0..=14.0).contains(e), "K {k}: {e}°");
     }
