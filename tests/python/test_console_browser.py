@@ -131,7 +131,7 @@ def check_form_against_schema(d, schema, wheel=None):
     variants = defs["RegimenEntry"]["oneOf"]
     kinds = sorted(v["properties"]["kind"]["const"] for v in variants)
     offered = sorted(o.get_attribute("value") for o in d.find_elements(By.CSS_SELECTOR, "#rx-add option"))
-    assert offered == kinds and len(kinds) == 10, (offered, kinds)
+    assert offered == kinds and len(kinds) == 11, (offered, kinds)
     # Offered by name, as the schema's words say it ("Sine road: …"), never as the TOML kind.
     names = {o.get_attribute("value"): o.text for o in d.find_elements(By.CSS_SELECTOR, "#rx-add option")}
     assert names["sine"] == "Sine road" and names["lane-change"] == "Lane change", names

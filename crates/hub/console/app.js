@@ -219,7 +219,7 @@ async function prescribeView(el, id, refreshMessages) {
       <fieldset class="panel"><legend>Exercise ${i + 1}: ${esc(kindName(kindOf(e)) || e.kind)}</legend>
         ${fields}
         ${numberField(`ex${i}-ceiling`, 'Torque ceiling, N·m (empty: the station\'s)', e.haptic && e.haptic.ceiling_nm, wheel.torque({ ...limits.ceiling, default: undefined }))}
-        ${e.kind === 'dial' || e.kind === 'strength' ? '' : `<p><input type="checkbox" id="ex${i}-pedals"${e.pedals ? ' checked' : ''}>
+        ${['dial', 'strength', 'haptic-sweep'].includes(e.kind) ? '' : `<p><input type="checkbox" id="ex${i}-pedals"${e.pedals ? ' checked' : ''}>
           <label for="ex${i}-pedals" class="inline">The patient sets the speed with the pedals (needs a duration; leave unticked for automatic speed)</label></p>`}
         ${assistFields(i, e.assist, modes, numberField, esc)}
         <p><button type="button" class="secondary" data-remove="${i}">Remove exercise ${i + 1}</button></p>

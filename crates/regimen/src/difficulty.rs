@@ -210,8 +210,9 @@ fn scale_speed(spec: &mut ExerciseSpec, k: f64) {
                 DialSignal::Step { .. } => {}
             }
         }
-        // A strength test has no speed: the patient sets its pace.
-        ExerciseSpec::Strength(_) => {}
+        // A strength test has no speed: the patient sets its pace. A haptic sweep is a
+        // measurement: its sine stays as prescribed, session after session.
+        ExerciseSpec::Strength(_) | ExerciseSpec::HapticSweep(_) => {}
     }
 }
 
@@ -248,8 +249,9 @@ fn scale_shape(spec: &mut ExerciseSpec, k: f64) {
                 }
             }
         }
-        // Nor a shape: the patient pushes as hard as they comfortably can.
-        ExerciseSpec::Strength(_) => {}
+        // Nor a shape: the patient pushes as hard as they comfortably can (nor does a sweep,
+        // a measurement).
+        ExerciseSpec::Strength(_) | ExerciseSpec::HapticSweep(_) => {}
     }
 }
 
@@ -265,7 +267,10 @@ fn scale_assist(mode: &mut AssistMode, k: f64) {
 
 /// A road driven once keeps its prescribed time when its speed changes.
 fn keep_duration(spec: &mut ExerciseSpec, prescribed: &ExerciseSpec) {
-    if matches!(spec, ExerciseSpec::Dial(_) | ExerciseSpec::Strength(_)) {
+    if matches!(
+        spec,
+        ExerciseSpec::Dial(_) | ExerciseSpec::Strength(_) | ExerciseSpec::HapticSweep(_)
+    ) {
         return;
     }
     let Ok(built) = prescribed.build() else {
@@ -283,7 +288,9 @@ fn keep_duration(spec: &mut ExerciseSpec, prescribed: &ExerciseSpec) {
         ExerciseSpec::SBend(s) => &mut s.duration_s,
         ExerciseSpec::LaneChange(s) => &mut s.duration_s,
         ExerciseSpec::Slalom(s) => &mut s.duration_s,
-        ExerciseSpec::Dial(_) | ExerciseSpec::Strength(_) => return,
+        ExerciseSpec::Dial(_) | ExerciseSpec::Strength(_) | ExerciseSpec::HapticSweep(_) => {
+            return;
+        }
     };
     d.get_or_insert(fixed);
 }

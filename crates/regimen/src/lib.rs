@@ -26,11 +26,11 @@ pub mod lenient;
 pub use difficulty::{Aspect, DifficultySpec};
 
 use assist::AssistSpec;
-use haptic_wheel::HapticRegimen;
+use haptic_wheel::{HapticRegimen, SpringDamper};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
-use vehicle::ExerciseSpec;
+use vehicle::{ExerciseSpec, SweepParameter};
 
 /// Strongest consumer force-feedback wheel torque a regimen may name, N·m.
 pub const MAX_DEVICE_TORQUE_NM: f64 = 20.0;
@@ -98,6 +98,49 @@ pub struct RegimenEntry {
     /// use their feet.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub pedals: bool,
+}
+
+impl RegimenEntry {
+    /// The exercises this entry runs as: itself, or a haptic sweep
+    /// ([`vehicle::exercise::HapticSweepSpec`]) one dial per level, each with the prescribed
+    /// haptic model (none: a model of zero) whose swept spring, damper or inertia is set to
+    /// the level, so every level passes the haptic chain's checks as any exercise does; the
+    /// prescribed rest after the last level, the short card between levels.
+    pub fn expand(&self) -> Vec<RegimenEntry> {
+        let ExerciseSpec::HapticSweep(sweep) = &self.exercise else {
+            return vec![self.clone()];
+        };
+        let parts = sweep.split();
+        let last = parts.len().saturating_sub(1);
+        parts
+            .into_iter()
+            .enumerate()
+            .map(|(i, part)| {
+                let level = part.levels.first().copied().unwrap_or_default();
+                let mut haptic = self.haptic.clone().unwrap_or_default();
+                let mut model = haptic.model.unwrap_or(SpringDamper {
+                    k_nm_per_rad: 0.0,
+                    b_nm_s_per_rad: 0.0,
+                    i_kg_m2: 0.0,
+                    centre_rad: 0.0,
+                });
+                match part.parameter {
+                    SweepParameter::Spring => model.k_nm_per_rad = level,
+                    SweepParameter::Damper => model.b_nm_s_per_rad = level,
+                    SweepParameter::Inertia => model.i_kg_m2 = level,
+                    SweepParameter::Frequency => {}
+                }
+                haptic.model = Some(model);
+                RegimenEntry {
+                    exercise: ExerciseSpec::HapticSweep(part),
+                    haptic: Some(haptic),
+                    assist: self.assist.clone(),
+                    rest_s: if i == last { self.rest_s } else { None },
+                    pedals: false,
+                }
+            })
+            .collect()
+    }
 }
 
 /// A regimen that cannot be used, naming the exercise and field.
@@ -209,6 +252,16 @@ impl Regimen {
                 h.validate(MAX_DEVICE_TORQUE_NM)
                     .map_err(|m| invalid(format!("haptic: {m}")))?;
             }
+            if let ExerciseSpec::HapticSweep(sweep) = &e.exercise {
+                // Each level's model, as the station will run it.
+                for (level, part) in sweep.levels.iter().zip(e.expand()) {
+                    if let Some(h) = &part.haptic {
+                        h.validate(MAX_DEVICE_TORQUE_NM).map_err(|m| {
+                            invalid(format!("levels: the level {level}: haptic: {m}"))
+                        })?;
+                    }
+                }
+            }
             if let Some(a) = &e.assist {
                 a.validate().map_err(|m| invalid(format!("assist: {m}")))?;
             }
@@ -297,13 +350,15 @@ fn check_pedals(spec: &ExerciseSpec) -> Result<(), String> {
 
 /// The kind of exercise a short name (`sine-road`, `slalom`, `dial-step`) or `kind` is, for
 /// comparing like with like: `dial` for the dial tasks, `road` for the driving ones, by the
-/// exercise the name makes ([`ExerciseSpec::from_name`]), `strength` for the strength test;
+/// exercise the name makes ([`ExerciseSpec::from_name`]), `strength` for the strength test,
+/// `haptic-sweep` for a haptic sweep (a measurement whose levels change the task);
 /// a name no exercise has (newer or
 /// older than this build) is a dial or road by its prefix or suffix, else its own kind.
 pub fn exercise_kind(short: &str) -> String {
     let kind = match ExerciseSpec::from_name(short) {
         Ok(ExerciseSpec::Dial(_)) => "dial",
         Ok(ExerciseSpec::Strength(_)) => "strength",
+        Ok(ExerciseSpec::HapticSweep(_)) => "haptic-sweep",
         Ok(_) => "road",
         Err(_) if short.starts_with("dial") => "dial",
         Err(_) if short.ends_with("-road") => "road",
@@ -320,7 +375,7 @@ mod tests {
     fn every_exercise_kind_is_described_in_words_a_therapist_reads() {
         let schema = Regimen::json_schema();
         let variants = schema["$defs"]["RegimenEntry"]["oneOf"].as_array().unwrap();
-        assert_eq!(variants.len(), 10);
+        assert_eq!(variants.len(), 11);
         for v in variants {
             let kind = &v["properties"]["kind"]["const"];
             let words = v["description"].as_str().unwrap_or_default();
@@ -338,8 +393,8 @@ mod tests {
         for name in vehicle::EXERCISE_NAMES {
             let want = if name.starts_with("dial") {
                 "dial"
-            } else if name == "strength" {
-                "strength"
+            } else if name == "strength" || name == "haptic-sweep" {
+                name
             } else {
                 "road"
             };
@@ -350,6 +405,46 @@ mod tests {
         assert_eq!(exercise_kind("dial-newer-signal"), "dial");
         assert_eq!(exercise_kind("mountain-road"), "road");
         assert_eq!(exercise_kind("grip"), "grip");
+    }
+
+    #[test]
+    fn a_haptic_sweep_expands_to_one_dial_per_level_each_with_its_model_within_bounds() {
+        let text = "[[exercise]]\nkind = \"haptic-sweep\"\nparameter = \"damper\"\n\
+                    levels = [0.0, 0.2, 0.4]\nlevel_s = 5.0\nrest_s = 30.0\n\
+                    [exercise.haptic.model]\nk_nm_per_rad = 0.3\nb_nm_s_per_rad = 9.0\n";
+        let r = Regimen::from_toml(text, "r.toml").unwrap();
+        assert_eq!(r.planned_duration_s().unwrap(), 15.0);
+        let parts = r.exercises[0].expand();
+        assert_eq!(parts.len(), 3);
+        for (part, b) in parts.iter().zip([0.0, 0.2, 0.4]) {
+            let m = part.haptic.as_ref().unwrap().model.unwrap();
+            // The swept damper at its level, the rest of the prescribed model kept.
+            assert_eq!((m.k_nm_per_rad, m.b_nm_s_per_rad), (0.3, b));
+            assert_eq!(part.exercise.name(), "haptic-sweep");
+        }
+        let rests: Vec<_> = parts.iter().map(|p| p.rest_s).collect();
+        assert_eq!(rests, [None, None, Some(30.0)]);
+        // Without a model only the swept parameter acts.
+        let bare = "[[exercise]]\nkind = \"haptic-sweep\"\nlevels = [0.5]\n";
+        let m = Regimen::from_toml(bare, "r.toml").unwrap().exercises[0].expand()[0]
+            .haptic
+            .as_ref()
+            .unwrap()
+            .model
+            .unwrap();
+        assert_eq!(
+            (m.k_nm_per_rad, m.b_nm_s_per_rad, m.i_kg_m2),
+            (0.5, 0.0, 0.0)
+        );
+        // A level beyond the haptic model's bound is refused, naming the exercise and level.
+        let over = "[[exercise]]\nkind = \"haptic-sweep\"\nparameter = \"inertia\"\nlevels = [0.01, 2.0]\n";
+        let msg = Regimen::from_toml(over, "r.toml").unwrap_err().to_string();
+        assert!(
+            msg.contains("exercise 1") && msg.contains("level 2") && msg.contains("i_kg_m2"),
+            "{msg}"
+        );
+        let again = Regimen::from_toml(&toml::to_string(&r).unwrap(), "recorded").unwrap();
+        assert_eq!(r, again);
     }
 
     #[test]
@@ -367,7 +462,7 @@ mod tests {
 
     #[test]
     fn shipped_sample_regimens_parse_and_validate() {
-        for name in ["easy", "medium", "hard", "pedals"] {
+        for name in ["easy", "medium", "hard", "pedals", "appendix-e"] {
             let path = Path::new(env!("CARGO_MANIFEST_DIR"))
                 .join("../../regimens")
                 .join(format!("{name}.toml"));

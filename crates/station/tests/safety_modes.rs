@@ -26,7 +26,7 @@ const ASSIST_MODES: &[&str] = &[
     "hybrid",
     "assist_as_needed",
 ];
-const EXERCISES: &[&str] = &["dial", "straight", "sine", "slalom"];
+const EXERCISES: &[&str] = &["dial", "straight", "sine", "slalom", "haptic-sweep"];
 const FAULTS: &[&str] = &[
     "wheel-nan",
     "wheel-stall",
@@ -69,10 +69,22 @@ fn any_exercise() -> impl Strategy<Value = ExerciseCase> {
 fn regimen_toml(exercises: &[ExerciseCase]) -> String {
     let mut t = String::new();
     for e in exercises {
-        t.push_str(&format!(
-            "[[exercise]]\nkind = \"{}\"\nduration_s = {:?}\n",
-            EXERCISES[e.kind], e.duration_s
-        ));
+        let kind = EXERCISES[e.kind];
+        if kind == "haptic-sweep" {
+            // Two levels of the spring, the case's (or a stiff one) second: the level
+            // changes the model mid-stream, through the same chain.
+            let k = e.spring_nm_per_rad.unwrap_or(20.0);
+            t.push_str(&format!(
+                "[[exercise]]\nkind = \"{kind}\"\nparameter = \"spring\"\n\
+                 levels = [0.0, {k:?}]\nlevel_s = {:?}\n",
+                e.duration_s
+            ));
+        } else {
+            t.push_str(&format!(
+                "[[exercise]]\nkind = \"{kind}\"\nduration_s = {:?}\n",
+                e.duration_s
+            ));
+        }
         if let Some(c) = e.ceiling_nm {
             t.push_str(&format!("[exercise.haptic]\nceiling_nm = {c:?}\n"));
         } else {

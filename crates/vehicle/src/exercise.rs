@@ -14,12 +14,50 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use self::bounds::*;
-use crate::dial::DialSignal;
+use crate::dial::{AMPLITUDE_DEG, DialSignal, FREQUENCY_RAD_S};
 use crate::error::{VehicleError, check_range};
 use crate::model::VehicleState;
 use crate::path::{PathBuilder, PathRoad};
 use crate::road::Road;
+use crate::sweep::{SweepLevel, SweepParameter};
 use crate::world::TrackLayout;
+
+/// A haptic sweep's fields: the count of levels, each level within its parameter's bound
+/// here (the dial's frequency) or non-negative (the haptic model's own bounds are checked
+/// where the model is made, `regimen`), the time at each level and the sine.
+fn validate_sweep(c: &str, d: &HapticSweepSpec) -> Result<(), VehicleError> {
+    let r = |field: &'static str, v: f64, b: common::Bound, unit: &str| {
+        check_range(c, field, v, b.min, b.max, unit)
+    };
+    r("levels (count)", d.levels.len() as f64, SWEEP_LEVELS, "")?;
+    for l in &d.levels {
+        match d.parameter {
+            SweepParameter::Frequency => {
+                r("levels", *l, FREQUENCY_RAD_S, d.parameter.unit())?;
+            }
+            _ if !(l.is_finite() && *l >= 0.0) => {
+                return Err(VehicleError::OutOfRange {
+                    context: c.to_string(),
+                    field: "levels",
+                    value: *l,
+                    allowed: format!(
+                        "0 {} or more, up to the haptic model's bound",
+                        d.parameter.unit()
+                    ),
+                });
+            }
+            _ => {}
+        }
+    }
+    r("level_s", d.level_s, LEVEL_S, "s")?;
+    r("amplitude_deg", d.amplitude_deg, AMPLITUDE_DEG, "deg")?;
+    r(
+        "frequency_rad_s",
+        d.frequency_rad_s,
+        FREQUENCY_RAD_S,
+        "rad/s",
+    )
+}
 
 /// Straight before the exercise proper, m.
 pub const LEAD_IN_M: f64 = 30.0;
@@ -86,6 +124,10 @@ pub mod bounds {
     pub const RAMP_NM_PER_S: Bound = Bound::new(0.05, 5.0);
     /// The strength test's `side_s`, s.
     pub const SIDE_S: Bound = Bound::new(3.0, 60.0);
+    /// How many `levels` a haptic sweep runs (Appendix E: five to six).
+    pub const SWEEP_LEVELS: Bound = Bound::new(1.0, 12.0);
+    /// A haptic sweep's `level_s`, s (Appendix E: 60 s).
+    pub const LEVEL_S: Bound = Bound::new(1.0, 600.0);
 }
 
 macro_rules! spec_struct {
@@ -334,6 +376,56 @@ spec_struct!(
     }
 );
 
+spec_struct!(
+    /// Thesis Appendix E's haptic parameter study (see [`crate::sweep`]): the dial's sine
+    /// tracked for `level_s` at each of `levels` of the swept parameter, run as one dial
+    /// exercise per level ([`HapticSweepSpec::split`]).
+    HapticSweepSpec {
+        /// What changes from level to level: the haptic model's spring (levels in N·m/rad),
+        /// damper (N·m·s/rad) or inertia (kg·m²), the rest of the model as prescribed (none:
+        /// zero); or the sine's frequency (rad/s).
+        parameter: SweepParameter = SweepParameter::Spring,
+        /// The levels in the swept parameter's unit, in the order they are run (1 to 12, each
+        /// at least 0 and within the haptic model's or the dial's bound for that parameter).
+        #[schemars(length(min = SWEEP_LEVELS.min as u32, max = SWEEP_LEVELS.max as u32), inner(range(min = 0.0)))]
+        levels: Vec<f64> = vec![0.0, 0.2, 0.4, 0.6, 0.8, 1.0],
+        /// Time at each level, s.
+        #[schemars(range(min = LEVEL_S.min, max = LEVEL_S.max))]
+        level_s: f64 = 60.0,
+        /// The sine's amplitude, deg (Appendix E: 120).
+        #[schemars(range(min = AMPLITUDE_DEG.min, max = AMPLITUDE_DEG.max))]
+        amplitude_deg: f64 = 120.0,
+        /// The sine's frequency, rad/s (Appendix E: 1); a frequency sweep uses its levels.
+        #[schemars(range(min = FREQUENCY_RAD_S.min, max = FREQUENCY_RAD_S.max))]
+        frequency_rad_s: f64 = 1.0,
+    }
+);
+
+impl HapticSweepSpec {
+    /// The sweep as the station runs it: one sweep of one level per level, in order.
+    pub fn split(&self) -> Vec<HapticSweepSpec> {
+        self.levels
+            .iter()
+            .map(|l| HapticSweepSpec {
+                levels: vec![*l],
+                ..self.clone()
+            })
+            .collect()
+    }
+
+    /// The dial's reference at `level`: the prescribed sine, at `level` rad/s in a
+    /// frequency sweep.
+    fn reference(&self, level: f64) -> DialSignal {
+        DialSignal::Sine {
+            amplitude_deg: self.amplitude_deg,
+            frequency_rad_s: match self.parameter {
+                SweepParameter::Frequency => level,
+                _ => self.frequency_rad_s,
+            },
+        }
+    }
+}
+
 impl StrengthSpec {
     /// The longest the test lasts, s: both sides and the rest between them.
     pub fn duration_s(&self) -> f64 {
@@ -370,10 +462,14 @@ pub enum ExerciseSpec {
     /// Strength: push the wheel left, then right, as hard as you comfortably can against a
     /// spring that stiffens slowly; gives the peak and sustained torque each way.
     Strength(StrengthSpec),
+    /// Haptic sweep: follow the swinging needle while the wheel's spring, damping or
+    /// heaviness (or the needle's speed) changes in steps; gives the tracking error at each
+    /// step, as the thesis's parameter studies did.
+    HapticSweep(HapticSweepSpec),
 }
 
 /// The built-in exercise names, each with its default parameters ([`ExerciseSpec::from_name`]).
-pub const EXERCISE_NAMES: [&str; 14] = [
+pub const EXERCISE_NAMES: [&str; 15] = [
     "straight-road",
     "sine-road",
     "triangle-road",
@@ -388,6 +484,7 @@ pub const EXERCISE_NAMES: [&str; 14] = [
     "dial-ramp",
     "dial-chirp",
     "strength",
+    "haptic-sweep",
 ];
 
 impl ExerciseSpec {
@@ -407,6 +504,7 @@ impl ExerciseSpec {
             "slalom" => Self::Slalom(Default::default()),
             "dial" => Self::Dial(Default::default()),
             "strength" => Self::Strength(Default::default()),
+            "haptic-sweep" => Self::HapticSweep(Default::default()),
             other => match other
                 .strip_prefix("dial-")
                 .and_then(DialSignal::default_named)
@@ -444,6 +542,11 @@ impl ExerciseSpec {
                 d.side_s =
                     ((duration_s - crate::strength::REST_S) / 2.0).clamp(SIDE_S.min, SIDE_S.max);
             }
+            // The levels share the time.
+            Self::HapticSweep(d) => {
+                d.level_s =
+                    (duration_s / d.levels.len().max(1) as f64).clamp(LEVEL_S.min, LEVEL_S.max);
+            }
         }
         spec
     }
@@ -461,6 +564,7 @@ impl ExerciseSpec {
             Self::Slalom(_) => "slalom".into(),
             Self::Dial(d) => format!("dial-{}", d.reference.name()),
             Self::Strength(_) => "strength".into(),
+            Self::HapticSweep(_) => "haptic-sweep".into(),
         }
     }
 
@@ -556,6 +660,7 @@ impl ExerciseSpec {
                 r("ramp_nm_per_s", d.ramp_nm_per_s, RAMP_NM_PER_S, "N·m/s")?;
                 r("side_s", d.side_s, SIDE_S, "s")
             }
+            Self::HapticSweep(d) => validate_sweep(c, d),
         }
     }
 
@@ -583,6 +688,7 @@ impl ExerciseSpec {
                     speed_profile_m_s: Vec::new(),
                     dial: Some(d.reference.clone()),
                     strength: None,
+                    sweep: None,
                 });
             }
             Self::Strength(d) => {
@@ -596,6 +702,27 @@ impl ExerciseSpec {
                     speed_profile_m_s: Vec::new(),
                     dial: None,
                     strength: Some(d.clone()),
+                    sweep: None,
+                });
+            }
+            // Built whole (as a regimen plans it), one dial of every level's time at its
+            // first level; the station runs it split, one level per exercise.
+            Self::HapticSweep(d) => {
+                let level = d.levels.first().copied().unwrap_or_default();
+                return Ok(Exercise {
+                    name,
+                    road: None,
+                    length_m: 0.0,
+                    lane_width_m: 0.0,
+                    duration_s: Some(d.level_s * d.levels.len() as f64),
+                    cones: Vec::new(),
+                    speed_profile_m_s: Vec::new(),
+                    dial: Some(d.reference(level)),
+                    strength: None,
+                    sweep: Some(SweepLevel {
+                        parameter: d.parameter,
+                        level,
+                    }),
                 });
             }
         };
@@ -624,6 +751,7 @@ impl ExerciseSpec {
             speed_profile_m_s,
             dial: None,
             strength: None,
+            sweep: None,
         })
     }
 
@@ -727,7 +855,7 @@ impl ExerciseSpec {
                 2.0 * s.cone_spacing_m,
                 slalom_cones(s.cone_count, reps) + 1,
             ),
-            Self::Dial(_) | Self::Strength(_) => return None,
+            Self::Dial(_) | Self::Strength(_) | Self::HapticSweep(_) => return None,
         })
     }
 }
@@ -780,6 +908,7 @@ pub struct Exercise {
     speed_profile_m_s: Vec<f64>,
     dial: Option<DialSignal>,
     strength: Option<StrengthSpec>,
+    sweep: Option<SweepLevel>,
 }
 
 impl std::fmt::Debug for Exercise {
@@ -791,6 +920,7 @@ impl std::fmt::Debug for Exercise {
             .field("cones", &self.cones.len())
             .field("dial", &self.dial)
             .field("strength", &self.strength)
+            .field("sweep", &self.sweep)
             .finish()
     }
 }
@@ -804,6 +934,12 @@ impl Exercise {
     /// The strength test's settings; `None` for every other exercise.
     pub fn strength(&self) -> Option<&StrengthSpec> {
         self.strength.as_ref()
+    }
+
+    /// The haptic sweep's level this exercise runs (its first for a sweep built whole);
+    /// `None` for every other exercise.
+    pub fn sweep(&self) -> Option<SweepLevel> {
+        self.sweep
     }
 
     /// Desired wheel angle at `t_s` for the dial task, rad; `None` for road exercises.
@@ -1086,6 +1222,52 @@ mod tests {
         let before = ex.target_speed_m_s(LEAD_IN_M - 3.0);
         assert!(before > in_turn && before < 10.0);
         assert!(!ex.is_finished(10.0, 5.0) && ex.is_finished(10.0, ex.length_m));
+    }
+
+    #[test]
+    fn a_haptic_sweep_splits_into_one_dial_per_level_and_refuses_levels_out_of_bounds() {
+        let toml_text = "kind = \"haptic-sweep\"\nparameter = \"frequency\"\nlevels = [0.5, 1.5, 2.5]\nlevel_s = 4.0\n";
+        let spec: ExerciseSpec = toml::from_str(toml_text).unwrap();
+        let ExerciseSpec::HapticSweep(sweep) = &spec else {
+            panic!("{spec:?}")
+        };
+        assert_eq!(spec.build().unwrap().planned_duration_s(), 12.0);
+        let parts = sweep.split();
+        assert_eq!(parts.len(), 3);
+        for (part, want) in parts.iter().zip([0.5, 1.5, 2.5]) {
+            let ex = ExerciseSpec::HapticSweep(part.clone()).build().unwrap();
+            assert_eq!(ex.planned_duration_s(), 4.0);
+            assert_eq!(ex.sweep().unwrap().level, want);
+            assert_eq!(ex.sweep().unwrap().parameter, SweepParameter::Frequency);
+            // The needle swings at the level's frequency: a quarter period to its peak.
+            let peak = ex
+                .desired_angle_rad(std::f64::consts::FRAC_PI_2 / want)
+                .unwrap();
+            assert!((peak.to_degrees() - 120.0).abs() < 1e-9, "{peak}");
+        }
+        // The levels share a prescribed duration.
+        let shared = spec.with_duration_s(30.0);
+        assert_eq!(shared.build().unwrap().planned_duration_s(), 30.0);
+        for bad in [
+            "levels = [0.5, 11.0]",
+            "levels = []",
+            "levels = [-0.1]",
+            "level_s = 0.5",
+            "amplitude_deg = 130.0",
+        ] {
+            let text = format!("kind = \"haptic-sweep\"\nparameter = \"frequency\"\n{bad}\n");
+            let spec: ExerciseSpec = toml::from_str(&text).unwrap();
+            let msg = spec.validate().unwrap_err().to_string();
+            let field = bad.split(' ').next().unwrap();
+            assert!(
+                msg.contains(field) && msg.contains("haptic-sweep"),
+                "{bad}: {msg}"
+            );
+        }
+        // A spring's level has the haptic model's bound (checked by the regimen), not the dial's.
+        let stiff: ExerciseSpec =
+            toml::from_str("kind = \"haptic-sweep\"\nlevels = [0.0, 50.0]\n").unwrap();
+        stiff.validate().unwrap();
     }
 
     #[test]

@@ -29,6 +29,7 @@ mod reference;
 pub mod road;
 pub mod score;
 pub mod strength;
+pub mod sweep;
 pub mod world;
 
 pub use dial::DialSignal;
@@ -43,6 +44,7 @@ pub use pedals::{PedalDrive, Pedals, SimFoot};
 pub use road::{Projection, Road, SineRoad};
 pub use score::{DialScore, DialSummary, DrivingScore, DrivingSummary, LaneScore};
 pub use strength::{StrengthSide, StrengthStop, StrengthSummary, StrengthTest};
+pub use sweep::{SweepLevel, SweepParameter};
 pub use world::{Side, TrackLayout, World, WorldEvent};
 
 #[cfg(test)]

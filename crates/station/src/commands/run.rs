@@ -44,7 +44,7 @@ pub struct RunArgs {
     pub seed: Option<u64>,
     /// Exercise to run, repeated to fill the session (one of: straight-road, sine-road,
     /// triangle-road, clothoid-road, sharp-turns, s-bend, lane-change, slalom, dial-sine,
-    /// dial-multi-sine, dial-step, dial-ramp, dial-chirp, strength).
+    /// dial-multi-sine, dial-step, dial-ramp, dial-chirp, strength, haptic-sweep).
     #[arg(long, conflicts_with = "regimen")]
     pub exercise: Option<String>,
     /// Regimen file (TOML): the prescribed exercises in order, with their haptic and

@@ -46,6 +46,9 @@ pub struct Chart<'a> {
     /// Names of the integer x positions 1, 2, … (sessions by date and time); empty: x is a
     /// number with its unit in `x_desc`.
     pub x_labels: Vec<String>,
+    /// Both axes start at 0 (or below, for negative values): the error against a level, as
+    /// the thesis's Appendix E draws it.
+    pub from_zero: bool,
 }
 
 /// Most rows of a chart's numbers table: a time series is sampled at this many instants.
@@ -283,7 +286,14 @@ fn draw(chart: &Chart<'_>, out: &mut String) -> Result<(), Box<dyn std::error::E
         // Sessions at 1, 2, …, n with half a step either side.
         (0.5, chart.x_labels.len() as f64 + 0.5)
     };
-    let (y0, y1) = range(all().map(|p| p.1));
+    let (mut y0, mut y1) = range(all().map(|p| p.1));
+    let (mut x0, x1) = (x0, x1);
+    if chart.from_zero {
+        x0 = x0.min(0.0);
+        y0 = y0.min(0.0);
+        // Room above the highest point for its marker, however flat the line.
+        y1 += 0.08 * (y1 - y0);
+    }
     let mut c = ChartBuilder::on(&root)
         .caption(chart.title, ("sans-serif", 18))
         .margin(8)
@@ -416,6 +426,7 @@ mod tests {
             spans: vec![(0.2, 0.4)],
             markers: false,
             x_labels: vec![],
+            from_zero: false,
         };
         let svg = svg(&chart).unwrap();
         for text in [

@@ -9,6 +9,7 @@ mod charts;
 mod measures;
 mod progress;
 mod session;
+mod sweep;
 mod words;
 
 use charts::{Chart, Line};
@@ -291,6 +292,7 @@ fn one_session(html: &mut String, i: usize, s: &SessionData) -> Result<(), Strin
         html.push_str("</tbody></table>");
     }
     exercise_table(html, &s.exercises);
+    sweep::sweep_figures(html, &s.exercises)?;
     session_charts(html, s)?;
     html.push_str("</section>");
     Ok(())
@@ -410,6 +412,7 @@ fn session_charts(html: &mut String, s: &SessionData) -> Result<(), String> {
             spans,
             markers: false,
             x_labels: vec![],
+            from_zero: false,
         };
         html.push_str(&charts::figure(&chart, decimals)?);
     }

@@ -202,6 +202,7 @@ fn charts(html: &mut String, title: &str, sessions: &[&SessionData]) -> Result<(
             spans: vec![],
             markers: true,
             x_labels: labels.clone(),
+            from_zero: false,
         };
         html.push_str(&charts::figure(&chart, decimals)?);
     }

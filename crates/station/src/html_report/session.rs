@@ -138,7 +138,13 @@ pub fn read(path: &Path) -> anyhow::Result<SessionData> {
 /// when it cannot be read).
 fn regimen_kinds(toml: Option<&str>) -> Vec<String> {
     toml.and_then(|t| regimen::Regimen::from_recorded(t, "the recording's regimen").ok())
-        .map(|(r, _)| r.exercises.iter().map(|e| e.exercise.name()).collect())
+        .map(|(r, _)| {
+            r.exercises
+                .iter()
+                .flat_map(regimen::RegimenEntry::expand)
+                .map(|e| e.exercise.name())
+                .collect()
+        })
         .unwrap_or_default()
 }
 

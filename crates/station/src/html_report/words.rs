@@ -110,9 +110,41 @@ pub fn exercises_in_words(s: &SessionData) -> String {
             .map(|k| crate::screen::plain_name(k))
             .collect()
     } else {
-        s.exercises.iter().map(|e| e.name.clone()).collect()
+        named_with_sweeps_grouped(&s.exercises)
     };
     names.join(", then ")
+}
+
+/// The exercises' names, the consecutive levels of one haptic sweep as one ("Haptic sweep of
+/// the spring, 6 levels from 0 to 1 N·m/rad").
+fn named_with_sweeps_grouped(exercises: &[record::ExerciseResult]) -> Vec<String> {
+    let level_of = |e: &record::ExerciseResult| {
+        e.scores
+            .iter()
+            .find_map(|(k, v)| vehicle::SweepParameter::of_level_measure(k).map(|p| (p, *v)))
+    };
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < exercises.len() {
+        let Some((p, first)) = level_of(&exercises[i]) else {
+            out.push(exercises[i].name.clone());
+            i += 1;
+            continue;
+        };
+        let run = exercises[i..]
+            .iter()
+            .take_while(|e| level_of(e).is_some_and(|(q, _)| q == p))
+            .count();
+        let last = level_of(&exercises[i + run - 1]).map_or(first, |l| l.1);
+        out.push(format!(
+            "Haptic sweep of the {}, {run} level{} from {first} to {last} {}",
+            p.name(),
+            if run == 1 { "" } else { "s" },
+            p.unit()
+        ));
+        i += run;
+    }
+    out
 }
 
 /// The session's kind for trends: its exercises' kinds in order, repeats left out, joined by

@@ -100,12 +100,13 @@ fn build_segment(cfg: &StationConfig, entry: &RegimenEntry) -> anyhow::Result<Se
 }
 
 /// The exercises a session of `cfg` runs, in order: the regimen's, or `cfg.session.exercise`
-/// prescribed for `cfg.session.duration_s`.
+/// prescribed for `cfg.session.duration_s`; a haptic sweep as one exercise per level, each
+/// with its own haptic model ([`RegimenEntry::expand`]).
 pub fn entries(
     cfg: &StationConfig,
     regimen: Option<&Regimen>,
 ) -> anyhow::Result<Vec<RegimenEntry>> {
-    Ok(match regimen {
+    let prescribed = match regimen {
         Some(r) => r.exercises.clone(),
         None => vec![RegimenEntry {
             // Within the exercise's own bounds (1 s to 1 h): a shorter session ends at its
@@ -121,7 +122,8 @@ pub fn entries(
             rest_s: None,
             pedals: false,
         }],
-    })
+    };
+    Ok(prescribed.iter().flat_map(RegimenEntry::expand).collect())
 }
 
 /// The road of each exercise [`build`] makes of the same `cfg` and `regimen` (`None`: the

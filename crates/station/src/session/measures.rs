@@ -468,7 +468,10 @@ impl MeasureCollector {
                 ExerciseResult {
                     index: s.index,
                     kind: s.kind.clone(),
-                    name: name(&s.kind),
+                    name: match s.sweep {
+                        Some(l) => sweep_level_name(&name(&s.kind), l),
+                        None => name(&s.kind),
+                    },
                     prescribed_s: s.prescribed_s,
                     active_s: tally.map_or(0.0, |t| t.active_ticks as f64 * self.tick_s),
                     scores: named,
@@ -591,8 +594,71 @@ fn name_exercise_scores(named: &mut BTreeMap<String, f64>, s: &ExerciseScores) {
             }
         }
     }
+    if let Some(l) = s.sweep {
+        put(&l.parameter.level_measure(), l.level);
+    }
     if let Some(t) = s.completion_time_s {
         put("completion_time_s", t);
+    }
+}
+
+/// A haptic sweep level's name as the patient and the report read it: the exercise's, the
+/// parameter and its level with the unit ("Haptic sweep: spring 0.4 N·m/rad").
+fn sweep_level_name(plain: &str, l: vehicle::SweepLevel) -> String {
+    let level = format!("{:.4}", l.level);
+    let level = level.trim_end_matches('0').trim_end_matches('.');
+    format!(
+        "{plain}: {} {level} {}",
+        l.parameter.name(),
+        l.parameter.unit()
+    )
+}
+
+/// Each haptic sweep's levels (level, mean absolute dial error in degrees) in course order,
+/// by parameter: the exercises whose scores name a sweep level
+/// ([`vehicle::SweepParameter::level_measure`]) and a dial error.
+pub fn sweep_points(
+    exercises: &[ExerciseResult],
+) -> Vec<(vehicle::SweepParameter, Vec<(f64, f64)>)> {
+    let mut out: Vec<(vehicle::SweepParameter, Vec<(f64, f64)>)> = Vec::new();
+    for e in exercises {
+        let Some(error) = e.scores.get("dial_mean_abs_error_deg") else {
+            continue;
+        };
+        for (k, level) in &e.scores {
+            let Some(p) = vehicle::SweepParameter::of_level_measure(k) else {
+                continue;
+            };
+            match out.iter_mut().find(|(q, _)| *q == p) {
+                Some((_, points)) => points.push((*level, *error)),
+                None => out.push((p, vec![(*level, *error)])),
+            }
+        }
+    }
+    out
+}
+
+/// The session's haptic sweep figures, a few per swept parameter for the hub (the levels
+/// themselves are in the exercise results): `sweep_<parameter>_levels`, the mean of the
+/// levels' mean absolute dial errors `sweep_<parameter>_mean_abs_error_deg`, and the
+/// least-squares slope of that error against the level
+/// `sweep_<parameter>_error_slope_deg_per_<unit>` (Appendix E: none with K, B, I; rising
+/// with frequency).
+pub fn sweep_of_exercises(named: &mut BTreeMap<String, f64>, exercises: &[ExerciseResult]) {
+    for (p, points) in sweep_points(exercises) {
+        let n = points.len() as f64;
+        let base = format!("sweep_{}", p.name());
+        named.insert(format!("{base}_levels"), n);
+        let mean = points.iter().map(|q| q.1).sum::<f64>() / n;
+        if mean.is_finite() {
+            named.insert(format!("{base}_mean_abs_error_deg"), mean);
+        }
+        if let Some(slope) = vehicle::sweep::error_slope(&points) {
+            named.insert(
+                format!("{base}_error_slope_deg_per_{}", p.unit_key()),
+                slope,
+            );
+        }
     }
 }
 

@@ -77,7 +77,14 @@ fn run_regimen(regimen: &Regimen, loop_rate_hz: f64) -> Vec<(f64, f64)> {
 fn assert_runs_as_prescribed(regimen: &Regimen, loop_rate_hz: f64, origin: &str) {
     let ran = run_regimen(regimen, loop_rate_hz);
     let mut total_s = 0.0;
-    for ((active_s, left_m), entry) in ran.iter().zip(&regimen.exercises) {
+    // A haptic sweep runs one exercise per level.
+    let entries: Vec<_> = regimen
+        .exercises
+        .iter()
+        .flat_map(regimen::RegimenEntry::expand)
+        .collect();
+    assert_eq!(ran.len(), entries.len(), "{origin}");
+    for ((active_s, left_m), entry) in ran.iter().zip(&entries) {
         let planned_s = entry.exercise.build().unwrap().planned_duration_s();
         let name = entry.exercise.name();
         assert!(
@@ -163,6 +170,10 @@ duration_s = 6.0
 [[exercise]]
 kind = "dial"
 duration_s = 3.0
+[[exercise]]
+kind = "haptic-sweep"
+levels = [0.0, 0.5]
+level_s = 2.0
 "#;
     let regimen = Regimen::from_toml(text, "every kind").unwrap();
     // Every road here is continued: prescribed for 1 s it would be shorter.
@@ -207,6 +218,22 @@ fn the_shipped_pedals_regimen_runs_its_prescribed_durations() {
     shipped_regimen_runs_as_prescribed("pedals");
 }
 
+/// Appendix E's sweeps (22 minutes as shipped) with 2 s levels: each level one exercise of
+/// its prescribed time, the sweeps' levels and models as shipped.
+#[test]
+fn the_shipped_appendix_e_regimen_runs_every_level_for_its_time_when_shortened() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../regimens/appendix-e.toml");
+    let mut regimen = Regimen::load(&path).unwrap();
+    for e in &mut regimen.exercises {
+        if let vehicle::ExerciseSpec::HapticSweep(s) = &mut e.exercise {
+            s.level_s = 2.0;
+        }
+    }
+    assert_eq!(regimen.planned_duration_s().unwrap(), 44.0);
+    assert_runs_as_prescribed(&regimen, 100.0, "appendix-e, 2 s levels");
+}
+
 #[test]
 fn every_shipped_regimen_is_tested() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../regimens");
@@ -219,7 +246,7 @@ fn every_shipped_regimen_is_tested() {
     names.sort();
     assert_eq!(
         names,
-        ["easy", "hard", "medium", "pedals"],
+        ["appendix-e", "easy", "hard", "medium", "pedals"],
         "add a test for each"
     );
 }

@@ -557,6 +557,7 @@ pub(super) fn recorder_loop(
         crate::session::words::plain_name,
     );
     super::measures::strength_of_exercises(&mut out.measures.named, &out.exercises);
+    super::measures::sweep_of_exercises(&mut out.measures.named, &out.exercises);
     let sample = MetricsSample {
         exercises: out.exercises.clone(),
         end_reason: ending.map_or_else(String::new, |e| {

@@ -18,7 +18,9 @@ pub fn capitalised(s: &str) -> String {
 /// What an exercise asks of the patient, in plain words, from its short name.
 pub fn plain_instruction(short: &str) -> &'static str {
     match short {
-        s if s.starts_with("dial") => "Turn the wheel so the black needle follows the red one",
+        s if s.starts_with("dial") || s == "haptic-sweep" => {
+            "Turn the wheel so the black needle follows the red one"
+        }
         "strength" => "Push the wheel left, then right, as hard as you comfortably can",
         "slalom" => "Steer between the cones and keep the car on the road",
         "lane-change" => "Move into the other lane when the road does, then hold it",

@@ -68,6 +68,8 @@ pub struct ExerciseScores {
     pub dial: Option<vehicle::DialSummary>,
     /// Its strength results (the strength test).
     pub strength: Option<vehicle::StrengthSummary>,
+    /// The haptic sweep's level it ran (a level of a haptic sweep).
+    pub sweep: Option<vehicle::SweepLevel>,
     /// Exercise time it took, s, when it ran to its end (`None`: the session ended first).
     pub completion_time_s: Option<f64>,
 }
@@ -166,6 +168,7 @@ impl Exercise {
                 driving: None,
                 dial: None,
                 strength: None,
+                sweep: seg.exercise.sweep(),
                 completion_time_s: None,
             })
             .collect();
