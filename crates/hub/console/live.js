@@ -5,6 +5,7 @@ import { ArmView } from '/console/arm3d.js';
 import { lineChart } from '/console/charts.js';
 import { legendShowsLatest } from '/console/legend.js';
 import { drawDial, drawPath, drawRoad as drawLiveRoad } from '/console/live-road.js';
+import { drawStrength, isStrength } from '/console/live-strength.js';
 import { api, esc, when } from '/console/api.js';
 import { plainName } from '/console/words.js';
 
@@ -16,8 +17,9 @@ const CHART_HEIGHT_PX = 160;
 const TRACKING = {
   road: { heading: 'Lateral deviation', y: 'deviation (m)', series: [{ label: 'lateral deviation (m)' }] },
   dial: { heading: 'Dial target and wheel angle', y: 'angle (°)', series: [{ label: 'wheel angle (°)' }, { label: 'target (°)' }] },
+  strength: { heading: 'Strength: the push against the ceiling', y: 'torque (N·m)', series: [{ label: 'push now (N·m)' }, { label: 'peak of the side (N·m)' }, { label: 'ceiling (N·m)' }] },
 };
-const SCENE = { road: 'Road and lane around the car', dial: 'Dial: target and wheel' };
+const SCENE = { road: 'Road and lane around the car', dial: 'Dial: target and wheel', strength: 'Strength test: each side' };
 
 export function liveView(el, patientId) {
   el.innerHTML = `
@@ -28,7 +30,7 @@ export function liveView(el, patientId) {
         <p class="note" id="angles"></p></section>
       <section class="panel live-scene" aria-labelledby="road-h"><h2 id="road-h">${SCENE.road}</h2>
         <canvas id="road" aria-describedby="road-note"></canvas>
-        <p class="note" id="road-note"></p></section>
+        <p class="note" id="road-note"></p><table id="strength-table" hidden></table></section>
       <section class="panel live-tracking" aria-labelledby="c1-h"><h2 id="c1-h">Tracking</h2><div class="chart" id="chart-tracking"></div></section>
       <section class="panel live-torque" aria-labelledby="c2-h"><h2 id="c2-h">Torque and assistance</h2><div class="chart" id="chart-torque"></div></section>
       <section class="panel live-joints" aria-labelledby="c3-h"><h2 id="c3-h">Joint angles</h2><div class="chart" id="chart-joints"></div></section>
@@ -57,7 +59,7 @@ export function liveView(el, patientId) {
     el.querySelector('#c1-h').textContent = TRACKING[m].heading;
     el.querySelector('#road-h').textContent = SCENE[m];
   };
-  const cols = { t: [], lat: [], target: [], wheel: [], torque: [], assist: [], ceiling: [], sh: [], el: [], x: [], y: [] };
+  const cols = { t: [], lat: [], target: [], wheel: [], torque: [], assist: [], ceiling: [], sh: [], el: [], x: [], y: [], push: [], peak: [] };
   const started = new Map();
   let session = null;
   const status = el.querySelector('#live-status');
@@ -89,8 +91,8 @@ export function liveView(el, patientId) {
     }
     const t = s.t_s;
     cols.t.push(t);
-    const onRoad = x.car_x_m !== undefined;
-    setMode(onRoad ? 'road' : 'dial');
+    const onRoad = x.car_x_m !== undefined, strength = !onRoad && isStrength(x);
+    setMode(onRoad ? 'road' : strength ? 'strength' : 'dial');
     const deg = rad => (Number.isFinite(rad) ? rad * 180 / Math.PI : null);
     cols.lat.push(onRoad ? s.lateral_m : null);
     cols.target.push(onRoad ? null : deg(x.wheel_target_rad));
@@ -102,20 +104,26 @@ export function liveView(el, patientId) {
     cols.el.push(x.elbow_flexion_deg ?? null);
     cols.x.push(x.car_x_m ?? null);
     cols.y.push(x.car_y_m ?? null);
+    const side = x.strength_side === 1 ? 'left' : x.strength_side === -1 ? 'right' : null;
+    cols.push.push(strength ? x.strength_push_nm ?? null : null);
+    cols.peak.push(side ? x[`strength_peak_${side}_nm`] ?? null : null);
     while (cols.t.length && cols.t[0] < t - WINDOW_S) Object.values(cols).forEach(c => c.shift());
-    charts.tracking.set(onRoad ? [cols.t, cols.lat] : [cols.t, cols.wheel, cols.target]);
+    charts.tracking.set(onRoad ? [cols.t, cols.lat] : strength ? [cols.t, cols.push, cols.peak, cols.ceiling] : [cols.t, cols.wheel, cols.target]);
     charts.torque.set([cols.t, cols.torque, cols.assist, cols.ceiling]);
     charts.joints.set([cols.t, cols.sh, cols.el]);
     arm.pose(x);
     const scene = el.querySelector('#road');
-    el.querySelector('#road-note').textContent = onRoad ? drawLiveRoad(scene, cols, x, WINDOW_S) : drawDial(scene, x);
+    const table = el.querySelector('#strength-table');
+    table.hidden = !strength;
+    el.querySelector('#road-note').textContent = onRoad ? drawLiveRoad(scene, cols, x, WINDOW_S)
+      : strength ? drawStrength(scene, table, x) : drawDial(scene, x);
     const start = started.get(session);
     const delay = start ? (Date.now() - (start + t * 1000)) / 1000 : null;
     const state = x.watchdog_fault ? '<span class="badge alert">safety fault: torque fading to zero</span>'
       : x.paused ? '<span class="badge warn">paused</span>' : '<span class="badge ok">running</span>';
     status.innerHTML = `Session of ${esc(start ? when(start) : 'just now')} · ${esc(plainName(s.exercise))} · ${t.toFixed(1)} s ${state}
       · torque ${fmt(x.torque_nm, 2)} of ${fmt(x.ceiling_nm, 2)} N·m ceiling
-      · ${onRoad ? `in lane ${fmt(s.pct_in_lane, 0)} %` : `off the dial's target by ${fmt(Math.abs(deg(x.wheel_angle_rad - x.wheel_target_rad) ?? NaN), 0)}°`}`
+      · ${onRoad ? `in lane ${fmt(s.pct_in_lane, 0)} %` : strength ? `push ${fmt(x.strength_push_nm, 2)} N·m` : `off the dial's target by ${fmt(Math.abs(deg(x.wheel_angle_rad - x.wheel_target_rad) ?? NaN), 0)}°`}`
       + (delay == null ? '' : ` · delay ${delay.toFixed(2)} s`)
       + (x.recording_stopped_s === undefined ? '' : ` <span class="badge alert">recording stopped at ${fmt(x.recording_stopped_s, 1)} s</span>`);
     status.dataset.delayS = delay == null ? '' : delay.toFixed(3);

@@ -30,7 +30,8 @@ pub use error::MetricError;
 pub use filter::{Biquad, derivative, speed_profile};
 pub use live::LiveMeasures;
 pub use robot::{
-    ResponseParams, StepResponse, TargetStep, speed_metric, steering_reversals, step_responses,
+    DirectedResponse, DirectedStep, ResponseParams, StepResponse, TargetStep,
+    directed_step_responses, speed_metric, steering_reversals, step_responses,
 };
 pub use segment::{Movement, SegmentParams, segment, threshold};
 pub use session::{

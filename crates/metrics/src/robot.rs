@@ -13,7 +13,10 @@
 //!   visually guided reaching", Neurorehabil Neural Repair 24(6):528–541).
 //! - **Reaction time**, **initial direction error**, **path length ratio**: per step change
 //!   of the target ([`step_responses`]), as Coderre et al. 2010 define them for a reach to a
-//!   target that appears, restated for a 1-D wheel angle (see [`StepResponse`]).
+//!   target that appears, restated for a 1-D wheel angle (see [`StepResponse`]). A lane
+//!   change asks for a turn of known way but no fixed size when its lane shifts: reaction
+//!   time and initial direction error only ([`directed_step_responses`]), the reaction time
+//!   signed, since the patient sees the shift coming and may steer before reaching it.
 //! - **Dose** ([`steering_reversals`]; per minute in [`crate::SessionMeasures`]): movements
 //!   and steering reversals per active minute. Reversals as Markkula G, Engström J (2006) "A
 //!   steering wheel reversal rate metric for assessing effects of visual and cognitive
@@ -249,17 +252,9 @@ fn respond(
         path_length_ratio: None,
     };
     let i0 = step.index;
-    let window = &speed[i0..end];
-    let peak = window.iter().copied().fold(0.0, f64::max);
-    let v_th = (params.onset_fraction * peak).max(params.floor_rad_s);
-    let Some(onset) = window.iter().position(|&v| v > v_th).map(|k| i0 + k) else {
+    let Some((onset, first_peak, last)) = movement_in(speed, i0, end, params) else {
         return none;
     };
-    let last = i0 + window.iter().rposition(|&v| v > v_th).unwrap_or(0);
-    // The first speed peak: the first sample after the onset not exceeded by the next one.
-    let first_peak = (onset..last)
-        .find(|&j| speed[j + 1] < speed[j])
-        .unwrap_or(last);
     let needed = step.target_rad - angle[i0];
     let asked = needed.abs() >= params.min_distance_rad;
     let before_onset = onset.saturating_sub(1).max(i0);
@@ -281,6 +276,131 @@ fn respond(
         initial_direction_error_deg,
         path_length_ratio: asked.then(|| path / needed.abs()),
     }
+}
+
+/// The movement in `speed[start..end]`: its onset (the first sample above
+/// `max(onset_fraction · peak, floor)`), its first speed peak (the first sample after the onset
+/// not exceeded by the next one) and its end (the last sample above the threshold); `None`
+/// when nothing in the window exceeds the threshold.
+fn movement_in(
+    speed: &[f64],
+    start: usize,
+    end: usize,
+    params: &ResponseParams,
+) -> Option<(usize, usize, usize)> {
+    let window = &speed[start..end];
+    let peak = window.iter().copied().fold(0.0, f64::max);
+    let v_th = (params.onset_fraction * peak).max(params.floor_rad_s);
+    let onset = start + window.iter().position(|&v| v > v_th)?;
+    let last = start + window.iter().rposition(|&v| v > v_th).unwrap_or(0);
+    let first_peak = (onset..last)
+        .find(|&j| speed[j + 1] < speed[j])
+        .unwrap_or(last);
+    Some((onset, first_peak, last))
+}
+
+/// A change of what is asked whose way is known but not its size: a lane change's lane
+/// starting to move over, which asks the wheel to turn one way first (then back to follow the
+/// new lane) by an amount that depends on the car's speed.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DirectedStep {
+    /// The sample at which the change happens (the car reaches the shift).
+    pub index: usize,
+    /// The way the wheel must turn first: +1 towards positive angles, −1 towards negative.
+    pub direction: f64,
+}
+
+/// The wheel's response to a [`DirectedStep`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DirectedResponse {
+    /// The change responded to.
+    pub step: DirectedStep,
+    /// From the change to the movement's onset, s (as [`StepResponse`]'s, the onset at
+    /// `max(onset_fraction · peak, floor)` of the window's speed); negative when the wheel
+    /// started before the change, as a patient who sees the lane shift coming ahead may (the
+    /// window opens `lead_s` before the change). `None` when the wheel did not move.
+    pub reaction_time_s: Option<f64>,
+    /// The way of the wheel's displacement from the onset to its first speed peak against
+    /// the way asked: 0° the right way, 180° the wrong way. `None` without a movement.
+    pub initial_direction_error_deg: Option<f64>,
+}
+
+/// The wheel's response to each [`DirectedStep`] in one continuous angle signal (rad, sampled
+/// at `fs_hz`), `steps` in time order. A change's window opens `lead_s` before it (not before
+/// the previous change) and runs to `lead_s` before the next change, `max_window_s` after it,
+/// or the signal's end, whichever is first. No path length ratio: the turn a lane change asks
+/// has no fixed size.
+///
+/// # Errors
+/// `fs_hz` not finite and > 0, `lead_s` not finite and ≥ 0, a non-finite angle sample,
+/// parameters out of range, steps out of order or past the signal's end, or a direction not
+/// ±1.
+pub fn directed_step_responses(
+    angle_rad: &[f64],
+    fs_hz: f64,
+    steps: &[DirectedStep],
+    lead_s: f64,
+    params: &ResponseParams,
+) -> Result<Vec<DirectedResponse>, MetricError> {
+    check_fs(fs_hz)?;
+    params.validate()?;
+    if !(lead_s.is_finite() && lead_s >= 0.0) {
+        return Err(MetricError::BadParameter {
+            context: "directed_step_responses",
+            field: "lead_s",
+            value: lead_s,
+            allowed: "finite and >= 0 s",
+        });
+    }
+    if steps.is_empty() {
+        return Ok(Vec::new());
+    }
+    check_signal("wheel angle", angle_rad, 2)?;
+    let n = angle_rad.len();
+    for (k, s) in steps.iter().enumerate() {
+        let ordered = k == 0 || steps[k - 1].index < s.index;
+        if s.index >= n || !ordered || s.direction.abs() != 1.0 {
+            return Err(MetricError::BadParameter {
+                context: "directed_step_responses",
+                field: "steps",
+                value: s.index as f64,
+                allowed: "indices in time order within the signal, directions ±1",
+            });
+        }
+    }
+    let speed = speed_profile(angle_rad, fs_hz, params.lowpass_hz);
+    let max_window = ((params.max_window_s * fs_hz).round() as usize).max(1);
+    let lead = (lead_s * fs_hz).round() as usize;
+    Ok(steps
+        .iter()
+        .enumerate()
+        .map(|(k, &step)| {
+            let previous = if k == 0 { 0 } else { steps[k - 1].index };
+            let start = step.index.saturating_sub(lead).max(previous);
+            let next = steps.get(k + 1).map_or(n, |s| s.index.saturating_sub(lead));
+            let end = next.min(step.index + max_window).min(n).max(step.index + 1);
+            let Some((onset, first_peak, _)) = movement_in(&speed, start, end, params) else {
+                return DirectedResponse {
+                    step,
+                    reaction_time_s: None,
+                    initial_direction_error_deg: None,
+                };
+            };
+            let before_onset = onset.saturating_sub(1).max(start);
+            let initial = angle_rad[first_peak] - angle_rad[before_onset];
+            DirectedResponse {
+                step,
+                reaction_time_s: Some((onset as f64 - step.index as f64) / fs_hz),
+                initial_direction_error_deg: (initial != 0.0).then(|| {
+                    if initial.signum() == step.direction {
+                        0.0
+                    } else {
+                        180.0
+                    }
+                }),
+            }
+        })
+        .collect())
 }
 
 #[cfg(test)]
@@ -396,5 +516,55 @@ mod tests {
         assert!(step_responses(&still, 100.0, &[late], &ResponseParams::default()).is_err());
         let unordered = [step, step];
         assert!(step_responses(&still, 100.0, &unordered, &ResponseParams::default()).is_err());
+    }
+
+    /// A wheel that makes a lane change's out-and-back turn (a minimum-jerk turn of 0.3 rad
+    /// `direction` over 1 s, then back over 1 s) starting `start_s` after the shift at 2 s,
+    /// at 100 Hz for 8 s.
+    fn lane_change_turn(start_s: f64, direction: f64) -> Vec<f64> {
+        (0..800)
+            .map(|i| {
+                let t = f64::from(i) / 100.0 - 2.0 - start_s;
+                0.3 * direction * (min_jerk(t) - min_jerk(t - 1.0))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_lane_shift_met_late_or_early_has_its_signed_reaction_time_and_direction() {
+        let params = ResponseParams::default();
+        let shift = DirectedStep {
+            index: 200,
+            direction: 1.0,
+        };
+        // The onset at 10 % of the peak speed comes 1 · 0.086 s into the turn.
+        for start_s in [0.4, -0.5] {
+            let angle = lane_change_turn(start_s, 1.0);
+            let r = directed_step_responses(&angle, 100.0, &[shift], 1.5, &params).unwrap()[0];
+            let rt = r.reaction_time_s.unwrap();
+            assert!((rt - (start_s + 0.086)).abs() < 0.03, "{start_s}: {rt}");
+            assert_eq!(r.initial_direction_error_deg, Some(0.0));
+        }
+        // The wrong way first.
+        let angle = lane_change_turn(0.3, -1.0);
+        let r = directed_step_responses(&angle, 100.0, &[shift], 1.5, &params).unwrap()[0];
+        assert_eq!(r.initial_direction_error_deg, Some(180.0));
+        // Earlier than the window opens: the onset is where it opens, no earlier.
+        let angle = lane_change_turn(-1.9, 1.0);
+        let r = directed_step_responses(&angle, 100.0, &[shift], 1.0, &params).unwrap()[0];
+        assert!(r.reaction_time_s.unwrap() >= -1.0);
+        // A wheel held still: no response; bad directions and lead times are refused.
+        let still = vec![0.2; 800];
+        let r = directed_step_responses(&still, 100.0, &[shift], 1.5, &params).unwrap()[0];
+        assert_eq!(
+            (r.reaction_time_s, r.initial_direction_error_deg),
+            (None, None)
+        );
+        let half = DirectedStep {
+            direction: 0.5,
+            ..shift
+        };
+        assert!(directed_step_responses(&still, 100.0, &[half], 1.5, &params).is_err());
+        assert!(directed_step_responses(&still, 100.0, &[shift], -1.0, &params).is_err());
     }
 }

@@ -689,6 +689,11 @@ impl ExerciseSpec {
                     dial: Some(d.reference.clone()),
                     strength: None,
                     sweep: None,
+                    steps: if matches!(d.reference, DialSignal::Step { .. }) {
+                        TargetSteps::Jumps
+                    } else {
+                        TargetSteps::None
+                    },
                 });
             }
             Self::Strength(d) => {
@@ -703,6 +708,7 @@ impl ExerciseSpec {
                     dial: None,
                     strength: Some(d.clone()),
                     sweep: None,
+                    steps: TargetSteps::None,
                 });
             }
             // Built whole (as a regimen plans it), one dial of every level's time at its
@@ -723,6 +729,7 @@ impl ExerciseSpec {
                         parameter: d.parameter,
                         level,
                     }),
+                    steps: TargetSteps::None,
                 });
             }
         };
@@ -752,7 +759,26 @@ impl ExerciseSpec {
             dial: None,
             strength: None,
             sweep: None,
+            steps: self.lane_shifts(reps),
         })
+    }
+
+    /// The lane shifts of a lane change whose shape repeats `reps` times, as
+    /// [`Self::centre_line`] lays them out (none for any other road).
+    fn lane_shifts(&self, reps: u32) -> TargetSteps {
+        let Self::LaneChange(s) = self else {
+            return TargetSteps::None;
+        };
+        let (phi, r) = lane_change_arcs(s);
+        let every_m = 2.0 * r * phi + s.hold_m;
+        TargetSteps::LaneShifts(
+            (0..s.count * reps.max(1))
+                .map(|i| LaneShift {
+                    s_m: LEAD_IN_M + f64::from(i) * every_m,
+                    direction: if i % 2 == 0 { 1.0 } else { -1.0 },
+                })
+                .collect(),
+        )
     }
 
     /// The road with its shape `reps` times over, then the lead-out straight.
@@ -839,9 +865,7 @@ impl ExerciseSpec {
                 b
             }
             Self::LaneChange(s) => {
-                // Two opposite arcs shift by d over length L: φ = 2 atan(d/L), R = L/(2 sin φ).
-                let phi = 2.0 * (s.offset_m / s.transition_m).atan();
-                let r = s.transition_m / (2.0 * phi.sin());
+                let (phi, r) = lane_change_arcs(s);
                 let mut b = lead(s.lane_width_m);
                 for i in 0..s.count * reps {
                     let sign = if i % 2 == 0 { 1.0 } else { -1.0 };
@@ -858,6 +882,13 @@ impl ExerciseSpec {
             Self::Dial(_) | Self::Strength(_) | Self::HapticSweep(_) => return None,
         })
     }
+}
+
+/// The angle and radius of each of a lane change's two opposite arcs: two arcs shift by d
+/// over length L with φ = 2 atan(d/L), R = L/(2 sin φ).
+fn lane_change_arcs(s: &LaneChangeSpec) -> (f64, f64) {
+    let phi = 2.0 * (s.offset_m / s.transition_m).atan();
+    (phi, s.transition_m / (2.0 * phi.sin()))
 }
 
 /// A slalom's cones when its shape repeats `reps` times: the weave continues, a cone at
@@ -909,6 +940,32 @@ pub struct Exercise {
     dial: Option<DialSignal>,
     strength: Option<StrengthSpec>,
     sweep: Option<SweepLevel>,
+    steps: TargetSteps,
+}
+
+/// Which changes of an exercise's target are step changes a reaction is measured to (robot
+/// assessments' reaction time and initial direction error, `metrics::robot`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum TargetSteps {
+    /// None: the target moves continuously (roads, smooth dials) or its jumps are no cue to
+    /// react to (the strength test's side changes).
+    #[default]
+    None,
+    /// Every jump of the target angle (the stepping dial).
+    Jumps,
+    /// The lane shifts of a lane change: where the lane the patient must drive in starts to
+    /// move, in the order the car meets them.
+    LaneShifts(Vec<LaneShift>),
+}
+
+/// Where the lane of a lane change starts to move over.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LaneShift {
+    /// Distance along the road where the centre line starts to shift, m.
+    pub s_m: f64,
+    /// The way the wheel must turn first to follow it: +1 left (the lane moves left, a
+    /// positive wheel angle), −1 right.
+    pub direction: f64,
 }
 
 impl std::fmt::Debug for Exercise {
@@ -921,6 +978,7 @@ impl std::fmt::Debug for Exercise {
             .field("dial", &self.dial)
             .field("strength", &self.strength)
             .field("sweep", &self.sweep)
+            .field("steps", &self.steps)
             .finish()
     }
 }
@@ -940,6 +998,11 @@ impl Exercise {
     /// `None` for every other exercise.
     pub fn sweep(&self) -> Option<SweepLevel> {
         self.sweep
+    }
+
+    /// Which of the target's changes are steps to react to.
+    pub fn target_steps(&self) -> &TargetSteps {
+        &self.steps
     }
 
     /// Desired wheel angle at `t_s` for the dial task, rad; `None` for road exercises.
@@ -1288,5 +1351,48 @@ mod tests {
             err.contains("stiffness_nm_per_rad") && err.contains("N·m/rad"),
             "{err}"
         );
+    }
+
+    /// A lane change's shifts are where its centre line starts to bend towards the other
+    /// lane, one per change (repetitions included), alternating left and right; the stepping
+    /// dial's jumps are steps, and the strength test's side changes and smooth targets none.
+    #[test]
+    fn lane_shifts_start_where_the_lane_bends_and_only_stepping_targets_have_steps() {
+        let spec = ExerciseSpec::from_name("lane-change").unwrap();
+        let ExerciseSpec::LaneChange(lc) = &spec else {
+            unreachable!()
+        };
+        let count = lc.count;
+        for (spec, reps) in [(spec.clone(), 1), (spec.with_duration_s(120.0), 0)] {
+            let ex = spec.build().unwrap();
+            let TargetSteps::LaneShifts(shifts) = ex.target_steps() else {
+                panic!("{:?}", ex.target_steps())
+            };
+            if reps == 1 {
+                assert_eq!(shifts.len(), count as usize);
+            } else {
+                assert!(shifts.len() > count as usize, "{}", shifts.len());
+            }
+            let road = ex.road.as_ref().unwrap();
+            for (k, sh) in shifts.iter().enumerate() {
+                let (_, _, before) = road.centre(sh.s_m - 0.5);
+                let (_, _, after) = road.centre(sh.s_m + 0.5);
+                assert!(before.abs() < 1e-9, "shift {k}: straight before, {before}");
+                assert_eq!(after.signum(), sh.direction, "shift {k}");
+                assert_eq!(sh.direction, if k % 2 == 0 { 1.0 } else { -1.0 });
+                assert!(sh.s_m < ex.length_m);
+            }
+        }
+        let steps = |name: &str| {
+            ExerciseSpec::from_name(name)
+                .unwrap()
+                .build()
+                .unwrap()
+                .steps
+        };
+        assert_eq!(steps("dial-step"), TargetSteps::Jumps);
+        for name in ["strength", "dial-sine", "dial-ramp", "sine-road", "slalom"] {
+            assert_eq!(steps(name), TargetSteps::None, "{name}");
+        }
     }
 }

@@ -35,7 +35,7 @@ pub mod world;
 pub use dial::DialSignal;
 pub use driver::{PreviewDriver, SpeedController};
 pub use error::VehicleError;
-pub use exercise::{EXERCISE_NAMES, Exercise, ExerciseSpec};
+pub use exercise::{EXERCISE_NAMES, Exercise, ExerciseSpec, LaneShift, TargetSteps};
 pub use feel::AligningTorque;
 pub use model::{DriverInput, TyreForces, TyreModel, Vehicle, VehicleParams, VehicleState};
 pub use offline::{TimedInput, simulate};

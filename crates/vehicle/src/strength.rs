@@ -24,6 +24,18 @@ pub const LOADED_NM: f64 = 0.2;
 pub const LET_GO_FRACTION: f64 = 0.2;
 /// How long the torque must stay low to count as letting go, s.
 pub const LET_GO_S: f64 = 0.5;
+/// Damping of the spring, N·m·s/rad: a stiff spring alone rings on the wheel's inertia (some
+/// 6 Hz with the simulated wheel), its torque swinging well above and below the patient's
+/// push, so that its peak would be the ringing's, not the patient's. The damper's torque is
+/// not measured: held still, it is zero.
+pub const DAMPING_NM_S_PER_RAD: f64 = 1.0;
+/// Low-pass cut-off of the wheel's speed the damper uses (from the angle's differences), Hz.
+const SPEED_LOWPASS_HZ: f64 = 30.0;
+/// The wheel moving slower than this for [`HELD_S`] counts as held: the push is measured,
+/// rad/s (29°/s).
+pub const HELD_RAD_S: f64 = 0.5;
+/// How long the wheel must be slower than [`HELD_RAD_S`] to count as held, s.
+pub const HELD_S: f64 = 0.1;
 /// Where the patient is asked to push, rad (the simulated patient aims there): 30°.
 pub const PUSH_AIM_RAD: f64 = std::f64::consts::FRAC_PI_6;
 
@@ -118,6 +130,11 @@ pub struct StrengthTest {
     /// The sliding window's minimum candidates: (time, torque), torque increasing.
     window: VecDeque<(f64, f64)>,
     summary: StrengthSummary,
+    /// The last tick's wheel angle, rad, and the wheel's low-passed speed, rad/s.
+    last_angle_rad: Option<f64>,
+    speed_rad_s: f64,
+    /// How long the wheel has been slower than [`HELD_RAD_S`], s.
+    still_s: f64,
 }
 
 impl StrengthTest {
@@ -137,12 +154,23 @@ impl StrengthTest {
             loaded: false,
             window: VecDeque::with_capacity(per_window.min(1 << 20)),
             summary: StrengthSummary::default(),
+            last_angle_rad: None,
+            speed_rad_s: 0.0,
+            still_s: 0.0,
         }
     }
 
     /// The results so far.
     pub fn summary(&self) -> StrengthSummary {
         self.summary
+    }
+
+    /// The side in progress and its peak so far, N·m (`None` while resting or done).
+    pub fn side_peak_nm(&self) -> Option<(StrengthSide, f64)> {
+        match self.phase {
+            Phase::Side(side) => Some((side, self.peak_nm)),
+            _ => None,
+        }
     }
 
     /// Where the patient is asked to aim the wheel now, rad.
@@ -186,9 +214,22 @@ impl StrengthTest {
         };
         let limit = (self.ramp_nm_per_s * self.t_s).min(ceiling_nm);
         let spring = (self.stiffness_nm_per_rad * angle).clamp(-limit, limit);
+        // What is measured is the spring's torque; the damper only stops the ringing.
         let push = (side.sign() * spring).max(0.0);
-        self.take(push, dt_s);
-        let stop = if ceiling_nm > 0.0 && push >= CEILING_FRACTION * ceiling_nm {
+        let speed = self.speed(angle, dt_s);
+        let held =
+            (self.stiffness_nm_per_rad * angle + DAMPING_NM_S_PER_RAD * speed).clamp(-limit, limit);
+        // Only a wheel held (nearly) still balances the patient's push: a moving one has the
+        // wheel's inertia in it (the spring carrying the wheel back once its limit passed the
+        // push, or the wheel swinging about the balance, still only at its turning points).
+        self.still_s = if speed.abs() <= HELD_RAD_S {
+            self.still_s + dt_s
+        } else {
+            0.0
+        };
+        let held_still = self.still_s >= HELD_S;
+        self.take(push, dt_s, held_still);
+        let stop = if held_still && ceiling_nm > 0.0 && push >= CEILING_FRACTION * ceiling_nm {
             Some(StrengthStop::Ceiling)
         } else if self.loaded && self.low_s >= LET_GO_S {
             Some(StrengthStop::LetGo)
@@ -217,7 +258,7 @@ impl StrengthTest {
             }
         }
         StrengthStep {
-            torque_nm: -spring,
+            torque_nm: -held,
             side: Some(side),
             push_nm: push,
             limit_nm: limit,
@@ -225,9 +266,55 @@ impl StrengthTest {
         }
     }
 
+    /// The wheel's speed from the angle's differences, low-passed, rad/s.
+    fn speed(&mut self, angle: f64, dt_s: f64) -> f64 {
+        if let Some(last) = self.last_angle_rad
+            && dt_s > 0.0
+        {
+            let a = 1.0 - (-std::f64::consts::TAU * SPEED_LOWPASS_HZ * dt_s).exp();
+            self.speed_rad_s += a * ((angle - last) / dt_s - self.speed_rad_s);
+        }
+        self.last_angle_rad = Some(angle);
+        self.speed_rad_s
+    }
+
+    /// The exercise's time is up: a side still in progress stops at its time limit with what
+    /// it measured (the exercise's duration is both sides' limits and the rest, so the last
+    /// side can reach it a tick or two before its own limit), and the test is done.
+    pub fn time_up(&mut self) {
+        if let Phase::Side(side) = self.phase {
+            let result = Some(SideResult {
+                peak_nm: self.peak_nm,
+                sustained_nm: self.sustained_nm,
+                stop: StrengthStop::TimeLimit,
+                duration_s: self.t_s,
+            });
+            match side {
+                StrengthSide::Left => self.summary.left = result,
+                StrengthSide::Right => self.summary.right = result,
+            }
+        }
+        self.start(Phase::Done);
+    }
+
     /// Take the patient's torque `push` at the phase's time, for a tick `dt_s` long: peak,
     /// sustained, letting go.
-    fn take(&mut self, push: f64, dt_s: f64) {
+    fn take(&mut self, push: f64, dt_s: f64, measured: bool) {
+        if measured {
+            self.hold(push);
+        }
+        if push >= LOADED_NM {
+            self.loaded = true;
+        }
+        if self.loaded && push < LET_GO_FRACTION * self.peak_nm {
+            self.low_s += dt_s;
+        } else {
+            self.low_s = 0.0;
+        }
+    }
+
+    /// Take the patient's torque `push` into the peak and the sustained torque.
+    fn hold(&mut self, push: f64) {
         self.peak_nm = self.peak_nm.max(push);
         let t = self.t_s;
         while self.window.back().is_some_and(|b| b.1 >= push) {
@@ -248,14 +335,6 @@ impl StrengthTest {
         {
             self.sustained_nm = self.sustained_nm.max(f.1);
         }
-        if push >= LOADED_NM {
-            self.loaded = true;
-        }
-        if self.loaded && push < LET_GO_FRACTION * self.peak_nm {
-            self.low_s += dt_s;
-        } else {
-            self.low_s = 0.0;
-        }
     }
 
     fn start(&mut self, phase: Phase) {
@@ -266,6 +345,7 @@ impl StrengthTest {
         self.low_s = 0.0;
         self.loaded = false;
         self.window.clear();
+        (self.last_angle_rad, self.speed_rad_s, self.still_s) = (None, 0.0, 0.0);
     }
 }
 
@@ -349,6 +429,25 @@ mod tests {
         assert!((l.duration_s - 10.0).abs() < 0.01, "{l:?}");
         assert!((l.peak_nm - 1.5).abs() < 1e-9 && (r.peak_nm - 1.0).abs() < 1e-9);
         assert!((l.sustained_nm - 1.5).abs() < 1e-9 && (r.sustained_nm - 1.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_exercise_ending_mid_side_keeps_that_side_stopped_at_its_time_limit() {
+        let mut test = StrengthTest::new(K, 0.5, 3.0, DT_S);
+        // Left at 1 N·m to its limit, the rest, then right until 0.5 s before its limit.
+        let ticks = ((3.0 + REST_S + 2.5) / DT_S) as usize;
+        for _ in 0..ticks {
+            let aim = test.aim_rad().signum();
+            test.step(aim * 1.0 / K, 5.0, DT_S);
+        }
+        assert!(test.summary().right.is_none());
+        test.time_up();
+        let right = test.summary().right.unwrap();
+        assert_eq!(right.stop, StrengthStop::TimeLimit);
+        assert!((right.peak_nm - 1.0).abs() < 1e-9, "{right:?}");
+        assert!((right.duration_s - 2.5).abs() < 0.01, "{right:?}");
+        assert!(test.step(0.0, 5.0, DT_S).done);
+        assert_eq!(test.aim_rad(), 0.0);
     }
 
     #[test]

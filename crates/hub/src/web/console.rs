@@ -31,6 +31,7 @@ const ASSETS: &[Asset] = &[
     asset!("api.js", JS),
     asset!("live.js", JS),
     asset!("live-road.js", JS),
+    asset!("live-strength.js", JS),
     asset!("legend.js", JS),
     asset!("replay.js", JS),
     asset!("exercises.js", JS),

@@ -144,6 +144,25 @@ pub fn roads(
         .collect()
 }
 
+/// Which of each exercise's target changes are steps to respond to, for the measures
+/// ([`vehicle::Exercise::target_steps`]), in course order.
+pub fn target_steps(
+    cfg: &StationConfig,
+    regimen: Option<&Regimen>,
+) -> anyhow::Result<Vec<vehicle::TargetSteps>> {
+    entries(cfg, regimen)?
+        .iter()
+        .map(|e| {
+            let name = e.exercise.name();
+            Ok(e.exercise
+                .build()
+                .with_context(|| format!("exercise {name}"))?
+                .target_steps()
+                .clone())
+        })
+        .collect()
+}
+
 /// Build the course: [`entries`], each ready to run, with the break after each but the last
 /// (its card, and the regimen's rest).
 pub fn build(cfg: &StationConfig, regimen: Option<&Regimen>) -> anyhow::Result<Vec<Segment>> {

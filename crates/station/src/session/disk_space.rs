@@ -177,6 +177,8 @@ mod tests {
             flush_every: 1000,
             arm_lengths_m: [0.3, 0.25],
             roads: Vec::new(),
+            target_steps: Vec::new(),
+            strength: Vec::new(),
         };
         let mut summaries = Summaries::default();
         let done = std::sync::atomic::AtomicBool::new(true);

@@ -244,6 +244,9 @@ pub fn run(
                 || controls.stop.load(Ordering::Relaxed))
         {
             stopped_early = active < total_ticks && !plant.course_done();
+            if active >= total_ticks {
+                plant.time_up();
+            }
             stopping_since = Some(tick);
             plant.request_stop();
         }

@@ -19,14 +19,15 @@
 
 use super::plant::ExerciseScores;
 use metrics::{
-    LiveMeasures, MetricError, ResponseParams, SessionMeasures, SessionParams, StepResponse,
-    TargetStep, session_measures_of_runs, step_responses,
+    DirectedStep, LiveMeasures, MetricError, ResponseParams, SessionMeasures, SessionParams,
+    TargetStep, directed_step_responses, session_measures_of_runs, step_responses,
 };
 use record::{
     ArmSetup, ExerciseResult, MetricsSample, MovementSample, TickRecord, Watchdog, WheelSample,
 };
 use std::collections::BTreeMap;
 use std::path::Path;
+use vehicle::TargetSteps;
 
 pub mod series;
 
@@ -40,6 +41,11 @@ pub const MEASURE_RATE_HZ: f64 = 100.0;
 /// target (a dial step jumps by twice its amplitude in one tick; a continuous target moving
 /// this fast in 1 ms would turn at 50 rad/s), rad.
 pub const TARGET_STEP_MIN_RAD: f64 = 0.05;
+
+/// A lane shift's response is looked for from this long before the car reaches it: the
+/// patient sees the shift coming on the road ahead and may steer before getting there (the
+/// simulated patient, steered by a driver looking 0.6 s ahead, starts some 0.4 s early), s.
+pub const LANE_SHIFT_LEAD_S: f64 = 2.0;
 
 /// The most target steps kept (a step every 2 s for over 5 hours), so memory stays bounded.
 const MAX_TARGET_STEPS: usize = 10_000;
@@ -88,11 +94,35 @@ pub struct MeasureCollector {
     exercise_now: u32,
     /// Each exercise's own tallies, by its index in the course.
     tallies: Vec<ExerciseTally>,
-    /// The steps of the target, (index into the series of the sample they fall in, the new
-    /// target rad), in time order, at most [`MAX_TARGET_STEPS`].
-    target_steps: Vec<(usize, f64)>,
+    /// The steps of the target, (index into the series of the sample they fall in, the
+    /// step), in time order, at most [`MAX_TARGET_STEPS`].
+    target_steps: Vec<(usize, Cue)>,
     /// The last tick's target, rad (`None` at the start of an exercise).
     last_target_rad: Option<f64>,
+    /// Which of each exercise's target changes are steps, by its index in the course; empty
+    /// when not told (every jump of the target is then a step).
+    steps_of: Vec<TargetSteps>,
+    /// The next lane shift of the exercise in progress to meet, and the car's distance along
+    /// its road at the last tick, m (`None` at the start of an exercise).
+    next_shift: usize,
+    last_s_m: Option<f64>,
+}
+
+/// A step the wheel is to respond to.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Cue {
+    /// The target jumped to this angle, rad.
+    Jump(f64),
+    /// The lane shifted; the wheel must first turn this way (±1).
+    Shift(f64),
+}
+
+/// What a response to a step gives, of either kind of step.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Reaction {
+    reaction_time_s: Option<f64>,
+    initial_direction_error_deg: Option<f64>,
+    path_length_ratio: Option<f64>,
 }
 
 /// What the collector counts of one exercise, tick by tick.
@@ -188,7 +218,20 @@ impl MeasureCollector {
             tallies: Vec::new(),
             target_steps: Vec::new(),
             last_target_rad: None,
+            steps_of: Vec::new(),
+            next_shift: 0,
+            last_s_m: None,
         }
+    }
+
+    /// The same collector told which of each exercise's target changes are steps to respond
+    /// to (by its index in the course; `vehicle::Exercise::target_steps`): the stepping dial's
+    /// jumps and the lane change's shifts, not the strength test's side changes. Without it
+    /// every jump of the target is a step.
+    #[must_use]
+    pub fn with_target_steps(mut self, steps_of: Vec<TargetSteps>) -> Self {
+        self.steps_of = steps_of;
+        self
     }
 
     /// The tally of exercise `index`, made on its first tick.
@@ -222,11 +265,12 @@ impl MeasureCollector {
             (self.block_sum_rad, self.block_ticks, self.block_finite) = (0.0, 0, 0);
             self.in_run = false;
             self.exercise_now = exercise;
+            (self.next_shift, self.last_s_m) = (0, None);
         }
         let w = &rec.wheel;
         // The session's fade-out is no exercise's own time.
         let stopping = matches!(w.watchdog, Watchdog::Stopping | Watchdog::Stopped);
-        self.note_target(w.target_rad, changed || stopping);
+        self.note_steps(rec, changed || stopping);
         let tally = self.tally(exercise);
         let tracking_rad = w.target_rad - w.angle_rad;
         if !stopping {
@@ -290,8 +334,22 @@ impl MeasureCollector {
         let _ = self.live.update(angle, &joints);
     }
 
-    /// Notes a step of the target between the last tick and this one (none across a change
-    /// of exercise or in the fade-out: `skip`).
+    /// Notes the steps between the last tick and this one of the exercise in progress, as it
+    /// has them (none across a change of exercise or in the fade-out: `skip`).
+    fn note_steps(&mut self, rec: &TickRecord, skip: bool) {
+        let exercise = rec.score.exercise_index as usize;
+        if self.steps_of.is_empty() {
+            self.note_target(rec.wheel.target_rad, skip);
+            return;
+        }
+        match self.steps_of.get(exercise) {
+            Some(TargetSteps::Jumps) => self.note_target(rec.wheel.target_rad, skip),
+            Some(TargetSteps::LaneShifts(_)) => self.note_lane_shift(rec, skip),
+            _ => {}
+        }
+    }
+
+    /// Notes a jump of the target between the last tick and this one (none when `skip`).
     fn note_target(&mut self, target_rad: f64, skip: bool) {
         if !target_rad.is_finite() {
             return;
@@ -300,14 +358,37 @@ impl MeasureCollector {
             && (target_rad - last).abs() >= TARGET_STEP_MIN_RAD
             && self.target_steps.len() < MAX_TARGET_STEPS
         {
-            self.target_steps.push((self.series.len(), target_rad));
+            self.target_steps
+                .push((self.series.len(), Cue::Jump(target_rad)));
         }
         self.last_target_rad = Some(target_rad);
     }
 
+    /// Notes the lane shifts the car reached between the last tick and this one (none when
+    /// `skip`; those passed before the first tick of the exercise are none either).
+    fn note_lane_shift(&mut self, rec: &TickRecord, skip: bool) {
+        let Some(s_m) = rec.vehicle.map(|v| v.s_m).filter(|s| s.is_finite()) else {
+            return;
+        };
+        let Some(TargetSteps::LaneShifts(shifts)) =
+            self.steps_of.get(rec.score.exercise_index as usize)
+        else {
+            return;
+        };
+        while let Some(shift) = shifts.get(self.next_shift).filter(|sh| sh.s_m <= s_m) {
+            let reached = self.last_s_m.is_some_and(|last| last < shift.s_m);
+            if reached && !skip && self.target_steps.len() < MAX_TARGET_STEPS {
+                self.target_steps
+                    .push((self.series.len(), Cue::Shift(shift.direction)));
+            }
+            self.next_shift += 1;
+        }
+        self.last_s_m = Some(s_m);
+    }
+
     /// The wheel's responses to the target's steps, run by run, of exercise `only` or of all;
     /// empty before [`Self::finish`] (the series not in memory).
-    fn responses(&self, only: Option<u32>) -> Vec<StepResponse> {
+    fn responses(&self, only: Option<u32>) -> Vec<Reaction> {
         let Some(series) = self.series.loaded() else {
             return Vec::new();
         };
@@ -316,16 +397,26 @@ impl MeasureCollector {
             if only.is_some_and(|o| o != e) || r.len() < 2 {
                 continue;
             }
-            let mut steps: Vec<TargetStep> = self
-                .target_steps
-                .iter()
-                .filter(|(i, _)| r.contains(i))
-                .map(|&(i, target_rad)| TargetStep {
-                    index: i - r.start,
-                    target_rad,
+            let in_run = || self.target_steps.iter().filter(|(i, _)| r.contains(i));
+            let shifts: Vec<DirectedStep> = in_run()
+                .filter_map(|&(i, cue)| match cue {
+                    Cue::Shift(direction) => Some(DirectedStep {
+                        index: i - r.start,
+                        direction,
+                    }),
+                    Cue::Jump(_) => None,
                 })
                 .collect();
-            let angle = &series.wheel_rad[r];
+            let mut steps: Vec<TargetStep> = in_run()
+                .filter_map(|&(i, cue)| match cue {
+                    Cue::Jump(target_rad) => Some(TargetStep {
+                        index: i - r.start,
+                        target_rad,
+                    }),
+                    Cue::Shift(_) => None,
+                })
+                .collect();
+            let angle = &series.wheel_rad[r.clone()];
             // Two steps in one sample: the first one's window is empty, the later one counts.
             steps.dedup_by(|later, first| {
                 later.index == first.index && {
@@ -333,9 +424,26 @@ impl MeasureCollector {
                     true
                 }
             });
-            if let Ok(rs) = step_responses(angle, self.fs_hz(), &steps, &ResponseParams::default())
+            let params = ResponseParams::default();
+            if let Ok(rs) = step_responses(angle, self.fs_hz(), &steps, &params) {
+                out.extend(rs.into_iter().map(|r| Reaction {
+                    reaction_time_s: r.reaction_time_s,
+                    initial_direction_error_deg: r.initial_direction_error_deg,
+                    path_length_ratio: r.path_length_ratio,
+                }));
+            }
+            // Two shifts in one sample (none on a real road) would be out of order: the first kept.
+            let mut shifts = shifts;
+            shifts.dedup_by_key(|s| s.index);
+            let fs_hz = self.fs_hz();
+            if let Ok(rs) =
+                directed_step_responses(angle, fs_hz, &shifts, LANE_SHIFT_LEAD_S, &params)
             {
-                out.extend(rs);
+                out.extend(rs.into_iter().map(|r| Reaction {
+                    reaction_time_s: r.reaction_time_s,
+                    initial_direction_error_deg: r.initial_direction_error_deg,
+                    path_length_ratio: None,
+                }));
             }
         }
         out
@@ -726,7 +834,7 @@ fn name_movement_measures(named: &mut BTreeMap<String, f64>, s: &SessionMeasures
 /// median reaction time, the mean initial direction error (0° the right way, 180° the wrong
 /// way: 180° × the share of wrong-way starts) and the median path length ratio
 /// ([`metrics::robot`]). Medians alone, to keep the Bye's measures within their 64 entries.
-fn name_step_responses(named: &mut BTreeMap<String, f64>, responses: &[StepResponse]) {
+fn name_step_responses(named: &mut BTreeMap<String, f64>, responses: &[Reaction]) {
     if responses.is_empty() {
         return;
     }
@@ -886,6 +994,47 @@ mod tests {
         let (later, _) = measured(MeasureCollector::new(1000.0, 4000), &a_step_followed(0.9));
         let rt_later = later.named["reaction_time_s_median"];
         assert!((rt_later - rt - 0.5).abs() < 0.02, "{rt} then {rt_later}");
+    }
+
+    #[test]
+    fn only_the_target_changes_an_exercise_calls_steps_are_responded_to() {
+        let recs = a_step_followed(0.4);
+        let told = |steps: TargetSteps| {
+            measured(
+                MeasureCollector::new(1000.0, 4000).with_target_steps(vec![steps]),
+                &recs,
+            )
+            .0
+            .named
+        };
+        assert_eq!(told(TargetSteps::Jumps)["step_responses"], 1.0);
+        // The same jump in an exercise whose jumps are no steps (the strength test's).
+        let none = told(TargetSteps::None);
+        assert!(!none.contains_key("step_responses"), "{none:?}");
+        assert!(none.contains_key("movements"));
+        // A lane change's jumps are none either: its shifts are met on the road.
+        let shifts = TargetSteps::LaneShifts(vec![vehicle::LaneShift {
+            s_m: 10.0,
+            direction: 1.0,
+        }]);
+        assert!(!told(shifts.clone()).contains_key("step_responses"));
+        // The car reaches the shift at 1 s: one response, the wheel turning the way asked.
+        let driven: Vec<TickRecord> = recs
+            .iter()
+            .map(|r| TickRecord {
+                vehicle: Some(record::VehicleSample {
+                    s_m: r.t_ns as f64 * 1e-8,
+                    ..Default::default()
+                }),
+                ..*r
+            })
+            .collect();
+        let c = MeasureCollector::new(1000.0, 4000).with_target_steps(vec![shifts]);
+        let n = measured(c, &driven).0.named;
+        assert_eq!(n["step_responses"], 1.0, "{n:?}");
+        let rt = n["reaction_time_s_median"];
+        assert!((0.4..0.55).contains(&rt), "{rt}");
+        assert_eq!(n["initial_direction_error_deg_mean"], 0.0);
     }
 
     #[test]

@@ -13,6 +13,7 @@ pub mod end_reason;
 pub mod faults;
 pub mod haptic;
 pub mod live_road;
+pub mod live_strength;
 pub mod measures;
 pub mod plant;
 #[cfg(test)]
@@ -348,6 +349,14 @@ fn run_body(
         flush_every,
         arm_lengths_m: [cfg.arm.geometry.upper_arm_m, cfg.arm.geometry.forearm_m],
         roads: course::roads(cfg, opts.regimen.as_ref())?,
+        target_steps: course::target_steps(cfg, opts.regimen.as_ref())?,
+        strength: course::entries(cfg, opts.regimen.as_ref())?
+            .iter()
+            .map(|e| match &e.exercise {
+                vehicle::ExerciseSpec::Strength(s) => Some(s.clone()),
+                _ => None,
+            })
+            .collect(),
     };
 
     let ending = std::sync::OnceLock::new();

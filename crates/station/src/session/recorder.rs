@@ -355,6 +355,30 @@ pub struct RecorderOutcome {
     pub recording_stopped_s: Option<f64>,
 }
 
+/// What the live view shows besides the measures: the arm's configured lengths, each
+/// exercise's road, the strength test in progress.
+struct LiveScene {
+    arm_lengths_m: [f64; 2],
+    roads: Vec<Option<Box<dyn vehicle::Road + Send>>>,
+    strength: super::live_strength::LiveStrength,
+}
+
+/// The session's measure collector: a recorded session spills the measures' series to the
+/// recording's disk, so that its memory stays flat however long it runs.
+fn collector(
+    mcap: Option<&McapRecorder>,
+    period_ns: u64,
+    expected_ticks: u64,
+    target_steps: Vec<vehicle::TargetSteps>,
+) -> MeasureCollector {
+    let rate_hz = 1e9 / period_ns as f64;
+    match mcap {
+        Some(m) => MeasureCollector::spilling_in(disk_space::directory_of(&m.path), rate_hz),
+        None => MeasureCollector::new(rate_hz, expected_ticks),
+    }
+    .with_target_steps(target_steps)
+}
+
 /// Metrics for the therapist beyond the fixed summary fields: safety, assistance and the live
 /// movement measures so far.
 /// The arm is drawn with the configured lengths until the online calibration converges, then
@@ -362,11 +386,17 @@ pub struct RecorderOutcome {
 fn summary_extra(
     out: &RecorderOutcome,
     measures: &MeasureCollector,
-    arm_lengths_m: [f64; 2],
     online: &OnlineArmCalibration,
-    roads: &[Option<Box<dyn vehicle::Road + Send>>],
+    scene: &LiveScene,
 ) -> BTreeMap<String, f64> {
+    let LiveScene {
+        arm_lengths_m,
+        roads,
+        strength,
+    } = scene;
+    let arm_lengths_m = *arm_lengths_m;
     let mut extra = measures.live();
+    extra.extend(strength.extra());
     extra.extend(out.safety_and_assist());
     if let Some(t) = out.recording_stopped_s {
         extra.insert("recording_stopped_s".into(), t);
@@ -434,6 +464,10 @@ pub(super) struct RecorderPlan {
     /// Each exercise's road in the course (`None`: the dial task), for the road around the car
     /// in the live summaries.
     pub(super) roads: Vec<Option<Box<dyn vehicle::Road + Send>>>,
+    /// Which of each exercise's target changes are steps, for the measures.
+    pub(super) target_steps: Vec<vehicle::TargetSteps>,
+    /// Each exercise's strength test settings (`None`: no strength test), for the live view.
+    pub(super) strength: Vec<Option<vehicle::exercise::StrengthSpec>>,
 }
 
 /// What the haptic thread leaves the recorder when it ends, for the recording's `/metrics`:
@@ -461,7 +495,14 @@ pub(super) fn recorder_loop(
         flush_every,
         arm_lengths_m,
         roads,
+        target_steps,
+        strength,
     } = plan;
+    let mut scene = LiveScene {
+        arm_lengths_m,
+        roads,
+        strength: super::live_strength::LiveStrength::new(strength, period_ns as f64 * 1e-9),
+    };
     let mut out = RecorderOutcome {
         timing: TimingStats::new(period_ns),
         ..Default::default()
@@ -469,14 +510,7 @@ pub(super) fn recorder_loop(
     let mut seq = 0u64;
     let mut arm_loop = ArmLoopCollector::new(1e9 / period_ns as f64);
     let mut online_arm = OnlineArmCalibration::new(1e9 / period_ns as f64);
-    // A recorded session spills the measures' series to the recording's disk: its memory
-    // stays flat however long it runs.
-    let mut measures = match &mcap {
-        Some(m) => {
-            MeasureCollector::spilling_in(disk_space::directory_of(&m.path), 1e9 / period_ns as f64)
-        }
-        None => MeasureCollector::new(1e9 / period_ns as f64, expected_ticks),
-    };
+    let mut measures = collector(mcap.as_ref(), period_ns, expected_ticks, target_steps);
     let mut changes = ChangeLog::default();
     loop {
         let rec = match consumer.pop() {
@@ -493,6 +527,7 @@ pub(super) fn recorder_loop(
         arm_loop.add(&rec);
         online_arm.add(&rec, &arm_loop);
         measures.add(&rec);
+        scene.strength.add(&rec);
         changes.observe(&rec);
         observer.on_tick(&rec);
         let summary_tick = rec.tick % summary_every == 0 && rec.tick > 0;
@@ -528,7 +563,7 @@ pub(super) fn recorder_loop(
                 record: rec,
                 max_abs_torque_nm: out.max_abs_torque_nm,
                 loop_p99_us: out.timing.recent_period_error_p99_us(1000),
-                extra: summary_extra(&out, &measures, arm_lengths_m, &online_arm, &roads),
+                extra: summary_extra(&out, &measures, &online_arm, &scene),
             });
             seq += 1;
         }

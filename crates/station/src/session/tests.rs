@@ -710,3 +710,110 @@ fn a_default_simulated_session_moves_the_grip_enough_and_the_live_pose_and_scree
         assert_eq!(b.online.as_ref(), Some(&online));
     }
 }
+
+/// A lane change's shifts are the steps it is measured on, one response per shift the car
+/// reached, started the right way; the strength test's jumps of its aim (left, then right)
+/// are no steps. The simulated patient's wheel follows a preview driver that looks 0.6 s
+/// ahead through an arm 50 ms late, so it starts turning before the car reaches each shift:
+/// its reaction times are negative, within the driver's look-ahead.
+#[test]
+fn a_simulated_lane_change_responds_once_per_lane_shift_and_strength_has_no_steps() {
+    let text = "[[exercise]]\nkind = \"lane-change\"\ncount = 3\nhold_m = 40.0\n\n\
+                [[exercise]]\nkind = \"strength\"\nside_s = 3.0\n";
+    let r = regimen::Regimen::from_toml(text, "test").unwrap();
+    let cfg = config("dial-sine", 60.0);
+    let steps = course::target_steps(&cfg, Some(&r)).unwrap();
+    let vehicle::TargetSteps::LaneShifts(shifts) = &steps[0] else {
+        panic!("{steps:?}")
+    };
+    assert_eq!(steps[1], vehicle::TargetSteps::None);
+    let (report, recs) = run_regimen(r);
+    let results = &report.recorder.exercises;
+    assert_eq!(results.len(), 2, "{results:?}");
+    let (lane, strength) = (&results[0].scores, &results[1].scores);
+    let end_s_m = recs
+        .iter()
+        .filter(|t| t.score.exercise_index == 0)
+        .filter_map(|t| t.vehicle.map(|v| v.s_m))
+        .fold(0.0, f64::max);
+    let reached = shifts.iter().filter(|s| s.s_m <= end_s_m).count();
+    assert_eq!(reached, 3, "the road runs past its 3 shifts: {end_s_m} m");
+    assert_eq!(lane["step_responses"], reached as f64, "{lane:?}");
+    let rt = lane["reaction_time_s_median"];
+    eprintln!(
+        "lane change: reaction time median {rt:.3} s, initial direction error mean {} deg",
+        lane["initial_direction_error_deg_mean"]
+    );
+    assert!((-0.65..0.0).contains(&rt), "{rt}");
+    assert_eq!(lane["initial_direction_error_deg_mean"], 0.0);
+    assert!(!lane.contains_key("path_length_ratio_median"), "{lane:?}");
+    // The strength test's aim jumps from one side to the other: no step responses.
+    assert!(
+        strength.contains_key("strength_peak_left_nm"),
+        "{strength:?}"
+    );
+    let aim_jumps = recs
+        .windows(2)
+        .filter(|w| w[0].score.exercise_index == 1 && w[1].score.exercise_index == 1)
+        .filter(|w| (w[1].wheel.target_rad - w[0].wheel.target_rad).abs() >= 0.05)
+        .count();
+    assert!(aim_jumps > 0, "the strength aim jumps");
+    assert!(!strength.contains_key("step_responses"), "{strength:?}");
+    assert!(!strength.contains_key("reaction_time_s_median"));
+    assert_eq!(report.recorder.measures.named["step_responses"], 3.0);
+}
+
+/// Each live summary's strength figures: (side, push, left peak, right peak, ceiling).
+#[derive(Default)]
+struct KeepStrength(Vec<[f64; 5]>);
+
+impl SessionObserver for KeepStrength {
+    fn on_summary(&mut self, s: &super::LiveSummary) {
+        let x = |k: &str| s.extra.get(k).copied().unwrap_or(f64::NAN);
+        if s.extra.contains_key(super::live_strength::SIDE) {
+            self.0.push([
+                x(super::live_strength::SIDE),
+                x(super::live_strength::PUSH_NM),
+                x(super::live_strength::PEAK_NM[0]),
+                x(super::live_strength::PEAK_NM[1]),
+                x("ceiling_nm"),
+            ]);
+        }
+    }
+}
+
+#[test]
+fn the_live_summaries_of_a_strength_test_give_the_side_the_push_and_the_peaks_it_records() {
+    let mut opts = simulated_at_max_speed(config("strength", 12.0));
+    opts.config.sim_patient.max_torque_nm = 1.0;
+    let mut keep = KeepStrength::default();
+    let report = super::run(&opts, &Controls::default(), &mut keep).unwrap();
+    let scores = &report.recorder.exercises[0].scores;
+    let s = &keep.0;
+    assert!(s.len() > 50, "{}", s.len());
+    // Left, a rest, then right; the push within the ceiling.
+    let sides: Vec<f64> = s.iter().map(|r| r[0]).collect();
+    let first_right = sides.iter().position(|&v| v == -1.0).unwrap();
+    assert!(sides[..first_right].contains(&1.0) && sides[..first_right].contains(&0.0));
+    assert!(
+        s.iter().all(|r| r[1] >= 0.0 && r[1] <= r[4] + 1e-9),
+        "{s:?}"
+    );
+    assert!(
+        s[..first_right].iter().all(|r| r[3].is_nan()),
+        "no right peak before it"
+    );
+    // The left peak the summaries give once the side is over is the one recorded.
+    let after = s[first_right];
+    let recorded = scores["strength_peak_left_nm"];
+    assert!(
+        (after[2] - recorded).abs() < 1e-9,
+        "{after:?} vs {recorded}"
+    );
+    let last = s.last().unwrap();
+    let right = scores["strength_peak_right_nm"];
+    assert!(
+        last[3] <= right + 1e-9 && last[3] > 0.9 * right,
+        "{last:?} vs {right}"
+    );
+}

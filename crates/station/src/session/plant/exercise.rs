@@ -260,8 +260,12 @@ impl Exercise {
                 let test = own.strength.as_mut().expect("checked just above");
                 if own_counts {
                     let st = test.step(angle, self.ceiling_nm, dt);
-                    let over = st.done || seg.exercise.is_finished(t_in, 0.0);
-                    (test.aim_rad(), st.torque_nm, None, over)
+                    let timed_out = seg.exercise.is_finished(t_in, 0.0);
+                    if timed_out && !st.done {
+                        // The side in progress ends with the exercise's time.
+                        test.time_up();
+                    }
+                    (test.aim_rad(), st.torque_nm, None, st.done || timed_out)
                 } else {
                     // Stopping (the fade-out of a stop or a fault): the torque the wheel
                     // delivers is no longer the spring's, so the test asks for none and
@@ -332,6 +336,16 @@ impl Exercise {
                 seg.exercise.target_speed_m_s(self.projection.s_m),
             )),
             _ => None,
+        }
+    }
+
+    /// The session's time is up: a strength test's side in progress stops at its time limit
+    /// with what it measured (the session's last tick can come a tick before the side's own
+    /// limit), unless the test already ended.
+    pub(super) fn time_up(&mut self) {
+        let own = &mut self.own[self.segment];
+        if let (Some(test), None) = (own.strength.as_mut(), own.completed_s) {
+            test.time_up();
         }
     }
 

@@ -223,6 +223,12 @@ impl Plant {
         self.exercise.course_done
     }
 
+    /// The session's time is up: the exercise in progress ends with it (a strength test's
+    /// side in progress stops at its time limit with what it measured).
+    pub fn time_up(&mut self) {
+        self.exercise.time_up();
+    }
+
     /// Ask the safety supervisor to fade the torque out; [`Plant::stopped`] turns true
     /// when it reached zero.
     pub fn request_stop(&mut self) {

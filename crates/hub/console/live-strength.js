@@ -1,0 +1,67 @@
+// The live view's second panel during a strength test (issue 30): two bars, pushing left and
+// pushing right, each with the patient's push now (blue), the highest push so far of that side
+// (a black mark) and the ceiling the test stops at (the bar's end, a red line), in N·m, and the
+// same numbers in a table under it (a canvas is not read by screen readers). From the
+// station's summaries (`strength_side`, `strength_push_nm`, `strength_peak_{left,right}_nm`,
+// and the `ceiling_nm` every summary has; PROTOCOL.md).
+
+const SIDES = [['left', 1, 'Pushing left'], ['right', -1, 'Pushing right']];
+
+/** Whether a summary's `extra` is of a strength test running now. */
+export function isStrength(x) { return Number.isFinite(x.strength_side); }
+
+const nm = v => (Number.isFinite(v) ? `${v.toFixed(2)} N·m` : '—');
+
+/** Each side's figures from a summary's `extra`: [{side, label, active, now, peak}]. */
+export function strengthSides(x) {
+  return SIDES.map(([side, sign, label]) => {
+    const active = x.strength_side === sign;
+    return { side, label, active, now: active ? x.strength_push_nm : undefined, peak: x[`strength_peak_${side}_nm`] };
+  });
+}
+
+function fit(canvas) {
+  const w = canvas.clientWidth || 300, h = canvas.clientHeight || 220;
+  canvas.width = w; canvas.height = h;
+  const g = canvas.getContext('2d');
+  g.clearRect(0, 0, w, h);
+  return [g, w, h];
+}
+
+/** Draws the strength panel for a summary and fills `table` (a <table> element); returns what
+ * the note under it says. */
+export function drawStrength(canvas, table, x) {
+  canvas.dataset.mode = 'strength';
+  canvas.dataset.road = '';
+  canvas.dataset.laneWidthM = '';
+  const [g, w, h] = fit(canvas);
+  const ceiling = Number(x.ceiling_nm);
+  const sides = strengthSides(x);
+  const top = Math.max(...sides.map(s => (Number.isFinite(s.peak) ? s.peak : 0)), Number.isFinite(ceiling) ? ceiling : 0, 0.5);
+  const left = 16, right = w - 16, span = right - left;
+  const u = v => left + span * Math.min(Math.max(v, 0), top) / top;
+  sides.forEach((s, i) => {
+    const y = 30 + i * (h - 40) / 2, bar = Math.min(36, (h - 40) / 2 - 26);
+    g.fillStyle = '#1b1b1b'; g.font = '14px system-ui, sans-serif';
+    g.fillText(`${s.label}${s.active ? ' (now)' : ''}`, left, y - 6);
+    g.fillStyle = '#f2f2f2'; g.strokeStyle = '#4a4a4a'; g.lineWidth = 1;
+    g.fillRect(left, y, span, bar); g.strokeRect(left, y, span, bar);
+    if (Number.isFinite(s.now)) { g.fillStyle = '#0072b2'; g.fillRect(left, y, u(s.now) - left, bar); }
+    if (Number.isFinite(s.peak)) {
+      g.fillStyle = '#1b1b1b'; g.fillRect(u(s.peak) - 2, y - 4, 4, bar + 8);
+    }
+    if (Number.isFinite(ceiling)) {
+      g.strokeStyle = '#c00000'; g.lineWidth = 3;
+      g.beginPath(); g.moveTo(u(ceiling), y - 6); g.lineTo(u(ceiling), y + bar + 6); g.stroke();
+    }
+  });
+  table.innerHTML = `<caption class="note">The strength test's numbers</caption>
+    <thead><tr><th scope="col">Side</th><th scope="col">Push now</th><th scope="col">Peak so far</th><th scope="col">Ceiling</th></tr></thead>
+    <tbody>${sides.map(s => `<tr data-side="${s.side}"><th scope="row">${s.label}</th><td class="num" data-now="${Number.isFinite(s.now) ? s.now : ''}">${s.active ? nm(s.now) : '—'}</td>
+      <td class="num" data-peak="${Number.isFinite(s.peak) ? s.peak : ''}">${Number.isFinite(s.peak) ? nm(s.peak) : 'not yet'}</td><td class="num">${nm(ceiling)}</td></tr>`).join('')}</tbody>`;
+  const active = sides.find(s => s.active);
+  const pct = v => (Number.isFinite(v) && ceiling > 0 ? ` (${Math.round(100 * v / ceiling)} % of the ceiling)` : '');
+  if (!active) return `Strength test: resting between the sides, or done. The ceiling is ${nm(ceiling)}.`;
+  return `Strength test, ${active.label.toLowerCase()}: ${nm(active.now)} now${pct(active.now)}, `
+    + `peak ${nm(active.peak)} so far, against the ${nm(ceiling)} ceiling (blue: now; black mark: peak; red line: ceiling).`;
+}
