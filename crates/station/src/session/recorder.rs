@@ -480,6 +480,34 @@ pub struct SessionEnding {
     pub scores: Vec<super::plant::ExerciseScores>,
 }
 
+/// The session's arm calibration at its end (with the one during the session, if it
+/// converged), into `out` and the recording.
+fn finish_arm_calibration(
+    out: &mut RecorderOutcome,
+    arm_loop: &ArmLoopCollector,
+    online_arm: &OnlineArmCalibration,
+    mcap: Option<&mut McapRecorder>,
+) {
+    if arm_loop.is_empty() && out.last.arm.is_none() {
+        return;
+    }
+    let online = online_arm.at_convergence().cloned();
+    let fitted = arm_loop
+        .calibrate()
+        .map(|c| ArmCalibrationSample {
+            online: online.clone(),
+            ..ArmCalibrationSample::from(&c)
+        })
+        .map_err(|e| e.to_string());
+    out.online_arm_calibration = online;
+    if let (Ok(c), Some(m)) = (&fitted, mcap)
+        && let Err(e) = m.record_arm_calibration(&out.last, c)
+    {
+        out.error.get_or_insert_with(|| e.to_string());
+    }
+    out.arm_calibration = Some(fitted);
+}
+
 pub(super) fn recorder_loop(
     mut consumer: rtrb::Consumer<TickRecord>,
     mut mcap: Option<McapRecorder>,
@@ -568,23 +596,7 @@ pub(super) fn recorder_loop(
             seq += 1;
         }
     }
-    if !arm_loop.is_empty() || out.last.arm.is_some() {
-        let online = online_arm.at_convergence().cloned();
-        let fitted = arm_loop
-            .calibrate()
-            .map(|c| ArmCalibrationSample {
-                online: online.clone(),
-                ..ArmCalibrationSample::from(&c)
-            })
-            .map_err(|e| e.to_string());
-        out.online_arm_calibration = online;
-        if let (Ok(c), Some(m)) = (&fitted, mcap.as_mut())
-            && let Err(e) = m.record_arm_calibration(&out.last, c)
-        {
-            out.error.get_or_insert_with(|| e.to_string());
-        }
-        out.arm_calibration = Some(fitted);
-    }
+    finish_arm_calibration(&mut out, &arm_loop, &online_arm, mcap.as_mut());
     out.measures = measures.finish(&out);
     let ending = ending.get();
     out.exercises = measures.exercise_results(
