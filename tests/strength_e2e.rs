@@ -170,9 +170,15 @@ fn a_weak_simulated_patient_stops_below_the_ceiling_with_its_true_peak_and_susta
             (held - true_held).abs() <= 0.05 * true_held,
             "{side}: {held} vs the hand's {true_held}"
         );
-        // The hand's strength limit is what the test finds.
+        // The hand's strength limit is what the test finds held; its peak also carries the
+        // arm's own inertial torque as the spring stops the push (the hand on the rim is the
+        // muscles' torque less the arm's inertia's, so it may pass the muscles' limit).
         assert!(
-            (0.9 * strongest_nm..=1.05 * strongest_nm).contains(&peak),
+            (0.9 * strongest_nm..=1.05 * strongest_nm).contains(&held),
+            "{held}"
+        );
+        assert!(
+            (0.9 * strongest_nm..=1.3 * strongest_nm).contains(&peak),
             "{peak}"
         );
         // Not at the ceiling: the side ran to its time limit (or the patient let go).

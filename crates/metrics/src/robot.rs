@@ -212,17 +212,12 @@ pub fn step_responses(
     }
     check_signal("wheel angle", angle_rad, 2)?;
     let n = angle_rad.len();
-    for (k, s) in steps.iter().enumerate() {
-        let ordered = k == 0 || steps[k - 1].index < s.index;
-        if s.index >= n || !ordered || !s.target_rad.is_finite() {
-            return Err(MetricError::BadParameter {
-                context: "step_responses",
-                field: "steps",
-                value: s.index as f64,
-                allowed: "indices in time order within the signal, finite targets",
-            });
-        }
-    }
+    check_steps(
+        steps.iter().map(|s| (s.index, s.target_rad.is_finite())),
+        n,
+        "step_responses",
+        "indices in time order within the signal, finite targets",
+    )?;
     let speed = speed_profile(angle_rad, fs_hz, params.lowpass_hz);
     let max_window = ((params.max_window_s * fs_hz).round() as usize).max(1);
     Ok(steps
@@ -259,13 +254,9 @@ fn respond(
     let asked = needed.abs() >= params.min_distance_rad;
     let before_onset = onset.saturating_sub(1).max(i0);
     let initial = angle[first_peak] - angle[before_onset];
-    let initial_direction_error_deg = (asked && initial != 0.0).then(|| {
-        if initial.signum() == needed.signum() {
-            0.0
-        } else {
-            180.0
-        }
-    });
+    let initial_direction_error_deg = asked
+        .then(|| direction_error_deg(initial, needed.signum()))
+        .flatten();
     let path: f64 = angle[before_onset..=last]
         .windows(2)
         .map(|w| (w[1] - w[0]).abs())
@@ -276,6 +267,41 @@ fn respond(
         initial_direction_error_deg,
         path_length_ratio: asked.then(|| path / needed.abs()),
     }
+}
+
+/// Steps given as `(index, valid)` are in time order within a signal of `n` samples and
+/// valid; the error names the first that is not, for `context`.
+fn check_steps(
+    steps: impl Iterator<Item = (usize, bool)>,
+    n: usize,
+    context: &'static str,
+    allowed: &'static str,
+) -> Result<(), MetricError> {
+    let mut previous: Option<usize> = None;
+    for (index, valid) in steps {
+        if index >= n || previous.is_some_and(|p| p >= index) || !valid {
+            return Err(MetricError::BadParameter {
+                context,
+                field: "steps",
+                value: index as f64,
+                allowed,
+            });
+        }
+        previous = Some(index);
+    }
+    Ok(())
+}
+
+/// The initial direction error of a one-angle movement `initial_rad` against the way
+/// `wanted_sign` (±1): 0° the right way, 180° the wrong way; `None` when it did not move.
+fn direction_error_deg(initial_rad: f64, wanted_sign: f64) -> Option<f64> {
+    (initial_rad != 0.0).then(|| {
+        if initial_rad.signum() == wanted_sign {
+            0.0
+        } else {
+            180.0
+        }
+    })
 }
 
 /// The movement in `speed[start..end]`: its onset (the first sample above
@@ -357,17 +383,12 @@ pub fn directed_step_responses(
     }
     check_signal("wheel angle", angle_rad, 2)?;
     let n = angle_rad.len();
-    for (k, s) in steps.iter().enumerate() {
-        let ordered = k == 0 || steps[k - 1].index < s.index;
-        if s.index >= n || !ordered || s.direction.abs() != 1.0 {
-            return Err(MetricError::BadParameter {
-                context: "directed_step_responses",
-                field: "steps",
-                value: s.index as f64,
-                allowed: "indices in time order within the signal, directions ±1",
-            });
-        }
-    }
+    check_steps(
+        steps.iter().map(|s| (s.index, s.direction.abs() == 1.0)),
+        n,
+        "directed_step_responses",
+        "indices in time order within the signal, directions ±1",
+    )?;
     let speed = speed_profile(angle_rad, fs_hz, params.lowpass_hz);
     let max_window = ((params.max_window_s * fs_hz).round() as usize).max(1);
     let lead = (lead_s * fs_hz).round() as usize;
@@ -391,13 +412,7 @@ pub fn directed_step_responses(
             DirectedResponse {
                 step,
                 reaction_time_s: Some((onset as f64 - step.index as f64) / fs_hz),
-                initial_direction_error_deg: (initial != 0.0).then(|| {
-                    if initial.signum() == step.direction {
-                        0.0
-                    } else {
-                        180.0
-                    }
-                }),
+                initial_direction_error_deg: direction_error_deg(initial, step.direction),
             }
         })
         .collect())
