@@ -65,11 +65,13 @@ def test_foxglove_s_protobuf_decoder_reads_every_message(recording):
                 assert abs(np.linalg.norm([grip.x - elbow.x, grip.y - elbow.y, grip.z - elbow.z]) - 0.33) < 1e-9
             else:
                 ticks[channel.topic] += len(decoded.tick)
-    assert ticks["/wheel"] == ticks["/vehicle"] == ticks["/timing"] == 2101
-    assert counts["/wheel"] == 22  # blocks of at most 100 ticks, cut at each 1 s flush
-    assert counts["/score"] == 21
-    # 20 Hz from the first tick (the simulated arm is tracked from the start): 0 to 2.1 s.
-    assert counts["/arm/scene"] == 43
+    # 2 s and the fade-out after (as long as the torque at the end takes to reach zero).
+    n = ticks["/wheel"]
+    assert ticks["/vehicle"] == ticks["/timing"] == n and 2100 <= n <= 2110
+    assert counts["/wheel"] == (n + 99) // 100  # blocks of at most 100 ticks, cut at each 1 s flush
+    assert counts["/score"] == (n - 1) // 100
+    # 20 Hz from the first tick (the simulated arm is tracked from the start).
+    assert counts["/arm/scene"] == (n - 1) // 50 + 1
     meta = {m.name: m.metadata for m in make_reader(open(recording, "rb")).iter_metadata()}
     assert meta["session"]["seed"] == "3"
 
@@ -77,7 +79,7 @@ def test_foxglove_s_protobuf_decoder_reads_every_message(recording):
 def test_block_columns_decode_to_the_recorded_samples(recording):
     s = telerehab.session.read(recording)
     wheel = s.channels["/wheel"]
-    assert np.array_equal(wheel["tick"], np.arange(2101))
+    assert np.array_equal(wheel["tick"], np.arange(len(wheel["tick"]))) and len(wheel["tick"]) >= 2100
     assert np.all(np.abs(wheel["commanded_nm"]) <= wheel["ceiling_nm"] + 1e-12)
     # Floats are whole numbers of their quantum (1 µrad for an angle).
     micro = wheel["angle_rad"] * 1e6
