@@ -284,8 +284,10 @@ fn a_g29_session_reports_the_updates_its_driver_takes_at_the_motor_not_the_loop_
     assert_eq!(fault, None);
     let (rate_hz, gap_ms) = motor.expect("the evdev backend counts its updates");
     eprintln!("G29: {rate_hz:.1} updates/s at the motor, worst gap {gap_ms:.2} ms");
-    // Never above the policy; a tick woken a little early waits for the next, so between
-    // one update every 2 and every 3 ticks (generous: a loaded machine skips deadlines).
-    assert!((250.0..=500.5).contains(&rate_hz), "{rate_hz} updates/s");
-    assert!(gap_ms >= 2.0, "{gap_ms} ms");
+    // About the policy's 500 (measured 498–499 here; 390 before an update was let through a
+    // tick woken a few µs early). Generous: on a loaded machine late ticks cost updates, and
+    // ticks after a skipped deadline may send twice in a row.
+    assert!((400.0..=550.0).contains(&rate_hz), "{rate_hz} updates/s");
+    // Never closer than the interval less its tenth of jitter allowance.
+    assert!(gap_ms >= 1.8, "{gap_ms} ms");
 }

@@ -471,3 +471,35 @@ fn an_unplug_is_not_counted_as_a_gap_between_updates() {
     assert_eq!(updates.worst_gap_ns, MS);
     assert_eq!(updates.last_ns, None, "the next update starts a new run");
 }
+
+#[test]
+fn a_loop_waking_a_few_microseconds_early_or_late_still_gets_each_drivers_full_rate() {
+    // G29 (lg4ff, 2 ms) and T300 (tmff2, 8 ms): ticks at k ms plus 0–49 µs of lateness.
+    for (usb_id, motor_nm, policy_hz) in [
+        ((0x046d, 0xc24f), 2.2, 500.0),
+        ((0x044f, 0xb66e), 3.9, 125.0),
+    ] {
+        let (mut w, _fake, mock) = wheel_with(usb_id, motor_nm, WheelConfig::default());
+        let mut late_ns = 0;
+        let ticks = 4_000u64;
+        for k in 0..ticks {
+            let next_late_ns = (k * 7_919 % 50) * 1_000;
+            mock.advance_ns(MS + next_late_ns - late_ns);
+            late_ns = next_late_ns;
+            w.command_torque(0.5 + 0.2 * (k as f64 * 0.01).sin())
+                .unwrap();
+        }
+        let updates = w.motor_updates().unwrap();
+        let rate_hz = updates.count as f64 / (ticks as f64 * 1e-3);
+        assert!(
+            (rate_hz - policy_hz).abs() <= 0.5,
+            "{usb_id:04x?}: {rate_hz} updates/s, policy {policy_hz}"
+        );
+        let period_ms = 1e3 / policy_hz;
+        assert!(
+            updates.worst_gap_ms() < period_ms + 0.05,
+            "{usb_id:04x?}: worst gap {} ms",
+            updates.worst_gap_ms()
+        );
+    }
+}
