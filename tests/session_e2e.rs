@@ -724,3 +724,41 @@ fn a_session_start_keeps_the_last_30_session_logs() {
         "{left:?}"
     );
 }
+
+/// The simulated wheel takes every command: its session's summary, its recording's `/wheel`
+/// ticks and its measures say 1000 torque updates a second reached the motor, 1 ms apart at
+/// worst, and a replay reproduces them.
+#[test]
+fn a_simulated_session_reports_1000_motor_updates_a_second_and_a_worst_gap_of_1_ms() {
+    let dir = tempfile::tempdir().unwrap();
+    let mcap = dir.path().join("rate.mcap");
+    let out = run_ok(&sim_session_args("3", &mcap, &["--seed", "5"]));
+    let report = String::from_utf8_lossy(&out.stdout);
+    let rate_hz = report_number(&report, "motor updates");
+    assert!((rate_hz - 1000.0).abs() < 1.0, "{report}");
+    assert!(
+        report.contains("its rate policy allows 1000); worst gap 1.0 ms"),
+        "{report}"
+    );
+    let rec = record::Recording::open(&mcap).unwrap();
+    let measures = &rec.metrics.last().unwrap().data.measures;
+    assert!(
+        (measures["motor_update_rate_hz"] - 1000.0).abs() < 1.0,
+        "{measures:?}"
+    );
+    assert!((measures["motor_update_worst_gap_ms"] - 1.0).abs() < 1e-9);
+    // Every tick wrote one update: the count grows by one a tick.
+    let wheel = &rec.wheel;
+    let (first, last) = (&wheel[0].data, &wheel.last().unwrap().data);
+    assert_eq!(
+        last.motor_updates - first.motor_updates,
+        wheel.len() as u64 - 1
+    );
+    assert_eq!(
+        last.motor_update_worst_gap_ms,
+        Some(measures["motor_update_worst_gap_ms"])
+    );
+    let replay = run_ok(&["replay", mcap.to_str().unwrap()]);
+    let said = String::from_utf8_lossy(&replay.stdout);
+    assert!(said.contains("replay: identical"), "{said}");
+}

@@ -103,7 +103,8 @@ pub const UDEV_HINT: &str = "install the telerehab package (it ships the udev ru
 impl DeviceReport {
     /// Resolve each wheel's profile with the station's `[wheel]` configuration and state the
     /// torque ceiling that would hold for a patient ceiling `patient_ceiling_nm` (`None`: the
-    /// device maximum).
+    /// device maximum). The profile's update rate becomes the one the backend would drive the
+    /// wheel at (the driver's policy, lowered by a configured `update_rate_hz`).
     pub fn apply_config(
         &mut self,
         config: &crate::wheel_config::WheelConfig,
@@ -111,7 +112,9 @@ impl DeviceReport {
     ) {
         for w in &mut self.wheels {
             let (vendor, product) = w.usb_id.unwrap_or((0, 0));
-            let profile = config.resolve_profile(vendor, product);
+            let mut profile = config.resolve_profile(vendor, product);
+            profile.max_update_rate_hz =
+                config.update_rate_for(profile.driver, profile.max_update_rate_hz);
             w.ceiling = Some(crate::wheel_config::CeilingReport::new(
                 &profile,
                 config.gain,
@@ -189,6 +192,13 @@ fn list(f: &mut fmt::Formatter<'_>, title: &str, ds: &[DeviceInfo]) -> fmt::Resu
                     format!(": {}", p.reference)
                 },
                 p.half_range_rad.to_degrees()
+            )?;
+            writeln!(
+                f,
+                "      expected torque updates at the motor: {:.0} /s, one every {:.1} ms (the rate \
+                 policy's; a session's summary reports the rate reached)",
+                p.max_update_rate_hz,
+                1e3 / p.max_update_rate_hz
             )?;
         }
         if let Some(c) = &d.ceiling {
@@ -361,6 +371,10 @@ mod tests {
         assert!(text.contains("Wheels: 2"), "{text}");
         assert!(text.contains("046d:c24f"), "{text}");
         assert!(text.contains("500 Hz"), "{text}");
+        assert!(
+            text.contains("expected torque updates at the motor: 500 /s, one every 2.0 ms"),
+            "{text}"
+        );
         // The ceiling in N·m and as a share of the motor, and the unknown wheel said so.
         assert!(
             text.contains("torque ceiling 1.00 N·m = 3.1 % of the motor's 32.00 N·m"),
@@ -369,5 +383,43 @@ mod tests {
         assert!(text.contains("UNKNOWN"), "{text}");
         assert!(text.contains("packaging/udev"), "{text}");
         assert!(!text.contains("No force-feedback wheel found"), "{text}");
+    }
+
+    #[test]
+    fn devices_state_the_update_rate_a_configured_limit_leaves_at_the_motor() {
+        let mut r = DeviceReport::default();
+        r.add(DeviceInfo {
+            path: "/dev/input/event7".into(),
+            class: DeviceClass::Wheel,
+            traits: traits("T300", &["constant", "gain"], &["x"], false),
+            usb_id: Some((0x044f, 0xb66e)),
+            profile: None,
+            ceiling: None,
+            max_ff_effects: 16,
+        });
+        r.add(DeviceInfo {
+            path: "/dev/input/event8".into(),
+            class: DeviceClass::Wheel,
+            traits: traits("G29", &["constant", "gain"], &["x"], false),
+            usb_id: Some((0x046d, 0xc24f)),
+            profile: None,
+            ceiling: None,
+            max_ff_effects: 16,
+        });
+        let config = crate::WheelConfig {
+            update_rate_hz: Some(250.0),
+            ..Default::default()
+        };
+        r.apply_config(&config, None);
+        let text = r.to_string();
+        // hid-tmff2's own 125 Hz is below the limit; the G29's 500 Hz is held to 250.
+        assert!(
+            text.contains("expected torque updates at the motor: 125 /s, one every 8.0 ms"),
+            "{text}"
+        );
+        assert!(
+            text.contains("expected torque updates at the motor: 250 /s, one every 4.0 ms"),
+            "{text}"
+        );
     }
 }

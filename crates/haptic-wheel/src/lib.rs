@@ -52,7 +52,9 @@ pub use model::{PassivityController, PassivityParams, SpringDamper};
 pub use profile::{DeviceProfile, DriverFamily, TorqueSource};
 pub use safety::{Fault, LimitedTorque, SafetyConfig, Supervisor, TorqueLimiter, WatchdogState};
 pub use sim::{SimWheel, SimWheelParams};
-pub use wheel::{Wheel, WheelCapabilities, WheelError, WheelFault, WheelReading, ZeroTorqueOnDrop};
+pub use wheel::{
+    MotorUpdates, Wheel, WheelCapabilities, WheelError, WheelFault, WheelReading, ZeroTorqueOnDrop,
+};
 pub use wheel_config::{CeilingReport, WheelConfig};
 
 /// Torque range of the thesis wheel (Microsoft SideWinder FFB), N·m (thesis §3.2.1).

@@ -3,7 +3,7 @@
 //! hand torque comes in through [`SimWheel::advance`].
 
 use crate::profile::DeviceProfile;
-use crate::wheel::{ConfigError, Wheel, WheelError, WheelReading};
+use crate::wheel::{ConfigError, MotorUpdates, Wheel, WheelError, WheelReading};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
@@ -183,6 +183,8 @@ pub struct SimWheel {
     t_ns: u64,
     delay: DelayLine,
     rng: ChaCha8Rng,
+    /// Every finite command is an update written to the (simulated) device.
+    updates: MotorUpdates,
 }
 
 impl SimWheel {
@@ -198,6 +200,7 @@ impl SimWheel {
             t_ns: 0,
             delay: DelayLine::new(),
             rng,
+            updates: MotorUpdates::default(),
         }
     }
 
@@ -343,7 +346,12 @@ impl Wheel for SimWheel {
         let due = self.t_ns + ((self.params.usb_delay_s + jitter) * 1e9).round() as u64;
         let due = due.max(self.delay.last_at_ns().unwrap_or(0));
         self.delay.push(due, q);
+        self.updates.written(self.t_ns);
         Ok(())
+    }
+
+    fn motor_updates(&self) -> Option<MotorUpdates> {
+        Some(self.updates)
     }
 
     fn max_torque_nm(&self) -> f64 {

@@ -110,6 +110,40 @@ pub struct WheelCapabilities {
     pub firmware_conditions: bool,
 }
 
+/// The torque updates a backend actually wrote to the device: how many, and the largest gap
+/// between two. Plain counters, updated on the 1 kHz thread without allocating.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MotorUpdates {
+    /// Updates written since the backend was opened.
+    pub count: u64,
+    /// The largest time between two updates written, ns (0 before the second).
+    pub worst_gap_ns: u64,
+    /// When the last update was written, ns on the backend's clock.
+    pub last_ns: Option<u64>,
+}
+
+impl MotorUpdates {
+    /// One update written at `now_ns`.
+    pub fn written(&mut self, now_ns: u64) {
+        if let Some(last) = self.last_ns {
+            self.worst_gap_ns = self.worst_gap_ns.max(now_ns.saturating_sub(last));
+        }
+        self.count += 1;
+        self.last_ns = Some(now_ns);
+    }
+
+    /// The device went away: the next update starts a new run (the time without a device is
+    /// told as an unplug, not as a gap between updates).
+    pub fn interrupted(&mut self) {
+        self.last_ns = None;
+    }
+
+    /// The worst gap, ms.
+    pub fn worst_gap_ms(&self) -> f64 {
+        self.worst_gap_ns as f64 * 1e-6
+    }
+}
+
 /// A steering wheel the haptic loop reads and drives.
 pub trait Wheel {
     /// The latest steering angle.
@@ -155,6 +189,13 @@ pub trait Wheel {
             firmware_conditions: false,
         }
     }
+
+    /// The torque updates written to the device so far (the achieved rate at the motor, which
+    /// a driver's rate policy may hold below the loop's). `None` for a backend that does not
+    /// count them (the default).
+    fn motor_updates(&self) -> Option<MotorUpdates> {
+        None
+    }
 }
 
 impl<W: Wheel + ?Sized> Wheel for &mut W {
@@ -179,6 +220,9 @@ impl<W: Wheel + ?Sized> Wheel for &mut W {
     fn capabilities(&self) -> WheelCapabilities {
         (**self).capabilities()
     }
+    fn motor_updates(&self) -> Option<MotorUpdates> {
+        (**self).motor_updates()
+    }
 }
 
 impl<W: Wheel + ?Sized> Wheel for Box<W> {
@@ -202,6 +246,9 @@ impl<W: Wheel + ?Sized> Wheel for Box<W> {
     }
     fn capabilities(&self) -> WheelCapabilities {
         (**self).capabilities()
+    }
+    fn motor_updates(&self) -> Option<MotorUpdates> {
+        (**self).motor_updates()
     }
 }
 

@@ -68,6 +68,8 @@ fn tick(n: u64) -> TickRecord {
             target_rad: f64::MIN_POSITIVE,
             ceiling_nm: 1.87,
             motor_rating_known: true,
+            motor_updates: n / 2 + 3,
+            motor_update_worst_gap_ms: (n != 1).then_some(2.0 + 1e-6 * x),
         },
         vehicle: (n != 2).then_some(VehicleSample {
             x_m: x,

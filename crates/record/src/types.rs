@@ -87,6 +87,17 @@ pub struct WheelSample {
     /// The motor's torque rating is known (built-in, measured or entered); false for an
     /// unknown wheel, whose strongest plausible motor is assumed and ceiling capped.
     pub motor_rating_known: bool,
+    /// Torque updates the wheel's backend has written to the device so far (the achieved
+    /// update rate at the motor is its growth per second; a driver's rate policy may hold it
+    /// below the loop's). 0 for a backend that does not count them (a replay's) and in
+    /// recordings made before it was counted: `motor_update_worst_gap_ms` is absent there.
+    #[serde(default)]
+    pub motor_updates: u64,
+    /// The largest time between two torque updates written so far, ms (0 before the second);
+    /// absent for a backend that does not count its updates and in older recordings.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "f64")]
+    pub motor_update_worst_gap_ms: Option<f64>,
 }
 
 /// Where the arm sensing is, as recorded (a kebab-case string in the JSON).

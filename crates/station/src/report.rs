@@ -85,6 +85,15 @@ fn outcome(s: &mut String, r: &SessionReport) {
     if let Some(c) = &r.haptic.ceiling {
         line!(s, "{c}");
     }
+    if let Some((rate_hz, gap_ms)) = r.recorder.motor_update_rate() {
+        let policy = r.haptic.motor_update_policy_hz.map_or(String::new(), |p| {
+            format!(" (its rate policy allows {p:.0})")
+        });
+        line!(
+            s,
+            "motor updates       {rate_hz:.1} /s reached the motor{policy}; worst gap {gap_ms:.1} ms"
+        );
+    }
     if r.haptic.skipped_deadlines > 0 {
         line!(
             s,
@@ -471,6 +480,10 @@ mod tests {
         recorder.last.score.pct_in_lane = 97.25;
         recorder.last.score.cone_hits = 3;
         recorder.last.score.dial_rms_error_deg = 2.75;
+        // A G29 held to 500 updates a second by its driver, over 8 s of active time.
+        recorder.active_ns = 8_000_000_000;
+        recorder.active_motor_updates = 3_996;
+        recorder.last.wheel.motor_update_worst_gap_ms = Some(2.004);
         SessionReport {
             haptic: HapticOutcome {
                 ticks: 9_000,
@@ -490,6 +503,7 @@ mod tests {
                     fraction_of_motor: 0.6,
                     assumed: false,
                 }),
+                motor_update_policy_hz: Some(500.0),
                 rests: 0,
                 rest_s: 0.0,
                 paused_too_long: false,

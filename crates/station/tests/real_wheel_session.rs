@@ -93,19 +93,26 @@ const SIDEWINDER: (u16, u16) = (0x045e, 0x0034);
 /// return the allocations made on the haptic thread, the wheel fault that ended it and the
 /// peak motor torque.
 fn session(fault: Fault, after: Duration, seconds: f64) -> (u64, Option<WheelFault>, f64) {
-    let (allocs, fault, peak, _) = session_on(SIDEWINDER, 1.87, fault, after, seconds);
+    let (allocs, fault, peak, ..) = session_on(SIDEWINDER, 1.87, fault, after, seconds);
     (allocs, fault, peak)
 }
 
 /// [`session`] on a wheel with USB id `usb_id` and a motor of `motor_nm`; also returns the
-/// ceiling the station stated.
+/// ceiling the station stated and the torque updates that reached the motor as the recorder
+/// counts them (per second of active time, worst gap in ms).
 fn session_on(
     usb_id: (u16, u16),
     motor_nm: f64,
     fault: Fault,
     after: Duration,
     seconds: f64,
-) -> (u64, Option<WheelFault>, f64, haptic_wheel::CeilingReport) {
+) -> (
+    u64,
+    Option<WheelFault>,
+    f64,
+    haptic_wheel::CeilingReport,
+    Option<(f64, f64)>,
+) {
     let mut cfg = StationConfig {
         wheel: haptic_wheel::WheelConfig {
             max_silence_ms: 100,
@@ -193,7 +200,10 @@ fn session_on(
     let allocations = ALLOCATIONS.load(Ordering::Relaxed);
     done.store(true, Ordering::Release);
     let replugged = injector.join().unwrap();
-    while consumer.pop().is_ok() {}
+    let mut tally = station::session::recorder::RecorderOutcome::default();
+    while let Ok(rec) = consumer.pop() {
+        tally.add(&rec);
+    }
     assert_eq!(outcome.wheel_fault, plant.wheel_fault());
     assert_eq!(
         plant.wheel_replugs(),
@@ -207,6 +217,7 @@ fn session_on(
             .map_or(0.0, |r| r.peak_motor_torque_nm())
             .max(fake.peak_motor_torque_nm()),
         plant.ceiling(),
+        tally.motor_update_rate(),
     )
 }
 
@@ -214,7 +225,7 @@ fn session_on(
 fn an_unknown_direct_drive_wheel_gets_at_most_one_newton_metre_and_the_station_says_so() {
     // A 25 N·m motor the station has no profile for, rim off centre so the centring spring
     // pushes as hard as it may.
-    let (_, fault, peak, ceiling) =
+    let (_, fault, peak, ceiling, _) =
         session_on((0x1d50, 0x6015), 25.0, Fault::None, Duration::ZERO, 1.5);
     assert_eq!(fault, None);
     assert!(ceiling.assumed);
@@ -263,4 +274,20 @@ fn the_haptic_thread_allocates_nothing_on_an_out_of_range_reading() {
     let (allocs, fault, _) = session(Fault::OutOfRange, Duration::from_millis(300), 5.0);
     assert_eq!(fault, Some(WheelFault::OutOfRange));
     assert_eq!(allocs, 0, "allocations on the haptic thread");
+}
+
+#[test]
+fn a_g29_session_reports_the_updates_its_driver_takes_at_the_motor_not_the_loop_rate() {
+    // hid-lg4ff: one update every 2 ms at most, from a 1 kHz loop on the wall clock.
+    let (_, fault, _, _, motor) =
+        session_on((0x046d, 0xc24f), 2.2, Fault::None, Duration::ZERO, 1.0);
+    assert_eq!(fault, None);
+    let (rate_hz, gap_ms) = motor.expect("the evdev backend counts its updates");
+    eprintln!("G29: {rate_hz:.1} updates/s at the motor, worst gap {gap_ms:.2} ms");
+    // About the policy's 500 (measured 498–499 here; 390 before an update was let through a
+    // tick woken a few µs early). Generous: on a loaded machine late ticks cost updates, and
+    // ticks after a skipped deadline may send twice in a row.
+    assert!((400.0..=550.0).contains(&rate_hz), "{rate_hz} updates/s");
+    // Never closer than the interval less its tenth of jitter allowance.
+    assert!(gap_ms >= 1.8, "{gap_ms} ms");
 }

@@ -46,6 +46,8 @@ struct FakeState {
     pending_event_unix_ns: Option<u64>,
     peak_motor_nm: f64,
     effect_writes: u64,
+    /// Updates of an uploaded effect's parameters (a new constant-force level is one).
+    effect_updates: u64,
     /// The first constant-force levels uploaded or updated, in order (fixed size: the fake
     /// must not allocate on the haptic thread).
     first_levels: [Option<i16>; FIRST_LEVELS],
@@ -194,6 +196,7 @@ impl FakeFfDevice {
                 pending_event_unix_ns: None,
                 peak_motor_nm: 0.0,
                 effect_writes: 0,
+                effect_updates: 0,
                 first_levels: [None; FIRST_LEVELS],
                 script: None,
                 compliance_units_per_nm: 0.0,
@@ -247,6 +250,12 @@ impl FakeHandle {
     /// How many effect uploads, updates and plays the backend made.
     pub fn effect_writes(&self) -> u64 {
         self.lock().effect_writes
+    }
+
+    /// How many updates of an uploaded effect the backend made (`EVIOCSFF` on an existing id:
+    /// each new torque level is one), plays and uploads not counted.
+    pub fn effect_updates(&self) -> u64 {
+        self.lock().effect_updates
     }
 
     /// Condition effects (spring, friction) uploaded, not erased, and playing now.
@@ -399,6 +408,7 @@ impl FfDevice for FakeFfDevice {
         e.data = data;
         s.note_level(&data);
         s.effect_writes += 1;
+        s.effect_updates += 1;
         s.note_torque();
         Ok(())
     }

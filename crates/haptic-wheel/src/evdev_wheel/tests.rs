@@ -381,3 +381,125 @@ fn opening_a_missing_device_is_an_io_error_not_a_panic() {
     .unwrap_err();
     assert!(matches!(err, WheelError::Io { .. }), "{err}");
 }
+
+/// Drive `w` as the haptic loop does, one tick per ms for `ticks` ticks, with `torque_nm(k)`.
+fn drive_at_1_khz(
+    w: &mut EvdevWheel<FakeFfDevice>,
+    mock: &MockClock,
+    ticks: u64,
+    torque_nm: impl Fn(u64) -> f64,
+) {
+    for k in 0..ticks {
+        mock.advance_ns(MS);
+        w.set_torque_ceiling_nm(w.max_torque_nm()).unwrap();
+        w.command_torque(torque_nm(k)).unwrap();
+    }
+}
+
+#[test]
+fn the_updates_written_reach_each_driver_familys_rate_and_gap_from_a_1_khz_loop() {
+    let mut families_seen = Vec::new();
+    for p in DeviceProfile::builtin() {
+        let (Some(vendor), Some(&product)) = (p.usb_vendor, p.usb_products.first()) else {
+            continue;
+        };
+        if families_seen.contains(&p.driver) {
+            continue;
+        }
+        families_seen.push(p.driver);
+        let (mut w, fake, mock) =
+            wheel_with((vendor, product), p.max_torque_nm, Default::default());
+        let before = (w.motor_updates().unwrap().count, fake.effect_updates());
+        let ticks = 2_000;
+        // A second of varying torque that never reaches zero, then a second held at zero.
+        let usable = w.max_torque_nm();
+        drive_at_1_khz(&mut w, &mock, ticks, |k| {
+            if k < ticks / 2 {
+                usable * (0.4 + 0.3 * (k as f64 * 0.01).sin())
+            } else {
+                0.0
+            }
+        });
+        let updates = w.motor_updates().unwrap();
+        let counted = updates.count - before.0;
+        assert_eq!(
+            counted,
+            fake.effect_updates() - before.1,
+            "{}: the count is the device's own",
+            p.name
+        );
+        let rate_hz = counted as f64 / (ticks as f64 * 1e-3);
+        let policy_hz = p.driver.max_update_rate_hz();
+        // One extra update where the torque drops to zero (never throttled).
+        assert!(
+            (rate_hz - policy_hz).abs() <= 1.0,
+            "{} ({:?}): {rate_hz} updates/s, policy {policy_hz}",
+            p.name,
+            p.driver
+        );
+        let period_ms = 1e3 / policy_hz;
+        assert!(
+            (updates.worst_gap_ms() - period_ms).abs() < 1e-9,
+            "{}: worst gap {} ms, policy period {period_ms} ms",
+            p.name,
+            updates.worst_gap_ms()
+        );
+    }
+    for family in [
+        DriverFamily::HidPidff,
+        DriverFamily::Lg4ff,
+        DriverFamily::Hidpp,
+        DriverFamily::Tmff2,
+        DriverFamily::Fanatec,
+    ] {
+        assert!(
+            families_seen.contains(&family),
+            "no built-in {family:?} wheel"
+        );
+    }
+}
+
+#[test]
+fn an_unplug_is_not_counted_as_a_gap_between_updates() {
+    let (mut w, fake, mock) = wheel_with(SIDEWINDER_ID, 1.87, WheelConfig::default());
+    drive_at_1_khz(&mut w, &mock, 10, |_| 0.5);
+    fake.set_unplugged(true);
+    mock.advance_ns(500 * MS);
+    assert!(w.command_torque(0.5).is_err());
+    let updates = w.motor_updates().unwrap();
+    assert_eq!(updates.count, 10);
+    assert_eq!(updates.worst_gap_ns, MS);
+    assert_eq!(updates.last_ns, None, "the next update starts a new run");
+}
+
+#[test]
+fn a_loop_waking_a_few_microseconds_early_or_late_still_gets_each_drivers_full_rate() {
+    // G29 (lg4ff, 2 ms) and T300 (tmff2, 8 ms): ticks at k ms plus 0–49 µs of lateness.
+    for (usb_id, motor_nm, policy_hz) in [
+        ((0x046d, 0xc24f), 2.2, 500.0),
+        ((0x044f, 0xb66e), 3.9, 125.0),
+    ] {
+        let (mut w, _fake, mock) = wheel_with(usb_id, motor_nm, WheelConfig::default());
+        let mut late_ns = 0;
+        let ticks = 4_000u64;
+        for k in 0..ticks {
+            let next_late_ns = (k * 7_919 % 50) * 1_000;
+            mock.advance_ns(MS + next_late_ns - late_ns);
+            late_ns = next_late_ns;
+            w.command_torque(0.5 + 0.2 * (k as f64 * 0.01).sin())
+                .unwrap();
+        }
+        let updates = w.motor_updates().unwrap();
+        let rate_hz = updates.count as f64 / (ticks as f64 * 1e-3);
+        assert!(
+            (rate_hz - policy_hz).abs() <= 0.5,
+            "{usb_id:04x?}: {rate_hz} updates/s, policy {policy_hz}"
+        );
+        let period_ms = 1e3 / policy_hz;
+        assert!(
+            updates.worst_gap_ms() < period_ms + 0.05,
+            "{usb_id:04x?}: worst gap {} ms",
+            updates.worst_gap_ms()
+        );
+    }
+}

@@ -46,6 +46,8 @@ pub struct HapticOutcome {
     pub skipped_deadlines: u64,
     /// The torque ceiling that held on the wheel, N·m and as a share of its motor.
     pub ceiling: Option<haptic_wheel::CeilingReport>,
+    /// The wheel's rate policy: the most torque updates a second its driver takes, Hz.
+    pub motor_update_policy_hz: Option<f64>,
     /// Rests taken (prescribed or asked for).
     pub rests: u32,
     /// Time spent resting, s (not exercise time).
@@ -317,6 +319,7 @@ pub fn run(
         wheel_replugs: plant.wheel_replugs(),
         skipped_deadlines: slots.skipped,
         ceiling: Some(plant.ceiling()),
+        motor_update_policy_hz: Some(plant.motor_update_policy_hz()),
         rests: breaks.rests,
         rest_s: breaks.rest_s(),
         paused_too_long: breaks.paused_too_long,

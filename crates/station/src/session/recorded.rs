@@ -14,7 +14,7 @@ use anyhow::{Context, bail};
 use gyro_imu::ImuError;
 use gyro_imu::device::ImuSample;
 use gyro_imu::pose::Mounting;
-use haptic_wheel::{DeviceProfile, Wheel, WheelError, WheelFault, WheelReading};
+use haptic_wheel::{DeviceProfile, MotorUpdates, Wheel, WheelError, WheelFault, WheelReading};
 use nalgebra::UnitQuaternion;
 use record::raw::{ArmFacts, BodyFacts, RawRead, RawTick};
 use record::{ArmSample, Recording};
@@ -31,6 +31,9 @@ struct InputTick {
     hand_nm: Option<f64>,
     /// The simulated arm's true shoulder elevation and elbow flexion, rad, on `/arm`.
     true_arm_rad: Option<(f64, f64)>,
+    /// The torque updates the recorded wheel's backend had written, on `/wheel` (a device's
+    /// observation, like the true angle: played as recorded).
+    motor: Option<MotorUpdates>,
 }
 
 /// A recording's ticks read as a stream.
@@ -69,6 +72,14 @@ fn input_tick(rec: &record::TickRecord) -> InputTick {
         true_arm_rad: rec
             .arm
             .map(|a| (a.true_shoulder_elevation_rad, a.true_elbow_flexion_rad)),
+        motor: rec
+            .wheel
+            .motor_update_worst_gap_ms
+            .map(|gap_ms| MotorUpdates {
+                count: rec.wheel.motor_updates,
+                worst_gap_ns: (gap_ms * 1e6).round() as u64,
+                last_ns: None,
+            }),
     }
 }
 
@@ -236,6 +247,8 @@ pub struct RecordedBody {
     replug_grace_ns: Option<u64>,
     /// The replay asked for a tick past the recording's last (a killed or cut-short session).
     ran_out: Arc<AtomicBool>,
+    /// The torque updates recorded at the tick played last.
+    motor: Option<MotorUpdates>,
 }
 
 impl RecordedBody {
@@ -272,6 +285,7 @@ impl RecordedBody {
             real: facts.kind == record::raw::BodyKindName::Real,
             replug_grace_ns: facts.replug_grace_ns,
             ran_out: Arc::default(),
+            motor: None,
         };
         body.raise_stop();
         Ok(body)
@@ -345,6 +359,7 @@ impl RecordedBody {
     /// The body's part of the tick with the wheel as read (`read`); the next tick follows.
     pub fn step(&mut self, read: WheelNow) -> RecordedMotion {
         let tick = self.now().copied().unwrap_or_default();
+        self.motor = tick.motor;
         let arm = self.arm.as_mut().map(|arm| {
             for sample in tick.raw.imu.iter().flatten() {
                 if let Some(slot) = arm.latest.get_mut(sample.sensor as usize) {
@@ -447,6 +462,10 @@ impl Wheel for RecordedBody {
 
     fn profile(&self) -> DeviceProfile {
         self.profile.clone()
+    }
+
+    fn motor_updates(&self) -> Option<MotorUpdates> {
+        self.motor
     }
 }
 

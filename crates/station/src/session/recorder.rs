@@ -253,6 +253,12 @@ impl RecorderOutcome {
         self.dial_ticks += u64::from(active && rec.vehicle.is_none());
         self.paused_ticks += u64::from(!active);
         self.fault_ticks += u64::from(rec.wheel.watchdog.is_fault());
+        // Rates count from the first record on: its updates are those before it.
+        if active && self.records > 1 {
+            self.active_ns += rec.t_ns.saturating_sub(self.last.t_ns);
+            let (now, before) = (rec.wheel.motor_updates, self.last.wheel.motor_updates);
+            self.active_motor_updates += now.saturating_sub(before);
+        }
         if rec.arm.is_some_and(|a| a.setup == ArmSetup::SensorLost) {
             self.arm_lost_ns += rec.t_ns.saturating_sub(self.last.t_ns);
         }
@@ -267,8 +273,22 @@ impl RecorderOutcome {
 }
 
 impl RecorderOutcome {
+    /// The torque updates that reached the motor: updates written per second of active
+    /// (not paused) time, and the largest gap between two so far, ms. `None` before any
+    /// active time, or with a wheel backend that does not count its updates (a replay).
+    pub fn motor_update_rate(&self) -> Option<(f64, f64)> {
+        let gap_ms = self.last.wheel.motor_update_worst_gap_ms?;
+        (self.active_ns > 0).then(|| {
+            (
+                self.active_motor_updates as f64 / (self.active_ns as f64 * 1e-9),
+                gap_ms,
+            )
+        })
+    }
+
     /// Safety and assistance so far, by name (unit in the name): the share of ticks the
-    /// safety chain limited, the watchdog's fault ticks, whether the arm sensors were lost
+    /// safety chain limited, the watchdog's fault ticks, the torque updates' rate at the motor
+    /// and worst gap (with a backend that counts them), whether the arm sensors were lost
     /// (with arm sensing) and, with assistance, its mean level,
     /// RMS tracking error and saturated share. In every live summary and in the session's
     /// measures.
@@ -280,6 +300,10 @@ impl RecorderOutcome {
             ),
             ("watchdog_fault_ticks".to_owned(), self.fault_ticks as f64),
         ]);
+        if let Some((rate_hz, gap_ms)) = self.motor_update_rate() {
+            figures.insert("motor_update_rate_hz".to_owned(), rate_hz);
+            figures.insert("motor_update_worst_gap_ms".to_owned(), gap_ms);
+        }
         // Arm sensors that stopped answering or never set up: 1, else 0 (with arm sensing).
         if let Some(arm) = &self.last.arm {
             let lost = matches!(arm.setup, ArmSetup::SensorLost | ArmSetup::Failed);
@@ -353,6 +377,10 @@ pub struct RecorderOutcome {
     pub error: Option<String>,
     /// Session time recording stopped at after an error, s.
     pub recording_stopped_s: Option<f64>,
+    /// Loop time of the ticks not paused, ns.
+    pub active_ns: u64,
+    /// Torque updates the wheel's backend wrote to the device during those ticks.
+    pub active_motor_updates: u64,
 }
 
 /// What the live view shows besides the measures: the arm's configured lengths, each

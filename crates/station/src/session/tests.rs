@@ -143,6 +143,71 @@ fn a_paused_session_runs_its_full_exercise_time_and_records_every_tick() {
     assert!(recs.windows(2).all(|w| w[1].tick == w[0].tick + 1));
 }
 
+/// Pauses first like [`PauseThenResume`] and keeps each live summary's torque updates at the
+/// motor: (updates per second, worst gap in ms).
+struct MotorFigures<'a> {
+    pause: PauseThenResume<'a>,
+    live: Vec<(f64, f64)>,
+}
+
+impl SessionObserver for MotorFigures<'_> {
+    fn on_tick(&mut self, record: &TickRecord) {
+        self.pause.on_tick(record);
+    }
+    fn on_summary(&mut self, s: &super::LiveSummary) {
+        let x = |k: &str| s.extra.get(k).copied();
+        if let (Some(rate), Some(gap)) = (x("motor_update_rate_hz"), x("motor_update_worst_gap_ms"))
+        {
+            self.live.push((rate, gap));
+        }
+    }
+}
+
+#[test]
+fn the_motor_update_rate_counts_the_active_time_and_reaches_the_live_summaries() {
+    let cfg = config("sine-road", 3.0);
+    let controls = Controls::default();
+    controls.pause.store(true, Ordering::Relaxed);
+    let mut observer = MotorFigures {
+        pause: PauseThenResume {
+            controls: &controls,
+            hold: 500,
+            records: Vec::new(),
+        },
+        live: Vec::new(),
+    };
+    let report = super::run(&simulated_at_max_speed(cfg), &controls, &mut observer)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let recs = &observer.pause.records;
+    // The simulated wheel takes a command every tick, paused or not: one update a tick.
+    let last = recs.last().unwrap();
+    assert_eq!(
+        last.wheel.motor_updates,
+        recs[0].wheel.motor_updates + recs.len() as u64 - 1
+    );
+    // The rate is over the active ticks alone (the first record paused: all of them count).
+    let active = recs.iter().filter(|r| !r.score.paused).count() as u64;
+    assert!(recs[0].score.paused && active >= 3000);
+    assert_eq!(report.recorder.active_motor_updates, active);
+    let (rate_hz, gap_ms) = report.recorder.motor_update_rate().unwrap();
+    assert!((rate_hz - 1000.0).abs() < 1e-6, "{rate_hz}");
+    assert!((gap_ms - 1.0).abs() < 1e-9, "{gap_ms}");
+    // Every live summary once the exercise runs carries them.
+    assert!(
+        observer.live.len() >= 25,
+        "{} summaries",
+        observer.live.len()
+    );
+    assert!(
+        observer
+            .live
+            .iter()
+            .all(|(r, g)| (r - 1000.0).abs() < 1e-6 && (g - 1.0).abs() < 1e-9),
+        "{:?}",
+        observer.live
+    );
+}
+
 /// Keeps every record.
 #[derive(Default)]
 struct Keep(Vec<TickRecord>);

@@ -128,6 +128,10 @@ impl<W: Wheel + Stallable> Wheel for FaultyWheel<W> {
         self.inner.set_torque_ceiling_nm(ceiling_nm)
     }
 
+    fn motor_updates(&self) -> Option<haptic_wheel::MotorUpdates> {
+        self.inner.motor_updates()
+    }
+
     fn max_torque_nm(&self) -> f64 {
         self.inner.max_torque_nm()
     }

@@ -54,6 +54,9 @@ pub struct Plant {
     ceiling: CeilingReport,
     /// The wheel the plant was built around.
     wheel_facts: WheelFacts,
+    /// The most torque updates a second the wheel's rate policy sends to its motor, Hz
+    /// (read at start-up: the backend's capabilities allocate its name).
+    motor_update_policy_hz: f64,
     /// How long an asked-for rest and a pause may last.
     break_settings: crate::session::breaks::BreakSettings,
     /// The patient's pedals as last read off the haptic thread.
@@ -148,7 +151,8 @@ impl Plant {
             ..HapticChainConfig::for_encoder_step(body.encoder_step_rad(cfg))
         };
         let device_max = body.wheel().max_torque_nm();
-        let half_range_rad = body.wheel().capabilities().half_range_rad;
+        let capabilities = body.wheel().capabilities();
+        let half_range_rad = capabilities.half_range_rad;
         for (i, seg) in course.iter().enumerate() {
             seg.haptic.validate(device_max).with_context(|| {
                 format!(
@@ -204,6 +208,7 @@ impl Plant {
             watchdog: WatchdogState::SoftStart,
             ceiling,
             wheel_facts,
+            motor_update_policy_hz: capabilities.max_update_rate_hz,
             break_settings: crate::session::breaks::BreakSettings {
                 asked_rest_s: cfg.session.asked_rest_s,
                 pause_limit_s: cfg.session.pause_limit_s,
@@ -287,6 +292,11 @@ impl Plant {
     /// as a share of its motor.
     pub fn ceiling(&self) -> CeilingReport {
         self.ceiling.with_ceiling(self.chain.ceiling_nm())
+    }
+
+    /// The most torque updates a second the wheel's rate policy sends to its motor, Hz.
+    pub fn motor_update_policy_hz(&self) -> f64 {
+        self.motor_update_policy_hz
     }
 
     /// The supervisor has faded the torque to zero for good.
@@ -455,6 +465,7 @@ impl Plant {
             motion,
             hand_est_nm,
         } = stages;
+        let updates = self.body.wheel().motor_updates();
         TickRecord {
             tick: now.tick,
             t_ns: now.t_ns,
@@ -476,6 +487,8 @@ impl Plant {
                 target_rad: exercise.target_rad,
                 ceiling_nm: self.chain.ceiling_nm(),
                 motor_rating_known: !self.ceiling.assumed,
+                motor_updates: updates.map_or(0, |u| u.count),
+                motor_update_worst_gap_ms: updates.map(|u| u.worst_gap_ms()),
             },
             vehicle: exercise.vehicle,
             score: self.exercise.score(exercise.segment_index, now.t_s, paused),
