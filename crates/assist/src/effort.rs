@@ -84,8 +84,6 @@ pub struct WheelDynamics {
     /// Ticks from sending a torque to the loop step it first acts in (USB and firmware
     /// latency; 1..=62, 0 taken as 1: the observer steps before the tick's command is sent).
     pub delay_ticks: usize,
-    /// The encoder's step, rad: the angle's resolution (sets the fast observer's noise).
-    pub encoder_step_rad: f64,
     /// Half range of motion before the end stop, rad (infinite: no stop modelled).
     pub half_range_rad: f64,
     /// Stiffness of the end stop beyond the range, N·m/rad.
@@ -96,14 +94,13 @@ pub struct WheelDynamics {
 
 impl WheelDynamics {
     /// A consumer force-feedback wheel of the thesis's class when nothing was measured:
-    /// the simulated wheel's defaults (0.02 kg·m², 0.02 N·m·s/rad, 0.03 N·m, 2 ms of USB, the
-    /// thesis encoder's 0.002253 rad); its end stop not modelled (not measured).
+    /// the simulated wheel's defaults (0.02 kg·m², 0.02 N·m·s/rad, 0.03 N·m, 2 ms of USB); its
+    /// end stop not modelled (not measured).
     pub const NOMINAL: Self = Self {
         inertia_kg_m2: 0.02,
         viscous_nm_s_per_rad: 0.02,
         coulomb_nm: 0.03,
         delay_ticks: 3,
-        encoder_step_rad: 0.002253,
         half_range_rad: f64::INFINITY,
         end_stop_nm_per_rad: 0.0,
         end_stop_nm_s_per_rad: 0.0,

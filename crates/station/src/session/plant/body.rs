@@ -160,7 +160,7 @@ impl Body {
     /// The wheel's dynamics the patient's torque is estimated with: the simulated wheel's
     /// own (also when a simulated session is replayed); for a real wheel the nominal consumer
     /// wheel's ([`assist::WheelDynamics::NOMINAL`]: `telerehab wheel calibrate` does not
-    /// measure inertia and friction yet) with its own encoder step and `half_range_rad`.
+    /// measure inertia and friction yet) with its `half_range_rad`.
     /// `dt_s` is the loop period (for the USB delay).
     pub(super) fn wheel_dynamics(
         &self,
@@ -168,7 +168,6 @@ impl Body {
         dt_s: f64,
         half_range_rad: f64,
     ) -> assist::WheelDynamics {
-        let encoder_step_rad = self.encoder_step_rad(cfg);
         let sim = match self {
             Body::Sim { .. } => true,
             #[cfg(target_os = "linux")]
@@ -178,7 +177,6 @@ impl Body {
         if !sim {
             // Its range is known (the estimate is absent at its stop), its stop's feel not.
             return assist::WheelDynamics {
-                encoder_step_rad,
                 half_range_rad,
                 ..assist::WheelDynamics::NOMINAL
             };
@@ -192,7 +190,6 @@ impl Body {
             viscous_nm_s_per_rad: w.viscous_nm_s_per_rad,
             coulomb_nm: w.coulomb_nm,
             delay_ticks: delay_ticks.clamp(0.0, 62.0) as usize,
-            encoder_step_rad,
             half_range_rad: w.range_rad,
             end_stop_nm_per_rad: w.end_stop_k_nm_per_rad,
             end_stop_nm_s_per_rad: w.end_stop_b_nm_s_per_rad,
