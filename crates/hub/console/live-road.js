@@ -85,7 +85,7 @@ export function drawRoad(canvas, cols, x, windowS) {
   g.fillText(`${SCALE_BAR_M} m`, 14 + bar, y);
   const under = x.road_left_m_0;
   const side = under === undefined ? '' : Math.abs(under) < 0.05 ? ' The car is on the lane centre.'
-    : ` The car is ${Math.abs(under).toFixed(2)} m ${under < 0 ? 'left' : 'right'} of the lane centre.`;
+    : ` The car is ${Math.abs(under).toFixed(2)} m ${under < 0 ? 'left' : 'right'} of centre.`;
   return `Lane ${road.lane.toFixed(1)} m wide, ${BEHIND_SHOWN_M - 1} m behind the car to ${AHEAD_SHOWN_M - 1} m ahead `
     + `(scale bar ${SCALE_BAR_M} m); blue: its path.${side}`;
 }
