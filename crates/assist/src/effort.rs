@@ -67,9 +67,8 @@ use serde::{Deserialize, Serialize};
 /// Commands remembered for the actuation delay and the estimate's lag (ticks).
 const HISTORY: usize = 128;
 
-/// How long before the angle it is computed from the hand's torque estimate is (`3/ω₀` at
-/// the default bandwidth), s: a reader pairs the estimate with the wheel's motion of that
-/// time.
+/// How long before the angle it is computed from the hand's torque estimate is (`3/ω₀`,
+/// [`BANDWIDTH_RAD_S`]), s: a reader pairs the estimate with the wheel's motion of that time.
 pub const HAND_ESTIMATE_LAG_S: f64 = 0.05;
 
 /// The wheel's own dynamics as the estimator models them (eq. 5.5, one link, no arm).
@@ -105,31 +104,19 @@ impl WheelDynamics {
         end_stop_nm_per_rad: 0.0,
         end_stop_nm_s_per_rad: 0.0,
     };
-
-    /// The end stop's torque on the rim at `angle_rad` moving at `vel_rad_s`, N·m: it pushes
-    /// the rim back and never pulls it into the stop (as `haptic-wheel`'s simulated stop).
-    fn end_stop_nm(&self, angle_rad: f64, vel_rad_s: f64) -> f64 {
-        let over = angle_rad.abs() - self.half_range_rad;
-        if over > 0.0 {
-            let outward_rad_s = vel_rad_s * angle_rad.signum();
-            -angle_rad.signum()
-                * (self.end_stop_nm_per_rad * over + self.end_stop_nm_s_per_rad * outward_rad_s)
-                    .max(0.0)
-        } else {
-            0.0
-        }
-    }
 }
 
 /// How near its end stop the rim must be for the estimate to be absent, rad (1°).
 pub const STOP_MARGIN_RAD: f64 = 0.0175;
 
+/// Bandwidth `ω₀` of (E.1), rad/s: `3/ω₀` is the estimate's stated lag
+/// ([`HAND_ESTIMATE_LAG_S`]; higher would be less late and let more encoder quantisation
+/// through, `≈ J ω₀² Δθ` of noise).
+pub const BANDWIDTH_RAD_S: f64 = 3.0 / HAND_ESTIMATE_LAG_S;
+
 /// Tuning of the [`HandTorqueObserver`].
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ObserverTuning {
-    /// Bandwidth `ω₀` of (E.1), rad/s: higher is less late (`3/ω₀`) and lets more encoder
-    /// quantisation through (`≈ J ω₀² Δθ` of noise).
-    pub bandwidth_rad_s: f64,
     /// Velocity `v_c` below which the Coulomb term of (E.1) fades linearly to zero, rad/s
     /// (the wheel at rest holds any torque within ±τ_c: unobservable).
     pub coulomb_fade_rad_s: f64,
@@ -138,7 +125,6 @@ pub struct ObserverTuning {
 impl Default for ObserverTuning {
     fn default() -> Self {
         Self {
-            bandwidth_rad_s: 3.0 / HAND_ESTIMATE_LAG_S,
             coulomb_fade_rad_s: 0.05,
         }
     }
@@ -185,27 +171,15 @@ impl HandTorqueObserver {
         }
     }
 
-    /// The wheel it models.
-    pub fn wheel(&self) -> &WheelDynamics {
-        &self.wheel
-    }
-
-    /// How long before the angle it is computed from each estimate is, s (`3/ω₀`).
-    pub fn lag_s(&self) -> f64 {
-        3.0 / self.tuning.bandwidth_rad_s
-    }
-
     /// Observe the angle `angle_rad` measured `dt_s` after the last and return the hand's
-    /// torque estimate (E.3), N·m: the torque of the step that angle ended, [`lag_s`]
-    /// earlier; `None` at the end stop (see the module's docs). A non-finite angle or `dt_s`
-    /// observes nothing and returns the last estimate.
-    ///
-    /// [`lag_s`]: Self::lag_s
+    /// torque estimate (E.3), N·m: the torque of the step that angle ended,
+    /// [`HAND_ESTIMATE_LAG_S`] earlier; `None` at the end stop (see the module's docs). A
+    /// non-finite angle or `dt_s` observes nothing and returns the last estimate.
     pub fn step(&mut self, angle_rad: f64, dt_s: f64) -> Option<f64> {
         if angle_rad.is_finite() && dt_s.is_finite() && dt_s > 0.0 {
             self.observe(angle_rad, dt_s);
         }
-        let clear_ticks = 2.0 * self.lag_s() / dt_s.max(1e-6);
+        let clear_ticks = 2.0 * HAND_ESTIMATE_LAG_S / dt_s.max(1e-6);
         (self.since_stop_ticks as f64 > clear_ticks).then_some(self.estimate_nm)
     }
 
@@ -221,13 +195,19 @@ impl HandTorqueObserver {
             return;
         }
         let d = &self.wheel;
-        let w = self.tuning.bandwidth_rad_s;
+        let w = BANDWIDTH_RAD_S;
         let acting = self.acting_nm(0);
         let e = angle_rad - self.angle_rad;
         let fade = self.tuning.coulomb_fade_rad_s.max(1e-9);
         let friction = d.viscous_nm_s_per_rad * self.vel_rad_s
             + d.coulomb_nm * (self.vel_rad_s / fade).clamp(-1.0, 1.0);
-        let stop = d.end_stop_nm(angle_rad, self.vel_rad_s);
+        let stop = common::end_stop_nm(
+            angle_rad,
+            self.vel_rad_s,
+            d.half_range_rad,
+            d.end_stop_nm_per_rad,
+            d.end_stop_nm_s_per_rad,
+        );
         let net = acting + stop - friction + self.hand_nm;
         // (E.1)–(E.2), explicit Euler (ω₀·dt ≪ 1 at 1 kHz).
         self.angle_rad += dt_s * (self.vel_rad_s + 3.0 * w * e);
@@ -239,7 +219,7 @@ impl HandTorqueObserver {
             lagged = *y;
         }
         // (E.3): the motor's torque of `T` ago in place of its filtered value.
-        let lag_ticks = (self.lag_s() / dt_s)
+        let lag_ticks = (HAND_ESTIMATE_LAG_S / dt_s)
             .round()
             .clamp(0.0, (HISTORY / 2) as f64) as usize;
         self.estimate_nm = self.hand_nm + lagged - self.acting_nm(lag_ticks);
@@ -275,18 +255,14 @@ mod tests {
     /// rendering a centring spring (0.5 N·m/rad, 0.05 N·m·s/rad) and held by a hand `hand(t, θ,
     /// ω)`. Returns the estimate and the true hand torque it is of (the tick before the angle,
     /// [`HAND_ESTIMATE_LAG_S`] earlier), from 0.5 s on.
-    fn run(hand: impl Fn(f64, f64, f64) -> f64, bandwidth_rad_s: f64) -> (Vec<f64>, Vec<f64>) {
+    fn run(hand: impl Fn(f64, f64, f64) -> f64) -> (Vec<f64>, Vec<f64>) {
         let wheel = WheelDynamics {
             coulomb_nm: 0.0,
             delay_ticks: 0,
             ..WheelDynamics::NOMINAL
         };
-        let tuning = ObserverTuning {
-            bandwidth_rad_s,
-            ..ObserverTuning::default()
-        };
-        let mut obs = HandTorqueObserver::new(wheel, tuning);
-        let lag = (obs.lag_s() / 1e-3).round() as usize;
+        let mut obs = HandTorqueObserver::new(wheel, ObserverTuning::default());
+        let lag = (HAND_ESTIMATE_LAG_S / 1e-3).round() as usize;
         let (mut th, mut w, mut acting) = (0.0_f64, 0.0_f64, 0.0);
         let (mut est, mut truth, mut hands) = (Vec::new(), Vec::new(), vec![0.0; lag + 1]);
         for k in 0..8000 {
@@ -319,7 +295,7 @@ mod tests {
     fn a_steady_hold_reads_as_the_hands_torque_on_average_within_two_percent() {
         // The hand holds 0.4 N·m against the spring (0.8 rad): no lag to speak of, only the
         // encoder's quantisation dithering around it.
-        let (est, truth) = run(|_, _, _| 0.4, 3.0 / HAND_ESTIMATE_LAG_S);
+        let (est, truth) = run(|_, _, _| 0.4);
         let late = &est[est.len() - 1000..];
         let mean = late.iter().sum::<f64>() / late.len() as f64;
         assert!((mean - 0.4).abs() < 0.008, "mean {mean}");
@@ -333,7 +309,7 @@ mod tests {
         let arm = |t: f64, th: f64, w: f64| {
             2.0 * (0.7 * (std::f64::consts::TAU * 0.25 * t).sin() - th) - 0.2 * w
         };
-        let (est, truth) = run(arm, 3.0 / HAND_ESTIMATE_LAG_S);
+        let (est, truth) = run(arm);
         let ratio = rms_error_ratio(&est, &truth);
         assert!(ratio < 0.10, "rms error {ratio:.3} of the rms hand torque");
     }
@@ -343,7 +319,7 @@ mod tests {
         // The hand steps from 0 to 0.3 N·m at 2 s against the spring. Compared with the hand
         // of the stated lag before, the estimate crosses half the step within 15 ms of it
         // and has settled 60 ms after.
-        let (est, truth) = run(|t, _, _| if t >= 2.0 { 0.3 } else { 0.0 }, 60.0);
+        let (est, truth) = run(|t, _, _| if t >= 2.0 { 0.3 } else { 0.0 });
         let step = truth.iter().position(|h| *h > 0.0).unwrap();
         let half = est.iter().position(|e| *e > 0.15).unwrap();
         assert!(half.abs_diff(step) <= 15, "half way {half}, step {step}");
@@ -377,23 +353,5 @@ mod tests {
             obs.step(f64::NAN, 1e-3).is_some(),
             "a bad angle keeps the last estimate"
         );
-    }
-
-    #[test]
-    fn the_end_stop_pushes_the_rim_back_and_never_pulls_it_in() {
-        let wheel = WheelDynamics {
-            half_range_rad: 1.0,
-            end_stop_nm_per_rad: 50.0,
-            end_stop_nm_s_per_rad: 0.5,
-            ..WheelDynamics::NOMINAL
-        };
-        assert_eq!(wheel.end_stop_nm(0.9, 3.0), 0.0);
-        assert!(
-            (wheel.end_stop_nm(1.1, 2.0) + 6.0).abs() < 1e-12,
-            "5 + 1 N·m back"
-        );
-        assert!((wheel.end_stop_nm(-1.1, -2.0) - 6.0).abs() < 1e-12);
-        // Leaving fast: the damper lets go rather than pull the rim back in.
-        assert_eq!(wheel.end_stop_nm(1.01, -4.0), 0.0);
     }
 }

@@ -47,7 +47,9 @@ pub mod sim;
 pub mod spec;
 
 pub use difficulty::{DifficultyAdapter, DifficultyParams};
-pub use effort::{HAND_ESTIMATE_LAG_S, HandTorqueObserver, ObserverTuning, WheelDynamics};
+pub use effort::{
+    BANDWIDTH_RAD_S, HAND_ESTIMATE_LAG_S, HandTorqueObserver, ObserverTuning, WheelDynamics,
+};
 pub use error::AssistError;
 pub use governor::Infeasibility;
 pub use human::{HumanArm, HumanArmParams};

@@ -7,6 +7,8 @@
 //!   Schema from the same constant.
 //! - [`wrap_angle`]: an angle mapped to (−π, π], rad.
 //! - [`quantile`]: the nearest-rank quantile of sorted data.
+//! - [`end_stop_nm`]: a steering wheel's end stop as a contact, the one law the simulated
+//!   wheel pushes with and the patient's torque estimate models.
 //!
 //! Pure: no I/O, no threads, no clock, no dependencies.
 
@@ -156,9 +158,46 @@ pub fn line_fit(points: &[(f64, f64)]) -> (f64, f64) {
     (slope, my - slope * mx)
 }
 
+/// A steering wheel's end stop on its rim at `angle_rad` moving at `vel_rad_s`, N·m: a spring
+/// `k_nm_per_rad` and a damper `b_nm_s_per_rad` beyond `half_range_rad` that push the rim back
+/// and never pull it into the stop (a stop is a contact: the damper lets go as the rim leaves).
+///
+/// ```
+/// assert_eq!(common::end_stop_nm(0.9, 3.0, 1.0, 50.0, 0.5), 0.0);
+/// assert!((common::end_stop_nm(1.1, 2.0, 1.0, 50.0, 0.5) + 6.0).abs() < 1e-12);
+/// assert_eq!(common::end_stop_nm(1.01, -4.0, 1.0, 50.0, 0.5), 0.0);
+/// ```
+pub fn end_stop_nm(
+    angle_rad: f64,
+    vel_rad_s: f64,
+    half_range_rad: f64,
+    k_nm_per_rad: f64,
+    b_nm_s_per_rad: f64,
+) -> f64 {
+    let over = angle_rad.abs() - half_range_rad;
+    if over > 0.0 {
+        let outward_rad_s = vel_rad_s * angle_rad.signum();
+        -angle_rad.signum() * (k_nm_per_rad * over + b_nm_s_per_rad * outward_rad_s).max(0.0)
+    } else {
+        0.0
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_end_stop_pushes_the_rim_back_and_never_pulls_it_in() {
+        assert_eq!(end_stop_nm(0.9, 3.0, 1.0, 50.0, 0.5), 0.0);
+        assert!(
+            (end_stop_nm(1.1, 2.0, 1.0, 50.0, 0.5) + 6.0).abs() < 1e-12,
+            "5 + 1 N·m back"
+        );
+        assert!((end_stop_nm(-1.1, -2.0, 1.0, 50.0, 0.5) - 6.0).abs() < 1e-12);
+        // Leaving fast: the damper lets go rather than pull the rim back in.
+        assert_eq!(end_stop_nm(1.01, -4.0, 1.0, 50.0, 0.5), 0.0);
+    }
     use std::f64::consts::PI;
 
     #[test]

@@ -271,7 +271,7 @@ impl SimWheel {
         }
         let p = &self.params;
         let inertia = p.inertia_kg_m2 + arm_j;
-        let stop = end_stop_nm(
+        let stop = common::end_stop_nm(
             self.angle_rad,
             self.vel_rad_s,
             p.range_rad,
@@ -291,25 +291,6 @@ impl SimWheel {
         self.angle_rad += vel * dt_s;
         self.t_ns += (dt_s * 1e9).round() as u64;
         muscle - arm_j * accel
-    }
-}
-
-/// The end stop's torque on the rim at `angle_rad` moving at `vel_rad_s`, N·m: a spring
-/// `k_nm_per_rad` and a damper `b_nm_s_per_rad` beyond `range_rad` that push the rim back and
-/// never pull it into the stop (a stop is a contact: the damper lets go as the rim leaves).
-pub fn end_stop_nm(
-    angle_rad: f64,
-    vel_rad_s: f64,
-    range_rad: f64,
-    k_nm_per_rad: f64,
-    b_nm_s_per_rad: f64,
-) -> f64 {
-    let over = angle_rad.abs() - range_rad;
-    if over > 0.0 {
-        let outward_rad_s = vel_rad_s * angle_rad.signum();
-        -angle_rad.signum() * (k_nm_per_rad * over + b_nm_s_per_rad * outward_rad_s).max(0.0)
-    } else {
-        0.0
     }
 }
 
