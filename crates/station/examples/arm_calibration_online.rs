@@ -9,8 +9,7 @@
 
 use record::{ArmSetup, TickRecord};
 use station::config::StationConfig;
-use station::session::haptic::Pacing;
-use station::session::{self, BodyKind, Controls, SessionObserver, SessionOptions};
+use station::session::{self, Controls, SessionObserver, SessionOptions};
 
 /// The wheel angle of every tick and the grip point of every tracked tick.
 #[derive(Default)]
@@ -57,16 +56,7 @@ fn main() -> anyhow::Result<()> {
     for seed in seeds {
         let mut cfg = StationConfig::default();
         cfg.session.seed = seed;
-        let opts = SessionOptions {
-            config: cfg,
-            pacing: Pacing::Max,
-            record: None,
-            body: BodyKind::Simulated,
-            regimen: None,
-            isolate_core: false,
-            difficulty: None,
-            clock: clock::Clock::real(),
-        };
+        let opts = SessionOptions::simulated(cfg);
         let mut motion = Motion::default();
         let report = session::run(&opts, &Controls::default(), &mut motion)?;
         let wheel: Vec<[f64; 1]> = motion.wheel_rad.iter().map(|w| [*w]).collect();

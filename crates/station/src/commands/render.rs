@@ -5,7 +5,7 @@ use super::run::{RunArgs, Speed};
 use crate::render::ScreenState;
 use crate::screen::CourseView;
 use crate::session::signals::install_stop_flag;
-use crate::session::{self, BodyKind, SessionObserver, SessionOptions, haptic::Pacing};
+use crate::session::{self, SessionObserver, SessionOptions};
 use record::TickRecord;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -93,14 +93,8 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         stop: stop.clone(),
     };
     let opts = SessionOptions {
-        config: cfg,
-        pacing: Pacing::Max,
-        record: None,
-        body: BodyKind::Simulated,
         regimen,
-        isolate_core: false,
-        difficulty: None,
-        clock: clock::Clock::real(),
+        ..SessionOptions::simulated(cfg)
     };
     session::run(&opts, &session::Controls::with_stop(stop), &mut frames)?;
     let scenes = frames

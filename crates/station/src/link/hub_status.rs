@@ -274,7 +274,7 @@ mod tests {
     /// update.
     #[test]
     fn a_session_refused_by_a_newer_hub_runs_queues_its_summaries_and_names_the_update() {
-        use crate::session::{self, BodyKind, Controls, SessionOptions, haptic::Pacing};
+        use crate::session::{self, Controls, SessionOptions};
         let tmp = tempfile::tempdir().unwrap();
         let hub_runtime = tokio::runtime::Builder::new_multi_thread()
             .worker_threads(1)
@@ -298,14 +298,8 @@ mod tests {
         let clock = clock::Clock::real();
         let link = crate::link::Link::start(&cfg, &clock, Some(&home)).unwrap();
         let opts = SessionOptions {
-            config: cfg,
-            pacing: Pacing::Max,
-            record: None,
-            body: BodyKind::Simulated,
-            regimen: None,
-            isolate_core: false,
-            difficulty: None,
             clock,
+            ..SessionOptions::simulated(cfg)
         };
         let report = session::run(&opts, &Controls::default(), &mut &link).unwrap();
         let linked = link

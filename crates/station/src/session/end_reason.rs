@@ -79,9 +79,7 @@ mod tests {
     use super::*;
     use crate::config::StationConfig;
     use crate::config::faults::FaultSpec;
-    use crate::session::haptic::Pacing;
-    use crate::session::{BodyKind, Controls, SessionOptions};
-    use clock::Clock;
+    use crate::session::{Controls, SessionOptions};
     use std::sync::atomic::Ordering;
 
     /// The end reason of a 3 s simulated sine-road session under `faults`, recorded in a
@@ -104,14 +102,8 @@ mod tests {
         cfg.validate().unwrap();
         let dir = tempfile::tempdir().unwrap();
         let opts = SessionOptions {
-            config: cfg,
-            pacing: Pacing::Max,
             record: Some(dir.path().join("s.mcap")),
-            body: BodyKind::Simulated,
-            regimen: None,
-            isolate_core: false,
-            difficulty: None,
-            clock: Clock::real(),
+            ..SessionOptions::simulated(cfg)
         };
         let controls = Controls::default();
         controls.stop.store(stop || window_lost, Ordering::Relaxed);

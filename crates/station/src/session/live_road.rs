@@ -181,7 +181,7 @@ mod tests {
 
     #[test]
     fn a_road_exercises_summaries_carry_its_road_and_a_dial_tasks_none() {
-        use crate::session::{BodyKind, Controls, SessionOptions, course, haptic::Pacing};
+        use crate::session::{Controls, SessionOptions, course};
         let text = "[[exercise]]\nkind = \"dial\"\nduration_s = 2.0\n\n\
                     [[exercise]]\nkind = \"sine\"\nduration_s = 4.0\n";
         let mut config = crate::config::StationConfig::default();
@@ -189,14 +189,8 @@ mod tests {
         config.session.duration_s = 60.0;
         config.validate().unwrap();
         let opts = SessionOptions {
-            config,
-            pacing: Pacing::Max,
-            record: None,
-            body: BodyKind::Simulated,
             regimen: Some(regimen::Regimen::from_toml(text, "test").unwrap()),
-            isolate_core: false,
-            difficulty: None,
-            clock: clock::Clock::real(),
+            ..SessionOptions::simulated(config)
         };
         let mut kept = Summaries(Vec::new());
         crate::session::run(&opts, &Controls::default(), &mut kept).unwrap();

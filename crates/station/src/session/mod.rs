@@ -67,6 +67,24 @@ pub struct SessionOptions {
     pub clock: Clock,
 }
 
+impl SessionOptions {
+    /// A simulated session of `config` as fast as possible: no recording, no regimen (the
+    /// configured exercise), no difficulty, the real clock — what tests, examples and offline
+    /// renders start from (`SessionOptions { record, ..SessionOptions::simulated(cfg) }`).
+    pub fn simulated(config: StationConfig) -> Self {
+        Self {
+            config,
+            pacing: Pacing::Max,
+            record: None,
+            body: BodyKind::Simulated,
+            regimen: None,
+            difficulty: None,
+            isolate_core: false,
+            clock: Clock::real(),
+        }
+    }
+}
+
 /// Who holds the wheel in a session.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BodyKind {

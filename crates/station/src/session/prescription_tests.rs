@@ -2,10 +2,8 @@
 //! continued as long as needed, never driven off its end) and the session's active time is
 //! the sum of the prescription.
 
-use super::haptic::Pacing;
-use super::{BodyKind, Controls, SessionObserver, SessionOptions};
+use super::{Controls, SessionObserver, SessionOptions};
 use crate::config::StationConfig;
-use clock::Clock;
 use record::{TickRecord, Watchdog};
 use regimen::Regimen;
 
@@ -47,14 +45,8 @@ fn run_regimen(regimen: &Regimen, loop_rate_hz: f64) -> Vec<(f64, f64)> {
     cfg.session.duration_s = 4.0 * 3600.0;
     cfg.validate().unwrap();
     let opts = SessionOptions {
-        config: cfg.clone(),
-        pacing: Pacing::Max,
-        record: None,
-        body: BodyKind::Simulated,
         regimen: Some(regimen.clone()),
-        isolate_core: false,
-        difficulty: None,
-        clock: Clock::real(),
+        ..SessionOptions::simulated(cfg.clone())
     };
     let mut seen = PerExercise::default();
     let report = super::run(&opts, &Controls::default(), &mut seen).unwrap();

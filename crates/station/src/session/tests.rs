@@ -2,7 +2,7 @@
 
 use super::haptic::Pacing;
 use super::plant::Plant;
-use super::{BodyKind, Controls, SessionObserver, SessionOptions, course};
+use super::{Controls, SessionObserver, SessionOptions, course};
 use crate::config::StationConfig;
 use clock::Clock;
 use record::{ArmSetup, TickRecord, Watchdog};
@@ -18,16 +18,7 @@ fn config(exercise: &str, duration_s: f64) -> StationConfig {
 }
 
 fn simulated_at_max_speed(config: StationConfig) -> SessionOptions {
-    SessionOptions {
-        config,
-        pacing: Pacing::Max,
-        record: None,
-        body: BodyKind::Simulated,
-        regimen: None,
-        isolate_core: false,
-        difficulty: None,
-        clock: Clock::real(),
-    }
+    SessionOptions::simulated(config)
 }
 
 fn plant(cfg: &StationConfig) -> Plant {
