@@ -126,42 +126,23 @@ pub fn entries(
     Ok(prescribed.iter().flat_map(RegimenEntry::expand).collect())
 }
 
-/// Every exercise of the course as [`build`] makes them of the same `cfg` and `regimen`,
-/// for what the recorder needs of them (the roads, the target's steps).
-fn exercises(cfg: &StationConfig, regimen: Option<&Regimen>) -> anyhow::Result<Vec<Exercise>> {
-    entries(cfg, regimen)?
-        .iter()
-        .map(|e| {
-            let name = e.exercise.name();
-            e.exercise
-                .build()
-                .with_context(|| format!("exercise {name}"))
-        })
-        .collect()
-}
-
 /// The road of each exercise [`build`] makes of the same `cfg` and `regimen` (`None`: the
-/// dial task), for the road around the car in the live summaries.
+/// dial task), for the road around the car in the live summaries (the plant owns the
+/// course's own roads).
 pub fn roads(
     cfg: &StationConfig,
     regimen: Option<&Regimen>,
 ) -> anyhow::Result<Vec<Option<Box<dyn vehicle::Road + Send>>>> {
-    Ok(exercises(cfg, regimen)?
-        .into_iter()
-        .map(|e| e.road)
-        .collect())
-}
-
-/// Which of each exercise's target changes are steps to respond to, for the measures
-/// ([`vehicle::Exercise::target_steps`]), in course order.
-pub fn target_steps(
-    cfg: &StationConfig,
-    regimen: Option<&Regimen>,
-) -> anyhow::Result<Vec<vehicle::TargetSteps>> {
-    Ok(exercises(cfg, regimen)?
+    entries(cfg, regimen)?
         .iter()
-        .map(|e| e.target_steps().clone())
-        .collect())
+        .map(|e| {
+            let name = e.exercise.name();
+            Ok(e.exercise
+                .build()
+                .with_context(|| format!("exercise {name}"))?
+                .road)
+        })
+        .collect()
 }
 
 /// Build the course: [`entries`], each ready to run, with the break after each but the last

@@ -325,6 +325,15 @@ fn run_body(
     // Devices first: a session that cannot start must not leave an empty recording behind.
     let course = course::build(cfg, opts.regimen.as_ref())?;
     let exercises = course.len();
+    // What the recorder needs of each exercise, taken before the plant owns the course.
+    let target_steps = course
+        .iter()
+        .map(|s| s.exercise.target_steps().clone())
+        .collect();
+    let strength = course
+        .iter()
+        .map(|s| s.exercise.strength().cloned())
+        .collect();
     let (given_body, given_facts) = given.unzip();
     let mut plant = match (given_body, opts.body) {
         (Some(body), _) => plant::Plant::new(cfg, body, course)?,
@@ -367,14 +376,8 @@ fn run_body(
         flush_every,
         arm_lengths_m: [cfg.arm.geometry.upper_arm_m, cfg.arm.geometry.forearm_m],
         roads: course::roads(cfg, opts.regimen.as_ref())?,
-        target_steps: course::target_steps(cfg, opts.regimen.as_ref())?,
-        strength: course::entries(cfg, opts.regimen.as_ref())?
-            .iter()
-            .map(|e| match &e.exercise {
-                vehicle::ExerciseSpec::Strength(s) => Some(s.clone()),
-                _ => None,
-            })
-            .collect(),
+        target_steps,
+        strength,
     };
 
     let ending = std::sync::OnceLock::new();

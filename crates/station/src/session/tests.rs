@@ -778,7 +778,11 @@ fn a_simulated_lane_change_responds_once_per_lane_shift_and_strength_has_no_step
                 [[exercise]]\nkind = \"strength\"\nside_s = 3.0\n";
     let r = regimen::Regimen::from_toml(text, "test").unwrap();
     let cfg = config("dial-sine", 60.0);
-    let steps = course::target_steps(&cfg, Some(&r)).unwrap();
+    let steps: Vec<vehicle::TargetSteps> = course::build(&cfg, Some(&r))
+        .unwrap()
+        .iter()
+        .map(|s| s.exercise.target_steps().clone())
+        .collect();
     let vehicle::TargetSteps::LaneShifts(shifts) = &steps[0] else {
         panic!("{steps:?}")
     };
