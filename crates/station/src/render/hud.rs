@@ -443,6 +443,21 @@ pub(super) fn paint_dial(p: &Painter, dial: &Dial, c: Pos2, r: f32, legend: bool
 }
 
 /// A tapered needle from a short tail behind the hub to `len` along `rad`.
+/// A white tick, strokes `width` points wide, on a green disc of radius `r` at `c` (never
+/// colour alone: the words beside it say it too).
+pub(super) fn tick_mark(p: &Painter, c: Pos2, r: f32, width: f32) {
+    let white = Stroke::new(width, Color32::WHITE);
+    p.circle_filled(c, r, ACCENT);
+    p.line_segment(
+        [c + vec2(-0.5 * r, 0.0), c + vec2(-0.1 * r, 0.4 * r)],
+        white,
+    );
+    p.line_segment(
+        [c + vec2(-0.1 * r, 0.4 * r), c + vec2(0.5 * r, -0.4 * r)],
+        white,
+    );
+}
+
 fn needle(p: &Painter, c: Pos2, rad: f64, len: f32, width: f32, color: Color32) {
     let d = needle_direction(rad);
     let n = vec2(-d.y, d.x);

@@ -5,7 +5,7 @@
 
 use egui::{Align2, Color32, CornerRadius, Painter, Pos2, Rect, Stroke, pos2, vec2};
 
-use super::{ACCENT, MARGIN, MIN_TEXT_PT, PAD, PANEL, TEXT, galley};
+use super::{MARGIN, MIN_TEXT_PT, PAD, PANEL, TEXT, galley};
 use crate::render::ArmInset;
 
 /// The part of the wheel frame shown, m: x (forward) from, to; z (up) from, to. It holds an
@@ -86,27 +86,14 @@ pub(super) fn paint(p: &Painter, arm: &ArmInset, left_centre: Pos2) -> Rect {
     let wy = words.size().y;
     p.galley(text_at + vec2(mark, 0.0), words, TEXT);
     if arm.measured {
-        tick(
+        super::tick_mark(
             p,
             text_at + vec2(MIN_TEXT_PT * 0.5, wy * 0.5),
             MIN_TEXT_PT * 0.45,
+            3.0,
         );
     }
     rect
-}
-
-/// A white tick on a green disc (never colour alone: the words say it too).
-fn tick(p: &Painter, c: Pos2, r: f32) {
-    let white = Stroke::new(3.0, Color32::WHITE);
-    p.circle_filled(c, r, ACCENT);
-    p.line_segment(
-        [c + vec2(-0.5 * r, 0.0), c + vec2(-0.1 * r, 0.4 * r)],
-        white,
-    );
-    p.line_segment(
-        [c + vec2(-0.1 * r, 0.4 * r), c + vec2(0.5 * r, -0.4 * r)],
-        white,
-    );
 }
 
 /// Where the inset goes on a screen of `size` points: the left edge, a little below the

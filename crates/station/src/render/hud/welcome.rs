@@ -5,7 +5,7 @@
 
 use egui::{Align2, Color32, CornerRadius, FontId, Painter, Pos2, Rect, Stroke, Vec2, pos2, vec2};
 
-use super::{ACCENT, CARD, CARD_TEXT, PAD};
+use super::{CARD, CARD_TEXT, PAD};
 use crate::render::{StatusLine, Welcome};
 
 /// Behind the page.
@@ -91,17 +91,7 @@ fn status_line(p: &Painter, line: &StatusLine, at: Pos2, width: f32) -> f32 {
     let r = LINE_PT * 0.45;
     let white = Stroke::new(4.0, Color32::WHITE);
     match line.ok {
-        Some(true) => {
-            p.circle_filled(c, r, ACCENT);
-            p.line_segment(
-                [c + vec2(-0.5 * r, 0.0), c + vec2(-0.1 * r, 0.4 * r)],
-                white,
-            );
-            p.line_segment(
-                [c + vec2(-0.1 * r, 0.4 * r), c + vec2(0.5 * r, -0.4 * r)],
-                white,
-            );
-        }
+        Some(true) => super::tick_mark(p, c, r, 4.0),
         Some(false) => {
             p.circle_filled(c, r, PROBLEM);
             let d = 0.4 * r;
