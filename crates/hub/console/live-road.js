@@ -17,7 +17,8 @@ export function roadOf(x) {
   return points.length >= 2 ? { lane: x.lane_width_m, points } : null;
 }
 
-function fit(canvas) {
+/** Sizes `canvas`'s drawing buffer to its laid-out size and clears it: [context, w, h]. */
+export function fit(canvas) {
   const w = canvas.clientWidth || 300, h = canvas.clientHeight || 220;
   canvas.width = w; canvas.height = h;
   const g = canvas.getContext('2d');

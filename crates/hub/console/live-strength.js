@@ -5,6 +5,8 @@
 // station's summaries (`strength_side`, `strength_push_nm`, `strength_peak_{left,right}_nm`,
 // and the `ceiling_nm` every summary has; PROTOCOL.md).
 
+import { fit } from '/console/live-road.js';
+
 const SIDES = [['left', 1, 'Pushing left'], ['right', -1, 'Pushing right']];
 
 /** Whether a summary's `extra` is of a strength test running now. */
@@ -18,14 +20,6 @@ export function strengthSides(x) {
     const active = x.strength_side === sign;
     return { side, label, active, now: active ? x.strength_push_nm : undefined, peak: x[`strength_peak_${side}_nm`] };
   });
-}
-
-function fit(canvas) {
-  const w = canvas.clientWidth || 300, h = canvas.clientHeight || 220;
-  canvas.width = w; canvas.height = h;
-  const g = canvas.getContext('2d');
-  g.clearRect(0, 0, w, h);
-  return [g, w, h];
 }
 
 /** Draws the strength panel for a summary and fills `table` (a <table> element); returns what

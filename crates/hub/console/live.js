@@ -5,7 +5,7 @@ import { ArmView } from '/console/arm3d.js';
 import { lineChart } from '/console/charts.js';
 import { legendShowsLatest } from '/console/legend.js';
 import { drawDial, drawPath, drawRoad as drawLiveRoad } from '/console/live-road.js';
-import { drawStrength, isStrength } from '/console/live-strength.js';
+import { drawStrength, isStrength, strengthSides } from '/console/live-strength.js';
 import { api, esc, when } from '/console/api.js';
 import { plainName } from '/console/words.js';
 
@@ -104,9 +104,9 @@ export function liveView(el, patientId) {
     cols.el.push(x.elbow_flexion_deg ?? null);
     cols.x.push(x.car_x_m ?? null);
     cols.y.push(x.car_y_m ?? null);
-    const side = x.strength_side === 1 ? 'left' : x.strength_side === -1 ? 'right' : null;
+    const pushing = strength ? strengthSides(x).find(s => s.active) : undefined;
     cols.push.push(strength ? x.strength_push_nm ?? null : null);
-    cols.peak.push(side ? x[`strength_peak_${side}_nm`] ?? null : null);
+    cols.peak.push(pushing?.peak ?? null);
     while (cols.t.length && cols.t[0] < t - WINDOW_S) Object.values(cols).forEach(c => c.shift());
     charts.tracking.set(onRoad ? [cols.t, cols.lat] : strength ? [cols.t, cols.push, cols.peak, cols.ceiling] : [cols.t, cols.wheel, cols.target]);
     charts.torque.set([cols.t, cols.torque, cols.assist, cols.ceiling]);
