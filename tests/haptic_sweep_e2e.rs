@@ -9,8 +9,7 @@
 //! 10.4, 17.3° at 0.5, 1.5, 2.5 rad/s (BENCHMARKS.md, "Haptic parameter studies").
 
 use record::Recording;
-use station::config::StationConfig;
-use telerehab_tests::{assert_within_ceiling_and_slew, run_ok, sim_session_args};
+use telerehab_tests::{assert_recording_within_ceiling_and_slew, run_ok, sim_session_args};
 
 /// A short sweep of each kind: three levels of 5 s.
 const SWEEPS: &str = "[[exercise]]\nkind = \"haptic-sweep\"\nparameter = \"spring\"\n\
@@ -96,14 +95,5 @@ fn a_simulated_sweep_records_error_against_level_rising_with_frequency_and_bande
     }
     // Safety as every path: every level's model through the chain, within the ceiling and
     // the slew limit at the motor.
-    let cfg = StationConfig::from_toml(&rec.metadata.config_toml, "the recording").unwrap();
-    let commanded: Vec<f64> = rec.wheel.iter().map(|w| w.data.commanded_nm).collect();
-    let ceilings: Vec<f64> = rec.wheel.iter().map(|w| w.data.ceiling_nm).collect();
-    assert_within_ceiling_and_slew(
-        &commanded,
-        &ceilings,
-        cfg.haptic.safety.slew_nm_per_s,
-        1.0 / cfg.session.loop_rate_hz,
-        None,
-    );
+    assert_recording_within_ceiling_and_slew(&rec);
 }

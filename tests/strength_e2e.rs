@@ -5,7 +5,7 @@
 use record::Recording;
 use station::config::StationConfig;
 use std::path::Path;
-use telerehab_tests::{assert_within_ceiling_and_slew, run_ok, sim_session_args};
+use telerehab_tests::{assert_recording_within_ceiling_and_slew, run_ok, sim_session_args};
 
 #[test]
 fn a_simulated_strength_session_records_peak_and_sustained_torque_each_way_within_the_ceiling() {
@@ -24,7 +24,6 @@ fn a_simulated_strength_session_records_peak_and_sustained_torque_each_way_withi
     // Strength has no needles: no dial figure in its report.
     assert!(!report.contains("dial tracking"), "{report}");
     let rec = Recording::open(&mcap).unwrap();
-    let cfg = StationConfig::from_toml(&rec.metadata.config_toml, "the recording").unwrap();
     let ceiling_nm = rec
         .wheel
         .iter()
@@ -58,15 +57,7 @@ fn a_simulated_strength_session_records_peak_and_sustained_torque_each_way_withi
     }
     assert!(!metrics.measures.contains_key("dial_rms_error_deg"));
     // Safety as every path: the torque at the motor within the ceiling and the slew limit.
-    let commanded: Vec<f64> = rec.wheel.iter().map(|w| w.data.commanded_nm).collect();
-    let ceilings: Vec<f64> = rec.wheel.iter().map(|w| w.data.ceiling_nm).collect();
-    assert_within_ceiling_and_slew(
-        &commanded,
-        &ceilings,
-        cfg.haptic.safety.slew_nm_per_s,
-        1.0 / cfg.session.loop_rate_hz,
-        None,
-    );
+    assert_recording_within_ceiling_and_slew(&rec);
 }
 
 /// The largest minimum of `x` over any `n` consecutive samples (the torque held that long).

@@ -170,6 +170,22 @@ pub fn assert_within_ceiling_and_slew(
     }
 }
 
+/// [`assert_within_ceiling_and_slew`] over every `/wheel` tick of `rec`, with the slew limit
+/// and loop period of the configuration it was recorded with.
+pub fn assert_recording_within_ceiling_and_slew(rec: &record::Recording) {
+    let cfg = station::config::StationConfig::from_toml(&rec.metadata.config_toml, "the recording")
+        .expect("the recording's configuration");
+    let commanded: Vec<f64> = rec.wheel.iter().map(|w| w.data.commanded_nm).collect();
+    let ceilings: Vec<f64> = rec.wheel.iter().map(|w| w.data.ceiling_nm).collect();
+    assert_within_ceiling_and_slew(
+        &commanded,
+        &ceilings,
+        cfg.haptic.safety.slew_nm_per_s,
+        1.0 / cfg.session.loop_rate_hz,
+        None,
+    );
+}
+
 /// One recorded sample: a JSON message, or one sample of a high-rate channel's block.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Msg {

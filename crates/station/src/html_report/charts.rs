@@ -259,7 +259,6 @@ fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
-/// The chart as an SVG document.
 /// A chart as the report shows it: its SVG and, under it, its numbers as a table (a drawing is
 /// not accessible).
 pub fn figure(chart: &Chart<'_>, decimals: usize) -> Result<String, String> {
@@ -270,6 +269,7 @@ pub fn figure(chart: &Chart<'_>, decimals: usize) -> Result<String, String> {
     ))
 }
 
+/// The chart as an SVG document.
 pub fn svg(chart: &Chart<'_>) -> Result<String, String> {
     let mut out = String::new();
     draw(chart, &mut out).map_err(|e| format!("chart {:?}: {e}", chart.title))?;
