@@ -75,6 +75,9 @@ pub struct DeviceInfo {
     /// For wheels: the torque ceiling that would hold with the station's configuration
     /// ([`DeviceReport::apply_config`]).
     pub ceiling: Option<crate::wheel_config::CeilingReport>,
+    /// For wheels: the torque updates a second the backend would send it, Hz (the driver's
+    /// rate policy, lowered by a configured `update_rate_hz`; [`DeviceReport::apply_config`]).
+    pub expected_update_rate_hz: Option<f64>,
     /// For wheels: how many effects the device can hold at once.
     pub max_ff_effects: usize,
 }
@@ -103,8 +106,7 @@ pub const UDEV_HINT: &str = "install the telerehab package (it ships the udev ru
 impl DeviceReport {
     /// Resolve each wheel's profile with the station's `[wheel]` configuration and state the
     /// torque ceiling that would hold for a patient ceiling `patient_ceiling_nm` (`None`: the
-    /// device maximum). The profile's update rate becomes the one the backend would drive the
-    /// wheel at (the driver's policy, lowered by a configured `update_rate_hz`).
+    /// device maximum), and the update rate the backend would drive the wheel at.
     pub fn apply_config(
         &mut self,
         config: &crate::wheel_config::WheelConfig,
@@ -112,9 +114,9 @@ impl DeviceReport {
     ) {
         for w in &mut self.wheels {
             let (vendor, product) = w.usb_id.unwrap_or((0, 0));
-            let mut profile = config.resolve_profile(vendor, product);
-            profile.max_update_rate_hz =
-                config.update_rate_for(profile.driver, profile.max_update_rate_hz);
+            let profile = config.resolve_profile(vendor, product);
+            w.expected_update_rate_hz =
+                Some(config.update_rate_for(profile.driver, profile.max_update_rate_hz));
             w.ceiling = Some(crate::wheel_config::CeilingReport::new(
                 &profile,
                 config.gain,
@@ -193,12 +195,13 @@ fn list(f: &mut fmt::Formatter<'_>, title: &str, ds: &[DeviceInfo]) -> fmt::Resu
                 },
                 p.half_range_rad.to_degrees()
             )?;
+        }
+        if let Some(hz) = d.expected_update_rate_hz {
             writeln!(
                 f,
-                "      expected torque updates at the motor: {:.0} /s, one every {:.1} ms (the rate \
+                "      expected torque updates at the motor: {hz:.0} /s, one every {:.1} ms (the rate \
                  policy's; a session's summary reports the rate reached)",
-                p.max_update_rate_hz,
-                1e3 / p.max_update_rate_hz
+                1e3 / hz
             )?;
         }
         if let Some(c) = &d.ceiling {
@@ -342,27 +345,25 @@ mod tests {
         assert!(!r.notes.is_empty() || r.has_wheel());
     }
 
+    /// A wheel as the evdev listing finds it, before the configuration is applied.
+    fn wheel(path: &str, name: &str, usb_id: (u16, u16)) -> DeviceInfo {
+        DeviceInfo {
+            path: path.into(),
+            class: DeviceClass::Wheel,
+            traits: traits(name, &["constant", "gain"], &["x"], false),
+            usb_id: Some(usb_id),
+            profile: None,
+            ceiling: None,
+            expected_update_rate_hz: None,
+            max_ff_effects: 16,
+        }
+    }
+
     #[test]
     fn report_lists_wheels_with_their_profile() {
         let mut r = DeviceReport::default();
-        r.add(DeviceInfo {
-            path: "/dev/input/event7".into(),
-            class: DeviceClass::Wheel,
-            traits: traits("G29", &["constant", "gain"], &["x"], false),
-            usb_id: Some((0x046d, 0xc24f)),
-            profile: None,
-            ceiling: None,
-            max_ff_effects: 16,
-        });
-        r.add(DeviceInfo {
-            path: "/dev/input/event9".into(),
-            class: DeviceClass::Wheel,
-            traits: traits("Mystery DD", &["constant", "gain"], &["x"], false),
-            usb_id: Some((0x1234, 0x0001)),
-            profile: None,
-            ceiling: None,
-            max_ff_effects: 16,
-        });
+        r.add(wheel("/dev/input/event7", "G29", (0x046d, 0xc24f)));
+        r.add(wheel("/dev/input/event9", "Mystery DD", (0x1234, 0x0001)));
         r.apply_config(&crate::WheelConfig::default(), None);
         r.unreadable
             .push(("/dev/input/event3".into(), "Permission denied".into()));
@@ -388,38 +389,27 @@ mod tests {
     #[test]
     fn devices_state_the_update_rate_a_configured_limit_leaves_at_the_motor() {
         let mut r = DeviceReport::default();
-        r.add(DeviceInfo {
-            path: "/dev/input/event7".into(),
-            class: DeviceClass::Wheel,
-            traits: traits("T300", &["constant", "gain"], &["x"], false),
-            usb_id: Some((0x044f, 0xb66e)),
-            profile: None,
-            ceiling: None,
-            max_ff_effects: 16,
-        });
-        r.add(DeviceInfo {
-            path: "/dev/input/event8".into(),
-            class: DeviceClass::Wheel,
-            traits: traits("G29", &["constant", "gain"], &["x"], false),
-            usb_id: Some((0x046d, 0xc24f)),
-            profile: None,
-            ceiling: None,
-            max_ff_effects: 16,
-        });
+        r.add(wheel("/dev/input/event7", "T300", (0x044f, 0xb66e)));
+        r.add(wheel("/dev/input/event8", "G29", (0x046d, 0xc24f)));
         let config = crate::WheelConfig {
             update_rate_hz: Some(250.0),
             ..Default::default()
         };
         r.apply_config(&config, None);
         let text = r.to_string();
-        // hid-tmff2's own 125 Hz is below the limit; the G29's 500 Hz is held to 250.
+        // hid-tmff2's own 125 Hz is below the limit; the G29's 500 Hz is held to 250 — each
+        // said in its own wheel's lines, the driver's own rate kept in its profile line.
+        let (t300, g29) = text
+            .split_once("/dev/input/event8")
+            .expect("both wheels listed");
         assert!(
-            text.contains("expected torque updates at the motor: 125 /s, one every 8.0 ms"),
+            t300.contains("expected torque updates at the motor: 125 /s, one every 8.0 ms"),
             "{text}"
         );
         assert!(
-            text.contains("expected torque updates at the motor: 250 /s, one every 4.0 ms"),
+            g29.contains("expected torque updates at the motor: 250 /s, one every 4.0 ms"),
             "{text}"
         );
+        assert!(g29.contains("torque updates up to 500 Hz"), "{text}");
     }
 }

@@ -135,6 +135,7 @@ pub fn list_gamepads() -> Result<Vec<DeviceInfo>, String> {
             usb_id: g.vendor_id().zip(g.product_id()),
             profile: None,
             ceiling: None,
+            expected_update_rate_hz: None,
             max_ff_effects: 0,
         })
         .collect())

@@ -256,6 +256,7 @@ pub fn inspect(path: &Path) -> io::Result<Option<DeviceInfo>> {
         usb_id: Some((vendor, product)),
         profile,
         ceiling: None,
+        expected_update_rate_hz: None,
         max_ff_effects: dev.max_ff_effects(),
     }))
 }

@@ -931,6 +931,7 @@ pub(crate) mod tests {
             usb_id: Some(usb_id),
             profile: None,
             ceiling: None,
+            expected_update_rate_hz: None,
             max_ff_effects: 16,
         });
         report.apply_config(&haptic_wheel::wheel_config::WheelConfig::default(), None);
