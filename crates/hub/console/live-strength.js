@@ -1,10 +1,12 @@
 // The live view's second panel during a strength test (issue 30): two bars, pushing left and
 // pushing right, each with the patient's push now (blue), the highest push so far of that side
-// (a black mark) and the ceiling the test stops at (the bar's end, a red line), in N·m, and the
+// (an orange mark) and the ceiling the test stops at (a green line), in N·m — the colours of
+// the tracking chart beside it, which draws the same three — and the
 // same numbers in a table under it (a canvas is not read by screen readers). From the
 // station's summaries (`strength_side`, `strength_push_nm`, `strength_peak_{left,right}_nm`,
 // and the `ceiling_nm` every summary has; PROTOCOL.md).
 
+import { COLOURS } from '/console/charts.js';
 import { fit } from '/console/live-road.js';
 
 const SIDES = [['left', 1, 'Pushing left'], ['right', -1, 'Pushing right']];
@@ -40,22 +42,38 @@ export function drawStrength(canvas, table, x) {
     g.fillText(`${s.label}${s.active ? ' (now)' : ''}`, left, y - 6);
     g.fillStyle = '#f2f2f2'; g.strokeStyle = '#4a4a4a'; g.lineWidth = 1;
     g.fillRect(left, y, span, bar); g.strokeRect(left, y, span, bar);
-    if (Number.isFinite(s.now)) { g.fillStyle = '#0072b2'; g.fillRect(left, y, u(s.now) - left, bar); }
+    if (Number.isFinite(s.now)) { g.fillStyle = COLOURS[0]; g.fillRect(left, y, u(s.now) - left, bar); }
     if (Number.isFinite(s.peak)) {
-      g.fillStyle = '#1b1b1b'; g.fillRect(u(s.peak) - 2, y - 4, 4, bar + 8);
+      g.fillStyle = COLOURS[1]; g.fillRect(u(s.peak) - 2, y - 4, 4, bar + 8);
     }
     if (Number.isFinite(ceiling)) {
-      g.strokeStyle = '#c00000'; g.lineWidth = 3;
+      g.strokeStyle = COLOURS[2]; g.lineWidth = 3;
       g.beginPath(); g.moveTo(u(ceiling), y - 6); g.lineTo(u(ceiling), y + bar + 6); g.stroke();
     }
   });
-  table.innerHTML = `<caption class="note">The strength test's numbers</caption>
-    <thead><tr><th scope="col">Side</th><th scope="col">Push now</th><th scope="col">Peak so far</th><th scope="col">Ceiling</th></tr></thead>
-    <tbody>${sides.map(s => `<tr data-side="${s.side}"><th scope="row">${s.label}</th><td class="num" data-now="${Number.isFinite(s.now) ? s.now : ''}">${s.active ? nm(s.now) : '—'}</td>
-      <td class="num" data-peak="${Number.isFinite(s.peak) ? s.peak : ''}">${Number.isFinite(s.peak) ? nm(s.peak) : 'not yet'}</td><td class="num">${nm(ceiling)}</td></tr>`).join('')}</tbody>`;
+  fillTable(table, sides, ceiling);
   const active = sides.find(s => s.active);
   const pct = v => (Number.isFinite(v) && ceiling > 0 ? ` (${Math.round(100 * v / ceiling)} % of the ceiling)` : '');
   if (!active) return `Strength test: resting between the sides, or done. The ceiling is ${nm(ceiling)}.`;
   return `Strength test, ${active.label.toLowerCase()}: ${nm(active.now)} now${pct(active.now)}, `
-    + `peak ${nm(active.peak)} so far, against the ${nm(ceiling)} ceiling (blue: now; black mark: peak; red line: ceiling).`;
+    + `peak ${nm(active.peak)} so far, against the ${nm(ceiling)} ceiling (blue: now; orange mark: peak; green line: ceiling).`;
+}
+
+/** The numbers under the bars. The table is built once and its cells updated in place at each
+ * summary, so a screen reader reading it keeps its place. */
+function fillTable(table, sides, ceiling) {
+  if (!table.querySelector('tbody tr[data-side]')) {
+    table.innerHTML = `<caption class="note">The strength test's numbers</caption>
+      <thead><tr><th scope="col">Side</th><th scope="col">Push now</th><th scope="col">Peak so far</th><th scope="col">Ceiling</th></tr></thead>
+      <tbody>${SIDES.map(([side, , label]) => `<tr data-side="${side}"><th scope="row">${label}</th><td class="num" data-now=""></td>
+        <td class="num" data-peak=""></td><td class="num"></td></tr>`).join('')}</tbody>`;
+  }
+  sides.forEach(s => {
+    const [now, peak, top] = table.querySelectorAll(`tr[data-side="${s.side}"] td`);
+    now.dataset.now = Number.isFinite(s.now) ? s.now : '';
+    now.textContent = s.active ? nm(s.now) : '—';
+    peak.dataset.peak = Number.isFinite(s.peak) ? s.peak : '';
+    peak.textContent = Number.isFinite(s.peak) ? nm(s.peak) : 'not yet';
+    top.textContent = nm(ceiling);
+  });
 }
