@@ -17,7 +17,7 @@ const CHART_HEIGHT_PX = 160;
 const TRACKING = {
   road: { heading: 'Lateral deviation', y: 'deviation (m)', series: [{ label: 'lateral deviation (m)' }] },
   dial: { heading: 'Dial target and wheel angle', y: 'angle (°)', series: [{ label: 'wheel angle (°)' }, { label: 'target (°)' }] },
-  strength: { heading: 'Strength: the push against the ceiling', y: 'torque (N·m)', series: [{ label: 'push now (N·m)' }, { label: 'peak of the side (N·m)' }, { label: 'ceiling (N·m)' }] },
+  strength: { heading: 'Strength: the push against the ceiling', y: 'torque (N·m)', series: [{ label: 'push now (N·m)' }, { label: 'highest push, this side (N·m)' }, { label: 'ceiling (N·m)' }] },
 };
 const SCENE = { road: 'Road and lane around the car', dial: 'Dial: target and wheel', strength: 'Strength test: each side' };
 
