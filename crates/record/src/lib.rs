@@ -62,7 +62,7 @@ pub use stream::{StreamLimits, TickStream};
 pub use types::{
     ArmCalibrationSample, ArmSample, ArmSetup, AssistSample, ClinicNote, DifficultyNote,
     ExerciseResult, FORMAT_VERSION, MetricsSample, MovementSample, OnlineArmCalibrationSample,
-    ScoreSample, SessionMetadata, Stamped, TickRecord, TimingSample, VehicleSample, Watchdog,
-    WheelSample,
+    ScoreSample, SessionMetadata, Stamped, StrengthNow, TickRecord, TimingSample, VehicleSample,
+    Watchdog, WheelSample,
 };
 pub use writer::RecordWriter;

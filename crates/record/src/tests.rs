@@ -92,6 +92,7 @@ fn tick(n: u64) -> TickRecord {
             dial_rms_error_deg: 3.1,
             active_s: x,
             paused: n == 3,
+            strength: None,
         },
         assist: AssistSample {
             active: true,

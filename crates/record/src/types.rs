@@ -255,6 +255,30 @@ pub struct ScoreSample {
     /// The patient paused the exercise (car, exercise clock and scores frozen; torque faded
     /// to zero).
     pub paused: bool,
+    /// The strength test in progress, as it measures (the strength exercise only; absent in
+    /// recordings made before it was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "StrengthNow")]
+    pub strength: Option<StrengthNow>,
+}
+
+/// The strength test as it runs: what the therapist's live view shows of it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[schemars(inline)]
+pub struct StrengthNow {
+    /// The side pushed now: 1 left, −1 right, 0 resting between the sides or done.
+    pub side: f64,
+    /// The patient's push the spring balanced at the last tick the test took, in the side's
+    /// direction, N·m.
+    pub push_nm: f64,
+    /// The left side's highest push so far (its result once over), N·m; absent before it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "f64")]
+    pub peak_left_nm: Option<f64>,
+    /// The right side's, N·m.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "f64")]
+    pub peak_right_nm: Option<f64>,
 }
 
 /// Active assistance in one tick (channel `/assist`).

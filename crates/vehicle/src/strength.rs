@@ -173,6 +173,20 @@ impl StrengthTest {
         }
     }
 
+    /// Each side's highest push, left then right, N·m: a finished side's result, the side in
+    /// progress's so far, `None` for a side not started.
+    pub fn peaks_nm(&self) -> [Option<f64>; 2] {
+        let now = self.side_peak_nm();
+        [
+            (StrengthSide::Left, self.summary.left),
+            (StrengthSide::Right, self.summary.right),
+        ]
+        .map(|(side, done)| {
+            done.map(|r| r.peak_nm)
+                .or_else(|| now.filter(|(s, _)| *s == side).map(|(_, p)| p))
+        })
+    }
+
     /// Where the patient is asked to aim the wheel now, rad.
     pub fn aim_rad(&self) -> f64 {
         match self.phase {
@@ -398,6 +412,29 @@ mod tests {
             };
         }
         (test.summary(), steps)
+    }
+
+    #[test]
+    fn the_peaks_are_each_sides_so_far_then_its_result_and_none_before_it_starts() {
+        // The patient holds 1 N·m the way asked: the wheel where the spring balances it.
+        let mut test = StrengthTest::new(K, 0.5, 3.0, DT_S);
+        let mut angle = 0.0;
+        let mut seen_right = false;
+        for n in 0..9000 {
+            let step = test.step(angle, 5.0, DT_S);
+            angle = step.side.map_or(0.0, |s| s.sign() * 1.0 / K);
+            if n == 2800 {
+                assert_eq!(step.side, Some(StrengthSide::Left));
+                assert!((step.push_nm - 1.0).abs() < 1e-9);
+                let [left, right] = test.peaks_nm();
+                assert!((left.unwrap() - 1.0).abs() < 1e-9);
+                assert_eq!(right, None, "the right side has not started");
+            }
+            seen_right |= step.side == Some(StrengthSide::Right);
+        }
+        assert!(seen_right);
+        let [left, right] = test.peaks_nm();
+        assert!((left.unwrap() - 1.0).abs() < 1e-9 && (right.unwrap() - 1.0).abs() < 1e-9);
     }
 
     #[test]

@@ -178,7 +178,6 @@ mod tests {
             arm_lengths_m: [0.3, 0.25],
             roads: Vec::new(),
             target_steps: Vec::new(),
-            strength: Vec::new(),
         };
         let mut summaries = Summaries::default();
         let done = std::sync::atomic::AtomicBool::new(true);

@@ -1,13 +1,10 @@
 //! The strength test for the therapist's live view: in every live summary while a strength
 //! test runs, the side being pushed, the patient's push the spring balances now and the
-//! highest push so far of each side, N·m (the ceiling is the summary's `ceiling_nm`). The
-//! recorder runs its own copy of the test (`vehicle::StrengthTest`) on the recorded ticks —
-//! the wheel angle and the ceiling the haptic thread's test was given, skipping the ticks it
-//! skips (paused, stopping) — so the live figures are the ones the test records.
+//! highest push so far of each side, N·m (the ceiling is the summary's `ceiling_nm`). They are
+//! the haptic thread's test's own figures, carried on each tick's score
+//! ([`record::StrengthNow`]), so the live figures are the ones the test records.
 
-use record::{TickRecord, Watchdog};
-use vehicle::exercise::StrengthSpec;
-use vehicle::{StrengthSide, StrengthTest};
+use record::ScoreSample;
 
 /// The summary's names: the side pushed now (1 left, −1 right, 0 resting or done) …
 pub const SIDE: &str = "strength_side";
@@ -16,141 +13,63 @@ pub const PUSH_NM: &str = "strength_push_nm";
 /// … and the highest push so far of the left and right sides, N·m (once each side started).
 pub const PEAK_NM: [&str; 2] = ["strength_peak_left_nm", "strength_peak_right_nm"];
 
-/// The strength tests of a session as they run.
-#[derive(Debug, Default)]
-pub struct LiveStrength {
-    /// Each exercise's strength test settings, by index (`None`: no strength test).
-    specs: Vec<Option<StrengthSpec>>,
-    /// One tick, s.
-    dt_s: f64,
-    /// The exercise in progress and its test, when it is a strength test.
-    test: Option<(u32, StrengthTest)>,
-    /// The side now: 1 left, −1 right, 0 neither.
-    side: f64,
-    /// The push now, N·m.
-    push_nm: f64,
-}
-
-impl LiveStrength {
-    /// For a course whose exercise `i` is a strength test of `specs[i]`, at `dt_s` a tick.
-    pub fn new(specs: Vec<Option<StrengthSpec>>, dt_s: f64) -> Self {
-        Self {
-            specs,
-            dt_s,
-            ..Self::default()
+/// The live figures of the strength test in `score`'s exercise (none for any other exercise).
+pub fn extra(score: &ScoreSample) -> Vec<(String, f64)> {
+    let Some(s) = score.strength else {
+        return Vec::new();
+    };
+    let mut out = vec![(SIDE.to_owned(), s.side), (PUSH_NM.to_owned(), s.push_nm)];
+    for (name, peak) in PEAK_NM.iter().zip([s.peak_left_nm, s.peak_right_nm]) {
+        if let Some(p) = peak {
+            out.push(((*name).to_owned(), p));
         }
     }
-
-    /// Takes one tick.
-    pub fn add(&mut self, rec: &TickRecord) {
-        let index = rec.score.exercise_index;
-        let Some(spec) = self.specs.get(index as usize).and_then(Option::as_ref) else {
-            self.test = None;
-            return;
-        };
-        if self.test.as_ref().is_none_or(|(i, _)| *i != index) {
-            let test = StrengthTest::new(
-                spec.stiffness_nm_per_rad,
-                spec.ramp_nm_per_s,
-                spec.side_s,
-                self.dt_s,
-            );
-            self.test = Some((index, test));
-            (self.side, self.push_nm) = (0.0, 0.0);
-        }
-        let stopping = matches!(rec.wheel.watchdog, Watchdog::Stopping | Watchdog::Stopped);
-        if rec.score.paused || stopping {
-            return;
-        }
-        if let Some((_, test)) = self.test.as_mut() {
-            let step = test.step(rec.wheel.angle_rad, rec.wheel.ceiling_nm, self.dt_s);
-            self.side = step.side.map_or(0.0, StrengthSide::sign);
-            self.push_nm = step.push_nm;
-        }
-    }
-
-    /// The live figures while a strength test runs (none otherwise).
-    pub fn extra(&self) -> Vec<(String, f64)> {
-        let Some((_, test)) = &self.test else {
-            return Vec::new();
-        };
-        let mut out = vec![
-            (SIDE.to_owned(), self.side),
-            (PUSH_NM.to_owned(), self.push_nm),
-        ];
-        let done = test.summary();
-        let now = test.side_peak_nm();
-        for (k, (side, result)) in [
-            (StrengthSide::Left, done.left),
-            (StrengthSide::Right, done.right),
-        ]
-        .into_iter()
-        .enumerate()
-        {
-            let peak = result
-                .map(|r| r.peak_nm)
-                .or_else(|| now.filter(|(s, _)| *s == side).map(|(_, p)| p));
-            if let Some(p) = peak {
-                out.push((PEAK_NM[k].to_owned(), p));
-            }
-        }
-        out
-    }
+    out
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use record::WheelSample;
-
-    fn tick(exercise: u32, angle_rad: f64) -> TickRecord {
-        let mut rec = TickRecord {
-            wheel: WheelSample {
-                angle_rad,
-                ceiling_nm: 5.0,
-                watchdog: Watchdog::Running,
-                ..WheelSample::default()
-            },
-            ..TickRecord::default()
-        };
-        rec.score.exercise_index = exercise;
-        rec
-    }
+    use record::StrengthNow;
 
     #[test]
     fn the_live_strength_says_the_side_the_push_and_each_sides_peak_of_strength_tests_only() {
-        let spec = StrengthSpec {
-            side_s: 3.0,
-            ..StrengthSpec::default()
+        let get =
+            |x: &[(String, f64)], name: &str| x.iter().find(|(n, _)| n == name).map(|(_, v)| *v);
+        assert!(
+            extra(&ScoreSample::default()).is_empty(),
+            "a road or dial: nothing"
+        );
+        // Pushing left at 1 N·m, the right side not started.
+        let left = ScoreSample {
+            strength: Some(StrengthNow {
+                side: 1.0,
+                push_nm: 1.0,
+                peak_left_nm: Some(1.0),
+                peak_right_nm: None,
+            }),
+            ..ScoreSample::default()
         };
-        let k = spec.stiffness_nm_per_rad;
-        let mut s = LiveStrength::new(vec![None, Some(spec)], 1e-3);
-        s.add(&tick(0, 0.5));
-        assert!(s.extra().is_empty(), "a road or dial: nothing");
-        let get = |s: &LiveStrength, name: &str| {
-            s.extra()
-                .into_iter()
-                .find(|(n, _)| n == name)
-                .map(|(_, v)| v)
+        let x = extra(&left);
+        assert_eq!(get(&x, SIDE), Some(1.0));
+        assert_eq!(get(&x, PUSH_NM), Some(1.0));
+        assert_eq!(get(&x, PEAK_NM[0]), Some(1.0));
+        assert_eq!(get(&x, PEAK_NM[1]), None, "the right side has not started");
+        // Both sides over.
+        let done = ScoreSample {
+            strength: Some(StrengthNow {
+                side: 0.0,
+                push_nm: 0.0,
+                peak_left_nm: Some(1.0),
+                peak_right_nm: Some(0.8),
+            }),
+            ..ScoreSample::default()
         };
-        // The patient holds 1 N·m the way asked: the wheel where the spring balances it.
-        let mut seen_right = false;
-        for n in 0..9000 {
-            let side = get(&s, SIDE).unwrap_or(1.0);
-            s.add(&tick(1, side * 1.0 / k));
-            if n == 2800 {
-                assert_eq!(get(&s, SIDE), Some(1.0));
-                assert!((get(&s, PUSH_NM).unwrap() - 1.0).abs() < 1e-9);
-                assert!((get(&s, PEAK_NM[0]).unwrap() - 1.0).abs() < 1e-9);
-                assert_eq!(get(&s, PEAK_NM[1]), None, "the right side has not started");
-            }
-            seen_right |= get(&s, SIDE) == Some(-1.0);
-        }
-        assert!(seen_right);
-        assert!((get(&s, PEAK_NM[0]).unwrap() - 1.0).abs() < 1e-9);
-        assert!((get(&s, PEAK_NM[1]).unwrap() - 1.0).abs() < 1e-9);
-        // The next exercise is no strength test.
-        s.add(&tick(2, 0.0));
-        assert!(s.extra().is_empty());
+        let x = extra(&done);
+        assert_eq!(get(&x, SIDE), Some(0.0));
+        assert_eq!(
+            (get(&x, PEAK_NM[0]), get(&x, PEAK_NM[1])),
+            (Some(1.0), Some(0.8))
+        );
     }
 }

@@ -325,14 +325,10 @@ fn run_body(
     // Devices first: a session that cannot start must not leave an empty recording behind.
     let course = course::build(cfg, opts.regimen.as_ref())?;
     let exercises = course.len();
-    // What the recorder needs of each exercise, taken before the plant owns the course.
+    // What the recorder needs of the exercises, taken before the plant owns the course.
     let target_steps = course
         .iter()
         .map(|s| s.exercise.target_steps().clone())
-        .collect();
-    let strength = course
-        .iter()
-        .map(|s| s.exercise.strength().cloned())
         .collect();
     let (given_body, given_facts) = given.unzip();
     let mut plant = match (given_body, opts.body) {
@@ -377,7 +373,6 @@ fn run_body(
         arm_lengths_m: [cfg.arm.geometry.upper_arm_m, cfg.arm.geometry.forearm_m],
         roads: course::roads(cfg, opts.regimen.as_ref())?,
         target_steps,
-        strength,
     };
 
     let ending = std::sync::OnceLock::new();

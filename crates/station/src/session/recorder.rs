@@ -383,12 +383,11 @@ pub struct RecorderOutcome {
     pub active_motor_updates: u64,
 }
 
-/// What the live view shows besides the measures: the arm's configured lengths, each
-/// exercise's road, the strength test in progress.
+/// What the live view shows besides the measures: the arm's configured lengths and each
+/// exercise's road.
 struct LiveScene {
     arm_lengths_m: [f64; 2],
     roads: Vec<Option<Box<dyn vehicle::Road + Send>>>,
-    strength: super::live_strength::LiveStrength,
 }
 
 /// The session's measure collector: a recorded session spills the measures' series to the
@@ -420,11 +419,10 @@ fn summary_extra(
     let LiveScene {
         arm_lengths_m,
         roads,
-        strength,
     } = scene;
     let arm_lengths_m = *arm_lengths_m;
     let mut extra = measures.live();
-    extra.extend(strength.extra());
+    extra.extend(super::live_strength::extra(&out.last.score));
     extra.extend(out.safety_and_assist());
     if let Some(t) = out.recording_stopped_s {
         extra.insert("recording_stopped_s".into(), t);
@@ -494,8 +492,6 @@ pub(super) struct RecorderPlan {
     pub(super) roads: Vec<Option<Box<dyn vehicle::Road + Send>>>,
     /// Which of each exercise's target changes are steps, for the measures.
     pub(super) target_steps: Vec<vehicle::TargetSteps>,
-    /// Each exercise's strength test settings (`None`: no strength test), for the live view.
-    pub(super) strength: Vec<Option<vehicle::exercise::StrengthSpec>>,
 }
 
 /// What the haptic thread leaves the recorder when it ends, for the recording's `/metrics`:
@@ -552,12 +548,10 @@ pub(super) fn recorder_loop(
         arm_lengths_m,
         roads,
         target_steps,
-        strength,
     } = plan;
-    let mut scene = LiveScene {
+    let scene = LiveScene {
         arm_lengths_m,
         roads,
-        strength: super::live_strength::LiveStrength::new(strength, period_ns as f64 * 1e-9),
     };
     let mut out = RecorderOutcome {
         timing: TimingStats::new(period_ns),
@@ -583,7 +577,6 @@ pub(super) fn recorder_loop(
         arm_loop.add(&rec);
         online_arm.add(&rec, &arm_loop);
         measures.add(&rec);
-        scene.strength.add(&rec);
         changes.observe(&rec);
         observer.on_tick(&rec);
         let summary_tick = rec.tick % summary_every == 0 && rec.tick > 0;

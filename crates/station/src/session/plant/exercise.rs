@@ -48,6 +48,9 @@ struct OwnScore {
     dial: DialScore,
     /// The strength test in progress (the strength exercise only).
     strength: Option<vehicle::StrengthTest>,
+    /// The side it asked for and the push it measured at the last tick it took (1 left,
+    /// −1 right, 0 neither; N·m).
+    strength_now: (f64, f64),
     /// Exercise time it took, s, when it ran to its end.
     completed_s: Option<f64>,
 }
@@ -260,6 +263,8 @@ impl Exercise {
                 let test = own.strength.as_mut().expect("checked just above");
                 if own_counts {
                     let st = test.step(angle, self.ceiling_nm, dt);
+                    own.strength_now =
+                        (st.side.map_or(0.0, vehicle::StrengthSide::sign), st.push_nm);
                     let timed_out = seg.exercise.is_finished(t_in, 0.0);
                     if timed_out && !st.done {
                         // The side in progress ends with the exercise's time.
@@ -403,6 +408,16 @@ impl Exercise {
             dial_rms_error_deg: dial.rms_error_deg,
             active_s,
             paused,
+            strength: self.own.get(segment_index as usize).and_then(|own| {
+                let test = own.strength.as_ref()?;
+                let [peak_left_nm, peak_right_nm] = test.peaks_nm();
+                Some(record::StrengthNow {
+                    side: own.strength_now.0,
+                    push_nm: own.strength_now.1,
+                    peak_left_nm,
+                    peak_right_nm,
+                })
+            }),
         }
     }
 }
