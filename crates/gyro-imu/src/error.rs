@@ -49,6 +49,10 @@ pub enum ImuError {
     /// A device backend error (HID open/read/write).
     #[error("device error: {0}")]
     Device(String),
+    /// A device that is gone, said in a static text (as [`ImuError::Device`] words it), so
+    /// that telling it on a real-time thread allocates nothing.
+    #[error("device error: {0}")]
+    Gone(&'static str),
 }
 
 /// Check `value` is finite and in `[lo, hi]`, else name `field` and `allowed`.

@@ -6,13 +6,10 @@
 //!   global allocator counts every allocation made on the thread that runs the loop, over
 //!   real-time sessions in which the wheel is unplugged (and plugged back in, re-opened by its
 //!   identity), falls silent under torque, or reports an angle outside its range.
-// The allocator is the one unsafe item of this test binary: it forwards to the system
-// allocator and only counts.
-#![allow(unsafe_code)]
+#[path = "support/counting_alloc.rs"]
+mod counting_alloc;
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
@@ -25,54 +22,6 @@ use station::config::StationConfig;
 use station::session::haptic::{self, Pacing};
 use station::session::plant::{Body, Plant};
 use station::session::{Controls, course};
-
-struct Counting;
-
-static ALLOCATIONS: AtomicU64 = AtomicU64::new(0);
-/// Print where the first allocations come from (`ALLOC_TRACE=1`), to find an offender.
-static TRACE: AtomicBool = AtomicBool::new(false);
-
-thread_local! {
-    static COUNTING: Cell<bool> = const { Cell::new(false) };
-}
-
-fn note() {
-    if COUNTING.with(Cell::get) {
-        let n = ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        if TRACE.load(Ordering::Relaxed) && (n == 0 || n == 1000) {
-            COUNTING.with(|c| c.set(false));
-            eprintln!("{}", std::backtrace::Backtrace::force_capture());
-            COUNTING.with(|c| c.set(true));
-        }
-    }
-}
-
-// SAFETY: every method forwards to `System` with the caller's arguments unchanged; counting
-// touches only an atomic and a const-initialised thread-local (no allocation, no re-entry).
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        note();
-        // SAFETY: forwarded unchanged; the caller upholds `GlobalAlloc::alloc`'s contract.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: `ptr` was allocated by `System` through this allocator with `layout`.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        note();
-        // SAFETY: forwarded unchanged.
-        unsafe { System.alloc_zeroed(layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        note();
-        // SAFETY: forwarded unchanged; `ptr` came from `System` with `layout`.
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
 
 /// How the test disturbs the session, from another thread, `after` into it.
 #[derive(Clone, Copy, Debug)]
@@ -121,9 +70,9 @@ fn session_on(
         ..Default::default()
     };
     cfg.haptic.replug_grace_s = 1.0;
-    // The dial task: the road exercises step rapier2d, whose island manager allocates when a
-    // body is changed from outside (rapier 0.36; measured, see the closing note of issue 12).
-    cfg.session.exercise = "dial-sine".into();
+    // A road with cones: the car and its sensors move on the haptic thread too (every
+    // exercise and assist mode on the simulated wheel: `haptic_allocations.rs`).
+    cfg.session.exercise = "slalom".into();
     let clock = Clock::real();
     let dev = FakeFfDevice::wheel("fake wheel", usb_id, motor_nm, clock.clone());
     let fake: FakeHandle = dev.handle();
@@ -184,20 +133,17 @@ fn session_on(
             replugged
         })
     };
-    TRACE.store(std::env::var_os("ALLOC_TRACE").is_some(), Ordering::Relaxed);
-    ALLOCATIONS.store(0, Ordering::Relaxed);
-    COUNTING.with(|c| c.set(true));
-    let outcome = haptic::run(
-        &mut plant,
-        &mut producer,
-        total_ticks,
-        Pacing::RealTime,
-        false,
-        &controls,
-        &clock,
-    );
-    COUNTING.with(|c| c.set(false));
-    let allocations = ALLOCATIONS.load(Ordering::Relaxed);
+    let (outcome, allocations) = counting_alloc::allocations_of(|| {
+        haptic::run(
+            &mut plant,
+            &mut producer,
+            total_ticks,
+            Pacing::RealTime,
+            false,
+            &controls,
+            &clock,
+        )
+    });
     done.store(true, Ordering::Release);
     let replugged = injector.join().unwrap();
     let mut tally = station::session::recorder::RecorderOutcome::default();

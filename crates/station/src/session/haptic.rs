@@ -36,7 +36,8 @@ pub struct HapticOutcome {
     /// Range of motion of each estimated joint angle over the session, rad (order of
     /// `gyro_imu::arm::JointAngles::NAMES`); `None` without arm sensing.
     pub range_of_motion_rad: Option<[f64; 5]>,
-    /// Why arm sensing stopped or never started, in words (told after the loop).
+    /// Why arm sensing stopped or never started, in words: filled by the thread that ran the
+    /// loop once [`run`] has returned, so that the loop never formats it.
     pub arm_failure: Option<String>,
     /// The wheel fault that ended the session, if one did.
     pub wheel_fault: Option<haptic_wheel::WheelFault>,
@@ -314,7 +315,8 @@ pub fn run(
         realtime_priority,
         wall_s: clock.now_ns().saturating_sub(start) as f64 * 1e-9,
         range_of_motion_rad: plant.range_of_motion_rad(),
-        arm_failure: plant.arm_failure().map(|f| f.to_string()),
+        // Told in words by the caller, after the loop (`Plant::arm_failure`).
+        arm_failure: None,
         wheel_fault: plant.wheel_fault(),
         wheel_replugs: plant.wheel_replugs(),
         skipped_deadlines: slots.skipped,

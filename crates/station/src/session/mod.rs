@@ -393,7 +393,7 @@ fn run_body(
         let haptic_thread = std::thread::Builder::new()
             .name("haptic".into())
             .spawn_scoped(scope, move || {
-                haptic::run(
+                let mut outcome = haptic::run(
                     &mut plant,
                     &mut producer,
                     total_ticks,
@@ -401,7 +401,9 @@ fn run_body(
                     isolate_core,
                     controls,
                     clock,
-                )
+                );
+                outcome.arm_failure = plant.arm_failure().map(ToString::to_string);
+                outcome
             })
             .context("cannot start the haptic thread")?;
         let haptic = haptic_thread.join();

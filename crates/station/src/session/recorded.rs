@@ -372,9 +372,8 @@ impl RecordedBody {
                 timed_out: w.solver_timed_out,
             });
             if w.arm_lost {
-                arm.tracker.lose_sensor(ImuError::Device(
-                    "an IMU stopped answering (recorded)".into(),
-                ));
+                arm.tracker
+                    .lose_sensor(ImuError::Gone("an IMU stopped answering (recorded)"));
             }
             if w.arm_regained {
                 arm.tracker.regain_sensor();

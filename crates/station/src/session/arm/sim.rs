@@ -125,9 +125,8 @@ impl SimArmSensing {
         let unplugged = acting(FaultKind::ImuUnplug);
         if unplugged && !self.unplugged {
             self.unplugged = true;
-            self.tracker.lose_sensor(ImuError::Device(
-                "an arm IMU was unplugged (injected fault)".into(),
-            ));
+            self.tracker
+                .lose_sensor(ImuError::Gone("an arm IMU was unplugged (injected fault)"));
         } else if !unplugged && self.unplugged {
             self.unplugged = false;
             self.tracker.regain_sensor();

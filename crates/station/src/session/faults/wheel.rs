@@ -51,7 +51,9 @@ pub trait Stallable {
 
 impl Stallable for haptic_wheel::SimWheel {
     fn half_range_rad(&self) -> f64 {
-        self.capabilities().half_range_rad
+        // From the parameters, as the profile says it (`DeviceProfile::simulated`), without
+        // building the profile (it holds strings: the haptic thread must not allocate).
+        self.params().range_rad
     }
 
     fn run_unattended(&mut self, dt_s: f64) {

@@ -17,6 +17,15 @@
 //! after 300 m in the sine-steer cross-check. rapier speaks glam; this module converts at its
 //! boundary and its API uses only `f64` and `[f64; 2]`.
 //!
+//! # Without rapier's pipeline on a track with no barrier
+//!
+//! rapier2d's pipeline allocates on every step, and the haptic thread must not. On a track
+//! with no solid barrier (every exercise's) the car meets no solid contact, so [`World::step`]
+//! moves it as rapier's solver moves a free body and asks parry which sensors it touches, in
+//! the same arithmetic and without allocating ([`free`]); rapier holds the track's colliders
+//! and is the oracle the tests hold that path to, bit for bit. A track with barriers steps
+//! rapier's whole pipeline, whose contacts change the car's velocity.
+//!
 //! # Events
 //!
 //! Road edges are sensor polylines, cones are small sensor discs, barriers are solid
@@ -24,11 +33,15 @@
 //! previous step and reports [`WorldEvent`]s: a cone hit (once per cone), a road edge touched
 //! and later cleared (saying whether the car then lies outside the road) and barrier contacts.
 
+mod free;
+
 use rapier2d_f64::math::Vector as Vec2;
 use rapier2d_f64::prelude::{
     ColliderBuilder, ColliderHandle, MassProperties, PhysicsWorld, RigidBodyBuilder,
     RigidBodyHandle,
 };
+
+use free::{FreeCar, Sensors};
 
 use crate::driver::wrap_angle;
 use crate::error::VehicleError;
@@ -45,7 +58,7 @@ const SEGMENTS_PER_COLLIDER: usize = 16;
 const MAX_EVENTS_PER_STEP: usize = 64;
 
 /// Which side of the road, looking along increasing arc length.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Side {
     /// Left edge (positive lateral offset).
     Left,
@@ -130,16 +143,32 @@ impl TrackLayout {
     }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// What a collider of the track is. Ordered: the tags touching in a step are sorted, so
+/// events of one step come in the same order whichever path found them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 enum Tag {
     Edge(Side),
     Barrier,
     Cone(usize),
 }
 
+/// How a step moves the car (module docs).
+enum Motion {
+    /// No solid barrier: the car is a free body moved by [`free`], allocation-free.
+    Free {
+        /// The car's body as rapier's solver would have it.
+        car: FreeCar,
+        /// The edges and cones.
+        sensors: Sensors,
+    },
+    /// Barriers: rapier's pipeline moves the car's rapier body.
+    Solver,
+}
+
 /// A rapier2d world holding the car and the track. See the module docs.
 pub struct World {
     physics: PhysicsWorld,
+    motion: Motion,
     car: RigidBodyHandle,
     car_collider: ColliderHandle,
     tags: Vec<(ColliderHandle, Tag)>,
@@ -237,8 +266,14 @@ impl World {
         }
         tags.sort_by_key(|(h, _)| h.into_raw_parts());
         let cones_hit = vec![false; layout.cones.len()];
+        let motion = if layout.barriers.is_empty() {
+            Self::free_motion(&physics, car, car_collider, &tags)
+        } else {
+            Motion::Solver
+        };
         Ok(Self {
             physics,
+            motion,
             car,
             car_collider,
             tags,
@@ -254,6 +289,31 @@ impl World {
         })
     }
 
+    /// The free path's car and sensors, from rapier's car body and the track's colliders.
+    fn free_motion(
+        physics: &PhysicsWorld,
+        car: RigidBodyHandle,
+        car_collider: ColliderHandle,
+        tags: &[(ColliderHandle, Tag)],
+    ) -> Motion {
+        let car_local = physics.colliders[car_collider]
+            .position_wrt_parent()
+            .copied()
+            .unwrap_or_default();
+        Motion::Free {
+            car: FreeCar::of(&physics.bodies[car]),
+            sensors: Sensors::new(&physics.colliders, tags.iter().map(|(h, _)| *h), car_local),
+        }
+    }
+
+    /// The same world with rapier's pipeline moving the car even with no barrier: the oracle
+    /// the free path is tested against.
+    #[cfg(test)]
+    fn with_solver(mut self) -> Self {
+        self.motion = Motion::Solver;
+        self
+    }
+
     /// The car's parameters.
     pub fn params(&self) -> &VehicleParams {
         &self.params
@@ -266,9 +326,7 @@ impl World {
 
     /// The car's state as the rapier body has it (pose and body-frame velocities).
     pub fn state(&self) -> VehicleState {
-        let body = &self.physics.bodies[self.car];
-        let t = body.translation();
-        let v = body.linvel();
+        let (t, v, r) = self.body_motion();
         let (sy, cy) = self.yaw_rad.sin_cos();
         let (vx, vy) = (v.x, v.y);
         VehicleState {
@@ -277,7 +335,26 @@ impl World {
             yaw_rad: self.yaw_rad,
             ux_m_s: cy * vx + sy * vy,
             uy_m_s: -sy * vx + cy * vy,
-            r_rad_s: body.angvel(),
+            r_rad_s: r,
+        }
+    }
+
+    /// The car body's position (m), world velocity (m/s) and yaw rate (rad/s).
+    fn body_motion(&self) -> (Vec2, Vec2, f64) {
+        match &self.motion {
+            Motion::Free { car, .. } => (car.translation, car.linvel, car.angvel),
+            Motion::Solver => {
+                let body = &self.physics.bodies[self.car];
+                (body.translation(), body.linvel(), body.angvel())
+            }
+        }
+    }
+
+    /// The body's rotation angle, rad, in (−π, π].
+    fn body_angle(&self) -> f64 {
+        match &self.motion {
+            Motion::Free { car, .. } => car.rotation.angle(),
+            Motion::Solver => self.physics.bodies[self.car].rotation().angle(),
         }
     }
 
@@ -300,13 +377,55 @@ impl World {
     /// Set the body's world velocity from body-frame velocities at heading `yaw` by applying
     /// the impulse that takes it there (the time integral of the tyre forces).
     fn kick_to(&mut self, yaw: f64, ux: f64, uy: f64, r: f64) {
-        let body = &mut self.physics.bodies[self.car];
         let (sy, cy) = yaw.sin_cos();
         let target = v2([cy * ux - sy * uy, sy * ux + cy * uy]);
-        let dv = target - body.linvel();
-        let dw = r - body.angvel();
-        body.apply_impulse(dv * self.params.mass_kg, true);
-        body.apply_torque_impulse(dw * self.params.yaw_inertia_kg_m2, true);
+        let (_, linvel, angvel) = self.body_motion();
+        let impulse = (target - linvel) * self.params.mass_kg;
+        let torque_impulse = (r - angvel) * self.params.yaw_inertia_kg_m2;
+        match &mut self.motion {
+            Motion::Free { car, .. } => car.kick(impulse, torque_impulse),
+            Motion::Solver => {
+                let body = &mut self.physics.bodies[self.car];
+                body.apply_impulse(impulse, true);
+                body.apply_torque_impulse(torque_impulse, true);
+            }
+        }
+    }
+
+    /// Drift: move the body over the step, and list in `touching_now` the colliders it touches
+    /// (as rapier does, from the pose the step starts from).
+    fn drift(&mut self, dt_s: f64) {
+        self.physics.integration_parameters.dt = dt_s;
+        let mut now = std::mem::take(&mut self.touching_now);
+        now.clear();
+        let tags = &self.tags;
+        match &mut self.motion {
+            Motion::Free { car, sensors } => {
+                let colliders = &self.physics.colliders;
+                let shape = colliders[self.car_collider].shape();
+                sensors.touching(colliders, shape, &car.pose(), |h| {
+                    now.extend(tag_of(tags, h));
+                });
+                car.drift(&self.physics.integration_parameters);
+            }
+            Motion::Solver => {
+                self.physics.step();
+                let car = self.car_collider;
+                let other = |a, b| if a == car { b } else { a };
+                let np = &self.physics.narrow_phase;
+                now.extend(
+                    np.intersection_pairs_with(car)
+                        .filter(|(_, _, hit)| *hit)
+                        .filter_map(|(a, b, _)| tag_of(tags, other(a, b))),
+                );
+                now.extend(
+                    np.contact_pairs_with(car)
+                        .filter(|p| p.has_any_active_contact())
+                        .filter_map(|p| tag_of(tags, other(p.collider1, p.collider2))),
+                );
+            }
+        }
+        self.touching_now = now;
     }
 
     /// Advance by `dt_s` seconds with driver input `input` (kick–drift–kick, module docs).
@@ -327,19 +446,18 @@ impl World {
         let s0 = self.state();
         let h = rk4(&self.params, &s0, &input, half);
         self.kick_to(h.yaw_rad, h.ux_m_s, h.uy_m_s, h.r_rad_s);
-        // Drift: rapier moves the body and resolves contacts.
-        self.physics.integration_parameters.dt = dt_s;
-        self.physics.step();
-        let angle = self.physics.bodies[self.car].rotation().angle();
+        // Drift: the body moves (rapier resolves contacts with barriers).
+        self.drift(dt_s);
+        let angle = self.body_angle();
         self.yaw_rad += wrap_angle(angle - self.yaw_rad);
         // Kick: second half, from the mid-step velocities (contact impulses included).
-        let body = &self.physics.bodies[self.car];
-        let (vx, vy) = (body.linvel().x, body.linvel().y);
+        let (_, v, r) = self.body_motion();
+        let (vx, vy) = (v.x, v.y);
         let (sy, cy) = h.yaw_rad.sin_cos();
         let mid = VehicleState {
             ux_m_s: cy * vx + sy * vy,
             uy_m_s: -sy * vx + cy * vy,
-            r_rad_s: body.angvel(),
+            r_rad_s: r,
             ..s0
         };
         let e = rk4(&self.params, &mid, &input, half);
@@ -348,43 +466,13 @@ impl World {
         self.collect_events();
     }
 
-    fn tag_of(&self, h: ColliderHandle) -> Option<Tag> {
-        self.tags
-            .binary_search_by_key(&h.into_raw_parts(), |(c, _)| c.into_raw_parts())
-            .ok()
-            .map(|i| self.tags[i].1)
-    }
-
+    /// Events from the tags the step found touching (`touching_now`) against the last step's.
     fn collect_events(&mut self) {
-        let car = self.car_collider;
-        let np = &self.physics.narrow_phase;
         let mut now = std::mem::take(&mut self.touching_now);
-        now.clear();
-        now.extend(
-            np.intersection_pairs_with(car)
-                .filter(|(_, _, hit)| *hit)
-                .filter_map(|(a, b, _)| self.tag_of(if a == car { b } else { a })),
-        );
-        now.extend(
-            np.contact_pairs_with(car)
-                .filter(|p| p.has_any_active_contact())
-                .filter_map(|p| {
-                    self.tag_of(if p.collider1 == car {
-                        p.collider2
-                    } else {
-                        p.collider1
-                    })
-                }),
-        );
-        // Several chunks of one edge can touch the car at once: keep one tag of each.
-        let mut i = 0;
-        while i < now.len() {
-            if now[..i].contains(&now[i]) {
-                now.remove(i);
-            } else {
-                i += 1;
-            }
-        }
+        // Several chunks of one edge can touch the car at once: keep one tag of each, in
+        // their order (an in-place sort: no allocation).
+        now.sort_unstable();
+        now.dedup();
         let pos = self.state();
         for tag in &now {
             if self.touching.contains(tag) {
@@ -419,6 +507,13 @@ impl World {
         // Keep both buffers (and their capacity) for the next step.
         self.touching_now = std::mem::replace(&mut self.touching, now);
     }
+}
+
+/// The tag of collider `h` in `tags` (sorted by handle).
+fn tag_of(tags: &[(ColliderHandle, Tag)], h: ColliderHandle) -> Option<Tag> {
+    tags.binary_search_by_key(&h.into_raw_parts(), |(c, _)| c.into_raw_parts())
+        .ok()
+        .map(|i| tags[i].1)
 }
 
 /// Whether `p` lies to the left of the nearest segment of `line`.
@@ -518,6 +613,102 @@ mod tests {
             pos < 0.02 && yaw < 0.2,
             "position {pos} m, heading {yaw} deg"
         );
+    }
+
+    fn bits(s: &VehicleState) -> [u64; 6] {
+        [s.x_m, s.y_m, s.yaw_rad, s.ux_m_s, s.uy_m_s, s.r_rad_s].map(f64::to_bits)
+    }
+
+    /// Step a free world and the same world moved by rapier's pipeline side by side over
+    /// `seconds` of a drive along the road that weaves across its edges (and through cones)
+    /// and return the events seen (asserting every step equal, to the bit).
+    fn free_against_rapier(name: &str, seconds: f64) -> Vec<WorldEvent> {
+        let ex = ExerciseSpec::from_name(name).unwrap().build().unwrap();
+        let road = ex.road.as_ref().unwrap();
+        let new = || {
+            World::new(
+                VehicleParams::default(),
+                ex.start_state(),
+                ex.track_layout(),
+            )
+        };
+        let mut free = new().unwrap();
+        assert!(matches!(free.motion, Motion::Free { .. }), "{name}");
+        let mut rapier = new().unwrap().with_solver();
+        let (driver, params) = (
+            crate::driver::PreviewDriver::default(),
+            free.params().clone(),
+        );
+        let mut events = Vec::new();
+        let mut s_hint = 0.0;
+        for i in 0..(seconds * 1000.0) as usize {
+            let t = i as f64 * 1e-3;
+            let st = free.state();
+            let here = road.project(st.x_m, st.y_m, s_hint);
+            s_hint = here.s_m;
+            let weave = (0.1 + 0.01 * t) * (std::f64::consts::TAU * 0.3 * t).sin();
+            let steer = driver.desired_steer_rad(&params, &st, &here, road.as_ref()) + weave;
+            let input = crate::driver::SpeedController {
+                target_m_s: 8.0 + 4.0 * (0.2 * t).sin(),
+                gain_n_per_m_s: 3000.0,
+                max_force_n: 8000.0,
+            }
+            .input(st.ux_m_s, steer);
+            free.step(input, 1e-3);
+            rapier.step(input, 1e-3);
+            let (a, b) = (free.state(), rapier.state());
+            assert!(
+                bits(&a) == bits(&b),
+                "{name}, step {i}: free {a:?}, rapier {b:?}"
+            );
+            let fe: Vec<_> = free.drain_events().collect();
+            let re: Vec<_> = rapier.drain_events().collect();
+            assert_eq!(fe, re, "{name}, step {i}");
+            events.extend(fe);
+        }
+        assert_eq!(free.cone_hits(), rapier.cone_hits());
+        events
+    }
+
+    #[test]
+    fn the_free_car_moves_bit_for_bit_as_rapiers_solver_moves_it() {
+        let mut seen = Vec::new();
+        for name in crate::exercise::EXERCISE_NAMES {
+            let ex = ExerciseSpec::from_name(name).unwrap().build().unwrap();
+            if ex.track_layout().left_edge.is_empty() {
+                continue;
+            }
+            let events = free_against_rapier(name, 30.0);
+            eprintln!("{name}: {} events, identical", events.len());
+            seen.extend(events);
+        }
+        // The drive met every kind of sensor event the exercises have.
+        assert!(seen.iter().any(|e| matches!(e, WorldEvent::ConeHit { .. })));
+        assert!(
+            seen.iter()
+                .any(|e| matches!(e, WorldEvent::EdgeTouched { .. }))
+        );
+        assert!(
+            seen.iter()
+                .any(|e| matches!(e, WorldEvent::EdgeCleared { off_road: true, .. }))
+        );
+        assert!(seen.iter().any(|e| matches!(
+            e,
+            WorldEvent::EdgeCleared {
+                off_road: false,
+                ..
+            }
+        )));
+    }
+
+    #[test]
+    fn a_track_with_barriers_keeps_rapiers_pipeline() {
+        let layout = TrackLayout {
+            barriers: vec![vec![[20.0, -10.0], [20.0, 10.0]]],
+            ..Default::default()
+        };
+        let world = World::new(VehicleParams::default(), VehicleState::default(), layout).unwrap();
+        assert!(matches!(world.motion, Motion::Solver));
     }
 
     #[test]

@@ -1,0 +1,146 @@
+//! The 1 kHz haptic thread allocates nothing after start-up, on every exercise, in every
+//! assist mode and through the simulated faults: a counting global allocator counts every
+//! allocation made on the thread that runs the loop (`support/counting_alloc.rs`), over whole
+//! simulated sessions run as fast as the machine allows while a second thread drains the
+//! recorder ring like the recorder does. (The real wheel's faults, on the kernel backend:
+//! `real_wheel_session.rs`.)
+#[path = "support/counting_alloc.rs"]
+mod counting_alloc;
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use record::TickRecord;
+use station::config::StationConfig;
+use station::session::haptic::{self, Pacing};
+use station::session::plant::Plant;
+use station::session::{Controls, course};
+
+/// Run `cfg`'s session for `seconds` of simulated time at full speed and return the
+/// allocations made on the haptic thread and the ticks it ran.
+fn allocations_in(cfg: &StationConfig, seconds: f64) -> (u64, u64) {
+    let course = course::build(cfg, None).unwrap();
+    let mut plant = Plant::simulated(cfg, course).unwrap();
+    let (mut producer, mut consumer) = rtrb::RingBuffer::<TickRecord>::new(4096);
+    let done = Arc::new(AtomicBool::new(false));
+    let drain = {
+        let done = done.clone();
+        std::thread::spawn(move || {
+            while !done.load(Ordering::Acquire) {
+                while consumer.pop().is_ok() {}
+                std::thread::yield_now();
+            }
+        })
+    };
+    let total_ticks = (seconds * cfg.session.loop_rate_hz) as u64;
+    let controls = Controls::default();
+    let clock = clock::Clock::real();
+    let (outcome, allocations) = counting_alloc::allocations_of(|| {
+        haptic::run(
+            &mut plant,
+            &mut producer,
+            total_ticks,
+            Pacing::Max,
+            false,
+            &controls,
+            &clock,
+        )
+    });
+    done.store(true, Ordering::Release);
+    drain.join().unwrap();
+    (allocations, outcome.ticks)
+}
+
+fn config(exercise: &str, assist: Option<&str>) -> StationConfig {
+    let mut cfg = StationConfig::default();
+    cfg.session.exercise = exercise.into();
+    cfg.session.seed = 11;
+    cfg.assist = assist.map(|kind| {
+        serde_json::from_value(serde_json::json!({ "mode": { "kind": kind } })).unwrap()
+    });
+    cfg
+}
+
+#[test]
+fn the_haptic_thread_allocates_nothing_on_any_exercise() {
+    let mut offenders = Vec::new();
+    for name in vehicle::exercise::EXERCISE_NAMES {
+        let (allocs, ticks) = allocations_in(&config(name, None), 6.0);
+        eprintln!("{name}: {allocs} allocations in {ticks} ticks");
+        assert!(ticks >= 6000, "{name} ran {ticks} ticks");
+        if allocs > 0 {
+            offenders.push((name, allocs));
+        }
+    }
+    assert!(
+        offenders.is_empty(),
+        "allocations on the haptic thread: {offenders:?}"
+    );
+}
+
+#[test]
+fn the_haptic_thread_allocates_nothing_in_any_assist_mode() {
+    let mut offenders = Vec::new();
+    for kind in [
+        "none",
+        "resist",
+        "motion",
+        "force",
+        "hybrid",
+        "assist_as_needed",
+    ] {
+        for exercise in ["sine-road", "slalom", "dial-step"] {
+            let (allocs, ticks) = allocations_in(&config(exercise, Some(kind)), 4.0);
+            eprintln!("{kind} on {exercise}: {allocs} allocations in {ticks} ticks");
+            if allocs > 0 {
+                offenders.push((kind, exercise, allocs));
+            }
+        }
+    }
+    assert!(
+        offenders.is_empty(),
+        "allocations on the haptic thread: {offenders:?}"
+    );
+}
+
+#[test]
+fn the_haptic_thread_allocates_nothing_through_every_simulated_fault() {
+    use station::config::faults::{FaultKind, FaultSpec};
+    let mut offenders = Vec::new();
+    for kind in FaultKind::ALL {
+        for exercise in ["sine-road", "slalom", "dial-sine"] {
+            let mut cfg = config(exercise, Some("motion"));
+            // Each fault at 1 s, and the one it ends (a replug, a hub back) a second later.
+            cfg.faults = vec![FaultSpec {
+                kind,
+                at_s: 1.0,
+                duration_s: None,
+            }];
+            let follow = match kind {
+                FaultKind::WheelReplug => Some(FaultKind::WheelUnplug),
+                FaultKind::ImuReplug => Some(FaultKind::ImuUnplug),
+                FaultKind::HubUp => Some(FaultKind::HubDown),
+                _ => None,
+            };
+            if let Some(first) = follow {
+                cfg.faults.insert(
+                    0,
+                    FaultSpec {
+                        kind: first,
+                        at_s: 0.5,
+                        duration_s: None,
+                    },
+                );
+            }
+            let (allocs, ticks) = allocations_in(&cfg, 3.0);
+            eprintln!("{kind:?} on {exercise}: {allocs} allocations in {ticks} ticks");
+            if allocs > 0 {
+                offenders.push((kind, exercise, allocs));
+            }
+        }
+    }
+    assert!(
+        offenders.is_empty(),
+        "allocations on the haptic thread: {offenders:?}"
+    );
+}
