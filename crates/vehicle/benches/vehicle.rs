@@ -52,29 +52,42 @@ fn world_steps(c: &mut Criterion) {
             .build()
             .unwrap();
         let params = VehicleParams::default();
-        let mut world = World::new(params.clone(), ex.start_state(), ex.track_layout()).unwrap();
-        let mut i = 0u64;
-        g.bench_function("step_1ms_open_loop", |b| {
-            b.iter(|| {
-                for _ in 0..STEPS {
-                    i += 1;
-                    if i.is_multiple_of(20_000) {
-                        world = World::new(params.clone(), ex.start_state(), ex.track_layout())
-                            .unwrap();
-                    }
-                    let steer = 0.01 * (i as f64 * 1e-3).sin();
-                    world.step(
-                        DriverInput {
-                            steer_rad: steer,
-                            drive_force_n: 100.0,
-                            brake_force_n: 0.0,
-                        },
-                        1e-3,
-                    );
+        // The free path (the product's) and rapier's whole pipeline (the reference), same steps.
+        for (label, pipeline) in [
+            ("step_1ms_open_loop", false),
+            ("step_1ms_open_loop_rapier_pipeline", true),
+        ] {
+            let new = || {
+                let w = World::new(params.clone(), ex.start_state(), ex.track_layout()).unwrap();
+                if pipeline {
+                    w.with_rapier_pipeline()
+                } else {
+                    w
                 }
-                black_box(world.drain_events());
-            })
-        });
+            };
+            let mut world = new();
+            let mut i = 0u64;
+            g.bench_function(label, |b| {
+                b.iter(|| {
+                    for _ in 0..STEPS {
+                        i += 1;
+                        if i.is_multiple_of(20_000) {
+                            world = new();
+                        }
+                        let steer = 0.01 * (i as f64 * 1e-3).sin();
+                        world.step(
+                            DriverInput {
+                                steer_rad: steer,
+                                drive_force_n: 100.0,
+                                brake_force_n: 0.0,
+                            },
+                            1e-3,
+                        );
+                    }
+                    black_box(world.drain_events());
+                })
+            });
+        }
     }
     for name in ["sine-road", "slalom"] {
         let ex = ExerciseSpec::from_name(name).unwrap().build().unwrap();

@@ -306,10 +306,10 @@ impl World {
         }
     }
 
-    /// The same world with rapier's pipeline moving the car even with no barrier: the oracle
-    /// the free path is tested against.
-    #[cfg(test)]
-    fn with_solver(mut self) -> Self {
+    /// The same world with rapier's whole pipeline moving the car even with no barrier (it
+    /// allocates on every step): the oracle the free path is tested against, and the
+    /// reference the benchmarks compare it with.
+    pub fn with_rapier_pipeline(mut self) -> Self {
         self.motion = Motion::Solver;
         self
     }
@@ -634,7 +634,7 @@ mod tests {
         };
         let mut free = new().unwrap();
         assert!(matches!(free.motion, Motion::Free { .. }), "{name}");
-        let mut rapier = new().unwrap().with_solver();
+        let mut rapier = new().unwrap().with_rapier_pipeline();
         let (driver, params) = (
             crate::driver::PreviewDriver::default(),
             free.params().clone(),
