@@ -307,3 +307,39 @@ pub fn after(text: &str, prefix: &str) -> String {
         .unwrap_or_else(|| panic!("no {prefix:?} in {text:?}"))
         .to_owned()
 }
+
+/// A fresh database on the test PostgreSQL server (`scripts/with-postgres.sh` names it in
+/// `TELEREHAB_TEST_PG_URL`), made with `psql`; `None` after saying SKIPPED without one.
+pub fn fresh_postgres_database() -> Option<String> {
+    let Ok(admin) = std::env::var("TELEREHAB_TEST_PG_URL") else {
+        println!(
+            "SKIPPED: TELEREHAB_TEST_PG_URL is not set (scripts/with-postgres.sh starts a server)"
+        );
+        return None;
+    };
+    let name = format!(
+        "e2e_{}_{}",
+        std::process::id(),
+        std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .unwrap()
+            .as_nanos()
+    );
+    let out = Command::new("psql")
+        .args([
+            admin.as_str(),
+            "-v",
+            "ON_ERROR_STOP=1",
+            "-c",
+            &format!("CREATE DATABASE {name}"),
+        ])
+        .output()
+        .expect("psql (installed with postgresql by scripts/setup.sh)");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let base = admin.rsplit_once('/').map_or(admin.as_str(), |(b, _)| b);
+    Some(format!("{base}/{name}"))
+}

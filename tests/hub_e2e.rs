@@ -5,8 +5,8 @@
 use std::process::{Command, Stdio};
 use std::time::Duration;
 use telerehab_tests::clinic::{
-    Hub, clinic, clinic_on, ok, pair, produced, run_session, show, show_json, telerehab,
-    wait_for_file,
+    Hub, clinic, clinic_on, fresh_postgres_database, ok, pair, produced, run_session, show,
+    show_json, telerehab, wait_for_file,
 };
 use telerehab_tests::{Tmpfs, spawn_real_time_session, telerehab_bin, wait_for_first_chunk};
 
@@ -387,42 +387,6 @@ fn each_way_a_session_ends_reaches_the_hub_as_its_end_reason() {
         "{full}"
     );
     hub.stop();
-}
-
-/// A fresh database on the test PostgreSQL server (`scripts/with-postgres.sh` names it in
-/// `TELEREHAB_TEST_PG_URL`), made with `psql`; `None` after saying SKIPPED without one.
-fn fresh_postgres_database() -> Option<String> {
-    let Ok(admin) = std::env::var("TELEREHAB_TEST_PG_URL") else {
-        println!(
-            "SKIPPED: TELEREHAB_TEST_PG_URL is not set (scripts/with-postgres.sh starts a server)"
-        );
-        return None;
-    };
-    let name = format!(
-        "e2e_{}_{}",
-        std::process::id(),
-        std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .unwrap()
-            .as_nanos()
-    );
-    let out = Command::new("psql")
-        .args([
-            admin.as_str(),
-            "-v",
-            "ON_ERROR_STOP=1",
-            "-c",
-            &format!("CREATE DATABASE {name}"),
-        ])
-        .output()
-        .expect("psql (installed with postgresql by scripts/setup.sh)");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let base = admin.rsplit_once('/').map_or(admin.as_str(), |(b, _)| b);
-    Some(format!("{base}/{name}"))
 }
 
 /// The acceptance path of a clinic that chose PostgreSQL: `hub init --db postgres://…`, then

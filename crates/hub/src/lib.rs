@@ -9,6 +9,7 @@
 //! Layering (DESIGN.md): this crate uses `netlink`'s frame types and never the station's
 //! device crates.
 
+pub mod backup;
 pub mod bench;
 pub mod clinic;
 pub mod db;

@@ -108,6 +108,31 @@ pub enum HubCommand {
     /// unless every summary is stored exactly once, every recording verified, no station stuck
     /// and the audit log complete.
     Chaos(crate::commands::hub_chaos::ChaosArgs),
+    /// Back the clinic up into one file while the hub serves: the database (SQLite's online
+    /// copy or a PostgreSQL dump, one consistent snapshot), the CA and hub certificate, and
+    /// every recording; row counts and checksums in its manifest. Guard the file: it holds
+    /// the CA's key.
+    Backup {
+        /// Data directory and database.
+        #[command(flatten)]
+        data: DataArgs,
+        /// The backup file to make (`.tar.zst`); never overwritten.
+        #[arg(long, value_name = "FILE")]
+        out: PathBuf,
+    },
+    /// Restore a backup into a new data directory (and, for a PostgreSQL backup, the empty
+    /// database `--db` names), checking every table's rows and every recording's checksum.
+    Restore {
+        /// The backup file.
+        #[arg(long, value_name = "FILE")]
+        from: PathBuf,
+        /// The new data directory (absent or empty).
+        #[arg(long, value_name = "DIR")]
+        data: PathBuf,
+        /// An empty PostgreSQL database for a PostgreSQL backup (`postgres://…`).
+        #[arg(long, value_name = "URL")]
+        db: Option<String>,
+    },
     /// Patients.
     #[command(subcommand)]
     Patient(PatientCommand),
@@ -200,7 +225,7 @@ pub enum TherapistCommand {
     },
 }
 
-fn now_ms() -> i64 {
+pub(crate) fn now_ms() -> i64 {
     hub::web::system_now_ms()
 }
 
@@ -268,6 +293,12 @@ pub fn run(args: HubArgs) -> anyhow::Result<()> {
                 bench(load, db.as_deref(), hub_cpus.as_deref()).await
             }
             HubCommand::Chaos(args) => crate::commands::hub_chaos::run(args).await,
+            HubCommand::Backup { data, out } => {
+                super::hub_backup::backup(&data.data, data.db.as_deref(), &out).await
+            }
+            HubCommand::Restore { from, data, db } => {
+                super::hub_backup::restore(&from, &data, db.as_deref()).await
+            }
             HubCommand::Patient(c) => patient(c).await,
             HubCommand::Station(StationCommand::Revoke { data, station_id }) => {
                 let (_, db) = open(&data).await?;
