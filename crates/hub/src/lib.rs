@@ -16,6 +16,7 @@ pub mod db;
 mod error;
 pub mod ingest;
 pub mod limits;
+pub mod patient_data;
 pub mod patients;
 pub mod uploads;
 pub mod web;

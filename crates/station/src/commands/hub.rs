@@ -193,6 +193,32 @@ pub enum PatientCommand {
         #[arg(long)]
         json: bool,
     },
+    /// Everything the hub holds about a patient (sessions, summaries, measures, regimens,
+    /// messages, recordings, the audit entries about them) in one archive (`.tar.zst`:
+    /// `patient.json` and the recordings), for the patient's request; audited.
+    Export {
+        /// Data directory and database.
+        #[command(flatten)]
+        data: DataArgs,
+        /// The patient's pseudonym.
+        pseudonym: String,
+        /// The archive to write; never overwritten.
+        #[arg(long, value_name = "FILE")]
+        out: PathBuf,
+    },
+    /// Erase everything the hub holds about a patient, recordings included, on their request:
+    /// their stations are revoked first; one audit entry records the erasure (how much, none
+    /// of the data). Cannot be undone: export first if the patient wants a copy.
+    Erase {
+        /// Data directory and database.
+        #[command(flatten)]
+        data: DataArgs,
+        /// The patient's pseudonym.
+        pseudonym: String,
+        /// The pseudonym again, to confirm (asked for on a terminal when absent).
+        #[arg(long, value_name = "PSEUDONYM")]
+        confirm: Option<String>,
+    },
 }
 
 /// `telerehab hub station …`.
@@ -562,6 +588,22 @@ async fn bench_run(
 
 async fn patient(command: PatientCommand) -> anyhow::Result<()> {
     match command {
+        PatientCommand::Export {
+            data,
+            pseudonym,
+            out,
+        } => {
+            super::hub_backup::export_patient(&data.data, data.db.as_deref(), &pseudonym, &out)
+                .await?
+        }
+        PatientCommand::Erase {
+            data,
+            pseudonym,
+            confirm,
+        } => {
+            super::hub_backup::erase_patient(&data.data, data.db.as_deref(), &pseudonym, confirm)
+                .await?;
+        }
         PatientCommand::Add {
             data,
             pseudonym,

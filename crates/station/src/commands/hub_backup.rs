@@ -1,5 +1,6 @@
-//! `telerehab hub backup` and `hub restore` (the work is `hub::backup`'s): what was saved or
-//! restored, in numbers a clinic's administrator can check.
+//! `telerehab hub backup`, `hub restore`, `hub patient export` and `hub patient erase` (the
+//! work is `hub::backup`'s and `hub::patient_data`'s): what was saved, restored, exported or
+//! erased, in numbers a clinic's administrator can check.
 
 use std::path::Path;
 
@@ -75,6 +76,83 @@ pub async fn restore(from: &Path, data: &Path, db: Option<&str>) -> anyhow::Resu
     println!(
         "serve it with: telerehab hub serve --data {}",
         data.display()
+    );
+    Ok(())
+}
+
+/// What an export or erasure covered, in one line.
+fn covered_said(c: &hub::patient_data::Covered) -> String {
+    let rows: usize = c.rows.values().sum();
+    format!(
+        "sessions {}, summaries {}, regimen versions {}, messages {}, audit entries {}; {rows} rows in {} tables; recording files {} ({:.1} MB)",
+        c.rows_of("sessions"),
+        c.rows_of("summaries"),
+        c.rows_of("regimens"),
+        c.rows_of("patient_messages"),
+        c.rows_of("audit_log"),
+        c.rows.len(),
+        c.recording_files,
+        c.recording_bytes as f64 / 1e6
+    )
+}
+
+/// `hub patient export`.
+pub async fn export_patient(
+    data: &Path,
+    db: Option<&str>,
+    pseudonym: &str,
+    out: &Path,
+) -> anyhow::Result<()> {
+    let clinic = Clinic::at(data);
+    let handle = clinic.open_db(db).await?;
+    let done =
+        hub::patient_data::export(&clinic, &handle, pseudonym, out, super::hub::now_ms()).await;
+    handle.close().await;
+    let c = done?;
+    println!(
+        "exported {pseudonym} to {}: {}",
+        out.display(),
+        covered_said(&c)
+    );
+    Ok(())
+}
+
+/// `hub patient erase`: after the pseudonym is confirmed (`--confirm`, or typed on a terminal).
+pub async fn erase_patient(
+    data: &Path,
+    db: Option<&str>,
+    pseudonym: &str,
+    confirm: Option<String>,
+) -> anyhow::Result<()> {
+    use std::io::IsTerminal;
+    let confirmed = match confirm {
+        Some(c) => c,
+        None if std::io::stdin().is_terminal() => {
+            println!(
+                "This erases everything the hub holds about {pseudonym}, recordings included, and revokes their stations. It cannot be undone."
+            );
+            print!("Type the pseudonym to confirm: ");
+            std::io::Write::flush(&mut std::io::stdout())?;
+            let mut line = String::new();
+            std::io::stdin().read_line(&mut line)?;
+            line.trim().to_owned()
+        }
+        None => anyhow::bail!(
+            "erasing {pseudonym} cannot be undone: confirm with --confirm {pseudonym} (export first if the patient wants a copy)"
+        ),
+    };
+    anyhow::ensure!(
+        confirmed == pseudonym,
+        "not erased: the confirmation {confirmed:?} is not the pseudonym {pseudonym:?}"
+    );
+    let clinic = Clinic::at(data);
+    let handle = clinic.open_db(db).await?;
+    let done = hub::patient_data::erase(&clinic, &handle, pseudonym, super::hub::now_ms()).await;
+    handle.close().await;
+    let c = done?;
+    println!(
+        "erased {pseudonym}: {}; their stations are revoked",
+        covered_said(&c)
     );
     Ok(())
 }

@@ -1,0 +1,383 @@
+//! A patient's rights over what the hub holds about them: [`export`] writes all of it into one
+//! archive, [`erase`] removes it (recordings included), revoking their stations first and
+//! leaving one audit entry of the erasure that holds no data.
+//!
+//! "All of it" is found from the schema, not a list kept by hand, so a table added later is
+//! covered: every row of a table with a `patient_id` column of theirs, a `session_id` of one of
+//! their sessions or a `station_id` of one of their stations; the patient's own row; the audit
+//! entries whose target is one of those identifiers or whose actor is one of their stations;
+//! and the recording files of their stations (`recordings/<station>/`).
+//!
+//! The export (`.tar.zst`): `patient.json` (every such row, by table, each as an object of its
+//! columns) and `recordings/<station>/<file>` byte for byte.
+
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::Path;
+
+use serde_json::{Map, Value};
+use sqlx::{Column, Row};
+
+use crate::clinic::Clinic;
+use crate::db::{Backend, Db, Patient};
+use crate::error::HubError;
+
+/// The export's format, in `patient.json`.
+pub const EXPORT_FORMAT: u32 = 1;
+
+/// The identifiers that find a patient's rows.
+#[derive(Debug, Clone)]
+struct Scope {
+    patient: Patient,
+    sessions: Vec<String>,
+    stations: Vec<String>,
+}
+
+/// How a table's rows are found to be the patient's.
+enum Link {
+    /// The `patients` table: `id`.
+    Own,
+    /// A column holding one of the scope's identifiers.
+    Column(&'static str),
+    /// The audit log: by target or by a station actor.
+    Audit,
+}
+
+/// What an export or erasure covered: rows by table, and recording files.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Covered {
+    /// Rows by table (tables with none are left out).
+    pub rows: BTreeMap<String, usize>,
+    /// Recording files (finished and partial uploads).
+    pub recording_files: usize,
+    /// Their bytes.
+    pub recording_bytes: u64,
+}
+
+impl Covered {
+    /// The rows of `table`.
+    pub fn rows_of(&self, table: &str) -> usize {
+        self.rows.get(table).copied().unwrap_or(0)
+    }
+}
+
+async fn scope(db: &Db, pseudonym: &str) -> Result<Scope, HubError> {
+    let patient = db
+        .patient_by_pseudonym(pseudonym)
+        .await?
+        .ok_or_else(|| HubError::not_found("patient", pseudonym))?;
+    let ids = |sql: &'static str| {
+        let id = patient.id.clone();
+        async move {
+            let rows = sqlx::query(sql)
+                .bind(id)
+                .fetch_all(db.pool())
+                .await
+                .map_err(HubError::db("finding the patient's rows"))?;
+            rows.iter()
+                .map(|r| r.try_get::<String, _>(0))
+                .collect::<Result<Vec<_>, _>>()
+                .map_err(HubError::db("finding the patient's rows"))
+        }
+    };
+    let sessions =
+        ids("SELECT session_id FROM sessions WHERE patient_id = $1 ORDER BY session_id").await?;
+    let stations =
+        ids("SELECT station_id FROM stations WHERE patient_id = $1 ORDER BY station_id").await?;
+    Ok(Scope {
+        patient,
+        sessions,
+        stations,
+    })
+}
+
+/// Every table with its columns, from the database's catalogue.
+async fn tables(db: &Db) -> Result<Vec<(String, Vec<String>)>, HubError> {
+    let names = crate::backup::row_counts(db).await?;
+    let mut out = Vec::new();
+    for table in names.into_keys() {
+        let sql = match db.backend() {
+            Backend::Sqlite => "SELECT name FROM pragma_table_info($1) ORDER BY cid",
+            Backend::Postgres => {
+                "SELECT CAST(column_name AS TEXT) FROM information_schema.columns \
+                 WHERE table_schema = 'public' AND table_name = $1 ORDER BY ordinal_position"
+            }
+        };
+        let rows = sqlx::query(sql)
+            .bind(&table)
+            .fetch_all(db.pool())
+            .await
+            .map_err(HubError::db("listing a table's columns"))?;
+        let cols = rows
+            .iter()
+            .map(|r| r.try_get::<String, _>(0))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(HubError::db("listing a table's columns"))?;
+        out.push((table, cols));
+    }
+    Ok(out)
+}
+
+fn link_of(table: &str, cols: &[String]) -> Option<Link> {
+    let has = |c: &str| cols.iter().any(|x| x == c);
+    match table {
+        "patients" => Some(Link::Own),
+        "audit_log" => Some(Link::Audit),
+        _ if has("patient_id") => Some(Link::Column("patient_id")),
+        _ if has("session_id") => Some(Link::Column("session_id")),
+        _ if has("station_id") => Some(Link::Column("station_id")),
+        _ => None,
+    }
+}
+
+/// `WHERE …` of the patient's rows of a table linked by `link`, with its values to bind.
+fn selection(link: &Link, s: &Scope) -> (String, Vec<String>) {
+    let list = |col: &str, values: &[String], from: usize| -> String {
+        if values.is_empty() {
+            return "1 = 0".into();
+        }
+        let marks: Vec<String> = (from..from + values.len())
+            .map(|i| format!("${i}"))
+            .collect();
+        format!("{col} IN ({})", marks.join(", "))
+    };
+    match link {
+        Link::Own => ("id = $1".into(), vec![s.patient.id.clone()]),
+        Link::Column("patient_id") => ("patient_id = $1".into(), vec![s.patient.id.clone()]),
+        Link::Column("session_id") => (list("session_id", &s.sessions, 1), s.sessions.clone()),
+        Link::Column(col) => (list(col, &s.stations, 1), s.stations.clone()),
+        Link::Audit => {
+            let mut targets = vec![s.patient.id.clone()];
+            targets.extend(s.sessions.iter().cloned());
+            targets.extend(s.stations.iter().cloned());
+            let actors: Vec<String> = s
+                .stations
+                .iter()
+                .map(|id| format!("station:{id}"))
+                .collect();
+            let mut sql = list("target", &targets, 1);
+            if !actors.is_empty() {
+                sql = format!("{sql} OR {}", list("actor", &actors, targets.len() + 1));
+            }
+            targets.extend(actors);
+            (sql, targets)
+        }
+    }
+}
+
+/// A row as a JSON object of its columns (integers, reals, text, or null).
+fn row_json(row: &sqlx::any::AnyRow) -> Value {
+    let mut obj = Map::new();
+    for (i, col) in row.columns().iter().enumerate() {
+        let v = if let Ok(v) = row.try_get::<Option<i64>, _>(i) {
+            v.map_or(Value::Null, Value::from)
+        } else if let Ok(v) = row.try_get::<Option<f64>, _>(i) {
+            v.map_or(Value::Null, Value::from)
+        } else if let Ok(v) = row.try_get::<Option<String>, _>(i) {
+            v.map_or(Value::Null, Value::from)
+        } else {
+            Value::Null
+        };
+        obj.insert(col.name().to_owned(), v);
+    }
+    Value::Object(obj)
+}
+
+/// The patient's rows of every table, by table.
+async fn rows(db: &Db, s: &Scope) -> Result<BTreeMap<String, Vec<Value>>, HubError> {
+    let mut out = BTreeMap::new();
+    for (table, cols) in tables(db).await? {
+        let Some(link) = link_of(&table, &cols) else {
+            continue;
+        };
+        let (filter, values) = selection(&link, s);
+        // Table and column names come from the database's catalogue; values are bound.
+        let sql = format!("SELECT * FROM \"{table}\" WHERE {filter}");
+        let mut q = sqlx::query(sqlx::AssertSqlSafe(sql));
+        for v in &values {
+            q = q.bind(v.clone());
+        }
+        let found = q
+            .fetch_all(db.pool())
+            .await
+            .map_err(HubError::db("reading the patient's rows"))?;
+        if !found.is_empty() {
+            out.insert(table, found.iter().map(row_json).collect());
+        }
+    }
+    Ok(out)
+}
+
+/// The recording files of the patient's stations (finished and partial), sorted.
+fn recording_files(clinic: &Clinic, s: &Scope) -> Result<Vec<std::path::PathBuf>, HubError> {
+    let mut files = Vec::new();
+    for station in &s.stations {
+        let dir = clinic.dir().join("recordings").join(station);
+        let entries = match std::fs::read_dir(&dir) {
+            Ok(e) => e,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => continue,
+            Err(e) => return Err(HubError::io(format!("listing {}", dir.display()), e)),
+        };
+        for e in entries {
+            let p = e
+                .map_err(|e| HubError::io(format!("listing {}", dir.display()), e))?
+                .path();
+            if p.is_file() {
+                files.push(p);
+            }
+        }
+    }
+    files.sort();
+    Ok(files)
+}
+
+fn covered(rows: &BTreeMap<String, Vec<Value>>, files: &[std::path::PathBuf]) -> Covered {
+    Covered {
+        rows: rows.iter().map(|(t, r)| (t.clone(), r.len())).collect(),
+        recording_files: files.len(),
+        recording_bytes: files
+            .iter()
+            .filter_map(|p| std::fs::metadata(p).ok())
+            .map(|m| m.len())
+            .sum(),
+    }
+}
+
+/// Write everything the hub holds about the patient `pseudonym` into the new file `out`.
+pub async fn export(
+    clinic: &Clinic,
+    db: &Db,
+    pseudonym: &str,
+    out: &Path,
+    now_ms: i64,
+) -> Result<Covered, HubError> {
+    let s = scope(db, pseudonym).await?;
+    let rows = rows(db, &s).await?;
+    let files = recording_files(clinic, &s)?;
+    let doc = serde_json::json!({
+        "format": EXPORT_FORMAT,
+        "pseudonym": s.patient.pseudonym,
+        "patient_id": s.patient.id,
+        "exported_at_ms": now_ms,
+        "tables": rows,
+    });
+    let file = std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(out)
+        .map_err(|e| HubError::io(format!("creating {}", out.display()), e))?;
+    let werr = |e| HubError::io(format!("writing {}", out.display()), e);
+    let mut tar = tar::Builder::new(zstd::Encoder::new(file, 3).map_err(werr)?);
+    let json = serde_json::to_vec_pretty(&doc).map_err(|e| HubError::Corrupt(e.to_string()))?;
+    let mut header = tar::Header::new_gnu();
+    header.set_size(json.len() as u64);
+    header.set_mode(0o600);
+    header.set_cksum();
+    tar.append_data(&mut header, "patient.json", json.as_slice())
+        .map_err(werr)?;
+    let base = clinic.dir();
+    for f in &files {
+        let name = f.strip_prefix(base).unwrap_or(f);
+        tar.append_path_with_name(f, name).map_err(werr)?;
+    }
+    let mut done = tar.into_inner().map_err(werr)?.finish().map_err(werr)?;
+    done.flush().map_err(werr)?;
+    done.sync_all().map_err(werr)?;
+    let what = covered(&rows, &files);
+    db.audit(
+        "cli",
+        "export_patient",
+        &s.patient.id,
+        &format!(
+            "{} rows, {} recording files",
+            what.rows.values().sum::<usize>(),
+            what.recording_files
+        ),
+        now_ms,
+    )
+    .await?;
+    Ok(what)
+}
+
+/// Remove everything the hub holds about the patient `pseudonym`: their stations are revoked
+/// first (refused from their next frame on), then every row and recording file is removed in
+/// one transaction, and one audit entry says how much was erased, holding none of it.
+pub async fn erase(
+    clinic: &Clinic,
+    db: &Db,
+    pseudonym: &str,
+    now_ms: i64,
+) -> Result<Covered, HubError> {
+    let s = scope(db, pseudonym).await?;
+    for station in &s.stations {
+        db.revoke_station(station, now_ms).await?;
+    }
+    if !s.stations.is_empty() {
+        // A serving hub re-reads the revoked stations every `REVOCATION_POLL` and cuts their
+        // connections: give it two before their rows go (an unknown station is refused too).
+        tokio::time::sleep(2 * crate::ingest::REVOCATION_POLL).await;
+    }
+    let rows = rows(db, &s).await?;
+    let files = recording_files(clinic, &s)?;
+    let what = covered(&rows, &files);
+    let tables = tables(db).await?;
+    let mut tx = db
+        .pool()
+        .begin()
+        .await
+        .map_err(HubError::db("starting the erasure"))?;
+    // Children before parents: rows keyed by session or station, then the other rows keyed
+    // by patient (some also name a session), then the sessions, the stations and the patient.
+    let order = |table: &str, link: &Link| match (table, link) {
+        (_, Link::Audit) => 0,
+        (_, Link::Column("session_id" | "station_id")) => 1,
+        ("sessions", _) => 3,
+        ("stations", _) => 4,
+        (_, Link::Column(_)) => 2,
+        (_, Link::Own) => 5,
+    };
+    let mut plan: Vec<(String, Link)> = tables
+        .into_iter()
+        .filter_map(|(t, cols)| link_of(&t, &cols).map(|l| (t, l)))
+        .collect();
+    plan.sort_by_key(|(t, l)| (order(t, l), t.clone()));
+    for (table, link) in &plan {
+        let (filter, values) = selection(link, &s);
+        let sql = format!("DELETE FROM \"{table}\" WHERE {filter}");
+        let mut q = sqlx::query(sqlx::AssertSqlSafe(sql));
+        for v in &values {
+            q = q.bind(v.clone());
+        }
+        q.execute(&mut *tx)
+            .await
+            .map_err(HubError::db("erasing the patient's rows"))?;
+    }
+    tx.commit()
+        .await
+        .map_err(HubError::db("committing the erasure"))?;
+    for station in &s.stations {
+        let dir = clinic.dir().join("recordings").join(station);
+        match std::fs::remove_dir_all(&dir) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                return Err(HubError::io(format!("removing {}", dir.display()), e));
+            }
+            _ => {}
+        }
+    }
+    db.audit(
+        "cli",
+        "erase_patient",
+        &s.patient.id,
+        &format!(
+            "erased on request: {} rows in {} tables, {} recording files ({} bytes); {} stations revoked",
+            what.rows.values().sum::<usize>(),
+            what.rows.len(),
+            what.recording_files,
+            what.recording_bytes,
+            s.stations.len()
+        ),
+        now_ms,
+    )
+    .await?;
+    Ok(what)
+}
