@@ -366,7 +366,7 @@ pub(crate) fn global_fit(
 ) -> Result<FourbarParams, CalibError> {
     let (mut p, _) = SqrtInfo::from_samples(s, trig).solve(l2)?;
     let n = s.len();
-    let mut nw = vec![1.0; n];
+    let mut nw = super::scratch::filled(n, 1.0);
     // a corrected normal matrix can lose definiteness when the noise rivals the motion: then
     // keep the weighted, uncorrected solution
     let solve = |w: &[f64]| {
@@ -380,9 +380,14 @@ pub(crate) fn global_fit(
         }
     }
     if !robust {
+        super::scratch::give(nw);
         return Ok(p);
     }
-    let (mut norms, mut scratch, mut w) = (Vec::new(), Vec::new(), vec![1.0; n]);
+    let (mut norms, mut scratch, mut w) = (
+        super::scratch::take(n),
+        super::scratch::take(n),
+        super::scratch::filled(n, 1.0),
+    );
     for _ in 0..5 {
         super::iterative::residual_norms(trig, l2, &p.to_vec8(), &mut norms);
         for (r, wn) in norms.iter_mut().zip(&nw) {
@@ -401,6 +406,9 @@ pub(crate) fn global_fit(
         if change < 1e-7 * l2 {
             break;
         }
+    }
+    for v in [nw, norms, scratch, w] {
+        super::scratch::give(v);
     }
     Ok(p)
 }

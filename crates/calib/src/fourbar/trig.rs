@@ -10,6 +10,7 @@
 //! library.
 
 use super::model::FourbarSamples;
+use super::scratch;
 
 /// π/2 to 33 significant bits (so `k·P1` is exact for |k| < 2²⁰).
 const PIO2_1: f64 = 1.570_796_326_734_125_6;
@@ -71,20 +72,25 @@ pub(crate) struct Trig {
     pub s4: Vec<f64>,
     /// Time of each sample from the first (s, or the sample index).
     pub t: Vec<f64>,
+    /// The sample interval when the samples are evenly spaced in time (to 1e-9 of it), which
+    /// lets the passes rotate by the gyro drift with one complex product per sample.
+    pub uniform_dt: Option<f64>,
 }
 
 impl Trig {
     pub(crate) fn new(s: &FourbarSamples<'_>) -> Self {
         let n = s.len();
         let mut out = Self {
-            c2: Vec::with_capacity(n),
-            s2: Vec::with_capacity(n),
-            c3: Vec::with_capacity(n),
-            s3: Vec::with_capacity(n),
-            c4: Vec::with_capacity(n),
-            s4: Vec::with_capacity(n),
-            t: (0..n).map(|k| s.time(k)).collect(),
+            c2: scratch::take(n),
+            s2: scratch::take(n),
+            c3: scratch::take(n),
+            s3: scratch::take(n),
+            c4: scratch::take(n),
+            s4: scratch::take(n),
+            t: scratch::collect((0..n).map(|k| s.time(k)), n),
+            uniform_dt: None,
         };
+        out.uniform_dt = uniform_step(&out.t);
         for (phi, c, sn) in [
             (s.phi2, &mut out.c2, &mut out.s2),
             (s.phi3, &mut out.c3, &mut out.s3),
@@ -102,6 +108,29 @@ impl Trig {
     pub(crate) fn len(&self) -> usize {
         self.c2.len()
     }
+
+    /// Hand the arrays back to [`scratch`] for the next calibration on this thread.
+    pub(crate) fn recycle(self) {
+        for v in [self.c2, self.s2, self.c3, self.s3, self.c4, self.s4, self.t] {
+            scratch::give(v);
+        }
+    }
+}
+
+/// The common step of `t` when every sample lies within 1e-9 steps of `t₀ + k·Δt`.
+pub(crate) fn uniform_step(t: &[f64]) -> Option<f64> {
+    let n = t.len();
+    if n < 2 {
+        return None;
+    }
+    let dt = (t[n - 1] - t[0]) / (n - 1) as f64;
+    let tol = 1e-9 * dt.abs();
+    (dt != 0.0
+        && dt.is_finite()
+        && t.iter()
+            .enumerate()
+            .all(|(k, &tk)| (tk - t[0] - k as f64 * dt).abs() <= tol))
+    .then_some(dt)
 }
 
 #[cfg(test)]
