@@ -513,16 +513,25 @@ fn refine(
     );
     let (mut norms, mut sorted) = (scratch::take(n), scratch::take(n));
     // noise weights and Huber factors at p (threshold `c` re-estimated when `None`)
+    // the point of the last noise weights and standardised norms: the final reweighting
+    // usually happens where the last robust round's check did, and reuses them
+    let mut norms_at: Option<[f64; 8]> = None;
     let mut reweight = |p: &[f64; 8], c: Option<f64>, nw: &mut Vec<f64>, h: &mut Vec<f64>| {
-        if let Some(nz) = noise {
+        let same = norms_at == Some(*p);
+        if let Some(nz) = noise
+            && !same
+        {
             nz.weights(l2, p[1].abs(), p[2].abs(), nw);
         }
         if !robust {
             return 0.0;
         }
-        residual_norms(trig, l2, p, &mut norms);
-        for (r, w) in norms.iter_mut().zip(nw.iter()) {
-            *r *= w.sqrt();
+        if !same {
+            residual_norms(trig, l2, p, &mut norms);
+            for (r, w) in norms.iter_mut().zip(nw.iter()) {
+                *r *= w.sqrt();
+            }
+            norms_at = Some(*p);
         }
         let c =
             c.unwrap_or_else(|| (HUBER_K * median(&norms, &mut sorted) / 1.1774).max(1e-12 * l2));
