@@ -389,14 +389,16 @@ pub(crate) fn global_fit(
         super::scratch::filled(n, 1.0),
     );
     for _ in 0..5 {
-        super::iterative::residual_norms(trig, l2, &p.to_vec8(), &mut norms);
-        for (r, wn) in norms.iter_mut().zip(&nw) {
-            *r *= wn.sqrt();
+        // squared standardised norms ρ²: the Cauchy factor needs no root
+        super::iterative::residual_norms2(trig, l2, &p.to_vec8(), &mut norms);
+        for (r2, wn) in norms.iter_mut().zip(&nw) {
+            *r2 *= wn;
         }
-        let median = super::iterative::median(&norms, &mut scratch);
+        let median = super::iterative::median(&norms, &mut scratch).sqrt();
         let c = (2.385 * median / 1.1774).max(1e-12 * l2);
-        for ((wk, r), wn) in w.iter_mut().zip(&norms).zip(&nw) {
-            *wk = wn / (1.0 + (r / c).powi(2));
+        let inv_c2 = 1.0 / (c * c);
+        for ((wk, r2), wn) in w.iter_mut().zip(&norms).zip(&nw) {
+            *wk = wn / (1.0 + r2 * inv_c2);
         }
         let next = solve(&w)?.0;
         let change = (next.to_vec8().iter().zip(p.to_vec8()))

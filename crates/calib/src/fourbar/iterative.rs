@@ -438,8 +438,10 @@ impl Quadratic {
     }
 }
 
-/// Loop-residual norms |ΔXₖ| (m) at `p` (with the bias terms), unweighted, into `out`.
-pub(crate) fn residual_norms(trig: &Trig, l2: f64, p: &[f64; 8], out: &mut Vec<f64>) {
+/// Squared loop-residual norms |ΔXₖ|² (m²) at `p` (with the bias terms), unweighted, into
+/// `out`. Squared: the robust weights need the norms' median and ratios only, and a square
+/// root per sample was most of this pass.
+pub(crate) fn residual_norms2(trig: &Trig, l2: f64, p: &[f64; 8], out: &mut Vec<f64>) {
     let at = At::new::<8>(l2, p);
     let (mut rot3, mut rot4) = (Rotor::new(trig, p[6]), Rotor::new(trig, p[7]));
     out.clear();
@@ -448,8 +450,7 @@ pub(crate) fn residual_norms(trig: &Trig, l2: f64, p: &[f64; 8], out: &mut Vec<f
         let u3 = cmul((trig.c3[k], trig.s3[k]), rot3.at(k));
         let u4 = cmul((trig.c4[k], trig.s4[k]), rot4.at(k));
         let r = residual(&at, u2, u3, u4);
-        // (not `hypot`: its overflow care costs more than the rest of the pass; |ΔX| ≪ 1e150)
-        (r.0 * r.0 + r.1 * r.1).sqrt()
+        r.0 * r.0 + r.1 * r.1
     }));
 }
 

@@ -36,7 +36,7 @@ use crate::error::CalibError;
 use closed_form::{SqrtInfo, gram};
 use eiv::Gains;
 use iterative::{
-    Problem, Quadratic, Refined, gauss_newton, levenberg_marquardt, median, pass, residual_norms,
+    Problem, Quadratic, Refined, gauss_newton, levenberg_marquardt, median, pass, residual_norms2,
 };
 use trig::Trig;
 
@@ -526,17 +526,20 @@ fn refine(
         if !robust {
             return 0.0;
         }
+        // squared standardised norms ρ² (the median of ρ is the root of the median of ρ²)
         if !same {
-            residual_norms(trig, l2, p, &mut norms);
-            for (r, w) in norms.iter_mut().zip(nw.iter()) {
-                *r *= w.sqrt();
+            residual_norms2(trig, l2, p, &mut norms);
+            for (r2, w) in norms.iter_mut().zip(nw.iter()) {
+                *r2 *= w;
             }
             norms_at = Some(*p);
         }
-        let c =
-            c.unwrap_or_else(|| (HUBER_K * median(&norms, &mut sorted) / 1.1774).max(1e-12 * l2));
-        for (hk, r) in h.iter_mut().zip(&norms) {
-            *hk = if *r > c { c / r } else { 1.0 };
+        let c = c.unwrap_or_else(|| {
+            (HUBER_K * median(&norms, &mut sorted).sqrt() / 1.1774).max(1e-12 * l2)
+        });
+        let c2 = c * c;
+        for (hk, r2) in h.iter_mut().zip(&norms) {
+            *hk = if *r2 > c2 { c / r2.sqrt() } else { 1.0 };
         }
         c
     };
