@@ -7,9 +7,9 @@
 //! `u·h(f) = −f·h(u) = (u × f)_z`, `h(u)·h(f) = u_xy·f_xy`, …): the pass accumulates those
 //! and [`Sums::normal`] lays them out, instead of a 3×9 outer product per sample.
 //!
-//! The pass also returns the curvature of the loop in the heading angles,
-//! `Σ tᵐ·r·v_xy` per segment (r the loop residual at the previous solution), which turns the
-//! heading re-rotation into a Newton iteration (see [`Sums::newton_normal`]).
+//! Its sums also give the curvature of the loop in the heading angles, `Σ tᵐ·r·v_xy` per
+//! segment, at any shoulder and lengths, which turns the heading re-rotation into a Newton
+//! iteration (see [`Sums::newton_normal`]).
 
 use super::ArmLoopSamples;
 use super::solve::{Normal, P_MAX};
@@ -44,8 +44,12 @@ pub(crate) struct Sums {
     hfg: [f64; 2],
     /// Σ|g|².
     gg: f64,
-    /// Σtᵐ r·u_xy, Σtᵐ r·f_xy (m = 0, 1, 2) at the previous solution.
-    curv: [[f64; 3]; 2],
+    /// Σt²·u_xy, Σt²·f_xy.
+    ttu: [f64; 2],
+    ttf: [f64; 2],
+    /// Σtᵐ g_xy·u_xy, Σtᵐ g_xy·f_xy for m = 0, 1, 2.
+    gu: [f64; 3],
+    gf: [f64; 3],
 }
 
 /// Heading of each segment at `t = 0` and its rate, `[upper, fore]` (rad, rad per time unit).
@@ -108,8 +112,7 @@ impl Turner {
 
 impl Sums {
     /// One pass: directions `upper`, `fore` turned back by `heading` (when `turn`), grip
-    /// points `grip`, times `time(k)` (evenly spaced by `dt` when `Some`); `prev` =
-    /// `[S, l_u, l_f]` of the previous pass for the heading curvature.
+    /// points `grip`, times `time(k)` (evenly spaced by `dt` when `Some`).
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn pass(
         upper: &[[f64; 3]],
@@ -119,7 +122,6 @@ impl Sums {
         dt: Option<f64>,
         heading: &Heading,
         turn: bool,
-        prev: Option<[f64; 5]>,
     ) -> Self {
         let mut s = Self::default();
         let mut tu = Turner::new(heading.psi[0], heading.rate[0], dt);
@@ -129,16 +131,16 @@ impl Sums {
             if turn {
                 let u = Turner::apply(tu.at(k, t), &upper[k]);
                 let f = Turner::apply(tf.at(k, t), &fore[k]);
-                s.add(&u, &f, &grip[k], t, prev.as_ref());
+                s.add(&u, &f, &grip[k], t);
             } else {
-                s.add(&upper[k], &fore[k], &grip[k], t, prev.as_ref());
+                s.add(&upper[k], &fore[k], &grip[k], t);
             }
         }
         s
     }
 
     #[inline]
-    fn add(&mut self, u: &[f64; 3], f: &[f64; 3], g: &[f64; 3], t: f64, prev: Option<&[f64; 5]>) {
+    fn add(&mut self, u: &[f64; 3], f: &[f64; 3], g: &[f64; 3], t: f64) {
         let tt = t * t;
         self.n += 1.0;
         for i in 0..3 {
@@ -173,17 +175,14 @@ impl Sums {
         self.hfg[0] += hfg;
         self.hfg[1] += t * hfg;
         self.gg += g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
-        if let Some(x) = prev {
-            // the loop residual's horizontal part at the previous solution
-            let r = [
-                x[0] + x[3] * u[0] + x[4] * f[0] - g[0],
-                x[1] + x[3] * u[1] + x[4] * f[1] - g[1],
-            ];
-            let (ru, rf) = (r[0] * u[0] + r[1] * u[1], r[0] * f[0] + r[1] * f[1]);
-            for (m, tm) in [1.0, t, tt].into_iter().enumerate() {
-                self.curv[0][m] += tm * ru;
-                self.curv[1][m] += tm * rf;
-            }
+        let (gu, gf) = (g[0] * u[0] + g[1] * u[1], g[0] * f[0] + g[1] * f[1]);
+        for (m, tm) in [1.0, t, tt].into_iter().enumerate() {
+            self.gu[m] += tm * gu;
+            self.gf[m] += tm * gf;
+        }
+        for i in 0..2 {
+            self.ttu[i] += tt * u[i];
+            self.ttf[i] += tt * f[i];
         }
     }
 
@@ -241,21 +240,34 @@ impl Sums {
     }
 
     /// The normal equations with the loop's curvature in the heading unknowns added to their
-    /// block: with `x₅ = l_u·δψ_u`, `∂²r/∂x₅² = −u_xy / l_u` (and `t`, `t²` times it for the
-    /// drift), so the Hessian of `½Σ|r|²` gains `−Σ tᵐ r·u_xy / l_u`. Only the heading block
+    /// block, at the shoulder and lengths `x = [S, l_u, l_f]`: with `x₅ = l_u·δψ_u`,
+    /// `∂²r/∂x₅² = −u_xy / l_u` (and `t`, `t²` times it for the drift), so the Hessian of
+    /// `½Σ|r|²` gains `−Σ tᵐ r·u_xy / l_u`, which the sums give at any `x` (`r·u_xy` is
+    /// `S_xy·u_xy + l_u·|u_xy|² + l_f·u_xy·f_xy − g_xy·u_xy`). Only the heading block
     /// changes, and the heading unknowns are zero at the fixed point of the re-rotation, so
     /// the answer is the same; the passes converge quadratically instead of linearly (the
-    /// Gauss–Newton block alone counts the direction noise as curvature). `None` without a
-    /// previous solution or when the curvature makes the block indefinite.
-    pub(crate) fn newton_normal(&self, prev: Option<[f64; 5]>, p: usize) -> Option<Normal<P_MAX>> {
-        let x = prev?;
+    /// Gauss–Newton block alone counts the direction noise as curvature). `None` when a length
+    /// is zero.
+    pub(crate) fn newton_normal(&self, x: [f64; 5], p: usize) -> Option<Normal<P_MAX>> {
         let mut nm = self.normal();
         let (lu, lf) = (x[3], x[4]);
         if !(lu.abs() > 0.0 && lf.abs() > 0.0) {
             return None;
         }
+        let moments =
+            |v: [[f64; 2]; 3], own: &[f64; 3], cross: &[f64; 3], g: &[f64; 3], l_own, l_cross| {
+                let mut c = [0.0; 3];
+                for m in 0..3 {
+                    c[m] = x[0] * v[m][0] + x[1] * v[m][1] + l_own * own[m] + l_cross * cross[m]
+                        - g[m];
+                }
+                c
+            };
+        let su = [[self.su[0], self.su[1]], self.tu, self.ttu];
+        let sf = [[self.sf[0], self.sf[1]], self.tf, self.ttf];
+        let cu = moments(su, &self.huu, &self.huf, &self.gu, lu, lf);
+        let cf = moments(sf, &self.hff, &self.huf, &self.gf, lf, lu);
         let m = &mut nm.m;
-        let (cu, cf) = (&self.curv[0], &self.curv[1]);
         m[(5, 5)] -= cu[0] / lu;
         m[(6, 6)] -= cf[0] / lf;
         if p >= 9 {
@@ -266,10 +278,7 @@ impl Sums {
             m[(8, 6)] -= cf[1] / lf;
             m[(8, 8)] -= cf[2] / lf;
         }
-        let block = nm.m.fixed_view::<4, 4>(5, 5).into_owned();
-        let q = p - 5;
-        let sub = block.view((0, 0), (q, q)).into_owned();
-        sub.cholesky().map(|_| nm)
+        Some(nm)
     }
 }
 

@@ -43,7 +43,7 @@
 //! for the forearm) with coefficients `l_u ψ_u0`, `l_u ψ̇_u`: still linear
 //! ([`HeadingModel`]). The batch solver then rotates the directions back by the estimated
 //! heading exactly and solves again until the correction vanishes (the linearisation error
-//! goes away; a few passes, Newton's from the second on).
+//! goes away; a few Newton passes).
 //!
 //! # Direction noise
 //!
@@ -88,9 +88,9 @@ pub const MAX_HEADING_OFFSET_RAD: f64 = 5.0 * std::f64::consts::PI / 180.0;
 
 /// The heading re-rotation stops when its correction falls below this (rad; 1e-10 rad moves a
 /// 0.3 m segment's end by 3e-11 m), or when the next correction predicted from the last two
-/// is. From the second pass on the passes are Newton steps (the loop's curvature in the
-/// heading added, `batch`) and converge quadratically: 4 passes on 1° of white noise with
-/// drift, where the Gauss–Newton passes alone shrank the correction only ×0.1 per pass.
+/// is. The passes are Newton steps (the loop's curvature in the heading added, `batch`) and
+/// converge quadratically: 3 passes on 1° of white noise with drift, where the Gauss–Newton
+/// passes alone shrank the correction only ×0.1 per pass.
 pub const HEADING_TOLERANCE_RAD: f64 = 1e-10;
 
 /// The remedy for poorly excited parameters.
@@ -393,7 +393,6 @@ pub fn calibrate_arm_3d(
     let mut converged = p == 5;
     let mut iterations = 0;
     let mut last = None;
-    let mut prev = None;
     let mut last_step: Option<f64> = None;
     for _ in 0..passes {
         let sums = batch::Sums::pass(
@@ -404,7 +403,6 @@ pub fn calibrate_arm_3d(
             dt,
             &heading,
             turn,
-            prev,
         );
         let normal = sums.normal();
         let sol = normal.solve(p, noise2)?;
@@ -414,15 +412,15 @@ pub fn calibrate_arm_3d(
         }
         iterations += 1;
         // the step: Newton's where the heading curvature keeps it definite
+        // the curvature at this pass's own shoulder and lengths
         let newton_step = sums
-            .newton_normal(prev, p)
+            .newton_normal(batch::head(&sol.x), p)
             .and_then(|nm| nm.solve(p, noise2).ok());
         let newton = newton_step.is_some();
         if !newton {
             last_step = None;
         }
         let step = newton_step.unwrap_or(sol);
-        prev = Some(batch::head(&step.x));
         // the heading columns' coefficients are l·δψ and l·δψ̇
         let (lu, lf) = (step.x[3], step.x[4]);
         let d = [step.x[5] / lu, step.x[6] / lf];
