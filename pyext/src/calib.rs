@@ -13,7 +13,7 @@ use numpy::{PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3, PyRe
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::check::{rows3, same_len, value_error, vec1};
+use crate::check::{give_rows, rows3, same_len, value_error, vec1};
 
 /// Add the calibration functions to the native module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -540,5 +540,8 @@ fn calibrate_arm_3d(
         };
         calib::calibrate_arm_3d(&samples, &options)
     });
+    for rows in [u, f, g] {
+        give_rows(rows);
+    }
     result.map(Into::into).map_err(calib_error)
 }

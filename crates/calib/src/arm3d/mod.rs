@@ -43,7 +43,7 @@
 //! for the forearm) with coefficients `l_u ψ_u0`, `l_u ψ̇_u`: still linear
 //! ([`HeadingModel`]). The batch solver then rotates the directions back by the estimated
 //! heading exactly and solves again until the correction vanishes (the linearisation error
-//! goes away; a few passes).
+//! goes away; a few Newton passes).
 //!
 //! # Direction noise
 //!
@@ -54,6 +54,7 @@
 //! from the `u` diagonal of `AᵀA` and multiplying the fitted coefficient by `c` removes the
 //! bias ([`ArmLoopOptions::errors_in_variables`]).
 
+mod batch;
 pub mod online;
 mod solve;
 
@@ -62,7 +63,6 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::CalibError;
 pub use online::{OnlineArm3d, OnlineArm3dOptions};
-use solve::{Normal, P_MAX};
 
 /// Smallest number of samples a fit accepts (and at least one more than the unknowns / 3).
 pub const MIN_SAMPLES: usize = 10;
@@ -87,8 +87,10 @@ pub const MIN_GRIP_SPREAD_M: f64 = 0.04;
 pub const MAX_HEADING_OFFSET_RAD: f64 = 5.0 * std::f64::consts::PI / 180.0;
 
 /// The heading re-rotation stops when its correction falls below this (rad; 1e-10 rad moves a
-/// 0.3 m segment's end by 3e-11 m). With the errors-in-variables correction the passes
-/// converge linearly (about ×0.1 per pass on 1° white noise), without it quadratically.
+/// 0.3 m segment's end by 3e-11 m), or when the next correction predicted from the last two
+/// is. The passes are Newton steps (the loop's curvature in the heading added, `batch`) and
+/// converge quadratically: 3 passes on 1° of white noise with drift, where the Gauss–Newton
+/// passes alone shrank the correction only ×0.1 per pass.
 pub const HEADING_TOLERANCE_RAD: f64 = 1e-10;
 
 /// The remedy for poorly excited parameters.
@@ -381,66 +383,72 @@ pub fn calibrate_arm_3d(
         [0.0; 2]
     };
     // Heading of each segment (rad) at t − t_mean = 0, and its rate, accumulated over passes.
-    let (mut psi, mut psi_dot) = ([0.0f64; 2], [0.0f64; 2]);
-    let rotated = |dirs: &[[f64; 3]], k: usize, psi: f64, rate: f64| {
-        let v = Vector3::from(dirs[k]);
-        if p == 5 {
-            return v;
-        }
-        let (s, c) = (-(psi + rate * time(k))).sin_cos();
-        Vector3::new(c * v.x - s * v.y, s * v.x + c * v.y, v.z)
-    };
+    let mut heading = batch::Heading::default();
+    // evenly spaced samples let the passes turn the directions with a product per sample
+    let dt = samples
+        .time_s
+        .map_or(Some(1.0), crate::fourbar::trig::uniform_step);
+    let turn = p > 5;
     let passes = if p == 5 { 1 } else { options.max_iterations };
     let mut converged = p == 5;
     let mut iterations = 0;
     let mut last = None;
+    let mut last_step: Option<f64> = None;
     for _ in 0..passes {
-        let mut normal = Normal::<P_MAX>::new();
-        for k in 0..n {
-            let u = rotated(samples.upper_dirs, k, psi[0], psi_dot[0]);
-            let f = rotated(samples.fore_dirs, k, psi[1], psi_dot[1]);
-            normal.add(
-                &u,
-                &f,
-                &Vector3::from(samples.grip_points_m[k]),
-                time(k),
-                1.0,
-            );
-        }
+        let sums = batch::Sums::pass(
+            samples.upper_dirs,
+            samples.fore_dirs,
+            samples.grip_points_m,
+            time,
+            dt,
+            &heading,
+            turn,
+        );
+        let normal = sums.normal();
         let sol = normal.solve(p, noise2)?;
         if p == 5 {
             last = Some((normal, sol));
             break;
         }
         iterations += 1;
+        // the step: Newton's where the heading curvature keeps it definite
+        // the curvature at this pass's own shoulder and lengths
+        let newton_step = sums
+            .newton_normal(batch::head(&sol.x), p)
+            .and_then(|nm| nm.solve(p, noise2).ok());
+        let newton = newton_step.is_some();
+        if !newton {
+            last_step = None;
+        }
+        let step = newton_step.unwrap_or(sol);
         // the heading columns' coefficients are l·δψ and l·δψ̇
-        let (lu, lf) = (sol.x[3], sol.x[4]);
-        let d = [sol.x[5] / lu, sol.x[6] / lf];
+        let (lu, lf) = (step.x[3], step.x[4]);
+        let d = [step.x[5] / lu, step.x[6] / lf];
         let dr = if p == 9 {
-            [sol.x[7] / lu, sol.x[8] / lf]
+            [step.x[7] / lu, step.x[8] / lf]
         } else {
             [0.0; 2]
         };
         for i in 0..2 {
-            psi[i] += d[i];
-            psi_dot[i] += dr[i];
+            heading.psi[i] += d[i];
+            heading.rate[i] += dr[i];
         }
         let step = d[0].abs().max(d[1].abs()) + 60.0 * dr[0].abs().max(dr[1].abs());
         last = Some((normal, sol));
-        if step < HEADING_TOLERANCE_RAD {
+        // Newton's steps shrink quadratically, `next ≈ C·step²` with `C` from the last two:
+        // when that is below the tolerance the pass that would only confirm it is skipped
+        // (this pass's linear heading terms already carry the update to O(step²))
+        let next = last_step.map_or(f64::INFINITY, |ls: f64| step / (ls * ls) * step * step);
+        last_step = newton.then_some(step);
+        if step < HEADING_TOLERANCE_RAD || (step < 1e-4 && next < HEADING_TOLERANCE_RAD) {
             converged = true;
             break;
         }
     }
     let (normal, sol) = last.expect("at least one pass");
-    // exact residuals with the final directions (the heading terms are folded in)
-    let mut ssr = 0.0;
-    for k in 0..n {
-        let u = rotated(samples.upper_dirs, k, psi[0], psi_dot[0]);
-        let f = rotated(samples.fore_dirs, k, psi[1], psi_dot[1]);
-        let r = sol.model_point(&u, &f, time(k)) - Vector3::from(samples.grip_points_m[k]);
-        ssr += r.norm_squared();
-    }
+    let (psi, psi_dot) = (heading.psi, heading.rate);
+    // exact loop residuals with the directions turned back by the final heading
+    let ssr = batch::ssr(samples, time, dt, &heading, turn, batch::head(&sol.x));
     let t0 = time(0);
     let stats = normal.stats(&sol, p, ssr);
     let mut params = sol.params();

@@ -190,13 +190,6 @@ impl<const P: usize> Normal<P> {
 }
 
 impl Solution {
-    /// The loop's predicted grip point `S + l_u u + l_f f` (+ the linear heading terms) (m).
-    pub fn model_point(&self, u: &Vector3<f64>, f: &Vector3<f64>, t: f64) -> Vector3<f64> {
-        let x = &self.x;
-        let p = Vector3::new(x[0], x[1], x[2]) + u * x[3] + f * x[4];
-        p + h(u) * x[5] + h(f) * x[6] + (h(u) * x[7] + h(f) * x[8]) * t
-    }
-
     /// Shoulder and lengths (the heading fields are left at 0 for the caller).
     pub fn params(&self) -> Arm3dParams {
         Arm3dParams {

@@ -366,7 +366,7 @@ pub(crate) fn global_fit(
 ) -> Result<FourbarParams, CalibError> {
     let (mut p, _) = SqrtInfo::from_samples(s, trig).solve(l2)?;
     let n = s.len();
-    let mut nw = vec![1.0; n];
+    let mut nw = super::scratch::filled(n, 1.0);
     // a corrected normal matrix can lose definiteness when the noise rivals the motion: then
     // keep the weighted, uncorrected solution
     let solve = |w: &[f64]| {
@@ -380,18 +380,25 @@ pub(crate) fn global_fit(
         }
     }
     if !robust {
+        super::scratch::give(nw);
         return Ok(p);
     }
-    let (mut norms, mut scratch, mut w) = (Vec::new(), Vec::new(), vec![1.0; n]);
+    let (mut norms, mut scratch, mut w) = (
+        super::scratch::take(n),
+        super::scratch::take(n),
+        super::scratch::filled(n, 1.0),
+    );
     for _ in 0..5 {
-        super::iterative::residual_norms(trig, l2, &p.to_vec8(), &mut norms);
-        for (r, wn) in norms.iter_mut().zip(&nw) {
-            *r *= wn.sqrt();
+        // squared standardised norms ρ²: the Cauchy factor needs no root
+        super::iterative::residual_norms2(trig, l2, &p.to_vec8(), &mut norms);
+        for (r2, wn) in norms.iter_mut().zip(&nw) {
+            *r2 *= wn;
         }
-        let median = super::iterative::median(&norms, &mut scratch);
+        let median = super::iterative::median(&norms, &mut scratch).sqrt();
         let c = (2.385 * median / 1.1774).max(1e-12 * l2);
-        for ((wk, r), wn) in w.iter_mut().zip(&norms).zip(&nw) {
-            *wk = wn / (1.0 + (r / c).powi(2));
+        let inv_c2 = 1.0 / (c * c);
+        for ((wk, r2), wn) in w.iter_mut().zip(&norms).zip(&nw) {
+            *wk = wn / (1.0 + r2 * inv_c2);
         }
         let next = solve(&w)?.0;
         let change = (next.to_vec8().iter().zip(p.to_vec8()))
@@ -401,6 +408,9 @@ pub(crate) fn global_fit(
         if change < 1e-7 * l2 {
             break;
         }
+    }
+    for v in [nw, norms, scratch, w] {
+        super::scratch::give(v);
     }
     Ok(p)
 }

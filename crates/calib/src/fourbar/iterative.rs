@@ -49,208 +49,265 @@ pub(crate) struct Pass<const NP: usize> {
     pub ssr_unweighted: f64,
 }
 
-/// One pass: residual and analytic derivatives of each sample folded straight into the
-/// `NP × NP` normal equations (eq. 4.2 extended by the l1 and bias columns).
+/// One pass: the weighted moment sums of the sample's unit vectors ([`Moments`]), from which
+/// the residual's analytic derivatives give the `NP × NP` normal equations (eq. 4.2 extended
+/// by the l1 and bias columns) without forming a row of the Jacobian per sample.
 pub(crate) fn pass<const NP: usize>(pb: &Problem<'_>, p: &[f64; 8]) -> Pass<NP> {
     let at = At::new::<NP>(pb.l2, p);
-    let mut sums = Sums::<NP>::new();
-    for k in 0..pb.trig.len() {
-        sums.add_sample(pb, &at, k);
+    let mut m = Moments::default();
+    let (mut rot3, mut rot4) = (Rotor::new(pb.trig, at.b3), Rotor::new(pb.trig, at.b4));
+    let tr = pb.trig;
+    let n = tr.len();
+    // every array cut to `n` up front, so the loop indexes without bounds checks
+    let (c2, s2, c3, s3, c4, s4, t) = (
+        &tr.c2[..n],
+        &tr.s2[..n],
+        &tr.c3[..n],
+        &tr.s3[..n],
+        &tr.c4[..n],
+        &tr.s4[..n],
+        &tr.t[..n],
+    );
+    let w = pb.weights.map(|w| &w[..n]);
+    let g = pb.gains.map(|g| (&g.g2[..n], &g.g3[..n], &g.g4[..n]));
+    for k in 0..n {
+        let (r3, r4) = (rot3.at(k), rot4.at(k));
+        let u2 = (c2[k], s2[k]);
+        let u3 = cmul((c3[k], s3[k]), r3);
+        let u4 = cmul((c4[k], s4[k]), r4);
+        let wk = w.map_or(1.0, |w| w[k]);
+        let gk = g.map(|(g2, g3, g4)| (g2[k], g3[k], g4[k]));
+        m.add_sample(&at, t[k], wk, [u2, u3, u4], gk);
     }
-    sums.into_pass(pb, &at)
+    m.into_pass(pb, &at)
 }
 
-/// The parameters of one pass, with the sines and cosines of its offsets.
+/// `e^{−i·b·tₖ}` sample after sample: on a uniform time axis one complex product per sample
+/// (the same rotation by `b·Δt` each time), recomputed exactly every [`Rotor::RESYNC`]
+/// samples so rounding cannot accumulate (≈ 1e-15 rad); otherwise a `sin_cos` per sample.
+pub(crate) struct Rotor<'a> {
+    trig: &'a Trig,
+    b: f64,
+    /// `e^{−i·b·Δt}` on a uniform axis.
+    step: Option<C64>,
+    cur: C64,
+}
+
+impl<'a> Rotor<'a> {
+    /// Samples between exact evaluations.
+    const RESYNC: usize = 16;
+
+    pub(crate) fn new(trig: &'a Trig, b: f64) -> Self {
+        let step = trig.uniform_dt.map(|dt| {
+            let (s, c) = sin_cos(-b * dt);
+            (c, s)
+        });
+        Self {
+            trig,
+            b,
+            step,
+            cur: (1.0, 0.0),
+        }
+    }
+
+    /// The rotation at sample `k`; called for k = 0, 1, 2, … in order.
+    #[inline(always)]
+    pub(crate) fn at(&mut self, k: usize) -> C64 {
+        if self.b == 0.0 {
+            return (1.0, 0.0);
+        }
+        match self.step {
+            Some(step) if !k.is_multiple_of(Self::RESYNC) => self.cur = cmul(self.cur, step),
+            _ => {
+                let (s, c) = sin_cos(-self.b * self.trig.t[k]);
+                self.cur = (c, s);
+            }
+        }
+        self.cur
+    }
+}
+
+/// A complex number as `(re, im)`.
+pub(crate) type C64 = (f64, f64);
+
+#[inline]
+fn cmul(a: C64, b: C64) -> C64 {
+    (a.0 * b.0 - a.1 * b.1, a.0 * b.1 + a.1 * b.0)
+}
+
+#[inline]
+fn cconj_mul(a: C64, b: C64) -> C64 {
+    // conj(a)·b
+    (a.0 * b.0 + a.1 * b.1, a.0 * b.1 - a.1 * b.0)
+}
+
+#[inline]
+fn cscale(a: C64, s: f64) -> C64 {
+    (a.0 * s, a.1 * s)
+}
+
+#[inline]
+fn cadd(a: C64, b: C64) -> C64 {
+    (a.0 + b.0, a.1 + b.1)
+}
+
+/// The parameters of one pass as the complex coefficients of the loop
+/// `r = a·A + b·B − c·C − l1` ([`Moments`]).
 struct At {
     /// Wheel radius (m).
     l2: f64,
     l1: f64,
     l3: f64,
     l4: f64,
-    /// Offsets Θ3, Θ4 (rad).
-    th3: f64,
-    th4: f64,
     /// Gyro biases (rad/s; 0 without bias terms).
     b3: f64,
     b4: f64,
-    /// (sin, cos) of Θ2, Θ3, Θ4.
-    t2: (f64, f64),
-    t3: (f64, f64),
-    t4: (f64, f64),
+    /// `e^{iΘ3}`, `e^{iΘ4}`.
+    e3: C64,
+    e4: C64,
+    /// `a = l2·e^{iΘ2}`, `b = l3·e^{iΘ3}`, `c = l4·e^{iΘ4}` (m).
+    a: C64,
+    b: C64,
+    c: C64,
 }
 
 impl At {
     fn new<const NP: usize>(l2: f64, p: &[f64; 8]) -> Self {
         let (b3, b4) = if NP > 6 { (p[6], p[7]) } else { (0.0, 0.0) };
+        let (s2, c2) = sin_cos(p[3]);
+        let (s3, c3) = sin_cos(p[4]);
+        let (s4, c4) = sin_cos(p[5]);
         Self {
             l2,
             l1: p[0],
             l3: p[1],
             l4: p[2],
-            th3: p[4],
-            th4: p[5],
             b3,
             b4,
-            t2: sin_cos(p[3]),
-            t3: sin_cos(p[4]),
-            t4: sin_cos(p[5]),
+            e3: (c3, s3),
+            e4: (c4, s4),
+            a: (l2 * c2, l2 * s2),
+            b: (p[1] * c3, p[1] * s3),
+            c: (p[2] * c4, p[2] * s4),
         }
+    }
+
+    /// The residual's coefficient of each vector `[1, A, B, C]`.
+    fn coefficients(&self) -> [C64; 4] {
+        [(-self.l1, 0.0), self.a, self.b, (-self.c.0, -self.c.1)]
     }
 }
 
-/// The running sums of one [`pass`].
-struct Sums<const NP: usize> {
-    a: [[f64; NP]; NP],
-    g: [f64; NP],
+/// The vectors of one sample: `1`, `A = g2·e^{iφ2}`, `B = g3·e^{i(φ3 − b3·t)}`,
+/// `C = g4·e^{i(φ4 − b4·t)}` (gains `g` of the errors-in-variables correction, 1 without).
+/// Every derivative of the residual `r = a·A + b·B − c·C − l1` up to second order is a constant
+/// times `tᵐ·X` for one of them, so the normal equations, gradient and curvature are linear
+/// combinations of `S(X, Y, m) = Σ w·tᵐ·conj(X)·Y`, m ≤ 2: 9 complex and 7 real running sums
+/// per sample instead of an 8×8 outer product.
+#[derive(Default)]
+struct Moments {
+    /// `S(X, Y, m)` for `X ≤ Y` in the order `[1, A, B, C]` (the lower half by conjugation).
+    s: [[[C64; 3]; 4]; 4],
+    /// `Σ w·|r|²` with the gains (m²).
     cost: f64,
+    /// `Σ |r|²` without weights or gains (m²).
     ssr_u: f64,
+    /// `Σ w·(gⱼ² − 1)` for j = 2, 3, 4.
     d2: f64,
     d3: f64,
     d4: f64,
-    // second-derivative sums: Σ w·g·(r·e), Σ w·g·(r·ie) and their t, t² moments
-    p2: f64,
-    p3: f64,
-    p3t: f64,
-    p3tt: f64,
-    q3: f64,
-    q3t: f64,
-    p4: f64,
-    p4t: f64,
-    p4tt: f64,
-    q4: f64,
-    q4t: f64,
 }
 
-impl<const NP: usize> Sums<NP> {
-    fn new() -> Self {
-        Self {
-            a: [[0.0f64; NP]; NP],
-            g: [0.0f64; NP],
-            cost: 0.0,
-            ssr_u: 0.0,
-            d2: 0.0,
-            d3: 0.0,
-            d4: 0.0,
-            p2: 0.0,
-            p3: 0.0,
-            p3t: 0.0,
-            p3tt: 0.0,
-            q3: 0.0,
-            q3t: 0.0,
-            p4: 0.0,
-            p4t: 0.0,
-            p4tt: 0.0,
-            q4: 0.0,
-            q4t: 0.0,
-        }
-    }
-
-    /// Fold sample `k` in: its residual, and its derivatives into the normal equations.
-    fn add_sample(&mut self, pb: &Problem<'_>, at: &At, k: usize) {
-        let tr = pb.trig;
-        let (l1, l2, l3, l4) = (at.l1, at.l2, at.l3, at.l4);
-        let ((st2, ct2), (st3, ct3), (st4, ct4)) = (at.t2, at.t3, at.t4);
-        let t = tr.t[k];
-        let w = pb.weights.map_or(1.0, |w| w[k]);
-        let (g2, g3, g4) = pb
-            .gains
-            .map_or((1.0, 1.0, 1.0), |g| (g.g2[k], g.g3[k], g.g4[k]));
-        // offsets Θj − bj·t as unit vectors
-        let (so3, co3) = if at.b3 != 0.0 {
-            sin_cos(at.th3 - at.b3 * t)
-        } else {
-            (st3, ct3)
+impl Moments {
+    /// Fold one sample in: time `t`, weight `w`, unit vectors `[e^{iφ2}, e^{i(φ3 − b3·t)},
+    /// e^{i(φ4 − b4·t)}]` and the gains `(g2, g3, g4)` when correcting.
+    #[inline(always)]
+    fn add_sample(&mut self, at: &At, t: f64, w: f64, u: [C64; 3], gains: Option<(f64, f64, f64)>) {
+        let [u2, u3, u4] = u;
+        let (va, vb, vc) = match gains {
+            Some((g2, g3, g4)) => {
+                let r_raw = residual(at, u2, u3, u4);
+                self.ssr_u += r_raw.0 * r_raw.0 + r_raw.1 * r_raw.1;
+                self.d2 += w * (g2 * g2 - 1.0);
+                self.d3 += w * (g3 * g3 - 1.0);
+                self.d4 += w * (g4 * g4 - 1.0);
+                (cscale(u2, g2), cscale(u3, g3), cscale(u4, g4))
+            }
+            None => (u2, u3, u4),
         };
-        let (so4, co4) = if at.b4 != 0.0 {
-            sin_cos(at.th4 - at.b4 * t)
-        } else {
-            (st4, ct4)
-        };
-        let (c2, s2) = (
-            ct2 * tr.c2[k] - st2 * tr.s2[k],
-            st2 * tr.c2[k] + ct2 * tr.s2[k],
-        );
-        let (c3, s3) = (
-            co3 * tr.c3[k] - so3 * tr.s3[k],
-            so3 * tr.c3[k] + co3 * tr.s3[k],
-        );
-        let (c4, s4) = (
-            co4 * tr.c4[k] - so4 * tr.s4[k],
-            so4 * tr.c4[k] + co4 * tr.s4[k],
-        );
-        let (m2, m3, m4) = (l2 * g2, l3 * g3, l4 * g4);
-        let r = [
-            m2 * c2 + m3 * c3 - m4 * c4 - l1,
-            m2 * s2 + m3 * s3 - m4 * s4,
-        ];
-        let r2 = r[0] * r[0] + r[1] * r[1];
-        if pb.gains.is_some() {
-            let raw = [
-                l2 * c2 + l3 * c3 - l4 * c4 - l1,
-                l2 * s2 + l3 * s3 - l4 * s4,
-            ];
-            self.ssr_u += raw[0] * raw[0] + raw[1] * raw[1];
-            let (e2, e3, e4) = (g2 * g2 - 1.0, g3 * g3 - 1.0, g4 * g4 - 1.0);
-            self.d2 += w * e2;
-            self.d3 += w * e3;
-            self.d4 += w * e4;
-        } else {
+        let r = residual(at, va, vb, vc);
+        let r2 = r.0 * r.0 + r.1 * r.1;
+        if gains.is_none() {
             self.ssr_u += r2;
         }
         self.cost += w * r2;
-        let (wg2, wg3, wg4) = (w * g2, w * g3, w * g4);
-        self.p2 += wg2 * (r[0] * c2 + r[1] * s2);
-        let (pp3, qq3) = (wg3 * (r[0] * c3 + r[1] * s3), wg3 * (r[1] * c3 - r[0] * s3));
-        let (pp4, qq4) = (wg4 * (r[0] * c4 + r[1] * s4), wg4 * (r[1] * c4 - r[0] * s4));
-        self.p3 += pp3;
-        self.q3 += qq3;
-        self.p4 += pp4;
-        self.q4 += qq4;
-        if NP > 6 {
-            self.p3t += t * pp3;
-            self.p3tt += t * t * pp3;
-            self.q3t += t * qq3;
-            self.p4t += t * pp4;
-            self.p4tt += t * t * pp4;
-            self.q4t += t * qq4;
+        let (wt, wtt) = (w * t, w * t * t);
+        let ws = [w, wt, wtt];
+        // (1, 1), (1, A), (A, A): m = 0 only
+        self.s[0][0][0].0 += w;
+        self.s[0][1][0] = cadd(self.s[0][1][0], cscale(va, w));
+        self.s[1][1][0].0 += w * (va.0 * va.0 + va.1 * va.1);
+        let ab = cconj_mul(va, vb);
+        let ac = cconj_mul(va, vc);
+        let bc = cconj_mul(vb, vc);
+        let bb = vb.0 * vb.0 + vb.1 * vb.1;
+        let cc = vc.0 * vc.0 + vc.1 * vc.1;
+        for (m, wm) in ws.into_iter().enumerate() {
+            self.s[0][2][m] = cadd(self.s[0][2][m], cscale(vb, wm));
+            self.s[0][3][m] = cadd(self.s[0][3][m], cscale(vc, wm));
+            self.s[1][2][m] = cadd(self.s[1][2][m], cscale(ab, wm));
+            self.s[1][3][m] = cadd(self.s[1][3][m], cscale(ac, wm));
+            self.s[2][3][m] = cadd(self.s[2][3][m], cscale(bc, wm));
+            self.s[2][2][m].0 += wm * bb;
+            self.s[3][3][m].0 += wm * cc;
         }
-        let mut dre = [0.0f64; NP];
-        let mut dim = [0.0f64; NP];
-        dre[0] = -1.0;
-        dre[1] = g3 * c3;
-        dim[1] = g3 * s3;
-        dre[2] = -g4 * c4;
-        dim[2] = -g4 * s4;
-        dre[3] = -m2 * s2;
-        dim[3] = m2 * c2;
-        dre[4] = -m3 * s3;
-        dim[4] = m3 * c3;
-        dre[5] = m4 * s4;
-        dim[5] = -m4 * c4;
-        if NP > 6 {
-            dre[6] = -t * dre[4];
-            dim[6] = -t * dim[4];
-            dre[7] = -t * dre[5];
-            dim[7] = -t * dim[5];
-        }
-        for i in 0..NP {
-            let (wre, wim) = (w * dre[i], w * dim[i]);
-            self.g[i] += wre * r[0] + wim * r[1];
-            for j in 0..=i {
-                self.a[i][j] += wre * dre[j] + wim * dim[j];
-            }
+    }
+
+    /// `S(X, Y, m)` for any order of `X`, `Y`.
+    fn get(&self, x: usize, y: usize, m: usize) -> C64 {
+        if x <= y {
+            self.s[x][y][m]
+        } else {
+            let v = self.s[y][x][m];
+            (v.0, -v.1)
         }
     }
 
     /// The normal equations of the sums (the correction of the gains applied).
-    fn into_pass(self, pb: &Problem<'_>, at: &At) -> Pass<NP> {
+    fn into_pass<const NP: usize>(self, pb: &Problem<'_>, at: &At) -> Pass<NP> {
+        let i = |z: C64| (-z.1, z.0);
+        let neg = |z: C64| (-z.0, -z.1);
+        // ∂r/∂pᵢ = κᵢ·tᵐⁱ·Xᵢ: (vector, κ, m) per parameter
+        let cols: [(usize, C64, usize); 8] = [
+            (0, (-1.0, 0.0), 0),
+            (2, at.e3, 0),
+            (3, neg(at.e4), 0),
+            (1, i(at.a), 0),
+            (2, i(at.b), 0),
+            (3, neg(i(at.c)), 0),
+            (2, neg(i(at.b)), 1),
+            (3, i(at.c), 1),
+        ];
+        let coef = at.coefficients();
+        let mut jtj = SMatrix::<f64, NP, NP>::zeros();
+        let mut jtr = SVector::<f64, NP>::zeros();
+        for (r, &(xr, kr, mr)) in cols.iter().enumerate().take(NP) {
+            for (c, &(xc, kc, mc)) in cols.iter().enumerate().take(r + 1) {
+                let v = cconj_mul(kr, kc);
+                let v = cmul(v, self.get(xr, xc, mr + mc)).0;
+                jtj[(r, c)] = v;
+                jtj[(c, r)] = v;
+            }
+            // Σ w·Re(conj(∂ᵣr)·r) with r = Σ_Y coef_Y·Y
+            let mut acc = (0.0, 0.0);
+            for (y, cy) in coef.iter().enumerate() {
+                acc = cadd(acc, cmul(*cy, self.get(xr, y, mr)));
+            }
+            jtr[r] = cconj_mul(kr, acc).0;
+        }
         let (l2, l3, l4) = (at.l2, at.l3, at.l4);
-        let (a, g) = (self.a, self.g);
         let (d2, d3, d4) = (self.d2, self.d3, self.d4);
         let mut cost = self.cost;
-        let mut jtj =
-            SMatrix::<f64, NP, NP>::from_fn(|i, j| if j <= i { a[i][j] } else { a[j][i] });
-        let mut jtr = SVector::<f64, NP>::from_fn(|i, _| g[i]);
         let cost_scale = cost;
         if pb.gains.is_some() {
             // − Σ w·lⱼ²(gⱼ² − 1): the noise's expected share of |r|²; its slope in l3, l4, and
@@ -274,33 +331,49 @@ impl<const NP: usize> Sums<NP> {
         }
     }
 
-    /// `Σ w·Re(conj(r)·∂²r)`. ∂²r: (l3, Θ3) = g3·ie3, (Θ3, Θ3) = −l3g3·e3,
-    /// (Θ2, Θ2) = −l2g2·e2, (l4, Θ4) = −g4·ie4, (Θ4, Θ4) = l4g4·e4, and each bias bj acts
-    /// as −t·Θj.
-    fn curvature(&self, at: &At) -> SMatrix<f64, NP, NP> {
-        let (l2, l3, l4) = (at.l2, at.l3, at.l4);
+    /// `Σ w·Re(conj(r)·∂²r)`. ∂²r: (l3, Θ3) = i·e^{iΘ3}·B, (Θ3, Θ3) = −b·B, (Θ2, Θ2) = −a·A,
+    /// (l4, Θ4) = −i·e^{iΘ4}·C, (Θ4, Θ4) = c·C, and each bias bj acts as −t·Θj.
+    fn curvature<const NP: usize>(&self, at: &At) -> SMatrix<f64, NP, NP> {
+        let coef = at.coefficients();
+        // Σ w·Re(conj(r)·κ·tᵐ·X)
+        let term = |x: usize, kappa: C64, m: usize| {
+            let mut acc = (0.0, 0.0);
+            for (y, cy) in coef.iter().enumerate() {
+                acc = cadd(acc, cconj_mul(*cy, self.get(y, x, m)));
+            }
+            cmul(kappa, acc).0
+        };
+        let i = |z: C64| (-z.1, z.0);
+        let neg = |z: C64| (-z.0, -z.1);
         let mut curv = SMatrix::<f64, NP, NP>::zeros();
-        let mut set = |i: usize, j: usize, v: f64| {
-            curv[(i, j)] += v;
-            if i != j {
-                curv[(j, i)] += v;
+        let mut set = |r: usize, c: usize, v: f64| {
+            curv[(r, c)] += v;
+            if r != c {
+                curv[(c, r)] += v;
             }
         };
-        set(3, 3, -l2 * self.p2);
-        set(1, 4, self.q3);
-        set(4, 4, -l3 * self.p3);
-        set(2, 5, -self.q4);
-        set(5, 5, l4 * self.p4);
+        set(3, 3, term(1, neg(at.a), 0));
+        set(1, 4, term(2, i(at.e3), 0));
+        set(4, 4, term(2, neg(at.b), 0));
+        set(2, 5, term(3, neg(i(at.e4)), 0));
+        set(5, 5, term(3, at.c, 0));
         if NP > 6 {
-            set(1, 6, -self.q3t);
-            set(4, 6, l3 * self.p3t);
-            set(6, 6, -l3 * self.p3tt);
-            set(2, 7, self.q4t);
-            set(5, 7, -l4 * self.p4t);
-            set(7, 7, l4 * self.p4tt);
+            set(1, 6, term(2, neg(i(at.e3)), 1));
+            set(4, 6, term(2, at.b, 1));
+            set(6, 6, term(2, neg(at.b), 2));
+            set(2, 7, term(3, i(at.e4), 1));
+            set(5, 7, term(3, neg(at.c), 1));
+            set(7, 7, term(3, at.c, 2));
         }
         curv
     }
+}
+
+/// `r = a·A + b·B − c·C − l1` (m).
+#[inline]
+fn residual(at: &At, va: C64, vb: C64, vc: C64) -> C64 {
+    let (pa, pb, pc) = (cmul(at.a, va), cmul(at.b, vb), cmul(at.c, vc));
+    (pa.0 + pb.0 - pc.0 - at.l1, pa.1 + pb.1 - pc.1)
 }
 
 /// The cost without bias terms as a quadratic form of `z(p)`: `z(p)ᵀHz(p)`.
@@ -365,33 +438,19 @@ impl Quadratic {
     }
 }
 
-/// Loop-residual norms |ΔXₖ| (m) at `p` (with the bias terms), unweighted, into `out`.
-pub(crate) fn residual_norms(trig: &Trig, l2: f64, p: &[f64; 8], out: &mut Vec<f64>) {
-    let (st2, ct2) = sin_cos(p[3]);
+/// Squared loop-residual norms |ΔXₖ|² (m²) at `p` (with the bias terms), unweighted, into
+/// `out`. Squared: the robust weights need the norms' median and ratios only, and a square
+/// root per sample was most of this pass.
+pub(crate) fn residual_norms2(trig: &Trig, l2: f64, p: &[f64; 8], out: &mut Vec<f64>) {
+    let at = At::new::<8>(l2, p);
+    let (mut rot3, mut rot4) = (Rotor::new(trig, p[6]), Rotor::new(trig, p[7]));
     out.clear();
-    let (st3, ct3) = sin_cos(p[4]);
-    let (st4, ct4) = sin_cos(p[5]);
     out.extend((0..trig.len()).map(|k| {
-        let t = trig.t[k];
-        let (so3, co3) = if p[6] != 0.0 {
-            sin_cos(p[4] - p[6] * t)
-        } else {
-            (st3, ct3)
-        };
-        let (so4, co4) = if p[7] != 0.0 {
-            sin_cos(p[5] - p[7] * t)
-        } else {
-            (st4, ct4)
-        };
-        let re = l2 * (ct2 * trig.c2[k] - st2 * trig.s2[k])
-            + p[1] * (co3 * trig.c3[k] - so3 * trig.s3[k])
-            - p[2] * (co4 * trig.c4[k] - so4 * trig.s4[k])
-            - p[0];
-        let im = l2 * (st2 * trig.c2[k] + ct2 * trig.s2[k])
-            + p[1] * (so3 * trig.c3[k] + co3 * trig.s3[k])
-            - p[2] * (so4 * trig.c4[k] + co4 * trig.s4[k]);
-        // (not `hypot`: its overflow care costs more than the rest of the pass; |ΔX| ≪ 1e150)
-        (re * re + im * im).sqrt()
+        let u2 = (trig.c2[k], trig.s2[k]);
+        let u3 = cmul((trig.c3[k], trig.s3[k]), rot3.at(k));
+        let u4 = cmul((trig.c4[k], trig.s4[k]), rot4.at(k));
+        let r = residual(&at, u2, u3, u4);
+        r.0 * r.0 + r.1 * r.1
     }));
 }
 
@@ -484,6 +543,7 @@ pub(crate) fn levenberg_marquardt<const NP: usize>(
     }
     let mut ne = eval(&p);
     let mut mu = 1e-6;
+    let mut last_newton_relative: Option<f64> = None;
     for it in 1..=max_iterations {
         let mut damping = SMatrix::<f64, NP, NP>::zeros();
         for i in 0..NP {
@@ -492,9 +552,11 @@ pub(crate) fn levenberg_marquardt<const NP: usize>(
         // Newton (exact Hessian: quadratic convergence even with noisy residuals) where it is
         // positive definite, else Gauss–Newton at the same damping
         let newton = (ne.jtj + ne.curv + damping).cholesky();
+        let is_newton = newton.is_some();
         let chol = newton.or_else(|| (ne.jtj + damping).cholesky());
         let Some(delta) = chol.map(|c| c.solve(&(-ne.jtr))) else {
             mu *= 10.0;
+            last_newton_relative = None;
             if mu > 1e12 {
                 return Refined {
                     p,
@@ -511,9 +573,28 @@ pub(crate) fn levenberg_marquardt<const NP: usize>(
         // the step's first-order decrease; below the cost's rounding it cannot be seen
         let predicted = -delta.dot(&ne.jtr);
         let lost_in_rounding = predicted <= 1e-13 * ne.cost_scale;
+        // Newton's steps near the minimum: the decrease squares each time (relative to the
+        // cost, ~1e-2, 1e-5, 1e-10, 1e-20 on a noisy 6 000-sample fit), so once the last two
+        // say the *next* one will be lost in rounding, this step ends it and the pass that
+        // would evaluate it (and only confirm it) is skipped
+        let relative = predicted / ne.cost_scale;
+        let next_lost = is_newton
+            && last_newton_relative
+                .is_some_and(|last| relative < 1e-8 && relative * relative / last <= 1e-13);
+        last_newton_relative = is_newton.then_some(relative);
+        if lost_in_rounding || next_lost || step_small(&delta, &p, tol) {
+            // converged whether or not the cost could tell this step from the current point
+            // (a step below the tolerance, or a decrease below the cost's rounding): take it
+            // without the pass that would only confirm it
+            return Refined {
+                p: trial,
+                iterations: it,
+                converged: true,
+            };
+        }
         let trial_ne = eval(&trial);
         if trial_ne.cost.is_finite() && trial_ne.cost <= ne.cost {
-            let done = step_small(&delta, &p, tol) || trial_ne.cost == 0.0 || lost_in_rounding;
+            let done = trial_ne.cost == 0.0;
             p = trial;
             ne = trial_ne;
             mu = (mu / 10.0).max(1e-15);
@@ -526,8 +607,8 @@ pub(crate) fn levenberg_marquardt<const NP: usize>(
             }
         } else {
             mu *= 10.0;
-            // a rejected step this small is rounding in the cost, not a worse point
-            if mu > 1e12 || step_small(&delta, &p, tol) || lost_in_rounding {
+            last_newton_relative = None;
+            if mu > 1e12 {
                 // no decrease possible at any damping: a minimum to working precision
                 return Refined {
                     p,

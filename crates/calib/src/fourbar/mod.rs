@@ -20,9 +20,10 @@ mod iterative;
 pub mod model;
 pub mod online;
 pub mod quality;
+mod scratch;
 pub mod smoothing;
 pub mod testdata;
-mod trig;
+pub(crate) mod trig;
 
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
@@ -35,7 +36,7 @@ use crate::error::CalibError;
 use closed_form::{SqrtInfo, gram};
 use eiv::Gains;
 use iterative::{
-    Problem, Quadratic, Refined, gauss_newton, levenberg_marquardt, median, pass, residual_norms,
+    Problem, Quadratic, Refined, gauss_newton, levenberg_marquardt, median, pass, residual_norms2,
 };
 use trig::Trig;
 
@@ -210,7 +211,11 @@ pub fn calibrate(
         return calibrate_with_noise(&smoothed, l2_m, options, noise.as_ref());
     }
     let noise = eiv.then(|| NoiseProfile::estimate(samples));
-    calibrate_with_noise(samples, l2_m, options, noise.as_ref())
+    let result = calibrate_with_noise(samples, l2_m, options, noise.as_ref());
+    if let Some(nz) = noise {
+        nz.recycle();
+    }
+    result
 }
 
 /// A refinement and the weights it ended with.
@@ -277,17 +282,10 @@ fn calibrate_with_noise(
         }
         FourbarMethod::Lm => refine(need_initial("lm")?.to_vec8()),
         FourbarMethod::Auto => {
-            let global = closed_form::global_fit(
-                samples,
-                &trig,
-                l2_m,
-                noise,
-                gains.as_ref(),
-                options.robust,
-            )?;
+            let global = global_start(samples, &trig, l2_m, noise, gains.as_ref(), options.robust)?;
             let mut best = refine(global.to_vec8());
             if let Some(init) = options.initial {
-                let other = refine(init.to_vec8());
+                let mut other = refine(init.to_vec8());
                 // compare both ends under the same cost (the global start's final weights)
                 let pb = Problem {
                     trig: &trig,
@@ -297,8 +295,9 @@ fn calibrate_with_noise(
                 };
                 let cost = |f: &Fit| pass::<8>(&pb, &f.refined.p).normal.cost;
                 if cost(&other) < cost(&best) {
-                    best = other;
+                    std::mem::swap(&mut best, &mut other);
                 }
+                scratch::give(other.weights);
             }
             best
         }
@@ -315,6 +314,11 @@ fn calibrate_with_noise(
     };
     let refined = fit.refined;
     let outlier_fraction = fit.outlier_fraction;
+    scratch::give(fit.weights);
+    trig.recycle();
+    if let Some(g) = gains {
+        g.recycle();
+    }
     let range = samples.wheel_range_rad();
     let mut warnings = quality::warnings(&params, &stats, Some(range), samples.time_s.is_some());
     if !refined.converged {
@@ -343,6 +347,84 @@ fn calibrate_with_noise(
         wheel_range_rad: Some(range),
         warnings,
     })
+}
+
+/// Recordings at least this long start [`FourbarMethod::Auto`]'s refinement from the global
+/// solution of every [`GLOBAL_STRIDE`]-th sample. (From 2 000 samples it made the thesis's
+/// 25 % noise case of the noise study worse: 500 samples pin the start less well there.)
+pub const GLOBAL_DECIMATION_FROM: usize = 4000;
+
+/// Sample stride of the global start on long recordings.
+pub const GLOBAL_STRIDE: usize = 4;
+
+/// The global start of `Auto` ([`closed_form::global_fit`]): its only job is to put the LM,
+/// which then fits every sample, in the basin of the minimum, so on long recordings it is
+/// computed from every [`GLOBAL_STRIDE`]-th sample (a quarter of the work of its robust
+/// rounds; the subset keeps at least 1 000 samples).
+fn global_start(
+    samples: &FourbarSamples<'_>,
+    trig: &Trig,
+    l2_m: f64,
+    noise: Option<&NoiseProfile>,
+    gains: Option<&Gains>,
+    robust: bool,
+) -> Result<FourbarParams, CalibError> {
+    if samples.len() < GLOBAL_DECIMATION_FROM {
+        return closed_form::global_fit(samples, trig, l2_m, noise, gains, robust);
+    }
+    let m = samples.len().div_ceil(GLOBAL_STRIDE);
+    let every = |v: &[f64]| scratch::collect(v.iter().step_by(GLOBAL_STRIDE).copied(), m);
+    let (p2, p3, p4) = (
+        every(samples.phi2),
+        every(samples.phi3),
+        every(samples.phi4),
+    );
+    let t = samples.time_s.map(every);
+    let sub = FourbarSamples {
+        phi2: &p2,
+        phi3: &p3,
+        phi4: &p4,
+        time_s: t.as_deref(),
+    };
+    let sub_trig = Trig {
+        c2: every(&trig.c2),
+        s2: every(&trig.s2),
+        c3: every(&trig.c3),
+        s3: every(&trig.s3),
+        c4: every(&trig.c4),
+        s4: every(&trig.s4),
+        t: every(&trig.t),
+        uniform_dt: trig.uniform_dt.map(|dt| dt * GLOBAL_STRIDE as f64),
+    };
+    let sub_noise = noise.map(|nz| NoiseProfile {
+        var2: every(&nz.var2),
+        var3: every(&nz.var3),
+        var4: every(&nz.var4),
+    });
+    let sub_gains = gains.map(|g| Gains {
+        g2: every(&g.g2),
+        g3: every(&g.g3),
+        g4: every(&g.g4),
+    });
+    let global = closed_form::global_fit(
+        &sub,
+        &sub_trig,
+        l2_m,
+        sub_noise.as_ref(),
+        sub_gains.as_ref(),
+        robust,
+    );
+    for v in [p2, p3, p4].into_iter().chain(t) {
+        scratch::give(v);
+    }
+    sub_trig.recycle();
+    if let Some(nz) = sub_noise {
+        nz.recycle();
+    }
+    if let Some(g) = sub_gains {
+        g.recycle();
+    }
+    global
 }
 
 /// The statistics of `fit` (`np_used` parameters) of `samples`, but for the closed form's,
@@ -393,7 +475,7 @@ fn plain_fit(p: [f64; 8], iterations: u32, converged: bool, n: usize) -> Fit {
             iterations,
             converged,
         },
-        weights: vec![1.0; n],
+        weights: scratch::filled(n, 1.0),
         n_eff: n as f64,
         outlier_fraction: 0.0,
         plain: None,
@@ -424,24 +506,40 @@ fn refine(
     for v in p.iter_mut().skip(np) {
         *v = 0.0;
     }
-    let (mut nw, mut u, mut h) = (vec![1.0; n], vec![1.0; n], vec![1.0; n]);
-    let (mut norms, mut scratch) = (Vec::new(), Vec::new());
+    let (mut nw, mut u, mut h) = (
+        scratch::filled(n, 1.0),
+        scratch::filled(n, 1.0),
+        scratch::filled(n, 1.0),
+    );
+    let (mut norms, mut sorted) = (scratch::take(n), scratch::take(n));
     // noise weights and Huber factors at p (threshold `c` re-estimated when `None`)
+    // the point of the last noise weights and standardised norms: the final reweighting
+    // usually happens where the last robust round's check did, and reuses them
+    let mut norms_at: Option<[f64; 8]> = None;
     let mut reweight = |p: &[f64; 8], c: Option<f64>, nw: &mut Vec<f64>, h: &mut Vec<f64>| {
-        if let Some(nz) = noise {
+        let same = norms_at == Some(*p);
+        if let Some(nz) = noise
+            && !same
+        {
             nz.weights(l2, p[1].abs(), p[2].abs(), nw);
         }
         if !robust {
             return 0.0;
         }
-        residual_norms(trig, l2, p, &mut norms);
-        for (r, w) in norms.iter_mut().zip(nw.iter()) {
-            *r *= w.sqrt();
+        // squared standardised norms ρ² (the median of ρ is the root of the median of ρ²)
+        if !same {
+            residual_norms2(trig, l2, p, &mut norms);
+            for (r2, w) in norms.iter_mut().zip(nw.iter()) {
+                *r2 *= w;
+            }
+            norms_at = Some(*p);
         }
-        let c =
-            c.unwrap_or_else(|| (HUBER_K * median(&norms, &mut scratch) / 1.1774).max(1e-12 * l2));
-        for (hk, r) in h.iter_mut().zip(&norms) {
-            *hk = if *r > c { c / r } else { 1.0 };
+        let c = c.unwrap_or_else(|| {
+            (HUBER_K * median(&norms, &mut sorted).sqrt() / 1.1774).max(1e-12 * l2)
+        });
+        let c2 = c * c;
+        for (hk, r2) in h.iter_mut().zip(&norms) {
+            *hk = if *r2 > c2 { c / r2.sqrt() } else { 1.0 };
         }
         c
     };
@@ -493,10 +591,14 @@ fn refine(
         u[k] = nw[k] * h[k];
     }
     let outliers = h.iter().filter(|&&v| v < 1.0).count();
+    let n_eff = h.iter().sum();
+    for v in [nw, h, norms, sorted] {
+        scratch::give(v);
+    }
     Fit {
         refined,
         weights: u,
-        n_eff: h.iter().sum(),
+        n_eff,
         outlier_fraction: outliers as f64 / n as f64,
         plain,
     }

@@ -10,6 +10,7 @@
 //! library.
 
 use super::model::FourbarSamples;
+use super::scratch;
 
 /// π/2 to 33 significant bits (so `k·P1` is exact for |k| < 2²⁰).
 const PIO2_1: f64 = 1.570_796_326_734_125_6;
@@ -20,16 +21,16 @@ const PIO2_3: f64 = 2.022_266_248_795_950_6e-21;
 /// Largest |x| reduced here (rad); beyond, the standard library.
 const FAST_LIMIT: f64 = 1e5;
 
-/// `(sin x, cos x)`, a few ulp accurate (see the module documentation).
-#[inline]
-pub fn sin_cos(x: f64) -> (f64, f64) {
-    // NaN and infinities go to the standard library too
-    if x.is_nan() || x.abs() > FAST_LIMIT {
-        return x.sin_cos();
-    }
-    // round to nearest by the 1.5·2⁵² trick (`f64::round` is a libm call on baseline x86-64)
-    const ROUNDER: f64 = 6_755_399_441_055_744.0;
-    let k = (x * std::f64::consts::FRAC_2_PI + ROUNDER) - ROUNDER;
+/// The 1.5·2⁵² rounding constant: `(y + ROUNDER) − ROUNDER` rounds `y` to the nearest integer
+/// (`f64::round` is a libm call on baseline x86-64), and `y + ROUNDER`'s low mantissa bits are
+/// that integer (two's complement, |y| < 2⁵¹).
+const ROUNDER: f64 = 6_755_399_441_055_744.0;
+
+/// `x = k·π/2 + r`: `(x·2/π + ROUNDER, sin r, cos r)` (see the module documentation).
+#[inline(always)]
+fn reduced(x: f64) -> (f64, f64, f64) {
+    let y = x * std::f64::consts::FRAC_2_PI + ROUNDER;
+    let k = y - ROUNDER;
     let r = ((x - k * PIO2_1) - k * PIO2_2) - k * PIO2_3;
     let r2 = r * r;
     // Taylor coefficients 1/n! (alternating), Horner in r²
@@ -52,11 +53,52 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
                             + r2 * (1.0 / 479_001_600.0
                                 + r2 * (-1.0 / 87_178_291_200.0
                                     + r2 * (1.0 / 20_922_789_888_000.0))))))));
+    (y, s, c)
+}
+
+/// `(sin x, cos x)`, a few ulp accurate (see the module documentation).
+#[inline]
+pub fn sin_cos(x: f64) -> (f64, f64) {
+    // NaN and infinities go to the standard library too
+    if x.is_nan() || x.abs() > FAST_LIMIT {
+        return x.sin_cos();
+    }
+    let (y, s, c) = reduced(x);
+    let k = y - ROUNDER;
     match (k as i64).rem_euclid(4) {
         0 => (s, c),
         1 => (c, -s),
         2 => (-s, -c),
         _ => (-c, s),
+    }
+}
+
+/// [`sin_cos`] of every angle of `x`, appended to `sin` and `cos`: the same values, but the
+/// quadrant is applied with bit operations instead of a branch, so the loop has none and the
+/// compiler runs it two angles at a time (a recording's angles cross quadrants at random).
+pub(crate) fn sin_cos_into(x: &[f64], sin: &mut Vec<f64>, cos: &mut Vec<f64>) {
+    if !x.iter().all(|v| v.abs() <= FAST_LIMIT) {
+        // NaN, infinities or huge angles: one at a time
+        for &v in x {
+            let (s, c) = sin_cos(v);
+            sin.push(s);
+            cos.push(c);
+        }
+        return;
+    }
+    let (s0, c0) = (sin.len(), cos.len());
+    sin.resize(s0 + x.len(), 0.0);
+    cos.resize(c0 + x.len(), 0.0);
+    for ((&v, so), co) in x.iter().zip(&mut sin[s0..]).zip(&mut cos[c0..]) {
+        let (y, s, c) = reduced(v);
+        let q = y.to_bits();
+        // odd quadrants swap sin and cos; q mod 4 ∈ {2, 3} negates sin, ∈ {1, 2} cos
+        let swap = (q & 1).wrapping_neg();
+        let (sb, cb) = (s.to_bits(), c.to_bits());
+        let s1 = (sb & !swap) | (cb & swap);
+        let c1 = (cb & !swap) | (sb & swap);
+        *so = f64::from_bits(s1 ^ (((q >> 1) & 1) << 63));
+        *co = f64::from_bits(c1 ^ ((((q + 1) >> 1) & 1) << 63));
     }
 }
 
@@ -71,30 +113,31 @@ pub(crate) struct Trig {
     pub s4: Vec<f64>,
     /// Time of each sample from the first (s, or the sample index).
     pub t: Vec<f64>,
+    /// The sample interval when the samples are evenly spaced in time (to 1e-9 of it), which
+    /// lets the passes rotate by the gyro drift with one complex product per sample.
+    pub uniform_dt: Option<f64>,
 }
 
 impl Trig {
     pub(crate) fn new(s: &FourbarSamples<'_>) -> Self {
         let n = s.len();
         let mut out = Self {
-            c2: Vec::with_capacity(n),
-            s2: Vec::with_capacity(n),
-            c3: Vec::with_capacity(n),
-            s3: Vec::with_capacity(n),
-            c4: Vec::with_capacity(n),
-            s4: Vec::with_capacity(n),
-            t: (0..n).map(|k| s.time(k)).collect(),
+            c2: scratch::take(n),
+            s2: scratch::take(n),
+            c3: scratch::take(n),
+            s3: scratch::take(n),
+            c4: scratch::take(n),
+            s4: scratch::take(n),
+            t: scratch::collect((0..n).map(|k| s.time(k)), n),
+            uniform_dt: None,
         };
+        out.uniform_dt = uniform_step(&out.t);
         for (phi, c, sn) in [
             (s.phi2, &mut out.c2, &mut out.s2),
             (s.phi3, &mut out.c3, &mut out.s3),
             (s.phi4, &mut out.c4, &mut out.s4),
         ] {
-            for &x in phi {
-                let (a, b) = sin_cos(x);
-                sn.push(a);
-                c.push(b);
-            }
+            sin_cos_into(phi, sn, c);
         }
         out
     }
@@ -102,6 +145,29 @@ impl Trig {
     pub(crate) fn len(&self) -> usize {
         self.c2.len()
     }
+
+    /// Hand the arrays back to [`scratch`] for the next calibration on this thread.
+    pub(crate) fn recycle(self) {
+        for v in [self.c2, self.s2, self.c3, self.s3, self.c4, self.s4, self.t] {
+            scratch::give(v);
+        }
+    }
+}
+
+/// The common step of `t` when every sample lies within 1e-9 steps of `t₀ + k·Δt`.
+pub(crate) fn uniform_step(t: &[f64]) -> Option<f64> {
+    let n = t.len();
+    if n < 2 {
+        return None;
+    }
+    let dt = (t[n - 1] - t[0]) / (n - 1) as f64;
+    let tol = 1e-9 * dt.abs();
+    (dt != 0.0
+        && dt.is_finite()
+        && t.iter()
+            .enumerate()
+            .all(|(k, &tk)| (tk - t[0] - k as f64 * dt).abs() <= tol))
+    .then_some(dt)
 }
 
 #[cfg(test)]
@@ -128,6 +194,17 @@ mod tests {
             assert!((s - y.sin()).abs() < 1e-15 && (c - y.cos()).abs() < 1e-15);
         }
         assert_eq!(sin_cos(0.0), (0.0, 1.0));
+        // the branch-free slice form gives the very same values, quadrant by quadrant
+        let xs: Vec<f64> = (-4000..4000).map(|k| k as f64 * 0.003_7 + 1e-3).collect();
+        let (mut s, mut c) = (Vec::new(), Vec::new());
+        sin_cos_into(&xs, &mut s, &mut c);
+        for (k, &x) in xs.iter().enumerate() {
+            assert_eq!((s[k], c[k]), sin_cos(x), "x = {x}");
+        }
+        let (mut s, mut c) = (Vec::new(), Vec::new());
+        sin_cos_into(&[0.5, 1e9, f64::NAN], &mut s, &mut c);
+        assert_eq!((s[1], c[1]), 1e9f64.sin_cos());
+        assert!(s[2].is_nan());
         assert!(sin_cos(f64::NAN).0.is_nan());
         assert_eq!(sin_cos(1e9), 1e9f64.sin_cos());
     }
