@@ -33,6 +33,7 @@ mod notes;
 mod pairing;
 mod patients;
 mod regimens;
+mod scales;
 mod sessions;
 mod stations;
 mod summaries;
@@ -64,6 +65,10 @@ pub use pairing::{
 };
 pub use patients::{MAX_PSEUDONYM_LEN, Patient, PatientOverview, WEEK_MS, check_pseudonym};
 pub use regimens::{MAX_REGIMEN_BYTES, RegimenVersion};
+pub use scales::{
+    EARLIEST_ASSESSED_ON, MAX_SCALES_LISTED, NewScale, SCALES, ScaleDef, ScaleEntry, ScaleField,
+    check_scale, iso_utc, scale_def,
+};
 pub use sessions::{Recording, SessionRow};
 pub use stations::Station;
 pub use therapists::{

@@ -17,6 +17,7 @@ mod notes;
 mod patients;
 mod regimen;
 mod regimen_words;
+mod scales;
 mod serve;
 mod sessions;
 mod wheel_bounds;
@@ -190,6 +191,14 @@ pub fn router(state: AppState) -> Router {
         .route(
             "/api/patients/{id}/regimen",
             get(regimen::get_regimen).put(regimen::put_regimen),
+        )
+        .route(
+            "/api/patients/{id}/scales",
+            get(scales::list).post(scales::post),
+        )
+        .route(
+            "/api/patients/{id}/scales/{scale_id}",
+            axum::routing::delete(scales::delete),
         )
         .route("/api/regimen/schema", get(regimen::regimen_schema))
         .route("/api/patients/{id}/live", get(live::live))

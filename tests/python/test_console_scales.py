@@ -1,0 +1,92 @@
+"""Clinical scales beside the station's measures (issue 32), in a real browser (Debian's
+chromium, headless): a therapist records a Fugl-Meyer score in the Progress tab and sees it on
+the same time axis as the sessions' SPARC, with the numbers in a table; a score out of its range
+is refused by the form and, were the form bypassed, by the hub naming the field and its range;
+axe-core finds no violation. Screenshots (1366×768) go to $TELEREHAB_ARTIFACTS (default
+target/test-artifacts/console); look at them."""
+
+from selenium.webdriver.common.by import By
+
+from axe_audit import assert_no_violations
+from test_console_browser import browser, clinic, shot, telerehab, wait  # noqa: F401 (fixtures)
+from test_console_words import log_in, run_session
+
+
+def open_progress(d, clinic, sessions):
+    d.find_element(By.LINK_TEXT, "P-0042").click()
+    wait(d, lambda d: d.find_elements(By.LINK_TEXT, "Progress"))[0].click()
+    wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, f"#tab[data-sessions='{sessions}']"))
+    return wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#scales[data-entries]"))[0]
+
+
+def test_a_fugl_meyer_score_is_charted_beside_sparc_and_an_out_of_range_score_is_refused(clinic, browser):
+    for seed in (2, 3):
+        run_session(clinic, "sine-road", seed)
+    d = browser
+    d.set_window_size(1366, 768)
+    log_in(d, clinic)
+    scales = open_progress(d, clinic, 2)
+    assert scales.get_attribute("data-entries") == "0"
+    assert "No clinical scale recorded yet" in scales.text
+    chart = d.find_element(By.ID, "p-scales")
+    assert chart.get_attribute("data-series").split("|")[0].startswith("SPARC")
+    assert chart.get_attribute("data-points") == "2", "SPARC of both sessions"
+
+    # The form carries the scale's bounds, so the browser says it first.
+    score = d.find_element(By.ID, "scale-fugl_meyer_ue-score")
+    assert (score.get_attribute("min"), score.get_attribute("max")) == ("0", "66")
+    assert score.get_attribute("required") == "true"
+    day = d.find_element(By.ID, "scale-day")
+    assert day.get_attribute("value") == day.get_attribute("max"), "today by default, and no later"
+    score.send_keys("70")
+    d.find_element(By.CSS_SELECTOR, "#scale-form button[type=submit]").click()
+    assert d.execute_script("return document.getElementById('scale-fugl_meyer_ue-score').validity.rangeOverflow")
+    assert d.find_element(By.ID, "scale-result").text == ""
+    assert scales.get_attribute("data-entries") == "0", "the browser refused it: nothing sent"
+    # A form bypassed (its bound removed) meets the hub's own check, which names the field.
+    d.execute_script("document.getElementById('scale-fugl_meyer_ue-score').removeAttribute('max')")
+    d.find_element(By.CSS_SELECTOR, "#scale-form button[type=submit]").click()
+    result = d.find_element(By.ID, "scale-result")
+    wait(d, lambda d: result.text)
+    assert "invalid score" in result.text and "from 0 to 66 points" in result.text, result.text
+    assert scales.get_attribute("data-entries") == "0"
+
+    # A valid score: saved, listed, and charted on the sessions' time axis beside SPARC.
+    score = d.find_element(By.ID, "scale-fugl_meyer_ue-score")
+    score.clear()
+    score.send_keys("34")
+    d.find_element(By.CSS_SELECTOR, "#scale-form button[type=submit]").click()
+    wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#scales[data-entries='1']"))
+    assert d.find_element(By.ID, "scale-result").text == "Score saved."
+    chart = d.find_element(By.ID, "p-scales")
+    series = chart.get_attribute("data-series").split("|")
+    assert series[0].startswith("SPARC") and series[1].startswith("Fugl-Meyer"), series
+    assert chart.get_attribute("data-points") == "2 1", "two sessions' SPARC and one score"
+    row = d.find_element(By.CSS_SELECTOR, "#scales-table tbody tr[data-scale='fugl_meyer_ue']")
+    assert "34 points" in row.text and "ana@clinic.example" in row.text
+    # The numbers of the chart as a table: SPARC of each session, the score on its day.
+    numbers = d.find_element(By.CSS_SELECTOR, "#scales-numbers table")
+    rows = numbers.find_elements(By.CSS_SELECTOR, "tbody tr")
+    assert len(rows) == 3, [r.text for r in rows]
+    values = [[td.get_attribute("textContent").strip() for td in r.find_elements(By.TAG_NAME, "td")] for r in rows]
+    assert sum(1 for v in values if v[0] != "—") == 2
+    assert [v[1] for v in values].count("34") == 1
+    # The one-page print keeps the section (the form and buttons are hidden in print).
+    assert "print-hide" not in (scales.get_attribute("class") or "")
+    d.execute_script("document.getElementById('scales').scrollIntoView()")
+    shot(d, "scales-1-fugl-meyer-beside-sparc")
+    d.find_element(By.CSS_SELECTOR, "#scales-numbers summary").click()
+    assert_no_violations(d, "Progress with clinical scales")
+    # The Box and Block Test shows its own fields and a chart under the first, same dates.
+    kind = d.find_element(By.ID, "scale-kind")
+    kind.find_element(By.CSS_SELECTOR, "option[value='box_and_block']").click()
+    assert not d.find_element(By.ID, "scale-fugl_meyer_ue-score").is_displayed()
+    for field, value in (("affected", "12"), ("unaffected", "45")):
+        d.find_element(By.ID, f"scale-box_and_block-{field}_blocks_per_min").send_keys(value)
+    d.find_element(By.CSS_SELECTOR, "#scale-form button[type=submit]").click()
+    wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#scales[data-entries='2']"))
+    bbt = d.find_element(By.ID, "p-scales-bbt")
+    assert bbt.is_displayed() and bbt.get_attribute("data-points") == "1 1"
+    d.execute_script("document.getElementById('scales').scrollIntoView()")
+    shot(d, "scales-2-box-and-block")
+    assert_no_violations(d, "Progress with clinical scales and the Box and Block Test")
