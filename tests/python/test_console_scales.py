@@ -90,3 +90,57 @@ def test_a_fugl_meyer_score_is_charted_beside_sparc_and_an_out_of_range_score_is
     d.execute_script("document.getElementById('scales').scrollIntoView()")
     shot(d, "scales-2-box-and-block")
     assert_no_violations(d, "Progress with clinical scales and the Box and Block Test")
+
+
+def fetch_text(d, path):
+    """GET `path` with the page's login: [status, content type, content disposition, body]."""
+    return d.execute_async_script(
+        "const done = arguments[arguments.length - 1];"
+        "fetch(arguments[0], {credentials: 'same-origin'}).then(async r => done([r.status,"
+        " r.headers.get('content-type'), r.headers.get('content-disposition'), await r.text()]));", path)
+
+
+def test_the_progress_views_spreadsheet_opens_in_pandas_with_units_in_headers_and_the_apis_values(clinic, browser):
+    import io
+
+    import pandas
+
+    run_session(clinic, "dial-sine", 7)
+    d = browser
+    d.set_window_size(1366, 768)
+    d.get(clinic["web"] + "/")
+    link = wait(d, lambda d: d.find_elements(By.LINK_TEXT, "P-0042"))[0]
+    link.click()
+    wait(d, lambda d: d.find_elements(By.LINK_TEXT, "Progress"))[0].click()
+    csv_link = wait(d, lambda d: d.find_elements(By.ID, "measures-csv"))[0]
+    assert csv_link.text == "Download spreadsheet (CSV)"
+    href = csv_link.get_attribute("href")
+    status, kind, disposition, text = fetch_text(d, href)
+    assert status == 200 and kind == "text/csv; charset=utf-8", (status, kind)
+    assert disposition.startswith('attachment; filename="measures-P-0042-') and disposition.endswith('.csv"')
+    # pandas 3 reads decimals exactly by default; older ones need the round-trip parser.
+    exact = {} if int(pandas.__version__.split(".")[0]) >= 3 else {"float_precision": "round_trip"}
+    table = pandas.read_csv(io.StringIO(text), **exact)
+    # Units in the headers, as the measures carry them.
+    for column in ("sparc_median", "active_s", "wheel_rom_deg"):
+        assert column in table.columns, list(table.columns)
+    assert list(table.columns[:4]) == ["session_id", "started_at_utc", "exercise", "ran_as_prescribed"]
+    # Every value equals the API's JSON measures of that session.
+    sessions = d.execute_async_script(
+        "const done = arguments[arguments.length - 1];"
+        "const p = location.hash.split('/')[2];"
+        "fetch(`/api/patients/${p}/sessions`).then(r => r.json()).then(async list => {"
+        "  const out = {}; for (const s of list) out[s.session_id] = await (await fetch(`/api/sessions/${s.session_id}/metrics`)).json();"
+        "  done(out); });")
+    assert sorted(table["session_id"]) == sorted(sessions), "a row a session"
+    compared = 0
+    for _, row in table.iterrows():
+        measures = sessions[row["session_id"]]
+        for column in table.columns[4:]:
+            if column in measures:
+                assert row[column] == measures[column], (row["session_id"], column, row[column], measures[column])
+                compared += 1
+            else:
+                assert pandas.isna(row[column]), (row["session_id"], column)
+    assert compared >= 3 * 10, compared
+    print(f"CSV: {len(table)} sessions, {len(table.columns) - 4} measures, {compared} values equal to the API's")

@@ -210,7 +210,8 @@ export async function progressView(el, id) {
     <td>${noteCell(s.session_id, `the session of ${when(s.started_unix_ms)}`, esc)}</td></tr>`).join('');
   const anyEarly = sessions.some(early);
   el.innerHTML = `
-    <p class="print-hide"><button type="button" id="print" class="secondary">Print a one-page summary</button></p>
+    <p class="print-hide"><button type="button" id="print" class="secondary">Print a one-page summary</button>
+      <a id="measures-csv" href="/api/patients/${pid}/measures.csv" download>Download spreadsheet (CSV)</a></p>
     <p class="print-hide"><input type="checkbox" id="include-early"${anyEarly ? '' : ' disabled'}>
       <label for="include-early" class="inline">Include sessions that ended early${anyEarly ? '' : ' (none did)'}</label></p>
     <section class="panel" id="latest" aria-labelledby="latest-h"></section>

@@ -93,7 +93,7 @@ function drawCharts(box, rows) {
     charts.push(timeChart(bbt, { xs, range, height: BBT_HEIGHT_PX, colours: [COLOURS[3], COLOURS[4]],
       series: [2, 3].map(j => ({ label: SCALE_SERIES[j][0], scale: 'bbt', values: column(j) })),
       // Both sides, as the chart above: the plots share their width and so their dates.
-      axes: [{ scale: 'bbt', label: 'blocks a minute', range: [0, 60] }, { scale: 'bbt', label: 'blocks a minute', side: 1 }] }));
+      axes: [{ scale: 'bbt', label: 'blocks/min', range: [0, 60] }, { scale: 'bbt', label: 'blocks/min', side: 1 }] }));
   }
   return () => charts.forEach(c => c.destroy());
 }

@@ -27,6 +27,7 @@ mod checkins;
 mod difficulty;
 mod exercises;
 mod logins;
+mod measures;
 pub(crate) use logins::address_key;
 mod messages;
 mod notes;
@@ -57,6 +58,7 @@ pub use logins::{
     ACCOUNT_FREE_FAILURES, ACCOUNT_MAX_DELAY_MS, ADDRESS_FREE_FAILURES, ADDRESS_MAX_DELAY_MS,
     BASE_DELAY_MS, DEVICE_TTL_MS, HASH_QUEUE, REFUSAL_AUDITS_PER_MINUTE, THROTTLE_FORGET_MS,
 };
+pub use measures::MeasuresBySession;
 pub use messages::{MAX_MESSAGES_LISTED, PatientMessage};
 pub use notes::{MAX_NOTE_CHARS, MAX_NOTES_LISTED, SessionNote, check_note_text};
 pub use pairing::{

@@ -20,6 +20,7 @@ mod regimen_words;
 mod scales;
 mod serve;
 mod sessions;
+mod spreadsheet;
 mod wheel_bounds;
 
 use std::sync::Arc;
@@ -200,6 +201,11 @@ pub fn router(state: AppState) -> Router {
             "/api/patients/{id}/scales/{scale_id}",
             axum::routing::delete(scales::delete),
         )
+        .route(
+            "/api/patients/{id}/measures.csv",
+            get(spreadsheet::patient_csv),
+        )
+        .route("/api/measures.csv", get(spreadsheet::caseload_csv))
         .route("/api/regimen/schema", get(regimen::regimen_schema))
         .route("/api/patients/{id}/live", get(live::live))
         .route("/api/sessions/{id}", get(sessions::one))
