@@ -11,6 +11,7 @@
 mod auth;
 mod clinic;
 mod console;
+mod fhir;
 mod live;
 mod messages;
 mod notes;
@@ -206,6 +207,7 @@ pub fn router(state: AppState) -> Router {
             get(spreadsheet::patient_csv),
         )
         .route("/api/measures.csv", get(spreadsheet::caseload_csv))
+        .route("/api/patients/{id}/fhir", get(fhir::bundle))
         .route("/api/regimen/schema", get(regimen::regimen_schema))
         .route("/api/patients/{id}/live", get(live::live))
         .route("/api/sessions/{id}", get(sessions::one))
