@@ -90,6 +90,17 @@ def test_a_fugl_meyer_score_is_charted_beside_sparc_and_an_out_of_range_score_is
     d.execute_script("document.getElementById('scales').scrollIntoView()")
     shot(d, "scales-2-box-and-block")
     assert_no_violations(d, "Progress with clinical scales and the Box and Block Test")
+    # The one-page print: the scales' chart and table are in it, the form and buttons are not.
+    d.execute_cdp_cmd("Emulation.setEmulatedMedia", {"media": "print"})
+    try:
+        assert d.find_element(By.ID, "scales-table").is_displayed()
+        assert d.find_element(By.ID, "p-scales").is_displayed()
+        assert not d.find_element(By.ID, "scale-form").is_displayed()
+        assert not d.find_element(By.CSS_SELECTOR, "button.delete-scale").is_displayed()
+        d.execute_script("document.getElementById('scales').scrollIntoView()")
+        shot(d, "scales-3-print")
+    finally:
+        d.execute_cdp_cmd("Emulation.setEmulatedMedia", {"media": ""})
 
 
 def fetch_text(d, path):
@@ -114,6 +125,7 @@ def test_the_progress_views_spreadsheet_opens_in_pandas_with_units_in_headers_an
     wait(d, lambda d: d.find_elements(By.LINK_TEXT, "Progress"))[0].click()
     csv_link = wait(d, lambda d: d.find_elements(By.ID, "measures-csv"))[0]
     assert csv_link.text == "Download spreadsheet (CSV)"
+    shot(d, "scales-4-progress-with-the-spreadsheet-link")
     href = csv_link.get_attribute("href")
     status, kind, disposition, text = fetch_text(d, href)
     assert status == 200 and kind == "text/csv; charset=utf-8", (status, kind)
