@@ -6,6 +6,7 @@ import { api, esc, when } from '/console/api.js';
 import { numbersTable, sessionChart, sessionLabels } from '/console/sessionchart.js';
 import { activeWords, endWords, kindWords, sessionWords, trendWords } from '/console/words.js';
 import { bindNoteCells, noteCell } from '/console/notes.js';
+import { scalesSection } from '/console/scales.js';
 
 /** The measures a therapist follows across sessions, with their plain names and units;
  * `better` says which way is progress. */
@@ -209,10 +210,12 @@ export async function progressView(el, id) {
     <td>${noteCell(s.session_id, `the session of ${when(s.started_unix_ms)}`, esc)}</td></tr>`).join('');
   const anyEarly = sessions.some(early);
   el.innerHTML = `
-    <p class="print-hide"><button type="button" id="print" class="secondary">Print a one-page summary</button></p>
+    <p class="print-hide"><button type="button" id="print" class="secondary">Print a one-page summary</button>
+      <a id="measures-csv" href="/api/patients/${pid}/measures.csv" download>Download spreadsheet (CSV)</a></p>
     <p class="print-hide"><input type="checkbox" id="include-early"${anyEarly ? '' : ' disabled'}>
       <label for="include-early" class="inline">Include sessions that ended early${anyEarly ? '' : ' (none did)'}</label></p>
     <section class="panel" id="latest" aria-labelledby="latest-h"></section>
+    <section class="panel" id="scales" aria-labelledby="scales-h"></section>
     <div id="charts"></div>
     ${difficultyPanel(difficulty)}
     <section class="panel print-hide" aria-labelledby="sessions-h"><h2 id="sessions-h">Sessions (${sessions.length})</h2>
@@ -237,6 +240,8 @@ export async function progressView(el, id) {
                { label: 'success rate (0–1)', values: difficulty.map(d => d.success_rate ?? null) }] });
     undoDifficulty = () => chart.destroy();
   }
+  // The clinical scales taken at the clinic, beside the station's SPARC (scales.js).
+  const undoScales = await scalesSection(el.querySelector('#scales'), id, sessions, metrics);
   el.dataset.sessions = String(sessions.length);
-  return () => { undo(); undoDifficulty(); };
+  return () => { undo(); undoDifficulty(); undoScales(); };
 }

@@ -14,6 +14,7 @@ pub mod bench;
 pub mod clinic;
 pub mod db;
 mod error;
+pub mod fhir;
 pub mod ingest;
 pub mod limits;
 pub mod patient_data;

@@ -162,3 +162,26 @@ async fn issue_code(db: &Db, patient_id: &str, now_ms: i64) -> Result<PairingCod
         code,
     })
 }
+
+/// `hub export --fhir PSEUDONYM`: the patient's record as a FHIR R4 Bundle
+/// ([`crate::fhir::patient_bundle`]), pretty-printed JSON, audited as `export_fhir` by `cli`;
+/// and how many sessions it holds.
+pub async fn export_fhir(
+    db: &Db,
+    pseudonym: &str,
+    now_ms: i64,
+) -> Result<(String, usize), HubError> {
+    let patient = find(db, pseudonym).await?;
+    let (bundle, sessions) = crate::fhir::patient_bundle(db, &patient, now_ms).await?;
+    db.audit(
+        "cli",
+        "export_fhir",
+        &patient.id,
+        &format!("FHIR R4 bundle of {sessions} sessions"),
+        now_ms,
+    )
+    .await?;
+    let text = serde_json::to_string_pretty(&bundle)
+        .map_err(|e| HubError::Corrupt(format!("writing the FHIR bundle: {e}")))?;
+    Ok((text, sessions))
+}

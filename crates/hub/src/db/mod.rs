@@ -27,12 +27,14 @@ mod checkins;
 mod difficulty;
 mod exercises;
 mod logins;
+mod measures;
 pub(crate) use logins::address_key;
 mod messages;
 mod notes;
 mod pairing;
 mod patients;
 mod regimens;
+mod scales;
 mod sessions;
 mod stations;
 mod summaries;
@@ -56,6 +58,7 @@ pub use logins::{
     ACCOUNT_FREE_FAILURES, ACCOUNT_MAX_DELAY_MS, ADDRESS_FREE_FAILURES, ADDRESS_MAX_DELAY_MS,
     BASE_DELAY_MS, DEVICE_TTL_MS, HASH_QUEUE, REFUSAL_AUDITS_PER_MINUTE, THROTTLE_FORGET_MS,
 };
+pub use measures::MeasuresBySession;
 pub use messages::{MAX_MESSAGES_LISTED, PatientMessage};
 pub use notes::{MAX_NOTE_CHARS, MAX_NOTES_LISTED, SessionNote, check_note_text};
 pub use pairing::{
@@ -64,6 +67,10 @@ pub use pairing::{
 };
 pub use patients::{MAX_PSEUDONYM_LEN, Patient, PatientOverview, WEEK_MS, check_pseudonym};
 pub use regimens::{MAX_REGIMEN_BYTES, RegimenVersion};
+pub use scales::{
+    EARLIEST_ASSESSED_ON, MAX_SCALES_LISTED, NewScale, SCALES, ScaleDef, ScaleEntry, ScaleField,
+    check_scale, iso_utc, scale_def,
+};
 pub use sessions::{Recording, SessionRow};
 pub use stations::Station;
 pub use therapists::{

@@ -31,7 +31,7 @@ fn taken(e: HubError) -> ApiError {
     }
 }
 
-fn admins_only(therapist: &Therapist, what: &str) -> Result<(), ApiError> {
+pub(super) fn admins_only(therapist: &Therapist, what: &str) -> Result<(), ApiError> {
     if therapist.is_admin() {
         Ok(())
     } else {

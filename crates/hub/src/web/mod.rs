@@ -11,14 +11,17 @@
 mod auth;
 mod clinic;
 mod console;
+mod fhir;
 mod live;
 mod messages;
 mod notes;
 mod patients;
 mod regimen;
 mod regimen_words;
+mod scales;
 mod serve;
 mod sessions;
+mod spreadsheet;
 mod wheel_bounds;
 
 use std::sync::Arc;
@@ -191,6 +194,20 @@ pub fn router(state: AppState) -> Router {
             "/api/patients/{id}/regimen",
             get(regimen::get_regimen).put(regimen::put_regimen),
         )
+        .route(
+            "/api/patients/{id}/scales",
+            get(scales::list).post(scales::post),
+        )
+        .route(
+            "/api/patients/{id}/scales/{scale_id}",
+            axum::routing::delete(scales::delete),
+        )
+        .route(
+            "/api/patients/{id}/measures.csv",
+            get(spreadsheet::patient_csv),
+        )
+        .route("/api/measures.csv", get(spreadsheet::caseload_csv))
+        .route("/api/patients/{id}/fhir", get(fhir::bundle))
         .route("/api/regimen/schema", get(regimen::regimen_schema))
         .route("/api/patients/{id}/live", get(live::live))
         .route("/api/sessions/{id}", get(sessions::one))

@@ -8,7 +8,7 @@ pub mod api;
 use hub::Db;
 use sqlx::Connection;
 
-/// The tests' "now": 2026-11-18 14:10 UTC, ms since the Unix epoch.
+/// The tests' "now": 2026-11-21 09:30 UTC, ms since the Unix epoch.
 pub const T0: i64 = 1_795_253_400_000;
 
 /// A station's `Hello` opening session `session_id` of a sine road at [`T0`].

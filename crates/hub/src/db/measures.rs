@@ -1,0 +1,35 @@
+//! A patient's per-session measures in one query, for the spreadsheet export
+//! (`GET /api/patients/{id}/measures.csv`, `GET /api/measures.csv`).
+
+use std::collections::BTreeMap;
+
+use super::{Db, col};
+use crate::error::HubError;
+
+/// Session id → its measures (name → value; units in the names).
+pub type MeasuresBySession = BTreeMap<String, BTreeMap<String, f64>>;
+
+impl Db {
+    /// Every measure of every session of patient `patient_id`, by session.
+    pub async fn measures_of_patient(
+        &self,
+        patient_id: &str,
+    ) -> Result<MeasuresBySession, HubError> {
+        let rows = sqlx::query(
+            "SELECT m.session_id, m.name, m.value FROM session_metrics m \
+             JOIN sessions s ON s.session_id = m.session_id WHERE s.patient_id = $1",
+        )
+        .bind(patient_id)
+        .fetch_all(self.pool())
+        .await
+        .map_err(HubError::db("reading a patient's measures"))?;
+        let mut by_session = MeasuresBySession::new();
+        for row in &rows {
+            by_session
+                .entry(col(row, "session_id")?)
+                .or_default()
+                .insert(col(row, "name")?, col(row, "value")?);
+        }
+        Ok(by_session)
+    }
+}

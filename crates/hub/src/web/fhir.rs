@@ -1,0 +1,38 @@
+//! `GET /api/patients/{id}/fhir`: the patient's record as a FHIR R4 `Bundle` ([`crate::fhir`]),
+//! audited.
+
+use axum::extract::rejection::PathRejection;
+use axum::extract::{Path, State};
+use axum::http::{HeaderValue, header};
+use axum::response::{IntoResponse, Response};
+
+use super::auth::Authed;
+use super::{ApiError, AppState};
+
+/// The FHIR JSON media type.
+const FHIR_JSON: &str = "application/fhir+json; fhirVersion=4.0";
+
+/// `GET /api/patients/{id}/fhir` (404 for a patient the therapist may not see), audited as
+/// `export_fhir` with the number of sessions.
+pub(crate) async fn bundle(
+    State(state): State<AppState>,
+    Authed(therapist): Authed,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Response, ApiError> {
+    let Path(id) = id?;
+    let patient = state.visible_patient(&therapist, &id).await?;
+    let (bundle, sessions) = crate::fhir::patient_bundle(&state.db, &patient, state.now()).await?;
+    state
+        .audit(
+            &therapist.actor(),
+            "export_fhir",
+            &patient.id,
+            &format!("FHIR R4 bundle of {sessions} sessions"),
+        )
+        .await?;
+    let mut response = axum::Json(bundle).into_response();
+    response
+        .headers_mut()
+        .insert(header::CONTENT_TYPE, HeaderValue::from_static(FHIR_JSON));
+    Ok(response)
+}

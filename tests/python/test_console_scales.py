@@ -1,0 +1,158 @@
+"""Clinical scales beside the station's measures (issue 32), in a real browser (Debian's
+chromium, headless): a therapist records a Fugl-Meyer score in the Progress tab and sees it on
+the same time axis as the sessions' SPARC, with the numbers in a table; a score out of its range
+is refused by the form and, were the form bypassed, by the hub naming the field and its range;
+axe-core finds no violation. Screenshots (1366×768) go to $TELEREHAB_ARTIFACTS (default
+target/test-artifacts/console); look at them."""
+
+from selenium.webdriver.common.by import By
+
+from axe_audit import assert_no_violations
+from test_console_browser import browser, clinic, shot, telerehab, wait  # noqa: F401 (fixtures)
+from test_console_words import log_in, run_session
+
+
+def open_progress(d, clinic, sessions):
+    d.find_element(By.LINK_TEXT, "P-0042").click()
+    wait(d, lambda d: d.find_elements(By.LINK_TEXT, "Progress"))[0].click()
+    wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, f"#tab[data-sessions='{sessions}']"))
+    return wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#scales[data-entries]"))[0]
+
+
+def test_a_fugl_meyer_score_is_charted_beside_sparc_and_an_out_of_range_score_is_refused(clinic, browser):
+    for seed in (2, 3):
+        run_session(clinic, "sine-road", seed)
+    d = browser
+    d.set_window_size(1366, 768)
+    log_in(d, clinic)
+    scales = open_progress(d, clinic, 2)
+    assert scales.get_attribute("data-entries") == "0"
+    assert "No clinical scale recorded yet" in scales.text
+    chart = d.find_element(By.ID, "p-scales")
+    assert chart.get_attribute("data-series").split("|")[0].startswith("SPARC")
+    assert chart.get_attribute("data-points") == "2", "SPARC of both sessions"
+
+    # The form carries the scale's bounds, so the browser says it first.
+    score = d.find_element(By.ID, "scale-fugl_meyer_ue-score")
+    assert (score.get_attribute("min"), score.get_attribute("max")) == ("0", "66")
+    assert score.get_attribute("required") == "true"
+    day = d.find_element(By.ID, "scale-day")
+    assert day.get_attribute("value") == day.get_attribute("max"), "today by default, and no later"
+    score.send_keys("70")
+    d.find_element(By.CSS_SELECTOR, "#scale-form button[type=submit]").click()
+    assert d.execute_script("return document.getElementById('scale-fugl_meyer_ue-score').validity.rangeOverflow")
+    assert d.find_element(By.ID, "scale-result").text == ""
+    assert scales.get_attribute("data-entries") == "0", "the browser refused it: nothing sent"
+    # A form bypassed (its bound removed) meets the hub's own check, which names the field.
+    d.execute_script("document.getElementById('scale-fugl_meyer_ue-score').removeAttribute('max')")
+    d.find_element(By.CSS_SELECTOR, "#scale-form button[type=submit]").click()
+    result = d.find_element(By.ID, "scale-result")
+    wait(d, lambda d: result.text)
+    assert "invalid score" in result.text and "from 0 to 66 points" in result.text, result.text
+    assert scales.get_attribute("data-entries") == "0"
+
+    # A valid score: saved, listed, and charted on the sessions' time axis beside SPARC.
+    score = d.find_element(By.ID, "scale-fugl_meyer_ue-score")
+    score.clear()
+    score.send_keys("34")
+    d.find_element(By.CSS_SELECTOR, "#scale-form button[type=submit]").click()
+    wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#scales[data-entries='1']"))
+    assert d.find_element(By.ID, "scale-result").text == "Score saved."
+    chart = d.find_element(By.ID, "p-scales")
+    series = chart.get_attribute("data-series").split("|")
+    assert series[0].startswith("SPARC") and series[1].startswith("Fugl-Meyer"), series
+    assert chart.get_attribute("data-points") == "2 1", "two sessions' SPARC and one score"
+    row = d.find_element(By.CSS_SELECTOR, "#scales-table tbody tr[data-scale='fugl_meyer_ue']")
+    assert "34 points" in row.text and "ana@clinic.example" in row.text
+    # The numbers of the chart as a table: SPARC of each session, the score on its day.
+    numbers = d.find_element(By.CSS_SELECTOR, "#scales-numbers table")
+    rows = numbers.find_elements(By.CSS_SELECTOR, "tbody tr")
+    assert len(rows) == 3, [r.text for r in rows]
+    values = [[td.get_attribute("textContent").strip() for td in r.find_elements(By.TAG_NAME, "td")] for r in rows]
+    assert sum(1 for v in values if v[0] != "—") == 2
+    assert [v[1] for v in values].count("34") == 1
+    # The one-page print keeps the section (the form and buttons are hidden in print).
+    assert "print-hide" not in (scales.get_attribute("class") or "")
+    d.execute_script("document.getElementById('scales').scrollIntoView()")
+    shot(d, "scales-1-fugl-meyer-beside-sparc")
+    d.find_element(By.CSS_SELECTOR, "#scales-numbers summary").click()
+    assert_no_violations(d, "Progress with clinical scales")
+    # The Box and Block Test shows its own fields and a chart under the first, same dates.
+    kind = d.find_element(By.ID, "scale-kind")
+    kind.find_element(By.CSS_SELECTOR, "option[value='box_and_block']").click()
+    assert not d.find_element(By.ID, "scale-fugl_meyer_ue-score").is_displayed()
+    for field, value in (("affected", "12"), ("unaffected", "45")):
+        d.find_element(By.ID, f"scale-box_and_block-{field}_blocks_per_min").send_keys(value)
+    d.find_element(By.CSS_SELECTOR, "#scale-form button[type=submit]").click()
+    wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#scales[data-entries='2']"))
+    bbt = d.find_element(By.ID, "p-scales-bbt")
+    assert bbt.is_displayed() and bbt.get_attribute("data-points") == "1 1"
+    d.execute_script("document.getElementById('scales').scrollIntoView()")
+    shot(d, "scales-2-box-and-block")
+    assert_no_violations(d, "Progress with clinical scales and the Box and Block Test")
+    # The one-page print: the scales' chart and table are in it, the form and buttons are not.
+    d.execute_cdp_cmd("Emulation.setEmulatedMedia", {"media": "print"})
+    try:
+        assert d.find_element(By.ID, "scales-table").is_displayed()
+        assert d.find_element(By.ID, "p-scales").is_displayed()
+        assert not d.find_element(By.ID, "scale-form").is_displayed()
+        assert not d.find_element(By.CSS_SELECTOR, "button.delete-scale").is_displayed()
+        d.execute_script("document.getElementById('scales').scrollIntoView()")
+        shot(d, "scales-3-print")
+    finally:
+        d.execute_cdp_cmd("Emulation.setEmulatedMedia", {"media": ""})
+
+
+def fetch_text(d, path):
+    """GET `path` with the page's login: [status, content type, content disposition, body]."""
+    return d.execute_async_script(
+        "const done = arguments[arguments.length - 1];"
+        "fetch(arguments[0], {credentials: 'same-origin'}).then(async r => done([r.status,"
+        " r.headers.get('content-type'), r.headers.get('content-disposition'), await r.text()]));", path)
+
+
+def test_the_progress_views_spreadsheet_opens_in_pandas_with_units_in_headers_and_the_apis_values(clinic, browser):
+    import io
+
+    import pandas
+
+    run_session(clinic, "dial-sine", 7)
+    d = browser
+    d.set_window_size(1366, 768)
+    d.get(clinic["web"] + "/")
+    link = wait(d, lambda d: d.find_elements(By.LINK_TEXT, "P-0042"))[0]
+    link.click()
+    wait(d, lambda d: d.find_elements(By.LINK_TEXT, "Progress"))[0].click()
+    csv_link = wait(d, lambda d: d.find_elements(By.ID, "measures-csv"))[0]
+    assert csv_link.text == "Download spreadsheet (CSV)"
+    shot(d, "scales-4-progress-with-the-spreadsheet-link")
+    href = csv_link.get_attribute("href")
+    status, kind, disposition, text = fetch_text(d, href)
+    assert status == 200 and kind == "text/csv; charset=utf-8", (status, kind)
+    assert disposition.startswith('attachment; filename="measures-P-0042-') and disposition.endswith('.csv"')
+    # pandas 3 reads decimals exactly by default; older ones need the round-trip parser.
+    exact = {} if int(pandas.__version__.split(".")[0]) >= 3 else {"float_precision": "round_trip"}
+    table = pandas.read_csv(io.StringIO(text), **exact)
+    # Units in the headers, as the measures carry them.
+    for column in ("sparc_median", "active_s", "wheel_rom_deg"):
+        assert column in table.columns, list(table.columns)
+    assert list(table.columns[:4]) == ["session_id", "started_at_utc", "exercise", "ran_as_prescribed"]
+    # Every value equals the API's JSON measures of that session.
+    sessions = d.execute_async_script(
+        "const done = arguments[arguments.length - 1];"
+        "const p = location.hash.split('/')[2];"
+        "fetch(`/api/patients/${p}/sessions`).then(r => r.json()).then(async list => {"
+        "  const out = {}; for (const s of list) out[s.session_id] = await (await fetch(`/api/sessions/${s.session_id}/metrics`)).json();"
+        "  done(out); });")
+    assert sorted(table["session_id"]) == sorted(sessions), "a row a session"
+    compared = 0
+    for _, row in table.iterrows():
+        measures = sessions[row["session_id"]]
+        for column in table.columns[4:]:
+            if column in measures:
+                assert row[column] == measures[column], (row["session_id"], column, row[column], measures[column])
+                compared += 1
+            else:
+                assert pandas.isna(row[column]), (row["session_id"], column)
+    assert compared >= 3 * 10, compared
+    print(f"CSV: {len(table)} sessions, {len(table.columns) - 4} measures, {compared} values equal to the API's")
