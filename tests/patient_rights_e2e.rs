@@ -193,6 +193,33 @@ fn export_has_everything(c: &TwoPatients) -> serde_json::Value {
         !doc.to_string().contains("P-0043"),
         "another patient's data in the export"
     );
+    // The same patient for an electronic health record (validated resource by resource with
+    // an independent FHIR implementation in tests/python/test_fhir_export.py).
+    let bundle = c.tmp.path().join("bundle.json");
+    let said = ok(
+        &[
+            "hub",
+            "export",
+            "--data",
+            c.d(),
+            "--fhir",
+            "P-0042",
+            "--out",
+            bundle.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert!(said.contains("(2 sessions)"), "{said}");
+    let bundle: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&bundle).unwrap()).unwrap();
+    assert_eq!(bundle["resourceType"], "Bundle");
+    let sessions = bundle["entry"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|e| e["resource"]["resourceType"] == "Observation")
+        .count();
+    assert_eq!(sessions, 2, "an Observation per session");
     doc
 }
 

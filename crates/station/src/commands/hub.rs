@@ -108,6 +108,20 @@ pub enum HubCommand {
     /// unless every summary is stored exactly once, every recording verified, no station stuck
     /// and the audit log complete.
     Chaos(crate::commands::hub_chaos::ChaosArgs),
+    /// A patient's record for an electronic health record: a FHIR R4 `Bundle` (pseudonymous
+    /// Patient, the regimen as CarePlan and ServiceRequest, an Observation per session and per
+    /// clinical scale; docs/FHIR.md), audited.
+    Export {
+        /// Data directory and database.
+        #[command(flatten)]
+        data: DataArgs,
+        /// The patient's pseudonym.
+        #[arg(long, value_name = "PSEUDONYM")]
+        fhir: String,
+        /// The bundle's file (JSON); `-` for standard output.
+        #[arg(long, value_name = "FILE")]
+        out: PathBuf,
+    },
     /// Back the clinic up into one file while the hub serves: the database (SQLite's online
     /// copy or a PostgreSQL dump, one consistent snapshot), the CA and hub certificate, and
     /// every recording; row counts and checksums in its manifest. Guard the file: it holds
@@ -319,6 +333,9 @@ pub fn run(args: HubArgs) -> anyhow::Result<()> {
                 bench(load, db.as_deref(), hub_cpus.as_deref()).await
             }
             HubCommand::Chaos(args) => crate::commands::hub_chaos::run(args).await,
+            HubCommand::Export { data, fhir, out } => {
+                super::hub_backup::export_fhir(&data, &fhir, &out).await
+            }
             HubCommand::Backup { data, out } => {
                 super::hub_backup::backup(&data.data, data.db.as_deref(), &out).await
             }

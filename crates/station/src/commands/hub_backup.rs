@@ -1,6 +1,6 @@
-//! `telerehab hub backup`, `hub restore`, `hub patient export` and `hub patient erase` (the
-//! work is `hub::backup`'s and `hub::patient_data`'s): what was saved, restored, exported or
-//! erased, in numbers a clinic's administrator can check.
+//! `telerehab hub backup`, `hub restore`, `hub export --fhir`, `hub patient export` and `hub
+//! patient erase` (the work is `hub::backup`'s, `hub::patients`' and `hub::patient_data`'s):
+//! what was saved, restored, exported or erased, in numbers a clinic's administrator can check.
 
 use std::path::Path;
 
@@ -154,5 +154,29 @@ pub async fn erase_patient(
         "erased {pseudonym}: {}; their stations are revoked",
         covered_said(&c)
     );
+    Ok(())
+}
+
+/// `hub export --fhir`: the patient's FHIR R4 bundle into `out` (`-`: standard output).
+pub async fn export_fhir(
+    data: &super::hub::DataArgs,
+    pseudonym: &str,
+    out: &Path,
+) -> anyhow::Result<()> {
+    let clinic = Clinic::at(&data.data);
+    let db = clinic.open_db(data.db.as_deref()).await?;
+    let done = hub::patients::export_fhir(&db, pseudonym, super::hub::now_ms()).await;
+    db.close().await;
+    let (bundle, sessions) = done?;
+    if out == Path::new("-") {
+        println!("{bundle}");
+    } else {
+        std::fs::write(out, &bundle)
+            .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", out.display()))?;
+        println!(
+            "FHIR R4 bundle of {pseudonym} ({sessions} sessions) written to {}",
+            out.display()
+        );
+    }
     Ok(())
 }
