@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use telerehab_tests::clinic::{
-    Hub, clinic_on, fresh_postgres_database, ok, pair, run_session, show_json, telerehab,
+    Hub, clinic_on, fresh_postgres_database, ok, pair, prescribe, run_session, show_json, telerehab,
 };
 use telerehab_tests::spawn_real_time_session;
 
@@ -49,22 +49,7 @@ fn backup_under_load_restores_everything(db: Option<&str>, restore_db: Option<&s
     let tmp = tempfile::tempdir().unwrap();
     let (data, code) = clinic_on(tmp.path(), db);
     let d = data.to_str().unwrap();
-    let regimen = Path::new(env!("CARGO_MANIFEST_DIR")).join("../regimens/easy.toml");
-    ok(
-        &[
-            "hub",
-            "patient",
-            "regimen",
-            "--data",
-            d,
-            "P-0042",
-            "--file",
-            regimen.to_str().unwrap(),
-            "--by",
-            "ana@clinic.example",
-        ],
-        None,
-    );
+    prescribe(&data, "easy");
     let hub = Hub::serve(&data, "127.0.0.1:0");
     let home = tmp.path().join("station");
     pair(&hub, &code, &home);

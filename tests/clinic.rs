@@ -37,6 +37,28 @@ pub fn pair(hub: &Hub, code: &str, home: &Path) -> String {
     )
 }
 
+/// `hub patient regimen` of `regimens/NAME.toml` for P-0042 by the first admin; what it said.
+pub fn prescribe(data: &Path, name: &str) -> String {
+    let regimen = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../regimens")
+        .join(format!("{name}.toml"));
+    ok(
+        &[
+            "hub",
+            "patient",
+            "regimen",
+            "--data",
+            data.to_str().unwrap(),
+            "P-0042",
+            "--file",
+            regimen.to_str().unwrap(),
+            "--by",
+            "ana@clinic.example",
+        ],
+        None,
+    )
+}
+
 /// A clinic directory with one patient; the pairing code.
 pub fn clinic(dir: &Path) -> (PathBuf, String) {
     clinic_on(dir, None)

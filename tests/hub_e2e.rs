@@ -5,8 +5,8 @@
 use std::process::{Command, Stdio};
 use std::time::Duration;
 use telerehab_tests::clinic::{
-    Hub, clinic, clinic_on, fresh_postgres_database, ok, pair, produced, run_session, show,
-    show_json, telerehab, wait_for_file,
+    Hub, clinic, clinic_on, fresh_postgres_database, ok, pair, prescribe, produced, run_session,
+    show, show_json, telerehab, wait_for_file,
 };
 use telerehab_tests::{Tmpfs, spawn_real_time_session, telerehab_bin, wait_for_first_chunk};
 
@@ -276,22 +276,7 @@ fn a_prescribed_regimen_reaches_the_station_and_runs_at_its_next_session() {
     let tmp = tempfile::tempdir().unwrap();
     let (data, code) = clinic(tmp.path());
     let d = data.to_str().unwrap();
-    let regimen = concat!(env!("CARGO_MANIFEST_DIR"), "/../regimens/medium.toml");
-    let set = ok(
-        &[
-            "hub",
-            "patient",
-            "regimen",
-            "--data",
-            d,
-            "P-0042",
-            "--file",
-            regimen,
-            "--by",
-            "ana@clinic.example",
-        ],
-        None,
-    );
+    let set = prescribe(&data, "medium");
     assert!(set.contains("regimen version 1"), "{set}");
     let bad = tmp.path().join("bad.toml");
     std::fs::write(

@@ -8,7 +8,8 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use telerehab_tests::clinic::{
-    Hub, after, clinic_on, fresh_postgres_database, ok, pair, run_session, show_json, telerehab,
+    Hub, after, clinic_on, fresh_postgres_database, ok, pair, prescribe, run_session, show_json,
+    telerehab,
 };
 
 /// The finished recordings under `dir` (a clinic's `recordings/` or an export's), by path
@@ -70,22 +71,7 @@ impl TwoPatients {
         let tmp = tempfile::tempdir().unwrap();
         let (data, code) = clinic_on(tmp.path(), db);
         let d = data.to_str().unwrap();
-        let regimen = Path::new(env!("CARGO_MANIFEST_DIR")).join("../regimens/easy.toml");
-        ok(
-            &[
-                "hub",
-                "patient",
-                "regimen",
-                "--data",
-                d,
-                "P-0042",
-                "--file",
-                regimen.to_str().unwrap(),
-                "--by",
-                "ana@clinic.example",
-            ],
-            None,
-        );
+        prescribe(&data, "easy");
         let other = after(
             &ok(
                 &[

@@ -80,9 +80,8 @@ impl Manifest {
     }
 }
 
-fn io(what: &str, path: &Path) -> impl Fn(std::io::Error) -> HubError {
-    let context = format!("{what} {}", path.display());
-    move |e| HubError::io(context.clone(), e)
+fn io(what: &str, path: &Path) -> impl Fn(std::io::Error) -> HubError + use<> {
+    HubError::io_at(what, path)
 }
 
 fn backend_name(backend: Backend) -> &'static str {

@@ -54,9 +54,8 @@ pub struct Clinic {
     dir: PathBuf,
 }
 
-fn io(what: &str, path: &Path) -> impl Fn(std::io::Error) -> HubError {
-    let context = format!("{what} {}", path.display());
-    move |e| HubError::io(context.clone(), e)
+fn io(what: &str, path: &Path) -> impl Fn(std::io::Error) -> HubError + use<> {
+    HubError::io_at(what, path)
 }
 
 /// Writes a new file, 0600, refusing to replace one.

@@ -117,6 +117,15 @@ impl HubError {
         }
     }
 
+    /// A mapper of I/O errors that says what was being done to which path: `what path`.
+    pub(crate) fn io_at(
+        what: &str,
+        path: &std::path::Path,
+    ) -> impl Fn(std::io::Error) -> Self + use<> {
+        let context = format!("{what} {}", path.display());
+        move |e| Self::io(context.clone(), e)
+    }
+
     pub(crate) fn io(context: impl Into<String>, source: std::io::Error) -> Self {
         Self::Io {
             context: context.into(),
