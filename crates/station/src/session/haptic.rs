@@ -116,7 +116,7 @@ const SPIN_ON_OWN_CORE: Duration = Duration::from_micros(300);
 /// [`SPIN_ON_OWN_CORE`]), ns.
 static SPIN_ON_OWN_CORE_SET_NS: AtomicU64 = AtomicU64::new(u64::MAX);
 
-/// Busy-wait `spin` instead of [`SPIN_ON_OWN_CORE`] before each deadline in the sessions
+/// Busy-wait `spin` instead of the 300 µs default before each deadline in the sessions
 /// started after this in the process (`telerehab bench loop --spin-us` measures what the spin
 /// buys and costs).
 pub fn set_spin_on_own_core(spin: Duration) {
