@@ -21,7 +21,9 @@
 use std::sync::Arc;
 use std::sync::OnceLock;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+#[cfg(not(target_os = "linux"))]
+use std::time::Instant;
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 /// Wall-clock time a mock clock starts at, ns since the Unix epoch (2026-01-01T00:00:00Z), so
 /// that wall-clock stamps made under test are plausible dates.
@@ -29,15 +31,69 @@ pub const MOCK_UNIX_START_NS: u64 = 1_767_225_600_000_000_000;
 
 /// The process-wide monotonic epoch every real clock counts from, so that two real clocks
 /// (and [`monotonic_ns`]) agree.
+#[cfg(not(target_os = "linux"))]
 fn epoch() -> Instant {
     static EPOCH: OnceLock<Instant> = OnceLock::new();
     *EPOCH.get_or_init(Instant::now)
 }
 
+/// `CLOCK_MONOTONIC` (what `Instant` reads on Linux), ns since the system started.
+#[cfg(target_os = "linux")]
+fn clock_monotonic_ns() -> u64 {
+    let t = rustix::time::clock_gettime(rustix::time::ClockId::Monotonic);
+    u64::try_from(t.tv_sec).unwrap_or(0) * 1_000_000_000 + u64::try_from(t.tv_nsec).unwrap_or(0)
+}
+
+/// The process-wide monotonic epoch every real clock counts from, so that two real clocks
+/// (and [`monotonic_ns`]) agree: on Linux, `CLOCK_MONOTONIC` ns, so that a deadline converts
+/// exactly to the absolute time `clock_nanosleep` sleeps to.
+#[cfg(target_os = "linux")]
+fn epoch_ns() -> u64 {
+    static EPOCH: OnceLock<u64> = OnceLock::new();
+    *EPOCH.get_or_init(clock_monotonic_ns)
+}
+
 /// Nanoseconds on the real monotonic clock since the process-wide epoch: what
 /// [`Clock::real`]'s [`Clock::now_ns`] returns, for code handed a plain `fn() -> u64`.
 pub fn monotonic_ns() -> u64 {
-    u64::try_from(epoch().elapsed().as_nanos()).unwrap_or(u64::MAX)
+    #[cfg(target_os = "linux")]
+    {
+        let epoch = epoch_ns();
+        clock_monotonic_ns().saturating_sub(epoch)
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        u64::try_from(epoch().elapsed().as_nanos()).unwrap_or(u64::MAX)
+    }
+}
+
+/// Sleep until `deadline_ns` on the real clock, less `spin`. On Linux: `clock_nanosleep` to
+/// the absolute time on `CLOCK_MONOTONIC` (no relative sleep computed from a reading that is
+/// already old when the kernel gets it), as `cyclictest` and `telerehab bench loop`'s
+/// reference loop sleep.
+fn sleep_real_until_ns(deadline_ns: u64, spin: Duration) {
+    let spin_ns = u64::try_from(spin.as_nanos()).unwrap_or(u64::MAX);
+    let wake_ns = deadline_ns.saturating_sub(spin_ns);
+    #[cfg(target_os = "linux")]
+    {
+        let at_ns = epoch_ns().saturating_add(wake_ns);
+        let at = rustix::time::Timespec {
+            tv_sec: i64::try_from(at_ns / 1_000_000_000).unwrap_or(i64::MAX),
+            tv_nsec: i64::try_from(at_ns % 1_000_000_000).unwrap_or(0),
+        };
+        // Interrupted by a signal: sleep again to the same absolute time.
+        while monotonic_ns() < wake_ns
+            && rustix::thread::clock_nanosleep_absolute(rustix::thread::ClockId::Monotonic, &at)
+                .is_err()
+        {}
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        let now = monotonic_ns();
+        if wake_ns > now {
+            std::thread::sleep(Duration::from_nanos(wake_ns - now));
+        }
+    }
 }
 
 #[derive(Debug)]
@@ -64,7 +120,7 @@ impl Clock {
     pub fn real() -> Self {
         // Fix the epoch now, so that the first reading is near zero rather than whenever
         // somebody first asks.
-        let _ = epoch();
+        let _ = monotonic_ns();
         Self {
             source: Arc::new(Source::Real),
         }
@@ -121,12 +177,8 @@ impl Clock {
     pub fn sleep_until_ns(&self, deadline_ns: u64, spin: Duration) {
         match &*self.source {
             Source::Real => {
-                let deadline = epoch() + Duration::from_nanos(deadline_ns);
-                let now = Instant::now();
-                if deadline > now + spin {
-                    std::thread::sleep(deadline - now - spin);
-                }
-                while Instant::now() < deadline {
+                sleep_real_until_ns(deadline_ns, spin);
+                while monotonic_ns() < deadline_ns {
                     std::hint::spin_loop();
                 }
             }
@@ -206,6 +258,20 @@ mod tests {
         // A stamp from the future is "now", never later.
         let future = UNIX_EPOCH + Duration::from_nanos(clock.unix_ns() + 1_000);
         assert_eq!(clock.monotonic_of(future), 10_000_000);
+    }
+
+    #[test]
+    fn a_real_clock_sleeps_to_the_absolute_deadline_and_never_wakes_before_it() {
+        let clock = Clock::real();
+        for spin_us in [0, 200] {
+            let deadline = clock.now_ns() + 2_000_000;
+            clock.sleep_until_ns(deadline, Duration::from_micros(spin_us));
+            assert!(clock.now_ns() >= deadline, "woke before the deadline");
+        }
+        // A deadline already past returns at once, without sleeping a period.
+        let before = clock.now_ns();
+        clock.sleep_until_ns(before.saturating_sub(1_000_000), Duration::ZERO);
+        assert!(clock.now_ns() - before < 1_000_000_000);
     }
 
     #[test]

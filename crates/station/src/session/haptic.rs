@@ -7,7 +7,7 @@ use crate::session::controls::Controls;
 use crate::session::plant::Plant;
 use clock::Clock;
 use record::{TickRecord, TimingSample};
-use std::sync::atomic::Ordering;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
 
 /// How the loop paces itself.
@@ -113,6 +113,26 @@ impl Slots {
 /// window`).
 const SPIN_ON_OWN_CORE: Duration = Duration::from_micros(300);
 
+/// The busy-wait before each deadline set by [`set_spin_on_own_core`] (`u64::MAX`: none set,
+/// [`SPIN_ON_OWN_CORE`]), ns.
+static SPIN_ON_OWN_CORE_SET_NS: AtomicU64 = AtomicU64::new(u64::MAX);
+
+/// Busy-wait `spin` instead of the 300 µs default before each deadline in the sessions
+/// started after this in the process (`telerehab bench loop --spin-us` measures what the spin
+/// buys and costs).
+pub fn set_spin_on_own_core(spin: Duration) {
+    let ns = u64::try_from(spin.as_nanos()).unwrap_or(u64::MAX - 1);
+    SPIN_ON_OWN_CORE_SET_NS.store(ns.min(u64::MAX - 1), Ordering::Relaxed);
+}
+
+/// The busy-wait before each deadline of a haptic thread on a core of its own.
+pub fn spin_on_own_core() -> Duration {
+    match SPIN_ON_OWN_CORE_SET_NS.load(Ordering::Relaxed) {
+        u64::MAX => SPIN_ON_OWN_CORE,
+        ns => Duration::from_nanos(ns),
+    }
+}
+
 /// Keep the haptic thread on the last core and everything else off it: the patient's window
 /// (with a software renderer it saturates every core it may use), the recorder and the network.
 pub mod cores {
@@ -123,6 +143,14 @@ pub mod cores {
     fn all() -> &'static [core_affinity::CoreId] {
         static ALL: OnceLock<Vec<core_affinity::CoreId>> = OnceLock::new();
         ALL.get_or_init(|| core_affinity::get_core_ids().unwrap_or_default())
+    }
+
+    /// The core the haptic thread is pinned to (the last one), when there are at least two.
+    pub fn haptic_core() -> Option<usize> {
+        match all() {
+            ids if ids.len() >= 2 => Some(ids[ids.len() - 1].id),
+            _ => None,
+        }
     }
 
     /// Pin the calling thread to the last core; true when done (needs at least two cores).
@@ -217,7 +245,7 @@ pub fn run(
         tracing::info!(pinned, "haptic thread pinned to the last core");
     }
     let spin = if pinned {
-        SPIN_ON_OWN_CORE
+        spin_on_own_core()
     } else {
         Duration::ZERO
     };

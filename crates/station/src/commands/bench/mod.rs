@@ -1,10 +1,12 @@
 //! `telerehab bench`: measurements that need the whole station, not a micro-benchmark. Each
 //! compares two things in one run, so that the noise of a shared machine hits both alike.
 
+mod loop_;
 mod recording;
 mod soak;
 mod window;
 
+pub use loop_::BenchLoopArgs;
 pub use recording::BenchRecordingArgs;
 pub use soak::BenchSoakArgs;
 pub use window::RenderImpact;
@@ -29,6 +31,10 @@ pub enum BenchCommand {
     /// A long simulated, recorded session (1 h at `--speed max` by default) watched for
     /// growing memory or descriptors, a recording that does not grow linearly and late ticks.
     Soak(BenchSoakArgs),
+    /// The haptic loop's wake-up lateness against the platform's floor: the station's
+    /// real-time session, a minimal SCHED_FIFO `clock_nanosleep` loop on the same core and
+    /// `cyclictest` (when installed), back to back, and their ratios.
+    Loop(BenchLoopArgs),
 }
 
 /// `telerehab bench window`.
@@ -68,5 +74,6 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         BenchCommand::Window(a) => window::window(a),
         BenchCommand::Recording(a) => recording::recording(a),
         BenchCommand::Soak(a) => soak::soak(a),
+        BenchCommand::Loop(a) => loop_::bench_loop(a),
     }
 }
