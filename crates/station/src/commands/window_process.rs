@@ -21,14 +21,11 @@ use std::os::unix::net::UnixStream;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
-/// At the lowest normal priority (nice 19) when the station asked for it.
+/// Below the session's threads ([`crate::session::haptic::WINDOW_NICE`]) when the station asked for it.
 fn lower_priority_if_asked(hello: &Hello) {
     if hello.background_priority {
         let idle = crate::session::haptic::request_background_priority();
-        tracing::debug!(
-            idle,
-            "patient window at the lowest normal priority (nice 19)"
-        );
+        tracing::debug!(idle, "patient window below the session's threads (nice 10)");
     }
 }
 

@@ -196,24 +196,24 @@ pub fn request_realtime_priority() -> bool {
     }
 }
 
+/// The patient window's niceness: below the session's threads (nice 0) yet with a share a
+/// software rasteriser can draw with when normal-priority work fills every core. At nice 19
+/// (weight 15 against 1024) beside one busy process per core the window got ~0.5 % of a core,
+/// could not pull a frame within the supervisor's 5 s, and was restarted again and again (the
+/// exercise pausing each time); nice 10 (weight 110) gives it ~7 times that share.
+pub const WINDOW_NICE: i32 = 10;
+
 /// Put the calling thread, and the threads it starts later (a software rasteriser's workers),
-/// at the lowest normal priority (nice 19): the recorder and the network come first, yet
-/// unlike the idle class (SCHED_IDLE) it keeps a small share of the CPU under any load, so a
-/// busy machine slows the patient's window down rather than starving it into looking hung to
-/// its supervisor. True when granted.
+/// at [`WINDOW_NICE`]: the recorder and the network come first, yet unlike the idle class
+/// (SCHED_IDLE) or nice 19 it keeps enough of the CPU under any load that a busy machine slows
+/// the patient's window down rather than starving it into looking hung to its supervisor.
+/// True when granted.
 pub fn request_background_priority() -> bool {
     #[cfg(target_os = "linux")]
     {
-        use thread_priority::{
-            NormalThreadSchedulePolicy, ThreadPriority, ThreadSchedulePolicy,
-            set_thread_priority_and_policy, thread_native_id,
-        };
-        set_thread_priority_and_policy(
-            thread_native_id(),
-            ThreadPriority::Min,
-            ThreadSchedulePolicy::Normal(NormalThreadSchedulePolicy::Other),
-        )
-        .is_ok()
+        // Linux keeps the nice value per thread: `setpriority` on this thread's id.
+        let tid = rustix::thread::gettid();
+        rustix::process::setpriority_process(Some(tid), WINDOW_NICE).is_ok()
     }
     #[cfg(not(target_os = "linux"))]
     {
@@ -363,6 +363,23 @@ mod tests {
     use super::*;
 
     const MS: u64 = 1_000_000;
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn the_window_thread_and_those_it_starts_run_at_nice_10() {
+        std::thread::spawn(|| {
+            assert!(request_background_priority());
+            let mine = rustix::process::getpriority_process(Some(rustix::thread::gettid()));
+            assert_eq!(mine.unwrap(), WINDOW_NICE);
+            // A rasteriser's worker started afterwards inherits it.
+            let child = std::thread::spawn(|| {
+                rustix::process::getpriority_process(Some(rustix::thread::gettid())).unwrap()
+            });
+            assert_eq!(child.join().unwrap(), WINDOW_NICE);
+        })
+        .join()
+        .unwrap();
+    }
 
     #[test]
     fn deadlines_are_absolute_and_lateness_is_measured_against_them() {

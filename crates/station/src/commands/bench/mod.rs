@@ -58,8 +58,8 @@ pub struct BenchWindowArgs {
     /// Window size, WIDTHxHEIGHT in pixels.
     #[arg(long, default_value = "1280x720", value_parser = super::parse_size)]
     pub size: (u32, u32),
-    /// Leave the window at normal scheduling priority (the station puts it at the lowest,
-    /// nice 19); for comparing the two.
+    /// Leave the window at normal scheduling priority (the station puts it below the session's
+    /// threads, nice 10); for comparing the two.
     #[arg(long)]
     pub normal_priority: bool,
     /// Sessions to run one after the other; with more than one, the median of what drawing

@@ -41,7 +41,7 @@ impl SessionObserver for ScreenFeed<'_> {
 /// Run the session on its own threads and the patient's window in its own process, showing
 /// the session's course ([`crate::screen::CourseView`]); `observer` watches the session as in
 /// [`super::run`]. Space pauses and resumes through `controls`; closing the window stops the
-/// session. With `background_priority` the window runs at the lowest normal priority (nice 19).
+/// session. With `background_priority` the window runs below the session's threads (nice 10).
 /// Without a usable GPU or display the session simply runs headless (the account is then
 /// `None`).
 pub fn run_with_window(

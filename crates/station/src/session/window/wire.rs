@@ -31,7 +31,7 @@ pub struct Hello {
     pub max_fps: Option<f64>,
     /// The station switches drawing on and off with each frame's `draw` (a benchmark).
     pub gated: bool,
-    /// Run the window at the lowest normal priority (nice 19): the session's threads first.
+    /// Run the window below the session's threads (nice 10, `haptic::WINDOW_NICE`).
     pub background_priority: bool,
     /// The session's configuration, TOML (the window builds its view of the course from it).
     pub config_toml: String,
