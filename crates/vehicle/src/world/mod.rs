@@ -22,7 +22,7 @@
 //! rapier2d's pipeline allocates on every step, and the haptic thread must not. On a track
 //! with no solid barrier (every exercise's) the car meets no solid contact, so [`World::step`]
 //! moves it as rapier's solver moves a free body and asks parry which sensors it touches, in
-//! the same arithmetic and without allocating ([`free`]); rapier holds the track's colliders
+//! the same arithmetic and without allocating (`world::free`); rapier holds the track's colliders
 //! and is the oracle the tests hold that path to, bit for bit. A track with barriers steps
 //! rapier's whole pipeline, whose contacts change the car's velocity.
 //!
@@ -154,7 +154,7 @@ enum Tag {
 
 /// How a step moves the car (module docs).
 enum Motion {
-    /// No solid barrier: the car is a free body moved by [`free`], allocation-free.
+    /// No solid barrier: the car is a free body moved by `free`, allocation-free.
     Free {
         /// The car's body as rapier's solver would have it.
         car: FreeCar,
