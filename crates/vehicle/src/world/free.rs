@@ -113,7 +113,7 @@ impl FreeCar {
 /// track's length (a 200-period sine road has ~50 000 edge chunks) and allocates nothing (parry
 /// walks it with a stack on the stack).
 pub(super) struct Sensors {
-    tree: Bvh,
+    tree: Box<Bvh>,
     /// The collider of each of the tree's leaves.
     handles: Vec<ColliderHandle>,
     /// The car's collider pose relative to the body.
@@ -134,7 +134,7 @@ impl Sensors {
             .map(|h| colliders[*h].compute_aabb())
             .collect();
         Self {
-            tree: Bvh::from_leaves(BvhBuildStrategy::Binned, &boxes),
+            tree: Box::new(Bvh::from_leaves(BvhBuildStrategy::Binned, &boxes)),
             handles,
             car_local,
         }
