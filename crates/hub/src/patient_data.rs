@@ -183,29 +183,81 @@ fn row_json(row: &sqlx::any::AnyRow) -> Value {
     Value::Object(obj)
 }
 
-/// The patient's rows of every table, by table.
-async fn rows(db: &Db, s: &Scope) -> Result<BTreeMap<String, Vec<Value>>, HubError> {
+/// The tables that hold rows of a patient, each with how its rows are found.
+async fn linked_tables(db: &Db) -> Result<Vec<(String, Link)>, HubError> {
+    Ok(tables(db)
+        .await?
+        .into_iter()
+        .filter_map(|(t, cols)| link_of(&t, &cols).map(|l| (t, l)))
+        .collect())
+}
+
+/// `VERB … FROM "table" WHERE <the patient's rows>` with its values bound.
+fn patient_query<'q>(
+    verb: &str,
+    table: &str,
+    link: &Link,
+    s: &Scope,
+) -> sqlx::query::Query<'q, sqlx::Any, sqlx::any::AnyArguments> {
+    let (filter, values) = selection(link, s);
+    // Table and column names come from the database's catalogue; values are bound.
+    let mut q = sqlx::query(sqlx::AssertSqlSafe(format!(
+        "{verb} FROM \"{table}\" WHERE {filter}"
+    )));
+    for v in values {
+        q = q.bind(v);
+    }
+    q
+}
+
+/// The patient's rows of each table, counted (nothing read into memory).
+async fn row_counts(db: &Db, s: &Scope) -> Result<BTreeMap<String, usize>, HubError> {
     let mut out = BTreeMap::new();
-    for (table, cols) in tables(db).await? {
-        let Some(link) = link_of(&table, &cols) else {
-            continue;
-        };
-        let (filter, values) = selection(&link, s);
-        // Table and column names come from the database's catalogue; values are bound.
-        let sql = format!("SELECT * FROM \"{table}\" WHERE {filter}");
-        let mut q = sqlx::query(sqlx::AssertSqlSafe(sql));
-        for v in &values {
-            q = q.bind(v.clone());
-        }
-        let found = q
-            .fetch_all(db.pool())
+    for (table, link) in linked_tables(db).await? {
+        let n: i64 = patient_query("SELECT COUNT(*)", &table, &link, s)
+            .fetch_one(db.pool())
             .await
-            .map_err(HubError::db("reading the patient's rows"))?;
-        if !found.is_empty() {
-            out.insert(table, found.iter().map(row_json).collect());
+            .and_then(|r| r.try_get(0))
+            .map_err(HubError::db("counting the patient's rows"))?;
+        if n > 0 {
+            out.insert(table, usize::try_from(n).unwrap_or(0));
         }
     }
     Ok(out)
+}
+
+/// Write `"tables": {…}` — every linked table's rows of the patient, one row at a time as the
+/// database streams them, so a year of summaries never sits in memory; the rows written, by
+/// table (tables with none are written empty and not counted).
+async fn write_rows(
+    db: &Db,
+    s: &Scope,
+    w: &mut impl Write,
+) -> Result<BTreeMap<String, usize>, std::io::Error> {
+    use tokio_stream::StreamExt as _;
+    let tables = linked_tables(db).await.map_err(std::io::Error::other)?;
+    let mut counts = BTreeMap::new();
+    w.write_all(b"\"tables\": {")?;
+    for (i, (table, link)) in tables.iter().enumerate() {
+        if i > 0 {
+            w.write_all(b",")?;
+        }
+        write!(w, "\n  {}: [", Value::from(table.as_str()))?;
+        let mut n = 0usize;
+        let mut rows = patient_query("SELECT *", table, link, s).fetch(db.pool());
+        while let Some(row) = rows.next().await {
+            let row = row.map_err(std::io::Error::other)?;
+            w.write_all(if n == 0 { b"\n    " } else { b",\n    " })?;
+            serde_json::to_writer(&mut *w, &row_json(&row))?;
+            n += 1;
+        }
+        w.write_all(b"]")?;
+        if n > 0 {
+            counts.insert(table.clone(), n);
+        }
+    }
+    w.write_all(b"\n}")?;
+    Ok(counts)
 }
 
 /// The recording files of the patient's stations (finished and partial), sorted.
@@ -231,9 +283,9 @@ fn recording_files(clinic: &Clinic, s: &Scope) -> Result<Vec<std::path::PathBuf>
     Ok(files)
 }
 
-fn covered(rows: &BTreeMap<String, Vec<Value>>, files: &[std::path::PathBuf]) -> Covered {
+fn covered(rows: BTreeMap<String, usize>, files: &[std::path::PathBuf]) -> Covered {
     Covered {
-        rows: rows.iter().map(|(t, r)| (t.clone(), r.len())).collect(),
+        rows,
         recording_files: files.len(),
         recording_bytes: files
             .iter()
@@ -252,28 +304,36 @@ pub async fn export(
     now_ms: i64,
 ) -> Result<Covered, HubError> {
     let s = scope(db, pseudonym).await?;
-    let rows = rows(db, &s).await?;
     let files = recording_files(clinic, &s)?;
-    let doc = serde_json::json!({
-        "format": EXPORT_FORMAT,
-        "pseudonym": s.patient.pseudonym,
-        "patient_id": s.patient.id,
-        "exported_at_ms": now_ms,
-        "tables": rows,
-    });
+    let werr = |e| HubError::io(format!("writing {}", out.display()), e);
     let file = std::fs::OpenOptions::new()
         .write(true)
         .create_new(true)
         .open(out)
         .map_err(|e| HubError::io(format!("creating {}", out.display()), e))?;
-    let werr = |e| HubError::io(format!("writing {}", out.display()), e);
+    // patient.json goes to a file beside the archive first (tar states a size before the
+    // bytes), written as the rows stream in.
+    let parent = out.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let mut json = tempfile::NamedTempFile::new_in(parent).map_err(werr)?;
+    let rows = {
+        let mut w = std::io::BufWriter::new(json.as_file_mut());
+        let head = serde_json::json!({
+            "format": EXPORT_FORMAT,
+            "pseudonym": s.patient.pseudonym,
+            "patient_id": s.patient.id,
+            "exported_at_ms": now_ms,
+        });
+        // The head's fields, then the tables, in one object.
+        let head = serde_json::to_string(&head).map_err(|e| HubError::Corrupt(e.to_string()))?;
+        w.write_all(head.trim_end_matches('}').as_bytes()).map_err(werr)?;
+        w.write_all(b",\n").map_err(werr)?;
+        let rows = write_rows(db, &s, &mut w).await.map_err(werr)?;
+        w.write_all(b"}\n").map_err(werr)?;
+        w.flush().map_err(werr)?;
+        rows
+    };
     let mut tar = tar::Builder::new(zstd::Encoder::new(file, 3).map_err(werr)?);
-    let json = serde_json::to_vec_pretty(&doc).map_err(|e| HubError::Corrupt(e.to_string()))?;
-    let mut header = tar::Header::new_gnu();
-    header.set_size(json.len() as u64);
-    header.set_mode(0o600);
-    header.set_cksum();
-    tar.append_data(&mut header, "patient.json", json.as_slice())
+    tar.append_path_with_name(json.path(), "patient.json")
         .map_err(werr)?;
     let base = clinic.dir();
     for f in &files {
@@ -283,7 +343,7 @@ pub async fn export(
     let mut done = tar.into_inner().map_err(werr)?.finish().map_err(werr)?;
     done.flush().map_err(werr)?;
     done.sync_all().map_err(werr)?;
-    let what = covered(&rows, &files);
+    let what = covered(rows, &files);
     db.audit(
         "cli",
         "export_patient",
@@ -317,10 +377,8 @@ pub async fn erase(
         // connections: give it two before their rows go (an unknown station is refused too).
         tokio::time::sleep(2 * crate::ingest::REVOCATION_POLL).await;
     }
-    let rows = rows(db, &s).await?;
     let files = recording_files(clinic, &s)?;
-    let what = covered(&rows, &files);
-    let tables = tables(db).await?;
+    let what = covered(row_counts(db, &s).await?, &files);
     let mut tx = db
         .pool()
         .begin()
@@ -336,19 +394,11 @@ pub async fn erase(
         (_, Link::Column(_)) => 2,
         (_, Link::Own) => 5,
     };
-    let mut plan: Vec<(String, Link)> = tables
-        .into_iter()
-        .filter_map(|(t, cols)| link_of(&t, &cols).map(|l| (t, l)))
-        .collect();
+    let mut plan = linked_tables(db).await?;
     plan.sort_by_key(|(t, l)| (order(t, l), t.clone()));
     for (table, link) in &plan {
-        let (filter, values) = selection(link, &s);
-        let sql = format!("DELETE FROM \"{table}\" WHERE {filter}");
-        let mut q = sqlx::query(sqlx::AssertSqlSafe(sql));
-        for v in &values {
-            q = q.bind(v.clone());
-        }
-        q.execute(&mut *tx)
+        patient_query("DELETE", table, link, &s)
+            .execute(&mut *tx)
             .await
             .map_err(HubError::db("erasing the patient's rows"))?;
     }
