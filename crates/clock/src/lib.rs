@@ -81,11 +81,20 @@ fn sleep_real_until_ns(deadline_ns: u64, spin: Duration) {
             tv_sec: i64::try_from(at_ns / 1_000_000_000).unwrap_or(i64::MAX),
             tv_nsec: i64::try_from(at_ns % 1_000_000_000).unwrap_or(0),
         };
-        // Interrupted by a signal: sleep again to the same absolute time.
-        while monotonic_ns() < wake_ns
-            && rustix::thread::clock_nanosleep_absolute(rustix::thread::ClockId::Monotonic, &at)
-                .is_err()
-        {}
+        // Interrupted by a signal: sleep again to the same absolute time. Any other error
+        // (a sandbox refusing the call): a relative sleep, never a busy-wait.
+        while monotonic_ns() < wake_ns {
+            match rustix::thread::clock_nanosleep_absolute(rustix::thread::ClockId::Monotonic, &at)
+            {
+                Err(rustix::io::Errno::INTR) => {}
+                Ok(()) => break,
+                Err(_) => {
+                    let now = monotonic_ns();
+                    std::thread::sleep(Duration::from_nanos(wake_ns.saturating_sub(now)));
+                    break;
+                }
+            }
+        }
     }
     #[cfg(not(target_os = "linux"))]
     {

@@ -313,7 +313,10 @@ pub async fn export(
         .map_err(|e| HubError::io(format!("creating {}", out.display()), e))?;
     // patient.json goes to a file beside the archive first (tar states a size before the
     // bytes), written as the rows stream in.
-    let parent = out.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let parent = out
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
     let mut json = tempfile::NamedTempFile::new_in(parent).map_err(werr)?;
     let rows = {
         let mut w = std::io::BufWriter::new(json.as_file_mut());
@@ -325,7 +328,8 @@ pub async fn export(
         });
         // The head's fields, then the tables, in one object.
         let head = serde_json::to_string(&head).map_err(|e| HubError::Corrupt(e.to_string()))?;
-        w.write_all(head.trim_end_matches('}').as_bytes()).map_err(werr)?;
+        w.write_all(head.trim_end_matches('}').as_bytes())
+            .map_err(werr)?;
         w.write_all(b",\n").map_err(werr)?;
         let rows = write_rows(db, &s, &mut w).await.map_err(werr)?;
         w.write_all(b"}\n").map_err(werr)?;

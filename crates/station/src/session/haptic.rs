@@ -368,6 +368,12 @@ mod tests {
     #[test]
     fn the_window_thread_and_those_it_starts_run_at_nice_10() {
         std::thread::spawn(|| {
+            let now = rustix::process::getpriority_process(Some(rustix::thread::gettid()));
+            if now.is_ok_and(|n| n > WINDOW_NICE) {
+                // Raising a thread's priority needs CAP_SYS_NICE.
+                println!("SKIPPED: the tests run above nice {WINDOW_NICE} already ({now:?})");
+                return;
+            }
             assert!(request_background_priority());
             let mine = rustix::process::getpriority_process(Some(rustix::thread::gettid()));
             assert_eq!(mine.unwrap(), WINDOW_NICE);

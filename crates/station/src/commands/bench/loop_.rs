@@ -424,9 +424,11 @@ fn reference_loop(period_ns: u64, warmup_ticks: u64, ticks: u64) -> Lateness {
             tv_sec: (deadline_ns / 1_000_000_000) as _,
             tv_nsec: (deadline_ns % 1_000_000_000) as _,
         };
-        while rustix::thread::clock_nanosleep_absolute(rustix::thread::ClockId::Monotonic, &at)
-            .is_err()
-        {}
+        // Again after a signal only: another error must not spin a SCHED_FIFO thread forever.
+        while let Err(rustix::io::Errno::INTR) =
+            rustix::thread::clock_nanosleep_absolute(rustix::thread::ClockId::Monotonic, &at)
+        {
+        }
         let wake_ns = monotonic_now_ns();
         if k == warmup_ticks {
             from = (cpu_ns(), wake_ns);
