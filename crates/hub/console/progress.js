@@ -241,7 +241,14 @@ export async function progressView(el, id) {
     undoDifficulty = () => chart.destroy();
   }
   // The clinical scales taken at the clinic, beside the station's SPARC (scales.js).
-  const undoScales = await scalesSection(el.querySelector('#scales'), id, sessions, metrics);
+  // A failure there says so in its own place and leaves the rest of the view working.
+  let undoScales = () => {};
+  try {
+    undoScales = await scalesSection(el.querySelector('#scales'), id, sessions, metrics);
+  } catch (e) {
+    el.querySelector('#scales').innerHTML =
+      `<p class="error" role="alert">The clinical scales could not be shown: ${esc(e.message || e)}</p>`;
+  }
   el.dataset.sessions = String(sessions.length);
   return () => { undo(); undoDifficulty(); undoScales(); };
 }

@@ -161,8 +161,13 @@ export async function scalesSection(box, id, sessions, metrics) {
     box.dataset.entries = String(entries.length);
     box.querySelectorAll('button.delete-scale').forEach(b => b.addEventListener('click', async () => {
       if (!window.confirm(`${b.textContent}?`)) return;
-      await api('DELETE', `${url}/${encodeURIComponent(b.dataset.id)}`);
-      await refresh();
+      try {
+        await api('DELETE', `${url}/${encodeURIComponent(b.dataset.id)}`);
+        await refresh();
+      } catch (e) {
+        box.querySelector('#scales-list').insertAdjacentHTML('afterbegin',
+          `<p class="error" role="alert">Not deleted: ${esc(e.message || e)}</p>`);
+      }
     }));
     return scales;
   };

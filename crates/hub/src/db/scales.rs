@@ -199,7 +199,7 @@ pub fn check_scale(new: &NewScale, now_ms: i64) -> Result<Scores, (&'static str,
             "scale",
             format!(
                 "{:?} is not a scale the hub records: one of {}",
-                new.scale,
+                clipped(&new.scale),
                 keys.join(", ")
             ),
         ));
@@ -232,11 +232,23 @@ pub fn check_scale(new: &NewScale, now_ms: i64) -> Result<Scores, (&'static str,
     Ok(scores)
 }
 
+/// At most the first 40 characters of a value sent, for an error that quotes it (a body may
+/// hold 64 KiB).
+fn clipped(text: &str) -> String {
+    match text.char_indices().nth(40) {
+        Some((at, _)) => format!("{}…", &text[..at]),
+        None => text.to_owned(),
+    }
+}
+
 /// Checks an assessment date: `YYYY-MM-DD`, a real day, from [`EARLIEST_ASSESSED_ON`] to the
 /// day after `now_ms`'s (UTC).
 fn check_assessed_on(text: &str, now_ms: i64) -> Result<(), String> {
     let days = parse_date(text).ok_or_else(|| {
-        format!("{text:?} is not a date: write the day the scale was taken as YYYY-MM-DD")
+        format!(
+            "{:?} is not a date: write the day the scale was taken as YYYY-MM-DD",
+            clipped(text)
+        )
     })?;
     let earliest = parse_date(EARLIEST_ASSESSED_ON).unwrap_or(0);
     let today = now_ms.div_euclid(DAY_MS);
@@ -430,13 +442,14 @@ impl Db {
         let Some(entry) = self.scale(patient_id, id).await? else {
             return Ok(None);
         };
-        sqlx::query("DELETE FROM clinical_scales WHERE patient_id = $1 AND id = $2")
+        let done = sqlx::query("DELETE FROM clinical_scales WHERE patient_id = $1 AND id = $2")
             .bind(patient_id)
             .bind(id)
             .execute(self.pool())
             .await
             .map_err(HubError::db("deleting a clinical scale"))?;
-        Ok(Some(entry))
+        // Two deletes of one entry at once: only the one that removed it says so.
+        Ok((done.rows_affected() > 0).then_some(entry))
     }
 }
 
