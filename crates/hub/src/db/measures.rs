@@ -10,6 +10,15 @@ use crate::error::HubError;
 pub type MeasuresBySession = BTreeMap<String, BTreeMap<String, f64>>;
 
 impl Db {
+    /// The names of every measure any session has, sorted.
+    pub async fn measure_names(&self) -> Result<Vec<String>, HubError> {
+        let rows = sqlx::query("SELECT DISTINCT name FROM session_metrics ORDER BY name")
+            .fetch_all(self.pool())
+            .await
+            .map_err(HubError::db("listing the measures' names"))?;
+        rows.iter().map(|r| col(r, "name")).collect()
+    }
+
     /// Every measure of every session of patient `patient_id`, by session.
     pub async fn measures_of_patient(
         &self,

@@ -211,6 +211,17 @@ impl Db {
         row.as_ref().map(Patient::from_row).transpose()
     }
 
+    /// Every patient, by pseudonym (no overview: for going through them one by one).
+    pub async fn all_patients(&self) -> Result<Vec<Patient>, HubError> {
+        let rows = sqlx::query(
+            "SELECT id, pseudonym, therapist_id, created_at_ms FROM patients ORDER BY pseudonym",
+        )
+        .fetch_all(self.pool())
+        .await
+        .map_err(HubError::db("listing patients"))?;
+        rows.iter().map(Patient::from_row).collect()
+    }
+
     /// The caseload of `therapist` (an admin sees every patient), by pseudonym, each with the
     /// start of their last session and the number of sessions started in the 7 days before
     /// `now_ms`.
