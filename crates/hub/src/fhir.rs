@@ -396,6 +396,11 @@ fn code_system(url: &str, name: &str, title: &str, concepts: Vec<Value>) -> Valu
     })
 }
 
+/// What the audit log says of an export of a bundle of `sessions` sessions.
+pub fn audit_detail(sessions: usize) -> String {
+    format!("FHIR R4 bundle of {sessions} sessions")
+}
+
 /// Patient `p`'s record as a FHIR R4 `Bundle` of type `collection`, stamped `now_ms`; the
 /// bundle and how many sessions it holds.
 pub async fn patient_bundle(db: &Db, p: &Patient, now_ms: i64) -> Result<(Value, usize), HubError> {
@@ -407,9 +412,7 @@ pub async fn patient_bundle(db: &Db, p: &Patient, now_ms: i64) -> Result<(Value,
             .into_iter()
             .map(|(_, e)| e),
     );
-    let mut sessions = db.named_sessions_of(&p.id).await?;
-    sessions.reverse();
-    let measures = db.measures_of_patient(&p.id).await?;
+    let (sessions, measures) = db.sessions_with_measures(&p.id).await?;
     for s in &sessions {
         let o = session_observation(s, measures.get(&s.row.session_id), &subject);
         entries.push(entry("Observation", &format!("session/{}", s.row.session_id), o).1);

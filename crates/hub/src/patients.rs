@@ -177,7 +177,7 @@ pub async fn export_fhir(
         "cli",
         "export_fhir",
         &patient.id,
-        &format!("FHIR R4 bundle of {sessions} sessions"),
+        &crate::fhir::audit_detail(sessions),
         now_ms,
     )
     .await?;

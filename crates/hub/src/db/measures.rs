@@ -10,6 +10,17 @@ use crate::error::HubError;
 pub type MeasuresBySession = BTreeMap<String, BTreeMap<String, f64>>;
 
 impl Db {
+    /// Patient `patient_id`'s sessions, oldest first, with every session's measures (what the
+    /// spreadsheet and the FHIR export each write a line or an Observation of).
+    pub async fn sessions_with_measures(
+        &self,
+        patient_id: &str,
+    ) -> Result<(Vec<super::NamedSession>, MeasuresBySession), HubError> {
+        let mut sessions = self.named_sessions_of(patient_id).await?;
+        sessions.reverse();
+        Ok((sessions, self.measures_of_patient(patient_id).await?))
+    }
+
     /// The names of every measure any session has, sorted.
     pub async fn measure_names(&self) -> Result<Vec<String>, HubError> {
         let rows = sqlx::query("SELECT DISTINCT name FROM session_metrics ORDER BY name")

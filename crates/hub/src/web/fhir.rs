@@ -27,7 +27,7 @@ pub(crate) async fn bundle(
             &therapist.actor(),
             "export_fhir",
             &patient.id,
-            &format!("FHIR R4 bundle of {sessions} sessions"),
+            &crate::fhir::audit_detail(sessions),
         )
         .await?;
     let mut response = axum::Json(bundle).into_response();

@@ -30,9 +30,7 @@ struct PatientRows {
 }
 
 async fn rows_of(state: &AppState, patient: Patient) -> Result<PatientRows, crate::HubError> {
-    let mut sessions = state.db.named_sessions_of(&patient.id).await?;
-    sessions.reverse();
-    let measures = state.db.measures_of_patient(&patient.id).await?;
+    let (sessions, measures) = state.db.sessions_with_measures(&patient.id).await?;
     Ok(PatientRows {
         patient,
         sessions,
