@@ -116,7 +116,10 @@ fn main() {
     let mut args = std::env::args().skip(1);
     let which = args.next().unwrap_or_else(|| "planar".into());
     let n: usize = args.next().map_or(6000, |a| a.parse().expect("samples"));
-    let calls: usize = args.next().map_or(300, |a| a.parse().expect("calls"));
+    let calls: usize = args
+        .next()
+        .map_or(300, |a| a.parse().expect("calls"))
+        .max(1);
     match which.as_str() {
         "planar" => planar(n, calls),
         "arm3d" => arm3d(n, calls),

@@ -411,8 +411,8 @@ pub fn calibrate_arm_3d(
             break;
         }
         iterations += 1;
-        // the step: Newton's where the heading curvature keeps it definite
-        // the curvature at this pass's own shoulder and lengths
+        // The step: Newton's (the heading's curvature at this pass's own shoulder and
+        // lengths) where that curvature keeps it definite.
         let newton_step = sums
             .newton_normal(batch::head(&sol.x), p)
             .and_then(|nm| nm.solve(p, noise2).ok());

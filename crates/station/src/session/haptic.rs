@@ -155,10 +155,7 @@ pub mod cores {
 
     /// Pin the calling thread to the last core; true when done (needs at least two cores).
     pub fn pin_haptic_thread() -> bool {
-        match all() {
-            ids if ids.len() >= 2 => core_affinity::set_for_current(ids[ids.len() - 1]),
-            _ => false,
-        }
+        haptic_core().is_some_and(|id| core_affinity::set_for_current(core_affinity::CoreId { id }))
     }
 
     /// Pin the calling thread (and the threads it starts later, such as the renderer's) to the
