@@ -41,9 +41,28 @@ pub fn resident_with_capacity<T: Clone>(capacity: usize, scratch: T) -> Vec<T> {
 mod tests {
     use super::*;
 
-    /// Resident memory of this process, bytes.
-    fn rss_bytes() -> u64 {
-        status_kib("VmRSS").expect("VmRSS in /proc/self/status") * 1024
+    /// The mapping that holds `v`'s buffer (its start) and its resident bytes: the process's
+    /// whole RSS moved with the tests running beside this one. (Two large vectors made one
+    /// after the other may share one anonymous mapping.)
+    fn resident_bytes_of<T>(v: &[T]) -> (usize, u64) {
+        let at = v.as_ptr() as usize;
+        let smaps = std::fs::read_to_string("/proc/self/smaps").expect("/proc/self/smaps");
+        let mut inside = None;
+        for line in smaps.lines() {
+            if let Some((range, _)) = line.split_once(' ')
+                && let Some((lo, hi)) = range.split_once('-')
+                && let (Ok(lo), Ok(hi)) =
+                    (usize::from_str_radix(lo, 16), usize::from_str_radix(hi, 16))
+            {
+                inside = (lo..hi).contains(&at).then_some(lo);
+            } else if let Some(start) = inside
+                && let Some(kib) = line.strip_prefix("Rss:")
+            {
+                let kib: u64 = kib.trim().trim_end_matches("kB").trim().parse().unwrap();
+                return (start, kib * 1024);
+            }
+        }
+        panic!("no mapping holds the vector");
     }
 
     #[test]
@@ -51,20 +70,22 @@ mod tests {
         // 256 MiB of u32: far above what the tests running alongside allocate or free.
         const LEN: usize = 64 << 20;
         let mib = |from: u64, to: u64| (to as i64 - from as i64) / (1 << 20);
-        let before = rss_bytes();
         let lazy = vec![0u32; LEN];
-        let after_lazy = rss_bytes();
+        let (lazy_map, lazy_b) = resident_bytes_of(&lazy);
         let resident = resident_vec(LEN, 1u32, 0);
-        let after_resident = rss_bytes();
+        let (map, mut resident_b) = resident_bytes_of(&resident);
+        if map == lazy_map {
+            resident_b -= lazy_b;
+        }
         assert!(
-            mib(before, after_lazy) < 64,
+            mib(0, lazy_b) < 64,
             "a zeroed 256 MiB vector took {} MiB at once",
-            mib(before, after_lazy)
+            mib(0, lazy_b)
         );
         assert!(
-            mib(after_lazy, after_resident) >= 200,
+            mib(0, resident_b) >= 200,
             "a resident 256 MiB vector took only {} MiB",
-            mib(after_lazy, after_resident)
+            mib(0, resident_b)
         );
         assert!(resident.iter().all(|&c| c == 0));
         assert_eq!(lazy.len(), resident.len());
