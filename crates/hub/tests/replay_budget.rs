@@ -124,6 +124,13 @@ fn after_the_session_record(recording: &[u8], inserted: &[u8]) -> Vec<u8> {
     [&recording[..at], inserted, &recording[at..]].concat()
 }
 
+/// `recording` with `inserted` right after its header (so the replay decodes them before it
+/// finds the session record, while the file is opened).
+fn after_the_header(recording: &[u8], inserted: &[u8]) -> Vec<u8> {
+    let at = 8 + 9 + u64::from_le_bytes(recording[9..17].try_into().unwrap()) as usize;
+    [&recording[..at], inserted, &recording[at..]].concat()
+}
+
 struct Fixture {
     app: Router,
     turns: Arc<ReplayTurns>,
@@ -212,11 +219,13 @@ async fn text_of(body: Body) -> String {
     String::from_utf8(body.collect().await.unwrap().to_bytes().to_vec()).unwrap()
 }
 
-/// Limits that let any file be decoded: only the CPU budget and the console stop it.
+/// Limits that let any file with a session record be decoded: only the CPU budget and the
+/// console stop it.
 fn anything() -> Option<CostLimits> {
     Some(CostLimits {
         max_ratio: u64::MAX >> 8,
         max_uncompressed_bytes: u64::MAX,
+        max_before_metadata_bytes: u64::MAX,
         ..CostLimits::for_files_up_to(u64::MAX >> 8)
     })
 }
@@ -332,6 +341,44 @@ async fn a_console_that_goes_away_stops_the_work_and_its_turn_is_held_until_then
     let (status, body) = f.replay(&session, &ada).await;
     assert_eq!(status, StatusCode::OK);
     drop(body);
+    assert!(f.work_ended(Duration::from_secs(10)).await.is_some());
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_console_that_goes_away_while_the_file_is_opened_stops_the_work_and_holds_its_turn() {
+    // 9573fbb opened the file (up to its session record) in a blocking task the request did
+    // not own: the console gone, its turns came back while the decoding went on.
+    let f = Fixture::new(|s| s.with_replay_budget(600.0, anything())).await;
+    let session = f
+        .session_with("late", &after_the_header(&honest(1), &zero_chunks(300)))
+        .await;
+    let ada = login(&f.app, "ada@clinic.example").await;
+    let cpu_before = cpu_s();
+    let asked = tokio::time::timeout(Duration::from_millis(300), f.replay(&session, &ada)).await;
+    assert!(asked.is_err(), "still opening after 300 ms");
+    // The request is gone. While its work runs, the therapist's turn is still taken.
+    let mut refused_while_working = 0;
+    loop {
+        let working = f.turns.working();
+        if working == 0 {
+            break;
+        }
+        let (status, _) = f.replay(&session, &ada).await;
+        if f.turns.working() > 0 && status != StatusCode::TOO_MANY_REQUESTS {
+            panic!("{status} while the first replay's work still runs");
+        }
+        refused_while_working += 1;
+        if refused_while_working > 1000 {
+            panic!("the work still runs");
+        }
+        tokio::time::sleep(Duration::from_millis(5)).await;
+    }
+    let cpu = cpu_s() - cpu_before;
+    eprintln!(
+        "replay left while its file was opened: {cpu:.3} CPU-s in all, {refused_while_working} \
+         requests refused 429 meanwhile"
+    );
+    assert!(cpu < 10.0, "{cpu:.2} CPU-s");
     assert!(f.work_ended(Duration::from_secs(10)).await.is_some());
 }
 
