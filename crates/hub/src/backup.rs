@@ -416,7 +416,15 @@ fn digest_of(path: &Path) -> Result<FileDigest, HubError> {
 
 /// Restore the backup `archive` into the new data directory `data` (absent or empty); a
 /// PostgreSQL backup goes into the empty database at `db_url`, which `hub.toml` then names.
-/// Every table's rows and every recording's SHA-256 are checked against the manifest.
+///
+/// Nothing in the archive is trusted: it is unpacked into a new staging directory beside
+/// `data` — only the files its manifest implies, each recording at a relative path of plain
+/// names, of the manifest's size and SHA-256 (checked as it is written), every size checked
+/// from its tar header before a byte is written, nothing read from outside the archive — the
+/// database restored and every table's rows checked against the manifest there, and the
+/// staging directory is renamed to `data` only then. On any failure `data` is left as it was and the staging directory is removed (a
+/// PostgreSQL database already filled by `pg_restore` stays filled: drop it before trying
+/// again).
 pub async fn restore(
     archive: &Path,
     data: &Path,
@@ -436,41 +444,62 @@ pub async fn restore(
             ),
         ));
     }
-    create_private_dirs(data)?;
-    let manifest = unpack(archive, data)?;
-    let clinic = Clinic::at(data);
-    let url = match (manifest.backend.as_str(), db_url) {
-        ("sqlite", None) => {
-            std::fs::rename(data.join(SQLITE_COPY), data.join("hub.db"))
-                .map_err(io("placing the database in", data))?;
-            set_private(&data.join("hub.db"))?;
+    let parent = match data.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    create_private_dirs(&parent)?;
+    // Beside the target, on its disk: moved into place by one rename. Dropped (removed) on
+    // any failure.
+    let staging = tempfile::Builder::new()
+        .prefix(".telerehab-restore-")
+        .tempdir_in(&parent)
+        .map_err(io("making a staging directory in", &parent))?;
+    let manifest = restore_staged(archive, staging.path(), db_url).await?;
+    std::fs::rename(staging.path(), data).map_err(io("moving the restored clinic to", data))?;
+    let _ = staging.keep();
+    Ok(manifest)
+}
+
+/// The whole restore into the new directory `staged`.
+async fn restore_staged(
+    archive: &Path,
+    staged: &Path,
+    db_url: Option<&str>,
+) -> Result<Manifest, HubError> {
+    // The database kind is known from the manifest, the first entry; check the command line
+    // against it before anything large is written.
+    let manifest = unpack(archive, staged, |m| match (m.backend.as_str(), db_url) {
+        ("sqlite", None) | ("postgres", Some(_)) => Ok(()),
+        ("sqlite", Some(_)) => Err(HubError::invalid(
+            "--db",
+            "this backup is of a SQLite database; restore it without --db",
+        )),
+        ("postgres", None) => Err(HubError::invalid(
+            "--db",
+            "this backup is of a PostgreSQL database; name an empty database to restore it into",
+        )),
+        (other, _) => Err(HubError::Corrupt(format!(
+            "the backup names an unknown database kind {other:?}"
+        ))),
+    })?;
+    let clinic = Clinic::at(staged);
+    let url = match db_url {
+        None => {
+            std::fs::rename(staged.join(SQLITE_COPY), staged.join("hub.db"))
+                .map_err(io("placing the database in", staged))?;
+            set_private(&staged.join("hub.db"))?;
             rewrite_database(&clinic, "")?;
             clinic.database_url(None)?
         }
-        ("sqlite", Some(_)) => {
-            return Err(HubError::invalid(
-                "--db",
-                "this backup is of a SQLite database; restore it without --db",
-            ));
-        }
-        ("postgres", Some(url)) => {
-            pg_restore(&data.join(PG_DUMP), url)?;
+        Some(url) => {
+            pg_restore(&staged.join(PG_DUMP), url)?;
             rewrite_database(&clinic, url)?;
             url.to_owned()
         }
-        ("postgres", None) => {
-            return Err(HubError::invalid(
-                "--db",
-                "this backup is of a PostgreSQL database; name an empty database to restore it into",
-            ));
-        }
-        (other, _) => {
-            return Err(HubError::Corrupt(format!(
-                "the backup names an unknown database kind {other:?}"
-            )));
-        }
     };
-    let _ = std::fs::remove_dir_all(data.join("database"));
+    std::fs::remove_dir_all(staged.join("database"))
+        .map_err(io("tidying", &staged.join("database")))?;
     let db = Db::open(&url).await?;
     let rows = row_counts(&db).await;
     db.close().await;
@@ -481,65 +510,281 @@ pub async fn restore(
             manifest.rows
         )));
     }
-    for (rel, expected) in &manifest.recordings {
-        let got = digest_of(&data.join("recordings").join(rel))?;
-        if &got != expected {
-            return Err(HubError::Corrupt(format!(
-                "recording {rel} differs from the backup's ({} bytes, sha256 {}; expected {} bytes, {})",
-                got.bytes, got.sha256, expected.bytes, expected.sha256
-            )));
-        }
-    }
     Ok(manifest)
 }
 
-/// Unpack `archive` into `data`; its manifest. Entries must be plain files at relative paths
-/// without `..`.
-fn unpack(archive: &Path, data: &Path) -> Result<Manifest, HubError> {
+/// Largest manifest read, bytes (some 150 bytes a recording: a clinic's years of sessions).
+const MAX_MANIFEST_BYTES: u64 = 64 << 20;
+
+/// Largest `hub.toml` or TLS file read, bytes (they are a few KB).
+const MAX_SMALL_FILE_BYTES: u64 = 1 << 20;
+
+/// Bytes kept free on the staging disk beyond what the archive's files declare.
+const FREE_SPACE_RESERVE_BYTES: u64 = 64 << 20;
+
+/// A recording's path under `recordings/` as a manifest names it, if it is one `hub backup`
+/// writes: relative, plain names only (no `..`, no root, no empty or `.` part), UTF-8
+/// without backslashes or NULs.
+fn is_recording_path(rel: &str) -> bool {
+    !rel.is_empty()
+        && !rel.contains(['\\', '\0'])
+        && rel
+            .split('/')
+            .all(|part| !part.is_empty() && part != "." && part != "..")
+        && Path::new(rel)
+            .components()
+            .all(|c| matches!(c, Component::Normal(_)))
+}
+
+/// The bytes free for the clinic on the disk holding `dir` (`u64::MAX` where unknown).
+fn free_bytes(dir: &Path) -> u64 {
+    #[cfg(unix)]
+    {
+        rustix::fs::statvfs(dir)
+            .map(|s| s.f_bavail.saturating_mul(s.f_frsize))
+            .unwrap_or(u64::MAX)
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = dir;
+        u64::MAX
+    }
+}
+
+/// A writer computing the SHA-256 of what passes through it.
+struct Hashing<W> {
+    inner: W,
+    hasher: Sha256,
+}
+
+impl<W: Write> Write for Hashing<W> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.inner.write(buf)?;
+        self.hasher.update(&buf[..n]);
+        Ok(n)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.inner.flush()
+    }
+}
+
+/// Unpack `archive` into the new, empty directory `data`; its manifest, once `accept` has
+/// taken it. The archive must be exactly what `hub backup` writes, and is refused, naming the
+/// entry, otherwise:
+/// - the manifest first, at most [`MAX_MANIFEST_BYTES`], every recording it lists at a
+///   relative path of plain names ([`is_recording_path`]);
+/// - then only the files the manifest implies: `hub.toml`, the four TLS files, the database
+///   of its kind, and `recordings/<path>` for each recording listed — an unlisted entry, a
+///   second copy of one, a link, a directory or a path outside is refused before a byte of
+///   it is written;
+/// - each entry's size from its tar header checked before it is written: a recording's
+///   against the manifest, `hub.toml` and the TLS files against [`MAX_SMALL_FILE_BYTES`], all
+///   of them against the space free on the disk; each written to a new file of exactly that
+///   many bytes (a stream that ends sooner is refused), a recording's SHA-256 computed as it
+///   is written and checked against the manifest;
+/// - every file the manifest implies must be there.
+///
+/// Nothing is read from outside the archive, and nothing written outside `data`.
+fn unpack(
+    archive: &Path,
+    data: &Path,
+    accept: impl FnOnce(&Manifest) -> Result<(), HubError>,
+) -> Result<Manifest, HubError> {
     let file = std::fs::File::open(archive).map_err(io("reading", archive))?;
     let decoder = zstd::Decoder::new(file).map_err(io("reading", archive))?;
     let mut tar = tar::Archive::new(decoder);
-    let mut manifest = None;
     let not_a_backup = |why: String| {
         HubError::Corrupt(format!(
             "{} is not a telerehab backup: {why}",
             archive.display()
         ))
     };
+    let mut accept = Some(accept);
+    let mut manifest: Option<Manifest> = None;
+    let mut expected = BTreeMap::new();
+    let mut free = free_bytes(data).saturating_sub(FREE_SPACE_RESERVE_BYTES);
     for entry in tar.entries().map_err(io("reading", archive))? {
         let mut entry = entry.map_err(io("reading", archive))?;
         let path = entry.path().map_err(io("reading", archive))?.into_owned();
+        let name = path.to_str().map(str::to_owned).unwrap_or_default();
         let safe = path.components().all(|c| matches!(c, Component::Normal(_)));
-        if !safe || entry.header().entry_type() != tar::EntryType::Regular {
+        if !safe || name.is_empty() || entry.header().entry_type() != tar::EntryType::Regular {
             return Err(not_a_backup(format!("unexpected entry {}", path.display())));
         }
-        if path == Path::new(MANIFEST) {
-            let mut text = String::new();
-            entry
-                .read_to_string(&mut text)
-                .map_err(io("reading", archive))?;
-            let m: Manifest = serde_json::from_str(&text)
-                .map_err(|e| not_a_backup(format!("its manifest: {e}")))?;
-            if m.format != BACKUP_FORMAT {
-                return Err(not_a_backup(format!(
-                    "format {} (this build reads {BACKUP_FORMAT})",
-                    m.format
+        let declared = entry.header().size().map_err(io("reading", archive))?;
+        if manifest.is_none() {
+            if name != MANIFEST {
+                return Err(not_a_backup("no manifest first".into()));
+            }
+            let m = read_manifest(&mut entry, declared, archive).map_err(not_a_backup)?;
+            if let Some(accept) = accept.take() {
+                accept(&m)?;
+            }
+            let listed = m.recording_bytes();
+            if listed > free {
+                return Err(HubError::Conflict(format!(
+                    "the backup's recordings need {:.1} MB and the disk it is restored to has \
+                     {:.1} MB free; nothing was restored",
+                    listed as f64 / 1e6,
+                    free as f64 / 1e6
                 )));
             }
+            expected = expected_files(&m);
             manifest = Some(m);
             continue;
         }
-        if manifest.is_none() {
-            return Err(not_a_backup("no manifest first".into()));
+        let Some(want) = expected.remove(&name) else {
+            return Err(not_a_backup(format!(
+                "it holds {name}, which its manifest does not list (or holds it twice)"
+            )));
+        };
+        want.check_size(&name, declared).map_err(not_a_backup)?;
+        if declared > free {
+            return Err(HubError::Conflict(format!(
+                "{name} in the backup declares {:.1} MB and the disk it is restored to has \
+                 {:.1} MB free; nothing was restored",
+                declared as f64 / 1e6,
+                free as f64 / 1e6
+            )));
         }
-        let dest = data.join(&path);
-        if let Some(parent) = dest.parent() {
-            create_private_dirs(parent)?;
+        free -= declared;
+        let sha256 =
+            write_new(&mut entry, declared, &data.join(&path), archive)?.map_err(|copied| {
+                not_a_backup(format!(
+                    "it ends in the middle of {name} ({copied} of {declared} bytes)"
+                ))
+            })?;
+        if let Expected::Recording { sha256: want, .. } = want
+            && sha256 != want
+        {
+            return Err(not_a_backup(format!(
+                "{name} does not match its manifest's SHA-256 (sha256 {sha256}; the manifest \
+                 says {want})"
+            )));
         }
-        entry.unpack(&dest).map_err(io("writing", &dest))?;
-        set_private(&dest)?;
     }
-    manifest.ok_or_else(|| not_a_backup("no manifest".into()))
+    let manifest = manifest.ok_or_else(|| not_a_backup("no manifest".into()))?;
+    if let Some(missing) = expected.keys().next() {
+        return Err(not_a_backup(format!(
+            "its manifest lists {missing}, which the archive does not hold"
+        )));
+    }
+    Ok(manifest)
+}
+
+/// The manifest, `entry` of `declared` bytes; why it is refused otherwise.
+fn read_manifest(entry: &mut impl Read, declared: u64, archive: &Path) -> Result<Manifest, String> {
+    if declared > MAX_MANIFEST_BYTES {
+        return Err(format!(
+            "its manifest declares {declared} bytes, more than the {MAX_MANIFEST_BYTES} a \
+             manifest may have"
+        ));
+    }
+    let mut text = String::new();
+    entry
+        .take(declared)
+        .read_to_string(&mut text)
+        .map_err(|e| {
+            format!(
+                "its manifest cannot be read from {}: {e}",
+                archive.display()
+            )
+        })?;
+    let m: Manifest = serde_json::from_str(&text).map_err(|e| format!("its manifest: {e}"))?;
+    if m.format != BACKUP_FORMAT {
+        return Err(format!(
+            "format {} (this build reads {BACKUP_FORMAT})",
+            m.format
+        ));
+    }
+    if let Some(bad) = m.recordings.keys().find(|rel| !is_recording_path(rel)) {
+        return Err(format!(
+            "its manifest names a recording at {bad:?}, outside the clinic's recordings (a \
+             recording's path is relative, of plain names)"
+        ));
+    }
+    Ok(m)
+}
+
+/// A file the archive must hold, by what its size may be.
+enum Expected {
+    /// `hub.toml` or a TLS file: at most [`MAX_SMALL_FILE_BYTES`].
+    Small,
+    /// The database: any size the disk has room for.
+    Database,
+    /// A recording: exactly the manifest's size and SHA-256.
+    Recording { bytes: u64, sha256: String },
+}
+
+impl Expected {
+    /// Why an entry `name` of `declared` bytes is refused, if it is.
+    fn check_size(&self, name: &str, declared: u64) -> Result<(), String> {
+        match self {
+            Self::Small if declared > MAX_SMALL_FILE_BYTES => Err(format!(
+                "{name} declares {declared} bytes, more than the {MAX_SMALL_FILE_BYTES} such a \
+                 file has"
+            )),
+            Self::Recording { bytes, .. } if declared != *bytes => Err(format!(
+                "{name} is {declared} bytes in the archive and {bytes} in its manifest"
+            )),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// Every file a backup with manifest `m` holds besides the manifest, by archive path.
+fn expected_files(m: &Manifest) -> BTreeMap<String, Expected> {
+    let mut expected = BTreeMap::new();
+    expected.insert("hub.toml".to_owned(), Expected::Small);
+    for tls in ["ca.crt", "ca.key", "hub.crt", "hub.key"] {
+        expected.insert(format!("tls/{tls}"), Expected::Small);
+    }
+    let database = if m.backend == "postgres" {
+        PG_DUMP
+    } else {
+        SQLITE_COPY
+    };
+    expected.insert(database.to_owned(), Expected::Database);
+    for (rel, digest) in &m.recordings {
+        expected.insert(
+            format!("recordings/{rel}"),
+            Expected::Recording {
+                bytes: digest.bytes,
+                sha256: digest.sha256.clone(),
+            },
+        );
+    }
+    expected
+}
+
+/// Writes `bytes` bytes of `entry` to the new file `dest` (0600, its directories 0700); the
+/// SHA-256 of what was written, or `Err(bytes written)` when the entry ends sooner.
+fn write_new(
+    entry: &mut impl Read,
+    bytes: u64,
+    dest: &Path,
+    archive: &Path,
+) -> Result<Result<String, u64>, HubError> {
+    if let Some(parent) = dest.parent() {
+        create_private_dirs(parent)?;
+    }
+    let mut options = std::fs::OpenOptions::new();
+    options.write(true).create_new(true);
+    #[cfg(unix)]
+    std::os::unix::fs::OpenOptionsExt::mode(&mut options, 0o600);
+    let file = options.open(dest).map_err(io("writing", dest))?;
+    let mut out = Hashing {
+        inner: std::io::BufWriter::new(file),
+        hasher: Sha256::new(),
+    };
+    let copied = std::io::copy(&mut entry.take(bytes), &mut out).map_err(io("reading", archive))?;
+    out.flush().map_err(io("writing", dest))?;
+    Ok(if copied < bytes {
+        Err(copied)
+    } else {
+        Ok(crate::db::hex(&out.hasher.finalize()))
+    })
 }
 
 fn pg_restore(dump: &Path, url: &str) -> Result<(), HubError> {

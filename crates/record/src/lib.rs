@@ -19,6 +19,7 @@
 //! - [`writer`]: [`RecordWriter`]; [`recover`]: a killed session's file finished, streaming.
 //! - [`reader`]: [`Recording`], a whole file in memory (small files and tests);
 //!   [`stream`]: [`TickStream`], ticks one at a time in bounded memory (untrusted or long files).
+//! - [`cost`]: what reading a file will cost, from its record headers, before it is read.
 //! - [`view`]: what the therapist's console draws of a session, live and replayed.
 //!
 //! # Example
@@ -43,6 +44,7 @@ pub mod blocks;
 pub mod channels;
 pub mod columns;
 pub mod compare;
+pub mod cost;
 pub mod raw;
 pub mod reader;
 pub mod recover;
@@ -56,9 +58,10 @@ pub mod writer;
 
 pub use channels::{CHANNELS, Channel, ChannelSpec};
 pub use columns::{RecordingColumns, read_columns, read_columns_path};
+pub use cost::{CostLimits, Survey, survey};
 pub use raw::{BodyFacts, RawImuSample, RawTick, RawWheelSample};
 pub use reader::{ReadError, RecordedRows, Recording, Row, recorded_rows};
-pub use stream::{StreamLimits, TickStream};
+pub use stream::{Check, StreamLimits, TickStream};
 pub use types::{
     ArmCalibrationSample, ArmSample, ArmSetup, AssistSample, ClinicNote, DifficultyNote,
     ExerciseResult, FORMAT_VERSION, MetricsSample, MovementSample, OnlineArmCalibrationSample,

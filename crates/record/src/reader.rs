@@ -81,6 +81,10 @@ pub enum ReadError {
         /// What is wrong.
         reason: String,
     },
+    /// The reading was stopped before the end by its [`super::stream::Check`] (the reader
+    /// went away, or the work's budget was spent), for the reason given.
+    #[error("reading stopped: {0}")]
+    Stopped(String),
     /// The session metadata record is missing.
     #[error("the recording has no `session` metadata record")]
     NoMetadata,

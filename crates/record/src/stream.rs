@@ -85,6 +85,15 @@ struct Chunk {
     body: Box<dyn Read + Send>,
 }
 
+/// Asked while a stream reads, every [`CHECK_EVERY_RECORDS`] records and at each chunk: a
+/// reason to stop reading (the reader went away, the work's CPU budget is spent), or `None`
+/// to go on. A stop ends the stream with [`ReadError::Stopped`].
+pub type Check = Box<dyn FnMut() -> Option<String> + Send>;
+
+/// Records read between two calls of a stream's [`Check`] (a few milliseconds of work at
+/// most, whatever the file holds).
+pub const CHECK_EVERY_RECORDS: u32 = 4096;
+
 /// One record of the file's data section, chunks unpacked, as far as the stream needs it.
 pub(crate) enum Rec<'a> {
     /// A record the stream does not use (parsed no further).
@@ -104,6 +113,10 @@ pub(crate) struct Records<R> {
     chunks: u64,
     /// The record read from the current chunk.
     record: Vec<u8>,
+    /// Asked now and then whether to stop.
+    check: Option<Check>,
+    /// Records read since `check` was last asked.
+    since_check: u32,
 }
 
 /// Records inside chunks the stream parses; the rest is skipped unparsed.
@@ -121,12 +134,15 @@ impl<R: Read> Records<R> {
             chunk: None,
             chunks: 0,
             record: Vec::new(),
+            check: None,
+            since_check: 0,
         }
     }
 
     /// The next record; `None` after the end.
     pub(crate) fn next(&mut self) -> Result<Rec<'_>, ReadError> {
         loop {
+            ask(&mut self.check, &mut self.since_check, false)?;
             if let Some(chunk) = &mut self.chunk {
                 if chunk.left > 0 {
                     let opcode = next_in_chunk(chunk, &mut self.record, &self.limits)?;
@@ -173,6 +189,7 @@ impl<R: Read> Records<R> {
                 }
                 LinearReadEvent::Record { opcode, data } => match opcode {
                     op::CHUNK => {
+                        ask(&mut self.check, &mut self.since_check, true)?;
                         self.chunks += 1;
                         let chunk = open_chunk(self.chunks, data, &self.limits)?;
                         self.chunk = Some(chunk);
@@ -187,6 +204,23 @@ impl<R: Read> Records<R> {
                 },
             }
         }
+    }
+}
+
+/// Asks `check` now (`force`) or once every [`CHECK_EVERY_RECORDS`] calls (`since`: the calls
+/// since it was last asked).
+fn ask(check: &mut Option<Check>, since: &mut u32, force: bool) -> Result<(), ReadError> {
+    let Some(check) = check else {
+        return Ok(());
+    };
+    *since += 1;
+    if !force && *since < CHECK_EVERY_RECORDS {
+        return Ok(());
+    }
+    *since = 0;
+    match check() {
+        Some(reason) => Err(ReadError::Stopped(reason)),
+        None => Ok(()),
     }
 }
 
@@ -524,12 +558,25 @@ impl<R: Read> TickStream<R> {
     /// tick is a `/wheel` sample); the others are skipped unparsed and left at their defaults
     /// in the records.
     pub fn open(input: R, limits: StreamLimits, channels: &[Channel]) -> Result<Self, ReadError> {
+        Self::open_checked(input, limits, channels, None)
+    }
+
+    /// [`TickStream::open`], asking `check` now and then (while it opens and as the ticks are
+    /// read) whether to stop: a stopped stream ends with [`ReadError::Stopped`].
+    pub fn open_checked(
+        input: R,
+        limits: StreamLimits,
+        channels: &[Channel],
+        check: Option<Check>,
+    ) -> Result<Self, ReadError> {
+        let mut records = Records::new(input, limits);
+        records.check = check;
         let mut wanted = [false; Channel::ALL.len()];
         for c in channels.iter().chain([&Channel::Wheel]) {
             wanted[*c as usize] = true;
         }
         let mut stream = Self {
-            records: Records::new(input, limits),
+            records,
             metadata: SessionMetadata::default(),
             wanted,
             schemas: SchemaTable::default(),

@@ -46,7 +46,8 @@ pub use serve::{
 };
 pub use serve::{WebLimits, serve_router_with_limits, serve_with_limits};
 pub use sessions::{
-    DEFAULT_MAX_REPLAY_BYTES, REPLAY_QUEUE_WAIT_S, REPLAY_STALL_S, REPLAYS_AT_ONCE, ReplayTurns,
+    DEFAULT_MAX_REPLAY_BYTES, DEFAULT_REPLAY_CPU_S, REPLAY_QUEUE_WAIT_S, REPLAY_STALL_S,
+    REPLAYS_AT_ONCE, ReplayTurns,
 };
 
 /// Largest request body accepted, bytes.
@@ -78,6 +79,11 @@ pub struct AppState {
     pub replay_max_bytes: u64,
     /// Replays being prepared, per hub and per therapist.
     pub replay_turns: Arc<ReplayTurns>,
+    /// CPU time one replay's decoding may take, s.
+    pub replay_cpu_s: f64,
+    /// What a replayed file's chunks may declare (`None`: what a station writes, for files
+    /// up to `replay_max_bytes`: [`record::CostLimits::for_files_up_to`]).
+    pub replay_cost_limits: Option<record::CostLimits>,
 }
 
 impl AppState {
@@ -92,6 +98,26 @@ impl AppState {
             live_streams: live::StreamCounts::default(),
             replay_max_bytes: DEFAULT_MAX_REPLAY_BYTES,
             replay_turns: Arc::default(),
+            replay_cpu_s: DEFAULT_REPLAY_CPU_S,
+            replay_cost_limits: None,
+        }
+    }
+
+    /// The same state giving each replay at most `cpu_s` CPU-seconds, and reading files
+    /// within `limits` (`None`: a station's, [`record::CostLimits::for_files_up_to`]).
+    pub fn with_replay_budget(mut self, cpu_s: f64, limits: Option<record::CostLimits>) -> Self {
+        self.replay_cpu_s = cpu_s;
+        self.replay_cost_limits = limits;
+        self
+    }
+
+    /// What one replay may cost.
+    fn replay_budget(&self) -> sessions::ReplayBudget {
+        sessions::ReplayBudget {
+            limits: self
+                .replay_cost_limits
+                .unwrap_or_else(|| record::CostLimits::for_files_up_to(self.replay_max_bytes)),
+            cpu_s: self.replay_cpu_s,
         }
     }
 

@@ -1,6 +1,7 @@
 //! One session, its summaries and its movement metrics.
 
 use std::collections::{BTreeMap, HashSet};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
 use axum::Json;
@@ -117,12 +118,23 @@ pub const REPLAY_STALL_S: u64 = 30;
 /// 503, s.
 pub const REPLAY_QUEUE_WAIT_S: u64 = 60;
 
+/// CPU time one replay's decoding may take, s (the CPU time of the thread decoding it): a
+/// one-hour 1 kHz recording replays in some 13 s of a release build's CPU (BENCHMARKS.md,
+/// "Console replay of uploaded recordings"), so the longest session a station records
+/// ([`record::cost::LONGEST_SESSION_S`], 4 h) twice over. Past it the replay stops, and says
+/// why.
+pub const DEFAULT_REPLAY_CPU_S: f64 = 120.0;
+
 /// The replays being decoded, and the therapists waiting for one: one replay per therapist
-/// at a time (a second is answered 429), [`REPLAYS_AT_ONCE`] per hub.
+/// at a time (a second is answered 429), [`REPLAYS_AT_ONCE`] per hub. A replay's turn and its
+/// therapist's claim are held by the work itself, so they come back when the decoding has
+/// ended, not when its client goes.
 #[derive(Debug)]
 pub struct ReplayTurns {
     decoding: Arc<Semaphore>,
     asking: Mutex<HashSet<String>>,
+    /// Replays whose decoding has not ended yet.
+    working: AtomicUsize,
 }
 
 impl Default for ReplayTurns {
@@ -130,7 +142,16 @@ impl Default for ReplayTurns {
         Self {
             decoding: Arc::new(Semaphore::new(REPLAYS_AT_ONCE)),
             asking: Mutex::new(HashSet::new()),
+            working: AtomicUsize::new(0),
         }
+    }
+}
+
+impl ReplayTurns {
+    /// Replays whose work (reading and decoding the file) has not ended yet, clients gone or
+    /// not.
+    pub fn working(&self) -> usize {
+        self.working.load(Ordering::SeqCst)
     }
 }
 
@@ -158,11 +179,116 @@ impl Drop for Asking {
     }
 }
 
+/// What a replay's work holds until it ends: the hub's turn, the therapist's claim, and its
+/// place in [`ReplayTurns::working`].
+struct Held {
+    _turn: tokio::sync::OwnedSemaphorePermit,
+    asking: Asking,
+}
+
+impl Held {
+    fn new(turn: tokio::sync::OwnedSemaphorePermit, asking: Asking) -> Self {
+        asking.turns.working.fetch_add(1, Ordering::SeqCst);
+        Self {
+            _turn: turn,
+            asking,
+        }
+    }
+}
+
+impl Drop for Held {
+    fn drop(&mut self) {
+        self.asking.turns.working.fetch_sub(1, Ordering::SeqCst);
+    }
+}
+
+/// Sets its flag when dropped: the request gone (its handler or its answer's body dropped)
+/// tells the work to stop.
+struct CancelOnDrop(Arc<AtomicBool>);
+
+impl Drop for CancelOnDrop {
+    fn drop(&mut self) {
+        self.0.store(true, Ordering::SeqCst);
+    }
+}
+
+/// A replay's lines, cancelling its work when the body is dropped (the console went away).
+struct Lines {
+    rx: tokio_stream::wrappers::ReceiverStream<Result<Vec<u8>, std::io::Error>>,
+    _cancel: CancelOnDrop,
+}
+
+impl tokio_stream::Stream for Lines {
+    type Item = Result<Vec<u8>, std::io::Error>;
+
+    fn poll_next(
+        mut self: std::pin::Pin<&mut Self>,
+        cx: &mut std::task::Context<'_>,
+    ) -> std::task::Poll<Option<Self::Item>> {
+        std::pin::Pin::new(&mut self.rx).poll_next(cx)
+    }
+}
+
+/// The CPU time the calling thread has used, s.
+fn thread_cpu_s() -> f64 {
+    let t = rustix::time::clock_gettime(rustix::time::ClockId::ThreadCPUTime);
+    t.tv_sec as f64 + t.tv_nsec as f64 * 1e-9
+}
+
+/// What a replay may cost: the survey's limits and the CPU budget.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ReplayBudget {
+    pub(crate) limits: record::CostLimits,
+    pub(crate) cpu_s: f64,
+}
+
+/// The stream of `path`'s ticks for a replay, once its survey is within `budget`'s limits;
+/// its reading asks `stop` and the CPU budget as it goes. The reason in plain words otherwise.
+fn open_replay(
+    path: &std::path::Path,
+    budget: ReplayBudget,
+    stop: Arc<AtomicBool>,
+) -> Result<record::TickStream<std::io::BufReader<std::fs::File>>, String> {
+    use std::io::Seek;
+    let started_s = thread_cpu_s();
+    let file = std::fs::File::open(path).map_err(|e| format!("it cannot be read: {e}"))?;
+    let mut input = std::io::BufReader::with_capacity(64 << 10, file);
+    let survey =
+        record::survey(&mut input, budget.limits.max_records).map_err(|e| e.to_string())?;
+    budget.limits.check(&survey)?;
+    input
+        .rewind()
+        .map_err(|e| format!("it cannot be read: {e}"))?;
+    let check: record::Check = Box::new(move || {
+        if stop.load(Ordering::SeqCst) {
+            return Some("the console went away".into());
+        }
+        let used_s = thread_cpu_s() - started_s;
+        (used_s > budget.cpu_s).then(|| {
+            format!(
+                "it takes more than the {} CPU-seconds this hub gives one replay",
+                budget.cpu_s
+            )
+        })
+    });
+    record::TickStream::open_checked(
+        input,
+        record::StreamLimits::default(),
+        &record::view::REPLAY_CHANNELS,
+        Some(check),
+    )
+    .map_err(|e| e.to_string())
+}
+
 /// `GET /api/sessions/{id}/replay`: the session's uploaded recording as the console's replay
 /// draws it, streamed as NDJSON lines while it is decoded (`record::view::replay_ndjson`), so
-/// the first frames show at once and the hub holds one line of frames a replay; 404 until the whole recording has arrived, 422 for a file over the hub's limit or
-/// one that cannot be read (a recording is a station's upload: untrusted), 429 while the same
-/// therapist's previous replay is still being prepared, 503 when the hub's turns stay busy.
+/// the first frames show at once and the hub holds one line of frames a replay; 404 until
+/// the whole recording has arrived, 422 for a file over the hub's limits (its size, or what
+/// its chunks declare: `record::CostLimits`) or one that cannot be read (a recording is a
+/// station's upload: untrusted), 429 while the same therapist's previous replay is still
+/// being decoded, 503 when the hub's turns stay busy. The work stops when the console goes
+/// away or its CPU budget ([`DEFAULT_REPLAY_CPU_S`]) is spent; its turns come back when it
+/// has stopped.
 pub(crate) async fn replay(
     State(state): State<AppState>,
     Authed(therapist): Authed,
@@ -222,45 +348,66 @@ pub(crate) async fn replay(
             10,
         ));
     };
-    // The file is opened (and its start checked) before the answer begins, so that a file
-    // refused at once is a 422; the frames then follow as they are decoded.
-    let opened = tokio::task::spawn_blocking(move || {
-        record::TickStream::open_path(
-            &path,
-            record::StreamLimits::default(),
-            &record::view::REPLAY_CHANNELS,
-        )
-        .map_err(|e| e.to_string())
-    })
-    .await
-    .map_err(|_| ApiError::Internal)?
-    .map_err(|e| {
-        tracing::warn!(session = %session.session_id, "replay refused: {e}");
-        ApiError::Unprocessable(format!(
-            "the recording of session {:?} cannot be replayed: {e}",
-            session.session_id
-        ))
-    })?;
+    let held = Held::new(turn, asking);
+    let budget = state.replay_budget();
+    // Set when this request goes: its handler dropped while the file is opened, or its
+    // answer's body dropped while the frames are sent. The work asks it as it decodes.
+    let stop = Arc::new(AtomicBool::new(false));
+    let cancel = CancelOnDrop(Arc::clone(&stop));
     // A few lines in flight: a slow console holds the decoder back rather than the hub's
     // memory.
     let (tx, rx) = tokio::sync::mpsc::channel::<Result<Vec<u8>, std::io::Error>>(4);
-    let id = session.session_id.clone();
-    // The turn and the therapist's claim are held until the decoding ends; a console gone
-    // away, or not reading for REPLAY_STALL_S, ends it at the next line.
+    let (opened_tx, opened_rx) = tokio::sync::oneshot::channel::<Result<(), String>>();
+    let sid = session.session_id.clone();
     let runtime = tokio::runtime::Handle::current();
     let stall = std::time::Duration::from_secs(REPLAY_STALL_S);
+    // The turn and the therapist's claim belong to the work: they are given back when it
+    // ends (the client gone or not). The file is surveyed and opened (its start checked)
+    // before the answer begins, so that a file refused at once is a 422; the frames then
+    // follow as they are decoded.
     tokio::task::spawn_blocking(move || {
-        let _held = (turn, asking);
-        let sent = record::view::replay_ndjson(opened, record::view::MAX_REPLAY_FRAMES, |line| {
+        let started_s = thread_cpu_s();
+        let stream = match open_replay(&path, budget, stop) {
+            Ok(stream) => stream,
+            Err(reason) => {
+                // The work has ended: its turns come back before the refusal is answered.
+                drop(held);
+                let _ = opened_tx.send(Err(reason));
+                return;
+            }
+        };
+        if opened_tx.send(Ok(())).is_err() {
+            return;
+        }
+        let sent = record::view::replay_ndjson(stream, record::view::MAX_REPLAY_FRAMES, |line| {
             matches!(
                 runtime.block_on(tokio::time::timeout(stall, tx.send(Ok(line)))),
                 Ok(Ok(()))
             )
         });
-        if !sent {
-            tracing::debug!(session = %id, "replay ended early: the console went away or stalled");
+        let cpu_s = thread_cpu_s() - started_s;
+        drop(held);
+        if sent {
+            tracing::debug!(session = %sid, cpu_s, "replay sent");
+        } else {
+            tracing::info!(session = %sid, cpu_s, "replay ended early: the console went away or stalled");
         }
     });
-    let body = axum::body::Body::from_stream(tokio_stream::wrappers::ReceiverStream::new(rx));
+    match opened_rx.await {
+        Ok(Ok(())) => {}
+        Ok(Err(reason)) => {
+            tracing::warn!(session = %session.session_id, "replay refused: {reason}");
+            return Err(ApiError::Unprocessable(format!(
+                "the recording of session {:?} cannot be replayed: {reason}",
+                session.session_id
+            )));
+        }
+        Err(_) => return Err(ApiError::Internal),
+    }
+    let lines = Lines {
+        rx: tokio_stream::wrappers::ReceiverStream::new(rx),
+        _cancel: cancel,
+    };
+    let body = axum::body::Body::from_stream(lines);
     Ok(([(header::CONTENT_TYPE, "application/x-ndjson")], body).into_response())
 }
