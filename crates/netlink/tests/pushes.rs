@@ -515,3 +515,63 @@ proptest! {
         prop_assert_eq!(&out.regimen, &out.sent.regimen);
     }
 }
+
+// ---- The hub's side -------------------------------------------------------------------------
+
+/// The hub routes the therapist's pushes to a station's live connection, not to one that has
+/// begun an upload (whose purpose it learns at `UploadStart`, after the `Hello`): a message
+/// then waits for the station's next connection.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_hub_stops_pushing_messages_to_a_connection_once_it_uploads() {
+    let store = tempfile::tempdir().unwrap();
+    let config = netlink::TherapistConfig::new("127.0.0.1:0".parse().unwrap(), store.path(), None);
+    let (hub, _events) = netlink::TherapistServer::bind(config).await.unwrap();
+    let stream = TcpStream::connect(hub.local_addr()).await.unwrap();
+    let mut conn = Conn {
+        stream,
+        decoder: FrameDecoder::new(),
+    };
+    conn.write(&Frame::Hello(hello("s-route"))).await;
+    for _ in 0..(GUARD.as_millis() / 10) {
+        if hub.connected_stations() == ["st-push"] {
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
+    let message = |id: &str| Message {
+        id: id.into(),
+        text: "Well done this week - keep going!".into(),
+        sent_unix_ms: 1_795_253_000_000,
+    };
+    // Before the upload begins, the connection is the station's route.
+    assert_eq!(
+        hub.send_message("st-push", message("m-before")).ok(),
+        Some(true)
+    );
+    conn.write(&Frame::UploadStart(netlink::frame::UploadStart {
+        session_id: "s-route".into(),
+        size_bytes: 10,
+        sha256: "00".repeat(32),
+    }))
+    .await;
+    let mut pushed = Vec::new();
+    loop {
+        match conn.read().await {
+            Some(Frame::Message(m)) => pushed.push(m.id),
+            Some(Frame::UploadAt(at)) => {
+                assert_eq!((at.offset, at.complete), (0, false));
+                break;
+            }
+            other => panic!("expected the upload's answer, got {other:?}"),
+        }
+    }
+    assert_eq!(pushed, ["m-before"]);
+    let after = hub.send_message("st-push", message("m-after"));
+    assert!(
+        matches!(after, Err(netlink::NetlinkError::NotConnected(_))),
+        "{after:?}"
+    );
+    assert!(hub.connected_stations().is_empty());
+    drop(conn);
+    hub.shutdown(Duration::from_secs(2)).await;
+}
