@@ -168,6 +168,11 @@ impl Outbox {
         queued
     }
 
+    /// Whether `other` is a clone of this outbox (the same connection).
+    pub(crate) fn same_connection(&self, other: &Outbox) -> bool {
+        std::sync::Arc::ptr_eq(&self.ack, &other.ack)
+    }
+
     /// Makes `bytes` (an encoded Ack for `seq`) the Ack to write next, replacing any waiting one.
     pub(crate) fn ack(&self, seq: u64, bytes: std::sync::Arc<[u8]>) {
         let replaced = self

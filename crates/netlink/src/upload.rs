@@ -1,6 +1,12 @@
 //! The station's side of a recording upload: [`upload_recording`] sends a session's MCAP file
 //! to the hub over a connection of that session (mutual TLS for a paired station), resuming
 //! where the hub's copy ends, at most `bytes_per_s`, and returns once the hub has verified it.
+//!
+//! The hub may send on any connection after the `Hello`, whatever the connection is for, what
+//! it pushes to a station: the therapist's [`Message`]s, the patient's [`Regimen`] and `Ack`s.
+//! An upload takes them at every step and keeps the messages and the newest regimen
+//! ([`Pushed`]) for the station to keep as its live link does; an `Error` stays a refusal and
+//! a `Bye` ends the attempt (it resumes on the next).
 
 use std::io::Read;
 use std::path::Path;
@@ -10,7 +16,9 @@ use base64::Engine;
 use tokio::io::AsyncWriteExt;
 
 use crate::codec::encode_to_vec;
-use crate::frame::{Frame, Hello, MAX_CHUNK_BYTES, UploadChunk, UploadStart};
+use crate::frame::{
+    Frame, Hello, MAX_CHUNK_BYTES, Message, Regimen, UploadAt, UploadChunk, UploadStart,
+};
 use crate::station::HubAddress;
 use crate::tls::ClientTls;
 use crate::transport::{BoxStream, FrameReader};
@@ -39,6 +47,51 @@ pub struct Uploaded {
     pub size_bytes: u64,
     /// Bytes sent on this connection (less than the size when resumed).
     pub sent_bytes: u64,
+}
+
+/// Most of the therapist's messages one upload keeps: as many as the live link buffers. The
+/// hub sends each unseen message again on the next connection, so one left out is not lost.
+pub const MAX_PUSHED_MESSAGES: usize = crate::station::MESSAGE_CAPACITY;
+
+/// What the hub pushed on an upload's connection that the station keeps as its live link
+/// does: the therapist's messages (each once, by id, oldest first, at most
+/// [`MAX_PUSHED_MESSAGES`]) and the newest regimen. Filled in as the frames arrive, so what
+/// came before a failure is kept too.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Pushed {
+    /// The therapist's messages, for the station's message store.
+    pub messages: Vec<Message>,
+    /// The newest regimen, to be validated and kept as a prescription pushed on the live link.
+    pub regimen: Option<Regimen>,
+}
+
+impl Pushed {
+    /// Keeps `message` unless one with its id is kept or [`MAX_PUSHED_MESSAGES`] are; true if
+    /// it was kept.
+    pub fn keep_message(&mut self, message: Message) -> bool {
+        if self.messages.len() >= MAX_PUSHED_MESSAGES
+            || self.messages.iter().any(|m| m.id == message.id)
+        {
+            return false;
+        }
+        self.messages.push(message);
+        true
+    }
+
+    /// Moves what `other` holds into this (its regimen is the newer).
+    pub fn append(&mut self, other: Pushed) {
+        for m in other.messages {
+            self.keep_message(m);
+        }
+        if other.regimen.is_some() {
+            self.regimen = other.regimen;
+        }
+    }
+
+    /// Nothing was pushed.
+    pub fn is_empty(&self) -> bool {
+        self.messages.is_empty() && self.regimen.is_none()
+    }
 }
 
 /// Why an upload stopped (it resumes where it stopped on the next attempt).
@@ -71,7 +124,12 @@ pub enum UploadError {
     /// The hub answered with an error (e.g. a SHA-256 mismatch or a quota).
     #[error("the hub refused: {0}")]
     Refused(String),
-    /// The hub sent a frame that has no place in an upload.
+    /// The hub ended the connection with a `Bye` (it is shutting down) before the upload was
+    /// complete.
+    #[error("the hub ended the connection: {0}")]
+    Ended(String),
+    /// The hub sent a frame that has no place on a station's connection (one a station sends,
+    /// or a pairing frame).
     #[error("unexpected {0} during upload")]
     Unexpected(crate::frame::FrameKind),
     /// The hub closed the connection before the upload was complete.
@@ -118,13 +176,58 @@ async fn connect(addr: &str, tls: Option<&ClientTls>) -> Result<BoxStream, Uploa
     })
 }
 
-/// Uploads `path`, the recording of the session `hello` opened, to the hub at `addr`.
+/// Uploads `path`, the recording of the session `hello` opened, to the hub at `addr`. What the
+/// hub pushes meanwhile is not kept ([`upload_recording_keeping`] keeps it).
 pub async fn upload_recording(
     addr: &str,
     tls: Option<&ClientTls>,
     hello: Hello,
     path: &Path,
     bytes_per_s: u64,
+) -> Result<Uploaded, UploadError> {
+    let mut pushed = Pushed::default();
+    upload_recording_keeping(addr, tls, hello, path, bytes_per_s, &mut pushed).await
+}
+
+/// The hub's next answer to the upload: its [`UploadAt`], taking on the way what it pushes at
+/// any time (into `pushed`; an `Ack` needs nothing). An `Error` is a refusal, a `Bye` ends it.
+async fn next_upload_at(
+    reader: &mut FrameReader,
+    pushed: &mut Pushed,
+) -> Result<UploadAt, UploadError> {
+    loop {
+        match reader.next_frame().await? {
+            Some(Frame::UploadAt(at)) => return Ok(at),
+            Some(Frame::Ack(_)) => {}
+            Some(Frame::Message(m)) => {
+                let id = m.id.clone();
+                if pushed.keep_message(m) {
+                    tracing::info!(%id, "message received from therapist during an upload");
+                } else {
+                    tracing::debug!(%id, "message not kept: kept already, or too many");
+                }
+            }
+            Some(Frame::Regimen(r)) => {
+                tracing::info!(id = %r.id, "regimen received from therapist during an upload");
+                pushed.regimen = Some(r);
+            }
+            Some(Frame::Error(e)) => return Err(UploadError::Refused(e.message)),
+            Some(Frame::Bye(b)) => return Err(UploadError::Ended(b.reason)),
+            Some(other) => return Err(UploadError::Unexpected(other.kind())),
+            None => return Err(UploadError::Closed),
+        }
+    }
+}
+
+/// [`upload_recording`], keeping in `pushed` the therapist's messages and the newest regimen
+/// the hub sends on the connection (also when the upload then fails).
+pub async fn upload_recording_keeping(
+    addr: &str,
+    tls: Option<&ClientTls>,
+    hello: Hello,
+    path: &Path,
+    bytes_per_s: u64,
+    pushed: &mut Pushed,
 ) -> Result<Uploaded, UploadError> {
     let owned = path.to_owned();
     let (size, sha256) = tokio::task::spawn_blocking(move || file_sha256(&owned))
@@ -151,15 +254,7 @@ pub async fn upload_recording(
     let started = Instant::now();
     let mut sent = 0u64;
     loop {
-        let at = loop {
-            match reader.next_frame().await? {
-                Some(Frame::UploadAt(at)) => break at,
-                Some(Frame::Ack(_) | Frame::Regimen(_)) => {}
-                Some(Frame::Error(e)) => return Err(UploadError::Refused(e.message)),
-                Some(other) => return Err(UploadError::Unexpected(other.kind())),
-                None => return Err(UploadError::Closed),
-            }
-        };
+        let at = next_upload_at(&mut reader, pushed).await?;
         if at.complete {
             return Ok(Uploaded {
                 size_bytes: size,

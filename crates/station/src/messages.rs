@@ -124,6 +124,20 @@ impl Inbox {
         }
     }
 
+    /// Keeps each of `messages` (received on a connection other than a session's live link:
+    /// an upload's, a queued session's) as the live link's are kept: once, by id, unseen
+    /// until a start card shows it. Saved if any was new; true then.
+    pub fn keep_received(&mut self, messages: impl IntoIterator<Item = Message>) -> bool {
+        let mut new = false;
+        for m in messages {
+            new |= self.add(m);
+        }
+        if new && let Err(e) = self.save() {
+            tracing::warn!("the therapist's messages are not kept: {e:#}");
+        }
+        new
+    }
+
     /// Writes the messages back (0600).
     pub fn save(&self) -> anyhow::Result<()> {
         write_private(&self.path, &serde_json::to_vec_pretty(&self.kept)?)

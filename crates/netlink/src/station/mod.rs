@@ -317,6 +317,14 @@ impl StationLink {
         std::mem::replace(&mut self.regimens, closed)
     }
 
+    /// Takes the message queue, so messages arriving until the link is finished can still be
+    /// read afterwards (a link delivering a queued session is read only at its end); this link
+    /// then receives none.
+    pub fn take_messages(&mut self) -> mpsc::Receiver<Message> {
+        let (_, closed) = mpsc::channel(1);
+        std::mem::replace(&mut self.messages, closed)
+    }
+
     /// A message from the therapist received, if any (each arrives on every connection until
     /// the station reports it seen: keep each once, by id).
     pub fn try_recv_message(&mut self) -> Option<Message> {

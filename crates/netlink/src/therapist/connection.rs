@@ -368,6 +368,8 @@ async fn frame_loop(
 ) -> String {
     let idle = Duration::from_millis(hub.config.idle_timeout_ms);
     let mut upload = None;
+    // An upload's connection is no route for the therapist's pushes.
+    let mut uploading = false;
     loop {
         tokio::select! {
             _ = shutdown.changed() => {
@@ -400,7 +402,13 @@ async fn frame_loop(
                 match handle_frame(hub, hello, file, &mut upload, frame).await {
                     Ok(Reply::Ack(ack)) => send_ack(out, ack),
                     Ok(Reply::Nothing) => {}
-                    Ok(Reply::Frame(frame)) => send(out, frame_outgoing(&frame)),
+                    Ok(Reply::Frame(frame)) => {
+                        if matches!(frame, Frame::UploadAt(_)) && !uploading {
+                            uploading = true;
+                            hub.stop_routing_to(&hello.station_id, out);
+                        }
+                        send(out, frame_outgoing(&frame));
+                    }
                     Ok(Reply::Bye(bye, why)) => {
                         send(out, frame_outgoing(&bye));
                         return why;

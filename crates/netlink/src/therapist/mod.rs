@@ -324,6 +324,20 @@ impl Hub {
         }
     }
 
+    /// The connection writing to `out` began an upload: what the therapist pushes to the
+    /// station (messages, regimens) no longer goes to it, whose purpose is the recording (a
+    /// station takes them during an upload too, but its live link is where they belong; one
+    /// not pushed now is pushed on the station's next connection).
+    fn stop_routing_to(&self, station_id: &str, out: &Outbox) {
+        let mut stations = lock(&self.stations);
+        if stations
+            .get(station_id)
+            .is_some_and(|r| r.out.same_connection(out))
+        {
+            stations.remove(station_id);
+        }
+    }
+
     /// Forgets a session file when its last connection ends.
     fn release_session(&self, hello: &Hello, file: SessionSlot) {
         let key = (hello.station_id.clone(), hello.session_id.clone());

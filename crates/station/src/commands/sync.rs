@@ -60,6 +60,16 @@ pub fn run(args: &SyncArgs) -> anyhow::Result<()> {
         timeout.saturating_mul(20),
     ));
     println!("sync: recordings {}", uploads.describe());
+    // The therapist's messages the hub sent on these connections, kept for the next start
+    // card as the live link's are (a regimen waits for the next run, which is pushed it).
+    let received = report
+        .messages
+        .iter()
+        .cloned()
+        .chain(uploads.pushed.messages);
+    if crate::messages::Inbox::load(&home.messages_path()).keep_received(received) {
+        println!("sync: a message from the therapist is kept for the next session");
+    }
     if report.delivered < report.sessions {
         bail!(
             "{} sessions not delivered to {address}: {}",

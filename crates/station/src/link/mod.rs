@@ -433,6 +433,8 @@ impl Link {
         // Messages that arrived too late for this session's start card (or in a session
         // without a window) are kept for the next one.
         inner.keep_new_messages();
+        // And those arriving while the link finishes (after its Bye), read once it has.
+        let mut late_messages = inner.link.take_messages();
         let measures = within_bye_limit(measures);
         if let Some(q) = &inner.queue {
             let mut q = q.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
@@ -444,26 +446,39 @@ impl Link {
             measures,
             FINISH_TIMEOUT,
         ));
-        let upload = match (&inner.home, recording) {
-            (Some(home), Some(path)) => Some(upload_now(
-                &inner.runtime,
-                (&inner.address, inner.tls.as_ref(), &inner.hello),
-                home,
-                path,
-            )),
-            _ => None,
+        let (upload, pushed) = match (&inner.home, recording) {
+            (Some(home), Some(path)) => {
+                let (said, pushed) = upload_now(
+                    &inner.runtime,
+                    (&inner.address, inner.tls.as_ref(), &inner.hello),
+                    home,
+                    path,
+                );
+                (Some(said), pushed)
+            }
+            _ => (None, netlink::upload::Pushed::default()),
         };
         inner.runtime.shutdown_timeout(Duration::from_millis(200));
-        let regimen = keep_prescribed_regimen(&mut regimens, inner.home.as_ref());
+        // A regimen pushed on the upload's connection is newer than the live link's.
+        let regimen = keep_prescribed_regimen(&mut regimens, pushed.regimen, inner.home.as_ref());
         let messages = inner
             .messages
             .into_inner()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
-        if let (Some(mut inbox), true) = (messages.inbox, stats.bye_acknowledged) {
-            // The hub handled every frame before its Bye, the "seen" among them.
-            inbox.confirm(&messages.said);
-            if let Err(e) = inbox.save() {
-                tracing::warn!("the therapist's messages are not kept: {e:#}");
+        if let Some(mut inbox) = messages.inbox {
+            // Messages pushed late or on the upload's connection are kept as the live link's:
+            // unseen, for the next start card.
+            let mut late = Vec::new();
+            while let Ok(m) = late_messages.try_recv() {
+                late.push(m);
+            }
+            inbox.keep_received(late.into_iter().chain(pushed.messages));
+            if stats.bye_acknowledged {
+                // The hub handled every frame before its Bye, the "seen" among them.
+                inbox.confirm(&messages.said);
+                if let Err(e) = inbox.save() {
+                    tracing::warn!("the therapist's messages are not kept: {e:#}");
+                }
             }
         }
         let mut queued = None;
@@ -503,16 +518,17 @@ impl Link {
 /// the next run or `telerehab sync`.
 pub const UPLOAD_WITHIN: Duration = Duration::from_secs(20);
 
-/// Queues the session's recording and uploads what can be in [`UPLOAD_WITHIN`].
+/// Queues the session's recording and uploads what can be in [`UPLOAD_WITHIN`]: what
+/// happened in words, and what the hub pushed on the way.
 fn upload_now(
     runtime: &tokio::runtime::Runtime,
     (address, tls, hello): (&str, Option<&ClientTls>, &Hello),
     home: &Home,
     path: &std::path::Path,
-) -> String {
+) -> (String, netlink::upload::Pushed) {
     let dir = home.uploads_dir();
     if let Err(e) = uploads::enqueue(&dir, hello, path) {
-        return format!("not queued: {e:#}");
+        return (format!("not queued: {e:#}"), Default::default());
     }
     let report = runtime.block_on(uploads::upload_all(
         &dir,
@@ -521,7 +537,7 @@ fn upload_now(
         uploads::UPLOAD_BYTES_PER_S,
         UPLOAD_WITHIN,
     ));
-    report.describe()
+    (report.describe(), report.pushed)
 }
 
 /// The measures the clinic reads first (the caseload's trends, the console's progress and the
@@ -585,18 +601,20 @@ fn within_bye_limit(measures: &BTreeMap<String, f64>) -> BTreeMap<String, f64> {
     kept
 }
 
-/// The newest regimen the hub sent during the session, validated against the station's safety
+/// The newest regimen the hub sent during the session (`newer`: one it sent after, on the
+/// recording's upload), validated against the station's safety
 /// bounds and kept in the home for the next session (never applied mid-session). What
 /// happened, for the report.
 fn keep_prescribed_regimen(
     regimens: &mut tokio::sync::mpsc::Receiver<netlink::Regimen>,
+    newer: Option<netlink::Regimen>,
     home: Option<&Home>,
 ) -> Option<String> {
     let mut newest = None;
     while let Ok(r) = regimens.try_recv() {
         newest = Some(r);
     }
-    let r = newest?;
+    let r = newer.or(newest)?;
     let Some(home) = home else {
         return Some(format!(
             "{} received; no home directory to keep it in",

@@ -281,6 +281,9 @@ pub struct SyncReport {
     pub remaining: u64,
     /// The last error, if any session stays.
     pub last_error: Option<String>,
+    /// The therapist's messages the hub sent on the sessions' connections, for the home's
+    /// message store (each once, by id).
+    pub messages: Vec<netlink::Message>,
 }
 
 /// Sends every queued session to `address` (each within `timeout`), removing what the hub has
@@ -335,6 +338,8 @@ pub async fn deliver_sessions(
         if !q.exercises.is_empty() {
             link.set_exercises(q.exercises);
         }
+        // Read at the end, not lost: the hub sends the therapist's messages here too.
+        let mut messages = link.take_messages();
         let mut unsent = 0_u64;
         for s in q.summaries {
             if let Err(e) = sender.send(s) {
@@ -349,6 +354,11 @@ pub async fn deliver_sessions(
                 timeout,
             )
             .await;
+        while let Ok(m) = messages.try_recv() {
+            if !report.messages.iter().any(|k| k.id == m.id) {
+                report.messages.push(m);
+            }
+        }
         // The hub's Bye answer says it has synced everything it acknowledged; a summary the
         // link never took keeps the session queued.
         if stats.pending == 0 && stats.bye_acknowledged && unsent == 0 {

@@ -45,10 +45,14 @@ pub struct UploadReport {
     pub sent_bytes: u64,
     /// The last error, if a recording stays.
     pub last_error: Option<String>,
+    /// What the hub pushed on the uploads' connections (the therapist's messages, the newest
+    /// regimen): the caller keeps them as its live link's.
+    pub pushed: netlink::upload::Pushed,
 }
 
 /// Uploads every queued recording to `address` until `within` has passed; a recording whose
-/// file is gone is dropped from the queue (with a warning).
+/// file is gone is dropped from the queue (with a warning). The therapist's messages and
+/// regimen the hub pushes on the way are in the report's `pushed`.
 pub async fn upload_all(
     dir: &Path,
     address: &str,
@@ -85,14 +89,18 @@ pub async fn upload_all(
             continue;
         }
         let left = deadline.saturating_duration_since(Instant::now());
-        let attempt = netlink::upload::upload_recording(
+        let mut pushed = netlink::upload::Pushed::default();
+        let attempt = netlink::upload::upload_recording_keeping(
             address,
             tls,
             pending.hello.clone(),
             &pending.path,
             bytes_per_s,
+            &mut pushed,
         );
-        match tokio::time::timeout(left, attempt).await {
+        let outcome = tokio::time::timeout(left, attempt).await;
+        report.pushed.append(pushed);
+        match outcome {
             Ok(Ok(done)) => {
                 report.uploaded += 1;
                 report.sent_bytes += done.sent_bytes;
