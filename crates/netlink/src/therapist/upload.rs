@@ -341,14 +341,14 @@ pub(super) async fn chunk(
 /// would take more than [`station_limits::MAX_UPLOAD_WAIT`].
 async fn pace_upload(hub: &Hub, hello: &Hello, n: u64) -> Result<(), Failure> {
     let rate = hub.config.max_upload_bytes_per_s as f64;
-    // A second's worth may come at once.
+    // One chunk may come at once.
     let wait = hub
         .upload_pace
         .reserve(
             &hello.station_id,
             n as f64,
             rate,
-            rate,
+            crate::frame::MAX_CHUNK_BYTES as f64,
             station_limits::MAX_UPLOAD_WAIT,
         )
         .ok_or_else(|| {
