@@ -137,20 +137,7 @@ pub(super) async fn handle_frame(
                     bye.session_id, hello.session_id
                 )));
             }
-            // A final sequence number beyond what arrived would claim summaries never sent.
-            let received = last_seq(file).await;
-            if let Some(claimed) = bye.final_seq
-                && received.is_none_or(|r| claimed > r)
-            {
-                return Err(Failure::Refused(
-                    "bye_final_seq",
-                    format!(
-                        "Bye says the session's last summary is seq {claimed}, but the hub \
-                         received {}; send the missing summaries first",
-                        received.map_or_else(|| "none".to_owned(), |r| format!("up to seq {r}"))
-                    ),
-                ));
-            }
+            check_final_seq(file, &bye).await?;
             sync_file(file, Some(&bye))
                 .await
                 .map_err(|e| Failure::Closed(format!("storage failure: {e}")))?;
@@ -190,6 +177,25 @@ pub(super) async fn handle_frame(
             other.kind()
         ))),
     }
+}
+
+/// Refuses a `Bye` whose final sequence number is beyond what arrived: it would claim
+/// summaries never sent.
+async fn check_final_seq(file: &SessionSlot, bye: &Bye) -> Result<(), Failure> {
+    let received = last_seq(file).await;
+    if let Some(claimed) = bye.final_seq
+        && received.is_none_or(|r| claimed > r)
+    {
+        return Err(Failure::Refused(
+            "bye_final_seq",
+            format!(
+                "Bye says the session's last summary is seq {claimed}, but the hub received {}; \
+                 send the missing summaries first",
+                received.map_or_else(|| "none".to_owned(), |r| format!("up to seq {r}"))
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The last sequence number stored in a session, `None` if none (or the store is not open).

@@ -151,7 +151,7 @@ async fn bound_station_parts(
         }
     }
     // Oldest (longest unwritten) first.
-    parts.sort_by(|a, b| b.0.cmp(&a.0));
+    parts.sort_by_key(|p| std::cmp::Reverse(p.0));
     let mut total: u64 = parts
         .iter()
         .map(|(_, len, _)| len)
