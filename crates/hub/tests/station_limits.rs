@@ -201,12 +201,13 @@ async fn summaries_stored(db: &Db, session_ids: &[String]) -> usize {
     n
 }
 
-/// A flooder's connection: Hello, then summaries as fast as the hub reads them until
-/// `until`; the frames the hub sent back.
+/// A flooder's connection: Hello, then summaries `dt_s` apart in session time as fast as the
+/// hub reads them until `until`; the frames the hub sent back.
 async fn flood(
     addr: SocketAddr,
     st: BenchStation,
     session_id: String,
+    dt_s: f64,
     until: Instant,
 ) -> Vec<Frame> {
     let (mut rd, mut wr) = tokio::io::split(connect(addr, &st).await);
@@ -218,11 +219,11 @@ async fn flood(
         .await;
     let mut seq = 0u64;
     while Instant::now() < until {
-        // 64 summaries a write, t_s 1 ms apart (within what the session can have reached).
+        // 64 summaries a write.
         let batch: Vec<Frame> = (seq..seq + 64)
             .map(|s| {
                 let mut x = Summary::example(&session_id, s);
-                x.t_s = s as f64 * 0.001;
+                x.t_s = s as f64 * dt_s;
                 Frame::Summary(x)
             })
             .collect();
@@ -251,7 +252,15 @@ async fn a_flooding_station_is_held_to_twice_a_stations_summary_rate_over_all_it
     let until = t0 + window;
     let sessions: Vec<String> = (0..4).map(|i| format!("flood-{i}")).collect();
     let tasks: Vec<_> = (0..connections)
-        .map(|i| tokio::spawn(flood(addr, st.clone(), sessions[i % 4].clone(), until)))
+        .map(|i| {
+            tokio::spawn(flood(
+                addr,
+                st.clone(),
+                sessions[i % 4].clone(),
+                0.05,
+                until,
+            ))
+        })
         .collect();
     let mut answers = Vec::new();
     for t in tasks {
@@ -279,6 +288,44 @@ async fn a_flooding_station_is_held_to_twice_a_stations_summary_rate_over_all_it
         "the flooder was told: {refused:?}"
     );
     // One audit entry per station and kind a minute, however often it was refused.
+    assert_eq!(audit_count(&db, "station_refused_summary_rate").await, 1);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn one_connection_flooding_summaries_faster_than_its_session_runs_is_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let (clinic, st) = clinic_with_station(dir.path()).await;
+    let hub = start_hub(&clinic).await;
+    let t0 = Instant::now();
+    // A thousand summaries a second of session time, for at most 3 s.
+    let answers = flood(
+        hub.bound.stations,
+        st.clone(),
+        "flood-1".into(),
+        0.001,
+        t0 + Duration::from_secs(3),
+    )
+    .await;
+    hub.stop().await;
+    let refused = errors(&answers);
+    assert!(
+        refused
+            .iter()
+            .any(|e| e.contains("more summaries than a station produces in that time")),
+        "the flooder was told: {refused:?}"
+    );
+    let db = clinic.open_db(None).await.unwrap();
+    let stored = summaries_stored(&db, &["flood-1".to_owned()]).await;
+    let elapsed_s = t0.elapsed().as_secs_f64();
+    println!(
+        "one-connection flood: {stored} summaries stored in {elapsed_s:.1} s ({:.0}/s)",
+        stored as f64 / elapsed_s
+    );
+    // The burst, and 20 a second of the little session time those summaries claim.
+    assert!(
+        stored as f64 <= SUMMARY_BURST * 1.1,
+        "{stored} summaries stored"
+    );
     assert_eq!(audit_count(&db, "station_refused_summary_rate").await, 1);
 }
 
@@ -572,9 +619,13 @@ async fn the_days_upload_bytes_survive_a_hub_restart() {
     }
 }
 
-#[tokio::test]
-async fn a_hello_alone_is_not_counted_as_a_training_session() {
-    let (db, _dir) = common::sqlite_db().await;
+on_both_backends!(
+    a_hello_alone_is_not_counted_as_a_training_session,
+    a_stations_upload_bytes_of_a_day_only_grow_and_its_sessions_of_a_day_are_counted,
+);
+
+/// A therapist, patient `p-1` and station `st-1` in `db`.
+async fn caseload(db: &Db) -> (hub::Therapist, hub::Patient) {
     let t = db
         .add_therapist(
             "ana@clinic.example",
@@ -591,6 +642,11 @@ async fn a_hello_alone_is_not_counted_as_a_training_session() {
     db.add_station("st-1", &p.id, &"0".repeat(64), common::T0)
         .await
         .unwrap();
+    (t, p)
+}
+
+async fn a_hello_alone_is_not_counted_as_a_training_session(db: Db) {
+    let (t, p) = caseload(&db).await;
     for (i, s) in ["trained", "measured", "empty-1", "empty-2"]
         .iter()
         .enumerate()
@@ -624,6 +680,48 @@ async fn a_hello_alone_is_not_counted_as_a_training_session() {
     assert_eq!(listed, ["measured", "trained"]);
     // The rows are kept, for the record.
     assert_eq!(db.sessions_of(&p.id).await.unwrap().len(), 4);
+}
+
+async fn a_stations_upload_bytes_of_a_day_only_grow_and_its_sessions_of_a_day_are_counted(db: Db) {
+    let (_, p) = caseload(&db).await;
+    let day = common::T0 as u64 / DAY_MS;
+    assert_eq!(db.upload_bytes_on("st-1", day).await.unwrap(), 0);
+    db.note_upload_bytes("st-1", day, 1_000).await.unwrap();
+    // Connections note in any order: a smaller count changes nothing.
+    db.note_upload_bytes("st-1", day, 400).await.unwrap();
+    db.note_upload_bytes("st-1", day + 1, 7).await.unwrap();
+    assert_eq!(db.upload_bytes_on("st-1", day).await.unwrap(), 1_000);
+    assert_eq!(db.upload_bytes_on("st-1", day + 1).await.unwrap(), 7);
+    assert_eq!(db.upload_bytes_on("st-other", day).await.unwrap(), 0);
+    // Two sessions on T0's day, one the next day.
+    let day_start = (day * DAY_MS) as i64;
+    for (s, at) in [
+        ("a", day_start),
+        ("b", day_start + 3_600_000),
+        ("c", day_start + DAY_MS as i64),
+    ] {
+        let mut h = common::hello("st-1", &p.id, s);
+        h.started_unix_ms = at as u64;
+        db.open_session(&h, common::T0).await.unwrap();
+    }
+    assert_eq!(
+        db.sessions_started_on_day("st-1", day_start + 5)
+            .await
+            .unwrap(),
+        2
+    );
+    assert_eq!(
+        db.sessions_started_on_day("st-1", day_start + DAY_MS as i64)
+            .await
+            .unwrap(),
+        1
+    );
+    // The time of a session's last summary, for its next connection.
+    assert_eq!(db.last_t_s("a").await.unwrap(), None);
+    let mut s = Summary::example("a", 0);
+    s.t_s = 12.5;
+    db.store_summary(&s, common::T0).await.unwrap();
+    assert_eq!(db.last_t_s("a").await.unwrap(), Some(12.5));
 }
 
 #[tokio::test]

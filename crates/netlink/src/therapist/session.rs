@@ -114,6 +114,8 @@ pub(super) async fn handle_frame(
                 hub.store.now_ms(),
             )
             .map_err(|why| Failure::Refused("summary_time", why))?;
+            station_limits::check_summary_count(summary.seq, summary.t_s)
+                .map_err(|why| Failure::Refused("summary_rate", why))?;
             // Holding only this session's lock; the store does its blocking work off the reactor.
             let appended = store
                 .append(&summary)

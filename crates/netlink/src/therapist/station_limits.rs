@@ -105,6 +105,20 @@ pub fn check_summary_time(
     Ok(())
 }
 
+/// Checks that a session's summary `seq` at time `t_s` is no more than a station produces in
+/// that time: [`SUMMARY_RATE_PER_S`] a second of session time plus [`SUMMARY_BURST`] (a
+/// station numbers its summaries from 0, one every 100 ms of its session).
+pub fn check_summary_count(seq: u64, t_s: f64) -> Result<(), String> {
+    let most = SUMMARY_RATE_PER_S * t_s.max(0.0) + SUMMARY_BURST;
+    if seq as f64 > most {
+        return Err(format!(
+            "summary seq {seq} at t_s = {t_s} s: more summaries than a station produces in that \
+             time (at most {SUMMARY_RATE_PER_S} a second of the session, plus {SUMMARY_BURST})"
+        ));
+    }
+    Ok(())
+}
+
 /// `ms` since the Unix epoch as a UTC date `YYYY-MM-DD`, for messages (days to civil date,
 /// H. Hinnant's algorithm).
 fn iso(ms: u64) -> String {
@@ -205,6 +219,15 @@ mod tests {
         assert!(check_summary_time(10.0, Some(20.0), start, NOW).is_err());
         // Ahead of what a minute-old session can have reached, past the clock's slack.
         assert!(check_summary_time(60.0 + CLOCK_SLACK_S + 1.0, None, start, NOW).is_err());
+    }
+
+    #[test]
+    fn a_station_produces_at_most_twenty_summaries_a_second_of_its_session() {
+        assert!(check_summary_count(100, 0.0).is_ok());
+        assert!(check_summary_count(600, 60.0).is_ok());
+        assert!(check_summary_count(1_300, 60.0).is_ok());
+        let e = check_summary_count(1_301, 60.0).unwrap_err();
+        assert!(e.contains("more summaries than a station produces"), "{e}");
     }
 
     #[test]
