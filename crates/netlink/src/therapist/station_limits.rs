@@ -45,6 +45,10 @@ pub const MAX_SESSION_S: f64 = 6.0 * 3600.0;
 /// s (a station's clock off by up to [`MAX_START_AHEAD_MS`]).
 pub const CLOCK_SLACK_S: f64 = 300.0;
 
+/// A recording's `.part` file not written for this long is removed when its station next
+/// uploads, s (a station that comes back later uploads that recording again from its start).
+pub const STALE_PART_S: u64 = 7 * 24 * 60 * 60;
+
 /// Checks a session's start (ms since the Unix epoch, station clock) against the hub's clock
 /// `now_ms`: at most [`MAX_START_AHEAD_MS`] ahead, and not before [`EARLIEST_START_MS`].
 pub fn check_start(started_unix_ms: u64, now_ms: u64) -> Result<(), String> {

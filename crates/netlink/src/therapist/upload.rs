@@ -27,10 +27,6 @@ pub(super) struct Upload {
     file: tokio::fs::File,
 }
 
-/// A `.part` file not written for this long is removed when its station next uploads, s (a
-/// station that comes back later uploads that recording again from its start).
-pub const STALE_PART_S: u64 = 7 * 24 * 60 * 60;
-
 /// How often a station's daily byte count is written to the store while it uploads (and at
 /// the end of each recording): a restarted hub loses at most this much of the count.
 const NOTE_DAILY_BYTES_EVERY: Duration = Duration::from_secs(1);
@@ -119,7 +115,7 @@ impl DailyBytes {
 }
 
 /// Removes `.part` files of the station's directory `dir` other than `keep`: those not written
-/// for [`STALE_PART_S`], then the oldest until the rest and `incoming` bytes fit in `limit`
+/// for [`station_limits::STALE_PART_S`], then the oldest until the rest and `incoming` bytes fit in `limit`
 /// (a station uploads one recording at a time; the others restart from their beginning).
 async fn bound_station_parts(
     dir: &std::path::Path,
@@ -144,7 +140,7 @@ async fn bound_station_parts(
             .ok()
             .and_then(|m| m.elapsed().ok())
             .unwrap_or_default();
-        if age.as_secs() >= STALE_PART_S {
+        if age.as_secs() >= station_limits::STALE_PART_S {
             let _ = tokio::fs::remove_file(&p).await;
         } else {
             parts.push((age, meta.len(), p));
