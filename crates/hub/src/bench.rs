@@ -252,7 +252,7 @@ async fn drive(
         patient_id: st.patient_id.clone(),
         session_id: session_id.clone(),
         exercise: "sine-road".into(),
-        started_unix_ms: 0,
+        started_unix_ms: netlink::frame::unix_ms_now(),
         software_version: "telerehab hub bench".into(),
     });
     let write = |f: &Frame| encode_to_vec(f).map_err(|e| e.to_string());

@@ -22,7 +22,7 @@ use netlink::{
     BoxFuture, Bye, Hello, HubStore, NetlinkError, Peer, Refusal, SessionStore, Summary,
 };
 
-use crate::db::Db;
+use crate::db::{Db, MAX_SESSIONS_PER_STATION_DAY};
 use crate::error::HubError;
 use crate::web::NowMs;
 
@@ -32,6 +32,10 @@ pub const REVOCATION_POLL: Duration = Duration::from_secs(1);
 pub const PAIRING_ATTEMPTS_PER_MINUTE: u32 = 10;
 /// Failed pairing attempts one address may make per hour; beyond, it is refused for the hour.
 pub const PAIRING_FAILURES_PER_HOUR: u32 = 20;
+
+/// At most one audit entry per station and kind of refusal in this long, ms: a station held to
+/// its limits refuses again at every try, and the log must not grow with it.
+pub const REFUSAL_AUDIT_EVERY_MS: i64 = 60_000;
 
 /// Most summaries one group commit takes.
 pub const MAX_BATCH: usize = 1024;
@@ -75,6 +79,9 @@ pub struct DbStore {
     /// Pairing attempts and failures per address (IPv6 per /64: one host holds a whole /64).
     pairing_attempts: Mutex<HashMap<String, (i64, u32)>>,
     pairing_failures: Mutex<HashMap<String, (i64, u32)>>,
+    /// When each station's refusal of each kind was last audited, ms (at most one entry per
+    /// station and kind per [`REFUSAL_AUDIT_EVERY_MS`]).
+    refusal_audits: Mutex<HashMap<(String, &'static str), i64>>,
     now_ms: NowMs,
 }
 
@@ -130,6 +137,7 @@ impl DbStore {
             revoked: Arc::default(),
             pairing_attempts: Mutex::default(),
             pairing_failures: Mutex::default(),
+            refusal_audits: Mutex::default(),
             now_ms,
         }
     }
@@ -199,6 +207,69 @@ impl DbStore {
         }
     }
 
+    /// Audits the refusal `kind` of station `hello` (`why`: what it was told), unless one of
+    /// that kind was audited for it in the last [`REFUSAL_AUDIT_EVERY_MS`].
+    async fn audit_station_refusal(&self, hello: &Hello, kind: &'static str, why: &str) {
+        let now = self.now();
+        {
+            let mut last = self
+                .refusal_audits
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            if last.len() > 10_000 {
+                last.retain(|_, at| now - *at < REFUSAL_AUDIT_EVERY_MS);
+            }
+            let key = (hello.station_id.clone(), kind);
+            if last
+                .get(&key)
+                .is_some_and(|at| now - *at < REFUSAL_AUDIT_EVERY_MS)
+            {
+                return;
+            }
+            last.insert(key, now);
+        }
+        let actor = format!("station:{}", hello.station_id);
+        let action = format!("station_refused_{kind}");
+        if let Err(e) = self
+            .db
+            .audit(&actor, &action, &hello.session_id, why, now)
+            .await
+        {
+            tracing::warn!("cannot audit a station refusal: {e}");
+        }
+    }
+
+    /// Refuses a new session of `hello`'s station beyond [`MAX_SESSIONS_PER_STATION_DAY`]
+    /// started on the same UTC day (a session already known is always reopened).
+    async fn check_sessions_of_the_day(&self, hello: &Hello) -> Result<(), Refusal> {
+        if self
+            .db
+            .session(&hello.session_id)
+            .await
+            .map_err(refusal)?
+            .is_some()
+        {
+            return Ok(());
+        }
+        let started = i64::try_from(hello.started_unix_ms).unwrap_or(i64::MAX);
+        let n = self
+            .db
+            .sessions_started_on_day(&hello.station_id, started)
+            .await
+            .map_err(refusal)?;
+        if n < MAX_SESSIONS_PER_STATION_DAY {
+            return Ok(());
+        }
+        let why = format!(
+            "station {:?} has already started {n} sessions on this day, the most the hub takes \
+             ({MAX_SESSIONS_PER_STATION_DAY}; a regimen prescribes at most 4 a day)",
+            hello.station_id
+        );
+        self.audit_station_refusal(hello, "sessions_per_day", &why)
+            .await;
+        Err(Refusal::new(why))
+    }
+
     /// Counts a pairing attempt from `ip`; false beyond [`PAIRING_ATTEMPTS_PER_MINUTE`] a
     /// minute or after [`PAIRING_FAILURES_PER_HOUR`] failures within the hour.
     fn pairing_allowed(&self, ip: IpAddr) -> bool {
@@ -234,6 +305,46 @@ fn count_in_window(
 }
 
 impl HubStore for DbStore {
+    fn now_ms(&self) -> u64 {
+        u64::try_from(self.now()).unwrap_or(0)
+    }
+
+    fn refused<'a>(
+        &'a self,
+        hello: &'a Hello,
+        kind: &'static str,
+        why: &'a str,
+    ) -> BoxFuture<'a, ()> {
+        Box::pin(self.audit_station_refusal(hello, kind, why))
+    }
+
+    fn upload_bytes_on<'a>(
+        &'a self,
+        station_id: &'a str,
+        day: u64,
+    ) -> BoxFuture<'a, Result<u64, NetlinkError>> {
+        Box::pin(async move {
+            self.db
+                .upload_bytes_on(station_id, day)
+                .await
+                .map_err(storage_error)
+        })
+    }
+
+    fn note_upload_bytes<'a>(
+        &'a self,
+        station_id: &'a str,
+        day: u64,
+        bytes: u64,
+    ) -> BoxFuture<'a, Result<(), NetlinkError>> {
+        Box::pin(async move {
+            self.db
+                .note_upload_bytes(station_id, day, bytes)
+                .await
+                .map_err(storage_error)
+        })
+    }
+
     fn recording_path(&self, hello: &Hello) -> Option<std::path::PathBuf> {
         // Identifiers were checked by the codec and admitted by `admit`: safe path components.
         Some(
@@ -318,16 +429,22 @@ impl HubStore for DbStore {
         hello: &'a Hello,
     ) -> BoxFuture<'a, Result<Box<dyn SessionStore>, Refusal>> {
         Box::pin(async move {
+            self.check_sessions_of_the_day(hello).await?;
             let last_seq = self
                 .db
                 .open_session(hello, self.now())
                 .await
                 .map_err(refusal)?;
+            let last_t_s = match last_seq {
+                Some(_) => self.db.last_t_s(&hello.session_id).await.map_err(refusal)?,
+                None => None,
+            };
             Ok(Box::new(DbSession {
                 db: self.db.clone(),
                 writer: self.writer.clone(),
                 station_id: hello.station_id.clone(),
                 last_seq,
+                last_t_s,
                 revoked: self.revoked.clone(),
                 now_ms: self.now_ms.clone(),
             }) as Box<dyn SessionStore>)
@@ -340,6 +457,36 @@ impl HubStore for DbStore {
 pub struct Ingest(pub Arc<DbStore>);
 
 impl HubStore for Ingest {
+    fn now_ms(&self) -> u64 {
+        self.0.now_ms()
+    }
+
+    fn refused<'a>(
+        &'a self,
+        hello: &'a Hello,
+        kind: &'static str,
+        why: &'a str,
+    ) -> BoxFuture<'a, ()> {
+        self.0.refused(hello, kind, why)
+    }
+
+    fn upload_bytes_on<'a>(
+        &'a self,
+        station_id: &'a str,
+        day: u64,
+    ) -> BoxFuture<'a, Result<u64, NetlinkError>> {
+        self.0.upload_bytes_on(station_id, day)
+    }
+
+    fn note_upload_bytes<'a>(
+        &'a self,
+        station_id: &'a str,
+        day: u64,
+        bytes: u64,
+    ) -> BoxFuture<'a, Result<(), NetlinkError>> {
+        self.0.note_upload_bytes(station_id, day, bytes)
+    }
+
     fn admit<'a>(&'a self, hello: &'a Hello, peer: Peer<'a>) -> BoxFuture<'a, Result<(), Refusal>> {
         self.0.admit(hello, peer)
     }
@@ -416,6 +563,8 @@ struct DbSession {
     writer: mpsc::Sender<Pending>,
     station_id: String,
     last_seq: Option<u64>,
+    /// The time of the last summary stored.
+    last_t_s: Option<f64>,
     revoked: Arc<RwLock<HashSet<String>>>,
     now_ms: NowMs,
 }
@@ -427,6 +576,10 @@ fn storage_error(e: HubError) -> NetlinkError {
 impl SessionStore for DbSession {
     fn last_seq(&self) -> Option<u64> {
         self.last_seq
+    }
+
+    fn last_t_s(&self) -> Option<f64> {
+        self.last_t_s
     }
 
     fn append<'a>(
@@ -456,6 +609,7 @@ impl SessionStore for DbSession {
                 .map_err(NetlinkError::Protocol)?;
             if appended == Appended::Stored {
                 self.last_seq = Some(summary.seq);
+                self.last_t_s = Some(summary.t_s);
             }
             Ok(appended)
         })

@@ -268,11 +268,14 @@ async fn patients_and_caseload(db: Db) {
     assert_eq!(db.patient(&p.id).await.unwrap(), Some(p.clone()));
     assert_eq!(db.patient_by_pseudonym("nobody").await.unwrap(), None);
 
-    // Two sessions: one 8 days ago, one 1 day ago.
+    // Two sessions: one 8 days ago, one 1 day ago (each with a summary: training).
     for (sid, age_days) in [("s-old", 8), ("s-new", 1)] {
         let mut h = hello("st-1", &p.id, sid);
         h.started_unix_ms = (T0 + 10 * 24 * 60 * MIN - age_days * 24 * 60 * MIN) as u64;
         db.open_session(&h, T0).await.unwrap();
+        db.store_summary(&Summary::example(sid, 0), T0)
+            .await
+            .unwrap();
     }
     let now = T0 + 10 * 24 * 60 * MIN;
     let own = db.patients_for(&t, now).await.unwrap();

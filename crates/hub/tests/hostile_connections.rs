@@ -182,7 +182,7 @@ async fn station_streams(addr: SocketAddr, st: &BenchStation) -> Result<(), Stri
         patient_id: st.patient_id.clone(),
         session_id: session_id.clone(),
         exercise: "sine-road".into(),
-        started_unix_ms: 0,
+        started_unix_ms: netlink::frame::unix_ms_now(),
         software_version: "hostile test".into(),
     });
     for frame in [hello, Frame::Summary(Summary::example(&session_id, 0))] {

@@ -49,6 +49,10 @@ async fn session(
         wheel: None,
     };
     db.open_session(&hello, T0 + hour * HOUR_MS).await.unwrap();
+    // A session that ran stored its summaries (a Hello alone is no training session).
+    db.store_summary(&netlink::Summary::example(sid, 0), T0 + hour * HOUR_MS)
+        .await
+        .unwrap();
     let bye = Bye {
         session_id: sid.to_owned(),
         reason: reason.to_owned(),

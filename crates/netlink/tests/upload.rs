@@ -261,3 +261,49 @@ async fn a_recording_the_hub_could_not_record_is_not_complete_and_is_recorded_at
     assert_eq!(again.sent_bytes, 0);
     assert_eq!(*recorder.recorded.lock().unwrap(), vec!["s-up".to_owned()]);
 }
+
+/// Sets `path`'s modification time `age` ago.
+fn age_file(path: &Path, age: std::time::Duration) {
+    let f = std::fs::File::options().write(true).open(path).unwrap();
+    f.set_modified(std::time::SystemTime::now() - age).unwrap();
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_stations_left_parts_are_bounded_to_one_sessions_recording_and_stale_ones_removed() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = recording(tmp.path());
+    let store = tmp.path().join("store");
+    let dir = store.join("st-up");
+    std::fs::create_dir_all(&dir).unwrap();
+    // Parts of other sessions' uploads a station (or a hostile one) began and left.
+    let newer = dir.join("s-a.0123456789abcdef.part");
+    let older = dir.join("s-b.0123456789abcdef.part");
+    let stale = dir.join("s-c.0123456789abcdef.part");
+    std::fs::write(&newer, vec![1u8; 600_000]).unwrap();
+    std::fs::write(&older, vec![1u8; 600_000]).unwrap();
+    std::fs::write(&stale, vec![1u8; 1_000]).unwrap();
+    age_file(&older, std::time::Duration::from_secs(60));
+    age_file(
+        &stale,
+        std::time::Duration::from_secs(netlink::therapist::station_limits::STALE_PART_S + 60),
+    );
+    // One session's recording is at most 1 MiB here: the parts of a station stay within it.
+    let server = hub_with(&store, |c| c.max_upload_bytes_per_session = 1 << 20).await;
+    let addr = server.local_addr().to_string();
+    upload_recording(&addr, None, hello(), &file, 50_000_000)
+        .await
+        .unwrap();
+    assert!(!stale.exists(), "a part not written for a week is removed");
+    assert!(!older.exists(), "the oldest part makes room");
+    assert!(
+        newer.exists(),
+        "parts within the bound are kept (their uploads resume)"
+    );
+    let parts: u64 = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(Result::ok)
+        .filter(|e| e.path().extension().is_some_and(|x| x == "part"))
+        .map(|e| e.metadata().unwrap().len())
+        .sum();
+    assert!(parts <= 1 << 20, "{parts} bytes of parts left");
+}

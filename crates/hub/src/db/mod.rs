@@ -36,6 +36,7 @@ mod patients;
 mod regimens;
 mod scales;
 mod sessions;
+mod station_limits;
 mod stations;
 mod summaries;
 mod therapists;
@@ -72,6 +73,7 @@ pub use scales::{
     check_scale, iso_utc, scale_def,
 };
 pub use sessions::{Recording, SessionRow};
+pub use station_limits::{MAX_SESSIONS_PER_STATION_DAY, TRAINING_SESSION_SQL};
 pub use stations::Station;
 pub use therapists::{
     COMMON_PASSWORDS, LOCKOUT_MS, LoginAttempt, LoginOk, MAX_FAILED_LOGINS, MAX_PASSWORD_BYTES,
@@ -96,6 +98,12 @@ pub const SQLITE_BUSY_TIMEOUT_MS: u64 = 5_000;
 /// that task ever stops.
 const SQLITE_WAL_AUTOCHECKPOINT_PAGES: u32 = 100_000;
 
+/// Size of the SQLite write-ahead log past which [`Db::checkpoint`] copies it all back and
+/// truncates it (`wal_checkpoint(TRUNCATE)`, which waits briefly for readers and the writer),
+/// and to which SQLite itself cuts the file after a checkpoint (`journal_size_limit`), bytes.
+/// Without it a WAL that a flood grew never shrinks.
+pub const SQLITE_WAL_LIMIT_BYTES: u64 = 64 << 20;
+
 /// Which database engine a [`Db`] talks to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[non_exhaustive]
@@ -111,6 +119,8 @@ pub enum Backend {
 pub struct Db {
     pool: AnyPool,
     backend: Backend,
+    /// The SQLite database's write-ahead log (`PATH-wal`), watched by [`Db::checkpoint`].
+    wal_path: Option<PathBuf>,
     /// Login throttling's hashing pool and refusal limiter, shared by clones.
     guards: std::sync::Arc<logins::Guards>,
 }
@@ -123,6 +133,7 @@ impl Db {
     /// file with mode 0600 before the driver opens it.
     pub async fn open(url: &str) -> Result<Self, HubError> {
         sqlx::any::install_default_drivers();
+        let mut wal_path = None;
         let backend = if let Some(rest) = url.strip_prefix("sqlite:") {
             let path = rest.trim_start_matches("//");
             let path = path.split('?').next().unwrap_or_default();
@@ -133,6 +144,7 @@ impl Db {
                 ));
             }
             prepare_sqlite_file(Path::new(path))?;
+            wal_path = Some(PathBuf::from(format!("{path}-wal")));
             Backend::Sqlite
         } else if url.starts_with("postgres://") || url.starts_with("postgresql://") {
             Backend::Postgres
@@ -157,7 +169,8 @@ impl Db {
                             "PRAGMA journal_mode = WAL; PRAGMA busy_timeout = \
                              {SQLITE_BUSY_TIMEOUT_MS}; PRAGMA foreign_keys = ON; \
                              PRAGMA synchronous = NORMAL; \
-                             PRAGMA wal_autocheckpoint = {SQLITE_WAL_AUTOCHECKPOINT_PAGES};"
+                             PRAGMA wal_autocheckpoint = {SQLITE_WAL_AUTOCHECKPOINT_PAGES}; \
+                             PRAGMA journal_size_limit = {SQLITE_WAL_LIMIT_BYTES};"
                         );
                         conn.execute(sqlx::raw_sql(sqlx::AssertSqlSafe(pragmas)))
                             .await?;
@@ -183,6 +196,7 @@ impl Db {
         let db = Self {
             pool,
             backend,
+            wal_path,
             guards: std::sync::Arc::new(logins::Guards::new()),
         };
         if fill_sessions_per_week {
@@ -215,15 +229,30 @@ impl Db {
 
     /// Copies what the SQLite write-ahead log holds into the database file without waiting
     /// for (or blocking) the writer or readers (`wal_checkpoint(PASSIVE)`); the hub runs it
-    /// about once a second on a connection of its own. Nothing to do on PostgreSQL.
+    /// about once a second on a connection of its own. When the log has grown past
+    /// [`SQLITE_WAL_LIMIT_BYTES`] it is copied back whole and truncated
+    /// (`wal_checkpoint(TRUNCATE)`). Nothing to do on PostgreSQL.
     pub async fn checkpoint(&self) -> Result<(), HubError> {
         if self.backend == Backend::Sqlite {
             sqlx::raw_sql("PRAGMA wal_checkpoint(PASSIVE)")
                 .execute(&self.pool)
                 .await
                 .map_err(HubError::db("checkpointing the write-ahead log"))?;
+            if self.wal_bytes().is_some_and(|b| b > SQLITE_WAL_LIMIT_BYTES) {
+                sqlx::raw_sql("PRAGMA wal_checkpoint(TRUNCATE)")
+                    .execute(&self.pool)
+                    .await
+                    .map_err(HubError::db("truncating the write-ahead log"))?;
+            }
         }
         Ok(())
+    }
+
+    /// Size of the SQLite write-ahead log file, bytes; `None` on PostgreSQL or when it does
+    /// not exist.
+    pub fn wal_bytes(&self) -> Option<u64> {
+        let path = self.wal_path.as_ref()?;
+        std::fs::metadata(path).ok().map(|m| m.len())
     }
 
     /// The schema version applied (the highest migration number).

@@ -34,7 +34,8 @@ pub struct PatientOverview {
     pub patient: Patient,
     /// Start of the most recent session (station clock), ms since the Unix epoch.
     pub last_session_started_ms: Option<i64>,
-    /// Sessions started in the 7 days before `now_ms`.
+    /// Sessions started in the 7 days before `now_ms` that count as training (a summary
+    /// stored or measures reported; a `Hello` alone does not count).
     pub sessions_last_7_days: i64,
     /// Sessions a week the current regimen asks for (its `sessions_per_week`), if it says.
     pub sessions_per_week_prescribed: Option<i64>,
@@ -230,10 +231,12 @@ impl Db {
         therapist: &Therapist,
         now_ms: i64,
     ) -> Result<Vec<PatientOverview>, HubError> {
+        // Only sessions that count as training (a Hello alone is not one).
         const CASELOAD: &str = "SELECT p.id, p.pseudonym, p.therapist_id, p.created_at_ms, \
-            (SELECT MAX(s.started_unix_ms) FROM sessions s WHERE s.patient_id = p.id) AS last_start, \
+            (SELECT MAX(s.started_unix_ms) FROM sessions s WHERE s.patient_id = p.id \
+                AND {training}) AS last_start, \
             (SELECT COUNT(*) FROM sessions s WHERE s.patient_id = p.id \
-                AND s.started_unix_ms >= $1) AS week_count, \
+                AND s.started_unix_ms >= $1 AND {training}) AS week_count, \
             (SELECT r.sessions_per_week FROM regimens r WHERE r.patient_id = p.id \
                 ORDER BY r.version DESC LIMIT 1) AS prescribed_per_week, \
             (SELECT r.planned_session_s FROM regimens r WHERE r.patient_id = p.id \
@@ -243,13 +246,13 @@ impl Db {
                 AND s.started_unix_ms >= $1 AND m.name = 'active_s') AS week_active_s, \
             (SELECT m.value FROM session_metrics m WHERE m.name = 'watchdog_fault_ticks' \
                 AND m.session_id = (SELECT s.session_id FROM sessions s WHERE s.patient_id = p.id \
-                    ORDER BY s.started_unix_ms DESC LIMIT 1)) AS last_faults, \
+                    AND {training} ORDER BY s.started_unix_ms DESC LIMIT 1)) AS last_faults, \
             (SELECT m.value FROM session_metrics m WHERE m.name = 'clipped_pct' \
                 AND m.session_id = (SELECT s.session_id FROM sessions s WHERE s.patient_id = p.id \
-                    ORDER BY s.started_unix_ms DESC LIMIT 1)) AS last_clipped, \
+                    AND {training} ORDER BY s.started_unix_ms DESC LIMIT 1)) AS last_clipped, \
             (SELECT m.value FROM session_metrics m WHERE m.name = 'arm_sensors_lost' \
                 AND m.session_id = (SELECT s.session_id FROM sessions s WHERE s.patient_id = p.id \
-                    ORDER BY s.started_unix_ms DESC LIMIT 1)) AS last_sensors_lost \
+                    AND {training} ORDER BY s.started_unix_ms DESC LIMIT 1)) AS last_sensors_lost \
             FROM patients p WHERE ($2 = '' OR p.therapist_id = $2) ORDER BY p.pseudonym";
         // An admin sees every patient (an empty therapist id matches all).
         let own = if therapist.is_admin() {
@@ -257,7 +260,8 @@ impl Db {
         } else {
             therapist.id.as_str()
         };
-        let query = sqlx::query(CASELOAD)
+        let sql = CASELOAD.replace("{training}", super::TRAINING_SESSION_SQL);
+        let query = sqlx::query(sqlx::AssertSqlSafe(sql))
             .bind(now_ms.saturating_sub(WEEK_MS))
             .bind(own);
         let rows = query

@@ -197,6 +197,30 @@ impl Db {
         rows.iter().map(SessionRow::from_row).collect()
     }
 
+    /// A patient's sessions that count as training (a summary stored or measures reported;
+    /// see [`super::TRAINING_SESSION_SQL`]), newest first: what the console lists.
+    pub async fn training_sessions_of(
+        &self,
+        patient_id: &str,
+    ) -> Result<Vec<SessionRow>, HubError> {
+        let columns = SESSION_COLUMNS
+            .split(", ")
+            .map(|c| format!("s.{}", c.trim()))
+            .collect::<Vec<_>>()
+            .join(", ");
+        let sql = sqlx::AssertSqlSafe(format!(
+            "SELECT {columns} FROM sessions s WHERE s.patient_id = $1 AND {} \
+             ORDER BY s.started_unix_ms DESC, s.session_id",
+            super::TRAINING_SESSION_SQL
+        ));
+        let rows = sqlx::query(sql)
+            .bind(patient_id)
+            .fetch_all(self.pool())
+            .await
+            .map_err(HubError::db("listing sessions"))?;
+        rows.iter().map(SessionRow::from_row).collect()
+    }
+
     /// Sets movement metrics of a session (name → value; replaces values of the same name).
     pub async fn put_metrics(
         &self,

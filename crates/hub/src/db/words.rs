@@ -137,9 +137,10 @@ pub fn like_with_like(newest_first: &[NamedSession]) -> Vec<&NamedSession> {
 }
 
 impl Db {
-    /// A patient's sessions in words, newest first.
+    /// A patient's sessions in words, newest first: those that count as training (a `Hello`
+    /// alone opens a session row but is no training; see [`Db::training_sessions_of`]).
     pub async fn named_sessions_of(&self, patient_id: &str) -> Result<Vec<NamedSession>, HubError> {
-        let rows = self.sessions_of(patient_id).await?;
+        let rows = self.training_sessions_of(patient_id).await?;
         let reported = sqlx::query(
             "SELECT e.session_id, e.kind, e.name, e.prescribed_s FROM session_exercises e \
              JOIN sessions s ON s.session_id = e.session_id WHERE s.patient_id = $1 \

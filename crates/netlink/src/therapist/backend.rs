@@ -95,6 +95,51 @@ pub trait HubStore: Send + Sync + 'static {
         Box::pin(async { Ok(()) })
     }
 
+    /// The hub's clock, ms since the Unix epoch, that a station's times are checked against
+    /// (session starts, summary times, the day of the daily upload count). The default is the
+    /// system clock.
+    fn now_ms(&self) -> u64 {
+        crate::frame::unix_ms_now()
+    }
+
+    /// The hub refused something of the station of `hello` (`kind`: a short name such as
+    /// `summary_rate`, `why`: what the station was told in its `Error` frame). A store that
+    /// keeps an audit log records it, at a bounded rate. The default keeps nothing.
+    fn refused<'a>(
+        &'a self,
+        hello: &'a Hello,
+        kind: &'static str,
+        why: &'a str,
+    ) -> BoxFuture<'a, ()> {
+        let _ = (hello, kind, why);
+        Box::pin(async {})
+    }
+
+    /// Recording bytes taken from `station_id` on UTC day `day` (days since the Unix epoch),
+    /// as last noted with [`Self::note_upload_bytes`]; read when the hub first counts the
+    /// station's bytes on that day, so a restarted hub goes on counting. The default keeps
+    /// nothing (0).
+    fn upload_bytes_on<'a>(
+        &'a self,
+        station_id: &'a str,
+        day: u64,
+    ) -> BoxFuture<'a, Result<u64, NetlinkError>> {
+        let _ = (station_id, day);
+        Box::pin(async { Ok(0) })
+    }
+
+    /// Notes that `bytes` recording bytes have been taken from `station_id` on UTC day `day`
+    /// (a count that only grows: a smaller one than noted already changes nothing).
+    fn note_upload_bytes<'a>(
+        &'a self,
+        station_id: &'a str,
+        day: u64,
+        bytes: u64,
+    ) -> BoxFuture<'a, Result<(), NetlinkError>> {
+        let _ = (station_id, day, bytes);
+        Box::pin(async { Ok(()) })
+    }
+
     /// The station of `hello` showed the therapist's message `seen.id` to its patient. A
     /// store that keeps messages records when (an id it does not know for that patient is
     /// ignored); an error makes the station say it again later. The default keeps nothing.
@@ -113,6 +158,12 @@ pub trait HubStore: Send + Sync + 'static {
 pub trait SessionStore: Send {
     /// The highest sequence number stored in this session, `None` if none.
     fn last_seq(&self) -> Option<u64>;
+
+    /// The time (`t_s`) of the last summary stored in this session, `None` if none or not
+    /// known; the hub refuses a summary whose time goes back before it.
+    fn last_t_s(&self) -> Option<f64> {
+        None
+    }
 
     /// Stores `summary` unless one with this or a higher sequence number is stored; durable
     /// against a hub crash when it returns `Stored` (the hub acknowledges it next).
@@ -177,6 +228,7 @@ impl HubStore for FileStore {
             Ok(Box::new(FileSession {
                 file: Arc::new(Mutex::new(file)),
                 last_seq,
+                last_t_s: None,
                 dir: self.dir.clone(),
                 station_id: hello.station_id.clone(),
             }) as Box<dyn SessionStore>)
@@ -187,6 +239,8 @@ impl HubStore for FileStore {
 struct FileSession {
     file: Arc<Mutex<SessionFile>>,
     last_seq: Option<u64>,
+    /// The time of the last summary appended since the session was opened.
+    last_t_s: Option<f64>,
     /// The store's directory and the session's station, for the measures a `Bye` brings.
     dir: PathBuf,
     station_id: String,
@@ -204,11 +258,16 @@ impl SessionStore for FileSession {
         self.last_seq
     }
 
+    fn last_t_s(&self) -> Option<f64> {
+        self.last_t_s
+    }
+
     fn append<'a>(
         &'a mut self,
         summary: &'a Summary,
     ) -> BoxFuture<'a, Result<Appended, NetlinkError>> {
         Box::pin(async move {
+            let t_s = summary.t_s;
             let (file, summary) = (self.file.clone(), summary.clone());
             let (appended, last) = blocking("storage", move || {
                 let mut f = lock_file(&file);
@@ -217,6 +276,9 @@ impl SessionStore for FileSession {
             })
             .await?;
             self.last_seq = last;
+            if appended == Appended::Stored {
+                self.last_t_s = Some(t_s);
+            }
             Ok(appended)
         })
     }

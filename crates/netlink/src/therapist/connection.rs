@@ -414,6 +414,10 @@ async fn frame_loop(
                         return why;
                     }
                     Err(Failure::Protocol(error)) => return protocol_error(hub, out, peer, error),
+                    Err(Failure::Refused(kind, why)) => {
+                        hub.store.refused(hello, kind, &why).await;
+                        return protocol_error(hub, out, peer, why);
+                    }
                     Err(Failure::Closed(why)) => return why,
                     Err(Failure::Unavailable(why)) => {
                         send(out, error_outgoing(&why));
@@ -451,9 +455,11 @@ async fn unregister(hub: &Hub, hello: &Hello, conn_id: u64, file: File, reason: 
 /// Lets queued frames leave (bounded), then drops the connection.
 async fn close(out: Out, mut writer: Writer) {
     drop(out);
-    if tokio::time::timeout(Duration::from_secs(1), &mut writer)
-        .await
-        .is_err()
+    // A writer that has ended (the frame loop may have awaited it already) is not polled again.
+    if !writer.is_finished()
+        && tokio::time::timeout(Duration::from_secs(1), &mut writer)
+            .await
+            .is_err()
     {
         writer.abort();
     }

@@ -8,6 +8,7 @@ mod connection;
 mod event;
 mod pairing;
 mod session;
+pub mod station_limits;
 mod upload;
 
 use std::collections::HashMap;
@@ -71,6 +72,10 @@ struct Hub {
     outbox_stats: Arc<OutboxStats>,
     /// Recording bytes taken from each station today.
     daily_upload_bytes: upload::DailyBytes,
+    /// Each station's summaries, paced across its connections.
+    summary_pace: station_limits::Pacer,
+    /// Each station's recording bytes, paced across its connections.
+    upload_pace: station_limits::Pacer,
 }
 
 /// A running hub. Dropping it stops it too; [`Self::shutdown`] also waits for connections to
@@ -139,6 +144,8 @@ impl TherapistServer {
             next_conn_id: AtomicU64::new(1),
             outbox_stats: Arc::new(OutboxStats::default()),
             daily_upload_bytes: upload::DailyBytes::default(),
+            summary_pace: station_limits::Pacer::default(),
+            upload_pace: station_limits::Pacer::default(),
         });
         tracing::info!(%local_addr, tls = hub.acceptor.is_some(), "therapist hub listening");
         let (tasks, tasks_done) = mpsc::channel(1);
@@ -301,6 +308,11 @@ impl Hub {
     async fn open_session(&self, hello: &Hello, peer: Peer<'_>) -> Result<SessionSlot, Refusal> {
         // Every connection passes the store's checks, even one joining an open session.
         self.store.admit(hello, peer).await?;
+        // A start far from the hub's clock would stay at the top (or bottom) of every list.
+        if let Err(why) = station_limits::check_start(hello.started_unix_ms, self.store.now_ms()) {
+            self.store.refused(hello, "start_time", &why).await;
+            return Err(Refusal::new(why));
+        }
         let key = (hello.station_id.clone(), hello.session_id.clone());
         let slot = lock(&self.sessions).entry(key).or_default().clone();
         let opened = {

@@ -7,6 +7,37 @@ use crate::store::Appended;
 
 use super::*;
 
+/// Holds a summary back until its station's pace ([`station_limits::SUMMARY_RATE_PER_S`])
+/// lets it through; refused when it would wait more than
+/// [`station_limits::MAX_SUMMARY_WAIT`].
+async fn pace_summary(hub: &Hub, hello: &Hello) -> Result<(), Failure> {
+    use station_limits::{MAX_SUMMARY_WAIT, SUMMARY_BURST, SUMMARY_RATE_PER_S};
+    let wait = hub
+        .summary_pace
+        .reserve(
+            &hello.station_id,
+            1.0,
+            SUMMARY_RATE_PER_S,
+            SUMMARY_BURST,
+            MAX_SUMMARY_WAIT,
+        )
+        .ok_or_else(|| {
+            Failure::Refused(
+                "summary_rate",
+                format!(
+                    "station {:?} sends more summaries than a station produces: at most \
+                     {SUMMARY_RATE_PER_S} a second are taken from one station over all its \
+                     connections",
+                    hello.station_id
+                ),
+            )
+        })?;
+    if !wait.is_zero() {
+        tokio::time::sleep(wait).await;
+    }
+    Ok(())
+}
+
 pub(super) enum Reply {
     Ack(Ack),
     /// Another answer (upload progress).
@@ -24,6 +55,9 @@ pub(super) enum Failure {
     /// The hub cannot do it now (its store failed): the station is told why, and tries again
     /// later.
     Unavailable(String),
+    /// The station is held to what a real station sends (`kind`, e.g. `summary_rate`): told
+    /// why in an `Error` frame, the refusal audited by the store (at a bounded rate).
+    Refused(&'static str, String),
 }
 
 pub(super) async fn handle_frame(
@@ -55,6 +89,7 @@ pub(super) async fn handle_frame(
                     seq,
                 }))
             };
+            pace_summary(hub, hello).await?;
             let mut guard = file.lock().await;
             let Some(store) = guard.as_mut() else {
                 return Err(Failure::Closed("session store is not open".into()));
@@ -72,6 +107,15 @@ pub(super) async fn handle_frame(
                 // A duplicate: answered without touching the store.
                 return ack(last);
             }
+            station_limits::check_summary_time(
+                summary.t_s,
+                store.last_t_s(),
+                hello.started_unix_ms,
+                hub.store.now_ms(),
+            )
+            .map_err(|why| Failure::Refused("summary_time", why))?;
+            station_limits::check_summary_count(summary.seq, summary.t_s)
+                .map_err(|why| Failure::Refused("summary_rate", why))?;
             // Holding only this session's lock; the store does its blocking work off the reactor.
             let appended = store
                 .append(&summary)
@@ -95,6 +139,7 @@ pub(super) async fn handle_frame(
                     bye.session_id, hello.session_id
                 )));
             }
+            check_final_seq(file, &bye).await?;
             sync_file(file, Some(&bye))
                 .await
                 .map_err(|e| Failure::Closed(format!("storage failure: {e}")))?;
@@ -134,6 +179,25 @@ pub(super) async fn handle_frame(
             other.kind()
         ))),
     }
+}
+
+/// Refuses a `Bye` whose final sequence number is beyond what arrived: it would claim
+/// summaries never sent.
+async fn check_final_seq(file: &SessionSlot, bye: &Bye) -> Result<(), Failure> {
+    let received = last_seq(file).await;
+    if let Some(claimed) = bye.final_seq
+        && received.is_none_or(|r| claimed > r)
+    {
+        return Err(Failure::Refused(
+            "bye_final_seq",
+            format!(
+                "Bye says the session's last summary is seq {claimed}, but the hub received {}; \
+                 send the missing summaries first",
+                received.map_or_else(|| "none".to_owned(), |r| format!("up to seq {r}"))
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The last sequence number stored in a session, `None` if none (or the store is not open).

@@ -13,8 +13,8 @@ use tokio::io::AsyncWriteExt;
 
 use crate::frame::{Hello, UploadAt, UploadChunk, UploadStart};
 
-use super::Hub;
 use super::session::Failure;
+use super::{Hub, station_limits};
 
 /// One connection's upload in progress.
 #[derive(Debug)]
@@ -25,40 +25,141 @@ pub(super) struct Upload {
     sha256: String,
     offset: u64,
     file: tokio::fs::File,
-    /// When this connection's upload began, and the bytes it has written since (the hub's
-    /// rate limit paces on them).
-    began: Instant,
-    written: u64,
 }
 
-/// Longest a chunk's answer is held back by the rate limit, s (a station's reply timeout is
-/// far longer).
-const MAX_PACING_WAIT: Duration = Duration::from_secs(5);
+/// How often a station's daily byte count is written to the store while it uploads (and at
+/// the end of each recording): a restarted hub loses at most this much of the count.
+const NOTE_DAILY_BYTES_EVERY: Duration = Duration::from_secs(1);
 
-/// The bytes each station has uploaded today (UTC days), against
-/// [`super::TherapistConfig::max_upload_bytes_per_station_day`]. Kept in memory: a restarted
-/// hub starts the day's count again (the per-session cap and the rate still hold).
+/// The bytes each station has uploaded today (UTC days by the store's clock), against
+/// [`super::TherapistConfig::max_upload_bytes_per_station_day`]. Read from the store when a
+/// station first uploads on a day and written back as it grows, so a restarted hub goes on
+/// counting.
 #[derive(Debug, Default)]
-pub(super) struct DailyBytes(Mutex<HashMap<String, (u64, u64)>>);
+pub(super) struct DailyBytes(Mutex<HashMap<String, DayCount>>);
+
+#[derive(Debug)]
+struct DayCount {
+    day: u64,
+    bytes: u64,
+    noted_at: Option<Instant>,
+}
 
 impl DailyBytes {
-    /// Counts `n` more bytes for `station` today; `Err(total)` if that would pass `limit`.
-    fn add(&self, station: &str, n: u64, limit: u64) -> Result<(), u64> {
-        let day = std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map_or(0, |d| d.as_secs() / 86_400);
-        let mut map = self
-            .0
+    fn lock(&self) -> std::sync::MutexGuard<'_, HashMap<String, DayCount>> {
+        self.0
             .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner);
-        map.retain(|_, (d, _)| *d == day);
-        let entry = map.entry(station.to_owned()).or_insert((day, 0));
-        let total = entry.1.saturating_add(n);
-        if total > limit {
-            return Err(entry.1);
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+
+    /// Counts `n` more bytes for `station` today, refused if that would pass `limit`; the
+    /// count is noted in the store at most every [`NOTE_DAILY_BYTES_EVERY`], and at a
+    /// recording's `last` chunk.
+    async fn add(
+        &self,
+        hub: &Hub,
+        station: &str,
+        n: u64,
+        limit: u64,
+        last: bool,
+    ) -> Result<(), Failure> {
+        let day = hub.store.now_ms() / 86_400_000;
+        let fresh = |day| DayCount {
+            day,
+            bytes: 0,
+            noted_at: None,
+        };
+        let known = self.lock().get(station).is_some_and(|c| c.day == day);
+        if !known {
+            let stored = hub.store.upload_bytes_on(station, day).await.map_err(|e| {
+                Failure::Unavailable(format!("cannot read the day's upload count: {e}"))
+            })?;
+            let mut map = self.lock();
+            map.retain(|_, c| c.day == day);
+            let count = map.entry(station.to_owned()).or_insert_with(|| fresh(day));
+            count.bytes = count.bytes.max(stored);
         }
-        entry.1 = total;
+        let note = {
+            let mut map = self.lock();
+            let count = map.entry(station.to_owned()).or_insert_with(|| fresh(day));
+            let total = count.bytes.saturating_add(n);
+            if total > limit {
+                return Err(Failure::Refused(
+                    "upload_daily_bytes",
+                    format!(
+                        "station {station:?} has uploaded {} MB today, the most this hub takes \
+                         from one station a day (max_upload_bytes_per_station_day = {} MB); the \
+                         rest is taken tomorrow",
+                        count.bytes >> 20,
+                        limit >> 20
+                    ),
+                ));
+            }
+            count.bytes = total;
+            let due = last
+                || count
+                    .noted_at
+                    .is_none_or(|t| t.elapsed() >= NOTE_DAILY_BYTES_EVERY);
+            if due {
+                count.noted_at = Some(Instant::now());
+            }
+            due.then_some(total)
+        };
+        if let Some(total) = note
+            && let Err(e) = hub.store.note_upload_bytes(station, day, total).await
+        {
+            tracing::warn!(station, error = %e, "therapist hub: cannot note the day's upload count");
+        }
         Ok(())
+    }
+}
+
+/// Removes `.part` files of the station's directory `dir` other than `keep`: those not written
+/// for [`station_limits::STALE_PART_S`], then the oldest until the rest and `incoming` bytes fit in `limit`
+/// (a station uploads one recording at a time; the others restart from their beginning).
+async fn bound_station_parts(
+    dir: &std::path::Path,
+    keep: &std::path::Path,
+    incoming: u64,
+    limit: u64,
+) {
+    let Ok(mut entries) = tokio::fs::read_dir(dir).await else {
+        return;
+    };
+    let mut parts = Vec::new();
+    while let Ok(Some(entry)) = entries.next_entry().await {
+        let p = entry.path();
+        if p == keep || p.extension().is_none_or(|e| e != "part") {
+            continue;
+        }
+        let Ok(meta) = entry.metadata().await else {
+            continue;
+        };
+        let age = meta
+            .modified()
+            .ok()
+            .and_then(|m| m.elapsed().ok())
+            .unwrap_or_default();
+        if age.as_secs() >= station_limits::STALE_PART_S {
+            let _ = tokio::fs::remove_file(&p).await;
+        } else {
+            parts.push((age, meta.len(), p));
+        }
+    }
+    // Oldest (longest unwritten) first.
+    parts.sort_by_key(|p| std::cmp::Reverse(p.0));
+    let mut total: u64 = parts
+        .iter()
+        .map(|(_, len, _)| len)
+        .sum::<u64>()
+        .saturating_add(incoming);
+    for (_, len, p) in parts {
+        if total <= limit {
+            break;
+        }
+        if tokio::fs::remove_file(&p).await.is_ok() {
+            total = total.saturating_sub(len);
+        }
     }
 }
 
@@ -151,6 +252,9 @@ pub(super) async fn start(
     }
     let part = path.with_extension(format!("{}.part", &start.sha256[..16]));
     remove_other_parts(&path, &part).await;
+    if let Some(dir) = path.parent() {
+        bound_station_parts(dir, &part, start.size_bytes, limit).await;
+    }
     let file = tokio::fs::OpenOptions::new()
         .create(true)
         .append(true)
@@ -176,8 +280,6 @@ pub(super) async fn start(
         sha256: start.sha256,
         offset,
         file,
-        began: Instant::now(),
-        written: 0,
     };
     Ok((Some(upload), at(hello, offset, false)))
 }
@@ -206,26 +308,22 @@ pub(super) async fn chunk(
             up.size
         )));
     }
+    pace_upload(hub, hello, bytes.len() as u64).await?;
     let daily = hub.config.max_upload_bytes_per_station_day;
-    if let Err(today) = hub
-        .daily_upload_bytes
-        .add(&hello.station_id, bytes.len() as u64, daily)
-    {
-        return Err(Failure::Protocol(format!(
-            "station {:?} has uploaded {} MB today, the most this hub takes from one station a \
-             day (max_upload_bytes_per_station_day = {} MB); the rest is taken tomorrow",
-            hello.station_id,
-            today >> 20,
-            daily >> 20
-        )));
-    }
+    hub.daily_upload_bytes
+        .add(
+            hub,
+            &hello.station_id,
+            bytes.len() as u64,
+            daily,
+            end == up.size,
+        )
+        .await?;
     up.file
         .write_all(&bytes)
         .await
         .map_err(|e| closed("write to", &up.part, e))?;
     up.offset = end;
-    up.written += bytes.len() as u64;
-    pace(up.began, up.written, hub.config.max_upload_bytes_per_s).await;
     if end < up.size {
         return Ok(at(hello, end, false));
     }
@@ -233,13 +331,38 @@ pub(super) async fn chunk(
     finish(hub, hello, up).await
 }
 
-/// Holds the answer back until `written` bytes since `began` are within `bytes_per_s` (the
-/// station sends its next chunk only after the answer, so this is the hub's own rate limit).
-async fn pace(began: Instant, written: u64, bytes_per_s: u64) {
-    let due = Duration::from_secs_f64(written as f64 / bytes_per_s.max(1) as f64);
-    if let Some(wait) = due.checked_sub(began.elapsed()) {
-        tokio::time::sleep(wait.min(MAX_PACING_WAIT)).await;
+/// Holds a chunk of `n` bytes back until its station's upload pace
+/// ([`super::TherapistConfig::max_upload_bytes_per_s`], over all the station's connections)
+/// lets it through (the station sends its next chunk only after the answer); refused if that
+/// would take more than [`station_limits::MAX_UPLOAD_WAIT`].
+async fn pace_upload(hub: &Hub, hello: &Hello, n: u64) -> Result<(), Failure> {
+    let rate = hub.config.max_upload_bytes_per_s as f64;
+    // One chunk may come at once.
+    let wait = hub
+        .upload_pace
+        .reserve(
+            &hello.station_id,
+            n as f64,
+            rate,
+            crate::frame::MAX_CHUNK_BYTES as f64,
+            station_limits::MAX_UPLOAD_WAIT,
+        )
+        .ok_or_else(|| {
+            Failure::Refused(
+                "upload_rate",
+                format!(
+                    "station {:?} uploads on too many connections at once: this hub takes {} \
+                     KB/s from one station (max_upload_bytes_per_s); upload one recording at a \
+                     time",
+                    hello.station_id,
+                    hub.config.max_upload_bytes_per_s / 1000
+                ),
+            )
+        })?;
+    if !wait.is_zero() {
+        tokio::time::sleep(wait).await;
     }
+    Ok(())
 }
 
 async fn finish(hub: &Hub, hello: &Hello, mut up: Upload) -> Result<UploadAt, Failure> {
