@@ -10,7 +10,8 @@
 //! first served, at most a cap's worth) until a slot frees or a stalled one can be evicted
 //! for it; only beyond the line is it refused. At the cap over all addresses the oldest stalled
 //! connection anywhere goes, or, if none has stalled, the oldest of the address holding the
-//! most (a newcomer from a lighter address displaces a heavier one's).
+//! most (a newcomer from a lighter address displaces a heavier one's, never the reverse: a
+//! newcomer from the heaviest displaces its own address's oldest).
 //!
 //! Why this shape: the connections of one address (a shared NAT, a clinic LAN) look alike
 //! until they make progress, so no choice among them at arrival can tell a flooder from a
@@ -146,25 +147,32 @@ impl GateState {
     }
 
     /// Under the global cap with nobody stalled: evicts the oldest connection that is not held
-    /// of the address holding the most, if it holds more than `newcomer`'s address would with
-    /// the newcomer (a fair share between addresses); false if none does.
+    /// among the addresses holding the most, if they hold at least as many as `newcomer`'s
+    /// address will with the newcomer (a fair share between addresses), else the oldest of the
+    /// newcomer's own address; false if there is none. A lighter address never loses a
+    /// connection to a heavier one.
     fn evict_from_heaviest(&mut self, newcomer: IpAddr) -> bool {
         let count = |a: &Address| a.slots.len() + a.line.len();
         let theirs = self.per_address.get(&newcomer).map_or(0, count);
-        let heaviest = self
+        let most = self
             .per_address
             .iter()
             .filter(|(ip, _)| **ip != newcomer)
-            .max_by_key(|(_, a)| count(a))
-            .filter(|(_, a)| count(a) > theirs + 1)
-            .map(|(ip, _)| *ip);
-        let victim = heaviest.and_then(|ip| {
-            self.per_address[&ip]
-                .slots
-                .iter()
-                .copied()
-                .find(|id| self.entries.get(id).is_some_and(|e| e.evict.is_some()))
-        });
+            .map(|(_, a)| count(a))
+            .max()
+            .unwrap_or(0);
+        let heavy = |ip: &IpAddr| {
+            if most > theirs {
+                *ip != newcomer && self.per_address.get(ip).is_some_and(|a| count(a) == most)
+            } else {
+                *ip == newcomer
+            }
+        };
+        let victim = self
+            .entries
+            .iter()
+            .find(|(_, e)| !e.waiting && e.evict.is_some() && heavy(&e.ip))
+            .map(|(id, _)| *id);
         victim.is_some_and(|id| self.evict(id))
     }
 
@@ -345,9 +353,10 @@ impl ConnectionGate {
     /// held by a stalled connection, which is evicted) and nobody of its address waits;
     /// otherwise it joins the address's line ([`Ticket::wait_turn`]). When all addresses
     /// together are at `max_total`, the oldest stalled connection anywhere is evicted, or if
-    /// none has stalled, the oldest not held of the address holding the most (when it holds
-    /// more than the newcomer's would). `None` (counted as a refusal) when there is no room:
-    /// the address's line is full, or the total is reached and neither can be evicted.
+    /// none has stalled, the oldest not held of the addresses holding the most (when they hold
+    /// at least as many as the newcomer's will; else of the newcomer's own address). `None`
+    /// (counted as a refusal) when there is no room: the address's line is full, or the total
+    /// is reached and every connection is held.
     pub fn admit(self: &Arc<Self>, ip: IpAddr) -> Option<Ticket> {
         let ip = address_of(ip);
         let now = Instant::now();
@@ -373,7 +382,7 @@ impl ConnectionGate {
                     .count("evicted: from the address holding the most (global cap)");
             } else {
                 self.refusals
-                    .count("refused: global cap, none stalled, no address holding more");
+                    .count("refused: global cap, every connection held");
                 return None;
             }
         }
@@ -697,10 +706,25 @@ mod tests {
             !is_evicted(&mut light).await,
             "the lighter address keeps its one"
         );
-        // The heavier address cannot displace a lighter one's.
-        assert!(gate.admit(ip(2)).is_none());
+        // The heavier address cannot displace a lighter one's: it displaces its own oldest.
+        let _again = gate.admit(ip(2)).expect("room made from its own address");
+        assert!(is_evicted(&mut heavy[1]).await);
+        assert!(!is_evicted(&mut light).await);
         let summary = gate.refusals().take_summary_now().unwrap();
         assert!(summary.reasons.contains("holding the most"), "{summary}");
+        // All held: nothing to evict.
+        let gate = ConnectionGate::new(
+            GateLimits {
+                max_total: 1,
+                max_per_address: 10,
+                grace: Duration::from_secs(60),
+            },
+            "test",
+        );
+        let mut held = gate.admit(ip(1)).unwrap();
+        held.hold();
+        assert!(gate.admit(ip(1)).is_none());
+        assert!(gate.admit(ip(2)).is_none());
     }
 
     #[tokio::test]
