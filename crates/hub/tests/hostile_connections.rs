@@ -93,6 +93,8 @@ struct RunningHub {
     task: tokio::task::JoinHandle<Result<(), hub::HubError>>,
     station: BenchStation,
     ca_pem: std::path::PathBuf,
+    /// The hub's database (a handle on the one it serves).
+    db: Db,
     _dir: tempfile::TempDir,
 }
 
@@ -131,6 +133,7 @@ async fn start_hub() -> RunningHub {
         )
     };
     let events = Arc::new(std::sync::Mutex::new(Vec::new()));
+    let served_db = db.clone();
     let (bound_tx, bound_rx) = tokio::sync::oneshot::channel();
     let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
     let seen = events.clone();
@@ -159,6 +162,7 @@ async fn start_hub() -> RunningHub {
         stop,
         task,
         station: provisioned.remove(0),
+        db: served_db,
         ca_pem: stations_dir.join("ca.crt"),
         _dir: dir,
     }
@@ -731,6 +735,85 @@ async fn a_flood_of_reconnects_from_the_same_address_cannot_push_out_a_slow_stat
         assert_eq!(path.summaries_acked, SLOW_SUMMARIES, "{path:?}");
         assert_eq!(path.logins_ok, SLOW_LOGINS, "{path:?}");
     }
+    hub.stop.send(()).unwrap();
+    tokio::time::timeout(GUARD, hub.task)
+        .await
+        .expect("the hub stops")
+        .unwrap()
+        .unwrap();
+}
+
+// ---- Pairing codes a guesser cannot hold waiting (issue 44).
+
+/// Begins a pairing exchange at `code_id` from `source` and leaves it open: TLS, `PairStart`
+/// with a SPAKE2 message of a secret that is not the code's, and never a `PairFinish`. The
+/// connection, kept open (`None` if the hub closed it before answering).
+async fn hold_pairing_exchange(
+    source: IpAddr,
+    to: SocketAddr,
+    ca_pem: &Path,
+    code_id: &str,
+) -> Option<tokio_rustls::client::TlsStream<TcpStream>> {
+    let tls = ClientTls {
+        ca_pem_path: ca_pem.to_owned(),
+        server_name: "localhost".into(),
+        identity: None,
+    };
+    let (connector, name) = tls.connector().ok()?;
+    let tcp = connect_from(source, to).await.ok()?;
+    let mut stream = connector.connect(name, tcp).await.ok()?;
+    // Side "A" and a valid Ed25519 point (the base point): what a station would send.
+    let pake = format!("4158{}", "66".repeat(31));
+    let start = Frame::PairStart(netlink::frame::PairStart {
+        code_id: code_id.to_owned(),
+        pake,
+    });
+    stream
+        .write_all(&netlink::encode_to_vec(&start).ok()?)
+        .await
+        .ok()?;
+    let mut buf = [0u8; 4096];
+    let n = tokio::time::timeout(GUARD, stream.read(&mut buf))
+        .await
+        .ok()?
+        .ok()?;
+    (n > 0).then_some(stream)
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn exchanges_held_open_on_a_pairing_code_from_other_addresses_do_not_keep_the_right_station_waiting()
+ {
+    let hub = start_hub().await;
+    let stations = hub.bound.stations;
+    let code = hub
+        .db
+        .create_pairing_code(&hub.station.patient_id, now_ms(), 60 * 60_000)
+        .await
+        .unwrap();
+    let code_id = netlink::pairing::PairingCode::parse(&code)
+        .unwrap()
+        .code_id()
+        .to_owned();
+    // A guesser who knows the code's public half holds exchanges open on it from three
+    // addresses, one after another (each begins an attempt at the code) ...
+    let mut held = Vec::new();
+    for last in 2..=4 {
+        let source = IpAddr::V4(Ipv4Addr::new(127, 0, 0, last));
+        if let Some(s) = hold_pairing_exchange(source, stations, &hub.ca_pem, &code_id).await {
+            held.push(s);
+        }
+    }
+    println!("{} exchanges held open on the code", held.len());
+    assert!(!held.is_empty(), "the guesser's exchanges were answered");
+    // ... and the patient's station pairs with the right code meanwhile (from 127.0.0.1).
+    let paired = netlink::pairing::pair(
+        &format!("localhost:{}", stations.port()),
+        &code,
+        Duration::from_secs(10),
+    )
+    .await;
+    assert!(paired.is_ok(), "the right code was refused: {paired:?}");
+    drop(held);
     hub.stop.send(()).unwrap();
     tokio::time::timeout(GUARD, hub.task)
         .await
