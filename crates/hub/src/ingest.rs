@@ -646,7 +646,7 @@ impl PairingAuthority for DbStore {
             }
             let ticket = self
                 .db
-                .begin_pairing_attempt(code_id, self.now())
+                .begin_pairing_attempt(code_id, &crate::db::address_key(peer.ip()), self.now())
                 .await
                 .map_err(refusal)?;
             Ok(match ticket {

@@ -66,6 +66,7 @@ on_both_backends!(
     patients_and_caseload,
     hostile_pseudonyms_are_refused,
     pairing_codes_are_single_use,
+    attempts_from_one_address_never_make_a_pairing_code_wait_for_another,
     stations_and_revocation,
     summaries_are_stored_exactly_once,
     concurrent_duplicates_are_stored_once,
@@ -477,13 +478,16 @@ async fn pairing_codes_are_single_use(db: Db) {
     assert!(audited.contains(&"st-new".to_owned()), "{audited:?}");
     assert!(!audited.contains(&"st-dup".to_owned()), "{audited:?}");
 
-    // Parallel attempts at one code: exactly one gets the secret.
+    // Parallel attempts at one code from one address: exactly one gets the secret.
     let code4 = db.create_pairing_code(&p.id, T0, 15 * MIN).await.unwrap();
     let code4 = netlink::pairing::PairingCode::parse(&code4).unwrap();
     let mut attempts = tokio::task::JoinSet::new();
     for _ in 0..50 {
         let (db, code_id) = (db.clone(), code4.code_id().to_owned());
-        attempts.spawn(async move { db.begin_pairing_attempt(&code_id, T0 + MIN).await });
+        attempts.spawn(async move {
+            db.begin_pairing_attempt(&code_id, "192.0.2.1", T0 + MIN)
+                .await
+        });
     }
     let tickets = attempts.join_all().await;
     assert_eq!(
@@ -496,12 +500,15 @@ async fn pairing_codes_are_single_use(db: Db) {
     let code3 = netlink::pairing::PairingCode::parse(&code3).unwrap();
     let mut at = T0;
     for n in 1..=6 {
-        let ticket = db.begin_pairing_attempt(code3.code_id(), at).await.unwrap();
+        let ticket = db
+            .begin_pairing_attempt(code3.code_id(), "192.0.2.1", at)
+            .await
+            .unwrap();
         assert_eq!(ticket.unwrap().secret, code3.secret(), "attempt {n}");
-        // Waiting: no ticket (the caller answers as for a wrong code), whoever asks.
+        // Waiting: no ticket (the caller answers as for a wrong code) for that address.
         let early = at + hub::db::attempt_wait_ms(n) - 1;
         assert!(
-            db.begin_pairing_attempt(code3.code_id(), early)
+            db.begin_pairing_attempt(code3.code_id(), "192.0.2.1", early)
                 .await
                 .unwrap()
                 .is_none()
@@ -515,10 +522,11 @@ async fn pairing_codes_are_single_use(db: Db) {
         p.id
     );
     assert!(
-        db.begin_pairing_attempt(code3.code_id(), at)
+        db.begin_pairing_attempt(code3.code_id(), "192.0.2.9", at)
             .await
             .unwrap()
-            .is_none()
+            .is_none(),
+        "a used code gives no ticket to anyone"
     );
 
     for unknown in ["ZZZZ", "'; DROP TABLE pairing_codes; --"] {
@@ -1293,4 +1301,43 @@ async fn a_byes_exercise_results_are_stored_in_course_order_exactly(db: Db) {
         .to_string();
     assert!(err.contains("exercises[1].active_s"), "{err}");
     assert!(db.exercises_of("s-old").await.unwrap().is_empty());
+}
+
+async fn attempts_from_one_address_never_make_a_pairing_code_wait_for_another(db: Db) {
+    let (_, p) = paired(&db).await;
+    let code = db
+        .create_pairing_code(&p.id, T0, 60 * 60_000)
+        .await
+        .unwrap();
+    let code = netlink::pairing::PairingCode::parse(&code).unwrap();
+    // A guesser who knows the public half keeps beginning attempts (each one that gets
+    // through lengthens its own wait) ...
+    let mut at = T0;
+    for _ in 0..20 {
+        let _ = db
+            .begin_pairing_attempt(code.code_id(), "198.51.100.7", at)
+            .await
+            .unwrap();
+        at += 1_000;
+    }
+    assert!(
+        db.begin_pairing_attempt(code.code_id(), "198.51.100.7", at)
+            .await
+            .unwrap()
+            .is_none(),
+        "the guesser waits"
+    );
+    // ... and the patient's station, from its own address, gets its real try at once.
+    let ticket = db
+        .begin_pairing_attempt(code.code_id(), "203.0.113.5", at)
+        .await
+        .unwrap()
+        .expect("the right station is not kept waiting by another address");
+    assert_eq!(ticket.secret, code.secret());
+    assert_eq!(
+        db.pair_station(code.code_id(), "st-pw", &"e".repeat(64), at)
+            .await
+            .unwrap(),
+        p.id
+    );
 }

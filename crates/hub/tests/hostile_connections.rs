@@ -17,7 +17,7 @@ use hub::clinic::{Bound, Clinic, ServeOptions};
 use hub::limits::ConnectionBudget;
 use hub::web::{self, AppState, WebLimits};
 use hub::{Db, Role};
-use netlink::therapist::budget::REFUSAL_DETAILS_PER_INTERVAL;
+use netlink::therapist::budget::{self, REFUSAL_DETAILS_PER_INTERVAL};
 use netlink::{ClientTls, Frame, FrameDecoder, Hello, PROTOCOL_VERSION, Summary, TherapistEvent};
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpSocket, TcpStream};
@@ -93,6 +93,8 @@ struct RunningHub {
     task: tokio::task::JoinHandle<Result<(), hub::HubError>>,
     station: BenchStation,
     ca_pem: std::path::PathBuf,
+    /// The hub's database (a handle on the one it serves).
+    db: Db,
     _dir: tempfile::TempDir,
 }
 
@@ -131,6 +133,7 @@ async fn start_hub() -> RunningHub {
         )
     };
     let events = Arc::new(std::sync::Mutex::new(Vec::new()));
+    let served_db = db.clone();
     let (bound_tx, bound_rx) = tokio::sync::oneshot::channel();
     let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
     let seen = events.clone();
@@ -159,6 +162,7 @@ async fn start_hub() -> RunningHub {
         stop,
         task,
         station: provisioned.remove(0),
+        db: served_db,
         ca_pem: stations_dir.join("ca.crt"),
         _dir: dir,
     }
@@ -316,8 +320,10 @@ async fn held_half_sent_requests_and_idle_station_connections_leave_a_station_an
         idle.len(),
         IDLE_STATION_CONNECTIONS + JUNK_FROM_STATION_ADDRESS
     );
+    // The hub completes at least its cap's worth of them; those that come while every counted
+    // connection is within its grace (issue 44) it refuses.
     assert!(
-        half_sent.len() >= HALF_SENT_REQUESTS * 9 / 10,
+        half_sent.len() >= budget.web_unanswered.min(HALF_SENT_REQUESTS),
         "only {} half-sent requests got through TLS",
         half_sent.len()
     );
@@ -343,7 +349,13 @@ async fn held_half_sent_requests_and_idle_station_connections_leave_a_station_an
     let login_ms = started.elapsed().as_millis();
     println!("under the flood: station Ack in {station_ms} ms, login in {login_ms} ms");
     assert_eq!(status, StatusCode::OK);
-    assert!(station_ms < 1000, "the station needed {station_ms} ms");
+    // The junk from the station's own address may have taken its slots less than a grace
+    // ago: the station waits its turn in line until they have stalled (issue 44), no longer.
+    let station_bound_ms = budget::EVICTION_GRACE.as_millis() + 1000;
+    assert!(
+        station_ms < station_bound_ms,
+        "the station needed {station_ms} ms"
+    );
     assert!(login_ms < 1000, "the login needed {login_ms} ms");
 
     // 10 000 refused or evicted connections made a bounded number of lines.
@@ -468,4 +480,344 @@ async fn half_sent_requests_over_the_per_address_cap_push_out_the_oldest_not_a_l
     let (oldest, waited) = read_until_closed(&mut held[0]).await;
     assert!(oldest.is_empty(), "closed without an answer: {oldest}");
     assert!(waited < Duration::from_secs(5), "closed after {waited:?}");
+}
+
+// ---- Same-address churn (issue 44): a flood from one address cannot push out a slow
+// handshake from the same address (a shared NAT).
+
+/// Idle connections one flooder keeps open to a port: one more than the per-address cap, each
+/// reopened the moment the hub closes it (the issue's 17).
+const FLOODER_CONNECTIONS: usize = netlink::therapist::DEFAULT_MAX_CONNECTIONS_PER_ADDRESS + 1;
+/// Summaries the slow station sends on one connection.
+const SLOW_SUMMARIES: u64 = 20;
+/// Logins each slow path tries (all at once, each on its own connection).
+const SLOW_LOGINS: usize = 3;
+/// How long a slow client keeps trying (reconnecting after a failure).
+const SLOW_CLIENT_DEADLINE: Duration = Duration::from_secs(8);
+
+/// A one-way-latency pipe on loopback: every chunk is forwarded `one_way` after it was read, in
+/// each direction, without slowing the chunks behind it. Its upstream connections come from
+/// 127.0.0.1, the flooder's address. Its address.
+async fn delay_proxy(upstream: SocketAddr, one_way: Duration) -> SocketAddr {
+    async fn pipe<R, W>(mut from: R, mut to: W, one_way: Duration)
+    where
+        R: tokio::io::AsyncRead + Unpin + Send + 'static,
+        W: tokio::io::AsyncWrite + Unpin + Send + 'static,
+    {
+        let (tx, mut rx) = tokio::sync::mpsc::unbounded_channel::<(Instant, Vec<u8>)>();
+        let writer = tokio::spawn(async move {
+            while let Some((read_at, chunk)) = rx.recv().await {
+                tokio::time::sleep_until((read_at + one_way).into()).await;
+                if to.write_all(&chunk).await.is_err() {
+                    return;
+                }
+            }
+            // Closed after the last chunk arrived, as a FIN would be.
+            let _ = to.shutdown().await;
+        });
+        let mut buf = vec![0u8; 16 * 1024];
+        loop {
+            match from.read(&mut buf).await {
+                Ok(0) | Err(_) => break,
+                Ok(n) => {
+                    if tx.send((Instant::now(), buf[..n].to_vec())).is_err() {
+                        break;
+                    }
+                }
+            }
+        }
+        drop(tx);
+        let _ = writer.await;
+    }
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    tokio::spawn(async move {
+        while let Ok((client, _)) = listener.accept().await {
+            tokio::spawn(async move {
+                let Ok(server) = TcpStream::connect(upstream).await else {
+                    return;
+                };
+                let (cr, cw) = client.into_split();
+                let (sr, sw) = server.into_split();
+                tokio::join!(pipe(cr, sw, one_way), pipe(sr, cw, one_way));
+            });
+        }
+    });
+    addr
+}
+
+/// Keeps [`FLOODER_CONNECTIONS`] idle connections to `target` from 127.0.0.1, reopening each
+/// as soon as the hub closes it, until `stop`; how many it opened.
+fn flood(
+    target: SocketAddr,
+    stop: tokio::sync::watch::Receiver<bool>,
+) -> tokio::task::JoinHandle<u64> {
+    tokio::spawn(async move {
+        let mut tasks = Vec::new();
+        for _ in 0..FLOODER_CONNECTIONS {
+            let mut stop = stop.clone();
+            tasks.push(tokio::spawn(async move {
+                let mut opened = 0u64;
+                let mut buf = [0u8; 1024];
+                while !*stop.borrow() {
+                    let Ok(mut tcp) = TcpStream::connect(target).await else {
+                        tokio::task::yield_now().await;
+                        continue;
+                    };
+                    opened += 1;
+                    // Idle: sends nothing, waits for the hub to close it.
+                    tokio::select! {
+                        _ = stop.changed() => break,
+                        _ = async { while !matches!(tcp.read(&mut buf).await, Ok(0) | Err(_)) {} } => {}
+                    }
+                }
+                opened
+            }));
+        }
+        let mut opened = 0;
+        for t in tasks {
+            opened += t.await.unwrap_or(0);
+        }
+        opened
+    })
+}
+
+/// One session of [`SLOW_SUMMARIES`] summaries from the paired station through `addr`: how many
+/// the hub acknowledged.
+async fn station_delivers(
+    addr: SocketAddr,
+    st: &BenchStation,
+    session_id: &str,
+) -> Result<u64, String> {
+    let (connector, name) = st.tls.connector().map_err(|e| e.to_string())?;
+    let tcp = TcpStream::connect(addr).await.map_err(|e| e.to_string())?;
+    let mut tls = connector
+        .connect(name, tcp)
+        .await
+        .map_err(|e| format!("TLS: {e}"))?;
+    let hello = Frame::Hello(Hello {
+        protocol_version: PROTOCOL_VERSION,
+        min_protocol_version: None,
+        wheel: None,
+        station_id: st.station_id.clone(),
+        patient_id: st.patient_id.clone(),
+        session_id: session_id.to_owned(),
+        exercise: "sine-road".into(),
+        started_unix_ms: u64::try_from(now_ms()).unwrap_or(0),
+        software_version: "hostile test".into(),
+    });
+    let mut bytes = netlink::encode_to_vec(&hello).map_err(|e| e.to_string())?;
+    for seq in 0..SLOW_SUMMARIES {
+        let summary = Frame::Summary(Summary::example(session_id, seq));
+        bytes.extend(netlink::encode_to_vec(&summary).map_err(|e| e.to_string())?);
+    }
+    tls.write_all(&bytes).await.map_err(|e| e.to_string())?;
+    let mut decoder = FrameDecoder::new();
+    let mut buf = vec![0u8; 4096];
+    let mut acked = 0;
+    while acked < SLOW_SUMMARIES {
+        let n = match tls.read(&mut buf).await {
+            Ok(0) | Err(_) => break,
+            Ok(n) => n,
+        };
+        decoder.extend(&buf[..n]);
+        while let Some(frame) = decoder.next_frame().map_err(|e| e.to_string())? {
+            match frame {
+                Frame::Ack(ack) => acked = acked.max(ack.seq + 1),
+                Frame::Error(e) => return Err(format!("hub error: {}", e.message)),
+                _ => {}
+            }
+        }
+    }
+    Ok(acked)
+}
+
+/// Runs `attempt` again after each failure until it succeeds or [`SLOW_CLIENT_DEADLINE`]
+/// passes, as a station or a browser would; its result, or the last error.
+async fn keep_trying<T, F, Fut>(attempt: F) -> Result<T, String>
+where
+    F: Fn() -> Fut,
+    Fut: Future<Output = Result<T, String>>,
+{
+    let deadline = Instant::now() + SLOW_CLIENT_DEADLINE;
+    let mut last = "no attempt".to_owned();
+    while Instant::now() < deadline {
+        match tokio::time::timeout_at(deadline.into(), attempt()).await {
+            Ok(Ok(v)) => return Ok(v),
+            Ok(Err(e)) => last = e,
+            Err(_) => return Err(format!("still trying at the deadline (last: {last})")),
+        }
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    Err(last)
+}
+
+/// What the slow clients behind one path got through.
+#[derive(Debug)]
+struct SlowPath {
+    one_way_ms: u64,
+    summaries_acked: u64,
+    logins_ok: usize,
+}
+
+async fn slow_clients(hub: &RunningHub, one_way: Duration, session: &str) -> SlowPath {
+    let stations = delay_proxy(hub.bound.stations, one_way).await;
+    let web = delay_proxy(hub.bound.web.unwrap(), one_way).await;
+    let logins: Vec<_> = (0..SLOW_LOGINS)
+        .map(|_| {
+            let ca_pem = hub.ca_pem.clone();
+            tokio::spawn(async move {
+                keep_trying(|| async {
+                    match login(web, &ca_pem).await? {
+                        StatusCode::OK => Ok(()),
+                        other => Err(format!("login answered {other}")),
+                    }
+                })
+                .await
+            })
+        })
+        .collect();
+    let station = keep_trying(|| station_delivers(stations, &hub.station, session)).await;
+    let mut logins_ok = 0;
+    for login in logins {
+        match login.await.expect("login task") {
+            Ok(()) => logins_ok += 1,
+            Err(e) => println!("a slow login ({one_way:?}) failed: {e}"),
+        }
+    }
+    SlowPath {
+        one_way_ms: one_way.as_millis() as u64,
+        summaries_acked: station.unwrap_or_else(|e| {
+            println!("the slow station ({one_way:?}) failed: {e}");
+            0
+        }),
+        logins_ok,
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_flood_of_reconnects_from_the_same_address_cannot_push_out_a_slow_station_or_login() {
+    let hub = start_hub().await;
+    let (stop_flood, stopped) = tokio::sync::watch::channel(false);
+    let floods = [
+        flood(hub.bound.stations, stopped.clone()),
+        flood(hub.bound.web.unwrap(), stopped),
+    ];
+    // Let the flood fill the address's slots first.
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    let t0 = Instant::now();
+    let (near, far) = tokio::join!(
+        slow_clients(&hub, Duration::from_millis(25), "churn-25ms"),
+        slow_clients(&hub, Duration::from_millis(100), "churn-100ms"),
+    );
+    let elapsed = t0.elapsed();
+    stop_flood.send(true).unwrap();
+    let mut opened = [0; 2];
+    for (i, f) in floods.into_iter().enumerate() {
+        opened[i] = f.await.unwrap();
+    }
+    let rate = |n: u64| n as f64 / elapsed.as_secs_f64().max(0.001);
+    println!(
+        "same-address churn of {FLOODER_CONNECTIONS} idle connections per port \
+         (station port {:.0} reconnects/s, console port {:.0} reconnects/s, {:.1} s):",
+        rate(opened[0]),
+        rate(opened[1]),
+        elapsed.as_secs_f64()
+    );
+    for path in [&near, &far] {
+        println!(
+            "  through a {} ms one-way path: station Acks {} of {SLOW_SUMMARIES}, \
+             logins {} of {SLOW_LOGINS}",
+            path.one_way_ms, path.summaries_acked, path.logins_ok
+        );
+    }
+    for path in [near, far] {
+        assert_eq!(path.summaries_acked, SLOW_SUMMARIES, "{path:?}");
+        assert_eq!(path.logins_ok, SLOW_LOGINS, "{path:?}");
+    }
+    hub.stop.send(()).unwrap();
+    tokio::time::timeout(GUARD, hub.task)
+        .await
+        .expect("the hub stops")
+        .unwrap()
+        .unwrap();
+}
+
+// ---- Pairing codes a guesser cannot hold waiting (issue 44).
+
+/// Begins a pairing exchange at `code_id` from `source` and leaves it open: TLS, `PairStart`
+/// with a SPAKE2 message of a secret that is not the code's, and never a `PairFinish`. The
+/// connection, kept open (`None` if the hub closed it before answering).
+async fn hold_pairing_exchange(
+    source: IpAddr,
+    to: SocketAddr,
+    ca_pem: &Path,
+    code_id: &str,
+) -> Option<tokio_rustls::client::TlsStream<TcpStream>> {
+    let tls = ClientTls {
+        ca_pem_path: ca_pem.to_owned(),
+        server_name: "localhost".into(),
+        identity: None,
+    };
+    let (connector, name) = tls.connector().ok()?;
+    let tcp = connect_from(source, to).await.ok()?;
+    let mut stream = connector.connect(name, tcp).await.ok()?;
+    // Side "A" and a valid Ed25519 point (the base point): what a station would send.
+    let pake = format!("4158{}", "66".repeat(31));
+    let start = Frame::PairStart(netlink::frame::PairStart {
+        code_id: code_id.to_owned(),
+        pake,
+    });
+    stream
+        .write_all(&netlink::encode_to_vec(&start).ok()?)
+        .await
+        .ok()?;
+    let mut buf = [0u8; 4096];
+    let n = tokio::time::timeout(GUARD, stream.read(&mut buf))
+        .await
+        .ok()?
+        .ok()?;
+    (n > 0).then_some(stream)
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn exchanges_held_open_on_a_pairing_code_from_other_addresses_do_not_keep_the_right_station_waiting()
+ {
+    let hub = start_hub().await;
+    let stations = hub.bound.stations;
+    let code = hub
+        .db
+        .create_pairing_code(&hub.station.patient_id, now_ms(), 60 * 60_000)
+        .await
+        .unwrap();
+    let code_id = netlink::pairing::PairingCode::parse(&code)
+        .unwrap()
+        .code_id()
+        .to_owned();
+    // A guesser who knows the code's public half holds exchanges open on it from three
+    // addresses, one after another (each begins an attempt at the code) ...
+    let mut held = Vec::new();
+    for last in 2..=4 {
+        let source = IpAddr::V4(Ipv4Addr::new(127, 0, 0, last));
+        if let Some(s) = hold_pairing_exchange(source, stations, &hub.ca_pem, &code_id).await {
+            held.push(s);
+        }
+    }
+    println!("{} exchanges held open on the code", held.len());
+    assert!(!held.is_empty(), "the guesser's exchanges were answered");
+    // ... and the patient's station pairs with the right code meanwhile (from 127.0.0.1).
+    let paired = netlink::pairing::pair(
+        &format!("localhost:{}", stations.port()),
+        &code,
+        Duration::from_secs(10),
+    )
+    .await;
+    assert!(paired.is_ok(), "the right code was refused: {paired:?}");
+    drop(held);
+    hub.stop.send(()).unwrap();
+    tokio::time::timeout(GUARD, hub.task)
+        .await
+        .expect("the hub stops")
+        .unwrap()
+        .unwrap();
 }

@@ -1276,15 +1276,20 @@ async fn idle_connections_from_a_stations_address_are_capped_and_cannot_lock_it_
         })
         .await;
     }
-    // Idle connections from that address: at most two are kept, the oldest are closed.
+    // Idle connections from that address: two hold its slots, two wait in its line, the
+    // fifth is closed at once; the oldest are closed once they have stalled for a grace.
     let mut idle = Vec::new();
     for _ in 0..5 {
         idle.push(TcpStream::connect(addr).await.unwrap());
     }
-    wait_until("two idle connections kept", || {
-        hub.unauthenticated_connections() == 2
+    wait_until("two idle connections kept and two in line", || {
+        hub.unauthenticated_connections() == 4
     })
     .await;
+    assert!(
+        read_frames_until_close(&mut idle[4]).await.is_empty(),
+        "the one beyond the line is closed without a word"
+    );
     assert!(
         read_frames_until_close(&mut idle[0]).await.is_empty(),
         "the oldest idle connection is closed without a word"
@@ -1297,7 +1302,7 @@ async fn idle_connections_from_a_stations_address_are_capped_and_cannot_lock_it_
     .unwrap();
     send_range(&sender, "s1", 0..3);
     assert_all_delivered(&link.finish(GUARD).await, 3);
-    assert!(hub.unauthenticated_connections() <= 2);
+    assert!(hub.unauthenticated_connections() <= 4);
     hub.shutdown(GUARD).await;
 }
 

@@ -7,8 +7,9 @@ use netlink::pairing::PairingCode;
 use super::{Db, check_id, col};
 use crate::error::{HubError, PairRefusal};
 
-/// Shortest wait after any attempt before a code takes the next, ms. Every attempt is counted
-/// when it begins (before the SPAKE2 exchange), so parallel guesses get one real try per wait.
+/// Shortest wait after an attempt before the code takes the next from the same address, ms.
+/// Every attempt is counted when it begins (before the SPAKE2 exchange), so parallel guesses
+/// from one address get one real try per wait.
 pub const MIN_ATTEMPT_WAIT_MS: i64 = 5_000;
 
 /// Longest wait between two attempts at one code, ms (1 h).
@@ -17,14 +18,18 @@ pub const MAX_ATTEMPT_WAIT_MS: i64 = 3_600_000;
 /// Attempts a code takes with the shortest wait before the waits double.
 pub const ATTEMPTS_BEFORE_BACKOFF: i64 = 3;
 
-/// How long a code refuses another attempt after its `n`-th (1-based), ms:
+/// How long a code refuses another attempt from an address after that address's `n`-th
+/// (1-based), ms:
 /// [`MIN_ATTEMPT_WAIT_MS`] for the first [`ATTEMPTS_BEFORE_BACKOFF`], then doubling up to
 /// [`MAX_ATTEMPT_WAIT_MS`].
 ///
 /// A wrong guess never kills a code (anyone who knew its public half could otherwise burn a
 /// patient's code with three tries); it slows the next one instead. Over a 72 h code this
-/// allows at most 82 online guesses of the 20-bit secret (success ≤ 82 / 2²⁰ ≈ 8·10⁻⁵), and
-/// the per-address limits of the ingest bound what one address can try.
+/// allows at most 82 online guesses of the 20-bit secret per address (success ≤ 82 / 2²⁰ ≈
+/// 8·10⁻⁵), and the per-address limits of the ingest bound what one address can try. The
+/// waits are per address (issue 44) so that a guesser cannot hold the code waiting for the
+/// patient's own station; more addresses buy a guesser more tries, no more than they would
+/// against the ingest's per-address limits.
 pub fn attempt_wait_ms(n: i64) -> i64 {
     let doublings = (n - ATTEMPTS_BEFORE_BACKOFF).clamp(0, 20);
     MIN_ATTEMPT_WAIT_MS
@@ -115,44 +120,71 @@ impl Db {
         }
     }
 
-    /// Begins one attempt at the code named `code_id`, atomically: counts it and sets when the
-    /// code takes the next ([`attempt_wait_ms`]), and returns its ticket; `None` when the code
-    /// is unknown, expired, used or still waiting after an earlier attempt. The caller then
-    /// runs the exchange with a decoy secret, so a station cannot tell these apart from a
-    /// wrong secret (nothing to enumerate).
+    /// Begins one attempt at the code named `code_id` from `address` (`db::address_key` of the
+    /// client), atomically: counts it and sets when that address may try this code again
+    /// ([`attempt_wait_ms`] of its own attempts), and returns the code's ticket; `None` when
+    /// the code is unknown, expired or used, or this address still waits after an earlier
+    /// attempt. Waits are per code and address (issue 44): attempts from one address never
+    /// make the code wait for another. The caller then runs the exchange with a decoy secret,
+    /// so a station cannot tell these apart from a wrong secret (nothing to enumerate).
     pub async fn begin_pairing_attempt(
         &self,
         code_id: &str,
+        address: &str,
         now_ms: i64,
     ) -> Result<Option<PairingTicket>, HubError> {
-        // One statement takes the attempt and closes the code for the shortest wait, so
-        // parallel attempts cannot both pass; the second sets the whole wait.
-        let row = sqlx::query(
-            "UPDATE pairing_codes SET failed_attempts = failed_attempts + 1, \
-             next_attempt_at_ms = $3 \
-             WHERE code_id = $1 AND used_at_ms IS NULL AND expires_at_ms > $2 \
-             AND COALESCE(next_attempt_at_ms, 0) <= $2 \
-             RETURNING secret, patient_id, failed_attempts",
+        let live = sqlx::query(
+            "SELECT secret, patient_id FROM pairing_codes \
+             WHERE code_id = $1 AND used_at_ms IS NULL AND expires_at_ms > $2",
         )
         .bind(code_id)
+        .bind(now_ms)
+        .fetch_optional(self.pool())
+        .await
+        .map_err(HubError::db("reading a pairing code"))?;
+        let Some(live) = live else {
+            return Ok(None);
+        };
+        // One statement takes the address's attempt and closes the code to it for the
+        // shortest wait, so parallel attempts from one address cannot both pass.
+        let attempts: Option<i64> = sqlx::query_scalar(
+            "INSERT INTO pairing_attempt_waits (code_id, address, attempts, next_attempt_at_ms) \
+             VALUES ($1, $2, 1, $4) \
+             ON CONFLICT (code_id, address) DO UPDATE \
+             SET attempts = pairing_attempt_waits.attempts + 1, next_attempt_at_ms = $4 \
+             WHERE pairing_attempt_waits.next_attempt_at_ms <= $3 \
+             RETURNING attempts",
+        )
+        .bind(code_id)
+        .bind(address)
         .bind(now_ms)
         .bind(now_ms.saturating_add(MIN_ATTEMPT_WAIT_MS))
         .fetch_optional(self.pool())
         .await
         .map_err(HubError::db("beginning a pairing attempt"))?;
-        let Some(row) = row else {
+        let Some(attempts) = attempts else {
             return Ok(None);
         };
-        let attempts: i64 = col(&row, "failed_attempts")?;
-        sqlx::query("UPDATE pairing_codes SET next_attempt_at_ms = $2 WHERE code_id = $1")
-            .bind(code_id)
-            .bind(now_ms.saturating_add(attempt_wait_ms(attempts)))
-            .execute(self.pool())
-            .await
-            .map_err(HubError::db("delaying the next pairing attempt"))?;
+        sqlx::query(
+            "UPDATE pairing_attempt_waits SET next_attempt_at_ms = $3 \
+             WHERE code_id = $1 AND address = $2",
+        )
+        .bind(code_id)
+        .bind(address)
+        .bind(now_ms.saturating_add(attempt_wait_ms(attempts)))
+        .execute(self.pool())
+        .await
+        .map_err(HubError::db("delaying the next pairing attempt"))?;
+        sqlx::query(
+            "UPDATE pairing_codes SET failed_attempts = failed_attempts + 1 WHERE code_id = $1",
+        )
+        .bind(code_id)
+        .execute(self.pool())
+        .await
+        .map_err(HubError::db("counting a pairing attempt"))?;
         Ok(Some(PairingTicket {
-            secret: col(&row, "secret")?,
-            patient_id: col(&row, "patient_id")?,
+            secret: col(&live, "secret")?,
+            patient_id: col(&live, "patient_id")?,
         }))
     }
 

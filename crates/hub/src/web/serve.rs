@@ -15,7 +15,7 @@ use hyper::body::{Body as _, Incoming};
 use hyper_util::rt::TokioIo;
 use hyper_util::server::graceful::{GracefulShutdown, Watcher};
 use netlink::therapist::budget::{
-    ConnectionGate, Eviction, GateLimits, REFUSAL_LOG_INTERVAL, Ticket,
+    ConnectionGate, EVICTION_GRACE, Eviction, GateLimits, REFUSAL_LOG_INTERVAL, Ticket,
 };
 use tokio::io::{AsyncRead, AsyncWrite};
 use tokio::net::{TcpListener, TcpStream};
@@ -47,10 +47,13 @@ pub fn acceptor_from_pem(cert_pem: &Path, key_pem: &Path) -> Result<TlsAcceptor,
 ///
 /// A connection is *unanswered* until one of its requests has been answered: its TLS
 /// handshake, request head and body are still on their way. Unanswered connections are capped
-/// per address and in all; one over a cap replaces the oldest unanswered connection still
-/// sending its request (a client holding half-sent requests cannot lock anyone out). All
-/// connections together are capped by `max_connections`; answered ones idle longer than
-/// `header_read_timeout_ms` are closed.
+/// per address and in all (`netlink::therapist::budget`): a newcomer over the per-address cap
+/// waits in that address's line and takes the slot of the oldest unanswered connection that
+/// has stalled — made no progress (TLS handshake, request head) for
+/// [`EVICTION_GRACE`](netlink::therapist::budget::EVICTION_GRACE) — so a client holding
+/// half-sent requests cannot lock anyone out, and one reconnecting fast from the same address
+/// (a shared NAT) cannot push out a slow handshake. All connections together are capped by
+/// `max_connections`; answered ones idle longer than `header_read_timeout_ms` are closed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct WebLimits {
     /// Longest a client may take to complete the TLS handshake, ms.
@@ -137,6 +140,7 @@ pub async fn serve_router_with_limits(
         GateLimits {
             max_total: limits.max_unanswered.max(1),
             max_per_address: limits.max_unanswered_per_address.max(1),
+            grace: EVICTION_GRACE,
         },
         "console port",
     );
@@ -213,6 +217,17 @@ fn hold(ticket: &SharedTicket) {
     }
 }
 
+/// A step made (a request head arrived): another grace before it may be evicted.
+fn progress(ticket: &SharedTicket) {
+    if let Some(t) = ticket
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .as_mut()
+    {
+        t.progress();
+    }
+}
+
 /// What one connection's task needs.
 struct Conn {
     app: Router,
@@ -229,20 +244,30 @@ impl Conn {
         tls: Option<TlsAcceptor>,
         mut ticket: Ticket,
     ) {
+        let handshake_timeout = Duration::from_millis(self.limits.tls_handshake_timeout_ms);
+        let refusals = self.refusals.refusals();
+        // Nothing is read before the connection has a slot; it waits in its address's line
+        // at most as long as a handshake may take.
+        if tokio::time::timeout(handshake_timeout, ticket.wait_turn())
+            .await
+            .is_err()
+        {
+            refusals.count("refused: no slot free within the TLS handshake timeout");
+            return;
+        }
         let mut eviction = ticket.eviction();
         let ticket: SharedTicket = Arc::new(Mutex::new(Some(ticket)));
         let Some(acceptor) = tls else {
             self.serve_connection(stream, peer, ticket, eviction).await;
             return;
         };
-        let handshake_timeout = Duration::from_millis(self.limits.tls_handshake_timeout_ms);
         let handshake = tokio::select! {
             h = tokio::time::timeout(handshake_timeout, acceptor.accept(stream)) => h,
             () = eviction.wait() => return,
         };
-        let refusals = self.refusals.refusals();
         match handshake {
             Ok(Ok(tls_stream)) => {
+                progress(&ticket);
                 self.serve_connection(tls_stream, peer, ticket, eviction)
                     .await;
             }
@@ -283,6 +308,8 @@ impl Conn {
             async move {
                 if request.body().is_end_stream() {
                     hold(&ticket);
+                } else {
+                    progress(&ticket);
                 }
                 let mut request = request;
                 request

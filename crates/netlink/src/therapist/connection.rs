@@ -122,9 +122,11 @@ fn protocol_error(hub: &Hub, out: &Out, peer: SocketAddr, error: String) -> Stri
     format!("protocol error: {error}")
 }
 
-/// Serves one connection from TLS handshake to close. Never panics on peer input. Until its
-/// first frame the connection may be evicted (`ticket`) to make room for a newer one, or
-/// ended by shutdown; then it stays counted as unauthenticated until the store admits it.
+/// Serves one connection from TLS handshake to close. Never panics on peer input. It may
+/// first wait in its address's line for a slot (`ticket`, within the Hello timeout); until its
+/// first frame it may be evicted once it has stalled for a grace (the TLS handshake renews
+/// the grace), or ended by shutdown; then it stays counted as unauthenticated until the store
+/// admits it.
 async fn serve(
     hub: Arc<Hub>,
     tcp: TcpStream,
@@ -132,6 +134,18 @@ async fn serve(
     mut ticket: Ticket,
     mut shutdown: watch::Receiver<bool>,
 ) {
+    let hello_timeout = Duration::from_millis(hub.config.hello_timeout_ms);
+    let turn = tokio::select! {
+        () = ticket.wait_turn() => true,
+        () = tokio::time::sleep(hello_timeout) => false,
+        _ = shutdown.changed() => return,
+    };
+    if !turn {
+        hub.gate
+            .refusals()
+            .count("refused: no slot free within the Hello timeout");
+        return;
+    }
     let handshake = tokio::select! {
         h = handshake(&hub, tcp, peer) => h,
         () = ticket.evicted() => None,
@@ -140,6 +154,8 @@ async fn serve(
     let Some((stream, client_cert)) = handshake else {
         return;
     };
+    // A step made: another grace to send the first frame.
+    ticket.progress();
     let (rd, wr) = tokio::io::split(stream);
     let (out, mut writer) = spawn_outbox_writer(wr, hub.outbox_stats.clone());
     let mut reader = FrameReader::new(rd);

@@ -28,7 +28,7 @@ use crate::tls::ServerTls;
 use crate::transport::{OUTBOX_CAPACITY, Outbox, OutboxStats, Outgoing};
 
 pub use backend::{BoxFuture, FileStore, HubStore, Peer, Refusal, SessionStore};
-use budget::{ConnectionGate, GateLimits};
+use budget::{ConnectionGate, EVICTION_GRACE, GateLimits};
 pub use config::{
     DEFAULT_MAX_CONNECTIONS, DEFAULT_MAX_CONNECTIONS_PER_ADDRESS, DEFAULT_MAX_UNAUTHENTICATED,
     TherapistConfig,
@@ -127,6 +127,7 @@ impl TherapistServer {
             GateLimits {
                 max_total: config.max_unauthenticated,
                 max_per_address: config.max_connections_per_address,
+                grace: EVICTION_GRACE,
             },
             "station port",
         );
