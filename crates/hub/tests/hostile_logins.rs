@@ -18,7 +18,9 @@ use hub::db::{
     ACCOUNT_FREE_FAILURES, ACCOUNT_MAX_DELAY_MS, ADDRESS_MAX_DELAY_MS, LoginAttempt,
     REFUSAL_AUDITS_PER_MINUTE,
 };
-use hub::web::{self, AppState, LiveEvent, MAX_LIVE_STREAMS_PER_LOGIN};
+use hub::web::{
+    self, AppState, LiveEvent, MAX_LIVE_STREAMS_PER_ACCOUNT, MAX_LIVE_STREAMS_PER_LOGIN,
+};
 use hub::{Db, HubError, Patient, Role, Therapist};
 use netlink::Summary;
 use serde_json::{Value, json};
@@ -611,6 +613,55 @@ async fn a_login_holds_at_most_four_live_streams() {
     let mut reopened = None;
     for _ in 0..50 {
         if let Ok(body) = open_live(&f, &cookie).await {
+            reopened = Some(body);
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    assert!(reopened.is_some(), "a closed stream's place was not freed");
+}
+
+#[tokio::test]
+async fn an_account_holds_at_most_eight_live_streams_across_its_logins() {
+    let f = fixture().await;
+    // Logins of one therapist, each opening its own allowance of streams, until the account's
+    // cap: the probe opened 25 logins × 4 = 100.
+    let mut open = Vec::new();
+    let mut cookies = Vec::new();
+    while open.len() < MAX_LIVE_STREAMS_PER_ACCOUNT {
+        let cookie = login_as(&f.app, EMAIL, PASSWORD).await;
+        for _ in 0..MAX_LIVE_STREAMS_PER_LOGIN.min(MAX_LIVE_STREAMS_PER_ACCOUNT - open.len()) {
+            open.push(open_live(&f, &cookie).await.unwrap());
+        }
+        cookies.push(cookie);
+    }
+    let fresh = login_as(&f.app, EMAIL, PASSWORD).await;
+    let uri = format!("/api/patients/{}/live", f.p_ada.id);
+    let (status, headers, body) =
+        send(&f.app, request(Method::GET, &uri, Some(&fresh), None, 1)).await;
+    assert_eq!(status, StatusCode::TOO_MANY_REQUESTS, "{body}");
+    assert_eq!(headers.get(header::RETRY_AFTER).unwrap(), "1");
+    let message = body["error"].as_str().unwrap();
+    assert!(
+        message.contains(&format!(
+            "at most {MAX_LIVE_STREAMS_PER_ACCOUNT} live streams per therapist"
+        )),
+        "{message}"
+    );
+    for cookie in &cookies {
+        assert_eq!(
+            open_live(&f, cookie).await.err(),
+            Some(StatusCode::TOO_MANY_REQUESTS)
+        );
+    }
+    // Another therapist is not affected.
+    let root = login_as(&f.app, "root@clinic.example", PASSWORD).await;
+    assert!(open_live(&f, &root).await.is_ok());
+    // Closing one frees the account's place, for any of its logins.
+    drop(open.pop());
+    let mut reopened = None;
+    for _ in 0..50 {
+        if let Ok(body) = open_live(&f, &fresh).await {
             reopened = Some(body);
             break;
         }
