@@ -56,7 +56,7 @@ function passwordView(forced) {
     <form id="password-form" novalidate>
       <label for="current-password">${forced ? 'One-time password' : 'Current password'}</label>
       <input id="current-password" type="password" autocomplete="current-password" required>
-      <label for="new-password">New password <span class="note">(at least 10 characters, not only spaces, not your e-mail, not a common password)</span></label>
+      <label for="new-password">New password <span class="note">(at least 10 characters, not only spaces, not your e-mail, not a common password or pattern; a few unrelated words are best)</span></label>
       <input id="new-password" type="password" autocomplete="new-password" minlength="10" required>
       <label for="repeat-password">New password again</label>
       <input id="repeat-password" type="password" autocomplete="new-password" minlength="10" required>

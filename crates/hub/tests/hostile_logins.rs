@@ -215,6 +215,16 @@ async fn weak_passwords_are_refused(db: Db) {
         ("bob@clinic.example", "e-mail"),
         ("Password123", "common"),
         ("1234567890", "common"),
+        // The second hostile round's (issue 44): each refused by its rule.
+        ("aaaaaaaaaa", "repeated"),
+        ("Password1!", "common password with a few characters added"),
+        ("correcthorse", "common words"),
+        (
+            "a\u{200b}\u{200b}\u{200b}\u{200b}\u{200b}",
+            "invisible characters",
+        ),
+        ("\u{200b}correct horse battery", "invisible characters"),
+        ("abcdefghijk", "consecutive"),
     ] {
         let err = db
             .add_therapist("bob@clinic.example", password, Role::Therapist, T0)

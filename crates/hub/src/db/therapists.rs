@@ -14,6 +14,10 @@ use super::logins::{ACCOUNT_RULE, ADDRESS_RULE, account_key, address_key, device
 use super::{Db, col, new_id, random_bytes, sha256_hex};
 use crate::error::HubError;
 
+mod passwords;
+
+pub use passwords::{COMMON_PASSWORDS, MAX_PASSWORD_BYTES, MIN_PASSWORD_CHARS, check_new_password};
+
 /// Failed logins of an account before its attempts are delayed (see
 /// [`super::ACCOUNT_FREE_FAILURES`]; there is no lock anyone could keep up).
 pub const MAX_FAILED_LOGINS: i64 = super::logins::ACCOUNT_FREE_FAILURES;
@@ -21,43 +25,6 @@ pub const MAX_FAILED_LOGINS: i64 = super::logins::ACCOUNT_FREE_FAILURES;
 /// Longest wait a run of failed logins can impose, ms (15 minutes, on the failing address;
 /// an account's own delay stops at [`super::ACCOUNT_MAX_DELAY_MS`]).
 pub const LOCKOUT_MS: i64 = super::logins::ADDRESS_MAX_DELAY_MS;
-
-/// Passwords refused whatever their length (compared lowercased, spaces removed): the most
-/// common ones of at least ten characters in breach corpora, and the product's own names.
-pub const COMMON_PASSWORDS: &[&str] = &[
-    "1234567890",
-    "0123456789",
-    "0987654321",
-    "1111111111",
-    "0000000000",
-    "1q2w3e4r5t",
-    "qwertyuiop",
-    "asdfghjkl;",
-    "1qaz2wsx3edc",
-    "password123",
-    "password1234",
-    "password12345",
-    "passw0rd123",
-    "qwerty12345",
-    "qwerty123456",
-    "iloveyou123",
-    "123456789a",
-    "abcdefghij",
-    "letmein123",
-    "welcome123",
-    "changeme123",
-    "administrator",
-    "telerehab",
-    "telerehab123",
-    "therapist1",
-    "therapist123",
-];
-
-/// Shortest password accepted, characters.
-pub const MIN_PASSWORD_CHARS: usize = 10;
-
-/// Longest password accepted, bytes (argon2 hashes any length; this bounds the work).
-pub const MAX_PASSWORD_BYTES: usize = 1024;
 
 /// What a therapist account may do.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -142,38 +109,6 @@ fn normalise_email(email: &str) -> Result<String, HubError> {
             "must look like name@domain, at most 254 characters, no spaces",
         ))
     }
-}
-
-/// A password a therapist may choose: at least [`MIN_PASSWORD_CHARS`] characters of which
-/// some are not whitespace, at most [`MAX_PASSWORD_BYTES`] bytes, not the account's e-mail
-/// and not one of [`COMMON_PASSWORDS`].
-pub fn check_new_password(password: &str, email: &str) -> Result<(), HubError> {
-    let refuse = |why: String| Err(HubError::invalid("password", why));
-    if password.chars().count() < MIN_PASSWORD_CHARS || password.len() > MAX_PASSWORD_BYTES {
-        return refuse(format!(
-            "must have at least {MIN_PASSWORD_CHARS} characters and at most \
-             {MAX_PASSWORD_BYTES} bytes"
-        ));
-    }
-    let squeezed: String = password
-        .chars()
-        .filter(|c| !c.is_whitespace())
-        .flat_map(char::to_lowercase)
-        .collect();
-    if squeezed.chars().count() < MIN_PASSWORD_CHARS / 2 {
-        return refuse(format!(
-            "must not be only spaces: at least {} characters that are not whitespace",
-            MIN_PASSWORD_CHARS / 2
-        ));
-    }
-    let email = email.trim().to_lowercase();
-    if !email.is_empty() && (squeezed == email || password.trim().to_lowercase() == email) {
-        return refuse("must not be the account's e-mail address".to_owned());
-    }
-    if COMMON_PASSWORDS.contains(&squeezed.as_str()) {
-        return refuse("is one of the most common passwords; choose another".to_owned());
-    }
-    Ok(())
 }
 
 fn hash_password(password: &str) -> Result<String, HubError> {
