@@ -10,7 +10,7 @@ use argon2::password_hash::{PasswordHasher, PasswordVerifier};
 use serde::Serialize;
 use sqlx::any::AnyRow;
 
-use super::logins::{ACCOUNT_RULE, ADDRESS_RULE, account_key, address_key, device_key};
+use super::logins::{ACCOUNT_RULE, ADDRESS_RULE, account_key, address_key, device_key, place_key};
 use super::{Db, col, new_id, random_bytes, sha256_hex};
 use crate::error::HubError;
 
@@ -131,6 +131,17 @@ fn password_matches(password: &str, hash: &str) -> bool {
     Argon2::default()
         .verify_password(password.as_bytes(), hash)
         .is_ok()
+}
+
+/// The throttle a login's attempt went through besides its address's (see `super::logins`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Lane {
+    /// The browser's device cookie.
+    Device,
+    /// A familiar place of the account, without a device cookie.
+    Place,
+    /// The account-wide throttle: a new browser at a new address, or a guesser.
+    Account,
 }
 
 const THERAPIST_COLUMNS: &str = "id, email, role, created_at_ms, must_change_password";
@@ -317,12 +328,14 @@ impl Db {
     }
 
     /// Checks a login. Before any hashing the attempt is reserved, atomically, on the
-    /// address's throttle and on the account's (or, with a valid device cookie, the
-    /// device's): [`HubError::Throttled`] while either's delay runs, or when the hashing pool
-    /// is full. A wrong password, an unknown e-mail and a revoked account are the same
-    /// [`HubError::LoginRefused`], in the same time; a success clears the failures of the
-    /// account (or of the device, if it went through the device's throttle) and gives the
-    /// address its attempt back.
+    /// address's throttle and on one of the account's lanes: with a valid device cookie the
+    /// device's, else from a familiar place (an address the account logged in from before) the
+    /// place's, else the account-wide one; [`HubError::Throttled`] while either's delay runs,
+    /// or when the hashing pool is full. A wrong password, an unknown e-mail and a revoked
+    /// account are the same [`HubError::LoginRefused`], in the same time. A success clears the
+    /// device's or the place's failures, or only gives its attempt back on the account-wide
+    /// lane (which fades with time only), gives the address its attempt back, and makes the
+    /// address a familiar place of the account.
     pub async fn login(&self, attempt: LoginAttempt<'_>, now_ms: i64) -> Result<LoginOk, HubError> {
         // A full pool refuses before any other work: a flood costs this check only.
         let ticket = self.hashing().ticket()?;
@@ -344,10 +357,18 @@ impl Db {
             (Some(token), Some(email)) => self.device_of(token, email, now_ms).await?,
             _ => false,
         };
-        let gate_key = match (known_device, attempt.device, &email) {
-            (true, Some(token), _) => device_key(token),
-            (_, _, Some(email)) => account_key(email),
-            _ => account_key("(not an e-mail address)"),
+        let account = account_key(email.as_deref().unwrap_or("(not an e-mail address)"));
+        let place = attempt.address.map(address_key);
+        let familiar = match (&place, &email, known_device) {
+            (Some(place), Some(_), false) => {
+                self.is_familiar_place(&account, place, now_ms).await?
+            }
+            _ => false,
+        };
+        let (lane, gate_key) = match (known_device, attempt.device, &place) {
+            (true, Some(token), _) => (Lane::Device, device_key(token)),
+            (false, _, Some(place)) if familiar => (Lane::Place, place_key(&account, place)),
+            _ => (Lane::Account, account.clone()),
         };
         let gate = match self.reserve_attempt(&gate_key, ACCOUNT_RULE, now_ms).await {
             Ok(g) => g,
@@ -398,10 +419,19 @@ impl Db {
         };
         match therapist {
             Some(therapist) if matches && !revoked => {
-                // Only the throttle this attempt went through: a success from the therapist's
-                // device must not hand an attacker a fresh allowance on the account.
-                self.clear_throttle(&gate_key).await?;
+                match lane {
+                    // The browser's or the place's own count starts again.
+                    Lane::Device | Lane::Place => self.clear_throttle(&gate_key).await?,
+                    // The account-wide count is shared with whoever guesses from elsewhere: a
+                    // success only gives its own attempt back (no failure counted), so it
+                    // never hands an attacker a fresh allowance; the count fades with time
+                    // only ([`super::THROTTLE_FORGET_MS`]).
+                    Lane::Account => self.give_back(&gate, now_ms).await?,
+                }
                 give_back_address().await?;
+                if let Some(place) = &place {
+                    self.remember_place(&account, place, now_ms).await?;
+                }
                 Ok(LoginOk {
                     therapist,
                     known_device,
