@@ -76,7 +76,7 @@ pub use sessions::{Recording, SessionRow};
 pub use stations::Station;
 pub use therapists::{
     COMMON_PASSWORDS, LOCKOUT_MS, LoginAttempt, LoginOk, MAX_FAILED_LOGINS, MAX_PASSWORD_BYTES,
-    MIN_PASSWORD_CHARS, Role, Therapist, check_new_password,
+    MIN_DISTINCT_CHARS, MIN_GUESSES_LOG10, MIN_PASSWORD_CHARS, Role, Therapist, check_new_password,
 };
 pub use wheels::PatientWheel;
 pub use words::{

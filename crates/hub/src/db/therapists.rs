@@ -16,7 +16,10 @@ use crate::error::HubError;
 
 mod passwords;
 
-pub use passwords::{COMMON_PASSWORDS, MAX_PASSWORD_BYTES, MIN_PASSWORD_CHARS, check_new_password};
+pub use passwords::{
+    COMMON_PASSWORDS, MAX_PASSWORD_BYTES, MIN_DISTINCT_CHARS, MIN_GUESSES_LOG10,
+    MIN_PASSWORD_CHARS, check_new_password,
+};
 
 /// Failed logins of an account before its attempts are delayed (see
 /// [`super::ACCOUNT_FREE_FAILURES`]; there is no lock anyone could keep up).
