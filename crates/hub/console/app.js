@@ -56,7 +56,7 @@ function passwordView(forced) {
     <form id="password-form" novalidate>
       <label for="current-password">${forced ? 'One-time password' : 'Current password'}</label>
       <input id="current-password" type="password" autocomplete="current-password" required>
-      <label for="new-password">New password <span class="note">(at least 10 characters, not only spaces, not your e-mail, not a common password)</span></label>
+      <label for="new-password">New password <span class="note">(at least 10 characters, not only spaces, not your e-mail, not a common password or pattern; a few unrelated words are best)</span></label>
       <input id="new-password" type="password" autocomplete="new-password" minlength="10" required>
       <label for="repeat-password">New password again</label>
       <input id="repeat-password" type="password" autocomplete="new-password" minlength="10" required>
@@ -254,7 +254,7 @@ async function prescribeView(el, id, refreshMessages) {
       <dl class="bounds" id="bounds">
         <dt>Torque ceiling</dt><dd>at most ${esc(wheel.ceiling ?? limits.ceiling.max)} N·m in a prescription (${wheel.ceiling == null ? 'the strongest consumer wheel' : 'what this patient\'s wheel can give'}), refused above; the station then caps it at its own wheel's ceiling (a prescription can lower the patient's ceiling, never raise it)</dd>
         <dt>Torque changes</dt><dd>slew-limited by the station's safety chain whatever the prescription</dd>
-        <dt>Session</dt><dd>at most ${esc(limits.maxExercises)} exercises planned to last at most ${esc(Math.round(limits.maxPlannedS / 60))} min together</dd>
+        <dt>Session</dt><dd>at most ${esc(limits.maxExercises)} exercises planned to last at most ${esc(Math.round(limits.maxPlannedS / 60))} min together, rests and the cards between exercises included</dd>
         <dt>Every other setting</dt><dd>within the range shown beside it</dd>
       </dl>
       <p class="note">The form's ranges come from the regimen's schema, which the hub derives from the station's own validator; the hub checks the whole regimen with that validator before storing it, and the station picks the new version up at its next session.</p>

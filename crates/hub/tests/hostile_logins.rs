@@ -16,9 +16,12 @@ use axum::http::{HeaderMap, Method, Request, StatusCode, header};
 use http_body_util::BodyExt;
 use hub::db::{
     ACCOUNT_FREE_FAILURES, ACCOUNT_MAX_DELAY_MS, ADDRESS_MAX_DELAY_MS, LoginAttempt,
-    REFUSAL_AUDITS_PER_MINUTE,
+    REFUSAL_AUDITS_PER_ACCOUNT_PER_MINUTE, REFUSAL_AUDITS_PER_MINUTE,
+    REFUSAL_AUDITS_TOTAL_PER_MINUTE,
 };
-use hub::web::{self, AppState, LiveEvent, MAX_LIVE_STREAMS_PER_LOGIN};
+use hub::web::{
+    self, AppState, LiveEvent, MAX_LIVE_STREAMS_PER_ACCOUNT, MAX_LIVE_STREAMS_PER_LOGIN,
+};
 use hub::{Db, HubError, Patient, Role, Therapist};
 use netlink::Summary;
 use serde_json::{Value, json};
@@ -42,12 +45,14 @@ async fn ada(db: &Db) -> Therapist {
 on_both_backends!(
     a_hundred_parallel_guesses_evaluate_at_most_the_free_allowance,
     an_attacker_elsewhere_cannot_keep_the_therapist_out,
+    a_new_browser_gets_in_during_an_attack_and_its_success_gives_the_attacker_nothing,
     the_address_throttle_grows_to_fifteen_minutes_whatever_accounts_it_tries,
     weak_passwords_are_refused,
     a_one_time_password_is_flagged_until_changed,
     a_password_change_ends_every_old_token,
     a_revoked_therapist_cannot_log_in_and_their_sessions_end,
     refusal_audits_are_rate_limited_and_count_what_they_suppress,
+    refusal_audits_from_rotating_addresses_are_bounded_per_account_and_in_all,
     the_audit_log_pages_by_time_without_losing_an_entry,
 );
 
@@ -172,6 +177,93 @@ async fn an_attacker_elsewhere_cannot_keep_the_therapist_out(db: Db) {
     );
 }
 
+/// An attacker rotating over twenty addresses who guesses whenever a throttle lets one
+/// through, from `from_ms` for `for_ms`; the therapist, on a new browser (no device cookie)
+/// at an address they logged in from before, logs in at the first of the attacker's
+/// evaluated guesses at or after each of `logins_at_ms`. Returns the times of the attacker's
+/// evaluated guesses.
+async fn attack_around_logins(
+    db: &Db,
+    from_ms: i64,
+    for_ms: i64,
+    logins_at_ms: &[i64],
+) -> Vec<i64> {
+    let mut now = from_ms;
+    let mut evaluated = Vec::new();
+    let mut logins = logins_at_ms.iter().copied().peekable();
+    while now < from_ms + for_ms {
+        let mut next_ms = i64::MAX;
+        let mut guessed = false;
+        for a in 10..30 {
+            match try_login(db, "a wrong guess", a, None, now).await {
+                Ok(ok) => {
+                    assert!(!ok);
+                    evaluated.push(now);
+                    guessed = true;
+                }
+                Err(wait) => next_ms = next_ms.min(wait),
+            }
+        }
+        while guessed && logins.peek().is_some_and(|&at| at <= now) {
+            logins.next();
+            // Right after a guess of the attacker was evaluated: the account's delay runs.
+            assert_eq!(
+                try_login(db, PASSWORD, 1, None, now).await,
+                Ok(true),
+                "the therapist's new browser was kept out at {} s",
+                (now - from_ms) / 1000
+            );
+        }
+        now += next_ms.max(1);
+    }
+    assert!(
+        logins.next().is_none(),
+        "a login of the therapist was not tried"
+    );
+    evaluated
+}
+
+async fn a_new_browser_gets_in_during_an_attack_and_its_success_gives_the_attacker_nothing(db: Db) {
+    ada(&db).await;
+    // The therapist logged in from the clinic (127.0.3.1) yesterday; today, a new browser
+    // there has no device cookie.
+    assert_eq!(
+        try_login(&db, PASSWORD, 1, None, T0 - 86_400_000).await,
+        Ok(true)
+    );
+    // Ten minutes of attack bring the account's delay to its longest (a minute) …
+    let warm = attack_around_logins(&db, T0, 600_000, &[]).await;
+    // … then 150 s around two logins of the therapist's new browser (the issue's probe:
+    // 21 guesses evaluated in 150 s, the success having reset the account's count).
+    let start = T0 + 600_000;
+    let around = attack_around_logins(&db, start, 150_000, &[start + 30_000, start + 75_000]).await;
+    println!(
+        "evaluated guesses of an attacker rotating 20 addresses: {} in the first 10 min, {} in \
+         the 150 s around two logins of the therapist's new browser",
+        warm.len(),
+        around.len()
+    );
+    let cap = 150_000 / ACCOUNT_MAX_DELAY_MS + 1;
+    assert!(
+        i64::try_from(around.len()).unwrap() <= cap,
+        "{} guesses evaluated in 150 s around the therapist's logins (at most {cap} at the \
+         account's longest delay): {around:?}",
+        around.len()
+    );
+    // The hourly budget holds across the therapist's logins: an hour in all, logging in
+    // every five minutes.
+    let rest_from = start + 150_000;
+    let logins: Vec<i64> = (1..10).map(|k| rest_from + k * 300_000).collect();
+    let rest = attack_around_logins(&db, rest_from, 3_600_000 - 750_000, &logins).await;
+    let hour = warm.len() + around.len() + rest.len();
+    let budget =
+        usize::try_from(3_600_000 / ACCOUNT_MAX_DELAY_MS + 2 * ACCOUNT_FREE_FAILURES + 2).unwrap();
+    assert!(
+        hour <= budget,
+        "{hour} guesses evaluated in an hour (budget {budget})"
+    );
+}
+
 async fn the_address_throttle_grows_to_fifteen_minutes_whatever_accounts_it_tries(db: Db) {
     ada(&db).await;
     let mut now = T0;
@@ -213,6 +305,16 @@ async fn weak_passwords_are_refused(db: Db) {
         ("bob@clinic.example", "e-mail"),
         ("Password123", "common"),
         ("1234567890", "common"),
+        // The second hostile round's (issue 44): each refused by its rule.
+        ("aaaaaaaaaa", "repeated"),
+        ("Password1!", "common password with a few characters added"),
+        ("correcthorse", "common words"),
+        (
+            "a\u{200b}\u{200b}\u{200b}\u{200b}\u{200b}",
+            "invisible characters",
+        ),
+        ("\u{200b}correct horse battery", "invisible characters"),
+        ("abcdefghijk", "consecutive"),
     ] {
         let err = db
             .add_therapist("bob@clinic.example", password, Role::Therapist, T0)
@@ -313,6 +415,97 @@ async fn refusal_audits_are_rate_limited_and_count_what_they_suppress(db: Db) {
     assert!(
         suppressed[0].detail.starts_with("80 more refusals"),
         "{suppressed:?}"
+    );
+}
+
+/// The count at the start of a `refusals_suppressed` entry's detail.
+fn suppressed_count(detail: &str) -> u64 {
+    detail.split(' ').next().unwrap().parse().unwrap()
+}
+
+async fn refusal_audits_from_rotating_addresses_are_bounded_per_account_and_in_all(db: Db) {
+    // The issue's probe wrote 5 582 rows in 40 s: refused logins, each from a new address.
+    const BURST: i64 = 5_000;
+    let address = |i: i64| format!("127.{}.{}.{}", 10 + i / 65_536, (i / 256) % 256, i % 256);
+    for i in 0..BURST {
+        db.audit_account_refusal(
+            "web",
+            "login_failed",
+            EMAIL,
+            "",
+            &address(i),
+            Some(EMAIL),
+            T0 + i * 8,
+        )
+        .await
+        .unwrap();
+    }
+    let log = db.audit_log(10_000).await.unwrap();
+    let one_by_one = log.iter().filter(|e| e.action == "login_failed").count();
+    assert_eq!(
+        one_by_one,
+        usize::try_from(REFUSAL_AUDITS_PER_ACCOUNT_PER_MINUTE).unwrap(),
+        "one account's refusals from {BURST} addresses"
+    );
+    db.flush_refusal_audits(T0 + 120_000).await.unwrap();
+    let log = db.audit_log(10_000).await.unwrap();
+    let summaries: Vec<_> = log
+        .iter()
+        .filter(|e| e.action == "refusals_suppressed")
+        .collect();
+    assert_eq!(summaries.len(), 1, "{summaries:?}");
+    assert!(summaries[0].target.contains(EMAIL), "{summaries:?}");
+    assert!(
+        summaries[0].detail.contains("were not recorded one by one"),
+        "{summaries:?}"
+    );
+    let counted: u64 = summaries.iter().map(|e| suppressed_count(&e.detail)).sum();
+    assert_eq!(
+        counted + one_by_one as u64,
+        BURST as u64,
+        "nothing is silently lost"
+    );
+    let rows_a = log.len();
+
+    // Rotating accounts too: the hub's total bounds them.
+    let start = T0 + 600_000;
+    for i in 0..BURST {
+        let email = format!("guess{i}@clinic.example");
+        db.audit_account_refusal(
+            "web",
+            "login_failed",
+            &email,
+            "",
+            &address(i),
+            Some(&email),
+            start + i * 8,
+        )
+        .await
+        .unwrap();
+    }
+    db.flush_refusal_audits(start + 120_000).await.unwrap();
+    let log = db.audit_log(20_000).await.unwrap();
+    let new = &log[..log.len() - rows_a];
+    let one_by_one = new.iter().filter(|e| e.action == "login_failed").count();
+    let summaries: Vec<_> = new
+        .iter()
+        .filter(|e| e.action == "refusals_suppressed")
+        .collect();
+    assert_eq!(
+        one_by_one,
+        usize::try_from(REFUSAL_AUDITS_TOTAL_PER_MINUTE).unwrap()
+    );
+    assert!(summaries.len() <= 2, "{summaries:?}");
+    let counted: u64 = summaries.iter().map(|e| suppressed_count(&e.detail)).sum();
+    assert_eq!(
+        counted + one_by_one as u64,
+        BURST as u64,
+        "nothing is silently lost"
+    );
+    println!(
+        "a burst of {BURST} refused logins in 40 s from as many addresses wrote {rows_a} audit \
+         rows on one account and {} on rotating accounts",
+        new.len()
     );
 }
 
@@ -611,6 +804,55 @@ async fn a_login_holds_at_most_four_live_streams() {
     let mut reopened = None;
     for _ in 0..50 {
         if let Ok(body) = open_live(&f, &cookie).await {
+            reopened = Some(body);
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    assert!(reopened.is_some(), "a closed stream's place was not freed");
+}
+
+#[tokio::test]
+async fn an_account_holds_at_most_eight_live_streams_across_its_logins() {
+    let f = fixture().await;
+    // Logins of one therapist, each opening its own allowance of streams, until the account's
+    // cap: the issue's probe opened 25 logins × 4 = 100.
+    let mut open = Vec::new();
+    let mut cookies = Vec::new();
+    while open.len() < MAX_LIVE_STREAMS_PER_ACCOUNT {
+        let cookie = login_as(&f.app, EMAIL, PASSWORD).await;
+        for _ in 0..MAX_LIVE_STREAMS_PER_LOGIN.min(MAX_LIVE_STREAMS_PER_ACCOUNT - open.len()) {
+            open.push(open_live(&f, &cookie).await.unwrap());
+        }
+        cookies.push(cookie);
+    }
+    let fresh = login_as(&f.app, EMAIL, PASSWORD).await;
+    let uri = format!("/api/patients/{}/live", f.p_ada.id);
+    let (status, headers, body) =
+        send(&f.app, request(Method::GET, &uri, Some(&fresh), None, 1)).await;
+    assert_eq!(status, StatusCode::TOO_MANY_REQUESTS, "{body}");
+    assert_eq!(headers.get(header::RETRY_AFTER).unwrap(), "1");
+    let message = body["error"].as_str().unwrap();
+    assert!(
+        message.contains(&format!(
+            "at most {MAX_LIVE_STREAMS_PER_ACCOUNT} live streams per therapist"
+        )),
+        "{message}"
+    );
+    for cookie in &cookies {
+        assert_eq!(
+            open_live(&f, cookie).await.err(),
+            Some(StatusCode::TOO_MANY_REQUESTS)
+        );
+    }
+    // Another therapist is not affected.
+    let root = login_as(&f.app, "root@clinic.example", PASSWORD).await;
+    assert!(open_live(&f, &root).await.is_ok());
+    // Closing one frees the account's place, for any of its logins.
+    drop(open.pop());
+    let mut reopened = None;
+    for _ in 0..50 {
+        if let Ok(body) = open_live(&f, &fresh).await {
             reopened = Some(body);
             break;
         }

@@ -38,9 +38,15 @@ pub const MAX_DEVICE_TORQUE_NM: f64 = 20.0;
 /// Most exercises one regimen may list (a long session is a few dozen at most).
 pub const MAX_EXERCISES: usize = 60;
 
-/// Longest session a regimen may plan, s (2 h): the sum of its exercises' planned durations
-/// (a road without a time limit counts the time to drive it at its target speeds).
+/// Longest session a regimen may plan, s (2 h): its exercises' planned durations (a road
+/// without a time limit counts the time to drive it at its target speeds) plus the breaks the
+/// station runs between them ([`Regimen::breaks_s`]: each `rest_s`, at least the
+/// [`TRANSITION_S`] card).
 pub const MAX_PLANNED_SESSION_S: f64 = 2.0 * 3600.0;
+
+/// Shortest break between two exercises the station runs, s: the card that says what comes
+/// next (the station's `course::TRANSITION_S`). Not exercise time, but session time.
+pub const TRANSITION_S: f64 = 6.0;
 
 /// Longest rest a regimen may put after one exercise, s (10 min).
 pub const MAX_REST_S: f64 = 600.0;
@@ -284,12 +290,19 @@ impl Regimen {
                     name: r.exercises[index].exercise.name(),
                     message,
                 })?;
-        if planned_s > MAX_PLANNED_SESSION_S {
+        let breaks = r.breaks_s();
+        let session_s = planned_s + breaks.rests_s + breaks.cards_s;
+        if session_s > MAX_PLANNED_SESSION_S {
             return Err(RegimenError::Parse {
                 path: origin.into(),
                 message: format!(
-                    "the exercises add up to {:.0} min, allowed at most {:.0} min in one session",
+                    "the session adds up to {:.0} min ({:.0} min of exercises, {:.0} min of \
+                     rests and {:.0} min of cards between exercises), allowed at most {:.0} min \
+                     in one session",
+                    session_s / 60.0,
                     planned_s / 60.0,
+                    breaks.rests_s / 60.0,
+                    breaks.cards_s / 60.0,
                     MAX_PLANNED_SESSION_S / 60.0
                 ),
             });
@@ -316,8 +329,39 @@ impl Regimen {
         schema
     }
 
-    /// The session's planned length, s: the sum of every exercise's planned duration; the
-    /// error names the exercise (0-based) that cannot be built.
+    /// The breaks the station runs between the exercises, s, as `session::course` builds
+    /// them: after every exercise but the last (a haptic sweep's levels counting as
+    /// exercises, [`RegimenEntry::expand`]), its `rest_s` or the [`TRANSITION_S`] card,
+    /// whichever is longer. The last exercise's rest is not run.
+    pub fn breaks_s(&self) -> Breaks {
+        let entries: Vec<RegimenEntry> = self
+            .exercises
+            .iter()
+            .flat_map(RegimenEntry::expand)
+            .collect();
+        let mut breaks = Breaks::default();
+        for e in entries.iter().take(entries.len().saturating_sub(1)) {
+            let rest_s = e.rest_s.unwrap_or(0.0).max(0.0);
+            if rest_s > TRANSITION_S {
+                breaks.rests_s += rest_s;
+            } else {
+                breaks.cards_s += TRANSITION_S;
+            }
+        }
+        breaks
+    }
+
+    /// The session's whole planned length, s: the exercises' planned durations
+    /// ([`Regimen::planned_duration_s`]) and the breaks between them ([`Regimen::breaks_s`]),
+    /// the length [`MAX_PLANNED_SESSION_S`] bounds.
+    pub fn session_length_s(&self) -> Result<f64, (usize, String)> {
+        let breaks = self.breaks_s();
+        Ok(self.planned_duration_s()? + breaks.rests_s + breaks.cards_s)
+    }
+
+    /// The exercise time a session plans, s: the sum of every exercise's planned duration
+    /// (breaks excluded: see [`Regimen::session_length_s`]); the error names the exercise
+    /// (0-based) that cannot be built.
     pub fn planned_duration_s(&self) -> Result<f64, (usize, String)> {
         self.exercises
             .iter()
@@ -330,6 +374,15 @@ impl Regimen {
             })
             .sum()
     }
+}
+
+/// The breaks between a session's exercises, s ([`Regimen::breaks_s`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Breaks {
+    /// Prescribed rests (`rest_s`) longer than the card.
+    pub rests_s: f64,
+    /// The [`TRANSITION_S`] cards where no longer rest is prescribed.
+    pub cards_s: f64,
 }
 
 /// Pedals drive a car: a road exercise, and one with a time limit (with the speed in the
@@ -492,10 +545,62 @@ mod tests {
         // The issue's probe: 1 111 exercises of an hour each.
         let probe: String = (0..1111).map(|_| dial(3600.0)).collect();
         assert!(Regimen::from_toml(&probe, "hub").is_err());
-        // Just inside both bounds: accepted.
-        let full: String = (0..MAX_EXERCISES).map(|_| dial(120.0)).collect();
+        // Just inside both bounds, the 59 cards between exercises counted (6 840 s of
+        // exercise + 354 s of cards): accepted.
+        let full: String = (0..MAX_EXERCISES).map(|_| dial(114.0)).collect();
         let r = Regimen::from_toml(&full, "r.toml").unwrap();
-        assert_eq!(r.planned_duration_s().unwrap(), 7200.0);
+        assert_eq!(r.planned_duration_s().unwrap(), 6840.0);
+        assert_eq!(r.session_length_s().unwrap(), 6840.0 + 59.0 * TRANSITION_S);
+        // A minute more of exercise and the cards take it over the bound.
+        let over: String = (0..MAX_EXERCISES).map(|_| dial(115.0)).collect();
+        assert!(Regimen::from_toml(&over, "r.toml").is_err());
+    }
+
+    #[test]
+    fn rests_and_cards_count_towards_the_session_length() {
+        // The issue's probe: 60 × (60 s + 600 s rest) ≈ 10.8 h, of which 1 h of exercise.
+        let probe: String = (0..MAX_EXERCISES)
+            .map(|_| {
+                "[[exercise]]\nkind = \"dial\"\nduration_s = 60.0\nrest_s = 600.0\n".to_owned()
+            })
+            .collect();
+        let msg = Regimen::from_toml(&probe, "r.toml")
+            .unwrap_err()
+            .to_string();
+        // 60 min of exercise, 59 rests of 10 min (the last exercise's rest is not run).
+        assert!(
+            msg.contains("adds up to 650 min")
+                && msg.contains("60 min of exercises")
+                && msg.contains("590 min of rests")
+                && msg.contains("at most 120 min"),
+            "{msg}"
+        );
+        // The breaks as the station runs them: a rest shorter than the card is the card; the
+        // last exercise's rest is not run; a sweep's levels have cards between them.
+        let text = "[[exercise]]\nkind = \"dial\"\nduration_s = 60.0\nrest_s = 2.0\n\n\
+                    [[exercise]]\nkind = \"dial\"\nduration_s = 60.0\nrest_s = 120.0\n\n\
+                    [[exercise]]\nkind = \"haptic-sweep\"\nparameter = \"damper\"\n\
+                    levels = [0.0, 0.2, 0.4]\nlevel_s = 5.0\nrest_s = 600.0\n";
+        let r = Regimen::from_toml(text, "r.toml").unwrap();
+        assert_eq!(
+            r.breaks_s(),
+            Breaks {
+                rests_s: 120.0,
+                cards_s: 3.0 * TRANSITION_S
+            }
+        );
+        assert_eq!(
+            r.session_length_s().unwrap(),
+            135.0 + 120.0 + 3.0 * TRANSITION_S
+        );
+        // An hour and a half of exercise with a rest of 10 min after each of three: over.
+        let text: String = (0..4)
+            .map(|_| {
+                "[[exercise]]\nkind = \"dial\"\nduration_s = 1400.0\nrest_s = 600.0\n".to_owned()
+            })
+            .collect();
+        let msg = Regimen::from_toml(&text, "r.toml").unwrap_err().to_string();
+        assert!(msg.contains("30 min of rests"), "{msg}");
     }
 
     #[test]

@@ -57,7 +57,8 @@ pub use difficulty::SessionDifficulty;
 pub use exercises::SessionExercise;
 pub use logins::{
     ACCOUNT_FREE_FAILURES, ACCOUNT_MAX_DELAY_MS, ADDRESS_FREE_FAILURES, ADDRESS_MAX_DELAY_MS,
-    BASE_DELAY_MS, DEVICE_TTL_MS, HASH_QUEUE, REFUSAL_AUDITS_PER_MINUTE, THROTTLE_FORGET_MS,
+    BASE_DELAY_MS, DEVICE_TTL_MS, HASH_QUEUE, REFUSAL_AUDITS_PER_ACCOUNT_PER_MINUTE,
+    REFUSAL_AUDITS_PER_MINUTE, REFUSAL_AUDITS_TOTAL_PER_MINUTE, THROTTLE_FORGET_MS,
 };
 pub use measures::MeasuresBySession;
 pub use messages::{MAX_MESSAGES_LISTED, PatientMessage};
@@ -77,7 +78,7 @@ pub use station_limits::{MAX_SESSIONS_PER_STATION_DAY, TRAINING_SESSION_SQL};
 pub use stations::Station;
 pub use therapists::{
     COMMON_PASSWORDS, LOCKOUT_MS, LoginAttempt, LoginOk, MAX_FAILED_LOGINS, MAX_PASSWORD_BYTES,
-    MIN_PASSWORD_CHARS, Role, Therapist, check_new_password,
+    MIN_DISTINCT_CHARS, MIN_GUESSES_LOG10, MIN_PASSWORD_CHARS, Role, Therapist, check_new_password,
 };
 pub use wheels::PatientWheel;
 pub use words::{

@@ -10,9 +10,16 @@ use argon2::password_hash::{PasswordHasher, PasswordVerifier};
 use serde::Serialize;
 use sqlx::any::AnyRow;
 
-use super::logins::{ACCOUNT_RULE, ADDRESS_RULE, account_key, address_key, device_key};
+use super::logins::{ACCOUNT_RULE, ADDRESS_RULE, account_key, address_key, device_key, place_key};
 use super::{Db, col, new_id, random_bytes, sha256_hex};
 use crate::error::HubError;
+
+mod passwords;
+
+pub use passwords::{
+    COMMON_PASSWORDS, MAX_PASSWORD_BYTES, MIN_DISTINCT_CHARS, MIN_GUESSES_LOG10,
+    MIN_PASSWORD_CHARS, check_new_password,
+};
 
 /// Failed logins of an account before its attempts are delayed (see
 /// [`super::ACCOUNT_FREE_FAILURES`]; there is no lock anyone could keep up).
@@ -21,43 +28,6 @@ pub const MAX_FAILED_LOGINS: i64 = super::logins::ACCOUNT_FREE_FAILURES;
 /// Longest wait a run of failed logins can impose, ms (15 minutes, on the failing address;
 /// an account's own delay stops at [`super::ACCOUNT_MAX_DELAY_MS`]).
 pub const LOCKOUT_MS: i64 = super::logins::ADDRESS_MAX_DELAY_MS;
-
-/// Passwords refused whatever their length (compared lowercased, spaces removed): the most
-/// common ones of at least ten characters in breach corpora, and the product's own names.
-pub const COMMON_PASSWORDS: &[&str] = &[
-    "1234567890",
-    "0123456789",
-    "0987654321",
-    "1111111111",
-    "0000000000",
-    "1q2w3e4r5t",
-    "qwertyuiop",
-    "asdfghjkl;",
-    "1qaz2wsx3edc",
-    "password123",
-    "password1234",
-    "password12345",
-    "passw0rd123",
-    "qwerty12345",
-    "qwerty123456",
-    "iloveyou123",
-    "123456789a",
-    "abcdefghij",
-    "letmein123",
-    "welcome123",
-    "changeme123",
-    "administrator",
-    "telerehab",
-    "telerehab123",
-    "therapist1",
-    "therapist123",
-];
-
-/// Shortest password accepted, characters.
-pub const MIN_PASSWORD_CHARS: usize = 10;
-
-/// Longest password accepted, bytes (argon2 hashes any length; this bounds the work).
-pub const MAX_PASSWORD_BYTES: usize = 1024;
 
 /// What a therapist account may do.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -144,38 +114,6 @@ fn normalise_email(email: &str) -> Result<String, HubError> {
     }
 }
 
-/// A password a therapist may choose: at least [`MIN_PASSWORD_CHARS`] characters of which
-/// some are not whitespace, at most [`MAX_PASSWORD_BYTES`] bytes, not the account's e-mail
-/// and not one of [`COMMON_PASSWORDS`].
-pub fn check_new_password(password: &str, email: &str) -> Result<(), HubError> {
-    let refuse = |why: String| Err(HubError::invalid("password", why));
-    if password.chars().count() < MIN_PASSWORD_CHARS || password.len() > MAX_PASSWORD_BYTES {
-        return refuse(format!(
-            "must have at least {MIN_PASSWORD_CHARS} characters and at most \
-             {MAX_PASSWORD_BYTES} bytes"
-        ));
-    }
-    let squeezed: String = password
-        .chars()
-        .filter(|c| !c.is_whitespace())
-        .flat_map(char::to_lowercase)
-        .collect();
-    if squeezed.chars().count() < MIN_PASSWORD_CHARS / 2 {
-        return refuse(format!(
-            "must not be only spaces: at least {} characters that are not whitespace",
-            MIN_PASSWORD_CHARS / 2
-        ));
-    }
-    let email = email.trim().to_lowercase();
-    if !email.is_empty() && (squeezed == email || password.trim().to_lowercase() == email) {
-        return refuse("must not be the account's e-mail address".to_owned());
-    }
-    if COMMON_PASSWORDS.contains(&squeezed.as_str()) {
-        return refuse("is one of the most common passwords; choose another".to_owned());
-    }
-    Ok(())
-}
-
 fn hash_password(password: &str) -> Result<String, HubError> {
     Argon2::default()
         .hash_password(password.as_bytes())
@@ -196,6 +134,17 @@ fn password_matches(password: &str, hash: &str) -> bool {
     Argon2::default()
         .verify_password(password.as_bytes(), hash)
         .is_ok()
+}
+
+/// The throttle a login's attempt went through besides its address's (see `super::logins`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Lane {
+    /// The browser's device cookie.
+    Device,
+    /// A familiar place of the account, without a device cookie.
+    Place,
+    /// The account-wide throttle: a new browser at a new address, or a guesser.
+    Account,
 }
 
 const THERAPIST_COLUMNS: &str = "id, email, role, created_at_ms, must_change_password";
@@ -382,12 +331,14 @@ impl Db {
     }
 
     /// Checks a login. Before any hashing the attempt is reserved, atomically, on the
-    /// address's throttle and on the account's (or, with a valid device cookie, the
-    /// device's): [`HubError::Throttled`] while either's delay runs, or when the hashing pool
-    /// is full. A wrong password, an unknown e-mail and a revoked account are the same
-    /// [`HubError::LoginRefused`], in the same time; a success clears the failures of the
-    /// account (or of the device, if it went through the device's throttle) and gives the
-    /// address its attempt back.
+    /// address's throttle and on one of the account's lanes: with a valid device cookie the
+    /// device's, else from a familiar place (an address the account logged in from before) the
+    /// place's, else the account-wide one; [`HubError::Throttled`] while either's delay runs,
+    /// or when the hashing pool is full. A wrong password, an unknown e-mail and a revoked
+    /// account are the same [`HubError::LoginRefused`], in the same time. A success clears the
+    /// device's or the place's failures, or only gives its attempt back on the account-wide
+    /// lane (which fades with time only), gives the address its attempt back, and makes the
+    /// address a familiar place of the account.
     pub async fn login(&self, attempt: LoginAttempt<'_>, now_ms: i64) -> Result<LoginOk, HubError> {
         // A full pool refuses before any other work: a flood costs this check only.
         let ticket = self.hashing().ticket()?;
@@ -409,10 +360,18 @@ impl Db {
             (Some(token), Some(email)) => self.device_of(token, email, now_ms).await?,
             _ => false,
         };
-        let gate_key = match (known_device, attempt.device, &email) {
-            (true, Some(token), _) => device_key(token),
-            (_, _, Some(email)) => account_key(email),
-            _ => account_key("(not an e-mail address)"),
+        let account = account_key(email.as_deref().unwrap_or("(not an e-mail address)"));
+        let place = attempt.address.map(address_key);
+        let familiar = match (&place, &email, known_device) {
+            (Some(place), Some(_), false) => {
+                self.is_familiar_place(&account, place, now_ms).await?
+            }
+            _ => false,
+        };
+        let (lane, gate_key) = match (known_device, attempt.device, &place) {
+            (true, Some(token), _) => (Lane::Device, device_key(token)),
+            (false, _, Some(place)) if familiar => (Lane::Place, place_key(&account, place)),
+            _ => (Lane::Account, account.clone()),
         };
         let gate = match self.reserve_attempt(&gate_key, ACCOUNT_RULE, now_ms).await {
             Ok(g) => g,
@@ -463,10 +422,19 @@ impl Db {
         };
         match therapist {
             Some(therapist) if matches && !revoked => {
-                // Only the throttle this attempt went through: a success from the therapist's
-                // device must not hand an attacker a fresh allowance on the account.
-                self.clear_throttle(&gate_key).await?;
+                match lane {
+                    // The browser's or the place's own count starts again.
+                    Lane::Device | Lane::Place => self.clear_throttle(&gate_key).await?,
+                    // The account-wide count is shared with whoever guesses from elsewhere: a
+                    // success only gives its own attempt back (no failure counted), so it
+                    // never hands an attacker a fresh allowance; the count fades with time
+                    // only ([`super::THROTTLE_FORGET_MS`]).
+                    Lane::Account => self.give_back(&gate, now_ms).await?,
+                }
                 give_back_address().await?;
+                if let Some(place) = &place {
+                    self.remember_place(&account, place, now_ms).await?;
+                }
                 Ok(LoginOk {
                     therapist,
                     known_device,

@@ -110,8 +110,8 @@ impl FromRequestParts<AppState> for Authed {
 }
 
 /// Middleware: every refusal of an API request — 401, 403, 404 and 429 — is audited
-/// (rate-limited per client address, [`crate::db::REFUSAL_AUDITS_PER_MINUTE`]); the login
-/// endpoint audits its own refusals with the e-mail tried.
+/// (rate-limited per client address, per therapist and in all: `Db::audit_account_refusal`);
+/// the login endpoint audits its own refusals with the e-mail tried.
 pub(crate) async fn audit_refusals(
     State(state): State<AppState>,
     mut request: Request,
@@ -141,9 +141,18 @@ pub(crate) async fn audit_refusals(
         let action = format!("refused_{}", status.as_u16());
         let target: String = path.chars().take(200).collect();
         let detail = format!("{method} {target}");
+        let account = (actor != "web").then_some(actor.as_str());
         if let Err(e) = state
             .db
-            .audit_refusal(&actor, &action, &target, &detail, &source, state.now())
+            .audit_account_refusal(
+                &actor,
+                &action,
+                &target,
+                &detail,
+                &source,
+                account,
+                state.now(),
+            )
             .await
         {
             tracing::error!("cannot audit a refusal: {e}");
@@ -190,14 +199,18 @@ async fn refused_login(
         HubError::Throttled { reason, .. } => reason.clone(),
         _ => String::new(),
     };
+    // The account the refusal concerns, for the per-account limit on audit entries: the
+    // e-mail tried (as the login compares it) or the therapist whose password check failed.
+    let account = email.trim().to_lowercase();
     if let Err(e) = state
         .db
-        .audit_refusal(
+        .audit_account_refusal(
             actor,
             action,
             &email,
             &detail,
             &source_of(extensions),
+            Some(&account),
             state.now(),
         )
         .await

@@ -1,6 +1,7 @@
 //! Server-Sent Events of a patient's running session. A stream lives only as long as the
 //! login that opened it: its login and the patient's assignment are checked again every
-//! [`LIVE_RECHECK_MS`], and at most [`MAX_LIVE_STREAMS_PER_LOGIN`] are open per login.
+//! [`LIVE_RECHECK_MS`], and at most [`MAX_LIVE_STREAMS_PER_LOGIN`] are open per login and
+//! [`MAX_LIVE_STREAMS_PER_ACCOUNT`] per therapist across all their logins.
 
 use std::collections::HashMap;
 use std::convert::Infallible;
@@ -32,6 +33,11 @@ pub const LIVE_RECHECK_MS: u64 = 500;
 /// 429.
 pub const MAX_LIVE_STREAMS_PER_LOGIN: usize = 4;
 
+/// Most live streams open at once per therapist across all their logins (two browsers with a
+/// few tabs each); more are answered 429, so many logins of one account cannot multiply
+/// [`MAX_LIVE_STREAMS_PER_LOGIN`].
+pub const MAX_LIVE_STREAMS_PER_ACCOUNT: usize = 8;
+
 /// Events a stream buffers for a slow client before it skips some (and says `lagged`).
 const STREAM_BUFFER: usize = 64;
 
@@ -46,39 +52,58 @@ pub struct LiveEvent {
     pub summary: Summary,
 }
 
-/// Live streams open per login (keyed by the token's hash).
+/// Live streams open per login (keyed `login:` + the token's hash) and per therapist (keyed
+/// `account:` + their id).
 #[derive(Debug, Clone, Default)]
 pub struct StreamCounts(Arc<Mutex<HashMap<String, usize>>>);
 
-/// One open stream's place in [`StreamCounts`], given back when dropped.
+/// Why a stream was refused a place.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Full {
+    Login,
+    Account,
+}
+
+/// One open stream's places in [`StreamCounts`] (its login's and its account's), given back
+/// when dropped.
 struct StreamSlot {
     counts: StreamCounts,
-    key: String,
+    keys: [String; 2],
 }
 
 impl StreamCounts {
-    fn take(&self, key: &str) -> Option<StreamSlot> {
-        let mut map = self.0.lock().ok()?;
-        let n = map.entry(key.to_owned()).or_insert(0);
-        if *n >= MAX_LIVE_STREAMS_PER_LOGIN {
-            return None;
+    /// A place for one more stream of the login with token hash `login` of the therapist
+    /// `account`, taken on both counts at once (or on neither).
+    fn take(&self, login: &str, account: &str) -> Result<StreamSlot, Full> {
+        let keys = [format!("login:{login}"), format!("account:{account}")];
+        let mut map = self.0.lock().map_err(|_| Full::Login)?;
+        let count = |map: &HashMap<String, usize>, k: &str| map.get(k).copied().unwrap_or(0);
+        if count(&map, &keys[0]) >= MAX_LIVE_STREAMS_PER_LOGIN {
+            return Err(Full::Login);
         }
-        *n += 1;
-        Some(StreamSlot {
+        if count(&map, &keys[1]) >= MAX_LIVE_STREAMS_PER_ACCOUNT {
+            return Err(Full::Account);
+        }
+        for k in &keys {
+            *map.entry(k.clone()).or_insert(0) += 1;
+        }
+        Ok(StreamSlot {
             counts: self.clone(),
-            key: key.to_owned(),
+            keys,
         })
     }
 }
 
 impl Drop for StreamSlot {
     fn drop(&mut self) {
-        if let Ok(mut map) = self.counts.0.lock()
-            && let Some(n) = map.get_mut(&self.key)
-        {
-            *n = n.saturating_sub(1);
-            if *n == 0 {
-                map.remove(&self.key);
+        if let Ok(mut map) = self.counts.0.lock() {
+            for key in &self.keys {
+                if let Some(n) = map.get_mut(key) {
+                    *n = n.saturating_sub(1);
+                    if *n == 0 {
+                        map.remove(key);
+                    }
+                }
             }
         }
     }
@@ -98,15 +123,18 @@ pub(crate) async fn live(
     let token = token_of(&headers).ok_or(ApiError::Internal)?;
     let slot = state
         .live_streams
-        .take(&sha256_hex(token.as_bytes()))
-        .ok_or_else(|| {
-            ApiError::TooManyRequests(
-                format!(
-                    "at most {MAX_LIVE_STREAMS_PER_LOGIN} live streams per login; close one \
-                     first"
+        .take(&sha256_hex(token.as_bytes()), &therapist.id)
+        .map_err(|full| {
+            let message = match full {
+                Full::Login => format!(
+                    "at most {MAX_LIVE_STREAMS_PER_LOGIN} live streams per login; close one first"
                 ),
-                1,
-            )
+                Full::Account => format!(
+                    "at most {MAX_LIVE_STREAMS_PER_ACCOUNT} live streams per therapist across \
+                     all your logins; close one first"
+                ),
+            };
+            ApiError::TooManyRequests(message, 1)
         })?;
     // Subscribe before answering, so nothing broadcast after the answer is missed.
     let receiver = state.live.subscribe();

@@ -40,7 +40,9 @@ use crate::error::HubError;
 
 pub use auth::DEVICE_COOKIE;
 pub use auth::SESSION_COOKIE;
-pub use live::{LIVE_RECHECK_MS, LiveEvent, MAX_LIVE_STREAMS_PER_LOGIN};
+pub use live::{
+    LIVE_RECHECK_MS, LiveEvent, MAX_LIVE_STREAMS_PER_ACCOUNT, MAX_LIVE_STREAMS_PER_LOGIN,
+};
 pub use serve::{
     SHUTDOWN_GRACE_S, TLS_HANDSHAKE_TIMEOUT_S, acceptor_from_pem, serve, serve_router,
 };
@@ -73,7 +75,8 @@ pub struct AppState {
     /// Where a newly prescribed regimen is announced (the hub pushes it to the patient's
     /// station if connected); `None` when no station link runs.
     pub prescribed: Option<broadcast::Sender<RegimenVersion>>,
-    /// Open live streams per login (by token hash), for [`MAX_LIVE_STREAMS_PER_LOGIN`].
+    /// Open live streams per login (by token hash) and per therapist, for
+    /// [`MAX_LIVE_STREAMS_PER_LOGIN`] and [`MAX_LIVE_STREAMS_PER_ACCOUNT`].
     pub live_streams: live::StreamCounts,
     /// Largest recording file replayed, bytes.
     pub replay_max_bytes: u64,
