@@ -17,7 +17,7 @@ use hub::bench::BenchStation;
 use hub::clinic::{Bound, Clinic, ServeOptions};
 use hub::web;
 use hub::{Db, Role};
-use netlink::therapist::station_limits::{SUMMARY_BURST, SUMMARY_RATE_PER_S};
+use netlink::therapist::station_limits::{SUMMARY_BURST, SUMMARY_PACE_PER_S};
 use netlink::{Bye, Frame, FrameDecoder, Hello, PROTOCOL_VERSION, Summary};
 use tokio::io::{AsyncReadExt, AsyncWriteExt, ReadHalf};
 use tokio::net::TcpStream;
@@ -270,7 +270,7 @@ async fn a_flooding_station_is_held_to_twice_a_stations_summary_rate_over_all_it
     hub.stop().await;
     let db = clinic.open_db(None).await.unwrap();
     let stored = summaries_stored(&db, &sessions).await;
-    let bound = SUMMARY_BURST + SUMMARY_RATE_PER_S * elapsed_s;
+    let bound = SUMMARY_BURST + SUMMARY_PACE_PER_S * elapsed_s;
     println!(
         "flood: {stored} summaries stored from {connections} connections in {elapsed_s:.1} s \
          ({:.0}/s; bound {bound:.0})",

@@ -7,17 +7,17 @@ use crate::store::Appended;
 
 use super::*;
 
-/// Holds a summary back until its station's pace ([`station_limits::SUMMARY_RATE_PER_S`])
+/// Holds a summary back until its station's pace ([`station_limits::SUMMARY_PACE_PER_S`])
 /// lets it through; refused when it would wait more than
 /// [`station_limits::MAX_SUMMARY_WAIT`].
 async fn pace_summary(hub: &Hub, hello: &Hello) -> Result<(), Failure> {
-    use station_limits::{MAX_SUMMARY_WAIT, SUMMARY_BURST, SUMMARY_RATE_PER_S};
+    use station_limits::{MAX_SUMMARY_WAIT, SUMMARY_BURST, SUMMARY_PACE_PER_S};
     let wait = hub
         .summary_pace
         .reserve(
             &hello.station_id,
             1.0,
-            SUMMARY_RATE_PER_S,
+            SUMMARY_PACE_PER_S,
             SUMMARY_BURST,
             MAX_SUMMARY_WAIT,
         )
@@ -26,7 +26,7 @@ async fn pace_summary(hub: &Hub, hello: &Hello) -> Result<(), Failure> {
                 "summary_rate",
                 format!(
                     "station {:?} sends more summaries than a station produces: at most \
-                     {SUMMARY_RATE_PER_S} a second are taken from one station over all its \
+                     {SUMMARY_PACE_PER_S} a second are taken from one station over all its \
                      connections",
                     hello.station_id
                 ),

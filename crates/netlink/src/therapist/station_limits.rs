@@ -7,19 +7,30 @@ use std::collections::HashMap;
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
-/// Summaries a station may have stored per second, across all its connections: a station
-/// sends one `LiveSummary` every 100 ms (10 per second), so twice that. A station catching up
-/// on a backlog after an outage drains it at this pace (its reading is held back, not
-/// refused).
+/// Summaries per second of a session's own time (`t_s`) a station may send: a station sends
+/// one `LiveSummary` every 100 ms of its session (10 per second), so twice that. A session's
+/// `seq` beyond this many a second of its `t_s` plus [`SUMMARY_BURST`] is refused
+/// ([`check_summary_count`]).
 pub const SUMMARY_RATE_PER_S: f64 = 20.0;
 
-/// Summaries a station may send at once above [`SUMMARY_RATE_PER_S`]: a minute of a station's
-/// production, so what a minute's outage (or a session run faster than real time, `--speed
-/// max`) left queued is delivered at once, not held back.
+/// Summaries per second of the hub's clock taken from one station over all its connections:
+/// what a station delivering its queue produces. Live it sends 10 a second; after an outage
+/// its store-and-forward sends what was queued as fast as the link takes it, so the pace is
+/// set by the backlog a patient's day leaves: an hour offline (36 000 summaries) drains in
+/// 3 minutes beside the live session, and a queued 10-minute session in 27 s. One connection
+/// is held back to this pace, not refused; a flood stores at most this many a second (it
+/// stored 4 452 a second before issue 44), and a session at most
+/// [`SUMMARY_RATE_PER_S`] a second of its own time.
+pub const SUMMARY_PACE_PER_S: f64 = 200.0;
+
+/// Summaries a station may send at once above [`SUMMARY_PACE_PER_S`] (and above
+/// [`SUMMARY_RATE_PER_S`] a second of a session's time): a minute of a station's production,
+/// so what a minute's outage (or a session run faster than real time, `--speed max`) left
+/// queued is delivered at once, not held back.
 pub const SUMMARY_BURST: f64 = 600.0;
 
-/// Longest a summary is held back by the station's pace: 5 summaries' worth. One connection
-/// is only paced (it waits 50 ms a summary at most); a station whose summaries would wait
+/// Longest a summary is held back by the station's pace: 50 summaries' worth. One connection
+/// is only paced (it waits 5 ms a summary at most); a station whose summaries would wait
 /// longer sends on several connections at once, and is refused: `Error` frame, connection
 /// closed.
 pub const MAX_SUMMARY_WAIT: Duration = Duration::from_millis(250);
