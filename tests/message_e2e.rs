@@ -9,14 +9,20 @@ use telerehab_tests::clinic::{Hub, NewClinic, ok, pair, run_session};
 use telerehab_tests::console::Console;
 use telerehab_tests::windowed::{WindowedStation, screenshot};
 
-#[test]
-fn a_message_from_the_console_shows_on_the_next_start_card_and_the_hub_learns_it_was_seen() {
-    if std::env::var_os("DISPLAY").is_none() {
-        eprintln!("SKIPPED: no display (run under xvfb-run to test the window)");
-        return;
-    }
-    let tmp = tempfile::tempdir().unwrap();
-    let clinic = NewClinic::make(tmp.path(), None);
+/// A clinic whose hub serves the console, a therapist's message `text` written there for its
+/// patient, and that patient's station paired in `dir/station`.
+struct Written {
+    clinic: NewClinic,
+    hub: Hub,
+    console: Console,
+    cookie: String,
+    /// The patient's messages, `/api/patients/{id}/messages`.
+    messages: String,
+    home: std::path::PathBuf,
+}
+
+fn a_paired_station_with_a_message(dir: &std::path::Path, text: &str) -> Written {
+    let clinic = NewClinic::make(dir, None);
     let hub = Hub::serve_console(&clinic.data, "127.0.0.1:0");
     let console = Console::new(&clinic.data, hub.web());
     let cookie = console.login("ana@clinic.example", &clinic.admin_password);
@@ -25,7 +31,6 @@ fn a_message_from_the_console_shows_on_the_next_start_card_and_the_hub_learns_it
         "/api/patients/{}/messages",
         patients[0]["id"].as_str().unwrap()
     );
-    let text = "Well done this week, Ana — try to keep the car in the middle today.";
     let body = serde_json::json!({ "text": text }).to_string();
     let posted = console.request("POST", &messages, Some(&cookie), &body);
     assert_eq!(
@@ -34,8 +39,35 @@ fn a_message_from_the_console_shows_on_the_next_start_card_and_the_hub_learns_it
         "{}",
         String::from_utf8_lossy(&posted.body)
     );
-    let home = tmp.path().join("station");
+    let home = dir.join("station");
     pair(&hub, &clinic.code, &home);
+    Written {
+        clinic,
+        hub,
+        console,
+        cookie,
+        messages,
+        home,
+    }
+}
+
+#[test]
+fn a_message_from_the_console_shows_on_the_next_start_card_and_the_hub_learns_it_was_seen() {
+    if std::env::var_os("DISPLAY").is_none() {
+        eprintln!("SKIPPED: no display (run under xvfb-run to test the window)");
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let text = "Well done this week, Ana — try to keep the car in the middle today.";
+    // The hub stays up until the test's end.
+    let Written {
+        hub: _hub,
+        console,
+        cookie,
+        messages,
+        home,
+        ..
+    } = a_paired_station_with_a_message(tmp.path(), text);
 
     // A windowed session (no end screen).
     let mut station =
@@ -73,27 +105,16 @@ fn upload_line<'a>(said: &'a str, prefix: &str) -> &'a str {
 #[test]
 fn a_therapists_message_never_stops_a_headless_stations_uploads_and_waits_unseen_for_it() {
     let tmp = tempfile::tempdir().unwrap();
-    let clinic = NewClinic::make(tmp.path(), None);
-    let hub = Hub::serve_console(&clinic.data, "127.0.0.1:0");
-    let port = hub.stations_port();
-    let console = Console::new(&clinic.data, hub.web());
-    let cookie = console.login("ana@clinic.example", &clinic.admin_password);
-    let patients = console.get("/api/patients", &cookie).json();
-    let messages = format!(
-        "/api/patients/{}/messages",
-        patients[0]["id"].as_str().unwrap()
-    );
     let text = "Well done this week - keep going!";
-    let body = serde_json::json!({ "text": text }).to_string();
-    let posted = console.request("POST", &messages, Some(&cookie), &body);
-    assert_eq!(
-        posted.status,
-        201,
-        "{}",
-        String::from_utf8_lossy(&posted.body)
-    );
-    let home = tmp.path().join("station");
-    pair(&hub, &clinic.code, &home);
+    let Written {
+        clinic,
+        hub,
+        console,
+        cookie,
+        messages,
+        home,
+    } = a_paired_station_with_a_message(tmp.path(), text);
+    let port = hub.stations_port();
 
     // The next run (headless: the message is never shown) uploads its recording.
     let report = run_session(&home, "2");

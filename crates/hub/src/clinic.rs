@@ -221,6 +221,9 @@ pub struct ServeOptions {
     pub limits: HubLimits,
     /// Largest recording file the console replays, bytes ([`web::DEFAULT_MAX_REPLAY_BYTES`]).
     pub max_replay_bytes: u64,
+    /// Summaries taken from one station a second over all its connections
+    /// ([`netlink::therapist::station_limits::SUMMARY_PACE_PER_S`]; tests lower it).
+    pub summary_pace_per_s: f64,
 }
 
 /// Connection caps and deadlines of `hub serve` besides [`ServeOptions::max_connections`].
@@ -255,6 +258,7 @@ impl ServeOptions {
             ),
             limits: HubLimits::default(),
             max_replay_bytes: web::DEFAULT_MAX_REPLAY_BYTES,
+            summary_pace_per_s: netlink::therapist::station_limits::SUMMARY_PACE_PER_S,
         }
     }
 }
@@ -304,6 +308,7 @@ pub async fn serve(
     link_config.max_connections = budget.stations;
     link_config.max_connections_per_address = options.max_connections.1;
     link_config.max_unauthenticated = budget.stations_unauthenticated;
+    link_config.summary_pace_per_s = options.summary_pace_per_s;
     let (server, mut events) =
         TherapistServer::bind_with_store(link_config, Arc::new(Ingest(store.clone())))
             .await

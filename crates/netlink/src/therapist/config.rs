@@ -55,11 +55,22 @@ pub struct TherapistConfig {
     /// send at most 1 MB/s).
     #[serde(default = "default_max_upload_bytes_per_s")]
     pub max_upload_bytes_per_s: u64,
+    /// Summaries taken from one station per second of the hub's clock, over all its
+    /// connections, in [1, 10 000]. Default
+    /// [`SUMMARY_PACE_PER_S`](super::station_limits::SUMMARY_PACE_PER_S) (200: the backlog of an
+    /// hour offline drains in 3 minutes). Not read from a configuration file; tests lower it to
+    /// show the pacing against a flood a debug build can send.
+    #[serde(skip, default = "default_summary_pace_per_s")]
+    pub summary_pace_per_s: f64,
     /// The oldest link protocol version this hub serves. Always
     /// [`crate::frame::MIN_PROTOCOL_VERSION`] in the product (not read from a configuration
     /// file); tests raise it to play a hub newer than the station under test.
     #[serde(skip, default = "default_min_protocol_version")]
     pub min_protocol_version: u16,
+}
+
+fn default_summary_pace_per_s() -> f64 {
+    super::station_limits::SUMMARY_PACE_PER_S
 }
 
 fn default_min_protocol_version() -> u16 {
@@ -114,6 +125,7 @@ impl TherapistConfig {
             max_upload_bytes_per_session: default_max_upload_bytes_per_session(),
             max_upload_bytes_per_station_day: default_max_upload_bytes_per_station_day(),
             max_upload_bytes_per_s: default_max_upload_bytes_per_s(),
+            summary_pace_per_s: default_summary_pace_per_s(),
             min_protocol_version: default_min_protocol_version(),
         }
     }
@@ -146,6 +158,12 @@ impl TherapistConfig {
             return err(format!(
                 "max_connections_per_address is {}, allowed [1, 10000]",
                 self.max_connections_per_address
+            ));
+        }
+        if !(1.0..=10_000.0).contains(&self.summary_pace_per_s) {
+            return err(format!(
+                "summary_pace_per_s is {}, allowed [1, 10000]",
+                self.summary_pace_per_s
             ));
         }
         if !(100..=600_000).contains(&self.hello_timeout_ms) {

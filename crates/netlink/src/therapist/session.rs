@@ -7,17 +7,19 @@ use crate::store::Appended;
 
 use super::*;
 
-/// Holds a summary back until its station's pace ([`station_limits::SUMMARY_PACE_PER_S`])
+/// Holds a summary back until its station's pace (`summary_pace_per_s`, by default
+/// [`station_limits::SUMMARY_PACE_PER_S`])
 /// lets it through; refused when it would wait more than
 /// [`station_limits::MAX_SUMMARY_WAIT`].
 async fn pace_summary(hub: &Hub, hello: &Hello) -> Result<(), Failure> {
-    use station_limits::{MAX_SUMMARY_WAIT, SUMMARY_BURST, SUMMARY_PACE_PER_S};
+    use station_limits::{MAX_SUMMARY_WAIT, SUMMARY_BURST};
+    let pace_per_s = hub.config.summary_pace_per_s;
     let wait = hub
         .summary_pace
         .reserve(
             &hello.station_id,
             1.0,
-            SUMMARY_PACE_PER_S,
+            pace_per_s,
             SUMMARY_BURST,
             MAX_SUMMARY_WAIT,
         )
@@ -26,7 +28,7 @@ async fn pace_summary(hub: &Hub, hello: &Hello) -> Result<(), Failure> {
                 "summary_rate",
                 format!(
                     "station {:?} sends more summaries than a station produces: at most \
-                     {SUMMARY_PACE_PER_S} a second are taken from one station over all its \
+                     {pace_per_s} a second are taken from one station over all its \
                      connections",
                     hello.station_id
                 ),

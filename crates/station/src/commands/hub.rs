@@ -417,6 +417,7 @@ async fn serve(
         max_connections,
         limits,
         max_replay_bytes,
+        ..ServeOptions::new(stations, web)
     };
     let stop = super::server_stop::stop_signal()?;
     let shutdown = async move {
