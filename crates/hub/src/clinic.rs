@@ -223,7 +223,7 @@ pub struct ServeOptions {
     pub max_replay_bytes: u64,
     /// Summaries taken from one station a second over all its connections
     /// ([`netlink::therapist::station_limits::SUMMARY_PACE_PER_S`]; tests lower it).
-    pub summary_pace_per_s: f64,
+    pub summary_pace_per_s: u32,
 }
 
 /// Connection caps and deadlines of `hub serve` besides [`ServeOptions::max_connections`].
@@ -258,7 +258,7 @@ impl ServeOptions {
             ),
             limits: HubLimits::default(),
             max_replay_bytes: web::DEFAULT_MAX_REPLAY_BYTES,
-            summary_pace_per_s: netlink::therapist::station_limits::SUMMARY_PACE_PER_S,
+            summary_pace_per_s: netlink::therapist::station_limits::SUMMARY_PACE_PER_S as u32,
         }
     }
 }

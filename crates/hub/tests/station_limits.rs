@@ -82,11 +82,11 @@ async fn clinic_with_station(dir: &Path) -> (Clinic, BenchStation) {
 }
 
 async fn start_hub(clinic: &Clinic) -> RunningHub {
-    start_hub_paced(clinic, SUMMARY_PACE_PER_S).await
+    start_hub_paced(clinic, SUMMARY_PACE_PER_S as u32).await
 }
 
 /// A hub taking at most `pace_per_s` summaries a second from one station.
-async fn start_hub_paced(clinic: &Clinic, pace_per_s: f64) -> RunningHub {
+async fn start_hub_paced(clinic: &Clinic, pace_per_s: u32) -> RunningHub {
     let db = clinic.open_db(None).await.unwrap();
     let clinic = clinic.clone();
     let options = ServeOptions {
@@ -252,7 +252,7 @@ async fn a_flooding_station_is_held_to_twice_a_stations_summary_rate_over_all_it
     // The default pace (200 a second) is more than a debug build's hub stores from 16
     // connections on a loaded 2-core machine, so the pacing is shown at a tenth of it.
     let pace_per_s = SUMMARY_PACE_PER_S / 10.0;
-    let hub = start_hub_paced(&clinic, pace_per_s).await;
+    let hub = start_hub_paced(&clinic, pace_per_s as u32).await;
     let addr = hub.bound.stations;
     // 16 connections, 4 to each of 4 sessions.
     let connections = 16;

@@ -61,7 +61,7 @@ pub struct TherapistConfig {
     /// hour offline drains in 3 minutes). Not read from a configuration file; tests lower it to
     /// show the pacing against a flood a debug build can send.
     #[serde(skip, default = "default_summary_pace_per_s")]
-    pub summary_pace_per_s: f64,
+    pub summary_pace_per_s: u32,
     /// The oldest link protocol version this hub serves. Always
     /// [`crate::frame::MIN_PROTOCOL_VERSION`] in the product (not read from a configuration
     /// file); tests raise it to play a hub newer than the station under test.
@@ -69,8 +69,8 @@ pub struct TherapistConfig {
     pub min_protocol_version: u16,
 }
 
-fn default_summary_pace_per_s() -> f64 {
-    super::station_limits::SUMMARY_PACE_PER_S
+fn default_summary_pace_per_s() -> u32 {
+    super::station_limits::SUMMARY_PACE_PER_S as u32
 }
 
 fn default_min_protocol_version() -> u16 {
@@ -160,7 +160,7 @@ impl TherapistConfig {
                 self.max_connections_per_address
             ));
         }
-        if !(1.0..=10_000.0).contains(&self.summary_pace_per_s) {
+        if !(1..=10_000).contains(&self.summary_pace_per_s) {
             return err(format!(
                 "summary_pace_per_s is {}, allowed [1, 10000]",
                 self.summary_pace_per_s

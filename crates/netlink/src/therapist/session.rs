@@ -13,7 +13,7 @@ use super::*;
 /// [`station_limits::MAX_SUMMARY_WAIT`].
 async fn pace_summary(hub: &Hub, hello: &Hello) -> Result<(), Failure> {
     use station_limits::{MAX_SUMMARY_WAIT, SUMMARY_BURST};
-    let pace_per_s = hub.config.summary_pace_per_s;
+    let pace_per_s = f64::from(hub.config.summary_pace_per_s);
     let wait = hub
         .summary_pace
         .reserve(
