@@ -62,6 +62,16 @@ impl Db {
         if self.patient(patient_id).await?.is_none() {
             return Err(HubError::not_found("patient", patient_id));
         }
+        // The per-address waits of codes that can no longer pair are of no use: forgotten, so
+        // the table holds only live codes' waits however many addresses tried them.
+        sqlx::query(
+            "DELETE FROM pairing_attempt_waits WHERE code_id IN (SELECT code_id FROM \
+             pairing_codes WHERE used_at_ms IS NOT NULL OR expires_at_ms <= $1)",
+        )
+        .bind(now_ms)
+        .execute(self.pool())
+        .await
+        .map_err(HubError::db("forgetting the waits of spent pairing codes"))?;
         // The public half must be unique among stored codes: retry on the rare collision.
         for _ in 0..8 {
             let code = PairingCode::generate().map_err(|e| HubError::Corrupt(e.to_string()))?;
@@ -235,6 +245,11 @@ impl Db {
         .execute(&mut *tx)
         .await
         .map_err(HubError::db("adding a station"))?;
+        sqlx::query("DELETE FROM pairing_attempt_waits WHERE code_id = $1")
+            .bind(code_id)
+            .execute(&mut *tx)
+            .await
+            .map_err(HubError::db("forgetting a used code's waits"))?;
         super::audit::audit_on(
             &mut *tx,
             "station:pairing",
