@@ -18,7 +18,7 @@ use hub::clinic::{Bound, Clinic, ServeOptions};
 use hub::web;
 use hub::{Db, Role};
 use netlink::therapist::station_limits::{SUMMARY_BURST, SUMMARY_PACE_PER_S};
-use netlink::{Bye, Frame, FrameDecoder, Hello, PROTOCOL_VERSION, Summary};
+use netlink::{Bye, Frame, FrameDecoder, Hello, Summary};
 use tokio::io::{AsyncReadExt, AsyncWriteExt, ReadHalf};
 use tokio::net::TcpStream;
 use tokio_rustls::client::TlsStream;
@@ -118,17 +118,11 @@ async fn start_hub_paced(clinic: &Clinic, pace_per_s: u32) -> RunningHub {
     RunningHub { bound, stop, task }
 }
 
+/// The `Hello` of `st` opening `session_id`, started at `started_unix_ms`.
 fn hello(st: &BenchStation, session_id: &str, started_unix_ms: u64) -> Frame {
     Frame::Hello(Hello {
-        protocol_version: PROTOCOL_VERSION,
-        min_protocol_version: None,
-        wheel: None,
-        station_id: st.station_id.clone(),
-        patient_id: st.patient_id.clone(),
-        session_id: session_id.to_owned(),
-        exercise: "sine-road".into(),
         started_unix_ms,
-        software_version: "station limits test".into(),
+        ..common::hello(&st.station_id, &st.patient_id, session_id)
     })
 }
 

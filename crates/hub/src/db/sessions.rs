@@ -185,16 +185,7 @@ impl Db {
 
     /// A patient's sessions, newest first.
     pub async fn sessions_of(&self, patient_id: &str) -> Result<Vec<SessionRow>, HubError> {
-        let sql = sqlx::AssertSqlSafe(format!(
-            "SELECT {SESSION_COLUMNS} FROM sessions WHERE patient_id = $1 \
-             ORDER BY started_unix_ms DESC, session_id"
-        ));
-        let rows = sqlx::query(sql)
-            .bind(patient_id)
-            .fetch_all(self.pool())
-            .await
-            .map_err(HubError::db("listing sessions"))?;
-        rows.iter().map(SessionRow::from_row).collect()
+        self.sessions_of_where(patient_id, "TRUE").await
     }
 
     /// A patient's sessions that count as training (a summary stored or measures reported;
@@ -203,15 +194,20 @@ impl Db {
         &self,
         patient_id: &str,
     ) -> Result<Vec<SessionRow>, HubError> {
-        let columns = SESSION_COLUMNS
-            .split(", ")
-            .map(|c| format!("s.{}", c.trim()))
-            .collect::<Vec<_>>()
-            .join(", ");
+        self.sessions_of_where(patient_id, super::TRAINING_SESSION_SQL)
+            .await
+    }
+
+    /// A patient's sessions (the row named `s`) meeting the SQL condition `condition`, newest
+    /// first.
+    async fn sessions_of_where(
+        &self,
+        patient_id: &str,
+        condition: &str,
+    ) -> Result<Vec<SessionRow>, HubError> {
         let sql = sqlx::AssertSqlSafe(format!(
-            "SELECT {columns} FROM sessions s WHERE s.patient_id = $1 AND {} \
-             ORDER BY s.started_unix_ms DESC, s.session_id",
-            super::TRAINING_SESSION_SQL
+            "SELECT {SESSION_COLUMNS} FROM sessions s WHERE s.patient_id = $1 AND {condition} \
+             ORDER BY s.started_unix_ms DESC, s.session_id"
         ));
         let rows = sqlx::query(sql)
             .bind(patient_id)
