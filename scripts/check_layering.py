@@ -36,11 +36,14 @@ BELOW_STATION = {
     "netlink",
     "record",
     "regimen",
+    "i18n",
 }
 
 # Our crates, and which of our crates each one may depend on (the arrows of DESIGN.md).
 OUR_CRATES: dict[str, set[str]] = {
     "common": set(),
+    # The words of every page (Fluent catalogues): a leaf any crate that speaks to a person uses.
+    "i18n": set(),
     # The one injectable clock: a leaf the device crates and the link may use; never a pure
     # crate (they get `dt` or timestamps).
     "clock": set(),
@@ -55,8 +58,8 @@ OUR_CRATES: dict[str, set[str]] = {
     # The recording format: sample types of the sensing, wheel, calibration and metrics crates.
     "record": {"common", "calib", "gyro-imu", "haptic-wheel", "metrics"},
     # The prescription: exercises, haptic and assistance settings, and their safety bounds.
-    "regimen": {"common", "vehicle", "assist", "haptic-wheel"},
-    "hub": {"common", "clock", "netlink", "record", "regimen"},
+    "regimen": {"common", "vehicle", "assist", "haptic-wheel", "i18n"},
+    "hub": {"common", "clock", "netlink", "record", "regimen", "i18n"},
     # The one binary also runs the clinic's hub (`telerehab hub ...`).
     "station": BELOW_STATION | {"hub"},
     "telerehab-py": {"common", "vehicle", "assist", "calib", "gyro-imu", "metrics", "record"},

@@ -16,14 +16,17 @@
 //! ```
 //!
 //! An optional `[difficulty]` table lets the station adapt each session's difficulty within the
-//! therapist's bounds ([`difficulty`]).
+//! therapist's bounds ([`difficulty`]); an optional `[patient]` table carries the patient's
+//! language, neglected side and speech settings ([`patient`]).
 //!
 //! Samples: `regimens/easy.toml`, `medium.toml`, `hard.toml`.
 
 pub mod difficulty;
 pub mod lenient;
+pub mod patient;
 
 pub use difficulty::{Aspect, DifficultySpec};
+pub use patient::{NeglectedSide, PatientSettings};
 
 use assist::AssistSpec;
 use haptic_wheel::{HapticRegimen, SpringDamper};
@@ -73,6 +76,10 @@ pub struct Regimen {
     /// absent: every session runs as written). See [`difficulty`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub difficulty: Option<DifficultySpec>,
+    /// How the station meets this patient (`[patient]`: language, neglected side, speech,
+    /// the start after a rest). See [`patient`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub patient: Option<PatientSettings>,
     /// The exercises, in the order the patient does them.
     #[serde(rename = "exercise")]
     #[schemars(length(min = 1, max = MAX_EXERCISES as u32))]
@@ -240,6 +247,12 @@ impl Regimen {
         }
         if let Some(d) = &r.difficulty {
             d.validate().map_err(|message| RegimenError::Parse {
+                path: origin.into(),
+                message,
+            })?;
+        }
+        if let Some(p) = &r.patient {
+            p.validate().map_err(|message| RegimenError::Parse {
                 path: origin.into(),
                 message,
             })?;

@@ -194,6 +194,11 @@ fn samples() -> Vec<Value> {
         }
         out.push(json!({ "sessions_per_week": 3, "exercise": [with_time_limit(e)] }));
     }
+    out.push(json!({
+        "patient": { "language": "de", "neglected_side": "left", "speech": true,
+                     "speech_volume_pct": 80, "start_after_rest_s": 10.0 },
+        "exercise": [{ "kind": "dial", "duration_s": 60.0 }]
+    }));
     let effects = json!([
         { "kind": { "condition": { "kind": "spring", "offset": 0.0, "positive_coefficient": 1.0,
             "negative_coefficient": 1.0, "positive_saturation_nm": 1.0, "negative_saturation_nm": 1.0,

@@ -1,0 +1,8 @@
+common-yes = Sí
+common-no = No
+common-ok = Vale
+common-back = Atrás
+common-minutes = { $minutes ->
+    [one] { $minutes } minuto
+   *[other] { $minutes } minutos
+}

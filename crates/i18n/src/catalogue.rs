@@ -1,0 +1,223 @@
+//! One language's messages: the embedded `.ftl` files of its folder in one Fluent bundle,
+//! with English behind it for a message the language lacks.
+
+use crate::UnknownLanguage;
+use fluent_bundle::concurrent::FluentBundle;
+use fluent_bundle::{FluentArgs, FluentResource};
+use fluent_syntax::ast;
+use rust_embed::RustEmbed;
+use unic_langid::LanguageIdentifier;
+
+/// Every catalogue file, embedded: `<language>/<area>.ftl`.
+#[derive(RustEmbed)]
+#[folder = "locales/"]
+struct Files;
+
+/// One language's messages.
+pub struct Catalogue {
+    tag: String,
+    bundle: FluentBundle<FluentResource>,
+    /// English, for a message this language lacks (none for English itself).
+    fallback: Option<Box<Catalogue>>,
+}
+
+/// What the tests need to know of one message.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MessageInfo {
+    /// `area-thing`, or `area-thing.attribute` for an attribute.
+    pub id: String,
+    /// The file it is in (`en/session.ftl`).
+    pub file: String,
+    /// The variables it uses (`$seconds` → `seconds`), sorted.
+    pub variables: Vec<String>,
+}
+
+impl Catalogue {
+    /// The catalogue of `tag` (`de`, `de-AT`, [`crate::PSEUDO`]).
+    pub fn load(tag: &str) -> Result<Self, UnknownLanguage> {
+        let unknown = || UnknownLanguage(tag.to_string());
+        let pseudo = tag.eq_ignore_ascii_case(crate::PSEUDO);
+        let id: LanguageIdentifier = tag.parse().map_err(|_| unknown())?;
+        let folder = if pseudo {
+            crate::FALLBACK
+        } else {
+            crate::LANGUAGES
+                .iter()
+                .copied()
+                .find(|l| id.language.as_str() == *l)
+                .ok_or_else(unknown)?
+        };
+        let mut bundle = FluentBundle::new_concurrent(vec![id]);
+        // No invisible isolation marks around arguments: the window's fonts would draw them.
+        bundle.set_use_isolating(false);
+        if pseudo {
+            bundle.set_transform(Some(crate::pseudo::transform));
+        }
+        for (_, resource) in resources(folder) {
+            // A message defined twice keeps its first definition; the tests forbid it.
+            bundle.add_resource_overriding(resource);
+        }
+        let fallback = (folder != crate::FALLBACK || pseudo)
+            .then(|| Catalogue::load(crate::FALLBACK).map(Box::new))
+            .transpose()?;
+        Ok(Self {
+            tag: if pseudo {
+                crate::PSEUDO.into()
+            } else {
+                tag.into()
+            },
+            bundle,
+            fallback: fallback.filter(|_| !pseudo),
+        })
+    }
+
+    /// The language tag this catalogue was loaded for.
+    pub fn tag(&self) -> &str {
+        &self.tag
+    }
+
+    /// The message `id` (or `id.attribute`) with `args`; English when this language lacks
+    /// it; `[id]` when no catalogue has it.
+    pub fn message(&self, id: &str, args: Option<&FluentArgs>) -> String {
+        if let Some(text) = self.format(id, args) {
+            return text;
+        }
+        match &self.fallback {
+            Some(english) => english.message(id, args),
+            None => format!("[{id}]"),
+        }
+    }
+
+    /// Whether this language itself (not its fallback) has `id`.
+    pub fn has(&self, id: &str) -> bool {
+        let (message, attribute) = split(id);
+        self.bundle
+            .get_message(message)
+            .is_some_and(|m| match attribute {
+                None => m.value().is_some(),
+                Some(a) => m.get_attribute(a).is_some(),
+            })
+    }
+
+    fn format(&self, id: &str, args: Option<&FluentArgs>) -> Option<String> {
+        let (message, attribute) = split(id);
+        let m = self.bundle.get_message(message)?;
+        let pattern = match attribute {
+            None => m.value()?,
+            Some(a) => m.get_attribute(a)?.value(),
+        };
+        let mut errors = Vec::new();
+        let text = self.bundle.format_pattern(pattern, args, &mut errors);
+        Some(text.into_owned())
+    }
+
+    /// Every message and attribute of `language`'s files, in file order.
+    pub fn messages_of(language: &str) -> Vec<MessageInfo> {
+        let mut out = Vec::new();
+        for (file, resource) in resources(language) {
+            for entry in resource.entries() {
+                let ast::Entry::Message(m) = entry else {
+                    continue;
+                };
+                let id = m.id.name;
+                if let Some(value) = &m.value {
+                    out.push(info(id.to_string(), &file, value));
+                }
+                for a in &m.attributes {
+                    out.push(info(format!("{id}.{}", a.id.name), &file, &a.value));
+                }
+            }
+        }
+        out
+    }
+}
+
+fn split(id: &str) -> (&str, Option<&str>) {
+    match id.split_once('.') {
+        Some((m, a)) => (m, Some(a)),
+        None => (id, None),
+    }
+}
+
+/// The parsed files of one language's folder, by name. A file that does not parse is a
+/// build mistake the tests catch ([`parse_errors`]); its good entries are kept.
+fn resources(language: &str) -> Vec<(String, FluentResource)> {
+    let prefix = format!("{language}/");
+    let mut names: Vec<String> = Files::iter()
+        .filter(|p| p.starts_with(&prefix) && p.ends_with(".ftl"))
+        .map(|p| p.into_owned())
+        .collect();
+    names.sort();
+    names
+        .into_iter()
+        .filter_map(|name| {
+            let file = Files::get(&name)?;
+            let text = String::from_utf8_lossy(&file.data).into_owned();
+            let resource = FluentResource::try_new(text).unwrap_or_else(|(r, _)| r);
+            Some((name, resource))
+        })
+        .collect()
+}
+
+/// The files of `language` that do not parse, with Fluent's errors (for the tests).
+pub fn parse_errors(language: &str) -> Vec<String> {
+    let prefix = format!("{language}/");
+    Files::iter()
+        .filter(|p| p.starts_with(&prefix))
+        .filter_map(|name| {
+            let file = Files::get(&name)?;
+            let text = String::from_utf8_lossy(&file.data).into_owned();
+            FluentResource::try_new(text)
+                .err()
+                .map(|(_, errors)| format!("{name}: {errors:?}"))
+        })
+        .collect()
+}
+
+fn info(id: String, file: &str, pattern: &ast::Pattern<&str>) -> MessageInfo {
+    let mut variables = Vec::new();
+    collect_variables(pattern, &mut variables);
+    variables.sort();
+    variables.dedup();
+    MessageInfo {
+        id,
+        file: file.to_string(),
+        variables,
+    }
+}
+
+fn collect_variables(pattern: &ast::Pattern<&str>, out: &mut Vec<String>) {
+    for element in &pattern.elements {
+        if let ast::PatternElement::Placeable { expression } = element {
+            collect_in_expression(expression, out);
+        }
+    }
+}
+
+fn collect_in_expression(expression: &ast::Expression<&str>, out: &mut Vec<String>) {
+    match expression {
+        ast::Expression::Select { selector, variants } => {
+            collect_in_inline(selector, out);
+            for v in variants {
+                collect_variables(&v.value, out);
+            }
+        }
+        ast::Expression::Inline(inline) => collect_in_inline(inline, out),
+    }
+}
+
+fn collect_in_inline(inline: &ast::InlineExpression<&str>, out: &mut Vec<String>) {
+    match inline {
+        ast::InlineExpression::VariableReference { id } => out.push(id.name.to_string()),
+        ast::InlineExpression::FunctionReference { arguments, .. } => {
+            for a in &arguments.positional {
+                collect_in_inline(a, out);
+            }
+            for n in &arguments.named {
+                collect_in_inline(&n.value, out);
+            }
+        }
+        ast::InlineExpression::Placeable { expression } => collect_in_expression(expression, out),
+        _ => {}
+    }
+}
