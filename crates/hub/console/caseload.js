@@ -26,7 +26,8 @@ const measure = (m, v) => { const d = MEASURES[m] || { unit: '', digits: 1 }; re
 /** Each alert kind in words: its name (the filter's) and its sentence from the hub's facts. */
 export const ALERT_WORDS = {
   pain_high: ['Pain', (a, f) => `Pain ${f.pain_0_10}/10 after the session of ${when(a.at_ms)}`
-    + (f.sessions_since ? ` (no pain answer in the ${plural(f.sessions_since, 'session', 'sessions')} since)` : '')],
+    + (f.sessions_since === 1 ? ' (no pain answer after the next session)'
+      : f.sessions_since ? ` (no pain answer in the ${f.sessions_since} sessions since)` : '')],
   pain_rising: ['Rising pain', (a, f) => `Pain rising: ${f.first_0_10}, then ${f.middle_0_10}, then ${f.pain_0_10}/10 after the session of ${when(a.at_ms)}`],
   station_revoked: ['Station withdrawn', a => `Station withdrawn on ${when(a.at_ms)}: the patient cannot train until a new one is paired`],
   no_session: ['No session', (a, f) => (a.fingerprint === 'none' ? `No session yet (added ${when(a.at_ms)})`
@@ -38,7 +39,7 @@ export const ALERT_WORDS = {
     : `"Too hard" after the last ${f.too_hard_sessions} sessions`)],
   low_activity: ['Little training', (a, f) => (f.sessions_prescribed !== undefined ? `${f.sessions} of ${f.sessions_prescribed} prescribed sessions this week`
     : f.minutes_prescribed !== undefined ? `${f.active_minutes} of ${f.minutes_prescribed} prescribed active minutes this week`
-      : `${f.active_minutes} active minutes this week; nothing prescribed yet (the clinic looks for ${f.minimum_minutes})`)],
+      : `${plural(f.active_minutes, 'active minute', 'active minutes')} this week; nothing prescribed yet (the clinic looks for at least ${f.minimum_minutes})`)],
   wheel_unplugged: ['Wheel unplugged', a => `The session of ${when(a.at_ms)} stopped: wheel unplugged`],
   wheel_unseen: ['Wheel not seen', (a, f) => `Wheel not seen for ${f.days} days while the station was on`],
   sensors_lost: ['Arm sensors lost', (a, f) => `Arm sensors lost in the last ${plural(f.sessions, 'session', 'sessions')}`],
@@ -111,7 +112,7 @@ function rowHtml(p) {
   const quiet = (p.quieted || []).length
     ? `<details class="quieted"><summary>${esc(plural(p.quieted.length, 'alert acknowledged', 'alerts acknowledged'))}</summary><ul class="reasons">${p.quieted.map(a => `<li data-kind="${esc(a.kind)}">${esc(alertWords(a))} — ${esc(quietWords(a.quieted))}</li>`).join('')}</ul></details>`
     : '';
-  const sessions = p.sessions_per_week_prescribed == null ? `${p.sessions_last_7_days} sessions`
+  const sessions = p.sessions_per_week_prescribed == null ? plural(p.sessions_last_7_days, 'session', 'sessions')
     : `${p.sessions_last_7_days} of ${p.sessions_per_week_prescribed} prescribed sessions`;
   const minutes = p.minutes_per_week_prescribed == null ? `${Math.round(p.active_minutes_last_7_days)} active min`
     : `${Math.round(p.active_minutes_last_7_days)} of ${Math.round(p.minutes_per_week_prescribed)} prescribed active min`;
@@ -190,7 +191,7 @@ export async function settingsView(app, me) {
   const admin = me.role === 'admin';
   const rows = settings.map(s => {
     const [label, why] = SETTING_WORDS[s.key] || [s.key, ''];
-    const changed = s.updated_at_ms ? `Changed by ${s.updated_by_email || 'a former colleague'} on ${when(s.updated_at_ms)}.` : 'The default.';
+    const changed = s.updated_at_ms ? `Changed by ${s.updated_by_email || 'a former colleague'} on ${when(s.updated_at_ms)}.` : 'Not changed by the clinic: the default.';
     return `<div class="setting" data-key="${esc(s.key)}">
       <label for="set-${esc(s.key)}">${esc(label)} <span class="note">(${esc(s.min)}–${esc(s.max)}; default ${esc(s.default)})</span></label>
       <input id="set-${esc(s.key)}" type="number" min="${esc(s.min)}" max="${esc(s.max)}" step="1" value="${esc(s.value)}"${admin ? '' : ' readonly'} data-setting="${esc(s.key)}">
