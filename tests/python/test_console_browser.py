@@ -173,7 +173,7 @@ def test_a_therapist_logs_in_watches_live_sees_progress_and_prescribes(clinic, b
     d.find_element(By.ID, "repeat-password").send_keys("ana's own passphrase")
     d.find_element(By.CSS_SELECTOR, "#password-form button").click()
     link = wait(d, lambda d: d.find_elements(By.LINK_TEXT, "P-0042"))[0]
-    assert "no session yet" in d.find_element(By.TAG_NAME, "tbody").text
+    assert d.find_element(By.CSS_SELECTOR, "tr[data-pseudonym='P-0042']").get_attribute("data-alert-kinds") == "no_session"
     shot(d, "1-patients")
 
     # A real-time simulated session on the paired station, watched live.
