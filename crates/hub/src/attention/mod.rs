@@ -34,6 +34,16 @@ use crate::db::{
 use crate::error::HubError;
 pub use settings::Thresholds;
 
+/// The session measures the rules read: [`decline::DECLINE_MEASURES`] and the devices'.
+pub const RULE_MEASURES: [&str; 6] = [
+    "pct_in_lane",
+    "wheel_rom_deg",
+    "sparc_median",
+    "watchdog_fault_ticks",
+    "arm_sensors_lost",
+    "clipped_pct",
+];
+
 /// A day, ms.
 pub const DAY_MS: i64 = 24 * 60 * 60 * 1000;
 
@@ -242,7 +252,7 @@ impl Db {
             now_ms,
             added_at_ms: row.patient.created_at_ms,
             sessions: self.named_sessions_of(id).await?,
-            measures: self.measures_of_patient(id).await?,
+            measures: self.rule_measures_of(id).await?,
             checkins: self.checkins_of(id).await?,
             stations: self.stations_of(id).await?,
             wheel_seen_at_ms: self.wheel_of(id).await?.map(|w| w.seen_at_ms),
@@ -251,6 +261,31 @@ impl Db {
             active_minutes_last_7_days: row.active_minutes_last_7_days,
             minutes_per_week_prescribed: row.minutes_per_week_prescribed,
         })
+    }
+
+    /// The measures the rules read ([`RULE_MEASURES`]) of every session of `patient_id`.
+    async fn rule_measures_of(&self, patient_id: &str) -> Result<MeasuresBySession, HubError> {
+        let names: Vec<String> = RULE_MEASURES.iter().map(|m| format!("'{m}'")).collect();
+        // The names are this module's constants, not input.
+        let sql = format!(
+            "SELECT m.session_id, m.name, m.value FROM session_metrics m \
+             JOIN sessions s ON s.session_id = m.session_id \
+             WHERE s.patient_id = $1 AND m.name IN ({})",
+            names.join(", ")
+        );
+        let rows = sqlx::query(sqlx::AssertSqlSafe(sql))
+            .bind(patient_id)
+            .fetch_all(self.pool())
+            .await
+            .map_err(HubError::db("reading the measures the alerts need"))?;
+        let mut by_session = MeasuresBySession::new();
+        for row in &rows {
+            by_session
+                .entry(crate::db::col(row, "session_id")?)
+                .or_default()
+                .insert(crate::db::col(row, "name")?, crate::db::col(row, "value")?);
+        }
+        Ok(by_session)
     }
 
     /// The alerts of the patient of caseload row `row` at `now_ms` against `thresholds`,
@@ -346,6 +381,13 @@ pub(crate) mod tests {
             !is_quiet(&alert, &snooze, T0 + DAY_MS),
             "the snooze is over"
         );
+    }
+
+    #[test]
+    fn the_rules_read_every_measure_they_check() {
+        for (m, _) in decline::DECLINE_MEASURES {
+            assert!(RULE_MEASURES.contains(&m), "{m}");
+        }
     }
 
     #[test]
