@@ -475,6 +475,24 @@ async fn the_caseload_sorts_by_need_and_filters_by_alert_kind(db: Db) {
     assert_eq!(s, StatusCode::BAD_REQUEST);
     assert!(v["error"].as_str().unwrap().contains("need"), "{v}");
     let _ = idle;
+    // An admin sees every patient; "mine" leaves only their own.
+    let root = db
+        .add_therapist("root@clinic.example", PASSWORD, Role::Admin, T0)
+        .await
+        .unwrap();
+    db.add_patient("R-own", Some(&root.id), T0).await.unwrap();
+    let admin = login(&app, "root@clinic.example").await;
+    let (_, v, _) = call(&app, Method::GET, "/api/patients", Some(&admin), None).await;
+    assert_eq!(v.as_array().unwrap().len(), 4);
+    let (_, v, _) = call(
+        &app,
+        Method::GET,
+        "/api/patients?mine=true",
+        Some(&admin),
+        None,
+    )
+    .await;
+    assert_eq!(pseudonyms(&v), ["R-own"]);
 }
 
 async fn acknowledged_and_snoozed_alerts_are_audited_and_wake_on_something_new(db: Db) {
