@@ -122,10 +122,8 @@ async fn attention_now(
     let now = state.now();
     let row = state
         .db
-        .patients_for(therapist, now)
+        .patient_overview(therapist, &patient.id, now)
         .await?
-        .into_iter()
-        .find(|o| o.patient.id == patient.id)
         .ok_or_else(|| ApiError::NotFound(format!("no patient {id:?}")))?;
     let thresholds = state.db.thresholds().await?;
     Ok((
