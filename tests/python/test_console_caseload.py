@@ -5,13 +5,13 @@ unplugged wheel), one whose station was revoked, and one training as prescribed.
 opens sorted by need — the pain first, in the urgent style, the steady patient last — each row
 with one reason first and the rest behind "N more"; no internal id in its text; acknowledging
 the pain with a note quiets it (audited); axe-core finds no violation on the caseload or the
-thresholds page. Screenshot: docs/screenshots/console-caseload-needs-attention.png (1366×768)."""
+thresholds page. Screenshots (1366×768) go to $TELEREHAB_ARTIFACTS (default
+target/test-artifacts/console); console-caseload-needs-attention.png is the one in docs/screenshots."""
 
 import json
 import re
 import sqlite3
 import time
-from pathlib import Path
 
 import pytest
 from selenium.webdriver.common.by import By
@@ -19,7 +19,6 @@ from selenium.webdriver.common.by import By
 from axe_audit import assert_no_violations
 from test_console_browser import browser, serve_clinic, shot, telerehab, wait  # noqa: F401 (fixture)
 
-ROOT = Path(__file__).resolve().parents[2]
 DAY_MS = 86_400_000
 # A station id as the hub makes them: it must never appear on the caseload.
 WEAK_STATION = "st-6ae24c552b61ecc5"
@@ -130,8 +129,7 @@ def test_the_caseload_opens_by_need_with_one_plain_reason_first(clinic, browser)
     assert len(idle.find_elements(By.CSS_SELECTOR, ".reason-first")) == 1
     assert idle.find_elements(By.CSS_SELECTOR, "details.more-reasons .reason")
     d.execute_script("window.scrollTo(0, 0)")
-    shot(d, "caseload-needs-attention")
-    d.save_screenshot(str(ROOT / "docs" / "screenshots" / "console-caseload-needs-attention.png"))
+    shot(d, "console-caseload-needs-attention")  # copied to docs/screenshots/ when looked at
     assert_no_violations(d, "caseload needs attention")
     # Everything shown (every "more" opened): no internal id anywhere.
     d.execute_script("document.querySelectorAll('#caseload details').forEach(x => x.open = true)")
