@@ -69,6 +69,8 @@ def test_every_console_screen_has_no_accessibility_violation(clinic, browser):
     audit(d, "prescribe", "#rx-form")
     d.get(f"{web}/#/password")
     audit(d, "password", "#password-form")
+    d.get(f"{web}/#/attention-settings")
+    audit(d, "attention-settings", "#settings-form")
 
     d.get(f"{web}/#/clinic")
     audit(d, "clinic", "#new-patient")

@@ -173,7 +173,7 @@ def test_a_therapist_logs_in_watches_live_sees_progress_and_prescribes(clinic, b
     d.find_element(By.ID, "repeat-password").send_keys("ana's own passphrase")
     d.find_element(By.CSS_SELECTOR, "#password-form button").click()
     link = wait(d, lambda d: d.find_elements(By.LINK_TEXT, "P-0042"))[0]
-    assert "no session yet" in d.find_element(By.TAG_NAME, "tbody").text
+    assert d.find_element(By.CSS_SELECTOR, "tr[data-pseudonym='P-0042']").get_attribute("data-alert-kinds") == "no_session"
     shot(d, "1-patients")
 
     # A real-time simulated session on the paired station, watched live.
@@ -284,7 +284,7 @@ def test_a_therapist_logs_in_watches_live_sees_progress_and_prescribes(clinic, b
     # The caseload now measures adherence against the prescription (2 sessions, 3 asked for).
     d.get(clinic["web"] + "/#/patients")
     row = wait(d, lambda d: [r for r in d.find_elements(By.CSS_SELECTOR, "tbody tr") if "P-0042" in r.text])[0]
-    assert "2 of 3 prescribed" in row.text and "2 of 3 sessions this week" in row.text, row.text
+    assert "2 of 3 prescribed" in row.text and "low_activity" in row.get_attribute("data-alert-kinds").split(), row.text
     # Adherence in minutes too: the active minutes against the regimen's planned minutes a week.
     assert "prescribed active min" in row.text, row.text
     assert "time in lane" in row.text, "a trend once there are two sessions: " + row.text
@@ -438,7 +438,8 @@ def test_a_painful_check_in_raises_a_caseload_alert_and_the_session_says_how_it_
         d.find_element(By.ID, "password").send_keys("ana's own passphrase")
         d.find_element(By.CSS_SELECTOR, "#login button").click()
     row = wait(d, lambda d: [r for r in d.find_elements(By.CSS_SELECTOR, "tbody tr") if "P-0042" in r.text])[0]
-    assert "pain 8/10 after the last session" in row.text, row.text
+    assert row.get_attribute("data-alert-kinds").split()[0] == "pain_high", row.text
+    assert row.find_element(By.CSS_SELECTOR, ".reason-first").get_attribute("data-severity") == "urgent", row.text
     shot(d, "10a-caseload-pain-alert")
     d.get(clinic["web"] + "/#/patients/" + row.find_element(By.TAG_NAME, "a").get_attribute("href").split("/")[-1]
           + "/progress")

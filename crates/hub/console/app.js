@@ -13,7 +13,7 @@ import { clinicView } from '/console/clinic.js';
 import { notesSection } from '/console/notes.js';
 import { assistModes, assistFields, readAssist } from '/console/assist.js';
 import { wheelBounds } from '/console/wheel.js';
-import { kindWords } from '/console/words.js';
+import { caseloadView, settingsView } from '/console/caseload.js';
 
 const app = document.getElementById('app');
 let leave = () => {};
@@ -35,6 +35,7 @@ async function route() {
   if (hash === '#/password') return passwordView(false);
   document.getElementById('clinic-link').hidden = false;
   if (hash.startsWith('#/clinic')) return clinicView(app, hash, me).catch(fail).then(() => app.focus());
+  if (hash === '#/attention-settings') return settingsView(app, me).catch(fail).then(() => app.focus());
   const m = hash.match(/^#\/patients\/([^/]+)(?:\/(live|progress|prescribe|replay|exercises)(?:\/([^/]+))?)?$/);
   try {
     if (m) await patientView(decodeURIComponent(m[1]), m[2] || 'live', m[3] && decodeURIComponent(m[3]));
@@ -106,32 +107,9 @@ function loginView() {
   app.querySelector('#email').focus();
 }
 
+/** The caseload, sorted by need (caseload.js); `#/patients?sort=…&alert=…&mine=true`. */
 async function patientsView() {
-  const patients = await api('GET', '/api/patients');
-  const rows = patients.map(p => {
-    const alerts = p.alerts.length ? p.alerts.map(a => `<span class="badge alert">${esc(a)}</span>`).join(' ')
-      : '<span class="badge ok">none</span>';
-    const sessions = p.sessions_per_week_prescribed == null ? `${p.sessions_last_7_days} sessions`
-      : `${p.sessions_last_7_days} of ${p.sessions_per_week_prescribed} prescribed sessions`;
-    const minutes = p.minutes_per_week_prescribed == null ? `${Math.round(p.active_minutes_last_7_days)} active min`
-      : `${Math.round(p.active_minutes_last_7_days)} of ${Math.round(p.minutes_per_week_prescribed)} prescribed active min`;
-    const week = `${sessions}, ${minutes}`;
-    const trends = [['pct_in_lane', 'time in lane'], ['wheel_rom_deg', 'wheel range'], ['sparc_median', 'smoothness']]
-      .filter(([k]) => p.trends[k])
-      .map(([k, label]) => {
-        const t = p.trends[k];
-        const [arrow, cls, word] = t === 'up' ? ['↑', 'up', 'better'] : t === 'down' ? ['↓', 'down', 'worse'] : ['→', '', 'steady'];
-        return `<span class="${cls}">${esc(label)} ${arrow} ${word}</span>`;
-      }).join('<br>') || '—';
-    const trendsOf = p.trend_exercise_kind && trends !== '—' ? `<span class="note">${esc(kindWords(p.trend_exercise_kind))} sessions:</span><br>${trends}` : trends;
-    return `<tr><td><a href="#/patients/${encodeURIComponent(p.id)}">${esc(p.pseudonym)}</a></td>
-      <td>${esc(when(p.last_session_started_ms))}</td><td>${esc(week)}</td><td>${trendsOf}</td><td>${alerts}</td></tr>`;
-  }).join('');
-  app.innerHTML = `<h1>Patients</h1>
-    <table><caption class="note">Your caseload. Open a patient to watch a running session, see progress or prescribe.</caption>
-    <thead><tr><th scope="col">Patient</th><th scope="col">Last session</th><th scope="col">Last 7 days</th><th scope="col">Trend (last session)</th><th scope="col">Alerts</th></tr></thead>
-    <tbody>${rows || '<tr><td colspan="5">No patients yet.</td></tr>'}</tbody></table>
-    <p><a href="#/clinic">Add a patient</a> (and print the pairing sheet)</p>`;
+  await caseloadView(app, me, new URLSearchParams((location.hash.split('?')[1]) || ''));
 }
 
 async function patientView(id, tab, sessionId) {

@@ -9,6 +9,7 @@
 //! Layering (DESIGN.md): this crate uses `netlink`'s frame types and never the station's
 //! device crates.
 
+pub mod attention;
 pub mod backup;
 pub mod bench;
 pub mod clinic;

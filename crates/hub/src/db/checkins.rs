@@ -127,7 +127,7 @@ impl Db {
     /// The caseload's pain alert for a patient ([`pain_alert`] over their last 50 answers).
     pub(crate) async fn pain_alert_of(&self, patient_id: &str) -> Result<Option<String>, HubError> {
         let rows = sqlx::query(
-            "SELECT pain_0_10 FROM session_checkins WHERE patient_id = $1 \
+            "SELECT pain_0_10, started_unix_ms FROM session_checkins WHERE patient_id = $1 \
              AND pain_0_10 IS NOT NULL ORDER BY started_unix_ms DESC, session_id LIMIT 50",
         )
         .bind(patient_id)
@@ -138,7 +138,25 @@ impl Db {
             .iter()
             .map(|row| col(row, "pain_0_10"))
             .collect::<Result<Vec<i64>, HubError>>()?;
-        Ok(pain_alert(&pains))
+        let Some(alert) = pain_alert(&pains) else {
+            return Ok(None);
+        };
+        // Later sessions without a pain answer: the pain was not after the last session.
+        let reported: i64 = col(&rows[0], "started_unix_ms")?;
+        let later = self
+            .training_sessions_of(patient_id)
+            .await?
+            .iter()
+            .any(|s| s.started_unix_ms > reported);
+        Ok(Some(if later {
+            let day = &super::iso_utc(reported)[..10];
+            alert.replace(
+                "after the last session",
+                &format!("after the session of {day}"),
+            )
+        } else {
+            alert
+        }))
     }
 }
 

@@ -231,6 +231,30 @@ impl Db {
         therapist: &Therapist,
         now_ms: i64,
     ) -> Result<Vec<PatientOverview>, HubError> {
+        self.overviews(therapist, "", now_ms).await
+    }
+
+    /// The caseload row of patient `patient_id` as [`Db::patients_for`] makes it, if
+    /// `therapist` may see them.
+    pub async fn patient_overview(
+        &self,
+        therapist: &Therapist,
+        patient_id: &str,
+        now_ms: i64,
+    ) -> Result<Option<PatientOverview>, HubError> {
+        if patient_id.is_empty() {
+            return Ok(None);
+        }
+        Ok(self.overviews(therapist, patient_id, now_ms).await?.pop())
+    }
+
+    /// The caseload rows of `therapist`, of patient `only` (all when empty).
+    async fn overviews(
+        &self,
+        therapist: &Therapist,
+        only: &str,
+        now_ms: i64,
+    ) -> Result<Vec<PatientOverview>, HubError> {
         // Only sessions that count as training (a Hello alone is not one).
         const CASELOAD: &str = "SELECT p.id, p.pseudonym, p.therapist_id, p.created_at_ms, \
             (SELECT MAX(s.started_unix_ms) FROM sessions s WHERE s.patient_id = p.id \
@@ -253,7 +277,8 @@ impl Db {
             (SELECT m.value FROM session_metrics m WHERE m.name = 'arm_sensors_lost' \
                 AND m.session_id = (SELECT s.session_id FROM sessions s WHERE s.patient_id = p.id \
                     AND {training} ORDER BY s.started_unix_ms DESC LIMIT 1)) AS last_sensors_lost \
-            FROM patients p WHERE ($2 = '' OR p.therapist_id = $2) ORDER BY p.pseudonym";
+            FROM patients p WHERE ($2 = '' OR p.therapist_id = $2) AND ($3 = '' OR p.id = $3) \
+            ORDER BY p.pseudonym";
         // An admin sees every patient (an empty therapist id matches all).
         let own = if therapist.is_admin() {
             ""
@@ -263,7 +288,8 @@ impl Db {
         let sql = CASELOAD.replace("{training}", super::TRAINING_SESSION_SQL);
         let query = sqlx::query(sqlx::AssertSqlSafe(sql))
             .bind(now_ms.saturating_sub(WEEK_MS))
-            .bind(own);
+            .bind(own)
+            .bind(only);
         let rows = query
             .fetch_all(self.pool())
             .await

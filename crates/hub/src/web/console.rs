@@ -41,6 +41,8 @@ const ASSETS: &[Asset] = &[
     asset!("messages.js", JS),
     asset!("clinic.js", JS),
     asset!("clinic.css", CSS),
+    asset!("caseload.js", JS),
+    asset!("attention.css", CSS),
     asset!("words.js", JS),
     asset!("notes.js", JS),
     asset!("assist.js", JS),

@@ -8,6 +8,7 @@
 //!   is answered 404, exactly like a patient that does not exist.
 //! - Every read of patient data and every change is written to the audit log.
 
+mod attention;
 mod auth;
 mod clinic;
 mod console;
@@ -209,9 +210,15 @@ pub fn router(state: AppState) -> Router {
         .route("/api/audit", get(auth::audit_log))
         .route(
             "/api/patients",
-            get(patients::list).post(clinic::add_patient),
+            get(attention::caseload).post(clinic::add_patient),
         )
         .route("/api/patients/{id}", get(patients::one))
+        .route("/api/patients/{id}/attention", get(attention::one))
+        .route("/api/patients/{id}/alerts/ack", post(attention::ack))
+        .route(
+            "/api/clinic/settings",
+            get(attention::settings).put(attention::put_settings),
+        )
         .route("/api/patients/{id}/sessions", get(patients::sessions))
         .route("/api/patients/{id}/checkins", get(patients::checkins))
         .route("/api/patients/{id}/difficulty", get(patients::difficulty))

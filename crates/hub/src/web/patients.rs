@@ -1,4 +1,4 @@
-//! The caseload, one patient, and a patient's sessions.
+//! One patient and their sessions (the caseload is `attention::caseload`).
 
 use axum::Json;
 use axum::extract::rejection::PathRejection;
@@ -7,23 +7,7 @@ use serde::Serialize;
 
 use super::auth::Authed;
 use super::{ApiError, AppState};
-use crate::db::{NamedSession, Patient, PatientOverview, PatientWheel, Station};
-
-pub(crate) async fn list(
-    State(state): State<AppState>,
-    Authed(therapist): Authed,
-) -> Result<Json<Vec<PatientOverview>>, ApiError> {
-    let list = state.db.patients_for(&therapist, state.now()).await?;
-    state
-        .audit(
-            &therapist.actor(),
-            "list_patients",
-            "patients",
-            &format!("{} patients", list.len()),
-        )
-        .await?;
-    Ok(Json(list))
-}
+use crate::db::{NamedSession, Patient, PatientWheel, Station};
 
 /// Answer of `GET /api/patients/{id}`.
 #[derive(Serialize)]
