@@ -22,6 +22,7 @@
 
 pub mod difficulty;
 pub mod lenient;
+pub mod presets;
 
 pub use difficulty::{Aspect, DifficultySpec};
 
