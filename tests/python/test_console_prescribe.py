@@ -235,6 +235,9 @@ def test_the_audit_page_lists_entries_in_words_filters_and_pages_for_admins_only
     status, answer = send_json(d, "POST", "/api/therapists", {"email": "tom@clinic.example"})
     assert status == 201, answer
     one_time = json.loads(answer)["one_time_password"]
+    # Logged out from the caseload (logging out goes there: no second rendering of the login).
+    d.execute_script("location.hash = '#/patients'")
+    wait(d, lambda d: d.find_elements(By.LINK_TEXT, "P-0042"))
     d.find_element(By.ID, "logout").click()
     wait(d, lambda d: d.find_elements(By.ID, "email"))
     d.find_element(By.ID, "email").send_keys("tom@clinic.example")
