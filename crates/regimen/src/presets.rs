@@ -68,11 +68,26 @@ impl Preset {
 /// The presets of every exercise kind, three per kind (easy, medium, hard), in the order of
 /// [`ExerciseSpec`]'s kinds.
 pub fn presets() -> Vec<Preset> {
-    let p = |level, words, exercise| Preset {
+    [
+        straight_and_waves(),
+        bends(),
+        lanes_and_cones(),
+        dial_and_measures(),
+    ]
+    .concat()
+}
+
+/// A preset of `exercise` at `level`, in `words`.
+fn p(level: Level, words: &'static str, exercise: ExerciseSpec) -> Preset {
+    Preset {
         level,
         words,
         exercise,
-    };
+    }
+}
+
+/// Straight, sine and triangle roads.
+fn straight_and_waves() -> Vec<Preset> {
     use Level::{Easy, Hard, Medium};
     vec![
         p(
@@ -180,6 +195,13 @@ pub fn presets() -> Vec<Preset> {
                 duration_s: None,
             }),
         ),
+    ]
+}
+
+/// Clothoid roads, sharp turns and S-bends.
+fn bends() -> Vec<Preset> {
+    use Level::{Easy, Hard, Medium};
+    vec![
         p(
             Easy,
             "A bend that tightens a little, slowly.",
@@ -288,6 +310,13 @@ pub fn presets() -> Vec<Preset> {
                 duration_s: None,
             }),
         ),
+    ]
+}
+
+/// Lane changes and slaloms.
+fn lanes_and_cones() -> Vec<Preset> {
+    use Level::{Easy, Hard, Medium};
+    vec![
         p(
             Easy,
             "Three slow, long lane changes.",
@@ -363,6 +392,13 @@ pub fn presets() -> Vec<Preset> {
                 duration_s: None,
             }),
         ),
+    ]
+}
+
+/// The dial, the strength test and the haptic sweep.
+fn dial_and_measures() -> Vec<Preset> {
+    use Level::{Easy, Hard, Medium};
+    vec![
         p(Easy, "Small turns each way, slowly.", dial(45.0, 0.5)),
         p(
             Medium,
