@@ -234,16 +234,18 @@ export async function prescribeView(el, id, refreshMessages, me) {
     total();
   };
 
-  /** The planned minutes of the timed exercises and their rests, in words. */
+  /** The planned minutes of the timed exercises and their rests, in words (the last
+   * exercise's rest is not run: the session ends). */
   const total = () => {
+    const all = fromRows(rows);
     let minutes = 0, rests = 0, untimed = 0;
-    rows.forEach(row => {
-      if (typeof row.e.duration_s === 'number') minutes += row.sets * row.e.duration_s / 60; else untimed += row.sets;
-      rests += row.sets * (row.e.rest_s || 0) / 60;
+    all.forEach((e, i) => {
+      if (typeof e.duration_s === 'number') minutes += e.duration_s / 60; else untimed += 1;
+      if (i < all.length - 1) rests += (e.rest_s || 0) / 60;
     });
     const out = el.querySelector('#rx-total');
-    if (!rows.length) { out.textContent = ''; return; }
-    out.textContent = `About ${round1(minutes)} min of exercise and ${round1(rests)} min of rests${untimed ? `, and ${untimed} exercise${untimed === 1 ? '' : 's'} without minutes (driven once)` : ''}.`;
+    if (!all.length) { out.textContent = ''; return; }
+    out.textContent = `About ${round1(minutes)} min of exercise and ${round1(rests)} min of rests${untimed ? `, and ${untimed} exercise${untimed === 1 ? '' : 's'} without minutes (driven once or timed by the exercise itself)` : ''}.`;
   };
 
   const out = () => el.querySelector('#rx-result');
