@@ -71,6 +71,10 @@ def test_every_console_screen_has_no_accessibility_violation(clinic, browser):
     audit(d, "password", "#password-form")
     d.get(f"{web}/#/attention-settings")
     audit(d, "attention-settings", "#settings-form")
+    d.get(f"{web}/#/names")
+    audit(d, "names", "#names-table")
+    d.get(f"{web}/#/audit")
+    audit(d, "audit", "#audit-table")
 
     d.get(f"{web}/#/clinic")
     audit(d, "clinic", "#new-patient")

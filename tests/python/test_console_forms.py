@@ -103,7 +103,7 @@ def test_the_form_bounds_torque_by_the_patients_wheel_sets_assistance_and_notes_
     both_sizes(d, "forms-1-prescribe")
 
     # Above the wheel, as TOML: refused in words naming the exercise, field, value and wheel.
-    d.find_element(By.CSS_SELECTOR, "details summary").click()
+    d.find_element(By.CSS_SELECTOR, "#rx-toml summary").click()
     area = d.find_element(By.ID, "toml")
     area.clear()
     area.send_keys(ABOVE_THE_WHEEL)

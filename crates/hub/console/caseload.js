@@ -5,6 +5,7 @@
 // alerts (crates/hub/src/attention/); every word a clinician reads is in the tables below.
 import { api, esc, when } from '/console/api.js';
 import { kindWords } from '/console/words.js';
+import { displayName } from '/console/names.js';
 
 /** Severity → its word, its mark (not colour alone) and its class. */
 export const SEVERITY = {
@@ -125,7 +126,7 @@ function rowHtml(p) {
     }).join('<br>') || '—';
   const trendsOf = p.trend_exercise_kind && trends !== '—' ? `<span class="note">${esc(kindWords(p.trend_exercise_kind))} sessions:</span><br>${trends}` : trends;
   return `<tr data-pseudonym="${esc(p.pseudonym)}" data-severity="${esc(first ? first.severity : 'none')}" data-alert-kinds="${esc(alerts.map(a => a.kind).join(' '))}">
-    <td><a href="#/patients/${encodeURIComponent(p.id)}">${esc(p.pseudonym)}</a></td>
+    <td><a href="#/patients/${encodeURIComponent(p.id)}">${esc(displayName(p.pseudonym))}</a></td>
     <td class="needs">${need}${quiet}</td>
     <td>${esc(when(p.last_session_started_ms))}</td><td>${esc(`${sessions}, ${minutes}`)}</td><td>${trendsOf}</td></tr>`;
 }
@@ -135,7 +136,7 @@ function alertHtml(p, a, cls) {
   const s = SEVERITY[a.severity] || SEVERITY.notice;
   return `<div class="${cls} alert-line ${s.cls}" data-kind="${esc(a.kind)}" data-severity="${esc(a.severity)}">
     <span class="sev"><span aria-hidden="true">${s.mark}</span> ${esc(s.word)}:</span> ${esc(alertWords(a))}
-    <button type="button" class="secondary small" data-ack data-patient="${esc(p.id)}" data-key="${esc(a.key)}">Acknowledge<span class="visually-hidden"> (${esc(p.pseudonym)})</span></button></div>`;
+    <button type="button" class="secondary small" data-ack data-patient="${esc(p.id)}" data-key="${esc(a.key)}">Acknowledge<span class="visually-hidden"> (${esc(displayName(p.pseudonym))})</span></button></div>`;
 }
 
 /** Who acknowledged or snoozed an alert, when, until when, and their note. */
@@ -156,7 +157,7 @@ function openAck(app, b, patients, reload) {
   form.className = 'ack-form panel';
   form.noValidate = true;
   const tomorrow = new Date(Date.now() + 86400000).toISOString().slice(0, 10);
-  form.innerHTML = `<p><strong>${esc(p.pseudonym)}:</strong> ${esc(alertWords(a))}</p>
+  form.innerHTML = `<p><strong>${esc(displayName(p.pseudonym))}:</strong> ${esc(alertWords(a))}</p>
     <fieldset><legend>Keep it quiet</legend>
       <label class="inline"><input type="radio" name="ack-how" value="ack" checked> Until something new happens</label>
       <label class="inline"><input type="radio" name="ack-how" value="snooze"> Until a day:</label>

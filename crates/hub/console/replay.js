@@ -65,21 +65,27 @@ export async function replayView(el, sessionId) {
     <div class="tabs" role="group" aria-label="Playback">
       <button type="button" id="play">Play</button>
       <label for="seek" class="sr">Position</label>
-      <input id="seek" type="range" min="0" max="${expected}" step="0.05" value="0" aria-valuetext="0 s">
+      <span class="seek-wrap"><input id="seek" type="range" min="0" max="${expected}" step="0.05" value="0" aria-valuetext="0 s">
+        <span id="timeline-marks" class="timeline-marks" aria-hidden="true"></span></span>
       <span id="clock" aria-live="off">0.0 / ${expected.toFixed(1)} s</span>
       <label for="speed">Speed</label>
       <select id="speed">${SPEEDS.map(s => `<option value="${s}"${s === 1 ? ' selected' : ''}>×${s}</option>`).join('')}</select>
     </div>
+    <nav id="marks" aria-label="Where each exercise ends and the next follows" hidden><ol id="marks-list" class="marks"></ol></nav>
     <div class="grid">
       <section class="panel"><h2>Arm and wheel</h2>
         <canvas id="arm3d" tabindex="0" aria-label="3-D view of the patient's arm and the wheel; drag or use the arrow keys to turn it"></canvas></section>
-      <section class="panel"><h2>Car from above (30 s before the cursor)</h2><canvas id="road" aria-label="The car's path from above"></canvas>
+      <section class="panel" id="road-panel" hidden><h2>Car from above (30 s before the cursor)</h2><canvas id="road" aria-label="The car's path from above"></canvas>
         <p class="note" id="road-note"></p></section>
       <section class="panel"><h2>Tracking</h2><div class="chart" id="r-tracking"></div></section>
       <section class="panel"><h2>Torque and assistance</h2><div class="chart" id="r-torque"></div></section>
       <section class="panel"><h2>Joint angles</h2><div class="chart" id="r-joints"></div></section>
     </div>`;
   const col = name => c[name] || new Array(n).fill(null);
+  // The exercises' names by their place in the session (none: numbered only).
+  const names = new Map();
+  api('GET', `/api/sessions/${encodeURIComponent(sessionId)}/exercises`)
+    .then(list => { for (const e of list) names.set(e.index, e.name); drawMarks(); }).catch(() => {});
   const charts = [
     lineChart(el.querySelector('#r-tracking'), { title: 'Lateral deviation and dial error', x: 'session time (s)', y: 'deviation (m) / error (°)',
       series: [{ label: 'lateral deviation (m)' }, { label: 'dial tracking error (°)' }] }),
@@ -95,8 +101,49 @@ export async function replayView(el, sessionId) {
   // The whole length once known; meanwhile the configured one, or what has arrived.
   const length = () => (complete ? duration : Math.max(expected, duration));
 
+  /** Marks on the timeline where each exercise ends and the next follows (the recording's
+   * `exercise_index` changes; a rest between them comes after the mark), each also a button
+   * that seeks there. */
+  let marksAt = [];
+  const drawMarks = () => {
+    const index = c.exercise_index || [];
+    const starts = [];
+    for (let i = 1; i < index.length; i++) {
+      if (index[i] !== null && index[i - 1] !== null && index[i] !== index[i - 1]) starts.push([c.t_s[i], index[i]]);
+    }
+    marksAt = starts;
+    const line = el.querySelector('#timeline-marks'), list = el.querySelector('#marks-list');
+    const total = length() || 1;
+    line.replaceChildren(...starts.map(([t]) => {
+      const tick = document.createElement('span');
+      tick.className = 'timeline-mark';
+      tick.style.left = `${Math.min(100, 100 * t / total)}%`;
+      return tick;
+    }));
+    list.replaceChildren(...starts.map(([t, k]) => {
+      const item = document.createElement('li');
+      const go = document.createElement('button');
+      go.type = 'button';
+      go.className = 'secondary';
+      go.dataset.markS = t.toFixed(2);
+      const name = names.get(k);
+      // The index moves on when an exercise ends: the rest or card before the next is after it.
+      go.textContent = `${t.toFixed(1)} s: end of exercise ${k}, then exercise ${k + 1}${name ? ` (${name})` : ''}`;
+      go.addEventListener('click', () => { position = Math.min(t, duration); show(); });
+      item.append(go);
+      return item;
+    }));
+    el.querySelector('#marks').hidden = !starts.length;
+    el.dataset.marks = String(starts.length);
+    // The car's panel only for a recording with a car (a dial session has none).
+    const car = (c.car_x_m || []).some(v => v !== null);
+    el.querySelector('#road-panel').hidden = !car;
+    el.dataset.car = car ? '1' : '0';
+  };
+
   const redraw = () => {
     drawn = performance.now();
+    drawMarks();
     const dial = c.t_s.map((_, i) => (c.car_x_m && c.car_x_m[i] !== null ? null
       : ((col('wheel_target_rad')[i] ?? 0) - (col('wheel_angle_rad')[i] ?? 0)) * 180 / Math.PI));
     charts[0].set([c.t_s, col('lateral_m'), dial]);

@@ -115,3 +115,21 @@ export function assistModes(root) {
       motion: v.properties.motion ? numeric(nonNull(root, v.properties.motion)) : [],
     }));
 }
+
+/** The per-exercise settings every kind shares: `rest` (the rest after it, s) as a numberSpec. */
+export function entryFields(root) {
+  const entry = resolve(root, root.properties.exercise.items);
+  const rest = entry.properties && entry.properties.rest_s;
+  return { rest: rest ? numberSpec(root, rest) : { min: 0, description: '' } };
+}
+
+/** The dial's swing (its target's `sine` signal): `amplitude` (deg each way) and `frequency`
+ * (rad/s) as numberSpecs; null when the schema has no such signal. */
+export function dialSineFields(root) {
+  const signal = root.$defs && root.$defs.DialSignal;
+  if (!signal) return null;
+  const sine = (signal.oneOf || signal.anyOf || []).map(v => resolve(root, v))
+    .find(v => v.properties && v.properties.signal && v.properties.signal.const === 'sine');
+  if (!sine) return null;
+  return { amplitude: numberSpec(root, sine.properties.amplitude_deg), frequency: numberSpec(root, sine.properties.frequency_rad_s) };
+}

@@ -267,6 +267,8 @@ impl Frames {
         let mut values = live_pose(rec, lengths);
         values.push(("t_s".into(), rec.t_ns as f64 * 1e-9));
         values.push(("pct_in_lane".into(), rec.score.pct_in_lane));
+        // Which exercise of the course runs: the replay's timeline marks where each starts.
+        values.push(("exercise_index".into(), f64::from(rec.score.exercise_index)));
         if let Some(v) = &rec.vehicle {
             values.push(("lateral_m".into(), v.lateral_m));
         }
@@ -345,6 +347,8 @@ mod tests {
                 ..Default::default()
             };
             rec.wheel.angle_rad = (tick as f64 * 1e-3).sin();
+            // A course of one exercise a second.
+            rec.score.exercise_index = (tick / 1000) as u32;
             w.write_tick(&rec, tick % 100 == 0).unwrap();
         }
         w.finish().unwrap().into_inner()
@@ -371,6 +375,16 @@ mod tests {
         ] {
             assert_eq!(columns[name].as_array().unwrap().len(), 60, "{name}");
         }
+        let index: Vec<f64> = columns["exercise_index"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        assert_eq!(
+            (index[0], index[19], index[20], index[59]),
+            (0.0, 0.0, 1.0, 2.0)
+        );
         let angle = columns["wheel_angle_rad"][20].as_f64().unwrap();
         assert!((angle - 1f64.sin()).abs() < 1e-3, "{angle}");
         assert!((r["duration_s"].as_f64().unwrap() - 2.95).abs() < 1e-6);

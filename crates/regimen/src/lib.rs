@@ -21,6 +21,9 @@
 //!
 //! Samples: `regimens/easy.toml`, `medium.toml`, `hard.toml`.
 
+// Easy, medium and hard starting points of every exercise kind, for the console (issue 41).
+pub mod presets;
+
 pub mod difficulty;
 pub mod lenient;
 pub mod patient;

@@ -31,6 +31,18 @@ pub struct AuditPage {
     pub next: Option<AuditCursor>,
 }
 
+/// Which entries of the audit log a page keeps: each field set must match exactly (`None`:
+/// any).
+#[derive(Debug, Clone, Default, PartialEq, Eq, Deserialize)]
+pub struct AuditFilter {
+    /// Who (`therapist:<id>`, `station:<id>`, …).
+    pub actor: Option<String>,
+    /// What (`put_regimen`, …).
+    pub action: Option<String>,
+    /// On what (a patient's id, a session's id, …).
+    pub target: Option<String>,
+}
+
 /// One audit log entry.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 pub struct AuditEntry {
@@ -83,28 +95,65 @@ impl Db {
         before: Option<&AuditCursor>,
         limit: i64,
     ) -> Result<AuditPage, HubError> {
+        self.audit_page_where(before, limit, &AuditFilter::default())
+            .await
+    }
+
+    /// [`Db::audit_page`] of the entries `filter` keeps (each of its fields set must match
+    /// exactly).
+    pub async fn audit_page_where(
+        &self,
+        before: Option<&AuditCursor>,
+        limit: i64,
+        filter: &AuditFilter,
+    ) -> Result<AuditPage, HubError> {
         let limit = limit.clamp(1, MAX_AUDIT_PAGE);
-        let select = "SELECT id, at_ms, actor, action, target, detail FROM audit_log";
-        let order = "ORDER BY at_ms DESC, id DESC LIMIT";
-        let rows = match before {
-            None => {
-                sqlx::query(sqlx::AssertSqlSafe(format!("{select} {order} $1")))
-                    .bind(limit + 1)
-                    .fetch_all(self.pool())
-                    .await
-            }
-            Some(cursor) => {
-                sqlx::query(sqlx::AssertSqlSafe(format!(
-                    "{select} WHERE at_ms < $1 OR (at_ms = $1 AND id < $2) {order} $3"
-                )))
-                .bind(cursor.before_ms)
-                .bind(&cursor.before_id)
-                .bind(limit + 1)
-                .fetch_all(self.pool())
-                .await
+        let mut conditions = Vec::new();
+        let mut binds: Vec<String> = Vec::new();
+        let mut placeholder = 0;
+        let mut next = || {
+            placeholder += 1;
+            format!("${placeholder}")
+        };
+        let mut before_ms = None;
+        if let Some(cursor) = before {
+            let (ms, id) = (next(), next());
+            conditions.push(format!("(at_ms < {ms} OR (at_ms = {ms} AND id < {id}))"));
+            before_ms = Some(cursor.before_ms);
+            binds.push(cursor.before_id.clone());
+        }
+        for (column, value) in [
+            ("actor", &filter.actor),
+            ("action", &filter.action),
+            ("target", &filter.target),
+        ] {
+            if let Some(value) = value {
+                conditions.push(format!("{column} = {}", next()));
+                binds.push(value.clone());
             }
         }
-        .map_err(HubError::db("reading the audit log"))?;
+        let limit_at = next();
+        let condition = if conditions.is_empty() {
+            String::new()
+        } else {
+            format!("WHERE {}", conditions.join(" AND "))
+        };
+        let sql = format!(
+            "SELECT id, at_ms, actor, action, target, detail FROM audit_log {condition} \
+             ORDER BY at_ms DESC, id DESC LIMIT {limit_at}"
+        );
+        let mut query = sqlx::query(sqlx::AssertSqlSafe(sql));
+        if let Some(ms) = before_ms {
+            query = query.bind(ms);
+        }
+        for value in binds {
+            query = query.bind(value);
+        }
+        let rows = query
+            .bind(limit + 1)
+            .fetch_all(self.pool())
+            .await
+            .map_err(HubError::db("reading the audit log"))?;
         let mut entries = rows
             .iter()
             .map(|row| {

@@ -54,7 +54,9 @@ use sqlx::{AnyPool, Executor, Row};
 use crate::error::HubError;
 
 pub use alert_acks::{AlertAck, MAX_ALERT_KEY_CHARS, NewAck};
-pub use audit::{AuditCursor, AuditEntry, AuditPage, MAX_AUDIT_PAGE, MAX_DETAIL_CHARS};
+pub use audit::{
+    AuditCursor, AuditEntry, AuditFilter, AuditPage, MAX_AUDIT_PAGE, MAX_DETAIL_CHARS,
+};
 pub use checkins::{PAIN_ALERT_AT, PAIN_RISE_ALERT, SessionCheckIn, pain_alert};
 pub use difficulty::SessionDifficulty;
 pub use exercises::SessionExercise;

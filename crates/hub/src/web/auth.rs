@@ -20,7 +20,7 @@ use axum::response::{IntoResponse, Response};
 use serde::{Deserialize, Serialize};
 
 use super::{ApiError, AppState};
-use crate::db::{AuditCursor, AuditEntry, DEVICE_TTL_MS, LoginAttempt, Therapist};
+use crate::db::{AuditCursor, AuditEntry, AuditFilter, DEVICE_TTL_MS, LoginAttempt, Therapist};
 use crate::error::HubError;
 
 /// Name of the login cookie.
@@ -375,6 +375,12 @@ pub(crate) struct AuditQuery {
     before_ms: Option<i64>,
     /// With `before_ms`: among entries of that millisecond, only those with a smaller id.
     before_id: Option<String>,
+    /// Only entries by this actor (`therapist:<id>`, `station:<id>`, `cli`, `web`).
+    actor: Option<String>,
+    /// Only entries of this action (`put_regimen`, …).
+    action: Option<String>,
+    /// Only entries about this target (a patient's id, a session's id, …).
+    target: Option<String>,
 }
 
 /// Answer of `GET /api/audit`.
@@ -408,7 +414,15 @@ pub(crate) async fn audit_log(
         .await?;
     let page = state
         .db
-        .audit_page(before.as_ref(), query.limit.unwrap_or(100))
+        .audit_page_where(
+            before.as_ref(),
+            query.limit.unwrap_or(100),
+            &AuditFilter {
+                actor: query.actor.filter(|v| !v.is_empty()),
+                action: query.action.filter(|v| !v.is_empty()),
+                target: query.target.filter(|v| !v.is_empty()),
+            },
+        )
         .await?;
     Ok(Json(AuditAnswer {
         entries: page.entries,

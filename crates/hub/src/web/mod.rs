@@ -245,6 +245,7 @@ pub fn router(state: AppState) -> Router {
         .route("/api/measures.csv", get(spreadsheet::caseload_csv))
         .route("/api/patients/{id}/fhir", get(fhir::bundle))
         .route("/api/regimen/schema", get(regimen::regimen_schema))
+        .route("/api/regimen/presets", get(regimen::regimen_presets))
         .route("/api/patients/{id}/live", get(live::live))
         .route("/api/sessions/{id}", get(sessions::one))
         .route("/api/sessions/{id}/summaries", get(sessions::summaries))

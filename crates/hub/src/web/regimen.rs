@@ -62,6 +62,17 @@ pub(crate) async fn regimen_schema(Authed(_): Authed) -> Json<serde_json::Value>
     Json(REGIMEN_SCHEMA.clone())
 }
 
+/// The presets, derived once from the regimen crate's definitions.
+static PRESETS: std::sync::LazyLock<Vec<regimen::presets::PresetView>> =
+    std::sync::LazyLock::new(regimen::presets::preset_views);
+
+/// `GET /api/regimen/presets`: easy, medium and hard for every exercise kind, each with its
+/// words and the fields it sets (`regimen::presets`), for the prescribe form. No patient data,
+/// so not audited; a login is required.
+pub(crate) async fn regimen_presets(Authed(_): Authed) -> Json<Vec<regimen::presets::PresetView>> {
+    Json(PRESETS.clone())
+}
+
 /// Body of `PUT /api/patients/{id}/regimen`: the regimen as TOML text, or as the fields the
 /// console's form edits (JSON, written as TOML here); exactly one of the two.
 #[derive(Deserialize)]
