@@ -16,7 +16,7 @@ use netlink::{Bye, CheckIn, ExerciseResult, Hello, PROTOCOL_VERSION};
 use serde_json::{Value, json};
 use tokio::sync::broadcast;
 
-use common::api::{PASSWORD, actions, call, login};
+use common::api::{actions, call, clinician, login};
 
 /// 2026-11-21 09:30 UTC.
 const T0: i64 = common::T0;
@@ -26,9 +26,7 @@ const FP: [&str; 2] = [
 ];
 
 async fn therapist(db: &Db) -> Therapist {
-    db.add_therapist("ada@clinic.example", PASSWORD, Role::Therapist, T0)
-        .await
-        .unwrap()
+    clinician(db, "ada@clinic.example", Role::Therapist).await
 }
 
 /// Patient `pseudonym` of `t`, added at `T0`, with station `st-<pseudonym>`.
@@ -476,10 +474,7 @@ async fn the_caseload_sorts_by_need_and_filters_by_alert_kind(db: Db) {
     assert!(v["error"].as_str().unwrap().contains("need"), "{v}");
     let _ = idle;
     // An admin sees every patient; "mine" leaves only their own.
-    let root = db
-        .add_therapist("root@clinic.example", PASSWORD, Role::Admin, T0)
-        .await
-        .unwrap();
+    let root = clinician(&db, "root@clinic.example", Role::Admin).await;
     db.add_patient("R-own", Some(&root.id), T0).await.unwrap();
     let admin = login(&app, "root@clinic.example").await;
     let (_, v, _) = call(&app, Method::GET, "/api/patients", Some(&admin), None).await;
@@ -604,9 +599,7 @@ async fn acknowledged_and_snoozed_alerts_are_audited_and_wake_on_something_new(d
 
 async fn the_clinics_thresholds_have_explained_defaults_and_only_admins_change_them(db: Db) {
     therapist(&db).await;
-    db.add_therapist("root@clinic.example", PASSWORD, Role::Admin, T0)
-        .await
-        .unwrap();
+    clinician(&db, "root@clinic.example", Role::Admin).await;
     let now = Arc::new(AtomicI64::new(T0));
     let app = app(&db, &now);
     let ada = login(&app, "ada@clinic.example").await;

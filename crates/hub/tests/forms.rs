@@ -6,17 +6,12 @@ mod common;
 
 use common::{T0, hello};
 
-use common::api::{PASSWORD, actions, call, login};
+use common::api::{actions, call, clinician, login, router_at_t0};
 
-use std::sync::Arc;
-
-use axum::Router;
 use axum::http::{Method, StatusCode};
-use hub::web::{self, AppState};
 use hub::{Db, Role};
 use netlink::WheelInfo;
 use serde_json::json;
-use tokio::sync::broadcast;
 
 fn g29() -> WheelInfo {
     WheelInfo {
@@ -27,26 +22,18 @@ fn g29() -> WheelInfo {
     }
 }
 
-fn app_of(db: &Db) -> Router {
-    let (live, _) = broadcast::channel(4);
-    web::router(AppState::new(db.clone(), live).with_clock(Arc::new(|| T0)))
-}
-
 const FINGERPRINT_A: &str = "aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa";
 const FINGERPRINT_B: &str = "bbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbb";
 
 async fn a_regimen_above_the_patients_wheel_is_refused_naming_exercise_field_value_and_wheel(
     db: Db,
 ) {
-    let ada = db
-        .add_therapist("ada@clinic.example", PASSWORD, Role::Therapist, T0)
-        .await
-        .unwrap();
+    let ada = clinician(&db, "ada@clinic.example", Role::Therapist).await;
     let p = db.add_patient("P-0042", Some(&ada.id), T0).await.unwrap();
     db.add_station("st-1", &p.id, FINGERPRINT_A, T0)
         .await
         .unwrap();
-    let app = app_of(&db);
+    let app = router_at_t0(&db);
     let cookie = login(&app, "ada@clinic.example").await;
     let patient_uri = format!("/api/patients/{}", p.id);
     let regimen_uri = format!("/api/patients/{}/regimen", p.id);
@@ -138,13 +125,8 @@ async fn a_regimen_above_the_patients_wheel_is_refused_naming_exercise_field_val
 }
 
 async fn a_session_note_is_posted_listed_with_its_therapist_audited_and_hidden_from_others(db: Db) {
-    let ada = db
-        .add_therapist("ada@clinic.example", PASSWORD, Role::Therapist, T0)
-        .await
-        .unwrap();
-    db.add_therapist("bob@clinic.example", PASSWORD, Role::Therapist, T0)
-        .await
-        .unwrap();
+    let ada = clinician(&db, "ada@clinic.example", Role::Therapist).await;
+    clinician(&db, "bob@clinic.example", Role::Therapist).await;
     let p = db.add_patient("P-0042", Some(&ada.id), T0).await.unwrap();
     db.add_station("st-1", &p.id, FINGERPRINT_A, T0)
         .await
@@ -152,7 +134,7 @@ async fn a_session_note_is_posted_listed_with_its_therapist_audited_and_hidden_f
     db.open_session(&hello("st-1", &p.id, "s-1"), T0)
         .await
         .unwrap();
-    let app = app_of(&db);
+    let app = router_at_t0(&db);
     let cookie = login(&app, "ada@clinic.example").await;
     let uri = "/api/sessions/s-1/notes";
     let text = "Tired today; shoulder pain 3/10.\nKeep the ceiling low next week.";
@@ -224,10 +206,7 @@ async fn a_session_note_is_posted_listed_with_its_therapist_audited_and_hidden_f
 }
 
 async fn a_note_empty_too_long_or_with_control_characters_is_refused_naming_why(db: Db) {
-    let ada = db
-        .add_therapist("ada@clinic.example", PASSWORD, Role::Therapist, T0)
-        .await
-        .unwrap();
+    let ada = clinician(&db, "ada@clinic.example", Role::Therapist).await;
     let p = db.add_patient("P-0042", Some(&ada.id), T0).await.unwrap();
     db.add_station("st-1", &p.id, FINGERPRINT_A, T0)
         .await
@@ -235,7 +214,7 @@ async fn a_note_empty_too_long_or_with_control_characters_is_refused_naming_why(
     db.open_session(&hello("st-1", &p.id, "s-1"), T0)
         .await
         .unwrap();
-    let app = app_of(&db);
+    let app = router_at_t0(&db);
     let cookie = login(&app, "ada@clinic.example").await;
     let uri = "/api/sessions/s-1/notes";
     // Counted in characters: 2 000 of 'é' (4 000 bytes) are allowed.

@@ -6,29 +6,16 @@ mod common;
 
 use common::T0;
 
-use common::api::{PASSWORD, call, login};
+use common::api::{call, clinician, login, router_at_t0};
 
-use std::sync::Arc;
-
-use axum::Router;
 use axum::http::{Method, StatusCode};
-use hub::web::{self, AppState};
 use hub::{Db, Role};
 use serde_json::{Value, json};
-use tokio::sync::broadcast;
-
-fn app_of(db: &Db) -> Router {
-    let (live, _) = broadcast::channel(4);
-    web::router(AppState::new(db.clone(), live).with_clock(Arc::new(|| T0)))
-}
 
 async fn every_preset_is_served_and_prescribed_in_sets_with_minutes_and_rests(db: Db) {
-    let ada = db
-        .add_therapist("ada@clinic.example", PASSWORD, Role::Therapist, T0)
-        .await
-        .unwrap();
+    let ada = clinician(&db, "ada@clinic.example", Role::Therapist).await;
     let p = db.add_patient("P-0042", Some(&ada.id), T0).await.unwrap();
-    let app = app_of(&db);
+    let app = router_at_t0(&db);
     let (status, _, _) = call(&app, Method::GET, "/api/regimen/presets", None, None).await;
     assert_eq!(status, StatusCode::UNAUTHORIZED);
     let cookie = login(&app, "ada@clinic.example").await;
@@ -87,14 +74,8 @@ fn triples(page: &Value) -> Vec<(String, String, String)> {
 }
 
 async fn the_audit_log_filters_by_therapist_action_and_patient_and_pages_for_admins_only(db: Db) {
-    let admin = db
-        .add_therapist("root@clinic.example", PASSWORD, Role::Admin, T0)
-        .await
-        .unwrap();
-    let ada = db
-        .add_therapist("ada@clinic.example", PASSWORD, Role::Therapist, T0)
-        .await
-        .unwrap();
+    let admin = clinician(&db, "root@clinic.example", Role::Admin).await;
+    let ada = clinician(&db, "ada@clinic.example", Role::Therapist).await;
     let p1 = db.add_patient("P-0001", Some(&ada.id), T0).await.unwrap();
     let p2 = db.add_patient("P-0002", Some(&ada.id), T0).await.unwrap();
     for (i, target) in [&p1.id, &p2.id, &p1.id, &p1.id].into_iter().enumerate() {
@@ -105,7 +86,7 @@ async fn the_audit_log_filters_by_therapist_action_and_patient_and_pages_for_adm
     db.audit(&admin.actor(), "put_regimen", &p1.id, "version 1", T0 + 10)
         .await
         .unwrap();
-    let app = app_of(&db);
+    let app = router_at_t0(&db);
     let ada_cookie = login(&app, "ada@clinic.example").await;
     let uri = format!("/api/audit?target={}", p1.id);
     let (status, _, _) = call(&app, Method::GET, &uri, Some(&ada_cookie), None).await;

@@ -12,6 +12,21 @@ use tower::ServiceExt;
 /// Every test therapist's password.
 pub const PASSWORD: &str = "correct horse battery";
 
+/// A clinician account (`ada@clinic.example`, [`PASSWORD`]) added at [`super::T0`].
+pub async fn clinician(db: &Db, email: &str, role: hub::Role) -> hub::Therapist {
+    db.add_therapist(email, PASSWORD, role, super::T0)
+        .await
+        .unwrap()
+}
+
+/// The console's router over `db` with its clock stopped at [`super::T0`].
+pub fn router_at_t0(db: &Db) -> Router {
+    let (live, _) = tokio::sync::broadcast::channel(4);
+    hub::web::router(
+        hub::web::AppState::new(db.clone(), live).with_clock(std::sync::Arc::new(|| super::T0)),
+    )
+}
+
 /// One request (a JSON body when given, the cookie when given): the status, the JSON answer
 /// (`null` when none) and the session cookie it sets, if any.
 pub async fn call(
