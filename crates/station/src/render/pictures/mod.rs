@@ -182,10 +182,15 @@ pub fn draw_with_caption(
         rect.width(),
     );
     let caption_h = g.size().y;
-    let pic = Rect::from_min_max(rect.min, pos2(rect.max.x, rect.max.y - caption_h - 8.0));
+    // The picture at the top, as large as fits, and its caption right under it.
+    let side = rect.width().min(rect.height() - caption_h - 8.0).max(0.0);
+    let pic = Rect::from_min_size(
+        pos2(rect.center().x - side / 2.0, rect.min.y),
+        egui::vec2(side, side),
+    );
     draw(p, picture, pic, anim_s);
     let x = rect.center().x - g.size().x / 2.0;
-    p.galley(pos2(x, rect.max.y - caption_h), g, color);
+    p.galley(pos2(x, pic.max.y + 8.0), g, color);
     caption_h
 }
 
