@@ -68,4 +68,5 @@ pub mod resident;
 pub mod screen;
 pub mod session;
 pub mod settings;
+pub mod speech;
 pub mod timing;

@@ -320,7 +320,8 @@ impl CourseView {
                 }
                 card
             }
-            ScreenState::Paused => ScreenState::Instruction {
+            ScreenState::Paused => ScreenState::Pictured {
+                picture: render::pictures::Picture::Pause,
                 title: "Paused".into(),
                 lines: vec!["Space: go on".into(), "R: rest · Esc: end".into()],
             },
@@ -358,11 +359,7 @@ impl CourseView {
             } else {
                 plain_instruction(&ex.short).into()
             },
-            movement: if ex.road.is_some() {
-                Movement::Steer
-            } else {
-                Movement::Dial
-            },
+            movement: Movement::of_exercise(&ex.short),
             countdown_s,
             keys: vec![format!("{key} (or a wheel button)")],
             anim_s: w.anim_s,
@@ -530,7 +527,7 @@ mod tests {
         }
         let plain = WindowState::default();
         match v.screen_state(&tick(9000, 0, 8.0, true), &plain) {
-            ScreenState::Instruction { title, lines } => {
+            ScreenState::Pictured { title, lines, .. } => {
                 assert_eq!(title, "Paused");
                 assert!(lines.iter().any(|l| l.contains("R: rest")), "{lines:?}");
             }

@@ -160,6 +160,7 @@ fn serve(socket: UnixStream) -> anyhow::Result<()> {
                 anim_s: shown_at.elapsed().as_secs_f64(),
             };
             let screen = screen_now(&view, &rec, &state, &mut explain_pause);
+            crate::speech::speak_page(&screen);
             message.drawing(&screen);
             Some(view.scene_with_arm(&rec, screen, l.arm_measured_m))
         };
@@ -240,7 +241,7 @@ fn screen_now(
     explain_pause: &mut bool,
 ) -> ScreenState {
     match view.screen_state(rec, state) {
-        ScreenState::Instruction { .. }
+        ScreenState::Instruction { .. } | ScreenState::Pictured { .. }
             if *explain_pause
                 && !state.confirming_end
                 && live_screen_state(rec) == ScreenState::Paused =>
@@ -299,6 +300,8 @@ fn course_view(hello: &Hello) -> anyhow::Result<CourseView> {
         .map(toml::from_str)
         .transpose()
         .context("the session's regimen")?;
+    // The patient's voice and neglected side, from the prescription.
+    crate::speech::for_patient(regimen.as_ref().and_then(|r| r.patient.as_ref()));
     let mut view = CourseView::new(&cfg, regimen.as_ref())?;
     view.set_message(hello.message.clone());
     Ok(view)

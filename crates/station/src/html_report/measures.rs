@@ -36,7 +36,7 @@ const fn m(
 }
 
 /// The measures shown, in order (those a session lacks are left out).
-pub(super) const MEASURES: [Measure; 27] = [
+pub(super) const MEASURES: [Measure; 31] = [
     m("session_s", "Session length", "s", 0, Better::Neither),
     m("paused_s", "Paused", "s", 0, Better::Neither),
     m("movements", "Movements", "", 0, Better::Neither),
@@ -93,6 +93,35 @@ pub(super) const MEASURES: [Measure; 27] = [
     m(
         "initial_direction_error_deg_mean",
         "Initial direction error (mean; 180° = every start the wrong way)",
+        "°",
+        0,
+        Better::Lower,
+    ),
+    // By side, for a patient who neglects one (targets on the left against the right).
+    m(
+        "reaction_time_left_s_median",
+        "Reaction time, targets on the left (median)",
+        "s",
+        2,
+        Better::Lower,
+    ),
+    m(
+        "reaction_time_right_s_median",
+        "Reaction time, targets on the right (median)",
+        "s",
+        2,
+        Better::Lower,
+    ),
+    m(
+        "initial_direction_error_left_deg_mean",
+        "Initial direction error, targets on the left (mean)",
+        "°",
+        0,
+        Better::Lower,
+    ),
+    m(
+        "initial_direction_error_right_deg_mean",
+        "Initial direction error, targets on the right (mean)",
         "°",
         0,
         Better::Lower,
@@ -229,7 +258,7 @@ const fn shared(key: &str) -> Measure {
 
 /// An exercise's own results shown in the per-exercise table, in order (rows no exercise has
 /// are left out).
-pub(super) const EXERCISE_MEASURES: [Measure; 26] = [
+pub(super) const EXERCISE_MEASURES: [Measure; 30] = [
     shared("rms_lateral_m"),
     shared("pct_in_lane"),
     m(
@@ -295,6 +324,10 @@ pub(super) const EXERCISE_MEASURES: [Measure; 26] = [
     shared("speed_metric_median"),
     shared("reaction_time_s_median"),
     shared("initial_direction_error_deg_mean"),
+    shared("reaction_time_left_s_median"),
+    shared("reaction_time_right_s_median"),
+    shared("initial_direction_error_left_deg_mean"),
+    shared("initial_direction_error_right_deg_mean"),
     shared("path_length_ratio_median"),
     shared("movements_per_min"),
     shared("reversals_per_min"),

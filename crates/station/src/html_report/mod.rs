@@ -743,6 +743,32 @@ mod tests {
     }
 
     #[test]
+    fn reaction_times_and_direction_errors_are_shown_for_each_side() {
+        let mut s = session(0, "dial-step", -1.7);
+        s.measures.extend([
+            ("reaction_time_left_s_median".to_owned(), 1.25),
+            ("reaction_time_right_s_median".to_owned(), 0.45),
+            ("initial_direction_error_left_deg_mean".to_owned(), 60.0),
+            ("initial_direction_error_right_deg_mean".to_owned(), 0.0),
+        ]);
+        let html = render(vec![s]).unwrap();
+        let one = section(&html, "session-1");
+        for key in [
+            "reaction_time_left_s_median",
+            "reaction_time_right_s_median",
+            "initial_direction_error_left_deg_mean",
+            "initial_direction_error_right_deg_mean",
+        ] {
+            let m = MEASURES.iter().find(|m| m.key == key).unwrap();
+            assert!(one.contains(m.label), "{key}: {one}");
+        }
+        assert!(
+            one.contains(">1.25 s<") && one.contains(">0.45 s<"),
+            "{one}"
+        );
+    }
+
+    #[test]
     fn the_report_has_landmarks_captions_and_every_chart_as_a_table() {
         let html = render(vec![
             session(0, "sine-road", -2.0),

@@ -2,11 +2,11 @@
 //!
 //! Layout is in egui points on a 1280×720 reference screen; `pixels_per_point` scales it to
 //! the real size, so text keeps the same share of the screen in a small window and in
-//! full-screen. Sizes are chosen for older patients reading a TV from 2 m: the smallest text
-//! of a session's screen is [`MIN_TEXT_PT`] = 24 pt at the reference size, that is **36 px at
-//! 1080p** (3.3 % of the screen height: about 17 mm on a 40-inch TV, some 30 arc minutes at
-//! 2 m), white on a dark panel or near-black on white; the cards' lines are 32 pt (48 px at
-//! 1080p) and their titles 48–52 pt.
+//! full-screen. Sizes are chosen for older patients reading a TV from 2 m
+//! ([`super::layout::MIN_CAP_ARCMIN`]): the smallest text of a session's screen is
+//! [`MIN_TEXT_PT`] = 25 pt at the reference size, **37.5 px at 1080p** (capitals 26 px: 20
+//! arc minutes at 2 m on a 40-inch TV), white on a dark panel or near-black on white; the
+//! cards' lines are 32 pt (48 px at 1080p) and their titles 48–52 pt.
 
 use egui::epaint::{ClippedPrimitive, Shape};
 use egui::{
@@ -15,14 +15,20 @@ use egui::{
 };
 use std::sync::Arc;
 
+use super::layout;
 use super::scene::{Dial, LiveScore, Scene, ScreenState};
+use regimen::NeglectedSide;
 
 pub mod arm_inset;
 mod next_card;
+mod picture_card;
+#[cfg(test)]
+mod sizes;
 mod welcome;
 
-/// The smallest text of a session's screen, points at the reference size (36 px at 1080p).
-pub const MIN_TEXT_PT: f32 = 24.0;
+/// The smallest text of a session's screen, points at the reference size (37.5 px at
+/// 1080p: capitals 26 px high, over the 20′ at 2 m of `layout::MIN_CAP_ARCMIN`).
+pub const MIN_TEXT_PT: f32 = 25.0;
 
 /// Reference layout size, points.
 pub const REFERENCE_SIZE: [f32; 2] = [1280.0, 720.0];
@@ -32,11 +38,12 @@ pub const DESIRED_NEEDLE: Color32 = Color32::from_rgb(0xD3, 0x2F, 0x2F);
 /// Colour of the actual-angle needle (thesis Fig. 3-7a: black).
 pub const ACTUAL_NEEDLE: Color32 = Color32::from_rgb(0x14, 0x14, 0x14);
 
-const PANEL: Color32 = Color32::from_rgba_premultiplied(18, 24, 32, 190);
-const TEXT: Color32 = Color32::WHITE;
-pub(super) const CARD: Color32 = Color32::from_rgb(0xFB, 0xFB, 0xF8);
-pub(super) const CARD_TEXT: Color32 = Color32::from_rgb(0x1A, 0x1F, 0x26);
-pub(super) const ACCENT: Color32 = Color32::from_rgb(0x4F, 0xA3, 0x6B);
+// The colours of text and panels are in `palette`, where a test checks their contrast.
+const PANEL: Color32 = super::palette::PANEL;
+const TEXT: Color32 = super::palette::PANEL_TEXT;
+pub(super) const CARD: Color32 = super::palette::CARD;
+pub(super) const CARD_TEXT: Color32 = super::palette::CARD_TEXT;
+pub(super) const ACCENT: Color32 = super::palette::ACCENT;
 const MARGIN: f32 = 16.0;
 pub(super) const PAD: f32 = 12.0;
 
@@ -90,7 +97,7 @@ impl HudPainter {
             .native_pixels_per_point = Some(ppp);
         let output = self.ctx.run_pass(input, |ctx| {
             let painter = ctx.layer_painter(LayerId::new(Order::Foreground, Id::unique("hud")));
-            paint(&painter, scene, size);
+            paint(&painter, scene, size, layout::neglected_side());
         });
         let primitives = self.ctx.tessellate(output.shapes, output.pixels_per_point);
         HudFrame {
@@ -188,14 +195,14 @@ pub fn strength_words(side: i8) -> &'static str {
 
 /// The strength test's instruction and a bar of the patient's torque (full at the ceiling),
 /// in the middle of the screen.
-fn strength_bar(p: &Painter, size: Vec2, side: i8, push_nm: f64, ceiling_nm: f64) {
+fn strength_bar(p: &Painter, size: Vec2, side: i8, push_nm: f64, ceiling_nm: f64, mid_x: f32) {
     let words = galley(p, strength_words(side), 32.0, TEXT);
     let bar = vec2((size.x * 0.6).max(200.0), 48.0);
     let panel = vec2(
         words.size().x.max(bar.x) + 4.0 * PAD,
         words.size().y + bar.y + 3.0 * PAD,
     );
-    let rect = Rect::from_center_size(pos2(size.x * 0.5, size.y * 0.5), panel);
+    let rect = Rect::from_center_size(pos2(mid_x, size.y * 0.5), panel);
     p.rect_filled(rect, CornerRadius::same(12), PANEL);
     let wh = words.size().y;
     p.galley(
@@ -225,36 +232,44 @@ fn strength_bar(p: &Painter, size: Vec2, side: i8, push_nm: f64, ceiling_nm: f64
     p.rect_filled(fill, CornerRadius::same(8), ACCENT);
 }
 
-fn paint(p: &Painter, scene: &Scene, size: Vec2) {
+/// Paints `scene` on a screen of `size` points for a patient who neglects `neglected`: the
+/// HUD's panels mirrored and the cards moved off that side ([`super::layout`]).
+pub(crate) fn paint(p: &Painter, scene: &Scene, size: Vec2, neglected: NeglectedSide) {
     if let ScreenState::Welcome(page) = &scene.screen {
         welcome::paint(p, page, size);
         return;
     }
     let hud = &scene.hud;
     let (w, h) = (size.x, size.y);
+    // A HUD anchor (x, y, alignment) moved for the neglected side.
+    let at = |x: f32, y: f32, align: Align2| {
+        (
+            pos2(layout::hud_x(x, w, neglected), y),
+            layout::hud_align(align, neglected),
+        )
+    };
     if let Some(dial) = &scene.dial {
         if scene.has_road() {
             let r = 105.0;
-            paint_dial(p, dial, pos2(w - MARGIN - r - 10.0, h * 0.5), r, false);
+            let (c, _) = at(w - MARGIN - r - 10.0, h * 0.5, Align2::CENTER_CENTER);
+            paint_dial(p, dial, c, r, false);
         } else {
             let r = (w.min(h) * 0.33).max(40.0);
-            paint_dial(p, dial, pos2(w * 0.5, h * 0.52), r, true);
+            let (c, _) = at(w * 0.5, h * 0.52, Align2::CENTER_CENTER);
+            paint_dial(p, dial, c, r, true);
         }
     }
     if !hud.exercise.is_empty() {
-        text_panel(
-            p,
-            pos2(MARGIN, MARGIN),
-            Align2::LEFT_TOP,
-            &[(hud.exercise.clone(), 30.0)],
-        );
+        let (pos, align) = at(MARGIN, MARGIN, Align2::LEFT_TOP);
+        text_panel(p, pos, align, &[(hud.exercise.clone(), 30.0)]);
     }
+    let (pos, align) = at(w * 0.5, MARGIN, Align2::CENTER_TOP);
     text_panel(
         p,
-        pos2(w * 0.5, MARGIN),
-        Align2::CENTER_TOP,
+        pos,
+        align,
         &[
-            ("Time left".into(), 22.0),
+            ("Time left".into(), MIN_TEXT_PT),
             (format_time_left(hud.time_left_s), 44.0),
         ],
     );
@@ -264,44 +279,36 @@ fn paint(p: &Painter, scene: &Scene, size: Vec2) {
         ceiling_nm,
     } = hud.score
     {
-        strength_bar(p, size, side, push_nm, ceiling_nm);
+        let mid_x = layout::hud_x(w * 0.5, w, neglected);
+        strength_bar(p, size, side, push_nm, ceiling_nm, mid_x);
     }
     let score = score_lines(&hud.score);
     if !score.is_empty() {
-        text_panel(p, pos2(w - MARGIN, MARGIN), Align2::RIGHT_TOP, &score);
+        let (pos, align) = at(w - MARGIN, MARGIN, Align2::RIGHT_TOP);
+        text_panel(p, pos, align, &score);
     }
     if scene.has_road() {
         let kmh = hud.speed_m_s * 3.6;
-        text_panel(
-            p,
-            pos2(MARGIN, h - MARGIN),
-            Align2::LEFT_BOTTOM,
-            &[(format!("{kmh:.0} km/h"), 30.0)],
-        );
+        let (pos, align) = at(MARGIN, h - MARGIN, Align2::LEFT_BOTTOM);
+        text_panel(p, pos, align, &[(format!("{kmh:.0} km/h"), 30.0)]);
     }
-    assist_bar(
-        p,
-        pos2(
-            MARGIN,
-            h - MARGIN - if scene.has_road() { 78.0 } else { 0.0 },
-        ),
-        hud.assist_level,
+    let (pos, align) = at(
+        MARGIN,
+        h - MARGIN - if scene.has_road() { 78.0 } else { 0.0 },
+        Align2::LEFT_BOTTOM,
     );
+    assist_bar(p, pos, align, hud.assist_level);
     if !hud.devices.is_empty() {
         let lines: Vec<_> = hud
             .devices
             .iter()
             .map(|d| (d.clone(), MIN_TEXT_PT))
             .collect();
-        text_panel(
-            p,
-            pos2(w - MARGIN, h - MARGIN),
-            Align2::RIGHT_BOTTOM,
-            &lines,
-        );
+        let (pos, align) = at(w - MARGIN, h - MARGIN, Align2::RIGHT_BOTTOM);
+        text_panel(p, pos, align, &lines);
     }
     if let Some(arm) = &scene.arm {
-        arm_inset::paint(p, arm, arm_inset::anchor(size));
+        arm_inset::paint(p, arm, arm_inset::anchor_for(p, size, neglected));
     }
     match &scene.screen {
         ScreenState::Running => {}
@@ -315,21 +322,30 @@ fn paint(p: &Painter, scene: &Scene, size: Vec2) {
         }
         ScreenState::Paused => card(p, size, "Paused", &["Press Space to continue".to_string()]),
         ScreenState::Instruction { title, lines } => card(p, size, title, lines),
-        ScreenState::Next(next) => next_card::paint(p, size, next),
+        ScreenState::Pictured {
+            picture,
+            title,
+            lines,
+        } => picture_card::paint(p, size, *picture, title, lines, neglected),
+        ScreenState::Next(next) => {
+            next_card::paint(p, size, next, neglected);
+            // Before each exercise: the anchoring cue on the neglected side.
+            layout::paint_cue(p, size, neglected, next.anim_s);
+        }
         ScreenState::Summary(lines) => card(p, size, "Session complete", lines),
         ScreenState::Welcome(_) => {}
     }
 }
 
 /// "Help" label and a bar showing the assist level, bottom-left.
-fn assist_bar(p: &Painter, bottom_left: Pos2, level: f64) {
-    let label = galley(p, format!("Help {:.0} %", level * 100.0), 24.0, TEXT);
+fn assist_bar(p: &Painter, anchor: Pos2, align: Align2, level: f64) {
+    let label = galley(p, format!("Help {:.0} %", level * 100.0), MIN_TEXT_PT, TEXT);
     let bar = vec2(180.0, 16.0);
     let size = vec2(
         label.size().x.max(bar.x) + 2.0 * PAD,
         label.size().y + bar.y + 8.0 + 2.0 * PAD,
     );
-    let rect = Align2::LEFT_BOTTOM.anchor_size(bottom_left, size);
+    let rect = align.anchor_size(anchor, size);
     p.rect_filled(rect, CornerRadius::same(12), PANEL);
     let lh = label.size().y;
     p.galley(rect.left_top() + vec2(PAD, PAD), label, TEXT);
@@ -358,7 +374,9 @@ pub(super) fn card(p: &Painter, size: Vec2, title: &str, lines: &[String]) {
         + 4.0 * PAD;
     let h =
         title_g.size().y + 12.0 + line_g.iter().map(|g| g.size().y + 4.0).sum::<f32>() + 4.0 * PAD;
-    let rect = Rect::from_center_size(pos2(size.x / 2.0, size.y / 2.0), vec2(w.max(420.0), h));
+    // Centred, or in the middle of the side the patient attends to.
+    let cx = layout::hud_x(size.x / 2.0, size.x, layout::neglected_side());
+    let rect = Rect::from_center_size(pos2(cx, size.y / 2.0), vec2(w.max(420.0), h));
     p.rect_filled(rect, CornerRadius::same(18), CARD);
     let mut y = rect.top() + 2.0 * PAD;
     let th = title_g.size().y;

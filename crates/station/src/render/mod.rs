@@ -14,8 +14,10 @@ pub mod camera;
 pub mod demo;
 mod gpu;
 pub mod hud;
+pub mod layout;
 pub mod mesh;
 pub mod palette;
+pub mod pictures;
 mod scene;
 pub mod window;
 

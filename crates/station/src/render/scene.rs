@@ -128,6 +128,15 @@ pub enum ScreenState {
         /// How, and for how long.
         lines: Vec<String>,
     },
+    /// A card with a picture and its caption (the pause), then a title and lines.
+    Pictured {
+        /// The picture; its caption is the card's main sentence.
+        picture: super::pictures::Picture,
+        /// What to do, in a few words.
+        title: String,
+        /// How (the keys or buttons).
+        lines: Vec<String>,
+    },
     /// Before an exercise (the first, or the next one after a break or rest): what comes
     /// next in plain words, with a picture of the movement and the rest's countdown.
     Next(NextCard),
@@ -138,15 +147,8 @@ pub enum ScreenState {
     Welcome(Welcome),
 }
 
-/// The movement an exercise asks for, drawn on the [`NextCard`].
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub enum Movement {
-    /// Steering a car along a road: a wheel turning left and right.
-    #[default]
-    Steer,
-    /// Following the red needle of the dial with the black one.
-    Dial,
-}
+/// The movement an exercise asks for, drawn on the [`NextCard`]: each its own picture.
+pub use super::pictures::Movement;
 
 /// The card before an exercise: "Exercise 2 of 4", its name, what to do, the movement, and
 /// the rest's countdown if one is in progress.

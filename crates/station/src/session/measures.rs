@@ -120,6 +120,9 @@ enum Cue {
 /// What a response to a step gives, of either kind of step.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct Reaction {
+    /// The target was on the patient's left (a dial target at a positive angle, a lane
+    /// change to the left): the report splits by side for a neglected side.
+    left: bool,
     reaction_time_s: Option<f64>,
     initial_direction_error_deg: Option<f64>,
     path_length_ratio: Option<f64>,
@@ -427,6 +430,7 @@ impl MeasureCollector {
             let params = ResponseParams::default();
             if let Ok(rs) = step_responses(angle, self.fs_hz(), &steps, &params) {
                 out.extend(rs.into_iter().map(|r| Reaction {
+                    left: r.step.target_rad > 0.0,
                     reaction_time_s: r.reaction_time_s,
                     initial_direction_error_deg: r.initial_direction_error_deg,
                     path_length_ratio: r.path_length_ratio,
@@ -440,6 +444,7 @@ impl MeasureCollector {
                 directed_step_responses(angle, fs_hz, &shifts, LANE_SHIFT_LEAD_S, &params)
             {
                 out.extend(rs.into_iter().map(|r| Reaction {
+                    left: r.step.direction > 0.0,
                     reaction_time_s: r.reaction_time_s,
                     initial_direction_error_deg: r.initial_direction_error_deg,
                     path_length_ratio: None,
@@ -872,6 +877,24 @@ fn name_step_responses(named: &mut BTreeMap<String, f64>, responses: &[Reaction]
             named.insert(format!("{name}_{key}"), v);
         }
     }
+    name_by_side(named, responses);
+}
+
+/// The median reaction time and the mean initial direction error to targets on the left
+/// and on the right, apart (`reaction_time_left_s_median`, …): a patient who neglects a side
+/// is slower and errs more towards it. A side without targets is left out.
+fn name_by_side(named: &mut BTreeMap<String, f64>, responses: &[Reaction]) {
+    for (side, left) in [("left", true), ("right", false)] {
+        let of_side = || responses.iter().filter(move |r| r.left == left);
+        let times = metrics::Summary::of(of_side().filter_map(|r| r.reaction_time_s));
+        if let Some(v) = times.median {
+            named.insert(format!("reaction_time_{side}_s_median"), v);
+        }
+        let errors = metrics::Summary::of(of_side().filter_map(|r| r.initial_direction_error_deg));
+        if let Some(v) = errors.mean {
+            named.insert(format!("initial_direction_error_{side}_deg_mean"), v);
+        }
+    }
 }
 
 #[cfg(test)]
@@ -994,6 +1017,53 @@ mod tests {
         let (later, _) = measured(MeasureCollector::new(1000.0, 4000), &a_step_followed(0.9));
         let rt_later = later.named["reaction_time_s_median"];
         assert!((rt_later - rt - 0.5).abs() < 0.02, "{rt} then {rt_later}");
+    }
+
+    /// The wheel following a step of the target to the left (+0.5 rad at 1 s, after 0.3 s)
+    /// and back to the right (−0.5 rad at 3 s, after `right_delay_s`), at 1 kHz for 6 s.
+    fn left_then_right(right_delay_s: f64) -> Vec<TickRecord> {
+        let turn = |t: f64, start: f64| {
+            let tau = ((t - start) / 0.8).clamp(0.0, 1.0);
+            10.0 * tau.powi(3) - 15.0 * tau.powi(4) + 6.0 * tau.powi(5)
+        };
+        (0..6000_u64)
+            .map(|k| {
+                let t = k as f64 / 1000.0;
+                let target_rad = match t {
+                    t if t < 1.0 => 0.0,
+                    t if t < 3.0 => 0.5,
+                    _ => -0.5,
+                };
+                TickRecord {
+                    tick: k,
+                    t_ns: k * 1_000_000,
+                    wheel: WheelSample {
+                        angle_rad: 0.5 * turn(t, 1.3) - 1.0 * turn(t, 3.0 + right_delay_s),
+                        target_rad,
+                        ..WheelSample::default()
+                    },
+                    ..TickRecord::default()
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn reaction_times_are_measured_apart_for_targets_on_the_left_and_on_the_right() {
+        let (m, _) = measured(MeasureCollector::new(1000.0, 6000), &left_then_right(0.9));
+        let n = &m.named;
+        let (left, right) = (
+            n["reaction_time_left_s_median"],
+            n["reaction_time_right_s_median"],
+        );
+        // The right-hand target waited for 0.6 s longer.
+        assert!(
+            (right - left - 0.6).abs() < 0.05,
+            "left {left} right {right}"
+        );
+        assert_eq!(n["initial_direction_error_left_deg_mean"], 0.0);
+        assert_eq!(n["initial_direction_error_right_deg_mean"], 0.0);
+        assert!(n.len() <= netlink::frame::MAX_EXTRA_ENTRIES);
     }
 
     #[test]

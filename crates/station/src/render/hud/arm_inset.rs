@@ -101,3 +101,17 @@ pub(super) fn paint(p: &Painter, arm: &ArmInset, left_centre: Pos2) -> Rect {
 pub(super) fn anchor(size: egui::Vec2) -> Pos2 {
     pos2(MARGIN, size.y * 0.5)
 }
+
+/// [`anchor`] for a patient who neglects `side`: with a left neglect the inset's right edge
+/// at the right margin instead (its width as [`paint`] sizes it).
+pub(super) fn anchor_for(p: &Painter, size: egui::Vec2, side: regimen::NeglectedSide) -> Pos2 {
+    if side != regimen::NeglectedSide::Left {
+        return anchor(size);
+    }
+    let picture_w = (VIEW_X_M.1 - VIEW_X_M.0) as f32 * PT_PER_M;
+    let widest = galley(p, label(true), MIN_TEXT_PT, TEXT).size().x + MIN_TEXT_PT + 8.0;
+    pos2(
+        size.x - MARGIN - picture_w.max(widest) - 2.0 * PAD,
+        size.y * 0.5,
+    )
+}

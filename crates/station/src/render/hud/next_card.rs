@@ -1,43 +1,37 @@
-//! The card before an exercise: what comes next in plain words, a small animation of the
-//! movement (a wheel turning left and right, or the dial's needles), and a rest's countdown.
+//! The card before an exercise: what comes next in plain words, the movement's picture with
+//! its caption (a rest's picture during a rest, the next movement small beside its
+//! countdown), kept off the patient's neglected side.
 
-use super::{ACCENT, CARD, CARD_TEXT, MIN_TEXT_PT, PAD, galley, needle_direction, paint_dial};
-use crate::render::scene::{Dial, Movement, NextCard};
-use egui::{Color32, CornerRadius, Painter, Pos2, Rect, Stroke, Vec2, pos2, vec2};
+use super::{ACCENT, CARD, CARD_TEXT, MIN_TEXT_PT, PAD, galley};
+use crate::render::layout;
+use crate::render::pictures::{self, Picture};
+use crate::render::scene::NextCard;
+use egui::{Color32, CornerRadius, Painter, Pos2, Rect, Vec2, pos2, vec2};
+use regimen::NeglectedSide;
 
-/// Paints `next` over a dimmed screen of `size` points.
-pub(super) fn paint(p: &Painter, size: Vec2, next: &NextCard) {
+/// Paints `next` over a dimmed screen of `size` points, kept off the `neglected` side.
+pub(super) fn paint(p: &Painter, size: Vec2, next: &NextCard, neglected: NeglectedSide) {
     p.rect_filled(
         Rect::from_min_size(Pos2::ZERO, size),
         CornerRadius::ZERO,
         Color32::from_black_alpha(150),
     );
-    let rect = Rect::from_center_size(
-        pos2(size.x / 2.0, size.y / 2.0),
-        vec2((size.x - 80.0).min(1160.0), (size.y - 60.0).min(600.0)),
-    );
+    let rect = layout::card_rect(size, vec2(1160.0, 600.0), neglected);
     p.rect_filled(rect, CornerRadius::same(22), CARD);
-    // The picture on the left, the words on the right.
-    let pic_r = (rect.height() * 0.26).min(rect.width() * 0.14);
-    let pic_c = pos2(
-        rect.left() + 3.0 * PAD + pic_r + 10.0,
-        rect.center().y - 20.0,
+    // The picture and its caption on the left (a rest's cup of tea during a rest), the
+    // words on the right.
+    let picture = if next.countdown_s.is_some() {
+        Picture::Rest
+    } else {
+        Picture::Exercise(next.movement)
+    };
+    let pic_w = (rect.width() * 0.36).min(rect.height() * 0.62);
+    let pic_rect = Rect::from_min_size(
+        rect.left_top() + vec2(2.0 * PAD, 2.0 * PAD),
+        vec2(pic_w, rect.height() - 4.0 * PAD),
     );
-    let swing = (next.anim_s * 1.6).sin();
-    match next.movement {
-        Movement::Steer => steering_wheel(p, pic_c, pic_r, swing * 0.9),
-        Movement::Dial => paint_dial(
-            p,
-            &Dial {
-                desired_rad: swing * 0.9,
-                actual_rad: (next.anim_s * 1.6 - 0.35).sin() * 0.85,
-            },
-            pic_c,
-            pic_r,
-            false,
-        ),
-    }
-    let text_left = pic_c.x + pic_r + 4.0 * PAD;
+    pictures::draw_with_caption(p, picture, pic_rect, next.anim_s, CARD_TEXT);
+    let text_left = pic_rect.right() + 3.0 * PAD;
     let width = rect.right() - 3.0 * PAD - text_left;
     let mut y = rect.top() + 3.0 * PAD;
     let line = |text: &str, pt: f32, color: Color32, y: &mut f32| {
@@ -67,13 +61,21 @@ pub(super) fn paint(p: &Painter, size: Vec2, next: &NextCard) {
         let s = left.max(0.0).ceil() as u64;
         let text = format!("{}:{:02}", s / 60, s % 60);
         let g = galley(p, text, 96.0, CARD_TEXT);
+        let (gw, gh) = (g.size().x, g.size().y);
         p.galley(pos2(text_left, y + 4.0), g, CARD_TEXT);
+        // What comes after the rest, small beside the countdown.
+        pictures::draw(
+            p,
+            Picture::Exercise(next.movement),
+            Rect::from_min_size(pos2(text_left + gw + 3.0 * PAD, y + 4.0), vec2(gh, gh)),
+            next.anim_s,
+        );
     }
     let mut ky = rect.bottom() - 2.0 * PAD;
     for k in next.keys.iter().rev() {
-        let g = galley(p, k.clone(), 30.0, Color32::from_gray(70));
+        let g = galley(p, k.clone(), 30.0, crate::render::palette::CARD_KEYS);
         ky -= g.size().y;
-        p.galley(pos2(text_left, ky), g, Color32::from_gray(70));
+        p.galley(pos2(text_left, ky), g, crate::render::palette::CARD_KEYS);
     }
 }
 
@@ -106,46 +108,4 @@ fn paint_message(p: &Painter, message: &str, (left, width): (f32, f32), (top, bo
         g = text(pt);
     }
     p.galley(pos2(left, top), g, CARD_TEXT);
-}
-
-/// A steering wheel of radius `r` at `c`, turned by `turn_rad` (positive anticlockwise), with
-/// arrows showing the turn left and right.
-fn steering_wheel(p: &Painter, c: Pos2, r: f32, turn_rad: f64) {
-    let rim = Color32::from_rgb(0x2A, 0x30, 0x38);
-    p.circle_stroke(c, r, Stroke::new(r * 0.16, rim));
-    p.circle_filled(c, r * 0.2, rim);
-    // Three spokes: left, right and down, turned with the wheel.
-    for spoke in [90.0_f64, -90.0, 180.0] {
-        let d = needle_direction(spoke.to_radians() + turn_rad);
-        p.line_segment([c, c + d * r * 0.92], Stroke::new(r * 0.12, rim));
-    }
-    // A mark at the top of the rim, so the turn is easy to see.
-    let top = needle_direction(turn_rad);
-    p.circle_filled(c + top * r, r * 0.12, ACCENT);
-    // Arrows left and right above the wheel.
-    let arrow = |from: f64, to: f64| {
-        let n = 12;
-        let pts: Vec<Pos2> = (0..=n)
-            .map(|i| {
-                let a = from + (to - from) * f64::from(i) / f64::from(n);
-                c + needle_direction(a.to_radians()) * r * 1.32
-            })
-            .collect();
-        let tip = pts[n as usize];
-        let before = pts[n as usize - 1];
-        let d = (tip - before).normalized();
-        let side = vec2(-d.y, d.x);
-        p.add(egui::Shape::line(pts, Stroke::new(r * 0.07, ACCENT)));
-        p.add(egui::Shape::convex_polygon(
-            vec![
-                tip + d * r * 0.14,
-                tip + side * r * 0.12,
-                tip - side * r * 0.12,
-            ],
-            ACCENT,
-            Stroke::NONE,
-        ));
-    };
-    arrow(15.0, 55.0);
-    arrow(-15.0, -55.0);
 }

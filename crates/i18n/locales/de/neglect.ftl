@@ -1,0 +1,2 @@
+# Der Hinweis vor einer Übung, auf der vernachlässigten Seite.
+neglect-look-here = Schauen Sie hierher.

@@ -1,0 +1,2 @@
+# La señal antes de un ejercicio, en el lado desatendido.
+neglect-look-here = Mire hacia aquí.

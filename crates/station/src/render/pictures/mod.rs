@@ -1,0 +1,279 @@
+//! Our own pictures for the patient's pages, drawn with egui shapes (vector: sharp at any
+//! size), each with a short caption from the `pictures` catalogue.
+//!
+//! A picture shows what a sentence says, for a reader who finds words hard (aphasia): the
+//! movement of each exercise (every kind of road its own road, the dial's needles, pushing
+//! against the wheel), rest, pause, the wheel's buttons, yes and no, the end of a session and
+//! today's page. [`draw`] paints one into a rectangle; [`draw_with_caption`] adds its caption
+//! under it. Moving pictures take an animation clock, s (any clock that moves on).
+
+mod road;
+mod symbols;
+
+use egui::{Color32, FontId, Painter, Rect, pos2};
+
+/// The movement an exercise asks for; each has its own picture.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
+pub enum Movement {
+    /// A winding road (the sine road): turn the wheel left and right.
+    #[default]
+    Steer,
+    /// A straight road: hold the car in the middle.
+    Straight,
+    /// A zigzag road (the triangle road).
+    Zigzag,
+    /// A bend that gets tighter (the clothoid road).
+    Tightening,
+    /// Sharp corners.
+    SharpTurns,
+    /// One S-shaped bend.
+    SBend,
+    /// From one lane into the other.
+    LaneChange,
+    /// Between cones.
+    Slalom,
+    /// Following the red needle of the dial with the black one.
+    Dial,
+    /// Pushing against a wheel that does not move (the strength test).
+    Strength,
+}
+
+impl Movement {
+    /// The movement of the exercise with the stable short name `short` (`"sine-road"`,
+    /// `"dial-step"`, …; see `vehicle::ExerciseSpec::name`).
+    pub fn of_exercise(short: &str) -> Movement {
+        match short {
+            "straight-road" => Movement::Straight,
+            "triangle-road" => Movement::Zigzag,
+            "clothoid-road" => Movement::Tightening,
+            "sharp-turns" => Movement::SharpTurns,
+            "s-bend" => Movement::SBend,
+            "lane-change" => Movement::LaneChange,
+            "slalom" => Movement::Slalom,
+            "strength" => Movement::Strength,
+            s if s.starts_with("dial") || s == "haptic-sweep" => Movement::Dial,
+            _ => Movement::Steer,
+        }
+    }
+
+    /// Every movement.
+    pub const ALL: [Movement; 10] = [
+        Movement::Steer,
+        Movement::Straight,
+        Movement::Zigzag,
+        Movement::Tightening,
+        Movement::SharpTurns,
+        Movement::SBend,
+        Movement::LaneChange,
+        Movement::Slalom,
+        Movement::Dial,
+        Movement::Strength,
+    ];
+}
+
+/// A picture of the patient's pages.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Picture {
+    /// The movement of an exercise.
+    Exercise(Movement),
+    /// A rest: a cup of tea, the hands off the wheel.
+    Rest,
+    /// The exercise is paused.
+    Pause,
+    /// The wheel with its buttons lit: press one.
+    WheelButtons,
+    /// Yes: a tick.
+    Yes,
+    /// No: a cross.
+    No,
+    /// The session is over: a star.
+    Done,
+    /// Today's page: a calendar sheet.
+    Today,
+}
+
+impl Picture {
+    /// Every picture, the exercises' first.
+    pub fn all() -> Vec<Picture> {
+        let mut all: Vec<Picture> = Movement::ALL
+            .iter()
+            .map(|m| Picture::Exercise(*m))
+            .collect();
+        all.extend([
+            Picture::Rest,
+            Picture::Pause,
+            Picture::WheelButtons,
+            Picture::Yes,
+            Picture::No,
+            Picture::Done,
+            Picture::Today,
+        ]);
+        all
+    }
+
+    /// The id of the picture's caption in the `pictures` catalogue.
+    pub fn caption_id(self) -> &'static str {
+        match self {
+            Picture::Exercise(m) => match m {
+                Movement::Steer => "picture-road-winding",
+                Movement::Straight => "picture-road-straight",
+                Movement::Zigzag => "picture-road-zigzag",
+                Movement::Tightening => "picture-road-tightening",
+                Movement::SharpTurns => "picture-road-sharp-turns",
+                Movement::SBend => "picture-road-s-bend",
+                Movement::LaneChange => "picture-road-lane-change",
+                Movement::Slalom => "picture-road-slalom",
+                Movement::Dial => "picture-dial",
+                Movement::Strength => "picture-strength",
+            },
+            Picture::Rest => "picture-rest",
+            Picture::Pause => "picture-pause",
+            Picture::WheelButtons => "picture-buttons",
+            Picture::Yes => "picture-yes",
+            Picture::No => "picture-no",
+            Picture::Done => "picture-done",
+            Picture::Today => "picture-today",
+        }
+    }
+
+    /// The caption in the language in force.
+    pub fn caption(self) -> String {
+        i18n::tr!(self.caption_id())
+    }
+}
+
+/// Dark outlines of the pictures (13:1 on the white card).
+pub const INK: Color32 = Color32::from_rgb(0x2A, 0x30, 0x38);
+
+/// Paints `picture` centred in the largest square inside `rect`, `anim_s` moving it.
+pub fn draw(p: &Painter, picture: Picture, rect: Rect, anim_s: f64) {
+    let side = rect.width().min(rect.height());
+    let sq = Rect::from_center_size(rect.center(), egui::vec2(side, side));
+    match picture {
+        Picture::Exercise(Movement::Dial) => symbols::dial(p, sq, anim_s),
+        Picture::Exercise(Movement::Strength) => symbols::strength(p, sq, anim_s),
+        Picture::Exercise(m) => road::draw(p, m, sq, anim_s),
+        Picture::Rest => symbols::rest(p, sq, anim_s),
+        Picture::Pause => symbols::pause(p, sq),
+        Picture::WheelButtons => symbols::wheel_buttons(p, sq, anim_s),
+        Picture::Yes => symbols::yes(p, sq),
+        Picture::No => symbols::no(p, sq),
+        Picture::Done => symbols::star(p, sq),
+        Picture::Today => symbols::calendar(p, sq),
+    }
+}
+
+/// Caption type size, points at the reference size (see `hud`: 48 px at 1080p).
+pub const CAPTION_PT: f32 = 32.0;
+
+/// Paints `picture` in the top of `rect` and its caption, centred and wrapped, under it in
+/// `color`; returns the caption's height, points.
+pub fn draw_with_caption(
+    p: &Painter,
+    picture: Picture,
+    rect: Rect,
+    anim_s: f64,
+    color: Color32,
+) -> f32 {
+    let g = p.layout(
+        picture.caption(),
+        FontId::proportional(CAPTION_PT),
+        color,
+        rect.width(),
+    );
+    let caption_h = g.size().y;
+    // The picture at the top, as large as fits, and its caption right under it.
+    let side = rect.width().min(rect.height() - caption_h - 8.0).max(0.0);
+    let pic = Rect::from_min_size(
+        pos2(rect.center().x - side / 2.0, rect.min.y),
+        egui::vec2(side, side),
+    );
+    draw(p, picture, pic, anim_s);
+    let x = rect.center().x - g.size().x / 2.0;
+    p.galley(pos2(x, pic.max.y + 8.0), g, color);
+    caption_h
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use egui::{Context, Id, LayerId, Order, vec2};
+    use std::collections::HashSet;
+
+    /// The shapes `picture` paints into a 300-point square at animation time `t`.
+    fn shapes(picture: Picture, t: f64) -> Vec<egui::epaint::ClippedShape> {
+        let ctx = Context::default();
+        let mut out = ctx.run_pass(egui::RawInput::default(), |ctx| {
+            let p = ctx.layer_painter(LayerId::new(Order::Foreground, Id::unique("pic")));
+            draw(
+                &p,
+                picture,
+                Rect::from_min_size(pos2(0.0, 0.0), vec2(300.0, 300.0)),
+                t,
+            );
+        });
+        out.textures_delta.clear();
+        out.shapes
+    }
+
+    #[test]
+    fn every_picture_draws_inside_its_square() {
+        for picture in Picture::all() {
+            let s = shapes(picture, 1.3);
+            assert!(s.len() >= 3, "{picture:?} draws {} shapes", s.len());
+            for c in &s {
+                // What shows: the shape within its clip (the roads are clipped to the frame).
+                let r = c.shape.visual_bounding_rect().intersect(c.clip_rect);
+                if r.is_positive() {
+                    assert!(
+                        r.min.x >= -12.0
+                            && r.min.y >= -12.0
+                            && r.max.x <= 312.0
+                            && r.max.y <= 312.0,
+                        "{picture:?} paints outside its square: {r:?}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn every_road_exercise_has_its_own_picture() {
+        let roads = [
+            "straight-road",
+            "sine-road",
+            "triangle-road",
+            "clothoid-road",
+            "sharp-turns",
+            "s-bend",
+            "lane-change",
+            "slalom",
+        ];
+        let movements: HashSet<Movement> = roads.iter().map(|r| Movement::of_exercise(r)).collect();
+        assert_eq!(movements.len(), roads.len(), "{movements:?}");
+        // And the drawings differ, not only the names: compare the painted shapes.
+        let drawn: HashSet<String> = movements
+            .iter()
+            .map(|m| format!("{:?}", shapes(Picture::Exercise(*m), 0.0)))
+            .collect();
+        assert_eq!(drawn.len(), roads.len());
+    }
+
+    #[test]
+    fn every_picture_has_a_short_caption_in_every_language() {
+        for lang in i18n::LANGUAGES {
+            let cat = i18n::Catalogue::load(lang).unwrap();
+            for picture in Picture::all() {
+                let id = picture.caption_id();
+                assert!(cat.has(id), "{lang}: no caption {id}");
+                let text = cat.message(id, None);
+                assert!(!text.trim().is_empty(), "{lang}: {id} is empty");
+                let words = text.split_whitespace().count();
+                assert!(words <= 12, "{lang}: {id} has {words} words");
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod shots;
