@@ -507,13 +507,15 @@ pub enum EndKind {
     SafetyStop,
     /// Still running (no end reported).
     Running,
+    /// Ended without saying how (an older station, or a connection lost for good).
+    Unreported,
     /// A reason these words do not know (a newer station).
     Other,
 }
 
 impl EndKind {
     /// Every kind, for the table served to the console.
-    pub const ALL: [EndKind; 8] = [
+    pub const ALL: [EndKind; 9] = [
         Self::Complete,
         Self::StoppedByPatient,
         Self::PausedTooLong,
@@ -521,6 +523,7 @@ impl EndKind {
         Self::WheelUnplugged,
         Self::SafetyStop,
         Self::Running,
+        Self::Unreported,
         Self::Other,
     ];
 
@@ -551,6 +554,7 @@ impl EndKind {
             Self::WheelUnplugged => "Stopped early: wheel unplugged",
             Self::SafetyStop => "Stopped early: safety stop (the wheel's force was switched off)",
             Self::Running => "Still running",
+            Self::Unreported => "Ended; how was not reported",
             Self::Other => "Stopped early",
         }
     }

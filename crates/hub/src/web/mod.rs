@@ -13,6 +13,7 @@ mod clinic;
 mod console;
 mod fhir;
 mod live;
+mod measure_words;
 mod messages;
 mod notes;
 mod patients;
@@ -236,6 +237,7 @@ pub fn router(state: AppState) -> Router {
             get(spreadsheet::patient_csv),
         )
         .route("/api/measures.csv", get(spreadsheet::caseload_csv))
+        .route("/api/measures/words", get(measure_words::measure_words))
         .route("/api/patients/{id}/fhir", get(fhir::bundle))
         .route("/api/regimen/schema", get(regimen::regimen_schema))
         .route("/api/patients/{id}/live", get(live::live))
