@@ -3,9 +3,11 @@
 //! noise, nor an end reason's wording.
 
 use axum::Json;
+use axum::extract::State;
 use metrics::words::{EndKind, MEASURES, MeasureWords};
 use serde::Serialize;
 
+use super::AppState;
 use super::auth::Authed;
 
 /// One way a session ends: its key and its one wording.
@@ -36,4 +38,13 @@ pub(crate) async fn measure_words(Authed(_): Authed) -> Json<Words> {
             })
             .collect(),
     })
+}
+
+/// `GET /api/clinic/name`: `{"name": "Rehab Clinic Nord"}` (`null` when `hub.toml` has no
+/// `clinic_name`), for the one-page print's header.
+pub(crate) async fn clinic_name(
+    State(state): State<AppState>,
+    Authed(_): Authed,
+) -> Json<serde_json::Value> {
+    Json(serde_json::json!({ "name": state.clinic_name }))
 }
