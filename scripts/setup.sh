@@ -6,7 +6,8 @@
 #     test speaks TLS to the hub as a stalled station would), systemd (systemd-analyze checks the
 #     hub's service unit offline), and what scripts/package.sh needs: dpkg-dev (dpkg-shlibdeps),
 #     xz-utils, librsvg2-bin (the icon's PNG), desktop-file-utils and lintian (its checks);
-#     the patient's voice: espeak-ng (speech), sox (its test), libasound2-dev (ALSA, rodio).
+#     the patient's voice: espeak-ng (speech), sox (its test), libasound2-dev (ALSA, rodio);
+#     poppler-utils (pdfinfo, pdftoppm: the console's one-page print is counted and looked at).
 #   - Rust (stable, via rustup if cargo is missing) with rustfmt and clippy.
 #   - A Python virtualenv in .venv with the test tools and the `telerehab` package (pyext).
 set -euo pipefail
@@ -19,7 +20,7 @@ PKGS=(build-essential pkg-config libudev-dev mesa-vulkan-drivers libvulkan1 libg
       libegl1 xvfb xauth xdotool libxkbcommon-x11-0 libx11-xcb1 python3-venv python3-pip curl ca-certificates
       postgresql chromium chromium-driver openssl systemd
       lintian dpkg-dev desktop-file-utils librsvg2-bin xz-utils
-      espeak-ng sox libasound2-dev)
+      espeak-ng sox libasound2-dev poppler-utils)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -89,5 +89,5 @@ fn a_dial_then_road_sessions_per_exercise_results_reach_the_hub_and_the_report()
     assert!(html.contains("Ended: complete"), "{html}");
     assert!(html.contains("<h3>Each exercise</h3>"));
     assert!(html.contains("2. Sine road"));
-    assert!(html.contains("Dial angle error (mean absolute, as the thesis's Appendix E)"));
+    assert!(html.contains("Dial: average distance from the angle asked"));
 }

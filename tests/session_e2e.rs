@@ -618,9 +618,9 @@ fn report_of_two_sessions_is_one_self_contained_html_file() {
     assert!(html.starts_with("<!DOCTYPE html>"));
     for text in [
         "Progress",
-        "Smoothness, SPARC",
-        "Lane keeping",
-        "Tracking error",
+        "Smoothness (closer to 0 is smoother)",
+        "Distance from the lane",
+        "Dial: distance from the angle asked",
         "Wheel speed",
     ] {
         assert!(html.contains(text), "{text} missing");

@@ -26,6 +26,18 @@ def api_sessions_with_metrics(d):
         "  done(list); });")
 
 
+def degrees(cell):
+    """A cell such as "268 °" as its whole number of degrees (the words table's resolution)."""
+    number, unit = cell.split(" ")
+    assert unit == "°" and re.fullmatch(r"-?\d+", number), cell
+    return int(number)
+
+
+def round_like_js(v):
+    """`v` to a whole number as the console's toFixed(0) rounds it (half away from zero)."""
+    return int(v + 0.5) if v >= 0 else -int(-v + 0.5)
+
+
 def cells(d, key):
     row = d.find_element(By.CSS_SELECTOR, f"#latest-table tr[data-key='{key}']")
     return [td.text for td in row.find_elements(By.TAG_NAME, "td")]
@@ -48,27 +60,30 @@ def test_progress_charts_by_kind_and_session_with_a_baseline_and_an_early_sessio
     assert [s["exercise_kind"] for s in sessions] == ["road"] * 4 + ["dial"]
     assert [s["ran_as_prescribed"] for s in sessions] == [False] + [True] * 4
 
-    # Grouped by kind, the newest kind first, named in words.
+    # Grouped by kind, the newest kind first, named in words, each behind its summary.
     groups = d.find_elements(By.CSS_SELECTOR, "#charts .kind-group")
     assert [g.get_attribute("data-kind") for g in groups] == ["road", "dial"]
-    assert groups[0].find_element(By.TAG_NAME, "h2").text == "Road sessions (4)"
-    assert groups[1].find_element(By.TAG_NAME, "h2").text == "Dial sessions (1)"
+    assert groups[0].find_element(By.CSS_SELECTOR, "summary h3").text == "Road sessions (4)"
+    assert groups[1].find_element(By.CSS_SELECTOR, "summary h3").text == "Dial sessions (1)"
+    for g in groups:
+        g.find_element(By.TAG_NAME, "summary").click()
     # No lane chart among the dial task's.
-    assert not groups[1].find_elements(By.CSS_SELECTOR, "[id$='-lane']")
+    assert not groups[1].find_elements(By.CSS_SELECTOR, "[id$='-pct_in_lane']")
 
     # One step a session: the four road sessions of one day at four x positions, four labels.
-    lane = d.find_element(By.ID, "p-road-lane")
+    lane = wait(d, lambda d: [e for e in d.find_elements(By.ID, "p-road-pct_in_lane") if e.get_attribute("data-xs")])[0]
     assert lane.get_attribute("data-xs") == "1 2 3 4"
     labels = lane.get_attribute("data-labels").split("|")
     assert len(set(labels)) == 4, labels
     # The early session drawn apart and not counted.
     assert lane.get_attribute("data-early") == "4"
     assert lane.get_attribute("data-counted") == "1 2 3"
-    # One unit an axis: the lane's error and time in lane are separate charts.
-    assert d.find_elements(By.ID, "p-road-lateral")
+    # One measure a chart: the lane's error and time in lane are separate charts.
+    assert d.find_elements(By.ID, "p-road-rms_lateral_m")
     y_labels = [c.get_attribute("data-y-axis") for c in d.find_elements(By.CSS_SELECTOR, "#charts .chart")]
-    assert "time in lane (%)" in y_labels and "RMS deviation (m)" in y_labels, y_labels
-    assert not any("/" in y for y in y_labels), y_labels
+    assert "Time in lane (%)" in y_labels and "Distance from the lane's centre (m)" in y_labels, y_labels
+    keys = [c.get_attribute("data-key") for c in d.find_elements(By.CSS_SELECTOR, "#charts .chart")]
+    assert all(keys) and len(keys) == len(y_labels), keys
 
     # Every chart's numbers as a table, a row a session.
     for chart in d.find_elements(By.CSS_SELECTOR, "#charts .chart"):
@@ -85,16 +100,16 @@ def test_progress_charts_by_kind_and_session_with_a_baseline_and_an_early_sessio
     roads = [s["metrics"] for s in sessions[1:4]][::-1]  # oldest first
     base = sum(m["wheel_rom_deg"] for m in roads) / 3
     latest, baseline, trend = cells(d, "wheel_rom_deg")
-    assert latest == f"{roads[-1]['wheel_rom_deg']:.2f} °", latest
-    assert baseline == f"{base:.2f} °", (baseline, roads)
+    assert degrees(latest) == round_like_js(roads[-1]["wheel_rom_deg"]), latest
+    assert degrees(baseline) == round_like_js(base), (baseline, roads)
     assert "steady" in trend or "better" in trend or "worse" in trend, trend
     active = cells(d, "active_s")
     assert "not a trend" in active[2] and "better" not in active[2] and "worse" not in active[2], active
-    assert re.fullmatch(r"\d+ s( of \d+ s prescribed)?", active[1]), active
+    assert re.fullmatch(r"\d+ (s|min)( of \d+ (s|min) prescribed)?", active[1]), active
     assert not d.find_elements(By.CSS_SELECTOR, "#latest-table tr[data-key='dial_rms_error_deg']")
     assert_no_violations(d, "Progress")
     shot(d, "progress-1-latest-and-baseline")
-    d.execute_script("document.getElementById('p-road-lane').scrollIntoView()")
+    d.execute_script("document.getElementById('p-road-pct_in_lane').scrollIntoView()")
     shot(d, "progress-2-charts-by-session")
 
     # Ticked: the early session counts (latest and baseline unchanged: it is the fourth).
@@ -102,22 +117,22 @@ def test_progress_charts_by_kind_and_session_with_a_baseline_and_an_early_sessio
     assert early["wheel_rom_deg"] != roads[-1]["wheel_rom_deg"], "the early session must differ to tell"
     d.find_element(By.ID, "include-early").click()
     wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#tab[data-include-early='1']"))
-    lane = d.find_element(By.ID, "p-road-lane")
-    assert lane.get_attribute("data-counted") == "1 2 3 4"
+    # (the kinds stay open as they were)
+    lane = wait(d, lambda d: [e for e in d.find_elements(By.ID, "p-road-pct_in_lane") if e.get_attribute("data-counted") == "1 2 3 4"])[0]
     assert lane.get_attribute("data-early") == "4", "still drawn apart"
     latest, baseline, _ = cells(d, "wheel_rom_deg")
-    assert latest == f"{early['wheel_rom_deg']:.2f} °", latest
-    assert baseline == f"{base:.2f} °", baseline
+    assert degrees(latest) == round_like_js(early["wheel_rom_deg"]), latest
+    assert degrees(baseline) == round_like_js(base), baseline
     assert "ended early are included" in d.find_element(By.ID, "compared").text
     lane_table = lane.find_element(By.XPATH, "..").find_element(By.CSS_SELECTOR, "details.numbers")
     lane_table.find_element(By.TAG_NAME, "summary").click()
     assert "ended early, included" in lane_table.text
     assert_no_violations(d, "Progress, sessions ended early included")
-    d.execute_script("document.getElementById('p-road-lane').scrollIntoView()")
+    d.execute_script("document.getElementById('p-road-pct_in_lane').scrollIntoView()")
     shot(d, "progress-3-early-included")
     d.find_element(By.ID, "include-early").click()
     wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#tab[data-include-early='0']"))
-    assert d.find_element(By.ID, "p-road-lane").get_attribute("data-counted") == "1 2 3"
+    wait(d, lambda d: d.find_element(By.ID, "p-road-pct_in_lane").get_attribute("data-counted") == "1 2 3")
 
 
 def test_the_replay_tab_lists_the_sessions_and_opens_a_replay(clinic, browser):

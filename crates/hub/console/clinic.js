@@ -4,6 +4,7 @@
 // administrators — the therapists and adding one. Routes under #/clinic; every value put into
 // HTML escaped; the hub decides who may do what (API.md) and audits every change.
 import { api, esc, when } from '/console/api.js';
+import { stationWords } from '/console/words.js';
 
 /** Where stations reach the hub, as the patient types it: remembered in this browser, first
  * the console's host with the stations' default port (`hub serve --stations`, 7878). */
@@ -130,10 +131,10 @@ function pairingSheet(app, patient, pairing, address) {
 /** A patient's stations, each revocable, and a new pairing code. */
 async function stationsView(app, id) {
   const p = await api('GET', `/api/patients/${encodeURIComponent(id)}`);
-  const rows = p.stations.map(s => `<tr><td>${esc(s.station_id)}</td><td>${esc(when(s.paired_at_ms))}</td>
+  const rows = p.stations.map(s => `<tr><td>${esc(stationWords(s))}</td><td>${esc(when(s.paired_at_ms))}</td>
     <td>${esc(when(s.last_seen_ms))}</td>
     <td>${s.revoked_at_ms == null ? `<span class="badge ok">active</span>` : `<span class="badge alert">revoked ${esc(when(s.revoked_at_ms))}</span>`}</td>
-    <td>${s.revoked_at_ms == null ? `<button type="button" class="secondary" data-revoke="${esc(s.station_id)}">Revoke ${esc(s.station_id)}</button>` : ''}</td></tr>`).join('');
+    <td>${s.revoked_at_ms == null ? `<button type="button" class="secondary" data-revoke="${esc(s.station_id)}" data-words="${esc(stationWords(s))}">Revoke the ${esc(stationWords(s))}</button>` : ''}</td></tr>`).join('');
   app.innerHTML = `<h1>Stations of ${esc(p.pseudonym)}</h1>
     <p><a href="#/patients/${encodeURIComponent(id)}">Back to ${esc(p.pseudonym)}</a></p>
     <section class="panel" aria-labelledby="st-h"><h2 id="st-h">Stations</h2>
@@ -157,23 +158,23 @@ async function stationsView(app, id) {
       pairingSheet(app, p, pairing, address);
     } catch (e) { app.querySelector('#code-error').textContent = e.message; }
   });
-  app.querySelectorAll('[data-revoke]').forEach(b => b.addEventListener('click', () => confirmRevoke(app, id, b.dataset.revoke)));
+  app.querySelectorAll('[data-revoke]').forEach(b => b.addEventListener('click', () => confirmRevoke(app, id, b.dataset.revoke, b.dataset.words)));
 }
 
 /** Asks once more before revoking: a revoked station cannot be un-revoked. */
-function confirmRevoke(app, patientId, stationId) {
+function confirmRevoke(app, patientId, stationId, words) {
   const box = app.querySelector('#revoke-confirm');
   box.innerHTML = `<div class="panel" role="alertdialog" aria-labelledby="rv-h" aria-describedby="rv-d">
-      <h3 id="rv-h">Revoke station ${esc(stationId)}?</h3>
+      <h3 id="rv-h">Revoke the ${esc(words)}?</h3>
       <p id="rv-d">It will be refused from its next connection on, for good. The patient needs a new pairing code for another station.</p>
-      <p><button type="button" id="rv-yes">Yes, revoke ${esc(stationId)}</button> <button type="button" class="secondary" id="rv-no">Cancel</button></p>
+      <p><button type="button" id="rv-yes">Yes, revoke it</button> <button type="button" class="secondary" id="rv-no">Cancel</button></p>
       <p class="error" id="rv-error" role="alert"></p></div>`;
   box.querySelector('#rv-no').addEventListener('click', () => { box.innerHTML = ''; });
   box.querySelector('#rv-yes').addEventListener('click', async () => {
     try {
       await api('POST', `/api/stations/${encodeURIComponent(stationId)}/revoke`);
       await stationsView(app, patientId);
-      app.querySelector('#stations').insertAdjacentHTML('beforebegin', `<p role="status" id="revoked">Station ${esc(stationId)} revoked.</p>`);
+      app.querySelector('#stations').insertAdjacentHTML('beforebegin', `<p role="status" id="revoked">The ${esc(words)} is revoked.</p>`);
     } catch (e) { box.querySelector('#rv-error').textContent = e.message; }
   });
   box.querySelector('#rv-no').focus();

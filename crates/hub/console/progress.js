@@ -1,63 +1,42 @@
-// A patient's progress (issue 29): the latest session against the patient's own baseline and
-// the earlier sessions of its kind, the charts grouped by exercise kind with an axis by
-// session, and the sessions in words. Sessions ended early are shown, marked and left out of
-// the trends and baselines unless the therapist ticks "Include sessions that ended early".
-import { api, esc, when } from '/console/api.js';
+// A patient's progress (issues 29, 41), ordered as a clinician reads it: pain, adherence and
+// alerts first; then the assessment (the clinical scales); then the exercises — the latest
+// session against the patient's own baseline, and each exercise kind's charts collapsed behind a
+// one-line summary. Every measure is named, rounded and charted from the ONE table of measure
+// words (words.js, GET /api/measures/words): one measure a chart, its axis from the measure's
+// meaningful range, its noise as a band. Engineering names only behind "details". Sessions
+// ended early are shown, marked and left out of the trends and baselines unless the therapist
+// ticks "Include sessions that ended early". The one-page print: the clinic's name, the patient,
+// the date range, pain, adherence, alerts, the scales and the latest table.
+import { api, esc } from '/console/api.js';
 import { numbersTable, sessionChart, sessionLabels } from '/console/sessionchart.js';
-import { activeWords, endWords, kindWords, sessionWords, trendWords } from '/console/words.js';
+import {
+  activeWords, dayWords, endWords, headerWords, kindWords, measureWords, noiseBand, sessionWords, trendWords,
+  valueWords, whenWords,
+} from '/console/words.js';
 import { bindNoteCells, noteCell } from '/console/notes.js';
 import { scalesSection } from '/console/scales.js';
 
-/** The measures a therapist follows across sessions, with their plain names and units;
- * `better` says which way is progress. */
-const MEASURES = [
-  ['pct_in_lane', 'time in lane', '%', 'up'],
-  ['rms_lateral_m', 'lane keeping error (RMS lateral deviation)', 'm', 'down'],
-  ['dial_rms_error_deg', 'dial tracking error (RMS)', '°', 'down'],
-  ['strength_sustained_left_nm', 'strength pushing left (held 1 s)', 'N·m', 'up'],
-  ['strength_sustained_right_nm', 'strength pushing right (held 1 s)', 'N·m', 'up'],
-  ['wheel_rom_deg', 'wheel range of motion', '°', 'up'],
-  ['shoulder_elevation_rom_deg', 'shoulder elevation range', '°', 'up'],
-  ['elbow_flexion_rom_deg', 'elbow flexion range', '°', 'up'],
-  ['sparc_median', 'movement smoothness (SPARC, closer to 0 is smoother)', '', 'up'],
-  ['assist_level_mean', 'assistance level', '0–1', 'down'],
-  // Robot-grade movement measures (issue 30; the metrics crate's `robot` module has their
-  // definitions and references).
-  ['speed_metric_median', 'speed metric (mean over peak speed of a movement)', '', 'up'],
-  ['speed_peaks_median', 'speed peaks in a movement', '', 'down'],
-  ['movement_time_s_median', 'movement time', 's', 'down'],
-  ['reaction_time_s_median', 'reaction time to a step of the target or a lane shift (below 0: steered before it)', 's', 'down'],
-  ['initial_direction_error_deg_mean', 'initial direction error (180° = every start the wrong way)', '°', 'down'],
-  ['path_length_ratio_median', 'path length ratio (wheel path over the distance needed)', '', 'down'],
-  ['movements_per_min', 'dose: movements per active minute', 'per min', 'up'],
-  ['active_s', 'active time', 's', 'up'],
-];
+/** The measures the latest table follows across sessions, in this order (their names, units,
+ * decimals and which way is better come from the words table). */
+const FOLLOWED = ['active_s', 'pct_in_lane', 'rms_lateral_m', 'dial_rms_error_deg', 'wheel_rom_deg',
+  'shoulder_elevation_rom_deg', 'elbow_flexion_rom_deg', 'strength_sustained_left_nm', 'strength_sustained_right_nm',
+  'sparc_median', 'speed_metric_median', 'speed_peaks_median', 'movement_time_s_median', 'reaction_time_s_median',
+  'initial_direction_error_deg_mean', 'path_length_ratio_median', 'movements_per_min', 'assist_level_mean'];
 
-/** The progress charts, one unit each: [id, title, y axis, series [[key, label]], integer, y range]. A
- * key `prescribed_s` is the session's prescribed time, not a measure. */
-const CHARTS = [
-  ['lane', 'Time in lane', 'time in lane (%)', [['pct_in_lane', 'time in lane (%)']], false, [0, 100]],
-  ['lateral', 'Lane keeping error', 'RMS deviation (m)', [['rms_lateral_m', 'lane keeping error (m)']]],
-  ['dial', 'Dial tracking error', 'RMS error (°)', [['dial_rms_error_deg', 'dial tracking error (°)']]],
-  ['strength', 'Strength (torque on the wheel)', 'torque (N·m)', [['strength_peak_left_nm', 'peak, left (N·m)'], ['strength_sustained_left_nm', 'held 1 s, left (N·m)'], ['strength_peak_right_nm', 'peak, right (N·m)'], ['strength_sustained_right_nm', 'held 1 s, right (N·m)']]],
-  ['rom', 'Ranges of motion', 'range (°)', [['wheel_rom_deg', 'wheel (°)'], ['shoulder_elevation_rom_deg', 'shoulder elevation (°)'], ['elbow_flexion_rom_deg', 'elbow flexion (°)']]],
-  ['sparc', 'Movement smoothness (SPARC)', 'SPARC (no unit)', [['sparc_median', 'SPARC, median of movements']]],
-  ['active', 'Active time against the prescribed time', 'time (s)', [['active_s', 'active time (s)'], ['prescribed_s', 'prescribed time (s)']]],
-  ['assist', 'Assistance level', 'level (0–1)', [['assist_level_mean', 'assistance level (0–1)']], false, [0, 1]],
-  ['cones', 'Cones hit', 'cones (count)', [['cone_hits', 'cones hit']], true],
-  ['speedmetric', 'Speed metric (mean over peak speed)', 'speed metric (0–1)', [['speed_metric_median', 'speed metric, median of movements']], false, [0, 1]],
-  ['peaks', 'Speed peaks in a movement', 'peaks (count)', [['speed_peaks_median', 'speed peaks, median of movements']]],
-  ['times', 'Movement and reaction times', 'time (s)', [['movement_time_s_median', 'movement time, median (s)'], ['reaction_time_s_median', 'reaction time to a target step or lane shift, median (s)']]],
-  ['direction', 'Initial direction error', 'error (°)', [['initial_direction_error_deg_mean', 'initial direction error, mean (°)']], false, [0, 180]],
-  ['pathratio', 'Path length ratio', 'ratio (no unit)', [['path_length_ratio_median', 'path length ratio, median']]],
-  ['dose', 'Dose: movements and steering reversals per active minute', 'count per minute', [['movements_per_min', 'movements per minute'], ['reversals_per_min', 'steering reversals per minute']]],
-];
+/** What describes a session rather than the patient's progress: in the tables, not charted. */
+const NOT_CHARTED = new Set(['session_s', 'paused_s', 'movements']);
+
+/** A kind's one-line summary names these (the ones its sessions have, at most three). */
+const HEADLINE = ['pct_in_lane', 'dial_rms_error_deg', 'wheel_rom_deg', 'strength_sustained_left_nm', 'sparc_median', 'active_s'];
 
 /** How many of a kind's first sessions make the patient's baseline. */
 const BASELINE_SESSIONS = 3;
 
-/** How many earlier sessions a trend compares the latest with (words.js, the hub's). */
+/** How many earlier sessions a trend compares the latest with (the hub's too). */
 const TREND_SESSIONS = 4;
+
+/** Pain (0–10) at or above which an answer is marked (the hub's `PAIN_ALERT_AT`). */
+const PAIN_MARKED = 7;
 
 const ended = s => !!(s.closed_at_ms || s.end_reason);
 /** A session that ended before its prescription ran out. */
@@ -66,30 +45,67 @@ const early = s => !s.ran_as_prescribed && ended(s);
 const counts = (s, includeEarly) => s.ran_as_prescribed || (includeEarly && early(s));
 const mean = vs => (vs.length ? vs.reduce((a, b) => a + b, 0) / vs.length : undefined);
 const capital = s => s.charAt(0).toUpperCase() + s.slice(1);
+const DIFFICULTY = { too_easy: 'too easy', about_right: 'about right', too_hard: 'too hard' };
 
-/** A session's check-in in a few words (HTML, every part escaped); pain of 7 or more marked. */
+/** A session's check-in in a few words (HTML, every part escaped); high pain marked. */
 function checkinWords(c) {
   if (!c) return '—';
-  const difficulty = { too_easy: 'too easy', about_right: 'about right', too_hard: 'too hard' };
   const parts = [];
-  if (c.pain_0_10 != null) parts.push(`<span class="${c.pain_0_10 >= 7 ? 'badge alert' : ''}">pain ${esc(String(c.pain_0_10))}/10</span>`);
+  if (c.pain_0_10 != null) parts.push(`<span class="${c.pain_0_10 >= PAIN_MARKED ? 'badge alert' : ''}">pain ${esc(String(c.pain_0_10))}/10</span>`);
   if (c.tiredness_0_10 != null) parts.push(`tiredness ${esc(String(c.tiredness_0_10))}/10`);
-  if (c.difficulty != null) parts.push(esc(difficulty[c.difficulty] || c.difficulty));
+  if (c.difficulty != null) parts.push(esc(DIFFICULTY[c.difficulty] || c.difficulty));
   return parts.length ? parts.join(', ') : 'skipped';
 }
 
+/** An alert of the caseload in words (a string, or an object with its words). */
+const alertWords = a => (typeof a === 'string' ? a : a.words || a.reason || a.text || '');
+
+/** The first section: pain, adherence and alerts (HTML), from the check-ins (newest first),
+ * the sessions (oldest first) and the caseload's overview of the patient (may be absent). */
+function summaryHtml(checkins, sessions, overview) {
+  const answered = checkins.filter(c => c.pain_0_10 != null);
+  const last = answered[0];
+  const pain = last
+    ? `<p id="pain-latest" data-pain="${esc(last.pain_0_10)}"><strong class="${last.pain_0_10 >= PAIN_MARKED ? 'badge alert' : ''}">Pain ${esc(last.pain_0_10)}/10</strong>
+        after the session of ${esc(whenWords(last.started_unix_ms))}.
+        ${answered.length > 1 ? `Before: ${answered.slice(1, 6).map(c => `${esc(c.pain_0_10)}/10`).join(', ')} (newest first).` : ''}</p>`
+    : '<p id="pain-latest">No pain answer yet.</p>';
+  const lastCheckin = checkins[0];
+  const felt = lastCheckin && (lastCheckin.tiredness_0_10 != null || lastCheckin.difficulty)
+    ? `<p>After the last session: ${lastCheckin.tiredness_0_10 != null ? `tiredness ${esc(lastCheckin.tiredness_0_10)}/10` : ''}${lastCheckin.tiredness_0_10 != null && lastCheckin.difficulty ? ', ' : ''}${lastCheckin.difficulty ? `felt ${esc(DIFFICULTY[lastCheckin.difficulty] || lastCheckin.difficulty)}` : ''}.</p>` : '';
+  let week = '';
+  if (overview) {
+    const sessionsW = overview.sessions_per_week_prescribed == null ? `${esc(overview.sessions_last_7_days)} sessions`
+      : `${esc(overview.sessions_last_7_days)} of ${esc(overview.sessions_per_week_prescribed)} prescribed sessions`;
+    const minutes = overview.minutes_per_week_prescribed == null ? `${esc(Math.round(overview.active_minutes_last_7_days))} active minutes`
+      : `${esc(Math.round(overview.active_minutes_last_7_days))} of ${esc(Math.round(overview.minutes_per_week_prescribed))} prescribed active minutes`;
+    week = `<p id="adherence">Last 7 days: ${sessionsW}, ${minutes}.</p>`;
+  }
+  const recent = sessions.slice(-10);
+  const stopped = recent.filter(early).length;
+  const stoppedWords = `<p>Stopped early: ${esc(stopped)} of the last ${esc(recent.length)} session${recent.length === 1 ? '' : 's'}.</p>`;
+  const alerts = overview ? (overview.alerts || []).map(alertWords).filter(Boolean) : [];
+  const alertList = alerts.length ? `<ul id="alerts">${alerts.map(a => `<li><span class="badge alert">${esc(a)}</span></li>`).join('')}</ul>`
+    : '<p id="alerts">No alert.</p>';
+  return `<h2 id="summary-h">Pain, adherence and alerts</h2>
+    <div class="summary-grid"><div><h3>Pain</h3>${pain}${felt}
+      <div class="chart" id="p-pain" role="img" aria-label="Pain after each session, 0 to 10: the numbers are in the sessions' list"></div></div>
+    <div><h3>Adherence</h3>${week}${stoppedWords}<h3>Alerts</h3>${alertList}</div></div>`;
+}
+
 /** The difficulty history (oldest first): a chart and a table of each change and its reason,
- * the station's words escaped; nothing when no session adapted. */
+ * the station's words escaped, behind a summary; nothing when no session adapted. */
 function difficultyPanel(history) {
   if (!history.length) return '';
   const signed = x => (x < -0.0005 ? `−${(-x).toFixed(2)}` : `+${x.toFixed(2)}`);
-  const rows = history.slice().reverse().map(d => `<tr><td>${esc(when(d.started_unix_ms))}</td>
+  const rows = history.slice().reverse().map(d => `<tr><td>${esc(whenWords(d.started_unix_ms))}</td>
     <td class="num">${esc(d.difficulty.toFixed(2))}</td><td class="num">${esc(signed(d.change))}</td>
     <td>${d.success_rate == null ? '—' : `${esc(Math.round(d.success_rate * 100))} %`}</td><td class="reason">${esc(d.reason)}</td></tr>`).join('');
-  return `<section class="panel" id="difficulty" aria-labelledby="difficulty-h"><h2 id="difficulty-h">Difficulty that follows the patient</h2>
-      <p class="note">0: half the prescribed speed and shape with all its assistance; 1: the regimen as written. Set by the station within the regimen's [difficulty] bounds.</p>
+  const latest = history[history.length - 1];
+  return `<details class="panel print-hide" id="difficulty"><summary><h3 id="difficulty-h" class="inline">Difficulty that follows the patient</h3>: now ${esc(latest.difficulty.toFixed(2))} (0 easiest, 1 as prescribed)</summary>
+      <p class="note">0: half the prescribed speed and shape with all its assistance; 1: the regimen as written. Set by the station within the regimen's bounds.</p>
       <div class="chart" id="p-difficulty"></div>
-      <table id="difficulty-table"><caption class="note">The numbers of the chart, newest first</caption><thead><tr><th scope="col">Started</th><th scope="col">Difficulty</th><th scope="col">Change</th><th scope="col">Success</th><th scope="col">Why</th></tr></thead><tbody>${rows}</tbody></table></section>`;
+      <table id="difficulty-table"><caption class="note">The numbers of the chart, newest first</caption><thead><tr><th scope="col">Started</th><th scope="col">Difficulty</th><th scope="col">Change</th><th scope="col">Success</th><th scope="col">Why</th></tr></thead><tbody>${rows}</tbody></table></details>`;
 }
 
 /** What the latest table compares (indices into `sessions`, oldest first): the latest session
@@ -104,37 +120,37 @@ export function compared(sessions, includeEarly) {
   return { latest: sessions[done[0]], trend: same.slice(0, 1 + TREND_SESSIONS), baseline: same.slice(-BASELINE_SESSIONS).reverse() };
 }
 
-/** The latest table's rows: latest value, baseline and trend of every measure the compared
- * sessions have; active time against the prescribed time. */
-function latestRows(sessions, metrics, c) {
-  const num = (i, key) => (key === 'prescribed_s' ? sessions[i].prescribed_s : metrics[i][key]);
-  const numbers = (idx, key) => idx.map(i => num(i, key)).filter(v => typeof v === 'number');
-  return MEASURES.filter(([key]) => key === 'active_s' || numbers(c.trend, key).length).map(([key, label, unit, better]) => {
-    const values = c.trend.map(i => metrics[i][key]);
+/** The latest table's rows: latest value, baseline and trend of every followed measure the
+ * compared sessions have; active time against the prescribed time. */
+function latestRows(words, sessions, metrics, c) {
+  const numbers = (idx, key) => idx.map(i => (key === 'prescribed_s' ? sessions[i].prescribed_s : metrics[i][key])).filter(v => typeof v === 'number');
+  return FOLLOWED.map(key => words.measures.get(key)).filter(m => m && (m.key === 'active_s' || numbers(c.trend, m.key).length)).map(m => {
+    const values = c.trend.map(i => metrics[i][m.key]);
     const last = values[0];
-    const base = mean(numbers(c.baseline, key));
-    const head = `<tr data-key="${esc(key)}"><th scope="row">${esc(label)}</th>`;
-    const withUnit = v => (typeof v === 'number' ? `${esc(v.toFixed(2))} ${esc(unit)}` : '—');
-    if (key === 'active_s') {
+    const base = mean(numbers(c.baseline, m.key));
+    const head = `<tr data-key="${esc(m.key)}"><th scope="row">${esc(m.name)}</th>`;
+    if (m.key === 'active_s') {
       const prescribed = c.baseline.every(i => typeof sessions[i].prescribed_s === 'number') ? mean(numbers(c.baseline, 'prescribed_s')) : undefined;
       return `${head}<td>${esc(activeWords(last, c.latest.prescribed_s))}</td><td data-baseline="${esc(base ?? '')}">${esc(activeWords(base, prescribed))}</td><td class="note">against the prescription, not a trend</td></tr>`;
     }
-    return `${head}<td>${typeof last === 'number' ? withUnit(last) : '—'}</td><td data-baseline="${esc(base ?? '')}">${withUnit(base)}</td><td>${trendWords(values, better)}</td></tr>`;
+    return `${head}<td>${esc(valueWords(m, last))}</td><td data-baseline="${esc(base ?? '')}">${esc(valueWords(m, base))}</td><td>${trendWords(values, m)}</td></tr>`;
   }).join('');
 }
 
 /** The latest-table panel's inner HTML. */
-function latestPanel(sessions, metrics, includeEarly) {
+function latestPanel(words, sessions, metrics, includeEarly) {
   const c = compared(sessions, includeEarly);
   const kind = c.latest && kindWords(c.latest.exercise_kind);
   const which = includeEarly ? 'that ended (as prescribed or early: sessions ended early are included)' : 'that ran as prescribed';
+  const n = c.baseline.length;
+  const firsts = n === 1 ? `the first ${esc(kind)} session` : `the mean of the first ${esc(n)} ${esc(kind)} sessions`;
   const note = c.latest
-    ? `The latest session ${which} (${esc(sessionWords(c.latest))}) against the patient's baseline, the mean of the first ${esc(c.baseline.length)} ${esc(kind)} session${c.baseline.length === 1 ? '' : 's'} ${which}, and against up to four earlier ${esc(kind)} sessions for the trend${includeEarly ? '' : '; sessions ended early are shown below, not compared'}.`
+    ? `The latest session ${which} (${esc(sessionWords(c.latest))}) against the patient's baseline (${firsts} ${which}), and its trend against up to four earlier ${esc(kind)} sessions; a change within a measure's measurement noise reads "steady"${includeEarly ? '' : '. Sessions ended early are in the list below, not compared'}.`
     : 'No session has run as prescribed yet: nothing to compare.';
-  return `<h2 id="latest-h">${c.latest ? `Latest ${esc(kind)} session against the earlier ones` : 'Latest session against the earlier ones'}</h2>
+  return `<h2 id="latest-h">${c.latest ? `Exercises: the latest ${esc(kind)} session against the earlier ones` : 'Exercises: the latest session against the earlier ones'}</h2>
       <p class="note print-hide" id="compared">${note}</p>
-      ${c.latest ? `<table id="latest-table"><thead><tr><th scope="col">Measure</th><th scope="col">Latest</th><th scope="col">Baseline <span class="note">(mean of the first ${esc(c.baseline.length)})</span></th><th scope="col">Trend</th></tr></thead>
-      <tbody>${latestRows(sessions, metrics, c)}</tbody></table>` : ''}`;
+      ${c.latest ? `<table id="latest-table"><thead><tr><th scope="col">Measure</th><th scope="col">Latest</th><th scope="col">Baseline</th><th scope="col">Trend</th></tr></thead>
+      <tbody>${latestRows(words, sessions, metrics, c)}</tbody></table>` : ''}`;
 }
 
 /** The kinds of exercise the patient has done, newest first. */
@@ -144,111 +160,173 @@ function kindsNewestFirst(sessions) {
   return kinds;
 }
 
-/** One kind's charts (HTML and what to draw into it): only charts with a number to show. */
-function kindGroup(sessions, metrics, kind, includeEarly) {
+/** One kind's charts behind a one-line summary (HTML and what to draw into it when opened):
+ * one chart a measure its sessions have, in the words table's order. */
+function kindGroup(words, sessions, metrics, kind, includeEarly) {
   const idx = sessions.map((s, i) => i).filter(i => sessions[i].exercise_kind === kind);
   const slug = String(kind).replace(/[^a-z0-9]+/gi, '-');
   const labels = sessionLabels(idx.map(i => sessions[i].started_unix_ms));
   const status = idx.map(i => ({ counts: counts(sessions[i], includeEarly), early: early(sessions[i]) }));
-  const value = (i, key) => { const v = key === 'prescribed_s' ? sessions[i].prescribed_s : metrics[i][key]; return typeof v === 'number' ? v : null; };
+  const value = (i, key) => { const v = metrics[i][key]; return typeof v === 'number' ? v : null; };
   const draws = [];
-  const panels = CHARTS.map(([id, title, y, series, integer = false, range = null]) => {
-    const columns = series.map(([key, label]) => ({ key, label, values: idx.map(i => value(i, key)) }))
-      .filter(c => c.values.some(v => v != null));
-    if (!columns.some(c => c.key !== 'prescribed_s')) return '';
-    const chartId = `p-${slug}-${id}`;
-    draws.push([chartId, { y, labels, integer, range, series: columns.map(c => ({
-      label: c.label,
-      values: c.values.map((v, j) => (status[j].counts ? v : null)),
-      early: c.values.map((v, j) => (status[j].early ? v : null)),
-    })) }, status]);
-    return `<div class="panel"><h3 id="${chartId}-h">${esc(title)}</h3>
-      <div class="chart" id="${chartId}" data-kind="${esc(kind)}" role="img" aria-label="${esc(title)} by session: the numbers are in the table below"></div>
-      ${numbersTable(title, labels, columns, status, integer)}</div>`;
+  const shown = words.list.filter(m => !NOT_CHARTED.has(m.key) && idx.some(i => value(i, m.key) != null));
+  const panels = shown.map(m => {
+    const values = idx.map(i => value(i, m.key));
+    const columns = [{ key: m.key, label: headerWords(m), values }];
+    const prescribed = m.key === 'active_s' ? idx.map(i => (typeof sessions[i].prescribed_s === 'number' ? sessions[i].prescribed_s : null)) : null;
+    if (prescribed && prescribed.some(v => v != null)) columns.push({ key: 'prescribed_s', label: `Prescribed time (${m.unit})`, values: prescribed });
+    const chartId = `p-${slug}-${m.key}`;
+    const counted = values.filter((v, j) => v != null && status[j].counts);
+    const base = mean(counted.slice(0, BASELINE_SESSIONS));
+    draws.push([chartId, {
+      y: headerWords(m), labels, integer: m.decimals === 0 && !m.unit, range: m.range, decimals: m.decimals,
+      band: noiseBand(m, base),
+      series: columns.map(c => ({
+        label: c.label,
+        values: c.values.map((v, j) => (status[j].counts ? v : null)),
+        early: c.values.map((v, j) => (status[j].early ? v : null)),
+      })),
+    }, status]);
+    const noise = m.noise ? ' The shaded band is the measurement noise around the baseline: a point inside it is no change.' : '';
+    return `<div class="panel"><h4 id="${chartId}-h">${esc(headerWords(m))}</h4>
+      <div class="chart" id="${chartId}" data-kind="${esc(kind)}" data-key="${esc(m.key)}" role="img" aria-label="${esc(m.name)} by session: the numbers are in the table below"></div>
+      ${noise ? `<p class="note">${esc(noise.trim())}</p>` : ''}
+      ${numbersTable(m.name, labels, columns, status, false, m.decimals)}</div>`;
   }).join('');
   const names = [...new Set(idx.map(i => sessions[i].exercise_name || sessions[i].exercise))];
   const earlyCount = status.filter(s => s.early).length;
-  const html = `<section class="panel kind-group" data-kind="${esc(kind)}" aria-labelledby="kind-${slug}-h">
-    <h2 id="kind-${slug}-h">${esc(capital(kindWords(kind)))} sessions (${idx.length})</h2>
-    <p class="note">${esc(names.join('; '))}. One step a session, oldest on the left.${earlyCount ? ` Hollow points: ${earlyCount} session${earlyCount === 1 ? '' : 's'} ended early (${includeEarly ? 'included' : 'not joined to the line'}).` : ''}</p>
-    <div class="grid">${panels || '<p>No measures recorded for these sessions.</p>'}</div></section>`;
+  const lastCounted = idx.filter((i, j) => status[j].counts).pop();
+  const headline = lastCounted == null ? [] : HEADLINE.map(k => words.measures.get(k))
+    .filter(m => m && typeof metrics[lastCounted][m.key] === 'number').slice(0, 3)
+    .map(m => `${m.name.replace(/ \(.*\)$/, '')} ${valueWords(m, metrics[lastCounted][m.key])}`);
+  const html = `<details class="panel kind-group" data-kind="${esc(kind)}">
+    <summary><h3 id="kind-${slug}-h" class="inline">${esc(capital(kindWords(kind)))} sessions (${idx.length})</h3>${headline.length ? `: latest ${esc(headline.join(', '))}` : ''}</summary>
+    <p class="note">${esc(names.join('; '))}. One chart a measure, one step a session, oldest on the left.${earlyCount ? ` Hollow points: ${earlyCount} session${earlyCount === 1 ? '' : 's'} ended early (${includeEarly ? 'included' : 'not joined to the line'}).` : ''}</p>
+    <div class="grid">${panels || '<p>No measures recorded for these sessions.</p>'}</div></details>`;
   return { html, draws };
 }
 
-/** Draws the latest table and the charts; returns what undoes the charts. */
-function render(el, sessions, metrics, includeEarly) {
-  el.querySelector('#latest').innerHTML = latestPanel(sessions, metrics, includeEarly);
-  const groups = kindsNewestFirst(sessions).map(k => kindGroup(sessions, metrics, k, includeEarly));
+/** Draws the latest table and the kinds' groups (each group's charts when it is opened);
+ * returns what undoes the charts. */
+function render(el, words, sessions, metrics, includeEarly) {
+  el.querySelector('#latest').innerHTML = latestPanel(words, sessions, metrics, includeEarly);
+  const groups = kindsNewestFirst(sessions).map(k => kindGroup(words, sessions, metrics, k, includeEarly));
   const charts = el.querySelector('#charts');
+  const open = new Set([...charts.querySelectorAll('details.kind-group[open]')].map(g => g.dataset.kind));
   charts.innerHTML = groups.map(g => g.html).join('');
-  // The printed summary: the newest kind's charts only.
-  charts.querySelectorAll('.kind-group').forEach((g, i) => g.classList.toggle('print-hide', i > 0));
-  const drawn = groups.flatMap(g => g.draws).map(([id, opts, status]) => {
-    const node = el.querySelector(`#${id}`);
-    node.dataset.counted = status.map((s, i) => (s.counts ? i + 1 : '')).filter(Boolean).join(' ');
-    node.dataset.early = status.map((s, i) => (s.early ? i + 1 : '')).filter(Boolean).join(' ');
-    return sessionChart(node, opts);
+  let drawn = [];
+  charts.querySelectorAll('details.kind-group').forEach((g, gi) => {
+    const draw = () => {
+      if (g.dataset.drawn) return;
+      g.dataset.drawn = '1';
+      drawn = drawn.concat(groups[gi].draws.map(([id, opts, status]) => {
+        const node = el.querySelector(`#${CSS.escape(id)}`);
+        node.dataset.counted = status.map((s, i) => (s.counts ? i + 1 : '')).filter(Boolean).join(' ');
+        node.dataset.early = status.map((s, i) => (s.early ? i + 1 : '')).filter(Boolean).join(' ');
+        return sessionChart(node, opts);
+      }));
+    };
+    g.addEventListener('toggle', () => { if (g.open) draw(); });
+    if (open.has(g.dataset.kind)) g.open = true;
   });
   return () => drawn.forEach(c => c.destroy());
 }
 
+/** The technical names of the measures the page shows, behind "details". */
+function technicalDetails(words, metrics) {
+  const keys = new Set(metrics.flatMap(m => Object.keys(m || {})));
+  const rows = words.list.filter(m => keys.has(m.key)).map(m => `<tr><th scope="row">${esc(m.name)}</th><td><code>${esc(m.key)}</code></td><td>${esc(m.technical)}</td></tr>`).join('');
+  return `<details class="print-hide" id="technical"><summary>Details: the technical names of these measures</summary>
+    <table><caption class="note">As the spreadsheet's second header row and the FHIR export name them</caption>
+    <thead><tr><th scope="col">Measure</th><th scope="col">Name in the data</th><th scope="col">Technical name</th></tr></thead><tbody>${rows}</tbody></table></details>`;
+}
+
 /** The Progress tab of patient `id` in `el`; returns what to undo on leaving it. */
 export async function progressView(el, id) {
-  const sessions = (await api('GET', `/api/patients/${encodeURIComponent(id)}/sessions`)).slice().reverse();
-  const metrics = await Promise.all(sessions.map(s => api('GET', `/api/sessions/${encodeURIComponent(s.session_id)}/metrics`).catch(() => ({}))));
-  // The patient's own answers on each session's end screen (plain text, escaped).
-  const checkins = new Map((await api('GET', `/api/patients/${encodeURIComponent(id)}/checkins`).catch(() => []))
-    .map(c => [c.session_id, c]));
-  // The difficulty each adapted session ran at and why (newest first from the hub).
-  const difficulty = (await api('GET', `/api/patients/${encodeURIComponent(id)}/difficulty`).catch(() => [])).slice().reverse();
   const pid = encodeURIComponent(id);
-  const list = sessions.slice().reverse().map(s => `<tr${s.ran_as_prescribed ? '' : ' data-early="1"'}><td>${esc(when(s.started_unix_ms))}</td><td>${esc(s.exercise_name || s.exercise)}</td>
+  const [words, sessionsNewest, checkinList, difficultyNewest, overviews, clinic, patient] = await Promise.all([
+    measureWords(),
+    api('GET', `/api/patients/${pid}/sessions`),
+    // The patient's own answers on each session's end screen (plain text, escaped).
+    api('GET', `/api/patients/${pid}/checkins`).catch(() => []),
+    // The difficulty each adapted session ran at and why (newest first from the hub).
+    api('GET', `/api/patients/${pid}/difficulty`).catch(() => []),
+    // The caseload's overview of the patient: adherence and alerts.
+    api('GET', '/api/patients').catch(() => []),
+    api('GET', '/api/clinic/name').catch(() => ({ name: null })),
+    api('GET', `/api/patients/${pid}`).catch(() => ({ pseudonym: '' })),
+  ]);
+  const sessions = sessionsNewest.slice().reverse();
+  const metrics = await Promise.all(sessions.map(s => api('GET', `/api/sessions/${encodeURIComponent(s.session_id)}/metrics`).catch(() => ({}))));
+  const checkins = new Map(checkinList.map(c => [c.session_id, c]));
+  const checkinsNewest = checkinList.slice().sort((a, b) => b.started_unix_ms - a.started_unix_ms);
+  const difficulty = difficultyNewest.slice().reverse();
+  const overview = overviews.find(p => p.id === id);
+  const list = sessions.slice().reverse().map(s => `<tr${s.ran_as_prescribed ? '' : ' data-early="1"'}><td>${esc(whenWords(s.started_unix_ms))}</td><td>${esc(s.exercise_name || s.exercise)}</td>
     <td>${endWords(s)}</td>
     <td class="checkin">${checkinWords(checkins.get(s.session_id))}</td>
     <td><a href="#/patients/${pid}/exercises/${encodeURIComponent(s.session_id)}">Each exercise</a>
       · <a href="#/patients/${pid}/replay/${encodeURIComponent(s.session_id)}">Replay</a></td>
-    <td>${noteCell(s.session_id, `the session of ${when(s.started_unix_ms)}`, esc)}</td></tr>`).join('');
+    <td>${noteCell(s.session_id, `the session of ${whenWords(s.started_unix_ms)}`, esc)}</td></tr>`).join('');
   const anyEarly = sessions.some(early);
+  const range = sessions.length
+    ? `sessions from ${dayWords(sessions[0].started_unix_ms)} to ${dayWords(sessions[sessions.length - 1].started_unix_ms)}`
+    : 'no session yet';
+  const tz = Intl.DateTimeFormat().resolvedOptions().timeZone || 'UTC';
+  const zoneWords = tz === 'UTC' ? 'times in UTC' : `times in ${tz} and UTC`;
   el.innerHTML = `
+    <p id="print-head" data-clinic="${esc(clinic.name || '')}"><strong>${esc(clinic.name || 'Clinic name not set')}</strong>
+      · Progress of ${esc(patient.pseudonym || '')} · <span id="date-range">${esc(range)}</span> · printed ${esc(dayWords(Date.now()))}</p>
     <p class="print-hide"><button type="button" id="print" class="secondary">Print a one-page summary</button>
-      <a id="measures-csv" href="/api/patients/${pid}/measures.csv" download>Download spreadsheet (CSV)</a></p>
+      <a id="measures-csv" href="/api/patients/${pid}/measures.csv?tz=${encodeURIComponent(tz)}" download>Download spreadsheet (CSV; ${esc(zoneWords)})</a></p>
+    <section class="panel" id="summary" aria-labelledby="summary-h">${summaryHtml(checkinsNewest, sessions, overview)}</section>
+    <section class="panel" id="scales" aria-labelledby="scales-h"></section>
     <p class="print-hide"><input type="checkbox" id="include-early"${anyEarly ? '' : ' disabled'}>
       <label for="include-early" class="inline">Include sessions that ended early${anyEarly ? '' : ' (none did)'}</label></p>
     <section class="panel" id="latest" aria-labelledby="latest-h"></section>
-    <section class="panel" id="scales" aria-labelledby="scales-h"></section>
-    <div id="charts"></div>
+    <div id="charts" class="print-hide"></div>
     ${difficultyPanel(difficulty)}
+    ${technicalDetails(words, metrics)}
     <section class="panel print-hide" aria-labelledby="sessions-h"><h2 id="sessions-h">Sessions (${sessions.length})</h2>
-      <table><thead><tr><th scope="col">Started</th><th scope="col">Exercise</th><th scope="col">End</th><th scope="col">Patient's check-in</th><th scope="col">Results and recording</th><th scope="col">Therapist's notes</th></tr></thead><tbody>${list}</tbody></table></section>`;
+      <table><thead><tr><th scope="col">Started</th><th scope="col">Exercise</th><th scope="col">How it ended</th><th scope="col">Patient's check-in</th><th scope="col">Results and recording</th><th scope="col">Therapist's notes</th></tr></thead><tbody>${list}</tbody></table></section>`;
   el.querySelector('#print').addEventListener('click', () => window.print());
   bindNoteCells(el);
   const box = el.querySelector('#include-early');
-  let undo = render(el, sessions, metrics, false);
+  let undo = render(el, words, sessions, metrics, false);
   box.addEventListener('change', () => {
     undo();
-    undo = render(el, sessions, metrics, box.checked);
+    undo = render(el, words, sessions, metrics, box.checked);
     el.dataset.includeEarly = box.checked ? '1' : '0';
   });
   el.dataset.includeEarly = '0';
-  let undoDifficulty = () => {};
+  const undoCharts = [];
+  // Pain after each session (0–10), by session: the sessions with an answer.
+  const painIdx = sessions.map((s, i) => i).filter(i => checkins.get(sessions[i].session_id)?.pain_0_10 != null);
+  if (painIdx.length) {
+    const labels = sessionLabels(painIdx.map(i => sessions[i].started_unix_ms));
+    undoCharts.push(sessionChart(el.querySelector('#p-pain'), { y: 'pain (0–10)', labels, integer: true, range: [0, 10], decimals: 0,
+      series: [{ label: 'pain (0–10)', values: painIdx.map(i => checkins.get(sessions[i].session_id).pain_0_10) }] }));
+  } else el.querySelector('#p-pain').hidden = true;
   if (difficulty.length) {
-    // By adapted session, each labelled with its date and time: a change reads the same a day
-    // or a week apart, and sessions of one day stay apart.
-    const labels = sessionLabels(difficulty.map(d => d.started_unix_ms));
-    const chart = sessionChart(el.querySelector('#p-difficulty'), { title: 'Difficulty and success', y: 'level (0–1)', labels, range: [0, 1],
-      series: [{ label: 'difficulty (0–1)', values: difficulty.map(d => d.difficulty) },
-               { label: 'success rate (0–1)', values: difficulty.map(d => d.success_rate ?? null) }] });
-    undoDifficulty = () => chart.destroy();
+    // By adapted session, each labelled with its date and time, drawn when opened.
+    const details = el.querySelector('#difficulty');
+    details.addEventListener('toggle', () => {
+      if (!details.open || details.dataset.drawn) return;
+      details.dataset.drawn = '1';
+      const labels = sessionLabels(difficulty.map(d => d.started_unix_ms));
+      undoCharts.push(sessionChart(el.querySelector('#p-difficulty'), { y: 'difficulty (0–1)', labels, range: [0, 1], decimals: 2,
+        series: [{ label: 'difficulty (0–1)', values: difficulty.map(d => d.difficulty) }] }));
+    });
   }
-  // The clinical scales taken at the clinic, beside the station's SPARC (scales.js).
-  // A failure there says so in its own place and leaves the rest of the view working.
+  // The clinical scales taken at the clinic (scales.js): one chart a scale. A failure there
+  // says so in its own place and leaves the rest of the view working.
   let undoScales = () => {};
   try {
-    undoScales = await scalesSection(el.querySelector('#scales'), id, sessions, metrics);
+    undoScales = await scalesSection(el.querySelector('#scales'), id);
   } catch (e) {
     el.querySelector('#scales').innerHTML =
       `<p class="error" role="alert">The clinical scales could not be shown: ${esc(e.message || e)}</p>`;
   }
   el.dataset.sessions = String(sessions.length);
-  return () => { undo(); undoDifficulty(); undoScales(); };
+  return () => { undo(); undoCharts.forEach(c => c.destroy()); undoScales(); };
 }

@@ -6,34 +6,49 @@
 import uPlot from '/console/vendor/uplot-1.6.32/uPlot.esm.js';
 import { COLOURS } from '/console/charts.js';
 import { esc } from '/console/api.js';
-
-const MONTHS = ['Jan', 'Feb', 'Mar', 'Apr', 'May', 'Jun', 'Jul', 'Aug', 'Sep', 'Oct', 'Nov', 'Dec'];
+import { shortWords } from '/console/words.js';
 
 /** Chart height, px (two charts side by side fit a printed page with the table). */
 const HEIGHT_PX = 190;
 
-/** Width an x axis label needs, px ("27 Nov" over "08:51"). */
-const LABEL_PX = 64;
+/** Width an x axis label needs, px ("27 Nov" over "08:51:02 AM"). */
+const LABEL_PX = 96;
 
-/** A session's date and time as an axis label: "27 Nov 08:51" (local time). */
+/** A session's date and time as an axis label: "27 Nov 08:51" (the browser's locale). */
 export function shortWhen(ms) {
-  const d = new Date(ms);
-  const two = n => String(n).padStart(2, '0');
-  return `${d.getDate()} ${MONTHS[d.getMonth()]} ${two(d.getHours())}:${two(d.getMinutes())}`;
+  return shortWords(ms);
 }
 
 /** Labels for sessions started at `msList` (shortWhen); two in the same minute get their
  * seconds too, so that no two sessions read alike. */
 export function sessionLabels(msList) {
-  const short = msList.map(shortWhen);
-  return short.map((l, i) => (short.indexOf(l) !== short.lastIndexOf(l)
-    ? `${l}:${String(new Date(msList[i]).getSeconds()).padStart(2, '0')}` : l));
+  const short = msList.map(ms => shortWords(ms));
+  return short.map((l, i) => (short.indexOf(l) !== short.lastIndexOf(l) ? shortWords(msList[i], true) : l));
 }
 
-/** A number for a table cell: two decimals, or an integer for counts; "—" when absent. */
-export function cellNumber(v, integer = false) {
+/** A number for a table cell: `decimals` decimals (two by default), an integer for counts;
+ * "—" when absent. */
+export function cellNumber(v, integer = false, decimals = 2) {
   if (typeof v !== 'number') return '—';
-  return integer ? String(Math.round(v)) : v.toFixed(2);
+  if (integer) return String(Math.round(v));
+  const s = v.toFixed(decimals);
+  return Number(s) === 0 ? (0).toFixed(decimals) : s;
+}
+
+/** Tick steps of at least 10^-decimals (a tick finer than the measure's resolution would
+ * repeat its label once rounded). */
+export function incrsFor(decimals) {
+  const out = [];
+  for (let e = -decimals; e <= 5; e++) for (const m of [1, 2, 5]) out.push(Number((m * 10 ** e).toFixed(Math.max(0, -e))));
+  return out;
+}
+
+/** The y range to draw: the measure's meaningful `range`, grown to fit any value outside it
+ * (never shrunk to the data). */
+export function yRange(range, values) {
+  const vs = values.filter(v => typeof v === 'number' && Number.isFinite(v));
+  if (!range) return vs.length ? [Math.min(...vs), Math.max(...vs)] : [0, 1];
+  return [Math.min(range[0], ...vs), Math.max(range[1], ...vs)];
 }
 
 /**
@@ -41,11 +56,14 @@ export function cellNumber(v, integer = false) {
  * axis with its one unit, `series` [{label, values, early}] where `values` are the sessions
  * that count (null elsewhere; the line joins them) and `early` the sessions ended early (drawn
  * hollow, no line; null elsewhere). `integer` gives whole-number ticks (a count or a level);
- * `range` [min, max] fixes the y axis (grown to fit a value outside it). The title, if any,
- * is drawn above; a page usually names the chart in its own heading instead.
+ * `range` [min, max] is the measure's meaningful axis (grown to fit a value outside it, never
+ * zoomed to the data); `decimals` the measure's resolution (no tick finer: no repeated tick
+ * labels); `band` [low, high] a shaded band of measurement noise around the baseline. The
+ * title, if any, is drawn above; a page usually names the chart in its own heading instead.
+ * The ticks drawn are written to `data-ticks` and the y range to `data-y-range`.
  * Returns `destroy()`.
  */
-export function sessionChart(el, { title, y, labels, series, integer = false, range = null }) {
+export function sessionChart(el, { title, y, labels, series, integer = false, range = null, decimals = 2, band = null }) {
   const n = labels.length;
   const xs = labels.map((_, i) => i + 1);
   const width = () => Math.max(280, el.clientWidth || 600);
@@ -66,26 +84,42 @@ export function sessionChart(el, { title, y, labels, series, integer = false, ra
       data.push(s.early);
     }
   });
-  const yAxis = { label: y, size: 60 };
-  if (integer) {
-    yAxis.incrs = [1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000];
-    yAxis.values = (u, splits) => splits.map(v => String(Math.round(v)));
-  }
+  const all = series.flatMap(s => [...s.values, ...(s.early || [])]);
+  const [lo, hi] = yRange(integer && !range ? [0, 1] : range, all);
+  const places = integer ? 0 : decimals;
+  const yAxis = {
+    label: y, size: 60, incrs: integer ? incrsFor(0).filter(i => i >= 1) : incrsFor(places),
+    values: (u, splits) => {
+      const step = splits.length > 1 ? Math.abs(splits[1] - splits[0]) : 1;
+      const shown = Math.max(0, Math.min(places, Math.ceil(-Math.log10(step) - 1e-9)));
+      const out = splits.map(v => cellNumber(v, false, shown));
+      el.dataset.ticks = out.join('|');
+      return out;
+    },
+  };
   const opts = {
     title,
     width: width(),
     height: HEIGHT_PX,
     scales: {
       x: { time: false, range: () => [0.5, n + 0.5] },
-      y: integer ? { range: (u, min, max) => [0, Math.max(1, Math.ceil(max ?? 1))] }
-        : range ? { range: (u, min, max) => [Math.min(range[0], min ?? range[0]), Math.max(range[1], max ?? range[1])] } : {},
+      y: { range: () => [lo, hi] },
     },
+    hooks: band ? { drawClear: [u => {
+      // The measurement noise around the baseline: a change inside it is not a change.
+      const ctx = u.ctx, top = u.valToPos(band[1], 'y', true), bottom = u.valToPos(band[0], 'y', true);
+      ctx.save();
+      ctx.fillStyle = 'rgba(0, 114, 178, 0.12)';
+      ctx.fillRect(u.bbox.left, Math.max(u.bbox.top, top), u.bbox.width, Math.min(u.bbox.top + u.bbox.height, bottom) - Math.max(u.bbox.top, top));
+      ctx.restore();
+    }] } : {},
     series: uSeries,
-    // The series by name (the values are in the table under the chart): no "--" placeholders.
-    legend: { live: false },
+    // The series by name (the values are in the table under the chart): no "--" placeholders;
+    // none for one measure (its name is the chart's heading).
+    legend: { live: false, show: series.length > 1 },
     axes: [
       { label: 'session (date and time)', size: 58, splits: () => ticks(),
-        values: (u, splits) => splits.map(v => (labels[v - 1] || '').replace(/ (\d\d:\d\d(:\d\d)?)$/, '\n$1')) },
+        values: (u, splits) => splits.map(v => (labels[v - 1] || '').replace(/ (\d{1,2}:\d\d.*)$/, '\n$1')) },
       yAxis,
     ],
   };
@@ -96,6 +130,8 @@ export function sessionChart(el, { title, y, labels, series, integer = false, ra
   el.dataset.xs = xs.join(' ');
   el.dataset.labels = labels.join('|');
   el.dataset.yAxis = y;
+  el.dataset.yRange = `${lo} ${hi}`;
+  if (band) el.dataset.band = band.map(v => v.toFixed(places + 1)).join(' ');
   return {
     destroy() { window.removeEventListener('resize', resize); chart.destroy(); },
   };
@@ -105,12 +141,12 @@ export function sessionChart(el, { title, y, labels, series, integer = false, ra
  * The numbers of a chart as a table under it, in a <details>: a row a session (its label, each
  * series' value, whether it counts); `status` [{counts, early}] a session.
  */
-export function numbersTable(title, labels, columns, status, integer = false) {
+export function numbersTable(title, labels, columns, status, integer = false, decimals = 2) {
   const word = st => (st.counts ? (st.early ? 'yes (ended early, included)' : 'yes')
     : st.early ? 'no: ended early' : 'no: still running');
   const head = columns.map(c => `<th scope="col">${esc(c.label)}</th>`).join('');
   const rows = labels.map((label, i) => `<tr${status[i].early ? ' data-early="1"' : ''}><th scope="row">${esc(label)}</th>
-    ${columns.map(c => `<td class="num">${esc(cellNumber(c.values[i], integer))}</td>`).join('')}
+    ${columns.map(c => `<td class="num">${esc(cellNumber(c.values[i], integer, decimals))}</td>`).join('')}
     <td>${word(status[i])}</td></tr>`).join('');
   return `<details class="numbers print-hide"><summary>Numbers of this chart (${esc(title)})</summary>
     <table><caption>${esc(title)}, a row a session, oldest first</caption>

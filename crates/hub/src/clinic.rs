@@ -37,6 +37,9 @@ pub struct ClinicConfig {
     /// Database URL; empty means `DATA/hub.db` (SQLite).
     #[serde(default)]
     pub database: String,
+    /// The clinic's name as its printouts carry it (`clinic_name = "Rehab Clinic Nord"`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub clinic_name: Option<String>,
 }
 
 /// What `hub init` made.
@@ -158,6 +161,7 @@ impl Clinic {
         let config = ClinicConfig {
             names: names.to_vec(),
             database: database.unwrap_or_default().to_owned(),
+            clinic_name: None,
         };
         let url = match database.filter(|d| !d.is_empty()) {
             Some(u) => u.to_owned(),
@@ -318,7 +322,8 @@ pub async fn serve(
     let state = AppState::new(db.clone(), live.clone())
         .with_clock(options.now_ms.clone())
         .with_prescribed_feed(prescribed)
-        .with_replay_max_bytes(options.max_replay_bytes);
+        .with_replay_max_bytes(options.max_replay_bytes)
+        .with_clinic_name(config.clinic_name.clone());
     let (stop_web, web_stopped) = tokio::sync::oneshot::channel::<()>();
     let mut web_task = None;
     let mut web_addr = None;

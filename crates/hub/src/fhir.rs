@@ -341,7 +341,7 @@ fn measures_code_system(names: &BTreeSet<&str>) -> Value {
     ];
     concepts.extend(names.iter().map(|n| {
         json!({
-            "code": n, "display": n.replace('_', " "), "definition": measure_definition(n),
+            "code": n, "display": metrics::words::measure_words(n).map_or_else(|| n.replace('_', " "), |m| m.header()), "definition": measure_definition(n),
             "property": [{ "code": "unit", "valueCode": ucum_unit(n) }],
         })
     }));

@@ -68,7 +68,9 @@ async fn patient_with_sessions(
     p.id
 }
 
-async fn a_patients_measures_download_as_csv_with_units_in_the_headers_and_exact_values(db: Db) {
+/// A clinic: admin ana with patient P-0007 (one session), therapist ada with P-0042 (two
+/// sessions, the first ended on an unplugged wheel with a check-in); ada's and P-0042's ids.
+async fn seeded(db: &Db) -> (hub::Therapist, hub::Therapist, String) {
     let ana = db
         .add_therapist("ana@clinic.example", PASSWORD, Role::Admin, T0)
         .await
@@ -79,20 +81,59 @@ async fn a_patients_measures_download_as_csv_with_units_in_the_headers_and_exact
         .unwrap();
     let sparc = -1.612_345_678_901_234_5;
     let p = patient_with_sessions(
-        &db,
+        db,
         "P-0042",
         &ada.id,
         &[
-            &[("sparc_median", sparc), ("active_s", 25.5)],
-            &[("sparc_median", -1.5), ("tracking_rms_error_deg", 0.1)],
+            &[
+                ("sparc_median", sparc),
+                ("active_s", 25.5),
+                ("pct_in_lane", 999.999_999_999_999_9),
+            ],
+            &[
+                ("sparc_median", -1.5),
+                ("tracking_rms_error_deg", 0.1),
+                ("zz_new_measure_s", 0.123_456_7),
+            ],
         ],
     )
     .await;
-    patient_with_sessions(&db, "P-0007", &ana.id, &[&[("pct_in_lane", 97.25)]]).await;
+    // The first session ended on an unplugged wheel, with the patient's check-in.
+    let bye = netlink::Bye {
+        session_id: "s-P-0042-0".to_owned(),
+        reason: "wheel unplugged".to_owned(),
+        final_seq: None,
+        measures: BTreeMap::new(),
+        hub_unix_ms: None,
+        checkin: None,
+        difficulty: None,
+        exercises: Vec::new(),
+    };
+    db.close_session(&bye, T0 + 1000).await.unwrap();
+    let checkin = netlink::CheckIn {
+        pain_0_10: Some(8),
+        tiredness_0_10: Some(6),
+        difficulty: Some("too_hard".to_owned()),
+    };
+    db.put_checkin("s-P-0042-0", &checkin, T0 + 1000)
+        .await
+        .unwrap();
+    patient_with_sessions(db, "P-0007", &ana.id, &[&[("pct_in_lane", 97.25)]]).await;
+    (ana, ada, p)
+}
+
+async fn a_patients_csv_has_plain_and_technical_headers_rounded_values_local_times_and_check_ins(
+    db: Db,
+) {
+    let (_, _, p) = seeded(&db).await;
     let app = app_of(&db);
     let cookie = login(&app, "ada@clinic.example").await;
-    let (status, headers, csv) =
-        get(&app, &format!("/api/patients/{p}/measures.csv"), &cookie).await;
+    let (status, headers, csv) = get(
+        &app,
+        &format!("/api/patients/{p}/measures.csv?tz=Europe/Berlin"),
+        &cookie,
+    )
+    .await;
     assert_eq!(status, StatusCode::OK, "{csv}");
     assert_eq!(headers[header::CONTENT_TYPE], "text/csv; charset=utf-8");
     assert_eq!(
@@ -100,42 +141,105 @@ async fn a_patients_measures_download_as_csv_with_units_in_the_headers_and_exact
         "attachment; filename=\"measures-P-0042-2026-11-21.csv\""
     );
     let lines: Vec<&str> = csv.split("\r\n").collect();
+    // Plain words with units first, the technical names under them; the table's measures in
+    // its reading order, any other after them.
     assert_eq!(
         lines[0],
-        "session_id,started_at_utc,exercise,ran_as_prescribed,active_s,sparc_median,tracking_rms_error_deg"
+        "Session reference,\"Started (local time, Europe/Berlin)\",Started (UTC),Exercises,How it ended,\
+         Ran as prescribed,Pain after (0–10),Tiredness after (0–10),How hard it felt,\
+         Active time (s),Smoothness (closer to 0 is smoother),Time in lane (%),\
+         Distance from the angle asked (°),zz new measure s"
+    );
+    assert_eq!(
+        lines[1],
+        "session_id,started_local,started_at_utc,exercise,end_reason,ran_as_prescribed,\
+         pain_0_10,tiredness_0_10,difficulty,active_s,sparc_median,pct_in_lane,\
+         tracking_rms_error_deg,zz_new_measure_s"
     );
     assert_eq!(
         lines.len(),
-        4,
-        "a header, two sessions and the last line's end: {csv:?}"
+        5,
+        "two headers, two sessions and the last line's end: {csv:?}"
     );
-    let first: Vec<&str> = lines[1].split(',').collect();
+    let first: Vec<&str> = lines[2].split(',').collect();
     assert_eq!(
-        first[..4],
-        ["s-P-0042-0", "2026-11-21T09:30:00Z", "Sine road", "false"]
+        first[..9],
+        [
+            "s-P-0042-0",
+            "2026-11-21 10:30",
+            "2026-11-21T09:30:00Z",
+            "Sine road",
+            "Stopped early: wheel unplugged",
+            "no",
+            "8",
+            "6",
+            "too hard"
+        ]
     );
-    assert_eq!(first[4].parse::<f64>().unwrap(), 25.5);
-    assert_eq!(first[5].parse::<f64>().unwrap(), sparc, "read back exactly");
-    assert_eq!(first[6], "", "a measure the session lacks is an empty cell");
-    assert!(lines[2].starts_with("s-P-0042-1,2026-11-21T09:31:00Z,"));
+    assert_eq!(
+        first[9], "26",
+        "active time to the second (25.5 rounds to even or up)"
+    );
+    assert_eq!(first[10], "-1.61", "rounded to the table's decimals");
+    assert_eq!(first[11], "1000", "never 999.9999999999999");
+    assert_eq!(
+        first[12], "",
+        "a measure the session lacks is an empty cell"
+    );
+    let second: Vec<&str> = lines[3].split(',').collect();
+    assert_eq!(second[1..3], ["2026-11-21 10:31", "2026-11-21T09:31:00Z"]);
+    assert_eq!(second[6..9], ["", "", ""], "no check-in: empty cells");
+    assert_eq!(second[12], "0.1");
+    assert_eq!(
+        second[13], "0.1235",
+        "a measure the table lacks: 4 significant digits"
+    );
+    // An unknown time zone is refused, naming it.
+    let (status, _, body) = get(
+        &app,
+        &format!("/api/patients/{p}/measures.csv?tz=Mars/Olympus"),
+        &cookie,
+    )
+    .await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert!(body.contains("Mars/Olympus"), "{body}");
+}
+
+async fn the_caseload_csv_has_the_same_columns_with_the_patient_first_for_admins_only(db: Db) {
+    let (ana, ada, p) = seeded(&db).await;
+    let app = app_of(&db);
+    let cookie = login(&app, "ada@clinic.example").await;
     // Another therapist's patient is not found; the caseload is for admins.
+    let (status, _, _) = get(&app, &format!("/api/patients/{p}/measures.csv"), &cookie).await;
+    assert_eq!(status, StatusCode::OK);
     let (status, _, _) = get(&app, "/api/measures.csv", &cookie).await;
     assert_eq!(status, StatusCode::FORBIDDEN);
     let admin = login(&app, "ana@clinic.example").await;
-    let (status, headers, csv) = get(&app, "/api/measures.csv", &admin).await;
+    let (status, headers, csv) = get(&app, "/api/measures.csv?tz=UTC", &admin).await;
     assert_eq!(status, StatusCode::OK);
     assert_eq!(
         headers[header::CONTENT_DISPOSITION],
         "attachment; filename=\"measures-caseload-2026-11-21.csv\""
     );
     let lines: Vec<&str> = csv.split("\r\n").collect();
-    assert!(lines[0].starts_with("patient,session_id,"), "{}", lines[0]);
-    assert!(lines[0].contains(",pct_in_lane,"), "{}", lines[0]);
-    let patients: Vec<&str> = lines[1..4]
+    assert!(
+        lines[0].starts_with("Patient,Session reference,"),
+        "{}",
+        lines[0]
+    );
+    assert!(lines[0].contains(",Pain after (0–10),"), "{}", lines[0]);
+    assert!(lines[1].starts_with("patient,session_id,"), "{}", lines[1]);
+    assert!(lines[1].contains(",pct_in_lane,"), "{}", lines[1]);
+    let patients: Vec<&str> = lines[2..5]
         .iter()
         .map(|l| l.split(',').next().unwrap())
         .collect();
     assert_eq!(patients, ["P-0007", "P-0042", "P-0042"], "by pseudonym");
+    assert!(
+        lines[3].contains(",Stopped early: wheel unplugged,no,8,6,too hard,"),
+        "{}",
+        lines[3]
+    );
     let audit = actions(&db).await;
     assert!(
         audit
@@ -149,4 +253,39 @@ async fn a_patients_measures_download_as_csv_with_units_in_the_headers_and_exact
     );
 }
 
-on_both_backends!(a_patients_measures_download_as_csv_with_units_in_the_headers_and_exact_values);
+on_both_backends!(
+    a_patients_csv_has_plain_and_technical_headers_rounded_values_local_times_and_check_ins
+);
+on_both_backends!(the_caseload_csv_has_the_same_columns_with_the_patient_first_for_admins_only);
+
+async fn the_one_table_of_measure_words_is_served_to_the_console(db: Db) {
+    db.add_therapist("ada@clinic.example", PASSWORD, Role::Therapist, T0)
+        .await
+        .unwrap();
+    let app = app_of(&db);
+    let (status, _, _) = get(&app, "/api/measures/words", "").await;
+    assert_eq!(status, StatusCode::UNAUTHORIZED, "a login first");
+    let cookie = login(&app, "ada@clinic.example").await;
+    let (status, _, body) = get(&app, "/api/measures/words", &cookie).await;
+    assert_eq!(status, StatusCode::OK, "{body}");
+    let words: serde_json::Value = serde_json::from_str(&body).unwrap();
+    let sparc = words["measures"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|m| m["key"] == "sparc_median")
+        .unwrap();
+    assert_eq!(sparc["name"], "Smoothness (closer to 0 is smoother)");
+    assert_eq!(sparc["range"], serde_json::json!([-5.0, 0.0]));
+    assert_eq!(sparc["noise"]["kind"], "relative");
+    assert_eq!(sparc["better"], "higher");
+    assert!(sparc["technical"].as_str().unwrap().contains("SPARC"));
+    let ends = words["end_reasons"].as_array().unwrap();
+    assert!(
+        ends.iter()
+            .any(|e| e["kind"] == "wheel_unplugged"
+                && e["words"] == "Stopped early: wheel unplugged")
+    );
+}
+
+on_both_backends!(the_one_table_of_measure_words_is_served_to_the_console);

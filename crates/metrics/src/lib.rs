@@ -12,6 +12,8 @@
 //! - [`robot`]: measures as robot assessments of stroke report them (InMotion, Kinarm):
 //!   [`speed_metric`], [`steering_reversals`], [`step_responses`] (reaction time, initial
 //!   direction error, path length ratio), with their references.
+//! - [`words`]: the one table of measure words (plain name, unit, decimals, axis range,
+//!   noise, better) and one wording per way a session ends, for every page and file.
 //! - [`live`]: [`LiveMeasures`], the cheap running subset for the live display.
 //! - [`error`]: the errors, [`MetricError`].
 //!
@@ -25,6 +27,7 @@ pub mod robot;
 pub mod segment;
 pub mod session;
 pub mod smoothness;
+pub mod words;
 
 pub use error::MetricError;
 pub use filter::{Biquad, derivative, speed_profile};

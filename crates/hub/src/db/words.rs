@@ -50,6 +50,11 @@ pub struct NamedSession {
     /// True once the session's recording has fully arrived (every byte, its hash checked):
     /// the console's replay can then open it.
     pub recording_uploaded: bool,
+    /// How it ended, the one wording every page uses (`Stopped early: wheel unplugged`;
+    /// `metrics::words::end_words`).
+    pub end_words: String,
+    /// How it ended as a stable key (`complete`, `wheel_unplugged`, `running`, …).
+    pub end_kind: metrics::words::EndKind,
 }
 
 /// A session's exercises: each one's short name, patient-facing name and prescribed time, s
@@ -64,6 +69,16 @@ fn name_session(
     recording_uploaded: bool,
 ) -> NamedSession {
     let ran_as_prescribed = row.end_reason.as_deref() == Some(COMPLETE);
+    let (end_kind, end_words) = match (&row.end_reason, row.closed_at_ms) {
+        (None, Some(_)) => {
+            let k = metrics::words::EndKind::Unreported;
+            (k, k.words().to_owned())
+        }
+        (reason, _) => (
+            metrics::words::EndKind::of(reason.as_deref()),
+            metrics::words::end_words(reason.as_deref()),
+        ),
+    };
     let (exercise_name, exercise_kind, prescribed_s) = match reported {
         Some(list) if !list.is_empty() => {
             let names: Vec<&str> = list.iter().map(|(_, n, _)| n.as_str()).collect();
@@ -99,6 +114,8 @@ fn name_session(
         ran_as_prescribed,
         prescribed_s,
         recording_uploaded,
+        end_words,
+        end_kind,
     }
 }
 

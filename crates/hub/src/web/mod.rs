@@ -14,6 +14,7 @@ mod clinic;
 mod console;
 mod fhir;
 mod live;
+mod measure_words;
 mod messages;
 mod notes;
 mod patients;
@@ -88,6 +89,8 @@ pub struct AppState {
     /// What a replayed file's chunks may declare (`None`: what a station writes, for files
     /// up to `replay_max_bytes`: [`record::CostLimits::for_files_up_to`]).
     pub replay_cost_limits: Option<record::CostLimits>,
+    /// The clinic's name for its printouts (`hub.toml`'s `clinic_name`), if set.
+    pub clinic_name: Option<String>,
 }
 
 impl AppState {
@@ -104,7 +107,14 @@ impl AppState {
             replay_turns: Arc::default(),
             replay_cpu_s: DEFAULT_REPLAY_CPU_S,
             replay_cost_limits: None,
+            clinic_name: None,
         }
+    }
+
+    /// The same state naming the clinic `name` on its printouts.
+    pub fn with_clinic_name(mut self, name: Option<String>) -> Self {
+        self.clinic_name = name.filter(|n| !n.trim().is_empty());
+        self
     }
 
     /// The same state giving each replay at most `cpu_s` CPU-seconds, and reading files
@@ -243,6 +253,8 @@ pub fn router(state: AppState) -> Router {
             get(spreadsheet::patient_csv),
         )
         .route("/api/measures.csv", get(spreadsheet::caseload_csv))
+        .route("/api/measures/words", get(measure_words::measure_words))
+        .route("/api/clinic/name", get(measure_words::clinic_name))
         .route("/api/patients/{id}/fhir", get(fhir::bundle))
         .route("/api/regimen/schema", get(regimen::regimen_schema))
         .route("/api/regimen/presets", get(regimen::regimen_presets))

@@ -1,41 +1,106 @@
-//! The per-session measures as a spreadsheet: `GET /api/patients/{id}/measures.csv` (one
-//! patient) and `GET /api/measures.csv` (an admin's whole caseload, a `patient` column first),
-//! both audited.
+//! The per-session measures as a spreadsheet a clinic files: `GET
+//! /api/patients/{id}/measures.csv` (one patient) and `GET /api/measures.csv` (an admin's whole
+//! caseload, a `Patient` column first), both audited.
 //!
-//! One row a session, oldest first; the columns `session_id`, `started_at_utc` (ISO 8601),
-//! `exercise` (in words, a regimen's exercises in order), `ran_as_prescribed` (`true` or
-//! `false`), then every measure any of the sessions has, by its stored name, which carries its
-//! unit (`_deg`, `_s`, `_nm`, `_pct`, `_per_min`; none for a ratio or a count such as
-//! `sparc_median`), alphabetically. A session without a measure leaves its cell empty. Numbers
-//! are written as Rust's shortest exact decimal (they read back as the same `f64`); a text cell
-//! starting with `=`, `+`, `-` or `@` is prefixed with `'` so that no spreadsheet takes it
-//! for a formula.
+//! Two header rows: the first in plain words with units (`Time in lane (%)`, from the one table
+//! of measure words, `metrics::words`), the second the technical names (`pct_in_lane`) for
+//! whoever joins the file to other data. Then one row a session, oldest first: its start in
+//! local time (the time zone the console's browser sends as `?tz=Europe/Berlin`, else the hub's
+//! own; the header names it) and in UTC (ISO 8601), its exercises in order, how it ended (the
+//! one wording), whether it ran as prescribed, the patient's check-in (pain, tiredness, how hard
+//! it felt), then every measure any of the sessions has: the table's in its reading order, any
+//! other alphabetically. Numbers are rounded to the table's meaningful decimals (a measure the
+//! table lacks to 4 significant digits): never `999.9999999999999`. A session without a measure
+//! leaves its cell empty. A text cell starting with `=`, `+`, `-` or `@` is prefixed with `'`
+//! so that no spreadsheet takes it for a formula.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
-use axum::extract::rejection::PathRejection;
-use axum::extract::{Path, State};
+use axum::extract::rejection::{PathRejection, QueryRejection};
+use axum::extract::{Path, Query, State};
 use axum::http::{HeaderValue, header};
 use axum::response::{IntoResponse, Response};
+use jiff::tz::TimeZone;
+use metrics::words::{MEASURES, measure_words, round_unknown};
+use serde::Deserialize;
 
 use super::auth::Authed;
 use super::{ApiError, AppState};
-use crate::db::{MeasuresBySession, NamedSession, Patient, iso_utc};
+use crate::db::{MeasuresBySession, NamedSession, Patient, SessionCheckIn, iso_utc};
 
-/// One patient's sessions (oldest first) with their measures.
+/// One patient's sessions (oldest first) with their measures and check-ins.
 struct PatientRows {
     patient: Patient,
     sessions: Vec<NamedSession>,
     measures: MeasuresBySession,
+    checkins: BTreeMap<String, SessionCheckIn>,
 }
 
 async fn rows_of(state: &AppState, patient: Patient) -> Result<PatientRows, crate::HubError> {
     let (sessions, measures) = state.db.sessions_with_measures(&patient.id).await?;
+    let checkins = state
+        .db
+        .checkins_of(&patient.id)
+        .await?
+        .into_iter()
+        .map(|c| (c.session_id.clone(), c))
+        .collect();
     Ok(PatientRows {
         patient,
         sessions,
         measures,
+        checkins,
     })
+}
+
+/// Query of both spreadsheets.
+#[derive(Deserialize)]
+pub(crate) struct SheetQuery {
+    /// The IANA time zone of the local times (`Europe/Berlin`); the hub's own when absent.
+    tz: Option<String>,
+}
+
+/// The time zone the local times are written in, and its name for the header.
+struct LocalZone {
+    zone: TimeZone,
+    name: String,
+}
+
+impl LocalZone {
+    /// `tz` (IANA name), else the hub's system time zone; an unknown name is refused naming it.
+    fn of(tz: Option<&str>) -> Result<Self, ApiError> {
+        match tz.map(str::trim).filter(|t| !t.is_empty()) {
+            Some(name) => {
+                let zone = TimeZone::get(name).map_err(|_| {
+                    ApiError::BadRequest(format!(
+                        "unknown time zone \"{}\": give an IANA name such as Europe/Berlin",
+                        name.chars().take(64).collect::<String>()
+                    ))
+                })?;
+                Ok(Self {
+                    zone,
+                    name: name.to_owned(),
+                })
+            }
+            None => {
+                let zone = TimeZone::system();
+                let name = zone.iana_name().unwrap_or("the hub's time zone").to_owned();
+                Ok(Self { zone, name })
+            }
+        }
+    }
+
+    /// `ms` as local date and time: `2026-11-27 09:51`.
+    fn local(&self, ms: i64) -> String {
+        jiff::Timestamp::from_millisecond(ms).map_or_else(
+            |_| String::new(),
+            |t| {
+                t.to_zoned_datetime(self.zone.clone())
+                    .strftime("%Y-%m-%d %H:%M")
+                    .to_string()
+            },
+        )
+    }
 }
 
 /// A text cell as CSV (RFC 4180 quoting; a leading formula character neutralised).
@@ -52,57 +117,144 @@ fn text_cell(text: &str) -> String {
     }
 }
 
-/// The measure columns of `rows`: every measure any of its sessions has, sorted.
-fn names_of(rows: &PatientRows) -> Vec<String> {
-    let names: BTreeSet<&String> = rows.measures.values().flat_map(|m| m.keys()).collect();
-    names.into_iter().cloned().collect()
+/// `names` in the columns' order: the table's measures in its reading order, then any other
+/// alphabetically.
+fn ordered(names: &BTreeSet<String>) -> Vec<String> {
+    let known = MEASURES
+        .iter()
+        .filter(|m| names.contains(m.key))
+        .map(|m| m.key.to_owned());
+    let unknown = names.iter().filter(|n| measure_words(n).is_none()).cloned();
+    known.chain(unknown).collect()
 }
 
-/// The header line (with a `patient` column first when `with_patient`).
-fn header(names: &[String], with_patient: bool) -> String {
-    let mut head: Vec<&str> = Vec::new();
+/// The measure columns of `rows`: every measure any of its sessions has.
+fn names_of(rows: &PatientRows) -> Vec<String> {
+    ordered(
+        &rows
+            .measures
+            .values()
+            .flat_map(|m| m.keys().cloned())
+            .collect(),
+    )
+}
+
+/// The columns before the measures: (plain header, technical name).
+fn fixed_columns(zone: &LocalZone) -> Vec<(String, &'static str)> {
+    vec![
+        ("Session reference".to_owned(), "session_id"),
+        (
+            format!("Started (local time, {})", zone.name),
+            "started_local",
+        ),
+        ("Started (UTC)".to_owned(), "started_at_utc"),
+        ("Exercises".to_owned(), "exercise"),
+        ("How it ended".to_owned(), "end_reason"),
+        ("Ran as prescribed".to_owned(), "ran_as_prescribed"),
+        ("Pain after (0–10)".to_owned(), "pain_0_10"),
+        ("Tiredness after (0–10)".to_owned(), "tiredness_0_10"),
+        ("How hard it felt".to_owned(), "difficulty"),
+    ]
+}
+
+/// A measure's plain header: the table's words with the unit, else its name in words.
+fn plain_header(name: &str) -> String {
+    measure_words(name).map_or_else(|| name.replace('_', " "), |m| m.header())
+}
+
+/// The two header lines (a `Patient` column first when `with_patient`).
+fn header(names: &[String], with_patient: bool, zone: &LocalZone) -> String {
+    let mut plain: Vec<String> = Vec::new();
+    let mut technical: Vec<String> = Vec::new();
     if with_patient {
-        head.push("patient");
+        plain.push("Patient".to_owned());
+        technical.push("patient".to_owned());
     }
-    head.extend([
-        "session_id",
-        "started_at_utc",
-        "exercise",
-        "ran_as_prescribed",
-    ]);
-    head.extend(names.iter().map(String::as_str));
-    let mut out = head
-        .iter()
-        .map(|h| text_cell(h))
-        .collect::<Vec<_>>()
-        .join(",");
-    out.push_str("\r\n");
-    out
+    for (p, t) in fixed_columns(zone) {
+        plain.push(p);
+        technical.push(t.to_owned());
+    }
+    for n in names {
+        plain.push(plain_header(n));
+        technical.push(n.clone());
+    }
+    let line = |cells: &[String]| {
+        let mut l = cells
+            .iter()
+            .map(|c| text_cell(c))
+            .collect::<Vec<_>>()
+            .join(",");
+        l.push_str("\r\n");
+        l
+    };
+    format!("{}{}", line(&plain), line(&technical))
+}
+
+/// A measure's value as a cell: rounded to the table's decimals (4 significant digits for a
+/// measure the table lacks).
+fn number_cell(name: &str, v: f64) -> String {
+    match measure_words(name) {
+        Some(m) => m.number(v),
+        None => format!("{}", round_unknown(v)),
+    }
+}
+
+/// A check-in's "how hard it felt" in words.
+fn difficulty_words(d: &str) -> String {
+    match d {
+        "too_easy" => "too easy".to_owned(),
+        "about_right" => "about right".to_owned(),
+        "too_hard" => "too hard".to_owned(),
+        other => other.replace('_', " "),
+    }
 }
 
 /// One patient's session lines appended to `out` (columns `names`); how many.
-fn lines_of(p: &PatientRows, names: &[String], with_patient: bool, out: &mut String) -> usize {
+fn lines_of(
+    p: &PatientRows,
+    names: &[String],
+    with_patient: bool,
+    zone: &LocalZone,
+    out: &mut String,
+) -> usize {
     for s in &p.sessions {
-        let mut cells: Vec<String> = Vec::with_capacity(names.len() + 5);
+        let mut cells: Vec<String> = Vec::with_capacity(names.len() + 10);
         if with_patient {
             cells.push(text_cell(&p.patient.pseudonym));
         }
+        let checkin = p.checkins.get(&s.row.session_id);
+        let opt = |v: Option<i64>| v.map_or_else(String::new, |v| v.to_string());
         cells.push(text_cell(&s.row.session_id));
+        cells.push(zone.local(s.row.started_unix_ms));
         cells.push(iso_utc(s.row.started_unix_ms));
         cells.push(text_cell(&s.exercise_name));
-        cells.push(s.ran_as_prescribed.to_string());
+        cells.push(text_cell(&s.end_words));
+        cells.push(if s.ran_as_prescribed { "yes" } else { "no" }.to_owned());
+        cells.push(opt(checkin.and_then(|c| c.pain_0_10)));
+        cells.push(opt(checkin.and_then(|c| c.tiredness_0_10)));
+        cells.push(
+            checkin
+                .and_then(|c| c.difficulty.as_deref())
+                .map_or_else(String::new, |d| text_cell(&difficulty_words(d))),
+        );
         let measures = p.measures.get(&s.row.session_id);
         for name in names {
             cells.push(
                 measures
                     .and_then(|m| m.get(name))
-                    .map_or_else(String::new, |v| format!("{v}")),
+                    .map_or_else(String::new, |&v| number_cell(name, v)),
             );
         }
         out.push_str(&cells.join(","));
         out.push_str("\r\n");
     }
     p.sessions.len()
+}
+
+/// The local time zone a spreadsheet's query asks for (see [`LocalZone::of`]).
+fn zone_of(query: Result<Query<SheetQuery>, QueryRejection>) -> Result<LocalZone, ApiError> {
+    let Query(q) = query.map_err(|e| ApiError::BadRequest(e.body_text()))?;
+    LocalZone::of(q.tz.as_deref())
 }
 
 /// `body` as a CSV download named `filename`.
@@ -130,13 +282,15 @@ pub(crate) async fn patient_csv(
     State(state): State<AppState>,
     Authed(therapist): Authed,
     id: Result<Path<String>, PathRejection>,
+    query: Result<Query<SheetQuery>, QueryRejection>,
 ) -> Result<Response, ApiError> {
     let Path(id) = id?;
+    let zone = zone_of(query)?;
     let patient = state.visible_patient(&therapist, &id).await?;
     let rows = rows_of(&state, patient).await?;
     let names = names_of(&rows);
-    let mut body = header(&names, false);
-    let sessions = lines_of(&rows, &names, false, &mut body);
+    let mut body = header(&names, false, &zone);
+    let sessions = lines_of(&rows, &names, false, &zone, &mut body);
     let patient = &rows.patient;
     state
         .audit(
@@ -159,10 +313,12 @@ pub(crate) async fn patient_csv(
 pub(crate) async fn caseload_csv(
     State(state): State<AppState>,
     Authed(therapist): Authed,
+    query: Result<Query<SheetQuery>, QueryRejection>,
 ) -> Result<Response, ApiError> {
     super::clinic::admins_only(&therapist, "the whole caseload's spreadsheet")?;
+    let zone = zone_of(query)?;
     let patients = state.db.all_patients().await?;
-    let names = state.db.measure_names().await?;
+    let names = ordered(&state.db.measure_names().await?.into_iter().collect());
     state
         .audit(
             &therapist.actor(),
@@ -174,14 +330,14 @@ pub(crate) async fn caseload_csv(
     let (tx, rx) = tokio::sync::mpsc::channel::<Result<String, std::io::Error>>(4);
     let filename = format!("measures-caseload-{}.csv", day_of(state.now()));
     tokio::spawn(async move {
-        if tx.send(Ok(header(&names, true))).await.is_err() {
+        if tx.send(Ok(header(&names, true, &zone))).await.is_err() {
             return;
         }
         for p in patients {
             let chunk = match rows_of(&state, p).await {
                 Ok(rows) => {
                     let mut out = String::new();
-                    lines_of(&rows, &names, true, &mut out);
+                    lines_of(&rows, &names, true, &zone, &mut out);
                     Ok(out)
                 }
                 // The download ends cut short rather than with a wrong file.

@@ -1,5 +1,6 @@
 //! The measures the report shows: each by the recording's key, in plain words with its unit,
-//! and which way is better.
+//! and which way is better — read from the ONE table of measure words (`metrics::words`) the
+//! hub's console, spreadsheet and FHIR export read too.
 
 /// Which way a measure is better.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -19,212 +20,64 @@ pub(super) struct Measure {
     pub(super) better: Better,
 }
 
-const fn m(
-    key: &'static str,
-    label: &'static str,
-    unit: &'static str,
-    decimals: usize,
-    better: Better,
-) -> Measure {
-    Measure {
-        key,
-        label,
-        unit,
-        decimals,
-        better,
+/// Measure `key` as the ONE table of measure words (`metrics::words`) words it: plain name,
+/// unit, meaningful decimals, which way is better (a key not in the table does not build).
+const fn from_table(key: &str) -> Measure {
+    let table = &metrics::words::MEASURES;
+    let mut i = 0;
+    while i < table.len() {
+        if same(table[i].key, key) {
+            let w = &table[i];
+            return Measure {
+                key: w.key,
+                label: w.name,
+                unit: w.unit,
+                decimals: w.decimals as usize,
+                better: match w.better {
+                    metrics::words::Better::Higher => Better::Higher,
+                    metrics::words::Better::Lower => Better::Lower,
+                    metrics::words::Better::Neither => Better::Neither,
+                },
+            };
+        }
+        i += 1;
     }
+    panic!("a measure the report shows must be in metrics::words::MEASURES")
 }
 
 /// The measures shown, in order (those a session lacks are left out).
 pub(super) const MEASURES: [Measure; 31] = [
-    m("session_s", "Session length", "s", 0, Better::Neither),
-    m("paused_s", "Paused", "s", 0, Better::Neither),
-    m("movements", "Movements", "", 0, Better::Neither),
-    m("active_pct", "Time moving", "%", 0, Better::Higher),
-    m(
-        "sparc_median",
-        "Smoothness, SPARC (median; closer to 0 is smoother)",
-        "",
-        2,
-        Better::Higher,
-    ),
-    m(
-        "ldlj_median",
-        "Smoothness, LDLJ (median; closer to 0 is smoother)",
-        "",
-        2,
-        Better::Higher,
-    ),
-    m(
-        "movement_peak_speed_deg_s_median",
-        "Peak speed of a movement (median)",
-        "°/s",
-        0,
-        Better::Higher,
-    ),
-    m(
-        "movement_time_s_median",
-        "Duration of a movement (median)",
-        "s",
-        2,
-        Better::Neither,
-    ),
-    m(
-        "speed_peaks_median",
-        "Speed peaks in a movement (median)",
-        "",
-        0,
-        Better::Lower,
-    ),
-    m(
-        "speed_metric_median",
-        "Speed metric: mean over peak speed of a movement (median; Rohrer 2002)",
-        "",
-        2,
-        Better::Higher,
-    ),
-    m(
-        "reaction_time_s_median",
-        "Reaction time to a step of the target (median)",
-        "s",
-        2,
-        Better::Lower,
-    ),
-    m(
-        "initial_direction_error_deg_mean",
-        "Initial direction error (mean; 180° = every start the wrong way)",
-        "°",
-        0,
-        Better::Lower,
-    ),
-    // By side, for a patient who neglects one (targets on the left against the right).
-    m(
-        "reaction_time_left_s_median",
-        "Reaction time, targets on the left (median)",
-        "s",
-        2,
-        Better::Lower,
-    ),
-    m(
-        "reaction_time_right_s_median",
-        "Reaction time, targets on the right (median)",
-        "s",
-        2,
-        Better::Lower,
-    ),
-    m(
-        "initial_direction_error_left_deg_mean",
-        "Initial direction error, targets on the left (mean)",
-        "°",
-        0,
-        Better::Lower,
-    ),
-    m(
-        "initial_direction_error_right_deg_mean",
-        "Initial direction error, targets on the right (mean)",
-        "°",
-        0,
-        Better::Lower,
-    ),
-    m(
-        "path_length_ratio_median",
-        "Path length ratio: wheel path over the distance needed (median)",
-        "",
-        2,
-        Better::Lower,
-    ),
-    m(
-        "movements_per_min",
-        "Dose: movements per active minute",
-        "/min",
-        1,
-        Better::Higher,
-    ),
-    m(
-        "reversals_per_min",
-        "Dose: steering reversals per active minute",
-        "/min",
-        1,
-        Better::Neither,
-    ),
-    m(
-        "wheel_rom_deg",
-        "Wheel range of motion",
-        "°",
-        0,
-        Better::Higher,
-    ),
-    m(
-        "shoulder_elevation_rom_deg",
-        "Shoulder elevation range",
-        "°",
-        0,
-        Better::Higher,
-    ),
-    m(
-        "elbow_flexion_rom_deg",
-        "Elbow flexion range",
-        "°",
-        0,
-        Better::Higher,
-    ),
-    m(
-        "rms_lateral_m",
-        "Lane keeping: lateral deviation (RMS)",
-        "m",
-        3,
-        Better::Lower,
-    ),
-    m("pct_in_lane", "Time in lane", "%", 1, Better::Higher),
-    m(
-        "dial_rms_error_deg",
-        "Tracking error (RMS)",
-        "°",
-        2,
-        Better::Lower,
-    ),
-    m(
-        "strength_peak_left_nm",
-        "Strength pushing left: peak",
-        "N·m",
-        2,
-        Better::Higher,
-    ),
-    m(
-        "strength_sustained_left_nm",
-        "Strength pushing left: held 1 s",
-        "N·m",
-        2,
-        Better::Higher,
-    ),
-    m(
-        "strength_peak_right_nm",
-        "Strength pushing right: peak",
-        "N·m",
-        2,
-        Better::Higher,
-    ),
-    m(
-        "strength_sustained_right_nm",
-        "Strength pushing right: held 1 s",
-        "N·m",
-        2,
-        Better::Higher,
-    ),
-    m(
-        "assist_level_mean",
-        "Assist level (mean, 0–1)",
-        "",
-        2,
-        Better::Lower,
-    ),
-    m(
-        "patient_work_pct",
-        "Patient's share of the work",
-        "%",
-        0,
-        Better::Higher,
-    ),
+    from_table("session_s"),
+    from_table("paused_s"),
+    from_table("movements"),
+    from_table("active_pct"),
+    from_table("sparc_median"),
+    from_table("ldlj_median"),
+    from_table("movement_peak_speed_deg_s_median"),
+    from_table("movement_time_s_median"),
+    from_table("speed_peaks_median"),
+    from_table("speed_metric_median"),
+    from_table("reaction_time_s_median"),
+    from_table("initial_direction_error_deg_mean"),
+    from_table("reaction_time_left_s_median"),
+    from_table("reaction_time_right_s_median"),
+    from_table("initial_direction_error_left_deg_mean"),
+    from_table("initial_direction_error_right_deg_mean"),
+    from_table("path_length_ratio_median"),
+    from_table("movements_per_min"),
+    from_table("reversals_per_min"),
+    from_table("wheel_rom_deg"),
+    from_table("shoulder_elevation_rom_deg"),
+    from_table("elbow_flexion_rom_deg"),
+    from_table("rms_lateral_m"),
+    from_table("pct_in_lane"),
+    from_table("dial_rms_error_deg"),
+    from_table("strength_peak_left_nm"),
+    from_table("strength_sustained_left_nm"),
+    from_table("strength_peak_right_nm"),
+    from_table("strength_sustained_right_nm"),
+    from_table("assist_level_mean"),
+    from_table("patient_work_pct"),
 ];
 
 /// `a == b`, at compile time.
@@ -261,62 +114,20 @@ const fn shared(key: &str) -> Measure {
 pub(super) const EXERCISE_MEASURES: [Measure; 30] = [
     shared("rms_lateral_m"),
     shared("pct_in_lane"),
-    m(
-        "heading_rms_error_deg",
-        "Heading error (RMS)",
-        "°",
-        1,
-        Better::Lower,
-    ),
-    m("cone_hits", "Cones hit", "", 0, Better::Lower),
-    m(
-        "completion_time_s",
-        "Completion time",
-        "s",
-        1,
-        Better::Neither,
-    ),
-    m(
-        "tracking_rms_error_deg",
-        "Tracking error: wheel to the ideal angle (RMS)",
-        "°",
-        2,
-        Better::Lower,
-    ),
-    m(
-        "dial_mean_abs_error_deg",
-        "Dial angle error (mean absolute, as the thesis's Appendix E)",
-        "°",
-        2,
-        Better::Lower,
-    ),
-    m(
-        "dial_rms_error_deg",
-        "Dial angle error (RMS)",
-        "°",
-        2,
-        Better::Lower,
-    ),
+    from_table("heading_rms_error_deg"),
+    from_table("cone_hits"),
+    from_table("completion_time_s"),
+    from_table("tracking_rms_error_deg"),
+    from_table("dial_mean_abs_error_deg"),
+    from_table("dial_rms_error_deg"),
     shared("strength_peak_left_nm"),
     shared("strength_sustained_left_nm"),
     shared("strength_peak_right_nm"),
     shared("strength_sustained_right_nm"),
     shared("movements"),
     shared("active_pct"),
-    m(
-        "sparc_median",
-        "Smoothness, SPARC (median)",
-        "",
-        2,
-        Better::Higher,
-    ),
-    m(
-        "ldlj_median",
-        "Smoothness, LDLJ (median)",
-        "",
-        2,
-        Better::Higher,
-    ),
+    from_table("sparc_median"),
+    from_table("ldlj_median"),
     shared("movement_peak_speed_deg_s_median"),
     shared("wheel_rom_deg"),
     shared("shoulder_elevation_rom_deg"),
@@ -351,39 +162,55 @@ pub(crate) fn exercise_words(e: &record::ExerciseResult) -> String {
         .join(", ")
 }
 
-/// The measures charted across sessions, each chart's lines by key.
-pub(super) const PROGRESS: [(&str, &str, &[&str]); 7] = [
+/// The measures charted across sessions: ONE measure a chart (its title, the y axis, its key).
+pub(super) const PROGRESS: [(&str, &str, &[&str]); 11] = [
     (
-        "Smoothness (SPARC, median; closer to 0 is smoother)",
-        "SPARC",
+        "Smoothness (closer to 0 is smoother)",
+        "smoothness",
         &["sparc_median"],
     ),
+    ("Wheel turning range", "range (°)", &["wheel_rom_deg"]),
     (
-        "Ranges of motion",
+        "Shoulder lifting range",
         "range (°)",
-        &[
-            "wheel_rom_deg",
-            "shoulder_elevation_rom_deg",
-            "elbow_flexion_rom_deg",
-        ],
+        &["shoulder_elevation_rom_deg"],
     ),
     (
-        "Lane keeping",
-        "lateral deviation, RMS (m)",
+        "Elbow bending range",
+        "range (°)",
+        &["elbow_flexion_rom_deg"],
+    ),
+    (
+        "Distance from the lane's centre",
+        "distance (m)",
         &["rms_lateral_m"],
     ),
-    ("Tracking error", "RMS error (°)", &["dial_rms_error_deg"]),
     (
-        "Strength",
-        "torque held 1 s (N·m)",
-        &["strength_sustained_left_nm", "strength_sustained_right_nm"],
+        "Dial: distance from the angle asked",
+        "distance (°)",
+        &["dial_rms_error_deg"],
     ),
     (
-        "Time moving and the patient's share of the work",
-        "%",
-        &["active_pct", "patient_work_pct"],
+        "Strength turning left, held 1 s",
+        "torque (N·m)",
+        &["strength_sustained_left_nm"],
     ),
-    ("Assist level", "level (0–1)", &["assist_level_mean"]),
+    (
+        "Strength turning right, held 1 s",
+        "torque (N·m)",
+        &["strength_sustained_right_nm"],
+    ),
+    ("Time moving", "time moving (%)", &["active_pct"]),
+    (
+        "Patient's share of the work",
+        "share (%)",
+        &["patient_work_pct"],
+    ),
+    (
+        "Help from the wheel (0 none, 1 full)",
+        "level (0–1)",
+        &["assist_level_mean"],
+    ),
 ];
 
 pub(super) fn measure(key: &str) -> Option<&'static Measure> {

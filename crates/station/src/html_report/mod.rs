@@ -501,10 +501,10 @@ td.path { word-break: break-all; font-family: ui-monospace, monospace; font-size
 "#;
 
 const DEFINITIONS: &str = r#"<section id="definitions" aria-labelledby="definitions-h"><h2 id="definitions-h">How the measures are made</h2>
-<p>The wheel's angle is averaged to 100 Hz, differentiated and low-passed (10 Hz, forward and backward); a movement is where its speed is above 5 % of the session's peak (at least 0.05 rad/s), gaps under 0.1 s joined, movements under 0.2 s left out.
+<details class="definitions"><summary>Details: the technical names and methods</summary><p>The wheel's angle is averaged to 100 Hz, differentiated and low-passed (10 Hz, forward and backward); a movement is where its speed is above 5 % of the session's peak (at least 0.05 rad/s), gaps under 0.1 s joined, movements under 0.2 s left out.
 SPARC is the spectral arc length of each movement's speed (Balasubramanian et al. 2015: padding level 4, 10 Hz cut-off, amplitude threshold 0.05); LDLJ the log dimensionless jerk from speed, −ln(T³/v<sub>peak</sub>² ∫ (d²v/dt²)² dt). For both, closer to 0 is smoother.
 Ranges of motion are from the arm sensors while the arm is tracked. The patient's share of the work is the positive work of the hand on the wheel over that of the hand and the assist (known in simulated sessions).
-Trends are least-squares slopes per session over the sessions of one kind of exercise that ran as prescribed; the baseline is the first of them.</p></section>
+Trends are least-squares slopes per session over the sessions of one kind of exercise that ran as prescribed; the baseline is the first of them.</p></details></section>
 "#;
 
 #[cfg(test)]
