@@ -89,6 +89,8 @@ SHLIBS="$(cd "$WORK/shlibs" && dpkg-shlibdeps -O "$S/usr/bin/telerehab" 2>/dev/n
   | sed -n 's/^shlibs:Depends=//p')"
 RUNTIME="libvulkan1, mesa-vulkan-drivers | vulkan-icd, libegl1, libegl-mesa0, libgl1-mesa-dri"
 WINDOW="libx11-6, libx11-xcb1, libxcursor1, libxi6, libxkbcommon0, libxkbcommon-x11-0"
+# The window's fonts for scripts beyond Latin (src/render/fonts.rs reads them by path).
+FONTS="fonts-noto-core, fonts-noto-cjk"
 SIZE_KB="$(du -sk --exclude=DEBIAN "$S" | cut -f1)"
 cat > "$S/DEBIAN/control" <<EOF
 Package: telerehab
@@ -96,7 +98,7 @@ Version: $VERSION
 Architecture: $ARCH
 Maintainer: telerehab developers <telerehab@example.invalid>
 Installed-Size: $SIZE_KB
-Depends: $SHLIBS, $RUNTIME, $WINDOW
+Depends: $SHLIBS, $RUNTIME, $WINDOW, $FONTS
 Recommends: libwayland-client0, libwayland-egl1
 Suggests: postgresql
 Section: science

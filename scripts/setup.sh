@@ -5,7 +5,8 @@
 #     database tests run against a throwaway server: scripts/with-postgres.sh), openssl (a
 #     test speaks TLS to the hub as a stalled station would), systemd (systemd-analyze checks the
 #     hub's service unit offline), and what scripts/package.sh needs: dpkg-dev (dpkg-shlibdeps),
-#     xz-utils, librsvg2-bin (the icon's PNG), desktop-file-utils and lintian (its checks).
+#     xz-utils, librsvg2-bin (the icon's PNG), desktop-file-utils and lintian (its checks);
+#     fonts-noto-core and fonts-noto-cjk (the patient's window draws every script with them).
 #   - Rust (stable, via rustup if cargo is missing) with rustfmt and clippy.
 #   - A Python virtualenv in .venv with the test tools and the `telerehab` package (pyext).
 set -euo pipefail
@@ -17,7 +18,8 @@ if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 PKGS=(build-essential pkg-config libudev-dev mesa-vulkan-drivers libvulkan1 libgl1-mesa-dri
       libegl1 xvfb xauth xdotool libxkbcommon-x11-0 libx11-xcb1 python3-venv python3-pip curl ca-certificates
       postgresql chromium chromium-driver openssl systemd
-      lintian dpkg-dev desktop-file-utils librsvg2-bin xz-utils)
+      lintian dpkg-dev desktop-file-utils librsvg2-bin xz-utils
+      fonts-noto-core fonts-noto-cjk)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -6,6 +6,12 @@ use std::process::ExitCode;
 fn main() -> ExitCode {
     let cli = Cli::from_env();
     station::logging::init(cli.log.as_deref());
+    if let Some(tag) = cli.language.as_deref() {
+        if let Err(e) = station::language::force(tag) {
+            eprintln!("telerehab: error: {e}");
+            return ExitCode::FAILURE;
+        }
+    }
     match dispatch(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

@@ -16,6 +16,7 @@ use egui::{
 use std::sync::Arc;
 
 use super::scene::{Dial, LiveScore, Scene, ScreenState};
+use i18n::tr;
 
 pub mod arm_inset;
 mod next_card;
@@ -68,9 +69,11 @@ pub fn pixels_per_point(width: u32, height: u32) -> f32 {
 }
 
 impl HudPainter {
-    /// A HUD with egui's built-in fonts (no system font lookup: identical on every machine).
+    /// A HUD with egui's built-in fonts and Debian's Noto fonts behind them for the other
+    /// scripts ([`super::fonts`]).
     pub fn new() -> Self {
         let ctx = Context::default();
+        ctx.set_fonts(super::fonts::definitions());
         ctx.set_visuals(egui::Visuals::light());
         HudPainter { ctx }
     }
@@ -141,20 +144,25 @@ pub fn format_time_left(seconds: f64) -> String {
 }
 
 /// How close to the middle of the lane the car keeps, in words, from the RMS distance (m).
-pub fn middle_words(rms_lateral_m: f64) -> &'static str {
-    match rms_lateral_m {
-        m if m < 0.3 => "Close to the middle",
-        m if m < 0.8 => "A little off the middle",
-        _ => "Far from the middle",
-    }
+pub fn middle_words(rms_lateral_m: f64) -> String {
+    tr!(match rms_lateral_m {
+        m if m < 0.3 => "hud-middle-close",
+        m if m < 0.8 => "hud-middle-off",
+        _ => "hud-middle-far",
+    })
 }
 
 /// How well the black needle follows the red one, in words, from the RMS error (degrees).
-pub fn dial_words(rms_error_deg: f64) -> &'static str {
+pub fn dial_words(rms_error_deg: f64) -> String {
+    tr!(dial_words_id(rms_error_deg))
+}
+
+/// The catalogue's id of [`dial_words`].
+pub fn dial_words_id(rms_error_deg: f64) -> &'static str {
     match rms_error_deg {
-        e if e < 5.0 => "Following closely",
-        e if e < 15.0 => "Following",
-        _ => "Try to keep up",
+        e if e < 5.0 => "hud-needle-close",
+        e if e < 15.0 => "hud-needle-near",
+        _ => "hud-needle-behind",
     }
 }
 
@@ -165,25 +173,23 @@ fn score_lines(score: &LiveScore) -> Vec<(String, f32)> {
             rms_lateral_m,
             in_lane_pct,
         } => vec![
-            (format!("In lane {in_lane_pct:.0} %"), 30.0),
-            (middle_words(rms_lateral_m).into(), MIN_TEXT_PT),
+            (tr!("hud-in-lane", percent = in_lane_pct.round()), 30.0),
+            (middle_words(rms_lateral_m), MIN_TEXT_PT),
         ],
-        LiveScore::Dial { rms_error_deg } => vec![
-            (format!("Needles {rms_error_deg:.0}° apart"), 30.0),
-            (dial_words(rms_error_deg).into(), MIN_TEXT_PT),
-        ],
+        // How far apart the needles are, in words only: degrees mean little to a patient.
+        LiveScore::Dial { rms_error_deg } => vec![(dial_words(rms_error_deg), 30.0)],
         // The strength test draws its own instruction and bar (`strength_bar`).
         LiveScore::Strength { .. } => vec![],
     }
 }
 
 /// What the strength test asks now, in plain words (`side`: +1 left, −1 right, 0 rest).
-pub fn strength_words(side: i8) -> &'static str {
-    match side {
-        1 => "Push the wheel to the left as hard as you comfortably can",
-        -1 => "Push the wheel to the right as hard as you comfortably can",
-        _ => "Let go of the wheel and rest",
-    }
+pub fn strength_words(side: i8) -> String {
+    tr!(match side {
+        1 => "hud-push-left",
+        -1 => "hud-push-right",
+        _ => "hud-let-go",
+    })
 }
 
 /// The strength test's instruction and a bar of the patient's torque (full at the ceiling),
@@ -254,7 +260,7 @@ fn paint(p: &Painter, scene: &Scene, size: Vec2) {
         pos2(w * 0.5, MARGIN),
         Align2::CENTER_TOP,
         &[
-            ("Time left".into(), 22.0),
+            (tr!("hud-time-left"), 22.0),
             (format_time_left(hud.time_left_s), 44.0),
         ],
     );
@@ -276,7 +282,7 @@ fn paint(p: &Painter, scene: &Scene, size: Vec2) {
             p,
             pos2(MARGIN, h - MARGIN),
             Align2::LEFT_BOTTOM,
-            &[(format!("{kmh:.0} km/h"), 30.0)],
+            &[(tr!("hud-speed", kmh = kmh.round()), 30.0)],
         );
     }
     assist_bar(
@@ -307,23 +313,33 @@ fn paint(p: &Painter, scene: &Scene, size: Vec2) {
         ScreenState::Running => {}
         ScreenState::Start => {
             let title = if hud.exercise.is_empty() {
-                "Get ready".to_string()
+                tr!("card-get-ready")
             } else {
                 hud.exercise.clone()
             };
-            card(p, size, &title, &["Press Space to start".to_string()]);
+            card(p, size, &title, &[tr!("card-press-space-to-start")]);
         }
-        ScreenState::Paused => card(p, size, "Paused", &["Press Space to continue".to_string()]),
+        ScreenState::Paused => card(
+            p,
+            size,
+            &tr!("pause-title"),
+            &[tr!("card-press-space-to-go-on")],
+        ),
         ScreenState::Instruction { title, lines } => card(p, size, title, lines),
         ScreenState::Next(next) => next_card::paint(p, size, next),
-        ScreenState::Summary(lines) => card(p, size, "Session complete", lines),
+        ScreenState::Summary(lines) => card(p, size, &tr!("card-all-done"), lines),
         ScreenState::Welcome(_) => {}
     }
 }
 
 /// "Help" label and a bar showing the assist level, bottom-left.
 fn assist_bar(p: &Painter, bottom_left: Pos2, level: f64) {
-    let label = galley(p, format!("Help {:.0} %", level * 100.0), 24.0, TEXT);
+    let label = galley(
+        p,
+        tr!("hud-help", percent = (level * 100.0).round()),
+        24.0,
+        TEXT,
+    );
     let bar = vec2(180.0, 16.0);
     let size = vec2(
         label.size().x.max(bar.x) + 2.0 * PAD,
