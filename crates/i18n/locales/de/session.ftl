@@ -87,6 +87,8 @@ hud-arm-not-working = Armsensoren: Störung
 hud-arm-not-answering = Armsensoren: kein Signal
 hud-arm-simulated = Armsensoren: Übungsmodus
 hud-your-arm = Ihr Arm
+hud-your-wheel = Ihr Lenkrad
+hud-target = Ziel
 hud-your-arm-measured = Ihr Arm, gemessen
 
 ## Wenn das Training nicht beginnen kann

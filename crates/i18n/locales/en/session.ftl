@@ -90,6 +90,8 @@ hud-arm-not-working = Arm sensors: not working
 hud-arm-not-answering = Arm sensors: no signal
 hud-arm-simulated = Arm sensors: practice
 hud-your-arm = Your arm
+hud-your-wheel = Your wheel
+hud-target = Target
 hud-your-arm-measured = Your arm, measured
 
 ## The page when a session cannot start (no wheel, …).

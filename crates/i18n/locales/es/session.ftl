@@ -87,6 +87,8 @@ hud-arm-not-working = Sensores del brazo: no funcionan
 hud-arm-not-answering = Sensores del brazo: sin señal
 hud-arm-simulated = Sensores del brazo: de práctica
 hud-your-arm = Su brazo
+hud-your-wheel = Su volante
+hud-target = Objetivo
 hud-your-arm-measured = Su brazo, medido
 
 ## Cuando la sesión no puede empezar

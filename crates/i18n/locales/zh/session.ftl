@@ -87,6 +87,8 @@ hud-arm-not-working = 手臂传感器：不工作
 hud-arm-not-answering = 手臂传感器：没有信号
 hud-arm-simulated = 手臂传感器：练习模式
 hud-your-arm = 您的手臂
+hud-your-wheel = 您的方向盘
+hud-target = 目标
 hud-your-arm-measured = 您的手臂（已测量）
 
 ## 训练无法开始时

@@ -443,8 +443,8 @@ pub(super) fn paint_dial(p: &Painter, dial: &Dial, c: Pos2, r: f32, legend: bool
     if legend {
         let y = c.y + r + 34.0;
         let fs = 26.0;
-        let target = galley(p, "Target", fs, CARD_TEXT);
-        let you = galley(p, "Your wheel", fs, CARD_TEXT);
+        let target = galley(p, tr!("hud-target"), fs, CARD_TEXT);
+        let you = galley(p, tr!("hud-your-wheel"), fs, CARD_TEXT);
         let gap = 60.0;
         let total = 28.0 + target.size().x + gap + 28.0 + you.size().x;
         let mut x = c.x - total / 2.0;
