@@ -74,7 +74,9 @@ pub fn syllables(word: &str) -> usize {
         previous = v;
     }
     let n = w.len();
-    if n > 2 && w[n - 1] == 'e' && !(w[n - 2] == 'l' && !vowel(w[n - 3])) && count > 1 {
+    // A final `e` is silent, except in a consonant + `le` ending (`middle`).
+    let le_ending = n > 2 && w[n - 2] == 'l' && !vowel(w[n - 3]);
+    if n > 2 && w[n - 1] == 'e' && !le_ending && count > 1 {
         count -= 1;
     }
     if n > 2 && w[n - 1] == 'd' && w[n - 2] == 'e' && !"td".contains(w[n - 3]) && count > 1 {
