@@ -91,6 +91,8 @@ RUNTIME="libvulkan1, mesa-vulkan-drivers | vulkan-icd, libegl1, libegl-mesa0, li
 WINDOW="libx11-6, libx11-xcb1, libxcursor1, libxi6, libxkbcommon0, libxkbcommon-x11-0"
 # The patient's voice: espeak-ng speaks each page's main sentence (the program, run by name).
 VOICE="espeak-ng"
+# The window's fonts for scripts beyond Latin (src/render/fonts.rs reads them by path).
+FONTS="fonts-noto-core, fonts-noto-cjk"
 SIZE_KB="$(du -sk --exclude=DEBIAN "$S" | cut -f1)"
 cat > "$S/DEBIAN/control" <<EOF
 Package: telerehab
@@ -98,7 +100,7 @@ Version: $VERSION
 Architecture: $ARCH
 Maintainer: telerehab developers <telerehab@example.invalid>
 Installed-Size: $SIZE_KB
-Depends: $SHLIBS, $RUNTIME, $WINDOW, $VOICE
+Depends: $SHLIBS, $RUNTIME, $WINDOW, $VOICE, $FONTS
 Recommends: libwayland-client0, libwayland-egl1
 Suggests: postgresql
 Section: science

@@ -7,7 +7,8 @@
 #     hub's service unit offline), and what scripts/package.sh needs: dpkg-dev (dpkg-shlibdeps),
 #     xz-utils, librsvg2-bin (the icon's PNG), desktop-file-utils and lintian (its checks);
 #     the patient's voice: espeak-ng (speech), sox (its test), libasound2-dev (ALSA, rodio);
-#     poppler-utils (pdfinfo, pdftoppm: the console's one-page print is counted and looked at).
+#     poppler-utils (pdfinfo, pdftoppm: the console's one-page print is counted and looked at);
+#     fonts-noto-core and fonts-noto-cjk (the patient's window draws every script with them).
 #   - Rust (stable, via rustup if cargo is missing) with rustfmt and clippy.
 #   - A Python virtualenv in .venv with the test tools and the `telerehab` package (pyext).
 set -euo pipefail
@@ -20,7 +21,8 @@ PKGS=(build-essential pkg-config libudev-dev mesa-vulkan-drivers libvulkan1 libg
       libegl1 xvfb xauth xdotool libxkbcommon-x11-0 libx11-xcb1 python3-venv python3-pip curl ca-certificates
       postgresql chromium chromium-driver openssl systemd
       lintian dpkg-dev desktop-file-utils librsvg2-bin xz-utils
-      espeak-ng sox libasound2-dev poppler-utils)
+      espeak-ng sox libasound2-dev poppler-utils
+      fonts-noto-core fonts-noto-cjk)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -138,7 +138,7 @@ const LDLJ_NOISE: Option<Noise> = Some(Noise::Relative(0.23));
 
 /// Every measure with words, in the order a clinician reads them (the session, then
 /// movement quality, then the exercises' own results, then strength and help).
-pub const MEASURES: [MeasureWords; 33] = [
+pub const MEASURES: [MeasureWords; 37] = [
     w(
         "active_s",
         "Active time",

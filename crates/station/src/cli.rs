@@ -14,6 +14,10 @@ pub struct Cli {
     /// Log filter (e.g. `info`, `debug`, `station=trace`); overrides RUST_LOG.
     #[arg(long, global = true)]
     pub log: Option<String>,
+    /// The language of the patient's screens (`en`, `de`, `es`, `zh`, or the pseudo-locale
+    /// `en-XA` for layout checks), over the prescription's and the first-run choice.
+    #[arg(long, global = true, env = crate::language::ENV, value_name = "TAG")]
+    pub language: Option<String>,
     /// What to do; none opens the patient's window (the first-run pages, then the session).
     #[command(subcommand)]
     pub command: Option<Command>,

@@ -59,6 +59,7 @@ pub mod config;
 pub mod front_door;
 pub mod home;
 pub mod html_report;
+pub mod language;
 pub mod link;
 pub mod logging;
 pub mod messages;

@@ -6,6 +6,10 @@ use std::process::ExitCode;
 fn main() -> ExitCode {
     let cli = Cli::from_env();
     station::logging::init(cli.log.as_deref());
+    if let Some(Err(e)) = cli.language.as_deref().map(station::language::force) {
+        eprintln!("telerehab: error: {e}");
+        return ExitCode::FAILURE;
+    }
     match dispatch(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

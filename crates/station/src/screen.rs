@@ -3,7 +3,8 @@
 //! ([`CourseView::screen_state`]): the exercise's card before it starts and between
 //! exercises, the rest's countdown, the pause, and the question before ending early.
 //!
-//! Everything on it is in plain words for the patient: exercise names, never internal ids
+//! Everything on it is in plain words for the patient, from the catalogue (`session.ftl`) in
+//! the language in force: exercise names by what the patient does, never internal ids
 //! (`triangle-road`), and no units a patient has no use for.
 
 use crate::config::StationConfig;
@@ -12,13 +13,14 @@ use crate::render::{
     ScreenState,
 };
 use crate::session::{BreakKind, BreakNow};
+use i18n::tr;
 use record::{ArmSetup, TickRecord, Watchdog};
 use regimen::Regimen;
 
 /// Centre-line sample spacing for the screen's road mesh, m.
 const ROAD_SAMPLE_M: f64 = 2.0;
 
-pub use crate::session::words::{capitalised, plain_instruction, plain_name};
+pub use crate::session::words::{capitalised, patient_instruction, patient_name, plain_name};
 
 /// The patient's own arm lengths (upper arm, elbow to grip, m) a live summary carries once
 /// the session has measured them (`arm_calibrated` 1), for the screen's arm inset.
@@ -82,7 +84,7 @@ impl CourseView {
             });
             exercises.push(ExerciseView {
                 short: ex.name.clone(),
-                name: plain_name(&ex.name),
+                name: patient_name(&ex.name),
                 road,
                 pedals: entry.pedals,
             });
@@ -217,34 +219,32 @@ impl CourseView {
 /// What the patient is to do with the pedals, while the car stands still in an exercise they
 /// drive with them (at `speed_m_s`).
 fn pedal_hint(pedals: bool, speed_m_s: f64) -> Option<String> {
-    (pedals && speed_m_s < 0.5).then(|| "Press the accelerator pedal to drive".to_owned())
+    (pedals && speed_m_s < 0.5).then(|| tr!("hud-press-pedal"))
 }
 
 /// The devices' lines of the HUD, in plain words.
 fn device_lines(rec: &TickRecord) -> Vec<String> {
     let wheel = match rec.wheel.watchdog {
-        Watchdog::SoftStart | Watchdog::Running => "working",
-        Watchdog::Paused => "resting",
-        Watchdog::Stopping | Watchdog::Stopped => "stopping",
+        Watchdog::SoftStart | Watchdog::Running => "hud-wheel-working",
+        Watchdog::Paused => "hud-wheel-resting",
+        Watchdog::Stopping | Watchdog::Stopped => "hud-wheel-stopping",
         Watchdog::FaultMissedDeadline | Watchdog::FaultStaleReading | Watchdog::Fault => {
-            "problem, force off"
+            "hud-wheel-problem"
         }
     };
-    let wheel = if rec.wheel.motor_rating_known {
-        format!("Wheel: {wheel}")
-    } else {
-        format!("Wheel: {wheel} (gentle force only)")
-    };
+    let gentle = (!rec.wheel.motor_rating_known).then(|| tr!("hud-gentle-force"));
     let arm = rec.arm.map(|a| {
-        let words = match a.setup {
-            ArmSetup::Tracking => "working",
-            ArmSetup::HoldStill | ArmSetup::TurnWheel | ArmSetup::Solving => "setting up",
-            ArmSetup::Failed => "not working",
-            ArmSetup::SensorLost => "not answering",
-        };
-        format!("Arm sensors: {words}")
+        tr!(match a.setup {
+            ArmSetup::Tracking => "hud-arm-working",
+            ArmSetup::HoldStill | ArmSetup::TurnWheel | ArmSetup::Solving => "hud-arm-setting-up",
+            ArmSetup::Failed => "hud-arm-not-working",
+            ArmSetup::SensorLost => "hud-arm-not-answering",
+        })
     });
-    std::iter::once(wheel).chain(arm).collect()
+    std::iter::once(tr!(wheel))
+        .chain(gentle)
+        .chain(arm)
+        .collect()
 }
 
 /// What the patient's window knows beyond the tick: the break in progress (from the haptic
@@ -273,10 +273,10 @@ pub fn cannot_start_page(lines: &[render::StatusLine]) -> render::Welcome {
         .collect();
     lines.push(render::StatusLine {
         ok: None,
-        text: "Then start telerehab again.".into(),
+        text: tr!("cannot-start-then"),
     });
     render::Welcome {
-        title: "The session cannot start yet".into(),
+        title: tr!("cannot-start-title"),
         lines,
         ..render::Welcome::default()
     }
@@ -285,8 +285,8 @@ pub fn cannot_start_page(lines: &[render::StatusLine]) -> render::Welcome {
 /// The question before ending a session early.
 pub fn confirm_end_card() -> ScreenState {
     ScreenState::Instruction {
-        title: "End the session?".into(),
-        lines: vec!["Esc again to end".into(), "Space to go on".into()],
+        title: tr!("end-confirm-title"),
+        lines: vec![tr!("end-confirm-yes"), tr!("end-confirm-no")],
     }
 }
 
@@ -302,66 +302,67 @@ impl CourseView {
         let index = (rec.score.exercise_index as usize).min(self.exercises.len() - 1);
         match live_screen_state(rec) {
             ScreenState::Start => {
-                let mut card = self.next_card(index, None, w, "Space: start");
+                let mut card = self.next_card(index, None, w, "card-start-key");
                 if let ScreenState::Next(c) = &mut card {
                     c.message.clone_from(&self.message);
                 }
                 card
             }
             ScreenState::Paused if w.brk.kind != BreakKind::None => {
-                let mut card = self.next_card(index, Some(w.brk.left_s), w, "Space: go on now");
+                let mut card = self.next_card(index, Some(w.brk.left_s), w, "card-go-on-now-key");
                 if let ScreenState::Next(c) = &mut card {
-                    c.heading = match w.brk.kind {
-                        BreakKind::Asked => "Rest · then back to",
-                        BreakKind::Prescribed => "Rest · next",
-                        _ => "Next",
-                    }
-                    .into();
+                    c.heading = tr!(match w.brk.kind {
+                        BreakKind::Asked => "card-rest-then-back",
+                        BreakKind::Prescribed => "card-rest-then-next",
+                        _ => "card-next",
+                    });
                 }
                 card
             }
             ScreenState::Paused => ScreenState::Pictured {
                 picture: render::pictures::Picture::Pause,
-                title: "Paused".into(),
-                lines: vec!["Space: go on".into(), "R: rest · Esc: end".into()],
+                title: tr!("pause-title"),
+                lines: vec![tr!("pause-go-on"), tr!("pause-rest-or-end")],
             },
             other => other,
         }
     }
 
-    /// The card of exercise `index`, with a countdown and the key to go on.
+    /// The card of exercise `index`, with a countdown and the key to go on (`key_id`, the
+    /// catalogue's id of its words).
     fn next_card(
         &self,
         index: usize,
         countdown_s: Option<f64>,
         w: &WindowState,
-        key: &str,
+        key_id: &str,
     ) -> ScreenState {
         let ex = &self.exercises[index];
         let title = if self.in_regimen && self.exercises.len() > 1 {
-            format!(
-                "Exercise {} of {}: {}",
-                index + 1,
-                self.exercises.len(),
-                ex.name
+            tr!(
+                "card-exercise-of",
+                number = index + 1,
+                total = self.exercises.len(),
+                name = ex.name.clone()
             )
         } else {
             ex.name.clone()
         };
         ScreenState::Next(NextCard {
-            heading: "Get ready".into(),
+            heading: tr!("card-get-ready"),
             title,
             what: if ex.pedals {
                 format!(
-                    "{}. Your feet set the speed: the accelerator to go, the brake to slow down",
-                    plain_instruction(&ex.short)
+                    "{} {}",
+                    patient_instruction(&ex.short),
+                    tr!("instruction-pedals")
                 )
             } else {
-                plain_instruction(&ex.short).into()
+                patient_instruction(&ex.short)
             },
             movement: Movement::of_exercise(&ex.short),
             countdown_s,
-            keys: vec![format!("{key} (or a wheel button)")],
+            keys: vec![tr!(key_id)],
             anim_s: w.anim_s,
             message: None,
         })
@@ -372,26 +373,20 @@ impl CourseView {
 /// sensing, the start card (until the patient first presses Space), the pause card, or the
 /// running exercise.
 pub fn live_screen_state(rec: &TickRecord) -> ScreenState {
-    let seconds = |s: f64| format!("{} s", s.ceil().max(0.0));
+    let seconds = |s: f64| tr!("setup-seconds-left", seconds = s.ceil().max(0.0));
     match rec.arm.map(|a| (a.setup, a.setup_remaining_s)) {
         _ if rec.tick == 0 => ScreenState::Start,
         Some((ArmSetup::HoldStill, left)) => ScreenState::Instruction {
-            title: "Hold the wheel still".into(),
-            lines: vec![
-                "Rest both hands on the wheel, centred, and relax.".into(),
-                seconds(left),
-            ],
+            title: tr!("setup-hold-still"),
+            lines: vec![tr!("setup-hold-still-how"), seconds(left)],
         },
         Some((ArmSetup::TurnWheel, left)) => ScreenState::Instruction {
-            title: "Turn the wheel slowly".into(),
-            lines: vec![
-                "Left and right, as far as is comfortable.".into(),
-                seconds(left),
-            ],
+            title: tr!("setup-turn-slowly"),
+            lines: vec![tr!("setup-turn-slowly-how"), seconds(left)],
         },
         Some((ArmSetup::Solving, _)) => ScreenState::Instruction {
-            title: "Thank you".into(),
-            lines: vec!["Setting up the arm sensors…".into()],
+            title: tr!("setup-thank-you"),
+            lines: vec![tr!("setup-getting-ready")],
         },
         // Not started yet: the patient starts the exercise with Space.
         _ if rec.score.paused && rec.score.active_s == 0.0 => ScreenState::Start,
@@ -403,6 +398,16 @@ pub fn live_screen_state(rec: &TickRecord) -> ScreenState {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The card's title for exercise `number` of `total` called `name_id`.
+    fn of(number: usize, total: usize, name_id: &str) -> String {
+        tr!(
+            "card-exercise-of",
+            number = number,
+            total = total,
+            name = tr!(name_id)
+        )
+    }
 
     fn view() -> CourseView {
         let text = "[[exercise]]\nkind = \"sine\"\nduration_s = 30.0\nrest_s = 20.0\n\n\
@@ -436,39 +441,45 @@ mod tests {
         let r = Regimen::from_toml(text, "test").unwrap();
         let v = CourseView::new(&StationConfig::default(), Some(&r)).unwrap();
         let card = next_card(v.screen_state(&tick(0, 0, 0.0, true), &WindowState::default()));
-        assert!(card.what.contains("accelerator"), "{}", card.what);
+        assert!(
+            card.what.contains(&tr!("instruction-pedals")),
+            "{}",
+            card.what
+        );
         let mut rec = tick(10, 0, 0.01, false);
         rec.vehicle = Some(record::VehicleSample::default());
         let at_rest = v.scene(&rec, ScreenState::Running);
-        assert_eq!(
-            at_rest.hud.devices[0],
-            "Press the accelerator pedal to drive"
-        );
+        assert_eq!(at_rest.hud.devices[0], tr!("hud-press-pedal"));
         rec.vehicle = Some(record::VehicleSample {
             ux_m_s: 8.0,
             ..Default::default()
         });
         let moving = v.scene(&rec, ScreenState::Running);
-        assert!(!moving.hud.devices.iter().any(|l| l.contains("accelerator")));
+        let pedal = tr!("hud-press-pedal");
+        assert!(!moving.hud.devices.contains(&pedal));
         // Automatic speed: no word about pedals.
         let auto = view().scene(&tick(10, 0, 0.01, false), ScreenState::Running);
-        assert!(!auto.hud.devices.iter().any(|l| l.contains("accelerator")));
+        assert!(!auto.hud.devices.contains(&pedal));
         let card = next_card(view().screen_state(&tick(0, 0, 0.0, true), &WindowState::default()));
-        assert!(!card.what.contains("accelerator"), "{}", card.what);
+        assert!(
+            !card.what.contains(&tr!("instruction-pedals")),
+            "{}",
+            card.what
+        );
     }
 
     #[test]
     fn before_the_start_the_card_names_the_first_exercise_in_plain_words_and_how_to_start() {
         let v = view();
         let card = next_card(v.screen_state(&tick(0, 0, 0.0, true), &WindowState::default()));
-        assert_eq!(card.title, "Exercise 1 of 2: Sine road");
-        assert!(card.what.contains("winding road"), "{}", card.what);
+        assert_eq!(card.title, of(1, 2, "exercise-sine-road"));
+        assert_eq!(card.what, tr!("instruction-road"));
         assert_eq!(card.movement, Movement::Steer);
         assert_eq!(card.countdown_s, None);
-        assert!(card.keys[0].contains("Space: start"), "{:?}", card.keys);
+        assert_eq!(card.keys, [tr!("card-start-key")]);
         // The same while the patient has not started yet.
         let waiting = v.screen_state(&tick(500, 0, 0.0, true), &WindowState::default());
-        assert_eq!(next_card(waiting).title, "Exercise 1 of 2: Sine road");
+        assert_eq!(next_card(waiting).title, of(1, 2, "exercise-sine-road"));
     }
 
     #[test]
@@ -481,11 +492,11 @@ mod tests {
             ..WindowState::default()
         };
         let card = next_card(view().screen_state(&tick(40_000, 1, 30.0, true), &w));
-        assert!(card.heading.starts_with("Rest"), "{}", card.heading);
-        assert_eq!(card.title, "Exercise 2 of 2: Dial sine");
+        assert_eq!(card.heading, tr!("card-rest-then-next"));
+        assert_eq!(card.title, of(2, 2, "exercise-dial-sine"));
         assert_eq!(card.movement, Movement::Dial);
         assert_eq!(card.countdown_s, Some(17.2));
-        assert!(card.keys[0].contains("go on now"), "{:?}", card.keys);
+        assert_eq!(card.keys, [tr!("card-go-on-now-key")]);
         // The short card between exercises says "Next", a rest the patient asked for says
         // they go back to the same exercise.
         let next = WindowState {
@@ -496,7 +507,7 @@ mod tests {
             ..w
         };
         let card = next_card(view().screen_state(&tick(40_000, 1, 30.0, true), &next));
-        assert!(card.heading.starts_with("Next"), "{}", card.heading);
+        assert_eq!(card.heading, tr!("card-next"));
         let asked = WindowState {
             brk: BreakNow {
                 kind: BreakKind::Asked,
@@ -505,8 +516,8 @@ mod tests {
             ..w
         };
         let card = next_card(view().screen_state(&tick(20_000, 0, 12.0, true), &asked));
-        assert!(card.heading.contains("back to"), "{}", card.heading);
-        assert_eq!(card.title, "Exercise 1 of 2: Sine road");
+        assert_eq!(card.heading, tr!("card-rest-then-back"));
+        assert_eq!(card.title, of(1, 2, "exercise-sine-road"));
     }
 
     #[test]
@@ -519,8 +530,8 @@ mod tests {
         for rec in [tick(0, 0, 0.0, true), tick(9000, 0, 8.0, false)] {
             match v.screen_state(&rec, &asking) {
                 ScreenState::Instruction { title, lines } => {
-                    assert_eq!(title, "End the session?");
-                    assert_eq!(lines, ["Esc again to end", "Space to go on"]);
+                    assert_eq!(title, tr!("end-confirm-title"));
+                    assert_eq!(lines, [tr!("end-confirm-yes"), tr!("end-confirm-no")]);
                 }
                 other => panic!("{other:?}"),
             }
@@ -528,8 +539,8 @@ mod tests {
         let plain = WindowState::default();
         match v.screen_state(&tick(9000, 0, 8.0, true), &plain) {
             ScreenState::Pictured { title, lines, .. } => {
-                assert_eq!(title, "Paused");
-                assert!(lines.iter().any(|l| l.contains("R: rest")), "{lines:?}");
+                assert_eq!(title, tr!("pause-title"));
+                assert!(lines.contains(&tr!("pause-rest-or-end")), "{lines:?}");
             }
             other => panic!("{other:?}"),
         }
@@ -544,13 +555,10 @@ mod tests {
         let v = view();
         let rec = tick(9000, 0, 8.0, false);
         let scene = v.scene(&rec, ScreenState::Running);
-        assert_eq!(scene.hud.exercise, "Sine road");
+        assert_eq!(scene.hud.exercise, tr!("exercise-sine-road"));
         assert_eq!(plain_name("triangle-road"), "Triangle road");
         for line in &scene.hud.devices {
-            assert!(
-                line.starts_with(char::is_uppercase) && !line.contains("N·m"),
-                "{line}"
-            );
+            assert!(!line.contains("N·m") && !line.contains('_'), "{line}");
         }
         let with_arm = TickRecord {
             arm: Some(record::ArmSample {
@@ -560,10 +568,7 @@ mod tests {
             ..rec
         };
         let devices = v.scene(&with_arm, ScreenState::Running).hud.devices;
-        assert!(
-            devices.contains(&"Arm sensors: working".to_string()),
-            "{devices:?}"
-        );
+        assert!(devices.contains(&tr!("hud-arm-working")), "{devices:?}");
     }
 }
 

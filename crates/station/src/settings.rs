@@ -5,6 +5,7 @@
 //! ```toml
 //! clinic_address = "clinic.example.org:7878"   # shown on the pairing page
 //! fullscreen = true                             # the patient's window fills the screen
+//! language = "de"                               # chosen on the first-run page
 //! ```
 
 use anyhow::Context;
@@ -19,6 +20,9 @@ pub struct Settings {
     pub clinic_address: Option<String>,
     /// The patient's window fills the screen (F11 toggles it).
     pub fullscreen: bool,
+    /// The language chosen on the first-run page (`de`, `es`, `zh`, …); the prescription's
+    /// wins over it ([`crate::language::choose`]).
+    pub language: Option<String>,
 }
 
 impl Default for Settings {
@@ -26,6 +30,7 @@ impl Default for Settings {
         Self {
             clinic_address: None,
             fullscreen: true,
+            language: None,
         }
     }
 }

@@ -108,6 +108,8 @@ fn reference_frames_match_goldens_within_tolerance() {
     let Some(mut r) = renderer_or_skip() else {
         return;
     };
+    // The goldens are drawn in English, whatever the machine's LANG.
+    i18n::use_language("en").unwrap();
     println!("adapter: {}", r.adapter());
     for (name, scene) in goldens() {
         check_golden(&mut r, name, &scene);

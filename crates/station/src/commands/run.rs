@@ -365,7 +365,7 @@ fn no_wheel_no_mystery(cfg: &StationConfig) -> anyhow::Result<Option<PathBuf>> {
         return Ok(check.wheel_path.map(PathBuf::from));
     }
     let mut page = crate::screen::cannot_start_page(&check.lines);
-    page.keys = vec!["Any key: close".into()];
+    page.keys = vec![i18n::tr!("cannot-start-close-key")];
     let scene = crate::render::Scene {
         screen: crate::render::ScreenState::Welcome(page),
         ..crate::render::Scene::default()
@@ -594,6 +594,13 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     let session_log = start_session_log(&home);
     let (mut link, prescription) =
         link_with_prescription(&args, &mut cfg, &mut regimen, &home, &clock)?;
+    // The patient's language: the prescription's, else the first-run choice, else the system's.
+    let chosen = home
+        .home
+        .as_ref()
+        .and_then(|h| crate::settings::Settings::load(h.dir()).ok())
+        .and_then(|s| s.language);
+    crate::language::choose(regimen.as_ref(), chosen.as_deref());
     cfg.validate().context("invalid settings")?;
     // A regimen with `[difficulty]` runs at the difficulty the patient's history calls for.
     let adapted = crate::adapt::Adapted::plan(

@@ -57,6 +57,9 @@ pub fn run() -> anyhow::Result<()> {
     }
     let home = Home::resolve(&HomeArg::from_env())?;
     let settings = Settings::load(home.dir())?;
+    // The first-run pages speak the kept prescription's language, else the one chosen there.
+    let kept = regimen::Regimen::load(&home.regimen_path()).ok();
+    crate::language::choose(kept.as_ref(), settings.language.as_deref());
     let cfg = StationConfig::default();
     let door = match home.pairing()? {
         Some(_) => FrontDoor::paired_with(today_plan(&home, &cfg)),

@@ -259,10 +259,10 @@ fn screen_now(
 /// The pause card of a window that replaces a lost one.
 fn lost_window_card() -> ScreenState {
     ScreenState::Instruction {
-        title: "Paused".into(),
+        title: i18n::tr!("pause-title"),
         lines: vec![
-            "The screen had to restart, so the exercise paused.".into(),
-            "Press Space to continue".into(),
+            i18n::tr!("pause-screen-restarted"),
+            i18n::tr!("card-press-space-to-go-on"),
         ],
     }
 }

@@ -4,6 +4,7 @@
 //! These place the car on a scripted path at time `t_s`; they are not a simulation (the
 //! station's session drives the real scenes).
 
+use i18n::tr;
 use std::f64::consts::TAU;
 
 use super::scene::{
@@ -22,7 +23,7 @@ pub const CONE_SPACING_M: f64 = 18.0;
 pub const ROAD_LENGTH_M: f64 = 1200.0;
 
 fn devices() -> Vec<String> {
-    vec!["Wheel: simulated".into(), "Arm sensors: simulated".into()]
+    vec![tr!("hud-wheel-simulated"), tr!("hud-arm-simulated")]
 }
 
 fn road_hud(name: &str, t_s: f64) -> Hud {
@@ -82,7 +83,7 @@ pub fn straight(t_s: f64) -> Scene {
         car,
         camera: CameraMode::Chase,
         dial: None,
-        hud: road_hud("Straight road", t_s),
+        hud: road_hud(&tr!("exercise-straight-road"), t_s),
         screen: ScreenState::Running,
         arm: None,
     }
@@ -126,7 +127,7 @@ pub fn sine_road(t_s: f64) -> Scene {
         car,
         camera: CameraMode::Chase,
         dial: None,
-        hud: road_hud("Sine road", t_s),
+        hud: road_hud(&tr!("exercise-sine-road"), t_s),
         screen: ScreenState::Running,
     }
 }
@@ -151,7 +152,7 @@ pub fn slalom(t_s: f64) -> Scene {
         car: car_on(weave, 8.0 + SPEED_M_S * 0.7 * t_s),
         camera: CameraMode::Chase,
         dial: None,
-        hud: road_hud("Cone slalom", t_s),
+        hud: road_hud(&tr!("exercise-slalom"), t_s),
         screen: ScreenState::Running,
         arm: None,
     }
@@ -167,7 +168,7 @@ pub fn dial(t_s: f64) -> Scene {
             actual_rad: actual,
         }),
         hud: Hud {
-            exercise: "Dial tracking".into(),
+            exercise: tr!("exercise-dial-sine"),
             time_left_s: (90.0 - t_s).max(0.0),
             score: LiveScore::Dial { rms_error_deg: 8.4 },
             speed_m_s: 0.0,

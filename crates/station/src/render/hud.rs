@@ -18,6 +18,7 @@ use std::sync::Arc;
 use super::layout;
 use super::scene::{Dial, LiveScore, Scene, ScreenState};
 use regimen::NeglectedSide;
+use i18n::tr;
 
 pub mod arm_inset;
 mod next_card;
@@ -75,9 +76,11 @@ pub fn pixels_per_point(width: u32, height: u32) -> f32 {
 }
 
 impl HudPainter {
-    /// A HUD with egui's built-in fonts (no system font lookup: identical on every machine).
+    /// A HUD with egui's built-in fonts and Debian's Noto fonts behind them for the other
+    /// scripts ([`super::fonts`]).
     pub fn new() -> Self {
         let ctx = Context::default();
+        ctx.set_fonts(super::fonts::definitions());
         ctx.set_visuals(egui::Visuals::light());
         HudPainter { ctx }
     }
@@ -148,20 +151,25 @@ pub fn format_time_left(seconds: f64) -> String {
 }
 
 /// How close to the middle of the lane the car keeps, in words, from the RMS distance (m).
-pub fn middle_words(rms_lateral_m: f64) -> &'static str {
-    match rms_lateral_m {
-        m if m < 0.3 => "Close to the middle",
-        m if m < 0.8 => "A little off the middle",
-        _ => "Far from the middle",
-    }
+pub fn middle_words(rms_lateral_m: f64) -> String {
+    tr!(match rms_lateral_m {
+        m if m < 0.3 => "hud-middle-close",
+        m if m < 0.8 => "hud-middle-off",
+        _ => "hud-middle-far",
+    })
 }
 
 /// How well the black needle follows the red one, in words, from the RMS error (degrees).
-pub fn dial_words(rms_error_deg: f64) -> &'static str {
+pub fn dial_words(rms_error_deg: f64) -> String {
+    tr!(dial_words_id(rms_error_deg))
+}
+
+/// The catalogue's id of [`dial_words`].
+pub fn dial_words_id(rms_error_deg: f64) -> &'static str {
     match rms_error_deg {
-        e if e < 5.0 => "Following closely",
-        e if e < 15.0 => "Following",
-        _ => "Try to keep up",
+        e if e < 5.0 => "hud-needle-close",
+        e if e < 15.0 => "hud-needle-near",
+        _ => "hud-needle-behind",
     }
 }
 
@@ -172,25 +180,23 @@ fn score_lines(score: &LiveScore) -> Vec<(String, f32)> {
             rms_lateral_m,
             in_lane_pct,
         } => vec![
-            (format!("In lane {in_lane_pct:.0} %"), 30.0),
-            (middle_words(rms_lateral_m).into(), MIN_TEXT_PT),
+            (tr!("hud-in-lane", percent = in_lane_pct.round()), 30.0),
+            (middle_words(rms_lateral_m), MIN_TEXT_PT),
         ],
-        LiveScore::Dial { rms_error_deg } => vec![
-            (format!("Needles {rms_error_deg:.0}° apart"), 30.0),
-            (dial_words(rms_error_deg).into(), MIN_TEXT_PT),
-        ],
+        // How far apart the needles are, in words only: degrees mean little to a patient.
+        LiveScore::Dial { rms_error_deg } => vec![(dial_words(rms_error_deg), 30.0)],
         // The strength test draws its own instruction and bar (`strength_bar`).
         LiveScore::Strength { .. } => vec![],
     }
 }
 
 /// What the strength test asks now, in plain words (`side`: +1 left, −1 right, 0 rest).
-pub fn strength_words(side: i8) -> &'static str {
-    match side {
-        1 => "Push the wheel to the left as hard as you comfortably can",
-        -1 => "Push the wheel to the right as hard as you comfortably can",
-        _ => "Let go of the wheel and rest",
-    }
+pub fn strength_words(side: i8) -> String {
+    tr!(match side {
+        1 => "hud-push-left",
+        -1 => "hud-push-right",
+        _ => "hud-let-go",
+    })
 }
 
 /// The strength test's instruction and a bar of the patient's torque (full at the ceiling),
@@ -269,7 +275,7 @@ pub(crate) fn paint(p: &Painter, scene: &Scene, size: Vec2, neglected: Neglected
         pos,
         align,
         &[
-            ("Time left".into(), MIN_TEXT_PT),
+            (tr!("hud-time-left"), MIN_TEXT_PT),
             (format_time_left(hud.time_left_s), 44.0),
         ],
     );
@@ -290,7 +296,7 @@ pub(crate) fn paint(p: &Painter, scene: &Scene, size: Vec2, neglected: Neglected
     if scene.has_road() {
         let kmh = hud.speed_m_s * 3.6;
         let (pos, align) = at(MARGIN, h - MARGIN, Align2::LEFT_BOTTOM);
-        text_panel(p, pos, align, &[(format!("{kmh:.0} km/h"), 30.0)]);
+        text_panel(p, pos, align, &[(tr!("hud-speed", kmh = kmh.round()), 30.0)]);
     }
     let (pos, align) = at(
         MARGIN,
@@ -314,13 +320,18 @@ pub(crate) fn paint(p: &Painter, scene: &Scene, size: Vec2, neglected: Neglected
         ScreenState::Running => {}
         ScreenState::Start => {
             let title = if hud.exercise.is_empty() {
-                "Get ready".to_string()
+                tr!("card-get-ready")
             } else {
                 hud.exercise.clone()
             };
-            card(p, size, &title, &["Press Space to start".to_string()]);
+            card(p, size, &title, &[tr!("card-press-space-to-start")]);
         }
-        ScreenState::Paused => card(p, size, "Paused", &["Press Space to continue".to_string()]),
+        ScreenState::Paused => card(
+            p,
+            size,
+            &tr!("pause-title"),
+            &[tr!("card-press-space-to-go-on")],
+        ),
         ScreenState::Instruction { title, lines } => card(p, size, title, lines),
         ScreenState::Pictured {
             picture,
@@ -332,14 +343,19 @@ pub(crate) fn paint(p: &Painter, scene: &Scene, size: Vec2, neglected: Neglected
             // Before each exercise: the anchoring cue on the neglected side.
             layout::paint_cue(p, size, neglected, next.anim_s);
         }
-        ScreenState::Summary(lines) => card(p, size, "Session complete", lines),
+        ScreenState::Summary(lines) => card(p, size, &tr!("card-all-done"), lines),
         ScreenState::Welcome(_) => {}
     }
 }
 
 /// "Help" label and a bar showing the assist level, bottom-left.
 fn assist_bar(p: &Painter, anchor: Pos2, align: Align2, level: f64) {
-    let label = galley(p, format!("Help {:.0} %", level * 100.0), MIN_TEXT_PT, TEXT);
+    let label = galley(
+        p,
+        tr!("hud-help", percent = (level * 100.0).round()),
+        MIN_TEXT_PT,
+        TEXT,
+    );
     let bar = vec2(180.0, 16.0);
     let size = vec2(
         label.size().x.max(bar.x) + 2.0 * PAD,
@@ -445,8 +461,8 @@ pub(super) fn paint_dial(p: &Painter, dial: &Dial, c: Pos2, r: f32, legend: bool
     if legend {
         let y = c.y + r + 34.0;
         let fs = 26.0;
-        let target = galley(p, "Target", fs, CARD_TEXT);
-        let you = galley(p, "Your wheel", fs, CARD_TEXT);
+        let target = galley(p, tr!("hud-target"), fs, CARD_TEXT);
+        let you = galley(p, tr!("hud-your-wheel"), fs, CARD_TEXT);
         let gap = 60.0;
         let total = 28.0 + target.size().x + gap + 28.0 + you.size().x;
         let mut x = c.x - total / 2.0;

@@ -12,6 +12,7 @@
 
 pub mod camera;
 pub mod demo;
+pub mod fonts;
 mod gpu;
 pub mod hud;
 pub mod layout;

@@ -1,6 +1,9 @@
-//! The session's words for the patient: exercise names and instructions from their short
-//! names, never internal ids. The screen, the end reasons and the recorder's per-exercise
-//! results all speak them.
+//! The session's words: exercise names and instructions from their short names, never
+//! internal ids. [`plain_name`] is the clinic's English name (the reports, the hub's
+//! records); [`patient_name`] and [`patient_instruction`] are the patient's, from the
+//! catalogue (`session.ftl`) in the language in force.
+
+use i18n::tr;
 
 /// An exercise's name for the patient: its short name in words (`sine-road` → "Sine road").
 pub fn plain_name(short: &str) -> String {
@@ -15,17 +18,66 @@ pub fn capitalised(s: &str) -> String {
     })
 }
 
-/// What an exercise asks of the patient, in plain words, from its short name.
-pub fn plain_instruction(short: &str) -> &'static str {
+/// The catalogue's id of an exercise's name for the patient (`exercise-sine-road`), from its
+/// short name; `exercise-other` for a name this build does not know.
+pub fn name_id(short: &str) -> &'static str {
     match short {
-        s if s.starts_with("dial") || s == "haptic-sweep" => {
-            "Turn the wheel so the black needle follows the red one"
+        "straight-road" => "exercise-straight-road",
+        "sine-road" => "exercise-sine-road",
+        "triangle-road" => "exercise-triangle-road",
+        "clothoid-road" => "exercise-clothoid-road",
+        "sharp-turns" => "exercise-sharp-turns",
+        "s-bend" => "exercise-s-bend",
+        "lane-change" => "exercise-lane-change",
+        "slalom" => "exercise-slalom",
+        "dial-sine" => "exercise-dial-sine",
+        "dial-multi-sine" => "exercise-dial-multi-sine",
+        "dial-step" => "exercise-dial-step",
+        "dial-ramp" => "exercise-dial-ramp",
+        "dial-chirp" => "exercise-dial-chirp",
+        "strength" => "exercise-strength",
+        "haptic-sweep" => "exercise-haptic-sweep",
+        s if s.starts_with("dial") => "exercise-dial-sine",
+        _ => "exercise-other",
+    }
+}
+
+/// An exercise's name for the patient, by what they do, in the language in force.
+pub fn patient_name(short: &str) -> String {
+    tr!(name_id(short))
+}
+
+/// The catalogue's id of what an exercise asks of the patient, from its short name.
+pub fn instruction_id(short: &str) -> &'static str {
+    match short {
+        s if s.starts_with("dial") || s == "haptic-sweep" => "instruction-dial",
+        "strength" => "instruction-strength",
+        "slalom" => "instruction-slalom",
+        "lane-change" => "instruction-lane-change",
+        "straight-road" => "instruction-straight-road",
+        "sharp-turns" | "s-bend" => "instruction-bends",
+        _ => "instruction-road",
+    }
+}
+
+/// What an exercise asks of the patient, in plain words, in the language in force.
+pub fn patient_instruction(short: &str) -> String {
+    tr!(instruction_id(short))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_exercise_has_a_name_and_an_instruction_in_the_catalogue() {
+        let english = i18n::Catalogue::load("en").unwrap();
+        for short in vehicle::EXERCISE_NAMES {
+            assert_ne!(name_id(short), "exercise-other", "{short}");
+            assert!(english.has(name_id(short)), "{short}");
+            assert!(english.has(instruction_id(short)), "{short}");
         }
-        "strength" => "Push the wheel left, then right, as hard as you comfortably can",
-        "slalom" => "Steer between the cones and keep the car on the road",
-        "lane-change" => "Move into the other lane when the road does, then hold it",
-        "straight-road" => "Keep the car in the middle of the lane",
-        "sharp-turns" | "s-bend" => "Steer through the bends, keep the car in the lane",
-        _ => "Follow the winding road, keep the car in the lane",
+        assert_eq!(name_id("dial-newer"), "exercise-dial-sine");
+        assert_eq!(name_id("newer"), "exercise-other");
     }
 }

@@ -22,8 +22,12 @@ const BODY: Color32 = Color32::from_gray(125);
 const ARM: Color32 = Color32::from_rgb(0xB4, 0xC8, 0xDC);
 
 /// What the label says: the tick's words once the lengths are the patient's own.
-pub fn label(measured: bool) -> &'static str {
-    if measured { "Arm measured" } else { "Your arm" }
+pub fn label(measured: bool) -> String {
+    i18n::tr!(if measured {
+        "hud-your-arm-measured"
+    } else {
+        "hud-your-arm"
+    })
 }
 
 /// Paints the inset with its left edge at `left_centre` (vertically centred there); returns

@@ -84,7 +84,7 @@ pub(super) fn paint(p: &Painter, size: Vec2, next: &NextCard, neglected: Neglect
 /// down to [`MIN_TEXT_PT`] that fits (a 500-character message fits at the smallest).
 fn paint_message(p: &Painter, message: &str, (left, width): (f32, f32), (top, bottom): (f32, f32)) {
     let heading = p.layout(
-        "A message from your therapist:".to_owned(),
+        i18n::tr!("card-message-from-therapist"),
         egui::FontId::proportional(30.0),
         ACCENT,
         width,

@@ -256,6 +256,8 @@ fn run_one(
         // Its own process group: Ctrl-C in the terminal stops the session, which then closes
         // the window, rather than killing the window first.
         .process_group(0)
+        // The window speaks the language chosen for the session.
+        .env(crate::language::ENV, i18n::current().tag())
         .spawn()?;
     let mut to_window = ours.try_clone()?;
     let mut from_window = ours.try_clone()?;
