@@ -224,24 +224,55 @@ fn scan() -> Finder {
     let mut files = Vec::new();
     rust_files(&root, &mut files);
     let mut finder = Finder::default();
-    // Test modules in their own files (`mod tests;` under `#[cfg(test)]`).
+    let parsed: Vec<(PathBuf, syn::File)> = files
+        .into_iter()
+        .map(|path| {
+            let text = std::fs::read_to_string(&path).unwrap();
+            let ast = syn::parse_file(&text)
+                .unwrap_or_else(|e| panic!("{}: does not parse: {e}", path.display()));
+            (path, ast)
+        })
+        .collect();
+    // Test modules in their own files (`mod tests;`, `mod shots;` under `#[cfg(test)]`):
+    // their files, and their folders.
+    let test_modules: Vec<PathBuf> = parsed
+        .iter()
+        .flat_map(|(path, ast)| test_module_paths(path, ast))
+        .collect();
     let is_test_file = |p: &Path| {
-        p.file_stem()
-            .and_then(|s| s.to_str())
-            .is_some_and(|s| s == "tests" || s.ends_with("_tests"))
+        test_modules
+            .iter()
+            .any(|m| p == m.with_extension("rs") || p.starts_with(m))
     };
-    for path in files.into_iter().filter(|p| !is_test_file(p)) {
-        let text = std::fs::read_to_string(&path).unwrap();
-        let ast = syn::parse_file(&text)
-            .unwrap_or_else(|e| panic!("{}: does not parse: {e}", path.display()));
+    for (path, ast) in parsed.iter().filter(|(p, _)| !is_test_file(p)) {
         finder.file = path
             .strip_prefix(&root)
             .unwrap()
             .to_string_lossy()
             .into_owned();
-        finder.visit_file(&ast);
+        finder.visit_file(ast);
     }
     finder
+}
+
+/// Where the `#[cfg(test)] mod name;` declarations of `file` live, without extension: the
+/// module `name` is `<dir>/name.rs` or the folder `<dir>/name/`.
+fn test_module_paths(file: &Path, ast: &syn::File) -> Vec<PathBuf> {
+    let stem = file.file_stem().and_then(|s| s.to_str()).unwrap_or("");
+    let dir = if matches!(stem, "mod" | "lib" | "main") {
+        file.parent().unwrap().to_path_buf()
+    } else {
+        file.with_extension("")
+    };
+    ast.items
+        .iter()
+        .filter_map(|item| match item {
+            syn::Item::Mod(m) if m.content.is_none() && is_test(&m.attrs) => {
+                Some(dir.join(m.ident.to_string()))
+            }
+            _ => None,
+        })
+        .collect()
 }
 
 /// The allow-list: `path  # reason` (a file or folder under `src/`, every literal in it) or
@@ -394,7 +425,8 @@ mod per_screen {
                 .chain(c.keys.iter().cloned())
                 .chain(c.message.clone())
                 .collect(),
-            ScreenState::Instruction { title, lines } => std::iter::once(title.clone())
+            ScreenState::Instruction { title, lines }
+            | ScreenState::Pictured { title, lines, .. } => std::iter::once(title.clone())
                 .chain(lines.iter().cloned())
                 .collect(),
             ScreenState::Welcome(w) => std::iter::once(w.title.clone())

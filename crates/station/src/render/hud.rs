@@ -17,8 +17,8 @@ use std::sync::Arc;
 
 use super::layout;
 use super::scene::{Dial, LiveScore, Scene, ScreenState};
-use regimen::NeglectedSide;
 use i18n::tr;
+use regimen::NeglectedSide;
 
 pub mod arm_inset;
 mod next_card;
@@ -296,7 +296,12 @@ pub(crate) fn paint(p: &Painter, scene: &Scene, size: Vec2, neglected: Neglected
     if scene.has_road() {
         let kmh = hud.speed_m_s * 3.6;
         let (pos, align) = at(MARGIN, h - MARGIN, Align2::LEFT_BOTTOM);
-        text_panel(p, pos, align, &[(tr!("hud-speed", kmh = kmh.round()), 30.0)]);
+        text_panel(
+            p,
+            pos,
+            align,
+            &[(tr!("hud-speed", kmh = kmh.round()), 30.0)],
+        );
     }
     let (pos, align) = at(
         MARGIN,
