@@ -20,6 +20,7 @@ use super::scene::{Dial, LiveScore, Scene, ScreenState};
 pub mod arm_inset;
 mod next_card;
 mod welcome;
+mod wheel_hint;
 
 /// The smallest text of a session's screen, points at the reference size (36 px at 1080p).
 pub const MIN_TEXT_PT: f32 = 24.0;
