@@ -15,7 +15,7 @@ SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 
 PKGS=(build-essential pkg-config libudev-dev mesa-vulkan-drivers libvulkan1 libgl1-mesa-dri
-      libegl1 xvfb xauth xdotool x11-apps libxkbcommon-x11-0 libx11-xcb1 python3-venv python3-pip curl ca-certificates
+      libegl1 xvfb xauth xdotool libxkbcommon-x11-0 libx11-xcb1 python3-venv python3-pip curl ca-certificates
       postgresql chromium chromium-driver openssl systemd
       lintian dpkg-dev desktop-file-utils librsvg2-bin xz-utils)
 missing=()
