@@ -35,6 +35,7 @@ pub(super) fn paint(p: &Painter, page: &Welcome, size: Vec2) {
     p.rect_filled(card, CornerRadius::same(22), CARD);
     let left = card.left() + 3.0 * PAD;
     let mut width = card.width() - 6.0 * PAD;
+    let mut picture_bottom = card.top();
     if let Some(picture) = page.picture {
         // The picture at the card's top right, the words beside it.
         let side = (card.height() * 0.42).min(width * 0.32);
@@ -43,6 +44,7 @@ pub(super) fn paint(p: &Painter, page: &Welcome, size: Vec2) {
             vec2(side, side),
         );
         super::wheel_hint::paint(p, picture, at);
+        picture_bottom = at.bottom();
         width -= side + PAD;
     }
     let mut y = card.top() + 2.5 * PAD;
@@ -62,7 +64,12 @@ pub(super) fn paint(p: &Painter, page: &Welcome, size: Vec2) {
             &page.choices,
             page.chosen,
             pos2(left, y),
-            card.width() - 6.0 * PAD,
+            // Beside the picture, never under it; the whole width below it.
+            if y < picture_bottom {
+                width
+            } else {
+                card.width() - 6.0 * PAD
+            },
         ) + 14.0;
     }
     if let Some(error) = &page.error {
