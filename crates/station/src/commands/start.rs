@@ -93,7 +93,7 @@ pub fn run() -> anyhow::Result<()> {
         }
     };
     if settings.language.is_none() {
-        door = door.asking_language(&i18n::current().tag());
+        door = door.asking_language(i18n::current().tag());
     }
     tracing::info!(home = %home.dir().display(), paired = !door.is_pairing(), "first-run pages");
     let simulated = wheel_gestures::scripted();

@@ -466,10 +466,8 @@ fn pairing_key(p: &mut Pairing, k: UserRequest) -> Option<()> {
         }
         UserRequest::NextField => p.typing_address = !p.typing_address,
         UserRequest::Confirm if p.card_code.is_some() => return Some(()),
-        UserRequest::Confirm if p.typing_address => {
-            if !p.address.trim().is_empty() {
-                p.typing_address = false;
-            }
+        UserRequest::Confirm if p.typing_address && !p.address.trim().is_empty() => {
+            p.typing_address = false;
         }
         UserRequest::Confirm if !p.code.trim().is_empty() => return Some(()),
         _ => {}

@@ -10,6 +10,7 @@ use crate::render::{Renderer, Scene, ScreenState, save_png};
 use crate::screen::{CourseView, WindowState};
 use crate::session::{BreakKind, BreakNow, wheel_cards};
 
+#[allow(clippy::field_reassign_with_default)] // a tick built field by field reads best
 fn pages() -> Vec<(&'static str, ScreenState)> {
     let welcome = |w: Welcome| ScreenState::Welcome(w);
     let card = pairing_file::Found::Card(

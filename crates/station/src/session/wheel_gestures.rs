@@ -203,7 +203,7 @@ pub struct WheelGestures {
 enum Source {
     Script,
     #[cfg(target_os = "linux")]
-    Evdev(haptic_wheel::evdev_wheel::WheelControls),
+    Evdev(Box<haptic_wheel::evdev_wheel::WheelControls>),
 }
 
 impl WheelGestures {
@@ -276,7 +276,7 @@ fn open_node(node: &Path) -> std::io::Result<Source> {
             "the wheel's pedals drive the car where the regimen asks"
         );
     }
-    Ok(Source::Evdev(c))
+    Ok(Source::Evdev(Box::new(c)))
 }
 
 #[cfg(not(target_os = "linux"))]

@@ -519,12 +519,15 @@ mod tests {
         c.end_answers.step(-1);
         c.end_answers.confirm();
         c.end_answers.skip();
-        // The step taken before the end screen was up is counted with the rest: 1 + 2 − 1.
+        // The step taken before the end screen was up comes first, then the rest in the
+        // order said.
         assert_eq!(
             end_answers(&c),
             [
                 UserRequest::SeekForward,
                 UserRequest::SeekForward,
+                UserRequest::SeekForward,
+                UserRequest::SeekBack,
                 UserRequest::Confirm,
                 UserRequest::Quit
             ]
