@@ -1,7 +1,7 @@
 //! The wheel's and a gamepad's buttons and pedals during a session with the patient's window.
 //! The wheel alone runs the session ([`wheel_gesture`]): a short press of any of its buttons
 //! does what Space does (start, pause, resume, go on from a break or "Ready?"); paused, a turn
-//! chooses between going on and a rest; a long press ([`super::controls::HOLD`]) asks "End
+//! chooses between going on and a rest; a long press ([`super::wheel_gestures::HOLD`]) asks "End
 //! now?", where a press ends and another long press goes on; on the end screen turns choose,
 //! a press confirms and a long press skips. A gamepad's south (A/✕) or start button is a
 //! press, its east button (B/○) asks for a rest. The pedals (the wheel's pedal port, separate
