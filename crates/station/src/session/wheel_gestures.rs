@@ -75,11 +75,11 @@ impl PressTimer {
 }
 
 /// Past this share of the wheel's range either way, a turn is one step.
-const STEP_AT: f64 = 0.05;
+pub const STEP_AT: f64 = 0.05;
 /// Back within this share of the middle, the next turn steps at once.
-const REARM_AT: f64 = 0.025;
+pub const REARM_AT: f64 = 0.025;
 /// Held past [`STEP_AT`], a turn steps again this often.
-const REPEAT: Duration = Duration::from_millis(600);
+pub const REPEAT: Duration = Duration::from_millis(600);
 
 /// The wheel's turns as steps: turned past [`STEP_AT`] of its range is one step that way
 /// (+1 right, −1 left), again every [`REPEAT`] while held there; back near the middle
