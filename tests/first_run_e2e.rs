@@ -43,7 +43,7 @@ fn wait_for(lines: &mpsc::Receiver<String>, what: &str) {
 }
 
 #[test]
-fn a_patient_pairs_from_the_first_run_page_by_typing_the_clinics_address_and_code() {
+fn a_patient_pairs_from_the_first_run_page_by_typing_the_clinics_address_and_code_on_a_keyboard() {
     if std::env::var_os("DISPLAY").is_none() {
         eprintln!("SKIPPED: no display (run under xvfb-run to test the first-run window)");
         return;
@@ -67,13 +67,16 @@ fn a_patient_pairs_from_the_first_run_page_by_typing_the_clinics_address_and_cod
             let _ = tx.send(line);
         }
     });
-    wait_for(&lines, "first-run page shown page=Welcome to telerehab");
+    // The keyboard is the alternative to the wheel: Enter takes the language chosen.
+    wait_for(&lines, "first-run page shown page_id=language");
+    xdotool(&["key", "Return"]);
+    wait_for(&lines, "first-run page shown page_id=pairing-ask-clinic");
     assert!(!home.join("pairing").exists(), "not paired before the code");
     xdotool(&["type", "--delay", "20", &hub.stations]);
     xdotool(&["key", "Return"]);
     xdotool(&["type", "--delay", "20", &code]);
     xdotool(&["key", "Return"]);
-    wait_for(&lines, "first-run page shown page=Today's session");
+    wait_for(&lines, "first-run page shown page_id=today");
     let pairing = std::fs::read_to_string(home.join("pairing/hub.toml")).unwrap();
     assert!(pairing.contains(&hub.stations), "{pairing}");
     xdotool(&["key", "Escape"]);

@@ -349,6 +349,7 @@ impl CheckInFlow {
             field,
             error: None,
             keys,
+            ..Welcome::default()
         }
     }
 }

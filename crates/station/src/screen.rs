@@ -296,20 +296,43 @@ impl CourseView {
     /// first exercise before it starts, the rest or break between exercises with what comes
     /// next, the pause card, or the running exercise.
     pub fn screen_state(&self, rec: &TickRecord, w: &WindowState) -> ScreenState {
-        if w.confirming_end {
-            return confirm_end_card();
+        let live = live_screen_state(rec);
+        // The wheel's cards: the unplugged wheel, "End now?", the pause's choices.
+        if let Some(card) =
+            crate::session::wheel_cards::card(&w.brk, w.confirming_end, live == ScreenState::Paused)
+        {
+            return card;
         }
         let index = (rec.score.exercise_index as usize).min(self.exercises.len() - 1);
-        match live_screen_state(rec) {
+        match live {
             ScreenState::Start => {
-                let mut card = self.next_card(index, None, w, "card-start-key");
+                let start = i18n::tr!("controls-start");
+                let mut card = self.next_card(index, None, w, &start);
                 if let ScreenState::Next(c) = &mut card {
                     c.message.clone_from(&self.message);
                 }
                 card
             }
+            ScreenState::Paused if w.brk.kind == BreakKind::Ready => {
+                // After a rest: the next exercise waits for the patient, or counts down.
+                let (left, key) = if w.brk.left_s > 0.0 {
+                    let seconds = w.brk.left_s.ceil() as u64;
+                    (
+                        Some(w.brk.left_s),
+                        i18n::tr!("controls-ready-countdown", seconds = seconds),
+                    )
+                } else {
+                    (None, i18n::tr!("controls-ready-press"))
+                };
+                let mut card = self.next_card(index, left, w, &key);
+                if let ScreenState::Next(c) = &mut card {
+                    c.heading = i18n::tr!("controls-ready-title");
+                }
+                card
+            }
             ScreenState::Paused if w.brk.kind != BreakKind::None => {
-                let mut card = self.next_card(index, Some(w.brk.left_s), w, "card-go-on-now-key");
+                let go_on = i18n::tr!("controls-go-on-now");
+                let mut card = self.next_card(index, Some(w.brk.left_s), w, &go_on);
                 if let ScreenState::Next(c) = &mut card {
                     c.heading = tr!(match w.brk.kind {
                         BreakKind::Asked => "card-rest-then-back",
@@ -328,14 +351,14 @@ impl CourseView {
         }
     }
 
-    /// The card of exercise `index`, with a countdown and the key to go on (`key_id`, the
-    /// catalogue's id of its words).
+    /// The card of exercise `index`, with a countdown and the key to go on (`key`, the
+    /// catalogue's words).
     fn next_card(
         &self,
         index: usize,
         countdown_s: Option<f64>,
         w: &WindowState,
-        key_id: &str,
+        key: &str,
     ) -> ScreenState {
         let ex = &self.exercises[index];
         let title = if self.in_regimen && self.exercises.len() > 1 {
@@ -362,7 +385,8 @@ impl CourseView {
             },
             movement: Movement::of_exercise(&ex.short),
             countdown_s,
-            keys: vec![tr!(key_id)],
+            // The key line names the wheel's button itself (the catalogue's words).
+            keys: vec![key.to_owned()],
             anim_s: w.anim_s,
             message: None,
         })
@@ -476,7 +500,11 @@ mod tests {
         assert_eq!(card.what, tr!("instruction-road"));
         assert_eq!(card.movement, Movement::Steer);
         assert_eq!(card.countdown_s, None);
-        assert_eq!(card.keys, [tr!("card-start-key")]);
+        assert!(
+            card.keys.contains(&i18n::tr!("controls-start")),
+            "{:?}",
+            card.keys
+        );
         // The same while the patient has not started yet.
         let waiting = v.screen_state(&tick(500, 0, 0.0, true), &WindowState::default());
         assert_eq!(next_card(waiting).title, of(1, 2, "exercise-sine-road"));
@@ -488,6 +516,7 @@ mod tests {
             brk: BreakNow {
                 kind: BreakKind::Prescribed,
                 left_s: 17.2,
+                ..BreakNow::default()
             },
             ..WindowState::default()
         };
@@ -496,13 +525,18 @@ mod tests {
         assert_eq!(card.title, of(2, 2, "exercise-dial-sine"));
         assert_eq!(card.movement, Movement::Dial);
         assert_eq!(card.countdown_s, Some(17.2));
-        assert_eq!(card.keys, [tr!("card-go-on-now-key")]);
+        assert!(
+            card.keys.contains(&i18n::tr!("controls-go-on-now")),
+            "{:?}",
+            card.keys
+        );
         // The short card between exercises says "Next", a rest the patient asked for says
         // they go back to the same exercise.
         let next = WindowState {
             brk: BreakNow {
                 kind: BreakKind::Next,
                 left_s: 3.0,
+                ..BreakNow::default()
             },
             ..w
         };
@@ -512,6 +546,7 @@ mod tests {
             brk: BreakNow {
                 kind: BreakKind::Asked,
                 left_s: 50.0,
+                ..BreakNow::default()
             },
             ..w
         };
@@ -521,33 +556,79 @@ mod tests {
     }
 
     #[test]
-    fn esc_once_asks_before_ending_over_any_other_card_and_a_pause_says_the_keys() {
+    fn esc_once_or_a_long_press_asks_before_ending_over_any_other_card_and_a_pause_shows_the_wheel()
+    {
         let v = view();
+        let id = |s: ScreenState| match s {
+            ScreenState::Welcome(w) => w.id,
+            other => panic!("{other:?}"),
+        };
         let asking = WindowState {
             confirming_end: true,
             ..WindowState::default()
         };
+        let held = WindowState {
+            brk: BreakNow {
+                end_asked: true,
+                ..BreakNow::default()
+            },
+            ..WindowState::default()
+        };
         for rec in [tick(0, 0, 0.0, true), tick(9000, 0, 8.0, false)] {
-            match v.screen_state(&rec, &asking) {
-                ScreenState::Instruction { title, lines } => {
-                    assert_eq!(title, tr!("end-confirm-title"));
-                    assert_eq!(lines, [tr!("end-confirm-yes"), tr!("end-confirm-no")]);
-                }
-                other => panic!("{other:?}"),
-            }
+            assert_eq!(id(v.screen_state(&rec, &asking)), "end-now");
+            assert_eq!(id(v.screen_state(&rec, &held)), "end-now");
         }
         let plain = WindowState::default();
-        match v.screen_state(&tick(9000, 0, 8.0, true), &plain) {
-            ScreenState::Pictured { title, lines, .. } => {
-                assert_eq!(title, tr!("pause-title"));
-                assert!(lines.contains(&tr!("pause-rest-or-end")), "{lines:?}");
-            }
-            other => panic!("{other:?}"),
-        }
+        let paused = v.screen_state(&tick(9000, 0, 8.0, true), &plain);
+        let ScreenState::Welcome(page) = paused else {
+            panic!("{paused:?}")
+        };
+        assert_eq!(page.id, "paused");
+        assert!(matches!(
+            page.picture,
+            Some(render::Picture::Wheel { hold: true, .. })
+        ));
+        assert_eq!(page.choices.len(), 2, "go on, rest");
         assert_eq!(
             v.screen_state(&tick(9000, 0, 8.0, false), &plain),
             ScreenState::Running
         );
+    }
+
+    #[test]
+    fn an_unplugged_wheel_mid_exercise_shows_its_own_page_not_the_pause_card() {
+        let w = WindowState {
+            brk: BreakNow {
+                wheel_away_left_s: Some(25.0),
+                ..BreakNow::default()
+            },
+            ..WindowState::default()
+        };
+        match view().screen_state(&tick(9000, 0, 8.0, true), &w) {
+            ScreenState::Welcome(page) => {
+                assert_eq!(page.id, "wheel-unplugged");
+                assert_eq!(page.picture, Some(render::Picture::Plug));
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn after_a_rest_ready_waits_for_the_patient_or_counts_down() {
+        let ready = |left_s| WindowState {
+            brk: BreakNow {
+                kind: BreakKind::Ready,
+                left_s,
+                ..BreakNow::default()
+            },
+            ..WindowState::default()
+        };
+        let card = next_card(view().screen_state(&tick(40_000, 1, 30.0, true), &ready(0.0)));
+        assert_eq!(card.heading, i18n::tr!("controls-ready-title"));
+        assert_eq!(card.countdown_s, None, "waits: no countdown");
+        assert!(card.keys.contains(&i18n::tr!("controls-ready-press")));
+        let card = next_card(view().screen_state(&tick(40_000, 1, 30.0, true), &ready(4.2)));
+        assert_eq!(card.countdown_s, Some(4.2));
     }
 
     #[test]

@@ -9,19 +9,21 @@
 //! ```
 
 use anyhow::Context;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// The patient's settings.
-#[derive(Debug, Clone, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Settings {
     /// The clinic hub's address for stations, filled in on the pairing page.
     pub clinic_address: Option<String>,
     /// The patient's window fills the screen (F11 toggles it).
     pub fullscreen: bool,
-    /// The language chosen on the first-run page (`de`, `es`, `zh`, …); the prescription's
-    /// wins over it ([`crate::language::choose`]).
+    /// The language the patient chose on the first-run page (a tag of
+    /// [`i18n::LANGUAGES`]); `None` until chosen (the first-run page then asks). The
+    /// prescription's wins over it ([`crate::language::choose`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub language: Option<String>,
 }
 
@@ -52,6 +54,20 @@ impl Settings {
     }
 }
 
+impl Settings {
+    /// Writes the settings to `home_dir` (replacing the file at once: a crash leaves the old
+    /// one or the new one, never half of one).
+    pub fn save(&self, home_dir: &Path) -> anyhow::Result<()> {
+        let path = home_dir.join(FILE);
+        let text = toml::to_string(self).context("cannot write the settings")?;
+        std::fs::create_dir_all(home_dir)
+            .with_context(|| format!("cannot create {}", home_dir.display()))?;
+        let tmp = home_dir.join(format!("{FILE}.new"));
+        std::fs::write(&tmp, text).with_context(|| format!("cannot write {}", tmp.display()))?;
+        std::fs::rename(&tmp, &path).with_context(|| format!("cannot replace {}", path.display()))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -79,5 +95,22 @@ mod tests {
             err.contains("settings.toml") && err.contains("fulscreen"),
             "{err}"
         );
+    }
+
+    #[test]
+    fn the_language_chosen_is_saved_with_the_other_settings_and_read_back() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(
+            dir.path().join(FILE),
+            "clinic_address = \"hub.example:7878\"\n",
+        )
+        .unwrap();
+        let mut s = Settings::load(dir.path()).unwrap();
+        assert_eq!(s.language, None);
+        s.language = Some("de".into());
+        s.save(dir.path()).unwrap();
+        let back = Settings::load(dir.path()).unwrap();
+        assert_eq!(back.language.as_deref(), Some("de"));
+        assert_eq!(back.clinic_address.as_deref(), Some("hub.example:7878"));
     }
 }

@@ -38,6 +38,7 @@ fn screens() -> Vec<(&'static str, Scene)> {
         brk: BreakNow {
             kind: BreakKind::Prescribed,
             left_s: 27.0,
+            ..BreakNow::default()
         },
         ..plain
     };

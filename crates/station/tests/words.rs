@@ -457,6 +457,7 @@ mod per_screen {
             brk: BreakNow {
                 kind: BreakKind::Prescribed,
                 left_s: 17.0,
+                ..BreakNow::default()
             },
             ..plain
         };

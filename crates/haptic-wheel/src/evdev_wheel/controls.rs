@@ -80,6 +80,8 @@ pub fn steering_fraction(value: i32, minimum: i32, maximum: i32) -> f64 {
 pub struct ControlsLook {
     /// A button went down.
     pub pressed: bool,
+    /// A button is down at the end of the look (how long it is held tells a long press).
+    pub held: bool,
     /// The pedals' travel (throttle, brake), each in [0, 1], if the wheel has pedals.
     pub pedals: Option<(f64, f64)>,
     /// Where the wheel is turned, −1 (full left) to 1 (full right) of its declared range.
@@ -146,6 +148,7 @@ impl WheelControls {
             }
             std::thread::sleep(Duration::from_millis(10));
         }
+        let held = self.dev.get_key_state()?.iter().next().is_some();
         let abs = self.dev.get_abs_state()?;
         let info = |axis: AbsoluteAxisCode| AbsInfo::from(abs[axis.0 as usize]);
         let pedals = self.pedals.map(|axes| {
@@ -161,6 +164,7 @@ impl WheelControls {
         });
         Ok(ControlsLook {
             pressed,
+            held,
             pedals,
             steering,
         })

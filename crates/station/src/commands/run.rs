@@ -366,6 +366,7 @@ fn no_wheel_no_mystery(cfg: &StationConfig) -> anyhow::Result<Option<PathBuf>> {
     }
     let mut page = crate::screen::cannot_start_page(&check.lines);
     page.keys = vec![i18n::tr!("cannot-start-close-key")];
+    page.id = "cannot-start";
     let scene = crate::render::Scene {
         screen: crate::render::ScreenState::Welcome(page),
         ..crate::render::Scene::default()
@@ -373,11 +374,31 @@ fn no_wheel_no_mystery(cfg: &StationConfig) -> anyhow::Result<Option<PathBuf>> {
     let closed = std::cell::Cell::new(false);
     let mut window = WindowOptions::new("telerehab");
     window.fullscreen = true;
+    // A wheel plugged in while the page is up closes it and the session starts: the patient
+    // needs no key (the page is checked again every 2 s).
+    let mut last_check = std::time::Instant::now();
+    let mut plugged_in = None;
     let shown = crate::render::window::run_with(
         &window,
-        || (!closed.get()).then(|| scene.clone()),
+        || {
+            if last_check.elapsed() >= Duration::from_secs(2) {
+                last_check = std::time::Instant::now();
+                let again = crate::front_door::checks::check_devices(
+                    &cfg.wheel,
+                    cfg.haptic.safety.ceiling_nm,
+                );
+                if again.wheel_ready {
+                    plugged_in = Some(again.wheel_path.map(PathBuf::from));
+                }
+            }
+            (!closed.get() && plugged_in.is_none()).then(|| scene.clone())
+        },
         |_| closed.set(true),
     );
+    if let Some(path) = plugged_in {
+        tracing::info!("a wheel was plugged in while the page said none: starting");
+        return Ok(path);
+    }
     if let Err(e) = shown {
         tracing::warn!("cannot show why the session cannot start: {e}");
     }
@@ -614,6 +635,7 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
         Speed::Max => Pacing::Max,
     };
     let mut controls = session::Controls::with_stop(install_stop_flag()?);
+    *controls.practice.get_mut() = args.try_out;
     if !args.headless {
         // Only a window can show it (and so only a window's session says it was seen).
         *controls

@@ -1,16 +1,22 @@
 //! `telerehab` with no arguments (the desktop entry): the patient's first-run pages
-//! ([`crate::front_door`]) in a full-screen window, then the session they chose. Without a
-//! display it says so and points to `telerehab doctor`.
+//! ([`crate::front_door`]) in a full-screen window, driven by the wheel (or the keyboard),
+//! then the session they chose; after the practice (the try-out) the pages come back.
+//! Without a display it says so and points to `telerehab doctor`.
+//!
+//! `TELEREHAB_LANGUAGE` (a tag, or `en-XA` for the pseudo-locale) puts a language in force
+//! for screenshots; a simulated station whose wheel is scripted
+//! ([`crate::session::wheel_gestures::SCRIPT_ENV`]) runs the whole first run without devices.
 
 use crate::commands::run::{self, RunArgs};
 use crate::config::StationConfig;
-use crate::front_door::checks::check_devices;
-use crate::front_door::{Action, FrontDoor, Outcome, TodayPlan, pairing_error_words};
+use crate::front_door::checks::{self, check_devices};
+use crate::front_door::{Action, FrontDoor, Outcome, TodayPlan, pairing_error_words, pairing_file};
 use crate::home::{Home, HomeArg};
 use crate::link::hub_status::{HubStatus, check_hub};
 use crate::render::StatusLine;
-use crate::render::window::{UserRequest, WindowOptions, run_with};
+use crate::render::window::{WindowOptions, run_with};
 use crate::render::{Scene, ScreenState};
+use crate::session::wheel_gestures::{self, WheelGestures};
 use crate::settings::Settings;
 use anyhow::Context;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -31,6 +37,12 @@ const HUB_CHECK_TIMEOUT: Duration = Duration::from_secs(10);
 
 /// How often the device check runs while the pages are up.
 const CHECK_PERIOD: Duration = Duration::from_secs(2);
+
+/// How often today's page asks again for the plan, the therapist's message and the hub.
+const PLAN_PERIOD: Duration = Duration::from_secs(30);
+
+/// The environment variable that puts a language in force (screenshots, support).
+pub const LANGUAGE_ENV: &str = "TELEREHAB_LANGUAGE";
 
 /// Whether a window can be opened here.
 pub fn has_display() -> bool {
@@ -61,16 +73,51 @@ pub fn run() -> anyhow::Result<()> {
     let kept = regimen::Regimen::load(&home.regimen_path()).ok();
     crate::language::choose(kept.as_ref(), settings.language.as_deref());
     let cfg = StationConfig::default();
-    let door = match home.pairing()? {
+    let mut door = match home.pairing()? {
         Some(_) => FrontDoor::paired_with(today_plan(&home, &cfg)),
-        None => FrontDoor::unpaired(settings.clinic_address.as_deref()),
+        None => {
+            let card = pairing_file::find(&pairing_file::places(home.dir()));
+            match &card {
+                pairing_file::Found::Card(path, _) => {
+                    tracing::info!(card = %path.display(), "the clinic's pairing card was found");
+                }
+                pairing_file::Found::Unreadable(path, why) => {
+                    tracing::warn!(card = %path.display(), "the clinic's pairing card cannot be read: {why}");
+                }
+                pairing_file::Found::Nothing => {}
+            }
+            FrontDoor::unpaired(&card, settings.clinic_address.as_deref())
+        }
     };
+    if settings.language.is_none() {
+        door = door.asking_language(i18n::current().tag());
+    }
     tracing::info!(home = %home.dir().display(), paired = !door.is_pairing(), "first-run pages");
+    let simulated = wheel_gestures::scripted();
     match show(door, &home, &cfg, settings.fullscreen)? {
         Outcome::Quit => Ok(()),
-        Outcome::Start => run::run(RunArgs::patient(settings.fullscreen)),
-        Outcome::TryOut => run::run(RunArgs::try_out(settings.fullscreen)),
+        Outcome::Start => run::run(RunArgs {
+            sim: simulated,
+            ..RunArgs::patient(settings.fullscreen)
+        }),
+        Outcome::TryOut => {
+            run::run(RunArgs::try_out(settings.fullscreen))?;
+            back_to_the_pages()
+        }
     }
+}
+
+/// After the practice: the first-run pages again, in a fresh process image (one window
+/// event loop a process), the scripted wheel read on from where it was.
+fn back_to_the_pages() -> anyhow::Result<()> {
+    use std::os::unix::process::CommandExt;
+    tracing::info!("practice over: back to the first-run pages");
+    let exe = std::env::current_exe().context("cannot find this program to show its pages")?;
+    let mut again = std::process::Command::new(exe);
+    if let Some(offset) = wheel_gestures::script_offset() {
+        again.env(wheel_gestures::SCRIPT_FROM_ENV, offset.to_string());
+    }
+    Err(again.exec()).context("cannot show the first-run pages again")
 }
 
 /// Pairs in the background and tells the pages how it went.
@@ -96,7 +143,10 @@ fn pair(home: &Home, address: &str, code: &str) -> Result<(), String> {
     let runtime = tokio::runtime::Builder::new_current_thread()
         .enable_all()
         .build()
-        .map_err(|e| format!("This computer could not start its network ({e})."))?;
+        .map_err(|e| {
+            tracing::warn!("cannot start the network runtime: {e}");
+            i18n::tr!("front-error-other")
+        })?;
     let credential = runtime
         .block_on(netlink::pairing::pair(
             address,
@@ -107,7 +157,10 @@ fn pair(home: &Home, address: &str, code: &str) -> Result<(), String> {
     let now_ms = clock::Clock::real().unix_ns() / 1_000_000;
     home.save_pairing(address, &credential, now_ms)
         .map(|_| ())
-        .map_err(|e| format!("Paired, but this computer could not save it ({e:#})."))
+        .map_err(|e| {
+            tracing::warn!("paired, but the pairing was not saved: {e:#}");
+            i18n::tr!("front-error-save")
+        })
 }
 
 fn lock(door: &Mutex<FrontDoor>) -> std::sync::MutexGuard<'_, FrontDoor> {
@@ -130,60 +183,105 @@ fn ask_the_hub(door: &Mutex<FrontDoor>, home: &Home) {
             tracing::info!("the clinic's hub is not reachable: {why}");
             StatusLine {
                 ok: None,
-                text: "Your clinic cannot be reached just now: today's session is kept on this \
-                       computer and sent later."
-                    .into(),
+                text: i18n::tr!("front-today-offline"),
             }
         }
     };
     lock(door).set_notice(Some(notice));
 }
 
-/// The device check every [`CHECK_PERIOD`] until `stop`; between checks, a press of a ready
-/// wheel's button counts as Space.
+/// The device check every [`CHECK_PERIOD`] until `stop`; between checks, the wheel's
+/// gestures drive the pages (a scripted wheel's too, on a simulated station).
 fn watch_devices(
-    door: &Mutex<FrontDoor>,
+    door: &Arc<Mutex<FrontDoor>>,
     outcome: &Mutex<Option<Outcome>>,
     stop: &AtomicBool,
-    cfg: &StationConfig,
+    (home, cfg): (&Home, &StationConfig),
 ) {
+    let simulated = wheel_gestures::scripted();
     while !stop.load(Ordering::Relaxed) {
-        let check = check_devices(&cfg.wheel, cfg.haptic.safety.ceiling_nm);
+        let check = if simulated {
+            checks::simulated()
+        } else {
+            check_devices(&cfg.wheel, cfg.haptic.safety.ceiling_nm)
+        };
         lock(door).set_devices(check.lines, check.wheel_ready);
-        let wheel = check.wheel_path.filter(|_| check.wheel_ready);
-        if wheel_button(wheel.as_deref(), stop)
-            && let Action::Done(o) = lock(door).apply(UserRequest::Confirm)
+        let node = check.wheel_path.map(std::path::PathBuf::from);
+        let mut wheel = WheelGestures::open(node.as_deref());
+        let started = std::time::Instant::now();
+        while started.elapsed() < CHECK_PERIOD && !stop.load(Ordering::Relaxed) {
+            let look = wheel
+                .as_mut()
+                .map(|w| w.look(Duration::from_millis(50), true));
+            let gestures = match look {
+                Some(Ok(l)) => l.gestures,
+                // Unplugged or unreadable: the next device check says so.
+                Some(Err(_)) | None => {
+                    std::thread::sleep(Duration::from_millis(250));
+                    wheel = None;
+                    Vec::new()
+                }
+            };
+            for g in gestures {
+                let action = lock(door).wheel(g);
+                act(door, outcome, (home, cfg), action);
+            }
+        }
+    }
+}
+
+/// Does what the pages ask: store the language, pair, or end with the outcome.
+fn act(
+    door: &Arc<Mutex<FrontDoor>>,
+    outcome: &Mutex<Option<Outcome>>,
+    (home, cfg): (&Home, &StationConfig),
+    action: Action,
+) {
+    match action {
+        Action::None => {}
+        Action::Language(tag) => choose_language(home, &tag),
+        Action::Pair { address, code } => spawn_pairing(door, home, cfg, address, code),
+        Action::Done(o) => *outcome.lock().unwrap_or_else(PoisonError::into_inner) = Some(o),
+    }
+}
+
+/// The patient chose `tag` on the first-run page: in force now, and kept in the settings.
+fn choose_language(home: &Home, tag: &str) {
+    if let Err(e) = i18n::use_language(tag) {
+        tracing::warn!("{e}");
+        return;
+    }
+    let saved = Settings::load(home.dir()).and_then(|mut s| {
+        s.language = Some(tag.to_owned());
+        s.save(home.dir())
+    });
+    match saved {
+        Ok(()) => tracing::info!(language = tag, "language chosen on the first-run page"),
+        Err(e) => tracing::warn!("the language chosen is not kept: {e:#}"),
+    }
+}
+
+/// Today's plan and the therapist's newest message, read again from the home every
+/// [`PLAN_PERIOD`] while today's page is up (on the page's opening too), with the hub asked
+/// each time.
+fn keep_today_fresh(door: &Mutex<FrontDoor>, stop: &AtomicBool, home: &Home, cfg: &StationConfig) {
+    let mut last = None;
+    while !stop.load(Ordering::Relaxed) {
+        if lock(door).is_today()
+            && last.is_none_or(|t: std::time::Instant| t.elapsed() >= PLAN_PERIOD)
         {
-            *outcome.lock().unwrap_or_else(PoisonError::into_inner) = Some(o);
+            last = Some(std::time::Instant::now());
+            ask_the_hub(door, home);
+            let plan = today_plan(home, cfg);
+            let message = crate::messages::Inbox::load(&home.messages_path())
+                .to_show()
+                .map(|k| k.text.clone());
+            let mut d = lock(door);
+            d.set_plan(plan);
+            d.set_message(message);
         }
+        std::thread::sleep(Duration::from_millis(200));
     }
-}
-
-/// Waits [`CHECK_PERIOD`] (less if `stop`), watching the wheel at `path` for a button press.
-fn wheel_button(path: Option<&str>, stop: &AtomicBool) -> bool {
-    let step = Duration::from_millis(250);
-    let mut waited = Duration::ZERO;
-    while waited < CHECK_PERIOD && !stop.load(Ordering::Relaxed) {
-        match path.map(|p| button_pressed_within(p, step)) {
-            Some(Ok(true)) => return true,
-            Some(Ok(false)) => {}
-            // No wheel, or unplugged or unreadable (the next device check says so).
-            None | Some(Err(_)) => std::thread::sleep(step),
-        }
-        waited += step;
-    }
-    false
-}
-
-#[cfg(target_os = "linux")]
-fn button_pressed_within(path: &str, window: Duration) -> std::io::Result<bool> {
-    haptic_wheel::evdev_wheel::button_pressed_within(std::path::Path::new(path), window)
-}
-
-/// Wheels are driven on Linux only.
-#[cfg(not(target_os = "linux"))]
-fn button_pressed_within(_path: &str, _window: Duration) -> std::io::Result<bool> {
-    Ok(false)
 }
 
 /// Shows the pages until the patient starts, tries out or closes; the device check runs
@@ -200,9 +298,9 @@ fn show(
     let mut options = WindowOptions::new("telerehab");
     options.fullscreen = fullscreen;
     let shown = std::thread::scope(|scope| {
-        scope.spawn(|| watch_devices(&door, &outcome, &stop, cfg));
-        scope.spawn(|| ask_the_hub(&door, home));
-        let mut logged_page = String::new();
+        scope.spawn(|| watch_devices(&door, &outcome, &stop, (home, cfg)));
+        scope.spawn(|| keep_today_fresh(&door, &stop, home, cfg));
+        let mut logged_page = "";
         let shown = run_with(
             &options,
             || {
@@ -214,22 +312,19 @@ fn show(
                     return None;
                 }
                 let page = lock(&door).page();
-                if page.title != logged_page {
+                if page.id != logged_page {
                     // One line per page shown (tests and support read it).
-                    tracing::info!(page = %page.title, "first-run page shown");
-                    logged_page.clone_from(&page.title);
+                    tracing::info!(page_id = %page.id, "first-run page shown");
+                    logged_page = page.id;
                 }
                 Some(Scene {
                     screen: ScreenState::Welcome(page),
                     ..Scene::default()
                 })
             },
-            |request| match lock(&door).apply(request) {
-                Action::None => {}
-                Action::Pair { address, code } => spawn_pairing(&door, home, cfg, address, code),
-                Action::Done(o) => {
-                    *outcome.lock().unwrap_or_else(PoisonError::into_inner) = Some(o)
-                }
+            |request| {
+                let action = lock(&door).apply(request);
+                act(&door, &outcome, (home, cfg), action);
             },
         );
         stop.store(true, Ordering::Relaxed);

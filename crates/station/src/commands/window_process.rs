@@ -162,7 +162,11 @@ fn serve(socket: UnixStream) -> anyhow::Result<()> {
             let screen = screen_now(&view, &rec, &state, &mut explain_pause);
             crate::speech::speak_page(&screen);
             message.drawing(&screen);
-            Some(view.scene_with_arm(&rec, screen, l.arm_measured_m))
+            let mut scene = view.scene_with_arm(&rec, screen, l.arm_measured_m);
+            if hello.practice {
+                crate::session::wheel_cards::mark_practice(&mut scene);
+            }
+            Some(scene)
         };
         let on_request = |r: UserRequest| {
             let mut f = flow

@@ -42,55 +42,47 @@ pub fn describe(
     let permissions = doctor::permissions_check(devices);
     let wheel_ready = match devices.wheels.first() {
         None => {
-            lines.push(line(
-                Some(false),
-                "No steering wheel found: plug it in and switch it on (most wheels need their \
-                 own power supply). This page updates by itself."
-                    .into(),
-            ));
+            lines.push(line(Some(false), i18n::tr!("front-device-no-wheel")));
             false
         }
         Some(w) => {
-            let push = w.ceiling.as_ref().map_or(String::new(), |c| {
-                format!(", pushes at most {:.1} N·m", c.ceiling_nm)
-            });
-            let unknown = if w.ceiling.as_ref().is_some_and(|c| c.assumed) {
-                " (a model telerehab does not know: its force is kept low until the clinic sets it)"
-            } else {
-                ""
-            };
             lines.push(line(
                 Some(true),
-                format!("Wheel: {}{push}{unknown}", w.traits.name),
+                i18n::tr!("front-device-wheel", name = w.traits.name.clone()),
             ));
+            if w.ceiling.as_ref().is_some_and(|c| c.assumed) {
+                // A model telerehab does not know: its force is kept low.
+                lines.push(line(None, i18n::tr!("front-device-wheel-unknown")));
+            }
             true
         }
     };
     if permissions.status == Status::Fail {
-        lines.push(line(
-            Some(false),
-            "This computer does not yet let telerehab use the wheel or the arm sensors. Install \
-             the telerehab package (it sets this up), then unplug and plug them in again. \
-             `telerehab doctor` says more."
-                .into(),
-        ));
+        lines.push(line(Some(false), i18n::tr!("front-device-permission")));
     }
     match imus {
         Ok(list) if !list.is_empty() => {
             let names: Vec<&str> = list.iter().map(|d| d.name.as_str()).collect();
             lines.push(line(
                 Some(true),
-                format!("Arm sensors: {}", names.join(", ")),
+                i18n::tr!("front-device-arm-sensors", names = names.join(", ")),
             ));
         }
-        _ => lines.push(line(
-            None,
-            "No arm sensors: the session runs without measuring your arm.".into(),
-        )),
+        _ => lines.push(line(None, i18n::tr!("front-device-no-arm-sensors"))),
     }
     DeviceCheck {
         lines,
         wheel_ready: wheel_ready && permissions.status != Status::Fail,
         wheel_path: devices.wheels.first().map(|w| w.path.clone()),
+    }
+}
+
+/// The device check of a station whose wheel is simulated and scripted
+/// ([`crate::session::wheel_gestures::SCRIPT_ENV`]: tests and demonstrations): a wheel ready.
+pub fn simulated() -> DeviceCheck {
+    DeviceCheck {
+        lines: vec![line(Some(true), i18n::tr!("front-device-simulated"))],
+        wheel_ready: true,
+        wheel_path: None,
     }
 }

@@ -1,5 +1,6 @@
 //! Today's session as the patient reads it before starting: the exercises in plain words
-//! with their minutes.
+//! with their minutes, and the whole session's length with its rests and the cards between
+//! exercises ("about N minutes" is what the patient sits through, not only the driving).
 
 use crate::render::StatusLine;
 use regimen::Regimen;
@@ -12,12 +13,14 @@ pub struct TodayPlan {
     pub exercises: Vec<(String, f64)>,
     /// The clinic has prescribed this (false: the station's default while none has arrived).
     pub prescribed: bool,
+    /// The rests and the cards between exercises, s.
+    pub between_s: f64,
 }
 
 pub use crate::screen::plain_name;
 
 /// `m:ss` of a planned length.
-fn minutes(seconds: f64) -> String {
+fn minutes_text(seconds: f64) -> String {
     let s = seconds.max(0.0).round() as u64;
     format!("{}:{:02}", s / 60, s % 60)
 }
@@ -30,12 +33,20 @@ impl TodayPlan {
             .iter()
             .map(|e| match e.exercise.build() {
                 Ok(x) => (plain_name(&x.name), x.planned_duration_s()),
-                Err(_) => ("An exercise this version cannot show".into(), 0.0),
+                Err(_) => (i18n::tr!("front-today-unbuildable"), 0.0),
             })
             .collect();
+        let last = r.exercises.len().saturating_sub(1);
+        let between_s = r
+            .exercises
+            .iter()
+            .take(last)
+            .map(|e| crate::session::course::Break::after(e.rest_s).length_s)
+            .sum();
         Self {
             exercises,
             prescribed: true,
+            between_s,
         }
     }
 
@@ -48,37 +59,39 @@ impl TodayPlan {
         Self {
             exercises: vec![(name, duration_s)],
             prescribed: false,
+            between_s: 0.0,
         }
     }
 
-    /// The whole session's planned length, s.
+    /// The whole session's planned length, its rests and cards between exercises included, s.
     pub fn total_s(&self) -> f64 {
-        self.exercises.iter().map(|(_, s)| s).sum()
+        self.exercises.iter().map(|(_, s)| s).sum::<f64>() + self.between_s
     }
 
     /// The lines of the "Today's session" page.
     pub fn lines(&self) -> Vec<StatusLine> {
-        let n = self.exercises.len();
-        let mut head = format!(
-            "{n} exercise{}, about {} minute{}",
-            if n == 1 { "" } else { "s" },
-            (self.total_s() / 60.0).ceil().max(1.0),
-            if self.total_s() > 60.0 { "s" } else { "" },
-        );
-        if !self.prescribed {
-            head.push_str(" (your clinic has not sent your plan yet)");
-        }
+        let minutes = (self.total_s() / 60.0).ceil().max(1.0) as u64;
         let mut lines = vec![StatusLine {
             ok: None,
-            text: head,
+            text: i18n::tr!(
+                "front-today-summary",
+                exercises = self.exercises.len(),
+                minutes = minutes
+            ),
         }];
+        if !self.prescribed {
+            lines.push(StatusLine {
+                ok: None,
+                text: i18n::tr!("front-today-no-plan"),
+            });
+        }
         lines.extend(
             self.exercises
                 .iter()
                 .enumerate()
                 .map(|(i, (name, s))| StatusLine {
                     ok: None,
-                    text: format!("   {}. {name}   {}", i + 1, minutes(*s)),
+                    text: format!("   {}. {name}   {}", i + 1, minutes_text(*s)),
                 }),
         );
         lines

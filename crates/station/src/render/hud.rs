@@ -26,6 +26,7 @@ mod picture_card;
 #[cfg(test)]
 mod sizes;
 mod welcome;
+mod wheel_hint;
 
 /// The smallest text of a session's screen, points at the reference size (37.5 px at
 /// 1080p: capitals 26 px high, over the 20′ at 2 m of `layout::MIN_CAP_ARCMIN`).

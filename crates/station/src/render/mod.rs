@@ -30,8 +30,8 @@ pub use gpu::{
     probe_adapter,
 };
 pub use scene::{
-    ArmInset, CameraMode, CarPose, Dial, Hud, LiveScore, MAX_COORD_M, Movement, NextCard, Road,
-    RoadPoint, Scene, ScreenState, StatusLine, Welcome,
+    ArmInset, CameraMode, CarPose, Dial, Hud, LiveScore, MAX_COORD_M, Movement, NextCard, Picture,
+    Road, RoadPoint, Scene, ScreenState, StatusLine, Welcome,
 };
 
 /// Everything that can go wrong while drawing the patient's screen.

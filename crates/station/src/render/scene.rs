@@ -196,6 +196,28 @@ pub struct Welcome {
     pub error: Option<String>,
     /// The keys and what they do, e.g. "Space: start".
     pub keys: Vec<String>,
+    /// The page's stable name for logs and tests (`language`, `pairing`, `today`, …).
+    pub id: &'static str,
+    /// A picture beside the words (the wheel's button to press, the plug).
+    pub picture: Option<Picture>,
+    /// Large choices in a row, chosen by turning the wheel (the chosen one is framed).
+    pub choices: Vec<String>,
+    /// Which of [`Welcome::choices`] is chosen.
+    pub chosen: usize,
+}
+
+/// A picture a page draws beside its words (drawn with shapes: `render/hud/wheel_hint.rs`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Picture {
+    /// The wheel, its button lit: press it (`hold`: keep it pressed; `turn`: arrows to turn).
+    Wheel {
+        /// The button is held down (a long press).
+        hold: bool,
+        /// Arrows show the wheel turns to choose.
+        turn: bool,
+    },
+    /// A cable's plug going into the wheel: plug it back in.
+    Plug,
 }
 
 /// The patient's arm on the wheel, drawn small in a corner as seen from the patient's right

@@ -24,6 +24,13 @@ pub struct BreakClock {
     dt_s: f64,
     kind: BreakKind,
     left_ticks: u64,
+    /// "Ready?" after a rest: the next exercise waits for the patient (no countdown).
+    waiting: bool,
+    /// After the break in progress, if it is a rest: the "Ready?" countdown, s (`None`: wait
+    /// for the patient).
+    then_ready: Option<Option<f64>>,
+    /// Ticks the wheel has been away (unplugged) so far.
+    away_ticks: u64,
     /// The exercise of the last tick.
     segment: u32,
     /// Ticks the patient's pause has lasted so far.
@@ -44,6 +51,9 @@ impl BreakClock {
             dt_s,
             kind: BreakKind::None,
             left_ticks: 0,
+            waiting: false,
+            then_ready: None,
+            away_ticks: 0,
             segment: 0,
             paused_ticks: 0,
             rests: 0,
@@ -61,24 +71,36 @@ impl BreakClock {
     /// Before a tick: take the patient's requests; true when the exercise must be paused
     /// (the patient paused it, or a break is in progress).
     pub fn before_tick(&mut self, plant: &Plant, controls: &Controls) -> bool {
-        if controls.rest.swap(false, Ordering::Relaxed)
-            && self.left_ticks == 0
-            && plant.active_ticks() > 0
-        {
+        if controls.rest.swap(false, Ordering::Relaxed) {
             // A rest in place of a pause: the countdown shows, and the exercise goes on by
-            // itself after it.
+            // itself after it. (Before the exercise started there is nothing to rest from:
+            // it starts.)
             controls.pause.store(false, Ordering::Relaxed);
-            self.start(BreakKind::Asked, self.settings.asked_rest_s);
+            if self.left_ticks == 0 && plant.active_ticks() > 0 {
+                self.start(BreakKind::Asked, self.settings.asked_rest_s);
+            }
         }
         if controls.end_break.swap(false, Ordering::Relaxed) {
             self.left_ticks = 0;
+            self.waiting = false;
+            // Going on from a rest now skips its "Ready?" too: the patient said so.
+            self.then_ready = None;
+        }
+        if controls.end_asked.load(Ordering::Relaxed) {
+            // "End now?" is up: the exercise waits for the answer.
+            return true;
         }
         let paused = controls.pause.load(Ordering::Relaxed);
-        self.paused_ticks = if paused { self.paused_ticks + 1 } else { 0 };
+        // Waiting for the patient after a rest is held to the pause's limit too.
+        self.paused_ticks = if paused || self.waiting {
+            self.paused_ticks + 1
+        } else {
+            0
+        };
         if self.paused_ticks as f64 * self.dt_s > self.settings.pause_limit_s {
             self.paused_too_long = true;
         }
-        paused || self.left_ticks > 0
+        paused || self.left_ticks > 0 || self.waiting
     }
 
     /// After a tick: start the break after an exercise that just ended, count the one in
@@ -93,6 +115,7 @@ impl BreakClock {
                     BreakKind::Next
                 };
                 self.start(kind, b.length_s);
+                self.then_ready = b.rest.then_some(b.start_after_s);
             }
             self.segment = segment;
         }
@@ -100,9 +123,27 @@ impl BreakClock {
             self.left_ticks -= 1;
             self.rest_ticks += u64::from(self.kind.is_rest());
         }
-        if self.left_ticks == 0 {
-            self.kind = BreakKind::None;
+        if self.left_ticks == 0 && !self.waiting {
+            match self.then_ready.take() {
+                // After a rest: "Ready?", waiting for the patient or counting down.
+                Some(None) => {
+                    self.kind = BreakKind::Ready;
+                    self.waiting = true;
+                }
+                Some(Some(s)) if s > 0.0 => self.start(BreakKind::Ready, s),
+                _ => self.kind = BreakKind::None,
+            }
         }
+        self.away_ticks = if plant.wheel_away() {
+            self.away_ticks + 1
+        } else {
+            0
+        };
+        let grace_s = plant.replug_grace_ns() as f64 * 1e-9;
+        let away_left_s = (grace_s - self.away_ticks as f64 * self.dt_s).max(0.0);
+        controls
+            .wheel_away_left_ms
+            .store((away_left_s * 1e3).round() as u64, Ordering::Relaxed);
         controls
             .break_kind
             .store(self.kind.as_u8(), Ordering::Relaxed);

@@ -1,15 +1,19 @@
-//! The wheel's and a gamepad's buttons and pedals during a session with the patient's window:
-//! any button of the wheel, a gamepad's south (A/✕) or start button does what Space does
-//! (start, pause, resume, or go on from a rest now); a gamepad's east button (B/○) asks for a
-//! rest; the pedals (the wheel's pedal port, separate USB pedals, or a gamepad's triggers)
-//! drive the car in an exercise the regimen gives the pedals.
+//! The wheel's and a gamepad's buttons and pedals during a session with the patient's window.
+//! The wheel alone runs the session ([`wheel_gesture`]): a short press of any of its buttons
+//! does what Space does (start, pause, resume, go on from a break or "Ready?"); paused, a turn
+//! chooses between going on and a rest; a long press ([`super::wheel_gestures::HOLD`]) asks "End
+//! now?", where a press ends and another long press goes on; on the end screen turns choose,
+//! a press confirms and a long press skips. A gamepad's south (A/✕) or start button is a
+//! press, its east button (B/○) asks for a rest. The pedals (the wheel's pedal port, separate
+//! USB pedals, or a gamepad's triggers) drive the car in an exercise the regimen gives them.
 //! The wheel's input node is read without grabbing it (the session's own reading of the wheel
 //! is not disturbed); gamepads through gilrs with force feedback off. Nothing here runs on the
 //! haptic thread.
 
 use super::controls::{BreakKind, Controls};
+use super::wheel_gestures::{Gesture, WheelGestures};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// How long one look at the wheel's buttons lasts (and the gamepad's and pedals' polling
 /// period).
@@ -25,43 +29,36 @@ pub fn space(controls: &Controls) {
 }
 
 /// Watch the buttons and pedals until `done`: the wheel's at `wheel_node` (its evdev node,
-/// if known) and any gamepad's (its triggers, or separate USB pedals, as throttle and brake).
-/// The pedals reach the haptic thread through [`Controls::set_pedals`]: the further pressed of
-/// the wheel's and a gamepad's. Once the end screen is up, the wheel's turns choose and its
-/// buttons confirm, a gamepad's A confirms and B skips ([`Controls::end_answers`]).
+/// if known, or a simulated wheel's script, [`super::wheel_gestures`]) and any gamepad's (its
+/// triggers, or separate USB pedals, as throttle and brake). The pedals reach the haptic
+/// thread through [`Controls::set_pedals`]: the further pressed of the wheel's and a
+/// gamepad's. The wheel's gestures go to [`wheel_gesture`]; a gamepad's A does what a short
+/// press does, its B asks for a rest (on the end screen: skips).
 pub fn watch(controls: &Controls, wheel_node: Option<&std::path::Path>, done: &AtomicBool) {
     let mut pads = haptic_wheel::peripherals::Peripherals::new(&[])
         .map_err(|e| tracing::debug!("no gamepad buttons this session: {e}"))
         .ok();
-    let mut wheel = wheel_node.and_then(|node| {
-        WheelInputs::open(node)
-            .map_err(|e| tracing::debug!("the wheel's buttons cannot be read: {e}"))
-            .ok()
-    });
+    let mut wheel = WheelGestures::open(wheel_node);
+    tracing::info!(wheel = wheel.is_some(), "the wheel's buttons are watched");
     let mut last = haptic_wheel::peripherals::ControlState::default();
-    let mut turns = TurnSteps::default();
+    let mut said = (BreakKind::None, false);
     while !done.load(Ordering::Acquire) && !controls.stop.load(Ordering::Relaxed) {
         let end = controls.end_screen_up.load(Ordering::Acquire);
-        let press = || {
-            if end {
-                controls.end_answers.confirm();
-            } else {
-                space(controls);
-            }
-        };
+        // The breaks and cards the wheel answers, one log line each (tests and support).
+        let brk = controls.break_now();
+        let now = (brk.kind, brk.end_asked);
+        if now != said {
+            let waits = brk.kind == BreakKind::Ready && brk.left_s == 0.0;
+            tracing::info!(brk = ?brk.kind, end_asked = brk.end_asked, waits, "break or card");
+            said = now;
+        }
         let mut pedals = vehicle::Pedals::default();
-        match wheel.as_mut().map(|w| w.look(LOOK)) {
+        match wheel.as_mut().map(|w| w.look(LOOK, choosing(controls))) {
             Some(Ok(look)) => {
-                if look.pressed {
-                    press();
+                for g in look.gestures {
+                    wheel_gesture(controls, g);
                 }
                 pedals = look.pedals;
-                if let Some(turned) = look.steering.filter(|_| end) {
-                    let by = turns.turn(turned, Instant::now());
-                    if by != 0 {
-                        controls.end_answers.step(by);
-                    }
-                }
             }
             Some(Err(e)) => {
                 tracing::debug!("the wheel's buttons cannot be read: {e}");
@@ -72,7 +69,7 @@ pub fn watch(controls: &Controls, wheel_node: Option<&std::path::Path>, done: &A
         if let Some(p) = &mut pads {
             let now = p.poll();
             if (now.confirm && !last.confirm) || (now.pause && !last.pause) {
-                press();
+                wheel_gesture(controls, Gesture::Press);
             }
             if now.cancel && !last.cancel {
                 if end {
@@ -90,96 +87,55 @@ pub fn watch(controls: &Controls, wheel_node: Option<&std::path::Path>, done: &A
     controls.set_pedals(vehicle::Pedals::default());
 }
 
-/// Past this share of the wheel's range either way, a turn is one step on the end screen.
-const STEP_AT: f64 = 0.05;
-/// Back within this share of the middle, the next turn steps at once.
-const REARM_AT: f64 = 0.025;
-/// Held past [`STEP_AT`], a turn steps again this often.
-const REPEAT: Duration = Duration::from_millis(600);
-
-/// The wheel's turns as steps on the end screen's questions: turned past [`STEP_AT`] of its
-/// range is one step that way (+1 right, −1 left), again every [`REPEAT`] while held there;
-/// back near the middle ([`REARM_AT`]) re-arms.
-#[derive(Debug, Default)]
-struct TurnSteps {
-    /// The side held and when it last stepped.
-    held: Option<(i32, Instant)>,
+/// Whether the wheel's turns choose now (a card with choices is up) rather than drive.
+fn choosing(controls: &Controls) -> bool {
+    controls.end_screen_up.load(Ordering::Acquire)
+        || controls.end_asked.load(Ordering::Relaxed)
+        || (controls.pause.load(Ordering::Relaxed) && controls.break_now().kind == BreakKind::None)
 }
 
-impl TurnSteps {
-    /// The steps of the wheel turned to `fraction` (−1 full left to 1 full right) at `now`.
-    fn turn(&mut self, fraction: f64, now: Instant) -> i32 {
-        let side = if fraction >= STEP_AT {
-            1
-        } else if fraction <= -STEP_AT {
-            -1
-        } else {
-            if fraction.abs() <= REARM_AT {
-                self.held = None;
-            }
-            return 0;
-        };
-        match self.held {
-            Some((held, since)) if held == side && now.duration_since(since) < REPEAT => 0,
-            _ => {
-                self.held = Some((side, now));
-                side
-            }
+/// What a gesture of the wheel does in a session:
+/// - on the end screen: a turn chooses, a press confirms, a long press skips the question;
+/// - while "End now?" is asked: a press ends, a long press goes on;
+/// - paused: a turn chooses between going on and a rest, a press does what is chosen;
+/// - otherwise a press does what Space does (start, pause, go on from a break) and a long
+///   press asks "End now?" (the exercise waits meanwhile).
+pub fn wheel_gesture(controls: &Controls, g: Gesture) {
+    if controls.end_screen_up.load(Ordering::Acquire) {
+        match g {
+            Gesture::Turn(by) => controls.end_answers.step(by),
+            Gesture::Press => controls.end_answers.confirm(),
+            Gesture::Hold => controls.end_answers.skip(),
         }
+        return;
     }
-}
-
-/// What one look at the wheel saw.
-struct WheelLook {
-    pressed: bool,
-    pedals: vehicle::Pedals,
-    steering: Option<f64>,
-}
-
-/// The wheel's own buttons and pedals (Linux: its evdev node).
-#[cfg(target_os = "linux")]
-struct WheelInputs(haptic_wheel::evdev_wheel::WheelControls);
-
-#[cfg(target_os = "linux")]
-impl WheelInputs {
-    fn open(node: &std::path::Path) -> std::io::Result<Self> {
-        let c = haptic_wheel::evdev_wheel::WheelControls::open(node)?;
-        if let Some(axes) = c.pedal_axes() {
-            tracing::info!(
-                ?axes,
-                "the wheel's pedals drive the car where the regimen asks"
-            );
+    if controls.end_asked.load(Ordering::Relaxed) {
+        match g {
+            Gesture::Press => {
+                tracing::info!("the patient ended the session from the wheel");
+                controls.stop.store(true, Ordering::Relaxed);
+            }
+            Gesture::Hold => controls.end_asked.store(false, Ordering::Relaxed),
+            Gesture::Turn(_) => {}
         }
-        Ok(Self(c))
+        return;
     }
-
-    /// Whether a button went down within `window`, the pedals and the steering.
-    fn look(&mut self, window: Duration) -> std::io::Result<WheelLook> {
-        let l = self.0.look(window)?;
-        let (throttle, brake) = l.pedals.unwrap_or((0.0, 0.0));
-        Ok(WheelLook {
-            pressed: l.pressed,
-            pedals: vehicle::Pedals { throttle, brake },
-            steering: l.steering,
-        })
-    }
-}
-
-#[cfg(not(target_os = "linux"))]
-struct WheelInputs;
-
-#[cfg(not(target_os = "linux"))]
-impl WheelInputs {
-    fn open(_node: &std::path::Path) -> std::io::Result<Self> {
-        Err(std::io::Error::other(
-            "wheel buttons are read on Linux only",
-        ))
-    }
-
-    fn look(&mut self, _window: Duration) -> std::io::Result<WheelLook> {
-        Err(std::io::Error::other(
-            "wheel buttons are read on Linux only",
-        ))
+    let paused =
+        controls.pause.load(Ordering::Relaxed) && controls.break_now().kind == BreakKind::None;
+    match g {
+        Gesture::Turn(by) if paused => {
+            let rest = by > 0;
+            controls.rest_chosen.store(rest, Ordering::Relaxed);
+        }
+        Gesture::Turn(_) => {}
+        Gesture::Press if paused && controls.rest_chosen.swap(false, Ordering::Relaxed) => {
+            controls.rest.store(true, Ordering::Relaxed);
+        }
+        Gesture::Press => space(controls),
+        Gesture::Hold => {
+            tracing::info!("the patient asked to end from the wheel");
+            controls.end_asked.store(true, Ordering::Relaxed);
+        }
     }
 }
 
@@ -205,22 +161,55 @@ mod tests {
     }
 
     #[test]
-    fn on_the_end_screen_a_turn_is_one_step_repeated_while_held_and_rearmed_at_the_middle() {
-        let mut t = TurnSteps::default();
-        let t0 = Instant::now();
-        let at = |ms: u64| t0 + Duration::from_millis(ms);
-        assert_eq!(t.turn(0.01, at(0)), 0, "a hand resting on the wheel");
-        assert_eq!(t.turn(0.08, at(20)), 1, "turned right: one step");
-        assert_eq!(t.turn(0.09, at(40)), 0, "held: not again at once");
-        assert_eq!(t.turn(0.09, at(700)), 1, "held: again after the repeat");
-        assert_eq!(
-            t.turn(0.04, at(720)),
-            0,
-            "between: neither steps nor re-arms"
+    fn a_long_press_asks_to_end_then_a_press_ends_and_another_long_press_goes_on() {
+        let c = Controls::default();
+        wheel_gesture(&c, Gesture::Press);
+        assert!(c.pause.load(Ordering::Relaxed), "a press paused");
+        wheel_gesture(&c, Gesture::Hold);
+        assert!(c.end_asked.load(Ordering::Relaxed), "a long press asks");
+        assert!(!c.stop.load(Ordering::Relaxed), "but does not end yet");
+        wheel_gesture(&c, Gesture::Turn(1));
+        wheel_gesture(&c, Gesture::Hold);
+        assert!(
+            !c.end_asked.load(Ordering::Relaxed),
+            "another long press goes on"
         );
-        assert_eq!(t.turn(0.08, at(740)), 0, "not re-armed");
-        assert_eq!(t.turn(0.0, at(760)), 0, "back in the middle re-arms");
-        assert_eq!(t.turn(0.08, at(780)), 1, "so the next turn steps at once");
-        assert_eq!(t.turn(-0.2, at(800)), -1, "left: one step back");
+        wheel_gesture(&c, Gesture::Hold);
+        wheel_gesture(&c, Gesture::Press);
+        assert!(c.stop.load(Ordering::Relaxed), "asked, then a press: ended");
+    }
+
+    #[test]
+    fn paused_a_turn_right_chooses_a_rest_a_turn_left_going_on_and_a_press_does_it() {
+        let c = Controls::default();
+        c.pause.store(true, Ordering::Relaxed);
+        wheel_gesture(&c, Gesture::Turn(1));
+        assert!(c.break_now().rest_chosen);
+        wheel_gesture(&c, Gesture::Turn(-1));
+        wheel_gesture(&c, Gesture::Turn(1));
+        wheel_gesture(&c, Gesture::Press);
+        assert!(c.rest.load(Ordering::Relaxed), "the rest was asked for");
+        c.pause.store(true, Ordering::Relaxed);
+        c.rest.store(false, Ordering::Relaxed);
+        wheel_gesture(&c, Gesture::Turn(-1));
+        wheel_gesture(&c, Gesture::Press);
+        assert!(!c.rest.load(Ordering::Relaxed) && !c.pause.load(Ordering::Relaxed));
+    }
+
+    #[test]
+    fn on_the_end_screen_turns_choose_a_press_confirms_and_a_long_press_skips() {
+        let c = Controls::default();
+        c.end_screen_up.store(true, Ordering::Relaxed);
+        for g in [
+            Gesture::Turn(1),
+            Gesture::Turn(1),
+            Gesture::Press,
+            Gesture::Hold,
+        ] {
+            wheel_gesture(&c, g);
+        }
+        let taken = c.end_answers.take();
+        assert_eq!((taken.steps, taken.confirms, taken.skips), (2, 1, 1));
+        assert!(!c.stop.load(Ordering::Relaxed) && !c.end_asked.load(Ordering::Relaxed));
     }
 }

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicI32, AtomicU8, AtomicU32, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU8, AtomicU32, AtomicU64, Ordering};
 
 /// What other threads (a signal handler, the patient's window) may ask of a running session.
 #[derive(Debug, Default)]
@@ -21,6 +21,14 @@ pub struct Controls {
     pub rest: AtomicBool,
     /// The patient wants to go on now, ending the break in progress.
     pub end_break: AtomicBool,
+    /// The patient held a wheel button (a long press, [`HOLD`]): the window asks "End now?"
+    /// and the exercise waits; a short press then ends, another long press goes on.
+    pub end_asked: AtomicBool,
+    /// Paused: the wheel turned right chose a rest (left: go on); a press does what is chosen.
+    pub rest_chosen: AtomicBool,
+    /// Told by the haptic thread: how long an unplugged wheel is still waited for before the
+    /// session ends, ms (meaningful while [`Controls::wheel_away`] is set).
+    pub wheel_away_left_ms: AtomicU64,
     /// Told by the haptic thread: the break in progress ([`BreakKind`] as a number).
     pub break_kind: AtomicU8,
     /// Told by the haptic thread: what is left of the break in progress, ms.
@@ -38,55 +46,92 @@ pub struct Controls {
     /// The therapist's message for the session's start card, if any (set before the session
     /// starts; the patient window shows it).
     pub message: std::sync::Mutex<Option<String>>,
+    /// The session is the practice (the first-run page's try-out): every screen says so.
+    pub practice: AtomicBool,
     /// Told by the patient window's supervisor: when the message was first drawn on the
     /// screen, ms since the Unix epoch; 0 until then.
     pub message_shown_unix_ms: AtomicU64,
 }
 
-/// The patient's answers to the end screen given with the wheel or a gamepad, counted until
-/// the window's supervisor passes them on: turns of the wheel choose (+1 right, −1 left), a
-/// button confirms, a gamepad's B skips.
+/// How long a wheel button is held for a long press (go back, or ask to end), ms: long
+/// enough that a tremor or a slow press is not one, short enough for a tired hand.
+pub const HOLD: std::time::Duration = std::time::Duration::from_millis(1500);
+
+/// The patient's answers to the end screen given with the wheel or a gamepad, kept in the
+/// order given until the window's supervisor passes them on: turns of the wheel choose (+1
+/// right, −1 left), a button confirms, a long press or a gamepad's B skips. The order matters:
+/// a confirm then a turn is the next question's answer, not this one's.
 #[derive(Debug, Default)]
 pub struct EndAnswers {
-    steps: AtomicI32,
-    confirms: AtomicU32,
-    skips: AtomicU32,
+    said: std::sync::Mutex<Vec<EndAnswer>>,
 }
 
-/// [`EndAnswers`] taken at once, in the order the window applies them.
+/// One thing said to the end screen.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EndAnswer {
+    /// Choice steps: positive to the right (higher), negative to the left.
+    Step(i32),
+    /// Confirm the page.
+    Confirm,
+    /// Skip the page.
+    Skip,
+}
+
+/// [`EndAnswers`] taken at once, counted (their order is in [`EndAnswers::take_in_order`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct EndAnswersTaken {
     /// Net choice steps: positive to the right (higher), negative to the left.
     pub steps: i32,
-    /// Confirmations, after the steps.
+    /// Confirmations.
     pub confirms: u32,
-    /// Skipped pages, after those.
+    /// Skipped pages.
     pub skips: u32,
 }
 
 impl EndAnswers {
+    fn say(&self, a: EndAnswer) {
+        self.said
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .push(a);
+    }
+
     /// The wheel turned one step: +1 right, −1 left.
     pub fn step(&self, by: i32) {
-        self.steps.fetch_add(by, Ordering::Relaxed);
+        self.say(EndAnswer::Step(by));
     }
 
     /// A button confirmed.
     pub fn confirm(&self) {
-        self.confirms.fetch_add(1, Ordering::Relaxed);
+        self.say(EndAnswer::Confirm);
     }
 
-    /// A gamepad's B skipped the page.
+    /// A long press or a gamepad's B skipped the page.
     pub fn skip(&self) {
-        self.skips.fetch_add(1, Ordering::Relaxed);
+        self.say(EndAnswer::Skip);
     }
 
-    /// Everything said since the last take.
+    /// Everything said since the last take, in the order said.
+    pub fn take_in_order(&self) -> Vec<EndAnswer> {
+        std::mem::take(
+            &mut *self
+                .said
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner),
+        )
+    }
+
+    /// Everything said since the last take, counted.
     pub fn take(&self) -> EndAnswersTaken {
-        EndAnswersTaken {
-            steps: self.steps.swap(0, Ordering::Relaxed),
-            confirms: self.confirms.swap(0, Ordering::Relaxed),
-            skips: self.skips.swap(0, Ordering::Relaxed),
+        let mut t = EndAnswersTaken::default();
+        for a in self.take_in_order() {
+            match a {
+                EndAnswer::Step(by) => t.steps += by,
+                EndAnswer::Confirm => t.confirms += 1,
+                EndAnswer::Skip => t.skips += 1,
+            }
         }
+        t
     }
 }
 
@@ -118,9 +163,14 @@ impl Controls {
 
     /// The break in progress, as the haptic thread last told it.
     pub fn break_now(&self) -> BreakNow {
+        let away = self.wheel_away.load(Ordering::Relaxed);
         BreakNow {
             kind: BreakKind::from_u8(self.break_kind.load(Ordering::Relaxed)),
             left_s: self.break_left_ms.load(Ordering::Relaxed) as f64 * 1e-3,
+            end_asked: self.end_asked.load(Ordering::Relaxed),
+            rest_chosen: self.rest_chosen.load(Ordering::Relaxed),
+            wheel_away_left_s: away
+                .then(|| self.wheel_away_left_ms.load(Ordering::Relaxed) as f64 * 1e-3),
         }
     }
 }
@@ -137,6 +187,9 @@ pub enum BreakKind {
     Prescribed,
     /// A rest the patient asked for.
     Asked,
+    /// After a prescribed rest: "Ready?" — the next exercise waits for a wheel button, or
+    /// starts after the countdown the therapist set (`[patient] start_after_rest_s`).
+    Ready,
 }
 
 impl BreakKind {
@@ -147,6 +200,7 @@ impl BreakKind {
             Self::Next => 1,
             Self::Prescribed => 2,
             Self::Asked => 3,
+            Self::Ready => 4,
         }
     }
 
@@ -156,6 +210,7 @@ impl BreakKind {
             1 => Self::Next,
             2 => Self::Prescribed,
             3 => Self::Asked,
+            4 => Self::Ready,
             _ => Self::None,
         }
     }
@@ -171,6 +226,15 @@ impl BreakKind {
 pub struct BreakNow {
     /// Which kind.
     pub kind: BreakKind,
-    /// What is left of it, s.
+    /// What is left of it, s (a [`BreakKind::Ready`] that waits for the patient: 0).
     pub left_s: f64,
+    /// The patient held a wheel button: the window asks "End now?".
+    #[serde(default)]
+    pub end_asked: bool,
+    /// Paused: the wheel chose a rest (a press takes it) rather than going on.
+    #[serde(default)]
+    pub rest_chosen: bool,
+    /// The wheel is unplugged: how long it is still waited for before the session ends, s.
+    #[serde(default)]
+    pub wheel_away_left_s: Option<f64>,
 }

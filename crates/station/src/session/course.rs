@@ -44,6 +44,9 @@ pub struct Break {
     /// The regimen prescribes a rest here (recorded as rest time); otherwise it is the short
     /// card between two exercises ([`TRANSITION_S`]).
     pub rest: bool,
+    /// After a rest, the next exercise starts after this countdown, s; `None`: it waits for
+    /// the patient ("Ready?", a wheel button). The regimen's `[patient] start_after_rest_s`.
+    pub start_after_s: Option<f64>,
 }
 
 impl Break {
@@ -54,6 +57,7 @@ impl Break {
         Self {
             length_s: rest_s.max(TRANSITION_S),
             rest: rest_s > 0.0,
+            start_after_s: None,
         }
     }
 }
@@ -150,12 +154,18 @@ pub fn roads(
 pub fn build(cfg: &StationConfig, regimen: Option<&Regimen>) -> anyhow::Result<Vec<Segment>> {
     let entries = entries(cfg, regimen)?;
     let last = entries.len().saturating_sub(1);
+    let start_after_s = regimen
+        .and_then(|r| r.patient.as_ref())
+        .and_then(|p| p.start_after_rest_s);
     entries
         .iter()
         .enumerate()
         .map(|(i, e)| {
             let mut segment = build_segment(cfg, e)?;
-            segment.break_after = (i < last).then(|| Break::after(e.rest_s));
+            segment.break_after = (i < last).then(|| Break {
+                start_after_s,
+                ..Break::after(e.rest_s)
+            });
             Ok(segment)
         })
         .collect()

@@ -23,6 +23,8 @@ pub mod recorder;
 pub mod signals;
 #[cfg(test)]
 mod tests;
+pub mod wheel_cards;
+pub mod wheel_gestures;
 pub mod window;
 pub mod words;
 
@@ -37,7 +39,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-pub use controls::{BreakKind, BreakNow, Controls, EndAnswers, EndAnswersTaken};
+pub use controls::{BreakKind, BreakNow, Controls, EndAnswer, EndAnswers, EndAnswersTaken};
 
 /// Capacity of the haptic → recorder ring, records (8 s at 1 kHz).
 const RING_CAPACITY: usize = 8192;

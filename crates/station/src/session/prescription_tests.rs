@@ -36,6 +36,22 @@ impl SessionObserver for PerExercise {
     }
 }
 
+/// The patient, who presses a wheel button when "Ready?" shows after a rest (the next
+/// exercise waits for them), around what the test observes.
+struct ReadyAfterRests<'a> {
+    controls: &'a Controls,
+    seen: &'a mut PerExercise,
+}
+
+impl SessionObserver for ReadyAfterRests<'_> {
+    fn on_tick(&mut self, record: &TickRecord) {
+        if self.controls.break_now().kind == super::BreakKind::Ready {
+            super::buttons::space(self.controls);
+        }
+        self.seen.on_tick(record);
+    }
+}
+
 /// Run `regimen` simulated as fast as possible at `loop_rate_hz`; each exercise's active
 /// time, s, and how far short of its road's end the car stopped, m.
 fn run_regimen(regimen: &Regimen, loop_rate_hz: f64) -> Vec<(f64, f64)> {
@@ -49,7 +65,12 @@ fn run_regimen(regimen: &Regimen, loop_rate_hz: f64) -> Vec<(f64, f64)> {
         ..SessionOptions::simulated(cfg.clone())
     };
     let mut seen = PerExercise::default();
-    let report = super::run(&opts, &Controls::default(), &mut seen).unwrap();
+    let controls = Controls::default();
+    let mut patient = ReadyAfterRests {
+        controls: &controls,
+        seen: &mut seen,
+    };
+    let report = super::run(&opts, &controls, &mut patient).unwrap();
     assert!(!report.haptic.stopped_early, "{:?}", report.haptic);
     let lengths: Vec<f64> = super::course::entries(&cfg, Some(regimen))
         .unwrap()

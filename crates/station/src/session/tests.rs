@@ -391,9 +391,15 @@ fn a_real_time_session_on_a_mock_clock_runs_at_once_with_exact_timing() {
 
 /// A regimen of two 2-s dial exercises, the first followed by `rest` (TOML value or none).
 fn two_dials(rest: Option<f64>) -> regimen::Regimen {
+    two_dials_then(rest, "[patient]\nstart_after_rest_s = 0\n")
+}
+
+/// [`two_dials`] with `patient` (a `[patient]` table, or nothing: the next exercise waits for
+/// the patient after a rest).
+fn two_dials_then(rest: Option<f64>, patient: &str) -> regimen::Regimen {
     let rest = rest.map_or(String::new(), |r| format!("rest_s = {r}\n"));
     let text = format!(
-        "[[exercise]]\nkind = \"dial\"\nduration_s = 2.0\n{rest}\n\
+        "{patient}\n[[exercise]]\nkind = \"dial\"\nduration_s = 2.0\n{rest}\n\
          [[exercise]]\nkind = \"dial\"\nduration_s = 2.0\n"
     );
     regimen::Regimen::from_toml(&text, "test").unwrap()
@@ -405,6 +411,86 @@ fn run_regimen(r: regimen::Regimen) -> (super::SessionReport, Vec<TickRecord>) {
     let mut keep = Keep::default();
     let report = super::run(&opts, &Controls::default(), &mut keep).unwrap();
     (report, keep.0)
+}
+
+/// Says "go on" (a wheel button's press) the first time it sees the "Ready?" card, if
+/// `press`; keeps the records.
+struct PressWhenReady<'a> {
+    controls: &'a Controls,
+    press: bool,
+    pressed: bool,
+    records: Vec<TickRecord>,
+}
+
+impl SessionObserver for PressWhenReady<'_> {
+    fn on_tick(&mut self, record: &TickRecord) {
+        if self.press && !self.pressed && self.controls.break_now().kind == super::BreakKind::Ready
+        {
+            self.pressed = true;
+            super::buttons::wheel_gesture(self.controls, super::wheel_gestures::Gesture::Press);
+        }
+        self.records.push(*record);
+    }
+}
+
+/// Two 2-s dials with a 3-s rest between them and `patient`'s table, pressing when "Ready?"
+/// shows if `press`: the report, whether it pressed, and the records.
+fn run_two_dials_then(patient: &str, press: bool) -> (super::SessionReport, bool, Vec<TickRecord>) {
+    let controls = Controls::default();
+    let mut cfg = config("dial-sine", 60.0);
+    cfg.session.pause_limit_s = 30.0;
+    let mut opts = simulated_at_max_speed(cfg);
+    opts.regimen = Some(two_dials_then(Some(3.0), patient));
+    let mut watch = PressWhenReady {
+        controls: &controls,
+        press,
+        pressed: false,
+        records: Vec::new(),
+    };
+    let report = super::run(&opts, &controls, &mut watch).unwrap();
+    (report, watch.pressed, watch.records)
+}
+
+#[test]
+fn after_a_rest_the_next_exercise_waits_for_the_patient_and_never_starts_by_itself() {
+    let (report, _, records) = run_two_dials_then("", false);
+    // Nobody pressed: the second exercise never started, and the wait ended at the pause's
+    // limit like any pause.
+    assert!(report.haptic.paused_too_long && report.haptic.stopped_early);
+    assert_eq!(report.haptic.rests, 1);
+    let last = records.last().unwrap();
+    assert_eq!(last.score.exercise_index, 1);
+    assert!(
+        last.score.active_s < 2.3,
+        "only the first exercise ran: {}",
+        last.score.active_s
+    );
+}
+
+#[test]
+fn after_a_rest_a_wheel_button_starts_the_next_exercise() {
+    let (report, pressed, records) = run_two_dials_then("", true);
+    assert!(pressed);
+    assert!(!report.haptic.stopped_early && !report.haptic.paused_too_long);
+    let active_s = records.last().unwrap().score.active_s;
+    assert!(
+        (4.0..4.3).contains(&active_s),
+        "both exercises ran: {active_s}"
+    );
+}
+
+#[test]
+fn after_a_rest_with_a_countdown_set_the_next_exercise_starts_by_itself() {
+    let (report, _, records) = run_two_dials_then("[patient]\nstart_after_rest_s = 5\n", false);
+    assert!(!report.haptic.stopped_early && !report.haptic.paused_too_long);
+    // Paused between the exercises: the rest (at least the card's length), then the 5-s
+    // countdown.
+    let rest_s = 3.0_f64.max(course::TRANSITION_S);
+    let between = records.iter().filter(|r| r.score.paused).count() as f64;
+    assert!(
+        (between - (rest_s + 5.0) * 1000.0).abs() < 5.0,
+        "{between} paused ticks"
+    );
 }
 
 #[test]

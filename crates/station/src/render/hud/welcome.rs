@@ -12,6 +12,8 @@ use crate::render::{StatusLine, Welcome};
 const BACKDROP: Color32 = Color32::from_rgb(0x22, 0x3A, 0x4E);
 /// What went wrong.
 const PROBLEM: Color32 = Color32::from_rgb(0xB7, 0x1C, 0x1C);
+/// The chosen choice's fill: dark blue, 8.6:1 under white text.
+const CHOSEN: Color32 = Color32::from_rgb(0x0B, 0x3D, 0x91);
 /// The keys' line.
 const QUIET: Color32 = Color32::from_rgb(0x45, 0x4F, 0x5A);
 
@@ -32,7 +34,19 @@ pub(super) fn paint(p: &Painter, page: &Welcome, size: Vec2) {
     );
     p.rect_filled(card, CornerRadius::same(22), CARD);
     let left = card.left() + 3.0 * PAD;
-    let width = card.width() - 6.0 * PAD;
+    let mut width = card.width() - 6.0 * PAD;
+    let mut picture_bottom = card.top();
+    if let Some(picture) = page.picture {
+        // The picture at the card's top right, the words beside it.
+        let side = (card.height() * 0.42).min(width * 0.32);
+        let at = Rect::from_min_size(
+            pos2(card.right() - 2.0 * PAD - side, card.top() + 2.0 * PAD),
+            vec2(side, side),
+        );
+        super::wheel_hint::paint(p, picture, at);
+        picture_bottom = at.bottom();
+        width -= side + PAD;
+    }
     let mut y = card.top() + 2.5 * PAD;
     y += text(p, &page.title, TITLE_PT, CARD_TEXT, pos2(left, y), width) + 18.0;
     for line in &page.lines {
@@ -42,6 +56,21 @@ pub(super) fn paint(p: &Painter, page: &Welcome, size: Vec2) {
         y += 8.0;
         y += text(p, label, LINE_PT, CARD_TEXT, pos2(left, y), width) + 8.0;
         y += field(p, typed, pos2(left, y), width) + 10.0;
+    }
+    if !page.choices.is_empty() {
+        y += 10.0;
+        y += choices(
+            p,
+            &page.choices,
+            page.chosen,
+            pos2(left, y),
+            // Beside the picture, never under it; the whole width below it.
+            if y < picture_bottom {
+                width
+            } else {
+                card.width() - 6.0 * PAD
+            },
+        ) + 14.0;
     }
     if let Some(error) = &page.error {
         status_line(
@@ -127,4 +156,41 @@ fn field(p: &Painter, typed: &str, at: Pos2, width: f32) -> f32 {
         Stroke::new(3.0, CARD_TEXT),
     );
     h
+}
+
+/// Large choices in a row, the chosen one filled and framed (never colour alone: it also has
+/// an arrow under it); returns their height.
+fn choices(p: &Painter, items: &[String], chosen: usize, at: Pos2, width: f32) -> f32 {
+    let gap = 16.0;
+    let n = items.len().max(1) as f32;
+    let w = ((width - gap * (n - 1.0)) / n).min(360.0);
+    let h = LINE_PT * 2.4;
+    for (i, item) in items.iter().enumerate() {
+        let rect = Rect::from_min_size(at + vec2(i as f32 * (w + gap), 0.0), vec2(w, h));
+        let on = i == chosen;
+        let (fill, ink) = if on {
+            (CHOSEN, Color32::WHITE)
+        } else {
+            (Color32::WHITE, CARD_TEXT)
+        };
+        p.rect_filled(rect, CornerRadius::same(12), fill);
+        p.rect_stroke(
+            rect,
+            CornerRadius::same(12),
+            Stroke::new(if on { 6.0 } else { 2.0 }, CARD_TEXT),
+            egui::StrokeKind::Inside,
+        );
+        let g = p.layout(item.clone(), FontId::proportional(LINE_PT), ink, w - PAD);
+        let text_at = Align2::CENTER_CENTER.anchor_size(rect.center(), g.size());
+        p.galley(text_at.min, g, ink);
+        if on {
+            let tip = pos2(rect.center().x, rect.bottom() + 4.0);
+            p.add(egui::Shape::convex_polygon(
+                vec![tip, tip + vec2(-14.0, 16.0), tip + vec2(14.0, 16.0)],
+                CARD_TEXT,
+                Stroke::NONE,
+            ));
+        }
+    }
+    h + 20.0
 }

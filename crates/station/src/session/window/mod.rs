@@ -88,6 +88,7 @@ pub fn run_with_window_and_end_screen(
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner)
             .clone(),
+        practice: controls.practice.load(Ordering::Relaxed),
     };
     let launcher =
         supervisor::Launcher::this_executable().context("cannot find the telerehab program")?;

@@ -205,19 +205,24 @@ fn end_answers(controls: &Controls) -> Vec<UserRequest> {
     if !controls.end_screen_up.load(Ordering::Acquire) {
         return Vec::new();
     }
-    let t = controls.end_answers.take();
-    let step = if t.steps > 0 {
-        UserRequest::SeekForward
-    } else {
-        UserRequest::SeekBack
-    };
-    std::iter::repeat_n(step, t.steps.unsigned_abs() as usize)
-        .chain(std::iter::repeat_n(
-            UserRequest::Confirm,
-            t.confirms as usize,
-        ))
-        .chain(std::iter::repeat_n(UserRequest::Quit, t.skips as usize))
-        .collect()
+    use crate::session::EndAnswer;
+    let mut keys = Vec::new();
+    // In the order said: a confirm then a turn answers the next question.
+    for a in controls.end_answers.take_in_order() {
+        match a {
+            EndAnswer::Step(by) => {
+                let step = if by > 0 {
+                    UserRequest::SeekForward
+                } else {
+                    UserRequest::SeekBack
+                };
+                keys.extend(std::iter::repeat_n(step, by.unsigned_abs() as usize));
+            }
+            EndAnswer::Confirm => keys.push(UserRequest::Confirm),
+            EndAnswer::Skip => keys.push(UserRequest::Quit),
+        }
+    }
+    keys
 }
 
 /// Sleep `d` on the session's clock, or less if the session ends.
@@ -516,12 +521,15 @@ mod tests {
         c.end_answers.step(-1);
         c.end_answers.confirm();
         c.end_answers.skip();
-        // The step taken before the end screen was up is counted with the rest: 1 + 2 − 1.
+        // The step taken before the end screen was up comes first, then the rest in the
+        // order said.
         assert_eq!(
             end_answers(&c),
             [
                 UserRequest::SeekForward,
                 UserRequest::SeekForward,
+                UserRequest::SeekForward,
+                UserRequest::SeekBack,
                 UserRequest::Confirm,
                 UserRequest::Quit
             ]

@@ -44,6 +44,9 @@ pub struct Hello {
     /// The therapist's message for the start card, if any.
     #[serde(default)]
     pub message: Option<String>,
+    /// The session is the practice: every screen says so (nothing is recorded or sent).
+    #[serde(default)]
+    pub practice: bool,
 }
 
 /// From the station to the window.

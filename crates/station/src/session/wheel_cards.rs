@@ -1,0 +1,144 @@
+//! The session's cards the wheel answers, each with a picture of what to do with it: the
+//! pause (turn to choose going on or a rest, press to do it, hold to end), "End now?" (press
+//! ends, hold goes on), and the unplugged wheel — its own page, not a pause: plug it back in,
+//! a picture of the plug, and how long before the session ends.
+
+use super::controls::{BreakKind, BreakNow};
+use crate::render::{Picture, ScreenState, StatusLine, Welcome};
+use i18n::tr;
+
+fn plain(text: String) -> StatusLine {
+    StatusLine { ok: None, text }
+}
+
+/// The card the wheel's state calls for over the exercise, if any: `brk` as the haptic
+/// thread tells it, `confirming_end` when Esc was pressed once, `paused` when the exercise is
+/// paused by the patient.
+pub fn card(brk: &BreakNow, confirming_end: bool, paused: bool) -> Option<ScreenState> {
+    if let Some(left_s) = brk.wheel_away_left_s {
+        return Some(ScreenState::Welcome(unplugged(left_s)));
+    }
+    if confirming_end || brk.end_asked {
+        return Some(ScreenState::Welcome(end_now()));
+    }
+    if paused && brk.kind == BreakKind::None {
+        return Some(ScreenState::Welcome(paused_card(brk.rest_chosen)));
+    }
+    None
+}
+
+/// The wheel is unplugged: plug it back in; the session ends in `left_s` unless it is.
+pub fn unplugged(left_s: f64) -> Welcome {
+    let seconds = left_s.max(0.0).ceil() as u64;
+    Welcome {
+        id: "wheel-unplugged",
+        title: tr!("controls-unplugged-title"),
+        lines: vec![
+            plain(tr!("controls-unplugged-waits")),
+            StatusLine {
+                ok: Some(false),
+                text: tr!("controls-unplugged-left", seconds = seconds),
+            },
+        ],
+        picture: Some(Picture::Plug),
+        keys: vec![tr!("controls-unplugged-keys")],
+        ..Welcome::default()
+    }
+}
+
+/// "End now?": a press ends, a long press goes on.
+pub fn end_now() -> Welcome {
+    Welcome {
+        id: "end-now",
+        title: tr!("controls-end-title"),
+        lines: vec![
+            plain(tr!("controls-end-press")),
+            plain(tr!("controls-end-hold")),
+        ],
+        picture: Some(Picture::Wheel {
+            hold: false,
+            turn: false,
+        }),
+        keys: vec![tr!("controls-end-keys")],
+        ..Welcome::default()
+    }
+}
+
+/// Paused: go on or rest (turn to choose, press to do it); hold to end.
+pub fn paused_card(rest_chosen: bool) -> Welcome {
+    Welcome {
+        id: "paused",
+        title: tr!("controls-paused-title"),
+        lines: vec![
+            plain(tr!("controls-paused-how")),
+            plain(tr!("controls-hold-to-end")),
+        ],
+        choices: vec![tr!("controls-paused-go-on"), tr!("controls-paused-rest")],
+        chosen: usize::from(rest_chosen),
+        picture: Some(Picture::Wheel {
+            hold: true,
+            turn: true,
+        }),
+        keys: vec![tr!("controls-paused-keys")],
+        ..Welcome::default()
+    }
+}
+
+/// The practice says so on every screen: over the exercise (before its name), on the cards
+/// between exercises and on every page.
+pub fn mark_practice(scene: &mut crate::render::Scene) {
+    let banner = tr!("front-practice-banner");
+    scene.hud.exercise = format!("{banner} · {}", scene.hud.exercise);
+    match &mut scene.screen {
+        ScreenState::Next(card) => card.heading = format!("{banner} · {}", card.heading),
+        ScreenState::Welcome(page) => page.title = format!("{banner} · {}", page.title),
+        ScreenState::Instruction { title, .. } => *title = format!("{banner} · {title}"),
+        _ => {}
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn id(s: Option<ScreenState>) -> Option<&'static str> {
+        match s {
+            Some(ScreenState::Welcome(w)) => Some(w.id),
+            _ => None,
+        }
+    }
+
+    #[test]
+    fn an_unplugged_wheel_is_its_own_page_over_a_pause_and_says_the_time_left() {
+        let brk = BreakNow {
+            wheel_away_left_s: Some(12.3),
+            ..BreakNow::default()
+        };
+        assert_eq!(id(card(&brk, false, true)), Some("wheel-unplugged"));
+        assert_eq!(id(card(&brk, true, true)), Some("wheel-unplugged"));
+        let Some(ScreenState::Welcome(page)) = card(&brk, false, true) else {
+            panic!()
+        };
+        assert_eq!(page.picture, Some(Picture::Plug));
+        assert!(page.lines[1].text.contains("13"), "{:?}", page.lines);
+        // Plugged back in: the ordinary pause card again.
+        assert_eq!(id(card(&BreakNow::default(), false, true)), Some("paused"));
+    }
+
+    #[test]
+    fn end_asked_from_the_wheel_or_the_keys_shows_end_now_and_a_rest_shows_no_card() {
+        let asked = BreakNow {
+            end_asked: true,
+            ..BreakNow::default()
+        };
+        assert_eq!(id(card(&asked, false, false)), Some("end-now"));
+        assert_eq!(id(card(&BreakNow::default(), true, false)), Some("end-now"));
+        let resting = BreakNow {
+            kind: BreakKind::Asked,
+            left_s: 30.0,
+            ..BreakNow::default()
+        };
+        assert_eq!(id(card(&resting, false, true)), None);
+        assert_eq!(id(card(&BreakNow::default(), false, false)), None);
+    }
+}
