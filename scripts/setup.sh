@@ -17,7 +17,8 @@ if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 PKGS=(build-essential pkg-config libudev-dev mesa-vulkan-drivers libvulkan1 libgl1-mesa-dri
       libegl1 xvfb xauth xdotool libxkbcommon-x11-0 libx11-xcb1 python3-venv python3-pip curl ca-certificates
       postgresql chromium chromium-driver openssl systemd
-      lintian dpkg-dev desktop-file-utils librsvg2-bin xz-utils)
+      lintian dpkg-dev desktop-file-utils librsvg2-bin xz-utils
+      python3-aiosmtpd)  # a real SMTP server for the hub's pain-mail tests (tests/smtp_sink.py)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
