@@ -15,6 +15,7 @@ mod fhir;
 mod live;
 mod messages;
 mod notes;
+mod pain;
 mod patients;
 mod regimen;
 mod regimen_words;
@@ -87,6 +88,11 @@ pub struct AppState {
     /// What a replayed file's chunks may declare (`None`: what a station writes, for files
     /// up to `replay_max_bytes`: [`record::CostLimits::for_files_up_to`]).
     pub replay_cost_limits: Option<record::CostLimits>,
+    /// The clinic's pain threshold, phone, station address and mail ([`crate::care`]).
+    pub care: Arc<crate::care::CareConfig>,
+    /// Where a therapist's clearance after a pain stop is announced (patient id; the hub
+    /// pushes it to the patient's connected stations); `None` when no station link runs.
+    pub pain_cleared: Option<broadcast::Sender<String>>,
 }
 
 impl AppState {
@@ -103,6 +109,8 @@ impl AppState {
             replay_turns: Arc::default(),
             replay_cpu_s: DEFAULT_REPLAY_CPU_S,
             replay_cost_limits: None,
+            care: Arc::default(),
+            pain_cleared: None,
         }
     }
 
@@ -127,6 +135,18 @@ impl AppState {
     /// The same state replaying recording files of at most `bytes`.
     pub fn with_replay_max_bytes(mut self, bytes: u64) -> Self {
         self.replay_max_bytes = bytes;
+        self
+    }
+
+    /// The same state with the clinic's pain, pairing and mail settings, announcing each
+    /// clearance after a pain stop on `cleared`.
+    pub fn with_care(
+        mut self,
+        care: Arc<crate::care::CareConfig>,
+        cleared: Option<broadcast::Sender<String>>,
+    ) -> Self {
+        self.care = care;
+        self.pain_cleared = cleared;
         self
     }
 
@@ -250,6 +270,8 @@ pub fn router(state: AppState) -> Router {
         .route("/api/sessions/{id}/replay", get(sessions::replay))
         .route("/api/patients/{id}/pairing-code", post(clinic::new_code))
         .route("/api/stations/{id}/revoke", post(clinic::revoke_station))
+        .route("/api/patients/{id}/pain-clearance", post(pain::clear))
+        .route("/api/clinic/pain-mail", get(pain::mail_status))
         .route(
             "/api/therapists",
             get(clinic::therapists).post(clinic::add_therapist),
