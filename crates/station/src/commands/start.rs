@@ -58,10 +58,14 @@ pub fn run() -> anyhow::Result<()> {
     let home = Home::resolve(&HomeArg::from_env())?;
     let settings = Settings::load(home.dir())?;
     let cfg = StationConfig::default();
-    let door = match home.pairing()? {
+    let mut door = match home.pairing()? {
         Some(_) => FrontDoor::paired_with(today_plan(&home, &cfg)),
         None => FrontDoor::unpaired(settings.clinic_address.as_deref()),
     };
+    door.set_rest_today(crate::checkin::care::rest_today(
+        &home,
+        crate::checkin::care::now_unix_ms(),
+    ));
     tracing::info!(home = %home.dir().display(), paired = !door.is_pairing(), "first-run pages");
     match show(door, &home, &cfg, settings.fullscreen)? {
         Outcome::Quit => Ok(()),
@@ -117,7 +121,14 @@ fn ask_the_hub(door: &Mutex<FrontDoor>, home: &Home) {
     let Ok(Some(pairing)) = home.pairing() else {
         return;
     };
-    let notice = match check_hub(home, &pairing, HUB_CHECK_TIMEOUT) {
+    let status = check_hub(home, &pairing, HUB_CHECK_TIMEOUT);
+    // The check keeps the clinic's newest pain settings: the therapist may have cleared a
+    // pain stop.
+    lock(door).set_rest_today(crate::checkin::care::rest_today(
+        home,
+        crate::checkin::care::now_unix_ms(),
+    ));
+    let notice = match status {
         HubStatus::Reachable { .. } => return,
         HubStatus::UpdateRequired(message) => StatusLine {
             ok: Some(false),

@@ -82,6 +82,9 @@ pub struct FrontDoor {
     checked: bool,
     /// Something about the clinic the patient must know (e.g. an update is required).
     notice: Option<StatusLine>,
+    /// A pain at or over the clinic's threshold today: this page instead of today's
+    /// session, and nothing starts one ([`crate::checkin::care`]).
+    rest_today: Option<Welcome>,
 }
 
 impl FrontDoor {
@@ -114,7 +117,19 @@ impl FrontDoor {
             wheel_ready: false,
             checked: false,
             notice: None,
+            rest_today: None,
         }
+    }
+
+    /// Today's session is replaced by `page` (rest today, call the clinic) while a pain stop
+    /// holds; `None` offers the session again.
+    pub fn set_rest_today(&mut self, page: Option<Welcome>) {
+        self.rest_today = page;
+    }
+
+    /// The page says to rest today instead of offering the session.
+    pub fn is_resting_today(&self) -> bool {
+        self.rest_today.is_some() && matches!(self.page, Page::Today(_))
     }
 
     /// The device check's latest lines and whether a wheel is ready.
@@ -194,6 +209,7 @@ impl FrontDoor {
                 Action::None
             }
             Page::Connecting { .. } => Action::None,
+            Page::Today(_) if self.rest_today.is_some() => Action::None,
             Page::Today(_) => match request {
                 UserRequest::TogglePause | UserRequest::Confirm if self.wheel_ready => {
                     Action::Done(Outcome::Start)
@@ -251,6 +267,9 @@ impl FrontDoor {
                 keys: vec!["Esc: close".into()],
                 ..Welcome::default()
             },
+            Page::Today(_) if self.rest_today.is_some() => {
+                self.rest_today.clone().unwrap_or_default()
+            }
             Page::Today(plan) => self.today_page(plan),
         }
     }

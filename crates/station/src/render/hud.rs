@@ -18,6 +18,7 @@ use std::sync::Arc;
 use super::scene::{Dial, LiveScore, Scene, ScreenState};
 
 pub mod arm_inset;
+mod checkin;
 mod next_card;
 mod welcome;
 
@@ -230,6 +231,10 @@ fn paint(p: &Painter, scene: &Scene, size: Vec2) {
         welcome::paint(p, page, size);
         return;
     }
+    if let ScreenState::CheckIn(page) = &scene.screen {
+        checkin::paint(p, page, size);
+        return;
+    }
     let hud = &scene.hud;
     let (w, h) = (size.x, size.y);
     if let Some(dial) = &scene.dial {
@@ -317,7 +322,7 @@ fn paint(p: &Painter, scene: &Scene, size: Vec2) {
         ScreenState::Instruction { title, lines } => card(p, size, title, lines),
         ScreenState::Next(next) => next_card::paint(p, size, next),
         ScreenState::Summary(lines) => card(p, size, "Session complete", lines),
-        ScreenState::Welcome(_) => {}
+        ScreenState::Welcome(_) | ScreenState::CheckIn(_) => {}
     }
 }
 
