@@ -238,7 +238,8 @@ fn face(p: &Painter, c: Pos2, r: f32, i: usize, colour: Color32, chosen: bool) {
     let mouth: Vec<Pos2> = (0..=12)
         .map(|k| {
             let x = -0.4 + 0.8 * k as f32 / 12.0;
-            let y = 0.35 - curve * 0.22 * (1.0 - (x / 0.4).powi(2));
+            // Screen y grows downwards: a smile's middle is lower than its ends.
+            let y = 0.3 + curve * 0.22 * (1.0 - (x / 0.4).powi(2));
             c + vec2(x * r, (y + 0.05 * (1.0 - curve.abs())) * r - 0.02 * r)
         })
         .collect();
