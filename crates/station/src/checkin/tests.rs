@@ -16,11 +16,11 @@ fn arrows_digits_and_enter_answer_the_three_questions() {
     assert_eq!(f.page_id(), "results");
     f.apply(Confirm, t);
     assert_eq!(f.page_id(), "pain");
-    // The first turn right enters the scale at 0; then one step each.
+    // The first turn right enters the scale at 0; then one step each: 0, 1, 2, back to 1.
     for r in [SeekForward, SeekForward, SeekForward, SeekBack, Confirm] {
         f.apply(r, t);
     }
-    assert_eq!(f.answers().pain_0_10, Some(2));
+    assert_eq!(f.answers().pain_0_10, Some(1));
     assert_eq!(f.page_id(), "effort");
     // Typing 1 then 0 makes 10; arrows stop at the ends.
     for r in [Typed('1'), Typed('0'), SeekForward, Confirm] {
@@ -36,7 +36,7 @@ fn arrows_digits_and_enter_answer_the_three_questions() {
     assert!(f.is_done());
     assert_eq!(
         answers_words(f.answers()).unwrap(),
-        "pain 2/10, effort 10/10, too hard"
+        "pain 1/10, effort 10/10, too hard"
     );
 }
 
