@@ -128,7 +128,10 @@ fn a_pain_at_the_clinics_threshold_ends_on_the_pain_page_and_stops_the_day() {
     shot("pain-stop");
     press(&["Return"]);
     let report = station.finish();
-    assert!(report.contains("check-in            pain 5/10, effort skipped"), "{report}");
+    assert!(
+        report.contains("check-in            pain 5/10, effort skipped"),
+        "{report}"
+    );
     assert_eq!(show_json(&data)["checkins"][0]["pain_0_10"], 5);
     // The day is stopped on this station: today's page offers no session until cleared.
     let stop: serde_json::Value =

@@ -151,7 +151,12 @@ mod tests {
         );
         assert!(public_station_address(None, any).is_err());
         assert!(public_station_address(None, local).is_err());
-        for refused in ["127.0.0.1:7878", "localhost:7878", "[::1]:7878", "LOCALHOST"] {
+        for refused in [
+            "127.0.0.1:7878",
+            "localhost:7878",
+            "[::1]:7878",
+            "LOCALHOST",
+        ] {
             let e = public_station_address(Some(refused), lan).unwrap_err();
             assert!(e.contains("cannot reach"), "{refused}: {e}");
         }
@@ -163,12 +168,22 @@ mod tests {
             pain_threshold_0_10: 11,
             ..CareConfig::default()
         };
-        assert!(bad.validate().unwrap_err().to_string().contains("--pain-threshold"));
+        assert!(
+            bad.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("--pain-threshold")
+        );
         let bad = CareConfig {
             clinic_phone: Some("call us".into()),
             ..CareConfig::default()
         };
-        assert!(bad.validate().unwrap_err().to_string().contains("phone number"));
+        assert!(
+            bad.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("phone number")
+        );
         assert_eq!(CareConfig::default().pain_threshold(), 7);
     }
 }

@@ -579,10 +579,8 @@ fn settle_care(
     name: &str,
 ) -> crate::care::CareConfig {
     let mut care = options.care.clone();
-    care.public_station_address = crate::care::public_station_address(
-        options.public_station_address.as_deref(),
-        stations,
-    );
+    care.public_station_address =
+        crate::care::public_station_address(options.public_station_address.as_deref(), stations);
     match &care.public_station_address {
         Ok(a) => tracing::info!("pairing sheets print the station address {a}"),
         Err(why) => tracing::warn!("pairing sheets cannot print a station address: {why}"),

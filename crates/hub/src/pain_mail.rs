@@ -43,11 +43,7 @@ pub fn retry_after_ms(min_ms: i64, attempts: i64) -> i64 {
 pub fn mail_text(pseudonym: &str, patient_id: &str, console_url: Option<&str>) -> (String, String) {
     let subject = format!("telerehab: {pseudonym} reported strong pain");
     let link = match console_url {
-        Some(url) => format!(
-            "{}/#/patients/{}",
-            url.trim_end_matches('/'),
-            patient_id
-        ),
+        Some(url) => format!("{}/#/patients/{}", url.trim_end_matches('/'), patient_id),
         None => "the patient's page in the telerehab console".to_owned(),
     };
     let body = format!(
@@ -127,9 +123,12 @@ async fn send_one(
             .await
             .map_err(|e| e.to_string())?;
         if to.is_empty() {
-            return Err("nobody to tell: the patient has no therapist and the clinic no admin".into());
+            return Err(
+                "nobody to tell: the patient has no therapist and the clinic no admin".into(),
+            );
         }
-        let (subject, body) = mail_text(&patient.pseudonym, &patient.id, care.console_url.as_deref());
+        let (subject, body) =
+            mail_text(&patient.pseudonym, &patient.id, care.console_url.as_deref());
         let mut builder = Message::builder()
             .from(smtp.from.parse().map_err(|e| format!("--smtp-from: {e}"))?)
             .subject(subject)
@@ -183,9 +182,16 @@ mod tests {
 
     #[test]
     fn the_mail_names_the_pseudonym_and_links_to_the_page_and_nothing_else() {
-        let (subject, body) = mail_text("P-0042", "p-00000000000000aa", Some("https://hub.example:8443/"));
+        let (subject, body) = mail_text(
+            "P-0042",
+            "p-00000000000000aa",
+            Some("https://hub.example:8443/"),
+        );
         assert!(subject.contains("P-0042"));
         assert!(body.contains("https://hub.example:8443/#/patients/p-00000000000000aa"));
-        assert!(!body.contains("/10") && !subject.contains("/10"), "no pain score");
+        assert!(
+            !body.contains("/10") && !subject.contains("/10"),
+            "no pain score"
+        );
     }
 }

@@ -275,10 +275,24 @@ async fn a_therapist_clears_a_pain_stop_audited_announced_to_the_stations_and_ot
             .contains(&(ana.actor(), "pain_clearance".into(), p.id.clone()))
     );
     // Admins see the mail's state; a therapist may not.
-    let (status, _, _) = call(&app, Method::GET, "/api/clinic/pain-mail", Some(&cookie), None).await;
+    let (status, _, _) = call(
+        &app,
+        Method::GET,
+        "/api/clinic/pain-mail",
+        Some(&cookie),
+        None,
+    )
+    .await;
     assert_eq!(status, StatusCode::FORBIDDEN);
     let boss = login(&app, "boss@clinic.example").await;
-    let (status, state, _) = call(&app, Method::GET, "/api/clinic/pain-mail", Some(&boss), None).await;
+    let (status, state, _) = call(
+        &app,
+        Method::GET,
+        "/api/clinic/pain-mail",
+        Some(&boss),
+        None,
+    )
+    .await;
     assert_eq!(status, StatusCode::OK, "{state}");
     assert_eq!(state["configured"], false);
     assert_eq!(state["pain_threshold_0_10"], 6);

@@ -530,7 +530,10 @@ mod tests {
         };
         let bytes = encode_to_vec(&Frame::Care(care.clone())).unwrap();
         assert_eq!(bytes[6], 16, "the Care kind byte");
-        assert_eq!(decode(&bytes).unwrap().unwrap().0, Frame::Care(care.clone()));
+        assert_eq!(
+            decode(&bytes).unwrap().unwrap().0,
+            Frame::Care(care.clone())
+        );
         // A hub that set no phone and never cleared sends only the threshold.
         let bare = crate::frame::Care {
             clinic_phone: None,

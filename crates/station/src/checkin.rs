@@ -297,7 +297,10 @@ impl CheckInFlow {
         match self.page {
             Page::Results | Page::Done => {
                 page.lines = self.results.clone();
-                page.keys = vec![i18n::tr!("checkin-key-start"), i18n::tr!("checkin-key-hold")];
+                page.keys = vec![
+                    i18n::tr!("checkin-key-start"),
+                    i18n::tr!("checkin-key-hold"),
+                ];
             }
             Page::Pain | Page::Effort | Page::Difficulty => {
                 page.scale = Some(self.scale());
@@ -330,14 +333,8 @@ impl CheckInFlow {
     /// The question page's scale: its picture, the choice and every value's words.
     fn scale(&self) -> CheckInScale {
         let (kind, words): (ScaleKind, Vec<String>) = match self.page {
-            Page::Pain => (
-                ScaleKind::Faces,
-                (0..=10).map(pain_words).collect(),
-            ),
-            Page::Effort => (
-                ScaleKind::Effort,
-                (0..=10).map(effort_words).collect(),
-            ),
+            Page::Pain => (ScaleKind::Faces, (0..=10).map(pain_words).collect()),
+            Page::Effort => (ScaleKind::Effort, (0..=10).map(effort_words).collect()),
             _ => (
                 ScaleKind::Thumbs,
                 DIFFICULTY.iter().map(|(_, id)| i18n::tr!(*id)).collect(),

@@ -180,10 +180,11 @@ impl Db {
             .map(|r| col::<String>(r, "email"))
             .collect::<Result<Vec<_>, _>>()?;
         if emails.is_empty() {
-            let rows = sqlx::query("SELECT email FROM therapists WHERE role = 'admin' ORDER BY email")
-                .fetch_all(self.pool())
-                .await
-                .map_err(HubError::db("reading the admins"))?;
+            let rows =
+                sqlx::query("SELECT email FROM therapists WHERE role = 'admin' ORDER BY email")
+                    .fetch_all(self.pool())
+                    .await
+                    .map_err(HubError::db("reading the admins"))?;
             emails = rows
                 .iter()
                 .map(|r| col::<String>(r, "email"))

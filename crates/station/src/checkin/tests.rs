@@ -53,7 +53,10 @@ fn nothing_is_recorded_until_the_patient_chooses_a_stray_press_records_no_pain()
     f.apply(Confirm, t);
     assert_eq!(f.page_id(), "pain");
     assert_eq!(f.answers().pain_0_10, None);
-    assert_eq!(f.page().scale.unwrap().chosen, i18n::tr!("checkin-choose-first"));
+    assert_eq!(
+        f.page().scale.unwrap().chosen,
+        i18n::tr!("checkin-choose-first")
+    );
     // The same on the effort and difficulty pages.
     f.apply(Quit, t);
     assert_eq!((f.page_id(), f.choice()), ("effort", None));
@@ -115,10 +118,7 @@ fn pain_at_or_over_the_threshold_ends_on_the_pain_stop_page_never_the_thanks() {
     f.apply(Confirm, t);
     assert_eq!(f.page_id(), "pain-stop");
     // Without a phone number the page still says to call the clinic.
-    assert_eq!(
-        f.page().lines[2],
-        i18n::tr!("checkin-stop-call-clinic")
-    );
+    assert_eq!(f.page().lines[2], i18n::tr!("checkin-stop-call-clinic"));
 }
 
 #[test]
@@ -128,14 +128,20 @@ fn each_page_names_its_sentence_for_speech_and_shows_the_choice_in_words() {
     assert_eq!(f.spoken().unwrap().0, "checkin-results-title");
     f.apply(Confirm, t);
     assert_eq!(f.spoken().unwrap().0, "checkin-pain-question");
-    assert_eq!(f.page().scale.unwrap().kind, crate::render::ScaleKind::Faces);
+    assert_eq!(
+        f.page().scale.unwrap().kind,
+        crate::render::ScaleKind::Faces
+    );
     f.apply(Typed('4'), t);
     let scale = f.page().scale.unwrap();
     assert_eq!(scale.words.len(), 11);
     assert!(scale.chosen.contains('4') && scale.chosen.contains(&pain_words(4)));
     f.apply(Confirm, t);
     assert_eq!(f.spoken().unwrap().0, "checkin-effort-question");
-    assert_eq!(f.page().scale.unwrap().kind, crate::render::ScaleKind::Effort);
+    assert_eq!(
+        f.page().scale.unwrap().kind,
+        crate::render::ScaleKind::Effort
+    );
     f.apply(Confirm, t); // nothing chosen: stays
     f.apply(Quit, t);
     assert_eq!(f.spoken().unwrap().0, "checkin-difficulty-question");
@@ -222,7 +228,11 @@ fn results_say_the_time_active_and_what_improved_against_recent_sessions() {
         )),
         "{lines:?}"
     );
-    assert_eq!(lines.len(), 6, "no dial line among the better ones: {lines:?}");
+    assert_eq!(
+        lines.len(),
+        6,
+        "no dial line among the better ones: {lines:?}"
+    );
     let same = result_lines(&before[0], &before[..1]);
     assert_eq!(same.last().unwrap(), &i18n::tr!("checkin-results-same"));
 }

@@ -24,7 +24,11 @@ pub struct CareArgs {
     #[arg(long, value_name = "URL", env = "TELEREHAB_HUB_SMTP_URL")]
     pub smtp_url: Option<String>,
     /// The pain mails' sender.
-    #[arg(long, value_name = "ADDRESS", default_value = "telerehab hub <telerehab@localhost>")]
+    #[arg(
+        long,
+        value_name = "ADDRESS",
+        default_value = "telerehab hub <telerehab@localhost>"
+    )]
     pub smtp_from: String,
     /// First wait before a failed mail is tried again, s (doubling up to an hour).
     #[arg(long, value_name = "S", default_value_t = 30)]

@@ -59,12 +59,23 @@ pub(super) fn paint(p: &Painter, page: &CheckInPage, size: Vec2) {
             Color32::WHITE,
             width,
         );
-        let at = pos2(card.center().x - g.size().x / 2.0, band.center().y - g.size().y / 2.0);
+        let at = pos2(
+            card.center().x - g.size().x / 2.0,
+            band.center().y - g.size().y / 2.0,
+        );
         p.galley(at, g, Color32::WHITE);
         y = band.bottom() + 2.0 * PAD;
         phone(p, pos2(card.right() - 150.0, y + 120.0), 110.0);
     } else {
-        y += centred(p, &page.title, TITLE_PT, CARD_TEXT, card.center().x, y, width) + PAD;
+        y += centred(
+            p,
+            &page.title,
+            TITLE_PT,
+            CARD_TEXT,
+            card.center().x,
+            y,
+            width,
+        ) + PAD;
     }
     if let Some(scale) = &page.scale {
         let area = Rect::from_min_size(pos2(card.left() + 2.0 * PAD, y), vec2(width, 300.0));
@@ -79,10 +90,22 @@ pub(super) fn paint(p: &Painter, page: &CheckInPage, size: Vec2) {
         } else {
             QUIET
         };
-        y += centred(p, &scale.chosen, CHOSEN_PT, colour, card.center().x, y, width) + PAD;
+        y += centred(
+            p,
+            &scale.chosen,
+            CHOSEN_PT,
+            colour,
+            card.center().x,
+            y,
+            width,
+        ) + PAD;
     }
     let left = card.left() + 3.0 * PAD;
-    let line_width = if page.stop { width - 300.0 } else { width - 2.0 * PAD };
+    let line_width = if page.stop {
+        width - 300.0
+    } else {
+        width - 2.0 * PAD
+    };
     for line in &page.lines {
         let g = p.layout(
             line.clone(),
@@ -107,12 +130,7 @@ pub(super) fn paint(p: &Painter, page: &CheckInPage, size: Vec2) {
 
 /// Text centred on `cx` from `y`, wrapped at `width`; returns its height.
 fn centred(p: &Painter, s: &str, pt: f32, colour: Color32, cx: f32, y: f32, width: f32) -> f32 {
-    let g = p.layout(
-        s.to_owned(),
-        FontId::proportional(pt),
-        colour,
-        width,
-    );
+    let g = p.layout(s.to_owned(), FontId::proportional(pt), colour, width);
     let h = g.size().y;
     p.galley(pos2(cx - g.size().x / 2.0, y), g, colour);
     h
@@ -231,7 +249,11 @@ fn face(p: &Painter, c: Pos2, r: f32, i: usize, colour: Color32, chosen: bool) {
     }
     if i == 5 {
         // A tear.
-        p.circle_filled(c + vec2(0.45 * r, 0.02 * r), r * 0.09, Color32::from_rgb(0x90, 0xCA, 0xF9));
+        p.circle_filled(
+            c + vec2(0.45 * r, 0.02 * r),
+            r * 0.09,
+            Color32::from_rgb(0x90, 0xCA, 0xF9),
+        );
     }
     // The mouth: a smile (0) to a deep frown (5).
     let curve = 1.0 - 2.0 * i as f32 / 5.0;
@@ -402,7 +424,11 @@ fn phone(p: &Painter, c: Pos2, size: f32) {
     // The dial's buttons.
     for row in 0..3 {
         for col in 0..3 {
-            let b = body.center() + vec2((col as f32 - 1.0) * size * 0.18, (row as f32 - 0.8) * size * 0.12);
+            let b = body.center()
+                + vec2(
+                    (col as f32 - 1.0) * size * 0.18,
+                    (row as f32 - 0.8) * size * 0.12,
+                );
             p.circle_filled(b, size * 0.04, Color32::WHITE);
         }
     }
