@@ -22,7 +22,8 @@ PKGS=(build-essential pkg-config libudev-dev mesa-vulkan-drivers libvulkan1 libg
       postgresql chromium chromium-driver openssl systemd
       lintian dpkg-dev desktop-file-utils librsvg2-bin xz-utils
       espeak-ng sox libasound2-dev poppler-utils
-      fonts-noto-core fonts-noto-cjk)
+      fonts-noto-core fonts-noto-cjk
+      python3-aiosmtpd)  # a real SMTP server for the hub's pain-mail tests (tests/smtp_sink.py)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

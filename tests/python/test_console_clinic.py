@@ -16,10 +16,17 @@ from test_console_browser import browser, serve_clinic, shot, telerehab, wait  #
 NEW_PASSWORD = "a clinic passphrase of my own"
 
 
+# What `hub serve --public-station-address` says stations at home connect to: the sheet prints
+# it, not an address guessed from the browser's.
+PUBLIC_STATIONS = "stations.clinic.test:47878"
+
+
 @pytest.fixture(scope="module")
 def clinic(tmp_path_factory):
-    """A clinic (admin ana, patient P-0042 with a paired station) served on loopback."""
-    with serve_clinic(tmp_path_factory.mktemp("clinic")) as served:
+    """A clinic (admin ana, patient P-0042 with a paired station) served on loopback, its
+    public station address configured."""
+    with serve_clinic(tmp_path_factory.mktemp("clinic"),
+                      ("--public-station-address", PUBLIC_STATIONS)) as served:
         yield served
 
 
@@ -67,15 +74,13 @@ def test_a_clinic_adds_a_patient_prints_the_pairing_sheet_adds_a_therapist_and_r
     wait(d, lambda d: "pseudonym" in d.find_element(By.ID, "np-error").text)
     d.find_element(By.ID, "np-pseudonym").clear()
     d.find_element(By.ID, "np-pseudonym").send_keys("P-0043")
-    d.find_element(By.ID, "np-address").clear()
-    d.find_element(By.ID, "np-address").send_keys(clinic["address"])
     shot(d, "clinic-2-add-a-patient")
     d.find_element(By.CSS_SELECTOR, "#new-patient button").click()
     wait(d, lambda d: d.find_elements(By.ID, "pairing-sheet"))
     code = d.find_element(By.ID, "sheet-code").text
     assert re.fullmatch(r"[0-9A-Z]{4}-[0-9A-Z]{4}", code), code
     assert d.find_element(By.ID, "sheet-patient").text == "P-0043"
-    assert d.find_element(By.ID, "sheet-address").text == clinic["address"]
+    assert d.find_element(By.ID, "sheet-address").text == PUBLIC_STATIONS
     assert "for one station only" in d.find_element(By.ID, "sheet-expiry").text
     steps = [li.text for li in d.find_elements(By.CSS_SELECTOR, ".steps li")]
     assert len(steps) == 5 and "wheel" in steps[0] and "telerehab" in steps[1] and "pairing code" in steps[3]
@@ -133,3 +138,28 @@ def test_a_clinic_adds_a_patient_prints_the_pairing_sheet_adds_a_therapist_and_r
     assert not d.find_elements(By.ID, "new-therapist")
     assert "your care" in d.find_element(By.ID, "new-patient").text
     shot(d, "clinic-8-therapist-clinic-screen")
+
+
+def test_the_pairing_sheet_refuses_a_loopback_station_address_and_says_why(tmp_path, browser):
+    """A hub told no public station address and listening on loopback: the sheet is not
+    printed (no address a patient's station could reach), and the page says why."""
+    d = browser
+    with serve_clinic(tmp_path) as loopback:
+        log_in_and_replace_the_one_time_password(d, loopback["web"], "ana@clinic.example", loopback["password"])
+        d.find_element(By.ID, "clinic-link").click()
+        wait(d, lambda d: d.find_elements(By.ID, "new-patient"))
+        d.find_element(By.ID, "np-pseudonym").send_keys("P-0044")
+        d.find_element(By.CSS_SELECTOR, "#new-patient button").click()
+        wait(d, lambda d: d.find_elements(By.ID, "sheet-refused"))
+        assert not d.find_elements(By.ID, "pairing-sheet")
+        assert not d.find_elements(By.ID, "print-sheet")
+        assert d.find_element(By.CSS_SELECTOR, "#sheet-refused [role=alert]").text.strip()
+        pairing = json.loads(d.execute_async_script(
+            "const done = arguments[arguments.length - 1];"
+            "fetch('/api/patients', {credentials: 'same-origin'}).then(r => r.json())"
+            ".then(ps => ps.find(p => p.pseudonym === 'P-0044'))"
+            ".then(p => fetch(`/api/patients/${p.id}/pairing-code`, {method: 'POST', credentials: 'same-origin',"
+            " headers: {'content-type': 'application/json'}, body: '{}'})).then(r => r.text()).then(done);"))
+        assert pairing["station_address"] is None and pairing["station_address_problem"], pairing
+        shot(d, "clinic-9-pairing-sheet-refused-loopback")
+        d.find_element(By.ID, "logout").click()

@@ -6,10 +6,8 @@
 import { api, esc, when } from '/console/api.js';
 import { stationWords } from '/console/words.js';
 
-/** Where stations reach the hub, as the patient types it: remembered in this browser, first
- * the console's host with the stations' default port (`hub serve --stations`, 7878). */
-const ADDRESS_KEY = 'telerehab.stationAddress';
-const stationAddress = () => localStorage.getItem(ADDRESS_KEY) || `${location.hostname}:7878`;
+// Where stations at home reach the hub is the hub's to say (`hub serve
+// --public-station-address`): each pairing code comes with it, or with why there is none.
 
 /** Shows the clinic screen `hash` (#/clinic or #/clinic/patients/{id}) in `app`. */
 export async function clinicView(app, hash, me) {
@@ -31,8 +29,6 @@ async function clinicHome(app, me) {
         <label for="np-pseudonym">Pseudonym <span class="note">(the clinic's reference, e.g. P-0042; never a name: letters, digits, . _ -)</span></label>
         <input id="np-pseudonym" type="text" maxlength="64" autocomplete="off">
         ${careOf}
-        <label for="np-address">Clinic address the station connects to <span class="note">(printed on the sheet)</span></label>
-        <input id="np-address" type="text" value="${esc(stationAddress())}" required>
         <p><button type="submit">Add the patient and make a pairing sheet</button></p>
         <p class="error" id="np-error" role="alert"></p>
       </form>
@@ -44,12 +40,10 @@ async function clinicHome(app, me) {
     const body = { pseudonym: form.querySelector('#np-pseudonym').value.trim() };
     const who = form.querySelector('#np-therapist');
     if (who && who.value) body.therapist_email = who.value;
-    const address = form.querySelector('#np-address').value.trim();
     app.querySelector('#np-error').textContent = '';
     try {
       const added = await api('POST', '/api/patients', body);
-      localStorage.setItem(ADDRESS_KEY, address);
-      pairingSheet(app, added.patient, added.pairing, address);
+      pairingSheet(app, added.patient, added.pairing);
     } catch (e) { app.querySelector('#np-error').textContent = e.message; }
   });
   if (me.role === 'admin') bindTherapists(app);
@@ -94,11 +88,28 @@ function bindTherapists(app) {
   });
 }
 
-/** The printable pairing sheet: the code, until when it pairs, and the patient's steps. */
-function pairingSheet(app, patient, pairing, address) {
+/** This computer's own address: a station at a patient's home can never reach it. */
+const isLoopback = a => /^(\[?::1\]?|127(\.\d+){3}|localhost|0\.0\.0\.0)(:\d+)?$/i.test(a || '');
+
+/** The printable pairing sheet: the hub's station address, the code, until when it pairs,
+ * and the patient's steps; refused (saying why) when the hub has no address a station at
+ * home can reach. */
+function pairingSheet(app, patient, pairing) {
   // A hash of its own, so that links back to the screen it replaced navigate (the code itself
   // is not kept: reloading shows the clinic screen).
   history.replaceState(null, '', '#/clinic/sheet');
+  const address = pairing.station_address;
+  if (!address || isLoopback(address)) {
+    const why = pairing.station_address_problem
+      || `${address} is this computer's own address: a station at a patient's home cannot reach it.`;
+    app.innerHTML = `<section id="sheet-refused" class="panel" aria-labelledby="refused-h">
+        <h1 id="refused-h">The pairing sheet cannot be printed yet</h1>
+        <p class="error" role="alert">${esc(why)}</p>
+        <p>The code <strong class="code">${esc(pairing.code)}</strong> for ${esc(patient.pseudonym)} stays valid until ${esc(when(pairing.expires_at_ms))}. Make a new sheet once the address is set.</p>
+        <p><a href="#/clinic/patients/${encodeURIComponent(patient.id)}">Stations and pairing</a> · <a href="#/clinic">Back to the clinic</a></p>
+      </section>`;
+    return;
+  }
   app.innerHTML = `
     <section id="pairing-sheet" class="sheet" aria-labelledby="sheet-h">
       <h1 id="sheet-h">Connecting your telerehab station to the clinic</h1>
@@ -145,17 +156,13 @@ async function stationsView(app, id) {
     </section>
     <section class="panel" aria-labelledby="code-h"><h2 id="code-h">A new pairing code</h2>
       <p>For a new or replaced station: single use, valid 72 hours.</p>
-      <label for="code-address">Clinic address the station connects to</label>
-      <input id="code-address" type="text" value="${esc(stationAddress())}">
       <p><button type="button" id="new-code">Make a pairing sheet</button></p>
       <p class="error" id="code-error" role="alert"></p>
     </section>`;
   app.querySelector('#new-code').addEventListener('click', async () => {
     try {
       const pairing = await api('POST', `/api/patients/${encodeURIComponent(id)}/pairing-code`);
-      const address = app.querySelector('#code-address').value.trim();
-      localStorage.setItem(ADDRESS_KEY, address);
-      pairingSheet(app, p, pairing, address);
+      pairingSheet(app, p, pairing);
     } catch (e) { app.querySelector('#code-error').textContent = e.message; }
   });
   app.querySelectorAll('[data-revoke]').forEach(b => b.addEventListener('click', () => confirmRevoke(app, id, b.dataset.revoke, b.dataset.words)));

@@ -228,6 +228,12 @@ pub struct ServeOptions {
     /// Summaries taken from one station a second over all its connections
     /// ([`netlink::therapist::station_limits::SUMMARY_PACE_PER_S`]; tests lower it).
     pub summary_pace_per_s: u32,
+    /// Pain threshold, clinic phone, console URL and mail ([`crate::care`]); its
+    /// `public_station_address` is settled at start from `public_station_address`.
+    pub care: crate::care::CareConfig,
+    /// `--public-station-address`: what pairing sheets print (else the station listener's,
+    /// when it is a specific address other than loopback).
+    pub public_station_address: Option<String>,
 }
 
 /// Connection caps and deadlines of `hub serve` besides [`ServeOptions::max_connections`].
@@ -263,6 +269,8 @@ impl ServeOptions {
             limits: HubLimits::default(),
             max_replay_bytes: web::DEFAULT_MAX_REPLAY_BYTES,
             summary_pace_per_s: netlink::therapist::station_limits::SUMMARY_PACE_PER_S as u32,
+            care: crate::care::CareConfig::default(),
+            public_station_address: None,
         }
     }
 }
@@ -298,6 +306,7 @@ pub async fn serve(
     shutdown: impl Future<Output = ()> + Send,
 ) -> Result<(), HubError> {
     let config = clinic.config()?;
+    options.care.validate()?;
     let store = Arc::new(DbStore::new(
         db.clone(),
         clinic.ca()?,
@@ -319,19 +328,31 @@ pub async fn serve(
             .map_err(|e| HubError::Config(format!("station link: {e}")))?;
     let (live, _) = broadcast::channel::<LiveEvent>(1024);
     let (prescribed, mut prescriptions) = broadcast::channel::<RegimenVersion>(64);
+    let (cleared, mut clearances) = broadcast::channel::<String>(64);
+    let web_listener = match options.web {
+        Some(addr) => Some(
+            tokio::net::TcpListener::bind(addr)
+                .await
+                .map_err(|e| HubError::io(format!("listening on {addr}"), e))?,
+        ),
+        None => None,
+    };
+    let web_addr = web_listener.as_ref().and_then(|l| l.local_addr().ok());
+    let care = Arc::new(settle_care(
+        &options,
+        server.local_addr(),
+        web_addr,
+        &config.names[0],
+    ));
     let state = AppState::new(db.clone(), live.clone())
         .with_clock(options.now_ms.clone())
         .with_prescribed_feed(prescribed)
+        .with_care(care.clone(), Some(cleared))
         .with_replay_max_bytes(options.max_replay_bytes)
         .with_clinic_name(config.clinic_name.clone());
     let (stop_web, web_stopped) = tokio::sync::oneshot::channel::<()>();
     let mut web_task = None;
-    let mut web_addr = None;
-    if let Some(addr) = options.web {
-        let listener = tokio::net::TcpListener::bind(addr)
-            .await
-            .map_err(|e| HubError::io(format!("listening on {addr}"), e))?;
-        web_addr = listener.local_addr().ok();
+    if let Some(listener) = web_listener {
         let acceptor = web::acceptor_from_pem(&clinic.tls("hub.crt"), &clinic.tls("hub.key"))?;
         web_task = Some(tokio::spawn(web::serve_with_limits(
             listener,
@@ -352,6 +373,11 @@ pub async fn serve(
     let mut sweep = tokio::time::interval(crate::uploads::PARTIAL_UPLOAD_SWEEP);
     let mut housekeeping = tokio::time::interval(HOUSEKEEPING);
     let recordings = clinic.dir().join("recordings");
+    let mailer = tokio::spawn(crate::pain_mail::run(
+        db.clone(),
+        care.clone(),
+        options.now_ms.clone(),
+    ));
     let mut shutdown = std::pin::pin!(shutdown);
     loop {
         tokio::select! {
@@ -364,12 +390,18 @@ pub async fn serve(
             _ = housekeeping.tick() => housekeep(&db, (options.now_ms)()).await,
             _ = sweep.tick() => expire_partial_uploads(recordings.clone()).await,
             Ok(regimen) = prescriptions.recv() => push_regimen(&server, &db, &regimen).await,
+            Ok(patient) = clearances.recv() => push_care_to_patient(&server, &db, &care, &patient).await,
             Some(event) = events.recv() => {
                 on_event(&event);
+                if let TherapistEvent::Connected { hello, .. } = &event {
+                    // First: a station that checks in before today's page knows at once.
+                    push_care(&server, &db, &care, &hello.station_id, &hello.patient_id).await;
+                }
                 on_station_event(&event, &server, &db, &live, (options.now_ms)()).await;
             }
         }
     }
+    mailer.abort();
     // Both ports stop together, within STOP_WITHIN: open requests and station connections
     // get the time left to finish; what a station was not acknowledged it sends again.
     let _ = stop_web.send(());
@@ -539,6 +571,70 @@ async fn push_messages(server: &TherapistServer, db: &Db, hello: &netlink::Hello
                 return;
             }
         }
+    }
+}
+
+/// The clinic's care settings in force: the options' with the pairing sheets' station address
+/// settled against the station listener `stations`, and the console's URL for mails (given,
+/// else `https://NAME:PORT` of the hub's first certificate name and the console's port).
+fn settle_care(
+    options: &ServeOptions,
+    stations: SocketAddr,
+    web: Option<SocketAddr>,
+    name: &str,
+) -> crate::care::CareConfig {
+    let mut care = options.care.clone();
+    care.public_station_address =
+        crate::care::public_station_address(options.public_station_address.as_deref(), stations);
+    match &care.public_station_address {
+        Ok(a) => tracing::info!("pairing sheets print the station address {a}"),
+        Err(why) => tracing::warn!("pairing sheets cannot print a station address: {why}"),
+    }
+    if care.console_url.is_none() {
+        care.console_url = web.map(|w| format!("https://{name}:{}", w.port()));
+    }
+    care
+}
+
+/// Sends the clinic's pain settings, with the patient's clearance, to the connected station
+/// `station_id` if its protocol version knows them.
+async fn push_care(
+    server: &TherapistServer,
+    db: &Db,
+    care: &crate::care::CareConfig,
+    station_id: &str,
+    patient_id: &str,
+) {
+    let cleared = match db.pain_cleared_at(patient_id).await {
+        Ok(at) => at.and_then(|ms| u64::try_from(ms).ok()),
+        Err(e) => {
+            tracing::warn!(patient = %patient_id, "cannot read the pain clearance: {e}");
+            None
+        }
+    };
+    match server.send_care(station_id, care.care_frame(cleared)) {
+        Ok(true) => tracing::debug!(station = %station_id, "pain settings pushed"),
+        Ok(false) => tracing::debug!(
+            station = %station_id,
+            "the station's protocol version has no pain settings; not sent"
+        ),
+        Err(e) => tracing::debug!(station = %station_id, "pain settings not pushed now: {e}"),
+    }
+}
+
+/// Sends the clinic's pain settings to every connected station of `patient_id` (after the
+/// therapist cleared a pain stop).
+async fn push_care_to_patient(
+    server: &TherapistServer,
+    db: &Db,
+    care: &crate::care::CareConfig,
+    patient_id: &str,
+) {
+    let Ok(stations) = db.stations_of(patient_id).await else {
+        return;
+    };
+    for station in stations.iter().filter(|s| !s.is_revoked()) {
+        push_care(server, db, care, &station.station_id, patient_id).await;
     }
 }
 

@@ -12,12 +12,14 @@
 pub mod attention;
 pub mod backup;
 pub mod bench;
+pub mod care;
 pub mod clinic;
 pub mod db;
 mod error;
 pub mod fhir;
 pub mod ingest;
 pub mod limits;
+pub mod pain_mail;
 pub mod patient_data;
 pub mod patients;
 pub mod uploads;

@@ -109,6 +109,7 @@ pub fn encode(frame: &Frame, out: &mut Vec<u8>) -> Result<(), CodecError> {
         Frame::UploadChunk(b) => serde_json::to_writer(&mut *out, b),
         Frame::Message(b) => serde_json::to_writer(&mut *out, b),
         Frame::MessageSeen(b) => serde_json::to_writer(&mut *out, b),
+        Frame::Care(b) => serde_json::to_writer(&mut *out, b),
     };
     let len = out.len() - start - HEADER_LEN;
     if let Err(source) = written {
@@ -201,6 +202,7 @@ pub fn decode(buf: &[u8]) -> Result<Option<(Frame, usize)>, CodecError> {
         FrameKind::UploadChunk => Frame::UploadChunk(body(kind, payload)?),
         FrameKind::Message => Frame::Message(body(kind, payload)?),
         FrameKind::MessageSeen => Frame::MessageSeen(body(kind, payload)?),
+        FrameKind::Care => Frame::Care(body(kind, payload)?),
     };
     frame
         .validate()
@@ -517,6 +519,55 @@ mod tests {
             r#"TRHB\x00\x01\x0f\x00\x00\x00\x008{"id":"m-0123456789abcdef","seen_unix_ms":1795253401000}"#
         );
         assert_eq!(decode(&bytes).unwrap().unwrap().0, seen);
+    }
+
+    #[test]
+    fn a_care_frame_carries_the_pain_threshold_phone_and_clearance_and_refuses_bad_ones() {
+        let care = crate::frame::Care {
+            pain_threshold_0_10: 7,
+            clinic_phone: Some("+49 30 1234567".into()),
+            cleared_unix_ms: Some(1_795_253_400_000),
+        };
+        let bytes = encode_to_vec(&Frame::Care(care.clone())).unwrap();
+        assert_eq!(bytes[6], 16, "the Care kind byte");
+        assert_eq!(
+            decode(&bytes).unwrap().unwrap().0,
+            Frame::Care(care.clone())
+        );
+        // A hub that set no phone and never cleared sends only the threshold.
+        let bare = crate::frame::Care {
+            clinic_phone: None,
+            cleared_unix_ms: None,
+            ..care.clone()
+        };
+        let bytes = encode_to_vec(&Frame::Care(bare)).unwrap();
+        assert!(escape(&bytes).ends_with(r#"{"pain_threshold_0_10":7}"#));
+        for (bad, names) in [
+            (
+                crate::frame::Care {
+                    pain_threshold_0_10: 11,
+                    ..care.clone()
+                },
+                "pain_threshold_0_10",
+            ),
+            (
+                crate::frame::Care {
+                    pain_threshold_0_10: 0,
+                    ..care.clone()
+                },
+                "pain_threshold_0_10",
+            ),
+            (
+                crate::frame::Care {
+                    clinic_phone: Some("call me\u{1b}".into()),
+                    ..care.clone()
+                },
+                "phone number contains",
+            ),
+        ] {
+            let e = Frame::Care(bad).validate().unwrap_err();
+            assert!(e.to_string().contains(names), "{e}");
+        }
     }
 
     #[test]

@@ -9,9 +9,10 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 
 /// The newest protocol version this crate speaks (a station's [`Hello::protocol_version`]).
-/// Version 2 adds the therapist's messages ([`Message`], [`MessageSeen`]); the framing (the
-/// header's `version`, [`crate::codec::HEADER_VERSION`]) is version 1's.
-pub const PROTOCOL_VERSION: u16 = 2;
+/// Version 2 adds the therapist's messages ([`Message`], [`MessageSeen`]); version 3 the
+/// clinic's pain settings ([`Care`]); the framing (the header's `version`,
+/// [`crate::codec::HEADER_VERSION`]) is version 1's.
+pub const PROTOCOL_VERSION: u16 = 3;
 
 /// The first protocol version with [`Message`] and [`MessageSeen`] frames: a hub sends a
 /// `Message` only on a connection negotiated at this version or above.
@@ -19,6 +20,17 @@ pub const MESSAGES_VERSION: u16 = 2;
 
 /// Most characters (not bytes) of a therapist's message text ([`Message::text`]).
 pub const MAX_MESSAGE_TEXT_CHARS: usize = 500;
+
+/// The first protocol version with the [`Care`] frame: a hub sends it only on a connection
+/// negotiated at this version or above.
+pub const CARE_VERSION: u16 = 3;
+
+/// The pain (0–10) at or over which a station stops the day's training when the clinic has
+/// set no other ([`Care::pain_threshold_0_10`]).
+pub const DEFAULT_PAIN_THRESHOLD_0_10: u8 = 7;
+
+/// Longest clinic phone number in a [`Care`] frame, bytes.
+pub const MAX_PHONE_LEN: usize = 40;
 
 /// The oldest protocol version this crate speaks.
 pub const MIN_PROTOCOL_VERSION: u16 = 1;
@@ -94,6 +106,8 @@ pub enum FrameKind {
     Message = 14,
     /// Station → hub (protocol ≥ 2): a message was shown on the patient's screen.
     MessageSeen = 15,
+    /// Hub → station (protocol ≥ 3): the clinic's pain threshold, phone number and clearance.
+    Care = 16,
 }
 
 impl FrameKind {
@@ -115,6 +129,7 @@ impl FrameKind {
             13 => Self::UploadChunk,
             14 => Self::Message,
             15 => Self::MessageSeen,
+            16 => Self::Care,
             _ => return None,
         })
     }
@@ -143,6 +158,7 @@ impl std::fmt::Display for FrameKind {
             Self::UploadChunk => "UploadChunk",
             Self::Message => "Message",
             Self::MessageSeen => "MessageSeen",
+            Self::Care => "Care",
         };
         f.write_str(name)
     }
@@ -615,6 +631,67 @@ pub struct MessageSeen {
     pub seen_unix_ms: u64,
 }
 
+/// Hub → station, after `Hello` on a connection negotiated at [`CARE_VERSION`] or above, and
+/// again whenever it changes: what the clinic says about pain. A pain answered at or over
+/// `pain_threshold_0_10` ends the session on a page that says to rest and call
+/// `clinic_phone`, and the station offers no session for the rest of that day unless the
+/// therapist clears the patient (`cleared_unix_ms` later than the pain).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Care {
+    /// Pain at or over this, 0–10 (1 to [`MAX_CHECKIN_SCORE`]), stops the day's training.
+    pub pain_threshold_0_10: u8,
+    /// The clinic's phone number for patients, as the clinic writes it (digits, spaces, `+`,
+    /// `-`, `/`, `(`, `)`, `.`; at most [`MAX_PHONE_LEN`] bytes); absent: none set.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub clinic_phone: Option<String>,
+    /// When the therapist last cleared the patient to train again after a pain stop, ms
+    /// since the Unix epoch (hub clock); absent: never.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cleared_unix_ms: Option<u64>,
+}
+
+/// Checks a clinic phone number: not empty, at most [`MAX_PHONE_LEN`] bytes, only digits,
+/// spaces and `+ - / ( ) .`, with at least three digits. The message names the problem.
+pub fn check_phone(phone: &str) -> Result<(), FieldError> {
+    if phone.len() > MAX_PHONE_LEN {
+        return Err(FieldError(format!(
+            "the phone number is too long: {} bytes, at most {MAX_PHONE_LEN}",
+            phone.len()
+        )));
+    }
+    if let Some(c) = phone
+        .chars()
+        .find(|c| !(c.is_ascii_digit() || " +-/().".contains(*c)))
+    {
+        return Err(FieldError(format!(
+            "the phone number contains {c:?}; use digits, spaces and + - / ( ) . only"
+        )));
+    }
+    if phone.chars().filter(char::is_ascii_digit).count() < 3 {
+        return Err(FieldError(format!(
+            "the phone number {phone:?} has fewer than three digits"
+        )));
+    }
+    Ok(())
+}
+
+impl Care {
+    /// Checks the threshold (1 to [`MAX_CHECKIN_SCORE`]) and the phone number
+    /// ([`check_phone`]).
+    pub fn validate(&self) -> Result<(), FieldError> {
+        if !(1..=MAX_CHECKIN_SCORE).contains(&self.pain_threshold_0_10) {
+            return Err(FieldError(format!(
+                "pain_threshold_0_10 = {}, allowed [1, {MAX_CHECKIN_SCORE}]",
+                self.pain_threshold_0_10
+            )));
+        }
+        match &self.clinic_phone {
+            Some(p) => check_phone(p),
+            None => Ok(()),
+        }
+    }
+}
+
 /// Checks a therapist's message text: 1 to [`MAX_MESSAGE_TEXT_CHARS`] characters (counted
 /// as characters, not bytes), not only spaces, no control characters (a line break is one:
 /// the text is one paragraph). The message names the problem.
@@ -671,6 +748,8 @@ pub enum Frame {
     Message(Message),
     /// See [`MessageSeen`].
     MessageSeen(MessageSeen),
+    /// See [`Care`].
+    Care(Care),
 }
 
 impl Frame {
@@ -692,6 +771,7 @@ impl Frame {
             Self::UploadChunk(_) => FrameKind::UploadChunk,
             Self::Message(_) => FrameKind::Message,
             Self::MessageSeen(_) => FrameKind::MessageSeen,
+            Self::Care(_) => FrameKind::Care,
         }
     }
 
@@ -774,6 +854,7 @@ impl Frame {
                 check_message_text(&m.text).map_err(|e| FieldError(format!("text: {e}")))
             }
             Self::MessageSeen(m) => check_id("id", &m.id),
+            Self::Care(c) => c.validate(),
         }
     }
 }

@@ -63,6 +63,8 @@ pub struct Pushed {
     pub messages: Vec<Message>,
     /// The newest regimen, to be validated and kept as a prescription pushed on the live link.
     pub regimen: Option<Regimen>,
+    /// The clinic's newest pain settings.
+    pub care: Option<crate::frame::Care>,
 }
 
 impl Pushed {
@@ -86,11 +88,14 @@ impl Pushed {
         if other.regimen.is_some() {
             self.regimen = other.regimen;
         }
+        if other.care.is_some() {
+            self.care = other.care;
+        }
     }
 
     /// Nothing was pushed.
     pub fn is_empty(&self) -> bool {
-        self.messages.is_empty() && self.regimen.is_none()
+        self.messages.is_empty() && self.regimen.is_none() && self.care.is_none()
     }
 }
 
@@ -211,6 +216,7 @@ async fn next_upload_at(
                 tracing::info!(id = %r.id, "regimen received from therapist during an upload");
                 pushed.regimen = Some(r);
             }
+            Some(Frame::Care(c)) => pushed.care = Some(c),
             Some(Frame::Error(e)) => return Err(UploadError::Refused(e.message)),
             Some(Frame::Bye(b)) => return Err(UploadError::Ended(b.reason)),
             Some(other) => return Err(UploadError::Unexpected(other.kind())),

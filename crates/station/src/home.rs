@@ -149,6 +149,17 @@ impl Home {
         self.dir.join("messages.json")
     }
 
+    /// The clinic's pain threshold and phone number as the hub last sent them
+    /// ([`crate::checkin::care::CareSettings`]).
+    pub fn care_path(&self) -> PathBuf {
+        self.dir.join("care.json")
+    }
+
+    /// The last pain at or over the clinic's threshold ([`crate::checkin::care::PainStop`]).
+    pub fn pain_stop_path(&self) -> PathBuf {
+        self.dir.join("pain-stop.json")
+    }
+
     /// The regimen the clinic prescribed last (validated when it arrived), used by a session
     /// started without `--regimen`.
     pub fn regimen_path(&self) -> PathBuf {

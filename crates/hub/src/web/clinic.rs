@@ -52,6 +52,12 @@ pub(crate) struct Pairing {
     code: String,
     /// When it stops pairing, ms since the Unix epoch.
     expires_at_ms: i64,
+    /// The address stations at home connect to, for the sheet (`hub serve
+    /// --public-station-address`); `null` when the hub knows none a station at home can
+    /// reach.
+    station_address: Option<String>,
+    /// Why there is no `station_address`, in plain words (`null` when there is one).
+    station_address_problem: Option<String>,
 }
 
 /// A new pairing code for `patient` (audited `pairing_code`).
@@ -68,9 +74,15 @@ async fn issue_code(
     state
         .audit(&by.actor(), "pairing_code", &patient.id, "")
         .await?;
+    let (station_address, station_address_problem) = match &state.care.public_station_address {
+        Ok(a) => (Some(a.clone()), None),
+        Err(why) => (None, Some(why.clone())),
+    };
     Ok(Pairing {
         code,
         expires_at_ms: now.saturating_add(PAIRING_TTL_MS),
+        station_address,
+        station_address_problem,
     })
 }
 

@@ -17,6 +17,7 @@ mod live;
 mod measure_words;
 mod messages;
 mod notes;
+mod pain;
 mod patients;
 mod regimen;
 mod regimen_words;
@@ -91,6 +92,11 @@ pub struct AppState {
     pub replay_cost_limits: Option<record::CostLimits>,
     /// The clinic's name for its printouts (`hub.toml`'s `clinic_name`), if set.
     pub clinic_name: Option<String>,
+    /// The clinic's pain threshold, phone, station address and mail ([`crate::care`]).
+    pub care: Arc<crate::care::CareConfig>,
+    /// Where a therapist's clearance after a pain stop is announced (patient id; the hub
+    /// pushes it to the patient's connected stations); `None` when no station link runs.
+    pub pain_cleared: Option<broadcast::Sender<String>>,
 }
 
 impl AppState {
@@ -108,6 +114,8 @@ impl AppState {
             replay_cpu_s: DEFAULT_REPLAY_CPU_S,
             replay_cost_limits: None,
             clinic_name: None,
+            care: Arc::default(),
+            pain_cleared: None,
         }
     }
 
@@ -138,6 +146,18 @@ impl AppState {
     /// The same state replaying recording files of at most `bytes`.
     pub fn with_replay_max_bytes(mut self, bytes: u64) -> Self {
         self.replay_max_bytes = bytes;
+        self
+    }
+
+    /// The same state with the clinic's pain, pairing and mail settings, announcing each
+    /// clearance after a pain stop on `cleared`.
+    pub fn with_care(
+        mut self,
+        care: Arc<crate::care::CareConfig>,
+        cleared: Option<broadcast::Sender<String>>,
+    ) -> Self {
+        self.care = care;
+        self.pain_cleared = cleared;
         self
     }
 
@@ -270,6 +290,8 @@ pub fn router(state: AppState) -> Router {
         .route("/api/sessions/{id}/replay", get(sessions::replay))
         .route("/api/patients/{id}/pairing-code", post(clinic::new_code))
         .route("/api/stations/{id}/revoke", post(clinic::revoke_station))
+        .route("/api/patients/{id}/pain-clearance", post(pain::clear))
+        .route("/api/clinic/pain-mail", get(pain::mail_status))
         .route(
             "/api/therapists",
             get(clinic::therapists).post(clinic::add_therapist),

@@ -315,6 +315,16 @@ impl LinkTask {
                 }
                 None
             }
+            Ok(Some(Frame::Care(c))) => {
+                tracing::info!(
+                    threshold = c.pain_threshold_0_10,
+                    "the clinic's pain settings received"
+                );
+                if let Ok(mut slot) = self.shared.care.lock() {
+                    *slot = Some(c);
+                }
+                None
+            }
             Ok(Some(Frame::Bye(b))) if bye_sent && self.pending.is_empty() => {
                 tracing::info!(final_seq = ?b.final_seq, "therapist confirmed end of session");
                 self.shared.bye_acknowledged.store(true, Ordering::Relaxed);

@@ -317,6 +317,11 @@ impl StationLink {
         std::mem::replace(&mut self.regimens, closed)
     }
 
+    /// The clinic's pain settings the hub sent since the last call, if any (the newest).
+    pub fn take_care(&self) -> Option<crate::frame::Care> {
+        self.shared.care.lock().ok().and_then(|mut c| c.take())
+    }
+
     /// Takes the message queue, so messages arriving until the link is finished can still be
     /// read afterwards (a link delivering a queued session is read only at its end); this link
     /// then receives none.

@@ -52,6 +52,8 @@ pub(super) struct Shared {
     pub(super) bye_acknowledged: AtomicBool,
     pub(super) last_error: Mutex<Option<String>>,
     pub(super) update_required: Mutex<Option<String>>,
+    /// The clinic's pain settings the hub last sent, not yet taken.
+    pub(super) care: Mutex<Option<crate::frame::Care>>,
 }
 
 impl Shared {

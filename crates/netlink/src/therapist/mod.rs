@@ -23,7 +23,7 @@ use tokio::task::JoinHandle;
 
 use crate::codec::encode_to_vec;
 use crate::error::NetlinkError;
-use crate::frame::{Frame, Hello, MESSAGES_VERSION, Message, Regimen};
+use crate::frame::{CARE_VERSION, Care, Frame, Hello, MESSAGES_VERSION, Message, Regimen};
 use crate::tls::ServerTls;
 use crate::transport::{OUTBOX_CAPACITY, Outbox, OutboxStats, Outgoing};
 
@@ -245,6 +245,30 @@ impl TherapistServer {
             Err(NetlinkError::Busy(format!(
                 "{OUTBOX_CAPACITY} frames already wait for station {station_id:?}; message not \
                  queued"
+            )))
+        }
+    }
+
+    /// Queues the clinic's pain settings `care` for the connected station `station_id`:
+    /// `Ok(true)` when queued, `Ok(false)` when the station's connection was negotiated below
+    /// [`CARE_VERSION`] (an older station, which must never receive the frame).
+    ///
+    /// Fails as [`Self::send_regimen`] does.
+    pub fn send_care(&self, station_id: &str, care: Care) -> Result<bool, NetlinkError> {
+        let bytes = encode_to_vec(&Frame::Care(care))?;
+        let stations = lock(&self.hub.stations);
+        let route = stations
+            .get(station_id)
+            .ok_or_else(|| NetlinkError::NotConnected(station_id.to_owned()))?;
+        if route.version < CARE_VERSION {
+            return Ok(false);
+        }
+        if route.out.send(Outgoing::new(bytes.into())) {
+            Ok(true)
+        } else {
+            Err(NetlinkError::Busy(format!(
+                "{OUTBOX_CAPACITY} frames already wait for station {station_id:?}; pain settings \
+                 not queued"
             )))
         }
     }

@@ -78,6 +78,9 @@ pub enum HubCommand {
         /// bounded memory; this bounds the time it takes).
         #[arg(long, default_value_t = hub::web::DEFAULT_MAX_REPLAY_BYTES >> 20)]
         max_replay_mb: u64,
+        /// Pain threshold, clinic phone, pairing sheets' address and pain mails.
+        #[command(flatten)]
+        care: super::hub_care::CareArgs,
     },
     /// Load test: N simulated stations on loopback against a hub in a child process, in a
     /// fresh clinic (SQLite, or the empty database `--db` names).
@@ -298,6 +301,7 @@ pub fn run(args: HubArgs) -> anyhow::Result<()> {
                 max_unauthenticated,
                 print_summaries,
                 max_replay_mb,
+                care,
             } => {
                 let limits = (max_connections, max_connections_per_address);
                 let caps = hub::clinic::HubLimits {
@@ -311,7 +315,7 @@ pub fn run(args: HubArgs) -> anyhow::Result<()> {
                     listen,
                     limits,
                     caps,
-                    print_summaries,
+                    (print_summaries, &care),
                     max_replay_bytes,
                 )
                 .await
@@ -404,7 +408,7 @@ async fn serve(
     (stations, web): (&str, Option<&str>),
     max_connections: (usize, usize),
     limits: hub::clinic::HubLimits,
-    print_summaries: bool,
+    (print_summaries, care): (bool, &super::hub_care::CareArgs),
     max_replay_bytes: u64,
 ) -> anyhow::Result<()> {
     let (clinic, db) = open(data).await?;
@@ -417,6 +421,8 @@ async fn serve(
         max_connections,
         limits,
         max_replay_bytes,
+        care: care.config(),
+        public_station_address: care.public_station_address.clone(),
         ..ServeOptions::new(stations, web)
     };
     let stop = super::server_stop::stop_signal()?;

@@ -347,12 +347,22 @@ fn end_screen(
         .map(crate::checkin::load_results)
         .unwrap_or_default();
     let question_timeout_s = args.checkin_timeout_s;
-    Some(
-        move |report: &SessionReport| session::window::wire::EndScreen {
+    let care_path = results_path
+        .and_then(std::path::Path::parent)
+        .map(|dir| Home::at(dir).care_path());
+    Some(move |report: &SessionReport| {
+        // Read when the session ends: the hub sends its settings when the link connects.
+        let care = care_path
+            .as_deref()
+            .map(crate::checkin::care::CareSettings::load)
+            .unwrap_or_default();
+        session::window::wire::EndScreen {
             lines: crate::checkin::result_lines(&crate::checkin::EndResults::of(report), &before),
             question_timeout_s,
-        },
-    )
+            pain_threshold_0_10: care.pain_threshold_0_10,
+            clinic_phone: care.clinic_phone,
+        }
+    })
 }
 
 /// A session on the real devices with the patient's window and no usable wheel: the reason
@@ -682,6 +692,9 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     };
     if let Some(c) = &checkin {
         link.set_checkin(c);
+        if let Some(h) = &home.home {
+            crate::checkin::care::note_pain(h, c);
+        }
     }
     link.set_exercises(&report.recorder.exercises);
     let difficulty_line = adapted.as_ref().map(|a| {

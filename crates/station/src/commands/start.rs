@@ -92,6 +92,10 @@ pub fn run() -> anyhow::Result<()> {
     if settings.language.is_none() {
         door = door.asking_language(i18n::current().tag());
     }
+    door.set_rest_today(crate::checkin::care::rest_today(
+        &home,
+        crate::checkin::care::now_unix_ms(),
+    ));
     tracing::info!(home = %home.dir().display(), paired = !door.is_pairing(), "first-run pages");
     let simulated = wheel_gestures::scripted();
     match show(door, &home, &cfg, settings.fullscreen)? {
@@ -173,7 +177,14 @@ fn ask_the_hub(door: &Mutex<FrontDoor>, home: &Home) {
     let Ok(Some(pairing)) = home.pairing() else {
         return;
     };
-    let notice = match check_hub(home, &pairing, HUB_CHECK_TIMEOUT) {
+    let status = check_hub(home, &pairing, HUB_CHECK_TIMEOUT);
+    // The check keeps the clinic's newest pain settings: the therapist may have cleared a
+    // pain stop.
+    lock(door).set_rest_today(crate::checkin::care::rest_today(
+        home,
+        crate::checkin::care::now_unix_ms(),
+    ));
+    let notice = match status {
         HubStatus::Reachable { .. } => return,
         HubStatus::UpdateRequired(message) => StatusLine {
             ok: Some(false),

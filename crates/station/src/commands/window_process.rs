@@ -210,6 +210,7 @@ fn end_flow(end: EndScreen) -> CheckInFlow {
         std::time::Duration::from_secs(end.question_timeout_s),
         std::time::Instant::now(),
     )
+    .with_care(end.pain_threshold_0_10, end.clinic_phone)
 }
 
 /// The end screen's page now, after the wheel's and a gamepad's `input`, or `None` once it
@@ -232,7 +233,7 @@ fn end_screen_scene(
         esc_keeps_open.store(false, Ordering::Release);
         return None;
     }
-    Some(view.scene(rec, ScreenState::Welcome(flow.page())))
+    Some(view.scene(rec, ScreenState::CheckIn(flow.page())))
 }
 
 /// What the window shows for the tick `rec`: the view's screen, except that until the

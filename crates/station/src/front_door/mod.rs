@@ -120,6 +120,9 @@ pub struct FrontDoor {
     notice: Option<StatusLine>,
     /// The therapist's newest message, shown on today's page.
     message: Option<String>,
+    /// A pain at or over the clinic's threshold today: this page instead of today's
+    /// session, and nothing starts one ([`crate::checkin::care`]).
+    rest_today: Option<Welcome>,
 }
 
 /// The pairing code's signs (the hub's alphabet).
@@ -181,7 +184,19 @@ impl FrontDoor {
             checked: false,
             notice: None,
             message: None,
+            rest_today: None,
         }
+    }
+
+    /// Today's session is replaced by `page` (rest today, call the clinic) while a pain stop
+    /// holds; `None` offers the session again.
+    pub fn set_rest_today(&mut self, page: Option<Welcome>) {
+        self.rest_today = page;
+    }
+
+    /// The page says to rest today instead of offering the session.
+    pub fn is_resting_today(&self) -> bool {
+        self.rest_today.is_some() && matches!(self.page, Page::Today { .. })
     }
 
     /// The device check's latest lines and whether a wheel is ready.
@@ -261,7 +276,8 @@ impl FrontDoor {
         if input == Key(UserRequest::Quit) {
             return Action::Done(Outcome::Quit);
         }
-        let wheel_ready = self.wheel_ready;
+        // A pain stop today: nothing starts a session (crate::checkin::care).
+        let wheel_ready = self.wheel_ready && self.rest_today.is_none();
         match &mut self.page {
             Page::Language { chosen, then } => match input {
                 Wheel(Gesture::Turn(by)) => {
@@ -364,6 +380,9 @@ impl FrontDoor {
                 lines: vec![plain(&tr!("front-connecting-wait"))],
                 ..Welcome::default()
             },
+            Page::Today { .. } if self.rest_today.is_some() => {
+                self.rest_today.clone().unwrap_or_default()
+            }
             Page::Today { plan, chosen } => self.today_page(plan, *chosen),
         }
     }

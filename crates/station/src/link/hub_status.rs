@@ -64,21 +64,45 @@ pub fn check_hub(home: &Home, pairing: &Pairing, timeout: Duration) -> HubStatus
         Err(e) => return HubStatus::Unreachable(format!("cannot start the network runtime: {e}")),
     };
     let tls = home.client_tls(pairing);
-    runtime.block_on(probe(
+    let mut care = None;
+    let status = runtime.block_on(probe_keeping(
         &pairing.hub,
         Some(&tls),
         (&pairing.station_id, &pairing.patient_id),
         timeout,
-    ))
+        &mut care,
+    ));
+    if let Some(care) = care {
+        let settings = crate::checkin::care::CareSettings::from(&care);
+        if let Err(e) = settings.save(&home.care_path()) {
+            tracing::warn!("the clinic's pain settings are not kept: {e:#}");
+        }
+    }
+    status
 }
+
+/// How long the check waits after its `Hello` for the clinic's pain settings ([`netlink::Care`],
+/// which a hub of protocol version 3 sends at once) before it says `Bye`.
+pub const CARE_WAIT: Duration = Duration::from_millis(500);
 
 /// The conversation with the hub at `address` (`host:port`), over TLS unless `tls` is `None`
 /// (plaintext: loopback only, for tests), as `(station_id, patient_id)`.
 pub async fn probe(
     address: &str,
     tls: Option<&ClientTls>,
+    ids: (&str, &str),
+    timeout: Duration,
+) -> HubStatus {
+    probe_keeping(address, tls, ids, timeout, &mut None).await
+}
+
+/// [`probe`], keeping in `care` the clinic's pain settings if the hub sends them.
+pub async fn probe_keeping(
+    address: &str,
+    tls: Option<&ClientTls>,
     (station_id, patient_id): (&str, &str),
     timeout: Duration,
+    care: &mut Option<netlink::Care>,
 ) -> HubStatus {
     let hello = Hello {
         protocol_version: PROTOCOL_VERSION,
@@ -96,14 +120,14 @@ pub async fn probe(
             .await
             .map_err(|e| format!("cannot connect: {e}"))?;
         match tls {
-            None => Ok::<_, String>(converse(tcp, &hello).await),
+            None => Ok::<_, String>(converse(tcp, &hello, care).await),
             Some(tls) => {
                 let (connector, name) = tls.connector().map_err(|e| e.to_string())?;
                 let stream = connector
                     .connect(name, tcp)
                     .await
                     .map_err(|e| format!("TLS handshake failed: {e}"))?;
-                Ok(converse(stream, &hello).await)
+                Ok(converse(stream, &hello, care).await)
             }
         }
     };
@@ -117,8 +141,13 @@ pub async fn probe(
     }
 }
 
-/// Hello, Bye, then the hub's answer.
-async fn converse<S: AsyncRead + AsyncWrite + Unpin>(mut stream: S, hello: &Hello) -> HubStatus {
+/// Hello, the clinic's pain settings (waited for up to [`CARE_WAIT`], kept in `care`), Bye,
+/// then the hub's answer.
+async fn converse<S: AsyncRead + AsyncWrite + Unpin>(
+    mut stream: S,
+    hello: &Hello,
+    care: &mut Option<netlink::Care>,
+) -> HubStatus {
     let bye = Frame::Bye(Bye {
         session_id: hello.session_id.clone(),
         reason: "station check".into(),
@@ -129,19 +158,55 @@ async fn converse<S: AsyncRead + AsyncWrite + Unpin>(mut stream: S, hello: &Hell
         difficulty: None,
         exercises: Vec::new(),
     });
-    let mut bytes = match encode_to_vec(&Frame::Hello(hello.clone())) {
+    let bytes = match encode_to_vec(&Frame::Hello(hello.clone())) {
         Ok(b) => b,
         Err(e) => return HubStatus::Unreachable(format!("cannot encode Hello: {e}")),
     };
-    bytes.extend(encode_to_vec(&bye).unwrap_or_default());
-    let sent_unix_ms = netlink::frame::unix_ms_now();
     if let Err(e) = stream.write_all(&bytes).await {
         return HubStatus::Unreachable(format!("cannot send: {e}"));
     }
     let mut decoder = FrameDecoder::new();
     let mut buf = vec![0u8; 16 * 1024];
+    // The hub sends its pain settings right after the Hello (an older hub never does; one
+    // that refuses the Hello says so at once).
+    let mut early = None;
+    let _ = tokio::time::timeout(CARE_WAIT, async {
+        loop {
+            match decoder.next_frame() {
+                Ok(Some(Frame::Care(c))) => {
+                    *care = Some(c);
+                    return;
+                }
+                // A refusal or an end: the answer, read below.
+                Ok(Some(f @ (Frame::Error(_) | Frame::Bye(_)))) => {
+                    early = Some(f);
+                    return;
+                }
+                Ok(Some(_)) => continue,
+                Ok(None) => {}
+                Err(_) => return,
+            }
+            match stream.read(&mut buf).await {
+                Ok(0) | Err(_) => return,
+                Ok(n) => decoder.extend(&buf[..n]),
+            }
+        }
+    })
+    .await;
+    let sent_unix_ms = netlink::frame::unix_ms_now();
+    if early.is_none()
+        && let Err(e) = stream
+            .write_all(&encode_to_vec(&bye).unwrap_or_default())
+            .await
+    {
+        return HubStatus::Unreachable(format!("cannot send: {e}"));
+    }
     loop {
-        match decoder.next_frame() {
+        let next = match early.take() {
+            Some(f) => Ok(Some(f)),
+            None => decoder.next_frame(),
+        };
+        match next {
             Err(e) => return HubStatus::Unreachable(format!("unreadable answer: {e}")),
             Ok(Some(Frame::Bye(b))) => {
                 let received_unix_ms = netlink::frame::unix_ms_now();

@@ -85,6 +85,21 @@ impl Inner {
     }
 }
 
+/// Keeps in `home` the clinic's pain settings the hub sent, if it sent any.
+fn keep_care(home: Option<&Home>, care: Option<netlink::Care>) {
+    let (Some(home), Some(care)) = (home, care) else {
+        return;
+    };
+    let settings = crate::checkin::care::CareSettings::from(&care);
+    match settings.save(&home.care_path()) {
+        Ok(()) => tracing::info!(
+            threshold = settings.pain_threshold_0_10,
+            "the clinic's pain settings kept"
+        ),
+        Err(e) => tracing::warn!("the clinic's pain settings are not kept: {e:#}"),
+    }
+}
+
 impl Messages {
     fn save(&self) {
         if let Some(Err(e)) = self.inbox.as_ref().map(crate::messages::Inbox::save) {
@@ -338,6 +353,7 @@ impl Link {
     /// `dropped` figure and reported at the end.
     pub fn send(&self, s: &LiveSummary) {
         let Some(inner) = &self.inner else { return };
+        keep_care(inner.home.as_ref(), inner.link.take_care());
         let r = &s.record;
         if let Some(switch) = &inner.hub_switch {
             switch.at(r.t_ns);
@@ -441,6 +457,7 @@ impl Link {
             q.set_measures(&measures);
             q.set_end_reason(end_reason);
         }
+        keep_care(inner.home.as_ref(), inner.link.take_care());
         let stats = inner.runtime.block_on(inner.link.finish_with_measures(
             end_reason,
             measures,
@@ -458,6 +475,7 @@ impl Link {
             }
             _ => (None, netlink::upload::Pushed::default()),
         };
+        keep_care(inner.home.as_ref(), pushed.care.clone());
         inner.runtime.shutdown_timeout(Duration::from_millis(200));
         // A regimen pushed on the upload's connection is newer than the live link's.
         let regimen = keep_prescribed_regimen(&mut regimens, pushed.regimen, inner.home.as_ref());

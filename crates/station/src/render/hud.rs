@@ -21,6 +21,7 @@ use i18n::tr;
 use regimen::NeglectedSide;
 
 pub mod arm_inset;
+mod checkin;
 mod next_card;
 mod picture_card;
 #[cfg(test)]
@@ -246,6 +247,10 @@ pub(crate) fn paint(p: &Painter, scene: &Scene, size: Vec2, neglected: Neglected
         welcome::paint(p, page, size);
         return;
     }
+    if let ScreenState::CheckIn(page) = &scene.screen {
+        checkin::paint(p, page, size);
+        return;
+    }
     let hud = &scene.hud;
     let (w, h) = (size.x, size.y);
     // A HUD anchor (x, y, alignment) moved for the neglected side.
@@ -350,7 +355,7 @@ pub(crate) fn paint(p: &Painter, scene: &Scene, size: Vec2, neglected: Neglected
             layout::paint_cue(p, size, neglected, next.anim_s);
         }
         ScreenState::Summary(lines) => card(p, size, &tr!("card-all-done"), lines),
-        ScreenState::Welcome(_) => {}
+        ScreenState::Welcome(_) | ScreenState::CheckIn(_) => {}
     }
 }
 

@@ -11,6 +11,7 @@
 //! [`RenderError::NoAdapter`] and the station runs the session headless.
 
 pub mod camera;
+mod checkin_page;
 pub mod demo;
 pub mod fonts;
 mod gpu;
@@ -25,6 +26,7 @@ pub mod window;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+pub use checkin_page::{CheckInPage, CheckInScale, ScaleKind};
 pub use gpu::{
     AdapterSummary, FRAME_UNIFORM_BYTES, MAX_SIZE_PX, MSAA_SAMPLES, Renderer, SKY_WGSL, WORLD_WGSL,
     probe_adapter,

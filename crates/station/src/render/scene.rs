@@ -145,6 +145,9 @@ pub enum ScreenState {
     /// Before any session (first run, pairing, today's session, device check): a full-screen
     /// page, drawn without the road or the car.
     Welcome(Welcome),
+    /// After a session: its results, the check-in's questions on pictured scales, and the
+    /// thanks or the page that says to stop and call the clinic.
+    CheckIn(super::CheckInPage),
 }
 
 /// The movement an exercise asks for, drawn on the [`NextCard`]: each its own picture.

@@ -260,6 +260,8 @@ pub fn main_sentence(screen: &ScreenState) -> Option<String> {
         ScreenState::Summary(_) => Picture::Done.caption(),
         ScreenState::Instruction { title, .. } => title.clone(),
         ScreenState::Welcome(page) => page.title.clone(),
+        // The check-in's question (or the pain page's "stop"): its one sentence.
+        ScreenState::CheckIn(page) => page.title.clone(),
         ScreenState::Start | ScreenState::Running => return None,
     })
 }

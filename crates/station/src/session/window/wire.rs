@@ -85,6 +85,10 @@ pub struct EndScreen {
     pub lines: Vec<String>,
     /// Longest wait on one page before it goes on as if skipped, s.
     pub question_timeout_s: u64,
+    /// A pain at or over this (0–10) ends on the page that says to stop and call the clinic.
+    pub pain_threshold_0_10: u8,
+    /// The clinic's phone number for that page, if the hub sent one.
+    pub clinic_phone: Option<String>,
 }
 
 /// From the window to the station.

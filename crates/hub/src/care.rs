@@ -1,0 +1,189 @@
+//! What the clinic says about pain and how patients and stations reach it — the one place the
+//! hub reads its pain threshold from ([`CareConfig::pain_threshold`]): `hub serve
+//! --pain-threshold` (default [`netlink::frame::DEFAULT_PAIN_THRESHOLD_0_10`]),
+//! `--clinic-phone`, `--public-station-address` (what the pairing sheet prints),
+//! `--console-url` (the link in a pain mail) and `--smtp-url`/`--smtp-from` (the mail).
+//!
+//! A check-in's pain at or over the threshold ends the station's session on a page that says
+//! to stop, rest and call the clinic's phone; the station offers no session for the rest of
+//! that day unless the therapist clears the patient (`POST /api/patients/{id}/pain-clearance`,
+//! pushed to the station as a [`netlink::Care`]); and the patient's therapist is mailed
+//! ([`crate::pain_mail`]).
+
+use std::net::SocketAddr;
+
+use crate::error::HubError;
+
+/// How the hub mails a pain alert.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SmtpConfig {
+    /// `smtp://host:port` (plain; `?tls=required` for STARTTLS) or `smtps://host:port`, with
+    /// optional `user:password@` (never logged).
+    pub url: String,
+    /// The sender, e.g. `telerehab <hub@clinic.example>`.
+    pub from: String,
+    /// The first retry after a failed attempt waits this long, then twice as long each time
+    /// up to [`crate::pain_mail::MAX_RETRY_MS`], ms.
+    pub retry_min_ms: i64,
+}
+
+/// The clinic's settings for pain, pairing sheets and mail.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CareConfig {
+    /// Pain at or over this (1–10) stops the patient's training for the day and is mailed.
+    pub pain_threshold_0_10: u8,
+    /// The phone number patients call, as the clinic writes it.
+    pub clinic_phone: Option<String>,
+    /// The station address printed on pairing sheets (`host:port`), if one that a station at
+    /// home can reach is known: [`public_station_address`].
+    pub public_station_address: Result<String, String>,
+    /// The console's address for links in mails, e.g. `https://hub.clinic.example:8443`.
+    pub console_url: Option<String>,
+    /// The mail, if configured.
+    pub smtp: Option<SmtpConfig>,
+}
+
+impl Default for CareConfig {
+    fn default() -> Self {
+        Self {
+            pain_threshold_0_10: netlink::frame::DEFAULT_PAIN_THRESHOLD_0_10,
+            clinic_phone: None,
+            public_station_address: Err(NO_ADDRESS.to_owned()),
+            console_url: None,
+            smtp: None,
+        }
+    }
+}
+
+/// Why a pairing sheet has no address when the hub was given none and listens on every
+/// address.
+const NO_ADDRESS: &str = "The hub was not told the address stations at home connect to. \
+Ask your administrator to start it with --public-station-address (for example \
+hub.clinic.example:7878).";
+
+impl CareConfig {
+    /// Pain at or over this (1–10) stops the day's training and is mailed to the therapist.
+    pub fn pain_threshold(&self) -> u8 {
+        self.pain_threshold_0_10
+    }
+
+    /// Checks the threshold (1–10) and the phone number; the error names the option.
+    pub fn validate(&self) -> Result<(), HubError> {
+        let care = self.care_frame(None);
+        care.validate().map_err(|e| {
+            HubError::Config(format!(
+                "--pain-threshold / --clinic-phone: {e} (the hub was not started)"
+            ))
+        })?;
+        if let Some(smtp) = &self.smtp
+            && !(smtp.url.starts_with("smtp://") || smtp.url.starts_with("smtps://"))
+        {
+            return Err(HubError::Config(
+                "--smtp-url must start with smtp:// or smtps:// (the hub was not started)".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The frame telling a station the clinic's pain settings, with the patient's clearance.
+    pub fn care_frame(&self, cleared_unix_ms: Option<u64>) -> netlink::Care {
+        netlink::Care {
+            pain_threshold_0_10: self.pain_threshold_0_10,
+            clinic_phone: self.clinic_phone.clone(),
+            cleared_unix_ms,
+        }
+    }
+}
+
+/// The station address to print on pairing sheets: `configured` (`--public-station-address`)
+/// when given, else the station listener `bound` when it is a specific address other than
+/// loopback; otherwise why there is none, in plain words. A loopback address is refused
+/// either way: a station at the patient's home cannot reach it.
+pub fn public_station_address(
+    configured: Option<&str>,
+    bound: SocketAddr,
+) -> Result<String, String> {
+    let address = match configured.map(str::trim).filter(|a| !a.is_empty()) {
+        Some(a) => a.to_owned(),
+        None if bound.ip().is_unspecified() => return Err(NO_ADDRESS.to_owned()),
+        None => bound.to_string(),
+    };
+    if is_loopback(&address) {
+        return Err(format!(
+            "{address} is this computer's own address: a station at a patient's home cannot \
+             reach it. Ask your administrator to start the hub with \
+             --public-station-address (the address stations at home connect to)."
+        ));
+    }
+    Ok(address)
+}
+
+/// Whether `host:port` names this computer itself (127.0.0.0/8, ::1, `localhost`).
+pub fn is_loopback(address: &str) -> bool {
+    let host = match address.rsplit_once(':') {
+        Some((h, port)) if port.chars().all(|c| c.is_ascii_digit()) => h,
+        _ => address,
+    };
+    let host = host.trim_start_matches('[').trim_end_matches(']');
+    host.eq_ignore_ascii_case("localhost")
+        || host.to_ascii_lowercase().ends_with(".localhost")
+        || host
+            .parse::<std::net::IpAddr>()
+            .is_ok_and(|ip| ip.is_loopback() || ip.is_unspecified())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_pairing_sheet_address_is_the_configured_one_and_never_loopback() {
+        let any: SocketAddr = "0.0.0.0:47878".parse().unwrap();
+        let lan: SocketAddr = "192.168.1.20:47878".parse().unwrap();
+        let local: SocketAddr = "127.0.0.1:47878".parse().unwrap();
+        assert_eq!(
+            public_station_address(Some("hub.clinic.example:47878"), any),
+            Ok("hub.clinic.example:47878".into())
+        );
+        assert_eq!(
+            public_station_address(None, lan),
+            Ok("192.168.1.20:47878".into())
+        );
+        assert!(public_station_address(None, any).is_err());
+        assert!(public_station_address(None, local).is_err());
+        for refused in [
+            "127.0.0.1:7878",
+            "localhost:7878",
+            "[::1]:7878",
+            "LOCALHOST",
+        ] {
+            let e = public_station_address(Some(refused), lan).unwrap_err();
+            assert!(e.contains("cannot reach"), "{refused}: {e}");
+        }
+    }
+
+    #[test]
+    fn a_bad_threshold_or_phone_stops_the_hub_naming_the_option() {
+        let bad = CareConfig {
+            pain_threshold_0_10: 11,
+            ..CareConfig::default()
+        };
+        assert!(
+            bad.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("--pain-threshold")
+        );
+        let bad = CareConfig {
+            clinic_phone: Some("call us".into()),
+            ..CareConfig::default()
+        };
+        assert!(
+            bad.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("phone number")
+        );
+        assert_eq!(CareConfig::default().pain_threshold(), 7);
+    }
+}

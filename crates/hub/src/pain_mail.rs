@@ -1,0 +1,197 @@
+//! Mails a pain at or over the clinic's threshold to the patient's therapist (every admin when
+//! the patient has none), through SMTP ([`lettre`], rustls). Every such check-in is first put
+//! in the database's outbox ([`Db::queue_pain_mails`]); a mail the server does not take is
+//! retried with a doubling delay ([`retry_after_ms`]) and stays in the outbox until it is
+//! taken, its last error logged and shown to admins (`GET /api/clinic/pain-mail`).
+//!
+//! The mail says only the patient's pseudonym and links to their page in the console: no
+//! pain score, no other patient data.
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use lettre::message::header::ContentType;
+use lettre::{AsyncSmtpTransport, AsyncTransport, Message, Tokio1Executor};
+
+use crate::care::{CareConfig, SmtpConfig};
+use crate::db::{Db, PainMail};
+use crate::web::NowMs;
+
+/// How often the outbox is looked at.
+pub const POLL: Duration = Duration::from_millis(500);
+
+/// The longest wait between two attempts at one mail, ms: an hour.
+pub const MAX_RETRY_MS: i64 = 3_600_000;
+
+/// Longest one SMTP conversation may take.
+pub const SMTP_TIMEOUT: Duration = Duration::from_secs(20);
+
+/// Mails sent in one look at the outbox.
+const BATCH: i64 = 20;
+
+/// The wait before the next attempt after `attempts` failed ones, ms: `min_ms` doubled per
+/// earlier failure, at most [`MAX_RETRY_MS`].
+pub fn retry_after_ms(min_ms: i64, attempts: i64) -> i64 {
+    let doublings = u32::try_from(attempts.saturating_sub(1).clamp(0, 30)).unwrap_or(30);
+    min_ms
+        .max(1)
+        .saturating_mul(1_i64 << doublings)
+        .min(MAX_RETRY_MS)
+}
+
+/// The subject and body of the mail about `pseudonym`, linking to `patient_id`'s page.
+pub fn mail_text(pseudonym: &str, patient_id: &str, console_url: Option<&str>) -> (String, String) {
+    let subject = format!("telerehab: {pseudonym} reported strong pain");
+    let link = match console_url {
+        Some(url) => format!("{}/#/patients/{}", url.trim_end_matches('/'), patient_id),
+        None => "the patient's page in the telerehab console".to_owned(),
+    };
+    let body = format!(
+        "{pseudonym} reported pain at or over your clinic's limit after a session.\r\n\
+         The station told them to stop, rest and call the clinic.\r\n\
+         It offers no more exercise today unless you allow it.\r\n\
+         \r\n\
+         Open their page:\r\n\
+         {link}\r\n\
+         \r\n\
+         -- \r\n\
+         telerehab hub (this mail holds no health data; see the console)\r\n"
+    );
+    (subject, body)
+}
+
+/// Runs the outbox until the task is dropped: queues new pain check-ins, sends what is due.
+pub async fn run(db: Db, care: Arc<CareConfig>, now_ms: NowMs) {
+    let Some(smtp) = care.smtp.clone() else {
+        tracing::warn!(
+            "no --smtp-url: pains at or over the threshold are shown in the console but not mailed"
+        );
+        return;
+    };
+    let transport = match transport(&smtp) {
+        Ok(t) => t,
+        Err(e) => {
+            tracing::error!("pain mails cannot be sent: {e}");
+            return;
+        }
+    };
+    let mut tick = tokio::time::interval(POLL);
+    loop {
+        tick.tick().await;
+        let now = now_ms();
+        match db.queue_pain_mails(care.pain_threshold(), now).await {
+            Ok(0) => {}
+            Ok(n) => tracing::info!(mails = n, "pain at or over the threshold: mail queued"),
+            Err(e) => tracing::warn!("cannot queue pain mails: {e}"),
+        }
+        let due = match db.due_pain_mails(now, BATCH).await {
+            Ok(d) => d,
+            Err(e) => {
+                tracing::warn!("cannot read the pain mail outbox: {e}");
+                continue;
+            }
+        };
+        for mail in due {
+            send_one(&db, &care, &smtp, &transport, &mail, &now_ms).await;
+        }
+    }
+}
+
+fn transport(smtp: &SmtpConfig) -> Result<AsyncSmtpTransport<Tokio1Executor>, String> {
+    AsyncSmtpTransport::<Tokio1Executor>::from_url(&smtp.url)
+        .map(|b| b.timeout(Some(SMTP_TIMEOUT)).build())
+        .map_err(|e| format!("--smtp-url: {e}"))
+}
+
+/// Tries `mail` once; notes it sent, or failed with the time of its next attempt.
+async fn send_one(
+    db: &Db,
+    care: &CareConfig,
+    smtp: &SmtpConfig,
+    transport: &AsyncSmtpTransport<Tokio1Executor>,
+    mail: &PainMail,
+    now_ms: &NowMs,
+) {
+    let result: Result<usize, String> = async {
+        let patient = db
+            .patient(&mail.patient_id)
+            .await
+            .map_err(|e| e.to_string())?
+            .ok_or("the patient no longer exists")?;
+        let to = db
+            .pain_mail_recipients(&mail.patient_id)
+            .await
+            .map_err(|e| e.to_string())?;
+        if to.is_empty() {
+            return Err(
+                "nobody to tell: the patient has no therapist and the clinic no admin".into(),
+            );
+        }
+        let (subject, body) =
+            mail_text(&patient.pseudonym, &patient.id, care.console_url.as_deref());
+        let mut builder = Message::builder()
+            .from(smtp.from.parse().map_err(|e| format!("--smtp-from: {e}"))?)
+            .subject(subject)
+            .header(ContentType::TEXT_PLAIN);
+        for address in &to {
+            builder = builder.to(address
+                .parse()
+                .map_err(|e| format!("the therapist's e-mail {address:?}: {e}"))?);
+        }
+        let message = builder.body(body).map_err(|e| e.to_string())?;
+        transport
+            .send(message)
+            .await
+            .map(|_| to.len())
+            .map_err(|e| format!("the mail server: {e}"))
+    }
+    .await;
+    let now = now_ms();
+    match result {
+        Ok(n) => {
+            tracing::info!(session = %mail.session_id, recipients = n, "pain mail sent");
+            if let Err(e) = db.pain_mail_sent(&mail.session_id, now).await {
+                tracing::warn!("cannot note the pain mail sent (it may be sent again): {e}");
+            }
+        }
+        Err(error) => {
+            let next = now.saturating_add(retry_after_ms(smtp.retry_min_ms, mail.attempts + 1));
+            tracing::error!(
+                session = %mail.session_id,
+                attempts = mail.attempts + 1,
+                "pain mail not sent, tried again in {} s: {error}",
+                (next - now) / 1000
+            );
+            if let Err(e) = db.pain_mail_failed(&mail.session_id, &error, next).await {
+                tracing::warn!("cannot note the pain mail's failure: {e}");
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn retries_double_from_the_minimum_up_to_an_hour() {
+        let waits: Vec<i64> = (1..=5).map(|a| retry_after_ms(30_000, a)).collect();
+        assert_eq!(waits, [30_000, 60_000, 120_000, 240_000, 480_000]);
+        assert_eq!(retry_after_ms(30_000, 40), MAX_RETRY_MS);
+    }
+
+    #[test]
+    fn the_mail_names_the_pseudonym_and_links_to_the_page_and_nothing_else() {
+        let (subject, body) = mail_text(
+            "P-0042",
+            "p-00000000000000aa",
+            Some("https://hub.example:8443/"),
+        );
+        assert!(subject.contains("P-0042"));
+        assert!(body.contains("https://hub.example:8443/#/patients/p-00000000000000aa"));
+        assert!(
+            !body.contains("/10") && !subject.contains("/10"),
+            "no pain score"
+        );
+    }
+}
