@@ -1,7 +1,8 @@
-//! What the clinic says about pain and how patients and stations reach it — the one place the
-//! hub reads its pain threshold from ([`CareConfig::pain_threshold`]): `hub serve
-//! --pain-threshold` (default [`netlink::frame::DEFAULT_PAIN_THRESHOLD_0_10`]),
-//! `--clinic-phone`, `--public-station-address` (what the pairing sheet prints),
+//! What the clinic says about pain and how patients and stations reach it. The pain threshold
+//! in force is the clinic's setting (the console's alert thresholds, table `clinic_settings`:
+//! the caseload's pain alert, the station's pain page and the pain mail all read it through
+//! [`CareConfig::pain_threshold_in`]); `hub serve --pain-threshold` puts a value there when
+//! the clinic has set none ([`CareConfig::seed_pain_threshold`]). Also `--clinic-phone`, `--public-station-address` (what the pairing sheet prints),
 //! `--console-url` (the link in a pain mail) and `--smtp-url`/`--smtp-from` (the mail).
 //!
 //! A check-in's pain at or over the threshold ends the station's session on a page that says
@@ -30,7 +31,8 @@ pub struct SmtpConfig {
 /// The clinic's settings for pain, pairing sheets and mail.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct CareConfig {
-    /// Pain at or over this (1–10) stops the patient's training for the day and is mailed.
+    /// `--pain-threshold` (1–10): the clinic's pain threshold when it has set none
+    /// ([`Self::seed_pain_threshold`]); the one in force is [`Self::pain_threshold_in`].
     pub pain_threshold_0_10: u8,
     /// The phone number patients call, as the clinic writes it.
     pub clinic_phone: Option<String>,
@@ -62,14 +64,49 @@ Ask your administrator to start it with --public-station-address (for example \
 hub.clinic.example:7878).";
 
 impl CareConfig {
-    /// Pain at or over this (1–10) stops the day's training and is mailed to the therapist.
-    pub fn pain_threshold(&self) -> u8 {
-        self.pain_threshold_0_10
+    /// The pain threshold in force (1–10): the clinic's setting. Pain at or over it is urgent
+    /// on the caseload, stops the day's training and is mailed to the therapist. Should the
+    /// database not answer, `--pain-threshold` (logged).
+    pub async fn pain_threshold_in(&self, db: &crate::Db) -> u8 {
+        match db.pain_threshold().await {
+            Ok(t) => u8::try_from(t.clamp(1, 10)).unwrap_or(self.pain_threshold_0_10),
+            Err(e) => {
+                tracing::warn!("cannot read the clinic's pain threshold: {e}");
+                self.pain_threshold_0_10
+            }
+        }
+    }
+
+    /// Stores `--pain-threshold` as the clinic's pain threshold when the clinic has set none
+    /// and it is not the default; a clinic that set its own keeps it (the flag is then
+    /// ignored, and the log says so).
+    pub async fn seed_pain_threshold(&self, db: &crate::Db, now_ms: i64) -> Result<(), HubError> {
+        use crate::attention::settings::PAIN_THRESHOLD;
+        let flag = i64::from(self.pain_threshold_0_10);
+        match db.clinic_settings().await?.get(PAIN_THRESHOLD) {
+            Some(s)
+                if s.value != flag
+                    && flag != i64::from(netlink::frame::DEFAULT_PAIN_THRESHOLD_0_10) =>
+            {
+                tracing::warn!(
+                    "--pain-threshold {flag} ignored: the clinic set its pain threshold to {} \
+                     (the console's alert thresholds)",
+                    s.value
+                );
+                Ok(())
+            }
+            Some(_) => Ok(()),
+            None if flag == i64::from(netlink::frame::DEFAULT_PAIN_THRESHOLD_0_10) => Ok(()),
+            None => {
+                db.put_clinic_setting(PAIN_THRESHOLD, flag, "hub serve --pain-threshold", now_ms)
+                    .await
+            }
+        }
     }
 
     /// Checks the threshold (1–10) and the phone number; the error names the option.
     pub fn validate(&self) -> Result<(), HubError> {
-        let care = self.care_frame(None);
+        let care = self.care_frame(self.pain_threshold_0_10, None);
         care.validate().map_err(|e| {
             HubError::Config(format!(
                 "--pain-threshold / --clinic-phone: {e} (the hub was not started)"
@@ -85,10 +122,11 @@ impl CareConfig {
         Ok(())
     }
 
-    /// The frame telling a station the clinic's pain settings, with the patient's clearance.
-    pub fn care_frame(&self, cleared_unix_ms: Option<u64>) -> netlink::Care {
+    /// The frame telling a station the clinic's pain settings (`threshold`, the one in force:
+    /// [`Self::pain_threshold_in`]), with the patient's clearance.
+    pub fn care_frame(&self, threshold: u8, cleared_unix_ms: Option<u64>) -> netlink::Care {
         netlink::Care {
-            pain_threshold_0_10: self.pain_threshold_0_10,
+            pain_threshold_0_10: threshold,
             clinic_phone: self.clinic_phone.clone(),
             cleared_unix_ms,
         }
@@ -184,6 +222,6 @@ mod tests {
                 .to_string()
                 .contains("phone number")
         );
-        assert_eq!(CareConfig::default().pain_threshold(), 7);
+        assert_eq!(CareConfig::default().pain_threshold_0_10, 7);
     }
 }

@@ -315,17 +315,17 @@ pub async fn serve(
         options.now_ms.clone(),
     ));
     store.refresh_revoked().await?;
+    options
+        .care
+        .seed_pain_threshold(&db, (options.now_ms)())
+        .await?;
     let (budget, web_limits) = fit_to_fd_limit(&options);
-    let mut link_config =
-        TherapistConfig::new(options.stations, clinic.dir(), Some(clinic.server_tls()));
-    link_config.max_connections = budget.stations;
-    link_config.max_connections_per_address = options.max_connections.1;
-    link_config.max_unauthenticated = budget.stations_unauthenticated;
-    link_config.summary_pace_per_s = options.summary_pace_per_s;
-    let (server, mut events) =
-        TherapistServer::bind_with_store(link_config, Arc::new(Ingest(store.clone())))
-            .await
-            .map_err(|e| HubError::Config(format!("station link: {e}")))?;
+    let (server, mut events) = TherapistServer::bind_with_store(
+        link_config(&options, clinic, &budget),
+        Arc::new(Ingest(store.clone())),
+    )
+    .await
+    .map_err(|e| HubError::Config(format!("station link: {e}")))?;
     let (live, _) = broadcast::channel::<LiveEvent>(1024);
     let (prescribed, mut prescriptions) = broadcast::channel::<RegimenVersion>(64);
     let (cleared, mut clearances) = broadcast::channel::<String>(64);
@@ -350,20 +350,7 @@ pub async fn serve(
         .with_care(care.clone(), Some(cleared))
         .with_replay_max_bytes(options.max_replay_bytes)
         .with_clinic_name(config.clinic_name.clone());
-    let (stop_web, web_stopped) = tokio::sync::oneshot::channel::<()>();
-    let mut web_task = None;
-    if let Some(listener) = web_listener {
-        let acceptor = web::acceptor_from_pem(&clinic.tls("hub.crt"), &clinic.tls("hub.key"))?;
-        web_task = Some(tokio::spawn(web::serve_with_limits(
-            listener,
-            Some(acceptor),
-            state,
-            web_limits,
-            async {
-                let _ = web_stopped.await;
-            },
-        )));
-    }
+    let (stop_web, web_task) = spawn_console(clinic, web_listener, state, web_limits)?;
     on_bound(Bound {
         stations: server.local_addr(),
         web: web_addr,
@@ -502,6 +489,52 @@ pub const STOP_WITHIN: std::time::Duration = std::time::Duration::from_secs(3);
 
 /// Raises the open-file limit and fits the connection caps of `options` under it (warning if
 /// they had to shrink): the station port's and the console's.
+/// The console's HTTPS API on `listener` (none without one), and the sender that stops it.
+#[allow(clippy::type_complexity)]
+fn spawn_console(
+    clinic: &Clinic,
+    listener: Option<tokio::net::TcpListener>,
+    state: AppState,
+    limits: web::WebLimits,
+) -> Result<
+    (
+        tokio::sync::oneshot::Sender<()>,
+        Option<tokio::task::JoinHandle<Result<(), HubError>>>,
+    ),
+    HubError,
+> {
+    let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
+    let Some(listener) = listener else {
+        return Ok((stop, None));
+    };
+    let acceptor = web::acceptor_from_pem(&clinic.tls("hub.crt"), &clinic.tls("hub.key"))?;
+    let task = tokio::spawn(web::serve_with_limits(
+        listener,
+        Some(acceptor),
+        state,
+        limits,
+        async {
+            let _ = stopped.await;
+        },
+    ));
+    Ok((stop, Some(task)))
+}
+
+/// The station link's settings: the port, the clinic's TLS, the connection budget.
+fn link_config(
+    options: &ServeOptions,
+    clinic: &Clinic,
+    budget: &ConnectionBudget,
+) -> TherapistConfig {
+    let mut config =
+        TherapistConfig::new(options.stations, clinic.dir(), Some(clinic.server_tls()));
+    config.max_connections = budget.stations;
+    config.max_connections_per_address = options.max_connections.1;
+    config.max_unauthenticated = budget.stations_unauthenticated;
+    config.summary_pace_per_s = options.summary_pace_per_s;
+    config
+}
+
 fn fit_to_fd_limit(options: &ServeOptions) -> (ConnectionBudget, web::WebLimits) {
     let fd_limit = crate::limits::raise_fd_limit().unwrap_or_else(|e| {
         tracing::warn!("{e}");
@@ -612,7 +645,8 @@ async fn push_care(
             None
         }
     };
-    match server.send_care(station_id, care.care_frame(cleared)) {
+    let threshold = care.pain_threshold_in(db).await;
+    match server.send_care(station_id, care.care_frame(threshold, cleared)) {
         Ok(true) => tracing::debug!(station = %station_id, "pain settings pushed"),
         Ok(false) => tracing::debug!(
             station = %station_id,

@@ -79,7 +79,10 @@ pub async fn run(db: Db, care: Arc<CareConfig>, now_ms: NowMs) {
     loop {
         tick.tick().await;
         let now = now_ms();
-        match db.queue_pain_mails(care.pain_threshold(), now).await {
+        match db
+            .queue_pain_mails(care.pain_threshold_in(&db).await, now)
+            .await
+        {
             Ok(0) => {}
             Ok(n) => tracing::info!(mails = n, "pain at or over the threshold: mail queued"),
             Err(e) => tracing::warn!("cannot queue pain mails: {e}"),

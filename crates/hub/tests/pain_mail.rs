@@ -160,6 +160,9 @@ async fn a_pain_at_the_threshold_is_mailed_to_the_therapist_with_only_the_pseudo
         }),
         ..CareConfig::default()
     };
+    // `hub serve --pain-threshold 6`: the clinic's threshold, as the caseload reads it too.
+    care.seed_pain_threshold(&db, now_ms()).await.unwrap();
+    assert_eq!(db.pain_threshold().await.unwrap(), 6);
     let mailer = tokio::spawn(hub::pain_mail::run(
         db.clone(),
         Arc::new(care),
@@ -253,6 +256,7 @@ async fn a_therapist_clears_a_pain_stop_audited_announced_to_the_stations_and_ot
         pain_threshold_0_10: 6,
         ..CareConfig::default()
     };
+    care.seed_pain_threshold(&db, now_ms()).await.unwrap();
     let app = hub::web::router(
         hub::web::AppState::new(db.clone(), live).with_care(Arc::new(care), Some(cleared)),
     );

@@ -74,6 +74,14 @@ fn asked_for_english(tag: &str) -> bool {
     tag == "en" || tag.starts_with("en-") || tag.starts_with("en_")
 }
 
+/// [`choose`] with the first-run choice kept in the station's settings in `home_dir`.
+pub fn choose_at(home_dir: Option<&std::path::Path>, regimen: Option<&Regimen>) -> &'static str {
+    let chosen = home_dir
+        .and_then(|d| crate::settings::Settings::load(d).ok())
+        .and_then(|s| s.language);
+    choose(regimen, chosen.as_deref())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -66,7 +66,7 @@ pub(crate) async fn mail_status(
     admins_only(&therapist, "the pain mail's state")?;
     Ok(Json(PainMailState {
         configured: state.care.smtp.is_some(),
-        pain_threshold_0_10: state.care.pain_threshold(),
+        pain_threshold_0_10: state.care.pain_threshold_in(&state.db).await,
         outbox: state.db.pain_mail_status().await?,
     }))
 }

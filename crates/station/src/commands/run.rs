@@ -626,12 +626,7 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     let (mut link, prescription) =
         link_with_prescription(&args, &mut cfg, &mut regimen, &home, &clock)?;
     // The patient's language: the prescription's, else the first-run choice, else the system's.
-    let chosen = home
-        .home
-        .as_ref()
-        .and_then(|h| crate::settings::Settings::load(h.dir()).ok())
-        .and_then(|s| s.language);
-    crate::language::choose(regimen.as_ref(), chosen.as_deref());
+    crate::language::choose_at(home.home.as_ref().map(Home::dir), regimen.as_ref());
     cfg.validate().context("invalid settings")?;
     // A regimen with `[difficulty]` runs at the difficulty the patient's history calls for.
     let adapted = crate::adapt::Adapted::plan(

@@ -122,6 +122,29 @@ pub fn paint_cue(p: &Painter, size: Vec2, side: NeglectedSide, anim_s: f64) -> O
     Some(bar)
 }
 
+// Sized for the sofa: the patient reads a television across the room.
+
+/// The reading distance the screens are sized for, m (a sofa to a television).
+pub const VIEWING_DISTANCE_M: f64 = 2.0;
+
+/// The picture height of the smallest television the screens are sized for, m (a 40-inch
+/// 16:9 set: 0.498 m).
+pub const SCREEN_HEIGHT_M: f64 = 0.498;
+
+/// The smallest cap height of any text on a session's pages, arc minutes at
+/// [`VIEWING_DISTANCE_M`]: the preferred character height for reading of HFES 100 (20–22′).
+pub const MIN_CAP_ARCMIN: f64 = 20.0;
+
+/// The cap height of a page's main sentence (the cards' titles, instructions and picture
+/// captions), arc minutes: half as large again, for eyes over 65 and after a stroke.
+pub const MAIN_CAP_ARCMIN: f64 = 25.0;
+
+/// Pixels at 1080 lines that subtend `arcmin` at the viewing distance on the reference set.
+pub fn px_at_1080p(arcmin: f64) -> f64 {
+    let m = 2.0 * VIEWING_DISTANCE_M * (arcmin / 60.0 / 2.0).to_radians().tan();
+    m / (SCREEN_HEIGHT_M / 1080.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -158,27 +181,4 @@ mod tests {
             Align2::LEFT_TOP
         );
     }
-}
-
-// Sized for the sofa: the patient reads a television across the room.
-
-/// The reading distance the screens are sized for, m (a sofa to a television).
-pub const VIEWING_DISTANCE_M: f64 = 2.0;
-
-/// The picture height of the smallest television the screens are sized for, m (a 40-inch
-/// 16:9 set: 0.498 m).
-pub const SCREEN_HEIGHT_M: f64 = 0.498;
-
-/// The smallest cap height of any text on a session's pages, arc minutes at
-/// [`VIEWING_DISTANCE_M`]: the preferred character height for reading of HFES 100 (20–22′).
-pub const MIN_CAP_ARCMIN: f64 = 20.0;
-
-/// The cap height of a page's main sentence (the cards' titles, instructions and picture
-/// captions), arc minutes: half as large again, for eyes over 65 and after a stroke.
-pub const MAIN_CAP_ARCMIN: f64 = 25.0;
-
-/// Pixels at 1080 lines that subtend `arcmin` at the viewing distance on the reference set.
-pub fn px_at_1080p(arcmin: f64) -> f64 {
-    let m = 2.0 * VIEWING_DISTANCE_M * (arcmin / 60.0 / 2.0).to_radians().tan();
-    m / (SCREEN_HEIGHT_M / 1080.0)
 }

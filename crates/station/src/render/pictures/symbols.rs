@@ -186,7 +186,7 @@ pub(super) fn star(p: &Painter, sq: Rect) {
     let c = sq.center();
     let (ro, ri) = (sq.width() * 0.44, sq.width() * 0.18);
     let pt = |k: usize| {
-        let r = if k % 2 == 0 { ro } else { ri };
+        let r = if k.is_multiple_of(2) { ro } else { ri };
         let a = std::f32::consts::PI * k as f32 / 5.0;
         c + vec2(a.sin(), -a.cos()) * r
     };
