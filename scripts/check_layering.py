@@ -59,7 +59,7 @@ OUR_CRATES: dict[str, set[str]] = {
     "record": {"common", "calib", "gyro-imu", "haptic-wheel", "metrics"},
     # The prescription: exercises, haptic and assistance settings, and their safety bounds.
     "regimen": {"common", "vehicle", "assist", "haptic-wheel", "i18n"},
-    "hub": {"common", "clock", "netlink", "record", "regimen", "i18n"},
+    "hub": {"common", "clock", "netlink", "record", "regimen", "i18n", "metrics"},
     # The one binary also runs the clinic's hub (`telerehab hub ...`).
     "station": BELOW_STATION | {"hub"},
     "telerehab-py": {"common", "vehicle", "assist", "calib", "gyro-imu", "metrics", "record"},
