@@ -13,6 +13,11 @@ Normal and build dependencies count; dev-dependencies (tests, benches, examples)
 our own lower crates and anything else, since they never reach the shipped code — but a
 dev-dependency that points up the diagram is still an error.
 
+On the real workspace it also walks the FULL dependency graph with features as cargo resolves
+them for each of the hub and the Python package alone (`cargo tree -p <crate> -e normal,build`),
+and fails when either reaches a device library (DEVICE_LIBRARIES): the clinic's server and an
+analyst's `pip install` must not need libudev or a wheel's driver stack.
+
 Python 3 standard library only. Exit 0 with a one-line summary when clean, 1 otherwise.
 """
 
@@ -118,6 +123,25 @@ IO_DENY = {
 }
 
 
+# Libraries that talk to devices (the kernel's input and force-feedback interfaces, udev, HID).
+DEVICE_LIBRARIES = {"evdev", "gilrs", "gilrs-core", "hidapi", "libudev-sys", "libudev", "udev"}
+
+# Our crates that must link no device library, through any path of the graph.
+DEVICE_FREE = ("hub", "telerehab-py")
+
+
+def device_libraries_of(package: str) -> list[str]:
+    """The device libraries `package` links, with the features cargo resolves for it alone."""
+    out = subprocess.run(
+        ["cargo", "tree", "-p", package, "-e", "normal,build", "--prefix", "none", "-f", "{p}"],
+        check=True,
+        capture_output=True,
+        text=True,
+    )
+    names = {line.split(" ", 1)[0] for line in out.stdout.splitlines() if line.strip()}
+    return sorted(names & DEVICE_LIBRARIES)
+
+
 def load_metadata(path: str | None) -> dict:
     if path:
         with open(path, encoding="utf-8") as f:
@@ -183,6 +207,15 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     metadata = load_metadata(args.metadata)
     errors, edges = violations(metadata)
+    if not args.metadata:
+        for package in DEVICE_FREE:
+            reached = device_libraries_of(package)
+            if reached:
+                errors.append(
+                    f"{package} links the device libraries {', '.join(reached)} through its full "
+                    "dependency graph (cargo tree -p " + package + " -e normal,build -i <lib>): "
+                    "take our device crates without their default features"
+                )
     if errors:
         for e in errors:
             print(f"layering: {e}", file=sys.stderr)
@@ -191,7 +224,8 @@ def main(argv: list[str] | None = None) -> int:
     crates = sum(
         1 for p in metadata["packages"] if p["id"] in set(metadata.get("workspace_members", []))
     )
-    print(f"layering OK: {crates} crates, {edges} dependency edges, pure: {', '.join(PURE)}")
+    device_free = "" if args.metadata else f"; no device library in {' or '.join(DEVICE_FREE)}"
+    print(f"layering OK: {crates} crates, {edges} dependency edges, pure: {', '.join(PURE)}{device_free}")
     return 0
 
 
