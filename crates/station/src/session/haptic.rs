@@ -134,23 +134,44 @@ pub fn spin_on_own_core() -> Duration {
 }
 
 /// Keep the haptic thread on the last core and everything else off it: the patient's window
-/// (with a software renderer it saturates every core it may use), the recorder and the network.
+/// (with a software renderer it saturates every core it may use), the recorder and the network
+/// share every other core.
 pub mod cores {
     use std::sync::OnceLock;
 
     /// Every core of the machine, read once before any thread narrows its affinity (a pinned
     /// thread only sees its own cores, and its children inherit that).
-    fn all() -> &'static [core_affinity::CoreId] {
-        static ALL: OnceLock<Vec<core_affinity::CoreId>> = OnceLock::new();
-        ALL.get_or_init(|| core_affinity::get_core_ids().unwrap_or_default())
+    fn all() -> &'static [usize] {
+        static ALL: OnceLock<Vec<usize>> = OnceLock::new();
+        ALL.get_or_init(|| {
+            core_affinity::get_core_ids()
+                .unwrap_or_default()
+                .iter()
+                .map(|c| c.id)
+                .collect()
+        })
+    }
+
+    /// The haptic thread's core among `cores`: the last, when there are at least two.
+    pub fn haptic_core_of(cores: &[usize]) -> Option<usize> {
+        match cores {
+            [_, .., last] => Some(*last),
+            _ => None,
+        }
+    }
+
+    /// The cores every other thread may use: all of `cores` but the haptic one; empty (no
+    /// pinning) on a machine with one core, where there is nothing to keep apart.
+    pub fn others_of(cores: &[usize]) -> Vec<usize> {
+        match haptic_core_of(cores) {
+            Some(haptic) => cores.iter().copied().filter(|&c| c != haptic).collect(),
+            None => Vec::new(),
+        }
     }
 
     /// The core the haptic thread is pinned to (the last one), when there are at least two.
     pub fn haptic_core() -> Option<usize> {
-        match all() {
-            ids if ids.len() >= 2 => Some(ids[ids.len() - 1].id),
-            _ => None,
-        }
+        haptic_core_of(all())
     }
 
     /// Pin the calling thread to the last core; true when done (needs at least two cores).
@@ -158,12 +179,67 @@ pub mod cores {
         haptic_core().is_some_and(|id| core_affinity::set_for_current(core_affinity::CoreId { id }))
     }
 
-    /// Pin the calling thread (and the threads it starts later, such as the renderer's) to the
-    /// first core, leaving the last one to the haptic thread; true when done.
+    /// Let the calling thread (and the threads it starts later, such as the renderer's and
+    /// the window process) run on every core but the haptic one; true when done. On 4–8-core
+    /// PCs the software renderer and the recorder then spread over 3–7 cores instead of
+    /// fighting over one.
     pub fn keep_off_the_haptic_core() -> bool {
-        match all() {
-            ids if ids.len() >= 2 => core_affinity::set_for_current(ids[0]),
-            _ => false,
+        let others = others_of(all());
+        !others.is_empty() && set_affinity(&others)
+    }
+
+    #[cfg(target_os = "linux")]
+    fn set_affinity(cores: &[usize]) -> bool {
+        let mut set = rustix::thread::CpuSet::new();
+        for &core in cores {
+            set.set(core);
+        }
+        rustix::thread::sched_setaffinity(None, &set).is_ok()
+    }
+
+    #[cfg(not(target_os = "linux"))]
+    fn set_affinity(cores: &[usize]) -> bool {
+        // One core of the others: the portable call takes one (a set is Linux's).
+        cores
+            .first()
+            .is_some_and(|&id| core_affinity::set_for_current(core_affinity::CoreId { id }))
+    }
+
+    #[cfg(test)]
+    mod tests {
+        use super::*;
+
+        #[test]
+        fn every_other_thread_may_use_every_core_but_the_haptic_one_on_1_2_4_and_8_cores() {
+            assert_eq!(haptic_core_of(&[0]), None);
+            assert_eq!(others_of(&[0]), Vec::<usize>::new());
+            assert_eq!(haptic_core_of(&[0, 1]), Some(1));
+            assert_eq!(others_of(&[0, 1]), vec![0]);
+            assert_eq!(others_of(&[0, 1, 2, 3]), vec![0, 1, 2]);
+            let eight: Vec<usize> = (0..8).collect();
+            assert_eq!(haptic_core_of(&eight), Some(7));
+            assert_eq!(others_of(&eight), (0..7).collect::<Vec<_>>());
+            // Cores as the system numbers them (a machine with cores offline).
+            assert_eq!(others_of(&[0, 2, 5]), vec![0, 2]);
+        }
+
+        #[cfg(target_os = "linux")]
+        #[test]
+        fn a_thread_kept_off_the_haptic_core_may_run_on_all_the_others() {
+            let cores = all().to_vec();
+            let seen = std::thread::spawn(move || {
+                let kept = keep_off_the_haptic_core();
+                let set = rustix::thread::sched_getaffinity(None).expect("affinity");
+                let allowed: Vec<usize> = cores.iter().copied().filter(|&c| set.is_set(c)).collect();
+                (kept, allowed)
+            })
+            .join()
+            .expect("thread");
+            let (kept, allowed) = seen;
+            assert_eq!(kept, all().len() >= 2);
+            if kept {
+                assert_eq!(allowed, others_of(all()));
+            }
         }
     }
 }
