@@ -436,9 +436,27 @@ pub fn exercise_kind(short: &str) -> String {
     kind.to_owned()
 }
 
+/// An exercise's name in the clinic's English from its short name (`sine-road` → "Sine
+/// road"): the one spelling of the reports, the hub's records and the console (the patient's
+/// own words come from the station's catalogues).
+pub fn plain_name(short: &str) -> String {
+    let spaced = short.replace('-', " ");
+    let mut chars = spaced.chars();
+    chars.next().map_or_else(String::new, |first| {
+        first.to_uppercase().chain(chars).collect()
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_short_name_reads_as_words_with_its_first_letter_capitalised() {
+        assert_eq!(plain_name("sine-road"), "Sine road");
+        assert_eq!(plain_name("dial-multi-sine"), "Dial multi sine");
+        assert_eq!(plain_name(""), "");
+    }
 
     #[test]
     fn every_exercise_kind_is_described_in_words_a_therapist_reads() {

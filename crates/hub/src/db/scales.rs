@@ -268,80 +268,41 @@ fn check_assessed_on(text: &str, now_ms: i64) -> Result<(), String> {
 
 /// One day, ms.
 const DAY_MS: i64 = 86_400_000;
-
-/// Days since 1970-01-01 of a `YYYY-MM-DD` date that exists.
+/// Days since 1970-01-01 of a `YYYY-MM-DD` date that exists (four-digit year, two-digit month
+/// and day: the form the console sends; the calendar is jiff's).
 pub(crate) fn parse_date(text: &str) -> Option<i64> {
     let b = text.as_bytes();
-    if b.len() != 10 || b[4] != b'-' || b[7] != b'-' {
+    let digits = |r: std::ops::Range<usize>| b[r].iter().all(u8::is_ascii_digit);
+    if b.len() != 10 || b[4] != b'-' || b[7] != b'-' || !digits(0..4) || !digits(5..7) || !digits(8..10)
+    {
         return None;
     }
-    let num = |s: &str| -> Option<i64> {
-        s.bytes()
-            .all(|c| c.is_ascii_digit())
-            .then(|| s.parse().ok())
-            .flatten()
-    };
-    let (y, m, d) = (num(&text[..4])?, num(&text[5..7])?, num(&text[8..])?);
-    let leap = (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
-    let month_days = [
-        31,
-        if leap { 29 } else { 28 },
-        31,
-        30,
-        31,
-        30,
-        31,
-        31,
-        30,
-        31,
-        30,
-        31,
-    ];
-    let last = *month_days.get(usize::try_from(m - 1).ok()?)?;
-    (1..=last).contains(&d).then(|| days_from_civil(y, m, d))
+    let date: jiff::civil::Date = text.parse().ok()?;
+    let days = date.since(EPOCH).ok()?.get_days();
+    Some(i64::from(days))
 }
 
-/// Days since 1970-01-01 of a proleptic Gregorian date (H. Hinnant's algorithm).
-fn days_from_civil(y: i64, m: i64, d: i64) -> i64 {
-    let y = if m <= 2 { y - 1 } else { y };
-    let era = y.div_euclid(400);
-    let yoe = y - era * 400;
-    let mp = (m + 9) % 12;
-    let doy = (153 * mp + 2) / 5 + d - 1;
-    let doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-    era * 146_097 + doe - 719_468
-}
+/// 1970-01-01, the day the millisecond clock counts from.
+const EPOCH: jiff::civil::Date = jiff::civil::date(1970, 1, 1);
 
-/// The date (year, month, day) `days` after 1970-01-01.
-fn civil_from_days(days: i64) -> (i64, i64, i64) {
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z - era * 146_097;
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let d = doy - (153 * mp + 2) / 5 + 1;
-    let m = if mp < 10 { mp + 3 } else { mp - 9 };
-    (yoe + era * 400 + i64::from(m <= 2), m, d)
-}
-
-/// `YYYY-MM-DD` of the day `days` after 1970-01-01.
+/// `YYYY-MM-DD` of the day `days` after 1970-01-01 (clamped to the calendar's range).
 fn date_of_days(days: i64) -> String {
-    let (y, m, d) = civil_from_days(days);
-    format!("{y:04}-{m:02}-{d:02}")
+    let days = days.clamp(-3_000_000, 3_000_000);
+    EPOCH
+        .checked_add(jiff::Span::new().days(days))
+        .unwrap_or(EPOCH)
+        .strftime("%Y-%m-%d")
+        .to_string()
 }
 
 /// `ms` (since the Unix epoch) as ISO 8601 UTC to the second: `2026-11-18T14:10:00Z`.
 pub fn iso_utc(ms: i64) -> String {
-    let secs = ms.div_euclid(1000);
-    let (day, s) = (secs.div_euclid(86_400), secs.rem_euclid(86_400));
-    format!(
-        "{}T{:02}:{:02}:{:02}Z",
-        date_of_days(day),
-        s / 3600,
-        s / 60 % 60,
-        s % 60
-    )
+    let at = jiff::Timestamp::from_millisecond(ms).unwrap_or(if ms < 0 {
+        jiff::Timestamp::MIN
+    } else {
+        jiff::Timestamp::MAX
+    });
+    at.strftime("%Y-%m-%dT%H:%M:%SZ").to_string()
 }
 
 const SCALE_COLUMNS: &str = "c.id, c.patient_id, c.scale, c.assessed_on, c.score, \
@@ -475,5 +436,7 @@ mod tests {
             assert_eq!(parse_date(bad), None, "{bad}");
         }
         assert_eq!(iso_utc(1_795_253_400_000), "2026-11-21T09:30:00Z");
+        assert_eq!(iso_utc(-1), "1969-12-31T23:59:59Z");
+        assert_eq!(date_of_days(-1), "1969-12-31");
     }
 }

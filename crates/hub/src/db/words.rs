@@ -8,7 +8,7 @@ use serde::Serialize;
 
 use super::{Db, SessionRow, col};
 use crate::error::HubError;
-pub use regimen::exercise_kind;
+pub use regimen::{exercise_kind, plain_name};
 
 /// The `end_reason` of a session that ran as prescribed (the station's
 /// `session::end_reason::COMPLETE`).
@@ -16,16 +16,6 @@ pub const COMPLETE: &str = "complete";
 
 /// How many earlier sessions of the same kind a trend compares the latest with.
 pub const TREND_BASELINE_SESSIONS: usize = 4;
-
-/// The name the patient sees for an exercise's short name (`sine-road` → `Sine road`), as the
-/// station's `screen::plain_name` writes it.
-pub fn plain_name(short: &str) -> String {
-    let spaced = short.replace('-', " ");
-    let mut chars = spaced.chars();
-    chars.next().map_or_else(String::new, |first| {
-        first.to_uppercase().chain(chars).collect()
-    })
-}
 
 /// A session as the console names it: the stored row plus its exercise in words.
 #[derive(Debug, Clone, PartialEq, Serialize)]

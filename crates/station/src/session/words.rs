@@ -5,10 +5,9 @@
 
 use i18n::tr;
 
-/// An exercise's name for the patient: its short name in words (`sine-road` → "Sine road").
-pub fn plain_name(short: &str) -> String {
-    capitalised(&short.replace('-', " "))
-}
+/// An exercise's name in the clinic's English (`sine-road` → "Sine road"): one spelling for
+/// the station, the hub and the console.
+pub use regimen::plain_name;
 
 /// `s` with its first letter upper-case (words shown to the patient).
 pub fn capitalised(s: &str) -> String {
