@@ -39,8 +39,17 @@ use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 use crate::arm::{self, ArmGeometry};
 use crate::device::ImuSample;
 use crate::error::ImuError;
-use crate::pose::Mounting;
 use crate::so3;
+
+/// Sensor-to-segment rotations of the two IMUs (what the guided procedure finds and
+/// [`crate::pose::ArmPoseEstimator`] uses).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Mounting {
+    /// Upper-arm sensor to upper-arm segment frame.
+    pub upper: UnitQuaternion<f64>,
+    /// Forearm sensor to forearm segment frame.
+    pub fore: UnitQuaternion<f64>,
+}
 
 /// Motion samples averaged into one sweep block (the chain model is solved once per block). At
 /// 1 kHz a block spans 16 ms, at 200 Hz 80 ms: short against the sweep's motion.

@@ -15,14 +15,8 @@ use crate::device::ImuSample;
 use crate::error::ImuError;
 use crate::fusion::{FusionConfig, OrientationFilter};
 
-/// Sensor-to-segment rotations of the two IMUs (from [`crate::mounting`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Mounting {
-    /// Upper-arm sensor to upper-arm segment frame.
-    pub upper: UnitQuaternion<f64>,
-    /// Forearm sensor to forearm segment frame.
-    pub fore: UnitQuaternion<f64>,
-}
+/// Sensor-to-segment rotations of the two IMUs, as [`crate::mounting`] finds them.
+pub use crate::mounting::Mounting;
 
 /// One estimated arm pose.
 #[derive(Debug, Clone, Copy, PartialEq)]

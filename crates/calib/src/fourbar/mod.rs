@@ -16,6 +16,7 @@
 
 pub mod closed_form;
 pub mod eiv;
+mod global;
 mod iterative;
 pub mod model;
 pub mod online;
@@ -357,7 +358,7 @@ pub const GLOBAL_DECIMATION_FROM: usize = 4000;
 /// Sample stride of the global start on long recordings.
 pub const GLOBAL_STRIDE: usize = 4;
 
-/// The global start of `Auto` ([`closed_form::global_fit`]): its only job is to put the LM,
+/// The global start of `Auto` ([`global::global_fit`]): its only job is to put the LM,
 /// which then fits every sample, in the basin of the minimum, so on long recordings it is
 /// computed from every [`GLOBAL_STRIDE`]-th sample (a quarter of the work of its robust
 /// rounds; the subset keeps at least 1 000 samples).
@@ -370,7 +371,7 @@ fn global_start(
     robust: bool,
 ) -> Result<FourbarParams, CalibError> {
     if samples.len() < GLOBAL_DECIMATION_FROM {
-        return closed_form::global_fit(samples, trig, l2_m, noise, gains, robust);
+        return global::global_fit(samples, trig, l2_m, noise, gains, robust);
     }
     let m = samples.len().div_ceil(GLOBAL_STRIDE);
     let every = |v: &[f64]| scratch::collect(v.iter().step_by(GLOBAL_STRIDE).copied(), m);
@@ -406,7 +407,7 @@ fn global_start(
         g3: every(&g.g3),
         g4: every(&g.g4),
     });
-    let global = closed_form::global_fit(
+    let global = global::global_fit(
         &sub,
         &sub_trig,
         l2_m,

@@ -4,6 +4,9 @@
 //! The database work of `hub patient …` is in `hub::patients`: here the arguments are
 //! parsed and the answers printed.
 
+pub mod backup;
+pub mod care;
+
 use anyhow::{Context, bail};
 use hub::clinic::{Bound, Clinic, ServeOptions};
 use hub::db::{Db, Role};
@@ -80,7 +83,7 @@ pub enum HubCommand {
         max_replay_mb: u64,
         /// Pain threshold, clinic phone, pairing sheets' address and pain mails.
         #[command(flatten)]
-        care: super::hub_care::CareArgs,
+        care: care::CareArgs,
     },
     /// Load test: N simulated stations on loopback against a hub in a child process, in a
     /// fresh clinic (SQLite, or the empty database `--db` names).
@@ -337,14 +340,12 @@ pub fn run(args: HubArgs) -> anyhow::Result<()> {
                 bench(load, db.as_deref(), hub_cpus.as_deref()).await
             }
             HubCommand::Chaos(args) => crate::commands::hub_chaos::run(args).await,
-            HubCommand::Export { data, fhir, out } => {
-                super::hub_backup::export_fhir(&data, &fhir, &out).await
-            }
+            HubCommand::Export { data, fhir, out } => backup::export_fhir(&data, &fhir, &out).await,
             HubCommand::Backup { data, out } => {
-                super::hub_backup::backup(&data.data, data.db.as_deref(), &out).await
+                backup::backup(&data.data, data.db.as_deref(), &out).await
             }
             HubCommand::Restore { from, data, db } => {
-                super::hub_backup::restore(&from, &data, db.as_deref()).await
+                backup::restore(&from, &data, db.as_deref()).await
             }
             HubCommand::Patient(c) => patient(c).await,
             HubCommand::Station(StationCommand::Revoke { data, station_id }) => {
@@ -408,7 +409,7 @@ async fn serve(
     (stations, web): (&str, Option<&str>),
     max_connections: (usize, usize),
     limits: hub::clinic::HubLimits,
-    (print_summaries, care): (bool, &super::hub_care::CareArgs),
+    (print_summaries, care): (bool, &care::CareArgs),
     max_replay_bytes: u64,
 ) -> anyhow::Result<()> {
     let (clinic, db) = open(data).await?;
@@ -616,17 +617,13 @@ async fn patient(command: PatientCommand) -> anyhow::Result<()> {
             data,
             pseudonym,
             out,
-        } => {
-            super::hub_backup::export_patient(&data.data, data.db.as_deref(), &pseudonym, &out)
-                .await?
-        }
+        } => backup::export_patient(&data.data, data.db.as_deref(), &pseudonym, &out).await?,
         PatientCommand::Erase {
             data,
             pseudonym,
             confirm,
         } => {
-            super::hub_backup::erase_patient(&data.data, data.db.as_deref(), &pseudonym, confirm)
-                .await?;
+            backup::erase_patient(&data.data, data.db.as_deref(), &pseudonym, confirm).await?;
         }
         PatientCommand::Add {
             data,

@@ -7,8 +7,6 @@ pub mod devices;
 pub mod docs;
 pub mod doctor;
 pub mod hub;
-pub mod hub_backup;
-pub mod hub_care;
 pub mod hub_chaos;
 pub mod pair;
 pub mod recover;

@@ -230,7 +230,8 @@ pub mod cores {
             let seen = std::thread::spawn(move || {
                 let kept = keep_off_the_haptic_core();
                 let set = rustix::thread::sched_getaffinity(None).expect("affinity");
-                let allowed: Vec<usize> = cores.iter().copied().filter(|&c| set.is_set(c)).collect();
+                let allowed: Vec<usize> =
+                    cores.iter().copied().filter(|&c| set.is_set(c)).collect();
                 (kept, allowed)
             })
             .join()

@@ -44,7 +44,7 @@ pub async fn backup(data: &Path, db: Option<&str>, out: &Path) -> anyhow::Result
             "backup",
             &out.display().to_string(),
             &format!("{} database, schema {}", m.backend, m.schema_version),
-            super::hub::now_ms(),
+            super::now_ms(),
         )
         .await?;
     audit.close().await;
@@ -105,8 +105,7 @@ pub async fn export_patient(
 ) -> anyhow::Result<()> {
     let clinic = Clinic::at(data);
     let handle = clinic.open_db(db).await?;
-    let done =
-        hub::patient_data::export(&clinic, &handle, pseudonym, out, super::hub::now_ms()).await;
+    let done = hub::patient_data::export(&clinic, &handle, pseudonym, out, super::now_ms()).await;
     handle.close().await;
     let c = done?;
     println!(
@@ -147,7 +146,7 @@ pub async fn erase_patient(
     );
     let clinic = Clinic::at(data);
     let handle = clinic.open_db(db).await?;
-    let done = hub::patient_data::erase(&clinic, &handle, pseudonym, super::hub::now_ms()).await;
+    let done = hub::patient_data::erase(&clinic, &handle, pseudonym, super::now_ms()).await;
     handle.close().await;
     let c = done?;
     println!(
@@ -159,13 +158,13 @@ pub async fn erase_patient(
 
 /// `hub export --fhir`: the patient's FHIR R4 bundle into `out` (`-`: standard output).
 pub async fn export_fhir(
-    data: &super::hub::DataArgs,
+    data: &super::DataArgs,
     pseudonym: &str,
     out: &Path,
 ) -> anyhow::Result<()> {
     let clinic = Clinic::at(&data.data);
     let db = clinic.open_db(data.db.as_deref()).await?;
-    let done = hub::patients::export_fhir(&db, pseudonym, super::hub::now_ms()).await;
+    let done = hub::patients::export_fhir(&db, pseudonym, super::now_ms()).await;
     db.close().await;
     let (bundle, sessions) = done?;
     if out == Path::new("-") {
