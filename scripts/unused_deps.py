@@ -54,11 +54,13 @@ def unused() -> list[str]:
         if package["id"] not in members:
             continue
         crate_dir = Path(package["manifest_path"]).parent
-        # Targets declared elsewhere than src/ (the workspace tests' package keeps them at its root).
+        # A package whose targets live outside src/ (the workspace tests' package keeps them and
+        # the modules its library includes at its root): every Rust file of it counts.
+        outside = [t for t in package["targets"] if not Path(t["src_path"]).is_relative_to(crate_dir / "src")]
         extra = "\n".join(
-            Path(t["src_path"]).read_text(encoding="utf-8", errors="replace")
-            for t in package["targets"]
-            if not Path(t["src_path"]).is_relative_to(crate_dir / "src")
+            f.read_text(encoding="utf-8", errors="replace")
+            for f in (sorted(crate_dir.rglob("*.rs")) if outside else [])
+            if "target" not in f.relative_to(crate_dir).parts
         )
         normal_text = sources(crate_dir, dev=False) + extra
         dev_text = normal_text + sources(crate_dir, dev=True)
