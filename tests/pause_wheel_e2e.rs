@@ -117,11 +117,12 @@ fn paused_the_wheel_chooses_a_rest_then_ending_and_a_press_does_each() {
 
     // The start card waits for a press; a second press pauses: "Go on" is chosen.
     wait_for(&lines, &["the wheel's buttons are watched"]);
-    wheel(&script, &["press"]);
-    wait_for(&lines, &["paused=false"]);
     settle();
     wheel(&script, &["press"]);
-    wait_for(&lines, &["paused=true"]);
+    wait_for(&lines, &["the patient paused or went on", "paused=false"]);
+    settle();
+    wheel(&script, &["press"]);
+    wait_for(&lines, &["the patient paused or went on", "paused=true"]);
     settle();
     // A turn to the right chooses a rest; a press takes it.
     wheel(&script, &["turn 1"]);
@@ -135,6 +136,7 @@ fn paused_the_wheel_chooses_a_rest_then_ending_and_a_press_does_each() {
     settle();
     // Paused again: two turns to the right choose to end; a press asks "End now?".
     wheel(&script, &["press"]);
+    wait_for(&lines, &["the patient paused or went on", "paused=true"]);
     settle();
     wheel(&script, &["turn 1", "turn 1"]);
     wait_for(&lines, &["the pause page's choice", "chosen=End"]);

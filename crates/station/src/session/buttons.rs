@@ -27,7 +27,8 @@ pub fn space(controls: &Controls) {
         controls
             .pause_choice
             .store(PauseChoice::GoOn.as_u8(), Ordering::Relaxed);
-        controls.pause.fetch_xor(true, Ordering::Relaxed);
+        let paused = !controls.pause.fetch_xor(true, Ordering::Relaxed);
+        tracing::info!(paused, "the patient paused or went on");
     } else {
         controls.end_break.store(true, Ordering::Relaxed);
     }
