@@ -1,9 +1,9 @@
 //! Fonts for every language the clinic may write in. egui's built-in fonts cover Latin and
 //! little else: a therapist's message in Chinese or Arabic would show as boxes. The window
 //! adds Debian's Noto fonts as fallbacks behind them (Greek and Cyrillic, Arabic, Hebrew,
-//! Chinese),
-//! read from their fixed paths in `fonts-noto-core` and `fonts-noto-cjk` (the package
-//! depends on both; fixed paths rather than fontconfig: the same faces on every station).
+//! Chinese), read from their fixed paths in `fonts-noto-core` and `fonts-noto-cjk` (the
+//! package depends on both; fixed paths rather than fontconfig: the same faces on every
+//! station). Right-to-left lines are ordered before egui lays them out: `render::text`.
 //! A missing file is logged and the window still opens with the fonts it has.
 
 use egui::{FontData, FontDefinitions, FontFamily};
