@@ -342,11 +342,10 @@ impl CourseView {
                 }
                 card
             }
-            ScreenState::Paused => ScreenState::Pictured {
-                picture: render::pictures::Picture::Pause,
-                title: tr!("pause-title"),
-                lines: vec![tr!("pause-go-on"), tr!("pause-rest-or-end")],
-            },
+            // The pause's choice page (`wheel_cards::card` answers it first).
+            ScreenState::Paused => {
+                ScreenState::Welcome(crate::session::wheel_cards::paused_card(w.brk.pause_choice))
+            }
             other => other,
         }
     }
@@ -556,8 +555,8 @@ mod tests {
     }
 
     #[test]
-    fn esc_once_or_a_long_press_asks_before_ending_over_any_other_card_and_a_pause_shows_the_wheel()
-    {
+    fn esc_once_or_a_long_press_asks_before_ending_over_any_other_card_and_a_pause_is_its_choice_page()
+     {
         let v = view();
         let id = |s: ScreenState| match s {
             ScreenState::Welcome(w) => w.id,
@@ -584,11 +583,8 @@ mod tests {
             panic!("{paused:?}")
         };
         assert_eq!(page.id, "paused");
-        assert!(matches!(
-            page.picture,
-            Some(render::Picture::Wheel { hold: true, .. })
-        ));
-        assert_eq!(page.choices.len(), 2, "go on, rest");
+        assert_eq!(page.picture, Some(render::Picture::Pause));
+        assert_eq!(page.choices.len(), 3, "go on, rest, end");
         assert_eq!(
             v.screen_state(&tick(9000, 0, 8.0, false), &plain),
             ScreenState::Running

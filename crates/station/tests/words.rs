@@ -431,6 +431,7 @@ mod per_screen {
                 .collect(),
             ScreenState::Welcome(w) => std::iter::once(w.title.clone())
                 .chain(w.lines.iter().map(|l| l.text.clone()))
+                .chain(w.choices.iter().cloned())
                 .chain(w.keys.iter().cloned())
                 .collect(),
             other => panic!("no words counted for {other:?}"),

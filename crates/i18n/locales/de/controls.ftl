@@ -3,8 +3,8 @@
 controls-paused-title = Pause
 controls-paused-go-on = Weiter
 controls-paused-rest = Ausruhen
+controls-paused-end = Beenden
 controls-paused-how = Drehen Sie zum Wählen. Drücken Sie dann eine Taste.
-controls-hold-to-end = Taste halten: beenden.
 controls-paused-keys = Tastatur: Leertaste weiter, R ausruhen, Esc beenden.
 controls-end-title = Jetzt beenden?
 controls-end-press = Taste drücken: beenden.

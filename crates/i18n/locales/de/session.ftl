@@ -40,15 +40,12 @@ card-message-from-therapist = Eine Nachricht von Ihrem Therapieteam:
 
 ## Pause und Frage vor dem Beenden
 pause-title = Pause
-pause-go-on = Drücken Sie die Leertaste, um weiterzumachen.
-pause-rest-or-end = R: ausruhen. Esc: beenden.
 end-confirm-title = Training beenden?
 end-confirm-yes = Drücken Sie noch einmal Esc zum Beenden.
 end-confirm-no = Drücken Sie die Leertaste, um weiterzumachen.
 
 ## Einfache Karten
 card-press-space-to-start = Drücken Sie die Leertaste zum Starten.
-card-press-space-to-go-on = Drücken Sie die Leertaste, um weiterzumachen.
 card-all-done = Geschafft!
 
 ## Armsensoren einrichten

@@ -5,8 +5,8 @@
 controls-paused-title = Paused
 controls-paused-go-on = Go on
 controls-paused-rest = Rest
+controls-paused-end = End
 controls-paused-how = Turn to choose. Press a button.
-controls-hold-to-end = Hold the button to end.
 controls-paused-keys = Keyboard: Space goes on, R rests, Esc ends.
 controls-end-title = End now?
 controls-end-press = Press the button: end.

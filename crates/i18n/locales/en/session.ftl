@@ -43,15 +43,12 @@ card-message-from-therapist = A message from your therapist:
 
 ## The pause and the question before ending early.
 pause-title = Paused
-pause-go-on = Press Space to go on.
-pause-rest-or-end = R: rest. Esc: end.
 end-confirm-title = End the session?
 end-confirm-yes = Press Esc again to end.
 end-confirm-no = Press Space to go on.
 
 ## The simple cards of the window (when no exercise card is shown).
 card-press-space-to-start = Press Space to start.
-card-press-space-to-go-on = Press Space to go on.
 card-all-done = All done
 
 ## Setting up the arm sensors at the start.

@@ -3,8 +3,8 @@
 controls-paused-title = En pausa
 controls-paused-go-on = Seguir
 controls-paused-rest = Descansar
+controls-paused-end = Terminar
 controls-paused-how = Gire para elegir. Pulse un botón.
-controls-hold-to-end = Mantenga el botón pulsado para terminar.
 controls-paused-keys = Teclado: espacio sigue, R descansa, Esc termina.
 controls-end-title = ¿Terminar ahora?
 controls-end-press = Pulse el botón: terminar.

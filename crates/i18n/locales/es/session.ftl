@@ -40,15 +40,12 @@ card-message-from-therapist = Un mensaje de su terapeuta:
 
 ## La pausa y la pregunta antes de terminar
 pause-title = En pausa
-pause-go-on = Pulse Espacio para seguir.
-pause-rest-or-end = R: descansar. Esc: terminar.
 end-confirm-title = ¿Terminar la sesión?
 end-confirm-yes = Pulse Esc otra vez para terminar.
 end-confirm-no = Pulse Espacio para seguir.
 
 ## Tarjetas sencillas
 card-press-space-to-start = Pulse Espacio para empezar.
-card-press-space-to-go-on = Pulse Espacio para seguir.
 card-all-done = ¡Terminado!
 
 ## Preparar los sensores del brazo

@@ -3,8 +3,8 @@
 controls-paused-title = 已暂停
 controls-paused-go-on = 继续
 controls-paused-rest = 休息
+controls-paused-end = 结束
 controls-paused-how = 转动选择，然后按一个按钮。
-controls-hold-to-end = 按住按钮即可结束。
 controls-paused-keys = 键盘：空格键继续，R 休息，Esc 结束。
 controls-end-title = 现在结束吗？
 controls-end-press = 按一下按钮：结束。

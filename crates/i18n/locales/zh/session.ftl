@@ -40,15 +40,12 @@ card-message-from-therapist = 您的治疗师给您留言：
 
 ## 暂停，以及提前结束前的确认
 pause-title = 已暂停
-pause-go-on = 按空格键继续。
-pause-rest-or-end = R：休息。Esc：结束。
 end-confirm-title = 要结束训练吗？
 end-confirm-yes = 再按一次 Esc 结束。
 end-confirm-no = 按空格键继续。
 
 ## 简单的卡片
 card-press-space-to-start = 按空格键开始。
-card-press-space-to-go-on = 按空格键继续。
 card-all-done = 全部完成
 
 ## 准备手臂传感器

@@ -246,12 +246,12 @@ fn screen_now(
     explain_pause: &mut bool,
 ) -> ScreenState {
     match view.screen_state(rec, state) {
-        ScreenState::Instruction { .. } | ScreenState::Pictured { .. }
+        ScreenState::Welcome(page)
             if *explain_pause
-                && !state.confirming_end
+                && page.id == "paused"
                 && live_screen_state(rec) == ScreenState::Paused =>
         {
-            lost_window_card()
+            lost_window_card(page)
         }
         ScreenState::Running => {
             *explain_pause = false;
@@ -261,15 +261,17 @@ fn screen_now(
     }
 }
 
-/// The pause card of a window that replaces a lost one.
-fn lost_window_card() -> ScreenState {
-    ScreenState::Instruction {
-        title: i18n::tr!("pause-title"),
-        lines: vec![
-            i18n::tr!("pause-screen-restarted"),
-            i18n::tr!("card-press-space-to-go-on"),
-        ],
-    }
+/// The pause page of a window that replaces a lost one: first why it paused by itself, then
+/// its choices as ever.
+fn lost_window_card(mut page: crate::render::Welcome) -> ScreenState {
+    page.lines.insert(
+        0,
+        crate::render::StatusLine {
+            ok: None,
+            text: i18n::tr!("pause-screen-restarted"),
+        },
+    );
+    ScreenState::Welcome(page)
 }
 
 /// Says once that the start card with the therapist's message was presented: it was handed to

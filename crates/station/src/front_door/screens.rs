@@ -87,7 +87,10 @@ fn pages() -> Vec<(&'static str, ScreenState)> {
         ("wheel-2-pairing-card", welcome(with_card)),
         ("wheel-3-pairing-code-refused-kept", welcome(code.page())),
         ("wheel-4-today-choices", welcome(today.page())),
-        ("wheel-5-paused", welcome(wheel_cards::paused_card(true))),
+        (
+            "wheel-5-paused",
+            welcome(wheel_cards::paused_card(crate::session::PauseChoice::Rest)),
+        ),
         ("wheel-6-end-now", welcome(wheel_cards::end_now())),
         ("wheel-7-ready-after-rest", ready),
         ("wheel-8-unplugged", welcome(wheel_cards::unplugged(23.4))),

@@ -1,8 +1,9 @@
 //! Fonts for every language the clinic may write in. egui's built-in fonts cover Latin and
 //! little else: a therapist's message in Chinese or Arabic would show as boxes. The window
-//! adds Debian's Noto fonts as fallbacks behind them (Greek and Cyrillic, Arabic, Chinese),
-//! read from their fixed paths in `fonts-noto-core` and `fonts-noto-cjk` (the package
-//! depends on both; fixed paths rather than fontconfig: the same faces on every station).
+//! adds Debian's Noto fonts as fallbacks behind them (Greek and Cyrillic, Arabic, Hebrew,
+//! Chinese), read from their fixed paths in `fonts-noto-core` and `fonts-noto-cjk` (the
+//! package depends on both; fixed paths rather than fontconfig: the same faces on every
+//! station). Right-to-left lines are ordered before egui lays them out: `render::text`.
 //! A missing file is logged and the window still opens with the fonts it has.
 
 use egui::{FontData, FontDefinitions, FontFamily};
@@ -27,6 +28,11 @@ const FALLBACKS: &[Fallback] = &[
     Fallback {
         name: "noto-sans-arabic",
         path: "/usr/share/fonts/truetype/noto/NotoSansArabic-Regular.ttf",
+        index: 0,
+    },
+    Fallback {
+        name: "noto-sans-hebrew",
+        path: "/usr/share/fonts/truetype/noto/NotoSansHebrew-Regular.ttf",
         index: 0,
     },
     Fallback {
@@ -98,11 +104,13 @@ mod tests {
     }
 
     #[test]
-    fn a_therapists_message_in_chinese_arabic_greek_or_russian_has_a_glyph_for_every_letter() {
+    fn a_therapists_message_in_chinese_arabic_hebrew_greek_or_russian_has_a_glyph_for_every_letter()
+    {
         let ctx = context();
         let messages = [
             "今天做得很好，明天见！",
             "أحسنت اليوم، نراك غدا",
+            "כל הכבוד היום, נתראה מחר",
             "Μπράβο σήμερα, τα λέμε αύριο",
             "Сегодня хорошо, до завтра",
             "Gut gemacht, bis morgen! ¿Mañana?",

@@ -27,7 +27,6 @@ mod picture_card;
 #[cfg(test)]
 mod sizes;
 mod welcome;
-mod wheel_hint;
 
 /// The smallest text of a session's screen, points at the reference size (37.5 px at
 /// 1080p: capitals 26 px high, over the 20′ at 2 m of `layout::MIN_CAP_ARCMIN`).
@@ -119,7 +118,7 @@ pub(super) fn galley(
     size: f32,
     color: Color32,
 ) -> Arc<Galley> {
-    p.layout_no_wrap(text.into(), FontId::proportional(size), color)
+    super::text::line(p, &text.into(), FontId::proportional(size), color)
 }
 
 /// A dark rounded panel holding `lines` (text, size), anchored at `anchor` by `align`.
@@ -337,11 +336,15 @@ pub(crate) fn paint(p: &Painter, scene: &Scene, size: Vec2, neglected: Neglected
             };
             card(p, size, &title, &[tr!("card-press-space-to-start")]);
         }
-        ScreenState::Paused => card(
+        // A pause no one answers here (a recording's, in the replay window): the pause sign
+        // and its caption, no choices. The session's own pause is a choice page (a Welcome).
+        ScreenState::Paused => picture_card::paint(
             p,
             size,
+            super::Picture::Pause,
             &tr!("pause-title"),
-            &[tr!("card-press-space-to-go-on")],
+            &[],
+            neglected,
         ),
         ScreenState::Instruction { title, lines } => card(p, size, title, lines),
         ScreenState::Pictured {

@@ -21,6 +21,7 @@ pub mod mesh;
 pub mod palette;
 pub mod pictures;
 mod scene;
+pub mod text;
 pub mod window;
 
 use std::path::{Path, PathBuf};
@@ -31,9 +32,10 @@ pub use gpu::{
     AdapterSummary, FRAME_UNIFORM_BYTES, MAX_SIZE_PX, MSAA_SAMPLES, Renderer, SKY_WGSL, WORLD_WGSL,
     probe_adapter,
 };
+pub use pictures::Picture;
 pub use scene::{
-    ArmInset, CameraMode, CarPose, Dial, Hud, LiveScore, MAX_COORD_M, Movement, NextCard, Picture,
-    Road, RoadPoint, Scene, ScreenState, StatusLine, Welcome,
+    ArmInset, CameraMode, CarPose, Dial, Hud, LiveScore, MAX_COORD_M, Movement, NextCard, Road,
+    RoadPoint, Scene, ScreenState, StatusLine, Welcome,
 };
 
 /// Everything that can go wrong while drawing the patient's screen.

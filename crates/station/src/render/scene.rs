@@ -131,7 +131,7 @@ pub enum ScreenState {
     /// A card with a picture and its caption (the pause), then a title and lines.
     Pictured {
         /// The picture; its caption is the card's main sentence.
-        picture: super::pictures::Picture,
+        picture: super::Picture,
         /// What to do, in a few words.
         title: String,
         /// How (the keys or buttons).
@@ -202,25 +202,11 @@ pub struct Welcome {
     /// The page's stable name for logs and tests (`language`, `pairing`, `today`, …).
     pub id: &'static str,
     /// A picture beside the words (the wheel's button to press, the plug).
-    pub picture: Option<Picture>,
+    pub picture: Option<super::Picture>,
     /// Large choices in a row, chosen by turning the wheel (the chosen one is framed).
     pub choices: Vec<String>,
     /// Which of [`Welcome::choices`] is chosen.
     pub chosen: usize,
-}
-
-/// A picture a page draws beside its words (drawn with shapes: `render/hud/wheel_hint.rs`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Picture {
-    /// The wheel, its button lit: press it (`hold`: keep it pressed; `turn`: arrows to turn).
-    Wheel {
-        /// The button is held down (a long press).
-        hold: bool,
-        /// Arrows show the wheel turns to choose.
-        turn: bool,
-    },
-    /// A cable's plug going into the wheel: plug it back in.
-    Plug,
 }
 
 /// The patient's arm on the wheel, drawn small in a corner as seen from the patient's right

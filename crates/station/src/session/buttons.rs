@@ -1,8 +1,9 @@
 //! The wheel's and a gamepad's buttons and pedals during a session with the patient's window.
 //! The wheel alone runs the session ([`wheel_gesture`]): a short press of any of its buttons
 //! does what Space does (start, pause, resume, go on from a break or "Ready?"); paused, a turn
-//! chooses between going on and a rest; a long press ([`super::wheel_gestures::HOLD`]) asks "End
-//! now?", where a press ends and another long press goes on; on the end screen turns choose,
+//! chooses between going on, a rest and ending ([`PauseChoice`]) and a press does it; a long
+//! press ([`super::wheel_gestures::HOLD`]) asks "End now?", where a press ends and another long
+//! press goes on; on the end screen turns choose,
 //! a press confirms and a long press skips. A gamepad's south (A/✕) or start button is a
 //! press, its east button (B/○) asks for a rest. The pedals (the wheel's pedal port, separate
 //! USB pedals, or a gamepad's triggers) drive the car in an exercise the regimen gives them.
@@ -10,7 +11,7 @@
 //! is not disturbed); gamepads through gilrs with force feedback off. Nothing here runs on the
 //! haptic thread.
 
-use super::controls::{BreakKind, Controls};
+use super::controls::{BreakKind, Controls, PauseChoice};
 use super::wheel_gestures::{Gesture, WheelGestures};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
@@ -19,10 +20,15 @@ use std::time::Duration;
 /// period).
 const LOOK: Duration = Duration::from_millis(20);
 
-/// Space's job: go on from a break, else pause or resume (and start).
+/// Space's job: go on from a break, else pause or resume (and start). A pause begins with
+/// "Go on" chosen.
 pub fn space(controls: &Controls) {
     if controls.break_now().kind == BreakKind::None {
-        controls.pause.fetch_xor(true, Ordering::Relaxed);
+        controls
+            .pause_choice
+            .store(PauseChoice::GoOn.as_u8(), Ordering::Relaxed);
+        let paused = !controls.pause.fetch_xor(true, Ordering::Relaxed);
+        tracing::info!(paused, "the patient paused or went on");
     } else {
         controls.end_break.store(true, Ordering::Relaxed);
     }
@@ -97,7 +103,8 @@ fn choosing(controls: &Controls) -> bool {
 /// What a gesture of the wheel does in a session:
 /// - on the end screen: a turn chooses, a press confirms, a long press skips the question;
 /// - while "End now?" is asked: a press ends, a long press goes on;
-/// - paused: a turn chooses between going on and a rest, a press does what is chosen;
+/// - paused: a turn chooses between going on, a rest and ending, a press does what is chosen
+///   (ending asks "End now?" first);
 /// - otherwise a press does what Space does (start, pause, go on from a break) and a long
 ///   press asks "End now?" (the exercise waits meanwhile).
 pub fn wheel_gesture(controls: &Controls, g: Gesture) {
@@ -124,12 +131,26 @@ pub fn wheel_gesture(controls: &Controls, g: Gesture) {
         controls.pause.load(Ordering::Relaxed) && controls.break_now().kind == BreakKind::None;
     match g {
         Gesture::Turn(by) if paused => {
-            let rest = by > 0;
-            controls.rest_chosen.store(rest, Ordering::Relaxed);
+            let now = PauseChoice::from_u8(controls.pause_choice.load(Ordering::Relaxed));
+            let chosen = now.step(by);
+            controls
+                .pause_choice
+                .store(chosen.as_u8(), Ordering::Relaxed);
+            tracing::info!(?chosen, "the pause page's choice");
         }
         Gesture::Turn(_) => {}
-        Gesture::Press if paused && controls.rest_chosen.swap(false, Ordering::Relaxed) => {
-            controls.rest.store(true, Ordering::Relaxed);
+        Gesture::Press if paused => {
+            let chosen = controls
+                .pause_choice
+                .swap(PauseChoice::GoOn.as_u8(), Ordering::Relaxed);
+            match PauseChoice::from_u8(chosen) {
+                PauseChoice::GoOn => space(controls),
+                PauseChoice::Rest => controls.rest.store(true, Ordering::Relaxed),
+                PauseChoice::End => {
+                    tracing::info!("the patient chose to end from the pause page");
+                    controls.end_asked.store(true, Ordering::Relaxed);
+                }
+            }
         }
         Gesture::Press => space(controls),
         Gesture::Hold => {
@@ -180,20 +201,47 @@ mod tests {
     }
 
     #[test]
-    fn paused_a_turn_right_chooses_a_rest_a_turn_left_going_on_and_a_press_does_it() {
+    fn paused_turns_choose_go_on_rest_or_end_and_a_press_does_the_chosen_one() {
         let c = Controls::default();
-        c.pause.store(true, Ordering::Relaxed);
+        // A press pauses, with "Go on" chosen.
+        wheel_gesture(&c, Gesture::Press);
+        assert!(c.pause.load(Ordering::Relaxed));
+        assert_eq!(c.break_now().pause_choice, PauseChoice::GoOn);
+        // Right: rest; right again: end; further right stays at the end; left: rest.
         wheel_gesture(&c, Gesture::Turn(1));
-        assert!(c.break_now().rest_chosen);
+        assert_eq!(c.break_now().pause_choice, PauseChoice::Rest);
+        wheel_gesture(&c, Gesture::Turn(1));
+        wheel_gesture(&c, Gesture::Turn(3));
+        assert_eq!(c.break_now().pause_choice, PauseChoice::End);
         wheel_gesture(&c, Gesture::Turn(-1));
-        wheel_gesture(&c, Gesture::Turn(1));
         wheel_gesture(&c, Gesture::Press);
         assert!(c.rest.load(Ordering::Relaxed), "the rest was asked for");
-        c.pause.store(true, Ordering::Relaxed);
+        assert!(!c.end_asked.load(Ordering::Relaxed));
+        // Paused again: "Go on" chosen afresh; a press goes on.
         c.rest.store(false, Ordering::Relaxed);
         wheel_gesture(&c, Gesture::Turn(-1));
         wheel_gesture(&c, Gesture::Press);
         assert!(!c.rest.load(Ordering::Relaxed) && !c.pause.load(Ordering::Relaxed));
+        // End, chosen and pressed, asks "End now?" (the exercise waits); a press there ends.
+        wheel_gesture(&c, Gesture::Press);
+        wheel_gesture(&c, Gesture::Turn(2));
+        wheel_gesture(&c, Gesture::Press);
+        assert!(c.end_asked.load(Ordering::Relaxed), "ending asks first");
+        assert!(!c.stop.load(Ordering::Relaxed));
+        assert!(c.pause.load(Ordering::Relaxed), "the exercise waits");
+        wheel_gesture(&c, Gesture::Press);
+        assert!(c.stop.load(Ordering::Relaxed), "ended");
+    }
+
+    #[test]
+    fn a_pause_begun_by_space_starts_on_go_on_whatever_was_chosen_before() {
+        let c = Controls::default();
+        space(&c);
+        wheel_gesture(&c, Gesture::Turn(2));
+        space(&c);
+        space(&c);
+        assert!(c.pause.load(Ordering::Relaxed));
+        assert_eq!(c.break_now().pause_choice, PauseChoice::GoOn);
     }
 
     #[test]

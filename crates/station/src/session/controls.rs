@@ -24,8 +24,9 @@ pub struct Controls {
     /// The patient held a wheel button (a long press, [`HOLD`]): the window asks "End now?"
     /// and the exercise waits; a short press then ends, another long press goes on.
     pub end_asked: AtomicBool,
-    /// Paused: the wheel turned right chose a rest (left: go on); a press does what is chosen.
-    pub rest_chosen: AtomicBool,
+    /// Paused: what the wheel's turns chose on the pause page ([`PauseChoice`] as a number);
+    /// a press does it.
+    pub pause_choice: AtomicU8,
     /// Told by the haptic thread: how long an unplugged wheel is still waited for before the
     /// session ends, ms (meaningful while [`Controls::wheel_away`] is set).
     pub wheel_away_left_ms: AtomicU64,
@@ -168,7 +169,7 @@ impl Controls {
             kind: BreakKind::from_u8(self.break_kind.load(Ordering::Relaxed)),
             left_s: self.break_left_ms.load(Ordering::Relaxed) as f64 * 1e-3,
             end_asked: self.end_asked.load(Ordering::Relaxed),
-            rest_chosen: self.rest_chosen.load(Ordering::Relaxed),
+            pause_choice: PauseChoice::from_u8(self.pause_choice.load(Ordering::Relaxed)),
             wheel_away_left_s: away
                 .then(|| self.wheel_away_left_ms.load(Ordering::Relaxed) as f64 * 1e-3),
         }
@@ -221,6 +222,49 @@ impl BreakKind {
     }
 }
 
+/// The pause page's choices, left to right: the wheel turns between them and a press does
+/// the one chosen.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum PauseChoice {
+    /// Go on with the exercise (chosen when the pause begins: a stray press changes nothing
+    /// the patient did not see).
+    #[default]
+    GoOn,
+    /// Take a rest.
+    Rest,
+    /// End the session: asks "End now?" first, as a long press and Esc do.
+    End,
+}
+
+impl PauseChoice {
+    /// The choices in the order the page shows them.
+    pub const ALL: [PauseChoice; 3] = [PauseChoice::GoOn, PauseChoice::Rest, PauseChoice::End];
+
+    /// The number kept in [`Controls::pause_choice`]: its place on the page.
+    pub fn as_u8(self) -> u8 {
+        match self {
+            Self::GoOn => 0,
+            Self::Rest => 1,
+            Self::End => 2,
+        }
+    }
+
+    /// Back from [`PauseChoice::as_u8`] (an unknown number reads as going on).
+    pub fn from_u8(n: u8) -> Self {
+        match n {
+            1 => Self::Rest,
+            2 => Self::End,
+            _ => Self::GoOn,
+        }
+    }
+
+    /// The choice `by` places along (right positive), stopping at the ends.
+    pub fn step(self, by: i32) -> Self {
+        let at = (i32::from(self.as_u8()) + by).clamp(0, Self::ALL.len() as i32 - 1);
+        Self::ALL[at as usize]
+    }
+}
+
 /// The break in progress and what is left of it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct BreakNow {
@@ -231,9 +275,9 @@ pub struct BreakNow {
     /// The patient held a wheel button: the window asks "End now?".
     #[serde(default)]
     pub end_asked: bool,
-    /// Paused: the wheel chose a rest (a press takes it) rather than going on.
+    /// Paused: what the wheel chose on the pause page (a press does it).
     #[serde(default)]
-    pub rest_chosen: bool,
+    pub pause_choice: PauseChoice,
     /// The wheel is unplugged: how long it is still waited for before the session ends, s.
     #[serde(default)]
     pub wheel_away_left_s: Option<f64>,

@@ -39,7 +39,9 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-pub use controls::{BreakKind, BreakNow, Controls, EndAnswer, EndAnswers, EndAnswersTaken};
+pub use controls::{
+    BreakKind, BreakNow, Controls, EndAnswer, EndAnswers, EndAnswersTaken, PauseChoice,
+};
 
 /// Capacity of the haptic → recorder ring, records (8 s at 1 kHz).
 const RING_CAPACITY: usize = 8192;

@@ -1,9 +1,10 @@
-//! The session's cards the wheel answers, each with a picture of what to do with it: the
-//! pause (turn to choose going on or a rest, press to do it, hold to end), "End now?" (press
-//! ends, hold goes on), and the unplugged wheel — its own page, not a pause: plug it back in,
-//! a picture of the plug, and how long before the session ends.
+//! The session's cards the wheel answers, each with a picture: the pause — a choice page like
+//! today's, the pause sign beside three choices (go on, rest, end) a turn chooses between and
+//! a press does —, "End now?" (press ends, hold goes on), and the unplugged wheel — its own
+//! page, not a pause: plug it back in, a picture of the plug, and how long before the session
+//! ends.
 
-use super::controls::{BreakKind, BreakNow};
+use super::controls::{BreakKind, BreakNow, PauseChoice};
 use crate::render::{Picture, ScreenState, StatusLine, Welcome};
 use i18n::tr;
 
@@ -22,7 +23,7 @@ pub fn card(brk: &BreakNow, confirming_end: bool, paused: bool) -> Option<Screen
         return Some(ScreenState::Welcome(end_now()));
     }
     if paused && brk.kind == BreakKind::None {
-        return Some(ScreenState::Welcome(paused_card(brk.rest_chosen)));
+        return Some(ScreenState::Welcome(paused_card(brk.pause_choice)));
     }
     None
 }
@@ -64,21 +65,25 @@ pub fn end_now() -> Welcome {
     }
 }
 
-/// Paused: go on or rest (turn to choose, press to do it); hold to end.
-pub fn paused_card(rest_chosen: bool) -> Welcome {
+/// Paused: a choice page — go on, rest or end (turn to choose, press to do it), `chosen`
+/// framed; the pause sign beside the words (its caption is the sentence spoken).
+pub fn paused_card(chosen: PauseChoice) -> Welcome {
     Welcome {
         id: "paused",
         title: tr!("controls-paused-title"),
-        lines: vec![
-            plain(tr!("controls-paused-how")),
-            plain(tr!("controls-hold-to-end")),
-        ],
-        choices: vec![tr!("controls-paused-go-on"), tr!("controls-paused-rest")],
-        chosen: usize::from(rest_chosen),
-        picture: Some(Picture::Wheel {
-            hold: true,
-            turn: true,
-        }),
+        lines: vec![plain(tr!("controls-paused-how"))],
+        choices: PauseChoice::ALL
+            .iter()
+            .map(|c| {
+                tr!(match c {
+                    PauseChoice::GoOn => "controls-paused-go-on",
+                    PauseChoice::Rest => "controls-paused-rest",
+                    PauseChoice::End => "controls-paused-end",
+                })
+            })
+            .collect(),
+        chosen: usize::from(chosen.as_u8()),
+        picture: Some(Picture::Pause),
         keys: vec![tr!("controls-paused-keys")],
         ..Welcome::default()
     }
@@ -123,6 +128,32 @@ mod tests {
         assert!(page.lines[1].text.contains("13"), "{:?}", page.lines);
         // Plugged back in: the ordinary pause card again.
         assert_eq!(id(card(&BreakNow::default(), false, true)), Some("paused"));
+    }
+
+    #[test]
+    fn the_pause_is_a_choice_page_of_go_on_rest_and_end_with_the_pause_sign() {
+        for chosen in PauseChoice::ALL {
+            let brk = BreakNow {
+                pause_choice: chosen,
+                ..BreakNow::default()
+            };
+            let Some(ScreenState::Welcome(page)) = card(&brk, false, true) else {
+                panic!("no pause page")
+            };
+            assert_eq!(page.id, "paused");
+            assert_eq!(page.picture, Some(Picture::Pause));
+            assert_eq!(
+                page.choices,
+                [
+                    tr!("controls-paused-go-on"),
+                    tr!("controls-paused-rest"),
+                    tr!("controls-paused-end")
+                ]
+            );
+            assert_eq!(page.chosen, usize::from(chosen.as_u8()));
+            // The keyboard stays an alternative, said on the page.
+            assert_eq!(page.keys, [tr!("controls-paused-keys")]);
+        }
     }
 
     #[test]

@@ -35,7 +35,10 @@ pub fn spoken() -> Vec<&'static str> {
             Picture::Rest,
             Picture::Pause,
             Picture::Done,
-            Picture::WheelButtons,
+            Picture::Wheel {
+                hold: false,
+                turn: false,
+            },
         ]
         .map(Picture::caption_id),
     );
@@ -259,6 +262,10 @@ pub fn main_sentence(screen: &ScreenState) -> Option<String> {
         ScreenState::Paused => Picture::Pause.caption(),
         ScreenState::Summary(_) => Picture::Done.caption(),
         ScreenState::Instruction { title, .. } => title.clone(),
+        // The pause page says its picture's sentence ("Paused. Take your time.").
+        ScreenState::Welcome(page) if page.picture == Some(Picture::Pause) => {
+            Picture::Pause.caption()
+        }
         ScreenState::Welcome(page) => page.title.clone(),
         // The check-in's question (or the pain page's "stop"): its one sentence.
         ScreenState::CheckIn(page) => page.title.clone(),

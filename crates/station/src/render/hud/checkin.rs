@@ -11,6 +11,7 @@ use egui::epaint::PathShape;
 use egui::{Align2, Color32, CornerRadius, FontId, Painter, Pos2, Rect, Stroke, Vec2, pos2, vec2};
 
 use super::{CARD, CARD_TEXT, MIN_TEXT_PT, PAD};
+use crate::render::text;
 use crate::render::{CheckInPage, CheckInScale, ScaleKind};
 
 /// Behind the page (as the pages before a session).
@@ -53,11 +54,13 @@ pub(super) fn paint(p: &Painter, page: &CheckInPage, size: Vec2) {
     if page.stop {
         let band = Rect::from_min_max(card.min, pos2(card.right(), card.top() + 120.0));
         p.rect_filled(band, CornerRadius::same(22), STOP);
-        let g = p.layout(
-            page.title.clone(),
+        let g = text::layout(
+            p,
+            &page.title,
             FontId::proportional(TITLE_PT + 4.0),
             Color32::WHITE,
             width,
+            text::Align::Block,
         );
         let at = pos2(
             card.center().x - g.size().x / 2.0,
@@ -107,11 +110,13 @@ pub(super) fn paint(p: &Painter, page: &CheckInPage, size: Vec2) {
         width - 2.0 * PAD
     };
     for line in &page.lines {
-        let g = p.layout(
-            line.clone(),
+        let g = text::layout(
+            p,
+            line,
             FontId::proportional(LINE_PT + if page.stop { 4.0 } else { 0.0 }),
             CARD_TEXT,
             line_width,
+            text::Align::Start,
         );
         let h = g.size().y;
         p.galley(pos2(left, y), g, CARD_TEXT);
@@ -119,7 +124,14 @@ pub(super) fn paint(p: &Painter, page: &CheckInPage, size: Vec2) {
     }
     let keys = page.keys.join("     ");
     if !keys.is_empty() {
-        let g = p.layout(keys, FontId::proportional(MIN_TEXT_PT + 2.0), QUIET, width);
+        let g = text::layout(
+            p,
+            &keys,
+            FontId::proportional(MIN_TEXT_PT + 2.0),
+            QUIET,
+            width,
+            text::Align::Block,
+        );
         let at = pos2(
             card.center().x - g.size().x / 2.0,
             card.bottom() - 1.5 * PAD - g.size().y,
@@ -130,7 +142,14 @@ pub(super) fn paint(p: &Painter, page: &CheckInPage, size: Vec2) {
 
 /// Text centred on `cx` from `y`, wrapped at `width`; returns its height.
 fn centred(p: &Painter, s: &str, pt: f32, colour: Color32, cx: f32, y: f32, width: f32) -> f32 {
-    let g = p.layout(s.to_owned(), FontId::proportional(pt), colour, width);
+    let g = text::layout(
+        p,
+        s,
+        FontId::proportional(pt),
+        colour,
+        width,
+        text::Align::Block,
+    );
     let h = g.size().y;
     p.galley(pos2(cx - g.size().x / 2.0, y), g, colour);
     h
@@ -188,10 +207,11 @@ fn tiles(
             } else {
                 CARD_TEXT
             };
-            p.text(
+            text::put(
+                p,
                 c,
                 Align2::CENTER_CENTER,
-                v.to_string(),
+                &v.to_string(),
                 FontId::proportional(if chosen { 44.0 } else { 34.0 }),
                 text,
             );
@@ -315,7 +335,8 @@ fn effort(p: &Painter, scale: &CheckInScale, area: Rect) {
         (10, Align2::RIGHT_TOP, area.right()),
     ] {
         if let Some(words) = scale.words.get(v) {
-            p.text(
+            text::put(
+                p,
                 pos2(x, ends_y),
                 align,
                 words,
@@ -361,7 +382,8 @@ fn thumbs(p: &Painter, scale: &CheckInScale, area: Rect) {
         };
         thumb(p, r.center() - vec2(0.0, 30.0), 70.0, angle);
         if let Some(words) = scale.words.get(usize::from(i)) {
-            p.text(
+            text::put(
+                p,
                 pos2(r.center().x, r.bottom() - 22.0),
                 Align2::CENTER_BOTTOM,
                 words,

@@ -6,6 +6,7 @@ use super::{ACCENT, CARD, CARD_TEXT, MIN_TEXT_PT, PAD, galley};
 use crate::render::layout;
 use crate::render::pictures::{self, Picture};
 use crate::render::scene::NextCard;
+use crate::render::text;
 use egui::{Color32, CornerRadius, Painter, Pos2, Rect, Vec2, pos2, vec2};
 use regimen::NeglectedSide;
 
@@ -35,11 +36,13 @@ pub(super) fn paint(p: &Painter, size: Vec2, next: &NextCard, neglected: Neglect
     let width = rect.right() - 3.0 * PAD - text_left;
     let mut y = rect.top() + 3.0 * PAD;
     let line = |text: &str, pt: f32, color: Color32, y: &mut f32| {
-        let g = p.layout(
-            text.to_owned(),
+        let g = text::layout(
+            p,
+            text,
             egui::FontId::proportional(pt),
             color,
             width,
+            text::Align::Start,
         );
         let h = g.size().y;
         p.galley(pos2(text_left, *y), g, color);
@@ -83,21 +86,25 @@ pub(super) fn paint(p: &Painter, size: Vec2, next: &NextCard, neglected: Neglect
 /// `bottom`: "A message from your therapist:" then the text, in the largest type from 34 pt
 /// down to [`MIN_TEXT_PT`] that fits (a 500-character message fits at the smallest).
 fn paint_message(p: &Painter, message: &str, (left, width): (f32, f32), (top, bottom): (f32, f32)) {
-    let heading = p.layout(
-        i18n::tr!("card-message-from-therapist"),
+    let heading = text::layout(
+        p,
+        &i18n::tr!("card-message-from-therapist"),
         egui::FontId::proportional(30.0),
         ACCENT,
         width,
+        text::Align::Start,
     );
     let heading_h = heading.size().y;
     p.galley(pos2(left, top), heading, ACCENT);
     let top = top + heading_h + 6.0;
     let text = |pt: f32| {
-        p.layout(
-            message.to_owned(),
+        text::layout(
+            p,
+            message,
             egui::FontId::proportional(pt),
             CARD_TEXT,
             width,
+            text::Align::Start,
         )
     };
     let mut g = text(34.0);

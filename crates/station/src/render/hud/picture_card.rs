@@ -6,6 +6,7 @@ use super::{CARD, CARD_TEXT, PAD, galley};
 use crate::render::layout;
 use crate::render::palette::CARD_KEYS;
 use crate::render::pictures::{self, Picture};
+use crate::render::text;
 use egui::{Color32, CornerRadius, Painter, Pos2, Rect, Vec2, pos2, vec2};
 use regimen::NeglectedSide;
 
@@ -44,11 +45,13 @@ pub(super) fn paint(
     let left = pic_rect.right() + 3.0 * PAD;
     let width = (rect.right() - 2.0 * PAD - left).max(50.0);
     let wrap = |text: &str, pt: f32, color: Color32| {
-        p.layout(
-            text.to_owned(),
+        text::layout(
+            p,
+            text,
             egui::FontId::proportional(pt),
             color,
             width,
+            text::Align::Start,
         )
     };
     let mut y = rect.top() + 3.0 * PAD;

@@ -61,7 +61,8 @@ fn texts_at_1080p(scene: &Scene) -> Vec<(String, f64)> {
 }
 
 /// The session's pages: a road exercise running, the card before an exercise, a rest, the
-/// pause, an instruction and the end.
+/// pause (the session's choice page, and a recording's in the replay), an instruction and the
+/// end.
 fn pages() -> Vec<(&'static str, Scene)> {
     let hud = Hud {
         exercise: "Exercise 2 of 4: Slalom".into(),
@@ -102,12 +103,11 @@ fn pages() -> Vec<(&'static str, Scene)> {
         ),
         (
             "pause",
-            scene(ScreenState::Pictured {
-                picture: Picture::Pause,
-                title: "Paused".into(),
-                lines: vec!["Press a wheel button to go on".into()],
-            }),
+            scene(ScreenState::Welcome(
+                crate::session::wheel_cards::paused_card(crate::session::PauseChoice::Rest),
+            )),
         ),
+        ("replayed pause", scene(ScreenState::Paused)),
         (
             "instruction",
             scene(ScreenState::Instruction {

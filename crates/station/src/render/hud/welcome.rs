@@ -6,6 +6,7 @@
 use egui::{Align2, Color32, CornerRadius, FontId, Painter, Pos2, Rect, Stroke, Vec2, pos2, vec2};
 
 use super::{CARD, CARD_TEXT, PAD};
+use crate::render::text;
 use crate::render::{StatusLine, Welcome};
 
 /// Behind the page.
@@ -43,7 +44,7 @@ pub(super) fn paint(p: &Painter, page: &Welcome, size: Vec2) {
             pos2(card.right() - 2.0 * PAD - side, card.top() + 2.0 * PAD),
             vec2(side, side),
         );
-        super::wheel_hint::paint(p, picture, at);
+        crate::render::pictures::draw(p, picture, at, 0.0);
         picture_bottom = at.bottom();
         width -= side + PAD;
     }
@@ -85,7 +86,14 @@ pub(super) fn paint(p: &Painter, page: &Welcome, size: Vec2) {
     }
     let keys = page.keys.join("     ");
     if !keys.is_empty() {
-        let g = p.layout(keys, FontId::proportional(LINE_PT - 2.0), QUIET, width);
+        let g = text::layout(
+            p,
+            &keys,
+            FontId::proportional(LINE_PT - 2.0),
+            QUIET,
+            width,
+            text::Align::Start,
+        );
         let at = pos2(left, card.bottom() - 2.0 * PAD - g.size().y);
         p.galley(at, g, QUIET);
     }
@@ -93,7 +101,14 @@ pub(super) fn paint(p: &Painter, page: &Welcome, size: Vec2) {
 
 /// Wrapped text at `at`; returns its height.
 fn text(p: &Painter, s: &str, pt: f32, color: Color32, at: Pos2, width: f32) -> f32 {
-    let g = p.layout(s.to_owned(), FontId::proportional(pt), color, width);
+    let g = text::layout(
+        p,
+        s,
+        FontId::proportional(pt),
+        color,
+        width,
+        text::Align::Start,
+    );
     let h = g.size().y;
     p.galley(at, g, color);
     h
@@ -180,7 +195,14 @@ fn choices(p: &Painter, items: &[String], chosen: usize, at: Pos2, width: f32) -
             Stroke::new(if on { 6.0 } else { 2.0 }, CARD_TEXT),
             egui::StrokeKind::Inside,
         );
-        let g = p.layout(item.clone(), FontId::proportional(LINE_PT), ink, w - PAD);
+        let g = text::layout(
+            p,
+            item,
+            FontId::proportional(LINE_PT),
+            ink,
+            w - PAD,
+            text::Align::Block,
+        );
         let text_at = Align2::CENTER_CENTER.anchor_size(rect.center(), g.size());
         p.galley(text_at.min, g, ink);
         if on {

@@ -3,12 +3,14 @@
 //!
 //! A picture shows what a sentence says, for a reader who finds words hard (aphasia): the
 //! movement of each exercise (every kind of road its own road, the dial's needles, pushing
-//! against the wheel), rest, pause, the wheel's buttons, yes and no, the end of a session and
-//! today's page. [`draw`] paints one into a rectangle; [`draw_with_caption`] adds its caption
+//! against the wheel), rest, pause, what to do with the wheel's button, the plug, yes and no,
+//! the end of a session and today's page. It is the one picture type of the patient's
+//! window: the session's cards and the pages before and after a session all draw from it. [`draw`] paints one into a rectangle; [`draw_with_caption`] adds its caption
 //! under it. Moving pictures take an animation clock, s (any clock that moves on).
 
 mod road;
 mod symbols;
+mod wheel;
 
 use egui::{Color32, FontId, Painter, Rect, pos2};
 
@@ -80,8 +82,15 @@ pub enum Picture {
     Rest,
     /// The exercise is paused.
     Pause,
-    /// The wheel with its buttons lit: press one.
-    WheelButtons,
+    /// The wheel, its button lit: press it (`hold`: keep it pressed; `turn`: arrows to turn).
+    Wheel {
+        /// The button is held down (a long press).
+        hold: bool,
+        /// Arrows show the wheel turns to choose.
+        turn: bool,
+    },
+    /// A cable's plug going into the wheel: plug it back in.
+    Plug,
     /// Yes: a tick.
     Yes,
     /// No: a cross.
@@ -102,7 +111,15 @@ impl Picture {
         all.extend([
             Picture::Rest,
             Picture::Pause,
-            Picture::WheelButtons,
+            Picture::Wheel {
+                hold: false,
+                turn: false,
+            },
+            Picture::Wheel {
+                hold: true,
+                turn: true,
+            },
+            Picture::Plug,
             Picture::Yes,
             Picture::No,
             Picture::Done,
@@ -128,7 +145,9 @@ impl Picture {
             },
             Picture::Rest => "picture-rest",
             Picture::Pause => "picture-pause",
-            Picture::WheelButtons => "picture-buttons",
+            Picture::Wheel { turn: true, .. } => "picture-wheel-turn",
+            Picture::Wheel { .. } => "picture-buttons",
+            Picture::Plug => "picture-plug",
             Picture::Yes => "picture-yes",
             Picture::No => "picture-no",
             Picture::Done => "picture-done",
@@ -155,7 +174,8 @@ pub fn draw(p: &Painter, picture: Picture, rect: Rect, anim_s: f64) {
         Picture::Exercise(m) => road::draw(p, m, sq, anim_s),
         Picture::Rest => symbols::rest(p, sq, anim_s),
         Picture::Pause => symbols::pause(p, sq),
-        Picture::WheelButtons => symbols::wheel_buttons(p, sq, anim_s),
+        Picture::Wheel { hold, turn } => wheel::wheel(p, sq, hold, turn),
+        Picture::Plug => wheel::plug(p, sq),
         Picture::Yes => symbols::yes(p, sq),
         Picture::No => symbols::no(p, sq),
         Picture::Done => symbols::star(p, sq),
@@ -175,11 +195,13 @@ pub fn draw_with_caption(
     anim_s: f64,
     color: Color32,
 ) -> f32 {
-    let g = p.layout(
-        picture.caption(),
+    let g = crate::render::text::layout(
+        p,
+        &picture.caption(),
         FontId::proportional(CAPTION_PT),
         color,
         rect.width(),
+        crate::render::text::Align::Block,
     );
     let caption_h = g.size().y;
     // The picture at the top, as large as fits, and its caption right under it.

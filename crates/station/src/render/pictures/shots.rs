@@ -53,11 +53,9 @@ fn screenshots_of_the_pictured_cards_and_the_neglect_layout() {
     );
     shot(
         &mut r,
-        &with(ScreenState::Pictured {
-            picture: Picture::Pause,
-            title: "Paused".into(),
-            lines: vec!["Space: go on".into(), "R: rest · Esc: end".into()],
-        }),
+        &with(ScreenState::Welcome(
+            crate::session::wheel_cards::paused_card(crate::session::PauseChoice::GoOn),
+        )),
         "pictures-3-pause.png",
     );
     layout::set_neglected_side(NeglectedSide::Left);

@@ -1,5 +1,5 @@
-//! The pictures that are not roads: the dial, pushing the wheel, rest, pause, the wheel's
-//! buttons, yes, no, a star for the end and a calendar sheet for today.
+//! The pictures that are not roads: the dial, pushing the wheel, rest, pause, yes, no, a star
+//! for the end and a calendar sheet for today.
 
 use super::INK;
 use crate::render::hud::needle_direction;
@@ -128,23 +128,6 @@ pub(super) fn pause(p: &Painter, sq: Rect) {
             Rect::from_center_size(c + vec2(s * r * 0.28, 0.0), vec2(r * 0.28, r * 1.0)),
             r * 0.05,
             Color32::WHITE,
-        );
-    }
-}
-
-/// The wheel with its two buttons pulsing.
-pub(super) fn wheel_buttons(p: &Painter, sq: Rect, anim_s: f64) {
-    let c = sq.center();
-    let r = sq.width() * 0.36;
-    wheel(p, c, r, 0.0);
-    let pulse = 0.5 + 0.5 * (anim_s as f32 * 4.0).sin();
-    for s in [-1.0, 1.0] {
-        let b = c + vec2(s * r * 0.5, 0.0);
-        p.circle_filled(b, r * 0.14, ACCENT_FILL);
-        p.circle_stroke(
-            b,
-            r * (0.2 + 0.1 * pulse),
-            Stroke::new(r * 0.04, ACCENT_FILL.gamma_multiply(1.0 - 0.6 * pulse)),
         );
     }
 }

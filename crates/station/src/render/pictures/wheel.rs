@@ -1,10 +1,8 @@
-//! Small pictures of what to do with the wheel, drawn with shapes: the wheel with its button
-//! lit (a ring round it for a long press, arrows for a turn), and the plug going back into
-//! the wheel. They stand beside a page's words so a patient who reads little sees what to do.
+//! What to do with the wheel: the wheel with its button lit (a ring round it for a long
+//! press, arrows for a turn), and the plug going back into the wheel. They stand beside a
+//! page's words so a patient who reads little sees what to do.
 
 use egui::{Color32, Painter, Pos2, Rect, Shape, Stroke, pos2, vec2};
-
-use crate::render::Picture;
 
 /// The wheel's rim and spokes.
 const WHEEL: Color32 = Color32::from_rgb(0x26, 0x2B, 0x31);
@@ -13,15 +11,9 @@ const BUTTON: Color32 = Color32::from_rgb(0xB3, 0x4A, 0x00);
 /// Arrows and the plug's cable.
 const ARROW: Color32 = Color32::from_rgb(0x0B, 0x5C, 0xAD);
 
-/// Paints `picture` into `rect` (square is best).
-pub(super) fn paint(p: &Painter, picture: Picture, rect: Rect) {
-    match picture {
-        Picture::Wheel { hold, turn } => wheel(p, rect, hold, turn),
-        Picture::Plug => plug(p, rect),
-    }
-}
-
-fn wheel(p: &Painter, rect: Rect, hold: bool, turn: bool) {
+/// The wheel with its button lit in `rect`: a ring round the button when `hold`, arrows
+/// round the rim when `turn`.
+pub(super) fn wheel(p: &Painter, rect: Rect, hold: bool, turn: bool) {
     let c = rect.center();
     let r = rect.width().min(rect.height()) * 0.36;
     let rim = Stroke::new(r * 0.16, WHEEL);
@@ -81,7 +73,8 @@ fn arrow_head(p: &Painter, c: Pos2, r: f32, deg: f32, dir: f32, size: f32) {
     ));
 }
 
-fn plug(p: &Painter, rect: Rect) {
+/// The plug going into the wheel's socket, an arrow pushing it in.
+pub(super) fn plug(p: &Painter, rect: Rect) {
     let s = rect.width().min(rect.height());
     let c = rect.center();
     // The wheel's socket on the right, the plug coming from the left with an arrow.
