@@ -81,6 +81,8 @@ function passwordView(forced) {
       // The hub ends every login of this account and answers with a new session cookie.
       await api('POST', '/api/me/password', { current, new: next });
       me = await api('GET', '/api/me');
+      await startLanguage();
+      languageMenu();
       location.hash = '#/patients';
       route();
     } catch (e) { error.textContent = e.message; }

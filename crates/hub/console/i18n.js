@@ -10,7 +10,7 @@ const OFFERED = [
   { tag: 'en', name: 'English' },
   { tag: 'de', name: 'Deutsch' },
   { tag: 'es', name: 'Español' },
-  { tag: 'zh', name: '中文（简体）' },
+  { tag: 'zh', name: '简体中文' },
 ];
 const FALLBACK = 'en';
 const PSEUDO = 'en-XA';
