@@ -457,8 +457,8 @@ def test_a_painful_check_in_raises_a_caseload_alert_and_the_session_says_how_it_
           + "/progress")
     # The progress view replaces the caseload in the same page: wait for it, then its rows.
     wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#tab[data-sessions]"))
-    listed = wait(d, lambda d: [r for r in d.find_elements(By.CSS_SELECTOR, "#tab tr") if "pain 8" in r.text])[0]
-    assert "ended: complete" in listed.text, listed.text
+    listed = wait(d, lambda d: d.find_elements(By.XPATH, "//*[@id='tab']//tr[td[@class='checkin'][@data-pain='8']]"))[0]
+    assert listed.find_elements(By.CSS_SELECTOR, "td[data-end-kind='complete']"), listed.text
     shot(d, "10b-progress-end-reason-and-check-in")
 def test_the_therapist_turns_adaptation_on_in_the_form_and_sees_the_difficulty_history(clinic, browser):
     d = browser  # logged in by the first test (module-scoped browser)
@@ -485,6 +485,7 @@ def test_the_therapist_turns_adaptation_on_in_the_form_and_sees_the_difficulty_h
     wait(d, lambda d: d.find_elements(By.LINK_TEXT, "P-0042"))[0].click()
     wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "nav.tabs a[data-tab='progress']"))[0].click()
     panel = wait(d, lambda d: d.find_elements(By.ID, "difficulty"))[0]
+    d.execute_script("document.getElementById('difficulty').open = true")
     rows = panel.find_elements(By.CSS_SELECTOR, "#difficulty-table tbody tr")
     assert len(rows) == 3, panel.text
     assert "first session: the therapist's start 0.40" in rows[-1].text, panel.text

@@ -9,7 +9,7 @@
 // the date range, pain, adherence, alerts, the scales and the latest table.
 import { api, esc } from '/console/api.js';
 import { t, locale } from '/console/i18n.js';
-import { alertWords } from '/console/caseload.js';
+import { alertWords, SEVERITY } from '/console/caseload.js';
 import { numbersTable, sessionChart, sessionLabels } from '/console/sessionchart.js';
 import {
   activeWords, dayWords, endWords, headerWords, kindWords, measureWords, noiseBand, sessionWords, trendWords,
@@ -91,8 +91,12 @@ function summaryHtml(checkins, sessions, overview, words) {
   const recent = sessions.slice(-10);
   const stopped = recent.filter(early).length;
   const stoppedWords = `<p>${esc(t('progress-stopped-early', { stopped, count: recent.length }))}</p>`;
-  const alerts = overview ? (overview.attention || []).map(a => alertWords(a, words)).filter(Boolean) : [];
-  const alertList = alerts.length ? `<ul id="alerts">${alerts.map(a => `<li><span class="badge alert">${esc(a)}</span></li>`).join('')}</ul>`
+  // The caseload's alerts, each with its severity (mark and colour, caseload.js's).
+  const alerts = overview ? (overview.attention || []).filter(a => alertWords(a, words)) : [];
+  const alertList = alerts.length ? `<ul id="alerts" class="reasons">${alerts.map(a => {
+    const s = SEVERITY[a.severity] || SEVERITY.notice;
+    return `<li class="alert-line ${s.cls}" data-kind="${esc(a.kind)}"><span aria-hidden="true">${s.mark}</span> ${esc(alertWords(a, words))}</li>`;
+  }).join('')}</ul>`
     : `<p id="alerts">${esc(t('progress-alerts-none'))}</p>`;
   return `<h2 id="summary-h">${esc(t('progress-summary-title'))}</h2>
     <div class="summary-grid"><div><h3>${esc(t('progress-pain-title'))}</h3>${pain}${feltWords}
@@ -268,8 +272,8 @@ export async function progressView(el, id) {
   const difficulty = difficultyNewest.slice().reverse();
   const overview = overviews.find(p => p.id === id);
   const list = sessions.slice().reverse().map(s => `<tr${s.ran_as_prescribed ? '' : ' data-early="1"'}><td>${esc(whenWords(s.started_unix_ms))}</td><td translate="no">${esc(s.exercise_name || s.exercise)}</td>
-    <td>${endWords(s)}</td>
-    <td class="checkin">${checkinWords(checkins.get(s.session_id))}</td>
+    <td data-end-kind="${esc(s.end_kind || '')}">${endWords(s)}</td>
+    <td class="checkin" data-pain="${esc(checkins.get(s.session_id)?.pain_0_10 ?? '')}">${checkinWords(checkins.get(s.session_id))}</td>
     <td><a href="#/patients/${pid}/exercises/${encodeURIComponent(s.session_id)}" data-link="exercises">${esc(t('progress-each-exercise'))}</a>
       · <a href="#/patients/${pid}/replay/${encodeURIComponent(s.session_id)}" data-link="replay">${esc(t('progress-replay'))}</a></td>
     <td>${noteCell(s.session_id, t('progress-note-session', { at: whenWords(s.started_unix_ms) }), esc)}</td></tr>`).join('');

@@ -73,8 +73,9 @@ pub fn console_messages_of(language: &str) -> (Vec<MessageInfo>, Vec<String>) {
 
 /// The console's whole catalogue of `tag` (exactly one of [`crate::LANGUAGES`] or
 /// [`crate::PSEUDO`]): every file of its folder, in name order, one after the other. The
-/// pseudo-locale is the English files with [`crate::pseudo::transform`] applied to the text of
-/// message values and attributes (never to ids, variables, selectors or variant keys).
+/// pseudo-locale is the English files with the pseudo transform (accents, 40 % longer) applied
+/// to the text of message values and attributes (never to ids, variables, selectors or variant
+/// keys).
 pub fn console_catalogue(tag: &str) -> Result<String, UnknownLanguage> {
     let pseudo = tag == crate::PSEUDO;
     let language = if pseudo {

@@ -36,7 +36,10 @@ caseload-week = { $sessionsPrescribed ->
         }
        *[other] { $sessions } de { $sessionsPrescribed } sesiones prescritas
     }, { $minutesPrescribed ->
-        [none] { $minutes } min activos
+        [none] { $minutes ->
+            [one] { $minutes } min activo
+           *[other] { $minutes } min activos
+        }
        *[other] { $minutes } de { $minutesPrescribed } min activos prescritos
     }
 caseload-trend-kind = Sesiones de { $kind }:
