@@ -142,6 +142,38 @@ def test_the_caseload_opens_by_need_with_one_plain_reason_first(clinic, browser)
     wait(d, lambda d: [p for p, _, _ in rows(d)] == ["P-0103"])
 
 
+def test_a_therapist_allows_training_again_after_a_pain_stop_from_the_caseload(clinic, browser):
+    """The pain alert has "Allow training today": a confirmation first (cancel changes
+    nothing), then the hub's pain clearance (audited, pushed to the station), the result shown
+    with its time, and the alert then says when training was allowed instead of the button."""
+    d = browser
+    d.get(clinic["web"] + "/#/patients")
+    pain = "tr[data-pseudonym='P-0042'] .reason-first[data-kind='pain_high']"
+    wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, f"{pain} button[data-allow-training]"))
+    d.find_element(By.CSS_SELECTOR, f"{pain} button[data-allow-training]").click()
+    form = wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, ".allow-form"))[0]
+    assert_no_violations(d, "caseload allow-training confirmation")
+    shot(d, "caseload-allow-training-confirm")
+    form.find_element(By.ID, "allow-cancel").click()
+    assert not d.find_elements(By.CSS_SELECTOR, ".allow-form")
+    assert not d.find_elements(By.CSS_SELECTOR, f"{pain} [data-pain-cleared]"), "cancel changed nothing"
+
+    before_ms = int(time.time() * 1000)
+    d.find_element(By.CSS_SELECTOR, f"{pain} button[data-allow-training]").click()
+    wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, ".allow-form [data-allow-confirm]"))[0].click()
+    done = wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#allow-done[data-cleared-at-ms]"))[0]
+    assert int(done.get_attribute("data-cleared-at-ms")) >= before_ms - 5_000
+    assert done.text and done.get_attribute("role") == "status"
+    assert d.find_elements(By.CSS_SELECTOR, f"{pain} [data-pain-cleared]")
+    assert not d.find_elements(By.CSS_SELECTOR, f"{pain} button[data-allow-training]")
+    audit = json.loads(d.execute_async_script(
+        "const done = arguments[arguments.length - 1];"
+        "fetch('/api/audit?limit=50', {credentials: 'same-origin'}).then(r => r.text()).then(done);"))
+    assert any(e["action"] == "pain_clearance" for e in audit["entries"]), audit
+    shot(d, "caseload-training-allowed")
+    assert_no_violations(d, "caseload training allowed")
+
+
 def test_acknowledging_the_pain_with_a_note_quiets_it_and_is_audited(clinic, browser):
     d = browser
     d.get(clinic["web"] + "/#/patients")

@@ -49,11 +49,11 @@ def log_in_and_replace_the_one_time_password(d, web, email, one_time):
     d.find_element(By.ID, "new-password").send_keys(NEW_PASSWORD)
     d.find_element(By.ID, "repeat-password").send_keys(NEW_PASSWORD + " typo")
     d.find_element(By.CSS_SELECTOR, "#password-form button").click()
-    wait(d, lambda d: "differ" in d.find_element(By.ID, "password-error").text)
+    wait(d, lambda d: d.find_element(By.ID, "password-error").text)
     d.find_element(By.ID, "repeat-password").clear()
     d.find_element(By.ID, "repeat-password").send_keys(NEW_PASSWORD)
     d.find_element(By.CSS_SELECTOR, "#password-form button").click()
-    wait(d, lambda d: d.find_elements(By.XPATH, "//h1[text()='Patients']"))
+    wait(d, lambda d: d.find_elements(By.ID, "caseload"))
 
 
 def pdf_pages(d):
@@ -108,8 +108,8 @@ def test_a_clinic_adds_a_patient_prints_the_pairing_sheet_adds_a_therapist_and_r
     patients = fetch_json(d, "/api/patients")
     p42 = next(p for p in patients if p["pseudonym"] == "P-0042")
     d.get(web + f"/#/patients/{p42['id']}/progress")
-    wait(d, lambda d: d.find_elements(By.LINK_TEXT, "Stations and pairing"))
-    d.find_element(By.LINK_TEXT, "Stations and pairing").click()
+    wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "nav.tabs a[data-tab='stations']"))
+    d.find_element(By.CSS_SELECTOR, "nav.tabs a[data-tab='stations']").click()
     wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "[data-revoke]"))
     station = d.find_element(By.CSS_SELECTOR, "[data-revoke]").get_attribute("data-revoke")
     d.find_element(By.CSS_SELECTOR, "[data-revoke]").click()

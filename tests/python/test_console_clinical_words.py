@@ -83,7 +83,7 @@ def open_progress(d, clinic):
     if not d.find_elements(By.LINK_TEXT, "P-0042"):
         log_in(d, clinic)
     wait(d, lambda d: d.find_elements(By.LINK_TEXT, "P-0042"))[0].click()
-    wait(d, lambda d: d.find_elements(By.LINK_TEXT, "Progress"))[0].click()
+    wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "nav.tabs a[data-tab='progress']"))[0].click()
     wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#tab[data-sessions='5']"))
     wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#scales[data-entries]"))
 
@@ -137,7 +137,7 @@ def test_progress_reads_pain_adherence_and_alerts_first_in_plain_words_without_e
     shot(d, "progress-3-road-charts-opened")
 
     # A session's own page: plain words as well.
-    d.find_elements(By.LINK_TEXT, "Each exercise")[1].click()
+    d.find_elements(By.CSS_SELECTOR, "#tab a[data-link='exercises']")[1].click()
     wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#tab[data-exercises]"))
     text = shown_text(d)
     assert not ENGINEERING.search(text), ENGINEERING.search(text).group(0)

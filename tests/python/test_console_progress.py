@@ -138,8 +138,9 @@ def test_progress_charts_by_kind_and_session_with_a_baseline_and_an_early_sessio
 def test_the_replay_tab_lists_the_sessions_and_opens_a_replay(clinic, browser):
     d = browser  # logged in by the first test (module-scoped browser)
     nav = wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "nav.tabs"))[0]
-    assert [a.text for a in nav.find_elements(By.TAG_NAME, "a")][:4] == ["Live", "Progress", "Replay", "Prescribe"]
-    wait(d, lambda d: d.find_element(By.CSS_SELECTOR, "nav.tabs").find_element(By.LINK_TEXT, "Replay")).click()
+    tabs = [a.get_attribute("data-tab") for a in nav.find_elements(By.TAG_NAME, "a")][:4]
+    assert tabs == ["live", "progress", "replay", "prescribe"], tabs
+    wait(d, lambda d: d.find_element(By.CSS_SELECTOR, "nav.tabs a[data-tab='replay']")).click()
     deadline = time.time() + 40
     while True:  # the station uploads its recording after the session (seconds on loopback)
         table = wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#tab[data-replays] #replays"))[0]
@@ -164,6 +165,6 @@ def test_the_replay_tab_lists_the_sessions_and_opens_a_replay(clinic, browser):
     head = wait(d, lambda d: [e for e in d.find_elements(By.CSS_SELECTOR, "#tab h2") if e.text.startswith("Replay of the session of ")])[0]
     assert "Sine road" in head.text, head.text
     assert started in head.text, (started, head.text)
-    assert d.find_element(By.CSS_SELECTOR, "nav.tabs a[aria-current='page']").text == "Replay"
+    assert d.find_element(By.CSS_SELECTOR, "nav.tabs a[aria-current='page']").get_attribute("data-tab") == "replay"
     wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#tab[data-frames]"))
     shot(d, "progress-5-replay-opened")

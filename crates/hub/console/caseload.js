@@ -1,73 +1,70 @@
 // Needs attention today (issue 41): the caseload sorted by need, each patient with ONE plain
 // reason first (the most pressing) and the rest behind "N more"; each alert can be
-// acknowledged (quiet until something new happens) or snoozed until a day, with a note; the
-// clinic's alert thresholds (#/attention-settings, admins change them). The hub computes the
-// alerts (crates/hub/src/attention/); every word a clinician reads is in the tables below.
-import { api, esc, when } from '/console/api.js';
-import { kindWords } from '/console/words.js';
+// acknowledged (quiet until something new happens) or snoozed until a day, with a note; a pain
+// stop can be lifted for today; the clinic's alert thresholds (#/attention-settings, admins
+// change them). The hub computes the alerts (crates/hub/src/attention/) and sends each as a
+// catalogue id with its arguments; every word is in the console's catalogues
+// (crates/i18n/console/<lang>/{caseload,attention}.ftl).
+import { api, esc } from '/console/api.js';
+import { t, locale } from '/console/i18n.js';
+import { kindWords, measureWords, whenWords, endKindWords, measureName, numberIn } from '/console/words.js';
 import { displayName } from '/console/names.js';
 
-/** Severity → its word, its mark (not colour alone) and its class. */
+/** Severity → its mark (not colour alone) and its class; its word is `attention-severity-…`. */
 export const SEVERITY = {
-  urgent: { word: 'Urgent', mark: '‼', cls: 'sev-urgent' },
-  warning: { word: 'Look today', mark: '▲', cls: 'sev-warning' },
-  notice: { word: 'Note', mark: '●', cls: 'sev-notice' },
+  urgent: { mark: '‼', cls: 'sev-urgent' },
+  warning: { mark: '▲', cls: 'sev-warning' },
+  notice: { mark: '●', cls: 'sev-notice' },
 };
 
-/** The three measures a decline is told of, with their unit and rounding. */
-const MEASURES = {
-  pct_in_lane: { word: 'time in lane', unit: ' %', digits: 0 },
-  wheel_rom_deg: { word: 'wheel range', unit: '°', digits: 0 },
-  sparc_median: { word: 'smoothness', unit: '', digits: 2 },
-};
+/** The alert kinds, in the hub's order (`attention::KIND_ORDER`). */
+export const ALERT_KINDS = ['pain_high', 'pain_rising', 'station_revoked', 'no_session', 'decline',
+  'safety_stop', 'ended_early', 'effort', 'low_activity', 'wheel_unplugged', 'wheel_unseen',
+  'sensors_lost', 'station_silent', 'torque_at_ceiling'];
 
-const plural = (n, one, many) => `${n} ${n === 1 ? one : many}`;
-const measure = (m, v) => { const d = MEASURES[m] || { unit: '', digits: 1 }; return `${Number(v).toFixed(d.digits)}${d.unit}`; };
+/** The three measures the Trend column shows. */
+const TREND_MEASURES = ['pct_in_lane', 'wheel_rom_deg', 'sparc_median'];
 
-/** Each alert kind in words: its name (the filter's) and its sentence from the hub's facts. */
-export const ALERT_WORDS = {
-  pain_high: ['Pain', (a, f) => `Pain ${f.pain_0_10}/10 after the session of ${when(a.at_ms)}`
-    + (f.sessions_since === 1 ? ' (no pain answer after the next session)'
-      : f.sessions_since ? ` (no pain answer in the ${f.sessions_since} sessions since)` : '')],
-  pain_rising: ['Rising pain', (a, f) => `Pain rising: ${f.first_0_10}, then ${f.middle_0_10}, then ${f.pain_0_10}/10 after the session of ${when(a.at_ms)}`],
-  station_revoked: ['Station withdrawn', a => `Station withdrawn on ${when(a.at_ms)}: the patient cannot train until a new one is paired`],
-  no_session: ['No session', (a, f) => (a.fingerprint === 'none' ? `No session yet (added ${when(a.at_ms)})`
-    : `No session for ${f.days} days (the last: ${when(a.at_ms)})`)],
-  decline: ['Getting worse', (a, f) => `${cap(MEASURES[a.measure]?.word || 'a measure')} worse in ${kindWords(a.exercise_kind)} sessions: ${measure(a.measure, f.latest)} against ${measure(a.measure, f.usual)} before (${f.worse_percent} % worse)`],
-  safety_stop: ['Safety stop', a => `Safety stop in the session of ${when(a.at_ms)}`],
-  ended_early: ['Ended early', (a, f) => `${f.ended_early} of the last ${f.sessions} sessions ended early`],
-  effort: ['Too tiring', (a, f) => (f.tiredness_0_10 !== undefined ? `Tiredness ${f.tiredness_0_10}/10 after the session of ${when(a.at_ms)}`
-    : `"Too hard" after the last ${f.too_hard_sessions} sessions`)],
-  low_activity: ['Little training', (a, f) => (f.sessions_prescribed !== undefined ? `${f.sessions} of ${f.sessions_prescribed} prescribed sessions this week`
-    : f.minutes_prescribed !== undefined ? `${f.active_minutes} of ${f.minutes_prescribed} prescribed active minutes this week`
-      : `${plural(f.active_minutes, 'active minute', 'active minutes')} this week; nothing prescribed yet (the clinic looks for at least ${f.minimum_minutes})`)],
-  wheel_unplugged: ['Wheel unplugged', a => `The session of ${when(a.at_ms)} stopped: wheel unplugged`],
-  wheel_unseen: ['Wheel not seen', (a, f) => `Wheel not seen for ${f.days} days while the station was on`],
-  sensors_lost: ['Arm sensors lost', (a, f) => `Arm sensors lost in the last ${plural(f.sessions, 'session', 'sessions')}`],
-  station_silent: ['Station silent', (a, f) => `Station not heard from for ${f.days} days (the last: ${when(a.at_ms)})`],
-  torque_at_ceiling: ['Torque at its limit', a => `Torque held at its limit for 5 % or more of the session of ${when(a.at_ms)}`],
-};
+const kebab = s => String(s).replace(/_/g, '-');
+const capitalFirst = s => s.charAt(0).toLocaleUpperCase(locale()) + s.slice(1);
 
-const cap = s => s.charAt(0).toUpperCase() + s.slice(1);
-
-/** An alert in words (the hub's own sentence for a kind this console does not know). */
-export function alertWords(a) {
-  const w = ALERT_WORDS[a.kind];
-  return w ? w[1](a, a.facts || {}) : cap(a.text);
+/** An alert kind's name (the filter's): "Pain", "Getting worse", … */
+export function kindName(kind) {
+  return t(`attention-kind-${kebab(kind)}`);
 }
 
-/** The clinic's thresholds in words: label (with unit) and why the default. */
-export const SETTING_WORDS = {
-  pain_threshold_0_10: ['Pain that is urgent, 0–10 (at or over)', 'Pain of 7 or more on the 0–10 scale is severe pain; a patient who reports it should not train on without the clinic.'],
-  pain_rise_points: ['Rising pain: points over three check-ins', 'Two points is about the smallest change in pain a patient feels as real.'],
-  no_session_days: ['Days without a session', 'Three days without training breaks the rhythm of a home programme; a prescription of fewer sessions a week waits its own gap (7 days for once a week).'],
-  min_active_minutes_week: ['Active minutes a week when nothing is prescribed (at least)', 'Half an hour a week is far below what patients manage at home (about 2 hours a week on average); less means the station is hardly used.'],
-  decline_percent: ['Getting worse: percent below the earlier sessions of the same kind', 'Movement measures vary by up to about 10 % from session to session; 15 % is beyond that noise.'],
-  ended_early_sessions: ['Sessions ended early, of the last 5', 'Once can be a phone call; twice in five sessions is a pattern worth a question.'],
-  effort_threshold_0_10: ['Tiredness that needs a look, 0–10 (at or over)', 'Home programmes lose patients whose training feels hard; 7 of 10 is well past "hard".'],
-  devices_unseen_days: ['Days the station is on without its wheel', 'A wheel missing for three days usually means a cable or a power supply, not a choice.'],
-  station_silent_days: ['Days a station may stay silent', 'A station that trains connects at every session; three silent days mean it is off, unplugged or offline.'],
-};
+/** A severity's word: "Urgent", "Look today", "Note". */
+export function severityWord(severity) {
+  return t(`attention-severity-${severity in SEVERITY ? severity : 'notice'}`);
+}
+
+/** The arguments of an alert's message made ready for its sentence: the evidence's time as
+ * a date, a decline's measure and exercise kind in words and its numbers in the measure's
+ * decimals and unit, an end kind in the one end-reason wording. */
+function messageArgs(args, words) {
+  const out = { ...args };
+  if (args.at_ms != null) out.at = whenWords(args.at_ms);
+  if (args.measure) {
+    const m = words && words.measures.get(args.measure);
+    out.measure = measureName(args.measure);
+    for (const k of ['latest', 'usual']) if (typeof args[k] === 'number') out[k] = numberIn(m, args[k], true);
+  }
+  if (args.exercise_kind) out.exercise_kind = kindWords(args.exercise_kind);
+  if (args.end) out.end = endKindWords(args.end);
+  return out;
+}
+
+/** An alert in words, in the language in force (the hub's English sentence only for an
+ * alert that came without a message id). */
+export function alertWords(a, words) {
+  if (a.message && a.message.id) return t(a.message.id, messageArgs(a.message.args || {}, words));
+  return a.text || '';
+}
+
+/** The clinic's thresholds: each key's label and why-the-default are
+ * `attention-setting-<key>` and its `.why` attribute. */
+const settingLabel = key => t(`attention-setting-${kebab(key)}`);
+const settingWhy = key => t(`attention-setting-${kebab(key)}.why`);
 
 /** The caseload (#/patients). */
 export async function caseloadView(app, me, params = new URLSearchParams()) {
@@ -77,20 +74,20 @@ export async function caseloadView(app, me, params = new URLSearchParams()) {
   const q = new URLSearchParams({ sort });
   if (kind) q.set('alert', kind);
   if (mine) q.set('mine', 'true');
-  const patients = await api('GET', `/api/patients?${q}`);
+  const [patients, words] = await Promise.all([api('GET', `/api/patients?${q}`), measureWords().catch(() => null)]);
   const option = (v, label, cur) => `<option value="${esc(v)}"${v === cur ? ' selected' : ''}>${esc(label)}</option>`;
-  app.innerHTML = `<h1>Patients</h1>
+  app.innerHTML = `<h1>${esc(t('caseload-title'))}</h1>
     <form id="caseload-controls" class="caseload-controls">
-      <label for="cl-sort">Order</label>
-      <select id="cl-sort">${option('need', 'Who needs attention first', sort)}${option('last_session', 'Longest without a session first', sort)}${option('pseudonym', 'By pseudonym', sort)}</select>
-      <label for="cl-alert">Show</label>
-      <select id="cl-alert">${option('', 'Every patient', kind)}${Object.entries(ALERT_WORDS).map(([k, [name]]) => option(k, `Only: ${name}`, kind)).join('')}</select>
-      ${me.role === 'admin' ? `<label class="inline"><input type="checkbox" id="cl-mine"${mine ? ' checked' : ''}> Only my own patients</label>` : ''}
+      <label for="cl-sort">${esc(t('caseload-order'))}</label>
+      <select id="cl-sort">${option('need', t('caseload-order-need'), sort)}${option('last_session', t('caseload-order-last-session'), sort)}${option('pseudonym', t('caseload-order-pseudonym'), sort)}</select>
+      <label for="cl-alert">${esc(t('caseload-show'))}</label>
+      <select id="cl-alert">${option('', t('caseload-show-all'), kind)}${ALERT_KINDS.map(k => option(k, t('caseload-show-only', { kind: kindName(k) }), kind)).join('')}</select>
+      ${me.role === 'admin' ? `<label class="inline"><input type="checkbox" id="cl-mine"${mine ? ' checked' : ''}> ${esc(t('caseload-mine'))}</label>` : ''}
     </form>
-    <table id="caseload"><caption class="note">Your caseload, ${sort === 'need' ? 'who needs attention first' : 'in the order chosen'}. Open a patient to watch a running session, see progress or prescribe.</caption>
-    <thead><tr><th scope="col">Patient</th><th scope="col">Needs attention</th><th scope="col">Last session</th><th scope="col">Last 7 days</th><th scope="col">Trend (last session)</th></tr></thead>
-    <tbody>${patients.map(rowHtml).join('') || `<tr><td colspan="5">${kind ? 'No patient has this alert now.' : 'No patients yet.'}</td></tr>`}</tbody></table>
-    <p><a href="#/clinic">Add a patient</a> (and print the pairing sheet) · <a href="#/attention-settings">Alert thresholds</a></p>`;
+    <table id="caseload"><caption class="note">${esc(t(sort === 'need' ? 'caseload-caption-need' : 'caseload-caption-chosen'))}</caption>
+    <thead><tr><th scope="col">${esc(t('caseload-col-patient'))}</th><th scope="col">${esc(t('caseload-col-needs'))}</th><th scope="col">${esc(t('caseload-col-last-session'))}</th><th scope="col">${esc(t('caseload-col-last-7-days'))}</th><th scope="col">${esc(t('caseload-col-trend'))}</th></tr></thead>
+    <tbody>${patients.map(p => rowHtml(p, words)).join('') || `<tr><td colspan="5">${esc(t(kind ? 'caseload-none-with-alert' : 'caseload-none'))}</td></tr>`}</tbody></table>
+    <p><a href="#/clinic">${esc(t('caseload-add-patient'))}</a> ${esc(t('caseload-add-patient-note'))} · <a href="#/attention-settings">${esc(t('caseload-thresholds-link'))}</a></p>`;
   const go = () => {
     const next = new URLSearchParams({ sort: app.querySelector('#cl-sort').value });
     const k = app.querySelector('#cl-alert').value;
@@ -99,56 +96,78 @@ export async function caseloadView(app, me, params = new URLSearchParams()) {
     if (m && m.checked) next.set('mine', 'true');
     location.hash = `#/patients?${next}`;
   };
+  const reload = () => caseloadView(app, me, params);
   app.querySelectorAll('#caseload-controls select, #cl-mine').forEach(el => el.addEventListener('change', go));
-  app.querySelectorAll('[data-ack]').forEach(b => b.addEventListener('click', () => openAck(app, b, patients, () => caseloadView(app, me, params))));
+  app.querySelectorAll('[data-ack]').forEach(b => b.addEventListener('click', () => openAck(app, b, patients, words, reload)));
+  app.querySelectorAll('[data-allow-training]').forEach(b => b.addEventListener('click', () => openAllow(app, b, patients, reload)));
+}
+
+/** The Trend column: every exercise kind's trends (the kind trained last first), so that a
+ * decline in any kind stays visible. */
+function trendHtml(p) {
+  const kinds = p.trends_by_kind || (p.trend_exercise_kind ? [{ exercise_kind: p.trend_exercise_kind, trends: p.trends }] : []);
+  const blocks = kinds.map(k => {
+    const lines = TREND_MEASURES.filter(m => k.trends[m]).map(m => {
+      const dir = k.trends[m];
+      const [arrow, cls, word] = dir === 'up' ? ['↑', 'up', 'caseload-trend-better'] : dir === 'down' ? ['↓', 'down', 'caseload-trend-worse'] : ['→', '', 'caseload-trend-steady'];
+      return `<span class="${cls}" data-trend="${esc(m)}" data-direction="${esc(dir)}">${esc(t(`caseload-trend-${kebab(m)}`))} ${arrow} ${esc(t(word))}</span>`;
+    });
+    if (!lines.length) return '';
+    return `<div class="trend-kind" data-exercise-kind="${esc(k.exercise_kind)}"><span class="note">${esc(capitalFirst(t('caseload-trend-kind', { kind: kindWords(k.exercise_kind) })))}</span><br>${lines.join('<br>')}</div>`;
+  }).filter(Boolean);
+  return blocks.join('') || '—';
 }
 
 /** One caseload row. */
-function rowHtml(p) {
+function rowHtml(p, words) {
   const alerts = p.attention || [];
   const [first, ...rest] = alerts;
   const need = first
-    ? `${alertHtml(p, first, 'reason-first')}${rest.length ? `<details class="more-reasons"><summary>${esc(plural(rest.length, 'more', 'more'))}</summary><ul class="reasons">${rest.map(a => `<li>${alertHtml(p, a, 'reason')}</li>`).join('')}</ul></details>` : ''}`
-    : '<span class="badge ok">Nothing needs attention</span>';
+    ? `${alertHtml(p, first, 'reason-first', words)}${rest.length ? `<details class="more-reasons"><summary>${esc(t('caseload-more', { count: rest.length }))}</summary><ul class="reasons">${rest.map(a => `<li>${alertHtml(p, a, 'reason', words)}</li>`).join('')}</ul></details>` : ''}`
+    : `<span class="badge ok">${esc(t('caseload-nothing-needed'))}</span>`;
   const quiet = (p.quieted || []).length
-    ? `<details class="quieted"><summary>${esc(plural(p.quieted.length, 'alert acknowledged', 'alerts acknowledged'))}</summary><ul class="reasons">${p.quieted.map(a => `<li data-kind="${esc(a.kind)}">${esc(alertWords(a))} — ${esc(quietWords(a.quieted))}</li>`).join('')}</ul></details>`
+    ? `<details class="quieted"><summary>${esc(t('caseload-acknowledged', { count: p.quieted.length }))}</summary><ul class="reasons">${p.quieted.map(a => `<li data-kind="${esc(a.kind)}">${esc(alertWords(a, words))} — ${esc(quietWords(a.quieted))}</li>`).join('')}</ul></details>`
     : '';
-  const sessions = p.sessions_per_week_prescribed == null ? plural(p.sessions_last_7_days, 'session', 'sessions')
-    : `${p.sessions_last_7_days} of ${p.sessions_per_week_prescribed} prescribed sessions`;
-  const minutes = p.minutes_per_week_prescribed == null ? `${Math.round(p.active_minutes_last_7_days)} active min`
-    : `${Math.round(p.active_minutes_last_7_days)} of ${Math.round(p.minutes_per_week_prescribed)} prescribed active min`;
-  const trends = [['pct_in_lane', 'time in lane'], ['wheel_rom_deg', 'wheel range'], ['sparc_median', 'smoothness']]
-    .filter(([k]) => p.trends[k])
-    .map(([k, label]) => {
-      const t = p.trends[k];
-      const [arrow, cls, word] = t === 'up' ? ['↑', 'up', 'better'] : t === 'down' ? ['↓', 'down', 'worse'] : ['→', '', 'steady'];
-      return `<span class="${cls}">${esc(label)} ${arrow} ${word}</span>`;
-    }).join('<br>') || '—';
-  const trendsOf = p.trend_exercise_kind && trends !== '—' ? `<span class="note">${esc(kindWords(p.trend_exercise_kind))} sessions:</span><br>${trends}` : trends;
+  const week = t('caseload-week', {
+    sessions: p.sessions_last_7_days,
+    sessionsPrescribed: p.sessions_per_week_prescribed ?? 'none',
+    minutes: Math.round(p.active_minutes_last_7_days),
+    minutesPrescribed: p.minutes_per_week_prescribed == null ? 'none' : Math.round(p.minutes_per_week_prescribed),
+  });
   return `<tr data-pseudonym="${esc(p.pseudonym)}" data-severity="${esc(first ? first.severity : 'none')}" data-alert-kinds="${esc(alerts.map(a => a.kind).join(' '))}">
     <td><a href="#/patients/${encodeURIComponent(p.id)}">${esc(displayName(p.pseudonym))}</a></td>
     <td class="needs">${need}${quiet}</td>
-    <td>${esc(when(p.last_session_started_ms))}</td><td>${esc(`${sessions}, ${minutes}`)}</td><td>${trendsOf}</td></tr>`;
+    <td>${esc(whenWords(p.last_session_started_ms))}</td><td class="week" data-sessions="${esc(p.sessions_last_7_days)}" data-sessions-prescribed="${esc(p.sessions_per_week_prescribed ?? '')}" data-minutes-prescribed="${esc(p.minutes_per_week_prescribed ?? '')}">${esc(week)}</td><td>${trendHtml(p)}</td></tr>`;
 }
 
-/** An alert with its severity word and mark, and its "Acknowledge" button. */
-function alertHtml(p, a, cls) {
+/** An alert with its severity word and mark, its "Acknowledge" button, and on a pain alert
+ * "Allow training today" (or when training was allowed after it). */
+function alertHtml(p, a, cls, words) {
   const s = SEVERITY[a.severity] || SEVERITY.notice;
-  return `<div class="${cls} alert-line ${s.cls}" data-kind="${esc(a.kind)}" data-severity="${esc(a.severity)}">
-    <span class="sev"><span aria-hidden="true">${s.mark}</span> ${esc(s.word)}:</span> ${esc(alertWords(a))}
-    <button type="button" class="secondary small" data-ack data-patient="${esc(p.id)}" data-key="${esc(a.key)}">Acknowledge<span class="visually-hidden"> (${esc(displayName(p.pseudonym))})</span></button></div>`;
+  const who = `<span class="visually-hidden"> (${esc(displayName(p.pseudonym))})</span>`;
+  let allow = '';
+  if (a.kind === 'pain_high') {
+    const cleared = p.pain_cleared_at_ms != null && (a.at_ms == null || p.pain_cleared_at_ms >= a.at_ms);
+    allow = cleared
+      ? `<span class="note pain-cleared" data-pain-cleared>${esc(t('caseload-training-allowed', { at: whenWords(p.pain_cleared_at_ms) }))}</span>`
+      : ` <button type="button" class="small" data-allow-training data-patient="${esc(p.id)}">${esc(t('caseload-allow-training'))}${who}</button>`;
+  }
+  return `<div class="${cls} alert-line ${s.cls}" data-kind="${esc(a.kind)}" data-severity="${esc(a.severity)}"${a.message ? ` data-l10n-message="${esc(a.message.id)}"` : ''}>
+    <span class="sev"><span aria-hidden="true">${s.mark}</span> ${esc(t('attention-severity-label', { severity: severityWord(a.severity) }))}</span> ${esc(alertWords(a, words))}
+    <button type="button" class="secondary small" data-ack data-patient="${esc(p.id)}" data-key="${esc(a.key)}">${esc(t('caseload-acknowledge'))}${who}</button>${allow}</div>`;
 }
 
 /** Who acknowledged or snoozed an alert, when, until when, and their note. */
 function quietWords(q) {
   if (!q) return '';
-  const who = q.by_email || 'a therapist no longer at the clinic';
-  const until = q.until_ms ? `snoozed until ${when(q.until_ms)}` : 'acknowledged (quiet until something new)';
-  return `${until} by ${who} on ${when(q.at_ms)}: ${q.note}`;
+  const who = q.by_email || t('caseload-quiet-former');
+  return q.until_ms
+    ? t('caseload-quiet-snoozed', { until: whenWords(q.until_ms), who, at: whenWords(q.at_ms), note: q.note })
+    : t('caseload-quiet-acknowledged', { who, at: whenWords(q.at_ms), note: q.note });
 }
 
 /** The acknowledge / snooze form under the alert of button `b`. */
-function openAck(app, b, patients, reload) {
+function openAck(app, b, patients, words, reload) {
   app.querySelectorAll('.ack-form').forEach(f => f.remove());
   const p = patients.find(x => x.id === b.dataset.patient);
   const a = p && p.attention.find(x => x.key === b.dataset.key);
@@ -157,15 +176,15 @@ function openAck(app, b, patients, reload) {
   form.className = 'ack-form panel';
   form.noValidate = true;
   const tomorrow = new Date(Date.now() + 86400000).toISOString().slice(0, 10);
-  form.innerHTML = `<p><strong>${esc(displayName(p.pseudonym))}:</strong> ${esc(alertWords(a))}</p>
-    <fieldset><legend>Keep it quiet</legend>
-      <label class="inline"><input type="radio" name="ack-how" value="ack" checked> Until something new happens</label>
-      <label class="inline"><input type="radio" name="ack-how" value="snooze"> Until a day:</label>
-      <label for="ack-until" class="visually-hidden">Snooze until</label><input type="date" id="ack-until" min="${tomorrow}" value="${tomorrow}">
+  form.innerHTML = `<p><strong>${esc(displayName(p.pseudonym))}:</strong> ${esc(alertWords(a, words))}</p>
+    <fieldset><legend>${esc(t('caseload-ack-legend'))}</legend>
+      <label class="inline"><input type="radio" name="ack-how" value="ack" checked> ${esc(t('caseload-ack-until-new'))}</label>
+      <label class="inline"><input type="radio" name="ack-how" value="snooze"> ${esc(t('caseload-ack-until-day'))}</label>
+      <label for="ack-until" class="visually-hidden">${esc(t('caseload-ack-snooze-until'))}</label><input type="date" id="ack-until" min="${tomorrow}" value="${tomorrow}">
     </fieldset>
-    <label for="ack-note">Note <span class="note">(what was done, e.g. "Called: resting, sees the GP Monday")</span></label>
+    <label for="ack-note">${esc(t('caseload-ack-note'))} <span class="note">${esc(t('caseload-ack-note-hint'))}</span></label>
     <textarea id="ack-note" rows="2" maxlength="2000"></textarea>
-    <p><button type="submit">Save</button> <button type="button" class="secondary" id="ack-cancel">Cancel</button></p>
+    <p><button type="submit">${esc(t('caseload-save'))}</button> <button type="button" class="secondary" id="ack-cancel">${esc(t('caseload-cancel'))}</button></p>
     <p class="error" id="ack-error" role="alert"></p>`;
   b.closest('td').appendChild(form);
   form.querySelector('#ack-note').focus();
@@ -175,7 +194,7 @@ function openAck(app, b, patients, reload) {
     const body = { key: a.key, fingerprint: a.fingerprint, note: form.querySelector('#ack-note').value };
     if (form.querySelector('input[name=ack-how]:checked').value === 'snooze') {
       const day = form.querySelector('#ack-until').value;
-      if (!day) { form.querySelector('#ack-error').textContent = 'Choose the day the alert may come back.'; return; }
+      if (!day) { form.querySelector('#ack-error').textContent = t('caseload-ack-no-day'); return; }
       body.snooze_until_ms = new Date(`${day}T00:00`).getTime();
     }
     try {
@@ -185,31 +204,67 @@ function openAck(app, b, patients, reload) {
   });
 }
 
+/** "Allow training today" after a pain stop: a confirmation saying what it does, then
+ * POST /api/patients/{id}/pain-clearance, and the result in words. */
+function openAllow(app, b, patients, reload) {
+  app.querySelectorAll('.ack-form').forEach(f => f.remove());
+  const p = patients.find(x => x.id === b.dataset.patient);
+  if (!p) return;
+  const form = document.createElement('form');
+  form.className = 'ack-form panel allow-form';
+  form.noValidate = true;
+  form.innerHTML = `<p id="allow-question"><strong>${esc(displayName(p.pseudonym))}:</strong> ${esc(t('caseload-allow-question'))}</p>
+    <p class="note">${esc(t('caseload-allow-explain'))}</p>
+    <p><button type="submit" data-allow-confirm>${esc(t('caseload-allow-confirm'))}</button> <button type="button" class="secondary" id="allow-cancel">${esc(t('caseload-cancel'))}</button></p>
+    <p id="allow-result" role="alert"></p>`;
+  b.closest('td').appendChild(form);
+  form.querySelector('[data-allow-confirm]').focus();
+  form.querySelector('#allow-cancel').addEventListener('click', () => form.remove());
+  form.addEventListener('submit', async ev => {
+    ev.preventDefault();
+    const out = form.querySelector('#allow-result');
+    try {
+      const r = await api('POST', `/api/patients/${encodeURIComponent(p.id)}/pain-clearance`, {});
+      await reload();
+      const row = app.querySelector(`tr[data-pseudonym="${CSS.escape(p.pseudonym)}"] td.needs`);
+      if (row) {
+        const done = document.createElement('p');
+        done.id = 'allow-done';
+        done.setAttribute('role', 'status');
+        done.dataset.clearedAtMs = String(r.cleared_at_ms);
+        done.textContent = t('caseload-allow-done', { at: whenWords(r.cleared_at_ms) });
+        row.appendChild(done);
+      }
+    } catch (e) { out.className = 'error'; out.textContent = e.message; }
+  });
+}
+
 /** The clinic's alert thresholds (#/attention-settings): everyone sees them and why; an
  * administrator changes them. */
 export async function settingsView(app, me) {
   const settings = await api('GET', '/api/clinic/settings');
   const admin = me.role === 'admin';
   const rows = settings.map(s => {
-    const [label, why] = SETTING_WORDS[s.key] || [s.key, ''];
-    const changed = s.updated_at_ms ? `Changed by ${s.updated_by_email || 'a former colleague'} on ${when(s.updated_at_ms)}.` : 'Not changed by the clinic: the default.';
+    const changed = s.updated_at_ms
+      ? t('attention-setting-changed', { who: s.updated_by_email || t('caseload-quiet-former'), at: whenWords(s.updated_at_ms) })
+      : t('attention-setting-default');
     return `<div class="setting" data-key="${esc(s.key)}">
-      <label for="set-${esc(s.key)}">${esc(label)} <span class="note">(${esc(s.min)}–${esc(s.max)}; default ${esc(s.default)})</span></label>
+      <label for="set-${esc(s.key)}">${esc(settingLabel(s.key))} <span class="note">${esc(t('attention-setting-range', { min: s.min, max: s.max, default: s.default }))}</span></label>
       <input id="set-${esc(s.key)}" type="number" min="${esc(s.min)}" max="${esc(s.max)}" step="1" value="${esc(s.value)}"${admin ? '' : ' readonly'} data-setting="${esc(s.key)}">
-      <p class="note">${esc(why)} ${esc(changed)}</p></div>`;
+      <p class="note">${esc(settingWhy(s.key))} ${esc(changed)}</p></div>`;
   }).join('');
-  app.innerHTML = `<h1>Alert thresholds</h1>
-    <p>When the caseload says a patient needs attention. ${admin ? 'Changes apply to every therapist of the clinic at once and are recorded in the audit log.' : 'An administrator can change them.'}</p>
+  app.innerHTML = `<h1>${esc(t('attention-settings-title'))}</h1>
+    <p>${esc(t('attention-settings-intro'))} ${esc(t(admin ? 'attention-settings-admin' : 'attention-settings-not-admin'))}</p>
     <form id="settings-form" class="panel" novalidate>${rows}
-      ${admin ? '<p><button type="submit">Save the thresholds</button></p>' : ''}
+      ${admin ? `<p><button type="submit">${esc(t('attention-settings-save'))}</button></p>` : ''}
       <p id="settings-result" role="alert"></p></form>
-    <p><a href="#/patients">Back to the patients</a></p>`;
+    <p><a href="#/patients">${esc(t('app-back-to-patients'))}</a></p>`;
   if (!admin) return;
   const form = app.querySelector('#settings-form');
   form.addEventListener('submit', async ev => {
     ev.preventDefault();
     const out = app.querySelector('#settings-result');
-    if (!form.checkValidity()) { out.className = 'error'; out.textContent = 'A value is outside its range (shown beside it).'; return; }
+    if (!form.checkValidity()) { out.className = 'error'; out.textContent = t('attention-settings-out-of-range'); return; }
     const body = {};
     form.querySelectorAll('[data-setting]').forEach(i => {
       const s = settings.find(x => x.key === i.dataset.setting);
@@ -218,7 +273,9 @@ export async function settingsView(app, me) {
     try {
       await api('PUT', '/api/clinic/settings', body);
       await settingsView(app, me);
-      app.querySelector('#settings-result').textContent = 'Saved.';
+      const done = app.querySelector('#settings-result');
+      done.dataset.saved = 'true';
+      done.textContent = t('attention-settings-saved');
     } catch (e) { out.className = 'error'; out.textContent = e.message; }
   });
 }

@@ -8,10 +8,12 @@
 // ticks "Include sessions that ended early". The one-page print: the clinic's name, the patient,
 // the date range, pain, adherence, alerts, the scales and the latest table.
 import { api, esc } from '/console/api.js';
+import { t, locale } from '/console/i18n.js';
+import { alertWords, SEVERITY } from '/console/caseload.js';
 import { numbersTable, sessionChart, sessionLabels } from '/console/sessionchart.js';
 import {
   activeWords, dayWords, endWords, headerWords, kindWords, measureWords, noiseBand, sessionWords, trendWords,
-  valueWords, whenWords,
+  valueWords, whenWords, measureName,
 } from '/console/words.js';
 import { bindNoteCells, noteCell } from '/console/notes.js';
 import { scalesSection } from '/console/scales.js';
@@ -44,68 +46,78 @@ const early = s => !s.ran_as_prescribed && ended(s);
 /** Whether a session counts in trends and baselines. */
 const counts = (s, includeEarly) => s.ran_as_prescribed || (includeEarly && early(s));
 const mean = vs => (vs.length ? vs.reduce((a, b) => a + b, 0) / vs.length : undefined);
-const capital = s => s.charAt(0).toUpperCase() + s.slice(1);
-const DIFFICULTY = { too_easy: 'too easy', about_right: 'about right', too_hard: 'too hard' };
+/** `s` with its first letter a capital ("road sessions" → "Road sessions"). */
+const capitalFirst = s => s.charAt(0).toLocaleUpperCase(locale()) + s.slice(1);
+/** How hard the session felt, in words (`progress-felt-too-easy`, …). */
+const felt = d => (['too_easy', 'about_right', 'too_hard'].includes(d) ? t(`progress-felt-${d.replace(/_/g, '-')}`) : d);
 
 /** A session's check-in in a few words (HTML, every part escaped); high pain marked. */
 function checkinWords(c) {
   if (!c) return '—';
   const parts = [];
-  if (c.pain_0_10 != null) parts.push(`<span class="${c.pain_0_10 >= PAIN_MARKED ? 'badge alert' : ''}">pain ${esc(String(c.pain_0_10))}/10</span>`);
-  if (c.tiredness_0_10 != null) parts.push(`tiredness ${esc(String(c.tiredness_0_10))}/10`);
-  if (c.difficulty != null) parts.push(esc(DIFFICULTY[c.difficulty] || c.difficulty));
-  return parts.length ? parts.join(', ') : 'skipped';
+  if (c.pain_0_10 != null) parts.push(`<span class="${c.pain_0_10 >= PAIN_MARKED ? 'badge alert' : ''}">${esc(t('progress-checkin-pain', { pain: c.pain_0_10 }))}</span>`);
+  // The check-in's second answer is effort (Borg CR10); the wire calls it tiredness_0_10.
+  if (c.tiredness_0_10 != null) parts.push(esc(t('progress-checkin-effort', { effort: c.tiredness_0_10 })));
+  if (c.difficulty != null) parts.push(esc(felt(c.difficulty)));
+  return parts.length ? parts.join(t('progress-list-separator')) : esc(t('progress-checkin-skipped'));
 }
 
-/** An alert of the caseload in words (a string, or an object with its words). */
-const alertWords = a => (typeof a === 'string' ? a : a.words || a.reason || a.text || '');
-
 /** The first section: pain, adherence and alerts (HTML), from the check-ins (newest first),
- * the sessions (oldest first) and the caseload's overview of the patient (may be absent). */
-function summaryHtml(checkins, sessions, overview) {
+ * the sessions (oldest first), the caseload's overview of the patient (may be absent) and the
+ * measure words (a decline's numbers in their measure's decimals and unit). */
+function summaryHtml(checkins, sessions, overview, words) {
   const answered = checkins.filter(c => c.pain_0_10 != null);
   const last = answered[0];
   const pain = last
-    ? `<p id="pain-latest" data-pain="${esc(last.pain_0_10)}"><strong class="${last.pain_0_10 >= PAIN_MARKED ? 'badge alert' : ''}">Pain ${esc(last.pain_0_10)}/10</strong>
-        after the session of ${esc(whenWords(last.started_unix_ms))}.
-        ${answered.length > 1 ? `Before: ${answered.slice(1, 6).map(c => `${esc(c.pain_0_10)}/10`).join(', ')} (newest first).` : ''}</p>`
-    : '<p id="pain-latest">No pain answer yet.</p>';
+    ? `<p id="pain-latest" data-pain="${esc(last.pain_0_10)}"><strong class="${last.pain_0_10 >= PAIN_MARKED ? 'badge alert' : ''}">${esc(t('progress-pain-latest', { pain: last.pain_0_10 }))}</strong>
+        ${esc(t('progress-pain-after', { at: whenWords(last.started_unix_ms) }))}
+        ${answered.length > 1 ? esc(t('progress-pain-before', { list: answered.slice(1, 6).map(c => `${c.pain_0_10}/10`).join(t('progress-list-separator')) })) : ''}</p>`
+    : `<p id="pain-latest">${esc(t('progress-pain-none'))}</p>`;
   const lastCheckin = checkins[0];
-  const felt = lastCheckin && (lastCheckin.tiredness_0_10 != null || lastCheckin.difficulty)
-    ? `<p>After the last session: ${lastCheckin.tiredness_0_10 != null ? `tiredness ${esc(lastCheckin.tiredness_0_10)}/10` : ''}${lastCheckin.tiredness_0_10 != null && lastCheckin.difficulty ? ', ' : ''}${lastCheckin.difficulty ? `felt ${esc(DIFFICULTY[lastCheckin.difficulty] || lastCheckin.difficulty)}` : ''}.</p>` : '';
+  const feltWords = lastCheckin && (lastCheckin.tiredness_0_10 != null || lastCheckin.difficulty)
+    ? `<p id="last-effort">${esc(t('progress-after-last', {
+      answers: [lastCheckin.tiredness_0_10 != null ? t('progress-checkin-effort', { effort: lastCheckin.tiredness_0_10 }) : '',
+        lastCheckin.difficulty ? t('progress-felt', { felt: felt(lastCheckin.difficulty) }) : ''].filter(Boolean).join(t('progress-list-separator')),
+    }))}</p>` : '';
   let week = '';
   if (overview) {
-    const sessionsW = overview.sessions_per_week_prescribed == null ? `${esc(overview.sessions_last_7_days)} sessions`
-      : `${esc(overview.sessions_last_7_days)} of ${esc(overview.sessions_per_week_prescribed)} prescribed sessions`;
-    const minutes = overview.minutes_per_week_prescribed == null ? `${esc(Math.round(overview.active_minutes_last_7_days))} active minutes`
-      : `${esc(Math.round(overview.active_minutes_last_7_days))} of ${esc(Math.round(overview.minutes_per_week_prescribed))} prescribed active minutes`;
-    week = `<p id="adherence">Last 7 days: ${sessionsW}, ${minutes}.</p>`;
+    week = `<p id="adherence">${esc(t('progress-week', {
+      sessions: overview.sessions_last_7_days,
+      sessionsPrescribed: overview.sessions_per_week_prescribed ?? 'none',
+      minutes: Math.round(overview.active_minutes_last_7_days),
+      minutesPrescribed: overview.minutes_per_week_prescribed == null ? 'none' : Math.round(overview.minutes_per_week_prescribed),
+    }))}</p>`;
   }
   const recent = sessions.slice(-10);
   const stopped = recent.filter(early).length;
-  const stoppedWords = `<p>Stopped early: ${esc(stopped)} of the last ${esc(recent.length)} session${recent.length === 1 ? '' : 's'}.</p>`;
-  const alerts = overview ? (overview.alerts || []).map(alertWords).filter(Boolean) : [];
-  const alertList = alerts.length ? `<ul id="alerts">${alerts.map(a => `<li><span class="badge alert">${esc(a)}</span></li>`).join('')}</ul>`
-    : '<p id="alerts">No alert.</p>';
-  return `<h2 id="summary-h">Pain, adherence and alerts</h2>
-    <div class="summary-grid"><div><h3>Pain</h3>${pain}${felt}
-      <div class="chart" id="p-pain" role="img" aria-label="Pain after each session, 0 to 10: the numbers are in the sessions' list"></div></div>
-    <div><h3>Adherence</h3>${week}${stoppedWords}<h3>Alerts</h3>${alertList}</div></div>`;
+  const stoppedWords = `<p>${esc(t('progress-stopped-early', { stopped, count: recent.length }))}</p>`;
+  // The caseload's alerts, each with its severity (mark and colour, caseload.js's).
+  const alerts = overview ? (overview.attention || []).filter(a => alertWords(a, words)) : [];
+  const alertList = alerts.length ? `<ul id="alerts" class="reasons">${alerts.map(a => {
+    const s = SEVERITY[a.severity] || SEVERITY.notice;
+    return `<li class="alert-line ${s.cls}" data-kind="${esc(a.kind)}"><span aria-hidden="true">${s.mark}</span> ${esc(alertWords(a, words))}</li>`;
+  }).join('')}</ul>`
+    : `<p id="alerts">${esc(t('progress-alerts-none'))}</p>`;
+  return `<h2 id="summary-h">${esc(t('progress-summary-title'))}</h2>
+    <div class="summary-grid"><div><h3>${esc(t('progress-pain-title'))}</h3>${pain}${feltWords}
+      <div class="chart" id="p-pain" role="img" aria-label="${esc(t('progress-pain-chart-label'))}"></div></div>
+    <div><h3>${esc(t('progress-adherence-title'))}</h3>${week}${stoppedWords}<h3>${esc(t('progress-alerts-title'))}</h3>${alertList}</div></div>`;
 }
 
 /** The difficulty history (oldest first): a chart and a table of each change and its reason,
  * the station's words escaped, behind a summary; nothing when no session adapted. */
 function difficultyPanel(history) {
   if (!history.length) return '';
-  const signed = x => (x < -0.0005 ? `−${(-x).toFixed(2)}` : `+${x.toFixed(2)}`);
+  const nf = new Intl.NumberFormat(locale(), { minimumFractionDigits: 2, maximumFractionDigits: 2 });
+  const signed = x => (x < -0.0005 ? `−${nf.format(-x)}` : `+${nf.format(Math.abs(x))}`);
   const rows = history.slice().reverse().map(d => `<tr><td>${esc(whenWords(d.started_unix_ms))}</td>
-    <td class="num">${esc(d.difficulty.toFixed(2))}</td><td class="num">${esc(signed(d.change))}</td>
-    <td>${d.success_rate == null ? '—' : `${esc(Math.round(d.success_rate * 100))} %`}</td><td class="reason">${esc(d.reason)}</td></tr>`).join('');
+    <td class="num">${esc(nf.format(d.difficulty))}</td><td class="num">${esc(signed(d.change))}</td>
+    <td>${d.success_rate == null ? '—' : esc(t('progress-percent', { n: Math.round(d.success_rate * 100) }))}</td><td class="reason">${esc(d.reason)}</td></tr>`).join('');
   const latest = history[history.length - 1];
-  return `<details class="panel print-hide" id="difficulty"><summary><h3 id="difficulty-h" class="inline">Difficulty that follows the patient</h3>: now ${esc(latest.difficulty.toFixed(2))} (0 easiest, 1 as prescribed)</summary>
-      <p class="note">0: half the prescribed speed and shape with all its assistance; 1: the regimen as written. Set by the station within the regimen's bounds.</p>
+  return `<details class="panel print-hide" id="difficulty"><summary><h3 id="difficulty-h" class="inline">${esc(t('progress-difficulty-title'))}</h3>${esc(t('progress-difficulty-now', { now: nf.format(latest.difficulty) }))}</summary>
+      <p class="note">${esc(t('progress-difficulty-explain'))}</p>
       <div class="chart" id="p-difficulty"></div>
-      <table id="difficulty-table"><caption class="note">The numbers of the chart, newest first</caption><thead><tr><th scope="col">Started</th><th scope="col">Difficulty</th><th scope="col">Change</th><th scope="col">Success</th><th scope="col">Why</th></tr></thead><tbody>${rows}</tbody></table></details>`;
+      <table id="difficulty-table"><caption class="note">${esc(t('progress-numbers-caption'))}</caption><thead><tr><th scope="col">${esc(t('progress-col-started'))}</th><th scope="col">${esc(t('progress-col-difficulty'))}</th><th scope="col">${esc(t('progress-col-change'))}</th><th scope="col">${esc(t('progress-col-success'))}</th><th scope="col">${esc(t('progress-col-why'))}</th></tr></thead><tbody>${rows}</tbody></table></details>`;
 }
 
 /** What the latest table compares (indices into `sessions`, oldest first): the latest session
@@ -128,10 +140,10 @@ function latestRows(words, sessions, metrics, c) {
     const values = c.trend.map(i => metrics[i][m.key]);
     const last = values[0];
     const base = mean(numbers(c.baseline, m.key));
-    const head = `<tr data-key="${esc(m.key)}"><th scope="row">${esc(m.name)}</th>`;
+    const head = `<tr data-key="${esc(m.key)}"><th scope="row">${esc(measureName(m.key))}</th>`;
     if (m.key === 'active_s') {
       const prescribed = c.baseline.every(i => typeof sessions[i].prescribed_s === 'number') ? mean(numbers(c.baseline, 'prescribed_s')) : undefined;
-      return `${head}<td>${esc(activeWords(last, c.latest.prescribed_s))}</td><td data-baseline="${esc(base ?? '')}">${esc(activeWords(base, prescribed))}</td><td class="note">against the prescription, not a trend</td></tr>`;
+      return `${head}<td>${esc(activeWords(last, c.latest.prescribed_s))}</td><td data-baseline="${esc(base ?? '')}">${esc(activeWords(base, prescribed))}</td><td class="note">${esc(t('progress-against-prescription'))}</td></tr>`;
     }
     return `${head}<td>${esc(valueWords(m, last))}</td><td data-baseline="${esc(base ?? '')}">${esc(valueWords(m, base))}</td><td>${trendWords(values, m)}</td></tr>`;
   }).join('');
@@ -141,15 +153,12 @@ function latestRows(words, sessions, metrics, c) {
 function latestPanel(words, sessions, metrics, includeEarly) {
   const c = compared(sessions, includeEarly);
   const kind = c.latest && kindWords(c.latest.exercise_kind);
-  const which = includeEarly ? 'that ended (as prescribed or early: sessions ended early are included)' : 'that ran as prescribed';
-  const n = c.baseline.length;
-  const firsts = n === 1 ? `the first ${esc(kind)} session` : `the mean of the first ${esc(n)} ${esc(kind)} sessions`;
   const note = c.latest
-    ? `The latest session ${which} (${esc(sessionWords(c.latest))}) against the patient's baseline (${firsts} ${which}), and its trend against up to four earlier ${esc(kind)} sessions; a change within a measure's measurement noise reads "steady"${includeEarly ? '' : '. Sessions ended early are in the list below, not compared'}.`
-    : 'No session has run as prescribed yet: nothing to compare.';
-  return `<h2 id="latest-h">${c.latest ? `Exercises: the latest ${esc(kind)} session against the earlier ones` : 'Exercises: the latest session against the earlier ones'}</h2>
-      <p class="note print-hide" id="compared">${note}</p>
-      ${c.latest ? `<table id="latest-table"><thead><tr><th scope="col">Measure</th><th scope="col">Latest</th><th scope="col">Baseline</th><th scope="col">Trend</th></tr></thead>
+    ? t('progress-compared', { early: includeEarly ? 'included' : 'left-out', session: sessionWords(c.latest), kind, baseline: c.baseline.length, earlier: TREND_SESSIONS })
+    : t('progress-compared-none');
+  return `<h2 id="latest-h">${esc(c.latest ? t('progress-latest-title-kind', { kind }) : t('progress-latest-title'))}</h2>
+      <p class="note print-hide" id="compared">${esc(note)}</p>
+      ${c.latest ? `<table id="latest-table"><thead><tr><th scope="col">${esc(t('progress-col-measure'))}</th><th scope="col">${esc(t('progress-col-latest'))}</th><th scope="col">${esc(t('progress-col-baseline'))}</th><th scope="col">${esc(t('progress-col-trend'))}</th></tr></thead>
       <tbody>${latestRows(words, sessions, metrics, c)}</tbody></table>` : ''}`;
 }
 
@@ -174,7 +183,7 @@ function kindGroup(words, sessions, metrics, kind, includeEarly) {
     const values = idx.map(i => value(i, m.key));
     const columns = [{ key: m.key, label: headerWords(m), values }];
     const prescribed = m.key === 'active_s' ? idx.map(i => (typeof sessions[i].prescribed_s === 'number' ? sessions[i].prescribed_s : null)) : null;
-    if (prescribed && prescribed.some(v => v != null)) columns.push({ key: 'prescribed_s', label: `Prescribed time (${m.unit})`, values: prescribed });
+    if (prescribed && prescribed.some(v => v != null)) columns.push({ key: 'prescribed_s', label: t('progress-prescribed-time', { unit: m.unit }), values: prescribed });
     const chartId = `p-${slug}-${m.key}`;
     const counted = values.filter((v, j) => v != null && status[j].counts);
     const base = mean(counted.slice(0, BASELINE_SESSIONS));
@@ -187,22 +196,22 @@ function kindGroup(words, sessions, metrics, kind, includeEarly) {
         early: c.values.map((v, j) => (status[j].early ? v : null)),
       })),
     }, status]);
-    const noise = m.noise ? ' The shaded band is the measurement noise around the baseline: a point inside it is no change.' : '';
+    const noise = m.noise ? t('progress-noise-band') : '';
     return `<div class="panel"><h4 id="${chartId}-h">${esc(headerWords(m))}</h4>
-      <div class="chart" id="${chartId}" data-kind="${esc(kind)}" data-key="${esc(m.key)}" role="img" aria-label="${esc(m.name)} by session: the numbers are in the table below"></div>
-      ${noise ? `<p class="note">${esc(noise.trim())}</p>` : ''}
-      ${numbersTable(m.name, labels, columns, status, false, m.decimals)}</div>`;
+      <div class="chart" id="${chartId}" data-kind="${esc(kind)}" data-key="${esc(m.key)}" role="img" aria-label="${esc(t('progress-chart-label', { measure: measureName(m.key) }))}"></div>
+      ${noise ? `<p class="note">${esc(noise)}</p>` : ''}
+      ${numbersTable(measureName(m.key), labels, columns, status, false, m.decimals)}</div>`;
   }).join('');
   const names = [...new Set(idx.map(i => sessions[i].exercise_name || sessions[i].exercise))];
   const earlyCount = status.filter(s => s.early).length;
   const lastCounted = idx.filter((i, j) => status[j].counts).pop();
   const headline = lastCounted == null ? [] : HEADLINE.map(k => words.measures.get(k))
     .filter(m => m && typeof metrics[lastCounted][m.key] === 'number').slice(0, 3)
-    .map(m => `${m.name.replace(/ \(.*\)$/, '')} ${valueWords(m, metrics[lastCounted][m.key])}`);
+    .map(m => t('progress-headline-item', { measure: measureName(m.key).replace(/ [(（].*[)）]$/, ''), value: valueWords(m, metrics[lastCounted][m.key]) }));
   const html = `<details class="panel kind-group" data-kind="${esc(kind)}">
-    <summary><h3 id="kind-${slug}-h" class="inline">${esc(capital(kindWords(kind)))} sessions (${idx.length})</h3>${headline.length ? `: latest ${esc(headline.join(', '))}` : ''}</summary>
-    <p class="note">${esc(names.join('; '))}. One chart a measure, one step a session, oldest on the left.${earlyCount ? ` Hollow points: ${earlyCount} session${earlyCount === 1 ? '' : 's'} ended early (${includeEarly ? 'included' : 'not joined to the line'}).` : ''}</p>
-    <div class="grid">${panels || '<p>No measures recorded for these sessions.</p>'}</div></details>`;
+    <summary><h3 id="kind-${slug}-h" class="inline">${esc(capitalFirst(t('progress-kind-title', { kind: kindWords(kind), count: idx.length })))}</h3>${headline.length ? esc(t('progress-kind-latest', { list: headline.join(t('progress-list-separator')) })) : ''}</summary>
+    <p class="note">${esc(t('progress-kind-note', { names: names.join('; ') }))}${earlyCount ? ` ${esc(t('progress-kind-hollow', { count: earlyCount, early: includeEarly ? 'included' : 'left-out' }))}` : ''}</p>
+    <div class="grid">${panels || `<p>${esc(t('progress-kind-no-measures'))}</p>`}</div></details>`;
   return { html, draws };
 }
 
@@ -235,10 +244,10 @@ function render(el, words, sessions, metrics, includeEarly) {
 /** The technical names of the measures the page shows, behind "details". */
 function technicalDetails(words, metrics) {
   const keys = new Set(metrics.flatMap(m => Object.keys(m || {})));
-  const rows = words.list.filter(m => keys.has(m.key)).map(m => `<tr><th scope="row">${esc(m.name)}</th><td><code>${esc(m.key)}</code></td><td>${esc(m.technical)}</td></tr>`).join('');
-  return `<details class="print-hide" id="technical"><summary>Details: the technical names of these measures</summary>
-    <table><caption class="note">As the spreadsheet's second header row and the FHIR export name them</caption>
-    <thead><tr><th scope="col">Measure</th><th scope="col">Name in the data</th><th scope="col">Technical name</th></tr></thead><tbody>${rows}</tbody></table></details>`;
+  const rows = words.list.filter(m => keys.has(m.key)).map(m => `<tr><th scope="row">${esc(measureName(m.key))}</th><td><code>${esc(m.key)}</code></td><td lang="en" translate="no">${esc(m.technical)}</td></tr>`).join('');
+  return `<details class="print-hide" id="technical"><summary>${esc(t('progress-technical-summary'))}</summary>
+    <table><caption class="note">${esc(t('progress-technical-caption'))}</caption>
+    <thead><tr><th scope="col">${esc(t('progress-col-measure'))}</th><th scope="col">${esc(t('progress-col-data-name'))}</th><th scope="col">${esc(t('progress-col-technical'))}</th></tr></thead><tbody>${rows}</tbody></table></details>`;
 }
 
 /** The Progress tab of patient `id` in `el`; returns what to undo on leaving it. */
@@ -262,33 +271,33 @@ export async function progressView(el, id) {
   const checkinsNewest = checkinList.slice().sort((a, b) => b.started_unix_ms - a.started_unix_ms);
   const difficulty = difficultyNewest.slice().reverse();
   const overview = overviews.find(p => p.id === id);
-  const list = sessions.slice().reverse().map(s => `<tr${s.ran_as_prescribed ? '' : ' data-early="1"'}><td>${esc(whenWords(s.started_unix_ms))}</td><td>${esc(s.exercise_name || s.exercise)}</td>
-    <td>${endWords(s)}</td>
-    <td class="checkin">${checkinWords(checkins.get(s.session_id))}</td>
-    <td><a href="#/patients/${pid}/exercises/${encodeURIComponent(s.session_id)}">Each exercise</a>
-      · <a href="#/patients/${pid}/replay/${encodeURIComponent(s.session_id)}">Replay</a></td>
-    <td>${noteCell(s.session_id, `the session of ${whenWords(s.started_unix_ms)}`, esc)}</td></tr>`).join('');
+  const list = sessions.slice().reverse().map(s => `<tr${s.ran_as_prescribed ? '' : ' data-early="1"'}><td>${esc(whenWords(s.started_unix_ms))}</td><td translate="no">${esc(s.exercise_name || s.exercise)}</td>
+    <td data-end-kind="${esc(s.end_kind || '')}">${endWords(s)}</td>
+    <td class="checkin" data-pain="${esc(checkins.get(s.session_id)?.pain_0_10 ?? '')}">${checkinWords(checkins.get(s.session_id))}</td>
+    <td><a href="#/patients/${pid}/exercises/${encodeURIComponent(s.session_id)}" data-link="exercises">${esc(t('progress-each-exercise'))}</a>
+      · <a href="#/patients/${pid}/replay/${encodeURIComponent(s.session_id)}" data-link="replay">${esc(t('progress-replay'))}</a></td>
+    <td>${noteCell(s.session_id, t('progress-note-session', { at: whenWords(s.started_unix_ms) }), esc)}</td></tr>`).join('');
   const anyEarly = sessions.some(early);
   const range = sessions.length
-    ? `sessions from ${dayWords(sessions[0].started_unix_ms)} to ${dayWords(sessions[sessions.length - 1].started_unix_ms)}`
-    : 'no session yet';
+    ? t('progress-range', { from: dayWords(sessions[0].started_unix_ms), to: dayWords(sessions[sessions.length - 1].started_unix_ms) })
+    : t('progress-range-none');
   const tz = Intl.DateTimeFormat().resolvedOptions().timeZone || 'UTC';
-  const zoneWords = tz === 'UTC' ? 'times in UTC' : `times in ${tz} and UTC`;
+  const zoneWords = tz === 'UTC' ? t('progress-zone-utc') : t('progress-zone', { zone: tz });
   el.innerHTML = `
-    <p id="print-head" data-clinic="${esc(clinic.name || '')}"><strong>${esc(clinic.name || 'Clinic name not set')}</strong>
-      · Progress of ${esc(patient.pseudonym || '')} · <span id="date-range">${esc(range)}</span> · printed ${esc(dayWords(Date.now()))}</p>
-    <p class="print-hide"><button type="button" id="print" class="secondary">Print a one-page summary</button>
-      <a id="measures-csv" href="/api/patients/${pid}/measures.csv?tz=${encodeURIComponent(tz)}" download>Download spreadsheet (CSV; ${esc(zoneWords)})</a></p>
-    <section class="panel" id="summary" aria-labelledby="summary-h">${summaryHtml(checkinsNewest, sessions, overview)}</section>
+    <p id="print-head" data-clinic="${esc(clinic.name || '')}"><strong>${esc(clinic.name || t('progress-clinic-unnamed'))}</strong>
+      · ${esc(t('progress-print-of', { name: patient.pseudonym || '' }))} · <span id="date-range">${esc(range)}</span> · ${esc(t('progress-printed', { day: dayWords(Date.now()) }))}</p>
+    <p class="print-hide"><button type="button" id="print" class="secondary">${esc(t('progress-print'))}</button>
+      <a id="measures-csv" href="/api/patients/${pid}/measures.csv?tz=${encodeURIComponent(tz)}" download>${esc(t('progress-download', { zone: zoneWords }))}</a></p>
+    <section class="panel" id="summary" aria-labelledby="summary-h">${summaryHtml(checkinsNewest, sessions, overview, words)}</section>
     <section class="panel" id="scales" aria-labelledby="scales-h"></section>
     <p class="print-hide"><input type="checkbox" id="include-early"${anyEarly ? '' : ' disabled'}>
-      <label for="include-early" class="inline">Include sessions that ended early${anyEarly ? '' : ' (none did)'}</label></p>
+      <label for="include-early" class="inline">${esc(t(anyEarly ? 'progress-include-early' : 'progress-include-early-none'))}</label></p>
     <section class="panel" id="latest" aria-labelledby="latest-h"></section>
     <div id="charts" class="print-hide"></div>
     ${difficultyPanel(difficulty)}
     ${technicalDetails(words, metrics)}
-    <section class="panel print-hide" aria-labelledby="sessions-h"><h2 id="sessions-h">Sessions (${sessions.length})</h2>
-      <table><thead><tr><th scope="col">Started</th><th scope="col">Exercise</th><th scope="col">How it ended</th><th scope="col">Patient's check-in</th><th scope="col">Results and recording</th><th scope="col">Therapist's notes</th></tr></thead><tbody>${list}</tbody></table></section>`;
+    <section class="panel print-hide" aria-labelledby="sessions-h"><h2 id="sessions-h">${esc(t('progress-sessions-title', { count: sessions.length }))}</h2>
+      <table><thead><tr><th scope="col">${esc(t('progress-col-started'))}</th><th scope="col">${esc(t('progress-col-exercise'))}</th><th scope="col">${esc(t('progress-col-ended'))}</th><th scope="col">${esc(t('progress-col-checkin'))}</th><th scope="col">${esc(t('progress-col-results'))}</th><th scope="col">${esc(t('progress-col-notes'))}</th></tr></thead><tbody>${list}</tbody></table></section>`;
   el.querySelector('#print').addEventListener('click', () => window.print());
   bindNoteCells(el);
   const box = el.querySelector('#include-early');
@@ -304,8 +313,8 @@ export async function progressView(el, id) {
   const painIdx = sessions.map((s, i) => i).filter(i => checkins.get(sessions[i].session_id)?.pain_0_10 != null);
   if (painIdx.length) {
     const labels = sessionLabels(painIdx.map(i => sessions[i].started_unix_ms));
-    undoCharts.push(sessionChart(el.querySelector('#p-pain'), { y: 'pain (0–10)', labels, integer: true, range: [0, 10], decimals: 0,
-      series: [{ label: 'pain (0–10)', values: painIdx.map(i => checkins.get(sessions[i].session_id).pain_0_10) }] }));
+    undoCharts.push(sessionChart(el.querySelector('#p-pain'), { y: t('progress-pain-axis'), labels, integer: true, range: [0, 10], decimals: 0,
+      series: [{ label: t('progress-pain-axis'), values: painIdx.map(i => checkins.get(sessions[i].session_id).pain_0_10) }] }));
   } else el.querySelector('#p-pain').hidden = true;
   if (difficulty.length) {
     // By adapted session, each labelled with its date and time, drawn when opened.
@@ -314,8 +323,8 @@ export async function progressView(el, id) {
       if (!details.open || details.dataset.drawn) return;
       details.dataset.drawn = '1';
       const labels = sessionLabels(difficulty.map(d => d.started_unix_ms));
-      undoCharts.push(sessionChart(el.querySelector('#p-difficulty'), { y: 'difficulty (0–1)', labels, range: [0, 1], decimals: 2,
-        series: [{ label: 'difficulty (0–1)', values: difficulty.map(d => d.difficulty) }] }));
+      undoCharts.push(sessionChart(el.querySelector('#p-difficulty'), { y: t('progress-difficulty-axis'), labels, range: [0, 1], decimals: 2,
+        series: [{ label: t('progress-difficulty-axis'), values: difficulty.map(d => d.difficulty) }] }));
     });
   }
   // The clinical scales taken at the clinic (scales.js): one chart a scale. A failure there
@@ -325,7 +334,7 @@ export async function progressView(el, id) {
     undoScales = await scalesSection(el.querySelector('#scales'), id);
   } catch (e) {
     el.querySelector('#scales').innerHTML =
-      `<p class="error" role="alert">The clinical scales could not be shown: ${esc(e.message || e)}</p>`;
+      `<p class="error" role="alert">${esc(t('progress-scales-failed', { error: e.message || e }))}</p>`;
   }
   el.dataset.sessions = String(sessions.length);
   return () => { undo(); undoCharts.forEach(c => c.destroy()); undoScales(); };

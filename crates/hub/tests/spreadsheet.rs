@@ -146,7 +146,7 @@ async fn a_patients_csv_has_plain_and_technical_headers_rounded_values_local_tim
     assert_eq!(
         lines[0],
         "Session reference,\"Started (local time, Europe/Berlin)\",Started (UTC),Exercises,How it ended,\
-         Ran as prescribed,Pain after (0–10),Tiredness after (0–10),How hard it felt,\
+         Ran as prescribed,Pain after (0–10),Effort after (Borg CR10 0–10),How hard it felt,\
          Active time (s),Smoothness (closer to 0 is smoother),Time in lane (%),\
          Distance from the angle asked (°),zz new measure s"
     );

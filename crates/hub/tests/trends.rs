@@ -1,5 +1,6 @@
 //! Like with like (issue 29): the caseload's trends compare sessions of one exercise kind that
-//! ran as prescribed, and a patient's sessions are named in words. On SQLite and on
+//! ran as prescribed (in every kind, the one trained last first), and a patient's sessions
+//! are named in words. On SQLite and on
 //! PostgreSQL (the latter needs `TELEREHAB_TEST_PG_URL`, see `scripts/with-postgres.sh`).
 
 mod common;
@@ -152,6 +153,28 @@ async fn trends_compare_the_latest_kind_and_leave_out_sessions_ended_early(db: D
         trends(&db, &t).await,
         (pairs(&[("wheel_rom_deg", "down")]), Some("dial".to_owned())),
         "the dial against the dial, not against the roads' 40°"
+    );
+    // Every kind's trends, the kind trained last first: the road's stay visible.
+    let row = db.patients_for(&t, T0 + 100 * HOUR_MS).await.unwrap();
+    let by_kind: Vec<(String, Vec<(String, String)>)> = row[0]
+        .trends_by_kind
+        .iter()
+        .map(|k| {
+            (
+                k.exercise_kind.clone(),
+                k.trends.clone().into_iter().collect(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        by_kind,
+        [
+            ("dial".to_owned(), pairs(&[("wheel_rom_deg", "down")])),
+            (
+                "road".to_owned(),
+                pairs(&[("pct_in_lane", "up"), ("wheel_rom_deg", "flat")])
+            ),
+        ]
     );
 }
 

@@ -1,4 +1,5 @@
-//! High reported effort (`effort`, warning): tiredness at or over the clinic's threshold in
+//! High reported effort (`effort`, warning): effort (Borg CR10, the check-in's second answer;
+//! stored as `tiredness_0_10`, the wire's older name) at or over the clinic's threshold in
 //! the latest check-in that answered it, or "too hard" in the last two check-ins that
 //! answered how hard it felt.
 
@@ -17,12 +18,13 @@ pub fn check(f: &PatientFacts, t: &Thresholds) -> Vec<Alert> {
                 "effort",
                 Severity::Warning,
                 format!(
-                    "tiredness {tired}/10 reported after the session of {}",
+                    "effort {tired}/10 reported after the session of {}",
                     day_of(c.started_unix_ms)
                 ),
                 c.session_id.clone(),
             )
             .at(c.started_unix_ms)
+            .fact("effort_0_10", tired as f64)
             .fact("tiredness_0_10", tired as f64)
             .fact("threshold_0_10", t.effort_threshold_0_10 as f64),
         ];

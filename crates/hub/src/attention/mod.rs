@@ -20,6 +20,7 @@ pub mod decline;
 pub mod devices;
 pub mod effort;
 pub mod ended_early;
+pub mod message;
 pub mod pain;
 pub mod settings;
 pub mod station;
@@ -69,8 +70,13 @@ pub struct Alert {
     pub kind: &'static str,
     /// How much it needs the therapist.
     pub severity: Severity,
-    /// The alert in plain words (English; the console words it from `kind` and `facts`).
+    /// The alert in plain words (English, for the API's other users; the console words it
+    /// from [`Alert::message`]).
     pub text: String,
+    /// The alert's sentence as a console catalogue id with its arguments
+    /// ([`message::message_of`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub message: Option<message::AlertMessage>,
     /// The time the evidence is from (the session's start, the station's last contact), ms
     /// since the Unix epoch.
     pub at_ms: Option<i64>,
@@ -97,6 +103,7 @@ impl Alert {
             kind,
             severity,
             text,
+            message: None,
             at_ms: None,
             facts: BTreeMap::new(),
             exercise_kind: None,
@@ -181,6 +188,9 @@ pub fn evaluate(facts: &PatientFacts, t: &Thresholds) -> Vec<Alert> {
     all.extend(effort::check(facts, t));
     all.extend(station::check(facts, t));
     all.extend(devices::check(facts, t));
+    for a in &mut all {
+        a.message = Some(message::message_of(a));
+    }
     sort_alerts(&mut all);
     all
 }

@@ -54,6 +54,10 @@ pub struct PatientOverview {
     /// The exercise kind the trends compare (`road`, `dial`, …, as the sessions'
     /// `exercise_kind`); `null` when no session ran as prescribed.
     pub trend_exercise_kind: Option<String>,
+    /// The same trends in every exercise kind with two or more sessions that ran as
+    /// prescribed, the kind trained last first (the caseload's Trend column: a decline in a
+    /// kind not trained last stays visible).
+    pub trends_by_kind: Vec<super::words::KindTrends>,
     /// What the therapist should look at, in plain words: missed sessions against the
     /// prescription, a safety fault, clipped torque or lost arm sensors in the last session.
     pub alerts: Vec<String>,
@@ -319,6 +323,7 @@ impl Db {
                     minutes_per_week_prescribed: week.prescribed_min,
                     trends: BTreeMap::new(),
                     trend_exercise_kind: None,
+                    trends_by_kind: Vec::new(),
                     alerts: alerts(
                         &week,
                         last_start,
@@ -335,6 +340,7 @@ impl Db {
             (o.trends, o.trend_exercise_kind) = self
                 .like_with_like_trends(&o.patient.id, &TREND_MEASURES)
                 .await?;
+            o.trends_by_kind = self.trends_by_kind(&o.patient.id, &TREND_MEASURES).await?;
             // The patient's own word after the last session (migration 0006).
             o.alerts.extend(self.pain_alert_of(&o.patient.id).await?);
         }

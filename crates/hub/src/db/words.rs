@@ -45,6 +45,9 @@ pub struct NamedSession {
     pub end_words: String,
     /// How it ended as a stable key (`complete`, `wheel_unplugged`, `running`, …).
     pub end_kind: metrics::words::EndKind,
+    /// True when the station's recording stopped before the session did (`end_words` then
+    /// adds "; the recording stopped early"; the console words it from `end_kind` and this).
+    pub recording_stopped_early: bool,
 }
 
 /// A session's exercises: each one's short name, patient-facing name and prescribed time, s
@@ -59,6 +62,10 @@ fn name_session(
     recording_uploaded: bool,
 ) -> NamedSession {
     let ran_as_prescribed = row.end_reason.as_deref() == Some(COMPLETE);
+    let recording_stopped_early = row
+        .end_reason
+        .as_deref()
+        .is_some_and(|r| r.contains("recording stopped"));
     let (end_kind, end_words) = match (&row.end_reason, row.closed_at_ms) {
         (None, Some(_)) => {
             let k = metrics::words::EndKind::Unreported;
@@ -106,6 +113,7 @@ fn name_session(
         recording_uploaded,
         end_words,
         end_kind,
+        recording_stopped_early,
     }
 }
 
@@ -143,7 +151,67 @@ pub fn like_with_like(newest_first: &[NamedSession]) -> Vec<&NamedSession> {
         .collect()
 }
 
+/// The sessions a trend compares in each exercise kind, newest kind first: for every kind,
+/// its newest session that ran as prescribed and up to [`TREND_BASELINE_SESSIONS`] earlier
+/// ones of that kind that did too (so a decline in a kind not trained last stays visible).
+pub fn like_with_like_by_kind(newest_first: &[NamedSession]) -> Vec<Vec<&NamedSession>> {
+    let mut kinds: Vec<Vec<&NamedSession>> = Vec::new();
+    for s in newest_first.iter().filter(|s| s.ran_as_prescribed) {
+        match kinds
+            .iter_mut()
+            .find(|k| k[0].exercise_kind == s.exercise_kind)
+        {
+            Some(k) if k.len() <= TREND_BASELINE_SESSIONS => k.push(s),
+            Some(_) => {}
+            None => kinds.push(vec![s]),
+        }
+    }
+    kinds
+}
+
+/// The trends of one exercise kind (see [`like_with_like_by_kind`]).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct KindTrends {
+    /// The exercise kind (`road`, `dial`, …).
+    pub exercise_kind: String,
+    /// Each measure's trend: `"up"`, `"down"` or `"flat"`.
+    pub trends: BTreeMap<String, String>,
+}
+
 impl Db {
+    /// The trends of `measures` in every exercise kind with two or more sessions that ran as
+    /// prescribed, the kind trained last first; a kind with no trend is left out.
+    pub async fn trends_by_kind(
+        &self,
+        patient_id: &str,
+        measures: &[&str],
+    ) -> Result<Vec<KindTrends>, HubError> {
+        let sessions = self.named_sessions_of(patient_id).await?;
+        let mut out = Vec::new();
+        for compared in like_with_like_by_kind(&sessions) {
+            let mut series: BTreeMap<&str, Vec<f64>> = BTreeMap::new();
+            for s in &compared {
+                let metrics = self.metrics_of(&s.row.session_id).await?;
+                for m in measures {
+                    if let Some(&v) = metrics.get(*m) {
+                        series.entry(m).or_default().push(v);
+                    }
+                }
+            }
+            let trends: BTreeMap<String, String> = series
+                .into_iter()
+                .filter_map(|(name, v)| Some((name.to_owned(), trend(&v)?)))
+                .collect();
+            if !trends.is_empty() {
+                out.push(KindTrends {
+                    exercise_kind: compared[0].exercise_kind.clone(),
+                    trends,
+                });
+            }
+        }
+        Ok(out)
+    }
+
     /// A patient's sessions in words, newest first: those that count as training (a `Hello`
     /// alone opens a session row but is no training; see [`Db::training_sessions_of`]).
     pub async fn named_sessions_of(&self, patient_id: &str) -> Result<Vec<NamedSession>, HubError> {

@@ -41,6 +41,9 @@ pub(crate) struct CaseloadRow {
     overview: PatientOverview,
     #[serde(flatten)]
     attention: Attention,
+    /// When a therapist last allowed the patient to train again after a pain stop
+    /// (`POST /api/patients/{id}/pain-clearance`), ms since the Unix epoch.
+    pain_cleared_at_ms: Option<i64>,
 }
 
 /// `GET /api/patients`: the caseload, each patient with their alerts.
@@ -79,9 +82,11 @@ pub(crate) async fn caseload(
         {
             continue;
         }
+        let pain_cleared_at_ms = state.db.pain_cleared_at(&overview.patient.id).await?;
         rows.push(CaseloadRow {
             overview,
             attention,
+            pain_cleared_at_ms,
         });
     }
     match sort {

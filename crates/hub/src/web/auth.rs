@@ -35,7 +35,12 @@ pub const DEVICE_COOKIE: &str = "telerehab_device";
 const THROTTLED_ANSWER_DELAY_MS: u64 = 500;
 
 /// Endpoints a therapist with a one-time password may use.
-const ONE_TIME_PASSWORD_PATHS: &[&str] = &["/api/me", "/api/me/password", "/api/logout"];
+const ONE_TIME_PASSWORD_PATHS: &[&str] = &[
+    "/api/me",
+    "/api/me/password",
+    "/api/me/language",
+    "/api/logout",
+];
 
 /// The logged-in therapist of a request (401 without a valid session cookie; 403 while the
 /// password is a one-time one, except on [`ONE_TIME_PASSWORD_PATHS`]).

@@ -7,7 +7,7 @@
 //! whoever joins the file to other data. Then one row a session, oldest first: its start in
 //! local time (the time zone the console's browser sends as `?tz=Europe/Berlin`, else the hub's
 //! own; the header names it) and in UTC (ISO 8601), its exercises in order, how it ended (the
-//! one wording), whether it ran as prescribed, the patient's check-in (pain, tiredness, how hard
+//! one wording), whether it ran as prescribed, the patient's check-in (pain, effort, how hard
 //! it felt), then every measure any of the sessions has: the table's in its reading order, any
 //! other alphabetically. Numbers are rounded to the table's meaningful decimals (a measure the
 //! table lacks to 4 significant digits): never `999.9999999999999`. A session without a measure
@@ -152,7 +152,7 @@ fn fixed_columns(zone: &LocalZone) -> Vec<(String, &'static str)> {
         ("How it ended".to_owned(), "end_reason"),
         ("Ran as prescribed".to_owned(), "ran_as_prescribed"),
         ("Pain after (0–10)".to_owned(), "pain_0_10"),
-        ("Tiredness after (0–10)".to_owned(), "tiredness_0_10"),
+        ("Effort after (Borg CR10 0–10)".to_owned(), "tiredness_0_10"),
         ("How hard it felt".to_owned(), "difficulty"),
     ]
 }
