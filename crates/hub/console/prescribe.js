@@ -235,7 +235,7 @@ export async function prescribeView(el, id, refreshMessages, me) {
         </form>
       </details>
       <h3>${esc(t('prescribe-bounds-heading'))}</h3>
-      <dl class="bounds" id="bounds">
+      <dl class="bounds" id="bounds" data-ceiling-nm="${esc(wheel.ceiling ?? limits.ceiling.max)}">
         <dt>${esc(t('prescribe-bounds-ceiling'))}</dt><dd>${esc(t('prescribe-bounds-ceiling-text', { nm: number(wheel.ceiling ?? limits.ceiling.max, 2), wheel: wheel.ceiling == null ? 'consumer' : 'patient' }))}</dd>
         <dt>${esc(t('prescribe-bounds-slew'))}</dt><dd>${esc(t('prescribe-bounds-slew-text'))}</dd>
         <dt>${esc(t('prescribe-bounds-session'))}</dt><dd>${esc(t('prescribe-bounds-session-text', { max: limits.maxExercises, minutes: Math.round(limits.maxPlannedS / 60) }))}</dd>

@@ -86,16 +86,16 @@ prescribe-aspect-shape = Form
 prescribe-aspect-assist = Unterstützung
 
 prescribe-kind-straight = Gerade Straße
-prescribe-kind-sine = Kurvige Straße
-prescribe-kind-triangle = Zickzack-Straße
-prescribe-kind-clothoid = Enger werdende Kurve
-prescribe-kind-sharp-turns = Scharfe Abbiegungen
+prescribe-kind-sine = Sinusstraße
+prescribe-kind-triangle = Dreieckstraße
+prescribe-kind-clothoid = Klothoidenstraße
+prescribe-kind-sharp-turns = Scharfe Kurven
 prescribe-kind-s-bend = S-Kurve
 prescribe-kind-lane-change = Spurwechsel
-prescribe-kind-slalom = Slalom um Hütchen
-prescribe-kind-dial = Zeiger: dem Ziel folgen
-prescribe-kind-strength = Krafttest
-prescribe-kind-haptic-sweep = Haptik-Durchlauf (Forschung)
+prescribe-kind-slalom = Slalom
+prescribe-kind-dial = Zeiger
+prescribe-kind-strength = Kraft
+prescribe-kind-haptic-sweep = Haptik-Durchlauf
 
 prescribe-preset-straight-easy = Eine breite Spur, langsam gefahren.
 prescribe-preset-straight-medium = Eine normale Spur mit Stadttempo.

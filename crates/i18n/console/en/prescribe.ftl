@@ -87,16 +87,16 @@ prescribe-aspect-assist = assistance
 
 # Exercise kinds as the form names them.
 prescribe-kind-straight = Straight road
-prescribe-kind-sine = Winding road
-prescribe-kind-triangle = Zigzag road
-prescribe-kind-clothoid = Tightening bend
+prescribe-kind-sine = Sine road
+prescribe-kind-triangle = Triangle road
+prescribe-kind-clothoid = Clothoid road
 prescribe-kind-sharp-turns = Sharp turns
 prescribe-kind-s-bend = S-bend
-prescribe-kind-lane-change = Lane changes
-prescribe-kind-slalom = Slalom between cones
-prescribe-kind-dial = Dial: follow the target
-prescribe-kind-strength = Strength test
-prescribe-kind-haptic-sweep = Haptic sweep (research)
+prescribe-kind-lane-change = Lane change
+prescribe-kind-slalom = Slalom
+prescribe-kind-dial = Dial
+prescribe-kind-strength = Strength
+prescribe-kind-haptic-sweep = Haptic sweep
 
 # The presets' words (regimen::presets), by kind and level.
 prescribe-preset-straight-easy = A wide lane, driven slowly.

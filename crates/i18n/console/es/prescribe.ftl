@@ -86,16 +86,16 @@ prescribe-aspect-shape = forma
 prescribe-aspect-assist = asistencia
 
 prescribe-kind-straight = Carretera recta
-prescribe-kind-sine = Carretera con curvas
-prescribe-kind-triangle = Carretera en zigzag
-prescribe-kind-clothoid = Curva que se cierra
+prescribe-kind-sine = Carretera sinusoidal
+prescribe-kind-triangle = Carretera triangular
+prescribe-kind-clothoid = Carretera clotoide
 prescribe-kind-sharp-turns = Giros cerrados
 prescribe-kind-s-bend = Curva en S
-prescribe-kind-lane-change = Cambios de carril
-prescribe-kind-slalom = Eslalon entre conos
-prescribe-kind-dial = Dial: seguir el objetivo
-prescribe-kind-strength = Prueba de fuerza
-prescribe-kind-haptic-sweep = Barrido háptico (investigación)
+prescribe-kind-lane-change = Cambio de carril
+prescribe-kind-slalom = Eslalon
+prescribe-kind-dial = Dial
+prescribe-kind-strength = Fuerza
+prescribe-kind-haptic-sweep = Barrido háptico
 
 prescribe-preset-straight-easy = Un carril ancho, a poca velocidad.
 prescribe-preset-straight-medium = Un carril normal a velocidad urbana.

@@ -85,16 +85,16 @@ prescribe-aspect-shape = 形状
 prescribe-aspect-assist = 辅助
 
 prescribe-kind-straight = 直路
-prescribe-kind-sine = 弯曲道路
-prescribe-kind-triangle = 之字形道路
-prescribe-kind-clothoid = 渐紧弯道
+prescribe-kind-sine = 正弦道路
+prescribe-kind-triangle = 三角波道路
+prescribe-kind-clothoid = 回旋曲线道路
 prescribe-kind-sharp-turns = 急转弯
 prescribe-kind-s-bend = S 形弯
 prescribe-kind-lane-change = 变道
-prescribe-kind-slalom = 绕锥桶
-prescribe-kind-dial = 转盘：跟随目标
-prescribe-kind-strength = 力量测试
-prescribe-kind-haptic-sweep = 触觉扫描（研究用）
+prescribe-kind-slalom = 绕桩
+prescribe-kind-dial = 转盘
+prescribe-kind-strength = 力量
+prescribe-kind-haptic-sweep = 触觉扫描
 
 prescribe-preset-straight-easy = 宽车道，慢速行驶。
 prescribe-preset-straight-medium = 普通车道，城市车速。
