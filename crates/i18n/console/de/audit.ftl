@@ -79,3 +79,4 @@ audit-kind-list_therapists = hat die Konten aufgelistet
 audit-kind-read_audit = hat das Prüfprotokoll geöffnet
 audit-kind-refusals_suppressed = bekam weitere Ablehnungen nur gezählt, nicht einzeln protokolliert
 audit-kind-hub_init = hat den Hub eingerichtet
+audit-kind-change_language = hat die Sprache der Konsole geändert

@@ -80,3 +80,4 @@ audit-kind-list_therapists = listed the accounts
 audit-kind-read_audit = opened the audit log
 audit-kind-refusals_suppressed = had further refusals counted, not written
 audit-kind-hub_init = set up the hub
+audit-kind-change_language = changed the console's language

@@ -79,3 +79,4 @@ audit-kind-list_therapists = listó las cuentas
 audit-kind-read_audit = abrió el registro de auditoría
 audit-kind-refusals_suppressed = tuvo más rechazos contados, no escritos uno a uno
 audit-kind-hub_init = configuró el hub
+audit-kind-change_language = cambió el idioma de la consola
