@@ -81,11 +81,11 @@ export function parseNamesCsv(text) {
     if (!line.trim()) return;
     const [pseudonym = '', name = ''] = cells(line);
     if (i === 0 && /pseudonym/i.test(pseudonym)) return;
-    const line = i + 1;
-    if (!pseudonym || !name) { problems.push(t('names-problem-cells', { line })); return; }
-    if ([...name].length > MAX_NAME_CHARS) { problems.push(t('names-problem-long', { line, max: MAX_NAME_CHARS })); return; }
-    if (pairs.has(pseudonym)) { problems.push(t('names-problem-twice', { line, pseudonym })); return; }
-    if (pairs.size >= MAX_NAMES) { problems.push(t('names-problem-many', { line, max: MAX_NAMES })); return; }
+    const lineNo = i + 1;
+    if (!pseudonym || !name) { problems.push(t('names-problem-cells', { line: lineNo })); return; }
+    if ([...name].length > MAX_NAME_CHARS) { problems.push(t('names-problem-long', { line: lineNo, max: MAX_NAME_CHARS })); return; }
+    if (pairs.has(pseudonym)) { problems.push(t('names-problem-twice', { line: lineNo, pseudonym })); return; }
+    if (pairs.size >= MAX_NAMES) { problems.push(t('names-problem-many', { line: lineNo, max: MAX_NAMES })); return; }
     pairs.set(pseudonym, name);
   });
   return { pairs: [...pairs.entries()], problems };
