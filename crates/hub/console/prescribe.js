@@ -389,7 +389,8 @@ export async function prescribeView(el, id, refreshMessages, me) {
  * and what the difficulty changes. */
 function difficultyForm(d, adapt) {
   const on = !!d;
-  const fields = adapt.fields.map(([name, spec]) => numberField(`rx-d-${name}`, labelOf(name, spec), d && d[name], spec)).join('');
+  const fields = adapt.fields.map(([name, spec]) => numberField(`rx-d-${name}`,
+    tOr(`prescribe-difficulty-${name}`, labelOf(name, spec)), d && d[name], spec)).join('');
   const changes = d && d.changes ? d.changes : adapt.aspects;
   const boxes = adapt.aspects.map(a => `<label><input type="checkbox" id="rx-d-change-${esc(a)}" data-aspect="${esc(a)}"${changes.includes(a) ? ' checked' : ''}> ${esc(tOr(`prescribe-aspect-${a}`, a))}</label>`).join(' ');
   return `<fieldset class="panel" id="rx-difficulty"><legend>${esc(t('prescribe-difficulty-legend'))}</legend>
