@@ -1,4 +1,5 @@
 // The console API (crates/hub/API.md): JSON over same-origin HTTPS with the login cookie.
+import { locale } from '/console/i18n.js';
 
 export class ApiError extends Error {
   constructor(status, message) { super(message); this.status = status; }
@@ -32,8 +33,8 @@ export function esc(s) {
   return String(s ?? '').replace(/[&<>"']/g, c => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;', "'": '&#39;' }[c]));
 }
 
-/** A date and time for people, from milliseconds since the epoch. */
+/** A date and time for people in the language in force, from milliseconds since the epoch. */
 export function when(ms) {
   if (ms == null) return '—';
-  return new Date(ms).toLocaleString(undefined, { dateStyle: 'medium', timeStyle: 'short' });
+  return new Date(ms).toLocaleString(locale(), { dateStyle: 'medium', timeStyle: 'short' });
 }

@@ -15,6 +15,7 @@ import { prescribeView } from '/console/prescribe.js';
 import { displayName } from '/console/names.js';
 import { namesView } from '/console/names-page.js';
 import { auditView } from '/console/audit.js';
+import { t, startLanguage, useLanguage, chooseLanguage, languages, languageTag } from '/console/i18n.js';
 
 const app = document.getElementById('app');
 let leave = () => {};
@@ -29,7 +30,7 @@ async function route() {
     if (e instanceof ApiError && e.status === 401) return loginView();
     return fail(e);
   }
-  document.getElementById('who').textContent = `${me.email} (${me.role})`;
+  document.getElementById('who').textContent = t('app-who', { email: me.email, role: me.role });
   document.getElementById('logout').hidden = false;
   document.getElementById('change-password').hidden = false;
   if (me.must_change_password) return passwordView(true);
@@ -50,23 +51,23 @@ async function route() {
 }
 
 function fail(e) {
-  app.innerHTML = `<p class="error" role="alert">${esc(e.message || e)}</p><p><a href="#/patients">Back to the patients</a></p>`;
+  app.innerHTML = `<p class="error" role="alert">${esc(e.message || e)}</p><p><a href="#/patients">${esc(t('app-back-to-patients'))}</a></p>`;
 }
 
 /** The change-password screen; `forced` for a one-time password, which the hub lets do
  * nothing else until it is changed. */
 function passwordView(forced) {
   app.innerHTML = `
-    <h1>${forced ? 'Choose your own password' : 'Change your password'}</h1>
-    ${forced ? '<p id="password-forced">You logged in with a one-time password. Choose your own before you continue.</p>' : ''}
+    <h1>${esc(t(forced ? 'app-password-title-forced' : 'app-password-title'))}</h1>
+    ${forced ? `<p id="password-forced">${esc(t('app-password-forced'))}</p>` : ''}
     <form id="password-form" novalidate>
-      <label for="current-password">${forced ? 'One-time password' : 'Current password'}</label>
+      <label for="current-password">${esc(t(forced ? 'app-password-one-time' : 'app-password-current'))}</label>
       <input id="current-password" type="password" autocomplete="current-password" required>
-      <label for="new-password">New password <span class="note">(at least 10 characters, not only spaces, not your e-mail, not a common password or pattern; a few unrelated words are best)</span></label>
+      <label for="new-password">${esc(t('app-password-new'))} <span class="note">${esc(t('app-password-rules'))}</span></label>
       <input id="new-password" type="password" autocomplete="new-password" minlength="10" required>
-      <label for="repeat-password">New password again</label>
+      <label for="repeat-password">${esc(t('app-password-repeat'))}</label>
       <input id="repeat-password" type="password" autocomplete="new-password" minlength="10" required>
-      <p><button type="submit">Change the password</button></p>
+      <p><button type="submit">${esc(t('app-password-submit'))}</button></p>
       <p class="error" id="password-error" role="alert"></p>
     </form>`;
   const form = app.querySelector('#password-form');
@@ -75,7 +76,7 @@ function passwordView(forced) {
     ev.preventDefault();
     const current = form.querySelector('#current-password').value;
     const next = form.querySelector('#new-password').value;
-    if (next !== form.querySelector('#repeat-password').value) { error.textContent = 'The two new passwords differ.'; return; }
+    if (next !== form.querySelector('#repeat-password').value) { error.textContent = t('app-password-differ'); return; }
     try {
       // The hub ends every login of this account and answers with a new session cookie.
       await api('POST', '/api/me/password', { current, new: next });
@@ -95,11 +96,11 @@ function loginView() {
   document.getElementById('audit-link').hidden = true;
   document.getElementById('who').textContent = '';
   app.innerHTML = `
-    <h1>Log in</h1>
+    <h1>${esc(t('app-login-title'))}</h1>
     <form id="login" novalidate>
-      <label for="email">E-mail</label><input id="email" type="email" autocomplete="username" required>
-      <label for="password">Password</label><input id="password" type="password" autocomplete="current-password" required>
-      <p><button type="submit">Log in</button></p>
+      <label for="email">${esc(t('app-login-email'))}</label><input id="email" type="email" autocomplete="username" required>
+      <label for="password">${esc(t('app-login-password'))}</label><input id="password" type="password" autocomplete="current-password" required>
+      <p><button type="submit">${esc(t('app-login-submit'))}</button></p>
       <p class="error" id="login-error" role="alert"></p>
     </form>`;
   const form = app.querySelector('#login');
@@ -107,6 +108,8 @@ function loginView() {
     ev.preventDefault();
     try {
       me = await api('POST', '/api/login', { email: form.email.value, password: form.password.value });
+      await startLanguage();
+      languageMenu();
       location.hash = '#/patients';
       route();
     } catch (e) { app.querySelector('#login-error').textContent = e.message; }
@@ -121,9 +124,9 @@ async function patientsView() {
 
 async function patientView(id, tab, sessionId) {
   const p = await api('GET', `/api/patients/${encodeURIComponent(id)}`);
-  const link = (t, label) => `<a href="#/patients/${encodeURIComponent(id)}/${t}"${t === tab ? ' aria-current="page"' : ''}>${label}</a>`;
-  app.innerHTML = `<h1>Patient ${esc(displayName(p.pseudonym))}</h1>
-    <nav class="tabs" aria-label="Patient">${link('live', 'Live')}${link('progress', 'Progress')}${link('replay', 'Replay')}${link('prescribe', 'Prescribe')}<a href="#/clinic/patients/${encodeURIComponent(id)}">Stations and pairing</a></nav>
+  const link = name => `<a href="#/patients/${encodeURIComponent(id)}/${name}" data-tab="${name}"${name === tab ? ' aria-current="page"' : ''}>${esc(t(`app-tab-${name}`))}</a>`;
+  app.innerHTML = `<h1>${esc(t('app-patient-title', { name: displayName(p.pseudonym) }))}</h1>
+    <nav class="tabs" aria-label="${esc(t('app-tabs-label'))}">${link('live')}${link('progress')}${link('replay')}${link('prescribe')}<a href="#/clinic/patients/${encodeURIComponent(id)}" data-tab="stations">${esc(t('app-tab-stations'))}</a></nav>
     <div id="tab"></div>
     <section id="messages"></section>`;
   const el = app.querySelector('#tab');
@@ -142,7 +145,38 @@ document.getElementById('logout').addEventListener('click', async () => {
   try { await api('POST', '/api/logout'); } catch { /* logged out either way */ }
   me = null;
   location.hash = '#/patients';
+  await startLanguage({ signedIn: false });
+  languageMenu();
   loginView();
 });
-window.addEventListener('hashchange', route);
-route();
+
+/** The header's language menu: the languages on offer, each in its own language. A choice is
+ * kept on the hub for the therapist logged in (the login page's only for this page). */
+function languageMenu() {
+  const menu = document.getElementById('language');
+  const tag = languageTag();
+  const offered = languages();
+  const extra = offered.some(l => l.tag === tag) ? [] : [{ tag, name: tag }];
+  menu.innerHTML = [...offered, ...extra].map(l => `<option value="${esc(l.tag)}" lang="${esc(l.tag)}"${l.tag === tag ? ' selected' : ''}>${esc(l.name)}</option>`).join('');
+}
+
+document.getElementById('language').addEventListener('change', async ev => {
+  const tag = ev.target.value;
+  try {
+    if (me) await chooseLanguage(tag); else await useLanguage(tag);
+  } catch (e) { return fail(e); }
+  languageMenu();
+  route();
+});
+
+/** The first screen: who is logged in (if anyone), their language, then the route. */
+async function boot() {
+  let refused = false;
+  try { me = await api('GET', '/api/me'); } catch (e) { me = null; refused = e instanceof ApiError && e.status === 401; }
+  await startLanguage({ signedIn: me !== null });
+  languageMenu();
+  window.addEventListener('hashchange', route);
+  if (refused) loginView(); else route();
+}
+
+boot();

@@ -1,11 +1,12 @@
-// Sessions, measures and dates in a clinician's words (issues 29, 41). The measures' plain
-// names, units, meaningful decimals, axis ranges, noise and which way is better come from the
-// ONE table of measure words (crates/metrics/src/words.rs), which the hub serves as
-// GET /api/measures/words: nothing here re-types them. A session is named by its date and time
-// and its exercises as the patient saw them (never its id); how it ended in the one wording the
-// hub gives (`end_words`). Dates in ONE format per locale: the browser's, through
-// Intl.DateTimeFormat.
+// Sessions, measures and dates in a clinician's words (issues 29, 40, 41). The measures' keys,
+// units, meaningful decimals, axis ranges, noise and which way is better come from the ONE
+// table of measure words (crates/metrics/src/words.rs), which the hub serves as
+// GET /api/measures/words; their plain names and the end reasons' wording are messages of the
+// console's catalogues (`words-measure-<key>`, `words-end-<kind>`, the ids the table gives). A
+// session is named by its date and time and its exercises (never its id). Dates and numbers in
+// ONE format per language: the language in force (`locale()`), through Intl.
 import { api, esc } from '/console/api.js';
+import { t, locale, onLanguageChange } from '/console/i18n.js';
 
 let table = null;
 
@@ -22,13 +23,51 @@ export async function measureWords() {
   return table;
 }
 
-const dateTime = new Intl.DateTimeFormat(undefined, { dateStyle: 'medium', timeStyle: 'short' });
-const dateOnly = new Intl.DateTimeFormat(undefined, { dateStyle: 'medium' });
-const dayMonth = new Intl.DateTimeFormat(undefined, { day: 'numeric', month: 'short' });
-const time = new Intl.DateTimeFormat(undefined, { hour: '2-digit', minute: '2-digit' });
-const timeSeconds = new Intl.DateTimeFormat(undefined, { hour: '2-digit', minute: '2-digit', second: '2-digit' });
+let dateTime, dateOnly, dayMonth, time, timeSeconds;
+const formats = new Map();
 
-/** A date and time: the browser locale's medium date and short time ("27 Nov 2026, 09:30"). */
+/** The date formats of the language in force (made again when it changes). */
+function makeFormats() {
+  const l = locale();
+  dateTime = new Intl.DateTimeFormat(l, { dateStyle: 'medium', timeStyle: 'short' });
+  dateOnly = new Intl.DateTimeFormat(l, { dateStyle: 'medium' });
+  dayMonth = new Intl.DateTimeFormat(l, { day: 'numeric', month: 'short' });
+  time = new Intl.DateTimeFormat(l, { hour: '2-digit', minute: '2-digit' });
+  timeSeconds = new Intl.DateTimeFormat(l, { hour: '2-digit', minute: '2-digit', second: '2-digit' });
+  formats.clear();
+}
+makeFormats();
+onLanguageChange(makeFormats);
+
+/** A number with exactly `decimals` decimals in the language in force ("0,42" in German);
+ * never "-0". */
+function fixed(v, decimals) {
+  if (!formats.has(decimals)) {
+    formats.set(decimals, new Intl.NumberFormat(locale(), { minimumFractionDigits: decimals, maximumFractionDigits: decimals, useGrouping: false }));
+  }
+  const s = v.toFixed(decimals);
+  return formats.get(decimals).format(Number(s) === 0 ? 0 : Number(s));
+}
+
+const kebab = s => String(s).replace(/_/g, '-');
+
+/** A measure's plain name in the language in force ("Time in lane"), by its key. */
+export function measureName(key) {
+  return t(`words-measure-${kebab(key)}`);
+}
+
+/** How a session ended, by its end kind (`wheel_unplugged`), in the one wording. */
+export function endKindWords(kind) {
+  return t(`words-end-${kebab(kind || 'other')}`);
+}
+
+/** `v` of measure `m` in its decimals, with its unit when `unit` ("268 °", "0,42"). */
+export function numberIn(m, v, unit = false) {
+  const n = numberWords(m, v);
+  return unit && m && m.unit && n !== '—' ? `${n} ${m.unit}` : n;
+}
+
+/** A date and time: the language's medium date and short time ("27 Nov 2026, 09:30"). */
 export function whenWords(ms) {
   return ms == null ? '—' : dateTime.format(new Date(ms));
 }
@@ -56,7 +95,7 @@ export function shortWords(ms, seconds = false) {
 export function plainName(short) {
   const s = String(short ?? '');
   const regimen = s.match(/^regimen:(\d+)$/);
-  if (regimen) return `A regimen of ${regimen[1]} exercise${regimen[1] === '1' ? '' : 's'}`;
+  if (regimen) return t('words-regimen', { count: Number(regimen[1]) });
   const spaced = s.replace(/-/g, ' ');
   return spaced.charAt(0).toUpperCase() + spaced.slice(1);
 }
@@ -66,25 +105,36 @@ export function sessionWords(s) {
   return `${whenWords(s.started_unix_ms)} · ${s.exercise_name || plainName(s.exercise)}`;
 }
 
-/** The kind of exercise in words, for "… sessions" ("road", "dial", "dial and road"). */
+/** The kind of exercise in words, for "… sessions" ("road", "dial", "dial and road"); a
+ * kind the catalogues do not know (an exercise's own short name) as it is. */
 export function kindWords(kind) {
-  return String(kind ?? '').split('+').join(' and ');
+  const parts = String(kind ?? '').split('+').filter(Boolean).map(k => {
+    const w = t(`words-kind-${kebab(k)}`);
+    return w === `words-kind-${kebab(k)}` ? k : w;
+  });
+  return parts.length > 1 ? t('words-kinds-and', { first: parts.slice(0, -1).join(', '), last: parts[parts.length - 1] }) : (parts[0] || '');
 }
 
-/** How a session ended, as HTML (escaped): the hub's one wording, an early end marked. */
+/** How a session ended, in the one wording: the hub's end kind, "; the recording stopped
+ * early" when it did. */
+export function endText(s) {
+  const kind = s.end_kind || (s.ran_as_prescribed ? 'complete' : s.end_reason ? 'other' : 'running');
+  const words = endKindWords(kind);
+  return s.recording_stopped_early ? t('words-end-recording-stopped', { end: words }) : words;
+}
+
+/** How a session ended, as HTML (escaped): the one wording, an early end marked. */
 export function endWords(s) {
-  const words = s.end_words || (s.ran_as_prescribed ? 'Completed' : s.end_reason ? 'Stopped early' : 'Still running');
+  const words = endText(s);
   if (s.ran_as_prescribed || s.end_kind === 'running' || (!s.end_kind && !s.closed_at_ms && !s.end_reason)) return esc(words);
-  return `<span class="badge warn">${esc(words)}</span> <span class="note">(not in the trends)</span>`;
+  return `<span class="badge warn" data-end-kind="${esc(s.end_kind || '')}">${esc(words)}</span> <span class="note">${esc(t('words-not-in-trends'))}</span>`;
 }
 
 /** `v` of measure `m` (the table's words) rounded to its meaningful decimals, without unit;
  * "—" when absent; never "-0". */
 export function numberWords(m, v) {
   if (typeof v !== 'number' || !Number.isFinite(v)) return '—';
-  const decimals = m ? m.decimals : 2;
-  const s = v.toFixed(decimals);
-  return Number(s) === 0 ? (0).toFixed(decimals) : s;
+  return fixed(v, m ? m.decimals : 2);
 }
 
 /** `v` of measure `m` rounded, with its unit ("268 °", "97 %", "0.42"). */
@@ -95,7 +145,8 @@ export function valueWords(m, v) {
 
 /** A measure's plain name with its unit: "Time in lane (%)". */
 export function headerWords(m) {
-  return m.unit ? `${m.name} (${m.unit})` : m.name;
+  const name = measureName(m.key);
+  return m.unit ? t('words-name-unit', { name, unit: m.unit }) : name;
 }
 
 /** Whether the change from `base` to `last` is beyond measure `m`'s noise (always, when its
@@ -123,9 +174,9 @@ export function trendWords(values, m) {
   const mean = before.reduce((a, b) => a + b, 0) / before.length;
   const within = m && m.noise ? !beyondNoise(m, last, mean)
     : Math.abs(last - mean) <= 0.02 * Math.max(1e-9, Math.abs(mean));
-  if (within || !m || m.better === 'neither') return '→ steady';
+  if (within || !m || m.better === 'neither') return `→ ${esc(t('words-trend-steady'))}`;
   const up = last > mean, good = up === (m.better === 'higher');
-  return `<span class="${good ? 'up' : 'down'}">${up ? '↑' : '↓'} ${good ? 'better' : 'worse'}</span>`;
+  return `<span class="${good ? 'up' : 'down'}" data-direction="${good ? 'better' : 'worse'}">${up ? '↑' : '↓'} ${esc(t(good ? 'words-trend-better' : 'words-trend-worse'))}</span>`;
 }
 
 /** Active time against the prescribed time, never better or worse: in minutes ("9 min of 10
@@ -133,11 +184,11 @@ export function trendWords(values, m) {
 export function activeWords(activeS, prescribedS) {
   if (typeof activeS !== 'number') return '—';
   const seconds = Math.max(activeS, typeof prescribedS === 'number' ? prescribedS : 0) < 120;
-  const t = s => (seconds ? `${Math.round(s)} s` : `${Math.round(s / 60)} min`);
-  return typeof prescribedS === 'number' ? `${t(activeS)} of ${t(prescribedS)} prescribed` : t(activeS);
+  const span = s => (seconds ? t('words-seconds', { n: Math.round(s) }) : t('words-minutes', { n: Math.round(s / 60) }));
+  return typeof prescribedS === 'number' ? t('words-of-prescribed', { done: span(activeS), prescribed: span(prescribedS) }) : span(activeS);
 }
 
 /** A station by when it was paired, never its internal id: "station paired 3 Dec 2026". */
 export function stationWords(s) {
-  return `station paired ${dayWords(s.paired_at_ms)}`;
+  return t('words-station-paired', { day: dayWords(s.paired_at_ms) });
 }

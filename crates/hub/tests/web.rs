@@ -1025,3 +1025,81 @@ async fn a_regimen_typo_is_refused_naming_its_line_and_field_and_the_prescriber_
         json!("ada@clinic.example")
     );
 }
+
+#[tokio::test]
+async fn the_therapists_language_is_kept_checked_and_audited() {
+    let f = fixture().await;
+    let cookie = login(&f.app, "ada@clinic.example").await;
+    let (status, _, body) = call(&f.app, Method::GET, "/api/me/language", Some(&cookie), None).await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(body["language"], Value::Null, "never chosen: the browser's");
+    assert_eq!(body["languages"], json!(["en", "de", "es", "zh"]));
+
+    let put = |language: Value| {
+        call(
+            &f.app,
+            Method::PUT,
+            "/api/me/language",
+            Some(&cookie),
+            Some(json!({ "language": language })),
+        )
+    };
+    let (status, _, body) = put(json!("de")).await;
+    assert_eq!((status, &body["language"]), (StatusCode::OK, &json!("de")));
+    let (status, _, body) = put(json!("fr")).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    let error = body["error"].as_str().unwrap();
+    assert!(error.contains("\"fr\"") && error.contains("en, de, es, zh"), "{error}");
+    assert_eq!(
+        f.db.therapist_language(&f.ada.id).await.unwrap().as_deref(),
+        Some("de"),
+        "a refused choice changes nothing"
+    );
+    let (status, _, _) = put(json!("en-XA")).await;
+    assert_eq!(status, StatusCode::OK, "the pseudo-locale, for layout tests");
+    // A new login keeps it; another therapist has their own.
+    let again = login(&f.app, "ada@clinic.example").await;
+    let (_, _, body) = call(&f.app, Method::GET, "/api/me/language", Some(&again), None).await;
+    assert_eq!(body["language"], json!("en-XA"));
+    let root = login(&f.app, "root@clinic.example").await;
+    let (_, _, body) = call(&f.app, Method::GET, "/api/me/language", Some(&root), None).await;
+    assert_eq!(body["language"], Value::Null);
+    let (status, _, _) = put(Value::Null).await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(f.db.therapist_language(&f.ada.id).await.unwrap(), None);
+
+    let changes: Vec<_> = actions(&f.db)
+        .await
+        .into_iter()
+        .filter(|(_, action, _)| action == "change_language")
+        .collect();
+    assert_eq!(changes.len(), 3, "{changes:?}");
+    assert!(changes.iter().all(|(actor, _, target)| actor == &f.ada.actor() && target == &f.ada.id));
+    let (status, _, _) = call(&f.app, Method::GET, "/api/me/language", None, None).await;
+    assert_eq!(status, StatusCode::UNAUTHORIZED);
+}
+
+#[tokio::test]
+async fn the_consoles_words_are_served_per_language_and_the_pseudo_locale_is_accented() {
+    let f = fixture().await;
+    let get = |uri: &'static str| call(&f.app, Method::GET, uri, None, None);
+    let (status, headers, de) = get("/console/l10n/de.ftl").await;
+    assert_eq!(status, StatusCode::OK);
+    assert!(headers[header::CONTENT_TYPE].to_str().unwrap().starts_with("text/plain"));
+    let de = de.as_str().unwrap().to_owned();
+    assert!(de.contains("caseload-title = Patienten"), "{}", &de[..200]);
+    let (_, _, en) = get("/console/l10n/en.ftl").await;
+    let en = en.as_str().unwrap().to_owned();
+    assert!(en.contains("caseload-title = Patients"));
+    let (_, _, pseudo) = get("/console/l10n/en-XA.ftl").await;
+    let pseudo = pseudo.as_str().unwrap().to_owned();
+    assert!(pseudo.contains("caseload-title = Þåŧîéñŧš~~~~"), "accented, 40 % longer");
+    assert!(pseudo.contains("{ $count }"), "variables untouched");
+    let (status, _, body) = get("/console/l10n/fr.ftl").await;
+    assert_eq!(status, StatusCode::NOT_FOUND);
+    assert!(body.as_str().unwrap().contains("en, de, es, zh"), "{body}");
+    let (status, _, _) = get("/console/l10n/de").await;
+    assert_eq!(status, StatusCode::NOT_FOUND);
+    let (status, _, _) = get("/console/vendor/fluent-bundle-0.19.1/index.js").await;
+    assert_eq!(status, StatusCode::OK);
+}

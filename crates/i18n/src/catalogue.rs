@@ -174,7 +174,7 @@ pub fn parse_errors(language: &str) -> Vec<String> {
         .collect()
 }
 
-fn info(id: String, file: &str, pattern: &ast::Pattern<&str>) -> MessageInfo {
+pub(crate) fn info(id: String, file: &str, pattern: &ast::Pattern<&str>) -> MessageInfo {
     let mut variables = Vec::new();
     collect_variables(pattern, &mut variables);
     variables.sort();

@@ -16,10 +16,14 @@
 //! every language has every English message with the same arguments.
 
 mod catalogue;
+mod console;
 mod language;
 mod pseudo;
 
 pub use catalogue::{Catalogue, MessageInfo, parse_errors};
+pub use console::{
+    console_catalogue, console_file, console_files, console_messages_of, console_tags,
+};
 pub use fluent_bundle::{FluentArgs, FluentValue};
 pub use language::{negotiate, system_language, system_language_from};
 

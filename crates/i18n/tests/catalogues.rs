@@ -82,3 +82,55 @@ fn the_macro_formats_in_the_language_in_force() {
     assert!(i18n::use_language("klingon").is_err());
     assert_eq!(i18n::current().tag(), "es");
 }
+
+/// The console's catalogues (`console/<language>/<area>.ftl`): every file parses, every id
+/// starts with its file's area, every language has every English message and uses no argument
+/// the console does not pass.
+#[test]
+fn every_console_language_has_every_english_message_with_its_arguments() {
+    let of = |language: &str| {
+        let (messages, errors) = i18n::console_messages_of(language);
+        assert!(errors.is_empty(), "{errors:#?}");
+        let mut out = BTreeMap::new();
+        for m in messages {
+            let area = m.file.rsplit('/').next().unwrap().trim_end_matches(".ftl");
+            assert!(
+                m.id.starts_with(&format!("{area}-")),
+                "{}: {} does not start with its area {area}-",
+                m.file,
+                m.id
+            );
+            let previous = out.insert(m.id.clone(), m.variables);
+            assert!(previous.is_none(), "{language}: {} is defined twice", m.id);
+        }
+        out
+    };
+    let english = of(FALLBACK);
+    assert!(english.len() > 100, "{}", english.len());
+    for language in LANGUAGES.iter().filter(|l| **l != FALLBACK) {
+        let theirs = of(language);
+        for (id, variables) in &english {
+            let their_variables = theirs
+                .get(id)
+                .unwrap_or_else(|| panic!("console {language} lacks {id}"));
+            for v in their_variables {
+                assert!(
+                    variables.contains(v),
+                    "console {language} {id} uses ${v}, which the console does not pass"
+                );
+            }
+        }
+        for id in theirs.keys() {
+            assert!(english.contains_key(id), "console {language} has {id}, English does not");
+        }
+    }
+}
+
+#[test]
+fn the_consoles_pseudo_locale_is_the_english_catalogue_accented() {
+    let en = i18n::console_catalogue("en").unwrap();
+    let pseudo = i18n::console_catalogue(PSEUDO).unwrap();
+    assert!(en.contains("app-login-title = Log in"));
+    assert!(pseudo.contains("app-login-title = Ľöĝ îñ~~"), "{}", &pseudo[..300]);
+    assert!(i18n::console_catalogue("xx").is_err());
+}

@@ -14,6 +14,7 @@ use super::logins::{ACCOUNT_RULE, ADDRESS_RULE, account_key, address_key, device
 use super::{Db, col, new_id, random_bytes, sha256_hex};
 use crate::error::HubError;
 
+mod language;
 mod passwords;
 
 pub use passwords::{

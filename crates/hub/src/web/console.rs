@@ -63,6 +63,16 @@ const ASSETS: &[Asset] = &[
     asset!("vendor/uplot-1.6.32/uPlot.esm.js", JS),
     asset!("vendor/uplot-1.6.32/uPlot.min.css", CSS),
     asset!("vendor/uplot-1.6.32/LICENSE", "text/plain; charset=utf-8"),
+    asset!("i18n.js", JS),
+    asset!("vendor/fluent-bundle-0.19.1/index.js", JS),
+    asset!("vendor/fluent-bundle-0.19.1/bundle.js", JS),
+    asset!("vendor/fluent-bundle-0.19.1/builtins.js", JS),
+    asset!("vendor/fluent-bundle-0.19.1/memoizer.js", JS),
+    asset!("vendor/fluent-bundle-0.19.1/resolver.js", JS),
+    asset!("vendor/fluent-bundle-0.19.1/resource.js", JS),
+    asset!("vendor/fluent-bundle-0.19.1/scope.js", JS),
+    asset!("vendor/fluent-bundle-0.19.1/types.js", JS),
+    asset!("vendor/fluent-bundle-0.19.1/LICENSE", "text/plain; charset=utf-8"),
 ];
 
 const INDEX: &[u8] = include_bytes!(concat!(env!("CARGO_MANIFEST_DIR"), "/console/index.html"));
@@ -85,13 +95,45 @@ pub(crate) async fn index() -> Response {
     file("text/html; charset=utf-8", INDEX)
 }
 
-/// `GET /console/{path}`: one of the embedded files, 404 for anything else.
+/// `GET /console/{path}`: one of the embedded files, a language's words
+/// (`l10n/<tag>.ftl`, [`words`]), 404 for anything else.
 pub(crate) async fn asset(Path(path): Path<String>) -> Response {
+    if let Some(file) = path.strip_prefix("l10n/") {
+        return words(file);
+    }
     match ASSETS.iter().find(|a| a.path == path) {
         Some(a) => file(a.content_type, a.bytes),
         None => (StatusCode::NOT_FOUND, "no such file").into_response(),
     }
 }
+
+/// `GET /console/l10n/<tag>.ftl`: the console's whole catalogue of one language (every
+/// `crates/i18n/console/<tag>/*.ftl`, `en-XA` the pseudo-locale made from English); an
+/// unknown tag is a 404 naming the languages there are.
+fn words(file: &str) -> Response {
+    let Some(tag) = file.strip_suffix(".ftl") else {
+        return (
+            StatusCode::NOT_FOUND,
+            "no such file: a language's words are at /console/l10n/<tag>.ftl",
+        )
+            .into_response();
+    };
+    match i18n::console_catalogue(tag) {
+        Ok(text) => {
+            let mut r = text.into_response();
+            r.headers_mut()
+                .insert(header::CONTENT_TYPE, HeaderValue::from_static(FTL));
+            r
+        }
+        Err(e) => (
+            StatusCode::NOT_FOUND,
+            format!("{e} (and the pseudo-locale {})", i18n::PSEUDO),
+        )
+            .into_response(),
+    }
+}
+
+const FTL: &str = "text/plain; charset=utf-8";
 
 #[cfg(test)]
 mod tests {
@@ -102,6 +144,16 @@ mod tests {
     fn every_imported_module_is_embedded() {
         for a in ASSETS.iter().filter(|a| a.content_type == JS) {
             let text = std::str::from_utf8(a.bytes).unwrap();
+            // The vendored Fluent imports its own files relatively (`./bundle.js`).
+            let dir = a.path.rsplit_once('/').map_or("", |(d, _)| d);
+            for import in text.split("from \"./").skip(1) {
+                let path = format!("{dir}/{}", import.split('"').next().unwrap());
+                assert!(
+                    ASSETS.iter().any(|b| b.path == path),
+                    "{} imports {path}, which is not embedded",
+                    a.path
+                );
+            }
             for import in text.split("from '/console/").skip(1) {
                 let path = import.split('\'').next().unwrap();
                 assert!(

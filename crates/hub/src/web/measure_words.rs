@@ -10,18 +10,43 @@ use serde::Serialize;
 use super::AppState;
 use super::auth::Authed;
 
-/// One way a session ends: its key and its one wording.
+/// One way a session ends: its key, its one wording (English) and the id of that wording in
+/// the console's catalogues (`words-end-…`).
 #[derive(Serialize)]
 pub(crate) struct EndWording {
     kind: EndKind,
     words: &'static str,
+    words_id: String,
+}
+
+/// One measure's words with the id of its plain name in the console's catalogues
+/// (`words-measure-…`); the key, unit, decimals and ranges stay `metrics::words`'s alone.
+#[derive(Serialize)]
+pub(crate) struct MeasureEntry {
+    #[serde(flatten)]
+    words: &'static MeasureWords,
+    name_id: String,
+}
+
+/// The console catalogue id of measure `key`'s plain name: `words-measure-pct-in-lane`.
+pub(crate) fn measure_name_id(key: &str) -> String {
+    format!("words-measure-{}", key.replace('_', "-"))
+}
+
+/// The console catalogue id of end kind `kind`'s wording: `words-end-wheel-unplugged`.
+pub(crate) fn end_words_id(kind: EndKind) -> String {
+    let key = serde_json::to_value(kind)
+        .ok()
+        .and_then(|v| v.as_str().map(str::to_owned))
+        .unwrap_or_default();
+    format!("words-end-{}", key.replace('_', "-"))
 }
 
 /// The table served.
 #[derive(Serialize)]
 pub(crate) struct Words {
     /// Every measure with words, in reading order.
-    measures: &'static [MeasureWords],
+    measures: Vec<MeasureEntry>,
     /// Every way a session ends with its wording.
     end_reasons: Vec<EndWording>,
 }
@@ -29,12 +54,19 @@ pub(crate) struct Words {
 /// The table (no patient data: not audited; a login is required, as for every endpoint).
 pub(crate) async fn measure_words(Authed(_): Authed) -> Json<Words> {
     Json(Words {
-        measures: &MEASURES,
+        measures: MEASURES
+            .iter()
+            .map(|words| MeasureEntry {
+                words,
+                name_id: measure_name_id(words.key),
+            })
+            .collect(),
         end_reasons: EndKind::ALL
             .iter()
             .map(|&kind| EndWording {
                 kind,
                 words: kind.words(),
+                words_id: end_words_id(kind),
             })
             .collect(),
     })
@@ -47,4 +79,28 @@ pub(crate) async fn clinic_name(
     Authed(_): Authed,
 ) -> Json<serde_json::Value> {
     Json(serde_json::json!({ "name": state.clinic_name }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every measure's plain name and every end reason has its message in every console
+    /// language (the console words them by these ids).
+    #[test]
+    fn every_measure_and_end_reason_has_words_in_every_console_language() {
+        for tag in i18n::LANGUAGES {
+            let text = i18n::console_catalogue(tag).unwrap();
+            let has = |id: &str| text.lines().any(|l| l.starts_with(&format!("{id} =")));
+            for m in &MEASURES {
+                let id = measure_name_id(m.key);
+                assert!(has(&id), "{tag}: no {id}");
+            }
+            for k in EndKind::ALL {
+                let id = end_words_id(k);
+                assert!(has(&id), "{tag}: no {id}");
+            }
+        }
+        assert_eq!(end_words_id(EndKind::WheelUnplugged), "words-end-wheel-unplugged");
+    }
 }

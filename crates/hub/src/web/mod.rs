@@ -13,6 +13,7 @@ mod auth;
 mod clinic;
 mod console;
 mod fhir;
+mod language;
 mod live;
 mod measure_words;
 mod messages;
@@ -237,6 +238,10 @@ pub fn router(state: AppState) -> Router {
         .route("/api/logout", post(auth::logout))
         .route("/api/me", get(auth::me))
         .route("/api/me/password", post(auth::change_password))
+        .route(
+            "/api/me/language",
+            get(language::get_language).put(language::put_language),
+        )
         .route("/api/audit", get(auth::audit_log))
         .route(
             "/api/patients",

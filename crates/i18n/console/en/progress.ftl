@@ -1,0 +1,131 @@
+# A patient's Progress tab: pain, adherence and alerts; the latest session against the
+# baseline; each exercise kind's charts; the difficulty history; the sessions' list; the
+# one-page print.
+
+progress-list-separator = {", "}
+progress-percent = { $n } %
+
+## Pain, adherence and alerts
+
+progress-summary-title = Pain, adherence and alerts
+progress-pain-title = Pain
+progress-pain-latest = Pain { $pain }/10
+progress-pain-after = after the session of { $at }.
+progress-pain-before = Before: { $list } (newest first).
+progress-pain-none = No pain answer yet.
+progress-pain-chart-label = Pain after each session, 0 to 10: the numbers are in the sessions' list
+progress-pain-axis = pain (0–10)
+# The check-in's second answer is effort on Borg's CR10 scale (the wire calls it tiredness).
+progress-checkin-pain = pain { $pain }/10
+progress-checkin-effort = effort { $effort }/10
+progress-checkin-skipped = skipped
+progress-felt = felt { $felt }
+progress-felt-too-easy = too easy
+progress-felt-about-right = about right
+progress-felt-too-hard = too hard
+progress-after-last = After the last session: { $answers }.
+progress-adherence-title = Adherence
+progress-week = Last 7 days: { $sessionsPrescribed ->
+        [none] { $sessions ->
+            [one] { $sessions } session
+           *[other] { $sessions } sessions
+        }
+       *[other] { $sessions } of { $sessionsPrescribed } prescribed sessions
+    }, { $minutesPrescribed ->
+        [none] { $minutes ->
+            [one] { $minutes } active minute
+           *[other] { $minutes } active minutes
+        }
+       *[other] { $minutes } of { $minutesPrescribed } prescribed active minutes
+    }.
+progress-stopped-early = Stopped early: { $stopped } of the last { $count ->
+        [one] session
+       *[other] { $count } sessions
+    }.
+progress-alerts-title = Alerts
+progress-alerts-none = No alert.
+
+## The latest session against the earlier ones
+
+progress-latest-title = Exercises: the latest session against the earlier ones
+progress-latest-title-kind = Exercises: the latest { $kind } session against the earlier ones
+# $early: "included" when sessions that ended early count, else "left-out"; $baseline: how
+# many first sessions make the baseline; $earlier: how many earlier sessions the trend uses.
+progress-compared = { $early ->
+        [included] The latest session that ended (as prescribed or early) ({ $session }) against the patient's baseline ({ $baseline ->
+            [one] the first { $kind } session
+           *[other] the mean of the first { $baseline } { $kind } sessions
+        }), and its trend against up to { $earlier } earlier { $kind } sessions; a change within a measure's measurement noise reads "steady". Sessions ended early are included.
+       *[left-out] The latest session that ran as prescribed ({ $session }) against the patient's baseline ({ $baseline ->
+            [one] the first { $kind } session
+           *[other] the mean of the first { $baseline } { $kind } sessions
+        }), and its trend against up to { $earlier } earlier { $kind } sessions; a change within a measure's measurement noise reads "steady". Sessions ended early are in the list below, not compared.
+    }
+progress-compared-none = No session has run as prescribed yet: nothing to compare.
+progress-col-measure = Measure
+progress-col-latest = Latest
+progress-col-baseline = Baseline
+progress-col-trend = Trend
+progress-against-prescription = against the prescription, not a trend
+progress-include-early = Include sessions that ended early
+progress-include-early-none = Include sessions that ended early (none did)
+
+## Each kind of exercise
+
+progress-kind-title = { $kind } sessions ({ $count })
+progress-kind-latest = : latest { $list }
+progress-headline-item = { $measure } { $value }
+progress-kind-note = { $names }. One chart a measure, one step a session, oldest on the left.
+progress-kind-hollow = Hollow points: { $count ->
+        [one] { $count } session ended early
+       *[other] { $count } sessions ended early
+    } ({ $early ->
+        [included] included
+       *[left-out] not joined to the line
+    }).
+progress-kind-no-measures = No measures recorded for these sessions.
+progress-prescribed-time = Prescribed time ({ $unit })
+progress-noise-band = The shaded band is the measurement noise around the baseline: a point inside it is no change.
+progress-chart-label = { $measure } by session: the numbers are in the table below
+
+## Difficulty
+
+progress-difficulty-title = Difficulty that follows the patient
+progress-difficulty-now = : now { $now } (0 easiest, 1 as prescribed)
+progress-difficulty-explain = 0: half the prescribed speed and shape with all its assistance; 1: the regimen as written. Set by the station within the regimen's bounds.
+progress-difficulty-axis = difficulty (0–1)
+progress-numbers-caption = The numbers of the chart, newest first
+progress-col-started = Started
+progress-col-difficulty = Difficulty
+progress-col-change = Change
+progress-col-success = Success
+progress-col-why = Why
+
+## Technical names
+
+progress-technical-summary = Details: the technical names of these measures
+progress-technical-caption = As the spreadsheet's second header row and the FHIR export name them
+progress-col-data-name = Name in the data
+progress-col-technical = Technical name
+
+## The sessions' list and the print
+
+progress-sessions-title = Sessions ({ $count })
+progress-col-exercise = Exercise
+progress-col-ended = How it ended
+progress-col-checkin = Patient's check-in
+progress-col-results = Results and recording
+progress-col-notes = Therapist's notes
+progress-each-exercise = Each exercise
+progress-replay = Replay
+progress-note-session = the session of { $at }
+progress-range = sessions from { $from } to { $to }
+progress-range-none = no session yet
+progress-zone-utc = times in UTC
+progress-zone = times in { $zone } and UTC
+progress-clinic-unnamed = Clinic name not set
+progress-print-of = Progress of { $name }
+progress-printed = printed { $day }
+progress-print = Print a one-page summary
+progress-download = Download spreadsheet (CSV; { $zone })
+progress-scales-failed = The clinical scales could not be shown: { $error }

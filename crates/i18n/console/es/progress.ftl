@@ -1,0 +1,126 @@
+# La pestaña «Evolución» de un paciente.
+
+progress-list-separator = {", "}
+progress-percent = { $n } %
+
+## Dolor, adherencia y avisos
+
+progress-summary-title = Dolor, adherencia y avisos
+progress-pain-title = Dolor
+progress-pain-latest = Dolor { $pain }/10
+progress-pain-after = tras la sesión del { $at }.
+progress-pain-before = Antes: { $list } (la más reciente primero).
+progress-pain-none = Todavía no hay respuesta de dolor.
+progress-pain-chart-label = Dolor tras cada sesión, de 0 a 10: los números están en la lista de sesiones
+progress-pain-axis = dolor (0–10)
+progress-checkin-pain = dolor { $pain }/10
+progress-checkin-effort = esfuerzo { $effort }/10
+progress-checkin-skipped = omitido
+progress-felt = le pareció { $felt }
+progress-felt-too-easy = demasiado fácil
+progress-felt-about-right = adecuado
+progress-felt-too-hard = demasiado difícil
+progress-after-last = Tras la última sesión: { $answers }.
+progress-adherence-title = Adherencia
+progress-week = Últimos 7 días: { $sessionsPrescribed ->
+        [none] { $sessions ->
+            [one] { $sessions } sesión
+           *[other] { $sessions } sesiones
+        }
+       *[other] { $sessions } de { $sessionsPrescribed } sesiones prescritas
+    }, { $minutesPrescribed ->
+        [none] { $minutes ->
+            [one] { $minutes } minuto activo
+           *[other] { $minutes } minutos activos
+        }
+       *[other] { $minutes } de { $minutesPrescribed } minutos activos prescritos
+    }.
+progress-stopped-early = Terminadas antes de tiempo: { $stopped } de { $count ->
+        [one] la última sesión
+       *[other] las últimas { $count } sesiones
+    }.
+progress-alerts-title = Avisos
+progress-alerts-none = Ningún aviso.
+
+## La última sesión frente a las anteriores
+
+progress-latest-title = Ejercicios: la última sesión frente a las anteriores
+progress-latest-title-kind = Ejercicios: la última sesión de { $kind } frente a las anteriores
+progress-compared = { $early ->
+        [included] La última sesión terminada (según lo prescrito o antes de tiempo) ({ $session }) frente al valor inicial del paciente ({ $baseline ->
+            [one] la primera sesión de { $kind }
+           *[other] la media de las primeras { $baseline } sesiones de { $kind }
+        }), y su tendencia frente a hasta { $earlier } sesiones anteriores de { $kind }; un cambio dentro del ruido de medida de una medida se indica como «estable». Se incluyen las sesiones terminadas antes de tiempo.
+       *[left-out] La última sesión realizada según lo prescrito ({ $session }) frente al valor inicial del paciente ({ $baseline ->
+            [one] la primera sesión de { $kind }
+           *[other] la media de las primeras { $baseline } sesiones de { $kind }
+        }), y su tendencia frente a hasta { $earlier } sesiones anteriores de { $kind }; un cambio dentro del ruido de medida de una medida se indica como «estable». Las sesiones terminadas antes de tiempo están en la lista de abajo, sin comparar.
+    }
+progress-compared-none = Ninguna sesión se ha realizado aún según lo prescrito: nada que comparar.
+progress-col-measure = Medida
+progress-col-latest = Última
+progress-col-baseline = Valor inicial
+progress-col-trend = Tendencia
+progress-against-prescription = frente a lo prescrito, no es una tendencia
+progress-include-early = Incluir las sesiones terminadas antes de tiempo
+progress-include-early-none = Incluir las sesiones terminadas antes de tiempo (no hay ninguna)
+
+## Cada tipo de ejercicio
+
+progress-kind-title = Sesiones de { $kind } ({ $count })
+progress-kind-latest = : última { $list }
+progress-headline-item = { $measure } { $value }
+progress-kind-note = { $names }. Un gráfico por medida, un paso por sesión, la más antigua a la izquierda.
+progress-kind-hollow = Puntos huecos: { $count ->
+        [one] { $count } sesión terminada antes de tiempo
+       *[other] { $count } sesiones terminadas antes de tiempo
+    } ({ $early ->
+        [included] incluidas
+       *[left-out] no unidas a la línea
+    }).
+progress-kind-no-measures = No se registraron medidas en estas sesiones.
+progress-prescribed-time = Tiempo prescrito ({ $unit })
+progress-noise-band = La franja sombreada es el ruido de medida alrededor del valor inicial: un punto dentro de ella no es un cambio.
+progress-chart-label = { $measure } por sesión: los números están en la tabla de abajo
+
+## Dificultad
+
+progress-difficulty-title = Dificultad que se adapta al paciente
+progress-difficulty-now = : ahora { $now } (0 lo más fácil, 1 lo prescrito)
+progress-difficulty-explain = 0: la mitad de la velocidad y la forma prescritas, con toda su ayuda; 1: el programa tal como se prescribió. La ajusta la estación dentro de los límites del programa.
+progress-difficulty-axis = dificultad (0–1)
+progress-numbers-caption = Los números del gráfico, los más recientes primero
+progress-col-started = Inicio
+progress-col-difficulty = Dificultad
+progress-col-change = Cambio
+progress-col-success = Éxito
+progress-col-why = Motivo
+
+## Nombres técnicos
+
+progress-technical-summary = Detalles: los nombres técnicos de estas medidas
+progress-technical-caption = Tal como los nombran la segunda fila de encabezado de la hoja de cálculo y la exportación FHIR
+progress-col-data-name = Nombre en los datos
+progress-col-technical = Nombre técnico
+
+## Lista de sesiones e impresión
+
+progress-sessions-title = Sesiones ({ $count })
+progress-col-exercise = Ejercicio
+progress-col-ended = Cómo terminó
+progress-col-checkin = Respuestas del paciente
+progress-col-results = Resultados y grabación
+progress-col-notes = Notas del terapeuta
+progress-each-exercise = Cada ejercicio
+progress-replay = Reproducción
+progress-note-session = la sesión del { $at }
+progress-range = sesiones del { $from } al { $to }
+progress-range-none = todavía sin sesiones
+progress-zone-utc = horas en UTC
+progress-zone = horas en { $zone } y UTC
+progress-clinic-unnamed = Nombre de la clínica sin definir
+progress-print-of = Evolución de { $name }
+progress-printed = impreso el { $day }
+progress-print = Imprimir un resumen de una página
+progress-download = Descargar la hoja de cálculo (CSV; { $zone })
+progress-scales-failed = No se pudieron mostrar las escalas clínicas: { $error }

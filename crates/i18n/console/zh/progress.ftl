@@ -1,0 +1,108 @@
+# 患者的“进展”标签页。
+
+progress-list-separator = {"、"}
+progress-percent = { $n } %
+
+## 疼痛、依从性和提醒
+
+progress-summary-title = 疼痛、依从性和提醒
+progress-pain-title = 疼痛
+progress-pain-latest = 疼痛 { $pain }/10
+progress-pain-after = （{ $at } 的训练后）。
+progress-pain-before = 之前：{ $list }（最新的在前）。
+progress-pain-none = 还没有疼痛回答。
+progress-pain-chart-label = 每次训练后的疼痛，0 到 10：数字见训练列表
+progress-pain-axis = 疼痛（0–10）
+progress-checkin-pain = 疼痛 { $pain }/10
+progress-checkin-effort = 用力程度 { $effort }/10
+progress-checkin-skipped = 已跳过
+progress-felt = 感觉{ $felt }
+progress-felt-too-easy = 太容易
+progress-felt-about-right = 刚好
+progress-felt-too-hard = 太难
+progress-after-last = 上次训练后：{ $answers }。
+progress-adherence-title = 依从性
+progress-week = 最近 7 天：{ $sessionsPrescribed ->
+        [none] { $sessions } 次训练
+       *[other] 处方 { $sessionsPrescribed } 次中完成 { $sessions } 次
+    }，{ $minutesPrescribed ->
+        [none] 活动 { $minutes } 分钟
+       *[other] 处方活动 { $minutesPrescribed } 分钟中完成 { $minutes } 分钟
+    }。
+progress-stopped-early = 提前结束：最近 { $count } 次训练中有 { $stopped } 次。
+progress-alerts-title = 提醒
+progress-alerts-none = 没有提醒。
+
+## 最近一次训练与之前的比较
+
+progress-latest-title = 练习：最近一次训练与之前的比较
+progress-latest-title-kind = 练习：最近一次{ $kind }训练与之前的比较
+progress-compared = { $early ->
+        [included] 最近一次结束的训练（按处方完成或提前结束）（{ $session }）与患者基线（前 { $baseline } 次{ $kind }训练的平均值）比较，趋势与之前最多 { $earlier } 次{ $kind }训练比较；在指标测量误差范围内的变化显示为“稳定”。已包括提前结束的训练。
+       *[left-out] 最近一次按处方完成的训练（{ $session }）与患者基线（前 { $baseline } 次{ $kind }训练的平均值）比较，趋势与之前最多 { $earlier } 次{ $kind }训练比较；在指标测量误差范围内的变化显示为“稳定”。提前结束的训练列在下方，不参与比较。
+    }
+progress-compared-none = 还没有按处方完成的训练：无可比较。
+progress-col-measure = 指标
+progress-col-latest = 最近
+progress-col-baseline = 基线
+progress-col-trend = 趋势
+progress-against-prescription = 与处方比较，不是趋势
+progress-include-early = 包括提前结束的训练
+progress-include-early-none = 包括提前结束的训练（没有）
+
+## 各类练习
+
+progress-kind-title = { $kind }训练（{ $count }）
+progress-kind-latest = ：最近 { $list }
+progress-headline-item = { $measure } { $value }
+progress-kind-note = { $names }。每个指标一张图，每次训练一格，最早的在左边。
+progress-kind-hollow = 空心点：{ $count } 次训练提前结束（{ $early ->
+        [included] 已包括
+       *[left-out] 未连入折线
+    }）。
+progress-kind-no-measures = 这些训练没有记录指标。
+progress-prescribed-time = 处方时间（{ $unit }）
+progress-noise-band = 阴影带是基线周围的测量误差：落在其中的点不算变化。
+progress-chart-label = 每次训练的{ $measure }：数字见下表
+
+## 难度
+
+progress-difficulty-title = 随患者调整的难度
+progress-difficulty-now = ：当前 { $now }（0 最容易，1 为处方难度）
+progress-difficulty-explain = 0：处方速度和形状的一半，并提供全部辅助；1：按处方执行的训练方案。由训练站在方案范围内设定。
+progress-difficulty-axis = 难度（0–1）
+progress-numbers-caption = 图中的数字，最新的在前
+progress-col-started = 开始时间
+progress-col-difficulty = 难度
+progress-col-change = 变化
+progress-col-success = 成功率
+progress-col-why = 原因
+
+## 技术名称
+
+progress-technical-summary = 详情：这些指标的技术名称
+progress-technical-caption = 即电子表格第二行表头和 FHIR 导出中使用的名称
+progress-col-data-name = 数据中的名称
+progress-col-technical = 技术名称
+
+## 训练列表和打印
+
+progress-sessions-title = 训练（{ $count }）
+progress-col-exercise = 练习
+progress-col-ended = 结束方式
+progress-col-checkin = 患者的回答
+progress-col-results = 结果和录制
+progress-col-notes = 治疗师备注
+progress-each-exercise = 各项练习
+progress-replay = 回放
+progress-note-session = { $at } 的训练
+progress-range = 训练日期：{ $from } 至 { $to }
+progress-range-none = 还没有训练
+progress-zone-utc = 时间为 UTC
+progress-zone = 时间为 { $zone } 和 UTC
+progress-clinic-unnamed = 未设置诊所名称
+progress-print-of = { $name } 的进展
+progress-printed = 打印于 { $day }
+progress-print = 打印一页摘要
+progress-download = 下载电子表格（CSV；{ $zone }）
+progress-scales-failed = 无法显示临床量表：{ $error }
