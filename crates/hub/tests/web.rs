@@ -1030,7 +1030,8 @@ async fn a_regimen_typo_is_refused_naming_its_line_and_field_and_the_prescriber_
 async fn the_therapists_language_is_kept_checked_and_audited() {
     let f = fixture().await;
     let cookie = login(&f.app, "ada@clinic.example").await;
-    let (status, _, body) = call(&f.app, Method::GET, "/api/me/language", Some(&cookie), None).await;
+    let (status, _, body) =
+        call(&f.app, Method::GET, "/api/me/language", Some(&cookie), None).await;
     assert_eq!(status, StatusCode::OK);
     assert_eq!(body["language"], Value::Null, "never chosen: the browser's");
     assert_eq!(body["languages"], json!(["en", "de", "es", "zh"]));
@@ -1049,14 +1050,21 @@ async fn the_therapists_language_is_kept_checked_and_audited() {
     let (status, _, body) = put(json!("fr")).await;
     assert_eq!(status, StatusCode::BAD_REQUEST);
     let error = body["error"].as_str().unwrap();
-    assert!(error.contains("\"fr\"") && error.contains("en, de, es, zh"), "{error}");
+    assert!(
+        error.contains("\"fr\"") && error.contains("en, de, es, zh"),
+        "{error}"
+    );
     assert_eq!(
         f.db.therapist_language(&f.ada.id).await.unwrap().as_deref(),
         Some("de"),
         "a refused choice changes nothing"
     );
     let (status, _, _) = put(json!("en-XA")).await;
-    assert_eq!(status, StatusCode::OK, "the pseudo-locale, for layout tests");
+    assert_eq!(
+        status,
+        StatusCode::OK,
+        "the pseudo-locale, for layout tests"
+    );
     // A new login keeps it; another therapist has their own.
     let again = login(&f.app, "ada@clinic.example").await;
     let (_, _, body) = call(&f.app, Method::GET, "/api/me/language", Some(&again), None).await;
@@ -1074,7 +1082,11 @@ async fn the_therapists_language_is_kept_checked_and_audited() {
         .filter(|(_, action, _)| action == "change_language")
         .collect();
     assert_eq!(changes.len(), 3, "{changes:?}");
-    assert!(changes.iter().all(|(actor, _, target)| actor == &f.ada.actor() && target == &f.ada.id));
+    assert!(
+        changes
+            .iter()
+            .all(|(actor, _, target)| actor == &f.ada.actor() && target == &f.ada.id)
+    );
     let (status, _, _) = call(&f.app, Method::GET, "/api/me/language", None, None).await;
     assert_eq!(status, StatusCode::UNAUTHORIZED);
 }
@@ -1085,7 +1097,12 @@ async fn the_consoles_words_are_served_per_language_and_the_pseudo_locale_is_acc
     let get = |uri: &'static str| call(&f.app, Method::GET, uri, None, None);
     let (status, headers, de) = get("/console/l10n/de.ftl").await;
     assert_eq!(status, StatusCode::OK);
-    assert!(headers[header::CONTENT_TYPE].to_str().unwrap().starts_with("text/plain"));
+    assert!(
+        headers[header::CONTENT_TYPE]
+            .to_str()
+            .unwrap()
+            .starts_with("text/plain")
+    );
     let de = de.as_str().unwrap().to_owned();
     assert!(de.contains("caseload-title = Patienten"), "{}", &de[..200]);
     let (_, _, en) = get("/console/l10n/en.ftl").await;
@@ -1093,7 +1110,10 @@ async fn the_consoles_words_are_served_per_language_and_the_pseudo_locale_is_acc
     assert!(en.contains("caseload-title = Patients"));
     let (_, _, pseudo) = get("/console/l10n/en-XA.ftl").await;
     let pseudo = pseudo.as_str().unwrap().to_owned();
-    assert!(pseudo.contains("caseload-title = Þåŧîéñŧš~~~~"), "accented, 40 % longer");
+    assert!(
+        pseudo.contains("caseload-title = Þåŧîéñŧš~~~~"),
+        "accented, 40 % longer"
+    );
     assert!(pseudo.contains("{ $count }"), "variables untouched");
     let (status, _, body) = get("/console/l10n/fr.ftl").await;
     assert_eq!(status, StatusCode::NOT_FOUND);

@@ -121,7 +121,10 @@ fn every_console_language_has_every_english_message_with_its_arguments() {
             }
         }
         for id in theirs.keys() {
-            assert!(english.contains_key(id), "console {language} has {id}, English does not");
+            assert!(
+                english.contains_key(id),
+                "console {language} has {id}, English does not"
+            );
         }
     }
 }
@@ -131,6 +134,10 @@ fn the_consoles_pseudo_locale_is_the_english_catalogue_accented() {
     let en = i18n::console_catalogue("en").unwrap();
     let pseudo = i18n::console_catalogue(PSEUDO).unwrap();
     assert!(en.contains("app-login-title = Log in"));
-    assert!(pseudo.contains("app-login-title = Ľöĝ îñ~~"), "{}", &pseudo[..300]);
+    assert!(
+        pseudo.contains("app-login-title = Ľöĝ îñ~~"),
+        "{}",
+        &pseudo[..300]
+    );
     assert!(i18n::console_catalogue("xx").is_err());
 }

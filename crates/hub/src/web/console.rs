@@ -72,7 +72,10 @@ const ASSETS: &[Asset] = &[
     asset!("vendor/fluent-bundle-0.19.1/resource.js", JS),
     asset!("vendor/fluent-bundle-0.19.1/scope.js", JS),
     asset!("vendor/fluent-bundle-0.19.1/types.js", JS),
-    asset!("vendor/fluent-bundle-0.19.1/LICENSE", "text/plain; charset=utf-8"),
+    asset!(
+        "vendor/fluent-bundle-0.19.1/LICENSE",
+        "text/plain; charset=utf-8"
+    ),
 ];
 
 const INDEX: &[u8] = include_bytes!(concat!(env!("CARGO_MANIFEST_DIR"), "/console/index.html"));

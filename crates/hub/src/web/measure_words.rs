@@ -101,6 +101,9 @@ mod tests {
                 assert!(has(&id), "{tag}: no {id}");
             }
         }
-        assert_eq!(end_words_id(EndKind::WheelUnplugged), "words-end-wheel-unplugged");
+        assert_eq!(
+            end_words_id(EndKind::WheelUnplugged),
+            "words-end-wheel-unplugged"
+        );
     }
 }
