@@ -473,7 +473,7 @@ def test_the_therapist_turns_adaptation_on_in_the_form_and_sees_the_difficulty_h
     for field, value in (("lowest", "0.3"), ("highest", "0.6"), ("start", "0.4")):
         d.find_element(By.ID, f"rx-d-{field}").send_keys(value)
     d.find_element(By.CSS_SELECTOR, "#rx-form button[type=submit]").click()
-    wait(d, lambda d: d.find_element(By.ID, "rx-result").text.startswith("Saved as version"))
+    wait(d, lambda d: d.find_element(By.ID, "rx-result").get_attribute("data-saved"))
     d.execute_script("document.getElementById('rx-difficulty').scrollIntoView()")
     assert d.find_element(By.ID, "rx-d-adapt").is_selected(), "the saved regimen adapts"
     shot(d, "9-prescribe-difficulty")
@@ -525,7 +525,10 @@ def test_a_sessions_results_show_exercise_by_exercise(clinic, browser, tmp_path)
     def row(key):
         return [td.text for td in table.find_elements(By.CSS_SELECTOR, f"tr[data-key='{key}'] td")]
 
-    assert row("time") == ["4.0 of 4", "4.0 of 4"], row("time")
+    # Active of prescribed time, s: the whole 4 s of each exercise.
+    times = [(float(td.get_attribute("data-active-s")), float(td.get_attribute("data-prescribed-s")))
+             for td in table.find_elements(By.CSS_SELECTOR, "tr[data-key='time'] td")]
+    assert [(round(a), p) for a, p in times] == [(4, 4.0), (4, 4.0)], times
     dial_mean_abs = row("dial_mean_abs_error_deg")
     assert float(dial_mean_abs[0]) > 0 and dial_mean_abs[1] == "—", dial_mean_abs
     assert "Appendix E" in table.text and "mean absolute" in table.text

@@ -52,7 +52,7 @@ export async function exercisesView(el, patientId, sessionId) {
   }
   const whole = new Intl.NumberFormat(locale(), { maximumFractionDigits: 0 });
   const cols = exercises.map(e => `<th scope="col">${esc(t('exercises-column', { n: e.index + 1, name: e.name }))}</th>`).join('');
-  const time = exercises.map(e => `<td class="num">${esc(t('exercises-time-cell', { active: whole.format(e.active_s), prescribed: whole.format(e.prescribed_s) }))}</td>`).join('');
+  const time = exercises.map(e => `<td class="num" data-active-s="${esc(e.active_s)}" data-prescribed-s="${esc(e.prescribed_s)}">${esc(t('exercises-time-cell', { active: whole.format(e.active_s), prescribed: whole.format(e.prescribed_s) }))}</td>`).join('');
   const rows = RESULTS.filter(([key]) => exercises.some(e => typeof e.scores[key] === 'number'))
     .map(([key, label, unit, digits]) => {
       const m = words.measures.get(key) || { name: t(label), unit, decimals: digits };

@@ -210,7 +210,7 @@ export async function prescribeView(el, id, refreshMessages, me) {
     const full = exercisesNow() >= limits.maxExercises;
     el.innerHTML = `
     <section class="panel" aria-labelledby="rx-h"><h2 id="rx-h">${esc(t('prescribe-heading'))}</h2>
-      <p id="rx-version">${esc(cur ? t('prescribe-version', { version: cur.version, by: r.current_prescribed_by_email || t('prescribe-version-gone'), when: when(cur.prescribed_at_ms) }) : t('prescribe-version-none'))}</p>
+      <p id="rx-version" data-version="${esc(cur ? cur.version : '')}">${esc(cur ? t('prescribe-version', { version: cur.version, by: r.current_prescribed_by_email || t('prescribe-version-gone'), when: when(cur.prescribed_at_ms) }) : t('prescribe-version-none'))}</p>
       ${cur ? `<p id="rx-patient-words" data-language="${esc((model.patient && model.patient.language) || '')}" data-side="${esc((model.patient && model.patient.neglected_side) || 'none')}" data-speech="${model.patient && model.patient.speech === false ? 'off' : 'on'}">${esc(patientWords(model.patient))}</p>` : ''}
       ${wheel.line}
       <form id="rx-form" novalidate>
@@ -284,6 +284,7 @@ export async function prescribeView(el, id, refreshMessages, me) {
       out().textContent = t('prescribe-saved', { version: v.version, message: note ? 'yes' : 'no' });
       out().dataset.saved = String(v.version);
       el.querySelector('#rx-version').textContent = t('prescribe-version-now', { version: v.version, by: me.email });
+      el.querySelector('#rx-version').dataset.version = String(v.version);
     } catch (e) {
       out().className = 'error';
       out().textContent = e.message;

@@ -64,7 +64,7 @@ export async function replayView(el, sessionId) {
   const expected = head.expected_duration_s || 0;
   const c = { t_s: [] };
   el.innerHTML = `
-    <h2>${esc(t('replay-heading', { when: row ? when(row.started_unix_ms) : t('replay-unknown-time'), exercise: plainName(head.exercise) }))} (<span id="length">${s1(expected)}</span> s)</h2>
+    <h2 id="replay-h">${esc(t('replay-heading', { when: row ? when(row.started_unix_ms) : t('replay-unknown-time'), exercise: plainName(head.exercise) }))} (<span id="length">${s1(expected)}</span> s)</h2>
     <p class="note" id="loading" role="status">${esc(t('replay-receiving'))}</p>
     <div class="tabs" role="group" aria-label="${esc(t('replay-playback'))}">
       <button type="button" id="play" data-playing="0">${esc(t('replay-play'))}</button>
