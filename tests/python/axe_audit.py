@@ -38,6 +38,14 @@ def assert_no_violations(driver, screen):
     assert not found, f"axe-core on {screen}:\n" + "\n".join(found)
 
 
+def assert_no_violations_in_language(driver, screen, tag):
+    """Fail naming every violation axe-core finds on `screen`, after checking that the page is
+    in language `tag` (its `<html lang>`), so that an audit never passes on the wrong words."""
+    lang = driver.execute_script("return document.documentElement.lang")
+    assert lang == tag, f"{screen}: the page is in {lang!r}, not {tag!r}"
+    assert_no_violations(driver, f"{screen} ({tag})")
+
+
 # The console in every language (issue 40): the languages the axe tests run in, English first
 # (the full list of screens), then the others and the pseudo-locale (a representative set).
 LANGUAGES = ["en", "de", "es", "zh", "en-XA"]

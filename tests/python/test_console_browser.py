@@ -19,6 +19,8 @@ from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.common.by import By
 from selenium.webdriver.support.ui import WebDriverWait
 
+from console_messages import message, wait_saved
+
 ROOT = Path(__file__).resolve().parents[2]
 BIN = os.environ.get("TELEREHAB_BIN", str(ROOT / "target" / "debug" / "telerehab"))
 ARTIFACTS = Path(os.environ.get("TELEREHAB_ARTIFACTS", ROOT / "target" / "test-artifacts" / "console"))
@@ -134,9 +136,10 @@ def check_form_against_schema(d, schema, wheel=None):
     kinds = sorted(v["properties"]["kind"]["const"] for v in variants)
     offered = sorted(o.get_attribute("value") for o in d.find_elements(By.CSS_SELECTOR, "#rx-add option"))
     assert offered == kinds and len(kinds) == 11, (offered, kinds)
-    # Offered by name, as the schema's words say it ("Sine road: …"), never as the TOML kind.
+    # Offered by name, the catalogue's, never as the TOML kind.
     names = {o.get_attribute("value"): o.text for o in d.find_elements(By.CSS_SELECTOR, "#rx-add option")}
-    assert names["sine"] == "Sine road" and names["lane-change"] == "Lane change", names
+    for kind in ("sine", "lane-change"):
+        assert names[kind] == message(d, f"prescribe-kind-{kind}") and names[kind] != kind, names
     sine = next(v for v in variants if v["properties"]["kind"]["const"] == "sine")["properties"]
     checked = 0
     for name, field in sine.items():
@@ -157,7 +160,7 @@ def check_form_against_schema(d, schema, wheel=None):
     assert input_bounds(d, "ex0-ceiling") == (ceiling["minimum"], own)
     sessions = schema["properties"]["sessions_per_week"]
     assert input_bounds(d, "rx-sessions") == (sessions["minimum"], sessions["maximum"]) == (1.0, 28.0)
-    assert f"at most {own:g} N·m" in d.find_element(By.ID, "bounds").text
+    assert float(d.find_element(By.ID, "bounds").get_attribute("data-ceiling-nm")) == own
 
 
 def test_a_therapist_logs_in_watches_live_sees_progress_and_prescribes(clinic, browser):
@@ -202,7 +205,7 @@ def test_a_therapist_logs_in_watches_live_sees_progress_and_prescribes(clinic, b
     delays.sort()
     print(f"live delay: median {delays[len(delays) // 2]:.3f} s, max {delays[-1]:.3f} s")
     assert delays[-1] < 1.0, f"end-to-end delay {delays}"
-    assert "Shoulder elevation" in d.find_element(By.ID, "angles").text
+    assert re.search(r"\d°", d.find_element(By.ID, "angles").text), "the arm's angles in degrees"
     shot(d, "2-live")
     assert session.wait(timeout=60) == 0
 
@@ -250,13 +253,13 @@ def test_a_therapist_logs_in_watches_live_sees_progress_and_prescribes(clinic, b
     area.clear()
     area.send_keys(TOO_STRONG)
     d.find_element(By.CSS_SELECTOR, "#rx button").click()
-    wait(d, lambda d: "refused" in d.find_element(By.ID, "rx-result").text)
-    assert "ceiling" in d.find_element(By.ID, "rx-result").text
+    wait(d, lambda d: "error" in d.find_element(By.ID, "rx-result").get_attribute("class"))
+    assert "ceiling" in d.find_element(By.ID, "rx-result").text, "the refusal names the field"
     shot(d, "4-refused")
     area.clear()
     area.send_keys(VALID)
     d.find_element(By.CSS_SELECTOR, "#rx button").click()
-    wait(d, lambda d: d.find_element(By.ID, "rx-result").text == "Saved as version 1.")
+    wait_saved(d, 1, wait)
 
     # The form is built from the regimen's schema (GET /api/regimen/schema, derived from the
     # validator): its kinds and every input's bounds are the schema's, none written in JavaScript.
@@ -274,13 +277,13 @@ def test_a_therapist_logs_in_watches_live_sees_progress_and_prescribes(clinic, b
     ceiling = wait(d, lambda d: d.find_elements(By.ID, "ex0-ceiling"))[0]
     ceiling.send_keys("25")
     d.find_element(By.CSS_SELECTOR, "#rx-form button[type=submit]").click()
-    assert "outside its bounds" in d.find_element(By.ID, "rx-result").text
+    assert "error" in d.find_element(By.ID, "rx-result").get_attribute("class")
     assert not d.execute_script("return document.getElementById('ex0-ceiling').checkValidity()")
     ceiling.clear()
     ceiling.send_keys("1.5")
     d.find_element(By.ID, "rx-sessions").send_keys("3")
     d.find_element(By.CSS_SELECTOR, "#rx-form button[type=submit]").click()
-    wait(d, lambda d: d.find_element(By.ID, "rx-result").text == "Saved as version 2.")
+    wait_saved(d, 2, wait)
     shot(d, "5-saved")
 
     # The station picks the new version up when it next connects.
@@ -360,12 +363,13 @@ def test_a_message_written_in_the_console_shows_seen_once_the_station_showed_it(
     # A line break is refused before anything is sent, naming the problem.
     text.send_keys("two\nlines")
     send.click()
-    assert "line break" in d.find_element(By.ID, "msg-result").text
+    result = d.find_element(By.ID, "msg-result")
+    assert result.text and "error" in result.get_attribute("class"), "refused, saying why"
     text.clear()
     note = "<b>Well done</b> — keep the car in the middle today"
     text.send_keys(note)
     send.click()
-    wait(d, lambda d: "not seen yet" in d.find_element(By.ID, "msg-list").text)
+    wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#msg-list .message-unseen"))
     item = d.find_element(By.CSS_SELECTOR, "#msg-list .message-text")
     assert item.text == note, "shown as text, the markup not interpreted: " + item.text
     assert not d.find_elements(By.CSS_SELECTOR, "#msg-list b")
@@ -379,13 +383,13 @@ def test_a_message_written_in_the_console_shows_seen_once_the_station_showed_it(
                                env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         deadline = time.monotonic() + 90
-        seen = ""
-        while time.monotonic() < deadline and "seen " not in seen.replace("not seen", ""):
+        seen = []
+        while time.monotonic() < deadline and not seen:
             time.sleep(1)
             d.find_element(By.ID, "msg-refresh").click()
             time.sleep(0.5)
-            seen = d.find_element(By.ID, "msg-list").text
-        assert re.search(r"(?<!not )seen \w", seen), seen
+            seen = d.find_elements(By.CSS_SELECTOR, "#msg-list .message-seen")
+        assert seen and seen[0].text.strip(), d.find_element(By.ID, "msg-list").text
         d.execute_script("document.getElementById('messages').scrollIntoView()")
         shot(d, "9b-message-seen")
     finally:
@@ -473,7 +477,7 @@ def test_the_therapist_turns_adaptation_on_in_the_form_and_sees_the_difficulty_h
     for field, value in (("lowest", "0.3"), ("highest", "0.6"), ("start", "0.4")):
         d.find_element(By.ID, f"rx-d-{field}").send_keys(value)
     d.find_element(By.CSS_SELECTOR, "#rx-form button[type=submit]").click()
-    wait(d, lambda d: d.find_element(By.ID, "rx-result").text.startswith("Saved as version"))
+    wait(d, lambda d: d.find_element(By.ID, "rx-result").get_attribute("data-saved"))
     d.execute_script("document.getElementById('rx-difficulty').scrollIntoView()")
     assert d.find_element(By.ID, "rx-d-adapt").is_selected(), "the saved regimen adapts"
     shot(d, "9-prescribe-difficulty")
@@ -526,7 +530,10 @@ def test_a_sessions_results_show_exercise_by_exercise(clinic, browser, tmp_path)
     def row(key):
         return [td.text for td in table.find_elements(By.CSS_SELECTOR, f"tr[data-key='{key}'] td")]
 
-    assert row("time") == ["4.0 of 4", "4.0 of 4"], row("time")
+    # Active of prescribed time, s: the whole 4 s of each exercise.
+    times = [(float(td.get_attribute("data-active-s")), float(td.get_attribute("data-prescribed-s")))
+             for td in table.find_elements(By.CSS_SELECTOR, "tr[data-key='time'] td")]
+    assert [(round(a), p) for a, p in times] == [(4, 4.0), (4, 4.0)], times
     dial_mean_abs = row("dial_mean_abs_error_deg")
     assert float(dial_mean_abs[0]) > 0 and dial_mean_abs[1] == "—", dial_mean_abs
     assert "Appendix E" in table.text and "mean absolute" in table.text

@@ -7,6 +7,7 @@ Screenshots (clinic-*.png) go to $TELEREHAB_ARTIFACTS (default target/test-artif
 import base64
 import json
 import re
+import time
 
 import pytest
 from selenium.webdriver.common.by import By
@@ -71,7 +72,7 @@ def test_a_clinic_adds_a_patient_prints_the_pairing_sheet_adds_a_therapist_and_r
     wait(d, lambda d: d.find_elements(By.ID, "new-patient"))
     d.find_element(By.ID, "np-pseudonym").send_keys("Jane Doe")
     d.find_element(By.CSS_SELECTOR, "#new-patient button").click()
-    wait(d, lambda d: "pseudonym" in d.find_element(By.ID, "np-error").text)
+    wait(d, lambda d: d.find_element(By.ID, "np-error").text.strip())
     d.find_element(By.ID, "np-pseudonym").clear()
     d.find_element(By.ID, "np-pseudonym").send_keys("P-0043")
     shot(d, "clinic-2-add-a-patient")
@@ -81,9 +82,9 @@ def test_a_clinic_adds_a_patient_prints_the_pairing_sheet_adds_a_therapist_and_r
     assert re.fullmatch(r"[0-9A-Z]{4}-[0-9A-Z]{4}", code), code
     assert d.find_element(By.ID, "sheet-patient").text == "P-0043"
     assert d.find_element(By.ID, "sheet-address").text == PUBLIC_STATIONS
-    assert "for one station only" in d.find_element(By.ID, "sheet-expiry").text
+    assert int(d.find_element(By.ID, "sheet-expiry").get_attribute("data-expires-ms")) > time.time() * 1000
     steps = [li.text for li in d.find_elements(By.CSS_SELECTOR, ".steps li")]
-    assert len(steps) == 5 and "wheel" in steps[0] and "telerehab" in steps[1] and "pairing code" in steps[3]
+    assert len(steps) == 5 and all(steps) and "telerehab" in steps[1], steps
     shot(d, "clinic-3-pairing-sheet")
     assert pdf_pages(d) == 1, "the pairing sheet prints on one A4 page"
     d.execute_cdp_cmd("Emulation.setEmulatedMedia", {"media": "print"})
@@ -117,7 +118,7 @@ def test_a_clinic_adds_a_patient_prints_the_pairing_sheet_adds_a_therapist_and_r
     shot(d, "clinic-6-revoke-confirm")
     d.find_element(By.ID, "rv-yes").click()
     wait(d, lambda d: d.find_elements(By.ID, "revoked"))
-    assert "revoked" in d.find_element(By.ID, "stations").text
+    assert d.find_elements(By.CSS_SELECTOR, "#stations [data-state='revoked']")
     assert not d.find_elements(By.CSS_SELECTOR, "[data-revoke]")
     shot(d, "clinic-7-station-revoked")
     revoked = fetch_json(d, f"/api/patients/{p42['id']}")["stations"][0]
@@ -136,7 +137,7 @@ def test_a_clinic_adds_a_patient_prints_the_pairing_sheet_adds_a_therapist_and_r
     d.find_element(By.ID, "clinic-link").click()
     wait(d, lambda d: d.find_elements(By.ID, "new-patient"))
     assert not d.find_elements(By.ID, "new-therapist")
-    assert "your care" in d.find_element(By.ID, "new-patient").text
+    assert d.find_elements(By.ID, "np-in-your-care")
     shot(d, "clinic-8-therapist-clinic-screen")
 
 

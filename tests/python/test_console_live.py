@@ -13,6 +13,7 @@ import pytest
 from selenium.webdriver.common.by import By
 
 from axe_audit import assert_no_violations
+from console_messages import message
 from test_console_browser import BIN, browser, serve_clinic, shot, telerehab, wait  # noqa: F401 (fixture)
 from test_console_clinic import log_in_and_replace_the_one_time_password
 
@@ -56,11 +57,11 @@ def test_the_live_view_draws_the_road_around_the_car_then_the_dial_without_lanes
         wait(d, lambda d: int(status.get_attribute("data-summaries") or 0) >= 30, timeout=40)
         assert float(road.get_attribute("data-lane-width-m")) == pytest.approx(3.5), "the sine road's lane"
         note = d.find_element(By.ID, "road-note").text
-        assert "Lane 3.5 m wide" in note and "scale bar 10 m" in note, note
+        assert note and road.get_attribute("data-scale-bar-m") == "10", note
         # The ceiling's latest value in the legend is the one the status line gives.
-        ceiling = float(re.search(r"of (\S+) N·m ceiling", status.text).group(1))
+        ceiling = float(status.get_attribute("data-ceiling-nm"))
         assert float(legend_values(d, "chart-torque")[2]) == pytest.approx(ceiling, abs=0.01)
-        assert "in lane" in status.text, status.text
+        assert status.get_attribute("data-mode") == "road", status.text
         for chart in ("chart-tracking", "chart-torque", "chart-joints"):
             values = legend_values(d, chart)
             assert values and all(NUMBER.match(v) for v in values), (chart, values)
@@ -78,19 +79,21 @@ def test_the_live_view_draws_the_road_around_the_car_then_the_dial_without_lanes
         # The dial task: the dial's target against the wheel, nothing about lanes.
         dial_session = start_session(clinic, "dial-sine", 10)
         dial = wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#road[data-mode='dial']"), timeout=40)[0]
-        wait(d, lambda d: "target" in d.find_element(By.ID, "road-note").text)
+        wait(d, lambda d: d.find_element(By.ID, "road-note").text)
         assert dial.get_attribute("data-road") == ""
         live = d.find_element(By.ID, "live")
-        wait(d, lambda d: "off the dial's target" in status.text, timeout=20)
+        wait(d, lambda d: status.get_attribute("data-mode") == "dial", timeout=20)
         assert "lane" not in live.text.lower(), live.text
-        assert "Dial" in d.find_element(By.ID, "road-h").text
+        assert d.find_element(By.ID, "road-h").text == message(d, "live-scene-dial")
+        assert d.find_element(By.ID, "c1-h").text == message(d, "live-tracking-dial")
         values = legend_values(d, "chart-tracking")
         assert len(values) == 2 and all(NUMBER.match(v) for v in values), values
         assert_no_violations(d, "live view, dial task")
         shot(d, "live-2-dial-1366x768")
         assert dial_session.wait(timeout=60) == 0
         ended = wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#live-status [data-ended]"), timeout=20)[0]
-        assert ended.text == "ended: complete, as prescribed", ended.text
+        assert ended.get_attribute("data-reason") == "complete", ended.get_attribute("data-reason")
+        assert ended.text == message(d, "live-ended-complete"), ended.text
 
         # At 200 % zoom (a 700 CSS px window) the panels stack in one column, nothing sideways.
         d.execute_cdp_cmd("Emulation.setDeviceMetricsOverride",

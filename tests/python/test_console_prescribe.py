@@ -16,6 +16,7 @@ from selenium.webdriver.common.by import By
 from selenium.webdriver.support.ui import Select
 
 from axe_audit import assert_no_violations
+from console_messages import message
 from test_console_browser import ROOT, browser, clinic, telerehab, wait  # noqa: F401 (fixtures)
 from test_console_forms import fetch_json, log_in
 
@@ -138,6 +139,75 @@ def test_a_level_minutes_sets_and_rests_prescribe_the_regimen_with_the_one_messa
     assert fetch_json(d, f"/api/patients/{patient_id}/regimen")["current_fields"] == regimen
 
 
+def test_the_patients_station_settings_travel_with_the_prescription_and_come_back_in_the_form(clinic, browser):
+    """Issue 40: the therapist sets the station's language, the neglected side and speech in the
+    prescribe form; the same save stores them in the regimen's [patient] table; reopened, the
+    form shows them, and the prescription says them in words."""
+    d = browser
+    patient_id = d.current_url.split("#/patients/")[1].split("/")[0]
+    d.get(f"{clinic['web']}/#/patients/{patient_id}/prescribe")
+    language = Select(wait(d, lambda d: d.find_elements(By.ID, "rx-p-language"))[0])
+    # The station's languages, each named in its own language, and "as chosen on the station".
+    offered = {o.get_attribute("value"): o.text for o in language.options}
+    assert offered == {"": message(d, "patient-language-station"), "en": "English", "de": "Deutsch",
+                       "es": "Español", "zh": "中文（简体）"}, offered
+    assert [o.get_attribute("lang") for o in language.options][1:] == ["en", "de", "es", "zh"]
+    # Three sides, each with what the station does for it.
+    for side in ("none", "left", "right"):
+        note = d.find_element(By.ID, f"rx-p-side-{side}-note")
+        assert note.text == message(d, f"patient-side-{side}-note"), side
+    assert d.find_element(By.ID, "rx-p-side-none").is_selected(), "no neglect until prescribed"
+    assert d.find_element(By.ID, "rx-p-speech").is_selected(), "speech is on by default"
+    volume = d.find_element(By.ID, "rx-p-volume")
+    assert (volume.get_attribute("min"), volume.get_attribute("max")) == ("0", "100")
+    countdown = d.find_element(By.ID, "rx-p-countdown")
+    assert (countdown.get_attribute("min"), countdown.get_attribute("max")) == ("0", "60")
+
+    language.select_by_value("de")
+    d.find_element(By.ID, "rx-p-side-left").click()
+    d.find_element(By.ID, "rx-p-speech").click()
+    countdown.send_keys("10")
+    assert_no_violations(d, "the prescribe form with the patient's station settings")
+    d.execute_script("arguments[0].scrollIntoView()", d.find_element(By.ID, "rx-patient"))
+    shoot_1366(d, "prescribe-patient-settings")
+    before = int(d.find_element(By.ID, "rx-result").get_attribute("data-saved") or 0)
+    d.find_element(By.CSS_SELECTOR, "#rx-form button[type=submit]").click()
+    wait(d, lambda d: int(d.find_element(By.ID, "rx-result").get_attribute("data-saved") or 0) > before)
+
+    # The hub's stored regimen has them, in the [patient] table of its TOML.
+    stored = fetch_json(d, f"/api/patients/{patient_id}/regimen")
+    toml = stored["current"]["toml"]
+    table = toml.split("[patient]", 1)[1].split("\n[", 1)[0] if "[patient]" in toml else ""
+    assert 'language = "de"' in table and 'neglected_side = "left"' in table, toml
+    assert "speech = false" in table and re.search(r"start_after_rest_s = 10(\.0)?\n", table), toml
+    assert "speech_volume_pct" not in table, "an empty volume stays the station's default"
+    assert stored["current_fields"]["patient"] == {
+        "language": "de", "neglected_side": "left", "speech": False, "start_after_rest_s": 10.0}
+
+    # Reopened, the form shows them; the prescription says them in words.
+    d.refresh()
+    language = Select(wait(d, lambda d: d.find_elements(By.ID, "rx-p-language"))[0])
+    assert language.first_selected_option.get_attribute("value") == "de"
+    assert d.find_element(By.ID, "rx-p-side-left").is_selected()
+    assert not d.find_element(By.ID, "rx-p-speech").is_selected()
+    assert float(d.find_element(By.ID, "rx-p-countdown").get_attribute("value")) == 10
+    words = d.find_element(By.ID, "rx-patient-words")
+    assert (words.get_attribute("data-language"), words.get_attribute("data-side"),
+            words.get_attribute("data-speech")) == ("de", "left", "off")
+    assert words.text == message(d, "patient-saved-words", {
+        "language": "Deutsch", "side": "left", "speech": "off", "volume": 80, "countdown": "count", "seconds": 10})
+    # Saved again unchanged, nothing moves (the form writes back what it read).
+    assert not d.find_element(By.ID, "rx-result").get_attribute("data-saved"), "a fresh page"
+    d.find_element(By.CSS_SELECTOR, "#rx-form button[type=submit]").click()
+    wait(d, lambda d: d.find_element(By.ID, "rx-result").get_attribute("data-saved"))
+    assert fetch_json(d, f"/api/patients/{patient_id}/regimen")["current_fields"] == stored["current_fields"]
+
+    # A language the station does not have is refused by the hub, naming the field.
+    fields = {**stored["current_fields"], "patient": {"language": "tlh"}}
+    status, answer = send_json(d, "PUT", f"/api/patients/{patient_id}/regimen", {"fields": fields})
+    assert status >= 400 and "patient.language" in answer, (status, answer)
+
+
 def test_the_dial_replay_marks_where_each_exercise_starts_and_shows_no_empty_car_panel(clinic, browser):
     d = browser
     # The prescription above without the road: the dial twice, a rest between.
@@ -221,7 +291,8 @@ def test_the_audit_page_lists_entries_in_words_filters_and_pages_for_admins_only
          and all(r.get_attribute("data-action") == "put_regimen"
                  for r in d.find_elements(By.CSS_SELECTOR, "#audit-table tr[data-action]")))
     rows = d.find_elements(By.CSS_SELECTOR, "#audit-table tr[data-action]")
-    assert len(rows) == 3, [r.text for r in rows]
+    # Two saves of the form, two of the station settings, the replay test's one.
+    assert len(rows) == 5, [r.text for r in rows]
     assert all("ana@clinic.example" in r.text and "P-0042" in r.text for r in rows)
     assert_no_violations(d, "the audit page")
     shoot_1366(d, "audit")

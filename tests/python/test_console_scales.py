@@ -9,6 +9,7 @@ target/test-artifacts/console); look at them."""
 from selenium.webdriver.common.by import By
 
 from axe_audit import assert_no_violations
+from console_messages import message
 from test_console_browser import browser, clinic, shot, telerehab, wait  # noqa: F401 (fixtures)
 from test_console_words import log_in, run_session
 
@@ -28,7 +29,7 @@ def test_a_fugl_meyer_score_is_charted_on_its_own_scale_and_an_out_of_range_scor
     log_in(d, clinic)
     scales = open_progress(d, clinic, 2)
     assert scales.get_attribute("data-entries") == "0"
-    assert "No clinical scale recorded yet" in scales.text
+    assert scales.find_elements(By.ID, "scales-none")
     assert not scales.find_elements(By.CSS_SELECTOR, ".chart"), "no chart before a score"
     d.find_element(By.CSS_SELECTOR, "#scale-form-details summary").click()
 
@@ -57,13 +58,13 @@ def test_a_fugl_meyer_score_is_charted_on_its_own_scale_and_an_out_of_range_scor
     score.send_keys("34")
     d.find_element(By.CSS_SELECTOR, "#scale-form button[type=submit]").click()
     wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#scales[data-entries='1']"))
-    assert d.find_element(By.ID, "scale-result").text == "Score saved."
+    assert d.find_element(By.ID, "scale-result").get_attribute("data-saved") == "1"
     chart = d.find_element(By.ID, "p-scale-fugl_meyer_ue")
     assert chart.get_attribute("data-points") == "1", "one score"
     assert chart.get_attribute("data-y-range") == "0 66", "the scale's own range"
     assert len(scales.find_elements(By.CSS_SELECTOR, ".chart")) == 1, "no station measure beside it"
     row = d.find_element(By.CSS_SELECTOR, "#scales-table tbody tr[data-scale='fugl_meyer_ue']")
-    assert "34 points" in row.text and "ana@clinic.example" in row.text
+    assert message(d, "scales-points", {"score": 34}) in row.text and "ana@clinic.example" in row.text
     # The numbers of the chart as a table under it.
     numbers = chart.find_element(By.XPATH, "..").find_element(By.CSS_SELECTOR, "details.numbers table")
     values = [td.get_attribute("textContent").strip() for td in numbers.find_elements(By.CSS_SELECTOR, "tbody td.num")]

@@ -12,6 +12,7 @@ import subprocess
 from selenium.webdriver.common.by import By
 
 from axe_audit import assert_no_violations
+from console_messages import message
 from test_console_browser import BIN, browser, clinic, shot, telerehab, wait  # noqa: F401 (fixtures)
 from test_console_progress import api_sessions_with_metrics
 from test_console_words import log_in
@@ -52,13 +53,12 @@ def test_a_strength_test_shows_live_then_in_the_progress_charts_and_tables(clini
         # Pushing left: the push now and the left side's peak so far, below the ceiling.
         wait(d, lambda d: (table_numbers(d, "left")[1] or 0) > 0.3, timeout=40)
         note = d.find_element(By.ID, "road-note").text
-        assert note.startswith("Strength test"), note
-        assert "N·m" in note and "ceiling" in note, note
-        assert "Strength" in d.find_element(By.ID, "road-h").text
-        assert "Strength" in d.find_element(By.ID, "c1-h").text
+        assert "N·m" in note, note
+        assert d.find_element(By.ID, "road-h").text == message(d, "live-scene-strength")
+        assert d.find_element(By.ID, "c1-h").text == message(d, "live-tracking-strength")
         assert "lane" not in d.find_element(By.ID, "live").text.lower()
-        status = d.find_element(By.ID, "live-status").text
-        assert "push" in status and "N·m ceiling" in status, status
+        status = d.find_element(By.ID, "live-status")
+        assert status.get_attribute("data-mode") == "strength" and "N·m" in status.text, status.text
         ceiling = table_ceiling(d)
         _, left_peak = table_numbers(d, "left")
         assert 0.3 < left_peak <= ceiling + 1e-6, (left_peak, ceiling)

@@ -2,21 +2,17 @@
 // level with the schema's bounds, written back to `[exercise.assist.mode]` (the mode's other
 // settings kept as they were; edit them as TOML).
 
-/** Each mode in the patient's therapist's words. */
-const WORDS = {
-  none: 'None: the wheel gives no help',
-  resist: 'Resist: spring and damper against the movement (strengthening)',
-  motion: 'Motion: the wheel guides the hands along the ideal path',
-  force: 'Force: the wheel adds a share of the patient\'s own effort',
-  hybrid: 'Hybrid: free within a range, guided back at its edges',
-  assist_as_needed: 'As needed: help that grows where the patient errs and fades where they do not',
-};
+import { t } from '/console/i18n.js';
 
-/** The field a mode's level is, `[path…]` inside the mode, and its words. */
+/** Each mode in the therapist's words: its catalogue message (`assist-mode-<kind>`), else the
+ * kind itself. */
+const modeWords = kind => { const id = `assist-mode-${kind}`; const w = t(id); return w === id ? kind : w; };
+
+/** The field a mode's level is, `[path…]` inside the mode, and its words' message id. */
 const LEVEL = {
-  motion: [['authority'], 'Level: share of the torque ceiling the guidance may use'],
-  hybrid: [['motion', 'authority'], 'Level: share of the torque ceiling the guidance may use'],
-  force: [['fraction'], 'Level: share of the patient\'s effort the wheel adds'],
+  motion: [['authority'], 'assist-level-guidance'],
+  hybrid: [['motion', 'authority'], 'assist-level-guidance'],
+  force: [['fraction'], 'assist-level-effort'],
 };
 
 export { assistModes } from '/console/schema.js';
@@ -42,12 +38,12 @@ const levelOf = (mode, kind) => {
  * `numberField` and `esc` are the form's. */
 export function assistFields(i, assist, modes, numberField, esc) {
   const kind = assist && assist.mode ? assist.mode.kind : '';
-  const options = [['', 'The station\'s setting (nothing prescribed here)'],
-    ...modes.map(m => [m.kind, WORDS[m.kind] || m.kind])]
+  const options = [['', t('assist-mode-station')],
+    ...modes.map(m => [m.kind, modeWords(m.kind)])]
     .map(([k, w]) => `<option value="${esc(k)}"${k === kind ? ' selected' : ''}>${esc(w)}</option>`).join('');
   const spec = levelSpec(modes, kind);
-  const level = spec ? numberField(`ex${i}-assist-level`, LEVEL[kind][1], levelOf(assist.mode, kind), spec) : '';
-  return `<label for="ex${i}-assist">Assistance</label>
+  const level = spec ? numberField(`ex${i}-assist-level`, t(LEVEL[kind][1]), levelOf(assist.mode, kind), spec) : '';
+  return `<label for="ex${i}-assist">${esc(t('assist-label'))}</label>
     <select id="ex${i}-assist" data-assist="${i}">${options}</select>
     ${level}`;
 }

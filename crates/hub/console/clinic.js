@@ -5,6 +5,10 @@
 // HTML escaped; the hub decides who may do what (API.md) and audits every change.
 import { api, esc, when } from '/console/api.js';
 import { stationWords } from '/console/words.js';
+import { t } from '/console/i18n.js';
+
+/** A catalogue message, escaped for HTML. */
+const h = (id, args) => esc(t(id, args));
 
 // Where stations at home reach the hub is the hub's to say (`hub serve
 // --public-station-address`): each pairing code comes with it, or with why there is none.
@@ -19,17 +23,17 @@ export async function clinicView(app, hash, me) {
 async function clinicHome(app, me) {
   const therapists = me.role === 'admin' ? await api('GET', '/api/therapists') : [];
   const careOf = me.role === 'admin'
-    ? `<label for="np-therapist">Therapist in charge</label>
-       <select id="np-therapist"><option value="">Nobody yet (only administrators see them)</option>
-         ${therapists.map(t => `<option value="${esc(t.email)}">${esc(t.email)}${t.role === 'admin' ? ' (administrator)' : ''}</option>`).join('')}</select>`
-    : '<p class="note">The patient will be in your care.</p>';
-  app.innerHTML = `<h1>Clinic</h1>
-    <section class="panel" aria-labelledby="np-h"><h2 id="np-h">Add a patient</h2>
+    ? `<label for="np-therapist">${h('clinic-in-charge')}</label>
+       <select id="np-therapist"><option value="">${h('clinic-in-charge-nobody')}</option>
+         ${therapists.map(th => `<option value="${esc(th.email)}">${th.role === 'admin' ? h('clinic-email-admin', { email: th.email }) : esc(th.email)}</option>`).join('')}</select>`
+    : `<p class="note" id="np-in-your-care">${h('clinic-in-your-care')}</p>`;
+  app.innerHTML = `<h1>${h('clinic-heading')}</h1>
+    <section class="panel" aria-labelledby="np-h"><h2 id="np-h">${h('clinic-add-patient')}</h2>
       <form id="new-patient" novalidate>
-        <label for="np-pseudonym">Pseudonym <span class="note">(the clinic's reference, e.g. P-0042; never a name: letters, digits, . _ -)</span></label>
+        <label for="np-pseudonym">${h('clinic-pseudonym')} <span class="note">${h('clinic-pseudonym-note')}</span></label>
         <input id="np-pseudonym" type="text" maxlength="64" autocomplete="off">
         ${careOf}
-        <p><button type="submit">Add the patient and make a pairing sheet</button></p>
+        <p><button type="submit">${h('clinic-add-patient-button')}</button></p>
         <p class="error" id="np-error" role="alert"></p>
       </form>
     </section>
@@ -51,17 +55,17 @@ async function clinicHome(app, me) {
 }
 
 function therapistsPanel(therapists) {
-  const rows = therapists.map(t => `<tr><td>${esc(t.email)}</td><td>${t.role === 'admin' ? 'administrator' : 'therapist'}</td>
-    <td>${esc(when(t.created_at_ms))}</td><td>${t.must_change_password ? 'not logged in yet (one-time password)' : 'own password'}</td></tr>`).join('');
-  return `<section class="panel" aria-labelledby="th-h"><h2 id="th-h">Therapists</h2>
-      <table id="therapists"><thead><tr><th scope="col">E-mail</th><th scope="col">Role</th><th scope="col">Added</th><th scope="col">Password</th></tr></thead>
+  const rows = therapists.map(th => `<tr data-role="${esc(th.role)}"><td>${esc(th.email)}</td><td>${h(th.role === 'admin' ? 'clinic-role-admin' : 'clinic-role-therapist')}</td>
+    <td>${esc(when(th.created_at_ms))}</td><td>${h(th.must_change_password ? 'clinic-password-one-time' : 'clinic-password-own')}</td></tr>`).join('');
+  return `<section class="panel" aria-labelledby="th-h"><h2 id="th-h">${h('clinic-therapists')}</h2>
+      <table id="therapists"><thead><tr><th scope="col">${h('clinic-col-email')}</th><th scope="col">${h('clinic-col-role')}</th><th scope="col">${h('clinic-col-added')}</th><th scope="col">${h('clinic-col-password')}</th></tr></thead>
       <tbody>${rows}</tbody></table>
-      <h3>Add a therapist</h3>
+      <h3>${h('clinic-add-therapist')}</h3>
       <form id="new-therapist" novalidate>
-        <label for="nt-email">E-mail <span class="note">(their login)</span></label>
+        <label for="nt-email">${h('clinic-col-email')} <span class="note">${h('clinic-email-note')}</span></label>
         <input id="nt-email" type="email" autocomplete="off">
-        <p><input type="checkbox" id="nt-admin"><label for="nt-admin" class="inline">Administrator (sees every patient, adds therapists, reads the audit log)</label></p>
-        <p><button type="submit">Add the therapist</button></p>
+        <p><input type="checkbox" id="nt-admin"><label for="nt-admin" class="inline">${h('clinic-admin-label')}</label></p>
+        <p><button type="submit">${h('clinic-add-therapist-button')}</button></p>
         <p class="error" id="nt-error" role="alert"></p>
       </form>
       <div id="nt-result" role="status"></div>
@@ -78,11 +82,11 @@ function bindTherapists(app) {
       const added = await api('POST', '/api/therapists', {
         email: form.querySelector('#nt-email').value.trim(), admin: form.querySelector('#nt-admin').checked });
       const body = app.querySelector('#therapists tbody');
-      body.insertAdjacentHTML('beforeend', `<tr><td>${esc(added.therapist.email)}</td>
-        <td>${added.therapist.role === 'admin' ? 'administrator' : 'therapist'}</td><td>just now</td><td>not logged in yet (one-time password)</td></tr>`);
-      app.querySelector('#nt-result').innerHTML = `<p><strong>${esc(added.therapist.email)}</strong> added. Their one-time password:
+      body.insertAdjacentHTML('beforeend', `<tr data-role="${esc(added.therapist.role)}"><td>${esc(added.therapist.email)}</td>
+        <td>${h(added.therapist.role === 'admin' ? 'clinic-role-admin' : 'clinic-role-therapist')}</td><td>${h('clinic-just-now')}</td><td>${h('clinic-password-one-time')}</td></tr>`);
+      app.querySelector('#nt-result').innerHTML = `<p>${h('clinic-therapist-added', { email: added.therapist.email })}
         <code id="nt-password" class="code">${esc(added.one_time_password)}</code></p>
-        <p class="note">Shown once (only its hash is stored): give it to them in person. At their first login they must choose their own.</p>`;
+        <p class="note">${h('clinic-one-time-note')}</p>`;
       form.reset();
     } catch (e) { error.textContent = e.message; }
   });
@@ -101,39 +105,39 @@ function pairingSheet(app, patient, pairing) {
   const address = pairing.station_address;
   if (!address || isLoopback(address)) {
     const why = pairing.station_address_problem
-      || `${address} is this computer's own address: a station at a patient's home cannot reach it.`;
+      || t('clinic-loopback', { address: address || '' });
     app.innerHTML = `<section id="sheet-refused" class="panel" aria-labelledby="refused-h">
-        <h1 id="refused-h">The pairing sheet cannot be printed yet</h1>
+        <h1 id="refused-h">${h('clinic-sheet-refused')}</h1>
         <p class="error" role="alert">${esc(why)}</p>
-        <p>The code <strong class="code">${esc(pairing.code)}</strong> for ${esc(patient.pseudonym)} stays valid until ${esc(when(pairing.expires_at_ms))}. Make a new sheet once the address is set.</p>
-        <p><a href="#/clinic/patients/${encodeURIComponent(patient.id)}">Stations and pairing</a> · <a href="#/clinic">Back to the clinic</a></p>
+        <p>${h('clinic-code-still-valid', { pseudonym: patient.pseudonym, until: when(pairing.expires_at_ms) })} <strong class="code">${esc(pairing.code)}</strong></p>
+        <p><a href="#/clinic/patients/${encodeURIComponent(patient.id)}">${h('clinic-stations-link')}</a> · <a href="#/clinic">${h('clinic-back')}</a></p>
       </section>`;
     return;
   }
   app.innerHTML = `
     <section id="pairing-sheet" class="sheet" aria-labelledby="sheet-h">
-      <h1 id="sheet-h">Connecting your telerehab station to the clinic</h1>
-      <p>For <strong id="sheet-patient">${esc(patient.pseudonym)}</strong> <span class="note">(the clinic's reference for you)</span></p>
+      <h1 id="sheet-h">${h('clinic-sheet-heading')}</h1>
+      <p>${h('clinic-sheet-for')} <strong id="sheet-patient">${esc(patient.pseudonym)}</strong> <span class="note">${h('clinic-sheet-reference')}</span></p>
       <dl class="sheet-facts">
-        <dt>Clinic address</dt><dd id="sheet-address">${esc(address)}</dd>
-        <dt>Pairing code</dt><dd id="sheet-code" class="code">${esc(pairing.code)}</dd>
-        <dt>Valid until</dt><dd id="sheet-expiry">${esc(when(pairing.expires_at_ms))}, for one station only</dd>
+        <dt>${h('clinic-sheet-address')}</dt><dd id="sheet-address">${esc(address)}</dd>
+        <dt>${h('clinic-sheet-code')}</dt><dd id="sheet-code" class="code">${esc(pairing.code)}</dd>
+        <dt>${h('clinic-sheet-valid')}</dt><dd id="sheet-expiry" data-expires-ms="${esc(pairing.expires_at_ms)}">${h('clinic-sheet-valid-until', { until: when(pairing.expires_at_ms) })}</dd>
       </dl>
-      <h2>What to do</h2>
+      <h2>${h('clinic-sheet-steps')}</h2>
       <ol class="steps">
-        <li>Plug the wheel into the computer and into the mains; plug in the arm sensors too if the clinic gave you some.</li>
-        <li>Open <strong>telerehab</strong> from the applications menu (or type <strong>telerehab</strong> and press Enter).</li>
-        <li>Type the clinic address above and press Enter.</li>
-        <li>Type the pairing code above (letters and digits, the dash is optional) and press Enter.</li>
-        <li>The screen then says it is connected and shows today's session. Press Space, or a button on the wheel, to start driving.</li>
+        <li>${h('clinic-sheet-step-plug')}</li>
+        <li>${h('clinic-sheet-step-open')}</li>
+        <li>${h('clinic-sheet-step-address')}</li>
+        <li>${h('clinic-sheet-step-code')}</li>
+        <li>${h('clinic-sheet-step-start')}</li>
       </ol>
-      <p>If the code is refused or has expired, call your therapist: they will give you a new one. Keep this sheet until your station is connected; the code works only once.</p>
+      <p>${h('clinic-sheet-help')}</p>
     </section>
     <p class="print-hide">
-      <button type="button" id="print-sheet">Print the pairing sheet</button>
-      <a href="#/patients/${encodeURIComponent(patient.id)}">Open ${esc(patient.pseudonym)}</a>
-      · <a href="#/clinic/patients/${encodeURIComponent(patient.id)}">Stations and pairing</a>
-      · <a href="#/clinic">Add another patient</a>
+      <button type="button" id="print-sheet">${h('clinic-print')}</button>
+      <a href="#/patients/${encodeURIComponent(patient.id)}">${h('clinic-open-patient', { pseudonym: patient.pseudonym })}</a>
+      · <a href="#/clinic/patients/${encodeURIComponent(patient.id)}">${h('clinic-stations-link')}</a>
+      · <a href="#/clinic">${h('clinic-add-another')}</a>
     </p>`;
   app.querySelector('#print-sheet').addEventListener('click', () => window.print());
   app.querySelector('#print-sheet').focus();
@@ -144,19 +148,19 @@ async function stationsView(app, id) {
   const p = await api('GET', `/api/patients/${encodeURIComponent(id)}`);
   const rows = p.stations.map(s => `<tr><td>${esc(stationWords(s))}</td><td>${esc(when(s.paired_at_ms))}</td>
     <td>${esc(when(s.last_seen_ms))}</td>
-    <td>${s.revoked_at_ms == null ? `<span class="badge ok">active</span>` : `<span class="badge alert">revoked ${esc(when(s.revoked_at_ms))}</span>`}</td>
-    <td>${s.revoked_at_ms == null ? `<button type="button" class="secondary" data-revoke="${esc(s.station_id)}" data-words="${esc(stationWords(s))}">Revoke the ${esc(stationWords(s))}</button>` : ''}</td></tr>`).join('');
-  app.innerHTML = `<h1>Stations of ${esc(p.pseudonym)}</h1>
-    <p><a href="#/patients/${encodeURIComponent(id)}">Back to ${esc(p.pseudonym)}</a></p>
-    <section class="panel" aria-labelledby="st-h"><h2 id="st-h">Stations</h2>
-      <table id="stations"><thead><tr><th scope="col">Station</th><th scope="col">Paired</th><th scope="col">Last contact</th><th scope="col">State</th><th scope="col">Action</th></tr></thead>
-      <tbody>${rows || '<tr><td colspan="5">No station paired yet.</td></tr>'}</tbody></table>
+    <td>${s.revoked_at_ms == null ? `<span class="badge ok" data-state="active">${h('clinic-station-active')}</span>` : `<span class="badge alert" data-state="revoked">${h('clinic-station-revoked', { when: when(s.revoked_at_ms) })}</span>`}</td>
+    <td>${s.revoked_at_ms == null ? `<button type="button" class="secondary" data-revoke="${esc(s.station_id)}" data-words="${esc(stationWords(s))}">${h('clinic-revoke-button', { station: stationWords(s) })}</button>` : ''}</td></tr>`).join('');
+  app.innerHTML = `<h1>${h('clinic-stations-of', { pseudonym: p.pseudonym })}</h1>
+    <p><a href="#/patients/${encodeURIComponent(id)}">${h('clinic-back-to', { pseudonym: p.pseudonym })}</a></p>
+    <section class="panel" aria-labelledby="st-h"><h2 id="st-h">${h('clinic-stations')}</h2>
+      <table id="stations"><thead><tr><th scope="col">${h('clinic-col-station')}</th><th scope="col">${h('clinic-col-paired')}</th><th scope="col">${h('clinic-col-last-contact')}</th><th scope="col">${h('clinic-col-state')}</th><th scope="col">${h('clinic-col-action')}</th></tr></thead>
+      <tbody>${rows || `<tr><td colspan="5">${h('clinic-no-station')}</td></tr>`}</tbody></table>
       <div id="revoke-confirm"></div>
-      <p class="note">A revoked station is refused from its next connection on (a lost or replaced computer); pair a new one with a new code.</p>
+      <p class="note">${h('clinic-revoked-note')}</p>
     </section>
-    <section class="panel" aria-labelledby="code-h"><h2 id="code-h">A new pairing code</h2>
-      <p>For a new or replaced station: single use, valid 72 hours.</p>
-      <p><button type="button" id="new-code">Make a pairing sheet</button></p>
+    <section class="panel" aria-labelledby="code-h"><h2 id="code-h">${h('clinic-new-code')}</h2>
+      <p>${h('clinic-new-code-note')}</p>
+      <p><button type="button" id="new-code">${h('clinic-make-sheet')}</button></p>
       <p class="error" id="code-error" role="alert"></p>
     </section>`;
   app.querySelector('#new-code').addEventListener('click', async () => {
@@ -172,16 +176,16 @@ async function stationsView(app, id) {
 function confirmRevoke(app, patientId, stationId, words) {
   const box = app.querySelector('#revoke-confirm');
   box.innerHTML = `<div class="panel" role="alertdialog" aria-labelledby="rv-h" aria-describedby="rv-d">
-      <h3 id="rv-h">Revoke the ${esc(words)}?</h3>
-      <p id="rv-d">It will be refused from its next connection on, for good. The patient needs a new pairing code for another station.</p>
-      <p><button type="button" id="rv-yes">Yes, revoke it</button> <button type="button" class="secondary" id="rv-no">Cancel</button></p>
+      <h3 id="rv-h">${h('clinic-revoke-ask', { station: words })}</h3>
+      <p id="rv-d">${h('clinic-revoke-explain')}</p>
+      <p><button type="button" id="rv-yes">${h('clinic-revoke-yes')}</button> <button type="button" class="secondary" id="rv-no">${h('clinic-revoke-cancel')}</button></p>
       <p class="error" id="rv-error" role="alert"></p></div>`;
   box.querySelector('#rv-no').addEventListener('click', () => { box.innerHTML = ''; });
   box.querySelector('#rv-yes').addEventListener('click', async () => {
     try {
       await api('POST', `/api/stations/${encodeURIComponent(stationId)}/revoke`);
       await stationsView(app, patientId);
-      app.querySelector('#stations').insertAdjacentHTML('beforebegin', `<p role="status" id="revoked">The ${esc(words)} is revoked.</p>`);
+      app.querySelector('#stations').insertAdjacentHTML('beforebegin', `<p role="status" id="revoked">${h('clinic-revoked', { station: words })}</p>`);
     } catch (e) { box.querySelector('#rv-error').textContent = e.message; }
   });
   box.querySelector('#rv-no').focus();

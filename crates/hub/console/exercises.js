@@ -3,6 +3,7 @@
 // escaped; the session's totals stay in the progress view.
 import { api, esc, when } from '/console/api.js';
 import { headerWords, measureWords, numberWords } from '/console/words.js';
+import { t, locale } from '/console/i18n.js';
 
 /** The results shown, in order: key, and for the haptic sweep's levels (not measures of the
  * patient, so not in the words table) its plain label, unit and decimals; every other result's
@@ -20,10 +21,10 @@ const RESULTS = [
   ['strength_sustained_left_nm'],
   ['strength_peak_right_nm'],
   ['strength_sustained_right_nm'],
-  ['sweep_spring_nm_per_rad', 'Haptic sweep: the spring stiffness of this level', 'N·m/rad', 3],
-  ['sweep_damper_nm_s_per_rad', 'Haptic sweep: the damping of this level', 'N·m·s/rad', 3],
-  ['sweep_inertia_kg_m2', 'Haptic sweep: the added weight (inertia) of this level', 'kg·m²', 4],
-  ['sweep_frequency_rad_s', 'Haptic sweep: how fast the dial moves (frequency) at this level', 'rad/s', 2],
+  ['sweep_spring_nm_per_rad', 'exercises-sweep-spring', 'N·m/rad', 3],
+  ['sweep_damper_nm_s_per_rad', 'exercises-sweep-damper', 'N·m·s/rad', 3],
+  ['sweep_inertia_kg_m2', 'exercises-sweep-inertia', 'kg·m²', 4],
+  ['sweep_frequency_rad_s', 'exercises-sweep-frequency', 'rad/s', 2],
   ['movements'],
   ['active_pct'],
   ['sparc_median'],
@@ -42,26 +43,27 @@ export async function exercisesView(el, patientId, sessionId) {
     api('GET', `/api/sessions/${enc(sessionId)}/exercises`),
   ]);
   const words = await measureWords();
-  const ended = session.end_words || (session.closed_at_ms ? 'Ended' : 'Still running');
-  const head = `<h2 id="exercises-h">Session of ${esc(when(session.started_unix_ms))}, exercise by exercise</h2>
-    <p class="note">${esc(ended)} · <a href="#/patients/${enc(patientId)}/progress">Back to the progress</a></p>`;
+  const ended = session.end_words || t(session.closed_at_ms ? 'exercises-ended' : 'exercises-running');
+  const head = `<h2 id="exercises-h">${esc(t('exercises-heading', { when: when(session.started_unix_ms) }))}</h2>
+    <p class="note">${esc(ended)} · <a href="#/patients/${enc(patientId)}/progress">${esc(t('exercises-back'))}</a></p>`;
   if (!exercises.length) {
-    el.innerHTML = `${head}<p>No results per exercise: the station that ran this session was older than them, or the session did not end in order.</p>`;
+    el.innerHTML = `${head}<p>${esc(t('exercises-none'))}</p>`;
     return;
   }
-  const cols = exercises.map(e => `<th scope="col">${esc(e.index + 1)}. ${esc(e.name)}</th>`).join('');
-  const time = exercises.map(e => `<td class="num">${esc(e.active_s.toFixed(0))} of ${esc(e.prescribed_s.toFixed(0))}</td>`).join('');
+  const whole = new Intl.NumberFormat(locale(), { maximumFractionDigits: 0 });
+  const cols = exercises.map(e => `<th scope="col">${esc(t('exercises-column', { n: e.index + 1, name: e.name }))}</th>`).join('');
+  const time = exercises.map(e => `<td class="num" data-active-s="${esc(e.active_s)}" data-prescribed-s="${esc(e.prescribed_s)}">${esc(t('exercises-time-cell', { active: whole.format(e.active_s), prescribed: whole.format(e.prescribed_s) }))}</td>`).join('');
   const rows = RESULTS.filter(([key]) => exercises.some(e => typeof e.scores[key] === 'number'))
     .map(([key, label, unit, digits]) => {
-      const m = words.measures.get(key) || { name: label, unit, decimals: digits };
+      const m = words.measures.get(key) || { name: t(label), unit, decimals: digits };
       const cells = exercises.map(e => `<td class="num">${esc(numberWords(m, e.scores[key]))}</td>`).join('');
       return `<tr data-key="${esc(key)}"><th scope="row">${esc(headerWords(m))}</th>${cells}</tr>`;
     }).join('');
   el.innerHTML = `${head}
     <section class="panel" aria-labelledby="exercises-h">
-      <table id="exercise-results"><caption class="note">Each exercise's own results; the session's totals are in the progress view.</caption>
-        <thead><tr><th scope="col">Result</th>${cols}</tr></thead>
-        <tbody><tr data-key="time"><th scope="row">Time: active of prescribed (s)</th>${time}</tr>${rows}</tbody></table>
+      <table id="exercise-results"><caption class="note">${esc(t('exercises-caption'))}</caption>
+        <thead><tr><th scope="col">${esc(t('exercises-col-result'))}</th>${cols}</tr></thead>
+        <tbody><tr data-key="time"><th scope="row">${esc(t('exercises-time-row'))}</th>${time}</tr>${rows}</tbody></table>
     </section>`;
   el.dataset.exercises = String(exercises.length);
 }

@@ -6,6 +6,11 @@
 // does not send it gets the path alone, drawn as before, and says so. The target is orange and
 // dashed, the wheel blue, as in the tracking chart.
 
+import { t, locale } from '/console/i18n.js';
+
+/** A number for people in the console's language, `digits` decimals. */
+const num = (v, digits) => new Intl.NumberFormat(locale(), { minimumFractionDigits: digits, maximumFractionDigits: digits }).format(v);
+
 /** Distances ahead of the car the station gives the road at, m (PROTOCOL.md). */
 export const AHEAD_M = [-20, -10, 0, 10, 20, 30, 40];
 const BEHIND_SHOWN_M = 11, AHEAD_SHOWN_M = 31, SCALE_BAR_M = 10;
@@ -57,7 +62,7 @@ export function drawRoad(canvas, cols, x, windowS) {
   canvas.dataset.mode = 'road';
   canvas.dataset.road = road ? '1' : '0';
   canvas.dataset.laneWidthM = road ? String(road.lane) : '';
-  if (!road) return drawPath(canvas, cols, x, `Road not sent by this station: the car's path over the last ${windowS} s`);
+  if (!road) return drawPath(canvas, cols, x, t('live-road-not-sent', { seconds: windowS }));
   const [g, w, h] = fit(canvas);
   const k = h / (BEHIND_SHOWN_M + AHEAD_SHOWN_M);             // px per m, fixed
   const u0 = w / 2, v0 = AHEAD_SHOWN_M * k;                    // the car
@@ -83,12 +88,12 @@ export function drawRoad(canvas, cols, x, windowS) {
   g.strokeStyle = '#1b1b1b'; g.lineWidth = 2;
   g.beginPath(); g.moveTo(10, y - 5); g.lineTo(10, y); g.lineTo(10 + bar, y); g.lineTo(10 + bar, y - 5); g.stroke();
   g.fillStyle = '#1b1b1b'; g.font = '12px system-ui, sans-serif';
-  g.fillText(`${SCALE_BAR_M} m`, 14 + bar, y);
+  g.fillText(`${num(SCALE_BAR_M, 0)} m`, 14 + bar, y);
   const under = x.road_left_m_0;
-  const side = under === undefined ? '' : Math.abs(under) < 0.05 ? ' The car is on the lane centre.'
-    : ` The car is ${Math.abs(under).toFixed(2)} m ${under < 0 ? 'left' : 'right'} of centre.`;
-  return `Lane ${road.lane.toFixed(1)} m wide, ${BEHIND_SHOWN_M - 1} m behind the car to ${AHEAD_SHOWN_M - 1} m ahead `
-    + `(scale bar ${SCALE_BAR_M} m); blue: its path.${side}`;
+  canvas.dataset.scaleBarM = String(SCALE_BAR_M);
+  const side = under === undefined ? '' : ' ' + t('live-road-car-side', {
+    side: Math.abs(under) < 0.05 ? 'centre' : under < 0 ? 'left' : 'right', metres: num(Math.abs(under), 2) });
+  return t('live-road-note', { lane: num(road.lane, 1), behind: BEHIND_SHOWN_M - 1, ahead: AHEAD_SHOWN_M - 1, bar: SCALE_BAR_M }) + side;
 }
 
 /** The path alone (an older station, a replay), fitted to the canvas; returns `what` with the
@@ -96,7 +101,7 @@ export function drawRoad(canvas, cols, x, windowS) {
 export function drawPath(canvas, cols, x, what) {
   const [g, w, h] = fit(canvas);
   const pts = cols.x.map((px, i) => [px, cols.y[i]]).filter(p => p[0] !== null);
-  if (!pts.length) return 'A dial exercise: no car on a road.';
+  if (!pts.length) return t('live-path-none');
   const xs = pts.map(p => p[0]), ys = pts.map(p => p[1]);
   const cx = (Math.min(...xs) + Math.max(...xs)) / 2, cy = (Math.min(...ys) + Math.max(...ys)) / 2;
   const span = Math.max(20, Math.max(...xs) - Math.min(...xs), Math.max(...ys) - Math.min(...ys)) * 1.1;
@@ -105,7 +110,7 @@ export function drawPath(canvas, cols, x, what) {
   stroke(g, pts.map(p => at(...p)), '#0072b2', 3);
   const [u, v] = at(x.car_x_m, x.car_y_m);
   car(g, u, v, Math.PI / 2 - (x.car_yaw_rad || 0), 12);
-  return `${what} (${span.toFixed(0)} m across).`;
+  return t('live-path-across', { what, metres: num(span, 0) });
 }
 
 /** The dial task: the target and the wheel as two hands on a dial; returns the note. */
@@ -118,8 +123,8 @@ export function drawDial(canvas, x) {
   g.fillStyle = '#ffffff'; g.strokeStyle = '#4a4a4a'; g.lineWidth = 2;
   g.beginPath(); g.arc(cu, cv, r, 0, 2 * Math.PI); g.fill(); g.stroke();
   for (let deg = -180; deg < 180; deg += 30) {
-    const a = deg * Math.PI / 180, t = deg % 90 ? 0.93 : 0.86;
-    g.beginPath(); g.moveTo(cu - r * t * Math.sin(a), cv - r * t * Math.cos(a));
+    const a = deg * Math.PI / 180, inner = deg % 90 ? 0.93 : 0.86;
+    g.beginPath(); g.moveTo(cu - r * inner * Math.sin(a), cv - r * inner * Math.cos(a));
     g.lineTo(cu - r * Math.sin(a), cv - r * Math.cos(a)); g.stroke();
   }
   // Positive angles turn left (anticlockwise), 0 straight up.
@@ -128,9 +133,9 @@ export function drawDial(canvas, x) {
   if (Number.isFinite(target)) hand(target, '#e69f00', 5, [8, 5]);
   if (Number.isFinite(angle)) hand(angle, '#0072b2', 4);
   g.fillStyle = '#1b1b1b'; g.beginPath(); g.arc(cu, cv, 4, 0, 2 * Math.PI); g.fill();
-  const deg = v => `${(v * 180 / Math.PI).toFixed(0)}°`;
-  if (!Number.isFinite(target) || !Number.isFinite(angle)) return 'The dial task: waiting for the wheel.';
+  const deg = v => num(v * 180 / Math.PI, 0);
+  if (!Number.isFinite(target) || !Number.isFinite(angle)) return t('live-dial-waiting');
   const off = (angle - target) * 180 / Math.PI;
-  return `Target ${deg(target)} (orange, dashed), the patient's wheel ${deg(angle)} (blue): `
-    + `${Math.abs(off).toFixed(0)}° ${Math.abs(off) < 0.5 ? 'off' : off > 0 ? 'to the left of' : 'to the right of'} the target.`;
+  return t('live-dial-note', { target: deg(target), wheel: deg(angle), off: num(Math.abs(off), 0),
+    side: Math.abs(off) < 0.5 ? 'on' : off > 0 ? 'left' : 'right' });
 }

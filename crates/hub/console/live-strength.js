@@ -8,17 +8,21 @@
 
 import { COLOURS } from '/console/charts.js';
 import { fit } from '/console/live-road.js';
+import { t, locale } from '/console/i18n.js';
 
-const SIDES = [['left', 1, 'Pushing left'], ['right', -1, 'Pushing right']];
+const SIDES = [['left', 1], ['right', -1]];
+const sideLabel = side => t(`live-strength-${side}`);
 
 /** Whether a summary's `extra` is of a strength test running now. */
 export function isStrength(x) { return Number.isFinite(x.strength_side); }
 
-const nm = v => (Number.isFinite(v) ? `${v.toFixed(2)} N·m` : '—');
+const nm = v => (Number.isFinite(v)
+  ? `${new Intl.NumberFormat(locale(), { minimumFractionDigits: 2, maximumFractionDigits: 2 }).format(v)} N·m` : '—');
 
 /** Each side's figures from a summary's `extra`: [{side, label, active, now, peak}]. */
 export function strengthSides(x) {
-  return SIDES.map(([side, sign, label]) => {
+  return SIDES.map(([side, sign]) => {
+    const label = sideLabel(side);
     const active = x.strength_side === sign;
     return { side, label, active, now: active ? x.strength_push_nm : undefined, peak: x[`strength_peak_${side}_nm`] };
   });
@@ -39,7 +43,7 @@ export function drawStrength(canvas, table, x) {
   sides.forEach((s, i) => {
     const y = 30 + i * (h - 40) / 2, bar = Math.min(36, (h - 40) / 2 - 26);
     g.fillStyle = '#1b1b1b'; g.font = '14px system-ui, sans-serif';
-    g.fillText(`${s.label}${s.active ? ' (now)' : ''}`, left, y - 6);
+    g.fillText(s.active ? t('live-strength-now-label', { side: s.label }) : s.label, left, y - 6);
     g.fillStyle = '#f2f2f2'; g.strokeStyle = '#4a4a4a'; g.lineWidth = 1;
     g.fillRect(left, y, span, bar); g.strokeRect(left, y, span, bar);
     if (Number.isFinite(s.now)) { g.fillStyle = COLOURS[0]; g.fillRect(left, y, u(s.now) - left, bar); }
@@ -53,19 +57,18 @@ export function drawStrength(canvas, table, x) {
   });
   fillTable(table, sides, ceiling);
   const active = sides.find(s => s.active);
-  const pct = v => (Number.isFinite(v) && ceiling > 0 ? ` (${Math.round(100 * v / ceiling)} % of the ceiling)` : '');
-  if (!active) return `Strength test: resting between the sides, or done. The ceiling is ${nm(ceiling)}.`;
-  return `Strength test, ${active.label.toLowerCase()}: ${nm(active.now)} now${pct(active.now)}, `
-    + `peak ${nm(active.peak)} so far, against the ${nm(ceiling)} ceiling (blue: now; orange mark: peak; green line: ceiling).`;
+  if (!active) return t('live-strength-resting', { ceiling: nm(ceiling) });
+  const share = Number.isFinite(active.now) && ceiling > 0 ? ` ${t('live-strength-share', { pct: Math.round(100 * active.now / ceiling) })}` : '';
+  return t('live-strength-note', { side: active.side, now: nm(active.now), share, peak: nm(active.peak), ceiling: nm(ceiling) });
 }
 
 /** The numbers under the bars. The table is built once and its cells updated in place at each
  * summary, so a screen reader reading it keeps its place. */
 function fillTable(table, sides, ceiling) {
   if (!table.querySelector('tbody tr[data-side]')) {
-    table.innerHTML = `<caption class="note">The strength test's numbers</caption>
-      <thead><tr><th scope="col">Side</th><th scope="col">Push now</th><th scope="col">Peak so far</th><th scope="col">Ceiling</th></tr></thead>
-      <tbody>${SIDES.map(([side, , label]) => `<tr data-side="${side}"><th scope="row">${label}</th><td class="num" data-now=""></td>
+    table.innerHTML = `<caption class="note">${t('live-strength-caption')}</caption>
+      <thead><tr><th scope="col">${t('live-strength-col-side')}</th><th scope="col">${t('live-strength-col-now')}</th><th scope="col">${t('live-strength-col-peak')}</th><th scope="col">${t('live-strength-col-ceiling')}</th></tr></thead>
+      <tbody>${SIDES.map(([side]) => `<tr data-side="${side}"><th scope="row">${sideLabel(side)}</th><td class="num" data-now=""></td>
         <td class="num" data-peak=""></td><td class="num"></td></tr>`).join('')}</tbody>`;
   }
   sides.forEach(s => {
@@ -73,7 +76,7 @@ function fillTable(table, sides, ceiling) {
     now.dataset.now = Number.isFinite(s.now) ? s.now : '';
     now.textContent = s.active ? nm(s.now) : '—';
     peak.dataset.peak = Number.isFinite(s.peak) ? s.peak : '';
-    peak.textContent = Number.isFinite(s.peak) ? nm(s.peak) : 'not yet';
+    peak.textContent = Number.isFinite(s.peak) ? nm(s.peak) : t('live-strength-not-yet');
     top.textContent = nm(ceiling);
   });
 }

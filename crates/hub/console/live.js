@@ -8,45 +8,47 @@ import { drawDial, drawPath, drawRoad as drawLiveRoad } from '/console/live-road
 import { drawStrength, isStrength, strengthSides } from '/console/live-strength.js';
 import { api, esc, when } from '/console/api.js';
 import { plainName } from '/console/words.js';
+import { t, locale } from '/console/i18n.js';
 
 const WINDOW_S = 30;
 const CHART_HEIGHT_PX = 160;
 
 // The tracking chart and the second panel say what the exercise is about: the car in its lane
 // on a road, the target and the wheel during the dial task (no lane there).
-const TRACKING = {
-  road: { heading: 'Lateral deviation', y: 'deviation (m)', series: [{ label: 'lateral deviation (m)' }] },
-  dial: { heading: 'Dial target and wheel angle', y: 'angle (°)', series: [{ label: 'wheel angle (°)' }, { label: 'target (°)' }] },
-  strength: { heading: 'Strength: the push against the ceiling', y: 'torque (N·m)', series: [{ label: 'push now (N·m)' }, { label: 'highest push, this side (N·m)' }, { label: 'ceiling (N·m)' }] },
-};
-const SCENE = { road: 'Road and lane around the car', dial: 'Dial: target and wheel', strength: 'Strength test: each side' };
+// Built when asked (the catalogue is loaded by then).
+const TRACKING = () => ({
+  road: { heading: t('live-tracking-road'), y: t('live-axis-deviation'), series: [{ label: t('live-series-deviation') }] },
+  dial: { heading: t('live-tracking-dial'), y: t('live-axis-angle'), series: [{ label: t('live-series-wheel') }, { label: t('live-series-target') }] },
+  strength: { heading: t('live-tracking-strength'), y: t('live-axis-torque'), series: [{ label: t('live-series-push') }, { label: t('live-series-peak') }, { label: t('live-series-ceiling') }] },
+});
+const SCENE = m => t(`live-scene-${m}`);
 
 export function liveView(el, patientId) {
   el.innerHTML = `
-    <p class="status" id="live-status" role="status" aria-live="polite">Waiting for a session to start…</p>
+    <p class="status" id="live-status" role="status" aria-live="polite">${esc(t('live-waiting'))}</p>
     <div class="live-grid">
-      <section class="panel live-arm" aria-labelledby="arm-h"><h2 id="arm-h">Arm and wheel</h2>
-        <canvas id="arm3d" tabindex="0" aria-label="3-D view of the patient's arm and the wheel; drag or use the arrow keys to turn it"></canvas>
+      <section class="panel live-arm" aria-labelledby="arm-h"><h2 id="arm-h">${esc(t('live-arm-heading'))}</h2>
+        <canvas id="arm3d" tabindex="0" aria-label="${esc(t('live-arm-canvas'))}"></canvas>
         <p class="note" id="angles"></p></section>
-      <section class="panel live-scene" aria-labelledby="road-h"><h2 id="road-h">${SCENE.road}</h2>
+      <section class="panel live-scene" aria-labelledby="road-h"><h2 id="road-h">${esc(SCENE('road'))}</h2>
         <canvas id="road" aria-describedby="road-note"></canvas>
         <p class="note" id="road-note"></p><table id="strength-table" hidden></table></section>
-      <section class="panel live-tracking" aria-labelledby="c1-h"><h2 id="c1-h">Tracking</h2><div class="chart" id="chart-tracking"></div></section>
-      <section class="panel live-torque" aria-labelledby="c2-h"><h2 id="c2-h">Torque and assistance</h2><div class="chart" id="chart-torque"></div></section>
-      <section class="panel live-joints" aria-labelledby="c3-h"><h2 id="c3-h">Joint angles</h2><div class="chart" id="chart-joints"></div></section>
+      <section class="panel live-tracking" aria-labelledby="c1-h"><h2 id="c1-h">${esc(t('live-tracking'))}</h2><div class="chart" id="chart-tracking"></div></section>
+      <section class="panel live-torque" aria-labelledby="c2-h"><h2 id="c2-h">${esc(t('live-torque-heading'))}</h2><div class="chart" id="chart-torque"></div></section>
+      <section class="panel live-joints" aria-labelledby="c3-h"><h2 id="c3-h">${esc(t('live-joints-heading'))}</h2><div class="chart" id="chart-joints"></div></section>
     </div>`;
   const arm = new ArmView(el.querySelector('#arm3d'));
   const chart = (id, opts) => {
-    const c = lineChart(el.querySelector(id), { x: 'session time (s)', height: CHART_HEIGHT_PX, ...opts });
+    const c = lineChart(el.querySelector(id), { x: t('live-axis-time'), height: CHART_HEIGHT_PX, ...opts });
     legendShowsLatest(c.chart);
     return c;
   };
   const charts = {
     tracking: null,
-    torque: chart('#chart-torque', { y: 'torque (N·m)',
-      series: [{ label: 'motor (N·m)' }, { label: 'assistance (N·m)' }, { label: 'ceiling (N·m)' }] }),
-    joints: chart('#chart-joints', { y: 'angle (°)',
-      series: [{ label: 'shoulder elevation (°)' }, { label: 'elbow flexion (°)' }] }),
+    torque: chart('#chart-torque', { y: t('live-axis-torque'),
+      series: [{ label: t('live-series-motor') }, { label: t('live-series-assist') }, { label: t('live-series-ceiling') }] }),
+    joints: chart('#chart-joints', { y: t('live-axis-angle'),
+      series: [{ label: t('live-series-shoulder') }, { label: t('live-series-elbow') }] }),
   };
   let mode = null;
   // A session of a regimen may go from a road to the dial and back: the tracking chart and the
@@ -55,9 +57,10 @@ export function liveView(el, patientId) {
     if (m === mode) return;
     mode = m;
     charts.tracking?.destroy();
-    charts.tracking = chart('#chart-tracking', { y: TRACKING[m].y, series: TRACKING[m].series });
-    el.querySelector('#c1-h').textContent = TRACKING[m].heading;
-    el.querySelector('#road-h').textContent = SCENE[m];
+    const tracking = TRACKING()[m];
+    charts.tracking = chart('#chart-tracking', { y: tracking.y, series: tracking.series });
+    el.querySelector('#c1-h').textContent = tracking.heading;
+    el.querySelector('#road-h').textContent = SCENE(m);
   };
   const cols = { t: [], lat: [], target: [], wheel: [], torque: [], assist: [], ceiling: [], sh: [], el: [], x: [], y: [], push: [], peak: [] };
   const started = new Map();
@@ -74,7 +77,7 @@ export function liveView(el, patientId) {
       if (row.closed_at_ms || row.end_reason) {
         endShown = session;
         status.querySelectorAll('.badge.ok, .badge.warn').forEach(b => b.remove());
-        status.insertAdjacentHTML('beforeend', ` <span class="badge ended" data-ended="1">${esc(endedWords(row.end_reason))}</span>`);
+        status.insertAdjacentHTML('beforeend', ` <span class="badge ended" data-ended="1" data-reason="${esc(row.end_reason || '')}">${esc(endedWords(row.end_reason))}</span>`);
       }
     } catch { /* asked again at the next tick */ }
   }, 2000);
@@ -89,8 +92,8 @@ export function liveView(el, patientId) {
         try { started.set(session, (await api('GET', `/api/sessions/${encodeURIComponent(session)}`)).started_unix_ms); } catch { started.set(session, null); }
       }
     }
-    const t = s.t_s;
-    cols.t.push(t);
+    const t_s = s.t_s;
+    cols.t.push(t_s);
     const onRoad = x.car_x_m !== undefined, strength = !onRoad && isStrength(x);
     setMode(onRoad ? 'road' : strength ? 'strength' : 'dial');
     const deg = rad => (Number.isFinite(rad) ? rad * 180 / Math.PI : null);
@@ -107,7 +110,7 @@ export function liveView(el, patientId) {
     const pushing = strength ? strengthSides(x).find(s => s.active) : undefined;
     cols.push.push(strength ? x.strength_push_nm ?? null : null);
     cols.peak.push(pushing?.peak ?? null);
-    while (cols.t.length && cols.t[0] < t - WINDOW_S) Object.values(cols).forEach(c => c.shift());
+    while (cols.t.length && cols.t[0] < t_s - WINDOW_S) Object.values(cols).forEach(c => c.shift());
     charts.tracking.set(onRoad ? [cols.t, cols.lat] : strength ? [cols.t, cols.push, cols.peak, cols.ceiling] : [cols.t, cols.wheel, cols.target]);
     charts.torque.set([cols.t, cols.torque, cols.assist, cols.ceiling]);
     charts.joints.set([cols.t, cols.sh, cols.el]);
@@ -118,26 +121,38 @@ export function liveView(el, patientId) {
     el.querySelector('#road-note').textContent = onRoad ? drawLiveRoad(scene, cols, x, WINDOW_S)
       : strength ? drawStrength(scene, table, x) : drawDial(scene, x);
     const start = started.get(session);
-    const delay = start ? (Date.now() - (start + t * 1000)) / 1000 : null;
-    const state = x.watchdog_fault ? '<span class="badge alert">safety fault: torque fading to zero</span>'
-      : x.paused ? '<span class="badge warn">paused</span>' : '<span class="badge ok">running</span>';
-    status.innerHTML = `Session of ${esc(start ? when(start) : 'just now')} · ${esc(plainName(s.exercise))} · ${t.toFixed(1)} s ${state}
-      · torque ${fmt(x.torque_nm, 2)} of ${fmt(x.ceiling_nm, 2)} N·m ceiling
-      · ${onRoad ? `in lane ${fmt(s.pct_in_lane, 0)} %` : strength ? `push ${fmt(x.strength_push_nm, 2)} N·m` : `off the dial's target by ${fmt(Math.abs(deg(x.wheel_angle_rad - x.wheel_target_rad) ?? NaN), 0)}°`}`
-      + (delay == null ? '' : ` · delay ${delay.toFixed(2)} s`)
-      + (x.recording_stopped_s === undefined ? '' : ` <span class="badge alert">recording stopped at ${fmt(x.recording_stopped_s, 1)} s</span>`);
+    const delay = start ? (Date.now() - (start + t_s * 1000)) / 1000 : null;
+    const state = x.watchdog_fault ? 'fault' : x.paused ? 'paused' : 'running';
+    const badge = { fault: 'alert', paused: 'warn', running: 'ok' }[state];
+    status.dataset.state = state;
+    status.dataset.mode = onRoad ? 'road' : strength ? 'strength' : 'dial';
+    status.dataset.ceilingNm = Number.isFinite(x.ceiling_nm) ? String(x.ceiling_nm) : '';
+    const parts = [
+      t('live-status-session', { when: start ? when(start) : t('live-just-now') }),
+      plainName(s.exercise),
+      t('live-status-seconds', { seconds: fmt(t_s, 1) }),
+    ].map(esc).join(' · ');
+    const measure = onRoad ? t('live-status-lane', { pct: fmt(s.pct_in_lane, 0) })
+      : strength ? t('live-status-push', { nm: fmt(x.strength_push_nm, 2) })
+        : t('live-status-dial-off', { degrees: fmt(Math.abs(deg(x.wheel_angle_rad - x.wheel_target_rad) ?? NaN), 0) });
+    status.innerHTML = `${parts} <span class="badge ${badge}">${esc(t(`live-state-${state}`))}</span>
+      · ${esc(t('live-status-torque', { nm: fmt(x.torque_nm, 2), ceiling: fmt(x.ceiling_nm, 2) }))}
+      · ${esc(measure)}`
+      + (delay == null ? '' : ` · ${esc(t('live-status-delay', { seconds: fmt(delay, 2) }))}`)
+      + (x.recording_stopped_s === undefined ? '' : ` <span class="badge alert" data-recording-stopped="1">${esc(t('live-recording-stopped', { seconds: fmt(x.recording_stopped_s, 1) }))}</span>`);
     status.dataset.delayS = delay == null ? '' : delay.toFixed(3);
     status.dataset.summaries = String(Number(status.dataset.summaries || 0) + 1);
-    el.querySelector('#angles').textContent = x.shoulder_elevation_deg === undefined ? 'No arm sensors in this session.'
-      : `Shoulder elevation ${fmt(x.shoulder_elevation_deg, 0)}°, elbow flexion ${fmt(x.elbow_flexion_deg, 0)}°, forearm pronation ${fmt(x.forearm_pronation_deg, 0)}°`;
+    el.querySelector('#angles').textContent = x.shoulder_elevation_deg === undefined ? t('live-no-arm-sensors')
+      : t('live-angles', { shoulder: fmt(x.shoulder_elevation_deg, 0), elbow: fmt(x.elbow_flexion_deg, 0), forearm: fmt(x.forearm_pronation_deg, 0) });
   });
-  source.addEventListener('lagged', ev => { status.textContent = `The view fell behind and skipped ${ev.data} summaries.`; });
+  source.addEventListener('lagged', ev => { status.textContent = t('live-lagged', { count: Number(ev.data) }); });
   // The hub ends the stream when the login ends or the patient is no longer this therapist's:
   // say so, and do not let the browser reconnect.
   source.addEventListener('ended', ev => {
     source.close();
     clearInterval(endCheck);
-    status.textContent = `Live view stopped: ${ev.data}. Log in again to watch.`;
+    status.dataset.stopped = ev.data;
+    status.textContent = t('live-stopped', { reason: ev.data });
   });
   return () => { source.close(); clearInterval(endCheck); };
 }
@@ -146,15 +161,19 @@ export function liveView(el, patientId) {
  * the patient (…)" (a reason that says "ended" itself), "ended (how is not recorded)". */
 export function endedWords(reason) {
   const r = (reason || '').trim();
-  if (!r) return 'ended (how is not recorded)';
-  if (r === 'complete') return 'ended: complete, as prescribed';
-  return r.startsWith('ended') ? r : `ended: ${r}`;
+  if (!r) return t('live-ended-unknown');
+  if (r === 'complete') return t('live-ended-complete');
+  return r.startsWith('ended') ? r : t('live-ended', { reason: r });
 }
 
-function fmt(v, digits) { return v === undefined || v === null || !Number.isFinite(Number(v)) ? '—' : Number(v).toFixed(digits); }
+/** A number for people in the console's language with `digits` decimals, '—' when absent. */
+function fmt(v, digits) {
+  if (v === undefined || v === null || !Number.isFinite(Number(v))) return '—';
+  return new Intl.NumberFormat(locale(), { minimumFractionDigits: digits, maximumFractionDigits: digits }).format(Number(v));
+}
 
 /** A replay's car from above (a recording carries no road): its path, fitted to the canvas. */
 export function drawRoad(canvas, cols, x) {
   canvas.parentElement.querySelector('#road-note').textContent =
-    drawPath(canvas, cols, x, `The car's path over the last ${WINDOW_S} s`);
+    drawPath(canvas, cols, x, t('live-path-note', { seconds: WINDOW_S }));
 }

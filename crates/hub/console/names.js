@@ -4,6 +4,8 @@
 // `displayName(pseudonym)`: "Anna Berg (P-0042)" when this browser has a name for it, else the
 // pseudonym alone.
 
+import { t } from '/console/i18n.js';
+
 /** Where the list is kept in this browser. */
 const KEY = 'telerehab.names.v1';
 /** Longest name kept, characters. */
@@ -33,7 +35,7 @@ export function nameOf(pseudonym) {
 export function displayName(pseudonym) {
   const p = String(pseudonym ?? '');
   const name = nameOf(p);
-  return name ? `${name} (${p})` : p;
+  return name ? t('names-display', { name, pseudonym: p }) : p;
 }
 
 /** Every name held here as [pseudonym, name], by pseudonym. */
@@ -79,11 +81,11 @@ export function parseNamesCsv(text) {
     if (!line.trim()) return;
     const [pseudonym = '', name = ''] = cells(line);
     if (i === 0 && /pseudonym/i.test(pseudonym)) return;
-    const at = `Line ${i + 1}`;
-    if (!pseudonym || !name) { problems.push(`${at}: needs the pseudonym, then the name.`); return; }
-    if ([...name].length > MAX_NAME_CHARS) { problems.push(`${at}: the name is longer than ${MAX_NAME_CHARS} characters.`); return; }
-    if (pairs.has(pseudonym)) { problems.push(`${at}: ${pseudonym} is in the list twice; the first name is kept.`); return; }
-    if (pairs.size >= MAX_NAMES) { problems.push(`${at}: more than ${MAX_NAMES} names; the rest are left out.`); return; }
+    const lineNo = i + 1;
+    if (!pseudonym || !name) { problems.push(t('names-problem-cells', { line: lineNo })); return; }
+    if ([...name].length > MAX_NAME_CHARS) { problems.push(t('names-problem-long', { line: lineNo, max: MAX_NAME_CHARS })); return; }
+    if (pairs.has(pseudonym)) { problems.push(t('names-problem-twice', { line: lineNo, pseudonym })); return; }
+    if (pairs.size >= MAX_NAMES) { problems.push(t('names-problem-many', { line: lineNo, max: MAX_NAMES })); return; }
     pairs.set(pseudonym, name);
   });
   return { pairs: [...pairs.entries()], problems };

@@ -2,6 +2,7 @@
 // record, never sent to the station. A "Note" per session in the Progress list and a panel on
 // the per-exercise page. Every text is put in with textContent, never as HTML.
 import { api, when } from '/console/api.js';
+import { t } from '/console/i18n.js';
 
 /** Most characters in a note (the hub counts characters, not bytes, and refuses more). */
 export const MAX_NOTE_CHARS = 2000;
@@ -15,10 +16,10 @@ const el = (tag, props = {}, ...children) => {
 /** The problem with `text` as the hub would name it, or '' (the hub checks again). */
 export function noteProblem(text) {
   const chars = [...text].length;
-  if (!text.trim()) return 'The note is empty: write a few words.';
-  if (chars > MAX_NOTE_CHARS) return `The note is too long: ${chars} characters, at most ${MAX_NOTE_CHARS}.`;
+  if (!text.trim()) return t('notes-empty');
+  if (chars > MAX_NOTE_CHARS) return t('notes-too-long', { chars, max: MAX_NOTE_CHARS });
   // eslint-disable-next-line no-control-regex
-  if (/[\u0000-\u0008\u000b\u000c\u000e-\u001f\u007f-\u009f]/.test(text)) return 'The note holds control characters: plain text only.';
+  if (/[\u0000-\u0008\u000b\u000c\u000e-\u001f\u007f-\u009f]/.test(text)) return t('notes-control');
   return '';
 }
 
@@ -37,13 +38,13 @@ export async function fillNotes(box, sessionId, label) {
     const notes = await api('GET', url);
     list.replaceChildren(...notes.map(m => el('li', { className: 'session-note' },
       el('span', { className: 'note-body', textContent: m.text }), ' ',
-      el('span', { className: 'note', textContent: `${m.therapist_email || 'a therapist no longer at the clinic'}, ${when(m.created_at_ms)}` }))));
-    if (!notes.length) list.append(el('li', { className: 'note', textContent: 'No note yet.' }));
+      el('span', { className: 'note', textContent: t('notes-by', { by: m.therapist_email || t('notes-by-gone'), when: when(m.created_at_ms) }) }))));
+    if (!notes.length) list.append(el('li', { className: 'note', textContent: t('notes-none') }));
     box.dataset.notes = String(notes.length);
   };
   const form = el('form', { noValidate: true, className: 'note-form' },
-    el('label', { htmlFor: text.id, textContent: `Add a note on ${label} (for the clinic's record; the patient does not see it)` }),
-    text, el('p', {}, el('button', { type: 'submit', textContent: 'Save the note' })));
+    el('label', { htmlFor: text.id, textContent: t('notes-add-label', { session: label }) }),
+    text, el('p', {}, el('button', { type: 'submit', textContent: t('notes-save') })));
   form.addEventListener('submit', async ev => {
     ev.preventDefault();
     const problem = noteProblem(text.value);
@@ -52,7 +53,7 @@ export async function fillNotes(box, sessionId, label) {
     try {
       await api('POST', url, { text: text.value });
       text.value = '';
-      result.textContent = 'Note saved.';
+      result.textContent = t('notes-saved');
       await refresh();
     } catch (e) { result.className = 'note-result error'; result.textContent = e.message; }
   });
@@ -63,7 +64,7 @@ export async function fillNotes(box, sessionId, label) {
 /** A session's "Note" cell for the Progress list (HTML; opened, it loads the notes):
  * `sessionId` and `label` (its date and time) escaped by the caller's `esc`. */
 export function noteCell(sessionId, label, esc) {
-  return `<details class="session-notes" data-session="${esc(sessionId)}" data-label="${esc(label)}"><summary>Note</summary><div></div></details>`;
+  return `<details class="session-notes" data-session="${esc(sessionId)}" data-label="${esc(label)}"><summary>${esc(t('notes-cell'))}</summary><div></div></details>`;
 }
 
 /** Makes every "Note" cell under `root` load its notes the first time it is opened. */
@@ -81,8 +82,8 @@ export function bindNoteCells(root) {
 export async function notesSection(page, sessionId) {
   const box = el('div', { id: 'session-notes-box' });
   const section = el('section', { className: 'panel', id: 'session-notes' },
-    el('h2', { id: 'session-notes-h', textContent: 'Notes on this session' }), box);
+    el('h2', { id: 'session-notes-h', textContent: t('notes-heading') }), box);
   section.setAttribute('aria-labelledby', 'session-notes-h');
   page.append(section);
-  await fillNotes(box, sessionId, 'this session');
+  await fillNotes(box, sessionId, t('notes-this-session'));
 }

@@ -11,12 +11,21 @@ import { messageProblem, sendMessage } from '/console/messages.js';
 import { assistModes, assistFields, readAssist } from '/console/assist.js';
 import { wheelBounds } from '/console/wheel.js';
 import { displayName } from '/console/names.js';
+import { t, locale } from '/console/i18n.js';
+import { patientFieldset, readPatient, patientWords } from '/console/patient-settings.js';
+import { patientFields } from '/console/schema.js';
 
 /** Most sets of one exercise the form offers. */
 const MAX_SETS = 10;
 /** Longest pace of a dial swing the form offers, s. */
 const MAX_PACE_S = 120;
-const LEVEL_WORDS = { easy: 'Easy', medium: 'Medium', hard: 'Hard' };
+const LEVELS = ['easy', 'medium', 'hard'];
+/** A catalogue message, else `fallback` (words the hub sent that the catalogue lacks). */
+const tOr = (id, fallback, args) => { const w = t(id, args); return w === id ? fallback : w; };
+/** A preset's words in the console's language (the hub's English when the catalogue lacks it). */
+const presetWords = p => tOr(`prescribe-preset-${p.kind}-${p.level}`, p.words);
+/** A number for people in the console's language. */
+const number = (x, digits = 1) => new Intl.NumberFormat(locale(), { maximumFractionDigits: digits }).format(x);
 
 let presetsCache = null;
 /** The presets, fetched once per page. */
@@ -65,17 +74,18 @@ export function numberField(id, label, value, spec, extra = '') {
 
 /** A field's label: its description's first sentence (it names the unit). */
 const labelOf = (name, spec) => (spec.description.split(/\.\s|\n/)[0] || name).replace(/\.$/, '').replace(/[`[\]]/g, '');
-/** An exercise kind's name for a therapist: the words before the colon of its schema
- * description ("Sine road: …"), else the kind itself. */
-export const kindName = k => (k && k.description.includes(':') ? k.description.split(':')[0] : (k ? k.kind : ''));
+/** An exercise kind's name for a therapist: the catalogue's, else the words before the colon
+ * of its schema description ("Sine road: …"), else the kind itself. */
+export const kindName = k => (!k ? '' : tOr(`prescribe-kind-${k.kind}`,
+  k.description.includes(':') ? k.description.split(':')[0] : k.kind));
 
-/** The dial's range in words. */
+/** The dial's range as a word the catalogue selects on. */
 function rangeWords(deg) {
-  if (deg <= 45) return 'a small turn';
-  if (deg <= 90) return 'up to a quarter turn';
-  return 'more than a quarter turn';
+  if (deg <= 45) return 'small';
+  if (deg <= 90) return 'quarter';
+  return 'more';
 }
-/** The dial's pace in words. */
+/** The dial's pace as a word the catalogue selects on. */
 function paceWords(s) {
   if (s >= 10) return 'slow';
   if (s >= 5) return 'moderate';
@@ -94,7 +104,8 @@ function dialSine(e) {
 /** The dial's range and pace in one sentence. */
 export function dialWords(amplitudeDeg, paceS) {
   if (!(amplitudeDeg >= 0) || !(paceS > 0)) return '';
-  return `The wheel turns up to ${Math.round(amplitudeDeg)}° each way (${rangeWords(amplitudeDeg)}), one swing there and back every ${round1(paceS)} s (${paceWords(paceS)}).`;
+  return t('prescribe-dial-words', { degrees: number(Math.round(amplitudeDeg), 0), range: rangeWords(amplitudeDeg),
+    seconds: number(round1(paceS)), pace: paceWords(paceS) });
 }
 
 /** An exercise's settings that are not its kind's own: what a level never changes. */
@@ -128,6 +139,7 @@ export async function prescribeView(el, id, refreshMessages, me) {
   const adapt = difficultyFields(schema);
   const entry = entryFields(schema);
   const dial = dialSineFields(schema);
+  const patient_spec = patientFields(schema);
   const cur = r.current;
   const model = r.current_fields || { exercise: [] };
   let rows = toRows(Array.isArray(model.exercise) ? model.exercise : []);
@@ -140,10 +152,10 @@ export async function prescribeView(el, id, refreshMessages, me) {
     if (!mine.length) return '';
     const at = levelOf(e, presets);
     const radios = mine.map(p => `<p class="choice"><input type="radio" name="ex${i}-level" id="ex${i}-level-${esc(p.level)}" value="${esc(p.level)}" data-level="${i}"${at === p ? ' checked' : ''}>
-      <label for="ex${i}-level-${esc(p.level)}" class="inline"><strong>${esc(LEVEL_WORDS[p.level] || p.level)}</strong>: ${esc(p.words)}</label></p>`).join('');
+      <label for="ex${i}-level-${esc(p.level)}" class="inline"><strong>${esc(LEVELS.includes(p.level) ? t(`prescribe-level-${p.level}`) : p.level)}</strong>: ${esc(presetWords(p))}</label></p>`).join('');
     const own = at ? '' : `<p class="choice"><input type="radio" name="ex${i}-level" id="ex${i}-level-own" value="" checked disabled>
-      <label for="ex${i}-level-own" class="inline"><strong>Own settings</strong>: changed from the levels (see the details)</label></p>`;
-    return `<fieldset class="levels" id="ex${i}-levels" data-level-now="${esc(at ? at.level : 'own')}"><legend>How hard</legend>${radios}${own}</fieldset>`;
+      <label for="ex${i}-level-own" class="inline"><strong>${esc(t('prescribe-level-own'))}</strong>: ${esc(t('prescribe-level-own-note'))}</label></p>`;
+    return `<fieldset class="levels" id="ex${i}-levels" data-level-now="${esc(at ? at.level : 'own')}"><legend>${esc(t('prescribe-levels-legend'))}</legend>${radios}${own}</fieldset>`;
   };
 
   const timeFields = (i, row, k) => {
@@ -154,23 +166,23 @@ export async function prescribeView(el, id, refreshMessages, me) {
       const spec = duration[1];
       const road = !['dial'].includes(e.kind);
       const shown = e.duration_s === undefined ? undefined : Math.round(e.duration_s / 60 * 100) / 100;
-      minutes = numberField(`ex${i}-minutes`, 'Minutes', shown,
-        { min: 0.1, max: spec.max / 60, default: road ? 'once along the road' : (spec.default === undefined ? undefined : spec.default / 60) },
+      minutes = numberField(`ex${i}-minutes`, t('prescribe-minutes-label'), shown,
+        { min: 0.1, max: spec.max / 60, default: road ? t('prescribe-minutes-road') : (spec.default === undefined ? undefined : spec.default / 60) },
         ` data-initial="${esc(shown ?? '')}"`);
     }
-    const sets = numberField(`ex${i}-sets`, 'Sets (the exercise done again after a rest)', row.sets, { min: 1, max: MAX_SETS, integer: true });
-    const rest = numberField(`ex${i}-rest`, 'Rest after each set, seconds', e.rest_s, { ...entry.rest, default: 'the short card only' });
+    const sets = numberField(`ex${i}-sets`, t('prescribe-sets-label'), row.sets, { min: 1, max: MAX_SETS, integer: true });
+    const rest = numberField(`ex${i}-rest`, t('prescribe-rest-label'), e.rest_s, { ...entry.rest, default: t('prescribe-rest-default') });
     return `<div class="dose">${minutes}${sets}${rest}</div>`;
   };
 
   const dialFields = (i, e) => {
     if (e.kind !== 'dial' || !dial) return '';
     const sine = dialSine(e);
-    if (!sine) return '<p class="note">The target moves in another pattern than a swing: its settings are in the text version.</p>';
+    if (!sine) return `<p class="note">${esc(t('prescribe-dial-other'))}</p>`;
     const pace = paceOf(sine.frequency_rad_s);
     const fast = dial.frequency.max > 0 ? Math.ceil(2 * Math.PI / dial.frequency.max * 10) / 10 : 0.1;
-    return `<div class="dose">${numberField(`ex${i}-dial-range`, 'How far the wheel turns each way, degrees', sine.amplitude_deg, { ...dial.amplitude, default: undefined }, ` data-initial="${esc(sine.amplitude_deg)}"`)}
-      ${numberField(`ex${i}-dial-pace`, 'One swing there and back, seconds', pace, { min: fast, max: MAX_PACE_S }, ` data-initial="${esc(pace ?? '')}"`)}</div>
+    return `<div class="dose">${numberField(`ex${i}-dial-range`, t('prescribe-dial-range-label'), sine.amplitude_deg, { ...dial.amplitude, default: undefined }, ` data-initial="${esc(sine.amplitude_deg)}"`)}
+      ${numberField(`ex${i}-dial-pace`, t('prescribe-dial-pace-label'), pace, { min: fast, max: MAX_PACE_S }, ` data-initial="${esc(pace ?? '')}"`)}</div>
       <p class="note" id="ex${i}-dial-words">${esc(dialWords(sine.amplitude_deg, pace))}</p>`;
   };
 
@@ -180,55 +192,57 @@ export async function prescribeView(el, id, refreshMessages, me) {
       const k = kindOf(e);
       const details = k ? k.fields.filter(([name]) => name !== 'duration_s')
         .map(([name, spec]) => numberField(`ex${i}-${name}`, labelOf(name, spec), e[name], spec)).join('') : '';
-      const ref = e.kind === 'dial' && dialSine(e) ? `<p class="note">The target: a sine of ${esc(dialSine(e).amplitude_deg)}° at ${esc(dialSine(e).frequency_rad_s)} rad/s (amplitude_deg, frequency_rad_s).</p>` : '';
+      const ref = e.kind === 'dial' && dialSine(e) ? `<p class="note">${esc(t('prescribe-dial-sine', { degrees: number(dialSine(e).amplitude_deg, 2), rate: number(dialSine(e).frequency_rad_s, 4) }))}</p>` : '';
       return `
-      <fieldset class="panel" data-exercise="${i}"><legend>Exercise ${i + 1}: ${esc(kindName(k) || e.kind)}</legend>
-        ${k ? '' : '<p class="note">An exercise kind this hub does not know: edit it in the text version.</p>'}
+      <fieldset class="panel" data-exercise="${i}"><legend>${esc(t('prescribe-exercise-legend', { n: i + 1, name: kindName(k) || e.kind }))}</legend>
+        ${k ? '' : `<p class="note">${esc(t('prescribe-kind-unknown'))}</p>`}
         ${levelFields(i, e)}
         ${timeFields(i, row, k)}
         ${dialFields(i, e)}
-        ${numberField(`ex${i}-ceiling`, 'Strongest push of the wheel (torque ceiling), N·m (empty: the station\'s)', e.haptic && e.haptic.ceiling_nm, wheel.torque({ ...limits.ceiling, default: undefined }))}
+        ${numberField(`ex${i}-ceiling`, t('prescribe-ceiling-label'), e.haptic && e.haptic.ceiling_nm, wheel.torque({ ...limits.ceiling, default: undefined }))}
         ${['dial', 'strength', 'haptic-sweep'].includes(e.kind) ? '' : `<p><input type="checkbox" id="ex${i}-pedals"${e.pedals ? ' checked' : ''}>
-          <label for="ex${i}-pedals" class="inline">The patient sets the speed with the pedals (needs minutes; leave unticked for automatic speed)</label></p>`}
+          <label for="ex${i}-pedals" class="inline">${esc(t('prescribe-pedals-label'))}</label></p>`}
         ${assistFields(i, e.assist, modes, numberField, esc)}
-        ${details || ref ? `<details class="exercise-details" id="ex${i}-details"><summary>Details: the settings behind the level</summary>${ref}${details}</details>` : ''}
-        <p><button type="button" class="secondary" data-remove="${i}">Remove exercise ${i + 1}</button></p>
+        ${details || ref ? `<details class="exercise-details" id="ex${i}-details"><summary>${esc(t('prescribe-details-summary'))}</summary>${ref}${details}</details>` : ''}
+        <p><button type="button" class="secondary" data-remove="${i}">${esc(t('prescribe-remove', { n: i + 1 }))}</button></p>
       </fieldset>`;
     }).join('');
     const full = exercisesNow() >= limits.maxExercises;
     el.innerHTML = `
-    <section class="panel" aria-labelledby="rx-h"><h2 id="rx-h">Regimen</h2>
-      <p id="rx-version">${cur ? `Version ${esc(cur.version)}, prescribed by ${esc(r.current_prescribed_by_email || 'a therapist no longer at the clinic')} on ${esc(when(cur.prescribed_at_ms))}.` : 'Nothing prescribed yet: the station runs its default exercise.'}</p>
+    <section class="panel" aria-labelledby="rx-h"><h2 id="rx-h">${esc(t('prescribe-heading'))}</h2>
+      <p id="rx-version" data-version="${esc(cur ? cur.version : '')}">${esc(cur ? t('prescribe-version', { version: cur.version, by: r.current_prescribed_by_email || t('prescribe-version-gone'), when: when(cur.prescribed_at_ms) }) : t('prescribe-version-none'))}</p>
+      ${cur ? `<p id="rx-patient-words" data-language="${esc((model.patient && model.patient.language) || '')}" data-side="${esc((model.patient && model.patient.neglected_side) || 'none')}" data-speech="${model.patient && model.patient.speech === false ? 'off' : 'on'}">${esc(patientWords(model.patient))}</p>` : ''}
       ${wheel.line}
       <form id="rx-form" novalidate>
-        ${numberField('rx-sessions', 'Sessions a week', model.sessions_per_week, { ...limits.sessionsPerWeek, default: undefined })}
+        ${numberField('rx-sessions', t('prescribe-sessions-label'), model.sessions_per_week, { ...limits.sessionsPerWeek, default: undefined })}
+        ${patientFieldset(model.patient, patient_spec, numberField)}
         ${adapt ? difficultyForm(model.difficulty, adapt) : ''}
-        ${html || '<p>No exercise yet: add one.</p>'}
+        ${html || `<p>${esc(t('prescribe-no-exercise'))}</p>`}
         <p id="rx-total" class="note"></p>
-        <label for="rx-add">Add an exercise</label>
+        <label for="rx-add">${esc(t('prescribe-add-label'))}</label>
         <select id="rx-add">${kinds.map(k => `<option value="${esc(k.kind)}" title="${esc(k.description)}">${esc(kindName(k))}</option>`).join('')}</select>
-        <button type="button" class="secondary" id="rx-add-btn"${full ? ' disabled' : ''}>Add</button>
-        ${full ? `<p class="note">At most ${esc(limits.maxExercises)} exercises in a regimen, sets counted.</p>` : ''}
-        <p class="note" id="rx-message-note">To tell ${esc(displayName(patient.pseudonym))} about the change, write in the message box below: it is sent with the prescription when you save.</p>
-        <p><button type="submit">Save as a new version</button></p>
+        <button type="button" class="secondary" id="rx-add-btn"${full ? ' disabled' : ''}>${esc(t('prescribe-add-button'))}</button>
+        ${full ? `<p class="note">${esc(t('prescribe-full', { max: limits.maxExercises }))}</p>` : ''}
+        <p class="note" id="rx-message-note">${esc(t('prescribe-message-note', { name: displayName(patient.pseudonym) }))}</p>
+        <p><button type="submit">${esc(t('prescribe-save'))}</button></p>
       </form>
       <p id="rx-result" role="alert"></p>
-      <details id="rx-toml"><summary>Edit as text (every setting, as in the station's <code>regimens/</code>)</summary>
+      <details id="rx-toml"><summary>${esc(t('prescribe-text-summary'))}</summary>
         <form id="rx">
-          <label for="toml">Regimen (TOML)</label>
-          <textarea id="toml" spellcheck="false">${esc(cur ? cur.toml : '')}</textarea>
-          <p><button type="submit">Save the text as a new version</button></p>
+          <label for="toml">${esc(t('prescribe-text-label'))}</label>
+          <textarea id="toml" spellcheck="false" lang="en">${esc(cur ? cur.toml : '')}</textarea>
+          <p><button type="submit">${esc(t('prescribe-text-save'))}</button></p>
         </form>
       </details>
-      <h3>Safety bounds the station enforces</h3>
-      <dl class="bounds" id="bounds">
-        <dt>Torque ceiling</dt><dd>at most ${esc(wheel.ceiling ?? limits.ceiling.max)} N·m in a prescription (${wheel.ceiling == null ? 'the strongest consumer wheel' : 'what this patient\'s wheel can give'}), refused above; the station then caps it at its own wheel's ceiling (a prescription can lower the patient's ceiling, never raise it)</dd>
-        <dt>Torque changes</dt><dd>slew-limited by the station's safety chain whatever the prescription</dd>
-        <dt>Session</dt><dd>at most ${esc(limits.maxExercises)} exercises (each set counts as one) planned to last at most ${esc(Math.round(limits.maxPlannedS / 60))} min together, rests and the cards between exercises included</dd>
-        <dt>Levels</dt><dd>every easy, medium and hard level is checked by the station's own validator</dd>
-        <dt>Every other setting</dt><dd>within the range shown beside it</dd>
+      <h3>${esc(t('prescribe-bounds-heading'))}</h3>
+      <dl class="bounds" id="bounds" data-ceiling-nm="${esc(wheel.ceiling ?? limits.ceiling.max)}">
+        <dt>${esc(t('prescribe-bounds-ceiling'))}</dt><dd>${esc(t('prescribe-bounds-ceiling-text', { nm: number(wheel.ceiling ?? limits.ceiling.max, 2), wheel: wheel.ceiling == null ? 'consumer' : 'patient' }))}</dd>
+        <dt>${esc(t('prescribe-bounds-slew'))}</dt><dd>${esc(t('prescribe-bounds-slew-text'))}</dd>
+        <dt>${esc(t('prescribe-bounds-session'))}</dt><dd>${esc(t('prescribe-bounds-session-text', { max: limits.maxExercises, minutes: Math.round(limits.maxPlannedS / 60) }))}</dd>
+        <dt>${esc(t('prescribe-bounds-levels'))}</dt><dd>${esc(t('prescribe-bounds-levels-text'))}</dd>
+        <dt>${esc(t('prescribe-bounds-other'))}</dt><dd>${esc(t('prescribe-bounds-other-text'))}</dd>
       </dl>
-      <p class="note">The form's ranges come from the regimen's schema, which the hub derives from the station's own validator; the hub checks the whole regimen with that validator before storing it, and the station picks the new version up at its next session.</p>
+      <p class="note">${esc(t('prescribe-bounds-note'))}</p>
     </section>`;
     bind();
     total();
@@ -245,15 +259,15 @@ export async function prescribeView(el, id, refreshMessages, me) {
     });
     const out = el.querySelector('#rx-total');
     if (!all.length) { out.textContent = ''; return; }
-    out.textContent = `About ${round1(minutes)} min of exercise and ${round1(rests)} min of rests${untimed ? `, and ${untimed} exercise${untimed === 1 ? '' : 's'} without minutes (driven once or timed by the exercise itself)` : ''}.`;
+    out.textContent = t('prescribe-total', { minutes: number(round1(minutes)), rests: number(round1(rests)), untimed });
   };
 
   const out = () => el.querySelector('#rx-result');
   const messageBox = () => document.getElementById('msg-text');
   const save = async (body, note = '') => {
-    out().className = ''; out().textContent = 'Saving…';
+    out().className = ''; out().textContent = t('prescribe-saving');
     const problem = note && messageProblem(note);
-    if (problem) { out().className = 'error'; out().textContent = `The message: ${problem}`; return; }
+    if (problem) { out().className = 'error'; out().textContent = t('prescribe-message-problem', { problem }); return; }
     try {
       const v = await api('PUT', `/api/patients/${encodeURIComponent(id)}/regimen`, body);
       if (note) {
@@ -267,9 +281,10 @@ export async function prescribeView(el, id, refreshMessages, me) {
       Object.assign(model, again.current_fields);
       rows = toRows(model.exercise || []);
       render();
-      out().textContent = `Saved as version ${v.version}${note ? ', with the message' : ''}.`;
+      out().textContent = t('prescribe-saved', { version: v.version, message: note ? 'yes' : 'no' });
       out().dataset.saved = String(v.version);
-      el.querySelector('#rx-version').textContent = `Version ${v.version}, prescribed by ${me.email} just now.`;
+      el.querySelector('#rx-version').textContent = t('prescribe-version-now', { version: v.version, by: me.email });
+      el.querySelector('#rx-version').dataset.version = String(v.version);
     } catch (e) {
       out().className = 'error';
       out().textContent = e.message;
@@ -279,6 +294,7 @@ export async function prescribeView(el, id, refreshMessages, me) {
   const readForm = () => {
     const sessions = num('#rx-sessions');
     if (sessions === undefined) delete model.sessions_per_week; else model.sessions_per_week = sessions;
+    readPatient(el, model, num);
     if (adapt) readDifficulty(el, model, adapt, num);
     rows.forEach((row, i) => {
       const e = row.e;
@@ -321,11 +337,11 @@ export async function prescribeView(el, id, refreshMessages, me) {
     el.querySelector('#rx-form').addEventListener('submit', ev => {
       ev.preventDefault();
       const form = ev.target;
-      if (!form.checkValidity()) { form.reportValidity(); out().className = 'error'; out().textContent = 'A value is outside its bounds (shown beside it).'; return; }
+      if (!form.checkValidity()) { form.reportValidity(); out().className = 'error'; out().textContent = t('prescribe-out-of-bounds'); return; }
       readForm();
       if (model.exercise.length > limits.maxExercises) {
         out().className = 'error';
-        out().textContent = `${model.exercise.length} exercises with the sets counted: at most ${limits.maxExercises}.`;
+        out().textContent = t('prescribe-too-many', { count: model.exercise.length, max: limits.maxExercises });
         return;
       }
       const box = messageBox();
@@ -374,14 +390,15 @@ export async function prescribeView(el, id, refreshMessages, me) {
  * and what the difficulty changes. */
 function difficultyForm(d, adapt) {
   const on = !!d;
-  const fields = adapt.fields.map(([name, spec]) => numberField(`rx-d-${name}`, labelOf(name, spec), d && d[name], spec)).join('');
+  const fields = adapt.fields.map(([name, spec]) => numberField(`rx-d-${name}`,
+    tOr(`prescribe-difficulty-${name}`, labelOf(name, spec)), d && d[name], spec)).join('');
   const changes = d && d.changes ? d.changes : adapt.aspects;
-  const boxes = adapt.aspects.map(a => `<label><input type="checkbox" id="rx-d-change-${esc(a)}" data-aspect="${esc(a)}"${changes.includes(a) ? ' checked' : ''}> ${esc(a)}</label>`).join(' ');
-  return `<fieldset class="panel" id="rx-difficulty"><legend>Difficulty that follows the patient</legend>
-    <label><input type="checkbox" id="rx-d-adapt"${on && d.adapt !== false ? ' checked' : ''}> Adapt each session's difficulty to the patient (aiming at the target success rate, honouring "too easy / too hard")</label>
+  const boxes = adapt.aspects.map(a => `<label><input type="checkbox" id="rx-d-change-${esc(a)}" data-aspect="${esc(a)}"${changes.includes(a) ? ' checked' : ''}> ${esc(tOr(`prescribe-aspect-${a}`, a))}</label>`).join(' ');
+  return `<fieldset class="panel" id="rx-difficulty"><legend>${esc(t('prescribe-difficulty-legend'))}</legend>
+    <label><input type="checkbox" id="rx-d-adapt"${on && d.adapt !== false ? ' checked' : ''}> ${esc(t('prescribe-difficulty-adapt'))}</label>
     ${fields}
-    <p>Changes: ${boxes}</p>
-    <p class="note">Difficulty 1 is the regimen as written; 0 is half its speed and shape with all its assistance. Never beyond the prescription; the torque ceiling never changes.</p>
+    <p>${esc(t('prescribe-difficulty-changes'))} ${boxes}</p>
+    <p class="note">${esc(t('prescribe-difficulty-note'))}</p>
   </fieldset>`;
 }
 

@@ -8,6 +8,10 @@ import { lineChart } from '/console/charts.js';
 import { drawRoad } from '/console/live.js';
 import { ApiError, api, esc, when } from '/console/api.js';
 import { plainName } from '/console/words.js';
+import { t, locale } from '/console/i18n.js';
+
+/** A number for people in the console's language with one decimal. */
+const s1 = v => new Intl.NumberFormat(locale(), { minimumFractionDigits: 1, maximumFractionDigits: 1 }).format(v);
 
 const SPEEDS = [0.25, 0.5, 1, 2, 4, 8];
 
@@ -48,38 +52,38 @@ async function request(sessionId, signal) {
 }
 
 export async function replayView(el, sessionId) {
-  el.innerHTML = '<p role="status">Loading the recording…</p>';
+  el.innerHTML = `<p role="status">${esc(t('replay-loading'))}</p>`;
   const abort = new AbortController();
   // Named by its date and time, never by its id.
   const row = await api('GET', `/api/sessions/${encodeURIComponent(sessionId)}`).catch(() => null);
   const stream = await request(sessionId, abort.signal);
   const first = await stream.next();
-  if (first.done) throw new ApiError(502, 'the hub sent no replay');
+  if (first.done) throw new ApiError(502, t('replay-none-sent'));
   const head = first.value;
   let rateHz = head.rate_hz, duration = 0, n = 0, complete = false;
   const expected = head.expected_duration_s || 0;
   const c = { t_s: [] };
   el.innerHTML = `
-    <h2>Replay of the session of ${esc(row ? when(row.started_unix_ms) : 'an unknown time')} (${esc(plainName(head.exercise))}, <span id="length">${expected.toFixed(1)}</span> s)</h2>
-    <p class="note" id="loading" role="status">Receiving the recording…</p>
-    <div class="tabs" role="group" aria-label="Playback">
-      <button type="button" id="play">Play</button>
-      <label for="seek" class="sr">Position</label>
-      <span class="seek-wrap"><input id="seek" type="range" min="0" max="${expected}" step="0.05" value="0" aria-valuetext="0 s">
+    <h2 id="replay-h">${esc(t('replay-heading', { when: row ? when(row.started_unix_ms) : t('replay-unknown-time'), exercise: plainName(head.exercise) }))} (<span id="length">${s1(expected)}</span> s)</h2>
+    <p class="note" id="loading" role="status">${esc(t('replay-receiving'))}</p>
+    <div class="tabs" role="group" aria-label="${esc(t('replay-playback'))}">
+      <button type="button" id="play" data-playing="0">${esc(t('replay-play'))}</button>
+      <label for="seek" class="sr">${esc(t('replay-position'))}</label>
+      <span class="seek-wrap"><input id="seek" type="range" min="0" max="${expected}" step="0.05" value="0" aria-valuetext="${esc(s1(0))} s">
         <span id="timeline-marks" class="timeline-marks" aria-hidden="true"></span></span>
-      <span id="clock" aria-live="off">0.0 / ${expected.toFixed(1)} s</span>
-      <label for="speed">Speed</label>
-      <select id="speed">${SPEEDS.map(s => `<option value="${s}"${s === 1 ? ' selected' : ''}>×${s}</option>`).join('')}</select>
+      <span id="clock" aria-live="off">${s1(0)} / ${s1(expected)} s</span>
+      <label for="speed">${esc(t('replay-speed'))}</label>
+      <select id="speed">${SPEEDS.map(v => `<option value="${v}"${v === 1 ? ' selected' : ''}>×${new Intl.NumberFormat(locale()).format(v)}</option>`).join('')}</select>
     </div>
-    <nav id="marks" aria-label="Where each exercise ends and the next follows" hidden><ol id="marks-list" class="marks"></ol></nav>
+    <nav id="marks" aria-label="${esc(t('replay-marks-label'))}" hidden><ol id="marks-list" class="marks"></ol></nav>
     <div class="grid">
-      <section class="panel"><h2>Arm and wheel</h2>
-        <canvas id="arm3d" tabindex="0" aria-label="3-D view of the patient's arm and the wheel; drag or use the arrow keys to turn it"></canvas></section>
-      <section class="panel" id="road-panel" hidden><h2>Car from above (30 s before the cursor)</h2><canvas id="road" aria-label="The car's path from above"></canvas>
+      <section class="panel"><h2>${esc(t('live-arm-heading'))}</h2>
+        <canvas id="arm3d" tabindex="0" aria-label="${esc(t('live-arm-canvas'))}"></canvas></section>
+      <section class="panel" id="road-panel" hidden><h2>${esc(t('replay-car-heading'))}</h2><canvas id="road" aria-label="${esc(t('replay-car-canvas'))}"></canvas>
         <p class="note" id="road-note"></p></section>
-      <section class="panel"><h2>Tracking</h2><div class="chart" id="r-tracking"></div></section>
-      <section class="panel"><h2>Torque and assistance</h2><div class="chart" id="r-torque"></div></section>
-      <section class="panel"><h2>Joint angles</h2><div class="chart" id="r-joints"></div></section>
+      <section class="panel"><h2>${esc(t('live-tracking'))}</h2><div class="chart" id="r-tracking"></div></section>
+      <section class="panel"><h2>${esc(t('live-torque-heading'))}</h2><div class="chart" id="r-torque"></div></section>
+      <section class="panel"><h2>${esc(t('live-joints-heading'))}</h2><div class="chart" id="r-joints"></div></section>
     </div>`;
   const col = name => c[name] || new Array(n).fill(null);
   // The exercises' names by their place in the session (none: numbered only).
@@ -87,12 +91,12 @@ export async function replayView(el, sessionId) {
   api('GET', `/api/sessions/${encodeURIComponent(sessionId)}/exercises`)
     .then(list => { for (const e of list) names.set(e.index, e.name); drawMarks(); }).catch(() => {});
   const charts = [
-    lineChart(el.querySelector('#r-tracking'), { title: 'Lateral deviation and dial error', x: 'session time (s)', y: 'deviation (m) / error (°)',
-      series: [{ label: 'lateral deviation (m)' }, { label: 'dial tracking error (°)' }] }),
-    lineChart(el.querySelector('#r-torque'), { title: 'Torque at the wheel', x: 'session time (s)', y: 'torque (N·m)',
-      series: [{ label: 'motor torque (N·m)' }, { label: 'assistance torque (N·m)' }, { label: 'torque ceiling (N·m)' }] }),
-    lineChart(el.querySelector('#r-joints'), { title: 'Joint angles', x: 'session time (s)', y: 'angle (°)',
-      series: [{ label: 'shoulder elevation (°)' }, { label: 'elbow flexion (°)' }] }),
+    lineChart(el.querySelector('#r-tracking'), { title: t('replay-chart-tracking'), x: t('live-axis-time'), y: t('replay-axis-tracking'),
+      series: [{ label: t('live-series-deviation') }, { label: t('replay-series-dial-error') }] }),
+    lineChart(el.querySelector('#r-torque'), { title: t('replay-chart-torque'), x: t('live-axis-time'), y: t('live-axis-torque'),
+      series: [{ label: t('replay-series-motor') }, { label: t('replay-series-assist') }, { label: t('replay-series-ceiling') }] }),
+    lineChart(el.querySelector('#r-joints'), { title: t('live-joints-heading'), x: t('live-axis-time'), y: t('live-axis-angle'),
+      series: [{ label: t('live-series-shoulder') }, { label: t('live-series-elbow') }] }),
   ];
   const arm = new ArmView(el.querySelector('#arm3d'));
   const play = el.querySelector('#play'), seek = el.querySelector('#seek'), clock = el.querySelector('#clock');
@@ -114,22 +118,22 @@ export async function replayView(el, sessionId) {
     marksAt = starts;
     const line = el.querySelector('#timeline-marks'), list = el.querySelector('#marks-list');
     const total = length() || 1;
-    line.replaceChildren(...starts.map(([t]) => {
+    line.replaceChildren(...starts.map(([atS]) => {
       const tick = document.createElement('span');
       tick.className = 'timeline-mark';
-      tick.style.left = `${Math.min(100, 100 * t / total)}%`;
+      tick.style.left = `${Math.min(100, 100 * atS / total)}%`;
       return tick;
     }));
-    list.replaceChildren(...starts.map(([t, k]) => {
+    list.replaceChildren(...starts.map(([atS, k]) => {
       const item = document.createElement('li');
       const go = document.createElement('button');
       go.type = 'button';
       go.className = 'secondary';
-      go.dataset.markS = t.toFixed(2);
+      go.dataset.markS = atS.toFixed(2);
       const name = names.get(k);
       // The index moves on when an exercise ends: the rest or card before the next is after it.
-      go.textContent = `${t.toFixed(1)} s: end of exercise ${k}, then exercise ${k + 1}${name ? ` (${name})` : ''}`;
-      go.addEventListener('click', () => { position = Math.min(t, duration); show(); });
+      go.textContent = t('replay-mark', { seconds: s1(atS), ended: k, next: k + 1, name: name || '', named: name ? 'yes' : 'no' });
+      go.addEventListener('click', () => { position = Math.min(atS, duration); show(); });
       item.append(go);
       return item;
     }));
@@ -150,7 +154,7 @@ export async function replayView(el, sessionId) {
     charts[1].set([c.t_s, col('torque_nm'), col('assist_torque_nm'), col('ceiling_nm')]);
     charts[2].set([c.t_s, col('shoulder_elevation_deg'), col('elbow_flexion_deg')]);
     seek.max = String(length());
-    el.querySelector('#length').textContent = length().toFixed(1);
+    el.querySelector('#length').textContent = s1(length());
   };
   const show = () => {
     if (!n) return;
@@ -162,8 +166,8 @@ export async function replayView(el, sessionId) {
     drawRoad(el.querySelector('#road'), { x: col('car_x_m').slice(from, i + 1), y: col('car_y_m').slice(from, i + 1) }, frame);
     for (const ch of charts) ch.chart.setCursor({ left: ch.chart.valToPos(c.t_s[i], 'x'), top: 10 });
     seek.value = String(position);
-    seek.setAttribute('aria-valuetext', `${position.toFixed(1)} s`);
-    clock.textContent = `${position.toFixed(1)} / ${length().toFixed(1)} s`;
+    seek.setAttribute('aria-valuetext', `${s1(position)} s`);
+    clock.textContent = `${s1(position)} / ${s1(length())} s`;
     el.dataset.position = position.toFixed(2);
   };
   const tick = now => {
@@ -175,7 +179,8 @@ export async function replayView(el, sessionId) {
   };
   const setPlaying = on => {
     playing = on;
-    play.textContent = on ? 'Pause' : 'Play';
+    play.textContent = t(on ? 'replay-pause' : 'replay-play');
+    play.dataset.playing = on ? '1' : '0';
     cancelAnimationFrame(raf);
     last = null;
     if (on) {
@@ -214,13 +219,13 @@ export async function replayView(el, sessionId) {
         take(line);
         if (complete || performance.now() - drawn > REDRAW_MS) { redraw(); show(); }
       }
-      if (!complete) throw new ApiError(502, 'the recording stopped arriving before its end');
-      loading.textContent = `${n} frames at ${rateHz} per second.`;
+      if (!complete) throw new ApiError(502, t('replay-cut-short'));
+      loading.textContent = t('replay-frames', { frames: n, rate: rateHz });
       el.dataset.frames = String(n);
     } catch (e) {
       if (e.name === 'AbortError') return;
       loading.className = 'error';
-      loading.textContent = `The replay stopped: ${e.message}`;
+      loading.textContent = t('replay-stopped', { reason: e.message });
     }
   })();
   return () => { abort.abort(); cancelAnimationFrame(raf); };

@@ -2,11 +2,12 @@
 // name, each whose recording has fully arrived opening the replay view
 // (#/patients/{id}/replay/{session}); one without its recording yet says so in words.
 import { api, esc, when } from '/console/api.js';
+import { t } from '/console/i18n.js';
 
 /** Why a session cannot be replayed yet, in words. */
 function notYet(s) {
-  if (!s.closed_at_ms && !s.end_reason) return 'Still running: its recording arrives after the session ends.';
-  return 'Its recording has not arrived yet (the station uploads it after the session, when it can reach the hub).';
+  if (!s.closed_at_ms && !s.end_reason) return t('replay-list-running');
+  return t('replay-list-not-arrived');
 }
 
 /** The list of patient `id`'s sessions to replay, in `el`. */
@@ -20,14 +21,13 @@ export async function replayList(el, id) {
       : started;
     return `<tr data-recording="${s.recording_uploaded ? '1' : '0'}"><th scope="row">${open}</th>
       <td>${esc(s.exercise_name || s.exercise)}</td>
-      <td>${s.recording_uploaded ? 'Recording ready: open it by its date and time.' : esc(notYet(s))}</td></tr>`;
+      <td>${esc(s.recording_uploaded ? t('replay-list-ready') : notYet(s))}</td></tr>`;
   }).join('');
   const ready = sessions.filter(s => s.recording_uploaded).length;
-  el.innerHTML = `<section class="panel" aria-labelledby="replays-h"><h2 id="replays-h">Replay a session</h2>
-    <p class="note" id="replays-note">${sessions.length ? `${ready} of ${sessions.length} session${sessions.length === 1 ? '' : 's'} can be replayed from the recording the station uploaded: the arm, the car and the charts as they were, with play, pause and seek.`
-      : 'No session yet: a session can be replayed once the station has uploaded its recording.'}</p>
-    ${sessions.length ? `<table id="replays"><caption class="note">The patient's sessions, newest first</caption>
-      <thead><tr><th scope="col">Started</th><th scope="col">Exercise</th><th scope="col">Recording</th></tr></thead>
+  el.innerHTML = `<section class="panel" aria-labelledby="replays-h"><h2 id="replays-h">${esc(t('replay-list-heading'))}</h2>
+    <p class="note" id="replays-note">${esc(sessions.length ? t('replay-list-note', { ready, count: sessions.length }) : t('replay-list-none'))}</p>
+    ${sessions.length ? `<table id="replays"><caption class="note">${esc(t('replay-list-caption'))}</caption>
+      <thead><tr><th scope="col">${esc(t('replay-list-col-started'))}</th><th scope="col">${esc(t('replay-list-col-exercise'))}</th><th scope="col">${esc(t('replay-list-col-recording'))}</th></tr></thead>
       <tbody>${rows}</tbody></table>` : ''}</section>`;
   el.dataset.replays = String(ready);
 }

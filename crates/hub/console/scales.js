@@ -8,6 +8,24 @@
 import { api, esc } from '/console/api.js';
 import { numbersTable, sessionChart } from '/console/sessionchart.js';
 import { isoDayWords } from '/console/words.js';
+import { t } from '/console/i18n.js';
+
+const h = (id, args) => esc(t(id, args));
+/** A catalogue message, else `fallback` (the hub's English for a scale the catalogue lacks). */
+const tOr = (id, fallback) => { const w = t(id); return w === id ? fallback : w; };
+
+/** The hub's scale definitions in the console's language (names, field labels and units). */
+function localScales(scales) {
+  return scales.map(s => ({
+    ...s,
+    name: tOr(`scales-name-${s.key}`, s.name),
+    fields: s.fields.map(f => ({
+      ...f,
+      label: tOr(`scales-field-${s.key}-${f.field}`, f.label),
+      unit: tOr(`scales-unit-${String(f.unit).replace(/ /g, '-')}`, f.unit),
+    })),
+  }));
+}
 
 const two = n => String(n).padStart(2, '0');
 /** `YYYY-MM-DD` of a Date, local time. */
@@ -16,8 +34,8 @@ const isoDay = d => `${d.getFullYear()}-${two(d.getMonth() + 1)}-${two(d.getDate
 /** An entry's numbers in words: "34 points", "affected side 12, unaffected side 45 blocks per
  * minute". */
 export function scoreWords(e) {
-  if (e.score != null) return `${e.score} points`;
-  return `affected side ${e.affected_blocks_per_min}, unaffected side ${e.unaffected_blocks_per_min} blocks per minute`;
+  if (e.score != null) return t('scales-points', { score: e.score });
+  return t('scales-blocks', { affected: e.affected_blocks_per_min, unaffected: e.unaffected_blocks_per_min });
 }
 
 /** Labels of `entries` (oldest first) by their day; two of one day numbered. */
@@ -41,7 +59,7 @@ function scaleCharts(scales, entries) {
     draws.push([id, { y: `${unit}`, labels, integer: true, range: [0, max], decimals: 0,
       series: columns.map(c => ({ label: c.label, values: c.values })) }]);
     return `<div class="panel"><h3 id="${id}-h">${esc(s.name)} (${esc(unit)}, 0–${esc(max)})</h3>
-      <div class="chart" id="${id}" data-scale="${esc(s.key)}" role="img" aria-label="${esc(s.name)} by the day taken: the numbers are in the table below"></div>
+      <div class="chart" id="${id}" data-scale="${esc(s.key)}" role="img" aria-label="${h('scales-chart-label', { scale: s.name })}"></div>
       ${numbersTable(s.name, labels, columns, status, true)}</div>`;
   }).join('');
   return { html: html ? `<div class="grid">${html}</div>` : '', draws };
@@ -49,12 +67,12 @@ function scaleCharts(scales, entries) {
 
 /** The entries' table (printed), newest first, each with a button deleting a mistaken one. */
 function entriesTable(entries) {
-  if (!entries.length) return '<p id="scales-none">No clinical scale recorded yet.</p>';
+  if (!entries.length) return `<p id="scales-none">${h('scales-none')}</p>`;
   const rows = entries.slice().reverse().map(e => `<tr data-scale="${esc(e.scale)}"><td>${esc(isoDayWords(e.assessed_on))}</td>
-    <td>${esc(e.scale_name)}</td><td class="num">${esc(scoreWords(e))}</td><td>${esc(e.therapist_email || 'a therapist no longer at the clinic')}</td>
-    <td class="print-hide"><button type="button" class="secondary delete-scale" data-id="${esc(e.id)}">Delete the ${esc(e.scale_name)} of ${esc(isoDayWords(e.assessed_on))}</button></td></tr>`).join('');
-  return `<table id="scales-table"><caption>Clinical scales taken at the clinic, newest first</caption>
-    <thead><tr><th scope="col">Day taken</th><th scope="col">Scale</th><th scope="col">Score</th><th scope="col">Recorded by</th><th scope="col" class="print-hide">Mistaken entry</th></tr></thead>
+    <td>${esc(e.scale_name)}</td><td class="num">${esc(scoreWords(e))}</td><td>${esc(e.therapist_email || t('scales-by-gone'))}</td>
+    <td class="print-hide"><button type="button" class="secondary delete-scale" data-id="${esc(e.id)}">${h('scales-delete', { scale: e.scale_name, day: isoDayWords(e.assessed_on) })}</button></td></tr>`).join('');
+  return `<table id="scales-table"><caption>${h('scales-caption')}</caption>
+    <thead><tr><th scope="col">${h('scales-col-day')}</th><th scope="col">${h('scales-col-scale')}</th><th scope="col">${h('scales-col-score')}</th><th scope="col">${h('scales-col-by')}</th><th scope="col" class="print-hide">${h('scales-col-mistaken')}</th></tr></thead>
     <tbody>${rows}</tbody></table>`;
 }
 
@@ -63,12 +81,12 @@ function entriesTable(entries) {
 function formHtml(scales) {
   const options = scales.map(s => `<option value="${esc(s.key)}">${esc(s.name)}</option>`).join('');
   const inputs = scales.map(s => `<fieldset class="scale-fields" data-scale="${esc(s.key)}"><legend>${esc(s.name)}</legend>
-    ${s.fields.map(f => `<label for="scale-${esc(s.key)}-${esc(f.field)}">${esc(f.label)} (${esc(f.min)} to ${esc(f.max)} ${esc(f.unit)})</label>
+    ${s.fields.map(f => `<label for="scale-${esc(s.key)}-${esc(f.field)}">${h('scales-field-label', { label: f.label, min: f.min, max: f.max, unit: f.unit })}</label>
       <input type="number" id="scale-${esc(s.key)}-${esc(f.field)}" name="${esc(f.field)}" min="${esc(f.min)}" max="${esc(f.max)}" step="1" required inputmode="numeric">`).join('')}</fieldset>`).join('');
-  return `<details class="print-hide" id="scale-form-details"><summary>Record a clinical scale</summary><form id="scale-form">
-    <label for="scale-kind">Scale</label><select id="scale-kind" name="scale" required>${options}</select>
-    <label for="scale-day">Day taken</label><input type="date" id="scale-day" name="assessed_on" required min="1990-01-01">
-    ${inputs}<p><button type="submit">Save the score</button></p>
+  return `<details class="print-hide" id="scale-form-details"><summary>${h('scales-record')}</summary><form id="scale-form">
+    <label for="scale-kind">${h('scales-col-scale')}</label><select id="scale-kind" name="scale" required>${options}</select>
+    <label for="scale-day">${h('scales-col-day')}</label><input type="date" id="scale-day" name="assessed_on" required min="1990-01-01">
+    ${inputs}<p><button type="submit">${h('scales-save')}</button></p>
     <div id="scale-duplicate" role="alertdialog" aria-labelledby="scale-duplicate-q" hidden></div>
     <p id="scale-result" role="status"></p></form></details>`;
 }
@@ -87,11 +105,13 @@ export async function scalesSection(box, id) {
   const url = `/api/patients/${encodeURIComponent(id)}/scales`;
   let undo = () => {};
   let entries = [];
-  box.innerHTML = `<h2 id="scales-h">Assessment: clinical scales</h2>
+  box.innerHTML = `<h2 id="scales-h">${h('scales-heading')}</h2>
     <div id="scales-charts"></div><div id="scales-list"></div><div id="scales-form-box"></div>`;
   const refresh = async () => {
     const answer = await api('GET', url);
-    entries = answer.entries;
+    answer.scales = localScales(answer.scales);
+    const names = new Map(answer.scales.map(sc => [sc.key, sc.name]));
+    entries = answer.entries.map(e => ({ ...e, scale_name: names.get(e.scale) || e.scale_name }));
     undo();
     const charts = scaleCharts(answer.scales, entries);
     box.querySelector('#scales-charts').innerHTML = charts.html;
@@ -106,7 +126,7 @@ export async function scalesSection(box, id) {
         await refresh();
       } catch (e) {
         box.querySelector('#scales-list').insertAdjacentHTML('afterbegin',
-          `<p class="error" role="alert">Not deleted: ${esc(e.message || e)}</p>`);
+          `<p class="error" role="alert">${h('scales-not-deleted', { reason: String(e.message || e) })}</p>`);
       }
     }));
     return answer.scales;
@@ -128,7 +148,8 @@ export async function scalesSection(box, id) {
       await api('POST', url, body);
       form.querySelectorAll('fieldset.scale-fields input').forEach(i => { i.value = ''; });
       result.className = '';
-      result.textContent = replacing ? 'Score saved in place of the earlier one.' : 'Score saved.';
+      result.textContent = t(replacing ? 'scales-saved-replacing' : 'scales-saved');
+      result.dataset.saved = '1';
       await refresh();
     } catch (e) { result.className = 'error'; result.textContent = e.message; }
   };
@@ -141,13 +162,13 @@ export async function scalesSection(box, id) {
     // Already one of this scale on this day: ask before saving a second.
     const earlier = same[same.length - 1];
     duplicate.hidden = false;
-    duplicate.innerHTML = `<p id="scale-duplicate-q"><strong>There is already a ${esc(earlier.scale_name)} on ${esc(isoDayWords(earlier.assessed_on))}</strong> (${esc(scoreWords(earlier))}). Replace it, or keep both?</p>
-      <p><button type="button" id="scale-replace">Replace it</button> <button type="button" class="secondary" id="scale-keep-both">Keep both</button>
-      <button type="button" class="secondary" id="scale-cancel">Cancel</button></p>`;
+    duplicate.innerHTML = `<p id="scale-duplicate-q"><strong>${h('scales-duplicate', { scale: earlier.scale_name, day: isoDayWords(earlier.assessed_on) })}</strong> (${esc(scoreWords(earlier))}). ${h('scales-duplicate-ask')}</p>
+      <p><button type="button" id="scale-replace">${h('scales-replace')}</button> <button type="button" class="secondary" id="scale-keep-both">${h('scales-keep-both')}</button>
+      <button type="button" class="secondary" id="scale-cancel">${h('scales-cancel')}</button></p>`;
     const close = () => { duplicate.hidden = true; duplicate.innerHTML = ''; };
     duplicate.querySelector('#scale-replace').addEventListener('click', async () => { close(); await save(body, earlier); });
     duplicate.querySelector('#scale-keep-both').addEventListener('click', async () => { close(); await save(body, null); });
-    duplicate.querySelector('#scale-cancel').addEventListener('click', () => { close(); result.className = ''; result.textContent = 'Not saved.'; });
+    duplicate.querySelector('#scale-cancel').addEventListener('click', () => { close(); result.className = ''; result.textContent = t('scales-not-saved'); });
     duplicate.querySelector('#scale-replace').focus();
   });
   return () => undo();

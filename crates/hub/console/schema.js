@@ -133,3 +133,14 @@ export function dialSineFields(root) {
   if (!sine) return null;
   return { amplitude: numberSpec(root, sine.properties.amplitude_deg), frequency: numberSpec(root, sine.properties.frequency_rad_s) };
 }
+
+/** The `[patient]` table's numeric fields (the voice's volume, %, and the countdown after a
+ * rest, s) as numberSpecs; null when the schema has no such table. */
+export function patientFields(root) {
+  const p = root.properties.patient ? nonNull(root, root.properties.patient) : null;
+  if (!p || !p.properties) return null;
+  return {
+    volume: numberSpec(root, p.properties.speech_volume_pct),
+    startAfterRest: numberSpec(root, p.properties.start_after_rest_s),
+  };
+}

@@ -7,6 +7,7 @@ import uPlot from '/console/vendor/uplot-1.6.32/uPlot.esm.js';
 import { COLOURS } from '/console/charts.js';
 import { esc } from '/console/api.js';
 import { shortWords } from '/console/words.js';
+import { t, locale } from '/console/i18n.js';
 
 /** Chart height, px (two charts side by side fit a printed page with the table). */
 const HEIGHT_PX = 190;
@@ -30,9 +31,10 @@ export function sessionLabels(msList) {
  * "—" when absent. */
 export function cellNumber(v, integer = false, decimals = 2) {
   if (typeof v !== 'number') return '—';
-  if (integer) return String(Math.round(v));
-  const s = v.toFixed(decimals);
-  return Number(s) === 0 ? (0).toFixed(decimals) : s;
+  const digits = integer ? 0 : decimals;
+  // Rounded first, so that -0.001 reads as 0 rather than -0.00.
+  const rounded = Number(v.toFixed(digits)) || 0;
+  return new Intl.NumberFormat(locale(), { minimumFractionDigits: digits, maximumFractionDigits: digits, useGrouping: false }).format(rounded);
 }
 
 /** Tick steps of at least 10^-decimals (a tick finer than the measure's resolution would
@@ -79,7 +81,7 @@ export function sessionChart(el, { title, y, labels, series, integer = false, ra
                    points: { show: true, space: 0, size: 7, fill: colour, stroke: colour } });
     data.push(s.values);
     if (s.early && s.early.some(v => v != null)) {
-      uSeries.push({ label: `${s.label}, ended early`, stroke: colour, width: 0, paths: () => null,
+      uSeries.push({ label: t('sessionchart-ended-early', { series: s.label }), stroke: colour, width: 0, paths: () => null,
                      points: { show: true, space: 0, size: 11, width: 2, fill: '#ffffff', stroke: colour } });
       data.push(s.early);
     }
@@ -118,7 +120,7 @@ export function sessionChart(el, { title, y, labels, series, integer = false, ra
     // none for one measure (its name is the chart's heading).
     legend: { live: false, show: series.length > 1 },
     axes: [
-      { label: 'session (date and time)', size: 58, splits: () => ticks(),
+      { label: t('sessionchart-axis-session'), size: 58, splits: () => ticks(),
         values: (u, splits) => splits.map(v => (labels[v - 1] || '').replace(/ (\d{1,2}:\d\d.*)$/, '\n$1')) },
       yAxis,
     ],
@@ -142,13 +144,13 @@ export function sessionChart(el, { title, y, labels, series, integer = false, ra
  * series' value, whether it counts); `status` [{counts, early}] a session.
  */
 export function numbersTable(title, labels, columns, status, integer = false, decimals = 2) {
-  const word = st => (st.counts ? (st.early ? 'yes (ended early, included)' : 'yes')
-    : st.early ? 'no: ended early' : 'no: still running');
+  const word = st => esc(t(st.counts ? (st.early ? 'sessionchart-counted-early' : 'sessionchart-counted')
+    : st.early ? 'sessionchart-not-counted-early' : 'sessionchart-not-counted-running'));
   const head = columns.map(c => `<th scope="col">${esc(c.label)}</th>`).join('');
   const rows = labels.map((label, i) => `<tr${status[i].early ? ' data-early="1"' : ''}><th scope="row">${esc(label)}</th>
     ${columns.map(c => `<td class="num">${esc(cellNumber(c.values[i], integer, decimals))}</td>`).join('')}
     <td>${word(status[i])}</td></tr>`).join('');
-  return `<details class="numbers print-hide"><summary>Numbers of this chart (${esc(title)})</summary>
-    <table><caption>${esc(title)}, a row a session, oldest first</caption>
-    <thead><tr><th scope="col">Session</th>${head}<th scope="col">Counted</th></tr></thead><tbody>${rows}</tbody></table></details>`;
+  return `<details class="numbers print-hide"><summary>${esc(t('sessionchart-numbers', { title }))}</summary>
+    <table><caption>${esc(t('sessionchart-caption', { title }))}</caption>
+    <thead><tr><th scope="col">${esc(t('sessionchart-col-session'))}</th>${head}<th scope="col">${esc(t('sessionchart-col-counted'))}</th></tr></thead><tbody>${rows}</tbody></table></details>`;
 }

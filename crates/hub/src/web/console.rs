@@ -52,6 +52,7 @@ const ASSETS: &[Asset] = &[
     asset!("sessionchart.js", JS),
     asset!("replays.js", JS),
     asset!("prescribe.js", JS),
+    asset!("patient-settings.js", JS),
     asset!("names.js", JS),
     asset!("names-page.js", JS),
     asset!("audit.js", JS),

@@ -1,0 +1,36 @@
+# Klinische Skalen, in der Klinik erhoben.
+
+scales-points = { $score } Punkte
+scales-blocks = betroffene Seite { $affected }, nicht betroffene Seite { $unaffected } Blöcke pro Minute
+scales-chart-label = { $scale } nach Erhebungstag: Die Zahlen stehen in der Tabelle darunter
+scales-none = Noch keine klinische Skala erfasst.
+scales-by-gone = eine Fachkraft, die nicht mehr in der Klinik ist
+scales-delete = { $scale } vom { $day } löschen
+scales-caption = In der Klinik erhobene klinische Skalen, neueste zuerst
+scales-col-day = Erhebungstag
+scales-col-scale = Skala
+scales-col-score = Wert
+scales-col-by = Erfasst von
+scales-col-mistaken = Fehleintrag
+scales-field-label = { $label } ({ $min } bis { $max } { $unit })
+scales-record = Klinische Skala erfassen
+scales-save = Wert speichern
+scales-heading = Befund: klinische Skalen
+scales-not-deleted = Nicht gelöscht: { $reason }
+scales-saved = Wert gespeichert.
+scales-saved-replacing = Wert anstelle des früheren gespeichert.
+scales-duplicate = Für { $day } gibt es bereits: { $scale }
+scales-duplicate-ask = Ersetzen oder beide behalten?
+scales-replace = Ersetzen
+scales-keep-both = Beide behalten
+scales-cancel = Abbrechen
+scales-not-saved = Nicht gespeichert.
+scales-name-fugl_meyer_ue = Fugl-Meyer-Assessment, obere Extremität, Motorik
+scales-name-arat = Action Research Arm Test
+scales-name-box_and_block = Box-and-Block-Test
+scales-field-fugl_meyer_ue-score = Fugl-Meyer-Motorikwert obere Extremität
+scales-field-arat-score = Wert im Action Research Arm Test
+scales-field-box_and_block-affected_blocks_per_min = Box-and-Block-Test, betroffene Seite
+scales-field-box_and_block-unaffected_blocks_per_min = Box-and-Block-Test, nicht betroffene Seite
+scales-unit-points = Punkte
+scales-unit-blocks-per-minute = Blöcke pro Minute

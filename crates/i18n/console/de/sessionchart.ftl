@@ -1,0 +1,10 @@
+sessionchart-ended-early = { $series }, vorzeitig beendet
+sessionchart-axis-session = Sitzung (Datum und Uhrzeit)
+sessionchart-counted = ja
+sessionchart-counted-early = ja (vorzeitig beendet, mitgezählt)
+sessionchart-not-counted-early = nein: vorzeitig beendet
+sessionchart-not-counted-running = nein: läuft noch
+sessionchart-numbers = Zahlen dieses Diagramms ({ $title })
+sessionchart-caption = { $title }, eine Zeile pro Sitzung, älteste zuerst
+sessionchart-col-session = Sitzung
+sessionchart-col-counted = Gezählt

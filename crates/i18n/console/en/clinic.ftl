@@ -1,0 +1,74 @@
+# The clinic screens (crates/hub/console/clinic.js): adding patients and therapists, the
+# pairing sheet (printed for the patient: plain words), a patient's stations.
+
+clinic-heading = Clinic
+clinic-add-patient = Add a patient
+clinic-pseudonym = Pseudonym
+clinic-pseudonym-note = (the clinic's reference, e.g. P-0042; never a name: letters, digits, . _ -)
+clinic-in-charge = Therapist in charge
+clinic-in-charge-nobody = Nobody yet (only administrators see them)
+clinic-email-admin = { $email } (administrator)
+clinic-in-your-care = The patient will be in your care.
+clinic-add-patient-button = Add the patient and make a pairing sheet
+
+clinic-therapists = Therapists
+clinic-col-email = E-mail
+clinic-col-role = Role
+clinic-col-added = Added
+clinic-col-password = Password
+clinic-role-admin = administrator
+clinic-role-therapist = therapist
+clinic-password-one-time = not logged in yet (one-time password)
+clinic-password-own = own password
+clinic-just-now = just now
+clinic-add-therapist = Add a therapist
+clinic-email-note = (their login)
+clinic-admin-label = Administrator (sees every patient, adds therapists, reads the audit log)
+clinic-add-therapist-button = Add the therapist
+clinic-therapist-added = { $email } added. Their one-time password:
+clinic-one-time-note = Shown once (only its hash is stored): give it to them in person. At their first login they must choose their own.
+
+clinic-loopback = { $address } is this computer's own address: a station at a patient's home cannot reach it.
+clinic-sheet-refused = The pairing sheet cannot be printed yet
+clinic-code-still-valid = The code for { $pseudonym } stays valid until { $until }. Make a new sheet once the address is set. The code:
+clinic-stations-link = Stations and pairing
+clinic-back = Back to the clinic
+clinic-sheet-heading = Connecting your telerehab station to the clinic
+clinic-sheet-for = For
+clinic-sheet-reference = (the clinic's reference for you)
+clinic-sheet-address = Clinic address
+clinic-sheet-code = Pairing code
+clinic-sheet-valid = Valid until
+clinic-sheet-valid-until = { $until }, for one station only
+clinic-sheet-steps = What to do
+clinic-sheet-step-plug = Plug the wheel into the computer and into the mains. Plug in the arm sensors too if the clinic gave you some.
+clinic-sheet-step-open = Open telerehab from the applications menu, or type telerehab and press Enter.
+clinic-sheet-step-address = Type the clinic address above and press Enter.
+clinic-sheet-step-code = Type the pairing code above and press Enter. The dash is optional.
+clinic-sheet-step-start = The screen then says it is connected and shows today's session. Press Space, or a button on the wheel, to start driving.
+clinic-sheet-help = If the code is refused or has expired, call your therapist for a new one. Keep this sheet until your station is connected. The code works only once.
+clinic-print = Print the pairing sheet
+clinic-open-patient = Open { $pseudonym }
+clinic-add-another = Add another patient
+
+clinic-stations-of = Stations of { $pseudonym }
+clinic-back-to = Back to { $pseudonym }
+clinic-stations = Stations
+clinic-col-station = Station
+clinic-col-paired = Paired
+clinic-col-last-contact = Last contact
+clinic-col-state = State
+clinic-col-action = Action
+clinic-station-active = active
+clinic-station-revoked = revoked { $when }
+clinic-revoke-button = Revoke the { $station }
+clinic-no-station = No station paired yet.
+clinic-revoked-note = A revoked station is refused from its next connection on (a lost or replaced computer). Pair a new one with a new code.
+clinic-new-code = A new pairing code
+clinic-new-code-note = For a new or replaced station: single use, valid 72 hours.
+clinic-make-sheet = Make a pairing sheet
+clinic-revoke-ask = Revoke the { $station }?
+clinic-revoke-explain = It will be refused from its next connection on, for good. The patient needs a new pairing code for another station.
+clinic-revoke-yes = Yes, revoke it
+clinic-revoke-cancel = Cancel
+clinic-revoked = The { $station } is revoked.

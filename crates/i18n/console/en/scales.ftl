@@ -1,0 +1,36 @@
+# Clinical scales taken at the clinic (crates/hub/console/scales.js).
+
+scales-points = { $score } points
+scales-blocks = affected side { $affected }, unaffected side { $unaffected } blocks per minute
+scales-chart-label = { $scale } by the day taken: the numbers are in the table below
+scales-none = No clinical scale recorded yet.
+scales-by-gone = a therapist no longer at the clinic
+scales-delete = Delete the { $scale } of { $day }
+scales-caption = Clinical scales taken at the clinic, newest first
+scales-col-day = Day taken
+scales-col-scale = Scale
+scales-col-score = Score
+scales-col-by = Recorded by
+scales-col-mistaken = Mistaken entry
+scales-field-label = { $label } ({ $min } to { $max } { $unit })
+scales-record = Record a clinical scale
+scales-save = Save the score
+scales-heading = Assessment: clinical scales
+scales-not-deleted = Not deleted: { $reason }
+scales-saved = Score saved.
+scales-saved-replacing = Score saved in place of the earlier one.
+scales-duplicate = There is already a { $scale } on { $day }
+scales-duplicate-ask = Replace it, or keep both?
+scales-replace = Replace it
+scales-keep-both = Keep both
+scales-cancel = Cancel
+scales-not-saved = Not saved.
+scales-name-fugl_meyer_ue = Fugl-Meyer Assessment, upper extremity motor
+scales-name-arat = Action Research Arm Test
+scales-name-box_and_block = Box and Block Test
+scales-field-fugl_meyer_ue-score = Fugl-Meyer upper extremity motor score
+scales-field-arat-score = Action Research Arm Test score
+scales-field-box_and_block-affected_blocks_per_min = Box and Block Test, affected side
+scales-field-box_and_block-unaffected_blocks_per_min = Box and Block Test, unaffected side
+scales-unit-points = points
+scales-unit-blocks-per-minute = blocks per minute

@@ -1,0 +1,36 @@
+# Escalas clínicas tomadas en la clínica.
+
+scales-points = { $score } puntos
+scales-blocks = lado afectado { $affected }, lado no afectado { $unaffected } bloques por minuto
+scales-chart-label = { $scale } por día de evaluación: los números están en la tabla de abajo
+scales-none = Aún no se ha registrado ninguna escala clínica.
+scales-by-gone = un terapeuta que ya no está en la clínica
+scales-delete = Borrar { $scale } del { $day }
+scales-caption = Escalas clínicas tomadas en la clínica, de la más reciente a la más antigua
+scales-col-day = Día de evaluación
+scales-col-scale = Escala
+scales-col-score = Puntuación
+scales-col-by = Registrada por
+scales-col-mistaken = Entrada errónea
+scales-field-label = { $label } (de { $min } a { $max } { $unit })
+scales-record = Registrar una escala clínica
+scales-save = Guardar la puntuación
+scales-heading = Evaluación: escalas clínicas
+scales-not-deleted = No se ha borrado: { $reason }
+scales-saved = Puntuación guardada.
+scales-saved-replacing = Puntuación guardada en lugar de la anterior.
+scales-duplicate = Ya hay una { $scale } del { $day }
+scales-duplicate-ask = ¿Sustituirla o conservar ambas?
+scales-replace = Sustituirla
+scales-keep-both = Conservar ambas
+scales-cancel = Cancelar
+scales-not-saved = No se ha guardado.
+scales-name-fugl_meyer_ue = Evaluación de Fugl-Meyer, función motora del miembro superior
+scales-name-arat = Action Research Arm Test
+scales-name-box_and_block = Test de cajas y bloques
+scales-field-fugl_meyer_ue-score = Puntuación motora de Fugl-Meyer del miembro superior
+scales-field-arat-score = Puntuación del Action Research Arm Test
+scales-field-box_and_block-affected_blocks_per_min = Test de cajas y bloques, lado afectado
+scales-field-box_and_block-unaffected_blocks_per_min = Test de cajas y bloques, lado no afectado
+scales-unit-points = puntos
+scales-unit-blocks-per-minute = bloques por minuto

@@ -1,0 +1,10 @@
+sessionchart-ended-early = { $series }, terminada antes de tiempo
+sessionchart-axis-session = sesión (fecha y hora)
+sessionchart-counted = sí
+sessionchart-counted-early = sí (terminada antes de tiempo, incluida)
+sessionchart-not-counted-early = no: terminada antes de tiempo
+sessionchart-not-counted-running = no: aún en curso
+sessionchart-numbers = Números de esta gráfica ({ $title })
+sessionchart-caption = { $title }, una fila por sesión, de la más antigua a la más reciente
+sessionchart-col-session = Sesión
+sessionchart-col-counted = Contada

@@ -1,0 +1,36 @@
+# 在机构进行的临床量表评估。
+
+scales-points = { $score } 分
+scales-blocks = 患侧 { $affected }，健侧 { $unaffected } 块/分钟
+scales-chart-label = { $scale }（按评估日期）：数值见下表
+scales-none = 尚未记录任何临床量表。
+scales-by-gone = 已离开本机构的治疗师
+scales-delete = 删除 { $day } 的{ $scale }
+scales-caption = 在机构进行的临床量表评估，最新的在前
+scales-col-day = 评估日期
+scales-col-scale = 量表
+scales-col-score = 得分
+scales-col-by = 记录人
+scales-col-mistaken = 错误记录
+scales-field-label = { $label }（{ $min } 至 { $max } { $unit }）
+scales-record = 记录临床量表
+scales-save = 保存得分
+scales-heading = 评估：临床量表
+scales-not-deleted = 未删除：{ $reason }
+scales-saved = 得分已保存。
+scales-saved-replacing = 得分已保存，替换了之前的记录。
+scales-duplicate = { $day } 已有一条{ $scale }记录
+scales-duplicate-ask = 替换，还是两条都保留？
+scales-replace = 替换
+scales-keep-both = 两条都保留
+scales-cancel = 取消
+scales-not-saved = 未保存。
+scales-name-fugl_meyer_ue = Fugl-Meyer 上肢运动功能评定
+scales-name-arat = 上肢动作研究量表（ARAT）
+scales-name-box_and_block = 箱块测试
+scales-field-fugl_meyer_ue-score = Fugl-Meyer 上肢运动得分
+scales-field-arat-score = 上肢动作研究量表得分
+scales-field-box_and_block-affected_blocks_per_min = 箱块测试，患侧
+scales-field-box_and_block-unaffected_blocks_per_min = 箱块测试，健侧
+scales-unit-points = 分
+scales-unit-blocks-per-minute = 块/分钟

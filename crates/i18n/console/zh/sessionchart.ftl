@@ -1,0 +1,10 @@
+sessionchart-ended-early = { $series }，提前结束
+sessionchart-axis-session = 训练（日期和时间）
+sessionchart-counted = 是
+sessionchart-counted-early = 是（提前结束，已计入）
+sessionchart-not-counted-early = 否：提前结束
+sessionchart-not-counted-running = 否：仍在进行中
+sessionchart-numbers = 此图表的数值（{ $title }）
+sessionchart-caption = { $title }，每次训练一行，最早的在前
+sessionchart-col-session = 训练
+sessionchart-col-counted = 是否计入
