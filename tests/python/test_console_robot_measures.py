@@ -12,7 +12,9 @@ from test_console_browser import browser, clinic, shot, telerehab, wait  # noqa:
 from test_console_progress import api_sessions_with_metrics
 from test_console_words import log_in, run_session
 
-ROBOT_CHARTS = ["speedmetric", "peaks", "times", "direction", "pathratio", "dose"]
+# One chart a measure (`p-<kind>-<measure key>`), drawn when the kind's group is opened.
+ROBOT_KEYS = ["speed_metric_median", "movements_per_min", "reaction_time_s_median",
+              "initial_direction_error_deg_mean", "path_length_ratio_median", "active_s"]
 
 
 def test_a_dial_step_sessions_robot_measures_reach_the_progress_charts_and_tables(clinic, browser):
@@ -36,17 +38,22 @@ def test_a_dial_step_sessions_robot_measures_reach_the_progress_charts_and_table
     assert m["movements_per_min"] > 0.0, m
     assert "reversals_per_min" in m, m
 
-    for chart_id in ROBOT_CHARTS:
-        chart = d.find_element(By.ID, f"p-dial-{chart_id}")
-        assert "/" not in chart.get_attribute("data-y-axis"), chart_id
+    group = d.find_element(By.CSS_SELECTOR, "details.kind-group[data-kind='dial']")
+    group.find_element(By.TAG_NAME, "summary").click()
+    for key in ROBOT_KEYS:
+        chart = wait(d, lambda d: d.find_elements(By.ID, f"p-dial-{key}"))[0]
+        assert chart.get_attribute("data-key") == key
+        # One measure an axis: drawn, never two measures joined by " / ".
+        wait(d, lambda d: chart.get_attribute("data-y-axis"))
+        assert " / " not in chart.get_attribute("data-y-axis"), key
         table = chart.find_element(By.XPATH, "..").find_element(By.CSS_SELECTOR, "details.numbers table")
-        assert len(table.find_elements(By.CSS_SELECTOR, "tbody tr")) == 2, chart_id
+        assert len(table.find_elements(By.CSS_SELECTOR, "tbody tr")) == 2, key
     # The latest table's reaction time is the session's, to 2 decimals, in seconds.
     latest = d.find_element(By.CSS_SELECTOR, "#latest-table tr[data-key='reaction_time_s_median'] td").text
     assert latest == f"{m['reaction_time_s_median']:.2f} s", latest
     # Opened, so that axe-core and the screenshot see the numbers too.
-    times = d.find_element(By.ID, "p-dial-times").find_element(By.XPATH, "..")
+    times = d.find_element(By.ID, "p-dial-reaction_time_s_median").find_element(By.XPATH, "..")
     times.find_element(By.CSS_SELECTOR, "details.numbers summary").click()
     assert_no_violations(d, "Progress, robot-grade measures")
-    d.execute_script("document.getElementById('p-dial-speedmetric').scrollIntoView()")
+    d.execute_script("document.getElementById('p-dial-speed_metric_median').scrollIntoView()")
     shot(d, "progress-robot-measures")

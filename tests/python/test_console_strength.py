@@ -14,6 +14,7 @@ from selenium.webdriver.common.by import By
 from axe_audit import assert_no_violations
 from console_messages import message
 from test_console_browser import BIN, browser, clinic, shot, telerehab, wait  # noqa: F401 (fixtures)
+from test_console_clinic import fetch_json
 from test_console_progress import api_sessions_with_metrics
 from test_console_words import log_in
 
@@ -80,24 +81,28 @@ def test_a_strength_test_shows_live_then_in_the_progress_charts_and_tables(clini
     wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#tab[data-sessions='2']"), timeout=60)
     sessions = api_sessions_with_metrics(d)
     assert [s["exercise_kind"] for s in sessions] == ["strength", "strength"], sessions
-    group = d.find_element(By.CSS_SELECTOR, "section.kind-group[data-kind='strength']")
-    assert "Strength" in group.find_element(By.TAG_NAME, "h2").text
-    chart = d.find_element(By.ID, "p-strength-strength")
-    assert chart.get_attribute("data-kind") == "strength"
-    panel = chart.find_element(By.XPATH, "..")
-    panel.find_element(By.CSS_SELECTOR, "details.numbers summary").click()
-    table = panel.find_element(By.CSS_SELECTOR, "details.numbers table")
-    rows = table.find_elements(By.CSS_SELECTOR, "tbody tr")
-    assert len(rows) == 2, table.text
-    # Every peak and held torque the hub stored is in the table, to 2 decimals.
-    for s in sessions:
-        for key in STRENGTH_KEYS:
+    # The strength group opens on its summary; one chart and one numbers table a measure.
+    group = d.find_element(By.CSS_SELECTOR, "details.kind-group[data-kind='strength']")
+    group.find_element(By.TAG_NAME, "summary").click()
+    decimals = {m["key"]: m["decimals"] for m in fetch_json(d, "/api/measures/words")["measures"]}
+    for key in STRENGTH_KEYS:
+        chart = wait(d, lambda d: d.find_elements(By.ID, f"p-strength-{key}"))[0]
+        assert chart.get_attribute("data-kind") == "strength"
+        assert chart.get_attribute("data-key") == key
+        panel = chart.find_element(By.XPATH, "..")
+        panel.find_element(By.CSS_SELECTOR, "details.numbers summary").click()
+        table = panel.find_element(By.CSS_SELECTOR, "details.numbers table")
+        rows = table.find_elements(By.CSS_SELECTOR, "tbody tr")
+        assert len(rows) == 2, table.text
+        # Every peak and held torque the hub stored is in its table, to the words table's decimals.
+        for s in sessions:
             v = s["metrics"][key]
             assert 0.0 < v <= 2.0, (key, v)
-            assert f"{v:.2f}" in table.text, (key, v, table.text)
+            assert f"{v:.{decimals[key]}f}" in table.text, (key, v, table.text)
     # The latest table's held torque is the newest session's, in N·m.
     latest = d.find_element(By.CSS_SELECTOR, "#latest-table tr[data-key='strength_sustained_left_nm'] td").text
-    assert latest == f"{sessions[0]['metrics']['strength_sustained_left_nm']:.2f} N·m", latest
+    held = sessions[0]["metrics"]["strength_sustained_left_nm"]
+    assert latest == f"{held:.{decimals['strength_sustained_left_nm']}f} N·m", latest
     assert_no_violations(d, "Progress, strength sessions")
-    d.execute_script("document.getElementById('p-strength-strength').scrollIntoView()")
+    d.execute_script("document.getElementById('p-strength-strength_peak_left_nm').scrollIntoView()")
     shot(d, "progress-strength-1366x768")
