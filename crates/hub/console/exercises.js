@@ -2,7 +2,7 @@
 // exercise, a row per result any of them has, "—" where one does not apply. Every value
 // escaped; the session's totals stay in the progress view.
 import { api, esc, when } from '/console/api.js';
-import { headerWords, measureWords, numberWords } from '/console/words.js';
+import { endText, headerWords, measureWords, numberWords } from '/console/words.js';
 import { t, locale } from '/console/i18n.js';
 
 /** The results shown, in order: key, and for the haptic sweep's levels (not measures of the
@@ -43,7 +43,8 @@ export async function exercisesView(el, patientId, sessionId) {
     api('GET', `/api/sessions/${enc(sessionId)}/exercises`),
   ]);
   const words = await measureWords();
-  const ended = session.end_words || t(session.closed_at_ms ? 'exercises-ended' : 'exercises-running');
+  // How it ended in the one wording of every page, in the console's language.
+  const ended = session.end_kind || session.end_reason ? endText(session) : t(session.closed_at_ms ? 'exercises-ended' : 'exercises-running');
   const head = `<h2 id="exercises-h">${esc(t('exercises-heading', { when: when(session.started_unix_ms) }))}</h2>
     <p class="note">${esc(ended)} · <a href="#/patients/${enc(patientId)}/progress">${esc(t('exercises-back'))}</a></p>`;
   if (!exercises.length) {

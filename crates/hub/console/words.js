@@ -118,7 +118,7 @@ export function kindWords(kind) {
 /** How a session ended, in the one wording: the hub's end kind, "; the recording stopped
  * early" when it did. */
 export function endText(s) {
-  const kind = s.end_kind || (s.ran_as_prescribed ? 'complete' : s.end_reason ? 'other' : 'running');
+  const kind = s.end_kind || (s.ran_as_prescribed || s.end_reason === 'complete' ? 'complete' : s.end_reason ? 'other' : 'running');
   const words = endKindWords(kind);
   return s.recording_stopped_early ? t('words-end-recording-stopped', { end: words }) : words;
 }
