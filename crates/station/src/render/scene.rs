@@ -221,6 +221,8 @@ pub enum Picture {
     },
     /// A cable's plug going into the wheel: plug it back in.
     Plug,
+    /// The sensor strapped on the forearm, its cable's plug going back in.
+    ArmSensorPlug,
 }
 
 /// The patient's arm on the wheel, drawn small in a corner as seen from the patient's right
