@@ -214,11 +214,6 @@ fn an_arm_sensor_not_plugged_back_freezes_the_pose_the_exercise_waits_and_the_se
     assert!(report.contains("unplugged (injected fault)"), "{report}");
     let measures = &rec.metrics.last().unwrap().data.measures;
     assert_eq!(measures["arm_sensors_lost"], 1.0);
-    assert!(
-        (measures["active_s"] - 3.0).abs() < 0.05,
-        "{}",
-        measures["active_s"]
-    );
     faulted_recording(&mcap, &out).assert_within_ceiling_and_slew();
 }
 

@@ -271,7 +271,7 @@ struct DialTargets(Vec<(f64, f64)>);
 
 impl SessionObserver for DialTargets {
     fn on_tick(&mut self, record: &TickRecord) {
-        if !record.score.paused && record.wheel.watchdog == Watchdog::Running {
+        if !record.score.paused {
             self.0
                 .push((record.score.active_s, record.wheel.target_rad));
         }
