@@ -178,7 +178,8 @@ fn a_haptic_loop_stalled_past_the_watchdog_fades_the_torque_out_and_recovers() {
 }
 
 #[test]
-fn an_unplugged_arm_sensor_freezes_the_pose_and_the_exercise_goes_on() {
+fn an_arm_sensor_not_plugged_back_freezes_the_pose_the_exercise_waits_and_the_session_ends_unplugged()
+ {
     let dir = tempfile::tempdir().unwrap();
     let mcap = dir.path().join("imu.mcap");
     let out = run_ok(&sim_session_args("6", &mcap, &["--fault", "imu-unplug@3"]));
@@ -198,14 +199,22 @@ fn an_unplugged_arm_sensor_freezes_the_pose_and_the_exercise_goes_on() {
             .iter()
             .all(|a| a.data.elbow_flexion_rad == frozen)
     );
+    // The exercise waited on the sensor's page for the replug grace (30 s), then the session
+    // ended: 3 s of exercise, not 6.
+    let last_s = *rec.wheel.last().map(|w| &w.t_s).unwrap();
+    assert!((32.5..34.5).contains(&last_s), "ended at {last_s} s");
+    assert!(report.contains("stopped early"), "{report}");
     assert!(
-        *rec.wheel.last().map(|w| &w.t_s).unwrap() >= 6.0,
-        "the exercise went on"
+        report.contains(&format!(
+            "ended               {}",
+            station::session::end_reason::ARM_SENSOR_UNPLUGGED
+        )),
+        "{report}"
     );
-    assert!(!report.contains("stopped early"), "{report}");
     assert!(report.contains("unplugged (injected fault)"), "{report}");
     let measures = &rec.metrics.last().unwrap().data.measures;
     assert_eq!(measures["arm_sensors_lost"], 1.0);
+    faulted_recording(&mcap, &out).assert_within_ceiling_and_slew();
 }
 
 #[test]
@@ -393,6 +402,9 @@ fn an_arm_sensor_plugged_back_resumes_tracking_and_the_measures_count_the_lost_s
     );
     assert!(!report.contains("stopped early"), "{report}");
     assert!(!report.contains("arm sensing         off"), "{report}");
+    // The exercise waited for the second the sensor was away: 6 s of exercise, ending at 7 s.
+    let last_s = *rec.wheel.last().map(|w| &w.t_s).unwrap();
+    assert!((6.9..7.5).contains(&last_s), "ended at {last_s} s");
     faulted_recording(&mcap, &out).assert_within_ceiling_and_slew();
 }
 

@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use netlink::pki::{CertAndKey, ClinicCa};
-use netlink::{Regimen, ServerTls, TherapistConfig, TherapistEvent, TherapistServer};
+use netlink::{ServerTls, TherapistConfig, TherapistEvent, TherapistServer};
 use serde::{Deserialize, Serialize};
 use tokio::sync::broadcast;
 
@@ -307,13 +307,18 @@ pub async fn serve(
 ) -> Result<(), HubError> {
     let config = clinic.config()?;
     options.care.validate()?;
-    let store = Arc::new(DbStore::new(
-        db.clone(),
-        clinic.ca()?,
-        config.names[0].clone(),
-        clinic.dir().join("recordings"),
-        options.now_ms.clone(),
-    ));
+    let store = Arc::new(
+        DbStore::new(
+            db.clone(),
+            clinic.ca()?,
+            config.names[0].clone(),
+            clinic.dir().join("recordings"),
+            options.now_ms.clone(),
+        )
+        // A station's check is answered with the patient's care too (its threshold and phone;
+        // the pairing sheets' address, settled below, is not part of it).
+        .with_care(options.care.clone()),
+    );
     store.refresh_revoked().await?;
     options
         .care
@@ -571,31 +576,19 @@ fn fit_to_fd_limit(options: &ServeOptions) -> (ConnectionBudget, web::WebLimits)
 /// Sends the patient's unseen messages to the station of `hello`, oldest first, if its
 /// connection speaks a protocol version that knows them (an older station is sent none).
 async fn push_messages(server: &TherapistServer, db: &Db, hello: &netlink::Hello, now_ms: i64) {
-    let messages = match db.unseen_messages(&hello.patient_id).await {
-        Ok(m) => m,
-        Err(e) => {
-            tracing::warn!(patient = %hello.patient_id, "cannot read unseen messages: {e}");
-            return;
-        }
-    };
-    for m in messages {
-        let frame = netlink::Message {
-            id: m.id.clone(),
-            text: m.text.clone(),
-            sent_unix_ms: u64::try_from(m.created_at_ms).unwrap_or(0),
-        };
+    for frame in crate::news::unseen_messages(db, &hello.patient_id).await {
+        let id = frame.id.clone();
         match server.send_message(&hello.station_id, frame) {
             Ok(true) => {
-                tracing::info!(station = %hello.station_id, message = %m.id, "message pushed");
-                if let Err(e) = db.message_delivered(&m.id, now_ms).await {
-                    tracing::warn!("cannot note message {} delivered: {e}", m.id);
+                tracing::info!(station = %hello.station_id, message = %id, "message pushed");
+                if let Err(e) = db.message_delivered(&id, now_ms).await {
+                    tracing::warn!("cannot note message {id} delivered: {e}");
                 }
             }
             Ok(false) => {
                 tracing::info!(
                     station = %hello.station_id,
-                    "the station's protocol version has no messages; {} not sent",
-                    m.id
+                    "the station's protocol version has no messages; {id} not sent"
                 );
                 return;
             }
@@ -638,15 +631,8 @@ async fn push_care(
     station_id: &str,
     patient_id: &str,
 ) {
-    let cleared = match db.pain_cleared_at(patient_id).await {
-        Ok(at) => at.and_then(|ms| u64::try_from(ms).ok()),
-        Err(e) => {
-            tracing::warn!(patient = %patient_id, "cannot read the pain clearance: {e}");
-            None
-        }
-    };
-    let threshold = care.pain_threshold_in(db).await;
-    match server.send_care(station_id, care.care_frame(threshold, cleared)) {
+    let frame = crate::news::care_frame(db, care, patient_id).await;
+    match server.send_care(station_id, frame) {
         Ok(true) => tracing::debug!(station = %station_id, "pain settings pushed"),
         Ok(false) => tracing::debug!(
             station = %station_id,
@@ -678,19 +664,9 @@ async fn push_regimen(server: &TherapistServer, db: &Db, regimen: &RegimenVersio
     let Ok(stations) = db.stations_of(&regimen.patient_id).await else {
         return;
     };
-    // The station names the prescriber in its recordings and report by the clinic's words
-    // for them (their e-mail), never the internal therapist id.
-    let prescribed_by = match db.therapist(&regimen.prescribed_by).await {
-        Ok(Some(t)) => Some(t.email),
-        _ => None,
-    };
+    let frame = crate::news::regimen_frame(db, regimen).await;
     for station in stations.iter().filter(|s| !s.is_revoked()) {
-        let frame = Regimen {
-            id: format!("{}-v{}", regimen.patient_id, regimen.version),
-            toml: regimen.toml.clone(),
-            prescribed_by: prescribed_by.clone(),
-        };
-        match server.send_regimen(&station.station_id, frame) {
+        match server.send_regimen(&station.station_id, frame.clone()) {
             Ok(()) => {
                 tracing::info!(station = %station.station_id, version = regimen.version, "regimen pushed")
             }

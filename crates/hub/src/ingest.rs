@@ -19,7 +19,7 @@ use netlink::pairing::{Issued, PairingAuthority, Ticket};
 use netlink::pki::{ClinicCa, certificate_sha256_hex};
 use netlink::store::Appended;
 use netlink::{
-    BoxFuture, Bye, Hello, HubStore, NetlinkError, Peer, Refusal, SessionStore, Summary,
+    BoxFuture, Bye, CheckNews, Hello, HubStore, NetlinkError, Peer, Refusal, SessionStore, Summary,
 };
 
 use crate::db::{Db, MAX_SESSIONS_PER_STATION_DAY};
@@ -83,6 +83,9 @@ pub struct DbStore {
     /// station and kind per [`REFUSAL_AUDIT_EVERY_MS`]).
     refusal_audits: Mutex<HashMap<(String, &'static str), i64>>,
     now_ms: NowMs,
+    /// The clinic's pain settings a station's check is told ([`crate::news::for_check`]);
+    /// `None`: checks get no care frame.
+    care: Option<crate::care::CareConfig>,
 }
 
 impl std::fmt::Debug for DbStore {
@@ -139,7 +142,14 @@ impl DbStore {
             pairing_failures: Mutex::default(),
             refusal_audits: Mutex::default(),
             now_ms,
+            care: None,
         }
+    }
+
+    /// The store telling stations' checks the clinic's pain settings `care`.
+    pub fn with_care(mut self, care: crate::care::CareConfig) -> Self {
+        self.care = Some(care);
+        self
     }
 
     fn now(&self) -> i64 {
@@ -424,6 +434,15 @@ impl HubStore for DbStore {
         })
     }
 
+    fn station_check<'a>(&'a self, hello: &'a Hello) -> BoxFuture<'a, CheckNews> {
+        Box::pin(crate::news::for_check(
+            &self.db,
+            self.care.as_ref(),
+            &hello.patient_id,
+            self.now(),
+        ))
+    }
+
     fn open_session<'a>(
         &'a self,
         hello: &'a Hello,
@@ -489,6 +508,10 @@ impl HubStore for Ingest {
 
     fn admit<'a>(&'a self, hello: &'a Hello, peer: Peer<'a>) -> BoxFuture<'a, Result<(), Refusal>> {
         self.0.admit(hello, peer)
+    }
+
+    fn station_check<'a>(&'a self, hello: &'a Hello) -> BoxFuture<'a, CheckNews> {
+        self.0.station_check(hello)
     }
 
     fn open_session<'a>(

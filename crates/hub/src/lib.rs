@@ -19,6 +19,7 @@ mod error;
 pub mod fhir;
 pub mod ingest;
 pub mod limits;
+pub mod news;
 pub mod pain_mail;
 pub mod patient_data;
 pub mod patients;

@@ -544,6 +544,8 @@ pub enum EndKind {
     ScreenFailed,
     /// The wheel was unplugged.
     WheelUnplugged,
+    /// An arm sensor was unplugged and not plugged back in time.
+    ArmSensorUnplugged,
     /// The safety check switched the wheel's force off.
     SafetyStop,
     /// Still running (no end reported).
@@ -556,12 +558,13 @@ pub enum EndKind {
 
 impl EndKind {
     /// Every kind, for the table served to the console.
-    pub const ALL: [EndKind; 9] = [
+    pub const ALL: [EndKind; 10] = [
         Self::Complete,
         Self::StoppedByPatient,
         Self::PausedTooLong,
         Self::ScreenFailed,
         Self::WheelUnplugged,
+        Self::ArmSensorUnplugged,
         Self::SafetyStop,
         Self::Running,
         Self::Unreported,
@@ -580,6 +583,7 @@ impl EndKind {
             "paused too long" => Self::PausedTooLong,
             r if r.starts_with("window lost") => Self::ScreenFailed,
             "wheel unplugged" => Self::WheelUnplugged,
+            "arm sensor unplugged" => Self::ArmSensorUnplugged,
             r if r.starts_with("safety stop") => Self::SafetyStop,
             _ => Self::Other,
         }
@@ -593,6 +597,7 @@ impl EndKind {
             Self::PausedTooLong => "Stopped early: paused too long",
             Self::ScreenFailed => "Stopped early: the screen failed",
             Self::WheelUnplugged => "Stopped early: wheel unplugged",
+            Self::ArmSensorUnplugged => "Stopped early: arm sensor unplugged",
             Self::SafetyStop => "Stopped early: safety stop (the wheel's force was switched off)",
             Self::Running => "Still running",
             Self::Unreported => "Ended; how was not reported",
@@ -667,6 +672,10 @@ mod tests {
         assert_eq!(
             end_words(Some("wheel unplugged")),
             "Stopped early: wheel unplugged"
+        );
+        assert_eq!(
+            EndKind::of(Some("arm sensor unplugged")),
+            EndKind::ArmSensorUnplugged
         );
         assert_eq!(
             EndKind::of(Some("safety stop: torque faded out on a fault")),

@@ -10,9 +10,10 @@ use serde::{Deserialize, Serialize};
 
 /// The newest protocol version this crate speaks (a station's [`Hello::protocol_version`]).
 /// Version 2 adds the therapist's messages ([`Message`], [`MessageSeen`]); version 3 the
-/// clinic's pain settings ([`Care`]); the framing (the header's `version`,
-/// [`crate::codec::HEADER_VERSION`]) is version 1's.
-pub const PROTOCOL_VERSION: u16 = 3;
+/// clinic's pain settings ([`Care`]); version 4 answers a station's check with the patient's
+/// care, unseen messages and current regimen ([`CHECK_NEWS_VERSION`]); the framing (the
+/// header's `version`, [`crate::codec::HEADER_VERSION`]) is version 1's.
+pub const PROTOCOL_VERSION: u16 = 4;
 
 /// The first protocol version with [`Message`] and [`MessageSeen`] frames: a hub sends a
 /// `Message` only on a connection negotiated at this version or above.
@@ -24,6 +25,11 @@ pub const MAX_MESSAGE_TEXT_CHARS: usize = 500;
 /// The first protocol version with the [`Care`] frame: a hub sends it only on a connection
 /// negotiated at this version or above.
 pub const CARE_VERSION: u16 = 3;
+
+/// The first protocol version whose station check ([`CHECK_EXERCISE`]) the hub answers with
+/// the patient's news before its [`Bye`]: [`Care`], each unseen [`Message`] (oldest first) and
+/// the current [`Regimen`]. Below it a check gets the `Bye` alone.
+pub const CHECK_NEWS_VERSION: u16 = 4;
 
 /// The pain (0–10) at or over which a station stops the day's training when the clinic has
 /// set no other ([`Care::pain_threshold_0_10`]).
@@ -41,7 +47,8 @@ pub const UPDATE_REQUIRED: &str = "update_required";
 
 /// [`Hello::exercise`] of a station's check (`telerehab doctor --hub`, the first-run page):
 /// the hub answers it as any `Hello` (versions, the station's certificate), then at once with a
-/// [`Bye`] carrying its clock, and stores nothing — no session, so a check never counts as a
+/// [`Bye`] carrying its clock (at [`CHECK_NEWS_VERSION`] and above, after the patient's news),
+/// and stores nothing — no session, so a check never counts as a
 /// session done.
 pub const CHECK_EXERCISE: &str = "doctor-check";
 

@@ -117,6 +117,18 @@ pub struct RegimenEntry {
 }
 
 impl RegimenEntry {
+    /// This entry as the station runs it for a patient who neglects `side`: a dial's
+    /// `drift_deg` goes into the neglected side (a left neglect keeps its sign, positive being
+    /// the patient's left; a right neglect turns it over), as written without one.
+    pub fn drift_toward(mut self, side: NeglectedSide) -> Self {
+        if let ExerciseSpec::Dial(d) = &mut self.exercise
+            && side == NeglectedSide::Right
+        {
+            d.drift_deg = -d.drift_deg;
+        }
+        self
+    }
+
     /// The exercises this entry runs as: itself, or a haptic sweep
     /// ([`vehicle::exercise::HapticSweepSpec`]) one dial per level, each with the prescribed
     /// haptic model (none: a model of zero) whose swept spring, damper or inertia is set to
@@ -456,6 +468,27 @@ mod tests {
         assert_eq!(plain_name("sine-road"), "Sine road");
         assert_eq!(plain_name("dial-multi-sine"), "Dial multi sine");
         assert_eq!(plain_name(""), "");
+    }
+
+    #[test]
+    fn a_dials_drift_goes_into_the_neglected_side_and_out_of_range_is_refused_in_words() {
+        let text = "[[exercise]]\nkind = \"dial\"\nduration_s = 60.0\ndrift_deg = 30.0\n";
+        let r = Regimen::from_toml(text, "drift").unwrap();
+        let drift = |side| match r.exercises[0].clone().drift_toward(side).exercise {
+            ExerciseSpec::Dial(d) => d.drift_deg,
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(drift(NeglectedSide::Left), 30.0, "positive is left");
+        assert_eq!(drift(NeglectedSide::Right), -30.0);
+        assert_eq!(drift(NeglectedSide::None), 30.0, "as written");
+        let over = text.replace("30.0\n", "140.0\n");
+        let err = Regimen::from_toml(&over, "drift").unwrap_err().to_string();
+        assert!(err.contains("drift_deg") && err.contains("140"), "{err}");
+        // No drift is not written, so older stations read the dial as before.
+        let plain =
+            toml::to_string(&Regimen::from_toml(&text.replace("30.0\n", "0.0\n"), "d").unwrap())
+                .unwrap();
+        assert!(!plain.contains("drift_deg"), "{plain}");
     }
 
     #[test]

@@ -507,6 +507,7 @@ mod tests {
                 rests: 0,
                 rest_s: 0.0,
                 paused_too_long: false,
+                arm_sensor_unplugged: false,
                 window_lost: false,
                 exercise_scores: Vec::new(),
             },

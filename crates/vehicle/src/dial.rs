@@ -27,6 +27,48 @@ pub const HOLD_S: Bound = Bound::new(0.5, 600.0);
 pub const RATE_DEG_S: Bound = Bound::new(1.0, 720.0);
 /// A chirp's `sweep_s`, s.
 pub const SWEEP_S: Bound = Bound::new(1.0, 3600.0);
+/// How far a dial exercise's target centre may drift over it (`drift_deg`), deg: the wheel's
+/// range each way.
+pub const DRIFT_DEG: Bound = Bound::new(-MAX_DIAL_AMPLITUDE_DEG, MAX_DIAL_AMPLITUDE_DEG);
+
+/// A dial exercise's target: its signal around a centre that drifts linearly from 0 at the
+/// start to `drift_rad` at `over_s` (then stays), the sum held within the wheel's range
+/// (±[`MAX_DIAL_AMPLITUDE_DEG`]). Positive angles are to the patient's left.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DialTarget {
+    /// The signal around the centre.
+    pub signal: DialSignal,
+    /// Where the centre is at the end, rad (0: no drift).
+    pub drift_rad: f64,
+    /// How long the drift takes, s (the exercise's length).
+    pub over_s: f64,
+}
+
+impl DialTarget {
+    /// `signal` around a centre that stays at 0.
+    pub fn steady(signal: DialSignal) -> Self {
+        Self {
+            signal,
+            drift_rad: 0.0,
+            over_s: 1.0,
+        }
+    }
+
+    /// The centre at `t_s` since the start, rad.
+    pub fn centre_rad(&self, t_s: f64) -> f64 {
+        if self.drift_rad == 0.0 || self.over_s <= 0.0 {
+            return 0.0;
+        }
+        self.drift_rad * (t_s / self.over_s).clamp(0.0, 1.0)
+    }
+
+    /// Desired wheel angle at `t_s` since the start: the signal around the drifting centre,
+    /// within the wheel's range, rad.
+    pub fn desired_angle_rad(&self, t_s: f64) -> f64 {
+        let max_rad = MAX_DIAL_AMPLITUDE_DEG.to_radians();
+        (self.signal.desired_angle_rad(t_s) + self.centre_rad(t_s)).clamp(-max_rad, max_rad)
+    }
+}
 
 /// One sine component of a multi-sine reference.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -283,6 +325,62 @@ impl DialSignal {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_drifting_target_starts_at_the_signal_reaches_half_way_at_the_middle_and_the_drift_at_the_end()
+     {
+        let target = DialTarget {
+            signal: DialSignal::Sine {
+                amplitude_deg: 30.0,
+                frequency_rad_s: 1.0,
+            },
+            drift_rad: 40f64.to_radians(),
+            over_s: 60.0,
+        };
+        let deg = |t: f64| target.desired_angle_rad(t).to_degrees();
+        let signal = |t: f64| target.signal.desired_angle_rad(t).to_degrees();
+        assert!(
+            (deg(0.0) - signal(0.0)).abs() < 1e-9,
+            "no drift at the start"
+        );
+        assert!((deg(30.0) - (signal(30.0) + 20.0)).abs() < 1e-9, "half way");
+        assert!(
+            (deg(60.0) - (signal(60.0) + 40.0)).abs() < 1e-9,
+            "all of it"
+        );
+        assert!(
+            (deg(90.0) - (signal(90.0) + 40.0)).abs() < 1e-9,
+            "held after"
+        );
+        assert_eq!(target.centre_rad(-1.0), 0.0, "nothing before the start");
+    }
+
+    #[test]
+    fn a_drifting_target_never_leaves_the_wheels_range() {
+        let target = DialTarget {
+            signal: DialSignal::Sine {
+                amplitude_deg: 120.0,
+                frequency_rad_s: 1.0,
+            },
+            drift_rad: (-60f64).to_radians(),
+            over_s: 10.0,
+        };
+        let max = MAX_DIAL_AMPLITUDE_DEG.to_radians();
+        let mut clamped = 0;
+        for k in 0..=2000 {
+            let a = target.desired_angle_rad(k as f64 * 0.01);
+            assert!(a.abs() <= max + 1e-12, "{a}");
+            clamped += usize::from((a + max).abs() < 1e-12);
+        }
+        assert!(
+            clamped > 0,
+            "the drift pushed the sine's trough past the range: clamped"
+        );
+        assert_eq!(
+            DialTarget::steady(DialSignal::default()).desired_angle_rad(1.0),
+            DialSignal::default().desired_angle_rad(1.0)
+        );
+    }
 
     #[test]
     fn appendix_e_sine_reaches_120_degrees_at_quarter_period() {

@@ -357,8 +357,20 @@ spec_struct!(
         /// Length of the exercise, s.
         #[schemars(range(min = DURATION_S.min, max = DURATION_S.max))]
         duration_s: f64 = 60.0,
+        /// The target drifts this far to one side over the exercise, in degrees of wheel turn.
+        /// It starts at the centre and moves evenly. It drifts into the neglected side when
+        /// the patient has one (negative: out of it); otherwise positive is to the left.
+        #[serde(skip_serializing_if = "no_drift")]
+        #[schemars(range(min = crate::dial::DRIFT_DEG.min, max = crate::dial::DRIFT_DEG.max))]
+        drift_deg: f64 = 0.0,
     }
 );
+
+/// A dial without drift leaves `drift_deg` out of what it writes, so stations older than the
+/// field still read it.
+fn no_drift(drift_deg: &f64) -> bool {
+    *drift_deg == 0.0
+}
 
 spec_struct!(
     /// The strength test (see [`crate::strength`]): a stiff spring ramped slowly up to the
@@ -648,7 +660,8 @@ impl ExerciseSpec {
             }
             Self::Dial(d) => {
                 d.reference.validate(c)?;
-                r("duration_s", d.duration_s, DURATION_S, "s")
+                r("duration_s", d.duration_s, DURATION_S, "s")?;
+                r("drift_deg", d.drift_deg, crate::dial::DRIFT_DEG, "deg")
             }
             Self::Strength(d) => {
                 r(
@@ -686,7 +699,11 @@ impl ExerciseSpec {
                     duration_s: Some(d.duration_s),
                     cones: Vec::new(),
                     speed_profile_m_s: Vec::new(),
-                    dial: Some(d.reference.clone()),
+                    dial: Some(crate::dial::DialTarget {
+                        signal: d.reference.clone(),
+                        drift_rad: d.drift_deg.to_radians(),
+                        over_s: d.duration_s,
+                    }),
                     strength: None,
                     sweep: None,
                     steps: if matches!(d.reference, DialSignal::Step { .. }) {
@@ -723,7 +740,7 @@ impl ExerciseSpec {
                     duration_s: Some(d.level_s * d.levels.len() as f64),
                     cones: Vec::new(),
                     speed_profile_m_s: Vec::new(),
-                    dial: Some(d.reference(level)),
+                    dial: Some(crate::dial::DialTarget::steady(d.reference(level))),
                     strength: None,
                     sweep: Some(SweepLevel {
                         parameter: d.parameter,
@@ -937,7 +954,7 @@ pub struct Exercise {
     /// Cone positions, m.
     pub cones: Vec<[f64; 2]>,
     speed_profile_m_s: Vec<f64>,
-    dial: Option<DialSignal>,
+    dial: Option<crate::dial::DialTarget>,
     strength: Option<StrengthSpec>,
     sweep: Option<SweepLevel>,
     steps: TargetSteps,

@@ -23,5 +23,7 @@ controls-unplugged-left = { $seconds ->
    *[other] Die Sitzung endet in { $seconds } Sekunden.
 }
 controls-unplugged-keys = Das Kabel verbindet Lenkrad und Computer.
+controls-arm-unplugged-title = Stecken Sie den Armsensor wieder ein
+controls-arm-unplugged-keys = Der Sensor an Ihrem Arm hat ein Kabel zum Computer.
 controls-start = Drücken Sie eine Taste am Lenkrad. Dann geht es los.
 controls-go-on-now = Drücken Sie eine Taste am Lenkrad. Dann geht es gleich weiter.

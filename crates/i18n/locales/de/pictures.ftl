@@ -14,6 +14,7 @@ picture-pause = Pause. Lassen Sie sich Zeit.
 picture-buttons = Drücken Sie eine Taste am Lenkrad.
 picture-wheel-turn = Drehen Sie das Lenkrad, um zu wählen. Dann drücken Sie eine Taste.
 picture-plug = Stecken Sie das Lenkrad wieder ein.
+picture-arm-sensor-plug = Stecken Sie den Armsensor wieder ein.
 picture-yes = Ja
 picture-no = Nein
 picture-done = Gut gemacht. Das war alles für heute.

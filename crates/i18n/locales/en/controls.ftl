@@ -25,5 +25,7 @@ controls-unplugged-left = { $seconds ->
    *[other] The session ends in { $seconds } seconds.
 }
 controls-unplugged-keys = The wheel's cable goes into the wheel and the computer.
+controls-arm-unplugged-title = Plug the arm sensor back in
+controls-arm-unplugged-keys = The sensor on your arm has a cable to the computer.
 controls-start = Press a wheel button to start.
 controls-go-on-now = Press a wheel button to go on now.

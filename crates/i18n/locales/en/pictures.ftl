@@ -15,6 +15,7 @@ picture-pause = Paused. Take your time.
 picture-buttons = Press a button on the wheel.
 picture-wheel-turn = Turn the wheel to choose. Then press a button.
 picture-plug = Plug the wheel back in.
+picture-arm-sensor-plug = Plug the arm sensor back in.
 picture-yes = Yes
 picture-no = No
 picture-done = Well done. That is all for today.

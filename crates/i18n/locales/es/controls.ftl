@@ -23,5 +23,7 @@ controls-unplugged-left = { $seconds ->
    *[other] La sesión termina en { $seconds } segundos.
 }
 controls-unplugged-keys = El cable une el volante y el ordenador.
+controls-arm-unplugged-title = Vuelva a conectar el sensor del brazo
+controls-arm-unplugged-keys = El sensor de su brazo tiene un cable al ordenador.
 controls-start = Pulse un botón del volante para empezar.
 controls-go-on-now = Pulse un botón del volante para seguir ya.

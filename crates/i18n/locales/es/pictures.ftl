@@ -14,6 +14,7 @@ picture-pause = En pausa. Tómese su tiempo.
 picture-buttons = Pulse un botón del volante.
 picture-wheel-turn = Gire el volante para elegir. Luego pulse un botón.
 picture-plug = Vuelva a conectar el volante.
+picture-arm-sensor-plug = Vuelva a conectar el sensor del brazo.
 picture-yes = Sí
 picture-no = No
 picture-done = Muy bien. Eso es todo por hoy.

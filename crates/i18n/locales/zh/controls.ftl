@@ -17,5 +17,7 @@ controls-unplugged-title = 请把方向盘重新插好
 controls-unplugged-waits = 练习会等您。
 controls-unplugged-left = 训练将在 { $seconds } 秒后结束。
 controls-unplugged-keys = 线缆连接方向盘和电脑。
+controls-arm-unplugged-title = 请把手臂传感器重新插好
+controls-arm-unplugged-keys = 手臂上的传感器用线缆连接电脑。
 controls-start = 按方向盘上的按钮开始。
 controls-go-on-now = 按方向盘上的按钮马上继续。

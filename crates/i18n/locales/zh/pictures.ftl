@@ -14,6 +14,7 @@ picture-pause = 已暂停。慢慢来。
 picture-buttons = 按方向盘上的一个按钮。
 picture-wheel-turn = 转动方向盘来选择，然后按一个按钮。
 picture-plug = 请把方向盘重新插好。
+picture-arm-sensor-plug = 请把手臂传感器重新插好。
 picture-yes = 是
 picture-no = 否
 picture-done = 做得好。今天就到这里。

@@ -14,7 +14,7 @@ use std::sync::{Arc, Mutex};
 use rustls::pki_types::CertificateDer;
 
 use crate::error::NetlinkError;
-use crate::frame::{Bye, Hello, MessageSeen, Summary};
+use crate::frame::{Bye, Care, Frame, Hello, Message, MessageSeen, Regimen, Summary};
 use crate::pairing::PairingAuthority;
 use crate::store::{Appended, SessionFile, write_hello};
 
@@ -51,6 +51,29 @@ impl Refusal {
     }
 }
 
+/// What a hub tells a station's check besides its clock (protocol version
+/// [`crate::frame::CHECK_NEWS_VERSION`] and above): the patient's news as the hub knows it now,
+/// so that today's page is current without a session.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct CheckNews {
+    /// The clinic's pain settings with the patient's clearance.
+    pub care: Option<Care>,
+    /// The therapist's messages the patient has not seen, oldest first.
+    pub messages: Vec<Message>,
+    /// The patient's current regimen.
+    pub regimen: Option<Regimen>,
+}
+
+impl CheckNews {
+    /// The frames, in the order a session's connection gets them: care, messages, regimen.
+    pub fn into_frames(self) -> Vec<Frame> {
+        let care = self.care.map(Frame::Care);
+        let messages = self.messages.into_iter().map(Frame::Message);
+        let regimen = self.regimen.map(Frame::Regimen);
+        care.into_iter().chain(messages).chain(regimen).collect()
+    }
+}
+
 /// The hub's persistence and admission policy.
 pub trait HubStore: Send + Sync + 'static {
     /// Admits a connection whose `Hello` is well formed, before anything is stored: where the
@@ -59,6 +82,14 @@ pub trait HubStore: Send + Sync + 'static {
     fn admit<'a>(&'a self, hello: &'a Hello, peer: Peer<'a>) -> BoxFuture<'a, Result<(), Refusal>> {
         let _ = (hello, peer);
         Box::pin(async { Ok(()) })
+    }
+
+    /// The patient's news for a station's check of `hello` (already admitted by
+    /// [`Self::admit`]): what a session's connection would be sent before its first summary.
+    /// Read only, it opens no session. The default (a store that keeps no patients) has none.
+    fn station_check<'a>(&'a self, hello: &'a Hello) -> BoxFuture<'a, CheckNews> {
+        let _ = hello;
+        Box::pin(async { CheckNews::default() })
     }
 
     /// Records the `Hello` and opens its session for appending (only when no other connection

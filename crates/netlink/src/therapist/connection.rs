@@ -187,13 +187,7 @@ async fn serve(
         && hello.exercise == crate::frame::CHECK_EXERCISE
     {
         // A station's check: answered as any Hello would be, nothing stored.
-        match admit(&hub, hello, peer_id) {
-            Ok(()) => send(&out, frame_outgoing(&Frame::Bye(check_answer(hello)))),
-            Err((error, code)) => {
-                send(&out, coded_error_outgoing(&error, code));
-                hub.refuse(peer, "check refused", error);
-            }
-        }
+        answer_check(&hub, hello, peer_id, &out).await;
         close(out, writer).await;
         return;
     }
@@ -305,6 +299,34 @@ fn admit(hub: &Hub, hello: &Hello, peer: Peer<'_>) -> Result<(), (String, Option
         certificate_names_station(cert, &hello.station_id).map_err(|e| plain(e.to_string()))?;
     }
     Ok(())
+}
+
+/// Answers a station's check: at [`crate::frame::CHECK_NEWS_VERSION`] and above, once the store
+/// admits the station as it would a session's, the patient's news ([`super::CheckNews`]), then
+/// `Bye` with the hub's clock; below it the `Bye` alone, as older hubs did. A refusal is one
+/// `Error` frame.
+async fn answer_check(hub: &Hub, hello: &Hello, peer: Peer<'_>, out: &Out) {
+    let refused = |error: String, code: Option<&str>| {
+        send(out, coded_error_outgoing(&error, code));
+        hub.refuse(peer.addr, "check refused", error);
+    };
+    if let Err((error, code)) = admit(hub, hello, peer) {
+        return refused(error, code);
+    }
+    let version = hello
+        .negotiate_with(hub.config.min_protocol_version)
+        .unwrap_or(crate::frame::MIN_PROTOCOL_VERSION);
+    if version >= crate::frame::CHECK_NEWS_VERSION {
+        // The news is the patient's: only for a station the store lets speak for them.
+        if let Err(r) = hub.store.admit(hello, peer).await {
+            return refused(r.message, r.code);
+        }
+        let news = hub.store.station_check(hello).await;
+        for frame in news.into_frames() {
+            send(out, frame_outgoing(&frame));
+        }
+    }
+    send(out, frame_outgoing(&Frame::Bye(check_answer(hello))));
 }
 
 /// The hub's answer to a station's check: `Bye` with its clock.

@@ -277,6 +277,7 @@ fn choose_language(home: &Home, tag: &str) {
 /// each time.
 fn keep_today_fresh(door: &Mutex<FrontDoor>, stop: &AtomicBool, home: &Home, cfg: &StationConfig) {
     let mut last = None;
+    let mut shown = None;
     while !stop.load(Ordering::Relaxed) {
         if lock(door).is_today()
             && last.is_none_or(|t: std::time::Instant| t.elapsed() >= PLAN_PERIOD)
@@ -286,10 +287,22 @@ fn keep_today_fresh(door: &Mutex<FrontDoor>, stop: &AtomicBool, home: &Home, cfg
             let plan = today_plan(home, cfg);
             let message = crate::messages::Inbox::load(&home.messages_path())
                 .to_show()
-                .map(|k| k.text.clone());
+                .map(|k| (k.id.clone(), k.text.clone()));
+            let now = (plan.clone(), message.as_ref().map(|(id, _)| id.clone()));
+            if shown.as_ref() != Some(&now) {
+                // By state, never by words: tests and support follow the page's plan by it.
+                tracing::info!(
+                    prescribed = plan.prescribed,
+                    exercises = plan.exercises.len(),
+                    total_s = plan.total_s().round(),
+                    message_id = message.as_ref().map_or("", |(id, _)| id.as_str()),
+                    "today's page plan_changed"
+                );
+                shown = Some(now);
+            }
             let mut d = lock(door);
             d.set_plan(plan);
-            d.set_message(message);
+            d.set_message(message.map(|(_, text)| text));
         }
         std::thread::sleep(Duration::from_millis(200));
     }

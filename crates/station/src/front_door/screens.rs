@@ -94,19 +94,23 @@ fn pages() -> Vec<(&'static str, ScreenState)> {
         ("wheel-6-end-now", welcome(wheel_cards::end_now())),
         ("wheel-7-ready-after-rest", ready),
         ("wheel-8-unplugged", welcome(wheel_cards::unplugged(23.4))),
+        (
+            "wheel-9-arm-sensor-unplugged",
+            welcome(wheel_cards::arm_sensor_unplugged(23.4)),
+        ),
     ]
 }
 
 #[test]
 #[ignore = "writes the docs' screenshots; run on purpose"]
-fn screenshots_of_the_pages_the_wheel_drives_in_english_and_the_pseudo_locale() {
+fn screenshots_of_the_pages_the_wheel_drives_in_english_the_pseudo_locale_and_german() {
     let out = std::env::var_os("TELEREHAB_SCREENSHOTS").map_or_else(
         || std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/screenshots"),
         std::path::PathBuf::from,
     );
     let (w, h) = (1280, 720);
     let mut renderer = Renderer::new_headless(w, h).expect("an offscreen renderer");
-    for lang in ["en", i18n::PSEUDO] {
+    for lang in ["en", i18n::PSEUDO, "de"] {
         i18n::use_language(lang).unwrap();
         for (name, screen) in pages() {
             let scene = Scene {
@@ -114,7 +118,11 @@ fn screenshots_of_the_pages_the_wheel_drives_in_english_and_the_pseudo_locale() 
                 ..Scene::default()
             };
             let rgba = renderer.render_to_rgba(&scene).unwrap();
-            let suffix = if lang == "en" { "" } else { "-en-XA" };
+            let suffix = if lang == "en" {
+                String::new()
+            } else {
+                format!("-{lang}")
+            };
             save_png(&out.join(format!("{name}{suffix}.png")), &rgba, w, h).unwrap();
         }
     }

@@ -6,7 +6,9 @@
 
 use std::time::Duration;
 
-use netlink::{Bye, ClientTls, Frame, FrameDecoder, Hello, PROTOCOL_VERSION, encode_to_vec};
+use netlink::{
+    Bye, CheckNews, ClientTls, Frame, FrameDecoder, Hello, PROTOCOL_VERSION, encode_to_vec,
+};
 use tokio::io::{AsyncRead, AsyncReadExt, AsyncWrite, AsyncWriteExt};
 
 use crate::home::{Home, Pairing};
@@ -53,7 +55,9 @@ pub fn update_required_message(hub_message: &str) -> String {
     }
 }
 
-/// Asks the paired hub (TLS with the station's certificate), waiting `timeout` at most.
+/// Asks the paired hub (TLS with the station's certificate), waiting `timeout` at most, and
+/// keeps in `home` the patient's news it answers with (a hub of protocol version 4): the
+/// clinic's pain settings, the therapist's unseen messages and the current regimen.
 /// Blocking: runs its own one-thread runtime (call it off any async runtime).
 pub fn check_hub(home: &Home, pairing: &Pairing, timeout: Duration) -> HubStatus {
     let runtime = match tokio::runtime::Builder::new_current_thread()
@@ -64,25 +68,43 @@ pub fn check_hub(home: &Home, pairing: &Pairing, timeout: Duration) -> HubStatus
         Err(e) => return HubStatus::Unreachable(format!("cannot start the network runtime: {e}")),
     };
     let tls = home.client_tls(pairing);
-    let mut care = None;
+    let mut news = CheckNews::default();
     let status = runtime.block_on(probe_keeping(
         &pairing.hub,
         Some(&tls),
         (&pairing.station_id, &pairing.patient_id),
         timeout,
-        &mut care,
+        &mut news,
     ));
-    if let Some(care) = care {
-        let settings = crate::checkin::care::CareSettings::from(&care);
-        if let Err(e) = settings.save(&home.care_path()) {
-            tracing::warn!("the clinic's pain settings are not kept: {e:#}");
-        }
-    }
+    keep_news(home, news);
     status
 }
 
-/// How long the check waits after its `Hello` for the clinic's pain settings ([`netlink::Care`],
-/// which a hub of protocol version 3 sends at once) before it says `Bye`.
+/// Keeps in `home` what a check brought: the pain settings, the messages not kept yet, and
+/// a regimen that passes the station's safety bounds and differs from the kept one (a
+/// refused one leaves the kept one in force, logged).
+pub fn keep_news(home: &Home, news: CheckNews) {
+    super::keep_care(Some(home), news.care);
+    if !news.messages.is_empty() {
+        let mut inbox = crate::messages::Inbox::load(&home.messages_path());
+        if inbox.keep_received(news.messages) {
+            tracing::info!("the hub's check brought a message");
+        }
+    }
+    if let Some(r) = news.regimen {
+        let kept = std::fs::read_to_string(home.regimen_path()).ok();
+        if kept.as_deref() == Some(r.toml.as_str()) && home.regimen_prescriber() == r.prescribed_by
+        {
+            return;
+        }
+        let outcome = super::keep_regimen_from_hub(home, &r);
+        tracing::info!(regimen = %r.id, "the hub's check brought a regimen: {outcome}");
+    }
+}
+
+/// How long the check waits after its `Hello` for the hub's answer before it says `Bye`
+/// itself: a hub of this version answers at once (after the patient's news); one older than
+/// the check rule answers only the station's `Bye`.
 pub const CARE_WAIT: Duration = Duration::from_millis(500);
 
 /// The conversation with the hub at `address` (`host:port`), over TLS unless `tls` is `None`
@@ -93,16 +115,16 @@ pub async fn probe(
     ids: (&str, &str),
     timeout: Duration,
 ) -> HubStatus {
-    probe_keeping(address, tls, ids, timeout, &mut None).await
+    probe_keeping(address, tls, ids, timeout, &mut CheckNews::default()).await
 }
 
-/// [`probe`], keeping in `care` the clinic's pain settings if the hub sends them.
+/// [`probe`], gathering in `news` the patient's news the hub sends before its answer.
 pub async fn probe_keeping(
     address: &str,
     tls: Option<&ClientTls>,
     (station_id, patient_id): (&str, &str),
     timeout: Duration,
-    care: &mut Option<netlink::Care>,
+    news: &mut CheckNews,
 ) -> HubStatus {
     let hello = Hello {
         protocol_version: PROTOCOL_VERSION,
@@ -120,14 +142,14 @@ pub async fn probe_keeping(
             .await
             .map_err(|e| format!("cannot connect: {e}"))?;
         match tls {
-            None => Ok::<_, String>(converse(tcp, &hello, care).await),
+            None => Ok::<_, String>(converse(tcp, &hello, news).await),
             Some(tls) => {
                 let (connector, name) = tls.connector().map_err(|e| e.to_string())?;
                 let stream = connector
                     .connect(name, tcp)
                     .await
                     .map_err(|e| format!("TLS handshake failed: {e}"))?;
-                Ok(converse(stream, &hello, care).await)
+                Ok(converse(stream, &hello, news).await)
             }
         }
     };
@@ -141,12 +163,12 @@ pub async fn probe_keeping(
     }
 }
 
-/// Hello, the clinic's pain settings (waited for up to [`CARE_WAIT`], kept in `care`), Bye,
-/// then the hub's answer.
+/// Hello; the patient's news (gathered in `news`) until the hub's answer, or [`CARE_WAIT`];
+/// then, if the hub has not answered, Bye and its answer.
 async fn converse<S: AsyncRead + AsyncWrite + Unpin>(
     mut stream: S,
     hello: &Hello,
-    care: &mut Option<netlink::Care>,
+    news: &mut CheckNews,
 ) -> HubStatus {
     let bye = Frame::Bye(Bye {
         session_id: hello.session_id.clone(),
@@ -167,15 +189,15 @@ async fn converse<S: AsyncRead + AsyncWrite + Unpin>(
     }
     let mut decoder = FrameDecoder::new();
     let mut buf = vec![0u8; 16 * 1024];
-    // The hub sends its pain settings right after the Hello (an older hub never does; one
-    // that refuses the Hello says so at once).
+    // A hub of this version sends the news right after the Hello, then its Bye (an older
+    // hub the Bye alone; one that refuses the Hello says so at once).
     let mut early = None;
     let _ = tokio::time::timeout(CARE_WAIT, async {
         loop {
             match decoder.next_frame() {
-                Ok(Some(Frame::Care(c))) => {
-                    *care = Some(c);
-                    return;
+                Ok(Some(f @ (Frame::Care(_) | Frame::Message(_) | Frame::Regimen(_)))) => {
+                    gather(news, f);
+                    continue;
                 }
                 // A refusal or an end: the answer, read below.
                 Ok(Some(f @ (Frame::Error(_) | Frame::Bye(_)))) => {
@@ -221,7 +243,12 @@ async fn converse<S: AsyncRead + AsyncWrite + Unpin>(
                     HubStatus::Unreachable(format!("the hub refused: {}", e.message))
                 };
             }
-            Ok(Some(_)) => continue, // an Ack or a regimen: not what the check waits for
+            // News after the wait (a slow hub) is kept as well; an Ack is not what the check
+            // waits for.
+            Ok(Some(f)) => {
+                gather(news, f);
+                continue;
+            }
             Ok(None) => {}
         }
         match stream.read(&mut buf).await {
@@ -229,6 +256,16 @@ async fn converse<S: AsyncRead + AsyncWrite + Unpin>(
             Ok(n) => decoder.extend(&buf[..n]),
             Err(e) => return HubStatus::Unreachable(format!("connection lost: {e}")),
         }
+    }
+}
+
+/// Keeps `frame` in `news` if it is news (the pain settings, a message, the regimen).
+fn gather(news: &mut CheckNews, frame: Frame) {
+    match frame {
+        Frame::Care(c) => news.care = Some(c),
+        Frame::Message(m) => news.messages.push(m),
+        Frame::Regimen(r) => news.regimen = Some(r),
+        _ => {}
     }
 }
 

@@ -86,7 +86,7 @@ impl Inner {
 }
 
 /// Keeps in `home` the clinic's pain settings the hub sent, if it sent any.
-fn keep_care(home: Option<&Home>, care: Option<netlink::Care>) {
+pub(crate) fn keep_care(home: Option<&Home>, care: Option<netlink::Care>) {
     let (Some(home), Some(care)) = (home, care) else {
         return;
     };
@@ -639,13 +639,20 @@ fn keep_prescribed_regimen(
             r.id
         ));
     };
+    Some(keep_regimen_from_hub(home, &r))
+}
+
+/// Validates `r` against the station's safety bounds and keeps it in `home` for the next
+/// sessions (a refused one leaves the kept one in force). What happened, in words for the
+/// report and the log.
+pub(crate) fn keep_regimen_from_hub(home: &Home, r: &netlink::Regimen) -> String {
     if let Err(e) = regimen::Regimen::from_toml(&r.toml, &r.id) {
         tracing::warn!("regimen {} from the hub refused: {e}", r.id);
-        return Some(format!("{} refused: {e}", r.id));
+        return format!("{} refused: {e}", r.id);
     }
-    match home.keep_regimen(&r) {
-        Ok(()) => Some(format!("{} kept for the next session", r.id)),
-        Err(e) => Some(format!("{} not kept: {e:#}", r.id)),
+    match home.keep_regimen(r) {
+        Ok(()) => format!("{} kept for the next session", r.id),
+        Err(e) => format!("{} not kept: {e:#}", r.id),
     }
 }
 

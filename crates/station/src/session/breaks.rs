@@ -41,6 +41,10 @@ pub struct BreakClock {
     pub rest_ticks: u64,
     /// The patient's pause lasted longer than the limit.
     pub paused_too_long: bool,
+    /// Ticks an arm sensor has been away (unplugged) so far; the exercise waits meanwhile.
+    arm_away_ticks: u64,
+    /// An arm sensor stayed away longer than the replug grace: the session ends.
+    pub arm_sensor_unplugged: bool,
 }
 
 impl BreakClock {
@@ -59,6 +63,8 @@ impl BreakClock {
             rests: 0,
             rest_ticks: 0,
             paused_too_long: false,
+            arm_away_ticks: 0,
+            arm_sensor_unplugged: false,
         }
     }
 
@@ -86,8 +92,16 @@ impl BreakClock {
             // Going on from a rest now skips its "Ready?" too: the patient said so.
             self.then_ready = None;
         }
-        if controls.end_asked.load(Ordering::Relaxed) {
-            // "End now?" is up: the exercise waits for the answer.
+        // An arm sensor unplugged mid-session: the exercise waits for it (a pause to the plant,
+        // recorded as one, so a replay follows it) for the replug grace, then the session ends.
+        let arm_away = plant.arm_sensor_away();
+        self.arm_away_ticks = if arm_away { self.arm_away_ticks + 1 } else { 0 };
+        let grace_s = plant.replug_grace_ns() as f64 * 1e-9;
+        if self.arm_away_ticks as f64 * self.dt_s > grace_s {
+            self.arm_sensor_unplugged = true;
+        }
+        if controls.end_asked.load(Ordering::Relaxed) || arm_away {
+            // "End now?" is up, or the arm sensor's page: the exercise waits.
             return true;
         }
         let paused = controls.pause.load(Ordering::Relaxed);
@@ -144,6 +158,13 @@ impl BreakClock {
         controls
             .wheel_away_left_ms
             .store((away_left_s * 1e3).round() as u64, Ordering::Relaxed);
+        let arm_left_s = (grace_s - self.arm_away_ticks as f64 * self.dt_s).max(0.0);
+        controls
+            .arm_away_left_ms
+            .store((arm_left_s * 1e3).round() as u64, Ordering::Relaxed);
+        controls
+            .arm_away
+            .store(self.arm_away_ticks > 0, Ordering::Relaxed);
         controls
             .break_kind
             .store(self.kind.as_u8(), Ordering::Relaxed);

@@ -30,6 +30,12 @@ pub struct Controls {
     /// Told by the haptic thread: how long an unplugged wheel is still waited for before the
     /// session ends, ms (meaningful while [`Controls::wheel_away`] is set).
     pub wheel_away_left_ms: AtomicU64,
+    /// Told by the haptic thread: an arm sensor (IMU) is away mid-session, within the replug
+    /// grace; the exercise waits for it.
+    pub arm_away: AtomicBool,
+    /// Told by the haptic thread: how long an unplugged arm sensor is still waited for before
+    /// the session ends, ms (meaningful while [`Controls::arm_away`] is set).
+    pub arm_away_left_ms: AtomicU64,
     /// Told by the haptic thread: the break in progress ([`BreakKind`] as a number).
     pub break_kind: AtomicU8,
     /// Told by the haptic thread: what is left of the break in progress, ms.
@@ -165,6 +171,7 @@ impl Controls {
     /// The break in progress, as the haptic thread last told it.
     pub fn break_now(&self) -> BreakNow {
         let away = self.wheel_away.load(Ordering::Relaxed);
+        let arm_away = self.arm_away.load(Ordering::Relaxed);
         BreakNow {
             kind: BreakKind::from_u8(self.break_kind.load(Ordering::Relaxed)),
             left_s: self.break_left_ms.load(Ordering::Relaxed) as f64 * 1e-3,
@@ -172,6 +179,8 @@ impl Controls {
             pause_choice: PauseChoice::from_u8(self.pause_choice.load(Ordering::Relaxed)),
             wheel_away_left_s: away
                 .then(|| self.wheel_away_left_ms.load(Ordering::Relaxed) as f64 * 1e-3),
+            arm_away_left_s: arm_away
+                .then(|| self.arm_away_left_ms.load(Ordering::Relaxed) as f64 * 1e-3),
         }
     }
 }
@@ -281,4 +290,8 @@ pub struct BreakNow {
     /// The wheel is unplugged: how long it is still waited for before the session ends, s.
     #[serde(default)]
     pub wheel_away_left_s: Option<f64>,
+    /// An arm sensor is unplugged: how long it is still waited for before the session ends,
+    /// s.
+    #[serde(default)]
+    pub arm_away_left_s: Option<f64>,
 }

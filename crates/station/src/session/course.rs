@@ -127,7 +127,16 @@ pub fn entries(
             pedals: false,
         }],
     };
-    Ok(prescribed.iter().flat_map(RegimenEntry::expand).collect())
+    // A dial's drift goes into the side the patient neglects.
+    let side = regimen
+        .and_then(|r| r.patient.as_ref())
+        .map(|p| p.neglected_side)
+        .unwrap_or_default();
+    Ok(prescribed
+        .iter()
+        .flat_map(RegimenEntry::expand)
+        .map(|e| e.drift_toward(side))
+        .collect())
 }
 
 /// The road of each exercise [`build`] makes of the same `cfg` and `regimen` (`None`: the

@@ -19,6 +19,8 @@ pub const PAUSED_TOO_LONG: &str = "paused too long";
 pub const WINDOW_LOST: &str = "window lost (the patient's screen failed again and again)";
 /// The wheel went away.
 pub const WHEEL_UNPLUGGED: &str = "wheel unplugged";
+/// An arm sensor went away and was not plugged back in within the replug grace.
+pub const ARM_SENSOR_UNPLUGGED: &str = "arm sensor unplugged";
 /// The start of the reason for any other wheel fault the safety supervisor stopped on.
 pub const SAFETY_STOP: &str = "safety stop";
 /// The start of what is added when the recording stopped because the disk filled up.
@@ -26,7 +28,7 @@ pub const DISK_FULL: &str = "recording stopped: disk full";
 
 impl SessionReport {
     /// Why the session ended: [`COMPLETE`], [`PAUSED_TOO_LONG`], [`WINDOW_LOST`], [`ENDED_EARLY`],
-    /// [`WHEEL_UNPLUGGED`] or
+    /// [`WHEEL_UNPLUGGED`], [`ARM_SENSOR_UNPLUGGED`] or
     /// "[`SAFETY_STOP`]: …"; with "; [`DISK_FULL`] at N s" (or "; recording stopped: …") when
     /// the recording stopped while the session went on.
     pub fn end_reason(&self) -> String {
@@ -39,6 +41,7 @@ pub fn ended_by(haptic: &HapticOutcome) -> String {
     match haptic.wheel_fault {
         Some(WheelFault::Unplugged) => WHEEL_UNPLUGGED.to_owned(),
         Some(fault) => format!("{SAFETY_STOP}: {}", fault.describe()),
+        None if haptic.arm_sensor_unplugged => ARM_SENSOR_UNPLUGGED.to_owned(),
         None if haptic.paused_too_long => PAUSED_TOO_LONG.to_owned(),
         None if haptic.window_lost => WINDOW_LOST.to_owned(),
         None if haptic.stopped_early => ENDED_EARLY.to_owned(),

@@ -55,6 +55,8 @@ pub struct HapticOutcome {
     pub rest_s: f64,
     /// The session ended because a pause lasted longer than `[session] pause_limit_s`.
     pub paused_too_long: bool,
+    /// The session ended because an arm sensor stayed unplugged longer than the replug grace.
+    pub arm_sensor_unplugged: bool,
     /// The session ended because the patient's window could not be kept up.
     pub window_lost: bool,
     /// Each exercise's own scores, of the exercises started (in course order).
@@ -346,6 +348,7 @@ pub fn run(
                 || plant.course_done()
                 || plant.wheel_fault().is_some()
                 || breaks.paused_too_long
+                || breaks.arm_sensor_unplugged
                 || controls.stop.load(Ordering::Relaxed))
         {
             stopped_early = active < total_ticks && !plant.course_done();
@@ -427,6 +430,7 @@ pub fn run(
         rests: breaks.rests,
         rest_s: breaks.rest_s(),
         paused_too_long: breaks.paused_too_long,
+        arm_sensor_unplugged: breaks.arm_sensor_unplugged,
         window_lost: controls.window_lost.load(Ordering::Relaxed),
         exercise_scores: plant.exercise_scores(),
     }

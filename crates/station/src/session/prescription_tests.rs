@@ -263,3 +263,51 @@ fn every_shipped_regimen_is_tested() {
         "add a test for each"
     );
 }
+
+/// The dial's target as a session runs it: (exercise time, s; target, rad) of every
+/// unpaused tick.
+#[derive(Default)]
+struct DialTargets(Vec<(f64, f64)>);
+
+impl SessionObserver for DialTargets {
+    fn on_tick(&mut self, record: &TickRecord) {
+        if !record.score.paused {
+            self.0
+                .push((record.score.active_s, record.wheel.target_rad));
+        }
+    }
+}
+
+#[test]
+fn a_dials_target_drifts_into_the_right_neglected_side_over_the_exercise() {
+    // No sine around the centre: the target is the drifting centre itself.
+    let regimen = Regimen::from_toml(
+        "[patient]\nneglected_side = \"right\"\n\n[[exercise]]\nkind = \"dial\"\n\
+         duration_s = 10.0\ndrift_deg = 40.0\n\
+         reference = { signal = \"sine\", amplitude_deg = 0.0, frequency_rad_s = 1.0 }\n",
+        "drift",
+    )
+    .unwrap();
+    let mut cfg = StationConfig::default();
+    cfg.session.duration_s = 60.0;
+    cfg.validate().unwrap();
+    let opts = SessionOptions {
+        regimen: Some(regimen),
+        ..SessionOptions::simulated(cfg)
+    };
+    let mut targets = DialTargets::default();
+    let report = super::run(&opts, &Controls::default(), &mut targets).unwrap();
+    assert!(!report.haptic.stopped_early, "{:?}", report.haptic);
+    let at = |t_s: f64| {
+        targets
+            .0
+            .iter()
+            .find(|(t, _)| *t >= t_s)
+            .map(|(_, target)| target.to_degrees())
+            .unwrap()
+    };
+    // Negative angles are the patient's right: 0 → −20° → −40°, evenly.
+    assert!(at(0.0).abs() < 0.5, "{}", at(0.0));
+    assert!((at(5.0) + 20.0).abs() < 0.5, "{}", at(5.0));
+    assert!((at(9.9) + 40.0).abs() < 0.5, "{}", at(9.9));
+}

@@ -19,6 +19,9 @@ pub fn card(brk: &BreakNow, confirming_end: bool, paused: bool) -> Option<Screen
     if let Some(left_s) = brk.wheel_away_left_s {
         return Some(ScreenState::Welcome(unplugged(left_s)));
     }
+    if let Some(left_s) = brk.arm_away_left_s {
+        return Some(ScreenState::Welcome(arm_sensor_unplugged(left_s)));
+    }
     if confirming_end || brk.end_asked {
         return Some(ScreenState::Welcome(end_now()));
     }
@@ -43,6 +46,26 @@ pub fn unplugged(left_s: f64) -> Welcome {
         ],
         picture: Some(Picture::Plug),
         keys: vec![tr!("controls-unplugged-keys")],
+        ..Welcome::default()
+    }
+}
+
+/// An arm sensor is unplugged mid-session: plug it back in; the exercise waits, and the
+/// session ends in `left_s` unless it is.
+pub fn arm_sensor_unplugged(left_s: f64) -> Welcome {
+    let seconds = left_s.max(0.0).ceil() as u64;
+    Welcome {
+        id: "arm-sensor-unplugged",
+        title: tr!("controls-arm-unplugged-title"),
+        lines: vec![
+            plain(tr!("controls-unplugged-waits")),
+            StatusLine {
+                ok: Some(false),
+                text: tr!("controls-unplugged-left", seconds = seconds),
+            },
+        ],
+        picture: Some(Picture::ArmSensorPlug),
+        keys: vec![tr!("controls-arm-unplugged-keys")],
         ..Welcome::default()
     }
 }
@@ -154,6 +177,34 @@ mod tests {
             // The keyboard stays an alternative, said on the page.
             assert_eq!(page.keys, [tr!("controls-paused-keys")]);
         }
+    }
+
+    #[test]
+    fn an_unplugged_arm_sensor_is_its_own_page_with_its_picture_and_the_time_left() {
+        let brk = BreakNow {
+            arm_away_left_s: Some(12.3),
+            ..BreakNow::default()
+        };
+        // Over a running exercise and over "End now?" alike: the exercise waits for it.
+        assert_eq!(id(card(&brk, false, false)), Some("arm-sensor-unplugged"));
+        assert_eq!(id(card(&brk, true, false)), Some("arm-sensor-unplugged"));
+        let Some(ScreenState::Welcome(page)) = card(&brk, false, false) else {
+            panic!()
+        };
+        assert_eq!(page.picture, Some(Picture::ArmSensorPlug));
+        assert_eq!(page.title, tr!("controls-arm-unplugged-title"));
+        assert_eq!(
+            page.lines[1].text,
+            tr!("controls-unplugged-left", seconds = 13)
+        );
+        // The wheel unplugged too: the wheel's page first (nothing runs without it).
+        let both = BreakNow {
+            wheel_away_left_s: Some(5.0),
+            ..brk
+        };
+        assert_eq!(id(card(&both, false, false)), Some("wheel-unplugged"));
+        // Plugged back in: no card, the exercise goes on.
+        assert_eq!(id(card(&BreakNow::default(), false, false)), None);
     }
 
     #[test]

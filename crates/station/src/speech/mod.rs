@@ -43,6 +43,8 @@ pub fn spoken() -> Vec<&'static str> {
         .map(Picture::caption_id),
     );
     ids.push(LOOK_HERE);
+    // The devices' own pages: their titles are what is said.
+    ids.extend(["controls-unplugged-title", "controls-arm-unplugged-title"]);
     ids
 }
 

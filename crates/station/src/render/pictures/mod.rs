@@ -91,6 +91,8 @@ pub enum Picture {
     },
     /// A cable's plug going into the wheel: plug it back in.
     Plug,
+    /// The sensor strapped on the forearm, its cable's plug going back in.
+    ArmSensorPlug,
     /// Yes: a tick.
     Yes,
     /// No: a cross.
@@ -120,6 +122,7 @@ impl Picture {
                 turn: true,
             },
             Picture::Plug,
+            Picture::ArmSensorPlug,
             Picture::Yes,
             Picture::No,
             Picture::Done,
@@ -148,6 +151,7 @@ impl Picture {
             Picture::Wheel { turn: true, .. } => "picture-wheel-turn",
             Picture::Wheel { .. } => "picture-buttons",
             Picture::Plug => "picture-plug",
+            Picture::ArmSensorPlug => "picture-arm-sensor-plug",
             Picture::Yes => "picture-yes",
             Picture::No => "picture-no",
             Picture::Done => "picture-done",
@@ -176,6 +180,7 @@ pub fn draw(p: &Painter, picture: Picture, rect: Rect, anim_s: f64) {
         Picture::Pause => symbols::pause(p, sq),
         Picture::Wheel { hold, turn } => wheel::wheel(p, sq, hold, turn),
         Picture::Plug => wheel::plug(p, sq),
+        Picture::ArmSensorPlug => wheel::arm_sensor_plug(p, sq),
         Picture::Yes => symbols::yes(p, sq),
         Picture::No => symbols::no(p, sq),
         Picture::Done => symbols::star(p, sq),

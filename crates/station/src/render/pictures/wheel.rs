@@ -8,6 +8,8 @@ use egui::{Color32, Painter, Pos2, Rect, Shape, Stroke, pos2, vec2};
 const WHEEL: Color32 = Color32::from_rgb(0x26, 0x2B, 0x31);
 /// The button to press: a strong orange, 4.6:1 on the card's white.
 const BUTTON: Color32 = Color32::from_rgb(0xB3, 0x4A, 0x00);
+/// The forearm the sensor is strapped on (a light skin tone, outlined for contrast).
+const SKIN: Color32 = Color32::from_rgb(0xE8, 0xB9, 0x96);
 /// Arrows and the plug's cable.
 const ARROW: Color32 = Color32::from_rgb(0x0B, 0x5C, 0xAD);
 
@@ -115,4 +117,28 @@ pub(super) fn plug(p: &Painter, rect: Rect) {
         BUTTON,
         Stroke::NONE,
     ));
+}
+
+/// The plug going back in (as [`plug`]), its cable coming from the sensor strapped on a
+/// forearm at the picture's left.
+/// The sensor strapped on the forearm, its cable's plug going back in.
+pub(super) fn arm_sensor_plug(p: &Painter, rect: Rect) {
+    plug(p, rect);
+    let s = rect.width().min(rect.height());
+    let c = rect.center();
+    let x = rect.left() + s * 0.1;
+    // The forearm, upright, outlined so it reads on white.
+    let (top, bottom) = (pos2(x, c.y - s * 0.42), pos2(x, c.y + s * 0.42));
+    p.line_segment([top, bottom], Stroke::new(s * 0.17, WHEEL));
+    p.line_segment([top, bottom], Stroke::new(s * 0.13, SKIN));
+    // The strap round it and the sensor on it, where the cable starts.
+    p.line_segment(
+        [pos2(x - s * 0.09, c.y), pos2(x + s * 0.09, c.y)],
+        Stroke::new(s * 0.2, ARROW),
+    );
+    p.rect_filled(
+        Rect::from_center_size(pos2(x, c.y), vec2(s * 0.15, s * 0.12)),
+        4.0,
+        WHEEL,
+    );
 }

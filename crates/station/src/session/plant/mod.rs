@@ -283,7 +283,14 @@ impl Plant {
         self.health.replugs
     }
 
-    /// How long an unplugged wheel is waited for, ns.
+    /// An arm sensor (IMU) is away mid-session: the arm sensing lost it after it was working.
+    /// Never in a replay, which pauses where the recorded session did.
+    pub fn arm_sensor_away(&self) -> bool {
+        !matches!(self.body, Body::Recorded(_))
+            && self.body.arm_setup() == Some(SetupStep::SensorLost)
+    }
+
+    /// How long an unplugged wheel (or arm sensor) is waited for, ns.
     pub fn replug_grace_ns(&self) -> u64 {
         self.health.replug_grace_ns
     }

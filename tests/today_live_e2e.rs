@@ -1,0 +1,175 @@
+//! End-to-end: today's page stays current. A clinic's hub (`hub serve`, its embedded
+//! database) and a paired simulated station showing today's page in a real window (under the
+//! test's own Xvfb when no display is set); the therapist prescribes a plan and writes a
+//! message through the console's API while the page is open, and within the page's next check
+//! (every 30 s) the station keeps the hub's regimen and message and the page's plan changes.
+//! Followed by the page's state in the log (`prescribed=`, `exercises=`, `message_id=`) and the
+//! kept files, never by words.
+
+use std::io::{BufRead, BufReader, Read};
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+use telerehab_tests::clinic::{Hub, NewClinic, pair};
+use telerehab_tests::console::Console;
+use telerehab_tests::{Reaper, telerehab_bin};
+
+/// Today's page asks the hub on opening and every 30 s; one period and a margin.
+const WITHIN: Duration = Duration::from_secs(75);
+
+/// Waits up to `within` for a log line containing every one of `what`.
+fn wait_for(lines: &mpsc::Receiver<String>, what: &[&str], within: Duration) -> String {
+    let deadline = Instant::now() + within;
+    let mut seen = Vec::new();
+    loop {
+        let left = deadline.saturating_duration_since(Instant::now());
+        match lines.recv_timeout(left) {
+            Ok(line) if what.iter().all(|w| line.contains(w)) => return line,
+            Ok(line) => seen.push(line),
+            Err(e) => panic!(
+                "no log line with {what:?} within {within:?} ({e}); seen:\n{}",
+                seen.join("\n")
+            ),
+        }
+    }
+}
+
+/// The display to draw on: the one set, else an Xvfb of the test's own (killed when the
+/// guard drops).
+fn display() -> (String, Option<Reaper>, Option<Child>) {
+    if let Some(d) = std::env::var_os("DISPLAY").filter(|d| !d.is_empty()) {
+        return (d.to_string_lossy().into_owned(), None, None);
+    }
+    let mut xvfb = Command::new("Xvfb")
+        .args([
+            "-displayfd",
+            "1",
+            "-screen",
+            "0",
+            "1366x768x24",
+            "-nolisten",
+            "tcp",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("Xvfb is installed (Debian: xvfb)");
+    let reaper = Reaper(xvfb.id());
+    let mut number = String::new();
+    let mut out = xvfb.stdout.take().unwrap();
+    let mut byte = [0u8; 1];
+    while out.read(&mut byte).unwrap() == 1 && byte[0] != b'\n' {
+        number.push(char::from(byte[0]));
+    }
+    assert!(!number.is_empty(), "Xvfb said no display number");
+    (format!(":{}", number.trim()), Some(reaper), Some(xvfb))
+}
+
+#[test]
+fn a_plan_and_a_message_sent_while_todays_page_is_open_show_within_its_next_check() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (display, _xvfb_reaper, _xvfb) = display();
+    let clinic = NewClinic::make(tmp.path(), None);
+    let hub = Hub::serve_console(&clinic.data, "127.0.0.1:0");
+    let console = Console::new(&clinic.data, hub.web());
+    let cookie = console.login("ana@clinic.example", &clinic.admin_password);
+    let patients = console.get("/api/patients", &cookie).json();
+    let patient = patients[0]["id"].as_str().unwrap().to_owned();
+    let home = tmp.path().join("station");
+    pair(&hub, &clinic.code, &home);
+    // The language was chosen on an earlier day: today's page comes first.
+    std::fs::write(home.join("settings.toml"), "language = \"en\"\n").unwrap();
+    let script = tmp.path().join("wheel.script");
+    std::fs::write(&script, "").unwrap();
+    let mut child = Command::new(telerehab_bin())
+        .env("DISPLAY", &display)
+        .env("TELEREHAB_HOME", &home)
+        .env("TELEREHAB_WHEEL_SCRIPT", &script)
+        .env("RUST_LOG", "info")
+        .env_remove("TELEREHAB_LANGUAGE")
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let _reaper = Reaper(child.id());
+    let (tx, lines) = mpsc::channel();
+    let stderr = BufReader::new(child.stderr.take().unwrap());
+    std::thread::spawn(move || {
+        for line in stderr.lines().map_while(Result::ok) {
+            let _ = tx.send(line);
+        }
+    });
+
+    // Today's page opens (its plan may be logged before the window's page line): nothing
+    // prescribed yet, the station's default drive, no message.
+    wait_for(
+        &lines,
+        &[
+            "plan_changed",
+            "prescribed=false",
+            "exercises=1",
+            "message_id=\"\"",
+        ],
+        WITHIN,
+    );
+    assert!(!home.join("regimen.toml").exists());
+
+    // The therapist prescribes two exercises and writes a message, the page still open.
+    let toml = "[[exercise]]\nkind = \"dial\"\nduration_s = 60.0\nrest_s = 30.0\n\n\
+                [[exercise]]\nkind = \"sine\"\nduration_s = 90.0\n";
+    let body = serde_json::json!({ "toml": toml }).to_string();
+    let put = console.request(
+        "PUT",
+        &format!("/api/patients/{patient}/regimen"),
+        Some(&cookie),
+        &body,
+    );
+    assert_eq!(put.status, 200, "{}", String::from_utf8_lossy(&put.body));
+    let body = serde_json::json!({ "text": "Two short ones today." }).to_string();
+    let posted = console.request(
+        "POST",
+        &format!("/api/patients/{patient}/messages"),
+        Some(&cookie),
+        &body,
+    );
+    assert_eq!(
+        posted.status,
+        201,
+        "{}",
+        String::from_utf8_lossy(&posted.body)
+    );
+    let message_id = posted.json()["id"].as_str().unwrap().to_owned();
+    let sent = Instant::now();
+
+    let changed = wait_for(
+        &lines,
+        &["plan_changed", "prescribed=true", "exercises=2"],
+        WITHIN,
+    );
+    assert!(
+        changed.contains(&format!("message_id=\"{message_id}\"")),
+        "the page shows the new message too: {changed}"
+    );
+    eprintln!(
+        "today's page changed {:.1} s after the prescription",
+        sent.elapsed().as_secs_f64()
+    );
+    assert_eq!(
+        std::fs::read_to_string(home.join("regimen.toml")).unwrap(),
+        toml
+    );
+    assert_eq!(
+        std::fs::read_to_string(home.join("regimen-prescriber.txt")).unwrap(),
+        "ana@clinic.example"
+    );
+    let kept: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(home.join("messages.json")).unwrap()).unwrap();
+    assert_eq!(kept[0]["id"], message_id.as_str(), "{kept}");
+    // The hub noted the message delivered to the station.
+    let listed = console
+        .get(&format!("/api/patients/{patient}/messages"), &cookie)
+        .json();
+    assert!(listed[0]["delivered_at_ms"].is_i64(), "{listed}");
+    drop(child);
+    hub.stop();
+}
