@@ -2,9 +2,10 @@
 //! database) and a paired simulated station showing today's page in a real window (under the
 //! test's own Xvfb when no display is set); the therapist prescribes a plan and writes a
 //! message through the console's API while the page is open, and within the page's next check
-//! (every 30 s) the station keeps the hub's regimen and message and the page's plan changes.
-//! Followed by the page's state in the log (`prescribed=`, `exercises=`, `message_id=`) and the
-//! kept files, never by words.
+//! (every 30 s) the station keeps the hub's regimen and message and the page's plan changes,
+//! in the language the prescription sets for the patient. Followed by the page's state in the
+//! log (`language=`, `prescribed=`, `exercises=`, `message_id=`) and the kept files, never by
+//! words.
 
 use std::io::{BufRead, BufReader, Read};
 use std::process::{Child, Command, Stdio};
@@ -66,7 +67,8 @@ fn display() -> (String, Option<Reaper>, Option<Child>) {
 }
 
 #[test]
-fn a_plan_and_a_message_sent_while_todays_page_is_open_show_within_its_next_check() {
+fn a_plan_a_message_and_the_patients_language_sent_while_todays_page_is_open_show_within_its_next_check()
+ {
     let tmp = tempfile::tempdir().unwrap();
     let (display, _xvfb_reaper, _xvfb) = display();
     let clinic = NewClinic::make(tmp.path(), None);
@@ -106,6 +108,7 @@ fn a_plan_and_a_message_sent_while_todays_page_is_open_show_within_its_next_chec
         &lines,
         &[
             "plan_changed",
+            "language=\"en\"",
             "prescribed=false",
             "exercises=1",
             "message_id=\"\"",
@@ -114,8 +117,10 @@ fn a_plan_and_a_message_sent_while_todays_page_is_open_show_within_its_next_chec
     );
     assert!(!home.join("regimen.toml").exists());
 
-    // The therapist prescribes two exercises and writes a message, the page still open.
-    let toml = "[[exercise]]\nkind = \"dial\"\nduration_s = 60.0\nrest_s = 30.0\n\n\
+    // The therapist prescribes two exercises in the patient's German and writes a message,
+    // the page still open.
+    let toml = "[patient]\nlanguage = \"de\"\n\n\
+                [[exercise]]\nkind = \"dial\"\nduration_s = 60.0\nrest_s = 30.0\n\n\
                 [[exercise]]\nkind = \"sine\"\nduration_s = 90.0\n";
     let body = serde_json::json!({ "toml": toml }).to_string();
     let put = console.request(
@@ -143,7 +148,12 @@ fn a_plan_and_a_message_sent_while_todays_page_is_open_show_within_its_next_chec
 
     let changed = wait_for(
         &lines,
-        &["plan_changed", "prescribed=true", "exercises=2"],
+        &[
+            "plan_changed",
+            "language=\"de\"",
+            "prescribed=true",
+            "exercises=2",
+        ],
         WITHIN,
     );
     assert!(

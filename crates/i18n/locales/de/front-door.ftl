@@ -46,7 +46,7 @@ front-today-checking = Das Lenkrad wird geprüft …
 front-today-how = Drehen Sie das Lenkrad. Drücken Sie dann eine Taste.
 front-today-wait-wheel = Sie können beginnen, sobald das Lenkrad bereit ist.
 front-today-start = Beginnen
-front-today-practice = Üben
+front-today-practice = Ausprobieren
 front-today-close = Schließen
 front-today-keys = Tastatur: Leertaste beginnt, F2 übt, Esc schließt.
 front-today-offline = Ihre Praxis ist gerade nicht erreichbar. Die Übungen bleiben hier gespeichert.
@@ -62,4 +62,4 @@ front-device-arm-sensors = Arm-Sensoren: { $names }
 front-device-no-arm-sensors = Keine Arm-Sensoren. Es geht auch ohne sie.
 
 ## Üben
-front-practice-banner = Übung · nichts wird gespeichert
+front-practice-banner = Probe · nichts wird gespeichert

@@ -116,7 +116,7 @@ pub fn same_local_day(a_unix_ms: u64, b_unix_ms: u64) -> bool {
 }
 
 /// Today's page while a pain stop holds: rest today, call the clinic, the therapist can clear
-/// it. No key starts a session from it.
+/// it. No key starts a session from it; a press of the wheel (or Esc) closes it.
 pub fn rest_today_page(care: &CareSettings) -> Welcome {
     let plain = |text: String| StatusLine { ok: None, text };
     let mut lines = vec![
@@ -134,7 +134,14 @@ pub fn rest_today_page(care: &CareSettings) -> Welcome {
     Welcome {
         title: i18n::tr!("checkin-rest-today-title"),
         lines,
-        keys: vec![i18n::tr!("checkin-key-close-esc")],
+        keys: vec![
+            i18n::tr!("checkin-key-close"),
+            i18n::tr!("checkin-key-close-esc"),
+        ],
+        picture: Some(crate::render::Picture::Wheel {
+            hold: false,
+            turn: false,
+        }),
         ..Welcome::default()
     }
 }

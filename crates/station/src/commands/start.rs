@@ -70,8 +70,7 @@ pub fn run() -> anyhow::Result<()> {
     let home = Home::resolve(&HomeArg::from_env())?;
     let settings = Settings::load(home.dir())?;
     // The first-run pages speak the kept prescription's language, else the one chosen there.
-    let kept = regimen::Regimen::load(&home.regimen_path()).ok();
-    crate::language::choose(kept.as_ref(), settings.language.as_deref());
+    choose_language_again(&home);
     let cfg = StationConfig::default();
     let mut door = match home.pairing()? {
         Some(_) => FrontDoor::paired_with(today_plan(&home, &cfg)),
@@ -272,6 +271,14 @@ fn choose_language(home: &Home, tag: &str) {
     }
 }
 
+/// The language chosen again as at start ([`crate::language::choose`]) from the prescription
+/// kept in `home` and the first-run choice in its settings; the tag in force.
+fn choose_language_again(home: &Home) -> &'static str {
+    let kept = regimen::Regimen::load(&home.regimen_path()).ok();
+    let chosen = Settings::load(home.dir()).ok().and_then(|s| s.language);
+    crate::language::choose(kept.as_ref(), chosen.as_deref())
+}
+
 /// Today's plan and the therapist's newest message, read again from the home every
 /// [`PLAN_PERIOD`] while today's page is up (on the page's opening too), with the hub asked
 /// each time.
@@ -290,8 +297,12 @@ fn keep_today_fresh(door: &Mutex<FrontDoor>, stop: &AtomicBool, home: &Home, cfg
                 .map(|k| (k.id.clone(), k.text.clone()));
             let now = (plan.clone(), message.as_ref().map(|(id, _)| id.clone()));
             if shown.as_ref() != Some(&now) {
+                // A prescription that brings the patient's language puts it in force at once:
+                // the page is drawn anew in it (the window asks the catalogues every frame).
+                let language = choose_language_again(home);
                 // By state, never by words: tests and support follow the page's plan by it.
                 tracing::info!(
+                    language,
                     prescribed = plan.prescribed,
                     exercises = plan.exercises.len(),
                     total_s = plan.total_s().round(),

@@ -276,9 +276,15 @@ impl FrontDoor {
         if input == Key(UserRequest::Quit) {
             return Action::Done(Outcome::Quit);
         }
-        // A pain stop today: nothing starts a session (crate::checkin::care).
-        let wheel_ready = self.wheel_ready && self.rest_today.is_none();
+        // A pain stop today: nothing starts a session (crate::checkin::care); a press of the
+        // wheel closes the page, as Esc does.
+        let resting = self.rest_today.is_some();
+        let wheel_ready = self.wheel_ready && !resting;
         match &mut self.page {
+            Page::Today { .. } if resting => match input {
+                Wheel(Gesture::Press) => Action::Done(Outcome::Quit),
+                _ => Action::None,
+            },
             Page::Language { chosen, then } => match input {
                 Wheel(Gesture::Turn(by)) => {
                     *chosen = step(*chosen, by, i18n::LANGUAGES.len());
@@ -615,7 +621,5 @@ pub fn pairing_error_words(e: &netlink::pairing::PairError) -> String {
     }
 }
 
-#[cfg(test)]
-mod screens;
 #[cfg(test)]
 mod tests;

@@ -6,18 +6,18 @@ use crate::render::StatusLine;
 use regimen::Regimen;
 use vehicle::exercise::ExerciseSpec;
 
-/// Today's session: each exercise's name in plain words and its planned length.
+/// Today's session: each exercise and its planned length.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TodayPlan {
-    /// (name, planned length in s), in the order they are done.
-    pub exercises: Vec<(String, f64)>,
+    /// (the exercise's short name, `None` for one that cannot be built; planned length in s),
+    /// in the order they are done. Named in the patient's words, in the language in force,
+    /// when the page is drawn ([`crate::screen::patient_name`]).
+    pub exercises: Vec<(Option<String>, f64)>,
     /// The clinic has prescribed this (false: the station's default while none has arrived).
     pub prescribed: bool,
     /// The rests and the cards between exercises, s.
     pub between_s: f64,
 }
-
-pub use crate::screen::plain_name;
 
 /// `m:ss` of a planned length.
 fn minutes_text(seconds: f64) -> String {
@@ -32,8 +32,8 @@ impl TodayPlan {
             .exercises
             .iter()
             .map(|e| match e.exercise.build() {
-                Ok(x) => (plain_name(&x.name), x.planned_duration_s()),
-                Err(_) => (i18n::tr!("front-today-unbuildable"), 0.0),
+                Ok(x) => (Some(x.name.clone()), x.planned_duration_s()),
+                Err(_) => (None, 0.0),
             })
             .collect();
         let last = r.exercises.len().saturating_sub(1);
@@ -55,9 +55,9 @@ impl TodayPlan {
         let name = ExerciseSpec::from_name(exercise)
             .ok()
             .and_then(|s| s.build().ok())
-            .map_or_else(|| plain_name(exercise), |x| plain_name(&x.name));
+            .map_or_else(|| exercise.to_owned(), |x| x.name);
         Self {
-            exercises: vec![(name, duration_s)],
+            exercises: vec![(Some(name), duration_s)],
             prescribed: false,
             between_s: 0.0,
         }
@@ -85,15 +85,16 @@ impl TodayPlan {
                 text: i18n::tr!("front-today-no-plan"),
             });
         }
-        lines.extend(
-            self.exercises
-                .iter()
-                .enumerate()
-                .map(|(i, (name, s))| StatusLine {
-                    ok: None,
-                    text: format!("   {}. {name}   {}", i + 1, minutes_text(*s)),
-                }),
-        );
+        lines.extend(self.exercises.iter().enumerate().map(|(i, (short, s))| {
+            let name = short.as_deref().map_or_else(
+                || i18n::tr!("front-today-unbuildable"),
+                crate::screen::patient_name,
+            );
+            StatusLine {
+                ok: None,
+                text: format!("   {}. {name}   {}", i + 1, minutes_text(*s)),
+            }
+        }));
         lines
     }
 }

@@ -116,7 +116,8 @@ pub fn paused_card(chosen: PauseChoice) -> Welcome {
 /// between exercises and on every page.
 pub fn mark_practice(scene: &mut crate::render::Scene) {
     let banner = tr!("front-practice-banner");
-    scene.hud.exercise = format!("{banner} · {}", scene.hud.exercise);
+    // Over the exercise on a line of its own: the HUD's corner stays narrow in every language.
+    scene.hud.exercise = format!("{banner}\n{}", scene.hud.exercise);
     match &mut scene.screen {
         ScreenState::Next(card) => card.heading = format!("{banner} · {}", card.heading),
         ScreenState::Welcome(page) => page.title = format!("{banner} · {}", page.title),

@@ -76,7 +76,15 @@ pub(super) fn paint(p: &Painter, size: Vec2, next: &NextCard, neglected: Neglect
     }
     let mut ky = rect.bottom() - 2.0 * PAD;
     for k in next.keys.iter().rev() {
-        let g = galley(p, k.clone(), 30.0, crate::render::palette::CARD_KEYS);
+        // Wrapped in the text column: a longer language never runs off the card.
+        let g = text::layout(
+            p,
+            k,
+            egui::FontId::proportional(30.0),
+            crate::render::palette::CARD_KEYS,
+            width,
+            text::Align::Start,
+        );
         ky -= g.size().y;
         p.galley(pos2(text_left, ky), g, crate::render::palette::CARD_KEYS);
     }

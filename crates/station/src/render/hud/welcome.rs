@@ -84,7 +84,8 @@ pub(super) fn paint(p: &Painter, page: &Welcome, size: Vec2) {
             width,
         );
     }
-    let keys = page.keys.join("     ");
+    // One line a way of doing it (the wheel's, the keyboard's): never wrapped into each other.
+    let keys = page.keys.join("\n");
     if !keys.is_empty() {
         let g = text::layout(
             p,
