@@ -32,6 +32,20 @@ fn xdotool(args: &[&str]) {
 }
 
 /// Waits for a log line containing `what` (the lines come from the process's stderr).
+/// Presses `key` until a log line containing `what` comes (a key sent before the window maps
+/// and takes keys is lost on a loaded machine: press again).
+fn press_until(lines: &mpsc::Receiver<String>, key: &str, what: &str) {
+    for _ in 0..30 {
+        xdotool(&["key", key]);
+        while let Ok(line) = lines.recv_timeout(Duration::from_secs(2)) {
+            if line.contains(what) {
+                return;
+            }
+        }
+    }
+    panic!("{key} never brought a log line with {what:?}");
+}
+
 fn wait_for(lines: &mpsc::Receiver<String>, what: &str) {
     loop {
         match lines.recv_timeout(Duration::from_secs(60)) {
@@ -69,8 +83,11 @@ fn a_patient_pairs_from_the_first_run_page_by_typing_the_clinics_address_and_cod
     });
     // The keyboard is the alternative to the wheel: Enter takes the language chosen.
     wait_for(&lines, "first-run page shown page_id=language");
-    xdotool(&["key", "Return"]);
-    wait_for(&lines, "first-run page shown page_id=pairing-ask-clinic");
+    press_until(
+        &lines,
+        "Return",
+        "first-run page shown page_id=pairing-ask-clinic",
+    );
     assert!(!home.join("pairing").exists(), "not paired before the code");
     xdotool(&["type", "--delay", "20", &hub.stations]);
     xdotool(&["key", "Return"]);

@@ -518,6 +518,7 @@ fn a_session_without_a_wheel_says_why_on_the_screen_until_a_key_then_fails_sayin
     let child = Command::new(telerehab_bin())
         .args(["run", "--duration", "5"])
         .env("TELEREHAB_HOME", dir.path())
+        .env("TELEREHAB_LANGUAGE", "en")
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
         .spawn()
@@ -530,5 +531,10 @@ fn a_session_without_a_wheel_says_why_on_the_screen_until_a_key_then_fails_sayin
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success());
     assert!(stderr.contains("the session cannot start"), "{stderr}");
-    assert!(stderr.contains("No steering wheel found"), "{stderr}");
+    // The check's line as the catalogue words it (English: the language the station was given).
+    i18n::use_language("en").unwrap();
+    assert!(
+        stderr.contains(&i18n::tr!("front-device-no-wheel")),
+        "{stderr}"
+    );
 }

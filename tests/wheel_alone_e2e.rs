@@ -134,16 +134,17 @@ fn a_patient_goes_from_the_first_run_to_the_end_of_the_check_in_with_the_wheel_a
     wheel(&script, &["press"]);
     wait_for(&lines, &["break or card", "brk=None"]);
     // The check-in: results → pain (turned to 3) → tiredness (turned to 2) → difficulty
-    // (about right) → thanks.
+    // (about right) → thanks. Nothing is chosen until the wheel turns: the first turn to the
+    // right enters each scale at its lowest, each next one steps up.
     wait_for(&lines, &["end screen: the session's results"]);
     std::thread::sleep(Duration::from_millis(500));
     wheel(&script, &["press"]);
-    std::thread::sleep(Duration::from_millis(300));
+    wait_for(&lines, &["end screen page", "page=\"pain\""]);
+    wheel(&script, &["turn 1", "turn 1", "turn 1", "turn 1", "press"]);
+    wait_for(&lines, &["end screen page", "page=\"effort\""]);
     wheel(&script, &["turn 1", "turn 1", "turn 1", "press"]);
-    std::thread::sleep(Duration::from_millis(300));
+    wait_for(&lines, &["end screen page", "page=\"difficulty\""]);
     wheel(&script, &["turn 1", "turn 1", "press"]);
-    std::thread::sleep(Duration::from_millis(300));
-    wheel(&script, &["press"]);
     std::thread::sleep(Duration::from_millis(300));
     wheel(&script, &["press"]);
     wait_for(&lines, &["end screen closed"]);

@@ -5,8 +5,12 @@ use crate::{telerehab_bin, xdotool_in};
 use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 use std::process::{Child, ChildStdout, Command, Stdio};
-use std::sync::mpsc;
+use std::sync::{Mutex, MutexGuard, PoisonError, mpsc};
 use std::time::{Duration, Instant};
+
+/// One window at a time on the display: the tests press keys with xdotool into the focused
+/// window, so two windowed tests of one binary running at once would press into each other's.
+static DISPLAY: Mutex<()> = Mutex::new(());
 
 /// How long a loaded machine may take to say the next thing (it draws slowly).
 const PATIENCE: Duration = Duration::from_secs(60);
@@ -16,11 +20,14 @@ pub struct WindowedStation {
     child: Child,
     stdout: BufReader<ChildStdout>,
     lines: mpsc::Receiver<String>,
+    /// The display, held while this station's window is up (a failed test's is taken back).
+    _display: MutexGuard<'static, ()>,
 }
 
 impl WindowedStation {
     /// `telerehab run --sim --seed 7 --home HOME ARGS` with its window.
     pub fn start(home: &Path, args: &[&str]) -> Self {
+        let display = DISPLAY.lock().unwrap_or_else(PoisonError::into_inner);
         let mut child = Command::new(telerehab_bin())
             .args(["run", "--sim", "--seed", "7", "--home"])
             .arg(home)
@@ -41,6 +48,7 @@ impl WindowedStation {
             child,
             stdout,
             lines,
+            _display: display,
         }
     }
 

@@ -212,6 +212,8 @@ fn samples() -> Vec<Value> {
     let model = serde_json::to_value(haptic_wheel::SpringDamper::default()).unwrap();
     // A rest after an exercise.
     out.push(json!({ "exercise": [{ "kind": "dial", "duration_s": 60.0, "rest_s": 30.0 }] }));
+    // A dial whose target drifts into the neglected side.
+    out.push(json!({ "exercise": [{ "kind": "dial", "duration_s": 60.0, "drift_deg": 30.0 }] }));
     // Difficulty that follows the patient, over the widest bounds.
     // (The start lies between the lowest and the highest: each is pushed to its edges in a
     // sample of its own, the others at their defaults.)

@@ -50,6 +50,7 @@ words-end-stopped-by-patient = Vom Patienten vorzeitig beendet
 words-end-paused-too-long = Vorzeitig beendet: zu lange pausiert
 words-end-screen-failed = Vorzeitig beendet: Bildschirm ausgefallen
 words-end-wheel-unplugged = Vorzeitig beendet: Lenkrad getrennt
+words-end-arm-sensor-unplugged = Vorzeitig beendet: Armsensor getrennt
 words-end-safety-stop = Vorzeitig beendet: Sicherheitsstopp (die Kraft des Lenkrads wurde abgeschaltet)
 words-end-running = Läuft noch
 words-end-unreported = Beendet; wie, wurde nicht gemeldet

@@ -51,6 +51,7 @@ words-end-stopped-by-patient = Stopped early by the patient
 words-end-paused-too-long = Stopped early: paused too long
 words-end-screen-failed = Stopped early: the screen failed
 words-end-wheel-unplugged = Stopped early: wheel unplugged
+words-end-arm-sensor-unplugged = Stopped early: arm sensor unplugged
 words-end-safety-stop = Stopped early: safety stop (the wheel's force was switched off)
 words-end-running = Still running
 words-end-unreported = Ended; how was not reported

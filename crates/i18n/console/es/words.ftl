@@ -49,6 +49,7 @@ words-end-stopped-by-patient = Detenida antes de tiempo por el paciente
 words-end-paused-too-long = Detenida antes de tiempo: pausa demasiado larga
 words-end-screen-failed = Detenida antes de tiempo: falló la pantalla
 words-end-wheel-unplugged = Detenida antes de tiempo: volante desconectado
+words-end-arm-sensor-unplugged = Detenida antes de tiempo: sensor del brazo desconectado
 words-end-safety-stop = Detenida antes de tiempo: parada de seguridad (se desactivó la fuerza del volante)
 words-end-running = En curso
 words-end-unreported = Terminada; no se indicó cómo

@@ -49,6 +49,7 @@ words-end-stopped-by-patient = 患者提前结束
 words-end-paused-too-long = 提前结束：暂停时间过长
 words-end-screen-failed = 提前结束：屏幕故障
 words-end-wheel-unplugged = 提前结束：方向盘已断开
+words-end-arm-sensor-unplugged = 提前结束：手臂传感器已断开
 words-end-safety-stop = 提前结束：安全停止（方向盘的力已关闭）
 words-end-running = 仍在进行
 words-end-unreported = 已结束；未报告结束方式

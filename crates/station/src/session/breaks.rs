@@ -95,7 +95,13 @@ impl BreakClock {
         // An arm sensor unplugged mid-session: the exercise waits for it (a pause to the plant,
         // recorded as one, so a replay follows it) for the replug grace, then the session ends.
         let arm_away = plant.arm_sensor_away();
-        self.arm_away_ticks = if arm_away { self.arm_away_ticks + 1 } else { 0 };
+        // Counted in a replay too (where the recorded pause stands in for the wait): the
+        // session ends on the same tick.
+        self.arm_away_ticks = if plant.arm_sensor_lost() {
+            self.arm_away_ticks + 1
+        } else {
+            0
+        };
         let grace_s = plant.replug_grace_ns() as f64 * 1e-9;
         if self.arm_away_ticks as f64 * self.dt_s > grace_s {
             self.arm_sensor_unplugged = true;

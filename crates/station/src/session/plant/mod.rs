@@ -283,11 +283,17 @@ impl Plant {
         self.health.replugs
     }
 
-    /// An arm sensor (IMU) is away mid-session: the arm sensing lost it after it was working.
-    /// Never in a replay, which pauses where the recorded session did.
+    /// An arm sensor (IMU) is away mid-session and the exercise waits for it: the arm sensing
+    /// lost it after it was working. Never in a replay, which pauses where the recorded
+    /// session did ([`Self::arm_sensor_lost`] still counts there, so the session ends where
+    /// the recorded one did).
     pub fn arm_sensor_away(&self) -> bool {
-        !matches!(self.body, Body::Recorded(_))
-            && self.body.arm_setup() == Some(SetupStep::SensorLost)
+        !matches!(self.body, Body::Recorded(_)) && self.arm_sensor_lost()
+    }
+
+    /// The arm sensing has lost a sensor after it was working, live or replayed.
+    pub fn arm_sensor_lost(&self) -> bool {
+        self.body.arm_setup() == Some(SetupStep::SensorLost)
     }
 
     /// How long an unplugged wheel (or arm sensor) is waited for, ns.
