@@ -6,8 +6,9 @@ withdrawn station, a patient training as prescribed):
 - the pseudo-locale leaves no English sentence on the caseload, the progress tab and the
   alert thresholds: every visible text node differs from the English render, or is a number,
   a date, a pseudonym or a name;
-- a browser whose language is German gets the console in German before anyone chose, and the
-  language a therapist chooses is kept on the hub and survives a new sign-in in that browser.
+- a browser whose language is German gets the console in German before anyone chose (the hub's
+  refusals too), and the language a therapist chooses is kept on the hub and survives a new
+  sign-in in that browser.
 
 No test waits on English text: screens are recognised by ids and data attributes, words are
 compared with the catalogues the hub serves (/console/l10n/<tag>.ftl). Screenshots (1366×768)
@@ -159,6 +160,15 @@ def test_a_german_browser_gets_german_and_a_chosen_language_survives_a_new_sign_
         german = catalogue(d, "de")
         assert d.find_element(By.CSS_SELECTOR, "#app h1").text == german["app-login-title"]
         assert d.find_element(By.CSS_SELECTOR, "label[for=email]").text == german["app-login-email"]
+
+        # The hub's refusal in German: the catalogue's sentence, never the hub's English.
+        d.find_element(By.ID, "email").send_keys("ana@clinic.example")
+        d.find_element(By.ID, "password").send_keys("not the passphrase")
+        d.find_element(By.CSS_SELECTOR, "#login button").click()
+        wait(d, lambda d: d.find_element(By.ID, "login-error").text)
+        assert d.find_element(By.ID, "login-error").text == german["api-error-401"]
+        for field in ("email", "password"):
+            d.find_element(By.ID, field).clear()
 
         def log_in():
             d.find_element(By.ID, "email").send_keys("ana@clinic.example")

@@ -1,8 +1,36 @@
 // The console API (crates/hub/API.md): JSON over same-origin HTTPS with the login cookie.
-import { locale } from '/console/i18n.js';
+import { languageTag, locale, t } from '/console/i18n.js';
 
 export class ApiError extends Error {
   constructor(status, message) { super(message); this.status = status; }
+}
+
+/** Statuses whose answer names what was refused (a field, a line, a thing): the hub's own
+ * words follow the catalogue's sentence. */
+const DETAILED = [400, 404, 409, 413, 422];
+
+/** A refusal in the console's language: the catalogue's sentence for `status`
+ * (`api-error-<status>`, else `api-error-other`), with the hub's `detail` where it names what
+ * was refused. The hub writes English; an English console shows its words as they are. */
+export function refusalWords(status, detail, retryAfterS) {
+  if (languageTag() === 'en') return detail;
+  const id = `api-error-${status}`;
+  const said = t(id, { seconds: retryAfterS ?? 1 });
+  const lead = said === id ? t('api-error-other') : said;
+  return DETAILED.includes(status) && detail ? t('api-error-detail', { lead, detail }) : lead;
+}
+
+/** The hub's refusal `res` (not ok) as an ApiError in the console's words. */
+export async function refusal(res) {
+  let data = null;
+  try { data = await res.json(); } catch { data = null; }
+  const retry = Number(res.headers.get('Retry-After'));
+  const retryAfterS = [429, 503].includes(res.status) && retry > 0 ? retry : undefined;
+  const detail = (data && data.error) || `${res.status} ${res.statusText}`;
+  const error = new ApiError(res.status, refusalWords(res.status, detail, retryAfterS));
+  error.detail = detail;
+  if (retryAfterS) error.retryAfterS = retryAfterS;
+  return error;
 }
 
 export async function api(method, path, body) {
@@ -16,16 +44,9 @@ export async function api(method, path, body) {
   }
   const res = await fetch(path, init);
   if (res.status === 204) return null;
+  if (!res.ok) throw await refusal(res);
   const text = await res.text();
-  let data = null;
-  try { data = text ? JSON.parse(text) : null; } catch { data = null; }
-  if (!res.ok) {
-    const error = new ApiError(res.status, (data && data.error) || `${res.status} ${res.statusText}`);
-    const retry = Number(res.headers.get('Retry-After'));
-    if (res.status === 429 && retry > 0) error.retryAfterS = retry;
-    throw error;
-  }
-  return data;
+  try { return text ? JSON.parse(text) : null; } catch { return null; }
 }
 
 /** Text made safe to put into HTML. */

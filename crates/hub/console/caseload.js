@@ -19,7 +19,7 @@ export const SEVERITY = {
 
 /** The alert kinds, in the hub's order (`attention::KIND_ORDER`). */
 export const ALERT_KINDS = ['pain_high', 'pain_rising', 'station_revoked', 'no_session', 'decline',
-  'safety_stop', 'ended_early', 'effort', 'low_activity', 'wheel_unplugged', 'wheel_unseen',
+  'safety_stop', 'ended_early', 'effort', 'low_activity', 'wheel_unplugged', 'sensor_unplugged', 'wheel_unseen',
   'sensors_lost', 'station_silent', 'torque_at_ceiling'];
 
 /** The three measures the Trend column shows. */

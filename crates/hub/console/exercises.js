@@ -2,7 +2,7 @@
 // exercise, a row per result any of them has, "—" where one does not apply. Every value
 // escaped; the session's totals stay in the progress view.
 import { api, esc, when } from '/console/api.js';
-import { endText, headerWords, measureWords, numberWords } from '/console/words.js';
+import { endText, headerWords, measureWords, numberWords, plainName } from '/console/words.js';
 import { t, locale } from '/console/i18n.js';
 
 /** The results shown, in order: key, and for the haptic sweep's levels (not measures of the
@@ -52,7 +52,7 @@ export async function exercisesView(el, patientId, sessionId) {
     return;
   }
   const whole = new Intl.NumberFormat(locale(), { maximumFractionDigits: 0 });
-  const cols = exercises.map(e => `<th scope="col">${esc(t('exercises-column', { n: e.index + 1, name: e.name }))}</th>`).join('');
+  const cols = exercises.map(e => `<th scope="col">${esc(t('exercises-column', { n: e.index + 1, name: plainName(e.kind) }))}</th>`).join('');
   const time = exercises.map(e => `<td class="num" data-active-s="${esc(e.active_s)}" data-prescribed-s="${esc(e.prescribed_s)}">${esc(t('exercises-time-cell', { active: whole.format(e.active_s), prescribed: whole.format(e.prescribed_s) }))}</td>`).join('');
   const rows = RESULTS.filter(([key]) => exercises.some(e => typeof e.scores[key] === 'number'))
     .map(([key, label, unit, digits]) => {

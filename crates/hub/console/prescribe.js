@@ -72,8 +72,11 @@ export function numberField(id, label, value, spec, extra = '') {
       value="${esc(value ?? '')}"${attr('placeholder', spec.default)} inputmode="decimal" data-field${extra}>`;
 }
 
-/** A field's label: its description's first sentence (it names the unit). */
-const labelOf = (name, spec) => (spec.description.split(/\.\s|\n/)[0] || name).replace(/\.$/, '').replace(/[`[\]]/g, '');
+/** A field's label: the catalogue's (`prescribe-field-<name>`, in the console's language),
+ * else its schema description's first sentence (it names the unit), for a field this console
+ * has no words for yet. */
+const labelOf = (name, spec) => tOr(`prescribe-field-${name.replaceAll('_', '-')}`,
+  (spec.description.split(/\.\s|\n/)[0] || name).replace(/\.$/, '').replace(/[`[\]]/g, ''));
 /** An exercise kind's name for a therapist: the catalogue's, else the words before the colon
  * of its schema description ("Sine road: …"), else the kind itself. */
 export const kindName = k => (!k ? '' : tOr(`prescribe-kind-${k.kind}`,
@@ -220,7 +223,7 @@ export async function prescribeView(el, id, refreshMessages, me) {
         ${html || `<p>${esc(t('prescribe-no-exercise'))}</p>`}
         <p id="rx-total" class="note"></p>
         <label for="rx-add">${esc(t('prescribe-add-label'))}</label>
-        <select id="rx-add">${kinds.map(k => `<option value="${esc(k.kind)}" title="${esc(k.description)}">${esc(kindName(k))}</option>`).join('')}</select>
+        <select id="rx-add">${kinds.map(k => `<option value="${esc(k.kind)}">${esc(kindName(k))}</option>`).join('')}</select>
         <button type="button" class="secondary" id="rx-add-btn"${full ? ' disabled' : ''}>${esc(t('prescribe-add-button'))}</button>
         ${full ? `<p class="note">${esc(t('prescribe-full', { max: limits.maxExercises }))}</p>` : ''}
         <p class="note" id="rx-message-note">${esc(t('prescribe-message-note', { name: displayName(patient.pseudonym) }))}</p>

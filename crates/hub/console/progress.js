@@ -12,7 +12,7 @@ import { t, locale } from '/console/i18n.js';
 import { alertWords, SEVERITY } from '/console/caseload.js';
 import { numbersTable, sessionChart, sessionLabels } from '/console/sessionchart.js';
 import {
-  activeWords, dayWords, endWords, headerWords, kindWords, measureWords, noiseBand, sessionWords, trendWords,
+  activeWords, dayWords, endWords, exercisesWords, headerWords, kindWords, measureWords, noiseBand, sessionWords, trendWords,
   valueWords, whenWords, measureName,
 } from '/console/words.js';
 import { bindNoteCells, noteCell } from '/console/notes.js';
@@ -202,7 +202,7 @@ function kindGroup(words, sessions, metrics, kind, includeEarly) {
       ${noise ? `<p class="note">${esc(noise)}</p>` : ''}
       ${numbersTable(measureName(m.key), labels, columns, status, false, m.decimals)}</div>`;
   }).join('');
-  const names = [...new Set(idx.map(i => sessions[i].exercise_name || sessions[i].exercise))];
+  const names = [...new Set(idx.map(i => exercisesWords(sessions[i])))];
   const earlyCount = status.filter(s => s.early).length;
   const lastCounted = idx.filter((i, j) => status[j].counts).pop();
   const headline = lastCounted == null ? [] : HEADLINE.map(k => words.measures.get(k))
@@ -271,7 +271,7 @@ export async function progressView(el, id) {
   const checkinsNewest = checkinList.slice().sort((a, b) => b.started_unix_ms - a.started_unix_ms);
   const difficulty = difficultyNewest.slice().reverse();
   const overview = overviews.find(p => p.id === id);
-  const list = sessions.slice().reverse().map(s => `<tr${s.ran_as_prescribed ? '' : ' data-early="1"'}><td>${esc(whenWords(s.started_unix_ms))}</td><td translate="no">${esc(s.exercise_name || s.exercise)}</td>
+  const list = sessions.slice().reverse().map(s => `<tr${s.ran_as_prescribed ? '' : ' data-early="1"'}><td>${esc(whenWords(s.started_unix_ms))}</td><td>${esc(exercisesWords(s))}</td>
     <td data-end-kind="${esc(s.end_kind || '')}">${endWords(s)}</td>
     <td class="checkin" data-pain="${esc(checkins.get(s.session_id)?.pain_0_10 ?? '')}">${checkinWords(checkins.get(s.session_id))}</td>
     <td><a href="#/patients/${pid}/exercises/${encodeURIComponent(s.session_id)}" data-link="exercises">${esc(t('progress-each-exercise'))}</a>

@@ -6,7 +6,7 @@
 import { ArmView } from '/console/arm3d.js';
 import { lineChart } from '/console/charts.js';
 import { drawRoad } from '/console/live.js';
-import { ApiError, api, esc, when } from '/console/api.js';
+import { ApiError, api, esc, refusal, when } from '/console/api.js';
 import { plainName } from '/console/words.js';
 import { t, locale } from '/console/i18n.js';
 
@@ -40,14 +40,7 @@ async function* lines(res) {
 /** The replay's request: its lines, or the hub's refusal as the API's other calls give it. */
 async function request(sessionId, signal) {
   const res = await fetch(`/api/sessions/${encodeURIComponent(sessionId)}/replay`, { credentials: 'same-origin', signal });
-  if (!res.ok) {
-    let data = null;
-    try { data = await res.json(); } catch { data = null; }
-    const error = new ApiError(res.status, (data && data.error) || `${res.status} ${res.statusText}`);
-    const retry = Number(res.headers.get('Retry-After'));
-    if (res.status === 429 && retry > 0) error.retryAfterS = retry;
-    throw error;
-  }
+  if (!res.ok) throw await refusal(res);
   return lines(res);
 }
 
@@ -89,7 +82,7 @@ export async function replayView(el, sessionId) {
   // The exercises' names by their place in the session (none: numbered only).
   const names = new Map();
   api('GET', `/api/sessions/${encodeURIComponent(sessionId)}/exercises`)
-    .then(list => { for (const e of list) names.set(e.index, e.name); drawMarks(); }).catch(() => {});
+    .then(list => { for (const e of list) names.set(e.index, plainName(e.kind)); drawMarks(); }).catch(() => {});
   const charts = [
     lineChart(el.querySelector('#r-tracking'), { title: t('replay-chart-tracking'), x: t('live-axis-time'), y: t('replay-axis-tracking'),
       series: [{ label: t('live-series-deviation') }, { label: t('replay-series-dial-error') }] }),

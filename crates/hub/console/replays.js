@@ -3,6 +3,7 @@
 // (#/patients/{id}/replay/{session}); one without its recording yet says so in words.
 import { api, esc, when } from '/console/api.js';
 import { t } from '/console/i18n.js';
+import { exercisesWords } from '/console/words.js';
 
 /** Why a session cannot be replayed yet, in words. */
 function notYet(s) {
@@ -20,7 +21,7 @@ export async function replayList(el, id) {
       ? `<a href="#/patients/${pid}/replay/${encodeURIComponent(s.session_id)}">${started}</a>`
       : started;
     return `<tr data-recording="${s.recording_uploaded ? '1' : '0'}"><th scope="row">${open}</th>
-      <td>${esc(s.exercise_name || s.exercise)}</td>
+      <td>${esc(exercisesWords(s))}</td>
       <td>${esc(s.recording_uploaded ? t('replay-list-ready') : notYet(s))}</td></tr>`;
   }).join('');
   const ready = sessions.filter(s => s.recording_uploaded).length;

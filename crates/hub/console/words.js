@@ -90,19 +90,31 @@ export function shortWords(ms, seconds = false) {
   return `${dayMonth.format(d)} ${(seconds ? timeSeconds : time).format(d)}`;
 }
 
-/** An exercise's short name as the patient sees it (`sine-road` → `Sine road`; the station's
- * `screen::plain_name`); a regimen session (`regimen:2`) as "A regimen of 2 exercises". */
+/** An exercise's name in the console's language, by its short name (`sine-road` → "Sine
+ * road", `words-exercise-<short>`); one the catalogues do not know reads as its short name in
+ * words. A regimen session (`regimen:2`) is "A regimen of 2 exercises". */
 export function plainName(short) {
   const s = String(short ?? '');
   const regimen = s.match(/^regimen:(\d+)$/);
   if (regimen) return t('words-regimen', { count: Number(regimen[1]) });
+  const id = `words-exercise-${s}`;
+  const named = t(id);
+  if (named !== id) return named;
   const spaced = s.replace(/-/g, ' ');
   return spaced.charAt(0).toUpperCase() + spaced.slice(1);
 }
 
+/** A session's exercises in the console's language, in order ("Dial sine, then Sine road"),
+ * from the short names the hub gives; else by its one exercise or regimen. */
+export function exercisesWords(s) {
+  const shorts = s.exercise_shorts || [];
+  if (!shorts.length) return plainName(s.exercise);
+  return shorts.map(plainName).reduce((first, next) => t('words-exercises-then', { first, next }));
+}
+
 /** A session in words: "27 Nov 2026, 09:30 · Sine road". */
 export function sessionWords(s) {
-  return `${whenWords(s.started_unix_ms)} · ${s.exercise_name || plainName(s.exercise)}`;
+  return `${whenWords(s.started_unix_ms)} · ${exercisesWords(s)}`;
 }
 
 /** The kind of exercise in words, for "… sessions" ("road", "dial", "dial and road"); a

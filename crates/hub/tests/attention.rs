@@ -302,6 +302,32 @@ async fn one_active_minute_a_week_with_nothing_prescribed_raises_an_alert(db: Db
     );
 }
 
+async fn a_session_stopped_by_an_unplugged_arm_sensor_says_so_beside_the_wheels(db: Db) {
+    let t = therapist(&db).await;
+    let p = patient(&db, &t, "P-sensor", FP[0]).await;
+    let m = [("active_s", 600.0)];
+    run(
+        &db,
+        &p,
+        S {
+            measures: &m,
+            reason: "arm sensor unplugged",
+            ..S::new("a1", "sine-road", 0)
+        },
+    )
+    .await;
+    let a = alerts_of(&db, &t, &p, T0 + DAY_MS).await;
+    let sensor = a
+        .iter()
+        .find(|a| a.kind == "sensor_unplugged")
+        .expect("the arm sensor's alert");
+    assert_eq!(sensor.severity, Severity::Notice);
+    assert!(!kinds(&a).contains(&"wheel_unplugged"), "{a:?}");
+    let message = hub::attention::message::message_of(sensor);
+    assert_eq!(message.id, "attention-sensor-unplugged");
+    assert_eq!(message.args["end"], "arm_sensor_unplugged");
+}
+
 async fn no_session_is_counted_against_the_prescriptions_own_gap(db: Db) {
     let t = therapist(&db).await;
     let p = patient(&db, &t, "P-once", FP[0]).await;
@@ -662,6 +688,7 @@ on_both_backends!(
     pain_rising_over_three_check_ins_is_urgent,
     a_decline_in_one_kind_is_not_hidden_by_a_steady_session_of_another_kind,
     one_active_minute_a_week_with_nothing_prescribed_raises_an_alert,
+    a_session_stopped_by_an_unplugged_arm_sensor_says_so_beside_the_wheels,
     no_session_is_counted_against_the_prescriptions_own_gap,
     a_revoked_station_says_the_patient_cannot_train,
     sessions_ended_early_repeatedly_and_high_effort_raise_warnings,

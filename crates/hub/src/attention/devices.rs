@@ -1,5 +1,6 @@
 //! The wheel and the arm sensors: a safety stop in the last session (`safety_stop`,
-//! warning); the last session ended on an unplugged wheel (`wheel_unplugged`), the station
+//! warning); the last session ended on an unplugged wheel (`wheel_unplugged`) or arm sensor
+//! (`sensor_unplugged`), the station
 //! on for the clinic's number of days without telling its wheel (`wheel_unseen`), the arm
 //! sensors lost in the last sessions (`sensors_lost`), torque held at the ceiling
 //! (`torque_at_ceiling`), all notices.
@@ -9,6 +10,10 @@ use super::{Alert, PatientFacts, Severity, Thresholds, day_of, days_between};
 /// The station's end reason of a session stopped by an unplugged wheel
 /// (`station::session::end_reason::WHEEL_UNPLUGGED`).
 pub const WHEEL_UNPLUGGED: &str = "wheel unplugged";
+
+/// The station's end reason of a session stopped by an arm sensor unplugged and not back in
+/// time (`station::session::end_reason::ARM_SENSOR_UNPLUGGED`).
+pub const ARM_SENSOR_UNPLUGGED: &str = "arm sensor unplugged";
 
 /// Share of a session with torque held at the ceiling that raises `torque_at_ceiling`, %.
 pub const CLIPPED_PCT_ALERT: f64 = 5.0;
@@ -40,6 +45,20 @@ pub fn check(f: &PatientFacts, t: &Thresholds) -> Vec<Alert> {
                 Severity::Notice,
                 format!(
                     "the session of {} stopped: wheel unplugged",
+                    day_of(started)
+                ),
+                sid.clone(),
+            )
+            .at(started),
+        );
+    }
+    if last.row.end_reason.as_deref() == Some(ARM_SENSOR_UNPLUGGED) {
+        out.push(
+            Alert::new(
+                "sensor_unplugged",
+                Severity::Notice,
+                format!(
+                    "the session of {} stopped: arm sensor unplugged",
                     day_of(started)
                 ),
                 sid.clone(),

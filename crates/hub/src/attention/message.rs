@@ -41,6 +41,7 @@ pub const MESSAGE_IDS: [&str; 18] = [
     "attention-low-minutes",
     "attention-low-unprescribed",
     "attention-wheel-unplugged",
+    "attention-sensor-unplugged",
     "attention-wheel-unseen",
     "attention-sensors-lost",
     "attention-station-silent",
@@ -65,6 +66,7 @@ pub fn message_of(alert: &Alert) -> AlertMessage {
         "low_activity" if has("minutes_prescribed") => "attention-low-minutes",
         "low_activity" => "attention-low-unprescribed",
         "wheel_unplugged" => "attention-wheel-unplugged",
+        "sensor_unplugged" => "attention-sensor-unplugged",
         "wheel_unseen" => "attention-wheel-unseen",
         "sensors_lost" => "attention-sensors-lost",
         "station_silent" => "attention-station-silent",
@@ -81,9 +83,13 @@ pub fn message_of(alert: &Alert) -> AlertMessage {
     if let Some(k) = &alert.exercise_kind {
         args.insert("exercise_kind", Value::from(k.clone()));
     }
-    if alert.kind == "wheel_unplugged" {
-        let end = serde_json::to_value(EndKind::WheelUnplugged).unwrap_or(Value::Null);
-        args.insert("end", end);
+    let end = match alert.kind {
+        "wheel_unplugged" => Some(EndKind::WheelUnplugged),
+        "sensor_unplugged" => Some(EndKind::ArmSensorUnplugged),
+        _ => None,
+    };
+    if let Some(end) = end {
+        args.insert("end", serde_json::to_value(end).unwrap_or(Value::Null));
     }
     if alert.kind == "torque_at_ceiling" {
         args.insert("percent", number(super::devices::CLIPPED_PCT_ALERT));

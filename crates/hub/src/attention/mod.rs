@@ -9,7 +9,7 @@
 //! | [`ended_early`] | `ended_early` (sessions ended early repeatedly) | warning |
 //! | [`effort`] | `effort` (high tiredness, or "too hard" twice in a row) | warning |
 //! | [`station`] | `station_revoked` (warning: the patient cannot train), `station_silent` (notice) | |
-//! | [`devices`] | `safety_stop` (warning), `wheel_unplugged`, `wheel_unseen`, `sensors_lost`, `torque_at_ceiling` (notice) | |
+//! | [`devices`] | `safety_stop` (warning), `wheel_unplugged`, `sensor_unplugged`, `wheel_unseen`, `sensors_lost`, `torque_at_ceiling` (notice) | |
 //!
 //! Each alert has a `fingerprint`, its evidence (the session or day it is about): an
 //! acknowledged alert stays quiet while the fingerprint is unchanged, a snoozed one also
@@ -127,7 +127,7 @@ impl Alert {
 }
 
 /// The order of kinds within one severity (the first is the most pressing).
-pub const KIND_ORDER: [&str; 14] = [
+pub const KIND_ORDER: [&str; 15] = [
     "pain_high",
     "pain_rising",
     "station_revoked",
@@ -138,6 +138,7 @@ pub const KIND_ORDER: [&str; 14] = [
     "effort",
     "low_activity",
     "wheel_unplugged",
+    "sensor_unplugged",
     "wheel_unseen",
     "sensors_lost",
     "station_silent",

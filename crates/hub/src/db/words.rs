@@ -27,6 +27,10 @@ pub struct NamedSession {
     /// in order (`Dial sine, then Sine road`, as the station reported them, else as the
     /// regimen prescribed last before it lists them), or `A regimen of 2 exercises`.
     pub exercise_name: String,
+    /// Each exercise's short name in order (`dial-sine`, `sine-road`), for the console to name
+    /// them in its own language; empty when they are not known (`exercise` is then
+    /// `regimen:<count>`).
+    pub exercise_shorts: Vec<String>,
     /// The kind of exercise, for like-with-like comparisons: `road`, `dial`, another exercise's
     /// own short name, the kinds of a regimen's exercises joined by `+` (`dial+road`), or
     /// `regimen` when they are not known.
@@ -76,6 +80,11 @@ fn name_session(
             metrics::words::end_words(reason.as_deref()),
         ),
     };
+    let exercise_shorts = match reported {
+        Some(list) if !list.is_empty() => list.iter().map(|(k, _, _)| k.clone()).collect(),
+        _ if row.exercise.starts_with("regimen:") => Vec::new(),
+        _ => vec![row.exercise.clone()],
+    };
     let (exercise_name, exercise_kind, prescribed_s) = match reported {
         Some(list) if !list.is_empty() => {
             let names: Vec<&str> = list.iter().map(|(_, n, _)| n.as_str()).collect();
@@ -107,6 +116,7 @@ fn name_session(
     NamedSession {
         row,
         exercise_name,
+        exercise_shorts,
         exercise_kind,
         ran_as_prescribed,
         prescribed_s,

@@ -18,6 +18,7 @@ attention-kind-ended-early = Vorzeitig beendet
 attention-kind-effort = Hohe Anstrengung
 attention-kind-low-activity = Wenig Training
 attention-kind-wheel-unplugged = Lenkrad getrennt
+attention-kind-sensor-unplugged = Armsensor getrennt
 attention-kind-wheel-unseen = Lenkrad nicht erkannt
 attention-kind-sensors-lost = Armsensoren verloren
 attention-kind-station-silent = Station meldet sich nicht
@@ -46,6 +47,7 @@ attention-low-unprescribed = { $active_minutes ->
        *[other] { $active_minutes } aktive Minuten
     } diese Woche; noch nichts verordnet (die Klinik erwartet mindestens { $minimum_minutes })
 attention-wheel-unplugged = Sitzung vom { $at }: { $end }
+attention-sensor-unplugged = Sitzung vom { $at }: { $end }
 attention-wheel-unseen = Lenkrad seit { $days } Tagen nicht erkannt, obwohl die Station an war
 attention-sensors-lost = Armsensoren verloren in { $sessions ->
         [one] der letzten Sitzung

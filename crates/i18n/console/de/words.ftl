@@ -80,3 +80,22 @@ words-seconds = { $n } s
 words-minutes = { $n } Min.
 words-of-prescribed = { $done } von { $prescribed } verordnet
 words-station-paired = Station gekoppelt am { $day }
+
+## Übungen nach ihren Kurznamen (denen des Plans) und die Übungen einer Sitzung der Reihe nach
+
+words-exercise-straight-road = Gerade Straße
+words-exercise-sine-road = Sinusstraße
+words-exercise-triangle-road = Dreiecksstraße
+words-exercise-clothoid-road = Klothoidenstraße
+words-exercise-sharp-turns = Scharfe Kurven
+words-exercise-s-bend = S-Kurve
+words-exercise-lane-change = Spurwechsel
+words-exercise-slalom = Slalom
+words-exercise-dial-sine = Zeiger, Sinus
+words-exercise-dial-multi-sine = Zeiger, Mehrfachsinus
+words-exercise-dial-step = Zeiger, Sprung
+words-exercise-dial-ramp = Zeiger, Rampe
+words-exercise-dial-chirp = Zeiger, Chirp
+words-exercise-strength = Kraft
+words-exercise-haptic-sweep = Haptik-Durchlauf
+words-exercises-then = { $first }, dann { $next }

@@ -19,6 +19,7 @@ attention-kind-ended-early = Ended early
 attention-kind-effort = High effort
 attention-kind-low-activity = Little training
 attention-kind-wheel-unplugged = Wheel unplugged
+attention-kind-sensor-unplugged = Arm sensor unplugged
 attention-kind-wheel-unseen = Wheel not seen
 attention-kind-sensors-lost = Arm sensors lost
 attention-kind-station-silent = Station silent
@@ -50,6 +51,7 @@ attention-low-unprescribed = { $active_minutes ->
     } this week; nothing prescribed yet (the clinic looks for at least { $minimum_minutes })
 # $end is how the session ended, in the one end-reason wording (words-end-…).
 attention-wheel-unplugged = Session of { $at }: { $end }
+attention-sensor-unplugged = Session of { $at }: { $end }
 attention-wheel-unseen = Wheel not seen for { $days } days while the station was on
 attention-sensors-lost = Arm sensors lost in the last { $sessions ->
         [one] session

@@ -81,3 +81,22 @@ words-seconds = { $n } s
 words-minutes = { $n } min
 words-of-prescribed = { $done } of { $prescribed } prescribed
 words-station-paired = station paired { $day }
+
+## Exercises by their short names (the regimen's), and a session's exercises in order
+
+words-exercise-straight-road = Straight road
+words-exercise-sine-road = Sine road
+words-exercise-triangle-road = Triangle road
+words-exercise-clothoid-road = Clothoid road
+words-exercise-sharp-turns = Sharp turns
+words-exercise-s-bend = S-bend
+words-exercise-lane-change = Lane change
+words-exercise-slalom = Slalom
+words-exercise-dial-sine = Dial sine
+words-exercise-dial-multi-sine = Dial multi sine
+words-exercise-dial-step = Dial step
+words-exercise-dial-ramp = Dial ramp
+words-exercise-dial-chirp = Dial chirp
+words-exercise-strength = Strength
+words-exercise-haptic-sweep = Haptic sweep
+words-exercises-then = { $first }, then { $next }

@@ -18,6 +18,7 @@ attention-kind-ended-early = Terminada antes de tiempo
 attention-kind-effort = Esfuerzo alto
 attention-kind-low-activity = Poco entrenamiento
 attention-kind-wheel-unplugged = Volante desconectado
+attention-kind-sensor-unplugged = Sensor del brazo desconectado
 attention-kind-wheel-unseen = Volante no detectado
 attention-kind-sensors-lost = Sensores del brazo perdidos
 attention-kind-station-silent = Estación sin conexión
@@ -46,6 +47,7 @@ attention-low-unprescribed = { $active_minutes ->
        *[other] { $active_minutes } minutos activos
     } esta semana; todavía nada prescrito (la clínica espera al menos { $minimum_minutes })
 attention-wheel-unplugged = Sesión del { $at }: { $end }
+attention-sensor-unplugged = Sesión del { $at }: { $end }
 attention-wheel-unseen = Volante no detectado durante { $days } días con la estación encendida
 attention-sensors-lost = Sensores del brazo perdidos en { $sessions ->
         [one] la última sesión

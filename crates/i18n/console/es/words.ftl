@@ -79,3 +79,22 @@ words-seconds = { $n } s
 words-minutes = { $n } min
 words-of-prescribed = { $done } de { $prescribed } prescritos
 words-station-paired = estación emparejada el { $day }
+
+## Ejercicios por su nombre corto (el de la pauta) y los ejercicios de una sesión en orden
+
+words-exercise-straight-road = Carretera recta
+words-exercise-sine-road = Carretera sinusoidal
+words-exercise-triangle-road = Carretera triangular
+words-exercise-clothoid-road = Carretera clotoide
+words-exercise-sharp-turns = Curvas cerradas
+words-exercise-s-bend = Curva en S
+words-exercise-lane-change = Cambio de carril
+words-exercise-slalom = Eslalon
+words-exercise-dial-sine = Dial sinusoidal
+words-exercise-dial-multi-sine = Dial multisinusoidal
+words-exercise-dial-step = Dial en escalón
+words-exercise-dial-ramp = Dial en rampa
+words-exercise-dial-chirp = Dial chirp
+words-exercise-strength = Fuerza
+words-exercise-haptic-sweep = Barrido háptico
+words-exercises-then = { $first }, luego { $next }

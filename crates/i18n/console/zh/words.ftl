@@ -76,3 +76,22 @@ words-seconds = { $n } 秒
 words-minutes = { $n } 分钟
 words-of-prescribed = 处方 { $prescribed } 中完成 { $done }
 words-station-paired = 训练站于 { $day } 配对
+
+## 按简称（处方中的）列出的练习，以及一次训练中按顺序的练习
+
+words-exercise-straight-road = 直路
+words-exercise-sine-road = 正弦道路
+words-exercise-triangle-road = 三角波道路
+words-exercise-clothoid-road = 回旋曲线道路
+words-exercise-sharp-turns = 急转弯
+words-exercise-s-bend = S 形弯
+words-exercise-lane-change = 变道
+words-exercise-slalom = 绕桩
+words-exercise-dial-sine = 指针：正弦
+words-exercise-dial-multi-sine = 指针：多正弦
+words-exercise-dial-step = 指针：阶跃
+words-exercise-dial-ramp = 指针：斜坡
+words-exercise-dial-chirp = 指针：扫频
+words-exercise-strength = 力量
+words-exercise-haptic-sweep = 触觉扫描
+words-exercises-then = { $first }，然后{ $next }
