@@ -18,11 +18,15 @@ ROOT = Path(__file__).resolve().parents[1]
 SHOTS = ROOT / "docs" / "screenshots"
 OUT = ROOT / "docs" / "SCREENS.md"
 LANGUAGES = ["en", "en-XA", "de", "es", "zh"]
+# Screens shown once in a clinic's life, drawn in English only: the forced change of the
+# one-time password at the very first sign-in (the same form as "password" after it).
+ONCE = {"password-forced"}
 
 HEAD = """# Every screen in every language
 
 The patient's screens (the station's window, 1280×720, drawn offscreen by the window's own
-code) and the therapist console's screens (Chromium, 1366×768), in English, the pseudo-locale
+code) and the therapist console's screens (headless Chromium's window, the station settings and a
+live session at 1366×768), in English, the pseudo-locale
 `en-XA` (accented and 40 % longer, to find clipped text and words left outside the
 catalogues), German, Spanish and Chinese. Each was looked at as a one-handed patient with a
 neglected side, and as a therapist between two patients. Made by the commands in
@@ -45,7 +49,8 @@ def table(area, title):
                 cells.append(f"[{lang}](screenshots/{area}/{lang}/{screen}.png)")
             else:
                 cells.append("—")
-                problems.append(f"{area}/{lang}/{screen}.png is missing")
+                if screen not in ONCE:
+                    problems.append(f"{area}/{lang}/{screen}.png is missing")
         name = screen.split("-", 1)[1] if screen[:2].isdigit() else screen
         lines.append(f"| {name.replace('-', ' ')} | " + " | ".join(cells) + " |")
     if not screens:

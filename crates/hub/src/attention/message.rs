@@ -26,7 +26,7 @@ pub struct AlertMessage {
 }
 
 /// Every id an alert's message can have (each must be in every console catalogue).
-pub const MESSAGE_IDS: [&str; 18] = [
+pub const MESSAGE_IDS: [&str; 19] = [
     "attention-pain-high",
     "attention-pain-rising",
     "attention-station-revoked",
