@@ -62,7 +62,10 @@ def use_language(driver, tag):
         ".then(r => done(r.status));", tag)
     assert status == 200, f"PUT /api/me/language {tag}: {status}"
     driver.refresh()
-    WebDriverWait(driver, 30).until(lambda d: d.execute_script("return document.documentElement.lang") == tag)
+    # The page's first screen drawn in the language (a screen asked for before it would be
+    # drawn over by it).
+    WebDriverWait(driver, 30).until(lambda d: d.execute_script(
+        "return document.documentElement.dataset.booted === 'true' && document.documentElement.lang") == tag)
 
 
 # Text a translation leaves as it is: numbers, dates and times (the pseudo-locale formats them

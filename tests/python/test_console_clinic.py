@@ -8,6 +8,8 @@ import base64
 import json
 import re
 import time
+import tomllib
+import urllib.parse
 
 import pytest
 from selenium.webdriver.common.by import By
@@ -84,7 +86,14 @@ def test_a_clinic_adds_a_patient_prints_the_pairing_sheet_adds_a_therapist_and_r
     assert d.find_element(By.ID, "sheet-address").text == PUBLIC_STATIONS
     assert int(d.find_element(By.ID, "sheet-expiry").get_attribute("data-expires-ms")) > time.time() * 1000
     steps = [li.text for li in d.find_elements(By.CSS_SELECTOR, ".steps li")]
-    assert len(steps) == 5 and all(steps) and "telerehab" in steps[1], steps
+    assert len(steps) == 6 and all(steps) and "telerehab" in steps[1], steps
+    # The pairing card for a USB stick: the station's card file, with this address and code
+    # (the station then pairs with one press of the wheel: tests/wheel_alone_e2e.rs).
+    card_href = d.find_element(By.ID, "pairing-card").get_attribute("href")
+    assert card_href.startswith("data:application/toml"), card_href
+    assert d.find_element(By.ID, "pairing-card").get_attribute("download") == "telerehab-pairing.toml"
+    card = tomllib.loads(urllib.parse.unquote(card_href.split(",", 1)[1]))
+    assert card == {"clinic_address": PUBLIC_STATIONS, "code": code}, card
     shot(d, "clinic-3-pairing-sheet")
     assert pdf_pages(d) == 1, "the pairing sheet prints on one A4 page"
     d.execute_cdp_cmd("Emulation.setEmulatedMedia", {"media": "print"})

@@ -62,7 +62,10 @@ def use_language(d, tag):
     status, answer = send_json(d, "PUT", "/api/me/language", {"language": tag})
     assert status == 200, answer
     d.refresh()
-    wait(d, lambda d: d.execute_script("return document.documentElement.lang") == tag)
+    # The page's first screen drawn in the language (a screen asked for before it would be
+    # drawn over by it).
+    wait(d, lambda d: d.execute_script(
+        "return document.documentElement.dataset.booted === 'true' && document.documentElement.lang") == tag)
 
 
 def english_sentence(text):

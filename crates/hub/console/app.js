@@ -178,7 +178,9 @@ async function boot() {
   await startLanguage({ signedIn: me !== null });
   languageMenu();
   window.addEventListener('hashchange', route);
-  if (refused) loginView(); else route();
+  if (refused) loginView(); else await route();
+  // The first screen is drawn: a later change of address draws over it, never under it.
+  document.documentElement.dataset.booted = 'true';
 }
 
 boot();

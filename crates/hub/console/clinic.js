@@ -95,6 +95,15 @@ function bindTherapists(app) {
 /** This computer's own address: a station at a patient's home can never reach it. */
 const isLoopback = a => /^(\[?::1\]?|127(\.\d+){3}|localhost|0\.0\.0\.0)(:\d+)?$/i.test(a || '');
 
+/** The clinic's pairing card as a file to put on a USB stick (`telerehab-pairing.toml`, the
+ * station's `front_door::pairing_file`): with it in the computer, the patient pairs with one
+ * press of a wheel button and types nothing. */
+function cardHref(address, code) {
+  const card = `# telerehab: the clinic's pairing card. Put it on a USB stick for the patient.\n`
+    + `clinic_address = ${JSON.stringify(address)}\ncode = ${JSON.stringify(code)}\n`;
+  return `data:application/toml;charset=utf-8,${encodeURIComponent(card)}`;
+}
+
 /** The printable pairing sheet: the hub's station address, the code, until when it pairs,
  * and the patient's steps; refused (saying why) when the hub has no address a station at
  * home can reach. */
@@ -127,6 +136,7 @@ function pairingSheet(app, patient, pairing) {
       <ol class="steps">
         <li>${h('clinic-sheet-step-plug')}</li>
         <li>${h('clinic-sheet-step-open')}</li>
+        <li>${h('clinic-sheet-step-card')}</li>
         <li>${h('clinic-sheet-step-address')}</li>
         <li>${h('clinic-sheet-step-code')}</li>
         <li>${h('clinic-sheet-step-start')}</li>
@@ -135,6 +145,8 @@ function pairingSheet(app, patient, pairing) {
     </section>
     <p class="print-hide">
       <button type="button" id="print-sheet">${h('clinic-print')}</button>
+      <a id="pairing-card" download="telerehab-pairing.toml" href="${esc(cardHref(address, pairing.code))}">${h('clinic-card-save')}</a>
+      ·
       <a href="#/patients/${encodeURIComponent(patient.id)}">${h('clinic-open-patient', { pseudonym: patient.pseudonym })}</a>
       · <a href="#/clinic/patients/${encodeURIComponent(patient.id)}">${h('clinic-stations-link')}</a>
       · <a href="#/clinic">${h('clinic-add-another')}</a>

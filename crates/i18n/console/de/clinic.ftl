@@ -42,11 +42,13 @@ clinic-sheet-valid-until = { $until }, nur für eine Station
 clinic-sheet-steps = So gehen Sie vor
 clinic-sheet-step-plug = Stecken Sie das Lenkrad am Computer und an der Steckdose an. Stecken Sie auch die Armsensoren an, falls die Klinik Ihnen welche gegeben hat.
 clinic-sheet-step-open = Öffnen Sie telerehab im Anwendungsmenü, oder tippen Sie telerehab und drücken Sie die Eingabetaste.
-clinic-sheet-step-address = Tippen Sie die Adresse der Klinik von oben ein und drücken Sie die Eingabetaste.
+clinic-sheet-step-card = Ist der USB-Stick der Klinik im Computer, drücken Sie eine Taste am Lenkrad. Mehr ist nicht nötig: Die Station verbindet sich.
+clinic-sheet-step-address = Ohne Stick: Tippen Sie die Adresse der Klinik von oben ein und drücken Sie die Eingabetaste.
 clinic-sheet-step-code = Tippen Sie den Kopplungscode von oben ein und drücken Sie die Eingabetaste. Der Bindestrich kann entfallen.
 clinic-sheet-step-start = Der Bildschirm zeigt dann, dass er verbunden ist, und die heutige Sitzung. Drücken Sie die Leertaste oder eine Taste am Lenkrad, um loszufahren.
 clinic-sheet-help = Wird der Code abgelehnt oder ist er abgelaufen, rufen Sie Ihre Therapeutin oder Ihren Therapeuten an: Sie erhalten einen neuen. Bewahren Sie diesen Bogen auf, bis die Station verbunden ist. Der Code gilt nur einmal.
 clinic-print = Kopplungsbogen drucken
+clinic-card-save = Kopplungskarte speichern (eine Datei für einen USB-Stick: dann tippt der Patient nichts)
 clinic-open-patient = { $pseudonym } öffnen
 clinic-add-another = Weiteren Patienten hinzufügen
 

@@ -43,11 +43,13 @@ clinic-sheet-valid-until = { $until }, for one station only
 clinic-sheet-steps = What to do
 clinic-sheet-step-plug = Plug the wheel into the computer and into the mains. Plug in the arm sensors too if the clinic gave you some.
 clinic-sheet-step-open = Open telerehab from the applications menu, or type telerehab and press Enter.
-clinic-sheet-step-address = Type the clinic address above and press Enter.
+clinic-sheet-step-card = With the clinic's USB stick in the computer, press a button on the wheel. That is all: it connects.
+clinic-sheet-step-address = Without the stick: type the clinic address above and press Enter.
 clinic-sheet-step-code = Type the pairing code above and press Enter. The dash is optional.
 clinic-sheet-step-start = The screen then says it is connected and shows today's session. Press Space, or a button on the wheel, to start driving.
 clinic-sheet-help = If the code is refused or has expired, call your therapist for a new one. Keep this sheet until your station is connected. The code works only once.
 clinic-print = Print the pairing sheet
+clinic-card-save = Save the pairing card (a file for a USB stick: the patient then types nothing)
 clinic-open-patient = Open { $pseudonym }
 clinic-add-another = Add another patient
 

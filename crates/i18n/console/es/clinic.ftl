@@ -42,11 +42,13 @@ clinic-sheet-valid-until = { $until }, para una sola estación
 clinic-sheet-steps = Qué hacer
 clinic-sheet-step-plug = Conecte el volante al ordenador y a la corriente. Conecte también los sensores del brazo si la clínica se los dio.
 clinic-sheet-step-open = Abra telerehab desde el menú de aplicaciones, o escriba telerehab y pulse Intro.
-clinic-sheet-step-address = Escriba la dirección de la clínica de arriba y pulse Intro.
+clinic-sheet-step-card = Con la memoria USB de la clínica en el ordenador, pulse un botón del volante. Nada más: se conecta sola.
+clinic-sheet-step-address = Sin la memoria USB: escriba la dirección de la clínica de arriba y pulse Intro.
 clinic-sheet-step-code = Escriba el código de vinculación de arriba y pulse Intro. El guion es opcional.
 clinic-sheet-step-start = La pantalla indicará que está conectada y mostrará la sesión de hoy. Pulse la barra espaciadora o un botón del volante para empezar a conducir.
 clinic-sheet-help = Si el código se rechaza o ha caducado, llame a su terapeuta: le dará uno nuevo. Guarde esta hoja hasta que la estación esté conectada. El código solo sirve una vez.
 clinic-print = Imprimir la hoja de vinculación
+clinic-card-save = Guardar la tarjeta de emparejamiento (un archivo para una memoria USB: el paciente no escribe nada)
 clinic-open-patient = Abrir { $pseudonym }
 clinic-add-another = Añadir otro paciente
 

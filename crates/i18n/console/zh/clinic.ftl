@@ -42,11 +42,13 @@ clinic-sheet-valid-until = { $until }，仅限一台训练站
 clinic-sheet-steps = 操作步骤
 clinic-sheet-step-plug = 将方向盘连接到电脑并接通电源。如果机构给了您手臂传感器，也一并接好。
 clinic-sheet-step-open = 从应用程序菜单打开 telerehab，或输入 telerehab 后按回车键。
-clinic-sheet-step-address = 输入上面的机构地址，然后按回车键。
+clinic-sheet-step-card = 把诊所的 U 盘插入电脑，然后按方向盘上的一个按钮。就这样：它会自动连接。
+clinic-sheet-step-address = 没有 U 盘时：输入上面的诊所地址，然后按回车键。
 clinic-sheet-step-code = 输入上面的配对码，然后按回车键。短横线可以不输。
 clinic-sheet-step-start = 屏幕会显示已连接，并显示今天的训练。按空格键或方向盘上的按钮即可开始驾驶。
 clinic-sheet-help = 如果配对码被拒绝或已过期，请致电您的治疗师获取新的配对码。请保留此单直到训练站连接成功。配对码只能使用一次。
 clinic-print = 打印配对单
+clinic-card-save = 保存配对卡（用于 U 盘的文件：患者无需输入任何内容）
 clinic-open-patient = 打开 { $pseudonym }
 clinic-add-another = 再添加一位患者
 
