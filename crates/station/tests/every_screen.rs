@@ -16,6 +16,8 @@
 
 mod common;
 
+use common::tick;
+
 use record::TickRecord;
 use regimen::{NeglectedSide, Regimen};
 use station::checkin::CheckInFlow;
@@ -40,17 +42,6 @@ fn page(screen: ScreenState) -> Scene {
         screen,
         ..Scene::default()
     }
-}
-
-fn tick(tick: u64, index: u32, active_s: f64, paused: bool) -> TickRecord {
-    let mut rec = TickRecord {
-        tick,
-        ..TickRecord::default()
-    };
-    rec.score.exercise_index = index;
-    rec.score.active_s = active_s;
-    rec.score.paused = paused;
-    rec
 }
 
 fn card(code: Option<&str>) -> Found {

@@ -11,6 +11,8 @@ use std::path::{Path, PathBuf};
 use syn::punctuated::Punctuated;
 use syn::visit::{self, Visit};
 
+mod common;
+
 fn src() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src")
 }
@@ -399,23 +401,14 @@ fn every_allow_list_entry_names_a_file_or_folder_that_exists() {
 // The words on each screen, counted (English), in docs/WORDS.md.
 
 mod per_screen {
-    use record::{ArmSample, ArmSetup, TickRecord};
+    use record::{ArmSample, ArmSetup};
     use regimen::Regimen;
     use station::config::StationConfig;
     use station::render::{ScreenState, StatusLine};
     use station::screen::{CourseView, WindowState, cannot_start_page, confirm_end_card};
     use station::session::{BreakKind, BreakNow};
 
-    fn tick(tick: u64, index: u32, active_s: f64, paused: bool) -> TickRecord {
-        let mut rec = TickRecord {
-            tick,
-            ..TickRecord::default()
-        };
-        rec.score.exercise_index = index;
-        rec.score.active_s = active_s;
-        rec.score.paused = paused;
-        rec
-    }
+    use super::common::tick;
 
     /// The text a screen state shows, line by line.
     fn lines_of(state: &ScreenState) -> Vec<String> {

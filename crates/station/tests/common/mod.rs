@@ -1,6 +1,20 @@
-//! Shared by the station's rendering tests.
+//! Shared by the station's tests of its screens (each test binary uses part of it).
+#![allow(dead_code)]
 
+use record::TickRecord;
 use station::render::{RenderError, Renderer};
+
+/// A tick `tick` of exercise `index` with `active_s` of exercise time, paused or not.
+pub fn tick(tick: u64, index: u32, active_s: f64, paused: bool) -> TickRecord {
+    let mut rec = TickRecord {
+        tick,
+        ..TickRecord::default()
+    };
+    rec.score.exercise_index = index;
+    rec.score.active_s = active_s;
+    rec.score.paused = paused;
+    rec
+}
 
 /// An offscreen renderer of `width`×`height`, or `None` (with a SKIPPED line) on a machine
 /// with no graphics adapter at all; any other failure fails the test.
