@@ -168,6 +168,8 @@ def vendored_console_libraries() -> list[dict]:
     for d in sorted(p for p in VENDOR.iterdir() if p.is_dir()):
         text = (d / "LICENSE").read_text()
         ident = next((i for i, s in SIGNATURES.items() if s.lower() in text.lower()), None)
+        if ident is None and "apache license" in text.lower() and "version 2.0" in text.lower():
+            ident = "Apache-2.0"  # its text is in common-licenses (licence_text points there)
         if ident is None:
             sys.exit(f"gen_copyright: cannot tell the licence of {d / 'LICENSE'}")
         name, _, version = d.name.rpartition("-")
