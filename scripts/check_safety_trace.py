@@ -104,7 +104,9 @@ def cargo_verdict(entry: Entry, results, root: Path) -> str | None:
     source_prefix, stem = binaries_for(entry, root)
     seen = []
     for source, binary, name, result in results:
-        if not (name == entry.name or name.endswith("::" + entry.name)):
+        # A test's path in its binary: `module::name`, or `name::backend` for a test a macro
+        # runs once a backend (the hub's SQLite and PostgreSQL): the name is one of its parts.
+        if entry.name not in name.split("::"):
             continue
         if stem is not None and binary != stem:
             continue
@@ -128,7 +130,10 @@ def junit_verdict(entry: Entry, xml_text: str) -> str | None:
     for case in ET.fromstring(xml_text).iter("testcase"):
         name = case.get("name", "").split("[", 1)[0]
         classname = case.get("classname", "")
-        if name != entry.name or not (classname == module or classname.endswith("." + module.split(".")[-1])):
+        # pytest names the module from its rootdir (`tests.python.test_x`) or from the test
+        # folder itself (`test_x`): the module's own name must match either way.
+        same_module = classname == module or classname.split(".")[-1] == module.split(".")[-1]
+        if name != entry.name or not same_module:
             continue
         bad = [child.tag for child in case if child.tag in ("failure", "error", "skipped")]
         seen.append(bad[0] if bad else "ok")

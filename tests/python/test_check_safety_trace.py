@@ -77,3 +77,21 @@ def test_a_skipped_or_failed_python_test_breaks_the_trace(tmp_path) -> None:
 
 def test_every_test_the_shipped_hazard_table_names_exists() -> None:
     assert trace.check(trace.DEFAULT_TABLES, None, None, exists_only=True) == []
+
+
+def test_a_test_run_once_a_backend_and_a_module_named_from_its_folder_keep_the_trace(tmp_path) -> None:
+    """The hub's tests run once on SQLite and once on PostgreSQL (`name::sqlite`,
+    `name::postgres`); pytest may name a module from the test folder (`test_check_skips`).
+    Both count; a failure on either backend breaks the trace."""
+    both = "crates/hub/tests/db.rs::concurrent_duplicates_are_stored_once"
+    log = GOOD_LOG + (
+        "     Running tests/db.rs (target/debug/deps/db-0123abcd)\n"
+        "test concurrent_duplicates_are_stored_once::sqlite ... ok\n"
+        "test concurrent_duplicates_are_stored_once::postgres ... ok\n"
+    )
+    short = GOOD_XML.replace('classname="tests.python.test_check_skips"', 'classname="test_check_skips"')
+    assert problems(tmp_path, [both, PYTHON], log=log, xml=short) == []
+    one_failed = log.replace("once::postgres ... ok", "once::postgres ... FAILED")
+    assert "FAILED" in problems(tmp_path, [both], log=one_failed)[0]
+    other = GOOD_XML.replace('classname="tests.python.test_check_skips"', 'classname="test_elsewhere"')
+    assert "did not run" in problems(tmp_path, [PYTHON], xml=other)[0]
