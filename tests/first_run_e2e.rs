@@ -2,11 +2,11 @@
 //! a real window under X (Xvfb in CI), typed into with xdotool, pairing with a clinic's hub on
 //! loopback; and the plain message without a display.
 
-use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 use std::sync::mpsc;
 use std::time::Duration;
 use telerehab_tests::clinic::{Hub, clinic};
+use telerehab_tests::logged;
 use telerehab_tests::{Reaper, telerehab_bin, xdotool_in};
 
 #[test]
@@ -47,13 +47,7 @@ fn press_until(lines: &mpsc::Receiver<String>, key: &str, what: &str) {
 }
 
 fn wait_for(lines: &mpsc::Receiver<String>, what: &str) {
-    loop {
-        match lines.recv_timeout(Duration::from_secs(60)) {
-            Ok(line) if line.contains(what) => return,
-            Ok(_) => {}
-            Err(e) => panic!("no log line with {what:?} ({e})"),
-        }
-    }
+    logged::wait_for(lines, &[what], Duration::from_secs(60));
 }
 
 #[test]
@@ -74,13 +68,7 @@ fn a_patient_pairs_from_the_first_run_page_by_typing_the_clinics_address_and_cod
         .spawn()
         .unwrap();
     let _reaper = Reaper(child.id());
-    let (tx, lines) = mpsc::channel();
-    let stderr = BufReader::new(child.stderr.take().unwrap());
-    std::thread::spawn(move || {
-        for line in stderr.lines().map_while(Result::ok) {
-            let _ = tx.send(line);
-        }
-    });
+    let lines = logged::stderr_lines(&mut child);
     // The keyboard is the alternative to the wheel: Enter takes the language chosen.
     wait_for(&lines, "first-run page shown page_id=language");
     press_until(

@@ -5,81 +5,15 @@
 //! choose to end, a press asks "End now?" and a last press ends the session — no key pressed.
 //! The choices are followed by the log's words for them (`chosen=Rest`), never the page's.
 
-use std::io::{BufRead, BufReader, Write};
-use std::path::Path;
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::sync::mpsc;
 use std::time::Duration;
+use telerehab_tests::logged::{self, Xvfb, wheel};
 use telerehab_tests::{Reaper, telerehab_bin};
 
-/// An X display of the test's own (Xvfb, which names its display on a pipe), stopped when
-/// dropped.
-struct Xvfb {
-    child: Child,
-    display: String,
-}
-
-impl Xvfb {
-    fn start() -> Self {
-        let mut child = Command::new("Xvfb")
-            .args([
-                "-displayfd",
-                "1",
-                "-screen",
-                "0",
-                "1280x720x24",
-                "-nolisten",
-                "tcp",
-            ])
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("Xvfb (Debian's xvfb) to draw the patient's window");
-        let mut number = String::new();
-        BufReader::new(child.stdout.take().expect("piped"))
-            .read_line(&mut number)
-            .expect("Xvfb names its display");
-        assert!(!number.trim().is_empty(), "Xvfb did not start");
-        Xvfb {
-            child,
-            display: format!(":{}", number.trim()),
-        }
-    }
-}
-
-impl Drop for Xvfb {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-/// Waits for a log line containing every one of `what`; the lines seen before it are kept
-/// for the failure's message.
+/// Each next log line within 90 s (a loaded machine draws slowly).
 fn wait_for(lines: &mpsc::Receiver<String>, what: &[&str]) -> String {
-    let mut seen = Vec::new();
-    loop {
-        match lines.recv_timeout(Duration::from_secs(90)) {
-            Ok(line) if what.iter().all(|w| line.contains(w)) => return line,
-            Ok(line) => seen.push(line),
-            Err(e) => panic!(
-                "no log line with {what:?} ({e}); the log said:\n{}",
-                seen.join("\n")
-            ),
-        }
-    }
-}
-
-/// Appends wheel gestures to the script the station reads.
-fn wheel(script: &Path, gestures: &[&str]) {
-    let mut f = std::fs::OpenOptions::new()
-        .append(true)
-        .open(script)
-        .unwrap();
-    for g in gestures {
-        writeln!(f, "{g}").unwrap();
-    }
-    f.sync_all().unwrap();
+    logged::wait_for(lines, what, Duration::from_secs(90))
 }
 
 /// Long enough for the station to take a gesture and draw its page before the next.
@@ -107,13 +41,7 @@ fn paused_the_wheel_chooses_a_rest_then_ending_and_a_press_does_each() {
         .spawn()
         .unwrap();
     let _reaper = Reaper(child.id());
-    let (tx, lines) = mpsc::channel();
-    let stderr = BufReader::new(child.stderr.take().unwrap());
-    std::thread::spawn(move || {
-        for line in stderr.lines().map_while(Result::ok) {
-            let _ = tx.send(line);
-        }
-    });
+    let lines = logged::stderr_lines(&mut child);
 
     // The start card waits for a press; a second press pauses: "Go on" is chosen.
     wait_for(&lines, &["the wheel's buttons are watched"]);

@@ -7,6 +7,7 @@ use std::sync::OnceLock;
 
 pub mod clinic;
 pub mod console;
+pub mod logged;
 pub mod windowed;
 
 /// Path of the `telerehab` binary under test: `$TELEREHAB_BIN` if set, else the one in this

@@ -7,12 +7,12 @@
 //! log (`language=`, `prescribed=`, `exercises=`, `message_id=`) and the kept files, never by
 //! words.
 
-use std::io::{BufRead, BufReader, Read};
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 use telerehab_tests::clinic::{Hub, NewClinic, pair};
 use telerehab_tests::console::Console;
+use telerehab_tests::logged::{self, Xvfb};
 use telerehab_tests::{Reaper, telerehab_bin};
 
 /// Today's page asks the hub on opening and every 30 s; one period and a margin.
@@ -35,42 +35,11 @@ fn wait_for(lines: &mpsc::Receiver<String>, what: &[&str], within: Duration) -> 
     }
 }
 
-/// The display to draw on: the one set, else an Xvfb of the test's own (killed when the
-/// guard drops).
-fn display() -> (String, Option<Reaper>, Option<Child>) {
-    if let Some(d) = std::env::var_os("DISPLAY").filter(|d| !d.is_empty()) {
-        return (d.to_string_lossy().into_owned(), None, None);
-    }
-    let mut xvfb = Command::new("Xvfb")
-        .args([
-            "-displayfd",
-            "1",
-            "-screen",
-            "0",
-            "1366x768x24",
-            "-nolisten",
-            "tcp",
-        ])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("Xvfb is installed (Debian: xvfb)");
-    let reaper = Reaper(xvfb.id());
-    let mut number = String::new();
-    let mut out = xvfb.stdout.take().unwrap();
-    let mut byte = [0u8; 1];
-    while out.read(&mut byte).unwrap() == 1 && byte[0] != b'\n' {
-        number.push(char::from(byte[0]));
-    }
-    assert!(!number.is_empty(), "Xvfb said no display number");
-    (format!(":{}", number.trim()), Some(reaper), Some(xvfb))
-}
-
 #[test]
 fn a_plan_a_message_and_the_patients_language_sent_while_todays_page_is_open_show_within_its_next_check()
  {
     let tmp = tempfile::tempdir().unwrap();
-    let (display, _xvfb_reaper, _xvfb) = display();
+    let (display, _xvfb) = Xvfb::set_or_start();
     let clinic = NewClinic::make(tmp.path(), None);
     let hub = Hub::serve_console(&clinic.data, "127.0.0.1:0");
     let console = Console::new(&clinic.data, hub.web());
@@ -94,13 +63,7 @@ fn a_plan_a_message_and_the_patients_language_sent_while_todays_page_is_open_sho
         .spawn()
         .unwrap();
     let _reaper = Reaper(child.id());
-    let (tx, lines) = mpsc::channel();
-    let stderr = BufReader::new(child.stderr.take().unwrap());
-    std::thread::spawn(move || {
-        for line in stderr.lines().map_while(Result::ok) {
-            let _ = tx.send(line);
-        }
-    });
+    let lines = logged::stderr_lines(&mut child);
 
     // Today's page opens (its plan may be logged before the window's page line): nothing
     // prescribed yet, the station's default drive, no message.

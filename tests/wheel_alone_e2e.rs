@@ -5,40 +5,17 @@
 //! the next exercise waits for the patient, and the check-in — every step a wheel gesture, no
 //! key pressed. The pages and cards are followed by their ids in the log, never by words.
 
-use std::io::{BufRead, BufReader, Write};
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::sync::mpsc;
 use std::time::Duration;
 use telerehab_tests::clinic::{Hub, clinic, ok, show_json};
+use telerehab_tests::logged::{self, wheel};
 use telerehab_tests::{Reaper, telerehab_bin};
 
-/// Waits for a log line containing every one of `what`; the lines seen before it are kept
-/// for the failure's message.
+/// Each next log line within 90 s (a loaded machine draws slowly).
 fn wait_for(lines: &mpsc::Receiver<String>, what: &[&str]) -> String {
-    let mut seen = Vec::new();
-    loop {
-        match lines.recv_timeout(Duration::from_secs(90)) {
-            Ok(line) if what.iter().all(|w| line.contains(w)) => return line,
-            Ok(line) => seen.push(line),
-            Err(e) => panic!(
-                "no log line with {what:?} ({e}); the log said:\n{}",
-                seen.join("\n")
-            ),
-        }
-    }
-}
-
-/// Appends wheel gestures to the script the station reads.
-fn wheel(script: &Path, gestures: &[&str]) {
-    let mut f = std::fs::OpenOptions::new()
-        .append(true)
-        .open(script)
-        .unwrap();
-    for g in gestures {
-        writeln!(f, "{g}").unwrap();
-    }
-    f.sync_all().unwrap();
+    logged::wait_for(lines, what, Duration::from_secs(90))
 }
 
 /// Two short dial exercises with a rest between them, prescribed for P-0042; no
@@ -98,13 +75,7 @@ fn a_patient_goes_from_the_first_run_to_the_end_of_the_check_in_with_the_wheel_a
         .spawn()
         .unwrap();
     let _reaper = Reaper(child.id());
-    let (tx, lines) = mpsc::channel();
-    let stderr = BufReader::new(child.stderr.take().unwrap());
-    std::thread::spawn(move || {
-        for line in stderr.lines().map_while(Result::ok) {
-            let _ = tx.send(line);
-        }
-    });
+    let lines = logged::stderr_lines(&mut child);
 
     // The first run: the language, turned to Deutsch and back to English, then pressed.
     wait_for(&lines, &["first-run page shown", "page_id=language"]);
