@@ -199,19 +199,7 @@ impl Db {
         let sessions = self.named_sessions_of(patient_id).await?;
         let mut out = Vec::new();
         for compared in like_with_like_by_kind(&sessions) {
-            let mut series: BTreeMap<&str, Vec<f64>> = BTreeMap::new();
-            for s in &compared {
-                let metrics = self.metrics_of(&s.row.session_id).await?;
-                for m in measures {
-                    if let Some(&v) = metrics.get(*m) {
-                        series.entry(m).or_default().push(v);
-                    }
-                }
-            }
-            let trends: BTreeMap<String, String> = series
-                .into_iter()
-                .filter_map(|(name, v)| Some((name.to_owned(), trend(&v)?)))
-                .collect();
+            let trends = self.trends_over(&compared, measures).await?;
             if !trends.is_empty() {
                 out.push(KindTrends {
                     exercise_kind: compared[0].exercise_kind.clone(),
@@ -326,8 +314,19 @@ impl Db {
     ) -> Result<(BTreeMap<String, String>, Option<String>), HubError> {
         let sessions = self.named_sessions_of(patient_id).await?;
         let compared = like_with_like(&sessions);
+        let trends = self.trends_over(&compared, measures).await?;
+        Ok((trends, compared.first().map(|s| s.exercise_kind.clone())))
+    }
+
+    /// The trend of each of `measures` over the sessions `compared` (newest first); a measure
+    /// fewer than two of them have is left out.
+    async fn trends_over(
+        &self,
+        compared: &[&NamedSession],
+        measures: &[&str],
+    ) -> Result<BTreeMap<String, String>, HubError> {
         let mut series: BTreeMap<&str, Vec<f64>> = BTreeMap::new();
-        for s in &compared {
+        for s in compared {
             let metrics = self.metrics_of(&s.row.session_id).await?;
             for m in measures {
                 if let Some(&v) = metrics.get(*m) {
@@ -335,11 +334,10 @@ impl Db {
                 }
             }
         }
-        let trends = series
+        Ok(series
             .into_iter()
             .filter_map(|(name, v)| Some((name.to_owned(), trend(&v)?)))
-            .collect();
-        Ok((trends, compared.first().map(|s| s.exercise_kind.clone())))
+            .collect())
     }
 }
 
