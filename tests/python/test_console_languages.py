@@ -161,12 +161,12 @@ def test_a_german_browser_gets_german_and_a_chosen_language_survives_a_new_sign_
         assert d.find_element(By.CSS_SELECTOR, "#app h1").text == german["app-login-title"]
         assert d.find_element(By.CSS_SELECTOR, "label[for=email]").text == german["app-login-email"]
 
-        # The hub's refusal in German: the catalogue's sentence, never the hub's English.
+        # The hub's refusal in German: the catalogue's words for why, never the hub's English.
         d.find_element(By.ID, "email").send_keys("ana@clinic.example")
         d.find_element(By.ID, "password").send_keys("not the passphrase")
         d.find_element(By.CSS_SELECTOR, "#login button").click()
         wait(d, lambda d: d.find_element(By.ID, "login-error").text)
-        assert d.find_element(By.ID, "login-error").text == german["api-error-401"]
+        assert d.find_element(By.ID, "login-error").text == german["api-why-login-refused"]
         for field in ("email", "password"):
             d.find_element(By.ID, field).clear()
 
@@ -194,6 +194,22 @@ def test_a_german_browser_gets_german_and_a_chosen_language_survives_a_new_sign_
         assert json.loads(text)["language"] == "es", text
         status, text = fetch(d, "GET", "/api/audit?limit=50")
         assert any(e["action"] == "change_language" for e in json.loads(text)["entries"]), text
+
+        # Why a field was refused, through the console's own API module: the Spanish words
+        # with the field named in Spanish, none of the hub's English sentence.
+        pid = patient_id(d, "P-0101")
+        for body, code, field in (({"text": "   "}, "empty", "text"),
+                                  ({"text": "x" * 5000}, "too-long", "text")):
+            said = d.execute_async_script(
+                "const [path, body, done] = arguments;"
+                "import('/console/api.js').then(m => m.api('POST', path, body))"
+                ".then(() => done('accepted'), e => done([e.status, e.message, e.detail]));",
+                f"/api/patients/{pid}/messages", body)
+            status, message, english = said
+            expected = spanish[f"api-why-{code}"].replace("{ $field }", spanish[f"api-field-{field}"])
+            expected = expected.replace("{ $max }", "500")
+            assert status == 400 and message == expected, (said, expected)
+            assert english and english not in message, said
 
         # A new sign-in in the German browser: Spanish, the therapist's choice.
         d.find_element(By.ID, "logout").click()

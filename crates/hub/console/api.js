@@ -1,23 +1,44 @@
 // The console API (crates/hub/API.md): JSON over same-origin HTTPS with the login cookie.
-import { languageTag, locale, t } from '/console/i18n.js';
+import { has, languageTag, locale, t } from '/console/i18n.js';
 
 export class ApiError extends Error {
   constructor(status, message) { super(message); this.status = status; }
 }
 
-/** Statuses whose answer names what was refused (a field, a line, a thing): the hub's own
- * words follow the catalogue's sentence. */
-const DETAILED = [400, 404, 409, 413, 422];
+/** Where the catalogue names the fields a refusal names: its own words, then the labels of
+ * the clinic's thresholds and of the prescription form. */
+const FIELD_WORDS = ['api-field-', 'attention-setting-', 'prescribe-field-'];
 
-/** A refusal in the console's language: the catalogue's sentence for `status`
- * (`api-error-<status>`, else `api-error-other`), with the hub's `detail` where it names what
- * was refused. The hub writes English; an English console shows its words as they are. */
-export function refusalWords(status, detail, retryAfterS) {
-  if (languageTag() === 'en') return detail;
+/** A name the hub gives in a refusal (`field`: `snooze_until_ms`; `what`: `session`) in the
+ * console's words (`<prefix><name>`, `_` and spaces as `-`, the first prefix that has it),
+ * else as the hub wrote it. */
+function named(prefixes, name) {
+  const tail = String(name).toLowerCase().replace(/[^a-z0-9]+/g, '-');
+  const id = prefixes.map(p => p + tail).find(has);
+  return id ? t(id) : String(name);
+}
+
+/** Why the hub refused (`why`: `{code, args}`, crates/hub/src/refusal.rs) in the console's
+ * words (`api-why-<code>`), or null when the answer has none the catalogue knows. */
+function whyWords(why) {
+  const id = why && typeof why.code === 'string' ? `api-why-${why.code}` : null;
+  if (!id || !has(id)) return null;
+  const args = { ...(why.args || {}) };
+  if (args.field !== undefined) args.field = named(FIELD_WORDS, args.field);
+  if (args.what !== undefined) args.what = named(['api-thing-'], args.what);
+  return t(id, args);
+}
+
+/** A refusal in the console's language: why the hub refused (`why`, worded from the
+ * catalogue), else the catalogue's sentence for `status` (`api-error-<status>`, else
+ * `api-error-other`). The hub writes `detail` in English; an English console shows the hub's
+ * own words, which may say more (the value refused). */
+export function refusalWords(status, detail, retryAfterS, why) {
+  if (languageTag() === 'en' && detail) return detail;
+  const words = whyWords(why);
+  if (words) return words;
   const id = `api-error-${status}`;
-  const said = t(id, { seconds: retryAfterS ?? 1 });
-  const lead = said === id ? t('api-error-other') : said;
-  return DETAILED.includes(status) && detail ? t('api-error-detail', { lead, detail }) : lead;
+  return has(id) ? t(id, { seconds: retryAfterS ?? 1 }) : t('api-error-other');
 }
 
 /** The hub's refusal `res` (not ok) as an ApiError in the console's words. */
@@ -27,7 +48,8 @@ export async function refusal(res) {
   const retry = Number(res.headers.get('Retry-After'));
   const retryAfterS = [429, 503].includes(res.status) && retry > 0 ? retry : undefined;
   const detail = (data && data.error) || `${res.status} ${res.statusText}`;
-  const error = new ApiError(res.status, refusalWords(res.status, detail, retryAfterS));
+  const why = data && typeof data.why === 'object' ? data.why : null;
+  const error = new ApiError(res.status, refusalWords(res.status, detail, retryAfterS, why));
   error.detail = detail;
   if (retryAfterS) error.retryAfterS = retryAfterS;
   return error;

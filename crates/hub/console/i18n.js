@@ -135,6 +135,11 @@ function formatIn(b, id, args) {
   return text;
 }
 
+/** True when a catalogue (the language in force, or English) has message `id`. */
+export function has(id) {
+  return Boolean(bundle?.hasMessage(id) || english?.hasMessage(id));
+}
+
 /** Message `id` (or `id.attribute`) with `args`, in the language in force; English when the
  * language lacks it; the id itself when no catalogue has it (logged once). */
 export function t(id, args = {}) {

@@ -7,7 +7,7 @@ import { legendShowsLatest } from '/console/legend.js';
 import { drawDial, drawPath, drawRoad as drawLiveRoad } from '/console/live-road.js';
 import { drawStrength, isStrength, strengthSides } from '/console/live-strength.js';
 import { api, esc, when } from '/console/api.js';
-import { plainName } from '/console/words.js';
+import { endText, plainName } from '/console/words.js';
 import { t, locale } from '/console/i18n.js';
 
 const WINDOW_S = 30;
@@ -77,7 +77,7 @@ export function liveView(el, patientId) {
       if (row.closed_at_ms || row.end_reason) {
         endShown = session;
         status.querySelectorAll('.badge.ok, .badge.warn').forEach(b => b.remove());
-        status.insertAdjacentHTML('beforeend', ` <span class="badge ended" data-ended="1" data-reason="${esc(row.end_reason || '')}">${esc(endedWords(row.end_reason))}</span>`);
+        status.insertAdjacentHTML('beforeend', ` <span class="badge ended" data-ended="1" data-reason="${esc(row.end_reason || '')}">${esc(endedWords(row))}</span>`);
       }
     } catch { /* asked again at the next tick */ }
   }, 2000);
@@ -152,18 +152,19 @@ export function liveView(el, patientId) {
     source.close();
     clearInterval(endCheck);
     status.dataset.stopped = ev.data;
-    status.textContent = t('live-stopped', { reason: ev.data });
+    status.textContent = t(`live-stopped-${ev.data}`);
   });
   return () => { source.close(); clearInterval(endCheck); };
 }
 
-/** The station's end reason as the status says it: "ended: wheel unplugged", "ended early by
- * the patient (…)" (a reason that says "ended" itself), "ended (how is not recorded)". */
-export function endedWords(reason) {
-  const r = (reason || '').trim();
-  if (!r) return t('live-ended-unknown');
+/** How the session `row` (`GET /api/sessions/{id}`) ended as the status says it, in the
+ * console's words from the hub's end kind: "ended: complete, as prescribed", "Stopped early:
+ * wheel unplugged", "ended (how is not recorded)". */
+export function endedWords(row) {
+  const r = (row.end_reason || '').trim();
   if (r === 'complete') return t('live-ended-complete');
-  return r.startsWith('ended') ? r : t('live-ended', { reason: r });
+  if (!r || !row.end_kind || row.end_kind === 'unreported') return t('live-ended-unknown');
+  return endText(row);
 }
 
 /** A number for people in the console's language with `digits` decimals, '—' when absent. */

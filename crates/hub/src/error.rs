@@ -1,5 +1,7 @@
 //! The crate's error type.
 
+use crate::refusal::{Code, Why};
+
 /// Why a pairing code was not accepted (see [`crate::Db::pair_station`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[non_exhaustive]
@@ -34,6 +36,8 @@ pub enum HubError {
         field: &'static str,
         /// What is wrong and what is allowed.
         reason: String,
+        /// The same for the console's words in any language.
+        why: Why,
     },
     /// The named thing does not exist.
     #[error("{what} {id:?} does not exist")]
@@ -103,11 +107,34 @@ pub enum HubError {
 }
 
 impl HubError {
+    /// `field` refused for `reason`, for which the console has no words of its own (a value
+    /// only a hand-made request or a station sends): [`Code::FieldRefused`].
     pub(crate) fn invalid(field: &'static str, reason: impl Into<String>) -> Self {
+        Self::refused(field, reason, Why::field(Code::FieldRefused, field))
+    }
+
+    /// `field` refused for `reason`, worded for the console by `why`.
+    pub(crate) fn refused(field: &'static str, reason: impl Into<String>, why: Why) -> Self {
         Self::Invalid {
             field,
             reason: reason.into(),
+            why,
         }
+    }
+
+    /// Why, for the console's words in any language ([`crate::refusal`]); `None` for a
+    /// failure on the hub's side.
+    pub fn why(&self) -> Option<Why> {
+        Some(match self {
+            Self::Invalid { why, .. } => why.clone(),
+            Self::NotFound { what, .. } => Why::new(Code::NotFound).with("what", *what),
+            Self::AlreadyExists { what, .. } => Why::new(Code::AlreadyExists).with("what", *what),
+            Self::LoginRefused => Why::new(Code::LoginRefused),
+            Self::Throttled { retry_after_ms, .. } => {
+                Why::new(Code::Throttled).with("seconds", (retry_after_ms + 999) / 1000)
+            }
+            _ => return None,
+        })
     }
 
     pub(crate) fn not_found(what: &'static str, id: impl Into<String>) -> Self {

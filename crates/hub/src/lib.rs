@@ -23,6 +23,7 @@ pub mod news;
 pub mod pain_mail;
 pub mod patient_data;
 pub mod patients;
+pub mod refusal;
 pub mod uploads;
 pub mod web;
 

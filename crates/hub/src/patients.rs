@@ -89,10 +89,8 @@ pub async fn prescribe(
 ) -> Result<i64, HubError> {
     let p = find(db, pseudonym).await?;
     let therapist = therapist(db, by).await?;
-    let parsed = regimen::Regimen::from_toml(toml, origin).map_err(|e| HubError::Invalid {
-        field: "regimen",
-        reason: e.to_string(),
-    })?;
+    let parsed = regimen::Regimen::from_toml(toml, origin)
+        .map_err(|e| HubError::refused("regimen", e.to_string(), crate::refusal::of_regimen(&e)))?;
     let version = db
         .put_regimen(&p.id, toml, parsed.sessions_per_week, &therapist.id, now_ms)
         .await?;

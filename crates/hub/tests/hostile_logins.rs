@@ -775,12 +775,21 @@ async fn live_streams_end_within_two_seconds_of_logout_expiry_password_change_re
         })
         .await,
     );
+    // Each says why by its code, for the console's words in any language.
+    let why = [
+        "login-ended",
+        "login-ended",
+        "login-ended",
+        "not-your-patient",
+        "login-ended",
+    ];
     for (i, (took, text)) in ends.iter().enumerate() {
         assert!(
             *took <= Duration::from_secs(2),
             "cause {i}: the stream ended after {took:?}"
         );
         assert!(text.contains("event: ended"), "cause {i}: {text}");
+        assert!(text.contains(&format!("data: {}", why[i])), "cause {i}: {text}");
     }
 }
 

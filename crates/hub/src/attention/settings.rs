@@ -2,7 +2,10 @@
 //! (docs/DESIGN.md, "Needs attention today"), its bounds, and its unit in its name. Stored in
 //! `clinic_settings` (migration 0020) only when the clinic changed it.
 
+use crate::refusal::{Code, Why};
 use serde::Serialize;
+
+use crate::HubError;
 
 /// One threshold a clinic can set.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -152,18 +155,33 @@ impl Thresholds {
     }
 }
 
-/// Checks `value` for setting `key`: a known key, within its bounds; the error names both.
-pub fn check_setting(key: &str, value: i64) -> Result<&'static SettingDef, String> {
+/// Checks `value` for setting `key`: a known key, within its bounds; the error names both
+/// (nothing is changed).
+pub fn check_setting(key: &str, value: i64) -> Result<&'static SettingDef, HubError> {
     let def = setting_def(key).ok_or_else(|| {
         let known: Vec<&str> = SETTINGS.iter().map(|s| s.key).collect();
-        format!("no setting {key:?}; the settings are {}", known.join(", "))
+        HubError::refused(
+            "setting",
+            format!(
+                "no setting {key:?}; the settings are {} (nothing was changed)",
+                known.join(", ")
+            ),
+            Why::field(Code::NotOneOf, "setting"),
+        )
     })?;
     if (def.min..=def.max).contains(&value) {
         Ok(def)
     } else {
-        Err(format!(
-            "{key} = {value} refused: it must be from {} to {} (default {})",
-            def.min, def.max, def.default
+        Err(HubError::refused(
+            def.key,
+            format!(
+                "{key} = {value} refused: it must be from {} to {} (default {}; nothing was \
+                 changed)",
+                def.min, def.max, def.default
+            ),
+            Why::field(Code::OutOfRange, def.key)
+                .with("min", def.min)
+                .with("max", def.max),
         ))
     }
 }

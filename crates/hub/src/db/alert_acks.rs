@@ -7,6 +7,7 @@ use serde::Serialize;
 
 use super::{Db, col, new_id};
 use crate::error::HubError;
+use crate::refusal::{Code, Why};
 
 /// Longest alert key, characters (`decline:dial+road:wheel_rom_deg` and the like).
 pub const MAX_ALERT_KEY_CHARS: usize = 128;
@@ -51,7 +52,10 @@ impl Db {
     /// Records `ack` at `now_ms`; a note that is empty, too long or holds control
     /// characters, or a snooze that ends in the past, is [`HubError::Invalid`].
     pub async fn put_alert_ack(&self, ack: &NewAck<'_>, now_ms: i64) -> Result<(), HubError> {
-        super::check_note_text(ack.note).map_err(|e| HubError::invalid("note", e))?;
+        super::check_note_text(ack.note).map_err(|e| {
+            let why = crate::refusal::of_text("note", ack.note, super::MAX_NOTE_CHARS);
+            HubError::refused("note", e, why)
+        })?;
         if ack.alert_key.is_empty() || ack.alert_key.chars().count() > MAX_ALERT_KEY_CHARS {
             return Err(HubError::invalid(
                 "key",
@@ -59,9 +63,10 @@ impl Db {
             ));
         }
         if ack.until_ms.is_some_and(|u| u <= now_ms) {
-            return Err(HubError::invalid(
+            return Err(HubError::refused(
                 "snooze_until_ms",
                 "a snooze ends in the future: choose a later date",
+                Why::new(Code::SnoozePast),
             ));
         }
         sqlx::query(

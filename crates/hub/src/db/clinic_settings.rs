@@ -71,7 +71,7 @@ impl Db {
         by: &str,
         now_ms: i64,
     ) -> Result<(), HubError> {
-        check_setting(key, value).map_err(|e| HubError::invalid("setting", e))?;
+        check_setting(key, value)?;
         let mut tx = self
             .pool()
             .begin()

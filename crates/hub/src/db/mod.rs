@@ -45,6 +45,7 @@ mod summaries;
 mod therapists;
 mod wheels;
 mod words;
+pub(crate) use words::end_kind_of;
 
 use std::path::{Path, PathBuf};
 

@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 
 use super::{Db, Therapist, col, new_id};
 use crate::error::HubError;
+use crate::refusal::{Code, Why};
 
 /// Longest pseudonym, characters.
 pub const MAX_PSEUDONYM_LEN: usize = 64;
@@ -125,13 +126,14 @@ pub fn check_pseudonym(pseudonym: &str) -> Result<(), HubError> {
     if ok {
         Ok(())
     } else {
-        Err(HubError::invalid(
+        Err(HubError::refused(
             "pseudonym",
             format!(
                 "{:?} refused: use 1 to {MAX_PSEUDONYM_LEN} characters of A-Z, a-z, 0-9, \
                  '.', '_', '-' (a pseudonym, never a name)",
                 pseudonym.chars().take(80).collect::<String>()
             ),
+            Why::new(Code::BadPseudonym).with("max", MAX_PSEUDONYM_LEN),
         ))
     }
 }

@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{Db, col, new_id};
 use crate::error::HubError;
+use crate::refusal::{Code, Why};
 
 /// Most entries [`Db::scales_of`] returns (the newest; listed oldest first).
 pub const MAX_SCALES_LISTED: i64 = 1_000;
@@ -190,41 +191,52 @@ impl ScaleEntry {
 type Scores = [Option<i64>; 3];
 
 /// Checks `new` against its scale's bounds and its date against `today` (`YYYY-MM-DD`, UTC):
-/// the field at fault and why, in words naming its range, or the numbers to store. A date may
-/// be one day after `today` (the clinic's day may be ahead of UTC).
-pub fn check_scale(new: &NewScale, now_ms: i64) -> Result<Scores, (&'static str, String)> {
+/// the field at fault ([`HubError::Invalid`]) and why, in words naming its range, or the
+/// numbers to store. A date may be one day after `today` (the clinic's day may be ahead of UTC).
+pub fn check_scale(new: &NewScale, now_ms: i64) -> Result<Scores, HubError> {
     let Some(def) = scale_def(&new.scale) else {
         let keys: Vec<&str> = SCALES.iter().map(|s| s.key).collect();
-        return Err((
+        return Err(HubError::refused(
             "scale",
             format!(
                 "{:?} is not a scale the hub records: one of {}",
                 clipped(&new.scale),
                 keys.join(", ")
             ),
+            Why::field(Code::NotOneOf, "scale"),
         ));
     };
-    check_assessed_on(&new.assessed_on, now_ms).map_err(|e| ("assessed_on", e))?;
+    check_assessed_on(&new.assessed_on, now_ms).map_err(|(e, code)| {
+        HubError::refused("assessed_on", e, Why::field(code, "assessed_on"))
+    })?;
     let mut scores: Scores = [None; 3];
     for (slot, name) in ALL_FIELDS.iter().enumerate() {
         let value = new.value(name);
         let Some(f) = def.fields.iter().find(|f| f.field == *name) else {
             if value.is_some() {
-                return Err((
+                return Err(HubError::refused(
                     ALL_FIELDS[slot],
                     format!("{name} is not a number of the {}", def.name),
+                    Why::field(Code::FieldRefused, ALL_FIELDS[slot]),
                 ));
             }
             continue;
         };
         let range = format!("a whole number from {} to {} {}", f.min, f.max, f.unit);
         let Some(v) = value else {
-            return Err((f.field, format!("{} is missing: {range}", f.label)));
+            return Err(HubError::refused(
+                f.field,
+                format!("{} is missing: {range}", f.label),
+                Why::field(Code::Missing, f.field),
+            ));
         };
         if !v.is_finite() || v.fract() != 0.0 || v < f.min as f64 || v > f.max as f64 {
-            return Err((
+            return Err(HubError::refused(
                 f.field,
                 format!("{} must be {range}; {v} is out of range", f.label),
+                Why::field(Code::OutOfRange, f.field)
+                    .with("min", f.min)
+                    .with("max", f.max),
             ));
         }
         scores[slot] = Some(v as i64);
@@ -243,25 +255,27 @@ fn clipped(text: &str) -> String {
 
 /// Checks an assessment date: `YYYY-MM-DD`, a real day, from [`EARLIEST_ASSESSED_ON`] to the
 /// day after `now_ms`'s (UTC).
-fn check_assessed_on(text: &str, now_ms: i64) -> Result<(), String> {
+fn check_assessed_on(text: &str, now_ms: i64) -> Result<(), (String, Code)> {
     let days = parse_date(text).ok_or_else(|| {
-        format!(
+        let words = format!(
             "{:?} is not a date: write the day the scale was taken as YYYY-MM-DD",
             clipped(text)
-        )
+        );
+        (words, Code::BadDate)
     })?;
     let earliest = parse_date(EARLIEST_ASSESSED_ON).unwrap_or(0);
     let today = now_ms.div_euclid(DAY_MS);
     if days < earliest {
-        return Err(format!(
-            "{text} is before {EARLIEST_ASSESSED_ON}: write the day the scale was taken"
-        ));
+        let words =
+            format!("{text} is before {EARLIEST_ASSESSED_ON}: write the day the scale was taken");
+        return Err((words, Code::BadDate));
     }
     if days > today + 1 {
-        return Err(format!(
+        let words = format!(
             "{text} is in the future (today is {}): write the day the scale was taken",
             date_of_days(today)
-        ));
+        );
+        return Err((words, Code::FutureDate));
     }
     Ok(())
 }
@@ -342,8 +356,7 @@ impl Db {
         new: &NewScale,
         now_ms: i64,
     ) -> Result<ScaleEntry, HubError> {
-        let [score, affected, unaffected] =
-            check_scale(new, now_ms).map_err(|(field, e)| HubError::invalid(field, e))?;
+        let [score, affected, unaffected] = check_scale(new, now_ms)?;
         let id = new_id("c-")?;
         sqlx::query(
             "INSERT INTO clinical_scales (id, patient_id, scale, assessed_on, score, \

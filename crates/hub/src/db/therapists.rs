@@ -13,6 +13,7 @@ use sqlx::any::AnyRow;
 use super::logins::{ACCOUNT_RULE, ADDRESS_RULE, account_key, address_key, device_key, place_key};
 use super::{Db, col, new_id, random_bytes, sha256_hex};
 use crate::error::HubError;
+use crate::refusal::{Code, Why};
 
 mod language;
 mod passwords;
@@ -108,9 +109,10 @@ fn normalise_email(email: &str) -> Result<String, HubError> {
     if ok {
         Ok(email)
     } else {
-        Err(HubError::invalid(
+        Err(HubError::refused(
             "email",
             "must look like name@domain, at most 254 characters, no spaces",
+            Why::new(Code::BadEmail),
         ))
     }
 }
@@ -473,9 +475,10 @@ impl Db {
         let therapist = self.login(attempt, now_ms).await?.therapist;
         check_new_password(new, &therapist.email)?;
         if new == attempt.password {
-            return Err(HubError::invalid(
+            return Err(HubError::refused(
                 "password",
                 "the new password must differ from the current one",
+                Why::new(Code::PasswordSame),
             ));
         }
         let owned = new.to_owned();

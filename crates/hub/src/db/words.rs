@@ -58,6 +58,15 @@ pub struct NamedSession {
 /// (unknown when read from the regimen rather than reported by the station).
 type Reported = Vec<(String, String, Option<f64>)>;
 
+/// How session `row` ended, as the console words it: unreported when it closed without a
+/// reason, else from its station's reason.
+pub(crate) fn end_kind_of(row: &SessionRow) -> metrics::words::EndKind {
+    match (&row.end_reason, row.closed_at_ms) {
+        (None, Some(_)) => metrics::words::EndKind::Unreported,
+        (reason, _) => metrics::words::EndKind::of(reason.as_deref()),
+    }
+}
+
 /// Names session `row` from its reported exercises (`kind`, `name`, `prescribed_s`).
 /// `recording_uploaded` says whether its whole recording has arrived.
 fn name_session(
@@ -70,15 +79,10 @@ fn name_session(
         .end_reason
         .as_deref()
         .is_some_and(|r| r.contains("recording stopped"));
-    let (end_kind, end_words) = match (&row.end_reason, row.closed_at_ms) {
-        (None, Some(_)) => {
-            let k = metrics::words::EndKind::Unreported;
-            (k, k.words().to_owned())
-        }
-        (reason, _) => (
-            metrics::words::EndKind::of(reason.as_deref()),
-            metrics::words::end_words(reason.as_deref()),
-        ),
+    let end_kind = end_kind_of(&row);
+    let end_words = match end_kind {
+        metrics::words::EndKind::Unreported => end_kind.words().to_owned(),
+        _ => metrics::words::end_words(row.end_reason.as_deref()),
     };
     let exercise_shorts = match reported {
         Some(list) if !list.is_empty() => list.iter().map(|(k, _, _)| k.clone()).collect(),

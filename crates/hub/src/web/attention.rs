@@ -3,6 +3,7 @@
 //! one, and the clinic's thresholds (`/api/clinic/settings`). The alerts themselves are
 //! [`crate::attention`]'s.
 
+use crate::refusal::{Code, Why};
 use std::collections::BTreeMap;
 
 use axum::Json;
@@ -52,20 +53,26 @@ pub(crate) async fn caseload(
     Authed(therapist): Authed,
     query: Result<Query<CaseloadQuery>, QueryRejection>,
 ) -> Result<Json<Vec<CaseloadRow>>, ApiError> {
-    let Query(query) = query.map_err(|e| ApiError::BadRequest(e.body_text()))?;
+    let Query(query) = query.map_err(|e| {
+        ApiError::BadRequest(Why::field(Code::NotOneOf, "query").says(e.body_text()))
+    })?;
     let sort = query.sort.as_deref().unwrap_or("pseudonym");
     if !matches!(sort, "need" | "pseudonym" | "last_session") {
-        return Err(ApiError::BadRequest(format!(
-            "invalid sort {sort:?}: use need, pseudonym or last_session"
-        )));
+        return Err(ApiError::BadRequest(
+            Why::field(Code::NotOneOf, "sort").says(format!(
+                "invalid sort {sort:?}: use need, pseudonym or last_session"
+            )),
+        ));
     }
     if let Some(kind) = query.alert.as_deref()
         && !KIND_ORDER.contains(&kind)
     {
-        return Err(ApiError::BadRequest(format!(
-            "invalid alert {kind:?}: use one of {}",
-            KIND_ORDER.join(", ")
-        )));
+        return Err(ApiError::BadRequest(
+            Why::field(Code::NotOneOf, "alert").says(format!(
+                "invalid alert {kind:?}: use one of {}",
+                KIND_ORDER.join(", ")
+            )),
+        ));
     }
     let now = state.now();
     let thresholds = state.db.thresholds().await?;
@@ -129,7 +136,7 @@ async fn attention_now(
         .db
         .patient_overview(therapist, &patient.id, now)
         .await?
-        .ok_or_else(|| ApiError::NotFound(format!("no patient {id:?}")))?;
+        .ok_or_else(|| super::not_found("patient", format!("no patient {id:?}")))?;
     let thresholds = state.db.thresholds().await?;
     Ok((
         state.db.attention_of(&row, &thresholds, now).await?,
@@ -185,17 +192,18 @@ pub(crate) async fn ack(
         .chain(&attention.quieted)
         .find(|a| a.key == body.key);
     let Some(current) = current else {
-        return Err(ApiError::NotFound(format!(
+        return Err(ApiError::NotFound(Why::new(Code::AlertGone).says(format!(
             "the patient has no alert {:?} now (it may have cleared); reload the caseload",
             body.key
-        )));
+        ))));
     };
     if current.fingerprint != body.fingerprint {
         return Err(ApiError::Rejected(
             StatusCode::CONFLICT,
-            "something new happened since this alert was shown; look at it again (nothing \
-             was recorded)"
-                .to_owned(),
+            Why::new(Code::AlertChanged).says(
+                "something new happened since this alert was shown; look at it again \
+                 (nothing was recorded)",
+            ),
         ));
     }
     let ack = NewAck {
@@ -275,8 +283,7 @@ pub(crate) async fn put_settings(
     admins_only(&admin, "changing the clinic's thresholds")?;
     let Json(body) = body?;
     for (key, value) in &body {
-        check_setting(key, *value)
-            .map_err(|e| ApiError::BadRequest(format!("{e} (nothing was changed)")))?;
+        check_setting(key, *value)?;
     }
     let before = state.db.thresholds().await?;
     let before = serde_json::to_value(before).unwrap_or_default();

@@ -6,6 +6,7 @@
 //! Cheat Sheet) and the bounded hashing pool live in the database layer; this module adds the
 //! HTTP side: the client's address, the device cookie, `429` with `Retry-After`.
 
+use crate::refusal::{Code, Why};
 use std::net::{IpAddr, SocketAddr};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -92,7 +93,11 @@ impl FromRequestParts<AppState> for Authed {
     type Rejection = ApiError;
 
     async fn from_request_parts(parts: &mut Parts, state: &AppState) -> Result<Self, ApiError> {
-        let unauthorized = || ApiError::Unauthorized("log in first (POST /api/login)".to_owned());
+        let unauthorized = || {
+            ApiError::Unauthorized(
+                Why::new(Code::LogInFirst).says("log in first (POST /api/login)"),
+            )
+        };
         let token = token_of(&parts.headers).ok_or_else(unauthorized)?;
         let therapist = state
             .db
@@ -105,10 +110,9 @@ impl FromRequestParts<AppState> for Authed {
             *actor = Some(therapist.actor());
         }
         if therapist.must_change_password && !ONE_TIME_PASSWORD_PATHS.contains(&parts.uri.path()) {
-            return Err(ApiError::Forbidden(
-                "your password is a one-time password: change it first (POST /api/me/password)"
-                    .to_owned(),
-            ));
+            return Err(ApiError::Forbidden(Why::new(Code::OneTimePassword).says(
+                "your password is a one-time password: change it first (POST /api/me/password)",
+            )));
         }
         Ok(Self(therapist))
     }
@@ -290,9 +294,10 @@ pub(crate) async fn logout(
     if !is_json_request(&headers) {
         return Err(ApiError::Rejected(
             StatusCode::UNSUPPORTED_MEDIA_TYPE,
-            "logout needs `Content-Type: application/json` (so that no other page can log you \
-             out)"
-                .to_owned(),
+            Why::new(Code::BodyNotJson).says(
+                "logout needs `Content-Type: application/json` (so that no other page can log \
+                 you out)",
+            ),
         ));
     }
     if let Some(token) = token_of(&headers) {
@@ -403,7 +408,7 @@ pub(crate) async fn audit_log(
 ) -> Result<Json<AuditAnswer>, ApiError> {
     if !therapist.is_admin() {
         return Err(ApiError::Forbidden(
-            "the audit log is for administrators".to_owned(),
+            Why::new(Code::AdminOnly).says("the audit log is for administrators"),
         ));
     }
     let now = state.now();

@@ -19,13 +19,16 @@ use super::{ApiError, AppState, check_path_id};
 use crate::db::{Patient, Role, Station, Therapist};
 use crate::error::HubError;
 use crate::patients::PAIRING_TTL_MS;
+use crate::refusal::{Code, Why};
 
 /// A 409 for a pseudonym or e-mail already taken; other errors as usual.
 fn taken(e: HubError) -> ApiError {
     match e {
-        HubError::AlreadyExists { .. } => ApiError::Rejected(
+        HubError::AlreadyExists { what, .. } => ApiError::Rejected(
             StatusCode::CONFLICT,
-            format!("{e}; choose another (nothing was changed)"),
+            Why::new(Code::AlreadyExists)
+                .with("what", what)
+                .says(format!("{e}; choose another (nothing was changed)")),
         ),
         other => other.into(),
     }
@@ -35,7 +38,9 @@ pub(super) fn admins_only(therapist: &Therapist, what: &str) -> Result<(), ApiEr
     if therapist.is_admin() {
         Ok(())
     } else {
-        Err(ApiError::Forbidden(format!("{what} is for administrators")))
+        Err(ApiError::Forbidden(
+            Why::new(Code::AdminOnly).says(format!("{what} is for administrators")),
+        ))
     }
 }
 
@@ -124,18 +129,17 @@ pub(crate) async fn add_patient(
                 .therapist_by_email(email)
                 .await?
                 .ok_or_else(|| {
-                    ApiError::BadRequest(format!(
+                    ApiError::BadRequest(Why::new(Code::NoTherapistEmail).says(format!(
                         "invalid therapist_email: no therapist has the e-mail {email:?}"
-                    ))
+                    )))
                 })?
                 .id,
         ),
         (false, Some(email)) if !email.eq_ignore_ascii_case(&therapist.email) => {
-            return Err(ApiError::Forbidden(
+            return Err(ApiError::Forbidden(Why::new(Code::OwnCareOnly).says(
                 "a therapist adds patients into their own care; an administrator can assign \
-                 another therapist"
-                    .to_owned(),
-            ));
+                 another therapist",
+            )));
         }
         (false, _) => Some(therapist.id.clone()),
     };
@@ -179,7 +183,7 @@ pub(crate) async fn revoke_station(
     let Path(id) = id?;
     let Json(NoInput {}) = body?;
     check_path_id("station id", &id)?;
-    let not_found = || ApiError::NotFound(format!("no station {id:?}"));
+    let not_found = || super::not_found("station", format!("no station {id:?}"));
     let station = state.db.station(&id).await?.ok_or_else(not_found)?;
     // Someone else's patient's station is answered like one that does not exist.
     state

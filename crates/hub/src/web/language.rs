@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use super::auth::Authed;
 use super::{ApiError, AppState};
+use crate::refusal::{Code, Why};
 
 /// Answer of `GET`/`PUT /api/me/language`.
 #[derive(Serialize)]
@@ -51,10 +52,12 @@ pub(crate) async fn put_language(
     if let Some(tag) = &choice.language
         && !i18n::console_tags().any(|t| t == tag.as_str())
     {
-        return Err(ApiError::BadRequest(format!(
-            "{} (or {} to test layouts; null follows the browser); nothing was changed",
-            i18n::UnknownLanguage(tag.clone()),
-            i18n::PSEUDO
+        return Err(ApiError::BadRequest(Why::new(Code::UnknownLanguage).says(
+            format!(
+                "{} (or {} to test layouts; null follows the browser); nothing was changed",
+                i18n::UnknownLanguage(tag.clone()),
+                i18n::PSEUDO
+            ),
         )));
     }
     let before = state.db.therapist_language(&therapist.id).await?;

@@ -23,6 +23,7 @@ use tokio_stream::wrappers::ReceiverStream;
 use super::auth::{Authed, token_of};
 use super::{ApiError, AppState};
 use crate::db::sha256_hex;
+use crate::refusal::{Code, Why};
 
 /// How often a live stream checks again that its login is valid and its patient still
 /// visible, ms; a logout, expiry, password change, revocation or reassignment ends it within
@@ -125,16 +126,26 @@ pub(crate) async fn live(
         .live_streams
         .take(&sha256_hex(token.as_bytes()), &therapist.id)
         .map_err(|full| {
-            let message = match full {
-                Full::Login => format!(
-                    "at most {MAX_LIVE_STREAMS_PER_LOGIN} live streams per login; close one first"
+            let (max, message) = match full {
+                Full::Login => (
+                    MAX_LIVE_STREAMS_PER_LOGIN,
+                    format!(
+                        "at most {MAX_LIVE_STREAMS_PER_LOGIN} live streams per login; close one \
+                         first"
+                    ),
                 ),
-                Full::Account => format!(
-                    "at most {MAX_LIVE_STREAMS_PER_ACCOUNT} live streams per therapist across \
-                     all your logins; close one first"
+                Full::Account => (
+                    MAX_LIVE_STREAMS_PER_ACCOUNT,
+                    format!(
+                        "at most {MAX_LIVE_STREAMS_PER_ACCOUNT} live streams per therapist \
+                         across all your logins; close one first"
+                    ),
                 ),
             };
-            ApiError::TooManyRequests(message, 1)
+            ApiError::TooManyRequests(
+                Why::new(Code::LiveStreams).with("max", max).says(message),
+                1,
+            )
         })?;
     // Subscribe before answering, so nothing broadcast after the answer is missed.
     let receiver = state.live.subscribe();
@@ -162,14 +173,14 @@ struct Watch {
 
 impl Watch {
     /// Why the stream must end now, if it must.
-    async fn ended(&self) -> Option<&'static str> {
+    async fn ended(&self) -> Option<Stopped> {
         let now = self.state.now();
         let therapist = match self.state.db.web_session(&self.token, now).await {
             Ok(Some(t)) => t,
-            Ok(None) => return Some("your login ended (logout, expiry or password change)"),
+            Ok(None) => return Some(Stopped::LoginEnded),
             Err(e) => {
                 tracing::warn!("a live stream cannot re-check its login: {e}");
-                return Some("the hub cannot check your login right now");
+                return Some(Stopped::LoginUnchecked);
             }
         };
         match self
@@ -178,7 +189,7 @@ impl Watch {
             .await
         {
             Ok(_) => None,
-            Err(_) => Some("this patient is no longer assigned to you"),
+            Err(_) => Some(Stopped::NotYourPatient),
         }
     }
 
@@ -199,9 +210,9 @@ impl Watch {
                 biased;
                 () = tx.closed() => return,
                 _ = check.tick() => {
-                    if let Some(reason) = self.ended().await {
-                        let _ = tx.try_send(Event::default().event("ended").data(reason));
-                        if let Err(e) = self.state.audit(&self.actor, "live_ended", &self.patient_id, reason).await {
+                    if let Some(stopped) = self.ended().await {
+                        let _ = tx.try_send(Event::default().event("ended").data(stopped.code()));
+                        if let Err(e) = self.state.audit(&self.actor, "live_ended", &self.patient_id, stopped.english()).await {
                             tracing::error!("cannot audit the end of a live stream: {e:?}");
                         }
                         return;
@@ -234,6 +245,33 @@ impl Watch {
                 Err(TrySendError::Full(_)) => skipped += 1,
                 Err(TrySendError::Closed(_)) => return,
             }
+        }
+    }
+}
+
+/// Why the hub stopped a live stream: the `ended` event's data is its code, which the console
+/// words as `live-stopped-<code>`; the audit log keeps the English.
+#[derive(Debug, Clone, Copy)]
+enum Stopped {
+    LoginEnded,
+    LoginUnchecked,
+    NotYourPatient,
+}
+
+impl Stopped {
+    fn code(self) -> &'static str {
+        match self {
+            Self::LoginEnded => "login-ended",
+            Self::LoginUnchecked => "login-unchecked",
+            Self::NotYourPatient => "not-your-patient",
+        }
+    }
+
+    fn english(self) -> &'static str {
+        match self {
+            Self::LoginEnded => "your login ended (logout, expiry or password change)",
+            Self::LoginUnchecked => "the hub cannot check your login right now",
+            Self::NotYourPatient => "this patient is no longer assigned to you",
         }
     }
 }

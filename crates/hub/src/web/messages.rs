@@ -50,7 +50,8 @@ pub(crate) async fn post(
         state
             .audit(&therapist.actor(), "message_rejected", &patient.id, &e.0)
             .await?;
-        return Err(ApiError::BadRequest(e.0));
+        let why = crate::refusal::of_text("text", &body.text, netlink::MAX_MESSAGE_TEXT_CHARS);
+        return Err(ApiError::BadRequest(why.says(e.0)));
     }
     let message = state
         .db

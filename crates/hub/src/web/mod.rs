@@ -41,6 +41,7 @@ use tokio::sync::broadcast;
 
 use crate::db::{Db, Patient, RegimenVersion, Therapist};
 use crate::error::HubError;
+use crate::refusal::{Code, Why};
 
 pub use auth::DEVICE_COOKIE;
 pub use auth::SESSION_COOKIE;
@@ -199,7 +200,7 @@ impl AppState {
         check_path_id("patient id", id)?;
         match self.db.patient(id).await? {
             Some(p) if Db::may_see(therapist, &p) => Ok(p),
-            _ => Err(ApiError::NotFound(format!("no patient {id:?}"))),
+            _ => Err(not_found("patient", format!("no patient {id:?}"))),
         }
     }
 }
@@ -301,7 +302,9 @@ pub fn router(state: AppState) -> Router {
             "/api/therapists",
             get(clinic::therapists).post(clinic::add_therapist),
         )
-        .fallback(|| async { ApiError::NotFound("no such endpoint".to_owned()) })
+        .fallback(|| async {
+            ApiError::NotFound(Why::new(Code::NoEndpoint).says("no such endpoint"))
+        })
         .layer(axum::middleware::from_fn_with_state(
             state.clone(),
             auth::audit_refusals,
@@ -343,31 +346,55 @@ async fn health() -> Json<Health> {
     Json(Health { status: "ok" })
 }
 
-/// Checks an id taken from the URL (netlink's identifier rule), 400 naming it otherwise.
-fn check_path_id(what: &str, id: &str) -> Result<(), ApiError> {
-    netlink::frame::check_id(what, id).map_err(|e| ApiError::BadRequest(e.into()))
+/// 404 for `what` (patient, station, session, scale, alert), in `english`.
+fn not_found(what: &'static str, english: String) -> ApiError {
+    ApiError::NotFound(Why::new(Code::NotFound).with("what", what).says(english))
 }
 
-/// An error answer: the status and `{"error": "<message>"}`.
+/// Checks an id taken from the URL (netlink's identifier rule), 400 naming it otherwise.
+fn check_path_id(what: &str, id: &str) -> Result<(), ApiError> {
+    netlink::frame::check_id(what, id)
+        .map_err(|e| ApiError::BadRequest(Why::field(Code::BadId, what).says(e)))
+}
+
+/// A refusal's words: the hub's English sentence (`error`) and why, for the console's words in
+/// any language (`why`, [`crate::refusal`]).
+#[derive(Debug)]
+pub(crate) struct Said {
+    english: String,
+    why: Why,
+}
+
+impl Why {
+    /// This reason with the hub's English sentence for it.
+    pub(crate) fn says(self, english: impl Into<String>) -> Said {
+        Said {
+            english: english.into(),
+            why: self,
+        }
+    }
+}
+
+/// An error answer: the status and `{"error": "<message>", "why": {"code": …, "args": …}}`.
 #[derive(Debug)]
 pub(crate) enum ApiError {
     /// 401: not logged in, or login refused.
-    Unauthorized(String),
+    Unauthorized(Said),
     /// 403: logged in but not allowed (admin-only endpoints).
-    Forbidden(String),
+    Forbidden(Said),
     /// 404.
-    NotFound(String),
+    NotFound(Said),
     /// 400: malformed input.
-    BadRequest(String),
+    BadRequest(Said),
     /// 422: well-formed but refused (a regimen outside the safety bounds).
-    Unprocessable(String),
+    Unprocessable(Said),
     /// 429 with `Retry-After` (s): throttled or too busy; nothing was done.
-    TooManyRequests(String, i64),
+    TooManyRequests(Said, i64),
     /// 503 with `Retry-After` (s): the hub's shared capacity stayed busy; nothing was done.
-    Unavailable(String, i64),
+    Unavailable(Said, i64),
     /// A body axum's JSON extractor refused (malformed or wrong shape 400, wrong content type
-    /// 415, over [`MAX_BODY_BYTES`] 413), with that status.
-    Rejected(StatusCode, String),
+    /// 415, over [`MAX_BODY_BYTES`] 413), or a conflict (409), with that status.
+    Rejected(StatusCode, Said),
     /// 500: details are logged, not shown.
     Internal,
 }
@@ -375,54 +402,55 @@ pub(crate) enum ApiError {
 #[derive(Serialize)]
 struct ErrorBody<'a> {
     error: &'a str,
+    why: &'a Why,
 }
 
 impl IntoResponse for ApiError {
     fn into_response(self) -> Response {
-        let (status, message) = match &self {
-            Self::Unauthorized(m) => (StatusCode::UNAUTHORIZED, m.as_str()),
-            Self::Forbidden(m) => (StatusCode::FORBIDDEN, m.as_str()),
-            Self::NotFound(m) => (StatusCode::NOT_FOUND, m.as_str()),
-            Self::BadRequest(m) => (StatusCode::BAD_REQUEST, m.as_str()),
-            Self::Unprocessable(m) => (StatusCode::UNPROCESSABLE_ENTITY, m.as_str()),
-            Self::TooManyRequests(m, retry_after_s) => {
-                return retry_later(StatusCode::TOO_MANY_REQUESTS, m, *retry_after_s);
-            }
-            Self::Unavailable(m, retry_after_s) => {
-                return retry_later(StatusCode::SERVICE_UNAVAILABLE, m, *retry_after_s);
-            }
-            Self::Rejected(status, m) => (*status, m.as_str()),
+        let (status, said, retry_after_s) = match self {
+            Self::Unauthorized(m) => (StatusCode::UNAUTHORIZED, m, None),
+            Self::Forbidden(m) => (StatusCode::FORBIDDEN, m, None),
+            Self::NotFound(m) => (StatusCode::NOT_FOUND, m, None),
+            Self::BadRequest(m) => (StatusCode::BAD_REQUEST, m, None),
+            Self::Unprocessable(m) => (StatusCode::UNPROCESSABLE_ENTITY, m, None),
+            Self::TooManyRequests(m, s) => (StatusCode::TOO_MANY_REQUESTS, m, Some(s)),
+            Self::Unavailable(m, s) => (StatusCode::SERVICE_UNAVAILABLE, m, Some(s)),
+            Self::Rejected(status, m) => (status, m, None),
             Self::Internal => (
                 StatusCode::INTERNAL_SERVER_ERROR,
-                "internal error; the hub's log has the details",
+                Why::new(Code::Internal).says("internal error; the hub's log has the details"),
+                None,
             ),
         };
-        (status, Json(ErrorBody { error: message })).into_response()
+        let body = ErrorBody {
+            error: &said.english,
+            why: &said.why,
+        };
+        let mut response = (status, Json(body)).into_response();
+        if let Some(retry_after_s) = retry_after_s {
+            response
+                .headers_mut()
+                .insert(header::RETRY_AFTER, HeaderValue::from(retry_after_s));
+        }
+        response
     }
-}
-
-/// `status` with `Retry-After: retry_after_s` and `{"error": message}`.
-fn retry_later(status: StatusCode, message: &str, retry_after_s: i64) -> Response {
-    let mut response = (status, Json(ErrorBody { error: message })).into_response();
-    response
-        .headers_mut()
-        .insert(header::RETRY_AFTER, HeaderValue::from(retry_after_s));
-    response
 }
 
 impl From<HubError> for ApiError {
     fn from(e: HubError) -> Self {
+        let Some(why) = e.why() else {
+            tracing::error!(error = %e, "request failed");
+            return Self::Internal;
+        };
+        let said = why.says(e.to_string());
         match e {
-            HubError::Invalid { .. } => Self::BadRequest(e.to_string()),
-            HubError::NotFound { .. } => Self::NotFound(e.to_string()),
-            HubError::LoginRefused => Self::Unauthorized(e.to_string()),
+            HubError::NotFound { .. } => Self::NotFound(said),
+            HubError::LoginRefused => Self::Unauthorized(said),
             HubError::Throttled { retry_after_ms, .. } => {
-                Self::TooManyRequests(e.to_string(), ((retry_after_ms + 999) / 1000).max(1))
+                Self::TooManyRequests(said, ((retry_after_ms + 999) / 1000).max(1))
             }
-            other => {
-                tracing::error!(error = %other, "request failed");
-                Self::Internal
-            }
+            HubError::AlreadyExists { .. } => Self::Rejected(StatusCode::CONFLICT, said),
+            _ => Self::BadRequest(said),
         }
     }
 }
@@ -435,12 +463,17 @@ impl From<axum::extract::rejection::JsonRejection> for ApiError {
             StatusCode::UNPROCESSABLE_ENTITY => StatusCode::BAD_REQUEST,
             other => other,
         };
-        Self::Rejected(status, rejection.body_text())
+        let code = match status {
+            StatusCode::PAYLOAD_TOO_LARGE => Code::BodyTooLarge,
+            StatusCode::UNSUPPORTED_MEDIA_TYPE => Code::BodyNotJson,
+            _ => Code::BodyMalformed,
+        };
+        Self::Rejected(status, Why::new(code).says(rejection.body_text()))
     }
 }
 
 impl From<axum::extract::rejection::PathRejection> for ApiError {
     fn from(rejection: axum::extract::rejection::PathRejection) -> Self {
-        Self::BadRequest(rejection.body_text())
+        Self::BadRequest(Why::new(Code::NoEndpoint).says(rejection.body_text()))
     }
 }

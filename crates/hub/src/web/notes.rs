@@ -51,7 +51,8 @@ pub(crate) async fn post(
         state
             .audit(&therapist.actor(), "note_rejected", &session.session_id, &e)
             .await?;
-        return Err(ApiError::BadRequest(e));
+        let why = crate::refusal::of_text("text", &body.text, crate::db::MAX_NOTE_CHARS);
+        return Err(ApiError::BadRequest(why.says(e)));
     }
     let note = state
         .db

@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 use super::auth::Authed;
 use super::{ApiError, AppState};
 use crate::db::RegimenVersion;
+use crate::refusal::{Code, Why};
 
 /// Answer of `GET /api/patients/{id}/regimen`.
 #[derive(Serialize)]
@@ -92,14 +93,17 @@ impl PutRegimen {
         match (self.toml, self.fields) {
             (Some(text), None) => Ok(text),
             (None, Some(fields)) => {
-                let value: toml::Value = serde_json::from_value(fields)
-                    .map_err(|e| ApiError::BadRequest(format!("regimen fields: {e}")))?;
-                toml::to_string(&value)
-                    .map_err(|e| ApiError::BadRequest(format!("regimen fields: {e}")))
+                let refused = |e: &dyn std::fmt::Display| {
+                    ApiError::BadRequest(
+                        Why::new(Code::RegimenShape).says(format!("regimen fields: {e}")),
+                    )
+                };
+                let value: toml::Value = serde_json::from_value(fields).map_err(|e| refused(&e))?;
+                toml::to_string(&value).map_err(|e| refused(&e))
             }
-            _ => Err(ApiError::BadRequest(
-                "give the regimen as \"toml\" or as \"fields\", not both or neither".to_owned(),
-            )),
+            _ => Err(ApiError::BadRequest(Why::new(Code::RegimenShape).says(
+                "give the regimen as \"toml\" or as \"fields\", not both or neither",
+            ))),
         }
     }
 }
@@ -119,14 +123,16 @@ pub(crate) async fn put_regimen(
         Err(reason) => {
             // A TOML slip in plain words, naming its line and field; the regimen's own bounds
             // keep their message (it names the field already).
-            let reason =
-                super::regimen_words::toml_problem(&text).unwrap_or_else(|| reason.to_string());
+            let (reason, why) = match super::regimen_words::toml_problem(&text) {
+                Some(problem) => (problem.words.clone(), problem.why()),
+                None => (reason.to_string(), crate::refusal::of_regimen(&reason)),
+            };
             state
                 .audit(&therapist.actor(), "regimen_rejected", &patient.id, &reason)
                 .await?;
-            return Err(ApiError::Unprocessable(format!(
-                "regimen refused: {reason}"
-            )));
+            return Err(ApiError::Unprocessable(
+                why.says(format!("regimen refused: {reason}")),
+            ));
         }
     };
     // Never above what the patient's own wheel can give.

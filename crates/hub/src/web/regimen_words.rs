@@ -1,14 +1,38 @@
 //! A regimen's TOML error in plain words (issue 29): the line and the field, and what is wrong,
 //! instead of the parser's raw message.
 
+use crate::refusal::{Code, Why};
+
+/// A regimen text the TOML reader refuses: its plain words and the line they are about.
+#[derive(Debug, PartialEq)]
+pub(crate) struct TomlProblem {
+    /// The line and the field, and what is wrong, in plain (English) words.
+    pub(crate) words: String,
+    /// The 1-based line, when the reader knows it.
+    pub(crate) line: Option<usize>,
+}
+
+impl TomlProblem {
+    /// Why, for the console's words in any language.
+    pub(crate) fn why(&self) -> Why {
+        match self.line {
+            Some(line) => Why::new(Code::RegimenText).with("line", line),
+            None => Why::new(Code::RegimenUnreadable),
+        }
+    }
+}
+
 /// The plain-words refusal of `text` when it is not a regimen the TOML reader accepts (its
 /// syntax or a field's type or name), naming the line and the field; `None` when it reads (the
 /// regimen's own bounds are checked after, and their messages already name the field).
-pub(crate) fn toml_problem(text: &str) -> Option<String> {
+pub(crate) fn toml_problem(text: &str) -> Option<TomlProblem> {
     let err = toml::from_str::<regimen::Regimen>(text).err()?;
     let what = plain_message(err.message());
     let Some(span) = err.span() else {
-        return Some(format!("The regimen text cannot be read: {what}."));
+        return Some(TomlProblem {
+            words: format!("The regimen text cannot be read: {what}."),
+            line: None,
+        });
     };
     let start = span.start.min(text.len());
     // An error in a table points at its header: find the line the message is about in the
@@ -42,9 +66,13 @@ pub(crate) fn toml_problem(text: &str) -> Option<String> {
         .split_once('=')
         .map(|(k, _)| k.trim())
         .filter(|k| !k.is_empty() && !k.starts_with('['));
-    Some(match field {
+    let words = match field {
         Some(field) => format!("Line {line_no}, the field \"{field}\"{section}: {what}."),
         None => format!("Line {line_no} (\"{line}\"){section}: {what}."),
+    };
+    Some(TomlProblem {
+        words,
+        line: Some(line_no),
     })
 }
 
@@ -134,7 +162,7 @@ mod tests {
     fn a_mistyped_value_names_its_line_and_field_in_plain_words() {
         let text =
             "sessions_per_week = 3\n\n[[exercise]]\nkind = \"sine\"\nduration_s = \"long\"\n";
-        let msg = toml_problem(text).unwrap();
+        let msg = toml_problem(text).unwrap().words;
         assert!(
             msg.starts_with("Line 5, the field \"duration_s\" in [[exercise]]"),
             "{msg}"
@@ -146,7 +174,7 @@ mod tests {
     #[test]
     fn a_misspelt_setting_is_named_with_its_line() {
         let text = "[[exercise]]\nkind = \"sine\"\namplitud_m = 3.0\n";
-        let msg = toml_problem(text).unwrap();
+        let msg = toml_problem(text).unwrap().words;
         assert!(msg.contains("Line 3"), "{msg}");
         assert!(msg.contains("no setting called \"amplitud_m\""), "{msg}");
     }
@@ -158,7 +186,9 @@ mod tests {
 
     #[test]
     fn an_unknown_kind_is_named_on_its_line_with_the_kinds_known() {
-        let msg = toml_problem("[[exercise]]\nkind = \"sinus\"\n").unwrap();
+        let msg = toml_problem("[[exercise]]\nkind = \"sinus\"\n")
+            .unwrap()
+            .words;
         assert!(msg.starts_with("Line 2, the field \"kind\""), "{msg}");
         assert!(
             msg.contains("\"sinus\" is not a kind") && msg.contains("slalom"),

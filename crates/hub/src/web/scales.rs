@@ -49,12 +49,16 @@ pub(crate) async fn post(
     let Path(id) = id?;
     let patient = state.visible_patient(&therapist, &id).await?;
     let Json(body) = body?;
-    if let Err((field, why)) = check_scale(&body, state.now()) {
-        let message = format!("invalid {field}: {why}");
+    if let Err(refused) = check_scale(&body, state.now()) {
         state
-            .audit(&therapist.actor(), "scale_rejected", &patient.id, &message)
+            .audit(
+                &therapist.actor(),
+                "scale_rejected",
+                &patient.id,
+                &refused.to_string(),
+            )
             .await?;
-        return Err(ApiError::BadRequest(message));
+        return Err(refused.into());
     }
     let entry = state
         .db
@@ -82,9 +86,10 @@ pub(crate) async fn delete(
     let patient = state.visible_patient(&therapist, &id).await?;
     check_path_id("scale id", &scale_id)?;
     let Some(entry) = state.db.delete_scale(&patient.id, &scale_id).await? else {
-        return Err(ApiError::NotFound(format!(
-            "patient {id:?} has no clinical scale {scale_id:?}"
-        )));
+        return Err(super::not_found(
+            "scale",
+            format!("patient {id:?} has no clinical scale {scale_id:?}"),
+        ));
     };
     state
         .audit(

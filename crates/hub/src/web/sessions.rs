@@ -15,6 +15,7 @@ use tokio::sync::Semaphore;
 use super::auth::Authed;
 use super::{ApiError, AppState, check_path_id};
 use crate::db::{SessionRow, Therapist};
+use crate::refusal::{Code, Why};
 
 /// The session `id` if `therapist` may see its patient; 404 otherwise.
 pub(crate) async fn visible_session(
@@ -23,7 +24,7 @@ pub(crate) async fn visible_session(
     id: &str,
 ) -> Result<SessionRow, ApiError> {
     check_path_id("session id", id)?;
-    let not_found = || ApiError::NotFound(format!("no session {id:?}"));
+    let not_found = || super::not_found("session", format!("no session {id:?}"));
     let session = state.db.session(id).await?.ok_or_else(not_found)?;
     state
         .visible_patient(therapist, &session.patient_id)
@@ -32,17 +33,29 @@ pub(crate) async fn visible_session(
     Ok(session)
 }
 
+/// `GET /api/sessions/{id}`: the session's row and how it ended (`end_kind`, the console's
+/// words for it in any language).
+#[derive(serde::Serialize)]
+pub(crate) struct OneSession {
+    #[serde(flatten)]
+    row: SessionRow,
+    end_kind: metrics::words::EndKind,
+}
+
 pub(crate) async fn one(
     State(state): State<AppState>,
     Authed(therapist): Authed,
     id: Result<Path<String>, PathRejection>,
-) -> Result<Json<SessionRow>, ApiError> {
+) -> Result<Json<OneSession>, ApiError> {
     let Path(id) = id?;
     let session = visible_session(&state, &therapist, &id).await?;
     state
         .audit(&therapist.actor(), "read_session", &session.session_id, "")
         .await?;
-    Ok(Json(session))
+    Ok(Json(OneSession {
+        end_kind: crate::db::end_kind_of(&session),
+        row: session,
+    }))
 }
 
 pub(crate) async fn summaries(
@@ -302,10 +315,10 @@ pub(crate) async fn replay(
         .await?
         .filter(|r| r.complete)
         .ok_or_else(|| {
-            ApiError::NotFound(format!(
+            ApiError::NotFound(Why::new(Code::RecordingNotArrived).says(format!(
                 "the recording of session {:?} has not (fully) arrived yet",
                 session.session_id
-            ))
+            )))
         })?;
     state
         .audit(&therapist.actor(), "read_replay", &session.session_id, "")
@@ -316,24 +329,28 @@ pub(crate) async fn replay(
         .await
         .map_err(|e| {
             tracing::warn!(session = %session.session_id, "replay file unreadable: {e}");
-            ApiError::Unprocessable(format!(
+            ApiError::Unprocessable(Why::new(Code::RecordingUnreadable).says(format!(
                 "the recording of session {:?} cannot be read on the hub",
                 session.session_id
-            ))
+            )))
         })?
         .len();
     if size > state.replay_max_bytes {
-        return Err(ApiError::Unprocessable(format!(
+        let why = Why::new(Code::RecordingTooLarge)
+            .with("mb", size >> 20)
+            .with("max_mb", state.replay_max_bytes >> 20);
+        return Err(ApiError::Unprocessable(why.says(format!(
             "the recording of session {:?} is {} MB, more than the {} MB this hub replays \
              (hub serve --max-replay-mb)",
             session.session_id,
             size >> 20,
             state.replay_max_bytes >> 20
-        )));
+        ))));
     }
     let Some(asking) = Asking::begin(&state.replay_turns, &therapist.id) else {
         return Err(ApiError::TooManyRequests(
-            "a replay you asked for is still being prepared; ask again once it is shown".into(),
+            Why::new(Code::ReplayPending)
+                .says("a replay you asked for is still being prepared; ask again once it is shown"),
             5,
         ));
     };
@@ -341,10 +358,10 @@ pub(crate) async fn replay(
     let wait = std::time::Duration::from_secs(REPLAY_QUEUE_WAIT_S);
     let Ok(Ok(turn)) = tokio::time::timeout(wait, decoding.acquire_owned()).await else {
         return Err(ApiError::Unavailable(
-            format!(
+            Why::new(Code::ReplayBusy).says(format!(
                 "the hub is busy preparing other replays ({REPLAYS_AT_ONCE} at a time); try \
                  again in a moment"
-            ),
+            )),
             10,
         ));
     };
@@ -397,10 +414,12 @@ pub(crate) async fn replay(
         Ok(Ok(())) => {}
         Ok(Err(reason)) => {
             tracing::warn!(session = %session.session_id, "replay refused: {reason}");
-            return Err(ApiError::Unprocessable(format!(
-                "the recording of session {:?} cannot be replayed: {reason}",
-                session.session_id
-            )));
+            return Err(ApiError::Unprocessable(
+                Why::new(Code::RecordingUnreadable).says(format!(
+                    "the recording of session {:?} cannot be replayed: {reason}",
+                    session.session_id
+                )),
+            ));
         }
         Err(_) => return Err(ApiError::Internal),
     }

@@ -27,6 +27,7 @@ use serde::Deserialize;
 use super::auth::Authed;
 use super::{ApiError, AppState};
 use crate::db::{MeasuresBySession, NamedSession, Patient, SessionCheckIn, iso_utc};
+use crate::refusal::{Code, Why};
 
 /// One patient's sessions (oldest first) with their measures and check-ins.
 struct PatientRows {
@@ -72,10 +73,10 @@ impl LocalZone {
         match tz.map(str::trim).filter(|t| !t.is_empty()) {
             Some(name) => {
                 let zone = TimeZone::get(name).map_err(|_| {
-                    ApiError::BadRequest(format!(
+                    ApiError::BadRequest(Why::new(Code::UnknownTimeZone).says(format!(
                         "unknown time zone \"{}\": give an IANA name such as Europe/Berlin",
                         name.chars().take(64).collect::<String>()
-                    ))
+                    )))
                 })?;
                 Ok(Self {
                     zone,
@@ -253,7 +254,9 @@ fn lines_of(
 
 /// The local time zone a spreadsheet's query asks for (see [`LocalZone::of`]).
 fn zone_of(query: Result<Query<SheetQuery>, QueryRejection>) -> Result<LocalZone, ApiError> {
-    let Query(q) = query.map_err(|e| ApiError::BadRequest(e.body_text()))?;
+    let Query(q) = query.map_err(|e| {
+        ApiError::BadRequest(Why::field(Code::FieldRefused, "query").says(e.body_text()))
+    })?;
     LocalZone::of(q.tz.as_deref())
 }
 

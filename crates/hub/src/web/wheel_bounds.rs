@@ -4,6 +4,7 @@
 
 use super::{ApiError, AppState};
 use crate::db::{Patient, PatientWheel, Therapist, plain_name};
+use crate::refusal::{Code, Why};
 
 /// `value` N·m in words: at most two decimals, without trailing zeros (`5`, `1.87`).
 pub(crate) fn nm_words(value: f64) -> String {
@@ -18,16 +19,20 @@ pub(crate) fn stated_ceiling_nm(wheel: &PatientWheel) -> f64 {
 }
 
 /// Why `regimen` asks more than `wheel` can give, naming the exercise, the field, the value
-/// and the wheel; `None` when every torque bound is within the patient's ceiling.
+/// and the wheel, and the same for the console's words; `None` when every torque bound is
+/// within the patient's ceiling.
 pub(crate) fn above_wheel(
     regimen: &regimen::Regimen,
     pseudonym: &str,
     wheel: &PatientWheel,
-) -> Option<String> {
+) -> Option<(String, Why)> {
     regimen.exercises.iter().enumerate().find_map(|(i, e)| {
         let ceiling_nm = e.haptic.as_ref()?.ceiling_nm?;
         (ceiling_nm > wheel.ceiling_nm + 1e-9).then(|| {
-            format!(
+            let why = Why::new(Code::AboveWheel)
+                .with("exercise", i + 1)
+                .with("max_nm", stated_ceiling_nm(wheel));
+            let words = format!(
                 "ceiling_nm {} N·m for exercise {} ({}) is above what {pseudonym}'s wheel ({}) \
                  can give: at most {} N·m",
                 nm_words(ceiling_nm),
@@ -35,7 +40,8 @@ pub(crate) fn above_wheel(
                 plain_name(&e.exercise.name()),
                 wheel.model,
                 nm_words(stated_ceiling_nm(wheel)),
-            )
+            );
+            (words, why)
         })
     })
 }
@@ -51,15 +57,15 @@ pub(crate) async fn check(
     let Some(wheel) = state.db.wheel_of(&patient.id).await? else {
         return Ok(());
     };
-    let Some(reason) = above_wheel(regimen, &patient.pseudonym, &wheel) else {
+    let Some((reason, why)) = above_wheel(regimen, &patient.pseudonym, &wheel) else {
         return Ok(());
     };
     state
         .audit(&therapist.actor(), "regimen_rejected", &patient.id, &reason)
         .await?;
-    Err(ApiError::Unprocessable(format!(
-        "regimen refused: {reason}"
-    )))
+    Err(ApiError::Unprocessable(
+        why.says(format!("regimen refused: {reason}")),
+    ))
 }
 
 #[cfg(test)]
@@ -85,9 +91,11 @@ mod tests {
             "test",
         )
         .unwrap();
-        let why = above_wheel(&r, "P-0042", &g29()).unwrap();
+        let (words, why) = above_wheel(&r, "P-0042", &g29()).unwrap();
+        assert_eq!(why.args()["exercise"], 2);
+        assert_eq!(why.args()["max_nm"], 1.87);
         assert_eq!(
-            why,
+            words,
             "ceiling_nm 5 N·m for exercise 2 (Sine road) is above what P-0042's wheel \
              (Logitech G29) can give: at most 1.87 N·m"
         );

@@ -45,10 +45,11 @@ live-lagged = { $count ->
     [one] Die Ansicht ist zurückgefallen und hat eine Zusammenfassung übersprungen.
    *[other] Die Ansicht ist zurückgefallen und hat { $count } Zusammenfassungen übersprungen.
 }
-live-stopped = Live-Ansicht beendet: { $reason }. Melden Sie sich erneut an, um zuzusehen.
+live-stopped-login-ended = Live-Ansicht beendet: Ihre Anmeldung ist abgelaufen. Melden Sie sich erneut an, um zuzusehen.
+live-stopped-login-unchecked = Live-Ansicht beendet: Der Hub kann Ihre Anmeldung gerade nicht prüfen. Bitte gleich noch einmal versuchen.
+live-stopped-not-your-patient = Live-Ansicht beendet: Diese Person ist nicht mehr in Ihrer Betreuung.
 live-ended-unknown = beendet (wie, ist nicht erfasst)
 live-ended-complete = beendet: vollständig, wie verordnet
-live-ended = beendet: { $reason }
 live-path-note = Der Weg des Autos in den letzten { $seconds } s
 
 live-road-not-sent = Diese Station sendet keine Straße: der Weg des Autos in den letzten { $seconds } s

@@ -46,10 +46,11 @@ live-lagged = { $count ->
     [one] The view fell behind and skipped one summary.
    *[other] The view fell behind and skipped { $count } summaries.
 }
-live-stopped = Live view stopped: { $reason }. Log in again to watch.
+live-stopped-login-ended = Live view stopped: your login ended. Log in again to watch.
+live-stopped-login-unchecked = Live view stopped: the hub cannot check your login now. Try again soon.
+live-stopped-not-your-patient = Live view stopped: this patient is no longer in your care.
 live-ended-unknown = ended (how is not recorded)
 live-ended-complete = ended: complete, as prescribed
-live-ended = ended: { $reason }
 live-path-note = The car's path over the last { $seconds } s
 
 live-road-not-sent = Road not sent by this station: the car's path over the last { $seconds } s

@@ -45,10 +45,11 @@ live-lagged = { $count ->
     [one] La vista se retrasó y omitió un resumen.
    *[other] La vista se retrasó y omitió { $count } resúmenes.
 }
-live-stopped = Vista en directo detenida: { $reason }. Vuelva a iniciar sesión para verla.
+live-stopped-login-ended = Vista en directo detenida: su sesión terminó. Vuelva a iniciar sesión para verla.
+live-stopped-login-unchecked = Vista en directo detenida: el hub no puede comprobar su sesión ahora. Inténtelo de nuevo pronto.
+live-stopped-not-your-patient = Vista en directo detenida: este paciente ya no está a su cuidado.
 live-ended-unknown = terminada (no consta cómo)
 live-ended-complete = terminada: completa, según lo prescrito
-live-ended = terminada: { $reason }
 live-path-note = El recorrido del coche en los últimos { $seconds } s
 
 live-road-not-sent = Esta estación no envía la carretera: el recorrido del coche en los últimos { $seconds } s

@@ -42,10 +42,11 @@ live-recording-stopped = 记录已于 { $seconds } 秒停止
 live-no-arm-sensors = 本次训练未使用手臂传感器。
 live-angles = 肩关节上抬 { $shoulder }°，肘关节屈曲 { $elbow }°，前臂旋前 { $forearm }°
 live-lagged = 视图落后，跳过了 { $count } 条摘要。
-live-stopped = 实时视图已停止：{ $reason }。请重新登录后查看。
+live-stopped-login-ended = 实时视图已停止：您的登录已结束。请重新登录后查看。
+live-stopped-login-unchecked = 实时视图已停止：集线器现在无法核对您的登录。请稍后再试。
+live-stopped-not-your-patient = 实时视图已停止：该患者已不在您的照护之下。
 live-ended-unknown = 已结束（未记录结束方式）
 live-ended-complete = 已结束：按处方完成
-live-ended = 已结束：{ $reason }
 live-path-note = 车辆最近 { $seconds } 秒的轨迹
 
 live-road-not-sent = 此训练站未发送道路：车辆最近 { $seconds } 秒的轨迹

@@ -24,6 +24,7 @@ use unicode_normalization::UnicodeNormalization;
 use zxcvbn::matching::patterns::MatchPattern;
 
 use crate::error::HubError;
+use crate::refusal::{Code, Why};
 
 /// Passwords refused whatever their length (compared NFKC-normalised, lowercased, spaces
 /// removed): the product's own names and the commonest passwords of at least ten characters
@@ -97,9 +98,10 @@ fn is_mark(c: char) -> bool {
 /// account's e-mail, not one of [`COMMON_PASSWORDS`], and at least 10^[`MIN_GUESSES_LOG10`]
 /// guesses for zxcvbn. Each refusal names its rule in plain words.
 pub fn check_new_password(password: &str, email: &str) -> Result<(), HubError> {
-    let refuse = |why: String| Err(HubError::invalid("password", why));
+    let refuse = |why: Why, words: String| Err(HubError::refused("password", words, why));
     if password.chars().any(is_invisible) {
         return refuse(
+            Why::new(Code::PasswordInvisible),
             "must not contain invisible characters (zero-width spaces or joiners, direction \
              marks, control characters): type only characters you can see"
                 .to_owned(),
@@ -108,10 +110,13 @@ pub fn check_new_password(password: &str, email: &str) -> Result<(), HubError> {
     let normalised: String = password.nfkc().collect();
     let visible = normalised.chars().filter(|&c| !is_mark(c)).count();
     if visible < MIN_PASSWORD_CHARS || password.len() > MAX_PASSWORD_BYTES {
-        return refuse(format!(
-            "must have at least {MIN_PASSWORD_CHARS} characters and at most \
+        return refuse(
+            Why::new(Code::PasswordLength).with("min", MIN_PASSWORD_CHARS),
+            format!(
+                "must have at least {MIN_PASSWORD_CHARS} characters and at most \
              {MAX_PASSWORD_BYTES} bytes"
-        ));
+            ),
+        );
     }
     let squeezed: Vec<char> = normalised
         .chars()
@@ -119,28 +124,41 @@ pub fn check_new_password(password: &str, email: &str) -> Result<(), HubError> {
         .flat_map(char::to_lowercase)
         .collect();
     if squeezed.len() < MIN_PASSWORD_CHARS / 2 {
-        return refuse(format!(
-            "must not be only spaces: at least {} characters that are not whitespace",
-            MIN_PASSWORD_CHARS / 2
-        ));
+        return refuse(
+            Why::new(Code::PasswordSpaces),
+            format!(
+                "must not be only spaces: at least {} characters that are not whitespace",
+                MIN_PASSWORD_CHARS / 2
+            ),
+        );
     }
     let email = email.trim().to_lowercase();
     let squeezed_text: String = squeezed.iter().collect();
     if !email.is_empty() && (squeezed_text == email || normalised.trim().to_lowercase() == email) {
-        return refuse("must not be the account's e-mail address".to_owned());
+        return refuse(
+            Why::new(Code::PasswordEmail),
+            "must not be the account's e-mail address".to_owned(),
+        );
     }
     if COMMON_PASSWORDS.contains(&squeezed_text.as_str()) {
-        return refuse("is one of the most common passwords; choose another".to_owned());
+        return refuse(
+            Why::new(Code::PasswordCommon),
+            "is one of the most common passwords; choose another".to_owned(),
+        );
     }
     if is_repeated(&squeezed) {
-        return refuse(format!(
-            "must not be one character or a short group of characters repeated (like \
+        return refuse(
+            Why::new(Code::PasswordRepeated).with("min", MIN_DISTINCT_CHARS),
+            format!(
+                "must not be one character or a short group of characters repeated (like \
              aaaaaaaaaa or abcabcabc): use at least {MIN_DISTINCT_CHARS} different characters \
              in no repeating pattern"
-        ));
+            ),
+        );
     }
     if is_sequential(&squeezed) {
         return refuse(
+            Why::new(Code::PasswordSequence),
             "must not be a run of consecutive letters or digits (like abcdefghij or \
              1234567890)"
                 .to_owned(),
@@ -154,13 +172,16 @@ pub fn check_new_password(password: &str, email: &str) -> Result<(), HubError> {
         .collect();
     let estimate = zxcvbn::zxcvbn(&estimated, &context);
     if estimate.guesses_log10() < MIN_GUESSES_LOG10 {
-        return refuse(format!(
-            "is too easy to guess: {} (about {} guesses would find it, at least 100 million \
+        return refuse(
+            Why::new(Code::PasswordGuessable),
+            format!(
+                "is too easy to guess: {} (about {} guesses would find it, at least 100 million \
              are needed); a phrase of a few unrelated words is long enough and easy to \
              remember",
-            weakest_part(estimate.sequence(), estimated.chars().count()),
-            plain_count(estimate.guesses_log10())
-        ));
+                weakest_part(estimate.sequence(), estimated.chars().count()),
+                plain_count(estimate.guesses_log10())
+            ),
+        );
     }
     Ok(())
 }
