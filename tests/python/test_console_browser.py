@@ -492,8 +492,12 @@ def test_the_therapist_turns_adaptation_on_in_the_form_and_sees_the_difficulty_h
     d.execute_script("document.getElementById('difficulty').open = true")
     rows = panel.find_elements(By.CSS_SELECTOR, "#difficulty-table tbody tr")
     assert len(rows) == 3, panel.text
-    assert "first session: the therapist's start 0.40" in rows[-1].text, panel.text
-    assert "above the 70 % target: +0.10" in rows[0].text, panel.text  # a road kept in lane
+    # Why, in the console's words from the station's why (not its English sentence).
+    assert message(d, "progress-difficulty-why-first-start") in rows[-1].text, panel.text
+    above = message(d, "progress-difficulty-why-success-above", {"success": "§", "target": 70})
+    above = re.escape(above).replace("§", r"\d+")
+    assert re.search(above, rows[0].text), (above, panel.text)  # a road kept in lane
+    assert "+0.10" in rows[0].text, panel.text
     for row in rows:
         level = float(row.find_elements(By.TAG_NAME, "td")[1].text)
         assert 0.3 <= level <= 0.6, row.text

@@ -8,7 +8,7 @@
 // ticks "Include sessions that ended early". The one-page print: the clinic's name, the patient,
 // the date range, pain, adherence, alerts, the scales and the latest table.
 import { api, esc } from '/console/api.js';
-import { t, locale } from '/console/i18n.js';
+import { has, t, locale } from '/console/i18n.js';
 import { alertWords, SEVERITY } from '/console/caseload.js';
 import { numbersTable, sessionChart, sessionLabels } from '/console/sessionchart.js';
 import {
@@ -104,6 +104,17 @@ function summaryHtml(checkins, sessions, overview, words) {
     <div><h3>${esc(t('progress-adherence-title'))}</h3>${week}${stoppedWords}<h3>${esc(t('progress-alerts-title'))}</h3>${alertList}</div></div>`;
 }
 
+/** Why the station chose difficulty `d`, in the console's words from its `why`; the station's
+ * own English words from a station older than the why. */
+function difficultyReason(d) {
+  const w = d.why;
+  const id = w && `progress-difficulty-why-${w.code}`;
+  if (!id || !has(id)) return d.reason;
+  const main = t(id, { success: w.success_pct ?? 0, target: w.target_pct ?? 0 });
+  const held = w.held_at && `progress-difficulty-held-${w.held_at}`;
+  return held && has(held) ? `${main} ${t(held)}` : main;
+}
+
 /** The difficulty history (oldest first): a chart and a table of each change and its reason,
  * the station's words escaped, behind a summary; nothing when no session adapted. */
 function difficultyPanel(history) {
@@ -112,7 +123,7 @@ function difficultyPanel(history) {
   const signed = x => (x < -0.0005 ? `−${nf.format(-x)}` : `+${nf.format(Math.abs(x))}`);
   const rows = history.slice().reverse().map(d => `<tr><td>${esc(whenWords(d.started_unix_ms))}</td>
     <td class="num">${esc(nf.format(d.difficulty))}</td><td class="num">${esc(signed(d.change))}</td>
-    <td>${d.success_rate == null ? '—' : esc(t('progress-percent', { n: Math.round(d.success_rate * 100) }))}</td><td class="reason">${esc(d.reason)}</td></tr>`).join('');
+    <td>${d.success_rate == null ? '—' : esc(t('progress-percent', { n: Math.round(d.success_rate * 100) }))}</td><td class="reason">${esc(difficultyReason(d))}</td></tr>`).join('');
   const latest = history[history.length - 1];
   return `<details class="panel print-hide" id="difficulty"><summary><h3 id="difficulty-h" class="inline">${esc(t('progress-difficulty-title'))}</h3>${esc(t('progress-difficulty-now', { now: nf.format(latest.difficulty) }))}</summary>
       <p class="note">${esc(t('progress-difficulty-explain'))}</p>

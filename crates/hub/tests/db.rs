@@ -911,6 +911,13 @@ async fn a_byes_difficulty_is_stored_once_per_session_newest_first(db: Db) {
                 change,
                 reason: reason.into(),
                 success_rate: (i == 1).then_some(0.82),
+                // The first session from a station older than the why.
+                why: (i == 1).then(|| netlink::DifficultyWhy {
+                    code: "felt-too-hard".into(),
+                    success_pct: None,
+                    target_pct: None,
+                    held_at: None,
+                }),
             }),
         };
         db.close_session(&bye, T0 + MIN).await.unwrap();
@@ -930,12 +937,18 @@ async fn a_byes_difficulty_is_stored_once_per_session_newest_first(db: Db) {
     );
     assert_eq!(stored[0].reason, "patient said too hard: \u{2212}0.10");
     assert_eq!(stored[1].success_rate, None);
+    assert_eq!(
+        stored[0].why.as_ref().map(|w| w.code.as_str()),
+        Some("felt-too-hard")
+    );
+    assert_eq!(stored[1].why, None);
     // A value out of range never reaches the table.
     let bad = netlink::DifficultyChange {
         difficulty: 1.5,
         change: 0.0,
         reason: String::new(),
         success_rate: None,
+        why: None,
     };
     let err = db.put_difficulty("s1", &bad, T0).await.unwrap_err();
     assert!(err.to_string().contains("difficulty.difficulty"), "{err}");

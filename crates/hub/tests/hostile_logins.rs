@@ -789,7 +789,10 @@ async fn live_streams_end_within_two_seconds_of_logout_expiry_password_change_re
             "cause {i}: the stream ended after {took:?}"
         );
         assert!(text.contains("event: ended"), "cause {i}: {text}");
-        assert!(text.contains(&format!("data: {}", why[i])), "cause {i}: {text}");
+        assert!(
+            text.contains(&format!("data: {}", why[i])),
+            "cause {i}: {text}"
+        );
     }
 }
 

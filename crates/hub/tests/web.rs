@@ -958,6 +958,12 @@ async fn the_difficulty_history_is_served_to_the_patients_therapist_only_and_aud
             change: -0.1,
             reason: "patient said too hard: \u{2212}0.10".into(),
             success_rate: Some(0.82),
+            why: Some(netlink::DifficultyWhy {
+                code: "felt-too-hard".into(),
+                success_pct: None,
+                target_pct: None,
+                held_at: None,
+            }),
         }),
     };
     f.db.close_session(&bye, T0).await.unwrap();
@@ -970,6 +976,7 @@ async fn the_difficulty_history_is_served_to_the_patients_therapist_only_and_aud
     assert_eq!(list[0]["change"], -0.1);
     assert_eq!(list[0]["success_rate"], 0.82);
     assert_eq!(list[0]["reason"], "patient said too hard: \u{2212}0.10");
+    assert_eq!(list[0]["why"], json!({"code": "felt-too-hard"}));
     assert!(
         actions(&f.db)
             .await

@@ -902,6 +902,54 @@ mod tests {
     /// A station's Bye with the difficulty its session ran at: additive, an older hub ignores
     /// it, and a value out of range or a reason with control characters is refused.
     #[test]
+    fn a_difficultys_why_travels_beside_its_words_and_is_checked() {
+        let why = crate::frame::DifficultyWhy {
+            code: "success-above".into(),
+            success_pct: Some(82.0),
+            target_pct: Some(70.0),
+            held_at: Some("highest".into()),
+        };
+        let change = crate::frame::DifficultyChange {
+            difficulty: 0.8,
+            change: 0.0,
+            reason: "success 82 % above the 70 % target: +0.05; held at the therapist's \
+                     highest (0.80)"
+                .into(),
+            success_rate: Some(0.82),
+            why: Some(why.clone()),
+        };
+        let json = serde_json::to_value(&change).unwrap();
+        assert_eq!(
+            json["why"],
+            serde_json::json!({"code": "success-above", "success_pct": 82.0, "target_pct": 70.0, "held_at": "highest"})
+        );
+        assert_eq!(
+            serde_json::from_value::<crate::frame::DifficultyChange>(json).unwrap(),
+            change
+        );
+        assert!(change.validate().is_ok());
+        for bad in [
+            crate::frame::DifficultyWhy {
+                code: "because".into(),
+                ..why.clone()
+            },
+            crate::frame::DifficultyWhy {
+                success_pct: Some(f64::NAN),
+                ..why.clone()
+            },
+            crate::frame::DifficultyWhy {
+                held_at: Some("middle".into()),
+                ..why.clone()
+            },
+        ] {
+            let mut c = change.clone();
+            c.why = Some(bad);
+            let err = c.validate().unwrap_err().0;
+            assert!(err.contains("difficulty.why."), "{err}");
+        }
+    }
+
+    #[test]
     fn golden_bytes_of_a_bye_with_a_difficulty_and_its_ranges() {
         let bye = Frame::Bye(Bye {
             session_id: "s1".into(),
@@ -915,6 +963,7 @@ mod tests {
                 change: 0.05,
                 reason: "success 82 % above the 70 % target: +0.05".into(),
                 success_rate: Some(0.75),
+                why: None,
             }),
             exercises: Vec::new(),
         });
@@ -938,6 +987,7 @@ mod tests {
                     change,
                     reason: reason.into(),
                     success_rate: None,
+                    why: None,
                 });
             }
             let err = bad.validate().unwrap_err().0;

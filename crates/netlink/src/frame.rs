@@ -360,6 +360,75 @@ pub struct DifficultyChange {
     /// The session's success rate, in [0, 1], when it ran long enough to tell.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub success_rate: Option<f64>,
+    /// The same why as [`DifficultyChange::reason`], for words in any language; absent from
+    /// stations older than this field.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub why: Option<DifficultyWhy>,
+}
+
+/// Why a session's difficulty was chosen, for a clinician's words in any language (the
+/// console's `progress-difficulty-why-<code>`, `progress-difficulty-held-<held_at>`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DifficultyWhy {
+    /// One of [`DifficultyWhy::CODES`].
+    pub code: String,
+    /// The last session's success, %, for the `success-*` codes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub success_pct: Option<f64>,
+    /// The therapist's target success, %, for the `success-*` codes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub target_pct: Option<f64>,
+    /// `highest` or `lowest` when the therapist's bound held the step (the difficulty is that
+    /// bound).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub held_at: Option<String>,
+}
+
+impl DifficultyWhy {
+    /// Every code: adaptation off, the first session (at the therapist's start, or midway
+    /// between the bounds), the last session's success above, below or at the target, no
+    /// success rate (held), and the patient's "too hard" / "too easy".
+    pub const CODES: &'static [&'static str] = &[
+        "adapt-off",
+        "first-start",
+        "first-midway",
+        "success-above",
+        "success-below",
+        "success-at",
+        "no-rate",
+        "felt-too-hard",
+        "felt-too-easy",
+    ];
+
+    /// Checks the code, the percentages and the bound named.
+    pub fn validate(&self) -> Result<(), FieldError> {
+        if !Self::CODES.contains(&self.code.as_str()) {
+            return Err(FieldError(format!(
+                "difficulty.why.code {:?} is not one of {}",
+                self.code.chars().take(40).collect::<String>(),
+                Self::CODES.join(", ")
+            )));
+        }
+        for (name, v) in [
+            ("success_pct", self.success_pct),
+            ("target_pct", self.target_pct),
+        ] {
+            if let Some(v) = v
+                && !(v.is_finite() && (0.0..=100.0).contains(&v))
+            {
+                return Err(FieldError(format!(
+                    "difficulty.why.{name} is {v}, allowed 0 to 100"
+                )));
+            }
+        }
+        match self.held_at.as_deref() {
+            None | Some("highest" | "lowest") => Ok(()),
+            Some(other) => Err(FieldError(format!(
+                "difficulty.why.held_at {:?} is not highest or lowest",
+                other.chars().take(40).collect::<String>()
+            ))),
+        }
+    }
 }
 
 impl DifficultyChange {
@@ -377,7 +446,8 @@ impl DifficultyChange {
         if let Some(r) = self.success_rate {
             check("difficulty.success_rate", r, 0.0, 1.0)?;
         }
-        check_text("difficulty.reason", &self.reason, MAX_TEXT_LEN)
+        check_text("difficulty.reason", &self.reason, MAX_TEXT_LEN)?;
+        self.why.as_ref().map_or(Ok(()), DifficultyWhy::validate)
     }
 }
 

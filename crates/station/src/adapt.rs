@@ -55,6 +55,8 @@ pub struct Decision {
     pub change: f64,
     /// Why, in words.
     pub reason: String,
+    /// The same why for a clinician's words in any language (the console's).
+    pub why: netlink::DifficultyWhy,
 }
 
 impl Decision {
@@ -80,7 +82,18 @@ impl Decision {
                 .map(|(_, c)| c)
                 .collect(),
             success_rate,
+            why: Some(self.why.clone()),
         }
+    }
+}
+
+/// A why of `code` without numbers.
+fn why_of(code: &str) -> netlink::DifficultyWhy {
+    netlink::DifficultyWhy {
+        code: code.to_owned(),
+        success_pct: None,
+        target_pct: None,
+        held_at: None,
     }
 }
 
@@ -161,15 +174,19 @@ fn signed(x: f64) -> String {
 /// The first session's difficulty, and why.
 fn first(spec: &DifficultySpec) -> Decision {
     let d = spec.first();
-    let why = match (spec.adapt, spec.start) {
-        (false, _) => "adaptation off: the therapist's",
-        (true, Some(_)) => "first session: the therapist's start",
-        (true, None) => "first session: midway between the therapist's bounds,",
+    let (code, words) = match (spec.adapt, spec.start) {
+        (false, _) => ("adapt-off", "adaptation off: the therapist's"),
+        (true, Some(_)) => ("first-start", "first session: the therapist's start"),
+        (true, None) => (
+            "first-midway",
+            "first session: midway between the therapist's bounds,",
+        ),
     };
     Decision {
         difficulty: d,
         change: 0.0,
-        reason: format!("{why} {d:.2}"),
+        reason: format!("{words} {d:.2}"),
+        why: why_of(code),
     }
 }
 
@@ -199,7 +216,7 @@ pub fn next(spec: &DifficultySpec, history: &[Entry]) -> Decision {
     };
     let target_pct = spec.target_success * 100.0;
     let mut step = proposal - base;
-    let mut reason = match last.success_rate {
+    let (mut reason, mut why) = match last.success_rate {
         Some(r) => {
             let pct = r * 100.0;
             let side = if pct.round() > target_pct.round() {
@@ -209,14 +226,21 @@ pub fn next(spec: &DifficultySpec, history: &[Entry]) -> Decision {
             } else {
                 "at"
             };
-            format!(
+            let words = format!(
                 "success {pct:.0} % {side} the {target_pct:.0} % target: {}",
                 signed(step)
-            )
+            );
+            let why = netlink::DifficultyWhy {
+                success_pct: Some(pct.round().clamp(0.0, 100.0)),
+                target_pct: Some(target_pct.round().clamp(0.0, 100.0)),
+                ..why_of(&format!("success-{side}"))
+            };
+            (words, why)
         }
         None => {
             step = 0.0;
-            "no success rate from the last session: held".to_owned()
+            let words = "no success rate from the last session: held".to_owned();
+            (words, why_of("no-rate"))
         }
     };
     // The patient's word comes first: at least its step, in its direction.
@@ -224,10 +248,12 @@ pub fn next(spec: &DifficultySpec, history: &[Entry]) -> Decision {
         Some("too_hard") => {
             step = step.min(-TOO_HARD_STEP);
             reason = format!("patient said too hard: {}", signed(step));
+            why = why_of("felt-too-hard");
         }
         Some("too_easy") => {
             step = step.max(TOO_EASY_STEP);
             reason = format!("patient said too easy: {}", signed(step));
+            why = why_of("felt-too-easy");
         }
         _ => {}
     }
@@ -238,16 +264,19 @@ pub fn next(spec: &DifficultySpec, history: &[Entry]) -> Decision {
             "{reason}; held at the therapist's highest ({:.2})",
             spec.highest
         );
+        why.held_at = Some("highest".to_owned());
     } else if wanted < spec.lowest {
         reason = format!(
             "{reason}; held at the therapist's lowest ({:.2})",
             spec.lowest
         );
+        why.held_at = Some("lowest".to_owned());
     }
     Decision {
         difficulty: d,
         change: d - base,
         reason,
+        why,
     }
 }
 

@@ -1,7 +1,7 @@
 //! The difficulty each session ran at (a regimen with `[difficulty]` adapting it), its change
 //! and why, from the station's `Bye` (migration 0009).
 
-use netlink::DifficultyChange;
+use netlink::{DifficultyChange, DifficultyWhy};
 use serde::Serialize;
 
 use super::{Db, col};
@@ -18,8 +18,10 @@ pub struct SessionDifficulty {
     pub difficulty: f64,
     /// The change from the session before.
     pub change: f64,
-    /// Why, in the station's words.
+    /// Why, in the station's words (English).
     pub reason: String,
+    /// The same why for words in any language; `None` from stations older than it.
+    pub why: Option<DifficultyWhy>,
     /// The session's success rate, 0–1, if known.
     pub success_rate: Option<f64>,
     /// When the hub received it, ms since the Unix epoch.
@@ -50,12 +52,18 @@ impl Db {
         // `sqlx::Any` sends a NULL float in a format PostgreSQL refuses for a DOUBLE
         // PRECISION column: an unknown success rate is written as the literal NULL instead.
         let insert = "INSERT INTO session_difficulty (session_id, patient_id, started_unix_ms, \
-             difficulty, change, reason, received_at_ms, success_rate) \
-             VALUES ($1, $2, $3, $4, $5, $6, $7, ";
+             difficulty, change, reason, why_json, received_at_ms, success_rate) \
+             VALUES ($1, $2, $3, $4, $5, $6, $7, $8, ";
         let sql = sqlx::AssertSqlSafe(match d.success_rate {
-            Some(_) => format!("{insert}$8)"),
+            Some(_) => format!("{insert}$9)"),
             None => format!("{insert}NULL)"),
         });
+        let why_json = d
+            .why
+            .as_ref()
+            .map(serde_json::to_string)
+            .transpose()
+            .map_err(|e| HubError::invalid("difficulty", e.to_string()))?;
         let mut query = sqlx::query(sql)
             .bind(session_id)
             .bind(&session.patient_id)
@@ -63,6 +71,7 @@ impl Db {
             .bind(d.difficulty)
             .bind(d.change)
             .bind(&d.reason)
+            .bind(why_json)
             .bind(now_ms);
         if let Some(r) = d.success_rate {
             query = query.bind(r);
@@ -77,8 +86,8 @@ impl Db {
         patient_id: &str,
     ) -> Result<Vec<SessionDifficulty>, HubError> {
         let rows = sqlx::query(
-            "SELECT session_id, started_unix_ms, difficulty, change, reason, success_rate, \
-             received_at_ms FROM session_difficulty WHERE patient_id = $1 \
+            "SELECT session_id, started_unix_ms, difficulty, change, reason, why_json, \
+             success_rate, received_at_ms FROM session_difficulty WHERE patient_id = $1 \
              ORDER BY started_unix_ms DESC, session_id",
         )
         .bind(patient_id)
@@ -93,6 +102,8 @@ impl Db {
                     difficulty: col(row, "difficulty")?,
                     change: col(row, "change")?,
                     reason: col(row, "reason")?,
+                    why: col::<Option<String>>(row, "why_json")?
+                        .and_then(|j| serde_json::from_str(&j).ok()),
                     success_rate: col(row, "success_rate")?,
                     received_at_ms: col(row, "received_at_ms")?,
                 })

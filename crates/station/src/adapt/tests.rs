@@ -23,6 +23,7 @@ fn the_first_session_runs_at_the_therapists_start_or_midway() {
     let d = next(&spec(0.2, 0.8), &[]);
     assert_eq!((d.difficulty, d.change), (0.5, 0.0));
     assert!(d.reason.contains("first session"), "{}", d.reason);
+    assert_eq!(d.why.code, "first-midway");
     let s = DifficultySpec {
         start: Some(0.3),
         ..spec(0.2, 0.8)
@@ -47,6 +48,12 @@ fn success_above_the_target_raises_and_below_lowers_saying_by_how_much() {
         "{}",
         down.reason
     );
+    // The same for words in any language: the side, the success and the target in %.
+    assert_eq!(
+        (up.why.code.as_str(), up.why.success_pct, up.why.target_pct),
+        ("success-above", Some(82.0), Some(70.0))
+    );
+    assert_eq!(down.why.code, "success-below");
     // One session's step is bounded by the adapter's largest step (0.1).
     assert!((down.change).abs() <= 0.1 + 1e-9, "{down:?}");
 }
@@ -59,6 +66,10 @@ fn too_hard_lowers_by_a_tenth_even_after_a_good_score_and_too_easy_raises() {
     let easy = next(&spec(0.0, 1.0), &[entry(0.5, Some(0.7), Some("too_easy"))]);
     assert!((easy.difficulty - 0.55).abs() < 1e-9, "{easy:?}");
     assert_eq!(easy.reason, "patient said too easy: +0.05");
+    assert_eq!(
+        (hard.why.code.as_str(), easy.why.code.as_str()),
+        ("felt-too-hard", "felt-too-easy")
+    );
     // A larger step from the success rate is kept.
     let lower = next(&spec(0.0, 1.0), &[entry(0.5, Some(0.1), Some("too_hard"))]);
     assert!(lower.difficulty <= 0.4 + 1e-9, "{lower:?}");
@@ -84,6 +95,12 @@ fn the_difficulty_is_held_within_the_therapists_bounds() {
     let low = next(&s, &[entry(0.3, Some(0.0), Some("too_hard"))]);
     assert_eq!(low.difficulty, 0.3);
     assert!(low.reason.contains("lowest (0.30)"), "{}", low.reason);
+    assert_eq!(held.why.held_at.as_deref(), Some("highest"));
+    assert_eq!(low.why.held_at.as_deref(), Some("lowest"));
+    // What the hub receives passes the protocol's checks.
+    for d in [&held, &low] {
+        assert!(d.change_for_hub(Some(1.0)).validate().is_ok(), "{d:?}");
+    }
 }
 
 #[test]
@@ -96,6 +113,7 @@ fn adaptation_off_runs_every_session_at_the_start() {
     let d = next(&s, &[entry(0.4, Some(1.0), Some("too_easy"))]);
     assert_eq!(d.difficulty, 0.4);
     assert!(d.reason.starts_with("adaptation off"), "{}", d.reason);
+    assert_eq!(d.why.code, "adapt-off");
 }
 
 #[test]
