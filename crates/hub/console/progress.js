@@ -8,7 +8,7 @@
 // ticks "Include sessions that ended early". The one-page print: the clinic's name, the patient,
 // the date range, pain, adherence, alerts, the scales and the latest table.
 import { api, esc } from '/console/api.js';
-import { has, t, locale } from '/console/i18n.js';
+import { has, languageTag, t, locale } from '/console/i18n.js';
 import { alertWords, SEVERITY } from '/console/caseload.js';
 import { numbersTable, sessionChart, sessionLabels } from '/console/sessionchart.js';
 import {
@@ -298,7 +298,7 @@ export async function progressView(el, id) {
     <p id="print-head" data-clinic="${esc(clinic.name || '')}"><strong>${esc(clinic.name || t('progress-clinic-unnamed'))}</strong>
       · ${esc(t('progress-print-of', { name: patient.pseudonym || '' }))} · <span id="date-range">${esc(range)}</span> · ${esc(t('progress-printed', { day: dayWords(Date.now()) }))}</p>
     <p class="print-hide"><button type="button" id="print" class="secondary">${esc(t('progress-print'))}</button>
-      <a id="measures-csv" href="/api/patients/${pid}/measures.csv?tz=${encodeURIComponent(tz)}" download>${esc(t('progress-download', { zone: zoneWords }))}</a></p>
+      <a id="measures-csv" href="/api/patients/${pid}/measures.csv?tz=${encodeURIComponent(tz)}&amp;lang=${encodeURIComponent(languageTag())}" download>${esc(t('progress-download', { zone: zoneWords }))}</a></p>
     <section class="panel" id="summary" aria-labelledby="summary-h">${summaryHtml(checkinsNewest, sessions, overview, words)}</section>
     <section class="panel" id="scales" aria-labelledby="scales-h"></section>
     <p class="print-hide"><input type="checkbox" id="include-early"${anyEarly ? '' : ' disabled'}>

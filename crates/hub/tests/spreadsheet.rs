@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::api::{PASSWORD, actions, login};
+use common::api::{PASSWORD, actions, call, login};
 use common::{T0, hello};
 
 use std::collections::BTreeMap;
@@ -15,6 +15,7 @@ use axum::http::{HeaderMap, Method, Request, StatusCode, header};
 use http_body_util::BodyExt;
 use hub::web::{self, AppState};
 use hub::{Db, Role};
+use serde_json::json;
 use tokio::sync::broadcast;
 use tower::ServiceExt;
 
@@ -205,6 +206,57 @@ async fn a_patients_csv_has_plain_and_technical_headers_rounded_values_local_tim
     assert!(body.contains("Mars/Olympus"), "{body}");
 }
 
+async fn a_german_csv_says_its_words_in_german_and_keeps_the_technical_line_and_numbers(db: Db) {
+    let (_, _, p) = seeded(&db).await;
+    let app = app_of(&db);
+    let cookie = login(&app, "ada@clinic.example").await;
+    let uri = format!("/api/patients/{p}/measures.csv?tz=Europe/Berlin");
+    let (_, _, english) = get(&app, &uri, &cookie).await;
+    let (status, _, german) = get(&app, &format!("{uri}&lang=de"), &cookie).await;
+    assert_eq!(status, StatusCode::OK, "{german}");
+    let en: Vec<&str> = english.split("\r\n").collect();
+    let de: Vec<&str> = german.split("\r\n").collect();
+    assert!(
+        de[0].starts_with("Sitzungskennung,\"Beginn (Ortszeit, Europe/Berlin)\""),
+        "{}",
+        de[0]
+    );
+    assert!(de[0].contains("Zeit in der Spur (%)"), "{}", de[0]);
+    assert_eq!(
+        de[1], en[1],
+        "the technical names are the same in every language"
+    );
+    let first: Vec<&str> = de[2].split(',').collect();
+    assert_eq!(
+        first[3..9],
+        [
+            "Sinusstraße",
+            "Vorzeitig beendet: Lenkrad getrennt",
+            "nein",
+            "8",
+            "6",
+            "zu schwer"
+        ]
+    );
+    assert_eq!(
+        de[2].split(',').skip(9).collect::<Vec<_>>(),
+        en[2].split(',').skip(9).collect::<Vec<_>>(),
+        "the numbers are the same"
+    );
+    // The therapist's console language when the link names none.
+    let (status, _, _) = call(
+        &app,
+        Method::PUT,
+        "/api/me/language",
+        Some(&cookie),
+        Some(json!({"language": "de"})),
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK);
+    let (_, _, chosen) = get(&app, &uri, &cookie).await;
+    assert_eq!(chosen, german);
+}
+
 async fn the_caseload_csv_has_the_same_columns_with_the_patient_first_for_admins_only(db: Db) {
     let (ana, ada, p) = seeded(&db).await;
     let app = app_of(&db);
@@ -257,6 +309,7 @@ on_both_backends!(
     a_patients_csv_has_plain_and_technical_headers_rounded_values_local_times_and_check_ins
 );
 on_both_backends!(the_caseload_csv_has_the_same_columns_with_the_patient_first_for_admins_only);
+on_both_backends!(a_german_csv_says_its_words_in_german_and_keeps_the_technical_line_and_numbers);
 
 async fn the_one_table_of_measure_words_is_served_to_the_console(db: Db) {
     db.add_therapist("ada@clinic.example", PASSWORD, Role::Therapist, T0)

@@ -32,9 +32,28 @@ pub struct MessageInfo {
     pub variables: Vec<String>,
 }
 
+/// Whose words a catalogue holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Words {
+    /// The patient's (`locales/`).
+    Patient,
+    /// The therapist console's (`console/`).
+    Console,
+}
+
 impl Catalogue {
-    /// The catalogue of `tag` (`de`, `de-AT`, [`crate::PSEUDO`]).
+    /// The patient's catalogue of `tag` (`de`, `de-AT`, [`crate::PSEUDO`]).
     pub fn load(tag: &str) -> Result<Self, UnknownLanguage> {
+        Self::load_words(tag, Words::Patient)
+    }
+
+    /// The console's catalogue of `tag`, for what the hub writes for a clinician in their
+    /// language (a spreadsheet's words).
+    pub fn console(tag: &str) -> Result<Self, UnknownLanguage> {
+        Self::load_words(tag, Words::Console)
+    }
+
+    fn load_words(tag: &str, words: Words) -> Result<Self, UnknownLanguage> {
         let unknown = || UnknownLanguage(tag.to_string());
         let pseudo = tag.eq_ignore_ascii_case(crate::PSEUDO);
         let id: LanguageIdentifier = tag.parse().map_err(|_| unknown())?;
@@ -53,12 +72,12 @@ impl Catalogue {
         if pseudo {
             bundle.set_transform(Some(crate::pseudo::transform));
         }
-        for (_, resource) in resources(folder) {
+        for (_, resource) in resources(folder, words) {
             // A message defined twice keeps its first definition; the tests forbid it.
             bundle.add_resource_overriding(resource);
         }
         let fallback = (folder != crate::FALLBACK || pseudo)
-            .then(|| Catalogue::load(crate::FALLBACK).map(Box::new))
+            .then(|| Catalogue::load_words(crate::FALLBACK, words).map(Box::new))
             .transpose()?;
         Ok(Self {
             tag: if pseudo {
@@ -114,7 +133,7 @@ impl Catalogue {
     /// Every message and attribute of `language`'s files, in file order.
     pub fn messages_of(language: &str) -> Vec<MessageInfo> {
         let mut out = Vec::new();
-        for (file, resource) in resources(language) {
+        for (file, resource) in resources(language, Words::Patient) {
             for entry in resource.entries() {
                 let ast::Entry::Message(m) = entry else {
                     continue;
@@ -141,18 +160,26 @@ fn split(id: &str) -> (&str, Option<&str>) {
 
 /// The parsed files of one language's folder, by name. A file that does not parse is a
 /// build mistake the tests catch ([`parse_errors`]); its good entries are kept.
-fn resources(language: &str) -> Vec<(String, FluentResource)> {
-    let prefix = format!("{language}/");
-    let mut names: Vec<String> = Files::iter()
-        .filter(|p| p.starts_with(&prefix) && p.ends_with(".ftl"))
-        .map(|p| p.into_owned())
-        .collect();
-    names.sort();
+fn resources(language: &str, words: Words) -> Vec<(String, FluentResource)> {
+    let names = match words {
+        Words::Patient => {
+            let prefix = format!("{language}/");
+            let mut names: Vec<String> = Files::iter()
+                .filter(|p| p.starts_with(&prefix) && p.ends_with(".ftl"))
+                .map(|p| p.into_owned())
+                .collect();
+            names.sort();
+            names
+        }
+        Words::Console => crate::console_files(language),
+    };
     names
         .into_iter()
         .filter_map(|name| {
-            let file = Files::get(&name)?;
-            let text = String::from_utf8_lossy(&file.data).into_owned();
+            let text = match words {
+                Words::Patient => String::from_utf8_lossy(&Files::get(&name)?.data).into_owned(),
+                Words::Console => crate::console_file(&name)?,
+            };
             let resource = FluentResource::try_new(text).unwrap_or_else(|(r, _)| r);
             Some((name, resource))
         })

@@ -25,6 +25,7 @@ mod regimen_words;
 mod scales;
 mod serve;
 mod sessions;
+mod sheet_words;
 mod spreadsheet;
 mod wheel_bounds;
 

@@ -2,8 +2,9 @@
 //! /api/patients/{id}/measures.csv` (one patient) and `GET /api/measures.csv` (an admin's whole
 //! caseload, a `Patient` column first), both audited.
 //!
-//! Two header rows: the first in plain words with units (`Time in lane (%)`, from the one table
-//! of measure words, `metrics::words`), the second the technical names (`pct_in_lane`) for
+//! Two header rows: the first in plain words with units (`Time in lane (%)`) in the therapist's
+//! language (`?lang=de`, else the language they chose for the console, else English; the
+//! console's words, [`super::sheet_words`]), the second the technical names (`pct_in_lane`) for
 //! whoever joins the file to other data. Then one row a session, oldest first: its start in
 //! local time (the time zone the console's browser sends as `?tz=Europe/Berlin`, else the hub's
 //! own; the header names it) and in UTC (ISO 8601), its exercises in order, how it ended (the
@@ -22,6 +23,8 @@ use axum::http::{HeaderValue, header};
 use axum::response::{IntoResponse, Response};
 use jiff::tz::TimeZone;
 use metrics::words::{MEASURES, measure_words, round_unknown};
+
+use super::sheet_words::SheetWords;
 use serde::Deserialize;
 
 use super::auth::Authed;
@@ -59,6 +62,8 @@ async fn rows_of(state: &AppState, patient: Patient) -> Result<PatientRows, crat
 pub(crate) struct SheetQuery {
     /// The IANA time zone of the local times (`Europe/Berlin`); the hub's own when absent.
     tz: Option<String>,
+    /// The language of the words (`de`); the therapist's console language when absent.
+    lang: Option<String>,
 }
 
 /// The time zone the local times are written in, and its name for the header.
@@ -140,43 +145,33 @@ fn names_of(rows: &PatientRows) -> Vec<String> {
     )
 }
 
-/// The columns before the measures: (plain header, technical name).
-fn fixed_columns(zone: &LocalZone) -> Vec<(String, &'static str)> {
-    vec![
-        ("Session reference".to_owned(), "session_id"),
-        (
-            format!("Started (local time, {})", zone.name),
-            "started_local",
-        ),
-        ("Started (UTC)".to_owned(), "started_at_utc"),
-        ("Exercises".to_owned(), "exercise"),
-        ("How it ended".to_owned(), "end_reason"),
-        ("Ran as prescribed".to_owned(), "ran_as_prescribed"),
-        ("Pain after (0–10)".to_owned(), "pain_0_10"),
-        ("Effort after (Borg CR10 0–10)".to_owned(), "tiredness_0_10"),
-        ("How hard it felt".to_owned(), "difficulty"),
-    ]
-}
-
-/// A measure's plain header: the table's words with the unit, else its name in words.
-fn plain_header(name: &str) -> String {
-    measure_words(name).map_or_else(|| name.replace('_', " "), |m| m.header())
-}
+/// The columns before the measures: (the words' `sheet-col-<key>`, technical name).
+const FIXED_COLUMNS: [(&str, &str); 9] = [
+    ("session", "session_id"),
+    ("started-local", "started_local"),
+    ("started-utc", "started_at_utc"),
+    ("exercises", "exercise"),
+    ("ended", "end_reason"),
+    ("as-prescribed", "ran_as_prescribed"),
+    ("pain", "pain_0_10"),
+    ("effort", "tiredness_0_10"),
+    ("felt", "difficulty"),
+];
 
 /// The two header lines (a `Patient` column first when `with_patient`).
-fn header(names: &[String], with_patient: bool, zone: &LocalZone) -> String {
+fn header(names: &[String], with_patient: bool, zone: &LocalZone, words: &SheetWords) -> String {
     let mut plain: Vec<String> = Vec::new();
     let mut technical: Vec<String> = Vec::new();
-    if with_patient {
-        plain.push("Patient".to_owned());
-        technical.push("patient".to_owned());
-    }
-    for (p, t) in fixed_columns(zone) {
-        plain.push(p);
+    let fixed = with_patient
+        .then_some(("patient", "patient"))
+        .into_iter()
+        .chain(FIXED_COLUMNS);
+    for (key, t) in fixed {
+        plain.push(words.column(key, &zone.name));
         technical.push(t.to_owned());
     }
     for n in names {
-        plain.push(plain_header(n));
+        plain.push(words.measure(n));
         technical.push(n.clone());
     }
     let line = |cells: &[String]| {
@@ -200,22 +195,13 @@ fn number_cell(name: &str, v: f64) -> String {
     }
 }
 
-/// A check-in's "how hard it felt" in words.
-fn difficulty_words(d: &str) -> String {
-    match d {
-        "too_easy" => "too easy".to_owned(),
-        "about_right" => "about right".to_owned(),
-        "too_hard" => "too hard".to_owned(),
-        other => other.replace('_', " "),
-    }
-}
-
 /// One patient's session lines appended to `out` (columns `names`); how many.
 fn lines_of(
     p: &PatientRows,
     names: &[String],
     with_patient: bool,
     zone: &LocalZone,
+    words: &SheetWords,
     out: &mut String,
 ) -> usize {
     for s in &p.sessions {
@@ -228,15 +214,19 @@ fn lines_of(
         cells.push(text_cell(&s.row.session_id));
         cells.push(zone.local(s.row.started_unix_ms));
         cells.push(iso_utc(s.row.started_unix_ms));
-        cells.push(text_cell(&s.exercise_name));
-        cells.push(text_cell(&s.end_words));
-        cells.push(if s.ran_as_prescribed { "yes" } else { "no" }.to_owned());
+        cells.push(text_cell(
+            &words.exercises(&s.exercise_shorts, &s.exercise_name),
+        ));
+        cells.push(text_cell(
+            &words.ended(s.end_kind, s.recording_stopped_early),
+        ));
+        cells.push(words.yes_no(s.ran_as_prescribed));
         cells.push(opt(checkin.and_then(|c| c.pain_0_10)));
         cells.push(opt(checkin.and_then(|c| c.tiredness_0_10)));
         cells.push(
             checkin
                 .and_then(|c| c.difficulty.as_deref())
-                .map_or_else(String::new, |d| text_cell(&difficulty_words(d))),
+                .map_or_else(String::new, |d| text_cell(&words.felt(d))),
         );
         let measures = p.measures.get(&s.row.session_id);
         for name in names {
@@ -252,12 +242,22 @@ fn lines_of(
     p.sessions.len()
 }
 
-/// The local time zone a spreadsheet's query asks for (see [`LocalZone::of`]).
-fn zone_of(query: Result<Query<SheetQuery>, QueryRejection>) -> Result<LocalZone, ApiError> {
+/// The local time zone and the words a spreadsheet's query asks for (see [`LocalZone::of`]):
+/// its language, else `therapist`'s console language.
+async fn zone_and_words(
+    state: &AppState,
+    therapist: &crate::db::Therapist,
+    query: Result<Query<SheetQuery>, QueryRejection>,
+) -> Result<(LocalZone, SheetWords), ApiError> {
     let Query(q) = query.map_err(|e| {
         ApiError::BadRequest(Why::field(Code::FieldRefused, "query").says(e.body_text()))
     })?;
-    LocalZone::of(q.tz.as_deref())
+    let zone = LocalZone::of(q.tz.as_deref())?;
+    let lang = match q.lang {
+        Some(lang) => Some(lang),
+        None => state.db.therapist_language(&therapist.id).await?,
+    };
+    Ok((zone, SheetWords::of(lang.as_deref())))
 }
 
 /// `body` as a CSV download named `filename`.
@@ -288,12 +288,12 @@ pub(crate) async fn patient_csv(
     query: Result<Query<SheetQuery>, QueryRejection>,
 ) -> Result<Response, ApiError> {
     let Path(id) = id?;
-    let zone = zone_of(query)?;
+    let (zone, words) = zone_and_words(&state, &therapist, query).await?;
     let patient = state.visible_patient(&therapist, &id).await?;
     let rows = rows_of(&state, patient).await?;
     let names = names_of(&rows);
-    let mut body = header(&names, false, &zone);
-    let sessions = lines_of(&rows, &names, false, &zone, &mut body);
+    let mut body = header(&names, false, &zone, &words);
+    let sessions = lines_of(&rows, &names, false, &zone, &words, &mut body);
     let patient = &rows.patient;
     state
         .audit(
@@ -319,7 +319,7 @@ pub(crate) async fn caseload_csv(
     query: Result<Query<SheetQuery>, QueryRejection>,
 ) -> Result<Response, ApiError> {
     super::clinic::admins_only(&therapist, "the whole caseload's spreadsheet")?;
-    let zone = zone_of(query)?;
+    let (zone, words) = zone_and_words(&state, &therapist, query).await?;
     let patients = state.db.all_patients().await?;
     let names = ordered(&state.db.measure_names().await?.into_iter().collect());
     state
@@ -333,14 +333,18 @@ pub(crate) async fn caseload_csv(
     let (tx, rx) = tokio::sync::mpsc::channel::<Result<String, std::io::Error>>(4);
     let filename = format!("measures-caseload-{}.csv", day_of(state.now()));
     tokio::spawn(async move {
-        if tx.send(Ok(header(&names, true, &zone))).await.is_err() {
+        if tx
+            .send(Ok(header(&names, true, &zone, &words)))
+            .await
+            .is_err()
+        {
             return;
         }
         for p in patients {
             let chunk = match rows_of(&state, p).await {
                 Ok(rows) => {
                     let mut out = String::new();
-                    lines_of(&rows, &names, true, &zone, &mut out);
+                    lines_of(&rows, &names, true, &zone, &words, &mut out);
                     Ok(out)
                 }
                 // The download ends cut short rather than with a wrong file.

@@ -1,0 +1,154 @@
+//! A spreadsheet's words in the therapist's language (issue 40): the plain header line, the
+//! exercises, how each session ended, yes / no and the check-in's "how hard it felt", from the
+//! console's catalogue (`sheet.ftl`, `words.ftl`, `progress.ftl`), as the console's screens say them. The
+//! technical header line and the numbers stay as they are, for whoever joins the file to
+//! other data.
+
+use metrics::words::{EndKind, measure_words};
+
+use super::measure_words::{end_words_id, measure_name_id};
+
+/// The words of one spreadsheet, in one language.
+pub(crate) struct SheetWords {
+    catalogue: i18n::Catalogue,
+}
+
+impl SheetWords {
+    /// The console's words in `tag` (one of the console's languages or the pseudo-locale),
+    /// English for any other.
+    pub(crate) fn of(tag: Option<&str>) -> Self {
+        let catalogue = tag
+            .and_then(|t| i18n::Catalogue::console(t).ok())
+            .or_else(|| i18n::Catalogue::console(i18n::FALLBACK).ok())
+            .expect("the console's English catalogue is embedded");
+        Self { catalogue }
+    }
+
+    fn t(&self, id: &str, args: &[(&'static str, String)]) -> String {
+        let mut fluent = i18n::FluentArgs::new();
+        for (name, value) in args {
+            fluent.set(*name, value.clone());
+        }
+        self.catalogue.message(id, Some(&fluent))
+    }
+
+    /// Whether the catalogue (or English behind it) words `id`.
+    fn has(&self, id: &str) -> bool {
+        !self.t(id, &[]).starts_with('[')
+    }
+
+    /// A fixed column's plain header (`sheet-col-<key>`); the local start names its zone.
+    pub(crate) fn column(&self, key: &str, zone: &str) -> String {
+        self.t(&format!("sheet-col-{key}"), &[("zone", zone.to_owned())])
+    }
+
+    /// A measure's plain header with its unit (`Time in lane (%)`); a measure the table
+    /// lacks by its name with spaces.
+    pub(crate) fn measure(&self, key: &str) -> String {
+        let id = measure_name_id(key);
+        let Some(m) = measure_words(key).filter(|_| self.has(&id)) else {
+            return key.replace('_', " ");
+        };
+        let name = self.t(&id, &[]);
+        if m.unit.is_empty() {
+            name
+        } else {
+            self.t(
+                "words-name-unit",
+                &[("name", name), ("unit", m.unit.to_owned())],
+            )
+        }
+    }
+
+    /// How a session ended, in the one wording; "; the recording stopped early" when it did.
+    pub(crate) fn ended(&self, kind: EndKind, recording_stopped_early: bool) -> String {
+        let words = self.t(&end_words_id(kind), &[]);
+        if recording_stopped_early {
+            self.t("words-end-recording-stopped", &[("end", words)])
+        } else {
+            words
+        }
+    }
+
+    /// The exercises of a session in order (`Sine road, then Dial sine`) from their short
+    /// names; `named` (the hub's English) when they are unknown.
+    pub(crate) fn exercises(&self, shorts: &[String], named: &str) -> String {
+        let mut names = shorts.iter().map(|s| {
+            let id = format!("words-exercise-{s}");
+            if self.has(&id) {
+                self.t(&id, &[])
+            } else {
+                s.replace('-', " ")
+            }
+        });
+        let Some(first) = names.next() else {
+            return named.to_owned();
+        };
+        names.fold(first, |first, next| {
+            self.t("words-exercises-then", &[("first", first), ("next", next)])
+        })
+    }
+
+    /// Yes or no.
+    pub(crate) fn yes_no(&self, yes: bool) -> String {
+        self.t(if yes { "sheet-yes" } else { "sheet-no" }, &[])
+    }
+
+    /// The check-in's "how hard it felt" (`too_hard`), in words.
+    pub(crate) fn felt(&self, felt: &str) -> String {
+        let id = format!("progress-felt-{}", felt.replace('_', "-"));
+        if self.has(&id) {
+            self.t(&id, &[])
+        } else {
+            felt.replace('_', " ")
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_german_sheet_says_its_words_in_german_and_an_unknown_language_in_english() {
+        let de = SheetWords::of(Some("de"));
+        let en = SheetWords::of(Some("xx"));
+        for words in [&de, &en] {
+            for key in [
+                "session",
+                "exercises",
+                "ended",
+                "as-prescribed",
+                "pain",
+                "effort",
+            ] {
+                assert!(!words.column(key, "UTC").starts_with('['), "{key}");
+            }
+        }
+        assert_ne!(de.column("ended", "UTC"), en.column("ended", "UTC"));
+        assert!(
+            de.column("started-local", "Europe/Berlin")
+                .contains("Europe/Berlin")
+        );
+        assert_ne!(de.yes_no(true), en.yes_no(true));
+        assert_ne!(de.felt("too_hard"), en.felt("too_hard"));
+        assert_ne!(
+            de.ended(EndKind::WheelUnplugged, false),
+            en.ended(EndKind::WheelUnplugged, false)
+        );
+        assert_ne!(de.measure("pct_in_lane"), en.measure("pct_in_lane"));
+        assert!(
+            en.measure("pct_in_lane").ends_with("(%)"),
+            "{}",
+            en.measure("pct_in_lane")
+        );
+        assert_eq!(en.measure("a_new_measure"), "a new measure");
+        let shorts = ["sine-road".to_owned(), "dial-sine".to_owned()];
+        let two = de.exercises(&shorts, "Sine road, then Dial sine");
+        assert!(!two.contains("then"), "{two}");
+        assert_eq!(
+            en.exercises(&[], "A regimen of 2 exercises"),
+            "A regimen of 2 exercises"
+        );
+    }
+}

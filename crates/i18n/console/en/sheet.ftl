@@ -1,0 +1,15 @@
+# The measures spreadsheet's words (crates/hub/src/web/sheet_words.rs): its first header line
+# and its words for people; the second header line keeps the technical names.
+
+sheet-col-patient = Patient
+sheet-col-session = Session reference
+sheet-col-started-local = Started (local time, { $zone })
+sheet-col-started-utc = Started (UTC)
+sheet-col-exercises = Exercises
+sheet-col-ended = How it ended
+sheet-col-as-prescribed = Ran as prescribed
+sheet-col-pain = Pain after (0–10)
+sheet-col-effort = Effort after (Borg CR10 0–10)
+sheet-col-felt = How hard it felt
+sheet-yes = yes
+sheet-no = no

@@ -1,0 +1,15 @@
+# Las palabras de la hoja de mediciones (crates/hub/src/web/sheet_words.rs): su primera línea
+# de encabezado y sus palabras para personas; la segunda línea conserva los nombres técnicos.
+
+sheet-col-patient = Paciente
+sheet-col-session = Referencia de la sesión
+sheet-col-started-local = Inicio (hora local, { $zone })
+sheet-col-started-utc = Inicio (UTC)
+sheet-col-exercises = Ejercicios
+sheet-col-ended = Cómo terminó
+sheet-col-as-prescribed = Según lo prescrito
+sheet-col-pain = Dolor después (0–10)
+sheet-col-effort = Esfuerzo después (Borg CR10 0–10)
+sheet-col-felt = Qué tan difícil le pareció
+sheet-yes = sí
+sheet-no = no

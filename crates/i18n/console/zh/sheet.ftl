@@ -1,0 +1,14 @@
+# 测量表格的用词（crates/hub/src/web/sheet_words.rs）：第一行表头和给人看的文字；第二行表头保留技术名称。
+
+sheet-col-patient = 患者
+sheet-col-session = 训练编号
+sheet-col-started-local = 开始时间（当地时间，{ $zone }）
+sheet-col-started-utc = 开始时间（UTC）
+sheet-col-exercises = 练习
+sheet-col-ended = 结束方式
+sheet-col-as-prescribed = 是否按处方完成
+sheet-col-pain = 训练后疼痛（0–10）
+sheet-col-effort = 训练后用力程度（Borg CR10 0–10）
+sheet-col-felt = 感觉难度
+sheet-yes = 是
+sheet-no = 否
