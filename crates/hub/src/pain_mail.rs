@@ -5,8 +5,10 @@
 //! taken, its last error logged and shown to admins (`GET /api/clinic/pain-mail`).
 //!
 //! The mail says only the patient's pseudonym and links to their page in the console: no
-//! pain score, no other patient data.
+//! pain score, no other patient data. Each recipient reads it in the language they chose for
+//! the console (English when they never chose): one mail a language.
 
+use std::collections::BTreeMap;
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -39,25 +41,38 @@ pub fn retry_after_ms(min_ms: i64, attempts: i64) -> i64 {
         .min(MAX_RETRY_MS)
 }
 
-/// The subject and body of the mail about `pseudonym`, linking to `patient_id`'s page.
-pub fn mail_text(pseudonym: &str, patient_id: &str, console_url: Option<&str>) -> (String, String) {
-    let subject = format!("telerehab: {pseudonym} reported strong pain");
+/// The subject and body of the mail about `pseudonym`, linking to `patient_id`'s page, in
+/// console language `language` (English for none or one the console lacks).
+pub fn mail_text(
+    language: Option<&str>,
+    pseudonym: &str,
+    patient_id: &str,
+    console_url: Option<&str>,
+) -> (String, String) {
+    let words = language
+        .and_then(|l| i18n::Catalogue::console(l).ok())
+        .or_else(|| i18n::Catalogue::console(i18n::FALLBACK).ok())
+        .expect("the console's English catalogue is embedded");
+    let mut args = i18n::FluentArgs::new();
+    args.set("pseudonym", pseudonym.to_owned());
+    let say = |id: &str| words.message(id, Some(&args));
     let link = match console_url {
         Some(url) => format!("{}/#/patients/{}", url.trim_end_matches('/'), patient_id),
-        None => "the patient's page in the telerehab console".to_owned(),
+        None => say("mail-pain-page"),
     };
-    let body = format!(
-        "{pseudonym} reported pain at or over your clinic's limit after a session.\r\n\
-         The station told them to stop, rest and call the clinic.\r\n\
-         It offers no more exercise today unless you allow it.\r\n\
-         \r\n\
-         Open their page:\r\n\
-         {link}\r\n\
-         \r\n\
-         -- \r\n\
-         telerehab hub (this mail holds no health data; see the console)\r\n"
-    );
-    (subject, body)
+    let body = [
+        say("mail-pain-reported"),
+        say("mail-pain-told"),
+        say("mail-pain-no-more"),
+        String::new(),
+        say("mail-pain-open"),
+        link,
+        String::new(),
+        "-- ".to_owned(),
+        say("mail-pain-signature"),
+    ]
+    .join("\r\n");
+    (say("mail-pain-subject"), format!("{body}\r\n"))
 }
 
 /// Runs the outbox until the task is dropped: queues new pain check-ins, sends what is due.
@@ -130,23 +145,38 @@ async fn send_one(
                 "nobody to tell: the patient has no therapist and the clinic no admin".into(),
             );
         }
-        let (subject, body) =
-            mail_text(&patient.pseudonym, &patient.id, care.console_url.as_deref());
-        let mut builder = Message::builder()
-            .from(smtp.from.parse().map_err(|e| format!("--smtp-from: {e}"))?)
-            .subject(subject)
-            .header(ContentType::TEXT_PLAIN);
-        for address in &to {
-            builder = builder.to(address
-                .parse()
-                .map_err(|e| format!("the therapist's e-mail {address:?}: {e}"))?);
+        // One mail a language. A failure after one went out sends them all again on the next
+        // attempt: a mail twice rather than a pain told to nobody.
+        let mut by_language: BTreeMap<Option<&str>, Vec<&str>> = BTreeMap::new();
+        for r in &to {
+            by_language
+                .entry(r.language.as_deref())
+                .or_default()
+                .push(&r.email);
         }
-        let message = builder.body(body).map_err(|e| e.to_string())?;
-        transport
-            .send(message)
-            .await
-            .map(|_| to.len())
-            .map_err(|e| format!("the mail server: {e}"))
+        for (language, addresses) in by_language {
+            let (subject, body) = mail_text(
+                language,
+                &patient.pseudonym,
+                &patient.id,
+                care.console_url.as_deref(),
+            );
+            let mut builder = Message::builder()
+                .from(smtp.from.parse().map_err(|e| format!("--smtp-from: {e}"))?)
+                .subject(subject)
+                .header(ContentType::TEXT_PLAIN);
+            for address in addresses {
+                builder = builder.to(address
+                    .parse()
+                    .map_err(|e| format!("the therapist's e-mail {address:?}: {e}"))?);
+            }
+            let message = builder.body(body).map_err(|e| e.to_string())?;
+            transport
+                .send(message)
+                .await
+                .map_err(|e| format!("the mail server: {e}"))?;
+        }
+        Ok(to.len())
     }
     .await;
     let now = now_ms();
@@ -185,16 +215,26 @@ mod tests {
 
     #[test]
     fn the_mail_names_the_pseudonym_and_links_to_the_page_and_nothing_else() {
-        let (subject, body) = mail_text(
-            "P-0042",
-            "p-00000000000000aa",
-            Some("https://hub.example:8443/"),
-        );
-        assert!(subject.contains("P-0042"));
-        assert!(body.contains("https://hub.example:8443/#/patients/p-00000000000000aa"));
-        assert!(
-            !body.contains("/10") && !subject.contains("/10"),
-            "no pain score"
-        );
+        for language in [None, Some("de"), Some("es"), Some("zh"), Some("xx")] {
+            let (subject, body) = mail_text(
+                language,
+                "P-0042",
+                "p-00000000000000aa",
+                Some("https://hub.example:8443/"),
+            );
+            assert!(subject.contains("P-0042"), "{language:?}: {subject}");
+            assert!(
+                body.contains("https://hub.example:8443/#/patients/p-00000000000000aa"),
+                "{language:?}: {body}"
+            );
+            assert!(
+                !body.contains("/10") && !subject.contains("/10"),
+                "no pain score"
+            );
+            assert!(!body.contains('['), "every message found: {body}");
+        }
+        let (german, _) = mail_text(Some("de"), "P-0042", "p-1", None);
+        let (english, _) = mail_text(None, "P-0042", "p-1", None);
+        assert_ne!(german, english);
     }
 }

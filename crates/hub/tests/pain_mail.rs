@@ -135,6 +135,10 @@ async fn a_pain_at_the_threshold_is_mailed_to_the_therapist_with_only_the_pseudo
     db.add_therapist("boss@clinic.example", pw, Role::Admin, now_ms())
         .await
         .unwrap();
+    // Ana reads the console, and so her mails, in German; the admin never chose (English).
+    db.set_therapist_language(&ana.id, Some("de"))
+        .await
+        .unwrap();
     let p42 = db
         .add_patient("P-0042", Some(&ana.id), now_ms())
         .await
@@ -203,11 +207,31 @@ async fn a_pain_at_the_threshold_is_mailed_to_the_therapist_with_only_the_pseudo
         .expect("a mail to the admin for a patient without a therapist");
     for (mail, patient, other) in [(to_ana, &p42, &p50), (to_boss, &p50, &p42)] {
         let (head, body) = mail.split_once("\r\n\r\n").expect("headers and body");
+        // A mail in German travels quoted-printable (its umlauts): read it as the recipient does.
+        let body = if head.contains("Content-Transfer-Encoding: quoted-printable") {
+            let bytes =
+                quoted_printable::decode(body, quoted_printable::ParseMode::Robust).unwrap();
+            String::from_utf8(bytes).unwrap()
+        } else {
+            body.to_owned()
+        };
         let subject = head
             .lines()
             .find_map(|l| l.strip_prefix("Subject: "))
             .expect("a subject");
         assert!(subject.contains(&patient.pseudonym), "{subject}");
+        let language = (patient.id == p42.id).then_some("de");
+        let (expected_subject, expected_body) = hub::pain_mail::mail_text(
+            language,
+            &patient.pseudonym,
+            &patient.id,
+            Some("https://hub.clinic.example:8443"),
+        );
+        assert_eq!(
+            subject, expected_subject,
+            "in the recipient's console language"
+        );
+        assert_eq!(body.trim_end(), expected_body.trim_end());
         assert!(
             body.contains(&format!(
                 "https://hub.clinic.example:8443/#/patients/{}",

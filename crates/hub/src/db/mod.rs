@@ -70,7 +70,7 @@ pub use logins::{
 pub use measures::MeasuresBySession;
 pub use messages::{MAX_MESSAGES_LISTED, PatientMessage};
 pub use notes::{MAX_NOTE_CHARS, MAX_NOTES_LISTED, SessionNote, check_note_text};
-pub use pain::{PAIN_MAIL_LOOKBACK_MS, PainMail, PainMailStatus};
+pub use pain::{MailRecipient, PAIN_MAIL_LOOKBACK_MS, PainMail, PainMailStatus};
 pub use pairing::{
     ATTEMPTS_BEFORE_BACKOFF, MAX_ATTEMPT_WAIT_MS, MIN_ATTEMPT_WAIT_MS, PairingTicket,
     attempt_wait_ms,

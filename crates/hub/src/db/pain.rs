@@ -58,6 +58,15 @@ fn mail_of(row: &sqlx::any::AnyRow) -> Result<PainMail, HubError> {
     })
 }
 
+/// Whom a pain mail goes to, in the language they chose for the console.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MailRecipient {
+    /// The e-mail address.
+    pub email: String,
+    /// Their console language (`de`); `None` when they never chose (English).
+    pub language: Option<String>,
+}
+
 impl Db {
     /// Puts in the outbox every check-in received since `now_ms` − [`PAIN_MAIL_LOOKBACK_MS`]
     /// whose pain is at or over `threshold_0_10` and that is not there yet; how many.
@@ -164,33 +173,41 @@ impl Db {
         Ok(status)
     }
 
-    /// Who is told about `patient_id`'s pain: their therapist's e-mail, or every admin's
+    /// Who is told about `patient_id`'s pain: their therapist, or every admin
     /// when the patient has no therapist.
-    pub async fn pain_mail_recipients(&self, patient_id: &str) -> Result<Vec<String>, HubError> {
+    pub async fn pain_mail_recipients(
+        &self,
+        patient_id: &str,
+    ) -> Result<Vec<MailRecipient>, HubError> {
+        let recipients = |rows: Vec<sqlx::any::AnyRow>| {
+            rows.iter()
+                .map(|r| {
+                    Ok(MailRecipient {
+                        email: col(r, "email")?,
+                        language: col(r, "language")?,
+                    })
+                })
+                .collect::<Result<Vec<_>, HubError>>()
+        };
         let rows = sqlx::query(
-            "SELECT t.email FROM patients p JOIN therapists t ON t.id = p.therapist_id \
-             WHERE p.id = $1",
+            "SELECT t.email, t.language FROM patients p JOIN therapists t \
+             ON t.id = p.therapist_id WHERE p.id = $1",
         )
         .bind(patient_id)
         .fetch_all(self.pool())
         .await
         .map_err(HubError::db("reading the patient's therapist"))?;
-        let mut emails = rows
-            .iter()
-            .map(|r| col::<String>(r, "email"))
-            .collect::<Result<Vec<_>, _>>()?;
-        if emails.is_empty() {
-            let rows =
-                sqlx::query("SELECT email FROM therapists WHERE role = 'admin' ORDER BY email")
-                    .fetch_all(self.pool())
-                    .await
-                    .map_err(HubError::db("reading the admins"))?;
-            emails = rows
-                .iter()
-                .map(|r| col::<String>(r, "email"))
-                .collect::<Result<Vec<_>, _>>()?;
+        let mut to = recipients(rows)?;
+        if to.is_empty() {
+            let rows = sqlx::query(
+                "SELECT email, language FROM therapists WHERE role = 'admin' ORDER BY email",
+            )
+            .fetch_all(self.pool())
+            .await
+            .map_err(HubError::db("reading the admins"))?;
+            to = recipients(rows)?;
         }
-        Ok(emails)
+        Ok(to)
     }
 
     /// `therapist_id` cleared `patient_id` to train again after a pain stop, at `now_ms`.
