@@ -16,8 +16,10 @@ of the caseload and the progress tab in each language go to $TELEREHAB_ARTIFACTS
 docs/screenshots were looked at."""
 
 import json
+import os
 import re
 import time
+from pathlib import Path
 
 import pytest
 from selenium import webdriver
@@ -25,7 +27,7 @@ from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.common.by import By
 from selenium.webdriver.support.ui import Select
 
-from axe_audit import english_left, use_language, visible_texts
+from axe_audit import assert_no_violations_in_language, english_left, use_language, visible_texts
 from test_console_browser import serve_clinic, shot, telerehab, wait
 from test_console_caseload import seed
 
@@ -243,5 +245,37 @@ def test_screenshots_of_the_caseload_and_progress_in_each_language(clinic, brows
             shot(d, f"console-{screen}-{tag}-1366")
             overflow = d.execute_script("return document.documentElement.scrollWidth - window.innerWidth")
             assert overflow <= 0, f"{screen} in {tag} is {overflow} px wider than the window"
+    finally:
+        use_language(d, "en")
+
+
+@pytest.mark.parametrize("tag", ["en"] + LANGUAGES)
+def test_a_refused_password_says_why_in_the_consoles_language(clinic, browser, tag):
+    """The hub's refusal on a screen, as a therapist meets it: why the new password was
+    refused, in the catalogue's words of the language in force, none of the hub's English (an
+    English console shows the hub's own sentence, which names the rule in full)."""
+    d, web = browser, clinic["web"]
+    use_language(d, tag)
+    try:
+        open_screen(d, web, "password", None)
+        d.find_element(By.ID, "current-password").send_keys(PASSWORD)
+        for field in ("new-password", "repeat-password"):
+            d.find_element(By.ID, field).send_keys("abcdefghijkl")
+        d.find_element(By.CSS_SELECTOR, "#password-form button").click()
+        said = wait(d, lambda d: d.find_element(By.ID, "password-error").text)
+        if tag == "en":
+            status, text = fetch(d, "POST", "/api/me/password",
+                                 {"current": PASSWORD, "new": "abcdefghijkl"})
+            assert status == 400 and said == json.loads(text)["error"], (said, text)
+        else:
+            assert said == catalogue(d, tag)["api-why-password-sequence"], (tag, said)
+        status, text = fetch(d, "GET", "/api/me")
+        assert status == 200, "the refusal changed nothing: still signed in"
+        shot(d, f"console-password-refused-{tag}-1366")
+        if os.environ.get("TELEREHAB_SCREENSHOTS"):
+            out = Path(os.environ["TELEREHAB_SCREENSHOTS"]) / tag
+            out.mkdir(parents=True, exist_ok=True)
+            d.save_screenshot(str(out / "password-refused.png"))
+        assert_no_violations_in_language(d, "password refused", tag)
     finally:
         use_language(d, "en")
