@@ -128,6 +128,26 @@ fn an_unplugged_wheel_not_back_within_the_grace_ends_the_session_at_zero_torque_
 }
 
 #[test]
+fn a_wheel_refusing_the_force_commands_ends_the_session_on_a_safety_stop_that_names_it() {
+    let f = faulted_session("6", "wheel-write-fail@3");
+    f.assert_within_ceiling_and_slew();
+    // 20 ms of refusals make the fault; the session ends within a fade-out after it (the
+    // wheel then closed, which stops its effects).
+    let last = *f.t_s.last().unwrap();
+    assert!(
+        (3.02..3.02 + 0.25 + 0.002).contains(&last),
+        "last tick at {last} s"
+    );
+    assert!(
+        f.report
+            .contains("safety stop: the wheel stopped taking the station's force commands"),
+        "{}",
+        f.report
+    );
+    assert!(f.report.contains("refused by the wheel"), "{}", f.report);
+}
+
+#[test]
 fn a_wheel_sending_nan_has_its_torque_faded_out_and_the_session_goes_on() {
     let f = faulted_session("6", "wheel-nan@3+0.3");
     f.assert_within_ceiling_and_slew();

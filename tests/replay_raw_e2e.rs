@@ -113,6 +113,45 @@ fn a_session_stopped_by_the_patient_replays_bit_for_bit_from_its_raw_inputs() {
     assert!(said.contains("replay: identical"), "{said}");
 }
 
+/// A wheel that refused the station's force commands: each refusal is a recorded input, so a
+/// short one and the run that ended the session replay bit for bit, from the raw inputs and
+/// from the seed alike, stopping where the session stopped.
+#[test]
+fn a_session_ended_by_refused_commands_replays_bit_for_bit_stopping_where_it_did() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("refused.mcap");
+    run_ok(&sim_session_args(
+        "10",
+        &path,
+        &[
+            "--fault",
+            "wheel-write-fail@3+0.01",
+            "--fault",
+            "wheel-write-fail@5",
+        ],
+    ));
+    let topics = by_topic(&read_mcap(&path));
+    let refused = topics["/raw/wheel"]
+        .iter()
+        .filter(|m| m.json["write_failed"] == true)
+        .count();
+    // The short refusal (10), the 20 ms run that makes the fault (21), and the fade-out's
+    // commands, still refused, until the session ended.
+    assert!(refused > 31, "{refused}");
+    let last = topics["/wheel"].last().unwrap();
+    assert_eq!(
+        last.json["write_failures"], refused,
+        "counted on /wheel as recorded"
+    );
+    for args in [
+        &["--from-raw", path.to_str().unwrap()][..],
+        &[path.to_str().unwrap()],
+    ] {
+        let said = replay_ok(args);
+        assert!(said.contains("replay: identical"), "{args:?}: {said}");
+    }
+}
+
 /// The raw inputs are re-run, never played in the window: the two flags do not go together.
 #[test]
 fn replay_from_raw_refuses_the_window_flag() {

@@ -62,6 +62,10 @@ pub enum WheelFault {
     Silent,
     /// A reading outside the axis range the device declared.
     OutOfRange,
+    /// The wheel refused the station's force commands (the ceiling's or the torque's write
+    /// failed) for longer than the station allows while it still answered reads: the force at
+    /// the motor is no longer the one the safety chain chose.
+    CommandsRefused,
 }
 
 impl WheelFault {
@@ -71,6 +75,7 @@ impl WheelFault {
             Self::Unplugged => "the wheel was unplugged",
             Self::Silent => "the wheel stopped reporting its position while a force was applied",
             Self::OutOfRange => "the wheel reported an angle outside its own range",
+            Self::CommandsRefused => "the wheel stopped taking the station's force commands",
         }
     }
 }
@@ -82,6 +87,15 @@ impl std::fmt::Display for WheelFault {
 }
 
 impl WheelError {
+    /// A write the device refused, as the kernel answers one (EIO), made without allocating
+    /// (for the 1 kHz path: a simulated fault, a replayed refusal).
+    pub fn write_refused() -> Self {
+        Self::Io {
+            device: String::new(),
+            source: std::io::Error::from_raw_os_error(5),
+        }
+    }
+
     /// The running-wheel fault this error is, if it is one (every other error is a set-up
     /// problem, or a refused command the safety chain already handled).
     pub fn fault(&self) -> Option<WheelFault> {

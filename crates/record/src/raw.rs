@@ -92,6 +92,10 @@ pub struct RawWheelSample {
     /// The brake pedal, 0 (released) to 1 (absent from older recordings: released).
     #[serde(default)]
     pub brake: f64,
+    /// The wheel refused this tick's force command (the ceiling's or the torque's write
+    /// failed); absent from recordings older than it: taken.
+    #[serde(default)]
+    pub write_failed: bool,
 }
 
 /// One IMU sample as the arm tracker consumed it (channel `/raw/imu`).

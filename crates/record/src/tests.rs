@@ -70,6 +70,7 @@ fn tick(n: u64) -> TickRecord {
             motor_rating_known: true,
             motor_updates: n / 2 + 3,
             motor_update_worst_gap_ms: (n != 1).then_some(2.0 + 1e-6 * x),
+            write_failures: n / 3,
         },
         vehicle: (n != 2).then_some(VehicleSample {
             x_m: x,
@@ -136,6 +137,7 @@ fn tick(n: u64) -> TickRecord {
                 solver_timed_out: n == 4,
                 throttle: n as f64 / 255.0,
                 brake: 0.5,
+                write_failed: n == 2,
             },
             imu: [
                 (n != 3).then_some(RawImuSample {

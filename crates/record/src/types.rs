@@ -98,6 +98,11 @@ pub struct WheelSample {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(with = "f64")]
     pub motor_update_worst_gap_ms: Option<f64>,
+    /// Force commands the wheel refused so far this session (a failed write of the ceiling
+    /// or the torque, the wheel still answering reads); 0 in recordings older than it. A run
+    /// of them longer than the station allows ends the session on a safety stop.
+    #[serde(default)]
+    pub write_failures: u64,
 }
 
 /// Where the arm sensing is, as recorded (a kebab-case string in the JSON).

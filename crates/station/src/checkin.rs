@@ -20,7 +20,7 @@
 pub mod care;
 pub mod results;
 
-pub use results::{EndResults, KEPT_RESULTS, load_results, result_lines, save_results};
+pub use results::{EndResults, KEPT_RESULTS, end_lines, load_results, result_lines, save_results};
 
 use crate::render::window::UserRequest;
 use crate::render::{CheckInPage, CheckInScale, ScaleKind};

@@ -72,6 +72,14 @@ fn outcome(s: &mut String, r: &SessionReport) {
             r.haptic.wheel_replugs
         );
     }
+    if r.haptic.write_failures > 0 {
+        line!(
+            s,
+            "wheel commands      {} refused by the wheel (a run over {} ms stops the session)",
+            r.haptic.write_failures,
+            crate::session::plant::MAX_REFUSED_WRITES_NS / 1_000_000
+        );
+    }
     if let Some(fault) = r.haptic.wheel_fault {
         line!(s, "ended because       {fault} (torque faded to zero)");
     }
@@ -495,6 +503,7 @@ mod tests {
                 arm_failure: Some("an IMU stopped answering (unplugged)".into()),
                 wheel_fault: Some(WheelFault::Silent),
                 wheel_replugs: 0,
+                write_failures: 0,
                 skipped_deadlines: 4,
                 ceiling: Some(CeilingReport {
                     motor_nm: 2.5,

@@ -59,6 +59,22 @@ fn whole(x: f64) -> i64 {
     x.round() as i64
 }
 
+/// The end screen's lines after a session that ended on `wheel_fault`, if one: a wheel that
+/// stopped working (not one unplugged: its own page said so all along) is said first, and
+/// whom to tell; then [`result_lines`].
+pub fn end_lines(
+    now: &EndResults,
+    before: &[EndResults],
+    wheel_fault: Option<haptic_wheel::WheelFault>,
+) -> Vec<String> {
+    let stopped = wheel_fault.is_some_and(|f| f != haptic_wheel::WheelFault::Unplugged);
+    stopped
+        .then(|| i18n::tr!("checkin-results-wheel-stopped"))
+        .into_iter()
+        .chain(result_lines(now, before))
+        .collect()
+}
+
 /// The end screen's lines: this session's results in plain words, and what improved against
 /// the mean of the sessions `before` (newest first; none: this session's only).
 pub fn result_lines(now: &EndResults, before: &[EndResults]) -> Vec<String> {

@@ -298,3 +298,29 @@ fn a_pain_stop_holds_for_the_rest_of_the_day_until_the_therapist_clears_it() {
     .unwrap();
     assert!(care::rest_today(&home, care::now_unix_ms()).is_none());
 }
+
+#[test]
+fn a_wheel_that_stopped_working_is_said_first_with_whom_to_tell_an_unplugged_one_is_not() {
+    use haptic_wheel::WheelFault;
+    let now = EndResults {
+        active_s: 90.0,
+        pct_in_lane: Some(80.0),
+        dial_error_deg: None,
+    };
+    let plain = result_lines(&now, &[]);
+    assert_eq!(end_lines(&now, &[], None), plain);
+    assert_eq!(end_lines(&now, &[], Some(WheelFault::Unplugged)), plain);
+    for fault in [
+        WheelFault::CommandsRefused,
+        WheelFault::Silent,
+        WheelFault::OutOfRange,
+    ] {
+        let lines = end_lines(&now, &[], Some(fault));
+        assert_eq!(
+            lines[0],
+            i18n::tr!("checkin-results-wheel-stopped"),
+            "{fault:?}"
+        );
+        assert_eq!(lines[1..], plain[..], "{fault:?}");
+    }
+}

@@ -357,7 +357,11 @@ fn end_screen(
             .map(crate::checkin::care::CareSettings::load)
             .unwrap_or_default();
         session::window::wire::EndScreen {
-            lines: crate::checkin::result_lines(&crate::checkin::EndResults::of(report), &before),
+            lines: crate::checkin::end_lines(
+                &crate::checkin::EndResults::of(report),
+                &before,
+                report.haptic.wheel_fault,
+            ),
             question_timeout_s,
             pain_threshold_0_10: care.pain_threshold_0_10,
             clinic_phone: care.clinic_phone,

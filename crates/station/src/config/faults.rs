@@ -45,6 +45,10 @@ pub enum FaultKind {
     HubDown,
     /// The hub comes back (ends the `hub-down` before it).
     HubUp,
+    /// The wheel refuses the station's force commands (every write of the ceiling and the
+    /// torque fails, EIO) while its readings stay fresh; its motor keeps the last force
+    /// (default 200 ms).
+    WheelWriteFail,
 }
 
 /// Full scale of the simulated consumer gyro, rad/s (±2000 °/s, `GyroSpec::consumer_mems`):
@@ -54,7 +58,7 @@ pub const IMU_FULL_SCALE_RAD_S: f64 = 2000.0 * std::f64::consts::PI / 180.0;
 
 impl FaultKind {
     /// Every kind, by its name.
-    pub const ALL: [FaultKind; 15] = [
+    pub const ALL: [FaultKind; 16] = [
         FaultKind::WheelUnplug,
         FaultKind::WheelReplug,
         FaultKind::WheelNan,
@@ -70,6 +74,7 @@ impl FaultKind {
         FaultKind::ImuSaturated,
         FaultKind::HubDown,
         FaultKind::HubUp,
+        FaultKind::WheelWriteFail,
     ];
 
     /// The kind's name, as written after `--fault`.
@@ -90,6 +95,7 @@ impl FaultKind {
             FaultKind::ImuSaturated => "imu-saturated",
             FaultKind::HubDown => "hub-down",
             FaultKind::HubUp => "hub-up",
+            FaultKind::WheelWriteFail => "wheel-write-fail",
         }
     }
 
@@ -106,6 +112,7 @@ impl FaultKind {
             FaultKind::HapticStall => Some(0.1),
             FaultKind::WheelFrozen | FaultKind::ImuFrozen => Some(1.0),
             FaultKind::WheelSaturated | FaultKind::ImuSaturated => Some(0.2),
+            FaultKind::WheelWriteFail => Some(0.2),
             // An event, not a window: it ends the fault before it.
             FaultKind::WheelReplug | FaultKind::ImuReplug | FaultKind::HubUp => Some(0.0),
         }

@@ -43,6 +43,8 @@ pub struct HapticOutcome {
     pub wheel_fault: Option<haptic_wheel::WheelFault>,
     /// Times the wheel was unplugged and came back within the replug grace.
     pub wheel_replugs: u32,
+    /// Force commands the wheel refused (while it answered reads).
+    pub write_failures: u64,
     /// Deadlines skipped after a stall (the loop never bursts through missed ticks).
     pub skipped_deadlines: u64,
     /// The torque ceiling that held on the wheel, N·m and as a share of its motor.
@@ -424,6 +426,7 @@ pub fn run(
         arm_failure: None,
         wheel_fault: plant.wheel_fault(),
         wheel_replugs: plant.wheel_replugs(),
+        write_failures: plant.write_failures(),
         skipped_deadlines: slots.skipped,
         ceiling: Some(plant.ceiling()),
         motor_update_policy_hz: Some(plant.motor_update_policy_hz()),

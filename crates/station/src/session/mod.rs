@@ -164,10 +164,22 @@ struct WheelWatch<'a, O> {
     controls: &'a Controls,
     inner: O,
     away: bool,
+    /// Force commands the wheel refused by the last tick watched (its `/wheel` record).
+    write_failures: u64,
 }
 
 impl<O: SessionObserver> SessionObserver for WheelWatch<'_, O> {
     fn on_tick(&mut self, record: &TickRecord) {
+        if record.wheel.write_failures > self.write_failures {
+            if self.write_failures == 0 {
+                tracing::warn!(
+                    tick = record.tick,
+                    "the wheel refused a force command (counted; a run over {} ms stops the session)",
+                    plant::MAX_REFUSED_WRITES_NS / 1_000_000
+                );
+            }
+            self.write_failures = record.wheel.write_failures;
+        }
         let away = self.controls.wheel_away.load(Ordering::Relaxed);
         if away != self.away {
             self.away = away;
@@ -195,6 +207,10 @@ impl<O: SessionObserver> SessionObserver for WheelWatch<'_, O> {
         summary
             .extra
             .insert("wheel_replugs".to_owned(), f64::from(replugs));
+        summary.extra.insert(
+            "wheel_write_failures".to_owned(),
+            self.write_failures as f64,
+        );
         self.inner.on_summary(&summary);
     }
 }
@@ -403,6 +419,7 @@ fn run_body(
                     controls,
                     inner: observer,
                     away: false,
+                    write_failures: 0,
                 };
                 recorder_loop(consumer, recorder, &done, plan, &mut watched, ending)
             })

@@ -451,8 +451,13 @@ impl Wheel for RecordedBody {
         }
     }
 
+    /// Refused as the recorded wheel refused it (so a replay counts the same refusals and
+    /// stops where the session did), else taken.
     fn command_torque(&mut self, _torque_nm: f64) -> Result<(), WheelError> {
-        Ok(())
+        match self.now() {
+            Some(t) if t.raw.wheel.write_failed => Err(WheelError::write_refused()),
+            _ => Ok(()),
+        }
     }
 
     fn max_torque_nm(&self) -> f64 {

@@ -20,7 +20,10 @@ impl<W: Wheel> FaultyWheel<W> {
     pub fn new(inner: W, faults: &[FaultSpec]) -> Self {
         let wheel_faults = windows(faults)
             .into_iter()
-            .filter(|(k, _, _)| k.acts_on_readings() || *k == FaultKind::HapticStall)
+            .filter(|(k, _, _)| {
+                k.acts_on_readings()
+                    || matches!(k, FaultKind::HapticStall | FaultKind::WheelWriteFail)
+            })
             .collect();
         Self {
             inner,
@@ -29,6 +32,13 @@ impl<W: Wheel> FaultyWheel<W> {
             // Room for every stall up front: the haptic thread never allocates.
             stalled: Vec::with_capacity(faults.len()),
         }
+    }
+
+    /// The wheel refuses commands at `t_ns` (a `wheel-write-fail` window).
+    fn refusing(&self, t_ns: u64) -> bool {
+        self.faults.iter().any(|(k, start, end)| {
+            *k == FaultKind::WheelWriteFail && (*start..*end).contains(&t_ns)
+        })
     }
 
     /// The fault of the wheel's readings acting at `t_ns`, if any.
@@ -124,9 +134,17 @@ impl<W: Wheel + Stallable> Wheel for FaultyWheel<W> {
             let _ = self.inner.command_torque(0.0);
             return Err(WheelError::Fault(WheelFault::Unplugged));
         }
+        if self.refusing(now) {
+            // The command never reaches the motor, which keeps its last force.
+            return Err(WheelError::write_refused());
+        }
         self.inner.command_torque(torque_nm)
     }
     fn set_torque_ceiling_nm(&mut self, ceiling_nm: f64) -> Result<(), WheelError> {
+        let now = self.inner.read().map(|r| r.t_ns).unwrap_or(0);
+        if self.refusing(now) {
+            return Err(WheelError::write_refused());
+        }
         self.inner.set_torque_ceiling_nm(ceiling_nm)
     }
 
@@ -294,6 +312,40 @@ mod tests {
         assert!((6000..8000).any(|i| torque(i).abs() > 0.0), "torque again");
         assert_eq!(plant.wheel_fault(), None);
         assert_eq!(plant.wheel_replugs(), 1);
+    }
+
+    #[test]
+    fn refused_commands_are_counted_and_recorded_and_a_run_past_20_ms_is_a_fault() {
+        // A 10 ms refusal at 4 s: counted and recorded, no fault; a 200 ms one at 6 s: a
+        // fault 20 ms in (the haptic loop ends the session on it, as here).
+        let mut plant = plant_with(&["wheel-write-fail@4+0.01", "wheel-write-fail@6"], 30.0);
+        let mut ticks = Vec::new();
+        while plant.wheel_fault().is_none() && ticks.len() < 7000 {
+            ticks.push(plant.tick());
+        }
+        assert_eq!(plant.wheel_fault(), Some(WheelFault::CommandsRefused));
+        let refused: Vec<u64> = ticks
+            .iter()
+            .filter(|t| t.raw.wheel.write_failed)
+            .map(|t| t.tick)
+            .collect();
+        let expected: Vec<u64> = (4000..4010).chain(6000..=6020).collect();
+        assert_eq!(refused, expected, "each refusal recorded on /raw/wheel");
+        assert_eq!(ticks[4100].wheel.write_failures, 10, "counted on /wheel");
+        assert_eq!(ticks.last().unwrap().wheel.write_failures, 31);
+        assert_eq!(plant.write_failures(), 31);
+        // The short refusal did not stop the exercise.
+        assert!(ticks[5000].score.active_s > ticks[4000].score.active_s);
+    }
+
+    #[test]
+    fn an_unplugged_wheels_refusals_are_its_unplugging_not_counted() {
+        let mut plant = plant_with(&["wheel-unplug@1", "wheel-replug@2"], 30.0);
+        for _ in 0..3000 {
+            plant.tick();
+        }
+        assert_eq!(plant.write_failures(), 0);
+        assert_eq!(plant.wheel_fault(), None);
     }
 
     #[test]

@@ -23,7 +23,18 @@ pub(super) struct WheelHealth {
     plausibility: AnglePlausibility,
     /// The last finite wheel angle read, rad (what the car steers by without a reading).
     last_angle_rad: f64,
+    /// Force commands the wheel refused so far (while it answered reads).
+    pub(super) write_failures: u64,
+    /// When the present run of refused commands began, ns of loop time.
+    refusing_since_ns: Option<u64>,
 }
+
+/// Longest a run of refused force commands may last, ns: the motor keeps its last force
+/// meanwhile, not the one the safety chain chose. As old as a reading may be before the
+/// supervisor fades the torque (`SupervisorConfig::max_reading_age_s`, 20 ms): a command that
+/// old is as stale. Past it the session ends on [`WheelFault::CommandsRefused`] (the wheel
+/// closed, which stops a force feedback device's effects).
+pub const MAX_REFUSED_WRITES_NS: u64 = 20_000_000;
 
 impl WheelHealth {
     /// A wheel that answered nothing yet, whose encoder ends at ±`half_range_rad`, waited
@@ -37,6 +48,26 @@ impl WheelHealth {
             replug_grace_ns,
             plausibility: AnglePlausibility::new(half_range_rad),
             last_angle_rad: 0.0,
+            write_failures: 0,
+            refusing_since_ns: None,
+        }
+    }
+
+    /// The tick's force commands at loop time `t_ns` were `taken` by the wheel, or not: a
+    /// refused one is counted, and a run longer than [`MAX_REFUSED_WRITES_NS`] is a fault. An
+    /// unplugged wheel's refusals are its unplugging (the replug grace's), not counted.
+    pub(super) fn wrote(&mut self, taken: bool, t_ns: u64) {
+        if taken {
+            self.refusing_since_ns = None;
+            return;
+        }
+        if self.gone_since_ns.is_some() {
+            return;
+        }
+        self.write_failures += 1;
+        let since = *self.refusing_since_ns.get_or_insert(t_ns);
+        if t_ns.saturating_sub(since) >= MAX_REFUSED_WRITES_NS {
+            self.fault = self.fault.or(Some(WheelFault::CommandsRefused));
         }
     }
 

@@ -7,6 +7,8 @@
 mod body;
 mod exercise;
 mod health;
+
+pub use health::MAX_REFUSED_WRITES_NS;
 mod raw;
 
 pub use body::Body;
@@ -283,6 +285,11 @@ impl Plant {
         self.health.replugs
     }
 
+    /// Force commands the wheel refused so far (while it answered reads).
+    pub fn write_failures(&self) -> u64 {
+        self.health.write_failures
+    }
+
     /// An arm sensor (IMU) is away mid-session and the exercise waits for it: the arm sensing
     /// lost it after it was working. Never in a replay, which pauses where the recorded
     /// session did ([`Self::arm_sensor_lost`] still counts there, so the session ends where
@@ -457,12 +464,15 @@ impl Plant {
         self.velocity_rad_s = tel.vel_rad_s;
         self.watchdog = tel.watchdog;
         self.health.supervisor_is(tel.watchdog);
-        // Firmware effects play only while the supervisor runs at full scale; a failed
-        // command is caught by the next read (stale reading → supervisor fault).
+        // Firmware effects play only while the supervisor runs at full scale. A refused
+        // command is counted and recorded; a run of them is a fault (the wheel's health).
         let wheel = self.body.wheel();
         wheel.set_firmware_effects_active(tel.watchdog == WatchdogState::Running);
-        let _ = wheel.set_torque_ceiling_nm(self.chain.ceiling_nm());
-        let _ = wheel.command_torque(tel.torque_nm);
+        let ceiling = wheel.set_torque_ceiling_nm(self.chain.ceiling_nm());
+        let command = wheel.command_torque(tel.torque_nm);
+        let taken = ceiling.is_ok() && command.is_ok();
+        self.raw.write_failed = !taken;
+        self.health.wrote(taken, tel.now_ns);
         tel
     }
 
@@ -502,6 +512,7 @@ impl Plant {
                 motor_rating_known: !self.ceiling.assumed,
                 motor_updates: updates.map_or(0, |u| u.count),
                 motor_update_worst_gap_ms: updates.map(|u| u.worst_gap_ms()),
+                write_failures: self.health.write_failures,
             },
             vehicle: exercise.vehicle,
             score: self.exercise.score(exercise.segment_index, now.t_s, paused),

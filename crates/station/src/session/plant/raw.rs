@@ -13,6 +13,8 @@ pub(super) struct RawInputs {
     pub(super) stop_requested: bool,
     /// Where the pedals were (the patient's, or the simulated foot's).
     pub(super) pedals: vehicle::Pedals,
+    /// The wheel refused this tick's force command.
+    pub(super) write_failed: bool,
     /// The IMU samples last recorded on `/raw/imu`, per sensor (a held one is not repeated).
     last_imu: [Option<gyro_imu::device::ImuSample>; 2],
 }
@@ -24,6 +26,7 @@ impl RawInputs {
             paused: false,
             stop_requested: false,
             pedals: vehicle::Pedals::default(),
+            write_failed: false,
             last_imu: [None; 2],
         }
     }
@@ -48,6 +51,7 @@ impl RawInputs {
                 stop: self.stop_requested,
                 throttle: self.pedals.throttle,
                 brake: self.pedals.brake,
+                write_failed: self.write_failed,
                 arm_stepped: seam.is_some_and(|s| s.stepped.is_some()),
                 arm_lost: seam.is_some_and(|s| s.lost),
                 arm_regained: seam.is_some_and(|s| s.regained),
