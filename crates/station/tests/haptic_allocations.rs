@@ -19,6 +19,11 @@ use station::session::{Controls, course};
 /// Run `cfg`'s session for `seconds` of simulated time at full speed and return the
 /// allocations made on the haptic thread and the ticks it ran.
 fn allocations_in(cfg: &StationConfig, seconds: f64) -> (u64, u64) {
+    allocations_paced(cfg, seconds, Pacing::Max)
+}
+
+/// The same, paced by `pacing` (real time: the loop sleeps to each absolute deadline).
+fn allocations_paced(cfg: &StationConfig, seconds: f64, pacing: Pacing) -> (u64, u64) {
     let course = course::build(cfg, None).unwrap();
     let mut plant = Plant::simulated(cfg, course).unwrap();
     let (mut producer, mut consumer) = rtrb::RingBuffer::<TickRecord>::new(4096);
@@ -40,7 +45,7 @@ fn allocations_in(cfg: &StationConfig, seconds: f64) -> (u64, u64) {
             &mut plant,
             &mut producer,
             total_ticks,
-            Pacing::Max,
+            pacing,
             false,
             &controls,
             &clock,
@@ -92,6 +97,8 @@ fn the_haptic_thread_allocates_nothing_in_any_assist_mode() {
         for exercise in ["sine-road", "slalom", "dial-step"] {
             let (allocs, ticks) = allocations_in(&config(exercise, Some(kind)), 4.0);
             eprintln!("{kind} on {exercise}: {allocs} allocations in {ticks} ticks");
+            // A loop that stopped at once would allocate nothing too.
+            assert!(ticks >= 4000, "{kind} on {exercise} ran {ticks} ticks");
             if allocs > 0 {
                 offenders.push((kind, exercise, allocs));
             }
@@ -134,6 +141,9 @@ fn the_haptic_thread_allocates_nothing_through_every_simulated_fault() {
             }
             let (allocs, ticks) = allocations_in(&cfg, 3.0);
             eprintln!("{kind:?} on {exercise}: {allocs} allocations in {ticks} ticks");
+            // The fault at 1 s was reached and played (a fault that ends the session ends it
+            // after that, within a fade-out).
+            assert!(ticks > 1050, "{kind:?} on {exercise} ran {ticks} ticks");
             if allocs > 0 {
                 offenders.push((kind, exercise, allocs));
             }
@@ -143,4 +153,20 @@ fn the_haptic_thread_allocates_nothing_through_every_simulated_fault() {
         offenders.is_empty(),
         "allocations on the haptic thread: {offenders:?}"
     );
+}
+
+/// The real-time path too: the loop sleeping to each absolute deadline allocates nothing
+/// (1 s of a road and of the dial, each tick waited for on the wall clock).
+#[test]
+fn the_haptic_thread_allocates_nothing_while_it_sleeps_to_its_deadlines() {
+    for exercise in ["sine-road", "dial-sine"] {
+        let (allocs, ticks) =
+            allocations_paced(&config(exercise, Some("motion")), 1.0, Pacing::RealTime);
+        eprintln!("real time on {exercise}: {allocs} allocations in {ticks} ticks");
+        assert!(ticks >= 1000, "{exercise} ran {ticks} ticks");
+        assert_eq!(
+            allocs, 0,
+            "allocations on the haptic thread in real time on {exercise}"
+        );
+    }
 }
