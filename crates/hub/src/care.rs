@@ -81,7 +81,7 @@ impl CareConfig {
     /// and it is not the default; a clinic that set its own keeps it (the flag is then
     /// ignored, and the log says so).
     pub async fn seed_pain_threshold(&self, db: &crate::Db, now_ms: i64) -> Result<(), HubError> {
-        use crate::attention::settings::PAIN_THRESHOLD;
+        use crate::thresholds::PAIN_THRESHOLD;
         let flag = i64::from(self.pain_threshold_0_10);
         match db.clinic_settings().await?.get(PAIN_THRESHOLD) {
             Some(s)

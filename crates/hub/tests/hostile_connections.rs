@@ -482,10 +482,16 @@ async fn half_sent_requests_over_the_per_address_cap_push_out_the_oldest_not_a_l
     // Bounded by the limit it must beat, not by a wall-clock guess: well within the body
     // deadline the oldest half-sent request would otherwise have held its place for.
     let deadline = Duration::from_millis(limits.body_timeout_ms);
-    assert!(waited < deadline / 2, "the login took {waited:?} of {deadline:?}");
+    assert!(
+        waited < deadline / 2,
+        "the login took {waited:?} of {deadline:?}"
+    );
     let (oldest, waited) = read_until_closed(&mut held[0]).await;
     assert!(oldest.is_empty(), "closed without an answer: {oldest}");
-    assert!(waited < deadline / 2, "closed after {waited:?} of {deadline:?}");
+    assert!(
+        waited < deadline / 2,
+        "closed after {waited:?} of {deadline:?}"
+    );
 }
 
 // ---- Same-address churn (issue 44): a flood from one address cannot push out a slow

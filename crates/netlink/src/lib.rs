@@ -76,6 +76,7 @@
 //! # }
 //! ```
 
+mod answer;
 pub mod codec;
 mod error;
 pub mod frame;

@@ -2,8 +2,8 @@
 //! among the last [`ENDED_EARLY_WINDOW`] finished sessions ended for any reason other than
 //! running as prescribed.
 
-use super::settings::ENDED_EARLY_WINDOW;
 use super::{Alert, PatientFacts, Severity, Thresholds};
+use crate::thresholds::ENDED_EARLY_WINDOW;
 
 /// The ended-early alert of `f`.
 pub fn check(f: &PatientFacts, t: &Thresholds) -> Vec<Alert> {

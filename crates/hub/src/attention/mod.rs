@@ -22,7 +22,6 @@ pub mod effort;
 pub mod ended_early;
 pub mod message;
 pub mod pain;
-pub mod settings;
 pub mod station;
 
 use std::collections::BTreeMap;
@@ -33,7 +32,7 @@ use crate::db::{
     AlertAck, Db, MeasuresBySession, NamedSession, PatientOverview, SessionCheckIn, Station,
 };
 use crate::error::HubError;
-pub use settings::Thresholds;
+pub use crate::thresholds::Thresholds;
 
 /// The session measures the rules read: [`decline::DECLINE_MEASURES`] and the devices'.
 pub const RULE_MEASURES: [&str; 6] = [

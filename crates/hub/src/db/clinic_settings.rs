@@ -1,13 +1,13 @@
 //! The clinic's settings (migration 0020): the caseload's alert thresholds
-//! ([`crate::attention::settings`]), stored only once the clinic changes one.
+//! ([`crate::thresholds`]), stored only once the clinic changes one.
 //!
 //! Other parts read the pain threshold with [`pain_threshold`].
 
 use std::collections::BTreeMap;
 
 use super::{Db, col};
-use crate::attention::settings::{PAIN_THRESHOLD, Thresholds, check_setting};
 use crate::error::HubError;
+use crate::thresholds::{PAIN_THRESHOLD, Thresholds, check_setting};
 
 /// The clinic's pain threshold on the 0–10 scale: pain at or over it in a check-in is an
 /// urgent alert on the caseload (default 7, see docs/DESIGN.md "Needs attention today").

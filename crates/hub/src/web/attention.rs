@@ -15,9 +15,9 @@ use serde::{Deserialize, Serialize};
 use super::auth::Authed;
 use super::clinic::admins_only;
 use super::{ApiError, AppState};
-use crate::attention::settings::{SETTINGS, check_setting};
 use crate::attention::{Alert, Attention, KIND_ORDER, Thresholds};
 use crate::db::{NewAck, PatientOverview};
+use crate::thresholds::{SETTINGS, check_setting};
 
 /// Query of `GET /api/patients`.
 #[derive(Deserialize, Default)]

@@ -29,7 +29,7 @@ pub use crypto::{CODE_ALPHABET, PairingCode, PairingCodeError};
 pub(crate) use crypto::{HubExchange, MacLabel, mac_hex, verify_mac};
 pub use station::{Credential, PairError, pair};
 
-use crate::therapist::{BoxFuture, Refusal};
+use crate::answer::{BoxFuture, Refusal};
 
 /// The one answer to every pairing attempt that fails at the hub, whatever the reason
 /// (mistyped, unknown, expired, used, or the code waiting after an earlier attempt): a station

@@ -14,18 +14,8 @@ use crate::error::NetlinkError;
 use crate::frame::{Bye, ErrorFrame, Frame};
 use crate::transport::{BoxStream, FrameReader, Outgoing, spawn_writer};
 
-use super::task::{LinkTask, Pending};
+use super::task::{ConnEnd, LinkTask, Pending};
 use super::*;
-
-/// How a connection ended.
-pub(super) enum ConnEnd {
-    /// The session is over (Bye answered, deadline reached or link dropped).
-    Done,
-    /// The connection broke; `progress` is true if an Ack arrived on it.
-    Lost { error: NetlinkError, progress: bool },
-    /// The hub cannot serve any protocol version this station speaks: do not retry.
-    UpdateRequired(String),
-}
 
 impl LinkTask {
     /// Connects (TCP, then TLS if configured) within the connect timeout and the finish

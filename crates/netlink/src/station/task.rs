@@ -11,8 +11,17 @@ use tokio::time::Instant;
 
 use crate::frame::{Message, Regimen};
 
-use super::connection::ConnEnd;
 use super::*;
+
+/// How a connection ended.
+pub(super) enum ConnEnd {
+    /// The session is over (Bye answered, deadline reached or link dropped).
+    Done,
+    /// The connection broke; `progress` is true if an Ack arrived on it.
+    Lost { error: NetlinkError, progress: bool },
+    /// The hub cannot serve any protocol version this station speaks: do not retry.
+    UpdateRequired(String),
+}
 
 pub(super) struct Pending {
     pub(super) seq: u64,

@@ -5,10 +5,8 @@
 //! exist: [`FileStore`] (one JSON-lines file per session under a directory, for
 //! `telerehab therapist --store DIR`) and the clinic hub's database (crate `hub`).
 
-use std::future::Future;
 use std::net::SocketAddr;
 use std::path::PathBuf;
-use std::pin::Pin;
 use std::sync::{Arc, Mutex};
 
 use rustls::pki_types::CertificateDer;
@@ -18,8 +16,7 @@ use crate::frame::{Bye, Care, Frame, Hello, Message, MessageSeen, Regimen, Summa
 use crate::pairing::PairingAuthority;
 use crate::store::{Appended, SessionFile, write_hello};
 
-/// A boxed future, so the store traits can be used as trait objects.
-pub type BoxFuture<'a, T> = Pin<Box<dyn Future<Output = T> + Send + 'a>>;
+pub use crate::answer::{BoxFuture, Refusal};
 
 /// What the hub knows of the connecting station before it trusts its `Hello`.
 #[derive(Debug, Clone, Copy)]
@@ -29,26 +26,6 @@ pub struct Peer<'a> {
     /// The client certificate the station presented in the TLS handshake, leaf only (already
     /// verified to chain to the hub's client CA), if any.
     pub certificate: Option<&'a CertificateDer<'static>>,
-}
-
-/// A refusal the hub sends to the station as an `Error` frame before closing.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Refusal {
-    /// Why, for humans (names the problem).
-    pub message: String,
-    /// A machine-readable code, e.g. [`crate::frame::UPDATE_REQUIRED`]; `None` for ordinary
-    /// refusals.
-    pub code: Option<&'static str>,
-}
-
-impl Refusal {
-    /// A refusal without a code.
-    pub fn new(message: impl Into<String>) -> Self {
-        Self {
-            message: message.into(),
-            code: None,
-        }
-    }
 }
 
 /// What a hub tells a station's check besides its clock (protocol version

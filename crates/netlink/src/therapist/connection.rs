@@ -12,13 +12,13 @@ use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::{mpsc, watch};
 use tokio::task::JoinHandle;
 
-use crate::codec::encode_to_vec;
 use crate::error::NetlinkError;
-use crate::frame::{Ack, Bye, ErrorFrame, Frame, Hello, MAX_MESSAGE_LEN, printable};
+use crate::frame::{Ack, Bye, Frame, Hello};
 use crate::tls::certificate_names_station;
-use crate::transport::{BoxStream, FrameReader, Outbox, Outgoing, spawn_outbox_writer};
+use crate::transport::{BoxStream, FrameReader, Outbox, spawn_outbox_writer};
 
 use super::budget::{REFUSAL_LOG_INTERVAL, Ticket};
+use super::outgoing::{coded_error_outgoing, error_outgoing, frame_outgoing, send};
 use super::session::{Failure, Reply, handle_frame, last_seq, sync_file};
 use super::{Hub, Peer, SessionSlot, StationRoute, TherapistEvent, lock};
 
@@ -70,38 +70,6 @@ pub(super) async fn accept_loop(
         }
     }
     hub.summarise_refusals(true);
-}
-
-pub(super) fn error_outgoing(message: &str) -> Option<Outgoing> {
-    coded_error_outgoing(message, None)
-}
-
-fn coded_error_outgoing(message: &str, code: Option<&str>) -> Option<Outgoing> {
-    let message = printable(message, MAX_MESSAGE_LEN);
-    encode_to_vec(&Frame::Error(ErrorFrame {
-        message,
-        code: code.map(str::to_owned),
-    }))
-    .ok()
-    .map(|b| Outgoing::new(b.into()))
-}
-
-pub(super) fn frame_outgoing(frame: &Frame) -> Option<Outgoing> {
-    match encode_to_vec(frame) {
-        Ok(b) => Some(Outgoing::new(b.into())),
-        Err(e) => {
-            tracing::error!(error = %e, "therapist hub: cannot encode {}", frame.kind());
-            None
-        }
-    }
-}
-
-/// Queues `frame` for the station; a closed writer is noticed by the frame loop, a full outbox
-/// (a station that does not read) drops the frame, counted in the hub's outbox stats.
-pub(super) fn send(out: &Out, frame: Option<Outgoing>) {
-    if let Some(o) = frame {
-        out.send(o);
-    }
 }
 
 /// Makes `ack` the next Ack for the station, replacing one not yet written.

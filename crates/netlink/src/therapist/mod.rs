@@ -6,6 +6,7 @@ pub mod budget;
 mod config;
 mod connection;
 mod event;
+mod outgoing;
 mod pairing;
 mod session;
 pub mod station_limits;

@@ -9,7 +9,7 @@ use crate::pairing::{HubExchange, MacLabel, from_hex, mac_hex, paired_parts, to_
 use crate::transport::{FrameReader, Outbox};
 
 use super::Hub;
-use super::connection::{error_outgoing, frame_outgoing, send};
+use super::outgoing::{error_outgoing, frame_outgoing, send};
 
 /// Runs one pairing conversation; what happened, for the hub's event log. Every refusal is
 /// also sent to the station as an `Error` frame.
