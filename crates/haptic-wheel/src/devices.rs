@@ -141,7 +141,7 @@ impl DeviceReport {
     }
 
     /// Add the plain explanation for what is missing (called once the scan is done).
-    fn explain(&mut self) {
+    pub(crate) fn explain(&mut self) {
         if !self.unreadable.is_empty() {
             self.notes.push(format!(
                 "{} input device(s) could not be opened (permission denied?): {}",
@@ -226,15 +226,6 @@ impl fmt::Display for DeviceReport {
     }
 }
 
-/// Scan for wheels, pedals and gamepads. Never panics and never fails: anything that goes
-/// wrong becomes a note in the report.
-pub fn enumerate_devices() -> DeviceReport {
-    let mut report = DeviceReport::default();
-    scan_platform(&mut report);
-    report.explain();
-    report
-}
-
 /// Every `/dev/input/event*` node, sorted: the one place that walks `/dev/input` (the
 /// device listing and the wheel search both use it).
 pub fn event_nodes() -> std::io::Result<Vec<PathBuf>> {
@@ -249,50 +240,6 @@ pub fn event_nodes() -> std::io::Result<Vec<PathBuf>> {
         .collect();
     paths.sort();
     Ok(paths)
-}
-
-#[cfg(all(target_os = "linux", feature = "evdev"))]
-fn scan_platform(report: &mut DeviceReport) {
-    let paths = match event_nodes() {
-        Ok(p) => p,
-        Err(e) => {
-            report.notes.push(format!(
-                "This system has no readable /dev/input ({e}): no input devices are visible to \
-                 this process (a container or VM without USB passthrough, or no devices at all)."
-            ));
-            return;
-        }
-    };
-    if paths.is_empty() {
-        report
-            .notes
-            .push("/dev/input has no event devices: nothing is connected.".into());
-    }
-    for path in paths {
-        match crate::evdev_wheel::inspect(&path) {
-            Ok(Some(info)) => report.add(info),
-            Ok(None) => {}
-            Err(e) => report.unreadable.push((path, e.to_string())),
-        }
-    }
-}
-
-#[cfg(not(all(target_os = "linux", feature = "evdev")))]
-fn scan_platform(report: &mut DeviceReport) {
-    report.notes.push(
-        "Force-feedback wheels are supported through the Linux kernel FF API (feature `evdev`); \
-         this build has no wheel backend."
-            .into(),
-    );
-    #[cfg(feature = "gilrs")]
-    match crate::peripherals::list_gamepads() {
-        Ok(list) => {
-            for d in list {
-                report.add(d);
-            }
-        }
-        Err(e) => report.notes.push(format!("gamepad scan failed: {e}")),
-    }
 }
 
 #[cfg(test)]
@@ -331,18 +278,6 @@ mod tests {
         // Rumble alone does not make a wheel.
         let rumble_stick = traits("stick", &["rumble"], &["x", "y"], false);
         assert_ne!(classify(&rumble_stick), Some(DeviceClass::Wheel));
-    }
-
-    #[test]
-    fn enumerate_devices_explains_itself_when_nothing_is_found() {
-        // On this machine (no /dev/input) and on CI: no wheel, and a plain note why.
-        let r = enumerate_devices();
-        let text = r.to_string();
-        println!("{text}");
-        if !r.has_wheel() {
-            assert!(text.contains("No force-feedback wheel found"), "{text}");
-        }
-        assert!(!r.notes.is_empty() || r.has_wheel());
     }
 
     /// A wheel as the evdev listing finds it, before the configuration is applied.

@@ -16,7 +16,7 @@
 //! - [`safety`]: limiter, soft start, fade-out, deadline watchdog.
 //! - [`chain`]: [`HapticChain`], all of the above as the one call per tick the haptic loop
 //!   makes.
-//! - [`devices`]: `enumerate_devices()` for `telerehab devices`; `evdev_wheel` (Linux,
+//! - [`devices`] and [`scan`]: `enumerate_devices()` for `telerehab devices`; `evdev_wheel` (Linux,
 //!   feature `evdev`): the kernel force-feedback backend; `peripherals` (feature `gilrs`):
 //!   pedals, buttons and gamepads.
 //!
@@ -35,6 +35,7 @@ pub mod model;
 pub mod peripherals;
 pub mod profile;
 pub mod safety;
+pub mod scan;
 pub mod sim;
 pub mod wheel;
 pub mod wheel_config;
@@ -42,7 +43,7 @@ pub mod wheel_config;
 pub use chain::{
     HapticChain, HapticChainConfig, HapticRegimen, HapticStats, TickInput, TickTelemetry,
 };
-pub use devices::{DeviceReport, enumerate_devices};
+pub use devices::DeviceReport;
 pub use effects::{
     Condition, ConditionKind, Effect, EffectError, EffectId, EffectKind, EffectStack, Envelope,
     Periodic, Waveform, WheelState,
@@ -51,6 +52,7 @@ pub use filter::{KalmanEstimator, KalmanParams, MovingAverage, StateEstimator};
 pub use model::{PassivityController, PassivityParams, SpringDamper};
 pub use profile::{DeviceProfile, DriverFamily, TorqueSource};
 pub use safety::{Fault, LimitedTorque, SafetyConfig, Supervisor, TorqueLimiter, WatchdogState};
+pub use scan::enumerate_devices;
 pub use sim::{SimWheel, SimWheelParams};
 pub use wheel::{
     MotorUpdates, Wheel, WheelCapabilities, WheelError, WheelFault, WheelReading, ZeroTorqueOnDrop,
