@@ -172,4 +172,21 @@ impl HubError {
     pub(crate) fn is_unique_violation(e: &sqlx::Error) -> bool {
         matches!(e, sqlx::Error::Database(d) if d.is_unique_violation())
     }
+
+    /// A closure turning an INSERT's driver error into [`HubError::AlreadyExists`] (`what`
+    /// `id`) for a unique violation, else [`HubError::Database`] naming `context`.
+    pub(crate) fn inserting(
+        what: &'static str,
+        id: &str,
+        context: &'static str,
+    ) -> impl FnOnce(sqlx::Error) -> Self + use<> {
+        let id = id.to_owned();
+        move |e| {
+            if Self::is_unique_violation(&e) {
+                Self::AlreadyExists { what, id }
+            } else {
+                Self::db(context)(e)
+            }
+        }
+    }
 }

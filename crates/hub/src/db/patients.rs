@@ -174,16 +174,11 @@ impl Db {
         .bind(now_ms)
         .execute(self.pool())
         .await
-        .map_err(|e| {
-            if HubError::is_unique_violation(&e) {
-                HubError::AlreadyExists {
-                    what: "patient",
-                    id: pseudonym.to_owned(),
-                }
-            } else {
-                HubError::db("adding a patient")(e)
-            }
-        })?;
+        .map_err(HubError::inserting(
+            "patient",
+            pseudonym,
+            "adding a patient",
+        ))?;
         Ok(Patient {
             id,
             pseudonym: pseudonym.to_owned(),

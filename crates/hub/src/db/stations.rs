@@ -84,16 +84,11 @@ impl Db {
         .bind(now_ms)
         .execute(self.pool())
         .await
-        .map_err(|e| {
-            if HubError::is_unique_violation(&e) {
-                HubError::AlreadyExists {
-                    what: "station or certificate",
-                    id: station_id.to_owned(),
-                }
-            } else {
-                HubError::db("adding a station")(e)
-            }
-        })?;
+        .map_err(HubError::inserting(
+            "station or certificate",
+            station_id,
+            "adding a station",
+        ))?;
         Ok(Station {
             station_id: station_id.to_owned(),
             patient_id: patient_id.to_owned(),

@@ -213,16 +213,11 @@ impl Db {
         .bind(now_ms)
         .execute(self.pool())
         .await
-        .map_err(|e| {
-            if HubError::is_unique_violation(&e) {
-                HubError::AlreadyExists {
-                    what: "therapist",
-                    id: email.clone(),
-                }
-            } else {
-                HubError::db("adding a therapist")(e)
-            }
-        })?;
+        .map_err(HubError::inserting(
+            "therapist",
+            &email,
+            "adding a therapist",
+        ))?;
         Ok(Therapist {
             id,
             email,
