@@ -1,5 +1,5 @@
 //! Needs attention today (issue 41): the caseload's alerts, computed on the hub from what it
-//! stores, one rule a file, each against the clinic's thresholds ([`settings`]).
+//! stores, one rule a file, each against the clinic's thresholds ([`crate::thresholds`]).
 //!
 //! | rule | kinds | severity |
 //! |---|---|---|
