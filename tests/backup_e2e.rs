@@ -43,6 +43,18 @@ fn sessions(shown: &serde_json::Value) -> Vec<(String, u64)> {
     s
 }
 
+/// Waits (30 s at most) until `done` holds, asking every 100 ms; fails naming `what`.
+fn until(what: &str, done: impl Fn() -> bool) {
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
+    while !done() {
+        assert!(
+            std::time::Instant::now() < deadline,
+            "waited 30 s for {what}"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+}
+
 /// A clinic (on `db`, or SQLite) with a regimen and two finished sessions, backed up while a
 /// third streams; restored into a new directory (and `restore_db`), which must hold all of it.
 fn backup_under_load_restores_everything(db: Option<&str>, restore_db: Option<&str>) {
@@ -56,19 +68,16 @@ fn backup_under_load_restores_everything(db: Option<&str>, restore_db: Option<&s
     run_session(&home, "2");
     run_session(&home, "2");
     // The recordings reach the hub after their sessions: wait for both.
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
-    while recordings(&data).len() < 2 {
-        assert!(
-            std::time::Instant::now() < deadline,
-            "recordings not uploaded"
-        );
-        std::thread::sleep(std::time::Duration::from_millis(100));
-    }
+    until("both recordings uploaded", || recordings(&data).len() >= 2);
     let before = show_json(&data);
     let stored_before = recordings(&data);
-    // Under load: a session streaming its summaries while the backup is taken.
+    // Under load: a session streaming its summaries while the backup is taken, from when the
+    // hub holds it.
     let mut streaming = spawn_real_time_session("4", |c| c.env("TELEREHAB_HOME", &home));
-    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let was = sessions(&before).len();
+    until("the streaming session on the hub", || {
+        sessions(&show_json(&data)).len() > was
+    });
     let backup = tmp.path().join("clinic.tar.zst");
     let said = ok(
         &[
