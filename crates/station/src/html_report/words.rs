@@ -177,22 +177,35 @@ pub fn patient(s: &SessionData) -> String {
 /// The arm calibration line: the segment lengths the session's arm set-up found, with their
 /// uncertainty, how well the fit closes, and what to do about any warning it gave.
 pub fn arm_line(arm: &record::ArmCalibrationSample) -> String {
-    let cm = |m: f64| m * 100.0;
-    let quality = if arm.rms_residual_m <= 0.01 && arm.condition_number < 200.0 {
-        "a good fit"
+    // One decimal, never "-0.0".
+    let tenth = |x: f64| format!("{:.1}", (x * 10.0).round() / 10.0 + 0.0);
+    let cm = |m: f64| tenth(m * 100.0);
+    let found = [arm.upper_arm_m, arm.forearm_m]
+        .iter()
+        .all(|m| m.is_finite() && *m > 0.0);
+    let mut line = if found {
+        let quality = if arm.rms_residual_m <= 0.01 && arm.condition_number < 200.0 {
+            "a good fit"
+        } else {
+            "a poor fit"
+        };
+        format!(
+            "Arm calibration: upper arm {} cm (± {}), forearm {} cm (± {}); the fit closes to \
+             {} mm (RMS) over {:.0} samples, {quality}.",
+            cm(arm.upper_arm_m),
+            cm(arm.upper_arm_se_m),
+            cm(arm.forearm_m),
+            cm(arm.forearm_se_m),
+            tenth(arm.rms_residual_m * 1000.0),
+            arm.samples,
+        )
     } else {
-        "a poor fit"
+        // A fit that found no arm gives no lengths to read.
+        format!(
+            "Arm calibration: no arm lengths found over {:.0} samples.",
+            arm.samples
+        )
     };
-    let mut line = format!(
-        "Arm calibration: upper arm {:.1} cm (± {:.1}), forearm {:.1} cm (± {:.1}); the fit \
-         closes to {:.1} mm (RMS) over {:.0} samples, {quality}.",
-        cm(arm.upper_arm_m),
-        cm(arm.upper_arm_se_m),
-        cm(arm.forearm_m),
-        cm(arm.forearm_se_m),
-        arm.rms_residual_m * 1000.0,
-        arm.samples,
-    );
     for w in &arm.warnings {
         line.push_str(&format!(" To check: {}.", w.trim_end_matches('.')));
     }
@@ -202,6 +215,32 @@ pub fn arm_line(arm: &record::ArmCalibrationSample) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_arm_fit_that_found_no_arm_gives_no_lengths_and_none_reads_minus_zero() {
+        let none = record::ArmCalibrationSample {
+            upper_arm_m: -1e-5,
+            forearm_m: 0.0,
+            samples: 55.0,
+            warnings: vec!["the upper arm length -0.0 mm is not a human one".into()],
+            ..Default::default()
+        };
+        let line = arm_line(&none);
+        assert!(
+            line.starts_with("Arm calibration: no arm lengths found over 55 samples."),
+            "{line}"
+        );
+        let found = record::ArmCalibrationSample {
+            upper_arm_m: 0.305,
+            forearm_m: 0.26,
+            upper_arm_se_m: -0.000_2,
+            samples: 60.0,
+            ..Default::default()
+        };
+        let line = arm_line(&found);
+        assert!(line.contains("upper arm 30.5 cm (± 0.0)"), "{line}");
+        assert!(!line.contains("-0.0"), "{line}");
+    }
 
     #[test]
     fn sessions_are_named_by_date_and_time_in_words() {
