@@ -22,7 +22,7 @@ use record::TickRecord;
 use regimen::{NeglectedSide, Regimen};
 use station::checkin::CheckInFlow;
 use station::checkin::care::{CareSettings, rest_today_page};
-use station::checkin::results::{EndResults, result_lines};
+use station::checkin::results::{EndResults, end_lines, result_lines};
 use station::config::StationConfig;
 use station::front_door::pairing_file::{Found, PairingCard};
 use station::front_door::{FrontDoor, TodayPlan};
@@ -256,6 +256,18 @@ fn check_in() -> Vec<(&'static str, Scene)> {
     stop.apply(UserRequest::Confirm, now);
     assert_eq!(stop.page_id(), "pain-stop");
     pages.push(("checkin-pain-stop", shown(&stop)));
+    // A session the wheel ended (it stopped taking the force commands): said first.
+    let stopped = end_lines(
+        &EndResults {
+            active_s: 95.0,
+            pct_in_lane: Some(88.0),
+            dial_error_deg: None,
+        },
+        &[],
+        Some(haptic_wheel::WheelFault::CommandsRefused),
+    );
+    let wheel_stopped = CheckInFlow::new(stopped, Duration::from_secs(120), now);
+    pages.push(("checkin-results-wheel-stopped", shown(&wheel_stopped)));
     pages
 }
 
