@@ -49,10 +49,7 @@ pub fn mail_text(
     patient_id: &str,
     console_url: Option<&str>,
 ) -> (String, String) {
-    let words = language
-        .and_then(|l| i18n::Catalogue::console(l).ok())
-        .or_else(|| i18n::Catalogue::console(i18n::FALLBACK).ok())
-        .expect("the console's English catalogue is embedded");
+    let words = i18n::Catalogue::console_or_english(language);
     let mut args = i18n::FluentArgs::new();
     args.set("pseudonym", pseudonym.to_owned());
     let say = |id: &str| words.message(id, Some(&args));

@@ -53,6 +53,15 @@ impl Catalogue {
         Self::load_words(tag, Words::Console)
     }
 
+    /// The console's catalogue of `tag`, English for none or a language the console lacks
+    /// (what the hub writes for a clinician: a spreadsheet, a mail).
+    pub fn console_or_english(tag: Option<&str>) -> Self {
+        tag.and_then(|t| Self::console(t).ok()).unwrap_or_else(|| {
+            Self::load_words(crate::FALLBACK, Words::Console)
+                .expect("English is one of the embedded languages")
+        })
+    }
+
     fn load_words(tag: &str, words: Words) -> Result<Self, UnknownLanguage> {
         let unknown = || UnknownLanguage(tag.to_string());
         let pseudo = tag.eq_ignore_ascii_case(crate::PSEUDO);
@@ -116,6 +125,12 @@ impl Catalogue {
                 None => m.value().is_some(),
                 Some(a) => m.get_attribute(a).is_some(),
             })
+    }
+
+    /// Whether this language or the English behind it has `id` (what [`Catalogue::message`]
+    /// words rather than showing `[id]`).
+    pub fn words(&self, id: &str) -> bool {
+        self.has(id) || self.fallback.as_ref().is_some_and(|f| f.has(id))
     }
 
     fn format(&self, id: &str, args: Option<&FluentArgs>) -> Option<String> {

@@ -17,11 +17,9 @@ impl SheetWords {
     /// The console's words in `tag` (one of the console's languages or the pseudo-locale),
     /// English for any other.
     pub(crate) fn of(tag: Option<&str>) -> Self {
-        let catalogue = tag
-            .and_then(|t| i18n::Catalogue::console(t).ok())
-            .or_else(|| i18n::Catalogue::console(i18n::FALLBACK).ok())
-            .expect("the console's English catalogue is embedded");
-        Self { catalogue }
+        Self {
+            catalogue: i18n::Catalogue::console_or_english(tag),
+        }
     }
 
     fn t(&self, id: &str, args: &[(&'static str, String)]) -> String {
@@ -34,7 +32,7 @@ impl SheetWords {
 
     /// Whether the catalogue (or English behind it) words `id`.
     fn has(&self, id: &str) -> bool {
-        !self.t(id, &[]).starts_with('[')
+        self.catalogue.words(id)
     }
 
     /// A fixed column's plain header (`sheet-col-<key>`); the local start names its zone.
