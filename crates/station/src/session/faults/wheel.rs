@@ -12,6 +12,8 @@ pub struct FaultyWheel<W> {
     frozen: Option<WheelReading>,
     /// Haptic stalls already played (by start time, ns).
     stalled: Vec<u64>,
+    /// The time of the last reading, ns: the tick's commands act at it (read once a tick).
+    read_at_ns: u64,
 }
 
 impl<W: Wheel> FaultyWheel<W> {
@@ -31,6 +33,7 @@ impl<W: Wheel> FaultyWheel<W> {
             frozen: None,
             // Room for every stall up front: the haptic thread never allocates.
             stalled: Vec::with_capacity(faults.len()),
+            read_at_ns: 0,
         }
     }
 
@@ -102,6 +105,7 @@ impl<W: Wheel + Stallable> Wheel for FaultyWheel<W> {
             self.inner.run_unattended((end - start) as f64 * 1e-9);
             reading = self.inner.read()?;
         }
+        self.read_at_ns = reading.t_ns;
         match self.acting(reading.t_ns) {
             Some(FaultKind::WheelUnplug) => Err(WheelError::Fault(WheelFault::Unplugged)),
             Some(FaultKind::WheelNan) => Ok(WheelReading {
@@ -129,7 +133,7 @@ impl<W: Wheel + Stallable> Wheel for FaultyWheel<W> {
     fn command_torque(&mut self, torque_nm: f64) -> Result<(), WheelError> {
         // An unplugged wheel takes no command: the motor is unpowered (the simulated one
         // is told zero, as a wheel that lost USB power drops its force).
-        let now = self.inner.read().map(|r| r.t_ns).unwrap_or(0);
+        let now = self.read_at_ns;
         if self.acting(now) == Some(FaultKind::WheelUnplug) {
             let _ = self.inner.command_torque(0.0);
             return Err(WheelError::Fault(WheelFault::Unplugged));
@@ -141,8 +145,7 @@ impl<W: Wheel + Stallable> Wheel for FaultyWheel<W> {
         self.inner.command_torque(torque_nm)
     }
     fn set_torque_ceiling_nm(&mut self, ceiling_nm: f64) -> Result<(), WheelError> {
-        let now = self.inner.read().map(|r| r.t_ns).unwrap_or(0);
-        if self.refusing(now) {
+        if self.refusing(self.read_at_ns) {
             return Err(WheelError::write_refused());
         }
         self.inner.set_torque_ceiling_nm(ceiling_nm)
