@@ -23,9 +23,29 @@ pub fn stderr_lines(child: &mut Child) -> mpsc::Receiver<String> {
 /// Waits up to `within` for each next line, until one contains every one of `what`; the
 /// lines seen before it are kept for the failure's message.
 pub fn wait_for(lines: &mpsc::Receiver<String>, what: &[&str], within: Duration) -> String {
+    first_line_with(lines, what, within, || within)
+}
+
+/// Waits at most `within` in all (not for each line, as [`wait_for`] does) for a line that
+/// contains every one of `what`: for a test whose bound is itself the claim ("within its next
+/// check").
+pub fn wait_within(lines: &mpsc::Receiver<String>, what: &[&str], within: Duration) -> String {
+    let deadline = std::time::Instant::now() + within;
+    first_line_with(lines, what, within, || {
+        deadline.saturating_duration_since(std::time::Instant::now())
+    })
+}
+
+/// The first line containing every one of `what`, each next line waited for `left()`.
+fn first_line_with(
+    lines: &mpsc::Receiver<String>,
+    what: &[&str],
+    within: Duration,
+    left: impl Fn() -> Duration,
+) -> String {
     let mut seen = Vec::new();
     loop {
-        match lines.recv_timeout(within) {
+        match lines.recv_timeout(left()) {
             Ok(line) if what.iter().all(|w| line.contains(w)) => return line,
             Ok(line) => seen.push(line),
             Err(e) => panic!(

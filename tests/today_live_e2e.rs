@@ -8,7 +8,6 @@
 //! words.
 
 use std::process::{Command, Stdio};
-use std::sync::mpsc;
 use std::time::{Duration, Instant};
 use telerehab_tests::clinic::{Hub, NewClinic, pair};
 use telerehab_tests::console::Console;
@@ -17,23 +16,6 @@ use telerehab_tests::{Reaper, telerehab_bin};
 
 /// Today's page asks the hub on opening and every 30 s; one period and a margin.
 const WITHIN: Duration = Duration::from_secs(75);
-
-/// Waits up to `within` for a log line containing every one of `what`.
-fn wait_for(lines: &mpsc::Receiver<String>, what: &[&str], within: Duration) -> String {
-    let deadline = Instant::now() + within;
-    let mut seen = Vec::new();
-    loop {
-        let left = deadline.saturating_duration_since(Instant::now());
-        match lines.recv_timeout(left) {
-            Ok(line) if what.iter().all(|w| line.contains(w)) => return line,
-            Ok(line) => seen.push(line),
-            Err(e) => panic!(
-                "no log line with {what:?} within {within:?} ({e}); seen:\n{}",
-                seen.join("\n")
-            ),
-        }
-    }
-}
 
 #[test]
 fn a_plan_a_message_and_the_patients_language_sent_while_todays_page_is_open_show_within_its_next_check()
@@ -67,7 +49,7 @@ fn a_plan_a_message_and_the_patients_language_sent_while_todays_page_is_open_sho
 
     // Today's page opens (its plan may be logged before the window's page line): nothing
     // prescribed yet, the station's default drive, no message.
-    wait_for(
+    logged::wait_within(
         &lines,
         &[
             "plan_changed",
@@ -109,7 +91,7 @@ fn a_plan_a_message_and_the_patients_language_sent_while_todays_page_is_open_sho
     let message_id = posted.json()["id"].as_str().unwrap().to_owned();
     let sent = Instant::now();
 
-    let changed = wait_for(
+    let changed = logged::wait_within(
         &lines,
         &[
             "plan_changed",
