@@ -12,6 +12,8 @@
 //! - [`robot`]: measures as robot assessments of stroke report them (InMotion, Kinarm):
 //!   [`speed_metric`], [`steering_reversals`], [`step_responses`] (reaction time, initial
 //!   direction error, path length ratio), with their references.
+//! - [`reliability`]: [`test_retest`], ICC(2,1), SEM and MDC95 of a measure from repeated
+//!   measurements of the same subjects (Shrout & Fleiss 1979; Weir 2005).
 //! - [`words`]: the one table of measure words (plain name, unit, decimals, axis range,
 //!   noise, better) and one wording per way a session ends, for every page and file.
 //! - [`live`]: [`LiveMeasures`], the cheap running subset for the live display.
@@ -23,6 +25,7 @@
 pub mod error;
 pub mod filter;
 pub mod live;
+pub mod reliability;
 pub mod robot;
 pub mod segment;
 pub mod session;
@@ -32,6 +35,7 @@ pub mod words;
 pub use error::MetricError;
 pub use filter::{Biquad, derivative, speed_profile};
 pub use live::LiveMeasures;
+pub use reliability::{Reliability, test_retest};
 pub use robot::{
     DirectedResponse, DirectedStep, ResponseParams, StepResponse, TargetStep,
     directed_step_responses, speed_metric, steering_reversals, step_responses,

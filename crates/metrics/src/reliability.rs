@@ -1,0 +1,206 @@
+//! Test–retest reliability of a measure: how much of its spread between patients is real and
+//! how large a change must be to be more than measurement noise (issue 42).
+//!
+//! From a table of scores — `n` subjects, each measured on the same `k` occasions — a two-way
+//! analysis of variance gives:
+//!
+//! - **ICC(2,1)**: the intraclass correlation, two-way random effects, absolute agreement, a
+//!   single measurement (Shrout & Fleiss 1979, Psychol Bull 86:420, Table 1 case 2; McGraw &
+//!   Wong 1996 "ICC(A,1)"):
+//!   `ICC = (MSR − MSE) / (MSR + (k − 1)·MSE + k·(MSC − MSE)/n)`, with MSR the mean square
+//!   between subjects, MSC between occasions and MSE the residual.
+//! - **SEM**, the standard error of measurement, `SD·√(1 − ICC)` with SD the standard deviation
+//!   of all scores (Weir 2005, J Strength Cond Res 19:231, eq. 6), in the measure's unit.
+//! - **MDC95**, the minimal detectable change at 95 % confidence, `1.96·√2·SEM` (Weir 2005
+//!   eq. 8): a change between two measurements of one patient smaller than this is within
+//!   measurement noise. The "smallest real difference" of the rehabilitation literature is
+//!   the same quantity.
+
+use crate::MetricError;
+
+/// `z` of the two-sided 95 % interval.
+const Z_95: f64 = 1.96;
+
+/// A measure's test–retest reliability.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Reliability {
+    /// ICC(2,1), in [−1, 1] (1: every difference between scores is a difference between
+    /// subjects).
+    pub icc: f64,
+    /// Standard error of measurement, in the measure's unit.
+    pub sem: f64,
+    /// Minimal detectable change (95 %), in the measure's unit.
+    pub mdc95: f64,
+    /// The mean of all scores, in the measure's unit (to state MDC95 as a share of it).
+    pub grand_mean: f64,
+    /// Subjects in the table.
+    pub subjects: usize,
+    /// Occasions (sessions) per subject.
+    pub occasions: usize,
+}
+
+impl Reliability {
+    /// MDC95 as a share of the mean score (0.23 = 23 %); `None` when the mean is 0.
+    pub fn mdc95_relative(&self) -> Option<f64> {
+        (self.grand_mean != 0.0).then(|| self.mdc95 / self.grand_mean.abs())
+    }
+}
+
+/// The test–retest reliability of `scores`: `scores[i][j]` is subject `i` on occasion `j`.
+/// Needs at least two subjects and two occasions, every row the same length, every score
+/// finite.
+pub fn test_retest(scores: &[Vec<f64>]) -> Result<Reliability, MetricError> {
+    let n = scores.len();
+    let k = scores.first().map_or(0, Vec::len);
+    let too_few = |what: &str, len: usize| MetricError::TooShort {
+        signal: format!("test-retest table: {what}"),
+        len,
+        min: 2,
+    };
+    if n < 2 {
+        return Err(too_few("subjects", n));
+    }
+    if k < 2 {
+        return Err(too_few("occasions of subject 0", k));
+    }
+    for (i, row) in scores.iter().enumerate() {
+        if row.len() != k {
+            return Err(MetricError::BadParameter {
+                context: "test-retest table",
+                field: "occasions per subject",
+                value: row.len() as f64,
+                allowed: "the same count for every subject (the first subject's)",
+            });
+        }
+        if let Some((j, v)) = row.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(MetricError::NonFinite {
+                signal: format!("test-retest table: subject {i}"),
+                index: j,
+                value: *v,
+            });
+        }
+    }
+    let (nf, kf) = (n as f64, k as f64);
+    let grand_mean = scores.iter().flatten().sum::<f64>() / (nf * kf);
+    let row_means: Vec<f64> = scores.iter().map(|r| r.iter().sum::<f64>() / kf).collect();
+    let col_means: Vec<f64> = (0..k)
+        .map(|j| scores.iter().map(|r| r[j]).sum::<f64>() / nf)
+        .collect();
+    let sq = |x: f64| x * x;
+    let ss_total: f64 = scores.iter().flatten().map(|v| sq(v - grand_mean)).sum();
+    let ss_rows = kf * row_means.iter().map(|m| sq(m - grand_mean)).sum::<f64>();
+    let ss_cols = nf * col_means.iter().map(|m| sq(m - grand_mean)).sum::<f64>();
+    let ss_err = (ss_total - ss_rows - ss_cols).max(0.0);
+    let ms_rows = ss_rows / (nf - 1.0);
+    let ms_cols = ss_cols / (kf - 1.0);
+    let ms_err = ss_err / ((nf - 1.0) * (kf - 1.0));
+    let denominator = ms_rows + (kf - 1.0) * ms_err + kf * (ms_cols - ms_err) / nf;
+    // Every score equal: no spread to attribute, and no noise either.
+    let icc = if denominator > 0.0 {
+        (ms_rows - ms_err) / denominator
+    } else {
+        1.0
+    };
+    let sd = (ss_total / (nf * kf - 1.0)).sqrt();
+    let sem = sd * (1.0 - icc.min(1.0)).sqrt();
+    Ok(Reliability {
+        icc,
+        sem,
+        mdc95: Z_95 * std::f64::consts::SQRT_2 * sem,
+        grand_mean,
+        subjects: n,
+        occasions: k,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Shrout & Fleiss (1979) Table 2: six targets rated by four judges; their ICC(2,1) is
+    /// 0.29 (ICC(1,1) 0.17 and ICC(3,1) 0.71 would be the other forms).
+    fn shrout_fleiss() -> Vec<Vec<f64>> {
+        [
+            [9.0, 2.0, 5.0, 8.0],
+            [6.0, 1.0, 3.0, 2.0],
+            [8.0, 4.0, 6.0, 8.0],
+            [7.0, 1.0, 2.0, 6.0],
+            [10.0, 5.0, 6.0, 9.0],
+            [6.0, 2.0, 4.0, 7.0],
+        ]
+        .iter()
+        .map(|r| r.to_vec())
+        .collect()
+    }
+
+    #[test]
+    fn icc_2_1_matches_shrout_and_fleiss_table_2() {
+        let r = test_retest(&shrout_fleiss()).unwrap();
+        assert!((r.icc - 0.29).abs() < 0.005, "ICC(2,1) {}", r.icc);
+        assert_eq!((r.subjects, r.occasions), (6, 4));
+    }
+
+    #[test]
+    fn mdc95_is_1_96_root_2_sem_and_sem_follows_icc() {
+        let r = test_retest(&shrout_fleiss()).unwrap();
+        let all: Vec<f64> = shrout_fleiss().into_iter().flatten().collect();
+        let mean = all.iter().sum::<f64>() / all.len() as f64;
+        let sd = (all.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / 23.0).sqrt();
+        assert!((r.sem - sd * (1.0 - r.icc).sqrt()).abs() < 1e-12);
+        assert!((r.mdc95 - 1.96 * 2f64.sqrt() * r.sem).abs() < 1e-12);
+        assert!((r.mdc95_relative().unwrap() - r.mdc95 / mean).abs() < 1e-12);
+    }
+
+    #[test]
+    fn repeats_that_agree_exactly_give_icc_one_and_no_detectable_noise() {
+        let scores = vec![
+            vec![1.0, 1.0, 1.0],
+            vec![3.0, 3.0, 3.0],
+            vec![7.0, 7.0, 7.0],
+        ];
+        let r = test_retest(&scores).unwrap();
+        assert!((r.icc - 1.0).abs() < 1e-12);
+        assert!(r.mdc95.abs() < 1e-12);
+    }
+
+    #[test]
+    fn noise_between_occasions_lowers_icc_and_widens_mdc_to_its_size() {
+        // Eight subjects 0..7 measured four times: exactly, then with an alternating ±2.
+        let clean: Vec<Vec<f64>> = (0..8).map(|i| vec![f64::from(i); 4]).collect();
+        let noisy: Vec<Vec<f64>> = clean
+            .iter()
+            .enumerate()
+            .map(|(i, r)| {
+                let sign = |j: usize| if (i + j).is_multiple_of(2) { 1.0 } else { -1.0 };
+                r.iter()
+                    .enumerate()
+                    .map(|(j, v)| v + 2.0 * sign(j))
+                    .collect()
+            })
+            .collect();
+        let (a, b) = (test_retest(&clean).unwrap(), test_retest(&noisy).unwrap());
+        assert!((a.icc - 1.0).abs() < 1e-12 && a.mdc95 < 1e-9, "{a:?}");
+        assert!(b.icc < 0.8, "{b:?}");
+        // Residual SD 2 (≈ 2.3 with the table's degrees of freedom): MDC95 ≈ 2.77·SEM.
+        assert!(b.mdc95 > 4.0 && b.mdc95 < 9.0, "{b:?}");
+    }
+
+    #[test]
+    fn a_table_too_small_ragged_or_with_nan_is_refused_by_name() {
+        assert!(matches!(
+            test_retest(&[vec![1.0, 2.0]]),
+            Err(MetricError::TooShort { len: 1, .. })
+        ));
+        assert!(matches!(
+            test_retest(&[vec![1.0], vec![2.0]]),
+            Err(MetricError::TooShort { len: 1, .. })
+        ));
+        let ragged = test_retest(&[vec![1.0, 2.0], vec![2.0]]).unwrap_err();
+        assert!(
+            ragged.to_string().contains("occasions per subject"),
+            "{ragged}"
+        );
+        let nan = test_retest(&[vec![1.0, 2.0], vec![2.0, f64::NAN]]).unwrap_err();
+        assert!(nan.to_string().contains("subject 1"), "{nan}");
+    }
+}
