@@ -35,7 +35,7 @@ pub mod words;
 pub use error::MetricError;
 pub use filter::{Biquad, derivative, speed_profile};
 pub use live::LiveMeasures;
-pub use reliability::{Reliability, test_retest};
+pub use reliability::{OWN_NOISE_MIN_REPEATS, Reliability, own_mdc95, test_retest};
 pub use robot::{
     DirectedResponse, DirectedStep, ResponseParams, StepResponse, TargetStep,
     directed_step_responses, speed_metric, steering_reversals, step_responses,

@@ -113,6 +113,29 @@ pub fn test_retest(scores: &[Vec<f64>]) -> Result<Reliability, MetricError> {
     })
 }
 
+/// Repeats of one patient's measure before their own noise replaces the cohort's (five
+/// differences between successive repeats).
+pub const OWN_NOISE_MIN_REPEATS: usize = 6;
+
+/// The minimal detectable change (95 %) of one patient's measure from their own repeats
+/// `values` (oldest first), in the measure's unit: `1.96·SD(Δ)` with Δ the differences
+/// between successive repeats. A difference of two repeats has variance `2·SEM²` whatever
+/// slow change the patient makes, so `SD(Δ) = √2·SEM` and `1.96·√2·SEM = 1.96·SD(Δ)` (the
+/// mean square successive difference, von Neumann et al. 1941, Ann Math Stat 12:153; a trend
+/// of `b` a repeat adds only `b` to every Δ, which the SD removes). `None` with fewer than
+/// [`OWN_NOISE_MIN_REPEATS`] finite repeats.
+pub fn own_mdc95(values: &[f64]) -> Option<f64> {
+    let v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+    if v.len() < OWN_NOISE_MIN_REPEATS {
+        return None;
+    }
+    let d: Vec<f64> = v.windows(2).map(|w| w[1] - w[0]).collect();
+    let n = d.len() as f64;
+    let mean = d.iter().sum::<f64>() / n;
+    let var = d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    Some(Z_95 * var.sqrt())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -202,5 +225,21 @@ mod tests {
         );
         let nan = test_retest(&[vec![1.0, 2.0], vec![2.0, f64::NAN]]).unwrap_err();
         assert!(nan.to_string().contains("subject 1"), "{nan}");
+    }
+
+    #[test]
+    fn own_noise_needs_six_repeats_and_ignores_a_steady_trend() {
+        assert_eq!(own_mdc95(&[1.0, 2.0, 3.0, 4.0, 5.0]), None);
+        // A patient improving by exactly 1 a repeat, without noise: no noise at all.
+        let trend: Vec<f64> = (0..8).map(f64::from).collect();
+        assert!(own_mdc95(&trend).unwrap().abs() < 1e-12);
+        // The same trend with an alternating ±0.5: every Δ is 1 ± 1, SD(Δ) ≈ 1.07.
+        let noisy: Vec<f64> = trend
+            .iter()
+            .enumerate()
+            .map(|(i, v)| v + if i.is_multiple_of(2) { 0.5 } else { -0.5 })
+            .collect();
+        let mdc = own_mdc95(&noisy).unwrap();
+        assert!((mdc - 1.96 * (8.0f64 / 7.0).sqrt()).abs() < 1e-9, "{mdc}");
     }
 }
