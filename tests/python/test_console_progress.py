@@ -6,6 +6,7 @@ therapist ticks "Include sessions that ended early"; the Replay tab listing the 
 opening a replay; axe-core finds no violation on Progress or the Replay tab. Screenshots (1366×768)
 go to $TELEREHAB_ARTIFACTS (default target/test-artifacts/console); look at them."""
 
+import datetime
 import re
 import time
 
@@ -168,3 +169,68 @@ def test_the_replay_tab_lists_the_sessions_and_opens_a_replay(clinic, browser):
     assert d.find_element(By.CSS_SELECTOR, "nav.tabs a[aria-current='page']").get_attribute("data-tab") == "replay"
     wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#tab[data-frames]"))
     shot(d, "progress-5-replay-opened")
+
+
+def test_the_dose_sums_active_time_and_repetitions_by_week_and_day_from_the_sessions(clinic, browser):
+    d = browser  # logged in by the first test (module-scoped browser); five sessions today
+    d.get(clinic["web"] + "/#/patients")
+    wait(d, lambda d: d.find_elements(By.LINK_TEXT, "P-0042"))[0].click()
+    wait(d, lambda d: d.find_elements(By.LINK_TEXT, "Progress"))[0].click()
+    wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#tab[data-sessions='5'] #dose-weeks"))
+    sessions = api_sessions_with_metrics(d)
+    # Every session that trained counts, the one ended early too: the dose is what was done.
+    trained = [s for s in sessions if isinstance(s["metrics"].get("active_s"), (int, float))]
+    assert len(trained) == 5, sessions
+    # By local day (the browser runs on this machine, in its zone), today first.
+    today = datetime.date.today()
+    by_day = [[0.0, 0.0] for _ in range(7)]
+    for s in trained:
+        ago = (today - datetime.datetime.fromtimestamp(s["started_unix_ms"] / 1000).date()).days
+        if 0 <= ago < 7:
+            by_day[ago][0] += s["metrics"]["active_s"]
+            by_day[ago][1] += s["metrics"].get("movements", 0)
+    active_s = sum(s["metrics"]["active_s"] for s in trained)
+    reps = sum(s["metrics"].get("movements", 0) for s in trained)
+    assert reps > 0, "the simulated patient moves the wheel"
+    weeks = d.find_elements(By.CSS_SELECTOR, "#dose-weeks tbody tr")
+    days = d.find_elements(By.CSS_SELECTOR, "#dose-days tbody tr")
+    # The sessions ran minutes ago, the first of them too: one week (none before the patient
+    # started), seven days.
+    assert len(weeks) == 1 and len(days) == 7, (len(weeks), len(days))
+    assert weeks[0].get_attribute("data-sessions") == "5"
+    assert int(weeks[0].get_attribute("data-active-s")) == round_like_js(active_s), weeks[0].text
+    assert int(weeks[0].get_attribute("data-repetitions")) == round_like_js(reps), weeks[0].text
+    assert str(round_like_js(reps)) in weeks[0].text, weeks[0].text
+    for row, (a, r) in zip(days, by_day):
+        assert int(row.get_attribute("data-active-s")) == round_like_js(a), (row.text, by_day)
+        assert int(row.get_attribute("data-repetitions")) == round_like_js(r), (row.text, by_day)
+    caption = d.find_element(By.CSS_SELECTOR, "#dose-weeks caption").text
+    assert caption == "By week: the last 7 days", caption
+    d.execute_script("document.getElementById('dose').scrollIntoView()")
+    shot(d, "progress-6-dose")
+    # The caseload's week column counts the same repetitions.
+    d.get(clinic["web"] + "/#/patients")
+    row = wait(d, lambda d: [r for r in d.find_elements(By.CSS_SELECTOR, "tbody tr") if "P-0042" in r.text])[0]
+    week = row.find_element(By.CSS_SELECTOR, "td.week")
+    assert week.get_attribute("data-repetitions") == str(round_like_js(reps)), week.text
+    assert f"{round_like_js(reps)} repetitions" in week.text, week.text
+
+
+def test_the_dose_puts_each_session_in_its_local_week_and_day_and_no_week_before_the_first(clinic, browser):
+    d = browser  # logged in by the first test (module-scoped browser)
+    # Sessions at local noon 0, 1, 8 and 20 days ago, one without active time (a Hello alone).
+    totals = d.execute_async_script(
+        "const done = arguments[arguments.length - 1];"
+        "import('/console/dose.js').then(m => {"
+        "  const noon = new Date(); noon.setHours(12, 0, 0, 0);"
+        "  const ago = n => { const x = new Date(noon); x.setDate(x.getDate() - n); return x.getTime(); };"
+        "  const sessions = [20, 8, 1, 1, 0].map(n => ({ started_unix_ms: ago(n) }));"
+        "  const metrics = [{ active_s: 100, movements: 10 }, { active_s: 200, movements: 20 },"
+        "    { active_s: 300, movements: 30 }, {}, { active_s: 400 }];"
+        "  const r = m.doseTotals(sessions, metrics, noon.getTime() + 3600000);"
+        "  done({ days: r.days.map(w => [w.sessions, w.activeS, w.repetitions]),"
+        "         weeks: r.weeks.map(w => [w.sessions, w.activeS, w.repetitions]) });"
+        "}).catch(e => done(String(e)));")
+    assert totals["days"] == [[1, 400, 0], [1, 300, 30]] + [[0, 0, 0]] * 5, totals
+    # Weeks: today back to 6 days ago, 7–13, 14–20; none before the session 20 days ago.
+    assert totals["weeks"] == [[2, 700, 30], [1, 200, 20], [1, 100, 10]], totals

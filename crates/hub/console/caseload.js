@@ -134,10 +134,13 @@ function rowHtml(p, words) {
     minutes: Math.round(p.active_minutes_last_7_days),
     minutesPrescribed: p.minutes_per_week_prescribed == null ? 'none' : Math.round(p.minutes_per_week_prescribed),
   });
+  // The dose's count beside its time (hubs older than it send none).
+  const repetitions = typeof p.repetitions_last_7_days === 'number' ? p.repetitions_last_7_days : null;
+  const repetitionWords = repetitions == null ? '' : `<br><span class="repetitions">${esc(t('caseload-repetitions', { repetitions }))}</span>`;
   return `<tr data-pseudonym="${esc(p.pseudonym)}" data-severity="${esc(first ? first.severity : 'none')}" data-alert-kinds="${esc(alerts.map(a => a.kind).join(' '))}">
     <td><a href="#/patients/${encodeURIComponent(p.id)}">${esc(displayName(p.pseudonym))}</a></td>
     <td class="needs">${need}${quiet}</td>
-    <td>${esc(whenWords(p.last_session_started_ms))}</td><td class="week" data-sessions="${esc(p.sessions_last_7_days)}" data-sessions-prescribed="${esc(p.sessions_per_week_prescribed ?? '')}" data-minutes-prescribed="${esc(p.minutes_per_week_prescribed ?? '')}">${esc(week)}</td><td>${trendHtml(p)}</td></tr>`;
+    <td>${esc(whenWords(p.last_session_started_ms))}</td><td class="week" data-sessions="${esc(p.sessions_last_7_days)}" data-sessions-prescribed="${esc(p.sessions_per_week_prescribed ?? '')}" data-minutes-prescribed="${esc(p.minutes_per_week_prescribed ?? '')}" data-repetitions="${esc(repetitions ?? '')}">${esc(week)}${repetitionWords}</td><td>${trendHtml(p)}</td></tr>`;
 }
 
 /** An alert with its severity word and mark, its "Acknowledge" button, and on a pain alert

@@ -6,7 +6,8 @@
 // meaningful range, its noise as a band. Engineering names only behind "details". Sessions
 // ended early are shown, marked and left out of the trends and baselines unless the therapist
 // ticks "Include sessions that ended early". The one-page print: the clinic's name, the patient,
-// the date range, pain, adherence, alerts, the scales and the latest table.
+// the date range, pain, adherence, alerts, the dose by week and day (dose.js), the scales and
+// the latest table.
 import { api, esc } from '/console/api.js';
 import { has, languageTag, t, locale } from '/console/i18n.js';
 import { alertWords, SEVERITY } from '/console/caseload.js';
@@ -17,6 +18,7 @@ import {
 } from '/console/words.js';
 import { bindNoteCells, noteCell } from '/console/notes.js';
 import { scalesSection } from '/console/scales.js';
+import { doseSection } from '/console/dose.js';
 
 /** The measures the latest table follows across sessions, in this order (their names, units,
  * decimals and which way is better come from the words table). */
@@ -300,6 +302,7 @@ export async function progressView(el, id) {
     <p class="print-hide"><button type="button" id="print" class="secondary">${esc(t('progress-print'))}</button>
       <a id="measures-csv" href="/api/patients/${pid}/measures.csv?tz=${encodeURIComponent(tz)}&amp;lang=${encodeURIComponent(languageTag())}" download>${esc(t('progress-download', { zone: zoneWords }))}</a></p>
     <section class="panel" id="summary" aria-labelledby="summary-h">${summaryHtml(checkinsNewest, sessions, overview, words)}</section>
+    <section class="panel" id="dose" aria-labelledby="dose-h">${doseSection(sessions, metrics, overview)}</section>
     <section class="panel" id="scales" aria-labelledby="scales-h"></section>
     <p class="print-hide"><input type="checkbox" id="include-early"${anyEarly ? '' : ' disabled'}>
       <label for="include-early" class="inline">${esc(t(anyEarly ? 'progress-include-early' : 'progress-include-early-none'))}</label></p>

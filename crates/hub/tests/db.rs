@@ -369,13 +369,18 @@ async fn adherence_counts_active_minutes(db: &Db, t: &Therapist, p: &Patient, no
     db.put_regimen(&p.id, ten_once, Some(1), &t.id, now)
         .await
         .unwrap();
-    let active = [("active_s".to_owned(), 90.0)];
+    let active = [
+        ("active_s".to_owned(), 90.0),
+        ("movements".to_owned(), 42.0),
+    ];
     db.put_metrics("s-new", &active.into_iter().collect())
         .await
         .unwrap();
     let own = db.patients_for(t, now).await.unwrap();
     assert_eq!(own[0].minutes_per_week_prescribed, Some(10.0));
     assert_eq!(own[0].active_minutes_last_7_days, 1.5);
+    // The dose's count beside its time: the week's wheel movements.
+    assert_eq!(own[0].repetitions_last_7_days, 42);
     assert!(
         own[0]
             .alerts

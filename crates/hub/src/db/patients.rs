@@ -43,6 +43,9 @@ pub struct PatientOverview {
     /// Active exercise minutes (pauses and rests not counted: the sessions' `active_s`) of
     /// the sessions started in the 7 days before `now_ms`.
     pub active_minutes_last_7_days: f64,
+    /// Repetitions in the sessions started in the 7 days before `now_ms`: their discrete
+    /// wheel movements (the sessions' `movements` measure), the dose's count beside its time.
+    pub repetitions_last_7_days: i64,
     /// Active minutes a week the current regimen asks for: its planned session length times
     /// its `sessions_per_week`, if it says.
     pub minutes_per_week_prescribed: Option<f64>,
@@ -269,6 +272,9 @@ impl Db {
             (SELECT SUM(m.value) FROM session_metrics m JOIN sessions s \
                 ON s.session_id = m.session_id WHERE s.patient_id = p.id \
                 AND s.started_unix_ms >= $1 AND m.name = 'active_s') AS week_active_s, \
+            (SELECT SUM(m.value) FROM session_metrics m JOIN sessions s \
+                ON s.session_id = m.session_id WHERE s.patient_id = p.id \
+                AND s.started_unix_ms >= $1 AND m.name = 'movements') AS week_movements, \
             (SELECT m.value FROM session_metrics m WHERE m.name = 'watchdog_fault_ticks' \
                 AND m.session_id = (SELECT s.session_id FROM sessions s WHERE s.patient_id = p.id \
                     AND {training} ORDER BY s.started_unix_ms DESC LIMIT 1)) AS last_faults, \
@@ -305,6 +311,7 @@ impl Db {
                 // Stored from the parsed regimen when it was prescribed (migration 0010).
                 let planned_s: Option<f64> = col(row, "planned_session_s")?;
                 let active_s: Option<f64> = col(row, "week_active_s")?;
+                let movements: Option<f64> = col(row, "week_movements")?;
                 let week = Week {
                     sessions: week,
                     prescribed,
@@ -317,6 +324,8 @@ impl Db {
                     sessions_last_7_days: week.sessions,
                     sessions_per_week_prescribed: prescribed,
                     active_minutes_last_7_days: week.active_min,
+                    // A count stored as a measure's f64: whole, within i64.
+                    repetitions_last_7_days: movements.unwrap_or(0.0).round() as i64,
                     minutes_per_week_prescribed: week.prescribed_min,
                     trends: BTreeMap::new(),
                     trend_exercise_kind: None,

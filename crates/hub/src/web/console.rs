@@ -48,6 +48,7 @@ const ASSETS: &[Asset] = &[
     asset!("assist.js", JS),
     asset!("wheel.js", JS),
     asset!("progress.js", JS),
+    asset!("dose.js", JS),
     asset!("scales.js", JS),
     asset!("sessionchart.js", JS),
     asset!("replays.js", JS),

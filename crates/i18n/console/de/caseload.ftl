@@ -38,6 +38,11 @@ caseload-week = { $sessionsPrescribed ->
         [none] { $minutes } aktive Min.
        *[other] { $minutes } von { $minutesPrescribed } verordneten aktiven Min.
     }
+# The week's repetitions (wheel movements) in the caseload's week column.
+caseload-repetitions = { $repetitions ->
+        [one] { $repetitions } Wiederholung
+       *[other] { $repetitions } Wiederholungen
+    }
 caseload-trend-kind = Sitzungen „{ $kind }“:
 caseload-trend-pct-in-lane = Zeit in der Spur
 caseload-trend-wheel-rom-deg = Lenkradbereich

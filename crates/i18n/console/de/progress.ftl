@@ -42,6 +42,23 @@ progress-stopped-early = Vorzeitig beendet: { $stopped } { $count ->
 progress-alerts-title = Hinweise
 progress-alerts-none = Kein Hinweis.
 
+## Die Dosis: aktive Trainingszeit und Wiederholungen nach Woche und Tag
+
+progress-dose-title = Dosis: Trainingszeit und Wiederholungen
+progress-dose-explain = Die aktive Trainingszeit zählt Pausen nicht mit. Wiederholungen sind die Bewegungen am Lenkrad. Die Wochen werden mit der aktuellen Verordnung verglichen.
+progress-dose-weeks-caption = { $weeks ->
+        [one] Nach Woche: die letzten 7 Tage
+       *[other] Nach Woche, die letzten { $weeks } Wochen
+    }
+progress-dose-days-caption = Nach Tag, die letzten 7 Tage
+progress-dose-col-week = Woche
+progress-dose-col-day = Tag
+progress-dose-col-sessions = Sitzungen
+progress-dose-col-active = Aktives Training
+progress-dose-col-repetitions = Wiederholungen
+progress-dose-week-range = { $from } bis { $to }
+progress-dose-below = unter der Verordnung
+
 ## Die letzte Sitzung im Vergleich
 
 progress-latest-title = Übungen: die letzte Sitzung im Vergleich zu den früheren

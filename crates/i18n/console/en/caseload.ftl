@@ -41,6 +41,11 @@ caseload-week = { $sessionsPrescribed ->
         [none] { $minutes } active min
        *[other] { $minutes } of { $minutesPrescribed } prescribed active min
     }
+# The week's repetitions (wheel movements) in the caseload's week column.
+caseload-repetitions = { $repetitions ->
+        [one] { $repetitions } repetition
+       *[other] { $repetitions } repetitions
+    }
 # The Trend column: each exercise kind's trends under its name.
 caseload-trend-kind = { $kind } sessions:
 caseload-trend-pct-in-lane = Time in lane

@@ -45,6 +45,23 @@ progress-stopped-early = Stopped early: { $stopped } of the last { $count ->
 progress-alerts-title = Alerts
 progress-alerts-none = No alert.
 
+## The dose: active training time and repetitions by week and day
+
+progress-dose-title = Dose: training time and repetitions
+progress-dose-explain = Active training time leaves out pauses and rests. Repetitions are the wheel movements made. Weeks are compared with the current prescription.
+progress-dose-weeks-caption = { $weeks ->
+        [one] By week: the last 7 days
+       *[other] By week, the last { $weeks } weeks
+    }
+progress-dose-days-caption = By day, the last 7 days
+progress-dose-col-week = Week
+progress-dose-col-day = Day
+progress-dose-col-sessions = Sessions
+progress-dose-col-active = Active training
+progress-dose-col-repetitions = Repetitions
+progress-dose-week-range = { $from } to { $to }
+progress-dose-below = below the prescription
+
 ## The latest session against the earlier ones
 
 progress-latest-title = Exercises: the latest session against the earlier ones

@@ -42,6 +42,11 @@ caseload-week = { $sessionsPrescribed ->
         }
        *[other] { $minutes } de { $minutesPrescribed } min activos prescritos
     }
+# The week's repetitions (wheel movements) in the caseload's week column.
+caseload-repetitions = { $repetitions ->
+        [one] { $repetitions } repetición
+       *[other] { $repetitions } repeticiones
+    }
 caseload-trend-kind = Sesiones de { $kind }:
 caseload-trend-pct-in-lane = Tiempo en el carril
 caseload-trend-wheel-rom-deg = Recorrido del volante

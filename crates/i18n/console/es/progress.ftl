@@ -42,6 +42,23 @@ progress-stopped-early = Terminadas antes de tiempo: { $stopped } de { $count ->
 progress-alerts-title = Avisos
 progress-alerts-none = Ningún aviso.
 
+## La dosis: tiempo de entrenamiento activo y repeticiones por semana y día
+
+progress-dose-title = Dosis: tiempo de entrenamiento y repeticiones
+progress-dose-explain = El tiempo de entrenamiento activo no cuenta las pausas. Las repeticiones son los movimientos del volante. Las semanas se comparan con la prescripción actual.
+progress-dose-weeks-caption = { $weeks ->
+        [one] Por semana: los últimos 7 días
+       *[other] Por semana, las últimas { $weeks } semanas
+    }
+progress-dose-days-caption = Por día, los últimos 7 días
+progress-dose-col-week = Semana
+progress-dose-col-day = Día
+progress-dose-col-sessions = Sesiones
+progress-dose-col-active = Entrenamiento activo
+progress-dose-col-repetitions = Repeticiones
+progress-dose-week-range = { $from } a { $to }
+progress-dose-below = por debajo de la prescripción
+
 ## La última sesión frente a las anteriores
 
 progress-latest-title = Ejercicios: la última sesión frente a las anteriores

@@ -31,6 +31,8 @@ caseload-week = { $sessionsPrescribed ->
         [none] 活动 { $minutes } 分钟
        *[other] 处方活动 { $minutesPrescribed } 分钟中完成 { $minutes } 分钟
     }
+# The week's repetitions (wheel movements) in the caseload's week column.
+caseload-repetitions = { $repetitions } 次重复
 caseload-trend-kind = { $kind }训练：
 caseload-trend-pct-in-lane = 车道内时间
 caseload-trend-wheel-rom-deg = 方向盘转动范围

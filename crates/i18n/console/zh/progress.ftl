@@ -33,6 +33,23 @@ progress-stopped-early = 提前结束：最近 { $count } 次训练中有 { $sto
 progress-alerts-title = 提醒
 progress-alerts-none = 没有提醒。
 
+## 训练量：按周和按天的主动训练时间与重复次数
+
+progress-dose-title = 训练量：训练时间与重复次数
+progress-dose-explain = 主动训练时间不包括暂停和休息。重复次数是方向盘的动作次数。每周与当前处方比较。
+progress-dose-weeks-caption = { $weeks ->
+        [one] 按周：最近 7 天
+       *[other] 按周，最近 { $weeks } 周
+    }
+progress-dose-days-caption = 按天，最近 7 天
+progress-dose-col-week = 周
+progress-dose-col-day = 日期
+progress-dose-col-sessions = 训练次数
+progress-dose-col-active = 主动训练
+progress-dose-col-repetitions = 重复次数
+progress-dose-week-range = { $from } 至 { $to }
+progress-dose-below = 低于处方
+
 ## 最近一次训练与之前的比较
 
 progress-latest-title = 练习：最近一次训练与之前的比较
