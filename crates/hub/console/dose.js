@@ -77,7 +77,7 @@ export function doseSection(sessions, metrics, overview, nowMs = Date.now()) {
       <td class="num">${esc(count(d.repetitions))}</td></tr>`).join('');
   return `<h2 id="dose-h">${esc(t('progress-dose-title'))}</h2>
     <p class="note">${esc(t('progress-dose-explain'))}</p>
-    <div class="summary-grid">
+    <div class="summary-grid dose-grid">
     <table id="dose-weeks"><caption>${esc(t('progress-dose-weeks-caption', { weeks: weeks.length }))}</caption>${head('progress-dose-col-week')}<tbody>${weekRows}</tbody></table>
     <table id="dose-days"><caption>${esc(t('progress-dose-days-caption'))}</caption>${head('progress-dose-col-day')}<tbody>${dayRows}</tbody></table></div>`;
 }
