@@ -50,7 +50,8 @@ pub struct PatientOverview {
     /// its `sessions_per_week`, if it says.
     pub minutes_per_week_prescribed: Option<f64>,
     /// Trends of the main measures (`pct_in_lane`, `wheel_rom_deg`, `sparc_median`; for all
-    /// three, up is better): `"up"`, `"down"` or `"flat"` (within 2 %), like with like: the
+    /// three, up is better): `"up"`, `"down"` or `"flat"` (within the measure's measurement noise,
+    /// 2 % when unknown: `db::words::trend`), like with like: the
     /// last session that ran as prescribed (`end_reason` = `complete`) against the mean of up
     /// to four before it of the same exercise kind that did too; absent with fewer than two
     /// such sessions having the measure.

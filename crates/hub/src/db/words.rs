@@ -131,16 +131,26 @@ fn name_session(
     }
 }
 
-/// `"up"`, `"down"` or `"flat"` (within 2 %): `newest_first[0]` against the mean of up to
-/// [`TREND_BASELINE_SESSIONS`] after it; `None` without an earlier value.
-pub fn trend(newest_first: &[f64]) -> Option<String> {
+/// Share of the baseline within which a measure of unknown noise is `"flat"`.
+const UNKNOWN_NOISE_SHARE: f64 = 0.02;
+
+/// `"up"`, `"down"` or `"flat"` of `measure` (a words-table key): `newest_first[0]` against
+/// the mean of up to [`TREND_BASELINE_SESSIONS`] after it; flat within the measure's
+/// measurement noise (the words table's, as the console's trend words use it), within 2 % of
+/// the mean when its noise is unknown; `None` without an earlier value.
+pub fn trend(measure: &str, newest_first: &[f64]) -> Option<String> {
     let (&last, before) = newest_first.split_first()?;
     let before = &before[..before.len().min(TREND_BASELINE_SESSIONS)];
     if before.is_empty() {
         return None;
     }
     let mean = before.iter().sum::<f64>() / before.len() as f64;
-    let word = if (last - mean).abs() <= 0.02 * mean.abs().max(1e-9) {
+    let band = metrics::words::measure_words(measure)
+        .and_then(|w| w.noise)
+        .map_or(UNKNOWN_NOISE_SHARE * mean.abs().max(1e-9), |n| {
+            n.around(mean)
+        });
+    let word = if (last - mean).abs() <= band {
         "flat"
     } else if last > mean {
         "up"
@@ -340,7 +350,7 @@ impl Db {
         }
         Ok(series
             .into_iter()
-            .filter_map(|(name, v)| Some((name.to_owned(), trend(&v)?)))
+            .filter_map(|(name, v)| Some((name.to_owned(), trend(name, &v)?)))
             .collect())
     }
 }
@@ -362,13 +372,32 @@ mod tests {
 
     #[test]
     fn a_trend_is_the_latest_against_the_mean_of_up_to_four_before() {
-        assert_eq!(trend(&[10.0]), None);
-        assert_eq!(trend(&[11.0, 10.0]).as_deref(), Some("up"));
-        assert_eq!(trend(&[9.0, 10.0, 10.0]).as_deref(), Some("down"));
-        assert_eq!(trend(&[10.1, 10.0]).as_deref(), Some("flat"));
+        let t = |v: &[f64]| trend("pct_in_lane", v);
+        assert_eq!(t(&[10.0]), None);
+        assert_eq!(t(&[11.0, 10.0]).as_deref(), Some("up"));
+        assert_eq!(t(&[9.0, 10.0, 10.0]).as_deref(), Some("down"));
+        assert_eq!(t(&[10.1, 10.0]).as_deref(), Some("flat"));
         // The sixth value (100) is beyond the four compared.
         assert_eq!(
-            trend(&[11.0, 10.0, 10.0, 10.0, 10.0, 100.0]).as_deref(),
+            t(&[11.0, 10.0, 10.0, 10.0, 10.0, 100.0]).as_deref(),
+            Some("up")
+        );
+    }
+
+    #[test]
+    fn a_change_within_a_measures_known_noise_is_flat_as_the_console_says() {
+        let noise = metrics::words::measure_words("sparc_median")
+            .and_then(|w| w.noise)
+            .expect("SPARC's measured noise (smallest real difference)");
+        let half = noise.around(-2.0);
+        assert!(half > 0.1, "{half}");
+        // 2 % would call these a change; SPARC's measured noise does not.
+        assert_eq!(
+            trend("sparc_median", &[-2.0 + 0.5 * half, -2.0]).as_deref(),
+            Some("flat")
+        );
+        assert_eq!(
+            trend("sparc_median", &[-2.0 + 1.5 * half, -2.0]).as_deref(),
             Some("up")
         );
     }
