@@ -8,6 +8,10 @@ import ca.uhn.fhir.validation.ValidationResult;
 import java.nio.charset.StandardCharsets;
 import java.nio.file.Files;
 import java.nio.file.Path;
+import java.util.HashMap;
+import java.util.Map;
+import ca.uhn.fhir.context.support.IValidationSupport;
+import org.hl7.fhir.instance.model.api.IBaseResource;
 import org.hl7.fhir.common.hapi.validation.support.CommonCodeSystemsTerminologyService;
 import org.hl7.fhir.common.hapi.validation.support.InMemoryTerminologyServerValidationSupport;
 import org.hl7.fhir.common.hapi.validation.support.PrePopulatedValidationSupport;
@@ -32,6 +36,25 @@ import org.hl7.fhir.r4.model.Resource;
 public final class Validate {
     private Validate() {}
 
+    /** The questionnaires of a bundle by canonical URL (a `|version` suffix ignored). */
+    private record Questionnaires(FhirContext ctx, Map<String, Questionnaire> byUrl)
+            implements IValidationSupport {
+        @Override
+        public FhirContext getFhirContext() {
+            return ctx;
+        }
+
+        @Override
+        @SuppressWarnings("unchecked")
+        public <T extends IBaseResource> T fetchResource(Class<T> type, String uri) {
+            if (uri == null || (type != null && !type.isAssignableFrom(Questionnaire.class))) {
+                return null;
+            }
+            int bar = uri.indexOf('|');
+            return (T) byUrl.get(bar < 0 ? uri : uri.substring(0, bar));
+        }
+    }
+
     public static void main(String[] args) throws Exception {
         if (args.length == 0) {
             System.err.println("usage: Validate BUNDLE.json...");
@@ -41,6 +64,7 @@ public final class Validate {
         for (String arg : args) {
             String text = Files.readString(Path.of(arg), StandardCharsets.UTF_8);
             PrePopulatedValidationSupport own = new PrePopulatedValidationSupport(ctx);
+            Map<String, Questionnaire> questionnaires = new HashMap<>();
             Resource parsed = (Resource) ctx.newJsonParser().parseResource(text);
             if (parsed instanceof Bundle bundle) {
                 for (Bundle.BundleEntryComponent e : bundle.getEntry()) {
@@ -48,13 +72,14 @@ public final class Validate {
                     if (r instanceof CodeSystem cs) {
                         own.addCodeSystem(cs);
                     } else if (r instanceof Questionnaire q) {
-                        own.addResource(q);
+                        questionnaires.put(q.getUrl(), q);
                     }
                 }
             }
             ValidationSupportChain chain = new ValidationSupportChain(
                     new DefaultProfileValidationSupport(ctx),
                     own,
+                    new Questionnaires(ctx, questionnaires),
                     new CommonCodeSystemsTerminologyService(ctx),
                     new InMemoryTerminologyServerValidationSupport(ctx),
                     new SnapshotGeneratingValidationSupport(ctx));
