@@ -10,7 +10,7 @@ use common::api::PASSWORD;
 use common::{T0, hello, sqlite_db};
 
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use hub::Role;
@@ -51,9 +51,9 @@ fn measures(seed: &mut u64) -> BTreeMap<String, f64> {
     .collect()
 }
 
-#[tokio::test(flavor = "multi_thread")]
-async fn the_reference_validator_finds_no_error_and_no_warning_but_unknown_code_systems_in_an_export()
- {
+/// The export of a patient with two ended sessions, both check-ins (one question skipped),
+/// a regimen, a Fugl-Meyer score and a Box and Block Test.
+async fn exported_bundle() -> String {
     let (db, _dir) = sqlite_db().await;
     let ada = db
         .add_therapist("ada@clinic.example", PASSWORD, Role::Therapist, T0)
@@ -121,6 +121,73 @@ async fn the_reference_validator_finds_no_error_and_no_warning_but_unknown_code_
         .await
         .unwrap();
     assert_eq!(sessions, 2);
+    text
+}
+
+/// The validator's reports on `files` (one JVM): each file's messages (severity, message id,
+/// location, text) and its summary line.
+fn validate(files: &[&Path]) -> Vec<(Vec<Vec<String>>, String)> {
+    let dir = validator_dir();
+    let classpath = std::fs::read_to_string(dir.join("target/classpath.txt")).unwrap_or_else(|e| {
+        panic!(
+            "the FHIR validator is not built ({e}): run scripts/setup.sh (it installs Maven and a JDK and builds {})",
+            dir.display()
+        )
+    });
+    let run = Command::new("java")
+        .arg("-cp")
+        .arg(format!(
+            "{}:{}",
+            dir.join("target/classes").display(),
+            classpath.trim()
+        ))
+        .arg("telerehab.Validate")
+        .args(files)
+        .output()
+        .unwrap_or_else(|e| {
+            panic!("cannot run java ({e}): run scripts/setup.sh, which installs a JDK")
+        });
+    let said = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        run.status.success(),
+        "the validator failed: {}\n{said}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    println!("{said}");
+    // One report a file, each closed by its summary line.
+    let mut reports = Vec::new();
+    let mut messages = Vec::new();
+    for line in said.lines() {
+        if line.starts_with("errors=") {
+            reports.push((std::mem::take(&mut messages), line.to_owned()));
+        } else {
+            messages.push(line.splitn(4, '\t').map(str::to_owned).collect());
+        }
+    }
+    assert_eq!(reports.len(), files.len(), "a report a file:\n{said}");
+    reports
+}
+
+/// Whether message `m` is the validator's "this code system is unknown here" (in either of
+/// its two wordings) for LOINC or SNOMED CT, the two terminologies it has no copy of offline;
+/// our own code systems it knows (the bundle's).
+fn unknown_system(m: &[String]) -> bool {
+    let field = |i: usize| m.get(i).map_or("", String::as_str);
+    let (id, text) = (field(1), field(3));
+    let wording = (id == "Terminology_PassThrough_TX_Message"
+        && text.starts_with("CodeSystem is unknown and can't be validated: "))
+        || (id == "TERMINOLOGY_TX_SYSTEM_UNSUPPORTED"
+            && text.starts_with("The code cannot be checked because codeSystem "));
+    let system = ["http://loinc.org", "http://snomed.info/sct"]
+        .iter()
+        .any(|s| text.contains(&format!(": {s} ")) || text.contains(&format!("'{s}'")));
+    wording && system
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn the_reference_validator_finds_no_error_and_no_warning_but_unknown_code_systems_in_an_export()
+ {
+    let text = exported_bundle().await;
     let out = tempfile::tempdir().unwrap();
     let file = out.path().join("bundle.json");
     std::fs::write(&file, &text).unwrap();
@@ -139,61 +206,8 @@ async fn the_reference_validator_finds_no_error_and_no_warning_but_unknown_code_
     let broken_file = out.path().join("broken.json");
     std::fs::write(&broken_file, broken.to_string()).unwrap();
 
-    let dir = validator_dir();
-    let classpath = std::fs::read_to_string(dir.join("target/classpath.txt")).unwrap_or_else(|e| {
-        panic!(
-            "the FHIR validator is not built ({e}): run scripts/setup.sh (it installs Maven and a JDK and builds {})",
-            dir.display()
-        )
-    });
-    let run = Command::new("java")
-        .arg("-cp")
-        .arg(format!(
-            "{}:{}",
-            dir.join("target/classes").display(),
-            classpath.trim()
-        ))
-        .arg("telerehab.Validate")
-        .arg(&file)
-        .arg(&broken_file)
-        .output()
-        .unwrap_or_else(|e| {
-            panic!("cannot run java ({e}): run scripts/setup.sh, which installs a JDK")
-        });
-    let said = String::from_utf8_lossy(&run.stdout);
-    assert!(
-        run.status.success(),
-        "the validator failed: {}\n{said}",
-        String::from_utf8_lossy(&run.stderr)
-    );
-    println!("{said}");
-    // One report a file, each closed by its summary line.
-    let mut reports: Vec<(Vec<Vec<&str>>, &str)> = Vec::new();
-    let mut messages = Vec::new();
-    for line in said.lines() {
-        if line.starts_with("errors=") {
-            reports.push((std::mem::take(&mut messages), line));
-        } else {
-            messages.push(line.splitn(4, '\t').collect::<Vec<_>>());
-        }
-    }
-    assert_eq!(reports.len(), 2, "a report a file:\n{said}");
+    let reports = validate(&[&file, &broken_file]);
     let (messages, summary) = &reports[0];
-    let summary = *summary;
-    // The validator's two wordings of "this code system is unknown here", for the two
-    // terminologies it has no copy of offline; our own code systems it knows (the bundle's).
-    let unknown_system = |m: &[&str]| {
-        let id = m.get(1).copied().unwrap_or_default();
-        let text = m.get(3).copied().unwrap_or_default();
-        let wording = (id == "Terminology_PassThrough_TX_Message"
-            && text.starts_with("CodeSystem is unknown and can't be validated: "))
-            || (id == "TERMINOLOGY_TX_SYSTEM_UNSUPPORTED"
-                && text.starts_with("The code cannot be checked because codeSystem "));
-        let system = ["http://loinc.org", "http://snomed.info/sct"]
-            .iter()
-            .any(|s| text.contains(&format!(": {s} ")) || text.contains(&format!("'{s}'")));
-        wording && system
-    };
     let wrong: Vec<String> = messages
         .iter()
         .filter(|m| m[0] != "INFORMATION" && !(m[0] == "WARNING" && unknown_system(m)))
@@ -206,14 +220,14 @@ async fn the_reference_validator_finds_no_error_and_no_warning_but_unknown_code_
     );
     assert!(summary.starts_with("errors=0 "), "{summary}");
     // It did judge the bundle: the LOINC codes it cannot look up offline were seen.
-    assert!(messages.iter().any(|m| unknown_system(m)), "{said}");
+    assert!(messages.iter().any(|m| unknown_system(m)), "{messages:?}");
     // And it finds what is wrong: the answer over the questionnaire's maximum, the code not
     // in the check-in's code system.
     let (broken, summary) = &reports[1];
     let errors: Vec<&str> = broken
         .iter()
         .filter(|m| m[0] == "ERROR")
-        .map(|m| m[1])
+        .map(|m| m[1].as_str())
         .collect();
     assert!(
         errors.contains(&"QUESTIONNAIRE_QR_ITEM_INTEGER_MAX")
