@@ -17,7 +17,7 @@
 //! - the hub's code systems as `CodeSystem` resources, each code with its definition and unit,
 //!   at the clinic's canonical address ([`FhirBase`]).
 //!
-//! Every resource has a generated narrative ([`narrative`]). Resource ids and `fullUrl`s
+//! Every resource has a generated narrative ([`mod@narrative`]). Resource ids and `fullUrl`s
 //! (`urn:uuid:…`) are derived from the hub's own ids by SHA-256, so the same record exports
 //! the same ids every time.
 

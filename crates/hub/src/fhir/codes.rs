@@ -25,7 +25,7 @@ use super::narrative::{Words, sentence};
 pub const LOINC: &str = "http://loinc.org";
 /// LOINC 55411-3 "Exercise duration" (HL7 Physical Activity IG's activity codes).
 pub const EXERCISE_DURATION: (&str, &str) = ("55411-3", "Exercise duration");
-/// LOINC 72514-3 "Pain severity - 0-10 verbal numeric rating [Score] - Reported".
+/// LOINC 72514-3 "Pain severity - 0-10 verbal numeric rating \[Score\] - Reported".
 pub const PAIN_0_10: (&str, &str) = (
     "72514-3",
     "Pain severity - 0-10 verbal numeric rating [Score] - Reported",
