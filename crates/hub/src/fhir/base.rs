@@ -53,9 +53,15 @@ impl FhirBase {
     }
 
     /// The default of a hub whose first certificate name is `name`: `https://NAME/fhir`.
+    /// An IPv6 literal is bracketed (`https://[::1]/fhir`).
     pub fn of_hub_name(name: &str) -> Result<Self, HubError> {
+        let host = if name.contains(':') && !name.starts_with('[') {
+            format!("[{name}]")
+        } else {
+            name.to_owned()
+        };
         Self::parse(
-            &format!("https://{name}/fhir"),
+            &format!("https://{host}/fhir"),
             "the hub's certificate name",
         )
     }
@@ -122,6 +128,8 @@ mod tests {
             config.fhir_base().unwrap().to_string(),
             "https://hub.clinic.example/fhir"
         );
+        let v6 = FhirBase::of_hub_name("::1").unwrap();
+        assert_eq!(v6.to_string(), "https://[::1]/fhir");
         config.fhir_base = Some("https://fhir.clinic.example/rehab".into());
         assert_eq!(
             config.fhir_base().unwrap().questionnaire("session-checkin"),
