@@ -696,3 +696,35 @@ async fn push_regimen(server: &TherapistServer, db: &Db, regimen: &RegimenVersio
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::ClinicConfig;
+
+    #[test]
+    fn the_clinics_fhir_base_is_its_configured_one_else_of_the_hubs_name() {
+        let mut config = ClinicConfig {
+            names: vec!["hub.clinic.example".into()],
+            database: String::new(),
+            clinic_name: None,
+            fhir_base: None,
+        };
+        assert_eq!(
+            config.fhir_base().unwrap().to_string(),
+            "https://hub.clinic.example/fhir"
+        );
+        let v6 = crate::fhir::FhirBase::of_hub_name("::1").unwrap();
+        assert_eq!(v6.to_string(), "https://[::1]/fhir");
+        config.fhir_base = Some("https://fhir.clinic.example/rehab".into());
+        assert_eq!(
+            config.fhir_base().unwrap().questionnaire("session-checkin"),
+            "https://fhir.clinic.example/rehab/Questionnaire/session-checkin"
+        );
+        config.fhir_base = Some("fhir.clinic.example".into());
+        let e = config.fhir_base().unwrap_err().to_string();
+        assert!(
+            e.contains("hub.toml's fhir_base") && e.contains("https://"),
+            "{e}"
+        );
+    }
+}

@@ -115,31 +115,4 @@ mod tests {
             assert!(e.contains(why) && e.contains("fhir_base"), "{bad}: {e}");
         }
     }
-
-    #[test]
-    fn the_clinics_fhir_base_is_its_configured_one_else_of_the_hubs_name() {
-        let mut config = crate::clinic::ClinicConfig {
-            names: vec!["hub.clinic.example".into()],
-            database: String::new(),
-            clinic_name: None,
-            fhir_base: None,
-        };
-        assert_eq!(
-            config.fhir_base().unwrap().to_string(),
-            "https://hub.clinic.example/fhir"
-        );
-        let v6 = FhirBase::of_hub_name("::1").unwrap();
-        assert_eq!(v6.to_string(), "https://[::1]/fhir");
-        config.fhir_base = Some("https://fhir.clinic.example/rehab".into());
-        assert_eq!(
-            config.fhir_base().unwrap().questionnaire("session-checkin"),
-            "https://fhir.clinic.example/rehab/Questionnaire/session-checkin"
-        );
-        config.fhir_base = Some("fhir.clinic.example".into());
-        let e = config.fhir_base().unwrap_err().to_string();
-        assert!(
-            e.contains("hub.toml's fhir_base") && e.contains("https://"),
-            "{e}"
-        );
-    }
 }
