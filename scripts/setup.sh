@@ -8,7 +8,8 @@
 #     xz-utils, librsvg2-bin (the icon's PNG), desktop-file-utils and lintian (its checks);
 #     the patient's voice: espeak-ng (speech), sox (its test), libasound2-dev (ALSA, rodio);
 #     poppler-utils (pdfinfo, pdftoppm: the console's one-page print is counted and looked at);
-#     fonts-noto-core and fonts-noto-cjk (the patient's window draws every script with them).
+#     fonts-noto-core and fonts-noto-cjk (the patient's window draws every script with them);
+#     maven and a headless JDK (the reference FHIR R4 validator, HAPI FHIR: scripts/fhir-validator).
 #   - Rust (stable, via rustup if cargo is missing) with rustfmt and clippy.
 #   - A Python virtualenv in .venv with the test tools and the `telerehab` package (pyext).
 set -euo pipefail
@@ -23,7 +24,8 @@ PKGS=(build-essential pkg-config libudev-dev mesa-vulkan-drivers libvulkan1 libg
       lintian dpkg-dev desktop-file-utils librsvg2-bin xz-utils
       espeak-ng sox libasound2-dev poppler-utils
       fonts-noto-core fonts-noto-cjk
-      python3-aiosmtpd)  # a real SMTP server for the hub's pain-mail tests (tests/smtp_sink.py)
+      python3-aiosmtpd  # a real SMTP server for the hub's pain-mail tests (tests/smtp_sink.py)
+      maven default-jdk-headless)  # the reference FHIR validator (scripts/fhir-validator)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -54,6 +56,10 @@ fi
 .venv/bin/python -m pip install -q --upgrade pip
 .venv/bin/python -m pip install -q -r requirements-dev.txt
 bash scripts/fetch_axe.sh
+echo "setup: building the reference FHIR R4 validator (scripts/fhir-validator, HAPI FHIR)"
+# Its jars are cached in ~/.m2; target/classpath.txt is what crates/hub/tests/fhir_validator.rs
+# runs it with. Re-running rebuilds only what changed.
+(cd scripts/fhir-validator && mvn -q -B package)
 echo "setup: building and installing the telerehab Python package (pyext)"
 # Built into the workspace's target directory (maturin develop), so that scripts/test.sh
 # rebuilds it incrementally and the tests never run a stale package.

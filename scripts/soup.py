@@ -5,7 +5,8 @@ Generated from `cargo metadata` (every direct dependency of a workspace crate, t
 lock file resolves, its licence, the crates that use it), the Python requirements
 (pyext/pyproject.toml, requirements-dev.txt), the console's vendored libraries
 (crates/hub/console/vendor/README.md) and the accessibility engine the tests fetch
-(scripts/fetch_axe.sh), joined with what each does here and why it is trusted
+(scripts/fetch_axe.sh), the Java libraries of the reference FHIR validator the tests run
+(scripts/fhir-validator/pom.xml), joined with what each does here and why it is trusted
 (docs/safety/soup-purpose.toml, written by hand).
 
     python3 scripts/soup.py            # writes docs/safety/soup.md
@@ -83,6 +84,21 @@ def javascript_dependencies() -> dict[str, tuple[str, str]]:
     return found
 
 
+def java_dependencies() -> dict[str, str]:
+    """groupId:artifactId → version of the FHIR validator's direct Maven dependencies."""
+    import xml.etree.ElementTree as ET
+
+    ns = {"m": "http://maven.apache.org/POM/4.0.0"}
+    pom = ET.parse(ROOT / "scripts" / "fhir-validator" / "pom.xml").getroot()
+    props = {e.tag.split("}")[1]: (e.text or "") for e in pom.find("m:properties", ns) or []}
+    found: dict[str, str] = {}
+    for d in pom.findall("m:dependencies/m:dependency", ns):
+        name = f"{d.findtext('m:groupId', '', ns)}:{d.findtext('m:artifactId', '', ns)}"
+        version = re.sub(r"\$\{([^}]+)\}", lambda m: props.get(m.group(1), m.group(0)), d.findtext("m:version", "", ns))
+        found[name] = version
+    return found
+
+
 def cell(text: str) -> str:
     return text.replace("|", "\\|")
 
@@ -90,6 +106,7 @@ def cell(text: str) -> str:
 def render(purpose: dict) -> tuple[str, list[str]]:
     problems: list[str] = []
     rust, python, js = rust_dependencies(), python_dependencies(), javascript_dependencies()
+    java = java_dependencies()
     out = [
         "# SOUP: the third-party software in telerehab",
         "",
@@ -135,7 +152,19 @@ def render(purpose: dict) -> tuple[str, list[str]]:
         if name not in purpose["javascript"]:
             problems.append(f"JavaScript library {name} has no entry in {PURPOSE.relative_to(ROOT)} [javascript]")
         out.append(f"| {name} | {version} | {licence} | {cell(does)} | {cell(trust)} |")
-    for section, used in (("rust", rust), ("python", python), ("javascript", js)):
+    out += [
+        "",
+        "## Java (the reference FHIR validator the tests run, scripts/fhir-validator)",
+        "",
+        "| library | version | what it does here | why trusted |",
+        "|---|---|---|---|",
+    ]
+    for name, version in java.items():
+        does, trust = purpose.get("java", {}).get(name, ["", ""])
+        if name not in purpose.get("java", {}):
+            problems.append(f"Java library {name} has no entry in {PURPOSE.relative_to(ROOT)} [java]")
+        out.append(f"| {name} | {version} | {cell(does)} | {cell(trust)} |")
+    for section, used in (("rust", rust), ("python", python), ("javascript", js), ("java", java)):
         for name in purpose.get(section, {}):
             if name not in used:
                 problems.append(f"{PURPOSE.relative_to(ROOT)} [{section}] names {name}, which is no longer used")

@@ -3,7 +3,8 @@
 //! console API (HTTPS) over it.
 //!
 //! ```text
-//! DATA/hub.toml            names on the hub's certificate, database URL (default: hub.db)
+//! DATA/hub.toml            names on the hub's certificate, database URL (default: hub.db),
+//!                          clinic name, FHIR base (`fhir_base`)
 //! DATA/hub.db              SQLite database (0600), unless `database` names PostgreSQL
 //! DATA/tls/ca.crt, ca.key  the clinic's CA (key 0600)
 //! DATA/tls/hub.crt, hub.key  the hub's certificate, signed by the CA (key 0600)
@@ -40,6 +41,24 @@ pub struct ClinicConfig {
     /// The clinic's name as its printouts carry it (`clinic_name = "Rehab Clinic Nord"`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub clinic_name: Option<String>,
+    /// The canonical base of the hub's FHIR code systems, questionnaire and identifier
+    /// systems (`fhir_base = "https://fhir.clinic.example/telerehab"`); absent: `https://NAME/fhir`
+    /// of the first name ([`crate::fhir::FhirBase`], docs/FHIR.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fhir_base: Option<String>,
+}
+
+impl ClinicConfig {
+    /// The clinic's FHIR base: `fhir_base`, else `https://NAME/fhir` of the first name; an
+    /// error naming `hub.toml`'s `fhir_base` when it is not an address.
+    pub fn fhir_base(&self) -> Result<crate::fhir::FhirBase, HubError> {
+        match self.fhir_base.as_deref() {
+            Some(b) => crate::fhir::FhirBase::parse(b, "hub.toml's fhir_base"),
+            None => {
+                crate::fhir::FhirBase::of_hub_name(self.names.first().map_or("", String::as_str))
+            }
+        }
+    }
 }
 
 /// What `hub init` made.
@@ -162,6 +181,7 @@ impl Clinic {
             names: names.to_vec(),
             database: database.unwrap_or_default().to_owned(),
             clinic_name: None,
+            fhir_base: None,
         };
         let url = match database.filter(|d| !d.is_empty()) {
             Some(u) => u.to_owned(),
@@ -307,6 +327,7 @@ pub async fn serve(
 ) -> Result<(), HubError> {
     let config = clinic.config()?;
     options.care.validate()?;
+    let fhir_base = config.fhir_base()?;
     let store = Arc::new(
         DbStore::new(
             db.clone(),
@@ -354,7 +375,8 @@ pub async fn serve(
         .with_prescribed_feed(prescribed)
         .with_care(care.clone(), Some(cleared))
         .with_replay_max_bytes(options.max_replay_bytes)
-        .with_clinic_name(config.clinic_name.clone());
+        .with_clinic_name(config.clinic_name.clone())
+        .with_fhir_base(fhir_base);
     let (stop_web, web_task) = spawn_console(clinic, web_listener, state, web_limits)?;
     on_bound(Bound {
         stations: server.local_addr(),
@@ -672,5 +694,37 @@ async fn push_regimen(server: &TherapistServer, db: &Db, regimen: &RegimenVersio
             }
             Err(e) => tracing::debug!(station = %station.station_id, "regimen not pushed now: {e}"),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ClinicConfig;
+
+    #[test]
+    fn the_clinics_fhir_base_is_its_configured_one_else_of_the_hubs_name() {
+        let mut config = ClinicConfig {
+            names: vec!["hub.clinic.example".into()],
+            database: String::new(),
+            clinic_name: None,
+            fhir_base: None,
+        };
+        assert_eq!(
+            config.fhir_base().unwrap().to_string(),
+            "https://hub.clinic.example/fhir"
+        );
+        let v6 = crate::fhir::FhirBase::of_hub_name("::1").unwrap();
+        assert_eq!(v6.to_string(), "https://[::1]/fhir");
+        config.fhir_base = Some("https://fhir.clinic.example/rehab".into());
+        assert_eq!(
+            config.fhir_base().unwrap().questionnaire("session-checkin"),
+            "https://fhir.clinic.example/rehab/Questionnaire/session-checkin"
+        );
+        config.fhir_base = Some("fhir.clinic.example".into());
+        let e = config.fhir_base().unwrap_err().to_string();
+        assert!(
+            e.contains("hub.toml's fhir_base") && e.contains("https://"),
+            "{e}"
+        );
     }
 }

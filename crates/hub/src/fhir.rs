@@ -1,167 +1,45 @@
 //! A patient's record as a FHIR R4 `Bundle` (type `collection`), for the clinic's electronic
-//! health record (`GET /api/patients/{id}/fhir`; docs/FHIR.md describes every resource):
+//! health record (`GET /api/patients/{id}/fhir`, `hub export --fhir`; docs/FHIR.md describes
+//! every resource):
 //!
 //! - `Patient`: the pseudonym as its only identifier (no name, no birth date);
+//! - a `Device` a station that recorded a session, a `Practitioner` a therapist who recorded a
+//!   scale (by the hub's id only);
 //! - the current regimen as a `CarePlan` whose activity is a `ServiceRequest` coded SNOMED CT
 //!   229065009 "Exercise therapy", its timing the regimen's sessions a week and planned length;
-//! - one `Observation` a session, a `component` a measure, coded in the hub's own code system
-//!   [`MEASURES_SYSTEM`] with its UCUM unit;
-//! - one `Observation` a clinical scale, coded in [`SCALES_SYSTEM`] (no LOINC code is used:
-//!   see docs/FHIR.md);
-//! - both code systems as `CodeSystem` resources, each code with its definition and unit.
+//! - one `Observation` a session (category `activity`), a `component` a measure rounded to its
+//!   resolution with its UCUM unit, performed by the patient on the station's Device; and,
+//!   as the HL7 Physical Activity IG models activity, its exercise time as an Observation of
+//!   LOINC 55411-3 "Exercise duration" in minutes ([`codes`] lists the LOINC codes searched);
+//! - one `Observation` a clinical scale, performed by the therapist who recorded it;
+//! - the check-in after a session as a `QuestionnaireResponse` ([`checkin`]) to the hub's
+//!   `Questionnaire`;
+//! - the hub's code systems as `CodeSystem` resources, each code with its definition and unit,
+//!   at the clinic's canonical address ([`FhirBase`]).
 //!
-//! Resource ids and `fullUrl`s (`urn:uuid:…`) are derived from the hub's own ids by SHA-256,
-//! so the same record exports the same ids every time.
+//! Every resource has a generated narrative ([`mod@narrative`]). Resource ids and `fullUrl`s
+//! (`urn:uuid:…`) are derived from the hub's own ids by SHA-256, so the same record exports
+//! the same ids every time.
+
+mod base;
+pub mod checkin;
+pub mod codes;
+pub mod narrative;
 
 use std::collections::{BTreeMap, BTreeSet};
 
 use serde_json::{Value, json};
 
+pub use base::FhirBase;
+use codes::{EXERCISE_DURATION, LOINC, MEASURES, SCALES, UCUM};
+pub use codes::{measure_definition, ucum_unit};
+use narrative::{Words, narrative, sentence, when};
+
 use crate::db::{Db, NamedSession, Patient, ScaleEntry, iso_utc};
 use crate::error::HubError;
 
-/// The hub's code system of session measures.
-pub const MEASURES_SYSTEM: &str = "https://telerehab.example/fhir/CodeSystem/measures";
-/// The hub's code system of clinical scales.
-pub const SCALES_SYSTEM: &str = "https://telerehab.example/fhir/CodeSystem/clinical-scales";
-/// The system of the patient's pseudonym (the clinic's own identifiers).
-pub const PSEUDONYM_SYSTEM: &str = "https://telerehab.example/fhir/sid/pseudonym";
-/// The system of the hub's session ids.
-pub const SESSION_SYSTEM: &str = "https://telerehab.example/fhir/sid/session";
-/// UCUM.
-const UCUM: &str = "http://unitsofmeasure.org";
-
-/// The measures with a definition of their own: code, definition (the station's measure;
-/// `crates/metrics` and `crates/station/src/session/measures.rs` compute them).
-const DEFINED: [(&str, &str); 20] = [
-    (
-        "sparc_median",
-        "Smoothness of movement: median over the session's movements of the spectral arc length (SPARC) of the wheel's speed; closer to 0 is smoother.",
-    ),
-    (
-        "ldlj_median",
-        "Smoothness of movement: median over the session's movements of the log dimensionless jerk (LDLJ); closer to 0 is smoother.",
-    ),
-    (
-        "active_s",
-        "Time the patient exercised (pauses and rests left out).",
-    ),
-    ("session_s", "Length of the session from start to end."),
-    ("paused_s", "Time the session was paused."),
-    (
-        "active_pct",
-        "Share of the exercise time the wheel was moving.",
-    ),
-    (
-        "movements",
-        "Number of movements (speed rising above and falling back below the movement threshold).",
-    ),
-    ("movements_per_min", "Dose: movements per active minute."),
-    (
-        "reversals_per_min",
-        "Dose: steering reversals per active minute.",
-    ),
-    (
-        "pct_in_lane",
-        "Share of a road exercise's time the car was inside its lane.",
-    ),
-    (
-        "rms_lateral_m",
-        "Lane keeping error: root mean square of the car's lateral distance from the lane's centre.",
-    ),
-    (
-        "tracking_rms_error_deg",
-        "Tracking error: root mean square of the wheel's angle from the angle the exercise asked for.",
-    ),
-    (
-        "wheel_rom_deg",
-        "Range of motion of the wheel: largest minus smallest angle turned.",
-    ),
-    (
-        "shoulder_elevation_rom_deg",
-        "Range of shoulder elevation measured by the arm sensors.",
-    ),
-    (
-        "elbow_flexion_rom_deg",
-        "Range of elbow flexion measured by the arm sensors.",
-    ),
-    (
-        "movement_time_s_median",
-        "Duration of a movement, median over the session.",
-    ),
-    (
-        "reaction_time_s_median",
-        "Time from a step of the target (or a lane shift) to the start of the wheel's response, median.",
-    ),
-    (
-        "speed_metric_median",
-        "Speed metric: mean over peak speed of a movement, median (Rohrer et al. 2002).",
-    ),
-    (
-        "path_length_ratio_median",
-        "Path length ratio: the wheel's path over the distance needed, median.",
-    ),
-    (
-        "assist_level_mean",
-        "Mean level of the assistance the wheel gave (0 none, 1 full).",
-    ),
-];
-
-/// A statistic a measure's name may end with, and its words.
-const STATISTICS: [(&str, &str); 6] = [
-    ("_median", "median over the session"),
-    ("_mean", "mean over the session"),
-    ("_max", "largest in the session"),
-    ("_min", "smallest in the session"),
-    ("_sd", "standard deviation over the session"),
-    ("_p95", "95th percentile over the session"),
-];
-
-/// The UCUM unit of a measure, read from the unit its name carries (`_deg`, `_s`, `_nm`,
-/// `_pct`, `_per_min`, …, before a statistic such as `_median`); `1` when it has none.
-pub fn ucum_unit(name: &str) -> &'static str {
-    // A rate ends like the statistic `_min`: read it first.
-    if name.contains("_per_min") {
-        return "/min";
-    }
-    let base = STATISTICS
-        .iter()
-        .find_map(|(s, _)| name.strip_suffix(s))
-        .unwrap_or(name);
-    let units: &[(&str, &str)] = &[
-        ("_deg_s", "deg/s"),
-        ("_rad_s", "rad/s"),
-        ("_deg", "deg"),
-        ("_rad", "rad"),
-        ("_ms", "ms"),
-        ("_s", "s"),
-        ("_nm", "N.m"),
-        ("_m", "m"),
-        ("_j", "J"),
-        ("_pct", "%"),
-        ("_hz", "Hz"),
-    ];
-    if base.starts_with("pct_") {
-        return "%";
-    }
-    units
-        .iter()
-        .find(|(suffix, _)| base.ends_with(suffix))
-        .map_or("1", |(_, unit)| unit)
-}
-
-/// A measure's definition: its own when it has one (`DEFINED`), else built from its name.
-pub fn measure_definition(name: &str) -> String {
-    if let Some((_, d)) = DEFINED.iter().find(|(c, _)| *c == name) {
-        return (*d).to_owned();
-    }
-    let statistic = STATISTICS.iter().find(|(s, _)| name.ends_with(s));
-    let words = name.replace('_', " ");
-    match statistic {
-        Some((_, w)) => format!("Station measure \"{words}\" ({w}), in {}.", ucum_unit(name)),
-        None => format!("Station measure \"{words}\", in {}.", ucum_unit(name)),
-    }
-}
+/// The observation category of HL7's code system (`activity`, `exam`).
+const CATEGORY: &str = "http://terminology.hl7.org/CodeSystem/observation-category";
 
 /// A stable UUID (its text) for `kind`/`id`: the first 16 bytes of their SHA-256, marked as
 /// an RFC 9562 version 8 (custom) UUID.
@@ -189,211 +67,300 @@ fn entry(kind: &str, id: &str, mut resource: Value) -> (String, Value) {
     (url.clone(), json!({ "fullUrl": url, "resource": resource }))
 }
 
-fn patient_resource(p: &Patient) -> Value {
-    json!({
-        "resourceType": "Patient",
-        "identifier": [{ "use": "usual", "system": PSEUDONYM_SYSTEM, "value": p.pseudonym }],
-        "active": true,
-    })
+/// What one export writes with: the clinic's base, the words, the patient's reference.
+struct Export<'a> {
+    base: &'a FhirBase,
+    words: Words,
+    subject: String,
 }
 
-/// The regimen's CarePlan and ServiceRequest (in that order), when the patient has one.
-async fn regimen_entries(
-    db: &Db,
-    p: &Patient,
-    subject: &str,
-) -> Result<Vec<(String, Value)>, HubError> {
-    let Some(rx) = db.latest_regimen(&p.id).await? else {
-        return Ok(Vec::new());
-    };
-    let parsed = regimen::Regimen::from_toml(&rx.toml, "the stored regimen").ok();
-    let key = format!("{}/v{}", p.id, rx.version);
-    // The regimen by the patient's pseudonym: the hub's own patient id stays in the hub.
-    let identifier = format!("{}/v{}", p.pseudonym, rx.version);
-    let mut repeat = serde_json::Map::new();
-    if let Some(n) = parsed.as_ref().and_then(|r| r.sessions_per_week) {
-        repeat.insert("frequency".into(), json!(n));
-        repeat.insert("period".into(), json!(1));
-        repeat.insert("periodUnit".into(), json!("wk"));
+impl Export<'_> {
+    fn category(code: &str, display: &str) -> Value {
+        json!([{ "coding": [{ "system": CATEGORY, "code": code, "display": display }] }])
     }
-    if let Some(s) = parsed.as_ref().and_then(|r| r.planned_duration_s().ok()) {
-        repeat.insert("duration".into(), json!((s / 60.0 * 10.0).round() / 10.0));
-        repeat.insert("durationUnit".into(), json!("min"));
-    }
-    let exercises = parsed.as_ref().map_or(0, |r| r.exercises.len());
-    let authored = iso_utc(rx.prescribed_at_ms);
-    let title = format!("Home exercise regimen, version {}", rx.version);
-    let mut request = json!({
-        "resourceType": "ServiceRequest",
-        "identifier": [{ "system": "https://telerehab.example/fhir/sid/regimen", "value": identifier }],
-        "status": "active",
-        "intent": "order",
-        "code": { "coding": [{ "system": "http://snomed.info/sct", "code": "229065009", "display": "Exercise therapy" }],
-                  "text": format!("{title}: {exercises} exercise(s) on the telerehab station") },
-        "subject": { "reference": subject },
-        "authoredOn": authored,
-    });
-    if !repeat.is_empty() {
-        request["occurrenceTiming"] = json!({ "repeat": repeat });
-    }
-    let (request_url, request_entry) = entry("ServiceRequest", &key, request);
-    let plan = json!({
-        "resourceType": "CarePlan",
-        "identifier": [{ "system": "https://telerehab.example/fhir/sid/regimen", "value": identifier }],
-        "status": "active",
-        "intent": "plan",
-        "title": title,
-        "subject": { "reference": subject },
-        "created": authored,
-        "activity": [{ "reference": { "reference": request_url } }],
-    });
-    Ok(vec![
-        entry("CarePlan", &key, plan),
-        (request_url, request_entry),
-    ])
-}
 
-/// A session's Observation: its measures as components.
-fn session_observation(
-    s: &NamedSession,
-    measures: Option<&BTreeMap<String, f64>>,
-    subject: &str,
-) -> Value {
-    let components: Vec<Value> = measures
-        .into_iter()
-        .flatten()
-        .map(|(name, v)| {
-            let unit = ucum_unit(name);
-            json!({
-                "code": { "coding": [{ "system": MEASURES_SYSTEM, "code": name }] },
-                "valueQuantity": { "value": v, "unit": unit, "system": UCUM, "code": unit },
-            })
-        })
-        .collect();
-    let mut period = json!({ "start": iso_utc(s.row.started_unix_ms) });
-    if let Some(end) = s.row.closed_at_ms {
-        period["end"] = json!(iso_utc(end.max(s.row.started_unix_ms)));
-    }
-    let mut o = json!({
-        "resourceType": "Observation",
-        "identifier": [{ "system": SESSION_SYSTEM, "value": s.row.session_id }],
-        "status": if s.row.closed_at_ms.is_some() { "final" } else { "preliminary" },
-        "category": [{ "coding": [{ "system": "http://terminology.hl7.org/CodeSystem/observation-category", "code": "activity", "display": "Activity" }] }],
-        "code": { "coding": [{ "system": MEASURES_SYSTEM, "code": "session", "display": "Telerehabilitation session measures" }],
-                  "text": format!("Telerehabilitation session: {}", s.exercise_name) },
-        "subject": { "reference": subject },
-        "effectivePeriod": period,
-    });
-    if !components.is_empty() {
-        o["component"] = json!(components);
-    }
-    o
-}
-
-/// A clinical scale's Observation.
-fn scale_observation(e: &ScaleEntry, subject: &str) -> Value {
-    let quantity =
-        |v: i64, unit: &str| json!({ "value": v, "unit": unit, "system": UCUM, "code": unit });
-    let mut o = json!({
-        "resourceType": "Observation",
-        "status": "final",
-        "category": [{ "coding": [{ "system": "http://terminology.hl7.org/CodeSystem/observation-category", "code": "exam", "display": "Exam" }] }],
-        "code": { "coding": [{ "system": SCALES_SYSTEM, "code": e.scale, "display": e.scale_name }], "text": e.scale_name },
-        "subject": { "reference": subject },
-        "effectiveDateTime": e.assessed_on,
-        "issued": iso_utc(e.created_at_ms),
-    });
-    if let Some(score) = e.score {
-        o["valueQuantity"] = quantity(score, "{score}");
-    }
-    let sides = [
-        (
-            "box_and_block_affected",
-            "affected side",
-            e.affected_blocks_per_min,
-        ),
-        (
-            "box_and_block_unaffected",
-            "unaffected side",
-            e.unaffected_blocks_per_min,
-        ),
-    ];
-    let components: Vec<Value> = sides
-        .iter()
-        .filter_map(|(code, words, v)| {
-            v.map(|v| json!({
-                "code": { "coding": [{ "system": SCALES_SYSTEM, "code": code, "display": format!("Box and Block Test, {words}") }] },
-                "valueQuantity": quantity(v, "{blocks}/min"),
-            }))
-        })
-        .collect();
-    if !components.is_empty() {
-        o["component"] = json!(components);
-    }
-    o
-}
-
-/// The measures' CodeSystem: every code `names` holds, with its definition and UCUM unit.
-fn measures_code_system(names: &BTreeSet<&str>) -> Value {
-    let mut concepts = vec![
-        json!({ "code": "session", "display": "Telerehabilitation session measures",
-        "definition": "The measures the station computed of one session, one component each." }),
-    ];
-    concepts.extend(names.iter().map(|n| {
+    fn patient_of(base: &FhirBase, words: &Words, p: &Patient) -> Value {
         json!({
-            "code": n, "display": metrics::words::measure_words(n).map_or_else(|| n.replace('_', " "), |m| m.header()), "definition": measure_definition(n),
-            "property": [{ "code": "unit", "valueCode": ucum_unit(n) }],
+            "resourceType": "Patient",
+            "text": sentence(words.say("fhir-patient", &[("pseudonym", p.pseudonym.clone())])),
+            "identifier": [{ "use": "usual", "system": base.identifiers("pseudonym"), "value": p.pseudonym }],
+            "active": true,
         })
-    }));
-    code_system(
-        MEASURES_SYSTEM,
-        "TelerehabMeasures",
-        "Telerehab session measures",
-        concepts,
-    )
-}
-
-/// The clinical scales' CodeSystem.
-fn scales_code_system() -> Value {
-    let mut concepts: Vec<Value> = crate::db::SCALES
-        .iter()
-        .map(|s| {
-            let f = s.fields[0];
-            json!({ "code": s.key, "display": s.name,
-                "definition": format!("{}: {} from {} to {} {}.", s.name, f.label, f.min, f.max, f.unit),
-                "property": [{ "code": "unit", "valueCode": if f.unit == "points" { "{score}" } else { "{blocks}/min" } }] })
-        })
-        .collect();
-    for (code, words) in [
-        ("box_and_block_affected", "affected"),
-        ("box_and_block_unaffected", "unaffected"),
-    ] {
-        concepts.push(
-            json!({ "code": code, "display": format!("Box and Block Test, {words} side"),
-            "definition": format!("Blocks moved in one minute with the {words} hand, 0 to 150."),
-            "property": [{ "code": "unit", "valueCode": "{blocks}/min" }] }),
-        );
     }
-    code_system(
-        SCALES_SYSTEM,
-        "TelerehabClinicalScales",
-        "Clinical scales recorded by the telerehab hub",
-        concepts,
-    )
-}
 
-fn code_system(url: &str, name: &str, title: &str, concepts: Vec<Value>) -> Value {
-    json!({
-        "resourceType": "CodeSystem",
-        "url": url,
-        "name": name,
-        "title": title,
-        "status": "active",
-        "content": "complete",
-        "caseSensitive": true,
-        "property": [{ "code": "unit", "description": "The value's unit, UCUM", "type": "code" }],
-        "concept": concepts,
-    })
+    /// The station `station_id` (its software `version`) the patient exercised on.
+    fn device(&self, station_id: &str, version: &str) -> Value {
+        json!({
+            "resourceType": "Device",
+            "text": sentence(self.words.say("fhir-device", &[("station", station_id.to_owned()), ("version", version.to_owned())])),
+            "identifier": [{ "system": self.base.identifiers("station"), "value": station_id }],
+            "status": "active",
+            "deviceName": [{ "name": "telerehab station", "type": "user-friendly-name" }],
+            "type": { "text": "Home rehabilitation station: force-feedback steering wheel and arm sensors" },
+            "version": [{ "value": version }],
+            "patient": { "reference": self.subject },
+        })
+    }
+
+    /// The therapist `id` who recorded a scale (by the hub's id: no name, no mail).
+    fn practitioner(&self, id: &str) -> Value {
+        json!({
+            "resourceType": "Practitioner",
+            "text": sentence(self.words.say("fhir-therapist", &[("id", id.to_owned())])),
+            "identifier": [{ "system": self.base.identifiers("therapist"), "value": id }],
+        })
+    }
+
+    /// The regimen's CarePlan and ServiceRequest (in that order), when the patient has one.
+    async fn regimen_entries(
+        &self,
+        db: &Db,
+        p: &Patient,
+    ) -> Result<Vec<(String, Value)>, HubError> {
+        let Some(rx) = db.latest_regimen(&p.id).await? else {
+            return Ok(Vec::new());
+        };
+        let parsed = regimen::Regimen::from_toml(&rx.toml, "the stored regimen").ok();
+        let key = format!("{}/v{}", p.id, rx.version);
+        // The regimen by the patient's pseudonym: the hub's own patient id stays in the hub.
+        let identifier = json!([{ "system": self.base.identifiers("regimen"), "value": format!("{}/v{}", p.pseudonym, rx.version) }]);
+        let mut repeat = serde_json::Map::new();
+        let mut lines = Vec::new();
+        let exercises = parsed.as_ref().map_or(0, |r| r.exercises.len());
+        lines.push(
+            self.words
+                .say("fhir-request", &[("exercises", exercises.to_string())]),
+        );
+        let per_week = parsed.as_ref().and_then(|r| r.sessions_per_week);
+        let minutes = parsed
+            .as_ref()
+            .and_then(|r| r.planned_duration_s().ok())
+            .map(|s| metrics::words::round_to(s / 60.0, 1));
+        if let Some(n) = per_week {
+            repeat.insert("frequency".into(), json!(n));
+            repeat.insert("period".into(), json!(1));
+            repeat.insert("periodUnit".into(), json!("wk"));
+        }
+        if let Some(m) = minutes {
+            repeat.insert("duration".into(), json!(m));
+            repeat.insert("durationUnit".into(), json!("min"));
+        }
+        if let (Some(n), Some(m)) = (per_week, minutes) {
+            lines.push(self.words.say(
+                "fhir-request-week",
+                &[("sessions", n.to_string()), ("minutes", m.to_string())],
+            ));
+        }
+        let authored = iso_utc(rx.prescribed_at_ms);
+        let title = format!("Home exercise regimen, version {}", rx.version);
+        let mut request = json!({
+            "resourceType": "ServiceRequest",
+            "text": narrative(&lines, None, &[]),
+            "identifier": identifier,
+            "status": "active",
+            "intent": "order",
+            "code": { "coding": [{ "system": "http://snomed.info/sct", "code": "229065009", "display": "Exercise therapy" }],
+                      "text": format!("{title}: {exercises} exercise(s) on the telerehab station") },
+            "subject": { "reference": self.subject },
+            "authoredOn": authored,
+        });
+        if !repeat.is_empty() {
+            request["occurrenceTiming"] = json!({ "repeat": repeat });
+        }
+        let (request_url, request_entry) = entry("ServiceRequest", &key, request);
+        let day = authored.get(..10).unwrap_or(&authored).to_owned();
+        let plan = json!({
+            "resourceType": "CarePlan",
+            "text": sentence(self.words.say("fhir-regimen", &[("version", rx.version.to_string()), ("day", day)])),
+            "identifier": identifier,
+            "status": "active",
+            "intent": "plan",
+            "title": title,
+            "subject": { "reference": self.subject },
+            "created": authored,
+            "activity": [{ "reference": { "reference": request_url } }],
+        });
+        Ok(vec![
+            entry("CarePlan", &key, plan),
+            (request_url, request_entry),
+        ])
+    }
+
+    /// A session's effective period: the station's start, and when the hub heard the end.
+    fn period(s: &NamedSession) -> Value {
+        let mut period = json!({ "start": iso_utc(s.row.started_unix_ms) });
+        if let Some(end) = s.row.closed_at_ms {
+            period["end"] = json!(iso_utc(end.max(s.row.started_unix_ms)));
+        }
+        period
+    }
+
+    fn status(s: &NamedSession) -> &'static str {
+        if s.row.closed_at_ms.is_some() {
+            "final"
+        } else {
+            "preliminary"
+        }
+    }
+
+    /// A session's Observation: its measures as components, rounded to their resolution,
+    /// performed by the patient on `device`; `members` its exercise duration's Observation.
+    fn session(
+        &self,
+        s: &NamedSession,
+        measures: Option<&BTreeMap<String, f64>>,
+        device: &str,
+        members: &[String],
+    ) -> Value {
+        let system = self.base.code_system(MEASURES);
+        let mut rows = Vec::new();
+        let components: Vec<Value> = measures
+            .into_iter()
+            .flatten()
+            .filter_map(|(name, v)| {
+                let value = codes::measure_value(name, *v)?;
+                let unit = ucum_unit(name);
+                let display = codes::measure_display(name);
+                let shown = metrics::words::measure_words(name)
+                    .map_or_else(|| format!("{value} {unit}"), |m| m.format(value));
+                rows.push((display.clone(), shown));
+                Some(json!({
+                    "code": { "coding": [{ "system": system, "code": name, "display": display }] },
+                    "valueQuantity": { "value": value, "unit": unit, "system": UCUM, "code": unit },
+                }))
+            })
+            .collect();
+        let mut lines = vec![self.words.say(
+            "fhir-session",
+            &[
+                ("start", when(s.row.started_unix_ms)),
+                ("exercise", s.exercise_name.clone()),
+            ],
+        )];
+        if s.row.closed_at_ms.is_none() {
+            lines.push(self.words.say("fhir-session-open", &[]));
+        }
+        let head = (
+            self.words.say("fhir-measure", &[]),
+            self.words.say("fhir-value", &[]),
+        );
+        let mut o = json!({
+            "resourceType": "Observation",
+            "text": narrative(&lines, Some(head), &rows),
+            "identifier": [{ "system": self.base.identifiers("session"), "value": s.row.session_id }],
+            "status": Self::status(s),
+            "category": Self::category("activity", "Activity"),
+            "code": { "coding": [{ "system": system, "code": "session", "display": "Telerehabilitation session measures" }],
+                      "text": format!("Telerehabilitation session: {}", s.exercise_name) },
+            "subject": { "reference": self.subject },
+            "effectivePeriod": Self::period(s),
+            "performer": [{ "reference": self.subject }],
+            "device": { "reference": device },
+        });
+        if !components.is_empty() {
+            o["component"] = json!(components);
+        }
+        if !members.is_empty() {
+            o["hasMember"] = json!(
+                members
+                    .iter()
+                    .map(|m| json!({ "reference": m }))
+                    .collect::<Vec<_>>()
+            );
+        }
+        o
+    }
+
+    /// A session's exercise time as the HL7 Physical Activity IG's activity measure: LOINC
+    /// 55411-3 "Exercise duration", in minutes (to 0.01 min, the resolution of `active_s`'s
+    /// whole seconds).
+    fn exercise_duration(&self, s: &NamedSession, active_s: f64, device: &str) -> Option<Value> {
+        let seconds = codes::measure_value("active_s", active_s)?;
+        let minutes = metrics::words::round_to(seconds / 60.0, 2);
+        Some(json!({
+            "resourceType": "Observation",
+            "text": sentence(self.words.say("fhir-duration", &[("start", when(s.row.started_unix_ms)), ("minutes", minutes.to_string())])),
+            "status": Self::status(s),
+            "category": Self::category("activity", "Activity"),
+            "code": { "coding": [{ "system": LOINC, "code": EXERCISE_DURATION.0, "display": EXERCISE_DURATION.1 }] },
+            "subject": { "reference": self.subject },
+            "effectivePeriod": Self::period(s),
+            "performer": [{ "reference": self.subject }],
+            "device": { "reference": device },
+            "valueQuantity": { "value": minutes, "unit": "min", "system": UCUM, "code": "min" },
+        }))
+    }
+
+    /// A clinical scale's Observation, performed by the therapist `performer`.
+    fn scale(&self, e: &ScaleEntry, performer: &str) -> Value {
+        // UCUM without annotations (`{score}` is ignored when units are compared: the
+        // validator advises against it): a score is dimensionless, blocks are counted.
+        let quantity = |v: i64, unit: &str, code: &str| json!({ "value": v, "unit": unit, "system": UCUM, "code": code });
+        let system = self.base.code_system(SCALES);
+        let value = match (
+            e.score,
+            e.affected_blocks_per_min,
+            e.unaffected_blocks_per_min,
+        ) {
+            (Some(score), _, _) => self
+                .words
+                .say("scales-points", &[("score", score.to_string())]),
+            (None, a, u) => self.words.say(
+                "scales-blocks",
+                &[
+                    ("affected", a.map_or_else(String::new, |v| v.to_string())),
+                    ("unaffected", u.map_or_else(String::new, |v| v.to_string())),
+                ],
+            ),
+        };
+        let line = self.words.say(
+            "fhir-scale",
+            &[
+                ("scale", e.scale_name.clone()),
+                ("day", e.assessed_on.clone()),
+                ("value", value),
+            ],
+        );
+        let mut o = json!({
+            "resourceType": "Observation",
+            "text": sentence(line),
+            "status": "final",
+            "category": Self::category("exam", "Exam"),
+            "code": { "coding": [{ "system": system, "code": e.scale, "display": e.scale_name }], "text": e.scale_name },
+            "subject": { "reference": self.subject },
+            "effectiveDateTime": e.assessed_on,
+            "issued": iso_utc(e.created_at_ms),
+            "performer": [{ "reference": performer }],
+        });
+        if let Some(score) = e.score {
+            o["valueQuantity"] = quantity(score, "points", codes::SCORE_UNIT);
+        }
+        let sides = [
+            (
+                "box_and_block_affected",
+                "affected side",
+                e.affected_blocks_per_min,
+            ),
+            (
+                "box_and_block_unaffected",
+                "unaffected side",
+                e.unaffected_blocks_per_min,
+            ),
+        ];
+        let components: Vec<Value> = sides
+            .iter()
+            .filter_map(|(code, side, v)| {
+                v.map(|v| json!({
+                    "code": { "coding": [{ "system": system, "code": code, "display": format!("Box and Block Test, {side}") }] },
+                    "valueQuantity": quantity(v, "blocks/min", codes::BLOCKS_UNIT),
+                }))
+            })
+            .collect();
+        if !components.is_empty() {
+            o["component"] = json!(components);
+        }
+        o
+    }
 }
 
 /// What the audit log says of an export of a bundle of `sessions` sessions.
@@ -401,28 +368,88 @@ pub fn audit_detail(sessions: usize) -> String {
     format!("FHIR R4 bundle of {sessions} sessions")
 }
 
-/// Patient `p`'s record as a FHIR R4 `Bundle` of type `collection`, stamped `now_ms`; the
-/// bundle and how many sessions it holds.
-pub async fn patient_bundle(db: &Db, p: &Patient, now_ms: i64) -> Result<(Value, usize), HubError> {
-    let (subject, patient) = entry("Patient", &p.id, patient_resource(p));
-    let mut entries = vec![patient];
-    entries.extend(
-        regimen_entries(db, p, &subject)
-            .await?
-            .into_iter()
-            .map(|(_, e)| e),
-    );
+/// Patient `p`'s record as a FHIR R4 `Bundle` of type `collection`, stamped `now_ms`, its own
+/// codes at the clinic's `base`; the bundle and how many sessions it holds.
+pub async fn patient_bundle(
+    db: &Db,
+    p: &Patient,
+    now_ms: i64,
+    base: &FhirBase,
+) -> Result<(Value, usize), HubError> {
+    let words = Words::new();
+    let (subject, patient_entry) = entry("Patient", &p.id, Export::patient_of(base, &words, p));
+    let x = Export {
+        base,
+        words,
+        subject,
+    };
+    let mut entries = vec![patient_entry];
     let (sessions, measures) = db.sessions_with_measures(&p.id).await?;
+    // One Device a station, in the order the sessions name them.
+    let mut devices: BTreeMap<&str, String> = BTreeMap::new();
     for s in &sessions {
-        let o = session_observation(s, measures.get(&s.row.session_id), &subject);
-        entries.push(entry("Observation", &format!("session/{}", s.row.session_id), o).1);
+        if !devices.contains_key(s.row.station_id.as_str()) {
+            let (url, e) = entry(
+                "Device",
+                &s.row.station_id,
+                x.device(&s.row.station_id, &s.row.software_version),
+            );
+            devices.insert(&s.row.station_id, url);
+            entries.push(e);
+        }
     }
-    for e in db.scales_of(&p.id).await? {
+    let scales = db.scales_of(&p.id).await?;
+    let mut therapists: BTreeMap<&str, String> = BTreeMap::new();
+    for e in &scales {
+        if !therapists.contains_key(e.therapist_id.as_str()) {
+            let (url, en) = entry(
+                "Practitioner",
+                &e.therapist_id,
+                x.practitioner(&e.therapist_id),
+            );
+            therapists.insert(&e.therapist_id, url);
+            entries.push(en);
+        }
+    }
+    entries.extend(x.regimen_entries(db, p).await?.into_iter().map(|(_, e)| e));
+    let mut session_urls: BTreeMap<&str, String> = BTreeMap::new();
+    for s in &sessions {
+        let m = measures.get(&s.row.session_id);
+        let device = &devices[s.row.station_id.as_str()];
+        let duration = m
+            .and_then(|m| m.get("active_s"))
+            .and_then(|v| x.exercise_duration(s, *v, device))
+            .map(|o| entry("Observation", &format!("duration/{}", s.row.session_id), o));
+        let members: Vec<String> = duration.iter().map(|(url, _)| url.clone()).collect();
+        let (url, e) = entry(
+            "Observation",
+            &format!("session/{}", s.row.session_id),
+            x.session(s, m, device, &members),
+        );
+        session_urls.insert(&s.row.session_id, url);
+        entries.push(e);
+        entries.extend(duration.map(|(_, e)| e));
+    }
+    for e in &scales {
+        let performer = &therapists[e.therapist_id.as_str()];
         entries.push(
             entry(
                 "Observation",
                 &format!("scale/{}", e.id),
-                scale_observation(&e, &subject),
+                x.scale(e, performer),
+            )
+            .1,
+        );
+    }
+    let checkins = db.checkins_of(&p.id).await?;
+    for c in checkins.iter().rev() {
+        let session = session_urls.get(c.session_id.as_str()).map(String::as_str);
+        let r = checkin::response(base, &x.words, c, &x.subject, session);
+        entries.push(
+            entry(
+                "QuestionnaireResponse",
+                &format!("checkin/{}", c.session_id),
+                r,
             )
             .1,
         );
@@ -431,8 +458,31 @@ pub async fn patient_bundle(db: &Db, p: &Patient, now_ms: i64) -> Result<(Value,
         .values()
         .flat_map(|m| m.keys().map(String::as_str))
         .collect();
-    entries.push(entry("CodeSystem", MEASURES_SYSTEM, measures_code_system(&names)).1);
-    entries.push(entry("CodeSystem", SCALES_SYSTEM, scales_code_system()).1);
+    let own = [
+        (
+            base.questionnaire(checkin::QUESTIONNAIRE),
+            checkin::questionnaire(base, &x.words),
+        ),
+        (
+            base.code_system(MEASURES),
+            codes::measures_code_system(base, &x.words, &names),
+        ),
+        (
+            base.code_system(SCALES),
+            codes::scales_code_system(base, &x.words),
+        ),
+        (
+            base.code_system(codes::CHECKIN),
+            codes::checkin_code_system(base, &x.words),
+        ),
+    ];
+    for (url, resource) in own {
+        let kind = resource["resourceType"]
+            .as_str()
+            .unwrap_or_default()
+            .to_owned();
+        entries.push(entry(&kind, &url, resource).1);
+    }
     let bundle = json!({
         "resourceType": "Bundle",
         "id": uuid_of("Bundle", &format!("{}/{now_ms}", p.id)),

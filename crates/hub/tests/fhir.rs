@@ -12,6 +12,7 @@ use std::sync::Arc;
 
 use axum::http::{Method, StatusCode};
 use hub::db::NewScale;
+use hub::fhir::FhirBase;
 use hub::web::{self, AppState};
 use hub::{Db, Role};
 use serde_json::Value;
@@ -28,6 +29,112 @@ fn of_type<'a>(bundle: &'a Value, kind: &str) -> Vec<&'a Value> {
         .map(|e| &e["resource"])
         .filter(|r| r["resourceType"] == kind)
         .collect()
+}
+
+/// The sessions (performer, device, rounding, exercise duration), the scale (its therapist)
+/// and the check-in of the bundle.
+fn sessions_scales_and_checkin(bundle: &Value, subject: &str, therapist_id: &str) {
+    // A session's measures as components with UCUM units, rounded to their resolution,
+    // performed by the patient on the station; the scale with its day, by its therapist.
+    let observations = of_type(bundle, "Observation");
+    let coded = |code: &str| -> Vec<&Value> {
+        observations
+            .iter()
+            .copied()
+            .filter(|o| o["code"]["coding"][0]["code"] == code)
+            .collect()
+    };
+    assert_eq!(
+        observations.len(),
+        7,
+        "three sessions, their durations, one scale"
+    );
+    let first = coded("session")[0];
+    assert_eq!(first["effectivePeriod"]["start"], "2026-11-21T09:30:00Z");
+    assert_eq!(first["performer"][0]["reference"], subject);
+    let device = of_type(bundle, "Device");
+    assert_eq!(device.len(), 1, "one station");
+    assert_eq!(device[0]["identifier"][0]["value"], "st-1");
+    assert_eq!(
+        first["device"]["reference"],
+        format!("urn:uuid:{}", device[0]["id"].as_str().unwrap()).as_str()
+    );
+    let third = coded("session")[2];
+    let sparc = third["component"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["code"]["coding"][0]["code"] == "sparc_median")
+        .unwrap();
+    // -1.6 + 0.2 is -1.4000000000000001 in binary: exported at the measure's resolution.
+    assert_eq!(sparc["valueQuantity"]["value"].to_string(), "-1.4");
+    // The exercise time as the Physical Activity IG's LOINC 55411-3, in minutes.
+    let durations = coded("55411-3");
+    assert_eq!(durations.len(), 3);
+    assert_eq!(
+        durations[0]["code"]["coding"][0]["system"],
+        "http://loinc.org"
+    );
+    assert_eq!(durations[0]["valueQuantity"]["value"].to_string(), "0.42");
+    assert_eq!(durations[0]["valueQuantity"]["code"], "min");
+    let scale = coded("fugl_meyer_ue")[0];
+    let therapist = of_type(bundle, "Practitioner");
+    assert_eq!(therapist[0]["identifier"][0]["value"], therapist_id);
+    assert_eq!(
+        scale["performer"][0]["reference"],
+        format!("urn:uuid:{}", therapist[0]["id"].as_str().unwrap()).as_str()
+    );
+    assert_eq!(scale["code"]["coding"][0]["code"], "fugl_meyer_ue");
+    assert_eq!(scale["effectiveDateTime"], "2026-11-20");
+    assert_eq!(scale["valueQuantity"]["value"], 34);
+    // The check-in as a QuestionnaireResponse to the bundle's Questionnaire, the skipped
+    // question left out, part of its session's Observation.
+    let responses = of_type(bundle, "QuestionnaireResponse");
+    assert_eq!(responses.len(), 1);
+    let questionnaire = of_type(bundle, "Questionnaire");
+    assert_eq!(
+        responses[0]["questionnaire"],
+        format!("{}|1", questionnaire[0]["url"].as_str().unwrap()).as_str()
+    );
+    assert_eq!(
+        questionnaire[0]["url"],
+        "https://fhir.clinic.example/telerehab/Questionnaire/session-checkin"
+    );
+    let answers: Vec<(&str, String)> = responses[0]["item"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|i| (i["linkId"].as_str().unwrap(), i["answer"][0].to_string()))
+        .collect();
+    assert_eq!(answers.len(), 2, "{answers:?}");
+    assert_eq!(answers[0], ("pain", r#"{"valueInteger":3}"#.to_owned()));
+    assert!(answers[1].1.contains("too_hard"), "{answers:?}");
+    assert_eq!(
+        responses[0]["partOf"][0]["reference"],
+        format!("urn:uuid:{}", first["id"].as_str().unwrap()).as_str()
+    );
+    let rate = first["component"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["code"]["coding"][0]["code"] == "movements_per_min")
+        .unwrap();
+    assert_eq!(rate["valueQuantity"]["code"], "/min");
+    assert_eq!(rate["valueQuantity"]["value"], 12.5);
+}
+
+/// Every resource tells itself in words: a generated XHTML narrative of catalogue words.
+fn every_resource_has_a_generated_narrative(bundle: &Value) {
+    for e in bundle["entry"].as_array().unwrap() {
+        let r = &e["resource"];
+        assert_eq!(r["text"]["status"], "generated", "{}", r["resourceType"]);
+        let div = r["text"]["div"].as_str().unwrap();
+        assert!(
+            div.starts_with("<div xmlns=\"http://www.w3.org/1999/xhtml\"")
+                && !div.contains("[fhir-"),
+            "{div}"
+        );
+    }
 }
 
 async fn a_patients_fhir_bundle_holds_a_pseudonymous_patient_the_regimen_sessions_and_scales(
@@ -56,6 +163,13 @@ async fn a_patients_fhir_bundle_holds_a_pseudonymous_patient_the_regimen_session
         ]);
         db.put_metrics(&id, &measures).await.unwrap();
     }
+    // The first session's check-in: pain and how it felt answered, tiredness skipped.
+    let checkin = netlink::CheckIn {
+        pain_0_10: Some(3),
+        tiredness_0_10: None,
+        difficulty: Some("too_hard".into()),
+    };
+    db.put_checkin("s-0", &checkin, T0 + 60_000).await.unwrap();
     db.put_regimen(&p.id, REGIMEN, Some(5), &ada.id, T0)
         .await
         .unwrap();
@@ -67,7 +181,12 @@ async fn a_patients_fhir_bundle_holds_a_pseudonymous_patient_the_regimen_session
     };
     db.add_scale(&p.id, &ada.id, &fm, T0).await.unwrap();
     let (live, _) = broadcast::channel(4);
-    let app = web::router(AppState::new(db.clone(), live).with_clock(Arc::new(|| T0)));
+    let base = FhirBase::parse("https://fhir.clinic.example/telerehab/", "test").unwrap();
+    let app = web::router(
+        AppState::new(db.clone(), live)
+            .with_clock(Arc::new(|| T0))
+            .with_fhir_base(base.clone()),
+    );
     let cookie = login(&app, "ada@clinic.example").await;
     let uri = format!("/api/patients/{}/fhir", p.id);
     let (status, bundle, _) = call(&app, Method::GET, &uri, Some(&cookie), None).await;
@@ -93,28 +212,15 @@ async fn a_patients_fhir_bundle_holds_a_pseudonymous_patient_the_regimen_session
     let plan = of_type(&bundle, "CarePlan");
     let subject = format!("urn:uuid:{}", patient[0]["id"].as_str().unwrap());
     assert_eq!(plan[0]["subject"]["reference"], subject.as_str());
-    // A session's measures as components with UCUM units; the scale with its day.
-    let observations = of_type(&bundle, "Observation");
-    assert_eq!(observations.len(), 4, "three sessions and one scale");
-    let first = observations[0];
-    assert_eq!(first["effectivePeriod"]["start"], "2026-11-21T09:30:00Z");
-    let rate = first["component"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|c| c["code"]["coding"][0]["code"] == "movements_per_min")
-        .unwrap();
-    assert_eq!(rate["valueQuantity"]["code"], "/min");
-    assert_eq!(rate["valueQuantity"]["value"], 12.5);
-    let scale = observations[3];
-    assert_eq!(scale["code"]["coding"][0]["code"], "fugl_meyer_ue");
-    assert_eq!(scale["effectiveDateTime"], "2026-11-20");
-    assert_eq!(scale["valueQuantity"]["value"], 34);
-    // Every code used is defined, with a definition and a unit, in the bundle's CodeSystem.
+    sessions_scales_and_checkin(&bundle, &subject, &ada.id);
+    every_resource_has_a_generated_narrative(&bundle);
+    // Every code used is defined, with a definition and a unit, in the bundle's CodeSystem
+    // at the clinic's address; the placeholder address is gone.
+    assert!(!text.contains("telerehab.example"), "a placeholder address");
     let systems = of_type(&bundle, "CodeSystem");
     let measures = systems
         .iter()
-        .find(|s| s["url"] == hub::fhir::MEASURES_SYSTEM)
+        .find(|s| s["url"] == base.code_system("measures").as_str())
         .unwrap();
     for name in ["sparc_median", "active_s", "movements_per_min"] {
         let concept = measures["concept"]
@@ -137,7 +243,9 @@ async fn a_patients_fhir_bundle_holds_a_pseudonymous_patient_the_regimen_session
     let (status, _, _) = call(&app, Method::GET, &uri, Some(&bob), None).await;
     assert_eq!(status, StatusCode::NOT_FOUND);
     // The command line's export (`hub export --fhir P-0042`) is the same bundle, audited.
-    let (text, sessions) = hub::patients::export_fhir(&db, "P-0042", T0).await.unwrap();
+    let (text, sessions) = hub::patients::export_fhir(&db, "P-0042", T0, &base)
+        .await
+        .unwrap();
     assert_eq!(sessions, 3);
     assert_eq!(serde_json::from_str::<Value>(&text).unwrap(), bundle);
     let audit = actions(&db).await;
@@ -146,7 +254,7 @@ async fn a_patients_fhir_bundle_holds_a_pseudonymous_patient_the_regimen_session
             .iter()
             .any(|(a, act, _)| a == "cli" && act == "export_fhir")
     );
-    let unknown = hub::patients::export_fhir(&db, "P-9999", T0)
+    let unknown = hub::patients::export_fhir(&db, "P-9999", T0, &base)
         .await
         .unwrap_err();
     assert!(unknown.to_string().contains("P-9999"), "{unknown}");

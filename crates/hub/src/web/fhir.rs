@@ -8,6 +8,7 @@ use axum::response::{IntoResponse, Response};
 
 use super::auth::Authed;
 use super::{ApiError, AppState};
+use crate::error::HubError;
 
 /// The FHIR JSON media type.
 const FHIR_JSON: &str = "application/fhir+json; fhirVersion=4.0";
@@ -21,7 +22,13 @@ pub(crate) async fn bundle(
 ) -> Result<Response, ApiError> {
     let Path(id) = id?;
     let patient = state.visible_patient(&therapist, &id).await?;
-    let (bundle, sessions) = crate::fhir::patient_bundle(&state.db, &patient, state.now()).await?;
+    let base = state.fhir_base.as_ref().ok_or_else(|| {
+        HubError::Config(
+            "this hub has no FHIR address (hub.toml's fhir_base) to export with".into(),
+        )
+    })?;
+    let (bundle, sessions) =
+        crate::fhir::patient_bundle(&state.db, &patient, state.now(), base).await?;
     state
         .audit(
             &therapist.actor(),

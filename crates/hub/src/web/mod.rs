@@ -95,6 +95,9 @@ pub struct AppState {
     pub replay_cost_limits: Option<record::CostLimits>,
     /// The clinic's name for its printouts (`hub.toml`'s `clinic_name`), if set.
     pub clinic_name: Option<String>,
+    /// The canonical base of the FHIR export's own codes (`hub.toml`'s `fhir_base`); `None`:
+    /// the export is refused (a hub that `hub serve` runs always has one).
+    pub fhir_base: Option<crate::fhir::FhirBase>,
     /// The clinic's pain threshold, phone, station address and mail ([`crate::care`]).
     pub care: Arc<crate::care::CareConfig>,
     /// Where a therapist's clearance after a pain stop is announced (patient id; the hub
@@ -117,6 +120,7 @@ impl AppState {
             replay_cpu_s: DEFAULT_REPLAY_CPU_S,
             replay_cost_limits: None,
             clinic_name: None,
+            fhir_base: None,
             care: Arc::default(),
             pain_cleared: None,
         }
@@ -125,6 +129,12 @@ impl AppState {
     /// The same state naming the clinic `name` on its printouts.
     pub fn with_clinic_name(mut self, name: Option<String>) -> Self {
         self.clinic_name = name.filter(|n| !n.trim().is_empty());
+        self
+    }
+
+    /// The same state exporting FHIR with its codes at `base`.
+    pub fn with_fhir_base(mut self, base: crate::fhir::FhirBase) -> Self {
+        self.fhir_base = Some(base);
         self
     }
 

@@ -116,7 +116,8 @@ pub enum HubCommand {
     Chaos(crate::commands::hub_chaos::ChaosArgs),
     /// A patient's record for an electronic health record: a FHIR R4 `Bundle` (pseudonymous
     /// Patient, the regimen as CarePlan and ServiceRequest, an Observation per session and per
-    /// clinical scale; docs/FHIR.md), audited.
+    /// clinical scale, the check-ins as QuestionnaireResponses; the hub's codes under
+    /// hub.toml's `fhir_base`; docs/FHIR.md), audited.
     Export {
         /// Data directory and database.
         #[command(flatten)]

@@ -163,8 +163,9 @@ pub async fn export_fhir(
     out: &Path,
 ) -> anyhow::Result<()> {
     let clinic = Clinic::at(&data.data);
+    let base = clinic.config()?.fhir_base()?;
     let db = clinic.open_db(data.db.as_deref()).await?;
-    let done = hub::patients::export_fhir(&db, pseudonym, super::now_ms()).await;
+    let done = hub::patients::export_fhir(&db, pseudonym, super::now_ms(), &base).await;
     db.close().await;
     let (bundle, sessions) = done?;
     if out == Path::new("-") {

@@ -1,0 +1,237 @@
+//! The FHIR export judged by the reference R4 validator, HAPI FHIR's instance validator
+//! (scripts/fhir-validator, built by scripts/setup.sh), offline against R4 core: a patient with
+//! two ended sessions (measures with every binary digit, as a station computes them), both
+//! check-ins, a regimen and two clinical scales must give 0 errors and no warning but "this
+//! code system is unknown" (LOINC and SNOMED CT: no terminology server offline). One JVM start.
+
+mod common;
+
+use common::api::PASSWORD;
+use common::{T0, hello, sqlite_db};
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use hub::Role;
+use hub::db::NewScale;
+use hub::fhir::FhirBase;
+use netlink::{Bye, CheckIn};
+
+const REGIMEN: &str = "sessions_per_week = 5\n\n[[exercise]]\nkind = \"sine\"\namplitude_m = 2.0\n\
+    wavelength_m = 150.0\nperiods = 2\nlane_width_m = 4.0\nspeed_m_s = 8.0\nduration_s = 30.0\n";
+
+/// The validator's directory (its `target/classpath.txt` and classes come from setup.sh).
+fn validator_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scripts/fhir-validator")
+}
+
+/// Measures with full binary precision from a fixed-seed generator (xorshift64), as the
+/// station's floating-point measures are: the export must round them, not the test.
+fn measures(seed: &mut u64) -> BTreeMap<String, f64> {
+    let mut next = || {
+        *seed ^= *seed << 13;
+        *seed ^= *seed >> 7;
+        *seed ^= *seed << 17;
+        (*seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    [
+        ("active_s", 600.0),
+        ("session_s", 700.0),
+        ("sparc_median", -2.0),
+        ("movements_per_min", 20.0),
+        ("pct_in_lane", 100.0),
+        ("rms_lateral_m", 1.5),
+        ("wheel_rom_deg", 180.0),
+        // A measure the words table lacks: 4 significant digits, its unit from its name.
+        ("wheel_speed_deg_s_median", 90.0),
+    ]
+    .into_iter()
+    .map(|(k, scale)| (k.to_owned(), scale * (0.25 + 0.5 * next())))
+    .collect()
+}
+
+/// The export of a patient with two ended sessions, both check-ins (one question skipped),
+/// a regimen, a Fugl-Meyer score and a Box and Block Test.
+async fn exported_bundle() -> String {
+    let (db, _dir) = sqlite_db().await;
+    let ada = db
+        .add_therapist("ada@clinic.example", PASSWORD, Role::Therapist, T0)
+        .await
+        .unwrap();
+    let p = db.add_patient("P-0042", Some(&ada.id), T0).await.unwrap();
+    db.add_station("st-1", &p.id, &"a".repeat(64), T0)
+        .await
+        .unwrap();
+    let checkins = [
+        CheckIn {
+            pain_0_10: Some(2),
+            tiredness_0_10: Some(5),
+            difficulty: Some("about_right".into()),
+        },
+        CheckIn {
+            pain_0_10: Some(4),
+            tiredness_0_10: None,
+            difficulty: Some("too_hard".into()),
+        },
+    ];
+    let mut seed = 0x2026_1206_u64;
+    for (i, checkin) in checkins.iter().enumerate() {
+        let id = format!("s-{i}");
+        let start = T0 + i as i64 * 86_400_000;
+        let mut h = hello("st-1", &p.id, &id);
+        h.started_unix_ms = start as u64;
+        db.open_session(&h, start).await.unwrap();
+        let bye = Bye {
+            session_id: id.clone(),
+            reason: "completed".into(),
+            final_seq: None,
+            measures: BTreeMap::new(),
+            hub_unix_ms: None,
+            checkin: Some(checkin.clone()),
+            difficulty: None,
+            exercises: Vec::new(),
+        };
+        db.close_session(&bye, start + 700_000).await.unwrap();
+        db.put_metrics(&id, &measures(&mut seed)).await.unwrap();
+        db.put_checkin(&id, checkin, start + 701_000).await.unwrap();
+    }
+    db.put_regimen(&p.id, REGIMEN, Some(5), &ada.id, T0)
+        .await
+        .unwrap();
+    for scale in [
+        NewScale {
+            scale: "fugl_meyer_ue".into(),
+            assessed_on: "2026-11-20".into(),
+            score: Some(34.0),
+            ..NewScale::default()
+        },
+        NewScale {
+            scale: "box_and_block".into(),
+            assessed_on: "2026-11-20".into(),
+            affected_blocks_per_min: Some(12.0),
+            unaffected_blocks_per_min: Some(48.0),
+            ..NewScale::default()
+        },
+    ] {
+        db.add_scale(&p.id, &ada.id, &scale, T0).await.unwrap();
+    }
+    let base = FhirBase::parse("https://fhir.clinic.example/telerehab", "test").unwrap();
+    let (text, sessions) = hub::patients::export_fhir(&db, "P-0042", T0 + 2 * 86_400_000, &base)
+        .await
+        .unwrap();
+    assert_eq!(sessions, 2);
+    text
+}
+
+/// The validator's reports on `files` (one JVM): each file's messages (severity, message id,
+/// location, text) and its summary line.
+fn validate(files: &[&Path]) -> Vec<(Vec<Vec<String>>, String)> {
+    let dir = validator_dir();
+    let classpath = std::fs::read_to_string(dir.join("target/classpath.txt")).unwrap_or_else(|e| {
+        panic!(
+            "the FHIR validator is not built ({e}): run scripts/setup.sh (it installs Maven and a JDK and builds {})",
+            dir.display()
+        )
+    });
+    let run = Command::new("java")
+        .arg("-cp")
+        .arg(format!(
+            "{}:{}",
+            dir.join("target/classes").display(),
+            classpath.trim()
+        ))
+        .arg("telerehab.Validate")
+        .args(files)
+        .output()
+        .unwrap_or_else(|e| {
+            panic!("cannot run java ({e}): run scripts/setup.sh, which installs a JDK")
+        });
+    let said = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        run.status.success(),
+        "the validator failed: {}\n{said}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    println!("{said}");
+    // One report a file, each closed by its summary line.
+    let mut reports = Vec::new();
+    let mut messages = Vec::new();
+    for line in said.lines() {
+        if line.starts_with("errors=") {
+            reports.push((std::mem::take(&mut messages), line.to_owned()));
+        } else {
+            messages.push(line.splitn(4, '\t').map(str::to_owned).collect());
+        }
+    }
+    assert_eq!(reports.len(), files.len(), "a report a file:\n{said}");
+    reports
+}
+
+/// Whether message `m` is the validator's "this code system is unknown here" (in either of
+/// its two wordings) for LOINC or SNOMED CT, the two terminologies it has no copy of offline;
+/// our own code systems it knows (the bundle's).
+fn unknown_system(m: &[String]) -> bool {
+    let field = |i: usize| m.get(i).map_or("", String::as_str);
+    let (id, text) = (field(1), field(3));
+    let wording = (id == "Terminology_PassThrough_TX_Message"
+        && text.starts_with("CodeSystem is unknown and can't be validated: "))
+        || (id == "TERMINOLOGY_TX_SYSTEM_UNSUPPORTED"
+            && text.starts_with("The code cannot be checked because codeSystem "));
+    let system = ["http://loinc.org", "http://snomed.info/sct"]
+        .iter()
+        .any(|s| text.contains(&format!(": {s} ")) || text.contains(&format!("'{s}'")));
+    wording && system
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn the_reference_validator_finds_no_error_and_no_warning_but_unknown_code_systems_in_an_export()
+ {
+    let text = exported_bundle().await;
+    let out = tempfile::tempdir().unwrap();
+    let file = out.path().join("bundle.json");
+    std::fs::write(&file, &text).unwrap();
+    // The same bundle with one check-in answered out of range and off the answer list: the
+    // validator must check responses against the questionnaire and our code system.
+    let mut broken: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let response = broken["entry"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .map(|e| &mut e["resource"])
+        .find(|r| r["resourceType"] == "QuestionnaireResponse")
+        .unwrap();
+    response["item"][0]["answer"][0]["valueInteger"] = 11.into();
+    response["item"][2]["answer"][0]["valueCoding"]["code"] = "bogus".into();
+    let broken_file = out.path().join("broken.json");
+    std::fs::write(&broken_file, broken.to_string()).unwrap();
+
+    let reports = validate(&[&file, &broken_file]);
+    let (messages, summary) = &reports[0];
+    let wrong: Vec<String> = messages
+        .iter()
+        .filter(|m| m[0] != "INFORMATION" && !(m[0] == "WARNING" && unknown_system(m)))
+        .map(|m| m.join(" | "))
+        .collect();
+    assert!(
+        wrong.is_empty(),
+        "{summary}; beyond unknown code systems:\n{}",
+        wrong.join("\n")
+    );
+    assert!(summary.starts_with("errors=0 "), "{summary}");
+    // It did judge the bundle: the LOINC codes it cannot look up offline were seen.
+    assert!(messages.iter().any(|m| unknown_system(m)), "{messages:?}");
+    // And it finds what is wrong: the answer over the questionnaire's maximum, the code not
+    // in the check-in's code system.
+    let (broken, summary) = &reports[1];
+    let errors: Vec<&str> = broken
+        .iter()
+        .filter(|m| m[0] == "ERROR")
+        .map(|m| m[1].as_str())
+        .collect();
+    assert!(
+        errors.contains(&"QUESTIONNAIRE_QR_ITEM_INTEGER_MAX")
+            && errors.contains(&"Questionnaire_QR_Item_NoCoding"),
+        "{summary}: {errors:?}"
+    );
+}

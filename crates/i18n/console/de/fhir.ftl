@@ -1,0 +1,19 @@
+# Die Texte des FHIR-Exports (crates/hub/src/fhir/narrative.rs).
+
+fhir-patient = Patient { $pseudonym }. Exportiert wird nur das Pseudonym der Klinik.
+fhir-regimen = Heimübungsplan, Version { $version }, verordnet am { $day }.
+fhir-request = Übungstherapie zu Hause an der Telerehab-Station: { $exercises } Übungen.
+fhir-request-week = { $sessions } Einheiten pro Woche, je etwa { $minutes } Minuten.
+fhir-session = Einheit am { $start } (UTC): { $exercise }.
+fhir-session-open = Die Einheit war beim Export noch nicht beendet.
+fhir-duration = Übungszeit der Einheit am { $start } (UTC): { $minutes } Minuten.
+fhir-measure = Messgröße
+fhir-value = Wert
+fhir-scale = { $scale } am { $day }: { $value }.
+fhir-code-system = { $title }: { $count } Codes, jeder mit Definition und Einheit.
+fhir-questionnaire = Die Fragen, die der Patient nach jeder Einheit an der Station beantwortet.
+fhir-checkin = Rückmeldung nach der Einheit am { $start } (UTC).
+fhir-answer-skipped = übersprungen
+fhir-answer-score = { $value } von 10
+fhir-device = Telerehab-Station { $station }, Software { $version }: ein Lenkrad mit Kraftrückmeldung und Armsensoren.
+fhir-therapist = Therapeut der Klinik ({ $id }).
