@@ -33,7 +33,7 @@ pub use error::MetricError;
 pub use filter::{Biquad, derivative, speed_profile};
 pub use live::LiveMeasures;
 pub use robot::{
-    DirectedResponse, DirectedStep, ResponseParams, StepResponse, TargetStep,
+    DirectedResponse, DirectedStep, MIN_REACTION_TIME_S, ResponseParams, StepResponse, TargetStep,
     directed_step_responses, speed_metric, steering_reversals, step_responses,
 };
 pub use segment::{Movement, SegmentParams, segment, threshold};

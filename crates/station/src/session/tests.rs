@@ -885,12 +885,15 @@ fn a_simulated_lane_change_responds_once_per_lane_shift_and_strength_has_no_step
     let reached = shifts.iter().filter(|s| s.s_m <= end_s_m).count();
     assert_eq!(reached, 3, "the road runs past its 3 shifts: {end_s_m} m");
     assert_eq!(lane["step_responses"], reached as f64, "{lane:?}");
-    let rt = lane["reaction_time_s_median"];
+    // The simulated driver steers before the shifts it sees coming (issue 42 measured a
+    // "reaction time" of −0.34 s): anticipations, reported as such, and no reaction time.
+    let anticipated = lane["anticipation_pct"];
     eprintln!(
-        "lane change: reaction time median {rt:.3} s, initial direction error mean {} deg",
+        "lane change: anticipated {anticipated:.0} % of shifts, initial direction error mean {} deg",
         lane["initial_direction_error_deg_mean"]
     );
-    assert!((-0.65..0.0).contains(&rt), "{rt}");
+    assert!(anticipated > 50.0, "{lane:?}");
+    assert!(!lane.contains_key("reaction_time_s_median"), "{lane:?}");
     assert_eq!(lane["initial_direction_error_deg_mean"], 0.0);
     assert!(!lane.contains_key("path_length_ratio_median"), "{lane:?}");
     // The strength test's aim jumps from one side to the other: no step responses.
