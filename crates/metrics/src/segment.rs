@@ -117,7 +117,12 @@ impl SegmentParams {
         let r = self.rest_s;
         check("rest_s", r, r.is_finite() && r >= 0.0, "finite and >= 0 s")?;
         let m = self.max_discrete_s;
-        check("max_discrete_s", m, m.is_finite() && m > 0.0, "finite and > 0 s")?;
+        check(
+            "max_discrete_s",
+            m,
+            m.is_finite() && m > 0.0,
+            "finite and > 0 s",
+        )?;
         self.sparc.validate()
     }
 }
