@@ -791,7 +791,10 @@ mod tests {
             .iter()
             .find(|m| m.key == "anticipation_pct")
             .unwrap();
-        assert!(one.contains(anticipation.label) && one.contains(">67 %<"), "{one}");
+        assert!(
+            one.contains(anticipation.label) && one.contains(">67 %<"),
+            "{one}"
+        );
         assert!(!one.contains(">Reaction time<"), "{one}");
     }
 
