@@ -728,9 +728,9 @@ pub fn measures_markdown() -> String {
     );
     for m in &MEASURES {
         let better = match m.better {
-            Better::Higher => "higher",
-            Better::Lower => "lower",
-            Better::Neither => "neither",
+            Higher => "higher",
+            Lower => "lower",
+            Neither => "neither",
         };
         out.push_str(&format!(
             "| `{}` | {} | {} | {better} | {} | {} |\n",
