@@ -711,7 +711,7 @@ pub fn measure_words(key: &str) -> Option<&'static MeasureWords> {
 }
 
 /// `docs/MEASURES.md`: every measure of [`MEASURES`] with its definition and source, one
-/// table, in reading order (written by `crates/metrics/tests/measures_doc.rs`).
+/// table, in reading order (written by `crates/station/tests/measures_doc.rs`).
 pub fn measures_markdown() -> String {
     let cell = |s: &str| s.replace('|', "\\|");
     let mut out = String::from(
@@ -719,7 +719,7 @@ pub fn measures_markdown() -> String {
          Every measure a session stores: its stored key, the name a clinician reads, its unit, \
          which way is better, what it measures and where it comes from. Generated from the one \
          table of measure words, `crates/metrics/src/words.rs` (`MEASURES`); after changing it, \
-         run `UPDATE_SNAPSHOTS=1 cargo test -p metrics --test measures_doc` and commit the diff.\n\n\
+         run `UPDATE_SNAPSHOTS=1 cargo test -p station --test measures_doc` and commit the diff.\n\n\
          Smoothness (SPARC, LDLJ) is scored only on discrete movements (from rest to rest, at \
          most 5 s; `crates/metrics/src/segment.rs`); reaction time only on unpredictable steps \
          (a dial's random jumps), a lane shift seen ahead giving an anticipation share instead \

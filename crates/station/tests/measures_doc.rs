@@ -1,6 +1,7 @@
 //! `docs/MEASURES.md` is the one table of measure words (`metrics::words::MEASURES`) with
 //! every measure's definition and source, generated: this test fails when it is out of date
-//! (as `docs/WORDS.md` is checked by the station's words test).
+//! (as `docs/WORDS.md` is checked by the station's words test; here, since `metrics` is pure
+//! and does no I/O, not even in its tests).
 
 #[test]
 fn the_measures_doc_is_the_words_table() {
@@ -13,6 +14,6 @@ fn the_measures_doc_is_the_words_table() {
     assert!(
         written == now,
         "docs/MEASURES.md is out of date: run \
-         `UPDATE_SNAPSHOTS=1 cargo test -p metrics --test measures_doc` and commit the diff"
+         `UPDATE_SNAPSHOTS=1 cargo test -p station --test measures_doc` and commit the diff"
     );
 }
