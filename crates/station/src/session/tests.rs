@@ -628,7 +628,11 @@ fn a_dial_then_road_regimen_gives_each_exercise_its_own_results_matching_the_rec
         // sine road are tracked continuously, so they have few or none.
         let discrete = e.scores["discrete_movements"];
         assert!(discrete <= e.scores["movements"], "{e:?}");
-        assert_eq!(e.scores.contains_key("sparc_median"), discrete > 0.0, "{e:?}");
+        assert_eq!(
+            e.scores.contains_key("sparc_median"),
+            discrete > 0.0,
+            "{e:?}"
+        );
         assert!((e.scores["completion_time_s"] - 8.0).abs() <= 2e-3, "{e:?}");
     }
     // Each exercise has the scores that apply to it, and its own values.
