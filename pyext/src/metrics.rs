@@ -109,7 +109,7 @@ fn metrics_ldlj(py: Python<'_>, speed: PyReadonlyArray1<'_, f64>, fs: f64) -> Py
 }
 
 /// One movement as a tuple `(start_index, end_index, start_s, duration_s, peak_speed, n_peaks,
-/// sparc, ldlj, speed_metric)`; the facade makes it a frozen `Movement`.
+/// sparc, ldlj, speed_metric, discrete)`; the facade makes it a frozen `Movement`.
 type MovementTuple = (
     usize,
     usize,
@@ -120,6 +120,7 @@ type MovementTuple = (
     Option<f64>,
     Option<f64>,
     f64,
+    bool,
 );
 
 fn movement_tuple(m: Movement) -> MovementTuple {
@@ -133,6 +134,7 @@ fn movement_tuple(m: Movement) -> MovementTuple {
         m.sparc,
         m.ldlj,
         m.speed_metric,
+        m.discrete,
     )
 }
 
@@ -156,7 +158,7 @@ fn metrics_segment(
         merge_gap_s,
         min_duration_s,
         peak_fraction,
-        sparc: SparcParams::default(),
+        ..SegmentParams::default()
     };
     let v = vec1(&speed);
     let movements = py

@@ -142,7 +142,7 @@ def test_segment_finds_both_turns_with_their_start_and_duration():
         run = above[(above >= m.start_index) & (above < m.end_index)]
         assert (run[0], run[-1] + 1) == (m.start_index, m.end_index)
         assert m.peak_speed == pytest.approx(1.875 * TURN_RAD, rel=1e-3)
-        assert m.n_peaks == 1
+        assert m.n_peaks == 1 and m.discrete
         assert m.sparc is not None and -1.6 < m.sparc < -1.3
         assert m.sparc == metrics.sparc(speed[m.start_index : m.end_index], FS)
         assert m.ldlj == metrics.ldlj(speed[m.start_index : m.end_index], FS)
@@ -164,7 +164,7 @@ def test_movement_is_a_frozen_dataclass():
         m.start_s = 0.0  # type: ignore[misc]
     assert [f.name for f in dataclasses.fields(m)] == [
         "start_index", "end_index", "start_s", "duration_s", "peak_speed", "n_peaks", "sparc", "ldlj",
-        "speed_metric",
+        "speed_metric", "discrete",
     ]
 
 

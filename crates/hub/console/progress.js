@@ -14,7 +14,7 @@ import { alertWords, SEVERITY } from '/console/caseload.js';
 import { numbersTable, sessionChart, sessionLabels } from '/console/sessionchart.js';
 import {
   activeWords, dayWords, endWords, exercisesWords, headerWords, kindWords, measureWords, noiseBand, sessionWords, trendWords,
-  valueWords, whenWords, measureName,
+  valueWords, whenWords, measureName, measureDefinition,
 } from '/console/words.js';
 import { bindNoteCells, noteCell } from '/console/notes.js';
 import { scalesSection } from '/console/scales.js';
@@ -24,11 +24,11 @@ import { doseSection } from '/console/dose.js';
  * decimals and which way is better come from the words table). */
 const FOLLOWED = ['active_s', 'pct_in_lane', 'rms_lateral_m', 'dial_rms_error_deg', 'wheel_rom_deg',
   'shoulder_elevation_rom_deg', 'elbow_flexion_rom_deg', 'strength_sustained_left_nm', 'strength_sustained_right_nm',
-  'sparc_median', 'speed_metric_median', 'speed_peaks_median', 'movement_time_s_median', 'reaction_time_s_median',
+  'sparc_median', 'speed_metric_median', 'speed_peaks_median', 'movement_time_s_median', 'reaction_time_s_median', 'anticipation_pct',
   'initial_direction_error_deg_mean', 'path_length_ratio_median', 'movements_per_min', 'assist_level_mean'];
 
 /** What describes a session rather than the patient's progress: in the tables, not charted. */
-const NOT_CHARTED = new Set(['session_s', 'paused_s', 'movements']);
+const NOT_CHARTED = new Set(['session_s', 'paused_s', 'movements', 'discrete_movements']);
 
 /** A kind's one-line summary names these (the ones its sessions have, at most three). */
 const HEADLINE = ['pct_in_lane', 'dial_rms_error_deg', 'wheel_rom_deg', 'strength_sustained_left_nm', 'sparc_median', 'active_s'];
@@ -153,7 +153,7 @@ function latestRows(words, sessions, metrics, c) {
     const values = c.trend.map(i => metrics[i][m.key]);
     const last = values[0];
     const base = mean(numbers(c.baseline, m.key));
-    const head = `<tr data-key="${esc(m.key)}"><th scope="row">${esc(measureName(m.key))}</th>`;
+    const head = `<tr data-key="${esc(m.key)}"><th scope="row" title="${esc(measureDefinition(m.key))}">${esc(measureName(m.key))}</th>`;
     if (m.key === 'active_s') {
       const prescribed = c.baseline.every(i => typeof sessions[i].prescribed_s === 'number') ? mean(numbers(c.baseline, 'prescribed_s')) : undefined;
       return `${head}<td>${esc(activeWords(last, c.latest.prescribed_s))}</td><td data-baseline="${esc(base ?? '')}">${esc(activeWords(base, prescribed))}</td><td class="note">${esc(t('progress-against-prescription'))}</td></tr>`;
@@ -254,6 +254,16 @@ function render(el, words, sessions, metrics, includeEarly) {
   return () => drawn.forEach(c => c.destroy());
 }
 
+/** What each measure the page shows measures and where it comes from (issue 42): the
+ * definitions are the console's catalogues' (`words-definition-<key>`), the sources the words
+ * table's citations (left in English, as published). */
+function definitionsDetails(words, metrics) {
+  const keys = new Set(metrics.flatMap(m => Object.keys(m || {})));
+  const rows = words.list.filter(m => keys.has(m.key)).map(m => `<tr data-key="${esc(m.key)}"><th scope="row">${esc(measureName(m.key))}</th><td class="definition">${esc(measureDefinition(m.key))}</td><td lang="en" translate="no" class="note">${esc(m.source)}</td></tr>`).join('');
+  return `<details class="print-hide" id="definitions"><summary>${esc(t('progress-definitions-summary'))}</summary>
+    <table><thead><tr><th scope="col">${esc(t('progress-col-measure'))}</th><th scope="col">${esc(t('progress-col-definition'))}</th><th scope="col">${esc(t('progress-col-source'))}</th></tr></thead><tbody>${rows}</tbody></table></details>`;
+}
+
 /** The technical names of the measures the page shows, behind "details". */
 function technicalDetails(words, metrics) {
   const keys = new Set(metrics.flatMap(m => Object.keys(m || {})));
@@ -309,6 +319,7 @@ export async function progressView(el, id) {
     <section class="panel" id="latest" aria-labelledby="latest-h"></section>
     <div id="charts" class="print-hide"></div>
     ${difficultyPanel(difficulty)}
+    ${definitionsDetails(words, metrics)}
     ${technicalDetails(words, metrics)}
     <section class="panel print-hide" aria-labelledby="sessions-h"><h2 id="sessions-h">${esc(t('progress-sessions-title', { count: sessions.length }))}</h2>
       <table><thead><tr><th scope="col">${esc(t('progress-col-started'))}</th><th scope="col">${esc(t('progress-col-exercise'))}</th><th scope="col">${esc(t('progress-col-ended'))}</th><th scope="col">${esc(t('progress-col-checkin'))}</th><th scope="col">${esc(t('progress-col-results'))}</th><th scope="col">${esc(t('progress-col-notes'))}</th></tr></thead><tbody>${list}</tbody></table></section>`;

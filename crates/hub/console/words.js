@@ -56,6 +56,12 @@ export function measureName(key) {
   return t(`words-measure-${kebab(key)}`);
 }
 
+/** What a measure measures, for the clinician, in the language in force, by its key
+ * (`words-definition-<key>`; the English and its source are docs/MEASURES.md). */
+export function measureDefinition(key) {
+  return t(`words-definition-${kebab(key)}`);
+}
+
 /** How a session ended, by its end kind (`wheel_unplugged`), in the one wording. */
 export function endKindWords(kind) {
   return t(`words-end-${kebab(kind || 'other')}`);

@@ -514,6 +514,9 @@ mod tests {
             assert_eq!(ucum_unit(name), unit, "{name}");
         }
         assert!(measure_definition("wheel_speed_deg_s").contains("deg/s"));
+        // The words table's definition and source, not a second copy.
+        let sparc = measure_definition("sparc_median");
+        assert!(sparc.contains("discrete movements") && sparc.contains("Balasubramanian"));
         let id = uuid_of("Patient", "p-1");
         assert_eq!(id, uuid_of("Patient", "p-1"), "stable");
         assert_eq!(id.len(), 36);

@@ -333,6 +333,21 @@ async fn the_one_table_of_measure_words_is_served_to_the_console(db: Db) {
     assert_eq!(sparc["noise"]["kind"], "relative");
     assert_eq!(sparc["better"], "higher");
     assert!(sparc["technical"].as_str().unwrap().contains("SPARC"));
+    // Issue 42: its definition (smoothness over discrete movements only), its source and the
+    // id of the definition in the console's catalogues.
+    assert!(
+        sparc["definition"]
+            .as_str()
+            .unwrap()
+            .contains("discrete movements")
+    );
+    assert!(
+        sparc["source"]
+            .as_str()
+            .unwrap()
+            .contains("Balasubramanian")
+    );
+    assert_eq!(sparc["definition_id"], "words-definition-sparc-median");
     let ends = words["end_reasons"].as_array().unwrap();
     assert!(
         ends.iter()

@@ -37,7 +37,7 @@ pub use filter::{Biquad, derivative, speed_profile};
 pub use live::LiveMeasures;
 pub use reliability::{OWN_NOISE_MIN_REPEATS, Reliability, own_mdc95, test_retest};
 pub use robot::{
-    DirectedResponse, DirectedStep, ResponseParams, StepResponse, TargetStep,
+    DirectedResponse, DirectedStep, MIN_REACTION_TIME_S, ResponseParams, StepResponse, TargetStep,
     directed_step_responses, speed_metric, steering_reversals, step_responses,
 };
 pub use segment::{Movement, SegmentParams, segment, threshold};

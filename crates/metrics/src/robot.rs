@@ -15,8 +15,12 @@
 //!   of the target ([`step_responses`]), as Coderre et al. 2010 define them for a reach to a
 //!   target that appears, restated for a 1-D wheel angle (see [`StepResponse`]). A lane
 //!   change asks for a turn of known way but no fixed size when its lane shifts: reaction
-//!   time and initial direction error only ([`directed_step_responses`]), the reaction time
-//!   signed, since the patient sees the shift coming and may steer before reaching it.
+//!   time and initial direction error only ([`directed_step_responses`]), the onset signed,
+//!   since the patient sees the shift coming and may steer before reaching it.
+//! - **Anticipation** ([`DirectedResponse::anticipated`]): a response to a predictable cue (a
+//!   lane shift visible ahead) starting earlier than [`MIN_REACTION_TIME_S`] after it is no
+//!   reaction but an anticipation; reaction time is a measure of unpredictable steps only (a
+//!   dial target's random jumps).
 //! - **Dose** ([`steering_reversals`]; per minute in [`crate::SessionMeasures`]): movements
 //!   and steering reversals per active minute. Reversals as Markkula G, Engström J (2006) "A
 //!   steering wheel reversal rate metric for assessing effects of visual and cognitive
@@ -36,6 +40,15 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{MetricError, check_fs, check_signal};
 use crate::filter::speed_profile;
+
+/// The shortest physiological reaction time, s: a movement starting sooner after a cue did
+/// not answer it (it was started before, on a prediction). 0.1 s, the false-start bound of
+/// sprint starts (World Athletics Technical Rules, TR 16.6; Pain MTG, Hibbs A (2007) "Sprint
+/// starts and the minimum auditory reaction time", J Sports Sci 25(1):79–86, found none
+/// faster than about 0.085 s); visual reactions, the wheel's, are slower still (Luce RD 1986,
+/// "Response Times", ch. 2: ~0.18 s), so the bound never takes a true reaction for an
+/// anticipation.
+pub const MIN_REACTION_TIME_S: f64 = 0.1;
 
 /// A movement's speed metric: mean speed over peak speed, in (0, 1]; `None` for an empty or
 /// all-zero profile (Rohrer et al. 2002).
@@ -336,6 +349,16 @@ pub struct DirectedStep {
     pub direction: f64,
 }
 
+impl DirectedResponse {
+    /// The movement started earlier than [`MIN_REACTION_TIME_S`] after the change (before it,
+    /// too): an anticipation of a predictable cue, not a reaction to it. `None` when the
+    /// wheel did not move.
+    #[must_use]
+    pub fn anticipated(&self) -> Option<bool> {
+        self.reaction_time_s.map(|t| t < MIN_REACTION_TIME_S)
+    }
+}
+
 /// The wheel's response to a [`DirectedStep`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct DirectedResponse {
@@ -344,7 +367,9 @@ pub struct DirectedResponse {
     /// From the change to the movement's onset, s (as [`StepResponse`]'s, the onset at
     /// `max(onset_fraction · peak, floor)` of the window's speed); negative when the wheel
     /// started before the change, as a patient who sees the lane shift coming ahead may (the
-    /// window opens `lead_s` before the change). `None` when the wheel did not move.
+    /// window opens `lead_s` before the change). `None` when the wheel did not move. Below
+    /// [`MIN_REACTION_TIME_S`] it is an anticipation ([`Self::anticipated`]), not a reaction
+    /// time.
     pub reaction_time_s: Option<f64>,
     /// The way of the wheel's displacement from the onset to its first speed peak against
     /// the way asked: 0° the right way, 180° the wrong way. `None` without a movement.
@@ -581,5 +606,28 @@ mod tests {
         };
         assert!(directed_step_responses(&still, 100.0, &[half], 1.5, &params).is_err());
         assert!(directed_step_responses(&still, 100.0, &[shift], -1.0, &params).is_err());
+    }
+
+    /// Issue 42: a turn started before the physiological minimum after a visible shift is an
+    /// anticipation, one started later a reaction.
+    #[test]
+    fn a_lane_shift_met_sooner_than_the_shortest_reaction_is_an_anticipation() {
+        let params = ResponseParams::default();
+        let shift = DirectedStep {
+            index: 200,
+            direction: 1.0,
+        };
+        let of = |start_s: f64| {
+            let angle = lane_change_turn(start_s, 1.0);
+            directed_step_responses(&angle, 100.0, &[shift], 1.5, &params).unwrap()[0]
+        };
+        // Onsets at about −0.41 s and 0.0 s (before and just at the shift): anticipations.
+        assert_eq!(of(-0.5).anticipated(), Some(true));
+        assert_eq!(of(-0.086).anticipated(), Some(true));
+        // Onset at about 0.49 s: a reaction.
+        assert_eq!(of(0.4).anticipated(), Some(false));
+        let still = vec![0.2; 800];
+        let r = directed_step_responses(&still, 100.0, &[shift], 1.5, &params).unwrap()[0];
+        assert_eq!(r.anticipated(), None);
     }
 }

@@ -1,4 +1,22 @@
-//! Splitting a continuous speed profile into discrete movements.
+//! Splitting a continuous speed profile into movements, and which of them are *discrete*.
+//!
+//! Smoothness (SPARC, LDLJ) is defined and validated on discrete movements, from rest to rest
+//! (Balasubramanian et al. 2015, J NeuroEng Rehabil 12:112; Rohrer et al. 2002, J Neurosci
+//! 22:8297, who segment reaches by a speed threshold): a continuous task (a slalom, a sine
+//! road) gives long stretches above the threshold whose "smoothness" is not the published
+//! measure. A movement here is discrete ([`Movement::discrete`]) when, after Hogan & Sternad
+//! 2007 ("On rhythmic and discrete movements: reflections, definitions and implications for
+//! motor control", Exp Brain Res 181:13–30: a discrete movement is preceded and followed by
+//! a posture, a rest of non-zero duration):
+//!
+//! 1. its onset and offset are the crossings of the segmentation threshold ([`threshold`]);
+//! 2. the speed stays at or below that threshold for at least
+//!    [`rest_s`](SegmentParams::rest_s) before its onset and after its offset, inside the
+//!    recording (a movement cut by the recording's start or end is not discrete);
+//! 3. it lasts at most [`max_discrete_s`](SegmentParams::max_discrete_s) (the bound is ours:
+//!    a patient's slowest single reach in Rohrer et al. 2002 took a few seconds).
+//!
+//! Only discrete movements get a SPARC and an LDLJ.
 
 use serde::{Deserialize, Serialize};
 
@@ -25,6 +43,22 @@ pub struct SegmentParams {
     pub peak_fraction: f64,
     /// SPARC parameters for each movement.
     pub sparc: SparcParams,
+    /// Rest a discrete movement needs before its onset and after its offset (speed at or
+    /// below the threshold), s. Default 0.2 s (Hogan & Sternad 2007 ask for a rest of
+    /// non-zero duration; 0.2 s is twice the gap merged into one movement).
+    #[serde(default = "default_rest_s")]
+    pub rest_s: f64,
+    /// Longest discrete movement, s. Default 5 s.
+    #[serde(default = "default_max_discrete_s")]
+    pub max_discrete_s: f64,
+}
+
+fn default_rest_s() -> f64 {
+    0.2
+}
+
+fn default_max_discrete_s() -> f64 {
+    5.0
 }
 
 impl Default for SegmentParams {
@@ -36,6 +70,8 @@ impl Default for SegmentParams {
             min_duration_s: 0.2,
             peak_fraction: 0.1,
             sparc: SparcParams::default(),
+            rest_s: default_rest_s(),
+            max_discrete_s: default_max_discrete_s(),
         }
     }
 }
@@ -78,6 +114,15 @@ impl SegmentParams {
         )?;
         let p = self.peak_fraction;
         check("peak_fraction", p, (0.0..1.0).contains(&p), "0 <= x < 1")?;
+        let r = self.rest_s;
+        check("rest_s", r, r.is_finite() && r >= 0.0, "finite and >= 0 s")?;
+        let m = self.max_discrete_s;
+        check(
+            "max_discrete_s",
+            m,
+            m.is_finite() && m > 0.0,
+            "finite and > 0 s",
+        )?;
         self.sparc.validate()
     }
 }
@@ -103,9 +148,15 @@ pub struct Movement {
     /// Mean speed over peak speed ([`crate::speed_metric`], Rohrer et al. 2002), in (0, 1].
     #[serde(default)]
     pub speed_metric: f64,
-    /// SPARC of the movement's speed ([`sparc`]); `None` if undefined.
+    /// Whether it is a discrete movement (the module's definition: rest before and after,
+    /// bounded duration); only discrete movements are scored for smoothness.
+    #[serde(default)]
+    pub discrete: bool,
+    /// SPARC of the movement's speed ([`sparc`]); `None` if undefined or not
+    /// [`discrete`](Self::discrete).
     pub sparc: Option<f64>,
-    /// LDLJ of the movement's speed ([`ldlj_speed`]); `None` if undefined.
+    /// LDLJ of the movement's speed ([`ldlj_speed`]); `None` if undefined or not
+    /// [`discrete`](Self::discrete).
     pub ldlj: Option<f64>,
 }
 
@@ -123,10 +174,14 @@ pub fn threshold(speed: &[f64], params: &SegmentParams) -> f64 {
 ///    back at or below it (one threshold both ways; the gap merging of step 3 is the
 ///    hysteresis, in time rather than in speed);
 /// 3. movements separated by fewer than `merge_gap_s · fs` samples are merged;
-/// 4. movements shorter than `min_duration_s` are dropped.
+/// 4. movements shorter than `min_duration_s` are dropped;
+/// 5. a movement is [`discrete`](Movement::discrete) with at least `rest_s` of speed at or
+///    below `v_th` on both sides inside the signal (a dropped blip breaks the rest) and at most
+///    `max_discrete_s` long (the module's definition).
 ///
-/// Each movement gets its peak speed, number of peaks, SPARC and LDLJ, computed on the
-/// samples inside it as given (smooth the speed first: [`crate::speed_profile`]).
+/// Each movement gets its peak speed, number of peaks and speed metric; a discrete one also
+/// its SPARC and LDLJ, computed on the samples inside it as given (smooth the speed first:
+/// [`crate::speed_profile`]).
 ///
 /// # Errors
 /// An empty signal, a non-finite sample (its index is named), `fs_hz` not finite and > 0, or
@@ -165,14 +220,32 @@ pub fn segment(
         }
     }
     let min_len = params.min_duration_s * fs_hz;
+    let rest = params.rest_s * fs_hz;
+    let max_len = params.max_discrete_s * fs_hz;
     Ok(merged
-        .into_iter()
-        .filter(|&(s, e)| (e - s) as f64 >= min_len)
-        .map(|(s, e)| movement(speed, s, e, fs_hz, &params))
+        .iter()
+        .enumerate()
+        .filter(|&(_, &(s, e))| (e - s) as f64 >= min_len)
+        .map(|(k, &(s, e))| {
+            // Rest: from the previous run above the threshold (or the signal's start) to the
+            // onset, and from the offset to the next run (or the signal's end).
+            let before = s - k.checked_sub(1).map_or(0, |p| merged[p].1);
+            let after = merged.get(k + 1).map_or(speed.len(), |n| n.0) - e;
+            let rested = s > 0 && e < speed.len() && before as f64 >= rest && after as f64 >= rest;
+            let discrete = rested && (e - s) as f64 <= max_len;
+            movement(speed, s, e, fs_hz, discrete, &params)
+        })
         .collect())
 }
 
-fn movement(speed: &[f64], s: usize, e: usize, fs_hz: f64, params: &SegmentParams) -> Movement {
+fn movement(
+    speed: &[f64],
+    s: usize,
+    e: usize,
+    fs_hz: f64,
+    discrete: bool,
+    params: &SegmentParams,
+) -> Movement {
     let v = &speed[s..e];
     let peak = v.iter().copied().fold(0.0, f64::max);
     Movement {
@@ -183,8 +256,11 @@ fn movement(speed: &[f64], s: usize, e: usize, fs_hz: f64, params: &SegmentParam
         peak_speed: peak,
         n_peaks: count_peaks(v, params.peak_fraction * peak),
         speed_metric: crate::robot::speed_metric(v).unwrap_or(0.0),
-        sparc: sparc(v, fs_hz, params.sparc).ok(),
-        ldlj: ldlj_speed(v, fs_hz).ok(),
+        discrete,
+        sparc: discrete
+            .then(|| sparc(v, fs_hz, params.sparc).ok())
+            .flatten(),
+        ldlj: discrete.then(|| ldlj_speed(v, fs_hz).ok()).flatten(),
     }
 }
 
@@ -240,5 +316,65 @@ mod tests {
         assert_eq!(m.len(), 1, "{m:?}");
         assert_eq!((m[0].start_index, m[0].end_index), (10, 75));
         assert!((m[0].duration_s - 0.65).abs() < 1e-12);
+        // Only 0.1 s of rest before it (it starts at 0.1 s): not discrete, not scored.
+        assert!(!m[0].discrete && m[0].sparc.is_none(), "{m:?}");
+    }
+
+    /// A speed profile at `fs` of bell-shaped bursts `(onset_s, duration_s)` on rest.
+    fn bursts(fs: f64, total_s: f64, at: &[(f64, f64)]) -> Vec<f64> {
+        (0..(total_s * fs) as usize)
+            .map(|i| {
+                let t = i as f64 / fs;
+                at.iter()
+                    .map(|&(on, d)| {
+                        let tau = (t - on) / d;
+                        if (0.0..=1.0).contains(&tau) {
+                            30.0 * tau.powi(2) * (1.0 - tau).powi(2) / d
+                        } else {
+                            0.0
+                        }
+                    })
+                    .sum()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn only_movements_from_rest_to_rest_within_the_bound_are_discrete_and_scored() {
+        let fs = 100.0;
+        let p = SegmentParams::default();
+        // A 1 s reach with 1 s of rest on both sides: discrete, scored.
+        let m = segment(&bursts(fs, 3.0, &[(1.0, 1.0)]), fs, p).unwrap();
+        assert_eq!(m.len(), 1);
+        assert!(m[0].discrete && m[0].sparc.is_some() && m[0].ldlj.is_some());
+        // Cut by the recording's start (no rest observed before it): not discrete.
+        let m = segment(&bursts(fs, 3.0, &[(-0.5, 1.0)]), fs, p).unwrap();
+        assert_eq!(m.len(), 1);
+        assert!(!m[0].discrete && m[0].sparc.is_none() && m[0].ldlj.is_none());
+        // Longer than 5 s: not discrete however restful around it.
+        let m = segment(&bursts(fs, 10.0, &[(1.0, 7.0)]), fs, p).unwrap();
+        assert!(!m[0].discrete, "{m:?}");
+        // Two reaches 0.05 s apart (the threshold is crossed between them, beyond the merge
+        // gap): two movements, neither rested on the side facing the other.
+        let v = bursts(fs, 5.0, &[(1.0, 1.0), (2.05, 1.0)]);
+        let m = segment(&v, fs, p).unwrap();
+        assert_eq!(m.len(), 2, "{m:?}");
+        assert!(m.iter().all(|mv| !mv.discrete && mv.sparc.is_none()));
+    }
+
+    #[test]
+    fn discrete_bounds_out_of_range_are_named() {
+        let p = SegmentParams {
+            max_discrete_s: 0.0,
+            ..SegmentParams::default()
+        };
+        let e = segment(&[0.0; 10], 100.0, p).unwrap_err().to_string();
+        assert!(e.contains("max_discrete_s"), "{e}");
+        let p = SegmentParams {
+            rest_s: -1.0,
+            ..SegmentParams::default()
+        };
+        let e = segment(&[0.0; 10], 100.0, p).unwrap_err().to_string();
+        assert!(e.contains("rest_s"), "{e}");
     }
 }

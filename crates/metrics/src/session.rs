@@ -132,9 +132,13 @@ pub struct SessionMeasures {
     pub threshold_rad_s: f64,
     /// The wheel's movements, in time order.
     pub movements: Vec<Movement>,
-    /// SPARC over the movements (dimensionless, ≤ 0).
+    /// How many of them are discrete ([`Movement::discrete`]: from rest to rest, bounded).
+    #[serde(default)]
+    pub discrete_movements: usize,
+    /// SPARC over the discrete movements only (dimensionless, ≤ 0): smoothness is defined on
+    /// discrete movements (Balasubramanian et al. 2015), so a continuous task has none.
     pub sparc: Summary,
-    /// LDLJ over the movements (dimensionless).
+    /// LDLJ over the discrete movements only (dimensionless).
     pub ldlj: Summary,
     /// Peak speed of each movement, rad/s.
     pub movement_peak_speed_rad_s: Summary,
@@ -178,8 +182,9 @@ pub fn session_measures(
 /// signals (any unit, any length; only their ranges are used).
 ///
 /// The wheel's speed is `|filtfilt(dθ/dt)|` ([`crate::speed_profile`] at
-/// `params.lowpass_hz`), rad/s; it is segmented by [`segment`] and each movement scored. Time
-/// active is the sum of the movements' durations.
+/// `params.lowpass_hz`), rad/s; it is segmented by [`segment`] and each movement scored, the
+/// discrete ones for smoothness too ([`crate::segment`](mod@crate::segment)). Time active is
+/// the sum of the movements' durations.
 ///
 /// # Errors
 /// `fs_hz` not finite and > 0, an empty wheel or joint signal, a non-finite sample (the signal
@@ -238,6 +243,7 @@ pub fn session_measures_of_runs(
         active_fraction: active_s / total_s,
         peak_speed_rad_s: speed.iter().copied().fold(0.0, f64::max),
         threshold_rad_s: crate::segment::threshold(&speed, &params.segment),
+        discrete_movements: movements.iter().filter(|m| m.discrete).count(),
         sparc: Summary::of(movements.iter().filter_map(|m| m.sparc)),
         ldlj: Summary::of(movements.iter().filter_map(|m| m.ldlj)),
         movement_peak_speed_rad_s: Summary::of(movements.iter().map(|m| m.peak_speed)),
@@ -273,6 +279,28 @@ mod tests {
         assert!(session_measures(&joined, fs, &[]).unwrap().peak_speed_rad_s > 1.0);
     }
 
+    /// Issue 42: a 60 s slalom is one long movement with many speed peaks; smoothness is not
+    /// defined on it, so the session reports none (it was SPARC −6.44 over a 55.5 s
+    /// "movement").
+    #[test]
+    fn a_continuous_slalom_reports_no_smoothness() {
+        let fs = 100.0;
+        // Weaving ±0.5 rad every 4 s with a faster wobble: the speed never rests for 60 s.
+        let angle: Vec<f64> = (0..6000)
+            .map(|i| {
+                let t = f64::from(i) / fs;
+                0.5 * (std::f64::consts::TAU * t / 4.0).sin() + 0.05 * (7.0 * t).sin()
+            })
+            .collect();
+        let m = session_measures(&angle, fs, &[]).unwrap();
+        assert!(!m.movements.is_empty());
+        assert_eq!(m.discrete_movements, 0, "{:?}", m.movements);
+        assert_eq!((m.sparc.n, m.ldlj.n), (0, 0));
+        assert!(m.sparc.median.is_none() && m.ldlj.median.is_none());
+        // Movement time, speed peaks and the dose are still reported.
+        assert!(m.movement_time_s.n > 0 && m.reversals > 20);
+    }
+
     #[test]
     fn summary_median_of_even_and_odd_counts() {
         assert_eq!(Summary::of([3.0, 1.0, 2.0]).median, Some(2.0));
@@ -297,7 +325,7 @@ mod tests {
         let elbow: Vec<f64> = angle.iter().map(|a| 2.0 * a + 0.1).collect();
         let m = session_measures(&angle, fs, &[("elbow", &elbow)]).unwrap();
         assert_eq!(m.movements.len(), 2);
-        assert_eq!(m.sparc.n, 2);
+        assert_eq!((m.discrete_movements, m.sparc.n, m.ldlj.n), (2, 2, 2));
         // A clean minimum-jerk movement: one peak, SPARC near −1.4 (the reference −1.40583
         // is for the whole profile; the segment is cut at 5 % of the peak).
         assert!(m.movements.iter().all(|mv| mv.n_peaks == 1));

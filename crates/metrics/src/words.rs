@@ -63,9 +63,24 @@ pub struct MeasureWords {
     pub noise: Option<Noise>,
     /// Which way is better.
     pub better: Better,
+    /// What it measures and how, in one or two sentences for a clinician (English; the
+    /// console's words are its catalogues' `words-definition-<key>`).
+    pub definition: &'static str,
+    /// Where the measure (or its formula) comes from: a paper, the thesis' section, or this
+    /// product's own definition (docs/DESIGN.md).
+    pub source: &'static str,
 }
 
 impl MeasureWords {
+    /// The words with their `definition` and `source` (every entry of [`MEASURES`] has both).
+    pub const fn defined(self, definition: &'static str, source: &'static str) -> Self {
+        Self {
+            definition,
+            source,
+            ..self
+        }
+    }
+
     /// `v` rounded to the meaningful decimals.
     pub fn round(&self, v: f64) -> f64 {
         round_to(v, self.decimals)
@@ -125,6 +140,8 @@ const fn w(
         range,
         noise,
         better,
+        definition: "",
+        source: "",
     }
 }
 
@@ -138,7 +155,7 @@ const LDLJ_NOISE: Option<Noise> = Some(Noise::Relative(0.23));
 
 /// Every measure with words, in the order a clinician reads them (the session, then
 /// movement quality, then the exercises' own results, then strength and help).
-pub const MEASURES: [MeasureWords; 37] = [
+pub const MEASURES: [MeasureWords; 39] = [
     w(
         "active_s",
         "Active time",
@@ -148,6 +165,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 1800.0],
         None,
         Higher,
+    )
+    .defined(
+        "Time the wheel was moving: the sum of the movements' durations, pauses left out.",
+        "speed-threshold segmentation (Rohrer et al. 2002, J Neurosci 22:8297)",
     ),
     w(
         "session_s",
@@ -158,6 +179,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 1800.0],
         None,
         Neither,
+    )
+    .defined(
+        "Time from the session's start to its end, pauses included.",
+        "telerehab's own session record (docs/DESIGN.md)",
     ),
     w(
         "paused_s",
@@ -168,6 +193,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 600.0],
         None,
         Neither,
+    )
+    .defined(
+        "Time the session was paused by the patient or for rest.",
+        "telerehab's own session record (docs/DESIGN.md)",
     ),
     w(
         "active_pct",
@@ -178,6 +207,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 100.0],
         None,
         Higher,
+    )
+    .defined(
+        "Share of the exercise time the wheel was moving (Active time over the exercise's time).",
+        "speed-threshold segmentation (Rohrer et al. 2002, J Neurosci 22:8297)",
     ),
     w(
         "movements",
@@ -188,6 +221,24 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 200.0],
         None,
         Neither,
+    )
+    .defined(
+        "Movements of the wheel: runs of its speed above 5 % of the session's peak (at least 2.9 °/s), gaps under 0.1 s joined, runs under 0.2 s dropped.",
+        "speed-threshold segmentation (Rohrer et al. 2002, J Neurosci 22:8297)",
+    ),
+    w(
+        "discrete_movements",
+        "Movements from rest to rest",
+        "discrete movements (count)",
+        "",
+        0,
+        [0.0, 200.0],
+        None,
+        Neither,
+    )
+    .defined(
+        "Movements from rest to rest: at least 0.2 s still before and after, at most 5 s long. Only these are scored for smoothness.",
+        "discrete movement: Hogan & Sternad 2007, Exp Brain Res 181:13-30; smoothness on discrete movements: Balasubramanian et al. 2015, J NeuroEng Rehabil 12:112",
     ),
     w(
         "movements_per_min",
@@ -198,6 +249,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 60.0],
         None,
         Higher,
+    )
+    .defined(
+        "Movements per minute of exercise: the dose of practice.",
+        "Lang et al. 2009, Arch Phys Med Rehabil 90(10):1692-1698",
     ),
     w(
         "reversals_per_min",
@@ -208,26 +263,38 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 60.0],
         None,
         Neither,
+    )
+    .defined(
+        "Changes of the wheel's turning direction by at least 2° per minute of exercise.",
+        "Markkula & Engstrom 2006, ITS World Congress, London",
     ),
     w(
         "sparc_median",
         "Smoothness (closer to 0 is smoother)",
-        "SPARC (spectral arc length), median of movements",
+        "SPARC (spectral arc length), median of discrete movements",
         "",
         2,
         [-5.0, 0.0],
         SPARC_NOISE,
         Higher,
+    )
+    .defined(
+        "Spectral arc length of the wheel's speed, median over the discrete movements; none for a continuous task. Closer to 0 is smoother.",
+        "Balasubramanian, Melendez-Calderon, Roby-Brami & Burdet 2015, J NeuroEng Rehabil 12:112, eq. 4-5 (reference code siva82kb/SPARC)",
     ),
     w(
         "ldlj_median",
         "Smoothness of acceleration (closer to 0 is smoother)",
-        "LDLJ (log dimensionless jerk), median of movements",
+        "LDLJ (log dimensionless jerk), median of discrete movements",
         "",
         1,
         [-30.0, 0.0],
         LDLJ_NOISE,
         Higher,
+    )
+    .defined(
+        "Log dimensionless jerk of the wheel's speed, median over the discrete movements; none for a continuous task. Closer to 0 is smoother.",
+        "Hogan & Sternad 2009, J Mot Behav 41(6):529-534; Balasubramanian et al. 2012, IEEE Trans Biomed Eng 59(8):2126-2136 (monalysa)",
     ),
     w(
         "movement_peak_speed_deg_s_median",
@@ -238,6 +305,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 360.0],
         None,
         Higher,
+    )
+    .defined(
+        "Highest turning speed within a movement, median over the movements.",
+        "Coderre et al. 2010, Neurorehabil Neural Repair 24(6):528-541",
     ),
     w(
         "movement_time_s_median",
@@ -248,6 +319,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 5.0],
         None,
         Neither,
+    )
+    .defined(
+        "Duration of a movement, from the speed rising above the threshold to falling back, median.",
+        "Coderre et al. 2010, Neurorehabil Neural Repair 24(6):528-541",
     ),
     w(
         "speed_peaks_median",
@@ -258,6 +333,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 10.0],
         None,
         Lower,
+    )
+    .defined(
+        "Peaks of speed within a movement (at least 10 % of its top speed), median; 1 is a single smooth movement.",
+        "Rohrer et al. 2002, J Neurosci 22(18):8297-8304",
     ),
     w(
         "speed_metric_median",
@@ -268,16 +347,38 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 1.0],
         None,
         Higher,
+    )
+    .defined(
+        "A movement's mean speed over its top speed, median; rises as movements fill out with recovery.",
+        "Rohrer et al. 2002, J Neurosci 22(18):8297-8304",
     ),
     w(
         "reaction_time_s_median",
         "Reaction time",
-        "reaction time to a target step or lane shift, median",
+        "reaction time to an unpredictable target step, median",
         "s",
         2,
         [0.0, 2.0],
         None,
         Lower,
+    )
+    .defined(
+        "Time from an unpredictable step of the target (a dial's random jump) to the wheel starting to move (10 % of the movement's top speed), median.",
+        "Coderre et al. 2010, Neurorehabil Neural Repair 24(6):528-541; onsets sooner than 0.1 s are anticipations (Pain & Hibbs 2007, J Sports Sci 25(1):79-86)",
+    ),
+    w(
+        "anticipation_pct",
+        "Lane changes started before they came",
+        "anticipation share: onsets sooner than 0.1 s after a predictable cue",
+        "%",
+        0,
+        [0.0, 100.0],
+        None,
+        Neither,
+    )
+    .defined(
+        "Share of predictable cues (a lane shift seen ahead) met by a turn starting sooner than 0.1 s after the cue: anticipated, not reacted to.",
+        "minimum reaction 0.1 s: World Athletics TR 16.6; Pain & Hibbs 2007, J Sports Sci 25(1):79-86",
     ),
     w(
         "initial_direction_error_deg_mean",
@@ -288,27 +389,39 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 180.0],
         None,
         Lower,
+    )
+    .defined(
+        "Whether a movement after a step starts the wrong way: 0° the right way, 180° the wrong way, mean (180° times the share of wrong starts).",
+        "Coderre et al. 2010, Neurorehabil Neural Repair 24(6):528-541",
     ),
     // By side, for a patient who neglects one (targets on the left against the right).
     w(
         "reaction_time_left_s_median",
         "Reaction time, targets on the left",
-        "reaction time to a target step to the left, median",
+        "reaction time to an unpredictable target step to the left, median",
         "s",
         2,
         [0.0, 2.0],
         None,
         Lower,
+    )
+    .defined(
+        "Reaction time to unpredictable steps of the target to the left, median.",
+        "Coderre et al. 2010, Neurorehabil Neural Repair 24(6):528-541; onsets sooner than 0.1 s are anticipations (Pain & Hibbs 2007, J Sports Sci 25(1):79-86)",
     ),
     w(
         "reaction_time_right_s_median",
         "Reaction time, targets on the right",
-        "reaction time to a target step to the right, median",
+        "reaction time to an unpredictable target step to the right, median",
         "s",
         2,
         [0.0, 2.0],
         None,
         Lower,
+    )
+    .defined(
+        "Reaction time to unpredictable steps of the target to the right, median.",
+        "Coderre et al. 2010, Neurorehabil Neural Repair 24(6):528-541; onsets sooner than 0.1 s are anticipations (Pain & Hibbs 2007, J Sports Sci 25(1):79-86)",
     ),
     w(
         "initial_direction_error_left_deg_mean",
@@ -319,6 +432,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 180.0],
         None,
         Lower,
+    )
+    .defined(
+        "Wrong-way starts towards targets on the left, mean (0° right way, 180° wrong way).",
+        "Coderre et al. 2010, Neurorehabil Neural Repair 24(6):528-541",
     ),
     w(
         "initial_direction_error_right_deg_mean",
@@ -329,6 +446,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 180.0],
         None,
         Lower,
+    )
+    .defined(
+        "Wrong-way starts towards targets on the right, mean (0° right way, 180° wrong way).",
+        "Coderre et al. 2010, Neurorehabil Neural Repair 24(6):528-541",
     ),
     w(
         "path_length_ratio_median",
@@ -339,6 +460,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [1.0, 3.0],
         None,
         Lower,
+    )
+    .defined(
+        "Wheel turning travelled after a step over the turning needed to reach the new target, median; 1 is direct.",
+        "Coderre et al. 2010, Neurorehabil Neural Repair 24(6):528-541",
     ),
     w(
         "wheel_rom_deg",
@@ -349,6 +474,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 360.0],
         None,
         Higher,
+    )
+    .defined(
+        "Largest minus smallest wheel angle over the exercise.",
+        "telerehab's own session record (docs/DESIGN.md)",
     ),
     w(
         "shoulder_elevation_rom_deg",
@@ -359,6 +488,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 180.0],
         None,
         Higher,
+    )
+    .defined(
+        "Largest minus smallest shoulder lifting angle while the arm sensors tracked.",
+        "Jadhav 2004 thesis, chapter 4 (arm angles from the rate sensors and the wheel)",
     ),
     w(
         "elbow_flexion_rom_deg",
@@ -369,6 +502,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 150.0],
         None,
         Higher,
+    )
+    .defined(
+        "Largest minus smallest elbow bending angle while the arm sensors tracked.",
+        "Jadhav 2004 thesis, chapter 4 (arm angles from the rate sensors and the wheel)",
     ),
     w(
         "pct_in_lane",
@@ -379,6 +516,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 100.0],
         None,
         Higher,
+    )
+    .defined(
+        "Share of driving time with the car inside its lane.",
+        "Jadhav 2004 thesis, section 3.3.4 (deviation from the road's centre as the performance measure)",
     ),
     w(
         "rms_lateral_m",
@@ -389,6 +530,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 2.0],
         None,
         Lower,
+    )
+    .defined(
+        "Root mean square distance of the car from the lane's centre.",
+        "Jadhav 2004 thesis, section 3.3.4 (deviation from the road's centre as the performance measure)",
     ),
     w(
         "heading_rms_error_deg",
@@ -399,6 +544,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 45.0],
         None,
         Lower,
+    )
+    .defined(
+        "Root mean square angle between the car's heading and the road's direction.",
+        "Jadhav 2004 thesis, section 3.3.4 (deviation from the road's centre as the performance measure)",
     ),
     w(
         "cone_hits",
@@ -409,6 +558,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 10.0],
         None,
         Lower,
+    )
+    .defined(
+        "Cones the car touched.",
+        "telerehab's own session record (docs/DESIGN.md)",
     ),
     w(
         "completion_time_s",
@@ -419,6 +572,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 600.0],
         None,
         Neither,
+    )
+    .defined(
+        "Time to reach the end of the course.",
+        "telerehab's own session record (docs/DESIGN.md)",
     ),
     w(
         "tracking_rms_error_deg",
@@ -429,6 +586,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 90.0],
         None,
         Lower,
+    )
+    .defined(
+        "Root mean square difference between the wheel angle asked and the wheel's angle.",
+        "Jadhav 2004 thesis, section 3.3.3 and Appendix E (tracking error of the dial)",
     ),
     w(
         "dial_rms_error_deg",
@@ -439,6 +600,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 90.0],
         None,
         Lower,
+    )
+    .defined(
+        "Root mean square difference between the dial's target angle and the wheel's needle.",
+        "Jadhav 2004 thesis, section 3.3.3 and Appendix E (tracking error of the dial)",
     ),
     w(
         "dial_mean_abs_error_deg",
@@ -449,6 +614,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 90.0],
         None,
         Lower,
+    )
+    .defined(
+        "Mean absolute difference between the dial's target angle and the wheel's needle.",
+        "Jadhav 2004 thesis, section 3.3.3 and Appendix E (tracking error of the dial)",
     ),
     w(
         "strength_peak_left_nm",
@@ -459,6 +628,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 10.0],
         None,
         Higher,
+    )
+    .defined(
+        "Highest torque turning left against the wheel's spring, the wheel held nearly still.",
+        "telerehab's strength test: the spring's torque at the held wheel (docs/DESIGN.md)",
     ),
     w(
         "strength_sustained_left_nm",
@@ -469,6 +642,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 10.0],
         None,
         Higher,
+    )
+    .defined(
+        "Highest torque turning left held for at least 1 s.",
+        "telerehab's strength test: the spring's torque at the held wheel (docs/DESIGN.md)",
     ),
     w(
         "strength_peak_right_nm",
@@ -479,6 +656,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 10.0],
         None,
         Higher,
+    )
+    .defined(
+        "Highest torque turning right against the wheel's spring, the wheel held nearly still.",
+        "telerehab's strength test: the spring's torque at the held wheel (docs/DESIGN.md)",
     ),
     w(
         "strength_sustained_right_nm",
@@ -489,6 +670,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 10.0],
         None,
         Higher,
+    )
+    .defined(
+        "Highest torque turning right held for at least 1 s.",
+        "telerehab's strength test: the spring's torque at the held wheel (docs/DESIGN.md)",
     ),
     w(
         "assist_level_mean",
@@ -499,6 +684,10 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 1.0],
         None,
         Lower,
+    )
+    .defined(
+        "How much the wheel helped, mean over the exercise: 0 no help, 1 full help.",
+        "Guidali et al. 2013, J Rehabil Res Dev 50(3):339-352",
     ),
     w(
         "patient_work_pct",
@@ -509,12 +698,50 @@ pub const MEASURES: [MeasureWords; 37] = [
         [0.0, 100.0],
         None,
         Higher,
+    )
+    .defined(
+        "Patient's share of the mechanical work done on the wheel (the patient's and the assist's together).",
+        "Guidali et al. 2013, J Rehabil Res Dev 50(3):339-352",
     ),
 ];
 
 /// The words of measure `key`, if the table has it.
 pub fn measure_words(key: &str) -> Option<&'static MeasureWords> {
     MEASURES.iter().find(|m| m.key == key)
+}
+
+/// `docs/MEASURES.md`: every measure of [`MEASURES`] with its definition and source, one
+/// table, in reading order (written by `crates/station/tests/measures_doc.rs`).
+pub fn measures_markdown() -> String {
+    let cell = |s: &str| s.replace('|', "\\|");
+    let mut out = String::from(
+        "# Measures\n\n\
+         Every measure a session stores: its stored key, the name a clinician reads, its unit, \
+         which way is better, what it measures and where it comes from. Generated from the one \
+         table of measure words, `crates/metrics/src/words.rs` (`MEASURES`); after changing it, \
+         run `UPDATE_SNAPSHOTS=1 cargo test -p station --test measures_doc` and commit the diff.\n\n\
+         Smoothness (SPARC, LDLJ) is scored only on discrete movements (from rest to rest, at \
+         most 5 s; `crates/metrics/src/segment.rs`); reaction time only on unpredictable steps \
+         (a dial's random jumps), a lane shift seen ahead giving an anticipation share instead \
+         (`crates/metrics/src/robot.rs`).\n\n\
+         | Key | Name | Unit | Better | Definition | Source |\n|---|---|---|---|---|---|\n",
+    );
+    for m in &MEASURES {
+        let better = match m.better {
+            Higher => "higher",
+            Lower => "lower",
+            Neither => "neither",
+        };
+        out.push_str(&format!(
+            "| `{}` | {} | {} | {better} | {} | {} |\n",
+            m.key,
+            cell(m.name),
+            cell(m.unit),
+            cell(m.definition),
+            cell(m.source)
+        ));
+    }
+    out
 }
 
 /// A stored value of a measure the table lacks, rounded to 4 significant digits: never
@@ -641,6 +868,31 @@ mod tests {
             );
         }
         assert!(measure_words("sparc_median").unwrap().noise.is_some());
+    }
+
+    /// Issue 42: every measure carries its definition and its source, so a measure added to
+    /// the table without them fails here.
+    #[test]
+    fn every_measure_has_a_definition_and_a_source() {
+        for m in &MEASURES {
+            assert!(
+                m.definition.len() > 20 && m.definition.ends_with('.'),
+                "{}: no definition (a sentence ending in '.'), see MeasureWords::defined",
+                m.key
+            );
+            assert!(m.source.len() > 10, "{}: no source", m.key);
+            assert!(
+                !m.definition.contains('\n') && !m.source.contains('\n'),
+                "{}: one line each",
+                m.key
+            );
+        }
+        let doc = measures_markdown();
+        assert!(doc.contains("| `sparc_median` | Smoothness"), "{doc}");
+        assert_eq!(
+            doc.lines().filter(|l| l.starts_with("| `")).count(),
+            MEASURES.len()
+        );
     }
 
     #[test]

@@ -97,7 +97,7 @@ def ldlj(speed: npt.ArrayLike, fs: float) -> float:
 
 @dataclass(frozen=True)
 class Movement:
-    """One discrete movement found by :func:`segment`; the samples ``speed[start_index:end_index]``."""
+    """One movement found by :func:`segment`; the samples ``speed[start_index:end_index]``."""
 
     #: Index of its first sample (the first above the threshold).
     start_index: int
@@ -112,12 +112,16 @@ class Movement:
     #: Local maxima of the speed within it at or above ``peak_fraction`` of its peak: 1 for
     #: a single smooth submovement.
     n_peaks: int
-    #: SPARC of its speed samples (:func:`sparc`, default parameters), or None if undefined.
+    #: SPARC of its speed samples (:func:`sparc`, default parameters), or None if undefined
+    #: or not ``discrete``.
     sparc: Optional[float]
-    #: LDLJ of its speed samples (:func:`ldlj`), or None if undefined.
+    #: LDLJ of its speed samples (:func:`ldlj`), or None if undefined or not ``discrete``.
     ldlj: Optional[float]
     #: Mean over peak speed of its samples (:func:`speed_metric`), in (0, 1].
     speed_metric: float
+    #: A discrete movement: at least 0.2 s of rest before and after it inside the signal and
+    #: at most 5 s long (Hogan & Sternad 2007); only these are scored for smoothness.
+    discrete: bool = False
 
 
 def segment(
@@ -130,7 +134,7 @@ def segment(
     min_duration_s: float = 0.2,
     peak_fraction: float = 0.1,
 ) -> List[Movement]:
-    """The discrete movements in a continuous speed profile, in time order, each scored.
+    """The movements in a continuous speed profile, in time order, each scored.
 
     ``speed``: (N,) speed samples, ≥ 0 (e.g. :func:`speed_profile` of the wheel angle, rad/s),
     already smoothed (each movement is scored on the samples as given). ``fs``: sampling
@@ -141,11 +145,13 @@ def segment(
     2. a movement runs from the first sample above the threshold to the first back at or
        below it;
     3. movements separated by less than ``merge_gap_s`` (s, default 0.1) are merged;
-    4. movements shorter than ``min_duration_s`` (s, default 0.2) are dropped.
+    4. movements shorter than ``min_duration_s`` (s, default 0.2) are dropped;
+    5. a movement with 0.2 s of rest (speed at or below the threshold) before and after it
+       inside the signal, at most 5 s long, is ``discrete`` (Hogan & Sternad 2007).
 
     Each :class:`Movement` carries its indices, start and duration (s), peak speed, the number
     of its speed peaks at or above ``peak_fraction`` (in [0, 1), default 10 %) of that peak,
-    and its SPARC and LDLJ (None where undefined).
+    and, when discrete, its SPARC and LDLJ (None where undefined or not discrete).
 
     Raises ``ValueError`` for an empty signal, a NaN or infinite sample (its index is named),
     ``fs`` not finite and > 0, or a parameter out of range.

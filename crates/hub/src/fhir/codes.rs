@@ -43,82 +43,6 @@ pub const CHECKIN: &str = "session-checkin";
 /// UCUM.
 pub const UCUM: &str = "http://unitsofmeasure.org";
 
-/// The measures with a definition of their own: code, definition (the station's measure;
-/// `crates/metrics` and `crates/station/src/session/measures.rs` compute them).
-const DEFINED: [(&str, &str); 20] = [
-    (
-        "sparc_median",
-        "Smoothness of movement: median over the session's movements of the spectral arc length (SPARC) of the wheel's speed; closer to 0 is smoother.",
-    ),
-    (
-        "ldlj_median",
-        "Smoothness of movement: median over the session's movements of the log dimensionless jerk (LDLJ); closer to 0 is smoother.",
-    ),
-    (
-        "active_s",
-        "Time the patient exercised (pauses and rests left out).",
-    ),
-    ("session_s", "Length of the session from start to end."),
-    ("paused_s", "Time the session was paused."),
-    (
-        "active_pct",
-        "Share of the exercise time the wheel was moving.",
-    ),
-    (
-        "movements",
-        "Number of movements (speed rising above and falling back below the movement threshold).",
-    ),
-    ("movements_per_min", "Dose: movements per active minute."),
-    (
-        "reversals_per_min",
-        "Dose: steering reversals per active minute.",
-    ),
-    (
-        "pct_in_lane",
-        "Share of a road exercise's time the car was inside its lane.",
-    ),
-    (
-        "rms_lateral_m",
-        "Lane keeping error: root mean square of the car's lateral distance from the lane's centre.",
-    ),
-    (
-        "tracking_rms_error_deg",
-        "Tracking error: root mean square of the wheel's angle from the angle the exercise asked for.",
-    ),
-    (
-        "wheel_rom_deg",
-        "Range of motion of the wheel: largest minus smallest angle turned.",
-    ),
-    (
-        "shoulder_elevation_rom_deg",
-        "Range of shoulder elevation measured by the arm sensors.",
-    ),
-    (
-        "elbow_flexion_rom_deg",
-        "Range of elbow flexion measured by the arm sensors.",
-    ),
-    (
-        "movement_time_s_median",
-        "Duration of a movement, median over the session.",
-    ),
-    (
-        "reaction_time_s_median",
-        "Time from a step of the target (or a lane shift) to the start of the wheel's response, median.",
-    ),
-    (
-        "speed_metric_median",
-        "Speed metric: mean over peak speed of a movement, median (Rohrer et al. 2002).",
-    ),
-    (
-        "path_length_ratio_median",
-        "Path length ratio: the wheel's path over the distance needed, median.",
-    ),
-    (
-        "assist_level_mean",
-        "Mean level of the assistance the wheel gave (0 none, 1 full).",
-    ),
-];
-
 /// A statistic a measure's name may end with, and its words.
 const STATISTICS: [(&str, &str); 6] = [
     ("_median", "median over the session"),
@@ -162,10 +86,11 @@ pub fn ucum_unit(name: &str) -> &'static str {
         .map_or("1", |(_, unit)| unit)
 }
 
-/// A measure's definition: its own when it has one (`DEFINED`), else built from its name.
+/// A measure's definition: the one words table's (`metrics::words`, with its source) when the
+/// table has the measure, else built from its name.
 pub fn measure_definition(name: &str) -> String {
-    if let Some((_, d)) = DEFINED.iter().find(|(c, _)| *c == name) {
-        return (*d).to_owned();
+    if let Some(m) = metrics::words::measure_words(name) {
+        return format!("{} Source: {}.", m.definition, m.source);
     }
     let statistic = STATISTICS.iter().find(|(s, _)| name.ends_with(s));
     let words = name.replace('_', " ");

@@ -19,18 +19,25 @@ pub(crate) struct EndWording {
     words_id: String,
 }
 
-/// One measure's words with the id of its plain name in the console's catalogues
-/// (`words-measure-…`); the key, unit, decimals and ranges stay `metrics::words`'s alone.
+/// One measure's words with the ids of its plain name and of its definition in the console's
+/// catalogues (`words-measure-…`, `words-definition-…`); the key, unit, decimals, ranges and
+/// source stay `metrics::words`'s alone.
 #[derive(Serialize)]
 pub(crate) struct MeasureEntry {
     #[serde(flatten)]
     words: &'static MeasureWords,
     name_id: String,
+    definition_id: String,
 }
 
 /// The console catalogue id of measure `key`'s plain name: `words-measure-pct-in-lane`.
 pub(crate) fn measure_name_id(key: &str) -> String {
     format!("words-measure-{}", key.replace('_', "-"))
+}
+
+/// The console catalogue id of measure `key`'s definition: `words-definition-pct-in-lane`.
+pub(crate) fn measure_definition_id(key: &str) -> String {
+    format!("words-definition-{}", key.replace('_', "-"))
 }
 
 /// The console catalogue id of end kind `kind`'s wording: `words-end-wheel-unplugged`.
@@ -59,6 +66,7 @@ pub(crate) async fn measure_words(Authed(_): Authed) -> Json<Words> {
             .map(|words| MeasureEntry {
                 words,
                 name_id: measure_name_id(words.key),
+                definition_id: measure_definition_id(words.key),
             })
             .collect(),
         end_reasons: EndKind::ALL
@@ -104,6 +112,25 @@ mod tests {
         assert_eq!(
             end_words_id(EndKind::WheelUnplugged),
             "words-end-wheel-unplugged"
+        );
+    }
+
+    /// Issue 42: every measure of the words table has its definition in every console
+    /// language, so a measure added without one (by any branch) fails here.
+    #[test]
+    fn every_measure_has_its_definition_in_every_console_language() {
+        for tag in i18n::LANGUAGES {
+            let text = i18n::console_catalogue(tag).unwrap();
+            for m in &MEASURES {
+                let id = measure_definition_id(m.key);
+                let line = text.lines().find(|l| l.starts_with(&format!("{id} =")));
+                let worded = line.is_some_and(|l| l.len() > id.len() + 12);
+                assert!(worded, "{tag}: no definition {id} for {}", m.key);
+            }
+        }
+        assert_eq!(
+            measure_definition_id("pct_in_lane"),
+            "words-definition-pct-in-lane"
         );
     }
 }

@@ -131,6 +131,10 @@ progress-technical-caption = So benennen sie die zweite Kopfzeile der Tabellenka
 progress-col-data-name = Name in den Daten
 progress-col-technical = Technischer Name
 
+progress-definitions-summary = Was jedes Maß misst, und seine Quelle
+progress-col-definition = Definition
+progress-col-source = Quelle
+
 ## Liste der Sitzungen und Druck
 
 progress-sessions-title = Sitzungen ({ $count })

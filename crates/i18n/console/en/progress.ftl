@@ -136,6 +136,10 @@ progress-technical-caption = As the spreadsheet's second header row and the FHIR
 progress-col-data-name = Name in the data
 progress-col-technical = Technical name
 
+progress-definitions-summary = What each measure measures, and its source
+progress-col-definition = Definition
+progress-col-source = Source
+
 ## The sessions' list and the print
 
 progress-sessions-title = Sessions ({ $count })

@@ -131,6 +131,10 @@ progress-technical-caption = Tal como los nombran la segunda fila de encabezado 
 progress-col-data-name = Nombre en los datos
 progress-col-technical = Nombre técnico
 
+progress-definitions-summary = Qué mide cada medida, y su fuente
+progress-col-definition = Definición
+progress-col-source = Fuente
+
 ## Lista de sesiones e impresión
 
 progress-sessions-title = Sesiones ({ $count })

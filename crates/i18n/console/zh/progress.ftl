@@ -113,6 +113,10 @@ progress-technical-caption = 即电子表格第二行表头和 FHIR 导出中使
 progress-col-data-name = 数据中的名称
 progress-col-technical = 技术名称
 
+progress-definitions-summary = 每项指标测量什么及其来源
+progress-col-definition = 定义
+progress-col-source = 来源
+
 ## 训练列表和打印
 
 progress-sessions-title = 训练（{ $count }）

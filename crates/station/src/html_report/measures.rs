@@ -18,6 +18,8 @@ pub(super) struct Measure {
     pub(super) unit: &'static str,
     pub(super) decimals: usize,
     pub(super) better: Better,
+    /// What it measures, for the clinician (the words table's definition).
+    pub(super) definition: &'static str,
 }
 
 /// Measure `key` as the ONE table of measure words (`metrics::words`) words it: plain name,
@@ -33,6 +35,7 @@ const fn from_table(key: &str) -> Measure {
                 label: w.name,
                 unit: w.unit,
                 decimals: w.decimals as usize,
+                definition: w.definition,
                 better: match w.better {
                     metrics::words::Better::Higher => Better::Higher,
                     metrics::words::Better::Lower => Better::Lower,
@@ -46,10 +49,11 @@ const fn from_table(key: &str) -> Measure {
 }
 
 /// The measures shown, in order (those a session lacks are left out).
-pub(super) const MEASURES: [Measure; 31] = [
+pub(super) const MEASURES: [Measure; 33] = [
     from_table("session_s"),
     from_table("paused_s"),
     from_table("movements"),
+    from_table("discrete_movements"),
     from_table("active_pct"),
     from_table("sparc_median"),
     from_table("ldlj_median"),
@@ -58,6 +62,7 @@ pub(super) const MEASURES: [Measure; 31] = [
     from_table("speed_peaks_median"),
     from_table("speed_metric_median"),
     from_table("reaction_time_s_median"),
+    from_table("anticipation_pct"),
     from_table("initial_direction_error_deg_mean"),
     from_table("reaction_time_left_s_median"),
     from_table("reaction_time_right_s_median"),
@@ -111,7 +116,7 @@ const fn shared(key: &str) -> Measure {
 
 /// An exercise's own results shown in the per-exercise table, in order (rows no exercise has
 /// are left out).
-pub(super) const EXERCISE_MEASURES: [Measure; 30] = [
+pub(super) const EXERCISE_MEASURES: [Measure; 32] = [
     shared("rms_lateral_m"),
     shared("pct_in_lane"),
     from_table("heading_rms_error_deg"),
@@ -125,6 +130,7 @@ pub(super) const EXERCISE_MEASURES: [Measure; 30] = [
     shared("strength_peak_right_nm"),
     shared("strength_sustained_right_nm"),
     shared("movements"),
+    shared("discrete_movements"),
     shared("active_pct"),
     from_table("sparc_median"),
     from_table("ldlj_median"),
@@ -134,6 +140,7 @@ pub(super) const EXERCISE_MEASURES: [Measure; 30] = [
     shared("elbow_flexion_rom_deg"),
     shared("speed_metric_median"),
     shared("reaction_time_s_median"),
+    shared("anticipation_pct"),
     shared("initial_direction_error_deg_mean"),
     shared("reaction_time_left_s_median"),
     shared("reaction_time_right_s_median"),

@@ -278,14 +278,19 @@ fn one_session(html: &mut String, i: usize, s: &SessionData) -> Result<(), Strin
     } else {
         html.push_str(
             "<table><caption>The session's measures</caption><thead><tr><th scope=\"col\">Measure</th>\
-             <th scope=\"col\">Value</th></tr></thead><tbody>",
+             <th scope=\"col\">Value</th><th scope=\"col\">What it measures</th></tr></thead><tbody>",
         );
         for m in &MEASURES {
             if let Some(v) = s.measures.get(m.key) {
                 let _ = write!(
                     html,
-                    "<tr><th scope=\"row\">{}</th><td class=\"num\">{:.*} {}</td></tr>",
-                    m.label, m.decimals, v, m.unit
+                    "<tr><th scope=\"row\">{}</th><td class=\"num\">{:.*} {}</td>\
+                     <td class=\"definition\">{}</td></tr>",
+                    m.label,
+                    m.decimals,
+                    v,
+                    m.unit,
+                    esc(m.definition)
                 );
             }
         }
@@ -323,7 +328,8 @@ fn exercise_table(html: &mut String, exercises: &[record::ExerciseResult]) {
         }
         let _ = write!(
             html,
-            "<tr><th scope=\"row\">{}{}</th>",
+            "<tr><th scope=\"row\" title=\"{}\">{}{}</th>",
+            esc(m.definition),
             m.label,
             unit_suffix(m.unit)
         );
@@ -766,6 +772,30 @@ mod tests {
             one.contains(">1.25 s<") && one.contains(">0.45 s<"),
             "{one}"
         );
+    }
+
+    /// Issue 42: each measure the report shows carries its definition, and a lane change's
+    /// anticipations are shown as such, not as a reaction time.
+    #[test]
+    fn every_measure_shown_carries_its_definition_and_anticipation_is_its_own_row() {
+        let mut s = session(0, "lane-change", -1.7);
+        s.measures.insert("anticipation_pct".to_owned(), 67.0);
+        let keys: Vec<String> = s.measures.keys().cloned().collect();
+        let html = render(vec![s]).unwrap();
+        let one = section(&html, "session-1");
+        for m in MEASURES.iter().filter(|m| keys.iter().any(|k| k == m.key)) {
+            assert!(!m.definition.is_empty(), "{}", m.key);
+            assert!(one.contains(&esc(m.definition)), "{}: {one}", m.key);
+        }
+        let anticipation = MEASURES
+            .iter()
+            .find(|m| m.key == "anticipation_pct")
+            .unwrap();
+        assert!(
+            one.contains(anticipation.label) && one.contains(">67 %<"),
+            "{one}"
+        );
+        assert!(!one.contains(">Reaction time<"), "{one}");
     }
 
     #[test]

@@ -560,7 +560,7 @@ fn upload_now(
 
 /// The measures the clinic reads first (the caseload's trends, the console's progress and the
 /// report's front), kept first when a session names more than a `Bye` may carry.
-const FIRST_MEASURES: [&str; 24] = [
+const FIRST_MEASURES: [&str; 26] = [
     "pct_in_lane",
     "rms_lateral_m",
     "dial_rms_error_deg",
@@ -579,11 +579,13 @@ const FIRST_MEASURES: [&str; 24] = [
     "speed_peaks_median",
     "movement_time_s_median",
     "reaction_time_s_median",
+    "anticipation_pct",
     "initial_direction_error_deg_mean",
     "path_length_ratio_median",
     "movements_per_min",
     "reversals_per_min",
     "ldlj_median",
+    "discrete_movements",
     "active_pct",
 ];
 

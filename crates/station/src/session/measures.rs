@@ -123,7 +123,13 @@ struct Reaction {
     /// The target was on the patient's left (a dial target at a positive angle, a lane
     /// change to the left): the report splits by side for a neglected side.
     left: bool,
+    /// Only to an unpredictable step (a dial target's random jump): a lane shift is seen
+    /// coming, so the time to meet it is no reaction time ([`metrics::robot`]).
     reaction_time_s: Option<f64>,
+    /// To a predictable cue (a lane shift), whether the turn started sooner than the shortest
+    /// reaction after it ([`metrics::MIN_REACTION_TIME_S`]); `None` for an unpredictable step
+    /// or when the wheel did not move.
+    anticipated: Option<bool>,
     initial_direction_error_deg: Option<f64>,
     path_length_ratio: Option<f64>,
 }
@@ -432,6 +438,7 @@ impl MeasureCollector {
                 out.extend(rs.into_iter().map(|r| Reaction {
                     left: r.step.target_rad > 0.0,
                     reaction_time_s: r.reaction_time_s,
+                    anticipated: None,
                     initial_direction_error_deg: r.initial_direction_error_deg,
                     path_length_ratio: r.path_length_ratio,
                 }));
@@ -445,7 +452,8 @@ impl MeasureCollector {
             {
                 out.extend(rs.into_iter().map(|r| Reaction {
                     left: r.step.direction > 0.0,
-                    reaction_time_s: r.reaction_time_s,
+                    reaction_time_s: None,
+                    anticipated: r.anticipated(),
                     initial_direction_error_deg: r.initial_direction_error_deg,
                     path_length_ratio: None,
                 }));
@@ -805,6 +813,7 @@ fn name_movement_measures(named: &mut BTreeMap<String, f64>, s: &SessionMeasures
         named.insert(name.to_owned(), v);
     };
     put("movements", s.movements.len() as f64);
+    put("discrete_movements", s.discrete_movements as f64);
     put("active_s", s.active_s);
     put("active_pct", 100.0 * s.active_fraction);
     put("peak_speed_deg_s", s.peak_speed_rad_s.to_degrees());
@@ -836,14 +845,24 @@ fn name_movement_measures(named: &mut BTreeMap<String, f64>, s: &SessionMeasures
 }
 
 /// The wheel's responses to the target's steps by name (none without a step): how many, the
-/// median reaction time, the mean initial direction error (0° the right way, 180° the wrong
-/// way: 180° × the share of wrong-way starts) and the median path length ratio
-/// ([`metrics::robot`]). Medians alone, to keep the Bye's measures within their 64 entries.
+/// median reaction time to unpredictable steps, the share of predictable cues anticipated
+/// (`anticipation_pct`, of those met by a movement), the mean initial direction error (0° the
+/// right way, 180° the wrong way: 180° × the share of wrong-way starts) and the median path
+/// length ratio ([`metrics::robot`]). Medians alone, to keep the Bye's measures within their
+/// 64 entries.
 fn name_step_responses(named: &mut BTreeMap<String, f64>, responses: &[Reaction]) {
     if responses.is_empty() {
         return;
     }
     named.insert("step_responses".to_owned(), responses.len() as f64);
+    let anticipated: Vec<bool> = responses.iter().filter_map(|r| r.anticipated).collect();
+    if !anticipated.is_empty() {
+        let early = anticipated.iter().filter(|&&a| a).count();
+        named.insert(
+            "anticipation_pct".to_owned(),
+            100.0 * early as f64 / anticipated.len() as f64,
+        );
+    }
     for (name, values) in [
         (
             "reaction_time_s",
@@ -1102,8 +1121,11 @@ mod tests {
         let c = MeasureCollector::new(1000.0, 4000).with_target_steps(vec![shifts]);
         let n = measured(c, &driven).0.named;
         assert_eq!(n["step_responses"], 1.0, "{n:?}");
-        let rt = n["reaction_time_s_median"];
-        assert!((0.4..0.55).contains(&rt), "{rt}");
+        // Seen coming, a shift is met with no reaction time (issue 42); started 0.4 s after
+        // it, the turn is no anticipation.
+        assert!(!n.contains_key("reaction_time_s_median"), "{n:?}");
+        assert!(!n.contains_key("reaction_time_right_s_median"), "{n:?}");
+        assert_eq!(n["anticipation_pct"], 0.0);
         assert_eq!(n["initial_direction_error_deg_mean"], 0.0);
     }
 

@@ -623,7 +623,16 @@ fn a_dial_then_road_regimen_gives_each_exercise_its_own_results_matching_the_rec
         // Its own time, without the session's fade-out after the last one.
         assert!((e.active_s - 8.0).abs() <= 2e-3, "{e:?}");
         assert!(e.scores.len() <= netlink::frame::MAX_EXTRA_ENTRIES);
-        assert!(e.scores.contains_key("movements") && e.scores.contains_key("sparc_median"));
+        assert!(e.scores.contains_key("movements"), "{e:?}");
+        // Smoothness only over movements from rest to rest (issue 42): a dial's sine and a
+        // sine road are tracked continuously, so they have few or none.
+        let discrete = e.scores["discrete_movements"];
+        assert!(discrete <= e.scores["movements"], "{e:?}");
+        assert_eq!(
+            e.scores.contains_key("sparc_median"),
+            discrete > 0.0,
+            "{e:?}"
+        );
         assert!((e.scores["completion_time_s"] - 8.0).abs() <= 2e-3, "{e:?}");
     }
     // Each exercise has the scores that apply to it, and its own values.
@@ -638,7 +647,7 @@ fn a_dial_then_road_regimen_gives_each_exercise_its_own_results_matching_the_rec
         assert!(road.scores.contains_key(key), "{key}: {:?}", road.scores);
     }
     assert!(!road.scores.contains_key("dial_rms_error_deg"));
-    for key in ["tracking_rms_error_deg", "sparc_median", "wheel_rom_deg"] {
+    for key in ["tracking_rms_error_deg", "movements", "wheel_rom_deg"] {
         assert_ne!(dial.scores[key], road.scores[key], "{key}");
     }
     // The session's totals stay as they were: its lane score is the road's, with the
@@ -885,12 +894,15 @@ fn a_simulated_lane_change_responds_once_per_lane_shift_and_strength_has_no_step
     let reached = shifts.iter().filter(|s| s.s_m <= end_s_m).count();
     assert_eq!(reached, 3, "the road runs past its 3 shifts: {end_s_m} m");
     assert_eq!(lane["step_responses"], reached as f64, "{lane:?}");
-    let rt = lane["reaction_time_s_median"];
+    // The simulated driver steers before the shifts it sees coming (issue 42 measured a
+    // "reaction time" of −0.34 s): anticipations, reported as such, and no reaction time.
+    let anticipated = lane["anticipation_pct"];
     eprintln!(
-        "lane change: reaction time median {rt:.3} s, initial direction error mean {} deg",
+        "lane change: anticipated {anticipated:.0} % of shifts, initial direction error mean {} deg",
         lane["initial_direction_error_deg_mean"]
     );
-    assert!((-0.65..0.0).contains(&rt), "{rt}");
+    assert!(anticipated > 50.0, "{lane:?}");
+    assert!(!lane.contains_key("reaction_time_s_median"), "{lane:?}");
     assert_eq!(lane["initial_direction_error_deg_mean"], 0.0);
     assert!(!lane.contains_key("path_length_ratio_median"), "{lane:?}");
     // The strength test's aim jumps from one side to the other: no step responses.
