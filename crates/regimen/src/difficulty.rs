@@ -207,7 +207,7 @@ fn scale_speed(spec: &mut ExerciseSpec, k: f64) {
                     *start_rad_s = down(*start_rad_s, k, f);
                     *end_rad_s = down(*end_rad_s, k, f);
                 }
-                DialSignal::Step { .. } => {}
+                DialSignal::Step { .. } | DialSignal::RandomSteps { .. } => {}
             }
         }
         // A strength test has no speed: the patient sets its pace. A haptic sweep is a
@@ -238,6 +238,7 @@ fn scale_shape(spec: &mut ExerciseSpec, k: f64) {
             match &mut d.reference {
                 DialSignal::Sine { amplitude_deg, .. }
                 | DialSignal::Step { amplitude_deg, .. }
+                | DialSignal::RandomSteps { amplitude_deg, .. }
                 | DialSignal::Ramp { amplitude_deg, .. }
                 | DialSignal::Chirp { amplitude_deg, .. } => {
                     *amplitude_deg = down(*amplitude_deg, k, a);

@@ -14,6 +14,7 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use self::bounds::*;
+use crate::assessment::{AssessmentPart, AssessmentSpec};
 use crate::dial::{AMPLITUDE_DEG, DialSignal, FREQUENCY_RAD_S};
 use crate::error::{VehicleError, check_range};
 use crate::model::VehicleState;
@@ -446,7 +447,8 @@ impl StrengthSpec {
 }
 
 /// A prescribed exercise. TOML: a table with `kind = "straight" | "sine" | "triangle" |
-/// "clothoid" | "sharp-turns" | "s-bend" | "lane-change" | "slalom" | "dial" | "strength"` and that kind's
+/// "clothoid" | "sharp-turns" | "s-bend" | "lane-change" | "slalom" | "dial" | "strength" |
+/// "haptic-sweep" | "assessment"` and that kind's
 /// fields (all optional, defaults above: [`StraightSpec`], [`SineSpec`], …). Each variant's
 /// doc is what the regimen's JSON Schema says of it, read by a therapist in the console's
 /// prescribe form: the words before its colon name the exercise.
@@ -478,6 +480,9 @@ pub enum ExerciseSpec {
     /// heaviness (or the needle's speed) changes in steps; gives the tracking error at each
     /// step, as the thesis's parameter studies did.
     HapticSweep(HapticSweepSpec),
+    /// Assessment: one part of the standard assessment, the same for every patient, with no
+    /// assistance (see [`crate::assessment`]; the station runs it first when it is due).
+    Assessment(AssessmentSpec),
 }
 
 /// The built-in exercise names, each with its default parameters ([`ExerciseSpec::from_name`]).
@@ -517,6 +522,20 @@ impl ExerciseSpec {
             "dial" => Self::Dial(Default::default()),
             "strength" => Self::Strength(Default::default()),
             "haptic-sweep" => Self::HapticSweep(Default::default()),
+            other if other.starts_with("assessment-") => {
+                match AssessmentPart::from_name(&other["assessment-".len()..]) {
+                    Some(part) => Self::Assessment(AssessmentSpec {
+                        part,
+                        ..Default::default()
+                    }),
+                    None => {
+                        return Err(VehicleError::UnknownExercise {
+                            name: name.to_string(),
+                            known: EXERCISE_NAMES.join(", "),
+                        });
+                    }
+                }
+            }
             other => match other
                 .strip_prefix("dial-")
                 .and_then(DialSignal::default_named)
@@ -559,6 +578,8 @@ impl ExerciseSpec {
                 d.level_s =
                     (duration_s / d.levels.len().max(1) as f64).clamp(LEVEL_S.min, LEVEL_S.max);
             }
+            // A fixed protocol: the same length for everyone.
+            Self::Assessment(_) => {}
         }
         spec
     }
@@ -577,6 +598,7 @@ impl ExerciseSpec {
             Self::Dial(d) => format!("dial-{}", d.reference.name()),
             Self::Strength(_) => "strength".into(),
             Self::HapticSweep(_) => "haptic-sweep".into(),
+            Self::Assessment(a) => a.name(),
         }
     }
 
@@ -674,6 +696,7 @@ impl ExerciseSpec {
                 r("side_s", d.side_s, SIDE_S, "s")
             }
             Self::HapticSweep(d) => validate_sweep(c, d),
+            Self::Assessment(a) => a.validate(),
         }
     }
 
@@ -690,6 +713,12 @@ impl ExerciseSpec {
             Self::SBend(s) => (s.speed_m_s, s.duration_s, Vec::new()),
             Self::LaneChange(s) => (s.speed_m_s, s.duration_s, Vec::new()),
             Self::Slalom(s) => (s.speed_m_s, s.duration_s, Vec::new()),
+            // The existing exercise with the protocol's settings, under the part's name.
+            Self::Assessment(a) => {
+                let mut ex = a.exercise().build()?;
+                ex.name = name;
+                return Ok(ex);
+            }
             Self::Dial(d) => {
                 return Ok(Exercise {
                     name,
@@ -706,7 +735,10 @@ impl ExerciseSpec {
                     }),
                     strength: None,
                     sweep: None,
-                    steps: if matches!(d.reference, DialSignal::Step { .. }) {
+                    steps: if matches!(
+                        d.reference,
+                        DialSignal::Step { .. } | DialSignal::RandomSteps { .. }
+                    ) {
                         TargetSteps::Jumps
                     } else {
                         TargetSteps::None
@@ -896,7 +928,9 @@ impl ExerciseSpec {
                 2.0 * s.cone_spacing_m,
                 slalom_cones(s.cone_count, reps) + 1,
             ),
-            Self::Dial(_) | Self::Strength(_) | Self::HapticSweep(_) => return None,
+            Self::Dial(_) | Self::Strength(_) | Self::HapticSweep(_) | Self::Assessment(_) => {
+                return None;
+            }
         })
     }
 }
