@@ -481,7 +481,10 @@ pub enum ExerciseSpec {
     /// step, as the thesis's parameter studies did.
     HapticSweep(HapticSweepSpec),
     /// Assessment: one part of the standard assessment, the same for every patient, with no
-    /// assistance (see [`crate::assessment`]; the station runs it first when it is due).
+    /// assistance (see [`crate::assessment`]). Not prescribed as an exercise (the regimen's
+    /// schema leaves it out): the therapist schedules it with `[assessment]`, the station
+    /// puts it first in a session when it is due, and its recordings keep it.
+    #[schemars(skip)]
     Assessment(AssessmentSpec),
 }
 
