@@ -638,6 +638,21 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
         home.home.as_ref().map(Home::dir),
         &cfg.session.patient_id,
     );
+    // A regimen with `[assessment]` runs the standard assessment first when it is due.
+    let started_unix_ms = clock.unix_ns() / 1_000_000;
+    let assessment = crate::assessment::Planned::plan(
+        &mut regimen,
+        home.home.as_ref().map(Home::dir),
+        &cfg.session.patient_id,
+        started_unix_ms,
+        crate::assessment::seed_of(cfg.session.seed, started_unix_ms),
+    );
+    if let (Some(_), Some(r)) = (&assessment, &regimen)
+        && cfg.session.exercise.starts_with("regimen:")
+    {
+        // The session's name counts the exercises it runs, the assessment's parts too.
+        cfg.session.exercise = format!("regimen:{}", r.exercises.len());
+    }
     let (body, wheel_node) = body_and_wheel_node(&args, &cfg)?;
     let pacing = match args.speed {
         Speed::Realtime => Pacing::RealTime,
@@ -695,7 +710,17 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
             crate::checkin::care::note_pain(h, c);
         }
     }
-    link.set_exercises(&report.recorder.exercises);
+    link.set_exercises(
+        &report.recorder.exercises,
+        assessment.as_ref().map(|a| a.tag),
+    );
+    if let Some(a) = &assessment
+        && report.recorder.error.is_none()
+        && !args.try_out
+        && crate::assessment::ran_whole(&report.recorder.exercises)
+    {
+        a.remember(netlink::frame::unix_ms_now());
+    }
     let difficulty_line = adapted.as_ref().map(|a| {
         let keep = report.recorder.error.is_none() && !args.try_out;
         settle_difficulty(a, &mut link, &report, checkin.as_ref(), keep)
