@@ -71,7 +71,7 @@ pub fn entries(seed: u32) -> Vec<RegimenEntry> {
         }),
         ..HapticRegimen::default()
     };
-    protocol::protocol(seed)
+    vehicle::ExerciseSpec::assessment_protocol(seed)
         .into_iter()
         .map(|exercise| RegimenEntry {
             exercise,

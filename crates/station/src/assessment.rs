@@ -130,7 +130,7 @@ impl Planned {
 /// Whether a session's results hold every part of the assessment (a session ended early
 /// in it did not assess: the next one runs it again).
 pub fn ran_whole(results: &[record::ExerciseResult]) -> bool {
-    vehicle::assessment::protocol(0)
+    vehicle::ExerciseSpec::assessment_protocol(0)
         .iter()
         .all(|part| results.iter().any(|r| r.kind == part.name()))
 }

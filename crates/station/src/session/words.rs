@@ -87,7 +87,7 @@ mod tests {
             assert!(english.has(instruction_id(short)), "{short}");
         }
         // The standard assessment's parts, each with its own name and what it asks.
-        for spec in vehicle::assessment::protocol(0) {
+        for spec in vehicle::ExerciseSpec::assessment_protocol(0) {
             let short = spec.name();
             assert_ne!(name_id(&short), "exercise-other", "{short}");
             assert!(english.has(name_id(&short)), "{short}");
