@@ -1345,7 +1345,9 @@ async fn an_assessment_is_stored_as_its_own_kind_and_kept_out_of_the_exercise_tr
         road,
     ];
     for (id, at) in [("s-old", T0), ("s-new", T0 + 60 * MIN)] {
-        db.open_session(&hello("st-1", &p.id, id), at).await.unwrap();
+        db.open_session(&hello("st-1", &p.id, id), at)
+            .await
+            .unwrap();
         let bye = Bye {
             session_id: id.into(),
             reason: "complete".into(),
@@ -1368,7 +1370,10 @@ async fn an_assessment_is_stored_as_its_own_kind_and_kept_out_of_the_exercise_tr
     let assessments = db.assessments_of(&p.id).await.unwrap();
     assert_eq!(assessments.len(), 1, "{assessments:?}");
     let a = &assessments[0];
-    assert_eq!((a.session_id.as_str(), a.protocol, a.seed), ("s-new", 1, tag.seed));
+    assert_eq!(
+        (a.session_id.as_str(), a.protocol, a.seed),
+        ("s-new", 1, tag.seed)
+    );
     let kinds: Vec<&str> = a.parts.iter().map(|e| e.kind.as_str()).collect();
     assert_eq!(kinds, ["assessment-range", "assessment-steps"]);
     assert_eq!(a.parts[1].scores["reaction_time_median_s"], 0.41);

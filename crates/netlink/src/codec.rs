@@ -924,7 +924,11 @@ mod tests {
             index: 1,
             ..part.clone()
         };
-        assert!(!serde_json::to_string(&exercise).unwrap().contains("assessment"));
+        assert!(
+            !serde_json::to_string(&exercise)
+                .unwrap()
+                .contains("assessment")
+        );
         let bye = |exercises| {
             Frame::Bye(Bye {
                 session_id: "s1".into(),
@@ -941,15 +945,24 @@ mod tests {
         let bytes = encode_to_vec(&frame).unwrap();
         assert_eq!(decode(&bytes).unwrap().map(|(f, _)| f), Some(frame));
         let json = serde_json::to_string(&part).unwrap();
-        assert!(json.contains(r#""assessment":{"protocol":1,"seed":77}"#), "{json}");
+        assert!(
+            json.contains(r#""assessment":{"protocol":1,"seed":77}"#),
+            "{json}"
+        );
         let mislabelled = ExerciseResult {
             assessment: part.assessment,
             ..exercise
         };
         let err = bye(vec![mislabelled]).validate().unwrap_err().to_string();
-        assert!(err.contains("assessment") && err.contains("dial-sine"), "{err}");
+        assert!(
+            err.contains("assessment") && err.contains("dial-sine"),
+            "{err}"
+        );
         let zero = ExerciseResult {
-            assessment: Some(AssessmentTag { protocol: 0, seed: 1 }),
+            assessment: Some(AssessmentTag {
+                protocol: 0,
+                seed: 1,
+            }),
             ..part
         };
         let err = bye(vec![zero]).validate().unwrap_err().to_string();

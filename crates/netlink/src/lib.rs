@@ -93,9 +93,9 @@ pub use codec::{CodecError, FrameDecoder, decode, encode, encode_to_vec};
 pub use error::NetlinkError;
 pub use frame::{
     Ack, AssessmentTag, Bye, CARE_VERSION, CHECK_NEWS_VERSION, Care, CheckIn, DifficultyChange,
-    DifficultyWhy,
-    ErrorFrame, ExerciseResult, Frame, FrameKind, Hello, MAX_MESSAGE_TEXT_CHARS, MESSAGES_VERSION,
-    Message, MessageSeen, PROTOCOL_VERSION, Regimen, Summary, WheelInfo, check_message_text,
+    DifficultyWhy, ErrorFrame, ExerciseResult, Frame, FrameKind, Hello, MAX_MESSAGE_TEXT_CHARS,
+    MESSAGES_VERSION, Message, MessageSeen, PROTOCOL_VERSION, Regimen, Summary, WheelInfo,
+    check_message_text,
 };
 pub use station::{
     Backoff, HubAddress, LinkStats, SendError, StationLink, StationLinkConfig, SummarySender,

@@ -96,8 +96,13 @@ mod tests {
         assert!(weekly.is_due(Some(now - 7 * DAY_MS), now));
         assert!(!weekly.is_due(Some(now + DAY_MS), now), "a clock set back");
         for bad in [0, 91] {
-            let msg = AssessmentSchedule { every_days: bad }.validate().unwrap_err();
-            assert!(msg.contains("every_days") && msg.contains("1 to 90"), "{msg}");
+            let msg = AssessmentSchedule { every_days: bad }
+                .validate()
+                .unwrap_err();
+            assert!(
+                msg.contains("every_days") && msg.contains("1 to 90"),
+                "{msg}"
+            );
         }
     }
 
@@ -109,7 +114,10 @@ mod tests {
         let err = crate::Regimen::from_toml(&text.replace("14", "365"), "yearly")
             .unwrap_err()
             .to_string();
-        assert!(err.contains("every_days = 365") && err.contains("1 to 90"), "{err}");
+        assert!(
+            err.contains("every_days = 365") && err.contains("1 to 90"),
+            "{err}"
+        );
         let typo = crate::Regimen::from_toml(&text.replace("every_days", "every_day"), "typo");
         assert!(typo.unwrap_err().to_string().contains("every_day"));
     }

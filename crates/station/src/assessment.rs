@@ -85,9 +85,7 @@ impl Planned {
         let r = regimen.as_mut()?;
         let schedule = r.assessment.clone()?;
         let history = home_dir.map(history_path);
-        let last = history
-            .as_deref()
-            .and_then(|p| last_unix_ms(p, patient_id));
+        let last = history.as_deref().and_then(|p| last_unix_ms(p, patient_id));
         if !schedule.is_due(last, now_unix_ms) {
             tracing::info!(
                 every_days = schedule.every_days,
@@ -107,6 +105,41 @@ impl Planned {
             history,
             patient_id: patient_id.to_owned(),
         })
+    }
+
+    /// [`Self::plan`] for the session of `cfg` started at `start_unix_ms` (its steps' seed
+    /// from the session's seed and start, [`seed_of`]); a regimen session's name then counts
+    /// the assessment's parts too (`regimen:N`).
+    pub fn for_session(
+        cfg: &mut crate::config::StationConfig,
+        regimen: &mut Option<regimen::Regimen>,
+        home_dir: Option<&Path>,
+        start_unix_ms: u64,
+    ) -> Option<Self> {
+        let seed = seed_of(cfg.session.seed, start_unix_ms);
+        let planned = Self::plan(
+            regimen,
+            home_dir,
+            &cfg.session.patient_id,
+            start_unix_ms,
+            seed,
+        )?;
+        if let Some(r) = regimen
+            && cfg.session.exercise.starts_with("regimen:")
+        {
+            cfg.session.exercise = format!("regimen:{}", r.exercises.len());
+        }
+        Some(planned)
+    }
+
+    /// After the session: keeps the assessment in the history (ended at `unix_ms`) when
+    /// `keep` (no try-out), the session ran without a recorder error and every part of the
+    /// assessment ran ([`ran_whole`]); otherwise the next session runs it again.
+    pub fn settle(&self, report: &crate::session::SessionReport, keep: bool, unix_ms: u64) {
+        let rec = &report.recorder;
+        if keep && rec.error.is_none() && ran_whole(&rec.exercises) {
+            self.remember(unix_ms);
+        }
     }
 
     /// Keeps the assessment in the history, ended at `unix_ms`. A history that cannot be
@@ -168,11 +201,26 @@ mod tests {
         let now = 1_800_000_000_000;
         let mut r = weekly();
         let planned = Planned::plan(&mut r, Some(dir.path()), "p1", now, 5).unwrap();
-        let names: Vec<String> = r.as_ref().unwrap().exercises.iter().map(|e| e.exercise.name()).collect();
+        let names: Vec<String> = r
+            .as_ref()
+            .unwrap()
+            .exercises
+            .iter()
+            .map(|e| e.exercise.name())
+            .collect();
         assert_eq!(names.len(), 7, "{names:?}");
-        assert!(names[..6].iter().all(|n| n.starts_with("assessment-")), "{names:?}");
+        assert!(
+            names[..6].iter().all(|n| n.starts_with("assessment-")),
+            "{names:?}"
+        );
         assert_eq!(names[6], "sine-road");
-        assert_eq!(planned.tag, netlink::AssessmentTag { protocol: 1, seed: 5 });
+        assert_eq!(
+            planned.tag,
+            netlink::AssessmentTag {
+                protocol: 1,
+                seed: 5
+            }
+        );
         planned.remember(now);
         // Six days later: not due, the regimen as prescribed; another patient: due.
         let mut r = weekly();
@@ -180,9 +228,12 @@ mod tests {
         assert_eq!(r.unwrap().exercises.len(), 1);
         assert!(Planned::plan(&mut weekly(), Some(dir.path()), "p2", now, 5).is_some());
         // A week later: due again.
-        assert!(Planned::plan(&mut weekly(), Some(dir.path()), "p1", now + 7 * DAY_MS, 5).is_some());
+        assert!(
+            Planned::plan(&mut weekly(), Some(dir.path()), "p1", now + 7 * DAY_MS, 5).is_some()
+        );
         // A regimen that schedules none runs none.
-        let mut plain = Some(regimen::Regimen::from_toml("[[exercise]]\nkind = \"sine\"\n", "x").unwrap());
+        let mut plain =
+            Some(regimen::Regimen::from_toml("[[exercise]]\nkind = \"sine\"\n", "x").unwrap());
         assert!(Planned::plan(&mut plain, None, "p1", now, 5).is_none());
         assert_eq!(last_unix_ms(&history_path(dir.path()), "p1"), Some(now));
     }

@@ -430,7 +430,10 @@ mod tests {
         }
         let holds: Vec<f64> = changes.windows(2).map(|w| w[1] - w[0]).collect();
         assert!(holds.len() > 25, "{}", holds.len());
-        assert!(holds.iter().all(|h| (1.5 - 2e-3..=4.0 + 2e-3).contains(h)), "{holds:?}");
+        assert!(
+            holds.iter().all(|h| (1.5 - 2e-3..=4.0 + 2e-3).contains(h)),
+            "{holds:?}"
+        );
         let spread = holds.iter().cloned().fold(0.0, f64::max)
             - holds.iter().cloned().fold(f64::INFINITY, f64::min);
         assert!(spread > 1.5, "the holds vary: {holds:?}");

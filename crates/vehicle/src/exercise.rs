@@ -1540,7 +1540,10 @@ mod tests {
         // A prescribed duration does not change a fixed protocol.
         assert_eq!(parts[1].with_duration_s(600.0), parts[1]);
         let text = toml::to_string(&parts[4]).unwrap();
-        assert!(text.contains("kind = \"assessment\"") && text.contains("seed = 42"), "{text}");
+        assert!(
+            text.contains("kind = \"assessment\"") && text.contains("seed = 42"),
+            "{text}"
+        );
         let back: ExerciseSpec = toml::from_str(&text).unwrap();
         assert_eq!(back, parts[4]);
     }
@@ -1563,7 +1566,12 @@ mod tests {
         });
         assert!(differ);
         let size = (0..600)
-            .map(|i| a.desired_angle_rad(f64::from(i) * 0.1).unwrap().to_degrees().abs())
+            .map(|i| {
+                a.desired_angle_rad(f64::from(i) * 0.1)
+                    .unwrap()
+                    .to_degrees()
+                    .abs()
+            })
             .fold(0.0, f64::max);
         assert!((size - A::STEP_DEG).abs() < 1e-9, "{size}");
         let old = ExerciseSpec::Assessment(AssessmentSpec {
@@ -1571,6 +1579,9 @@ mod tests {
             ..Default::default()
         });
         let msg = old.validate().unwrap_err().to_string();
-        assert!(msg.contains("protocol") && msg.contains("assessment-range"), "{msg}");
+        assert!(
+            msg.contains("protocol") && msg.contains("assessment-range"),
+            "{msg}"
+        );
     }
 }

@@ -566,7 +566,13 @@ pub(super) fn recorder_loop(
     let mut seq = 0u64;
     let mut arm_loop = ArmLoopCollector::new(1e9 / period_ns as f64);
     let mut online_arm = OnlineArmCalibration::new(1e9 / period_ns as f64);
-    let mut measures = collector(mcap.as_ref(), period_ns, expected_ticks, target_steps, apart);
+    let mut measures = collector(
+        mcap.as_ref(),
+        period_ns,
+        expected_ticks,
+        target_steps,
+        apart,
+    );
     let mut changes = ChangeLog::default();
     loop {
         let rec = match consumer.pop() {

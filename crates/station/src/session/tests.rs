@@ -993,7 +993,9 @@ fn the_standard_assessment_runs_first_without_assistance_and_measures_the_simula
         assert!(!r.assist.active, "tick {}", r.tick);
     }
     assert!(
-        after.iter().any(|r| r.assist.active && r.assist.torque_nm != 0.0),
+        after
+            .iter()
+            .any(|r| r.assist.active && r.assist.torque_nm != 0.0),
         "the dial after it is assisted as the station is set"
     );
     let results = &report.recorder.exercises;
@@ -1001,7 +1003,10 @@ fn the_standard_assessment_runs_first_without_assistance_and_measures_the_simula
     assert!(crate::assessment::ran_whole(results));
     let score = |kind: &str, name: &str| -> f64 {
         let r = results.iter().find(|r| r.kind == kind).unwrap();
-        let v = *r.scores.get(name).unwrap_or_else(|| panic!("{kind}: no {name} in {:?}", r.scores));
+        let v = *r
+            .scores
+            .get(name)
+            .unwrap_or_else(|| panic!("{kind}: no {name} in {:?}", r.scores));
         assert!(v.is_finite(), "{kind} {name} {v}");
         v
     };
