@@ -132,16 +132,6 @@ impl Planned {
         Some(planned)
     }
 
-    /// After the session: keeps the assessment in the history (ended at `unix_ms`) when
-    /// `keep` (no try-out), the session ran without a recorder error and every part of the
-    /// assessment ran ([`ran_whole`]); otherwise the next session runs it again.
-    pub fn settle(&self, report: &crate::session::SessionReport, keep: bool, unix_ms: u64) {
-        let rec = &report.recorder;
-        if keep && rec.error.is_none() && ran_whole(&rec.exercises) {
-            self.remember(unix_ms);
-        }
-    }
-
     /// Keeps the assessment in the history, ended at `unix_ms`. A history that cannot be
     /// written is a warning (the next session then runs the assessment again).
     pub fn remember(&self, unix_ms: u64) {

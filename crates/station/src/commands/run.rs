@@ -588,16 +588,23 @@ fn plan_assessment(
 }
 
 /// Each exercise's results for the session's `Bye`, the assessment's parts tagged; the
-/// assessment kept in the home's history when it ran whole (`keep`: no try-out).
+/// assessment kept in the home's history when `keep` (no try-out), the session ran without a
+/// recorder error and every part of it ran.
 fn settle_exercises(
     link: &mut Link,
     report: &SessionReport,
     assessment: Option<&crate::assessment::Planned>,
     keep: bool,
 ) {
-    link.set_exercises(&report.recorder.exercises, assessment.map(|a| a.tag));
-    if let Some(a) = assessment {
-        a.settle(report, keep, netlink::frame::unix_ms_now());
+    let rec = &report.recorder;
+    link.set_exercises(&rec.exercises, assessment.map(|a| a.tag));
+    // A session ended early in the assessment did not assess: the next one runs it again.
+    if let Some(a) = assessment
+        && keep
+        && rec.error.is_none()
+        && crate::assessment::ran_whole(&rec.exercises)
+    {
+        a.remember(netlink::frame::unix_ms_now());
     }
 }
 
