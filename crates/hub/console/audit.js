@@ -16,7 +16,7 @@ const KINDS = [
   'login', 'logout', 'login_failed', 'login_throttled', 'password_changed',
   'password_change_refused', 'list_patients', 'read_patient', 'show_patient', 'read_sessions',
   'read_session', 'read_summaries', 'read_metrics', 'read_exercises', 'read_replay', 'watch_live',
-  'live_ended', 'read_checkins', 'read_difficulty', 'read_regimen', 'put_regimen',
+  'live_ended', 'read_checkins', 'read_difficulty', 'read_assessments', 'read_regimen', 'put_regimen',
   'regimen_rejected', 'read_messages', 'post_message', 'message_rejected', 'message_seen',
   'read_notes', 'post_note', 'note_rejected', 'read_scales', 'post_scale', 'delete_scale',
   'scale_rejected', 'export_measures_csv', 'export_caseload_csv', 'export_fhir', 'export_patient',

@@ -1,5 +1,6 @@
-// A patient's progress (issues 29, 41), ordered as a clinician reads it: pain, adherence and
-// alerts first; then the assessment (the clinical scales); then the exercises — the latest
+// A patient's progress (issues 29, 41, 42), ordered as a clinician reads it: the standard
+// assessment first (the same test for every patient, apart from the exercises: GET
+// /api/patients/{id}/assessments, numbers as text); pain, adherence and alerts; then the assessment (the clinical scales); then the exercises — the latest
 // session against the patient's own baseline, and each exercise kind's charts collapsed behind a
 // one-line summary. Every measure is named, rounded and charted from the ONE table of measure
 // words (words.js, GET /api/measures/words): one measure a chart, its axis from the measure's
@@ -13,8 +14,8 @@ import { has, languageTag, t, locale } from '/console/i18n.js';
 import { alertWords, SEVERITY } from '/console/caseload.js';
 import { numbersTable, sessionChart, sessionLabels } from '/console/sessionchart.js';
 import {
-  activeWords, dayWords, endWords, exercisesWords, headerWords, kindWords, measureWords, noiseBand, sessionWords, trendWords,
-  valueWords, whenWords, measureName, measureDefinition,
+  activeWords, dayWords, endWords, exercisesWords, headerWords, kindWords, measureWords, noiseBand, numberIn, sessionWords,
+  trendWords, valueWords, whenWords, measureName, measureDefinition,
 } from '/console/words.js';
 import { bindNoteCells, noteCell } from '/console/notes.js';
 import { scalesSection } from '/console/scales.js';
@@ -26,6 +27,48 @@ const FOLLOWED = ['active_s', 'pct_in_lane', 'rms_lateral_m', 'dial_rms_error_de
   'shoulder_elevation_rom_deg', 'elbow_flexion_rom_deg', 'strength_sustained_left_nm', 'strength_sustained_right_nm',
   'sparc_median', 'speed_metric_median', 'speed_peaks_median', 'movement_time_s_median', 'reaction_time_s_median', 'anticipation_pct',
   'initial_direction_error_deg_mean', 'path_length_ratio_median', 'movements_per_min', 'assist_level_mean'];
+
+/** The standard assessment's table: each part's measures, in the protocol's order
+ * (`vehicle::assessment`); the part's words are `progress-assessment-part-<part>`, the
+ * measure's name, unit and decimals the words table's. */
+const ASSESSMENT_ROWS = [
+  ['range', 'wheel_rom_deg'],
+  ['tracking-slow', 'dial_rms_error_deg'],
+  ['tracking-medium', 'dial_rms_error_deg'],
+  ['tracking-fast', 'dial_rms_error_deg'],
+  ['steps', 'reaction_time_s_median'],
+  ['steps', 'movement_time_s_median'],
+  ['steps', 'sparc_median'],
+  ['steps', 'ldlj_median'],
+  ['steps', 'path_length_ratio_median'],
+  ['steps', 'initial_direction_error_deg_mean'],
+  ['strength', 'strength_peak_left_nm'],
+  ['strength', 'strength_peak_right_nm'],
+];
+
+/** How many assessments the table shows, newest first. */
+const ASSESSMENTS_SHOWN = 4;
+
+/** The standard assessment's section (HTML, every part escaped): a table of the latest
+ * assessments' numbers, newest first, or a line saying there is none yet. */
+function assessmentHtml(assessments, words) {
+  const head = `<h2 id="assessment-h">${esc(t('progress-assessment-title'))}</h2>`;
+  if (!assessments.length) return `${head}<p class="note">${esc(t('progress-assessment-none'))}</p>`;
+  const shown = assessments.slice(0, ASSESSMENTS_SHOWN);
+  const part = (a, name) => a.parts.find(p => p.kind === `assessment-${name}`);
+  const rows = ASSESSMENT_ROWS.map(([name, key]) => {
+    const m = words.measures.get(key);
+    const cells = shown.map(a => {
+      const v = part(a, name)?.scores?.[key];
+      return `<td data-key="${esc(key)}">${esc(v == null ? '—' : numberIn(m, v))}</td>`;
+    }).join('');
+    const label = t('progress-assessment-row', { part: t(`progress-assessment-part-${name}`), measure: m ? headerWords(m) : measureName(key) });
+    return `<tr data-part="${esc(name)}"><th scope="row">${esc(label)}</th>${cells}</tr>`;
+  }).join('');
+  const dates = shown.map(a => `<th scope="col">${esc(dayWords(a.started_unix_ms))}</th>`).join('');
+  return `${head}<p class="note">${esc(t('progress-assessment-intro', { protocol: shown[0].protocol }))}</p>
+    <table id="assessment-table"><thead><tr><th scope="col">${esc(t('progress-assessment-col-measure'))}</th>${dates}</tr></thead><tbody>${rows}</tbody></table>`;
+}
 
 /** What describes a session rather than the patient's progress: in the tables, not charted. */
 const NOT_CHARTED = new Set(['session_s', 'paused_s', 'movements', 'discrete_movements']);
@@ -276,7 +319,7 @@ function technicalDetails(words, metrics) {
 /** The Progress tab of patient `id` in `el`; returns what to undo on leaving it. */
 export async function progressView(el, id) {
   const pid = encodeURIComponent(id);
-  const [words, sessionsNewest, checkinList, difficultyNewest, overviews, clinic, patient] = await Promise.all([
+  const [words, sessionsNewest, checkinList, difficultyNewest, overviews, clinic, patient, assessments] = await Promise.all([
     measureWords(),
     api('GET', `/api/patients/${pid}/sessions`),
     // The patient's own answers on each session's end screen (plain text, escaped).
@@ -287,6 +330,8 @@ export async function progressView(el, id) {
     api('GET', '/api/patients').catch(() => []),
     api('GET', '/api/clinic/name').catch(() => ({ name: null })),
     api('GET', `/api/patients/${pid}`).catch(() => ({ pseudonym: '' })),
+    // The standard assessments (newest first), apart from the exercise sessions.
+    api('GET', `/api/patients/${pid}/assessments`).catch(() => []),
   ]);
   const sessions = sessionsNewest.slice().reverse();
   const metrics = await Promise.all(sessions.map(s => api('GET', `/api/sessions/${encodeURIComponent(s.session_id)}/metrics`).catch(() => ({}))));
@@ -311,6 +356,7 @@ export async function progressView(el, id) {
       · ${esc(t('progress-print-of', { name: patient.pseudonym || '' }))} · <span id="date-range">${esc(range)}</span> · ${esc(t('progress-printed', { day: dayWords(Date.now()) }))}</p>
     <p class="print-hide"><button type="button" id="print" class="secondary">${esc(t('progress-print'))}</button>
       <a id="measures-csv" href="/api/patients/${pid}/measures.csv?tz=${encodeURIComponent(tz)}&amp;lang=${encodeURIComponent(languageTag())}" download>${esc(t('progress-download', { zone: zoneWords }))}</a></p>
+    <section class="panel" id="assessment" aria-labelledby="assessment-h">${assessmentHtml(assessments, words)}</section>
     <section class="panel" id="summary" aria-labelledby="summary-h">${summaryHtml(checkinsNewest, sessions, overview, words)}</section>
     <section class="panel" id="dose" aria-labelledby="dose-h">${doseSection(sessions, metrics, overview)}</section>
     <section class="panel" id="scales" aria-labelledby="scales-h"></section>

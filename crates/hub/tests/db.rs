@@ -77,6 +77,7 @@ on_both_backends!(
     a_byes_checkin_is_stored_and_high_or_rising_pain_raises_a_caseload_alert,
     a_byes_difficulty_is_stored_once_per_session_newest_first,
     a_byes_exercise_results_are_stored_in_course_order_exactly,
+    an_assessment_is_stored_as_its_own_kind_and_kept_out_of_the_exercise_trends,
     metrics_and_recordings,
     regimen_versions_increment,
     audit_log_keeps_entries,
@@ -1254,6 +1255,7 @@ fn two_exercise_results() -> Vec<netlink::ExerciseResult> {
                 ("dial_mean_abs_error_deg".to_owned(), 3.125),
                 ("dial_rms_error_deg".to_owned(), 4.0000000001),
             ]),
+            assessment: None,
         },
         netlink::ExerciseResult {
             index: 0,
@@ -1265,6 +1267,7 @@ fn two_exercise_results() -> Vec<netlink::ExerciseResult> {
                 ("rms_lateral_m".to_owned(), 0.1234567890123),
                 ("pct_in_lane".to_owned(), 99.5),
             ]),
+            assessment: None,
         },
     ]
 }
@@ -1319,6 +1322,71 @@ async fn a_byes_exercise_results_are_stored_in_course_order_exactly(db: Db) {
         .to_string();
     assert!(err.contains("exercises[1].active_s"), "{err}");
     assert!(db.exercises_of("s-old").await.unwrap().is_empty());
+}
+
+/// A session that ran the standard assessment first, then a road: the assessment's parts
+/// come back tagged and as the patient's assessment; the session compares with road
+/// sessions (its kind `road`, not `assessment+road`); a session without one has none.
+async fn an_assessment_is_stored_as_its_own_kind_and_kept_out_of_the_exercise_trends(db: Db) {
+    let (_, p) = paired(&db).await;
+    let tag = netlink::AssessmentTag {
+        protocol: 1,
+        seed: 4_000_000_000,
+    };
+    let part = |index: u32, kind: &str, score: (&str, f64)| netlink::ExerciseResult {
+        index,
+        kind: kind.into(),
+        name: kind.into(),
+        prescribed_s: 30.0,
+        active_s: 30.0,
+        scores: BTreeMap::from([(score.0.to_owned(), score.1)]),
+        assessment: Some(tag),
+    };
+    let mut road = two_exercise_results().remove(1);
+    road.index = 2;
+    let exercises = vec![
+        part(0, "assessment-range", ("wheel_rom_deg", 150.0)),
+        part(1, "assessment-steps", ("reaction_time_median_s", 0.41)),
+        road,
+    ];
+    for (id, at) in [("s-old", T0), ("s-new", T0 + 60 * MIN)] {
+        db.open_session(&hello("st-1", &p.id, id), at)
+            .await
+            .unwrap();
+        let bye = Bye {
+            session_id: id.into(),
+            reason: "complete".into(),
+            final_seq: None,
+            measures: BTreeMap::from([("movements".to_owned(), 12.0)]),
+            hub_unix_ms: None,
+            checkin: None,
+            difficulty: None,
+            exercises: if id == "s-new" {
+                exercises.clone()
+            } else {
+                exercises[2..].to_vec()
+            },
+        };
+        db.close_session(&bye, at + MIN).await.unwrap();
+    }
+    let stored = db.exercises_of("s-new").await.unwrap();
+    assert_eq!(stored[0].assessment, Some(tag));
+    assert_eq!(stored[2].assessment, None);
+    let assessments = db.assessments_of(&p.id).await.unwrap();
+    assert_eq!(assessments.len(), 1, "{assessments:?}");
+    let a = &assessments[0];
+    assert_eq!(
+        (a.session_id.as_str(), a.protocol, a.seed),
+        ("s-new", 1, tag.seed)
+    );
+    let kinds: Vec<&str> = a.parts.iter().map(|e| e.kind.as_str()).collect();
+    assert_eq!(kinds, ["assessment-range", "assessment-steps"]);
+    assert_eq!(a.parts[1].scores["reaction_time_median_s"], 0.41);
+    let sessions = db.named_sessions_of(&p.id).await.unwrap();
+    assert_eq!(sessions.len(), 2);
+    for s in &sessions {
+        assert_eq!(s.exercise_kind, "road", "{}", s.row.session_id);
+    }
 }
 
 async fn attempts_from_one_address_never_make_a_pairing_code_wait_for_another(db: Db) {

@@ -80,6 +80,7 @@ fn result(index: u32, kind: &str, name: &str, prescribed_s: f64) -> ExerciseResu
         prescribed_s,
         active_s: prescribed_s,
         scores: BTreeMap::new(),
+        assessment: None,
     }
 }
 

@@ -538,6 +538,7 @@ async fn exercise_results_are_served_per_session_to_the_patients_therapist_only_
         prescribed_s: 30.0,
         active_s: 29.5,
         scores: [(score.0.to_owned(), score.1)].into(),
+        assessment: None,
     };
     let bye = netlink::Bye {
         session_id: "s1".into(),

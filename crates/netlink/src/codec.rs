@@ -846,6 +846,7 @@ mod tests {
             prescribed_s: 45.0,
             active_s: 44.5,
             scores: BTreeMap::from([("dial_mean_abs_error_deg".to_owned(), 3.25)]),
+            assessment: None,
         };
         let bye = Frame::Bye(Bye {
             session_id: "s1".into(),
@@ -897,6 +898,75 @@ mod tests {
                 .collect()
         });
         assert!(err.contains("at most 60"), "{err}");
+    }
+
+    /// An assessment's results say so in an optional field: an exercise's JSON has none (so
+    /// older hubs and the golden bytes above are unchanged), an assessment's round-trips, and
+    /// the tag on an exercise that is no assessment, or of protocol 0, is refused.
+    #[test]
+    fn an_assessment_part_is_tagged_with_its_protocol_and_seed_and_only_it() {
+        use crate::frame::{AssessmentTag, ExerciseResult};
+        let part = ExerciseResult {
+            index: 0,
+            kind: "assessment-steps".into(),
+            name: "Assessment steps".into(),
+            prescribed_s: 60.0,
+            active_s: 60.0,
+            scores: Default::default(),
+            assessment: Some(AssessmentTag {
+                protocol: 1,
+                seed: 77,
+            }),
+        };
+        let exercise = ExerciseResult {
+            kind: "dial-sine".into(),
+            assessment: None,
+            index: 1,
+            ..part.clone()
+        };
+        assert!(
+            !serde_json::to_string(&exercise)
+                .unwrap()
+                .contains("assessment")
+        );
+        let bye = |exercises| {
+            Frame::Bye(Bye {
+                session_id: "s1".into(),
+                reason: "complete".into(),
+                final_seq: Some(7),
+                measures: Default::default(),
+                hub_unix_ms: None,
+                checkin: None,
+                exercises,
+                difficulty: None,
+            })
+        };
+        let frame = bye(vec![part.clone(), exercise.clone()]);
+        let bytes = encode_to_vec(&frame).unwrap();
+        assert_eq!(decode(&bytes).unwrap().map(|(f, _)| f), Some(frame));
+        let json = serde_json::to_string(&part).unwrap();
+        assert!(
+            json.contains(r#""assessment":{"protocol":1,"seed":77}"#),
+            "{json}"
+        );
+        let mislabelled = ExerciseResult {
+            assessment: part.assessment,
+            ..exercise
+        };
+        let err = bye(vec![mislabelled]).validate().unwrap_err().to_string();
+        assert!(
+            err.contains("assessment") && err.contains("dial-sine"),
+            "{err}"
+        );
+        let zero = ExerciseResult {
+            assessment: Some(AssessmentTag {
+                protocol: 0,
+                seed: 1,
+            }),
+            ..part
+        };
+        let err = bye(vec![zero]).validate().unwrap_err().to_string();
+        assert!(err.contains("protocol"), "{err}");
     }
 
     /// A station's Bye with the difficulty its session ran at: additive, an older hub ignores

@@ -474,6 +474,20 @@ pub struct ExerciseResult {
     /// [`MAX_EXTRA_ENTRIES`].
     #[serde(default)]
     pub scores: BTreeMap<String, f64>,
+    /// The standard assessment this exercise is a part of (its `kind` then starts
+    /// `assessment-`); absent for an exercise, and from stations older than this field.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub assessment: Option<AssessmentTag>,
+}
+
+/// Which standard assessment an exercise result belongs to (the station's
+/// `vehicle::assessment`): its protocol version and the seed its steps were drawn from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct AssessmentTag {
+    /// The protocol's version, from 1.
+    pub protocol: u32,
+    /// The seed the steps' times and sides were drawn from.
+    pub seed: u32,
 }
 
 impl ExerciseResult {
@@ -482,6 +496,19 @@ impl ExerciseResult {
         let at = format!("exercises[{}]", self.index);
         check_id(&format!("{at}.kind"), &self.kind)?;
         check_text(&format!("{at}.name"), &self.name, MAX_ID_LEN)?;
+        if let Some(tag) = &self.assessment {
+            if tag.protocol == 0 {
+                return Err(FieldError(format!(
+                    "{at}.assessment.protocol is 0, allowed 1 or more"
+                )));
+            }
+            if !self.kind.starts_with("assessment-") {
+                return Err(FieldError(format!(
+                    "{at}.assessment is set on kind {:?}, allowed only on an assessment-* kind",
+                    self.kind
+                )));
+            }
+        }
         for (name, v) in [
             ("prescribed_s", self.prescribed_s),
             ("active_s", self.active_s),

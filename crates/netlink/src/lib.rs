@@ -92,9 +92,10 @@ pub mod upload;
 pub use codec::{CodecError, FrameDecoder, decode, encode, encode_to_vec};
 pub use error::NetlinkError;
 pub use frame::{
-    Ack, Bye, CARE_VERSION, CHECK_NEWS_VERSION, Care, CheckIn, DifficultyChange, DifficultyWhy,
-    ErrorFrame, ExerciseResult, Frame, FrameKind, Hello, MAX_MESSAGE_TEXT_CHARS, MESSAGES_VERSION,
-    Message, MessageSeen, PROTOCOL_VERSION, Regimen, Summary, WheelInfo, check_message_text,
+    Ack, AssessmentTag, Bye, CARE_VERSION, CHECK_NEWS_VERSION, Care, CheckIn, DifficultyChange,
+    DifficultyWhy, ErrorFrame, ExerciseResult, Frame, FrameKind, Hello, MAX_MESSAGE_TEXT_CHARS,
+    MESSAGES_VERSION, Message, MessageSeen, PROTOCOL_VERSION, Regimen, Summary, WheelInfo,
+    check_message_text,
 };
 pub use station::{
     Backoff, HubAddress, LinkStats, SendError, StationLink, StationLinkConfig, SummarySender,

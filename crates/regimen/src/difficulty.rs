@@ -207,12 +207,12 @@ fn scale_speed(spec: &mut ExerciseSpec, k: f64) {
                     *start_rad_s = down(*start_rad_s, k, f);
                     *end_rad_s = down(*end_rad_s, k, f);
                 }
-                DialSignal::Step { .. } => {}
+                DialSignal::Step { .. } | DialSignal::RandomSteps { .. } => {}
             }
         }
         // A strength test has no speed: the patient sets its pace. A haptic sweep is a
         // measurement: its sine stays as prescribed, session after session.
-        ExerciseSpec::Strength(_) | ExerciseSpec::HapticSweep(_) => {}
+        ExerciseSpec::Strength(_) | ExerciseSpec::HapticSweep(_) | ExerciseSpec::Assessment(_) => {}
     }
 }
 
@@ -238,6 +238,7 @@ fn scale_shape(spec: &mut ExerciseSpec, k: f64) {
             match &mut d.reference {
                 DialSignal::Sine { amplitude_deg, .. }
                 | DialSignal::Step { amplitude_deg, .. }
+                | DialSignal::RandomSteps { amplitude_deg, .. }
                 | DialSignal::Ramp { amplitude_deg, .. }
                 | DialSignal::Chirp { amplitude_deg, .. } => {
                     *amplitude_deg = down(*amplitude_deg, k, a);
@@ -251,7 +252,7 @@ fn scale_shape(spec: &mut ExerciseSpec, k: f64) {
         }
         // Nor a shape: the patient pushes as hard as they comfortably can (nor does a sweep,
         // a measurement).
-        ExerciseSpec::Strength(_) | ExerciseSpec::HapticSweep(_) => {}
+        ExerciseSpec::Strength(_) | ExerciseSpec::HapticSweep(_) | ExerciseSpec::Assessment(_) => {}
     }
 }
 
@@ -288,7 +289,10 @@ fn keep_duration(spec: &mut ExerciseSpec, prescribed: &ExerciseSpec) {
         ExerciseSpec::SBend(s) => &mut s.duration_s,
         ExerciseSpec::LaneChange(s) => &mut s.duration_s,
         ExerciseSpec::Slalom(s) => &mut s.duration_s,
-        ExerciseSpec::Dial(_) | ExerciseSpec::Strength(_) | ExerciseSpec::HapticSweep(_) => {
+        ExerciseSpec::Dial(_)
+        | ExerciseSpec::Strength(_)
+        | ExerciseSpec::HapticSweep(_)
+        | ExerciseSpec::Assessment(_) => {
             return;
         }
     };
@@ -298,6 +302,10 @@ fn keep_duration(spec: &mut ExerciseSpec, prescribed: &ExerciseSpec) {
 /// One exercise at difficulty `d` (see the module's mapping).
 pub fn entry_at(entry: &RegimenEntry, spec: &DifficultySpec, d: f64) -> RegimenEntry {
     let mut out = entry.clone();
+    // The standard assessment is the same task at every difficulty (`vehicle::assessment`).
+    if matches!(entry.exercise, ExerciseSpec::Assessment(_)) {
+        return out;
+    }
     let k = challenge_scale(d);
     let mut ex = entry.exercise.clone();
     if spec.changes(Aspect::Speed) {

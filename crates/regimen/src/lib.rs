@@ -17,17 +17,21 @@
 //!
 //! An optional `[difficulty]` table lets the station adapt each session's difficulty within the
 //! therapist's bounds ([`difficulty`]); an optional `[patient]` table carries the patient's
-//! language, neglected side and speech settings ([`patient`]).
+//! language, neglected side and speech settings ([`patient`]); an optional `[assessment]`
+//! table how often the station runs the standard assessment first in a session
+//! ([`assessment`]).
 //!
 //! Samples: `regimens/easy.toml`, `medium.toml`, `hard.toml`.
 
 // Easy, medium and hard starting points of every exercise kind, for the console (issue 41).
 pub mod presets;
 
+pub mod assessment;
 pub mod difficulty;
 pub mod lenient;
 pub mod patient;
 
+pub use assessment::AssessmentSchedule;
 pub use difficulty::{Aspect, DifficultySpec};
 pub use patient::{NeglectedSide, PatientSettings};
 
@@ -83,6 +87,10 @@ pub struct Regimen {
     /// the start after a rest). See [`patient`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub patient: Option<PatientSettings>,
+    /// How often the station runs the standard assessment first in a session
+    /// (`[assessment] every_days = 7`; absent: never). See [`assessment`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub assessment: Option<AssessmentSchedule>,
     /// The exercises, in the order the patient does them.
     #[serde(rename = "exercise")]
     #[schemars(length(min = 1, max = MAX_EXERCISES as u32))]
@@ -272,6 +280,12 @@ impl Regimen {
                 message,
             })?;
         }
+        if let Some(a) = &r.assessment {
+            a.validate().map_err(|message| RegimenError::Parse {
+                path: origin.into(),
+                message,
+            })?;
+        }
         for (i, e) in r.exercises.iter().enumerate() {
             let invalid = |message: String| RegimenError::Invalid {
                 path: origin.into(),
@@ -432,7 +446,8 @@ fn check_pedals(spec: &ExerciseSpec) -> Result<(), String> {
 /// The kind of exercise a short name (`sine-road`, `slalom`, `dial-step`) or `kind` is, for
 /// comparing like with like: `dial` for the dial tasks, `road` for the driving ones, by the
 /// exercise the name makes ([`ExerciseSpec::from_name`]), `strength` for the strength test,
-/// `haptic-sweep` for a haptic sweep (a measurement whose levels change the task);
+/// `haptic-sweep` for a haptic sweep (a measurement whose levels change the task),
+/// `assessment` for every part of the standard assessment (never compared with exercises);
 /// a name no exercise has (newer or
 /// older than this build) is a dial or road by its prefix or suffix, else its own kind.
 pub fn exercise_kind(short: &str) -> String {
@@ -440,6 +455,8 @@ pub fn exercise_kind(short: &str) -> String {
         Ok(ExerciseSpec::Dial(_)) => "dial",
         Ok(ExerciseSpec::Strength(_)) => "strength",
         Ok(ExerciseSpec::HapticSweep(_)) => "haptic-sweep",
+        Ok(ExerciseSpec::Assessment(_)) => "assessment",
+        Err(_) if vehicle::assessment::is_assessment_name(short) => "assessment",
         Ok(_) => "road",
         Err(_) if short.starts_with("dial") => "dial",
         Err(_) if short.ends_with("-road") => "road",

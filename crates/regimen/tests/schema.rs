@@ -194,6 +194,14 @@ fn samples() -> Vec<Value> {
         }
         out.push(json!({ "sessions_per_week": 3, "exercise": [with_time_limit(e)] }));
     }
+    // The standard assessment's schedule, and its random steps as a prescribed dial (the
+    // holds span the whole range, so each hold reaches its bound with the other in range).
+    out.push(json!({
+        "assessment": { "every_days": 7 },
+        "exercise": [{ "kind": "dial", "duration_s": 60.0,
+                       "reference": { "signal": "random-steps", "amplitude_deg": 20.0,
+                                      "min_hold_s": 0.5, "max_hold_s": 60.0, "seed": 3 } }]
+    }));
     out.push(json!({
         "patient": { "language": "de", "neglected_side": "left", "speech": true,
                      "speech_volume_pct": 80, "start_after_rest_s": 10.0 },

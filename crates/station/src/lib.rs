@@ -52,6 +52,7 @@
 //! from that buffer and watches it, the session runs on a `session` thread beside it.
 
 pub mod adapt;
+pub mod assessment;
 pub mod checkin;
 pub mod cli;
 pub mod commands;

@@ -25,6 +25,8 @@ pub const COMPONENTS: Bound = Bound::new(1.0, 16.0);
 pub const HOLD_S: Bound = Bound::new(0.5, 600.0);
 /// A ramp's `rate_deg_s`, deg/s.
 pub const RATE_DEG_S: Bound = Bound::new(1.0, 720.0);
+/// A random step's `min_hold_s` and `max_hold_s`, s.
+pub const RANDOM_HOLD_S: Bound = Bound::new(0.5, 60.0);
 /// A chirp's `sweep_s`, s.
 pub const SWEEP_S: Bound = Bound::new(1.0, 3600.0);
 /// How far a dial exercise's target centre may drift over it (`drift_deg`), deg: the wheel's
@@ -115,6 +117,24 @@ pub enum DialSignal {
         #[schemars(range(min = HOLD_S.min, max = HOLD_S.max))]
         hold_s: f64,
     },
+    /// Steps of one size at unpredictable times: the target rests at the centre, jumps to
+    /// +A or −A, back to the centre, and so on, each level held a time drawn evenly from
+    /// [`min_hold_s`, `max_hold_s`] and each side drawn from `seed` (the same seed, the same
+    /// steps). Every step is `amplitude_deg` high, so each is one discrete movement of the
+    /// same size (the standard assessment's steps, `vehicle::assessment`).
+    RandomSteps {
+        /// Step height from centre, deg.
+        #[schemars(range(min = AMPLITUDE_DEG.min, max = AMPLITUDE_DEG.max))]
+        amplitude_deg: f64,
+        /// Shortest time at a level, s.
+        #[schemars(range(min = RANDOM_HOLD_S.min, max = RANDOM_HOLD_S.max))]
+        min_hold_s: f64,
+        /// Longest time at a level, s (at least `min_hold_s`).
+        #[schemars(range(min = RANDOM_HOLD_S.min, max = RANDOM_HOLD_S.max))]
+        max_hold_s: f64,
+        /// Draws the hold times and sides.
+        seed: u32,
+    },
     /// Constant-speed sweeps between −A and +A (a triangle wave, starting at 0 going up).
     Ramp {
         /// Turning point, deg.
@@ -157,6 +177,7 @@ impl DialSignal {
             DialSignal::Sine { .. } => "sine",
             DialSignal::MultiSine { .. } => "multi-sine",
             DialSignal::Step { .. } => "step",
+            DialSignal::RandomSteps { .. } => "random-steps",
             DialSignal::Ramp { .. } => "ramp",
             DialSignal::Chirp { .. } => "chirp",
         }
@@ -249,6 +270,23 @@ impl DialSignal {
                 amp(*amplitude_deg)?;
                 r("hold_s", *hold_s, HOLD_S, "s")
             }
+            DialSignal::RandomSteps {
+                amplitude_deg,
+                min_hold_s,
+                max_hold_s,
+                ..
+            } => {
+                amp(*amplitude_deg)?;
+                r("min_hold_s", *min_hold_s, RANDOM_HOLD_S, "s")?;
+                check_range(
+                    context,
+                    "max_hold_s",
+                    *max_hold_s,
+                    *min_hold_s,
+                    RANDOM_HOLD_S.max,
+                    "s (at least min_hold_s)",
+                )
+            }
             DialSignal::Ramp {
                 amplitude_deg,
                 rate_deg_s,
@@ -292,6 +330,12 @@ impl DialSignal {
                     -amplitude_deg
                 }
             }
+            DialSignal::RandomSteps {
+                amplitude_deg,
+                min_hold_s,
+                max_hold_s,
+                seed,
+            } => random_step_level(*seed, *min_hold_s, *max_hold_s, t) * amplitude_deg,
             DialSignal::Ramp {
                 amplitude_deg,
                 rate_deg_s,
@@ -322,9 +366,93 @@ impl DialSignal {
     }
 }
 
+/// SplitMix64 (Steele, Lea & Flood 2014): the `k`-th draw of `seed`, in [0, 1), with no state
+/// to carry, so the haptic thread can ask for any step's draw without allocating.
+fn draw(seed: u32, k: u64) -> f64 {
+    let mut z = u64::from(seed)
+        .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        .wrapping_add(k.wrapping_add(1).wrapping_mul(0xBF58_476D_1CE4_E5B9));
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    (z >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// Where [`DialSignal::RandomSteps`] rests at `t_s`: 0 at the centre, +1 or −1 at a side.
+/// Level `k` (0 at the centre, odd levels at a side) is held `min + (max − min)·draw(2k)` s;
+/// an odd level's side is left when `draw(2k + 1) < 0.5`.
+fn random_step_level(seed: u32, min_hold_s: f64, max_hold_s: f64, t_s: f64) -> f64 {
+    let span_s = (max_hold_s - min_hold_s).max(0.0);
+    let mut start_s = 0.0;
+    let mut k = 0u64;
+    loop {
+        let hold_s = (min_hold_s + span_s * draw(seed, 2 * k)).max(RANDOM_HOLD_S.min);
+        if t_s < start_s + hold_s {
+            break;
+        }
+        start_s += hold_s;
+        k += 1;
+    }
+    match (k % 2, draw(seed, 2 * k + 1) < 0.5) {
+        (0, _) => 0.0,
+        (_, true) => 1.0,
+        (_, false) => -1.0,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The random steps of one seed are the same every time, of the one size, at holds
+    /// within their bounds, to both sides; another seed steps at other times.
+    #[test]
+    fn random_steps_are_one_size_within_their_holds_to_both_sides_and_repeat_with_their_seed() {
+        let steps = |seed| DialSignal::RandomSteps {
+            amplitude_deg: 20.0,
+            min_hold_s: 1.5,
+            max_hold_s: 4.0,
+            seed,
+        };
+        let s = steps(7);
+        s.validate("assessment").unwrap();
+        let dt = 0.001;
+        let deg: Vec<f64> = (0..120_000)
+            .map(|i| s.desired_angle_rad(i as f64 * dt).to_degrees())
+            .collect();
+        assert_eq!(deg[0], 0.0, "starts at the centre");
+        let mut changes = Vec::new();
+        for i in 1..deg.len() {
+            if deg[i] != deg[i - 1] {
+                assert!(((deg[i] - deg[i - 1]).abs() - 20.0).abs() < 1e-9, "{i}");
+                changes.push(i as f64 * dt);
+            }
+        }
+        let holds: Vec<f64> = changes.windows(2).map(|w| w[1] - w[0]).collect();
+        assert!(holds.len() > 25, "{}", holds.len());
+        assert!(
+            holds.iter().all(|h| (1.5 - 2e-3..=4.0 + 2e-3).contains(h)),
+            "{holds:?}"
+        );
+        let spread = holds.iter().cloned().fold(0.0, f64::max)
+            - holds.iter().cloned().fold(f64::INFINITY, f64::min);
+        assert!(spread > 1.5, "the holds vary: {holds:?}");
+        assert!(deg.iter().any(|d| *d > 19.0) && deg.iter().any(|d| *d < -19.0));
+        let again: Vec<f64> = (0..120_000)
+            .map(|i| steps(7).desired_angle_rad(i as f64 * dt).to_degrees())
+            .collect();
+        assert_eq!(deg, again);
+        let other = steps(8);
+        assert!((0..60_000).any(|i| other.desired_angle_rad(i as f64 * dt).to_degrees() != deg[i]));
+        let bad = DialSignal::RandomSteps {
+            amplitude_deg: 20.0,
+            min_hold_s: 3.0,
+            max_hold_s: 2.0,
+            seed: 1,
+        };
+        let msg = bad.validate("assessment").unwrap_err().to_string();
+        assert!(msg.contains("max_hold_s"), "{msg}");
+    }
 
     #[test]
     fn a_drifting_target_starts_at_the_signal_reaches_half_way_at_the_middle_and_the_drift_at_the_end()

@@ -14,6 +14,7 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use self::bounds::*;
+use crate::assessment::{self as A, AssessmentPart, AssessmentSpec};
 use crate::dial::{AMPLITUDE_DEG, DialSignal, FREQUENCY_RAD_S};
 use crate::error::{VehicleError, check_range};
 use crate::model::VehicleState;
@@ -57,6 +58,69 @@ fn validate_sweep(c: &str, d: &HapticSweepSpec) -> Result<(), VehicleError> {
         FREQUENCY_RAD_S,
         "rad/s",
     )
+}
+
+/// The standard assessment's parts as the existing exercises they run as (the protocol's
+/// settings are `crate::assessment`'s constants).
+impl AssessmentSpec {
+    /// The existing exercise this part runs as, with the protocol's fixed settings.
+    pub fn exercise(&self) -> ExerciseSpec {
+        let tracking = |k: usize| {
+            ExerciseSpec::Dial(DialSpec {
+                reference: DialSignal::Sine {
+                    amplitude_deg: A::TRACKING_AMPLITUDE_DEG,
+                    frequency_rad_s: A::TRACKING_FREQUENCIES_RAD_S[k],
+                },
+                duration_s: A::TRACKING_S,
+                drift_deg: 0.0,
+            })
+        };
+        match self.part {
+            AssessmentPart::Range => ExerciseSpec::Dial(DialSpec {
+                reference: DialSignal::Step {
+                    amplitude_deg: A::RANGE_TARGET_DEG,
+                    hold_s: A::RANGE_HOLD_S,
+                },
+                duration_s: 2.0 * A::RANGE_HOLD_S,
+                drift_deg: 0.0,
+            }),
+            AssessmentPart::TrackingSlow => tracking(0),
+            AssessmentPart::TrackingMedium => tracking(1),
+            AssessmentPart::TrackingFast => tracking(2),
+            AssessmentPart::Steps => ExerciseSpec::Dial(DialSpec {
+                reference: DialSignal::RandomSteps {
+                    amplitude_deg: A::STEP_DEG,
+                    min_hold_s: A::STEP_MIN_HOLD_S,
+                    max_hold_s: A::STEP_MAX_HOLD_S,
+                    seed: self.seed,
+                },
+                duration_s: A::STEPS_S,
+                drift_deg: 0.0,
+            }),
+            AssessmentPart::Strength => ExerciseSpec::Strength(StrengthSpec {
+                stiffness_nm_per_rad: A::STRENGTH_STIFFNESS_NM_PER_RAD,
+                ramp_nm_per_s: A::STRENGTH_RAMP_NM_PER_S,
+                side_s: A::STRENGTH_SIDE_S,
+            }),
+        }
+    }
+}
+
+impl ExerciseSpec {
+    /// The whole standard assessment (protocol `PROTOCOL_VERSION`) with `seed`: every part,
+    /// in order.
+    pub fn assessment_protocol(seed: u32) -> Vec<ExerciseSpec> {
+        AssessmentPart::ALL
+            .into_iter()
+            .map(|part| {
+                ExerciseSpec::Assessment(AssessmentSpec {
+                    protocol: A::PROTOCOL_VERSION,
+                    part,
+                    seed,
+                })
+            })
+            .collect()
+    }
 }
 
 /// Straight before the exercise proper, m.
@@ -446,7 +510,8 @@ impl StrengthSpec {
 }
 
 /// A prescribed exercise. TOML: a table with `kind = "straight" | "sine" | "triangle" |
-/// "clothoid" | "sharp-turns" | "s-bend" | "lane-change" | "slalom" | "dial" | "strength"` and that kind's
+/// "clothoid" | "sharp-turns" | "s-bend" | "lane-change" | "slalom" | "dial" | "strength" |
+/// "haptic-sweep" | "assessment"` and that kind's
 /// fields (all optional, defaults above: [`StraightSpec`], [`SineSpec`], …). Each variant's
 /// doc is what the regimen's JSON Schema says of it, read by a therapist in the console's
 /// prescribe form: the words before its colon name the exercise.
@@ -478,6 +543,12 @@ pub enum ExerciseSpec {
     /// heaviness (or the needle's speed) changes in steps; gives the tracking error at each
     /// step, as the thesis's parameter studies did.
     HapticSweep(HapticSweepSpec),
+    /// Assessment: one part of the standard assessment, the same for every patient, with no
+    /// assistance (see [`crate::assessment`]). Not prescribed as an exercise (the regimen's
+    /// schema leaves it out): the therapist schedules it with `[assessment]`, the station
+    /// puts it first in a session when it is due, and its recordings keep it.
+    #[schemars(skip)]
+    Assessment(AssessmentSpec),
 }
 
 /// The built-in exercise names, each with its default parameters ([`ExerciseSpec::from_name`]).
@@ -517,6 +588,20 @@ impl ExerciseSpec {
             "dial" => Self::Dial(Default::default()),
             "strength" => Self::Strength(Default::default()),
             "haptic-sweep" => Self::HapticSweep(Default::default()),
+            other if other.starts_with("assessment-") => {
+                match AssessmentPart::from_name(&other["assessment-".len()..]) {
+                    Some(part) => Self::Assessment(AssessmentSpec {
+                        part,
+                        ..Default::default()
+                    }),
+                    None => {
+                        return Err(VehicleError::UnknownExercise {
+                            name: name.to_string(),
+                            known: EXERCISE_NAMES.join(", "),
+                        });
+                    }
+                }
+            }
             other => match other
                 .strip_prefix("dial-")
                 .and_then(DialSignal::default_named)
@@ -559,6 +644,8 @@ impl ExerciseSpec {
                 d.level_s =
                     (duration_s / d.levels.len().max(1) as f64).clamp(LEVEL_S.min, LEVEL_S.max);
             }
+            // A fixed protocol: the same length for everyone.
+            Self::Assessment(_) => {}
         }
         spec
     }
@@ -577,6 +664,7 @@ impl ExerciseSpec {
             Self::Dial(d) => format!("dial-{}", d.reference.name()),
             Self::Strength(_) => "strength".into(),
             Self::HapticSweep(_) => "haptic-sweep".into(),
+            Self::Assessment(a) => a.name(),
         }
     }
 
@@ -674,6 +762,7 @@ impl ExerciseSpec {
                 r("side_s", d.side_s, SIDE_S, "s")
             }
             Self::HapticSweep(d) => validate_sweep(c, d),
+            Self::Assessment(a) => a.validate(),
         }
     }
 
@@ -690,6 +779,12 @@ impl ExerciseSpec {
             Self::SBend(s) => (s.speed_m_s, s.duration_s, Vec::new()),
             Self::LaneChange(s) => (s.speed_m_s, s.duration_s, Vec::new()),
             Self::Slalom(s) => (s.speed_m_s, s.duration_s, Vec::new()),
+            // The existing exercise with the protocol's settings, under the part's name.
+            Self::Assessment(a) => {
+                let mut ex = a.exercise().build()?;
+                ex.name = name;
+                return Ok(ex);
+            }
             Self::Dial(d) => {
                 return Ok(Exercise {
                     name,
@@ -706,7 +801,10 @@ impl ExerciseSpec {
                     }),
                     strength: None,
                     sweep: None,
-                    steps: if matches!(d.reference, DialSignal::Step { .. }) {
+                    steps: if matches!(
+                        d.reference,
+                        DialSignal::Step { .. } | DialSignal::RandomSteps { .. }
+                    ) {
                         TargetSteps::Jumps
                     } else {
                         TargetSteps::None
@@ -896,7 +994,9 @@ impl ExerciseSpec {
                 2.0 * s.cone_spacing_m,
                 slalom_cones(s.cone_count, reps) + 1,
             ),
-            Self::Dial(_) | Self::Strength(_) | Self::HapticSweep(_) => return None,
+            Self::Dial(_) | Self::Strength(_) | Self::HapticSweep(_) | Self::Assessment(_) => {
+                return None;
+            }
         })
     }
 }
@@ -1411,5 +1511,77 @@ mod tests {
         for name in ["strength", "dial-sine", "dial-ramp", "sine-road", "slalom"] {
             assert_eq!(steps(name), TargetSteps::None, "{name}");
         }
+    }
+
+    #[test]
+    fn the_protocol_builds_every_part_from_existing_exercises_in_three_to_five_minutes() {
+        let parts = ExerciseSpec::assessment_protocol(42);
+        assert_eq!(parts.len(), AssessmentPart::ALL.len());
+        let mut total_s = 0.0;
+        for (spec, part) in parts.iter().zip(AssessmentPart::ALL) {
+            spec.validate().unwrap();
+            let ex = spec.build().unwrap();
+            assert_eq!(ex.name, format!("assessment-{}", part.name()));
+            assert!(ex.road.is_none(), "no road: the same task for everyone");
+            assert_eq!(ExerciseSpec::from_name(&ex.name).unwrap().name(), ex.name);
+            match part {
+                AssessmentPart::Strength => assert!(ex.strength().is_some()),
+                AssessmentPart::Steps => {
+                    assert_eq!(ex.target_steps(), &TargetSteps::Jumps);
+                    assert!(ex.is_dial());
+                }
+                _ => assert!(ex.is_dial()),
+            }
+            total_s += ex.planned_duration_s();
+        }
+        // The cards between the parts count as session time.
+        total_s += 6.0 * (parts.len() - 1) as f64;
+        assert!((180.0..=300.0).contains(&total_s), "{total_s} s");
+        // A prescribed duration does not change a fixed protocol.
+        assert_eq!(parts[1].with_duration_s(600.0), parts[1]);
+        let text = toml::to_string(&parts[4]).unwrap();
+        assert!(
+            text.contains("kind = \"assessment\"") && text.contains("seed = 42"),
+            "{text}"
+        );
+        let back: ExerciseSpec = toml::from_str(&text).unwrap();
+        assert_eq!(back, parts[4]);
+    }
+
+    #[test]
+    fn the_steps_follow_the_seed_and_an_unknown_protocol_is_refused_by_name() {
+        let steps = |seed| {
+            ExerciseSpec::Assessment(AssessmentSpec {
+                protocol: A::PROTOCOL_VERSION,
+                part: AssessmentPart::Steps,
+                seed,
+            })
+            .build()
+            .unwrap()
+        };
+        let (a, b) = (steps(1), steps(2));
+        let differ = (0..600).any(|i| {
+            let t = f64::from(i) * 0.1;
+            a.desired_angle_rad(t) != b.desired_angle_rad(t)
+        });
+        assert!(differ);
+        let size = (0..600)
+            .map(|i| {
+                a.desired_angle_rad(f64::from(i) * 0.1)
+                    .unwrap()
+                    .to_degrees()
+                    .abs()
+            })
+            .fold(0.0, f64::max);
+        assert!((size - A::STEP_DEG).abs() < 1e-9, "{size}");
+        let old = ExerciseSpec::Assessment(AssessmentSpec {
+            protocol: 0,
+            ..Default::default()
+        });
+        let msg = old.validate().unwrap_err().to_string();
+        assert!(
+            msg.contains("protocol") && msg.contains("assessment-range"),
+            "{msg}"
+        );
     }
 }

@@ -15,6 +15,7 @@
 //!
 //! Pure: no I/O, no threads, no clock. Time comes in as `dt` in seconds.
 
+pub mod assessment;
 pub mod dial;
 pub mod driver;
 pub mod error;
@@ -32,6 +33,7 @@ pub mod strength;
 pub mod sweep;
 pub mod world;
 
+pub use assessment::{AssessmentPart, AssessmentSpec};
 pub use dial::DialSignal;
 pub use driver::{PreviewDriver, SpeedController};
 pub use error::VehicleError;

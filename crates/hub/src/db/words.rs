@@ -10,6 +10,9 @@ use super::{Db, SessionRow, col};
 use crate::error::HubError;
 pub use regimen::{exercise_kind, plain_name};
 
+/// The kind ([`exercise_kind`]) of every part of the standard assessment.
+pub const ASSESSMENT_KIND: &str = "assessment";
+
 /// The `end_reason` of a session that ran as prescribed (the station's
 /// `session::end_reason::COMPLETE`).
 pub const COMPLETE: &str = "complete";
@@ -95,6 +98,12 @@ fn name_session(
             let mut kinds: Vec<String> = list.iter().map(|(k, _, _)| exercise_kind(k)).collect();
             kinds.sort();
             kinds.dedup();
+            // The standard assessment run first is no part of what the exercises compare
+            // with (its results are their own, `Db::assessments_of`); a session of it alone
+            // is of its own kind.
+            if kinds.len() > 1 {
+                kinds.retain(|k| k != ASSESSMENT_KIND);
+            }
             (
                 names.join(", then "),
                 kinds.join("+"),

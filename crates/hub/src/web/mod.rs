@@ -269,6 +269,7 @@ pub fn router(state: AppState) -> Router {
         .route("/api/patients/{id}/sessions", get(patients::sessions))
         .route("/api/patients/{id}/checkins", get(patients::checkins))
         .route("/api/patients/{id}/difficulty", get(patients::difficulty))
+        .route("/api/patients/{id}/assessments", get(patients::assessments))
         .route(
             "/api/patients/{id}/messages",
             get(messages::list).post(messages::post),

@@ -84,6 +84,22 @@ pub(crate) async fn checkins(
     Ok(Json(checkins))
 }
 
+/// `GET /api/patients/{id}/assessments`: the standard assessments the patient did, newest
+/// first, each with its parts' results (never mixed into the exercise trends).
+pub(crate) async fn assessments(
+    State(state): State<AppState>,
+    Authed(therapist): Authed,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<Vec<crate::db::Assessment>>, ApiError> {
+    let Path(id) = id?;
+    let patient = state.visible_patient(&therapist, &id).await?;
+    let assessments = state.db.assessments_of(&patient.id).await?;
+    state
+        .audit(&therapist.actor(), "read_assessments", &patient.id, "")
+        .await?;
+    Ok(Json(assessments))
+}
+
 /// `GET /api/patients/{id}/difficulty`: the difficulty each session ran at, its change and
 /// why, newest first (sessions whose regimen adapts it).
 pub(crate) async fn difficulty(

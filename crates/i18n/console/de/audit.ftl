@@ -50,6 +50,7 @@ audit-kind-watch_live = hat eine Sitzung live verfolgt
 audit-kind-live_ended = hat die Live-Ansicht beendet
 audit-kind-read_checkins = hat die Befindlichkeitsabfragen angesehen
 audit-kind-read_difficulty = hat die Schwierigkeit angesehen
+audit-kind-read_assessments = hat die Standardtests angesehen
 audit-kind-read_regimen = hat die Verordnung geöffnet
 audit-kind-put_regimen = hat eine neue Version verordnet
 audit-kind-regimen_rejected = bekam eine Verordnung abgelehnt

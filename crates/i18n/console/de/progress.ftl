@@ -156,3 +156,17 @@ progress-printed = gedruckt am { $day }
 progress-print = Einseitige Zusammenfassung drucken
 progress-download = Tabelle herunterladen (CSV; { $zone })
 progress-scales-failed = Die klinischen Skalen konnten nicht angezeigt werden: { $error }
+
+## Der Standardtest (Issue 42): jedes Mal derselbe kurze Test, zuerst auf der Seite
+
+progress-assessment-title = Standardtest
+progress-assessment-intro = Jedes Mal derselbe kurze Test, ohne Hilfe des Lenkrads (Protokoll { $protocol }). Der neueste zuerst. Er steht getrennt von den Übungen und ihren Verläufen.
+progress-assessment-none = Noch kein Standardtest. Legen Sie im Therapieplan fest, wie oft er stattfindet (Test, alle so viele Tage).
+progress-assessment-col-measure = Teil und Messwert
+progress-assessment-row = { $part }: { $measure }
+progress-assessment-part-range = Aktiver Bewegungsumfang
+progress-assessment-part-tracking-slow = Folgen, langsam
+progress-assessment-part-tracking-medium = Folgen, mittel
+progress-assessment-part-tracking-fast = Folgen, schnell
+progress-assessment-part-steps = Sprünge
+progress-assessment-part-strength = Kraft

@@ -51,6 +51,7 @@ audit-kind-watch_live = watched a session live
 audit-kind-live_ended = stopped watching live
 audit-kind-read_checkins = looked at the check-ins
 audit-kind-read_difficulty = looked at the difficulty
+audit-kind-read_assessments = looked at the assessments
 audit-kind-read_regimen = opened the prescription
 audit-kind-put_regimen = prescribed a new version
 audit-kind-regimen_rejected = had a prescription refused

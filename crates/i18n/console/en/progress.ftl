@@ -161,3 +161,17 @@ progress-printed = printed { $day }
 progress-print = Print a one-page summary
 progress-download = Download spreadsheet (CSV; { $zone })
 progress-scales-failed = The clinical scales could not be shown: { $error }
+
+## The standard assessment (issue 42): the same short test each time, first on the page
+
+progress-assessment-title = Standard assessment
+progress-assessment-intro = The same short test every time, without help from the wheel (protocol { $protocol }). Newest first. It is kept apart from the exercises and their trends.
+progress-assessment-none = No standard assessment yet. To schedule one, set how often in the regimen (assessment, every so many days).
+progress-assessment-col-measure = Part and measure
+progress-assessment-row = { $part }: { $measure }
+progress-assessment-part-range = Active range
+progress-assessment-part-tracking-slow = Tracking, slow
+progress-assessment-part-tracking-medium = Tracking, medium
+progress-assessment-part-tracking-fast = Tracking, fast
+progress-assessment-part-steps = Steps
+progress-assessment-part-strength = Strength

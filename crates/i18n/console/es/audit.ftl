@@ -50,6 +50,7 @@ audit-kind-watch_live = siguió una sesión en directo
 audit-kind-live_ended = dejó de seguir en directo
 audit-kind-read_checkins = consultó los cuestionarios de estado
 audit-kind-read_difficulty = consultó la dificultad
+audit-kind-read_assessments = consultó las evaluaciones
 audit-kind-read_regimen = abrió la prescripción
 audit-kind-put_regimen = prescribió una nueva versión
 audit-kind-regimen_rejected = vio rechazada una prescripción

@@ -156,3 +156,17 @@ progress-printed = impreso el { $day }
 progress-print = Imprimir un resumen de una página
 progress-download = Descargar la hoja de cálculo (CSV; { $zone })
 progress-scales-failed = No se pudieron mostrar las escalas clínicas: { $error }
+
+## La evaluación estándar (issue 42): la misma prueba corta cada vez, la primera en la página
+
+progress-assessment-title = Evaluación estándar
+progress-assessment-intro = La misma prueba corta cada vez, sin ayuda del volante (protocolo { $protocol }). La más reciente primero. Se guarda aparte de los ejercicios y sus tendencias.
+progress-assessment-none = Todavía no hay evaluación estándar. Para programarla, indique en la pauta cada cuántos días se hace.
+progress-assessment-col-measure = Parte y medida
+progress-assessment-row = { $part }: { $measure }
+progress-assessment-part-range = Amplitud activa
+progress-assessment-part-tracking-slow = Seguimiento, lento
+progress-assessment-part-tracking-medium = Seguimiento, medio
+progress-assessment-part-tracking-fast = Seguimiento, rápido
+progress-assessment-part-steps = Saltos
+progress-assessment-part-strength = Fuerza

@@ -50,6 +50,7 @@ audit-kind-watch_live = 实时观看了一次训练
 audit-kind-live_ended = 停止了实时观看
 audit-kind-read_checkins = 查看了训练前自评
 audit-kind-read_difficulty = 查看了难度
+audit-kind-read_assessments = 查看了标准评估
 audit-kind-read_regimen = 打开了处方
 audit-kind-put_regimen = 开具了新版本处方
 audit-kind-regimen_rejected = 处方被拒绝

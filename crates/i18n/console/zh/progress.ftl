@@ -138,3 +138,17 @@ progress-printed = 打印于 { $day }
 progress-print = 打印一页摘要
 progress-download = 下载电子表格（CSV；{ $zone }）
 progress-scales-failed = 无法显示临床量表：{ $error }
+
+## 标准评估（issue 42）：每次都是同样的简短测试，放在页面最前面
+
+progress-assessment-title = 标准评估
+progress-assessment-intro = 每次都是同样的简短测试，方向盘不提供帮助（协议 { $protocol }）。最新的在前。它与练习及其趋势分开。
+progress-assessment-none = 还没有标准评估。如需安排，请在训练方案中设定间隔天数。
+progress-assessment-col-measure = 部分与指标
+progress-assessment-row = { $part }：{ $measure }
+progress-assessment-part-range = 主动活动范围
+progress-assessment-part-tracking-slow = 跟踪，慢速
+progress-assessment-part-tracking-medium = 跟踪，中速
+progress-assessment-part-tracking-fast = 跟踪，快速
+progress-assessment-part-steps = 跳动
+progress-assessment-part-strength = 力量

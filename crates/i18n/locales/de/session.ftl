@@ -16,6 +16,12 @@ exercise-dial-ramp = Dem langsamen Zeiger folgen
 exercise-dial-chirp = Dem immer schnelleren Zeiger folgen
 exercise-strength = Gegen das Lenkrad drücken
 exercise-haptic-sweep = Das Lenkrad spüren
+exercise-assessment-range = Test: wie weit Sie drehen können
+exercise-assessment-tracking-slow = Test: dem langsamen Zeiger folgen
+exercise-assessment-tracking-medium = Test: dem Zeiger folgen
+exercise-assessment-tracking-fast = Test: dem schnellen Zeiger folgen
+exercise-assessment-steps = Test: dem springenden Zeiger folgen
+exercise-assessment-strength = Test: gegen das Lenkrad drücken
 exercise-other = Übung
 
 ## Was jede Übung verlangt
@@ -27,6 +33,9 @@ instruction-straight-road = Halten Sie das Auto in der Mitte der Spur.
 instruction-bends = Lenken Sie durch die Kurven. Bleiben Sie in Ihrer Spur.
 instruction-road = Folgen Sie der Straße. Bleiben Sie in Ihrer Spur.
 instruction-pedals = Ihre Füße bestimmen das Tempo. Rechtes Pedal: fahren. Linkes: bremsen.
+instruction-assessment-range = Drehen Sie das Lenkrad so weit Sie können. Erst links, dann rechts. Halten Sie es dort.
+instruction-assessment-tracking = Dies ist ein Test. Das Lenkrad hilft nicht. Halten Sie den schwarzen Zeiger auf dem roten.
+instruction-assessment-steps = Der rote Zeiger springt. Folgen Sie ihm so schnell Sie können.
 
 ## Die Karte vor und zwischen den Übungen
 card-get-ready = Machen Sie sich bereit

@@ -19,6 +19,12 @@ exercise-dial-ramp = Follow the slow needle
 exercise-dial-chirp = Follow the needle as it speeds up
 exercise-strength = Push the wheel
 exercise-haptic-sweep = Feel the wheel
+exercise-assessment-range = Check: how far you can turn
+exercise-assessment-tracking-slow = Check: follow the slow needle
+exercise-assessment-tracking-medium = Check: follow the needle
+exercise-assessment-tracking-fast = Check: follow the fast needle
+exercise-assessment-steps = Check: follow the jumping needle
+exercise-assessment-strength = Check: push the wheel
 exercise-other = Exercise
 
 ## What each exercise asks, in one or two short sentences.
@@ -30,6 +36,9 @@ instruction-straight-road = Keep the car in the middle of the lane.
 instruction-bends = Steer through the bends. Stay in your lane.
 instruction-road = Follow the road. Stay in your lane.
 instruction-pedals = Your feet set the speed. Right pedal to go, left to slow.
+instruction-assessment-range = Turn the wheel as far as you can, left, then right. Hold it there.
+instruction-assessment-tracking = This is a check. The wheel will not help. Keep the black needle on the red one.
+instruction-assessment-steps = The red needle jumps. Follow it as fast as you can.
 
 ## The card before an exercise and between exercises.
 card-get-ready = Get ready

@@ -16,6 +16,12 @@ exercise-dial-ramp = Seguir la aguja lenta
 exercise-dial-chirp = Seguir la aguja cada vez más rápida
 exercise-strength = Empujar el volante
 exercise-haptic-sweep = Sentir el volante
+exercise-assessment-range = Prueba: cuánto puede girar
+exercise-assessment-tracking-slow = Prueba: seguir la aguja lenta
+exercise-assessment-tracking-medium = Prueba: seguir la aguja
+exercise-assessment-tracking-fast = Prueba: seguir la aguja rápida
+exercise-assessment-steps = Prueba: seguir la aguja que salta
+exercise-assessment-strength = Prueba: empujar el volante
 exercise-other = Ejercicio
 
 ## Lo que pide cada ejercicio
@@ -27,6 +33,9 @@ instruction-straight-road = Mantenga el coche en el centro del carril.
 instruction-bends = Tome las curvas. Manténgase en su carril.
 instruction-road = Siga la carretera. Manténgase en su carril.
 instruction-pedals = Sus pies marcan la velocidad. Pedal derecho: avanzar. Izquierdo: frenar.
+instruction-assessment-range = Gire el volante al máximo: primero a la izquierda, luego a la derecha. Manténgalo ahí.
+instruction-assessment-tracking = Esto es una prueba. El volante no ayuda. Mantenga la aguja negra sobre la roja.
+instruction-assessment-steps = La aguja roja salta. Sígala lo más rápido que pueda.
 
 ## La tarjeta antes de cada ejercicio y entre ejercicios
 card-get-ready = Prepárese

@@ -16,6 +16,12 @@ exercise-dial-ramp = 跟着慢慢移动的指针转
 exercise-dial-chirp = 跟着越来越快的指针转
 exercise-strength = 推方向盘
 exercise-haptic-sweep = 感受方向盘
+exercise-assessment-range = 测试：能转多远
+exercise-assessment-tracking-slow = 测试：跟着慢指针转
+exercise-assessment-tracking-medium = 测试：跟着指针转
+exercise-assessment-tracking-fast = 测试：跟着快指针转
+exercise-assessment-steps = 测试：跟着跳动的指针转
+exercise-assessment-strength = 测试：推方向盘
 exercise-other = 练习
 
 ## 每项练习要做什么
@@ -27,6 +33,9 @@ instruction-straight-road = 让车保持在车道中间。
 instruction-bends = 开过弯道。保持在您的车道内。
 instruction-road = 沿着道路开。保持在您的车道内。
 instruction-pedals = 用脚控制速度。踩右踏板前进，踩左踏板减速。
+instruction-assessment-range = 尽量把方向盘向左转，再向右转。保持住。
+instruction-assessment-tracking = 这是一次测试。方向盘不会帮忙。让黑色指针对准红色指针。
+instruction-assessment-steps = 红色指针会跳动。尽快跟上它。
 
 ## 练习前和练习之间的卡片
 card-get-ready = 准备开始

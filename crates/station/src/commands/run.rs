@@ -575,6 +575,39 @@ fn name_prescriber(cfg: &mut StationConfig, home: &Home) {
     }
 }
 
+/// The session's standard assessment, first in it when its regimen's `[assessment]` makes it
+/// due by the history in the home (`crate::assessment`).
+fn plan_assessment(
+    cfg: &mut StationConfig,
+    regimen: &mut Option<Regimen>,
+    home: &HomePlan,
+    clock: &Clock,
+) -> Option<crate::assessment::Planned> {
+    let home_dir = home.home.as_ref().map(Home::dir);
+    crate::assessment::Planned::for_session(cfg, regimen, home_dir, clock.unix_ns() / 1_000_000)
+}
+
+/// Each exercise's results for the session's `Bye`, the assessment's parts tagged; the
+/// assessment kept in the home's history when `keep` (no try-out), the session ran without a
+/// recorder error and every part of it ran.
+fn settle_exercises(
+    link: &mut Link,
+    report: &SessionReport,
+    assessment: Option<&crate::assessment::Planned>,
+    keep: bool,
+) {
+    let rec = &report.recorder;
+    link.set_exercises(&rec.exercises, assessment.map(|a| a.tag));
+    // A session ended early in the assessment did not assess: the next one runs it again.
+    if let Some(a) = assessment
+        && keep
+        && rec.error.is_none()
+        && crate::assessment::ran_whole(&rec.exercises)
+    {
+        a.remember(netlink::frame::unix_ms_now());
+    }
+}
+
 /// After a session that adapted its difficulty: the difficulty and the session's success rate
 /// go in its `Bye`, and (`keep`) into the home's history with the check-in's answer; the
 /// report's line.
@@ -638,6 +671,7 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
         home.home.as_ref().map(Home::dir),
         &cfg.session.patient_id,
     );
+    let assessment = plan_assessment(&mut cfg, &mut regimen, &home, &clock);
     let (body, wheel_node) = body_and_wheel_node(&args, &cfg)?;
     let pacing = match args.speed {
         Speed::Realtime => Pacing::RealTime,
@@ -695,7 +729,7 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
             crate::checkin::care::note_pain(h, c);
         }
     }
-    link.set_exercises(&report.recorder.exercises);
+    settle_exercises(&mut link, &report, assessment.as_ref(), !args.try_out);
     let difficulty_line = adapted.as_ref().map(|a| {
         let keep = report.recorder.error.is_none() && !args.try_out;
         settle_difficulty(a, &mut link, &report, checkin.as_ref(), keep)

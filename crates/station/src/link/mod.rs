@@ -415,13 +415,23 @@ impl Link {
     }
 
     /// Each exercise's own results, for the session's `Bye` (with a home, queued first like
-    /// the measures).
-    pub fn set_exercises(&mut self, exercises: &[record::ExerciseResult]) {
+    /// the measures); the standard assessment's parts tagged with `assessment`, the one the
+    /// session ran first.
+    pub fn set_exercises(
+        &mut self,
+        exercises: &[record::ExerciseResult],
+        assessment: Option<netlink::AssessmentTag>,
+    ) {
         let Some(inner) = self.inner.as_mut() else {
             return;
         };
-        let exercises: Vec<netlink::ExerciseResult> =
-            exercises.iter().map(exercise_for_the_hub).collect();
+        let exercises: Vec<netlink::ExerciseResult> = exercises
+            .iter()
+            .map(|e| netlink::ExerciseResult {
+                assessment: assessment.filter(|_| vehicle::assessment::is_assessment_name(&e.kind)),
+                ..exercise_for_the_hub(e)
+            })
+            .collect();
         if let Some(q) = &inner.queue {
             q.lock()
                 .unwrap_or_else(std::sync::PoisonError::into_inner)
@@ -702,6 +712,7 @@ pub fn exercise_for_the_hub(e: &record::ExerciseResult) -> netlink::ExerciseResu
         prescribed_s: e.prescribed_s,
         active_s: e.active_s,
         scores: e.scores.clone(),
+        assessment: None,
     }
 }
 

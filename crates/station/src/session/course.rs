@@ -80,7 +80,12 @@ fn build_segment(cfg: &StationConfig, entry: &RegimenEntry) -> anyhow::Result<Se
         ),
         None => None,
     };
-    let assist_spec = entry.assist.as_ref().or(cfg.assist.as_ref());
+    // The standard assessment is measured without help, whatever the station's settings.
+    let assist_spec = if matches!(entry.exercise, ExerciseSpec::Assessment(_)) {
+        None
+    } else {
+        entry.assist.as_ref().or(cfg.assist.as_ref())
+    };
     let assist = assist_spec
         .map(Assist::new)
         .transpose()

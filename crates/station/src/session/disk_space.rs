@@ -178,6 +178,7 @@ mod tests {
             arm_lengths_m: [0.3, 0.25],
             roads: Vec::new(),
             target_steps: Vec::new(),
+            apart: Vec::new(),
         };
         let mut summaries = Summaries::default();
         let done = std::sync::atomic::AtomicBool::new(true);

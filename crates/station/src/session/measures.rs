@@ -102,6 +102,10 @@ pub struct MeasureCollector {
     /// Which of each exercise's target changes are steps, by its index in the course; empty
     /// when not told (every jump of the target is then a step).
     steps_of: Vec<TargetSteps>,
+    /// Which exercises, by index in the course, are measured apart from the session (the
+    /// standard assessment's parts): their runs and steps are left out of the session's
+    /// measures, so that exercise trends never mix them in; their own results stay.
+    apart: Vec<bool>,
     /// The next lane shift of the exercise in progress to meet, and the car's distance along
     /// its road at the last tick, m (`None` at the start of an exercise).
     next_shift: usize,
@@ -228,6 +232,7 @@ impl MeasureCollector {
             target_steps: Vec::new(),
             last_target_rad: None,
             steps_of: Vec::new(),
+            apart: Vec::new(),
             next_shift: 0,
             last_s_m: None,
         }
@@ -241,6 +246,19 @@ impl MeasureCollector {
     pub fn with_target_steps(mut self, steps_of: Vec<TargetSteps>) -> Self {
         self.steps_of = steps_of;
         self
+    }
+
+    /// The same collector told which exercises (by index in the course) are measured apart
+    /// from the session: the standard assessment's parts (`vehicle::assessment`).
+    #[must_use]
+    pub fn with_apart(mut self, apart: Vec<bool>) -> Self {
+        self.apart = apart;
+        self
+    }
+
+    /// Whether exercise `index` is measured apart from the session.
+    fn is_apart(&self, index: u32) -> bool {
+        self.apart.get(index as usize).copied().unwrap_or(false)
     }
 
     /// The tally of exercise `index`, made on its first tick.
@@ -403,7 +421,11 @@ impl MeasureCollector {
         };
         let mut out = Vec::new();
         for (r, &e) in self.runs().zip(&self.run_exercise) {
-            if only.is_some_and(|o| o != e) || r.len() < 2 {
+            let left_out = match only {
+                Some(o) => o != e,
+                None => self.is_apart(e),
+            };
+            if left_out || r.len() < 2 {
                 continue;
             }
             let in_run = || self.target_steps.iter().filter(|(i, _)| r.contains(i));
@@ -495,7 +517,12 @@ impl MeasureCollector {
             ))
         } else {
             let fs_hz = self.fs_hz();
-            let runs: Vec<_> = self.runs().collect();
+            let runs: Vec<_> = self
+                .runs()
+                .zip(&self.run_exercise)
+                .filter(|(_, e)| !self.is_apart(**e))
+                .map(|(r, _)| r)
+                .collect();
             self.series
                 .load()
                 .map_err(|e| e.to_string())

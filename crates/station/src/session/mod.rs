@@ -362,6 +362,11 @@ fn run_body(
         .iter()
         .map(|s| s.exercise.target_steps().clone())
         .collect();
+    // The standard assessment's parts have their own results, apart from the session's.
+    let apart = course
+        .iter()
+        .map(|s| vehicle::assessment::is_assessment_name(&s.exercise.name))
+        .collect();
     let (given_body, given_facts) = given.unzip();
     let mut plant = match (given_body, opts.body) {
         (Some(body), _) => plant::Plant::new(cfg, body, course)?,
@@ -406,6 +411,7 @@ fn run_body(
         arm_lengths_m: [cfg.arm.geometry.upper_arm_m, cfg.arm.geometry.forearm_m],
         roads: course::roads(cfg, opts.regimen.as_ref())?,
         target_steps,
+        apart,
     };
 
     let ending = std::sync::OnceLock::new();

@@ -397,6 +397,7 @@ fn collector(
     period_ns: u64,
     expected_ticks: u64,
     target_steps: Vec<vehicle::TargetSteps>,
+    apart: Vec<bool>,
 ) -> MeasureCollector {
     let rate_hz = 1e9 / period_ns as f64;
     match mcap {
@@ -404,6 +405,7 @@ fn collector(
         None => MeasureCollector::new(rate_hz, expected_ticks),
     }
     .with_target_steps(target_steps)
+    .with_apart(apart)
 }
 
 /// Metrics for the therapist beyond the fixed summary fields: safety, assistance and the live
@@ -492,6 +494,9 @@ pub(super) struct RecorderPlan {
     pub(super) roads: Vec<Option<Box<dyn vehicle::Road + Send>>>,
     /// Which of each exercise's target changes are steps, for the measures.
     pub(super) target_steps: Vec<vehicle::TargetSteps>,
+    /// Which exercises are measured apart from the session (the standard assessment's
+    /// parts), by index in the course.
+    pub(super) apart: Vec<bool>,
 }
 
 /// What the haptic thread leaves the recorder when it ends, for the recording's `/metrics`:
@@ -548,6 +553,7 @@ pub(super) fn recorder_loop(
         arm_lengths_m,
         roads,
         target_steps,
+        apart,
     } = plan;
     let scene = LiveScene {
         arm_lengths_m,
@@ -560,7 +566,13 @@ pub(super) fn recorder_loop(
     let mut seq = 0u64;
     let mut arm_loop = ArmLoopCollector::new(1e9 / period_ns as f64);
     let mut online_arm = OnlineArmCalibration::new(1e9 / period_ns as f64);
-    let mut measures = collector(mcap.as_ref(), period_ns, expected_ticks, target_steps);
+    let mut measures = collector(
+        mcap.as_ref(),
+        period_ns,
+        expected_ticks,
+        target_steps,
+        apart,
+    );
     let mut changes = ChangeLog::default();
     loop {
         let rec = match consumer.pop() {

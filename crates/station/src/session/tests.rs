@@ -975,3 +975,77 @@ fn the_live_summaries_of_a_strength_test_give_the_side_the_push_and_the_peaks_it
         "{last:?} vs {right}"
     );
 }
+
+/// The standard assessment, run first on a station whose settings assist (`motion`): every
+/// tick of every part has no assistance (0 N·m, the controller off), the dial after it is
+/// assisted as set; each part's measures are finite and fit the simulated patient; and the
+/// session's own measures leave the assessment out (its steps are the assessment's alone).
+#[test]
+fn the_standard_assessment_runs_first_without_assistance_and_measures_the_simulated_patient() {
+    // The regimen ends the session; the duration is a cap.
+    let mut cfg = config("dial-sine", 600.0);
+    cfg.assist = Some(toml::from_str("[mode]\nkind = \"motion\"\n").unwrap());
+    cfg.validate().unwrap();
+    let text = "[assessment]\nevery_days = 7\n[[exercise]]\nkind = \"dial\"\nduration_s = 10.0\n";
+    let mut regimen = Some(regimen::Regimen::from_toml(text, "test").unwrap());
+    let planned =
+        crate::assessment::Planned::plan(&mut regimen, None, "p1", 1_800_000_000_000, 11).unwrap();
+    assert_eq!(planned.tag.seed, 11);
+    let mut opts = simulated_at_max_speed(cfg);
+    opts.regimen = regimen;
+    let mut keep = Keep::default();
+    let report = super::run(&opts, &Controls::default(), &mut keep).unwrap();
+    let recs = keep.0;
+    let parts = vehicle::AssessmentPart::ALL.len() as u32;
+    let (assessed, after): (Vec<&TickRecord>, Vec<&TickRecord>) =
+        recs.iter().partition(|r| r.score.exercise_index < parts);
+    assert!(assessed.len() > 180_000, "{} ticks", assessed.len());
+    for r in &assessed {
+        assert_eq!(r.assist.torque_nm, 0.0, "tick {}: {:?}", r.tick, r.assist);
+        assert!(!r.assist.active, "tick {}", r.tick);
+    }
+    assert!(
+        after
+            .iter()
+            .any(|r| r.assist.active && r.assist.torque_nm != 0.0),
+        "the dial after it is assisted as the station is set"
+    );
+    let results = &report.recorder.exercises;
+    assert_eq!(results.len(), parts as usize + 1, "{results:?}");
+    assert!(crate::assessment::ran_whole(results));
+    let score = |kind: &str, name: &str| -> f64 {
+        let r = results.iter().find(|r| r.kind == kind).unwrap();
+        let v = *r
+            .scores
+            .get(name)
+            .unwrap_or_else(|| panic!("{kind}: no {name} in {:?}", r.scores));
+        assert!(v.is_finite(), "{kind} {name} {v}");
+        v
+    };
+    // Active range: the simulated patient follows the needle to the wheel's end (±129°)
+    // each way, overshooting it a little on the jump.
+    let rom = score("assessment-range", "wheel_rom_deg");
+    assert!((0.8 * 258.0..=1.3 * 258.0).contains(&rom), "range {rom}°");
+    // Tracking: the error grows with the sine's frequency (the patient lags more).
+    let slow = score("assessment-tracking-slow", "dial_rms_error_deg");
+    let fast = score("assessment-tracking-fast", "dial_rms_error_deg");
+    assert!(slow < fast && slow < 40.0, "slow {slow}°, fast {fast}°");
+    // Steps: one response each, human reaction times, paths no shorter than straight.
+    let steps = score("assessment-steps", "step_responses");
+    assert!((10.0..=45.0).contains(&steps), "{steps} steps");
+    let rt = score("assessment-steps", "reaction_time_s_median");
+    assert!((0.05..=1.5).contains(&rt), "reaction {rt} s");
+    assert!(score("assessment-steps", "path_length_ratio_median") >= 1.0 - 1e-9);
+    let ide = score("assessment-steps", "initial_direction_error_deg_mean");
+    assert!((0.0..=90.0).contains(&ide), "direction error {ide}°");
+    assert!(score("assessment-steps", "sparc_median") < 0.0);
+    assert!(score("assessment-steps", "ldlj_median") < 0.0);
+    assert!(score("assessment-steps", "movement_time_s_median") > 0.0);
+    // Strength: the patient pushes both ways.
+    assert!(score("assessment-strength", "strength_peak_left_nm") > 0.0);
+    assert!(score("assessment-strength", "strength_peak_right_nm") > 0.0);
+    // The session's own measures are the dial after it alone: no steps in them.
+    let session = &report.recorder.measures.named;
+    assert!(!session.contains_key("step_responses"), "{session:?}");
+    assert!(session["active_s"] < 15.0, "{}", session["active_s"]);
+}

@@ -36,6 +36,12 @@ pub fn name_id(short: &str) -> &'static str {
         "dial-chirp" => "exercise-dial-chirp",
         "strength" => "exercise-strength",
         "haptic-sweep" => "exercise-haptic-sweep",
+        "assessment-range" => "exercise-assessment-range",
+        "assessment-tracking-slow" => "exercise-assessment-tracking-slow",
+        "assessment-tracking-medium" => "exercise-assessment-tracking-medium",
+        "assessment-tracking-fast" => "exercise-assessment-tracking-fast",
+        "assessment-steps" => "exercise-assessment-steps",
+        "assessment-strength" => "exercise-assessment-strength",
         s if s.starts_with("dial") => "exercise-dial-sine",
         _ => "exercise-other",
     }
@@ -49,6 +55,10 @@ pub fn patient_name(short: &str) -> String {
 /// The catalogue's id of what an exercise asks of the patient, from its short name.
 pub fn instruction_id(short: &str) -> &'static str {
     match short {
+        "assessment-range" => "instruction-assessment-range",
+        "assessment-steps" => "instruction-assessment-steps",
+        "assessment-strength" => "instruction-strength",
+        s if s.starts_with("assessment-tracking") => "instruction-assessment-tracking",
         s if s.starts_with("dial") || s == "haptic-sweep" => "instruction-dial",
         "strength" => "instruction-strength",
         "slalom" => "instruction-slalom",
@@ -75,6 +85,14 @@ mod tests {
             assert_ne!(name_id(short), "exercise-other", "{short}");
             assert!(english.has(name_id(short)), "{short}");
             assert!(english.has(instruction_id(short)), "{short}");
+        }
+        // The standard assessment's parts, each with its own name and what it asks.
+        for spec in vehicle::ExerciseSpec::assessment_protocol(0) {
+            let short = spec.name();
+            assert_ne!(name_id(&short), "exercise-other", "{short}");
+            assert!(english.has(name_id(&short)), "{short}");
+            assert!(english.has(instruction_id(&short)), "{short}");
+            assert_ne!(instruction_id(&short), "instruction-road", "{short}");
         }
         assert_eq!(name_id("dial-newer"), "exercise-dial-sine");
         assert_eq!(name_id("newer"), "exercise-other");

@@ -52,8 +52,11 @@ impl Movement {
             "s-bend" => Movement::SBend,
             "lane-change" => Movement::LaneChange,
             "slalom" => Movement::Slalom,
-            "strength" => Movement::Strength,
-            s if s.starts_with("dial") || s == "haptic-sweep" => Movement::Dial,
+            "strength" | "assessment-strength" => Movement::Strength,
+            // The standard assessment's other parts are dial tasks.
+            s if s.starts_with("dial") || s == "haptic-sweep" || s.starts_with("assessment-") => {
+                Movement::Dial
+            }
             _ => Movement::Steer,
         }
     }
