@@ -14,8 +14,10 @@
 //!   the wheel angle.
 //! - [`mounting`]: where each IMU sits on its segment; [`procedure`]: the guided mounting
 //!   procedure, tick by tick.
+//! - [`trunk`]: trunk flexion, lean and rotation from a sternum IMU, and their excursions
+//!   (trunk compensation).
 //! - [`device`]: the `Imu` trait, samples, the game-controller report parsers and (feature
-//!   `hid`) the hidapi backend; [`sim`]: simulated motion, arm and IMUs.
+//!   `hid`) the hidapi backend; [`sim`]: simulated motion, arm, trunk and IMUs.
 //! - [`error`]: the errors, [`ImuError`].
 //!
 //! # Example: the haptic thread's arm pose from a simulated patient
@@ -59,5 +61,6 @@ pub mod procedure;
 pub mod sensor;
 pub mod sim;
 pub mod so3;
+pub mod trunk;
 
 pub use error::ImuError;
