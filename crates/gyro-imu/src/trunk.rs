@@ -72,7 +72,10 @@ pub fn trunk_angles(start: &UnitQuaternion<f64>, now: &UnitQuaternion<f64>) -> T
 
 /// Time the fusion needs before its inclination can be trusted (s): one accelerometer
 /// time constant of the default fusion (`FusionConfig::tau_acc_s`, 3 s). The start posture is
-/// taken no earlier.
+/// taken no earlier, and not before the fusion has seen the trunk at rest once: until then the
+/// gyro's turn-on bias (0.5°/s on consumer MEMS) is unknown, and the rotation about the
+/// vertical, which only rest corrects, would drift by it (a session starts with the arm
+/// sensors' hold-still step, which gives that rest).
 pub const SETTLE_S: f64 = 3.0;
 
 /// The trunk angles from the sternum IMU, tick by tick.
@@ -83,6 +86,13 @@ pub struct TrunkEstimator {
     mount_inv: UnitQuaternion<f64>,
     start: Option<UnitQuaternion<f64>>,
     running_s: f64,
+    /// The fusion has declared rest at least once (its gyro bias is known).
+    rested: bool,
+    /// The start posture follows the trunk while it rests (after the start or a restart),
+    /// until it first moves.
+    start_open: bool,
+    /// The last update (re)took the start posture.
+    took_start: bool,
 }
 
 impl TrunkEstimator {
@@ -94,6 +104,9 @@ impl TrunkEstimator {
             mount_inv: mount.inverse(),
             start: None,
             running_s: 0.0,
+            rested: false,
+            start_open: true,
+            took_start: false,
         })
     }
 
@@ -109,8 +122,9 @@ impl TrunkEstimator {
     }
 
     /// Feed one sternum sample, `dt_s` after the previous one. Returns the trunk angles from
-    /// the start posture, or `None` while the fusion settles ([`SETTLE_S`]); the first posture
-    /// after that (or after [`Self::restart`]) is the start posture.
+    /// the start posture, or `None` while the fusion settles ([`SETTLE_S`]: time, and a first
+    /// rest); the posture then (or after [`Self::restart`]) is the start posture, following the
+    /// trunk while it rests.
     pub fn update(&mut self, sample: &ImuSample, dt_s: f64) -> Option<TrunkAngles> {
         let q = self
             .filter
@@ -118,17 +132,33 @@ impl TrunkEstimator {
         if dt_s.is_finite() && dt_s > 0.0 {
             self.running_s += dt_s;
         }
-        if self.running_s < SETTLE_S {
+        let rest = self.filter.is_rest();
+        self.rested |= rest;
+        self.took_start = false;
+        if self.running_s < SETTLE_S || !self.rested {
             return None;
         }
         let trunk = q * self.mount_inv;
-        let start = *self.start.get_or_insert(trunk);
+        if self.start_open && (rest || self.start.is_none()) {
+            self.start = Some(trunk);
+            self.took_start = true;
+        }
+        self.start_open &= rest;
+        let start = self.start.unwrap_or(trunk);
         Some(trunk_angles(&start, &trunk))
     }
 
-    /// Take the next posture as the start posture (at an exercise's start).
+    /// Take the next posture as the start posture (at an exercise's start); while the trunk
+    /// rests the start follows it (the bias improves meanwhile), until it first moves.
     pub fn restart(&mut self) {
         self.start = None;
+        self.start_open = true;
+    }
+
+    /// Whether the last [`Self::update`] (re)took the start posture: a comparison with the
+    /// truth takes its start at the same sample.
+    pub fn took_start(&self) -> bool {
+        self.took_start
     }
 
     /// The fusion's gyro-bias estimate (rad/s, sensor frame).

@@ -100,7 +100,10 @@ fn run(seed: u64) -> Outcome {
             let sample = sim.latest().unwrap();
             if let Some(a) = est.update(&sample, dt) {
                 let trunk_truth = truth.sensor * mount.inverse();
-                let start = *truth_start.get_or_insert(trunk_truth);
+                if est.took_start() {
+                    truth_start = Some(trunk_truth);
+                }
+                let start = truth_start.expect("taken with the estimate's");
                 let tr: TrunkAngles = trunk_angles(&start, &trunk_truth);
                 for (i, (e, t)) in a.to_array().iter().zip(tr.to_array()).enumerate() {
                     sq[i] += (e - t).powi(2);

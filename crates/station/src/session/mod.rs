@@ -23,6 +23,7 @@ pub mod recorder;
 pub mod signals;
 #[cfg(test)]
 mod tests;
+pub mod trunk_measures;
 pub mod wheel_cards;
 pub mod wheel_gestures;
 pub mod window;
@@ -404,6 +405,7 @@ fn run_body(
         summary_every,
         flush_every,
         arm_lengths_m: [cfg.arm.geometry.upper_arm_m, cfg.arm.geometry.forearm_m],
+        trunk_threshold_deg: cfg.arm.trunk_threshold_deg,
         roads: course::roads(cfg, opts.regimen.as_ref())?,
         target_steps,
     };

@@ -492,6 +492,8 @@ pub(super) struct RecorderPlan {
     pub(super) roads: Vec<Option<Box<dyn vehicle::Road + Send>>>,
     /// Which of each exercise's target changes are steps, for the measures.
     pub(super) target_steps: Vec<vehicle::TargetSteps>,
+    /// The trunk excursion counted as compensating, deg (`[arm] trunk_threshold_deg`).
+    pub(super) trunk_threshold_deg: f64,
 }
 
 /// What the haptic thread leaves the recorder when it ends, for the recording's `/metrics`:
@@ -548,6 +550,7 @@ pub(super) fn recorder_loop(
         arm_lengths_m,
         roads,
         target_steps,
+        trunk_threshold_deg,
     } = plan;
     let scene = LiveScene {
         arm_lengths_m,
@@ -560,7 +563,8 @@ pub(super) fn recorder_loop(
     let mut seq = 0u64;
     let mut arm_loop = ArmLoopCollector::new(1e9 / period_ns as f64);
     let mut online_arm = OnlineArmCalibration::new(1e9 / period_ns as f64);
-    let mut measures = collector(mcap.as_ref(), period_ns, expected_ticks, target_steps);
+    let mut measures = collector(mcap.as_ref(), period_ns, expected_ticks, target_steps)
+        .with_trunk_threshold_deg(trunk_threshold_deg);
     let mut changes = ChangeLog::default();
     loop {
         let rec = match consumer.pop() {
