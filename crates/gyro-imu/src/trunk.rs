@@ -5,14 +5,10 @@
 //! ([`crate::fusion`], VQF: Laidig & Seel 2023), whose heading is arbitrary but steady (the
 //! gyro bias is estimated at rest and during tilting motion). The trunk's orientation is the
 //! sensor's composed with the mounting, `T = Q_sensor · M⁻¹` (as for the arm's segments,
-//! [`crate::mounting`]). Relative to the start posture `T₀` the rotation `R = T₀⁻¹ · T` is
-//! split into Cardan angles in the start posture's trunk axes (x forward, y to the left,
-//! z up), `R = R_z(rotation) · R_y(flexion) · R_x(lean)` — the thorax angles of the ISB
-//! recommendation (Wu et al., *J Biomech* 38, 2005, §3.3: a Cardan sequence of
-//! flexion/extension, lateral flexion and axial rotation), here in the yaw–pitch–roll order;
-//! a relative rotation is free of the fusion's arbitrary heading (it cancels in `T₀⁻¹ · T`).
-//! Signs: flexion > 0 bends forward, lean > 0 leans to the right, rotation > 0 turns to the
-//! left (counter-clockwise seen from above).
+//! [`crate::mounting`]). Relative to the start posture `T₀` the rotation `T₀⁻¹ · T` is split
+//! into the trunk's Cardan angles ([`crate::posture`]: flexion, lateral lean, axial rotation,
+//! as the ISB recommends for the thorax); a relative rotation is free of the fusion's
+//! arbitrary heading (it cancels in `T₀⁻¹ · T`).
 //!
 //! Everything is allocation-free per sample.
 
@@ -22,53 +18,7 @@ use serde::{Deserialize, Serialize};
 use crate::device::ImuSample;
 use crate::error::{ImuError, check_range};
 use crate::fusion::{FusionConfig, OrientationFilter};
-
-/// Trunk angles from the start posture (deg); see the module docs for axes and signs.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
-pub struct TrunkAngles {
-    /// Forward flexion (deg, > 0 forward).
-    pub flexion_deg: f64,
-    /// Lateral lean (deg, > 0 to the right).
-    pub lean_deg: f64,
-    /// Axial rotation (deg, > 0 to the left).
-    pub rotation_deg: f64,
-}
-
-impl TrunkAngles {
-    /// The angles as `[flexion, lean, rotation]` (deg): the order of [`AXES`].
-    pub fn to_array(&self) -> [f64; 3] {
-        [self.flexion_deg, self.lean_deg, self.rotation_deg]
-    }
-
-    /// The largest excursion on any axis (deg).
-    pub fn max_abs_deg(&self) -> f64 {
-        self.to_array().iter().fold(0.0, |m, a| m.max(a.abs()))
-    }
-}
-
-/// The axes' names in the order of [`TrunkAngles::to_array`], as in the measures' keys.
-pub const AXES: [&str; 3] = ["flexion", "lean", "rotation"];
-
-/// The rotation (trunk frame now to trunk frame at the start) of `a`:
-/// `R_z(rotation) · R_y(flexion) · R_x(lean)`.
-pub fn trunk_rotation(a: &TrunkAngles) -> UnitQuaternion<f64> {
-    UnitQuaternion::from_euler_angles(
-        a.lean_deg.to_radians(),
-        a.flexion_deg.to_radians(),
-        a.rotation_deg.to_radians(),
-    )
-}
-
-/// The trunk angles of the trunk orientation `now` from the start posture `start` (both
-/// trunk-to-world): the Cardan split of `start⁻¹ · now` (inverse of [`trunk_rotation`]).
-pub fn trunk_angles(start: &UnitQuaternion<f64>, now: &UnitQuaternion<f64>) -> TrunkAngles {
-    let (lean, flexion, rotation) = (start.inverse() * now).euler_angles();
-    TrunkAngles {
-        flexion_deg: flexion.to_degrees(),
-        lean_deg: lean.to_degrees(),
-        rotation_deg: rotation.to_degrees(),
-    }
-}
+pub use crate::posture::{AXES, TrunkAngles, trunk_angles, trunk_rotation};
 
 /// Time the fusion needs before its inclination can be trusted (s): one accelerometer
 /// time constant of the default fusion (`FusionConfig::tau_acc_s`, 3 s). The start posture is

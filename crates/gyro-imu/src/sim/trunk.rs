@@ -14,10 +14,10 @@ use serde::{Deserialize, Serialize};
 
 use crate::device::ImuSample;
 use crate::error::{ImuError, check_range};
+use crate::posture::{TrunkAngles, trunk_rotation};
 use crate::sensor::{AccSpec, GyroSpec};
 use crate::sim::arm::SimImu;
 use crate::so3;
-use crate::trunk::{TrunkAngles, trunk_rotation};
 
 /// How the simulated patient's trunk moves with the wheel.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
