@@ -14,8 +14,10 @@
 //!   the wheel angle.
 //! - [`mounting`]: where each IMU sits on its segment; [`procedure`]: the guided mounting
 //!   procedure, tick by tick.
+//! - [`posture`]: the trunk's angles from its start posture; [`trunk`]: those angles from a
+//!   sternum IMU, and their excursions (trunk compensation).
 //! - [`device`]: the `Imu` trait, samples, the game-controller report parsers and (feature
-//!   `hid`) the hidapi backend; [`sim`]: simulated motion, arm and IMUs.
+//!   `hid`) the hidapi backend; [`sim`]: simulated motion, arm, trunk and IMUs.
 //! - [`error`]: the errors, [`ImuError`].
 //!
 //! # Example: the haptic thread's arm pose from a simulated patient
@@ -55,9 +57,11 @@ pub mod fusion;
 pub mod integrate;
 pub mod mounting;
 pub mod pose;
+pub mod posture;
 pub mod procedure;
 pub mod sensor;
 pub mod sim;
 pub mod so3;
+pub mod trunk;
 
 pub use error::ImuError;

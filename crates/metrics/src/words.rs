@@ -155,7 +155,7 @@ const LDLJ_NOISE: Option<Noise> = Some(Noise::Relative(0.23));
 
 /// Every measure with words, in the order a clinician reads them (the session, then
 /// movement quality, then the exercises' own results, then strength and help).
-pub const MEASURES: [MeasureWords; 39] = [
+pub const MEASURES: [MeasureWords; 47] = [
     w(
         "active_s",
         "Active time",
@@ -506,6 +506,119 @@ pub const MEASURES: [MeasureWords; 39] = [
     .defined(
         "Largest minus smallest elbow bending angle while the arm sensors tracked.",
         "Jadhav 2004 thesis, chapter 4 (arm angles from the rate sensors and the wheel)",
+    ),
+    // Trunk compensation from the sternum IMU (gyro_imu::trunk), from the start posture.
+    w(
+        "trunk_flexion_max_deg",
+        "Trunk bending forward, furthest",
+        "trunk flexion, maximum excursion",
+        "°",
+        0,
+        [0.0, 45.0],
+        None,
+        Lower,
+    )
+    .defined(
+        "Largest forward bend of the trunk from its start posture, from the sternum sensor.",
+        "Wu et al. 2005, J Biomech 38:981 (ISB thorax angles); Cirstea & Levin 2000, Brain 123:940 (trunk compensation in stroke)",
+    ),
+    w(
+        "trunk_flexion_mean_deg",
+        "Trunk bending forward, on average",
+        "trunk flexion, mean excursion",
+        "°",
+        0,
+        [0.0, 30.0],
+        None,
+        Lower,
+    )
+    .defined(
+        "Mean forward bend of the trunk from its start posture, from the sternum sensor.",
+        "Wu et al. 2005, J Biomech 38:981 (ISB thorax angles); Cirstea & Levin 2000, Brain 123:940 (trunk compensation in stroke)",
+    ),
+    w(
+        "trunk_lean_max_deg",
+        "Trunk leaning sideways, furthest",
+        "trunk lateral lean, maximum excursion",
+        "°",
+        0,
+        [0.0, 45.0],
+        None,
+        Lower,
+    )
+    .defined(
+        "Largest sideways lean of the trunk from its start posture, from the sternum sensor.",
+        "Wu et al. 2005, J Biomech 38:981 (ISB thorax angles); Cirstea & Levin 2000, Brain 123:940 (trunk compensation in stroke)",
+    ),
+    w(
+        "trunk_lean_mean_deg",
+        "Trunk leaning sideways, on average",
+        "trunk lateral lean, mean excursion",
+        "°",
+        0,
+        [0.0, 30.0],
+        None,
+        Lower,
+    )
+    .defined(
+        "Mean sideways lean of the trunk from its start posture, from the sternum sensor.",
+        "Wu et al. 2005, J Biomech 38:981 (ISB thorax angles); Cirstea & Levin 2000, Brain 123:940 (trunk compensation in stroke)",
+    ),
+    w(
+        "trunk_rotation_max_deg",
+        "Trunk twisting, furthest",
+        "trunk rotation, maximum excursion",
+        "°",
+        0,
+        [0.0, 45.0],
+        None,
+        Lower,
+    )
+    .defined(
+        "Largest twist of the trunk from its start posture, from the sternum sensor.",
+        "Wu et al. 2005, J Biomech 38:981 (ISB thorax angles); Cirstea & Levin 2000, Brain 123:940 (trunk compensation in stroke)",
+    ),
+    w(
+        "trunk_rotation_mean_deg",
+        "Trunk twisting, on average",
+        "trunk rotation, mean excursion",
+        "°",
+        0,
+        [0.0, 30.0],
+        None,
+        Lower,
+    )
+    .defined(
+        "Mean twist of the trunk from its start posture, from the sternum sensor.",
+        "Wu et al. 2005, J Biomech 38:981 (ISB thorax angles); Cirstea & Levin 2000, Brain 123:940 (trunk compensation in stroke)",
+    ),
+    w(
+        "trunk_beyond_pct",
+        "Time the trunk moved too far",
+        "share of time with trunk excursion beyond the threshold",
+        "%",
+        0,
+        [0.0, 100.0],
+        None,
+        Lower,
+    )
+    .defined(
+        "Share of the exercise time with any trunk angle beyond the station's threshold.",
+        "Wu et al. 2005, J Biomech 38:981 (ISB thorax angles); Cirstea & Levin 2000, Brain 123:940 (trunk compensation in stroke)",
+    ),
+    w(
+        "trunk_compensated_movements_pct",
+        "Turns helped by the trunk",
+        "share of movements with trunk compensation",
+        "%",
+        0,
+        [0.0, 100.0],
+        None,
+        Lower,
+    )
+    .defined(
+        "Share of wheel movements during which the trunk moved beyond the threshold.",
+        "Wu et al. 2005, J Biomech 38:981 (ISB thorax angles); Cirstea & Levin 2000, Brain 123:940 (trunk compensation in stroke)",
     ),
     w(
         "pct_in_lane",

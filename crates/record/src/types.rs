@@ -354,6 +354,28 @@ pub struct ArmSample {
     pub fore_gyro_y_rad_s: f64,
     /// Forearm gyro, sensor z, rad/s.
     pub fore_gyro_z_rad_s: f64,
+    /// A sternum IMU is worn and its start posture taken: the trunk angles below are
+    /// estimated (`gyro_imu::trunk`; zero otherwise).
+    #[serde(default)]
+    pub trunk_tracked: bool,
+    /// Estimated trunk flexion from the start posture (forward positive), rad.
+    #[serde(default)]
+    pub trunk_flexion_rad: f64,
+    /// Estimated trunk lateral lean from the start posture (to the right positive), rad.
+    #[serde(default)]
+    pub trunk_lean_rad: f64,
+    /// Estimated trunk rotation from the start posture (to the left positive), rad.
+    #[serde(default)]
+    pub trunk_rotation_rad: f64,
+    /// True trunk flexion from the same start posture (simulation only), rad.
+    #[serde(default)]
+    pub true_trunk_flexion_rad: f64,
+    /// True trunk lateral lean (simulation only), rad.
+    #[serde(default)]
+    pub true_trunk_lean_rad: f64,
+    /// True trunk rotation (simulation only), rad.
+    #[serde(default)]
+    pub true_trunk_rotation_rad: f64,
 }
 
 /// Wall-clock timing of one tick (channel `/timing`).
@@ -580,11 +602,12 @@ impl<T> Stamped<T> {
 /// 3. Raw inputs: `/raw/wheel` and `/raw/imu` and the body's facts in the metadata, so a real
 ///    device's session replays.
 /// 4. The format version in the metadata; configuration and regimen read leniently.
+/// 5. The trunk's angles from a sternum IMU on `/arm` (absent in older files: not tracked).
 ///
 /// Formats 1–3 carry no version (read as [`UNVERSIONED_FORMAT`]); every format this product has
 /// written stays readable (the golden recordings under `tests/golden/` are opened by every
 /// reader in CI). A change to what a channel holds or how it is encoded takes the next number.
-pub const FORMAT_VERSION: u32 = 4;
+pub const FORMAT_VERSION: u32 = 5;
 
 /// The `format_version` of a recording written before versions were recorded (formats 1–3).
 pub const UNVERSIONED_FORMAT: u32 = 0;

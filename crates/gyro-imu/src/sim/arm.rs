@@ -109,6 +109,73 @@ pub struct SimImu {
     pending: Option<ImuSample>,
 }
 
+impl SimImu {
+    /// A simulated IMU called `name` (path `sim://<name>`) with the sensor model of `gyro` and
+    /// `acc`, mounted on its segment at the sensor-to-segment rotation `mount`; noise seeded
+    /// from `seed`.
+    pub(crate) fn new(
+        name: &str,
+        gyro: GyroSpec,
+        acc: Option<AccSpec>,
+        mount: UnitQuaternion<f64>,
+        seed: u64,
+    ) -> Result<Self, ImuError> {
+        Ok(Self {
+            info: ImuDeviceInfo {
+                kind: ImuKind::Simulated,
+                name: name.to_string(),
+                path: format!("sim://{name}"),
+                vendor_id: 0,
+                product_id: 0,
+                bluetooth: false,
+                serial: None,
+            },
+            model: SensorModel::new(gyro, acc, seed)?,
+            mount,
+            pending: None,
+        })
+    }
+
+    /// The sensor-to-segment rotation.
+    pub(crate) fn mount(&self) -> UnitQuaternion<f64> {
+        self.mount
+    }
+
+    /// Measure one tick at `t_ns`: the sensor at `q_world_sensor` (sensor-to-world), its
+    /// segment turning at `w_segment_rad_s` (segment frame) while the sensor accelerates at
+    /// `acc_world_m_s2` (world frame, gravity not included), `dt_s` after the previous tick.
+    /// Leaves the sample pending for [`Imu::poll`].
+    pub(crate) fn sense(
+        &mut self,
+        t_ns: u64,
+        q_world_sensor: &UnitQuaternion<f64>,
+        w_segment_rad_s: &Vector3<f64>,
+        acc_world_m_s2: &Vector3<f64>,
+        dt_s: f64,
+    ) {
+        let g = Vector3::z() * GRAVITY_M_S2;
+        let w_s = self.mount.inverse() * w_segment_rad_s;
+        let f_s = q_world_sensor.inverse() * (acc_world_m_s2 + g);
+        let r = self.model.measure(&w_s, &f_s, dt_s);
+        let t_rep = (t_ns as f64 + r.time_error_s * 1e9).max(0.0) as u64;
+        self.pending = Some(ImuSample {
+            t_ns: t_rep,
+            rate_rad_s: r.rate_rad_s,
+            acc_m_s2: r.acc_m_s2,
+        });
+    }
+
+    /// The sensor's true gyro bias now (rad/s, sensor frame).
+    pub fn gyro_bias_rad_s(&self) -> Vector3<f64> {
+        self.model.gyro_bias_rad_s()
+    }
+
+    /// The latest sample, if any tick has run (it stays pending until polled).
+    pub fn latest(&self) -> Option<ImuSample> {
+        self.pending
+    }
+}
+
 impl Imu for SimImu {
     fn info(&self) -> &ImuDeviceInfo {
         &self.info
@@ -169,26 +236,16 @@ impl SimArm {
         seed: u64,
     ) -> Result<Self, ImuError> {
         cfg.validate()?;
-        let mk = |name: &str, mount, seed| -> Result<SimImu, ImuError> {
-            Ok(SimImu {
-                info: ImuDeviceInfo {
-                    kind: ImuKind::Simulated,
-                    name: name.to_string(),
-                    path: format!("sim://{name}"),
-                    vendor_id: 0,
-                    product_id: 0,
-                    bluetooth: false,
-                    serial: None,
-                },
-                model: SensorModel::new(gyro, acc, seed)?,
-                mount,
-                pending: None,
-            })
-        };
         Ok(Self {
             cfg,
-            upper: mk("upper-arm", mount_upper, seed)?,
-            fore: mk("forearm", mount_fore, seed.wrapping_add(0x9e37_79b9))?,
+            upper: SimImu::new("upper-arm", gyro, acc, mount_upper, seed)?,
+            fore: SimImu::new(
+                "forearm",
+                gyro,
+                acc,
+                mount_fore,
+                seed.wrapping_add(0x9e37_79b9),
+            )?,
             prev_wheel_rate: None,
         })
     }
@@ -273,23 +330,10 @@ impl SimArm {
         let pos_f = |s: &ArmState| s.elbow_m + (s.grip_m - s.elbow_m) * cfg.fore_sensor_at;
         let acc_u = (pos_u(&sp) - pos_u(&s0) * 2.0 + pos_u(&sm)) / (h * h);
         let acc_f = (pos_f(&sp) - pos_f(&s0) * 2.0 + pos_f(&sm)) / (h * h);
-        let g = Vector3::z() * GRAVITY_M_S2;
         let q_upper = arm::to_quat(&s0.upper) * self.upper.mount;
         let q_fore = arm::to_quat(&s0.fore) * self.fore.mount;
-        for (imu, q_ws, w_seg, acc) in [
-            (&mut self.upper, q_upper, w_upper, acc_u),
-            (&mut self.fore, q_fore, w_fore, acc_f),
-        ] {
-            let w_s = imu.mount.inverse() * w_seg;
-            let f_s = q_ws.inverse() * (acc + g);
-            let r = imu.model.measure(&w_s, &f_s, dt_s);
-            let t_rep = (t_ns as f64 + r.time_error_s * 1e9).max(0.0) as u64;
-            imu.pending = Some(ImuSample {
-                t_ns: t_rep,
-                rate_rad_s: r.rate_rad_s,
-                acc_m_s2: r.acc_m_s2,
-            });
-        }
+        self.upper.sense(t_ns, &q_upper, &w_upper, &acc_u, dt_s);
+        self.fore.sense(t_ns, &q_fore, &w_fore, &acc_f, dt_s);
         let (swivel, _) = cfg.posture(t, wheel_rad);
         Ok(SimArmTruth {
             state: s0,

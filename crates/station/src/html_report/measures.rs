@@ -49,7 +49,7 @@ const fn from_table(key: &str) -> Measure {
 }
 
 /// The measures shown, in order (those a session lacks are left out).
-pub(super) const MEASURES: [Measure; 33] = [
+pub(super) const MEASURES: [Measure; 41] = [
     from_table("session_s"),
     from_table("paused_s"),
     from_table("movements"),
@@ -74,6 +74,14 @@ pub(super) const MEASURES: [Measure; 33] = [
     from_table("wheel_rom_deg"),
     from_table("shoulder_elevation_rom_deg"),
     from_table("elbow_flexion_rom_deg"),
+    from_table("trunk_flexion_max_deg"),
+    from_table("trunk_flexion_mean_deg"),
+    from_table("trunk_lean_max_deg"),
+    from_table("trunk_lean_mean_deg"),
+    from_table("trunk_rotation_max_deg"),
+    from_table("trunk_rotation_mean_deg"),
+    from_table("trunk_beyond_pct"),
+    from_table("trunk_compensated_movements_pct"),
     from_table("rms_lateral_m"),
     from_table("pct_in_lane"),
     from_table("dial_rms_error_deg"),
@@ -116,7 +124,7 @@ const fn shared(key: &str) -> Measure {
 
 /// An exercise's own results shown in the per-exercise table, in order (rows no exercise has
 /// are left out).
-pub(super) const EXERCISE_MEASURES: [Measure; 32] = [
+pub(super) const EXERCISE_MEASURES: [Measure; 40] = [
     shared("rms_lateral_m"),
     shared("pct_in_lane"),
     from_table("heading_rms_error_deg"),
@@ -138,6 +146,14 @@ pub(super) const EXERCISE_MEASURES: [Measure; 32] = [
     shared("wheel_rom_deg"),
     shared("shoulder_elevation_rom_deg"),
     shared("elbow_flexion_rom_deg"),
+    shared("trunk_flexion_max_deg"),
+    shared("trunk_flexion_mean_deg"),
+    shared("trunk_lean_max_deg"),
+    shared("trunk_lean_mean_deg"),
+    shared("trunk_rotation_max_deg"),
+    shared("trunk_rotation_mean_deg"),
+    shared("trunk_beyond_pct"),
+    shared("trunk_compensated_movements_pct"),
     shared("speed_metric_median"),
     shared("reaction_time_s_median"),
     shared("anticipation_pct"),

@@ -176,6 +176,7 @@ mod tests {
             summary_every: 100,
             flush_every: 1000,
             arm_lengths_m: [0.3, 0.25],
+            trunk_threshold_deg: crate::config::DEFAULT_TRUNK_THRESHOLD_DEG,
             roads: Vec::new(),
             target_steps: Vec::new(),
             apart: Vec::new(),

@@ -11,13 +11,14 @@
 //! 29 MB. Only the exercise is measured: ticks with the exercise paused (the arm procedure at
 //! the start, the patient's pauses) are left out, each stretch between pauses a run of its own
 //! (no speed is taken across a pause). Joint angles are taken while the arm sensing is
-//! tracking.
+//! tracking; the trunk's measures while a sternum IMU is tracked ([`super::trunk_measures`]).
 //!
 //! The series wait for the end of the session in a [`SeriesStore`]: a recorded session spills
 //! them to a temporary file on the recording's disk, so that its resident memory stays flat
 //! however long it runs ([`series`]).
 
 use super::plant::ExerciseScores;
+use super::trunk_measures::TrunkTally;
 use metrics::{
     DirectedStep, LiveMeasures, MetricError, ResponseParams, SessionMeasures, SessionParams,
     TargetStep, directed_step_responses, session_measures_of_runs, step_responses,
@@ -110,6 +111,8 @@ pub struct MeasureCollector {
     /// its road at the last tick, m (`None` at the start of an exercise).
     next_shift: usize,
     last_s_m: Option<f64>,
+    /// The trunk's excursions, when a sternum IMU is worn.
+    trunk: TrunkTally,
 }
 
 /// A step the wheel is to respond to.
@@ -235,7 +238,16 @@ impl MeasureCollector {
             apart: Vec::new(),
             next_shift: 0,
             last_s_m: None,
+            trunk: TrunkTally::default(),
         }
+    }
+
+    /// The same collector counting the trunk beyond `threshold_deg` (`[arm]
+    /// trunk_threshold_deg`) as compensating; 10° when not told.
+    #[must_use]
+    pub fn with_trunk_threshold_deg(mut self, threshold_deg: f64) -> Self {
+        self.trunk = TrunkTally::new(threshold_deg);
+        self
     }
 
     /// The same collector told which of each exercise's target changes are steps to respond
@@ -298,6 +310,11 @@ impl MeasureCollector {
         // The session's fade-out is no exercise's own time.
         let stopping = matches!(w.watchdog, Watchdog::Stopping | Watchdog::Stopped);
         self.note_steps(rec, changed || stopping);
+        if !stopping {
+            let moving = self.live.moving();
+            self.trunk
+                .add(rec.arm.as_ref(), exercise, moving, self.tick_s);
+        }
         let tally = self.tally(exercise);
         let tracking_rad = w.target_rad - w.angle_rad;
         if !stopping {
@@ -546,6 +563,7 @@ impl MeasureCollector {
             name_step_responses(&mut named, &self.responses(None));
         }
         self.name_session_figures(&mut named, out);
+        self.trunk.name_session(&mut named);
         named.retain(|_, v| v.is_finite());
         let (session, error) = match analysed {
             Ok(s) => (Some(s), None),
@@ -611,6 +629,7 @@ impl MeasureCollector {
                         named.insert("tracking_rms_error_deg".to_owned(), rms.to_degrees());
                     }
                 }
+                self.trunk.name_exercise(s.index, &mut named);
                 name_exercise_scores(&mut named, s);
                 named.retain(|_, v| v.is_finite());
                 ExerciseResult {

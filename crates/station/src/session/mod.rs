@@ -23,6 +23,7 @@ pub mod recorder;
 pub mod signals;
 #[cfg(test)]
 mod tests;
+pub mod trunk_measures;
 pub mod wheel_cards;
 pub mod wheel_gestures;
 pub mod window;
@@ -343,6 +344,17 @@ fn prefault_ring(
     while consumer.pop().is_ok() {}
 }
 
+/// The safety claim of a session, in N·m at the motor, in the log (loudly when the wheel's
+/// rating is unknown).
+fn log_ceiling(plant: &plant::Plant) {
+    let ceiling = plant.ceiling();
+    if ceiling.assumed {
+        tracing::warn!("{ceiling}");
+    } else {
+        tracing::info!("{ceiling}");
+    }
+}
+
 fn run_body(
     opts: &SessionOptions,
     controls: &Controls,
@@ -385,14 +397,7 @@ fn run_body(
     let facts = given_facts
         .flatten()
         .unwrap_or_else(|| body_facts(cfg, opts.body, &plant));
-    // The safety claim of this session, in N·m at the motor (and loudly when the wheel's
-    // rating is unknown).
-    let ceiling = plant.ceiling();
-    if ceiling.assumed {
-        tracing::warn!("{ceiling}");
-    } else {
-        tracing::info!("{ceiling}");
-    }
+    log_ceiling(&plant);
     let recorder = start_recording(opts, start_unix_ns, facts)?;
     let (mut producer, mut consumer) = rtrb::RingBuffer::<TickRecord>::new(RING_CAPACITY);
     prefault_ring(&mut producer, &mut consumer);
@@ -409,6 +414,7 @@ fn run_body(
         summary_every,
         flush_every,
         arm_lengths_m: [cfg.arm.geometry.upper_arm_m, cfg.arm.geometry.forearm_m],
+        trunk_threshold_deg: cfg.arm.trunk_threshold_deg,
         roads: course::roads(cfg, opts.regimen.as_ref())?,
         target_steps,
         apart,

@@ -497,6 +497,8 @@ pub(super) struct RecorderPlan {
     /// Which exercises are measured apart from the session (the standard assessment's
     /// parts), by index in the course.
     pub(super) apart: Vec<bool>,
+    /// The trunk excursion counted as compensating, deg (`[arm] trunk_threshold_deg`).
+    pub(super) trunk_threshold_deg: f64,
 }
 
 /// What the haptic thread leaves the recorder when it ends, for the recording's `/metrics`:
@@ -554,6 +556,7 @@ pub(super) fn recorder_loop(
         roads,
         target_steps,
         apart,
+        trunk_threshold_deg,
     } = plan;
     let scene = LiveScene {
         arm_lengths_m,
@@ -572,7 +575,8 @@ pub(super) fn recorder_loop(
         expected_ticks,
         target_steps,
         apart,
-    );
+    )
+    .with_trunk_threshold_deg(trunk_threshold_deg);
     let mut changes = ChangeLog::default();
     loop {
         let rec = match consumer.pop() {

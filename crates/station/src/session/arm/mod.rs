@@ -5,6 +5,7 @@
 
 pub mod hid;
 pub mod sim;
+pub mod trunk;
 
 use clock::Clock;
 use gyro_imu::ImuError;

@@ -25,6 +25,8 @@ pub struct SimArmSensing {
     unplugged: bool,
     /// The rates an injected freeze holds (upper, fore), rad/s.
     held: Option<(Vector3<f64>, Vector3<f64>)>,
+    /// The trunk and its sternum IMU, when one is worn.
+    trunk: Option<super::trunk::SimTrunkSensing>,
 }
 
 /// A rotation drawn uniformly enough for a sensor strapped on any way.
@@ -83,7 +85,22 @@ impl SimArmSensing {
             faults: crate::session::faults::imu_faults(faults),
             unplugged: false,
             held: None,
+            trunk: None,
         })
+    }
+
+    /// Also wear a sternum IMU on the trunk of a patient whose arm lost `weakness` of its
+    /// strength (the sensor's noise seeded from `seed`).
+    pub fn with_sternum(mut self, weakness: f64, seed: u64) -> Result<Self, ImuError> {
+        self.trunk = Some(super::trunk::SimTrunkSensing::new(weakness, seed)?);
+        Ok(self)
+    }
+
+    /// An exercise starts: the trunk's next posture is its start posture.
+    pub fn restart_trunk(&mut self) {
+        if let Some(t) = &mut self.trunk {
+            t.restart();
+        }
     }
 
     /// Where the arm sensing is (the simulated patient follows its prompts).
@@ -154,6 +171,15 @@ impl SimArmSensing {
         let grid = |x| record::raw::on_grid(x, record::raw::ANGLE_QUANTUM_RAD);
         sample.true_shoulder_elevation_rad = grid(truth.angles.shoulder_elevation_rad);
         sample.true_elbow_flexion_rad = grid(truth.angles.elbow_flexion_rad);
+        if let Some(trunk) = &mut self.trunk {
+            trunk.step(
+                read.t_ns,
+                true_wheel_rad,
+                true_wheel_rate_rad_s,
+                read.dt_s,
+                &mut sample,
+            );
+        }
         self.last = sample;
         sample
     }

@@ -69,6 +69,13 @@ impl Body {
                     clock,
                     &cfg.faults,
                 )
+                .and_then(|s| {
+                    if cfg.arm.sternum {
+                        s.with_sternum(cfg.sim_patient.weakness, cfg.session.seed)
+                    } else {
+                        Ok(s)
+                    }
+                })
                 .context("simulated arm")?,
             ),
             foot: vehicle::SimFoot::default(),
@@ -115,6 +122,13 @@ impl Body {
             wheel: ZeroTorqueOnDrop::new(wheel),
             arm,
             clock,
+        }
+    }
+
+    /// An exercise starts: the trunk's start posture is taken again.
+    pub(super) fn restart_trunk(&mut self) {
+        if let Body::Sim { sensing, .. } = self {
+            sensing.restart_trunk();
         }
     }
 

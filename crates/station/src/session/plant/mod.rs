@@ -447,6 +447,7 @@ impl Plant {
     /// Move on to the next exercise at exercise time `t_s` (its haptic settings with it), or
     /// mark the course done after the last one.
     fn next_segment(&mut self, t_s: f64) {
+        self.body.restart_trunk();
         if let Some(regimen) = self.exercise.next_segment(t_s) {
             // Validated when the session started; a refusal keeps the previous settings.
             let _ = self.chain.apply_regimen(regimen);
