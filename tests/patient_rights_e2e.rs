@@ -199,13 +199,25 @@ fn export_has_everything(c: &TwoPatients) -> serde_json::Value {
     let bundle: serde_json::Value =
         serde_json::from_slice(&std::fs::read(&bundle).unwrap()).unwrap();
     assert_eq!(bundle["resourceType"], "Bundle");
-    let sessions = bundle["entry"]
+    let observations: Vec<&serde_json::Value> = bundle["entry"]
         .as_array()
         .unwrap()
         .iter()
-        .filter(|e| e["resource"]["resourceType"] == "Observation")
+        .map(|e| &e["resource"])
+        .filter(|r| r["resourceType"] == "Observation")
+        .collect();
+    // Each session: its measures as one Observation's components, and its exercise duration
+    // (LOINC 55411-3) as one of its own.
+    let sessions = observations
+        .iter()
+        .filter(|o| o["component"].is_array())
         .count();
     assert_eq!(sessions, 2, "an Observation per session");
+    let durations = observations
+        .iter()
+        .filter(|o| o["code"]["coding"][0]["code"] == "55411-3")
+        .count();
+    assert_eq!(durations, 2, "an exercise duration per session");
     doc
 }
 
