@@ -14,6 +14,7 @@ use crate::device::{Imu, ImuDeviceInfo, ImuKind, ImuSample};
 use crate::error::{ImuError, check_range};
 use crate::sensor::{AccSpec, GyroSpec, SensorModel};
 use crate::sim::motion::GRAVITY_M_S2;
+use crate::sim::wheel_acceleration;
 use crate::so3;
 
 /// How the simulated patient holds the arm.
@@ -297,19 +298,8 @@ impl SimArm {
         wheel_rate_rad_s: f64,
         dt_s: f64,
     ) -> Result<SimArmTruth, ImuError> {
-        if !(wheel_rad.is_finite()
-            && wheel_rate_rad_s.is_finite()
-            && dt_s.is_finite()
-            && dt_s > 0.0)
-        {
-            return Err(ImuError::InvalidInput(format!(
-                "wheel {wheel_rad} rad, rate {wheel_rate_rad_s} rad/s, dt {dt_s} s must be finite (dt > 0)"
-            )));
-        }
-        let wheel_acc = self
-            .prev_wheel_rate
-            .map_or(0.0, |p| (wheel_rate_rad_s - p) / dt_s);
-        self.prev_wheel_rate = Some(wheel_rate_rad_s);
+        let wheel_acc =
+            wheel_acceleration(&mut self.prev_wheel_rate, wheel_rad, wheel_rate_rad_s, dt_s)?;
         let t = t_ns as f64 * 1e-9;
         let cfg = self.cfg;
         let at = |h: f64| -> Result<ArmState, ImuError> {

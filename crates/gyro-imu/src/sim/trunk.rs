@@ -17,6 +17,7 @@ use crate::error::{ImuError, check_range};
 use crate::posture::{TrunkAngles, trunk_rotation};
 use crate::sensor::{AccSpec, GyroSpec};
 use crate::sim::arm::SimImu;
+use crate::sim::wheel_acceleration;
 use crate::so3;
 
 /// How the simulated patient's trunk moves with the wheel.
@@ -206,19 +207,8 @@ impl SimTrunk {
         wheel_rate_rad_s: f64,
         dt_s: f64,
     ) -> Result<SimTrunkTruth, ImuError> {
-        if !(wheel_rad.is_finite()
-            && wheel_rate_rad_s.is_finite()
-            && dt_s.is_finite()
-            && dt_s > 0.0)
-        {
-            return Err(ImuError::InvalidInput(format!(
-                "wheel {wheel_rad} rad, rate {wheel_rate_rad_s} rad/s, dt {dt_s} s must be finite (dt > 0)"
-            )));
-        }
-        let wheel_acc = self
-            .prev_wheel_rate
-            .map_or(0.0, |p| (wheel_rate_rad_s - p) / dt_s);
-        self.prev_wheel_rate = Some(wheel_rate_rad_s);
+        let wheel_acc =
+            wheel_acceleration(&mut self.prev_wheel_rate, wheel_rad, wheel_rate_rad_s, dt_s)?;
         let t = t_ns as f64 * 1e-9;
         let trunk = |h: f64| {
             let w = wheel_rad + wheel_rate_rad_s * h + 0.5 * wheel_acc * h * h;
