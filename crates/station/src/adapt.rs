@@ -117,17 +117,7 @@ pub fn load(path: &Path, patient_id: &str) -> Vec<Entry> {
 /// Appends `entry` to the history at `path`, keeping the last [`KEPT_SESSIONS`] lines
 /// (written whole, atomically, 0600).
 pub fn append(path: &Path, entry: &Entry) -> anyhow::Result<()> {
-    let old = std::fs::read_to_string(path).unwrap_or_default();
-    let mut lines: Vec<String> = old
-        .lines()
-        .filter(|l| !l.trim().is_empty())
-        .map(str::to_owned)
-        .collect();
-    lines.push(serde_json::to_string(entry)?);
-    let skip = lines.len().saturating_sub(KEPT_SESSIONS);
-    let mut text = lines[skip..].join("\n");
-    text.push('\n');
-    crate::home::write_private(path, text.as_bytes())
+    crate::home::append_kept(path, entry, KEPT_SESSIONS)
 }
 
 /// A session's success rate in [0, 1], from its scores, per exercise kind:

@@ -161,17 +161,7 @@ pub fn ran_whole(results: &[record::ExerciseResult]) -> bool {
 /// Appends `entry` to the history at `path`, keeping the last [`KEPT`] lines (written whole,
 /// atomically, 0600).
 fn append(path: &Path, entry: &Entry) -> anyhow::Result<()> {
-    let old = std::fs::read_to_string(path).unwrap_or_default();
-    let mut lines: Vec<String> = old
-        .lines()
-        .filter(|l| !l.trim().is_empty())
-        .map(str::to_owned)
-        .collect();
-    lines.push(serde_json::to_string(entry)?);
-    let skip = lines.len().saturating_sub(KEPT);
-    let mut text = lines[skip..].join("\n");
-    text.push('\n');
-    crate::home::write_private(path, text.as_bytes())
+    crate::home::append_kept(path, entry, KEPT)
 }
 
 #[cfg(test)]

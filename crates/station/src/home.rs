@@ -74,6 +74,23 @@ impl Pairing {
     }
 }
 
+/// Appends `entry` as one JSON line to the history at `path`, keeping its last `keep` lines
+/// (written whole, atomically, 0600: a crash leaves the old history or the new one). The
+/// station's session and assessment histories are such files.
+pub fn append_kept(path: &Path, entry: &impl Serialize, keep: usize) -> anyhow::Result<()> {
+    let old = std::fs::read_to_string(path).unwrap_or_default();
+    let mut lines: Vec<String> = old
+        .lines()
+        .filter(|l| !l.trim().is_empty())
+        .map(str::to_owned)
+        .collect();
+    lines.push(serde_json::to_string(entry)?);
+    let skip = lines.len().saturating_sub(keep);
+    let mut text = lines[skip..].join("\n");
+    text.push('\n');
+    write_private(path, text.as_bytes())
+}
+
 /// Writes `bytes` to `path` as a new 0600 file, atomically (temporary file, fsync, rename).
 pub fn write_private(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
     let tmp = path.with_extension("tmp");
