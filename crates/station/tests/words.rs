@@ -530,16 +530,6 @@ mod per_screen {
 
     #[test]
     fn the_words_per_screen_in_the_docs_are_those_the_station_shows() {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/WORDS.md");
-        let now = table();
-        if std::env::var_os("UPDATE_SNAPSHOTS").is_some_and(|v| v == "1") {
-            std::fs::write(&path, &now).unwrap();
-        }
-        let written = std::fs::read_to_string(&path).unwrap_or_default();
-        assert!(
-            written == now,
-            "docs/WORDS.md is out of date: run \
-             `UPDATE_SNAPSHOTS=1 cargo test -p station --test words` and commit the diff"
-        );
+        super::common::assert_generated_doc_current("WORDS.md", &table(), "words");
     }
 }

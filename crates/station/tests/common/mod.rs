@@ -28,3 +28,21 @@ pub fn renderer_or_skip(width: u32, height: u32) -> Option<Renderer> {
         Err(e) => panic!("renderer: {e}"),
     }
 }
+
+/// Fails unless the generated doc `docs/<doc>` is `now`, naming the command that regenerates
+/// it (`UPDATE_SNAPSHOTS=1 cargo test -p station --test <test>`); with `UPDATE_SNAPSHOTS=1` it
+/// writes `now` there first.
+pub fn assert_generated_doc_current(doc: &str, now: &str, test: &str) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../docs")
+        .join(doc);
+    if std::env::var_os("UPDATE_SNAPSHOTS").is_some_and(|v| v == "1") {
+        std::fs::write(&path, now).unwrap();
+    }
+    let written = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(
+        written == now,
+        "docs/{doc} is out of date: run \
+         `UPDATE_SNAPSHOTS=1 cargo test -p station --test {test}` and commit the diff"
+    );
+}
