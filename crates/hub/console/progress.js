@@ -7,8 +7,8 @@
 // meaningful range, its noise as a band. Engineering names only behind "details". Sessions
 // ended early are shown, marked and left out of the trends and baselines unless the therapist
 // ticks "Include sessions that ended early". The one-page print: the clinic's name, the patient,
-// the date range, pain, adherence, alerts, the dose by week and day (dose.js), the scales and
-// the latest table.
+// the date range, pain, adherence with the week's repetitions, alerts, the scales and the
+// latest table (the dose's tables by week and day, dose.js, stay on the screen).
 import { api, esc } from '/console/api.js';
 import { has, languageTag, t, locale } from '/console/i18n.js';
 import { alertWords, SEVERITY } from '/console/caseload.js';
@@ -132,6 +132,11 @@ function summaryHtml(checkins, sessions, overview, words) {
       minutes: Math.round(overview.active_minutes_last_7_days),
       minutesPrescribed: overview.minutes_per_week_prescribed == null ? 'none' : Math.round(overview.minutes_per_week_prescribed),
     }))}</p>`;
+    // The week's repetitions beside its time (the dose's tables are on the page, this line
+    // on the print too).
+    if (typeof overview.repetitions_last_7_days === 'number') {
+      week += `<p id="adherence-repetitions">${esc(t('progress-week-repetitions', { repetitions: overview.repetitions_last_7_days }))}</p>`;
+    }
   }
   const recent = sessions.slice(-10);
   const stopped = recent.filter(early).length;
@@ -356,9 +361,9 @@ export async function progressView(el, id) {
       · ${esc(t('progress-print-of', { name: patient.pseudonym || '' }))} · <span id="date-range">${esc(range)}</span> · ${esc(t('progress-printed', { day: dayWords(Date.now()) }))}</p>
     <p class="print-hide"><button type="button" id="print" class="secondary">${esc(t('progress-print'))}</button>
       <a id="measures-csv" href="/api/patients/${pid}/measures.csv?tz=${encodeURIComponent(tz)}&amp;lang=${encodeURIComponent(languageTag())}" download>${esc(t('progress-download', { zone: zoneWords }))}</a></p>
-    <section class="panel" id="assessment" aria-labelledby="assessment-h">${assessmentHtml(assessments, words)}</section>
+    <section class="panel${assessments.length ? '' : ' print-hide'}" id="assessment" aria-labelledby="assessment-h">${assessmentHtml(assessments, words)}</section>
     <section class="panel" id="summary" aria-labelledby="summary-h">${summaryHtml(checkinsNewest, sessions, overview, words)}</section>
-    <section class="panel" id="dose" aria-labelledby="dose-h">${doseSection(sessions, metrics, overview)}</section>
+    <section class="panel print-hide" id="dose" aria-labelledby="dose-h">${doseSection(sessions, metrics, overview)}</section>
     <section class="panel" id="scales" aria-labelledby="scales-h"></section>
     <p class="print-hide"><input type="checkbox" id="include-early"${anyEarly ? '' : ' disabled'}>
       <label for="include-early" class="inline">${esc(t(anyEarly ? 'progress-include-early' : 'progress-include-early-none'))}</label></p>

@@ -35,6 +35,7 @@ progress-week = Letzte 7 Tage: { $sessionsPrescribed ->
         }
        *[other] { $minutes } von { $minutesPrescribed } verordneten aktiven Minuten
     }.
+progress-week-repetitions = Wiederholungen in den letzten 7 Tagen: { $repetitions }.
 progress-stopped-early = Vorzeitig beendet: { $stopped } { $count ->
         [one] der letzten Sitzung
        *[other] der letzten { $count } Sitzungen

@@ -38,6 +38,7 @@ progress-week = Last 7 days: { $sessionsPrescribed ->
         }
        *[other] { $minutes } of { $minutesPrescribed } prescribed active minutes
     }.
+progress-week-repetitions = Repetitions in the last 7 days: { $repetitions }.
 progress-stopped-early = Stopped early: { $stopped } of the last { $count ->
         [one] session
        *[other] { $count } sessions

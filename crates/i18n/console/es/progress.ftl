@@ -35,6 +35,7 @@ progress-week = Últimos 7 días: { $sessionsPrescribed ->
         }
        *[other] { $minutes } de { $minutesPrescribed } minutos activos prescritos
     }.
+progress-week-repetitions = Repeticiones en los últimos 7 días: { $repetitions }.
 progress-stopped-early = Terminadas antes de tiempo: { $stopped } de { $count ->
         [one] la última sesión
        *[other] las últimas { $count } sesiones

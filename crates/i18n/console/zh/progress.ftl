@@ -29,6 +29,7 @@ progress-week = 最近 7 天：{ $sessionsPrescribed ->
         [none] 活动 { $minutes } 分钟
        *[other] 处方活动 { $minutesPrescribed } 分钟中完成 { $minutes } 分钟
     }。
+progress-week-repetitions = 最近 7 天的重复次数：{ $repetitions }。
 progress-stopped-early = 提前结束：最近 { $count } 次训练中有 { $stopped } 次。
 progress-alerts-title = 提醒
 progress-alerts-none = 没有提醒。
