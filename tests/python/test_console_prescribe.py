@@ -208,6 +208,32 @@ def test_the_patients_station_settings_travel_with_the_prescription_and_come_bac
     assert status >= 400 and "patient.language" in answer, (status, answer)
 
 
+def test_the_therapist_schedules_the_standard_assessment_in_the_form_and_can_take_it_off(clinic, browser):
+    """Issue 42: the standard assessment is scheduled from the prescribe form ([assessment]
+    every_days, bounded by the regimen's schema), comes back in the form, and an empty field
+    takes it off the regimen."""
+    d = browser
+    patient_id = d.current_url.split("#/patients/")[1].split("/")[0]
+    d.get(f"{clinic['web']}/#/patients/{patient_id}/prescribe")
+    days = wait(d, lambda d: d.find_elements(By.ID, "rx-assessment-days"))[0]
+    assert (days.get_attribute("min"), days.get_attribute("max")) == ("1", "90")
+    days.clear()
+    days.send_keys("7")
+    before = int(d.find_element(By.ID, "rx-result").get_attribute("data-saved") or 0)
+    d.find_element(By.CSS_SELECTOR, "#rx-form button[type=submit]").click()
+    wait(d, lambda d: int(d.find_element(By.ID, "rx-result").get_attribute("data-saved") or 0) > before)
+    stored = fetch_json(d, f"/api/patients/{patient_id}/regimen")
+    assert stored["current_fields"]["assessment"] == {"every_days": 7}, stored["current_fields"]
+    assert re.search(r"\[assessment\]\s*\nevery_days = 7\n", stored["current"]["toml"]), stored["current"]["toml"]
+    d.refresh()
+    days = wait(d, lambda d: d.find_elements(By.ID, "rx-assessment-days"))[0]
+    assert days.get_attribute("value") == "7"
+    days.clear()
+    d.find_element(By.CSS_SELECTOR, "#rx-form button[type=submit]").click()
+    wait(d, lambda d: d.find_element(By.ID, "rx-result").get_attribute("data-saved"))
+    assert "assessment" not in fetch_json(d, f"/api/patients/{patient_id}/regimen")["current_fields"]
+
+
 def test_the_dial_replay_marks_where_each_exercise_starts_and_shows_no_empty_car_panel(clinic, browser):
     d = browser
     # The prescription above without the road: the dial twice, a rest between.
@@ -291,8 +317,9 @@ def test_the_audit_page_lists_entries_in_words_filters_and_pages_for_admins_only
          and all(r.get_attribute("data-action") == "put_regimen"
                  for r in d.find_elements(By.CSS_SELECTOR, "#audit-table tr[data-action]")))
     rows = d.find_elements(By.CSS_SELECTOR, "#audit-table tr[data-action]")
-    # Two saves of the form, two of the station settings, the replay test's one.
-    assert len(rows) == 5, [r.text for r in rows]
+    # Two saves of the form, two of the station settings, two of the assessment's schedule,
+    # the replay test's one.
+    assert len(rows) == 7, [r.text for r in rows]
     assert all("ana@clinic.example" in r.text and "P-0042" in r.text for r in rows)
     assert_no_violations(d, "the audit page")
     shoot_1366(d, "audit")

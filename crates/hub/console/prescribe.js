@@ -218,6 +218,7 @@ export async function prescribeView(el, id, refreshMessages, me) {
       ${wheel.line}
       <form id="rx-form" novalidate>
         ${numberField('rx-sessions', t('prescribe-sessions-label'), model.sessions_per_week, { ...limits.sessionsPerWeek, default: undefined })}
+        ${limits.assessmentEveryDays ? numberField('rx-assessment-days', t('prescribe-assessment-label'), model.assessment && model.assessment.every_days, { ...limits.assessmentEveryDays, default: undefined }) : ''}
         ${patientFieldset(model.patient, patient_spec, numberField)}
         ${adapt ? difficultyForm(model.difficulty, adapt) : ''}
         ${html || `<p>${esc(t('prescribe-no-exercise'))}</p>`}
@@ -297,6 +298,9 @@ export async function prescribeView(el, id, refreshMessages, me) {
   const readForm = () => {
     const sessions = num('#rx-sessions');
     if (sessions === undefined) delete model.sessions_per_week; else model.sessions_per_week = sessions;
+    // Empty: no standard assessment scheduled.
+    const assessDays = limits.assessmentEveryDays ? num('#rx-assessment-days') : undefined;
+    if (assessDays === undefined) delete model.assessment; else model.assessment = { ...(model.assessment || {}), every_days: assessDays };
     readPatient(el, model, num);
     if (adapt) readDifficulty(el, model, adapt, num);
     rows.forEach((row, i) => {

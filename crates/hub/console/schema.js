@@ -76,6 +76,9 @@ export function regimenLimits(root) {
   const haptic = nonNull(root, entry.properties.haptic);
   return {
     sessionsPerWeek: numberSpec(root, root.properties.sessions_per_week),
+    // How often the station runs the standard assessment first (`[assessment] every_days`).
+    assessmentEveryDays: root.properties.assessment
+      ? numberSpec(root, nonNull(root, root.properties.assessment).properties.every_days) : null,
     ceiling: numberSpec(root, haptic.properties.ceiling_nm),
     maxExercises: root.properties.exercise.maxItems,
     maxPlannedS: root['x-max-planned-session-s'],

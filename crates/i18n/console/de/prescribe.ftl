@@ -6,6 +6,7 @@ prescribe-version-gone = einer Fachkraft, die nicht mehr in der Klinik ist
 prescribe-version-none = Noch nichts verordnet: Die Station führt ihre Standardübung aus.
 prescribe-version-now = Version { $version }, soeben verordnet von { $by }.
 prescribe-sessions-label = Sitzungen pro Woche
+prescribe-assessment-label = Standardtest alle … Tage (leer: keiner)
 prescribe-no-exercise = Noch keine Übung: Fügen Sie eine hinzu.
 prescribe-add-label = Übung hinzufügen
 prescribe-add-button = Hinzufügen

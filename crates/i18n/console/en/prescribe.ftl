@@ -6,6 +6,7 @@ prescribe-version-gone = a therapist no longer at the clinic
 prescribe-version-none = Nothing prescribed yet: the station runs its default exercise.
 prescribe-version-now = Version { $version }, prescribed by { $by } just now.
 prescribe-sessions-label = Sessions a week
+prescribe-assessment-label = Standard assessment every … days (empty: none)
 prescribe-no-exercise = No exercise yet: add one.
 prescribe-add-label = Add an exercise
 prescribe-add-button = Add

@@ -6,6 +6,7 @@ prescribe-version-gone = un terapeuta que ya no está en la clínica
 prescribe-version-none = Aún no hay nada prescrito: la estación ejecuta su ejercicio predeterminado.
 prescribe-version-now = Versión { $version }, prescrita por { $by } ahora mismo.
 prescribe-sessions-label = Sesiones por semana
+prescribe-assessment-label = Evaluación estándar cada … días (vacío: ninguna)
 prescribe-no-exercise = Aún no hay ejercicios: añada uno.
 prescribe-add-label = Añadir un ejercicio
 prescribe-add-button = Añadir
