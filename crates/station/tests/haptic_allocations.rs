@@ -84,6 +84,18 @@ fn the_haptic_thread_allocates_nothing_on_any_exercise() {
 }
 
 #[test]
+fn the_haptic_thread_allocates_nothing_with_a_sternum_imu_on_the_trunk() {
+    // The trunk's simulation and estimate run beside the arm's on the 1 kHz path; 8 s lets
+    // its fusion settle and take the start posture.
+    let mut cfg = config("sine-road", None);
+    cfg.arm.sternum = true;
+    let (allocs, ticks) = allocations_in(&cfg, 8.0);
+    eprintln!("sine-road with a sternum IMU: {allocs} allocations in {ticks} ticks");
+    assert!(ticks >= 8000, "ran {ticks} ticks");
+    assert_eq!(allocs, 0, "allocations on the haptic thread with a sternum IMU");
+}
+
+#[test]
 fn the_haptic_thread_allocates_nothing_in_any_assist_mode() {
     let mut offenders = Vec::new();
     for kind in [

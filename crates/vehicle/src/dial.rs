@@ -5,6 +5,8 @@
 //! sweep from 0 to 2.5 rad/s over 200 s; both are here ([`DialSignal::Sine`],
 //! [`DialSignal::Chirp`]), with multi-sine, step and ramp references.
 
+use std::cell::Cell;
+
 use common::Bound;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -44,16 +46,26 @@ pub struct DialTarget {
     pub drift_rad: f64,
     /// How long the drift takes, s (the exercise's length).
     pub over_s: f64,
+    /// Where [`DialSignal::RandomSteps`] was last found, so that each tick walks on from
+    /// there instead of from the exercise's start (the 1 kHz loop's work stays constant however
+    /// long the exercise runs).
+    cursor: Cell<StepCursor>,
 }
 
 impl DialTarget {
-    /// `signal` around a centre that stays at 0.
-    pub fn steady(signal: DialSignal) -> Self {
+    /// `signal` around a centre that drifts to `drift_rad` over `over_s`.
+    pub fn new(signal: DialSignal, drift_rad: f64, over_s: f64) -> Self {
         Self {
             signal,
-            drift_rad: 0.0,
-            over_s: 1.0,
+            drift_rad,
+            over_s,
+            cursor: Cell::default(),
         }
+    }
+
+    /// `signal` around a centre that stays at 0.
+    pub fn steady(signal: DialSignal) -> Self {
+        Self::new(signal, 0.0, 1.0)
     }
 
     /// The centre at `t_s` since the start, rad.
@@ -68,7 +80,8 @@ impl DialTarget {
     /// within the wheel's range, rad.
     pub fn desired_angle_rad(&self, t_s: f64) -> f64 {
         let max_rad = MAX_DIAL_AMPLITUDE_DEG.to_radians();
-        (self.signal.desired_angle_rad(t_s) + self.centre_rad(t_s)).clamp(-max_rad, max_rad)
+        (self.signal.desired_angle_rad_from(t_s, &self.cursor) + self.centre_rad(t_s))
+            .clamp(-max_rad, max_rad)
     }
 }
 
@@ -310,6 +323,12 @@ impl DialSignal {
 
     /// Desired wheel angle at time `t_s` since the start, rad.
     pub fn desired_angle_rad(&self, t_s: f64) -> f64 {
+        self.desired_angle_rad_from(t_s, &Cell::default())
+    }
+
+    /// [`DialSignal::desired_angle_rad`], random steps walked on from `cursor` (and `cursor`
+    /// moved to `t_s`'s level): the same angle, without walking every level since the start.
+    fn desired_angle_rad_from(&self, t_s: f64, cursor: &Cell<StepCursor>) -> f64 {
         let t = t_s.max(0.0);
         let deg = match self {
             DialSignal::Sine {
@@ -335,7 +354,12 @@ impl DialSignal {
                 min_hold_s,
                 max_hold_s,
                 seed,
-            } => random_step_level(*seed, *min_hold_s, *max_hold_s, t) * amplitude_deg,
+            } => {
+                let (level, at) =
+                    random_step_level(*seed, *min_hold_s, *max_hold_s, t, cursor.get());
+                cursor.set(at);
+                level * amplitude_deg
+            }
             DialSignal::Ramp {
                 amplitude_deg,
                 rate_deg_s,
@@ -378,13 +402,31 @@ fn draw(seed: u32, k: u64) -> f64 {
     (z >> 11) as f64 / (1u64 << 53) as f64
 }
 
-/// Where [`DialSignal::RandomSteps`] rests at `t_s`: 0 at the centre, +1 or −1 at a side.
-/// Level `k` (0 at the centre, odd levels at a side) is held `min + (max − min)·draw(2k)` s;
-/// an odd level's side is left when `draw(2k + 1) < 0.5`.
-fn random_step_level(seed: u32, min_hold_s: f64, max_hold_s: f64, t_s: f64) -> f64 {
+/// A level of [`DialSignal::RandomSteps`] and the time it starts, s.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct StepCursor {
+    k: u64,
+    start_s: f64,
+}
+
+/// Where [`DialSignal::RandomSteps`] rests at `t_s`: 0 at the centre, +1 or −1 at a side, and
+/// the level it is in. Level `k` (0 at the centre, odd levels at a side) is held
+/// `min + (max − min)·draw(2k)` s; an odd level's side is left when `draw(2k + 1) < 0.5`. The
+/// walk starts at `from` when `t_s` is not before it (a level's start is the same sum of holds
+/// whichever level the walk starts at), else at the first level.
+fn random_step_level(
+    seed: u32,
+    min_hold_s: f64,
+    max_hold_s: f64,
+    t_s: f64,
+    from: StepCursor,
+) -> (f64, StepCursor) {
     let span_s = (max_hold_s - min_hold_s).max(0.0);
-    let mut start_s = 0.0;
-    let mut k = 0u64;
+    let StepCursor { mut k, mut start_s } = if t_s >= from.start_s {
+        from
+    } else {
+        StepCursor::default()
+    };
     loop {
         let hold_s = (min_hold_s + span_s * draw(seed, 2 * k)).max(RANDOM_HOLD_S.min);
         if t_s < start_s + hold_s {
@@ -393,16 +435,41 @@ fn random_step_level(seed: u32, min_hold_s: f64, max_hold_s: f64, t_s: f64) -> f
         start_s += hold_s;
         k += 1;
     }
-    match (k % 2, draw(seed, 2 * k + 1) < 0.5) {
+    let level = match (k % 2, draw(seed, 2 * k + 1) < 0.5) {
         (0, _) => 0.0,
         (_, true) => 1.0,
         (_, false) => -1.0,
-    }
+    };
+    (level, StepCursor { k, start_s })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A dial target walks its random steps on from where the last tick found them: the same
+    /// angles as walking from the start every tick, forward in 1 ms ticks over 10 minutes and
+    /// after a jump back in time.
+    #[test]
+    fn random_steps_walked_on_from_the_last_tick_are_the_steps_walked_from_the_start() {
+        let signal = DialSignal::RandomSteps {
+            amplitude_deg: 20.0,
+            min_hold_s: 0.5,
+            max_hold_s: 1.0,
+            seed: 3,
+        };
+        let target = DialTarget::steady(signal.clone());
+        let times = (0..600_000)
+            .map(|i| f64::from(i) * 1e-3)
+            .chain([3.2, 590.0, 0.0]);
+        for t in times {
+            assert_eq!(
+                target.desired_angle_rad(t),
+                signal.desired_angle_rad(t),
+                "t = {t} s"
+            );
+        }
+    }
 
     /// The random steps of one seed are the same every time, of the one size, at holds
     /// within their bounds, to both sides; another seed steps at other times.
@@ -457,14 +524,14 @@ mod tests {
     #[test]
     fn a_drifting_target_starts_at_the_signal_reaches_half_way_at_the_middle_and_the_drift_at_the_end()
      {
-        let target = DialTarget {
-            signal: DialSignal::Sine {
+        let target = DialTarget::new(
+            DialSignal::Sine {
                 amplitude_deg: 30.0,
                 frequency_rad_s: 1.0,
             },
-            drift_rad: 40f64.to_radians(),
-            over_s: 60.0,
-        };
+            40f64.to_radians(),
+            60.0,
+        );
         let deg = |t: f64| target.desired_angle_rad(t).to_degrees();
         let signal = |t: f64| target.signal.desired_angle_rad(t).to_degrees();
         assert!(
@@ -485,14 +552,14 @@ mod tests {
 
     #[test]
     fn a_drifting_target_never_leaves_the_wheels_range() {
-        let target = DialTarget {
-            signal: DialSignal::Sine {
+        let target = DialTarget::new(
+            DialSignal::Sine {
                 amplitude_deg: 120.0,
                 frequency_rad_s: 1.0,
             },
-            drift_rad: (-60f64).to_radians(),
-            over_s: 10.0,
-        };
+            (-60f64).to_radians(),
+            10.0,
+        );
         let max = MAX_DIAL_AMPLITUDE_DEG.to_radians();
         let mut clamped = 0;
         for k in 0..=2000 {

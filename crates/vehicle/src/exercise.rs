@@ -794,11 +794,11 @@ impl ExerciseSpec {
                     duration_s: Some(d.duration_s),
                     cones: Vec::new(),
                     speed_profile_m_s: Vec::new(),
-                    dial: Some(crate::dial::DialTarget {
-                        signal: d.reference.clone(),
-                        drift_rad: d.drift_deg.to_radians(),
-                        over_s: d.duration_s,
-                    }),
+                    dial: Some(crate::dial::DialTarget::new(
+                        d.reference.clone(),
+                        d.drift_deg.to_radians(),
+                        d.duration_s,
+                    )),
                     strength: None,
                     sweep: None,
                     steps: if matches!(
