@@ -92,7 +92,10 @@ fn the_haptic_thread_allocates_nothing_with_a_sternum_imu_on_the_trunk() {
     let (allocs, ticks) = allocations_in(&cfg, 8.0);
     eprintln!("sine-road with a sternum IMU: {allocs} allocations in {ticks} ticks");
     assert!(ticks >= 8000, "ran {ticks} ticks");
-    assert_eq!(allocs, 0, "allocations on the haptic thread with a sternum IMU");
+    assert_eq!(
+        allocs, 0,
+        "allocations on the haptic thread with a sternum IMU"
+    );
 }
 
 #[test]
