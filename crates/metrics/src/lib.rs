@@ -14,6 +14,8 @@
 //!   direction error, path length ratio), with their references.
 //! - [`reliability`]: [`test_retest`], ICC(2,1), SEM and MDC95 of a measure from repeated
 //!   measurements of the same subjects (Shrout & Fleiss 1979; Weir 2005).
+//! - [`assessment_noise`]: the standard assessment's MDC95 per part and measure, measured on a
+//!   simulated cohort (`telerehab hub cohort`).
 //! - [`words`]: the one table of measure words (plain name, unit, decimals, axis range,
 //!   noise, better) and one wording per way a session ends, for every page and file.
 //! - [`live`]: [`LiveMeasures`], the cheap running subset for the live display.
@@ -22,6 +24,7 @@
 //! Pure: no I/O, no threads, no clock. Time comes in as a sampling rate `fs_hz`; angles in
 //! rad, speeds in rad/s.
 
+pub mod assessment_noise;
 pub mod error;
 pub mod filter;
 pub mod live;
