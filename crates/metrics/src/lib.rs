@@ -14,6 +14,9 @@
 //!   direction error, path length ratio), with their references.
 //! - [`reliability`]: [`test_retest`], ICC(2,1), SEM and MDC95 of a measure from repeated
 //!   measurements of the same subjects (Shrout & Fleiss 1979; Weir 2005).
+//! - [`change`]: a patient's change since their first assessment told from measurement noise
+//!   (their own MDC95, else the cohort's, else the published one): better, worse or within
+//!   measurement noise.
 //! - [`assessment_noise`]: the standard assessment's MDC95 per part and measure, measured on a
 //!   simulated cohort (`telerehab hub cohort`).
 //! - [`words`]: the one table of measure words (plain name, unit, decimals, axis range,
@@ -25,6 +28,7 @@
 //! rad, speeds in rad/s.
 
 pub mod assessment_noise;
+pub mod change;
 pub mod error;
 pub mod filter;
 pub mod live;
@@ -38,7 +42,7 @@ pub mod words;
 pub use error::MetricError;
 pub use filter::{Biquad, derivative, speed_profile};
 pub use live::LiveMeasures;
-pub use reliability::{OWN_NOISE_MIN_REPEATS, Reliability, own_mdc95, test_retest};
+pub use reliability::{OWN_NOISE_MIN_REPEATS, OwnNoise, Reliability, own_mdc95, test_retest};
 pub use robot::{
     DirectedResponse, DirectedStep, MIN_REACTION_TIME_S, ResponseParams, StepResponse, TargetStep,
     directed_step_responses, speed_metric, steering_reversals, step_responses,
