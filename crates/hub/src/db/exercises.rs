@@ -1,8 +1,9 @@
 //! Each exercise's own results in a session (scores and movement measures per exercise), from
 //! the station's `Bye`.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, VecDeque};
 
+use metrics::change::{Change, History, assessment_change};
 use netlink::{AssessmentTag, ExerciseResult};
 use serde::Serialize;
 
@@ -42,6 +43,83 @@ pub struct Assessment {
     pub seed: u32,
     /// Its parts, in course order.
     pub parts: Vec<SessionExercise>,
+}
+
+/// Assessments a page of [`Db::assessment_page`] holds when the request names no `limit`: a
+/// year of weekly ones.
+pub const DEFAULT_ASSESSMENT_PAGE: usize = 52;
+/// The most assessments a page holds: two years of weekly ones.
+pub const MAX_ASSESSMENT_PAGE: usize = 104;
+/// The most (protocol, part, measure) histories a patient's verdicts follow: every measure of
+/// the words table in every part of a protocol several times over; a part or measure beyond it
+/// (from a station gone wrong) gets no change, and memory stays bounded.
+const MAX_FOLLOWED: usize = 2_000;
+
+/// One assessment with the change of each of its measures since the patient's first
+/// assessment, as known when it was taken.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AssessmentWithChanges {
+    /// The assessment.
+    #[serde(flatten)]
+    pub assessment: Assessment,
+    /// Each (part, measure)'s change since the patient's first assessment of the protocol, in
+    /// the parts' order, the measures' by key; none on the first.
+    pub changes: Vec<MeasureChange>,
+}
+
+/// The change of one measure of one part (`metrics::change`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MeasureChange {
+    /// The part (`steps`: the part's kind without `assessment-`).
+    pub part: String,
+    /// The measure's key in the words table.
+    pub measure: String,
+    /// When the session of the patient's first value of it (the baseline) started, ms since
+    /// the Unix epoch.
+    pub baseline_started_unix_ms: i64,
+    /// The change, its noise band and the verdict.
+    #[serde(flatten)]
+    pub change: Change,
+}
+
+/// Each (protocol, part, measure)'s values so far, oldest first (`metrics::change::History`),
+/// with when the first was taken.
+#[derive(Default)]
+struct Histories(BTreeMap<(u32, String, String), (History, i64)>);
+
+impl Histories {
+    /// Reads assessment `a` (the next oldest) and returns its changes.
+    fn read(&mut self, a: &Assessment) -> Vec<MeasureChange> {
+        let mut changes = Vec::new();
+        for part in &a.parts {
+            let Some(name) = part.kind.strip_prefix("assessment-") else {
+                continue;
+            };
+            for (measure, value) in &part.scores {
+                if metrics::words::measure_words(measure).is_none() {
+                    continue;
+                }
+                let key = (a.protocol, name.to_owned(), measure.clone());
+                if !self.0.contains_key(&key) && self.0.len() >= MAX_FOLLOWED {
+                    continue;
+                }
+                let (history, baseline_ms) = self
+                    .0
+                    .entry(key)
+                    .or_insert((History::default(), a.started_unix_ms));
+                history.push(*value);
+                if let Some(change) = assessment_change(a.protocol, name, measure, history) {
+                    changes.push(MeasureChange {
+                        part: name.to_owned(),
+                        measure: measure.clone(),
+                        baseline_started_unix_ms: *baseline_ms,
+                        change,
+                    });
+                }
+            }
+        }
+        changes
+    }
 }
 
 impl Db {
@@ -117,23 +195,94 @@ impl Db {
         .map_err(HubError::db("reading the assessments"))?;
         let mut out: Vec<Assessment> = Vec::new();
         for row in &rows {
-            let session_id: String = col(row, "session_id")?;
-            let part = exercise_of_row(row)?;
-            let Some(tag) = part.assessment else {
-                continue;
-            };
-            match out.last_mut() {
-                Some(a) if a.session_id == session_id => a.parts.push(part),
-                _ => out.push(Assessment {
-                    session_id,
-                    started_unix_ms: col(row, "started_unix_ms")?,
-                    protocol: tag.protocol,
-                    seed: tag.seed,
-                    parts: vec![part],
-                }),
+            if let Some(done) = add_row(&mut out, row)? {
+                out.push(done);
             }
         }
         Ok(out)
+    }
+
+    /// One page of patient `patient_id`'s standard assessments, newest first: at most `limit`
+    /// (1 to [`MAX_ASSESSMENT_PAGE`]) of those that started before `before_ms` (all if
+    /// `None`), each with its measures' changes since the patient's first assessment as known
+    /// when it was taken (the newest's: the verdict on the whole history). The rows stream
+    /// oldest first through one constant-size history per measure, so memory holds the page
+    /// and the histories, never the whole history.
+    pub async fn assessment_page(
+        &self,
+        patient_id: &str,
+        before_ms: Option<i64>,
+        limit: usize,
+    ) -> Result<Vec<AssessmentWithChanges>, HubError> {
+        use tokio_stream::StreamExt as _;
+        let limit = limit.clamp(1, MAX_ASSESSMENT_PAGE);
+        let context = "reading the assessments";
+        let mut rows = sqlx::query(
+            "SELECT e.session_id, s.started_unix_ms, e.exercise_index, e.kind, e.name, \
+             e.prescribed_s, e.active_s, e.scores_json, e.assessment_protocol, \
+             e.assessment_seed FROM session_exercises e \
+             JOIN sessions s ON s.session_id = e.session_id \
+             WHERE s.patient_id = $1 AND e.assessment_protocol IS NOT NULL \
+             AND s.started_unix_ms < $2 \
+             ORDER BY s.started_unix_ms, e.session_id, e.exercise_index",
+        )
+        .bind(patient_id)
+        .bind(before_ms.unwrap_or(i64::MAX))
+        .fetch(self.pool());
+        let mut histories = Histories::default();
+        let mut page: VecDeque<AssessmentWithChanges> = VecDeque::with_capacity(limit + 1);
+        let mut finish = |a: Assessment| {
+            let changes = histories.read(&a);
+            page.push_back(AssessmentWithChanges {
+                assessment: a,
+                changes,
+            });
+            if page.len() > limit {
+                page.pop_front();
+            }
+        };
+        // The assessment being read (one session's parts), and the one a new session ends.
+        let mut current: Vec<Assessment> = Vec::with_capacity(1);
+        while let Some(row) = rows.next().await {
+            let row = row.map_err(HubError::db(context))?;
+            if let Some(done) = add_row(&mut current, &row)? {
+                if let Some(previous) = current.pop() {
+                    finish(previous);
+                }
+                current.push(done);
+            }
+        }
+        if let Some(last) = current.pop() {
+            finish(last);
+        }
+        Ok(page.into_iter().rev().collect())
+    }
+}
+
+/// Adds an assessment's part row to the last assessment of `out` when it is of the same
+/// session; returns the new assessment the row begins otherwise (a row of no assessment adds
+/// nothing).
+fn add_row(
+    out: &mut [Assessment],
+    row: &sqlx::any::AnyRow,
+) -> Result<Option<Assessment>, HubError> {
+    let session_id: String = col(row, "session_id")?;
+    let part = exercise_of_row(row)?;
+    let Some(tag) = part.assessment else {
+        return Ok(None);
+    };
+    match out.last_mut() {
+        Some(a) if a.session_id == session_id => {
+            a.parts.push(part);
+            Ok(None)
+        }
+        _ => Ok(Some(Assessment {
+            session_id,
+            started_unix_ms: col(row, "started_unix_ms")?,
+            protocol: tag.protocol,
+            seed: tag.seed,
+            parts: vec![part],
+        })),
     }
 }
 

@@ -61,7 +61,10 @@ pub use audit::{
 };
 pub use checkins::{PAIN_ALERT_AT, PAIN_RISE_ALERT, SessionCheckIn, pain_alert};
 pub use difficulty::SessionDifficulty;
-pub use exercises::{Assessment, SessionExercise};
+pub use exercises::{
+    Assessment, AssessmentWithChanges, DEFAULT_ASSESSMENT_PAGE, MAX_ASSESSMENT_PAGE, MeasureChange,
+    SessionExercise,
+};
 pub use logins::{
     ACCOUNT_FREE_FAILURES, ACCOUNT_MAX_DELAY_MS, ADDRESS_FREE_FAILURES, ADDRESS_MAX_DELAY_MS,
     BASE_DELAY_MS, DEVICE_TTL_MS, HASH_QUEUE, REFUSAL_AUDITS_PER_ACCOUNT_PER_MINUTE,

@@ -1,13 +1,17 @@
 //! One patient and their sessions (the caseload is `attention::caseload`).
 
 use axum::Json;
-use axum::extract::rejection::PathRejection;
-use axum::extract::{Path, State};
-use serde::Serialize;
+use axum::extract::rejection::{PathRejection, QueryRejection};
+use axum::extract::{Path, Query, State};
+use serde::{Deserialize, Serialize};
 
 use super::auth::Authed;
 use super::{ApiError, AppState};
-use crate::db::{NamedSession, Patient, PatientWheel, Station};
+use crate::db::{
+    AssessmentWithChanges, DEFAULT_ASSESSMENT_PAGE, MAX_ASSESSMENT_PAGE, NamedSession, Patient,
+    PatientWheel, Station,
+};
+use crate::refusal::{Code, Why};
 
 /// Answer of `GET /api/patients/{id}`.
 #[derive(Serialize)]
@@ -84,20 +88,60 @@ pub(crate) async fn checkins(
     Ok(Json(checkins))
 }
 
+/// Query of `GET /api/patients/{id}/assessments`.
+#[derive(Deserialize)]
+pub(crate) struct AssessmentsQuery {
+    /// Only assessments whose session started before this time, ms since the Unix epoch (the
+    /// last `started_unix_ms` of the previous page).
+    before: Option<i64>,
+    /// Most assessments returned (default [`DEFAULT_ASSESSMENT_PAGE`], at most
+    /// [`MAX_ASSESSMENT_PAGE`]).
+    limit: Option<i64>,
+}
+
 /// `GET /api/patients/{id}/assessments`: the standard assessments the patient did, newest
-/// first, each with its parts' results (never mixed into the exercise trends).
+/// first, a page at a time, each with its parts' results (never mixed into the exercise
+/// trends) and each measure's change since the patient's first assessment told from
+/// measurement noise (`metrics::change`, from the whole history before it).
 pub(crate) async fn assessments(
     State(state): State<AppState>,
     Authed(therapist): Authed,
     id: Result<Path<String>, PathRejection>,
-) -> Result<Json<Vec<crate::db::Assessment>>, ApiError> {
+    query: Result<Query<AssessmentsQuery>, QueryRejection>,
+) -> Result<Json<Vec<AssessmentWithChanges>>, ApiError> {
     let Path(id) = id?;
+    let Query(query) = query.map_err(|e| {
+        ApiError::BadRequest(Why::field(Code::FieldRefused, "query").says(e.body_text()))
+    })?;
+    let max = MAX_ASSESSMENT_PAGE as i64;
+    let limit = query.limit.unwrap_or(DEFAULT_ASSESSMENT_PAGE as i64);
+    if !(1..=max).contains(&limit) {
+        return Err(ApiError::BadRequest(
+            Why::field(Code::OutOfRange, "limit")
+                .with("min", 1)
+                .with("max", max)
+                .says(format!("limit {limit} refused: it must be from 1 to {max}")),
+        ));
+    }
+    if let Some(before) = query.before.filter(|b| *b < 0) {
+        return Err(ApiError::BadRequest(
+            Why::field(Code::OutOfRange, "before")
+                .with("min", 0)
+                .with("max", i64::MAX)
+                .says(format!(
+                    "before {before} refused: it must be a time in ms since the Unix epoch (0 or more)"
+                )),
+        ));
+    }
     let patient = state.visible_patient(&therapist, &id).await?;
-    let assessments = state.db.assessments_of(&patient.id).await?;
+    let page = state
+        .db
+        .assessment_page(&patient.id, query.before, limit as usize)
+        .await?;
     state
         .audit(&therapist.actor(), "read_assessments", &patient.id, "")
         .await?;
-    Ok(Json(assessments))
+    Ok(Json(page))
 }
 
 /// `GET /api/patients/{id}/difficulty`: the difficulty each session ran at, its change and
