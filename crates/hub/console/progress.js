@@ -46,28 +46,73 @@ const ASSESSMENT_ROWS = [
   ['strength', 'strength_peak_right_nm'],
 ];
 
-/** How many assessments the table shows, newest first. */
+/** How many assessments the table shows, newest first (the hub's page: its verdicts come from
+ * the whole history whatever the page). */
 const ASSESSMENTS_SHOWN = 4;
 
+/** How many of them the one-page print shows, newest first. */
+const ASSESSMENTS_PRINTED = 2;
+
+/** The verdicts' marks beside their words (never colour alone) and their colour class. */
+const VERDICT_MARK = { better: ['↑', 'up'], worse: ['↓', 'down'], changed: ['↕', ''], 'within-noise': ['≈', ''], 'no-noise-figure': ['', ''] };
+
+/** `v` of measure `m` signed, rounded, with its unit ("+20 °", "−0.05 s", "0 °"). */
+function signedIn(m, v) {
+  const n = numberIn(m, Math.abs(v), true);
+  const zero = Math.round(Math.abs(v) * 10 ** (m.decimals ?? 2)) === 0;
+  return zero ? n : `${v > 0 ? '+' : '−'}${n}`;
+}
+
+/** The "change since the first" cell of a measure (HTML, every part escaped): the signed
+ * change, the noise band and its source, the verdict in words with a mark; one sentence for
+ * screen readers. `c` is the hub's change (`metrics::change`): absent before a second
+ * assessment (`only`: there is one) or for a measure missing from the newest or the first. */
+function changeCell(c, m, only) {
+  const none = only ? 'progress-assessment-change-none' : 'progress-assessment-change-missing';
+  if (!c || !m) return `<td class="change"><span aria-hidden="true">—</span><span class="visually-hidden">${esc(t(none))}</span></td>`;
+  const change = signedIn(m, c.change);
+  const verdict = t(`progress-assessment-verdict-${c.verdict}`);
+  const [mark, cls] = VERDICT_MARK[c.verdict] || ['', ''];
+  if (c.band == null) {
+    return `<td class="change" data-verdict="${esc(c.verdict)}"><span aria-hidden="true">${esc(change)}<br><span class="note">${esc(verdict)}</span></span>
+      <span class="visually-hidden">${esc(t('progress-assessment-change-sr-none', { change }))}</span></td>`;
+  }
+  const band = numberIn(m, c.band, true);
+  const source = t(`progress-assessment-source-${c.band_source}`, { repeats: c.repeats });
+  const short = t(`progress-assessment-source-short-${c.band_source}`);
+  return `<td class="change" data-verdict="${esc(c.verdict)}" data-band-source="${esc(c.band_source)}" title="${esc(source)}">
+    <span aria-hidden="true">${esc(change)} <span class="band">${esc(t('progress-assessment-band', { band, source: short }))}</span><br>
+    <strong class="verdict ${cls}">${mark ? `${esc(mark)} ` : ''}${esc(verdict)}</strong></span>
+    <span class="visually-hidden">${esc(t('progress-assessment-change-sr', { change, band, source, verdict }))}</span></td>`;
+}
+
 /** The standard assessment's section (HTML, every part escaped): a table of the latest
- * assessments' numbers, newest first, or a line saying there is none yet. */
+ * assessments' numbers, newest first, each measure's change since the patient's first
+ * assessment told from measurement noise, or a line saying there is none yet. */
 function assessmentHtml(assessments, words) {
   const head = `<h2 id="assessment-h">${esc(t('progress-assessment-title'))}</h2>`;
   if (!assessments.length) return `${head}<p class="note">${esc(t('progress-assessment-none'))}</p>`;
   const shown = assessments.slice(0, ASSESSMENTS_SHOWN);
+  const newest = shown[0];
   const part = (a, name) => a.parts.find(p => p.kind === `assessment-${name}`);
+  // The print shows the newest ASSESSMENTS_PRINTED beside the change (style.css).
+  const older = i => (i >= ASSESSMENTS_PRINTED ? ' class="older"' : '');
+  const changeOf = (name, key) => (newest.changes || []).find(c => c.part === name && c.measure === key);
   const rows = ASSESSMENT_ROWS.map(([name, key]) => {
     const m = words.measures.get(key);
-    const cells = shown.map(a => {
+    const cells = shown.map((a, i) => {
       const v = part(a, name)?.scores?.[key];
-      return `<td data-key="${esc(key)}">${esc(v == null ? '—' : numberIn(m, v))}</td>`;
+      return `<td data-key="${esc(key)}"${older(i)}>${esc(v == null ? '—' : numberIn(m, v))}</td>`;
     }).join('');
     const label = t('progress-assessment-row', { part: t(`progress-assessment-part-${name}`), measure: m ? headerWords(m) : measureName(key) });
-    return `<tr data-part="${esc(name)}"><th scope="row">${esc(label)}</th>${cells}</tr>`;
+    return `<tr data-part="${esc(name)}" data-key="${esc(key)}"><th scope="row">${esc(label)}</th>${cells}${changeCell(changeOf(name, key), m, assessments.length === 1)}</tr>`;
   }).join('');
-  const dates = shown.map(a => `<th scope="col">${esc(dayWords(a.started_unix_ms))}</th>`).join('');
-  return `${head}<p class="note">${esc(t('progress-assessment-intro', { protocol: shown[0].protocol }))}</p>
-    <table id="assessment-table"><thead><tr><th scope="col">${esc(t('progress-assessment-col-measure'))}</th>${dates}</tr></thead><tbody>${rows}</tbody></table>`;
+  const dates = shown.map((a, i) => `<th scope="col"${older(i)}>${esc(dayWords(a.started_unix_ms))}</th>`).join('');
+  const first = (newest.changes || [])[0];
+  const changeHead = first ? t('progress-assessment-col-change', { day: dayWords(first.baseline_started_unix_ms) }) : t('progress-assessment-col-change-none');
+  return `${head}<p class="note">${esc(t('progress-assessment-intro', { protocol: newest.protocol }))}</p>
+    <table id="assessment-table"><thead><tr><th scope="col">${esc(t('progress-assessment-col-measure'))}</th>${dates}<th scope="col" class="change">${esc(changeHead)}</th></tr></thead><tbody>${rows}</tbody></table>
+    <p class="note" id="assessment-noise-note">${esc(t('progress-assessment-noise-note'))}</p>`;
 }
 
 /** What describes a session rather than the patient's progress: in the tables, not charted. */
@@ -335,8 +380,9 @@ export async function progressView(el, id) {
     api('GET', '/api/patients').catch(() => []),
     api('GET', '/api/clinic/name').catch(() => ({ name: null })),
     api('GET', `/api/patients/${pid}`).catch(() => ({ pseudonym: '' })),
-    // The standard assessments (newest first), apart from the exercise sessions.
-    api('GET', `/api/patients/${pid}/assessments`).catch(() => []),
+    // The standard assessments (newest first), apart from the exercise sessions, each
+    // measure's change since the first told from noise by the hub (metrics::change).
+    api('GET', `/api/patients/${pid}/assessments?limit=${ASSESSMENTS_SHOWN}`).catch(() => []),
   ]);
   const sessions = sessionsNewest.slice().reverse();
   const metrics = await Promise.all(sessions.map(s => api('GET', `/api/sessions/${encodeURIComponent(s.session_id)}/metrics`).catch(() => ({}))));

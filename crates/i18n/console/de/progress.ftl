@@ -171,3 +171,25 @@ progress-assessment-part-tracking-medium = Folgen, mittel
 progress-assessment-part-tracking-fast = Folgen, schnell
 progress-assessment-part-steps = Sprünge
 progress-assessment-part-strength = Kraft
+
+## Echte Veränderung, vom Messrauschen unterschieden (Issue 42): der neueste Test gegen den ersten
+
+progress-assessment-col-change = Veränderung seit dem ersten ({ $day })
+progress-assessment-col-change-none = Veränderung seit dem ersten
+progress-assessment-band = ± { $band } ({ $source })
+progress-assessment-verdict-better = besser
+progress-assessment-verdict-worse = schlechter
+progress-assessment-verdict-changed = verändert (keine Richtung ist besser)
+progress-assessment-verdict-within-noise = im Bereich des Messrauschens
+progress-assessment-verdict-no-noise-figure = noch kein Wert für das Messrauschen, daher keine Bewertung
+progress-assessment-source-own = Rauschband aus den eigenen { $repeats } Tests des Patienten
+progress-assessment-source-cohort = Rauschband aus simulierten Patienten mit demselben Test
+progress-assessment-source-published = Rauschband aus einer veröffentlichten Studie
+progress-assessment-source-short-own = eigen
+progress-assessment-source-short-cohort = Kohorte
+progress-assessment-source-short-published = Studie
+progress-assessment-change-sr = Veränderung seit dem ersten Test: { $change }. Rauschband plus oder minus { $band } ({ $source }). Bewertung: { $verdict }.
+progress-assessment-change-sr-none = Veränderung seit dem ersten Test: { $change }. Noch kein Wert für das Messrauschen, daher keine Bewertung.
+progress-assessment-change-none = Bisher nur ein Test: noch nichts zu vergleichen.
+progress-assessment-change-missing = Keine Veränderung anzuzeigen: Der Messwert fehlt im neuesten oder im ersten Test.
+progress-assessment-noise-note = Besser oder schlechter nur, wenn die Veränderung größer ist als das Messrauschen (± kleinste echte Veränderung, MDC95). Ab 6 Tests ist das Rauschband das eigene des Patienten (eigen); davor stammt es von simulierten Patienten (Kohorte) oder aus einer veröffentlichten Studie (Studie).

@@ -176,3 +176,25 @@ progress-assessment-part-tracking-medium = Tracking, medium
 progress-assessment-part-tracking-fast = Tracking, fast
 progress-assessment-part-steps = Steps
 progress-assessment-part-strength = Strength
+
+## Real change told from noise (issue 42): the newest assessment against the first
+
+progress-assessment-col-change = Change since the first ({ $day })
+progress-assessment-col-change-none = Change since the first
+progress-assessment-band = ± { $band } ({ $source })
+progress-assessment-verdict-better = better
+progress-assessment-verdict-worse = worse
+progress-assessment-verdict-changed = changed (neither way is better)
+progress-assessment-verdict-within-noise = within measurement noise
+progress-assessment-verdict-no-noise-figure = no noise figure yet, so no verdict
+progress-assessment-source-own = Noise band from the patient's own { $repeats } assessments
+progress-assessment-source-cohort = Noise band from simulated patients doing the same test
+progress-assessment-source-published = Noise band from a published study
+progress-assessment-source-short-own = own
+progress-assessment-source-short-cohort = cohort
+progress-assessment-source-short-published = study
+progress-assessment-change-sr = Change since the first assessment: { $change }. Noise band plus or minus { $band } ({ $source }). Verdict: { $verdict }.
+progress-assessment-change-sr-none = Change since the first assessment: { $change }. No noise figure yet, so no verdict.
+progress-assessment-change-none = Only one assessment so far: nothing to compare yet.
+progress-assessment-change-missing = No change to show: the measure is missing from the newest or the first assessment.
+progress-assessment-noise-note = Better or worse only when the change is larger than the measurement noise (± the smallest real change, MDC95). The noise band is the patient's own from 6 assessments on (own); before that it comes from simulated patients (cohort) or a published study (study).

@@ -171,3 +171,25 @@ progress-assessment-part-tracking-medium = Seguimiento, medio
 progress-assessment-part-tracking-fast = Seguimiento, rápido
 progress-assessment-part-steps = Saltos
 progress-assessment-part-strength = Fuerza
+
+## Cambio real distinguido del ruido (issue 42): la evaluación más reciente frente a la primera
+
+progress-assessment-col-change = Cambio desde la primera ({ $day })
+progress-assessment-col-change-none = Cambio desde la primera
+progress-assessment-band = ± { $band } ({ $source })
+progress-assessment-verdict-better = mejor
+progress-assessment-verdict-worse = peor
+progress-assessment-verdict-changed = cambió (ninguna dirección es mejor)
+progress-assessment-verdict-within-noise = dentro del ruido de medida
+progress-assessment-verdict-no-noise-figure = aún sin cifra de ruido, así que sin valoración
+progress-assessment-source-own = Banda de ruido de las { $repeats } evaluaciones del propio paciente
+progress-assessment-source-cohort = Banda de ruido de pacientes simulados con la misma prueba
+progress-assessment-source-published = Banda de ruido de un estudio publicado
+progress-assessment-source-short-own = propia
+progress-assessment-source-short-cohort = cohorte
+progress-assessment-source-short-published = estudio
+progress-assessment-change-sr = Cambio desde la primera evaluación: { $change }. Banda de ruido más o menos { $band } ({ $source }). Valoración: { $verdict }.
+progress-assessment-change-sr-none = Cambio desde la primera evaluación: { $change }. Aún sin cifra de ruido, así que sin valoración.
+progress-assessment-change-none = Solo hay una evaluación: aún no hay nada que comparar.
+progress-assessment-change-missing = No hay cambio que mostrar: la medida falta en la evaluación más reciente o en la primera.
+progress-assessment-noise-note = Mejor o peor solo cuando el cambio supera el ruido de medida (± el menor cambio real, MDC95). Desde 6 evaluaciones la banda de ruido es la del propio paciente (propia); antes procede de pacientes simulados (cohorte) o de un estudio publicado (estudio).

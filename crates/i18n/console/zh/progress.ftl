@@ -153,3 +153,25 @@ progress-assessment-part-tracking-medium = 跟踪，中速
 progress-assessment-part-tracking-fast = 跟踪，快速
 progress-assessment-part-steps = 跳动
 progress-assessment-part-strength = 力量
+
+## 区分真实变化与测量噪声（issue 42）：最新一次评估与第一次相比
+
+progress-assessment-col-change = 与第一次相比的变化（{ $day }）
+progress-assessment-col-change-none = 与第一次相比的变化
+progress-assessment-band = ± { $band }（{ $source }）
+progress-assessment-verdict-better = 变好
+progress-assessment-verdict-worse = 变差
+progress-assessment-verdict-changed = 有变化（没有哪个方向更好）
+progress-assessment-verdict-within-noise = 在测量噪声范围内
+progress-assessment-verdict-no-noise-figure = 尚无噪声数值，因此不作判断
+progress-assessment-source-own = 噪声范围来自患者本人的 { $repeats } 次评估
+progress-assessment-source-cohort = 噪声范围来自做同一测试的模拟患者
+progress-assessment-source-published = 噪声范围来自已发表的研究
+progress-assessment-source-short-own = 本人
+progress-assessment-source-short-cohort = 队列
+progress-assessment-source-short-published = 研究
+progress-assessment-change-sr = 与第一次评估相比的变化：{ $change }。噪声范围为正负 { $band }（{ $source }）。判断：{ $verdict }。
+progress-assessment-change-sr-none = 与第一次评估相比的变化：{ $change }。尚无噪声数值，因此不作判断。
+progress-assessment-change-none = 目前只有一次评估：还没有可比较的。
+progress-assessment-change-missing = 无变化可显示：最新或第一次评估中缺少该测量值。
+progress-assessment-noise-note = 只有当变化大于测量噪声（± 最小真实变化，MDC95）时才判断变好或变差。从第 6 次评估起，噪声范围取自患者本人（本人）；在此之前取自模拟患者（队列）或已发表的研究（研究）。
