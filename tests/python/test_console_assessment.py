@@ -23,6 +23,14 @@ from test_console_clinic import fetch_json
 from test_console_progress import api_sessions_with_metrics
 from test_console_words import log_in
 
+def printed_pages(d, name):
+    """The page printed to A4 (kept as `name`.pdf beside the screenshots): its page count."""
+    pdf = base64.b64decode(d.execute_cdp_cmd("Page.printToPDF", {"paperWidth": 8.27, "paperHeight": 11.69})["data"])
+    ARTIFACTS.mkdir(parents=True, exist_ok=True)
+    (ARTIFACTS / f"{name}.pdf").write_bytes(pdf)
+    return len(re.findall(rb"/Type\s*/Page[^s]", pdf))
+
+
 REGIMEN = """[assessment]
 every_days = 7
 
@@ -65,6 +73,8 @@ def test_progress_leads_with_the_standard_assessment_apart_from_the_exercise_tre
     assert "step_responses" not in sessions[0]["metrics"], sessions[0]["metrics"]
     assert_no_violations(d, "Progress, standard assessment")
     shot(d, "progress-assessment-1366x768")
+    # Every row of the assessment filled and the dial session's table beside it: one page.
+    assert printed_pages(d, "progress-assessment-printed") == 1, "the Progress print is one page"
 
 
 WEEK_MS = 7 * 86_400_000
@@ -159,10 +169,7 @@ def test_the_change_since_the_first_assessment_is_told_from_noise_in_two_languag
     assert change_cell(d, "range", "wheel_rom_deg").is_displayed()
     shot(d, "progress-assessment-change-printed")
     d.execute_cdp_cmd("Emulation.setEmulatedMedia", {"media": ""})
-    pdf = base64.b64decode(d.execute_cdp_cmd("Page.printToPDF", {"paperWidth": 8.27, "paperHeight": 11.69})["data"])
-    ARTIFACTS.mkdir(parents=True, exist_ok=True)
-    (ARTIFACTS / "progress-assessment-change-printed.pdf").write_bytes(pdf)
-    assert len(re.findall(rb"/Type\s*/Page[^s]", pdf)) == 1, "the Progress print is one page"
+    assert printed_pages(d, "progress-assessment-change-printed") == 1, "the Progress print is one page"
     try:
         use_language(d, "de")
         wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#assessment-table td.change"), timeout=60)
