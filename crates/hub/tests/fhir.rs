@@ -243,7 +243,7 @@ async fn a_patients_fhir_bundle_holds_a_pseudonymous_patient_the_regimen_session
     let (status, _, _) = call(&app, Method::GET, &uri, Some(&bob), None).await;
     assert_eq!(status, StatusCode::NOT_FOUND);
     // The command line's export (`hub export --fhir P-0042`) is the same bundle, audited.
-    let (text, sessions) = hub::patients::export_fhir(&db, "P-0042", T0, &base)
+    let (text, sessions) = hub::patients::export_fhir(&db, "P-0042", T0, &base, None)
         .await
         .unwrap();
     assert_eq!(sessions, 3);
@@ -254,7 +254,7 @@ async fn a_patients_fhir_bundle_holds_a_pseudonymous_patient_the_regimen_session
             .iter()
             .any(|(a, act, _)| a == "cli" && act == "export_fhir")
     );
-    let unknown = hub::patients::export_fhir(&db, "P-9999", T0, &base)
+    let unknown = hub::patients::export_fhir(&db, "P-9999", T0, &base, None)
         .await
         .unwrap_err();
     assert!(unknown.to_string().contains("P-9999"), "{unknown}");

@@ -19,7 +19,7 @@ use std::collections::BTreeSet;
 use serde_json::{Value, json};
 
 use super::FhirBase;
-use super::narrative::{Words, sentence};
+use super::narrative::Words;
 
 /// LOINC.
 pub const LOINC: &str = "http://loinc.org";
@@ -40,6 +40,8 @@ pub const MEASURES: &str = "measures";
 pub const SCALES: &str = "clinical-scales";
 /// The name of the check-in answers' code system.
 pub const CHECKIN: &str = "session-checkin";
+/// The language of the hub's code systems' displays and definitions.
+pub const CODE_LANGUAGE: &str = "en";
 /// UCUM.
 pub const UCUM: &str = "http://unitsofmeasure.org";
 
@@ -210,7 +212,7 @@ pub fn code_system(
     let count = concepts.len();
     let mut cs = json!({
         "resourceType": "CodeSystem",
-        "text": sentence(words.say("fhir-code-system", &[("title", title.to_owned()), ("count", count.to_string())])),
+        "text": words.sentence(words.say("fhir-code-system", &[("title", title.to_owned()), ("count", count.to_string())])),
         "url": url,
         "name": name,
         "title": title,

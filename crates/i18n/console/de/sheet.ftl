@@ -13,3 +13,13 @@ sheet-col-effort = Anstrengung danach (Borg CR10 0–10)
 sheet-col-felt = Wie schwer es sich anfühlte
 sheet-yes = ja
 sheet-no = nein
+
+# Die Tabelle des Standardtests: eine Zeile je Messgröße eines Testteils.
+sheet-assessment-col-protocol = Protokollversion
+sheet-assessment-col-seed = Startwert der Zielsprünge
+sheet-assessment-col-part-key = Teil (Code)
+sheet-assessment-col-part = Teil
+sheet-assessment-col-measure-key = Messgröße (Code)
+sheet-assessment-col-measure = Messgröße
+sheet-assessment-col-value = Wert
+sheet-assessment-col-unit = Einheit
