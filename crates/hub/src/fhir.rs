@@ -367,6 +367,60 @@ impl Export<'_> {
     }
 }
 
+impl Export<'_> {
+    /// The hub's own resources the bundle's codes and answers need: the check-in's
+    /// Questionnaire and the code systems (the measures `names`, the assessment's when
+    /// `protocols` holds one), as entries.
+    fn own_resources(&self, names: &BTreeSet<&str>, protocols: &BTreeSet<u32>) -> Vec<Value> {
+        let (base, words) = (self.base, &self.words);
+        let mut own = vec![
+            (
+                base.questionnaire(checkin::QUESTIONNAIRE),
+                checkin::questionnaire(base, words),
+            ),
+            (
+                base.code_system(MEASURES),
+                codes::measures_code_system(base, words, names),
+            ),
+            (
+                base.code_system(SCALES),
+                codes::scales_code_system(base, words),
+            ),
+            (
+                base.code_system(codes::CHECKIN),
+                codes::checkin_code_system(base, words),
+            ),
+        ];
+        if !protocols.is_empty() {
+            own.push((
+                base.code_system(assessment::ASSESSMENT),
+                assessment::code_system(base, words, protocols),
+            ));
+        }
+        own.into_iter()
+            .map(|(url, resource)| {
+                let kind = resource["resourceType"]
+                    .as_str()
+                    .unwrap_or_default()
+                    .to_owned();
+                entry(&kind, &url, resource).1
+            })
+            .collect()
+    }
+
+    /// Sets `resource`'s `language`: the export's, but a code system's, whose displays and
+    /// definitions are the codes' own English (its narrative, in the words asked, says its
+    /// `lang`).
+    fn stamp_language(&self, resource: &mut Value) {
+        let language = if resource["resourceType"] == "CodeSystem" {
+            codes::CODE_LANGUAGE
+        } else {
+            self.words.language()
+        };
+        resource["language"] = json!(language);
+    }
+}
+
 /// What the audit log says of an export of a bundle of `sessions` sessions.
 pub fn audit_detail(sessions: usize) -> String {
     format!("FHIR R4 bundle of {sessions} sessions")
@@ -476,48 +530,10 @@ pub async fn patient_bundle(
             .1,
         );
     }
-    let mut own = vec![
-        (
-            base.questionnaire(checkin::QUESTIONNAIRE),
-            checkin::questionnaire(base, &x.words),
-        ),
-        (
-            base.code_system(MEASURES),
-            codes::measures_code_system(base, &x.words, &names),
-        ),
-        (
-            base.code_system(SCALES),
-            codes::scales_code_system(base, &x.words),
-        ),
-        (
-            base.code_system(codes::CHECKIN),
-            codes::checkin_code_system(base, &x.words),
-        ),
-    ];
     let protocols: BTreeSet<u32> = assessments.iter().map(|a| a.protocol).collect();
-    if !protocols.is_empty() {
-        own.push((
-            base.code_system(assessment::ASSESSMENT),
-            assessment::code_system(base, &x.words, &protocols),
-        ));
-    }
-    for (url, resource) in own {
-        let kind = resource["resourceType"]
-            .as_str()
-            .unwrap_or_default()
-            .to_owned();
-        entries.push(entry(&kind, &url, resource).1);
-    }
-    // Each resource is in the export's language, but a code system: its displays and
-    // definitions are the codes' own English (its narrative, the words asked, says its `lang`).
+    entries.extend(x.own_resources(&names, &protocols));
     for e in &mut entries {
-        let r = &mut e["resource"];
-        let language = if r["resourceType"] == "CodeSystem" {
-            codes::CODE_LANGUAGE
-        } else {
-            x.words.language()
-        };
-        r["language"] = json!(language);
+        x.stamp_language(&mut e["resource"]);
     }
     let bundle = json!({
         "resourceType": "Bundle",
