@@ -371,12 +371,18 @@ impl Export<'_> {
     /// The hub's own resources the bundle's codes and answers need: the check-in's
     /// Questionnaire and the code systems (the measures `names`, the assessment's when
     /// `protocols` holds one), as entries.
+    ///
+    /// The code systems are written in English, whatever the export's language: a code system
+    /// defines its codes once for every reader, its displays are what every `Coding` names
+    /// (the check-in's answers also carry the patient's words in the export's language as a
+    /// `designation`).
     fn own_resources(&self, names: &BTreeSet<&str>, protocols: &BTreeSet<u32>) -> Vec<Value> {
-        let (base, words) = (self.base, &self.words);
+        let base = self.base;
+        let words = &Words::english();
         let mut own = vec![
             (
                 base.questionnaire(checkin::QUESTIONNAIRE),
-                checkin::questionnaire(base, words),
+                checkin::questionnaire(base, &self.words),
             ),
             (
                 base.code_system(MEASURES),
@@ -388,7 +394,7 @@ impl Export<'_> {
             ),
             (
                 base.code_system(codes::CHECKIN),
-                codes::checkin_code_system(base, words),
+                codes::checkin_code_system(base, words, &self.words),
             ),
         ];
         if !protocols.is_empty() {
@@ -408,9 +414,8 @@ impl Export<'_> {
             .collect()
     }
 
-    /// Sets `resource`'s `language`: the export's, but a code system's, whose displays and
-    /// definitions are the codes' own English (its narrative, in the words asked, says its
-    /// `lang`).
+    /// Sets `resource`'s `language`: the export's, but a code system's, written in English
+    /// ([`Self::own_resources`]).
     fn stamp_language(&self, resource: &mut Value) {
         let language = if resource["resourceType"] == "CodeSystem" {
             codes::CODE_LANGUAGE

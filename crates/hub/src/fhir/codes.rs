@@ -173,13 +173,21 @@ pub fn scales_code_system(base: &FhirBase, words: &Words) -> Value {
 
 /// The check-in's answers to "how hard it felt" ([`netlink::frame::CHECKIN_DIFFICULTIES`]),
 /// each named as the station asks it.
-pub fn checkin_code_system(base: &FhirBase, words: &Words) -> Value {
+///
+/// Written in `words` (English: a code system's words are its codes' own); each answer also
+/// as the patient read it in `asked`'s language, a `designation`, when that is another.
+pub fn checkin_code_system(base: &FhirBase, words: &Words, asked: &Words) -> Value {
     let concepts = netlink::frame::CHECKIN_DIFFICULTIES
         .iter()
         .map(|code| {
-            let display = words.patient(&difficulty_id(code));
-            json!({ "code": code, "display": display,
-                "definition": format!("The patient's answer \"{display}\" to \"{}\" after a session.", words.patient("checkin-difficulty-question")) })
+            let id = difficulty_id(code);
+            let display = words.patient(&id);
+            let mut concept = json!({ "code": code, "display": display,
+                "definition": format!("The patient's answer \"{display}\" to \"{}\" after a session.", words.patient("checkin-difficulty-question")) });
+            if asked.language() != words.language() {
+                concept["designation"] = json!([{ "language": asked.language(), "value": asked.patient(&id) }]);
+            }
+            concept
         })
         .collect();
     code_system(
