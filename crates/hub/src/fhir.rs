@@ -234,11 +234,12 @@ impl Export<'_> {
                 }))
             })
             .collect();
+        let exercises = self.words.exercises(&s.exercise_shorts, &s.exercise_name);
         let mut lines = vec![self.words.say(
             "fhir-session",
             &[
                 ("start", when(s.row.started_unix_ms)),
-                ("exercise", s.exercise_name.clone()),
+                ("exercise", exercises.clone()),
             ],
         )];
         if s.row.closed_at_ms.is_none() {
@@ -255,7 +256,7 @@ impl Export<'_> {
             "status": Self::status(s),
             "category": Self::category("activity", "Activity"),
             "code": { "coding": [{ "system": system, "code": "session", "display": "Telerehabilitation session measures" }],
-                      "text": self.words.say("fhir-session-text", &[("exercise", s.exercise_name.clone())]) },
+                      "text": self.words.say("fhir-session-text", &[("exercise", exercises)]) },
             "subject": { "reference": self.subject },
             "effectivePeriod": Self::period(s),
             "performer": [{ "reference": self.subject }],

@@ -321,6 +321,17 @@ fn check_assessments_and_language(en: &serde_json::Value, de: &serde_json::Value
         div.contains("lang=\"de\"") && div.contains("Teil des Standardtests"),
         "{div}"
     );
+    // The session's exercises in German too (the hub's own name is English).
+    let en_session = &observations(en, "session")[0]["code"]["text"];
+    let de_session = &observations(de, "session")[0]["code"]["text"];
+    assert!(
+        de_session
+            .as_str()
+            .unwrap()
+            .starts_with("Telereha-Einheit: ")
+            && de_session != en_session,
+        "{de_session} / {en_session}"
+    );
     for e in de["entry"].as_array().unwrap() {
         let r = &e["resource"];
         let language = if r["resourceType"] == "CodeSystem" {

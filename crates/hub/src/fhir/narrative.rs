@@ -74,6 +74,12 @@ impl Words {
         self.console.measure(key)
     }
 
+    /// A session's exercises in order in these words (`Sinusstraße, dann …`) from their short
+    /// names; `named` (the hub's English) when they are unknown.
+    pub fn exercises(&self, shorts: &[String], named: &str) -> String {
+        self.console.exercises(shorts, named)
+    }
+
     /// The station's message `id` (the words the patient saw).
     pub fn patient(&self, id: &str) -> String {
         self.patient.message(id, None)
