@@ -375,8 +375,8 @@ impl Export<'_> {
     ///
     /// The code systems are written in English, whatever the export's language: a code system
     /// defines its codes once for every reader, its displays are what every `Coding` names
-    /// (the check-in's answers also carry the patient's words in the export's language as a
-    /// `designation`).
+    /// (the measures' names and the check-in's answers also carry their words in the
+    /// export's language as `designation`s).
     fn own_resources(&self, names: &BTreeSet<&str>, protocols: &BTreeSet<u32>) -> Vec<Value> {
         let base = self.base;
         let words = &Words::english();
@@ -387,7 +387,7 @@ impl Export<'_> {
             ),
             (
                 base.code_system(MEASURES),
-                codes::measures_code_system(base, words, names),
+                codes::measures_code_system(base, words, &self.words, names),
             ),
             (
                 base.code_system(SCALES),

@@ -321,6 +321,22 @@ fn check_assessments_and_language(en: &serde_json::Value, de: &serde_json::Value
         div.contains("lang=\"de\"") && div.contains("Teil des Standardtests"),
         "{div}"
     );
+    // The measures' code system is English, each measure's German name a designation.
+    let measures = de["entry"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| &e["resource"])
+        .find(|r| r["name"] == "TelerehabMeasures")
+        .unwrap();
+    let rt = measures["concept"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["code"] == "reaction_time_s_median")
+        .unwrap();
+    assert_eq!(rt["designation"][0]["language"], "de", "{rt}");
+    assert_ne!(rt["designation"][0]["value"], rt["display"], "{rt}");
     // The session's exercises in German too (the hub's own name is English).
     let en_session = &observations(en, "session")[0]["code"]["text"];
     let de_session = &observations(de, "session")[0]["code"]["text"];

@@ -120,17 +120,30 @@ pub fn measure_display(name: &str) -> String {
     metrics::words::measure_words(name).map_or_else(|| name.replace('_', " "), |m| m.header())
 }
 
-/// The measures' CodeSystem: every code `names` holds, with its definition and UCUM unit.
-pub fn measures_code_system(base: &FhirBase, words: &Words, names: &BTreeSet<&str>) -> Value {
+/// The measures' CodeSystem: every code `names` holds, with its definition and UCUM unit,
+/// written in `words` (English); a measure the words table names also carries its name in
+/// `asked`'s language as a `designation`, when that is another.
+pub fn measures_code_system(
+    base: &FhirBase,
+    words: &Words,
+    asked: &Words,
+    names: &BTreeSet<&str>,
+) -> Value {
     let mut concepts = vec![
         json!({ "code": "session", "display": "Telerehabilitation session measures",
         "definition": "The measures the station computed of one session, one component each." }),
     ];
+    let translated = asked.language() != words.language();
     concepts.extend(names.iter().map(|n| {
-        json!({
+        let mut concept = json!({
             "code": n, "display": measure_display(n), "definition": measure_definition(n),
             "property": [{ "code": "unit", "valueCode": ucum_unit(n) }],
-        })
+        });
+        if translated && metrics::words::measure_words(n).is_some() {
+            concept["designation"] =
+                json!([{ "language": asked.language(), "value": asked.measure(n) }]);
+        }
+        concept
     }));
     code_system(
         words,
