@@ -218,6 +218,39 @@ fn export_has_everything(c: &TwoPatients) -> serde_json::Value {
         .filter(|o| o["code"]["coding"][0]["code"] == "55411-3")
         .count();
     assert_eq!(durations, 2, "an exercise duration per session");
+    // In the therapist's language: German narratives, each resource saying so; a language
+    // without words refused, naming it.
+    let german = c.tmp.path().join("bundle-de.json");
+    let export_in = |lang: &str, out: &Path| {
+        let args = [
+            "hub",
+            "export",
+            "--data",
+            c.d(),
+            "--fhir",
+            "P-0042",
+            "--lang",
+            lang,
+        ];
+        telerehab(
+            &[&args[..], &["--out", out.to_str().unwrap()]].concat(),
+            None,
+        )
+    };
+    assert!(export_in("de", &german).status.success());
+    let german: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&german).unwrap()).unwrap();
+    let patient = &german["entry"][0]["resource"];
+    assert_eq!(patient["language"], "de");
+    let div = patient["text"]["div"].as_str().unwrap();
+    assert!(div.contains("Pseudonym der Klinik"), "{div}");
+    let refused = export_in("xx", &c.tmp.path().join("bundle-xx.json"));
+    assert!(!refused.status.success());
+    let said = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        said.contains("\"xx\"") && said.contains("en, de, es, zh"),
+        "{said}"
+    );
     doc
 }
 

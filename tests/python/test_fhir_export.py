@@ -67,7 +67,9 @@ def test_a_patients_fhir_bundle_of_three_sessions_validates_resource_by_resource
             assert measures[code]["definition"], code
             assert measures[code]["property"][0]["valueCode"] == component["valueQuantity"]["code"], code
     patient_resource = next(e["resource"] for e in bundle["entry"] if e["resource"]["resourceType"] == "Patient")
-    assert set(patient_resource) == {"resourceType", "id", "text", "identifier", "active"}, "pseudonymous only"
+    assert set(patient_resource) == {"resourceType", "id", "language", "text", "identifier", "active"}, "pseudonymous only"
+    # In the logged-in therapist's language (the browser's here: English), each resource saying so.
+    assert patient_resource["language"] == "en" and 'lang="en"' in patient_resource["text"]["div"]
     assert patient_resource["identifier"][0]["value"] == "P-0042"
     print(f"FHIR: {len(kinds)} resources validated by fhir.resources (R4B models), "
           f"{sum(len(o['component']) for o in sessions)} session measures")

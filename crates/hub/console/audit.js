@@ -19,7 +19,7 @@ const KINDS = [
   'live_ended', 'read_checkins', 'read_difficulty', 'read_assessments', 'read_regimen', 'put_regimen',
   'regimen_rejected', 'read_messages', 'post_message', 'message_rejected', 'message_seen',
   'read_notes', 'post_note', 'note_rejected', 'read_scales', 'post_scale', 'delete_scale',
-  'scale_rejected', 'export_measures_csv', 'export_caseload_csv', 'export_fhir', 'export_patient',
+  'scale_rejected', 'export_measures_csv', 'export_caseload_csv', 'export_assessments_csv', 'export_fhir', 'export_patient',
   'add_patient', 'pairing_code', 'station_paired', 'pairing_failed', 'revoke_station',
   'station_refused', 'add_therapist', 'list_therapists', 'read_audit', 'refusals_suppressed',
   'hub_init', 'change_language', 'read_attention', 'acknowledge_alert', 'snooze_alert', 'read_settings',

@@ -21,6 +21,7 @@
 //! (`urn:uuid:…`) are derived from the hub's own ids by SHA-256, so the same record exports
 //! the same ids every time.
 
+pub mod assessment;
 mod base;
 pub mod checkin;
 pub mod codes;
@@ -33,7 +34,8 @@ use serde_json::{Value, json};
 pub use base::FhirBase;
 use codes::{EXERCISE_DURATION, LOINC, MEASURES, SCALES, UCUM};
 pub use codes::{measure_definition, ucum_unit};
-use narrative::{Words, narrative, sentence, when};
+pub use narrative::Words;
+use narrative::when;
 
 use crate::db::{Db, NamedSession, Patient, ScaleEntry, iso_utc};
 use crate::error::HubError;
@@ -82,7 +84,7 @@ impl Export<'_> {
     fn patient_of(base: &FhirBase, words: &Words, p: &Patient) -> Value {
         json!({
             "resourceType": "Patient",
-            "text": sentence(words.say("fhir-patient", &[("pseudonym", p.pseudonym.clone())])),
+            "text": words.sentence(words.say("fhir-patient", &[("pseudonym", p.pseudonym.clone())])),
             "identifier": [{ "use": "usual", "system": base.identifiers("pseudonym"), "value": p.pseudonym }],
             "active": true,
         })
@@ -92,11 +94,11 @@ impl Export<'_> {
     fn device(&self, station_id: &str, version: &str) -> Value {
         json!({
             "resourceType": "Device",
-            "text": sentence(self.words.say("fhir-device", &[("station", station_id.to_owned()), ("version", version.to_owned())])),
+            "text": self.words.sentence(self.words.say("fhir-device", &[("station", station_id.to_owned()), ("version", version.to_owned())])),
             "identifier": [{ "system": self.base.identifiers("station"), "value": station_id }],
             "status": "active",
             "deviceName": [{ "name": "telerehab station", "type": "user-friendly-name" }],
-            "type": { "text": "Home rehabilitation station: force-feedback steering wheel and arm sensors" },
+            "type": { "text": self.words.say("fhir-device-type", &[]) },
             "version": [{ "value": version }],
             "patient": { "reference": self.subject },
         })
@@ -106,7 +108,7 @@ impl Export<'_> {
     fn practitioner(&self, id: &str) -> Value {
         json!({
             "resourceType": "Practitioner",
-            "text": sentence(self.words.say("fhir-therapist", &[("id", id.to_owned())])),
+            "text": self.words.sentence(self.words.say("fhir-therapist", &[("id", id.to_owned())])),
             "identifier": [{ "system": self.base.identifiers("therapist"), "value": id }],
         })
     }
@@ -152,15 +154,17 @@ impl Export<'_> {
             ));
         }
         let authored = iso_utc(rx.prescribed_at_ms);
-        let title = format!("Home exercise regimen, version {}", rx.version);
+        let title = self
+            .words
+            .say("fhir-regimen-title", &[("version", rx.version.to_string())]);
         let mut request = json!({
             "resourceType": "ServiceRequest",
-            "text": narrative(&lines, None, &[]),
+            "text": self.words.narrative(&lines, None, &[]),
             "identifier": identifier,
             "status": "active",
             "intent": "order",
             "code": { "coding": [{ "system": "http://snomed.info/sct", "code": "229065009", "display": "Exercise therapy" }],
-                      "text": format!("{title}: {exercises} exercise(s) on the telerehab station") },
+                      "text": self.words.say("fhir-request-text", &[("title", title.clone()), ("exercises", exercises.to_string())]) },
             "subject": { "reference": self.subject },
             "authoredOn": authored,
         });
@@ -171,7 +175,7 @@ impl Export<'_> {
         let day = authored.get(..10).unwrap_or(&authored).to_owned();
         let plan = json!({
             "resourceType": "CarePlan",
-            "text": sentence(self.words.say("fhir-regimen", &[("version", rx.version.to_string()), ("day", day)])),
+            "text": self.words.sentence(self.words.say("fhir-regimen", &[("version", rx.version.to_string()), ("day", day)])),
             "identifier": identifier,
             "status": "active",
             "intent": "plan",
@@ -223,18 +227,19 @@ impl Export<'_> {
                 let display = codes::measure_display(name);
                 let shown = metrics::words::measure_words(name)
                     .map_or_else(|| format!("{value} {unit}"), |m| m.format(value));
-                rows.push((display.clone(), shown));
+                rows.push((self.words.measure(name), shown));
                 Some(json!({
                     "code": { "coding": [{ "system": system, "code": name, "display": display }] },
                     "valueQuantity": { "value": value, "unit": unit, "system": UCUM, "code": unit },
                 }))
             })
             .collect();
+        let exercises = self.words.exercises(&s.exercise_shorts, &s.exercise_name);
         let mut lines = vec![self.words.say(
             "fhir-session",
             &[
                 ("start", when(s.row.started_unix_ms)),
-                ("exercise", s.exercise_name.clone()),
+                ("exercise", exercises.clone()),
             ],
         )];
         if s.row.closed_at_ms.is_none() {
@@ -246,12 +251,12 @@ impl Export<'_> {
         );
         let mut o = json!({
             "resourceType": "Observation",
-            "text": narrative(&lines, Some(head), &rows),
+            "text": self.words.narrative(&lines, Some(head), &rows),
             "identifier": [{ "system": self.base.identifiers("session"), "value": s.row.session_id }],
             "status": Self::status(s),
             "category": Self::category("activity", "Activity"),
             "code": { "coding": [{ "system": system, "code": "session", "display": "Telerehabilitation session measures" }],
-                      "text": format!("Telerehabilitation session: {}", s.exercise_name) },
+                      "text": self.words.say("fhir-session-text", &[("exercise", exercises)]) },
             "subject": { "reference": self.subject },
             "effectivePeriod": Self::period(s),
             "performer": [{ "reference": self.subject }],
@@ -279,7 +284,7 @@ impl Export<'_> {
         let minutes = metrics::words::round_to(seconds / 60.0, 2);
         Some(json!({
             "resourceType": "Observation",
-            "text": sentence(self.words.say("fhir-duration", &[("start", when(s.row.started_unix_ms)), ("minutes", minutes.to_string())])),
+            "text": self.words.sentence(self.words.say("fhir-duration", &[("start", when(s.row.started_unix_ms)), ("minutes", minutes.to_string())])),
             "status": Self::status(s),
             "category": Self::category("activity", "Activity"),
             "code": { "coding": [{ "system": LOINC, "code": EXERCISE_DURATION.0, "display": EXERCISE_DURATION.1 }] },
@@ -323,7 +328,7 @@ impl Export<'_> {
         );
         let mut o = json!({
             "resourceType": "Observation",
-            "text": sentence(line),
+            "text": self.words.sentence(line),
             "status": "final",
             "category": Self::category("exam", "Exam"),
             "code": { "coding": [{ "system": system, "code": e.scale, "display": e.scale_name }], "text": e.scale_name },
@@ -363,20 +368,80 @@ impl Export<'_> {
     }
 }
 
+impl Export<'_> {
+    /// The hub's own resources the bundle's codes and answers need: the check-in's
+    /// Questionnaire and the code systems (the measures `names`, the assessment's when
+    /// `protocols` holds one), as entries.
+    ///
+    /// The code systems are written in English, whatever the export's language: a code system
+    /// defines its codes once for every reader, its displays are what every `Coding` names
+    /// (the measures' names and the check-in's answers also carry their words in the
+    /// export's language as `designation`s).
+    fn own_resources(&self, names: &BTreeSet<&str>, protocols: &BTreeSet<u32>) -> Vec<Value> {
+        let base = self.base;
+        let words = &Words::english();
+        let mut own = vec![
+            (
+                base.questionnaire(checkin::QUESTIONNAIRE),
+                checkin::questionnaire(base, &self.words),
+            ),
+            (
+                base.code_system(MEASURES),
+                codes::measures_code_system(base, words, &self.words, names),
+            ),
+            (
+                base.code_system(SCALES),
+                codes::scales_code_system(base, words),
+            ),
+            (
+                base.code_system(codes::CHECKIN),
+                codes::checkin_code_system(base, words, &self.words),
+            ),
+        ];
+        if !protocols.is_empty() {
+            own.push((
+                base.code_system(assessment::ASSESSMENT),
+                assessment::code_system(base, words, protocols),
+            ));
+        }
+        own.into_iter()
+            .map(|(url, resource)| {
+                let kind = resource["resourceType"]
+                    .as_str()
+                    .unwrap_or_default()
+                    .to_owned();
+                entry(&kind, &url, resource).1
+            })
+            .collect()
+    }
+
+    /// Sets `resource`'s `language`: the export's, but a code system's, written in English
+    /// ([`Self::own_resources`]).
+    fn stamp_language(&self, resource: &mut Value) {
+        let language = if resource["resourceType"] == "CodeSystem" {
+            codes::CODE_LANGUAGE
+        } else {
+            self.words.language()
+        };
+        resource["language"] = json!(language);
+    }
+}
+
 /// What the audit log says of an export of a bundle of `sessions` sessions.
 pub fn audit_detail(sessions: usize) -> String {
     format!("FHIR R4 bundle of {sessions} sessions")
 }
 
 /// Patient `p`'s record as a FHIR R4 `Bundle` of type `collection`, stamped `now_ms`, its own
-/// codes at the clinic's `base`; the bundle and how many sessions it holds.
+/// codes at the clinic's `base`, its narratives in `words` (each resource's `language`); the
+/// bundle and how many sessions it holds.
 pub async fn patient_bundle(
     db: &Db,
     p: &Patient,
     now_ms: i64,
     base: &FhirBase,
+    words: Words,
 ) -> Result<(Value, usize), HubError> {
-    let words = Words::new();
     let (subject, patient_entry) = entry("Patient", &p.id, Export::patient_of(base, &words, p));
     let x = Export {
         base,
@@ -430,6 +495,23 @@ pub async fn patient_bundle(
         entries.push(e);
         entries.extend(duration.map(|(_, e)| e));
     }
+    // The standard assessments, each its own group, apart from the sessions' Observations.
+    let assessments = db.assessments_of(&p.id).await?;
+    let mut names: BTreeSet<&str> = measures
+        .values()
+        .flat_map(|m| m.keys().map(String::as_str))
+        .collect();
+    for a in assessments.iter().rev() {
+        let device = sessions
+            .iter()
+            .find(|s| s.row.session_id == a.session_id)
+            .map(|s| devices[s.row.station_id.as_str()].as_str());
+        entries.extend(
+            x.assessment_entries(a, device, &mut names)
+                .into_iter()
+                .map(|(_, e)| e),
+        );
+    }
     for e in &scales {
         let performer = &therapists[e.therapist_id.as_str()];
         entries.push(
@@ -454,34 +536,10 @@ pub async fn patient_bundle(
             .1,
         );
     }
-    let names: BTreeSet<&str> = measures
-        .values()
-        .flat_map(|m| m.keys().map(String::as_str))
-        .collect();
-    let own = [
-        (
-            base.questionnaire(checkin::QUESTIONNAIRE),
-            checkin::questionnaire(base, &x.words),
-        ),
-        (
-            base.code_system(MEASURES),
-            codes::measures_code_system(base, &x.words, &names),
-        ),
-        (
-            base.code_system(SCALES),
-            codes::scales_code_system(base, &x.words),
-        ),
-        (
-            base.code_system(codes::CHECKIN),
-            codes::checkin_code_system(base, &x.words),
-        ),
-    ];
-    for (url, resource) in own {
-        let kind = resource["resourceType"]
-            .as_str()
-            .unwrap_or_default()
-            .to_owned();
-        entries.push(entry(&kind, &url, resource).1);
+    let protocols: BTreeSet<u32> = assessments.iter().map(|a| a.protocol).collect();
+    entries.extend(x.own_resources(&names, &protocols));
+    for e in &mut entries {
+        x.stamp_language(&mut e["resource"]);
     }
     let bundle = json!({
         "resourceType": "Bundle",

@@ -24,6 +24,7 @@ pub mod pain_mail;
 pub mod patient_data;
 pub mod patients;
 pub mod refusal;
+mod sheet_words;
 pub mod thresholds;
 pub mod uploads;
 pub mod web;

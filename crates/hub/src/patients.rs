@@ -161,17 +161,20 @@ async fn issue_code(db: &Db, patient_id: &str, now_ms: i64) -> Result<PairingCod
     })
 }
 
-/// `hub export --fhir PSEUDONYM`: the patient's record as a FHIR R4 Bundle
-/// ([`crate::fhir::patient_bundle`], the hub's codes at the clinic's `base`), pretty-printed
+/// `hub export --fhir PSEUDONYM [--lang de]`: the patient's record as a FHIR R4 Bundle
+/// ([`crate::fhir::patient_bundle`], the hub's codes at the clinic's `base`, its narratives in
+/// `language`, English for none; a language without catalogues is refused), pretty-printed
 /// JSON, audited as `export_fhir` by `cli`; and how many sessions it holds.
 pub async fn export_fhir(
     db: &Db,
     pseudonym: &str,
     now_ms: i64,
     base: &crate::fhir::FhirBase,
+    language: Option<&str>,
 ) -> Result<(String, usize), HubError> {
+    let words = crate::fhir::Words::of(language)?;
     let patient = find(db, pseudonym).await?;
-    let (bundle, sessions) = crate::fhir::patient_bundle(db, &patient, now_ms, base).await?;
+    let (bundle, sessions) = crate::fhir::patient_bundle(db, &patient, now_ms, base, words).await?;
     db.audit(
         "cli",
         "export_fhir",

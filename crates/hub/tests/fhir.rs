@@ -242,8 +242,10 @@ async fn a_patients_fhir_bundle_holds_a_pseudonymous_patient_the_regimen_session
     let bob = login(&app, "bob@clinic.example").await;
     let (status, _, _) = call(&app, Method::GET, &uri, Some(&bob), None).await;
     assert_eq!(status, StatusCode::NOT_FOUND);
+    the_bundle_speaks_the_language_asked_else_the_therapists(&db, &app, &uri, &cookie, &ada.id)
+        .await;
     // The command line's export (`hub export --fhir P-0042`) is the same bundle, audited.
-    let (text, sessions) = hub::patients::export_fhir(&db, "P-0042", T0, &base)
+    let (text, sessions) = hub::patients::export_fhir(&db, "P-0042", T0, &base, None)
         .await
         .unwrap();
     assert_eq!(sessions, 3);
@@ -254,10 +256,55 @@ async fn a_patients_fhir_bundle_holds_a_pseudonymous_patient_the_regimen_session
             .iter()
             .any(|(a, act, _)| a == "cli" && act == "export_fhir")
     );
-    let unknown = hub::patients::export_fhir(&db, "P-9999", T0, &base)
+    let unknown = hub::patients::export_fhir(&db, "P-9999", T0, &base, None)
         .await
         .unwrap_err();
     assert!(unknown.to_string().contains("P-9999"), "{unknown}");
+}
+
+/// The bundle at `uri` in the language asked, else the therapist's console language, else
+/// English; a language without words refused, naming it.
+async fn the_bundle_speaks_the_language_asked_else_the_therapists(
+    db: &Db,
+    app: &axum::Router,
+    uri: &str,
+    cookie: &str,
+    therapist: &str,
+) {
+    let patient_of = |b: &Value| b["entry"][0]["resource"].clone();
+    let (_, en, _) = call(app, Method::GET, uri, Some(cookie), None).await;
+    assert_eq!(patient_of(&en)["language"], "en");
+    let spanish = format!("{uri}?lang=es");
+    let (status, es, _) = call(app, Method::GET, &spanish, Some(cookie), None).await;
+    assert_eq!(status, StatusCode::OK, "{es}");
+    let patient = patient_of(&es);
+    assert_eq!(patient["language"], "es");
+    let div = patient["text"]["div"].as_str().unwrap();
+    assert!(
+        div.contains("Paciente P-0042") && div.contains("lang=\"es\""),
+        "{div}"
+    );
+    db.set_therapist_language(therapist, Some("de"))
+        .await
+        .unwrap();
+    let (_, de, _) = call(app, Method::GET, uri, Some(cookie), None).await;
+    let patient = patient_of(&de);
+    assert_eq!(patient["language"], "de");
+    assert!(
+        patient["text"]["div"]
+            .as_str()
+            .unwrap()
+            .contains("Pseudonym der Klinik"),
+        "{patient}"
+    );
+    let unknown = format!("{uri}?lang=xx");
+    let (status, body, _) = call(app, Method::GET, &unknown, Some(cookie), None).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST, "{body}");
+    let said = body.to_string();
+    assert!(
+        said.contains("xx") && said.contains("en, de, es, zh"),
+        "{body}"
+    );
 }
 
 on_both_backends!(

@@ -1,8 +1,9 @@
 //! The FHIR export judged by the reference R4 validator, HAPI FHIR's instance validator
 //! (scripts/fhir-validator, built by scripts/setup.sh), offline against R4 core: a patient with
-//! two ended sessions (measures with every binary digit, as a station computes them), both
-//! check-ins, a regimen and two clinical scales must give 0 errors and no warning but "this
-//! code system is unknown" (LOINC and SNOMED CT: no terminology server offline). One JVM start.
+//! two ended sessions (measures with every binary digit, as a station computes them), each
+//! starting with the standard assessment, both check-ins, a regimen and two clinical scales must
+//! give 0 errors and no warning but "this code system is unknown" (LOINC and SNOMED CT: no
+//! terminology server offline), in English and in German. One JVM start for every file.
 
 mod common;
 
@@ -16,7 +17,7 @@ use std::process::Command;
 use hub::Role;
 use hub::db::NewScale;
 use hub::fhir::FhirBase;
-use netlink::{Bye, CheckIn};
+use netlink::{AssessmentTag, Bye, CheckIn, ExerciseResult};
 
 const REGIMEN: &str = "sessions_per_week = 5\n\n[[exercise]]\nkind = \"sine\"\namplitude_m = 2.0\n\
     wavelength_m = 150.0\nperiods = 2\nlane_width_m = 4.0\nspeed_m_s = 8.0\nduration_s = 30.0\n";
@@ -51,9 +52,72 @@ fn measures(seed: &mut u64) -> BTreeMap<String, f64> {
     .collect()
 }
 
-/// The export of a patient with two ended sessions, both check-ins (one question skipped),
-/// a regimen, a Fugl-Meyer score and a Box and Block Test.
-async fn exported_bundle() -> String {
+/// The standard assessment's parts as a station reports them (protocol 1, seed `tag_seed`),
+/// their scores with every binary digit from `seed`.
+fn assessment(tag_seed: u32, seed: &mut u64) -> Vec<ExerciseResult> {
+    let mut next = || {
+        *seed ^= *seed << 13;
+        *seed ^= *seed >> 7;
+        *seed ^= *seed << 17;
+        (*seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let tag = AssessmentTag {
+        protocol: 1,
+        seed: tag_seed,
+    };
+    let tracking = [
+        "dial_rms_error_deg",
+        "dial_mean_abs_error_deg",
+        "trunk_lean_max_deg",
+    ];
+    let parts: [(&str, &[&str]); 6] = [
+        ("range", &["wheel_rom_deg", "trunk_rotation_max_deg"]),
+        ("tracking-slow", &tracking),
+        ("tracking-medium", &tracking),
+        ("tracking-fast", &tracking),
+        (
+            "steps",
+            &[
+                "step_responses",
+                "reaction_time_s_median",
+                "movement_time_s_median",
+                "sparc_median",
+                "ldlj_median",
+                "path_length_ratio_median",
+                "initial_direction_error_deg_mean",
+            ],
+        ),
+        (
+            "strength",
+            &[
+                "strength_peak_left_nm",
+                "strength_peak_right_nm",
+                "strength_left_at_ceiling",
+            ],
+        ),
+    ];
+    parts
+        .iter()
+        .enumerate()
+        .map(|(i, (part, names))| ExerciseResult {
+            index: i as u32,
+            kind: format!("assessment-{part}"),
+            name: format!("Assessment {part}"),
+            prescribed_s: 30.0,
+            active_s: 30.0,
+            scores: names
+                .iter()
+                .map(|n| ((*n).to_owned(), 1.0 + 40.0 * next()))
+                .collect(),
+            assessment: Some(tag),
+        })
+        .collect()
+}
+
+/// The export, in English and in German, of a patient with two ended sessions each starting
+/// with the standard assessment, both check-ins (one question skipped), a regimen, a
+/// Fugl-Meyer score and a Box and Block Test.
+async fn exported_bundles() -> (String, String) {
     let (db, _dir) = sqlite_db().await;
     let ada = db
         .add_therapist("ada@clinic.example", PASSWORD, Role::Therapist, T0)
@@ -90,7 +154,7 @@ async fn exported_bundle() -> String {
             hub_unix_ms: None,
             checkin: Some(checkin.clone()),
             difficulty: None,
-            exercises: Vec::new(),
+            exercises: assessment(3_000_000_000 + i as u32, &mut seed),
         };
         db.close_session(&bye, start + 700_000).await.unwrap();
         db.put_metrics(&id, &measures(&mut seed)).await.unwrap();
@@ -117,11 +181,15 @@ async fn exported_bundle() -> String {
         db.add_scale(&p.id, &ada.id, &scale, T0).await.unwrap();
     }
     let base = FhirBase::parse("https://fhir.clinic.example/telerehab", "test").unwrap();
-    let (text, sessions) = hub::patients::export_fhir(&db, "P-0042", T0 + 2 * 86_400_000, &base)
+    let now = T0 + 2 * 86_400_000;
+    let (en, sessions) = hub::patients::export_fhir(&db, "P-0042", now, &base, None)
         .await
         .unwrap();
     assert_eq!(sessions, 2);
-    text
+    let (de, _) = hub::patients::export_fhir(&db, "P-0042", now, &base, Some("de"))
+        .await
+        .unwrap();
+    (en, de)
 }
 
 /// The validator's reports on `files` (one JVM): each file's messages (severity, message id,
@@ -184,54 +252,165 @@ fn unknown_system(m: &[String]) -> bool {
     wording && system
 }
 
-#[tokio::test(flavor = "multi_thread")]
-async fn the_reference_validator_finds_no_error_and_no_warning_but_unknown_code_systems_in_an_export()
- {
-    let text = exported_bundle().await;
-    let out = tempfile::tempdir().unwrap();
-    let file = out.path().join("bundle.json");
-    std::fs::write(&file, &text).unwrap();
-    // The same bundle with one check-in answered out of range and off the answer list: the
-    // validator must check responses against the questionnaire and our code system.
-    let mut broken: serde_json::Value = serde_json::from_str(&text).unwrap();
-    let response = broken["entry"]
+/// The messages of a report that are neither information nor an unknown code system, each
+/// joined into one line.
+fn beyond_unknown_systems(messages: &[Vec<String>]) -> Vec<String> {
+    messages
+        .iter()
+        .filter(|m| m[0] != "INFORMATION" && !(m[0] == "WARNING" && unknown_system(m)))
+        .map(|m| m.join(" | "))
+        .collect()
+}
+
+/// The resources of `bundle` that are Observations coded `code`.
+fn observations<'a>(bundle: &'a serde_json::Value, code: &str) -> Vec<&'a serde_json::Value> {
+    bundle["entry"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| &e["resource"])
+        .filter(|r| r["resourceType"] == "Observation" && r["code"]["coding"][0]["code"] == code)
+        .collect()
+}
+
+/// The first resource of `bundle` that `is`.
+fn first_mut(
+    bundle: &mut serde_json::Value,
+    is: impl Fn(&serde_json::Value) -> bool,
+) -> &mut serde_json::Value {
+    bundle["entry"]
         .as_array_mut()
         .unwrap()
         .iter_mut()
         .map(|e| &mut e["resource"])
-        .find(|r| r["resourceType"] == "QuestionnaireResponse")
+        .find(|r| is(r))
+        .unwrap()
+}
+
+/// Each standard assessment is a panel whose members are its six parts, coded and measured
+/// apart from the sessions, named by its protocol; the German bundle's narratives are German.
+fn check_assessments_and_language(en: &serde_json::Value, de: &serde_json::Value) {
+    let panels = observations(en, "standard-assessment");
+    assert_eq!(panels.len(), 2, "one panel an assessment");
+    for panel in &panels {
+        assert_eq!(panel["method"]["coding"][0]["code"], "protocol-1");
+        assert_eq!(panel["category"][0]["coding"][0]["code"], "exam");
+        assert_eq!(panel["hasMember"].as_array().unwrap().len(), 6);
+    }
+    let steps = observations(en, "steps");
+    assert_eq!(steps.len(), 2);
+    let rt = steps[0]["component"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["code"]["coding"][0]["code"] == "reaction_time_s_median")
         .unwrap();
+    // Rounded to the words table's 2 decimals, in UCUM seconds.
+    let v = rt["valueQuantity"]["value"].as_f64().unwrap();
+    assert_eq!((v * 100.0).round() / 100.0, v, "{v}");
+    assert_eq!(rt["valueQuantity"]["code"], "s");
+    // No session Observation carries an assessment's measure.
+    for s in observations(en, "session") {
+        for c in s["component"].as_array().unwrap() {
+            assert_ne!(c["code"]["coding"][0]["code"], "step_responses", "{s}");
+        }
+    }
+    let de_steps = observations(de, "steps");
+    let div = de_steps[0]["text"]["div"].as_str().unwrap();
+    assert!(
+        div.contains("lang=\"de\"") && div.contains("Teil des Standardtests"),
+        "{div}"
+    );
+    // The measures' code system is English, each measure's German name a designation.
+    let measures = de["entry"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| &e["resource"])
+        .find(|r| r["name"] == "TelerehabMeasures")
+        .unwrap();
+    let rt = measures["concept"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["code"] == "reaction_time_s_median")
+        .unwrap();
+    assert_eq!(rt["designation"][0]["language"], "de", "{rt}");
+    assert_ne!(rt["designation"][0]["value"], rt["display"], "{rt}");
+    // The session's exercises in German too (the hub's own name is English).
+    let en_session = &observations(en, "session")[0]["code"]["text"];
+    let de_session = &observations(de, "session")[0]["code"]["text"];
+    assert!(
+        de_session
+            .as_str()
+            .unwrap()
+            .starts_with("Telereha-Einheit: ")
+            && de_session != en_session,
+        "{de_session} / {en_session}"
+    );
+    for e in de["entry"].as_array().unwrap() {
+        let r = &e["resource"];
+        let language = if r["resourceType"] == "CodeSystem" {
+            "en"
+        } else {
+            "de"
+        };
+        assert_eq!(r["language"], language, "{}", r["resourceType"]);
+    }
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn the_reference_validator_finds_no_error_and_no_warning_but_unknown_code_systems_in_an_export()
+ {
+    let (text, german) = exported_bundles().await;
+    let out = tempfile::tempdir().unwrap();
+    let file = out.path().join("bundle.json");
+    std::fs::write(&file, &text).unwrap();
+    let german_file = out.path().join("bundle-de.json");
+    std::fs::write(&german_file, &german).unwrap();
+    // The same bundle with one check-in answered out of range and off the answer list, and an
+    // assessment's measure off the measures' code system: the validator must check responses
+    // against the questionnaire and the assessment against our code systems.
+    let mut broken: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let response = first_mut(&mut broken, |r| {
+        r["resourceType"] == "QuestionnaireResponse"
+    });
     response["item"][0]["answer"][0]["valueInteger"] = 11.into();
     response["item"][2]["answer"][0]["valueCoding"]["code"] = "bogus".into();
+    let part = first_mut(&mut broken, |r| r["code"]["coding"][0]["code"] == "steps");
+    part["component"][0]["code"]["coding"][0]["code"] = "bogus_measure".into();
     let broken_file = out.path().join("broken.json");
     std::fs::write(&broken_file, broken.to_string()).unwrap();
 
-    let reports = validate(&[&file, &broken_file]);
-    let (messages, summary) = &reports[0];
-    let wrong: Vec<String> = messages
-        .iter()
-        .filter(|m| m[0] != "INFORMATION" && !(m[0] == "WARNING" && unknown_system(m)))
-        .map(|m| m.join(" | "))
-        .collect();
-    assert!(
-        wrong.is_empty(),
-        "{summary}; beyond unknown code systems:\n{}",
-        wrong.join("\n")
+    let reports = validate(&[&file, &broken_file, &german_file]);
+    for (i, language) in [(0, "en"), (2, "de")] {
+        let (messages, summary) = &reports[i];
+        let wrong = beyond_unknown_systems(messages);
+        assert!(
+            wrong.is_empty(),
+            "{language}: {summary}; beyond unknown code systems:\n{}",
+            wrong.join("\n")
+        );
+        assert!(summary.starts_with("errors=0 "), "{language}: {summary}");
+        // It did judge the bundle: the LOINC codes it cannot look up offline were seen.
+        assert!(messages.iter().any(|m| unknown_system(m)), "{messages:?}");
+    }
+    check_assessments_and_language(
+        &serde_json::from_str(&text).unwrap(),
+        &serde_json::from_str(&german).unwrap(),
     );
-    assert!(summary.starts_with("errors=0 "), "{summary}");
-    // It did judge the bundle: the LOINC codes it cannot look up offline were seen.
-    assert!(messages.iter().any(|m| unknown_system(m)), "{messages:?}");
     // And it finds what is wrong: the answer over the questionnaire's maximum, the code not
-    // in the check-in's code system.
+    // in the check-in's code system, the measure not in ours.
     let (broken, summary) = &reports[1];
-    let errors: Vec<&str> = broken
-        .iter()
-        .filter(|m| m[0] == "ERROR")
-        .map(|m| m[1].as_str())
-        .collect();
+    let errors: Vec<&Vec<String>> = broken.iter().filter(|m| m[0] == "ERROR").collect();
+    let ids: Vec<&str> = errors.iter().map(|m| m[1].as_str()).collect();
     assert!(
-        errors.contains(&"QUESTIONNAIRE_QR_ITEM_INTEGER_MAX")
-            && errors.contains(&"Questionnaire_QR_Item_NoCoding"),
+        ids.contains(&"QUESTIONNAIRE_QR_ITEM_INTEGER_MAX")
+            && ids.contains(&"Questionnaire_QR_Item_NoCoding"),
+        "{summary}: {ids:?}"
+    );
+    assert!(
+        errors.iter().any(|m| m.join(" ").contains("bogus_measure")),
         "{summary}: {errors:?}"
     );
 }

@@ -1,5 +1,6 @@
 //! The per-session measures as CSV (`GET /api/patients/{id}/measures.csv`, `GET
-//! /api/measures.csv` for an admin), on SQLite and PostgreSQL.
+//! /api/measures.csv` for an admin) and the standard assessments as their own CSV (`GET
+//! /api/patients/{id}/assessments.csv`), on SQLite and PostgreSQL.
 
 mod common;
 
@@ -357,3 +358,137 @@ async fn the_one_table_of_measure_words_is_served_to_the_console(db: Db) {
 }
 
 on_both_backends!(the_one_table_of_measure_words_is_served_to_the_console);
+
+/// A part `kind` of the standard assessment (protocol 1, seed `seed`) at `index` with `scores`.
+fn assessment_part(
+    index: u32,
+    kind: &str,
+    seed: u32,
+    scores: &[(&str, f64)],
+) -> netlink::ExerciseResult {
+    netlink::ExerciseResult {
+        index,
+        kind: kind.into(),
+        name: kind.into(),
+        prescribed_s: 30.0,
+        active_s: 30.0,
+        scores: scores.iter().map(|(k, v)| ((*k).to_owned(), *v)).collect(),
+        assessment: Some(netlink::AssessmentTag { protocol: 1, seed }),
+    }
+}
+
+async fn the_assessments_csv_has_a_row_a_measure_marked_by_session_protocol_and_part(db: Db) {
+    let (_, _, p) = seeded(&db).await;
+    // The first session ran the assessment's range and steps, then a road; the second none.
+    let bye = netlink::Bye {
+        session_id: "s-P-0042-0".to_owned(),
+        reason: "wheel unplugged".to_owned(),
+        final_seq: None,
+        measures: BTreeMap::new(),
+        hub_unix_ms: None,
+        checkin: None,
+        difficulty: None,
+        exercises: vec![
+            assessment_part(
+                0,
+                "assessment-range",
+                4_000_000_000,
+                &[("wheel_rom_deg", 141.234_567_8)],
+            ),
+            assessment_part(
+                1,
+                "assessment-steps",
+                4_000_000_000,
+                &[
+                    ("sparc_median", -1.834_567_8),
+                    ("reaction_time_s_median", 0.412_345_6),
+                    ("step_responses", 17.0),
+                ],
+            ),
+            netlink::ExerciseResult {
+                index: 2,
+                kind: "sine-road".into(),
+                name: "Sine road".into(),
+                prescribed_s: 60.0,
+                active_s: 60.0,
+                scores: BTreeMap::from([("pct_in_lane".to_owned(), 80.0)]),
+                assessment: None,
+            },
+        ],
+    };
+    db.close_session(&bye, T0 + 2000).await.unwrap();
+    let app = app_of(&db);
+    let cookie = login(&app, "ada@clinic.example").await;
+    let uri = format!("/api/patients/{p}/assessments.csv?tz=Europe/Berlin");
+    let (status, headers, csv) = get(&app, &uri, &cookie).await;
+    assert_eq!(status, StatusCode::OK, "{csv}");
+    assert_eq!(
+        headers[header::CONTENT_DISPOSITION],
+        "attachment; filename=\"assessments-P-0042-2026-11-21.csv\""
+    );
+    let lines: Vec<&str> = csv.split("\r\n").collect();
+    assert_eq!(
+        lines[0],
+        "Session reference,\"Started (local time, Europe/Berlin)\",Started (UTC),Protocol version,\
+         Seed of the target steps,Part (code),Part,Measure (code),Measure,Value,Unit"
+    );
+    assert_eq!(
+        lines[1],
+        "session_id,started_local,started_at_utc,assessment_protocol,assessment_seed,\
+         assessment_part,part,measure,measure_name,value,unit"
+    );
+    // One row a measure of a part, in course order, the table's measures in its reading
+    // order; the road after the assessment is not in it.
+    let rows: Vec<Vec<&str>> = lines[2..lines.len() - 1]
+        .iter()
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert_eq!(rows.len(), 4, "{csv}");
+    assert_eq!(
+        rows[0],
+        [
+            "s-P-0042-0",
+            "2026-11-21 10:30",
+            "2026-11-21T09:30:00Z",
+            "1",
+            "4000000000",
+            "range",
+            "Active range",
+            "wheel_rom_deg",
+            "Wheel turning range",
+            "141",
+            "°"
+        ]
+    );
+    let measures: Vec<(&str, &str, &str)> = rows[1..].iter().map(|r| (r[5], r[7], r[9])).collect();
+    assert_eq!(
+        measures,
+        [
+            ("steps", "sparc_median", "-1.83"),
+            ("steps", "reaction_time_s_median", "0.41"),
+            ("steps", "step_responses", "17"),
+        ]
+    );
+    assert_eq!(rows[2][10], "s");
+    assert!(!csv.contains("pct_in_lane"), "{csv}");
+    assert!(
+        actions(&db)
+            .await
+            .iter()
+            .any(|(_, a, t)| a == "export_assessments_csv" && *t == p)
+    );
+    // In German: the plain words change, the technical line and the numbers do not.
+    let (_, _, de) = get(&app, &format!("{uri}&lang=de"), &cookie).await;
+    let de_lines: Vec<&str> = de.split("\r\n").collect();
+    assert!(
+        de_lines[0].contains("Protokollversion") && de_lines[0].contains("Einheit"),
+        "{de}"
+    );
+    assert_eq!(de_lines[1], lines[1]);
+    assert!(
+        de_lines[2].contains("Aktiver Bewegungsumfang") && de_lines[2].ends_with(",141,°"),
+        "{de}"
+    );
+}
+
+on_both_backends!(the_assessments_csv_has_a_row_a_measure_marked_by_session_protocol_and_part);

@@ -14,7 +14,9 @@
 use haptic_wheel::{HapticRegimen, SpringDamper};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
-use vehicle::assessment as protocol;
+/// The protocol the schedule runs (its parts and fixed settings), for the regimen's readers
+/// (the hub's exports define it from these constants).
+pub use vehicle::assessment as protocol;
 
 use crate::RegimenEntry;
 

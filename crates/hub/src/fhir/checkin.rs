@@ -7,7 +7,7 @@ use serde_json::{Value, json};
 
 use super::FhirBase;
 use super::codes::{CHECKIN, LOINC, PAIN_0_10, difficulty_id};
-use super::narrative::{Words, narrative, when};
+use super::narrative::{Words, when};
 use crate::db::{SessionCheckIn, iso_utc};
 
 /// The questionnaire's name under the clinic's base.
@@ -72,7 +72,7 @@ pub fn questionnaire(base: &FhirBase, words: &Words) -> Value {
         .collect();
     json!({
         "resourceType": "Questionnaire",
-        "text": narrative(&[words.say("fhir-questionnaire", &[])], None, &rows),
+        "text": words.narrative(&[words.say("fhir-questionnaire", &[])], None, &rows),
         "url": base.questionnaire(QUESTIONNAIRE),
         "version": VERSION,
         "name": "TelerehabSessionCheckIn",
@@ -125,7 +125,7 @@ pub fn response(
     let start = when(c.started_unix_ms);
     let mut r = json!({
         "resourceType": "QuestionnaireResponse",
-        "text": narrative(&[words.say("fhir-checkin", &[("start", start)])], None, &rows),
+        "text": words.narrative(&[words.say("fhir-checkin", &[("start", start)])], None, &rows),
         "identifier": { "system": base.identifiers("session"), "value": c.session_id },
         "questionnaire": canonical(base),
         "status": "completed",

@@ -19,7 +19,7 @@ use std::collections::BTreeSet;
 use serde_json::{Value, json};
 
 use super::FhirBase;
-use super::narrative::{Words, sentence};
+use super::narrative::Words;
 
 /// LOINC.
 pub const LOINC: &str = "http://loinc.org";
@@ -40,6 +40,8 @@ pub const MEASURES: &str = "measures";
 pub const SCALES: &str = "clinical-scales";
 /// The name of the check-in answers' code system.
 pub const CHECKIN: &str = "session-checkin";
+/// The language of the hub's code systems' displays and definitions.
+pub const CODE_LANGUAGE: &str = "en";
 /// UCUM.
 pub const UCUM: &str = "http://unitsofmeasure.org";
 
@@ -118,17 +120,30 @@ pub fn measure_display(name: &str) -> String {
     metrics::words::measure_words(name).map_or_else(|| name.replace('_', " "), |m| m.header())
 }
 
-/// The measures' CodeSystem: every code `names` holds, with its definition and UCUM unit.
-pub fn measures_code_system(base: &FhirBase, words: &Words, names: &BTreeSet<&str>) -> Value {
+/// The measures' CodeSystem: every code `names` holds, with its definition and UCUM unit,
+/// written in `words` (English); a measure the words table names also carries its name in
+/// `asked`'s language as a `designation`, when that is another.
+pub fn measures_code_system(
+    base: &FhirBase,
+    words: &Words,
+    asked: &Words,
+    names: &BTreeSet<&str>,
+) -> Value {
     let mut concepts = vec![
         json!({ "code": "session", "display": "Telerehabilitation session measures",
         "definition": "The measures the station computed of one session, one component each." }),
     ];
+    let translated = asked.language() != words.language();
     concepts.extend(names.iter().map(|n| {
-        json!({
+        let mut concept = json!({
             "code": n, "display": measure_display(n), "definition": measure_definition(n),
             "property": [{ "code": "unit", "valueCode": ucum_unit(n) }],
-        })
+        });
+        if translated && metrics::words::measure_words(n).is_some() {
+            concept["designation"] =
+                json!([{ "language": asked.language(), "value": asked.measure(n) }]);
+        }
+        concept
     }));
     code_system(
         words,
@@ -171,13 +186,21 @@ pub fn scales_code_system(base: &FhirBase, words: &Words) -> Value {
 
 /// The check-in's answers to "how hard it felt" ([`netlink::frame::CHECKIN_DIFFICULTIES`]),
 /// each named as the station asks it.
-pub fn checkin_code_system(base: &FhirBase, words: &Words) -> Value {
+///
+/// Written in `words` (English: a code system's words are its codes' own); each answer also
+/// as the patient read it in `asked`'s language, a `designation`, when that is another.
+pub fn checkin_code_system(base: &FhirBase, words: &Words, asked: &Words) -> Value {
     let concepts = netlink::frame::CHECKIN_DIFFICULTIES
         .iter()
         .map(|code| {
-            let display = words.patient(&difficulty_id(code));
-            json!({ "code": code, "display": display,
-                "definition": format!("The patient's answer \"{display}\" to \"{}\" after a session.", words.patient("checkin-difficulty-question")) })
+            let id = difficulty_id(code);
+            let display = words.patient(&id);
+            let mut concept = json!({ "code": code, "display": display,
+                "definition": format!("The patient's answer \"{display}\" to \"{}\" after a session.", words.patient("checkin-difficulty-question")) });
+            if asked.language() != words.language() {
+                concept["designation"] = json!([{ "language": asked.language(), "value": asked.patient(&id) }]);
+            }
+            concept
         })
         .collect();
     code_system(
@@ -210,7 +233,7 @@ pub fn code_system(
     let count = concepts.len();
     let mut cs = json!({
         "resourceType": "CodeSystem",
-        "text": sentence(words.say("fhir-code-system", &[("title", title.to_owned()), ("count", count.to_string())])),
+        "text": words.sentence(words.say("fhir-code-system", &[("title", title.to_owned()), ("count", count.to_string())])),
         "url": url,
         "name": name,
         "title": title,

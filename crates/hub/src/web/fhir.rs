@@ -1,26 +1,45 @@
 //! `GET /api/patients/{id}/fhir`: the patient's record as a FHIR R4 `Bundle` ([`crate::fhir`]),
-//! audited.
+//! its narratives in the language asked (`?lang=de`, else the therapist's console language, else
+//! English), audited.
 
-use axum::extract::rejection::PathRejection;
-use axum::extract::{Path, State};
+use axum::extract::rejection::{PathRejection, QueryRejection};
+use axum::extract::{Path, Query, State};
 use axum::http::{HeaderValue, header};
 use axum::response::{IntoResponse, Response};
 
 use super::auth::Authed;
 use super::{ApiError, AppState};
 use crate::error::HubError;
+use crate::refusal::{Code, Why};
+
+/// The bundle's query.
+#[derive(serde::Deserialize)]
+pub(crate) struct FhirQuery {
+    /// The narratives' language (`de`); the therapist's console language when absent.
+    lang: Option<String>,
+}
 
 /// The FHIR JSON media type.
 const FHIR_JSON: &str = "application/fhir+json; fhirVersion=4.0";
 
 /// `GET /api/patients/{id}/fhir` (404 for a patient the therapist may not see), audited as
-/// `export_fhir` with the number of sessions.
+/// `export_fhir` with the number of sessions; a language without catalogues is **400** naming
+/// it.
 pub(crate) async fn bundle(
     State(state): State<AppState>,
     Authed(therapist): Authed,
     id: Result<Path<String>, PathRejection>,
+    query: Result<Query<FhirQuery>, QueryRejection>,
 ) -> Result<Response, ApiError> {
     let Path(id) = id?;
+    let Query(q) = query.map_err(|e| {
+        ApiError::BadRequest(Why::field(Code::FieldRefused, "query").says(e.body_text()))
+    })?;
+    let lang = match q.lang {
+        Some(lang) => Some(lang),
+        None => state.db.therapist_language(&therapist.id).await?,
+    };
+    let words = crate::fhir::Words::of(lang.as_deref())?;
     let patient = state.visible_patient(&therapist, &id).await?;
     let base = state.fhir_base.as_ref().ok_or_else(|| {
         HubError::Config(
@@ -28,7 +47,7 @@ pub(crate) async fn bundle(
         )
     })?;
     let (bundle, sessions) =
-        crate::fhir::patient_bundle(&state.db, &patient, state.now(), base).await?;
+        crate::fhir::patient_bundle(&state.db, &patient, state.now(), base, words).await?;
     state
         .audit(
             &therapist.actor(),

@@ -9,6 +9,7 @@ use serde::Serialize;
 
 use super::AppState;
 use super::auth::Authed;
+pub(crate) use crate::sheet_words::{end_words_id, measure_definition_id, measure_name_id};
 
 /// One way a session ends: its key, its one wording (English) and the id of that wording in
 /// the console's catalogues (`words-end-…`).
@@ -28,25 +29,6 @@ pub(crate) struct MeasureEntry {
     words: &'static MeasureWords,
     name_id: String,
     definition_id: String,
-}
-
-/// The console catalogue id of measure `key`'s plain name: `words-measure-pct-in-lane`.
-pub(crate) fn measure_name_id(key: &str) -> String {
-    format!("words-measure-{}", key.replace('_', "-"))
-}
-
-/// The console catalogue id of measure `key`'s definition: `words-definition-pct-in-lane`.
-pub(crate) fn measure_definition_id(key: &str) -> String {
-    format!("words-definition-{}", key.replace('_', "-"))
-}
-
-/// The console catalogue id of end kind `kind`'s wording: `words-end-wheel-unplugged`.
-pub(crate) fn end_words_id(kind: EndKind) -> String {
-    let key = serde_json::to_value(kind)
-        .ok()
-        .and_then(|v| v.as_str().map(str::to_owned))
-        .unwrap_or_default();
-    format!("words-end-{}", key.replace('_', "-"))
 }
 
 /// The table served.

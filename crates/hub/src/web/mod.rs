@@ -8,6 +8,7 @@
 //!   is answered 404, exactly like a patient that does not exist.
 //! - Every read of patient data and every change is written to the audit log.
 
+mod assessment_sheet;
 mod attention;
 mod auth;
 mod clinic;
@@ -25,7 +26,6 @@ mod regimen_words;
 mod scales;
 mod serve;
 mod sessions;
-mod sheet_words;
 mod spreadsheet;
 mod wheel_bounds;
 
@@ -291,6 +291,10 @@ pub fn router(state: AppState) -> Router {
             get(spreadsheet::patient_csv),
         )
         .route("/api/measures.csv", get(spreadsheet::caseload_csv))
+        .route(
+            "/api/patients/{id}/assessments.csv",
+            get(assessment_sheet::patient_csv),
+        )
         .route("/api/measures/words", get(measure_words::measure_words))
         .route("/api/clinic/name", get(measure_words::clinic_name))
         .route("/api/patients/{id}/fhir", get(fhir::bundle))

@@ -4,7 +4,7 @@
 //!
 //! Two header rows: the first in plain words with units (`Time in lane (%)`) in the therapist's
 //! language (`?lang=de`, else the language they chose for the console, else English; the
-//! console's words, [`super::sheet_words`]), the second the technical names (`pct_in_lane`) for
+//! console's words, [`crate::sheet_words`]), the second the technical names (`pct_in_lane`) for
 //! whoever joins the file to other data. Then one row a session, oldest first: its start in
 //! local time (the time zone the console's browser sends as `?tz=Europe/Berlin`, else the hub's
 //! own; the header names it) and in UTC (ISO 8601), its exercises in order, how it ended (the
@@ -24,7 +24,7 @@ use axum::response::{IntoResponse, Response};
 use jiff::tz::TimeZone;
 use metrics::words::{MEASURES, measure_words, round_unknown};
 
-use super::sheet_words::SheetWords;
+use crate::sheet_words::SheetWords;
 use serde::Deserialize;
 
 use super::auth::Authed;
@@ -67,9 +67,9 @@ pub(crate) struct SheetQuery {
 }
 
 /// The time zone the local times are written in, and its name for the header.
-struct LocalZone {
+pub(super) struct LocalZone {
     zone: TimeZone,
-    name: String,
+    pub(super) name: String,
 }
 
 impl LocalZone {
@@ -97,7 +97,7 @@ impl LocalZone {
     }
 
     /// `ms` as local date and time: `2026-11-27 09:51`.
-    fn local(&self, ms: i64) -> String {
+    pub(super) fn local(&self, ms: i64) -> String {
         jiff::Timestamp::from_millisecond(ms).map_or_else(
             |_| String::new(),
             |t| {
@@ -110,7 +110,7 @@ impl LocalZone {
 }
 
 /// A text cell as CSV (RFC 4180 quoting; a leading formula character neutralised).
-fn text_cell(text: &str) -> String {
+pub(super) fn text_cell(text: &str) -> String {
     let text = if text.starts_with(['=', '+', '-', '@']) {
         format!("'{text}")
     } else {
@@ -125,7 +125,7 @@ fn text_cell(text: &str) -> String {
 
 /// `names` in the columns' order: the table's measures in its reading order, then any other
 /// alphabetically.
-fn ordered(names: &BTreeSet<String>) -> Vec<String> {
+pub(super) fn ordered(names: &BTreeSet<String>) -> Vec<String> {
     let known = MEASURES
         .iter()
         .filter(|m| names.contains(m.key))
@@ -188,7 +188,7 @@ fn header(names: &[String], with_patient: bool, zone: &LocalZone, words: &SheetW
 
 /// A measure's value as a cell: rounded to the table's decimals (4 significant digits for a
 /// measure the table lacks).
-fn number_cell(name: &str, v: f64) -> String {
+pub(super) fn number_cell(name: &str, v: f64) -> String {
     match measure_words(name) {
         Some(m) => m.number(v),
         None => format!("{}", round_unknown(v)),
@@ -244,7 +244,7 @@ fn lines_of(
 
 /// The local time zone and the words a spreadsheet's query asks for (see [`LocalZone::of`]):
 /// its language, else `therapist`'s console language.
-async fn zone_and_words(
+pub(super) async fn zone_and_words(
     state: &AppState,
     therapist: &crate::db::Therapist,
     query: Result<Query<SheetQuery>, QueryRejection>,
@@ -261,7 +261,7 @@ async fn zone_and_words(
 }
 
 /// `body` as a CSV download named `filename`.
-fn csv_response(body: impl IntoResponse, filename: &str) -> Response {
+pub(super) fn csv_response(body: impl IntoResponse, filename: &str) -> Response {
     let mut response = body.into_response();
     let headers = response.headers_mut();
     headers.insert(
@@ -275,7 +275,7 @@ fn csv_response(body: impl IntoResponse, filename: &str) -> Response {
 }
 
 /// The UTC day of `now_ms` for a file name: `2026-11-21`.
-fn day_of(now_ms: i64) -> String {
+pub(super) fn day_of(now_ms: i64) -> String {
     iso_utc(now_ms).chars().take(10).collect()
 }
 

@@ -68,6 +68,7 @@ audit-kind-scale_rejected = bekam eine klinische Skala abgelehnt
 audit-kind-export_measures_csv = hat die Tabelle des Patienten heruntergeladen
 audit-kind-export_caseload_csv = hat die Tabelle der Patientenliste heruntergeladen
 audit-kind-export_fhir = hat die Akte des Patienten exportiert
+audit-kind-export_assessments_csv = hat die Standardtests des Patienten heruntergeladen
 audit-kind-export_patient = hat die Daten des Patienten exportiert
 audit-kind-add_patient = hat einen Patienten hinzugefügt
 audit-kind-pairing_code = hat einen Kopplungscode erstellt

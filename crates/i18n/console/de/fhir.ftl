@@ -17,3 +17,14 @@ fhir-answer-skipped = übersprungen
 fhir-answer-score = { $value } von 10
 fhir-device = Telerehab-Station { $station }, Software { $version }: ein Lenkrad mit Kraftrückmeldung und Armsensoren.
 fhir-therapist = Therapeut der Klinik ({ $id }).
+
+# Der Standardtest (crates/hub/src/fhir/assessment.rs).
+fhir-assessment-title = Standardtest am Lenkrad
+fhir-assessment = Standardtest am { $start } (UTC), Protokollversion { $protocol }, die Zielsprünge gezogen aus Startwert { $seed }. Seine Teile: { $parts }.
+fhir-assessment-part = { $part }: Teil des Standardtests am { $start } (UTC), Protokollversion { $protocol }.
+fhir-assessment-method = Standardtest, Protokollversion { $protocol }, Zielsprünge gezogen aus Startwert { $seed }
+# Kurze Texte neben den Codes.
+fhir-session-text = Telereha-Einheit: { $exercise }
+fhir-regimen-title = Heimübungsplan, Version { $version }
+fhir-request-text = { $title }: { $exercises } Übungen an der Telerehab-Station
+fhir-device-type = Reha-Station für zu Hause: Lenkrad mit Kraftrückmeldung und Armsensoren

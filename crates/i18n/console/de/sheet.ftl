@@ -1,4 +1,4 @@
-# Die Wörter der Tabelle der Messwerte (crates/hub/src/web/sheet_words.rs): die erste
+# Die Wörter der Tabelle der Messwerte (crates/hub/src/sheet_words.rs): die erste
 # Kopfzeile und die Wörter für Menschen; die zweite Kopfzeile behält die technischen Namen.
 
 sheet-col-patient = Patientin/Patient
@@ -13,3 +13,13 @@ sheet-col-effort = Anstrengung danach (Borg CR10 0–10)
 sheet-col-felt = Wie schwer es sich anfühlte
 sheet-yes = ja
 sheet-no = nein
+
+# Die Tabelle des Standardtests: eine Zeile je Messgröße eines Testteils.
+sheet-assessment-col-protocol = Protokollversion
+sheet-assessment-col-seed = Startwert der Zielsprünge
+sheet-assessment-col-part-key = Teil (Code)
+sheet-assessment-col-part = Teil
+sheet-assessment-col-measure-key = Messgröße (Code)
+sheet-assessment-col-measure = Messgröße
+sheet-assessment-col-value = Wert
+sheet-assessment-col-unit = Einheit

@@ -69,6 +69,7 @@ audit-kind-scale_rejected = had a clinical scale refused
 audit-kind-export_measures_csv = downloaded the patient's spreadsheet
 audit-kind-export_caseload_csv = downloaded the caseload spreadsheet
 audit-kind-export_fhir = exported the patient's record
+audit-kind-export_assessments_csv = downloaded the patient's standard assessments
 audit-kind-export_patient = exported the patient's data
 audit-kind-add_patient = added a patient
 audit-kind-pairing_code = made a pairing code

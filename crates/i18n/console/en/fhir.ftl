@@ -1,6 +1,6 @@
 # The FHIR export's narratives (crates/hub/src/fhir/narrative.rs): the words an electronic
-# health record shows of each exported resource. The export is written in English (its codes'
-# names are); the other languages keep the catalogues complete.
+# health record shows of each exported resource, in the language the export is asked in (the
+# therapist's); the codes' own names stay the code systems' English.
 
 fhir-patient = Patient { $pseudonym }. Only the clinic's pseudonym is exported.
 fhir-regimen = Home exercise regimen, version { $version }, prescribed on { $day }.
@@ -19,3 +19,14 @@ fhir-answer-skipped = skipped
 fhir-answer-score = { $value } of 10
 fhir-device = Telerehab station { $station }, software { $version }: a force-feedback steering wheel and arm sensors.
 fhir-therapist = Therapist of the clinic ({ $id }).
+
+# The standard assessment (crates/hub/src/fhir/assessment.rs).
+fhir-assessment-title = Standard assessment on the wheel
+fhir-assessment = Standard assessment on { $start } (UTC), protocol version { $protocol }, its target steps drawn from seed { $seed }. Its parts: { $parts }.
+fhir-assessment-part = { $part }: part of the standard assessment on { $start } (UTC), protocol version { $protocol }.
+fhir-assessment-method = Standard assessment, protocol version { $protocol }, target steps drawn from seed { $seed }
+# Short texts beside the codes.
+fhir-session-text = Telerehabilitation session: { $exercise }
+fhir-regimen-title = Home exercise regimen, version { $version }
+fhir-request-text = { $title }: { $exercises } exercises on the telerehab station
+fhir-device-type = Home rehabilitation station: force-feedback steering wheel and arm sensors

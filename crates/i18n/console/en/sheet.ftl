@@ -1,4 +1,4 @@
-# The measures spreadsheet's words (crates/hub/src/web/sheet_words.rs): its first header line
+# The measures spreadsheet's words (crates/hub/src/sheet_words.rs): its first header line
 # and its words for people; the second header line keeps the technical names.
 
 sheet-col-patient = Patient
@@ -13,3 +13,14 @@ sheet-col-effort = Effort after (Borg CR10 0–10)
 sheet-col-felt = How hard it felt
 sheet-yes = yes
 sheet-no = no
+
+# The standard assessment's spreadsheet (crates/hub/src/web/assessment_sheet.rs): one row a
+# measure of a part of an assessment.
+sheet-assessment-col-protocol = Protocol version
+sheet-assessment-col-seed = Seed of the target steps
+sheet-assessment-col-part-key = Part (code)
+sheet-assessment-col-part = Part
+sheet-assessment-col-measure-key = Measure (code)
+sheet-assessment-col-measure = Measure
+sheet-assessment-col-value = Value
+sheet-assessment-col-unit = Unit

@@ -68,6 +68,7 @@ audit-kind-scale_rejected = vio rechazada una escala clínica
 audit-kind-export_measures_csv = descargó la hoja de cálculo del paciente
 audit-kind-export_caseload_csv = descargó la hoja de cálculo de la lista de pacientes
 audit-kind-export_fhir = exportó la historia del paciente
+audit-kind-export_assessments_csv = descargó las evaluaciones estándar del paciente
 audit-kind-export_patient = exportó los datos del paciente
 audit-kind-add_patient = añadió un paciente
 audit-kind-pairing_code = generó un código de vinculación

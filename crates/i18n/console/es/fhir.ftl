@@ -17,3 +17,14 @@ fhir-answer-skipped = omitida
 fhir-answer-score = { $value } de 10
 fhir-device = Estación telerehab { $station }, software { $version }: un volante con retroalimentación de fuerza y sensores de brazo.
 fhir-therapist = Terapeuta de la clínica ({ $id }).
+
+# La evaluación estándar (crates/hub/src/fhir/assessment.rs).
+fhir-assessment-title = Evaluación estándar con el volante
+fhir-assessment = Evaluación estándar del { $start } (UTC), versión { $protocol } del protocolo, con los saltos del objetivo sacados de la semilla { $seed }. Sus partes: { $parts }.
+fhir-assessment-part = { $part }: parte de la evaluación estándar del { $start } (UTC), versión { $protocol } del protocolo.
+fhir-assessment-method = Evaluación estándar, versión { $protocol } del protocolo, saltos del objetivo sacados de la semilla { $seed }
+# Textos cortos junto a los códigos.
+fhir-session-text = Sesión de telerrehabilitación: { $exercise }
+fhir-regimen-title = Programa de ejercicios en casa, versión { $version }
+fhir-request-text = { $title }: { $exercises } ejercicios en la estación telerehab
+fhir-device-type = Estación de rehabilitación en casa: volante con retroalimentación de fuerza y sensores de brazo

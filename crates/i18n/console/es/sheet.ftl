@@ -1,4 +1,4 @@
-# Las palabras de la hoja de mediciones (crates/hub/src/web/sheet_words.rs): su primera línea
+# Las palabras de la hoja de mediciones (crates/hub/src/sheet_words.rs): su primera línea
 # de encabezado y sus palabras para personas; la segunda línea conserva los nombres técnicos.
 
 sheet-col-patient = Paciente
@@ -13,3 +13,13 @@ sheet-col-effort = Esfuerzo después (Borg CR10 0–10)
 sheet-col-felt = Qué tan difícil le pareció
 sheet-yes = sí
 sheet-no = no
+
+# La hoja de la evaluación estándar: una fila por medida de cada parte.
+sheet-assessment-col-protocol = Versión del protocolo
+sheet-assessment-col-seed = Semilla de los saltos del objetivo
+sheet-assessment-col-part-key = Parte (código)
+sheet-assessment-col-part = Parte
+sheet-assessment-col-measure-key = Medida (código)
+sheet-assessment-col-measure = Medida
+sheet-assessment-col-value = Valor
+sheet-assessment-col-unit = Unidad

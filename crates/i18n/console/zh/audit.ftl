@@ -68,6 +68,7 @@ audit-kind-scale_rejected = 临床量表被拒绝
 audit-kind-export_measures_csv = 下载了患者的表格
 audit-kind-export_caseload_csv = 下载了患者列表的表格
 audit-kind-export_fhir = 导出了患者的病历
+audit-kind-export_assessments_csv = 下载了患者的标准评估
 audit-kind-export_patient = 导出了患者的数据
 audit-kind-add_patient = 添加了一位患者
 audit-kind-pairing_code = 生成了配对码

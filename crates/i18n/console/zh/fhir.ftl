@@ -17,3 +17,14 @@ fhir-answer-skipped = 已跳过
 fhir-answer-score = { $value } / 10
 fhir-device = 远程康复站 { $station }，软件 { $version }：力反馈方向盘和手臂传感器。
 fhir-therapist = 诊所的治疗师（{ $id }）。
+
+# 标准评估（crates/hub/src/fhir/assessment.rs）。
+fhir-assessment-title = 方向盘标准评估
+fhir-assessment = { $start }（UTC）的标准评估，协议第 { $protocol } 版，目标跳动由种子 { $seed } 生成。包括：{ $parts }。
+fhir-assessment-part = { $part }：{ $start }（UTC）标准评估的一部分，协议第 { $protocol } 版。
+fhir-assessment-method = 标准评估，协议第 { $protocol } 版，目标跳动由种子 { $seed } 生成
+# 代码旁的简短文字。
+fhir-session-text = 远程康复训练：{ $exercise }
+fhir-regimen-title = 居家训练方案，第 { $version } 版
+fhir-request-text = { $title }：在远程康复站上的 { $exercises } 项练习
+fhir-device-type = 居家康复站：力反馈方向盘和手臂传感器

@@ -1,4 +1,4 @@
-# 测量表格的用词（crates/hub/src/web/sheet_words.rs）：第一行表头和给人看的文字；第二行表头保留技术名称。
+# 测量表格的用词（crates/hub/src/sheet_words.rs）：第一行表头和给人看的文字；第二行表头保留技术名称。
 
 sheet-col-patient = 患者
 sheet-col-session = 训练编号
@@ -12,3 +12,13 @@ sheet-col-effort = 训练后用力程度（Borg CR10 0–10）
 sheet-col-felt = 感觉难度
 sheet-yes = 是
 sheet-no = 否
+
+# 标准评估表格：每个评估部分的每项测量一行。
+sheet-assessment-col-protocol = 协议版本
+sheet-assessment-col-seed = 目标跳动的种子
+sheet-assessment-col-part-key = 部分（代码）
+sheet-assessment-col-part = 部分
+sheet-assessment-col-measure-key = 测量项（代码）
+sheet-assessment-col-measure = 测量项
+sheet-assessment-col-value = 数值
+sheet-assessment-col-unit = 单位

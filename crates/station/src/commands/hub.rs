@@ -125,6 +125,10 @@ pub enum HubCommand {
         /// The patient's pseudonym.
         #[arg(long, value_name = "PSEUDONYM")]
         fhir: String,
+        /// The language of the bundle's narratives (en, de, es, zh; a region allowed: de-AT);
+        /// English when absent.
+        #[arg(long, value_name = "LANGUAGE")]
+        lang: Option<String>,
         /// The bundle's file (JSON); `-` for standard output.
         #[arg(long, value_name = "FILE")]
         out: PathBuf,
@@ -341,7 +345,12 @@ pub fn run(args: HubArgs) -> anyhow::Result<()> {
                 bench(load, db.as_deref(), hub_cpus.as_deref()).await
             }
             HubCommand::Chaos(args) => crate::commands::hub_chaos::run(args).await,
-            HubCommand::Export { data, fhir, out } => backup::export_fhir(&data, &fhir, &out).await,
+            HubCommand::Export {
+                data,
+                fhir,
+                lang,
+                out,
+            } => backup::export_fhir(&data, &fhir, lang.as_deref(), &out).await,
             HubCommand::Backup { data, out } => {
                 backup::backup(&data.data, data.db.as_deref(), &out).await
             }

@@ -156,16 +156,18 @@ pub async fn erase_patient(
     Ok(())
 }
 
-/// `hub export --fhir`: the patient's FHIR R4 bundle into `out` (`-`: standard output).
+/// `hub export --fhir [--lang de]`: the patient's FHIR R4 bundle, its narratives in `language`
+/// (English for none), into `out` (`-`: standard output).
 pub async fn export_fhir(
     data: &super::DataArgs,
     pseudonym: &str,
+    language: Option<&str>,
     out: &Path,
 ) -> anyhow::Result<()> {
     let clinic = Clinic::at(&data.data);
     let base = clinic.config()?.fhir_base()?;
     let db = clinic.open_db(data.db.as_deref()).await?;
-    let done = hub::patients::export_fhir(&db, pseudonym, super::now_ms(), &base).await;
+    let done = hub::patients::export_fhir(&db, pseudonym, super::now_ms(), &base, language).await;
     db.close().await;
     let (bundle, sessions) = done?;
     if out == Path::new("-") {

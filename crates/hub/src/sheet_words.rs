@@ -1,12 +1,31 @@
-//! A spreadsheet's words in the therapist's language (issue 40): the plain header line, the
-//! exercises, how each session ended, yes / no and the check-in's "how hard it felt", from the
-//! console's catalogue (`sheet.ftl`, `words.ftl`, `progress.ftl`), as the console's screens say them. The
-//! technical header line and the numbers stay as they are, for whoever joins the file to
-//! other data.
+//! What the hub writes for a clinician outside the console, in the therapist's language
+//! (issue 40): a spreadsheet's plain header line, the exercises, how each session ended, yes /
+//! no and the check-in's "how hard it felt", and the FHIR export's narratives
+//! ([`crate::fhir`]), from the console's catalogue (`sheet.ftl`, `words.ftl`, `progress.ftl`,
+//! `fhir.ftl`), as the console's screens say them. The technical header line and the numbers
+//! stay as they are, for whoever joins the file to other data. Outside `web`, so that the FHIR
+//! export reads the same words without a module cycle.
 
 use metrics::words::{EndKind, measure_words};
 
-use super::measure_words::{end_words_id, measure_name_id};
+/// The console catalogue id of measure `key`'s plain name: `words-measure-pct-in-lane`.
+pub(crate) fn measure_name_id(key: &str) -> String {
+    format!("words-measure-{}", key.replace('_', "-"))
+}
+
+/// The console catalogue id of measure `key`'s definition: `words-definition-pct-in-lane`.
+pub(crate) fn measure_definition_id(key: &str) -> String {
+    format!("words-definition-{}", key.replace('_', "-"))
+}
+
+/// The console catalogue id of end kind `kind`'s wording: `words-end-wheel-unplugged`.
+pub(crate) fn end_words_id(kind: EndKind) -> String {
+    let key = serde_json::to_value(kind)
+        .ok()
+        .and_then(|v| v.as_str().map(str::to_owned))
+        .unwrap_or_default();
+    format!("words-end-{}", key.replace('_', "-"))
+}
 
 /// The words of one spreadsheet, in one language.
 pub(crate) struct SheetWords {
@@ -22,7 +41,8 @@ impl SheetWords {
         }
     }
 
-    fn t(&self, id: &str, args: &[(&'static str, String)]) -> String {
+    /// The console's message `id` with `args`.
+    pub(crate) fn t(&self, id: &str, args: &[(&'static str, String)]) -> String {
         let mut fluent = i18n::FluentArgs::new();
         for (name, value) in args {
             fluent.set(*name, value.clone());
@@ -31,7 +51,7 @@ impl SheetWords {
     }
 
     /// Whether the catalogue (or English behind it) words `id`.
-    fn has(&self, id: &str) -> bool {
+    pub(crate) fn has(&self, id: &str) -> bool {
         self.catalogue.words(id)
     }
 
@@ -43,11 +63,10 @@ impl SheetWords {
     /// A measure's plain header with its unit (`Time in lane (%)`); a measure the table
     /// lacks by its name with spaces.
     pub(crate) fn measure(&self, key: &str) -> String {
-        let id = measure_name_id(key);
-        let Some(m) = measure_words(key).filter(|_| self.has(&id)) else {
+        let Some(m) = measure_words(key).filter(|_| self.has(&measure_name_id(key))) else {
             return key.replace('_', " ");
         };
-        let name = self.t(&id, &[]);
+        let name = self.measure_name(key);
         if m.unit.is_empty() {
             name
         } else {
@@ -55,6 +74,17 @@ impl SheetWords {
                 "words-name-unit",
                 &[("name", name), ("unit", m.unit.to_owned())],
             )
+        }
+    }
+
+    /// A measure's plain name without its unit (`Time in lane`); a measure the catalogue
+    /// lacks by its name with spaces.
+    pub(crate) fn measure_name(&self, key: &str) -> String {
+        let id = measure_name_id(key);
+        if self.has(&id) {
+            self.t(&id, &[])
+        } else {
+            key.replace('_', " ")
         }
     }
 
