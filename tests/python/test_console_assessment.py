@@ -67,6 +67,18 @@ def test_progress_leads_with_the_standard_assessment_apart_from_the_exercise_tre
         v = parts[f"assessment-{part}"]["scores"][key]
         cell = d.find_element(By.CSS_SELECTOR, f"#assessment-table tr[data-part='{part}'] td[data-key='{key}']")
         assert cell.text == f"{v:.{decimals[key]}f}", (part, key, v, cell.text)
+    # The assessments' own spreadsheet is offered beside the measures': a row a part's measure.
+    link = d.find_element(By.ID, "assessments-csv")
+    zone = d.execute_script("return Intl.DateTimeFormat().resolvedOptions().timeZone || 'UTC'")
+    zone_words = message(d, "progress-zone-utc") if zone == "UTC" else message(d, "progress-zone", {"zone": zone})
+    assert link.text == message(d, "progress-download-assessments", {"zone": zone_words}), link.text
+    sheet = d.execute_async_script(
+        "const done = arguments[arguments.length - 1];"
+        "fetch(arguments[0], {credentials: 'same-origin'}).then(r => r.text()).then(done);",
+        link.get_attribute("href"))
+    rows = sheet.splitlines()
+    assert "assessment_protocol" in rows[1] and len(rows) > 2 + 6, rows[:3]
+    assert any(",steps," in r and "reaction_time_s_median" in r for r in rows), rows[:6]
     # The session is a dial session in the trends: the assessment is not part of its kind.
     sessions = api_sessions_with_metrics(d)
     assert [s["exercise_kind"] for s in sessions] == ["dial"], sessions

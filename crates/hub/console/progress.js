@@ -406,7 +406,8 @@ export async function progressView(el, id) {
     <p id="print-head" data-clinic="${esc(clinic.name || '')}"><strong>${esc(clinic.name || t('progress-clinic-unnamed'))}</strong>
       · ${esc(t('progress-print-of', { name: patient.pseudonym || '' }))} · <span id="date-range">${esc(range)}</span> · ${esc(t('progress-printed', { day: dayWords(Date.now()) }))}</p>
     <p class="print-hide"><button type="button" id="print" class="secondary">${esc(t('progress-print'))}</button>
-      <a id="measures-csv" href="/api/patients/${pid}/measures.csv?tz=${encodeURIComponent(tz)}&amp;lang=${encodeURIComponent(languageTag())}" download>${esc(t('progress-download', { zone: zoneWords }))}</a></p>
+      <a id="measures-csv" href="/api/patients/${pid}/measures.csv?tz=${encodeURIComponent(tz)}&amp;lang=${encodeURIComponent(languageTag())}" download>${esc(t('progress-download', { zone: zoneWords }))}</a>${assessments.length ? `
+      · <a id="assessments-csv" href="/api/patients/${pid}/assessments.csv?tz=${encodeURIComponent(tz)}&amp;lang=${encodeURIComponent(languageTag())}" download>${esc(t('progress-download-assessments', { zone: zoneWords }))}</a>` : ''}</p>
     <section class="panel${assessments.length ? '' : ' print-hide'}" id="assessment" aria-labelledby="assessment-h">${assessmentHtml(assessments, words)}</section>
     <section class="panel" id="summary" aria-labelledby="summary-h">${summaryHtml(checkinsNewest, sessions, overview, words)}</section>
     <section class="panel print-hide" id="dose" aria-labelledby="dose-h">${doseSection(sessions, metrics, overview)}</section>

@@ -156,6 +156,7 @@ progress-print-of = Verlauf von { $name }
 progress-printed = gedruckt am { $day }
 progress-print = Einseitige Zusammenfassung drucken
 progress-download = Tabelle herunterladen (CSV; { $zone })
+progress-download-assessments = Standardtests herunterladen (CSV; { $zone })
 progress-scales-failed = Die klinischen Skalen konnten nicht angezeigt werden: { $error }
 
 ## Der Standardtest (Issue 42): jedes Mal derselbe kurze Test, zuerst auf der Seite

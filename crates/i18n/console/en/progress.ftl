@@ -161,6 +161,7 @@ progress-print-of = Progress of { $name }
 progress-printed = printed { $day }
 progress-print = Print a one-page summary
 progress-download = Download spreadsheet (CSV; { $zone })
+progress-download-assessments = Download the standard assessments (CSV; { $zone })
 progress-scales-failed = The clinical scales could not be shown: { $error }
 
 ## The standard assessment (issue 42): the same short test each time, first on the page

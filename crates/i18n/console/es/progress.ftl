@@ -156,6 +156,7 @@ progress-print-of = Evolución de { $name }
 progress-printed = impreso el { $day }
 progress-print = Imprimir un resumen de una página
 progress-download = Descargar la hoja de cálculo (CSV; { $zone })
+progress-download-assessments = Descargar las evaluaciones estándar (CSV; { $zone })
 progress-scales-failed = No se pudieron mostrar las escalas clínicas: { $error }
 
 ## La evaluación estándar (issue 42): la misma prueba corta cada vez, la primera en la página

@@ -138,6 +138,7 @@ progress-print-of = { $name } 的进展
 progress-printed = 打印于 { $day }
 progress-print = 打印一页摘要
 progress-download = 下载电子表格（CSV；{ $zone }）
+progress-download-assessments = 下载标准评估（CSV；{ $zone }）
 progress-scales-failed = 无法显示临床量表：{ $error }
 
 ## 标准评估（issue 42）：每次都是同样的简短测试，放在页面最前面
