@@ -327,7 +327,11 @@ pub(crate) fn paint(p: &Painter, scene: &Scene, size: Vec2, neglected: Neglected
         arm_inset::paint(p, arm, arm_inset::anchor_for(p, size, neglected));
     }
     match &scene.screen {
-        ScreenState::Running => {}
+        ScreenState::Running => {
+            if let Some(notice) = &hud.notice {
+                notice_panel(p, size, notice, neglected);
+            }
+        }
         ScreenState::Start => {
             let title = if hud.exercise.is_empty() {
                 tr!("card-get-ready")
@@ -361,6 +365,47 @@ pub(crate) fn paint(p: &Painter, scene: &Scene, size: Vec2, neglected: Neglected
         ScreenState::Welcome(_) | ScreenState::CheckIn(_) => {}
     }
 }
+
+/// The height of the time-left panel at the top, points (its two lines and padding).
+const TIME_PANEL_PT: f32 = MIN_TEXT_PT + 44.0 + 2.0 * PAD + 10.0;
+
+/// A short sentence for the patient over the running exercise (the gentle cue to sit up):
+/// a calm white card with a green edge under the time left, in the middle of the side the
+/// patient attends to, in the size of a page's main sentence. No red, no flashing: it must
+/// not startle. Returns the card's rectangle.
+pub(crate) fn notice_panel(p: &Painter, size: Vec2, text: &str, neglected: NeglectedSide) -> Rect {
+    let g = galley(p, text, NOTICE_PT, CARD_TEXT);
+    let w = g.size().x + 4.0 * PAD + NOTICE_EDGE_PT;
+    let h = g.size().y + 2.0 * PAD;
+    let cx = layout::hud_x(size.x / 2.0, size.x, neglected);
+    let rect = Rect::from_min_size(pos2(cx - w / 2.0, MARGIN + TIME_PANEL_PT + PAD), vec2(w, h));
+    p.rect_filled(rect, CornerRadius::same(14), CARD);
+    p.rect_filled(
+        Rect::from_min_size(rect.min, vec2(NOTICE_EDGE_PT, h)),
+        CornerRadius {
+            nw: 14,
+            sw: 14,
+            ne: 0,
+            se: 0,
+        },
+        ACCENT,
+    );
+    let gh = g.size().y;
+    p.galley(
+        pos2(
+            rect.left() + NOTICE_EDGE_PT + 2.0 * PAD,
+            rect.center().y - gh / 2.0,
+        ),
+        g,
+        CARD_TEXT,
+    );
+    rect
+}
+
+/// The notice's text size, points (a page's main sentence: 25′ at 2 m).
+const NOTICE_PT: f32 = 40.0;
+/// The width of the notice's green edge, points.
+const NOTICE_EDGE_PT: f32 = 14.0;
 
 /// "Help" label and a bar showing the assist level, bottom-left.
 fn assist_bar(p: &Painter, anchor: Pos2, align: Align2, level: f64) {
