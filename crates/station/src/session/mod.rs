@@ -23,6 +23,8 @@ pub mod recorder;
 pub mod signals;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod trunk_cue_tests;
 pub mod trunk_measures;
 pub mod wheel_cards;
 pub mod wheel_gestures;
