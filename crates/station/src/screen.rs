@@ -223,11 +223,12 @@ fn pedal_hint(pedals: bool, speed_m_s: f64) -> Option<String> {
     (pedals && speed_m_s < 0.5).then(|| tr!("hud-press-pedal"))
 }
 
-/// The gentle cue to sit up while the haptic thread shows it (`session::arm::trunk_cue`).
+/// The gentle cue to sit up while the haptic thread shows it (`session::arm::trunk_cue`); the
+/// id is `speech::SIT_UP`'s, written out so the screen does not depend on the speech module.
 fn trunk_cue(rec: &TickRecord) -> Option<String> {
     rec.arm
         .is_some_and(|a| a.trunk_cue_shown)
-        .then(|| tr!(crate::speech::SIT_UP))
+        .then(|| tr!("hud-sit-up"))
 }
 
 /// The devices' lines of the HUD, in plain words.
