@@ -219,6 +219,7 @@ export async function prescribeView(el, id, refreshMessages, me) {
       <form id="rx-form" novalidate>
         ${numberField('rx-sessions', t('prescribe-sessions-label'), model.sessions_per_week, { ...limits.sessionsPerWeek, default: undefined })}
         ${limits.assessmentEveryDays ? numberField('rx-assessment-days', t('prescribe-assessment-label'), model.assessment && model.assessment.every_days, { ...limits.assessmentEveryDays, default: undefined }) : ''}
+        ${limits.trunkCueDeg ? numberField('rx-trunk-cue', t('prescribe-trunk-cue-label'), model.trunk && model.trunk.cue_deg, { ...limits.trunkCueDeg, default: undefined }) : ''}
         ${patientFieldset(model.patient, patient_spec, numberField)}
         ${adapt ? difficultyForm(model.difficulty, adapt) : ''}
         ${html || `<p>${esc(t('prescribe-no-exercise'))}</p>`}
@@ -301,6 +302,9 @@ export async function prescribeView(el, id, refreshMessages, me) {
     // Empty: no standard assessment scheduled.
     const assessDays = limits.assessmentEveryDays ? num('#rx-assessment-days') : undefined;
     if (assessDays === undefined) delete model.assessment; else model.assessment = { ...(model.assessment || {}), every_days: assessDays };
+    // Empty: no cue to sit up.
+    const cueDeg = limits.trunkCueDeg ? num('#rx-trunk-cue') : undefined;
+    if (cueDeg === undefined) delete model.trunk; else model.trunk = { ...(model.trunk || {}), cue_deg: cueDeg };
     readPatient(el, model, num);
     if (adapt) readDifficulty(el, model, adapt, num);
     rows.forEach((row, i) => {

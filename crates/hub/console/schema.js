@@ -79,6 +79,9 @@ export function regimenLimits(root) {
     // How often the station runs the standard assessment first (`[assessment] every_days`).
     assessmentEveryDays: root.properties.assessment
       ? numberSpec(root, nonNull(root, root.properties.assessment).properties.every_days) : null,
+    // The trunk's excursion that brings the gentle cue to sit up (`[trunk] cue_deg`).
+    trunkCueDeg: root.properties.trunk
+      ? numberSpec(root, nonNull(root, root.properties.trunk).properties.cue_deg) : null,
     ceiling: numberSpec(root, haptic.properties.ceiling_nm),
     maxExercises: root.properties.exercise.maxItems,
     maxPlannedS: root['x-max-planned-session-s'],

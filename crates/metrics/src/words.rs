@@ -155,7 +155,7 @@ const LDLJ_NOISE: Option<Noise> = Some(Noise::Relative(0.23));
 
 /// Every measure with words, in the order a clinician reads them (the session, then
 /// movement quality, then the exercises' own results, then strength and help).
-pub const MEASURES: [MeasureWords; 47] = [
+pub const MEASURES: [MeasureWords; 48] = [
     w(
         "active_s",
         "Active time",
@@ -619,6 +619,20 @@ pub const MEASURES: [MeasureWords; 47] = [
     .defined(
         "Share of wheel movements during which the trunk moved beyond the threshold.",
         "Wu et al. 2005, J Biomech 38:981 (ISB thorax angles); Cirstea & Levin 2000, Brain 123:940 (trunk compensation in stroke)",
+    ),
+    w(
+        "trunk_cues",
+        "Reminders to sit up",
+        "trunk cues given",
+        "",
+        0,
+        [0.0, 10.0],
+        None,
+        Neither,
+    )
+    .defined(
+        "Times the station asked the patient to sit up straight: the trunk stayed beyond the therapist's cue threshold for a second; at most one in 20 s.",
+        "telerehab's own cue (docs/DESIGN.md, trunk compensation); Cirstea & Levin 2000, Brain 123:940 (trunk compensation in stroke)",
     ),
     w(
         "pct_in_lane",

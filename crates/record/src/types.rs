@@ -376,6 +376,13 @@ pub struct ArmSample {
     /// True trunk rotation (simulation only), rad.
     #[serde(default)]
     pub true_trunk_rotation_rad: f64,
+    /// Gentle cues to sit up given so far in the session (the regimen's `[trunk] cue_deg`):
+    /// each step up is one cue, at that tick (absent in older files: none).
+    #[serde(default)]
+    pub trunk_cues: u64,
+    /// The cue's sentence is on the patient's screen (for a few seconds after each cue).
+    #[serde(default)]
+    pub trunk_cue_shown: bool,
 }
 
 /// Wall-clock timing of one tick (channel `/timing`).
@@ -603,11 +610,13 @@ impl<T> Stamped<T> {
 ///    device's session replays.
 /// 4. The format version in the metadata; configuration and regimen read leniently.
 /// 5. The trunk's angles from a sternum IMU on `/arm` (absent in older files: not tracked).
+/// 6. The gentle trunk cues on `/arm` (`trunk_cues`, `trunk_cue_shown`; absent in older
+///    files: none given).
 ///
 /// Formats 1–3 carry no version (read as [`UNVERSIONED_FORMAT`]); every format this product has
 /// written stays readable (the golden recordings under `tests/golden/` are opened by every
 /// reader in CI). A change to what a channel holds or how it is encoded takes the next number.
-pub const FORMAT_VERSION: u32 = 5;
+pub const FORMAT_VERSION: u32 = 6;
 
 /// The `format_version` of a recording written before versions were recorded (formats 1–3).
 pub const UNVERSIONED_FORMAT: u32 = 0;

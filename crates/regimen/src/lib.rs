@@ -19,7 +19,8 @@
 //! therapist's bounds ([`difficulty`]); an optional `[patient]` table carries the patient's
 //! language, neglected side and speech settings ([`patient`]); an optional `[assessment]`
 //! table how often the station runs the standard assessment first in a session
-//! ([`assessment`]).
+//! ([`assessment`]); an optional `[trunk]` table when the station cues the patient to sit up
+//! ([`trunk`]).
 //!
 //! Samples: `regimens/easy.toml`, `medium.toml`, `hard.toml`.
 
@@ -30,10 +31,12 @@ pub mod assessment;
 pub mod difficulty;
 pub mod lenient;
 pub mod patient;
+pub mod trunk;
 
 pub use assessment::AssessmentSchedule;
 pub use difficulty::{Aspect, DifficultySpec};
 pub use patient::{NeglectedSide, PatientSettings};
+pub use trunk::TrunkCue;
 
 use assist::AssistSpec;
 use haptic_wheel::{HapticRegimen, SpringDamper};
@@ -91,6 +94,10 @@ pub struct Regimen {
     /// (`[assessment] every_days = 7`; absent: never). See [`assessment`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub assessment: Option<AssessmentSchedule>,
+    /// The trunk's excursion that brings a gentle cue to sit up (`[trunk] cue_deg = 15`;
+    /// absent: no cue). See [`trunk`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub trunk: Option<TrunkCue>,
     /// The exercises, in the order the patient does them.
     #[serde(rename = "exercise")]
     #[schemars(length(min = 1, max = MAX_EXERCISES as u32))]
@@ -282,6 +289,12 @@ impl Regimen {
         }
         if let Some(a) = &r.assessment {
             a.validate().map_err(|message| RegimenError::Parse {
+                path: origin.into(),
+                message,
+            })?;
+        }
+        if let Some(t) = &r.trunk {
+            t.validate().map_err(|message| RegimenError::Parse {
                 path: origin.into(),
                 message,
             })?;

@@ -202,6 +202,11 @@ fn samples() -> Vec<Value> {
                        "reference": { "signal": "random-steps", "amplitude_deg": 20.0,
                                       "min_hold_s": 0.5, "max_hold_s": 60.0, "seed": 3 } }]
     }));
+    // The trunk cue's threshold.
+    out.push(json!({
+        "trunk": { "cue_deg": 15.0 },
+        "exercise": [{ "kind": "dial", "duration_s": 60.0 }]
+    }));
     out.push(json!({
         "patient": { "language": "de", "neglected_side": "left", "speech": true,
                      "speech_volume_pct": 80, "start_after_rest_s": 10.0 },

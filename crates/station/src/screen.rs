@@ -209,6 +209,7 @@ impl CourseView {
                     .into_iter()
                     .chain(device_lines(rec))
                     .collect(),
+                notice: trunk_cue(rec),
             },
             screen,
             arm: self.arm_inset(rec, measured_m),
@@ -220,6 +221,14 @@ impl CourseView {
 /// drive with them (at `speed_m_s`).
 fn pedal_hint(pedals: bool, speed_m_s: f64) -> Option<String> {
     (pedals && speed_m_s < 0.5).then(|| tr!("hud-press-pedal"))
+}
+
+/// The gentle cue to sit up while the haptic thread shows it (`session::arm::trunk_cue`); the
+/// id is `speech::SIT_UP`'s, written out so the screen does not depend on the speech module.
+fn trunk_cue(rec: &TickRecord) -> Option<String> {
+    rec.arm
+        .is_some_and(|a| a.trunk_cue_shown)
+        .then(|| tr!("hud-sit-up"))
 }
 
 /// The devices' lines of the HUD, in plain words.

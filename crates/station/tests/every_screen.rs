@@ -3,7 +3,7 @@
 //! the station speaks: the first run (language, pairing from the clinic's card, by the wheel,
 //! refused), today's page (and the rest-today page after a pain stop), the arm sensors'
 //! set-up, the cards before and between exercises, the running exercise (also as practice and
-//! with a neglected left side), pause, "end now?", the unplugged wheel and arm sensor, the
+//! with a neglected left side, and with the cue to sit up), pause, "end now?", the unplugged wheel and arm sensor, the
 //! session that cannot start, and each page of the check-in (results, pain unanswered and
 //! chosen, effort, difficulty, the pain stop, thanks).
 //!
@@ -293,7 +293,32 @@ fn screens() -> Vec<(&'static str, NeglectedSide, Scene)> {
     }
     all.extend(session.into_iter().map(none));
     all.extend(check_in().into_iter().map(none));
+    // Last, so the earlier screens keep their numbers: the gentle cue to sit up over the
+    // running exercise, and where a patient who neglects the left side looks.
+    let cued = trunk_cue(&regimen);
+    all.push(("running-trunk-cue", NeglectedSide::None, cued.clone()));
+    all.push(("running-trunk-cue-neglect-left", NeglectedSide::Left, cued));
     all
+}
+
+/// The running road while the station cues the patient to sit up (the trunk stayed leant
+/// past the therapist's threshold: `session::arm::trunk_cue`).
+fn trunk_cue(regimen: &Regimen) -> Scene {
+    let view = CourseView::new(&StationConfig::default(), Some(regimen)).unwrap();
+    let mut rec = tick(9000, 0, 8.0, false);
+    rec.vehicle = Some(record::VehicleSample {
+        ux_m_s: 12.0,
+        ..Default::default()
+    });
+    rec.arm = Some(record::ArmSample {
+        setup: record::ArmSetup::Tracking,
+        trunk_tracked: true,
+        trunk_lean_rad: 14f64.to_radians(),
+        trunk_cues: 1,
+        trunk_cue_shown: true,
+        ..Default::default()
+    });
+    view.scene(&rec, ScreenState::Running)
 }
 
 #[test]

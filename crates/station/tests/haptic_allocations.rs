@@ -26,6 +26,17 @@ fn allocations_in(cfg: &StationConfig, seconds: f64) -> (u64, u64) {
 fn allocations_paced(cfg: &StationConfig, seconds: f64, pacing: Pacing) -> (u64, u64) {
     let course = course::build(cfg, None).unwrap();
     let mut plant = Plant::simulated(cfg, course).unwrap();
+    allocations_of_plant(&mut plant, cfg, seconds, pacing)
+}
+
+/// Run `plant` for `seconds` of `cfg`'s loop and return the allocations made on the haptic
+/// thread and the ticks it ran.
+fn allocations_of_plant(
+    plant: &mut Plant,
+    cfg: &StationConfig,
+    seconds: f64,
+    pacing: Pacing,
+) -> (u64, u64) {
     let (mut producer, mut consumer) = rtrb::RingBuffer::<TickRecord>::new(4096);
     let done = Arc::new(AtomicBool::new(false));
     let drain = {
@@ -42,7 +53,7 @@ fn allocations_paced(cfg: &StationConfig, seconds: f64, pacing: Pacing) -> (u64,
     let clock = clock::Clock::real();
     let (outcome, allocations) = counting_alloc::allocations_of(|| {
         haptic::run(
-            &mut plant,
+            plant,
             &mut producer,
             total_ticks,
             pacing,
@@ -96,6 +107,35 @@ fn the_haptic_thread_allocates_nothing_with_a_sternum_imu_on_the_trunk() {
         allocs, 0,
         "allocations on the haptic thread with a sternum IMU"
     );
+}
+
+#[test]
+fn the_haptic_thread_allocates_nothing_while_it_cues_the_trunk() {
+    // A weak arm holding far dial steps leans past the regimen's cue threshold: the cue's
+    // watch, its dwell and its cues run on the 1 kHz path.
+    let mut cfg = config("dial-sine", None);
+    cfg.arm.sternum = true;
+    cfg.sim_patient.weakness = 0.6;
+    // The set-up's hold-still gives the trunk's fusion the rest it starts from.
+    cfg.arm.sim_mounting = station::config::MountingMode::Guided;
+    // (Seed 7: with the others' seed, 11, this patient's trunk gave no cue in 60 s.)
+    cfg.session.seed = 7;
+    let text = "[trunk]\ncue_deg = 5.0\n[[exercise]]\nkind = \"dial\"\nduration_s = 60.0\n\
+                [exercise.reference]\nsignal = \"step\"\namplitude_deg = 70.0\nhold_s = 4.0\n";
+    let regimen = regimen::Regimen::from_toml(text, "cued").unwrap();
+    let course = course::build(&cfg, Some(&regimen)).unwrap();
+    let mut plant = Plant::simulated(&cfg, course).unwrap();
+    let (allocs, ticks) = allocations_of_plant(&mut plant, &cfg, 90.0, Pacing::Max);
+    eprintln!(
+        "a cued dial with a sternum IMU: {allocs} allocations in {ticks} ticks, {} cues",
+        plant.trunk_cues()
+    );
+    assert!(
+        plant.trunk_cues() >= 1,
+        "the cue ran: {} cues",
+        plant.trunk_cues()
+    );
+    assert_eq!(allocs, 0, "allocations on the haptic thread while cueing");
 }
 
 #[test]

@@ -7,6 +7,7 @@ prescribe-version-none = Noch nichts verordnet: Die Station führt ihre Standard
 prescribe-version-now = Version { $version }, soeben verordnet von { $by }.
 prescribe-sessions-label = Sitzungen pro Woche
 prescribe-assessment-label = Standardtest alle … Tage (leer: keiner)
+prescribe-trunk-cue-label = Ans Aufrichten erinnern, wenn der Rumpf sich über … Grad bewegt (leer: nie)
 prescribe-no-exercise = Noch keine Übung: Fügen Sie eine hinzu.
 prescribe-add-label = Übung hinzufügen
 prescribe-add-button = Hinzufügen

@@ -7,6 +7,7 @@ prescribe-version-none = Nothing prescribed yet: the station runs its default ex
 prescribe-version-now = Version { $version }, prescribed by { $by } just now.
 prescribe-sessions-label = Sessions a week
 prescribe-assessment-label = Standard assessment every … days (empty: none)
+prescribe-trunk-cue-label = Remind to sit up when the trunk moves over … degrees (empty: never)
 prescribe-no-exercise = No exercise yet: add one.
 prescribe-add-label = Add an exercise
 prescribe-add-button = Add

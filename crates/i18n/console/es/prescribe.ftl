@@ -7,6 +7,7 @@ prescribe-version-none = Aún no hay nada prescrito: la estación ejecuta su eje
 prescribe-version-now = Versión { $version }, prescrita por { $by } ahora mismo.
 prescribe-sessions-label = Sesiones por semana
 prescribe-assessment-label = Evaluación estándar cada … días (vacío: ninguna)
+prescribe-trunk-cue-label = Recordar sentarse derecho cuando el tronco se mueve más de … grados (vacío: nunca)
 prescribe-no-exercise = Aún no hay ejercicios: añada uno.
 prescribe-add-label = Añadir un ejercicio
 prescribe-add-button = Añadir

@@ -7,6 +7,7 @@ prescribe-version-none = 尚未开具处方：训练站运行其默认训练。
 prescribe-version-now = 第 { $version } 版，由 { $by } 刚刚开具。
 prescribe-sessions-label = 每周训练次数
 prescribe-assessment-label = 标准评估间隔天数（留空：不评估）
+prescribe-trunk-cue-label = 躯干偏移超过 … 度时提醒坐直（留空：从不）
 prescribe-no-exercise = 尚无训练项目：请添加一项。
 prescribe-add-label = 添加训练项目
 prescribe-add-button = 添加

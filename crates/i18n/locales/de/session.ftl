@@ -81,6 +81,7 @@ hud-let-go = Lassen Sie das Lenkrad los und ruhen Sie sich aus.
 hud-speed = { $kmh } km/h
 hud-help = Hilfe: { $percent } %
 hud-press-pedal = Treten Sie das rechte Pedal, um zu fahren.
+hud-sit-up = Setzen Sie sich wieder gerade hin.
 hud-wheel-working = Lenkrad: bereit
 hud-wheel-resting = Lenkrad: Pause
 hud-wheel-stopping = Lenkrad: hält an

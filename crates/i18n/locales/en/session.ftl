@@ -84,6 +84,9 @@ hud-let-go = Let go of the wheel and rest.
 hud-speed = { $kmh } km/h
 hud-help = Help: { $percent } %
 hud-press-pedal = Press the right pedal to drive.
+# The gentle cue when the trunk stays leant past the therapist's threshold (shown and
+# spoken during an exercise, at most once in 20 s).
+hud-sit-up = Sit back up straight.
 hud-wheel-working = Wheel: working
 hud-wheel-resting = Wheel: resting
 hud-wheel-stopping = Wheel: stopping

@@ -81,6 +81,7 @@ hud-let-go = Suelte el volante y descanse.
 hud-speed = { $kmh } km/h
 hud-help = Ayuda: { $percent } %
 hud-press-pedal = Pise el pedal derecho para avanzar.
+hud-sit-up = Vuelva a sentarse derecho.
 hud-wheel-working = Volante: funciona
 hud-wheel-resting = Volante: en reposo
 hud-wheel-stopping = Volante: parando

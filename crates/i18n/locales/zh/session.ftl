@@ -81,6 +81,7 @@ hud-let-go = 松开方向盘，休息一下。
 hud-speed = { $kmh } 公里/小时
 hud-help = 辅助：{ $percent }%
 hud-press-pedal = 踩右踏板开车。
+hud-sit-up = 请重新坐直。
 hud-wheel-working = 方向盘：正常
 hud-wheel-resting = 方向盘：休息中
 hud-wheel-stopping = 方向盘：正在停止

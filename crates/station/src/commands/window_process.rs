@@ -163,6 +163,11 @@ fn serve(socket: UnixStream) -> anyhow::Result<()> {
             crate::speech::speak_page(&screen);
             message.drawing(&screen);
             let mut scene = view.scene_with_arm(&rec, screen, l.arm_measured_m);
+            // The gentle cue to sit up is said as it appears, over the running exercise.
+            let notice = (scene.screen == ScreenState::Running)
+                .then_some(scene.hud.notice.as_deref())
+                .flatten();
+            crate::speech::speak_notice(notice);
             if hello.practice {
                 crate::session::wheel_cards::mark_practice(&mut scene);
             }

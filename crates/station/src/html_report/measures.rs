@@ -49,7 +49,7 @@ const fn from_table(key: &str) -> Measure {
 }
 
 /// The measures shown, in order (those a session lacks are left out).
-pub(super) const MEASURES: [Measure; 41] = [
+pub(super) const MEASURES: [Measure; 42] = [
     from_table("session_s"),
     from_table("paused_s"),
     from_table("movements"),
@@ -82,6 +82,7 @@ pub(super) const MEASURES: [Measure; 41] = [
     from_table("trunk_rotation_mean_deg"),
     from_table("trunk_beyond_pct"),
     from_table("trunk_compensated_movements_pct"),
+    from_table("trunk_cues"),
     from_table("rms_lateral_m"),
     from_table("pct_in_lane"),
     from_table("dial_rms_error_deg"),
@@ -124,7 +125,7 @@ const fn shared(key: &str) -> Measure {
 
 /// An exercise's own results shown in the per-exercise table, in order (rows no exercise has
 /// are left out).
-pub(super) const EXERCISE_MEASURES: [Measure; 40] = [
+pub(super) const EXERCISE_MEASURES: [Measure; 41] = [
     shared("rms_lateral_m"),
     shared("pct_in_lane"),
     from_table("heading_rms_error_deg"),
@@ -154,6 +155,7 @@ pub(super) const EXERCISE_MEASURES: [Measure; 40] = [
     shared("trunk_rotation_mean_deg"),
     shared("trunk_beyond_pct"),
     shared("trunk_compensated_movements_pct"),
+    shared("trunk_cues"),
     shared("speed_metric_median"),
     shared("reaction_time_s_median"),
     shared("anticipation_pct"),

@@ -37,6 +37,7 @@ fn road_hud(name: &str, t_s: f64) -> Hud {
         speed_m_s: SPEED_M_S,
         assist_level: 0.4,
         devices: devices(),
+        notice: None,
     }
 }
 
@@ -174,6 +175,7 @@ pub fn dial(t_s: f64) -> Scene {
             speed_m_s: 0.0,
             assist_level: 0.25,
             devices: devices(),
+            notice: None,
         },
         screen: ScreenState::Running,
         ..Scene::default()

@@ -327,7 +327,11 @@ pub(crate) fn paint(p: &Painter, scene: &Scene, size: Vec2, neglected: Neglected
         arm_inset::paint(p, arm, arm_inset::anchor_for(p, size, neglected));
     }
     match &scene.screen {
-        ScreenState::Running => {}
+        ScreenState::Running => {
+            if let Some(notice) = &hud.notice {
+                notice_panel(p, size, notice, neglected, notice_top(scene, size));
+            }
+        }
         ScreenState::Start => {
             let title = if hud.exercise.is_empty() {
                 tr!("card-get-ready")
@@ -361,6 +365,66 @@ pub(crate) fn paint(p: &Painter, scene: &Scene, size: Vec2, neglected: Neglected
         ScreenState::Welcome(_) | ScreenState::CheckIn(_) => {}
     }
 }
+
+/// The height of the time-left panel at the top, points (its two lines and padding).
+const TIME_PANEL_PT: f32 = MIN_TEXT_PT + 44.0 + 2.0 * PAD + 10.0;
+
+/// Where the notice's top goes, points: under the time left; on the full-screen dial, over
+/// the dial's lowest part instead, below where any needle points (targets stay within
+/// ±129°, whose tips reach 0.63 of the way down), so it never hides the target.
+fn notice_top(scene: &Scene, size: Vec2) -> f32 {
+    if scene.dial.is_some() && !scene.has_road() {
+        let r = (size.x.min(size.y) * 0.33).max(40.0);
+        size.y * 0.52 + r * 0.72
+    } else {
+        MARGIN + TIME_PANEL_PT + PAD
+    }
+}
+
+/// A short sentence for the patient over the running exercise (the gentle cue to sit up):
+/// a calm white card with a green edge, its top at `top` (under the time left, or low on the
+/// full-screen dial: [`notice_top`]), in the middle of the side the patient attends to, in
+/// the size of a page's main sentence. No red, no flashing: it must not startle. Returns the
+/// card's rectangle.
+pub(crate) fn notice_panel(
+    p: &Painter,
+    size: Vec2,
+    text: &str,
+    neglected: NeglectedSide,
+    top: f32,
+) -> Rect {
+    let g = galley(p, text, NOTICE_PT, CARD_TEXT);
+    let w = g.size().x + 4.0 * PAD + NOTICE_EDGE_PT;
+    let h = g.size().y + 2.0 * PAD;
+    let cx = layout::hud_x(size.x / 2.0, size.x, neglected);
+    let rect = Rect::from_min_size(pos2(cx - w / 2.0, top), vec2(w, h));
+    p.rect_filled(rect, CornerRadius::same(14), CARD);
+    p.rect_filled(
+        Rect::from_min_size(rect.min, vec2(NOTICE_EDGE_PT, h)),
+        CornerRadius {
+            nw: 14,
+            sw: 14,
+            ne: 0,
+            se: 0,
+        },
+        ACCENT,
+    );
+    let gh = g.size().y;
+    p.galley(
+        pos2(
+            rect.left() + NOTICE_EDGE_PT + 2.0 * PAD,
+            rect.center().y - gh / 2.0,
+        ),
+        g,
+        CARD_TEXT,
+    );
+    rect
+}
+
+/// The notice's text size, points (a page's main sentence: 25′ at 2 m).
+const NOTICE_PT: f32 = 40.0;
+/// The width of the notice's green edge, points.
+const NOTICE_EDGE_PT: f32 = 14.0;
 
 /// "Help" label and a bar showing the assist level, bottom-left.
 fn assist_bar(p: &Painter, anchor: Pos2, align: Align2, level: f64) {
@@ -547,6 +611,40 @@ mod tests {
         assert_eq!(pixels_per_point(1280, 720), 1.0);
         assert_eq!(pixels_per_point(2560, 1440), 2.0);
         assert_eq!(pixels_per_point(1280, 1440), 1.0);
+    }
+
+    #[test]
+    fn the_notice_sits_under_the_time_left_and_on_the_dial_below_every_needle() {
+        let size = vec2(REFERENCE_SIZE[0], REFERENCE_SIZE[1]);
+        let point = |x_m| super::super::RoadPoint {
+            x_m,
+            y_m: 0.0,
+            lane_width_m: 3.5,
+        };
+        let road = Scene {
+            road: super::super::Road {
+                centre: vec![point(0.0), point(2.0)],
+                ..Default::default()
+            },
+            ..Scene::default()
+        };
+        let top = notice_top(&road, size);
+        assert!(top > MARGIN + TIME_PANEL_PT && top < size.y * 0.3, "{top}");
+        let dial = Scene {
+            dial: Some(Dial {
+                desired_rad: 0.0,
+                actual_rad: 0.0,
+            }),
+            ..Scene::default()
+        };
+        let r = size.y * 0.33;
+        let lowest_tip_y = size.y * 0.52 - r * 0.86 * 129f32.to_radians().cos();
+        let top = notice_top(&dial, size);
+        assert!(
+            top > lowest_tip_y,
+            "{top} above the needles' reach {lowest_tip_y}"
+        );
+        assert!(top + 80.0 < size.y, "{top}: on the screen");
     }
 
     /// egui's font atlas, the HUD's only texture.

@@ -108,6 +108,9 @@ pub struct Hud {
     pub assist_level: f64,
     /// One short line per device, e.g. "Wheel: connected".
     pub devices: Vec<String>,
+    /// A short sentence for the patient on top of the running exercise (the gentle cue to
+    /// sit up: "Sit back up straight."); `None` most of the time.
+    pub notice: Option<String>,
 }
 
 /// Which screen the patient sees on top of the exercise.

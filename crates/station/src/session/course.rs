@@ -29,6 +29,10 @@ pub struct Segment {
     /// The patient drives the speed with the pedals (the car starts at rest); otherwise the
     /// speed is automatic.
     pub pedals: bool,
+    /// The trunk's excursion that brings the gentle cue to sit up, deg (the regimen's
+    /// `[trunk] cue_deg`); `None`: no cue — without the table, and always in the standard
+    /// assessment, whose protocol is the same for every patient.
+    pub trunk_cue_deg: Option<f64>,
 }
 
 /// Shortest break between two prescribed exercises, s: long enough to read the card that says
@@ -105,6 +109,8 @@ fn build_segment(cfg: &StationConfig, entry: &RegimenEntry) -> anyhow::Result<Se
         assist,
         break_after: None,
         pedals: entry.pedals,
+        // No cue in the standard assessment: every patient meets the same protocol.
+        trunk_cue_deg: None,
     })
 }
 
@@ -171,11 +177,15 @@ pub fn build(cfg: &StationConfig, regimen: Option<&Regimen>) -> anyhow::Result<V
     let start_after_s = regimen
         .and_then(|r| r.patient.as_ref())
         .and_then(|p| p.start_after_rest_s);
+    let cue_deg = regimen.and_then(|r| r.trunk.as_ref()).map(|t| t.cue_deg);
     entries
         .iter()
         .enumerate()
         .map(|(i, e)| {
             let mut segment = build_segment(cfg, e)?;
+            if !matches!(e.exercise, ExerciseSpec::Assessment(_)) {
+                segment.trunk_cue_deg = cue_deg;
+            }
             segment.break_after = (i < last).then(|| Break {
                 start_after_s,
                 ..Break::after(e.rest_s)

@@ -177,6 +177,7 @@ mod tests {
             flush_every: 1000,
             arm_lengths_m: [0.3, 0.25],
             trunk_threshold_deg: crate::config::DEFAULT_TRUNK_THRESHOLD_DEG,
+            trunk_cued: Vec::new(),
             roads: Vec::new(),
             target_steps: Vec::new(),
             apart: Vec::new(),

@@ -250,6 +250,14 @@ impl MeasureCollector {
         self
     }
 
+    /// The same collector told which exercises (by index in the course) cue the patient to
+    /// sit up (the regimen's `[trunk] cue_deg`; never the standard assessment): their cues are
+    /// counted as `trunk_cues`. Call after [`Self::with_trunk_threshold_deg`].
+    pub fn with_trunk_cued(mut self, cued: Vec<bool>) -> Self {
+        self.trunk = std::mem::take(&mut self.trunk).with_cued(cued);
+        self
+    }
+
     /// The same collector told which of each exercise's target changes are steps to respond
     /// to (by its index in the course; `vehicle::Exercise::target_steps`): the stepping dial's
     /// jumps and the lane change's shifts, not the strength test's side changes. Without it

@@ -23,6 +23,8 @@ pub mod recorder;
 pub mod signals;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod trunk_cue_tests;
 pub mod trunk_measures;
 pub mod wheel_cards;
 pub mod wheel_gestures;
@@ -379,6 +381,8 @@ fn run_body(
         .iter()
         .map(|s| vehicle::assessment::is_assessment_name(&s.exercise.name))
         .collect();
+    // The exercises that cue the patient to sit up (never the assessment's: `course::build`).
+    let trunk_cued = course.iter().map(|s| s.trunk_cue_deg.is_some()).collect();
     let (given_body, given_facts) = given.unzip();
     let mut plant = match (given_body, opts.body) {
         (Some(body), _) => plant::Plant::new(cfg, body, course)?,
@@ -415,6 +419,7 @@ fn run_body(
         flush_every,
         arm_lengths_m: [cfg.arm.geometry.upper_arm_m, cfg.arm.geometry.forearm_m],
         trunk_threshold_deg: cfg.arm.trunk_threshold_deg,
+        trunk_cued,
         roads: course::roads(cfg, opts.regimen.as_ref())?,
         target_steps,
         apart,

@@ -499,6 +499,9 @@ pub(super) struct RecorderPlan {
     pub(super) apart: Vec<bool>,
     /// The trunk excursion counted as compensating, deg (`[arm] trunk_threshold_deg`).
     pub(super) trunk_threshold_deg: f64,
+    /// Which exercises, by index in the course, cue the patient to sit up (their cues are
+    /// counted in the measures).
+    pub(super) trunk_cued: Vec<bool>,
 }
 
 /// What the haptic thread leaves the recorder when it ends, for the recording's `/metrics`:
@@ -557,6 +560,7 @@ pub(super) fn recorder_loop(
         target_steps,
         apart,
         trunk_threshold_deg,
+        trunk_cued,
     } = plan;
     let scene = LiveScene {
         arm_lengths_m,
@@ -576,7 +580,8 @@ pub(super) fn recorder_loop(
         target_steps,
         apart,
     )
-    .with_trunk_threshold_deg(trunk_threshold_deg);
+    .with_trunk_threshold_deg(trunk_threshold_deg)
+    .with_trunk_cued(trunk_cued);
     let mut changes = ChangeLog::default();
     loop {
         let rec = match consumer.pop() {

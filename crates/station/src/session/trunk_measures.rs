@@ -1,19 +1,21 @@
 //! The trunk's measures ([`gyro_imu::trunk`]): per exercise and over the session, each axis's
 //! largest and mean excursion from the start posture, the share of time beyond the therapist's
 //! threshold, and the share of movements compensated with the trunk (the trunk beyond the
-//! threshold during the movement). Fed tick by tick from the arm samples; nothing without a
-//! sternum IMU.
+//! threshold during the movement), and the gentle cues to sit up the patient was given
+//! (`trunk_cues`, in exercises with a cue threshold: [`super::arm::trunk_cue`]). Fed tick by
+//! tick from the arm samples; nothing without a sternum IMU.
 
 use crate::config::DEFAULT_TRUNK_THRESHOLD_DEG;
 use gyro_imu::trunk::{AXES, TrunkAngles, TrunkExcursion};
 use record::ArmSample;
 use std::collections::BTreeMap;
 
-/// Movements counted and those compensated with the trunk.
+/// Movements counted, those compensated with the trunk, and the cues to sit up given.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct MovementCount {
     movements: u32,
     compensated: u32,
+    cues: u64,
 }
 
 /// The trunk's tallies of a session.
@@ -26,6 +28,10 @@ pub struct TrunkTally {
     exercises: Vec<Option<(TrunkExcursion, MovementCount)>>,
     /// The movement in progress (`None` between movements).
     movement: Option<(u32, TrunkExcursion)>,
+    /// Which exercises, by index in the course, cue the patient (their cues are counted).
+    cued: Vec<bool>,
+    /// The session's cue count on the last arm sample seen (`ArmSample::trunk_cues`).
+    cues_seen: u64,
 }
 
 impl Default for TrunkTally {
@@ -49,7 +55,20 @@ impl TrunkTally {
             session_movements: MovementCount::default(),
             exercises: Vec::new(),
             movement: None,
+            cued: Vec::new(),
+            cues_seen: 0,
         }
+    }
+
+    /// The same tallies told which exercises (by index in the course) cue the patient to sit
+    /// up: they count the cues (`trunk_cues`), the others do not name it.
+    pub fn with_cued(mut self, cued: Vec<bool>) -> Self {
+        self.cued = cued;
+        self
+    }
+
+    fn is_cued(&self, exercise: u32) -> bool {
+        self.cued.get(exercise as usize).copied().unwrap_or(false)
     }
 
     fn excursion(&self) -> TrunkExcursion {
@@ -74,10 +93,12 @@ impl TrunkTally {
         if self.exercises.len() <= i {
             self.exercises.resize(i + 1, None);
         }
-        self.exercises[i]
-            .get_or_insert((fresh, MovementCount::default()))
-            .0
-            .add(&angles, dt_s);
+        let new_cues = a.trunk_cues.saturating_sub(self.cues_seen);
+        self.cues_seen = self.cues_seen.max(a.trunk_cues);
+        self.session_movements.cues += new_cues;
+        let (excursion, count) = self.exercises[i].get_or_insert((fresh, MovementCount::default()));
+        excursion.add(&angles, dt_s);
+        count.cues += new_cues;
         if self.movement.is_some_and(|(e, _)| e != exercise) || !moving {
             self.end_movement();
         }
@@ -113,22 +134,24 @@ impl TrunkTally {
     /// The session's trunk measures into `named` (the movement in progress counted).
     pub fn name_session(&mut self, named: &mut BTreeMap<String, f64>) {
         self.end_movement();
+        let cued = self.cued.iter().any(|c| *c);
         if let Some(e) = &self.session {
-            name(named, e, self.session_movements);
+            name(named, e, self.session_movements, cued);
         }
     }
 
     /// Exercise `index`'s trunk measures into `named`.
     pub fn name_exercise(&self, index: u32, named: &mut BTreeMap<String, f64>) {
         if let Some(Some((e, count))) = self.exercises.get(index as usize) {
-            name(named, e, *count);
+            name(named, e, *count, self.is_cued(index));
         }
     }
 }
 
 /// The measures' keys: `trunk_<axis>_max_deg`, `trunk_<axis>_mean_deg` for each of
-/// [`AXES`], `trunk_beyond_pct` and `trunk_compensated_movements_pct`.
-fn name(named: &mut BTreeMap<String, f64>, e: &TrunkExcursion, count: MovementCount) {
+/// [`AXES`], `trunk_beyond_pct` and `trunk_compensated_movements_pct`, and `trunk_cues` when
+/// the patient was `cued` (a 0 then says no cue was needed).
+fn name(named: &mut BTreeMap<String, f64>, e: &TrunkExcursion, count: MovementCount, cued: bool) {
     let Some(s) = e.summary() else {
         return;
     };
@@ -142,6 +165,9 @@ fn name(named: &mut BTreeMap<String, f64>, e: &TrunkExcursion, count: MovementCo
             "trunk_compensated_movements_pct".to_owned(),
             100.0 * f64::from(count.compensated) / f64::from(count.movements),
         );
+    }
+    if cued {
+        named.insert("trunk_cues".to_owned(), count.cues as f64);
     }
 }
 
@@ -189,5 +215,34 @@ mod tests {
         let mut none = BTreeMap::new();
         TrunkTally::default().name_session(&mut none);
         assert!(none.is_empty());
+        assert!(
+            !session.contains_key("trunk_cues"),
+            "no cue threshold: not named"
+        );
+    }
+
+    #[test]
+    fn the_cues_are_counted_per_exercise_and_session_only_where_the_patient_is_cued() {
+        let mut t = TrunkTally::new(10.0).with_cued(vec![true, false, true]);
+        let cued = |n: u64| ArmSample {
+            trunk_cues: n,
+            ..arm(12.0)
+        };
+        // Exercise 0: two cues (the count steps up twice); exercise 1 none; exercise 2 one.
+        for n in [0, 1, 1, 1, 2, 2] {
+            t.add(Some(&cued(n)), 0, false, 0.01);
+        }
+        t.add(Some(&cued(2)), 1, false, 0.01);
+        t.add(Some(&cued(2)), 2, false, 0.01);
+        t.add(Some(&cued(3)), 2, false, 0.01);
+        let named = |i: u32| {
+            let mut m = BTreeMap::new();
+            t.name_exercise(i, &mut m);
+            m.get("trunk_cues").copied()
+        };
+        assert_eq!([named(0), named(1), named(2)], [Some(2.0), None, Some(1.0)]);
+        let mut session = BTreeMap::new();
+        t.name_session(&mut session);
+        assert_eq!(session["trunk_cues"], 3.0);
     }
 }

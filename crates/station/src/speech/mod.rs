@@ -45,8 +45,13 @@ pub fn spoken() -> Vec<&'static str> {
     ids.push(LOOK_HERE);
     // The devices' own pages: their titles are what is said.
     ids.extend(["controls-unplugged-title", "controls-arm-unplugged-title"]);
+    // The gentle cue to sit up, said over the running exercise.
+    ids.push(SIT_UP);
     ids
 }
+
+/// The gentle cue's message id (`session::arm::trunk_cue`).
+pub const SIT_UP: &str = "hud-sit-up";
 
 /// The anchoring cue's message id.
 pub const LOOK_HERE: &str = "neglect-look-here";
@@ -302,6 +307,19 @@ pub fn speak_page(screen: &ScreenState) {
         *last = text.map(str::to_owned);
         if let Some((t, side)) = said {
             speaker().say_from(&t, side);
+        }
+    }
+}
+
+/// Speaks the running exercise's notice (the gentle cue to sit up) when it appears: call it
+/// with every frame's notice. Once per appearance; never blocks.
+pub fn speak_notice(notice: Option<&str>) {
+    static LAST: Mutex<Option<String>> = Mutex::new(None);
+    let mut last = LAST.lock().unwrap_or_else(|e| e.into_inner());
+    if last.as_deref() != notice {
+        *last = notice.map(str::to_owned);
+        if let Some(text) = notice {
+            speaker().say(text);
         }
     }
 }

@@ -6,6 +6,7 @@
 pub mod hid;
 pub mod sim;
 pub mod trunk;
+pub mod trunk_cue;
 
 use clock::Clock;
 use gyro_imu::ImuError;

@@ -364,6 +364,11 @@ impl Exercise {
         self.course.get(segment).and_then(|s| s.break_after)
     }
 
+    /// The trunk cue's threshold of the exercise in progress, deg (`None`: no cue).
+    pub(super) fn trunk_cue_deg(&self) -> Option<f64> {
+        self.course[self.segment].trunk_cue_deg
+    }
+
     /// Move on to the next exercise at exercise time `t_s`, and the haptic settings it
     /// brings; or mark the course done after the last one.
     pub(super) fn next_segment(&mut self, t_s: f64) -> Option<&HapticRegimen> {

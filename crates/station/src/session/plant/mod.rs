@@ -15,6 +15,7 @@ pub use body::Body;
 pub use exercise::ExerciseScores;
 
 use crate::config::StationConfig;
+use crate::session::arm::trunk_cue::TrunkCue;
 use crate::session::arm::{SetupStep, WheelNow};
 use crate::session::course::Segment;
 use anyhow::Context;
@@ -66,6 +67,8 @@ pub struct Plant {
     /// The patient's own torque on the wheel, estimated from the wheel's dynamics and the
     /// torque sent (it observes only: nothing it computes is commanded).
     effort: assist::HandTorqueObserver,
+    /// The gentle cue to sit up (it writes the arm sample's cue fields, nothing else).
+    trunk_cue: TrunkCue,
 }
 
 /// The loop's ticks.
@@ -195,6 +198,7 @@ impl Plant {
             Body::Recorded(r) => r.replug_grace_ns(configured_grace_ns),
             _ => configured_grace_ns,
         };
+        let trunk_cue = TrunkCue::new(course[0].trunk_cue_deg);
         Ok(Self {
             body,
             chain,
@@ -217,6 +221,7 @@ impl Plant {
             },
             live_pedals: vehicle::Pedals::default(),
             effort,
+            trunk_cue,
         })
     }
 
@@ -368,7 +373,7 @@ impl Plant {
         // 5. Whoever holds the wheel moves it (following the arm set-up's prompts first); the
         //    arm's IMUs are read here.
         let aim_rad = aim_rad(setup, exercise.target_rad, now);
-        let motion = self.body.move_to(
+        let mut motion = self.body.move_to(
             aim_rad,
             WheelNow {
                 t_ns: now.t_ns,
@@ -377,6 +382,11 @@ impl Plant {
                 dt_s: now.dt_s,
             },
         );
+        //    The trunk watched for the gentle cue to sit up, after the torque went out: it
+        //    only writes the arm sample's cue fields.
+        let running =
+            !(paused || exercise.finished || self.exercise.course_done || self.raw.stop_requested);
+        self.trunk_cue.step(motion.arm.as_mut(), running, now.dt_s);
         // 6. Record what every stage did, and the raw inputs.
         let rec = self.record(Stages {
             now,
@@ -452,6 +462,12 @@ impl Plant {
             // Validated when the session started; a refusal keeps the previous settings.
             let _ = self.chain.apply_regimen(regimen);
         }
+        self.trunk_cue.next_exercise(self.exercise.trunk_cue_deg());
+    }
+
+    /// Gentle cues to sit up given so far.
+    pub fn trunk_cues(&self) -> u64 {
+        self.trunk_cue.cues()
     }
 
     /// Stage 4: the haptic chain turns `reading` and the `external_nm` torque (road feel and
