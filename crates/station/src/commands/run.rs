@@ -54,6 +54,10 @@ pub struct RunArgs {
     /// Record the session to this MCAP file.
     #[arg(long)]
     pub record: Option<PathBuf>,
+    /// Record nothing, not even into a paired home (so nothing is uploaded): for simulated
+    /// sessions whose results are all in the summaries and the `Bye` (`hub cohort`).
+    #[arg(long, conflicts_with = "record")]
+    pub no_record: bool,
     /// Therapist hub address, `host:port`.
     #[arg(long)]
     pub therapist: Option<String>,
@@ -109,6 +113,7 @@ impl RunArgs {
             exercise: None,
             regimen: None,
             record: None,
+            no_record: false,
             therapist: None,
             therapist_ca: None,
             speed: Speed::Realtime,
@@ -689,7 +694,11 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     let opts = SessionOptions {
         config: cfg.clone(),
         pacing,
-        record: args.record.clone().or(home.default_recording),
+        record: if args.no_record {
+            None
+        } else {
+            args.record.clone().or(home.default_recording)
+        },
         body,
         regimen,
         isolate_core: !args.headless,
