@@ -122,7 +122,13 @@ impl HumanArmParams {
             "[0, 10] N·m·s/rad",
         )?;
         check_range("human_arm.delay_s", self.delay_s, 0.0, 1.0, "[0, 1] s")?;
-        check_range("human_arm.reaction_s", self.reaction_s, 0.0, 2.0, "[0, 2] s")?;
+        check_range(
+            "human_arm.reaction_s",
+            self.reaction_s,
+            0.0,
+            2.0,
+            "[0, 2] s",
+        )?;
         check_range("human_arm.noise_nm", self.noise_nm, 0.0, 5.0, "[0, 5] N·m")?;
         check_range(
             "human_arm.activation_s",

@@ -118,7 +118,8 @@ impl Patient {
             reaction_s: (t.reaction_s * factor(REACTION_CV)).clamp(0.1, 2.0),
             noise_nm: t.noise_nm * noise,
             tremor_nm: t.tremor_nm * noise,
-            range_of_motion_rad: (t.range_of_motion_rad * factor(RANGE_CV)).min(std::f64::consts::PI),
+            range_of_motion_rad: (t.range_of_motion_rad * factor(RANGE_CV))
+                .min(std::f64::consts::PI),
             ..t.clone()
         }
     }
@@ -140,7 +141,10 @@ mod tests {
     #[test]
     fn the_cohort_spans_mild_to_severe_and_repeats_for_its_seed() {
         let cohort: Vec<Patient> = (0..40).map(|i| patient(5, i, &base())).collect();
-        assert_eq!(cohort, (0..40).map(|i| patient(5, i, &base())).collect::<Vec<_>>());
+        assert_eq!(
+            cohort,
+            (0..40).map(|i| patient(5, i, &base())).collect::<Vec<_>>()
+        );
         assert_ne!(cohort[0], patient(6, 0, &base()));
         let weak: Vec<f64> = cohort.iter().map(|p| p.truth.weakness).collect();
         let (lo, hi) = weak
@@ -156,8 +160,7 @@ mod tests {
     }
 
     #[test]
-    fn each_week_perturbs_the_state_by_the_stated_day_to_day_variation_around_an_unchanged_truth()
-    {
+    fn each_week_perturbs_the_state_by_the_stated_day_to_day_variation_around_an_unchanged_truth() {
         let p = patient(9, 3, &base());
         let weeks: Vec<HumanArmParams> = (0..400).map(|w| p.on_occasion(9, 3, w)).collect();
         assert_eq!(weeks[7], p.on_occasion(9, 3, 7));
@@ -170,9 +173,15 @@ mod tests {
             (mean, sd)
         };
         let (m, sd) = log_cv(&|a| a.reaction_s, p.truth.reaction_s);
-        assert!(m.abs() < 0.02 && (sd - REACTION_CV).abs() < 0.01, "{m} {sd}");
+        assert!(
+            m.abs() < 0.02 && (sd - REACTION_CV).abs() < 0.01,
+            "{m} {sd}"
+        );
         let (m, sd) = log_cv(&|a| 1.0 - a.weakness, 1.0 - p.truth.weakness);
-        assert!(m.abs() < 0.02 && (sd - STRENGTH_CV).abs() < 0.015, "{m} {sd}");
+        assert!(
+            m.abs() < 0.02 && (sd - STRENGTH_CV).abs() < 0.015,
+            "{m} {sd}"
+        );
         for w in &weeks {
             w.validate().unwrap();
             assert_eq!(w.delay_s, p.truth.delay_s);

@@ -192,7 +192,10 @@ mod tests {
         values
             .iter()
             .map(|v| {
-                BTreeMap::from([(("steps".to_owned(), "reaction_time_s_median".to_owned()), *v)])
+                BTreeMap::from([(
+                    ("steps".to_owned(), "reaction_time_s_median".to_owned()),
+                    *v,
+                )])
             })
             .collect()
     }
@@ -217,18 +220,34 @@ mod tests {
 
     #[test]
     fn a_change_is_a_verdict_only_beyond_mdc95_and_its_way_follows_the_measures_polarity() {
-        assert_eq!(verdict(0.4, 0.45, 0.1, Better::Lower), Some(Verdict::WithinNoise));
-        assert_eq!(verdict(0.4, 0.25, 0.1, Better::Lower), Some(Verdict::Better));
+        assert_eq!(
+            verdict(0.4, 0.45, 0.1, Better::Lower),
+            Some(Verdict::WithinNoise)
+        );
+        assert_eq!(
+            verdict(0.4, 0.25, 0.1, Better::Lower),
+            Some(Verdict::Better)
+        );
         assert_eq!(verdict(0.4, 0.55, 0.1, Better::Lower), Some(Verdict::Worse));
-        assert_eq!(verdict(2.0, 2.5, 0.1, Better::Higher), Some(Verdict::Better));
+        assert_eq!(
+            verdict(2.0, 2.5, 0.1, Better::Higher),
+            Some(Verdict::Better)
+        );
         assert_eq!(verdict(2.0, 2.5, 0.1, Better::Neither), None);
         // A held-out patient who moved by more than the band once in two comparisons.
         let (rows, _) = reliability_table(
-            &[occasions(&[0.30, 0.31]), occasions(&[0.45, 0.44]), occasions(&[0.38, 0.39])],
+            &[
+                occasions(&[0.30, 0.31]),
+                occasions(&[0.45, 0.44]),
+                occasions(&[0.38, 0.39]),
+            ],
             2,
         );
         let band = rows[0].reliability.mdc95;
-        let v = verdicts(&rows, &[occasions(&[0.40, 0.40 + band / 2.0, 0.40 - 2.0 * band])]);
+        let v = verdicts(
+            &rows,
+            &[occasions(&[0.40, 0.40 + band / 2.0, 0.40 - 2.0 * band])],
+        );
         assert_eq!((v.total, v.changed), (2, 1));
         assert!((v.rate() - 0.5).abs() < 1e-12);
     }

@@ -107,7 +107,10 @@ impl Run<'_> {
                 env!("CARGO_PKG_VERSION"),
                 commit()
             ),
-            model: super::model::MODEL.split_whitespace().collect::<Vec<_>>().join(" "),
+            model: super::model::MODEL
+                .split_whitespace()
+                .collect::<Vec<_>>()
+                .join(" "),
             subjects: self.args.patients,
             occasions: self.args.weeks,
             seed: self.args.seed,
@@ -137,7 +140,14 @@ impl Run<'_> {
             self.args.weeks
         );
         let _ = writeln!(s, "## The cohort and its day-to-day variation\n");
-        let _ = writeln!(s, "{}\n", super::model::MODEL.split_whitespace().collect::<Vec<_>>().join(" "));
+        let _ = writeln!(
+            s,
+            "{}\n",
+            super::model::MODEL
+                .split_whitespace()
+                .collect::<Vec<_>>()
+                .join(" ")
+        );
         let _ = writeln!(
             s,
             "The steps' timing is drawn from each session's seed and start (as every station \
@@ -179,7 +189,10 @@ impl Run<'_> {
             self.args.seed.wrapping_add(1),
             self.rate_line()
         );
-        let _ = writeln!(s, "| part | measure | verdicts | better/worse |\n|---|---|---|---|");
+        let _ = writeln!(
+            s,
+            "| part | measure | verdicts | better/worse |\n|---|---|---|---|"
+        );
         for ((part, measure), (n, changed)) in &self.verdicts.per_measure {
             let _ = writeln!(s, "| {part} | `{measure}` | {n} | {changed} |");
         }

@@ -23,7 +23,8 @@ pub const WEEK_MS: u64 = 7 * 86_400_000;
 
 /// The regimen every cohort station runs: the assessment weekly, then a short dial (a
 /// regimen needs an exercise of its own).
-pub const REGIMEN: &str = "[assessment]\nevery_days = 7\n\n[[exercise]]\nkind = \"dial\"\nduration_s = 10.0\n";
+pub const REGIMEN: &str =
+    "[assessment]\nevery_days = 7\n\n[[exercise]]\nkind = \"dial\"\nduration_s = 10.0\n";
 
 /// One cohort station.
 #[derive(Debug, Clone)]
@@ -109,8 +110,18 @@ impl Station {
             seed.to_string(),
         );
         let args = [
-            "run", "--sim", "--headless", "--speed", "max", "--no-record", "--config", &config,
-            "--regimen", &regimen, "--seed", &seed,
+            "run",
+            "--sim",
+            "--headless",
+            "--speed",
+            "max",
+            "--no-record",
+            "--config",
+            &config,
+            "--regimen",
+            &regimen,
+            "--seed",
+            &seed,
         ];
         self.telerehab(&args, &self.home.join(format!("week-{week}.log")))
             .await?;
@@ -161,9 +172,8 @@ impl Station {
 
 /// Assessments in the history of the home at `dir`.
 fn history_len(dir: &Path) -> usize {
-    std::fs::read_to_string(history_path(dir)).map_or(0, |t| {
-        t.lines().filter(|l| !l.trim().is_empty()).count()
-    })
+    std::fs::read_to_string(history_path(dir))
+        .map_or(0, |t| t.lines().filter(|l| !l.trim().is_empty()).count())
 }
 
 #[cfg(test)]
@@ -181,7 +191,11 @@ mod tests {
             seed: 3,
         };
         let path = history_path(dir.path());
-        std::fs::write(&path, format!("{}\n", serde_json::to_string(&entry).unwrap())).unwrap();
+        std::fs::write(
+            &path,
+            format!("{}\n", serde_json::to_string(&entry).unwrap()),
+        )
+        .unwrap();
         let schedule = regimen::Regimen::from_toml(REGIMEN, "cohort")
             .unwrap()
             .assessment
