@@ -655,6 +655,17 @@ fn body_and_wheel_node(
     Ok((body, wheel_node))
 }
 
+/// Where the session records: `--record`, else the paired home's recordings; nowhere with
+/// `--no-record`.
+fn recording_path(args: &RunArgs, home: &HomePlan) -> Option<PathBuf> {
+    if args.no_record {
+        return None;
+    }
+    args.record
+        .clone()
+        .or_else(|| home.default_recording.clone())
+}
+
 /// Run `telerehab run`: the session, then its report on stdout.
 pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     if args.try_out {
@@ -694,11 +705,7 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     let opts = SessionOptions {
         config: cfg.clone(),
         pacing,
-        record: if args.no_record {
-            None
-        } else {
-            args.record.clone().or(home.default_recording)
-        },
+        record: recording_path(&args, &home),
         body,
         regimen,
         isolate_core: !args.headless,

@@ -3,12 +3,12 @@
 //!
 //! A fresh clinic (SQLite in its directory, or the empty PostgreSQL database `--db` names)
 //! served by a `telerehab hub serve` child process; two cohorts of `--patients` unchanged
-//! patients each ([`model`]: impairment mild to severe, day-to-day variation from published
+//! patients each (module `model`: impairment mild to severe, day-to-day variation from published
 //! test–retest studies), the first to measure the noise (seed `--seed`), the second held out
 //! to test it (seed `--seed` + 1). Every patient's station pairs and runs `--weeks` weekly
-//! sessions as `telerehab run --sim --headless --speed max` ([`stations`]), the assessment
+//! sessions as `telerehab run --sim --headless --speed max` (module `stations`), the assessment
 //! due each week; the sessions reach the hub over the real link. Then, from the hub's
-//! database ([`noise`]):
+//! database (module `noise`):
 //!
 //! - every (part, measure)'s ICC(2,1), SEM and MDC95 on the first cohort, printed beside the
 //!   published figure where one exists;
@@ -18,7 +18,7 @@
 //!   are expected by construction (fewer where a measure's noise has heavier tails than a
 //!   normal's, more where it varies with the patient);
 //! - `--write-noise` writes `metrics::assessment_noise`'s table, `--doc` the reliability page
-//!   ([`report`]), and every cohort patient's FHIR bundle goes into the clinic's directory
+//!   (module `report`), and every cohort patient's FHIR bundle goes into the clinic's directory
 //!   (`fhir/`), kept with `--keep`.
 
 mod model;
@@ -168,7 +168,7 @@ fn write(path: &Path, text: &str) -> anyhow::Result<()> {
 async fn enrol(args: &CohortArgs, clinic_dir: &Path) -> anyhow::Result<Vec<Enrolled>> {
     let clinic = hub::clinic::Clinic::at(clinic_dir);
     let names = ["localhost".to_owned(), "127.0.0.1".to_owned()];
-    let now = crate::commands::hub::now_ms();
+    let now = hub::web::system_now_ms();
     clinic
         .init("cohort@clinic.example", &names, args.db.as_deref(), now)
         .await?;
@@ -293,7 +293,7 @@ async fn export_fhir(
     std::fs::create_dir_all(out).with_context(|| format!("cannot make {}", out.display()))?;
     let base = clinic.config()?.fhir_base()?;
     for p in cohort {
-        let now = crate::commands::hub::now_ms();
+        let now = hub::web::system_now_ms();
         let (bundle, _) = hub::patients::export_fhir(db, &p.pseudonym, now, &base).await?;
         write(&out.join(format!("{}.json", p.pseudonym)), &bundle)?;
     }

@@ -116,7 +116,9 @@ impl Run<'_> {
             seed: self.args.seed,
             rows: self.rows.iter().map(Row::noise_row).collect(),
         };
-        Ok(serde_json::to_string_pretty(&table)? + "\n")
+        let mut text = serde_json::to_string_pretty(&table)?;
+        text.push('\n');
+        Ok(text)
     }
 
     /// The reliability page.
