@@ -21,8 +21,17 @@ pub struct HumanArmParams {
     pub ki_nm_per_rad_s: f64,
     /// Derivative gain on the wheel velocity, N·m·s/rad.
     pub kd_nm_s_per_rad: f64,
-    /// Sensorimotor delay between seeing the target and acting, s.
+    /// Sensorimotor delay between seeing the target and acting, s: the lag of the feedback
+    /// loop while the target moves smoothly (a predictable target is followed with it alone).
     pub delay_s: f64,
+    /// Visual reaction time to an unpredictable jump of the target, s: from the jump to the
+    /// first change of the arm's torque (the delay included). Simple visual reaction time of
+    /// healthy adults is about 0.21–0.23 s (Woods et al. 2015, Front Hum Neurosci 9:131,
+    /// 1469 adults); after stroke it is longer and varies more, e.g. 0.40–0.47 s against
+    /// 0.33 s in controls (Pauley et al. 2015, simple and choice reaction time of stroke
+    /// survivors). 0: a jump is seen after `delay_s` like any other change (the thesis's PID
+    /// human).
+    pub reaction_s: f64,
     /// RMS of the motor noise in the torque the muscles produce, N·m (a neural noise
     /// low-passed by the muscles' activation, see `activation_s`; white when that is 0).
     pub noise_nm: f64,
@@ -69,6 +78,7 @@ impl Default for HumanArmParams {
             ki_nm_per_rad_s: 0.5,
             kd_nm_s_per_rad: 0.2,
             delay_s: 0.05,
+            reaction_s: 0.0,
             noise_nm: 0.02,
             activation_s: 0.02,
             inertia_kg_m2: 0.06,
@@ -112,6 +122,13 @@ impl HumanArmParams {
             "[0, 10] N·m·s/rad",
         )?;
         check_range("human_arm.delay_s", self.delay_s, 0.0, 1.0, "[0, 1] s")?;
+        check_range(
+            "human_arm.reaction_s",
+            self.reaction_s,
+            0.0,
+            2.0,
+            "[0, 2] s",
+        )?;
         check_range("human_arm.noise_nm", self.noise_nm, 0.0, 5.0, "[0, 5] N·m")?;
         check_range(
             "human_arm.activation_s",
@@ -228,6 +245,11 @@ fn activated_noise_gain(activation_s: f64, dt_s: f64) -> f64 {
 /// Phase bins of the arm's learned anticipation per repetition.
 const LEARNING_BINS: usize = 40;
 
+/// A change of the target larger than this in one tick is a jump the arm must react to, rad
+/// (a 40° sine at 2 rad/s moves 0.08° a millisecond; a step of the assessment moves 20° at
+/// once).
+pub const JUMP_RAD: f64 = 0.035;
+
 /// Time constant of the tremor's frequency and amplitude wander, s.
 const TREMOR_WANDER_S: f64 = 0.5;
 
@@ -237,6 +259,14 @@ pub struct HumanArm {
     params: HumanArmParams,
     delay_line: Vec<f64>,
     head: usize,
+    /// The target as the arm has seen it (held at its old value while reacting to a jump).
+    seen_rad: f64,
+    /// The target of the last tick, rad (to tell a jump).
+    last_target_rad: f64,
+    /// Ticks left before a jump is seen (0: the target is seen as it comes).
+    reacting_ticks: usize,
+    /// Ticks a jump is held back: `reaction_s − delay_s`, the delay line doing the rest.
+    reaction_ticks: usize,
     integral: f64,
     rng: ChaCha8Rng,
     noise: Normal<f64>,
@@ -272,10 +302,19 @@ impl HumanArm {
             0.0
         };
         let noise_gain = activated_noise_gain(params.activation_s, dt_s);
+        let reaction_ticks = if dt_s > 0.0 {
+            ((params.reaction_s - params.delay_s).max(0.0) / dt_s).round() as usize
+        } else {
+            0
+        };
         Self {
             params,
             delay_line: vec![0.0; delay_ticks + 1],
             head: 0,
+            seen_rad: 0.0,
+            last_target_rad: 0.0,
+            reacting_ticks: 0,
+            reaction_ticks,
             integral: 0.0,
             rng: ChaCha8Rng::seed_from_u64(seed),
             noise,
@@ -369,14 +408,33 @@ impl HumanArm {
             * self.tremor_phase.sin()
     }
 
+    /// The target as the arm sees it this tick: a jump larger than [`JUMP_RAD`] is held back
+    /// for the reaction time beyond the delay (`reaction_s − delay_s`, the delay line adds
+    /// the rest); a jump while reacting restarts nothing (the arm reacts to the first and
+    /// then sees the target as it is). Smooth changes pass at once.
+    fn see(&mut self, target_rad: f64) -> f64 {
+        let jumped = (target_rad - self.last_target_rad).abs() > JUMP_RAD;
+        self.last_target_rad = target_rad;
+        if jumped && self.reacting_ticks == 0 && self.reaction_ticks > 0 {
+            self.reacting_ticks = self.reaction_ticks;
+        }
+        if self.reacting_ticks > 0 {
+            self.reacting_ticks -= 1;
+        } else {
+            self.seen_rad = target_rad;
+        }
+        self.seen_rad
+    }
+
     /// Hand torque on the wheel, N·m, for the target angle the human wants now, the wheel
     /// angle and velocity it feels (rad, rad/s), over a tick of `dt_s`.
     ///
     /// The target passes through the reaction delay and the range-of-motion limit; the arm
     /// feels the wheel directly. Gains and strength are scaled by `1 − weakness`.
     pub fn step(&mut self, target_rad: f64, angle_rad: f64, vel_rad_s: f64, dt_s: f64) -> f64 {
+        let seen_rad = self.see(target_rad);
         let n = self.delay_line.len();
-        self.delay_line[self.head] = target_rad;
+        self.delay_line[self.head] = seen_rad;
         self.head = (self.head + 1) % n;
         let rom = self.params.range_of_motion_rad.abs();
         let delayed_target = self.delay_line[self.head].clamp(-rom, rom);
@@ -417,6 +475,47 @@ impl HumanArm {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The first tick (from 0) the arm's torque leaves 0 after the target jumps at `t = 0.1 s`
+    /// (or ramps smoothly from there at 0.5 rad/s), s after that time.
+    fn first_push_after(params: HumanArmParams, jump: bool) -> f64 {
+        let dt = 0.001;
+        let mut arm = HumanArm::new(params, dt, 1);
+        for k in 0..2000 {
+            let t = f64::from(k) * dt;
+            let target = match (jump, t >= 0.1) {
+                (_, false) => 0.0,
+                (true, true) => 0.35,
+                (false, true) => 0.5 * (t - 0.1),
+            };
+            if arm.step(target, 0.0, 0.0, dt).abs() > 1e-12 {
+                return t - 0.1;
+            }
+        }
+        f64::INFINITY
+    }
+
+    #[test]
+    fn a_jump_of_the_target_is_seen_after_the_reaction_time_a_smooth_change_after_the_delay() {
+        let params = HumanArmParams {
+            noise_nm: 0.0,
+            activation_s: 0.0,
+            delay_s: 0.05,
+            reaction_s: 0.25,
+            ..HumanArmParams::default()
+        };
+        let jump = first_push_after(params.clone(), true);
+        let smooth = first_push_after(params.clone(), false);
+        assert!((jump - 0.25).abs() < 0.0025, "jump seen after {jump} s");
+        assert!((smooth - 0.05).abs() < 0.0025, "ramp seen after {smooth} s");
+        // Without a reaction time a jump is seen after the delay alone.
+        let plain = HumanArmParams {
+            reaction_s: 0.0,
+            ..params
+        };
+        let jump = first_push_after(plain, true);
+        assert!((jump - 0.05).abs() < 0.0025, "jump seen after {jump} s");
+    }
 
     #[test]
     fn delayed_target_reaches_the_controller_after_the_delay() {

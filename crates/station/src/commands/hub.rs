@@ -114,6 +114,11 @@ pub enum HubCommand {
     /// unless every summary is stored exactly once, every recording verified, no station stuck
     /// and the audit log complete.
     Chaos(crate::commands::hub_chaos::ChaosArgs),
+    /// The standard assessment's measurement noise: two simulated cohorts of unchanged
+    /// patients assessed weekly through real stations and a hub; prints every measure's
+    /// ICC(2,1), SEM and MDC95 and the false better/worse rate on the held-out cohort, and
+    /// writes the noise table and the reliability page (docs/RELIABILITY.md).
+    Cohort(crate::commands::hub_cohort::CohortArgs),
     /// A patient's record for an electronic health record: a FHIR R4 `Bundle` (pseudonymous
     /// Patient, the regimen as CarePlan and ServiceRequest, an Observation per session and per
     /// clinical scale, the check-ins as QuestionnaireResponses; the hub's codes under
@@ -345,6 +350,7 @@ pub fn run(args: HubArgs) -> anyhow::Result<()> {
                 bench(load, db.as_deref(), hub_cpus.as_deref()).await
             }
             HubCommand::Chaos(args) => crate::commands::hub_chaos::run(args).await,
+            HubCommand::Cohort(args) => crate::commands::hub_cohort::run(args).await,
             HubCommand::Export {
                 data,
                 fhir,

@@ -8,6 +8,7 @@ pub mod docs;
 pub mod doctor;
 pub mod hub;
 pub mod hub_chaos;
+pub mod hub_cohort;
 pub mod pair;
 pub mod recover;
 pub mod render;

@@ -54,6 +54,10 @@ pub struct RunArgs {
     /// Record the session to this MCAP file.
     #[arg(long)]
     pub record: Option<PathBuf>,
+    /// Record nothing, not even into a paired home (so nothing is uploaded): for simulated
+    /// sessions whose results are all in the summaries and the `Bye` (`hub cohort`).
+    #[arg(long, conflicts_with = "record")]
+    pub no_record: bool,
     /// Therapist hub address, `host:port`.
     #[arg(long)]
     pub therapist: Option<String>,
@@ -109,6 +113,7 @@ impl RunArgs {
             exercise: None,
             regimen: None,
             record: None,
+            no_record: false,
             therapist: None,
             therapist_ca: None,
             speed: Speed::Realtime,
@@ -650,6 +655,17 @@ fn body_and_wheel_node(
     Ok((body, wheel_node))
 }
 
+/// Where the session records: `--record`, else the paired home's recordings; nowhere with
+/// `--no-record`.
+fn recording_path(args: &RunArgs, home: &HomePlan) -> Option<PathBuf> {
+    if args.no_record {
+        return None;
+    }
+    args.record
+        .clone()
+        .or_else(|| home.default_recording.clone())
+}
+
 /// Run `telerehab run`: the session, then its report on stdout.
 pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     if args.try_out {
@@ -689,7 +705,7 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     let opts = SessionOptions {
         config: cfg.clone(),
         pacing,
-        record: args.record.clone().or(home.default_recording),
+        record: recording_path(&args, &home),
         body,
         regimen,
         isolate_core: !args.headless,

@@ -134,15 +134,24 @@ impl ArmConfig {
     }
 }
 
+/// A healthy adult's simple visual reaction time, s (Woods et al. 2015, Front Hum Neurosci
+/// 9:131).
+pub const HEALTHY_REACTION_S: f64 = 0.22;
+
 /// The simulated patient holding the wheel: an unimpaired adult arm. The thesis's K_P = 2
 /// (Table 5.1) belongs to its J = 10 plant; on a 0.02 kg·m² wheel against a centring spring and
 /// road feel of up to ~1 N·m, an arm that keeps the wheel within a few degrees of its aim needs
-/// a stiffer grip (arm stiffness of several N·m/rad is typical of the human upper limb).
+/// a stiffer grip (arm stiffness of several N·m/rad is typical of the human upper limb). It
+/// reacts to an unpredictable jump of its target (the assessment's steps) after a healthy
+/// adult's simple visual reaction time, 0.22 s (Woods et al. 2015, Front Hum Neurosci 9:131:
+/// 0.21–0.23 s in 1469 adults); without it the steps' reaction time was the 0.05 s feedback
+/// delay plus the onset threshold, ~0.07 s, faster than any human's.
 pub fn default_sim_patient() -> HumanArmParams {
     HumanArmParams {
         kp_nm_per_rad: 8.0,
         ki_nm_per_rad_s: 4.0,
         kd_nm_s_per_rad: 0.3,
+        reaction_s: HEALTHY_REACTION_S,
         ..HumanArmParams::default()
     }
 }

@@ -1033,8 +1033,10 @@ fn the_standard_assessment_runs_first_without_assistance_and_measures_the_simula
     // Steps: one response each, human reaction times, paths no shorter than straight.
     let steps = score("assessment-steps", "step_responses");
     assert!((10.0..=45.0).contains(&steps), "{steps} steps");
+    // The simulated patient reacts after a healthy adult's visual reaction time (0.22 s); the
+    // onset threshold of the measure adds a little.
     let rt = score("assessment-steps", "reaction_time_s_median");
-    assert!((0.05..=1.5).contains(&rt), "reaction {rt} s");
+    assert!((0.2..=0.4).contains(&rt), "reaction {rt} s");
     assert!(score("assessment-steps", "path_length_ratio_median") >= 1.0 - 1e-9);
     let ide = score("assessment-steps", "initial_direction_error_deg_mean");
     assert!((0.0..=90.0).contains(&ide), "direction error {ide}°");

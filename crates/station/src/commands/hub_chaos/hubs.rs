@@ -29,8 +29,8 @@ pub struct HubSpec {
     pub exe: PathBuf,
     /// The clinic's data directory (shared by both hubs).
     pub data: PathBuf,
-    /// The PostgreSQL URL.
-    pub db: String,
+    /// The database URL (`--db`); `None`: the one the clinic's `hub.toml` names.
+    pub db: Option<String>,
     /// Stations' address.
     pub stations: SocketAddr,
     /// Console address.
@@ -104,7 +104,8 @@ fn spawn(spec: &HubSpec) -> std::io::Result<tokio::process::Child> {
     tokio::process::Command::new(&spec.exe)
         .args(["hub", "serve", "--data"])
         .arg(&spec.data)
-        .args(["--db", &spec.db, "--stations", &stations, "--web", &web])
+        .args(spec.db.iter().flat_map(|db| ["--db", db.as_str()]))
+        .args(["--stations", &stations, "--web", &web])
         .args(["--max-connections", "4096"])
         .args(["--max-connections-per-address", "4096"])
         .stdin(Stdio::null())

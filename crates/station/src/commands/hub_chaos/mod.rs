@@ -12,7 +12,7 @@
 //! (module `station`).
 
 mod check;
-mod hubs;
+pub(crate) mod hubs;
 mod postgres;
 mod station;
 
@@ -173,7 +173,7 @@ async fn day(
         hubs.push(Hub::start(HubSpec {
             exe: exe.clone(),
             data: dir.join("clinic"),
-            db: url.clone(),
+            db: Some(url.clone()),
             stations: free_port()?,
             web: free_port()?,
             log: dir.join(format!("hub-{k}.log")),
