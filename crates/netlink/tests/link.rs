@@ -1642,3 +1642,68 @@ async fn a_message_reaches_a_version_2_station_its_seen_reaches_the_hub_and_a_ve
     assert_eq!(stats.last_error, None, "{stats:?}");
     hub.shutdown(GUARD).await;
 }
+
+/// A queued session resent (as `telerehab sync` does) to a hub that already stores its first
+/// 40 summaries: the hub's Ack of seq 39 arrives when the station has handed over only
+/// seqs 0–2 of the 100. Once that was an "impossible Ack": Error frame, a reconnect, and on a
+/// real queue a 15 s wait for an acknowledgement, per queued session.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_resent_queued_session_takes_the_hubs_ack_of_what_it_holds_without_reconnecting() {
+    let store = tempfile::tempdir().unwrap();
+    let (hub, _events) = start_hub(store.path(), None).await;
+    let addr = hub.local_addr();
+    let handle = tokio::runtime::Handle::current();
+    // The first run got 0..40 to the hub before the station stopped.
+    let (sender, link) =
+        StationLink::spawn(&handle, fast_config(addr, None, hello("st-q", "s1"))).unwrap();
+    send_range(&sender, "s1", 0..40);
+    wait_until("the first run acknowledged", || link.stats().acked == 40).await;
+    drop(sender);
+    drop(link);
+    // The resend of the whole queued session, whose last seq the station knows.
+    let mut config = fast_config(addr, None, hello("st-q", "s1"));
+    config.replay_last_seq = Some(99);
+    let (sender, link) = StationLink::spawn(&handle, config).unwrap();
+    send_range(&sender, "s1", 0..3);
+    wait_until("the hub's Ack taken or refused", || {
+        let s = link.stats();
+        s.acked >= 3 || s.connections >= 2
+    })
+    .await;
+    send_range(&sender, "s1", 3..100);
+    let stats = link.finish(GUARD).await;
+    assert_eq!(stats.connections, 1, "{stats:?}");
+    assert_eq!(stats.last_error, None, "{stats:?}");
+    assert_eq!(stats.resent, 0, "{stats:?}");
+    assert_all_delivered(&stats, 100);
+    assert_eq!(
+        stored_seqs(store.path(), "st-q", "s1"),
+        (0..100).collect::<Vec<_>>()
+    );
+    hub.shutdown(GUARD).await;
+}
+
+/// The known last seq of a resent session bounds what the hub may acknowledge: an Ack one
+/// above it is still impossible (a broken hub must not make the station forget summaries it
+/// never stored), and everything is resent on the next connection.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_ack_above_a_resent_sessions_last_seq_is_still_a_protocol_error_and_nothing_is_lost() {
+    let store = tempfile::tempdir().unwrap();
+    let (hub, _events) = start_hub(store.path(), None).await;
+    let proxy = lying_ack_proxy(hub.local_addr(), "s1", 5).await;
+    let mut config = fast_config(proxy, None, hello("st-lie-q", "s1"));
+    config.replay_last_seq = Some(4);
+    let (sender, link) = StationLink::spawn(&tokio::runtime::Handle::current(), config).unwrap();
+    send_range(&sender, "s1", 0..5);
+    wait_until("a second connection", || link.stats().connections >= 2).await;
+    let error = link.stats().last_error.unwrap_or_default();
+    assert!(error.contains("impossible Ack"), "{error}");
+    assert!(error.contains("seq 5 "), "{error}");
+    let stats = link.finish(GUARD).await;
+    assert_all_delivered(&stats, 5);
+    assert_eq!(
+        stored_seqs(store.path(), "st-lie-q", "s1"),
+        (0..5).collect::<Vec<_>>()
+    );
+    hub.shutdown(GUARD).await;
+}

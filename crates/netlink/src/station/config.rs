@@ -114,6 +114,14 @@ pub struct StationLinkConfig {
     /// A connection with unacknowledged summaries and nothing heard from the hub for this
     /// long is considered dead and re-established, ms, in [1 000, 600 000]. Default 15 000.
     pub ack_timeout_ms: u64,
+    /// The last `seq` of the summaries this link will be given, when it is known before they
+    /// are handed over: a queued session being resent (`telerehab sync`, a later run's
+    /// delivery). The hub may already hold part of such a session and acknowledge it as soon
+    /// as the Hello arrives, before the replay has produced that far; an Ack up to this `seq`
+    /// is then legitimate (it drops the summaries it covers, even those handed over later,
+    /// so they are never sent), and only one above it is impossible. `None` (default, a live
+    /// session): only an Ack up to the last summary handed over is possible.
+    pub replay_last_seq: Option<u64>,
 }
 
 impl StationLinkConfig {
@@ -129,6 +137,7 @@ impl StationLinkConfig {
             reconnect: Backoff::default(),
             connect_timeout_ms: 5_000,
             ack_timeout_ms: 15_000,
+            replay_last_seq: None,
         }
     }
 

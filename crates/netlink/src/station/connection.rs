@@ -107,8 +107,10 @@ impl LinkTask {
     }
 
     /// Apply an Ack from the therapist: drop what it acknowledges; true when that was
-    /// progress. An Ack for another session or above what this station produced is a
-    /// protocol error (told to the hub in an Error frame when it is impossible).
+    /// progress. An Ack for another session or above what this station can produce (the
+    /// summaries handed over, or a resent session's known last `seq`,
+    /// [`StationLinkConfig::replay_last_seq`]) is a protocol error (told to the hub in an
+    /// Error frame when it is impossible).
     fn on_ack(
         &mut self,
         ack: &crate::frame::Ack,
@@ -124,19 +126,23 @@ impl LinkTask {
         // Everything handed to the link counts as produced, even if it is still in the
         // channel.
         self.drain_channel();
-        if self.last_produced_seq.is_none_or(|p| ack.seq > p) {
+        // A resent session's summaries exist before they are handed over: the hub may
+        // acknowledge up to their last seq while the replay is behind.
+        let possible = self.last_produced_seq.max(self.config.replay_last_seq);
+        if possible.is_none_or(|p| ack.seq > p) {
             let error = NetlinkError::Protocol(format!(
-                "impossible Ack: the therapist acknowledged seq {} but this station has \
-                 produced {}; reconnecting to resend what is unacknowledged",
+                "impossible Ack: the therapist acknowledged seq {} but this station has {}; \
+                 reconnecting to resend what is unacknowledged",
                 ack.seq,
-                self.last_produced_seq.map_or_else(
-                    || "no summary".to_owned(),
-                    |p| format!("only up to seq {p}")
+                possible.map_or_else(
+                    || "produced no summary".to_owned(),
+                    |p| format!("summaries only up to seq {p}")
                 )
             ));
             send_error_frame(out_tx, &error);
             return Err(error);
         }
+        self.acked_upto = self.acked_upto.max(Some(ack.seq));
         let mut n = 0;
         while self.pending.front().is_some_and(|p| p.seq <= ack.seq) {
             self.pending.pop_front();

@@ -226,6 +226,7 @@ impl StationLink {
             finishing: None,
             pending: VecDeque::new(),
             last_produced_seq: None,
+            acked_upto: None,
             regimen_tx,
             message_tx,
             seen_rx,

@@ -44,6 +44,9 @@ pub(super) struct LinkTask {
     pub(super) finishing: Option<Finish>,
     pub(super) pending: VecDeque<Pending>,
     pub(super) last_produced_seq: Option<u64>,
+    /// The highest `seq` the hub has acknowledged: a summary handed over later at or below it
+    /// is already stored there and is not queued (a resent queued session).
+    pub(super) acked_upto: Option<u64>,
     pub(super) regimen_tx: mpsc::Sender<Regimen>,
     /// The therapist's messages received, for the station to keep and show.
     pub(super) message_tx: mpsc::Sender<Message>,
@@ -160,6 +163,12 @@ impl LinkTask {
             return false;
         };
         self.last_produced_seq = Some(q.seq);
+        if self.acked_upto.is_some_and(|a| q.seq <= a) {
+            // The hub acknowledged it before it was handed over (only possible up to
+            // `replay_last_seq`): it is stored there, and sending it again would be waste.
+            Shared::bump(&self.shared.acked);
+            return false;
+        }
         if self.pending.len() >= self.config.max_pending {
             Shared::bump(&self.shared.dropped);
             self.shared.set_error(format!(

@@ -281,6 +281,9 @@ pub struct SyncReport {
     pub remaining: u64,
     /// The last error, if any session stays.
     pub last_error: Option<String>,
+    /// Connections that broke and were re-established, over all sessions (0 when every
+    /// session went on one connection).
+    pub reconnects: u64,
     /// The therapist's messages the hub sent on the sessions' connections, for the home's
     /// message store (each once, by id).
     pub messages: Vec<netlink::Message>,
@@ -327,6 +330,10 @@ pub async fn deliver_sessions(
             .channel_capacity
             .max(q.summaries.len() + 1)
             .min(MAX_LINK_CHANNEL);
+        // The hub may hold part of the session already and acknowledge it at once, before
+        // the replay below has handed that far: the link takes an Ack up to the session's
+        // last seq (and sends none of what it covers), and refuses one above it.
+        config.replay_last_seq = q.summaries.iter().map(|s| s.seq).max();
         let (sender, mut link) = StationLink::spawn(&handle, config)
             .with_context(|| format!("queued session {session_id}"))?;
         if let Some(c) = q.checkin {
@@ -354,6 +361,7 @@ pub async fn deliver_sessions(
                 timeout,
             )
             .await;
+        report.reconnects += stats.connections.saturating_sub(1);
         while let Ok(m) = messages.try_recv() {
             if !report.messages.iter().any(|k| k.id == m.id) {
                 report.messages.push(m);
@@ -423,6 +431,55 @@ mod tests {
         assert_eq!((report.delivered, report.remaining), (1, 0), "{report:?}");
         let stored = std::fs::read_to_string(store.join("station-1/s-long.jsonl")).unwrap();
         assert_eq!(stored.lines().count() as u64, n);
+        assert!(pending(&queue).unwrap().is_empty());
+    }
+
+    /// A queued session resent to a hub that already stores most of it (an earlier `sync`
+    /// or run got that far), on a runtime shaped as `sync`'s: the hub acknowledges what it
+    /// holds while the replay is still handing the summaries over. That Ack once counted as
+    /// impossible: a protocol error and a reconnect per session (and a 15 s wait).
+    #[test]
+    fn a_queued_session_the_hub_partly_holds_is_resent_on_one_connection_and_stored_once() {
+        let runtime = tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(1)
+            .enable_all()
+            .build()
+            .unwrap();
+        let tmp = tempfile::tempdir().unwrap();
+        let queue = tmp.path().join("queue");
+        let store = tmp.path().join("store");
+        let (n, held) = (4_000, 3_000);
+        let queue_up_to = |last: u64| {
+            let mut file = QueueFile::create(&queue, &hello()).unwrap();
+            for seq in 0..last {
+                file.push(&Summary::example("s-long", seq));
+            }
+            assert!(file.error.is_none());
+        };
+        let (first, resent) = runtime.block_on(async {
+            let config = TherapistConfig::new("127.0.0.1:0".parse().unwrap(), &store, None);
+            let (server, _events) = TherapistServer::bind(config).await.unwrap();
+            let addr = server.local_addr().to_string();
+            queue_up_to(held);
+            let timeout = Duration::from_secs(60);
+            let first = deliver(&queue, &addr, None, timeout).await.unwrap();
+            queue_up_to(n);
+            let resent = deliver(&queue, &addr, None, timeout).await.unwrap();
+            server.shutdown(Duration::from_secs(5)).await;
+            (first, resent)
+        });
+        assert_eq!((first.delivered, first.reconnects), (1, 0), "{first:?}");
+        assert_eq!(
+            (resent.delivered, resent.remaining, resent.reconnects),
+            (1, 0, 0),
+            "{resent:?}"
+        );
+        let stored = std::fs::read_to_string(store.join("station-1/s-long.jsonl")).unwrap();
+        let seqs: Vec<u64> = stored
+            .lines()
+            .map(|l| serde_json::from_str::<Summary>(l).unwrap().seq)
+            .collect();
+        assert_eq!(seqs, (0..n).collect::<Vec<_>>());
         assert!(pending(&queue).unwrap().is_empty());
     }
 }
