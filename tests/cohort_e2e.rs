@@ -12,10 +12,14 @@ use std::process::Command;
 use telerehab_tests::telerehab_bin;
 
 /// The held-out cohort's false better/worse verdicts allowed, %: MDC95 makes about 5 %
-/// expected; 3 patients × 3 weeks estimate it with 4 degrees of freedom of error, so the band
-/// itself is uncertain by tens of per cent (the 20 × 8 run of docs/RELIABILITY.md states the
-/// rate the table gives).
-const FALSE_CHANGE_BOUND_PCT: f64 = 20.0;
+/// expected of a band known exactly; 3 patients × 3 weeks estimate it with 4 degrees of
+/// freedom of error, which alone makes about 12 % expected (a band's SD drawn as
+/// √(χ²₄/4) of the true one), and the measures of one movement share their band's luck, so
+/// runs here gave 3.5–20.4 % (the station draws its steps from the session's start, so no two
+/// runs are the same). A verdict against a missing or collapsed band calls nearly every
+/// change better or worse; the 20 × 8 run of docs/RELIABILITY.md states the rate the table
+/// gives.
+const FALSE_CHANGE_BOUND_PCT: f64 = 40.0;
 
 /// The rows the console and report lead with, (part, measure).
 const LEADING: [(&str, &str); 5] = [

@@ -497,10 +497,11 @@ fn simulated_patient_drives_every_exercise_of_the_library() {
             assert!(peak > 0.5, "{name}: {peak} N·m\n{report}");
         } else if name.starts_with("dial") || name == "haptic-sweep" {
             let err = report_number(&report, "dial tracking");
-            // RMS over the whole run, step transients included: the simulated arm's inertia
-            // (0.06 kg·m² with the rim's 0.02) answers dial-step's jumps of the target in
-            // about a second (29° RMS over 20 s; 9.5° on the sine, 1.5° on the chirp).
-            assert!(err < 32.0, "{name}: dial RMS error {err}°\n{report}");
+            // RMS over the whole run, step transients included: the simulated arm sees
+            // dial-step's jumps of the target after a visual reaction time (0.22 s) and its
+            // inertia (0.06 kg·m² with the rim's 0.02) answers them in about a second (37° RMS
+            // over 20 s; 29° before the reaction time; 9.5° on the sine, 1.5° on the chirp).
+            assert!(err < 42.0, "{name}: dial RMS error {err}°\n{report}");
         } else {
             let in_lane = report_number(&report, "time in lane");
             assert!(in_lane >= 90.0, "{name}: {in_lane} % in lane\n{report}");
