@@ -30,6 +30,10 @@ DEFAULT_TABLES = [ROOT / "docs" / "safety" / "hazards.md"]
 ENTRY = re.compile(r"`((?:crates|tests|pyext)/[\w./-]+\.(?:rs|py))::(\w+)`")
 RUNNING = re.compile(r"^\s*Running (?:unittests )?(\S+) \((?:\S*/)?deps/([\w]+)-[0-9a-f]+(?:\.exe)?\)")
 RESULT = re.compile(r"\btest (\S+) \.\.\. (ok|FAILED|ignored)\b")
+# A test whose result another test's output (`--nocapture`) pushed off its line.
+STARTED = re.compile(r"\btest (\S+) \.\.\. (?!(?:ok|FAILED|ignored)\b)")
+# The binary's summary: a test started above without its result on its line took the binary's.
+SUMMARY = re.compile(r"^test result: (ok|FAILED)\. \d+ passed; (\d+) failed")
 
 
 @dataclass(frozen=True)
@@ -90,13 +94,24 @@ def cargo_results(log: str) -> list[tuple[str, str, str, str]]:
     """(source path, deps stem, test name, result) for every test result line of the log."""
     results = []
     source, stem = "", ""
+    unfinished: list[str] = []
     for line in log.splitlines():
         m = RUNNING.match(line)
         if m:
             source, stem = m.group(1), m.group(2)
+            unfinished = []
             continue
         for r in RESULT.finditer(line):
             results.append((source, stem, r.group(1), r.group(2)))
+        unfinished += [r.group(1) for r in STARTED.finditer(line)]
+        summary = SUMMARY.match(line)
+        if summary:
+            # libtest ends a binary with `ok` only when none of its tests failed: a test whose
+            # `... ok` was interleaved away passed; under `FAILED` it cannot be told, so it
+            # counts as failed.
+            passed = summary.group(1) == "ok" and summary.group(2) == "0"
+            results += [(source, stem, name, "ok" if passed else "FAILED") for name in unfinished]
+            unfinished = []
     return results
 
 

@@ -95,3 +95,19 @@ def test_a_test_run_once_a_backend_and_a_module_named_from_its_folder_keep_the_t
     assert "FAILED" in problems(tmp_path, [both], log=one_failed)[0]
     other = GOOD_XML.replace('classname="tests.python.test_check_skips"', 'classname="test_elsewhere"')
     assert "did not run" in problems(tmp_path, [PYTHON], xml=other)[0]
+
+
+def test_a_result_another_tests_output_pushed_off_its_line_takes_its_binarys_summary(tmp_path) -> None:
+    """With `--nocapture`, a parallel test's output can land between `test name ...` and its
+    `ok`: the binary's `test result: ok … 0 failed` then says it passed; a binary that failed
+    leaves it unproven."""
+    interleaved = GOOD_LOG.replace(
+        "test safety::tests::nan_request_ramps_to_zero ... ok\n",
+        "test safety::tests::nan_request_ramps_to_zero ... other test: 0 allocations in 3700 ticks\n"
+        "ok\n"
+        "test result: ok. 2 passed; 0 failed; 0 ignored; 0 measured; 0 filtered out; finished in 0.1s\n")
+    assert problems(tmp_path, [UNIT], log=interleaved) == []
+    failed = interleaved.replace("test result: ok. 2 passed; 0 failed", "test result: FAILED. 1 passed; 1 failed")
+    assert "FAILED" in problems(tmp_path, [UNIT], log=failed)[0]
+    unfinished = interleaved.replace("test result: ok. 2 passed; 0 failed; 0 ignored; 0 measured; 0 filtered out; finished in 0.1s\n", "")
+    assert "did not run" in problems(tmp_path, [UNIT], log=unfinished)[0]
