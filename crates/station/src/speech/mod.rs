@@ -301,12 +301,18 @@ pub fn utterance(
 pub fn speak_page(screen: &ScreenState) {
     static LAST: Mutex<Option<String>> = Mutex::new(None);
     let said = utterance(screen, crate::render::layout::neglected_side());
-    let mut last = LAST.lock().unwrap_or_else(|e| e.into_inner());
-    let text = said.as_ref().map(|(t, _)| t.as_str());
+    say_when_changed(&LAST, said.as_ref().map(|(t, side)| (t.as_str(), *side)));
+}
+
+/// Says `said` (from its side) when it differs from what `last` holds, and keeps it there:
+/// once per appearance, whatever the frame rate.
+fn say_when_changed(last: &Mutex<Option<String>>, said: Option<(&str, NeglectedSide)>) {
+    let mut last = last.lock().unwrap_or_else(|e| e.into_inner());
+    let text = said.map(|(t, _)| t);
     if last.as_deref() != text {
         *last = text.map(str::to_owned);
         if let Some((t, side)) = said {
-            speaker().say_from(&t, side);
+            speaker().say_from(t, side);
         }
     }
 }
@@ -315,13 +321,7 @@ pub fn speak_page(screen: &ScreenState) {
 /// with every frame's notice. Once per appearance; never blocks.
 pub fn speak_notice(notice: Option<&str>) {
     static LAST: Mutex<Option<String>> = Mutex::new(None);
-    let mut last = LAST.lock().unwrap_or_else(|e| e.into_inner());
-    if last.as_deref() != notice {
-        *last = notice.map(str::to_owned);
-        if let Some(text) = notice {
-            speaker().say(text);
-        }
-    }
+    say_when_changed(&LAST, notice.map(|t| (t, NeglectedSide::None)));
 }
 
 /// Applies the prescription's `[patient]` table to the station's speaker and layout: speech
