@@ -969,6 +969,58 @@ mod tests {
         assert!(err.contains("protocol"), "{err}");
     }
 
+    /// One session runs one assessment: a hostile or broken station's Bye with a part twice
+    /// or parts of two assessments is refused, naming the part (the hub would file them as
+    /// one assessment and export a bundle with two resources of one identifier).
+    #[test]
+    fn a_bye_with_an_assessment_part_twice_or_two_assessments_is_refused() {
+        use crate::frame::{AssessmentTag, ExerciseResult};
+        let part = |index, kind: &str, seed| ExerciseResult {
+            index,
+            kind: kind.into(),
+            name: "Assessment".into(),
+            prescribed_s: 60.0,
+            active_s: 60.0,
+            scores: Default::default(),
+            assessment: Some(AssessmentTag { protocol: 1, seed }),
+        };
+        let bye = |exercises| {
+            Frame::Bye(Bye {
+                session_id: "s1".into(),
+                reason: "complete".into(),
+                final_seq: Some(7),
+                measures: Default::default(),
+                hub_unix_ms: None,
+                checkin: None,
+                exercises,
+                difficulty: None,
+            })
+        };
+        let one = vec![
+            part(0, "assessment-range", 5),
+            part(1, "assessment-steps", 5),
+        ];
+        assert!(bye(one).validate().is_ok());
+        let twice = vec![
+            part(0, "assessment-steps", 5),
+            part(1, "assessment-steps", 5),
+        ];
+        let err = bye(twice).validate().unwrap_err().to_string();
+        assert!(
+            err.contains("exercises[1]") && err.contains("second"),
+            "{err}"
+        );
+        let two = vec![
+            part(0, "assessment-range", 5),
+            part(1, "assessment-steps", 6),
+        ];
+        let err = bye(two).validate().unwrap_err().to_string();
+        assert!(
+            err.contains("exercises[1]") && err.contains("one assessment"),
+            "{err}"
+        );
+    }
+
     /// A station's Bye with the difficulty its session ran at: additive, an older hub ignores
     /// it, and a value out of range or a reason with control characters is refused.
     #[test]

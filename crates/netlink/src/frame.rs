@@ -524,7 +524,8 @@ impl ExerciseResult {
 }
 
 /// Checks a [`Bye`]'s exercise results: at most [`MAX_EXERCISE_RESULTS`], each valid, their
-/// indices distinct.
+/// indices distinct; a session runs one standard assessment, so its tagged parts share one
+/// tag and each part appears once (the hub files and exports them as one assessment).
 pub fn check_exercise_results(exercises: &[ExerciseResult]) -> Result<(), FieldError> {
     if exercises.len() > MAX_EXERCISE_RESULTS {
         return Err(FieldError(format!(
@@ -533,10 +534,26 @@ pub fn check_exercise_results(exercises: &[ExerciseResult]) -> Result<(), FieldE
         )));
     }
     let mut seen = std::collections::BTreeSet::new();
+    let mut parts = std::collections::BTreeSet::new();
+    let mut tag = None;
     for e in exercises {
         e.validate()?;
         if !seen.insert(e.index) {
             return Err(FieldError(format!("exercises[{}] appears twice", e.index)));
+        }
+        let Some(this) = e.assessment else { continue };
+        if *tag.get_or_insert(this) != this {
+            return Err(FieldError(format!(
+                "exercises[{}].assessment differs from the session's first assessment part's: \
+                 one session runs one assessment",
+                e.index
+            )));
+        }
+        if !parts.insert(e.kind.as_str()) {
+            return Err(FieldError(format!(
+                "exercises[{}] is a second {:?} part of the session's assessment",
+                e.index, e.kind
+            )));
         }
     }
     Ok(())
