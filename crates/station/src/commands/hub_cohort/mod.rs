@@ -41,7 +41,7 @@ pub struct CohortArgs {
     /// Simulated patients in each of the two cohorts (measured and held out).
     #[arg(long, default_value_t = 20)]
     pub patients: usize,
-    /// Weekly assessments per patient.
+    /// Weekly assessments per patient, 2 to 50 (the station keeps 50 in its history).
     #[arg(long, default_value_t = 8)]
     pub weeks: usize,
     /// Seed of the measured cohort (the held-out cohort's is this + 1).
@@ -81,8 +81,11 @@ struct Enrolled {
 
 /// Runs the cohort and reports; an error if a station failed or a result is missing.
 pub async fn run(args: CohortArgs) -> anyhow::Result<()> {
-    if !(2..=200).contains(&args.patients) || !(2..=52).contains(&args.weeks) {
-        bail!("--patients must be 2 to 200 and --weeks 2 to 52");
+    // A week is seen by the station's history growing by one line; the history keeps
+    // `assessment::KEPT` lines, so a cohort runs no more weeks than that.
+    let max_weeks = crate::assessment::KEPT;
+    if !(2..=200).contains(&args.patients) || !(2..=max_weeks).contains(&args.weeks) {
+        bail!("--patients must be 2 to 200 and --weeks 2 to {max_weeks}");
     }
     if !(1..=32).contains(&args.jobs) {
         bail!("--jobs must be 1 to 32");
@@ -99,7 +102,7 @@ pub async fn run(args: CohortArgs) -> anyhow::Result<()> {
         args.patients,
         args.weeks,
         args.seed,
-        args.seed + 1,
+        args.seed.wrapping_add(1),
         args.jobs,
         dir.display()
     );

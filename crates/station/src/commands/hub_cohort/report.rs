@@ -72,7 +72,7 @@ impl Run<'_> {
     /// The table on the terminal.
     pub fn table(&self) -> String {
         let mut s = format!(
-            "\n{:<22} {:<16} {:>6} {:>10} {:>10} {:>8}  published\n",
+            "\n{:<16} {:<30} {:>6} {:>10} {:>10} {:>8}  published\n",
             "part", "measure", "ICC", "SEM", "MDC95", "MDC95 %"
         );
         for r in self.rows {
