@@ -5,6 +5,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use metrics::assessment_noise::NoiseRow;
+use metrics::change::{History, Verdict};
 use metrics::reliability::{Reliability, test_retest};
 use metrics::words::{Better, measure_words};
 
@@ -78,39 +79,6 @@ pub fn reliability_table(cohort: &[Occasions], weeks: usize) -> (Vec<Row>, Vec<S
     (rows, left_out)
 }
 
-/// A verdict on a change between two assessments.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Verdict {
-    /// Beyond MDC95, the better way.
-    Better,
-    /// Beyond MDC95, the worse way.
-    Worse,
-    /// Within MDC95.
-    WithinNoise,
-}
-
-/// The verdict on `now` against `first` with the band `mdc95` for a measure better `better`
-/// (`None` for a measure that is neither better higher nor lower).
-pub fn verdict(first: f64, now: f64, mdc95: f64, better: Better) -> Option<Verdict> {
-    let d = now - first;
-    if d.abs() <= mdc95 {
-        return Some(Verdict::WithinNoise);
-    }
-    match better {
-        Better::Higher => Some(if d > 0.0 {
-            Verdict::Better
-        } else {
-            Verdict::Worse
-        }),
-        Better::Lower => Some(if d < 0.0 {
-            Verdict::Better
-        } else {
-            Verdict::Worse
-        }),
-        Better::Neither => None,
-    }
-}
-
 /// The held-out cohort's verdicts: each patient's every later assessment against their first,
 /// for every measure with a direction (the words table's `better`) and a row in `rows`.
 #[derive(Debug, Clone, Default)]
@@ -138,7 +106,8 @@ impl Verdicts {
 pub fn verdicts(rows: &[Row], held_out: &[Occasions]) -> Verdicts {
     let mut v = Verdicts::default();
     for row in rows {
-        let Some(better) = measure_words(&row.measure).map(|w| w.better) else {
+        let Some(words) = measure_words(&row.measure).filter(|w| w.better != Better::Neither)
+        else {
             continue;
         };
         let key = (row.part.clone(), row.measure.clone());
@@ -150,10 +119,15 @@ pub fn verdicts(rows: &[Row], held_out: &[Occasions]) -> Verdicts {
                 let Some(now) = later.get(&key) else {
                     continue;
                 };
-                let Some(said) = verdict(*first, *now, row.reliability.mdc95, better) else {
+                // The console's verdict on this pair with the cohort's band (stated on the
+                // measure's grid, compared as shown): `metrics::change`.
+                let Some(said) = History::of(&[*first, *now])
+                    .change(words, Some(row.reliability.mdc95))
+                    .map(|c| c.verdict)
+                else {
                     continue;
                 };
-                let changed = usize::from(said != Verdict::WithinNoise);
+                let changed = usize::from(matches!(said, Verdict::Better | Verdict::Worse));
                 v.total += 1;
                 v.changed += changed;
                 let e = v.per_measure.entry(key.clone()).or_default();
@@ -219,21 +193,7 @@ mod tests {
     }
 
     #[test]
-    fn a_change_is_a_verdict_only_beyond_mdc95_and_its_way_follows_the_measures_polarity() {
-        assert_eq!(
-            verdict(0.4, 0.45, 0.1, Better::Lower),
-            Some(Verdict::WithinNoise)
-        );
-        assert_eq!(
-            verdict(0.4, 0.25, 0.1, Better::Lower),
-            Some(Verdict::Better)
-        );
-        assert_eq!(verdict(0.4, 0.55, 0.1, Better::Lower), Some(Verdict::Worse));
-        assert_eq!(
-            verdict(2.0, 2.5, 0.1, Better::Higher),
-            Some(Verdict::Better)
-        );
-        assert_eq!(verdict(2.0, 2.5, 0.1, Better::Neither), None);
+    fn a_held_out_change_counts_as_false_only_beyond_the_cohorts_band() {
         // A held-out patient who moved by more than the band once in two comparisons.
         let (rows, _) = reliability_table(
             &[
