@@ -501,11 +501,14 @@ pub async fn patient_bundle(
         .values()
         .flat_map(|m| m.keys().map(String::as_str))
         .collect();
+    let station_of: std::collections::HashMap<&str, &str> = sessions
+        .iter()
+        .map(|s| (s.row.session_id.as_str(), s.row.station_id.as_str()))
+        .collect();
     for a in assessments.iter().rev() {
-        let device = sessions
-            .iter()
-            .find(|s| s.row.session_id == a.session_id)
-            .map(|s| devices[s.row.station_id.as_str()].as_str());
+        let device = station_of
+            .get(a.session_id.as_str())
+            .map(|station| devices[*station].as_str());
         entries.extend(
             x.assessment_entries(a, device, &mut names)
                 .into_iter()
