@@ -181,24 +181,19 @@ impl Db {
     /// The standard assessments patient `patient_id` did, newest first: each session's
     /// assessment parts, with the session's start.
     pub async fn assessments_of(&self, patient_id: &str) -> Result<Vec<Assessment>, HubError> {
-        let rows = sqlx::query(
-            "SELECT e.session_id, s.started_unix_ms, e.exercise_index, e.kind, e.name, \
-             e.prescribed_s, e.active_s, e.scores_json, e.assessment_protocol, \
-             e.assessment_seed FROM session_exercises e \
-             JOIN sessions s ON s.session_id = e.session_id \
-             WHERE s.patient_id = $1 AND e.assessment_protocol IS NOT NULL \
-             ORDER BY s.started_unix_ms DESC, e.session_id, e.exercise_index",
-        )
-        .bind(patient_id)
-        .fetch_all(self.pool())
-        .await
-        .map_err(HubError::db("reading the assessments"))?;
+        let rows = sqlx::query(ASSESSMENT_ROWS_BEFORE)
+            .bind(patient_id)
+            .bind(i64::MAX)
+            .fetch_all(self.pool())
+            .await
+            .map_err(HubError::db("reading the assessments"))?;
         let mut out: Vec<Assessment> = Vec::new();
         for row in &rows {
             if let Some(done) = add_row(&mut out, row)? {
                 out.push(done);
             }
         }
+        out.reverse();
         Ok(out)
     }
 
@@ -217,18 +212,10 @@ impl Db {
         use tokio_stream::StreamExt as _;
         let limit = limit.clamp(1, MAX_ASSESSMENT_PAGE);
         let context = "reading the assessments";
-        let mut rows = sqlx::query(
-            "SELECT e.session_id, s.started_unix_ms, e.exercise_index, e.kind, e.name, \
-             e.prescribed_s, e.active_s, e.scores_json, e.assessment_protocol, \
-             e.assessment_seed FROM session_exercises e \
-             JOIN sessions s ON s.session_id = e.session_id \
-             WHERE s.patient_id = $1 AND e.assessment_protocol IS NOT NULL \
-             AND s.started_unix_ms < $2 \
-             ORDER BY s.started_unix_ms, e.session_id, e.exercise_index",
-        )
-        .bind(patient_id)
-        .bind(before_ms.unwrap_or(i64::MAX))
-        .fetch(self.pool());
+        let mut rows = sqlx::query(ASSESSMENT_ROWS_BEFORE)
+            .bind(patient_id)
+            .bind(before_ms.unwrap_or(i64::MAX))
+            .fetch(self.pool());
         let mut histories = Histories::default();
         let mut page: VecDeque<AssessmentWithChanges> = VecDeque::with_capacity(limit + 1);
         let mut finish = |a: Assessment| {
@@ -258,6 +245,16 @@ impl Db {
         Ok(page.into_iter().rev().collect())
     }
 }
+
+/// Patient `$1`'s assessment parts of sessions started before `$2`, oldest first, each
+/// session's parts together in course order (the rows [`add_row`] groups).
+const ASSESSMENT_ROWS_BEFORE: &str = "SELECT e.session_id, s.started_unix_ms, e.exercise_index, \
+     e.kind, e.name, e.prescribed_s, e.active_s, e.scores_json, e.assessment_protocol, \
+     e.assessment_seed FROM session_exercises e \
+     JOIN sessions s ON s.session_id = e.session_id \
+     WHERE s.patient_id = $1 AND e.assessment_protocol IS NOT NULL \
+     AND s.started_unix_ms < $2 \
+     ORDER BY s.started_unix_ms, e.session_id, e.exercise_index";
 
 /// Adds an assessment's part row to the last assessment of `out` when it is of the same
 /// session; returns the new assessment the row begins otherwise (a row of no assessment adds
