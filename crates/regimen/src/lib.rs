@@ -275,29 +275,18 @@ impl Regimen {
                 ),
             });
         }
-        if let Some(d) = &r.difficulty {
-            d.validate().map_err(|message| RegimenError::Parse {
+        // The regimen's optional tables, each checked by its own rules.
+        let tables = [
+            r.difficulty.as_ref().map(|d| d.validate()),
+            r.patient.as_ref().map(|p| p.validate()),
+            r.assessment.as_ref().map(|a| a.validate()),
+            r.trunk.as_ref().map(|t| t.validate()),
+        ];
+        if let Some(message) = tables.into_iter().flatten().find_map(Result::err) {
+            return Err(RegimenError::Parse {
                 path: origin.into(),
                 message,
-            })?;
-        }
-        if let Some(p) = &r.patient {
-            p.validate().map_err(|message| RegimenError::Parse {
-                path: origin.into(),
-                message,
-            })?;
-        }
-        if let Some(a) = &r.assessment {
-            a.validate().map_err(|message| RegimenError::Parse {
-                path: origin.into(),
-                message,
-            })?;
-        }
-        if let Some(t) = &r.trunk {
-            t.validate().map_err(|message| RegimenError::Parse {
-                path: origin.into(),
-                message,
-            })?;
+            });
         }
         for (i, e) in r.exercises.iter().enumerate() {
             let invalid = |message: String| RegimenError::Invalid {
