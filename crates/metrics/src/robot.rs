@@ -13,7 +13,9 @@
 //!   visually guided reaching", Neurorehabil Neural Repair 24(6):528–541).
 //! - **Reaction time**, **initial direction error**, **path length ratio**: per step change
 //!   of the target ([`step_responses`]), as Coderre et al. 2010 define them for a reach to a
-//!   target that appears, restated for a 1-D wheel angle (see [`StepResponse`]). A lane
+//!   target that appears, restated for a 1-D wheel angle (see [`StepResponse`]), with each
+//!   response measured as one discrete movement from its onset to its rest
+//!   ([`StepResponse::movement`]: its time, SPARC and LDLJ). A lane
 //!   change asks for a turn of known way but no fixed size when its lane shifts: reaction
 //!   time and initial direction error only ([`directed_step_responses`]), the onset signed,
 //!   since the patient sees the shift coming and may steer before reaching it.
@@ -132,6 +134,15 @@ pub struct ResponseParams {
     /// Steps asking for less movement than this (the wheel already near the new target) get
     /// no direction error nor path length ratio, rad. Default 0.05 rad (≈ 2.9°).
     pub min_distance_rad: f64,
+    /// A step's response starts with a run of the speed above the onset threshold at least
+    /// this long, s: a shorter burst (a tremor's, motor noise's) is no movement. Default
+    /// 0.1 s, the gap [`crate::segment`] merges into one movement (its `merge_gap_s`).
+    #[serde(default = "default_min_run_s")]
+    pub min_run_s: f64,
+}
+
+fn default_min_run_s() -> f64 {
+    0.1
 }
 
 impl Default for ResponseParams {
@@ -142,6 +153,7 @@ impl Default for ResponseParams {
             floor_rad_s: 0.05,
             max_window_s: 4.0,
             min_distance_rad: 0.05,
+            min_run_s: default_min_run_s(),
         }
     }
 }
@@ -166,6 +178,7 @@ impl ResponseParams {
                 self.min_distance_rad,
                 self.min_distance_rad >= 0.0,
             ),
+            ("min_run_s", self.min_run_s, self.min_run_s >= 0.0),
         ];
         for (field, value, ok) in fields {
             if !(ok && value.is_finite()) {
@@ -183,13 +196,20 @@ impl ResponseParams {
 
 /// The wheel's response to one step of the target, as Coderre et al. 2010 measure a reach to
 /// a target that appears, for one angle.
+///
+/// The response starts with the first run of the speed above the onset threshold
+/// `max(onset_fraction · peak, floor)` that begins after the step and lasts at least
+/// `min_run_s` (Coderre et al. 2010: 10 % of the peak speed). Two things the wheel does are
+/// no onset: a movement still going when the target stepped (the speed above the threshold
+/// at the step: the response can only start once it has fallen below), and a burst shorter
+/// than `min_run_s` (tremor, motor noise). `peak` is the response's own peak speed: the
+/// window's, after a movement in progress at the step has fallen below the threshold.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct StepResponse {
     /// The step responded to.
     pub step: TargetStep,
-    /// From the step to the movement's onset (the speed first above
-    /// `max(onset_fraction · peak, floor)` within the response window), s; `None` when the
-    /// wheel did not move in the window.
+    /// From the step to the response's onset, s; `None` when the wheel made no movement in
+    /// the window that started after the step (still, or moving throughout).
     pub reaction_time_s: Option<f64>,
     /// The initial direction error of a 1-D wheel angle: the direction of the wheel's
     /// displacement from the movement's onset to its first speed peak against the direction
@@ -203,6 +223,14 @@ pub struct StepResponse {
     /// with overshoots and corrections. `None` without a movement or when less than
     /// `min_distance_rad` was asked.
     pub path_length_ratio: Option<f64>,
+    /// The response as one discrete movement, from its onset to its end (the first sample
+    /// back at or below the threshold after the last above it in the window): its time,
+    /// peak speed, speed peaks, speed metric, SPARC and LDLJ, as [`crate::segment`] measures
+    /// a movement from rest to rest. `None` unless the response came to rest before the
+    /// window closed (the next step, `max_window_s` or the signal's end): a movement cut by
+    /// the next step is not a whole movement, and its smoothness is not the published one.
+    #[serde(default)]
+    pub movement: Option<crate::Movement>,
 }
 
 /// The wheel's response to each step of the target in one continuous angle signal (rad,
@@ -258,28 +286,90 @@ fn respond(
         reaction_time_s: None,
         initial_direction_error_deg: None,
         path_length_ratio: None,
+        movement: None,
     };
     let i0 = step.index;
-    let Some((onset, first_peak, last)) = movement_in(speed, i0, end, params) else {
+    let Some(r) = response_in(speed, i0, end, fs_hz, params) else {
         return none;
     };
     let needed = step.target_rad - angle[i0];
     let asked = needed.abs() >= params.min_distance_rad;
-    let before_onset = onset.saturating_sub(1).max(i0);
-    let initial = angle[first_peak] - angle[before_onset];
+    let before_onset = r.onset.saturating_sub(1).max(i0);
+    let initial = angle[r.first_peak] - angle[before_onset];
     let initial_direction_error_deg = asked
         .then(|| direction_error_deg(initial, needed.signum()))
         .flatten();
-    let path: f64 = angle[before_onset..=last]
+    let path: f64 = angle[before_onset..=r.last]
         .windows(2)
         .map(|w| (w[1] - w[0]).abs())
         .sum();
     StepResponse {
         step,
-        reaction_time_s: Some((onset - i0) as f64 / fs_hz),
+        reaction_time_s: Some((r.onset - i0) as f64 / fs_hz),
         initial_direction_error_deg,
         path_length_ratio: asked.then(|| path / needed.abs()),
+        movement: (r.last + 1 < end).then(|| {
+            crate::segment::movement(
+                speed,
+                r.onset,
+                r.last + 1,
+                fs_hz,
+                true,
+                &crate::SegmentParams::default(),
+            )
+        }),
     }
+}
+
+/// Where a step's response lies in the speed profile (indices into it).
+struct Response {
+    /// The first sample of the response's first run above the threshold.
+    onset: usize,
+    /// The first speed peak after the onset.
+    first_peak: usize,
+    /// The last sample above the threshold in the window.
+    last: usize,
+}
+
+/// The response to a step at `start` in `speed[start..end]`, as [`StepResponse`] defines its
+/// onset; `None` when the wheel makes no such movement in the window.
+fn response_in(
+    speed: &[f64],
+    start: usize,
+    end: usize,
+    fs_hz: f64,
+    params: &ResponseParams,
+) -> Option<Response> {
+    let threshold = |w: &[f64]| {
+        let peak = w.iter().copied().fold(0.0, f64::max);
+        (params.onset_fraction * peak).max(params.floor_rad_s)
+    };
+    let window = &speed[start..end];
+    // A movement in progress at the step, by the whole window's threshold, then the
+    // response's own threshold from where that movement has fallen below it.
+    let settled = window.iter().position(|&v| v <= threshold(window))?;
+    let v_th = threshold(&window[settled..]);
+    let quiet = settled + window[settled..].iter().position(|&v| v <= v_th)?;
+    let min_run = ((params.min_run_s * fs_hz).round() as usize).max(1);
+    let mut k = quiet;
+    let onset = loop {
+        let from = k + window[k..].iter().position(|&v| v > v_th)?;
+        let run = window[from..].iter().take_while(|&&v| v > v_th).count();
+        if run >= min_run {
+            break from;
+        }
+        k = from + run;
+    };
+    let last = onset + window[onset..].iter().rposition(|&v| v > v_th)?;
+    let (onset, last) = (start + onset, start + last);
+    let first_peak = (onset..last)
+        .find(|&j| speed[j + 1] < speed[j])
+        .unwrap_or(last);
+    Some(Response {
+        onset,
+        first_peak,
+        last,
+    })
 }
 
 /// Steps given as `(index, valid)` are in time order within a signal of `n` samples and
@@ -556,6 +646,79 @@ mod tests {
         assert!(step_responses(&still, 100.0, &[late], &ResponseParams::default()).is_err());
         let unordered = [step, step];
         assert!(step_responses(&still, 100.0, &unordered, &ResponseParams::default()).is_err());
+    }
+
+    /// Issue 42: the steps part's reaction times were 0–0.05 s for patients whose wheel was
+    /// still moving (or trembling) when the target stepped. A movement under way at the step
+    /// and a burst shorter than `min_run_s` are no onset: the reaction time is the delay to
+    /// the response's own movement.
+    #[test]
+    fn a_movement_under_way_at_the_step_or_a_short_burst_is_no_onset() {
+        let fs = 100.0;
+        // The last turn (0 → 0.5 rad over 1 s) ends 0.3 s after the step at 1 s; the response
+        // (0.5 → 0 over 0.8 s) starts 0.6 s after the step.
+        let angle: Vec<f64> = (0..400)
+            .map(|i| {
+                let t = f64::from(i) / fs;
+                0.5 * min_jerk(t - 0.3) - 0.5 * min_jerk((t - 1.6) / 0.8)
+            })
+            .collect();
+        let step = TargetStep {
+            index: 100,
+            target_rad: 0.0,
+        };
+        let params = ResponseParams::default();
+        let r = step_responses(&angle, fs, &[step], &params).unwrap()[0];
+        let rt = r.reaction_time_s.unwrap();
+        // The onset at 10 % of the peak speed: 0.8 · 0.086 s into the turn.
+        assert!((rt - (0.6 + 0.069)).abs() < 0.03, "{rt}");
+        assert_eq!(r.initial_direction_error_deg, Some(0.0));
+        // A 50 ms burst of 0.3 rad/s at 1.4 s (the last turn over, the response not begun):
+        // no onset either.
+        let mut bumped = angle.clone();
+        for (i, a) in bumped.iter_mut().enumerate().skip(140) {
+            *a += 0.3 * (f64::from(i.min(145) as u32) - 140.0) / fs;
+        }
+        let b = step_responses(&bumped, fs, &[step], &params).unwrap()[0];
+        let brt = b.reaction_time_s.unwrap();
+        assert!((brt - rt).abs() < 0.03, "{brt} vs {rt}");
+        // The same burst made 0.15 s long is a movement: the onset is its start.
+        let mut pushed = angle;
+        for (i, a) in pushed.iter_mut().enumerate().skip(140) {
+            *a += 0.3 * (f64::from(i.min(155) as u32) - 140.0) / fs;
+        }
+        let p = step_responses(&pushed, fs, &[step], &params).unwrap()[0];
+        let prt = p.reaction_time_s.unwrap();
+        assert!((0.35..0.45).contains(&prt), "{prt}");
+        // A wheel moving through the whole window never responded after the step.
+        let turning: Vec<f64> = (0..400).map(|i| 0.01 * f64::from(i)).collect();
+        let t = step_responses(&turning, fs, &[step], &params).unwrap()[0];
+        assert_eq!((t.reaction_time_s, t.movement), (None, None));
+    }
+
+    /// Issue 42: each step's response is one discrete movement, measured from rest to rest,
+    /// unless the next step cut it.
+    #[test]
+    fn a_response_that_comes_to_rest_is_one_movement_and_one_cut_by_the_next_step_is_none() {
+        let (angle, step) = response_to_a_step(0.3, 1.0);
+        let params = ResponseParams::default();
+        let r = step_responses(&angle, 100.0, &[step], &params).unwrap()[0];
+        let m = r.movement.expect("a whole movement");
+        // A minimum-jerk turn of 0.8 s above 10 % of its peak for 0.8 · (1 − 2 · 0.086) s.
+        assert!((m.duration_s - 0.66).abs() < 0.03, "{}", m.duration_s);
+        assert_eq!(m.n_peaks, 1);
+        let sparc = m.sparc.unwrap();
+        assert!((-1.6..-1.3).contains(&sparc), "{sparc}");
+        assert!(m.ldlj.unwrap() < 0.0);
+        assert!(m.discrete);
+        // The next step 0.6 s after the turn began: the response cut before it came to rest.
+        let next = TargetStep {
+            index: 190,
+            target_rad: 0.0,
+        };
+        let cut = step_responses(&angle, 100.0, &[step, next], &params).unwrap()[0];
+        assert!(cut.reaction_time_s.is_some());
+        assert_eq!(cut.movement, None);
     }
 
     /// A wheel that makes a lane change's out-and-back turn (a minimum-jerk turn of 0.3 rad

@@ -128,7 +128,7 @@ impl SegmentParams {
 }
 
 /// One discrete movement found by [`segment`].
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Movement {
     /// Index of its first sample (the first above the threshold).
     pub start_index: usize,
@@ -238,7 +238,10 @@ pub fn segment(
         .collect())
 }
 
-fn movement(
+/// The movement `speed[s..e]` (from its first sample above a threshold to the first back at
+/// or below it), measured: duration, peak speed, speed peaks, speed metric, and for a
+/// `discrete` one SPARC and LDLJ; also [`crate::StepResponse::movement`]'s.
+pub(crate) fn movement(
     speed: &[f64],
     s: usize,
     e: usize,

@@ -363,7 +363,7 @@ pub const MEASURES: [MeasureWords; 48] = [
         Lower,
     )
     .defined(
-        "Time from an unpredictable step of the target (a dial's random jump) to the wheel starting to move (10 % of the movement's top speed), median.",
+        "Time from an unpredictable step of the target (a dial's random jump) to the wheel starting its response (10 % of the response's top speed, held 0.1 s; a movement still going at the step is not its start), median.",
         "Coderre et al. 2010, Neurorehabil Neural Repair 24(6):528-541; onsets sooner than 0.1 s are anticipations (Pain & Hibbs 2007, J Sports Sci 25(1):79-86)",
     ),
     w(
@@ -850,7 +850,13 @@ pub fn measures_markdown() -> String {
          Smoothness (SPARC, LDLJ) is scored only on discrete movements (from rest to rest, at \
          most 5 s; `crates/metrics/src/segment.rs`); reaction time only on unpredictable steps \
          (a dial's random jumps), a lane shift seen ahead giving an anticipation share instead \
-         (`crates/metrics/src/robot.rs`).\n\n\
+         (`crates/metrics/src/robot.rs`). In an exercise whose target steps (the stepping dial, \
+         the standard assessment's steps), a movement is the response to one step: from its \
+         onset (the first run of the speed above 10 % of the response's peak that starts after \
+         the step and lasts 0.1 s: a movement still going at the step or a tremor's burst is \
+         no onset) to its rest before the next step; the per-movement measures (smoothness, \
+         movement time, peak speed, speed peaks, evenness) are those of these responses, a \
+         response cut by the next step left out.\n\n\
          | Key | Name | Unit | Better | Definition | Source |\n|---|---|---|---|---|---|\n",
     );
     for m in &MEASURES {

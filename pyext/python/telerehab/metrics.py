@@ -248,7 +248,9 @@ class StepResponse:
     step_index: int
     #: The new target, rad.
     target_rad: float
-    #: From the step to the movement's onset (speed above 10 % of the response's peak), s.
+    #: From the step to the response's onset (the first run of the speed above 10 % of the
+    #: response's peak that starts after the step and lasts 0.1 s: a movement still going at
+    #: the step, or a shorter burst, is no onset), s.
     reaction_time_s: Optional[float]
     #: 0° when the first movement (onset to first speed peak) goes towards the target, 180°
     #: when it goes the other way (a 1-D angle has nothing in between).

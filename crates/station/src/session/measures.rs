@@ -95,9 +95,8 @@ pub struct MeasureCollector {
     exercise_now: u32,
     /// Each exercise's own tallies, by its index in the course.
     tallies: Vec<ExerciseTally>,
-    /// The steps of the target, (index into the series of the sample they fall in, the
-    /// step), in time order, at most [`MAX_TARGET_STEPS`].
-    target_steps: Vec<(usize, Cue)>,
+    /// The steps of the target, in time order, at most [`MAX_TARGET_STEPS`].
+    target_steps: Vec<NotedStep>,
     /// The last tick's target, rad (`None` at the start of an exercise).
     last_target_rad: Option<f64>,
     /// Which of each exercise's target changes are steps, by its index in the course; empty
@@ -113,6 +112,16 @@ pub struct MeasureCollector {
     last_s_m: Option<f64>,
     /// The trunk's excursions, when a sternum IMU is worn.
     trunk: TrunkTally,
+}
+
+/// A step of the target as noted: the index into the series of the sample it falls in, the
+/// exercise whose tick it came on (a step on an exercise's last tick falls in the sample of
+/// the next one's first: it is no step of the next exercise), and the step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct NotedStep {
+    index: usize,
+    exercise: u32,
+    cue: Cue,
 }
 
 /// A step the wheel is to respond to.
@@ -139,6 +148,9 @@ struct Reaction {
     anticipated: Option<bool>,
     initial_direction_error_deg: Option<f64>,
     path_length_ratio: Option<f64>,
+    /// An unpredictable step's response as one movement from rest to rest
+    /// ([`metrics::StepResponse::movement`]).
+    movement: Option<metrics::Movement>,
 }
 
 /// What the collector counts of one exercise, tick by tick.
@@ -401,6 +413,22 @@ impl MeasureCollector {
         }
     }
 
+    /// Whether exercise `index`'s steps are jumps of the target (every exercise's when not
+    /// told: [`Self::with_target_steps`]).
+    fn steps_are_jumps(&self, index: u32) -> bool {
+        self.steps_of.is_empty()
+            || matches!(self.steps_of.get(index as usize), Some(TargetSteps::Jumps))
+    }
+
+    /// Notes a step of the exercise in progress at the sample the tick falls in.
+    fn note(&mut self, cue: Cue) {
+        self.target_steps.push(NotedStep {
+            index: self.series.len(),
+            exercise: self.exercise_now,
+            cue,
+        });
+    }
+
     /// Notes a jump of the target between the last tick and this one (none when `skip`).
     fn note_target(&mut self, target_rad: f64, skip: bool) {
         if !target_rad.is_finite() {
@@ -410,8 +438,7 @@ impl MeasureCollector {
             && (target_rad - last).abs() >= TARGET_STEP_MIN_RAD
             && self.target_steps.len() < MAX_TARGET_STEPS
         {
-            self.target_steps
-                .push((self.series.len(), Cue::Jump(target_rad)));
+            self.note(Cue::Jump(target_rad));
         }
         self.last_target_rad = Some(target_rad);
     }
@@ -430,8 +457,12 @@ impl MeasureCollector {
         while let Some(shift) = shifts.get(self.next_shift).filter(|sh| sh.s_m <= s_m) {
             let reached = self.last_s_m.is_some_and(|last| last < shift.s_m);
             if reached && !skip && self.target_steps.len() < MAX_TARGET_STEPS {
-                self.target_steps
-                    .push((self.series.len(), Cue::Shift(shift.direction)));
+                // Not `note`: `shifts` borrows `steps_of`.
+                self.target_steps.push(NotedStep {
+                    index: self.series.len(),
+                    exercise: self.exercise_now,
+                    cue: Cue::Shift(shift.direction),
+                });
             }
             self.next_shift += 1;
         }
@@ -453,20 +484,24 @@ impl MeasureCollector {
             if left_out || r.len() < 2 {
                 continue;
             }
-            let in_run = || self.target_steps.iter().filter(|(i, _)| r.contains(i));
+            let in_run = || {
+                self.target_steps
+                    .iter()
+                    .filter(|s| s.exercise == e && r.contains(&s.index))
+            };
             let shifts: Vec<DirectedStep> = in_run()
-                .filter_map(|&(i, cue)| match cue {
+                .filter_map(|s| match s.cue {
                     Cue::Shift(direction) => Some(DirectedStep {
-                        index: i - r.start,
+                        index: s.index - r.start,
                         direction,
                     }),
                     Cue::Jump(_) => None,
                 })
                 .collect();
             let mut steps: Vec<TargetStep> = in_run()
-                .filter_map(|&(i, cue)| match cue {
+                .filter_map(|s| match s.cue {
                     Cue::Jump(target_rad) => Some(TargetStep {
-                        index: i - r.start,
+                        index: s.index - r.start,
                         target_rad,
                     }),
                     Cue::Shift(_) => None,
@@ -488,6 +523,7 @@ impl MeasureCollector {
                     anticipated: None,
                     initial_direction_error_deg: r.initial_direction_error_deg,
                     path_length_ratio: r.path_length_ratio,
+                    movement: r.movement,
                 }));
             }
             // Two shifts in one sample (none on a real road) would be out of order: the first kept.
@@ -503,6 +539,7 @@ impl MeasureCollector {
                     anticipated: r.anticipated(),
                     initial_direction_error_deg: r.initial_direction_error_deg,
                     path_length_ratio: None,
+                    movement: None,
                 }));
             }
         }
@@ -623,7 +660,11 @@ impl MeasureCollector {
                 let tally = self.tallies.get(s.index as usize);
                 if let Some(m) = self.exercise_measures(s.index) {
                     name_movement_measures(&mut named, &m);
-                    name_step_responses(&mut named, &self.responses(Some(s.index)));
+                    let responses = self.responses(Some(s.index));
+                    name_step_responses(&mut named, &responses);
+                    if self.steps_are_jumps(s.index) {
+                        name_step_movements(&mut named, &responses);
+                    }
                 }
                 if let Some(t) = tally {
                     for (k, joint) in JOINTS.iter().enumerate() {
@@ -871,23 +912,20 @@ fn name_movement_measures(named: &mut BTreeMap<String, f64>, s: &SessionMeasures
     put("active_s", s.active_s);
     put("active_pct", 100.0 * s.active_fraction);
     put("peak_speed_deg_s", s.peak_speed_rad_s.to_degrees());
-    for (name, summary, scale) in [
-        ("sparc", &s.sparc, 1.0),
-        ("ldlj", &s.ldlj, 1.0),
-        (
-            "movement_peak_speed_deg_s",
-            &s.movement_peak_speed_rad_s,
-            1.0_f64.to_degrees(),
-        ),
-        ("movement_time_s", &s.movement_time_s, 1.0),
-        ("speed_peaks", &s.n_peaks, 1.0),
-        ("speed_metric", &s.speed_metric, 1.0),
-    ] {
-        if let (Some(median), Some(mean)) = (summary.median, summary.mean) {
-            put(&format!("{name}_median"), median * scale);
-            put(&format!("{name}_mean"), mean * scale);
-        }
-    }
+    name_per_movement(
+        named,
+        [
+            s.sparc,
+            s.ldlj,
+            s.movement_peak_speed_rad_s,
+            s.movement_time_s,
+            s.n_peaks,
+            s.speed_metric,
+        ],
+    );
+    let mut put = |name: &str, v: f64| {
+        named.insert(name.to_owned(), v);
+    };
     put("movements_per_min", s.movements_per_min);
     put("reversals_per_min", s.reversals_per_min);
     put("wheel_rom_deg", s.wheel_range.range.to_degrees());
@@ -896,6 +934,60 @@ fn name_movement_measures(named: &mut BTreeMap<String, f64>, s: &SessionMeasures
         put(&format!("{}_min_deg", j.name), j.min.to_degrees());
         put(&format!("{}_max_deg", j.name), j.max.to_degrees());
     }
+}
+
+/// The measures of each movement by name, median and mean (`sparc_median`, `sparc_mean`, …),
+/// from their summaries in [`PER_MOVEMENT`]'s order; a measure no movement has is left out.
+fn name_per_movement(named: &mut BTreeMap<String, f64>, summaries: [metrics::Summary; 6]) {
+    for ((name, scale), summary) in PER_MOVEMENT.into_iter().zip(summaries) {
+        if let (Some(median), Some(mean)) = (summary.median, summary.mean) {
+            named.insert(format!("{name}_median"), median * scale);
+            named.insert(format!("{name}_mean"), mean * scale);
+        }
+    }
+}
+
+/// The measures taken of each movement, with the scale from the movement's unit (rad/s to
+/// °/s for the peak speed).
+const PER_MOVEMENT: [(&str, f64); 6] = [
+    ("sparc", 1.0),
+    ("ldlj", 1.0),
+    ("movement_peak_speed_deg_s", 1.0_f64.to_degrees()),
+    ("movement_time_s", 1.0),
+    ("speed_peaks", 1.0),
+    ("speed_metric", 1.0),
+];
+
+/// An exercise whose target steps (the stepping dial, the assessment's steps part): its
+/// movements are the responses to the steps, each from its onset to its rest
+/// ([`metrics::StepResponse::movement`]), not the free segmentation's, which on a wheel
+/// that never rests between steps finds one long movement or none from rest to rest. The
+/// per-movement measures of [`name_movement_measures`] are replaced, and left out when no
+/// response came to rest before the next step; the dose (`movements`, `discrete_movements`)
+/// stays the segmentation's.
+fn name_step_movements(named: &mut BTreeMap<String, f64>, responses: &[Reaction]) {
+    for (name, _) in PER_MOVEMENT {
+        named.remove(&format!("{name}_median"));
+        named.remove(&format!("{name}_mean"));
+    }
+    let moves: Vec<&metrics::Movement> = responses
+        .iter()
+        .filter_map(|r| r.movement.as_ref())
+        .collect();
+    let of = |f: fn(&metrics::Movement) -> Option<f64>| {
+        metrics::Summary::of(moves.iter().filter_map(|m| f(m)))
+    };
+    name_per_movement(
+        named,
+        [
+            of(|m| m.sparc),
+            of(|m| m.ldlj),
+            of(|m| Some(m.peak_speed)),
+            of(|m| Some(m.duration_s)),
+            of(|m| Some(m.n_peaks as f64)),
+            of(|m| Some(m.speed_metric)),
+        ],
+    );
 }
 
 /// The wheel's responses to the target's steps by name (none without a step): how many, the

@@ -1052,6 +1052,52 @@ fn the_standard_assessment_runs_first_without_assistance_and_measures_the_simula
     assert!(session["active_s"] < 15.0, "{}", session["active_s"]);
 }
 
+/// Issue 42: a severe patient (slow to react, weak, trembling, short of range) whose wheel is
+/// often still moving or shaking when the next step comes: the steps part's reaction time is
+/// the patient's own, not the 0–0.05 s of an onset taken on the last movement's tail, and its
+/// smoothness is measured on the responses that came to rest; the active range's last jump
+/// (on its last tick) is no step of the tracking after it.
+#[test]
+fn a_severe_patients_step_reactions_are_their_own_and_each_rested_response_is_a_movement() {
+    let mut cfg = config("dial-sine", 600.0);
+    let p = &mut cfg.sim_patient;
+    (p.weakness, p.reaction_s, p.delay_s) = (0.75, 0.48, 0.14);
+    (p.noise_nm, p.tremor_nm, p.range_of_motion_rad) = (0.04, 0.03, 0.9);
+    cfg.validate().unwrap();
+    let text = "[assessment]\nevery_days = 7\n[[exercise]]\nkind = \"dial\"\nduration_s = 5.0\n";
+    let mut regimen = Some(regimen::Regimen::from_toml(text, "test").unwrap());
+    crate::assessment::Planned::plan(&mut regimen, None, "p1", 1_800_000_000_000, 3).unwrap();
+    let mut opts = simulated_at_max_speed(cfg);
+    opts.regimen = regimen;
+    let report = super::run(&opts, &Controls::default(), &mut Keep::default()).unwrap();
+    let results = &report.recorder.exercises;
+    let scores = |kind: &str| &results.iter().find(|r| r.kind == kind).unwrap().scores;
+    let steps = scores("assessment-steps");
+    let rt = steps["reaction_time_s_median"];
+    assert!(
+        (0.45..=0.65).contains(&rt),
+        "reaction {rt} s for 0.48 s: {steps:?}"
+    );
+    for side in ["left", "right"] {
+        let rt = steps[&format!("reaction_time_{side}_s_median")];
+        assert!(rt >= 0.4, "{side}: {rt} s");
+    }
+    assert!(
+        steps["sparc_median"] < 0.0 && steps["ldlj_median"] < 0.0,
+        "{steps:?}"
+    );
+    // A response is one movement: from its onset to rest, under the 4 s a level lasts at most.
+    let t = steps["movement_time_s_median"];
+    assert!((0.3..3.5).contains(&t), "{t} s");
+    for part in ["slow", "medium", "fast"] {
+        let tracking = scores(&format!("assessment-tracking-{part}"));
+        assert!(
+            !tracking.contains_key("step_responses"),
+            "{part}: {tracking:?}"
+        );
+    }
+}
+
 /// A 40-s sine road by a simulated patient whose arm lost `weakness` of its strength, wearing
 /// a sternum IMU when `sternum`: the report and the records.
 fn trunk_session(weakness: f64, sternum: bool) -> (super::SessionReport, Vec<TickRecord>) {
