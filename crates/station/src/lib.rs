@@ -14,7 +14,9 @@
 //!   [`commands::therapist`] (a file-store hub for development), [`commands::start`]
 //!   (`telerehab` with no arguments: the first-run pages, then a session).
 //! - [`front_door`]: the first-run pages' state (pairing, today's session, the device check
-//!   in plain words); [`settings`]: the patient's settings file.
+//!   in plain words); [`settings`]: the patient's settings file; [`readiness`]: a check's
+//!   line and the device-permission check, shared by `doctor` and the front door;
+//!   [`version`]: what `--version` says.
 //! - [`session`]: the threads of a running session. [`session::run`] wires them;
 //!   [`session::haptic`] is the 1 kHz loop driving a [`session::plant::Plant`] (wheel, patient,
 //!   car, haptic chain, assist) through the exercises of [`session::course`];
@@ -64,6 +66,7 @@ pub mod language;
 pub mod link;
 pub mod logging;
 pub mod messages;
+pub mod readiness;
 pub mod render;
 pub mod report;
 pub mod resident;
@@ -72,3 +75,4 @@ pub mod session;
 pub mod settings;
 pub mod speech;
 pub mod timing;
+pub mod version;
