@@ -35,7 +35,9 @@
 //! - [`link`]: the therapist link (tokio runtime, store-and-forward through `netlink`), its
 //!   on-disk queue and the recording uploads; [`home`]: the station's home directory
 //!   (pairing, queue, recordings).
-//! - [`screen`] (a tick → a [`render::Scene`]) and [`render`] (wgpu: window and offscreen).
+//! - [`screen`] (a tick → a [`render::Scene`]) and [`render`] (wgpu: window and offscreen);
+//!   the tests of the session's pages as drawn (sizes, screenshots) are the screen's, since
+//!   `render` knows no session.
 //! - [`report`] (the end-of-session text) and [`timing`] (loop-timing percentiles).
 //! - [`html_report`]: recorded sessions → one self-contained HTML report (reads `record`,
 //!   and the measures' rate from `session::measures`).

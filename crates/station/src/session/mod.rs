@@ -117,6 +117,17 @@ pub struct LiveSummary {
     pub extra: BTreeMap<String, f64>,
 }
 
+impl LiveSummary {
+    /// The patient's own arm lengths (upper arm, elbow to grip, m) this summary carries once
+    /// the session has measured them (`arm_calibrated` 1), for the screen's arm inset.
+    pub fn measured_arm_lengths_m(&self) -> Option<[f64; 2]> {
+        let x = |k: &str| self.extra.get(k).copied();
+        (x("arm_calibrated") == Some(1.0))
+            .then(|| Some([x("upper_arm_m")?, x("forearm_m")?]))
+            .flatten()
+    }
+}
+
 /// The result of a session.
 #[derive(Debug)]
 pub struct SessionReport {
