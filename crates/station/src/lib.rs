@@ -21,7 +21,8 @@
 //!   [`session::haptic`] is the 1 kHz loop driving a [`session::plant::Plant`] (wheel, patient,
 //!   car, haptic chain, assist) through the exercises of [`session::course`];
 //!   [`session::recorder`] writes the records and thins summaries, syncing the file and
-//!   watching the room left on its disk ([`session::disk_space`]); [`session::arm`] and
+//!   watching the room left on its disk ([`session::disk_space`]), and hands back a
+//!   [`session::outcome::RecorderOutcome`]; [`session::arm`] and
 //!   [`session::arm_calibration`] turn the IMUs into joint angles and arm lengths;
 //!   [`session::window`] runs the patient's window in a process of its own (restarted,
 //!   the exercise paused, if it dies or hangs); [`session::signals`]

@@ -15,6 +15,7 @@ pub mod haptic;
 pub mod live_road;
 pub mod live_strength;
 pub mod measures;
+pub mod outcome;
 pub mod plant;
 #[cfg(test)]
 mod prescription_tests;
@@ -35,8 +36,9 @@ use crate::config::StationConfig;
 use anyhow::Context;
 use clock::Clock;
 use haptic::{HapticOutcome, Pacing};
+use outcome::RecorderOutcome;
 use record::{SessionMetadata, TickRecord};
-use recorder::{McapRecorder, RecorderOutcome, RecorderPlan, SUMMARY_EVERY_S, recorder_loop};
+use recorder::{McapRecorder, RecorderPlan, SUMMARY_EVERY_S, recorder_loop};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::Arc;
