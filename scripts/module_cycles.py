@@ -4,7 +4,10 @@
 A crate's modules are its files (`src/a.rs` or `src/a/mod.rs` is `a`, `src/a/b.rs` is `a::b`)
 and the inline `mod x { … }` blocks are part of their file. Module A depends on its sibling B
 (two children of the same parent) when any code inside A names something inside B through
-`crate::…`, `super::…` or `self::…` paths, `use` trees included (`use crate::{b::X, c}`).
+`crate::…`, `super::…` or `self::…` paths, `use` trees included (`use crate::{b::X, c}`),
+and a name a module re-exports counts where it is defined: `crate::render::Picture`, when
+`render` has `pub use scene::Picture`, names `render::scene` (every `use` of a module is
+followed, so a child naming its parent's import of a sibling's item depends on that sibling).
 Each parent's children then form a graph; a strongly connected component of two or more is a
 cycle, reported as `crate: parent: a <-> b <-> …`.
 
@@ -116,15 +119,89 @@ def references(text: str, here: tuple[str, ...], is_dir_module: bool) -> list[tu
     return found
 
 
+USE = re.compile(r"\buse\s+([^;]+);")
+
+
+def use_leaves(tree: str) -> list[tuple[list[str], str]]:
+    """The leaves of a use tree as (path segments, name it is known by): `a::{b as c, d::e}`
+    → ([a, b], c), ([a, d, e], e); globs and `self` leaves are left out."""
+    tree = re.sub(r"\s+", " ", tree).strip()
+    depth, start = 0, 0
+    brace = tree.find("{")
+    if brace < 0:
+        m = re.fullmatch(rf"((?:{IDENT}::)*{IDENT})(?: as ({IDENT}))?", tree)
+        if not m:
+            return []
+        segs = m.group(1).split("::")
+        name = m.group(2) or segs[-1]
+        return [] if segs[-1] == "self" or name == "_" else [(segs, name)]
+    prefix = [s for s in tree[:brace].strip().rstrip(":").split("::") if s]
+    inner, out = tree[brace + 1 : tree.rfind("}")], []
+    for i, ch in enumerate(inner + ","):
+        if ch == "{":
+            depth += 1
+        elif ch == "}":
+            depth -= 1
+        elif ch == "," and depth == 0:
+            item = inner[start:i].strip()
+            start = i + 1
+            if item == "self":
+                out.append((prefix, prefix[-1]))
+            elif item and item != "*":
+                out.extend((prefix + segs, name) for segs, name in use_leaves(item))
+    return out
+
+
+def imports_of(text: str, here: tuple[str, ...], modules) -> dict[str, tuple[str, ...]]:
+    """The names a module's `use` declarations bring in, each to the absolute path it stands
+    for (external crates left out)."""
+    found = {}
+    for m in USE.finditer(text):
+        for segs, name in use_leaves(m.group(1)):
+            root, rest = segs[0], segs[1:]
+            if root == "crate":
+                base: list[str] = []
+            elif root in ("self", "super"):
+                base = list(here) if root == "self" else list(here[:-1])
+            elif here + (root,) in modules:
+                base, rest = list(here), segs
+            else:
+                continue
+            for s in rest:
+                base = base[:-1] if s == "super" else base + [s]
+            found[name] = tuple(base)
+    return found
+
+
 def graph_of(src: Path) -> dict[tuple[str, ...], set[tuple[str, ...]]]:
-    files = sorted(src.rglob("*.rs"))
-    modules = {module_of(src, f): f for f in files}
+    modules: dict[tuple[str, ...], Path] = {}
+    for f in sorted(src.rglob("*.rs")):
+        # `lib.rs` is the crate's root; a `main.rs` beside it is another crate (the binary).
+        modules.setdefault(module_of(src, f), f)
+    texts = {
+        m: strip_comments(f.read_text(encoding="utf-8", errors="replace")) for m, f in modules.items()
+    }
+    imports = {m: imports_of(t, m, modules) for m, t in texts.items()}
+
+    def resolve(ref: tuple[str, ...]) -> tuple[str, ...] | None:
+        """The module a path names: the longest prefix that is a module, followed through
+        that module's own `use` of the next segment (a re-export) to where it is defined."""
+        for _ in range(16):
+            target = next((ref[:n] for n in range(len(ref), -1, -1) if ref[:n] in modules), None)
+            if target is None or len(ref) == len(target):
+                return target
+            via = imports[target].get(ref[len(target)])
+            if via is None:
+                return target
+            ref = via + ref[len(target) + 1 :]
+        return None
+
     edges: dict[tuple[str, ...], set[tuple[str, ...]]] = {}
     for module, file in modules.items():
-        text = strip_comments(file.read_text(encoding="utf-8", errors="replace"))
+        text = texts[module]
         for ref in references(text, module, file.name == "mod.rs"):
-            # The longest prefix of the reference that is a module of this crate.
-            target = next((ref[:n] for n in range(len(ref), 0, -1) if ref[:n] in modules), None)
+            # The module the reference names, through re-exports.
+            target = resolve(ref)
             if target is None or target == module:
                 continue
             # The sibling pair under their deepest common parent.

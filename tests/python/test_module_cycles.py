@@ -47,6 +47,29 @@ def test_a_parent_naming_its_child_and_back_is_no_cycle_nor_is_a_comment(tmp_pat
     assert found(src) == []
 
 
+def test_a_sibling_named_through_a_reexport_is_a_dependency_where_it_is_defined(tmp_path) -> None:
+    src = crate(tmp_path, {
+        "lib.rs": "mod a; mod b; mod p; pub use b::Thing;",
+        "a.rs": "use crate::Thing;\npub fn f() {}",
+        "b.rs": "pub struct Thing;\nfn g() { crate::a::f(); }",
+        "p/mod.rs": "mod x; mod y; mod z; pub use y::{Y as Why, self as yy};",
+        "p/x.rs": "use super::Why; pub struct X;",
+        "p/y.rs": "use super::x::X; pub struct Y;",
+        "p/z.rs": "fn h() { super::yy::Y; }",
+        "main.rs": "use crate::Thing;",
+    })
+    assert found(src) == [["a", "b"], ["x", "y"]]
+
+
+def test_an_import_of_another_crate_or_a_parents_own_item_adds_no_edge(tmp_path) -> None:
+    src = crate(tmp_path, {
+        "lib.rs": "mod a; mod b; pub use serde::Serialize; pub struct Root;",
+        "a.rs": "use crate::{Serialize, Root}; pub fn f() {}",
+        "b.rs": "fn g() { crate::a::f(); }",
+    })
+    assert found(src) == []
+
+
 def test_the_tree_has_no_cycle_beyond_the_allowed_list() -> None:
     allowed = set(cycles_mod.ALLOW.read_text(encoding="utf-8").splitlines())
     assert set(cycles_mod.all_cycles()) <= allowed

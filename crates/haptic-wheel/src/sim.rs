@@ -354,6 +354,7 @@ impl Wheel for SimWheel {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::wheel::ZeroTorqueOnDrop;
 
     #[test]
     fn constant_torque_accelerates_at_torque_over_inertia_without_friction() {
@@ -482,5 +483,40 @@ mod tests {
         );
         SimWheelParams::default().validate().unwrap();
         SimWheelParams::thesis_raw_encoder().validate().unwrap();
+    }
+
+    // The zero-torque guard of `wheel`, on the simulated wheel (whose motor it stops).
+    #[test]
+    fn guard_commands_zero_torque_when_dropped() {
+        let mut sim = SimWheel::new(SimWheelParams {
+            usb_delay_s: 0.0,
+            usb_jitter_s: 0.0,
+            ..Default::default()
+        });
+        {
+            let mut guard = ZeroTorqueOnDrop::new(&mut sim);
+            guard.command_torque(1.0).unwrap();
+            guard.wheel().advance(0.001, 0.0);
+            assert!(guard.motor_torque_nm() > 0.9);
+        }
+        sim.advance(0.001, 0.0);
+        assert_eq!(sim.motor_torque_nm(), 0.0);
+    }
+
+    #[test]
+    fn guard_commands_zero_torque_when_a_panic_unwinds() {
+        let mut sim = SimWheel::new(SimWheelParams {
+            usb_delay_s: 0.0,
+            usb_jitter_s: 0.0,
+            ..Default::default()
+        });
+        let res = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            let mut guard = ZeroTorqueOnDrop::new(&mut sim);
+            guard.command_torque(1.5).unwrap();
+            panic!("haptic thread bug");
+        }));
+        assert!(res.is_err());
+        sim.advance(0.001, 0.0);
+        assert_eq!(sim.motor_torque_nm(), 0.0);
     }
 }

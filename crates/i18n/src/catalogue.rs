@@ -2,6 +2,7 @@
 //! with English behind it for a message the language lacks.
 
 use crate::UnknownLanguage;
+use crate::message::{MessageInfo, info};
 use fluent_bundle::concurrent::FluentBundle;
 use fluent_bundle::{FluentArgs, FluentResource};
 use fluent_syntax::ast;
@@ -19,17 +20,6 @@ pub struct Catalogue {
     bundle: FluentBundle<FluentResource>,
     /// English, for a message this language lacks (none for English itself).
     fallback: Option<Box<Catalogue>>,
-}
-
-/// What the tests need to know of one message.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct MessageInfo {
-    /// `area-thing`, or `area-thing.attribute` for an attribute.
-    pub id: String,
-    /// The file it is in (`en/session.ftl`).
-    pub file: String,
-    /// The variables it uses (`$seconds` → `seconds`), sorted.
-    pub variables: Vec<String>,
 }
 
 /// Whose words a catalogue holds.
@@ -214,52 +204,4 @@ pub fn parse_errors(language: &str) -> Vec<String> {
                 .map(|(_, errors)| format!("{name}: {errors:?}"))
         })
         .collect()
-}
-
-pub(crate) fn info(id: String, file: &str, pattern: &ast::Pattern<&str>) -> MessageInfo {
-    let mut variables = Vec::new();
-    collect_variables(pattern, &mut variables);
-    variables.sort();
-    variables.dedup();
-    MessageInfo {
-        id,
-        file: file.to_string(),
-        variables,
-    }
-}
-
-fn collect_variables(pattern: &ast::Pattern<&str>, out: &mut Vec<String>) {
-    for element in &pattern.elements {
-        if let ast::PatternElement::Placeable { expression } = element {
-            collect_in_expression(expression, out);
-        }
-    }
-}
-
-fn collect_in_expression(expression: &ast::Expression<&str>, out: &mut Vec<String>) {
-    match expression {
-        ast::Expression::Select { selector, variants } => {
-            collect_in_inline(selector, out);
-            for v in variants {
-                collect_variables(&v.value, out);
-            }
-        }
-        ast::Expression::Inline(inline) => collect_in_inline(inline, out),
-    }
-}
-
-fn collect_in_inline(inline: &ast::InlineExpression<&str>, out: &mut Vec<String>) {
-    match inline {
-        ast::InlineExpression::VariableReference { id } => out.push(id.name.to_string()),
-        ast::InlineExpression::FunctionReference { arguments, .. } => {
-            for a in &arguments.positional {
-                collect_in_inline(a, out);
-            }
-            for n in &arguments.named {
-                collect_in_inline(&n.value, out);
-            }
-        }
-        ast::InlineExpression::Placeable { expression } => collect_in_expression(expression, out),
-        _ => {}
-    }
 }

@@ -57,10 +57,10 @@ pub fn console_messages_of(language: &str) -> (Vec<MessageInfo>, Vec<String>) {
             };
             let id = m.id.name;
             if let Some(value) = &m.value {
-                out.push(crate::catalogue::info(id.to_string(), &name, value));
+                out.push(crate::message::info(id.to_string(), &name, value));
             }
             for a in &m.attributes {
-                out.push(crate::catalogue::info(
+                out.push(crate::message::info(
                     format!("{id}.{}", a.id.name),
                     &name,
                     &a.value,

@@ -18,14 +18,16 @@
 mod catalogue;
 mod console;
 mod language;
+mod message;
 mod pseudo;
 
-pub use catalogue::{Catalogue, MessageInfo, parse_errors};
+pub use catalogue::{Catalogue, parse_errors};
 pub use console::{
     console_catalogue, console_file, console_files, console_messages_of, console_tags,
 };
 pub use fluent_bundle::{FluentArgs, FluentValue};
 pub use language::{negotiate, system_language, system_language_from};
+pub use message::MessageInfo;
 
 use std::sync::{Arc, OnceLock, RwLock};
 

@@ -5,6 +5,7 @@ use crate::commands::{
     bench, devices, docs, doctor, hub, pair, recover, render, replay, report, run, start, sync,
     therapist, vehicle, wheel, window_process,
 };
+use crate::version::version;
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 /// telerehab: home upper-limb rehabilitation with a force-feedback steering wheel.
@@ -37,20 +38,6 @@ impl Cli {
         let version: &'static str = Box::leak(version().into_boxed_str());
         Self::command().version(version)
     }
-}
-
-/// What `telerehab --version` says: the release, the station–hub link protocol and the
-/// recording format it writes (it reads every earlier one).
-pub fn version() -> String {
-    format!(
-        "{} (link protocol {}, accepts {}–{}; recording format {}, reads 1–{})",
-        env!("CARGO_PKG_VERSION"),
-        netlink::frame::PROTOCOL_VERSION,
-        netlink::frame::MIN_PROTOCOL_VERSION,
-        netlink::frame::PROTOCOL_VERSION,
-        record::FORMAT_VERSION,
-        record::FORMAT_VERSION,
-    )
 }
 
 /// The subcommands.
@@ -115,6 +102,6 @@ pub fn dispatch(command: Option<Command>) -> anyhow::Result<()> {
         Command::Pair(args) => pair::run(&args),
         Command::Sync(args) => sync::run(&args),
         Command::WindowProcess(args) => window_process::run(&args),
-        Command::Docs(args) => docs::run(&args),
+        Command::Docs(args) => docs::run(&args, Cli::with_version()),
     }
 }

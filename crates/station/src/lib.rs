@@ -14,12 +14,15 @@
 //!   [`commands::therapist`] (a file-store hub for development), [`commands::start`]
 //!   (`telerehab` with no arguments: the first-run pages, then a session).
 //! - [`front_door`]: the first-run pages' state (pairing, today's session, the device check
-//!   in plain words); [`settings`]: the patient's settings file.
+//!   in plain words); [`settings`]: the patient's settings file; [`readiness`]: a check's
+//!   line and the device-permission check, shared by `doctor` and the front door;
+//!   [`version`]: what `--version` says.
 //! - [`session`]: the threads of a running session. [`session::run`] wires them;
 //!   [`session::haptic`] is the 1 kHz loop driving a [`session::plant::Plant`] (wheel, patient,
 //!   car, haptic chain, assist) through the exercises of [`session::course`];
 //!   [`session::recorder`] writes the records and thins summaries, syncing the file and
-//!   watching the room left on its disk ([`session::disk_space`]); [`session::arm`] and
+//!   watching the room left on its disk ([`session::disk_space`]), and hands back a
+//!   [`session::outcome::RecorderOutcome`]; [`session::arm`] and
 //!   [`session::arm_calibration`] turn the IMUs into joint angles and arm lengths;
 //!   [`session::window`] runs the patient's window in a process of its own (restarted,
 //!   the exercise paused, if it dies or hangs); [`session::signals`]
@@ -33,7 +36,9 @@
 //! - [`link`]: the therapist link (tokio runtime, store-and-forward through `netlink`), its
 //!   on-disk queue and the recording uploads; [`home`]: the station's home directory
 //!   (pairing, queue, recordings).
-//! - [`screen`] (a tick → a [`render::Scene`]) and [`render`] (wgpu: window and offscreen).
+//! - [`screen`] (a tick → a [`render::Scene`]) and [`render`] (wgpu: window and offscreen);
+//!   the tests of the session's pages as drawn (sizes, screenshots) are the screen's, since
+//!   `render` knows no session.
 //! - [`report`] (the end-of-session text) and [`timing`] (loop-timing percentiles).
 //! - [`html_report`]: recorded sessions → one self-contained HTML report (reads `record`,
 //!   and the measures' rate from `session::measures`).
@@ -64,6 +69,7 @@ pub mod language;
 pub mod link;
 pub mod logging;
 pub mod messages;
+pub mod readiness;
 pub mod render;
 pub mod report;
 pub mod resident;
@@ -72,3 +78,4 @@ pub mod session;
 pub mod settings;
 pub mod speech;
 pub mod timing;
+pub mod version;

@@ -429,7 +429,7 @@ fn delivery(s: &mut String, r: &SessionReport, link: Option<&LinkReport>) {
 mod tests {
     use super::*;
     use crate::session::haptic::HapticOutcome;
-    use crate::session::recorder::RecorderOutcome;
+    use crate::session::outcome::RecorderOutcome;
     use crate::timing::TimingStats;
     use haptic_wheel::{CeilingReport, WheelFault};
     use record::ArmCalibrationSample;
@@ -464,7 +464,7 @@ mod tests {
                 ..Default::default()
             })),
             mcap_bytes: Some(2_345_678),
-            measures: crate::session::measures::Measures {
+            measures: crate::session::outcome::Measures {
                 named: [
                     ("movements", 14.0),
                     ("active_s", 5.25),

@@ -17,19 +17,17 @@ use i18n::tr;
 use record::{ArmSetup, TickRecord, Watchdog};
 use regimen::Regimen;
 
+#[cfg(test)]
+mod session_tests;
+#[cfg(test)]
+mod shots;
+#[cfg(test)]
+mod sizes;
+
 /// Centre-line sample spacing for the screen's road mesh, m.
 const ROAD_SAMPLE_M: f64 = 2.0;
 
 pub use crate::session::words::{capitalised, patient_instruction, patient_name, plain_name};
-
-/// The patient's own arm lengths (upper arm, elbow to grip, m) a live summary carries once
-/// the session has measured them (`arm_calibrated` 1), for the screen's arm inset.
-pub fn measured_arm_lengths_m(summary: &crate::session::LiveSummary) -> Option<[f64; 2]> {
-    let x = |k: &str| summary.extra.get(k).copied();
-    (x("arm_calibrated") == Some(1.0))
-        .then(|| Some([x("upper_arm_m")?, x("forearm_m")?]))
-        .flatten()
-}
 
 /// What the screen needs of one exercise.
 struct ExerciseView {

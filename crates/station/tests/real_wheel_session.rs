@@ -146,7 +146,7 @@ fn session_on(
     });
     done.store(true, Ordering::Release);
     let replugged = injector.join().unwrap();
-    let mut tally = station::session::recorder::RecorderOutcome::default();
+    let mut tally = station::session::outcome::RecorderOutcome::default();
     while let Ok(rec) = consumer.pop() {
         tally.add(&rec);
     }

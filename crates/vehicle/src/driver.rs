@@ -3,6 +3,7 @@
 
 use crate::model::{DriverInput, VehicleParams, VehicleState};
 use crate::road::{Projection, Road};
+use common::wrap_angle;
 
 /// Preview steering: a pure-pursuit driver aiming at the centre line a look-ahead time ahead.
 ///
@@ -63,9 +64,6 @@ impl PreviewDriver {
     }
 }
 
-/// Wrap an angle to (−π, π], rad (one definition for the workspace, in `common`).
-pub use common::wrap_angle;
-
 /// Proportional cruise control producing drive and brake forces (eq. C.11's `Fad`, `Fbd`).
 #[derive(Clone, Debug)]
 pub struct SpeedController {
@@ -93,72 +91,6 @@ impl SpeedController {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::exercise::{EXERCISE_NAMES, Exercise, ExerciseSpec, SineSpec};
-    use crate::model::Vehicle;
-    use crate::score::{DrivingScore, DrivingSummary};
-
-    /// Drive `ex` with the preview driver and cruise control on the pure model at 200 Hz.
-    fn drive(ex: &Exercise, driver: &PreviewDriver) -> DrivingSummary {
-        let p = VehicleParams::default();
-        let road = ex.road.as_ref().expect("road exercise");
-        let mut car = Vehicle::new(p.clone(), ex.start_state());
-        let mut score = DrivingScore::default();
-        let dt = 0.005;
-        let mut s_hint = 0.0;
-        let mut t = 0.0;
-        while t < 600.0 {
-            let st = *car.state();
-            let here = road.project(st.x_m, st.y_m, s_hint);
-            s_hint = here.s_m;
-            if ex.is_finished(t, here.s_m) {
-                score.complete(t);
-                break;
-            }
-            score.update(&here, st.yaw_rad, road.lane_width_m(), dt);
-            let steer = driver.desired_steer_rad(&p, &st, &here, road.as_ref());
-            let cruise = SpeedController {
-                target_m_s: ex.target_speed_m_s(here.s_m),
-                gain_n_per_m_s: 3000.0,
-                max_force_n: 8000.0,
-            };
-            car.step(cruise.input(st.ux_m_s, steer), dt);
-            t += dt;
-        }
-        score.summary()
-    }
-
-    #[test]
-    fn preview_driver_completes_every_road_exercise_mostly_in_lane() {
-        for name in EXERCISE_NAMES.iter() {
-            let ex = ExerciseSpec::from_name(name).unwrap().build().unwrap();
-            if ex.road.is_none() {
-                continue;
-            }
-            let s = drive(&ex, &PreviewDriver::default());
-            eprintln!("{name}: {s:?}");
-            assert!(s.completion_time_s.is_some(), "{name} not completed: {s:?}");
-            assert!(s.pct_in_lane >= 95.0, "{name}: {s:?}");
-            assert!(s.rms_lateral_m < 0.25, "{name}: {s:?}");
-        }
-    }
-
-    #[test]
-    fn larger_sine_amplitude_scores_monotonically_worse() {
-        let mut last = 0.0;
-        for amplitude_m in [1.0, 3.0, 6.0, 10.0, 15.0] {
-            let spec = ExerciseSpec::Sine(SineSpec {
-                amplitude_m,
-                ..Default::default()
-            });
-            let s = drive(&spec.build().unwrap(), &PreviewDriver::default());
-            eprintln!("A = {amplitude_m}: {s:?}");
-            assert!(
-                s.rms_lateral_m > last,
-                "A = {amplitude_m}: {s:?} not worse than {last}"
-            );
-            last = s.rms_lateral_m;
-        }
-    }
 
     #[test]
     fn speed_controller_brakes_above_target_and_never_both_pedals() {

@@ -11,12 +11,15 @@
 //! clothoids and sine waves), [`dial`] (the rotary dial task's signal), [`driver`] (preview
 //! steering and the speed controller standing in for the pedals), [`offline`] (the model run
 //! offline for `telerehab vehicle`), [`error`] ([`VehicleError`]); test-only: `reference`, an
-//! independent solution of eq. C.1–C.15.
+//! independent solution of eq. C.1–C.15, and `drive_tests`, whole exercises driven and scored
+//! (the one place the driver, the world and the exercise library meet).
 //!
 //! Pure: no I/O, no threads, no clock. Time comes in as `dt` in seconds.
 
 pub mod assessment;
 pub mod dial;
+#[cfg(test)]
+mod drive_tests;
 pub mod driver;
 pub mod error;
 pub mod exercise;

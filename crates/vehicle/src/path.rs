@@ -588,7 +588,7 @@ mod tests {
             let (a, b) = (road.point(s - h), road.point(s + h));
             let dir = (b.xy_m[1] - a.xy_m[1]).atan2(b.xy_m[0] - a.xy_m[0]);
             let here = road.point(s).heading_rad;
-            prop_assert!(crate::driver::wrap_angle(dir - here).abs() < 1e-6);
+            prop_assert!(common::wrap_angle(dir - here).abs() < 1e-6);
             let step = ((b.xy_m[0] - a.xy_m[0]).powi(2) + (b.xy_m[1] - a.xy_m[1]).powi(2)).sqrt();
             prop_assert!((step - 2.0 * h).abs() < 1e-9, "not arc length: {step}");
         }

@@ -3,9 +3,9 @@
 //! angle error of the rotary dial task (thesis §3.3.3; Appendix E reports ≈ 3° of tracking
 //! error for a healthy subject).
 
+use common::wrap_angle;
 use serde::{Deserialize, Serialize};
 
-use crate::driver::wrap_angle;
 use crate::road::Projection;
 use crate::world::WorldEvent;
 

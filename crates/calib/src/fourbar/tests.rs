@@ -1,4 +1,4 @@
-//! Behaviour of the four-bar estimators on simulated recordings (fixed seeds).
+//! Behaviour of the four-bar model and estimators on simulated recordings (fixed seeds).
 
 use super::*;
 use crate::fourbar::online::{OnlineFourbar, OnlineOptions};
@@ -42,6 +42,25 @@ fn random_start(rng: &mut ChaCha8Rng) -> FourbarParams {
         rng.random_range(-PI..PI),
         rng.random_range(-PI..PI),
     )
+}
+
+#[test]
+fn simulated_loop_closes_at_every_sample() {
+    let g = GEOMETRY;
+    let phi2: Vec<f64> = (0..200).map(|k| (k as f64 * 0.05).sin()).collect();
+    let (phi3, phi4, t3, t4) = g.simulate(1.5, &phi2).unwrap();
+    for k in 0..phi2.len() {
+        let r = loop_residual(
+            [0.45, 0.15, 0.35, 0.30],
+            1.5 + phi2[k],
+            t3 + phi3[k],
+            t4 + phi4[k],
+        );
+        assert!(
+            r[0].abs() < 1e-14 && r[1].abs() < 1e-14,
+            "sample {k}: {r:?}"
+        );
+    }
 }
 
 #[test]

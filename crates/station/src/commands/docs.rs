@@ -14,9 +14,9 @@ pub struct DocsArgs {
     pub out: PathBuf,
 }
 
-/// Write the man pages and completions under `args.out`.
-pub fn run(args: &DocsArgs) -> anyhow::Result<()> {
-    let cmd = crate::cli::Cli::with_version();
+/// Write the man pages and completions of the command line `cmd` (the program's clap tree,
+/// `Cli::with_version`) under `args.out`.
+pub fn run(args: &DocsArgs, cmd: clap::Command) -> anyhow::Result<()> {
     let man = args.out.join("man1");
     let completions = args.out.join("completions");
     for dir in [&man, &completions] {

@@ -6,6 +6,8 @@
 //! Every check uses what the session itself uses: the wheel scan of `telerehab devices`, the
 //! wheel profiles and ceilings, the IMU listing, the renderer's adapter request, the haptic
 //! thread's real-time request, the recorder's disk-space figures and the pairing in the home.
+//! A check's line and the device-permission check are [`crate::readiness`] (the front door's
+//! device check runs that one too).
 
 pub mod pulse;
 
@@ -21,6 +23,7 @@ use serde::Serialize;
 use crate::config::StationConfig;
 use crate::home::{Home, HomeArg, Pairing};
 use crate::link::hub_status::{HubStatus, check_hub};
+use crate::readiness::{Check, Status, check, permissions_check};
 use crate::session::disk_space;
 
 /// How long the graphics adapter request may take before the check is skipped, s.
@@ -61,53 +64,6 @@ pub struct DoctorArgs {
     /// The station's home (pairing, recordings).
     #[command(flatten)]
     pub home: HomeArg,
-}
-
-/// How a check came out.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Status {
-    /// Ready.
-    Pass,
-    /// A session cannot run (or cannot run safely) until this is fixed.
-    Fail,
-    /// A session runs, with less (no arm sensing, more jitter, software drawing…).
-    Warn,
-    /// Not checked, with the reason in the detail.
-    Skip,
-}
-
-impl Status {
-    fn tag(self) -> &'static str {
-        match self {
-            Status::Pass => "PASS",
-            Status::Fail => "FAIL",
-            Status::Warn => "WARN",
-            Status::Skip => "SKIP",
-        }
-    }
-}
-
-/// One check: what was found and what to do about it.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
-pub struct Check {
-    /// What was checked, e.g. "wheel".
-    pub name: String,
-    /// How it came out.
-    pub status: Status,
-    /// What was found.
-    pub detail: String,
-    /// What to do (empty when there is nothing to do).
-    pub fix: String,
-}
-
-fn check(name: &str, status: Status, detail: impl Into<String>, fix: impl Into<String>) -> Check {
-    Check {
-        name: name.into(),
-        status,
-        detail: detail.into(),
-        fix: fix.into(),
-    }
 }
 
 /// Everything `doctor` found.
@@ -310,58 +266,6 @@ fn run_real_pulse(cfg: &StationConfig) -> anyhow::Result<(pulse::PulsePlan, puls
 #[cfg(not(target_os = "linux"))]
 fn run_real_pulse(_: &StationConfig) -> anyhow::Result<(pulse::PulsePlan, pulse::PulseOutcome)> {
     anyhow::bail!("pulsing a wheel needs the Linux kernel force-feedback API")
-}
-
-/// `/dev/hidraw*` nodes that exist but cannot be opened, with the reason.
-fn unopenable_hidraw() -> Vec<(PathBuf, String)> {
-    let Ok(entries) = std::fs::read_dir("/dev") else {
-        return Vec::new();
-    };
-    let mut nodes: Vec<PathBuf> = entries
-        .filter_map(Result::ok)
-        .map(|e| e.path())
-        .filter(|p| {
-            p.file_name()
-                .and_then(|n| n.to_str())
-                .is_some_and(|n| n.starts_with("hidraw"))
-        })
-        .collect();
-    nodes.sort();
-    nodes
-        .into_iter()
-        .filter_map(|p| {
-            let opened = std::fs::OpenOptions::new().read(true).write(true).open(&p);
-            opened.err().map(|e| (p, e.to_string()))
-        })
-        .collect()
-}
-
-/// Event and hidraw nodes that exist but cannot be opened: named, with the udev fix.
-pub(crate) fn permissions_check(report: &haptic_wheel::DeviceReport) -> Check {
-    let mut blocked = report.unreadable.clone();
-    blocked.extend(unopenable_hidraw());
-    if blocked.is_empty() {
-        return check(
-            "device permissions",
-            Status::Pass,
-            "every input and HID device node present can be opened",
-            "",
-        );
-    }
-    let named: Vec<String> = blocked
-        .iter()
-        .map(|(p, why)| format!("{} ({why})", p.display()))
-        .collect();
-    check(
-        "device permissions",
-        Status::Fail,
-        format!("cannot open {}", named.join(", ")),
-        format!(
-            "give the logged-in user access with a udev rule (`TAG+=\"uaccess\"`, sorted before \
-             73-seat-late.rules): {}",
-            haptic_wheel::devices::UDEV_HINT
-        ),
-    )
 }
 
 /// How long each arm sensor's samples are counted, s.
@@ -714,7 +618,7 @@ pub fn clock_check_for(status: Option<&HubStatus>) -> Option<Check> {
 
 /// This station's version, and whether the hub serves it (when asked).
 pub fn versions_check_for(status: Option<&HubStatus>) -> Check {
-    let ours = format!("telerehab {}", crate::cli::version());
+    let ours = format!("telerehab {}", crate::version::version());
     match status {
         Some(HubStatus::UpdateRequired(message)) => check(
             "versions",
@@ -830,8 +734,9 @@ pub fn run(args: &DoctorArgs) -> anyhow::Result<()> {
 }
 
 #[cfg(test)]
-pub(crate) mod tests {
+mod tests {
     use super::*;
+    use crate::readiness::tests::found_wheel;
 
     fn pairing() -> Pairing {
         Pairing {
@@ -914,30 +819,6 @@ pub(crate) mod tests {
         );
     }
 
-    /// A device report holding one force-feedback wheel named `name` (the front door's tests
-    /// use it too).
-    pub(crate) fn found_wheel(name: &str, usb_id: (u16, u16)) -> haptic_wheel::DeviceReport {
-        use haptic_wheel::devices::{DeviceClass, DeviceInfo, DeviceTraits};
-        let mut report = haptic_wheel::DeviceReport::default();
-        report.add(DeviceInfo {
-            path: "/dev/input/event7".into(),
-            class: DeviceClass::Wheel,
-            traits: DeviceTraits {
-                name: name.into(),
-                ff_effects: vec!["constant", "gain"],
-                abs_axes: vec!["x"],
-                gamepad_buttons: false,
-            },
-            usb_id: Some(usb_id),
-            profile: None,
-            ceiling: None,
-            expected_update_rate_hz: None,
-            max_ff_effects: 16,
-        });
-        report.apply_config(&haptic_wheel::wheel_config::WheelConfig::default(), None);
-        report
-    }
-
     #[test]
     fn doctor_names_a_known_wheel_with_its_effects_and_ceiling_and_an_unknown_one_as_such() {
         let g29 = wheel_check(&found_wheel("Some Wheel", (0x046d, 0xc24f)));
@@ -958,23 +839,6 @@ pub(crate) mod tests {
         assert!(odd.detail.starts_with("unknown wheel: "), "{}", odd.detail);
         assert!(odd.detail.contains("assumed"), "{}", odd.detail);
         assert!(odd.fix.contains("rated_torque_nm"), "{}", odd.fix);
-    }
-
-    #[test]
-    fn doctor_names_a_node_it_cannot_open_and_the_uaccess_rule_that_fixes_it() {
-        let mut report = haptic_wheel::DeviceReport::default();
-        report.unreadable.push((
-            PathBuf::from("/dev/input/event9"),
-            "Permission denied (os error 13)".into(),
-        ));
-        let c = permissions_check(&report);
-        assert_eq!(c.status, Status::Fail);
-        assert!(
-            c.detail.contains("/dev/input/event9 (Permission denied"),
-            "{}",
-            c.detail
-        );
-        assert!(c.fix.contains("TAG+=\"uaccess\""), "{}", c.fix);
     }
 
     #[test]

@@ -61,7 +61,7 @@ impl SessionObserver for FrameCollector {
     }
 
     fn on_summary(&mut self, summary: &session::LiveSummary) {
-        if let Some(lengths) = crate::screen::measured_arm_lengths_m(summary) {
+        if let Some(lengths) = summary.measured_arm_lengths_m() {
             self.arm_measured_m.get_or_insert(lengths);
         }
     }

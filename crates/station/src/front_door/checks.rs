@@ -2,7 +2,7 @@
 //! plug in), its strongest push, the arm sensors, and a permission problem with its fix. The
 //! technical details stay in `telerehab doctor`, which the lines point to.
 
-use crate::commands::doctor::{self, Status};
+use crate::readiness::{Status, permissions_check};
 use crate::render::StatusLine;
 use haptic_wheel::DeviceReport;
 
@@ -39,7 +39,7 @@ pub fn describe(
     imus: &Result<Vec<gyro_imu::device::ImuDeviceInfo>, String>,
 ) -> DeviceCheck {
     let mut lines = Vec::new();
-    let permissions = doctor::permissions_check(devices);
+    let permissions = permissions_check(devices);
     let wheel_ready = match devices.wheels.first() {
         None => {
             lines.push(line(Some(false), i18n::tr!("front-device-no-wheel")));

@@ -304,7 +304,7 @@ fn pairing_errors_read_as_the_catalogues_plain_words() {
 
 #[test]
 fn a_known_wheel_is_a_green_line_with_its_name() {
-    let report = crate::commands::doctor::tests::found_wheel(
+    let report = crate::readiness::tests::found_wheel(
         "Logitech G29 Driving Force Racing Wheel",
         (0x046d, 0xc24f),
     );
@@ -323,7 +323,7 @@ fn a_known_wheel_is_a_green_line_with_its_name() {
 #[test]
 fn an_unknown_wheel_says_its_force_stays_low() {
     let check = describe(
-        &crate::commands::doctor::tests::found_wheel("Acme Wheel", (0x1234, 0x5678)),
+        &crate::readiness::tests::found_wheel("Acme Wheel", (0x1234, 0x5678)),
         &Ok(vec![]),
     );
     assert_eq!(check.lines[0].ok, Some(true));

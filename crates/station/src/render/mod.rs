@@ -13,6 +13,7 @@
 pub mod camera;
 mod checkin_page;
 pub mod demo;
+mod dial;
 pub mod fonts;
 mod gpu;
 pub mod hud;
@@ -32,10 +33,9 @@ pub use gpu::{
     AdapterSummary, FRAME_UNIFORM_BYTES, MAX_SIZE_PX, MSAA_SAMPLES, Renderer, SKY_WGSL, WORLD_WGSL,
     probe_adapter,
 };
-pub use pictures::Picture;
 pub use scene::{
-    ArmInset, CameraMode, CarPose, Dial, Hud, LiveScore, MAX_COORD_M, Movement, NextCard, Road,
-    RoadPoint, Scene, ScreenState, StatusLine, Welcome,
+    ArmInset, CameraMode, CarPose, Dial, Hud, LiveScore, MAX_COORD_M, Movement, NextCard, Picture,
+    Road, RoadPoint, Scene, ScreenState, StatusLine, Welcome,
 };
 
 /// Everything that can go wrong while drawing the patient's screen.

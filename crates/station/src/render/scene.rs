@@ -1,4 +1,5 @@
-//! The plain data one frame is drawn from: road, car, camera, dial and HUD.
+//! The plain data one frame is drawn from: road, car, camera, dial, HUD and which pictures
+//! (`pictures` paints them).
 //!
 //! The renderer knows nothing about sessions, threads or devices; the station converts its
 //! state snapshot into a [`Scene`] each frame. World frame: x and y on the ground plane in
@@ -134,7 +135,7 @@ pub enum ScreenState {
     /// A card with a picture and its caption (the pause), then a title and lines.
     Pictured {
         /// The picture; its caption is the card's main sentence.
-        picture: super::Picture,
+        picture: Picture,
         /// What to do, in a few words.
         title: String,
         /// How (the keys or buttons).
@@ -153,8 +154,159 @@ pub enum ScreenState {
     CheckIn(super::CheckInPage),
 }
 
-/// The movement an exercise asks for, drawn on the [`NextCard`]: each its own picture.
-pub use super::pictures::Movement;
+/// The movement an exercise asks for; each has its own picture.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
+pub enum Movement {
+    /// A winding road (the sine road): turn the wheel left and right.
+    #[default]
+    Steer,
+    /// A straight road: hold the car in the middle.
+    Straight,
+    /// A zigzag road (the triangle road).
+    Zigzag,
+    /// A bend that gets tighter (the clothoid road).
+    Tightening,
+    /// Sharp corners.
+    SharpTurns,
+    /// One S-shaped bend.
+    SBend,
+    /// From one lane into the other.
+    LaneChange,
+    /// Between cones.
+    Slalom,
+    /// Following the red needle of the dial with the black one.
+    Dial,
+    /// Pushing against a wheel that does not move (the strength test).
+    Strength,
+}
+
+impl Movement {
+    /// The movement of the exercise with the stable short name `short` (`"sine-road"`,
+    /// `"dial-step"`, …; see `vehicle::ExerciseSpec::name`).
+    pub fn of_exercise(short: &str) -> Movement {
+        match short {
+            "straight-road" => Movement::Straight,
+            "triangle-road" => Movement::Zigzag,
+            "clothoid-road" => Movement::Tightening,
+            "sharp-turns" => Movement::SharpTurns,
+            "s-bend" => Movement::SBend,
+            "lane-change" => Movement::LaneChange,
+            "slalom" => Movement::Slalom,
+            "strength" | "assessment-strength" => Movement::Strength,
+            // The standard assessment's other parts are dial tasks.
+            s if s.starts_with("dial") || s == "haptic-sweep" || s.starts_with("assessment-") => {
+                Movement::Dial
+            }
+            _ => Movement::Steer,
+        }
+    }
+
+    /// Every movement.
+    pub const ALL: [Movement; 10] = [
+        Movement::Steer,
+        Movement::Straight,
+        Movement::Zigzag,
+        Movement::Tightening,
+        Movement::SharpTurns,
+        Movement::SBend,
+        Movement::LaneChange,
+        Movement::Slalom,
+        Movement::Dial,
+        Movement::Strength,
+    ];
+}
+
+/// A picture of the patient's pages.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Picture {
+    /// The movement of an exercise.
+    Exercise(Movement),
+    /// A rest: a cup of tea, the hands off the wheel.
+    Rest,
+    /// The exercise is paused.
+    Pause,
+    /// The wheel, its button lit: press it (`hold`: keep it pressed; `turn`: arrows to turn).
+    Wheel {
+        /// The button is held down (a long press).
+        hold: bool,
+        /// Arrows show the wheel turns to choose.
+        turn: bool,
+    },
+    /// A cable's plug going into the wheel: plug it back in.
+    Plug,
+    /// The sensor strapped on the forearm, its cable's plug going back in.
+    ArmSensorPlug,
+    /// Yes: a tick.
+    Yes,
+    /// No: a cross.
+    No,
+    /// The session is over: a star.
+    Done,
+    /// Today's page: a calendar sheet.
+    Today,
+}
+
+impl Picture {
+    /// Every picture, the exercises' first.
+    pub fn all() -> Vec<Picture> {
+        let mut all: Vec<Picture> = Movement::ALL
+            .iter()
+            .map(|m| Picture::Exercise(*m))
+            .collect();
+        all.extend([
+            Picture::Rest,
+            Picture::Pause,
+            Picture::Wheel {
+                hold: false,
+                turn: false,
+            },
+            Picture::Wheel {
+                hold: true,
+                turn: true,
+            },
+            Picture::Plug,
+            Picture::ArmSensorPlug,
+            Picture::Yes,
+            Picture::No,
+            Picture::Done,
+            Picture::Today,
+        ]);
+        all
+    }
+
+    /// The id of the picture's caption in the `pictures` catalogue.
+    pub fn caption_id(self) -> &'static str {
+        match self {
+            Picture::Exercise(m) => match m {
+                Movement::Steer => "picture-road-winding",
+                Movement::Straight => "picture-road-straight",
+                Movement::Zigzag => "picture-road-zigzag",
+                Movement::Tightening => "picture-road-tightening",
+                Movement::SharpTurns => "picture-road-sharp-turns",
+                Movement::SBend => "picture-road-s-bend",
+                Movement::LaneChange => "picture-road-lane-change",
+                Movement::Slalom => "picture-road-slalom",
+                Movement::Dial => "picture-dial",
+                Movement::Strength => "picture-strength",
+            },
+            Picture::Rest => "picture-rest",
+            Picture::Pause => "picture-pause",
+            Picture::Wheel { turn: true, .. } => "picture-wheel-turn",
+            Picture::Wheel { .. } => "picture-buttons",
+            Picture::Plug => "picture-plug",
+            Picture::ArmSensorPlug => "picture-arm-sensor-plug",
+            Picture::Yes => "picture-yes",
+            Picture::No => "picture-no",
+            Picture::Done => "picture-done",
+            Picture::Today => "picture-today",
+        }
+    }
+
+    /// The caption in the language in force.
+    pub fn caption(self) -> String {
+        i18n::tr!(self.caption_id())
+    }
+}
 
 /// The card before an exercise: "Exercise 2 of 4", its name, what to do, the movement, and
 /// the rest's countdown if one is in progress.
@@ -205,7 +357,7 @@ pub struct Welcome {
     /// The page's stable name for logs and tests (`language`, `pairing`, `today`, …).
     pub id: &'static str,
     /// A picture beside the words (the wheel's button to press, the plug).
-    pub picture: Option<super::Picture>,
+    pub picture: Option<Picture>,
     /// Large choices in a row, chosen by turning the wheel (the chosen one is framed).
     pub choices: Vec<String>,
     /// Which of [`Welcome::choices`] is chosen.

@@ -267,6 +267,4 @@ pub fn put(
 }
 
 #[cfg(test)]
-mod shots;
-#[cfg(test)]
 mod tests;

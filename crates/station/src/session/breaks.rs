@@ -4,18 +4,10 @@
 //! so rests are never exercise time and a replay follows them as it follows pauses.
 
 use super::controls::{BreakKind, Controls};
+use super::course::BreakSettings;
 use super::plant::Plant;
 use record::TickRecord;
 use std::sync::atomic::Ordering;
-
-/// How long a rest the patient asks for lasts, and how long a pause may last, s.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BreakSettings {
-    /// A rest the patient asks for (R, or a wheel button), s.
-    pub asked_rest_s: f64,
-    /// A pause longer than this ends the session ("paused too long"), s.
-    pub pause_limit_s: f64,
-}
 
 /// The breaks of one session, kept by the haptic thread.
 #[derive(Debug)]

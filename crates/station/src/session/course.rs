@@ -5,6 +5,9 @@
 //! `--exercise NAME` prescribes that exercise for `--duration`; `--regimen FILE` runs the
 //! prescribed exercises once, in order. Either way an exercise with a duration lasts exactly
 //! that long: its road continues its shape as far as needed (`vehicle::ExerciseSpec::build`).
+//!
+//! The breaks between exercises ([`Break`]) and how long the breaks the patient takes may last
+//! ([`BreakSettings`]) are part of the course; `breaks` keeps them on the haptic thread.
 
 use crate::config::StationConfig;
 use anyhow::Context;
@@ -64,6 +67,15 @@ impl Break {
             start_after_s: None,
         }
     }
+}
+
+/// How long a rest the patient asks for lasts, and how long a pause may last, s.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BreakSettings {
+    /// A rest the patient asks for (R, or a wheel button), s.
+    pub asked_rest_s: f64,
+    /// A pause longer than this ends the session ("paused too long"), s.
+    pub pause_limit_s: f64,
 }
 
 fn build_segment(cfg: &StationConfig, entry: &RegimenEntry) -> anyhow::Result<Segment> {

@@ -4,7 +4,7 @@
 
 use super::SessionReport;
 use super::haptic::HapticOutcome;
-use super::recorder::RecorderOutcome;
+use super::outcome::RecorderOutcome;
 use haptic_wheel::WheelFault;
 
 /// The exercises ran their prescription.

@@ -17,6 +17,7 @@
 //! them to a temporary file on the recording's disk, so that its resident memory stays flat
 //! however long it runs ([`series`]).
 
+use super::outcome::Measures;
 use super::plant::ExerciseScores;
 use super::trunk_measures::TrunkTally;
 use metrics::{
@@ -174,18 +175,6 @@ impl ExerciseTally {
             ..Self::default()
         }
     }
-}
-
-/// A session's measures at its end.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Measures {
-    /// The movement analysis; `None` when it could not be made ([`Self::error`] says why).
-    pub session: Option<SessionMeasures>,
-    /// Every measure by name, the unit in the name, finite values only: what the recording's
-    /// `/metrics` channel holds and the hub stores.
-    pub named: BTreeMap<String, f64>,
-    /// Why the movement analysis is missing.
-    pub error: Option<String>,
 }
 
 impl MeasureCollector {
@@ -570,7 +559,7 @@ impl MeasureCollector {
 
     /// The session's measures, with the scores, pauses and assistance of `out`; the series
     /// are read back whole for the analysis (and kept in memory for [`Self::sample`]).
-    pub fn finish(&mut self, out: &super::recorder::RecorderOutcome) -> Measures {
+    pub fn finish(&mut self, out: &super::outcome::RecorderOutcome) -> Measures {
         let analysed = if self.series.len() < 2 {
             Err(format!(
                 "the exercise ran too briefly to measure ({} samples at {} Hz)",
@@ -739,7 +728,7 @@ impl MeasureCollector {
     fn name_session_figures(
         &self,
         named: &mut BTreeMap<String, f64>,
-        out: &super::recorder::RecorderOutcome,
+        out: &super::outcome::RecorderOutcome,
     ) {
         let tick_s = self.tick_s;
         let score = &out.last.score;
@@ -1065,7 +1054,7 @@ fn name_by_side(named: &mut BTreeMap<String, f64>, responses: &[Reaction]) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::session::recorder::RecorderOutcome;
+    use crate::session::outcome::RecorderOutcome;
     use record::{ArmSample, AssistSample, WheelSample};
 
     /// Two minimum-jerk turns of 0.6 rad at 1 kHz, there and back, with rest around them.

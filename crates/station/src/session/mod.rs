@@ -15,6 +15,7 @@ pub mod haptic;
 pub mod live_road;
 pub mod live_strength;
 pub mod measures;
+pub mod outcome;
 pub mod plant;
 #[cfg(test)]
 mod prescription_tests;
@@ -35,8 +36,9 @@ use crate::config::StationConfig;
 use anyhow::Context;
 use clock::Clock;
 use haptic::{HapticOutcome, Pacing};
+use outcome::RecorderOutcome;
 use record::{SessionMetadata, TickRecord};
-use recorder::{McapRecorder, RecorderOutcome, RecorderPlan, SUMMARY_EVERY_S, recorder_loop};
+use recorder::{McapRecorder, RecorderPlan, SUMMARY_EVERY_S, recorder_loop};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -115,6 +117,17 @@ pub struct LiveSummary {
     pub loop_p99_us: f64,
     /// Further metrics for the therapist (assist level, joint angles, …), name → value.
     pub extra: BTreeMap<String, f64>,
+}
+
+impl LiveSummary {
+    /// The patient's own arm lengths (upper arm, elbow to grip, m) this summary carries once
+    /// the session has measured them (`arm_calibrated` 1), for the screen's arm inset.
+    pub fn measured_arm_lengths_m(&self) -> Option<[f64; 2]> {
+        let x = |k: &str| self.extra.get(k).copied();
+        (x("arm_calibrated") == Some(1.0))
+            .then(|| Some([x("upper_arm_m")?, x("forearm_m")?]))
+            .flatten()
+    }
 }
 
 /// The result of a session.

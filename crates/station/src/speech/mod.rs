@@ -18,7 +18,7 @@ mod wav;
 pub use wav::Wav;
 
 use crate::render::ScreenState;
-use crate::render::pictures::{Movement, Picture};
+use crate::render::{Movement, Picture};
 use regimen::{NeglectedSide, PatientSettings};
 use std::sync::{Arc, Condvar, Mutex, OnceLock};
 use std::time::Duration;

@@ -41,9 +41,9 @@ use rapier2d_f64::prelude::{
     RigidBodyHandle,
 };
 
+use common::wrap_angle;
 use free::{FreeCar, Sensors};
 
-use crate::driver::wrap_angle;
 use crate::error::VehicleError;
 use crate::model::{DriverInput, TyreForces, VehicleParams, VehicleState, body_forces, rk4};
 use crate::road::Road;
@@ -314,6 +314,12 @@ impl World {
         self
     }
 
+    /// The car moves as a free body, not through rapier's pipeline (module docs).
+    #[cfg(test)]
+    pub(crate) fn moves_free(&self) -> bool {
+        matches!(self.motion, Motion::Free { .. })
+    }
+
     /// The car's parameters.
     pub fn params(&self) -> &VehicleParams {
         &self.params
@@ -536,7 +542,6 @@ fn left_of_polyline(line: &[[f64; 2]], p: [f64; 2]) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::exercise::ExerciseSpec;
     use crate::reference;
 
     /// Run the rapier world and the reference for 20 s at dt = 1 ms and return the largest
@@ -615,92 +620,6 @@ mod tests {
         );
     }
 
-    fn bits(s: &VehicleState) -> [u64; 6] {
-        [s.x_m, s.y_m, s.yaw_rad, s.ux_m_s, s.uy_m_s, s.r_rad_s].map(f64::to_bits)
-    }
-
-    /// Step a free world and the same world moved by rapier's pipeline side by side over
-    /// `seconds` of a drive along the road that weaves across its edges (and through cones)
-    /// and return the events seen (asserting every step equal, to the bit).
-    fn free_against_rapier(name: &str, seconds: f64) -> Vec<WorldEvent> {
-        let ex = ExerciseSpec::from_name(name).unwrap().build().unwrap();
-        let road = ex.road.as_ref().unwrap();
-        let new = || {
-            World::new(
-                VehicleParams::default(),
-                ex.start_state(),
-                ex.track_layout(),
-            )
-        };
-        let mut free = new().unwrap();
-        assert!(matches!(free.motion, Motion::Free { .. }), "{name}");
-        let mut rapier = new().unwrap().with_rapier_pipeline();
-        let (driver, params) = (
-            crate::driver::PreviewDriver::default(),
-            free.params().clone(),
-        );
-        let mut events = Vec::new();
-        let mut s_hint = 0.0;
-        for i in 0..(seconds * 1000.0) as usize {
-            let t = i as f64 * 1e-3;
-            let st = free.state();
-            let here = road.project(st.x_m, st.y_m, s_hint);
-            s_hint = here.s_m;
-            let weave = (0.1 + 0.01 * t) * (std::f64::consts::TAU * 0.3 * t).sin();
-            let steer = driver.desired_steer_rad(&params, &st, &here, road.as_ref()) + weave;
-            let input = crate::driver::SpeedController {
-                target_m_s: 8.0 + 4.0 * (0.2 * t).sin(),
-                gain_n_per_m_s: 3000.0,
-                max_force_n: 8000.0,
-            }
-            .input(st.ux_m_s, steer);
-            free.step(input, 1e-3);
-            rapier.step(input, 1e-3);
-            let (a, b) = (free.state(), rapier.state());
-            assert!(
-                bits(&a) == bits(&b),
-                "{name}, step {i}: free {a:?}, rapier {b:?}"
-            );
-            let fe: Vec<_> = free.drain_events().collect();
-            let re: Vec<_> = rapier.drain_events().collect();
-            assert_eq!(fe, re, "{name}, step {i}");
-            events.extend(fe);
-        }
-        assert_eq!(free.cone_hits(), rapier.cone_hits());
-        events
-    }
-
-    #[test]
-    fn the_free_car_moves_bit_for_bit_as_rapiers_solver_moves_it() {
-        let mut seen = Vec::new();
-        for name in crate::exercise::EXERCISE_NAMES {
-            let ex = ExerciseSpec::from_name(name).unwrap().build().unwrap();
-            if ex.track_layout().left_edge.is_empty() {
-                continue;
-            }
-            let events = free_against_rapier(name, 30.0);
-            eprintln!("{name}: {} events, identical", events.len());
-            seen.extend(events);
-        }
-        // The drive met every kind of sensor event the exercises have.
-        assert!(seen.iter().any(|e| matches!(e, WorldEvent::ConeHit { .. })));
-        assert!(
-            seen.iter()
-                .any(|e| matches!(e, WorldEvent::EdgeTouched { .. }))
-        );
-        assert!(
-            seen.iter()
-                .any(|e| matches!(e, WorldEvent::EdgeCleared { off_road: true, .. }))
-        );
-        assert!(seen.iter().any(|e| matches!(
-            e,
-            WorldEvent::EdgeCleared {
-                off_road: false,
-                ..
-            }
-        )));
-    }
-
     #[test]
     fn a_track_with_barriers_keeps_rapiers_pipeline() {
         let layout = TrackLayout {
@@ -709,70 +628,6 @@ mod tests {
         };
         let world = World::new(VehicleParams::default(), VehicleState::default(), layout).unwrap();
         assert!(matches!(world.motion, Motion::Solver));
-    }
-
-    #[test]
-    fn driving_through_slalom_cones_reports_each_hit_once() {
-        let ex = ExerciseSpec::from_name("slalom").unwrap().build().unwrap();
-        let mut layout = ex.track_layout();
-        // Put the cones on the straight line the car will drive.
-        for c in &mut layout.cones {
-            c[1] = 0.0;
-        }
-        let n = layout.cones.len();
-        let start = VehicleState {
-            ux_m_s: 10.0,
-            ..Default::default()
-        };
-        let mut world = World::new(VehicleParams::default(), start, layout).unwrap();
-        let mut events = Vec::new();
-        for _ in 0..20_000 {
-            world.step(DriverInput::default(), 1e-3);
-            events.extend(world.drain_events());
-        }
-        let hits: Vec<usize> = events
-            .iter()
-            .filter_map(|e| match e {
-                WorldEvent::ConeHit { cone } => Some(*cone),
-                _ => None,
-            })
-            .collect();
-        assert_eq!(hits, (0..n).collect::<Vec<_>>());
-        assert_eq!(world.cone_hits(), n);
-        // Cones are sensors: the car drives through them unslowed.
-        assert!((world.state().ux_m_s - 10.0).abs() < 1e-4);
-    }
-
-    #[test]
-    fn leaving_the_road_reports_edge_touched_then_off_road() {
-        let ex = ExerciseSpec::from_name("straight-road")
-            .unwrap()
-            .build()
-            .unwrap();
-        let start = ex.start_state();
-        let mut world = World::new(VehicleParams::default(), start, ex.track_layout()).unwrap();
-        let mut events = Vec::new();
-        for i in 0..6000 {
-            let steer = if i < 1500 { 0.02 } else { 0.0 };
-            world.step(
-                DriverInput {
-                    steer_rad: steer,
-                    ..Default::default()
-                },
-                1e-3,
-            );
-            events.extend(world.drain_events());
-        }
-        assert_eq!(
-            events,
-            vec![
-                WorldEvent::EdgeTouched { side: Side::Left },
-                WorldEvent::EdgeCleared {
-                    side: Side::Left,
-                    off_road: true
-                }
-            ]
-        );
     }
 
     #[test]

@@ -3,8 +3,9 @@
 //! countdown), kept off the patient's neglected side.
 
 use super::{ACCENT, CARD, CARD_TEXT, MIN_TEXT_PT, PAD, galley};
+use crate::render::Picture;
 use crate::render::layout;
-use crate::render::pictures::{self, Picture};
+use crate::render::pictures;
 use crate::render::scene::NextCard;
 use crate::render::text;
 use egui::{Color32, CornerRadius, Painter, Pos2, Rect, Vec2, pos2, vec2};

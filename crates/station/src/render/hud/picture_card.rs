@@ -3,9 +3,10 @@
 //! the middle of the side the patient attends to.
 
 use super::{CARD, CARD_TEXT, PAD, galley};
+use crate::render::Picture;
 use crate::render::layout;
 use crate::render::palette::CARD_KEYS;
-use crate::render::pictures::{self, Picture};
+use crate::render::pictures;
 use crate::render::text;
 use egui::{Color32, CornerRadius, Painter, Pos2, Rect, Vec2, pos2, vec2};
 use regimen::NeglectedSide;

@@ -4,169 +4,17 @@
 //! A picture shows what a sentence says, for a reader who finds words hard (aphasia): the
 //! movement of each exercise (every kind of road its own road, the dial's needles, pushing
 //! against the wheel), rest, pause, what to do with the wheel's button, the plug, yes and no,
-//! the end of a session and today's page. It is the one picture type of the patient's
-//! window: the session's cards and the pages before and after a session all draw from it. [`draw`] paints one into a rectangle; [`draw_with_caption`] adds its caption
-//! under it. Moving pictures take an animation clock, s (any clock that moves on).
+//! the end of a session and today's page. [`Picture`] (plain data, in the scene) is the one
+//! picture type of the patient's window: the session's cards and the pages before and after a
+//! session all draw from it. [`draw`] paints one into a rectangle; [`draw_with_caption`] adds
+//! its caption under it. Moving pictures take an animation clock, s (any clock that moves on).
 
 mod road;
 mod symbols;
 mod wheel;
 
+use super::scene::{Movement, Picture};
 use egui::{Color32, FontId, Painter, Rect, pos2};
-
-/// The movement an exercise asks for; each has its own picture.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
-pub enum Movement {
-    /// A winding road (the sine road): turn the wheel left and right.
-    #[default]
-    Steer,
-    /// A straight road: hold the car in the middle.
-    Straight,
-    /// A zigzag road (the triangle road).
-    Zigzag,
-    /// A bend that gets tighter (the clothoid road).
-    Tightening,
-    /// Sharp corners.
-    SharpTurns,
-    /// One S-shaped bend.
-    SBend,
-    /// From one lane into the other.
-    LaneChange,
-    /// Between cones.
-    Slalom,
-    /// Following the red needle of the dial with the black one.
-    Dial,
-    /// Pushing against a wheel that does not move (the strength test).
-    Strength,
-}
-
-impl Movement {
-    /// The movement of the exercise with the stable short name `short` (`"sine-road"`,
-    /// `"dial-step"`, …; see `vehicle::ExerciseSpec::name`).
-    pub fn of_exercise(short: &str) -> Movement {
-        match short {
-            "straight-road" => Movement::Straight,
-            "triangle-road" => Movement::Zigzag,
-            "clothoid-road" => Movement::Tightening,
-            "sharp-turns" => Movement::SharpTurns,
-            "s-bend" => Movement::SBend,
-            "lane-change" => Movement::LaneChange,
-            "slalom" => Movement::Slalom,
-            "strength" | "assessment-strength" => Movement::Strength,
-            // The standard assessment's other parts are dial tasks.
-            s if s.starts_with("dial") || s == "haptic-sweep" || s.starts_with("assessment-") => {
-                Movement::Dial
-            }
-            _ => Movement::Steer,
-        }
-    }
-
-    /// Every movement.
-    pub const ALL: [Movement; 10] = [
-        Movement::Steer,
-        Movement::Straight,
-        Movement::Zigzag,
-        Movement::Tightening,
-        Movement::SharpTurns,
-        Movement::SBend,
-        Movement::LaneChange,
-        Movement::Slalom,
-        Movement::Dial,
-        Movement::Strength,
-    ];
-}
-
-/// A picture of the patient's pages.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Picture {
-    /// The movement of an exercise.
-    Exercise(Movement),
-    /// A rest: a cup of tea, the hands off the wheel.
-    Rest,
-    /// The exercise is paused.
-    Pause,
-    /// The wheel, its button lit: press it (`hold`: keep it pressed; `turn`: arrows to turn).
-    Wheel {
-        /// The button is held down (a long press).
-        hold: bool,
-        /// Arrows show the wheel turns to choose.
-        turn: bool,
-    },
-    /// A cable's plug going into the wheel: plug it back in.
-    Plug,
-    /// The sensor strapped on the forearm, its cable's plug going back in.
-    ArmSensorPlug,
-    /// Yes: a tick.
-    Yes,
-    /// No: a cross.
-    No,
-    /// The session is over: a star.
-    Done,
-    /// Today's page: a calendar sheet.
-    Today,
-}
-
-impl Picture {
-    /// Every picture, the exercises' first.
-    pub fn all() -> Vec<Picture> {
-        let mut all: Vec<Picture> = Movement::ALL
-            .iter()
-            .map(|m| Picture::Exercise(*m))
-            .collect();
-        all.extend([
-            Picture::Rest,
-            Picture::Pause,
-            Picture::Wheel {
-                hold: false,
-                turn: false,
-            },
-            Picture::Wheel {
-                hold: true,
-                turn: true,
-            },
-            Picture::Plug,
-            Picture::ArmSensorPlug,
-            Picture::Yes,
-            Picture::No,
-            Picture::Done,
-            Picture::Today,
-        ]);
-        all
-    }
-
-    /// The id of the picture's caption in the `pictures` catalogue.
-    pub fn caption_id(self) -> &'static str {
-        match self {
-            Picture::Exercise(m) => match m {
-                Movement::Steer => "picture-road-winding",
-                Movement::Straight => "picture-road-straight",
-                Movement::Zigzag => "picture-road-zigzag",
-                Movement::Tightening => "picture-road-tightening",
-                Movement::SharpTurns => "picture-road-sharp-turns",
-                Movement::SBend => "picture-road-s-bend",
-                Movement::LaneChange => "picture-road-lane-change",
-                Movement::Slalom => "picture-road-slalom",
-                Movement::Dial => "picture-dial",
-                Movement::Strength => "picture-strength",
-            },
-            Picture::Rest => "picture-rest",
-            Picture::Pause => "picture-pause",
-            Picture::Wheel { turn: true, .. } => "picture-wheel-turn",
-            Picture::Wheel { .. } => "picture-buttons",
-            Picture::Plug => "picture-plug",
-            Picture::ArmSensorPlug => "picture-arm-sensor-plug",
-            Picture::Yes => "picture-yes",
-            Picture::No => "picture-no",
-            Picture::Done => "picture-done",
-            Picture::Today => "picture-today",
-        }
-    }
-
-    /// The caption in the language in force.
-    pub fn caption(self) -> String {
-        i18n::tr!(self.caption_id())
-    }
-}
 
 /// Dark outlines of the pictures (13:1 on the white card).
 pub const INK: Color32 = Color32::from_rgb(0x2A, 0x30, 0x38);
@@ -304,6 +152,3 @@ mod tests {
         }
     }
 }
-
-#[cfg(test)]
-mod shots;

@@ -2,7 +2,7 @@
 //! for the end and a calendar sheet for today.
 
 use super::INK;
-use crate::render::hud::needle_direction;
+use crate::render::dial::{needle_direction, paint_dial};
 use crate::render::palette::ACCENT as ACCENT_FILL;
 use egui::{Color32, Painter, Pos2, Rect, Shape, Stroke, StrokeKind, pos2, vec2};
 
@@ -13,7 +13,7 @@ const BLUE: Color32 = Color32::from_rgb(0x2F, 0x6D, 0xB5);
 /// The dial with its red target needle swinging and the black one following.
 pub(super) fn dial(p: &Painter, sq: Rect, anim_s: f64) {
     let swing = (anim_s * 1.6).sin();
-    crate::render::hud::paint_dial(
+    paint_dial(
         p,
         &crate::render::Dial {
             desired_rad: swing * 0.9,

@@ -237,7 +237,7 @@ impl Default for SampleCheck {
             last_t_ns: 0,
             last_rate: [0.0; 3],
             repeats: 0,
-            range: GyroRange::symmetric(crate::session::faults::IMU_FULL_SCALE_RAD_S),
+            range: GyroRange::symmetric(crate::config::faults::IMU_FULL_SCALE_RAD_S),
         }
     }
 }
@@ -369,13 +369,13 @@ impl ArmTracker {
             rejected: 0,
             seam: ArmSeam::default(),
             recorded_solver: None,
-            gyro_ranges: [GyroRange::symmetric(crate::session::faults::IMU_FULL_SCALE_RAD_S); 2],
+            gyro_ranges: [GyroRange::symmetric(crate::config::faults::IMU_FULL_SCALE_RAD_S); 2],
         }
     }
 
     /// The full scale of each IMU's gyro (`a`, `b` in device order), each device's own (a
     /// DualShock 4 clips at 1999.94 °/s, a Joy-Con at 2294 °/s): a rate at it is clipped and
-    /// not used. Without this call, ±[`crate::session::faults::IMU_FULL_SCALE_RAD_S`] (the
+    /// not used. Without this call, ±[`crate::config::faults::IMU_FULL_SCALE_RAD_S`] (the
     /// simulated sensors').
     pub fn set_gyro_ranges(&mut self, ranges: [GyroRange; 2]) {
         self.gyro_ranges = ranges;

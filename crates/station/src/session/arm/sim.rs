@@ -3,7 +3,7 @@
 //! samples into joint angles. Allocation-free per tick.
 
 use super::{ArmTracker, MountingMode, SetupStep, WheelNow};
-use crate::session::faults::FaultKind;
+use crate::config::faults::FaultKind;
 use gyro_imu::ImuError;
 use gyro_imu::pose::Mounting;
 use gyro_imu::sim::arm::{PatientArmConfig, SimArm};
@@ -52,7 +52,7 @@ impl SimArmSensing {
         seed: u64,
         real_time: bool,
         clock: clock::Clock,
-        faults: &[crate::session::faults::FaultSpec],
+        faults: &[crate::config::faults::FaultSpec],
     ) -> Result<Self, ImuError> {
         let (mu, mf) = match mode {
             MountingMode::Square => (UnitQuaternion::identity(), UnitQuaternion::identity()),
@@ -82,7 +82,7 @@ impl SimArmSensing {
             tracker,
             last: ArmSample::default(),
             unreachable: 0,
-            faults: crate::session::faults::imu_faults(faults),
+            faults: crate::config::faults::imu_faults(faults),
             unplugged: false,
             held: None,
             trunk: None,
@@ -160,7 +160,7 @@ impl SimArmSensing {
         }
         if acting(FaultKind::ImuSaturated) {
             let full = |r: &mut Vector3<f64>| {
-                r.apply(|x| *x = crate::session::faults::IMU_FULL_SCALE_RAD_S.copysign(*x))
+                r.apply(|x| *x = crate::config::faults::IMU_FULL_SCALE_RAD_S.copysign(*x))
             };
             full(&mut upper.rate_rad_s);
             full(&mut fore.rate_rad_s);

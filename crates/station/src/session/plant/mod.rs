@@ -10,6 +10,8 @@ mod health;
 
 pub use health::MAX_REFUSED_WRITES_NS;
 mod raw;
+#[cfg(test)]
+mod tests;
 
 pub use body::Body;
 pub use exercise::ExerciseScores;
@@ -61,7 +63,7 @@ pub struct Plant {
     /// (read at start-up: the backend's capabilities allocate its name).
     motor_update_policy_hz: f64,
     /// How long an asked-for rest and a pause may last.
-    break_settings: crate::session::breaks::BreakSettings,
+    break_settings: crate::session::course::BreakSettings,
     /// The patient's pedals as last read off the haptic thread.
     live_pedals: vehicle::Pedals,
     /// The patient's own torque on the wheel, estimated from the wheel's dynamics and the
@@ -215,7 +217,7 @@ impl Plant {
             ceiling,
             wheel_facts,
             motor_update_policy_hz: capabilities.max_update_rate_hz,
-            break_settings: crate::session::breaks::BreakSettings {
+            break_settings: crate::session::course::BreakSettings {
                 asked_rest_s: cfg.session.asked_rest_s,
                 pause_limit_s: cfg.session.pause_limit_s,
             },
@@ -261,7 +263,7 @@ impl Plant {
     }
 
     /// How long an asked-for rest and a pause may last (`[session]`).
-    pub fn break_settings(&self) -> crate::session::breaks::BreakSettings {
+    pub fn break_settings(&self) -> crate::session::course::BreakSettings {
         self.break_settings
     }
 

@@ -31,7 +31,7 @@ impl SessionObserver for ScreenFeed<'_> {
     }
 
     fn on_summary(&mut self, summary: &LiveSummary) {
-        if let Some(lengths) = crate::screen::measured_arm_lengths_m(summary) {
+        if let Some(lengths) = summary.measured_arm_lengths_m() {
             let _ = self.arm_measured_m.set(lengths);
         }
         self.inner.on_summary(summary);

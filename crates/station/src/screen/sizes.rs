@@ -1,10 +1,10 @@
-//! Sized for the sofa: the rendered cap height of every text on the session's pages at
-//! 1920×1080, against the minimums of [`crate::render::layout`].
+//! Sized for the sofa: the rendered cap height of every text on the session's pages (the
+//! cards of the screen and the session's pause page, painted by the HUD) at 1920×1080,
+//! against the minimums of [`crate::render::layout`].
 
-use super::paint;
+use crate::render::hud::{paint, pixels_per_point};
 use crate::render::layout::{MAIN_CAP_ARCMIN, MIN_CAP_ARCMIN, px_at_1080p};
-use crate::render::pictures::{Movement, Picture};
-use crate::render::{Hud, LiveScore, NextCard, Scene, ScreenState};
+use crate::render::{Hud, LiveScore, Movement, NextCard, Picture, Scene, ScreenState};
 use egui::epaint::Shape;
 use egui::{Context, Id, LayerId, Order, Pos2, Rect, ViewportId, vec2};
 use regimen::NeglectedSide;
@@ -13,7 +13,7 @@ use regimen::NeglectedSide;
 /// is the median drawn height of its capitals and digits (their glyphs' rasters), so it is
 /// measured, not computed from the font size.
 fn texts_at_1080p(scene: &Scene) -> Vec<(String, f64)> {
-    let ppp = super::pixels_per_point(1920, 1080);
+    let ppp = pixels_per_point(1920, 1080);
     let size = vec2(1920.0 / ppp, 1080.0 / ppp);
     let ctx = Context::default();
     let mut input = egui::RawInput {
