@@ -45,9 +45,9 @@ pub use live::LiveMeasures;
 pub use reliability::{OWN_NOISE_MIN_REPEATS, OwnNoise, Reliability, own_mdc95, test_retest};
 pub use robot::{
     DirectedResponse, DirectedStep, MIN_REACTION_TIME_S, ResponseParams, StepResponse, TargetStep,
-    directed_step_responses, speed_metric, steering_reversals, step_responses,
+    directed_step_responses, steering_reversals, step_responses,
 };
-pub use segment::{Movement, SegmentParams, segment, threshold};
+pub use segment::{Movement, SegmentParams, segment, speed_metric, threshold};
 pub use session::{
     JointRange, SessionMeasures, SessionParams, Summary, range_of_motion, session_measures,
     session_measures_of_runs, session_measures_with,

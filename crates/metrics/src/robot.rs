@@ -1,7 +1,7 @@
 //! Movement measures as robot assessments of stroke report them (InMotion, Kinarm), defined
 //! for the wheel's one angle.
 //!
-//! - **Speed metric** ([`speed_metric`]): a movement's mean speed over its peak speed, 1 for a
+//! - **Speed metric** ([`crate::speed_metric`], beside the other measures of one movement): a movement's mean speed over its peak speed, 1 for a
 //!   constant speed, 0.533 for a whole minimum-jerk movement (1/1.875); it rises as the
 //!   speed profile fills out with recovery. Rohrer B, Fasoli S, Krebs HI, Hughes R, Volpe B,
 //!   Frontera WR, Stein J, Hogan N (2002) "Movement smoothness changes during stroke
@@ -51,18 +51,6 @@ use crate::filter::speed_profile;
 /// "Response Times", ch. 2: ~0.18 s), so the bound never takes a true reaction for an
 /// anticipation.
 pub const MIN_REACTION_TIME_S: f64 = 0.1;
-
-/// A movement's speed metric: mean speed over peak speed, in (0, 1]; `None` for an empty or
-/// all-zero profile (Rohrer et al. 2002).
-#[must_use]
-pub fn speed_metric(speed: &[f64]) -> Option<f64> {
-    let peak = speed.iter().copied().fold(0.0, f64::max);
-    if speed.is_empty() || peak <= 0.0 || !peak.is_finite() {
-        return None;
-    }
-    let mean = speed.iter().sum::<f64>() / speed.len() as f64;
-    Some(mean / peak)
-}
 
 /// Steering reversals of an angle signal (rad) with a gap of `gap_rad` (Markkula & Engström
 /// 2006): once the angle has moved `gap_rad` one way from where it started, each time it goes
@@ -541,23 +529,6 @@ mod tests {
     fn min_jerk(tau: f64) -> f64 {
         let t = tau.clamp(0.0, 1.0);
         10.0 * t.powi(3) - 15.0 * t.powi(4) + 6.0 * t.powi(5)
-    }
-
-    #[test]
-    fn a_constant_speed_has_speed_metric_one_and_minimum_jerk_1_over_1_875() {
-        assert!((speed_metric(&[0.7; 50]).unwrap() - 1.0).abs() < 1e-12);
-        assert_eq!(speed_metric(&[0.0; 5]), None);
-        assert_eq!(speed_metric(&[]), None);
-        // The speed of a minimum-jerk movement: 30 τ² (1 − τ)², peak 1.875 at τ = ½.
-        let n = 10_000;
-        let v: Vec<f64> = (0..=n)
-            .map(|i| {
-                let t = f64::from(i) / f64::from(n);
-                30.0 * t * t * (1.0 - t) * (1.0 - t)
-            })
-            .collect();
-        let s = speed_metric(&v).unwrap();
-        assert!((s - 1.0 / 1.875).abs() < 1e-3, "{s}");
     }
 
     #[test]

@@ -258,13 +258,25 @@ pub(crate) fn movement(
         duration_s: (e - s) as f64 / fs_hz,
         peak_speed: peak,
         n_peaks: count_peaks(v, params.peak_fraction * peak),
-        speed_metric: crate::robot::speed_metric(v).unwrap_or(0.0),
+        speed_metric: speed_metric(v).unwrap_or(0.0),
         discrete,
         sparc: discrete
             .then(|| sparc(v, fs_hz, params.sparc).ok())
             .flatten(),
         ldlj: discrete.then(|| ldlj_speed(v, fs_hz).ok()).flatten(),
     }
+}
+
+/// A movement's speed metric: mean speed over peak speed, in (0, 1]; `None` for an empty or
+/// all-zero profile (Rohrer et al. 2002).
+#[must_use]
+pub fn speed_metric(speed: &[f64]) -> Option<f64> {
+    let peak = speed.iter().copied().fold(0.0, f64::max);
+    if speed.is_empty() || peak <= 0.0 || !peak.is_finite() {
+        return None;
+    }
+    let mean = speed.iter().sum::<f64>() / speed.len() as f64;
+    Some(mean / peak)
 }
 
 /// Local maxima of `v` at or above `min_height`: a sample (or a plateau of equal samples)
@@ -295,6 +307,23 @@ fn count_peaks(v: &[f64], min_height: f64) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_constant_speed_has_speed_metric_one_and_minimum_jerk_1_over_1_875() {
+        assert!((speed_metric(&[0.7; 50]).unwrap() - 1.0).abs() < 1e-12);
+        assert_eq!(speed_metric(&[0.0; 5]), None);
+        assert_eq!(speed_metric(&[]), None);
+        // The speed of a minimum-jerk movement: 30 τ² (1 − τ)², peak 1.875 at τ = ½.
+        let n = 10_000;
+        let v: Vec<f64> = (0..=n)
+            .map(|i| {
+                let t = f64::from(i) / f64::from(n);
+                30.0 * t * t * (1.0 - t) * (1.0 - t)
+            })
+            .collect();
+        let s = speed_metric(&v).unwrap();
+        assert!((s - 1.0 / 1.875).abs() < 1e-3, "{s}");
+    }
 
     #[test]
     fn peaks_count_plateaus_once_and_ignore_small_bumps() {
