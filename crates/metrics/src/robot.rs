@@ -124,7 +124,7 @@ pub struct ResponseParams {
     pub min_distance_rad: f64,
     /// A step's response starts with a run of the speed above the onset threshold at least
     /// this long, s: a shorter burst (a tremor's, motor noise's) is no movement. Default
-    /// 0.1 s, the gap [`crate::segment`] merges into one movement (its `merge_gap_s`).
+    /// 0.1 s, the gap [`segment`](fn@crate::segment) merges into one movement (its `merge_gap_s`).
     #[serde(default = "default_min_run_s")]
     pub min_run_s: f64,
 }
@@ -213,7 +213,7 @@ pub struct StepResponse {
     pub path_length_ratio: Option<f64>,
     /// The response as one discrete movement, from its onset to its end (the first sample
     /// back at or below the threshold after the last above it in the window): its time,
-    /// peak speed, speed peaks, speed metric, SPARC and LDLJ, as [`crate::segment`] measures
+    /// peak speed, speed peaks, speed metric, SPARC and LDLJ, as [`segment`](fn@crate::segment) measures
     /// a movement from rest to rest. `None` unless the response came to rest before the
     /// window closed (the next step, `max_window_s` or the signal's end): a movement cut by
     /// the next step is not a whole movement, and its smoothness is not the published one.
