@@ -20,7 +20,9 @@
 pub mod care;
 pub mod results;
 
-pub use results::{EndResults, KEPT_RESULTS, end_lines, load_results, result_lines, save_results};
+pub use results::{
+    EndResults, KEPT_RESULTS, end_lines, load_results, result_lines, save_results, wheel_stopped,
+};
 
 use crate::render::window::UserRequest;
 use crate::render::{CheckInPage, CheckInScale, ScaleKind};
@@ -107,6 +109,9 @@ pub struct CheckInFlow {
     pain_threshold_0_10: u8,
     /// The clinic's phone number for that page.
     clinic_phone: Option<String>,
+    /// The session stopped before its end (the wheel stopped working): the results page's
+    /// title says so instead of "Well done! You finished."
+    stopped_early: bool,
 }
 
 impl CheckInFlow {
@@ -124,6 +129,23 @@ impl CheckInFlow {
             page_since: now,
             pain_threshold_0_10: care::DEFAULT_PAIN_THRESHOLD_0_10,
             clinic_phone: None,
+            stopped_early: false,
+        }
+    }
+
+    /// The session stopped before its end ([`wheel_stopped`]): the results page's title says
+    /// so, not that the patient finished.
+    pub fn stopped_early(mut self, stopped: bool) -> Self {
+        self.stopped_early = stopped;
+        self
+    }
+
+    /// The page's main sentence, the one spoken: [`Page::message_id`], but a session stopped
+    /// early is not "finished".
+    fn message_id(&self) -> Option<&'static str> {
+        match self.page {
+            Page::Results if self.stopped_early => Some("checkin-results-stopped-title"),
+            page => page.message_id(),
         }
     }
 
@@ -153,7 +175,7 @@ impl CheckInFlow {
     /// The page's main sentence for speech: its catalogue id and its words in the language in
     /// force (`None` once closed).
     pub fn spoken(&self) -> Option<(&'static str, String)> {
-        let id = self.page.message_id()?;
+        let id = self.message_id()?;
         Some((id, i18n::tr!(id)))
     }
 
@@ -282,7 +304,6 @@ impl CheckInFlow {
             ]
         };
         let title = self
-            .page
             .message_id()
             .map(|id| i18n::tr!(id))
             .unwrap_or_default();

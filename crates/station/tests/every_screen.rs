@@ -266,7 +266,8 @@ fn check_in() -> Vec<(&'static str, Scene)> {
         &[],
         Some(haptic_wheel::WheelFault::CommandsRefused),
     );
-    let wheel_stopped = CheckInFlow::new(stopped, Duration::from_secs(120), now);
+    let wheel_stopped =
+        CheckInFlow::new(stopped, Duration::from_secs(120), now).stopped_early(true);
     pages.push(("checkin-results-wheel-stopped", shown(&wheel_stopped)));
     pages
 }

@@ -1,6 +1,7 @@
 # Das Ende einer Sitzung: Ergebnisse, drei Fragen, die Seite nach starken Schmerzen.
 # Einfache Wörter, kurze Sätze (höchstens 12 Wörter), „Sie“.
 checkin-results-title = Gut gemacht! Sie sind fertig.
+checkin-results-stopped-title = Die Sitzung hat früher aufgehört.
 checkin-results-wheel-stopped = Das Lenkrad hat aufgehört zu arbeiten. Seine Kraft ist aus. Bitte sagen Sie es der Klinik.
 checkin-results-exercised = Sie haben { $time } geübt.
 checkin-results-lane = Sie blieben { $percent } % der Zeit in der Spur.

@@ -1,6 +1,7 @@
 # The end of a session: the results, three questions, and the page after strong pain.
 # Plain words, short sentences (at most 12 words). The station speaks each question.
 checkin-results-title = Well done! You finished.
+checkin-results-stopped-title = The session stopped early.
 checkin-results-wheel-stopped = The wheel stopped working. Its force is off. Please tell the clinic.
 checkin-results-exercised = You exercised for { $time }.
 checkin-results-lane = You stayed in your lane { $percent } % of the time.

@@ -1,6 +1,7 @@
 # El final de una sesión: resultados, tres preguntas y la página tras un dolor fuerte.
 # Palabras sencillas, frases cortas (12 palabras como mucho), «usted».
 checkin-results-title = ¡Muy bien! Ha terminado.
+checkin-results-stopped-title = La sesión terminó antes de tiempo.
 checkin-results-wheel-stopped = El volante dejó de funcionar. Su fuerza está apagada. Avise a la clínica, por favor.
 checkin-results-exercised = Ha hecho ejercicio durante { $time }.
 checkin-results-lane = Se mantuvo en su carril el { $percent } % del tiempo.

@@ -1,6 +1,7 @@
 # 一次锻炼的结尾：结果、三个问题，以及剧烈疼痛后的页面。
 # 简单的词，短句。
 checkin-results-title = 做得好！您完成了。
+checkin-results-stopped-title = 本次训练提前结束了。
 checkin-results-wheel-stopped = 方向盘停止工作了。它的力已关闭。请告诉诊所。
 checkin-results-exercised = 您锻炼了 { $time }。
 checkin-results-lane = 您有 { $percent }% 的时间留在车道内。

@@ -59,6 +59,13 @@ fn whole(x: f64) -> i64 {
     x.round() as i64
 }
 
+/// Whether a session that ended on `wheel_fault` ended because the wheel stopped working (not
+/// one unplugged: its own page said so all along): its end screen says so, first and in its
+/// title ([`crate::checkin::CheckInFlow::stopped_early`]).
+pub fn wheel_stopped(wheel_fault: Option<haptic_wheel::WheelFault>) -> bool {
+    wheel_fault.is_some_and(|f| f != haptic_wheel::WheelFault::Unplugged)
+}
+
 /// The end screen's lines after a session that ended on `wheel_fault`, if one: a wheel that
 /// stopped working (not one unplugged: its own page said so all along) is said first, and
 /// whom to tell; then [`result_lines`].
@@ -67,8 +74,7 @@ pub fn end_lines(
     before: &[EndResults],
     wheel_fault: Option<haptic_wheel::WheelFault>,
 ) -> Vec<String> {
-    let stopped = wheel_fault.is_some_and(|f| f != haptic_wheel::WheelFault::Unplugged);
-    stopped
+    wheel_stopped(wheel_fault)
         .then(|| i18n::tr!("checkin-results-wheel-stopped"))
         .into_iter()
         .chain(result_lines(now, before))

@@ -322,5 +322,25 @@ fn a_wheel_that_stopped_working_is_said_first_with_whom_to_tell_an_unplugged_one
             "{fault:?}"
         );
         assert_eq!(lines[1..], plain[..], "{fault:?}");
+        assert!(wheel_stopped(Some(fault)), "{fault:?}");
     }
+    assert!(!wheel_stopped(None) && !wheel_stopped(Some(WheelFault::Unplugged)));
+}
+
+/// A session the wheel ended is not "finished": the results page's title, shown and spoken,
+/// says it stopped early; the questions after it are as always.
+#[test]
+fn a_session_stopped_early_is_titled_so_and_not_well_done() {
+    let now = Instant::now();
+    let lines = vec![i18n::tr!("checkin-results-wheel-stopped")];
+    let finished = CheckInFlow::new(lines.clone(), Duration::from_secs(60), now);
+    assert_eq!(finished.page().title, i18n::tr!("checkin-results-title"));
+    let mut stopped = CheckInFlow::new(lines, Duration::from_secs(60), now).stopped_early(true);
+    let page = stopped.page();
+    assert_eq!(page.title, i18n::tr!("checkin-results-stopped-title"));
+    assert_ne!(page.title, i18n::tr!("checkin-results-title"));
+    assert_eq!(stopped.spoken().unwrap().0, "checkin-results-stopped-title");
+    stopped.apply(UserRequest::Confirm, now);
+    assert_eq!(stopped.page_id(), "pain");
+    assert_eq!(stopped.spoken().unwrap().0, "checkin-pain-question");
 }

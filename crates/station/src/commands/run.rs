@@ -370,6 +370,7 @@ fn end_screen(
             question_timeout_s,
             pain_threshold_0_10: care.pain_threshold_0_10,
             clinic_phone: care.clinic_phone,
+            stopped_early: crate::checkin::wheel_stopped(report.haptic.wheel_fault),
         }
     })
 }

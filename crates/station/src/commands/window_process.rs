@@ -216,6 +216,7 @@ fn end_flow(end: EndScreen) -> CheckInFlow {
         std::time::Instant::now(),
     )
     .with_care(end.pain_threshold_0_10, end.clinic_phone)
+    .stopped_early(end.stopped_early)
 }
 
 /// The end screen's page now, after the wheel's and a gamepad's `input`, or `None` once it

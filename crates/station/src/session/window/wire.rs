@@ -89,6 +89,10 @@ pub struct EndScreen {
     pub pain_threshold_0_10: u8,
     /// The clinic's phone number for that page, if the hub sent one.
     pub clinic_phone: Option<String>,
+    /// The session stopped before its end (the wheel stopped working): the results page's
+    /// title says so.
+    #[serde(default)]
+    pub stopped_early: bool,
 }
 
 /// From the window to the station.
