@@ -340,7 +340,7 @@ fn a_session_stopped_early_is_titled_so_and_not_well_done() {
     assert_eq!(page.title, i18n::tr!("checkin-results-stopped-title"));
     assert_ne!(page.title, i18n::tr!("checkin-results-title"));
     assert_eq!(stopped.spoken().unwrap().0, "checkin-results-stopped-title");
-    stopped.apply(UserRequest::Confirm, now);
+    stopped.apply(Confirm, now);
     assert_eq!(stopped.page_id(), "pain");
     assert_eq!(stopped.spoken().unwrap().0, "checkin-pain-question");
 }
