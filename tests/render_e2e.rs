@@ -88,6 +88,55 @@ fn press(key: &str) {
     press_in("^telerehab$", key);
 }
 
+/// The station's log (its standard error), read line by line on a thread of its own, so a
+/// test can wait for what it says instead of sleeping and hoping.
+struct StationLog {
+    lines: std::sync::Arc<std::sync::Mutex<Vec<String>>>,
+    reader: std::thread::JoinHandle<()>,
+}
+
+/// What the station logs each time the exercise is paused or resumed (the first at its start,
+/// waiting for the patient's Space).
+const PAUSE_CHANGED: &str = "exercise paused or resumed";
+
+impl StationLog {
+    fn of(station: &mut std::process::Child) -> Self {
+        use std::io::BufRead;
+        let lines = std::sync::Arc::new(std::sync::Mutex::new(Vec::<String>::new()));
+        let stderr = std::io::BufReader::new(station.stderr.take().expect("stderr piped"));
+        let kept = lines.clone();
+        let reader = std::thread::spawn(move || {
+            for line in stderr.lines().map_while(Result::ok) {
+                kept.lock().unwrap().push(line);
+            }
+        });
+        Self { lines, reader }
+    }
+
+    /// Lines said so far that contain `needle`.
+    fn count(&self, needle: &str) -> usize {
+        let lines = self.lines.lock().unwrap();
+        lines.iter().filter(|l| l.contains(needle)).count()
+    }
+
+    /// Waits (on a loaded machine, long: 30 s) until the log has said `needle` `times` times.
+    fn wait_for(&self, needle: &str, times: usize) {
+        for _ in 0..600 {
+            if self.count(needle) >= times {
+                return;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+        panic!("the station did not say {needle:?} {times} times");
+    }
+
+    /// The whole log, once the station has ended.
+    fn text(self) -> String {
+        self.reader.join().unwrap();
+        self.lines.lock().unwrap().join("\n")
+    }
+}
+
 /// End the session as a patient does: Esc, which asks (and the exercise waits), then Esc again.
 fn end_the_session() {
     press("Escape");
@@ -121,10 +170,11 @@ fn space_in_the_patient_window_starts_pauses_and_resumes_the_exercise_and_esc_en
         ])
         .arg(&mcap)
         .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
     let _reaper = Reaper(child.id());
+    let log = StationLog::of(&mut child);
     // The window prints its adapter once it can draw.
     let mut stdout = BufReader::new(child.stdout.take().unwrap());
     let mut line = String::new();
@@ -132,13 +182,15 @@ fn space_in_the_patient_window_starts_pauses_and_resumes_the_exercise_and_esc_en
         line.clear();
     }
     assert!(line.contains("render: adapter"), "the window never opened");
-    // The exercise waits for Space; then Space pauses it and Space again resumes it.
-    std::thread::sleep(std::time::Duration::from_millis(500));
-    press("space");
+    // The exercise waits for Space (1: paused at the start); Space starts it (2), once the
+    // window maps and takes keys; then Space pauses it (3) and Space again resumes it (4). The
+    // sleeps between are how long the patient lets it run or stay paused, not waits.
+    log.wait_for(PAUSE_CHANGED, 1);
+    press_until("space", || log.count(PAUSE_CHANGED) >= 2);
     std::thread::sleep(std::time::Duration::from_millis(1000));
-    press("space");
+    press_until("space", || log.count(PAUSE_CHANGED) >= 3);
     std::thread::sleep(std::time::Duration::from_millis(2000));
-    press("space");
+    press_until("space", || log.count(PAUSE_CHANGED) >= 4);
     // Long enough for the resumed exercise to record a score (every 100 ms of exercise time)
     // on a loaded machine, whose loop skips deadlines and so runs the clock slower than the wall
     // (1.5 s once was not, with the whole suite running beside it).
@@ -146,7 +198,8 @@ fn space_in_the_patient_window_starts_pauses_and_resumes_the_exercise_and_esc_en
     end_the_session();
     let mut report = String::new();
     std::io::Read::read_to_string(&mut stdout, &mut report).unwrap();
-    assert!(child.wait().unwrap().success(), "{report}");
+    let log = log.text();
+    assert!(child.wait().unwrap().success(), "{report}\n{log}");
     let paused_s: f64 = report
         .lines()
         .find_map(|l| l.strip_prefix("paused"))
@@ -284,7 +337,7 @@ fn wait_for_line(stdout: &mut impl std::io::BufRead, needle: &str) -> bool {
 /// exercise must pause, the torque fade to zero, a new window open and Space resume it. Returns
 /// the report and the station's log; the recording is `window-lost.mcap` in `dir`.
 fn session_losing_its_window(dir: &std::path::Path, signal: &str) -> (String, String) {
-    use std::io::{BufRead, BufReader, Read};
+    use std::io::{BufReader, Read};
     let mcap = dir.join("window-lost.mcap");
     let mut station = Command::new(telerehab_bin())
         .args(["run", "--sim", "--duration", "120", "--seed", "7"])
@@ -294,37 +347,8 @@ fn session_losing_its_window(dir: &std::path::Path, signal: &str) -> (String, St
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    // The station's log, line by line, so the test can wait for what it says.
-    let log_lines = std::sync::Arc::new(std::sync::Mutex::new(Vec::<String>::new()));
-    let log = {
-        let lines = log_lines.clone();
-        let stderr = BufReader::new(station.stderr.take().unwrap());
-        std::thread::spawn(move || {
-            for line in stderr.lines().map_while(Result::ok) {
-                lines.lock().unwrap().push(line);
-            }
-        })
-    };
-    // Wait (on a loaded machine, long) until the log has said the exercise was paused or
-    // resumed `times` times.
     let _reaper = Reaper(station.id());
-    let pause_changes = || {
-        log_lines
-            .lock()
-            .unwrap()
-            .iter()
-            .filter(|l| l.contains("exercise paused or resumed"))
-            .count()
-    };
-    let wait_for_pause_changes = |times: usize| {
-        for _ in 0..600 {
-            if pause_changes() >= times {
-                return;
-            }
-            std::thread::sleep(std::time::Duration::from_millis(50));
-        }
-        panic!("the exercise was not paused or resumed {times} times");
-    };
+    let log = StationLog::of(&mut station);
     let mut stdout = BufReader::new(station.stdout.take().unwrap());
     assert!(
         wait_for_line(&mut stdout, "render: adapter"),
@@ -332,7 +356,7 @@ fn session_losing_its_window(dir: &std::path::Path, signal: &str) -> (String, St
     );
     // 1: paused at the start; 2: Space started it (once the window maps and takes keys).
     std::thread::sleep(std::time::Duration::from_millis(1000));
-    press_until("space", || pause_changes() >= 2);
+    press_until("space", || log.count(PAUSE_CHANGED) >= 2);
     std::thread::sleep(std::time::Duration::from_millis(1000));
     let window = child_process(station.id(), "window-process");
     assert!(
@@ -344,7 +368,7 @@ fn session_losing_its_window(dir: &std::path::Path, signal: &str) -> (String, St
     );
     // 3: paused when the window was lost. A new window opens (after the hang timeout for a
     // stopped one); 4: Space resumes.
-    wait_for_pause_changes(3);
+    log.wait_for(PAUSE_CHANGED, 3);
     assert!(
         wait_for_line(&mut stdout, "render: adapter"),
         "no new window"
@@ -353,15 +377,14 @@ fn session_losing_its_window(dir: &std::path::Path, signal: &str) -> (String, St
     // The new process has chosen its adapter; give its window time to map and take keys
     // (a key sent before is lost, and the wait below would time out).
     std::thread::sleep(std::time::Duration::from_millis(1000));
-    press_until("space", || pause_changes() >= 4);
+    press_until("space", || log.count(PAUSE_CHANGED) >= 4);
     // Long enough for the resumed exercise to record scores (every 100 ms of exercise time)
     // on a loaded machine, whose loop runs the exercise clock slower than the wall.
     std::thread::sleep(std::time::Duration::from_millis(1500));
     end_the_session();
     let mut report = String::new();
     stdout.read_to_string(&mut report).unwrap();
-    log.join().unwrap();
-    let log = log_lines.lock().unwrap().join("\n");
+    let log = log.text();
     assert!(station.wait().unwrap().success(), "{report}\n{log}");
     (report, log)
 }
