@@ -271,6 +271,31 @@ async fn a_recording_of_300_zero_chunks_is_refused_by_name_before_it_is_decoded(
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_record_over_the_readers_limit_is_refused_by_name_before_it_is_read() {
+    let f = Fixture::new(|s| s).await;
+    // A metadata record of one byte over the limit, all its bytes in the file.
+    let over = record::MAX_RECORD_BYTES as u64 + 1;
+    let mut big = vec![0x0C];
+    big.extend(over.to_le_bytes());
+    big.resize(big.len() + over as usize, 0);
+    let session = f
+        .session_with("big", &after_the_header(&honest(1), &big))
+        .await;
+    let cookie = login(&f.app, "ada@clinic.example").await;
+    let (status, body) = f.replay(&session, &cookie).await;
+    let text = text_of(body).await;
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY, "{text}");
+    assert!(
+        text.contains(&format!(
+            "a record (opcode 0x0c) claims {over} bytes, more than the {} this reader accepts",
+            record::MAX_RECORD_BYTES
+        )),
+        "{text}"
+    );
+    assert_eq!(f.turns.working(), 0);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_replay_over_its_cpu_budget_stops_and_says_why() {
     let f = Fixture::new(|s| s.with_replay_budget(0.3, anything())).await;
     let session = f
