@@ -4,6 +4,7 @@
 #![allow(dead_code, missing_docs)]
 
 pub mod api;
+pub mod fixture;
 
 use hub::Db;
 use sqlx::Connection;
