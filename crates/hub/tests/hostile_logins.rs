@@ -668,7 +668,7 @@ async fn live_streams_end_within_two_seconds_of_logout_expiry_password_change_re
     ends.push(
         stream_ended_by(&f, &cookie, || async {
             f.clock
-                .fetch_add(web::DEFAULT_LOGIN_TTL_MS, Ordering::SeqCst);
+                .advance(Duration::from_millis(web::DEFAULT_LOGIN_TTL_MS as u64));
         })
         .await,
     );

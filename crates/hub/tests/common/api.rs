@@ -21,10 +21,13 @@ pub async fn clinician(db: &Db, email: &str, role: hub::Role) -> hub::Therapist 
 
 /// The console's router over `db` with its clock stopped at [`super::T0`].
 pub fn router_at_t0(db: &Db) -> Router {
-    let (live, _) = tokio::sync::broadcast::channel(4);
-    hub::web::router(
-        hub::web::AppState::new(db.clone(), live).with_clock(std::sync::Arc::new(|| super::T0)),
-    )
+    router_with_clock(db, super::clock_at(super::T0).0)
+}
+
+/// The console's router over `db` reading the time from `clock`.
+pub fn router_with_clock(db: &Db, clock: clock::Clock) -> Router {
+    let (live, _) = tokio::sync::broadcast::channel(8);
+    hub::web::router(hub::web::AppState::new(db.clone(), live).with_clock(clock))
 }
 
 /// A request (a JSON body when given, the cookie when given).

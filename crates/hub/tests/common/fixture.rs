@@ -2,7 +2,6 @@
 //! console's router over it with its clock at [`super::T0`] until a test moves it.
 
 use std::sync::Arc;
-use std::sync::atomic::AtomicI64;
 
 use axum::Router;
 use hub::web::{self, AppState, LiveEvent, ReplayTurns};
@@ -18,8 +17,8 @@ pub struct Fixture {
     pub db: Db,
     /// Where the ingest would announce summaries (the console's live streams read it).
     pub live: broadcast::Sender<LiveEvent>,
-    /// The console's time, ms since the Unix epoch ([`T0`] at first).
-    pub clock: Arc<AtomicI64>,
+    /// The hand of the console's clock ([`T0`] at first).
+    pub clock: clock::MockClock,
     /// The replays being prepared.
     pub turns: Arc<ReplayTurns>,
     /// `root@clinic.example`, an admin.
@@ -62,11 +61,8 @@ impl Fixture {
         let p_ada = db.add_patient("p-ada-1", Some(&ada.id), T0).await.unwrap();
         let p_bob = db.add_patient("p-bob-1", Some(&bob.id), T0).await.unwrap();
         let (live, _) = broadcast::channel(256);
-        let clock = Arc::new(AtomicI64::new(T0));
-        let now = Arc::clone(&clock);
-        let state = state(AppState::new(db.clone(), live.clone()).with_clock(Arc::new(
-            move || now.load(std::sync::atomic::Ordering::SeqCst),
-        )));
+        let (now, clock) = super::clock_at(T0);
+        let state = state(AppState::new(db.clone(), live.clone()).with_clock(now));
         let turns = Arc::clone(&state.replay_turns);
         Self {
             app: web::router(state),
