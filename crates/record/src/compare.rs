@@ -424,10 +424,8 @@ impl<R: Read> Side<R> {
                 self.schemas.keep(header, data.into_owned(), chunk)?;
             }
             Record::Channel(c) => {
-                if let Some(channel) = Channel::from_topic(&c.topic)
-                    && self.wanted[channel as usize]
-                {
-                    let layout = match Decoder::of(channel, &c, self.schemas.by_id())? {
+                if let Some((channel, decoder)) = self.schemas.decoder_of(&c, &self.wanted)? {
+                    let layout = match decoder {
                         Decoder::Json => None,
                         Decoder::Blocks(layout, _) => Some(Arc::from(layout)),
                     };

@@ -155,6 +155,21 @@ impl SchemaTable {
         &self.by_id
     }
 
+    /// How channel record `c` decodes, when it is one of ours among `wanted` (by
+    /// [`Channel`] index), its schema among those kept; `None` for a channel not read.
+    pub(crate) fn decoder_of(
+        &self,
+        c: &mcap::records::Channel,
+        wanted: &[bool; Channel::ALL.len()],
+    ) -> Result<Option<(Channel, Decoder)>, ReadError> {
+        match Channel::from_topic(&c.topic) {
+            Some(channel) if wanted[channel as usize] => {
+                Ok(Some((channel, Decoder::of(channel, c, &self.by_id)?)))
+            }
+            _ => Ok(None),
+        }
+    }
+
     /// The encoding of schema `id` (`""` if the file declared none by that id).
     pub(crate) fn encoding(&self, id: u16) -> &str {
         self.encodings.get(&id).map_or("", String::as_str)
@@ -351,11 +366,8 @@ impl<R: Read> TickStream<R> {
                 self.schemas.keep(header, data.into_owned(), chunk)?;
             }
             Record::Channel(c) => {
-                if let Some(channel) = Channel::from_topic(&c.topic)
-                    && self.wanted[channel as usize]
-                {
-                    let decoder = Decoder::of(channel, &c, self.schemas.by_id())?;
-                    self.channels.insert(c.id, (channel, decoder));
+                if let Some(read) = self.schemas.decoder_of(&c, &self.wanted)? {
+                    self.channels.insert(c.id, read);
                 }
             }
             Record::Metadata(m) if m.name == SessionMetadata::NAME => {
