@@ -10,10 +10,12 @@
 //! back once, holding at most one record (and one chunk being decompressed) at a time, so
 //! memory stays bounded by [`super::MAX_RECORD_BYTES`] whatever the file's size; a record
 //! claiming more ends the copy there, by name, instead of allocating its claimed length, and
-//! every length prefix inside a record is checked before the record is parsed.
+//! every length prefix inside a record is checked before the record is parsed. Its walk lets
+//! mcap's reader unpack the chunks, which gives a chunk's records as they arrive, so a file
+//! cut in the middle of a chunk keeps the records before the cut.
 
 use super::error::ReadError;
-use super::walk::{Rec, Records, StreamLimits};
+use super::walk::{Rec, Records};
 use super::writer::mcap_options;
 use mcap::records::Record;
 use std::collections::BTreeMap;
@@ -57,7 +59,7 @@ pub enum RecoverError {
 /// recording; returns what was copied and the sink. Reads `input` once, front to back, in
 /// bounded memory.
 pub fn recover<R: Read, W: Write + Seek>(input: R, out: W) -> Result<(Recovered, W), RecoverError> {
-    let mut records = Records::new(input, StreamLimits::default());
+    let mut records = Records::unpacked_by_mcap(input);
     let mut writer =
         mcap_options(concat!("telerehab ", env!("CARGO_PKG_VERSION"), " recover")).create(out)?;
     let mut schemas: BTreeMap<u16, u16> = BTreeMap::new();

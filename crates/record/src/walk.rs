@@ -19,6 +19,10 @@
 //!   whether to read it at all, and checks its data against
 //!   [`StreamLimits::max_message_bytes`] by the channel's name.
 //!
+//! `recover`'s walk leaves the chunks to mcap's reader instead (within the same record limit),
+//! which gives a chunk's records before the chunk is whole: a cut file keeps what precedes the
+//! cut.
+//!
 //! The 9-byte record header (opcode, length) is read by `head` and held to the limit by
 //! `within_limit`, here and in the survey of a file's cost ([`super::cost::survey`]).
 //!
@@ -181,9 +185,23 @@ pub(crate) struct Records<R> {
 }
 
 impl<R: Read> Records<R> {
+    /// The walk over `input`, chunks opened by the walk itself (within `limits`).
     pub(crate) fn new(input: R, limits: StreamLimits) -> Self {
+        Self::with_chunks_emitted(input, limits, true)
+    }
+
+    /// The walk over `input` with mcap's linear reader unpacking the chunks, which gives a
+    /// chunk's records as its bytes arrive: a chunk cut short (a file truncated in the middle
+    /// of one) still gives the records before the cut, which `recover` wants to keep. Its
+    /// records and chunks are held to [`MAX_RECORD_BYTES`] by mcap's reader (the chunk's
+    /// uncompressed size included); the chunks get no number (0) in errors.
+    pub(crate) fn unpacked_by_mcap(input: R) -> Self {
+        Self::with_chunks_emitted(input, StreamLimits::default(), false)
+    }
+
+    fn with_chunks_emitted(input: R, limits: StreamLimits, emit_chunks: bool) -> Self {
         let options = LinearReaderOptions::default()
-            .with_emit_chunks(true)
+            .with_emit_chunks(emit_chunks)
             .with_record_length_limit(MAX_RECORD_BYTES);
         Self {
             input,
