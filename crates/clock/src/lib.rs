@@ -108,7 +108,12 @@ fn sleep_real_until_ns(deadline_ns: u64, spin: Duration) {
 #[derive(Debug)]
 enum Source {
     Real,
-    Mock(AtomicU64),
+    /// Monotonic time, ns since the mock's start, and its wall-clock time at that start, ns
+    /// since the Unix epoch.
+    Mock {
+        ns: AtomicU64,
+        unix_start_ns: u64,
+    },
 }
 
 /// A monotonic and a wall clock, real or mock. Cheap to clone (one `Arc`); clones share the
@@ -135,9 +140,19 @@ impl Clock {
         }
     }
 
-    /// A clock at 0 ns that moves only when the returned [`MockClock`] moves it.
+    /// A clock at 0 ns that moves only when the returned [`MockClock`] moves it; its wall
+    /// clock starts at [`MOCK_UNIX_START_NS`].
     pub fn mock() -> (Self, MockClock) {
-        let source = Arc::new(Source::Mock(AtomicU64::new(0)));
+        Self::mock_at_unix_ns(MOCK_UNIX_START_NS)
+    }
+
+    /// A mock clock ([`Clock::mock`]) whose wall clock starts at `unix_ns`, ns since the Unix
+    /// epoch: for code that stores or compares dates (the hub's logins, audit, adherence).
+    pub fn mock_at_unix_ns(unix_ns: u64) -> (Self, MockClock) {
+        let source = Arc::new(Source::Mock {
+            ns: AtomicU64::new(0),
+            unix_start_ns: unix_ns,
+        });
         (
             Self {
                 source: source.clone(),
@@ -148,25 +163,27 @@ impl Clock {
 
     /// True for a mock clock.
     pub fn is_mock(&self) -> bool {
-        matches!(*self.source, Source::Mock(_))
+        matches!(*self.source, Source::Mock { .. })
     }
 
     /// Monotonic time, ns since the process-wide epoch (real) or since the mock's start.
     pub fn now_ns(&self) -> u64 {
         match &*self.source {
             Source::Real => monotonic_ns(),
-            Source::Mock(ns) => ns.load(Ordering::Acquire),
+            Source::Mock { ns, .. } => ns.load(Ordering::Acquire),
         }
     }
 
-    /// Wall-clock time, ns since the Unix epoch (a mock starts at [`MOCK_UNIX_START_NS`] and
-    /// moves with its monotonic time).
+    /// Wall-clock time, ns since the Unix epoch (a mock starts where it was made to,
+    /// [`MOCK_UNIX_START_NS`] by default, and moves with its monotonic time).
     pub fn unix_ns(&self) -> u64 {
         match &*self.source {
             Source::Real => SystemTime::now()
                 .duration_since(UNIX_EPOCH)
                 .map_or(0, |d| u64::try_from(d.as_nanos()).unwrap_or(u64::MAX)),
-            Source::Mock(ns) => MOCK_UNIX_START_NS.saturating_add(ns.load(Ordering::Acquire)),
+            Source::Mock { ns, unix_start_ns } => {
+                unix_start_ns.saturating_add(ns.load(Ordering::Acquire))
+            }
         }
     }
 
@@ -191,7 +208,7 @@ impl Clock {
                     std::hint::spin_loop();
                 }
             }
-            Source::Mock(ns) => {
+            Source::Mock { ns, .. } => {
                 ns.fetch_max(deadline_ns, Ordering::AcqRel);
             }
         }
@@ -207,7 +224,15 @@ pub struct MockClock {
 impl MockClock {
     fn cell(&self) -> &AtomicU64 {
         match &*self.source {
-            Source::Mock(ns) => ns,
+            Source::Mock { ns, .. } => ns,
+            Source::Real => unreachable!("a MockClock is only made with a mock source"),
+        }
+    }
+
+    /// The mock's wall-clock time at its start, ns since the Unix epoch.
+    fn unix_start_ns(&self) -> u64 {
+        match &*self.source {
+            Source::Mock { unix_start_ns, .. } => *unix_start_ns,
             Source::Real => unreachable!("a MockClock is only made with a mock source"),
         }
     }
@@ -225,6 +250,12 @@ impl MockClock {
     /// Set the clock to `t_ns` if that is later than now (time never goes backwards).
     pub fn set_ns(&self, t_ns: u64) {
         self.cell().fetch_max(t_ns, Ordering::AcqRel);
+    }
+
+    /// Set the clock so that its wall-clock time reads `unix_ns`, ns since the Unix epoch, if
+    /// that is later than now (time never goes backwards).
+    pub fn set_unix_ns(&self, unix_ns: u64) {
+        self.set_ns(unix_ns.saturating_sub(self.unix_start_ns()));
     }
 
     /// The mock's monotonic time, ns.
@@ -247,6 +278,33 @@ mod tests {
         mock.set_ns(1_000);
         assert_eq!(clock.now_ns(), 3_000_000, "time never goes backwards");
         assert_eq!(clock.unix_ns(), MOCK_UNIX_START_NS + 3_000_000);
+    }
+
+    #[test]
+    fn a_mock_clock_starts_at_the_date_it_is_given_and_is_set_by_its_wall_time() {
+        // 2026-11-21 09:30 UTC.
+        let start_ns = 1_795_253_400_000 * 1_000_000;
+        let (clock, mock) = Clock::mock_at_unix_ns(start_ns);
+        assert_eq!((clock.now_ns(), clock.unix_ns()), (0, start_ns));
+        mock.set_unix_ns(start_ns + 7_000_000);
+        assert_eq!(
+            (clock.now_ns(), clock.unix_ns()),
+            (7_000_000, start_ns + 7_000_000)
+        );
+        mock.set_unix_ns(start_ns + 1_000);
+        assert_eq!(
+            clock.unix_ns(),
+            start_ns + 7_000_000,
+            "time never goes backwards"
+        );
+        mock.set_unix_ns(0);
+        assert_eq!(
+            clock.now_ns(),
+            7_000_000,
+            "a date before its start: no move"
+        );
+        mock.advance_ns(3);
+        assert_eq!(clock.unix_ns(), start_ns + 7_000_003);
     }
 
     #[test]

@@ -27,7 +27,7 @@ use crate::db::{Db, RegimenVersion, Role};
 use crate::error::HubError;
 use crate::ingest::{DbStore, Ingest, REVOCATION_POLL};
 use crate::limits::ConnectionBudget;
-use crate::web::{self, AppState, LiveEvent, NowMs};
+use crate::web::{self, AppState, LiveEvent, unix_ms};
 
 /// `DATA/hub.toml`.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
@@ -236,8 +236,8 @@ pub struct ServeOptions {
     pub stations: SocketAddr,
     /// Console API's address (HTTPS), if served.
     pub web: Option<SocketAddr>,
-    /// The clock.
-    pub now_ms: NowMs,
+    /// The clock: the product's one injectable clock.
+    pub clock: clock::Clock,
     /// Most simultaneous station connections, and from one address.
     pub max_connections: (usize, usize),
     /// Caps on connections nobody has authenticated yet and the console's deadlines; with
@@ -281,7 +281,7 @@ impl ServeOptions {
         Self {
             stations,
             web,
-            now_ms: web::now_ms_of(clock::Clock::real()),
+            clock: clock::Clock::real(),
             max_connections: (
                 netlink::therapist::DEFAULT_MAX_CONNECTIONS,
                 netlink::therapist::DEFAULT_MAX_CONNECTIONS_PER_ADDRESS,
@@ -334,7 +334,7 @@ pub async fn serve(
             clinic.ca()?,
             config.names[0].clone(),
             clinic.dir().join("recordings"),
-            options.now_ms.clone(),
+            options.clock.clone(),
         )
         // A station's check is answered with the patient's care too (its threshold and phone;
         // the pairing sheets' address, settled below, is not part of it).
@@ -343,7 +343,7 @@ pub async fn serve(
     store.refresh_revoked().await?;
     options
         .care
-        .seed_pain_threshold(&db, (options.now_ms)())
+        .seed_pain_threshold(&db, unix_ms(&options.clock))
         .await?;
     let (budget, web_limits) = fit_to_fd_limit(&options);
     let (server, mut events) = TherapistServer::bind_with_store(
@@ -371,7 +371,7 @@ pub async fn serve(
         &config.names[0],
     ));
     let state = AppState::new(db.clone(), live.clone())
-        .with_clock(options.now_ms.clone())
+        .with_clock(options.clock.clone())
         .with_prescribed_feed(prescribed)
         .with_care(care.clone(), Some(cleared))
         .with_replay_max_bytes(options.max_replay_bytes)
@@ -390,7 +390,7 @@ pub async fn serve(
     let mailer = tokio::spawn(crate::pain_mail::run(
         db.clone(),
         care.clone(),
-        options.now_ms.clone(),
+        options.clock.clone(),
     ));
     let mut shutdown = std::pin::pin!(shutdown);
     loop {
@@ -401,7 +401,7 @@ pub async fn serve(
                     tracing::error!("cannot re-read revoked stations: {e}");
                 }
             }
-            _ = housekeeping.tick() => housekeep(&db, (options.now_ms)()).await,
+            _ = housekeeping.tick() => housekeep(&db, unix_ms(&options.clock)).await,
             _ = sweep.tick() => expire_partial_uploads(recordings.clone()).await,
             Ok(regimen) = prescriptions.recv() => push_regimen(&server, &db, &regimen).await,
             Ok(patient) = clearances.recv() => push_care_to_patient(&server, &db, &care, &patient).await,
@@ -411,7 +411,7 @@ pub async fn serve(
                     // First: a station that checks in before today's page knows at once.
                     push_care(&server, &db, &care, &hello.station_id, &hello.patient_id).await;
                 }
-                on_station_event(&event, &server, &db, &live, (options.now_ms)()).await;
+                on_station_event(&event, &server, &db, &live, unix_ms(&options.clock)).await;
             }
         }
     }

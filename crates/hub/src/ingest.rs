@@ -24,7 +24,7 @@ use netlink::{
 
 use crate::db::{Db, MAX_SESSIONS_PER_STATION_DAY};
 use crate::error::HubError;
-use crate::web::NowMs;
+use crate::web::unix_ms;
 
 /// How often the set of revoked stations is re-read.
 pub const REVOCATION_POLL: Duration = Duration::from_secs(1);
@@ -46,11 +46,11 @@ type Pending = (Summary, oneshot::Sender<Result<Appended, String>>);
 /// The group-commit writer: takes whatever summaries are waiting (at least one, at most
 /// [`MAX_BATCH`]) and stores them in one transaction. It never waits to fill a batch, so an
 /// idle hub commits each summary at once and a busy one commits many per transaction.
-async fn group_commit(db: Db, mut rx: mpsc::Receiver<Pending>, now_ms: NowMs) {
+async fn group_commit(db: Db, mut rx: mpsc::Receiver<Pending>, clock: clock::Clock) {
     let mut batch: Vec<Pending> = Vec::with_capacity(MAX_BATCH);
     while rx.recv_many(&mut batch, MAX_BATCH).await > 0 {
         let summaries: Vec<Summary> = batch.iter().map(|(s, _)| s.clone()).collect();
-        match db.store_summaries(&summaries, now_ms()).await {
+        match db.store_summaries(&summaries, unix_ms(&clock)).await {
             Ok(results) => {
                 for ((_, reply), result) in batch.drain(..).zip(results) {
                     let _ = reply.send(result.map_err(|e| e.to_string()));
@@ -82,7 +82,7 @@ pub struct DbStore {
     /// When each station's refusal of each kind was last audited, ms (at most one entry per
     /// station and kind per [`REFUSAL_AUDIT_EVERY_MS`]).
     refusal_audits: Mutex<HashMap<(String, &'static str), i64>>,
-    now_ms: NowMs,
+    clock: clock::Clock,
     /// The clinic's pain settings a station's check is told ([`crate::news::for_check`]);
     /// `None`: checks get no care frame.
     care: Option<crate::care::CareConfig>,
@@ -124,10 +124,10 @@ impl DbStore {
         ca: ClinicCa,
         server_name: String,
         recordings: std::path::PathBuf,
-        now_ms: NowMs,
+        clock: clock::Clock,
     ) -> Self {
         let (writer, rx) = mpsc::channel(4 * MAX_BATCH);
-        tokio::spawn(group_commit(db.clone(), rx, now_ms.clone()));
+        tokio::spawn(group_commit(db.clone(), rx, clock.clone()));
         if db.backend() == crate::Backend::Sqlite {
             tokio::spawn(checkpoints(db.clone(), writer.downgrade()));
         }
@@ -141,7 +141,7 @@ impl DbStore {
             pairing_attempts: Mutex::default(),
             pairing_failures: Mutex::default(),
             refusal_audits: Mutex::default(),
-            now_ms,
+            clock,
             care: None,
         }
     }
@@ -153,7 +153,7 @@ impl DbStore {
     }
 
     fn now(&self) -> i64 {
-        (self.now_ms)()
+        unix_ms(&self.clock)
     }
 
     /// Re-reads the revoked stations (called every [`REVOCATION_POLL`] by the hub).
@@ -465,7 +465,7 @@ impl HubStore for DbStore {
                 last_seq,
                 last_t_s,
                 revoked: self.revoked.clone(),
-                now_ms: self.now_ms.clone(),
+                clock: self.clock.clone(),
             }) as Box<dyn SessionStore>)
         })
     }
@@ -589,7 +589,7 @@ struct DbSession {
     /// The time of the last summary stored.
     last_t_s: Option<f64>,
     revoked: Arc<RwLock<HashSet<String>>>,
-    now_ms: NowMs,
+    clock: clock::Clock,
 }
 
 fn storage_error(e: HubError) -> NetlinkError {
@@ -643,7 +643,7 @@ impl SessionStore for DbSession {
         Box::pin(async move {
             if let Some(bye) = bye {
                 self.db
-                    .close_session(bye, (self.now_ms)())
+                    .close_session(bye, unix_ms(&self.clock))
                     .await
                     .map_err(storage_error)?;
             }

@@ -17,7 +17,7 @@ use lettre::{AsyncSmtpTransport, AsyncTransport, Message, Tokio1Executor};
 
 use crate::care::{CareConfig, SmtpConfig};
 use crate::db::{Db, PainMail};
-use crate::web::NowMs;
+use crate::web::unix_ms;
 
 /// How often the outbox is looked at.
 pub const POLL: Duration = Duration::from_millis(500);
@@ -73,7 +73,7 @@ pub fn mail_text(
 }
 
 /// Runs the outbox until the task is dropped: queues new pain check-ins, sends what is due.
-pub async fn run(db: Db, care: Arc<CareConfig>, now_ms: NowMs) {
+pub async fn run(db: Db, care: Arc<CareConfig>, clock: clock::Clock) {
     let Some(smtp) = care.smtp.clone() else {
         tracing::warn!(
             "no --smtp-url: pains at or over the threshold are shown in the console but not mailed"
@@ -90,7 +90,7 @@ pub async fn run(db: Db, care: Arc<CareConfig>, now_ms: NowMs) {
     let mut tick = tokio::time::interval(POLL);
     loop {
         tick.tick().await;
-        let now = now_ms();
+        let now = unix_ms(&clock);
         match db
             .queue_pain_mails(care.pain_threshold_in(&db).await, now)
             .await
@@ -107,7 +107,7 @@ pub async fn run(db: Db, care: Arc<CareConfig>, now_ms: NowMs) {
             }
         };
         for mail in due {
-            send_one(&db, &care, &smtp, &transport, &mail, &now_ms).await;
+            send_one(&db, &care, &smtp, &transport, &mail, &clock).await;
         }
     }
 }
@@ -125,7 +125,7 @@ async fn send_one(
     smtp: &SmtpConfig,
     transport: &AsyncSmtpTransport<Tokio1Executor>,
     mail: &PainMail,
-    now_ms: &NowMs,
+    clock: &clock::Clock,
 ) {
     let result: Result<usize, String> = async {
         let patient = db
@@ -176,7 +176,7 @@ async fn send_one(
         Ok(to.len())
     }
     .await;
-    let now = now_ms();
+    let now = unix_ms(clock);
     match result {
         Ok(n) => {
             tracing::info!(session = %mail.session_id, recipients = n, "pain mail sent");

@@ -4,17 +4,12 @@
 
 mod common;
 
-use std::sync::Arc;
-use std::sync::atomic::{AtomicI64, Ordering};
-
 use axum::http::{Method, StatusCode};
 use hub::attention::{Alert, DAY_MS, Severity};
 use hub::db::clinic_settings::pain_threshold;
-use hub::web::{self, AppState};
 use hub::{Db, Patient, Role, Therapist};
 use netlink::{Bye, CheckIn, ExerciseResult, Hello, PROTOCOL_VERSION};
 use serde_json::{Value, json};
-use tokio::sync::broadcast;
 
 use common::api::{actions, call, clinician, login};
 
@@ -412,15 +407,6 @@ async fn sessions_ended_early_repeatedly_and_high_effort_raise_warnings(db: Db) 
     assert_eq!(effort.facts["tiredness_0_10"], 8.0);
 }
 
-/// The router over `db` with a clock the test moves.
-fn app(db: &Db, now: &Arc<AtomicI64>) -> axum::Router {
-    let (live, _) = broadcast::channel(8);
-    let clock = now.clone();
-    let state =
-        AppState::new(db.clone(), live).with_clock(Arc::new(move || clock.load(Ordering::SeqCst)));
-    web::router(state)
-}
-
 async fn the_caseload_sorts_by_need_and_filters_by_alert_kind(db: Db) {
     let t = therapist(&db).await;
     let fine = patient(&db, &t, "A-fine", FP[0]).await;
@@ -450,8 +436,7 @@ async fn the_caseload_sorts_by_need_and_filters_by_alert_kind(db: Db) {
     )
     .await;
     let idle = db.add_patient("M-none", Some(&t.id), T0).await.unwrap();
-    let now = Arc::new(AtomicI64::new(T0 + 2 * DAY_MS));
-    let app = app(&db, &now);
+    let app = common::api::router_with_clock(&db, common::clock_at(T0 + 2 * DAY_MS).0);
     let cookie = login(&app, "ada@clinic.example").await;
     let pseudonyms = |v: &Value| -> Vec<String> {
         v.as_array()
@@ -530,8 +515,8 @@ async fn acknowledged_and_snoozed_alerts_are_audited_and_wake_on_something_new(d
     .await;
     // Within one login (8 hours): the clock moves by the hour.
     const HOUR_MS: i64 = DAY_MS / 24;
-    let now = Arc::new(AtomicI64::new(T0 + HOUR_MS));
-    let app = app(&db, &now);
+    let (clock, now) = common::clock_at(T0 + HOUR_MS);
+    let app = common::api::router_with_clock(&db, clock);
     let cookie = login(&app, "ada@clinic.example").await;
     let uri = format!("/api/patients/{}/attention", p.id);
     let (_, v, _) = call(&app, Method::GET, &uri, Some(&cookie), None).await;
@@ -600,7 +585,7 @@ async fn acknowledged_and_snoozed_alerts_are_audited_and_wake_on_something_new(d
         },
     )
     .await;
-    now.store(T0 + 2 * HOUR_MS, Ordering::SeqCst);
+    now.set_unix_ns(common::ns(T0 + 2 * HOUR_MS));
     let (_, v, _) = call(&app, Method::GET, &uri, Some(&cookie), None).await;
     assert_eq!(v["attention"][0]["kind"], "pain_high", "{v}");
     assert_eq!(v["attention"][0]["facts"]["pain_0_10"], 9.0);
@@ -615,10 +600,10 @@ async fn acknowledged_and_snoozed_alerts_are_audited_and_wake_on_something_new(d
         audit.iter().any(|(_, a, _)| a == "snooze_alert"),
         "{audit:?}"
     );
-    now.store(T0 + 4 * HOUR_MS, Ordering::SeqCst);
+    now.set_unix_ns(common::ns(T0 + 4 * HOUR_MS));
     let (_, v, _) = call(&app, Method::GET, &uri, Some(&cookie), None).await;
     assert_ne!(v["attention"][0]["kind"], "pain_high", "snoozed: {v}");
-    now.store(T0 + 5 * HOUR_MS, Ordering::SeqCst);
+    now.set_unix_ns(common::ns(T0 + 5 * HOUR_MS));
     let (_, v, _) = call(&app, Method::GET, &uri, Some(&cookie), None).await;
     assert_eq!(v["attention"][0]["kind"], "pain_high", "the snooze is over");
 }
@@ -626,8 +611,7 @@ async fn acknowledged_and_snoozed_alerts_are_audited_and_wake_on_something_new(d
 async fn the_clinics_thresholds_have_explained_defaults_and_only_admins_change_them(db: Db) {
     therapist(&db).await;
     clinician(&db, "root@clinic.example", Role::Admin).await;
-    let now = Arc::new(AtomicI64::new(T0));
-    let app = app(&db, &now);
+    let app = common::api::router_with_clock(&db, common::clock_at(T0).0);
     let ada = login(&app, "ada@clinic.example").await;
     let root = login(&app, "root@clinic.example").await;
     let (s, v, _) = call(&app, Method::GET, "/api/clinic/settings", Some(&ada), None).await;

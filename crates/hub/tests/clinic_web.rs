@@ -4,99 +4,15 @@
 
 mod common;
 
-use axum::Router;
-use axum::body::Body;
-use axum::http::{Method, Request, StatusCode, header};
-use http_body_util::BodyExt;
-use hub::web::{self, AppState};
-use hub::{Db, Patient, Role, Therapist};
-use serde_json::{Value, json};
-use std::sync::Arc;
-use tokio::sync::broadcast;
-use tower::ServiceExt;
+use axum::http::{Method, StatusCode};
+use hub::Db;
+use serde_json::json;
 
-const T0: i64 = 1_795_253_400_000;
-const PASSWORD: &str = "correct horse battery";
+use common::T0;
+use common::api::{PASSWORD, call, login_with as login};
+use common::fixture::{Fixture, fixture};
+
 const PAIRING_TTL_MS: i64 = 72 * 3600 * 1000;
-
-struct Fixture {
-    app: Router,
-    db: Db,
-    ada: Therapist,
-    bob: Therapist,
-    p_bob: Patient,
-    _dir: Option<tempfile::TempDir>,
-}
-
-async fn fixture() -> Fixture {
-    let (db, dir) = common::sqlite_db().await;
-    fixture_on(db, Some(dir)).await
-}
-
-async fn fixture_on(db: Db, dir: Option<tempfile::TempDir>) -> Fixture {
-    db.add_therapist("root@clinic.example", PASSWORD, Role::Admin, T0)
-        .await
-        .unwrap();
-    let ada = db
-        .add_therapist("ada@clinic.example", PASSWORD, Role::Therapist, T0)
-        .await
-        .unwrap();
-    let bob = db
-        .add_therapist("bob@clinic.example", PASSWORD, Role::Therapist, T0)
-        .await
-        .unwrap();
-    let p_bob = db.add_patient("P-0002", Some(&bob.id), T0).await.unwrap();
-    let (live, _) = broadcast::channel(8);
-    let state = AppState::new(db.clone(), live).with_clock(Arc::new(|| T0));
-    Fixture {
-        app: web::router(state),
-        db,
-        ada,
-        bob,
-        p_bob,
-        _dir: dir,
-    }
-}
-
-async fn call(
-    app: &Router,
-    method: Method,
-    uri: &str,
-    cookie: Option<&str>,
-    body: Option<Value>,
-) -> (StatusCode, Value) {
-    let mut builder = Request::builder().method(method).uri(uri);
-    if let Some(c) = cookie {
-        builder = builder.header(header::COOKIE, c);
-    }
-    let request = match body {
-        Some(b) => builder
-            .header(header::CONTENT_TYPE, "application/json")
-            .body(Body::from(b.to_string())),
-        None => builder.body(Body::empty()),
-    }
-    .unwrap();
-    let response = app.clone().oneshot(request).await.unwrap();
-    let status = response.status();
-    let bytes = response.into_body().collect().await.unwrap().to_bytes();
-    let value = serde_json::from_slice(&bytes).unwrap_or(Value::Null);
-    (status, value)
-}
-
-/// Logs in and returns the `Cookie` header value.
-async fn login(app: &Router, email: &str, password: &str) -> String {
-    let mut builder = Request::builder().method(Method::POST).uri("/api/login");
-    builder = builder.header(header::CONTENT_TYPE, "application/json");
-    let body = json!({"email": email, "password": password}).to_string();
-    let response = app
-        .clone()
-        .oneshot(builder.body(Body::from(body)).unwrap())
-        .await
-        .unwrap();
-    assert_eq!(response.status(), StatusCode::OK, "login of {email}");
-    let set = response.headers()[header::SET_COOKIE].to_str().unwrap();
-    set.split(';').next().unwrap().to_owned()
-}
 
 async fn audited(db: &Db, action: &str) -> Vec<(String, String, String)> {
     db.audit_log(1000)
@@ -116,7 +32,7 @@ async fn a_therapist_adds_a_patient_into_their_own_care_with_a_72_hour_pairing_c
 async fn adds_a_patient_with_a_code(f: &Fixture) {
     let ada = login(&f.app, "ada@clinic.example", PASSWORD).await;
     let body = json!({"pseudonym": "P-0042"});
-    let (status, added) = call(
+    let (status, added, _) = call(
         &f.app,
         Method::POST,
         "/api/patients",
@@ -135,7 +51,7 @@ async fn adds_a_patient_with_a_code(f: &Fixture) {
     let ticket = f.db.pairing_ticket(&code[..4], T0 + 1).await.unwrap();
     assert_eq!(ticket.patient_id, id);
     // It is in Ada's caseload now, and both changes are audited as hers.
-    let (_, list) = call(&f.app, Method::GET, "/api/patients", Some(&ada), None).await;
+    let (_, list, _) = call(&f.app, Method::GET, "/api/patients", Some(&ada), None).await;
     assert!(list.as_array().unwrap().iter().any(|p| p["id"] == id));
     let actor = f.ada.actor();
     assert_eq!(
@@ -153,7 +69,7 @@ async fn a_therapist_cannot_add_a_patient_for_another_and_a_taken_pseudonym_is_a
     let f = fixture().await;
     let ada = login(&f.app, "ada@clinic.example", PASSWORD).await;
     let for_bob = json!({"pseudonym": "P-0043", "therapist_email": "bob@clinic.example"});
-    let (status, body) = call(
+    let (status, body, _) = call(
         &f.app,
         Method::POST,
         "/api/patients",
@@ -162,8 +78,8 @@ async fn a_therapist_cannot_add_a_patient_for_another_and_a_taken_pseudonym_is_a
     )
     .await;
     assert_eq!(status, StatusCode::FORBIDDEN, "{body}");
-    let taken = json!({"pseudonym": "P-0002"});
-    let (status, body) = call(
+    let taken = json!({"pseudonym": "p-bob-1"});
+    let (status, body, _) = call(
         &f.app,
         Method::POST,
         "/api/patients",
@@ -172,9 +88,12 @@ async fn a_therapist_cannot_add_a_patient_for_another_and_a_taken_pseudonym_is_a
     )
     .await;
     assert_eq!(status, StatusCode::CONFLICT, "{body}");
-    assert!(body["error"].as_str().unwrap().contains("P-0002"), "{body}");
+    assert!(
+        body["error"].as_str().unwrap().contains("p-bob-1"),
+        "{body}"
+    );
     let a_name = json!({"pseudonym": "Jane Doe"});
-    let (status, body) = call(
+    let (status, body, _) = call(
         &f.app,
         Method::POST,
         "/api/patients",
@@ -195,7 +114,7 @@ async fn an_admin_assigns_a_new_patient_to_a_therapist_by_email_or_to_nobody() {
     let f = fixture().await;
     let root = login(&f.app, "root@clinic.example", PASSWORD).await;
     let for_bob = json!({"pseudonym": "P-0050", "therapist_email": "BOB@clinic.example"});
-    let (status, added) = call(
+    let (status, added, _) = call(
         &f.app,
         Method::POST,
         "/api/patients",
@@ -206,7 +125,7 @@ async fn an_admin_assigns_a_new_patient_to_a_therapist_by_email_or_to_nobody() {
     assert_eq!(status, StatusCode::CREATED, "{added}");
     assert_eq!(added["patient"]["therapist_id"], f.bob.id.as_str());
     let nobody = json!({"pseudonym": "P-0051"});
-    let (status, added) = call(
+    let (status, added, _) = call(
         &f.app,
         Method::POST,
         "/api/patients",
@@ -217,7 +136,7 @@ async fn an_admin_assigns_a_new_patient_to_a_therapist_by_email_or_to_nobody() {
     assert_eq!(status, StatusCode::CREATED, "{added}");
     assert!(added["patient"]["therapist_id"].is_null());
     let unknown = json!({"pseudonym": "P-0052", "therapist_email": "eve@clinic.example"});
-    let (status, body) = call(
+    let (status, body, _) = call(
         &f.app,
         Method::POST,
         "/api/patients",
@@ -234,16 +153,16 @@ async fn a_new_pairing_code_is_for_the_patients_therapist_or_an_admin_only() {
     let f = fixture().await;
     let uri = format!("/api/patients/{}/pairing-code", f.p_bob.id);
     let ada = login(&f.app, "ada@clinic.example", PASSWORD).await;
-    let (status, _) = call(&f.app, Method::POST, &uri, Some(&ada), Some(json!({}))).await;
+    let (status, _, _) = call(&f.app, Method::POST, &uri, Some(&ada), Some(json!({}))).await;
     assert_eq!(status, StatusCode::NOT_FOUND, "someone else's patient");
-    let (status, _) = call(&f.app, Method::POST, &uri, Some(&ada), None).await;
+    let (status, _, _) = call(&f.app, Method::POST, &uri, Some(&ada), None).await;
     assert_eq!(
         status,
         StatusCode::UNSUPPORTED_MEDIA_TYPE,
         "a change is JSON"
     );
     let bob = login(&f.app, "bob@clinic.example", PASSWORD).await;
-    let (status, code) = call(&f.app, Method::POST, &uri, Some(&bob), Some(json!({}))).await;
+    let (status, code, _) = call(&f.app, Method::POST, &uri, Some(&bob), Some(json!({}))).await;
     assert_eq!(status, StatusCode::OK, "{code}");
     let code = code["code"].as_str().unwrap();
     let ticket = f.db.pairing_ticket(&code[..4], T0).await.unwrap();
@@ -258,7 +177,7 @@ async fn an_admin_adds_a_therapist_whose_one_time_password_must_be_changed_first
 async fn adds_a_therapist(f: &Fixture) {
     let ada = login(&f.app, "ada@clinic.example", PASSWORD).await;
     let new = json!({"email": "cy@clinic.example"});
-    let (status, _) = call(
+    let (status, _, _) = call(
         &f.app,
         Method::POST,
         "/api/therapists",
@@ -271,10 +190,10 @@ async fn adds_a_therapist(f: &Fixture) {
         StatusCode::FORBIDDEN,
         "a therapist adds no therapist"
     );
-    let (status, _) = call(&f.app, Method::GET, "/api/therapists", Some(&ada), None).await;
+    let (status, _, _) = call(&f.app, Method::GET, "/api/therapists", Some(&ada), None).await;
     assert_eq!(status, StatusCode::FORBIDDEN);
     let root = login(&f.app, "root@clinic.example", PASSWORD).await;
-    let (status, added) = call(
+    let (status, added, _) = call(
         &f.app,
         Method::POST,
         "/api/therapists",
@@ -287,7 +206,7 @@ async fn adds_a_therapist(f: &Fixture) {
     assert_eq!(added["therapist"]["must_change_password"], true);
     let password = added["one_time_password"].as_str().unwrap();
     assert_eq!(password.len(), 20);
-    let (status, _) = call(
+    let (status, _, _) = call(
         &f.app,
         Method::POST,
         "/api/therapists",
@@ -298,10 +217,10 @@ async fn adds_a_therapist(f: &Fixture) {
     assert_eq!(status, StatusCode::CONFLICT, "the e-mail is taken");
     // The new therapist's first login may do nothing but change the password.
     let cy = login(&f.app, "cy@clinic.example", password).await;
-    let (status, _) = call(&f.app, Method::GET, "/api/patients", Some(&cy), None).await;
+    let (status, _, _) = call(&f.app, Method::GET, "/api/patients", Some(&cy), None).await;
     assert_eq!(status, StatusCode::FORBIDDEN);
     let change = json!({"current": password, "new": "a passphrase of my own"});
-    let (status, _) = call(
+    let (status, _, _) = call(
         &f.app,
         Method::POST,
         "/api/me/password",
@@ -311,9 +230,9 @@ async fn adds_a_therapist(f: &Fixture) {
     .await;
     assert_eq!(status, StatusCode::NO_CONTENT);
     let cy = login(&f.app, "cy@clinic.example", "a passphrase of my own").await;
-    let (status, _) = call(&f.app, Method::GET, "/api/patients", Some(&cy), None).await;
+    let (status, _, _) = call(&f.app, Method::GET, "/api/patients", Some(&cy), None).await;
     assert_eq!(status, StatusCode::OK);
-    let (_, list) = call(&f.app, Method::GET, "/api/therapists", Some(&root), None).await;
+    let (_, list, _) = call(&f.app, Method::GET, "/api/therapists", Some(&root), None).await;
     let emails: Vec<_> = list
         .as_array()
         .unwrap()
@@ -339,13 +258,13 @@ async fn revokes_a_station(f: &Fixture) {
         .unwrap();
     let ada = login(&f.app, "ada@clinic.example", PASSWORD).await;
     let uri = "/api/stations/st-bob-1/revoke";
-    let (status, _) = call(&f.app, Method::POST, uri, Some(&ada), Some(json!({}))).await;
+    let (status, _, _) = call(&f.app, Method::POST, uri, Some(&ada), Some(json!({}))).await;
     assert_eq!(
         status,
         StatusCode::NOT_FOUND,
         "someone else's patient's station"
     );
-    let (status, _) = call(
+    let (status, _, _) = call(
         &f.app,
         Method::POST,
         "/api/stations/st-none/revoke",
@@ -363,7 +282,7 @@ async fn revokes_a_station(f: &Fixture) {
             .is_revoked()
     );
     let bob = login(&f.app, "bob@clinic.example", PASSWORD).await;
-    let (status, _) = call(&f.app, Method::POST, uri, Some(&bob), None).await;
+    let (status, _, _) = call(&f.app, Method::POST, uri, Some(&bob), None).await;
     assert_eq!(
         status,
         StatusCode::UNSUPPORTED_MEDIA_TYPE,
@@ -377,7 +296,7 @@ async fn revokes_a_station(f: &Fixture) {
             .unwrap()
             .is_revoked()
     );
-    let (status, station) = call(&f.app, Method::POST, uri, Some(&bob), Some(json!({}))).await;
+    let (status, station, _) = call(&f.app, Method::POST, uri, Some(&bob), Some(json!({}))).await;
     assert_eq!(status, StatusCode::OK, "{station}");
     assert_eq!(station["revoked_at_ms"], T0);
     assert!(
@@ -393,7 +312,7 @@ async fn revokes_a_station(f: &Fixture) {
     );
     // An admin may revoke any station (again: the first revocation time stays).
     let root = login(&f.app, "root@clinic.example", PASSWORD).await;
-    let (status, station) = call(&f.app, Method::POST, uri, Some(&root), Some(json!({}))).await;
+    let (status, station, _) = call(&f.app, Method::POST, uri, Some(&root), Some(json!({}))).await;
     assert_eq!(
         (status, &station["revoked_at_ms"]),
         (StatusCode::OK, &json!(T0))
@@ -405,7 +324,7 @@ async fn the_clinic_endpoints_behave_the_same_on_postgresql() {
     let Some(pg) = common::PgDb::create().await else {
         return;
     };
-    let f = fixture_on(pg.db.clone(), None).await;
+    let f = Fixture::on(pg.db.clone(), None, |s| s).await;
     adds_a_patient_with_a_code(&f).await;
     adds_a_therapist(&f).await;
     revokes_a_station(&f).await;

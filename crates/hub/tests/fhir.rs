@@ -8,7 +8,6 @@ use common::api::{PASSWORD, actions, call, login};
 use common::{T0, hello};
 
 use std::collections::BTreeMap;
-use std::sync::Arc;
 
 use axum::http::{Method, StatusCode};
 use hub::db::NewScale;
@@ -184,7 +183,7 @@ async fn a_patients_fhir_bundle_holds_a_pseudonymous_patient_the_regimen_session
     let base = FhirBase::parse("https://fhir.clinic.example/telerehab/", "test").unwrap();
     let app = web::router(
         AppState::new(db.clone(), live)
-            .with_clock(Arc::new(|| T0))
+            .with_clock(common::clock_at(T0).0)
             .with_fhir_base(base.clone()),
     );
     let cookie = login(&app, "ada@clinic.example").await;

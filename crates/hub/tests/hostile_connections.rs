@@ -129,7 +129,6 @@ async fn start_hub() -> RunningHub {
     .await
     .unwrap();
     let options = ServeOptions {
-        now_ms: Arc::new(now_ms),
         ..ServeOptions::new(
             "127.0.0.1:0".parse().unwrap(),
             Some("127.0.0.1:0".parse().unwrap()),

@@ -6,7 +6,7 @@ mod common;
 
 use std::net::SocketAddr;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicI64, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use axum::Router;
@@ -19,27 +19,20 @@ use hub::db::{
     REFUSAL_AUDITS_PER_ACCOUNT_PER_MINUTE, REFUSAL_AUDITS_PER_MINUTE,
     REFUSAL_AUDITS_TOTAL_PER_MINUTE,
 };
-use hub::web::{
-    self, AppState, LiveEvent, MAX_LIVE_STREAMS_PER_ACCOUNT, MAX_LIVE_STREAMS_PER_LOGIN,
-};
-use hub::{Db, HubError, Patient, Role, Therapist};
+use hub::web::{self, LiveEvent, MAX_LIVE_STREAMS_PER_ACCOUNT, MAX_LIVE_STREAMS_PER_LOGIN};
+use hub::{Db, HubError, Role};
 use netlink::Summary;
 use serde_json::{Value, json};
-use tokio::sync::broadcast;
 use tower::ServiceExt;
 
-const T0: i64 = 1_795_253_400_000;
-const PASSWORD: &str = "correct horse battery";
+use common::T0;
+use common::api::{PASSWORD, clinician, send};
+use common::fixture::{Fixture, fixture};
+
 const EMAIL: &str = "ada@clinic.example";
 
 fn ip(last: u8) -> std::net::IpAddr {
     std::net::IpAddr::from([127, 0, 3, last])
-}
-
-async fn ada(db: &Db) -> Therapist {
-    db.add_therapist(EMAIL, PASSWORD, Role::Therapist, T0)
-        .await
-        .unwrap()
 }
 
 on_both_backends!(
@@ -87,7 +80,7 @@ async fn parallel_logins(db: &Db, n: usize, address: Option<std::net::IpAddr>) -
 }
 
 async fn a_hundred_parallel_guesses_evaluate_at_most_the_free_allowance(db: Db) {
-    ada(&db).await;
+    clinician(&db, EMAIL, Role::Therapist).await;
     let outcomes = parallel_logins(&db, 100, Some(ip(1))).await;
     let evaluated = outcomes
         .iter()
@@ -126,7 +119,7 @@ async fn try_login(
 }
 
 async fn an_attacker_elsewhere_cannot_keep_the_therapist_out(db: Db) {
-    let t = ada(&db).await;
+    let t = clinician(&db, EMAIL, Role::Therapist).await;
     // The therapist's own browser logged in before and holds a device cookie.
     let device = db.create_device(&t.id, T0).await.unwrap();
     // An attacker with twenty addresses guesses for a simulated hour, whenever a throttle
@@ -224,7 +217,7 @@ async fn attack_around_logins(
 }
 
 async fn a_new_browser_gets_in_during_an_attack_and_its_success_gives_the_attacker_nothing(db: Db) {
-    ada(&db).await;
+    clinician(&db, EMAIL, Role::Therapist).await;
     // The therapist logged in from the clinic (127.0.3.1) yesterday; today, a new browser
     // there has no device cookie.
     assert_eq!(
@@ -265,7 +258,7 @@ async fn a_new_browser_gets_in_during_an_attack_and_its_success_gives_the_attack
 }
 
 async fn the_address_throttle_grows_to_fifteen_minutes_whatever_accounts_it_tries(db: Db) {
-    ada(&db).await;
+    clinician(&db, EMAIL, Role::Therapist).await;
     let mut now = T0;
     let mut waits = Vec::new();
     for i in 0..30 {
@@ -330,7 +323,7 @@ async fn weak_passwords_are_refused(db: Db) {
 }
 
 async fn a_one_time_password_is_flagged_until_changed(db: Db) {
-    let t = ada(&db).await;
+    let t = clinician(&db, EMAIL, Role::Therapist).await;
     assert!(!t.must_change_password);
     db.require_password_change(&t.id).await.unwrap();
     let token = db.create_web_session(&t.id, T0, 60_000).await.unwrap();
@@ -350,7 +343,7 @@ async fn a_one_time_password_is_flagged_until_changed(db: Db) {
 }
 
 async fn a_password_change_ends_every_old_token(db: Db) {
-    let t = ada(&db).await;
+    let t = clinician(&db, EMAIL, Role::Therapist).await;
     let old: Vec<String> = futures_tokens(&db, &t.id, 3).await;
     let new = db
         .change_password(EMAIL, PASSWORD, "a brand new passphrase", T0, 60_000)
@@ -372,7 +365,7 @@ async fn futures_tokens(db: &Db, id: &str, n: usize) -> Vec<String> {
 }
 
 async fn a_revoked_therapist_cannot_log_in_and_their_sessions_end(db: Db) {
-    let t = ada(&db).await;
+    let t = clinician(&db, EMAIL, Role::Therapist).await;
     let token = db.create_web_session(&t.id, T0, 60_000).await.unwrap();
     db.revoke_therapist(&t.id, T0).await.unwrap();
     assert_eq!(db.web_session(&token, T0).await.unwrap(), None);
@@ -533,39 +526,7 @@ async fn the_audit_log_pages_by_time_without_losing_an_entry(db: Db) {
 
 // ----- HTTP -----
 
-struct Fixture {
-    app: Router,
-    db: Db,
-    live: broadcast::Sender<LiveEvent>,
-    clock: Arc<AtomicI64>,
-    ada: Therapist,
-    p_ada: Patient,
-    _dir: tempfile::TempDir,
-}
-
-async fn fixture() -> Fixture {
-    let (db, dir) = common::sqlite_db().await;
-    db.add_therapist("root@clinic.example", PASSWORD, Role::Admin, T0)
-        .await
-        .unwrap();
-    let ada = ada(&db).await;
-    let p_ada = db.add_patient("p-ada-1", Some(&ada.id), T0).await.unwrap();
-    let (live, _) = broadcast::channel(256);
-    let clock = Arc::new(AtomicI64::new(T0));
-    let now = Arc::clone(&clock);
-    let state = AppState::new(db.clone(), live.clone())
-        .with_clock(Arc::new(move || now.load(Ordering::SeqCst)));
-    Fixture {
-        app: web::router(state),
-        db,
-        live,
-        clock,
-        ada,
-        p_ada,
-        _dir: dir,
-    }
-}
-
+/// A request ([`common::api::request`]) from 127.0.3.`from`.
 fn request(
     method: Method,
     uri: &str,
@@ -573,30 +534,11 @@ fn request(
     body: Option<Value>,
     from: u8,
 ) -> Request<Body> {
-    let mut builder = Request::builder().method(method).uri(uri);
-    if let Some(c) = cookie {
-        builder = builder.header(header::COOKIE, c);
-    }
-    let mut request = match body {
-        Some(b) => builder
-            .header(header::CONTENT_TYPE, "application/json")
-            .body(Body::from(b.to_string())),
-        None => builder.body(Body::empty()),
-    }
-    .unwrap();
+    let mut request = common::api::request(method, uri, cookie, body);
     request
         .extensions_mut()
         .insert(ConnectInfo(SocketAddr::new(ip(from), 40_000)));
     request
-}
-
-async fn send(app: &Router, request: Request<Body>) -> (StatusCode, HeaderMap, Value) {
-    let response = app.clone().oneshot(request).await.unwrap();
-    let status = response.status();
-    let headers = response.headers().clone();
-    let bytes = response.into_body().collect().await.unwrap().to_bytes();
-    let value = serde_json::from_slice(&bytes).unwrap_or(Value::Null);
-    (status, headers, value)
 }
 
 async fn call(
@@ -726,7 +668,7 @@ async fn live_streams_end_within_two_seconds_of_logout_expiry_password_change_re
     ends.push(
         stream_ended_by(&f, &cookie, || async {
             f.clock
-                .fetch_add(web::DEFAULT_LOGIN_TTL_MS, Ordering::SeqCst);
+                .advance(Duration::from_millis(web::DEFAULT_LOGIN_TTL_MS as u64));
         })
         .await,
     );
@@ -1013,14 +955,7 @@ async fn throttled_logins_answer_429_with_retry_after_and_are_audited() {
 #[tokio::test]
 async fn refused_reads_403s_401s_and_rate_limits_are_audited() {
     let f = fixture().await;
-    let bob =
-        f.db.add_therapist("bob@clinic.example", PASSWORD, Role::Therapist, T0)
-            .await
-            .unwrap();
-    let p_bob =
-        f.db.add_patient("p-bob-1", Some(&bob.id), T0)
-            .await
-            .unwrap();
+    let p_bob = &f.p_bob;
     let cookie = login_as(&f.app, EMAIL, PASSWORD).await;
     for uri in [
         format!("/api/patients/{}", p_bob.id),

@@ -5,13 +5,9 @@ mod common;
 
 use common::api::{PASSWORD, actions, call, login};
 
-use std::sync::Arc;
-
 use axum::http::{Method, StatusCode};
-use hub::web::{self, AppState};
 use hub::{Db, Role};
 use serde_json::json;
-use tokio::sync::broadcast;
 
 const T0: i64 = 1_795_253_400_000;
 
@@ -26,14 +22,8 @@ async fn a_message_is_posted_listed_newest_first_audited_and_seen_once(db: Db) {
         .unwrap();
     let p = db.add_patient("p-ada-1", Some(&ada.id), T0).await.unwrap();
     let p_bob = db.add_patient("p-bob-1", Some(&bob.id), T0).await.unwrap();
-    let clock = Arc::new(std::sync::atomic::AtomicI64::new(T0));
-    let now = clock.clone();
-    let (live, _) = broadcast::channel(4);
-    let app = web::router(
-        AppState::new(db.clone(), live).with_clock(Arc::new(move || {
-            now.load(std::sync::atomic::Ordering::SeqCst)
-        })),
-    );
+    let (now, clock) = common::clock_at(T0);
+    let app = common::api::router_with_clock(&db, now);
     let cookie = login(&app, "ada@clinic.example").await;
     let uri = format!("/api/patients/{}/messages", p.id);
     // Counted in characters: 500 characters of 'é' (1 000 bytes) are allowed.
@@ -42,7 +32,7 @@ async fn a_message_is_posted_listed_newest_first_audited_and_seen_once(db: Db) {
         .iter()
         .enumerate()
     {
-        clock.store(T0 + i as i64 * 1_000, std::sync::atomic::Ordering::SeqCst);
+        clock.set_unix_ns(common::ns(T0 + i as i64 * 1_000));
         let (status, m, _) = call(
             &app,
             Method::POST,
@@ -105,8 +95,7 @@ async fn a_message_too_long_empty_or_with_control_characters_is_refused_naming_w
         .await
         .unwrap();
     let p = db.add_patient("p-ada-1", Some(&ada.id), T0).await.unwrap();
-    let (live, _) = broadcast::channel(4);
-    let app = web::router(AppState::new(db.clone(), live).with_clock(Arc::new(|| T0)));
+    let app = common::api::router_at_t0(&db);
     let cookie = login(&app, "ada@clinic.example").await;
     let uri = format!("/api/patients/{}/messages", p.id);
     let too_long = "a".repeat(501);

@@ -170,7 +170,7 @@ async fn a_pain_at_the_threshold_is_mailed_to_the_therapist_with_only_the_pseudo
     let mailer = tokio::spawn(hub::pain_mail::run(
         db.clone(),
         Arc::new(care),
-        Arc::new(now_ms),
+        clock::Clock::real(),
     ));
 
     // The server is down: both mails wait, their failure visible to an admin.

@@ -13,20 +13,17 @@ mod common;
 
 use std::io::Cursor;
 use std::path::Path;
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use axum::Router;
 use axum::body::Body;
 use axum::http::{Request, StatusCode, header};
-use common::api::{PASSWORD, login};
+use common::api::login;
+use common::fixture::Fixture;
 use http_body_util::BodyExt;
-use hub::web::{self, AppState, ReplayTurns};
-use hub::{Db, Role};
 use record::{CostLimits, RecordWriter, SessionMetadata, TickRecord};
 use tower::ServiceExt;
 
-const T0: i64 = common::T0;
+use common::T0;
 
 /// The process's CPU time, s.
 fn cpu_s() -> f64 {
@@ -131,88 +128,56 @@ fn after_the_header(recording: &[u8], inserted: &[u8]) -> Vec<u8> {
     [&recording[..at], inserted, &recording[at..]].concat()
 }
 
-struct Fixture {
-    app: Router,
-    turns: Arc<ReplayTurns>,
-    db: Db,
-    dir: tempfile::TempDir,
+/// A session of a new patient of ada's whose uploaded recording is `bytes`; its id.
+async fn session_with(f: &Fixture, name: &str, bytes: &[u8]) -> String {
+    let patient = f.db.add_patient(name, Some(&f.ada.id), T0).await.unwrap();
+    let station = format!("st-{name}");
+    let hex: String = name.bytes().map(|b| format!("{b:02x}")).collect();
+    let fp = format!("{hex:0>64}");
+    f.db.add_station(&station, &patient.id, &fp, T0)
+        .await
+        .unwrap();
+    let session = format!("s-{name}");
+    f.db.open_session(&common::hello(&station, &patient.id, &session), T0)
+        .await
+        .unwrap();
+    let path = f.dir.as_ref().unwrap().path().join(format!("{name}.mcap"));
+    std::fs::write(&path, bytes).unwrap();
+    f.db.put_recording(&hub::db::Recording {
+        session_id: session.clone(),
+        sha256: "0".repeat(64),
+        size_bytes: bytes.len() as i64,
+        received_bytes: bytes.len() as i64,
+        path: path.display().to_string(),
+        complete: true,
+    })
+    .await
+    .unwrap();
+    session
 }
 
-impl Fixture {
-    /// A clinic with two therapists; `state` sets the replay's budget.
-    async fn new(state: impl FnOnce(AppState) -> AppState) -> Self {
-        let (db, dir) = common::sqlite_db().await;
-        db.add_therapist("ada@clinic.example", PASSWORD, Role::Admin, T0)
-            .await
-            .unwrap();
-        db.add_therapist("bea@clinic.example", PASSWORD, Role::Admin, T0)
-            .await
-            .unwrap();
-        let (live, _) = tokio::sync::broadcast::channel(16);
-        let state = state(AppState::new(db.clone(), live));
-        let turns = Arc::clone(&state.replay_turns);
-        Self {
-            app: web::router(state),
-            turns,
-            db,
-            dir,
+/// The replay of `session` as `cookie` asks for it: the status and the answer's body,
+/// unread.
+async fn replay(f: &Fixture, session: &str, cookie: &str) -> (StatusCode, Body) {
+    let request = Request::builder()
+        .uri(format!("/api/sessions/{session}/replay"))
+        .header(header::COOKIE, cookie)
+        .body(Body::empty())
+        .unwrap();
+    let response = f.app.clone().oneshot(request).await.unwrap();
+    (response.status(), response.into_body())
+}
+
+/// Waits (at most `within`) until no replay's work is running; how long it took.
+async fn work_ended(f: &Fixture, within: Duration) -> Option<Duration> {
+    let started = Instant::now();
+    while started.elapsed() < within {
+        if f.turns.working() == 0 {
+            return Some(started.elapsed());
         }
+        tokio::time::sleep(Duration::from_millis(10)).await;
     }
-
-    /// A session of a new patient whose uploaded recording is `bytes`; its id.
-    async fn session_with(&self, name: &str, bytes: &[u8]) -> String {
-        let patient = self.db.add_patient(name, None, T0).await.unwrap();
-        let station = format!("st-{name}");
-        let hex: String = name.bytes().map(|b| format!("{b:02x}")).collect();
-        let fp = format!("{hex:0>64}");
-        self.db
-            .add_station(&station, &patient.id, &fp, T0)
-            .await
-            .unwrap();
-        let session = format!("s-{name}");
-        self.db
-            .open_session(&common::hello(&station, &patient.id, &session), T0)
-            .await
-            .unwrap();
-        let path = self.dir.path().join(format!("{name}.mcap"));
-        std::fs::write(&path, bytes).unwrap();
-        self.db
-            .put_recording(&hub::db::Recording {
-                session_id: session.clone(),
-                sha256: "0".repeat(64),
-                size_bytes: bytes.len() as i64,
-                received_bytes: bytes.len() as i64,
-                path: path.display().to_string(),
-                complete: true,
-            })
-            .await
-            .unwrap();
-        session
-    }
-
-    /// The replay of `session` as `cookie` asks for it: the status and the answer's body,
-    /// unread.
-    async fn replay(&self, session: &str, cookie: &str) -> (StatusCode, Body) {
-        let request = Request::builder()
-            .uri(format!("/api/sessions/{session}/replay"))
-            .header(header::COOKIE, cookie)
-            .body(Body::empty())
-            .unwrap();
-        let response = self.app.clone().oneshot(request).await.unwrap();
-        (response.status(), response.into_body())
-    }
-
-    /// Waits (at most `within`) until no replay's work is running; how long it took.
-    async fn work_ended(&self, within: Duration) -> Option<Duration> {
-        let started = Instant::now();
-        while started.elapsed() < within {
-            if self.turns.working() == 0 {
-                return Some(started.elapsed());
-            }
-            tokio::time::sleep(Duration::from_millis(10)).await;
-        }
-        None
-    }
+    None
 }
 
 async fn text_of(body: Body) -> String {
@@ -235,18 +200,18 @@ async fn a_recording_of_300_zero_chunks_is_refused_by_name_before_it_is_decoded(
     let f = Fixture::new(|s| s).await;
     let hostile = bare_mcap(&zero_chunks(300));
     assert!(hostile.len() < 400_000, "{} bytes", hostile.len());
-    let bare = f.session_with("bare", &hostile).await;
+    let bare = session_with(&f, "bare", &hostile).await;
     // The same chunks after a station's own session record.
-    let dressed = f
-        .session_with(
-            "dressed",
-            &after_the_session_record(&honest(1), &zero_chunks(300)),
-        )
-        .await;
+    let dressed = session_with(
+        &f,
+        "dressed",
+        &after_the_session_record(&honest(1), &zero_chunks(300)),
+    )
+    .await;
     let cookie = login(&f.app, "ada@clinic.example").await;
     for session in [bare, dressed] {
         let cpu_before = cpu_s();
-        let (status, body) = f.replay(&session, &cookie).await;
+        let (status, body) = replay(&f, &session, &cookie).await;
         let text = text_of(body).await;
         let cpu = cpu_s() - cpu_before;
         eprintln!("hostile replay of {session}: {status}, {cpu:.3} CPU-s: {text}");
@@ -264,24 +229,47 @@ async fn a_recording_of_300_zero_chunks_is_refused_by_name_before_it_is_decoded(
         assert_eq!(f.turns.working(), 0);
     }
     // The turns came back: the same therapist replays an honest session at once.
-    let good = f.session_with("good", &honest(2)).await;
-    let (status, body) = f.replay(&good, &cookie).await;
+    let good = session_with(&f, "good", &honest(2)).await;
+    let (status, body) = replay(&f, &good, &cookie).await;
     assert_eq!(status, StatusCode::OK);
     assert!(text_of(body).await.contains("\"end\":true"));
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_record_over_the_readers_limit_is_refused_by_name_before_it_is_read() {
+    let f = Fixture::new(|s| s).await;
+    // A metadata record of one byte over the limit, all its bytes in the file.
+    let over = record::MAX_RECORD_BYTES as u64 + 1;
+    let mut big = vec![0x0C];
+    big.extend(over.to_le_bytes());
+    big.resize(big.len() + over as usize, 0);
+    let session = session_with(&f, "big", &after_the_header(&honest(1), &big)).await;
+    let cookie = login(&f.app, "ada@clinic.example").await;
+    let (status, body) = replay(&f, &session, &cookie).await;
+    let text = text_of(body).await;
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY, "{text}");
+    assert!(
+        text.contains(&format!(
+            "a record (opcode 0x0c) claims {over} bytes, more than the {} this reader accepts",
+            record::MAX_RECORD_BYTES
+        )),
+        "{text}"
+    );
+    assert_eq!(f.turns.working(), 0);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_replay_over_its_cpu_budget_stops_and_says_why() {
     let f = Fixture::new(|s| s.with_replay_budget(0.3, anything())).await;
-    let session = f
-        .session_with(
-            "costly",
-            &after_the_session_record(&honest(1), &zero_chunks(300)),
-        )
-        .await;
+    let session = session_with(
+        &f,
+        "costly",
+        &after_the_session_record(&honest(1), &zero_chunks(300)),
+    )
+    .await;
     let cookie = login(&f.app, "ada@clinic.example").await;
     let cpu_before = cpu_s();
-    let (status, body) = f.replay(&session, &cookie).await;
+    let (status, body) = replay(&f, &session, &cookie).await;
     assert_eq!(status, StatusCode::OK);
     let text = text_of(body).await;
     let cpu = cpu_s() - cpu_before;
@@ -293,7 +281,7 @@ async fn a_replay_over_its_cpu_budget_stops_and_says_why() {
         "{last}"
     );
     assert_eq!(
-        f.work_ended(Duration::from_secs(5)).await.map(|_| ()),
+        work_ended(&f, Duration::from_secs(5)).await.map(|_| ()),
         Some(())
     );
     assert!(cpu < 5.0, "{cpu:.2} CPU-s");
@@ -302,15 +290,15 @@ async fn a_replay_over_its_cpu_budget_stops_and_says_why() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_console_that_goes_away_stops_the_work_and_its_turn_is_held_until_then() {
     let f = Fixture::new(|s| s.with_replay_budget(600.0, anything())).await;
-    let session = f
-        .session_with(
-            "long",
-            &after_the_session_record(&honest(1), &zero_chunks(300)),
-        )
-        .await;
+    let session = session_with(
+        &f,
+        "long",
+        &after_the_session_record(&honest(1), &zero_chunks(300)),
+    )
+    .await;
     let ada = login(&f.app, "ada@clinic.example").await;
     let cpu_before = cpu_s();
-    let (status, mut body) = f.replay(&session, &ada).await;
+    let (status, mut body) = replay(&f, &session, &ada).await;
     assert_eq!(status, StatusCode::OK);
     let first = body.frame().await.unwrap().unwrap().into_data().unwrap();
     assert!(first.starts_with(b"{\"exercise\""), "{first:?}");
@@ -318,12 +306,12 @@ async fn a_console_that_goes_away_stops_the_work_and_its_turn_is_held_until_then
     // therapist's turn is taken.
     tokio::time::sleep(Duration::from_millis(300)).await;
     assert_eq!(f.turns.working(), 1);
-    let (again, _) = f.replay(&session, &ada).await;
+    let (again, _) = replay(&f, &session, &ada).await;
     assert_eq!(again, StatusCode::TOO_MANY_REQUESTS);
     // The console goes away.
     drop(body);
     let gone = Instant::now();
-    let ended = f.work_ended(Duration::from_secs(10)).await;
+    let ended = work_ended(&f, Duration::from_secs(10)).await;
     let cpu = cpu_s() - cpu_before;
     eprintln!(
         "replay left after its first line: the work ended {:?} after the console went, \
@@ -338,10 +326,10 @@ async fn a_console_that_goes_away_stops_the_work_and_its_turn_is_held_until_then
     // Decoding the whole file is tens of CPU-seconds (minutes in a debug build).
     assert!(cpu < 10.0, "{cpu:.2} CPU-s");
     // Its turn came back with it.
-    let (status, body) = f.replay(&session, &ada).await;
+    let (status, body) = replay(&f, &session, &ada).await;
     assert_eq!(status, StatusCode::OK);
     drop(body);
-    assert!(f.work_ended(Duration::from_secs(10)).await.is_some());
+    assert!(work_ended(&f, Duration::from_secs(10)).await.is_some());
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -349,19 +337,17 @@ async fn a_console_that_goes_away_while_the_file_is_opened_stops_the_work_and_ho
     // 9573fbb opened the file (up to its session record) in a blocking task the request did
     // not own: the console gone, its turns came back while the decoding went on.
     let f = Fixture::new(|s| s.with_replay_budget(600.0, anything())).await;
-    let session = f
-        .session_with("late", &after_the_header(&honest(1), &zero_chunks(300)))
-        .await;
+    let session = session_with(&f, "late", &after_the_header(&honest(1), &zero_chunks(300))).await;
     let ada = login(&f.app, "ada@clinic.example").await;
     let cpu_before = cpu_s();
-    let asked = tokio::time::timeout(Duration::from_millis(300), f.replay(&session, &ada)).await;
+    let asked = tokio::time::timeout(Duration::from_millis(300), replay(&f, &session, &ada)).await;
     assert!(asked.is_err(), "still opening after 300 ms");
     // The request is gone. While its work runs, the therapist's turn is still taken: a
     // second request is 429 at once; one that gets the turn (and starts opening the file in
     // its own work) finds the first work ended.
     let mut refused_while_working = 0;
     while f.turns.working() > 0 {
-        let asked = tokio::time::timeout(Duration::from_secs(2), f.replay(&session, &ada)).await;
+        let asked = tokio::time::timeout(Duration::from_secs(2), replay(&f, &session, &ada)).await;
         match asked {
             Ok((StatusCode::TOO_MANY_REQUESTS, _)) => refused_while_working += 1,
             other => {
@@ -383,15 +369,15 @@ async fn a_console_that_goes_away_while_the_file_is_opened_stops_the_work_and_ho
          requests refused 429 meanwhile"
     );
     assert!(cpu < 10.0, "{cpu:.2} CPU-s");
-    assert!(f.work_ended(Duration::from_secs(10)).await.is_some());
+    assert!(work_ended(&f, Duration::from_secs(10)).await.is_some());
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_stations_recording_still_replays_to_its_end() {
     let f = Fixture::new(|s| s).await;
-    let session = f.session_with("honest", &honest(3)).await;
-    let cookie = login(&f.app, "bea@clinic.example").await;
-    let (status, body) = f.replay(&session, &cookie).await;
+    let session = session_with(&f, "honest", &honest(3)).await;
+    let cookie = login(&f.app, "ada@clinic.example").await;
+    let (status, body) = replay(&f, &session, &cookie).await;
     assert_eq!(status, StatusCode::OK);
     let text = text_of(body).await;
     let lines: Vec<serde_json::Value> = text

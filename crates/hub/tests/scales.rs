@@ -6,19 +6,9 @@ mod common;
 use common::T0;
 use common::api::{PASSWORD, actions, call, login};
 
-use std::sync::Arc;
-
-use axum::Router;
 use axum::http::{Method, StatusCode};
-use hub::web::{self, AppState};
 use hub::{Db, Role};
 use serde_json::json;
-use tokio::sync::broadcast;
-
-fn app_of(db: &Db) -> Router {
-    let (live, _) = broadcast::channel(4);
-    web::router(AppState::new(db.clone(), live).with_clock(Arc::new(|| T0)))
-}
 
 async fn three_scales_are_recorded_listed_oldest_first_deleted_and_every_change_audited(db: Db) {
     let ada = db
@@ -29,7 +19,7 @@ async fn three_scales_are_recorded_listed_oldest_first_deleted_and_every_change_
         .await
         .unwrap();
     let p = db.add_patient("P-0042", Some(&ada.id), T0).await.unwrap();
-    let app = app_of(&db);
+    let app = common::api::router_at_t0(&db);
     let cookie = login(&app, "ada@clinic.example").await;
     let uri = format!("/api/patients/{}/scales", p.id);
     // T0 is 2026-11-21 09:30 UTC: the bounds themselves are accepted, and tomorrow (the clinic's
@@ -105,7 +95,7 @@ async fn a_score_outside_its_range_or_a_wrong_date_is_refused_naming_the_field_a
         .await
         .unwrap();
     let p = db.add_patient("P-0042", Some(&ada.id), T0).await.unwrap();
-    let app = app_of(&db);
+    let app = common::api::router_at_t0(&db);
     let cookie = login(&app, "ada@clinic.example").await;
     let uri = format!("/api/patients/{}/scales", p.id);
     let day = "2026-11-10";

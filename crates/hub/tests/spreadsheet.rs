@@ -8,22 +8,14 @@ use common::api::{PASSWORD, actions, call, login};
 use common::{T0, hello};
 
 use std::collections::BTreeMap;
-use std::sync::Arc;
 
 use axum::Router;
 use axum::body::Body;
 use axum::http::{HeaderMap, Method, Request, StatusCode, header};
 use http_body_util::BodyExt;
-use hub::web::{self, AppState};
 use hub::{Db, Role};
 use serde_json::json;
-use tokio::sync::broadcast;
 use tower::ServiceExt;
-
-fn app_of(db: &Db) -> Router {
-    let (live, _) = broadcast::channel(4);
-    web::router(AppState::new(db.clone(), live).with_clock(Arc::new(|| T0)))
-}
 
 /// A GET with the cookie: status, headers and the body as text.
 async fn get(app: &Router, uri: &str, cookie: &str) -> (StatusCode, HeaderMap, String) {
@@ -128,7 +120,7 @@ async fn a_patients_csv_has_plain_and_technical_headers_rounded_values_local_tim
     db: Db,
 ) {
     let (_, _, p) = seeded(&db).await;
-    let app = app_of(&db);
+    let app = common::api::router_at_t0(&db);
     let cookie = login(&app, "ada@clinic.example").await;
     let (status, headers, csv) = get(
         &app,
@@ -209,7 +201,7 @@ async fn a_patients_csv_has_plain_and_technical_headers_rounded_values_local_tim
 
 async fn a_german_csv_says_its_words_in_german_and_keeps_the_technical_line_and_numbers(db: Db) {
     let (_, _, p) = seeded(&db).await;
-    let app = app_of(&db);
+    let app = common::api::router_at_t0(&db);
     let cookie = login(&app, "ada@clinic.example").await;
     let uri = format!("/api/patients/{p}/measures.csv?tz=Europe/Berlin");
     let (_, _, english) = get(&app, &uri, &cookie).await;
@@ -260,7 +252,7 @@ async fn a_german_csv_says_its_words_in_german_and_keeps_the_technical_line_and_
 
 async fn the_caseload_csv_has_the_same_columns_with_the_patient_first_for_admins_only(db: Db) {
     let (ana, ada, p) = seeded(&db).await;
-    let app = app_of(&db);
+    let app = common::api::router_at_t0(&db);
     let cookie = login(&app, "ada@clinic.example").await;
     // Another therapist's patient is not found; the caseload is for admins.
     let (status, _, _) = get(&app, &format!("/api/patients/{p}/measures.csv"), &cookie).await;
@@ -316,7 +308,7 @@ async fn the_one_table_of_measure_words_is_served_to_the_console(db: Db) {
     db.add_therapist("ada@clinic.example", PASSWORD, Role::Therapist, T0)
         .await
         .unwrap();
-    let app = app_of(&db);
+    let app = common::api::router_at_t0(&db);
     let (status, _, _) = get(&app, "/api/measures/words", "").await;
     assert_eq!(status, StatusCode::UNAUTHORIZED, "a login first");
     let cookie = login(&app, "ada@clinic.example").await;
@@ -417,7 +409,7 @@ async fn the_assessments_csv_has_a_row_a_measure_marked_by_session_protocol_and_
         ],
     };
     db.close_session(&bye, T0 + 2000).await.unwrap();
-    let app = app_of(&db);
+    let app = common::api::router_at_t0(&db);
     let cookie = login(&app, "ada@clinic.example").await;
     let uri = format!("/api/patients/{p}/assessments.csv?tz=Europe/Berlin");
     let (status, headers, csv) = get(&app, &uri, &cookie).await;

@@ -9,7 +9,6 @@ mod common;
 
 use std::net::SocketAddr;
 use std::path::Path;
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use base64::Engine;
@@ -90,7 +89,6 @@ async fn start_hub_paced(clinic: &Clinic, pace_per_s: u32) -> RunningHub {
     let db = clinic.open_db(None).await.unwrap();
     let clinic = clinic.clone();
     let options = ServeOptions {
-        now_ms: Arc::new(now_ms),
         summary_pace_per_s: pace_per_s,
         ..ServeOptions::new("127.0.0.1:0".parse().unwrap(), None)
     };

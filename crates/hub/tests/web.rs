@@ -4,149 +4,25 @@
 mod common;
 
 use std::sync::Arc;
-use std::sync::atomic::{AtomicI64, Ordering};
 use std::time::Duration;
 
 use axum::Router;
-use axum::body::Body;
-use axum::http::{HeaderMap, Method, Request, StatusCode, header};
+use axum::http::{Method, Request, StatusCode, header};
 use http_body_util::BodyExt;
+use hub::Patient;
 use hub::db::LOCKOUT_MS;
-use hub::web::{self, AppState, LiveEvent};
-use hub::{Db, Patient, Role, Therapist};
-use netlink::{Hello, PROTOCOL_VERSION, Summary};
+use hub::web::{self, LiveEvent};
+use netlink::{Hello, Summary};
 use serde_json::{Value, json};
-use tokio::sync::broadcast;
 use tower::ServiceExt;
 
-const T0: i64 = 1_795_253_400_000;
-const PASSWORD: &str = "correct horse battery";
-
-struct Fixture {
-    app: Router,
-    db: Db,
-    live: broadcast::Sender<LiveEvent>,
-    clock: Arc<AtomicI64>,
-    admin: Therapist,
-    ada: Therapist,
-    p_ada: Patient,
-    p_bob: Patient,
-    _dir: tempfile::TempDir,
-}
+use common::api::{PASSWORD, actions, exchange as call, login, request};
+use common::fixture::fixture;
+use common::{T0, hello};
 
 /// A valid one-exercise regimen of `kind`.
 fn one_exercise(kind: &str) -> String {
     format!("[[exercise]]\nkind = \"{kind}\"\nduration_s = 30.0\n")
-}
-
-async fn fixture() -> Fixture {
-    let (db, dir) = common::sqlite_db().await;
-    let admin = db
-        .add_therapist("root@clinic.example", PASSWORD, Role::Admin, T0)
-        .await
-        .unwrap();
-    let ada = db
-        .add_therapist("ada@clinic.example", PASSWORD, Role::Therapist, T0)
-        .await
-        .unwrap();
-    let bob = db
-        .add_therapist("bob@clinic.example", PASSWORD, Role::Therapist, T0)
-        .await
-        .unwrap();
-    let p_ada = db.add_patient("p-ada-1", Some(&ada.id), T0).await.unwrap();
-    let p_bob = db.add_patient("p-bob-1", Some(&bob.id), T0).await.unwrap();
-    let (live, _) = broadcast::channel(64);
-    let clock = Arc::new(AtomicI64::new(T0));
-    let now = Arc::clone(&clock);
-    let state = AppState::new(db.clone(), live.clone())
-        .with_clock(Arc::new(move || now.load(Ordering::SeqCst)));
-    Fixture {
-        app: web::router(state),
-        db,
-        live,
-        clock,
-        admin,
-        ada,
-        p_ada,
-        p_bob,
-        _dir: dir,
-    }
-}
-
-fn request(method: Method, uri: &str, cookie: Option<&str>, body: Option<Value>) -> Request<Body> {
-    let mut builder = Request::builder().method(method).uri(uri);
-    if let Some(c) = cookie {
-        builder = builder.header(header::COOKIE, c);
-    }
-    match body {
-        Some(b) => builder
-            .header(header::CONTENT_TYPE, "application/json")
-            .body(Body::from(b.to_string())),
-        None => builder.body(Body::empty()),
-    }
-    .unwrap()
-}
-
-async fn call(
-    app: &Router,
-    method: Method,
-    uri: &str,
-    cookie: Option<&str>,
-    body: Option<Value>,
-) -> (StatusCode, HeaderMap, Value) {
-    let response = app
-        .clone()
-        .oneshot(request(method, uri, cookie, body))
-        .await
-        .unwrap();
-    let status = response.status();
-    let headers = response.headers().clone();
-    let bytes = response.into_body().collect().await.unwrap().to_bytes();
-    let value = if bytes.is_empty() {
-        Value::Null
-    } else {
-        serde_json::from_slice(&bytes)
-            .unwrap_or_else(|_| Value::String(String::from_utf8_lossy(&bytes).into_owned()))
-    };
-    (status, headers, value)
-}
-
-/// Logs in and returns the `Cookie` header value.
-async fn login(app: &Router, email: &str) -> String {
-    let (status, headers, body) = call(
-        app,
-        Method::POST,
-        "/api/login",
-        None,
-        Some(json!({"email": email, "password": PASSWORD})),
-    )
-    .await;
-    assert_eq!(status, StatusCode::OK, "{body}");
-    let set = headers[header::SET_COOKIE].to_str().unwrap().to_owned();
-    set.split(';').next().unwrap().to_owned()
-}
-
-async fn actions(db: &Db) -> Vec<(String, String, String)> {
-    db.audit_log(1000)
-        .await
-        .unwrap()
-        .into_iter()
-        .map(|e| (e.actor, e.action, e.target))
-        .collect()
-}
-
-fn hello(patient_id: &str, session_id: &str) -> Hello {
-    Hello {
-        protocol_version: PROTOCOL_VERSION,
-        station_id: "st-1".into(),
-        patient_id: patient_id.into(),
-        session_id: session_id.into(),
-        exercise: "sine-road".into(),
-        started_unix_ms: T0 as u64,
-        software_version: "telerehab 0.1.0".into(),
-        min_protocol_version: None,
-        wheel: None,
-    }
 }
 
 fn summary(session_id: &str, seq: u64) -> Summary {
@@ -214,7 +90,7 @@ async fn login_sets_a_strict_cookie_and_delays_after_failures() {
     )
     .await;
     assert_eq!(locked, StatusCode::TOO_MANY_REQUESTS);
-    f.clock.fetch_add(LOCKOUT_MS, Ordering::SeqCst);
+    f.clock.advance(Duration::from_millis(LOCKOUT_MS as u64));
     let (later, _, _) = call(&f.app, Method::POST, "/api/login", None, Some(right)).await;
     assert_eq!(later, StatusCode::OK);
     let log = actions(&f.db).await;
@@ -354,7 +230,7 @@ async fn a_therapist_sees_only_their_patients_and_others_are_404() {
     f.db.add_station("st-1", &f.p_bob.id, &"ab".repeat(32), T0)
         .await
         .unwrap();
-    f.db.open_session(&hello(&f.p_bob.id, "s-bob"), T0)
+    f.db.open_session(&hello("st-1", &f.p_bob.id, "s-bob"), T0)
         .await
         .unwrap();
     let ada = login(&f.app, "ada@clinic.example").await;
@@ -422,7 +298,7 @@ async fn sessions_summaries_and_metrics_are_served_and_audited() {
     f.db.add_station("st-1", &f.p_ada.id, &"ab".repeat(32), T0)
         .await
         .unwrap();
-    f.db.open_session(&hello(&f.p_ada.id, "s1"), T0)
+    f.db.open_session(&hello("st-1", &f.p_ada.id, "s1"), T0)
         .await
         .unwrap();
     for seq in 0..3 {
@@ -477,7 +353,7 @@ async fn checkins_are_served_to_the_patients_therapist_only_audited_and_high_pai
     f.db.add_station("st-1", &f.p_ada.id, &"ab".repeat(32), T0)
         .await
         .unwrap();
-    f.db.open_session(&hello(&f.p_ada.id, "s1"), T0)
+    f.db.open_session(&hello("st-1", &f.p_ada.id, "s1"), T0)
         .await
         .unwrap();
     let bye = netlink::Bye {
@@ -528,7 +404,7 @@ async fn exercise_results_are_served_per_session_to_the_patients_therapist_only_
     f.db.add_station("st-1", &f.p_ada.id, &"ab".repeat(32), T0)
         .await
         .unwrap();
-    f.db.open_session(&hello(&f.p_ada.id, "s1"), T0)
+    f.db.open_session(&hello("st-1", &f.p_ada.id, "s1"), T0)
         .await
         .unwrap();
     let result = |index: u32, kind: &str, score: (&str, f64)| netlink::ExerciseResult {
@@ -579,7 +455,7 @@ async fn exercise_results_are_served_per_session_to_the_patients_therapist_only_
         .unwrap();
     let bob_hello = Hello {
         station_id: "st-2".into(),
-        ..hello(&f.p_bob.id, "s-bob")
+        ..hello("st-1", &f.p_bob.id, "s-bob")
     };
     f.db.open_session(&bob_hello, T0).await.unwrap();
     let (status, _, _) = call(
@@ -927,23 +803,13 @@ fn bytes_of(value: &Value) -> axum::body::Bytes {
     axum::body::Bytes::from(value.to_string())
 }
 
-#[test]
-fn the_hubs_time_can_come_from_the_products_injected_clock() {
-    let (clock, mock) = clock::Clock::mock();
-    let now = web::now_ms_of(clock);
-    let start = now();
-    assert_eq!(start, (clock::MOCK_UNIX_START_NS / 1_000_000) as i64);
-    mock.advance_ns(2_500_000_000);
-    assert_eq!(now() - start, 2_500);
-}
-
 #[tokio::test]
 async fn the_difficulty_history_is_served_to_the_patients_therapist_only_and_audited() {
     let f = fixture().await;
     f.db.add_station("st-1", &f.p_ada.id, &"ab".repeat(32), T0)
         .await
         .unwrap();
-    f.db.open_session(&hello(&f.p_ada.id, "s1"), T0)
+    f.db.open_session(&hello("st-1", &f.p_ada.id, "s1"), T0)
         .await
         .unwrap();
     let bye = netlink::Bye {

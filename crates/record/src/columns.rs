@@ -12,10 +12,10 @@
 //! channels (the Foxglove scene, topics of other tools) are skipped unparsed.
 
 use super::blocks::{self, BlockError, ColumnValues, Kind, Layout};
-use super::reader::ReadError;
-use super::recover::check_lengths;
-use super::stream::{Rec, Records, SchemaTable, StreamLimits};
-use mcap::records::{Record, op};
+use super::error::ReadError;
+use super::stream::SchemaTable;
+use super::walk::{Message, Rec, Records, StreamLimits};
+use mcap::records::Record;
 use std::collections::{BTreeMap, HashMap};
 use std::io::Read;
 use std::path::Path;
@@ -170,20 +170,16 @@ pub fn read_columns(input: impl Read, limits: StreamLimits) -> Result<RecordingC
     let mut reading: BTreeMap<u16, Reading> = BTreeMap::new();
     let mut metadata = None;
     loop {
-        let (opcode, data, chunk) = match records.next()? {
+        let (record, chunk) = match records.next()? {
             Rec::End => break,
             Rec::Other => continue,
-            Rec::Parse(opcode, data, chunk) => (opcode, data, chunk),
+            Rec::Message(m) => {
+                message(&mut out, &reading, &m, limits.max_message_bytes)?;
+                continue;
+            }
+            Rec::Record(record, chunk) => (record, chunk),
         };
-        if opcode == op::MESSAGE {
-            message(&mut out, &reading, data, chunk, limits.max_message_bytes)?;
-            continue;
-        }
-        check_lengths(opcode, data).map_err(|e| ReadError::Damaged {
-            chunk,
-            reason: e.to_string(),
-        })?;
-        match mcap::parse_record(opcode, data)? {
+        match record {
             Record::Schema { header, data } => schemas.keep(header, data.into_owned(), chunk)?,
             Record::Channel(c) => {
                 if let Some(r) = channel(&mut out, &c, &schemas)? {
@@ -275,36 +271,21 @@ fn same_columns(a: &[ColumnData], b: &[ColumnData]) -> bool {
         })
 }
 
-/// Reads one message record (`data`) into its channel's columns or messages.
+/// Reads one message record (`m`) into its channel's columns or messages.
 fn message(
     out: &mut RecordingColumns,
     reading: &BTreeMap<u16, Reading>,
-    data: &[u8],
-    chunk: u64,
+    m: &Message<'_>,
     max_message_bytes: usize,
 ) -> Result<(), ReadError> {
-    // channel id (2 bytes), sequence (4), log and publish times (8 each), data.
-    if data.len() < 22 {
-        return Err(ReadError::Damaged {
-            chunk,
-            reason: format!("a message record of {} bytes", data.len()),
-        });
-    }
-    let Some(r) = reading.get(&u16::from_le_bytes([data[0], data[1]])) else {
+    let Some(r) = reading.get(&m.header.channel_id) else {
         return Ok(());
     };
-    let body = &data[22..];
     let index = match r {
         Reading::Blocks(_, i) | Reading::Json(i) => *i,
     };
     let (topic, channel) = &mut out.channels[index];
-    if body.len() > max_message_bytes {
-        return Err(ReadError::TooLarge {
-            what: format!("a message of channel {topic}"),
-            claimed_bytes: body.len() as u64,
-            limit_bytes: max_message_bytes as u64,
-        });
-    }
+    let body = m.data_within(topic, max_message_bytes)?;
     match (r, channel) {
         (Reading::Json(_), ChannelData::Json { messages, .. }) => messages.push(body.to_vec()),
         (Reading::Blocks(layout, _), ChannelData::Columns(columns)) => {

@@ -15,10 +15,11 @@
 
 use super::blocks::{Cell, Layout};
 use super::channels::Channel;
-use super::reader::{Decoder, ReadError, Row};
-use super::recover::check_lengths;
-use super::stream::{Rec, Records, SchemaTable, StreamLimits};
-use mcap::records::{Record, op};
+use super::error::ReadError;
+use super::reader::{Decoder, Row};
+use super::stream::SchemaTable;
+use super::walk::{Rec, Records, StreamLimits};
+use mcap::records::Record;
 use std::collections::{BTreeMap, VecDeque};
 use std::io::Read;
 use std::path::Path;
@@ -339,7 +340,6 @@ fn same_cells(x: &[Cell], y: &[Cell]) -> bool {
 /// One file being read.
 struct Side<R> {
     records: Records<R>,
-    limits: StreamLimits,
     wanted: [bool; N],
     schemas: SchemaTable,
     /// Our channels by id: each one's layout (`None`: JSON messages).
@@ -357,7 +357,6 @@ impl<R: Read> Side<R> {
     fn new(input: R, limits: StreamLimits, wanted: [bool; N]) -> Self {
         Self {
             records: Records::new(input, limits),
-            limits,
             wanted,
             schemas: SchemaTable::default(),
             channels: BTreeMap::new(),
@@ -375,79 +374,58 @@ impl<R: Read> Side<R> {
         keep: &[bool; N],
         observe: &mut dyn FnMut(Channel, &Sample),
     ) -> Result<(), ReadError> {
-        let (opcode, data, chunk) = match self.records.next()? {
+        let max_message = self.records.limits().max_message_bytes;
+        let (record, chunk) = match self.records.next()? {
             Rec::End => {
                 self.ended = true;
                 return Ok(());
             }
             Rec::Other => return Ok(()),
-            Rec::Parse(opcode, data, chunk) => (opcode, data, chunk),
-        };
-        if opcode == op::MESSAGE {
-            // channel id (2 bytes), sequence (4), log and publish times (8 each), data.
-            if data.len() < 22 {
-                return Err(ReadError::Damaged {
-                    chunk,
-                    reason: format!("a message record of {} bytes", data.len()),
-                });
-            }
-            let id = u16::from_le_bytes([data[0], data[1]]);
-            let Some((channel, layout)) = self.channels.get(&id) else {
-                return Ok(());
-            };
-            let (channel, c) = (*channel, *channel as usize);
-            let body = &data[22..];
-            let max_message = self.limits.max_message_bytes;
-            if body.len() > max_message {
-                return Err(ReadError::TooLarge {
-                    what: format!("a message of channel {}", channel.topic()),
-                    claimed_bytes: body.len() as u64,
-                    limit_bytes: max_message as u64,
-                });
-            }
-            let index = self.counts[c];
-            let samples = match layout {
-                None => vec![Sample::Row(serde_json::from_slice(body).map_err(
-                    |source| ReadError::Decode {
-                        topic: channel.topic(),
-                        index,
-                        source,
-                    },
-                )?)],
-                Some(layout) => layout
-                    .decode_cells(body)
-                    .map_err(|source| ReadError::Block {
-                        topic: channel.topic(),
-                        index,
-                        source,
-                    })?
-                    .into_iter()
-                    .map(|cells| Sample::Cells(Arc::clone(layout), cells))
-                    .collect(),
-            };
-            for s in samples {
-                observe(channel, &s);
-                self.counts[c] += 1;
-                self.progress = self.progress.max(s.tick().unwrap_or(0));
-                if keep[c] {
-                    self.pending[c].push_back(s);
+            Rec::Record(record, chunk) => (record, chunk),
+            Rec::Message(m) => {
+                let Some((channel, layout)) = self.channels.get(&m.header.channel_id) else {
+                    return Ok(());
+                };
+                let (channel, c) = (*channel, *channel as usize);
+                let body = m.data_within(channel.topic(), max_message)?;
+                let index = self.counts[c];
+                let samples = match layout {
+                    None => vec![Sample::Row(serde_json::from_slice(body).map_err(
+                        |source| ReadError::Decode {
+                            topic: channel.topic(),
+                            index,
+                            source,
+                        },
+                    )?)],
+                    Some(layout) => layout
+                        .decode_cells(body)
+                        .map_err(|source| ReadError::Block {
+                            topic: channel.topic(),
+                            index,
+                            source,
+                        })?
+                        .into_iter()
+                        .map(|cells| Sample::Cells(Arc::clone(layout), cells))
+                        .collect(),
+                };
+                for s in samples {
+                    observe(channel, &s);
+                    self.counts[c] += 1;
+                    self.progress = self.progress.max(s.tick().unwrap_or(0));
+                    if keep[c] {
+                        self.pending[c].push_back(s);
+                    }
                 }
+                return Ok(());
             }
-            return Ok(());
-        }
-        check_lengths(opcode, data).map_err(|e| ReadError::Damaged {
-            chunk,
-            reason: e.to_string(),
-        })?;
-        match mcap::parse_record(opcode, data)? {
+        };
+        match record {
             Record::Schema { header, data } => {
                 self.schemas.keep(header, data.into_owned(), chunk)?;
             }
             Record::Channel(c) => {
-                if let Some(channel) = Channel::from_topic(&c.topic)
-                    && self.wanted[channel as usize]
-                {
-                    let layout = match Decoder::of(channel, &c, self.schemas.by_id())? {
+                if let Some((channel, decoder)) = self.schemas.decoder_of(&c, &self.wanted)? {
+                    let layout = match decoder {
                         Decoder::Json => None,
                         Decoder::Blocks(layout, _) => Some(Arc::from(layout)),
                     };

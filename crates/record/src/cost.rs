@@ -6,13 +6,17 @@
 //! untrusted, and a 175 KB file of zstd chunks declaring 16 MiB of zeros each decoded for
 //! half a minute).
 //!
+//! Each record the file holds is held to the readers' one limit ([`super::MAX_RECORD_BYTES`],
+//! [`super::walk`]), so a file they would refuse is refused by the survey already.
+//!
 //! The survey reads the data section, not the summary: the summary is the writer's word, and
 //! the streaming reader ([`super::TickStream`]) reads the data section; a chunk that
 //! decompresses to more than it declares is refused by that reader, so what the survey adds up
 //! is what the reader can be made to decompress.
 
-use super::reader::ReadError;
+use super::error::ReadError;
 use super::types::SessionMetadata;
+use super::walk::{head, within_limit};
 use mcap::records::op;
 use std::io::{BufReader, Read, Seek};
 
@@ -72,12 +76,11 @@ pub fn survey<R: Read + Seek>(
     };
     let mut at = 8u64;
     loop {
-        let mut head = [0u8; 9];
-        if !read_or_end(input, &mut head).map_err(io)? {
+        let mut header = [0u8; 9];
+        if !read_or_end(input, &mut header).map_err(io)? {
             break;
         }
-        let opcode = head[0];
-        let len = u64::from_le_bytes(head[1..].try_into().expect("8 bytes"));
+        let (opcode, len) = head(&header);
         if opcode == op::DATA_END || opcode == op::FOOTER {
             break;
         }
@@ -119,8 +122,12 @@ pub fn survey<R: Read + Seek>(
         }
         at = at.saturating_add(9).saturating_add(len);
         if at > file_bytes {
+            // A cut tail (a killed session's last chunk claims the writer's placeholder
+            // length): the reader reads up to it and stops there.
             break;
         }
+        // A record the file holds but no reader accepts: refused now, in the readers' words.
+        within_limit(opcode, len, "")?;
         let skip = i64::try_from(len - read).map_err(|_| ReadError::Damaged {
             chunk: 0,
             reason: format!("a record claims {len} bytes"),
@@ -266,6 +273,43 @@ mod tests {
             }
         }
         w.finish().unwrap().into_inner()
+    }
+
+    #[test]
+    fn a_record_over_the_readers_limit_is_refused_by_name_and_a_cut_tail_is_not() {
+        let bytes = honest(300);
+        let header_end = 8 + 9 + u64::from_le_bytes(bytes[9..17].try_into().unwrap()) as usize;
+        let with_metadata_of = |len: u64, body: u64| {
+            let mut forged = bytes[..header_end].to_vec();
+            forged.push(op::METADATA);
+            forged.extend(len.to_le_bytes());
+            forged.resize(forged.len() + body as usize, 0);
+            forged.extend(&bytes[header_end..]);
+            forged
+        };
+        let over = crate::MAX_RECORD_BYTES as u64 + 1;
+        let e = survey(
+            &mut BufReader::new(Cursor::new(with_metadata_of(over, over))),
+            64,
+        );
+        let e = e.unwrap_err();
+        assert!(
+            matches!(&e, ReadError::TooLarge { what, claimed_bytes, .. }
+                if what == "a record (opcode 0x0c)" && *claimed_bytes == over),
+            "{e}"
+        );
+        // At the limit it is surveyed and skipped.
+        let at_limit = with_metadata_of(over - 1, over - 1);
+        let s = survey(&mut BufReader::new(Cursor::new(at_limit)), 64).unwrap();
+        assert!(s.session_metadata && s.chunks > 0, "{s:?}");
+        // Claiming more than the file holds: the cut tail of a killed session, not refused.
+        let cut = with_metadata_of(u64::MAX, 0);
+        let s = survey(&mut BufReader::new(Cursor::new(cut)), 64).unwrap();
+        assert_eq!(
+            (s.records, s.chunks),
+            (2, 0),
+            "the header and the cut record: {s:?}"
+        );
     }
 
     #[test]

@@ -19,6 +19,8 @@
 //! - [`writer`]: [`RecordWriter`]; [`recover`]: a killed session's file finished, streaming.
 //! - [`reader`]: [`Recording`], a whole file in memory (small files and tests);
 //!   [`stream`]: [`TickStream`], ticks one at a time in bounded memory (untrusted or long files).
+//! - [`walk`]: the one walk over a file's records that every reader above stands on, with
+//!   the one record limit ([`MAX_RECORD_BYTES`]) and the length checks before any parse.
 //! - [`cost`]: what reading a file will cost, from its record headers, before it is read.
 //! - [`view`]: what the therapist's console draws of a session, live and replayed.
 //!
@@ -45,6 +47,7 @@ pub mod channels;
 pub mod columns;
 pub mod compare;
 pub mod cost;
+mod error;
 pub mod raw;
 pub mod reader;
 pub mod recover;
@@ -54,18 +57,21 @@ pub mod stream;
 mod tests;
 pub mod types;
 pub mod view;
+pub mod walk;
 pub mod writer;
 
 pub use channels::{CHANNELS, Channel, ChannelSpec};
 pub use columns::{RecordingColumns, read_columns, read_columns_path};
 pub use cost::{CostLimits, Survey, survey};
+pub use error::ReadError;
 pub use raw::{BodyFacts, RawImuSample, RawTick, RawWheelSample};
-pub use reader::{ReadError, RecordedRows, Recording, Row, recorded_rows};
-pub use stream::{Check, StreamLimits, TickStream};
+pub use reader::{RecordedRows, Recording, Row, recorded_rows};
+pub use stream::TickStream;
 pub use types::{
     ArmCalibrationSample, ArmSample, ArmSetup, AssistSample, ClinicNote, DifficultyNote,
     ExerciseResult, FORMAT_VERSION, MetricsSample, MovementSample, OnlineArmCalibrationSample,
     ScoreSample, SessionMetadata, Stamped, StrengthNow, TickRecord, TimingSample, VehicleSample,
     Watchdog, WheelSample,
 };
+pub use walk::{Check, MAX_RECORD_BYTES, StreamLimits};
 pub use writer::RecordWriter;

@@ -3,95 +3,18 @@
 use super::blocks::unflatten::unflatten;
 use super::blocks::{self, BlockError, Cell, Layout};
 use super::channels::Channel;
+use super::error::ReadError;
 use super::raw::{RawImuSample, RawTick, RawWheelSample};
 use super::types::{
-    ArmCalibrationSample, ArmSample, AssistSample, MetadataError, MetricsSample, ScoreSample,
-    SessionMetadata, Stamped, TickRecord, TimingSample, VehicleSample, WheelSample,
+    ArmCalibrationSample, ArmSample, AssistSample, MetricsSample, ScoreSample, SessionMetadata,
+    Stamped, TickRecord, TimingSample, VehicleSample, WheelSample,
 };
+use super::walk::{Rec, Records, StreamLimits};
 use mcap::records::Record;
 use serde::de::DeserializeOwned;
 use std::collections::BTreeMap;
 use std::io::Read;
 use std::path::Path;
-
-/// Why a recording could not be read.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum ReadError {
-    /// The file or stream could not be read.
-    #[error("cannot read the recording{path}: {source}")]
-    Io {
-        /// `" <path>"` when read from a file, empty otherwise.
-        path: String,
-        /// Why.
-        source: std::io::Error,
-    },
-    /// Not an MCAP file, or a damaged one (a killed session's file: run `telerehab recover`).
-    #[error("not a readable MCAP recording: {0}")]
-    Mcap(#[from] mcap::McapError),
-    /// A message is not what its channel's schema says.
-    #[error("message {index} of channel {topic} does not decode: {source}")]
-    Decode {
-        /// The channel's topic.
-        topic: &'static str,
-        /// The sample's position within its channel, from 0.
-        index: usize,
-        /// What serde found.
-        source: serde_json::Error,
-    },
-    /// A block message of a high-rate channel does not decode.
-    #[error("the block of channel {topic} from sample {index} does not decode: {source}")]
-    Block {
-        /// The channel's topic.
-        topic: &'static str,
-        /// The position of the block's first sample within its channel, from 0
-        /// (`usize::MAX`: the channel's layout).
-        index: usize,
-        /// What the block decoder found.
-        source: BlockError,
-    },
-    /// A record, chunk or message claims more bytes than the streaming reader accepts
-    /// ([`super::stream::StreamLimits`]): refused before any of it is allocated.
-    #[error(
-        "{what} claims {claimed_bytes} bytes, more than the {limit_bytes} this reader accepts \
-         (a damaged or hostile recording)"
-    )]
-    TooLarge {
-        /// What, and where (e.g. `the uncompressed data of chunk 3`).
-        what: String,
-        /// The length the file claims, bytes.
-        claimed_bytes: u64,
-        /// The limit, bytes.
-        limit_bytes: u64,
-    },
-    /// A chunk's data is not what its header declares (it decompresses to more or fewer bytes,
-    /// or a record inside overruns it).
-    #[error("chunk {chunk} {reason} (a damaged or hostile recording)")]
-    BadChunk {
-        /// The chunk's position in the file, from 1.
-        chunk: u64,
-        /// What is wrong.
-        reason: String,
-    },
-    /// A record's fields overrun the record.
-    #[error("a damaged record (in chunk {chunk}; 0: outside chunks): {reason}")]
-    Damaged {
-        /// The chunk holding it, from 1 (0: outside chunks).
-        chunk: u64,
-        /// What is wrong.
-        reason: String,
-    },
-    /// The reading was stopped before the end by its [`super::stream::Check`] (the reader
-    /// went away, or the work's budget was spent), for the reason given.
-    #[error("reading stopped: {0}")]
-    Stopped(String),
-    /// The session metadata record is missing.
-    #[error("the recording has no `session` metadata record")]
-    NoMetadata,
-    /// The session metadata record is incomplete or malformed.
-    #[error(transparent)]
-    Metadata(#[from] MetadataError),
-}
 
 /// A whole recording, decoded: the session metadata and every channel's messages in order.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -311,8 +234,8 @@ struct ChannelMessages {
     messages: Vec<Vec<u8>>,
 }
 
-/// The session metadata and every message of our channels, by channel. Messages on topics
-/// that are not ours are skipped.
+/// The session metadata and every message of our channels, by channel, read on the crate's
+/// one record walk ([`super::walk`]). Messages on topics that are not ours are skipped.
 fn channel_messages(
     bytes: &[u8],
 ) -> Result<(SessionMetadata, BTreeMap<Channel, ChannelMessages>), ReadError> {
@@ -320,12 +243,14 @@ fn channel_messages(
     let mut topics: BTreeMap<u16, Channel> = BTreeMap::new();
     let mut out: BTreeMap<Channel, ChannelMessages> = BTreeMap::new();
     let mut metadata = None;
-    for record in mcap::read::ChunkFlattener::new(bytes)? {
-        match record? {
-            Record::Schema { header, data } => {
+    let mut records = Records::new(bytes, StreamLimits::default());
+    loop {
+        match records.next()? {
+            Rec::End => break,
+            Rec::Record(Record::Schema { header, data }, _) => {
                 schemas.insert(header.id, (header.name, data.into_owned()));
             }
-            Record::Channel(c) => {
+            Rec::Record(Record::Channel(c), _) => {
                 let Some(channel) = Channel::from_topic(&c.topic) else {
                     continue;
                 };
@@ -336,14 +261,14 @@ fn channel_messages(
                     messages: Vec::new(),
                 });
             }
-            Record::Message { header, data } => {
-                if let Some(channel) = topics.get(&header.channel_id)
+            Rec::Message(m) => {
+                if let Some(channel) = topics.get(&m.header.channel_id)
                     && let Some(c) = out.get_mut(channel)
                 {
-                    c.messages.push(data.into_owned());
+                    c.messages.push(m.data.to_vec());
                 }
             }
-            Record::Metadata(m) if m.name == SessionMetadata::NAME => {
+            Rec::Record(Record::Metadata(m), _) if m.name == SessionMetadata::NAME => {
                 metadata = Some(SessionMetadata::from_map(&m.metadata)?);
             }
             _ => {}

@@ -6,23 +6,20 @@
 //! message and metadata record up to the first unreadable record into a new recording with a
 //! summary section and an index, which every MCAP reader and Foxglove open.
 //!
-//! It streams: the input is read front to back once through mcap's sans-I/O linear reader,
-//! which holds at most one record (and one chunk's decompressed records) at a time, so memory
-//! stays bounded by [`MAX_RECORD_BYTES`] whatever the file's size. Every length prefix inside
-//! a record is checked against the record's own length before the record is parsed (mcap's
-//! parser reserves a string's claimed length first: a damaged 26-byte header claiming a
-//! 2 GB string would allocate it), and records the copy does not use are not parsed.
+//! It streams, on the crate's one record walk ([`super::walk`]): the input is read front to
+//! back once, holding at most one record (and one chunk being decompressed) at a time, so
+//! memory stays bounded by [`super::MAX_RECORD_BYTES`] whatever the file's size; a record
+//! claiming more ends the copy there, by name, instead of allocating its claimed length, and
+//! every length prefix inside a record is checked before the record is parsed. Its walk lets
+//! mcap's reader unpack the chunks, which gives a chunk's records as they arrive, so a file
+//! cut in the middle of a chunk keeps the records before the cut.
 
+use super::error::ReadError;
+use super::walk::{Rec, Records};
 use super::writer::mcap_options;
 use mcap::records::Record;
-use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
 use std::collections::BTreeMap;
 use std::io::{Read, Seek, Write};
-
-/// The largest record (outside chunks) or chunk data buffered while reading, bytes. The
-/// station's records are far smaller (chunks close at 1 MiB uncompressed); a longer record
-/// in a damaged tail ends the copy there instead of allocating its claimed length.
-pub const MAX_RECORD_BYTES: usize = 64 * 1024 * 1024;
 
 /// What a recovery copied.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -41,7 +38,7 @@ pub struct Recovered {
 pub enum RecoverError {
     /// The input does not even start like an MCAP file.
     #[error("not an MCAP file: {0}")]
-    NotMcap(Damaged),
+    NotMcap(ReadError),
     /// The input could not be read (an I/O error, not its end).
     #[error("cannot read the recording: {0}")]
     Read(std::io::Error),
@@ -58,191 +55,11 @@ pub enum RecoverError {
     Write(#[from] mcap::McapError),
 }
 
-/// Why the stream stops making sense at a record.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum Damaged {
-    /// The MCAP reader refused it.
-    #[error(transparent)]
-    Mcap(#[from] mcap::McapError),
-    /// A length inside a record claims more bytes than the record has.
-    #[error(
-        "record opcode 0x{opcode:02x}: its {field} claims {claimed} bytes, {left} are left of \
-         the record's {record_len}"
-    )]
-    Overrun {
-        /// The record's opcode.
-        opcode: u8,
-        /// The field whose length prefix overruns.
-        field: &'static str,
-        /// The length the prefix claims, bytes.
-        claimed: u64,
-        /// Bytes of the record left at the field.
-        left: usize,
-        /// The record's length, bytes.
-        record_len: usize,
-    },
-}
-
-/// A record read, the reason the stream stops making sense, or the input's I/O error.
-type NextRecord = Result<Result<Record<'static>, Damaged>, std::io::Error>;
-
-/// The records the copy uses (header, schema, channel, message, metadata); the rest of the
-/// stream (indexes, statistics, attachments, summary) is skipped unparsed.
-const COPIED: [u8; 5] = [
-    mcap::records::op::HEADER,
-    mcap::records::op::SCHEMA,
-    mcap::records::op::CHANNEL,
-    mcap::records::op::MESSAGE,
-    mcap::records::op::METADATA,
-];
-
-/// Walks a record's fields, checking each length prefix against what is left.
-struct Fields<'a> {
-    opcode: u8,
-    record_len: usize,
-    rest: &'a [u8],
-}
-
-impl<'a> Fields<'a> {
-    fn of(opcode: u8, data: &'a [u8]) -> Self {
-        Self {
-            opcode,
-            record_len: data.len(),
-            rest: data,
-        }
-    }
-
-    /// The next `n` bytes of `field`.
-    fn take(&mut self, field: &'static str, n: u64) -> Result<&'a [u8], Damaged> {
-        match usize::try_from(n) {
-            Ok(n) if n <= self.rest.len() => {
-                let (head, tail) = self.rest.split_at(n);
-                self.rest = tail;
-                Ok(head)
-            }
-            _ => Err(Damaged::Overrun {
-                opcode: self.opcode,
-                field,
-                claimed: n,
-                left: self.rest.len(),
-                record_len: self.record_len,
-            }),
-        }
-    }
-
-    /// A fixed-size field.
-    fn fixed(&mut self, field: &'static str, n: u64) -> Result<(), Damaged> {
-        self.take(field, n).map(drop)
-    }
-
-    /// A field behind a little-endian u32 length (a string, a map, schema data).
-    fn prefixed(&mut self, field: &'static str) -> Result<&'a [u8], Damaged> {
-        let len = self.take(field, 4)?;
-        let n = u32::from_le_bytes(len.try_into().expect("4 bytes"));
-        self.take(field, u64::from(n))
-    }
-
-    /// A `map<string, string>`: its byte length, then each key and value within it.
-    fn string_map(&mut self, field: &'static str) -> Result<(), Damaged> {
-        let mut entries = Fields {
-            rest: self.prefixed(field)?,
-            ..*self
-        };
-        while !entries.rest.is_empty() {
-            entries.prefixed(field)?;
-            entries.prefixed(field)?;
-        }
-        Ok(())
-    }
-}
-
-/// Checks every length inside a record the copy parses (MCAP specification, "Records"), so
-/// parsing it allocates no more than the record's own length.
-pub(super) fn check_lengths(opcode: u8, data: &[u8]) -> Result<(), Damaged> {
-    use mcap::records::op;
-    let mut f = Fields::of(opcode, data);
-    match opcode {
-        op::HEADER => {
-            f.prefixed("profile")?;
-            f.prefixed("library")?;
-        }
-        op::SCHEMA => {
-            f.fixed("schema id", 2)?;
-            f.prefixed("schema name")?;
-            f.prefixed("schema encoding")?;
-            f.prefixed("schema data")?;
-        }
-        op::CHANNEL => {
-            f.fixed("channel and schema ids", 4)?;
-            f.prefixed("topic")?;
-            f.prefixed("message encoding")?;
-            f.string_map("channel metadata")?;
-        }
-        op::MESSAGE => f.fixed("message header", 2 + 4 + 8 + 8)?,
-        op::METADATA => {
-            f.prefixed("metadata name")?;
-            f.string_map("metadata")?;
-        }
-        _ => {}
-    }
-    Ok(())
-}
-
-/// The records of an MCAP stream read from `input` front to back, chunks unpacked: each item
-/// is the next record, `Err(McapError)` where the stream stops making sense (a truncated or
-/// damaged tail), or an I/O error of the input itself.
-struct Records<R> {
-    input: R,
-    reader: LinearReader,
-}
-
-impl<R: Read> Records<R> {
-    fn new(input: R) -> Self {
-        let options = LinearReaderOptions::default().with_record_length_limit(MAX_RECORD_BYTES);
-        Self {
-            input,
-            reader: LinearReader::new_with_options(options),
-        }
-    }
-
-    /// The next record, `None` at the end of a finished stream.
-    fn next_record(&mut self) -> Option<NextRecord> {
-        loop {
-            match self.reader.next_event()? {
-                Ok(LinearReadEvent::ReadRequest(need)) => {
-                    let buf = self.reader.insert(need);
-                    let n = loop {
-                        match self.input.read(buf) {
-                            Ok(n) => break n,
-                            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
-                            Err(e) => return Some(Err(e)),
-                        }
-                    };
-                    // 0 is the end of the input.
-                    self.reader.notify_read(n);
-                }
-                Ok(LinearReadEvent::Record { opcode, data }) => {
-                    if !COPIED.contains(&opcode) {
-                        continue;
-                    }
-                    return Some(Ok(check_lengths(opcode, data).and_then(|()| {
-                        mcap::parse_record(opcode, data)
-                            .map(Record::into_owned)
-                            .map_err(Damaged::from)
-                    })));
-                }
-                Err(e) => return Some(Ok(Err(e.into()))),
-            }
-        }
-    }
-}
-
 /// Copy the readable part of the recording read from `input` into `out` as a finished
 /// recording; returns what was copied and the sink. Reads `input` once, front to back, in
 /// bounded memory.
 pub fn recover<R: Read, W: Write + Seek>(input: R, out: W) -> Result<(Recovered, W), RecoverError> {
-    let mut records = Records::new(input);
+    let mut records = Records::unpacked_by_mcap(input);
     let mut writer =
         mcap_options(concat!("telerehab ", env!("CARGO_PKG_VERSION"), " recover")).create(out)?;
     let mut schemas: BTreeMap<u16, u16> = BTreeMap::new();
@@ -252,9 +69,10 @@ pub fn recover<R: Read, W: Write + Seek>(input: R, out: W) -> Result<(Recovered,
     let mut written = std::collections::BTreeSet::new();
     let mut copied = Recovered::default();
     let mut first = true;
-    while let Some(record) = records.next_record() {
-        let record = match record.map_err(RecoverError::Read)? {
-            Ok(r) => r,
+    loop {
+        let record = match records.next() {
+            Ok(record) => record,
+            Err(ReadError::Io { source, .. }) => return Err(RecoverError::Read(source)),
             // Not even a header: not a recording (a killed one still has its header).
             Err(e) if first => return Err(RecoverError::NotMcap(e)),
             Err(e) => {
@@ -263,6 +81,24 @@ pub fn recover<R: Read, W: Write + Seek>(input: R, out: W) -> Result<(Recovered,
             }
         };
         first = false;
+        let record = match record {
+            Rec::End => break,
+            Rec::Other => continue,
+            Rec::Message(m) => {
+                if let Some(&channel_id) = channels.get(&m.header.channel_id) {
+                    writer.write_to_known_channel(
+                        &mcap::records::MessageHeader {
+                            channel_id,
+                            ..m.header
+                        },
+                        m.data,
+                    )?;
+                    copied.messages += 1;
+                }
+                continue;
+            }
+            Rec::Record(record, _) => record,
+        };
         match record {
             Record::Schema { header, data } => {
                 let id = writer.add_schema(&header.name, &header.encoding, &data)?;
@@ -282,18 +118,6 @@ pub fn recover<R: Read, W: Write + Seek>(input: R, out: W) -> Result<(Recovered,
                     writer.add_channel(schema_id, &c.topic, &c.message_encoding, &c.metadata)?;
                 channels.insert(c.id, id);
                 written.insert(id);
-            }
-            Record::Message { header, data } => {
-                if let Some(&channel_id) = channels.get(&header.channel_id) {
-                    writer.write_to_known_channel(
-                        &mcap::records::MessageHeader {
-                            channel_id,
-                            ..header
-                        },
-                        &data,
-                    )?;
-                    copied.messages += 1;
-                }
             }
             Record::Metadata(m) => writer.write_metadata(&m)?,
             _ => {}
@@ -329,8 +153,10 @@ mod tests {
         }
         assert_eq!(closed, 1999);
         let mut whole = w.finish().unwrap().into_inner();
-        // Cut inside the summary section and the last chunk, as a SIGKILL leaves it.
-        whole.truncate(whole.len() * 9 / 10);
+        // Cut inside the last chunk, as a SIGKILL leaves it.
+        let summary = mcap::Summary::read(&whole).unwrap().unwrap();
+        let last = summary.chunk_indexes.last().unwrap();
+        whole.truncate((last.chunk_start_offset + last.chunk_length / 2) as usize);
         whole
     }
 
@@ -409,6 +235,14 @@ mod tests {
         let (copied, _) = recover(forged.as_slice(), Cursor::new(Vec::new())).unwrap();
         assert_eq!(copied.messages, 0);
         let stopped = copied.stopped_at.unwrap();
-        assert!(stopped.contains("exceeds limit"), "{stopped}");
+        assert_eq!(
+            stopped,
+            format!(
+                "a record (opcode 0x0c) claims {} bytes, more than the {} this reader accepts \
+                 (a damaged or hostile recording)",
+                1u64 << 40,
+                crate::MAX_RECORD_BYTES
+            )
+        );
     }
 }

@@ -1,42 +1,29 @@
 //! Reading a recording front to back in bounded memory, whatever its length, and whoever
 //! wrote it (the hub replays recordings uploaded by stations: untrusted input).
 //!
-//! [`TickStream`] reads the file once, chunk by chunk in file order, and gives the tick records
-//! back as [`super::Recording::ticks`] joins them, holding only the samples of the last few
-//! seconds. Every length is checked against [`StreamLimits`] before anything is allocated for
-//! it:
-//! - a record outside chunks, and a whole chunk record (its compressed data), at most
-//!   [`StreamLimits::max_record_bytes`] (mcap's sans-I/O linear reader enforces it);
-//! - a chunk's declared uncompressed size at most [`StreamLimits::max_chunk_bytes`], and the
-//!   chunk decompressed as a stream, one record at a time, never past what it declares (a zstd
-//!   bomb stops at its declared size, and that is bounded); the decoder's window is bounded
-//!   too ([`ZSTD_WINDOW_LOG_MAX`]);
-//! - a record inside a chunk at most [`StreamLimits::max_record_bytes`] and within the chunk;
-//! - a message of our channels at most [`StreamLimits::max_message_bytes`] (a block message
-//!   expands some 30× as it is decoded).
+//! [`TickStream`] reads the file once, chunk by chunk in file order, on the crate's one
+//! record walk ([`super::walk`]: every length checked against [`super::MAX_RECORD_BYTES`] and
+//! the [`StreamLimits`] before anything is allocated for it), and gives the tick records back
+//! as [`super::Recording::ticks`] joins them, holding only the samples of the last few seconds.
 //!
-//! Memory: one compressed chunk, one record, the decoder's window, and the samples of the
-//! join window ([`JOIN_WINDOW_TICKS`]) — a few MB for the station's own recordings (chunks of
-//! 1 MiB uncompressed), at most some 3 × [`StreamLimits::max_record_bytes`] for any file.
+//! Memory: what the walk holds (a few MB for the station's own recordings, chunks of 1 MiB
+//! uncompressed) and the samples of the join window ([`JOIN_WINDOW_TICKS`]).
 
 use super::channels::Channel;
+use super::error::ReadError;
 use super::raw::{RawImuSample, RawTick, RawWheelSample};
-use super::reader::{Decoder, ReadError};
-use super::recover::check_lengths;
+use super::reader::Decoder;
 use super::types::{
     ArmCalibrationSample, ArmSample, AssistSample, MetricsSample, ScoreSample, SessionMetadata,
     Stamped, TickRecord, TimingSample, VehicleSample, WheelSample,
 };
-use mcap::records::{Record, op};
-use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
+pub use super::walk::StreamLimits;
+use super::walk::{Check, Rec, Records};
+use mcap::records::Record;
 use serde::de::DeserializeOwned;
 use std::collections::{BTreeMap, VecDeque};
 use std::io::{Cursor, Read};
 use std::path::Path;
-
-/// The largest zstd window the chunk decoder accepts, log2 bytes (16 MiB; the station's
-/// chunks are 1 MiB, so their frames never need more).
-pub const ZSTD_WINDOW_LOG_MAX: u32 = 24;
 
 /// Ticks of `/wheel` held back while the other channels catch up: a high-rate channel's block
 /// is written when it holds 100 samples or at the recorder's flush every second, so a tick's
@@ -48,345 +35,6 @@ pub const JOIN_WINDOW_TICKS: usize = 8192;
 /// Samples held on any one other channel, at most, before its oldest is dropped (counted as
 /// late): bounds the memory of a file whose `/wheel` lags or is missing.
 const QUEUE_CAP: usize = 4 * JOIN_WINDOW_TICKS;
-
-/// The bounds a streaming read enforces before it allocates.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct StreamLimits {
-    /// Largest record outside chunks, whole chunk record (compressed) or record inside a
-    /// chunk, bytes.
-    pub max_record_bytes: usize,
-    /// Largest uncompressed size a chunk may declare, bytes.
-    pub max_chunk_bytes: u64,
-    /// Largest message on one of our channels, bytes.
-    pub max_message_bytes: usize,
-}
-
-impl Default for StreamLimits {
-    /// 16 MiB records and chunks (the station's writer closes chunks at 1 MiB), 256 KiB
-    /// messages (a block of 100 samples is a few KB).
-    fn default() -> Self {
-        Self {
-            max_record_bytes: 16 << 20,
-            max_chunk_bytes: 16 << 20,
-            max_message_bytes: 256 << 10,
-        }
-    }
-}
-
-/// The chunk being read: its records, decompressed as they are read.
-struct Chunk {
-    /// Position in the file, from 1.
-    number: u64,
-    /// Uncompressed bytes it declares.
-    declared: u64,
-    /// Uncompressed bytes still to read.
-    left: u64,
-    /// Its records, uncompressed.
-    body: Box<dyn Read + Send>,
-}
-
-/// Asked while a stream reads, every [`CHECK_EVERY_RECORDS`] records and at each chunk: a
-/// reason to stop reading (the reader went away, the work's CPU budget is spent), or `None`
-/// to go on. A stop ends the stream with [`ReadError::Stopped`].
-pub type Check = Box<dyn FnMut() -> Option<String> + Send>;
-
-/// Records read between two calls of a stream's [`Check`] (a few milliseconds of work at
-/// most, whatever the file holds).
-pub const CHECK_EVERY_RECORDS: u32 = 4096;
-
-/// One record of the file's data section, chunks unpacked, as far as the stream needs it.
-pub(crate) enum Rec<'a> {
-    /// A record the stream does not use (parsed no further).
-    Other,
-    /// A record to parse: its opcode, bytes, and the chunk holding it (0: none).
-    Parse(u8, &'a [u8], u64),
-    /// The end of the data section.
-    End,
-}
-
-/// The records of a recording read front to back from `R`, chunks unpacked within the limits.
-pub(crate) struct Records<R> {
-    input: R,
-    reader: LinearReader,
-    limits: StreamLimits,
-    chunk: Option<Chunk>,
-    chunks: u64,
-    /// The record read from the current chunk.
-    record: Vec<u8>,
-    /// Asked now and then whether to stop.
-    check: Option<Check>,
-    /// Records read since `check` was last asked.
-    since_check: u32,
-}
-
-/// Records inside chunks the stream parses; the rest is skipped unparsed.
-const USED: [u8; 4] = [op::SCHEMA, op::CHANNEL, op::MESSAGE, op::METADATA];
-
-impl<R: Read> Records<R> {
-    pub(crate) fn new(input: R, limits: StreamLimits) -> Self {
-        let options = LinearReaderOptions::default()
-            .with_emit_chunks(true)
-            .with_record_length_limit(limits.max_record_bytes);
-        Self {
-            input,
-            reader: LinearReader::new_with_options(options),
-            limits,
-            chunk: None,
-            chunks: 0,
-            record: Vec::new(),
-            check: None,
-            since_check: 0,
-        }
-    }
-
-    /// The next record; `None` after the end.
-    pub(crate) fn next(&mut self) -> Result<Rec<'_>, ReadError> {
-        loop {
-            ask(&mut self.check, &mut self.since_check, false)?;
-            if let Some(chunk) = &mut self.chunk {
-                if chunk.left > 0 {
-                    let opcode = next_in_chunk(chunk, &mut self.record, &self.limits)?;
-                    let number = chunk.number;
-                    return Ok(if USED.contains(&opcode) {
-                        Rec::Parse(opcode, &self.record, number)
-                    } else {
-                        Rec::Other
-                    });
-                }
-                let number = chunk.number;
-                let mut probe = [0u8; 1];
-                if read_full(&mut chunk.body, &mut probe, number)? > 0 {
-                    return Err(ReadError::BadChunk {
-                        chunk: number,
-                        reason: format!(
-                            "decompresses to more than the {} bytes it declares",
-                            chunk.declared
-                        ),
-                    });
-                }
-                self.chunk = None;
-            }
-            let Some(event) = self.reader.next_event() else {
-                return Ok(Rec::End);
-            };
-            let (limits, chunks) = (self.limits, self.chunks);
-            match event.map_err(|e| mcap_error(e, &limits, chunks))? {
-                LinearReadEvent::ReadRequest(need) => {
-                    let buf = self.reader.insert(need);
-                    let n = loop {
-                        match self.input.read(buf) {
-                            Ok(n) => break n,
-                            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
-                            Err(source) => {
-                                return Err(ReadError::Io {
-                                    path: String::new(),
-                                    source,
-                                });
-                            }
-                        }
-                    };
-                    self.reader.notify_read(n);
-                }
-                LinearReadEvent::Record { opcode, data } => match opcode {
-                    op::CHUNK => {
-                        ask(&mut self.check, &mut self.since_check, true)?;
-                        self.chunks += 1;
-                        let chunk = open_chunk(self.chunks, data, &self.limits)?;
-                        self.chunk = Some(chunk);
-                    }
-                    op::DATA_END => return Ok(Rec::End),
-                    op if USED.contains(&op) => {
-                        self.record.clear();
-                        self.record.extend_from_slice(data);
-                        return Ok(Rec::Parse(op, &self.record, 0));
-                    }
-                    _ => return Ok(Rec::Other),
-                },
-            }
-        }
-    }
-}
-
-/// Asks `check` now (`force`) or once every [`CHECK_EVERY_RECORDS`] calls (`since`: the calls
-/// since it was last asked).
-fn ask(check: &mut Option<Check>, since: &mut u32, force: bool) -> Result<(), ReadError> {
-    let Some(check) = check else {
-        return Ok(());
-    };
-    *since += 1;
-    if !force && *since < CHECK_EVERY_RECORDS {
-        return Ok(());
-    }
-    *since = 0;
-    match check() {
-        Some(reason) => Err(ReadError::Stopped(reason)),
-        None => Ok(()),
-    }
-}
-
-/// mcap's length errors in this reader's words (`chunks`: the chunks read so far).
-fn mcap_error(e: mcap::McapError, limits: &StreamLimits, chunks: u64) -> ReadError {
-    let limit_bytes = limits.max_record_bytes as u64;
-    match e {
-        mcap::McapError::RecordTooLarge { opcode, len } => ReadError::TooLarge {
-            what: format!("a record (opcode 0x{opcode:02x})"),
-            claimed_bytes: len,
-            limit_bytes,
-        },
-        mcap::McapError::ChunkTooLarge(len) => ReadError::TooLarge {
-            what: format!("chunk {}", chunks + 1),
-            claimed_bytes: len,
-            limit_bytes,
-        },
-        other => ReadError::Mcap(other),
-    }
-}
-
-/// Reads `buf.len()` bytes of a chunk's body, or up to its end; returns the bytes read.
-fn read_full(body: &mut dyn Read, buf: &mut [u8], chunk: u64) -> Result<usize, ReadError> {
-    let mut got = 0;
-    while got < buf.len() {
-        match body.read(&mut buf[got..]) {
-            Ok(0) => break,
-            Ok(n) => got += n,
-            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
-            Err(e) => {
-                return Err(ReadError::BadChunk {
-                    chunk,
-                    reason: format!("does not decompress: {e}"),
-                });
-            }
-        }
-    }
-    Ok(got)
-}
-
-/// The next record of `chunk` into `record`; returns its opcode.
-fn next_in_chunk(
-    chunk: &mut Chunk,
-    record: &mut Vec<u8>,
-    limits: &StreamLimits,
-) -> Result<u8, ReadError> {
-    let number = chunk.number;
-    let short = |what: &str, left: u64| ReadError::BadChunk {
-        chunk: number,
-        reason: format!("ends in the middle of {what} ({left} of its declared bytes left)"),
-    };
-    if chunk.left < 9 {
-        return Err(short("a record header", chunk.left));
-    }
-    let mut head = [0u8; 9];
-    if read_full(&mut chunk.body, &mut head, number)? < 9 {
-        return Err(ReadError::BadChunk {
-            chunk: number,
-            reason: format!(
-                "decompresses to fewer than the {} bytes it declares",
-                chunk.declared
-            ),
-        });
-    }
-    chunk.left -= 9;
-    let opcode = head[0];
-    let len = u64::from_le_bytes(head[1..].try_into().expect("8 bytes"));
-    if len > chunk.left {
-        return Err(ReadError::BadChunk {
-            chunk: number,
-            reason: format!(
-                "holds a record (opcode 0x{opcode:02x}) of {len} bytes, past its end ({} bytes \
-                 left)",
-                chunk.left
-            ),
-        });
-    }
-    let limit = limits.max_record_bytes;
-    let len = match usize::try_from(len) {
-        Ok(n) if n <= limit => n,
-        _ => {
-            return Err(ReadError::TooLarge {
-                what: format!("a record (opcode 0x{opcode:02x}) in chunk {number}"),
-                claimed_bytes: len,
-                limit_bytes: limit as u64,
-            });
-        }
-    };
-    record.clear();
-    record.resize(len, 0);
-    if read_full(&mut chunk.body, record, number)? < len {
-        return Err(short("a record", chunk.left));
-    }
-    chunk.left -= len as u64;
-    Ok(opcode)
-}
-
-/// A chunk record's header checked against the limits, and its body ready to decompress.
-fn open_chunk(number: u64, data: &[u8], limits: &StreamLimits) -> Result<Chunk, ReadError> {
-    let bad = |reason: String| ReadError::BadChunk {
-        chunk: number,
-        reason,
-    };
-    // start time, end time, uncompressed size, uncompressed CRC, compression (u32 length and
-    // text), compressed size, then the records (MCAP specification, "Chunk").
-    let u64_at = |at: usize| {
-        data.get(at..at + 8)
-            .map(|b| u64::from_le_bytes(b.try_into().expect("8 bytes")))
-            .ok_or_else(|| bad("has a truncated header".to_owned()))
-    };
-    let declared = u64_at(16)?;
-    let name_len = data
-        .get(28..32)
-        .map(|b| u32::from_le_bytes(b.try_into().expect("4 bytes")) as usize)
-        .ok_or_else(|| bad("has a truncated header".to_owned()))?;
-    let name = data
-        .get(32..32 + name_len)
-        .ok_or_else(|| bad("has a truncated header".to_owned()))?;
-    let compressed = u64_at(32 + name_len)?;
-    let records = &data[(40 + name_len).min(data.len())..];
-    if compressed > records.len() as u64 {
-        return Err(bad(format!(
-            "declares {compressed} compressed bytes, {} are there",
-            records.len()
-        )));
-    }
-    if declared > limits.max_chunk_bytes {
-        return Err(ReadError::TooLarge {
-            what: format!("the uncompressed data of chunk {number}"),
-            claimed_bytes: declared,
-            limit_bytes: limits.max_chunk_bytes,
-        });
-    }
-    let records = records[..compressed as usize].to_vec();
-    let body: Box<dyn Read + Send> = match name {
-        b"" => {
-            if declared != compressed {
-                return Err(bad(format!(
-                    "is uncompressed but declares {declared} bytes of {compressed}"
-                )));
-            }
-            Box::new(Cursor::new(records))
-        }
-        b"zstd" => {
-            let mut decoder = zstd::stream::read::Decoder::with_buffer(Cursor::new(records))
-                .map_err(|e| bad(format!("cannot start its zstd decoder: {e}")))?;
-            decoder
-                .window_log_max(ZSTD_WINDOW_LOG_MAX)
-                .map_err(|e| bad(format!("cannot bound its zstd decoder: {e}")))?;
-            Box::new(decoder)
-        }
-        other => {
-            return Err(bad(format!(
-                "is compressed with {:?}, which this reader does not decode (the station \
-                 writes zstd)",
-                String::from_utf8_lossy(other)
-            )));
-        }
-    };
-    Ok(Chunk {
-        number,
-        declared,
-        left: declared,
-        body,
-    })
-}
 
 /// One channel's samples waiting to be joined into ticks.
 struct Queue<T> {
@@ -507,6 +155,21 @@ impl SchemaTable {
         &self.by_id
     }
 
+    /// How channel record `c` decodes, when it is one of ours among `wanted` (by
+    /// [`Channel`] index), its schema among those kept; `None` for a channel not read.
+    pub(crate) fn decoder_of(
+        &self,
+        c: &mcap::records::Channel,
+        wanted: &[bool; Channel::ALL.len()],
+    ) -> Result<Option<(Channel, Decoder)>, ReadError> {
+        match Channel::from_topic(&c.topic) {
+            Some(channel) if wanted[channel as usize] => {
+                Ok(Some((channel, Decoder::of(channel, c, &self.by_id)?)))
+            }
+            _ => Ok(None),
+        }
+    }
+
     /// The encoding of schema `id` (`""` if the file declared none by that id).
     pub(crate) fn encoding(&self, id: u16) -> &str {
         self.encodings.get(&id).map_or("", String::as_str)
@@ -569,8 +232,7 @@ impl<R: Read> TickStream<R> {
         channels: &[Channel],
         check: Option<Check>,
     ) -> Result<Self, ReadError> {
-        let mut records = Records::new(input, limits);
-        records.check = check;
+        let records = Records::new(input, limits).with_check(check);
         let mut wanted = [false; Channel::ALL.len()];
         for c in channels.iter().chain([&Channel::Wheel]) {
             wanted[*c as usize] = true;
@@ -645,90 +307,67 @@ impl<R: Read> TickStream<R> {
 
     /// Reads one record; a session metadata record is returned.
     fn pump(&mut self) -> Result<Option<SessionMetadata>, ReadError> {
-        let max_message = self.records.limits.max_message_bytes;
-        let (opcode, data, chunk) = match self.records.next()? {
+        let max_message = self.records.limits().max_message_bytes;
+        let (record, chunk) = match self.records.next()? {
             Rec::End => {
                 self.ended = true;
                 return Ok(None);
             }
             Rec::Other => return Ok(None),
-            Rec::Parse(opcode, data, chunk) => (opcode, data, chunk),
-        };
-        if opcode == op::MESSAGE {
-            // Parsed by hand: the channel decides whether it is read at all.
-            // channel id (2 bytes), sequence (4), log and publish times (8 each), data.
-            if data.len() < 22 {
-                return Err(ReadError::Damaged {
-                    chunk,
-                    reason: format!("a message record of {} bytes", data.len()),
-                });
-            }
-            let id = u16::from_le_bytes([data[0], data[1]]);
-            let log_ns = u64::from_le_bytes(data[6..14].try_into().expect("8 bytes"));
-            self.first_log_ns = Some(self.first_log_ns.map_or(log_ns, |t| t.min(log_ns)));
-            let Some((channel, decoder)) = self.channels.get(&id) else {
+            Rec::Message(m) => {
+                let log_ns = m.header.log_time;
+                self.first_log_ns = Some(self.first_log_ns.map_or(log_ns, |t| t.min(log_ns)));
+                let Some((channel, decoder)) = self.channels.get(&m.header.channel_id) else {
+                    return Ok(None);
+                };
+                let body = m.data_within(channel.topic(), max_message)?;
+                let q = &mut self.queues;
+                let dropped = match channel {
+                    Channel::Wheel => q.wheel.push(*channel, decoder, body)?,
+                    Channel::Vehicle => q.vehicle.push(*channel, decoder, body)?,
+                    Channel::Score => {
+                        let dropped = q.score.push(*channel, decoder, body)?;
+                        if self.first_score.is_none() {
+                            self.first_score = q.score.samples.front().cloned();
+                        }
+                        dropped
+                    }
+                    Channel::Assist => q.assist.push(*channel, decoder, body)?,
+                    Channel::Timing => q.timing.push(*channel, decoder, body)?,
+                    Channel::Arm => q.arm.push(*channel, decoder, body)?,
+                    Channel::RawWheel => q.raw_wheel.push(*channel, decoder, body)?,
+                    Channel::RawImu => q.raw_imu.push(*channel, decoder, body)?,
+                    Channel::Metrics => {
+                        let mut one = Vec::new();
+                        decoder.decode_into(*channel, body, 0, &mut one)?;
+                        if let Some(m) = one.pop() {
+                            self.metrics = Some(m);
+                        }
+                        0
+                    }
+                    Channel::ArmCalibration => {
+                        let mut one = Vec::new();
+                        decoder.decode_into(*channel, body, 0, &mut one)?;
+                        if let Some(c) = one.pop() {
+                            self.arm_calibration = Some(c);
+                        }
+                        0
+                    }
+                };
+                self.late += dropped;
                 return Ok(None);
-            };
-            let body = &data[22..];
-            if body.len() > max_message {
-                return Err(ReadError::TooLarge {
-                    what: format!("a message of channel {}", channel.topic()),
-                    claimed_bytes: body.len() as u64,
-                    limit_bytes: max_message as u64,
-                });
             }
-            let q = &mut self.queues;
-            let dropped = match channel {
-                Channel::Wheel => q.wheel.push(*channel, decoder, body)?,
-                Channel::Vehicle => q.vehicle.push(*channel, decoder, body)?,
-                Channel::Score => {
-                    let dropped = q.score.push(*channel, decoder, body)?;
-                    if self.first_score.is_none() {
-                        self.first_score = q.score.samples.front().cloned();
-                    }
-                    dropped
-                }
-                Channel::Assist => q.assist.push(*channel, decoder, body)?,
-                Channel::Timing => q.timing.push(*channel, decoder, body)?,
-                Channel::Arm => q.arm.push(*channel, decoder, body)?,
-                Channel::RawWheel => q.raw_wheel.push(*channel, decoder, body)?,
-                Channel::RawImu => q.raw_imu.push(*channel, decoder, body)?,
-                Channel::Metrics => {
-                    let mut one = Vec::new();
-                    decoder.decode_into(*channel, body, 0, &mut one)?;
-                    if let Some(m) = one.pop() {
-                        self.metrics = Some(m);
-                    }
-                    0
-                }
-                Channel::ArmCalibration => {
-                    let mut one = Vec::new();
-                    decoder.decode_into(*channel, body, 0, &mut one)?;
-                    if let Some(c) = one.pop() {
-                        self.arm_calibration = Some(c);
-                    }
-                    0
-                }
-            };
-            self.late += dropped;
-            return Ok(None);
-        }
-        check_lengths(opcode, data).map_err(|e| ReadError::Damaged {
-            chunk,
-            reason: e.to_string(),
-        })?;
-        match mcap::parse_record(opcode, data)? {
+            Rec::Record(record, chunk) => (record, chunk),
+        };
+        match record {
             Record::Schema { header, data } => {
                 // Each schema is within a record's limit; their sum is bounded too, or a file
                 // of many 16 MiB schemas would hold gigabytes (ours are a few kilobytes).
                 self.schemas.keep(header, data.into_owned(), chunk)?;
             }
             Record::Channel(c) => {
-                if let Some(channel) = Channel::from_topic(&c.topic)
-                    && self.wanted[channel as usize]
-                {
-                    let decoder = Decoder::of(channel, &c, self.schemas.by_id())?;
-                    self.channels.insert(c.id, (channel, decoder));
+                if let Some(read) = self.schemas.decoder_of(&c, &self.wanted)? {
+                    self.channels.insert(c.id, read);
                 }
             }
             Record::Metadata(m) if m.name == SessionMetadata::NAME => {
@@ -862,6 +501,7 @@ mod tests {
         table.keep(header(2), mib[..1 << 19].to_vec(), 3).unwrap();
     }
     use crate::{RecordWriter, Recording};
+    use mcap::records::op;
 
     /// A little generator with a fixed seed (xorshift64*).
     struct Rng(u64);
@@ -1090,25 +730,28 @@ mod tests {
             StreamLimits::default(),
         );
         assert!(e.to_string().contains("past its end"), "{e}");
-        // A 4 KiB record against a 1 KiB limit.
-        let mut big = vec![op::METADATA];
-        big.extend(4096u64.to_le_bytes());
-        big.extend(vec![0u8; 4096]);
+        // A record claiming one byte over the limit, in a chunk that holds it (raised
+        // chunk limit): refused by name before its bytes are read.
+        let over = crate::MAX_RECORD_BYTES as u64 + 1;
+        let mut records = vec![op::METADATA];
+        records.extend(over.to_le_bytes());
+        records.resize(9 + over as usize, 0);
+        let zeros = zstd::bulk::compress(&records, 3).unwrap();
         let limits = StreamLimits {
-            max_record_bytes: 1024,
+            max_chunk_bytes: 64 << 20,
             ..Default::default()
         };
         let e = refused(
-            with_record_after_header(&chunk_record(big.len() as u64, "", &big)),
+            with_record_after_header(&chunk_record(records.len() as u64, "zstd", &zeros)),
             limits,
         );
         assert!(
             matches!(
-                e,
-                ReadError::TooLarge {
-                    limit_bytes: 1024,
-                    ..
-                }
+                &e,
+                ReadError::TooLarge { what, claimed_bytes, limit_bytes }
+                    if what == "a record (opcode 0x0c) in chunk 1"
+                        && *claimed_bytes == over
+                        && *limit_bytes == crate::MAX_RECORD_BYTES as u64
             ),
             "{e}"
         );

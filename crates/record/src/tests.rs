@@ -498,3 +498,56 @@ fn a_killed_recording_recovers_to_one_that_reads_back() {
             .collect::<Vec<_>>()
     );
 }
+
+/// `honest` with `record` (its 9-byte header and whatever follows) right after the header
+/// record that opens every recording.
+fn with_record_after_header(honest: &[u8], record: &[u8]) -> Vec<u8> {
+    let header_end = 8 + 9 + u64::from_le_bytes(honest[9..17].try_into().unwrap()) as usize;
+    [&honest[..header_end], record, &honest[header_end..]].concat()
+}
+
+/// A metadata record's header claiming `len` bytes, with none of them behind it.
+fn metadata_claiming(len: u64) -> Vec<u8> {
+    let mut head = vec![mcap::records::op::METADATA];
+    head.extend(len.to_le_bytes());
+    head
+}
+
+#[test]
+fn a_record_over_the_one_limit_is_refused_by_name_by_every_reader() {
+    let honest = write_session(&(0..300).map(tick).collect::<Vec<_>>());
+    let over = MAX_RECORD_BYTES as u64 + 1;
+    let forged = with_record_after_header(&honest, &metadata_claiming(over));
+    let named = |e: &ReadError| {
+        matches!(e, ReadError::TooLarge { what, claimed_bytes, limit_bytes }
+            if what == "a record (opcode 0x0c)"
+                && *claimed_bytes == over
+                && *limit_bytes == MAX_RECORD_BYTES as u64)
+    };
+    let limits = StreamLimits::default();
+    // The streaming reader (the hub's replay) refuses it while it opens, before the metadata.
+    let e = TickStream::from_bytes(forged.clone(), limits, &Channel::ALL).err();
+    assert!(e.as_ref().is_some_and(named), "{e:?}");
+    let e = read_columns(forged.as_slice(), limits).unwrap_err();
+    assert!(named(&e), "{e}");
+    let e = Recording::from_bytes(&forged).unwrap_err();
+    assert!(named(&e), "{e}");
+    let e = compare::compare(&honest[..], &forged[..], limits, &Channel::ALL, |_, _| {});
+    let e = e.unwrap_err();
+    assert!(e.second && named(&e.source), "{e}");
+    // `recover` copies up to it and says why it stopped there.
+    let (copied, _) = recover(forged.as_slice(), Cursor::new(Vec::new())).unwrap();
+    assert_eq!(copied.stopped_at, Some(named_error(over)));
+    // One byte less is within the limit: the reader goes on to find the bytes missing.
+    let at_limit = with_record_after_header(&honest, &metadata_claiming(over - 1));
+    let e = read_columns(at_limit.as_slice(), limits).unwrap_err();
+    assert!(!matches!(e, ReadError::TooLarge { .. }), "{e}");
+}
+
+/// The words every reader refuses a record of `len` bytes after the header with.
+fn named_error(len: u64) -> String {
+    format!(
+        "a record (opcode 0x0c) claims {len} bytes, more than the {MAX_RECORD_BYTES} this \
+         reader accepts (a damaged or hostile recording)"
+    )
+}

@@ -141,11 +141,7 @@ pub fn replay_ndjson<R: std::io::Read>(
 ) -> bool {
     let meta = stream.metadata().clone();
     let lengths = arm_lengths_m(&meta.config_toml);
-    let line = |v: serde_json::Value| {
-        let mut bytes = serde_json::to_vec(&v).unwrap_or_default();
-        bytes.push(b'\n');
-        bytes
-    };
+    let line = |v: serde_json::Value| ndjson_line(&v);
     let mut every = ((meta.loop_rate_hz / REPLAY_RATE_HZ).round() as usize).max(1);
     let rate = |every: usize| meta.loop_rate_hz / every as f64;
     if !send(line(serde_json::json!({
@@ -173,9 +169,7 @@ pub fn replay_ndjson<R: std::io::Read>(
             frames: taken.len,
             columns: &taken.columns,
         };
-        let mut bytes = serde_json::to_vec(&chunk).unwrap_or_default();
-        bytes.push(b'\n');
-        send(bytes)
+        send(ndjson_line(&chunk))
     };
     for (i, rec) in stream.enumerate() {
         let rec = match rec {
@@ -217,6 +211,13 @@ pub fn replay_ndjson<R: std::io::Read>(
             "rate_hz": rate(every),
             "total_frames": held,
         })))
+}
+
+/// `value` as one NDJSON line: its JSON and `\n`.
+fn ndjson_line(value: &impl serde::Serialize) -> Vec<u8> {
+    let mut bytes = serde_json::to_vec(value).unwrap_or_default();
+    bytes.push(b'\n');
+    bytes
 }
 
 /// The session length a recorded station configuration asked for, s (`[session]

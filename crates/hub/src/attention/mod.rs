@@ -44,8 +44,7 @@ pub const RULE_MEASURES: [&str; 6] = [
     "clipped_pct",
 ];
 
-/// A day, ms.
-pub const DAY_MS: i64 = 24 * 60 * 60 * 1000;
+pub use crate::db::DAY_MS;
 
 /// How much an alert needs the therapist: urgent first.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize)]
@@ -321,10 +320,7 @@ pub fn days_between(from_ms: i64, now_ms: i64) -> i64 {
     (now_ms - from_ms).max(0) / DAY_MS
 }
 
-/// `ms` as a UTC day, `2026-12-06`, for the alerts' English text.
-pub fn day_of(ms: i64) -> String {
-    crate::db::iso_utc(ms)[..10].to_owned()
-}
+pub use crate::db::day_of;
 
 #[cfg(test)]
 pub(crate) mod tests {

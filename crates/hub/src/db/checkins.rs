@@ -149,7 +149,7 @@ impl Db {
             .iter()
             .any(|s| s.started_unix_ms > reported);
         Ok(Some(if later {
-            let day = &super::iso_utc(reported)[..10];
+            let day = &super::day_of(reported);
             alert.replace(
                 "after the last session",
                 &format!("after the session of {day}"),

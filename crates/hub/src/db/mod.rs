@@ -81,8 +81,8 @@ pub use pairing::{
 pub use patients::{MAX_PSEUDONYM_LEN, Patient, PatientOverview, WEEK_MS, check_pseudonym};
 pub use regimens::{MAX_REGIMEN_BYTES, RegimenVersion};
 pub use scales::{
-    EARLIEST_ASSESSED_ON, MAX_SCALES_LISTED, NewScale, SCALES, ScaleDef, ScaleEntry, ScaleField,
-    check_scale, iso_utc, scale_def,
+    DAY_MS, EARLIEST_ASSESSED_ON, MAX_SCALES_LISTED, NewScale, SCALES, ScaleDef, ScaleEntry,
+    ScaleField, check_scale, day_of, iso_utc, scale_def,
 };
 pub use sessions::{Recording, SessionRow};
 pub use station_limits::{MAX_SESSIONS_PER_STATION_DAY, TRAINING_SESSION_SQL};

@@ -280,8 +280,8 @@ fn check_assessed_on(text: &str, now_ms: i64) -> Result<(), (String, Code)> {
     Ok(())
 }
 
-/// One day, ms.
-const DAY_MS: i64 = 86_400_000;
+/// One UTC day, ms.
+pub const DAY_MS: i64 = 24 * 60 * 60 * 1000;
 /// Days since 1970-01-01 of a `YYYY-MM-DD` date that exists (four-digit year, two-digit month
 /// and day: the form the console sends; the calendar is jiff's).
 pub(crate) fn parse_date(text: &str) -> Option<i64> {
@@ -322,6 +322,14 @@ pub fn iso_utc(ms: i64) -> String {
         jiff::Timestamp::MAX
     });
     at.strftime("%Y-%m-%dT%H:%M:%SZ").to_string()
+}
+
+/// `ms` (since the Unix epoch) as its UTC day, `2026-11-21`: the alerts' dates and the
+/// spreadsheets' file names.
+pub fn day_of(ms: i64) -> String {
+    let mut day = iso_utc(ms);
+    day.truncate(10);
+    day
 }
 
 const SCALE_COLUMNS: &str = "c.id, c.patient_id, c.scale, c.assessed_on, c.score, \
@@ -456,5 +464,38 @@ mod tests {
         assert_eq!(iso_utc(1_795_253_400_000), "2026-11-21T09:30:00Z");
         assert_eq!(iso_utc(-1), "1969-12-31T23:59:59Z");
         assert_eq!(date_of_days(-1), "1969-12-31");
+    }
+
+    #[test]
+    fn leap_days_and_year_ends_follow_the_gregorian_calendar() {
+        // Leap days: every fourth year, not a century unless it divides by 400.
+        for (text, exists) in [
+            ("2024-02-29", true),
+            ("2000-02-29", true),
+            ("2023-02-29", false),
+            ("2100-02-29", false),
+            ("2026-02-30", false),
+        ] {
+            assert_eq!(parse_date(text).is_some(), exists, "{text}");
+        }
+        let leap = parse_date("2024-02-29").unwrap();
+        assert_eq!(date_of_days(leap + 1), "2024-03-01");
+        assert_eq!(
+            parse_date("2024-12-31").unwrap() - parse_date("2024-01-01").unwrap(),
+            365
+        );
+        assert_eq!(
+            parse_date("2026-12-31").unwrap() - parse_date("2026-01-01").unwrap(),
+            364
+        );
+        // Year end: the last millisecond of 2026 and the first of 2027.
+        let new_year_ms = parse_date("2027-01-01").unwrap() * DAY_MS;
+        assert_eq!(iso_utc(new_year_ms - 1), "2026-12-31T23:59:59Z");
+        assert_eq!(day_of(new_year_ms - 1), "2026-12-31");
+        assert_eq!(day_of(new_year_ms), "2027-01-01");
+        assert_eq!(
+            date_of_days(parse_date("2026-12-31").unwrap() + 1),
+            "2027-01-01"
+        );
     }
 }

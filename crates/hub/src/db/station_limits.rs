@@ -2,7 +2,7 @@
 //! day, the recording bytes it uploads a day (kept across restarts), the time of a session's
 //! last summary, and which sessions count as training.
 
-use super::{Db, to_i64};
+use super::{DAY_MS, Db, to_i64};
 use crate::error::HubError;
 
 /// Sessions one station may start on one UTC day (by the session's start): three times what
@@ -10,9 +10,6 @@ use crate::error::HubError;
 /// the rest is room for sessions stopped and started again. Beyond it a station's `Hello` for
 /// a new session is refused (the station keeps it and tries again later).
 pub const MAX_SESSIONS_PER_STATION_DAY: i64 = 12;
-
-/// One UTC day, ms.
-const DAY_MS: i64 = 24 * 60 * 60 * 1000;
 
 /// The SQL condition (on a `sessions` row named `s`) of a session that counts as training: at
 /// least one summary stored, or movement measures reported at its end (its `Bye`). A `Hello`

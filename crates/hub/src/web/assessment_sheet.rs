@@ -21,10 +21,10 @@ use axum::response::Response;
 
 use super::auth::Authed;
 use super::spreadsheet::{
-    LocalZone, SheetQuery, csv_response, day_of, number_cell, ordered, text_cell, zone_and_words,
+    LocalZone, SheetQuery, csv_response, number_cell, ordered, text_cell, zone_and_words,
 };
 use super::{ApiError, AppState};
-use crate::db::{Assessment, iso_utc};
+use crate::db::{Assessment, day_of, iso_utc};
 use crate::sheet_words::SheetWords;
 
 /// The columns: (the words' id, technical name); the session's three are the measures'

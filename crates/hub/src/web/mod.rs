@@ -64,9 +64,6 @@ pub const MAX_BODY_BYTES: usize = 64 * 1024;
 /// Default lifetime of a console login, ms (8 hours).
 pub const DEFAULT_LOGIN_TTL_MS: i64 = 8 * 60 * 60 * 1000;
 
-/// The current time, ms since the Unix epoch (injectable for tests).
-pub type NowMs = Arc<dyn Fn() -> i64 + Send + Sync>;
-
 /// What every request handler shares.
 #[derive(Clone)]
 pub struct AppState {
@@ -74,8 +71,8 @@ pub struct AppState {
     pub db: Db,
     /// Summaries of running sessions, as the ingest receives them (`/api/patients/{id}/live`).
     pub live: broadcast::Sender<LiveEvent>,
-    /// The clock.
-    pub now_ms: NowMs,
+    /// The clock: the product's one injectable clock (a mock in tests).
+    pub clock: clock::Clock,
     /// Lifetime of a console login, ms.
     pub login_ttl_ms: i64,
     /// Where a newly prescribed regimen is announced (the hub pushes it to the patient's
@@ -111,7 +108,7 @@ impl AppState {
         Self {
             db,
             live,
-            now_ms: now_ms_of(clock::Clock::real()),
+            clock: clock::Clock::real(),
             login_ttl_ms: DEFAULT_LOGIN_TTL_MS,
             prescribed: None,
             live_streams: live::StreamCounts::default(),
@@ -181,13 +178,14 @@ impl AppState {
     }
 
     /// The same state with another clock.
-    pub fn with_clock(mut self, now_ms: NowMs) -> Self {
-        self.now_ms = now_ms;
+    pub fn with_clock(mut self, clock: clock::Clock) -> Self {
+        self.clock = clock;
         self
     }
 
+    /// The time, ms since the Unix epoch.
     fn now(&self) -> i64 {
-        (self.now_ms)()
+        unix_ms(&self.clock)
     }
 
     /// Writes an audit entry; a failure is logged, and fails the request (an unaudited read
@@ -233,11 +231,6 @@ pub fn system_now_ms() -> i64 {
 /// `clock`'s wall-clock time, ms since the Unix epoch.
 pub fn unix_ms(clock: &clock::Clock) -> i64 {
     i64::try_from(clock.unix_ns() / 1_000_000).unwrap_or(i64::MAX)
-}
-
-/// The hub's [`NowMs`] read from the product's one injectable clock (a mock in tests).
-pub fn now_ms_of(clock: clock::Clock) -> NowMs {
-    Arc::new(move || unix_ms(&clock))
 }
 
 /// The API's routes over `state`.

@@ -29,7 +29,7 @@ use serde::Deserialize;
 
 use super::auth::Authed;
 use super::{ApiError, AppState};
-use crate::db::{MeasuresBySession, NamedSession, Patient, SessionCheckIn, iso_utc};
+use crate::db::{MeasuresBySession, NamedSession, Patient, SessionCheckIn, day_of, iso_utc};
 use crate::refusal::{Code, Why};
 
 /// One patient's sessions (oldest first) with their measures and check-ins.
@@ -272,11 +272,6 @@ pub(super) fn csv_response(body: impl IntoResponse, filename: &str) -> Response 
         headers.insert(header::CONTENT_DISPOSITION, v);
     }
     response
-}
-
-/// The UTC day of `now_ms` for a file name: `2026-11-21`.
-pub(super) fn day_of(now_ms: i64) -> String {
-    iso_utc(now_ms).chars().take(10).collect()
 }
 
 /// `GET /api/patients/{id}/measures.csv`: the patient's sessions and measures (404 for a

@@ -4,12 +4,24 @@
 #![allow(dead_code, missing_docs)]
 
 pub mod api;
+pub mod fixture;
 
 use hub::Db;
 use sqlx::Connection;
 
 /// The tests' "now": 2026-11-21 09:30 UTC, ms since the Unix epoch.
 pub const T0: i64 = 1_795_253_400_000;
+
+/// A mock clock whose wall clock reads `unix_ms` (ms since the Unix epoch) until its hand
+/// moves it ([`clock::MockClock::set_unix_ns`] with [`ns`], or `advance`).
+pub fn clock_at(unix_ms: i64) -> (clock::Clock, clock::MockClock) {
+    clock::Clock::mock_at_unix_ns(ns(unix_ms))
+}
+
+/// `unix_ms` (ms since the Unix epoch) in ns.
+pub fn ns(unix_ms: i64) -> u64 {
+    u64::try_from(unix_ms).expect("a date after 1970") * 1_000_000
+}
 
 /// A station's `Hello` opening session `session_id` of a sine road at [`T0`].
 pub fn hello(station_id: &str, patient_id: &str, session_id: &str) -> netlink::Hello {

@@ -13,7 +13,6 @@ use hub::db::{Db, Role};
 use hub::patients;
 use std::io::Write;
 use std::path::PathBuf;
-use std::sync::Arc;
 
 /// `telerehab hub`.
 #[derive(Debug, clap::Args)]
@@ -434,7 +433,6 @@ async fn serve(
     let options = ServeOptions {
         stations,
         web,
-        now_ms: Arc::new(now_ms),
         max_connections,
         limits,
         max_replay_bytes,
