@@ -11,12 +11,9 @@ followed, so a child naming its parent's import of a sibling's item depends on t
 Each parent's children then form a graph; a strongly connected component of two or more is a
 cycle, reported as `crate: parent: a <-> b <-> …`.
 
-    python3 scripts/module_cycles.py             # list every cycle; exit 1 on one not allowed
-    python3 scripts/module_cycles.py --strict    # exit 1 on any cycle
+    python3 scripts/module_cycles.py    # list every cycle; exit 1 on any
 
-The cycles the tree had when this check came (scripts/module_cycles.allow) are allowed until
-they are broken; the list may only shrink: a cycle on it that no longer exists fails too, so the
-line is removed in the change that breaks it.
+The tree has none (issue 43: the last were broken on 2026-12-07); a new one fails CI.
 """
 
 from __future__ import annotations
@@ -27,7 +24,6 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-ALLOW = ROOT / "scripts" / "module_cycles.allow"
 
 IDENT = r"[A-Za-z_][A-Za-z0-9_]*"
 PATH_START = re.compile(rf"\b(crate|super|self)((?:::(?:super|{IDENT}))*)::(\{{|{IDENT})")
@@ -263,25 +259,12 @@ def all_cycles() -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--strict", action="store_true", help="fail on any cycle")
-    args = parser.parse_args(argv)
+    argparse.ArgumentParser(description=__doc__.splitlines()[0]).parse_args(argv)
     found = all_cycles()
-    allowed = [
-        line.strip()
-        for line in ALLOW.read_text(encoding="utf-8").splitlines()
-        if line.strip() and not line.startswith("#")
-    ] if ALLOW.exists() else []
-    new = [c for c in found if c not in allowed]
-    gone = [c for c in allowed if c not in found]
     for c in found:
-        print(f"module cycle: {c}{'' if c in allowed else '   <- NEW'}")
-    for c in gone:
-        print(f"module cycle broken (remove it from {ALLOW.relative_to(ROOT)}): {c}")
-    print(f"module cycles: {len(found)} ({len(new)} new, {len(gone)} broken and still listed)")
-    if args.strict:
-        return 1 if found else 0
-    return 1 if new or gone else 0
+        print(f"module cycle: {c}")
+    print(f"module cycles: {len(found)}")
+    return 1 if found else 0
 
 
 if __name__ == "__main__":

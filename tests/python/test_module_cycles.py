@@ -70,6 +70,5 @@ def test_an_import_of_another_crate_or_a_parents_own_item_adds_no_edge(tmp_path)
     assert found(src) == []
 
 
-def test_the_tree_has_no_cycle_beyond_the_allowed_list() -> None:
-    allowed = set(cycles_mod.ALLOW.read_text(encoding="utf-8").splitlines())
-    assert set(cycles_mod.all_cycles()) <= allowed
+def test_the_tree_has_no_module_cycle() -> None:
+    assert cycles_mod.all_cycles() == []

@@ -805,8 +805,55 @@ impl SessionMetadata {
 
 #[cfg(test)]
 mod tests {
-    use super::{ArmSetup, Watchdog};
+    use super::{ArmSample, ArmSetup, Watchdog, WheelSample};
+    use crate::blocks::Cell;
+    use crate::blocks::flatten::{Prim, flatten};
+    use crate::blocks::unflatten::unflatten;
     use haptic_wheel::{Fault, WatchdogState};
+
+    fn cells_of<T: serde::Serialize>(sample: &T) -> Vec<Cell> {
+        let mut prims = Vec::new();
+        flatten(sample, &mut prims, None).unwrap();
+        prims
+            .into_iter()
+            .map(|p| match p {
+                Prim::Float(x) => Cell::Float(x),
+                Prim::Int(n) => Cell::Int(n),
+                Prim::Bool(b) => Cell::Bool(b),
+                Prim::Text(t) => Cell::Text(t.into()),
+                Prim::Absent => Cell::Absent,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn samples_unflatten_to_what_was_flattened_nan_and_infinity_included() {
+        let wheel = WheelSample {
+            angle_rad: f64::INFINITY,
+            requested_nm: 0.25,
+            watchdog: Watchdog::FaultStaleReading,
+            true_angle_rad: Some(0.5),
+            hand_nm: None,
+            ..Default::default()
+        };
+        let back: WheelSample = unflatten(&cells_of(&wheel)).unwrap();
+        assert_eq!(back, wheel);
+        let arm = ArmSample {
+            upper_gyro_x_rad_s: f64::NAN,
+            setup: ArmSetup::SensorLost,
+            grip_m: [1.0, 2.0, 3.0],
+            ..Default::default()
+        };
+        let back: ArmSample = unflatten(&cells_of(&arm)).unwrap();
+        assert!(back.upper_gyro_x_rad_s.is_nan());
+        assert_eq!(
+            (back.setup, back.grip_m),
+            (ArmSetup::SensorLost, [1.0, 2.0, 3.0])
+        );
+        let mut short = cells_of(&arm);
+        short.pop();
+        assert!(unflatten::<ArmSample>(&short).is_err());
+    }
 
     #[test]
     fn arm_setup_labels_are_the_recorded_strings() {
