@@ -80,6 +80,7 @@ mod answer;
 pub mod codec;
 mod error;
 pub mod frame;
+pub mod ndjson;
 pub mod pairing;
 pub mod pki;
 pub mod station;

@@ -113,10 +113,7 @@ impl SessionFile {
         let mut content = Vec::new();
         file.read_to_end(&mut content)
             .map_err(|e| NetlinkError::io(ctx("reading"), e))?;
-        let complete = content
-            .iter()
-            .rposition(|&b| b == b'\n')
-            .map_or(0, |i| i + 1);
+        let complete = crate::ndjson::complete_len(&content);
         if complete < content.len() {
             tracing::warn!(
                 path = %path.display(),
@@ -128,13 +125,11 @@ impl SessionFile {
             file.seek(SeekFrom::End(0))
                 .map_err(|e| NetlinkError::io(ctx("seeking"), e))?;
         }
-        let last_line = content[..complete]
-            .split(|&b| b == b'\n')
-            .rfind(|line| !line.is_empty());
+        let last_line = crate::ndjson::lines(&content).last();
         let last_seq = match last_line {
             None => None,
-            Some(line) => {
-                let s: Summary = serde_json::from_slice(line).map_err(|e| {
+            Some((_, line)) => {
+                let s: Summary = crate::ndjson::parse(line).map_err(|e| {
                     NetlinkError::Protocol(format!(
                         "{}: last line is not a summary ({e}); refusing to append to a damaged file",
                         path.display()
@@ -193,22 +188,21 @@ impl SessionFile {
     }
 }
 
-/// Reads every summary stored for a session, in file order.
+/// Reads every summary stored for a session, in file order (a last line cut short is no
+/// summary: [`SessionFile::open`] cuts it off; a complete line that does not read is an error
+/// naming it).
 pub fn read_session(
     store_dir: &Path,
     station_id: &str,
     session_id: &str,
 ) -> Result<Vec<Summary>, NetlinkError> {
     let path = session_path(store_dir, station_id, session_id)?;
-    let text = std::fs::read_to_string(&path)
+    let bytes = std::fs::read(&path)
         .map_err(|e| NetlinkError::io(format!("reading {}", path.display()), e))?;
-    text.lines()
-        .filter(|l| !l.is_empty())
-        .enumerate()
-        .map(|(i, line)| {
-            serde_json::from_str(line).map_err(|e| {
-                NetlinkError::Protocol(format!("{} line {}: {e}", path.display(), i + 1))
-            })
+    crate::ndjson::lines(&bytes)
+        .map(|(n, line)| {
+            crate::ndjson::parse(line)
+                .map_err(|e| NetlinkError::Protocol(format!("{} line {n}: {e}", path.display())))
         })
         .collect()
 }

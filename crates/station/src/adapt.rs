@@ -105,11 +105,11 @@ pub fn history_path(dir: &Path) -> PathBuf {
 /// The history of `patient_id` kept at `path`, oldest first (none if the file is missing;
 /// a line that does not read is skipped).
 pub fn load(path: &Path, patient_id: &str) -> Vec<Entry> {
-    let Ok(text) = std::fs::read_to_string(path) else {
+    let Ok(bytes) = std::fs::read(path) else {
         return Vec::new();
     };
-    text.lines()
-        .filter_map(|l| serde_json::from_str::<Entry>(l).ok())
+    netlink::ndjson::lines(&bytes)
+        .filter_map(|(_, l)| netlink::ndjson::parse::<Entry>(l).ok())
         .filter(|e| e.patient_id == patient_id && e.difficulty.is_finite())
         .collect()
 }

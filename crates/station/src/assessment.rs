@@ -53,9 +53,9 @@ pub fn history_path(dir: &Path) -> PathBuf {
 /// When the last assessment of `patient_id` kept at `path` ended, ms since the Unix epoch
 /// (none if the file is missing or holds none; a line that does not read is skipped).
 pub fn last_unix_ms(path: &Path, patient_id: &str) -> Option<u64> {
-    let text = std::fs::read_to_string(path).ok()?;
-    text.lines()
-        .filter_map(|l| serde_json::from_str::<Entry>(l).ok())
+    let bytes = std::fs::read(path).ok()?;
+    netlink::ndjson::lines(&bytes)
+        .filter_map(|(_, l)| netlink::ndjson::parse::<Entry>(l).ok())
         .filter(|e| e.patient_id == patient_id)
         .map(|e| e.unix_ms)
         .max()

@@ -12,7 +12,7 @@ use anyhow::Context;
 use netlink::{ClientTls, Hello, StationLink, StationLinkConfig, Summary};
 use std::collections::BTreeMap;
 use std::fs::{File, OpenOptions};
-use std::io::{BufRead, BufReader, Write};
+use std::io::Write;
 use std::os::unix::fs::OpenOptionsExt;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -230,17 +230,12 @@ pub fn pending(dir: &Path) -> anyhow::Result<Vec<Queued>> {
         let hello: Hello = serde_json::from_slice(&text)
             .with_context(|| format!("{} is not a session's Hello", hello_path.display()))?;
         let [summaries_path, _, measures_path, end_path] = paths(dir, &hello.session_id);
-        let mut summaries = Vec::new();
-        if let Ok(f) = File::open(&summaries_path) {
-            for line in BufReader::new(f).lines() {
-                let Ok(line) = line else { break };
-                // A partial last line (crash mid-write) does not parse: it was never sent.
-                match serde_json::from_str::<Summary>(&line) {
-                    Ok(s) => summaries.push(s),
-                    Err(_) => break,
-                }
-            }
-        }
+        // A partial last line (crash mid-write) was never sent; the summaries stop at the first
+        // complete line that does not read.
+        let bytes = std::fs::read(&summaries_path).unwrap_or_default();
+        let summaries: Vec<Summary> = netlink::ndjson::lines(&bytes)
+            .map_while(|(_, line)| netlink::ndjson::parse(line).ok())
+            .collect();
         // Unreadable measures are not worth holding the summaries back for.
         let measures = std::fs::read(&measures_path)
             .ok()
