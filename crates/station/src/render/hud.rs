@@ -70,6 +70,23 @@ pub fn pixels_per_point(width: u32, height: u32) -> f32 {
     s.clamp(0.4, 4.0)
 }
 
+/// egui's input for one pass on a `width`×`height` pixel target: the screen in points at
+/// [`pixels_per_point`], and its size in points.
+pub fn input_for(width: u32, height: u32) -> (egui::RawInput, Vec2) {
+    let ppp = pixels_per_point(width, height);
+    let size = vec2(width as f32 / ppp, height as f32 / ppp);
+    let mut input = egui::RawInput {
+        screen_rect: Some(Rect::from_min_size(Pos2::ZERO, size)),
+        ..Default::default()
+    };
+    input
+        .viewports
+        .entry(ViewportId::ROOT)
+        .or_default()
+        .native_pixels_per_point = Some(ppp);
+    (input, size)
+}
+
 impl HudPainter {
     /// A HUD with egui's built-in fonts and Debian's Noto fonts behind them for the other
     /// scripts ([`super::fonts`]).
@@ -82,17 +99,7 @@ impl HudPainter {
 
     /// Lays out and tessellates the HUD for `scene` on a `width`×`height` pixel target.
     pub fn run(&mut self, scene: &Scene, width: u32, height: u32) -> HudFrame {
-        let ppp = pixels_per_point(width, height);
-        let size = vec2(width as f32 / ppp, height as f32 / ppp);
-        let mut input = egui::RawInput {
-            screen_rect: Some(Rect::from_min_size(Pos2::ZERO, size)),
-            ..Default::default()
-        };
-        input
-            .viewports
-            .entry(ViewportId::ROOT)
-            .or_default()
-            .native_pixels_per_point = Some(ppp);
+        let (input, size) = input_for(width, height);
         let output = self.ctx.run_pass(input, |ctx| {
             let painter = ctx.layer_painter(LayerId::new(Order::Foreground, Id::unique("hud")));
             paint(&painter, scene, size, layout::neglected_side());

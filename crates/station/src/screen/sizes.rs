@@ -2,11 +2,11 @@
 //! cards of the screen and the session's pause page, painted by the HUD) at 1920×1080,
 //! against the minimums of [`crate::render::layout`].
 
-use crate::render::hud::{paint, pixels_per_point};
+use crate::render::hud::{input_for, paint, pixels_per_point};
 use crate::render::layout::{MAIN_CAP_ARCMIN, MIN_CAP_ARCMIN, px_at_1080p};
 use crate::render::{Hud, LiveScore, Movement, NextCard, Picture, Scene, ScreenState};
 use egui::epaint::Shape;
-use egui::{Context, Id, LayerId, Order, Pos2, Rect, ViewportId, vec2};
+use egui::{Context, Id, LayerId, Order};
 use regimen::NeglectedSide;
 
 /// Every text of `scene` painted at 1920×1080: (text, cap height in pixels). The cap height
@@ -14,17 +14,8 @@ use regimen::NeglectedSide;
 /// measured, not computed from the font size.
 fn texts_at_1080p(scene: &Scene) -> Vec<(String, f64)> {
     let ppp = pixels_per_point(1920, 1080);
-    let size = vec2(1920.0 / ppp, 1080.0 / ppp);
+    let (input, size) = input_for(1920, 1080);
     let ctx = Context::default();
-    let mut input = egui::RawInput {
-        screen_rect: Some(Rect::from_min_size(Pos2::ZERO, size)),
-        ..Default::default()
-    };
-    input
-        .viewports
-        .entry(ViewportId::ROOT)
-        .or_default()
-        .native_pixels_per_point = Some(ppp);
     let mut out = ctx.run_pass(input, |ctx| {
         let p = ctx.layer_painter(LayerId::new(Order::Foreground, Id::unique("sizes")));
         paint(&p, scene, size, NeglectedSide::None);
