@@ -4,9 +4,11 @@
 //!
 //! Each writer appends whole lines, each ending in `\n`; a process killed mid-write leaves a
 //! last line without its newline, which was never complete (never acknowledged, never
-//! counted): [`complete_len`] says where it starts, and [`lines`] leaves it out. Each caller
+//! counted): [`complete_len`] says where it starts, and [`read_lines`] leaves it out. Each caller
 //! keeps its own policy for a complete line that does not read (the hub's store refuses the
 //! file naming the line; the station's queue stops there; a history skips it).
+
+use std::io::{BufRead, Read};
 
 use serde::de::DeserializeOwned;
 
@@ -21,14 +23,59 @@ pub fn complete_len(bytes: &[u8]) -> usize {
     bytes.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1)
 }
 
-/// The complete, non-empty lines of `bytes` (without their `\n`), each with its 1-based line
-/// number in the file; a last line without its newline is left out.
-pub fn lines(bytes: &[u8]) -> impl Iterator<Item = (usize, &[u8])> {
-    bytes[..complete_len(bytes)]
-        .split(|&b| b == b'\n')
-        .enumerate()
-        .filter(|(_, line)| !line.is_empty())
-        .map(|(i, line)| (i + 1, line))
+/// The complete, non-empty lines read from `reader` (without their `\n`), each with its
+/// 1-based line number, streamed: at most [`MAX_LINE_BYTES`] + 1 bytes of a line are held (a
+/// longer one is handed on cut there, for [`parse`] to refuse by its length, and the rest of
+/// it skipped). A last line without its newline is left out; a read error ends the lines.
+pub fn read_lines<R: BufRead>(mut reader: R) -> impl Iterator<Item = (usize, Vec<u8>)> {
+    let mut number = 0;
+    std::iter::from_fn(move || {
+        loop {
+            let mut line = Vec::new();
+            let limit = MAX_LINE_BYTES as u64 + 1;
+            if (&mut reader)
+                .take(limit)
+                .read_until(b'\n', &mut line)
+                .ok()?
+                == 0
+            {
+                return None;
+            }
+            number += 1;
+            if line.last() == Some(&b'\n') {
+                line.pop();
+                if line.is_empty() {
+                    continue;
+                }
+                return Some((number, line));
+            }
+            if line.len() <= MAX_LINE_BYTES {
+                return None; // the end: a last line a crash cut short
+            }
+            skip_past_newline(&mut reader)?;
+            return Some((number, line));
+        }
+    })
+}
+
+/// Consumes `reader` up to and including its next `\n`; `None` at its end or on an error.
+fn skip_past_newline(reader: &mut impl BufRead) -> Option<()> {
+    loop {
+        let buf = reader.fill_buf().ok()?;
+        if buf.is_empty() {
+            return None;
+        }
+        match buf.iter().position(|&b| b == b'\n') {
+            Some(i) => {
+                reader.consume(i + 1);
+                return Some(());
+            }
+            None => {
+                let n = buf.len();
+                reader.consume(n);
+            }
+        }
+    }
 }
 
 /// One line as a `T`: an error naming what is wrong (a line over [`MAX_LINE_BYTES`], or the
@@ -47,15 +94,34 @@ pub fn parse<T: DeserializeOwned>(line: &[u8]) -> Result<T, String> {
 mod tests {
     use super::*;
 
+    fn read(bytes: &[u8]) -> Vec<(usize, Vec<u8>)> {
+        read_lines(bytes).collect()
+    }
+
     #[test]
     fn complete_lines_are_read_numbered_and_a_cut_last_line_is_left_out() {
         let text = b"{\"a\":1}\n\n{\"a\":2}\n{\"a\":";
         assert_eq!(complete_len(text), 17);
-        let got: Vec<(usize, &[u8])> = lines(text).collect();
-        assert_eq!(got, [(1, &b"{\"a\":1}"[..]), (3, &b"{\"a\":2}"[..])]);
+        assert_eq!(
+            read(text),
+            [(1, b"{\"a\":1}".to_vec()), (3, b"{\"a\":2}".to_vec())]
+        );
         assert_eq!(complete_len(b"no newline"), 0);
-        assert_eq!(lines(b"no newline").count(), 0);
-        assert_eq!(lines(b"").count(), 0);
+        assert!(read(b"no newline").is_empty());
+        assert!(read(b"").is_empty());
+    }
+
+    #[test]
+    fn a_line_over_the_limit_is_handed_on_cut_and_the_next_line_read_whole() {
+        let mut text = vec![b'x'; 3 * MAX_LINE_BYTES];
+        text.extend_from_slice(b"\n{\"a\":3}\n");
+        let got = read(&text);
+        assert_eq!(got.len(), 2);
+        assert_eq!((got[0].0, got[0].1.len()), (1, MAX_LINE_BYTES + 1));
+        assert!(parse::<serde_json::Value>(&got[0].1).is_err());
+        assert_eq!(got[1], (2, b"{\"a\":3}".to_vec()));
+        // Over the limit and never ended: a last line cut short, left out as any other.
+        assert!(read(&text[..2 * MAX_LINE_BYTES]).is_empty());
     }
 
     #[test]

@@ -125,11 +125,11 @@ impl SessionFile {
             file.seek(SeekFrom::End(0))
                 .map_err(|e| NetlinkError::io(ctx("seeking"), e))?;
         }
-        let last_line = crate::ndjson::lines(&content).last();
+        let last_line = crate::ndjson::read_lines(&content[..]).last();
         let last_seq = match last_line {
             None => None,
             Some((_, line)) => {
-                let s: Summary = crate::ndjson::parse(line).map_err(|e| {
+                let s: Summary = crate::ndjson::parse(&line).map_err(|e| {
                     NetlinkError::Protocol(format!(
                         "{}: last line is not a summary ({e}); refusing to append to a damaged file",
                         path.display()
@@ -197,11 +197,11 @@ pub fn read_session(
     session_id: &str,
 ) -> Result<Vec<Summary>, NetlinkError> {
     let path = session_path(store_dir, station_id, session_id)?;
-    let bytes = std::fs::read(&path)
+    let file = File::open(&path)
         .map_err(|e| NetlinkError::io(format!("reading {}", path.display()), e))?;
-    crate::ndjson::lines(&bytes)
+    crate::ndjson::read_lines(std::io::BufReader::new(file))
         .map(|(n, line)| {
-            crate::ndjson::parse(line)
+            crate::ndjson::parse(&line)
                 .map_err(|e| NetlinkError::Protocol(format!("{} line {n}: {e}", path.display())))
         })
         .collect()

@@ -108,8 +108,8 @@ pub fn load(path: &Path, patient_id: &str) -> Vec<Entry> {
     let Ok(bytes) = std::fs::read(path) else {
         return Vec::new();
     };
-    netlink::ndjson::lines(&bytes)
-        .filter_map(|(_, l)| netlink::ndjson::parse::<Entry>(l).ok())
+    netlink::ndjson::read_lines(&bytes[..])
+        .filter_map(|(_, l)| netlink::ndjson::parse::<Entry>(&l).ok())
         .filter(|e| e.patient_id == patient_id && e.difficulty.is_finite())
         .collect()
 }

@@ -54,8 +54,8 @@ pub fn history_path(dir: &Path) -> PathBuf {
 /// (none if the file is missing or holds none; a line that does not read is skipped).
 pub fn last_unix_ms(path: &Path, patient_id: &str) -> Option<u64> {
     let bytes = std::fs::read(path).ok()?;
-    netlink::ndjson::lines(&bytes)
-        .filter_map(|(_, l)| netlink::ndjson::parse::<Entry>(l).ok())
+    netlink::ndjson::read_lines(&bytes[..])
+        .filter_map(|(_, l)| netlink::ndjson::parse::<Entry>(&l).ok())
         .filter(|e| e.patient_id == patient_id)
         .map(|e| e.unix_ms)
         .max()

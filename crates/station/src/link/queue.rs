@@ -232,10 +232,13 @@ pub fn pending(dir: &Path) -> anyhow::Result<Vec<Queued>> {
         let [summaries_path, _, measures_path, end_path] = paths(dir, &hello.session_id);
         // A partial last line (crash mid-write) was never sent; the summaries stop at the first
         // complete line that does not read.
-        let bytes = std::fs::read(&summaries_path).unwrap_or_default();
-        let summaries: Vec<Summary> = netlink::ndjson::lines(&bytes)
-            .map_while(|(_, line)| netlink::ndjson::parse(line).ok())
-            .collect();
+        let summaries: Vec<Summary> = File::open(&summaries_path)
+            .map(|f| {
+                netlink::ndjson::read_lines(std::io::BufReader::new(f))
+                    .map_while(|(_, line)| netlink::ndjson::parse(&line).ok())
+                    .collect()
+            })
+            .unwrap_or_default();
         // Unreadable measures are not worth holding the summaries back for.
         let measures = std::fs::read(&measures_path)
             .ok()
