@@ -929,19 +929,7 @@ mod tests {
                 .unwrap()
                 .contains("assessment")
         );
-        let bye = |exercises| {
-            Frame::Bye(Bye {
-                session_id: "s1".into(),
-                reason: "complete".into(),
-                final_seq: Some(7),
-                measures: Default::default(),
-                hub_unix_ms: None,
-                checkin: None,
-                exercises,
-                difficulty: None,
-            })
-        };
-        let frame = bye(vec![part.clone(), exercise.clone()]);
+        let frame = bye_of(vec![part.clone(), exercise.clone()]);
         let bytes = encode_to_vec(&frame).unwrap();
         assert_eq!(decode(&bytes).unwrap().map(|(f, _)| f), Some(frame));
         let json = serde_json::to_string(&part).unwrap();
@@ -953,7 +941,10 @@ mod tests {
             assessment: part.assessment,
             ..exercise
         };
-        let err = bye(vec![mislabelled]).validate().unwrap_err().to_string();
+        let err = bye_of(vec![mislabelled])
+            .validate()
+            .unwrap_err()
+            .to_string();
         assert!(
             err.contains("assessment") && err.contains("dial-sine"),
             "{err}"
@@ -965,8 +956,22 @@ mod tests {
             }),
             ..part
         };
-        let err = bye(vec![zero]).validate().unwrap_err().to_string();
+        let err = bye_of(vec![zero]).validate().unwrap_err().to_string();
         assert!(err.contains("protocol"), "{err}");
+    }
+
+    /// A complete session's Bye carrying `exercises`.
+    fn bye_of(exercises: Vec<crate::frame::ExerciseResult>) -> Frame {
+        Frame::Bye(Bye {
+            session_id: "s1".into(),
+            reason: "complete".into(),
+            final_seq: Some(7),
+            measures: Default::default(),
+            hub_unix_ms: None,
+            checkin: None,
+            exercises,
+            difficulty: None,
+        })
     }
 
     /// One session runs one assessment: a hostile or broken station's Bye with a part twice
@@ -984,28 +989,16 @@ mod tests {
             scores: Default::default(),
             assessment: Some(AssessmentTag { protocol: 1, seed }),
         };
-        let bye = |exercises| {
-            Frame::Bye(Bye {
-                session_id: "s1".into(),
-                reason: "complete".into(),
-                final_seq: Some(7),
-                measures: Default::default(),
-                hub_unix_ms: None,
-                checkin: None,
-                exercises,
-                difficulty: None,
-            })
-        };
         let one = vec![
             part(0, "assessment-range", 5),
             part(1, "assessment-steps", 5),
         ];
-        assert!(bye(one).validate().is_ok());
+        assert!(bye_of(one).validate().is_ok());
         let twice = vec![
             part(0, "assessment-steps", 5),
             part(1, "assessment-steps", 5),
         ];
-        let err = bye(twice).validate().unwrap_err().to_string();
+        let err = bye_of(twice).validate().unwrap_err().to_string();
         assert!(
             err.contains("exercises[1]") && err.contains("second"),
             "{err}"
@@ -1014,7 +1007,7 @@ mod tests {
             part(0, "assessment-range", 5),
             part(1, "assessment-steps", 6),
         ];
-        let err = bye(two).validate().unwrap_err().to_string();
+        let err = bye_of(two).validate().unwrap_err().to_string();
         assert!(
             err.contains("exercises[1]") && err.contains("one assessment"),
             "{err}"
