@@ -432,26 +432,25 @@ impl MeasureCollector {
         self.last_target_rad = Some(target_rad);
     }
 
+    /// The next lane shift to meet of `exercise`, if it is a lane change with one left.
+    fn lane_shift(&self, exercise: usize) -> Option<vehicle::LaneShift> {
+        match self.steps_of.get(exercise) {
+            Some(TargetSteps::LaneShifts(shifts)) => shifts.get(self.next_shift).copied(),
+            _ => None,
+        }
+    }
+
     /// Notes the lane shifts the car reached between the last tick and this one (none when
     /// `skip`; those passed before the first tick of the exercise are none either).
     fn note_lane_shift(&mut self, rec: &TickRecord, skip: bool) {
         let Some(s_m) = rec.vehicle.map(|v| v.s_m).filter(|s| s.is_finite()) else {
             return;
         };
-        let Some(TargetSteps::LaneShifts(shifts)) =
-            self.steps_of.get(rec.score.exercise_index as usize)
-        else {
-            return;
-        };
-        while let Some(shift) = shifts.get(self.next_shift).filter(|sh| sh.s_m <= s_m) {
+        let exercise = rec.score.exercise_index as usize;
+        while let Some(shift) = self.lane_shift(exercise).filter(|sh| sh.s_m <= s_m) {
             let reached = self.last_s_m.is_some_and(|last| last < shift.s_m);
             if reached && !skip && self.target_steps.len() < MAX_TARGET_STEPS {
-                // Not `note`: `shifts` borrows `steps_of`.
-                self.target_steps.push(NotedStep {
-                    index: self.series.len(),
-                    exercise: self.exercise_now,
-                    cue: Cue::Shift(shift.direction),
-                });
+                self.note(Cue::Shift(shift.direction));
             }
             self.next_shift += 1;
         }
