@@ -183,3 +183,73 @@ impl RecordingsConfig {
         Ok((store, url))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::RecordingsConfig;
+
+    fn error_of(c: &RecordingsConfig) -> String {
+        c.s3_store().expect_err("refused").to_string()
+    }
+
+    #[test]
+    fn a_bad_or_missing_s3_setting_is_refused_naming_it() {
+        let good = RecordingsConfig {
+            credentials_file: Some("/nonexistent/telerehab-s3.toml".into()),
+            ..RecordingsConfig::s3("recordings", "https://s3.clinic.example")
+        };
+        let mut c = good.clone();
+        c.store = "nfs".into();
+        assert!(
+            error_of(&c).contains("[recordings] store"),
+            "{}",
+            error_of(&c)
+        );
+        let mut c = good.clone();
+        c.bucket = None;
+        assert!(
+            error_of(&c).contains("[recordings] bucket"),
+            "{}",
+            error_of(&c)
+        );
+        let mut c = good.clone();
+        c.endpoint = Some("http://10.0.0.5:8333".into());
+        assert!(
+            error_of(&c).contains("[recordings] endpoint"),
+            "{}",
+            error_of(&c)
+        );
+        c.endpoint = Some("s3.clinic.example".into());
+        c.allow_http = true;
+        assert!(
+            error_of(&c).contains("not an http(s) URL"),
+            "{}",
+            error_of(&c)
+        );
+        let mut c = good.clone();
+        c.requests.request_timeout_s = 0;
+        assert!(
+            error_of(&c).contains("request_timeout_s"),
+            "{}",
+            error_of(&c)
+        );
+        // Everything else right: the credentials file that cannot be read is named.
+        let e = error_of(&good);
+        assert!(e.contains("[recordings] credentials_file"), "{e}");
+        assert!(e.contains("/nonexistent/telerehab-s3.toml"), "{e}");
+    }
+
+    #[test]
+    fn the_requests_table_keeps_its_defaults_and_an_unknown_key_is_refused_by_name() {
+        let parsed: RecordingsConfig =
+            toml::from_str("store = \"s3\"\nbucket = \"b\"\n[requests]\nmax_retries = 5\n")
+                .unwrap();
+        assert_eq!(parsed.requests.max_retries, 5);
+        assert_eq!(
+            parsed.requests.retry_timeout_s, 30,
+            "the rest keep their defaults"
+        );
+        let unknown = toml::from_str::<RecordingsConfig>("store = \"s3\"\nbuckit = \"b\"\n");
+        assert!(unknown.unwrap_err().to_string().contains("buckit"));
+    }
+}
