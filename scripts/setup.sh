@@ -12,6 +12,9 @@
 #     maven and a headless JDK (the reference FHIR R4 validator, HAPI FHIR: scripts/fhir-validator).
 #   - Rust (stable, via rustup if cargo is missing) with rustfmt and clippy.
 #   - A Python virtualenv in .venv with the test tools and the `telerehab` package (pyext).
+#   - SeaweedFS (`weed`, a real S3 server the hub's recording-store tests start themselves),
+#     built from the Go module proxy into ~/.local/bin/weed (crates/hub/tests/common/s3.rs looks
+#     there; TELEREHAB_WEED names another binary). Needs Go >= 1.26 (/usr/local/go or PATH).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -60,6 +63,23 @@ echo "setup: building the reference FHIR R4 validator (scripts/fhir-validator, H
 # Its jars are cached in ~/.m2; target/classpath.txt is what crates/hub/tests/fhir_validator.rs
 # runs it with. Re-running rebuilds only what changed.
 (cd scripts/fhir-validator && mvn -q -B package)
+# SeaweedFS at one pinned version. Its go.mod has replace directives, so `go install mod@ver`
+# refuses it: the module is downloaded and built where Go keeps it instead. Skipped when the
+# binary is there (some minutes of two cores otherwise).
+WEED_VERSION="v0.0.0-20261109003541-7506e5f91cd6"
+WEED="$HOME/.local/bin/weed"
+if [ ! -x "$WEED" ]; then
+  GO="$(command -v go || echo /usr/local/go/bin/go)"
+  if [ ! -x "$GO" ]; then
+    echo "setup: Go >= 1.26 is needed to build SeaweedFS (the S3 server of the recording-store tests)" >&2
+    exit 1
+  fi
+  echo "setup: building SeaweedFS $WEED_VERSION into $WEED (minutes)"
+  mkdir -p "$HOME/.local/bin"
+  "$GO" mod download "github.com/seaweedfs/seaweedfs@$WEED_VERSION"
+  src="$("$GO" env GOMODCACHE)/github.com/seaweedfs/seaweedfs@$WEED_VERSION"
+  (cd "$src" && nice -n 19 "$GO" build -o "$WEED" ./weed)
+fi
 echo "setup: building and installing the telerehab Python package (pyext)"
 # Built into the workspace's target directory (maturin develop), so that scripts/test.sh
 # rebuilds it incrementally and the tests never run a stale package.

@@ -150,8 +150,8 @@ async fn snapshot_and_write(
             (dump, PG_DUMP, rows)
         }
     };
-    let recordings_dir = clinic.dir().join("recordings");
-    let recordings = list_recordings(&recordings_dir)?;
+    let store = clinic.recordings()?;
+    let recordings = list_recordings(&store).await?;
     let manifest = Manifest {
         format: BACKUP_FORMAT,
         taken_at_ms,
@@ -184,8 +184,14 @@ async fn snapshot_and_write(
         )?;
     }
     append_file(&mut tar, name, &database_file, out)?;
-    for (rel, _, path) in &recordings {
-        append_file(&mut tar, &format!("recordings/{rel}"), path, out)?;
+    for (rel, digest, file) in &recordings {
+        let mut header = tar::Header::new_gnu();
+        header.set_size(digest.bytes);
+        header.set_mode(0o600);
+        header.set_cksum();
+        let reader = store.read(file)?.take(digest.bytes);
+        tar.append_data(&mut header, format!("recordings/{rel}"), reader)
+            .map_err(io("writing", out))?;
     }
     let encoder = tar.into_inner().map_err(io("writing", out))?;
     let file = encoder.finish().map_err(io("writing", out))?;
@@ -362,46 +368,27 @@ pub async fn row_counts(db: &Db) -> Result<BTreeMap<String, i64>, HubError> {
     Ok(rows)
 }
 
-/// The finished recordings under `dir` (`<station>/<file>`, no `*.part`), each with its
-/// digest and path, sorted.
-fn list_recordings(dir: &Path) -> Result<Vec<(String, FileDigest, PathBuf)>, HubError> {
+/// The finished recordings in the clinic's recording store (`<station>/<file>`, no `*.part`;
+/// the local directory or S3, [`crate::recordings`]), each with its digest (read as a stream),
+/// sorted.
+async fn list_recordings(
+    store: &crate::recordings::RecordingStore,
+) -> Result<Vec<(String, FileDigest, crate::recordings::StoredFile)>, HubError> {
     let mut found = Vec::new();
-    let stations = match std::fs::read_dir(dir) {
-        Ok(s) => s,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(found),
-        Err(e) => return Err(io("listing", dir)(e)),
-    };
-    for station in stations {
-        let station = station.map_err(io("listing", dir))?.path();
-        if !station.is_dir() {
-            continue;
-        }
-        for file in std::fs::read_dir(&station).map_err(io("listing", &station))? {
-            let path = file.map_err(io("listing", &station))?.path();
-            if !path.is_file() || path.extension().is_some_and(|e| e == "part") {
-                continue;
-            }
-            let rel = path
-                .strip_prefix(dir)
-                .ok()
-                .and_then(Path::to_str)
-                .map(|s| s.replace('\\', "/"))
-                .ok_or_else(|| HubError::Corrupt(format!("{} is not UTF-8", path.display())))?;
-            let digest = digest_of(&path)?;
-            found.push((rel, digest, path));
-        }
+    for file in store.finished().await? {
+        let digest = digest_of(store.read(&file)?, &file.name)?;
+        found.push((file.name.clone(), digest, file));
     }
-    found.sort_by(|a, b| a.0.cmp(&b.0));
     Ok(found)
 }
 
-fn digest_of(path: &Path) -> Result<FileDigest, HubError> {
-    let mut file = std::fs::File::open(path).map_err(io("reading", path))?;
+fn digest_of(mut reader: impl Read, name: &str) -> Result<FileDigest, HubError> {
+    let read = |e| HubError::io(format!("reading the recording {name}"), e);
     let mut hasher = Sha256::new();
     let mut buf = vec![0u8; 1 << 16];
     let mut bytes = 0u64;
     loop {
-        let n = file.read(&mut buf).map_err(io("reading", path))?;
+        let n = reader.read(&mut buf).map_err(read)?;
         if n == 0 {
             break;
         }

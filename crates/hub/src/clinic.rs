@@ -4,7 +4,8 @@
 //!
 //! ```text
 //! DATA/hub.toml            names on the hub's certificate, database URL (default: hub.db),
-//!                          clinic name, FHIR base (`fhir_base`)
+//!                          clinic name, FHIR base (`fhir_base`), recording store
+//!                          (`[recordings]`, default: DATA/recordings)
 //! DATA/hub.db              SQLite database (0600), unless `database` names PostgreSQL
 //! DATA/tls/ca.crt, ca.key  the clinic's CA (key 0600)
 //! DATA/tls/hub.crt, hub.key  the hub's certificate, signed by the CA (key 0600)
@@ -46,6 +47,10 @@ pub struct ClinicConfig {
     /// of the first name ([`crate::fhir::FhirBase`], docs/FHIR.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fhir_base: Option<String>,
+    /// Where recordings are kept (`[recordings]`, [`crate::recordings::RecordingsConfig`]);
+    /// absent: `DATA/recordings`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub recordings: Option<crate::recordings::RecordingsConfig>,
 }
 
 impl ClinicConfig {
@@ -182,6 +187,7 @@ impl Clinic {
             database: database.unwrap_or_default().to_owned(),
             clinic_name: None,
             fhir_base: None,
+            recordings: None,
         };
         let url = match database.filter(|d| !d.is_empty()) {
             Some(u) => u.to_owned(),
@@ -202,6 +208,12 @@ impl Clinic {
             admin_password,
             database: url,
         })
+    }
+
+    /// The recording store `hub.toml` configures (`[recordings]`), else `DATA/recordings`; a
+    /// bad or missing setting is an error naming it.
+    pub fn recordings(&self) -> Result<crate::recordings::RecordingStore, HubError> {
+        crate::recordings::RecordingStore::open(&self.dir, self.config()?.recordings.as_ref())
     }
 
     /// The clinic's CA.
@@ -328,12 +340,13 @@ pub async fn serve(
     let config = clinic.config()?;
     options.care.validate()?;
     let fhir_base = config.fhir_base()?;
+    let recordings = clinic.recordings()?;
     let store = Arc::new(
         DbStore::new(
             db.clone(),
             clinic.ca()?,
             config.names[0].clone(),
-            clinic.dir().join("recordings"),
+            recordings.clone(),
             options.clock.clone(),
         )
         // A station's check is answered with the patient's care too (its threshold and phone;
@@ -375,6 +388,7 @@ pub async fn serve(
         .with_prescribed_feed(prescribed)
         .with_care(care.clone(), Some(cleared))
         .with_replay_max_bytes(options.max_replay_bytes)
+        .with_recordings(recordings.clone())
         .with_clinic_name(config.clinic_name.clone())
         .with_fhir_base(fhir_base);
     let (stop_web, web_task) = spawn_console(clinic, web_listener, state, web_limits)?;
@@ -386,7 +400,7 @@ pub async fn serve(
     let mut revocation = tokio::time::interval(REVOCATION_POLL);
     let mut sweep = tokio::time::interval(crate::uploads::PARTIAL_UPLOAD_SWEEP);
     let mut housekeeping = tokio::time::interval(HOUSEKEEPING);
-    let recordings = clinic.dir().join("recordings");
+    let staging = recordings.staging_dir().to_owned();
     let mailer = tokio::spawn(crate::pain_mail::run(
         db.clone(),
         care.clone(),
@@ -402,7 +416,7 @@ pub async fn serve(
                 }
             }
             _ = housekeeping.tick() => housekeep(&db, unix_ms(&options.clock)).await,
-            _ = sweep.tick() => expire_partial_uploads(recordings.clone()).await,
+            _ = sweep.tick() => expire_partial_uploads(staging.clone()).await,
             Ok(regimen) = prescriptions.recv() => push_regimen(&server, &db, &regimen).await,
             Ok(patient) = clearances.recv() => push_care_to_patient(&server, &db, &care, &patient).await,
             Some(event) = events.recv() => {
@@ -708,6 +722,7 @@ mod tests {
             database: String::new(),
             clinic_name: None,
             fhir_base: None,
+            recordings: None,
         };
         assert_eq!(
             config.fhir_base().unwrap().to_string(),

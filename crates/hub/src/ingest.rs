@@ -69,8 +69,8 @@ async fn group_commit(db: Db, mut rx: mpsc::Receiver<Pending>, clock: clock::Clo
 /// The database as the station link's store, and the pairing authority.
 pub struct DbStore {
     db: Db,
-    /// `DATA/recordings`: uploaded recordings, `<station>/<session>.mcap`.
-    recordings: std::path::PathBuf,
+    /// Where uploaded recordings are kept (the data directory or an S3 store).
+    recordings: crate::recordings::RecordingStore,
     writer: mpsc::Sender<Pending>,
     ca: ClinicCa,
     /// The name on the hub's certificate, given to paired stations.
@@ -123,7 +123,7 @@ impl DbStore {
         db: Db,
         ca: ClinicCa,
         server_name: String,
-        recordings: std::path::PathBuf,
+        recordings: crate::recordings::RecordingStore,
         clock: clock::Clock,
     ) -> Self {
         let (writer, rx) = mpsc::channel(4 * MAX_BATCH);
@@ -357,11 +357,40 @@ impl HubStore for DbStore {
 
     fn recording_path(&self, hello: &Hello) -> Option<std::path::PathBuf> {
         // Identifiers were checked by the codec and admitted by `admit`: safe path components.
+        // Where the upload grows on this hub's disk; the store keeps it once whole.
         Some(
             self.recordings
-                .join(&hello.station_id)
-                .join(format!("{}.mcap", hello.session_id)),
+                .staging_path(&hello.station_id, &hello.session_id),
         )
+    }
+
+    fn recording_held<'a>(
+        &'a self,
+        hello: &'a Hello,
+        path: &'a std::path::Path,
+    ) -> BoxFuture<'a, Result<Option<(u64, String)>, NetlinkError>> {
+        let _ = path;
+        Box::pin(async move {
+            self.recordings
+                .held(&hello.station_id, &hello.session_id)
+                .await
+                .map_err(storage_error)
+        })
+    }
+
+    fn keep_recording<'a>(
+        &'a self,
+        hello: &'a Hello,
+        part: &'a std::path::Path,
+        path: &'a std::path::Path,
+    ) -> BoxFuture<'a, Result<(), NetlinkError>> {
+        let _ = path;
+        Box::pin(async move {
+            self.recordings
+                .keep(&hello.station_id, &hello.session_id, part)
+                .await
+                .map_err(storage_error)
+        })
     }
 
     fn recording_stored<'a>(
@@ -371,6 +400,8 @@ impl HubStore for DbStore {
         size_bytes: u64,
         path: &'a std::path::Path,
     ) -> BoxFuture<'a, Result<(), NetlinkError>> {
+        // Recorded where the store keeps it (`path` is only where it grew).
+        let _ = path;
         Box::pin(async move {
             let known = self
                 .db
@@ -399,7 +430,9 @@ impl HubStore for DbStore {
                 sha256: sha256.to_owned(),
                 size_bytes: i64::try_from(size_bytes).unwrap_or(i64::MAX),
                 received_bytes: i64::try_from(size_bytes).unwrap_or(i64::MAX),
-                path: path.display().to_string(),
+                path: self
+                    .recordings
+                    .location(&hello.station_id, &hello.session_id),
                 complete: true,
             };
             self.db
@@ -533,6 +566,23 @@ impl HubStore for Ingest {
         path: &'a std::path::Path,
     ) -> BoxFuture<'a, Result<(), NetlinkError>> {
         self.0.recording_stored(hello, sha256, size_bytes, path)
+    }
+
+    fn recording_held<'a>(
+        &'a self,
+        hello: &'a Hello,
+        path: &'a std::path::Path,
+    ) -> BoxFuture<'a, Result<Option<(u64, String)>, NetlinkError>> {
+        self.0.recording_held(hello, path)
+    }
+
+    fn keep_recording<'a>(
+        &'a self,
+        hello: &'a Hello,
+        part: &'a std::path::Path,
+        path: &'a std::path::Path,
+    ) -> BoxFuture<'a, Result<(), NetlinkError>> {
+        self.0.keep_recording(hello, part, path)
     }
 
     fn pairing(&self) -> Option<Arc<dyn PairingAuthority>> {

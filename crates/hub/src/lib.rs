@@ -2,8 +2,8 @@
 //! ([`db`], SQLite or PostgreSQL through one code path) and the HTTPS JSON API of the
 //! therapist console ([`web`]); the station link's store and pairing authority ([`ingest`]);
 //! a clinic's data directory, `hub init` and `hub serve` ([`clinic`]); what `hub patient …`
-//! does to the database ([`patients`]); partial uploads
-//! expired ([`uploads`]); the load generator of `hub bench` ([`bench`](mod@bench)); the
+//! does to the database ([`patients`]); where recordings are kept, the data directory or an
+//! S3-compatible store ([`recordings`]); partial uploads expired ([`uploads`]); the load generator of `hub bench` ([`bench`](mod@bench)); the
 //! crate's errors ([`HubError`], [`PairRefusal`], module `error`).
 //!
 //! Layering (DESIGN.md): this crate uses `netlink`'s frame types and never the station's
@@ -23,6 +23,7 @@ pub mod news;
 pub mod pain_mail;
 pub mod patient_data;
 pub mod patients;
+pub mod recordings;
 pub mod refusal;
 mod sheet_words;
 pub mod thresholds;

@@ -6,7 +6,8 @@
 //! covered: every row of a table with a `patient_id` column of theirs, a `session_id` of one of
 //! their sessions or a `station_id` of one of their stations; the patient's own row; the audit
 //! entries whose target is one of those identifiers or whose actor is one of their stations;
-//! and the recording files of their stations (`recordings/<station>/`).
+//! and the recording files of their stations (`<station>/` in the recording store, local or S3,
+//! and the station's partial uploads on this hub).
 //!
 //! The export (`.tar.zst`): `patient.json` (every such row, by table, each as an object of its
 //! columns) and `recordings/<station>/<file>` byte for byte.
@@ -21,6 +22,7 @@ use sqlx::{Column, Row};
 use crate::clinic::Clinic;
 use crate::db::{Backend, Db, Patient};
 use crate::error::HubError;
+use crate::recordings::{RecordingStore, StoredFile};
 
 /// The export's format, in `patient.json`.
 pub const EXPORT_FORMAT: u32 = 1;
@@ -260,38 +262,22 @@ async fn write_rows(
     Ok(counts)
 }
 
-/// The recording files of the patient's stations (finished and partial), sorted.
-fn recording_files(clinic: &Clinic, s: &Scope) -> Result<Vec<std::path::PathBuf>, HubError> {
+/// The recording files of the patient's stations (finished and partial), sorted: from the
+/// recording store ([`crate::recordings`]) and the hub's partial uploads.
+async fn recording_files(store: &RecordingStore, s: &Scope) -> Result<Vec<StoredFile>, HubError> {
     let mut files = Vec::new();
     for station in &s.stations {
-        let dir = clinic.dir().join("recordings").join(station);
-        let entries = match std::fs::read_dir(&dir) {
-            Ok(e) => e,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => continue,
-            Err(e) => return Err(HubError::io(format!("listing {}", dir.display()), e)),
-        };
-        for e in entries {
-            let p = e
-                .map_err(|e| HubError::io(format!("listing {}", dir.display()), e))?
-                .path();
-            if p.is_file() {
-                files.push(p);
-            }
-        }
+        files.extend(store.station_files(station).await?);
     }
-    files.sort();
+    files.sort_by(|a, b| a.name.cmp(&b.name));
     Ok(files)
 }
 
-fn covered(rows: BTreeMap<String, usize>, files: &[std::path::PathBuf]) -> Covered {
+fn covered(rows: BTreeMap<String, usize>, files: &[StoredFile]) -> Covered {
     Covered {
         rows,
         recording_files: files.len(),
-        recording_bytes: files
-            .iter()
-            .filter_map(|p| std::fs::metadata(p).ok())
-            .map(|m| m.len())
-            .sum(),
+        recording_bytes: files.iter().map(|f| f.size).sum(),
     }
 }
 
@@ -304,7 +290,8 @@ pub async fn export(
     now_ms: i64,
 ) -> Result<Covered, HubError> {
     let s = scope(db, pseudonym).await?;
-    let files = recording_files(clinic, &s)?;
+    let store = clinic.recordings()?;
+    let files = recording_files(&store, &s).await?;
     let werr = |e| HubError::io(format!("writing {}", out.display()), e);
     let file = std::fs::OpenOptions::new()
         .write(true)
@@ -339,10 +326,15 @@ pub async fn export(
     let mut tar = tar::Builder::new(zstd::Encoder::new(file, 3).map_err(werr)?);
     tar.append_path_with_name(json.path(), "patient.json")
         .map_err(werr)?;
-    let base = clinic.dir();
     for f in &files {
-        let name = f.strip_prefix(base).unwrap_or(f);
-        tar.append_path_with_name(f, name).map_err(werr)?;
+        // Streamed from the store (bounded memory whatever the recording's size).
+        let mut header = tar::Header::new_gnu();
+        header.set_size(f.size);
+        header.set_mode(0o600);
+        header.set_cksum();
+        let reader = store.read(f)?;
+        tar.append_data(&mut header, format!("recordings/{}", f.name), reader)
+            .map_err(werr)?;
     }
     let mut done = tar.into_inner().map_err(werr)?.finish().map_err(werr)?;
     done.flush().map_err(werr)?;
@@ -381,7 +373,8 @@ pub async fn erase(
         // connections: give it two before their rows go (an unknown station is refused too).
         tokio::time::sleep(2 * crate::ingest::REVOCATION_POLL).await;
     }
-    let files = recording_files(clinic, &s)?;
+    let store = clinic.recordings()?;
+    let files = recording_files(&store, &s).await?;
     let what = covered(row_counts(db, &s).await?, &files);
     let mut tx = db
         .pool()
@@ -410,13 +403,7 @@ pub async fn erase(
         .await
         .map_err(HubError::db("committing the erasure"))?;
     for station in &s.stations {
-        let dir = clinic.dir().join("recordings").join(station);
-        match std::fs::remove_dir_all(&dir) {
-            Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
-                return Err(HubError::io(format!("removing {}", dir.display()), e));
-            }
-            _ => {}
-        }
+        store.erase_station(station).await?;
     }
     db.audit(
         "cli",

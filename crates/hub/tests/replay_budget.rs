@@ -141,7 +141,11 @@ async fn session_with(f: &Fixture, name: &str, bytes: &[u8]) -> String {
     f.db.open_session(&common::hello(&station, &patient.id, &session), T0)
         .await
         .unwrap();
-    let path = f.dir.as_ref().unwrap().path().join(format!("{name}.mcap"));
+    let store =
+        hub::recordings::RecordingStore::local(f.dir.as_ref().unwrap().path().join("recordings"))
+            .unwrap();
+    let path = store.staging_path(&station, &session);
+    std::fs::create_dir_all(path.parent().unwrap()).unwrap();
     std::fs::write(&path, bytes).unwrap();
     f.db.put_recording(&hub::db::Recording {
         session_id: session.clone(),

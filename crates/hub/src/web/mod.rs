@@ -81,6 +81,8 @@ pub struct AppState {
     /// Open live streams per login (by token hash) and per therapist, for
     /// [`MAX_LIVE_STREAMS_PER_LOGIN`] and [`MAX_LIVE_STREAMS_PER_ACCOUNT`].
     pub live_streams: live::StreamCounts,
+    /// Where the recordings are kept (`None`: this console replays none).
+    pub recordings: Option<crate::recordings::RecordingStore>,
     /// Largest recording file replayed, bytes.
     pub replay_max_bytes: u64,
     /// Replays being prepared, per hub and per therapist.
@@ -112,6 +114,7 @@ impl AppState {
             login_ttl_ms: DEFAULT_LOGIN_TTL_MS,
             prescribed: None,
             live_streams: live::StreamCounts::default(),
+            recordings: None,
             replay_max_bytes: DEFAULT_MAX_REPLAY_BYTES,
             replay_turns: Arc::default(),
             replay_cpu_s: DEFAULT_REPLAY_CPU_S,
@@ -151,6 +154,12 @@ impl AppState {
                 .unwrap_or_else(|| record::CostLimits::for_files_up_to(self.replay_max_bytes)),
             cpu_s: self.replay_cpu_s,
         }
+    }
+
+    /// The same state replaying the recordings `store` keeps.
+    pub fn with_recordings(mut self, store: crate::recordings::RecordingStore) -> Self {
+        self.recordings = Some(store);
+        self
     }
 
     /// The same state replaying recording files of at most `bytes`.

@@ -258,13 +258,16 @@ pub(crate) struct ReplayBudget {
 /// The stream of `path`'s ticks for a replay, once its survey is within `budget`'s limits;
 /// its reading asks `stop` and the CPU budget as it goes. The reason in plain words otherwise.
 fn open_replay(
-    path: &std::path::Path,
+    recording: (&crate::recordings::RecordingStore, &str, &str),
     budget: ReplayBudget,
     stop: Arc<AtomicBool>,
-) -> Result<record::TickStream<std::io::BufReader<std::fs::File>>, String> {
+) -> Result<record::TickStream<std::io::BufReader<Box<dyn crate::recordings::ReadSeek>>>, String> {
     use std::io::Seek;
     let started_s = thread_cpu_s();
-    let file = std::fs::File::open(path).map_err(|e| format!("it cannot be read: {e}"))?;
+    let (store, station, session) = recording;
+    let file = store
+        .open_reader(station, session)
+        .map_err(|e| format!("it cannot be read: {e}"))?;
     let mut input = std::io::BufReader::with_capacity(64 << 10, file);
     let survey =
         record::survey(&mut input, budget.limits.max_records).map_err(|e| e.to_string())?;
@@ -323,18 +326,23 @@ pub(crate) async fn replay(
     state
         .audit(&therapist.actor(), "read_replay", &session.session_id, "")
         .await?;
-    let path = std::path::PathBuf::from(&recording.path);
-    // Off the async workers, and a file that cannot be read is refused, not taken as empty.
-    let size = tokio::fs::metadata(&path)
+    // A recording the store cannot give is refused, not taken as empty.
+    let unreadable = |e: String| {
+        tracing::warn!(session = %session.session_id, "replay file unreadable: {e}");
+        ApiError::Unprocessable(Why::new(Code::RecordingUnreadable).says(format!(
+            "the recording of session {:?} cannot be read on the hub",
+            session.session_id
+        )))
+    };
+    let store = state
+        .recordings
+        .clone()
+        .ok_or_else(|| unreadable("this console has no recording store".into()))?;
+    let size = store
+        .size(&session.station_id, &session.session_id)
         .await
-        .map_err(|e| {
-            tracing::warn!(session = %session.session_id, "replay file unreadable: {e}");
-            ApiError::Unprocessable(Why::new(Code::RecordingUnreadable).says(format!(
-                "the recording of session {:?} cannot be read on the hub",
-                session.session_id
-            )))
-        })?
-        .len();
+        .map_err(|e| unreadable(e.to_string()))?
+        .ok_or_else(|| unreadable(format!("{} is not in the store", recording.path)))?;
     if size > state.replay_max_bytes {
         let why = Why::new(Code::RecordingTooLarge)
             .with("mb", size >> 20)
@@ -376,6 +384,7 @@ pub(crate) async fn replay(
     let (tx, rx) = tokio::sync::mpsc::channel::<Result<Vec<u8>, std::io::Error>>(4);
     let (opened_tx, opened_rx) = tokio::sync::oneshot::channel::<Result<(), String>>();
     let sid = session.session_id.clone();
+    let station = session.station_id.clone();
     let runtime = tokio::runtime::Handle::current();
     let stall = std::time::Duration::from_secs(REPLAY_STALL_S);
     // The turn and the therapist's claim belong to the work: they are given back when it
@@ -384,7 +393,7 @@ pub(crate) async fn replay(
     // follow as they are decoded.
     tokio::task::spawn_blocking(move || {
         let started_s = thread_cpu_s();
-        let stream = match open_replay(&path, budget, stop) {
+        let stream = match open_replay((&store, &station, &sid), budget, stop) {
             Ok(stream) => stream,
             Err(reason) => {
                 // The work has ended: its turns come back before the refusal is answered.

@@ -62,7 +62,13 @@ impl Fixture {
         let p_bob = db.add_patient("p-bob-1", Some(&bob.id), T0).await.unwrap();
         let (live, _) = broadcast::channel(256);
         let (now, clock) = super::clock_at(T0);
-        let state = state(AppState::new(db.clone(), live.clone()).with_clock(now));
+        let mut base = AppState::new(db.clone(), live.clone()).with_clock(now);
+        if let Some(dir) = &dir {
+            // Recordings kept as `hub serve` keeps them by default: `<dir>/recordings`.
+            let store = hub::recordings::RecordingStore::local(dir.path().join("recordings"));
+            base = base.with_recordings(store.unwrap());
+        }
+        let state = state(base);
         let turns = Arc::clone(&state.replay_turns);
         Self {
             app: web::router(state),

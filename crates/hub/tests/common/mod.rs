@@ -5,6 +5,7 @@
 
 pub mod api;
 pub mod fixture;
+pub mod s3;
 
 use hub::Db;
 use sqlx::Connection;

@@ -88,6 +88,53 @@ pub trait HubStore: Send + Sync + 'static {
         None
     }
 
+    /// The size and SHA-256 of the recording of `hello`'s session this hub already stores
+    /// ([`Self::recording_path`] is `path`), `None` when it stores none. Asked before an upload
+    /// begins, so a recording stored once is never taken twice. The default reads the file at
+    /// `path`; a hub keeping recordings elsewhere (object storage) asks its store.
+    fn recording_held<'a>(
+        &'a self,
+        hello: &'a Hello,
+        path: &'a std::path::Path,
+    ) -> BoxFuture<'a, Result<Option<(u64, String)>, NetlinkError>> {
+        let _ = hello;
+        Box::pin(async move {
+            let io = |e| NetlinkError::Io {
+                context: format!("recording check of {}", path.display()),
+                source: e,
+            };
+            if !tokio::fs::try_exists(path).await.map_err(io)? {
+                return Ok(None);
+            }
+            super::upload::file_sha256(path.to_owned())
+                .await
+                .map(Some)
+                .map_err(io)
+        })
+    }
+
+    /// Keeps the verified upload `part` (whole, its SHA-256 the announced one) as the
+    /// recording of `hello`'s session; `path` is [`Self::recording_path`]. It is stored whole or
+    /// not at all: after an error nothing of it may be listed as stored, and `part` must be
+    /// left in place so that the station's next attempt completes it. The default renames
+    /// `part` to `path`; a hub keeping recordings in object storage copies it there.
+    fn keep_recording<'a>(
+        &'a self,
+        hello: &'a Hello,
+        part: &'a std::path::Path,
+        path: &'a std::path::Path,
+    ) -> BoxFuture<'a, Result<(), NetlinkError>> {
+        let _ = hello;
+        Box::pin(async move {
+            tokio::fs::rename(part, path)
+                .await
+                .map_err(|e| NetlinkError::Io {
+                    context: format!("rename of {}", part.display()),
+                    source: e,
+                })
+        })
+    }
+
     /// A recording arrived whole and verified at `path` (also called again when a station
     /// uploads a recording the hub already holds, so a record that failed before is made
     /// then). The station is told `complete` only after this succeeds; an error makes it

@@ -1,7 +1,10 @@
 //! The hub's side of a recording upload (see `UploadStart` in [`crate::frame`]): the file grows
-//! as `<session>.<sha256 prefix>.part` beside where the store keeps recordings, resumes from
-//! its length on the next connection, and becomes `<session>.mcap` only when its SHA-256 is the
-//! one announced.
+//! as `<session>.<sha256 prefix>.part` on the receiving hub's disk (beside
+//! [`super::HubStore::recording_path`]), resumes from its length on the next connection to the
+//! same hub, and is handed to the store ([`super::HubStore::keep_recording`]: a rename, or a
+//! copy into object storage) only when its SHA-256 is the one announced. A station that
+//! reconnects to another hub starts there from byte 0; the recording is still stored once, under
+//! one name, whichever hub completes it.
 
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -236,10 +239,14 @@ pub(super) async fn start(
             .await
             .map_err(|e| closed("directory", dir, e))?;
     }
-    if tokio::fs::try_exists(&path).await.unwrap_or(false) {
-        let (size, sha) = file_sha256(path.clone())
-            .await
-            .map_err(|e| closed("check of", &path, e))?;
+    let held = hub.store.recording_held(hello, &path).await.map_err(|e| {
+        Failure::Unavailable(format!(
+            "cannot tell whether the recording of session {:?} is stored ({e}); upload it \
+             again later",
+            hello.session_id
+        ))
+    })?;
+    if let Some((size, sha)) = held {
         if sha == start.sha256 && size == start.size_bytes {
             // Held already; recorded again if recording it failed before.
             recorded(hub, hello, &sha, size, &path).await?;
@@ -281,6 +288,11 @@ pub(super) async fn start(
         offset,
         file,
     };
+    if offset == upload.size {
+        // Whole already: an earlier attempt could not keep it (its store failed). Kept now,
+        // without the station sending it again.
+        return Ok((None, finish(hub, hello, upload).await?));
+    }
     Ok((Some(upload), at(hello, offset, false)))
 }
 
@@ -381,9 +393,18 @@ async fn finish(hub: &Hub, hello: &Hello, mut up: Upload) -> Result<UploadAt, Fa
             up.sha256
         )));
     }
-    tokio::fs::rename(&up.part, &up.path)
+    // The verified part stays until the store holds the recording whole: a store that fails
+    // (after its own bounded retries) leaves it for the station's next attempt.
+    hub.store
+        .keep_recording(hello, &up.part, &up.path)
         .await
-        .map_err(|e| closed("rename of", &up.part, e))?;
+        .map_err(|e| {
+            Failure::Unavailable(format!(
+                "recording of session {:?} received whole but not stored ({e}); upload it \
+                 again later",
+                hello.session_id
+            ))
+        })?;
     recorded(hub, hello, &up.sha256, up.size, &up.path).await?;
     Ok(at(hello, size, true))
 }
