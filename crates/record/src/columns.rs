@@ -13,7 +13,7 @@
 
 use super::blocks::{self, BlockError, ColumnValues, Kind, Layout};
 use super::error::ReadError;
-use super::select::{Picked, Selection, Window};
+use super::selection::{Picked, Selection, Window};
 use super::stream::SchemaTable;
 use super::walk::{Message, Rec, Records, StreamLimits};
 use mcap::records::Record;

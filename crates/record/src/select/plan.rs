@@ -9,9 +9,10 @@
 
 use super::decompress::BoundedZstd;
 use super::summary::{self, Index, read_at};
-use super::{Picked, Route, Selected};
+use super::{Route, Selected};
 use crate::columns::{self, ChannelData, Reading, RecordingColumns};
 use crate::error::ReadError;
+use crate::selection::Picked;
 use crate::types::SessionMetadata;
 use crate::walk::{MAX_RECORD_BYTES, Message, StreamLimits};
 use mcap::records::ChunkIndex;
