@@ -1,13 +1,16 @@
 //! Recording bindings (`telerehab.session`): a recording read by the `record` crate's column
 //! reader ([`record::columns`]: the file streamed once, in bounded memory, the GIL released),
-//! its columns handed to numpy without a copy.
+//! or chosen channels over a window of it ([`record::select`]: only the chunks holding them
+//! decompressed, through the file's summary), its columns handed to numpy without a copy; and
+//! what a recording holds, from its summary ([`record::select::info`]).
 
 use numpy::{PyArray1, PyArrayMethods};
-use pyo3::exceptions::{PyFileNotFoundError, PyOSError};
+use pyo3::exceptions::{PyFileNotFoundError, PyKeyError, PyOSError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyList};
 use record::columns::{ChannelData, ColumnData, Values, read_columns_path};
-use record::{ReadError, StreamLimits};
+use record::select::{RecordingInfo, recording_info_path};
+use record::{ReadError, Selection, StreamLimits, read_selected_path};
 use std::path::PathBuf;
 
 use crate::check::value_error;
@@ -15,6 +18,7 @@ use crate::check::value_error;
 /// Add the recording functions to the native module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(session_read, m)?)?;
+    m.add_function(wrap_pyfunction!(session_info, m)?)?;
     Ok(())
 }
 
@@ -30,6 +34,8 @@ fn read_error(path: &str, e: ReadError) -> PyErr {
         ReadError::NoMetadata => value_error(format!(
             "{path} has no 'session' metadata record: not a telerehab recording"
         )),
+        e @ ReadError::NoSuchChannel { .. } => PyKeyError::new_err(format!("{path}: {e}")),
+        e @ ReadError::BadSelection(_) => value_error(format!("{path}: {e}")),
         e => value_error(format!(
             "{path} is not a readable telerehab recording (a killed session's file: run \
              `telerehab recover` on it): {e}"
@@ -65,16 +71,34 @@ fn column<'py>(py: Python<'py>, c: ColumnData) -> PyResult<Bound<'py, PyAny>> {
     }
 }
 
-/// The recording at `path`: `(metadata, columns, units, json)` — the `session` metadata
-/// record; each high-rate channel's columns and their descriptions (unit included), by topic
-/// and field; each low-rate channel's `(schema, messages)` as JSON bytes. See
-/// `telerehab.session.read`.
+/// The recording at `path` (its `channels` over `[start_s, end_s)` of session time, when
+/// given): `(metadata, columns, units, json)` — the `session` metadata record; each high-rate
+/// channel's columns and their descriptions (unit included), by topic and field; each low-rate
+/// channel's `(schema, messages)` as JSON bytes. See `telerehab.session.read`.
 #[pyfunction]
-#[pyo3(signature = (path))]
-fn session_read<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyAny>> {
+#[pyo3(signature = (path, channels=None, start_s=None, end_s=None))]
+fn session_read<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    channels: Option<Vec<String>>,
+    start_s: Option<f64>,
+    end_s: Option<f64>,
+) -> PyResult<Bound<'py, PyAny>> {
     let shown = path.display().to_string();
+    let selection = Selection {
+        topics: channels,
+        start_s,
+        end_s,
+    };
+    let limits = StreamLimits::default();
     let read = py
-        .detach(|| read_columns_path(&path, StreamLimits::default()))
+        .detach(|| {
+            if selection == Selection::default() {
+                read_columns_path(&path, limits)
+            } else {
+                read_selected_path(&path, limits, &selection).map(|s| s.columns)
+            }
+        })
         .map_err(|e| read_error(&shown, e))?;
     let columns = PyDict::new(py);
     let units = PyDict::new(py);
@@ -99,6 +123,30 @@ fn session_read<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyAn
         }
     }
     Ok((read.metadata, columns, units, json)
+        .into_pyobject(py)?
+        .into_any())
+}
+
+/// What the recording at `path` holds, from its summary (walked when it has none):
+/// `(metadata, chunks, indexed, channels)`, each channel `(topic, encoding, schema, readable,
+/// messages, first_s, last_s)`. See `telerehab.session.info`.
+#[pyfunction]
+#[pyo3(signature = (path))]
+fn session_info<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyAny>> {
+    let shown = path.display().to_string();
+    let info: RecordingInfo = py
+        .detach(|| recording_info_path(&path, StreamLimits::default()))
+        .map_err(|e| read_error(&shown, e))?;
+    let channels = info
+        .channels
+        .into_iter()
+        .map(|c| {
+            (
+                c.topic, c.encoding, c.schema, c.readable, c.messages, c.first_s, c.last_s,
+            )
+        })
+        .collect::<Vec<_>>();
+    Ok((info.metadata, info.chunks, info.indexed, channels)
         .into_pyobject(py)?
         .into_any())
 }

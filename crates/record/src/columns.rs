@@ -13,10 +13,11 @@
 
 use super::blocks::{self, BlockError, ColumnValues, Kind, Layout};
 use super::error::ReadError;
+use super::selection::{Picked, Selection, Window};
 use super::stream::SchemaTable;
 use super::walk::{Message, Rec, Records, StreamLimits};
 use mcap::records::Record;
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::io::Read;
 use std::path::Path;
 
@@ -143,7 +144,7 @@ impl ColumnData {
 }
 
 /// How one channel id of the file is read.
-enum Reading {
+pub(crate) enum Reading {
     /// Into the block columns of channel `index` of the output.
     Blocks(Box<Layout>, usize),
     /// Its messages kept, in channel `index` of the output.
@@ -164,25 +165,42 @@ pub fn read_columns_path(path: &Path, limits: StreamLimits) -> Result<RecordingC
 /// where the streaming reader fails ([`super::TickStream`]): a file cut short (a killed
 /// session's, before `telerehab recover`) among them.
 pub fn read_columns(input: impl Read, limits: StreamLimits) -> Result<RecordingColumns, ReadError> {
+    let all = Selection::default().checked()?;
+    read_picked(input, limits, &all).map(|(columns, _)| columns)
+}
+
+/// [`read_columns`] of the channels and window `picked` only (the others skipped unparsed, the
+/// samples outside the window dropped); also returns the chunks walked. Fails, after the
+/// walk, on a topic asked for that the file has no readable channel of.
+pub(crate) fn read_picked(
+    input: impl Read,
+    limits: StreamLimits,
+    picked: &Picked,
+) -> Result<(RecordingColumns, u64), ReadError> {
     let mut records = Records::new(input, limits);
     let mut out = RecordingColumns::default();
     let mut schemas = SchemaTable::default();
     let mut reading: BTreeMap<u16, Reading> = BTreeMap::new();
+    let mut readable = BTreeSet::new();
     let mut metadata = None;
+    let window = &picked.window;
     loop {
         let (record, chunk) = match records.next()? {
             Rec::End => break,
             Rec::Other => continue,
             Rec::Message(m) => {
-                message(&mut out, &reading, &m, limits.max_message_bytes)?;
+                message(&mut out, &reading, &m, limits.max_message_bytes, window)?;
                 continue;
             }
             Rec::Record(record, chunk) => (record, chunk),
         };
         match record {
             Record::Schema { header, data } => schemas.keep(header, data.into_owned(), chunk)?,
-            Record::Channel(c) => {
-                if let Some(r) = channel(&mut out, &c, &schemas)? {
+            Record::Channel(c) if readable_channel(&c) => {
+                readable.insert(c.topic.clone());
+                if picked.wants(&c.topic)
+                    && let Some(r) = channel(&mut out, &c, &schemas)?
+                {
                     reading.insert(c.id, r);
                 }
             }
@@ -191,7 +209,8 @@ pub fn read_columns(input: impl Read, limits: StreamLimits) -> Result<RecordingC
         }
     }
     out.metadata = metadata.ok_or(ReadError::NoMetadata)?;
-    Ok(out)
+    picked.missing(&readable)?;
+    Ok((out, records.chunks()))
 }
 
 /// The name of the session metadata record.
@@ -199,8 +218,18 @@ fn record_name() -> &'static str {
     super::SessionMetadata::NAME
 }
 
+/// Whether channel `c` is one this reader reads: blocks of columns, or JSON.
+pub(crate) fn readable_channel(c: &mcap::records::Channel) -> bool {
+    is_blocks(c) || c.message_encoding == super::channels::MESSAGE_ENCODING
+}
+
+/// Whether channel `c` holds blocks of columns ([`super::blocks`]).
+fn is_blocks(c: &mcap::records::Channel) -> bool {
+    c.message_encoding == blocks::ENCODING && c.metadata.contains_key(blocks::COLUMNS_KEY)
+}
+
 /// How channel `c` is read (`None`: skipped), its output channel made on first sight.
-fn channel(
+pub(crate) fn channel(
     out: &mut RecordingColumns,
     c: &mcap::records::Channel,
     schemas: &SchemaTable,
@@ -218,7 +247,7 @@ fn channel(
         index: usize::MAX,
         source,
     };
-    if c.message_encoding == blocks::ENCODING && c.metadata.contains_key(blocks::COLUMNS_KEY) {
+    if is_blocks(c) {
         let layout = Layout::from_file(&name, &schema, &c.metadata).map_err(layout_error)?;
         let columns: Vec<ColumnData> = layout.columns().iter().map(ColumnData::new).collect();
         let index = match index {
@@ -271,45 +300,123 @@ fn same_columns(a: &[ColumnData], b: &[ColumnData]) -> bool {
         })
 }
 
-/// Reads one message record (`m`) into its channel's columns or messages.
-fn message(
+/// Reads one message record (`m`) into its channel's columns or messages, keeping the samples
+/// in `window`; returns the session time of the message's first sample, ns, when it was read
+/// under a window (`None` otherwise, and for a channel not read).
+pub(crate) fn message(
     out: &mut RecordingColumns,
     reading: &BTreeMap<u16, Reading>,
     m: &Message<'_>,
     max_message_bytes: usize,
-) -> Result<(), ReadError> {
+    window: &Window,
+) -> Result<Option<u64>, ReadError> {
     let Some(r) = reading.get(&m.header.channel_id) else {
-        return Ok(());
+        return Ok(None);
     };
     let index = match r {
         Reading::Blocks(_, i) | Reading::Json(i) => *i,
     };
     let (topic, channel) = &mut out.channels[index];
     let body = m.data_within(topic, max_message_bytes)?;
+    let ours = super::Channel::from_topic(topic).map_or("", |c| c.topic());
     match (r, channel) {
-        (Reading::Json(_), ChannelData::Json { messages, .. }) => messages.push(body.to_vec()),
+        (Reading::Json(_), ChannelData::Json { messages, .. }) => {
+            if window.is_all() {
+                messages.push(body.to_vec());
+                return Ok(None);
+            }
+            let stamp: JsonStamp =
+                serde_json::from_slice(body).map_err(|source| ReadError::Decode {
+                    topic: ours,
+                    index: messages.len(),
+                    source,
+                })?;
+            if window.holds(stamp.t_s) {
+                messages.push(body.to_vec());
+            }
+            Ok(Some((stamp.t_s * 1e9).round() as u64))
+        }
         (Reading::Blocks(layout, _), ChannelData::Columns(columns)) => {
             let first = match columns.first().map(|c| &c.values) {
                 Some(Values::U64(v)) => v.len(),
                 _ => 0,
             };
-            let mut at = columns.iter_mut();
+            let block_error = |source| ReadError::Block {
+                topic: ours,
+                index: first,
+                source,
+            };
+            if window.is_all() {
+                let mut at = columns.iter_mut();
+                layout
+                    .decode_columns(body, |c, values| {
+                        if let Some(col) = at.next() {
+                            col.extend(c, values);
+                        }
+                        Ok(())
+                    })
+                    .map_err(block_error)?;
+                return Ok(None);
+            }
+            let mut decoded = Vec::with_capacity(columns.len());
             layout
-                .decode_columns(body, |c, values| {
-                    if let Some(col) = at.next() {
-                        col.extend(c, values);
-                    }
+                .decode_columns(body, |_, values| {
+                    decoded.push(values);
                     Ok(())
                 })
-                .map_err(|source| ReadError::Block {
-                    topic: super::Channel::from_topic(topic).map_or("", |c| c.topic()),
-                    index: first,
-                    source,
-                })?;
+                .map_err(block_error)?;
+            let described = layout.columns();
+            let stamps = described.iter().zip(&decoded).find_map(|(c, v)| match v {
+                ColumnValues::Stored(v) if c.kind == Kind::Int && c.name == "t_ns" => Some(v),
+                _ => None,
+            });
+            let Some(stamps) = stamps else {
+                let why = BlockError::Decode("a block without its t_ns column".into());
+                return Err(block_error(why));
+            };
+            let first_ns = stamps.first().map(|&q| q as u64);
+            let keep: Vec<bool> = stamps
+                .iter()
+                .map(|&q| window.holds(q as u64 as f64 * 1e-9))
+                .collect();
+            let all = keep.iter().all(|&k| k);
+            if all || keep.iter().any(|&k| k) {
+                for ((col, c), values) in columns.iter_mut().zip(described).zip(decoded) {
+                    let values = if all {
+                        values
+                    } else {
+                        keep_rows(values, &keep, c.elements)
+                    };
+                    col.extend(c, values);
+                }
+            }
+            Ok(first_ns)
         }
-        _ => {}
+        _ => Ok(None),
     }
-    Ok(())
+}
+
+/// The stamp of a JSON message ([`super::Stamped`]): its session time, s.
+#[derive(serde::Deserialize)]
+struct JsonStamp {
+    t_s: f64,
+}
+
+/// The values of the rows `keep` marks (`elements` values a row).
+fn keep_rows(values: ColumnValues, keep: &[bool], elements: usize) -> ColumnValues {
+    fn kept<T>(v: Vec<T>, keep: &[bool], elements: usize) -> Vec<T> {
+        let per_row = elements.max(1);
+        v.into_iter()
+            .enumerate()
+            .filter(|(i, _)| keep[i / per_row])
+            .map(|(_, x)| x)
+            .collect()
+    }
+    match values {
+        ColumnValues::Stored(v) => ColumnValues::Stored(kept(v, keep, elements)),
+        ColumnValues::Bools(v) => ColumnValues::Bools(kept(v, keep, elements)),
+        ColumnValues::Texts(v) => ColumnValues::Texts(kept(v, keep, elements)),
+    }
 }
 
 #[cfg(test)]

@@ -81,4 +81,16 @@ pub enum ReadError {
     /// The session metadata record is incomplete or malformed.
     #[error(transparent)]
     Metadata(#[from] MetadataError),
+    /// A channel asked for ([`super::select::Selection`]) that the recording does not have.
+    #[error("the recording has no channel {topic} (it has {})", present.join(", "))]
+    NoSuchChannel {
+        /// The topic asked for.
+        topic: String,
+        /// The topics it has, readable ones only.
+        present: Vec<String>,
+    },
+    /// A selection that cannot be read ([`super::select::Selection`]): a start after the
+    /// end, a time that is not a number, no channel named.
+    #[error("cannot read that part of the recording: {0}")]
+    BadSelection(String),
 }

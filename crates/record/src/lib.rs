@@ -21,6 +21,11 @@
 //!   [`stream`]: [`TickStream`], ticks one at a time in bounded memory (untrusted or long files).
 //! - [`walk`]: the one walk over a file's records that every reader above stands on, with
 //!   the one record limit ([`MAX_RECORD_BYTES`]) and the length checks before any parse.
+//! - [`selection`]: what to read of a recording ([`Selection`]: channels, a span of session
+//!   time), honoured by [`columns`] and [`select`].
+//! - [`select`]: chosen channels over a span of session time, read through the file's
+//!   summary and indexes without decompressing the rest ([`read_selected`]), and what a file
+//!   holds from its summary alone ([`select::recording_info`]).
 //! - [`cost`]: what reading a file will cost, from its record headers, before it is read.
 //! - [`view`]: what the therapist's console draws of a session, live and replayed.
 //!
@@ -52,6 +57,8 @@ pub mod raw;
 pub mod reader;
 pub mod recover;
 pub mod scene;
+pub mod select;
+pub mod selection;
 pub mod stream;
 #[cfg(test)]
 mod tests;
@@ -66,6 +73,8 @@ pub use cost::{CostLimits, Survey, survey};
 pub use error::ReadError;
 pub use raw::{BodyFacts, RawImuSample, RawTick, RawWheelSample};
 pub use reader::{RecordedRows, Recording, Row, recorded_rows};
+pub use select::{Selected, read_selected, read_selected_path};
+pub use selection::Selection;
 pub use stream::TickStream;
 pub use types::{
     ArmCalibrationSample, ArmSample, ArmSetup, AssistSample, ClinicNote, DifficultyNote,

@@ -41,7 +41,7 @@ fn metadata() -> SessionMetadata {
 }
 
 /// A tick with every field set to something distinct (no zero that a default could fake).
-fn tick(n: u64) -> TickRecord {
+pub(crate) fn tick(n: u64) -> TickRecord {
     let x = n as f64 + 0.123_456_789;
     TickRecord {
         tick: n,

@@ -221,6 +221,11 @@ impl<R: Read> Records<R> {
         self
     }
 
+    /// Chunks opened so far.
+    pub(crate) fn chunks(&self) -> u64 {
+        self.chunks
+    }
+
     /// The limits the walk was made with.
     pub(crate) fn limits(&self) -> StreamLimits {
         self.limits
@@ -557,8 +562,9 @@ impl<'a> Fields<'a> {
 
 /// Checks every length inside a record the readers parse (MCAP specification, "Records"),
 /// so parsing it allocates no more than the record's own length; the reason, in words, when
-/// one overruns the record.
-fn check_lengths(opcode: u8, data: &[u8]) -> Result<(), String> {
+/// one overruns the record. The summary's chunk and metadata indexes are checked too (for
+/// [`super::select`], which reads them).
+pub(crate) fn check_lengths(opcode: u8, data: &[u8]) -> Result<(), String> {
     let mut f = Fields::of(opcode, data);
     match opcode {
         op::HEADER => {
@@ -580,6 +586,17 @@ fn check_lengths(opcode: u8, data: &[u8]) -> Result<(), String> {
         op::METADATA => {
             f.prefixed("metadata name")?;
             f.string_map("metadata")?;
+        }
+        op::CHUNK_INDEX => {
+            f.fixed("message times and chunk place", 32)?;
+            f.prefixed("message index offsets")?;
+            f.fixed("message index length", 8)?;
+            f.prefixed("compression")?;
+            f.fixed("chunk sizes", 16)?;
+        }
+        op::METADATA_INDEX => {
+            f.fixed("metadata place", 16)?;
+            f.prefixed("metadata name")?;
         }
         _ => {}
     }

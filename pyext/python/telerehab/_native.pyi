@@ -36,6 +36,7 @@ __all__ = [
     "metrics_speed_metric",
     "metrics_steering_reversals",
     "metrics_step_responses",
+    "session_info",
     "session_read",
 ]
 
@@ -245,9 +246,19 @@ _Column = Union[npt.NDArray[Any], Tuple[npt.NDArray[np.uint32], List[str]]]
 
 def session_read(
     path: Union[str, "os.PathLike[str]"],
+    channels: Optional[List[str]] = None,
+    start_s: Optional[float] = None,
+    end_s: Optional[float] = None,
 ) -> Tuple[
     Dict[str, str],
     Dict[str, Dict[str, _Column]],
     Dict[str, Dict[str, str]],
     Dict[str, Tuple[bytes, List[bytes]]],
 ]: ...
+
+# (topic, encoding, schema, readable, messages, first_s, last_s)
+_ChannelInfoTuple = Tuple[str, str, str, bool, int, Optional[float], Optional[float]]
+
+def session_info(
+    path: Union[str, "os.PathLike[str]"],
+) -> Tuple[Dict[str, str], int, bool, List[_ChannelInfoTuple]]: ...

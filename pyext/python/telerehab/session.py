@@ -2,6 +2,8 @@
 
 >>> s = telerehab.session.read("session.mcap")            # doctest: +SKIP
 >>> s.channels["/wheel"]["angle_rad"]                      # one float64 array per field
+>>> telerehab.session.info("session.mcap").channels        # what it holds, from its summary
+>>> w = telerehab.session.read("session.mcap", channels=["/wheel"], start_s=600.0, end_s=1200.0)
 >>> s.units["/wheel"]["commanded_nm"]                      # 'Torque commanded to the motor …, N·m.'
 >>> s.metrics["sparc_median"], len(s.movements)            # the session's movement measures
 >>> s.frame("/wheel")                                      # a pandas DataFrame, if pandas is installed
@@ -22,7 +24,13 @@ The high-rate channels (``/wheel``, ``/vehicle``, ``/assist``, ``/timing``, ``/a
 delta-coded, quantised column per field, the quantum of each field stated in the file). They
 are decoded by the station's own reader (the Rust crate ``record``, in the native module): the
 file is streamed once, chunk by chunk, with the GIL released, straight into the numpy columns,
-so a read holds little more than the columns it returns. The low-rate channels are JSON.
+so a read holds little more than the columns it returns. A read of chosen ``channels`` over a
+window ``[start_s, end_s)`` of session time goes through the file's summary (MCAP's chunk and
+message indexes): it decompresses only the chunks holding those channels' messages in the
+window and decodes only those messages, so ten minutes of one channel of an hour's recording
+read in a fraction of a second; the columns are those of the whole read, sliced by ``t_s``.
+A file without a summary is read front to back instead, with the same result. The low-rate
+channels are JSON.
 ``/arm/scene`` is the arm as a Foxglove 3-D scene (``foxglove.SceneUpdate``), for Foxglove,
 and is not read here.
 """
@@ -33,14 +41,14 @@ import importlib
 import json
 import os
 from dataclasses import dataclass, field
-from typing import Any, Dict, List, Mapping, Optional, Union
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
 
 from telerehab import _native
 
-__all__ = ["Session", "read"]
+__all__ = ["ChannelInfo", "Info", "Session", "info", "read"]
 
 Column = npt.NDArray[Any]
 
@@ -121,33 +129,110 @@ class Session:
             raise KeyError(f"no channel {topic!r} in {self.path}; it has {sorted(self.channels)}") from None
 
 
-def read(path: Union[str, "os.PathLike[str]"]) -> Session:
-    """Read the station's recording at ``path`` (MCAP).
+def read(
+    path: Union[str, "os.PathLike[str]"],
+    *,
+    channels: Optional[Sequence[str]] = None,
+    start_s: Optional[float] = None,
+    end_s: Optional[float] = None,
+) -> Session:
+    """Read the station's recording at ``path`` (MCAP), or part of it.
 
-    Raises ``FileNotFoundError`` for a missing file and ``ValueError`` naming the path for a
-    file that is not a finished telerehab recording (run ``telerehab recover`` on one a killed
-    session left behind).
+    ``channels``: the topics to read (``["/wheel", "/score"]``; default: every channel).
+    ``start_s``, ``end_s``: the window of session time to read, ``start_s <= t_s < end_s``
+    (default: from the start, to the end). With any of them, only the chunks of the file holding
+    the chosen channels' messages in the window are decompressed (through the file's summary),
+    and the columns are the whole read's, sliced by ``t_s``; every chosen channel is in
+    :attr:`Session.channels`, with empty columns when it has no sample in the window (a
+    low-rate channel then has none). :func:`info` lists the channels and their spans first.
+
+    Raises ``FileNotFoundError`` for a missing file, ``KeyError`` naming a channel the file does
+    not have (and those it has), ``ValueError`` for a window ending before it starts or a time
+    that is NaN, and ``ValueError`` naming the path for a file that is not a finished telerehab
+    recording (run ``telerehab recover`` on one a killed session left behind).
     """
     path = os.fspath(path)
-    metadata, blocks, block_units, json_channels = _native.session_read(path)
-    # A channel the file declares but holds no message of (/vehicle off the road) is left out.
-    channels: Dict[str, Dict[str, Column]] = {
+    if isinstance(channels, str):
+        raise TypeError(f"channels is a list of topics, e.g. [{channels!r}], not a string")
+    chosen = None if channels is None else [str(c) for c in channels]
+    metadata, blocks, block_units, json_channels = _native.session_read(
+        path,
+        chosen,
+        None if start_s is None else float(start_s),
+        None if end_s is None else float(end_s),
+    )
+    # A channel the file declares but holds no message of (/vehicle off the road) is left out,
+    # unless it was chosen.
+    channels_read: Dict[str, Dict[str, Column]] = {
         topic: {name: _text(c) for name, c in cols.items()}
         for topic, cols in blocks.items()
-        if len(cols["t_s"])
+        if len(cols["t_s"]) or chosen is not None
     }
-    units = {topic: block_units[topic] for topic in channels}
+    units = {topic: block_units[topic] for topic in channels_read}
     messages: Dict[str, List[Dict[str, Any]]] = {}
     for topic, (schema, raw) in json_channels.items():
-        if not raw:
+        if not raw and chosen is None:
             continue
         try:
             messages[topic] = [json.loads(m) for m in raw]
         except (json.JSONDecodeError, UnicodeDecodeError) as e:
             raise ValueError(f"{path} is not a readable telerehab recording: {topic}: {e}") from None
-        channels[topic] = _columns(messages[topic])
+        channels_read[topic] = _columns(messages[topic])
         units[topic] = _descriptions(schema)
-    return Session(path=path, metadata=metadata, channels=channels, units=units, messages=messages)
+    return Session(path=path, metadata=metadata, channels=channels_read, units=units, messages=messages)
+
+
+@dataclass(frozen=True)
+class ChannelInfo:
+    """One channel of a recording, from its summary (see :func:`info`).
+
+    ``encoding``: ``protobuf`` (blocks of samples, and the Foxglove scene) or ``json``.
+    ``schema``: its schema's name (``telerehab.Wheel``). ``readable``: whether :func:`read`
+    reads it. ``messages``: its MCAP messages (a block holds up to 100 samples). ``first_s``,
+    ``last_s``: the stamps of its first and last messages, s of session time (``None`` for a
+    channel without messages); a block is stamped with its first sample, so its samples run
+    up to a block's span (at most a second) past ``last_s``.
+    """
+
+    topic: str
+    encoding: str
+    schema: str
+    readable: bool
+    messages: int
+    first_s: Optional[float]
+    last_s: Optional[float]
+
+
+@dataclass(frozen=True)
+class Info:
+    """What a recording holds (see :func:`info`): its ``session`` metadata record, its channels
+    by topic, its chunks, and whether this came from its summary (``indexed``) or a walk over a
+    file without one."""
+
+    path: str
+    metadata: Dict[str, str]
+    channels: Dict[str, ChannelInfo]
+    chunks: int
+    indexed: bool
+
+    @property
+    def end_s(self) -> float:
+        """The stamp of the last message of any channel, s of session time (0 when empty)."""
+        return max((c.last_s for c in self.channels.values() if c.last_s is not None), default=0.0)
+
+
+def info(path: Union[str, "os.PathLike[str]"]) -> Info:
+    """What the recording at ``path`` holds, read from its summary without decompressing its
+    data (a file without a summary, cut short or recovered, is walked instead): its channels,
+    their message counts and the session times of their first and last messages (session time
+    0 is the earliest message stamp: the session's first tick), and its metadata.
+
+    Raises as :func:`read` does for a missing file or one that is not a recording.
+    """
+    path = os.fspath(path)
+    metadata, chunks, indexed, channels = _native.session_info(path)
+    by_topic = {c[0]: ChannelInfo(*c) for c in channels}
+    return Info(path=path, metadata=metadata, channels=by_topic, chunks=chunks, indexed=indexed)
 
 
 def _text(column: Union[Column, "tuple[npt.NDArray[np.uint32], List[str]]"]) -> Column:
