@@ -1,9 +1,11 @@
 //! The station's home directory: its pairing with a clinic's hub (the hub's CA and this
 //! station's own certificate and key), the queue of summaries not yet delivered, and its
-//! recordings. Health data and keys: files 0600 in 0700 directories.
+//! recordings. Health data and keys: the owner's only ([`crate::platform::owner_only`]: files
+//! 0600 in 0700 directories on Linux).
 //!
 //! Where: `--home DIR`, else `$TELEREHAB_HOME`, else `$XDG_CONFIG_HOME/telerehab`, else
-//! `~/.config/telerehab`. Two stations on one machine (and every test) use their own.
+//! `~/.config/telerehab` (on Windows `%APPDATA%\telerehab\config`). Two stations on one
+//! machine (and every test) use their own.
 
 use anyhow::{Context, bail};
 use netlink::pairing::Credential;
@@ -17,7 +19,7 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct HomeArg {
     /// The station's home directory (pairing, queue, recordings); default
-    /// `$XDG_CONFIG_HOME/telerehab` or `~/.config/telerehab`.
+    /// `$XDG_CONFIG_HOME/telerehab` or `~/.config/telerehab` (Windows: `%APPDATA%\telerehab\config`).
     #[arg(long, env = "TELEREHAB_HOME", value_name = "DIR")]
     pub home: Option<PathBuf>,
 }
