@@ -1,8 +1,10 @@
 //! The `telerehab` command line: the clap tree and the dispatch, nothing else. Each
 //! subcommand's arguments and `run()` live in its own file under [`crate::commands`].
 
+#[cfg(unix)]
+use crate::commands::hub;
 use crate::commands::{
-    bench, devices, docs, doctor, hub, pair, recover, render, replay, report, run, start, sync,
+    bench, devices, docs, doctor, pair, recover, render, replay, report, run, start, sync,
     therapist, vehicle, wheel, window_process,
 };
 use crate::version::version;
@@ -68,6 +70,8 @@ pub enum Command {
     /// Measure a real force-feedback wheel and write its profile (`wheel calibrate`).
     Wheel(wheel::WheelArgs),
     /// The clinic's hub: init, serve stations and the console, patients, stations, therapists.
+    /// (Linux only: the hub is a clinic's server.)
+    #[cfg(unix)]
     Hub(hub::HubArgs),
     /// Pair this station with a clinic's hub using the code the clinic gave.
     Pair(pair::PairArgs),
@@ -98,6 +102,7 @@ pub fn dispatch(command: Option<Command>) -> anyhow::Result<()> {
         Command::Vehicle(args) => vehicle::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Wheel(args) => wheel::run(&args),
+        #[cfg(unix)]
         Command::Hub(args) => hub::run(args),
         Command::Pair(args) => pair::run(&args),
         Command::Sync(args) => sync::run(&args),

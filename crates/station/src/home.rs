@@ -1,9 +1,11 @@
 //! The station's home directory: its pairing with a clinic's hub (the hub's CA and this
 //! station's own certificate and key), the queue of summaries not yet delivered, and its
-//! recordings. Health data and keys: files 0600 in 0700 directories.
+//! recordings. Health data and keys: the owner's only ([`crate::platform::owner_only`]: files
+//! 0600 in 0700 directories on Linux).
 //!
 //! Where: `--home DIR`, else `$TELEREHAB_HOME`, else `$XDG_CONFIG_HOME/telerehab`, else
-//! `~/.config/telerehab`. Two stations on one machine (and every test) use their own.
+//! `~/.config/telerehab` (on Windows `%APPDATA%\telerehab\config`). Two stations on one
+//! machine (and every test) use their own.
 
 use anyhow::{Context, bail};
 use netlink::pairing::Credential;
@@ -11,14 +13,13 @@ use netlink::{ClientTls, Identity};
 use serde::{Deserialize, Serialize};
 use std::fs::OpenOptions;
 use std::io::Write;
-use std::os::unix::fs::{DirBuilderExt, OpenOptionsExt, PermissionsExt};
 use std::path::{Path, PathBuf};
 
 /// `--home` (with `TELEREHAB_HOME`), shared by the station's commands.
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct HomeArg {
     /// The station's home directory (pairing, queue, recordings); default
-    /// `$XDG_CONFIG_HOME/telerehab` or `~/.config/telerehab`.
+    /// `$XDG_CONFIG_HOME/telerehab` or `~/.config/telerehab` (Windows: `%APPDATA%\telerehab\config`).
     #[arg(long, env = "TELEREHAB_HOME", value_name = "DIR")]
     pub home: Option<PathBuf>,
 }
@@ -94,28 +95,21 @@ pub fn append_kept(path: &Path, entry: &impl Serialize, keep: usize) -> anyhow::
 /// Writes `bytes` to `path` as a new 0600 file, atomically (temporary file, fsync, rename).
 pub fn write_private(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
     let tmp = path.with_extension("tmp");
-    let mut f = OpenOptions::new()
-        .write(true)
-        .create(true)
-        .truncate(true)
-        .mode(0o600)
-        .open(&tmp)
-        .with_context(|| format!("cannot create {}", tmp.display()))?;
+    let mut f =
+        crate::platform::owner_only(OpenOptions::new().write(true).create(true).truncate(true))
+            .open(&tmp)
+            .with_context(|| format!("cannot create {}", tmp.display()))?;
     f.write_all(bytes)
         .and_then(|()| f.sync_all())
         .with_context(|| format!("cannot write {}", tmp.display()))?;
     std::fs::rename(&tmp, path).with_context(|| format!("cannot write {}", path.display()))
 }
 
-/// Creates `dir` (and parents) as 0700 if missing, and makes it 0700 if it exists.
+/// Creates `dir` (and parents) as its owner's only (0700 on Linux) if missing, and makes it so
+/// if it exists.
 pub fn private_dir(dir: &Path) -> anyhow::Result<()> {
-    std::fs::DirBuilder::new()
-        .recursive(true)
-        .mode(0o700)
-        .create(dir)
-        .with_context(|| format!("cannot create {}", dir.display()))?;
-    std::fs::set_permissions(dir, std::fs::Permissions::from_mode(0o700))
-        .with_context(|| format!("cannot restrict {} to its owner", dir.display()))
+    crate::platform::owner_only_dir(dir)
+        .with_context(|| format!("cannot create {} for its owner only", dir.display()))
 }
 
 impl Home {
@@ -268,12 +262,11 @@ impl Home {
     pub fn check_private(&self) -> anyhow::Result<()> {
         let key = self.pairing_dir().join("station.key");
         if let Ok(meta) = std::fs::metadata(&key)
-            && meta.permissions().mode() & 0o077 != 0
+            && let Some(mode) = crate::platform::open_to_others(&meta)
         {
             bail!(
-                "{} is readable by other users (mode {:o}); run `chmod 600` on it",
+                "{} is readable by other users (mode {mode:o}); run `chmod 600` on it",
                 key.display(),
-                meta.permissions().mode() & 0o777
             );
         }
         Ok(())
@@ -320,8 +313,10 @@ mod tests {
         assert_eq!(read.clinic_note().patient_pseudonym, "");
     }
 
+    #[cfg(unix)]
     #[test]
     fn a_saved_pairing_reads_back_and_its_files_are_private() {
+        use std::os::unix::fs::PermissionsExt;
         let tmp = tempfile::tempdir().unwrap();
         let home = Home::at(tmp.path().join("home"));
         assert_eq!(home.pairing().unwrap(), None);

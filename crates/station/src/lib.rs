@@ -69,6 +69,7 @@ pub mod language;
 pub mod link;
 pub mod logging;
 pub mod messages;
+pub mod platform;
 pub mod readiness;
 pub mod render;
 pub mod report;

@@ -6,6 +6,7 @@
 //!   global allocator counts every allocation made on the thread that runs the loop, over
 //!   real-time sessions in which the wheel is unplugged (and plugged back in, re-opened by its
 //!   identity), falls silent under torque, or reports an angle outside its range.
+#![cfg(target_os = "linux")]
 #[path = "support/counting_alloc.rs"]
 mod counting_alloc;
 

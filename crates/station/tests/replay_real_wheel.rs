@@ -5,6 +5,7 @@
 //! from `/raw/wheel`, every recorded output compared. Also a real wheel unplugged and plugged
 //! back in (issue 17): the session pauses at zero torque, re-opens the wheel by its identity,
 //! resumes with a soft start, says so in its report, and replays bit for bit.
+#![cfg(target_os = "linux")]
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;

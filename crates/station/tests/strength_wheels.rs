@@ -1,6 +1,7 @@
 //! The strength test on every wheel: its spring, ramped up to the ceiling against a rim held
 //! off centre, stays within the ceiling in N·m at the motor of every built-in wheel profile
 //! and of an unknown wheel (capped at 1 N·m), as every other exercise does.
+#![cfg(target_os = "linux")]
 
 use clock::Clock;
 use haptic_wheel::DeviceProfile;

@@ -232,9 +232,11 @@ pub(super) async fn start(
         .ok_or_else(|| Failure::Protocol("this hub does not take recordings".into()))?;
     if let Some(dir) = path.parent() {
         // Health data: directories 0700, files 0600.
-        tokio::fs::DirBuilder::new()
-            .recursive(true)
-            .mode(0o700)
+        let mut builder = tokio::fs::DirBuilder::new();
+        builder.recursive(true);
+        #[cfg(unix)]
+        builder.mode(0o700);
+        builder
             .create(dir)
             .await
             .map_err(|e| closed("directory", dir, e))?;
@@ -262,10 +264,11 @@ pub(super) async fn start(
     if let Some(dir) = path.parent() {
         bound_station_parts(dir, &part, start.size_bytes, limit).await;
     }
-    let file = tokio::fs::OpenOptions::new()
-        .create(true)
-        .append(true)
-        .mode(0o600)
+    let mut options = tokio::fs::OpenOptions::new();
+    options.create(true).append(true);
+    #[cfg(unix)]
+    options.mode(0o600);
+    let file = options
         .open(&part)
         .await
         .map_err(|e| closed("file", &part, e))?;

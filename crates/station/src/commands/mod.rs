@@ -6,8 +6,11 @@ pub mod bench;
 pub mod devices;
 pub mod docs;
 pub mod doctor;
+#[cfg(unix)]
 pub mod hub;
+#[cfg(unix)]
 pub mod hub_chaos;
+#[cfg(unix)]
 pub mod hub_cohort;
 pub mod pair;
 pub mod recover;

@@ -8,7 +8,6 @@
 use anyhow::{Context, bail};
 use record::recover::{Recovered, recover as recover_stream};
 use std::io::{BufReader, BufWriter};
-use std::os::unix::fs::MetadataExt;
 use std::path::{Path, PathBuf};
 
 /// `telerehab recover`.
@@ -43,10 +42,18 @@ pub fn recover(input: &Path, output: &Path) -> anyhow::Result<Recovered> {
     let input_meta = file
         .metadata()
         .with_context(|| format!("cannot read {}", input.display()))?;
+    let input_handle = file
+        .try_clone()
+        .and_then(same_file::Handle::from_file)
+        .with_context(|| format!("cannot read {}", input.display()))?;
     // Never over an existing file: above all not over the input, the only copy of the
-    // session, whatever the spelling of its path (a symlink, `./`, a hard link).
-    if let Ok(out_meta) = std::fs::metadata(output)
-        && (out_meta.dev(), out_meta.ino()) == (input_meta.dev(), input_meta.ino())
+    // session, whatever the spelling of its path (a symlink, `./`, a hard link): the same
+    // device and inode on Linux, the same volume and file index on Windows. (Only a regular
+    // file is opened to compare: opening a FIFO would wait for a writer; anything else that
+    // exists is refused by the rename below.)
+    if std::fs::metadata(output).is_ok_and(|m| m.is_file())
+        && let Ok(out_handle) = same_file::Handle::from_path(output)
+        && out_handle == input_handle
     {
         bail!(
             "cannot create {}: it is the input {} itself (recover never writes over an \
@@ -137,6 +144,7 @@ mod tests {
             .unwrap();
     }
 
+    #[cfg(unix)]
     #[test]
     fn recover_refuses_its_own_input_through_a_symlink_or_another_spelling() {
         let dir = tempfile::tempdir().unwrap();
@@ -163,6 +171,7 @@ mod tests {
         );
     }
 
+    #[cfg(unix)]
     #[test]
     fn recover_refuses_any_existing_file_or_dangling_symlink() {
         let dir = tempfile::tempdir().unwrap();

@@ -10,24 +10,42 @@ use std::future::Future;
 use std::time::Duration;
 
 use anyhow::Context;
-use tokio::signal::unix::{SignalKind, signal};
 
 /// Longest the runtime waits for its blocking tasks (a replay's decoding, a file's hash) once
 /// the server has stopped: they hold nothing that is not already stored.
 pub(crate) const BLOCKING_GRACE: Duration = Duration::from_millis(500);
 
-/// Resolves at the first SIGINT or SIGTERM after this call, with the signal's name.
+/// Resolves at the first SIGINT or SIGTERM after this call (on Windows: Ctrl-C, Ctrl-Break or
+/// the console closing), with the signal's name.
 pub(crate) fn stop_signal() -> anyhow::Result<impl Future<Output = &'static str> + Send> {
-    let mut interrupt =
-        signal(SignalKind::interrupt()).context("cannot install the SIGINT handler")?;
-    let mut terminate =
-        signal(SignalKind::terminate()).context("cannot install the SIGTERM handler")?;
-    Ok(async move {
-        tokio::select! {
-            _ = interrupt.recv() => "SIGINT",
-            _ = terminate.recv() => "SIGTERM",
-        }
-    })
+    #[cfg(unix)]
+    {
+        use tokio::signal::unix::{SignalKind, signal};
+        let mut interrupt =
+            signal(SignalKind::interrupt()).context("cannot install the SIGINT handler")?;
+        let mut terminate =
+            signal(SignalKind::terminate()).context("cannot install the SIGTERM handler")?;
+        Ok(async move {
+            tokio::select! {
+                _ = interrupt.recv() => "SIGINT",
+                _ = terminate.recv() => "SIGTERM",
+            }
+        })
+    }
+    #[cfg(windows)]
+    {
+        use tokio::signal::windows::{ctrl_break, ctrl_c, ctrl_close};
+        let mut interrupt = ctrl_c().context("cannot install the Ctrl-C handler")?;
+        let mut brk = ctrl_break().context("cannot install the Ctrl-Break handler")?;
+        let mut close = ctrl_close().context("cannot install the console-close handler")?;
+        Ok(async move {
+            tokio::select! {
+                _ = interrupt.recv() => "Ctrl-C",
+                _ = brk.recv() => "Ctrl-Break",
+                _ = close.recv() => "console closed",
+            }
+        })
+    }
 }
 
 /// Runs `server` to its end on `runtime`, then shuts the runtime down waiting at most

@@ -113,14 +113,13 @@ pub fn run() -> anyhow::Result<()> {
 /// After the practice: the first-run pages again, in a fresh process image (one window
 /// event loop a process), the scripted wheel read on from where it was.
 fn back_to_the_pages() -> anyhow::Result<()> {
-    use std::os::unix::process::CommandExt;
     tracing::info!("practice over: back to the first-run pages");
     let exe = std::env::current_exe().context("cannot find this program to show its pages")?;
     let mut again = std::process::Command::new(exe);
     if let Some(offset) = wheel_gestures::script_offset() {
         again.env(wheel_gestures::SCRIPT_FROM_ENV, offset.to_string());
     }
-    Err(again.exec()).context("cannot show the first-run pages again")
+    Err(crate::platform::replace_process(again)).context("cannot show the first-run pages again")
 }
 
 /// Pairs in the background and tells the pages how it went.

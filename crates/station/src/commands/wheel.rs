@@ -47,6 +47,7 @@ pub fn run(args: &WheelArgs) -> anyhow::Result<()> {
 }
 
 /// The person at the wheel, on the terminal.
+#[cfg(target_os = "linux")]
 struct Terminal;
 
 #[cfg(target_os = "linux")]

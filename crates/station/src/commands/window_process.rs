@@ -10,14 +10,13 @@ use crate::config::StationConfig;
 use crate::render::ScreenState;
 use crate::render::window::{UserRequest, WindowOptions};
 use crate::screen::{CourseView, WindowState, live_screen_state};
+use crate::session::window::channel::{self, WindowSocket};
 use crate::session::window::wire::{self, EndScreen, FromWindow, Hello, ToWindow};
 use crate::session::{BreakKind, BreakNow};
 use anyhow::Context;
 use record::TickRecord;
 use regimen::Regimen;
 use std::io::Write;
-use std::os::fd::AsFd;
-use std::os::unix::net::UnixStream;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
@@ -71,13 +70,12 @@ pub struct WindowProcessArgs {}
 
 /// Serve the station that started this process on its standard input.
 pub fn run(_args: &WindowProcessArgs) -> anyhow::Result<()> {
-    let fd = std::io::stdin().as_fd().try_clone_to_owned()?;
-    serve(UnixStream::from(fd))
+    serve(channel::connect_to_station().context("the station's socket")?)
 }
 
 /// Serve the station on `socket`: read its [`Hello`], open the window and draw until the
 /// station closes the socket or the patient closes the window.
-fn serve(socket: UnixStream) -> anyhow::Result<()> {
+fn serve(socket: WindowSocket) -> anyhow::Result<()> {
     let mut reader = socket.try_clone().context("the station's socket")?;
     let writer = Mutex::new(socket);
     let hello: Hello = match wire::recv(&mut reader).context("the station's first message")? {
@@ -321,7 +319,7 @@ fn course_view(hello: &Hello) -> anyhow::Result<CourseView> {
 }
 
 /// Keep `latest` up to date with the station's frames until it closes the socket.
-fn read_frames(reader: &mut UnixStream, latest: &Mutex<Latest>, draw: &AtomicBool) {
+fn read_frames(reader: &mut WindowSocket, latest: &Mutex<Latest>, draw: &AtomicBool) {
     loop {
         let frame = wire::recv::<ToWindow>(reader);
         let mut l = latest

@@ -13,7 +13,6 @@ use netlink::{ClientTls, Hello, StationLink, StationLinkConfig, Summary};
 use std::collections::BTreeMap;
 use std::fs::{File, OpenOptions};
 use std::io::Write;
-use std::os::unix::fs::OpenOptionsExt;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -84,10 +83,7 @@ impl QueueFile {
         let [summaries, hello_path, measures, end] = paths(dir, &hello.session_id);
         let json = serde_json::to_vec(hello).context("cannot encode the session's Hello")?;
         write_private(&hello_path, &json)?;
-        let file = OpenOptions::new()
-            .append(true)
-            .create(true)
-            .mode(0o600)
+        let file = crate::platform::owner_only(OpenOptions::new().append(true).create(true))
             .open(&summaries)
             .with_context(|| format!("cannot create {}", summaries.display()))?;
         Ok(Self {

@@ -2,8 +2,9 @@
 //! session would not fit) and by the recorder thread each time it closes a chunk (recording
 //! stops cleanly, the file finished and readable, before the disk is full).
 //!
-//! Free space is what an unprivileged writer may use (`statvfs`'s `f_bavail × f_frsize`),
-//! measured on the filesystem that holds the recording.
+//! Free space is what an unprivileged writer may use (`statvfs`'s `f_bavail × f_frsize`; on
+//! Windows `GetDiskFreeSpaceExW`'s bytes available to the caller, which count the user's
+//! quota), measured on the filesystem that holds the recording.
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -21,15 +22,79 @@ pub const RESERVE_BYTES: u64 = 64_000_000;
 
 /// Bytes free for the station on the filesystem holding `path` (the recording itself, or the
 /// directory it will be created in).
+#[cfg(unix)]
 pub fn free_bytes(path: &Path) -> std::io::Result<u64> {
     let s = rustix::fs::statvfs(path)?;
     Ok(s.f_bavail.saturating_mul(s.f_frsize))
 }
 
 /// Bytes free on the filesystem of the open file `file`.
+#[cfg(unix)]
 pub fn free_bytes_of(file: &std::fs::File) -> std::io::Result<u64> {
     let s = rustix::fs::fstatvfs(file)?;
     Ok(s.f_bavail.saturating_mul(s.f_frsize))
+}
+
+/// Bytes free for the station on the filesystem holding `path` (the recording itself, or the
+/// directory it will be created in).
+#[cfg(windows)]
+#[expect(unsafe_code, reason = "GetDiskFreeSpaceExW, which std does not wrap")]
+pub fn free_bytes(path: &Path) -> std::io::Result<u64> {
+    use std::os::windows::ffi::OsStrExt as _;
+    // A directory is asked about (a file's name is not accepted), and it must exist.
+    let dir = if std::fs::metadata(path)?.is_dir() {
+        path
+    } else {
+        directory_of(path)
+    };
+    let wide: Vec<u16> = dir.as_os_str().encode_wide().chain([0]).collect();
+    let mut available = 0u64;
+    // SAFETY: `wide` is NUL-terminated and outlives the call; the out-pointers are valid u64s
+    // (the two totals are optional and not asked for).
+    let ok = unsafe {
+        windows_sys::Win32::Storage::FileSystem::GetDiskFreeSpaceExW(
+            wide.as_ptr(),
+            &mut available,
+            std::ptr::null_mut(),
+            std::ptr::null_mut(),
+        )
+    };
+    if ok == 0 {
+        return Err(std::io::Error::last_os_error());
+    }
+    Ok(available)
+}
+
+/// Bytes free on the filesystem of the open file `file` (found by the file's final path).
+#[cfg(windows)]
+#[expect(
+    unsafe_code,
+    reason = "GetFinalPathNameByHandleW, which std does not wrap"
+)]
+pub fn free_bytes_of(file: &std::fs::File) -> std::io::Result<u64> {
+    use std::os::windows::ffi::OsStringExt as _;
+    use std::os::windows::io::AsRawHandle as _;
+    let mut buf = vec![0u16; 1024];
+    loop {
+        // SAFETY: the handle is `file`'s, open for the call; `buf` holds `buf.len()` u16s.
+        let n = unsafe {
+            windows_sys::Win32::Storage::FileSystem::GetFinalPathNameByHandleW(
+                file.as_raw_handle(),
+                buf.as_mut_ptr(),
+                buf.len() as u32,
+                0,
+            )
+        } as usize;
+        match n {
+            0 => return Err(std::io::Error::last_os_error()),
+            // Too small: `n` is the size needed, with the NUL.
+            n if n > buf.len() => buf.resize(n, 0),
+            n => {
+                let path = PathBuf::from(std::ffi::OsString::from_wide(&buf[..n]));
+                return free_bytes(&path);
+            }
+        }
+    }
 }
 
 /// The directory a recording at `path` is created in.

@@ -196,14 +196,17 @@ fn read_script(s: &mut Script) -> std::io::Result<Vec<Gesture>> {
 /// The wheel's gestures: its evdev node's buttons and turns, or the script.
 pub struct WheelGestures {
     source: Source,
-    press: PressTimer,
-    turns: TurnSteps,
 }
 
 enum Source {
     Script,
+    /// The wheel's evdev node, and the timers that turn its readings into gestures.
     #[cfg(target_os = "linux")]
-    Evdev(Box<haptic_wheel::evdev_wheel::WheelControls>),
+    Evdev {
+        controls: Box<haptic_wheel::evdev_wheel::WheelControls>,
+        press: PressTimer,
+        turns: TurnSteps,
+    },
 }
 
 impl WheelGestures {
@@ -217,11 +220,7 @@ impl WheelGestures {
                 .map_err(|e| tracing::debug!("the wheel's buttons cannot be read: {e}"))
                 .ok()?
         };
-        Some(Self {
-            source,
-            press: PressTimer::default(),
-            turns: TurnSteps::default(),
-        })
+        Some(Self { source })
     }
 
     /// Look for `window`: the gestures seen (turns only when `choosing`: while the patient
@@ -244,15 +243,19 @@ impl WheelGestures {
                 })
             }
             #[cfg(target_os = "linux")]
-            Source::Evdev(c) => {
-                let l = c.look(window)?;
+            Source::Evdev {
+                controls,
+                press,
+                turns,
+            } => {
+                let l = controls.look(window)?;
                 let now = Instant::now();
                 let mut gestures = Vec::new();
-                if let Some(g) = self.press.update(l.pressed, l.held, now) {
+                if let Some(g) = press.update(l.pressed, l.held, now) {
                     gestures.push(g);
                 }
                 if let Some(fraction) = l.steering.filter(|_| choosing) {
-                    let by = self.turns.turn(fraction, now);
+                    let by = turns.turn(fraction, now);
                     if by != 0 {
                         gestures.push(Gesture::Turn(by));
                     }
@@ -276,7 +279,11 @@ fn open_node(node: &Path) -> std::io::Result<Source> {
             "the wheel's pedals drive the car where the regimen asks"
         );
     }
-    Ok(Source::Evdev(Box::new(c)))
+    Ok(Source::Evdev {
+        controls: Box::new(c),
+        press: PressTimer::default(),
+        turns: TurnSteps::default(),
+    })
 }
 
 #[cfg(not(target_os = "linux"))]

@@ -1,11 +1,13 @@
 //! `telerehab bench`: measurements that need the whole station, not a micro-benchmark. Each
 //! compares two things in one run, so that the noise of a shared machine hits both alike.
 
+#[cfg(target_os = "linux")]
 mod loop_;
 mod recording;
 mod soak;
 mod window;
 
+#[cfg(target_os = "linux")]
 pub use loop_::BenchLoopArgs;
 pub use recording::BenchRecordingArgs;
 pub use soak::BenchSoakArgs;
@@ -33,7 +35,9 @@ pub enum BenchCommand {
     Soak(BenchSoakArgs),
     /// The haptic loop's wake-up lateness against the platform's floor: the station's
     /// real-time session, a minimal SCHED_FIFO `clock_nanosleep` loop on the same core and
-    /// `cyclictest` (when installed), back to back, and their ratios.
+    /// `cyclictest` (when installed), back to back, and their ratios. (Linux: its reference is
+    /// the Linux real-time floor.)
+    #[cfg(target_os = "linux")]
     Loop(BenchLoopArgs),
 }
 
@@ -74,6 +78,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         BenchCommand::Window(a) => window::window(a),
         BenchCommand::Recording(a) => recording::recording(a),
         BenchCommand::Soak(a) => soak::soak(a),
+        #[cfg(target_os = "linux")]
         BenchCommand::Loop(a) => loop_::bench_loop(a),
     }
 }

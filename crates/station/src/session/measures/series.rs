@@ -124,11 +124,11 @@ pub(super) trait SpillFile: fmt::Debug + Send {
 
 impl SpillFile for std::fs::File {
     fn write_all_at(&self, buf: &[u8], offset: u64) -> io::Result<()> {
-        std::os::unix::fs::FileExt::write_all_at(self, buf, offset)
+        crate::platform::write_all_at(self, buf, offset)
     }
 
     fn read_exact_at(&self, buf: &mut [u8], offset: u64) -> io::Result<()> {
-        std::os::unix::fs::FileExt::read_exact_at(self, buf, offset)
+        crate::platform::read_exact_at(self, buf, offset)
     }
 }
 

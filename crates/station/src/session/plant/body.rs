@@ -270,6 +270,9 @@ impl Body {
         live: vehicle::Pedals,
         dt_s: f64,
     ) -> vehicle::Pedals {
+        // Only a real wheel's pedals are read live (Linux's evdev body, for now).
+        #[cfg(not(target_os = "linux"))]
+        let _ = live;
         match self {
             Body::Sim { foot, .. } => speeds.map_or_else(vehicle::Pedals::default, |(ux, aim)| {
                 foot.step(ux, aim, dt_s)

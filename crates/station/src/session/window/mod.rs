@@ -6,6 +6,7 @@
 //! window dies or stops answering, the exercise pauses (the torque fades out) and a new
 //! window is started.
 
+pub mod channel;
 pub mod supervisor;
 pub mod wire;
 

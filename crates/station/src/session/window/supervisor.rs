@@ -6,15 +6,14 @@
 //! Nothing here runs on the haptic thread, and nothing the window does can block it: the
 //! haptic thread only ever writes the newest tick into a wait-free triple buffer.
 
+use super::channel::{self, WindowSocket};
 use super::wire::{self, EndScreen, FromWindow, Hello, ToWindow};
 use crate::render::AdapterSummary;
 use crate::render::window::UserRequest;
 use crate::session::Controls;
 use clock::Clock;
 use record::TickRecord;
-use std::os::unix::net::UnixStream;
-use std::os::unix::process::CommandExt;
-use std::process::{Child, Command, Stdio};
+use std::process::{Child, Command};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Mutex, mpsc};
 use std::time::Duration;
@@ -254,16 +253,14 @@ fn run_one(
     output: &mut triple_buffer::Output<TickRecord>,
     replacing: bool,
 ) -> std::io::Result<Outcome> {
-    let (ours, theirs) = UnixStream::pair()?;
-    let mut child = Command::new(&s.launcher.program)
+    let mut command = Command::new(&s.launcher.program);
+    command
         .args(&s.launcher.args)
-        .stdin(Stdio::from(std::os::fd::OwnedFd::from(theirs)))
-        // Its own process group: Ctrl-C in the terminal stops the session, which then closes
-        // the window, rather than killing the window first.
-        .process_group(0)
         // The window speaks the language chosen for the session.
-        .env(crate::language::ENV, i18n::current().tag())
-        .spawn()?;
+        .env(crate::language::ENV, i18n::current().tag());
+    // In a process group of its own (Ctrl-C in the terminal stops the session, which then
+    // closes the window, rather than killing the window first).
+    let (mut child, ours) = channel::spawn_connected(&mut command, OPEN_TIMEOUT)?;
     let mut to_window = ours.try_clone()?;
     let mut from_window = ours.try_clone()?;
     let outcome = std::thread::scope(|scope| {
@@ -348,7 +345,7 @@ fn run_one(
 }
 
 /// Watch one window until it ends, the session ends, or it hangs.
-fn watch(s: &Supervised<'_>, rx: &mpsc::Receiver<Heard>, socket: &UnixStream) -> Outcome {
+fn watch(s: &Supervised<'_>, rx: &mpsc::Receiver<Heard>, socket: &WindowSocket) -> Outcome {
     let started_ns = s.clock.now_ns();
     let mut last_heard_ns = started_ns;
     let mut opened = false;
@@ -482,25 +479,15 @@ fn finish(child: &mut Child, closing: bool, clock: &Clock) -> String {
         let start_ns = clock.now_ns();
         while elapsed(clock, start_ns) < CLOSE_TIMEOUT {
             if let Ok(Some(status)) = child.try_wait() {
-                return describe(status);
+                return crate::platform::describe_exit(status);
             }
             std::thread::sleep(WATCH_PERIOD);
         }
     }
     let _ = child.kill();
     match child.wait() {
-        Ok(status) => describe(status),
+        Ok(status) => crate::platform::describe_exit(status),
         Err(e) => format!("could not be waited for ({e})"),
-    }
-}
-
-fn describe(status: std::process::ExitStatus) -> String {
-    use std::os::unix::process::ExitStatusExt;
-    match (status.code(), status.signal()) {
-        (_, Some(sig)) => format!("was killed by signal {sig}"),
-        (Some(0), _) => "exited".to_owned(),
-        (Some(code), _) => format!("exited with status {code}"),
-        (None, None) => "ended".to_owned(),
     }
 }
 
