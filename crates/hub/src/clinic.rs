@@ -46,6 +46,10 @@ pub struct ClinicConfig {
     /// of the first name ([`crate::fhir::FhirBase`], docs/FHIR.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fhir_base: Option<String>,
+    /// The age recipients (`age1…`, X25519) `hub backup` encrypts to (`hub backup-key` adds
+    /// one); their identity files are kept offline and restore the backups.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub backup_recipients: Vec<String>,
 }
 
 impl ClinicConfig {
@@ -182,6 +186,7 @@ impl Clinic {
             database: database.unwrap_or_default().to_owned(),
             clinic_name: None,
             fhir_base: None,
+            backup_recipients: Vec::new(),
         };
         let url = match database.filter(|d| !d.is_empty()) {
             Some(u) => u.to_owned(),
@@ -708,6 +713,7 @@ mod tests {
             database: String::new(),
             clinic_name: None,
             fhir_base: None,
+            backup_recipients: Vec::new(),
         };
         assert_eq!(
             config.fhir_base().unwrap().to_string(),
