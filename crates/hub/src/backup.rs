@@ -2,7 +2,7 @@
 //! again on a new machine, taken while the hub serves.
 //!
 //! The archive is a tar stream compressed with zstd, encrypted with age to the clinic's
-//! recipients (`.tar.zst.age`; [`crypt`]: any `age -d -i KEY` decrypts it):
+//! recipients (`.tar.zst.age`; `backup/crypt.rs`: any `age -d -i KEY` decrypts it):
 //!
 //! ```text
 //! MANIFEST.json        format, time, backend, every table's row count, every recording's

@@ -403,7 +403,7 @@ pub async fn erase(
 
 /// [`erase`] with its revocation grace given: whatever arrives while `grace` runs — a session
 /// of a station not cut yet, a newly paired station — is erased too, because the erasure's
-/// transaction takes the patient's rows for itself before it looks for them ([`remove`]).
+/// transaction takes the patient's rows for itself before it looks for them.
 pub async fn erase_after(
     clinic: &Clinic,
     db: &Db,
@@ -411,8 +411,8 @@ pub async fn erase_after(
     now_ms: i64,
     grace: impl Future<Output = ()>,
 ) -> Result<Covered, HubError> {
-    let patient = find(db, pseudonym).await?;
     let before = scope(db, pseudonym).await?;
+    let patient = before.patient.clone();
     for station in &before.stations {
         db.revoke_station(station, now_ms).await?;
     }
