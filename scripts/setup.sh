@@ -9,7 +9,8 @@
 #     the patient's voice: espeak-ng (speech), sox (its test), libasound2-dev (ALSA, rodio);
 #     poppler-utils (pdfinfo, pdftoppm: the console's one-page print is counted and looked at);
 #     fonts-noto-core and fonts-noto-cjk (the patient's window draws every script with them);
-#     maven and a headless JDK (the reference FHIR R4 validator, HAPI FHIR: scripts/fhir-validator).
+#     maven and a headless JDK (the reference FHIR R4 validator, HAPI FHIR: scripts/fhir-validator);
+#     age (a test checks that the standard age tool decrypts an encrypted hub backup).
 #   - Rust (stable, via rustup if cargo is missing) with rustfmt and clippy.
 #   - A Python virtualenv in .venv with the test tools and the `telerehab` package (pyext).
 #   - SeaweedFS (`weed`, a real S3 server the hub's recording-store tests start themselves),
@@ -28,7 +29,8 @@ PKGS=(build-essential pkg-config libudev-dev mesa-vulkan-drivers libvulkan1 libg
       espeak-ng sox libasound2-dev poppler-utils
       fonts-noto-core fonts-noto-cjk
       python3-aiosmtpd  # a real SMTP server for the hub's pain-mail tests (tests/smtp_sink.py)
-      maven default-jdk-headless)  # the reference FHIR validator (scripts/fhir-validator)
+      maven default-jdk-headless  # the reference FHIR validator (scripts/fhir-validator)
+      age)  # Debian's age decrypts a hub backup (crates/hub/tests/backup_privacy.rs)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

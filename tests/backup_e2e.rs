@@ -1,6 +1,7 @@
-//! `hub backup` while the hub serves a station streaming a session, and `hub restore` into a
-//! new data directory: every summary, regimen and recording stored before the backup is found
-//! again, and the restored clinic serves. On SQLite and on PostgreSQL.
+//! `hub backup` while the hub serves a station streaming a session (refused until the clinic
+//! has a backup key, then encrypted to it), and `hub restore --identity` into a new data
+//! directory: every summary, regimen and recording stored before the backup is found again,
+//! and the restored clinic serves. On SQLite and on PostgreSQL.
 
 use std::path::Path;
 
@@ -78,19 +79,32 @@ fn backup_under_load_restores_everything(db: Option<&str>, restore_db: Option<&s
     until("the streaming session on the hub", || {
         sessions(&show_json(&data)).len() > was
     });
-    let backup = tmp.path().join("clinic.tar.zst");
+    let backup = tmp.path().join("clinic.tar.zst.age");
+    let backup_args = [
+        "hub",
+        "backup",
+        "--data",
+        d,
+        "--out",
+        backup.to_str().unwrap(),
+    ];
+    // No clinic key yet: refused, saying how to make one.
+    let refused = telerehab(&backup_args, None);
+    assert!(!refused.status.success());
+    let why = String::from_utf8_lossy(&refused.stderr);
+    assert!(why.contains("hub backup-key"), "{why}");
+    assert!(!backup.exists());
+    let key = tmp.path().join("offline/clinic-backup.key");
+    std::fs::create_dir_all(key.parent().unwrap()).unwrap();
+    let k = key.to_str().unwrap();
     let said = ok(
-        &[
-            "hub",
-            "backup",
-            "--data",
-            d,
-            "--out",
-            backup.to_str().unwrap(),
-        ],
+        &["hub", "backup-key", "--data", d, "--identity-out", k],
         None,
     );
+    assert!(said.contains("backups are now encrypted to age1"), "{said}");
+    let said = ok(&backup_args, None);
     assert!(said.contains("recording files 2 "), "{said}");
+    assert!(said.contains("encrypted to 1 recipients"), "{said}");
     assert!(streaming.wait().unwrap().success());
     hub.stop();
 
@@ -103,12 +117,15 @@ fn backup_under_load_restores_everything(db: Option<&str>, restore_db: Option<&s
         backup.to_str().unwrap(),
         "--data",
         r,
+        "--identity",
+        k,
     ];
     if let Some(url) = restore_db {
         args.extend(["--db", url]);
     }
     let said = ok(&args, None);
     assert!(said.contains("checksum match the backup"), "{said}");
+    assert!(said.contains("erasures re-applied: 0"), "{said}");
     let after = show_json(&restored);
     // Every session finished before the backup, with every summary; the one streaming is
     // there with what had arrived when the snapshot was taken.
@@ -162,6 +179,7 @@ fn a_damaged_backup_is_refused_naming_the_file() {
             data.to_str().unwrap(),
             "--out",
             backup.to_str().unwrap(),
+            "--unencrypted",
         ],
         None,
     );

@@ -1,17 +1,25 @@
 //! `hub backup` and `hub restore`: one file that holds everything a clinic would need to start
 //! again on a new machine, taken while the hub serves.
 //!
-//! The archive is a tar stream compressed with zstd (`.tar.zst`):
+//! The archive is a tar stream compressed with zstd, encrypted with age to the clinic's
+//! recipients (`.tar.zst.age`; `backup/crypt.rs`: any `age -d -i KEY` decrypts it):
 //!
 //! ```text
 //! MANIFEST.json        format, time, backend, every table's row count, every recording's
 //!                      size and SHA-256 (the restore checks all of them)
 //! hub.toml             the clinic's configuration
-//! tls/…                the clinic's CA and the hub's certificate (keys included: guard the file)
+//! tls/…                the clinic's CA and the hub's certificate (keys included)
+//! erasures.ndjson      the erasure ledger (format 2 on; `patient_data::tombstones`)
 //! database/hub.db      SQLite: an online copy (`VACUUM INTO`, one consistent snapshot)
 //! database/hub.pgdump  PostgreSQL: `pg_dump --format=custom` of an exported snapshot
 //! recordings/…         every finished upload (`*.part` files are unfinished and left out)
 //! ```
+//!
+//! A backup is written encrypted unless the operator asks for a clear one (`--unencrypted`);
+//! a clear backup, and one of format 1 (always clear), still restores, with a warning. A
+//! restore re-applies every erasure the backup's ledger, the restored database and the
+//! ledgers the operator supplies record: a patient erased after the backup was taken does not
+//! come back.
 //!
 //! The row counts are taken inside the snapshot the database copy is made from (SQLite: the
 //! copy itself; PostgreSQL: a repeatable-read transaction whose snapshot `pg_dump` is given),
@@ -29,11 +37,20 @@ use sha2::{Digest, Sha256};
 use sqlx::Row;
 
 use crate::clinic::Clinic;
-use crate::db::{Backend, Db};
+use crate::db::{Backend, Db, catalog};
 use crate::error::HubError;
+use crate::patient_data::tombstones;
 
-/// The archive's format, in its manifest.
-pub const BACKUP_FORMAT: u32 = 1;
+mod crypt;
+
+pub use crypt::{Sealing, new_key_pair, read_identities};
+
+/// The archive's format, in its manifest: 2 carries the erasure ledger and is written
+/// encrypted by default.
+pub const BACKUP_FORMAT: u32 = 2;
+
+/// The first format: no erasure ledger, never encrypted; still restored.
+const FORMAT_CLEAR_ONLY: u32 = 1;
 
 /// zstd level of the archive: recordings are already compressed, the dump compresses well.
 const ZSTD_LEVEL: i32 = 3;
@@ -92,11 +109,13 @@ fn backend_name(backend: Backend) -> &'static str {
 }
 
 /// Back up the clinic at `clinic` (its database at `db_url`, or the configured one) into a new
-/// file `out`, while the hub may be serving. Refuses to overwrite `out`.
+/// file `out`, while the hub may be serving, encrypted or not as `sealing` says. Refuses to
+/// overwrite `out`.
 pub async fn backup(
     clinic: &Clinic,
     db_url: Option<&str>,
     out: &Path,
+    sealing: &Sealing,
 ) -> Result<Manifest, HubError> {
     if out.exists() {
         return Err(HubError::invalid(
@@ -107,7 +126,7 @@ pub async fn backup(
     let url = clinic.database_url(db_url)?;
     let db = Db::open(&url).await?;
     let scratch = scratch_dir(out)?;
-    let result = snapshot_and_write(clinic, &db, &url, scratch.path(), out).await;
+    let result = snapshot_and_write(clinic, &db, &url, (scratch.path(), out), sealing).await;
     db.close().await;
     if result.is_err() {
         let _ = std::fs::remove_file(out);
@@ -131,8 +150,8 @@ async fn snapshot_and_write(
     clinic: &Clinic,
     db: &Db,
     url: &str,
-    scratch: &Path,
-    out: &Path,
+    (scratch, out): (&Path, &Path),
+    sealing: &Sealing,
 ) -> Result<Manifest, HubError> {
     let taken_at_ms = clock::Clock::real().unix_ns() as i64 / 1_000_000;
     let (database_file, name, rows) = match db.backend() {
@@ -140,7 +159,7 @@ async fn snapshot_and_write(
             let copy = scratch.join("hub.db");
             sqlite_copy(db, &copy).await?;
             let snapshot = Db::open_sqlite(&copy).await?;
-            let rows = row_counts(&snapshot).await;
+            let rows = catalog::row_counts(&snapshot).await;
             snapshot.close().await;
             (copy, SQLITE_COPY, rows?)
         }
@@ -169,7 +188,8 @@ async fn snapshot_and_write(
         .open(out)
         .map_err(io("creating", out))?;
     set_private(out)?;
-    let encoder = zstd::Encoder::new(file, ZSTD_LEVEL).map_err(io("compressing", out))?;
+    let sink = crypt::Sink::new(file, sealing).map_err(io("encrypting", out))?;
+    let encoder = zstd::Encoder::new(sink, ZSTD_LEVEL).map_err(io("compressing", out))?;
     let mut tar = tar::Builder::new(encoder);
     let json = serde_json::to_vec_pretty(&manifest)
         .map_err(|e| HubError::Corrupt(format!("manifest: {e}")))?;
@@ -183,6 +203,13 @@ async fn snapshot_and_write(
             out,
         )?;
     }
+    // The ledger as it is now: every erasure up to this backup, and any later one the hub's
+    // ledger holds when this backup is restored.
+    let ledger = std::fs::read(tombstones::ledger_path(clinic)).or_else(|e| match e.kind() {
+        std::io::ErrorKind::NotFound => Ok(Vec::new()),
+        _ => Err(io("reading", &tombstones::ledger_path(clinic))(e)),
+    })?;
+    append_bytes(&mut tar, tombstones::LEDGER_FILE, &ledger, out)?;
     append_file(&mut tar, name, &database_file, out)?;
     for (rel, digest, file) in &recordings {
         let mut header = tar::Header::new_gnu();
@@ -194,7 +221,8 @@ async fn snapshot_and_write(
             .map_err(io("writing", out))?;
     }
     let encoder = tar.into_inner().map_err(io("writing", out))?;
-    let file = encoder.finish().map_err(io("writing", out))?;
+    let sink = encoder.finish().map_err(io("writing", out))?;
+    let file = sink.finish().map_err(io("encrypting", out))?;
     file.sync_all().map_err(io("syncing", out))?;
     Ok(manifest)
 }
@@ -293,8 +321,8 @@ async fn postgres_dump(db: &Db, url: &str, dump: &Path) -> Result<BTreeMap<Strin
         .and_then(|r| r.try_get(0))
         .map_err(HubError::db("exporting the backup's snapshot"))?;
     let mut rows = BTreeMap::new();
-    for table in table_names(&mut *tx, Backend::Postgres).await? {
-        rows.insert(table.clone(), count_rows(&mut *tx, &table).await?);
+    for table in catalog::table_names(&mut *tx, Backend::Postgres).await? {
+        rows.insert(table.clone(), catalog::count_rows(&mut *tx, &table).await?);
     }
     let out = Command::new("pg_dump")
         .args(["--format=custom", "--no-owner", "--no-privileges"])
@@ -315,55 +343,6 @@ async fn postgres_dump(db: &Db, url: &str, dump: &Path) -> Result<BTreeMap<Strin
             "pg_dump failed: {}",
             String::from_utf8_lossy(&out.stderr).trim()
         )));
-    }
-    Ok(rows)
-}
-
-/// The database's own tables (not the migration bookkeeping, which the schema version states).
-async fn table_names<'c, E>(conn: E, backend: Backend) -> Result<Vec<String>, HubError>
-where
-    E: sqlx::Executor<'c, Database = sqlx::Any>,
-{
-    let sql = match backend {
-        Backend::Sqlite => {
-            "SELECT name FROM sqlite_master WHERE type = 'table' \
-             AND name NOT LIKE 'sqlite_%' AND name NOT LIKE '_sqlx%' ORDER BY name"
-        }
-        Backend::Postgres => {
-            "SELECT CAST(table_name AS TEXT) FROM information_schema.tables \
-             WHERE table_schema = 'public' AND table_type = 'BASE TABLE' \
-             AND table_name NOT LIKE '_sqlx%' ORDER BY table_name"
-        }
-    };
-    let rows = sqlx::query(sql)
-        .fetch_all(conn)
-        .await
-        .map_err(HubError::db("listing the tables"))?;
-    rows.iter()
-        .map(|r| r.try_get::<String, _>(0))
-        .collect::<Result<_, _>>()
-        .map_err(HubError::db("listing the tables"))
-}
-
-async fn count_rows<'c, E>(conn: E, table: &str) -> Result<i64, HubError>
-where
-    E: sqlx::Executor<'c, Database = sqlx::Any>,
-{
-    // The name comes from the database's own catalogue, quoted as an identifier.
-    let sql = format!("SELECT COUNT(*) FROM \"{}\"", table.replace('"', "\"\""));
-    sqlx::query(sqlx::AssertSqlSafe(sql))
-        .fetch_one(conn)
-        .await
-        .and_then(|r| r.try_get::<i64, _>(0))
-        .map_err(HubError::db("counting rows"))
-}
-
-/// Every table's rows in `db`.
-pub async fn row_counts(db: &Db) -> Result<BTreeMap<String, i64>, HubError> {
-    let mut rows = BTreeMap::new();
-    for table in table_names(db.pool(), db.backend()).await? {
-        let n = count_rows(db.pool(), &table).await?;
-        rows.insert(table, n);
     }
     Ok(rows)
 }
@@ -401,8 +380,35 @@ fn digest_of(mut reader: impl Read, name: &str) -> Result<FileDigest, HubError> 
     })
 }
 
+/// Where a restore's keys, database and erasure ledgers come from.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct RestoreFrom<'a> {
+    /// The identity file of an encrypted backup (`hub backup-key`'s, or `age-keygen`'s).
+    pub identity: Option<&'a Path>,
+    /// An empty PostgreSQL database for a PostgreSQL backup (`postgres://…`).
+    pub db_url: Option<&'a str>,
+    /// Erasure ledgers the operator supplies (the clinic's current `erasures.ndjson`, or the
+    /// copy kept off the machine), re-applied with the backup's own.
+    pub erasures: &'a [PathBuf],
+}
+
+/// What a restore did.
+#[derive(Debug, Clone)]
+pub struct Restored {
+    /// The backup's manifest (its rows, checked, are before the erasures were re-applied).
+    pub manifest: Manifest,
+    /// Whether the backup was encrypted (a clear one is restored with a warning).
+    pub encrypted: bool,
+    /// The erasures known and re-applied.
+    pub erasures: tombstones::Reapplied,
+}
+
 /// Restore the backup `archive` into the new data directory `data` (absent or empty); a
-/// PostgreSQL backup goes into the empty database at `db_url`, which `hub.toml` then names.
+/// PostgreSQL backup goes into the empty database `from.db_url` names, which `hub.toml` then
+/// names. An encrypted backup is decrypted with `from.identity`; a wrong key, a truncated or
+/// an altered file is refused, saying which, and nothing is restored. Every erasure recorded
+/// in the backup's ledger, its database or `from.erasures` is then applied again
+/// ([`tombstones::reapply`]), so that no erased patient comes back.
 ///
 /// Nothing in the archive is trusted: it is unpacked into a new staging directory beside
 /// `data` — only the files its manifest implies, each recording at a relative path of plain
@@ -415,8 +421,19 @@ fn digest_of(mut reader: impl Read, name: &str) -> Result<FileDigest, HubError> 
 pub async fn restore(
     archive: &Path,
     data: &Path,
-    db_url: Option<&str>,
-) -> Result<Manifest, HubError> {
+    from: RestoreFrom<'_>,
+    now_ms: i64,
+) -> Result<Restored, HubError> {
+    let mut supplied = Vec::new();
+    for ledger in from.erasures {
+        if !ledger.is_file() {
+            return Err(HubError::invalid(
+                "--erasures",
+                format!("{} is not an erasure ledger file", ledger.display()),
+            ));
+        }
+        supplied.extend(tombstones::read_ledger(ledger)?);
+    }
     let empty = match std::fs::read_dir(data) {
         Ok(mut entries) => entries.next().is_none(),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => true,
@@ -442,34 +459,52 @@ pub async fn restore(
         .prefix(".telerehab-restore-")
         .tempdir_in(&parent)
         .map_err(io("making a staging directory in", &parent))?;
-    let manifest = restore_staged(archive, staging.path(), db_url).await?;
+    let restored = restore_staged(archive, staging.path(), from, &supplied, now_ms).await?;
     std::fs::rename(staging.path(), data).map_err(io("moving the restored clinic to", data))?;
     let _ = staging.keep();
-    Ok(manifest)
+    Ok(restored)
 }
 
 /// The whole restore into the new directory `staged`.
 async fn restore_staged(
     archive: &Path,
     staged: &Path,
-    db_url: Option<&str>,
-) -> Result<Manifest, HubError> {
+    from: RestoreFrom<'_>,
+    supplied: &[tombstones::Tombstone],
+    now_ms: i64,
+) -> Result<Restored, HubError> {
+    let db_url = from.db_url;
+    let opened = crypt::Opened::open(archive, from.identity)?;
+    let encrypted = opened.encrypted();
+    let failure = opened.failure();
     // The database kind is known from the manifest, the first entry; check the command line
     // against it before anything large is written.
-    let manifest = unpack(archive, staged, |m| match (m.backend.as_str(), db_url) {
-        ("sqlite", None) | ("postgres", Some(_)) => Ok(()),
-        ("sqlite", Some(_)) => Err(HubError::invalid(
-            "--db",
-            "this backup is of a SQLite database; restore it without --db",
-        )),
-        ("postgres", None) => Err(HubError::invalid(
-            "--db",
-            "this backup is of a PostgreSQL database; name an empty database to restore it into",
-        )),
-        (other, _) => Err(HubError::Corrupt(format!(
-            "the backup names an unknown database kind {other:?}"
-        ))),
-    })?;
+    let unpacked = unpack(opened, archive, staged, |m| {
+        match (m.backend.as_str(), db_url) {
+            ("sqlite", None) | ("postgres", Some(_)) => Ok(()),
+            ("sqlite", Some(_)) => Err(HubError::invalid(
+                "--db",
+                "this backup is of a SQLite database; restore it without --db",
+            )),
+            ("postgres", None) => Err(HubError::invalid(
+                "--db",
+                "this backup is of a PostgreSQL database; name an empty database to restore it into",
+            )),
+            (other, _) => Err(HubError::Corrupt(format!(
+                "the backup names an unknown database kind {other:?}"
+            ))),
+        }
+    });
+    // A decryption that stopped says why (the tar and zstd errors it causes say less).
+    let manifest = match (unpacked, failure.get()) {
+        (Err(_), Some(why)) => {
+            return Err(HubError::Corrupt(format!(
+                "{}: {why}; nothing was restored",
+                archive.display()
+            )));
+        }
+        (result, _) => result?,
+    };
     let clinic = Clinic::at(staged);
     let url = match db_url {
         None => {
@@ -488,7 +523,7 @@ async fn restore_staged(
     std::fs::remove_dir_all(staged.join("database"))
         .map_err(io("tidying", &staged.join("database")))?;
     let db = Db::open(&url).await?;
-    let rows = row_counts(&db).await;
+    let rows = catalog::row_counts(&db).await;
     db.close().await;
     let rows = rows?;
     if rows != manifest.rows {
@@ -497,7 +532,14 @@ async fn restore_staged(
             manifest.rows
         )));
     }
-    Ok(manifest)
+    let db = Db::open(&url).await?;
+    let erasures = tombstones::reapply(&clinic, &db, supplied, now_ms).await;
+    db.close().await;
+    Ok(Restored {
+        manifest,
+        encrypted,
+        erasures: erasures?,
+    })
 }
 
 /// Largest manifest read, bytes (some 150 bytes a recording: a clinic's years of sessions).
@@ -574,12 +616,12 @@ impl<W: Write> Write for Hashing<W> {
 ///
 /// Nothing is read from outside the archive, and nothing written outside `data`.
 fn unpack(
+    source: crypt::Opened,
     archive: &Path,
     data: &Path,
     accept: impl FnOnce(&Manifest) -> Result<(), HubError>,
 ) -> Result<Manifest, HubError> {
-    let file = std::fs::File::open(archive).map_err(io("reading", archive))?;
-    let decoder = zstd::Decoder::new(file).map_err(io("reading", archive))?;
+    let decoder = zstd::Decoder::new(source).map_err(io("reading", archive))?;
     let mut tar = tar::Archive::new(decoder);
     let not_a_backup = |why: String| {
         HubError::Corrupt(format!(
@@ -679,9 +721,9 @@ fn read_manifest(entry: &mut impl Read, declared: u64, archive: &Path) -> Result
             )
         })?;
     let m: Manifest = serde_json::from_str(&text).map_err(|e| format!("its manifest: {e}"))?;
-    if m.format != BACKUP_FORMAT {
+    if m.format != BACKUP_FORMAT && m.format != FORMAT_CLEAR_ONLY {
         return Err(format!(
-            "format {} (this build reads {BACKUP_FORMAT})",
+            "format {} (this build reads {FORMAT_CLEAR_ONLY} and {BACKUP_FORMAT})",
             m.format
         ));
     }
@@ -698,6 +740,8 @@ fn read_manifest(entry: &mut impl Read, declared: u64, archive: &Path) -> Result
 enum Expected {
     /// `hub.toml` or a TLS file: at most [`MAX_SMALL_FILE_BYTES`].
     Small,
+    /// The erasure ledger: at most [`tombstones::MAX_LEDGER_BYTES`].
+    Ledger,
     /// The database: any size the disk has room for.
     Database,
     /// A recording: exactly the manifest's size and SHA-256.
@@ -711,6 +755,10 @@ impl Expected {
             Self::Small if declared > MAX_SMALL_FILE_BYTES => Err(format!(
                 "{name} declares {declared} bytes, more than the {MAX_SMALL_FILE_BYTES} such a \
                  file has"
+            )),
+            Self::Ledger if declared > tombstones::MAX_LEDGER_BYTES => Err(format!(
+                "{name} declares {declared} bytes, more than the {} an erasure ledger may have",
+                tombstones::MAX_LEDGER_BYTES
             )),
             Self::Recording { bytes, .. } if declared != *bytes => Err(format!(
                 "{name} is {declared} bytes in the archive and {bytes} in its manifest"
@@ -726,6 +774,9 @@ fn expected_files(m: &Manifest) -> BTreeMap<String, Expected> {
     expected.insert("hub.toml".to_owned(), Expected::Small);
     for tls in ["ca.crt", "ca.key", "hub.crt", "hub.key"] {
         expected.insert(format!("tls/{tls}"), Expected::Small);
+    }
+    if m.format >= BACKUP_FORMAT {
+        expected.insert(tombstones::LEDGER_FILE.to_owned(), Expected::Ledger);
     }
     let database = if m.backend == "postgres" {
         PG_DUMP
@@ -797,9 +848,29 @@ fn pg_restore(dump: &Path, url: &str) -> Result<(), HubError> {
 
 /// Point the restored `hub.toml` at the database it now uses (`""`: `hub.db` in the directory).
 fn rewrite_database(clinic: &Clinic, url: &str) -> Result<(), HubError> {
+    rewrite_config(clinic, |c| c.database = url.to_owned())
+}
+
+/// `hub.toml` changed by `change`.
+fn rewrite_config(
+    clinic: &Clinic,
+    change: impl FnOnce(&mut crate::clinic::ClinicConfig),
+) -> Result<(), HubError> {
     let mut config = clinic.config()?;
-    config.database = url.to_owned();
+    change(&mut config);
     let text = toml::to_string(&config).map_err(|e| HubError::Config(format!("hub.toml: {e}")))?;
     let path = clinic.dir().join("hub.toml");
     std::fs::write(&path, text).map_err(io("writing", &path))
+}
+
+/// Adds `recipient` (`age1…`) to the clinic's backup recipients in `hub.toml` (kept once);
+/// refused, naming it, when it is not an age X25519 recipient.
+pub fn add_recipient(clinic: &Clinic, recipient: &str) -> Result<(), HubError> {
+    let recipient = recipient.trim();
+    crypt::parse_recipient(recipient).map_err(|why| HubError::invalid("--recipient", why))?;
+    rewrite_config(clinic, |c| {
+        if !c.backup_recipients.iter().any(|r| r == recipient) {
+            c.backup_recipients.push(recipient.to_owned());
+        }
+    })
 }

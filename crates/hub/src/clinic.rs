@@ -47,6 +47,10 @@ pub struct ClinicConfig {
     /// of the first name ([`crate::fhir::FhirBase`], docs/FHIR.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fhir_base: Option<String>,
+    /// The age recipients (`age1…`, X25519) `hub backup` encrypts to (`hub backup-key` adds
+    /// one); their identity files are kept offline and restore the backups.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub backup_recipients: Vec<String>,
     /// Where recordings are kept (`[recordings]`, [`crate::recordings::RecordingsConfig`]);
     /// absent: `DATA/recordings`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -187,6 +191,7 @@ impl Clinic {
             database: database.unwrap_or_default().to_owned(),
             clinic_name: None,
             fhir_base: None,
+            backup_recipients: Vec::new(),
             recordings: None,
         };
         let url = match database.filter(|d| !d.is_empty()) {
@@ -722,6 +727,7 @@ mod tests {
             database: String::new(),
             clinic_name: None,
             fhir_base: None,
+            backup_recipients: Vec::new(),
             recordings: None,
         };
         assert_eq!(

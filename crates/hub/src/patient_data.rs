@@ -13,6 +13,7 @@
 //! columns) and `recordings/<station>/<file>` byte for byte.
 
 use std::collections::BTreeMap;
+use std::future::Future;
 use std::io::Write;
 use std::path::Path;
 
@@ -23,6 +24,10 @@ use crate::clinic::Clinic;
 use crate::db::{Backend, Db, Patient};
 use crate::error::HubError;
 use crate::recordings::{RecordingStore, StoredFile};
+
+pub mod tombstones;
+
+pub use tombstones::{Reapplied, Tombstone};
 
 /// The export's format, in `patient.json`.
 pub const EXPORT_FORMAT: u32 = 1;
@@ -63,24 +68,25 @@ impl Covered {
     }
 }
 
-async fn scope(db: &Db, pseudonym: &str) -> Result<Scope, HubError> {
-    let patient = db
-        .patient_by_pseudonym(pseudonym)
+async fn find(db: &Db, pseudonym: &str) -> Result<Patient, HubError> {
+    db.patient_by_pseudonym(pseudonym)
         .await?
-        .ok_or_else(|| HubError::not_found("patient", pseudonym))?;
-    let ids = |sql: &'static str| {
-        let id = patient.id.clone();
-        async move {
-            let rows = sqlx::query(sql)
-                .bind(id)
-                .fetch_all(db.pool())
-                .await
-                .map_err(HubError::db("finding the patient's rows"))?;
-            rows.iter()
-                .map(|r| r.try_get::<String, _>(0))
-                .collect::<Result<Vec<_>, _>>()
-                .map_err(HubError::db("finding the patient's rows"))
-        }
+        .ok_or_else(|| HubError::not_found("patient", pseudonym))
+}
+
+/// The patient's sessions and stations as `conn` sees them (inside the erasure's transaction,
+/// once it holds the patient's rows).
+async fn scope_in(conn: &mut sqlx::AnyConnection, patient: Patient) -> Result<Scope, HubError> {
+    let mut ids = async |sql: &'static str| {
+        let rows = sqlx::query(sql)
+            .bind(&patient.id)
+            .fetch_all(&mut *conn)
+            .await
+            .map_err(HubError::db("finding the patient's rows"))?;
+        rows.iter()
+            .map(|r| r.try_get::<String, _>(0))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(HubError::db("finding the patient's rows"))
     };
     let sessions =
         ids("SELECT session_id FROM sessions WHERE patient_id = $1 ORDER BY session_id").await?;
@@ -93,9 +99,19 @@ async fn scope(db: &Db, pseudonym: &str) -> Result<Scope, HubError> {
     })
 }
 
+async fn scope(db: &Db, pseudonym: &str) -> Result<Scope, HubError> {
+    let patient = find(db, pseudonym).await?;
+    let mut conn = db
+        .pool()
+        .acquire()
+        .await
+        .map_err(HubError::db("finding the patient's rows"))?;
+    scope_in(&mut conn, patient).await
+}
+
 /// Every table with its columns, from the database's catalogue.
 async fn tables(db: &Db) -> Result<Vec<(String, Vec<String>)>, HubError> {
-    let names = crate::backup::row_counts(db).await?;
+    let names = crate::db::catalog::row_counts(db).await?;
     let mut out = Vec::new();
     for table in names.into_keys() {
         let sql = match db.backend() {
@@ -213,16 +229,20 @@ fn patient_query<'q>(
 }
 
 /// The patient's rows of each table, counted (nothing read into memory).
-async fn row_counts(db: &Db, s: &Scope) -> Result<BTreeMap<String, usize>, HubError> {
+async fn row_counts(
+    conn: &mut sqlx::AnyConnection,
+    tables: &[(String, Link)],
+    s: &Scope,
+) -> Result<BTreeMap<String, usize>, HubError> {
     let mut out = BTreeMap::new();
-    for (table, link) in linked_tables(db).await? {
-        let n: i64 = patient_query("SELECT COUNT(*)", &table, &link, s)
-            .fetch_one(db.pool())
+    for (table, link) in tables {
+        let n: i64 = patient_query("SELECT COUNT(*)", table, link, s)
+            .fetch_one(&mut *conn)
             .await
             .and_then(|r| r.try_get(0))
             .map_err(HubError::db("counting the patient's rows"))?;
         if n > 0 {
-            out.insert(table, usize::try_from(n).unwrap_or(0));
+            out.insert(table.clone(), usize::try_from(n).unwrap_or(0));
         }
     }
     Ok(out)
@@ -356,31 +376,114 @@ pub async fn export(
 }
 
 /// Remove everything the hub holds about the patient `pseudonym`: their stations are revoked
-/// first (refused from their next frame on), then every row and recording file is removed in
-/// one transaction, and one audit entry says how much was erased, holding none of it.
+/// first (refused from their next frame on), a serving hub given two revocation polls to cut
+/// their connections, then every row and recording file is removed in one transaction, and
+/// one audit entry says how much was erased, holding none of it. The erasure's [`Tombstone`]
+/// is written to the clinic's ledger before a row goes, and to the database with the rows, so
+/// that no restore brings the patient back ([`tombstones`]).
 pub async fn erase(
     clinic: &Clinic,
     db: &Db,
     pseudonym: &str,
     now_ms: i64,
 ) -> Result<Covered, HubError> {
-    let s = scope(db, pseudonym).await?;
-    for station in &s.stations {
+    // A serving hub re-reads the revoked stations every `REVOCATION_POLL` and cuts their
+    // connections: give it two before their rows go.
+    let grace = tokio::time::sleep(2 * crate::ingest::REVOCATION_POLL);
+    erase_after(clinic, db, pseudonym, now_ms, grace).await
+}
+
+/// [`erase`] with its revocation grace given: whatever arrives while `grace` runs — a session
+/// of a station not cut yet, a newly paired station — is erased too, because the erasure's
+/// transaction takes the patient's rows for itself before it looks for them.
+pub async fn erase_after(
+    clinic: &Clinic,
+    db: &Db,
+    pseudonym: &str,
+    now_ms: i64,
+    grace: impl Future<Output = ()>,
+) -> Result<Covered, HubError> {
+    let before = scope(db, pseudonym).await?;
+    let patient = before.patient.clone();
+    for station in &before.stations {
         db.revoke_station(station, now_ms).await?;
     }
-    if !s.stations.is_empty() {
-        // A serving hub re-reads the revoked stations every `REVOCATION_POLL` and cuts their
-        // connections: give it two before their rows go (an unknown station is refused too).
-        tokio::time::sleep(2 * crate::ingest::REVOCATION_POLL).await;
+    if !before.stations.is_empty() {
+        grace.await;
     }
-    let store = clinic.recordings()?;
-    let files = recording_files(&store, &s).await?;
-    let what = covered(row_counts(db, &s).await?, &files);
+    let tombstone = Tombstone::of(clinic, &patient, "cli", now_ms)?;
+    // In the ledger first: an erasure cut short is finished at the next start.
+    tombstones::append_to_ledger(
+        &tombstones::ledger_path(clinic),
+        std::slice::from_ref(&tombstone),
+    )?;
+    let (s, what) = remove(clinic, db, patient, &tombstone, now_ms).await?;
+    audit_erasure(db, "erase_patient", "erased on request", &s, &what, now_ms).await?;
+    Ok(what)
+}
+
+/// Erases again a patient a tombstone names, who came back with an older backup (no grace:
+/// no hub serves them while it runs).
+async fn erase_again(
+    clinic: &Clinic,
+    db: &Db,
+    patient: &Patient,
+    tombstone: &Tombstone,
+    now_ms: i64,
+) -> Result<Covered, HubError> {
+    let (s, what) = remove(clinic, db, patient.clone(), tombstone, now_ms).await?;
+    let why = "erased again from its tombstone (restored from an older copy)";
+    audit_erasure(db, "erase_patient_reapplied", why, &s, &what, now_ms).await?;
+    Ok(what)
+}
+
+/// The erasure itself, in one transaction: it first takes the patient's rows for itself
+/// (SQLite: a write, which holds the database's only write lock until the commit; PostgreSQL:
+/// the patient's, their stations' and their sessions' rows locked `FOR UPDATE`, which a
+/// session or summary being inserted for them waits on), and only then finds their sessions
+/// and stations. A session stored before that is erased with the rest; one arriving after
+/// waits, then finds its station gone and is refused. Nothing is half-erased: the rows, the
+/// tombstone and the stations' revocation commit together, the recordings go after.
+async fn remove(
+    clinic: &Clinic,
+    db: &Db,
+    patient: Patient,
+    tombstone: &Tombstone,
+    now_ms: i64,
+) -> Result<(Scope, Covered), HubError> {
     let mut tx = db
         .pool()
         .begin()
         .await
         .map_err(HubError::db("starting the erasure"))?;
+    if db.backend() == Backend::Postgres {
+        for sql in [
+            "SELECT id FROM patients WHERE id = $1 FOR UPDATE",
+            "SELECT station_id FROM stations WHERE patient_id = $1 FOR UPDATE",
+            "SELECT session_id FROM sessions WHERE patient_id = $1 FOR UPDATE",
+        ] {
+            sqlx::query(sql)
+                .bind(&patient.id)
+                .fetch_all(&mut *tx)
+                .await
+                .map_err(HubError::db("holding the patient's rows"))?;
+        }
+    }
+    // SQLite's write lock; and a station paired during the grace is revoked with the others.
+    sqlx::query(
+        "UPDATE stations SET revoked_at_ms = COALESCE(revoked_at_ms, $2) WHERE patient_id = $1",
+    )
+    .bind(&patient.id)
+    .bind(now_ms)
+    .execute(&mut *tx)
+    .await
+    .map_err(HubError::db("holding the patient's rows"))?;
+    let s = scope_in(&mut tx, patient).await?;
+    let plan = linked_tables(db).await?;
+    let store = clinic.recordings()?;
+    let files = recording_files(&store, &s).await?;
+    let what = covered(row_counts(&mut tx, &plan, &s).await?, &files);
+    tombstone.insert(&mut tx).await?;
     // Children before parents: rows keyed by session or station, then the other rows keyed
     // by patient (some also name a session), then the sessions, the stations and the patient.
     let order = |table: &str, link: &Link| match (table, link) {
@@ -391,7 +494,7 @@ pub async fn erase(
         (_, Link::Column(_)) => 2,
         (_, Link::Own) => 5,
     };
-    let mut plan = linked_tables(db).await?;
+    let mut plan = plan;
     plan.sort_by_key(|(t, l)| (order(t, l), t.clone()));
     for (table, link) in &plan {
         patient_query("DELETE", table, link, &s)
@@ -405,12 +508,25 @@ pub async fn erase(
     for station in &s.stations {
         store.erase_station(station).await?;
     }
+    db.scrub().await?;
+    Ok((s, what))
+}
+
+/// The erasure's one audit entry: how much, none of it.
+async fn audit_erasure(
+    db: &Db,
+    action: &str,
+    why: &str,
+    s: &Scope,
+    what: &Covered,
+    now_ms: i64,
+) -> Result<(), HubError> {
     db.audit(
         "cli",
-        "erase_patient",
+        action,
         &s.patient.id,
         &format!(
-            "erased on request: {} rows in {} tables, {} recording files ({} bytes); {} stations revoked",
+            "{why}: {} rows in {} tables, {} recording files ({} bytes); {} stations revoked",
             what.rows.values().sum::<usize>(),
             what.rows.len(),
             what.recording_files,
@@ -419,6 +535,5 @@ pub async fn erase(
         ),
         now_ms,
     )
-    .await?;
-    Ok(what)
+    .await
 }

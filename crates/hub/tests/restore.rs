@@ -54,7 +54,9 @@ async fn good_backup(tmp: &Path) -> (PathBuf, Vec<(String, Vec<u8>)>) {
     std::fs::create_dir_all(&station).unwrap();
     std::fs::write(station.join("s1.mcap"), b"a recording's bytes").unwrap();
     let out = tmp.join("good.tar.zst");
-    hub::backup::backup(&clinic, None, &out).await.unwrap();
+    hub::backup::backup(&clinic, None, &out, &hub::backup::Sealing::Clear)
+        .await
+        .unwrap();
     let decoder = zstd::Decoder::new(std::fs::File::open(&out).unwrap()).unwrap();
     let mut archive = tar::Archive::new(decoder);
     let entries = archive
@@ -69,6 +71,11 @@ async fn good_backup(tmp: &Path) -> (PathBuf, Vec<(String, Vec<u8>)>) {
         })
         .collect();
     (out, entries)
+}
+
+/// Restores `archive` (clear, SQLite) into `data`.
+async fn restore(archive: &Path, data: &Path) -> Result<hub::backup::Restored, hub::HubError> {
+    hub::backup::restore(archive, data, Default::default(), common::T0).await
 }
 
 /// A tar header for `name` declaring `size` bytes.
@@ -242,7 +249,7 @@ async fn crafted_backups_are_refused_by_name_and_leave_the_target_as_it_was() {
         std::fs::write(&archive, bytes).unwrap();
         for target in ["absent", "empty"] {
             let case_started = std::time::Instant::now();
-            let e = hub::backup::restore(&archive, &parent.join(target), None)
+            let e = restore(&archive, &parent.join(target))
                 .await
                 .expect_err(what)
                 .to_string();
@@ -274,10 +281,9 @@ async fn a_good_backup_restores_into_an_absent_or_an_empty_directory_with_nothin
     std::fs::create_dir(&parent).unwrap();
     std::fs::create_dir(parent.join("empty")).unwrap();
     for target in ["absent", "empty"] {
-        let m = hub::backup::restore(&archive, &parent.join(target), None)
-            .await
-            .unwrap();
-        assert_eq!(m.recordings.len(), 1);
+        let r = restore(&archive, &parent.join(target)).await.unwrap();
+        assert_eq!(r.manifest.recordings.len(), 1);
+        assert!(!r.encrypted);
         let restored = parent.join(target);
         assert_eq!(
             std::fs::read(restored.join(recording)).unwrap(),
@@ -293,4 +299,26 @@ async fn a_good_backup_restores_into_an_absent_or_an_empty_directory_with_nothin
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
     assert_eq!(names.len(), 2, "no staging directory left: {names:?}");
+}
+
+#[tokio::test]
+async fn a_format_1_backup_from_before_encryption_still_restores() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (_, good) = good_backup(tmp.path()).await;
+    // Format 1: the same entries without the erasure ledger, never encrypted.
+    let old: Vec<(String, Vec<u8>)> = with_manifest(&good, |m| m["format"] = 1.into())
+        .into_iter()
+        .filter(|(name, _)| name != "erasures.ndjson")
+        .collect();
+    assert_eq!(old.len() + 1, good.len(), "the good backup holds a ledger");
+    let archive = tmp.path().join("format1.tar.zst");
+    std::fs::write(&archive, craft(&old, None)).unwrap();
+    let r = restore(&archive, &tmp.path().join("restored"))
+        .await
+        .unwrap();
+    assert_eq!((r.manifest.format, r.encrypted), (1, false));
+    assert_eq!(
+        std::fs::read(tmp.path().join("restored/recordings/st-1/s1.mcap")).unwrap(),
+        b"a recording's bytes"
+    );
 }

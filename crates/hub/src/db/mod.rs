@@ -24,6 +24,7 @@
 
 mod alert_acks;
 mod audit;
+pub mod catalog;
 mod checkins;
 pub mod clinic_settings;
 mod difficulty;
@@ -176,10 +177,14 @@ impl Db {
                 Box::pin(async move {
                     if backend == Backend::Sqlite {
                         // WAL: readers do not block the writer; busy_timeout: a writer waits for
-                        // another instead of failing; foreign keys are off by default in SQLite.
+                        // another instead of failing; foreign keys are off by default in SQLite;
+                        // secure_delete: a deleted row's bytes are overwritten with zeros, not
+                        // left in the page (or free page) until reused — an erased patient's
+                        // data must not stay in the file ([`Db::scrub`] empties the WAL).
                         let pragmas = format!(
                             "PRAGMA journal_mode = WAL; PRAGMA busy_timeout = \
                              {SQLITE_BUSY_TIMEOUT_MS}; PRAGMA foreign_keys = ON; \
+                             PRAGMA secure_delete = ON; \
                              PRAGMA synchronous = NORMAL; \
                              PRAGMA wal_autocheckpoint = {SQLITE_WAL_AUTOCHECKPOINT_PAGES}; \
                              PRAGMA journal_size_limit = {SQLITE_WAL_LIMIT_BYTES};"
@@ -255,6 +260,30 @@ impl Db {
                     .execute(&self.pool)
                     .await
                     .map_err(HubError::db("truncating the write-ahead log"))?;
+            }
+        }
+        Ok(())
+    }
+
+    /// After an erasure: SQLite copies the write-ahead log into the database file and truncates
+    /// it (`wal_checkpoint(TRUNCATE)`, waiting up to the busy timeout for readers), so the
+    /// erased rows' old pages, which the log still holds, are gone from it; with
+    /// `secure_delete` the database file holds zeros where they were. Nothing to do on
+    /// PostgreSQL (its own vacuum reclaims dead rows; see docs/BACKUP.md).
+    pub async fn scrub(&self) -> Result<(), HubError> {
+        if self.backend == Backend::Sqlite {
+            let busy: i64 = sqlx::query_scalar("PRAGMA wal_checkpoint(TRUNCATE)")
+                .fetch_one(&self.pool)
+                .await
+                .map_err(HubError::db(
+                    "truncating the write-ahead log after an erasure",
+                ))?;
+            if busy != 0 {
+                // The erasure itself is committed; only the log's old copy waits.
+                tracing::warn!(
+                    "a reader kept SQLite's write-ahead log from being emptied after an erasure: \
+                     the erased rows' old pages stay in it until the next full checkpoint"
+                );
             }
         }
         Ok(())

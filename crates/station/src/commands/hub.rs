@@ -138,19 +138,41 @@ pub enum HubCommand {
         out: PathBuf,
     },
     /// Back the clinic up into one file while the hub serves: the database (SQLite's online
-    /// copy or a PostgreSQL dump, one consistent snapshot), the CA and hub certificate, and
-    /// every recording; row counts and checksums in its manifest. Guard the file: it holds
-    /// the CA's key.
+    /// copy or a PostgreSQL dump, one consistent snapshot), the CA and hub certificate, the
+    /// erasure ledger and every recording; row counts and checksums in its manifest. Encrypted
+    /// (age) to hub.toml's backup_recipients (`hub backup-key` makes the key pair); refused
+    /// without one unless `--unencrypted`.
     Backup {
         /// Data directory and database.
         #[command(flatten)]
         data: DataArgs,
-        /// The backup file to make (`.tar.zst`); never overwritten.
+        /// The backup file to make (`.tar.zst.age`; `.tar.zst` when unencrypted); never
+        /// overwritten.
         #[arg(long, value_name = "FILE")]
         out: PathBuf,
+        /// Write it in clear (it holds the CA's key and every patient's data: only for a
+        /// disk that is itself encrypted and guarded).
+        #[arg(long)]
+        unencrypted: bool,
+    },
+    /// Make the clinic's backup key pair: the identity file (the secret key; keep it offline,
+    /// away from this machine: it restores the backups) and its recipient (`age1…`), added to
+    /// hub.toml's backup_recipients. Or add a recipient made elsewhere (`age-keygen`).
+    BackupKey {
+        /// Data directory.
+        #[arg(long, value_name = "DIR")]
+        data: PathBuf,
+        /// The identity file to write (new, 0600).
+        #[arg(long, value_name = "FILE", required_unless_present = "recipient")]
+        identity_out: Option<PathBuf>,
+        /// An existing recipient to add instead (`age1…`).
+        #[arg(long, value_name = "AGE1…", conflicts_with = "identity_out")]
+        recipient: Option<String>,
     },
     /// Restore a backup into a new data directory (and, for a PostgreSQL backup, the empty
-    /// database `--db` names), checking every table's rows and every recording's checksum.
+    /// database `--db` names), checking every table's rows and every recording's checksum,
+    /// then erasing again every patient erased since (the backup's ledger, the database's
+    /// tombstones and `--erasures`).
     Restore {
         /// The backup file.
         #[arg(long, value_name = "FILE")]
@@ -161,6 +183,13 @@ pub enum HubCommand {
         /// An empty PostgreSQL database for a PostgreSQL backup (`postgres://…`).
         #[arg(long, value_name = "URL")]
         db: Option<String>,
+        /// The clinic's backup identity file, for an encrypted backup.
+        #[arg(long, value_name = "FILE")]
+        identity: Option<PathBuf>,
+        /// An erasure ledger to re-apply too (the clinic's current `erasures.ndjson`, or its
+        /// copy kept off the machine); repeatable.
+        #[arg(long, value_name = "FILE")]
+        erasures: Vec<PathBuf>,
     },
     /// Patients.
     #[command(subcommand)]
@@ -356,11 +385,29 @@ pub fn run(args: HubArgs) -> anyhow::Result<()> {
                 lang,
                 out,
             } => backup::export_fhir(&data, &fhir, lang.as_deref(), &out).await,
-            HubCommand::Backup { data, out } => {
-                backup::backup(&data.data, data.db.as_deref(), &out).await
-            }
-            HubCommand::Restore { from, data, db } => {
-                backup::restore(&from, &data, db.as_deref()).await
+            HubCommand::Backup {
+                data,
+                out,
+                unencrypted,
+            } => backup::backup(&data.data, data.db.as_deref(), &out, unencrypted).await,
+            HubCommand::BackupKey {
+                data,
+                identity_out,
+                recipient,
+            } => backup::backup_key(&data, identity_out.as_deref(), recipient.as_deref()),
+            HubCommand::Restore {
+                from,
+                data,
+                db,
+                identity,
+                erasures,
+            } => {
+                let from_ = hub::backup::RestoreFrom {
+                    identity: identity.as_deref(),
+                    db_url: db.as_deref(),
+                    erasures: &erasures,
+                };
+                backup::restore(&from, &data, from_).await
             }
             HubCommand::Patient(c) => patient(c).await,
             HubCommand::Station(StationCommand::Revoke { data, station_id }) => {
@@ -428,6 +475,15 @@ async fn serve(
     max_replay_bytes: u64,
 ) -> anyhow::Result<()> {
     let (clinic, db) = open(data).await?;
+    // Erasures stay erased: a patient a tombstone names is erased again before anyone is
+    // served (nothing to do unless the database came back from an older copy).
+    let again = hub::patient_data::tombstones::reapply(&clinic, &db, &[], now_ms()).await?;
+    if again.erased > 0 {
+        println!(
+            "{} erased patients came back with an older database: erased again ({} erasures on record)",
+            again.erased, again.tombstones
+        );
+    }
     let stations = crate::link::resolve("--stations", stations)?;
     let web = web.map(|w| crate::link::resolve("--web", w)).transpose()?;
     let options = ServeOptions {

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use hub::backup::Manifest;
+use hub::backup::{Manifest, Sealing};
 use hub::clinic::Clinic;
 
 /// The tables a clinic recognises, with the words for their rows, as a restore reports them.
@@ -32,24 +32,42 @@ fn contents(m: &Manifest) -> String {
     parts.join(", ")
 }
 
-/// `hub backup`: back the clinic at `data` up into `out`, and audit it.
-pub async fn backup(data: &Path, db: Option<&str>, out: &Path) -> anyhow::Result<()> {
+/// `hub backup`: back the clinic at `data` up into `out` (encrypted to hub.toml's recipients
+/// unless `unencrypted`), and audit it.
+pub async fn backup(
+    data: &Path,
+    db: Option<&str>,
+    out: &Path,
+    unencrypted: bool,
+) -> anyhow::Result<()> {
     let clinic = Clinic::at(data);
-    let m = hub::backup::backup(&clinic, db, out).await?;
+    let sealing = if unencrypted {
+        Sealing::Clear
+    } else {
+        Sealing::to_recipients(&clinic.config()?.backup_recipients, data)?
+    };
+    let m = hub::backup::backup(&clinic, db, out, &sealing).await?;
     let size = std::fs::metadata(out).map(|m| m.len()).unwrap_or(0);
+    let sealed = match &sealing {
+        Sealing::To(r) => format!("encrypted to {} recipients", r.len()),
+        Sealing::Clear => "UNENCRYPTED".to_owned(),
+    };
     let audit = clinic.open_db(db).await?;
     audit
         .audit(
             "cli",
             "backup",
             &out.display().to_string(),
-            &format!("{} database, schema {}", m.backend, m.schema_version),
+            &format!(
+                "{} database, schema {}, {sealed}",
+                m.backend, m.schema_version
+            ),
             super::now_ms(),
         )
         .await?;
     audit.close().await;
     println!(
-        "backup {} ({:.1} MB): {} database (schema {}; {} tables), {}",
+        "backup {} ({:.1} MB, {sealed}): {} database (schema {}; {} tables), {}",
         out.display(),
         size as f64 / 1e6,
         m.backend,
@@ -57,21 +75,81 @@ pub async fn backup(data: &Path, db: Option<&str>, out: &Path) -> anyhow::Result
         m.rows.len(),
         contents(&m)
     );
-    println!(
-        "it holds the clinic's CA key: keep it where only the clinic's administrators can read it"
-    );
+    match sealing {
+        Sealing::To(_) => println!(
+            "restore it with the clinic's identity file: telerehab hub restore --from {} --identity FILE --data NEW_DIR (or decrypt it with `age -d -i FILE`)",
+            out.display()
+        ),
+        Sealing::Clear => println!(
+            "it is NOT encrypted and holds the clinic's CA key and every patient's data: keep it where only the clinic's administrators can read it"
+        ),
+    }
+    Ok(())
+}
+
+/// `hub backup-key`: a new key pair (the identity into `identity_out`), or `recipient`, added
+/// to hub.toml's backup recipients.
+pub fn backup_key(
+    data: &Path,
+    identity_out: Option<&Path>,
+    recipient: Option<&str>,
+) -> anyhow::Result<()> {
+    let clinic = Clinic::at(data);
+    clinic.config()?;
+    let recipient = match (identity_out, recipient) {
+        (_, Some(r)) => r.trim().to_owned(),
+        (Some(path), None) => {
+            let (text, recipient) = hub::backup::new_key_pair();
+            let mut options = std::fs::OpenOptions::new();
+            options.write(true).create_new(true);
+            #[cfg(unix)]
+            std::os::unix::fs::OpenOptionsExt::mode(&mut options, 0o600);
+            let mut file = options.open(path).map_err(|e| {
+                anyhow::anyhow!(
+                    "cannot create {} ({e}); an identity file is never overwritten",
+                    path.display()
+                )
+            })?;
+            std::io::Write::write_all(&mut file, text.as_bytes())?;
+            file.sync_all()?;
+            println!("identity (secret key) written to {}", path.display());
+            println!(
+                "keep it OFFLINE, away from this machine (a USB key in the clinic's safe, a password manager): without it no backup can be restored, and with it anyone can read them"
+            );
+            recipient
+        }
+        (None, None) => anyhow::bail!("name --identity-out FILE or --recipient age1…"),
+    };
+    hub::backup::add_recipient(&clinic, &recipient)?;
+    println!("backups are now encrypted to {recipient} (hub.toml's backup_recipients)");
     Ok(())
 }
 
 /// `hub restore`: restore `from` into the new data directory `data`.
-pub async fn restore(from: &Path, data: &Path, db: Option<&str>) -> anyhow::Result<()> {
-    let m = hub::backup::restore(from, data, db).await?;
+pub async fn restore(
+    from: &Path,
+    data: &Path,
+    how: hub::backup::RestoreFrom<'_>,
+) -> anyhow::Result<()> {
+    let r = hub::backup::restore(from, data, how, super::now_ms()).await?;
+    let m = &r.manifest;
+    if !r.encrypted {
+        eprintln!(
+            "warning: {} is not encrypted (format {}): anyone who had the file could read the clinic's CA key and every patient's data; make encrypted backups from now on (`telerehab hub backup-key`)",
+            from.display(),
+            m.format
+        );
+    }
     println!(
         "restored into {}: {} database (schema {}), {}; every table's rows and every recording's checksum match the backup",
         data.display(),
         m.backend,
         m.schema_version,
-        contents(&m)
+        contents(m)
+    );
+    println!(
+        "erasures re-applied: {} (patients erased after this backup was taken, erased again); {} erasures on record",
+        r.erasures.erased, r.erasures.tombstones
     );
     println!(
         "serve it with: telerehab hub serve --data {}",
@@ -152,6 +230,10 @@ pub async fn erase_patient(
     println!(
         "erased {pseudonym}: {}; their stations are revoked",
         covered_said(&c)
+    );
+    println!(
+        "the erasure is recorded in {} (no data of theirs, a keyed hash of the pseudonym): keep a copy of it with the backups' identity file, and give it to `hub restore --erasures` when restoring a backup on another machine",
+        hub::patient_data::tombstones::ledger_path(&clinic).display()
     );
     Ok(())
 }
