@@ -359,7 +359,9 @@ async fn a_backup_export_and_erasure_reach_the_recordings_in_s3() {
     store.keep("st-erase", "s-erase", &part).await.unwrap();
 
     let backup = tmp.path().join("backup.tar.zst");
-    let manifest = hub::backup::backup(&clinic, None, &backup).await.unwrap();
+    let manifest = hub::backup::backup(&clinic, None, &backup, &hub::backup::Sealing::Clear)
+        .await
+        .unwrap();
     assert_eq!(
         manifest.recordings.keys().collect::<Vec<_>>(),
         ["st-erase/s-erase.mcap"]

@@ -61,7 +61,7 @@ pub fn connect_to_station() -> io::Result<WindowSocket> {
     #[cfg(unix)]
     {
         use std::os::fd::AsFd;
-        let fd = std::io::stdin().as_fd().try_clone_to_owned()?;
+        let fd = io::stdin().as_fd().try_clone_to_owned()?;
         Ok(WindowSocket::from(fd))
     }
     #[cfg(windows)]
