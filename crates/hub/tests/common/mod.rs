@@ -5,6 +5,7 @@
 
 pub mod api;
 pub mod fixture;
+pub mod link;
 
 use hub::Db;
 use sqlx::Connection;
