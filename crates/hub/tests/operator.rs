@@ -316,3 +316,66 @@ async fn readyz_names_a_recordings_directory_that_takes_no_file_and_says_drainin
     let stopped = tokio::time::timeout(GUARD, task).await;
     assert!(matches!(stopped, Ok(Ok(Ok(())))), "{stopped:?}");
 }
+
+/// The metric families the hub exports (every labelled one given a series first), by name.
+fn exported_families() -> Vec<String> {
+    let telemetry = hub::telemetry::Telemetry::new();
+    telemetry.station_refused("revoked");
+    telemetry.replay(hub::telemetry::ReplayOutcome::Started);
+    telemetry.pain_mail(true);
+    telemetry.http_request("health", 200, 0.001);
+    telemetry
+        .encode(None)
+        .lines()
+        .filter_map(|l| l.strip_prefix("# TYPE ")?.split(' ').next())
+        .map(str::to_owned)
+        .collect()
+}
+
+#[test]
+fn the_operators_guide_explains_every_metric_and_the_shipped_alerts_pass_promtool() {
+    let docs = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs");
+    let guide = std::fs::read_to_string(docs.join("OPERATING.md")).unwrap();
+    let rules_path = docs.join("operating/alerts.yml");
+    let rules = std::fs::read_to_string(&rules_path).unwrap();
+    let families = exported_families();
+    assert!(families.len() >= 20, "{families:?}");
+    for family in &families {
+        let short = family.strip_prefix("telerehab_hub_").unwrap();
+        assert!(
+            guide.contains(&format!("| `{short}")),
+            "docs/OPERATING.md has no row for {family}"
+        );
+    }
+    // Every metric an alert names is one the hub exports (a renamed metric breaks no alert
+    // silently).
+    let named = rules
+        .split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+        .filter(|w| w.starts_with("telerehab_hub_"));
+    for name in named {
+        let family = ["_bucket", "_count", "_sum"]
+            .iter()
+            .find_map(|s| name.strip_suffix(s))
+            .unwrap_or(name);
+        assert!(
+            families.iter().any(|f| f == family),
+            "alerts.yml names {name}, which the hub does not export"
+        );
+    }
+    let promtool = std::path::Path::new("/usr/bin/promtool");
+    if !promtool.exists() {
+        println!("SKIPPED: promtool is not installed (scripts/setup.sh installs prometheus)");
+        return;
+    }
+    let out = std::process::Command::new(promtool)
+        .args(["check", "rules"])
+        .arg(&rules_path)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "promtool check rules: {}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
