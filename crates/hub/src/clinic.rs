@@ -462,8 +462,22 @@ pub async fn serve(
     mailer.abort();
     pool_sampler.abort();
     let _ = stop_operator.send(());
-    // Both ports stop together, within STOP_WITHIN: open requests and station connections
-    // get the time left to finish; what a station was not acknowledged it sends again.
+    let stopped = stop_ports(server, stop_web, web_task).await;
+    if let Some((_, task)) = operator {
+        task.abort();
+    }
+    let _ = tokio::time::timeout(std::time::Duration::from_millis(500), db.close()).await;
+    stopped
+}
+
+/// Stops both ports together, within [`STOP_WITHIN`] less the database's half second: open
+/// requests and station connections get the time left to finish; what a station was not
+/// acknowledged it sends again.
+async fn stop_ports(
+    server: TherapistServer,
+    stop_web: tokio::sync::oneshot::Sender<()>,
+    web_task: Option<tokio::task::JoinHandle<Result<(), HubError>>>,
+) -> Result<(), HubError> {
     let _ = stop_web.send(());
     let web_stopped = async {
         match web_task {
@@ -484,10 +498,6 @@ pub async fn serve(
         web
     })
     .await;
-    if let Some((_, task)) = operator {
-        let _ = tokio::time::timeout(std::time::Duration::from_millis(500), task).await;
-    }
-    let _ = tokio::time::timeout(std::time::Duration::from_millis(500), db.close()).await;
     match stopped {
         Ok(web) => web,
         Err(_) => {

@@ -18,7 +18,7 @@ use prometheus_client::metrics::counter::Counter;
 use prometheus_client::metrics::family::Family;
 use prometheus_client::metrics::gauge::Gauge;
 use prometheus_client::metrics::histogram::Histogram;
-use prometheus_client::registry::{Registry, Unit};
+use prometheus_client::registry::{Metric, Registry, Unit};
 
 use crate::db::Db;
 
@@ -139,162 +139,123 @@ impl Telemetry {
     /// A new registry with every metric at zero, `build_info` naming this version and the
     /// process start time read from the system clock now.
     pub fn new() -> Self {
-        let mut registry = Registry::with_prefix(PREFIX);
-        let station_connections = Gauge::default();
-        registry.register(
-            "station_connections",
-            "Stations connected now (admitted, one a station)",
-            station_connections.clone(),
-        );
-        let station_connections_unauthenticated = Gauge::default();
-        registry.register(
-            "station_connections_unauthenticated",
-            "Station-port connections not admitted yet (TLS handshake, Hello, pairing)",
-            station_connections_unauthenticated.clone(),
-        );
-        let station_admitted = Counter::default();
-        registry.register(
-            "station_admitted",
-            "Station connections admitted after their Hello",
-            station_admitted.clone(),
-        );
-        let station_refused = Family::<Label, Counter>::default();
-        registry.register(
-            "station_refused",
-            "Station connections refused or ended by the hub, by reason (admission, limits, \
-             protocol, connection caps)",
-            station_refused.clone(),
-        );
-        let summaries_ingested = Counter::default();
-        registry.register(
-            "summaries_ingested",
-            "Summaries stored (new, not duplicates)",
-            summaries_ingested.clone(),
-        );
-        let summaries_duplicate = Counter::default();
-        registry.register(
-            "summaries_duplicate",
-            "Summaries received again after they were stored (a station resending)",
-            summaries_duplicate.clone(),
-        );
-        let summary_ack = Histogram::new(ACK_BUCKETS_S);
-        registry.register_with_unit(
-            "ack_latency",
-            "From a summary reaching the store to its commit, after which it is acknowledged",
-            Unit::Seconds,
-            summary_ack.clone(),
-        );
-        let (db_pool_connections, db_pool_idle, db_pool_max) =
-            (Gauge::default(), Gauge::default(), Gauge::default());
-        registry.register(
-            "db_pool_connections",
-            "Database connections open in the pool",
-            db_pool_connections.clone(),
-        );
-        registry.register(
-            "db_pool_idle_connections",
-            "Database connections open and idle",
-            db_pool_idle.clone(),
-        );
-        registry.register(
-            "db_pool_max_connections",
-            "Most database connections the pool opens",
-            db_pool_max.clone(),
-        );
-        let db_pool_acquire = Histogram::new(REQUEST_BUCKETS_S);
-        registry.register_with_unit(
-            "db_pool_acquire",
-            "Wait for a database connection, sampled once a second",
-            Unit::Seconds,
-            db_pool_acquire.clone(),
-        );
-        let upload_bytes = Counter::default();
-        registry.register_with_unit(
-            "upload",
-            "Bytes of recordings uploaded completely and verified",
-            Unit::Bytes,
-            upload_bytes.clone(),
-        );
-        let uploads_completed = Counter::default();
-        registry.register(
-            "uploads_completed",
-            "Recordings uploaded completely and verified",
-            uploads_completed.clone(),
-        );
-        let uploads_failed = Counter::default();
-        registry.register(
-            "uploads_failed",
-            "Recordings uploaded whole that could not be stored (the station uploads again)",
-            uploads_failed.clone(),
-        );
-        let uploads_refused = Counter::default();
-        registry.register(
-            "uploads_refused",
-            "Uploads refused by the hub's limits",
-            uploads_refused.clone(),
-        );
-        let replays = Family::<Label, Counter>::default();
-        registry.register(
-            "replays",
-            "Replay requests of the console by outcome (started, refused, failed)",
-            replays.clone(),
-        );
-        let pain_mails = Family::<Label, Counter>::default();
-        registry.register(
-            "pain_mails",
-            "Pain-alert mails by outcome (sent, failed)",
-            pain_mails.clone(),
-        );
-        let http_requests = Family::<Labels2, Counter>::default();
-        registry.register(
-            "http_requests",
-            "Console and operator HTTP requests answered, by route group and status class",
-            http_requests.clone(),
-        );
-        let http_request_duration: HistogramFamily<Label> =
-            Family::new_with_constructor(request_histogram);
-        registry.register_with_unit(
-            "http_request_duration",
-            "Time to answer a console or operator request (to its first byte), by route group",
-            Unit::Seconds,
-            http_request_duration.clone(),
-        );
-        let process_start_time = Gauge::<f64, AtomicU64>::default();
-        process_start_time.set(crate::web::system_now_ms() as f64 / 1000.0);
-        registry.register_with_unit(
-            "process_start_time",
-            "When the hub started, since the Unix epoch",
-            Unit::Seconds,
-            process_start_time.clone(),
-        );
-        let build_info = Family::<Label, Gauge>::default();
-        build_info
-            .get_or_create(&[("version", env!("CARGO_PKG_VERSION"))])
-            .set(1);
-        registry.register("build_info", "The hub's version (value 1)", build_info);
-        Self {
-            registry,
-            station_connections,
-            station_connections_unauthenticated,
-            station_admitted,
-            station_refused,
-            summaries_ingested,
-            summaries_duplicate,
-            summary_ack,
-            db_pool_connections,
-            db_pool_idle,
-            db_pool_max,
-            db_pool_acquire,
-            upload_bytes,
-            uploads_completed,
-            uploads_failed,
-            uploads_refused,
-            replays,
-            pain_mails,
-            http_requests,
-            http_request_duration,
-            process_start_time,
-        }
+        let mut r = Registry::with_prefix(PREFIX);
+        let mut t = Self {
+            station_connections: plain(
+                &mut r,
+                "station_connections",
+                "Stations connected now (admitted, one a station)",
+            ),
+            station_connections_unauthenticated: plain(
+                &mut r,
+                "station_connections_unauthenticated",
+                "Station-port connections not admitted yet (TLS handshake, Hello, pairing)",
+            ),
+            station_admitted: plain(
+                &mut r,
+                "station_admitted",
+                "Station connections admitted after their Hello",
+            ),
+            station_refused: plain(
+                &mut r,
+                "station_refused",
+                "Station connections refused or ended by the hub, by reason (admission, limits, protocol, connection caps)",
+            ),
+            summaries_ingested: plain(
+                &mut r,
+                "summaries_ingested",
+                "Summaries stored (new, not duplicates)",
+            ),
+            summaries_duplicate: plain(
+                &mut r,
+                "summaries_duplicate",
+                "Summaries received again after they were stored (a station resending)",
+            ),
+            summary_ack: with_unit(
+                &mut r,
+                "ack_latency",
+                "From a summary reaching the store to its commit, after which it is acknowledged",
+                Unit::Seconds,
+                Histogram::new(ACK_BUCKETS_S),
+            ),
+            db_pool_connections: plain(
+                &mut r,
+                "db_pool_connections",
+                "Database connections open in the pool",
+            ),
+            db_pool_idle: plain(
+                &mut r,
+                "db_pool_idle_connections",
+                "Database connections open and idle",
+            ),
+            db_pool_max: plain(
+                &mut r,
+                "db_pool_max_connections",
+                "Most database connections the pool opens",
+            ),
+            db_pool_acquire: with_unit(
+                &mut r,
+                "db_pool_acquire",
+                "Wait for a database connection, sampled once a second",
+                Unit::Seconds,
+                request_histogram(),
+            ),
+            upload_bytes: with_unit(
+                &mut r,
+                "upload",
+                "Bytes of recordings uploaded completely and verified",
+                Unit::Bytes,
+                Counter::default(),
+            ),
+            uploads_completed: plain(
+                &mut r,
+                "uploads_completed",
+                "Recordings uploaded completely and verified",
+            ),
+            uploads_failed: plain(
+                &mut r,
+                "uploads_failed",
+                "Recordings uploaded whole that could not be stored (the station uploads again)",
+            ),
+            uploads_refused: plain(
+                &mut r,
+                "uploads_refused",
+                "Uploads refused by the hub's limits",
+            ),
+            replays: plain(
+                &mut r,
+                "replays",
+                "Replay requests of the console by outcome (started, refused, failed)",
+            ),
+            pain_mails: plain(
+                &mut r,
+                "pain_mails",
+                "Pain-alert mails by outcome (sent, failed)",
+            ),
+            http_requests: plain(
+                &mut r,
+                "http_requests",
+                "Console and operator HTTP requests answered, by route group and status class",
+            ),
+            http_request_duration: with_unit(
+                &mut r,
+                "http_request_duration",
+                "Time to answer a console or operator request (to its first byte), by route group",
+                Unit::Seconds,
+                Family::new_with_constructor(request_histogram),
+            ),
+            process_start_time: with_unit(
+                &mut r,
+                "process_start_time",
+                "When the hub started, since the Unix epoch",
+                Unit::Seconds,
+                started_now(),
+            ),
+            registry: Registry::default(),
+        };
+        register_build_info(&mut r);
+        t.registry = r;
+        t
     }
 
     /// The stations connected now and the connections not admitted yet.
@@ -427,6 +388,39 @@ pub async fn sample_pool(db: Db, telemetry: std::sync::Arc<Telemetry>) {
             _ => telemetry.pool_acquired(started.elapsed().as_secs_f64().max(10.0)),
         }
     }
+}
+
+/// A gauge holding the system clock's time now, s since the Unix epoch.
+fn started_now() -> Gauge<f64, AtomicU64> {
+    let gauge = Gauge::default();
+    gauge.set(crate::web::system_now_ms() as f64 / 1000.0);
+    gauge
+}
+
+/// `build_info{version="…"} 1`.
+fn register_build_info(registry: &mut Registry) {
+    let info: Family<Label, Gauge> = plain(registry, "build_info", "The hub's version (value 1)");
+    info.get_or_create(&[("version", env!("CARGO_PKG_VERSION"))])
+        .set(1);
+}
+
+/// A new metric of its kind's default, registered in `registry` as `name` with `help`.
+fn plain<M: Metric + Clone + Default>(registry: &mut Registry, name: &str, help: &str) -> M {
+    let metric = M::default();
+    registry.register(name, help, metric.clone());
+    metric
+}
+
+/// `metric`, registered in `registry` as `name` in `unit` with `help`.
+fn with_unit<M: Metric + Clone>(
+    registry: &mut Registry,
+    name: &str,
+    help: &str,
+    unit: Unit,
+    metric: M,
+) -> M {
+    registry.register_with_unit(name, help, unit, metric.clone());
+    metric
 }
 
 fn gauge(n: usize) -> i64 {

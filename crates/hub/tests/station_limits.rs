@@ -16,7 +16,6 @@ use common::link::{
 };
 use hub::bench::BenchStation;
 use hub::clinic::{Clinic, ServeOptions};
-use hub::web;
 use hub::{Db, Role};
 use netlink::therapist::station_limits::{SUMMARY_BURST, SUMMARY_PACE_PER_S};
 use netlink::{Frame, Summary};
