@@ -393,7 +393,8 @@ pub async fn sample_pool(db: Db, telemetry: std::sync::Arc<Telemetry>) {
 /// A gauge holding the system clock's time now, s since the Unix epoch.
 fn started_now() -> Gauge<f64, AtomicU64> {
     let gauge = Gauge::default();
-    gauge.set(crate::web::system_now_ms() as f64 / 1000.0);
+    let now = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH);
+    gauge.set(now.map_or(0.0, |d| d.as_secs_f64()));
     gauge
 }
 
