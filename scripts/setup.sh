@@ -29,6 +29,7 @@ PKGS=(build-essential pkg-config libudev-dev mesa-vulkan-drivers libvulkan1 libg
       espeak-ng sox libasound2-dev poppler-utils
       fonts-noto-core fonts-noto-cjk
       python3-aiosmtpd  # a real SMTP server for the hub's pain-mail tests (tests/smtp_sink.py)
+      prometheus  # its promtool checks the hub's /metrics and docs/operating/alerts.yml
       maven default-jdk-headless  # the reference FHIR validator (scripts/fhir-validator)
       age)  # Debian's age decrypts a hub backup (crates/hub/tests/backup_privacy.rs)
 missing=()
@@ -40,6 +41,10 @@ if [ ${#missing[@]} -gt 0 ]; then
   $SUDO apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
+# Of the prometheus package only /usr/bin/promtool is used: its daemon is neither left running
+# nor enabled (the package enables it on install).
+$SUDO systemctl disable --now prometheus.service >/dev/null 2>&1 || true
+$SUDO update-rc.d prometheus disable >/dev/null 2>&1 || true
 
 if ! command -v cargo >/dev/null 2>&1; then
   if [ -x "$HOME/.cargo/bin/cargo" ]; then

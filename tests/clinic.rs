@@ -121,6 +121,9 @@ pub struct Hub {
     pub stations: String,
     /// The console's address, `127.0.0.1:PORT`, when served.
     pub web: Option<String>,
+    /// The operator's address (`/metrics`, `/healthz`, `/readyz`), when served
+    /// (`--metrics-listen`).
+    pub metrics: Option<String>,
 }
 
 impl Hub {
@@ -131,12 +134,17 @@ impl Hub {
 
     /// [`Self::serve`] with more arguments (`--web 127.0.0.1:0` serves the console too).
     pub fn serve_with(data: &Path, stations: &str, more: &[&str]) -> Hub {
+        Self::serve_logging_to(data, stations, more, Stdio::null())
+    }
+
+    /// [`Self::serve_with`] writing its log (standard error) to `log`.
+    pub fn serve_logging_to(data: &Path, stations: &str, more: &[&str], log: Stdio) -> Hub {
         let mut child = Command::new(telerehab_bin())
             .args(["hub", "serve", "--data", data.to_str().unwrap()])
             .args(["--stations", stations])
             .args(more)
             .stdout(Stdio::piped())
-            .stderr(Stdio::null())
+            .stderr(log)
             .spawn()
             .unwrap();
         let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
@@ -156,11 +164,22 @@ impl Hub {
                 .unwrap_or_else(|| panic!("unexpected second line {line:?}"))
                 .to_owned()
         });
+        let metrics = more.contains(&"--metrics-listen").then(|| {
+            let line = lines
+                .next()
+                .expect("hub prints the operator's address")
+                .unwrap();
+            line.strip_prefix("metrics on http://")
+                .and_then(|r| r.strip_suffix("/metrics"))
+                .unwrap_or_else(|| panic!("unexpected line {line:?}"))
+                .to_owned()
+        });
         std::thread::spawn(move || for _ in lines {});
         Hub {
             child,
             stations: format!("localhost:{port}"),
             web,
+            metrics,
         }
     }
 

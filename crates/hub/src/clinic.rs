@@ -5,7 +5,8 @@
 //! ```text
 //! DATA/hub.toml            names on the hub's certificate, database URL (default: hub.db),
 //!                          clinic name, FHIR base (`fhir_base`), recording store
-//!                          (`[recordings]`, default: DATA/recordings)
+//!                          (`[recordings]`, default: DATA/recordings), the operator's
+//!                          `metrics_listen` address (none by default)
 //! DATA/hub.db              SQLite database (0600), unless `database` names PostgreSQL
 //! DATA/tls/ca.crt, ca.key  the clinic's CA (key 0600)
 //! DATA/tls/hub.crt, hub.key  the hub's certificate, signed by the CA (key 0600)
@@ -28,6 +29,7 @@ use crate::db::{Db, RegimenVersion, Role};
 use crate::error::HubError;
 use crate::ingest::{DbStore, Ingest, REVOCATION_POLL};
 use crate::limits::ConnectionBudget;
+use crate::telemetry::Telemetry;
 use crate::web::{self, AppState, LiveEvent, unix_ms};
 
 /// `DATA/hub.toml`.
@@ -51,6 +53,14 @@ pub struct ClinicConfig {
     /// one); their identity files are kept offline and restore the backups.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub backup_recipients: Vec<String>,
+    /// Where `/metrics`, `/healthz` and `/readyz` are served over plain HTTP for the clinic's
+    /// operator (`metrics_listen = "127.0.0.1:9464"`); absent: not served (the console's port
+    /// still answers `/healthz` and `/readyz`). Off by default because two hubs on one
+    /// machine would fight over a fixed port, and never on every interface (`0.0.0.0`): the
+    /// counts need no login, so they belong on loopback or a management network
+    /// (docs/OPERATING.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub metrics_listen: Option<SocketAddr>,
     /// Where recordings are kept (`[recordings]`, [`crate::recordings::RecordingsConfig`]);
     /// absent: `DATA/recordings`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -192,6 +202,7 @@ impl Clinic {
             clinic_name: None,
             fhir_base: None,
             backup_recipients: Vec::new(),
+            metrics_listen: None,
             recordings: None,
         };
         let url = match database.filter(|d| !d.is_empty()) {
@@ -271,6 +282,12 @@ pub struct ServeOptions {
     /// `--public-station-address`: what pairing sheets print (else the station listener's,
     /// when it is a specific address other than loopback).
     pub public_station_address: Option<String>,
+    /// `--metrics-listen`: the operator's plain-HTTP address for `/metrics`, `/healthz` and
+    /// `/readyz`; `None`: `hub.toml`'s `metrics_listen`, else not served.
+    pub metrics: Option<SocketAddr>,
+    /// `--drain-s`: how long `/readyz` answers 503 (draining) once shutdown is asked, while
+    /// both ports still serve, before they stop: a load balancer's check interval or two.
+    pub drain: std::time::Duration,
 }
 
 /// Connection caps and deadlines of `hub serve` besides [`ServeOptions::max_connections`].
@@ -308,6 +325,8 @@ impl ServeOptions {
             summary_pace_per_s: netlink::therapist::station_limits::SUMMARY_PACE_PER_S as u32,
             care: crate::care::CareConfig::default(),
             public_station_address: None,
+            metrics: None,
+            drain: std::time::Duration::ZERO,
         }
     }
 }
@@ -328,6 +347,8 @@ pub struct Bound {
     pub stations: SocketAddr,
     /// Console's address.
     pub web: Option<SocketAddr>,
+    /// The operator's `/metrics` address.
+    pub metrics: Option<SocketAddr>,
     /// The connection caps in force, fitted to the open-file limit.
     pub budget: ConnectionBudget,
 }
@@ -346,13 +367,15 @@ pub async fn serve(
     options.care.validate()?;
     let fhir_base = config.fhir_base()?;
     let recordings = clinic.recordings()?;
+    let telemetry = Arc::new(Telemetry::new());
     let store = Arc::new(
-        DbStore::new(
+        DbStore::new_counted(
             db.clone(),
             clinic.ca()?,
             config.names[0].clone(),
             recordings.clone(),
             options.clock.clone(),
+            telemetry.clone(),
         )
         // A station's check is answered with the patient's care too (its threshold and phone;
         // the pairing sheets' address, settled below, is not part of it).
@@ -395,13 +418,23 @@ pub async fn serve(
         .with_replay_max_bytes(options.max_replay_bytes)
         .with_recordings(recordings.clone())
         .with_clinic_name(config.clinic_name.clone())
-        .with_fhir_base(fhir_base);
+        .with_fhir_base(fhir_base)
+        // Partial uploads grow in the local staging directory whatever the store.
+        .with_operator(
+            telemetry.clone(),
+            Some(recordings.staging_dir().to_path_buf()),
+        );
+    let readiness = state.readiness.clone();
+    let (stop_operator, operator) =
+        spawn_operator(options.metrics.or(config.metrics_listen), state.clone()).await?;
     let (stop_web, web_task) = spawn_console(clinic, web_listener, state, web_limits)?;
     on_bound(Bound {
         stations: server.local_addr(),
         web: web_addr,
+        metrics: operator.as_ref().map(|(addr, _)| *addr),
         budget,
     });
+    let pool_sampler = tokio::spawn(crate::telemetry::sample_pool(db.clone(), telemetry.clone()));
     let mut revocation = tokio::time::interval(REVOCATION_POLL);
     let mut sweep = tokio::time::interval(crate::uploads::PARTIAL_UPLOAD_SWEEP);
     let mut housekeeping = tokio::time::interval(HOUSEKEEPING);
@@ -410,15 +443,29 @@ pub async fn serve(
         db.clone(),
         care.clone(),
         options.clock.clone(),
+        telemetry.clone(),
     ));
     let mut shutdown = std::pin::pin!(shutdown);
+    // Armed when shutdown is asked: `/readyz` says draining until it fires.
+    let mut drained = std::pin::pin!(tokio::time::sleep(std::time::Duration::ZERO));
+    let mut draining = false;
     loop {
         tokio::select! {
-            () = &mut shutdown => break,
+            () = &mut shutdown, if !draining => {
+                readiness.start_draining();
+                if options.drain.is_zero() {
+                    break;
+                }
+                tracing::info!(drain_s = options.drain.as_secs_f64(), "draining before shutdown");
+                draining = true;
+                drained.as_mut().reset(tokio::time::Instant::now() + options.drain);
+            }
+            () = &mut drained, if draining => break,
             _ = revocation.tick() => {
                 if let Err(e) = store.refresh_revoked().await {
                     tracing::error!("cannot re-read revoked stations: {e}");
                 }
+                count_connections(&telemetry, &server);
             }
             _ = housekeeping.tick() => housekeep(&db, unix_ms(&options.clock)).await,
             _ = sweep.tick() => expire_partial_uploads(staging.clone()).await,
@@ -426,6 +473,7 @@ pub async fn serve(
             Ok(patient) = clearances.recv() => push_care_to_patient(&server, &db, &care, &patient).await,
             Some(event) = events.recv() => {
                 on_event(&event);
+                count_event(&telemetry, &server, &event);
                 if let TherapistEvent::Connected { hello, .. } = &event {
                     // First: a station that checks in before today's page knows at once.
                     push_care(&server, &db, &care, &hello.station_id, &hello.patient_id).await;
@@ -435,8 +483,24 @@ pub async fn serve(
         }
     }
     mailer.abort();
-    // Both ports stop together, within STOP_WITHIN: open requests and station connections
-    // get the time left to finish; what a station was not acknowledged it sends again.
+    pool_sampler.abort();
+    let _ = stop_operator.send(());
+    let stopped = stop_ports(server, stop_web, web_task).await;
+    if let Some((_, task)) = operator {
+        task.abort();
+    }
+    let _ = tokio::time::timeout(std::time::Duration::from_millis(500), db.close()).await;
+    stopped
+}
+
+/// Stops both ports together, within [`STOP_WITHIN`] less the database's half second: open
+/// requests and station connections get the time left to finish; what a station was not
+/// acknowledged it sends again.
+async fn stop_ports(
+    server: TherapistServer,
+    stop_web: tokio::sync::oneshot::Sender<()>,
+    web_task: Option<tokio::task::JoinHandle<Result<(), HubError>>>,
+) -> Result<(), HubError> {
     let _ = stop_web.send(());
     let web_stopped = async {
         match web_task {
@@ -457,7 +521,6 @@ pub async fn serve(
         web
     })
     .await;
-    let _ = tokio::time::timeout(std::time::Duration::from_millis(500), db.close()).await;
     match stopped {
         Ok(web) => web,
         Err(_) => {
@@ -524,6 +587,59 @@ async fn on_station_event(
         }
         _ => {}
     }
+}
+
+/// Sets the gauges of station connections from the link's own tables.
+fn count_connections(telemetry: &Telemetry, server: &TherapistServer) {
+    telemetry.set_station_connections(
+        server.connected_stations().len(),
+        server.unauthenticated_connections(),
+    );
+}
+
+/// Counts what the station link reports: connections in and out, refusals before admission
+/// (one by one as `protocol_error`, the rest in the link's summaries as `before_admission`).
+fn count_event(telemetry: &Telemetry, server: &TherapistServer, event: &TherapistEvent) {
+    match event {
+        TherapistEvent::Connected { .. } | TherapistEvent::Disconnected { .. } => {
+            count_connections(telemetry, server);
+        }
+        TherapistEvent::ProtocolError { .. } => telemetry.station_refused("protocol_error"),
+        TherapistEvent::Refused { count, .. } => {
+            telemetry.station_refused_by("before_admission", *count);
+        }
+        _ => {}
+    }
+}
+
+/// The operator's listener at `addr` (none without one), serving `/metrics`, `/healthz` and
+/// `/readyz` over plain HTTP, and the sender that stops it.
+#[allow(clippy::type_complexity)]
+async fn spawn_operator(
+    addr: Option<SocketAddr>,
+    state: AppState,
+) -> Result<
+    (
+        tokio::sync::oneshot::Sender<()>,
+        Option<(SocketAddr, tokio::task::JoinHandle<Result<(), HubError>>)>,
+    ),
+    HubError,
+> {
+    let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
+    let Some(addr) = addr else {
+        return Ok((stop, None));
+    };
+    web::check_operator_address(addr)?;
+    let listener = tokio::net::TcpListener::bind(addr)
+        .await
+        .map_err(|e| HubError::io(format!("listening for metrics on {addr}"), e))?;
+    let bound = listener
+        .local_addr()
+        .map_err(|e| HubError::io("reading the metrics address", e))?;
+    let task = tokio::spawn(web::serve_operator(listener, state, async {
+        let _ = stopped.await;
+    }));
+    Ok((stop, Some((bound, task))))
 }
 
 /// How often `hub serve` forgets stale login throttles and writes the counts of refusals
@@ -728,6 +844,7 @@ mod tests {
             clinic_name: None,
             fhir_base: None,
             backup_recipients: Vec::new(),
+            metrics_listen: None,
             recordings: None,
         };
         assert_eq!(

@@ -24,6 +24,7 @@ use netlink::{
 
 use crate::db::{Db, MAX_SESSIONS_PER_STATION_DAY};
 use crate::error::HubError;
+use crate::telemetry::{AdmissionRefusal, Telemetry};
 use crate::web::unix_ms;
 
 /// How often the set of revoked stations is re-read.
@@ -40,25 +41,39 @@ pub const REFUSAL_AUDIT_EVERY_MS: i64 = 60_000;
 /// Most summaries one group commit takes.
 pub const MAX_BATCH: usize = 1024;
 
-/// A summary waiting for the group commit, and where its result goes.
-type Pending = (Summary, oneshot::Sender<Result<Appended, String>>);
+/// A summary waiting for the group commit, where its result goes, and when it reached the
+/// store (its acknowledgement latency is counted from there).
+type Pending = (
+    Summary,
+    oneshot::Sender<Result<Appended, String>>,
+    std::time::Instant,
+);
 
 /// The group-commit writer: takes whatever summaries are waiting (at least one, at most
 /// [`MAX_BATCH`]) and stores them in one transaction. It never waits to fill a batch, so an
 /// idle hub commits each summary at once and a busy one commits many per transaction.
-async fn group_commit(db: Db, mut rx: mpsc::Receiver<Pending>, clock: clock::Clock) {
+async fn group_commit(
+    db: Db,
+    mut rx: mpsc::Receiver<Pending>,
+    clock: clock::Clock,
+    telemetry: Arc<Telemetry>,
+) {
     let mut batch: Vec<Pending> = Vec::with_capacity(MAX_BATCH);
     while rx.recv_many(&mut batch, MAX_BATCH).await > 0 {
-        let summaries: Vec<Summary> = batch.iter().map(|(s, _)| s.clone()).collect();
+        let summaries: Vec<Summary> = batch.iter().map(|(s, _, _)| s.clone()).collect();
         match db.store_summaries(&summaries, unix_ms(&clock)).await {
             Ok(results) => {
-                for ((_, reply), result) in batch.drain(..).zip(results) {
+                for ((_, reply, arrived), result) in batch.drain(..).zip(results) {
+                    if let Ok(appended) = &result {
+                        let duplicate = *appended != Appended::Stored;
+                        telemetry.summary_stored(duplicate, arrived.elapsed().as_secs_f64());
+                    }
                     let _ = reply.send(result.map_err(|e| e.to_string()));
                 }
             }
             Err(e) => {
                 let message = e.to_string();
-                for (_, reply) in batch.drain(..) {
+                for (_, reply, _) in batch.drain(..) {
                     let _ = reply.send(Err(message.clone()));
                 }
             }
@@ -86,6 +101,8 @@ pub struct DbStore {
     /// The clinic's pain settings a station's check is told ([`crate::news::for_check`]);
     /// `None`: checks get no care frame.
     care: Option<crate::care::CareConfig>,
+    /// Admissions, refusals, summaries and uploads counted for `/metrics`.
+    telemetry: Arc<Telemetry>,
 }
 
 impl std::fmt::Debug for DbStore {
@@ -118,7 +135,8 @@ async fn checkpoints(db: Db, writer: mpsc::WeakSender<Pending>) {
 
 impl DbStore {
     /// A store over `db` issuing certificates from `ca` for a hub named `server_name`; its
-    /// group-commit writer runs on the current tokio runtime.
+    /// group-commit writer runs on the current tokio runtime. Its counts go to a registry of
+    /// its own (see [`Self::new_counted`]).
     pub fn new(
         db: Db,
         ca: ClinicCa,
@@ -126,8 +144,25 @@ impl DbStore {
         recordings: crate::recordings::RecordingStore,
         clock: clock::Clock,
     ) -> Self {
+        Self::new_counted(db, ca, server_name, recordings, clock, Arc::default())
+    }
+
+    /// [`Self::new`] counting admissions, refusals, summaries and uploads in `telemetry`.
+    pub fn new_counted(
+        db: Db,
+        ca: ClinicCa,
+        server_name: String,
+        recordings: crate::recordings::RecordingStore,
+        clock: clock::Clock,
+        telemetry: Arc<Telemetry>,
+    ) -> Self {
         let (writer, rx) = mpsc::channel(4 * MAX_BATCH);
-        tokio::spawn(group_commit(db.clone(), rx, clock.clone()));
+        tokio::spawn(group_commit(
+            db.clone(),
+            rx,
+            clock.clone(),
+            telemetry.clone(),
+        ));
         if db.backend() == crate::Backend::Sqlite {
             tokio::spawn(checkpoints(db.clone(), writer.downgrade()));
         }
@@ -143,6 +178,7 @@ impl DbStore {
             refusal_audits: Mutex::default(),
             clock,
             care: None,
+            telemetry,
         }
     }
 
@@ -173,46 +209,57 @@ impl DbStore {
 
     /// Whether the station of `hello` may speak: its certificate is the one issued at pairing,
     /// it is not revoked, and it speaks for its own patient.
-    async fn check_admission(&self, hello: &Hello, peer: Peer<'_>) -> Result<(), Refusal> {
-        let cert = peer
-            .certificate
-            .ok_or_else(|| Refusal::new("no client certificate presented: pair first"))?;
+    /// Refused: why, for `/metrics`, and what the station is told.
+    async fn check_admission(
+        &self,
+        hello: &Hello,
+        peer: Peer<'_>,
+    ) -> Result<(), (AdmissionRefusal, Refusal)> {
+        let database = |e| (AdmissionRefusal::Database, refusal(e));
+        let refused = |why, said: String| Err((why, Refusal::new(said)));
+        let Some(cert) = peer.certificate else {
+            return refused(
+                AdmissionRefusal::NoCertificate,
+                "no client certificate presented: pair first".into(),
+            );
+        };
         let fingerprint = certificate_sha256_hex(cert);
-        let station = self
-            .db
-            .station(&hello.station_id)
-            .await
-            .map_err(refusal)?
-            .ok_or_else(|| Refusal::new(format!("unknown station {:?}", hello.station_id)))?;
+        let Some(station) = self.db.station(&hello.station_id).await.map_err(database)? else {
+            let said = format!("unknown station {:?}", hello.station_id);
+            return refused(AdmissionRefusal::UnknownStation, said);
+        };
         if station.cert_fingerprint != fingerprint {
-            return Err(Refusal::new(format!(
+            let said = format!(
                 "the certificate presented is not station {:?}'s",
                 hello.station_id
-            )));
+            );
+            return refused(AdmissionRefusal::CertificateMismatch, said);
         }
         if station.is_revoked() {
-            return Err(Refusal::new(format!(
+            let said = format!(
                 "station {:?} has been revoked by the clinic",
                 hello.station_id
-            )));
+            );
+            return refused(AdmissionRefusal::Revoked, said);
         }
         if station.patient_id != hello.patient_id {
-            return Err(Refusal::new(format!(
+            let said = format!(
                 "station {:?} speaks for its own patient only",
                 hello.station_id
-            )));
+            );
+            return refused(AdmissionRefusal::WrongPatient, said);
         }
         self.db
             .touch_station(&hello.station_id, self.now())
             .await
-            .map_err(refusal)?;
+            .map_err(database)?;
         // The patient's wheel, as the station tells it: the prescribe form's bounds.
         match &hello.wheel {
             Some(wheel) => self
                 .db
                 .note_station_wheel(&hello.station_id, wheel, self.now())
                 .await
-                .map_err(refusal),
+                .map_err(database),
             None => Ok(()),
         }
     }
@@ -220,6 +267,7 @@ impl DbStore {
     /// Audits the refusal `kind` of station `hello` (`why`: what it was told), unless one of
     /// that kind was audited for it in the last [`REFUSAL_AUDIT_EVERY_MS`].
     async fn audit_station_refusal(&self, hello: &Hello, kind: &'static str, why: &str) {
+        self.telemetry.station_refused(kind);
         let now = self.now();
         {
             let mut last = self
@@ -445,6 +493,16 @@ impl HubStore for DbStore {
     fn admit<'a>(&'a self, hello: &'a Hello, peer: Peer<'a>) -> BoxFuture<'a, Result<(), Refusal>> {
         Box::pin(async move {
             let admitted = self.check_admission(hello, peer).await;
+            let admitted = match admitted {
+                Ok(()) => {
+                    self.telemetry.station_admitted();
+                    Ok(())
+                }
+                Err((why, refused)) => {
+                    self.telemetry.admission_refused(why);
+                    Err(refused)
+                }
+            };
             if let Err(refused) = &admitted {
                 // Audited like every refusal, at a bounded rate per address.
                 let actor = format!("station:{}", hello.station_id);
@@ -565,7 +623,17 @@ impl HubStore for Ingest {
         size_bytes: u64,
         path: &'a std::path::Path,
     ) -> BoxFuture<'a, Result<(), NetlinkError>> {
-        self.0.recording_stored(hello, sha256, size_bytes, path)
+        Box::pin(async move {
+            let stored = self
+                .0
+                .recording_stored(hello, sha256, size_bytes, path)
+                .await;
+            match &stored {
+                Ok(()) => self.0.telemetry.upload_completed(size_bytes),
+                Err(_) => self.0.telemetry.upload_failed(),
+            }
+            stored
+        })
     }
 
     fn recording_held<'a>(
@@ -673,7 +741,7 @@ impl SessionStore for DbSession {
             }
             let (reply, result) = oneshot::channel();
             self.writer
-                .send((summary.clone(), reply))
+                .send((summary.clone(), reply, std::time::Instant::now()))
                 .await
                 .map_err(|_| NetlinkError::Closed)?;
             let appended = result

@@ -3,7 +3,9 @@
 //! therapist console ([`web`]); the station link's store and pairing authority ([`ingest`]);
 //! a clinic's data directory, `hub init` and `hub serve` ([`clinic`]); what `hub patient …`
 //! does to the database ([`patients`]); where recordings are kept, the data directory or an
-//! S3-compatible store ([`recordings`]); partial uploads expired ([`uploads`]); the load generator of `hub bench` ([`bench`](mod@bench)); the
+//! S3-compatible store ([`recordings`]); partial uploads expired ([`uploads`]); the load
+//! generator of `hub bench` ([`bench`](mod@bench)); what an operator watches — `/metrics`,
+//! `/healthz`, `/readyz` ([`telemetry`], `web::ops`); the
 //! crate's errors ([`HubError`], [`PairRefusal`], module `error`).
 //!
 //! Layering (DESIGN.md): this crate uses `netlink`'s frame types and never the station's
@@ -26,6 +28,7 @@ pub mod patients;
 pub mod recordings;
 pub mod refusal;
 mod sheet_words;
+pub mod telemetry;
 pub mod thresholds;
 pub mod uploads;
 pub mod web;

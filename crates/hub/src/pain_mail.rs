@@ -73,7 +73,12 @@ pub fn mail_text(
 }
 
 /// Runs the outbox until the task is dropped: queues new pain check-ins, sends what is due.
-pub async fn run(db: Db, care: Arc<CareConfig>, clock: clock::Clock) {
+pub async fn run(
+    db: Db,
+    care: Arc<CareConfig>,
+    clock: clock::Clock,
+    telemetry: Arc<crate::telemetry::Telemetry>,
+) {
     let Some(smtp) = care.smtp.clone() else {
         tracing::warn!(
             "no --smtp-url: pains at or over the threshold are shown in the console but not mailed"
@@ -107,7 +112,8 @@ pub async fn run(db: Db, care: Arc<CareConfig>, clock: clock::Clock) {
             }
         };
         for mail in due {
-            send_one(&db, &care, &smtp, &transport, &mail, &clock).await;
+            let sent = send_one(&db, &care, &smtp, &transport, &mail, &clock).await;
+            telemetry.pain_mail(sent);
         }
     }
 }
@@ -118,7 +124,8 @@ fn transport(smtp: &SmtpConfig) -> Result<AsyncSmtpTransport<Tokio1Executor>, St
         .map_err(|e| format!("--smtp-url: {e}"))
 }
 
-/// Tries `mail` once; notes it sent, or failed with the time of its next attempt.
+/// Tries `mail` once; notes it sent, or failed with the time of its next attempt. Whether it
+/// was sent.
 async fn send_one(
     db: &Db,
     care: &CareConfig,
@@ -126,7 +133,7 @@ async fn send_one(
     transport: &AsyncSmtpTransport<Tokio1Executor>,
     mail: &PainMail,
     clock: &clock::Clock,
-) {
+) -> bool {
     let result: Result<usize, String> = async {
         let patient = db
             .patient(&mail.patient_id)
@@ -183,6 +190,7 @@ async fn send_one(
             if let Err(e) = db.pain_mail_sent(&mail.session_id, now).await {
                 tracing::warn!("cannot note the pain mail sent (it may be sent again): {e}");
             }
+            true
         }
         Err(error) => {
             let next = now.saturating_add(retry_after_ms(smtp.retry_min_ms, mail.attempts + 1));
@@ -195,6 +203,7 @@ async fn send_one(
             if let Err(e) = db.pain_mail_failed(&mail.session_id, &error, next).await {
                 tracing::warn!("cannot note the pain mail's failure: {e}");
             }
+            false
         }
     }
 }

@@ -171,6 +171,7 @@ async fn a_pain_at_the_threshold_is_mailed_to_the_therapist_with_only_the_pseudo
         db.clone(),
         Arc::new(care),
         clock::Clock::real(),
+        Arc::default(),
     ));
 
     // The server is down: both mails wait, their failure visible to an admin.

@@ -8,77 +8,20 @@
 mod common;
 
 use std::net::SocketAddr;
-use std::path::Path;
 use std::time::{Duration, Instant};
 
-use base64::Engine;
+use common::link::{
+    GUARD, RunningHub, bye, bytes, clinic_with_station, connect, exchange, frames_until, hello,
+    start_hub_with, summary_at, upload,
+};
 use hub::bench::BenchStation;
-use hub::clinic::{Bound, Clinic, ServeOptions};
-use hub::web;
+use hub::clinic::{Clinic, ServeOptions};
 use hub::{Db, Role};
 use netlink::therapist::station_limits::{SUMMARY_BURST, SUMMARY_PACE_PER_S};
-use netlink::{Bye, Frame, FrameDecoder, Hello, Summary};
-use tokio::io::{AsyncReadExt, AsyncWriteExt, ReadHalf};
-use tokio::net::TcpStream;
-use tokio_rustls::client::TlsStream;
+use netlink::{Frame, Summary};
+use tokio::io::AsyncWriteExt;
 
-const GUARD: Duration = Duration::from_secs(20);
 const DAY_MS: u64 = 86_400_000;
-
-type Tls = TlsStream<TcpStream>;
-
-fn now_ms() -> i64 {
-    web::system_now_ms()
-}
-
-struct RunningHub {
-    bound: Bound,
-    stop: tokio::sync::oneshot::Sender<()>,
-    task: tokio::task::JoinHandle<Result<(), hub::HubError>>,
-}
-
-impl RunningHub {
-    async fn stop(self) {
-        let _ = self.stop.send(());
-        let _ = tokio::time::timeout(GUARD, self.task).await;
-    }
-}
-
-/// A clinic under `dir` with one paired station.
-async fn clinic_with_station(dir: &Path) -> (Clinic, BenchStation) {
-    let clinic = Clinic::at(dir.join("clinic"));
-    clinic
-        .init(
-            "root@clinic.example",
-            &["localhost".to_owned()],
-            None,
-            now_ms(),
-        )
-        .await
-        .unwrap();
-    let db = clinic.open_db(None).await.unwrap();
-    db.add_therapist(
-        "ada@clinic.example",
-        "correct horse battery staple",
-        Role::Therapist,
-        now_ms(),
-    )
-    .await
-    .unwrap();
-    let station = hub::bench::provision(
-        &db,
-        &clinic.ca().unwrap(),
-        "localhost",
-        1,
-        &dir.join("stations"),
-        now_ms(),
-    )
-    .await
-    .unwrap()
-    .remove(0);
-    db.close().await;
-    (clinic, station)
-}
 
 async fn start_hub(clinic: &Clinic) -> RunningHub {
     start_hub_paced(clinic, SUMMARY_PACE_PER_S as u32).await
@@ -86,91 +29,11 @@ async fn start_hub(clinic: &Clinic) -> RunningHub {
 
 /// A hub taking at most `pace_per_s` summaries a second from one station.
 async fn start_hub_paced(clinic: &Clinic, pace_per_s: u32) -> RunningHub {
-    let db = clinic.open_db(None).await.unwrap();
-    let clinic = clinic.clone();
     let options = ServeOptions {
         summary_pace_per_s: pace_per_s,
         ..ServeOptions::new("127.0.0.1:0".parse().unwrap(), None)
     };
-    let (bound_tx, bound_rx) = tokio::sync::oneshot::channel();
-    let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
-    let task = tokio::spawn(async move {
-        hub::clinic::serve(
-            &clinic,
-            db,
-            options,
-            move |b| {
-                let _ = bound_tx.send(b);
-            },
-            |_| {},
-            async move {
-                let _ = stopped.await;
-            },
-        )
-        .await
-    });
-    let bound = tokio::time::timeout(GUARD, bound_rx)
-        .await
-        .expect("hub listening")
-        .expect("hub started");
-    RunningHub { bound, stop, task }
-}
-
-/// The `Hello` of `st` opening `session_id`, started at `started_unix_ms`.
-fn hello(st: &BenchStation, session_id: &str, started_unix_ms: u64) -> Frame {
-    Frame::Hello(Hello {
-        started_unix_ms,
-        ..common::hello(&st.station_id, &st.patient_id, session_id)
-    })
-}
-
-async fn connect(addr: SocketAddr, st: &BenchStation) -> Tls {
-    let (connector, name) = st.tls.connector().unwrap();
-    let tcp = TcpStream::connect(addr).await.unwrap();
-    connector.connect(name, tcp).await.unwrap()
-}
-
-fn bytes(frames: &[Frame]) -> Vec<u8> {
-    frames
-        .iter()
-        .flat_map(|f| netlink::encode_to_vec(f).unwrap())
-        .collect()
-}
-
-/// Frames from the hub until it closes the connection (or `GUARD`).
-async fn frames_until_closed(rd: &mut ReadHalf<Tls>) -> Vec<Frame> {
-    frames_until(rd, GUARD).await
-}
-
-/// Frames from the hub until it closes the connection or `limit` has passed.
-async fn frames_until(rd: &mut ReadHalf<Tls>, limit: Duration) -> Vec<Frame> {
-    let mut decoder = FrameDecoder::new();
-    let mut buf = vec![0u8; 16 * 1024];
-    let mut out = Vec::new();
-    let _ = tokio::time::timeout(limit, async {
-        loop {
-            match rd.read(&mut buf).await {
-                Ok(0) | Err(_) => break,
-                Ok(n) => {
-                    decoder.extend(&buf[..n]);
-                    while let Ok(Some(f)) = decoder.next_frame() {
-                        out.push(f);
-                    }
-                }
-            }
-        }
-    })
-    .await;
-    out
-}
-
-/// Sends `frames` on a new connection and returns what the hub answered until it closed.
-async fn exchange(addr: SocketAddr, st: &BenchStation, frames: &[Frame]) -> Vec<Frame> {
-    let (mut rd, mut wr) = tokio::io::split(connect(addr, st).await);
-    wr.write_all(&bytes(frames)).await.unwrap();
-    let got = frames_until_closed(&mut rd).await;
-    drop(wr);
-    got
+    start_hub_with(clinic, options).await
 }
 
 fn errors(frames: &[Frame]) -> Vec<String> {
@@ -366,25 +229,6 @@ async fn start_times_in_the_year_2302_or_1970_are_refused_by_name_and_nothing_is
     assert_eq!(audit_count(&db, "station_refused_start_time").await, 1);
 }
 
-fn bye(session_id: &str, final_seq: Option<u64>) -> Bye {
-    Bye {
-        session_id: session_id.to_owned(),
-        reason: "done".into(),
-        final_seq,
-        measures: Default::default(),
-        hub_unix_ms: None,
-        checkin: None,
-        difficulty: None,
-        exercises: Vec::new(),
-    }
-}
-
-fn summary_at(session_id: &str, seq: u64, t_s: f64) -> Frame {
-    let mut s = Summary::example(session_id, seq);
-    s.t_s = t_s;
-    Frame::Summary(s)
-}
-
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn summary_times_that_are_huge_go_back_or_run_ahead_of_the_clock_are_refused_by_name() {
     let dir = tempfile::tempdir().unwrap();
@@ -491,59 +335,6 @@ async fn sessions_beyond_twelve_started_on_one_day_are_refused_by_name() {
     );
     assert!(again.is_empty(), "{again:?}");
     hub.stop().await;
-}
-
-/// One connection uploading a `size`-byte recording of its own session (started `days_ago`):
-/// the bytes the hub acknowledged before `until`.
-async fn upload(
-    addr: SocketAddr,
-    st: BenchStation,
-    session_id: String,
-    started: u64,
-    size: usize,
-    until: Instant,
-) -> u64 {
-    let data = vec![7u8; size];
-    let sha = hub::db::sha256_hex(&data);
-    let (mut rd, mut wr) = tokio::io::split(connect(addr, &st).await);
-    let start = Frame::UploadStart(netlink::frame::UploadStart {
-        session_id: session_id.clone(),
-        size_bytes: size as u64,
-        sha256: sha,
-    });
-    wr.write_all(&bytes(&[hello(&st, &session_id, started), start]))
-        .await
-        .unwrap();
-    let mut decoder = FrameDecoder::new();
-    let mut buf = vec![0u8; 16 * 1024];
-    let mut acked = 0u64;
-    loop {
-        let left = until.saturating_duration_since(Instant::now());
-        let n = match tokio::time::timeout(left, rd.read(&mut buf)).await {
-            Ok(Ok(n)) if n > 0 => n,
-            _ => return acked,
-        };
-        decoder.extend(&buf[..n]);
-        while let Ok(Some(f)) = decoder.next_frame() {
-            let Frame::UploadAt(at) = f else {
-                continue;
-            };
-            acked = at.offset;
-            if at.complete || Instant::now() >= until {
-                return acked;
-            }
-            let from = usize::try_from(at.offset).unwrap();
-            let to = (from + netlink::frame::MAX_CHUNK_BYTES).min(size);
-            let chunk = Frame::UploadChunk(netlink::frame::UploadChunk {
-                session_id: session_id.clone(),
-                offset: at.offset,
-                data: base64::engine::general_purpose::STANDARD.encode(&data[from..to]),
-            });
-            if wr.write_all(&bytes(&[chunk])).await.is_err() {
-                return acked;
-            }
-        }
-    }
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

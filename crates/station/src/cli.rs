@@ -17,6 +17,15 @@ pub struct Cli {
     /// Log filter (e.g. `info`, `debug`, `station=trace`); overrides RUST_LOG.
     #[arg(long, global = true)]
     pub log: Option<String>,
+    /// Log lines on stderr as text (default) or one JSON object a line (for a log collector).
+    #[arg(
+        long,
+        global = true,
+        value_enum,
+        env = "TELEREHAB_LOG_FORMAT",
+        default_value_t
+    )]
+    pub log_format: crate::logging::LogFormat,
     /// The language of the patient's screens (`en`, `de`, `es`, `zh`, or the pseudo-locale
     /// `en-XA` for layout checks), over the prescription's and the first-run choice.
     #[arg(long, global = true, env = crate::language::ENV, value_name = "TAG")]

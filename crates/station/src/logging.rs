@@ -1,6 +1,8 @@
 //! The `tracing` subscriber: set up once, here, for the whole process (DESIGN.md, house style 4).
 //!
-//! Two layers: stderr, and the running session's own log file in the station's home
+//! Two layers: stderr — human text by default, one JSON object a line on request
+//! ([`LogFormat::Json`], `--log-format json` or `TELEREHAB_LOG_FORMAT=json`, for a clinic
+//! network's log collector) — and the running session's own log file in the station's home
 //! ([`SessionLog`], plain text) so that a clinic's support can ask for it.
 
 use std::ffi::OsStr;
@@ -109,10 +111,21 @@ pub fn prune_logs(dir: &Path, keep: usize) {
     }
 }
 
-/// Log to stderr with `filter` (e.g. `info`, `station=trace`), else `RUST_LOG`, else `info`.
-/// Colours only on a terminal and never with `NO_COLOR` set (no-color.org): a log redirected to
-/// a file or a service's journal is plain text.
-pub fn init(filter: Option<&str>) {
+/// How stderr's log lines are written.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum LogFormat {
+    /// For people: `TIME LEVEL target: message field=value`.
+    #[default]
+    Text,
+    /// For log collectors: one JSON object a line with `timestamp` (RFC 3339, UTC), `level`,
+    /// `target`, `message` and the event's fields beside them (and its spans').
+    Json,
+}
+
+/// Log to stderr in `format` with `filter` (e.g. `info`, `station=trace`), else `RUST_LOG`,
+/// else `info`. Text is coloured only on a terminal and never with `NO_COLOR` set
+/// (no-color.org): a log redirected to a file or a service's journal is plain text.
+pub fn init(filter: Option<&str>, format: LogFormat) {
     let filter = match filter {
         Some(f) => EnvFilter::new(f),
         None => EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("info")),
@@ -121,15 +134,32 @@ pub fn init(filter: Option<&str>) {
         std::io::stderr().is_terminal(),
         std::env::var_os("NO_COLOR").as_deref(),
     );
-    let stderr = tracing_subscriber::fmt::layer()
-        .with_ansi(colour)
-        .with_writer(std::io::stderr);
+    let (text, json) = match format {
+        LogFormat::Text => (
+            Some(
+                tracing_subscriber::fmt::layer()
+                    .with_ansi(colour)
+                    .with_writer(std::io::stderr),
+            ),
+            None,
+        ),
+        LogFormat::Json => (
+            None,
+            Some(
+                tracing_subscriber::fmt::layer()
+                    .json()
+                    .flatten_event(true)
+                    .with_writer(std::io::stderr),
+            ),
+        ),
+    };
     let file = tracing_subscriber::fmt::layer()
         .with_ansi(false)
         .with_writer(SessionFileWriter);
     let _ = tracing_subscriber::registry()
         .with(filter)
-        .with(stderr)
+        .with(text)
+        .with(json)
         .with(file)
         .try_init();
 }

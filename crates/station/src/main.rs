@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 fn main() -> ExitCode {
     let cli = Cli::from_env();
-    station::logging::init(cli.log.as_deref());
+    station::logging::init(cli.log.as_deref(), cli.log_format);
     if let Some(Err(e)) = cli.language.as_deref().map(station::language::force) {
         eprintln!("telerehab: error: {e}");
         return ExitCode::FAILURE;

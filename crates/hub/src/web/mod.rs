@@ -19,6 +19,7 @@ mod live;
 mod measure_words;
 mod messages;
 mod notes;
+mod ops;
 mod pain;
 mod patients;
 mod regimen;
@@ -48,6 +49,10 @@ pub use auth::DEVICE_COOKIE;
 pub use auth::SESSION_COOKIE;
 pub use live::{
     LIVE_RECHECK_MS, LiveEvent, MAX_LIVE_STREAMS_PER_ACCOUNT, MAX_LIVE_STREAMS_PER_LOGIN,
+};
+pub use ops::{
+    READY_DB_TIMEOUT, READY_REUSE, Readiness, check_operator_address, operator_router,
+    serve_operator,
 };
 pub use serve::{
     SHUTDOWN_GRACE_S, TLS_HANDSHAKE_TIMEOUT_S, acceptor_from_pem, serve, serve_router,
@@ -102,13 +107,17 @@ pub struct AppState {
     /// Where a therapist's clearance after a pain stop is announced (patient id; the hub
     /// pushes it to the patient's connected stations); `None` when no station link runs.
     pub pain_cleared: Option<broadcast::Sender<String>>,
+    /// The hub's metrics (`/metrics` on the operator's listener; requests and replays counted
+    /// here).
+    pub telemetry: Arc<crate::telemetry::Telemetry>,
+    /// What `/readyz` checks.
+    pub readiness: Arc<Readiness>,
 }
 
 impl AppState {
     /// State with the system clock and [`DEFAULT_LOGIN_TTL_MS`].
     pub fn new(db: Db, live: broadcast::Sender<LiveEvent>) -> Self {
         Self {
-            db,
             live,
             clock: clock::Clock::real(),
             login_ttl_ms: DEFAULT_LOGIN_TTL_MS,
@@ -123,7 +132,22 @@ impl AppState {
             fhir_base: None,
             care: Arc::default(),
             pain_cleared: None,
+            telemetry: Arc::default(),
+            readiness: Arc::new(Readiness::new(db.clone(), None)),
+            db,
         }
+    }
+
+    /// The same state counting in `telemetry` and checking, for readiness, that
+    /// `recordings` (if any) takes new files.
+    pub fn with_operator(
+        mut self,
+        telemetry: Arc<crate::telemetry::Telemetry>,
+        recordings: Option<std::path::PathBuf>,
+    ) -> Self {
+        self.telemetry = telemetry;
+        self.readiness = Arc::new(Readiness::new(self.db.clone(), recordings));
+        self
     }
 
     /// The same state naming the clinic `name` on its printouts.
@@ -248,6 +272,8 @@ pub fn router(state: AppState) -> Router {
         .route("/", get(console::index))
         .route("/console/{*path}", get(console::asset))
         .route("/api/health", get(health))
+        .route("/healthz", get(ops::healthz))
+        .route("/readyz", get(ops::readyz))
         .route("/api/login", post(auth::login))
         .route("/api/logout", post(auth::logout))
         .route("/api/me", get(auth::me))
@@ -329,6 +355,10 @@ pub fn router(state: AppState) -> Router {
         ))
         .layer(axum::middleware::map_response(security_headers))
         .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))
+        .layer(axum::middleware::from_fn_with_state(
+            state.clone(),
+            ops::count_requests,
+        ))
         .with_state(state)
 }
 

@@ -5,6 +5,7 @@
 
 pub mod api;
 pub mod fixture;
+pub mod link;
 pub mod s3;
 
 use hub::Db;

@@ -83,6 +83,15 @@ pub enum HubCommand {
         /// Pain threshold, clinic phone, pairing sheets' address and pain mails.
         #[command(flatten)]
         care: care::CareArgs,
+        /// The operator's address, `host:port`, for `/metrics`, `/healthz` and `/readyz` over
+        /// plain HTTP (loopback or a management network, never 0.0.0.0); default: hub.toml's
+        /// `metrics_listen`, else none.
+        #[arg(long, value_name = "HOST:PORT")]
+        metrics_listen: Option<String>,
+        /// Seconds `/readyz` answers 503 (draining) after SIGTERM while both ports still
+        /// serve, so a load balancer moves new clients away first.
+        #[arg(long, default_value_t = 0.0)]
+        drain_s: f64,
     },
     /// Load test: N simulated stations on loopback against a hub in a child process, in a
     /// fresh clinic (SQLite, or the empty database `--db` names).
@@ -343,6 +352,8 @@ pub fn run(args: HubArgs) -> anyhow::Result<()> {
                 print_summaries,
                 max_replay_mb,
                 care,
+                metrics_listen,
+                drain_s,
             } => {
                 let limits = (max_connections, max_connections_per_address);
                 let caps = hub::clinic::HubLimits {
@@ -358,6 +369,7 @@ pub fn run(args: HubArgs) -> anyhow::Result<()> {
                     caps,
                     (print_summaries, &care),
                     max_replay_bytes,
+                    (metrics_listen.as_deref(), drain_s),
                 )
                 .await
             }
@@ -473,6 +485,7 @@ async fn serve(
     limits: hub::clinic::HubLimits,
     (print_summaries, care): (bool, &care::CareArgs),
     max_replay_bytes: u64,
+    (metrics, drain_s): (Option<&str>, f64),
 ) -> anyhow::Result<()> {
     let (clinic, db) = open(data).await?;
     // Erasures stay erased: a patient a tombstone names is erased again before anyone is
@@ -486,6 +499,13 @@ async fn serve(
     }
     let stations = crate::link::resolve("--stations", stations)?;
     let web = web.map(|w| crate::link::resolve("--web", w)).transpose()?;
+    let metrics = metrics
+        .map(|m| crate::link::resolve("--metrics-listen", m))
+        .transpose()?;
+    let drain = std::time::Duration::try_from_secs_f64(drain_s)
+        .ok()
+        .filter(|d| *d <= std::time::Duration::from_secs(600))
+        .ok_or_else(|| anyhow::anyhow!("--drain-s must be 0 to 600 seconds, not {drain_s}"))?;
     let options = ServeOptions {
         stations,
         web,
@@ -494,6 +514,8 @@ async fn serve(
         max_replay_bytes,
         care: care.config(),
         public_station_address: care.public_station_address.clone(),
+        metrics,
+        drain,
         ..ServeOptions::new(stations, web)
     };
     let stop = super::server_stop::stop_signal()?;
@@ -507,6 +529,9 @@ async fn serve(
         println!("stations listening on {} (mutual TLS)", b.stations);
         if let Some(w) = b.web {
             println!("console API on https://{w}/api/");
+        }
+        if let Some(m) = b.metrics {
+            println!("metrics on http://{m}/metrics");
         }
         let _ = std::io::stdout().flush();
     };
