@@ -353,6 +353,17 @@ pub struct Bound {
     pub budget: ConnectionBudget,
 }
 
+/// The console's listener on `addr`, if the hub serves the console.
+async fn bind_web(addr: Option<SocketAddr>) -> Result<Option<tokio::net::TcpListener>, HubError> {
+    match addr {
+        Some(addr) => tokio::net::TcpListener::bind(addr)
+            .await
+            .map(Some)
+            .map_err(|e| HubError::io(format!("listening on {addr}"), e)),
+        None => Ok(None),
+    }
+}
+
 /// Runs the hub until `shutdown` completes: `on_bound` once listening, `on_event` for every
 /// station event (one line each for the operator).
 pub async fn serve(
@@ -396,14 +407,7 @@ pub async fn serve(
     let (live, _) = broadcast::channel::<LiveEvent>(1024);
     let (prescribed, mut prescriptions) = broadcast::channel::<RegimenVersion>(64);
     let (cleared, mut clearances) = broadcast::channel::<String>(64);
-    let web_listener = match options.web {
-        Some(addr) => Some(
-            tokio::net::TcpListener::bind(addr)
-                .await
-                .map_err(|e| HubError::io(format!("listening on {addr}"), e))?,
-        ),
-        None => None,
-    };
+    let web_listener = bind_web(options.web).await?;
     let web_addr = web_listener.as_ref().and_then(|l| l.local_addr().ok());
     let care = Arc::new(settle_care(
         &options,
