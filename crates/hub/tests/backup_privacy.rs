@@ -333,12 +333,12 @@ async fn remains(data: &Path, id: &str) -> (i64, i64, i64, i64, i64, bool) {
     found
 }
 
-#[tokio::test]
-async fn an_erased_patient_does_not_come_back_when_an_older_backup_is_restored() {
-    let tmp = tempfile::tempdir().unwrap();
-    let (clinic, db) = clinic(tmp.path()).await;
+/// A clinic backed up (clear, `older.tar.zst` in `tmp`) and then [`ERASED`] erased; its
+/// erased patient's internal id.
+async fn backed_up_then_erased(tmp: &Path) -> (Clinic, String, std::path::PathBuf) {
+    let (clinic, db) = clinic(tmp).await;
     let erased_id = db.patient_by_pseudonym(ERASED).await.unwrap().unwrap().id;
-    let older = tmp.path().join("older.tar.zst");
+    let older = tmp.join("older.tar.zst");
     hub::backup::backup(&clinic, None, &older, &Sealing::Clear)
         .await
         .unwrap();
@@ -346,6 +346,13 @@ async fn an_erased_patient_does_not_come_back_when_an_older_backup_is_restored()
         .await
         .unwrap();
     db.close().await;
+    (clinic, erased_id, older)
+}
+
+#[tokio::test]
+async fn an_erased_patient_does_not_come_back_when_an_older_backup_is_restored() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (clinic, erased_id, older) = backed_up_then_erased(tmp.path()).await;
     let ledger = tombstones::ledger_path(&clinic);
     let written = std::fs::read(&ledger).unwrap();
     assert_eq!(
@@ -399,16 +406,7 @@ async fn an_erased_patient_does_not_come_back_when_an_older_backup_is_restored()
 #[tokio::test]
 async fn on_a_new_machine_the_supplied_ledger_is_reapplied_once_at_the_next_start() {
     let tmp = tempfile::tempdir().unwrap();
-    let (clinic, db) = clinic(tmp.path()).await;
-    let erased_id = db.patient_by_pseudonym(ERASED).await.unwrap().unwrap().id;
-    let older = tmp.path().join("older.tar.zst");
-    hub::backup::backup(&clinic, None, &older, &Sealing::Clear)
-        .await
-        .unwrap();
-    hub::patient_data::erase_after(&clinic, &db, ERASED, common::T0 + 5, async {})
-        .await
-        .unwrap();
-    db.close().await;
+    let (clinic, erased_id, older) = backed_up_then_erased(tmp.path()).await;
     // Restored without the ledger: the backup predates the erasure and knows nothing of it.
     let restored = tmp.path().join("restored");
     let r = restore(&older, &restored, RestoreFrom::default())

@@ -20,8 +20,8 @@ use netlink::{Hello, HubStore, TherapistConfig, TherapistServer};
 use record::{RecordWriter, SessionMetadata, TickRecord};
 use tower::ServiceExt;
 
-use common::T0;
 use common::s3::SeaweedS3;
+use common::{T0, honest_recording};
 
 /// `len` deterministic bytes (a fixed LCG) in `dir/name`, standing in for a recording.
 fn recording_of(dir: &Path, name: &str, len: usize) -> PathBuf {
@@ -35,29 +35,6 @@ fn recording_of(dir: &Path, name: &str, len: usize) -> PathBuf {
     let path = dir.join(name);
     std::fs::write(&path, bytes).unwrap();
     path
-}
-
-/// A station's recording of `seconds` at 1 kHz.
-fn honest(seconds: u64) -> Vec<u8> {
-    let meta = SessionMetadata {
-        loop_rate_hz: 1000.0,
-        exercise: "sine-road".into(),
-        ..Default::default()
-    };
-    let mut w = RecordWriter::new(Cursor::new(Vec::new()), 0, &meta).unwrap();
-    for tick in 0..seconds * 1000 {
-        let mut rec = TickRecord {
-            tick,
-            t_ns: tick * 1_000_000,
-            ..Default::default()
-        };
-        rec.wheel.angle_rad = (tick as f64 * 1e-3).sin();
-        w.write_tick(&rec, tick % 100 == 0).unwrap();
-        if tick % 1000 == 999 {
-            w.flush().unwrap();
-        }
-    }
-    w.finish().unwrap().into_inner()
 }
 
 /// The station link's store as `hub serve` has it for recordings (`DbStore` asks the same
@@ -269,7 +246,7 @@ async fn a_recording_in_s3_replays_on_the_console_to_its_end() {
     f.db.open_session(&common::hello(station, &f.p_ada.id, "s-replay"), T0)
         .await
         .unwrap();
-    let bytes = honest(3);
+    let bytes = honest_recording(3);
     let part = tmp.path().join("s-replay.part");
     std::fs::write(&part, &bytes).unwrap();
     store.keep(station, "s-replay", &part).await.unwrap();
@@ -354,7 +331,7 @@ async fn a_backup_export_and_erasure_reach_the_recordings_in_s3() {
         .await
         .unwrap();
     let part = tmp.path().join("one.part");
-    let bytes = honest(1);
+    let bytes = honest_recording(1);
     std::fs::write(&part, &bytes).unwrap();
     store.keep("st-erase", "s-erase", &part).await.unwrap();
 

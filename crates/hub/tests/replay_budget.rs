@@ -23,7 +23,7 @@ use http_body_util::BodyExt;
 use record::{CostLimits, RecordWriter, SessionMetadata, TickRecord};
 use tower::ServiceExt;
 
-use common::T0;
+use common::{T0, honest_recording};
 
 /// The process's CPU time, s.
 fn cpu_s() -> f64 {
@@ -81,29 +81,6 @@ fn bare_mcap(inside: &[u8]) -> Vec<u8> {
     out.extend([0u8; 20]);
     out.extend(b"\x89MCAP0\r\n");
     out
-}
-
-/// A station's recording of `seconds` at 1 kHz.
-fn honest(seconds: u64) -> Vec<u8> {
-    let meta = SessionMetadata {
-        loop_rate_hz: 1000.0,
-        exercise: "sine-road".into(),
-        ..Default::default()
-    };
-    let mut w = RecordWriter::new(Cursor::new(Vec::new()), 0, &meta).unwrap();
-    for tick in 0..seconds * 1000 {
-        let mut rec = TickRecord {
-            tick,
-            t_ns: tick * 1_000_000,
-            ..Default::default()
-        };
-        rec.wheel.angle_rad = (tick as f64 * 1e-3).sin();
-        w.write_tick(&rec, tick % 100 == 0).unwrap();
-        if tick % 1000 == 999 {
-            w.flush().unwrap();
-        }
-    }
-    w.finish().unwrap().into_inner()
 }
 
 /// `recording` with `inserted` right after its session record (so the replay starts, then
@@ -209,7 +186,7 @@ async fn a_recording_of_300_zero_chunks_is_refused_by_name_before_it_is_decoded(
     let dressed = session_with(
         &f,
         "dressed",
-        &after_the_session_record(&honest(1), &zero_chunks(300)),
+        &after_the_session_record(&honest_recording(1), &zero_chunks(300)),
     )
     .await;
     let cookie = login(&f.app, "ada@clinic.example").await;
@@ -233,7 +210,7 @@ async fn a_recording_of_300_zero_chunks_is_refused_by_name_before_it_is_decoded(
         assert_eq!(f.turns.working(), 0);
     }
     // The turns came back: the same therapist replays an honest session at once.
-    let good = session_with(&f, "good", &honest(2)).await;
+    let good = session_with(&f, "good", &honest_recording(2)).await;
     let (status, body) = replay(&f, &good, &cookie).await;
     assert_eq!(status, StatusCode::OK);
     assert!(text_of(body).await.contains("\"end\":true"));
@@ -247,7 +224,7 @@ async fn a_record_over_the_readers_limit_is_refused_by_name_before_it_is_read() 
     let mut big = vec![0x0C];
     big.extend(over.to_le_bytes());
     big.resize(big.len() + over as usize, 0);
-    let session = session_with(&f, "big", &after_the_header(&honest(1), &big)).await;
+    let session = session_with(&f, "big", &after_the_header(&honest_recording(1), &big)).await;
     let cookie = login(&f.app, "ada@clinic.example").await;
     let (status, body) = replay(&f, &session, &cookie).await;
     let text = text_of(body).await;
@@ -268,7 +245,7 @@ async fn a_replay_over_its_cpu_budget_stops_and_says_why() {
     let session = session_with(
         &f,
         "costly",
-        &after_the_session_record(&honest(1), &zero_chunks(300)),
+        &after_the_session_record(&honest_recording(1), &zero_chunks(300)),
     )
     .await;
     let cookie = login(&f.app, "ada@clinic.example").await;
@@ -297,7 +274,7 @@ async fn a_console_that_goes_away_stops_the_work_and_its_turn_is_held_until_then
     let session = session_with(
         &f,
         "long",
-        &after_the_session_record(&honest(1), &zero_chunks(300)),
+        &after_the_session_record(&honest_recording(1), &zero_chunks(300)),
     )
     .await;
     let ada = login(&f.app, "ada@clinic.example").await;
@@ -341,7 +318,12 @@ async fn a_console_that_goes_away_while_the_file_is_opened_stops_the_work_and_ho
     // 9573fbb opened the file (up to its session record) in a blocking task the request did
     // not own: the console gone, its turns came back while the decoding went on.
     let f = Fixture::new(|s| s.with_replay_budget(600.0, anything())).await;
-    let session = session_with(&f, "late", &after_the_header(&honest(1), &zero_chunks(300))).await;
+    let session = session_with(
+        &f,
+        "late",
+        &after_the_header(&honest_recording(1), &zero_chunks(300)),
+    )
+    .await;
     let ada = login(&f.app, "ada@clinic.example").await;
     let cpu_before = cpu_s();
     let asked = tokio::time::timeout(Duration::from_millis(300), replay(&f, &session, &ada)).await;
@@ -379,7 +361,7 @@ async fn a_console_that_goes_away_while_the_file_is_opened_stops_the_work_and_ho
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_stations_recording_still_replays_to_its_end() {
     let f = Fixture::new(|s| s).await;
-    let session = session_with(&f, "honest", &honest(3)).await;
+    let session = session_with(&f, "honest", &honest_recording(3)).await;
     let cookie = login(&f.app, "ada@clinic.example").await;
     let (status, body) = replay(&f, &session, &cookie).await;
     assert_eq!(status, StatusCode::OK);

@@ -136,3 +136,27 @@ macro_rules! on_both_backends {
         }
     )*};
 }
+
+/// A station's recording of `seconds` at 1 kHz (a sine on the wheel's angle, a chunk a
+/// second), as the recorder writes one.
+pub fn honest_recording(seconds: u64) -> Vec<u8> {
+    let meta = record::SessionMetadata {
+        loop_rate_hz: 1000.0,
+        exercise: "sine-road".into(),
+        ..Default::default()
+    };
+    let mut w = record::RecordWriter::new(std::io::Cursor::new(Vec::new()), 0, &meta).unwrap();
+    for tick in 0..seconds * 1000 {
+        let mut rec = record::TickRecord {
+            tick,
+            t_ns: tick * 1_000_000,
+            ..Default::default()
+        };
+        rec.wheel.angle_rad = (tick as f64 * 1e-3).sin();
+        w.write_tick(&rec, tick % 100 == 0).unwrap();
+        if tick % 1000 == 999 {
+            w.flush().unwrap();
+        }
+    }
+    w.finish().unwrap().into_inner()
+}

@@ -8,7 +8,7 @@
 //!   on `127.0.0.1`, port chosen by the system, and gives the window the port in
 //!   [`PORT_ENV`] and a one-time 256-bit token on its standard input (a pipe no other process
 //!   can read). The window connects and says the token first; a connection that does not say
-//!   it within [`TOKEN_TIMEOUT`] is closed and the station keeps waiting, so another local
+//!   it within `TOKEN_TIMEOUT` (2 s) is closed and the station keeps waiting, so another local
 //!   program cannot take the window's place. The window gets a new process group
 //!   (`CREATE_NEW_PROCESS_GROUP`) for the same reason as on Linux.
 
