@@ -335,7 +335,7 @@ async fn remains(data: &Path, id: &str) -> (i64, i64, i64, i64, i64, bool) {
 
 /// A clinic backed up (clear, `older.tar.zst` in `tmp`) and then [`ERASED`] erased; its
 /// erased patient's internal id.
-async fn backed_up_then_erased(tmp: &Path) -> (Clinic, String, std::path::PathBuf) {
+async fn backed_up_then_erased(tmp: &Path) -> (Clinic, String, PathBuf) {
     let (clinic, db) = clinic(tmp).await;
     let erased_id = db.patient_by_pseudonym(ERASED).await.unwrap().unwrap().id;
     let older = tmp.join("older.tar.zst");

@@ -6,7 +6,7 @@
 
 mod common;
 
-use std::io::{Cursor, Read};
+use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -17,7 +17,6 @@ use hub::clinic::Clinic;
 use hub::recordings::RecordingStore;
 use netlink::upload::{UploadError, file_sha256, upload_recording};
 use netlink::{Hello, HubStore, TherapistConfig, TherapistServer};
-use record::{RecordWriter, SessionMetadata, TickRecord};
 use tower::ServiceExt;
 
 use common::s3::SeaweedS3;

@@ -11,7 +11,6 @@
 
 mod common;
 
-use std::io::Cursor;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
@@ -20,7 +19,7 @@ use axum::http::{Request, StatusCode, header};
 use common::api::login;
 use common::fixture::Fixture;
 use http_body_util::BodyExt;
-use record::{CostLimits, RecordWriter, SessionMetadata, TickRecord};
+use record::CostLimits;
 use tower::ServiceExt;
 
 use common::{T0, honest_recording};
