@@ -47,8 +47,11 @@ pub fn spawn_connected(
                 theirs,
             )))
             .process_group(0)
-            .spawn()?;
-        Ok((child, ours))
+            .spawn();
+        // The command holds our copy of the window's end until its stdin is set again: closed
+        // now, so that the window's death reaches us as the end of the stream.
+        command.stdin(std::process::Stdio::null());
+        Ok((child?, ours))
     }
     #[cfg(windows)]
     {
@@ -204,6 +207,23 @@ mod tests {
         assert_eq!(&back, b"X");
         drop(socket);
         assert!(child.wait().unwrap().success());
+    }
+
+    #[test]
+    fn a_window_process_that_dies_ends_the_stream() {
+        // The test binary listing its tests exits at once without touching the stream: its
+        // death must reach the station as the end of the stream (no other copy of the
+        // window's end left open), not as a silence the station takes for a hang.
+        let mut command = Command::new(std::env::current_exe().unwrap());
+        command.arg("--list").stdout(std::process::Stdio::null());
+        let (mut child, mut socket) =
+            spawn_connected(&mut command, Duration::from_secs(30)).unwrap();
+        assert!(child.wait().unwrap().success());
+        socket
+            .set_read_timeout(Some(Duration::from_secs(10)))
+            .unwrap();
+        let mut byte = [0u8; 1];
+        assert_eq!(socket.read(&mut byte).unwrap(), 0, "the end of the stream");
     }
 
     #[test]
