@@ -653,8 +653,6 @@ pub const HOUSEKEEPING: std::time::Duration = std::time::Duration::from_secs(60)
 /// Longest `hub serve` takes to stop once asked (connections closing, the database closed).
 pub const STOP_WITHIN: std::time::Duration = std::time::Duration::from_secs(3);
 
-/// Raises the open-file limit and fits the connection caps of `options` under it (warning if
-/// they had to shrink): the station port's and the console's.
 /// The console's HTTPS API on `listener` (none without one), and the sender that stops it.
 #[allow(clippy::type_complexity)]
 fn spawn_console(
@@ -701,6 +699,8 @@ fn link_config(
     config
 }
 
+/// Raises the open-file limit and fits the connection caps of `options` under it (warning if
+/// they had to shrink): the station port's and the console's.
 fn fit_to_fd_limit(options: &ServeOptions) -> (ConnectionBudget, web::WebLimits) {
     let fd_limit = crate::limits::raise_fd_limit().unwrap_or_else(|e| {
         tracing::warn!("{e}");
