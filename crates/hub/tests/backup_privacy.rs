@@ -533,3 +533,22 @@ async fn a_session_and_a_station_arriving_during_the_erasures_grace_are_erased_w
     assert!(e.to_string().contains("st-new"), "{e}");
     db.close().await;
 }
+
+#[tokio::test]
+async fn a_ledger_line_a_crash_cut_short_is_left_out_and_a_damaged_whole_line_is_named() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (clinic, _, _) = backed_up_then_erased(tmp.path()).await;
+    let ledger = tombstones::ledger_path(&clinic);
+    let whole = tombstones::read_ledger(&ledger).unwrap();
+    assert_eq!(whole.len(), 1);
+    // A crash mid-append: the erasure it began had deleted nothing yet.
+    let mut cut = std::fs::read(&ledger).unwrap();
+    cut.extend_from_slice(br#"{"erased_patient_id":"p-"#);
+    std::fs::write(&ledger, &cut).unwrap();
+    assert_eq!(tombstones::read_ledger(&ledger).unwrap().len(), 1);
+    // A whole line that is not a tombstone is refused by its number.
+    cut.extend_from_slice(b"\n");
+    std::fs::write(&ledger, &cut).unwrap();
+    let e = tombstones::read_ledger(&ledger).unwrap_err().to_string();
+    assert!(e.contains("line 2 is not an erasure tombstone"), "{e}");
+}
