@@ -546,6 +546,12 @@ async fn a_ledger_line_a_crash_cut_short_is_left_out_and_a_damaged_whole_line_is
     cut.extend_from_slice(br#"{"erased_patient_id":"p-"#);
     std::fs::write(&ledger, &cut).unwrap();
     assert_eq!(tombstones::read_ledger(&ledger).unwrap().len(), 1);
+    // The next erasure's tombstone replaces the cut line rather than joining it.
+    tombstones::append_to_ledger(&ledger, &whole).unwrap();
+    assert_eq!(
+        tombstones::read_ledger(&ledger).unwrap(),
+        [whole.clone(), whole].concat()
+    );
     // A whole line that is not a tombstone is refused by its number.
     cut.extend_from_slice(b"\n");
     std::fs::write(&ledger, &cut).unwrap();

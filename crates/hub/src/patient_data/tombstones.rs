@@ -20,7 +20,7 @@
 //! tombstone is applied only to the patient whose pseudonym it was made from.
 
 use std::collections::BTreeMap;
-use std::io::Write;
+use std::io::{Read, Write};
 use std::path::Path;
 
 use hmac::{Hmac, Mac};
@@ -141,12 +141,22 @@ pub fn append_to_ledger(path: &Path, tombstones: &[Tombstone]) -> Result<(), Hub
         return Ok(());
     }
     let mut options = std::fs::OpenOptions::new();
-    options.create(true).append(true);
+    options.create(true).read(true).append(true);
     #[cfg(unix)]
     std::os::unix::fs::OpenOptionsExt::mode(&mut options, 0o600);
     let mut file = options
         .open(path)
         .map_err(HubError::io_at("writing", path))?;
+    // A last line a crash cut short mid-append is an erasure that never began: cut it off,
+    // so the new tombstones start on a line of their own.
+    let mut held = Vec::new();
+    file.read_to_end(&mut held)
+        .map_err(HubError::io_at("reading", path))?;
+    let whole = netlink::ndjson::complete_len(&held);
+    if whole < held.len() {
+        file.set_len(whole as u64)
+            .map_err(HubError::io_at("writing", path))?;
+    }
     let mut text = String::new();
     for t in tombstones {
         text.push_str(&serde_json::to_string(t).map_err(|e| HubError::Corrupt(e.to_string()))?);
