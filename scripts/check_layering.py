@@ -42,6 +42,7 @@ BELOW_STATION = {
     "record",
     "regimen",
     "i18n",
+    "render",
 }
 
 # Our crates, and which of our crates each one may depend on (the arrows of DESIGN.md).
@@ -64,11 +65,17 @@ OUR_CRATES: dict[str, set[str]] = {
     "record": {"common", "calib", "gyro-imu", "haptic-wheel", "metrics"},
     # The prescription: exercises, haptic and assistance settings, and their safety bounds.
     "regimen": {"common", "vehicle", "assist", "haptic-wheel", "i18n"},
+    # The patient's window: scenes drawn with wgpu; knows no session, thread or device.
+    "render": {"common", "gyro-imu", "i18n", "regimen"},
     "hub": {"common", "clock", "netlink", "record", "regimen", "i18n", "metrics"},
-    # The one binary also runs the clinic's hub (`telerehab hub ...`).
-    "station": BELOW_STATION | {"hub"},
+    # The patient's station: it knows no hub (the link speaks netlink's protocol).
+    "station": BELOW_STATION,
+    # The measurements and drills: they run stations and hubs.
+    "tools": BELOW_STATION | {"station", "hub"},
+    # The one binary: its command line names the station's, the hub's and the tools' commands.
+    "telerehab": BELOW_STATION | {"station", "hub", "tools"},
     "telerehab-py": {"common", "vehicle", "assist", "calib", "gyro-imu", "metrics", "record"},
-    "telerehab-tests": BELOW_STATION | {"station", "hub"},
+    "telerehab-tests": BELOW_STATION | {"station", "hub", "telerehab"},
 }
 
 PURE = ("common", "vehicle", "calib", "assist", "metrics")
@@ -127,7 +134,7 @@ IO_DENY = {
 DEVICE_LIBRARIES = {"evdev", "gilrs", "gilrs-core", "hidapi", "libudev-sys", "libudev", "udev"}
 
 # Our crates that must link no device library, through any path of the graph.
-DEVICE_FREE = ("hub", "telerehab-py")
+DEVICE_FREE = ("hub", "telerehab-py", "render")
 
 
 def device_libraries_of(package: str) -> list[str]:

@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if ! command -v cargo >/dev/null 2>&1; then export PATH="$HOME/.cargo/bin:$PATH"; fi
-cargo build --release -p station --bin telerehab
+cargo build --release -p telerehab
 # The binary cargo just built, wherever the target directory is (CARGO_TARGET_DIR honoured).
 BIN="${CARGO_TARGET_DIR:-$PWD/target}/release/telerehab"
 mkdir -p out

@@ -22,7 +22,7 @@ while [ $# -gt 0 ]; do
   esac
 done
 if [ -z "$BIN" ]; then
-  cargo build --release -p station --bin telerehab
+  cargo build --release -p telerehab
   BIN="${CARGO_TARGET_DIR:-$ROOT/target}/release/telerehab"
 fi
 [ -x "$BIN" ] || { echo "package.sh: no executable at $BIN" >&2; exit 2; }
@@ -91,7 +91,7 @@ RUNTIME="libvulkan1, mesa-vulkan-drivers | vulkan-icd, libegl1, libegl-mesa0, li
 WINDOW="libx11-6, libx11-xcb1, libxcursor1, libxi6, libxkbcommon0, libxkbcommon-x11-0"
 # The patient's voice: espeak-ng speaks each page's main sentence (the program, run by name).
 VOICE="espeak-ng"
-# The window's fonts for scripts beyond Latin (src/render/fonts.rs reads them by path).
+# The window's fonts for scripts beyond Latin (crates/render/src/fonts.rs reads them by path).
 FONTS="fonts-noto-core, fonts-noto-cjk"
 SIZE_KB="$(du -sk --exclude=DEBIAN "$S" | cut -f1)"
 cat > "$S/DEBIAN/control" <<EOF

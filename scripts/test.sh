@@ -50,7 +50,7 @@ echo "== python types"
 # The stub of the native module against the module just built, then the typed facade.
 .venv/bin/python -m mypy.stubtest telerehab._native
 (cd pyext/python && ../../.venv/bin/python -m mypy --strict --cache-dir=/dev/null -p telerehab)
-cargo build --quiet -p station --bin telerehab
+cargo build --quiet -p telerehab
 # The binary cargo just built, wherever the target directory is (CARGO_TARGET_DIR honoured).
 TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}"
 # Under a display as the Rust tests are: the console's browser tests start windowed stations.

@@ -37,12 +37,12 @@ fi
 rustup target list --installed | grep -qx "$TARGET" || rustup target add "$TARGET"
 
 step "build telerehab.exe and the Linux binary ($PROFILE)"
-cargo build "${FLAGS[@]}" --target "$TARGET" -p station --bin telerehab
+cargo build "${FLAGS[@]}" --target "$TARGET" -p telerehab
 EXE="$TARGET_DIR/$TARGET/$PROFILE/telerehab.exe"
 # The Linux binary: TELEREHAB_BIN when given (as the browser tests take it), else built here.
 LINUX="${TELEREHAB_BIN:-}"
 if [ -z "$LINUX" ]; then
-  cargo build "${FLAGS[@]}" -p station --bin telerehab
+  cargo build "${FLAGS[@]}" -p telerehab
   LINUX="$TARGET_DIR/$PROFILE/telerehab"
 fi
 echo "telerehab.exe: $(du -k "$EXE" | cut -f1) kB"

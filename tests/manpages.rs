@@ -17,7 +17,7 @@ fn every_visible_subcommand_has_a_man_page_and_the_shells_complete_them() {
     let dir = tempfile::tempdir().unwrap();
     run_ok(&["docs", "--out", dir.path().to_str().unwrap()]);
     let mut expected = Vec::new();
-    pages(&station::cli::Cli::command(), "telerehab", &mut expected);
+    pages(&telerehab::cli::Cli::command(), "telerehab", &mut expected);
     assert!(expected.len() >= 25, "{expected:?}");
     for name in &expected {
         let page = dir.path().join("man1").join(format!("{name}.1"));

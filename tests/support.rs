@@ -25,7 +25,7 @@ pub fn telerehab_bin() -> PathBuf {
             .expect("target profile directory");
         let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
         let status = Command::new(cargo)
-            .args(["build", "--quiet", "-p", "station", "--bin", "telerehab"])
+            .args(["build", "--quiet", "-p", "telerehab"])
             .status()
             .expect("run cargo build");
         assert!(status.success(), "cargo build of telerehab failed");

@@ -15,6 +15,7 @@ pub mod attention;
 pub mod backup;
 pub mod bench;
 pub mod care;
+pub mod cli;
 pub mod clinic;
 pub mod db;
 mod error;

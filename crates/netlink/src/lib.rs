@@ -76,6 +76,7 @@
 //! # }
 //! ```
 
+pub mod address;
 mod answer;
 pub mod codec;
 mod error;
@@ -83,6 +84,7 @@ pub mod frame;
 pub mod ndjson;
 pub mod pairing;
 pub mod pki;
+pub mod server_stop;
 pub mod station;
 pub mod store;
 pub mod therapist;

@@ -24,9 +24,9 @@ pub use results::{
     EndResults, KEPT_RESULTS, end_lines, load_results, result_lines, save_results, wheel_stopped,
 };
 
-use crate::render::window::UserRequest;
-use crate::render::{CheckInPage, CheckInScale, ScaleKind};
 use netlink::CheckIn;
+use render::window::UserRequest;
+use render::{CheckInPage, CheckInScale, ScaleKind};
 use std::time::{Duration, Instant};
 
 /// How long each page of the end screen waits for the patient by default, s.

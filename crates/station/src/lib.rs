@@ -1,18 +1,19 @@
-//! The telerehab station: command line, configuration, threads, recorder and therapist hub.
-//! The design of the whole product is `docs/DESIGN.md`.
+//! The telerehab station: the patient's session, its threads and recorder, the first-run
+//! pages, the link to the clinic and the station's commands. The one `telerehab` binary is
+//! the `telerehab` crate (its command line names these commands); the window's drawing is the
+//! `render` crate, the clinic's hub the `hub` crate, benches and drills the `tools` crate. The
+//! design of the whole product is `docs/DESIGN.md`.
 //!
 //! # Module map
 //!
-//! - [`cli`]: the clap tree ([`cli::Cli`], [`cli::Command`]) and [`cli::dispatch`], nothing
-//!   else. [`logging`] sets up the one `tracing` subscriber.
-//! - [`commands`]: one file per subcommand, each owning its arguments and `run()`:
-//!   [`commands::run`] (a patient session), [`commands::window_process`] (the patient
+//! - [`commands`]: one file per subcommand of the station, each owning its arguments and
+//!   `run()`: [`commands::run`] (a patient session), [`commands::window_process`] (the patient
 //!   window's own process), [`commands::replay`], [`commands::report`],
 //!   [`commands::recover`], [`commands::render`], [`commands::devices`],
-//!   [`commands::wheel`], [`commands::vehicle`], [`commands::bench`], [`commands::pair`] and
-//!   [`commands::sync`] (a station and its clinic), [`commands::hub`] (the clinic's hub),
-//!   [`commands::therapist`] (a file-store hub for development), [`commands::start`]
-//!   (`telerehab` with no arguments: the first-run pages, then a session).
+//!   [`commands::wheel`], [`commands::vehicle`], [`commands::pair`] and [`commands::sync`] (a
+//!   station and its clinic), [`commands::therapist`] (a file-store hub for development),
+//!   [`commands::start`] (`telerehab` with no arguments: the first-run pages, then a session).
+//!   [`logging`] sets up the one `tracing` subscriber.
 //! - [`front_door`]: the first-run pages' state (pairing, today's session, the device check
 //!   in plain words); [`settings`]: the patient's settings file; [`readiness`]: a check's
 //!   line and the device-permission check, shared by `doctor` and the front door;
@@ -36,17 +37,17 @@
 //! - [`link`]: the therapist link (tokio runtime, store-and-forward through `netlink`), its
 //!   on-disk queue and the recording uploads; [`home`]: the station's home directory
 //!   (pairing, queue, recordings).
-//! - [`screen`] (a tick → a [`render::Scene`]) and [`render`] (wgpu: window and offscreen);
-//!   the tests of the session's pages as drawn (sizes, screenshots) are the screen's, since
-//!   `render` knows no session.
+//! - [`screen`] (a tick → a [`render::Scene`], drawn by the `render` crate: wgpu, window and
+//!   offscreen); the tests of the session's pages as drawn (sizes, screenshots) are the
+//!   screen's, since `render` knows no session.
 //! - [`report`] (the end-of-session text) and [`timing`] (loop-timing percentiles).
 //! - [`html_report`]: recorded sessions → one self-contained HTML report (reads `record`,
 //!   and the measures' rate from `session::measures`).
 //! - [`resident`]: bounded buffers made resident up front, and the process's memory figures.
 //!
-//! Dependencies point down the list: `cli` → `commands` → `session`, `link`, `screen`,
-//! `report` → `config`, `render`, `timing` (and the `record` and `regimen` crates); nothing below `commands` knows
-//! a command, and `session` draws through a scene closure, not the screen (the `[[faults]]` a
+//! Dependencies point down the list: `commands` → `session`, `link`, `screen`, `report` →
+//! `config`, `timing` (and the `render`, `record` and `regimen` crates); nothing below
+//! `commands` knows a command, and `session` draws through a scene closure, not the screen (the `[[faults]]` a
 //! configuration names are `config::faults`; `session::faults` injects them). Time comes from one
 //! injectable [`clock::Clock`] in [`session::SessionOptions`] (mock clocks in tests); the pure
 //! crates get `dt` or timestamps.
@@ -59,7 +60,6 @@
 pub mod adapt;
 pub mod assessment;
 pub mod checkin;
-pub mod cli;
 pub mod commands;
 pub mod config;
 pub mod front_door;
@@ -71,7 +71,6 @@ pub mod logging;
 pub mod messages;
 pub mod platform;
 pub mod readiness;
-pub mod render;
 pub mod report;
 pub mod resident;
 pub mod screen;

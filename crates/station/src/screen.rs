@@ -8,14 +8,14 @@
 //! (`triangle-road`), and no units a patient has no use for.
 
 use crate::config::StationConfig;
-use crate::render::{
-    self, ArmInset, CarPose, Dial, Hud, LiveScore, Movement, NextCard, RoadPoint, Scene,
-    ScreenState,
-};
 use crate::session::{BreakKind, BreakNow};
 use i18n::tr;
 use record::{ArmSetup, TickRecord, Watchdog};
 use regimen::Regimen;
+use render::{
+    self, ArmInset, CarPose, Dial, Hud, LiveScore, Movement, NextCard, RoadPoint, Scene,
+    ScreenState,
+};
 
 #[cfg(test)]
 mod session_tests;

@@ -20,14 +20,14 @@ use common::tick;
 
 use record::TickRecord;
 use regimen::{NeglectedSide, Regimen};
+use render::window::UserRequest;
+use render::{Scene, ScreenState, StatusLine, layout};
 use station::checkin::CheckInFlow;
 use station::checkin::care::{CareSettings, rest_today_page};
 use station::checkin::results::{EndResults, end_lines, result_lines};
 use station::config::StationConfig;
 use station::front_door::pairing_file::{Found, PairingCard};
 use station::front_door::{FrontDoor, TodayPlan};
-use station::render::window::UserRequest;
-use station::render::{Scene, ScreenState, StatusLine, layout};
 use station::screen::{CourseView, WindowState, cannot_start_page};
 use station::session::wheel_gestures::Gesture;
 use station::session::{BreakKind, BreakNow, PauseChoice, wheel_cards};
@@ -353,7 +353,7 @@ fn every_patient_screen_draws_in_every_language_in_words_other_than_englishs() {
                 let dir = dir.join(language);
                 std::fs::create_dir_all(&dir).unwrap();
                 let path = dir.join(format!("{:02}-{name}.png", n + 1));
-                station::render::save_png(&path, &rgba, W, H).unwrap();
+                render::save_png(&path, &rgba, W, H).unwrap();
             }
         }
     }

@@ -1,5 +1,6 @@
 //! The station's words come from the catalogues (`crates/i18n/locales`), never from string
-//! literals in its source: a scan of `src/` with `syn` finds every literal that reads like a
+//! literals in its source: a scan of `src/` and of the window's crate (`crates/render/src`,
+//! named `render/…` here) with `syn` finds every literal that reads like a
 //! sentence (two words or more) outside the places where text is for developers (logs,
 //! errors, assertions, the terminal, tests) and outside the allow-list
 //! (`tests/words_allowed.txt`, each entry with its reason). It also checks that every
@@ -15,6 +16,19 @@ mod common;
 
 fn src() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src")
+}
+
+/// The window's crate, whose pages the patient reads too: its files are named `render/…`.
+fn render_src() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../render/src")
+}
+
+/// Where a scanned or allowed name (`session/mod.rs`, `render/gpu.rs`) is on disk.
+fn path_of(name: &str) -> PathBuf {
+    match name.strip_prefix("render/") {
+        Some(rest) => render_src().join(rest),
+        None => src().join(name),
+    }
 }
 
 /// Macros whose strings are for developers (logs, errors, assertions, terminal output) or
@@ -222,9 +236,10 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
 
 /// Every sentence-like literal and every `tr!` id of the station's source.
 fn scan() -> Finder {
-    let root = src();
+    let (root, render_root) = (src(), render_src());
     let mut files = Vec::new();
     rust_files(&root, &mut files);
+    rust_files(&render_root, &mut files);
     let mut finder = Finder::default();
     let parsed: Vec<(PathBuf, syn::File)> = files
         .into_iter()
@@ -247,11 +262,14 @@ fn scan() -> Finder {
             .any(|m| p == m.with_extension("rs") || p.starts_with(m))
     };
     for (path, ast) in parsed.iter().filter(|(p, _)| !is_test_file(p)) {
-        finder.file = path
-            .strip_prefix(&root)
-            .unwrap()
-            .to_string_lossy()
-            .into_owned();
+        finder.file = match path.strip_prefix(&render_root) {
+            Ok(rest) => format!("render/{}", rest.to_string_lossy()),
+            Err(_) => path
+                .strip_prefix(&root)
+                .unwrap()
+                .to_string_lossy()
+                .into_owned(),
+        };
         finder.visit_file(ast);
     }
     finder
@@ -388,12 +406,11 @@ fn every_message_id_the_station_asks_for_is_in_the_english_catalogue() {
 
 #[test]
 fn every_allow_list_entry_names_a_file_or_folder_that_exists() {
-    let root = src();
     let a = allowed();
     let mut by_file: BTreeMap<&str, usize> = BTreeMap::new();
     for p in a.paths.iter().chain(a.literals.iter().map(|(f, _)| f)) {
         *by_file.entry(p.as_str()).or_default() += 1;
-        assert!(root.join(p).exists(), "words_allowed.txt: no src/{p}");
+        assert!(path_of(p).exists(), "words_allowed.txt: no src/{p}");
     }
 }
 
@@ -403,8 +420,8 @@ fn every_allow_list_entry_names_a_file_or_folder_that_exists() {
 mod per_screen {
     use record::{ArmSample, ArmSetup};
     use regimen::Regimen;
+    use render::{ScreenState, StatusLine};
     use station::config::StationConfig;
-    use station::render::{ScreenState, StatusLine};
     use station::screen::{CourseView, WindowState, cannot_start_page, confirm_end_card};
     use station::session::{BreakKind, BreakNow};
 

@@ -4,7 +4,7 @@
 //! clears it (a later [`CareSettings::cleared_unix_ms`]), the rest of that local calendar day
 //! offers no session: today's page says to rest ([`rest_today_page`]).
 
-use crate::render::{StatusLine, Welcome};
+use render::{StatusLine, Welcome};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -138,7 +138,7 @@ pub fn rest_today_page(care: &CareSettings) -> Welcome {
             i18n::tr!("checkin-key-close"),
             i18n::tr!("checkin-key-close-esc"),
         ],
-        picture: Some(crate::render::Picture::Wheel {
+        picture: Some(render::Picture::Wheel {
             hold: false,
             turn: false,
         }),

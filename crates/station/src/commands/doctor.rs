@@ -373,7 +373,7 @@ fn graphics_check() -> Check {
     let spawned = std::thread::Builder::new()
         .name("doctor-adapter".into())
         .spawn(move || {
-            let _ = tx.send(crate::render::probe_adapter());
+            let _ = tx.send(render::probe_adapter());
         });
     if let Err(e) = spawned {
         return check(

@@ -1,24 +1,16 @@
-//! Subcommands of `telerehab`: one file each, owning its `clap` arguments and its `run()`
-//! ([`crate::cli`] only names them and dispatches). A new subcommand is a new file here, a
-//! variant of [`crate::cli::Command`] and one line of [`crate::cli::dispatch`].
+//! The station's subcommands of `telerehab`: one file each, owning its `clap` arguments and its
+//! `run()` (the `telerehab` binary crate's `cli` only names them and dispatches). A new
+//! subcommand is a new file here, a variant of `telerehab::cli::Command` and one line of its
+//! `dispatch`.
 
-pub mod bench;
 pub mod devices;
-pub mod docs;
 pub mod doctor;
-#[cfg(unix)]
-pub mod hub;
-#[cfg(unix)]
-pub mod hub_chaos;
-#[cfg(unix)]
-pub mod hub_cohort;
 pub mod pair;
 pub mod recover;
 pub mod render;
 pub mod replay;
 pub mod report;
 pub mod run;
-mod server_stop;
 pub mod start;
 pub mod sync;
 pub mod therapist;
@@ -27,7 +19,7 @@ pub mod wheel;
 pub mod window_process;
 
 /// Parse `WIDTHxHEIGHT` (16 to 8192 pixels a side): the `--size` of `render` and `bench window`.
-pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s
         .split_once(['x', 'X'])
         .ok_or_else(|| format!("size `{s}` is not WIDTHxHEIGHT"))?;

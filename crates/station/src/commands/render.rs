@@ -2,11 +2,11 @@
 //! code, on Mesa's software Vulkan/GL where there is no GPU).
 
 use super::run::{RunArgs, Speed};
-use crate::render::ScreenState;
 use crate::screen::CourseView;
 use crate::session::signals::install_stop_flag;
 use crate::session::{self, SessionObserver, SessionOptions};
 use record::TickRecord;
+use render::ScreenState;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -102,7 +102,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         .iter()
         .map(|(r, arm)| view.scene_with_arm(r, ScreenState::Running, *arm));
     let (w, h) = args.size;
-    let stats = crate::render::headless_frames(scenes, w, h, &args.out)?;
+    let stats = render::headless_frames(scenes, w, h, &args.out)?;
     println!(
         "rendered {} frames of {w}×{h} to {} on {:?}: {:.1} ms mean, p99 {:.1} ms per frame",
         stats.frames,

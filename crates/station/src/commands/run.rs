@@ -4,13 +4,13 @@
 use crate::config::StationConfig;
 use crate::home::{Home, HomeArg};
 use crate::link::Link;
-use crate::render::window::WindowOptions;
 use crate::session::signals::install_stop_flag;
 use crate::session::{self, BodyKind, SessionOptions, SessionReport, haptic::Pacing};
 use anyhow::{Context, bail};
 use clap::ValueEnum;
 use clock::Clock;
 use regimen::Regimen;
+use render::window::WindowOptions;
 use std::path::PathBuf;
 use std::sync::atomic::Ordering;
 use std::time::Duration;
@@ -103,7 +103,7 @@ pub const TRY_OUT_S: f64 = 60.0;
 impl RunArgs {
     /// A headless simulated session of `duration_s` at `seed`, real time, no recording or
     /// therapist: the base that the commands built on `run` adjust.
-    pub(crate) fn simulated(duration_s: f64, seed: u64) -> Self {
+    pub fn simulated(duration_s: f64, seed: u64) -> Self {
         RunArgs {
             sim: true,
             headless: true,
@@ -310,7 +310,7 @@ fn follow_regimen(cfg: &mut StationConfig, regimen: &Regimen, args: &RunArgs) {
 }
 
 /// Resolve the run's configuration and its regimen (also for the commands built on `run`).
-pub(crate) fn plan(args: &RunArgs) -> anyhow::Result<(StationConfig, Option<Regimen>)> {
+pub fn plan(args: &RunArgs) -> anyhow::Result<(StationConfig, Option<Regimen>)> {
     let mut cfg = resolve_config(args)?;
     let regimen = args.regimen.as_deref().map(Regimen::load).transpose()?;
     match &regimen {
@@ -387,9 +387,9 @@ fn no_wheel_no_mystery(cfg: &StationConfig) -> anyhow::Result<Option<PathBuf>> {
     let mut page = crate::screen::cannot_start_page(&check.lines);
     page.keys = vec![i18n::tr!("cannot-start-close-key")];
     page.id = "cannot-start";
-    let scene = crate::render::Scene {
-        screen: crate::render::ScreenState::Welcome(page),
-        ..crate::render::Scene::default()
+    let scene = render::Scene {
+        screen: render::ScreenState::Welcome(page),
+        ..render::Scene::default()
     };
     let closed = std::cell::Cell::new(false);
     let mut window = WindowOptions::new("telerehab");
@@ -398,7 +398,7 @@ fn no_wheel_no_mystery(cfg: &StationConfig) -> anyhow::Result<Option<PathBuf>> {
     // needs no key (the page is checked again every 2 s).
     let mut last_check = std::time::Instant::now();
     let mut plugged_in = None;
-    let shown = crate::render::window::run_with(
+    let shown = render::window::run_with(
         &window,
         || {
             if last_check.elapsed() >= Duration::from_secs(2) {

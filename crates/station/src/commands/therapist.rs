@@ -26,7 +26,7 @@ pub struct TherapistArgs {
 
 /// Run the hub until SIGINT/SIGTERM.
 pub fn run(args: TherapistArgs) -> anyhow::Result<()> {
-    let listen = crate::link::resolve("--listen", &args.listen)?;
+    let listen = netlink::address::resolve("--listen", &args.listen)?;
     let tls = match (args.tls_cert, args.tls_key) {
         (Some(cert), Some(key)) => Some(ServerTls {
             cert_pem_path: cert,
@@ -45,7 +45,7 @@ pub fn run(args: TherapistArgs) -> anyhow::Result<()> {
         .enable_all()
         .build()
         .context("cannot start the network runtime")?;
-    super::server_stop::run_to_stop(runtime, async move {
+    netlink::server_stop::run_to_stop(runtime, async move {
         let (server, mut events) = TherapistServer::bind(config)
             .await
             .context("therapist hub")?;
@@ -56,7 +56,7 @@ pub fn run(args: TherapistArgs) -> anyhow::Result<()> {
             args.store.display()
         );
         let _ = std::io::stdout().flush();
-        let mut stop = std::pin::pin!(super::server_stop::stop_signal()?);
+        let mut stop = std::pin::pin!(netlink::server_stop::stop_signal()?);
         loop {
             tokio::select! {
                 // A stop first, however many events wait.

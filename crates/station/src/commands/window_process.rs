@@ -7,8 +7,6 @@
 
 use crate::checkin::CheckInFlow;
 use crate::config::StationConfig;
-use crate::render::ScreenState;
-use crate::render::window::{UserRequest, WindowOptions};
 use crate::screen::{CourseView, WindowState, live_screen_state};
 use crate::session::window::channel::{self, WindowSocket};
 use crate::session::window::wire::{self, EndScreen, FromWindow, Hello, ToWindow};
@@ -16,6 +14,8 @@ use crate::session::{BreakKind, BreakNow};
 use anyhow::Context;
 use record::TickRecord;
 use regimen::Regimen;
+use render::ScreenState;
+use render::window::{UserRequest, WindowOptions};
 use std::io::Write;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
@@ -188,7 +188,7 @@ fn serve(socket: WindowSocket) -> anyhow::Result<()> {
             let r = session_request(r, &confirming, in_break.load(Ordering::Relaxed));
             tell(&FromWindow::Request(r));
         };
-        let result = crate::render::window::run_with(&options, source, on_request);
+        let result = render::window::run_with(&options, source, on_request);
         let last = match &result {
             Ok(stats) => FromWindow::Closed {
                 frames_drawn: stats.frames_drawn,
@@ -226,7 +226,7 @@ fn end_screen_scene(
     rec: &TickRecord,
     tell: &dyn Fn(&FromWindow) -> bool,
     esc_keeps_open: &AtomicBool,
-) -> Option<crate::render::Scene> {
+) -> Option<render::Scene> {
     for r in input {
         flow.apply(r, std::time::Instant::now());
     }
@@ -267,10 +267,10 @@ fn screen_now(
 
 /// The pause page of a window that replaces a lost one: first why it paused by itself, then
 /// its choices as ever.
-fn lost_window_card(mut page: crate::render::Welcome) -> ScreenState {
+fn lost_window_card(mut page: render::Welcome) -> ScreenState {
     page.lines.insert(
         0,
-        crate::render::StatusLine {
+        render::StatusLine {
             ok: None,
             text: i18n::tr!("pause-screen-restarted"),
         },

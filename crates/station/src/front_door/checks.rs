@@ -3,8 +3,8 @@
 //! technical details stay in `telerehab doctor`, which the lines point to.
 
 use crate::readiness::{Status, permissions_check};
-use crate::render::StatusLine;
 use haptic_wheel::DeviceReport;
+use render::StatusLine;
 
 /// The lines of the device check and whether a wheel is ready to start a session.
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -3,9 +3,9 @@
 
 use super::checks::describe;
 use super::*;
-use crate::render::window::UserRequest::*;
 use Gesture::{Hold, Press, Turn};
 use i18n::tr;
+use render::window::UserRequest::*;
 
 fn type_text(door: &mut FrontDoor, text: &str) {
     for c in text.chars() {

@@ -20,7 +20,6 @@ use netlink::{
 };
 use queue::QueueFile;
 use std::collections::BTreeMap;
-use std::net::{SocketAddr, ToSocketAddrs};
 use std::sync::Mutex;
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
@@ -110,15 +109,6 @@ impl Messages {
 
 /// How long [`Link::await_prescription`] waits for the hub's push once connected.
 pub const PUSH_GRACE: Duration = Duration::from_secs(1);
-
-/// The first socket address `address` (`host:port`) resolves to; errors name it as `what`.
-pub(crate) fn resolve(what: &str, address: &str) -> anyhow::Result<SocketAddr> {
-    address
-        .to_socket_addrs()
-        .with_context(|| format!("{what} `{address}` does not resolve"))?
-        .next()
-        .with_context(|| format!("{what} `{address}` has no address"))
-}
 
 /// A session identifier from the start time to the millisecond, the seed and 32 random bits:
 /// `2026-11-21T09-30-00.123Z-s7-9f86d081`, unique even for two stations started at once.

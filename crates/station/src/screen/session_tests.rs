@@ -3,8 +3,8 @@
 
 use super::CourseView;
 use crate::config::StationConfig;
-use crate::render::ScreenState;
 use crate::session::{Controls, LiveSummary, SessionObserver, SessionOptions};
+use render::ScreenState;
 
 /// Each live summary's arm lengths and calibration flag: (t_s, upper arm, forearm, calibrated);
 /// and what the patient's screen draws of the arm at that tick (as its window is fed: the

@@ -5,11 +5,9 @@
 //! English), and an exercise's card in Arabic words as an Arabic catalogue would give them.
 //! Run on purpose: `cargo test -p station --lib screen::shots -- --ignored --test-threads=1`.
 
-use crate::render::{
-    Movement, NextCard, Picture, Renderer, Scene, ScreenState, demo, layout, save_png,
-};
 use i18n::tr;
 use regimen::NeglectedSide;
+use render::{Movement, NextCard, Picture, Renderer, Scene, ScreenState, demo, layout, save_png};
 
 fn shot(renderer: &mut Renderer, scene: &Scene, name: &str) {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/screenshots");

@@ -1,13 +1,13 @@
 //! Sized for the sofa: the rendered cap height of every text on the session's pages (the
 //! cards of the screen and the session's pause page, painted by the HUD) at 1920×1080,
-//! against the minimums of [`crate::render::layout`].
+//! against the minimums of [`render::layout`].
 
-use crate::render::hud::{input_for, paint, pixels_per_point};
-use crate::render::layout::{MAIN_CAP_ARCMIN, MIN_CAP_ARCMIN, px_at_1080p};
-use crate::render::{Hud, LiveScore, Movement, NextCard, Picture, Scene, ScreenState};
 use egui::epaint::Shape;
 use egui::{Context, Id, LayerId, Order};
 use regimen::NeglectedSide;
+use render::hud::{input_for, paint, pixels_per_point};
+use render::layout::{MAIN_CAP_ARCMIN, MIN_CAP_ARCMIN, px_at_1080p};
+use render::{Hud, LiveScore, Movement, NextCard, Picture, Scene, ScreenState};
 
 /// Every text of `scene` painted at 1920×1080: (text, cap height in pixels). The cap height
 /// is the median drawn height of its capitals and digits (their glyphs' rasters), so it is

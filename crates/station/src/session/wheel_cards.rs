@@ -5,8 +5,8 @@
 //! ends.
 
 use super::controls::{BreakKind, BreakNow, PauseChoice};
-use crate::render::{Picture, ScreenState, StatusLine, Welcome};
 use i18n::tr;
+use render::{Picture, ScreenState, StatusLine, Welcome};
 
 fn plain(text: String) -> StatusLine {
     StatusLine { ok: None, text }
@@ -114,7 +114,7 @@ pub fn paused_card(chosen: PauseChoice) -> Welcome {
 
 /// The practice says so on every screen: over the exercise (before its name), on the cards
 /// between exercises and on every page.
-pub fn mark_practice(scene: &mut crate::render::Scene) {
+pub fn mark_practice(scene: &mut render::Scene) {
     let banner = tr!("front-practice-banner");
     // Over the exercise on a line of its own: the HUD's corner stays narrow in every language.
     scene.hud.exercise = format!("{banner}\n{}", scene.hud.exercise);

@@ -17,9 +17,9 @@ mod wav;
 
 pub use wav::Wav;
 
-use crate::render::ScreenState;
-use crate::render::{Movement, Picture};
 use regimen::{NeglectedSide, PatientSettings};
+use render::ScreenState;
+use render::{Movement, Picture};
 use std::sync::{Arc, Condvar, Mutex, OnceLock};
 use std::time::Duration;
 
@@ -300,7 +300,7 @@ pub fn utterance(
 /// with every frame's screen. Never blocks.
 pub fn speak_page(screen: &ScreenState) {
     static LAST: Mutex<Option<String>> = Mutex::new(None);
-    let said = utterance(screen, crate::render::layout::neglected_side());
+    let said = utterance(screen, render::layout::neglected_side());
     say_when_changed(&LAST, said.as_ref().map(|(t, side)| (t.as_str(), *side)));
 }
 
@@ -328,7 +328,7 @@ pub fn speak_notice(notice: Option<&str>) {
 /// on or off, its volume, the neglected side.
 pub fn for_patient(settings: Option<&PatientSettings>) {
     let settings = settings.cloned().unwrap_or_default();
-    crate::render::layout::set_neglected_side(settings.neglected_side);
+    render::layout::set_neglected_side(settings.neglected_side);
     speaker().configure(&settings);
 }
 

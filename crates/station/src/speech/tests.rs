@@ -117,7 +117,7 @@ fn a_speaker_without_a_sound_card_goes_on_silently() {
 #[test]
 fn the_spoken_sentence_of_a_card_is_its_pictures_caption_and_the_cue_comes_first_from_the_neglected_side()
  {
-    use crate::render::{NextCard, ScreenState};
+    use render::{NextCard, ScreenState};
     let card = NextCard {
         movement: Movement::Slalom,
         ..NextCard::default()

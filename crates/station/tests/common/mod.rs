@@ -2,7 +2,11 @@
 #![allow(dead_code)]
 
 use record::TickRecord;
-use station::render::{RenderError, Renderer};
+
+#[path = "../../../render/tests/common/mod.rs"]
+mod headless;
+#[allow(unused_imports)] // each test binary uses part of this module
+pub use headless::renderer_or_skip;
 
 /// A tick `tick` of exercise `index` with `active_s` of exercise time, paused or not.
 pub fn tick(tick: u64, index: u32, active_s: f64, paused: bool) -> TickRecord {
@@ -14,19 +18,6 @@ pub fn tick(tick: u64, index: u32, active_s: f64, paused: bool) -> TickRecord {
     rec.score.active_s = active_s;
     rec.score.paused = paused;
     rec
-}
-
-/// An offscreen renderer of `width`×`height`, or `None` (with a SKIPPED line) on a machine
-/// with no graphics adapter at all; any other failure fails the test.
-pub fn renderer_or_skip(width: u32, height: u32) -> Option<Renderer> {
-    match Renderer::new_headless(width, height) {
-        Ok(r) => Some(r),
-        Err(RenderError::NoAdapter(msg)) => {
-            eprintln!("SKIPPED: no graphics adapter on this machine ({msg})");
-            None
-        }
-        Err(e) => panic!("renderer: {e}"),
-    }
 }
 
 /// Fails unless the generated doc `docs/<doc>` is `now`, naming the command that regenerates

@@ -4,10 +4,10 @@
 //! hour's playback holds 360 000 ticks, not 3.6 million.
 
 use super::ReplayArgs;
-use crate::render::window::{UserRequest, WindowOptions};
 use crate::screen::{CourseView, live_screen_state};
 use anyhow::Context;
 use record::{Channel, StreamLimits, TickRecord, TickStream};
+use render::window::{UserRequest, WindowOptions};
 use std::cell::RefCell;
 use std::time::Instant;
 
@@ -172,7 +172,7 @@ pub(super) fn play(args: &ReplayArgs) -> anyhow::Result<()> {
     };
     let on_request = |r: UserRequest| playback.borrow_mut().apply(r);
     let title = format!("telerehab replay — {}", path.display());
-    let stats = crate::render::window::run_with(&WindowOptions::new(&title), source, on_request)
+    let stats = render::window::run_with(&WindowOptions::new(&title), source, on_request)
         .context("cannot open the replay window (is there a display? try xvfb-run -a)")?;
     let p = playback.borrow();
     println!(

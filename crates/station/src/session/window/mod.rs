@@ -11,9 +11,9 @@ pub mod supervisor;
 pub mod wire;
 
 use super::{Controls, LiveSummary, SessionObserver, SessionOptions, SessionReport};
-use crate::render::window::WindowOptions;
 use anyhow::Context;
 use record::TickRecord;
+use render::window::WindowOptions;
 use std::sync::atomic::{AtomicBool, Ordering};
 pub use supervisor::{EndPhase, WindowAccount};
 

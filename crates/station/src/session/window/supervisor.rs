@@ -8,11 +8,11 @@
 
 use super::channel::{self, WindowSocket};
 use super::wire::{self, EndScreen, FromWindow, Hello, ToWindow};
-use crate::render::AdapterSummary;
-use crate::render::window::UserRequest;
 use crate::session::Controls;
 use clock::Clock;
 use record::TickRecord;
+use render::AdapterSummary;
+use render::window::UserRequest;
 use std::process::{Child, Command};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Mutex, mpsc};

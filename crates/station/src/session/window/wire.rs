@@ -7,9 +7,9 @@
 //! station answers with the newest tick: the station never writes more than the window reads,
 //! and the pulls are the window's heartbeat.
 
-use crate::render::AdapterSummary;
-use crate::render::window::UserRequest;
 use record::TickRecord;
+use render::AdapterSummary;
+use render::window::UserRequest;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use std::io::{self, Read, Write};
