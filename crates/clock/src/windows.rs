@@ -12,6 +12,12 @@
 //!   "Games"), the real-time class a user may ask for without administrator rights — Windows'
 //!   counterpart of the SCHED_FIFO priority the loop asks for on Linux; reverted on drop.
 //!
+//! Why not `std::thread::sleep`: since Rust 1.75 it, too, sleeps on a high-resolution timer
+//! where the system has one (rust-lang/rust#116461), but makes and closes one per call (two
+//! more system calls a tick) and otherwise falls back to `Sleep`, whole milliseconds that can
+//! round down (rust-lang/rust#149935); here a plain waitable timer (100 ns units, never early)
+//! under the 1 ms period is the fallback.
+//!
 //! The loop's deadlines stay absolute on the monotonic clock ([`crate::monotonic_ns`], QPC);
 //! each wait arms the timer with the time left to the deadline, read just before arming, and
 //! waits again if it woke early. An absolute `SetWaitableTimer` due time is UTC wall-clock
