@@ -89,7 +89,7 @@ for lang, nsis in NSIS_LANGUAGES.items():
             sys.exit(f"package-windows.sh: {lang}/installer.ftl has no one-line message {msg_id}")
         text = m.group(1).strip().replace("$", "$$").replace('"', '$\\"')
         lines.append(f'LangString {name} ${{LANG_{nsis}}} "{text}"')
-Path(sys.argv[1]).write_text("\n".join(lines) + "\n", encoding="utf-8")
+Path(sys.argv[1]).write_text("\n".join(lines) + "\n", encoding="utf-8-sig")  # BOM: NSIS reads it as UTF-8
 PY
 
 NSIS_DEFINES=(-DVERSION="$VERSION" -DSTAGE="$S" -DOUTFILE="$SETUP")

@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # Install, use and uninstall telerehab's Windows installer silently under Wine (issue 46):
 #   bash scripts/test_windows_installer.sh [SETUP.exe]   # default: target/windows/telerehab-setup-<version>.exe
-# Checks: the silent install (/S) puts the program, its icon, COPYRIGHT.txt and the uninstaller in
-# %LOCALAPPDATA%\Programs\telerehab, the Start-menu shortcut and the uninstall key under HKCU; the
-# installed telerehab.exe says its version and runs a simulated headless session (10 s, seed 7)
-# with its home in %APPDATA%\telerehab\config, that replays bit for bit; the silent uninstall
-# removes program, shortcut and key and leaves the patient's home. Prints how long each step took.
+# Checks: the silent install (/S, in German) puts the program, its icon, COPYRIGHT.txt and the
+# uninstaller in %LOCALAPPDATA%\Programs\telerehab, the Start-menu shortcut (its description the
+# German catalogue's) and the uninstall key under HKCU; the installed telerehab.exe says its
+# version and runs a simulated headless session (10 s, seed 7) with its home in
+# %APPDATA%\telerehab\config, that replays bit for bit; the silent uninstall removes program,
+# shortcut and key and leaves the patient's home. Prints how long each step took.
 # Runs Wine in a throwaway prefix (scripts/wine/prefix.sh); nothing is left.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -39,14 +40,22 @@ SHORTCUT="$ROAMING/Microsoft/Windows/Start Menu/Programs/telerehab.lnk"
 HOME_DIR="$ROAMING/telerehab/config"
 KEY='HKCU\Software\Microsoft\Windows\CurrentVersion\Uninstall\telerehab'
 
-step "install silently: $(basename "$SETUP") /S"
-wine "$SETUP" /S
+step "install silently, in German: $(basename "$SETUP") /S"
+# Windows' display language picks the installer's; under Wine, LANG does.
+env LC_ALL=de_DE.UTF-8 LANG=de_DE.UTF-8 wine "$SETUP" /S
 wineserver -w
 took
 for f in telerehab.exe telerehab.ico COPYRIGHT.txt uninstall.exe; do
   [ -s "$INSTDIR/$f" ] || fail "the installer left no $f in %LOCALAPPDATA%\\Programs\\telerehab"
 done
 [ -s "$SHORTCUT" ] || fail "the installer made no Start-menu shortcut"
+# The shortcut's description is the German catalogue's (crates/i18n/locales/de/installer.ftl).
+python3 - "$SHORTCUT" <<'PY' || fail "the Start-menu shortcut's description is not the German catalogue's"
+import re, sys
+ftl = open("crates/i18n/locales/de/installer.ftl", encoding="utf-8").read()
+comment = re.search(r"^installer-shortcut-comment = (.+)$", ftl, re.M).group(1).strip()
+sys.exit(0 if comment.encode("utf-16-le") in open(sys.argv[1], "rb").read() else 1)
+PY
 wine reg query "$KEY" /v DisplayVersion | tr -d '\r' | grep -q "REG_SZ[[:space:]]*$VERSION\$" \
   || fail "the uninstall key under HKCU does not say version $VERSION"
 wine reg query "$KEY" /v QuietUninstallString | tr -d '\r' | grep -q 'uninstall.exe" /S' \

@@ -64,7 +64,9 @@ VIAddVersionKey /LANG=0 "LegalCopyright" "${PUBLISHER}"
 !insertmacro MUI_PAGE_WELCOME
 !insertmacro MUI_PAGE_INSTFILES
 !define MUI_FINISHPAGE_TEXT "$(FINISH_TEXT)"
-!define MUI_FINISHPAGE_RUN "$INSTDIR\telerehab.exe"
+; "Run telerehab" (NSIS's own words), ticked: as the Start-menu entry, its console minimised.
+!define MUI_FINISHPAGE_RUN
+!define MUI_FINISHPAGE_RUN_FUNCTION RunTelerehab
 !insertmacro MUI_PAGE_FINISH
 
 !insertmacro MUI_UNPAGE_CONFIRM
@@ -77,6 +79,10 @@ VIAddVersionKey /LANG=0 "LegalCopyright" "${PUBLISHER}"
 !insertmacro MUI_LANGUAGE "Spanish"
 !insertmacro MUI_LANGUAGE "SimpChinese"
 !include "${STAGE}\langstrings.nsh"
+
+Function RunTelerehab
+  ExecShell "" "$INSTDIR\telerehab.exe" "" SW_SHOWMINIMIZED
+FunctionEnd
 
 Section "telerehab"
   SetShellVarContext current
