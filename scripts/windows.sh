@@ -48,17 +48,12 @@ fi
 echo "telerehab.exe: $(du -k "$EXE" | cut -f1) kB"
 
 WORK="$(mktemp -d)"
-export WINEPREFIX="$WORK/wine" WINEDEBUG=-all WINEDLLOVERRIDES="mscoree,mshtml="
-cleanup() { wineserver -k >/dev/null 2>&1 || true; rm -rf "$WORK"; }
+# shellcheck source=wine/prefix.sh
+source scripts/wine/prefix.sh
+cleanup() { wine_prefix_end; rm -rf "$WORK"; }
 trap cleanup EXIT
 step "a Wine prefix of its own"
-wineboot --init >/dev/null 2>&1 || fail "wineboot could not make a prefix"
-# Wine 8 (Debian 12) lacks bcryptprimitives.dll, where Rust's std draws random numbers on
-# Windows 8 and later: a shim into this prefix only (scripts/wine/bcryptprimitives.c).
-if [ ! -e "$WINEPREFIX/drive_c/windows/system32/bcryptprimitives.dll" ]; then
-  x86_64-w64-mingw32-gcc -O2 -shared -o "$WINEPREFIX/drive_c/windows/system32/bcryptprimitives.dll" \
-    scripts/wine/bcryptprimitives.c scripts/wine/bcryptprimitives.def -ladvapi32
-fi
+wine_prefix "$WORK/wine" || fail "no Wine prefix"
 wine() { command wine "$@" 2> >(grep -v '^[0-9a-f]*:fixme:' >&2); }
 
 step "--version"

@@ -11,6 +11,11 @@
 //! Times are `u64` nanoseconds: monotonic since a process-wide epoch ([`Clock::now_ns`]), and
 //! wall-clock since the Unix epoch ([`Clock::unix_ns`]).
 //!
+//! A real-time loop holds a [`ThreadTiming`] ([`Clock::real_time_thread`]) while it runs: on
+//! Windows the system timer period at 1 ms and the thread in MMCSS, and the real clock sleeps on
+//! a high-resolution waitable timer (module `windows`); on Linux the real clock sleeps with
+//! `clock_nanosleep` to absolute deadlines and the station asks for SCHED_FIFO itself.
+//!
 //! ```
 //! let (clock, mock) = clock::Clock::mock();
 //! assert_eq!(clock.now_ns(), 0);
@@ -24,6 +29,9 @@ use std::sync::atomic::{AtomicU64, Ordering};
 #[cfg(not(target_os = "linux"))]
 use std::time::Instant;
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
+
+#[cfg(windows)]
+pub mod windows;
 
 /// Wall-clock time a mock clock starts at, ns since the Unix epoch (2026-01-01T00:00:00Z), so
 /// that wall-clock stamps made under test are plausible dates.
@@ -70,7 +78,8 @@ pub fn monotonic_ns() -> u64 {
 /// Sleep until `deadline_ns` on the real clock, less `spin`. On Linux: `clock_nanosleep` to
 /// the absolute time on `CLOCK_MONOTONIC` (no relative sleep computed from a reading that is
 /// already old when the kernel gets it), as `cyclictest` and `telerehab bench loop`'s
-/// reference loop sleep.
+/// reference loop sleep. On Windows: the thread's waitable timer, high-resolution where the
+/// system has it (module `windows`).
 fn sleep_real_until_ns(deadline_ns: u64, spin: Duration) {
     let spin_ns = u64::try_from(spin.as_nanos()).unwrap_or(u64::MAX);
     let wake_ns = deadline_ns.saturating_sub(spin_ns);
@@ -96,7 +105,9 @@ fn sleep_real_until_ns(deadline_ns: u64, spin: Duration) {
             }
         }
     }
-    #[cfg(not(target_os = "linux"))]
+    #[cfg(windows)]
+    windows::sleep_until_ns(wake_ns);
+    #[cfg(not(any(target_os = "linux", windows)))]
     {
         let now = monotonic_ns();
         if wake_ns > now {
@@ -211,6 +222,68 @@ impl Clock {
             Source::Mock { ns, .. } => {
                 ns.fetch_max(deadline_ns, Ordering::AcqRel);
             }
+        }
+    }
+
+    /// Ready the calling thread to run a loop paced on this clock until the returned guard
+    /// drops: when `real_time` and the clock is real, on Windows the system timer period at
+    /// 1 ms, the thread in MMCSS and its waitable timer made now (not on the first tick);
+    /// otherwise, and on a mock clock (nothing waits on it), nothing.
+    pub fn real_time_thread(&self, real_time: bool) -> ThreadTiming {
+        if !real_time || self.is_mock() {
+            return ThreadTiming::default();
+        }
+        #[cfg(windows)]
+        {
+            windows::warm_up_timer();
+            ThreadTiming {
+                period: windows::TimerPeriod::begin(1),
+                mmcss: windows::MmcssTask::join(),
+            }
+        }
+        #[cfg(not(windows))]
+        {
+            ThreadTiming::default()
+        }
+    }
+}
+
+/// What the operating system gives a thread that runs a real-time loop, held while the loop
+/// runs and given back on drop ([`Clock::real_time_thread`]). On Windows: the system timer
+/// period at 1 ms (`timeBeginPeriod(1)`, so that even a plain waitable timer wakes within
+/// 1 ms) and the thread in MMCSS ("Pro Audio", else "Games"); elsewhere nothing (Linux's
+/// SCHED_FIFO is the station's to ask for).
+#[derive(Debug, Default)]
+pub struct ThreadTiming {
+    #[cfg(windows)]
+    mmcss: Option<windows::MmcssTask>,
+    #[cfg(windows)]
+    period: Option<windows::TimerPeriod>,
+}
+
+impl ThreadTiming {
+    /// The system timer period held, ms; `None` when none is (not Windows, a mock clock, or
+    /// the system refused).
+    pub fn timer_period_ms(&self) -> Option<u32> {
+        #[cfg(windows)]
+        {
+            self.period.as_ref().map(windows::TimerPeriod::period_ms)
+        }
+        #[cfg(not(windows))]
+        {
+            None
+        }
+    }
+
+    /// The MMCSS task the thread joined ("Pro Audio" or "Games"); `None` when it joined none.
+    pub fn mmcss_task(&self) -> Option<&'static str> {
+        #[cfg(windows)]
+        {
+            self.mmcss.as_ref().map(windows::MmcssTask::name)
+        }
+        #[cfg(not(windows))]
+        {
+            None
         }
     }
 }
@@ -339,6 +412,41 @@ mod tests {
         let before = clock.now_ns();
         clock.sleep_until_ns(before.saturating_sub(1_000_000), Duration::ZERO);
         assert!(clock.now_ns() - before < 1_000_000_000);
+    }
+
+    #[test]
+    fn a_real_time_thread_on_a_mock_clock_or_not_in_real_time_holds_nothing() {
+        let (mock, _hand) = Clock::mock();
+        for timing in [
+            mock.real_time_thread(true),
+            Clock::real().real_time_thread(false),
+        ] {
+            assert_eq!(
+                (timing.timer_period_ms(), timing.mmcss_task()),
+                (None, None)
+            );
+        }
+    }
+
+    #[cfg(windows)]
+    #[test]
+    fn a_real_time_thread_on_windows_holds_a_1_ms_period_and_mmcss_and_meets_its_deadlines() {
+        let clock = Clock::real();
+        let timing = clock.real_time_thread(true);
+        assert_eq!(timing.timer_period_ms(), Some(1));
+        assert_eq!(timing.mmcss_task(), Some(windows::MMCSS_TASKS[0]));
+        let start = clock.now_ns();
+        let mut last_wake = start;
+        for k in 1..=100 {
+            let deadline = start + k * 1_000_000;
+            clock.sleep_until_ns(deadline, Duration::ZERO);
+            let wake = clock.now_ns();
+            assert!(
+                wake >= deadline && wake >= last_wake,
+                "tick {k} early or out of order"
+            );
+            last_wake = wake;
+        }
     }
 
     #[test]

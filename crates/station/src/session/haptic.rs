@@ -318,6 +318,7 @@ pub fn run(
 ) -> HapticOutcome {
     let realtime_priority =
         pacing == Pacing::RealTime && !clock.is_mock() && request_realtime_priority();
+    let _os_timing = clock.real_time_thread(pacing == Pacing::RealTime);
     let pinned = pacing == Pacing::RealTime && isolate_core && cores::pin_haptic_thread();
     if isolate_core {
         tracing::info!(pinned, "haptic thread pinned to the last core");
