@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Write the Debian package's copyright file (DEP-5, machine-readable) from the build itself.
 
-Names every Rust crate compiled into `/usr/bin/telerehab` -- the graph of the `station`
+Names every Rust crate compiled into `/usr/bin/telerehab` -- the graph of the `telerehab`
 package's normal dependencies as `cargo metadata --filter-platform <host>` resolves it (so
 dev-dependencies, build-only tools and the Python extension's crates are left out) -- with its
 licence expression and authors, the console's vendored browser libraries
@@ -66,7 +66,7 @@ def cargo_metadata() -> dict:
     sys.exit(f"gen_copyright: cargo metadata failed:\n{run.stderr}")
 
 
-def compiled_crates(meta: dict, root_name: str = "station") -> list[dict]:
+def compiled_crates(meta: dict, root_name: str = "telerehab") -> list[dict]:
     """Every package in the binary: the root's normal dependencies, transitively."""
     packages = {p["id"]: p for p in meta["packages"]}
     nodes = {n["id"]: n for n in meta["resolve"]["nodes"]}

@@ -68,11 +68,11 @@ def cargo_metadata() -> dict:
 
 
 def binary_graph(meta: dict) -> set[tuple[str, str]]:
-    """(name, version) of every crate the `telerehab` binary links: the station package's
+    """(name, version) of every crate the `telerehab` binary links: the `telerehab` package's
     normal dependencies, transitively (walked here independently of the generator)."""
     nodes = {n["id"]: n for n in meta["resolve"]["nodes"]}
     packages = {p["id"]: p for p in meta["packages"]}
-    todo = [p["id"] for p in meta["packages"] if p["name"] == "station" and p["source"] is None]
+    todo = [p["id"] for p in meta["packages"] if p["name"] == "telerehab" and p["source"] is None]
     seen = set()
     while todo:
         pid = todo.pop()
@@ -103,6 +103,8 @@ def test_the_copyright_file_names_every_crate_compiled_into_the_binary_with_its_
     files = {p["Files"]: p for p in paragraphs(text) if "Files" in p}
     graph = binary_graph(meta)
     assert len(graph) > 100
+    # The binary is the station, its window and the hub: each one's libraries are in it.
+    assert {"wgpu", "evdev", "sqlx", "axum"} <= {name for name, _ in graph}
     for name, version in sorted(graph):
         para = files.get(f"vendor/rust/{name}-{version}/*")
         assert para, f"{name} {version} is compiled in but not in the copyright file"
