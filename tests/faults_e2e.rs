@@ -4,7 +4,7 @@
 //! goes on as designed with the reason in its report.
 
 use record::Recording;
-use station::config::StationConfig;
+use session::config::StationConfig;
 use std::path::Path;
 use telerehab_tests::{
     TherapistHub, assert_within_ceiling_and_slew, run_ok, sim_session_args, stored_seqs,
@@ -227,7 +227,7 @@ fn an_arm_sensor_not_plugged_back_freezes_the_pose_the_exercise_waits_and_the_se
     assert!(
         report.contains(&format!(
             "ended               {}",
-            station::session::end_reason::ARM_SENSOR_UNPLUGGED
+            session::end_reason::ARM_SENSOR_UNPLUGGED
         )),
         "{report}"
     );

@@ -7,7 +7,7 @@
 //! `SKIPPED`.
 
 use record::Recording;
-use station::config::StationConfig;
+use session::config::StationConfig;
 use std::path::Path;
 use std::time::Duration;
 use telerehab_tests::{

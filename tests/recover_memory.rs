@@ -52,7 +52,7 @@ fn big_killed_recording(path: &std::path::Path) -> u64 {
 
 #[test]
 fn recovering_a_256_mib_killed_recording_grows_peak_memory_by_less_than_64_mib() {
-    if station::resident::status_kib("VmHWM").is_none() {
+    if session::resident::status_kib("VmHWM").is_none() {
         println!("SKIPPED: no VmHWM in /proc/self/status (not Linux?)");
         return;
     }
@@ -63,10 +63,10 @@ fn recovering_a_256_mib_killed_recording_grows_peak_memory_by_less_than_64_mib()
     assert!(size > (FILE_MIB - 4) << 20, "{size} bytes");
     // Writing the file was streamed too; start the peak from here all the same.
     let reset = std::fs::write("/proc/self/clear_refs", "5").is_ok();
-    let before_kb = station::resident::status_kib("VmHWM").unwrap();
+    let before_kb = session::resident::status_kib("VmHWM").unwrap();
     let out = dir.path().join("fixed.mcap");
     let copied = station::commands::recover::recover(&input, &out).unwrap();
-    let growth_mib = (station::resident::status_kib("VmHWM").unwrap() - before_kb) / 1024;
+    let growth_mib = (session::resident::status_kib("VmHWM").unwrap() - before_kb) / 1024;
     println!(
         "recovered {} of {written} messages from {:.0} MiB: peak RSS +{growth_mib} MiB \
          (peak reset: {reset})",

@@ -395,7 +395,7 @@ fn session_losing_its_window(dir: &std::path::Path, signal: &str) -> (String, St
 fn assert_paused_safely_while_the_window_was_lost(dir: &std::path::Path) {
     let rec = record::Recording::open(dir.join("window-lost.mcap")).unwrap();
     let cfg =
-        station::config::StationConfig::from_toml(&rec.metadata.config_toml, "recording").unwrap();
+        session::config::StationConfig::from_toml(&rec.metadata.config_toml, "recording").unwrap();
     // Every tick's pause (the `/score` samples come every 100 ticks only, and a loop slowed
     // by a loaded machine can pass a whole pause between two of them).
     let scores = &rec.raw_wheel;
@@ -532,7 +532,7 @@ fn a_session_without_a_wheel_says_why_on_the_screen_until_a_key_then_fails_sayin
     let Some(_display) = the_display() else {
         return;
     };
-    let cfg = station::config::StationConfig::default();
+    let cfg = session::config::StationConfig::default();
     if station::front_door::checks::check_devices(&cfg.wheel, None).wheel_ready {
         eprintln!("SKIPPED: a wheel is plugged in");
         return;

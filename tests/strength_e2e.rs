@@ -3,7 +3,7 @@
 //! in N·m within the torque ceiling at the motor.
 
 use record::Recording;
-use station::config::StationConfig;
+use session::config::StationConfig;
 use std::path::Path;
 use telerehab_tests::{assert_recording_within_ceiling_and_slew, run_ok, sim_session_args};
 

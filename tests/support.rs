@@ -174,7 +174,7 @@ pub fn assert_within_ceiling_and_slew(
 /// [`assert_within_ceiling_and_slew`] over every `/wheel` tick of `rec`, with the slew limit
 /// and loop period of the configuration it was recorded with.
 pub fn assert_recording_within_ceiling_and_slew(rec: &record::Recording) {
-    let cfg = station::config::StationConfig::from_toml(&rec.metadata.config_toml, "the recording")
+    let cfg = session::config::StationConfig::from_toml(&rec.metadata.config_toml, "the recording")
         .expect("the recording's configuration");
     let commanded: Vec<f64> = rec.wheel.iter().map(|w| w.data.commanded_nm).collect();
     let ceilings: Vec<f64> = rec.wheel.iter().map(|w| w.data.ceiling_nm).collect();
@@ -257,10 +257,10 @@ impl Tmpfs {
     }
 
     /// Something else fills the disk to 8 MB under the free space the recorder keeps
-    /// ([`station::session::disk_space::RESERVE_BYTES`]).
+    /// ([`session::disk_space::RESERVE_BYTES`]).
     pub fn fill_under_the_reserve(&self) {
-        let free = station::session::disk_space::free_bytes(self.path()).unwrap();
-        let reserve = station::session::disk_space::RESERVE_BYTES;
+        let free = session::disk_space::free_bytes(self.path()).unwrap();
+        let reserve = session::disk_space::RESERVE_BYTES;
         let filler = vec![0xA5u8; 1 << 20];
         let mut f = std::fs::File::create(self.path().join("filler")).unwrap();
         for _ in 0..(free - (reserve - 8_000_000)) >> 20 {

@@ -11,10 +11,10 @@
 //!   [`TOO_HARD_STEP`], "too easy" raises it by at least [`TOO_EASY_STEP`]; the result is
 //!   held within the therapist's `lowest`–`highest`. Each decision says why, in words.
 
-use crate::session::SessionReport;
 use assist::{DifficultyAdapter, difficulty::DifficultyParams};
 use regimen::DifficultySpec;
 use serde::{Deserialize, Serialize};
+use session::SessionReport;
 use std::path::{Path, PathBuf};
 
 /// The history's file in the station's home.
@@ -117,7 +117,7 @@ pub fn load(path: &Path, patient_id: &str) -> Vec<Entry> {
 /// Appends `entry` to the history at `path`, keeping the last [`KEPT_SESSIONS`] lines
 /// (written whole, atomically, 0600).
 pub fn append(path: &Path, entry: &Entry) -> anyhow::Result<()> {
-    crate::home::append_kept(path, entry, KEPT_SESSIONS)
+    session::files::append_kept(path, entry, KEPT_SESSIONS)
 }
 
 /// A session's success rate in [0, 1], from its scores, per exercise kind:

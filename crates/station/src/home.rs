@@ -1,6 +1,6 @@
 //! The station's home directory: its pairing with a clinic's hub (the hub's CA and this
 //! station's own certificate and key), the queue of summaries not yet delivered, and its
-//! recordings. Health data and keys: the owner's only ([`crate::platform::owner_only`]: files
+//! recordings. Health data and keys: the owner's only ([`session::platform::owner_only`]: files
 //! 0600 in 0700 directories on Linux).
 //!
 //! Where: `--home DIR`, else `$TELEREHAB_HOME`, else `$XDG_CONFIG_HOME/telerehab`, else
@@ -11,8 +11,7 @@ use anyhow::{Context, bail};
 use netlink::pairing::Credential;
 use netlink::{ClientTls, Identity};
 use serde::{Deserialize, Serialize};
-use std::fs::OpenOptions;
-use std::io::Write;
+use session::files::write_private;
 use std::path::{Path, PathBuf};
 
 /// `--home` (with `TELEREHAB_HOME`), shared by the station's commands.
@@ -75,40 +74,10 @@ impl Pairing {
     }
 }
 
-/// Appends `entry` as one JSON line to the history at `path`, keeping its last `keep` lines
-/// (written whole, atomically, 0600: a crash leaves the old history or the new one). The
-/// station's session and assessment histories are such files.
-pub fn append_kept(path: &Path, entry: &impl Serialize, keep: usize) -> anyhow::Result<()> {
-    let old = std::fs::read_to_string(path).unwrap_or_default();
-    let mut lines: Vec<String> = old
-        .lines()
-        .filter(|l| !l.trim().is_empty())
-        .map(str::to_owned)
-        .collect();
-    lines.push(serde_json::to_string(entry)?);
-    let skip = lines.len().saturating_sub(keep);
-    let mut text = lines[skip..].join("\n");
-    text.push('\n');
-    write_private(path, text.as_bytes())
-}
-
-/// Writes `bytes` to `path` as a new 0600 file, atomically (temporary file, fsync, rename).
-pub fn write_private(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
-    let tmp = path.with_extension("tmp");
-    let mut f =
-        crate::platform::owner_only(OpenOptions::new().write(true).create(true).truncate(true))
-            .open(&tmp)
-            .with_context(|| format!("cannot create {}", tmp.display()))?;
-    f.write_all(bytes)
-        .and_then(|()| f.sync_all())
-        .with_context(|| format!("cannot write {}", tmp.display()))?;
-    std::fs::rename(&tmp, path).with_context(|| format!("cannot write {}", path.display()))
-}
-
 /// Creates `dir` (and parents) as its owner's only (0700 on Linux) if missing, and makes it so
 /// if it exists.
 pub fn private_dir(dir: &Path) -> anyhow::Result<()> {
-    crate::platform::owner_only_dir(dir)
+    session::platform::owner_only_dir(dir)
         .with_context(|| format!("cannot create {} for its owner only", dir.display()))
 }
 
@@ -262,7 +231,7 @@ impl Home {
     pub fn check_private(&self) -> anyhow::Result<()> {
         let key = self.pairing_dir().join("station.key");
         if let Ok(meta) = std::fs::metadata(&key)
-            && let Some(mode) = crate::platform::open_to_others(&meta)
+            && let Some(mode) = session::platform::open_to_others(&meta)
         {
             bail!(
                 "{} is readable by other users (mode {mode:o}); run `chmod 600` on it",

@@ -2,9 +2,9 @@
 //! which one the next session's start card shows (so it shows even when the hub is
 //! unreachable then), when each was shown, and whether the hub has confirmed that.
 
-use crate::home::write_private;
 use netlink::{Message, MessageSeen};
 use serde::{Deserialize, Serialize};
+use session::files::write_private;
 use std::path::{Path, PathBuf};
 
 /// Most messages kept; beyond it the oldest seen and confirmed ones are forgotten.

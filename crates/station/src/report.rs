@@ -1,7 +1,7 @@
 //! The human summary printed at the end of a session.
 
-use crate::session::SessionReport;
-use crate::timing::Percentiles;
+use session::SessionReport;
+use session::timing::Percentiles;
 use std::fmt::Write as _;
 
 /// Delivery figures of the therapist link, for the report.
@@ -77,7 +77,7 @@ fn outcome(s: &mut String, r: &SessionReport) {
             s,
             "wheel commands      {} refused by the wheel (a run over {} ms stops the session)",
             r.haptic.write_failures,
-            crate::session::plant::MAX_REFUSED_WRITES_NS / 1_000_000
+            session::plant::MAX_REFUSED_WRITES_NS / 1_000_000
         );
     }
     if let Some(fault) = r.haptic.wheel_fault {
@@ -428,11 +428,11 @@ fn delivery(s: &mut String, r: &SessionReport, link: Option<&LinkReport>) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::session::haptic::HapticOutcome;
-    use crate::session::outcome::RecorderOutcome;
-    use crate::timing::TimingStats;
     use haptic_wheel::{CeilingReport, WheelFault};
     use record::ArmCalibrationSample;
+    use session::haptic::HapticOutcome;
+    use session::outcome::RecorderOutcome;
+    use session::timing::TimingStats;
     use std::path::PathBuf;
 
     /// A real-time session on a real wheel that shows every line the report can have.
@@ -464,7 +464,7 @@ mod tests {
                 ..Default::default()
             })),
             mcap_bytes: Some(2_345_678),
-            measures: crate::session::outcome::Measures {
+            measures: session::outcome::Measures {
                 named: [
                     ("movements", 14.0),
                     ("active_s", 5.25),

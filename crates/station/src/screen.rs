@@ -7,8 +7,6 @@
 //! the language in force: exercise names by what the patient does, never internal ids
 //! (`triangle-road`), and no units a patient has no use for.
 
-use crate::config::StationConfig;
-use crate::session::{BreakKind, BreakNow};
 use i18n::tr;
 use record::{ArmSetup, TickRecord, Watchdog};
 use regimen::Regimen;
@@ -16,6 +14,8 @@ use render::{
     self, ArmInset, CarPose, Dial, Hud, LiveScore, Movement, NextCard, RoadPoint, Scene,
     ScreenState,
 };
+use session::config::StationConfig;
+use session::{BreakKind, BreakNow};
 
 #[cfg(test)]
 mod session_tests;
@@ -27,7 +27,7 @@ mod sizes;
 /// Centre-line sample spacing for the screen's road mesh, m.
 const ROAD_SAMPLE_M: f64 = 2.0;
 
-pub use crate::session::words::{capitalised, patient_instruction, patient_name, plain_name};
+pub use session::words::{capitalised, patient_instruction, patient_name, plain_name};
 
 /// What the screen needs of one exercise.
 struct ExerciseView {
@@ -55,7 +55,7 @@ pub struct CourseView {
 impl CourseView {
     /// The view of the course a session of `cfg` (and `regimen`) runs.
     pub fn new(cfg: &StationConfig, regimen: Option<&Regimen>) -> anyhow::Result<Self> {
-        let entries = crate::session::course::entries(cfg, regimen)?;
+        let entries = session::course::entries(cfg, regimen)?;
         let mut exercises = Vec::with_capacity(entries.len());
         let mut course_s = 0.0;
         for entry in entries {
@@ -306,7 +306,7 @@ impl CourseView {
         let live = live_screen_state(rec);
         // The wheel's cards: the unplugged wheel, "End now?", the pause's choices.
         if let Some(card) =
-            crate::session::wheel_cards::card(&w.brk, w.confirming_end, live == ScreenState::Paused)
+            session::wheel_cards::card(&w.brk, w.confirming_end, live == ScreenState::Paused)
         {
             return card;
         }
@@ -351,7 +351,7 @@ impl CourseView {
             }
             // The pause's choice page (`wheel_cards::card` answers it first).
             ScreenState::Paused => {
-                ScreenState::Welcome(crate::session::wheel_cards::paused_card(w.brk.pause_choice))
+                ScreenState::Welcome(session::wheel_cards::paused_card(w.brk.pause_choice))
             }
             other => other,
         }

@@ -22,15 +22,15 @@ use record::TickRecord;
 use regimen::{NeglectedSide, Regimen};
 use render::window::UserRequest;
 use render::{Scene, ScreenState, StatusLine, layout};
+use session::config::StationConfig;
+use session::wheel_gestures::Gesture;
+use session::{BreakKind, BreakNow, PauseChoice, wheel_cards};
 use station::checkin::CheckInFlow;
 use station::checkin::care::{CareSettings, rest_today_page};
 use station::checkin::results::{EndResults, end_lines, result_lines};
-use station::config::StationConfig;
 use station::front_door::pairing_file::{Found, PairingCard};
 use station::front_door::{FrontDoor, TodayPlan};
 use station::screen::{CourseView, WindowState, cannot_start_page};
-use station::session::wheel_gestures::Gesture;
-use station::session::{BreakKind, BreakNow, PauseChoice, wheel_cards};
 use std::time::{Duration, Instant};
 
 const W: u32 = 1280;

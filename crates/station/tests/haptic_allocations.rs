@@ -11,10 +11,10 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use record::TickRecord;
-use station::config::StationConfig;
-use station::session::haptic::{self, Pacing};
-use station::session::plant::Plant;
-use station::session::{Controls, course};
+use session::config::StationConfig;
+use session::haptic::{self, Pacing};
+use session::plant::Plant;
+use session::{Controls, course};
 
 /// Run `cfg`'s session for `seconds` of simulated time at full speed and return the
 /// allocations made on the haptic thread and the ticks it ran.
@@ -117,7 +117,7 @@ fn the_haptic_thread_allocates_nothing_while_it_cues_the_trunk() {
     cfg.arm.sternum = true;
     cfg.sim_patient.weakness = 0.6;
     // The set-up's hold-still gives the trunk's fusion the rest it starts from.
-    cfg.arm.sim_mounting = station::config::MountingMode::Guided;
+    cfg.arm.sim_mounting = session::config::MountingMode::Guided;
     // (Seed 7: with the others' seed, 11, this patient's trunk gave no cue in 60 s.)
     cfg.session.seed = 7;
     let text = "[trunk]\ncue_deg = 5.0\n[[exercise]]\nkind = \"dial\"\nduration_s = 60.0\n\
@@ -167,7 +167,7 @@ fn the_haptic_thread_allocates_nothing_in_any_assist_mode() {
 
 #[test]
 fn the_haptic_thread_allocates_nothing_through_every_simulated_fault() {
-    use station::config::faults::{FaultKind, FaultSpec};
+    use session::config::faults::{FaultKind, FaultSpec};
     let mut offenders = Vec::new();
     for kind in FaultKind::ALL {
         for exercise in ["sine-road", "slalom", "dial-sine"] {

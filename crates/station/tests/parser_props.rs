@@ -7,7 +7,7 @@
 use proptest::prelude::*;
 use record::recover::recover;
 use regimen::Regimen;
-use station::config::StationConfig;
+use session::config::StationConfig;
 use std::io::Cursor;
 use std::path::Path;
 

@@ -19,10 +19,10 @@ use haptic_wheel::WheelFault;
 use haptic_wheel::evdev_wheel::EvdevWheel;
 use haptic_wheel::evdev_wheel::fake::{FakeFfDevice, FakeHandle};
 use record::TickRecord;
-use station::config::StationConfig;
-use station::session::haptic::{self, Pacing};
-use station::session::plant::{Body, Plant};
-use station::session::{Controls, course};
+use session::config::StationConfig;
+use session::haptic::{self, Pacing};
+use session::plant::{Body, Plant};
+use session::{Controls, course};
 
 /// How the test disturbs the session, from another thread, `after` into it.
 #[derive(Clone, Copy, Debug)]
@@ -147,7 +147,7 @@ fn session_on(
     });
     done.store(true, Ordering::Release);
     let replugged = injector.join().unwrap();
-    let mut tally = station::session::outcome::RecorderOutcome::default();
+    let mut tally = session::outcome::RecorderOutcome::default();
     while let Ok(rec) = consumer.pop() {
         tally.add(&rec);
     }

@@ -18,11 +18,11 @@ use haptic_wheel::evdev_wheel::fake::{FakeFfDevice, FakeHandle};
 use record::Recording;
 use record::raw::{BodyKindName, RawRead};
 use record::types::Watchdog;
+use session::config::StationConfig;
+use session::haptic::Pacing;
+use session::plant::Body;
+use session::{self, BodyKind, Controls, SessionOptions};
 use station::commands::replay::replay;
-use station::config::StationConfig;
-use station::session::haptic::Pacing;
-use station::session::plant::Body;
-use station::session::{self, BodyKind, Controls, SessionOptions};
 
 /// The thesis SideWinder's USB id (built-in profile, 1.87 N·m).
 const SIDEWINDER: (u16, u16) = (0x045e, 0x0034);

@@ -13,10 +13,10 @@
 use proptest::prelude::*;
 use record::Watchdog;
 use regimen::Regimen;
-use station::config::StationConfig;
-use station::session::course;
-use station::session::faults::FaultSpec;
-use station::session::plant::Plant;
+use session::config::StationConfig;
+use session::course;
+use session::faults::FaultSpec;
+use session::plant::Plant;
 
 const ASSIST_MODES: &[&str] = &[
     "none",

@@ -9,11 +9,11 @@ use haptic_wheel::evdev_wheel::EvdevWheel;
 use haptic_wheel::evdev_wheel::fake::FakeFfDevice;
 use record::TickRecord;
 use regimen::Regimen;
-use station::config::StationConfig;
-use station::session::Controls;
-use station::session::course;
-use station::session::haptic::{self, Pacing};
-use station::session::plant::{Body, Plant};
+use session::Controls;
+use session::config::StationConfig;
+use session::course;
+use session::haptic::{self, Pacing};
+use session::plant::{Body, Plant};
 
 /// A fast strength test: the limit rises at 5 N·m/s, each side at most 3 s.
 const STRENGTH: &str = "[[exercise]]\nkind = \"strength\"\nramp_nm_per_s = 5.0\nside_s = 3.0\n";

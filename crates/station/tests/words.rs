@@ -1,6 +1,6 @@
 //! The station's words come from the catalogues (`crates/i18n/locales`), never from string
-//! literals in its source: a scan of `src/` and of the window's crate (`crates/render/src`,
-//! named `render/…` here) with `syn` finds every literal that reads like a
+//! literals in its source: a scan of `src/`, of the window's crate (`crates/render/src`,
+//! named `render/…` here) and of the session's (`crates/session/src`, `session/…`) with `syn` finds every literal that reads like a
 //! sentence (two words or more) outside the places where text is for developers (logs,
 //! errors, assertions, the terminal, tests) and outside the allow-list
 //! (`tests/words_allowed.txt`, each entry with its reason). It also checks that every
@@ -23,11 +23,20 @@ fn render_src() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../render/src")
 }
 
-/// Where a scanned or allowed name (`session/mod.rs`, `render/gpu.rs`) is on disk.
+/// The session's crate, whose pages the patient reads too: its files are named `session/…`.
+fn session_src() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../session/src")
+}
+
+/// Where a scanned or allowed name (`front_door/mod.rs`, `render/gpu.rs`, `session/lib.rs`)
+/// is on disk.
 fn path_of(name: &str) -> PathBuf {
-    match name.strip_prefix("render/") {
-        Some(rest) => render_src().join(rest),
-        None => src().join(name),
+    if let Some(rest) = name.strip_prefix("render/") {
+        render_src().join(rest)
+    } else if let Some(rest) = name.strip_prefix("session/") {
+        session_src().join(rest)
+    } else {
+        src().join(name)
     }
 }
 
@@ -236,10 +245,11 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
 
 /// Every sentence-like literal and every `tr!` id of the station's source.
 fn scan() -> Finder {
-    let (root, render_root) = (src(), render_src());
+    let (root, render_root, session_root) = (src(), render_src(), session_src());
     let mut files = Vec::new();
     rust_files(&root, &mut files);
     rust_files(&render_root, &mut files);
+    rust_files(&session_root, &mut files);
     let mut finder = Finder::default();
     let parsed: Vec<(PathBuf, syn::File)> = files
         .into_iter()
@@ -421,9 +431,9 @@ mod per_screen {
     use record::{ArmSample, ArmSetup};
     use regimen::Regimen;
     use render::{ScreenState, StatusLine};
-    use station::config::StationConfig;
+    use session::config::StationConfig;
+    use session::{BreakKind, BreakNow};
     use station::screen::{CourseView, WindowState, cannot_start_page, confirm_end_card};
-    use station::session::{BreakKind, BreakNow};
 
     use super::common::tick;
 

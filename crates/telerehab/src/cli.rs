@@ -30,7 +30,7 @@ pub struct Cli {
     pub log_format: station::logging::LogFormat,
     /// The language of the patient's screens (`en`, `de`, `es`, `zh`, or the pseudo-locale
     /// `en-XA` for layout checks), over the prescription's and the first-run choice.
-    #[arg(long, global = true, env = station::language::ENV, value_name = "TAG")]
+    #[arg(long, global = true, env = session::language::ENV, value_name = "TAG")]
     pub language: Option<String>,
     /// What to do; none opens the patient's window (the first-run pages, then the session).
     #[command(subcommand)]

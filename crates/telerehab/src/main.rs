@@ -6,7 +6,7 @@ use telerehab::cli::{Cli, dispatch};
 fn main() -> ExitCode {
     let cli = Cli::from_env();
     station::logging::init(cli.log.as_deref(), cli.log_format);
-    if let Some(Err(e)) = cli.language.as_deref().map(station::language::force) {
+    if let Some(Err(e)) = cli.language.as_deref().map(session::language::force) {
         eprintln!("telerehab: error: {e}");
         return ExitCode::FAILURE;
     }

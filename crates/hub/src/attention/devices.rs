@@ -8,11 +8,11 @@
 use super::{Alert, PatientFacts, Severity, Thresholds, day_of, days_between};
 
 /// The station's end reason of a session stopped by an unplugged wheel
-/// (`station::session::end_reason::WHEEL_UNPLUGGED`).
+/// (`session::end_reason::WHEEL_UNPLUGGED`).
 pub const WHEEL_UNPLUGGED: &str = "wheel unplugged";
 
 /// The station's end reason of a session stopped by an arm sensor unplugged and not back in
-/// time (`station::session::end_reason::ARM_SENSOR_UNPLUGGED`).
+/// time (`session::end_reason::ARM_SENSOR_UNPLUGGED`).
 pub const ARM_SENSOR_UNPLUGGED: &str = "arm sensor unplugged";
 
 /// Share of a session with torque held at the ceiling that raises `torque_at_ceiling`, %.

@@ -57,7 +57,7 @@ impl CareSettings {
 
     /// Keeps these settings at `path` (0600).
     pub fn save(&self, path: &Path) -> anyhow::Result<()> {
-        crate::home::write_private(path, &serde_json::to_vec(self)?)
+        session::files::write_private(path, &serde_json::to_vec(self)?)
     }
 
     /// Whether `pain` (0–10) is at or over the clinic's threshold.
@@ -88,7 +88,7 @@ impl PainStop {
 
     /// Keeps this stop at `path` (0600).
     pub fn save(&self, path: &Path) -> anyhow::Result<()> {
-        crate::home::write_private(path, &serde_json::to_vec(self)?)
+        session::files::write_private(path, &serde_json::to_vec(self)?)
     }
 
     /// Whether this stop still holds at `now_unix_ms`: the same local calendar day, and the

@@ -1,7 +1,7 @@
 //! The session's results in plain words, against the patient's last sessions the home keeps.
 
-use crate::session::SessionReport;
 use serde::{Deserialize, Serialize};
+use session::SessionReport;
 use std::path::Path;
 
 /// Sessions whose results the home keeps to compare the next one with.
@@ -148,5 +148,5 @@ pub fn save_results(path: &Path, now: &EndResults, before: &[EndResults]) -> any
         .chain(before.iter().copied())
         .take(KEPT_RESULTS)
         .collect();
-    crate::home::write_private(path, &serde_json::to_vec(&kept)?)
+    session::files::write_private(path, &serde_json::to_vec(&kept)?)
 }

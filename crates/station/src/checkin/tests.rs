@@ -280,7 +280,7 @@ fn a_pain_stop_holds_for_the_rest_of_the_day_until_the_therapist_clears_it() {
     door.set_rest_today(Some(page));
     assert!(door.is_resting_today());
     use crate::front_door::{Action, Outcome};
-    use crate::session::wheel_gestures::Gesture;
+    use session::wheel_gestures::Gesture;
     assert_eq!(door.apply(Confirm), Action::None);
     assert_eq!(door.apply(TogglePause), Action::None);
     // Turning chooses nothing hidden; a press of the wheel closes the page.

@@ -5,7 +5,7 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use crate::config::StationConfig;
+use session::config::StationConfig;
 
 /// `telerehab devices`.
 #[derive(Debug, clap::Args)]

@@ -20,11 +20,11 @@ use std::time::Duration;
 use anyhow::Context;
 use serde::Serialize;
 
-use crate::config::StationConfig;
 use crate::home::{Home, HomeArg, Pairing};
 use crate::link::hub_status::{HubStatus, check_hub};
 use crate::readiness::{Check, Status, check, permissions_check};
-use crate::session::disk_space;
+use session::config::StationConfig;
+use session::disk_space;
 
 /// How long the graphics adapter request may take before the check is skipped, s.
 const ADAPTER_TIMEOUT_S: u64 = 10;
@@ -411,7 +411,7 @@ fn graphics_check() -> Check {
 fn realtime_check() -> Check {
     let granted = std::thread::Builder::new()
         .name("doctor-rt".into())
-        .spawn(crate::session::haptic::request_realtime_priority)
+        .spawn(session::haptic::request_realtime_priority)
         .ok()
         .and_then(|t| t.join().ok())
         .unwrap_or(false);

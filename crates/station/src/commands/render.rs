@@ -3,10 +3,10 @@
 
 use super::run::{RunArgs, Speed};
 use crate::screen::CourseView;
-use crate::session::signals::install_stop_flag;
-use crate::session::{self, SessionObserver, SessionOptions};
 use record::TickRecord;
 use render::ScreenState;
+use session::signals::install_stop_flag;
+use session::{self, SessionObserver, SessionOptions};
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};

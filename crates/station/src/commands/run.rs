@@ -1,16 +1,16 @@
 //! `telerehab run`: a patient session, headless or with the patient's window; the report at
-//! its end. The threads, window and signals of the session are [`crate::session`]'s.
+//! its end. The threads, window and signals of the session are [`session`]'s.
 
-use crate::config::StationConfig;
 use crate::home::{Home, HomeArg};
 use crate::link::Link;
-use crate::session::signals::install_stop_flag;
-use crate::session::{self, BodyKind, SessionOptions, SessionReport, haptic::Pacing};
 use anyhow::{Context, bail};
 use clap::ValueEnum;
 use clock::Clock;
 use regimen::Regimen;
 use render::window::WindowOptions;
+use session::config::StationConfig;
+use session::signals::install_stop_flag;
+use session::{self, BodyKind, SessionOptions, SessionReport, haptic::Pacing};
 use std::path::PathBuf;
 use std::sync::atomic::Ordering;
 use std::time::Duration;
@@ -79,7 +79,7 @@ pub struct RunArgs {
     /// Inject a fault into the simulated session (repeatable): `KIND@SECONDS` or
     /// `KIND@SECONDS+DURATION`, e.g. `wheel-stall@5+0.3` (kinds: wheel-unplug, wheel-nan,
     /// wheel-stall, haptic-stall, disk-full, imu-unplug, imu-nan). Needs --sim.
-    #[arg(long = "fault", value_name = "KIND@SECONDS", value_parser = crate::session::faults::FaultSpec::parse)]
+    #[arg(long = "fault", value_name = "KIND@SECONDS", value_parser = session::faults::FaultSpec::parse)]
     pub faults: Vec<session::faults::FaultSpec>,
     /// Open the patient's window in a window rather than full screen, the default (F11
     /// toggles it).
@@ -582,15 +582,15 @@ fn name_prescriber(cfg: &mut StationConfig, home: &Home) {
 }
 
 /// The session's standard assessment, first in it when its regimen's `[assessment]` makes it
-/// due by the history in the home (`crate::assessment`).
+/// due by the history in the home (`session::assessment`).
 fn plan_assessment(
     cfg: &mut StationConfig,
     regimen: &mut Option<Regimen>,
     home: &HomePlan,
     clock: &Clock,
-) -> Option<crate::assessment::Planned> {
+) -> Option<session::assessment::Planned> {
     let home_dir = home.home.as_ref().map(Home::dir);
-    crate::assessment::Planned::for_session(cfg, regimen, home_dir, clock.unix_ns() / 1_000_000)
+    session::assessment::Planned::for_session(cfg, regimen, home_dir, clock.unix_ns() / 1_000_000)
 }
 
 /// Each exercise's results for the session's `Bye`, the assessment's parts tagged; the
@@ -599,7 +599,7 @@ fn plan_assessment(
 fn settle_exercises(
     link: &mut Link,
     report: &SessionReport,
-    assessment: Option<&crate::assessment::Planned>,
+    assessment: Option<&session::assessment::Planned>,
     keep: bool,
 ) {
     let rec = &report.recorder;
@@ -608,7 +608,7 @@ fn settle_exercises(
     if let Some(a) = assessment
         && keep
         && rec.error.is_none()
-        && crate::assessment::ran_whole(&rec.exercises)
+        && session::assessment::ran_whole(&rec.exercises)
     {
         a.remember(netlink::frame::unix_ms_now());
     }
@@ -680,7 +680,7 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
     let (mut link, prescription) =
         link_with_prescription(&args, &mut cfg, &mut regimen, &home, &clock)?;
     // The patient's language: the prescription's, else the first-run choice, else the system's.
-    crate::language::choose_at(home.home.as_ref().map(Home::dir), regimen.as_ref());
+    session::language::choose_at(home.home.as_ref().map(Home::dir), regimen.as_ref());
     cfg.validate().context("invalid settings")?;
     // A regimen with `[difficulty]` runs at the difficulty the patient's history calls for.
     let adapted = crate::adapt::Adapted::plan(

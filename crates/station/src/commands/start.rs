@@ -5,20 +5,20 @@
 //!
 //! `TELEREHAB_LANGUAGE` (a tag, or `en-XA` for the pseudo-locale) puts a language in force
 //! for screenshots; a simulated station whose wheel is scripted
-//! ([`crate::session::wheel_gestures::SCRIPT_ENV`]) runs the whole first run without devices.
+//! ([`session::wheel_gestures::SCRIPT_ENV`]) runs the whole first run without devices.
 
 use crate::commands::run::{self, RunArgs};
-use crate::config::StationConfig;
 use crate::front_door::checks::{self, check_devices};
 use crate::front_door::{Action, FrontDoor, Outcome, TodayPlan, pairing_error_words, pairing_file};
 use crate::home::{Home, HomeArg};
 use crate::link::hub_status::{HubStatus, check_hub};
-use crate::session::wheel_gestures::{self, WheelGestures};
-use crate::settings::Settings;
 use anyhow::Context;
 use render::StatusLine;
 use render::window::{WindowOptions, run_with};
 use render::{Scene, ScreenState};
+use session::config::StationConfig;
+use session::settings::Settings;
+use session::wheel_gestures::{self, WheelGestures};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Duration;
@@ -119,7 +119,7 @@ fn back_to_the_pages() -> anyhow::Result<()> {
     if let Some(offset) = wheel_gestures::script_offset() {
         again.env(wheel_gestures::SCRIPT_FROM_ENV, offset.to_string());
     }
-    Err(crate::platform::replace_process(again)).context("cannot show the first-run pages again")
+    Err(session::platform::replace_process(again)).context("cannot show the first-run pages again")
 }
 
 /// Pairs in the background and tells the pages how it went.
@@ -270,12 +270,12 @@ fn choose_language(home: &Home, tag: &str) {
     }
 }
 
-/// The language chosen again as at start ([`crate::language::choose`]) from the prescription
+/// The language chosen again as at start ([`session::language::choose`]) from the prescription
 /// kept in `home` and the first-run choice in its settings; the tag in force.
 fn choose_language_again(home: &Home) -> &'static str {
     let kept = regimen::Regimen::load(&home.regimen_path()).ok();
     let chosen = Settings::load(home.dir()).ok().and_then(|s| s.language);
-    crate::language::choose(kept.as_ref(), chosen.as_deref())
+    session::language::choose(kept.as_ref(), chosen.as_deref())
 }
 
 /// Today's plan and the therapist's newest message, read again from the home every

@@ -3,27 +3,27 @@
 //! the window, asks the station for the newest tick about 120 times a second, draws it, and
 //! passes the patient's keys back. It shares no memory with the station, so a graphics driver
 //! that crashes or hangs takes only this process down; the station notices, pauses the
-//! exercise and starts a new one ([`crate::session::window::supervisor`]).
+//! exercise and starts a new one ([`session::window::supervisor`]).
 
 use crate::checkin::CheckInFlow;
-use crate::config::StationConfig;
 use crate::screen::{CourseView, WindowState, live_screen_state};
-use crate::session::window::channel::{self, WindowSocket};
-use crate::session::window::wire::{self, EndScreen, FromWindow, Hello, ToWindow};
-use crate::session::{BreakKind, BreakNow};
 use anyhow::Context;
 use record::TickRecord;
 use regimen::Regimen;
 use render::ScreenState;
 use render::window::{UserRequest, WindowOptions};
+use session::config::StationConfig;
+use session::window::channel::{self, WindowSocket};
+use session::window::wire::{self, EndScreen, FromWindow, Hello, ToWindow};
+use session::{BreakKind, BreakNow};
 use std::io::Write;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
-/// Below the session's threads ([`crate::session::haptic::WINDOW_NICE`]) when the station asked for it.
+/// Below the session's threads ([`session::haptic::WINDOW_NICE`]) when the station asked for it.
 fn lower_priority_if_asked(hello: &Hello) {
     if hello.background_priority {
-        let idle = crate::session::haptic::request_background_priority();
+        let idle = session::haptic::request_background_priority();
         tracing::debug!(idle, "patient window below the session's threads (nice 10)");
     }
 }
@@ -167,7 +167,7 @@ fn serve(socket: WindowSocket) -> anyhow::Result<()> {
                 .flatten();
             crate::speech::speak_notice(notice);
             if hello.practice {
-                crate::session::wheel_cards::mark_practice(&mut scene);
+                session::wheel_cards::mark_practice(&mut scene);
             }
             Some(scene)
         };

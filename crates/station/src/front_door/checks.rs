@@ -78,7 +78,7 @@ pub fn describe(
 }
 
 /// The device check of a station whose wheel is simulated and scripted
-/// ([`crate::session::wheel_gestures::SCRIPT_ENV`]: tests and demonstrations): a wheel ready.
+/// ([`session::wheel_gestures::SCRIPT_ENV`]: tests and demonstrations): a wheel ready.
 pub fn simulated() -> DeviceCheck {
     DeviceCheck {
         lines: vec![line(Some(true), i18n::tr!("front-device-simulated"))],

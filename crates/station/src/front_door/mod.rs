@@ -22,10 +22,10 @@ pub mod checks;
 pub mod pairing_file;
 pub mod today;
 
-use crate::session::wheel_gestures::Gesture;
 use i18n::tr;
 use render::window::UserRequest;
 use render::{Picture, StatusLine, Welcome};
+use session::wheel_gestures::Gesture;
 pub use today::TodayPlan;
 
 /// The station port a clinic address gets when none is typed (the hub's default).

@@ -41,7 +41,7 @@ impl TodayPlan {
             .exercises
             .iter()
             .take(last)
-            .map(|e| crate::session::course::Break::after(e.rest_s).length_s)
+            .map(|e| session::course::Break::after(e.rest_s).length_s)
             .sum();
         Self {
             exercises,

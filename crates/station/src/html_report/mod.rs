@@ -202,7 +202,7 @@ fn at_a_glance(html: &mut String, sessions: &[SessionData]) {
             session_id(i),
             esc(&words::date_time(s.start_unix_ns)),
             esc(&words::exercises_in_words(s)),
-            esc(&crate::session::end_reason::sentence(&s.end_reason)),
+            esc(&::session::end_reason::sentence(&s.end_reason)),
         );
     }
     html.push_str("</tbody></table></section>");
@@ -262,7 +262,7 @@ fn one_session(html: &mut String, i: usize, s: &SessionData) -> Result<(), Strin
     let _ = write!(
         html,
         "<p class=\"ended\">{}.{marked}</p>",
-        esc(&crate::session::end_reason::sentence(&s.end_reason))
+        esc(&::session::end_reason::sentence(&s.end_reason))
     );
     let _ = write!(
         html,
@@ -605,7 +605,7 @@ mod tests {
     #[test]
     fn a_session_ended_early_is_listed_marked_and_left_out_of_the_trends() {
         let mut early = session(5, "sine-road", -9.0);
-        early.end_reason = crate::session::end_reason::ENDED_EARLY.into();
+        early.end_reason = ::session::end_reason::ENDED_EARLY.into();
         early.exercises = vec![result(0, "sine-road", 60.0, 21.0)];
         let html = render(vec![
             session(0, "sine-road", -2.0),

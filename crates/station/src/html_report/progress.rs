@@ -88,7 +88,7 @@ fn kind_section(html: &mut String, g: &Group<'_>) -> Result<(), String> {
                 format!(
                     "{} ({})",
                     words::date_time(s.start_unix_ns),
-                    words::continuing(&crate::session::end_reason::sentence(&s.end_reason))
+                    words::continuing(&session::end_reason::sentence(&s.end_reason))
                 )
             })
             .collect();

@@ -2,9 +2,9 @@
 //! (degrees, N·m, m), its movements and its measures.
 
 use super::charts::Thinner;
-use crate::session::measures::MeasureCollector;
 use anyhow::Context;
 use record::{ArmSetup, Channel, StreamLimits, TickStream};
+use session::measures::MeasureCollector;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 

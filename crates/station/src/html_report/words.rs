@@ -6,7 +6,7 @@ use super::session::SessionData;
 use regimen::exercise_kind;
 
 /// The `end_reason` of a session that ran as prescribed (`session::end_reason::COMPLETE`).
-const COMPLETE: &str = crate::session::end_reason::COMPLETE;
+const COMPLETE: &str = session::end_reason::COMPLETE;
 
 /// Months as a clinician writes them.
 const MONTHS: [&str; 12] = [

@@ -376,7 +376,7 @@ mod tests {
     /// update.
     #[test]
     fn a_session_refused_by_a_newer_hub_runs_queues_its_summaries_and_names_the_update() {
-        use crate::session::{self, Controls, SessionOptions};
+        use session::{self, Controls, SessionOptions};
         let tmp = tempfile::tempdir().unwrap();
         let hub_runtime = tokio::runtime::Builder::new_multi_thread()
             .worker_threads(1)
@@ -392,7 +392,7 @@ mod tests {
         let (server, _events) = hub_runtime
             .block_on(TherapistServer::bind(hub_config))
             .unwrap();
-        let mut cfg = crate::config::StationConfig::default();
+        let mut cfg = session::config::StationConfig::default();
         cfg.session.duration_s = 2.0;
         cfg.therapist.address = server.local_addr().to_string();
         cfg.validate().unwrap();

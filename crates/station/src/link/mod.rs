@@ -7,11 +7,8 @@ pub mod queue;
 pub mod uploads;
 pub mod wheel;
 
-use crate::config::StationConfig;
 use crate::home::Home;
 use crate::report::LinkReport;
-use crate::session::faults::HubSwitch;
-use crate::session::{LiveSummary, SessionObserver};
 use anyhow::Context;
 use clock::Clock;
 use netlink::{
@@ -19,6 +16,9 @@ use netlink::{
     SummarySender,
 };
 use queue::QueueFile;
+use session::config::StationConfig;
+use session::faults::HubSwitch;
+use session::{LiveSummary, SessionObserver};
 use std::collections::BTreeMap;
 use std::sync::Mutex;
 use std::time::{Duration, SystemTime, UNIX_EPOCH};

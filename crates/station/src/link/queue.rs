@@ -7,9 +7,10 @@
 //! and confirmed the `Bye`; what remains is delivered at the next run or by `telerehab sync`
 //! (the hub stores each summary once).
 
-use crate::home::{private_dir, write_private};
+use crate::home::private_dir;
 use anyhow::Context;
 use netlink::{ClientTls, Hello, StationLink, StationLinkConfig, Summary};
+use session::files::write_private;
 use std::collections::BTreeMap;
 use std::fs::{File, OpenOptions};
 use std::io::Write;
@@ -83,7 +84,7 @@ impl QueueFile {
         let [summaries, hello_path, measures, end] = paths(dir, &hello.session_id);
         let json = serde_json::to_vec(hello).context("cannot encode the session's Hello")?;
         write_private(&hello_path, &json)?;
-        let file = crate::platform::owner_only(OpenOptions::new().append(true).create(true))
+        let file = session::platform::owner_only(OpenOptions::new().append(true).create(true))
             .open(&summaries)
             .with_context(|| format!("cannot create {}", summaries.display()))?;
         Ok(Self {

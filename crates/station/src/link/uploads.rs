@@ -3,10 +3,11 @@
 //! for a while (bandwidth-capped); what is not done resumes at the next run or `telerehab sync`
 //! (the hub keeps the bytes it has and verifies the whole file's SHA-256).
 
-use crate::home::{private_dir, write_private};
+use crate::home::private_dir;
 use anyhow::Context;
 use netlink::{ClientTls, Hello};
 use serde::{Deserialize, Serialize};
+use session::files::write_private;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 

@@ -2,9 +2,9 @@
 //! torque and the ceiling the safety chain will allow at the motor in this configuration (the
 //! clinic's prescribe form bounds every torque by it).
 
-use crate::config::StationConfig;
 use haptic_wheel::wheel_config::CeilingReport;
 use netlink::WheelInfo;
+use session::config::StationConfig;
 
 /// The wheel a session of `cfg` drives: the simulated one (`simulated`), else the first
 /// force-feedback wheel plugged in (`None` when there is none). An unknown model is named as

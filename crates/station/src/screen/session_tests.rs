@@ -2,9 +2,9 @@
 //! with the configured lengths until the session has measured the patient's own, then those.
 
 use super::CourseView;
-use crate::config::StationConfig;
-use crate::session::{Controls, LiveSummary, SessionObserver, SessionOptions};
 use render::ScreenState;
+use session::config::StationConfig;
+use session::{Controls, LiveSummary, SessionObserver, SessionOptions};
 
 /// Each live summary's arm lengths and calibration flag: (t_s, upper arm, forearm, calibrated);
 /// and what the patient's screen draws of the arm at that tick (as its window is fed: the
@@ -47,7 +47,7 @@ fn a_default_simulated_session_moves_the_grip_enough_and_the_live_pose_and_scree
         view: Some(CourseView::new(&cfg, None).unwrap()),
         ..KeepArmLengths::default()
     };
-    let report = crate::session::run(
+    let report = session::run(
         &SessionOptions::simulated(cfg),
         &Controls::default(),
         &mut keep,

@@ -55,9 +55,9 @@ fn screenshots_of_the_pictured_cards_and_the_neglect_layout() {
     );
     shot(
         &mut r,
-        &with(ScreenState::Welcome(
-            crate::session::wheel_cards::paused_card(crate::session::PauseChoice::GoOn),
-        )),
+        &with(ScreenState::Welcome(session::wheel_cards::paused_card(
+            session::PauseChoice::GoOn,
+        ))),
         "pictures-3-pause.png",
     );
     layout::set_neglected_side(NeglectedSide::Left);
@@ -102,8 +102,8 @@ fn a_sheet_of_every_picture() {
 fn start_card(message: &str) -> ScreenState {
     ScreenState::Next(NextCard {
         heading: tr!("card-get-ready"),
-        title: crate::session::words::patient_name("sine-road"),
-        what: crate::session::words::patient_instruction("sine-road"),
+        title: session::words::patient_name("sine-road"),
+        what: session::words::patient_instruction("sine-road"),
         movement: Movement::Steer,
         keys: vec![tr!("controls-start")],
         anim_s: 1.1,
@@ -147,7 +147,7 @@ fn screenshots_of_a_message_in_arabic_hebrew_russian_and_greek() {
     }
     // The pause page with its words in Arabic, as an Arabic catalogue would give them:
     // "Paused", "Turn to choose. Press a button.", "Go on", "Rest", "End".
-    let mut page = crate::session::wheel_cards::paused_card(crate::session::PauseChoice::Rest);
+    let mut page = session::wheel_cards::paused_card(session::PauseChoice::Rest);
     page.title = "متوقف مؤقتا".into();
     page.lines[0].text = "أدر المقود للاختيار. ثم اضغط زرا.".into();
     page.choices = vec!["استمر".into(), "استرح".into(), "أنهِ".into()];

@@ -106,9 +106,9 @@ fn pages() -> Vec<(&'static str, Scene)> {
         ),
         (
             "pause",
-            scene(ScreenState::Welcome(
-                crate::session::wheel_cards::paused_card(crate::session::PauseChoice::Rest),
-            )),
+            scene(ScreenState::Welcome(session::wheel_cards::paused_card(
+                session::PauseChoice::Rest,
+            ))),
         ),
         ("replayed pause", scene(ScreenState::Paused)),
         (

@@ -23,10 +23,10 @@ use anyhow::Context;
 use clock::Clock;
 use record::TickRecord;
 use render::window::WindowOptions;
+use session::haptic::{self, Pacing};
+use session::{self, BodyKind, SessionObserver, SessionOptions};
 use station::commands::run::{self, RunArgs};
 use station::link::Link;
-use station::session::haptic::{self, Pacing};
-use station::session::{self, BodyKind, SessionObserver, SessionOptions};
 use std::io::{BufRead, BufReader};
 use std::process::{Child, Command, Stdio};
 

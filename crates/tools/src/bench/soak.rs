@@ -8,8 +8,8 @@
 
 use clock::Clock;
 use record::TickRecord;
+use session::{self, BodyKind, SessionObserver, SessionOptions, haptic::Pacing};
 use station::commands::run::{self, RunArgs};
-use station::session::{self, BodyKind, SessionObserver, SessionOptions, haptic::Pacing};
 use std::path::{Path, PathBuf};
 
 /// `telerehab bench soak`.
@@ -84,7 +84,7 @@ impl SessionObserver for Sampler {
         self.next_ns += self.every_ns;
         self.samples.push(Sample {
             t_s: rec.t_ns as f64 * 1e-9,
-            rss_kib: station::resident::status_kib("VmRSS").unwrap_or(0),
+            rss_kib: session::resident::status_kib("VmRSS").unwrap_or(0),
             fds: open_fds().unwrap_or(0),
             file_bytes: std::fs::metadata(&self.path).map_or(0, |m| m.len()),
             max_late_us: self.late_ns as f64 * 1e-3,

@@ -8,11 +8,11 @@ use anyhow::Context;
 use clock::Clock;
 use record::TickRecord;
 use render::window::WindowOptions;
+use session::signals::install_stop_flag;
+use session::timing::{Percentiles, TimingStats};
+use session::{self, BodyKind, SessionObserver, SessionOptions, haptic::Pacing};
 use station::commands::run::{self, RunArgs};
 use station::link::Link;
-use station::session::signals::install_stop_flag;
-use station::session::{self, BodyKind, SessionObserver, SessionOptions, haptic::Pacing};
-use station::timing::{Percentiles, TimingStats};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 

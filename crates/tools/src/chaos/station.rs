@@ -183,7 +183,7 @@ fn next_session(home: &Home) -> u32 {
 }
 
 fn set_next_session(home: &Home, n: u32) -> anyhow::Result<()> {
-    station::home::write_private(&home.dir().join("chaos-day.txt"), n.to_string().as_bytes())
+    session::files::write_private(&home.dir().join("chaos-day.txt"), n.to_string().as_bytes())
 }
 
 /// Pairs with the code in the ledger: another hub when one is unreachable, a pause when the
@@ -409,7 +409,7 @@ fn record(
     let dir = home.recordings_dir();
     station::home::private_dir(&dir)?;
     let path = dir.join(format!("{}.mcap", hello.session_id));
-    station::home::write_private(&path, &bytes)?;
+    session::files::write_private(&path, &bytes)?;
     let (size, sha) = netlink::upload::file_sha256(&path)?;
     world.with(i, |l| l.sessions[index].recording = Some((sha, size)));
     uploads::enqueue(&home.uploads_dir(), hello, &path)

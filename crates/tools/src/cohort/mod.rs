@@ -83,7 +83,7 @@ struct Enrolled {
 pub async fn run(args: CohortArgs) -> anyhow::Result<()> {
     // A week is seen by the station's history growing by one line; the history keeps
     // `assessment::KEPT` lines, so a cohort runs no more weeks than that.
-    let max_weeks = station::assessment::KEPT;
+    let max_weeks = session::assessment::KEPT;
     if !(2..=200).contains(&args.patients) || !(2..=max_weeks).contains(&args.weeks) {
         bail!("--patients must be 2 to 200 and --weeks 2 to {max_weeks}");
     }
@@ -176,7 +176,7 @@ async fn enrol(args: &CohortArgs, clinic_dir: &Path) -> anyhow::Result<Vec<Enrol
         .init("cohort@clinic.example", &names, args.db.as_deref(), now)
         .await?;
     let db = clinic.open_db(args.db.as_deref()).await?;
-    let base = station::config::default_sim_patient();
+    let base = session::config::default_sim_patient();
     let mut out = Vec::with_capacity(2 * args.patients);
     for (cohort, seed) in [("A", args.seed), ("B", args.seed.wrapping_add(1))] {
         for index in 0..args.patients {

@@ -135,7 +135,7 @@ mod tests {
     use super::*;
 
     fn base() -> HumanArmParams {
-        station::config::default_sim_patient()
+        session::config::default_sim_patient()
     }
 
     #[test]

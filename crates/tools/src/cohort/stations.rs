@@ -16,7 +16,7 @@ use std::process::Stdio;
 use anyhow::{Context, bail};
 use assist::human::HumanArmParams;
 
-use station::assessment::{Entry, history_path};
+use session::assessment::{Entry, history_path};
 
 /// A week, ms.
 pub const WEEK_MS: u64 = 7 * 86_400_000;
@@ -102,7 +102,7 @@ impl Station {
         let config = self.home.join(format!("week-{week}.toml"));
         let text = toml::to_string(&OccasionConfig { sim_patient: arm })
             .context("cannot write the occasion's configuration")?;
-        station::home::write_private(&config, text.as_bytes())?;
+        session::files::write_private(&config, text.as_bytes())?;
         let before = history_len(&self.home);
         let (config, regimen, seed) = (
             config.display().to_string(),
@@ -166,7 +166,7 @@ impl Station {
             out.push_str(&serde_json::to_string(&e)?);
             out.push('\n');
         }
-        station::home::write_private(&path, out.as_bytes())
+        session::files::write_private(&path, out.as_bytes())
     }
 }
 
@@ -200,7 +200,7 @@ mod tests {
             .unwrap()
             .assessment
             .unwrap();
-        let last = station::assessment::last_unix_ms(&path, "p1");
+        let last = session::assessment::last_unix_ms(&path, "p1");
         assert!(!schedule.is_due(last, now + 1_000));
         let station = Station {
             exe: PathBuf::new(),
@@ -208,7 +208,7 @@ mod tests {
             regimen: PathBuf::new(),
         };
         station.a_week_passes().unwrap();
-        let last = station::assessment::last_unix_ms(&path, "p1");
+        let last = session::assessment::last_unix_ms(&path, "p1");
         assert_eq!(last, Some(now - WEEK_MS));
         assert!(schedule.is_due(last, now + 1_000));
         assert_eq!(history_len(dir.path()), 1);

@@ -9,14 +9,14 @@
 //! record whole numbers of each field's quantum (`record::blocks`), the low-rate ones the
 //! shortest JSON text that reads back to the same `f64`; both are compared exactly.
 
-use crate::config::StationConfig;
-use crate::session::haptic::Pacing;
-use crate::session::{self, BodyKind, Controls, SessionOptions};
 use anyhow::{Context, bail};
 use clock::Clock;
 use record::compare::{ChannelComparison, MAX_PENDING_SAMPLES, Sample, SampleDifference};
 use record::{Channel, Row, SessionMetadata, StreamLimits, TickStream};
 use regimen::Regimen;
+use session::config::StationConfig;
+use session::haptic::Pacing;
+use session::{self, BodyKind, Controls, SessionOptions};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 

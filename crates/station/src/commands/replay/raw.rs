@@ -6,13 +6,13 @@
 //! one, which proves the raw inputs enough.
 
 use super::{ReplayOutcome, compare, recorded_plan};
-use crate::session::haptic::Pacing;
-use crate::session::plant::Body;
-use crate::session::recorded::{RecordedBody, RecordedInputs};
-use crate::session::{self, BodyKind, Controls, SessionOptions};
 use anyhow::{Context, bail};
 use clock::Clock;
 use record::{BodyFacts, SessionMetadata};
+use session::haptic::Pacing;
+use session::plant::Body;
+use session::recorded::{RecordedBody, RecordedInputs};
+use session::{self, BodyKind, Controls, SessionOptions};
 use std::path::Path;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -89,13 +89,13 @@ fn rerun(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::config::MountingMode;
     use record::Recording;
+    use session::config::MountingMode;
 
     /// A simulated session of `seconds` with the guided arm procedure, recorded in `dir`.
     fn recorded_session(dir: &Path, seconds: f64) -> std::path::PathBuf {
         let path = dir.join("s.mcap");
-        let mut config = crate::config::StationConfig::default();
+        let mut config = session::config::StationConfig::default();
         config.session.duration_s = seconds;
         config.session.seed = 5;
         config.arm.sim_mounting = MountingMode::Guided;

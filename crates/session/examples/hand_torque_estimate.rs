@@ -1,10 +1,10 @@
 //! The patient's torque estimate against the simulated patient's true hand torque, for every
 //! exercise and assist mode: the table of BENCHMARKS.md ("Hand torque estimate").
 //!
-//! `cargo run --release -p station --example hand_torque_estimate [SECONDS]` (20 s each by
+//! `cargo run --release -p session --example hand_torque_estimate [SECONDS]` (20 s each by
 //! default, seed 7).
 
-use station::session::effort_check::{ASSIST_MODES, run};
+use session::effort_check::{ASSIST_MODES, run};
 
 fn main() -> anyhow::Result<()> {
     let seconds: f64 = std::env::args()

@@ -16,10 +16,10 @@ mod tests;
 pub use body::Body;
 pub use exercise::ExerciseScores;
 
+use crate::arm::trunk_cue::TrunkCue;
+use crate::arm::{SetupStep, WheelNow};
 use crate::config::StationConfig;
-use crate::session::arm::trunk_cue::TrunkCue;
-use crate::session::arm::{SetupStep, WheelNow};
-use crate::session::course::Segment;
+use crate::course::Segment;
 use anyhow::Context;
 use assist::Measurement;
 use body::BodyMotion;
@@ -63,7 +63,7 @@ pub struct Plant {
     /// (read at start-up: the backend's capabilities allocate its name).
     motor_update_policy_hz: f64,
     /// How long an asked-for rest and a pause may last.
-    break_settings: crate::session::course::BreakSettings,
+    break_settings: crate::course::BreakSettings,
     /// The patient's pedals as last read off the haptic thread.
     live_pedals: vehicle::Pedals,
     /// The patient's own torque on the wheel, estimated from the wheel's dynamics and the
@@ -217,7 +217,7 @@ impl Plant {
             ceiling,
             wheel_facts,
             motor_update_policy_hz: capabilities.max_update_rate_hz,
-            break_settings: crate::session::course::BreakSettings {
+            break_settings: crate::course::BreakSettings {
                 asked_rest_s: cfg.session.asked_rest_s,
                 pause_limit_s: cfg.session.pause_limit_s,
             },
@@ -263,12 +263,12 @@ impl Plant {
     }
 
     /// How long an asked-for rest and a pause may last (`[session]`).
-    pub fn break_settings(&self) -> crate::session::course::BreakSettings {
+    pub fn break_settings(&self) -> crate::course::BreakSettings {
         self.break_settings
     }
 
     /// The break after exercise `segment` of the course (0-based), if any.
-    pub fn break_after(&self, segment: usize) -> Option<crate::session::course::Break> {
+    pub fn break_after(&self, segment: usize) -> Option<crate::course::Break> {
         self.exercise.break_after(segment)
     }
 
@@ -405,7 +405,7 @@ impl Plant {
     }
 
     /// Where the patient's pedals are now (read off the haptic thread, see
-    /// [`crate::session::Controls::pedals`]); a simulated foot or a replay sets its own.
+    /// [`crate::Controls::pedals`]); a simulated foot or a replay sets its own.
     pub fn set_pedals(&mut self, pedals: vehicle::Pedals) {
         self.live_pedals = pedals.clamped();
     }
@@ -445,7 +445,7 @@ impl Plant {
             ..r
         });
         let raw = (
-            crate::session::recorded::raw_read(&read),
+            crate::recorded::raw_read(&read),
             read.as_ref().ok().copied(),
         );
         let reading = self.health.reading(read, t_ns);
@@ -549,7 +549,7 @@ impl Plant {
     }
 
     /// Why arm sensing stopped or never started, if it did.
-    pub fn arm_failure(&self) -> Option<&crate::session::arm::ArmFailure> {
+    pub fn arm_failure(&self) -> Option<&crate::arm::ArmFailure> {
         self.body.arm_failure()
     }
 

@@ -9,7 +9,7 @@
 //! the hand's torque, the true joint angles): they are taken from `/wheel` and `/arm` as they
 //! were recorded, as inputs, not re-run.
 
-use crate::session::arm::{ArmSeam, ArmTracker, RecordedSolver, SetupStep, WheelNow};
+use crate::arm::{ArmSeam, ArmTracker, RecordedSolver, SetupStep, WheelNow};
 use anyhow::{Context, bail};
 use gyro_imu::ImuError;
 use gyro_imu::device::ImuSample;
@@ -185,22 +185,22 @@ impl RecordedInputs {
     }
 
     /// Change the wheel angle read on `tick` by `by_rad` (tests: a replay must notice).
-    #[cfg(test)]
-    pub(crate) fn nudge_angle(&mut self, tick: usize, by_rad: f64) {
+    #[cfg(feature = "test-hooks")]
+    pub fn nudge_angle(&mut self, tick: usize, by_rad: f64) {
         let n = self.held.len();
         self.held[n - 1 - tick].raw.wheel.angle_rad += by_rad;
     }
 
     /// Keep the first `ticks` ticks only, as a killed session's file holds (tests).
-    #[cfg(test)]
-    pub(crate) fn cut_after(&mut self, ticks: usize) {
+    #[cfg(feature = "test-hooks")]
+    pub fn cut_after(&mut self, ticks: usize) {
         let n = self.held.len();
         self.held.drain(..n - ticks);
     }
 
     /// Hold back the solver's answer, first in hand on tick `from`, by `ticks` (tests).
-    #[cfg(test)]
-    pub(crate) fn delay_solver_answer(&mut self, from: usize, ticks: usize) {
+    #[cfg(feature = "test-hooks")]
+    pub fn delay_solver_answer(&mut self, from: usize, ticks: usize) {
         let n = self.held.len();
         for t in &mut self.held[n - from - ticks..n - from] {
             t.raw.wheel.solver_answered = false;
@@ -407,7 +407,7 @@ impl RecordedBody {
     }
 
     /// Why arm sensing stopped or never started, if it did.
-    pub fn arm_failure(&self) -> Option<&crate::session::arm::ArmFailure> {
+    pub fn arm_failure(&self) -> Option<&crate::arm::ArmFailure> {
         self.arm.as_ref().and_then(|a| a.tracker.failure())
     }
 }

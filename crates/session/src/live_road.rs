@@ -171,17 +171,17 @@ mod tests {
         assert!(added_bytes > 100, "{added_bytes} bytes");
     }
     /// Keeps every live summary of a session.
-    struct Summaries(Vec<crate::session::LiveSummary>);
+    struct Summaries(Vec<crate::LiveSummary>);
 
-    impl crate::session::SessionObserver for Summaries {
-        fn on_summary(&mut self, s: &crate::session::LiveSummary) {
+    impl crate::SessionObserver for Summaries {
+        fn on_summary(&mut self, s: &crate::LiveSummary) {
             self.0.push(s.clone());
         }
     }
 
     #[test]
     fn a_road_exercises_summaries_carry_its_road_and_a_dial_tasks_none() {
-        use crate::session::{Controls, SessionOptions, course};
+        use crate::{Controls, SessionOptions, course};
         let text = "[[exercise]]\nkind = \"dial\"\nduration_s = 2.0\n\n\
                     [[exercise]]\nkind = \"sine\"\nduration_s = 4.0\n";
         let mut config = crate::config::StationConfig::default();
@@ -193,7 +193,7 @@ mod tests {
             ..SessionOptions::simulated(config)
         };
         let mut kept = Summaries(Vec::new());
-        crate::session::run(&opts, &Controls::default(), &mut kept).unwrap();
+        crate::run(&opts, &Controls::default(), &mut kept).unwrap();
         let roads = course::roads(&opts.config, opts.regimen.as_ref()).unwrap();
         let road = roads[1].as_ref().unwrap();
         let is_road = |n: &str| n.starts_with("road_left_m_") || n == "lane_width_m";

@@ -2,8 +2,8 @@
 //! chain): what the 1 kHz haptic thread computes each period.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use station::config::StationConfig;
-use station::session::{course, plant::Plant};
+use session::config::StationConfig;
+use session::{course, plant::Plant};
 use std::hint::black_box;
 
 fn bench_tick(c: &mut Criterion) {

@@ -312,7 +312,7 @@ pub(super) mod tests {
     /// A file on a disk with room for `room` bytes: writes past it fail with ENOSPC (nothing
     /// of them written), as a full disk's do; `unreadable` makes every read fail with EIO.
     #[derive(Debug)]
-    pub(in crate::session::measures) struct FillingUp {
+    pub(in crate::measures) struct FillingUp {
         pub file: std::fs::File,
         pub room: u64,
         pub unreadable: bool,

@@ -1,29 +1,61 @@
 //! A patient session: the haptic thread, the recorder thread and the therapist link, wired
-//! together and torn down cleanly on every path.
+//! together and torn down cleanly on every path ([`run`]).
+//!
+//! # Module map
+//!
+//! - [`haptic`] is the 1 kHz loop driving a [`plant::Plant`] (wheel, patient, car, haptic
+//!   chain, assist) through the exercises of [`course`]; [`recorder`] writes the records and
+//!   thins summaries, syncing the file and watching the room left on its disk
+//!   ([`disk_space`]), and hands back an [`outcome::RecorderOutcome`]; [`arm`] and
+//!   [`arm_calibration`] turn the IMUs into joint angles and arm lengths; [`window`] runs the
+//!   patient's window in a process of its own (restarted, the exercise paused, if it dies or
+//!   hangs); [`signals`] turns SIGINT/SIGTERM into a stop request and [`Controls`] carries stop
+//!   and pause to the loop; [`measures`] computes the movement measures; [`recorded`] is a body
+//!   made of a recording's raw inputs (replay); [`faults`] injects faults into simulated
+//!   sessions; [`words`] names exercises and instructions for the patient.
+//! - [`config`]: the station's TOML, validated input (the `[[faults]]` a configuration names
+//!   are `config::faults`); [`assessment`]: when the standard assessment runs; [`settings`]
+//!   and [`language`]: the patient's settings file and the language in force.
+//! - [`timing`] (loop-timing percentiles), [`resident`] (bounded buffers made resident up
+//!   front, the process's memory figures), [`platform`] (where Linux and Windows differ),
+//!   [`files`] (small files written whole, 0600).
+//!
+//! Threads (DESIGN.md): `haptic` (1 kHz, absolute deadlines, real-time priority where
+//! granted) → wait-free ring → `recorder` (MCAP, summaries) → the therapist link's tokio
+//! runtime and the window's triple buffer; the main thread answers the window process's pulls
+//! from that buffer and watches it, the session runs on a `session` thread beside it.
 
 pub mod arm;
 pub mod arm_calibration;
+pub mod assessment;
 pub mod breaks;
 pub mod buttons;
+pub mod config;
 mod controls;
 pub mod course;
 pub mod disk_space;
 pub mod effort_check;
 pub mod end_reason;
 pub mod faults;
+pub mod files;
 pub mod haptic;
+pub mod language;
 pub mod live_road;
 pub mod live_strength;
 pub mod measures;
 pub mod outcome;
 pub mod plant;
+pub mod platform;
 #[cfg(test)]
 mod prescription_tests;
 pub mod recorded;
 pub mod recorder;
+pub mod resident;
+pub mod settings;
 pub mod signals;
 #[cfg(test)]
 mod tests;
+pub mod timing;
 #[cfg(test)]
 mod trunk_cue_tests;
 pub mod trunk_measures;
@@ -275,7 +307,7 @@ fn body_facts(cfg: &StationConfig, kind: BodyKind, plant: &plant::Plant) -> reco
         BodyKind::Simulated => (
             BodyKindName::Simulated,
             Some(ArmFacts {
-                guided: cfg.arm.sim_mounting == crate::config::MountingMode::Guided,
+                guided: cfg.arm.sim_mounting == config::MountingMode::Guided,
                 geometry: cfg.sim_arm.geometry,
                 swivel_rad: cfg.sim_arm.swivel_mean_rad,
             }),

@@ -62,14 +62,14 @@ pub enum ToWindow {
         draw: bool,
         /// The break in progress (a rest, or the card between exercises).
         #[serde(default)]
-        brk: crate::session::BreakNow,
+        brk: crate::BreakNow,
         /// The patient's own arm lengths (upper arm, elbow to grip, m) once the session has
         /// measured them; absent before (the arm inset draws the configured ones).
         #[serde(default)]
         arm_measured_m: Option<[f64; 2]>,
     },
     /// The session is over (the haptic loop has stopped, torque zero): show the end screen
-    /// and ask the check-in questions ([`crate::checkin`]), then answer
+    /// and ask the check-in questions (the station's `checkin`), then answer
     /// [`FromWindow::CheckIn`] and close.
     EndScreen(Box<EndScreen>),
     /// Answers to the end screen given with the wheel or a gamepad (turns, buttons), in
@@ -183,7 +183,7 @@ mod tests {
         let sent = ToWindow::Frame {
             record: Box::new(record),
             draw: true,
-            brk: crate::session::BreakNow::default(),
+            brk: crate::BreakNow::default(),
             arm_measured_m: Some([0.31, 0.32]),
         };
         send(&mut wire, &sent).unwrap();
@@ -212,7 +212,7 @@ mod tests {
             &ToWindow::Frame {
                 record: Box::new(with_arm),
                 draw: false,
-                brk: crate::session::BreakNow::default(),
+                brk: crate::BreakNow::default(),
                 arm_measured_m: None,
             },
         )

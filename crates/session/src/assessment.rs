@@ -161,7 +161,7 @@ pub fn ran_whole(results: &[record::ExerciseResult]) -> bool {
 /// Appends `entry` to the history at `path`, keeping the last [`KEPT`] lines (written whole,
 /// atomically, 0600).
 fn append(path: &Path, entry: &Entry) -> anyhow::Result<()> {
-    crate::home::append_kept(path, entry, KEPT)
+    crate::files::append_kept(path, entry, KEPT)
 }
 
 #[cfg(test)]

@@ -2,9 +2,9 @@
 //! wait-free ring buffer, torque faded to zero on every way out. Time comes from the session's
 //! [`Clock`] (a mock clock in tests: deadlines are met at once and the figures are exact).
 
-use crate::session::breaks::BreakClock;
-use crate::session::controls::Controls;
-use crate::session::plant::Plant;
+use crate::breaks::BreakClock;
+use crate::controls::Controls;
+use crate::plant::Plant;
 use clock::Clock;
 use record::{TickRecord, TimingSample};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -62,7 +62,7 @@ pub struct HapticOutcome {
     /// The session ended because the patient's window could not be kept up.
     pub window_lost: bool,
     /// Each exercise's own scores, of the exercises started (in course order).
-    pub exercise_scores: Vec<crate::session::plant::ExerciseScores>,
+    pub exercise_scores: Vec<crate::plant::ExerciseScores>,
 }
 
 /// The loop's deadline arithmetic, without a clock: the tick of slot `k` is due at

@@ -1053,7 +1053,7 @@ fn name_by_side(named: &mut BTreeMap<String, f64>, responses: &[Reaction]) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::session::outcome::RecorderOutcome;
+    use crate::outcome::RecorderOutcome;
     use record::{ArmSample, AssistSample, WheelSample};
 
     /// Two minimum-jerk turns of 0.6 rad at 1 kHz, there and back, with rest around them.

@@ -4,12 +4,12 @@
 //! fit's lengths and warnings. The table of BENCHMARKS.md ("Arm calibration during the
 //! session").
 //!
-//! `cargo run -p station --example arm_calibration_online [SEED …]` (seeds 7 1 2 3 4 by
+//! `cargo run -p session --example arm_calibration_online [SEED …]` (seeds 7 1 2 3 4 by
 //! default).
 
 use record::{ArmSetup, TickRecord};
-use station::config::StationConfig;
-use station::session::{self, Controls, SessionObserver, SessionOptions};
+use session::config::StationConfig;
+use session::{self, Controls, SessionObserver, SessionOptions};
 
 /// The wheel angle of every tick and the grip point of every tracked tick.
 #[derive(Default)]

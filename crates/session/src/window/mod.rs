@@ -1,5 +1,5 @@
 //! A session with the patient's window. The session runs on its own threads; the window runs
-//! in a process of its own (`telerehab window-process`, [`crate::commands::window_process`]), fed the newest tick on
+//! in a process of its own (`telerehab window-process`, the station's `commands::window_process`), fed the newest tick on
 //! request over a socket ([`wire`]) by the calling (main) thread ([`supervisor`]). The window
 //! shares no memory with the haptic loop, which only writes each tick into a wait-free triple
 //! buffer: a slow, minimised, crashed or hung window changes nothing in the loop. When the
@@ -40,7 +40,7 @@ impl SessionObserver for ScreenFeed<'_> {
 }
 
 /// Run the session on its own threads and the patient's window in its own process, showing
-/// the session's course ([`crate::screen::CourseView`]); `observer` watches the session as in
+/// the session's course (the station's `screen::CourseView`); `observer` watches the session as in
 /// [`super::run`]. Space pauses and resumes through `controls`; closing the window stops the
 /// session. With `background_priority` the window runs below the session's threads (nice 10).
 /// Without a usable GPU or display the session simply runs headless (the account is then

@@ -8,7 +8,7 @@
 
 use super::channel::{self, WindowSocket};
 use super::wire::{self, EndScreen, FromWindow, Hello, ToWindow};
-use crate::session::Controls;
+use crate::Controls;
 use clock::Clock;
 use record::TickRecord;
 use render::AdapterSummary;
@@ -204,7 +204,7 @@ fn end_answers(controls: &Controls) -> Vec<UserRequest> {
     if !controls.end_screen_up.load(Ordering::Acquire) {
         return Vec::new();
     }
-    use crate::session::EndAnswer;
+    use crate::EndAnswer;
     let mut keys = Vec::new();
     // In the order said: a confirm then a turn answers the next question.
     for a in controls.end_answers.take_in_order() {

@@ -163,7 +163,7 @@ pub fn wheel_gesture(controls: &Controls, g: Gesture) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::session::controls::BreakKind;
+    use crate::controls::BreakKind;
 
     #[test]
     fn a_button_starts_pauses_and_resumes_and_during_a_break_goes_on() {

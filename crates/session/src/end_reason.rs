@@ -14,7 +14,7 @@ pub const ENDED_EARLY: &str = "ended early by the patient (Esc, window closed or
 /// The exercise stayed paused longer than `[session] pause_limit_s`.
 pub const PAUSED_TOO_LONG: &str = "paused too long";
 /// The patient's window failed again and again
-/// ([`crate::session::window::supervisor::MAX_FAILURES_IN_A_ROW`] times in a row): nobody could see the
+/// ([`crate::window::supervisor::MAX_FAILURES_IN_A_ROW`] times in a row): nobody could see the
 /// exercise.
 pub const WINDOW_LOST: &str = "window lost (the patient's screen failed again and again)";
 /// The wheel went away.
@@ -72,7 +72,7 @@ pub fn with_recording(mut reason: String, recorder: &RecorderOutcome) -> String 
 pub fn sentence(reason: &str) -> String {
     match reason.trim() {
         "" => "How it ended is not recorded".to_owned(),
-        r if r.starts_with("ended") => crate::session::words::capitalised(r),
+        r if r.starts_with("ended") => crate::words::capitalised(r),
         r => format!("Ended: {r}"),
     }
 }
@@ -82,7 +82,7 @@ mod tests {
     use super::*;
     use crate::config::StationConfig;
     use crate::config::faults::FaultSpec;
-    use crate::session::{Controls, SessionOptions};
+    use crate::{Controls, SessionOptions};
     use std::sync::atomic::Ordering;
 
     /// The end reason of a 3 s simulated sine-road session under `faults`, recorded in a
@@ -111,9 +111,7 @@ mod tests {
         let controls = Controls::default();
         controls.stop.store(stop || window_lost, Ordering::Relaxed);
         controls.window_lost.store(window_lost, Ordering::Relaxed);
-        crate::session::run(&opts, &controls, &mut ())
-            .unwrap()
-            .end_reason()
+        crate::run(&opts, &controls, &mut ()).unwrap().end_reason()
     }
 
     #[test]

@@ -1,7 +1,7 @@
 //! How well the patient's torque is estimated (`assist::effort`): a short simulated session
 //! of one exercise under one assist mode, the estimate on every tick compared with the
 //! simulated patient's true hand torque, and the share of the work computed both ways. The
-//! station's test holds every exercise and mode to the bound; `cargo run -p station --example
+//! station's test holds every exercise and mode to the bound; `cargo run -p session --example
 //! hand_torque_estimate` prints the table of BENCHMARKS.md.
 
 use super::course;

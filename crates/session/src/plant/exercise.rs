@@ -4,7 +4,7 @@
 
 use super::LoopTime;
 use crate::config::StationConfig;
-use crate::session::course::Segment;
+use crate::course::Segment;
 use assist::{AssistOutput, Limits, Measurement};
 use haptic_wheel::HapticRegimen;
 use record::{AssistSample, ScoreSample, VehicleSample};
@@ -360,7 +360,7 @@ impl Exercise {
     }
 
     /// The break after exercise `segment` of the course, if any.
-    pub(super) fn break_after(&self, segment: usize) -> Option<crate::session::course::Break> {
+    pub(super) fn break_after(&self, segment: usize) -> Option<crate::course::Break> {
         self.course.get(segment).and_then(|s| s.break_after)
     }
 

@@ -498,7 +498,7 @@ pub(super) fn recorder_loop(
     let ending = ending.get();
     out.exercises = measures.exercise_results(
         ending.map_or(&[][..], |e| e.scores.as_slice()),
-        crate::session::words::plain_name,
+        crate::words::plain_name,
     );
     super::measures::strength_of_exercises(&mut out.measures.named, &out.exercises);
     super::measures::sweep_of_exercises(&mut out.measures.named, &out.exercises);

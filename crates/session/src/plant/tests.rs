@@ -5,7 +5,7 @@
 use super::Plant;
 use crate::config::StationConfig;
 use crate::config::faults::FaultSpec;
-use crate::session::faults::Stallable;
+use crate::faults::Stallable;
 use haptic_wheel::{SimWheel, SimWheelParams, WheelFault};
 
 fn plant_with(faults: &[&str], grace_s: f64) -> Plant {
@@ -19,7 +19,7 @@ fn plant_with(faults: &[&str], grace_s: f64) -> Plant {
         .map(|f| FaultSpec::parse(f).unwrap())
         .collect();
     cfg.validate().unwrap();
-    let course = crate::session::course::build(&cfg, None).unwrap();
+    let course = crate::course::build(&cfg, None).unwrap();
     Plant::simulated(&cfg, course).unwrap()
 }
 

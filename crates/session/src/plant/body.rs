@@ -1,10 +1,10 @@
 //! Who holds the wheel: a simulated patient on a simulated wheel, a real patient on a real
 //! force-feedback wheel, or a recording's raw inputs played back.
 
+use crate::arm::sim::SimArmSensing;
+use crate::arm::{ArmSeam, SetupStep, WheelNow};
 use crate::config::StationConfig;
-use crate::session::arm::sim::SimArmSensing;
-use crate::session::arm::{ArmSeam, SetupStep, WheelNow};
-use crate::session::faults::FaultyWheel;
+use crate::faults::FaultyWheel;
 use anyhow::Context;
 use assist::HumanArm;
 use haptic_wheel::{SimWheel, Wheel, ZeroTorqueOnDrop};
@@ -35,12 +35,12 @@ pub enum Body {
         /// that the kernel backend can run over any device seam (tests use an in-memory one).
         wheel: ZeroTorqueOnDrop<Box<dyn Wheel + Send>>,
         /// The arm's IMUs, when two are present.
-        arm: Option<Box<crate::session::arm::hid::HidArmSensing>>,
+        arm: Option<Box<crate::arm::hid::HidArmSensing>>,
         /// The clock of the wheel's readings.
         clock: clock::Clock,
     },
     /// A recording's raw inputs played back (`telerehab replay`).
-    Recorded(Box<crate::session::recorded::RecordedBody>),
+    Recorded(Box<crate::recorded::RecordedBody>),
 }
 
 impl Body {
@@ -96,7 +96,7 @@ impl Body {
             .context("cannot watch for the wheel being plugged back in")?;
         // Arm sensing is optional: an IMU that cannot be opened (permissions, a flat battery)
         // costs the joint angles, not the exercise.
-        let arm = crate::session::arm::hid::HidArmSensing::open_first_two(
+        let arm = crate::arm::hid::HidArmSensing::open_first_two(
             cfg.arm.geometry,
             cfg.arm.swivel_rad,
             monotonic_ns,
@@ -115,7 +115,7 @@ impl Body {
     #[cfg(target_os = "linux")]
     pub fn real_wheel(
         wheel: Box<dyn Wheel + Send>,
-        arm: Option<Box<crate::session::arm::hid::HidArmSensing>>,
+        arm: Option<Box<crate::arm::hid::HidArmSensing>>,
         clock: clock::Clock,
     ) -> Self {
         Body::Evdev {
@@ -294,7 +294,7 @@ impl Body {
     }
 
     /// Why arm sensing stopped or never started, if it did.
-    pub(super) fn arm_failure(&self) -> Option<&crate::session::arm::ArmFailure> {
+    pub(super) fn arm_failure(&self) -> Option<&crate::arm::ArmFailure> {
         match self {
             Body::Sim { sensing, .. } => sensing.failure(),
             #[cfg(target_os = "linux")]
