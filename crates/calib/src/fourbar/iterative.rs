@@ -85,31 +85,36 @@ pub(crate) fn pass<const NP: usize>(pb: &Problem<'_>, p: &[f64; 8]) -> Pass<NP> 
     m.into_pass(pb, &at)
 }
 
-/// `e^{−i·b·tₖ}` sample after sample: on a uniform time axis one complex product per sample
-/// (the same rotation by `b·Δt` each time), recomputed exactly every [`Rotor::RESYNC`]
-/// samples so rounding cannot accumulate (≈ 1e-15 rad); otherwise a `sin_cos` per sample.
+/// `e^{−i·b·tₖ}` sample after sample: on a uniform time axis computed exactly (`sin_cos`)
+/// every [`RESYNC`] samples and in between as that value times a power of the step,
+/// `e^{−i·b·j·Δt}`, from a table computed exactly once: one complex product per sample (a
+/// few ulp, ≈ 1e-16 rad) and no chain of products from one sample to the next, which had the
+/// loops wait on the multiplier's latency; otherwise a `sin_cos` per sample.
 pub(crate) struct Rotor<'a> {
     trig: &'a Trig,
     b: f64,
-    /// `e^{−i·b·Δt}` on a uniform axis.
-    step: Option<C64>,
-    cur: C64,
+    /// `e^{−i·b·j·Δt}` for j = 0 … RESYNC − 1 on a uniform axis.
+    powers: Option<[C64; RESYNC]>,
+    /// The exact rotation at the last multiple of RESYNC.
+    base: C64,
 }
 
-impl<'a> Rotor<'a> {
-    /// Samples between exact evaluations.
-    const RESYNC: usize = 16;
+/// Samples between a [`Rotor`]'s exact evaluations.
+const RESYNC: usize = 16;
 
+impl<'a> Rotor<'a> {
     pub(crate) fn new(trig: &'a Trig, b: f64) -> Self {
-        let step = trig.uniform_dt.map(|dt| {
-            let (s, c) = sin_cos(-b * dt);
-            (c, s)
+        let powers = trig.uniform_dt.filter(|_| b != 0.0).map(|dt| {
+            std::array::from_fn(|j| {
+                let (s, c) = sin_cos(-b * dt * j as f64);
+                (c, s)
+            })
         });
         Self {
             trig,
             b,
-            step,
-            cur: (1.0, 0.0),
+            powers,
+            base: (1.0, 0.0),
         }
     }
 
@@ -119,14 +124,20 @@ impl<'a> Rotor<'a> {
         if self.b == 0.0 {
             return (1.0, 0.0);
         }
-        match self.step {
-            Some(step) if !k.is_multiple_of(Self::RESYNC) => self.cur = cmul(self.cur, step),
-            _ => {
-                let (s, c) = sin_cos(-self.b * self.trig.t[k]);
-                self.cur = (c, s);
+        let exact = |k: usize| {
+            let (s, c) = sin_cos(-self.b * self.trig.t[k]);
+            (c, s)
+        };
+        match &self.powers {
+            Some(powers) => {
+                let j = k % RESYNC;
+                if j == 0 {
+                    self.base = exact(k);
+                }
+                cmul(self.base, powers[j])
             }
+            None => exact(k),
         }
-        self.cur
     }
 }
 
