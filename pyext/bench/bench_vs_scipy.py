@@ -131,16 +131,22 @@ def speed_table(rows, accuracy_header, accuracy):
         )
 
 
+def planar_recording(n, seed):
+    """One seeded planar recording: (args of ``residuals``, true x, scipy's start x0)."""
+    rng = np.random.default_rng(seed)
+    phi2, phi3, phi4, t, truth = simulate(n=n)
+    p3 = phi3 + rng.normal(0, np.deg2rad(0.5), phi3.shape)
+    p4 = phi4 + rng.normal(0, np.deg2rad(0.5), phi4.shape)
+    x_true = np.array([truth[k] for k in ("l1", "l3", "l4", "theta2_0", "theta3_0", "theta4_0")])
+    x0 = x_true * np.array([1.1, 0.9, 1.1, 1, 1, 1]) + np.array([0, 0, 0, 0.1, -0.1, 0.1])
+    return (phi2, p3, p4, L2), x_true, x0
+
+
 def planar(n, seeds, repeat, with_trf):
     rows = {}
     for seed in range(seeds):
-        rng = np.random.default_rng(seed)
-        phi2, phi3, phi4, t, truth = simulate(n=n)
-        p3 = phi3 + rng.normal(0, np.deg2rad(0.5), phi3.shape)
-        p4 = phi4 + rng.normal(0, np.deg2rad(0.5), phi4.shape)
-        x_true = np.array([truth[k] for k in ("l1", "l3", "l4", "theta2_0", "theta3_0", "theta4_0")])
-        x0 = x_true * np.array([1.1, 0.9, 1.1, 1, 1, 1]) + np.array([0, 0, 0, 0.1, -0.1, 0.1])
-        args = (phi2, p3, p4, L2)
+        args, x_true, x0 = planar_recording(n, seed)
+        phi2, p3, p4, _ = args
 
         def cost(x):
             return float(np.sum(residuals(x, *args) ** 2))
@@ -207,24 +213,31 @@ def arm_jacobian(x, u, f, g, t):
     return jac.reshape(3 * n, 9)
 
 
-def arm3d(n, seeds, repeat):
+def arm_recording(n, seed):
+    """One seeded spatial-arm recording: (args of ``arm_residuals``, scipy's start x0)."""
     u0, f0, g, t = arm3d_sim.simulate(n=n)
-    shoulder, lu_true, lf_true = arm3d_sim.SHOULDER, arm3d_sim.UPPER_ARM, arm3d_sim.FOREARM
     offset, rate = np.radians([3.0, -2.0]), np.radians([2.0, -1.5]) / 60.0
+    rng = np.random.default_rng(100 + seed)
+
+    def noisy(d):
+        e = rng.normal(scale=np.radians(1.0) / np.sqrt(2.0), size=d.shape)
+        e -= d * np.sum(e * d, axis=1, keepdims=True)  # tangent part only
+        w = d + e
+        return w / np.linalg.norm(w, axis=1, keepdims=True)
+
+    u = rot_z(noisy(u0), offset[0] + rate[0] * t)
+    f = rot_z(noisy(f0), offset[1] + rate[1] * t)
+    shoulder, lu_true, lf_true = arm3d_sim.SHOULDER, arm3d_sim.UPPER_ARM, arm3d_sim.FOREARM
+    x0 = np.concatenate([shoulder + 0.03, [lu_true * 1.1, lf_true * 0.9], np.zeros(4)])
+    return (u, f, g, t), x0
+
+
+def arm3d(n, seeds, repeat):
+    shoulder, lu_true, lf_true = arm3d_sim.SHOULDER, arm3d_sim.UPPER_ARM, arm3d_sim.FOREARM
     rows = {}
     for seed in range(seeds):
-        rng = np.random.default_rng(100 + seed)
-
-        def noisy(d):
-            e = rng.normal(scale=np.radians(1.0) / np.sqrt(2.0), size=d.shape)
-            e -= d * np.sum(e * d, axis=1, keepdims=True)  # tangent part only
-            w = d + e
-            return w / np.linalg.norm(w, axis=1, keepdims=True)
-
-        u = rot_z(noisy(u0), offset[0] + rate[0] * t)
-        f = rot_z(noisy(f0), offset[1] + rate[1] * t)
-        x0 = np.concatenate([shoulder + 0.03, [lu_true * 1.1, lf_true * 0.9], np.zeros(4)])
-        args = (u, f, g, t)
+        args, x0 = arm_recording(n, seed)
+        u, f, g, t = args
 
         def ours(**kw):
             r = calib.calibrate_arm_3d(u, f, g, time_s=t, **kw)

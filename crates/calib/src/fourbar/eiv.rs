@@ -22,6 +22,7 @@
 //! channel annihilates the (slow, locally cubic) motion and leaves `70σ²` of white noise; its
 //! square is capped against gross glitches and averaged over ±[`NOISE_HALF_WINDOW`] samples.
 
+use super::median::{median_every, median_stride};
 use super::model::FourbarSamples;
 use super::scratch;
 
@@ -91,9 +92,14 @@ impl NoiseProfile {
     pub(crate) fn weights(&self, l2: f64, l3: f64, l4: f64, out: &mut Vec<f64>) {
         let (a, b, c) = (l2 * l2, l3 * l3, l4 * l4);
         out.clear();
-        out.extend(
-            (0..self.var2.len()).map(|k| a * self.var2[k] + b * self.var3[k] + c * self.var4[k]),
-        );
+        out.resize(self.var2.len(), 0.0);
+        // slices zipped, not indexed: no bounds checks, two samples per instruction
+        for (o, ((v2, v3), v4)) in out
+            .iter_mut()
+            .zip(self.var2.iter().zip(&self.var3).zip(&self.var4))
+        {
+            *o = a * v2 + b * v3 + c * v4;
+        }
         let mean = out.iter().sum::<f64>() / out.len().max(1) as f64;
         if !(mean > 0.0 && mean.is_finite()) {
             out.iter_mut().for_each(|w| *w = 1.0);
@@ -105,7 +111,17 @@ impl NoiseProfile {
 
     /// The bias-correction gains `gⱼₖ = e^{σⱼₖ²/2}`.
     pub(crate) fn gains(&self) -> Gains {
-        let g = |v: &[f64]| scratch::collect(v.iter().map(|s2| half_exp(*s2)), v.len());
+        let g = |v: &[f64]| {
+            // the series for every sample (no branch: two samples per instruction), then
+            // `exp` for the rare variance outside its range
+            let mut out = scratch::collect(v.iter().map(|s2| half_exp_series(*s2)), v.len());
+            for (o, s2) in out.iter_mut().zip(v) {
+                if !SERIES_RANGE.contains(s2) {
+                    *o = (0.5 * s2).exp();
+                }
+            }
+            out
+        };
         Gains {
             g2: g(&self.var2),
             g3: g(&self.var3),
@@ -114,18 +130,26 @@ impl NoiseProfile {
     }
 }
 
-/// `e^{x/2}`: for the small variances of real angle noise (x < 0.01 rad²) its Taylor series
-/// to the 6th power (error below 2e-17 relative), a few multiplications instead of a libm
-/// call per sample and channel; else `exp`.
-#[inline]
+/// `e^{x/2}` as [`NoiseProfile::gains`] computes it: for the small variances of real angle
+/// noise (x < 0.01 rad²) its Taylor series to the 6th power (error below 2e-17 relative), a
+/// few multiplications instead of a libm call per sample and channel; else `exp`.
+#[cfg(test)]
 fn half_exp(x: f64) -> f64 {
-    if (0.0..0.01).contains(&x) {
-        let h = 0.5 * x;
-        1.0 + h
-            * (1.0 + h * (0.5 + h * (1.0 / 6.0 + h * (1.0 / 24.0 + h * (1.0 / 120.0 + h / 720.0)))))
+    if SERIES_RANGE.contains(&x) {
+        half_exp_series(x)
     } else {
         (0.5 * x).exp()
     }
+}
+
+/// Variances (rad²) for which [`half_exp_series`] is used.
+const SERIES_RANGE: std::ops::Range<f64> = 0.0..0.01;
+
+/// `e^{x/2}` by its Taylor series to the 6th power (for x in [`SERIES_RANGE`]).
+#[inline(always)]
+fn half_exp_series(x: f64) -> f64 {
+    let h = 0.5 * x;
+    1.0 + h * (1.0 + h * (0.5 + h * (1.0 / 6.0 + h * (1.0 / 24.0 + h * (1.0 / 120.0 + h / 720.0)))))
 }
 
 /// Per-sample gains `e^{σ²/2}` undoing the noise's shrinkage of `E[e^{iφ}]`.
@@ -147,6 +171,10 @@ impl Gains {
 
 /// Noise variance of one channel per sample (rad²): capped squared fourth differences / 70,
 /// averaged over ±[`NOISE_HALF_WINDOW`] samples.
+///
+/// The cap only has to catch gross glitches (200× the median), so on long recordings the
+/// median is taken over every [`super::median::median_stride`]-th difference: as good a
+/// scale for that purpose, and a quarter of the selection's cost.
 fn channel_variance(x: &[f64]) -> Vec<f64> {
     let n = x.len();
     if n < 5 {
@@ -159,15 +187,13 @@ fn channel_variance(x: &[f64]) -> Vec<f64> {
         }),
         n - 4,
     );
-    let mut sorted = scratch::collect(q.iter().copied(), q.len());
-    let mid = sorted.len() / 2;
-    let median = *sorted.select_nth_unstable_by(mid, f64::total_cmp).1;
+    let mut prefix = scratch::take(n - 3);
+    let median = median_every(&q, median_stride(q.len()), &mut prefix);
     let cap = CLIP_OVER_MEDIAN * median;
     if cap > 0.0 {
         q.iter_mut().for_each(|v| *v = v.min(cap));
     }
     // q[i] is centred on sample i + 2; average the centres within ±W of each sample
-    let mut prefix = sorted;
     prefix.clear();
     prefix.push(0.0);
     let mut acc = 0.0;
@@ -176,16 +202,25 @@ fn channel_variance(x: &[f64]) -> Vec<f64> {
         prefix.push(acc);
     }
     let last = q.len() - 1;
-    let out = scratch::collect(
-        (0..n).map(|k| {
-            let lo = (k.saturating_sub(NOISE_HALF_WINDOW + 2)).min(last);
-            let hi = ((k + NOISE_HALF_WINDOW).saturating_sub(2))
-                .min(last)
-                .max(lo);
-            (prefix[hi + 1] - prefix[lo]) / (hi + 1 - lo) as f64
-        }),
-        n,
-    );
+    let edge = |k: usize| {
+        let lo = (k.saturating_sub(NOISE_HALF_WINDOW + 2)).min(last);
+        let hi = ((k + NOISE_HALF_WINDOW).saturating_sub(2))
+            .min(last)
+            .max(lo);
+        (prefix[hi + 1] - prefix[lo]) / (hi + 1 - lo) as f64
+    };
+    let mut out = scratch::take(n);
+    // the full windows (2W + 1 centres, samples W + 2 ..= n − 3 − W) as one difference of two
+    // shifted prefix slices, the few at each end one by one
+    let (w, first) = (NOISE_HALF_WINDOW, NOISE_HALF_WINDOW + 2);
+    let end = (n - 2).saturating_sub(w).max(first);
+    out.extend((0..first.min(n)).map(edge));
+    if end > first {
+        let (upper, lower) = (&prefix[first + w - 1..end + w - 1], &prefix[0..end - first]);
+        let width = (2 * w + 1) as f64;
+        out.extend(upper.iter().zip(lower).map(|(u, l)| (u - l) / width));
+    }
+    out.extend((out.len()..n).map(edge));
     scratch::give(q);
     scratch::give(prefix);
     out

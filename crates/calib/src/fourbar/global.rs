@@ -6,7 +6,8 @@
 
 use super::closed_form::{SqrtInfo, gram, solve_gram};
 use super::eiv::{Gains, NoiseProfile};
-use super::iterative::{median, residual_norms2};
+use super::iterative::residual_norms2;
+use super::median::median;
 use super::model::{FourbarParams, FourbarSamples};
 use super::scratch;
 use super::trig::Trig;

@@ -39,13 +39,16 @@ pub(crate) struct Normal<const NP: usize> {
     /// The cost (m², weighted; corrected when there are gains).
     pub cost: f64,
     /// Size of the terms summed into `cost` (m²): its rounding error is about ε times this.
+    /// With the correction it is the uncorrected (weighted, gained) `Σ w·|r|²`.
     pub cost_scale: f64,
+    /// What the correction took out of `jtj[(1, 1)]` and `jtj[(2, 2)]` (0 without it).
+    pub correction_diag: [f64; 2],
 }
 
 /// Sums of one pass over the samples at `p` (biases `p[6], p[7]` used when `NP == 8`).
 pub(crate) struct Pass<const NP: usize> {
     pub normal: Normal<NP>,
-    /// Σ|r|² without weights (m²).
+    /// Σ|r|² without weights (m²); 0 with gains (the raw residual is then not formed).
     pub ssr_unweighted: f64,
 }
 
@@ -82,31 +85,36 @@ pub(crate) fn pass<const NP: usize>(pb: &Problem<'_>, p: &[f64; 8]) -> Pass<NP> 
     m.into_pass(pb, &at)
 }
 
-/// `e^{−i·b·tₖ}` sample after sample: on a uniform time axis one complex product per sample
-/// (the same rotation by `b·Δt` each time), recomputed exactly every [`Rotor::RESYNC`]
-/// samples so rounding cannot accumulate (≈ 1e-15 rad); otherwise a `sin_cos` per sample.
+/// `e^{−i·b·tₖ}` sample after sample: on a uniform time axis computed exactly (`sin_cos`)
+/// every [`RESYNC`] samples and in between as that value times a power of the step,
+/// `e^{−i·b·j·Δt}`, from a table computed exactly once: one complex product per sample (a
+/// few ulp, ≈ 1e-16 rad) and no chain of products from one sample to the next, which had the
+/// loops wait on the multiplier's latency; otherwise a `sin_cos` per sample.
 pub(crate) struct Rotor<'a> {
     trig: &'a Trig,
     b: f64,
-    /// `e^{−i·b·Δt}` on a uniform axis.
-    step: Option<C64>,
-    cur: C64,
+    /// `e^{−i·b·j·Δt}` for j = 0 … RESYNC − 1 on a uniform axis.
+    powers: Option<[C64; RESYNC]>,
+    /// The exact rotation at the last multiple of RESYNC.
+    base: C64,
 }
 
-impl<'a> Rotor<'a> {
-    /// Samples between exact evaluations.
-    const RESYNC: usize = 16;
+/// Samples between a [`Rotor`]'s exact evaluations.
+const RESYNC: usize = 16;
 
+impl<'a> Rotor<'a> {
     pub(crate) fn new(trig: &'a Trig, b: f64) -> Self {
-        let step = trig.uniform_dt.map(|dt| {
-            let (s, c) = sin_cos(-b * dt);
-            (c, s)
+        let powers = trig.uniform_dt.filter(|_| b != 0.0).map(|dt| {
+            std::array::from_fn(|j| {
+                let (s, c) = sin_cos(-b * dt * j as f64);
+                (c, s)
+            })
         });
         Self {
             trig,
             b,
-            step,
-            cur: (1.0, 0.0),
+            powers,
+            base: (1.0, 0.0),
         }
     }
 
@@ -116,14 +124,20 @@ impl<'a> Rotor<'a> {
         if self.b == 0.0 {
             return (1.0, 0.0);
         }
-        match self.step {
-            Some(step) if !k.is_multiple_of(Self::RESYNC) => self.cur = cmul(self.cur, step),
-            _ => {
-                let (s, c) = sin_cos(-self.b * self.trig.t[k]);
-                self.cur = (c, s);
+        let exact = |k: usize| {
+            let (s, c) = sin_cos(-self.b * self.trig.t[k]);
+            (c, s)
+        };
+        match &self.powers {
+            Some(powers) => {
+                let j = k % RESYNC;
+                if j == 0 {
+                    self.base = exact(k);
+                }
+                cmul(self.base, powers[j])
             }
+            None => exact(k),
         }
-        self.cur
     }
 }
 
@@ -210,7 +224,8 @@ struct Moments {
     s: [[[C64; 3]; 4]; 4],
     /// `Σ w·|r|²` with the gains (m²).
     cost: f64,
-    /// `Σ |r|²` without weights or gains (m²).
+    /// `Σ |r|²` without weights, only without gains (m²; with gains the raw residual is not
+    /// formed: the statistics take it from the residual norms of the answer).
     ssr_u: f64,
     /// `Σ w·(gⱼ² − 1)` for j = 2, 3, 4.
     d2: f64,
@@ -226,8 +241,6 @@ impl Moments {
         let [u2, u3, u4] = u;
         let (va, vb, vc) = match gains {
             Some((g2, g3, g4)) => {
-                let r_raw = residual(at, u2, u3, u4);
-                self.ssr_u += r_raw.0 * r_raw.0 + r_raw.1 * r_raw.1;
                 self.d2 += w * (g2 * g2 - 1.0);
                 self.d3 += w * (g3 * g3 - 1.0);
                 self.d4 += w * (g4 * g4 - 1.0);
@@ -309,7 +322,9 @@ impl Moments {
         let (d2, d3, d4) = (self.d2, self.d3, self.d4);
         let mut cost = self.cost;
         let cost_scale = cost;
+        let mut correction_diag = [0.0; 2];
         if pb.gains.is_some() {
+            correction_diag = [d3, d4];
             // − Σ w·lⱼ²(gⱼ² − 1): the noise's expected share of |r|²; its slope in l3, l4, and
             // the same share taken out of the Gauss–Newton curvature of every column (so this
             // equals the normal-matrix form `GᵀHG` of `compressed` exactly)
@@ -326,6 +341,7 @@ impl Moments {
                 jtr,
                 cost,
                 cost_scale,
+                correction_diag,
             },
             ssr_unweighted: self.ssr_u,
         }
@@ -434,6 +450,7 @@ impl Quadratic {
             jtr: g.transpose() * hz,
             cost,
             cost_scale,
+            correction_diag: [0.0; 2],
         }
     }
 }
@@ -444,22 +461,24 @@ impl Quadratic {
 pub(crate) fn residual_norms2(trig: &Trig, l2: f64, p: &[f64; 8], out: &mut Vec<f64>) {
     let at = At::new::<8>(l2, p);
     let (mut rot3, mut rot4) = (Rotor::new(trig, p[6]), Rotor::new(trig, p[7]));
+    let n = trig.len();
+    // every array cut to `n` up front, so the loop indexes without bounds checks
+    let (c2, s2, c3, s3, c4, s4) = (
+        &trig.c2[..n],
+        &trig.s2[..n],
+        &trig.c3[..n],
+        &trig.s3[..n],
+        &trig.c4[..n],
+        &trig.s4[..n],
+    );
     out.clear();
-    out.extend((0..trig.len()).map(|k| {
-        let u2 = (trig.c2[k], trig.s2[k]);
-        let u3 = cmul((trig.c3[k], trig.s3[k]), rot3.at(k));
-        let u4 = cmul((trig.c4[k], trig.s4[k]), rot4.at(k));
+    out.extend((0..n).map(|k| {
+        let u2 = (c2[k], s2[k]);
+        let u3 = cmul((c3[k], s3[k]), rot3.at(k));
+        let u4 = cmul((c4[k], s4[k]), rot4.at(k));
         let r = residual(&at, u2, u3, u4);
         r.0 * r.0 + r.1 * r.1
     }));
-}
-
-/// Median of `v` (reorders a copy in `scratch`).
-pub(crate) fn median(v: &[f64], scratch: &mut Vec<f64>) -> f64 {
-    scratch.clear();
-    scratch.extend_from_slice(v);
-    let mid = scratch.len() / 2;
-    *scratch.select_nth_unstable_by(mid, f64::total_cmp).1
 }
 
 /// Result of an iterative refinement.
@@ -536,7 +555,7 @@ pub(crate) fn levenberg_marquardt<const NP: usize>(
     mut eval: impl FnMut(&[f64; 8]) -> Normal<NP>,
     max_iterations: u32,
     tol: f64,
-) -> Refined {
+) -> (Refined, Normal<NP>) {
     let mut p = p0;
     for v in p.iter_mut().skip(NP) {
         *v = 0.0;
@@ -558,11 +577,14 @@ pub(crate) fn levenberg_marquardt<const NP: usize>(
             mu *= 10.0;
             last_newton_relative = None;
             if mu > 1e12 {
-                return Refined {
-                    p,
-                    iterations: it,
-                    converged: false,
-                };
+                return (
+                    Refined {
+                        p,
+                        iterations: it,
+                        converged: false,
+                    },
+                    ne,
+                );
             }
             continue;
         };
@@ -586,11 +608,14 @@ pub(crate) fn levenberg_marquardt<const NP: usize>(
             // converged whether or not the cost could tell this step from the current point
             // (a step below the tolerance, or a decrease below the cost's rounding): take it
             // without the pass that would only confirm it
-            return Refined {
-                p: trial,
-                iterations: it,
-                converged: true,
-            };
+            return (
+                Refined {
+                    p: trial,
+                    iterations: it,
+                    converged: true,
+                },
+                ne,
+            );
         }
         let trial_ne = eval(&trial);
         if trial_ne.cost.is_finite() && trial_ne.cost <= ne.cost {
@@ -599,30 +624,39 @@ pub(crate) fn levenberg_marquardt<const NP: usize>(
             ne = trial_ne;
             mu = (mu / 10.0).max(1e-15);
             if done {
-                return Refined {
-                    p,
-                    iterations: it,
-                    converged: true,
-                };
+                return (
+                    Refined {
+                        p,
+                        iterations: it,
+                        converged: true,
+                    },
+                    ne,
+                );
             }
         } else {
             mu *= 10.0;
             last_newton_relative = None;
             if mu > 1e12 {
                 // no decrease possible at any damping: a minimum to working precision
-                return Refined {
-                    p,
-                    iterations: it,
-                    converged: true,
-                };
+                return (
+                    Refined {
+                        p,
+                        iterations: it,
+                        converged: true,
+                    },
+                    ne,
+                );
             }
         }
     }
-    Refined {
-        p,
-        iterations: max_iterations,
-        converged: false,
-    }
+    (
+        Refined {
+            p,
+            iterations: max_iterations,
+            converged: false,
+        },
+        ne,
+    )
 }
 
 #[cfg(test)]

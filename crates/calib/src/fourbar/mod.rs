@@ -18,6 +18,7 @@ pub mod closed_form;
 pub mod eiv;
 mod global;
 mod iterative;
+mod median;
 pub mod model;
 pub mod online;
 pub mod quality;
@@ -37,8 +38,9 @@ use crate::error::CalibError;
 use closed_form::{SqrtInfo, gram};
 use eiv::Gains;
 use iterative::{
-    Problem, Quadratic, Refined, gauss_newton, levenberg_marquardt, median, pass, residual_norms2,
+    Problem, Quadratic, Refined, gauss_newton, levenberg_marquardt, pass, residual_norms2,
 };
+use median::{median_every, median_stride};
 use trig::Trig;
 
 /// Which estimator to run.
@@ -231,6 +233,11 @@ struct Fit {
     /// The plain (unweighted, uncorrected) cost as a quadratic form, when the fit used it:
     /// then the statistics need no further pass over the samples.
     plain: Option<Quadratic>,
+    /// With bias terms and robust weights: the normal matrix `JᵀWJ` (the correction's share
+    /// put back) and `Σ w·|r|²` of the LM's last evaluated point, and `Σ|r|²` (unweighted) at
+    /// the answer, from the residual norms the final reweighting computed there: the
+    /// statistics need no further pass over the samples either.
+    last_pass: Option<(DMatrix<f64>, f64, f64)>,
 }
 
 fn calibrate_with_noise(
@@ -351,17 +358,19 @@ fn calibrate_with_noise(
 }
 
 /// Recordings at least this long start [`FourbarMethod::Auto`]'s refinement from the global
-/// solution of every [`GLOBAL_STRIDE`]-th sample. (From 2 000 samples it made the thesis's
-/// 25 % noise case of the noise study worse: 500 samples pin the start less well there.)
+/// solution of a subset of [`GLOBAL_SUBSET`] evenly spaced samples. (From 2 000 samples it made
+/// the thesis's 25 % noise case of the noise study worse: 500 samples pin the start less well
+/// there.)
 pub const GLOBAL_DECIMATION_FROM: usize = 4000;
 
-/// Sample stride of the global start on long recordings.
-pub const GLOBAL_STRIDE: usize = 4;
+/// Samples the global start of a long recording is computed from (at least; every
+/// `n / GLOBAL_SUBSET`-th sample).
+pub const GLOBAL_SUBSET: usize = 1000;
 
 /// The global start of `Auto` ([`global::global_fit`]): its only job is to put the LM,
 /// which then fits every sample, in the basin of the minimum, so on long recordings it is
-/// computed from every [`GLOBAL_STRIDE`]-th sample (a quarter of the work of its robust
-/// rounds; the subset keeps at least 1 000 samples).
+/// computed from every `n / GLOBAL_SUBSET`-th sample (its robust rounds' cost no longer grows
+/// with the recording; the subset keeps at least [`GLOBAL_SUBSET`] samples).
 fn global_start(
     samples: &FourbarSamples<'_>,
     trig: &Trig,
@@ -373,8 +382,9 @@ fn global_start(
     if samples.len() < GLOBAL_DECIMATION_FROM {
         return global::global_fit(samples, trig, l2_m, noise, gains, robust);
     }
-    let m = samples.len().div_ceil(GLOBAL_STRIDE);
-    let every = |v: &[f64]| scratch::collect(v.iter().step_by(GLOBAL_STRIDE).copied(), m);
+    let stride = samples.len() / GLOBAL_SUBSET;
+    let m = samples.len().div_ceil(stride);
+    let every = |v: &[f64]| scratch::collect(v.iter().step_by(stride).copied(), m);
     let (p2, p3, p4) = (
         every(samples.phi2),
         every(samples.phi3),
@@ -395,7 +405,7 @@ fn global_start(
         c4: every(&trig.c4),
         s4: every(&trig.s4),
         t: every(&trig.t),
-        uniform_dt: trig.uniform_dt.map(|dt| dt * GLOBAL_STRIDE as f64),
+        uniform_dt: trig.uniform_dt.map(|dt| dt * stride as f64),
     };
     let sub_noise = noise.map(|nz| NoiseProfile {
         var2: every(&nz.var2),
@@ -438,6 +448,11 @@ fn fit_statistics(
     np_used: usize,
     params: &FourbarParams,
 ) -> quality::FitStats {
+    if let Some((jtj, ssr_w, ssr)) = &fit.last_pass {
+        let mut stats = quality::fit_stats(jtj, *ssr_w, fit.n_eff);
+        stats.rms_residual_m = (ssr / samples.len() as f64).sqrt();
+        return stats;
+    }
     match &fit.plain {
         Some(q) => {
             // plain least squares without bias terms: everything from the 7×7 form
@@ -480,6 +495,7 @@ fn plain_fit(p: [f64; 8], iterations: u32, converged: bool, n: usize) -> Fit {
         n_eff: n as f64,
         outlier_fraction: 0.0,
         plain: None,
+        last_pass: None,
     }
 }
 
@@ -517,6 +533,8 @@ fn refine(
     // the point of the last noise weights and standardised norms: the final reweighting
     // usually happens where the last robust round's check did, and reuses them
     let mut norms_at: Option<[f64; 8]> = None;
+    // Σ|r|² (unweighted, m²) there
+    let mut ssr_at = 0.0;
     let mut reweight = |p: &[f64; 8], c: Option<f64>, nw: &mut Vec<f64>, h: &mut Vec<f64>| {
         let same = norms_at == Some(*p);
         if let Some(nz) = noise
@@ -530,13 +548,17 @@ fn refine(
         // squared standardised norms ρ² (the median of ρ is the root of the median of ρ²)
         if !same {
             residual_norms2(trig, l2, p, &mut norms);
+            let mut ssr = 0.0;
             for (r2, w) in norms.iter_mut().zip(nw.iter()) {
+                ssr += *r2;
                 *r2 *= w;
             }
+            ssr_at = ssr;
             norms_at = Some(*p);
         }
         let c = c.unwrap_or_else(|| {
-            (HUBER_K * median(&norms, &mut sorted).sqrt() / 1.1774).max(1e-12 * l2)
+            (HUBER_K * median_every(&norms, median_stride(n), &mut sorted).sqrt() / 1.1774)
+                .max(1e-12 * l2)
         });
         let c2 = c * c;
         for (hk, r2) in h.iter_mut().zip(&norms) {
@@ -552,6 +574,7 @@ fn refine(
     };
     let mut c_prev: Option<f64> = None;
     let mut plain = None;
+    let mut last_normal = None;
     let rounds = if robust { 3 } else { 1 };
     for _ in 0..rounds {
         let c = reweight(&p, None, &mut nw, &mut h);
@@ -571,12 +594,14 @@ fn refine(
             gains,
         };
         refined = if np == 8 {
-            levenberg_marquardt::<8>(p, |q| pass::<8>(&pb, q).normal, max_it, tol)
+            let (r, ne) = levenberg_marquardt::<8>(p, |q| pass::<8>(&pb, q).normal, max_it, tol);
+            last_normal = Some(ne);
+            r
         } else {
             let unweighted = noise.is_none() && !robust;
             let w = (!unweighted).then_some(u.as_slice());
             let q = Quadratic::new(gram(trig, w, gains), gains.is_some());
-            let r = levenberg_marquardt::<6>(p, |x| q.normal(l2, x), max_it, tol);
+            let (r, _) = levenberg_marquardt::<6>(p, |x| q.normal(l2, x), max_it, tol);
             if unweighted && matches!(q, Quadratic::Sqrt(_)) {
                 plain = Some(q);
             }
@@ -593,6 +618,15 @@ fn refine(
     }
     let outliers = h.iter().filter(|&&v| v < 1.0).count();
     let n_eff = h.iter().sum();
+    // the norms at the answer are there when robust (the final reweighting computed them)
+    let last_pass = last_normal
+        .filter(|_| robust && norms_at == Some(p))
+        .map(|ne| {
+            let mut jtj = DMatrix::from_fn(8, 8, |i, j| ne.jtj[(i, j)]);
+            jtj[(1, 1)] += ne.correction_diag[0];
+            jtj[(2, 2)] += ne.correction_diag[1];
+            (jtj, ne.cost_scale, ssr_at)
+        });
     for v in [nw, h, norms, sorted] {
         scratch::give(v);
     }
@@ -602,6 +636,7 @@ fn refine(
         n_eff,
         outlier_fraction: outliers as f64 / n as f64,
         plain,
+        last_pass,
     }
 }
 

@@ -4,8 +4,8 @@
 //! The standard library computes `sin` and `cos` by two separate libm calls; the four-bar
 //! passes need both for three angles per sample, and that was most of their time. Here the
 //! angle is reduced to `r ∈ [−π/4, π/4]` by `x = k·π/2 + r` (Cody–Waite: π/2 split into three
-//! parts so `k·P1` and `k·P2` are exact), then sin and cos of `r` come from their Taylor series
-//! (the first omitted terms are below 1e−19) and the quadrant `k mod 4` picks signs. Accuracy
+//! parts so `k·P1` and `k·P2` are exact), then sin and cos of `r` come from fdlibm's minimax
+//! polynomials (the kernels of the C library's own `sin` and `cos`) and the quadrant `k mod 4` picks signs. Accuracy
 //! is a few ulp for |x| ≤ 1e5 rad; larger or non-finite angles fall back to the standard
 //! library.
 
@@ -26,33 +26,35 @@ const FAST_LIMIT: f64 = 1e5;
 /// that integer (two's complement, |y| < 2⁵¹).
 const ROUNDER: f64 = 6_755_399_441_055_744.0;
 
+/// fdlibm's `__kernel_sin` coefficients (x³ … x¹³).
+const S1: f64 = -0.16666666666666632;
+const S2: f64 = 0.00833333333332249;
+const S3: f64 = -0.0001984126982985795;
+const S4: f64 = 2.7557313707070068e-06;
+const S5: f64 = -2.5050760253406863e-08;
+const S6: f64 = 1.58969099521155e-10;
+/// fdlibm's `__kernel_cos` coefficients (x⁴ … x¹⁴).
+const C1: f64 = 0.0416666666666666;
+const C2: f64 = -0.001388888888887411;
+const C3: f64 = 2.480158728947673e-05;
+const C4: f64 = -2.7557314351390663e-07;
+const C5: f64 = 2.087572321298175e-09;
+const C6: f64 = -1.1359647557788195e-11;
+
 /// `x = k·π/2 + r`: `(x·2/π + ROUNDER, sin r, cos r)` (see the module documentation).
 #[inline(always)]
 fn reduced(x: f64) -> (f64, f64, f64) {
     let y = x * std::f64::consts::FRAC_2_PI + ROUNDER;
     let k = y - ROUNDER;
     let r = ((x - k * PIO2_1) - k * PIO2_2) - k * PIO2_3;
-    let r2 = r * r;
-    // Taylor coefficients 1/n! (alternating), Horner in r²
-    let s = r
-        * (1.0
-            + r2 * (-1.0 / 6.0
-                + r2 * (1.0 / 120.0
-                    + r2 * (-1.0 / 5040.0
-                        + r2 * (1.0 / 362_880.0
-                            + r2 * (-1.0 / 39_916_800.0
-                                + r2 * (1.0 / 6_227_020_800.0
-                                    + r2 * (-1.0 / 1_307_674_368_000.0
-                                        + r2 * (1.0 / 355_687_428_096_000.0)))))))));
-    let c = 1.0
-        + r2 * (-0.5
-            + r2 * (1.0 / 24.0
-                + r2 * (-1.0 / 720.0
-                    + r2 * (1.0 / 40_320.0
-                        + r2 * (-1.0 / 3_628_800.0
-                            + r2 * (1.0 / 479_001_600.0
-                                + r2 * (-1.0 / 87_178_291_200.0
-                                    + r2 * (1.0 / 20_922_789_888_000.0))))))));
+    let z = r * r;
+    // fdlibm's minimax kernels on [−π/4, π/4] (k_sin.c, k_cos.c: error below 2⁻⁵⁸), six
+    // coefficients each where the Taylor series needed nine
+    let s = r + r * z * (S1 + z * (S2 + z * (S3 + z * (S4 + z * (S5 + z * S6)))));
+    let hz = 0.5 * z;
+    let w = 1.0 - hz;
+    let tail = z * z * (C1 + z * (C2 + z * (C3 + z * (C4 + z * (C5 + z * C6)))));
+    let c = w + (((1.0 - w) - hz) + tail);
     (y, s, c)
 }
 
