@@ -540,6 +540,9 @@ async fn housekeep(db: &Db, now: i64) {
     if let Err(e) = db.purge_throttles(now).await {
         tracing::warn!("cannot purge login throttles: {e}");
     }
+    if let Err(e) = db.purge_pairing_windows(now).await {
+        tracing::warn!("cannot purge pairing attempt counts: {e}");
+    }
     if let Err(e) = db.flush_refusal_audits(now).await {
         tracing::warn!("cannot write suppressed refusal counts: {e}");
     }

@@ -36,6 +36,7 @@ mod messages;
 mod notes;
 mod pain;
 mod pairing;
+mod pairing_windows;
 mod patients;
 mod regimens;
 mod scales;
@@ -55,6 +56,8 @@ use sqlx::any::{AnyPoolOptions, AnyRow};
 use sqlx::{AnyPool, Executor, Row};
 
 use crate::error::HubError;
+
+pub use pairing_windows::PairingEvent;
 
 pub use alert_acks::{AlertAck, MAX_ALERT_KEY_CHARS, NewAck};
 pub use audit::{
