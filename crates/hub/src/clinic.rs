@@ -27,6 +27,7 @@ use tokio::sync::broadcast;
 
 use crate::db::{Db, RegimenVersion, Role};
 use crate::error::HubError;
+use crate::fanout::{Fanout, Note};
 use crate::ingest::{DbStore, Ingest, REVOCATION_POLL};
 use crate::limits::ConnectionBudget;
 use crate::telemetry::Telemetry;
@@ -407,6 +408,11 @@ pub async fn serve(
     let (live, _) = broadcast::channel::<LiveEvent>(1024);
     let (prescribed, mut prescriptions) = broadcast::channel::<RegimenVersion>(64);
     let (cleared, mut clearances) = broadcast::channel::<String>(64);
+    // Several hubs on one PostgreSQL: what happens here is told to the others, and theirs here.
+    let (fanout, mut from_other_hubs) = match Fanout::start(&db) {
+        Some((fanout, notes)) => (Some(fanout), Some(notes)),
+        None => (None, None),
+    };
     let web_listener = bind_web(options.web).await?;
     let web_addr = web_listener.as_ref().and_then(|l| l.local_addr().ok());
     let care = Arc::new(settle_care(
@@ -473,8 +479,17 @@ pub async fn serve(
             }
             _ = housekeeping.tick() => housekeep(&db, unix_ms(&options.clock)).await,
             _ = sweep.tick() => expire_partial_uploads(staging.clone()).await,
-            Ok(regimen) = prescriptions.recv() => push_regimen(&server, &db, &regimen).await,
-            Ok(patient) = clearances.recv() => push_care_to_patient(&server, &db, &care, &patient).await,
+            Ok(regimen) = prescriptions.recv() => {
+                push_regimen(&server, &db, &regimen).await;
+                tell_other_hubs(fanout.as_ref(), Note::Regimen { patient_id: regimen.patient_id.clone() });
+            }
+            Ok(patient) = clearances.recv() => {
+                push_care_to_patient(&server, &db, &care, &patient).await;
+                tell_other_hubs(fanout.as_ref(), Note::PainCleared { patient_id: patient });
+            }
+            Some(note) = next_note(&mut from_other_hubs) => {
+                on_other_hubs_note(note, &server, &db, &care, &live).await;
+            }
             Some(event) = events.recv() => {
                 on_event(&event);
                 count_event(&telemetry, &server, &event);
@@ -483,6 +498,14 @@ pub async fn serve(
                     push_care(&server, &db, &care, &hello.station_id, &hello.patient_id).await;
                 }
                 on_station_event(&event, &server, &db, &live, unix_ms(&options.clock)).await;
+                if let TherapistEvent::Summary { patient_id, summary, .. } = &event {
+                    let event = LiveEvent {
+                        patient_id: patient_id.clone(),
+                        session_id: summary.session_id.clone(),
+                        summary: summary.clone(),
+                    };
+                    tell_other_hubs(fanout.as_ref(), Note::Live { event });
+                }
             }
         }
     }
@@ -593,6 +616,61 @@ async fn on_station_event(
             }
         }
         _ => {}
+    }
+}
+
+/// Tells the other hubs of the clinic `note` (several hubs on PostgreSQL; nothing to tell
+/// on SQLite, `fanout` is `None`).
+fn tell_other_hubs(fanout: Option<&Fanout>, note: Note) {
+    if let Some(fanout) = fanout {
+        fanout.publish(note);
+    }
+}
+
+/// The next note of the other hubs; never, on SQLite.
+async fn next_note(notes: &mut Option<tokio::sync::mpsc::Receiver<Note>>) -> Option<Note> {
+    match notes {
+        Some(notes) => notes.recv().await,
+        None => std::future::pending().await,
+    }
+}
+
+/// What another hub told this one: a summary goes to the live views open here; a regimen or
+/// a cleared pain alert to the patient's stations connected here.
+async fn on_other_hubs_note(
+    note: Note,
+    server: &TherapistServer,
+    db: &Db,
+    care: &crate::care::CareConfig,
+    live: &broadcast::Sender<LiveEvent>,
+) {
+    match note {
+        Note::Live { event } => {
+            let _ = live.send(event);
+        }
+        Note::LiveStored {
+            patient_id,
+            session_id,
+            seq,
+        } => match db.summary(&session_id, seq).await {
+            Ok(Some(summary)) => {
+                let _ = live.send(LiveEvent {
+                    patient_id,
+                    session_id,
+                    summary,
+                });
+            }
+            Ok(None) => tracing::warn!(%session_id, seq, "another hub's summary is not stored"),
+            Err(e) => tracing::warn!("cannot read another hub's summary: {e}"),
+        },
+        Note::Regimen { patient_id } => {
+            if let Ok(Some(regimen)) = db.latest_regimen(&patient_id).await {
+                push_regimen(server, db, &regimen).await;
+            }
+        }
+        Note::PainCleared { patient_id } => {
+            push_care_to_patient(server, db, care, &patient_id).await;
+        }
     }
 }
 

@@ -139,6 +139,9 @@ pub struct Db {
     wal_path: Option<PathBuf>,
     /// Login throttling's hashing pool and refusal limiter, shared by clones.
     guards: std::sync::Arc<logins::Guards>,
+    /// The PostgreSQL server's URL (the hubs' shared channel listens on a connection of its
+    /// own, [`crate::fanout`]); `None` on SQLite.
+    postgres_url: Option<std::sync::Arc<str>>,
 }
 
 impl Db {
@@ -218,6 +221,7 @@ impl Db {
             backend,
             wal_path,
             guards: std::sync::Arc::new(logins::Guards::new()),
+            postgres_url: (backend == Backend::Postgres).then(|| url.into()),
         };
         if fill_sessions_per_week {
             db.fill_sessions_per_week().await?;
@@ -240,6 +244,11 @@ impl Db {
             ));
         }
         Self::open(&format!("sqlite://{text}?mode=rwc")).await
+    }
+
+    /// The PostgreSQL server's URL; `None` on SQLite.
+    pub(crate) fn postgres_url(&self) -> Option<&str> {
+        self.postgres_url.as_deref()
     }
 
     /// The engine behind this database.
