@@ -193,10 +193,10 @@ impl Console {
                 let Ok(line) = line else { return };
                 if let Some(name) = line.strip_prefix("event: ") {
                     event = name.to_owned();
-                } else if let Some(data) = line.strip_prefix("data: ") {
-                    if tx.send((event.clone(), data.to_owned())).is_err() {
-                        return;
-                    }
+                } else if let Some(data) = line.strip_prefix("data: ")
+                    && tx.send((event.clone(), data.to_owned())).is_err()
+                {
+                    return;
                 }
             }
         });

@@ -217,6 +217,67 @@ fn report_of(child: Child) -> String {
     )
 }
 
+/// Waits until the console answers `/readyz` with 200 (through the balancer: a hub passed
+/// its checks).
+fn until_ready(console: &Console) {
+    let began = Instant::now();
+    while console.request("GET", "/readyz", None, "").status != 200 {
+        assert!(began.elapsed() < GUARD, "no ready hub");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+/// `telerehab pair` of the station in `home` through `hub` with `code`; the station's id.
+fn pair_through(hub: &str, code: &str, home: &Path) -> String {
+    let paired = telerehab_tests::clinic::ok(&["pair", "--hub", hub, "--code", code], Some(home));
+    assert!(
+        paired.starts_with("paired: this station is st-"),
+        "{paired}"
+    );
+    telerehab_tests::clinic::after(&paired, "this station is ")
+        .trim_end_matches(',')
+        .to_owned()
+}
+
+/// The run that `report` ends delivered every summary, stored exactly once by the clinic of
+/// `data`, and uploaded its recording, which is complete in the S3 store (not on a hub's disk).
+fn assert_delivered_once_into_the_store(report: &str, data: &Path) {
+    let n = telerehab_tests::clinic::produced(report);
+    assert!(
+        report.contains(&format!("{n} sent, {n} acknowledged, 0 NOT delivered")),
+        "{report}"
+    );
+    assert!(
+        report.contains("recording upload    1 uploaded"),
+        "{report}"
+    );
+    let (stored, _) = show(data);
+    assert_eq!(stored, vec![n], "summaries stored exactly once");
+    let recording = &show_json(data)["sessions"][0]["recording"];
+    assert_eq!(recording["complete"], true, "{recording}");
+    assert!(
+        recording["path"].as_str().unwrap().starts_with("s3://"),
+        "{recording}"
+    );
+}
+
+/// `n` logins with a wrong password for the clinic's admin, sent at once, in turn to each of
+/// `consoles`; their statuses.
+fn failed_logins_at_once(consoles: &[Console], n: usize) -> Vec<u16> {
+    std::thread::scope(|scope| {
+        let tries: Vec<_> = (0..n)
+            .map(|i| {
+                let console = &consoles[i % consoles.len()];
+                scope.spawn(move || {
+                    let body = r#"{"email": "ana@clinic.example", "password": "not the password"}"#;
+                    console.request("POST", "/api/login", None, body).status
+                })
+            })
+            .collect();
+        tries.into_iter().map(|t| t.join().unwrap()).collect()
+    })
+}
+
 #[test]
 fn two_hubs_behind_haproxy_share_live_data_revocation_throttles_and_lose_nothing_to_a_kill() {
     let test_began = Instant::now();
@@ -236,30 +297,24 @@ fn two_hubs_behind_haproxy_share_live_data_revocation_throttles_and_lose_nothing
     recordings_in(&data_b, &s3);
     let mut a = serve(&data_a, "127.0.0.1:0", "127.0.0.1:0");
     let b = serve(&data_b, "127.0.0.1:0", "127.0.0.1:0");
-    let (a_stations, a_web) = (format!("127.0.0.1:{}", a.stations_port()), a.web().to_owned());
+    let (a_stations, a_web) = (
+        format!("127.0.0.1:{}", a.stations_port()),
+        a.web().to_owned(),
+    );
     let Some(balancer) = Haproxy::start(tmp.path(), &a, &b) else {
         return;
     };
     let through = format!("localhost:{}", balancer.stations);
 
     // The console through the balancer: both hubs pass their readiness checks and answer.
-    let front = Console::new(&data_a, &format!("127.0.0.1:{}", balancer.console));
-    let began = Instant::now();
-    while front.request("GET", "/readyz", None, "").status != 200 {
-        assert!(began.elapsed() < GUARD, "the balancer never had a ready hub");
-        std::thread::sleep(Duration::from_millis(100));
-    }
+    until_ready(&Console::new(
+        &data_a,
+        &format!("127.0.0.1:{}", balancer.console),
+    ));
 
     // Pairing and the first session through the balancer (hub A, the first server).
     let home = tmp.path().join("station");
-    let paired = telerehab_tests::clinic::ok(
-        &["pair", "--hub", &through, "--code", &made.code],
-        Some(&home),
-    );
-    assert!(paired.starts_with("paired: this station is st-"), "{paired}");
-    let station_id = telerehab_tests::clinic::after(&paired, "this station is ")
-        .trim_end_matches(',')
-        .to_owned();
+    let station_id = pair_through(&through, &made.code, &home);
     let patient_id = show_json(&data_b)["patient"]["id"]
         .as_str()
         .unwrap()
@@ -286,22 +341,7 @@ fn two_hubs_behind_haproxy_share_live_data_revocation_throttles_and_lose_nothing
     );
     // Live data keeps coming, now from hub B itself.
     next_summary(&live, Some(&session_1));
-    let report = report_of(session);
-    let n = telerehab_tests::clinic::produced(&report);
-    assert!(
-        report.contains(&format!("{n} sent, {n} acknowledged, 0 NOT delivered")),
-        "{report}"
-    );
-    assert!(report.contains("recording upload    1 uploaded"), "{report}");
-    // Every summary stored exactly once, and the recording in the store, not on a hub's disk.
-    let (stored, _) = show(&data_b);
-    assert_eq!(stored, vec![n], "summaries stored exactly once");
-    let recording = &show_json(&data_b)["sessions"][0]["recording"];
-    assert_eq!(recording["complete"], true, "{recording}");
-    assert!(
-        recording["path"].as_str().unwrap().starts_with("s3://"),
-        "{recording}"
-    );
+    assert_delivered_once_into_the_store(&report_of(session), &data_b);
 
     // Hub A comes back on its ports; the next session lands on it (the balancer's first).
     let a = serve(&data_a, &a_stations, &a_web);
@@ -324,12 +364,7 @@ fn two_hubs_behind_haproxy_share_live_data_revocation_throttles_and_lose_nothing
         Some(&cookie),
         "{}",
     );
-    assert_eq!(
-        revoked.status,
-        200,
-        "{}",
-        String::from_utf8_lossy(&revoked.body)
-    );
+    assert_eq!(revoked.status, 200, "{:?}", revoked.body);
     let dropped_after = until_connected(&a, 0);
     println!(
         "a revocation on hub B dropped the station from hub A after {:.2} s",
@@ -345,19 +380,7 @@ fn two_hubs_behind_haproxy_share_live_data_revocation_throttles_and_lose_nothing
 
     // Failed logins from one address, sent at once and spread over both hubs: one address's
     // free allowance is evaluated in all, not one per hub.
-    let consoles = [Console::new(&data_a, a.web()), console_b];
-    let answers: Vec<u16> = std::thread::scope(|scope| {
-        let tries: Vec<_> = (0..12)
-            .map(|i| {
-                let console = &consoles[i % 2];
-                scope.spawn(move || {
-                    let body = r#"{"email": "ana@clinic.example", "password": "not the password"}"#;
-                    console.request("POST", "/api/login", None, body).status
-                })
-            })
-            .collect();
-        tries.into_iter().map(|t| t.join().unwrap()).collect()
-    });
+    let answers = failed_logins_at_once(&[Console::new(&data_a, a.web()), console_b], 12);
     // Each attempt must win a place on the address's count and on the account's (here: its
     // familiar place's) at once, so of parallel attempts at most the free allowance is
     // evaluated; counted per hub, each would evaluate at least 4 of its 6.
@@ -368,7 +391,9 @@ fn two_hubs_behind_haproxy_share_live_data_revocation_throttles_and_lose_nothing
         (1..=free).contains(&evaluated) && evaluated + throttled == answers.len(),
         "{answers:?}"
     );
-    println!("12 failed logins at once over two hubs: {evaluated} evaluated, {throttled} throttled");
+    println!(
+        "12 failed logins at once over two hubs: {evaluated} evaluated, {throttled} throttled"
+    );
 
     drop(balancer);
     a.stop();

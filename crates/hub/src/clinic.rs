@@ -408,11 +408,7 @@ pub async fn serve(
     let (live, _) = broadcast::channel::<LiveEvent>(1024);
     let (prescribed, mut prescriptions) = broadcast::channel::<RegimenVersion>(64);
     let (cleared, mut clearances) = broadcast::channel::<String>(64);
-    // Several hubs on one PostgreSQL: what happens here is told to the others, and theirs here.
-    let (fanout, mut from_other_hubs) = match Fanout::start(&db) {
-        Some((fanout, notes)) => (Some(fanout), Some(notes)),
-        None => (None, None),
-    };
+    let (fanout, mut from_other_hubs) = Fanout::start(&db).unzip(); // several hubs on PostgreSQL
     let web_listener = bind_web(options.web).await?;
     let web_addr = web_listener.as_ref().and_then(|l| l.local_addr().ok());
     let care = Arc::new(settle_care(
@@ -479,17 +475,9 @@ pub async fn serve(
             }
             _ = housekeeping.tick() => housekeep(&db, unix_ms(&options.clock)).await,
             _ = sweep.tick() => expire_partial_uploads(staging.clone()).await,
-            Ok(regimen) = prescriptions.recv() => {
-                push_regimen(&server, &db, &regimen).await;
-                tell_other_hubs(fanout.as_ref(), Note::Regimen { patient_id: regimen.patient_id.clone() });
-            }
-            Ok(patient) = clearances.recv() => {
-                push_care_to_patient(&server, &db, &care, &patient).await;
-                tell_other_hubs(fanout.as_ref(), Note::PainCleared { patient_id: patient });
-            }
-            Some(note) = next_note(&mut from_other_hubs) => {
-                on_other_hubs_note(note, &server, &db, &care, &live).await;
-            }
+            Ok(regimen) = prescriptions.recv() => prescribed_here(&server, &db, fanout.as_ref(), regimen).await,
+            Ok(patient) = clearances.recv() => cleared_here(&server, &db, &care, fanout.as_ref(), patient).await,
+            Some(note) = next_note(&mut from_other_hubs) => on_other_hubs_note(note, &server, &db, &care, &live).await,
             Some(event) = events.recv() => {
                 on_event(&event);
                 count_event(&telemetry, &server, &event);
@@ -497,15 +485,7 @@ pub async fn serve(
                     // First: a station that checks in before today's page knows at once.
                     push_care(&server, &db, &care, &hello.station_id, &hello.patient_id).await;
                 }
-                on_station_event(&event, &server, &db, &live, unix_ms(&options.clock)).await;
-                if let TherapistEvent::Summary { patient_id, summary, .. } = &event {
-                    let event = LiveEvent {
-                        patient_id: patient_id.clone(),
-                        session_id: summary.session_id.clone(),
-                        summary: summary.clone(),
-                    };
-                    tell_other_hubs(fanout.as_ref(), Note::Live { event });
-                }
+                on_station_event(&event, &server, &db, (&live, fanout.as_ref()), unix_ms(&options.clock)).await;
             }
         }
     }
@@ -586,13 +566,14 @@ async fn expire_partial_uploads(recordings: PathBuf) {
     }
 }
 
-/// A station's `event`: a summary goes to the console's live feed; a station that connects
-/// gets its patient's unseen messages and latest regimen.
+/// A station's `event`: a summary goes to the console's live feed `live.0` and to the other
+/// hubs' (`live.1`, several hubs on PostgreSQL); a station that connects gets its patient's
+/// unseen messages and latest regimen.
 async fn on_station_event(
     event: &TherapistEvent,
     server: &TherapistServer,
     db: &Db,
-    live: &broadcast::Sender<LiveEvent>,
+    live: (&broadcast::Sender<LiveEvent>, Option<&Fanout>),
     now_ms: i64,
 ) {
     match event {
@@ -601,11 +582,13 @@ async fn on_station_event(
             summary,
             ..
         } => {
-            let _ = live.send(LiveEvent {
+            let event = LiveEvent {
                 patient_id: patient_id.clone(),
                 session_id: summary.session_id.clone(),
                 summary: summary.clone(),
-            });
+            };
+            let _ = live.0.send(event.clone());
+            tell_other_hubs(live.1, Note::Live { event });
         }
         TherapistEvent::Connected { hello, .. } => {
             // Before the regimen: a station that waits for its prescription has its
@@ -617,6 +600,32 @@ async fn on_station_event(
         }
         _ => {}
     }
+}
+
+/// A regimen prescribed on this hub's console: pushed to the patient's stations connected here
+/// and told to the other hubs for theirs.
+async fn prescribed_here(
+    server: &TherapistServer,
+    db: &Db,
+    fanout: Option<&Fanout>,
+    regimen: RegimenVersion,
+) {
+    push_regimen(server, db, &regimen).await;
+    let patient_id = regimen.patient_id;
+    tell_other_hubs(fanout, Note::Regimen { patient_id });
+}
+
+/// A pain alert of `patient_id` cleared on this hub's console: told to their stations
+/// connected here and to the other hubs for theirs.
+async fn cleared_here(
+    server: &TherapistServer,
+    db: &Db,
+    care: &crate::care::CareConfig,
+    fanout: Option<&Fanout>,
+    patient_id: String,
+) {
+    push_care_to_patient(server, db, care, &patient_id).await;
+    tell_other_hubs(fanout, Note::PainCleared { patient_id });
 }
 
 /// Tells the other hubs of the clinic `note` (several hubs on PostgreSQL; nothing to tell
