@@ -38,7 +38,7 @@ impl PairingEvent {
 }
 
 impl Db {
-    /// Counts one `event` from `address` (an address key, [`crate::db::address_key`]) at
+    /// Counts one `event` from `address` (an address key: the IPv4 address, or the IPv6 /64) at
     /// `now_ms`; the count in its window after it.
     pub async fn count_pairing_event(
         &self,
