@@ -31,7 +31,8 @@ PKGS=(build-essential pkg-config libudev-dev mesa-vulkan-drivers libvulkan1 libg
       python3-aiosmtpd  # a real SMTP server for the hub's pain-mail tests (tests/smtp_sink.py)
       prometheus  # its promtool checks the hub's /metrics and docs/operating/alerts.yml
       maven default-jdk-headless  # the reference FHIR validator (scripts/fhir-validator)
-      age)  # Debian's age decrypts a hub backup (crates/hub/tests/backup_privacy.rs)
+      age  # Debian's age decrypts a hub backup (crates/hub/tests/backup_privacy.rs)
+      haproxy)  # the load balancer in front of several hubs (tests/hubs_e2e.rs runs its own)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -45,6 +46,9 @@ fi
 # nor enabled (the package enables it on install).
 $SUDO systemctl disable --now prometheus.service >/dev/null 2>&1 || true
 $SUDO update-rc.d prometheus disable >/dev/null 2>&1 || true
+# Likewise haproxy: tests start their own with a generated configuration on free ports.
+$SUDO systemctl disable --now haproxy.service >/dev/null 2>&1 || true
+$SUDO update-rc.d haproxy disable >/dev/null 2>&1 || true
 
 if ! command -v cargo >/dev/null 2>&1; then
   if [ -x "$HOME/.cargo/bin/cargo" ]; then

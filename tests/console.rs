@@ -171,6 +171,38 @@ impl Console {
         session_cookie(&changed)
     }
 
+    /// `GET path` (Server-Sent Events) with the login `cookie`, read on a thread of its own:
+    /// each event as (its name, its data), as it arrives, until the server ends the stream.
+    pub fn events(&self, path: &str, cookie: &str) -> std::sync::mpsc::Receiver<(String, String)> {
+        use std::io::BufRead;
+        let name = rustls::pki_types::ServerName::try_from("localhost").unwrap();
+        let conn = rustls::ClientConnection::new(self.tls.clone(), name).unwrap();
+        let tcp = TcpStream::connect(&self.addr).unwrap();
+        let mut tls = rustls::StreamOwned::new(conn, tcp);
+        let head = format!(
+            "GET {path} HTTP/1.1\r\nHost: localhost\r\nAccept: text/event-stream\r\n\
+             Cookie: {cookie}\r\n\r\n"
+        );
+        tls.write_all(head.as_bytes()).unwrap();
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            // Chunk-size lines of the chunked body come between events; only `event:` and
+            // `data:` lines are read (the hub writes each event in one chunk).
+            let mut event = String::new();
+            for line in std::io::BufReader::new(tls).lines() {
+                let Ok(line) = line else { return };
+                if let Some(name) = line.strip_prefix("event: ") {
+                    event = name.to_owned();
+                } else if let Some(data) = line.strip_prefix("data: ")
+                    && tx.send((event.clone(), data.to_owned())).is_err()
+                {
+                    return;
+                }
+            }
+        });
+        rx
+    }
+
     /// `GET path` with the login `cookie`.
     pub fn get(&self, path: &str, cookie: &str) -> Answer {
         self.request("GET", path, Some(cookie), "")

@@ -27,6 +27,7 @@ use tokio::sync::broadcast;
 
 use crate::db::{Db, RegimenVersion, Role};
 use crate::error::HubError;
+use crate::fanout::{Fanout, Note};
 use crate::ingest::{DbStore, Ingest, REVOCATION_POLL};
 use crate::limits::ConnectionBudget;
 use crate::telemetry::Telemetry;
@@ -407,6 +408,7 @@ pub async fn serve(
     let (live, _) = broadcast::channel::<LiveEvent>(1024);
     let (prescribed, mut prescriptions) = broadcast::channel::<RegimenVersion>(64);
     let (cleared, mut clearances) = broadcast::channel::<String>(64);
+    let (fanout, mut from_other_hubs) = Fanout::start(&db).unzip(); // several hubs on PostgreSQL
     let web_listener = bind_web(options.web).await?;
     let web_addr = web_listener.as_ref().and_then(|l| l.local_addr().ok());
     let care = Arc::new(settle_care(
@@ -473,8 +475,9 @@ pub async fn serve(
             }
             _ = housekeeping.tick() => housekeep(&db, unix_ms(&options.clock)).await,
             _ = sweep.tick() => expire_partial_uploads(staging.clone()).await,
-            Ok(regimen) = prescriptions.recv() => push_regimen(&server, &db, &regimen).await,
-            Ok(patient) = clearances.recv() => push_care_to_patient(&server, &db, &care, &patient).await,
+            Ok(regimen) = prescriptions.recv() => prescribed_here(&server, &db, fanout.as_ref(), regimen).await,
+            Ok(patient) = clearances.recv() => cleared_here(&server, &db, &care, fanout.as_ref(), patient).await,
+            Some(note) = next_note(&mut from_other_hubs) => on_other_hubs_note(note, &server, &db, &care, &live).await,
             Some(event) = events.recv() => {
                 on_event(&event);
                 count_event(&telemetry, &server, &event);
@@ -482,7 +485,7 @@ pub async fn serve(
                     // First: a station that checks in before today's page knows at once.
                     push_care(&server, &db, &care, &hello.station_id, &hello.patient_id).await;
                 }
-                on_station_event(&event, &server, &db, &live, unix_ms(&options.clock)).await;
+                on_station_event(&event, &server, &db, (&live, fanout.as_ref()), unix_ms(&options.clock)).await;
             }
         }
     }
@@ -540,6 +543,9 @@ async fn housekeep(db: &Db, now: i64) {
     if let Err(e) = db.purge_throttles(now).await {
         tracing::warn!("cannot purge login throttles: {e}");
     }
+    if let Err(e) = db.purge_pairing_windows(now).await {
+        tracing::warn!("cannot purge pairing attempt counts: {e}");
+    }
     if let Err(e) = db.flush_refusal_audits(now).await {
         tracing::warn!("cannot write suppressed refusal counts: {e}");
     }
@@ -560,13 +566,14 @@ async fn expire_partial_uploads(recordings: PathBuf) {
     }
 }
 
-/// A station's `event`: a summary goes to the console's live feed; a station that connects
-/// gets its patient's unseen messages and latest regimen.
+/// A station's `event`: a summary goes to the console's live feed `live.0` and to the other
+/// hubs' (`live.1`, several hubs on PostgreSQL); a station that connects gets its patient's
+/// unseen messages and latest regimen.
 async fn on_station_event(
     event: &TherapistEvent,
     server: &TherapistServer,
     db: &Db,
-    live: &broadcast::Sender<LiveEvent>,
+    live: (&broadcast::Sender<LiveEvent>, Option<&Fanout>),
     now_ms: i64,
 ) {
     match event {
@@ -575,11 +582,13 @@ async fn on_station_event(
             summary,
             ..
         } => {
-            let _ = live.send(LiveEvent {
+            let event = LiveEvent {
                 patient_id: patient_id.clone(),
                 session_id: summary.session_id.clone(),
                 summary: summary.clone(),
-            });
+            };
+            let _ = live.0.send(event.clone());
+            tell_other_hubs(live.1, Note::Live { event });
         }
         TherapistEvent::Connected { hello, .. } => {
             // Before the regimen: a station that waits for its prescription has its
@@ -590,6 +599,87 @@ async fn on_station_event(
             }
         }
         _ => {}
+    }
+}
+
+/// A regimen prescribed on this hub's console: pushed to the patient's stations connected here
+/// and told to the other hubs for theirs.
+async fn prescribed_here(
+    server: &TherapistServer,
+    db: &Db,
+    fanout: Option<&Fanout>,
+    regimen: RegimenVersion,
+) {
+    push_regimen(server, db, &regimen).await;
+    let patient_id = regimen.patient_id;
+    tell_other_hubs(fanout, Note::Regimen { patient_id });
+}
+
+/// A pain alert of `patient_id` cleared on this hub's console: told to their stations
+/// connected here and to the other hubs for theirs.
+async fn cleared_here(
+    server: &TherapistServer,
+    db: &Db,
+    care: &crate::care::CareConfig,
+    fanout: Option<&Fanout>,
+    patient_id: String,
+) {
+    push_care_to_patient(server, db, care, &patient_id).await;
+    tell_other_hubs(fanout, Note::PainCleared { patient_id });
+}
+
+/// Tells the other hubs of the clinic `note` (several hubs on PostgreSQL; nothing to tell
+/// on SQLite, `fanout` is `None`).
+fn tell_other_hubs(fanout: Option<&Fanout>, note: Note) {
+    if let Some(fanout) = fanout {
+        fanout.publish(note);
+    }
+}
+
+/// The next note of the other hubs; never, on SQLite.
+async fn next_note(notes: &mut Option<tokio::sync::mpsc::Receiver<Note>>) -> Option<Note> {
+    match notes {
+        Some(notes) => notes.recv().await,
+        None => std::future::pending().await,
+    }
+}
+
+/// What another hub told this one: a summary goes to the live views open here; a regimen or
+/// a cleared pain alert to the patient's stations connected here.
+async fn on_other_hubs_note(
+    note: Note,
+    server: &TherapistServer,
+    db: &Db,
+    care: &crate::care::CareConfig,
+    live: &broadcast::Sender<LiveEvent>,
+) {
+    match note {
+        Note::Live { event } => {
+            let _ = live.send(event);
+        }
+        Note::LiveStored {
+            patient_id,
+            session_id,
+            seq,
+        } => match db.summary(&session_id, seq).await {
+            Ok(Some(summary)) => {
+                let _ = live.send(LiveEvent {
+                    patient_id,
+                    session_id,
+                    summary,
+                });
+            }
+            Ok(None) => tracing::warn!(%session_id, seq, "another hub's summary is not stored"),
+            Err(e) => tracing::warn!("cannot read another hub's summary: {e}"),
+        },
+        Note::Regimen { patient_id } => {
+            if let Ok(Some(regimen)) = db.latest_regimen(&patient_id).await {
+                push_regimen(server, db, &regimen).await;
+            }
+        }
+        Note::PainCleared { patient_id } => {
+            push_care_to_patient(server, db, care, &patient_id).await;
+        }
     }
 }
 

@@ -22,7 +22,7 @@ use netlink::{
     BoxFuture, Bye, CheckNews, Hello, HubStore, NetlinkError, Peer, Refusal, SessionStore, Summary,
 };
 
-use crate::db::{Db, MAX_SESSIONS_PER_STATION_DAY};
+use crate::db::{Db, MAX_SESSIONS_PER_STATION_DAY, PairingEvent};
 use crate::error::HubError;
 use crate::telemetry::{AdmissionRefusal, Telemetry};
 use crate::web::unix_ms;
@@ -91,9 +91,6 @@ pub struct DbStore {
     /// The name on the hub's certificate, given to paired stations.
     server_name: String,
     revoked: Arc<RwLock<HashSet<String>>>,
-    /// Pairing attempts and failures per address (IPv6 per /64: one host holds a whole /64).
-    pairing_attempts: Mutex<HashMap<String, (i64, u32)>>,
-    pairing_failures: Mutex<HashMap<String, (i64, u32)>>,
     /// When each station's refusal of each kind was last audited, ms (at most one entry per
     /// station and kind per [`REFUSAL_AUDIT_EVERY_MS`]).
     refusal_audits: Mutex<HashMap<(String, &'static str), i64>>,
@@ -173,8 +170,6 @@ impl DbStore {
             ca,
             server_name,
             revoked: Arc::default(),
-            pairing_attempts: Mutex::default(),
-            pairing_failures: Mutex::default(),
             refusal_audits: Mutex::default(),
             clock,
             care: None,
@@ -329,37 +324,25 @@ impl DbStore {
     }
 
     /// Counts a pairing attempt from `ip`; false beyond [`PAIRING_ATTEMPTS_PER_MINUTE`] a
-    /// minute or after [`PAIRING_FAILURES_PER_HOUR`] failures within the hour.
-    fn pairing_allowed(&self, ip: IpAddr) -> bool {
+    /// minute or after [`PAIRING_FAILURES_PER_HOUR`] failures within the hour. Both are counted
+    /// per address (IPv6 per /64: one host holds a whole /64) in the database, shared by every
+    /// hub of the clinic ([`PairingEvent`]).
+    async fn pairing_allowed(&self, ip: IpAddr) -> Result<bool, HubError> {
         let now = self.now();
-        let failed = count_in_window(&self.pairing_failures, ip, now, 3_600_000, 0);
-        failed < PAIRING_FAILURES_PER_HOUR
-            && count_in_window(&self.pairing_attempts, ip, now, 60_000, 1)
-                <= PAIRING_ATTEMPTS_PER_MINUTE
+        let address = crate::db::address_key(ip);
+        let failed = self
+            .db
+            .pairing_events(PairingEvent::Failed, &address, now)
+            .await?;
+        if failed >= PAIRING_FAILURES_PER_HOUR {
+            return Ok(false);
+        }
+        let begun = self
+            .db
+            .count_pairing_event(PairingEvent::Begun, &address, now)
+            .await?;
+        Ok(begun <= PAIRING_ATTEMPTS_PER_MINUTE)
     }
-}
-
-/// Adds `add` to `ip`'s count (keyed as the login throttle keys addresses,
-/// [`crate::db::address_key`]) in a fixed window of `window_ms` starting at its first event
-/// (windows of other addresses that have ended are forgotten); the count after adding.
-fn count_in_window(
-    counts: &Mutex<HashMap<String, (i64, u32)>>,
-    ip: IpAddr,
-    now_ms: i64,
-    window_ms: i64,
-    add: u32,
-) -> u32 {
-    let mut counts = counts
-        .lock()
-        .unwrap_or_else(std::sync::PoisonError::into_inner);
-    counts.retain(|_, (start, _)| now_ms - *start < window_ms);
-    let key = crate::db::address_key(ip);
-    if add == 0 {
-        return counts.get(&key).map_or(0, |(_, n)| *n);
-    }
-    let entry = counts.entry(key).or_insert((now_ms, 0));
-    entry.1 = entry.1.saturating_add(add);
-    entry.1
 }
 
 impl HubStore for DbStore {
@@ -777,7 +760,7 @@ impl PairingAuthority for DbStore {
         peer: SocketAddr,
     ) -> BoxFuture<'a, Result<Ticket, Refusal>> {
         Box::pin(async move {
-            if !self.pairing_allowed(peer.ip()) {
+            if !self.pairing_allowed(peer.ip()).await.map_err(refusal)? {
                 return Err(Refusal::new(format!(
                     "too many pairing attempts from {}; try again later (each address may \
                      begin {PAIRING_ATTEMPTS_PER_MINUTE} a minute and fail \
@@ -812,7 +795,14 @@ impl PairingAuthority for DbStore {
         Box::pin(async move {
             // The code's own attempt was counted when it began; here the address's.
             let now = self.now();
-            count_in_window(&self.pairing_failures, peer.ip(), now, 3_600_000, 1);
+            let address = crate::db::address_key(peer.ip());
+            if let Err(e) = self
+                .db
+                .count_pairing_event(PairingEvent::Failed, &address, now)
+                .await
+            {
+                tracing::warn!("cannot count a failed pairing attempt: {e}");
+            }
             let _ = self
                 .db
                 .audit(

@@ -3,7 +3,8 @@
 //! therapist console ([`web`]); the station link's store and pairing authority ([`ingest`]);
 //! a clinic's data directory, `hub init` and `hub serve` ([`clinic`]); what `hub patient …`
 //! does to the database ([`patients`]); where recordings are kept, the data directory or an
-//! S3-compatible store ([`recordings`]); partial uploads expired ([`uploads`]); the load
+//! S3-compatible store ([`recordings`]); what one hub tells the others of its clinic through
+//! PostgreSQL ([`fanout`]); partial uploads expired ([`uploads`]); the load
 //! generator of `hub bench` ([`bench`](mod@bench)); what an operator watches — `/metrics`,
 //! `/healthz`, `/readyz` ([`telemetry`], `web::ops`); the
 //! crate's errors ([`HubError`], [`PairRefusal`], module `error`).
@@ -19,6 +20,7 @@ pub mod cli;
 pub mod clinic;
 pub mod db;
 mod error;
+pub mod fanout;
 pub mod fhir;
 pub mod ingest;
 pub mod limits;

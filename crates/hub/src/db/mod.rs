@@ -36,6 +36,7 @@ mod messages;
 mod notes;
 mod pain;
 mod pairing;
+mod pairing_windows;
 mod patients;
 mod regimens;
 mod scales;
@@ -55,6 +56,8 @@ use sqlx::any::{AnyPoolOptions, AnyRow};
 use sqlx::{AnyPool, Executor, Row};
 
 use crate::error::HubError;
+
+pub use pairing_windows::PairingEvent;
 
 pub use alert_acks::{AlertAck, MAX_ALERT_KEY_CHARS, NewAck};
 pub use audit::{
@@ -136,6 +139,9 @@ pub struct Db {
     wal_path: Option<PathBuf>,
     /// Login throttling's hashing pool and refusal limiter, shared by clones.
     guards: std::sync::Arc<logins::Guards>,
+    /// The PostgreSQL server's URL (the hubs' shared channel listens on a connection of its
+    /// own, [`crate::fanout`]); `None` on SQLite.
+    postgres_url: Option<std::sync::Arc<str>>,
 }
 
 impl Db {
@@ -215,6 +221,7 @@ impl Db {
             backend,
             wal_path,
             guards: std::sync::Arc::new(logins::Guards::new()),
+            postgres_url: (backend == Backend::Postgres).then(|| url.into()),
         };
         if fill_sessions_per_week {
             db.fill_sessions_per_week().await?;
@@ -237,6 +244,11 @@ impl Db {
             ));
         }
         Self::open(&format!("sqlite://{text}?mode=rwc")).await
+    }
+
+    /// The PostgreSQL server's URL; `None` on SQLite.
+    pub(crate) fn postgres_url(&self) -> Option<&str> {
+        self.postgres_url.as_deref()
     }
 
     /// The engine behind this database.

@@ -160,6 +160,22 @@ impl Db {
             .collect())
     }
 
+    /// The summary `seq` of session `session_id`, if stored.
+    pub async fn summary(&self, session_id: &str, seq: u64) -> Result<Option<Summary>, HubError> {
+        let body: Option<String> =
+            sqlx::query_scalar("SELECT body FROM summaries WHERE session_id = $1 AND seq = $2")
+                .bind(session_id)
+                .bind(to_i64("seq", seq)?)
+                .fetch_optional(self.pool())
+                .await
+                .map_err(HubError::db("reading a summary"))?;
+        body.map(|b| {
+            serde_json::from_str(&b)
+                .map_err(|e| HubError::Corrupt(format!("summary of {session_id:?}: {e}")))
+        })
+        .transpose()
+    }
+
     /// A session's stored summaries in sequence order.
     pub async fn summaries_of(&self, session_id: &str) -> Result<Vec<Summary>, HubError> {
         let bodies: Vec<String> =

@@ -13,7 +13,7 @@ use axum::extract::{Path, State};
 use axum::http::HeaderMap;
 use axum::response::sse::{Event, KeepAlive, Sse};
 use netlink::Summary;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use tokio::sync::broadcast::error::RecvError;
 use tokio::sync::mpsc::error::TrySendError;
 use tokio_stream::Stream;
@@ -43,7 +43,7 @@ pub const MAX_LIVE_STREAMS_PER_ACCOUNT: usize = 8;
 const STREAM_BUFFER: usize = 64;
 
 /// One summary of a running session, as broadcast by the ingest to the console's live views.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct LiveEvent {
     /// The patient exercising.
     pub patient_id: String,
