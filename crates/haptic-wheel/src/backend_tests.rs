@@ -59,8 +59,13 @@ pub(crate) trait Backend {
     /// lost.
     fn open_rejoining(config: WheelConfig) -> (Self::W, Self::M, MockClock, Self::Bus, Clock);
     /// Plug a new device of model `usb_id` into `bus`.
-    fn plug(bus: &Self::Bus, name: &str, usb_id: (u16, u16), motor_nm: f64, clock: &Clock)
-    -> Self::M;
+    fn plug(
+        bus: &Self::Bus,
+        name: &str,
+        usb_id: (u16, u16),
+        motor_nm: f64,
+        clock: &Clock,
+    ) -> Self::M;
     /// Whether every device plugged into `bus` has been looked at.
     fn bus_empty(bus: &Self::Bus) -> bool;
     /// The level last sent, in device units.
@@ -102,17 +107,27 @@ for_each_backend!(
     the_motor_never_exceeds_the_ceiling_on_any_profile,
 );
 
-fn open<B: Backend>(usb_id: (u16, u16), motor_nm: f64, config: WheelConfig) -> (B::W, B::M, MockClock) {
+fn open<B: Backend>(
+    usb_id: (u16, u16),
+    motor_nm: f64,
+    config: WheelConfig,
+) -> (B::W, B::M, MockClock) {
     let (clock, mock) = Clock::mock();
     let (w, m) = B::open("test wheel", usb_id, motor_nm, config, clock).unwrap();
     (w, m, mock)
 }
 
-fn an_unknown_direct_drive_wheel_gives_at_most_one_newton_metre_whatever_is_commanded<B: Backend>() {
+fn an_unknown_direct_drive_wheel_gives_at_most_one_newton_metre_whatever_is_commanded<
+    B: Backend,
+>() {
     // The defect of issue 12: a 25 N·m motor, no profile.
     let (mut w, fake, mock) = open::<B>(UNKNOWN_ID, 25.0, WheelConfig::default());
     assert_eq!(w.profile().torque_source, TorqueSource::Assumed);
-    assert_eq!(w.max_torque_nm(), 1.0, "the usable torque of an unknown wheel");
+    assert_eq!(
+        w.max_torque_nm(),
+        1.0,
+        "the usable torque of an unknown wheel"
+    );
     for cmd in [1.0, 5.0, 25.0, -100.0, f64::MAX] {
         mock.advance_ns(MS);
         let _ = w.command_torque(cmd);
@@ -131,7 +146,11 @@ fn an_unknown_direct_drive_wheel_gives_at_most_one_newton_metre_whatever_is_comm
     );
     // Within one of the device's levels (25 N·m over its full scale).
     let level_nm = 25.0 / B::FULL_SCALE;
-    assert!((fake.torque_nm() - 25.0 / 32.0).abs() <= level_nm, "{}", fake.torque_nm());
+    assert!(
+        (fake.torque_nm() - 25.0 / 32.0).abs() <= level_nm,
+        "{}",
+        fake.torque_nm()
+    );
 }
 
 fn a_clinician_entered_rating_lifts_the_cap_and_torque_is_true_in_newton_metres<B: Backend>() {
@@ -143,7 +162,11 @@ fn a_clinician_entered_rating_lifts_the_cap_and_torque_is_true_in_newton_metres<
     assert_eq!(w.max_torque_nm(), 8.0);
     mock.advance_ns(MS);
     w.command_torque(3.0).unwrap();
-    assert!((fake.torque_nm() - 3.0).abs() < 1e-3, "{}", fake.torque_nm());
+    assert!(
+        (fake.torque_nm() - 3.0).abs() < 1e-3,
+        "{}",
+        fake.torque_nm()
+    );
 }
 
 fn the_device_gain_is_part_of_the_mapping<B: Backend>() {
@@ -160,7 +183,11 @@ fn the_device_gain_is_part_of_the_mapping<B: Backend>() {
     );
     mock.advance_ns(MS);
     w.command_torque(2.0).unwrap();
-    assert!((fake.torque_nm() - 2.0).abs() < 1e-3, "{}", fake.torque_nm());
+    assert!(
+        (fake.torque_nm() - 2.0).abs() < 1e-3,
+        "{}",
+        fake.torque_nm()
+    );
     mock.advance_ns(MS);
     w.command_torque(9.0).unwrap();
     assert!(fake.torque_nm() <= w.max_torque_nm() + 1e-9);
@@ -251,11 +278,20 @@ fn a_non_finite_command_is_refused_with_zero_sent_and_drop_leaves_no_torque<B: B
     mock.advance_ns(MS);
     w.command_torque(1.0).unwrap();
     drop(w);
-    assert_eq!(fake.torque_nm(), 0.0, "nothing pushes after the backend is gone");
+    assert_eq!(
+        fake.torque_nm(),
+        0.0,
+        "nothing pushes after the backend is gone"
+    );
 }
 
 /// Drive `w` as the haptic loop does, one tick per ms for `ticks` ticks, with `torque_nm(k)`.
-fn drive_at_1_khz<W: Wheel>(w: &mut W, mock: &MockClock, ticks: u64, torque_nm: impl Fn(u64) -> f64) {
+fn drive_at_1_khz<W: Wheel>(
+    w: &mut W,
+    mock: &MockClock,
+    ticks: u64,
+    torque_nm: impl Fn(u64) -> f64,
+) {
     for k in 0..ticks {
         mock.advance_ns(MS);
         w.set_torque_ceiling_nm(w.max_torque_nm()).unwrap();
@@ -287,7 +323,12 @@ fn the_updates_written_reach_each_driver_familys_rate_and_gap_from_a_1_khz_loop<
         });
         let updates = w.motor_updates().unwrap();
         let counted = updates.count - before.0;
-        assert_eq!(counted, fake.updates() - before.1, "{}: the count is the device's own", p.name);
+        assert_eq!(
+            counted,
+            fake.updates() - before.1,
+            "{}: the count is the device's own",
+            p.name
+        );
         let rate_hz = counted as f64 / (ticks as f64 * 1e-3);
         let policy_hz = p.driver.max_update_rate_hz();
         // One extra update where the torque drops to zero (never throttled).
@@ -312,7 +353,10 @@ fn the_updates_written_reach_each_driver_familys_rate_and_gap_from_a_1_khz_loop<
         DriverFamily::Tmff2,
         DriverFamily::Fanatec,
     ] {
-        assert!(families_seen.contains(&family), "no built-in {family:?} wheel");
+        assert!(
+            families_seen.contains(&family),
+            "no built-in {family:?} wheel"
+        );
     }
 }
 
@@ -416,7 +460,11 @@ fn another_wheel_model_plugged_in_is_not_taken_for_the_wheel<B: Backend>() {
     w.command_torque(0.0).unwrap();
     mock.advance_ns(MS);
     w.command_torque(0.5).unwrap();
-    assert!((same.torque_nm() - 0.5).abs() < 1e-3, "{}", same.torque_nm());
+    assert!(
+        (same.torque_nm() - 0.5).abs() < 1e-3,
+        "{}",
+        same.torque_nm()
+    );
 }
 
 /// Every built-in profile, an unknown wheel on each driver and a clinician-rated one.
@@ -461,55 +509,60 @@ fn the_motor_never_exceeds_the_ceiling_on_any_profile<B: Backend>() {
     );
     let mut runner = proptest::test_runner::TestRunner::new_with_rng(
         ProptestConfig::with_cases(96),
-        proptest::test_runner::TestRng::deterministic_rng(proptest::test_runner::RngAlgorithm::ChaCha),
+        proptest::test_runner::TestRng::deterministic_rng(
+            proptest::test_runner::RngAlgorithm::ChaCha,
+        ),
     );
     runner
-        .run(&cases, |(profile, motor_share, gain, patient_ceiling, requests)| {
-            // The real motor is at most what the profile states.
-            let motor_nm = profile.max_torque_nm * motor_share;
-            let cfg = WheelConfig {
-                profile: Some(profile.clone()),
-                gain,
-                ..Default::default()
-            };
-            let (mut w, fake, mock) = open::<B>(UNKNOWN_ID, motor_nm, cfg);
-            let report = CeilingReport::new(&profile, gain, patient_ceiling);
-            let patient = patient_ceiling.map(|c| c.min(w.max_torque_nm()));
-            let mut sup = Supervisor::new(
-                SafetyConfig {
-                    ceiling_nm: patient,
-                    soft_start_s: 0.01,
+        .run(
+            &cases,
+            |(profile, motor_share, gain, patient_ceiling, requests)| {
+                // The real motor is at most what the profile states.
+                let motor_nm = profile.max_torque_nm * motor_share;
+                let cfg = WheelConfig {
+                    profile: Some(profile.clone()),
+                    gain,
                     ..Default::default()
-                },
-                w.max_torque_nm(),
-            )
-            .unwrap();
-            // The report states the ceiling at a 16-bit gain; a device's own gain steps may differ
-            // by less than one of its torque levels.
-            prop_assert!(
-                (sup.ceiling_nm() - report.ceiling_nm).abs()
-                    <= profile.max_torque_nm / B::FULL_SCALE + 1e-9
-            );
-            for r in requests {
-                mock.advance_ns(MS);
-                let now = mock.now_ns();
-                let out = sup.apply(r, now, Some(now));
-                let _ = w.command_torque(out.torque_nm);
+                };
+                let (mut w, fake, mock) = open::<B>(UNKNOWN_ID, motor_nm, cfg);
+                let report = CeilingReport::new(&profile, gain, patient_ceiling);
+                let patient = patient_ceiling.map(|c| c.min(w.max_torque_nm()));
+                let mut sup = Supervisor::new(
+                    SafetyConfig {
+                        ceiling_nm: patient,
+                        soft_start_s: 0.01,
+                        ..Default::default()
+                    },
+                    w.max_torque_nm(),
+                )
+                .unwrap();
+                // The report states the ceiling at a 16-bit gain; a device's own gain steps may differ
+                // by less than one of its torque levels.
                 prop_assert!(
-                    fake.torque_nm() <= sup.ceiling_nm() + 1e-9,
-                    "{} N·m at the motor over a {} N·m ceiling",
-                    fake.torque_nm(),
-                    sup.ceiling_nm()
+                    (sup.ceiling_nm() - report.ceiling_nm).abs()
+                        <= profile.max_torque_nm / B::FULL_SCALE + 1e-9
                 );
-                // Commanded straight to the backend, without the chain: still never above the
-                // usable maximum.
-                let _ = w.command_torque(r);
-                prop_assert!(fake.torque_nm() <= w.max_torque_nm() + 1e-9);
-                prop_assert!(fake.torque_nm() <= profile.usable_max_nm() + 1e-9);
-            }
-            prop_assert!(fake.peak_nm() <= w.max_torque_nm() + 1e-9);
-            Ok(())
-        })
+                for r in requests {
+                    mock.advance_ns(MS);
+                    let now = mock.now_ns();
+                    let out = sup.apply(r, now, Some(now));
+                    let _ = w.command_torque(out.torque_nm);
+                    prop_assert!(
+                        fake.torque_nm() <= sup.ceiling_nm() + 1e-9,
+                        "{} N·m at the motor over a {} N·m ceiling",
+                        fake.torque_nm(),
+                        sup.ceiling_nm()
+                    );
+                    // Commanded straight to the backend, without the chain: still never above the
+                    // usable maximum.
+                    let _ = w.command_torque(r);
+                    prop_assert!(fake.torque_nm() <= w.max_torque_nm() + 1e-9);
+                    prop_assert!(fake.torque_nm() <= profile.usable_max_nm() + 1e-9);
+                }
+                prop_assert!(fake.peak_nm() <= w.max_torque_nm() + 1e-9);
+                Ok(())
+            },
+        )
         .unwrap();
 }
 
@@ -561,7 +614,8 @@ pub(crate) mod evdev_rig {
 
         fn open_rejoining(config: WheelConfig) -> (Self::W, Self::M, MockClock, Self::Bus, Clock) {
             let (clock, mock) = Clock::mock();
-            let (w, m) = Self::open("SideWinder", SIDEWINDER_ID, 1.87, config, clock.clone()).unwrap();
+            let (w, m) =
+                Self::open("SideWinder", SIDEWINDER_ID, 1.87, config, clock.clone()).unwrap();
             let bus: Self::Bus = Arc::default();
             let finder = {
                 let bus = bus.clone();
@@ -571,7 +625,13 @@ pub(crate) mod evdev_rig {
             (w, m, mock, bus, clock)
         }
 
-        fn plug(bus: &Self::Bus, name: &str, usb_id: (u16, u16), motor_nm: f64, clock: &Clock) -> Self::M {
+        fn plug(
+            bus: &Self::Bus,
+            name: &str,
+            usb_id: (u16, u16),
+            motor_nm: f64,
+            clock: &Clock,
+        ) -> Self::M {
             let dev = FakeFfDevice::wheel(name, usb_id, motor_nm, clock.clone());
             let handle = dev.handle();
             bus.lock().unwrap().push(("/dev/input/event9".into(), dev));
@@ -588,7 +648,13 @@ pub(crate) mod evdev_rig {
 
         fn level_for(w: &Self::W, torque_nm: f64) -> i32 {
             let p = w.profile();
-            i32::from(level_for(torque_nm, w.max_torque_nm(), p.max_torque_nm, w.gain(), p.torque_sign))
+            i32::from(level_for(
+                torque_nm,
+                w.max_torque_nm(),
+                p.max_torque_nm,
+                w.gain(),
+                p.torque_sign,
+            ))
         }
 
         fn gain(w: &Self::W) -> f64 {
@@ -645,16 +711,29 @@ pub(crate) mod dinput_rig {
 
         fn open_rejoining(config: WheelConfig) -> (Self::W, Self::M, MockClock, Self::Bus, Clock) {
             let (clock, mock) = Clock::mock();
-            let (w, m) = Self::open("SideWinder", SIDEWINDER_ID, 1.87, config, clock.clone()).unwrap();
+            let (w, m) =
+                Self::open("SideWinder", SIDEWINDER_ID, 1.87, config, clock.clone()).unwrap();
             let bus: Self::Bus = Arc::default();
             let finder = {
                 let bus = bus.clone();
                 move || std::mem::take(&mut *bus.lock().unwrap())
             };
-            (w.reopen_with(finder, Duration::from_millis(5)), m, mock, bus, clock)
+            (
+                w.reopen_with(finder, Duration::from_millis(5)),
+                m,
+                mock,
+                bus,
+                clock,
+            )
         }
 
-        fn plug(bus: &Self::Bus, name: &str, usb_id: (u16, u16), motor_nm: f64, clock: &Clock) -> Self::M {
+        fn plug(
+            bus: &Self::Bus,
+            name: &str,
+            usb_id: (u16, u16),
+            motor_nm: f64,
+            clock: &Clock,
+        ) -> Self::M {
             let dev = FakeDiDevice::wheel(name, usb_id, 1, motor_nm, clock.clone());
             let handle = dev.handle();
             bus.lock().unwrap().push(dev);
@@ -671,7 +750,13 @@ pub(crate) mod dinput_rig {
 
         fn level_for(w: &Self::W, torque_nm: f64) -> i32 {
             let p = w.profile();
-            magnitude_for(torque_nm, w.max_torque_nm(), p.max_torque_nm, w.gain(), p.torque_sign)
+            magnitude_for(
+                torque_nm,
+                w.max_torque_nm(),
+                p.max_torque_nm,
+                w.gain(),
+                p.torque_sign,
+            )
         }
 
         fn gain(w: &Self::W) -> f64 {

@@ -28,7 +28,10 @@ impl DiError {
     /// [`WheelFault::Unplugged`](crate::WheelFault::Unplugged), as the evdev backend reports
     /// the kernel's ENODEV.
     pub fn is_device_loss(self) -> bool {
-        matches!(self.0, DIERR_INPUTLOST | DIERR_NOTACQUIRED | DIERR_UNPLUGGED)
+        matches!(
+            self.0,
+            DIERR_INPUTLOST | DIERR_NOTACQUIRED | DIERR_UNPLUGGED
+        )
     }
 }
 

@@ -48,7 +48,11 @@ struct State {
 impl State {
     fn signed_motor_nm(&self) -> f64 {
         let now = self.clock.now_ns();
-        let Some(e) = self.effect.as_ref().filter(|_| self.acquired && !self.unplugged) else {
+        let Some(e) = self
+            .effect
+            .as_ref()
+            .filter(|_| self.acquired && !self.unplugged)
+        else {
             return 0.0;
         };
         let playing = e
@@ -105,7 +109,13 @@ impl FakeDiDevice {
     /// A wheel named `name` with USB id `usb_id`, instance `instance` (its GUID and instance
     /// name derive from it), a motor giving `motor_nm` at full magnitude and gain, a steering
     /// axis 0..=65535 at its centre, constant force, autocentre on and full gain.
-    pub fn wheel(name: &str, usb_id: (u16, u16), instance: u8, motor_nm: f64, clock: Clock) -> Self {
+    pub fn wheel(
+        name: &str,
+        usb_id: (u16, u16),
+        instance: u8,
+        motor_nm: f64,
+        clock: Clock,
+    ) -> Self {
         let identity = DiIdentity {
             product_name: name.into(),
             instance_name: if instance == 0 {
@@ -183,7 +193,12 @@ impl FakeDiHandle {
 
     /// The first magnitudes the backend set, in order (up to 8).
     pub fn first_magnitudes(&self) -> Vec<i32> {
-        self.lock().first_magnitudes.iter().flatten().copied().collect()
+        self.lock()
+            .first_magnitudes
+            .iter()
+            .flatten()
+            .copied()
+            .collect()
     }
 
     /// The device gain the backend set, 0..=10 000.

@@ -54,9 +54,7 @@ pub use device::{
 
 use crate::profile::DeviceProfile;
 pub use crate::wheel::REJOIN_RESCAN_EVERY;
-use crate::wheel::{
-    MotorUpdates, Wheel, WheelCapabilities, WheelError, WheelFault, WheelReading,
-};
+use crate::wheel::{MotorUpdates, Wheel, WheelCapabilities, WheelError, WheelFault, WheelReading};
 use crate::wheel_config::{WheelConfig, motor_fraction};
 
 /// Full scale of a DirectInput magnitude or gain, as a float.

@@ -16,7 +16,11 @@ fn wheel_with(
     let (clock, mock) = Clock::mock();
     let dev = FakeDiDevice::wheel("test wheel", usb_id, 0, motor_nm, clock.clone());
     let handle = dev.handle();
-    (DinputWheel::with_device(dev, config, clock).unwrap(), handle, mock)
+    (
+        DinputWheel::with_device(dev, config, clock).unwrap(),
+        handle,
+        mock,
+    )
 }
 
 #[test]
@@ -41,7 +45,10 @@ fn opening_acquires_turns_autocentre_off_sets_the_gain_and_exit_restores_them() 
     };
     let (w, fake, _mock) = wheel_with(SIDEWINDER_ID, 1.87, cfg);
     assert!(fake.acquired());
-    assert!(!fake.autocenter(), "autocentre would fight the haptic models");
+    assert!(
+        !fake.autocenter(),
+        "autocentre would fight the haptic models"
+    );
     assert_eq!(fake.gain(), 8_000);
     assert!(fake.has_effect());
     assert_eq!(fake.motor_torque_nm(), 0.0, "created at zero, not started");
@@ -55,7 +62,10 @@ fn opening_acquires_turns_autocentre_off_sets_the_gain_and_exit_restores_them() 
     };
     let (w, fake, _mock) = wheel_with(SIDEWINDER_ID, 1.87, cfg);
     drop(w);
-    assert!(fake.autocenter(), "any exit value turns DirectInput's autocentre on");
+    assert!(
+        fake.autocenter(),
+        "any exit value turns DirectInput's autocentre on"
+    );
 }
 
 #[test]
@@ -78,7 +88,10 @@ fn the_angle_comes_from_the_declared_range_and_a_value_outside_it_is_a_fault() {
     fake.set_x(65_535);
     let a = w.read().unwrap().angle_rad;
     let half = p.angle_sign * p.half_range_rad;
-    assert!((a - half).abs() < 1e-4, "{a} rad at full lock, {half} expected");
+    assert!(
+        (a - half).abs() < 1e-4,
+        "{a} rad at full lock, {half} expected"
+    );
     fake.set_x(70_000);
     assert_eq!(w.read().unwrap_err().fault(), Some(WheelFault::OutOfRange));
     fake.set_x(32_767);
@@ -117,13 +130,18 @@ fn each_directinput_loss_code_is_the_unplugged_fault_and_other_failures_are_refu
     w.command_torque(0.5).unwrap();
     assert!((fake.motor_torque_nm() - 0.5).abs() < 1e-3);
     assert!(DiError(device::E_FAIL).to_string().contains("0x80004005"));
-    assert!(DiError(device::DIERR_UNPLUGGED).to_string().contains("DIERR_UNPLUGGED"));
+    assert!(
+        DiError(device::DIERR_UNPLUGGED)
+            .to_string()
+            .contains("DIERR_UNPLUGGED")
+    );
 }
 
 #[test]
 fn a_lost_wheel_is_known_by_model_and_range_and_its_own_unit_then_name_is_preferred() {
     let (clock, _) = Clock::mock();
-    let dev = |usb_id, instance| FakeDiDevice::wheel("SideWinder", usb_id, instance, 1.87, clock.clone());
+    let dev =
+        |usb_id, instance| FakeDiDevice::wheel("SideWinder", usb_id, instance, 1.87, clock.clone());
     let lost = dev(SIDEWINDER_ID, 0).identity().clone();
     assert_eq!(lost.likeness(&lost), Ok(Likeness::SameUnit));
     let second = dev(SIDEWINDER_ID, 1).identity().clone();
@@ -135,7 +153,10 @@ fn a_lost_wheel_is_known_by_model_and_range_and_its_own_unit_then_name_is_prefer
     assert_eq!(lost.likeness(&g29), Err(Refusal::OtherModel));
     let narrow = dev(SIDEWINDER_ID, 0).with_range(0, 1023).identity().clone();
     assert_eq!(lost.likeness(&narrow), Err(Refusal::OtherRange));
-    let pad = dev(SIDEWINDER_ID, 0).without_constant_force().identity().clone();
+    let pad = dev(SIDEWINDER_ID, 0)
+        .without_constant_force()
+        .identity()
+        .clone();
     assert_eq!(lost.likeness(&pad), Err(Refusal::NoConstantForce));
 
     // Among several: the very unit is taken, whatever the order.

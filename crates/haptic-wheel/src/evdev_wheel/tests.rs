@@ -22,7 +22,6 @@ fn wheel_with(
     (wheel, handle, mock)
 }
 
-
 #[test]
 fn level_mapping_truncates_towards_zero_and_rejects_nonsense() {
     assert_eq!(level_for(1.0, 2.0, 2.0, 1.0, 1.0), 16_383);
