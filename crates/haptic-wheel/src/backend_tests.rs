@@ -15,11 +15,11 @@ use crate::safety::{SafetyConfig, Supervisor};
 use crate::wheel::{Wheel, WheelError, WheelFault};
 use crate::wheel_config::{CeilingReport, WheelConfig};
 
-pub(crate) const MS: u64 = 1_000_000;
+const MS: u64 = 1_000_000;
 /// An id no built-in profile claims.
-pub(crate) const UNKNOWN_ID: (u16, u16) = (0x1d50, 0x6015);
+const UNKNOWN_ID: (u16, u16) = (0x1d50, 0x6015);
 /// The thesis SideWinder's id (a built-in profile, 1.87 N·m, hid-pidff at 1 kHz).
-pub(crate) const SIDEWINDER_ID: (u16, u16) = (0x045e, 0x0034);
+const SIDEWINDER_ID: (u16, u16) = (0x045e, 0x0034);
 /// A Logitech G29's id: another model, another profile.
 const G29_ID: (u16, u16) = (0x046d, 0xc24f);
 

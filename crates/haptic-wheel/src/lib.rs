@@ -22,6 +22,9 @@
 //!   `peripherals` (feature `gilrs`):
 //!   pedals, buttons and gamepads.
 //!
+//! - [`real_wheel`]: `open_first`, the first real wheel of this system behind [`Wheel`] (evdev
+//!   on Linux, DirectInput on Windows).
+//!
 //! SI units inside: rad, rad/s, N·m, s. Device units are converted at the device edge.
 
 pub mod calibrate;
@@ -38,6 +41,7 @@ pub mod model;
 #[cfg(feature = "gilrs")]
 pub mod peripherals;
 pub mod profile;
+pub mod real_wheel;
 pub mod safety;
 pub mod scan;
 pub mod sim;

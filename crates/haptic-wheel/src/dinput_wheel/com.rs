@@ -34,6 +34,8 @@ use windows::core::{BOOL, GUID, Interface, w};
 
 use super::device::{DI_FFNOMINALMAX, DiDevice, DiError, DiFinder, DiIdentity, DiState, E_FAIL};
 use super::{DinputWheel, REJOIN_RESCAN_EVERY};
+use crate::devices::{DeviceClass, DeviceInfo, DeviceTraits};
+use crate::profile::DeviceProfile;
 use crate::wheel::WheelError;
 use crate::wheel_config::WheelConfig;
 
@@ -490,6 +492,37 @@ impl ComFinder {
                 }
             })
             .collect())
+    }
+}
+
+/// What `telerehab devices` says of a DirectInput device: a wheel when it has constant force,
+/// with the profile its USB id gives.
+pub fn describe(d: &ComDevice) -> DeviceInfo {
+    let id = d.identity();
+    DeviceInfo {
+        path: format!("DirectInput:{{{:032x}}}", id.instance_guid),
+        class: if id.constant_force {
+            DeviceClass::Wheel
+        } else {
+            DeviceClass::Gamepad
+        },
+        traits: DeviceTraits {
+            name: id.product_name.clone(),
+            ff_effects: if id.constant_force {
+                vec!["constant", "gain", "autocenter"]
+            } else {
+                Vec::new()
+            },
+            abs_axes: vec!["x"],
+            gamepad_buttons: false,
+        },
+        usb_id: Some(id.usb_id),
+        profile: id
+            .constant_force
+            .then(|| DeviceProfile::for_usb_id(id.usb_id.0, id.usb_id.1)),
+        ceiling: None,
+        expected_update_rate_hz: None,
+        max_ff_effects: 1,
     }
 }
 

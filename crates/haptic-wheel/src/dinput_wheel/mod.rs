@@ -6,7 +6,7 @@
 //!   (±[`DI_FFNOMINALMAX`] = ±10 000, the thesis's effect units, eq. 3.3) is a share of the
 //!   motor's full torque, scaled again by the device gain (`DIPROP_FFGAIN`, 0…10 000). The
 //!   magnitude for a torque τ is `trunc(τ / (max_torque_nm · gain) · 10 000)`
-//!   ([`motor_fraction`](crate::wheel_config::motor_fraction)), truncated towards zero so the
+//!   ([`motor_fraction`]), truncated towards zero so the
 //!   motor never gives more than τ, with τ first clamped to the profile's usable maximum. The
 //!   per-model [`DeviceProfile`]s are the evdev backend's, found by the USB id DirectInput
 //!   reports; an unknown wheel gets the same conservative profile ([`DeviceProfile::unknown`]).

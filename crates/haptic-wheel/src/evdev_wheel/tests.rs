@@ -5,10 +5,13 @@
 
 use super::fake::{FakeFfDevice, FakeHandle};
 use super::*;
-use crate::backend_tests::{SIDEWINDER_ID, UNKNOWN_ID};
 use clock::MockClock;
 
 const MS: u64 = 1_000_000;
+/// An id no built-in profile claims.
+const UNKNOWN_ID: (u16, u16) = (0x1d50, 0x6015);
+/// The thesis SideWinder's id (a built-in profile, 1.87 N·m, hid-pidff at 1 kHz).
+const SIDEWINDER_ID: (u16, u16) = (0x045e, 0x0034);
 
 fn wheel_with(
     usb_id: (u16, u16),
