@@ -150,13 +150,17 @@ impl DeviceReport {
             ));
         }
         if self.wheels.is_empty() {
-            self.notes.push(
+            // Where the wheel's driver lives: the kernel on Linux, the maker's package on Windows.
+            let driver = if cfg!(windows) {
+                "that its maker's Windows driver is installed (docs/WINDOWS.md)"
+            } else {
+                "that its kernel driver is loaded (`lsmod | grep -E 'hid_lg|pidff|tmff|fanatec'`)"
+            };
+            self.notes.push(format!(
                 "No force-feedback wheel found. Check that it is plugged in and powered (most \
                  wheels need their own power supply for force feedback), that it is in PC mode, \
-                 and that its kernel driver is loaded (`lsmod | grep -E 'hid_lg|pidff|tmff|fanatec'`). \
-                 `telerehab run --sim` works without one."
-                    .into(),
-            );
+                 and {driver}. `telerehab run --sim` works without one."
+            ));
         }
     }
 }

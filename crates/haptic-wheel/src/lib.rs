@@ -17,8 +17,13 @@
 //! - [`chain`]: [`HapticChain`], all of the above as the one call per tick the haptic loop
 //!   makes.
 //! - [`devices`] and [`scan`]: `enumerate_devices()` for `telerehab devices`; `evdev_wheel` (Linux,
-//!   feature `evdev`): the kernel force-feedback backend; `peripherals` (feature `gilrs`):
+//!   feature `evdev`): the kernel force-feedback backend; `dinput_wheel` (feature `dinput`; its
+//!   device on the `windows` crate on Windows only): DirectInput 8 force feedback on Windows;
+//!   `peripherals` (feature `gilrs`):
 //!   pedals, buttons and gamepads.
+//!
+//! - [`real_wheel`]: `open_first`, the first real wheel of this system behind [`Wheel`] (evdev
+//!   on Linux, DirectInput on Windows).
 //!
 //! SI units inside: rad, rad/s, N·m, s. Device units are converted at the device edge.
 
@@ -26,6 +31,8 @@ pub mod calibrate;
 pub mod chain;
 pub mod config_error;
 pub mod devices;
+#[cfg(feature = "dinput")]
+pub mod dinput_wheel;
 pub mod effects;
 #[cfg(all(target_os = "linux", feature = "evdev"))]
 pub mod evdev_wheel;
@@ -34,11 +41,15 @@ pub mod model;
 #[cfg(feature = "gilrs")]
 pub mod peripherals;
 pub mod profile;
+pub mod real_wheel;
 pub mod safety;
 pub mod scan;
 pub mod sim;
 pub mod wheel;
 pub mod wheel_config;
+
+#[cfg(test)]
+mod backend_tests;
 
 pub use chain::{
     HapticChain, HapticChainConfig, HapticRegimen, HapticStats, TickInput, TickTelemetry,

@@ -1,5 +1,6 @@
-//! `telerehab devices`' scan: every input node through the wheel backend (Linux, `evdev`),
-//! else gamepads through gilrs, into a [`DeviceReport`] that explains itself. The device
+//! `telerehab devices`' scan: every input node through the wheel backend (Linux, `evdev`;
+//! Windows, DirectInput's force-feedback game controllers, `dinput`), and gamepads through
+//! gilrs where evdev is absent, into a [`DeviceReport`] that explains itself. The device
 //! kinds and the report are [`crate::devices`]'; the backends classify with them, and this
 //! module calls the backends.
 
@@ -44,9 +45,21 @@ fn scan_platform(report: &mut DeviceReport) {
 
 #[cfg(not(all(target_os = "linux", feature = "evdev")))]
 fn scan_platform(report: &mut DeviceReport) {
+    #[cfg(all(windows, feature = "dinput"))]
+    match crate::dinput_wheel::com::ComFinder.devices() {
+        Ok(found) => {
+            for d in &found {
+                report.add(crate::dinput_wheel::com::describe(d));
+            }
+        }
+        Err(e) => report.notes.push(format!(
+            "DirectInput could not list the game controllers: {e}"
+        )),
+    }
+    #[cfg(not(all(windows, feature = "dinput")))]
     report.notes.push(
-        "Force-feedback wheels are supported through the Linux kernel FF API (feature `evdev`); \
-         this build has no wheel backend."
+        "Force-feedback wheels are supported through the Linux kernel FF API (feature `evdev`) \
+         and DirectInput on Windows (feature `dinput`); this build has no wheel backend."
             .into(),
     );
     #[cfg(feature = "gilrs")]

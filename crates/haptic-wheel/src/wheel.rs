@@ -2,6 +2,10 @@
 
 use crate::profile::DeviceProfile;
 
+/// How often a backend looks for its wheel once it has gone away (unplugged), until it is
+/// plugged back in.
+pub const REJOIN_RESCAN_EVERY: std::time::Duration = std::time::Duration::from_millis(250);
+
 /// One reading of the wheel.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct WheelReading {

@@ -216,6 +216,22 @@ pub fn usable_max_nm(profile: &DeviceProfile, gain: f64) -> f64 {
         .min(profile.max_torque_nm * quantised_gain(gain))
 }
 
+/// The share of full scale (−1…1) a backend sends so that a motor of `motor_nm` at device
+/// gain `gain` (fraction) gives `torque_nm` with the profile's torque `sign` (±1), after
+/// clamping `torque_nm` to ±`usable_nm`: thesis eq. 3.3, `τ = Kt · u`, with `Kt` the motor's
+/// full torque at that gain over the device's full scale. 0 for a non-finite torque or a
+/// scale that is not positive. Each backend truncates its share of its own full scale
+/// (±32 767 on Linux, ±10 000 in DirectInput) towards zero, so the motor never gives more
+/// than asked.
+pub fn motor_fraction(torque_nm: f64, usable_nm: f64, motor_nm: f64, gain: f64, sign: f64) -> f64 {
+    let scale_nm = motor_nm * gain;
+    if !(torque_nm.is_finite() && scale_nm.is_finite() && scale_nm > 0.0) {
+        return 0.0;
+    }
+    let tau = torque_nm.clamp(-usable_nm, usable_nm);
+    (sign * tau / scale_nm).clamp(-1.0, 1.0)
+}
+
 /// The gain fraction a device really runs at when asked for `gain`: the 16-bit level sent.
 pub fn quantised_gain(gain: f64) -> f64 {
     f64::from(fraction_level(gain)) / f64::from(u16::MAX)

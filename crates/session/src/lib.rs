@@ -132,7 +132,7 @@ pub enum BodyKind {
     /// The simulated wheel, patient and IMUs.
     Simulated,
     /// The first real force-feedback wheel found, held by the patient.
-    #[cfg(target_os = "linux")]
+    #[cfg(any(target_os = "linux", windows))]
     RealWheel,
 }
 
@@ -312,7 +312,7 @@ fn body_facts(cfg: &StationConfig, kind: BodyKind, plant: &plant::Plant) -> reco
                 swivel_rad: cfg.sim_arm.swivel_mean_rad,
             }),
         ),
-        #[cfg(target_os = "linux")]
+        #[cfg(any(target_os = "linux", windows))]
         BodyKind::RealWheel => (
             BodyKindName::Real,
             plant.range_of_motion_rad().map(|_| ArmFacts {
@@ -436,7 +436,7 @@ fn run_body(
             plant::Body::simulated(cfg, opts.pacing == Pacing::RealTime, opts.clock.clone())?,
             course,
         )?,
-        #[cfg(target_os = "linux")]
+        #[cfg(any(target_os = "linux", windows))]
         (None, BodyKind::RealWheel) => plant::Plant::new(
             cfg,
             plant::Body::first_real_wheel(cfg, opts.clock.clone())?,

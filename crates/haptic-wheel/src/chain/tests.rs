@@ -8,7 +8,7 @@ use crate::sim::{SimWheel, SimWheelParams};
 use crate::wheel::Wheel;
 use proptest::prelude::*;
 
-#[cfg(all(target_os = "linux", feature = "evdev"))]
+#[cfg(feature = "dinput")]
 mod modes;
 
 const DT_NS: u64 = 1_000_000;

@@ -110,12 +110,7 @@ fn io_err(device: &str, source: std::io::Error) -> WheelError {
 /// (fraction) give at most `torque_nm`, with the profile's `torque_sign`; `torque_nm` is first
 /// clamped to ±`usable_nm`. Truncated towards zero: the motor never gives more than asked.
 pub fn level_for(torque_nm: f64, usable_nm: f64, motor_nm: f64, gain: f64, sign: f64) -> i16 {
-    let scale_nm = motor_nm * gain;
-    if !(torque_nm.is_finite() && scale_nm.is_finite() && scale_nm > 0.0) {
-        return 0;
-    }
-    let tau = torque_nm.clamp(-usable_nm, usable_nm);
-    let frac = (sign * tau / scale_nm).clamp(-1.0, 1.0);
+    let frac = crate::wheel_config::motor_fraction(torque_nm, usable_nm, motor_nm, gain, sign);
     (frac * LEVEL_FULL_SCALE).trunc() as i16
 }
 

@@ -36,7 +36,7 @@ use crate::devices::{DeviceClass, DeviceTraits, classify};
 use crate::wheel::WheelError;
 
 /// How often the helper looks for a lost wheel.
-pub const RESCAN_EVERY: Duration = Duration::from_millis(250);
+pub const RESCAN_EVERY: Duration = crate::wheel::REJOIN_RESCAN_EVERY;
 
 /// The steering axis the backend reads on a device with `traits`.
 pub(super) fn steering_axis(traits: &DeviceTraits) -> AbsoluteAxisCode {

@@ -27,9 +27,9 @@ pub enum Body {
         /// The simulated patient's foot on the pedals.
         foot: vehicle::SimFoot,
     },
-    /// A real force-feedback wheel (Linux kernel FF API) held by the patient, who may wear
-    /// two controller IMUs.
-    #[cfg(target_os = "linux")]
+    /// A real force-feedback wheel (the Linux kernel FF API; DirectInput 8 on Windows) held by
+    /// the patient, who may wear two controller IMUs.
+    #[cfg(any(target_os = "linux", windows))]
     Evdev {
         /// The device (zero torque, effects erased and gain restored when dropped). Boxed so
         /// that the kernel backend can run over any device seam (tests use an in-memory one).
@@ -85,21 +85,18 @@ impl Body {
     /// The first force-feedback wheel found, and the first two controller IMUs if there are
     /// two (see `telerehab devices`). `clock` is the session's (a real one: real devices stamp
     /// their readings on it).
-    #[cfg(target_os = "linux")]
+    #[cfg(any(target_os = "linux", windows))]
     pub fn first_real_wheel(cfg: &StationConfig, clock: clock::Clock) -> anyhow::Result<Self> {
-        use haptic_wheel::evdev_wheel::rejoin::{KernelFinder, RESCAN_EVERY};
-        use haptic_wheel::evdev_wheel::{EvdevWheel, monotonic_ns};
-        let wheel = EvdevWheel::open_first(cfg.wheel.clone(), clock.clone())
-            .context("no usable force-feedback wheel (run `telerehab devices`)")?
-            // Unplugged and plugged back in, it is found again (within the replug grace).
-            .reopen_with(KernelFinder, RESCAN_EVERY)
-            .context("cannot watch for the wheel being plugged back in")?;
+        // evdev on Linux, DirectInput 8 on Windows; unplugged and plugged back in, it is found
+        // again (within the replug grace).
+        let wheel = haptic_wheel::real_wheel::open_first(cfg.wheel.clone(), clock.clone())
+            .context("no usable force-feedback wheel (run `telerehab devices`)")?;
         // Arm sensing is optional: an IMU that cannot be opened (permissions, a flat battery)
         // costs the joint angles, not the exercise.
         let arm = crate::arm::hid::HidArmSensing::open_first_two(
             cfg.arm.geometry,
             cfg.arm.swivel_rad,
-            monotonic_ns,
+            clock::monotonic_ns,
             clock.clone(),
         )
         .unwrap_or_else(|e| {
@@ -107,12 +104,12 @@ impl Body {
             None
         })
         .map(Box::new);
-        Ok(Self::real_wheel(Box::new(wheel), arm, clock))
+        Ok(Self::real_wheel(wheel, arm, clock))
     }
 
     /// A real wheel backend (already opened) held by a patient, with optional arm sensing;
     /// `clock` is the clock of the wheel's readings.
-    #[cfg(target_os = "linux")]
+    #[cfg(any(target_os = "linux", windows))]
     pub fn real_wheel(
         wheel: Box<dyn Wheel + Send>,
         arm: Option<Box<crate::arm::hid::HidArmSensing>>,
@@ -136,7 +133,7 @@ impl Body {
     pub(super) fn arm_setup(&self) -> Option<SetupStep> {
         match self {
             Body::Sim { sensing, .. } => Some(sensing.setup_step()),
-            #[cfg(target_os = "linux")]
+            #[cfg(any(target_os = "linux", windows))]
             Body::Evdev { arm, .. } => arm.as_ref().map(|a| a.setup_step()),
             Body::Recorded(r) => r.arm_setup(),
         }
@@ -145,7 +142,7 @@ impl Body {
     pub(super) fn wheel(&mut self) -> &mut dyn Wheel {
         match self {
             Body::Sim { wheel, .. } => &mut **wheel,
-            #[cfg(target_os = "linux")]
+            #[cfg(any(target_os = "linux", windows))]
             Body::Evdev { wheel, .. } => &mut **wheel,
             Body::Recorded(r) => &mut **r,
         }
@@ -155,7 +152,7 @@ impl Body {
     pub(super) fn now_ns(&self) -> u64 {
         match self {
             Body::Sim { wheel, .. } => wheel.time_ns(),
-            #[cfg(target_os = "linux")]
+            #[cfg(any(target_os = "linux", windows))]
             Body::Evdev { clock, .. } => clock.now_ns(),
             Body::Recorded(r) => r.now_ns(),
         }
@@ -165,7 +162,7 @@ impl Body {
     pub(super) fn encoder_step_rad(&self, cfg: &StationConfig) -> f64 {
         match self {
             Body::Sim { .. } => cfg.sim_wheel.encoder_step_rad,
-            #[cfg(target_os = "linux")]
+            #[cfg(any(target_os = "linux", windows))]
             Body::Evdev { wheel, .. } => wheel.profile().ka_rad_per_unit,
             Body::Recorded(r) => r.encoder_step_rad(),
         }
@@ -184,7 +181,7 @@ impl Body {
     ) -> assist::WheelDynamics {
         let sim = match self {
             Body::Sim { .. } => true,
-            #[cfg(target_os = "linux")]
+            #[cfg(any(target_os = "linux", windows))]
             Body::Evdev { .. } => false,
             Body::Recorded(r) => !r.real(),
         };
@@ -241,7 +238,7 @@ impl Body {
                     seam: Some(sensing.take_seam()),
                 }
             }
-            #[cfg(target_os = "linux")]
+            #[cfg(any(target_os = "linux", windows))]
             Body::Evdev { arm, .. } => BodyMotion {
                 hand_nm: None,
                 true_angle_rad: None,
@@ -270,14 +267,14 @@ impl Body {
         live: vehicle::Pedals,
         dt_s: f64,
     ) -> vehicle::Pedals {
-        // Only a real wheel's pedals are read live (Linux's evdev body, for now).
-        #[cfg(not(target_os = "linux"))]
+        // Only a real wheel's pedals are read live.
+        #[cfg(not(any(target_os = "linux", windows)))]
         let _ = live;
         match self {
             Body::Sim { foot, .. } => speeds.map_or_else(vehicle::Pedals::default, |(ux, aim)| {
                 foot.step(ux, aim, dt_s)
             }),
-            #[cfg(target_os = "linux")]
+            #[cfg(any(target_os = "linux", windows))]
             Body::Evdev { .. } => live,
             Body::Recorded(r) => r.pedals(),
         }
@@ -287,7 +284,7 @@ impl Body {
     pub(super) fn range_of_motion_rad(&self) -> Option<[f64; 5]> {
         match self {
             Body::Sim { sensing, .. } => Some(sensing.range_of_motion_rad()),
-            #[cfg(target_os = "linux")]
+            #[cfg(any(target_os = "linux", windows))]
             Body::Evdev { arm, .. } => arm.as_ref().map(|a| a.range_of_motion_rad()),
             Body::Recorded(r) => r.range_of_motion_rad(),
         }
@@ -297,7 +294,7 @@ impl Body {
     pub(super) fn arm_failure(&self) -> Option<&crate::arm::ArmFailure> {
         match self {
             Body::Sim { sensing, .. } => sensing.failure(),
-            #[cfg(target_os = "linux")]
+            #[cfg(any(target_os = "linux", windows))]
             Body::Evdev { arm, .. } => arm.as_ref().and_then(|a| a.failure()),
             Body::Recorded(r) => r.arm_failure(),
         }

@@ -322,8 +322,9 @@ pub fn plan(args: &RunArgs) -> anyhow::Result<(StationConfig, Option<Regimen>)> 
     Ok((cfg, regimen))
 }
 
-/// Real devices: a force-feedback wheel through the Linux kernel FF API, in real time.
-#[cfg(target_os = "linux")]
+/// Real devices: a force-feedback wheel (the Linux kernel FF API; DirectInput 8 on Windows),
+/// in real time.
+#[cfg(any(target_os = "linux", windows))]
 fn real_body(args: &RunArgs) -> anyhow::Result<BodyKind> {
     if args.speed == Speed::Max {
         bail!("--speed max is for simulated sessions (add --sim): a real wheel runs in real time");
@@ -331,11 +332,11 @@ fn real_body(args: &RunArgs) -> anyhow::Result<BodyKind> {
     Ok(BodyKind::RealWheel)
 }
 
-/// Real devices are driven through the Linux kernel FF API only.
-#[cfg(not(target_os = "linux"))]
+/// Real devices are driven on Linux and Windows only.
+#[cfg(not(any(target_os = "linux", windows)))]
 fn real_body(_args: &RunArgs) -> anyhow::Result<BodyKind> {
     bail!(
-        "real force-feedback wheels are supported on Linux only; add --sim for a simulated session"
+        "real force-feedback wheels are supported on Linux and Windows only; add --sim for a simulated session"
     )
 }
 

@@ -5,8 +5,9 @@
 //! readings that are real, arbitrary — NaN and infinities included —, missing, stale or from
 //! the future; any external torque; pause, resume, stop; regimen changes, ceiling changes,
 //! effects added and the effect gain changed, valid or not) is played against a
-//! [`HapticChain`] driving an [`EvdevWheel`] on a [`FakeFfDevice`]: the product's own
-//! N·m → kernel level mapping, gain and update-rate policy, with a motor as strong as the
+//! [`HapticChain`] driving each real backend on its in-memory device (the evdev backend on
+//! Linux, the DirectInput backend everywhere: `crate::backend_tests`): the product's own
+//! N·m → device level mapping, gain and update-rate policy, with a motor as strong as the
 //! profile states. After every operation:
 //!
 //! - the command is finite, within the ceiling in force, and within the slew limit of the
@@ -23,8 +24,7 @@
 //!   bound `fade_out_s + ceiling / slew` has passed on the supervisor's clock, and stay there.
 
 use super::*;
-use crate::evdev_wheel::fake::{FakeFfDevice, FakeHandle};
-use crate::evdev_wheel::{EvdevWheel, LEVEL_FULL_SCALE, level_for};
+use crate::backend_tests::{Backend, Motor};
 use crate::profile::{DeviceProfile, DriverFamily};
 use crate::wheel_config::WheelConfig;
 use clock::{Clock, MockClock};
@@ -295,7 +295,7 @@ impl Checker {
 
 /// Play `ops` on one wheel; `Err` names the first broken invariant.
 #[allow(clippy::too_many_arguments)]
-fn play_on_wheel(
+fn play_on_wheel<B: Backend>(
     name: &str,
     usb_id: (u16, u16),
     profile: Option<DeviceProfile>,
@@ -313,18 +313,16 @@ fn play_on_wheel(
         .clone()
         .unwrap_or_else(|| DeviceProfile::for_usb_id(usb_id.0, usb_id.1));
     let motor_nm = stated.max_torque_nm;
-    let dev = FakeFfDevice::wheel(name, usb_id, motor_nm, clock.clone());
-    let fake: FakeHandle = dev.handle();
     let cfg = WheelConfig {
         profile,
         gain,
         ..WheelConfig::default()
     };
-    let wheel = EvdevWheel::with_device(dev, "/dev/input/event99", cfg, clock).unwrap();
+    let (wheel, fake) = B::open(name, usb_id, motor_nm, cfg, clock).unwrap();
     let device_max = wheel.max_torque_nm();
     let p = wheel.profile();
     prop_assert!(device_max <= p.usable_max_nm() + 1e-12, "{name}");
-    let interval_ns = wheel.min_update_interval_ns();
+    let interval_ns = B::min_update_interval_ns(&wheel);
     let safety = SafetyConfig {
         ceiling_nm: ceiling_fraction.map(|f| f * device_max),
         ..safety
@@ -336,13 +334,13 @@ fn play_on_wheel(
         ..HapticChainConfig::for_encoder_step(p.ka_rad_per_unit)
     };
     let c = HapticChain::new(chain_cfg, device_max).unwrap();
-    let scale_nm = p.max_torque_nm * wheel.gain();
+    let scale_nm = p.max_torque_nm * B::gain(&wheel);
     let k = Checker {
         slew_nm_per_s: safety.slew_nm_per_s,
         fade_out_s: safety.fade_out_s,
         max_tick_gap_s: safety.max_tick_gap_s,
-        level_nm: scale_nm / LEVEL_FULL_SCALE,
-        motor_per_level_nm: p.torque_sign * scale_nm / LEVEL_FULL_SCALE,
+        level_nm: scale_nm / B::FULL_SCALE,
+        motor_per_level_nm: p.torque_sign * scale_nm / B::FULL_SCALE,
         last_cmd_nm: 0.0,
         ceiling_since_tick_nm: c.ceiling_nm(),
         last_motor_nm: 0.0,
@@ -353,7 +351,7 @@ fn play_on_wheel(
         since_pause: None,
         since_fault: None,
     };
-    let mut rig = Rig {
+    let mut rig = Rig::<B> {
         name: name.to_string(),
         c,
         wheel,
@@ -363,7 +361,6 @@ fn play_on_wheel(
         last_chain_ns: None,
         safety,
         device_max,
-        p,
         interval_ns,
     };
     // Set the clock off zero so backwards steps have room.
@@ -385,21 +382,20 @@ struct TickView {
 }
 
 /// One wheel under test with its chain and the checker.
-struct Rig {
+struct Rig<B: Backend> {
     name: String,
     c: HapticChain,
-    wheel: EvdevWheel<FakeFfDevice>,
-    fake: FakeHandle,
+    wheel: B::W,
+    fake: B::M,
     mock: MockClock,
     k: Checker,
     last_chain_ns: Option<u64>,
     safety: SafetyConfig,
     device_max: f64,
-    p: DeviceProfile,
     interval_ns: u64,
 }
 
-impl Rig {
+impl<B: Backend> Rig<B> {
     /// One tick: the clock moves by `gap`, the chain gets `reading` and `external_nm`, its
     /// command goes to the wheel; every invariant is checked.
     fn tick(&mut self, gap: Gap, reading: Reading, external_nm: f64) -> Result<(), TestCaseError> {
@@ -565,9 +561,9 @@ impl Rig {
         let interval_ns = self.interval_ns;
         let _ = self.wheel.set_torque_ceiling_nm(ceiling);
         let _ = self.wheel.command_torque(cmd);
-        let level = self.wheel.sent_level();
+        let level = B::sent_level(&self.wheel);
         let motor = f64::from(level) * self.k.motor_per_level_nm;
-        let magnitude = self.fake.motor_torque_nm();
+        let magnitude = self.fake.torque_nm();
         prop_assert!(
             (magnitude - motor.abs()).abs() <= 1e-9,
             "{name}: the fake's motor {magnitude} N·m vs level {level}"
@@ -576,13 +572,7 @@ impl Rig {
             motor.abs() <= ceiling + 1e-9,
             "{name}: {motor} N·m at the motor over the {ceiling} N·m ceiling"
         );
-        let own = level_for(
-            cmd,
-            self.device_max,
-            self.p.max_torque_nm,
-            self.wheel.gain(),
-            self.p.torque_sign,
-        );
+        let own = B::level_for(&self.wheel, cmd);
         if level == own {
             self.k.last_in_step_ns = self.mock.now_ns();
             prop_assert!(
@@ -740,12 +730,12 @@ impl Rig {
             self.tick(Gap::Nominal, reading, 1e300)?;
         }
         prop_assert_eq!(
-            self.wheel.sent_level(),
+            B::sent_level(&self.wheel),
             0,
             "{}: the motor still pushes",
             name
         );
-        prop_assert_eq!(self.fake.motor_torque_nm(), 0.0);
+        prop_assert_eq!(self.fake.torque_nm(), 0.0);
         Ok(())
     }
 }
@@ -764,7 +754,12 @@ proptest! {
         passivity in any::<bool>(),
     ) {
         for (name, usb_id, profile) in every_wheel() {
-            play_on_wheel(
+            #[cfg(all(target_os = "linux", feature = "evdev"))]
+            play_on_wheel::<crate::backend_tests::evdev_rig::Evdev>(
+                &name, usb_id, profile.clone(), gain, ceiling_fraction, safety, model, passivity,
+                &ops,
+            )?;
+            play_on_wheel::<crate::backend_tests::dinput_rig::Dinput>(
                 &name, usb_id, profile, gain, ceiling_fraction, safety, model, passivity, &ops,
             )?;
         }
