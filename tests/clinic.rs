@@ -17,7 +17,7 @@ pub fn telerehab(args: &[&str], home: Option<&Path>) -> Output {
     cmd.output().unwrap()
 }
 
-/// [`telerehab`], which must succeed; its standard output.
+/// [`telerehab()`], which must succeed; its standard output.
 pub fn ok(args: &[&str], home: Option<&Path>) -> String {
     let out = telerehab(args, home);
     assert!(
