@@ -272,13 +272,12 @@ fn scan() -> Finder {
             .any(|m| p == m.with_extension("rs") || p.starts_with(m))
     };
     for (path, ast) in parsed.iter().filter(|(p, _)| !is_test_file(p)) {
-        finder.file = match path.strip_prefix(&render_root) {
-            Ok(rest) => format!("render/{}", rest.to_string_lossy()),
-            Err(_) => path
-                .strip_prefix(&root)
-                .unwrap()
-                .to_string_lossy()
-                .into_owned(),
+        finder.file = if let Ok(rest) = path.strip_prefix(&render_root) {
+            format!("render/{}", rest.to_string_lossy())
+        } else if let Ok(rest) = path.strip_prefix(&session_root) {
+            format!("session/{}", rest.to_string_lossy())
+        } else {
+            path.strip_prefix(&root).unwrap().to_string_lossy().into_owned()
         };
         finder.visit_file(ast);
     }

@@ -196,7 +196,7 @@ mod tests {
         let mut command = Command::new(std::env::current_exe().unwrap());
         command.args([
             "--exact",
-            "session::window::channel::tests::child_echo",
+            "window::channel::tests::child_echo",
             "--ignored",
         ]);
         let (mut child, mut socket) =
