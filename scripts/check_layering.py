@@ -70,14 +70,16 @@ OUR_CRATES: dict[str, set[str]] = {
     "hub": {"common", "clock", "netlink", "record", "regimen", "i18n", "metrics"},
     # A patient's session: the 1 kHz loop, recorder, window supervisor, simulated body, arm.
     "session": BELOW_STATION,
+    # The end-of-session text and the clinician's HTML report.
+    "report": BELOW_STATION | {"session"},
     # The patient's station: it knows no hub (the link speaks netlink's protocol).
-    "station": BELOW_STATION | {"session"},
+    "station": BELOW_STATION | {"session", "report"},
     # The measurements and drills: they run stations and hubs.
     "tools": BELOW_STATION | {"session", "station", "hub"},
     # The one binary: its command line names the station's, the hub's and the tools' commands.
-    "telerehab": BELOW_STATION | {"session", "station", "hub", "tools"},
+    "telerehab": BELOW_STATION | {"session", "report", "station", "hub", "tools"},
     "telerehab-py": {"common", "vehicle", "assist", "calib", "gyro-imu", "metrics", "record"},
-    "telerehab-tests": BELOW_STATION | {"session", "station", "hub", "telerehab"},
+    "telerehab-tests": BELOW_STATION | {"session", "report", "station", "hub", "telerehab"},
 }
 
 PURE = ("common", "vehicle", "calib", "assist", "metrics")

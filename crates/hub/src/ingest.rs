@@ -372,16 +372,17 @@ impl HubStore for DbStore {
         })
     }
 
-    fn note_upload_bytes<'a>(
+    fn add_upload_bytes<'a>(
         &'a self,
         station_id: &'a str,
         day: u64,
         bytes: u64,
-    ) -> BoxFuture<'a, Result<(), NetlinkError>> {
+    ) -> BoxFuture<'a, Result<Option<u64>, NetlinkError>> {
         Box::pin(async move {
             self.db
-                .note_upload_bytes(station_id, day, bytes)
+                .add_upload_bytes(station_id, day, bytes)
                 .await
+                .map(Some)
                 .map_err(storage_error)
         })
     }
@@ -571,13 +572,13 @@ impl HubStore for Ingest {
         self.0.upload_bytes_on(station_id, day)
     }
 
-    fn note_upload_bytes<'a>(
+    fn add_upload_bytes<'a>(
         &'a self,
         station_id: &'a str,
         day: u64,
         bytes: u64,
-    ) -> BoxFuture<'a, Result<(), NetlinkError>> {
-        self.0.note_upload_bytes(station_id, day, bytes)
+    ) -> BoxFuture<'a, Result<Option<u64>, NetlinkError>> {
+        self.0.add_upload_bytes(station_id, day, bytes)
     }
 
     fn admit<'a>(&'a self, hello: &'a Hello, peer: Peer<'a>) -> BoxFuture<'a, Result<(), Refusal>> {

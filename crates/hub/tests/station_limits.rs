@@ -413,7 +413,7 @@ async fn the_days_upload_bytes_survive_a_hub_restart() {
 
 on_both_backends!(
     a_hello_alone_is_not_counted_as_a_training_session,
-    a_stations_upload_bytes_of_a_day_only_grow_and_its_sessions_of_a_day_are_counted,
+    a_stations_upload_bytes_of_a_day_add_up_from_every_hub_and_its_sessions_of_a_day_are_counted,
 );
 
 /// A therapist, patient `p-1` and station `st-1` in `db`.
@@ -474,15 +474,23 @@ async fn a_hello_alone_is_not_counted_as_a_training_session(db: Db) {
     assert_eq!(db.sessions_of(&p.id).await.unwrap().len(), 4);
 }
 
-async fn a_stations_upload_bytes_of_a_day_only_grow_and_its_sessions_of_a_day_are_counted(db: Db) {
+async fn a_stations_upload_bytes_of_a_day_add_up_from_every_hub_and_its_sessions_of_a_day_are_counted(
+    db: Db,
+) {
     let (_, p) = caseload(&db).await;
     let day = common::T0 as u64 / DAY_MS;
     assert_eq!(db.upload_bytes_on("st-1", day).await.unwrap(), 0);
-    db.note_upload_bytes("st-1", day, 1_000).await.unwrap();
-    // Connections note in any order: a smaller count changes nothing.
-    db.note_upload_bytes("st-1", day, 400).await.unwrap();
-    db.note_upload_bytes("st-1", day + 1, 7).await.unwrap();
-    assert_eq!(db.upload_bytes_on("st-1", day).await.unwrap(), 1_000);
+    assert_eq!(db.add_upload_bytes("st-1", day, 1_000).await.unwrap(), 1_000);
+    // Another hub's bytes add to the same count (never written over it).
+    assert_eq!(db.add_upload_bytes("st-1", day, 400).await.unwrap(), 1_400);
+    // Two hubs adding at once both count.
+    let (a, b) = tokio::join!(
+        db.add_upload_bytes("st-1", day, 10),
+        db.add_upload_bytes("st-1", day, 20)
+    );
+    assert_eq!(a.unwrap().max(b.unwrap()), 1_430);
+    db.add_upload_bytes("st-1", day + 1, 7).await.unwrap();
+    assert_eq!(db.upload_bytes_on("st-1", day).await.unwrap(), 1_430);
     assert_eq!(db.upload_bytes_on("st-1", day + 1).await.unwrap(), 7);
     assert_eq!(db.upload_bytes_on("st-other", day).await.unwrap(), 0);
     // Two sessions on T0's day, one the next day.

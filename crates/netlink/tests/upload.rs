@@ -307,3 +307,94 @@ async fn a_stations_left_parts_are_bounded_to_one_sessions_recording_and_stale_o
         .sum();
     assert!(parts <= 1 << 20, "{parts} bytes of parts left");
 }
+
+/// The directory store with the day's upload counts kept in one place, as the hubs on one
+/// database share them: each [`TherapistServer`] bound to it is another hub.
+struct SharedDayCounts {
+    files: netlink::FileStore,
+    bytes: std::sync::Mutex<std::collections::HashMap<(String, u64), u64>>,
+}
+
+impl netlink::HubStore for SharedDayCounts {
+    fn open_session<'a>(
+        &'a self,
+        hello: &'a Hello,
+    ) -> netlink::BoxFuture<'a, Result<Box<dyn netlink::SessionStore>, netlink::Refusal>> {
+        self.files.open_session(hello)
+    }
+
+    fn recording_path(&self, hello: &Hello) -> Option<std::path::PathBuf> {
+        self.files.recording_path(hello)
+    }
+
+    fn upload_bytes_on<'a>(
+        &'a self,
+        station_id: &'a str,
+        day: u64,
+    ) -> netlink::BoxFuture<'a, Result<u64, netlink::NetlinkError>> {
+        let key = (station_id.to_owned(), day);
+        let n = self.bytes.lock().unwrap().get(&key).copied().unwrap_or(0);
+        Box::pin(async move { Ok(n) })
+    }
+
+    fn add_upload_bytes<'a>(
+        &'a self,
+        station_id: &'a str,
+        day: u64,
+        bytes: u64,
+    ) -> netlink::BoxFuture<'a, Result<Option<u64>, netlink::NetlinkError>> {
+        let mut counts = self.bytes.lock().unwrap();
+        let count = counts.entry((station_id.to_owned(), day)).or_default();
+        *count += bytes;
+        let total = *count;
+        Box::pin(async move { Ok(Some(total)) })
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_station_alternating_between_two_hubs_is_held_to_one_days_bytes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("store");
+    let shared = std::sync::Arc::new(SharedDayCounts {
+        files: netlink::FileStore::new(dir.clone()),
+        bytes: std::sync::Mutex::default(),
+    });
+    // Two hubs on one store, each allowing 500 kB a station a day.
+    let mut hubs = Vec::new();
+    for _ in 0..2 {
+        let mut config = TherapistConfig::new("127.0.0.1:0".parse().unwrap(), &dir, None);
+        config.max_upload_bytes_per_station_day = 500_000;
+        let server = TherapistServer::bind_with_store(config, shared.clone())
+            .await
+            .unwrap()
+            .0;
+        hubs.push(server);
+    }
+    let (a, b) = (
+        hubs[0].local_addr().to_string(),
+        hubs[1].local_addr().to_string(),
+    );
+    // 200 kB to A, 200 kB to B: 400 kB of the day's 500 kB.
+    for (i, addr) in [&a, &b].into_iter().enumerate() {
+        let file = recording_of(tmp.path(), &format!("{i}.mcap"), 200_000);
+        upload_recording(addr, None, hello_for(&format!("s-{i}")), &file, 50_000_000)
+            .await
+            .unwrap();
+    }
+    // Back to A, which took only 200 kB itself: the day's count is the two hubs' together.
+    let file = recording_of(tmp.path(), "2.mcap", 200_000);
+    let err = upload_recording(&a, None, hello_for("s-2"), &file, 50_000_000)
+        .await
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("today") && err.contains("max_upload_bytes_per_station_day"),
+        "{err}"
+    );
+    let day = netlink::frame::unix_ms_now() / 86_400_000;
+    let counted = shared.bytes.lock().unwrap()[&("st-up".to_owned(), day)];
+    assert!(
+        (400_000..=500_000).contains(&counted),
+        "the shared count holds the cap: {counted}"
+    );
+}

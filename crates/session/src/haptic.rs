@@ -316,9 +316,11 @@ pub fn run(
     controls: &Controls,
     clock: &Clock,
 ) -> HapticOutcome {
-    let realtime_priority =
-        pacing == Pacing::RealTime && !clock.is_mock() && request_realtime_priority();
-    let _os_timing = clock.real_time_thread(pacing == Pacing::RealTime);
+    let real_time = pacing == Pacing::RealTime && !clock.is_mock();
+    let linux_fifo = real_time && request_realtime_priority();
+    let os_timing = clock.real_time_thread(pacing == Pacing::RealTime);
+    // Real-time scheduling is SCHED_FIFO on Linux, the thread in MMCSS on Windows.
+    let realtime_priority = linux_fifo || (real_time && os_timing.mmcss_task().is_some());
     let pinned = pacing == Pacing::RealTime && isolate_core && cores::pin_haptic_thread();
     if isolate_core {
         tracing::info!(pinned, "haptic thread pinned to the last core");
@@ -330,7 +332,7 @@ pub fn run(
     };
     if pacing == Pacing::RealTime && !realtime_priority && !clock.is_mock() {
         tracing::warn!(
-            "real-time scheduling (SCHED_FIFO) not granted: the haptic loop runs with normal priority and more jitter"
+            "real-time scheduling (Linux: SCHED_FIFO; Windows: MMCSS) not granted: the haptic loop runs with normal priority and more jitter"
         );
     }
     let period_ns = (plant.dt_s() * 1e9).round() as u64;

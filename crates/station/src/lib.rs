@@ -1,7 +1,8 @@
 //! The telerehab station around a session: the station's commands, the first-run pages, the
 //! link to the clinic, the screen, the check-in and the reports. A session itself (its threads,
 //! recorder, configuration) is the `session` crate; the window's drawing the `render` crate;
-//! the one `telerehab` binary the `telerehab` crate (its command line names these commands);
+//! the reports (the end-of-session text, the HTML report) the `report` crate; the one
+//! `telerehab` binary the `telerehab` crate (its command line names these commands);
 //! the clinic's hub the `hub` crate; benches and drills the `tools` crate. The design of the
 //! whole product is `docs/DESIGN.md`.
 //!
@@ -26,11 +27,9 @@
 //! - [`screen`] (a tick → a [`render::Scene`], drawn by the `render` crate: wgpu, window and
 //!   offscreen); the tests of the session's pages as drawn (sizes, screenshots) are the
 //!   screen's, since `render` knows no session.
-//! - [`report`] (the end-of-session text) and [`html_report`]: recorded sessions → one
-//!   self-contained HTML report (reads `record`, and the measures from `session::measures`).
 //!
-//! Dependencies point down the list: `commands` → `front_door`, `link`, `screen`, `report` →
-//! the `session`, `render`, `record` and `regimen` crates; nothing below `commands` knows a
+//! Dependencies point down the list: `commands` → `front_door`, `link`, `screen` → the
+//! `report`, `session`, `render`, `record` and `regimen` crates; nothing below `commands` knows a
 //! command, and a session draws through a scene closure, not the screen. Time comes from one
 //! injectable [`clock::Clock`] in `session::SessionOptions` (mock clocks in tests).
 
@@ -39,12 +38,10 @@ pub mod checkin;
 pub mod commands;
 pub mod front_door;
 pub mod home;
-pub mod html_report;
 pub mod link;
 pub mod logging;
 pub mod messages;
 pub mod readiness;
-pub mod report;
 pub mod screen;
 pub mod speech;
 pub mod version;

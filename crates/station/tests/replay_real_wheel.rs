@@ -226,7 +226,7 @@ fn a_real_wheel_unplugged_and_plugged_back_in_pauses_resumes_says_so_and_replays
         "it came back within the grace"
     );
     assert_eq!(report.haptic.wheel_replugs, 1);
-    let text = station::report::render(&report, None);
+    let text = report::terminal::render(&report, None);
     assert!(
         text.contains("unplugged and plugged back 1 time(s)"),
         "{text}"

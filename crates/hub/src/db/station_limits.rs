@@ -63,26 +63,25 @@ impl Db {
         Ok(bytes.map_or(0, |b| u64::try_from(b).unwrap_or(0)))
     }
 
-    /// Notes `bytes` taken from `station_id` on UTC day `day`; a count below the one stored
-    /// changes nothing (connections note in any order).
-    pub async fn note_upload_bytes(
+    /// Adds `bytes` taken from `station_id` on UTC day `day` to the day's count, in one
+    /// statement (hubs adding at once on one database both count), and answers the count after.
+    pub async fn add_upload_bytes(
         &self,
         station_id: &str,
         day: u64,
         bytes: u64,
-    ) -> Result<(), HubError> {
-        sqlx::query(
+    ) -> Result<u64, HubError> {
+        let total: i64 = sqlx::query_scalar(
             "INSERT INTO station_upload_days (station_id, day, bytes) VALUES ($1, $2, $3) \
-             ON CONFLICT (station_id, day) DO UPDATE SET bytes = CASE \
-             WHEN excluded.bytes > station_upload_days.bytes THEN excluded.bytes \
-             ELSE station_upload_days.bytes END",
+             ON CONFLICT (station_id, day) DO UPDATE SET \
+             bytes = station_upload_days.bytes + excluded.bytes RETURNING bytes",
         )
         .bind(station_id)
         .bind(to_i64("day", day)?)
         .bind(to_i64("bytes", bytes)?)
-        .execute(self.pool())
+        .fetch_one(self.pool())
         .await
-        .map_err(HubError::db("noting a station's upload bytes of the day"))?;
-        Ok(())
+        .map_err(HubError::db("adding to a station's upload bytes of the day"))?;
+        Ok(u64::try_from(total).unwrap_or(0))
     }
 }

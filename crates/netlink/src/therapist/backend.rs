@@ -170,10 +170,11 @@ pub trait HubStore: Send + Sync + 'static {
         Box::pin(async {})
     }
 
-    /// Recording bytes taken from `station_id` on UTC day `day` (days since the Unix epoch),
-    /// as last noted with [`Self::note_upload_bytes`]; read when the hub first counts the
-    /// station's bytes on that day, so a restarted hub goes on counting. The default keeps
-    /// nothing (0).
+    /// Recording bytes taken from `station_id` on UTC day `day` (days since the Unix epoch) by
+    /// every hub on this store, as added with [`Self::add_upload_bytes`]; read when a hub first
+    /// counts the station's bytes on that day and at the start of each recording, so a
+    /// restarted hub goes on counting and hubs sharing the store share the count. The default
+    /// keeps nothing (0).
     fn upload_bytes_on<'a>(
         &'a self,
         station_id: &'a str,
@@ -183,16 +184,18 @@ pub trait HubStore: Send + Sync + 'static {
         Box::pin(async { Ok(0) })
     }
 
-    /// Notes that `bytes` recording bytes have been taken from `station_id` on UTC day `day`
-    /// (a count that only grows: a smaller one than noted already changes nothing).
-    fn note_upload_bytes<'a>(
+    /// Adds `bytes` more recording bytes taken from `station_id` on UTC day `day` to the count
+    /// every hub on this store shares (one atomic addition: two hubs adding at once both
+    /// count), and answers the day's count after it; `None` from a store that keeps no count
+    /// (the default).
+    fn add_upload_bytes<'a>(
         &'a self,
         station_id: &'a str,
         day: u64,
         bytes: u64,
-    ) -> BoxFuture<'a, Result<(), NetlinkError>> {
+    ) -> BoxFuture<'a, Result<Option<u64>, NetlinkError>> {
         let _ = (station_id, day, bytes);
-        Box::pin(async { Ok(()) })
+        Box::pin(async { Ok(None) })
     }
 
     /// The station of `hello` showed the therapist's message `seen.id` to its patient. A

@@ -28,23 +28,33 @@ pub(super) struct Upload {
     sha256: String,
     offset: u64,
     file: tokio::fs::File,
+    /// Whether a chunk of this upload has been counted against the day's bytes yet (the first
+    /// one reads the shared count afresh: another hub may have taken bytes since).
+    counted: bool,
 }
 
-/// How often a station's daily byte count is written to the store while it uploads (and at
-/// the end of each recording): a restarted hub loses at most this much of the count.
+/// How often the bytes a station uploaded here are added to the store's shared count while
+/// it uploads (and at the end of each recording): a restarted hub loses at most this much of
+/// the count, and a station spreading one day over several hubs passes the cap by at most what
+/// it sends to each in this time after its last re-read.
 const NOTE_DAILY_BYTES_EVERY: Duration = Duration::from_secs(1);
 
 /// The bytes each station has uploaded today (UTC days by the store's clock), against
-/// [`super::TherapistConfig::max_upload_bytes_per_station_day`]. Read from the store when a
-/// station first uploads on a day and written back as it grows, so a restarted hub goes on
-/// counting.
+/// [`super::TherapistConfig::max_upload_bytes_per_station_day`]. The count is the store's,
+/// shared by every hub on it: read when a station first uploads on a day and at the start of
+/// each recording, and grown by adding this hub's bytes to it (never by writing this hub's
+/// total over it, which would let a station alternating between hubs take the cap on each).
 #[derive(Debug, Default)]
 pub(super) struct DailyBytes(Mutex<HashMap<String, DayCount>>);
 
 #[derive(Debug)]
 struct DayCount {
     day: u64,
+    /// The day's bytes as this hub knows them: the store's count at the last read or add,
+    /// plus `pending`.
     bytes: u64,
+    /// Bytes taken here and not yet added to the store's count.
+    pending: u64,
     noted_at: Option<Instant>,
 }
 
@@ -56,33 +66,35 @@ impl DailyBytes {
     }
 
     /// Counts `n` more bytes for `station` today, refused if that would pass `limit`; the
-    /// count is noted in the store at most every [`NOTE_DAILY_BYTES_EVERY`], and at a
-    /// recording's `last` chunk.
+    /// store's count is read afresh when `refresh` (a recording's first chunk here) or on a new
+    /// day, and this hub's bytes are added to it at most every [`NOTE_DAILY_BYTES_EVERY`], and
+    /// at a recording's `last` chunk.
     async fn add(
         &self,
         hub: &Hub,
         station: &str,
         n: u64,
         limit: u64,
-        last: bool,
+        (refresh, last): (bool, bool),
     ) -> Result<(), Failure> {
         let day = hub.store.now_ms() / 86_400_000;
         let fresh = |day| DayCount {
             day,
             bytes: 0,
+            pending: 0,
             noted_at: None,
         };
         let known = self.lock().get(station).is_some_and(|c| c.day == day);
-        if !known {
+        if refresh || !known {
             let stored = hub.store.upload_bytes_on(station, day).await.map_err(|e| {
                 Failure::Unavailable(format!("cannot read the day's upload count: {e}"))
             })?;
             let mut map = self.lock();
             map.retain(|_, c| c.day == day);
             let count = map.entry(station.to_owned()).or_insert_with(|| fresh(day));
-            count.bytes = count.bytes.max(stored);
+            count.bytes = count.bytes.max(stored.saturating_add(count.pending));
         }
-        let note = {
+        let due = {
             let mut map = self.lock();
             let count = map.entry(station.to_owned()).or_insert_with(|| fresh(day));
             let total = count.bytes.saturating_add(n);
@@ -99,6 +111,7 @@ impl DailyBytes {
                 ));
             }
             count.bytes = total;
+            count.pending = count.pending.saturating_add(n);
             let due = last
                 || count
                     .noted_at
@@ -106,12 +119,24 @@ impl DailyBytes {
             if due {
                 count.noted_at = Some(Instant::now());
             }
-            due.then_some(total)
+            due.then(|| std::mem::take(&mut count.pending))
         };
-        if let Some(total) = note
-            && let Err(e) = hub.store.note_upload_bytes(station, day, total).await
-        {
-            tracing::warn!(station, error = %e, "therapist hub: cannot note the day's upload count");
+        if let Some(delta) = due {
+            match hub.store.add_upload_bytes(station, day, delta).await {
+                Ok(Some(shared)) => {
+                    if let Some(count) = self.lock().get_mut(station).filter(|c| c.day == day) {
+                        count.bytes = count.bytes.max(shared.saturating_add(count.pending));
+                    }
+                }
+                Ok(None) => {}
+                Err(e) => {
+                    // Added again with the next note: the shared count is late, not short.
+                    if let Some(count) = self.lock().get_mut(station).filter(|c| c.day == day) {
+                        count.pending = count.pending.saturating_add(delta);
+                    }
+                    tracing::warn!(station, error = %e, "therapist hub: cannot add to the day's upload count");
+                }
+            }
         }
         Ok(())
     }
@@ -290,6 +315,7 @@ pub(super) async fn start(
         sha256: start.sha256,
         offset,
         file,
+        counted: false,
     };
     if offset == upload.size {
         // Whole already: an earlier attempt could not keep it (its store failed). Kept now,
@@ -325,13 +351,14 @@ pub(super) async fn chunk(
     }
     pace_upload(hub, hello, bytes.len() as u64).await?;
     let daily = hub.config.max_upload_bytes_per_station_day;
+    let refresh = !std::mem::replace(&mut up.counted, true);
     hub.daily_upload_bytes
         .add(
             hub,
             &hello.station_id,
             bytes.len() as u64,
             daily,
-            end == up.size,
+            (refresh, end == up.size),
         )
         .await?;
     up.file

@@ -407,28 +407,40 @@ fn graphics_check() -> Check {
     }
 }
 
-/// Whether the haptic thread would get SCHED_FIFO (asked from a throwaway thread).
+/// Whether the haptic thread would get real-time scheduling, asked from a throwaway thread:
+/// SCHED_FIFO on Linux, the Multimedia Class Scheduler (MMCSS) on Windows.
 fn realtime_check() -> Check {
     let granted = std::thread::Builder::new()
         .name("doctor-rt".into())
-        .spawn(session::haptic::request_realtime_priority)
+        .spawn(|| {
+            if session::haptic::request_realtime_priority() {
+                return Some("SCHED_FIFO");
+            }
+            clock::Clock::real().real_time_thread(true).mmcss_task()
+        })
         .ok()
         .and_then(|t| t.join().ok())
-        .unwrap_or(false);
-    if granted {
+        .flatten();
+    if let Some(how) = granted {
         return check(
             "real-time scheduling",
             Status::Pass,
-            "granted (SCHED_FIFO)",
+            format!("granted ({how})"),
             "",
         );
     }
+    let fix = if cfg!(windows) {
+        "check that the Multimedia Class Scheduler service (MMCSS) runs: Windows \
+         services, \"Multimedia Class Scheduler\""
+    } else {
+        "allow this user real-time priority (e.g. `@audio - rtprio 95` in \
+         /etc/security/limits.d/ and the user in the `audio` group, then log in again)"
+    };
     check(
         "real-time scheduling",
         Status::Warn,
         "not granted: the wheel's force loop runs at normal priority, with more jitter",
-        "allow this user real-time priority (e.g. `@audio - rtprio 95` in \
-         /etc/security/limits.d/ and the user in the `audio` group, then log in again)",
+        fix,
     )
 }
 

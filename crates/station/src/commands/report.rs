@@ -1,5 +1,5 @@
 //! `telerehab report`: recorded sessions → one self-contained HTML report
-//! ([`crate::html_report`]).
+//! (the `report` crate's `report::html`).
 
 use anyhow::bail;
 use std::path::PathBuf;
@@ -24,7 +24,7 @@ pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
         indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {wide_msg}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    let written = crate::html_report::write(&args.recordings, &args.out, &progress)?;
+    let written = report::html::write(&args.recordings, &args.out, &progress)?;
     progress.finish_and_clear();
     println!(
         "report: {} session{} → {} ({} kB; open it in any browser, it needs no network)",

@@ -773,7 +773,7 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
         recorded,
         &end_reason,
     );
-    print!("{}", crate::report::render(&report, link_report.as_ref()));
+    print!("{}", report::terminal::render(&report, link_report.as_ref()));
     if let Some(p) = &prescription {
         println!("prescription        {p}");
     }

@@ -8,7 +8,7 @@ pub mod uploads;
 pub mod wheel;
 
 use crate::home::Home;
-use crate::report::LinkReport;
+use report::terminal::LinkReport;
 use anyhow::Context;
 use clock::Clock;
 use netlink::{

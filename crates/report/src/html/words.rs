@@ -84,10 +84,10 @@ pub fn kind_title(kind: &str) -> String {
         .split('+')
         .map(|k| match k {
             "road" | "dial" => k.to_owned(),
-            other => crate::screen::plain_name(other).to_lowercase(),
+            other => session::words::plain_name(other).to_lowercase(),
         })
         .collect();
-    crate::screen::capitalised(&format!("{} exercises", words.join(" and ")))
+    session::words::capitalised(&format!("{} exercises", words.join(" and ")))
 }
 
 /// The short names of a session's exercises in order: as its results name them, else as its
@@ -107,7 +107,7 @@ pub fn exercises_in_words(s: &SessionData) -> String {
     let names: Vec<String> = if s.exercises.is_empty() {
         exercise_shorts(s)
             .iter()
-            .map(|k| crate::screen::plain_name(k))
+            .map(|k| session::words::plain_name(k))
             .collect()
     } else {
         named_with_sweeps_grouped(&s.exercises)

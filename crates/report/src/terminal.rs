@@ -134,7 +134,7 @@ fn each_exercise(s: &mut String, r: &SessionReport) {
             e.kind,
             e.active_s,
             e.prescribed_s,
-            crate::html_report::exercise_words(e)
+            crate::html::exercise_words(e)
         );
     }
 }
