@@ -480,7 +480,10 @@ async fn a_stations_upload_bytes_of_a_day_add_up_from_every_hub_and_its_sessions
     let (_, p) = caseload(&db).await;
     let day = common::T0 as u64 / DAY_MS;
     assert_eq!(db.upload_bytes_on("st-1", day).await.unwrap(), 0);
-    assert_eq!(db.add_upload_bytes("st-1", day, 1_000).await.unwrap(), 1_000);
+    assert_eq!(
+        db.add_upload_bytes("st-1", day, 1_000).await.unwrap(),
+        1_000
+    );
     // Another hub's bytes add to the same count (never written over it).
     assert_eq!(db.add_upload_bytes("st-1", day, 400).await.unwrap(), 1_400);
     // Two hubs adding at once both count.

@@ -359,11 +359,11 @@ async fn a_station_alternating_between_two_hubs_is_held_to_one_days_bytes() {
         files: netlink::FileStore::new(dir.clone()),
         bytes: std::sync::Mutex::default(),
     });
-    // Two hubs on one store, each allowing 500 kB a station a day.
+    // Two hubs on one store, each allowing 1 MiB a station a day.
     let mut hubs = Vec::new();
     for _ in 0..2 {
         let mut config = TherapistConfig::new("127.0.0.1:0".parse().unwrap(), &dir, None);
-        config.max_upload_bytes_per_station_day = 500_000;
+        config.max_upload_bytes_per_station_day = 1 << 20;
         let server = TherapistServer::bind_with_store(config, shared.clone())
             .await
             .unwrap()
@@ -374,15 +374,15 @@ async fn a_station_alternating_between_two_hubs_is_held_to_one_days_bytes() {
         hubs[0].local_addr().to_string(),
         hubs[1].local_addr().to_string(),
     );
-    // 200 kB to A, 200 kB to B: 400 kB of the day's 500 kB.
+    // 400 kB to A, 400 kB to B: 800 kB of the day's 1 MiB.
     for (i, addr) in [&a, &b].into_iter().enumerate() {
-        let file = recording_of(tmp.path(), &format!("{i}.mcap"), 200_000);
+        let file = recording_of(tmp.path(), &format!("{i}.mcap"), 400_000);
         upload_recording(addr, None, hello_for(&format!("s-{i}")), &file, 50_000_000)
             .await
             .unwrap();
     }
-    // Back to A, which took only 200 kB itself: the day's count is the two hubs' together.
-    let file = recording_of(tmp.path(), "2.mcap", 200_000);
+    // Back to A, which took only 400 kB itself: the day's count is the two hubs' together.
+    let file = recording_of(tmp.path(), "2.mcap", 400_000);
     let err = upload_recording(&a, None, hello_for("s-2"), &file, 50_000_000)
         .await
         .unwrap_err()
@@ -394,7 +394,7 @@ async fn a_station_alternating_between_two_hubs_is_held_to_one_days_bytes() {
     let day = netlink::frame::unix_ms_now() / 86_400_000;
     let counted = shared.bytes.lock().unwrap()[&("st-up".to_owned(), day)];
     assert!(
-        (400_000..=500_000).contains(&counted),
+        (800_000..=1 << 20).contains(&counted),
         "the shared count holds the cap: {counted}"
     );
 }

@@ -525,7 +525,7 @@ mod tests {
         record::ExerciseResult {
             index,
             kind: kind.into(),
-            name: session::words::plain_name(kind),
+            name: ::session::words::plain_name(kind),
             prescribed_s,
             active_s,
             scores: BTreeMap::from([("rms_lateral_m".to_owned(), 0.1234)]),

@@ -277,7 +277,10 @@ fn scan() -> Finder {
         } else if let Ok(rest) = path.strip_prefix(&session_root) {
             format!("session/{}", rest.to_string_lossy())
         } else {
-            path.strip_prefix(&root).unwrap().to_string_lossy().into_owned()
+            path.strip_prefix(&root)
+                .unwrap()
+                .to_string_lossy()
+                .into_owned()
         };
         finder.visit_file(ast);
     }

@@ -81,7 +81,9 @@ impl Db {
         .bind(to_i64("bytes", bytes)?)
         .fetch_one(self.pool())
         .await
-        .map_err(HubError::db("adding to a station's upload bytes of the day"))?;
+        .map_err(HubError::db(
+            "adding to a station's upload bytes of the day",
+        ))?;
         Ok(u64::try_from(total).unwrap_or(0))
     }
 }

@@ -194,11 +194,7 @@ mod tests {
     #[test]
     fn a_window_process_started_on_the_channel_talks_both_ways() {
         let mut command = Command::new(std::env::current_exe().unwrap());
-        command.args([
-            "--exact",
-            "window::channel::tests::child_echo",
-            "--ignored",
-        ]);
+        command.args(["--exact", "window::channel::tests::child_echo", "--ignored"]);
         let (mut child, mut socket) =
             spawn_connected(&mut command, Duration::from_secs(30)).unwrap();
         socket.write_all(b"x").unwrap();

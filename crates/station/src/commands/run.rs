@@ -8,6 +8,7 @@ use clap::ValueEnum;
 use clock::Clock;
 use regimen::Regimen;
 use render::window::WindowOptions;
+use report::terminal::render as end_report;
 use session::config::StationConfig;
 use session::signals::install_stop_flag;
 use session::{self, BodyKind, SessionOptions, SessionReport, haptic::Pacing};
@@ -773,7 +774,7 @@ pub fn run(mut args: RunArgs) -> anyhow::Result<()> {
         recorded,
         &end_reason,
     );
-    print!("{}", report::terminal::render(&report, link_report.as_ref()));
+    print!("{}", end_report(&report, link_report.as_ref()));
     if let Some(p) = &prescription {
         println!("prescription        {p}");
     }

@@ -8,7 +8,6 @@ pub mod uploads;
 pub mod wheel;
 
 use crate::home::Home;
-use report::terminal::LinkReport;
 use anyhow::Context;
 use clock::Clock;
 use netlink::{
@@ -16,6 +15,7 @@ use netlink::{
     SummarySender,
 };
 use queue::QueueFile;
+use report::terminal::LinkReport;
 use session::config::StationConfig;
 use session::faults::HubSwitch;
 use session::{LiveSummary, SessionObserver};
