@@ -22,7 +22,7 @@ const KINDS = [
   'scale_rejected', 'export_measures_csv', 'export_caseload_csv', 'export_assessments_csv', 'export_fhir', 'export_patient',
   'add_patient', 'pairing_code', 'station_paired', 'pairing_failed', 'revoke_station',
   'station_refused', 'add_therapist', 'list_therapists', 'read_audit', 'refusals_suppressed',
-  'hub_init', 'change_language', 'read_attention', 'acknowledge_alert', 'snooze_alert', 'read_settings',
+  'hub_init', 'backup', 'change_language', 'read_attention', 'acknowledge_alert', 'snooze_alert', 'read_settings',
   'change_setting', 'pain_clearance', 'erase_patient', 'recording_uploaded',
 ];
 const KNOWN = new Set(KINDS);

@@ -81,6 +81,7 @@ audit-kind-list_therapists = hat die Konten aufgelistet
 audit-kind-read_audit = hat das Prüfprotokoll geöffnet
 audit-kind-refusals_suppressed = bekam weitere Ablehnungen nur gezählt, nicht einzeln protokolliert
 audit-kind-hub_init = hat den Hub eingerichtet
+audit-kind-backup = hat die Klinik gesichert
 audit-kind-change_language = hat die Sprache der Konsole geändert
 audit-kind-read_settings = hat die Schwellenwerte für Hinweise geöffnet
 audit-kind-change_setting = hat einen Schwellenwert geändert

@@ -82,6 +82,7 @@ audit-kind-list_therapists = listed the accounts
 audit-kind-read_audit = opened the audit log
 audit-kind-refusals_suppressed = had further refusals counted, not written
 audit-kind-hub_init = set up the hub
+audit-kind-backup = backed up the clinic
 audit-kind-change_language = changed the console's language
 audit-kind-read_settings = opened the alert thresholds
 audit-kind-change_setting = changed an alert threshold

@@ -81,6 +81,7 @@ audit-kind-list_therapists = listó las cuentas
 audit-kind-read_audit = abrió el registro de auditoría
 audit-kind-refusals_suppressed = tuvo más rechazos contados, no escritos uno a uno
 audit-kind-hub_init = configuró el hub
+audit-kind-backup = hizo una copia de seguridad de la clínica
 audit-kind-change_language = cambió el idioma de la consola
 audit-kind-read_settings = abrió los umbrales de los avisos
 audit-kind-change_setting = cambió un umbral de aviso

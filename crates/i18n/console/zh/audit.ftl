@@ -81,6 +81,7 @@ audit-kind-list_therapists = 列出了账户
 audit-kind-read_audit = 打开了审计日志
 audit-kind-refusals_suppressed = 后续拒绝仅计数，未逐条记录
 audit-kind-hub_init = 设置了中心服务器
+audit-kind-backup = 备份了诊所的数据
 audit-kind-change_language = 更改了控制台语言
 audit-kind-read_settings = 打开了提示阈值
 audit-kind-change_setting = 更改了一个提示阈值
