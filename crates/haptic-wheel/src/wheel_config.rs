@@ -232,6 +232,27 @@ pub fn motor_fraction(torque_nm: f64, usable_nm: f64, motor_nm: f64, gain: f64, 
     (sign * tau / scale_nm).clamp(-1.0, 1.0)
 }
 
+/// An update is due this share of the rate policy's interval early (1/10: 0.2 ms for a G29's
+/// 2 ms), to absorb the haptic loop's wake-up jitter; a driver that coalesces within its own
+/// timer loses nothing by it.
+const WAKE_JITTER_SHARE: u64 = 10;
+
+/// Whether a force update goes out now under a driver's rate policy (both backends): when
+/// `min_interval_ns` has passed since the last update (less a tenth of it, `WAKE_JITTER_SHARE`: the loop's
+/// ticks wake a few µs early or late, and without it a G29 got 390 updates/s, not 500), or at
+/// once when `stopping` (a zero asked for while a non-zero level is held: stopping is never
+/// throttled). A zero already held follows the policy like any level (re-sent, and its effect
+/// re-armed, on schedule). Plain arithmetic: no allocation, lock or I/O on the 1 kHz path.
+pub fn update_due(
+    last_update_ns: Option<u64>,
+    now_ns: u64,
+    min_interval_ns: u64,
+    stopping: bool,
+) -> bool {
+    let interval_ns = min_interval_ns - min_interval_ns / WAKE_JITTER_SHARE;
+    stopping || last_update_ns.is_none_or(|t| now_ns.saturating_sub(t) >= interval_ns)
+}
+
 /// The gain fraction a device really runs at when asked for `gain`: the 16-bit level sent.
 pub fn quantised_gain(gain: f64) -> f64 {
     f64::from(fraction_level(gain)) / f64::from(u16::MAX)

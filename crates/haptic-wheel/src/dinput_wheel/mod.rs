@@ -59,9 +59,6 @@ use crate::wheel_config::{WheelConfig, motor_fraction};
 
 /// Full scale of a DirectInput magnitude or gain, as a float.
 pub const MAGNITUDE_FULL_SCALE: f64 = DI_FFNOMINALMAX as f64;
-/// An update is due this share of the rate policy's interval early, as on evdev (the loop's
-/// wake-up jitter costs no updates).
-const WAKE_JITTER_SHARE: u64 = 10;
 
 /// The DirectInput magnitude (±10 000) that makes a motor of `motor_nm` at device gain `gain`
 /// give at most `torque_nm` (thesis eq. 3.3), with the profile's `torque_sign`, after
@@ -330,13 +327,9 @@ impl<D: DiDevice> Wheel for DinputWheel<D> {
             self.zero_first = magnitude != 0;
             magnitude = 0;
         }
-        let interval_ns = self.min_interval_ns - self.min_interval_ns / WAKE_JITTER_SHARE;
-        let due = self
-            .last_update_ns
-            .is_none_or(|t| now.saturating_sub(t) >= interval_ns);
-        // Zero always goes out at once; a zero already held follows the policy like any level
-        // (re-sent, hence re-started, on schedule).
-        if due || (magnitude == 0 && self.magnitude != 0) {
+        let stopping = magnitude == 0 && self.magnitude != 0;
+        if crate::wheel_config::update_due(self.last_update_ns, now, self.min_interval_ns, stopping)
+        {
             self.send(magnitude, now)
         } else {
             Ok(())

@@ -78,10 +78,6 @@ const NO_CONDITION: FFCondition = FFCondition {
 };
 /// Full scale of a Linux FF level or coefficient.
 pub const LEVEL_FULL_SCALE: f64 = 32_767.0;
-/// An update is due this share of the rate policy's interval early (1/10: 0.2 ms for a G29's
-/// 2 ms), to absorb the haptic loop's wake-up jitter; a driver that coalesces within its
-/// own timer loses nothing by it.
-const WAKE_JITTER_SHARE: u64 = 10;
 /// Most firmware condition effects the backend keeps (room reserved at open).
 const MAX_CONDITIONS: usize = 4;
 
@@ -535,17 +531,9 @@ impl<D: FfDevice> Wheel for EvdevWheel<D> {
             self.zero_first = level != 0;
             level = 0;
         }
-        // The loop's ticks wake a few µs early or late: an update is due a tenth of the
-        // interval early, so a tick woken just before the interval is up sends rather than
-        // waiting a whole tick more (measured: a G29 got 390 updates/s, not 500, without it).
-        let interval_ns = self.min_interval_ns - self.min_interval_ns / WAKE_JITTER_SHARE;
-        let due = self
-            .last_update_ns
-            .is_none_or(|t| now.saturating_sub(t) >= interval_ns);
-        // Zero always goes out at once: stopping is never throttled. A zero already held
-        // follows the policy like any level (it is re-sent, and the effect re-armed, on
-        // schedule), so the device gets no more updates than its driver takes.
-        if due || (level == 0 && self.level != 0) {
+        let stopping = level == 0 && self.level != 0;
+        if crate::wheel_config::update_due(self.last_update_ns, now, self.min_interval_ns, stopping)
+        {
             self.send(level, now)
         } else {
             Ok(())
