@@ -37,9 +37,9 @@ use sha2::{Digest, Sha256};
 use sqlx::Row;
 
 use crate::clinic::Clinic;
-use crate::db::{Backend, Db, catalog};
-use crate::error::HubError;
 use crate::patient_data::tombstones;
+use hub_store::HubError;
+use hub_store::db::{Backend, Db, catalog};
 
 mod crypt;
 
@@ -348,11 +348,11 @@ async fn postgres_dump(db: &Db, url: &str, dump: &Path) -> Result<BTreeMap<Strin
 }
 
 /// The finished recordings in the clinic's recording store (`<station>/<file>`, no `*.part`;
-/// the local directory or S3, [`crate::recordings`]), each with its digest (read as a stream),
+/// the local directory or S3, [`hub_care::recordings`]), each with its digest (read as a stream),
 /// sorted.
 async fn list_recordings(
-    store: &crate::recordings::RecordingStore,
-) -> Result<Vec<(String, FileDigest, crate::recordings::StoredFile)>, HubError> {
+    store: &hub_care::recordings::RecordingStore,
+) -> Result<Vec<(String, FileDigest, hub_care::recordings::StoredFile)>, HubError> {
     let mut found = Vec::new();
     for file in store.finished().await? {
         let digest = digest_of(store.read(&file)?, &file.name)?;
@@ -376,7 +376,7 @@ fn digest_of(mut reader: impl Read, name: &str) -> Result<FileDigest, HubError> 
     }
     Ok(FileDigest {
         bytes,
-        sha256: crate::db::hex(&hasher.finalize()),
+        sha256: hub_store::db::hex(&hasher.finalize()),
     })
 }
 
@@ -821,7 +821,7 @@ fn write_new(
     Ok(if copied < bytes {
         Err(copied)
     } else {
-        Ok(crate::db::hex(&out.hasher.finalize()))
+        Ok(hub_store::db::hex(&out.hasher.finalize()))
     })
 }
 

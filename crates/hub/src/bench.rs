@@ -16,8 +16,8 @@ use netlink::{
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::TcpStream;
 
-use crate::db::Db;
-use crate::error::HubError;
+use hub_store::HubError;
+use hub_store::db::Db;
 
 /// A provisioned station: its id, patient and TLS files.
 #[derive(Debug, Clone)]

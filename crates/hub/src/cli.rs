@@ -1,16 +1,16 @@
 //! `telerehab hub`: the clinic's system of record — `init` a data directory, `serve` the
 //! stations (mutual TLS) and the therapist console API (HTTPS), add patients (each with a
 //! one-time pairing code), show a patient's sessions, revoke a station, add therapists.
-//! The database work of `hub patient …` is in `crate::patients`: here the arguments are
+//! The database work of `hub patient …` is in `hub_care::patients`: here the arguments are
 //! parsed and the answers printed.
 
 pub mod backup;
 pub mod care;
 
 use crate::clinic::{Bound, Clinic, ServeOptions};
-use crate::db::{Db, Role};
-use crate::patients;
 use anyhow::{Context, bail};
+use hub_care::patients;
+use hub_store::db::{Db, Role};
 use std::io::Write;
 use std::path::PathBuf;
 

@@ -25,13 +25,13 @@ use netlink::{ServerTls, TherapistConfig, TherapistEvent, TherapistServer};
 use serde::{Deserialize, Serialize};
 use tokio::sync::broadcast;
 
-use crate::db::{Db, RegimenVersion, Role};
-use crate::error::HubError;
-use crate::fanout::{Fanout, Note};
-use crate::ingest::{DbStore, Ingest, REVOCATION_POLL};
-use crate::limits::ConnectionBudget;
-use crate::telemetry::Telemetry;
 use crate::web::{self, AppState, LiveEvent, unix_ms};
+use hub_care::fanout::{Fanout, Note};
+use hub_care::ingest::{DbStore, Ingest, REVOCATION_POLL};
+use hub_care::limits::ConnectionBudget;
+use hub_care::telemetry::Telemetry;
+use hub_store::HubError;
+use hub_store::db::{Db, RegimenVersion, Role};
 
 /// `DATA/hub.toml`.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
@@ -47,7 +47,7 @@ pub struct ClinicConfig {
     pub clinic_name: Option<String>,
     /// The canonical base of the hub's FHIR code systems, questionnaire and identifier
     /// systems (`fhir_base = "https://fhir.clinic.example/telerehab"`); absent: `https://NAME/fhir`
-    /// of the first name ([`crate::fhir::FhirBase`], docs/FHIR.md).
+    /// of the first name ([`hub_care::fhir::FhirBase`], docs/FHIR.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fhir_base: Option<String>,
     /// The age recipients (`age1…`, X25519) `hub backup` encrypts to (`hub backup-key` adds
@@ -62,20 +62,20 @@ pub struct ClinicConfig {
     /// (docs/OPERATING.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub metrics_listen: Option<SocketAddr>,
-    /// Where recordings are kept (`[recordings]`, [`crate::recordings::RecordingsConfig`]);
+    /// Where recordings are kept (`[recordings]`, [`hub_care::recordings::RecordingsConfig`]);
     /// absent: `DATA/recordings`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub recordings: Option<crate::recordings::RecordingsConfig>,
+    pub recordings: Option<hub_care::recordings::RecordingsConfig>,
 }
 
 impl ClinicConfig {
     /// The clinic's FHIR base: `fhir_base`, else `https://NAME/fhir` of the first name; an
     /// error naming `hub.toml`'s `fhir_base` when it is not an address.
-    pub fn fhir_base(&self) -> Result<crate::fhir::FhirBase, HubError> {
+    pub fn fhir_base(&self) -> Result<hub_care::fhir::FhirBase, HubError> {
         match self.fhir_base.as_deref() {
-            Some(b) => crate::fhir::FhirBase::parse(b, "hub.toml's fhir_base"),
+            Some(b) => hub_care::fhir::FhirBase::parse(b, "hub.toml's fhir_base"),
             None => {
-                crate::fhir::FhirBase::of_hub_name(self.names.first().map_or("", String::as_str))
+                hub_care::fhir::FhirBase::of_hub_name(self.names.first().map_or("", String::as_str))
             }
         }
     }
@@ -229,8 +229,8 @@ impl Clinic {
 
     /// The recording store `hub.toml` configures (`[recordings]`), else `DATA/recordings`; a
     /// bad or missing setting is an error naming it.
-    pub fn recordings(&self) -> Result<crate::recordings::RecordingStore, HubError> {
-        crate::recordings::RecordingStore::open(&self.dir, self.config()?.recordings.as_ref())
+    pub fn recordings(&self) -> Result<hub_care::recordings::RecordingStore, HubError> {
+        hub_care::recordings::RecordingStore::open(&self.dir, self.config()?.recordings.as_ref())
     }
 
     /// The clinic's CA.
@@ -256,7 +256,7 @@ impl Clinic {
     }
 }
 
-pub use crate::db::one_time_password;
+pub use hub_store::db::one_time_password;
 
 /// Where `hub serve` listens.
 #[derive(Clone)]
@@ -270,16 +270,16 @@ pub struct ServeOptions {
     /// Most simultaneous station connections, and from one address.
     pub max_connections: (usize, usize),
     /// Caps on connections nobody has authenticated yet and the console's deadlines; with
-    /// `max_connections`, fitted to the open-file limit at start ([`crate::limits`]).
+    /// `max_connections`, fitted to the open-file limit at start ([`hub_care::limits`]).
     pub limits: HubLimits,
     /// Largest recording file the console replays, bytes ([`web::DEFAULT_MAX_REPLAY_BYTES`]).
     pub max_replay_bytes: u64,
     /// Summaries taken from one station a second over all its connections
     /// ([`netlink::therapist::station_limits::SUMMARY_PACE_PER_S`]; tests lower it).
     pub summary_pace_per_s: u32,
-    /// Pain threshold, clinic phone, console URL and mail ([`crate::care`]); its
+    /// Pain threshold, clinic phone, console URL and mail ([`hub_care::care`]); its
     /// `public_station_address` is settled at start from `public_station_address`.
-    pub care: crate::care::CareConfig,
+    pub care: hub_care::care::CareConfig,
     /// `--public-station-address`: what pairing sheets print (else the station listener's,
     /// when it is a specific address other than loopback).
     pub public_station_address: Option<String>,
@@ -324,7 +324,7 @@ impl ServeOptions {
             limits: HubLimits::default(),
             max_replay_bytes: web::DEFAULT_MAX_REPLAY_BYTES,
             summary_pace_per_s: netlink::therapist::station_limits::SUMMARY_PACE_PER_S as u32,
-            care: crate::care::CareConfig::default(),
+            care: hub_care::care::CareConfig::default(),
             public_station_address: None,
             metrics: None,
             drain: std::time::Duration::ZERO,
@@ -440,12 +440,15 @@ pub async fn serve(
         metrics: operator.as_ref().map(|(addr, _)| *addr),
         budget,
     });
-    let pool_sampler = tokio::spawn(crate::telemetry::sample_pool(db.clone(), telemetry.clone()));
+    let pool_sampler = tokio::spawn(hub_care::telemetry::sample_pool(
+        db.clone(),
+        telemetry.clone(),
+    ));
     let mut revocation = tokio::time::interval(REVOCATION_POLL);
-    let mut sweep = tokio::time::interval(crate::uploads::PARTIAL_UPLOAD_SWEEP);
+    let mut sweep = tokio::time::interval(hub_care::uploads::PARTIAL_UPLOAD_SWEEP);
     let mut housekeeping = tokio::time::interval(HOUSEKEEPING);
     let staging = recordings.staging_dir().to_owned();
-    let mailer = tokio::spawn(crate::pain_mail::run(
+    let mailer = tokio::spawn(hub_care::pain_mail::run(
         db.clone(),
         care.clone(),
         options.clock.clone(),
@@ -554,9 +557,9 @@ async fn housekeep(db: &Db, now: i64) {
 /// Remove the partial uploads under `recordings` nobody has resumed for too long.
 async fn expire_partial_uploads(recordings: PathBuf) {
     let expired = tokio::task::spawn_blocking(move || {
-        crate::uploads::expire_partial_uploads(
+        hub_care::uploads::expire_partial_uploads(
             &recordings,
-            crate::uploads::PARTIAL_UPLOAD_MAX_AGE,
+            hub_care::uploads::PARTIAL_UPLOAD_MAX_AGE,
             std::time::SystemTime::now(),
         )
     })
@@ -620,7 +623,7 @@ async fn prescribed_here(
 async fn cleared_here(
     server: &TherapistServer,
     db: &Db,
-    care: &crate::care::CareConfig,
+    care: &hub_care::care::CareConfig,
     fanout: Option<&Fanout>,
     patient_id: String,
 ) {
@@ -650,7 +653,7 @@ async fn on_other_hubs_note(
     note: Note,
     server: &TherapistServer,
     db: &Db,
-    care: &crate::care::CareConfig,
+    care: &hub_care::care::CareConfig,
     live: &broadcast::Sender<LiveEvent>,
 ) {
     match note {
@@ -792,9 +795,9 @@ fn link_config(
 /// Raises the open-file limit and fits the connection caps of `options` under it (warning if
 /// they had to shrink): the station port's and the console's.
 fn fit_to_fd_limit(options: &ServeOptions) -> (ConnectionBudget, web::WebLimits) {
-    let fd_limit = crate::limits::raise_fd_limit().unwrap_or_else(|e| {
+    let fd_limit = hub_care::limits::raise_fd_limit().unwrap_or_else(|e| {
         tracing::warn!("{e}");
-        crate::limits::fd_limit()
+        hub_care::limits::fd_limit()
     });
     let web = options.limits.web;
     let wanted = ConnectionBudget {
@@ -827,7 +830,7 @@ fn fit_to_fd_limit(options: &ServeOptions) -> (ConnectionBudget, web::WebLimits)
 /// Sends the patient's unseen messages to the station of `hello`, oldest first, if its
 /// connection speaks a protocol version that knows them (an older station is sent none).
 async fn push_messages(server: &TherapistServer, db: &Db, hello: &netlink::Hello, now_ms: i64) {
-    for frame in crate::news::unseen_messages(db, &hello.patient_id).await {
+    for frame in hub_care::news::unseen_messages(db, &hello.patient_id).await {
         let id = frame.id.clone();
         match server.send_message(&hello.station_id, frame) {
             Ok(true) => {
@@ -859,10 +862,10 @@ fn settle_care(
     stations: SocketAddr,
     web: Option<SocketAddr>,
     name: &str,
-) -> crate::care::CareConfig {
+) -> hub_care::care::CareConfig {
     let mut care = options.care.clone();
     care.public_station_address =
-        crate::care::public_station_address(options.public_station_address.as_deref(), stations);
+        hub_care::care::public_station_address(options.public_station_address.as_deref(), stations);
     match &care.public_station_address {
         Ok(a) => tracing::info!("pairing sheets print the station address {a}"),
         Err(why) => tracing::warn!("pairing sheets cannot print a station address: {why}"),
@@ -878,11 +881,11 @@ fn settle_care(
 async fn push_care(
     server: &TherapistServer,
     db: &Db,
-    care: &crate::care::CareConfig,
+    care: &hub_care::care::CareConfig,
     station_id: &str,
     patient_id: &str,
 ) {
-    let frame = crate::news::care_frame(db, care, patient_id).await;
+    let frame = hub_care::news::care_frame(db, care, patient_id).await;
     match server.send_care(station_id, frame) {
         Ok(true) => tracing::debug!(station = %station_id, "pain settings pushed"),
         Ok(false) => tracing::debug!(
@@ -898,7 +901,7 @@ async fn push_care(
 async fn push_care_to_patient(
     server: &TherapistServer,
     db: &Db,
-    care: &crate::care::CareConfig,
+    care: &hub_care::care::CareConfig,
     patient_id: &str,
 ) {
     let Ok(stations) = db.stations_of(patient_id).await else {
@@ -915,7 +918,7 @@ async fn push_regimen(server: &TherapistServer, db: &Db, regimen: &RegimenVersio
     let Ok(stations) = db.stations_of(&regimen.patient_id).await else {
         return;
     };
-    let frame = crate::news::regimen_frame(db, regimen).await;
+    let frame = hub_care::news::regimen_frame(db, regimen).await;
     for station in stations.iter().filter(|s| !s.is_revoked()) {
         match server.send_regimen(&station.station_id, frame.clone()) {
             Ok(()) => {
@@ -945,7 +948,7 @@ mod tests {
             config.fhir_base().unwrap().to_string(),
             "https://hub.clinic.example/fhir"
         );
-        let v6 = crate::fhir::FhirBase::of_hub_name("::1").unwrap();
+        let v6 = hub_care::fhir::FhirBase::of_hub_name("::1").unwrap();
         assert_eq!(v6.to_string(), "https://[::1]/fhir");
         config.fhir_base = Some("https://fhir.clinic.example/rehab".into());
         assert_eq!(

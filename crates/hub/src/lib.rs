@@ -1,40 +1,34 @@
-//! The clinic hub: the system of record for patients, stations, sessions and regimens
-//! ([`db`], SQLite or PostgreSQL through one code path) and the HTTPS JSON API of the
-//! therapist console ([`web`]); the station link's store and pairing authority ([`ingest`]);
-//! a clinic's data directory, `hub init` and `hub serve` ([`clinic`]); what `hub patient …`
-//! does to the database ([`patients`]); where recordings are kept, the data directory or an
-//! S3-compatible store ([`recordings`]); what one hub tells the others of its clinic through
-//! PostgreSQL ([`fanout`]); partial uploads expired ([`uploads`]); the load
-//! generator of `hub bench` ([`bench`](mod@bench)); what an operator watches — `/metrics`,
-//! `/healthz`, `/readyz` ([`telemetry`], `web::ops`); the
-//! crate's errors ([`HubError`], [`PairRefusal`], module `error`).
+//! The clinic hub's top: the HTTPS JSON API of the therapist console ([`web`]); a clinic's
+//! data directory, `hub init` and `hub serve`, which runs the station link and the console
+//! together ([`clinic`]); the hub's own command line, `telerehab hub …` ([`cli`]); backup and
+//! restore ([`backup`](mod@backup)); a patient's export and erasure ([`patient_data`]); the
+//! load generator of `hub bench` ([`bench`](mod@bench)).
+//!
+//! The hub is three crates, arrows pointing down: `hub` (this one) → `hub_care` (the clinical
+//! logic and the station link: ingest, recordings, alerts, pain care and mail, FHIR, patients,
+//! telemetry, fan-out between hubs) → `hub_store` (the database, its migrations, the errors,
+//! refusal codes and thresholds). Product code in this crate names their real paths.
+//!
+//! Re-exports: the modules of the two crates below and the store's main types are re-exported
+//! here under their former `hub::` paths (`hub::db`, `hub::ingest`, `hub::Db`, `hub::HubError`,
+//! …) for the hub's integration tests, the workspace tests, `tools` and the examples, which
+//! depend on `hub` alone; `web` likewise names `hub_care::live`'s `LiveEvent`, `unix_ms` and
+//! `system_now_ms`, which the API's state and streams carry.
 //!
 //! Layering (DESIGN.md): this crate uses `netlink`'s frame types and never the station's
 //! device crates.
 
-pub mod attention;
 pub mod backup;
 pub mod bench;
-pub mod care;
 pub mod cli;
 pub mod clinic;
-pub mod db;
-mod error;
-pub mod fanout;
-pub mod fhir;
-pub mod ingest;
-pub mod limits;
-pub mod news;
-pub mod pain_mail;
 pub mod patient_data;
-pub mod patients;
-pub mod recordings;
-pub mod refusal;
-mod sheet_words;
-pub mod telemetry;
-pub mod thresholds;
-pub mod uploads;
 pub mod web;
 
-pub use db::{Backend, Db, Patient, Role, Station, Therapist};
-pub use error::{HubError, PairRefusal};
+pub use hub_care::{
+    attention, care, fanout, fhir, ingest, limits, news, pain_mail, patients, recordings,
+    telemetry, uploads,
+};
+pub use hub_store::{
+    Backend, Db, HubError, PairRefusal, Patient, Role, Station, Therapist, db, refusal, thresholds,
+};

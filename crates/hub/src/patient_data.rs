@@ -21,9 +21,9 @@ use serde_json::{Map, Value};
 use sqlx::{Column, Row};
 
 use crate::clinic::Clinic;
-use crate::db::{Backend, Db, Patient};
-use crate::error::HubError;
-use crate::recordings::{RecordingStore, StoredFile};
+use hub_care::recordings::{RecordingStore, StoredFile};
+use hub_store::HubError;
+use hub_store::db::{Backend, Db, Patient};
 
 pub mod tombstones;
 
@@ -111,7 +111,7 @@ async fn scope(db: &Db, pseudonym: &str) -> Result<Scope, HubError> {
 
 /// Every table with its columns, from the database's catalogue.
 async fn tables(db: &Db) -> Result<Vec<(String, Vec<String>)>, HubError> {
-    let names = crate::db::catalog::row_counts(db).await?;
+    let names = hub_store::db::catalog::row_counts(db).await?;
     let mut out = Vec::new();
     for table in names.into_keys() {
         let sql = match db.backend() {
@@ -283,7 +283,7 @@ async fn write_rows(
 }
 
 /// The recording files of the patient's stations (finished and partial), sorted: from the
-/// recording store ([`crate::recordings`]) and the hub's partial uploads.
+/// recording store ([`hub_care::recordings`]) and the hub's partial uploads.
 async fn recording_files(store: &RecordingStore, s: &Scope) -> Result<Vec<StoredFile>, HubError> {
     let mut files = Vec::new();
     for station in &s.stations {
@@ -389,7 +389,7 @@ pub async fn erase(
 ) -> Result<Covered, HubError> {
     // A serving hub re-reads the revoked stations every `REVOCATION_POLL` and cuts their
     // connections: give it two before their rows go.
-    let grace = tokio::time::sleep(2 * crate::ingest::REVOCATION_POLL);
+    let grace = tokio::time::sleep(2 * hub_care::ingest::REVOCATION_POLL);
     erase_after(clinic, db, pseudonym, now_ms, grace).await
 }
 

@@ -25,9 +25,9 @@ fn summary(session_id: &str, seq: u64) -> Summary {
 }
 
 /// A therapist, a patient and a paired station `st-1`.
-/// The version of the newest file in `migrations/` (`NNNN_name.sql`).
+/// The version of the newest file in the store's `migrations/` (`NNNN_name.sql`).
 fn latest_migration() -> i64 {
-    std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/migrations"))
+    std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../hub-store/migrations"))
         .unwrap()
         .filter_map(|e| {
             e.ok()?

@@ -21,7 +21,7 @@ use std::rc::Rc;
 
 use age::secrecy::ExposeSecret;
 
-use crate::error::HubError;
+use hub_store::HubError;
 
 /// How an age file starts.
 const AGE_MAGIC: &[u8] = b"age-encryption.org/v1\n";

@@ -1,5 +1,5 @@
 //! `telerehab hub backup`, `hub restore`, `hub export --fhir`, `hub patient export` and `hub
-//! patient erase` (the work is `crate::backup`'s, `crate::patients`' and `crate::patient_data`'s):
+//! patient erase` (the work is `crate::backup`'s, `hub_care::patients`' and `crate::patient_data`'s):
 //! what was saved, restored, exported or erased, in numbers a clinic's administrator can check.
 
 use std::path::Path;
@@ -249,7 +249,8 @@ pub async fn export_fhir(
     let clinic = Clinic::at(&data.data);
     let base = clinic.config()?.fhir_base()?;
     let db = clinic.open_db(data.db.as_deref()).await?;
-    let done = crate::patients::export_fhir(&db, pseudonym, super::now_ms(), &base, language).await;
+    let done =
+        hub_care::patients::export_fhir(&db, pseudonym, super::now_ms(), &base, language).await;
     db.close().await;
     let (bundle, sessions) = done?;
     if out == Path::new("-") {

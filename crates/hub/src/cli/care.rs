@@ -1,5 +1,5 @@
 //! `hub serve`'s options for pain that reaches someone and for pairing sheets
-//! ([`crate::care`]).
+//! ([`hub_care::care`]).
 
 /// What the clinic says about pain, where stations at home connect, and how the hub mails.
 #[derive(Debug, Clone, clap::Args)]
@@ -37,8 +37,8 @@ pub struct CareArgs {
 
 impl CareArgs {
     /// The hub's care settings (the station address is settled when the hub has bound).
-    pub fn config(&self) -> crate::care::CareConfig {
-        crate::care::CareConfig {
+    pub fn config(&self) -> hub_care::care::CareConfig {
+        hub_care::care::CareConfig {
             pain_threshold_0_10: self.pain_threshold,
             clinic_phone: self
                 .clinic_phone
@@ -47,12 +47,15 @@ impl CareArgs {
                 .filter(|p| !p.is_empty())
                 .map(str::to_owned),
             console_url: self.console_url.clone(),
-            smtp: self.smtp_url.as_ref().map(|url| crate::care::SmtpConfig {
-                url: url.clone(),
-                from: self.smtp_from.clone(),
-                retry_min_ms: i64::try_from(self.smtp_retry_min_s.saturating_mul(1000))
-                    .unwrap_or(i64::MAX),
-            }),
+            smtp: self
+                .smtp_url
+                .as_ref()
+                .map(|url| hub_care::care::SmtpConfig {
+                    url: url.clone(),
+                    from: self.smtp_from.clone(),
+                    retry_min_ms: i64::try_from(self.smtp_retry_min_s.saturating_mul(1000))
+                        .unwrap_or(i64::MAX),
+                }),
             ..Default::default()
         }
     }

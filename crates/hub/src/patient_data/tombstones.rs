@@ -29,8 +29,8 @@ use sha2::{Digest, Sha256};
 use sqlx::Row;
 
 use crate::clinic::Clinic;
-use crate::db::{Db, Patient};
-use crate::error::HubError;
+use hub_store::HubError;
+use hub_store::db::{Db, Patient};
 
 /// The ledger file, in the data directory (and in a backup).
 pub const LEDGER_FILE: &str = "erasures.ndjson";
@@ -74,7 +74,7 @@ fn hmac_key(clinic: &Clinic) -> Result<[u8; 32], HubError> {
 fn pseudonym_hmac(key: &[u8; 32], pseudonym: &str) -> String {
     let mut mac = Hmac::<Sha256>::new_from_slice(key).expect("HMAC takes a key of any length");
     mac.update(pseudonym.as_bytes());
-    crate::db::hex(&mac.finalize().into_bytes())
+    hub_store::db::hex(&mac.finalize().into_bytes())
 }
 
 impl Tombstone {

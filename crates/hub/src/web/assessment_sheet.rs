@@ -24,8 +24,8 @@ use super::spreadsheet::{
     LocalZone, SheetQuery, csv_response, number_cell, ordered, text_cell, zone_and_words,
 };
 use super::{ApiError, AppState};
-use crate::db::{Assessment, day_of, iso_utc};
-use crate::sheet_words::SheetWords;
+use hub_care::sheet_words::SheetWords;
+use hub_store::db::{Assessment, day_of, iso_utc};
 
 /// The columns: (the words' id, technical name); the session's three are the measures'
 /// spreadsheet's.
@@ -65,7 +65,7 @@ fn header(zone: &LocalZone, words: &SheetWords) -> String {
 fn unit_of(name: &str) -> String {
     match metrics::words::measure_words(name) {
         Some(m) => m.unit.to_owned(),
-        None => match crate::fhir::ucum_unit(name) {
+        None => match hub_care::fhir::ucum_unit(name) {
             "1" => String::new(),
             u => u.to_owned(),
         },

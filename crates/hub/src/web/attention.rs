@@ -1,9 +1,9 @@
 //! Needs attention today (issue 41): the caseload with each patient's alerts
 //! (`GET /api/patients`, sorted and filtered), one patient's alerts, acknowledging or snoozing
 //! one, and the clinic's thresholds (`/api/clinic/settings`). The alerts themselves are
-//! [`crate::attention`]'s.
+//! [`hub_care::attention`]'s.
 
-use crate::refusal::{Code, Why};
+use hub_store::refusal::{Code, Why};
 use std::collections::BTreeMap;
 
 use axum::Json;
@@ -12,12 +12,13 @@ use axum::extract::{Path, Query, State};
 use axum::http::StatusCode;
 use serde::{Deserialize, Serialize};
 
+use super::Says as _;
 use super::auth::Authed;
 use super::clinic::admins_only;
 use super::{ApiError, AppState};
-use crate::attention::{Alert, Attention, KIND_ORDER, Thresholds};
-use crate::db::{NewAck, PatientOverview};
-use crate::thresholds::{SETTINGS, check_setting};
+use hub_care::attention::{Alert, Attention, KIND_ORDER, Thresholds};
+use hub_store::db::{NewAck, PatientOverview};
+use hub_store::thresholds::{SETTINGS, check_setting};
 
 /// Query of `GET /api/patients`.
 #[derive(Deserialize, Default)]
@@ -83,7 +84,8 @@ pub(crate) async fn caseload(
         {
             continue;
         }
-        let attention = state.db.attention_of(&overview, &thresholds, now).await?;
+        let attention =
+            hub_care::attention::attention_of(&state.db, &overview, &thresholds, now).await?;
         if let Some(kind) = query.alert.as_deref()
             && !attention.attention.iter().any(|a| a.kind == kind)
         {
@@ -127,7 +129,7 @@ pub(crate) async fn caseload(
 /// The alerts of patient `id` now, if `therapist` may see them.
 async fn attention_now(
     state: &AppState,
-    therapist: &crate::db::Therapist,
+    therapist: &hub_store::db::Therapist,
     id: &str,
 ) -> Result<(Attention, String), ApiError> {
     let patient = state.visible_patient(therapist, id).await?;
@@ -139,7 +141,7 @@ async fn attention_now(
         .ok_or_else(|| super::not_found("patient", format!("no patient {id:?}")))?;
     let thresholds = state.db.thresholds().await?;
     Ok((
-        state.db.attention_of(&row, &thresholds, now).await?,
+        hub_care::attention::attention_of(&state.db, &row, &thresholds, now).await?,
         patient.id,
     ))
 }
@@ -216,7 +218,10 @@ pub(crate) async fn ack(
     };
     state.db.put_alert_ack(&ack, state.now()).await?;
     let (action, until) = match body.snooze_until_ms {
-        Some(u) => ("snooze_alert", format!(" until {}", crate::db::iso_utc(u))),
+        Some(u) => (
+            "snooze_alert",
+            format!(" until {}", hub_store::db::iso_utc(u)),
+        ),
         None => ("acknowledge_alert", String::new()),
     };
     state

@@ -2,11 +2,11 @@
 //! of every refusal.
 //!
 //! Login throttling (growing delays per address, per account and per device cookie; see
-//! `crate::db::logins` for the design and its justification against OWASP's Authentication
+//! `hub_store::db::logins` for the design and its justification against OWASP's Authentication
 //! Cheat Sheet) and the bounded hashing pool live in the database layer; this module adds the
 //! HTTP side: the client's address, the device cookie, `429` with `Retry-After`.
 
-use crate::refusal::{Code, Why};
+use hub_store::refusal::{Code, Why};
 use std::net::{IpAddr, SocketAddr};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -20,9 +20,10 @@ use axum::middleware::Next;
 use axum::response::{IntoResponse, Response};
 use serde::{Deserialize, Serialize};
 
+use super::Says as _;
 use super::{ApiError, AppState};
-use crate::db::{AuditCursor, AuditEntry, AuditFilter, DEVICE_TTL_MS, LoginAttempt, Therapist};
-use crate::error::HubError;
+use hub_store::HubError;
+use hub_store::db::{AuditCursor, AuditEntry, AuditFilter, DEVICE_TTL_MS, LoginAttempt, Therapist};
 
 /// Name of the login cookie.
 pub const SESSION_COOKIE: &str = "telerehab_session";
@@ -83,7 +84,7 @@ fn source_of(extensions: &Extensions) -> String {
     client_ip(extensions).map_or_else(
         || "unknown address".to_owned(),
         |ip| {
-            let key = crate::db::address_key(ip);
+            let key = hub_store::db::address_key(ip);
             key.strip_prefix("addr:").unwrap_or(&key).to_owned()
         },
     )

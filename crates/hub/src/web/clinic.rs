@@ -14,12 +14,13 @@ use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
 use serde::{Deserialize, Serialize};
 
+use super::Says as _;
 use super::auth::Authed;
 use super::{ApiError, AppState, check_path_id};
-use crate::db::{Patient, Role, Station, Therapist};
-use crate::error::HubError;
-use crate::patients::PAIRING_TTL_MS;
-use crate::refusal::{Code, Why};
+use hub_care::patients::PAIRING_TTL_MS;
+use hub_store::HubError;
+use hub_store::db::{Patient, Role, Station, Therapist};
+use hub_store::refusal::{Code, Why};
 
 /// A 409 for a pseudonym or e-mail already taken; other errors as usual.
 fn taken(e: HubError) -> ApiError {
@@ -228,7 +229,7 @@ pub(crate) async fn add_therapist(
 ) -> Result<Response, ApiError> {
     admins_only(&admin, "adding a therapist")?;
     let Json(new) = body?;
-    let password = crate::db::one_time_password()?;
+    let password = hub_store::db::one_time_password()?;
     let role = if new.admin {
         Role::Admin
     } else {

@@ -1,4 +1,4 @@
-//! `GET /api/patients/{id}/fhir`: the patient's record as a FHIR R4 `Bundle` ([`crate::fhir`]),
+//! `GET /api/patients/{id}/fhir`: the patient's record as a FHIR R4 `Bundle` ([`hub_care::fhir`]),
 //! its narratives in the language asked (`?lang=de`, else the therapist's console language, else
 //! English), audited.
 
@@ -7,10 +7,11 @@ use axum::extract::{Path, Query, State};
 use axum::http::{HeaderValue, header};
 use axum::response::{IntoResponse, Response};
 
+use super::Says as _;
 use super::auth::Authed;
 use super::{ApiError, AppState};
-use crate::error::HubError;
-use crate::refusal::{Code, Why};
+use hub_store::HubError;
+use hub_store::refusal::{Code, Why};
 
 /// The bundle's query.
 #[derive(serde::Deserialize)]
@@ -39,7 +40,7 @@ pub(crate) async fn bundle(
         Some(lang) => Some(lang),
         None => state.db.therapist_language(&therapist.id).await?,
     };
-    let words = crate::fhir::Words::of(lang.as_deref())?;
+    let words = hub_care::fhir::Words::of(lang.as_deref())?;
     let patient = state.visible_patient(&therapist, &id).await?;
     let base = state.fhir_base.as_ref().ok_or_else(|| {
         HubError::Config(
@@ -47,13 +48,13 @@ pub(crate) async fn bundle(
         )
     })?;
     let (bundle, sessions) =
-        crate::fhir::patient_bundle(&state.db, &patient, state.now(), base, words).await?;
+        hub_care::fhir::patient_bundle(&state.db, &patient, state.now(), base, words).await?;
     state
         .audit(
             &therapist.actor(),
             "export_fhir",
             &patient.id,
-            &crate::fhir::audit_detail(sessions),
+            &hub_care::fhir::audit_detail(sessions),
         )
         .await?;
     let mut response = axum::Json(bundle).into_response();

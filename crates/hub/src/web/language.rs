@@ -7,9 +7,10 @@ use axum::extract::State;
 use axum::extract::rejection::JsonRejection;
 use serde::{Deserialize, Serialize};
 
+use super::Says as _;
 use super::auth::Authed;
 use super::{ApiError, AppState};
-use crate::refusal::{Code, Why};
+use hub_store::refusal::{Code, Why};
 
 /// Answer of `GET`/`PUT /api/me/language`.
 #[derive(Serialize)]

@@ -12,18 +12,17 @@ use axum::extract::rejection::PathRejection;
 use axum::extract::{Path, State};
 use axum::http::HeaderMap;
 use axum::response::sse::{Event, KeepAlive, Sse};
-use netlink::Summary;
-use serde::{Deserialize, Serialize};
 use tokio::sync::broadcast::error::RecvError;
 use tokio::sync::mpsc::error::TrySendError;
 use tokio_stream::Stream;
 use tokio_stream::StreamExt as _;
 use tokio_stream::wrappers::ReceiverStream;
 
+use super::Says as _;
 use super::auth::{Authed, token_of};
-use super::{ApiError, AppState};
-use crate::db::sha256_hex;
-use crate::refusal::{Code, Why};
+use super::{ApiError, AppState, LiveEvent};
+use hub_store::db::sha256_hex;
+use hub_store::refusal::{Code, Why};
 
 /// How often a live stream checks again that its login is valid and its patient still
 /// visible, ms; a logout, expiry, password change, revocation or reassignment ends it within
@@ -41,17 +40,6 @@ pub const MAX_LIVE_STREAMS_PER_ACCOUNT: usize = 8;
 
 /// Events a stream buffers for a slow client before it skips some (and says `lagged`).
 const STREAM_BUFFER: usize = 64;
-
-/// One summary of a running session, as broadcast by the ingest to the console's live views.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct LiveEvent {
-    /// The patient exercising.
-    pub patient_id: String,
-    /// Their session.
-    pub session_id: String,
-    /// The summary just stored.
-    pub summary: Summary,
-}
 
 /// Live streams open per login (keyed `login:` + the token's hash) and per therapist (keyed
 /// `account:` + their id).

@@ -9,7 +9,7 @@ use serde::Serialize;
 
 use super::AppState;
 use super::auth::Authed;
-pub(crate) use crate::sheet_words::{end_words_id, measure_definition_id, measure_name_id};
+pub(crate) use hub_care::sheet_words::{end_words_id, measure_definition_id, measure_name_id};
 
 /// One way a session ends: its key, its one wording (English) and the id of that wording in
 /// the console's catalogues (`words-end-…`).

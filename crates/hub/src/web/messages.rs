@@ -6,9 +6,10 @@ use axum::extract::{Path, State};
 use axum::http::StatusCode;
 use serde::Deserialize;
 
+use super::Says as _;
 use super::auth::Authed;
 use super::{ApiError, AppState};
-use crate::db::PatientMessage;
+use hub_store::db::PatientMessage;
 
 /// Body of `POST /api/patients/{id}/messages`.
 #[derive(Deserialize)]
@@ -50,7 +51,7 @@ pub(crate) async fn post(
         state
             .audit(&therapist.actor(), "message_rejected", &patient.id, &e.0)
             .await?;
-        let why = crate::refusal::of_text("text", &body.text, netlink::MAX_MESSAGE_TEXT_CHARS);
+        let why = hub_store::refusal::of_text("text", &body.text, netlink::MAX_MESSAGE_TEXT_CHARS);
         return Err(ApiError::BadRequest(why.says(e.0)));
     }
     let message = state

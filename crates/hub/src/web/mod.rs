@@ -41,15 +41,16 @@ use axum::routing::{get, post};
 use serde::Serialize;
 use tokio::sync::broadcast;
 
-use crate::db::{Db, Patient, RegimenVersion, Therapist};
-use crate::error::HubError;
-use crate::refusal::{Code, Why};
+use hub_store::HubError;
+use hub_store::db::{Db, Patient, RegimenVersion, Therapist};
+use hub_store::refusal::{Code, Why};
 
 pub use auth::DEVICE_COOKIE;
 pub use auth::SESSION_COOKIE;
-pub use live::{
-    LIVE_RECHECK_MS, LiveEvent, MAX_LIVE_STREAMS_PER_ACCOUNT, MAX_LIVE_STREAMS_PER_LOGIN,
-};
+/// A running session's events and the hub's wall clock live in `hub_care::live`, below the
+/// web (the ingest and the fan-out send them); the API streams them and names them here.
+pub use hub_care::live::{LiveEvent, system_now_ms, unix_ms};
+pub use live::{LIVE_RECHECK_MS, MAX_LIVE_STREAMS_PER_ACCOUNT, MAX_LIVE_STREAMS_PER_LOGIN};
 pub use ops::{
     READY_DB_TIMEOUT, READY_REUSE, Readiness, check_operator_address, operator_router,
     serve_operator,
@@ -87,7 +88,7 @@ pub struct AppState {
     /// [`MAX_LIVE_STREAMS_PER_LOGIN`] and [`MAX_LIVE_STREAMS_PER_ACCOUNT`].
     pub live_streams: live::StreamCounts,
     /// Where the recordings are kept (`None`: this console replays none).
-    pub recordings: Option<crate::recordings::RecordingStore>,
+    pub recordings: Option<hub_care::recordings::RecordingStore>,
     /// Largest recording file replayed, bytes.
     pub replay_max_bytes: u64,
     /// Replays being prepared, per hub and per therapist.
@@ -101,15 +102,15 @@ pub struct AppState {
     pub clinic_name: Option<String>,
     /// The canonical base of the FHIR export's own codes (`hub.toml`'s `fhir_base`); `None`:
     /// the export is refused (a hub that `hub serve` runs always has one).
-    pub fhir_base: Option<crate::fhir::FhirBase>,
-    /// The clinic's pain threshold, phone, station address and mail ([`crate::care`]).
-    pub care: Arc<crate::care::CareConfig>,
+    pub fhir_base: Option<hub_care::fhir::FhirBase>,
+    /// The clinic's pain threshold, phone, station address and mail ([`hub_care::care`]).
+    pub care: Arc<hub_care::care::CareConfig>,
     /// Where a therapist's clearance after a pain stop is announced (patient id; the hub
     /// pushes it to the patient's connected stations); `None` when no station link runs.
     pub pain_cleared: Option<broadcast::Sender<String>>,
     /// The hub's metrics (`/metrics` on the operator's listener; requests and replays counted
     /// here).
-    pub telemetry: Arc<crate::telemetry::Telemetry>,
+    pub telemetry: Arc<hub_care::telemetry::Telemetry>,
     /// What `/readyz` checks.
     pub readiness: Arc<Readiness>,
 }
@@ -142,7 +143,7 @@ impl AppState {
     /// `recordings` (if any) takes new files.
     pub fn with_operator(
         mut self,
-        telemetry: Arc<crate::telemetry::Telemetry>,
+        telemetry: Arc<hub_care::telemetry::Telemetry>,
         recordings: Option<std::path::PathBuf>,
     ) -> Self {
         self.telemetry = telemetry;
@@ -157,7 +158,7 @@ impl AppState {
     }
 
     /// The same state exporting FHIR with its codes at `base`.
-    pub fn with_fhir_base(mut self, base: crate::fhir::FhirBase) -> Self {
+    pub fn with_fhir_base(mut self, base: hub_care::fhir::FhirBase) -> Self {
         self.fhir_base = Some(base);
         self
     }
@@ -181,7 +182,7 @@ impl AppState {
     }
 
     /// The same state replaying the recordings `store` keeps.
-    pub fn with_recordings(mut self, store: crate::recordings::RecordingStore) -> Self {
+    pub fn with_recordings(mut self, store: hub_care::recordings::RecordingStore) -> Self {
         self.recordings = Some(store);
         self
     }
@@ -196,7 +197,7 @@ impl AppState {
     /// clearance after a pain stop on `cleared`.
     pub fn with_care(
         mut self,
-        care: Arc<crate::care::CareConfig>,
+        care: Arc<hub_care::care::CareConfig>,
         cleared: Option<broadcast::Sender<String>>,
     ) -> Self {
         self.care = care;
@@ -254,16 +255,6 @@ impl std::fmt::Debug for AppState {
             .field("login_ttl_ms", &self.login_ttl_ms)
             .finish_non_exhaustive()
     }
-}
-
-/// The system clock, ms since the Unix epoch (the real [`clock::Clock`]).
-pub fn system_now_ms() -> i64 {
-    unix_ms(&clock::Clock::real())
-}
-
-/// `clock`'s wall-clock time, ms since the Unix epoch.
-pub fn unix_ms(clock: &clock::Clock) -> i64 {
-    i64::try_from(clock.unix_ns() / 1_000_000).unwrap_or(i64::MAX)
 }
 
 /// The API's routes over `state`.
@@ -406,16 +397,22 @@ fn check_path_id(what: &str, id: &str) -> Result<(), ApiError> {
 }
 
 /// A refusal's words: the hub's English sentence (`error`) and why, for the console's words in
-/// any language (`why`, [`crate::refusal`]).
+/// any language (`why`, [`hub_store::refusal`]).
 #[derive(Debug)]
 pub(crate) struct Said {
     english: String,
     why: Why,
 }
 
-impl Why {
+/// A [`Why`] given the hub's English sentence for it (`Why` is the store's; the sentence and
+/// the answer it makes are the API's).
+pub(crate) trait Says {
     /// This reason with the hub's English sentence for it.
-    pub(crate) fn says(self, english: impl Into<String>) -> Said {
+    fn says(self, english: impl Into<String>) -> Said;
+}
+
+impl Says for Why {
+    fn says(self, english: impl Into<String>) -> Said {
         Said {
             english: english.into(),
             why: self,

@@ -6,10 +6,11 @@ use axum::extract::{Path, State};
 use axum::http::StatusCode;
 use serde::Deserialize;
 
+use super::Says as _;
 use super::auth::Authed;
 use super::sessions::visible_session;
 use super::{ApiError, AppState};
-use crate::db::{SessionNote, check_note_text};
+use hub_store::db::{SessionNote, check_note_text};
 
 /// Body of `POST /api/sessions/{id}/notes`.
 #[derive(Deserialize)]
@@ -51,7 +52,7 @@ pub(crate) async fn post(
         state
             .audit(&therapist.actor(), "note_rejected", &session.session_id, &e)
             .await?;
-        let why = crate::refusal::of_text("text", &body.text, crate::db::MAX_NOTE_CHARS);
+        let why = hub_store::refusal::of_text("text", &body.text, hub_store::db::MAX_NOTE_CHARS);
         return Err(ApiError::BadRequest(why.says(e)));
     }
     let note = state

@@ -5,7 +5,7 @@
 //!   recordings directory takes a new file, and the hub is not draining before a shutdown;
 //!   else 503 with a JSON body naming what is not ready. Results are reused for
 //!   [`READY_REUSE`], so a flood of probes costs one check a second.
-//! - `GET /metrics`: the Prometheus text format ([`crate::telemetry`]), only on the operator's
+//! - `GET /metrics`: the Prometheus text format ([`hub_care::telemetry`]), only on the operator's
 //!   own plain-HTTP listener ([`serve_operator`]), never on the console's public port.
 //!
 //! None needs a login, and none says anything about a patient.
@@ -24,9 +24,9 @@ use axum::routing::get;
 use serde::Serialize;
 
 use super::AppState;
-use crate::db::Db;
-use crate::error::HubError;
-use crate::telemetry::{ReplayOutcome, Telemetry};
+use hub_care::telemetry::{ReplayOutcome, Telemetry};
+use hub_store::HubError;
+use hub_store::db::Db;
 
 /// Longest the readiness check waits for the database's answer.
 pub const READY_DB_TIMEOUT: Duration = Duration::from_secs(1);
@@ -148,7 +148,7 @@ async fn metrics(State(state): State<AppState>) -> Response {
     let mut response = text.into_response();
     response.headers_mut().insert(
         header::CONTENT_TYPE,
-        HeaderValue::from_static(crate::telemetry::CONTENT_TYPE),
+        HeaderValue::from_static(hub_care::telemetry::CONTENT_TYPE),
     );
     response
 }

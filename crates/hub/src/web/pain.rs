@@ -10,7 +10,7 @@ use serde::Serialize;
 use super::auth::Authed;
 use super::clinic::{NoInput, admins_only};
 use super::{ApiError, AppState};
-use crate::db::PainMailStatus;
+use hub_store::db::PainMailStatus;
 
 /// Answer of `POST /api/patients/{id}/pain-clearance`.
 #[derive(Serialize)]

@@ -5,13 +5,14 @@ use axum::extract::rejection::{PathRejection, QueryRejection};
 use axum::extract::{Path, Query, State};
 use serde::{Deserialize, Serialize};
 
+use super::Says as _;
 use super::auth::Authed;
 use super::{ApiError, AppState};
-use crate::db::{
+use hub_store::db::{
     AssessmentWithChanges, DEFAULT_ASSESSMENT_PAGE, MAX_ASSESSMENT_PAGE, NamedSession, Patient,
     PatientWheel, Station,
 };
-use crate::refusal::{Code, Why};
+use hub_store::refusal::{Code, Why};
 
 /// Answer of `GET /api/patients/{id}`.
 #[derive(Serialize)]
@@ -78,7 +79,7 @@ pub(crate) async fn checkins(
     State(state): State<AppState>,
     Authed(therapist): Authed,
     id: Result<Path<String>, PathRejection>,
-) -> Result<Json<Vec<crate::db::SessionCheckIn>>, ApiError> {
+) -> Result<Json<Vec<hub_store::db::SessionCheckIn>>, ApiError> {
     let Path(id) = id?;
     let patient = state.visible_patient(&therapist, &id).await?;
     let checkins = state.db.checkins_of(&patient.id).await?;
@@ -150,7 +151,7 @@ pub(crate) async fn difficulty(
     State(state): State<AppState>,
     Authed(therapist): Authed,
     id: Result<Path<String>, PathRejection>,
-) -> Result<Json<Vec<crate::db::SessionDifficulty>>, ApiError> {
+) -> Result<Json<Vec<hub_store::db::SessionDifficulty>>, ApiError> {
     let Path(id) = id?;
     let patient = state.visible_patient(&therapist, &id).await?;
     let history = state.db.difficulty_of(&patient.id).await?;

@@ -5,10 +5,11 @@ use axum::extract::rejection::{JsonRejection, PathRejection};
 use axum::extract::{Path, State};
 use serde::{Deserialize, Serialize};
 
+use super::Says as _;
 use super::auth::Authed;
 use super::{ApiError, AppState};
-use crate::db::RegimenVersion;
-use crate::refusal::{Code, Why};
+use hub_store::db::RegimenVersion;
+use hub_store::refusal::{Code, Why};
 
 /// Answer of `GET /api/patients/{id}/regimen`.
 #[derive(Serialize)]
@@ -125,7 +126,7 @@ pub(crate) async fn put_regimen(
             // keep their message (it names the field already).
             let (reason, why) = match super::regimen_words::toml_problem(&text) {
                 Some(problem) => (problem.words.clone(), problem.why()),
-                None => (reason.to_string(), crate::refusal::of_regimen(&reason)),
+                None => (reason.to_string(), hub_store::refusal::of_regimen(&reason)),
             };
             state
                 .audit(&therapist.actor(), "regimen_rejected", &patient.id, &reason)

@@ -1,7 +1,7 @@
 //! A regimen's TOML error in plain words (issue 29): the line and the field, and what is wrong,
 //! instead of the parser's raw message.
 
-use crate::refusal::{Code, Why};
+use hub_store::refusal::{Code, Why};
 
 /// A regimen text the TOML reader refuses: its plain words and the line they are about.
 #[derive(Debug, PartialEq)]

@@ -9,7 +9,7 @@ use serde::Serialize;
 
 use super::auth::Authed;
 use super::{ApiError, AppState, check_path_id};
-use crate::db::{NewScale, SCALES, ScaleDef, ScaleEntry, check_scale};
+use hub_store::db::{NewScale, SCALES, ScaleDef, ScaleEntry, check_scale};
 
 /// Answer of `GET /api/patients/{id}/scales`: the entries, oldest first, and the scales the
 /// hub records with their bounds (the console's form takes its min and max from them).

@@ -24,7 +24,7 @@ use tokio_rustls::TlsAcceptor;
 use tower::ServiceExt as _;
 
 use super::{AppState, router};
-use crate::error::HubError;
+use hub_store::HubError;
 
 /// Longest a client may take to complete the TLS handshake, s.
 pub const TLS_HANDSHAKE_TIMEOUT_S: u64 = 10;

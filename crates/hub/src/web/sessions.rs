@@ -12,10 +12,11 @@ use axum::response::{IntoResponse, Response};
 use netlink::Summary;
 use tokio::sync::Semaphore;
 
+use super::Says as _;
 use super::auth::Authed;
 use super::{ApiError, AppState, check_path_id};
-use crate::db::{SessionRow, Therapist};
-use crate::refusal::{Code, Why};
+use hub_store::db::{SessionRow, Therapist};
+use hub_store::refusal::{Code, Why};
 
 /// The session `id` if `therapist` may see its patient; 404 otherwise.
 pub(crate) async fn visible_session(
@@ -53,7 +54,7 @@ pub(crate) async fn one(
         .audit(&therapist.actor(), "read_session", &session.session_id, "")
         .await?;
     Ok(Json(OneSession {
-        end_kind: crate::db::end_kind_of(&session),
+        end_kind: hub_store::db::end_kind_of(&session),
         row: session,
     }))
 }
@@ -96,7 +97,7 @@ pub(crate) async fn exercises(
     State(state): State<AppState>,
     Authed(therapist): Authed,
     id: Result<Path<String>, PathRejection>,
-) -> Result<Json<Vec<crate::db::SessionExercise>>, ApiError> {
+) -> Result<Json<Vec<hub_store::db::SessionExercise>>, ApiError> {
     let Path(id) = id?;
     let session = visible_session(&state, &therapist, &id).await?;
     let exercises = state.db.exercises_of(&session.session_id).await?;
@@ -258,10 +259,11 @@ pub(crate) struct ReplayBudget {
 /// The stream of `path`'s ticks for a replay, once its survey is within `budget`'s limits;
 /// its reading asks `stop` and the CPU budget as it goes. The reason in plain words otherwise.
 fn open_replay(
-    recording: (&crate::recordings::RecordingStore, &str, &str),
+    recording: (&hub_care::recordings::RecordingStore, &str, &str),
     budget: ReplayBudget,
     stop: Arc<AtomicBool>,
-) -> Result<record::TickStream<std::io::BufReader<Box<dyn crate::recordings::ReadSeek>>>, String> {
+) -> Result<record::TickStream<std::io::BufReader<Box<dyn hub_care::recordings::ReadSeek>>>, String>
+{
     use std::io::Seek;
     let started_s = thread_cpu_s();
     let (store, station, session) = recording;

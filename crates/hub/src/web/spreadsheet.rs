@@ -4,7 +4,7 @@
 //!
 //! Two header rows: the first in plain words with units (`Time in lane (%)`) in the therapist's
 //! language (`?lang=de`, else the language they chose for the console, else English; the
-//! console's words, [`crate::sheet_words`]), the second the technical names (`pct_in_lane`) for
+//! console's words, [`hub_care::sheet_words`]), the second the technical names (`pct_in_lane`) for
 //! whoever joins the file to other data. Then one row a session, oldest first: its start in
 //! local time (the time zone the console's browser sends as `?tz=Europe/Berlin`, else the hub's
 //! own; the header names it) and in UTC (ISO 8601), its exercises in order, how it ended (the
@@ -24,13 +24,14 @@ use axum::response::{IntoResponse, Response};
 use jiff::tz::TimeZone;
 use metrics::words::{MEASURES, measure_words, round_unknown};
 
-use crate::sheet_words::SheetWords;
+use hub_care::sheet_words::SheetWords;
 use serde::Deserialize;
 
+use super::Says as _;
 use super::auth::Authed;
 use super::{ApiError, AppState};
-use crate::db::{MeasuresBySession, NamedSession, Patient, SessionCheckIn, day_of, iso_utc};
-use crate::refusal::{Code, Why};
+use hub_store::db::{MeasuresBySession, NamedSession, Patient, SessionCheckIn, day_of, iso_utc};
+use hub_store::refusal::{Code, Why};
 
 /// One patient's sessions (oldest first) with their measures and check-ins.
 struct PatientRows {
@@ -40,7 +41,7 @@ struct PatientRows {
     checkins: BTreeMap<String, SessionCheckIn>,
 }
 
-async fn rows_of(state: &AppState, patient: Patient) -> Result<PatientRows, crate::HubError> {
+async fn rows_of(state: &AppState, patient: Patient) -> Result<PatientRows, hub_store::HubError> {
     let (sessions, measures) = state.db.sessions_with_measures(&patient.id).await?;
     let checkins = state
         .db
@@ -246,7 +247,7 @@ fn lines_of(
 /// its language, else `therapist`'s console language.
 pub(super) async fn zone_and_words(
     state: &AppState,
-    therapist: &crate::db::Therapist,
+    therapist: &hub_store::db::Therapist,
     query: Result<Query<SheetQuery>, QueryRejection>,
 ) -> Result<(LocalZone, SheetWords), ApiError> {
     let Query(q) = query.map_err(|e| {

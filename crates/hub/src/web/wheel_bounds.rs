@@ -2,9 +2,10 @@
 //! patient's wheel can give (the ceiling their station told the hub, `GET /api/patients/{id}`'s
 //! `wheel`).
 
+use super::Says as _;
 use super::{ApiError, AppState};
-use crate::db::{Patient, PatientWheel, Therapist, plain_name};
-use crate::refusal::{Code, Why};
+use hub_store::db::{Patient, PatientWheel, Therapist, plain_name};
+use hub_store::refusal::{Code, Why};
 
 /// `value` N·m in words: at most two decimals, without trailing zeros (`5`, `1.87`).
 pub(crate) fn nm_words(value: f64) -> String {
