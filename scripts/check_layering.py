@@ -14,9 +14,10 @@ our own lower crates and anything else, since they never reach the shipped code 
 dev-dependency that points up the diagram is still an error.
 
 On the real workspace it also walks the FULL dependency graph with features as cargo resolves
-them for each of the hub and the Python package alone (`cargo tree -p <crate> -e normal,build`),
-and fails when either reaches a device library (DEVICE_LIBRARIES): the clinic's server and an
-analyst's `pip install` must not need libudev or a wheel's driver stack.
+them for each of the hub's three crates (hub-store, hub-care, hub) and the Python package
+alone (`cargo tree -p <crate> -e normal,build`), and fails when any reaches a device library
+(DEVICE_LIBRARIES): the clinic's server and an analyst's `pip install` must not need libudev
+or a wheel's driver stack.
 
 Python 3 standard library only. Exit 0 with a one-line summary when clean, 1 otherwise.
 """
@@ -67,7 +68,22 @@ OUR_CRATES: dict[str, set[str]] = {
     "regimen": {"common", "vehicle", "assist", "haptic-wheel", "i18n"},
     # The patient's window: scenes drawn with wgpu; knows no session, thread or device.
     "render": {"common", "gyro-imu", "i18n", "regimen"},
-    "hub": {"common", "clock", "netlink", "record", "regimen", "i18n", "metrics"},
+    # The clinic's records: the hub's database, migrations, errors, refusal codes, thresholds.
+    "hub-store": {"netlink", "regimen", "metrics"},
+    # The hub's clinical logic and station link: ingest, recordings, alerts, pain care, FHIR.
+    "hub-care": {"hub-store", "clock", "netlink", "regimen", "i18n", "metrics"},
+    # The hub's top: the console's API, `hub serve`, its command line, backup, patient rights.
+    "hub": {
+        "hub-store",
+        "hub-care",
+        "common",
+        "clock",
+        "netlink",
+        "record",
+        "regimen",
+        "i18n",
+        "metrics",
+    },
     # A patient's session: the 1 kHz loop, recorder, window supervisor, simulated body, arm.
     "session": BELOW_STATION,
     # The end-of-session text and the clinician's HTML report.
@@ -138,7 +154,7 @@ IO_DENY = {
 DEVICE_LIBRARIES = {"evdev", "gilrs", "gilrs-core", "hidapi", "libudev-sys", "libudev", "udev"}
 
 # Our crates that must link no device library, through any path of the graph.
-DEVICE_FREE = ("hub", "telerehab-py", "render")
+DEVICE_FREE = ("hub-store", "hub-care", "hub", "telerehab-py", "render")
 
 
 def device_libraries_of(package: str) -> list[str]:

@@ -7,13 +7,15 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 HUB = ROOT / "crates" / "hub"
+# The hub's three crates: the audit is written by the store, the clinical logic and the API.
+HUB_CRATES = [ROOT / "crates" / c for c in ("hub-store", "hub-care", "hub")]
 LANGUAGES = ["en", "de", "es", "zh"]
 
 
 def written_actions():
     """The action names the hub's source passes to its audit log."""
     found = set()
-    for path in (HUB / "src").rglob("*.rs"):
+    for path in (p for crate in HUB_CRATES for p in (crate / "src").rglob("*.rs")):
         text = path.read_text()
         found |= set(re.findall(r'\.audit\(\s*[^,]+,\s*"([a-z_]+)"', text))
         found |= set(re.findall(r'\(\s*"([a-z_]+_alert)"\s*,', text))

@@ -18,7 +18,7 @@ function named(prefixes, name) {
   return id ? t(id) : String(name);
 }
 
-/** Why the hub refused (`why`: `{code, args}`, crates/hub/src/refusal.rs) in the console's
+/** Why the hub refused (`why`: `{code, args}`, crates/hub-store/src/refusal.rs) in the console's
  * words (`api-why-<code>`), or null when the answer has none the catalogue knows. */
 function whyWords(why) {
   const id = why && typeof why.code === 'string' ? `api-why-${why.code}` : null;

@@ -2,7 +2,7 @@
 // reason first (the most pressing) and the rest behind "N more"; each alert can be
 // acknowledged (quiet until something new happens) or snoozed until a day, with a note; a pain
 // stop can be lifted for today; the clinic's alert thresholds (#/attention-settings, admins
-// change them). The hub computes the alerts (crates/hub/src/attention/) and sends each as a
+// change them). The hub computes the alerts (crates/hub-care/src/attention/) and sends each as a
 // catalogue id with its arguments; every word is in the console's catalogues
 // (crates/i18n/console/<lang>/{caseload,attention}.ftl).
 import { api, esc } from '/console/api.js';

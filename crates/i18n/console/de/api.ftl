@@ -15,7 +15,7 @@ api-error-429 = Zu viele Versuche. Bitte in { $seconds } s erneut versuchen.
 api-error-503 = Der Hub ist ausgelastet. Bitte in { $seconds } s erneut versuchen.
 api-error-other = Auf dem Hub ist etwas schiefgegangen. Sein Protokoll enthält die Einzelheiten.
 
-## Warum der Hub abgelehnt hat, nach seinem Code (crates/hub/src/refusal.rs): je ein klarer Satz.
+## Warum der Hub abgelehnt hat, nach seinem Code (crates/hub-store/src/refusal.rs): je ein klarer Satz.
 ## $field und $what kommen schon in den Worten der Konsole.
 
 api-why-field-refused = Der Hub hat das Feld „{ $field }“ nicht angenommen.

@@ -1,4 +1,4 @@
-# Die Texte des FHIR-Exports (crates/hub/src/fhir/narrative.rs).
+# Die Texte des FHIR-Exports (crates/hub-care/src/fhir/narrative.rs).
 
 fhir-patient = Patient { $pseudonym }. Exportiert wird nur das Pseudonym der Klinik.
 fhir-regimen = Heimübungsplan, Version { $version }, verordnet am { $day }.
@@ -18,7 +18,7 @@ fhir-answer-score = { $value } von 10
 fhir-device = Telerehab-Station { $station }, Software { $version }: ein Lenkrad mit Kraftrückmeldung und Armsensoren.
 fhir-therapist = Therapeut der Klinik ({ $id }).
 
-# Der Standardtest (crates/hub/src/fhir/assessment.rs).
+# Der Standardtest (crates/hub-care/src/fhir/assessment.rs).
 fhir-assessment-title = Standardtest am Lenkrad
 fhir-assessment = Standardtest am { $start } (UTC), Protokollversion { $protocol }, die Zielsprünge gezogen aus Startwert { $seed }. Seine Teile: { $parts }.
 fhir-assessment-part = { $part }: Teil des Standardtests am { $start } (UTC), Protokollversion { $protocol }.

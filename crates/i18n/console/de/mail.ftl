@@ -1,4 +1,4 @@
-# Die Mails des Hubs an das Klinikpersonal (crates/hub/src/pain_mail.rs), in der
+# Die Mails des Hubs an das Klinikpersonal (crates/hub-care/src/pain_mail.rs), in der
 # Konsolensprache der Empfänger. Eine Schmerz-Mail enthält keine Gesundheitsdaten.
 
 mail-pain-subject = telerehab: { $pseudonym } hat starke Schmerzen gemeldet

@@ -1,4 +1,4 @@
-# Die Wörter der Tabelle der Messwerte (crates/hub/src/sheet_words.rs): die erste
+# Die Wörter der Tabelle der Messwerte (crates/hub-care/src/sheet_words.rs): die erste
 # Kopfzeile und die Wörter für Menschen; die zweite Kopfzeile behält die technischen Namen.
 
 sheet-col-patient = Patientin/Patient

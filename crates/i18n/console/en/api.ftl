@@ -15,7 +15,7 @@ api-error-429 = Too many tries. Try again in { $seconds } s.
 api-error-503 = The hub is busy. Try again in { $seconds } s.
 api-error-other = Something went wrong on the hub. Its log has the details.
 
-## Why the hub refused, by its code (crates/hub/src/refusal.rs): one plain sentence each.
+## Why the hub refused, by its code (crates/hub-store/src/refusal.rs): one plain sentence each.
 ## $field and $what arrive already in the console's words.
 
 api-why-field-refused = The hub did not accept this: { $field }.

@@ -1,4 +1,4 @@
-# The FHIR export's narratives (crates/hub/src/fhir/narrative.rs): the words an electronic
+# The FHIR export's narratives (crates/hub-care/src/fhir/narrative.rs): the words an electronic
 # health record shows of each exported resource, in the language the export is asked in (the
 # therapist's); the codes' own names stay the code systems' English.
 
@@ -20,7 +20,7 @@ fhir-answer-score = { $value } of 10
 fhir-device = Telerehab station { $station }, software { $version }: a force-feedback steering wheel and arm sensors.
 fhir-therapist = Therapist of the clinic ({ $id }).
 
-# The standard assessment (crates/hub/src/fhir/assessment.rs).
+# The standard assessment (crates/hub-care/src/fhir/assessment.rs).
 fhir-assessment-title = Standard assessment on the wheel
 fhir-assessment = Standard assessment on { $start } (UTC), protocol version { $protocol }, its target steps drawn from seed { $seed }. Its parts: { $parts }.
 fhir-assessment-part = { $part }: part of the standard assessment on { $start } (UTC), protocol version { $protocol }.

@@ -1,4 +1,4 @@
-# The hub's mails to clinicians (crates/hub/src/pain_mail.rs), in the recipient's console
+# The hub's mails to clinicians (crates/hub-care/src/pain_mail.rs), in the recipient's console
 # language. A pain mail holds no health data: the pseudonym and a link only.
 
 mail-pain-subject = telerehab: { $pseudonym } reported strong pain

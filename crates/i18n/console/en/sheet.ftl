@@ -1,4 +1,4 @@
-# The measures spreadsheet's words (crates/hub/src/sheet_words.rs): its first header line
+# The measures spreadsheet's words (crates/hub-care/src/sheet_words.rs): its first header line
 # and its words for people; the second header line keeps the technical names.
 
 sheet-col-patient = Patient

@@ -15,7 +15,7 @@ api-error-429 = Demasiados intentos. Vuelva a intentarlo en { $seconds } s.
 api-error-503 = El hub está ocupado. Vuelva a intentarlo en { $seconds } s.
 api-error-other = Algo ha fallado en el hub. Su registro tiene los detalles.
 
-## Por qué el hub lo rechazó, según su código (crates/hub/src/refusal.rs): una frase clara cada uno.
+## Por qué el hub lo rechazó, según su código (crates/hub-store/src/refusal.rs): una frase clara cada uno.
 ## $field y $what llegan ya en las palabras de la consola.
 
 api-why-field-refused = El hub no aceptó el campo «{ $field }».

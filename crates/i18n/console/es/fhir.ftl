@@ -1,4 +1,4 @@
-# Los textos de la exportación FHIR (crates/hub/src/fhir/narrative.rs).
+# Los textos de la exportación FHIR (crates/hub-care/src/fhir/narrative.rs).
 
 fhir-patient = Paciente { $pseudonym }. Solo se exporta el seudónimo de la clínica.
 fhir-regimen = Programa de ejercicios en casa, versión { $version }, prescrito el { $day }.
@@ -18,7 +18,7 @@ fhir-answer-score = { $value } de 10
 fhir-device = Estación telerehab { $station }, software { $version }: un volante con retroalimentación de fuerza y sensores de brazo.
 fhir-therapist = Terapeuta de la clínica ({ $id }).
 
-# La evaluación estándar (crates/hub/src/fhir/assessment.rs).
+# La evaluación estándar (crates/hub-care/src/fhir/assessment.rs).
 fhir-assessment-title = Evaluación estándar con el volante
 fhir-assessment = Evaluación estándar del { $start } (UTC), versión { $protocol } del protocolo, con los saltos del objetivo sacados de la semilla { $seed }. Sus partes: { $parts }.
 fhir-assessment-part = { $part }: parte de la evaluación estándar del { $start } (UTC), versión { $protocol } del protocolo.

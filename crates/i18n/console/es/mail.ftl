@@ -1,4 +1,4 @@
-# Los correos del hub al personal clínico (crates/hub/src/pain_mail.rs), en el idioma de la
+# Los correos del hub al personal clínico (crates/hub-care/src/pain_mail.rs), en el idioma de la
 # consola de quien lo recibe. Un correo de dolor no contiene datos de salud.
 
 mail-pain-subject = telerehab: { $pseudonym } indicó dolor fuerte

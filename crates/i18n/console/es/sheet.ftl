@@ -1,4 +1,4 @@
-# Las palabras de la hoja de mediciones (crates/hub/src/sheet_words.rs): su primera línea
+# Las palabras de la hoja de mediciones (crates/hub-care/src/sheet_words.rs): su primera línea
 # de encabezado y sus palabras para personas; la segunda línea conserva los nombres técnicos.
 
 sheet-col-patient = Paciente

@@ -14,7 +14,7 @@ api-error-429 = 尝试次数过多。请在 { $seconds } 秒后重试。
 api-error-503 = 集线器正忙。请在 { $seconds } 秒后重试。
 api-error-other = 集线器出了问题，详情见其日志。
 
-## 集线器拒绝的原因，按其代码（crates/hub/src/refusal.rs）：每条一句简单的话。
+## 集线器拒绝的原因，按其代码（crates/hub-store/src/refusal.rs）：每条一句简单的话。
 ## $field 和 $what 已是控制台的用词。
 
 api-why-field-refused = 集线器没有接受「{ $field }」。

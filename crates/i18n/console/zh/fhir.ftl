@@ -1,4 +1,4 @@
-# FHIR 导出的叙述文字（crates/hub/src/fhir/narrative.rs）。
+# FHIR 导出的叙述文字（crates/hub-care/src/fhir/narrative.rs）。
 
 fhir-patient = 患者 { $pseudonym }。只导出诊所的化名。
 fhir-regimen = 居家训练方案，第 { $version } 版，开具于 { $day }。
@@ -18,7 +18,7 @@ fhir-answer-score = { $value } / 10
 fhir-device = 远程康复站 { $station }，软件 { $version }：力反馈方向盘和手臂传感器。
 fhir-therapist = 诊所的治疗师（{ $id }）。
 
-# 标准评估（crates/hub/src/fhir/assessment.rs）。
+# 标准评估（crates/hub-care/src/fhir/assessment.rs）。
 fhir-assessment-title = 方向盘标准评估
 fhir-assessment = { $start }（UTC）的标准评估，协议第 { $protocol } 版，目标跳动由种子 { $seed } 生成。包括：{ $parts }。
 fhir-assessment-part = { $part }：{ $start }（UTC）标准评估的一部分，协议第 { $protocol } 版。

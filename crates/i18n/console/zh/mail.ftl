@@ -1,4 +1,4 @@
-# 集线器发给临床人员的邮件（crates/hub/src/pain_mail.rs），使用收件人的控制台语言。疼痛邮件不含健康数据。
+# 集线器发给临床人员的邮件（crates/hub-care/src/pain_mail.rs），使用收件人的控制台语言。疼痛邮件不含健康数据。
 
 mail-pain-subject = telerehab：{ $pseudonym } 报告了剧烈疼痛
 mail-pain-reported = { $pseudonym } 在一次训练后报告的疼痛达到或超过了贵诊所的上限。

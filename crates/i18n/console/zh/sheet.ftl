@@ -1,4 +1,4 @@
-# 测量表格的用词（crates/hub/src/sheet_words.rs）：第一行表头和给人看的文字；第二行表头保留技术名称。
+# 测量表格的用词（crates/hub-care/src/sheet_words.rs）：第一行表头和给人看的文字；第二行表头保留技术名称。
 
 sheet-col-patient = 患者
 sheet-col-session = 训练编号
