@@ -309,7 +309,7 @@ pub enum TherapistCommand {
 }
 
 pub(crate) fn now_ms() -> i64 {
-    crate::web::system_now_ms()
+    hub_care::live::system_now_ms()
 }
 
 /// The runtime every `hub` subcommand runs on: two workers (the hub's threads are named `hub`).

@@ -25,11 +25,12 @@ use netlink::{ServerTls, TherapistConfig, TherapistEvent, TherapistServer};
 use serde::{Deserialize, Serialize};
 use tokio::sync::broadcast;
 
-use crate::web::{self, AppState, LiveEvent, unix_ms};
+use crate::web::{self, AppState};
 use hub_care::fanout::{Fanout, Note};
 use hub_care::ingest::{DbStore, Ingest, REVOCATION_POLL};
 use hub_care::limits::ConnectionBudget;
-use hub_care::telemetry::Telemetry;
+use hub_care::live::{LiveEvent, unix_ms};
+use hub_care::telemetry::{Telemetry, sample_pool};
 use hub_store::HubError;
 use hub_store::db::{Db, RegimenVersion, Role};
 
@@ -440,10 +441,7 @@ pub async fn serve(
         metrics: operator.as_ref().map(|(addr, _)| *addr),
         budget,
     });
-    let pool_sampler = tokio::spawn(hub_care::telemetry::sample_pool(
-        db.clone(),
-        telemetry.clone(),
-    ));
+    let pool_sampler = tokio::spawn(sample_pool(db.clone(), telemetry.clone()));
     let mut revocation = tokio::time::interval(REVOCATION_POLL);
     let mut sweep = tokio::time::interval(hub_care::uploads::PARTIAL_UPLOAD_SWEEP);
     let mut housekeeping = tokio::time::interval(HOUSEKEEPING);

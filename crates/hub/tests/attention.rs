@@ -110,7 +110,7 @@ async fn alerts_of(db: &Db, t: &Therapist, p: &Patient, now: i64) -> Vec<Alert> 
         .find(|o| o.patient.id == p.id)
         .unwrap();
     let thresholds = db.thresholds().await.unwrap();
-    hub::attention::attention_of(&db, &row, &thresholds, now)
+    hub::attention::attention_of(db, &row, &thresholds, now)
         .await
         .unwrap()
         .attention

@@ -27,19 +27,22 @@ fn summary(session_id: &str, seq: u64) -> Summary {
 /// A therapist, a patient and a paired station `st-1`.
 /// The version of the newest file in the store's `migrations/` (`NNNN_name.sql`).
 fn latest_migration() -> i64 {
-    std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../hub-store/migrations"))
-        .unwrap()
-        .filter_map(|e| {
-            e.ok()?
-                .file_name()
-                .to_str()?
-                .split('_')
-                .next()?
-                .parse()
-                .ok()
-        })
-        .max()
-        .unwrap()
+    std::fs::read_dir(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../hub-store/migrations"
+    ))
+    .unwrap()
+    .filter_map(|e| {
+        e.ok()?
+            .file_name()
+            .to_str()?
+            .split('_')
+            .next()?
+            .parse()
+            .ok()
+    })
+    .max()
+    .unwrap()
 }
 
 async fn paired(db: &Db) -> (Therapist, Patient) {
