@@ -10,6 +10,8 @@ use std::sync::Arc;
 pub struct Console {
     addr: String,
     tls: Arc<rustls::ClientConfig>,
+    /// The local address its connections come from (`None`: the system's choice).
+    source: Option<std::net::IpAddr>,
 }
 
 /// An answer: status, headers (lowercase names) and body.
@@ -59,14 +61,22 @@ impl Console {
         Self {
             addr: addr.to_owned(),
             tls: Arc::new(tls),
+            source: None,
         }
+    }
+
+    /// The same console, reached from the local address `source` (a loopback address such as
+    /// `127.0.0.2`: another client for the hub's per-address guards).
+    pub fn from_source(mut self, source: std::net::IpAddr) -> Self {
+        self.source = Some(source);
+        self
     }
 
     /// One request on its own connection; the answer.
     pub fn request(&self, method: &str, path: &str, cookie: Option<&str>, body: &str) -> Answer {
         let name = rustls::pki_types::ServerName::try_from("localhost").unwrap();
         let conn = rustls::ClientConnection::new(self.tls.clone(), name).unwrap();
-        let tcp = TcpStream::connect(&self.addr).unwrap();
+        let tcp = connect_from(self.source, &self.addr);
         let mut tls = rustls::StreamOwned::new(conn, tcp);
         let mut head = format!(
             "{method} {path} HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\
@@ -177,7 +187,7 @@ impl Console {
         use std::io::BufRead;
         let name = rustls::pki_types::ServerName::try_from("localhost").unwrap();
         let conn = rustls::ClientConnection::new(self.tls.clone(), name).unwrap();
-        let tcp = TcpStream::connect(&self.addr).unwrap();
+        let tcp = connect_from(self.source, &self.addr);
         let mut tls = rustls::StreamOwned::new(conn, tcp);
         let head = format!(
             "GET {path} HTTP/1.1\r\nHost: localhost\r\nAccept: text/event-stream\r\n\
@@ -234,4 +244,30 @@ fn session_cookie(answer: &Answer) -> String {
         .map(|(_, v)| v.split(';').next().unwrap().to_owned())
         .find(|c| c.starts_with("telerehab_session="))
         .expect("a login cookie")
+}
+
+/// A TCP connection to `addr` (`127.0.0.1:PORT`) from the local address `source` (any port),
+/// or from the system's choice without one.
+pub fn connect_from(source: Option<std::net::IpAddr>, addr: &str) -> TcpStream {
+    let Some(source) = source else {
+        return TcpStream::connect(addr).unwrap();
+    };
+    let to: std::net::SocketAddr = addr.parse().unwrap();
+    let runtime = tokio::runtime::Builder::new_current_thread()
+        .enable_io()
+        .build()
+        .unwrap();
+    runtime.block_on(async {
+        let socket = if source.is_ipv4() {
+            tokio::net::TcpSocket::new_v4()
+        } else {
+            tokio::net::TcpSocket::new_v6()
+        }
+        .unwrap();
+        socket.bind(std::net::SocketAddr::new(source, 0)).unwrap();
+        let tcp = socket.connect(to).await.unwrap();
+        let tcp = tcp.into_std().unwrap();
+        tcp.set_nonblocking(false).unwrap();
+        tcp
+    })
 }

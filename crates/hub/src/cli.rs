@@ -66,6 +66,8 @@ pub enum HubCommand {
         max_connections: usize,
         /// Most station-port connections from one address not admitted yet (TLS handshake,
         /// Hello, pairing); admitted stations do not count, so a NAT may hide any number.
+        /// Behind a load balancer the address is the client's, from the PROXY protocol header
+        /// of a balancer named in hub.toml's `[network] proxy_protocol_from` (docs/DEPLOY.md).
         #[arg(long, default_value_t = netlink::therapist::DEFAULT_MAX_CONNECTIONS_PER_ADDRESS)]
         max_connections_per_address: usize,
         /// Most station-port connections not admitted yet, from all addresses; a new one over

@@ -6,7 +6,8 @@
 //! DATA/hub.toml            names on the hub's certificate, database URL (default: hub.db),
 //!                          clinic name, FHIR base (`fhir_base`), recording store
 //!                          (`[recordings]`, default: DATA/recordings), the operator's
-//!                          `metrics_listen` address (none by default)
+//!                          `metrics_listen` address (none by default), the load
+//!                          balancers whose PROXY headers are read (`[network]`)
 //! DATA/hub.db              SQLite database (0600), unless `database` names PostgreSQL
 //! DATA/tls/ca.crt, ca.key  the clinic's CA (key 0600)
 //! DATA/tls/hub.crt, hub.key  the hub's certificate, signed by the CA (key 0600)
@@ -67,9 +68,34 @@ pub struct ClinicConfig {
     /// absent: `DATA/recordings`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub recordings: Option<hub_care::recordings::RecordingsConfig>,
+    /// How the hub's ports are reached (`[network]`, [`NetworkConfig`]); absent: directly.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub network: Option<NetworkConfig>,
+}
+
+/// `hub.toml`'s `[network]`: how clients reach the hub's ports.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NetworkConfig {
+    /// The load balancers (addresses or networks, `["10.0.0.11", "10.0.0.0/24"]`) whose
+    /// connections to the station port and the console's start with a PROXY protocol header
+    /// (HAProxy's `send-proxy-v2`) naming the client; the client's address then drives every
+    /// per-address guard and audit line. A connection from them without a valid header within
+    /// the handshake timeout is closed; from any other address a header is never read.
+    /// Default none (docs/DEPLOY.md, "Client addresses").
+    #[serde(default)]
+    pub proxy_protocol_from: netlink::proxy_protocol::TrustedProxies,
 }
 
 impl ClinicConfig {
+    /// The peers whose PROXY protocol headers are read (`[network] proxy_protocol_from`).
+    pub fn proxy_protocol_from(&self) -> netlink::proxy_protocol::TrustedProxies {
+        self.network
+            .as_ref()
+            .map(|n| n.proxy_protocol_from.clone())
+            .unwrap_or_default()
+    }
+
     /// The clinic's FHIR base: `fhir_base`, else `https://NAME/fhir` of the first name; an
     /// error naming `hub.toml`'s `fhir_base` when it is not an address.
     pub fn fhir_base(&self) -> Result<hub_care::fhir::FhirBase, HubError> {
@@ -206,6 +232,7 @@ impl Clinic {
             backup_recipients: Vec::new(),
             metrics_listen: None,
             recordings: None,
+            network: None,
         };
         let url = match database.filter(|d| !d.is_empty()) {
             Some(u) => u.to_owned(),
@@ -401,7 +428,7 @@ pub async fn serve(
         .await?;
     let (budget, web_limits) = fit_to_fd_limit(&options);
     let (server, mut events) = TherapistServer::bind_with_store(
-        link_config(&options, clinic, &budget),
+        link_config(&options, clinic, &budget, &config),
         Arc::new(Ingest(store.clone())),
     )
     .await
@@ -434,7 +461,7 @@ pub async fn serve(
     let readiness = state.readiness.clone();
     let (stop_operator, operator) =
         spawn_operator(options.metrics.or(config.metrics_listen), state.clone()).await?;
-    let (stop_web, web_task) = spawn_console(clinic, web_listener, state, web_limits)?;
+    let (stop_web, web_task) = spawn_console(clinic, web_listener, state, web_limits, &config)?;
     on_bound(Bound {
         stations: server.local_addr(),
         web: web_addr,
@@ -744,13 +771,15 @@ pub const HOUSEKEEPING: std::time::Duration = std::time::Duration::from_secs(60)
 /// Longest `hub serve` takes to stop once asked (connections closing, the database closed).
 pub const STOP_WITHIN: std::time::Duration = std::time::Duration::from_secs(3);
 
-/// The console's HTTPS API on `listener` (none without one), and the sender that stops it.
+/// The console's HTTPS API on `listener` (none without one), reading the PROXY headers of the
+/// balancers `config` trusts, and the sender that stops it.
 #[allow(clippy::type_complexity)]
 fn spawn_console(
     clinic: &Clinic,
     listener: Option<tokio::net::TcpListener>,
     state: AppState,
     limits: web::WebLimits,
+    config: &ClinicConfig,
 ) -> Result<
     (
         tokio::sync::oneshot::Sender<()>,
@@ -763,6 +792,13 @@ fn spawn_console(
         return Ok((stop, None));
     };
     let acceptor = web::acceptor_from_pem(&clinic.tls("hub.crt"), &clinic.tls("hub.key"))?;
+    // Behind a balancer: each browser's own address, from its PROXY header.
+    let listener = netlink::proxy_protocol::ProxiedListener::new(
+        listener,
+        config.proxy_protocol_from(),
+        std::time::Duration::from_millis(limits.tls_handshake_timeout_ms),
+        "console port",
+    );
     let task = tokio::spawn(web::serve_with_limits(
         listener,
         Some(acceptor),
@@ -780,6 +816,7 @@ fn link_config(
     options: &ServeOptions,
     clinic: &Clinic,
     budget: &ConnectionBudget,
+    clinic_config: &ClinicConfig,
 ) -> TherapistConfig {
     let mut config =
         TherapistConfig::new(options.stations, clinic.dir(), Some(clinic.server_tls()));
@@ -787,6 +824,7 @@ fn link_config(
     config.max_connections_per_address = options.max_connections.1;
     config.max_unauthenticated = budget.stations_unauthenticated;
     config.summary_pace_per_s = options.summary_pace_per_s;
+    config.proxy_protocol_from = clinic_config.proxy_protocol_from();
     config
 }
 
@@ -932,6 +970,37 @@ mod tests {
     use super::ClinicConfig;
 
     #[test]
+    fn the_trusted_balancers_are_read_from_network_and_a_bad_one_is_named() {
+        let base = "names = [\"hub.clinic.example\"]\n";
+        let none: ClinicConfig = toml::from_str(base).unwrap();
+        assert!(none.proxy_protocol_from().is_empty());
+        let with: ClinicConfig = toml::from_str(&format!(
+            "{base}[network]\nproxy_protocol_from = [\"10.0.0.5\", \"10.0.1.0/24\"]\n"
+        ))
+        .unwrap();
+        let trusted = with.proxy_protocol_from();
+        assert!(trusted.trusts("10.0.1.77".parse().unwrap()));
+        assert!(!trusted.trusts("10.0.0.6".parse().unwrap()));
+        // Written back as it was read.
+        let again: ClinicConfig = toml::from_str(&toml::to_string(&with).unwrap()).unwrap();
+        assert_eq!(again, with);
+        let e = toml::from_str::<ClinicConfig>(&format!(
+            "{base}[network]\nproxy_protocol_from = [\"0.0.0.0/0\"]\n"
+        ))
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("proxy_protocol_from")
+                && e.contains("`0.0.0.0/0` would trust every address"),
+            "{e}"
+        );
+        let e = toml::from_str::<ClinicConfig>(&format!("{base}[network]\nproxy_from = []\n"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("proxy_from"), "{e}");
+    }
+
+    #[test]
     fn the_clinics_fhir_base_is_its_configured_one_else_of_the_hubs_name() {
         let mut config = ClinicConfig {
             names: vec!["hub.clinic.example".into()],
@@ -941,6 +1010,7 @@ mod tests {
             backup_recipients: Vec::new(),
             metrics_listen: None,
             recordings: None,
+            network: None,
         };
         assert_eq!(
             config.fhir_base().unwrap().to_string(),

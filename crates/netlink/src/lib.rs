@@ -9,6 +9,8 @@
 //! - [`pairing`]: a one-time code becomes a station's credential (SPAKE2, both sides);
 //!   [`pki`]: the clinic's own certificate authority; [`upload`]: the station's side of a
 //!   recording upload.
+//! - [`proxy_protocol`]: the client's address behind a load balancer (PROXY protocol headers
+//!   read from trusted peers only), on the station port and the console's.
 //! - Private: `transport` (the byte-stream plumbing both sides share) and `error`
 //!   ([`NetlinkError`]).
 //!
@@ -84,6 +86,7 @@ pub mod frame;
 pub mod ndjson;
 pub mod pairing;
 pub mod pki;
+pub mod proxy_protocol;
 pub mod server_stop;
 pub mod station;
 pub mod store;

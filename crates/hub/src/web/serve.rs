@@ -14,11 +14,12 @@ use axum::{BoxError, Router};
 use hyper::body::{Body as _, Incoming};
 use hyper_util::rt::TokioIo;
 use hyper_util::server::graceful::{GracefulShutdown, Watcher};
+use netlink::proxy_protocol::ProxiedListener;
 use netlink::therapist::budget::{
     ConnectionGate, EVICTION_GRACE, Eviction, GateLimits, REFUSAL_LOG_INTERVAL, Ticket,
 };
 use tokio::io::{AsyncRead, AsyncWrite};
-use tokio::net::{TcpListener, TcpStream};
+use tokio::net::TcpStream;
 use tokio::sync::Semaphore;
 use tokio_rustls::TlsAcceptor;
 use tower::ServiceExt as _;
@@ -87,7 +88,7 @@ impl Default for WebLimits {
 
 /// Serves [`router`]`(state)` on `listener` until `shutdown` completes; see [`serve_router`].
 pub async fn serve(
-    listener: TcpListener,
+    listener: impl Into<ProxiedListener>,
     tls: Option<TlsAcceptor>,
     state: AppState,
     shutdown: impl Future<Output = ()> + Send,
@@ -97,7 +98,7 @@ pub async fn serve(
 
 /// [`serve`] within `limits`.
 pub async fn serve_with_limits(
-    listener: TcpListener,
+    listener: impl Into<ProxiedListener>,
     tls: Option<TlsAcceptor>,
     state: AppState,
     limits: WebLimits,
@@ -110,7 +111,7 @@ pub async fn serve_with_limits(
 /// waits up to [`SHUTDOWN_GRACE_S`] for open requests. `tls: None` serves plain HTTP and is
 /// refused unless the listener is bound to a loopback address. Default [`WebLimits`].
 pub async fn serve_router(
-    listener: TcpListener,
+    listener: impl Into<ProxiedListener>,
     tls: Option<TlsAcceptor>,
     app: Router,
     shutdown: impl Future<Output = ()> + Send,
@@ -120,12 +121,14 @@ pub async fn serve_router(
 
 /// [`serve_router`] within `limits`.
 pub async fn serve_router_with_limits(
-    listener: TcpListener,
+    listener: impl Into<ProxiedListener>,
     tls: Option<TlsAcceptor>,
     app: Router,
     limits: WebLimits,
     shutdown: impl Future<Output = ()> + Send,
 ) -> Result<(), HubError> {
+    // A bare listener, or one reading trusted balancers' PROXY headers (clients' addresses).
+    let mut listener = listener.into();
     let local = listener
         .local_addr()
         .map_err(|e| HubError::io("reading the listening address", e))?;

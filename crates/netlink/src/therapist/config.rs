@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use serde::{Deserialize, Serialize};
 
 use crate::error::NetlinkError;
+use crate::proxy_protocol::TrustedProxies;
 use crate::tls::ServerTls;
 
 /// Configuration of a [`TherapistServer`](super::TherapistServer).
@@ -43,6 +44,11 @@ pub struct TherapistConfig {
     /// (stations send a summary every 100 ms).
     #[serde(default = "default_idle_timeout_ms")]
     pub idle_timeout_ms: u64,
+    /// The load balancers whose connections start with a PROXY protocol header naming the
+    /// station's address ([`crate::proxy_protocol`]); read within `hello_timeout_ms`. Default
+    /// none: every connection's address is its peer's.
+    #[serde(default)]
+    pub proxy_protocol_from: TrustedProxies,
     /// Largest recording taken for one session, bytes, in [1 MiB, 16 GiB]. Default 2 GiB
     /// (an hour at 1 kHz with raw inputs is about 420 MB).
     #[serde(default = "default_max_upload_bytes_per_session")]
@@ -122,6 +128,7 @@ impl TherapistConfig {
             max_unauthenticated: default_max_unauthenticated(),
             hello_timeout_ms: default_hello_timeout_ms(),
             idle_timeout_ms: default_idle_timeout_ms(),
+            proxy_protocol_from: TrustedProxies::default(),
             max_upload_bytes_per_session: default_max_upload_bytes_per_session(),
             max_upload_bytes_per_station_day: default_max_upload_bytes_per_station_day(),
             max_upload_bytes_per_s: default_max_upload_bytes_per_s(),

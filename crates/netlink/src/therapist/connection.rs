@@ -14,6 +14,7 @@ use tokio::task::JoinHandle;
 
 use crate::error::NetlinkError;
 use crate::frame::{Ack, Bye, Frame, Hello};
+use crate::proxy_protocol::ProxiedListener;
 use crate::tls::certificate_names_station;
 use crate::transport::{BoxStream, FrameReader, Outbox, spawn_outbox_writer};
 
@@ -40,6 +41,13 @@ pub(super) async fn accept_loop(
 ) {
     let mut summary = tokio::time::interval(REFUSAL_LOG_INTERVAL);
     summary.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    // Behind a balancer: each station's own address, from its PROXY header.
+    let mut listener = ProxiedListener::new(
+        listener,
+        hub.config.proxy_protocol_from.clone(),
+        Duration::from_millis(hub.config.hello_timeout_ms),
+        "station port",
+    );
     loop {
         tokio::select! {
             _ = shutdown.changed() => break,
