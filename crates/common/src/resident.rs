@@ -34,6 +34,10 @@ mod tests {
     /// The mapping that holds `v`'s buffer (its start) and its resident bytes: the process's
     /// whole RSS moved with the tests running beside this one. (Two large vectors made one
     /// after the other may share one anonymous mapping.)
+    #[allow(
+        clippy::disallowed_methods,
+        reason = "the test reads the process's memory map to see what is resident"
+    )]
     fn resident_bytes_of<T>(v: &[T]) -> (usize, u64) {
         let at = v.as_ptr() as usize;
         let smaps = std::fs::read_to_string("/proc/self/smaps").expect("/proc/self/smaps");

@@ -383,7 +383,7 @@ pub(super) mod tests {
     /// of them written), as a full disk's do; `unreadable` makes every read fail with EIO.
     #[derive(Debug)]
     pub(crate) struct FillingUp {
-        pub file: std::fs::File,
+        pub file: File,
         pub room: u64,
         pub unreadable: bool,
     }
