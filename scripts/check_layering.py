@@ -44,6 +44,8 @@ BELOW_STATION = {
     "regimen",
     "i18n",
     "render",
+    "arm",
+    "measures",
 }
 
 # Our crates, and which of our crates each one may depend on (the arrows of DESIGN.md).
@@ -84,7 +86,13 @@ OUR_CRATES: dict[str, set[str]] = {
         "i18n",
         "metrics",
     },
-    # A patient's session: the 1 kHz loop, recorder, window supervisor, simulated body, arm.
+    # The patient's arm from the IMUs (tracker, HID and simulated sensing, trunk, calibration,
+    # the `[arm]` settings): devices (HID) and a solver thread, below the session. Not pure.
+    "arm": {"common", "clock", "calib", "gyro-imu", "record"},
+    # A session's measures from its ticks (the collector the recorder feeds): below the
+    # session; no device, thread or clock, its one I/O the series' temporary file. Not pure.
+    "measures": {"common", "arm", "assist", "gyro-imu", "metrics", "record", "vehicle"},
+    # A patient's session: the 1 kHz loop, recorder, window supervisor, simulated body, faults.
     "session": BELOW_STATION,
     # The end-of-session text and the clinician's HTML report.
     "report": BELOW_STATION | {"session"},

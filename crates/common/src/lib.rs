@@ -9,8 +9,12 @@
 //! - [`quantile`]: the nearest-rank quantile of sorted data.
 //! - [`end_stop_nm`]: a steering wheel's end stop as a contact, the one law the simulated
 //!   wheel pushes with and the patient's torque estimate models.
+//! - [`resident`]: bounded buffers given their memory pages up front, so that a long session's
+//!   resident memory stays flat.
 //!
 //! Pure: no I/O, no threads, no clock, no dependencies.
+
+pub mod resident;
 
 use std::fmt;
 

@@ -7,7 +7,7 @@
 //!
 //! With a sternum IMU (the station's `[arm] sternum`), the station says a short sentence
 //! when the trunk's flexion, lean or rotation from the exercise's start posture stays beyond
-//! `cue_deg` for a moment (the station's `session::trunk_cue`: its dwell, hysteresis and rate
+//! `cue_deg` for a moment (the station's `arm::trunk_cue`: its dwell, hysteresis and rate
 //! limit). Absent: no cue. Never during the standard assessment, whose protocol is the same
 //! for every patient. The cue never changes the torque.
 

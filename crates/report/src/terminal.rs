@@ -464,7 +464,7 @@ mod tests {
                 ..Default::default()
             })),
             mcap_bytes: Some(2_345_678),
-            measures: session::outcome::Measures {
+            measures: measures::Measures {
                 named: [
                     ("movements", 14.0),
                     ("active_s", 5.25),

@@ -62,7 +62,7 @@ pub struct HapticOutcome {
     /// The session ended because the patient's window could not be kept up.
     pub window_lost: bool,
     /// Each exercise's own scores, of the exercises started (in course order).
-    pub exercise_scores: Vec<crate::plant::ExerciseScores>,
+    pub exercise_scores: Vec<measures::ExerciseScores>,
 }
 
 /// The loop's deadline arithmetic, without a clock: the tick of slot `k` is due at

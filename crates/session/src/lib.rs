@@ -6,18 +6,19 @@
 //! - [`haptic`] is the 1 kHz loop driving a [`plant::Plant`] (wheel, patient, car, haptic
 //!   chain, assist) through the exercises of [`course`]; [`recorder`] writes the records and
 //!   thins summaries, syncing the file and watching the room left on its disk
-//!   ([`disk_space`]), and hands back an [`outcome::RecorderOutcome`]; [`arm`] and
-//!   [`arm_calibration`] turn the IMUs into joint angles and arm lengths; [`window`] runs the
-//!   patient's window in a process of its own (restarted, the exercise paused, if it dies or
-//!   hangs); [`signals`] turns SIGINT/SIGTERM into a stop request and [`Controls`] carries stop
-//!   and pause to the loop; [`measures`] computes the movement measures; [`recorded`] is a body
-//!   made of a recording's raw inputs (replay); [`faults`] injects faults into simulated
-//!   sessions; [`words`] names exercises and instructions for the patient.
+//!   ([`disk_space`]), and hands back an [`outcome::RecorderOutcome`]; the `arm` crate turns
+//!   the IMUs into joint angles and arm lengths (the haptic thread steps it, the recorder
+//!   calibrates with it), the `measures` crate computes the movement measures the recorder
+//!   feeds it; [`window`] runs the patient's window in a process of its own (restarted, the
+//!   exercise paused, if it dies or hangs); [`signals`] turns SIGINT/SIGTERM into a stop
+//!   request and [`Controls`] carries stop and pause to the loop; [`recorded`] is a body made
+//!   of a recording's raw inputs (replay); [`faults`] injects faults into simulated sessions;
+//!   [`words`] names exercises and instructions for the patient.
 //! - [`config`]: the station's TOML, validated input (the `[[faults]]` a configuration names
-//!   are `config::faults`); [`assessment`]: when the standard assessment runs; [`settings`]
+//!   are `config::faults`, its `[arm]` section `arm::config`); [`assessment`]: when the standard assessment runs; [`settings`]
 //!   and [`language`]: the patient's settings file and the language in force.
-//! - [`timing`] (loop-timing percentiles), [`resident`] (bounded buffers made resident up
-//!   front, the process's memory figures), [`platform`] (where Linux and Windows differ),
+//! - [`timing`] (loop-timing percentiles), [`resident`] (the process's memory figures; the
+//!   buffers made resident up front are `common::resident`), [`platform`] (where Linux and Windows differ),
 //!   [`files`] (small files written whole, 0600).
 //!
 //! Threads (DESIGN.md): `haptic` (1 kHz, absolute deadlines, real-time priority where
@@ -25,8 +26,6 @@
 //! runtime and the window's triple buffer; the main thread answers the window process's pulls
 //! from that buffer and watches it, the session runs on a `session` thread beside it.
 
-pub mod arm;
-pub mod arm_calibration;
 pub mod assessment;
 pub mod breaks;
 pub mod buttons;
@@ -42,7 +41,6 @@ pub mod haptic;
 pub mod language;
 pub mod live_road;
 pub mod live_strength;
-pub mod measures;
 pub mod outcome;
 pub mod plant;
 pub mod platform;
@@ -58,7 +56,6 @@ mod tests;
 pub mod timing;
 #[cfg(test)]
 mod trunk_cue_tests;
-pub mod trunk_measures;
 pub mod wheel_cards;
 pub mod wheel_gestures;
 pub mod window;
@@ -307,7 +304,7 @@ fn body_facts(cfg: &StationConfig, kind: BodyKind, plant: &plant::Plant) -> reco
         BodyKind::Simulated => (
             BodyKindName::Simulated,
             Some(ArmFacts {
-                guided: cfg.arm.sim_mounting == config::MountingMode::Guided,
+                guided: cfg.arm.sim_mounting == arm::MountingMode::Guided,
                 geometry: cfg.sim_arm.geometry,
                 swivel_rad: cfg.sim_arm.swivel_mean_rad,
             }),

@@ -4,7 +4,7 @@
 //! it, the measures read its tallies, the end reason its recording error, the report all of it.
 
 use crate::timing::TimingStats;
-use metrics::SessionMeasures;
+use measures::Measures;
 use record::{ArmCalibrationSample, ArmSetup, TickRecord};
 use std::collections::BTreeMap;
 
@@ -106,6 +106,36 @@ impl RecorderOutcome {
         })
     }
 
+    /// Time, scores, torque, safety and assistance of the whole session by name (unit in the
+    /// name), a tick being `tick_s`: what the session's measures name beside the movements'
+    /// (`measures::MeasureCollector::finish`).
+    pub fn session_figures(&self, tick_s: f64) -> BTreeMap<String, f64> {
+        let mut named = BTreeMap::new();
+        let score = &self.last.score;
+        let mut put = |name: &str, v: f64| {
+            named.insert(name.to_owned(), v);
+        };
+        put("session_s", self.records as f64 * tick_s);
+        put("paused_s", self.paused_ticks as f64 * tick_s);
+        put("road_s", self.road_ticks as f64 * tick_s);
+        put("dial_s", self.dial_ticks as f64 * tick_s);
+        if self.road_ticks > 0 {
+            put("rms_lateral_m", score.rms_lateral_m);
+            put("max_lateral_m", score.max_lateral_m);
+            put("pct_in_lane", score.pct_in_lane);
+            put("cone_hits", f64::from(score.cone_hits));
+        }
+        if self.dial_ticks > 0 {
+            put("dial_rms_error_deg", score.dial_rms_error_deg);
+        }
+        put("max_abs_torque_nm", self.max_abs_torque_nm);
+        if self.assist_ticks > 0 {
+            put("assist_s", self.assist_ticks as f64 * tick_s);
+        }
+        named.extend(self.safety_and_assist());
+        named
+    }
+
     /// Safety and assistance so far, by name (unit in the name): the share of ticks the
     /// safety chain limited, the watchdog's fault ticks, the torque updates' rate at the motor
     /// and worst gap (with a backend that counts them), whether the arm sensors were lost
@@ -152,14 +182,59 @@ impl RecorderOutcome {
     }
 }
 
-/// A session's measures at its end.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Measures {
-    /// The movement analysis; `None` when it could not be made ([`Self::error`] says why).
-    pub session: Option<SessionMeasures>,
-    /// Every measure by name, the unit in the name, finite values only: what the recording's
-    /// `/metrics` channel holds and the hub stores.
-    pub named: BTreeMap<String, f64>,
-    /// Why the movement analysis is missing.
-    pub error: Option<String>,
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use measures::MeasureCollector;
+    use record::{AssistSample, ScoreSample, WheelSample};
+
+    #[test]
+    fn the_session_figures_count_paused_and_exercise_time_and_fit_the_link_with_the_measures() {
+        // 2 s paused (the arm procedure), then 3 s of the dial task turned there and back with
+        // assistance, at 1 kHz.
+        let recs: Vec<TickRecord> = (0..5000_u64)
+            .map(|k| {
+                let t = k as f64 * 1e-3;
+                TickRecord {
+                    tick: k,
+                    t_ns: k * 1_000_000,
+                    wheel: WheelSample {
+                        angle_rad: 0.6 * (std::f64::consts::PI * (t - 2.0).max(0.0) / 3.0).sin(),
+                        hand_est_nm: Some(0.2),
+                        ..WheelSample::default()
+                    },
+                    assist: AssistSample {
+                        active: k >= 2000,
+                        assistance_level: 0.5,
+                        ..AssistSample::default()
+                    },
+                    score: ScoreSample {
+                        paused: k < 2000,
+                        ..ScoreSample::default()
+                    },
+                    ..TickRecord::default()
+                }
+            })
+            .collect();
+        let mut out = RecorderOutcome::default();
+        let mut c = MeasureCollector::new(1000.0, 5000);
+        for rec in &recs {
+            out.add(rec);
+            c.add(rec);
+        }
+        let figures = out.session_figures(c.tick_s());
+        assert!((figures["session_s"] - 5.0).abs() < 1e-9);
+        assert!((figures["paused_s"] - 2.0).abs() < 1e-9);
+        assert!((figures["dial_s"] - 3.0).abs() < 1e-9);
+        assert_eq!(figures["road_s"], 0.0);
+        assert!(!figures.contains_key("rms_lateral_m"), "no road, no lane");
+        assert!((figures["assist_s"] - 3.0).abs() < 1e-9);
+        assert_eq!(figures["assist_level_mean"], 0.5);
+        // The session's measures name them beside the movements', within the protocol's
+        // limit on named values.
+        let m = c.finish(figures);
+        assert!((m.named["paused_s"] - 2.0).abs() < 1e-9);
+        assert!(m.named.contains_key("patient_work_j") && m.named.contains_key("movements"));
+        assert!(m.named.len() <= netlink::frame::MAX_EXTRA_ENTRIES);
+    }
 }

@@ -5,15 +5,12 @@
 //!   files 0600 in directories 0700. On Windows a file under the user's profile (the station's
 //!   home is in `%APPDATA%`) inherits an access list that admits that user, SYSTEM and the
 //!   administrators only, so there is nothing to add and no mode to check.
-//! - **Positional reads and writes** (a spilled measure series): `pread`/`pwrite` on Linux,
-//!   `ReadFile`/`WriteFile` at an offset on Windows (which may move the file's cursor; no
-//!   caller uses the cursor).
 //! - **Starting over in a fresh process** (one window event loop a process): `exec` on Linux;
 //!   Windows has no `exec`, so the new process runs to its end and this one exits with its
 //!   status.
 //! - **How a child ended**: Linux adds the signal that killed it.
 
-use std::fs::{File, Metadata, OpenOptions};
+use std::fs::{Metadata, OpenOptions};
 use std::io;
 use std::path::Path;
 use std::process::{Command, ExitStatus};
@@ -66,52 +63,6 @@ pub fn open_to_others(meta: &Metadata) -> Option<u32> {
     }
 }
 
-/// Writes all of `buf` at `offset` of `file`.
-pub fn write_all_at(file: &File, buf: &[u8], offset: u64) -> io::Result<()> {
-    #[cfg(unix)]
-    {
-        std::os::unix::fs::FileExt::write_all_at(file, buf, offset)
-    }
-    #[cfg(windows)]
-    {
-        use std::os::windows::fs::FileExt;
-        let (mut buf, mut offset) = (buf, offset);
-        while !buf.is_empty() {
-            match file.seek_write(buf, offset)? {
-                0 => return Err(io::ErrorKind::WriteZero.into()),
-                n => {
-                    buf = &buf[n..];
-                    offset += n as u64;
-                }
-            }
-        }
-        Ok(())
-    }
-}
-
-/// Reads exactly `buf.len()` bytes at `offset` of `file`.
-pub fn read_exact_at(file: &File, buf: &mut [u8], offset: u64) -> io::Result<()> {
-    #[cfg(unix)]
-    {
-        std::os::unix::fs::FileExt::read_exact_at(file, buf, offset)
-    }
-    #[cfg(windows)]
-    {
-        use std::os::windows::fs::FileExt;
-        let (mut buf, mut offset) = (buf, offset);
-        while !buf.is_empty() {
-            match file.seek_read(buf, offset)? {
-                0 => return Err(io::ErrorKind::UnexpectedEof.into()),
-                n => {
-                    buf = &mut buf[n..];
-                    offset += n as u64;
-                }
-            }
-        }
-        Ok(())
-    }
-}
-
 /// Continues as `command` in a fresh process image. Returns only when that could not be done:
 /// on Linux this process becomes `command` (`exec`); on Windows `command` runs to its end and
 /// this process exits with its status.
@@ -150,26 +101,6 @@ pub fn describe_exit(status: ExitStatus) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn positional_writes_and_reads_round_trip_at_any_offset() {
-        let dir = tempfile::tempdir().unwrap();
-        let file = OpenOptions::new()
-            .read(true)
-            .write(true)
-            .create(true)
-            .truncate(true)
-            .open(dir.path().join("spill"))
-            .unwrap();
-        write_all_at(&file, b"world", 6).unwrap();
-        write_all_at(&file, b"hello ", 0).unwrap();
-        let mut back = [0u8; 11];
-        read_exact_at(&file, &mut back, 0).unwrap();
-        assert_eq!(&back, b"hello world");
-        let mut past_the_end = [0u8; 4];
-        let e = read_exact_at(&file, &mut past_the_end, 9).unwrap_err();
-        assert_eq!(e.kind(), io::ErrorKind::UnexpectedEof);
-    }
 
     #[cfg(unix)]
     #[test]

@@ -9,8 +9,8 @@
 //! the hand's torque, the true joint angles): they are taken from `/wheel` and `/arm` as they
 //! were recorded, as inputs, not re-run.
 
-use crate::arm::{ArmSeam, ArmTracker, RecordedSolver, SetupStep, WheelNow};
 use anyhow::{Context, bail};
+use arm::{ArmSeam, ArmTracker, RecordedSolver, SetupStep, WheelNow};
 use gyro_imu::ImuError;
 use gyro_imu::device::ImuSample;
 use gyro_imu::pose::Mounting;
@@ -407,7 +407,7 @@ impl RecordedBody {
     }
 
     /// Why arm sensing stopped or never started, if it did.
-    pub fn arm_failure(&self) -> Option<&crate::arm::ArmFailure> {
+    pub fn arm_failure(&self) -> Option<&arm::ArmFailure> {
         self.arm.as_ref().and_then(|a| a.tracker.failure())
     }
 }

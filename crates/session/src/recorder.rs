@@ -4,13 +4,13 @@
 //!
 //! The haptic thread never waits for it in real time.
 
-use super::arm_calibration::{ArmLoopCollector, OnlineArmCalibration};
 use super::disk_space::{self, LowSpace};
 use super::faults::{Disk, FillingFile};
-use super::measures::MeasureCollector;
 use super::outcome::RecorderOutcome;
 use super::{LiveSummary, SessionObserver};
 use crate::timing::TimingStats;
+use arm::calibration::{ArmLoopCollector, OnlineArmCalibration};
+use measures::MeasureCollector;
 use record::{
     ArmCalibrationSample, ArmSetup, MetricsSample, RecordWriter, SessionMetadata, TickRecord,
 };
@@ -366,7 +366,7 @@ pub struct SessionEnding {
     /// [`super::end_reason::ended_by`] of the haptic thread's outcome.
     pub reason: String,
     /// Each exercise's own scores, of the exercises started.
-    pub scores: Vec<super::plant::ExerciseScores>,
+    pub scores: Vec<measures::ExerciseScores>,
 }
 
 /// The session's arm calibration at its end (with the one during the session, if it
@@ -494,14 +494,14 @@ pub(super) fn recorder_loop(
         }
     }
     finish_arm_calibration(&mut out, &arm_loop, &online_arm, mcap.as_mut());
-    out.measures = measures.finish(&out);
+    out.measures = measures.finish(out.session_figures(measures.tick_s()));
     let ending = ending.get();
     out.exercises = measures.exercise_results(
         ending.map_or(&[][..], |e| e.scores.as_slice()),
         crate::words::plain_name,
     );
-    super::measures::strength_of_exercises(&mut out.measures.named, &out.exercises);
-    super::measures::sweep_of_exercises(&mut out.measures.named, &out.exercises);
+    measures::strength_of_exercises(&mut out.measures.named, &out.exercises);
+    measures::sweep_of_exercises(&mut out.measures.named, &out.exercises);
     let sample = MetricsSample {
         exercises: out.exercises.clone(),
         end_reason: ending.map_or_else(String::new, |e| {
@@ -564,7 +564,7 @@ mod tests {
             summary_every: 100,
             flush_every: 1000,
             arm_lengths_m: [0.3, 0.25],
-            trunk_threshold_deg: crate::config::DEFAULT_TRUNK_THRESHOLD_DEG,
+            trunk_threshold_deg: arm::DEFAULT_TRUNK_THRESHOLD_DEG,
             trunk_cued: Vec::new(),
             roads: Vec::new(),
             target_steps: Vec::new(),

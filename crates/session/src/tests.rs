@@ -212,7 +212,7 @@ impl SessionObserver for Keep {
 #[test]
 fn guided_mounting_runs_first_then_the_exercise_and_tracks_the_arm_within_2_deg() {
     let mut cfg = config("sine-road", 20.0);
-    cfg.arm.sim_mounting = super::arm::MountingMode::Guided;
+    cfg.arm.sim_mounting = arm::MountingMode::Guided;
     let opts = simulated_at_max_speed(cfg);
     let mut keep = Keep::default();
     super::run(&opts, &Controls::default(), &mut keep).unwrap();
@@ -299,7 +299,7 @@ fn a_minute_of_dial_tracking_calibrates_the_arm_lengths_within_2_percent() {
 fn a_guided_session_as_fast_as_possible_is_the_same_on_every_run() {
     let run = || {
         let mut cfg = config("sine-road", 22.0);
-        cfg.arm.sim_mounting = super::arm::MountingMode::Guided;
+        cfg.arm.sim_mounting = arm::MountingMode::Guided;
         let mut keep = Keep::default();
         super::run(
             &simulated_at_max_speed(cfg),
@@ -979,7 +979,7 @@ fn trunk_session(weakness: f64, sternum: bool) -> (super::SessionReport, Vec<Tic
     cfg.sim_patient.weakness = weakness;
     cfg.arm.sternum = sternum;
     // As with real IMUs: the set-up first, whose hold-still gives the fusion its first rest.
-    cfg.arm.sim_mounting = crate::config::MountingMode::Guided;
+    cfg.arm.sim_mounting = arm::MountingMode::Guided;
     cfg.validate().unwrap();
     let mut keep = Keep::default();
     let report = super::run(

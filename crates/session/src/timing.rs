@@ -33,7 +33,7 @@ impl Counts {
         if self.per_ns.is_empty() {
             // 4 MiB, resident at once: taken page by page as the loop's jitter reaches new
             // values, it would look like growth for the whole session.
-            self.per_ns = crate::resident::resident_vec(EXACT_BELOW_NS as usize, 1, 0);
+            self.per_ns = common::resident::resident_vec(EXACT_BELOW_NS as usize, 1, 0);
         }
         let c = &mut self.per_ns[v as usize];
         *c = c.saturating_add(1);

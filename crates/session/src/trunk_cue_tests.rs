@@ -2,9 +2,10 @@
 //! trunk leans and twists more the weaker the arm (`gyro_imu::sim::trunk`), a sternum IMU
 //! measures it, and the regimen's `[trunk] cue_deg` sets when the station cues.
 
-use super::arm::trunk_cue::{DWELL_S, MIN_INTERVAL_S, SHOWN_S, excursion_deg};
 use super::{Controls, SessionObserver, SessionOptions, SessionReport};
-use crate::config::{MountingMode, StationConfig};
+use crate::config::StationConfig;
+use arm::MountingMode;
+use arm::trunk_cue::{DWELL_S, MIN_INTERVAL_S, SHOWN_S, excursion_deg};
 use record::TickRecord;
 
 /// What a test needs of each tick (a whole `TickRecord` per tick would be 80 MB a minute).

@@ -221,7 +221,7 @@ fn pedal_hint(pedals: bool, speed_m_s: f64) -> Option<String> {
     (pedals && speed_m_s < 0.5).then(|| tr!("hud-press-pedal"))
 }
 
-/// The gentle cue to sit up while the haptic thread shows it (`session::arm::trunk_cue`); the
+/// The gentle cue to sit up while the haptic thread shows it (`arm::trunk_cue`); the
 /// id is `speech::SIT_UP`'s, written out so the screen does not depend on the speech module.
 fn trunk_cue(rec: &TickRecord) -> Option<String> {
     rec.arm

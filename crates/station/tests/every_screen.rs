@@ -303,7 +303,7 @@ fn screens() -> Vec<(&'static str, NeglectedSide, Scene)> {
 }
 
 /// The running road while the station cues the patient to sit up (the trunk stayed leant
-/// past the therapist's threshold: `session::arm::trunk_cue`).
+/// past the therapist's threshold: `arm::trunk_cue`).
 fn trunk_cue(regimen: &Regimen) -> Scene {
     let view = CourseView::new(&StationConfig::default(), Some(regimen)).unwrap();
     let mut rec = tick(9000, 0, 8.0, false);

@@ -117,7 +117,7 @@ fn the_haptic_thread_allocates_nothing_while_it_cues_the_trunk() {
     cfg.arm.sternum = true;
     cfg.sim_patient.weakness = 0.6;
     // The set-up's hold-still gives the trunk's fusion the rest it starts from.
-    cfg.arm.sim_mounting = session::config::MountingMode::Guided;
+    cfg.arm.sim_mounting = arm::MountingMode::Guided;
     // (Seed 7: with the others' seed, 11, this patient's trunk gave no cue in 60 s.)
     cfg.session.seed = 7;
     let text = "[trunk]\ncue_deg = 5.0\n[[exercise]]\nkind = \"dial\"\nduration_s = 60.0\n\

@@ -1,6 +1,7 @@
 //! The station's words come from the catalogues (`crates/i18n/locales`), never from string
-//! literals in its source: a scan of `src/`, of the window's crate (`crates/render/src`,
-//! named `render/…` here) and of the session's (`crates/session/src`, `session/…`) with `syn` finds every literal that reads like a
+//! literals in its source: a scan of `src/` and of the crates whose words the patient may
+//! read ([`CRATES`]: the window's `crates/render/src`, named `render/…` here, the session's
+//! `session/…`, the arm's `arm/…` and the measures' `measures/…`) with `syn` finds every literal that reads like a
 //! sentence (two words or more) outside the places where text is for developers (logs,
 //! errors, assertions, the terminal, tests) and outside the allow-list
 //! (`tests/words_allowed.txt`, each entry with its reason). It also checks that every
@@ -18,26 +19,26 @@ fn src() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src")
 }
 
-/// The window's crate, whose pages the patient reads too: its files are named `render/…`.
-fn render_src() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../render/src")
-}
+/// The station's crates whose words the patient may read too, scanned beside `src/`: the
+/// window's, the session's, and the arm's and the measures' below the session. A file of one
+/// is named `<crate>/…` here (`render/gpu.rs`, `session/lib.rs`).
+const CRATES: [&str; 4] = ["render", "session", "arm", "measures"];
 
-/// The session's crate, whose pages the patient reads too: its files are named `session/…`.
-fn session_src() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../session/src")
+/// The source folder of `krate`, one of [`CRATES`].
+fn crate_src(krate: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../{krate}/src"))
 }
 
 /// Where a scanned or allowed name (`front_door/mod.rs`, `render/gpu.rs`, `session/lib.rs`)
 /// is on disk.
 fn path_of(name: &str) -> PathBuf {
-    if let Some(rest) = name.strip_prefix("render/") {
-        render_src().join(rest)
-    } else if let Some(rest) = name.strip_prefix("session/") {
-        session_src().join(rest)
-    } else {
-        src().join(name)
-    }
+    CRATES
+        .iter()
+        .find_map(|krate| {
+            let rest = name.strip_prefix(krate)?.strip_prefix('/')?;
+            Some(crate_src(krate).join(rest))
+        })
+        .unwrap_or_else(|| src().join(name))
 }
 
 /// Macros whose strings are for developers (logs, errors, assertions, terminal output) or
@@ -245,11 +246,13 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
 
 /// Every sentence-like literal and every `tr!` id of the station's source.
 fn scan() -> Finder {
-    let (root, render_root, session_root) = (src(), render_src(), session_src());
+    let root = src();
+    let roots: Vec<(&str, PathBuf)> = CRATES.iter().map(|&k| (k, crate_src(k))).collect();
     let mut files = Vec::new();
     rust_files(&root, &mut files);
-    rust_files(&render_root, &mut files);
-    rust_files(&session_root, &mut files);
+    for (_, krate_root) in &roots {
+        rust_files(krate_root, &mut files);
+    }
     let mut finder = Finder::default();
     let parsed: Vec<(PathBuf, syn::File)> = files
         .into_iter()
@@ -272,16 +275,18 @@ fn scan() -> Finder {
             .any(|m| p == m.with_extension("rs") || p.starts_with(m))
     };
     for (path, ast) in parsed.iter().filter(|(p, _)| !is_test_file(p)) {
-        finder.file = if let Ok(rest) = path.strip_prefix(&render_root) {
-            format!("render/{}", rest.to_string_lossy())
-        } else if let Ok(rest) = path.strip_prefix(&session_root) {
-            format!("session/{}", rest.to_string_lossy())
-        } else {
-            path.strip_prefix(&root)
-                .unwrap()
-                .to_string_lossy()
-                .into_owned()
-        };
+        finder.file = roots
+            .iter()
+            .find_map(|(krate, krate_root)| {
+                let rest = path.strip_prefix(krate_root).ok()?;
+                Some(format!("{krate}/{}", rest.to_string_lossy()))
+            })
+            .unwrap_or_else(|| {
+                path.strip_prefix(&root)
+                    .unwrap()
+                    .to_string_lossy()
+                    .into_owned()
+            });
         finder.visit_file(ast);
     }
     finder

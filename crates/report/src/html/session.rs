@@ -3,8 +3,8 @@
 
 use super::charts::Thinner;
 use anyhow::Context;
+use measures::MeasureCollector;
 use record::{ArmSetup, Channel, StreamLimits, TickStream};
-use session::measures::MeasureCollector;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 

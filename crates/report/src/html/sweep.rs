@@ -5,7 +5,7 @@
 
 use super::charts::{self, Chart, Line};
 use super::esc;
-use session::measures::sweep_points;
+use measures::sweep_points;
 use std::fmt::Write as _;
 use vehicle::SweepParameter;
 

@@ -1,6 +1,7 @@
 //! Faults as the command line and the configuration give them (`KIND@SECONDS[+DURATION]`),
 //! checked together, and the session-time window each acts in.
 
+use arm::sim::ImuFault;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -38,7 +39,8 @@ pub enum FaultKind {
     /// The arm IMUs' rates freeze at their last value while their samples stay fresh
     /// (default 1 s).
     ImuFrozen,
-    /// The arm IMUs' rates read their full scale, ±[`IMU_FULL_SCALE_RAD_S`] (default 200 ms).
+    /// The arm IMUs' rates read their full scale, ±[`arm::sim::IMU_FULL_SCALE_RAD_S`] (default
+    /// 200 ms).
     ImuSaturated,
     /// The therapist's hub goes away: the link's connection is cut and every new one refused
     /// (until a `hub-up`, or for good).
@@ -50,11 +52,6 @@ pub enum FaultKind {
     /// (default 200 ms).
     WheelWriteFail,
 }
-
-/// Full scale of the simulated consumer gyro, rad/s (±2000 °/s, `GyroSpec::consumer_mems`):
-/// a rate at or beyond it is clipped by the sensor. Real controllers clip at their own full
-/// scale (`gyro_imu::device::GyroRange`: a DualShock 4 at 1999.94 °/s, a Joy-Con at 2294 °/s).
-pub const IMU_FULL_SCALE_RAD_S: f64 = 2000.0 * std::f64::consts::PI / 180.0;
 
 impl FaultKind {
     /// Every kind, by its name.
@@ -272,18 +269,20 @@ pub fn windows(faults: &[FaultSpec]) -> Vec<(FaultKind, u64, u64)> {
         .collect()
 }
 
-/// The arm-sensor faults among `faults`, with their session-time windows (ns).
-pub fn imu_faults(faults: &[FaultSpec]) -> Vec<(FaultKind, u64, u64)> {
+/// The arm-sensor faults among `faults`, as the simulated IMUs take them, with their
+/// session-time windows (ns).
+pub fn imu_faults(faults: &[FaultSpec]) -> Vec<(ImuFault, u64, u64)> {
     windows(faults)
         .into_iter()
-        .filter(|(k, _, _)| {
-            matches!(
-                k,
-                FaultKind::ImuUnplug
-                    | FaultKind::ImuNan
-                    | FaultKind::ImuFrozen
-                    | FaultKind::ImuSaturated
-            )
+        .filter_map(|(k, start, end)| {
+            let fault = match k {
+                FaultKind::ImuUnplug => ImuFault::Unplug,
+                FaultKind::ImuNan => ImuFault::Nan,
+                FaultKind::ImuFrozen => ImuFault::Frozen,
+                FaultKind::ImuSaturated => ImuFault::Saturated,
+                _ => return None,
+            };
+            Some((fault, start, end))
         })
         .collect()
 }

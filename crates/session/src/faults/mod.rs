@@ -16,7 +16,7 @@ mod hub;
 mod wheel;
 
 pub use crate::config::faults::{
-    FaultKind, FaultSpec, IMU_FULL_SCALE_RAD_S, disk_full_at_ns, imu_faults, validate_all, windows,
+    FaultKind, FaultSpec, disk_full_at_ns, imu_faults, validate_all, windows,
 };
 pub use disk::{Disk, FillingFile};
 pub use hub::HubSwitch;

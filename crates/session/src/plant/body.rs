@@ -1,11 +1,11 @@
 //! Who holds the wheel: a simulated patient on a simulated wheel, a real patient on a real
 //! force-feedback wheel, or a recording's raw inputs played back.
 
-use crate::arm::sim::SimArmSensing;
-use crate::arm::{ArmSeam, SetupStep, WheelNow};
 use crate::config::StationConfig;
 use crate::faults::FaultyWheel;
 use anyhow::Context;
+use arm::sim::SimArmSensing;
+use arm::{ArmSeam, SetupStep, WheelNow};
 use assist::HumanArm;
 use haptic_wheel::{SimWheel, Wheel, ZeroTorqueOnDrop};
 use record::ArmSample;
@@ -35,7 +35,7 @@ pub enum Body {
         /// that the kernel backend can run over any device seam (tests use an in-memory one).
         wheel: ZeroTorqueOnDrop<Box<dyn Wheel + Send>>,
         /// The arm's IMUs, when two are present.
-        arm: Option<Box<crate::arm::hid::HidArmSensing>>,
+        arm: Option<Box<arm::hid::HidArmSensing>>,
         /// The clock of the wheel's readings.
         clock: clock::Clock,
     },
@@ -67,7 +67,7 @@ impl Body {
                     cfg.session.seed,
                     real_time,
                     clock,
-                    &cfg.faults,
+                    crate::config::faults::imu_faults(&cfg.faults),
                 )
                 .and_then(|s| {
                     if cfg.arm.sternum {
@@ -93,7 +93,7 @@ impl Body {
             .context("no usable force-feedback wheel (run `telerehab devices`)")?;
         // Arm sensing is optional: an IMU that cannot be opened (permissions, a flat battery)
         // costs the joint angles, not the exercise.
-        let arm = crate::arm::hid::HidArmSensing::open_first_two(
+        let arm = arm::hid::HidArmSensing::open_first_two(
             cfg.arm.geometry,
             cfg.arm.swivel_rad,
             clock::monotonic_ns,
@@ -112,7 +112,7 @@ impl Body {
     #[cfg(any(target_os = "linux", windows))]
     pub fn real_wheel(
         wheel: Box<dyn Wheel + Send>,
-        arm: Option<Box<crate::arm::hid::HidArmSensing>>,
+        arm: Option<Box<arm::hid::HidArmSensing>>,
         clock: clock::Clock,
     ) -> Self {
         Body::Evdev {
@@ -291,7 +291,7 @@ impl Body {
     }
 
     /// Why arm sensing stopped or never started, if it did.
-    pub(super) fn arm_failure(&self) -> Option<&crate::arm::ArmFailure> {
+    pub(super) fn arm_failure(&self) -> Option<&arm::ArmFailure> {
         match self {
             Body::Sim { sensing, .. } => sensing.failure(),
             #[cfg(any(target_os = "linux", windows))]

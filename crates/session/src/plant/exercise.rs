@@ -7,6 +7,7 @@ use crate::config::StationConfig;
 use crate::course::Segment;
 use assist::{AssistOutput, Limits, Measurement};
 use haptic_wheel::HapticRegimen;
+use measures::ExerciseScores;
 use record::{AssistSample, ScoreSample, VehicleSample};
 use vehicle::{
     AligningTorque, DialScore, DrivingScore, PedalDrive, Pedals, PreviewDriver, Projection,
@@ -53,28 +54,6 @@ struct OwnScore {
     strength_now: (f64, f64),
     /// Exercise time it took, s, when it ran to its end.
     completed_s: Option<f64>,
-}
-
-/// One exercise's own scores at the end of a session (what the recorder names and records
-/// as its results).
-#[derive(Clone, Debug, PartialEq)]
-pub struct ExerciseScores {
-    /// Its place in the course, from 0.
-    pub index: u32,
-    /// The regimen's short name (`sine-road`).
-    pub kind: String,
-    /// Its prescribed duration, s.
-    pub prescribed_s: f64,
-    /// Its driving scores (a road exercise).
-    pub driving: Option<vehicle::DrivingSummary>,
-    /// Its dial scores (the dial task).
-    pub dial: Option<vehicle::DialSummary>,
-    /// Its strength results (the strength test).
-    pub strength: Option<vehicle::StrengthSummary>,
-    /// The haptic sweep's level it ran (a level of a haptic sweep).
-    pub sweep: Option<vehicle::SweepLevel>,
-    /// Exercise time it took, s, when it ran to its end (`None`: the session ended first).
-    pub completion_time_s: Option<f64>,
 }
 
 /// What the exercise asks of the wheel this tick.

@@ -14,13 +14,13 @@ mod raw;
 mod tests;
 
 pub use body::Body;
-pub use exercise::ExerciseScores;
+use measures::ExerciseScores;
 
-use crate::arm::trunk_cue::TrunkCue;
-use crate::arm::{SetupStep, WheelNow};
 use crate::config::StationConfig;
 use crate::course::Segment;
 use anyhow::Context;
+use arm::trunk_cue::TrunkCue;
+use arm::{SetupStep, WheelNow};
 use assist::Measurement;
 use body::BodyMotion;
 use exercise::{AssistStep, Exercise, ExerciseStep};
@@ -549,7 +549,7 @@ impl Plant {
     }
 
     /// Why arm sensing stopped or never started, if it did.
-    pub fn arm_failure(&self) -> Option<&crate::arm::ArmFailure> {
+    pub fn arm_failure(&self) -> Option<&arm::ArmFailure> {
         self.body.arm_failure()
     }
 

@@ -1,7 +1,7 @@
 //! The tick's raw inputs as `/raw/wheel` and `/raw/imu` record them: what a replay needs to
 //! run the same session again, bit for bit.
 
-use crate::arm::ArmSeam;
+use arm::ArmSeam;
 use haptic_wheel::WheelReading;
 use record::raw::{RawImuSample, RawRead, RawTick, RawWheelSample, same_sample};
 

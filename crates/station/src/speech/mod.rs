@@ -50,7 +50,7 @@ pub fn spoken() -> Vec<&'static str> {
     ids
 }
 
-/// The gentle cue's message id (`session::arm::trunk_cue`).
+/// The gentle cue's message id (`arm::trunk_cue`).
 pub const SIT_UP: &str = "hud-sit-up";
 
 /// The anchoring cue's message id.

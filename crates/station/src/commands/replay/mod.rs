@@ -334,7 +334,7 @@ fn difference_on(channel: Channel, c: &ChannelComparison) -> Option<Difference> 
             ),
         }),
         // A calibration recorded by a version without physiological bounds that this one
-        // rejects (`session::arm_calibration::UPPER_ARM_M`): no result is the right answer now.
+        // rejects (`arm::calibration::UPPER_ARM_M`): no result is the right answer now.
         None if channel == Channel::ArmCalibration && recorded == 1 && replayed == 0 => None,
         None => (recorded != replayed).then(|| Difference {
             topic,

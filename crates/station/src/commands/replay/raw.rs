@@ -89,8 +89,8 @@ fn rerun(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use arm::MountingMode;
     use record::Recording;
-    use session::config::MountingMode;
 
     /// A simulated session of `seconds` with the guided arm procedure, recorded in `dir`.
     fn recorded_session(dir: &Path, seconds: f64) -> std::path::PathBuf {

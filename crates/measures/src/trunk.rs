@@ -2,10 +2,10 @@
 //! largest and mean excursion from the start posture, the share of time beyond the therapist's
 //! threshold, and the share of movements compensated with the trunk (the trunk beyond the
 //! threshold during the movement), and the gentle cues to sit up the patient was given
-//! (`trunk_cues`, in exercises with a cue threshold: [`super::arm::trunk_cue`]). Fed tick by
+//! (`trunk_cues`, in exercises with a cue threshold: [`arm::trunk_cue`]). Fed tick by
 //! tick from the arm samples; nothing without a sternum IMU.
 
-use crate::config::DEFAULT_TRUNK_THRESHOLD_DEG;
+use arm::DEFAULT_TRUNK_THRESHOLD_DEG;
 use gyro_imu::trunk::{AXES, TrunkAngles, TrunkExcursion};
 use record::ArmSample;
 use std::collections::BTreeMap;

@@ -3,7 +3,6 @@
 //! samples into joint angles. Allocation-free per tick.
 
 use super::{ArmTracker, MountingMode, SetupStep, WheelNow};
-use crate::config::faults::FaultKind;
 use gyro_imu::ImuError;
 use gyro_imu::pose::Mounting;
 use gyro_imu::sim::arm::{PatientArmConfig, SimArm};
@@ -11,6 +10,25 @@ use gyro_imu::so3;
 use nalgebra::{UnitQuaternion, Vector3};
 use rand::{Rng, SeedableRng};
 use record::ArmSample;
+
+/// Full scale of the simulated consumer gyro, rad/s (±2000 °/s, `GyroSpec::consumer_mems`):
+/// a rate at or beyond it is clipped by the sensor. Real controllers clip at their own full
+/// scale (`gyro_imu::device::GyroRange`: a DualShock 4 at 1999.94 °/s, a Joy-Con at 2294 °/s).
+pub const IMU_FULL_SCALE_RAD_S: f64 = 2000.0 * std::f64::consts::PI / 180.0;
+
+/// A fault injected into the simulated IMUs (the session's `imu-*` faults, `session::faults`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImuFault {
+    /// An IMU is unplugged: the tracker is told the sensor is lost, and told it is back when
+    /// the fault's window ends.
+    Unplug,
+    /// Both IMUs send NaN rates.
+    Nan,
+    /// Both IMUs' rates freeze at their last value while their samples stay fresh.
+    Frozen,
+    /// Both IMUs' rates read their full scale, ±[`IMU_FULL_SCALE_RAD_S`].
+    Saturated,
+}
 
 /// Simulated arm + IMUs + tracker.
 pub struct SimArmSensing {
@@ -20,7 +38,7 @@ pub struct SimArmSensing {
     /// Ticks on which the simulated arm could not reach the wheel.
     pub unreachable: u64,
     /// Injected arm-sensor faults and their session-time windows, ns.
-    faults: Vec<(FaultKind, u64, u64)>,
+    faults: Vec<(ImuFault, u64, u64)>,
     /// An injected unplug has been told to the tracker (and its replug not yet).
     unplugged: bool,
     /// The rates an injected freeze holds (upper, fore), rad/s.
@@ -45,14 +63,15 @@ impl SimArmSensing {
     /// seeded random rotations and the session starts with the guided procedure, which the
     /// simulated patient follows.
     /// `real_time`: the session runs on the wall clock (see [`ArmTracker::guided`]); `clock`
-    /// times the guided procedure's solver out.
+    /// times the guided procedure's solver out; `faults`: the injected IMU faults and their
+    /// session-time windows `[start, end)`, ns.
     pub fn new(
         cfg: PatientArmConfig,
         mode: MountingMode,
         seed: u64,
         real_time: bool,
         clock: clock::Clock,
-        faults: &[crate::config::faults::FaultSpec],
+        faults: Vec<(ImuFault, u64, u64)>,
     ) -> Result<Self, ImuError> {
         let (mu, mf) = match mode {
             MountingMode::Square => (UnitQuaternion::identity(), UnitQuaternion::identity()),
@@ -82,7 +101,7 @@ impl SimArmSensing {
             tracker,
             last: ArmSample::default(),
             unreachable: 0,
-            faults: crate::config::faults::imu_faults(faults),
+            faults,
             unplugged: false,
             held: None,
             trunk: None,
@@ -139,7 +158,7 @@ impl SimArmSensing {
         };
         // Told once per unplug (the haptic thread must not allocate each tick), and the
         // replug once when its window ends.
-        let unplugged = acting(FaultKind::ImuUnplug);
+        let unplugged = acting(ImuFault::Unplug);
         if unplugged && !self.unplugged {
             self.unplugged = true;
             self.tracker
@@ -148,20 +167,18 @@ impl SimArmSensing {
             self.unplugged = false;
             self.tracker.regain_sensor();
         }
-        if acting(FaultKind::ImuNan) {
+        if acting(ImuFault::Nan) {
             upper.rate_rad_s.fill(f64::NAN);
             fore.rate_rad_s.fill(f64::NAN);
         }
-        if acting(FaultKind::ImuFrozen) {
+        if acting(ImuFault::Frozen) {
             let (u, f) = *self.held.get_or_insert((upper.rate_rad_s, fore.rate_rad_s));
             (upper.rate_rad_s, fore.rate_rad_s) = (u, f);
         } else {
             self.held = None;
         }
-        if acting(FaultKind::ImuSaturated) {
-            let full = |r: &mut Vector3<f64>| {
-                r.apply(|x| *x = crate::config::faults::IMU_FULL_SCALE_RAD_S.copysign(*x))
-            };
+        if acting(ImuFault::Saturated) {
+            let full = |r: &mut Vector3<f64>| r.apply(|x| *x = IMU_FULL_SCALE_RAD_S.copysign(*x));
             full(&mut upper.rate_rad_s);
             full(&mut fore.rate_rad_s);
         }

@@ -110,9 +110,9 @@ impl ArmLoopCollector {
             // The half hour's room, resident at once (7 MB): filled as it comes, it would look
             // like growth for the session's first half hour; never reallocated after.
             let max = self.max;
-            let room = |_| crate::resident::resident_with_capacity(max, [1.0; 3]);
+            let room = |_| common::resident::resident_with_capacity(max, [1.0; 3]);
             [self.upper, self.fore, self.grip] = [0, 1, 2].map(room);
-            self.time_s = crate::resident::resident_with_capacity(max, 1.0);
+            self.time_s = common::resident::resident_with_capacity(max, 1.0);
         }
         if self.time_s.len() >= self.max {
             let half = self.max / 2;

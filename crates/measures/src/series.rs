@@ -17,6 +17,7 @@
 //! the series gone, and [`SeriesStore::load`] says why.
 
 use std::fmt;
+use std::fs::File;
 use std::io;
 use std::path::{Path, PathBuf};
 
@@ -122,13 +123,62 @@ pub(super) trait SpillFile: fmt::Debug + Send {
     fn read_exact_at(&self, buf: &mut [u8], offset: u64) -> io::Result<()>;
 }
 
-impl SpillFile for std::fs::File {
+/// Positional reads and writes, where Linux and Windows differ: `pread`/`pwrite` on Linux,
+/// `ReadFile`/`WriteFile` at an offset on Windows (which may move the file's cursor; no caller
+/// uses the cursor).
+impl SpillFile for File {
     fn write_all_at(&self, buf: &[u8], offset: u64) -> io::Result<()> {
-        crate::platform::write_all_at(self, buf, offset)
+        write_all_at(self, buf, offset)
     }
 
     fn read_exact_at(&self, buf: &mut [u8], offset: u64) -> io::Result<()> {
-        crate::platform::read_exact_at(self, buf, offset)
+        read_exact_at(self, buf, offset)
+    }
+}
+
+/// Writes all of `buf` at `offset` of `file`.
+fn write_all_at(file: &File, buf: &[u8], offset: u64) -> io::Result<()> {
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::FileExt::write_all_at(file, buf, offset)
+    }
+    #[cfg(windows)]
+    {
+        use std::os::windows::fs::FileExt;
+        let (mut buf, mut offset) = (buf, offset);
+        while !buf.is_empty() {
+            match file.seek_write(buf, offset)? {
+                0 => return Err(io::ErrorKind::WriteZero.into()),
+                n => {
+                    buf = &buf[n..];
+                    offset += n as u64;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Reads exactly `buf.len()` bytes at `offset` of `file`.
+fn read_exact_at(file: &File, buf: &mut [u8], offset: u64) -> io::Result<()> {
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::FileExt::read_exact_at(file, buf, offset)
+    }
+    #[cfg(windows)]
+    {
+        use std::os::windows::fs::FileExt;
+        let (mut buf, mut offset) = (buf, offset);
+        while !buf.is_empty() {
+            match file.seek_read(buf, offset)? {
+                0 => return Err(io::ErrorKind::UnexpectedEof.into()),
+                n => {
+                    buf = &mut buf[n..];
+                    offset += n as u64;
+                }
+            }
+        }
+        Ok(())
     }
 }
 
@@ -309,11 +359,31 @@ impl SeriesStore {
 pub(super) mod tests {
     use super::*;
 
+    #[test]
+    fn positional_writes_and_reads_round_trip_at_any_offset() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = std::fs::OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create(true)
+            .truncate(true)
+            .open(dir.path().join("spill"))
+            .unwrap();
+        write_all_at(&file, b"world", 6).unwrap();
+        write_all_at(&file, b"hello ", 0).unwrap();
+        let mut back = [0u8; 11];
+        read_exact_at(&file, &mut back, 0).unwrap();
+        assert_eq!(&back, b"hello world");
+        let mut past_the_end = [0u8; 4];
+        let e = read_exact_at(&file, &mut past_the_end, 9).unwrap_err();
+        assert_eq!(e.kind(), io::ErrorKind::UnexpectedEof);
+    }
+
     /// A file on a disk with room for `room` bytes: writes past it fail with ENOSPC (nothing
     /// of them written), as a full disk's do; `unreadable` makes every read fail with EIO.
     #[derive(Debug)]
-    pub(in crate::measures) struct FillingUp {
-        pub file: std::fs::File,
+    pub(crate) struct FillingUp {
+        pub file: File,
         pub room: u64,
         pub unreadable: bool,
     }

@@ -2,7 +2,15 @@
 //! sensors' placement is unknown (always with real IMUs), then the pose estimator. The same
 //! [`ArmTracker`] runs behind simulated IMUs ([`sim`]) and controller IMUs over HID ([`hid`]).
 //! Allocation-free per tick.
+//!
+//! Also the arm's lengths calibrated from a session's data ([`calibration`]: the recorder
+//! thread's collector, the online estimate and the physiological check), the trunk from a
+//! sternum IMU ([`trunk`]) and the gentle cue to sit up ([`trunk_cue`]), and the `[arm]`
+//! section of the station's configuration ([`config`]). Below the session (`session` drives
+//! it from its haptic and recorder threads); devices only through `gyro_imu`'s `hid` feature.
 
+pub mod calibration;
+pub mod config;
 pub mod hid;
 pub mod sim;
 pub mod trunk;
@@ -20,8 +28,7 @@ use record::raw::imu_on_grid;
 use record::{ArmSample, ArmSetup};
 use std::time::Duration;
 
-// The `[arm]` section lives with the rest of the configuration (no config ↔ session circle).
-pub use crate::config::{ArmConfig, MountingMode};
+pub use config::{ArmConfig, DEFAULT_TRUNK_THRESHOLD_DEG, MountingMode};
 
 /// Where the arm sensing is: the label recorded on `/arm` and what the screen asks for.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -237,7 +244,7 @@ impl Default for SampleCheck {
             last_t_ns: 0,
             last_rate: [0.0; 3],
             repeats: 0,
-            range: GyroRange::symmetric(crate::config::faults::IMU_FULL_SCALE_RAD_S),
+            range: GyroRange::symmetric(sim::IMU_FULL_SCALE_RAD_S),
         }
     }
 }
@@ -369,13 +376,13 @@ impl ArmTracker {
             rejected: 0,
             seam: ArmSeam::default(),
             recorded_solver: None,
-            gyro_ranges: [GyroRange::symmetric(crate::config::faults::IMU_FULL_SCALE_RAD_S); 2],
+            gyro_ranges: [GyroRange::symmetric(sim::IMU_FULL_SCALE_RAD_S); 2],
         }
     }
 
     /// The full scale of each IMU's gyro (`a`, `b` in device order), each device's own (a
     /// DualShock 4 clips at 1999.94 °/s, a Joy-Con at 2294 °/s): a rate at it is clipped and
-    /// not used. Without this call, ±[`crate::config::faults::IMU_FULL_SCALE_RAD_S`] (the
+    /// not used. Without this call, ±[`sim::IMU_FULL_SCALE_RAD_S`] (the
     /// simulated sensors').
     pub fn set_gyro_ranges(&mut self, ranges: [GyroRange; 2]) {
         self.gyro_ranges = ranges;

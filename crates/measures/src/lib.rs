@@ -1,9 +1,11 @@
-//! The session's movement measures: the recorder thread feeds every tick to a
-//! [`MeasureCollector`], which keeps the cheap live measures up to date for the summaries and,
-//! at the end, computes the whole session's measures (`metrics` crate: movements, SPARC,
-//! LDLJ, peak speed, movement time, speed peaks, ranges of motion, time active) and names
-//! them, with the session's scores, pauses, assistance and work, for the recording's
-//! `/metrics` channel and the hub.
+//! A session's measures from its ticks: the recorder thread (and a report reading a
+//! recording) feeds every tick to a [`MeasureCollector`], which keeps the cheap live measures
+//! up to date for the summaries and, at the end, computes the whole session's measures
+//! (`metrics` crate: movements, SPARC, LDLJ, peak speed, movement time, speed peaks, ranges of
+//! motion, time active, reactions to the target's steps) and names them, with the work of the
+//! hand and of the assistance and the figures the recorder tallied (time, scores, pauses,
+//! assistance: `session::outcome`), for the recording's `/metrics` channel and the hub; and
+//! each exercise's own results from its [`ExerciseScores`].
 //!
 //! The measures sample the session at [`MEASURE_RATE_HZ`]: the wheel angle is averaged over
 //! each block of ticks (a boxcar against aliasing; arm movement lies below ~5 Hz and SPARC
@@ -11,15 +13,13 @@
 //! 29 MB. Only the exercise is measured: ticks with the exercise paused (the arm procedure at
 //! the start, the patient's pauses) are left out, each stretch between pauses a run of its own
 //! (no speed is taken across a pause). Joint angles are taken while the arm sensing is
-//! tracking; the trunk's measures while a sternum IMU is tracked ([`super::trunk_measures`]).
+//! tracking; the trunk's measures while a sternum IMU is tracked ([`trunk`]).
 //!
 //! The series wait for the end of the session in a [`SeriesStore`]: a recorded session spills
 //! them to a temporary file on the recording's disk, so that its resident memory stays flat
-//! however long it runs ([`series`]).
+//! however long it runs ([`series`]). Below the session: it reads ticks as the `record` crate
+//! types them, no thread, clock or device; its only I/O is that temporary file.
 
-use super::outcome::Measures;
-use super::plant::ExerciseScores;
-use super::trunk_measures::TrunkTally;
 use metrics::{
     DirectedStep, LiveMeasures, MetricError, ResponseParams, SessionMeasures, SessionParams,
     TargetStep, directed_step_responses, session_measures_of_runs, step_responses,
@@ -29,12 +29,48 @@ use record::{
 };
 use std::collections::BTreeMap;
 use std::path::Path;
+use trunk::TrunkTally;
 use vehicle::TargetSteps;
 
 pub mod series;
+pub mod trunk;
 
 use series::SeriesSample;
 pub use series::{SeriesLost, SeriesStore};
+
+/// A session's measures at its end.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Measures {
+    /// The movement analysis; `None` when it could not be made ([`Self::error`] says why).
+    pub session: Option<SessionMeasures>,
+    /// Every measure by name, the unit in the name, finite values only: what the recording's
+    /// `/metrics` channel holds and the hub stores.
+    pub named: BTreeMap<String, f64>,
+    /// Why the movement analysis is missing.
+    pub error: Option<String>,
+}
+
+/// One exercise's own scores at the end of a session (what the recorder names and records
+/// as its results; the session's haptic thread scores them).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExerciseScores {
+    /// Its place in the course, from 0.
+    pub index: u32,
+    /// The regimen's short name (`sine-road`).
+    pub kind: String,
+    /// Its prescribed duration, s.
+    pub prescribed_s: f64,
+    /// Its driving scores (a road exercise).
+    pub driving: Option<vehicle::DrivingSummary>,
+    /// Its dial scores (the dial task).
+    pub dial: Option<vehicle::DialSummary>,
+    /// Its strength results (the strength test).
+    pub strength: Option<vehicle::StrengthSummary>,
+    /// The haptic sweep's level it ran (a level of a haptic sweep).
+    pub sweep: Option<vehicle::SweepLevel>,
+    /// Exercise time it took, s, when it ran to its end (`None`: the session ended first).
+    pub completion_time_s: Option<f64>,
+}
 
 /// Rate of the measures' series, Hz.
 pub const MEASURE_RATE_HZ: f64 = 100.0;
@@ -556,9 +592,15 @@ impl MeasureCollector {
         m
     }
 
-    /// The session's measures, with the scores, pauses and assistance of `out`; the series
-    /// are read back whole for the analysis (and kept in memory for [`Self::sample`]).
-    pub fn finish(&mut self, out: &super::outcome::RecorderOutcome) -> Measures {
+    /// One tick of the loop, s.
+    pub fn tick_s(&self) -> f64 {
+        self.tick_s
+    }
+
+    /// The session's measures, with `figures`: the session's time, scores, pauses and
+    /// assistance as the recorder tallied them, by name (`session::outcome`); the series are
+    /// read back whole for the analysis (and kept in memory for [`Self::sample`]).
+    pub fn finish(&mut self, figures: BTreeMap<String, f64>) -> Measures {
         let analysed = if self.series.len() < 2 {
             Err(format!(
                 "the exercise ran too briefly to measure ({} samples at {} Hz)",
@@ -595,7 +637,8 @@ impl MeasureCollector {
             name_movement_measures(&mut named, s);
             name_step_responses(&mut named, &self.responses(None));
         }
-        self.name_session_figures(&mut named, out);
+        named.extend(figures);
+        self.name_work(&mut named);
         self.trunk.name_session(&mut named);
         named.retain(|_, v| v.is_finite());
         let (session, error) = match analysed {
@@ -723,43 +766,19 @@ impl MeasureCollector {
         }
     }
 
-    /// Time, scores, assistance and work of the session.
-    fn name_session_figures(
-        &self,
-        named: &mut BTreeMap<String, f64>,
-        out: &super::outcome::RecorderOutcome,
-    ) {
-        let tick_s = self.tick_s;
-        let score = &out.last.score;
-        let mut put = |name: &str, v: f64| {
-            named.insert(name.to_owned(), v);
-        };
-        put("session_s", out.records as f64 * tick_s);
-        put("paused_s", out.paused_ticks as f64 * tick_s);
-        put("road_s", out.road_ticks as f64 * tick_s);
-        put("dial_s", out.dial_ticks as f64 * tick_s);
-        if out.road_ticks > 0 {
-            put("rms_lateral_m", score.rms_lateral_m);
-            put("max_lateral_m", score.max_lateral_m);
-            put("pct_in_lane", score.pct_in_lane);
-            put("cone_hits", f64::from(score.cone_hits));
-        }
-        if out.dial_ticks > 0 {
-            put("dial_rms_error_deg", score.dial_rms_error_deg);
-        }
-        put("max_abs_torque_nm", out.max_abs_torque_nm);
-        if out.assist_ticks > 0 {
-            put("assist_s", out.assist_ticks as f64 * tick_s);
-        }
-        put("assist_work_j", self.assist_work_j);
+    /// The work of the assistance and of the patient's hand on the wheel.
+    fn name_work(&self, named: &mut BTreeMap<String, f64>) {
+        named.insert("assist_work_j".to_owned(), self.assist_work_j);
         if let Some(patient) = self.patient_work_j {
-            put("patient_work_j", patient);
+            named.insert("patient_work_j".to_owned(), patient);
             let total = patient + self.assist_work_j;
             if total > 0.0 {
-                put("patient_work_pct", (100.0 * patient / total).min(100.0));
+                named.insert(
+                    "patient_work_pct".to_owned(),
+                    (100.0 * patient / total).min(100.0),
+                );
             }
         }
-        named.extend(out.safety_and_assist());
     }
 }
 
@@ -1053,7 +1072,6 @@ fn name_by_side(named: &mut BTreeMap<String, f64>, responses: &[Reaction]) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::outcome::RecorderOutcome;
     use record::{ArmSample, AssistSample, WheelSample};
 
     /// Two minimum-jerk turns of 0.6 rad at 1 kHz, there and back, with rest around them.
@@ -1095,13 +1113,11 @@ mod tests {
     #[test]
     fn two_turns_are_two_smooth_movements_with_their_ranges() {
         let mut c = MeasureCollector::new(1000.0, 5000);
-        let mut out = RecorderOutcome::default();
         for rec in two_turns(1000.0) {
             c.add(&rec);
-            out.add(&rec);
         }
         assert_eq!(c.fs_hz(), 100.0);
-        let m = c.finish(&out);
+        let m = c.finish(session_figures(5.0));
         assert_eq!(m.error, None);
         let s = m.session.as_ref().unwrap();
         assert_eq!(s.movements.len(), 2);
@@ -1121,8 +1137,6 @@ mod tests {
         let pct = 100.0 * 0.3 * 4.95 / (0.3 * 4.95 + 0.5);
         assert!((m.named["patient_work_pct"] - pct).abs() < 1e-9);
         assert!(m.named.values().all(|v| v.is_finite()));
-        // Within the protocol's limit on named values.
-        assert!(m.named.len() <= netlink::frame::MAX_EXTRA_ENTRIES);
     }
 
     /// A dial stepping from 0 to 0.5 rad at 1 s and the wheel following it after `delay_s`
@@ -1165,7 +1179,6 @@ mod tests {
         let sm = n["speed_metric_median"];
         assert!((0.5..0.65).contains(&sm), "{sm}");
         assert!(n.keys().all(|k| k.len() <= 64));
-        assert!(n.len() <= netlink::frame::MAX_EXTRA_ENTRIES);
         // A later start gives a longer reaction time: the measure follows the patient.
         let (later, _) = measured(MeasureCollector::new(1000.0, 4000), &a_step_followed(0.9));
         let rt_later = later.named["reaction_time_s_median"];
@@ -1216,7 +1229,6 @@ mod tests {
         );
         assert_eq!(n["initial_direction_error_left_deg_mean"], 0.0);
         assert_eq!(n["initial_direction_error_right_deg_mean"], 0.0);
-        assert!(n.len() <= netlink::frame::MAX_EXTRA_ENTRIES);
     }
 
     #[test]
@@ -1266,7 +1278,6 @@ mod tests {
     #[test]
     fn paused_ticks_are_not_measured_and_movement_times_stay_in_session_time() {
         let mut c = MeasureCollector::new(1000.0, 7000);
-        let mut out = RecorderOutcome::default();
         // 2 s paused (the arm procedure) with the wheel swept through 1.5 rad, then the turns.
         let sweep = (0..2000u64).map(|k| TickRecord {
             tick: k,
@@ -1288,12 +1299,10 @@ mod tests {
         });
         for rec in sweep.chain(turns) {
             c.add(&rec);
-            out.add(&rec);
         }
-        let m = c.finish(&out);
+        let m = c.finish(session_figures(7.0));
         assert_eq!(m.named["movements"], 2.0, "the sweep is no movement");
         assert!((m.named["wheel_rom_deg"] - 0.6_f64.to_degrees()).abs() < 0.1);
-        assert!((m.named["paused_s"] - 2.0).abs() < 1e-9);
         // The speed the report draws is the exercise's only, in session time.
         let speed = c.speed_series().unwrap();
         assert_eq!((speed.len(), speed[0].len()), (1, 500));
@@ -1320,7 +1329,6 @@ mod tests {
     #[test]
     fn nan_wheel_readings_and_a_lost_arm_do_not_spoil_the_measures() {
         let mut c = MeasureCollector::new(1000.0, 5000);
-        let mut out = RecorderOutcome::default();
         for (k, mut rec) in two_turns(1000.0).into_iter().enumerate() {
             if k % 7 == 0 || (1200..1300).contains(&k) {
                 rec.wheel.angle_rad = f64::NAN;
@@ -1334,9 +1342,8 @@ mod tests {
                 });
             }
             c.add(&rec);
-            out.add(&rec);
         }
-        let m = c.finish(&out);
+        let m = c.finish(session_figures(5.0));
         assert_eq!(m.error, None);
         assert_eq!(m.named["movements"], 2.0);
         assert!(m.named.values().all(|v| v.is_finite()));
@@ -1392,20 +1399,28 @@ mod tests {
             .collect()
     }
 
-    /// `c` and the recorder's outcome fed `recs`.
-    fn fed(mut c: MeasureCollector, recs: &[TickRecord]) -> (MeasureCollector, RecorderOutcome) {
-        let mut out = RecorderOutcome::default();
+    /// The recorder's figures of a session of `session_s` as the measures are handed them
+    /// (`session::outcome` tallies them; its tests check what they are), with a NaN the
+    /// measures leave out.
+    fn session_figures(session_s: f64) -> BTreeMap<String, f64> {
+        BTreeMap::from([
+            ("session_s".to_owned(), session_s),
+            ("assist_level_mean".to_owned(), f64::NAN),
+        ])
+    }
+
+    /// `c` fed `recs`.
+    fn fed(mut c: MeasureCollector, recs: &[TickRecord]) -> MeasureCollector {
         for rec in recs {
             c.add(rec);
-            out.add(rec);
         }
-        (c, out)
+        c
     }
 
     /// `c`'s measures of `recs`, as the `/metrics` channel records them too.
     fn measured(c: MeasureCollector, recs: &[TickRecord]) -> (Measures, MetricsSample) {
-        let (mut c, out) = fed(c, recs);
-        let m = c.finish(&out);
+        let mut c = fed(c, recs);
+        let m = c.finish(session_figures(120.0));
         let sample = c.sample(&m);
         (m, sample)
     }
@@ -1460,12 +1475,12 @@ mod tests {
             1000.0,
             SeriesStore::spilled_to(Box::new(full), dir.path()),
         );
-        let (mut c, out) = fed(c, &recs);
+        let mut c = fed(c, &recs);
         assert!(
             !c.series.is_spilled(),
             "back in memory when the disk filled up"
         );
-        let m = c.finish(&out);
+        let m = c.finish(session_figures(120.0));
         assert_exactly_equal(&(c.sample(&m), m), &(memory.1, memory.0));
     }
 
@@ -1496,12 +1511,10 @@ mod tests {
     #[test]
     fn an_exercise_too_brief_to_measure_says_so_and_keeps_its_figures() {
         let mut c = MeasureCollector::new(1000.0, 5);
-        let mut out = RecorderOutcome::default();
         for rec in &two_turns(1000.0)[..5] {
             c.add(rec);
-            out.add(rec);
         }
-        let m = c.finish(&out);
+        let m = c.finish(session_figures(0.005));
         assert!(m.session.is_none());
         assert!(
             m.error.as_deref().unwrap().contains("too briefly"),
@@ -1509,6 +1522,7 @@ mod tests {
             m.error
         );
         assert!(m.named.contains_key("session_s"));
+        assert!(!m.named.contains_key("assist_level_mean"), "no NaN kept");
         assert!(!m.named.contains_key("movements"));
     }
 }
