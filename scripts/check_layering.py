@@ -33,7 +33,7 @@ import sys
 BELOW_STATION = {
     "common",
     "clock",
-    "vehicle",
+    "exercises",
     "assist",
     "metrics",
     "calib",
@@ -56,7 +56,7 @@ OUR_CRATES: dict[str, set[str]] = {
     # The one injectable clock: a leaf the device crates and the link may use; never a pure
     # crate (they get `dt` or timestamps).
     "clock": set(),
-    "vehicle": {"common"},
+    "exercises": {"common"},
     "assist": {"common"},
     # Movement measures of a session (SPARC, LDLJ, segmentation, range of motion).
     "metrics": {"common"},
@@ -67,7 +67,7 @@ OUR_CRATES: dict[str, set[str]] = {
     # The recording format: sample types of the sensing, wheel, calibration and metrics crates.
     "record": {"common", "calib", "gyro-imu", "haptic-wheel", "metrics"},
     # The prescription: exercises, haptic and assistance settings, and their safety bounds.
-    "regimen": {"common", "vehicle", "assist", "haptic-wheel", "i18n"},
+    "regimen": {"common", "exercises", "assist", "haptic-wheel", "i18n"},
     # The patient's window: scenes drawn with wgpu; knows no session, thread or device.
     "render": {"common", "gyro-imu", "i18n", "regimen"},
     # The clinic's records: the hub's database, migrations, errors, refusal codes, thresholds.
@@ -91,7 +91,7 @@ OUR_CRATES: dict[str, set[str]] = {
     "arm": {"common", "clock", "calib", "gyro-imu", "record"},
     # A session's measures from its ticks (the collector the recorder feeds): below the
     # session; no device, thread or clock, its one I/O the series' temporary file. Not pure.
-    "measures": {"common", "arm", "assist", "gyro-imu", "metrics", "record", "vehicle"},
+    "measures": {"common", "arm", "assist", "gyro-imu", "metrics", "record", "exercises"},
     # A patient's session: the 1 kHz loop, recorder, window supervisor, simulated body, faults.
     "session": BELOW_STATION,
     # The end-of-session text and the clinician's HTML report.
@@ -102,11 +102,11 @@ OUR_CRATES: dict[str, set[str]] = {
     "tools": BELOW_STATION | {"session", "station", "hub"},
     # The one binary: its command line names the station's, the hub's and the tools' commands.
     "telerehab": BELOW_STATION | {"session", "report", "station", "hub", "tools"},
-    "telerehab-py": {"common", "vehicle", "assist", "calib", "gyro-imu", "metrics", "record"},
+    "telerehab-py": {"common", "exercises", "assist", "calib", "gyro-imu", "metrics", "record"},
     "telerehab-tests": BELOW_STATION | {"session", "report", "station", "hub", "telerehab"},
 }
 
-PURE = ("common", "vehicle", "calib", "assist", "metrics")
+PURE = ("common", "exercises", "calib", "assist", "metrics")
 
 # Third-party crates a pure crate may use: math, randomness with explicit seeds, errors, serde.
 PURE_ALLOW = {

@@ -120,7 +120,7 @@ def render(purpose: dict) -> tuple[str, list[str]]:
         "| crate | version | licence | class | used by | what it does here | why trusted |",
         "|---|---|---|---|---|---|---|",
     ]
-    class_c = {"haptic-wheel", "assist", "vehicle", "regimen", "station"}
+    class_c = {"haptic-wheel", "assist", "exercises", "regimen", "station"}
     for name in sorted(rust, key=str.lower):
         entry = rust[name]
         does, trust = purpose["rust"].get(name, ["", ""])

@@ -479,7 +479,7 @@ fn report_number(report: &str, label: &str) -> f64 {
 
 #[test]
 fn simulated_patient_drives_every_exercise_of_the_library() {
-    for name in vehicle::EXERCISE_NAMES {
+    for name in exercises::EXERCISE_NAMES {
         let out = run_ok(&[
             "run",
             "--sim",

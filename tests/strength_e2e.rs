@@ -124,10 +124,10 @@ fn a_weak_simulated_patient_stops_below_the_ceiling_with_its_true_peak_and_susta
     };
     let tick_s = 1.0 / cfg.session.loop_rate_hz;
     // The session's 20 s prescribed to the test: its sides' time limit.
-    let prescribed = vehicle::ExerciseSpec::from_name("strength")
+    let prescribed = exercises::ExerciseSpec::from_name("strength")
         .unwrap()
         .with_duration_s(20.0);
-    let vehicle::ExerciseSpec::Strength(spec) = prescribed else {
+    let exercises::ExerciseSpec::Strength(spec) = prescribed else {
         unreachable!()
     };
     for (side, sign) in [("left", 1.0), ("right", -1.0)] {

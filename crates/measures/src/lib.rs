@@ -20,6 +20,7 @@
 //! however long it runs ([`series`]). Below the session: it reads ticks as the `record` crate
 //! types them, no thread, clock or device; its only I/O is that temporary file.
 
+use exercises::TargetSteps;
 use metrics::{
     DirectedStep, LiveMeasures, MetricError, ResponseParams, SessionMeasures, SessionParams,
     TargetStep, directed_step_responses, session_measures_of_runs, step_responses,
@@ -30,7 +31,6 @@ use record::{
 use std::collections::BTreeMap;
 use std::path::Path;
 use trunk::TrunkTally;
-use vehicle::TargetSteps;
 
 pub mod series;
 pub mod trunk;
@@ -61,13 +61,13 @@ pub struct ExerciseScores {
     /// Its prescribed duration, s.
     pub prescribed_s: f64,
     /// Its driving scores (a road exercise).
-    pub driving: Option<vehicle::DrivingSummary>,
+    pub driving: Option<exercises::DrivingSummary>,
     /// Its dial scores (the dial task).
-    pub dial: Option<vehicle::DialSummary>,
+    pub dial: Option<exercises::DialSummary>,
     /// Its strength results (the strength test).
-    pub strength: Option<vehicle::StrengthSummary>,
+    pub strength: Option<exercises::StrengthSummary>,
     /// The haptic sweep's level it ran (a level of a haptic sweep).
-    pub sweep: Option<vehicle::SweepLevel>,
+    pub sweep: Option<exercises::SweepLevel>,
     /// Exercise time it took, s, when it ran to its end (`None`: the session ended first).
     pub completion_time_s: Option<f64>,
 }
@@ -296,7 +296,7 @@ impl MeasureCollector {
     }
 
     /// The same collector told which of each exercise's target changes are steps to respond
-    /// to (by its index in the course; `vehicle::Exercise::target_steps`): the stepping dial's
+    /// to (by its index in the course; `exercises::Exercise::target_steps`): the stepping dial's
     /// jumps and the lane change's shifts, not the strength test's side changes. Without it
     /// every jump of the target is a step.
     #[must_use]
@@ -306,7 +306,7 @@ impl MeasureCollector {
     }
 
     /// The same collector told which exercises (by index in the course) are measured apart
-    /// from the session: the standard assessment's parts (`vehicle::assessment`).
+    /// from the session: the standard assessment's parts (`exercises::assessment`).
     #[must_use]
     pub fn with_apart(mut self, apart: Vec<bool>) -> Self {
         self.apart = apart;
@@ -469,7 +469,7 @@ impl MeasureCollector {
     }
 
     /// The next lane shift to meet of `exercise`, if it is a lane change with one left.
-    fn lane_shift(&self, exercise: usize) -> Option<vehicle::LaneShift> {
+    fn lane_shift(&self, exercise: usize) -> Option<exercises::LaneShift> {
         match self.steps_of.get(exercise) {
             Some(TargetSteps::LaneShifts(shifts)) => shifts.get(self.next_shift).copied(),
             _ => None,
@@ -809,7 +809,7 @@ fn name_exercise_scores(named: &mut BTreeMap<String, f64>, s: &ExerciseScores) {
                 put(&format!("strength_peak_{side}_nm"), r.peak_nm);
                 put(&format!("strength_sustained_{side}_nm"), r.sustained_nm);
                 put(&format!("strength_{side}_s"), r.duration_s);
-                let at_ceiling = r.stop == vehicle::StrengthStop::Ceiling;
+                let at_ceiling = r.stop == exercises::StrengthStop::Ceiling;
                 put(
                     &format!("strength_{side}_at_ceiling"),
                     f64::from(u8::from(at_ceiling)),
@@ -827,7 +827,7 @@ fn name_exercise_scores(named: &mut BTreeMap<String, f64>, s: &ExerciseScores) {
 
 /// A haptic sweep level's name as the patient and the report read it: the exercise's, the
 /// parameter and its level with the unit ("Haptic sweep: spring 0.4 N·m/rad").
-fn sweep_level_name(plain: &str, l: vehicle::SweepLevel) -> String {
+fn sweep_level_name(plain: &str, l: exercises::SweepLevel) -> String {
     let level = format!("{:.4}", l.level);
     let level = level.trim_end_matches('0').trim_end_matches('.');
     format!(
@@ -839,17 +839,17 @@ fn sweep_level_name(plain: &str, l: vehicle::SweepLevel) -> String {
 
 /// Each haptic sweep's levels (level, mean absolute dial error in degrees) in course order,
 /// by parameter: the exercises whose scores name a sweep level
-/// ([`vehicle::SweepParameter::level_measure`]) and a dial error.
+/// ([`exercises::SweepParameter::level_measure`]) and a dial error.
 pub fn sweep_points(
     exercises: &[ExerciseResult],
-) -> Vec<(vehicle::SweepParameter, Vec<(f64, f64)>)> {
-    let mut out: Vec<(vehicle::SweepParameter, Vec<(f64, f64)>)> = Vec::new();
+) -> Vec<(exercises::SweepParameter, Vec<(f64, f64)>)> {
+    let mut out: Vec<(exercises::SweepParameter, Vec<(f64, f64)>)> = Vec::new();
     for e in exercises {
         let Some(error) = e.scores.get("dial_mean_abs_error_deg") else {
             continue;
         };
         for (k, level) in &e.scores {
-            let Some(p) = vehicle::SweepParameter::of_level_measure(k) else {
+            let Some(p) = exercises::SweepParameter::of_level_measure(k) else {
                 continue;
             };
             match out.iter_mut().find(|(q, _)| *q == p) {
@@ -876,7 +876,7 @@ pub fn sweep_of_exercises(named: &mut BTreeMap<String, f64>, exercises: &[Exerci
         if mean.is_finite() {
             named.insert(format!("{base}_mean_abs_error_deg"), mean);
         }
-        if let Some(slope) = vehicle::sweep::error_slope(&points) {
+        if let Some(slope) = exercises::sweep::error_slope(&points) {
             named.insert(
                 format!("{base}_error_slope_deg_per_{}", p.unit_key()),
                 slope,
@@ -1248,7 +1248,7 @@ mod tests {
         assert!(!none.contains_key("step_responses"), "{none:?}");
         assert!(none.contains_key("movements"));
         // A lane change's jumps are none either: its shifts are met on the road.
-        let shifts = TargetSteps::LaneShifts(vec![vehicle::LaneShift {
+        let shifts = TargetSteps::LaneShifts(vec![exercises::LaneShift {
             s_m: 10.0,
             direction: 1.0,
         }]);

@@ -481,7 +481,7 @@ pub struct ExerciseResult {
 }
 
 /// Which standard assessment an exercise result belongs to (the station's
-/// `vehicle::assessment`): its protocol version and the seed its steps were drawn from.
+/// `exercises::assessment`): its protocol version and the seed its steps were drawn from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct AssessmentTag {
     /// The protocol's version, from 1.

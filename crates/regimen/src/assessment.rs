@@ -1,4 +1,4 @@
-//! When the standard assessment (`vehicle::assessment`) is due: the `[assessment]` table the
+//! When the standard assessment (`exercises::assessment`) is due: the `[assessment]` table the
 //! therapist prescribes with the exercises.
 //!
 //! ```toml
@@ -11,12 +11,12 @@
 //! hub, and the station is where the assessment runs. A station new to the patient (paired
 //! afresh, or replaced) has no history and runs it in its first session.
 
+/// The protocol the schedule runs (its parts and fixed settings), for the regimen's readers
+/// (the hub's exports define it from these constants).
+pub use exercises::assessment as protocol;
 use haptic_wheel::{HapticRegimen, SpringDamper};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
-/// The protocol the schedule runs (its parts and fixed settings), for the regimen's readers
-/// (the hub's exports define it from these constants).
-pub use vehicle::assessment as protocol;
 
 use crate::RegimenEntry;
 
@@ -73,7 +73,7 @@ pub fn entries(seed: u32) -> Vec<RegimenEntry> {
         }),
         ..HapticRegimen::default()
     };
-    vehicle::ExerciseSpec::assessment_protocol(seed)
+    exercises::ExerciseSpec::assessment_protocol(seed)
         .into_iter()
         .map(|exercise| RegimenEntry {
             exercise,
@@ -127,7 +127,7 @@ mod tests {
     #[test]
     fn the_entries_have_no_assistance_and_the_fixed_feel_and_validate() {
         let entries = entries(9);
-        assert_eq!(entries.len(), vehicle::AssessmentPart::ALL.len());
+        assert_eq!(entries.len(), exercises::AssessmentPart::ALL.len());
         for e in &entries {
             assert!(e.assist.is_none() && e.rest_s.is_none() && !e.pedals);
             e.exercise.validate().unwrap();

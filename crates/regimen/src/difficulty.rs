@@ -30,11 +30,11 @@
 
 use crate::{Regimen, RegimenEntry};
 use assist::AssistMode;
+use exercises::dial::{AMPLITUDE_DEG, FREQUENCY_RAD_S, RATE_DEG_S};
+use exercises::exercise::bounds;
+use exercises::{DialSignal, ExerciseSpec};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
-use vehicle::dial::{AMPLITUDE_DEG, FREQUENCY_RAD_S, RATE_DEG_S};
-use vehicle::exercise::bounds;
-use vehicle::{DialSignal, ExerciseSpec};
 
 /// Lowest target success rate a therapist may ask for (as `assist::DifficultyParams`).
 pub const MIN_TARGET_SUCCESS: f64 = 0.5;
@@ -302,7 +302,7 @@ fn keep_duration(spec: &mut ExerciseSpec, prescribed: &ExerciseSpec) {
 /// One exercise at difficulty `d` (see the module's mapping).
 pub fn entry_at(entry: &RegimenEntry, spec: &DifficultySpec, d: f64) -> RegimenEntry {
     let mut out = entry.clone();
-    // The standard assessment is the same task at every difficulty (`vehicle::assessment`).
+    // The standard assessment is the same task at every difficulty (`exercises::assessment`).
     if matches!(entry.exercise, ExerciseSpec::Assessment(_)) {
         return out;
     }

@@ -3,7 +3,7 @@
 //!
 //! ```toml
 //! [[exercise]]
-//! kind = "sine"            # any vehicle::ExerciseSpec: kind + that kind's fields
+//! kind = "sine"            # any exercises::ExerciseSpec: kind + that kind's fields
 //! amplitude_m = 2.0
 //! duration_s = 90.0
 //! rest_s = 30.0            # optional: a rest after this exercise (0–600 s)
@@ -39,11 +39,11 @@ pub use patient::{NeglectedSide, PatientSettings};
 pub use trunk::TrunkCue;
 
 use assist::AssistSpec;
+use exercises::{ExerciseSpec, SweepParameter};
 use haptic_wheel::{HapticRegimen, SpringDamper};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
-use vehicle::{ExerciseSpec, SweepParameter};
 
 /// Strongest consumer force-feedback wheel torque a regimen may name, N·m.
 pub const MAX_DEVICE_TORQUE_NM: f64 = 20.0;
@@ -145,7 +145,7 @@ impl RegimenEntry {
     }
 
     /// The exercises this entry runs as: itself, or a haptic sweep
-    /// ([`vehicle::exercise::HapticSweepSpec`]) one dial per level, each with the prescribed
+    /// ([`exercises::exercise::HapticSweepSpec`]) one dial per level, each with the prescribed
     /// haptic model (none: a model of zero) whose swept spring, damper or inertia is set to
     /// the level, so every level passes the haptic chain's checks as any exercise does; the
     /// prescribed rest after the last level, the short card between levels.
@@ -458,7 +458,7 @@ pub fn exercise_kind(short: &str) -> String {
         Ok(ExerciseSpec::Strength(_)) => "strength",
         Ok(ExerciseSpec::HapticSweep(_)) => "haptic-sweep",
         Ok(ExerciseSpec::Assessment(_)) => "assessment",
-        Err(_) if vehicle::assessment::is_assessment_name(short) => "assessment",
+        Err(_) if exercises::assessment::is_assessment_name(short) => "assessment",
         Ok(_) => "road",
         Err(_) if short.starts_with("dial") => "dial",
         Err(_) if short.ends_with("-road") => "road",
@@ -529,7 +529,7 @@ mod tests {
 
     #[test]
     fn every_built_in_exercise_is_a_road_a_dial_or_strength_and_an_unknown_name_its_own_kind() {
-        for name in vehicle::EXERCISE_NAMES {
+        for name in exercises::EXERCISE_NAMES {
             let want = if name.starts_with("dial") {
                 "dial"
             } else if name == "strength" || name == "haptic-sweep" {

@@ -7,13 +7,13 @@
 //! [`crate::Regimen::from_toml`] (tested below), so a form built from them can only prescribe
 //! what the station accepts.
 
-use serde::Serialize;
-use vehicle::DialSignal;
-use vehicle::exercise::{
+use exercises::DialSignal;
+use exercises::exercise::{
     ClothoidSpec, DialSpec, HapticSweepSpec, LaneChangeSpec, SBendSpec, SharpTurnsSpec, SineSpec,
     SlalomSpec, StraightSpec, StrengthSpec, TriangleSpec,
 };
-use vehicle::{ExerciseSpec, SweepParameter};
+use exercises::{ExerciseSpec, SweepParameter};
+use serde::Serialize;
 
 /// How hard a preset is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]

@@ -4,9 +4,9 @@
 
 use std::collections::BTreeSet;
 
+use exercises::exercise::ExerciseSpec;
 use regimen::{MAX_DEVICE_TORQUE_NM, MAX_EXERCISES, Regimen};
 use serde_json::{Value, json};
-use vehicle::exercise::ExerciseSpec;
 
 /// A numeric field met while walking a sample regimen: where it is in the sample, and the
 /// schema object holding its bounds.
@@ -179,7 +179,7 @@ fn samples() -> Vec<Value> {
         }
         e
     };
-    for name in vehicle::exercise::EXERCISE_NAMES {
+    for name in exercises::exercise::EXERCISE_NAMES {
         let mut e = serde_json::to_value(ExerciseSpec::from_name(name).unwrap()).unwrap();
         if name == "triangle-road" {
             // The largest corner radius depends on amplitude and wavelength: the smallest

@@ -3,7 +3,7 @@
 //!
 //! The renderer knows nothing about sessions, threads or devices; the station converts its
 //! state snapshot into a [`Scene`] each frame. World frame: x and y on the ground plane in
-//! metres, z up; yaw is measured counter-clockwise from +x (ISO 8855, as the vehicle crate).
+//! metres, z up; yaw is measured counter-clockwise from +x (ISO 8855, as the exercise library's vehicle).
 
 use super::RenderError;
 
@@ -182,7 +182,7 @@ pub enum Movement {
 
 impl Movement {
     /// The movement of the exercise with the stable short name `short` (`"sine-road"`,
-    /// `"dial-step"`, …; see `vehicle::ExerciseSpec::name`).
+    /// `"dial-step"`, …; see `exercises::ExerciseSpec::name`).
     pub fn of_exercise(short: &str) -> Movement {
         match short {
             "straight-road" => Movement::Straight,

@@ -18,7 +18,7 @@ fn main() -> anyhow::Result<()> {
     );
     println!("|---|---|---|---|---|---|---|---|");
     let (mut worst, mut misses): (f64, u32) = (0.0, 0);
-    for exercise in vehicle::EXERCISE_NAMES {
+    for exercise in exercises::EXERCISE_NAMES {
         for mode in ASSIST_MODES {
             let f = run(exercise, mode, seconds, 7)?;
             let holds = f.holds(20.0);

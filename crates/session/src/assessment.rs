@@ -1,4 +1,4 @@
-//! The standard assessment at the station (issue 42, `vehicle::assessment`): whether it is due,
+//! The standard assessment at the station (issue 42, `exercises::assessment`): whether it is due,
 //! and the history that says so.
 //!
 //! * **Due**: the regimen's `[assessment] every_days` (`regimen::AssessmentSchedule`) against
@@ -99,7 +99,7 @@ impl Planned {
         tracing::info!(seed, "the standard assessment runs first");
         Some(Self {
             tag: netlink::AssessmentTag {
-                protocol: vehicle::assessment::PROTOCOL_VERSION,
+                protocol: exercises::assessment::PROTOCOL_VERSION,
                 seed,
             },
             history,
@@ -153,7 +153,7 @@ impl Planned {
 /// Whether a session's results hold every part of the assessment (a session ended early
 /// in it did not assess: the next one runs it again).
 pub fn ran_whole(results: &[record::ExerciseResult]) -> bool {
-    vehicle::ExerciseSpec::assessment_protocol(0)
+    exercises::ExerciseSpec::assessment_protocol(0)
         .iter()
         .all(|part| results.iter().any(|r| r.kind == part.name()))
 }

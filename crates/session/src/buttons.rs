@@ -58,7 +58,7 @@ pub fn watch(controls: &Controls, wheel_node: Option<&std::path::Path>, done: &A
             tracing::info!(brk = ?brk.kind, end_asked = brk.end_asked, waits, "break or card");
             said = now;
         }
-        let mut pedals = vehicle::Pedals::default();
+        let mut pedals = exercises::Pedals::default();
         match wheel.as_mut().map(|w| w.look(LOOK, choosing(controls))) {
             Some(Ok(look)) => {
                 for g in look.gestures {
@@ -90,7 +90,7 @@ pub fn watch(controls: &Controls, wheel_node: Option<&std::path::Path>, done: &A
         }
         controls.set_pedals(pedals);
     }
-    controls.set_pedals(vehicle::Pedals::default());
+    controls.set_pedals(exercises::Pedals::default());
 }
 
 /// Whether the wheel's turns choose now (a card with choices is up) rather than drive.

@@ -152,7 +152,7 @@ impl Controls {
     }
 
     /// Tell the haptic thread where the pedals are now (each clamped to [0, 1]).
-    pub fn set_pedals(&self, pedals: vehicle::Pedals) {
+    pub fn set_pedals(&self, pedals: exercises::Pedals) {
         let p = pedals.clamped();
         let bits = (u64::from((p.throttle as f32).to_bits()) << 32)
             | u64::from((p.brake as f32).to_bits());
@@ -160,9 +160,9 @@ impl Controls {
     }
 
     /// The pedals as last read (released until a reader tells otherwise).
-    pub fn pedals(&self) -> vehicle::Pedals {
+    pub fn pedals(&self) -> exercises::Pedals {
         let bits = self.pedals_bits.load(Ordering::Relaxed);
-        vehicle::Pedals {
+        exercises::Pedals {
             throttle: f64::from(f32::from_bits((bits >> 32) as u32)),
             brake: f64::from(f32::from_bits(bits as u32)),
         }

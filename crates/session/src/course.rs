@@ -4,7 +4,7 @@
 //!
 //! `--exercise NAME` prescribes that exercise for `--duration`; `--regimen FILE` runs the
 //! prescribed exercises once, in order. Either way an exercise with a duration lasts exactly
-//! that long: its road continues its shape as far as needed (`vehicle::ExerciseSpec::build`).
+//! that long: its road continues its shape as far as needed (`exercises::ExerciseSpec::build`).
 //!
 //! The breaks between exercises ([`Break`]) and how long the breaks the patient takes may last
 //! ([`BreakSettings`]) are part of the course; `breaks` keeps them on the haptic thread.
@@ -12,9 +12,9 @@
 use crate::config::StationConfig;
 use anyhow::Context;
 use assist::Assist;
+use exercises::{Exercise, ExerciseSpec, World};
 use haptic_wheel::HapticRegimen;
 use regimen::{Regimen, RegimenEntry};
-use vehicle::{Exercise, ExerciseSpec, World};
 
 /// One exercise, ready to run.
 pub struct Segment {
@@ -140,8 +140,8 @@ pub fn entries(
             // duration all the same; a longer one runs this exercise for its first hour.
             exercise: ExerciseSpec::from_name(&cfg.session.exercise)?.with_duration_s(
                 cfg.session.duration_s.clamp(
-                    vehicle::exercise::bounds::DURATION_S.min,
-                    vehicle::exercise::bounds::DURATION_S.max,
+                    exercises::exercise::bounds::DURATION_S.min,
+                    exercises::exercise::bounds::DURATION_S.max,
                 ),
             ),
             haptic: None,
@@ -168,7 +168,7 @@ pub fn entries(
 pub fn roads(
     cfg: &StationConfig,
     regimen: Option<&Regimen>,
-) -> anyhow::Result<Vec<Option<Box<dyn vehicle::Road + Send>>>> {
+) -> anyhow::Result<Vec<Option<Box<dyn exercises::Road + Send>>>> {
     entries(cfg, regimen)?
         .iter()
         .map(|e| {

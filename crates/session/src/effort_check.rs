@@ -56,7 +56,7 @@ impl EffortFigures {
     }
 }
 
-/// Run `exercise` (a name of `vehicle::EXERCISE_NAMES`) for `duration_s` under the assist
+/// Run `exercise` (a name of `exercises::EXERCISE_NAMES`) for `duration_s` under the assist
 /// `mode` (one of [`ASSIST_MODES`], its default parameters) with the simulated patient and
 /// wheel of the default configuration, seeded with `seed`.
 ///
@@ -134,7 +134,7 @@ mod tests {
     /// torque (or the wheel's friction, see [`EffortFigures::holds`]) and the patient's share
     /// of the work within 5 points of the truth.
     fn holds_the_bound_under(mode: &str) {
-        for exercise in vehicle::EXERCISE_NAMES {
+        for exercise in exercises::EXERCISE_NAMES {
             let f = run(exercise, mode, 4.0, 7).unwrap();
             assert!(
                 f.holds(20.0),

@@ -421,7 +421,7 @@ fn run_body(
     // The standard assessment's parts have their own results, apart from the session's.
     let apart = course
         .iter()
-        .map(|s| vehicle::assessment::is_assessment_name(&s.exercise.name))
+        .map(|s| exercises::assessment::is_assessment_name(&s.exercise.name))
         .collect();
     // The exercises that cue the patient to sit up (never the assessment's: `course::build`).
     let trunk_cued = course.iter().map(|s| s.trunk_cue_deg.is_some()).collect();

@@ -8,8 +8,8 @@
 //! most [`ROAD_BUDGET_BYTES`] to a summary's JSON (2.6 kB/s at 10 Hz; 172 bytes measured on
 //! netlink's encoding by the test below, BENCHMARKS.md).
 
+use exercises::Road;
 use record::VehicleSample;
-use vehicle::Road;
 
 /// Distances ahead of the car along its heading (negative: behind) at which a summary gives
 /// the road centre's offset, m: the console's window spans 20 m behind to 40 m ahead.
@@ -78,7 +78,7 @@ fn centimetres(m: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use vehicle::ExerciseSpec;
+    use exercises::ExerciseSpec;
 
     /// The library's sine road (2 m amplitude, 150 m wavelength) and its lane width.
     fn sine_road() -> Box<dyn Road + Send> {

@@ -106,7 +106,7 @@ fn assert_runs_as_prescribed(regimen: &Regimen, loop_rate_hz: f64, origin: &str)
         );
         if !entry.exercise.build().unwrap().is_dial() {
             assert!(
-                *left_m > vehicle::exercise::LEAD_OUT_M,
+                *left_m > exercises::exercise::LEAD_OUT_M,
                 "{origin}: {name} reached its road's end ({left_m:.1} m left)"
             );
         }
@@ -239,7 +239,7 @@ fn the_shipped_appendix_e_regimen_runs_every_level_for_its_time_when_shortened()
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../regimens/appendix-e.toml");
     let mut regimen = Regimen::load(&path).unwrap();
     for e in &mut regimen.exercises {
-        if let vehicle::ExerciseSpec::HapticSweep(s) = &mut e.exercise {
+        if let exercises::ExerciseSpec::HapticSweep(s) = &mut e.exercise {
             s.level_s = 2.0;
         }
     }

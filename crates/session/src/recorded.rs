@@ -331,9 +331,9 @@ impl RecordedBody {
     }
 
     /// The pedals as recorded (released past the end).
-    pub fn pedals(&self) -> vehicle::Pedals {
+    pub fn pedals(&self) -> exercises::Pedals {
         self.now()
-            .map_or_else(vehicle::Pedals::default, |t| vehicle::Pedals {
+            .map_or_else(exercises::Pedals::default, |t| exercises::Pedals {
                 throttle: t.raw.wheel.throttle,
                 brake: t.raw.wheel.brake,
             })

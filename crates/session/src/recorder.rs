@@ -242,7 +242,7 @@ impl McapRecorder {
 /// exercise's road.
 struct LiveScene {
     arm_lengths_m: [f64; 2],
-    roads: Vec<Option<Box<dyn vehicle::Road + Send>>>,
+    roads: Vec<Option<Box<dyn exercises::Road + Send>>>,
 }
 
 /// The session's measure collector: a recorded session spills the measures' series to the
@@ -251,7 +251,7 @@ fn collector(
     mcap: Option<&McapRecorder>,
     period_ns: u64,
     expected_ticks: u64,
-    target_steps: Vec<vehicle::TargetSteps>,
+    target_steps: Vec<exercises::TargetSteps>,
     apart: Vec<bool>,
 ) -> MeasureCollector {
     let rate_hz = 1e9 / period_ns as f64;
@@ -346,9 +346,9 @@ pub(super) struct RecorderPlan {
     pub(super) arm_lengths_m: [f64; 2],
     /// Each exercise's road in the course (`None`: the dial task), for the road around the car
     /// in the live summaries.
-    pub(super) roads: Vec<Option<Box<dyn vehicle::Road + Send>>>,
+    pub(super) roads: Vec<Option<Box<dyn exercises::Road + Send>>>,
     /// Which of each exercise's target changes are steps, for the measures.
-    pub(super) target_steps: Vec<vehicle::TargetSteps>,
+    pub(super) target_steps: Vec<exercises::TargetSteps>,
     /// Which exercises are measured apart from the session (the standard assessment's
     /// parts), by index in the course.
     pub(super) apart: Vec<bool>,

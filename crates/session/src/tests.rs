@@ -747,15 +747,15 @@ fn a_simulated_lane_change_responds_once_per_lane_shift_and_strength_has_no_step
                 [[exercise]]\nkind = \"strength\"\nside_s = 3.0\n";
     let r = regimen::Regimen::from_toml(text, "test").unwrap();
     let cfg = config("dial-sine", 60.0);
-    let steps: Vec<vehicle::TargetSteps> = course::build(&cfg, Some(&r))
+    let steps: Vec<exercises::TargetSteps> = course::build(&cfg, Some(&r))
         .unwrap()
         .iter()
         .map(|s| s.exercise.target_steps().clone())
         .collect();
-    let vehicle::TargetSteps::LaneShifts(shifts) = &steps[0] else {
+    let exercises::TargetSteps::LaneShifts(shifts) = &steps[0] else {
         panic!("{steps:?}")
     };
-    assert_eq!(steps[1], vehicle::TargetSteps::None);
+    assert_eq!(steps[1], exercises::TargetSteps::None);
     let (report, recs) = run_regimen(r);
     let results = &report.recorder.exercises;
     assert_eq!(results.len(), 2, "{results:?}");
@@ -870,7 +870,7 @@ fn the_standard_assessment_runs_first_without_assistance_and_measures_the_simula
     let mut keep = Keep::default();
     let report = super::run(&opts, &Controls::default(), &mut keep).unwrap();
     let recs = keep.0;
-    let parts = vehicle::AssessmentPart::ALL.len() as u32;
+    let parts = exercises::AssessmentPart::ALL.len() as u32;
     let (assessed, after): (Vec<&TickRecord>, Vec<&TickRecord>) =
         recs.iter().partition(|r| r.score.exercise_index < parts);
     assert!(assessed.len() > 180_000, "{} ticks", assessed.len());

@@ -179,7 +179,7 @@ fn no_cue_during_the_standard_assessment_however_the_patient_leans() {
     let mut regimen = Some(regimen::Regimen::from_toml(&text, "test").unwrap());
     crate::assessment::Planned::plan(&mut regimen, None, "p1", 1_800_000_000_000, 11).unwrap();
     let course = super::course::build(&config(0.9, true), regimen.as_ref()).unwrap();
-    let parts = vehicle::AssessmentPart::ALL.len();
+    let parts = exercises::AssessmentPart::ALL.len();
     assert_eq!(course.len(), parts + 1);
     assert!(course[..parts].iter().all(|s| s.trunk_cue_deg.is_none()));
     assert_eq!(course[parts].trunk_cue_deg, Some(5.0));

@@ -34,7 +34,7 @@ pub struct GestureLook {
     /// The gestures, in order.
     pub gestures: Vec<Gesture>,
     /// The pedals' travel.
-    pub pedals: vehicle::Pedals,
+    pub pedals: exercises::Pedals,
 }
 
 /// Tells a short press from a long one from whether a button is down, look after look.
@@ -239,7 +239,7 @@ impl WheelGestures {
                     .collect();
                 Ok(GestureLook {
                     gestures,
-                    pedals: vehicle::Pedals::default(),
+                    pedals: exercises::Pedals::default(),
                 })
             }
             #[cfg(target_os = "linux")]
@@ -263,7 +263,7 @@ impl WheelGestures {
                 let (throttle, brake) = l.pedals.unwrap_or((0.0, 0.0));
                 Ok(GestureLook {
                     gestures,
-                    pedals: vehicle::Pedals { throttle, brake },
+                    pedals: exercises::Pedals { throttle, brake },
                 })
             }
         }

@@ -81,13 +81,13 @@ mod tests {
     #[test]
     fn every_exercise_has_a_name_and_an_instruction_in_the_catalogue() {
         let english = i18n::Catalogue::load("en").unwrap();
-        for short in vehicle::EXERCISE_NAMES {
+        for short in exercises::EXERCISE_NAMES {
             assert_ne!(name_id(short), "exercise-other", "{short}");
             assert!(english.has(name_id(short)), "{short}");
             assert!(english.has(instruction_id(short)), "{short}");
         }
         // The standard assessment's parts, each with its own name and what it asks.
-        for spec in vehicle::ExerciseSpec::assessment_protocol(0) {
+        for spec in exercises::ExerciseSpec::assessment_protocol(0) {
             let short = spec.name();
             assert_ne!(name_id(&short), "exercise-other", "{short}");
             assert!(english.has(name_id(&short)), "{short}");

@@ -80,7 +80,7 @@ fn config(exercise: &str, assist: Option<&str>) -> StationConfig {
 #[test]
 fn the_haptic_thread_allocates_nothing_on_any_exercise() {
     let mut offenders = Vec::new();
-    for name in vehicle::exercise::EXERCISE_NAMES {
+    for name in exercises::exercise::EXERCISE_NAMES {
         let (allocs, ticks) = allocations_in(&config(name, None), 6.0);
         eprintln!("{name}: {allocs} allocations in {ticks} ticks");
         assert!(ticks >= 6000, "{name} ran {ticks} ticks");

@@ -20,7 +20,7 @@ const STRENGTH: &str = "[[exercise]]\nkind = \"strength\"\nramp_nm_per_s = 5.0\n
 
 /// A strength session on wheel `usb_id` with a `motor_nm` motor, its rim held off centre to
 /// one side: the largest torque at the motor, the ceiling in force, and the test's results.
-fn strength_on(usb_id: (u16, u16), motor_nm: f64) -> (f64, f64, vehicle::StrengthSummary) {
+fn strength_on(usb_id: (u16, u16), motor_nm: f64) -> (f64, f64, exercises::StrengthSummary) {
     // A rim held still sends no events: allow the longest silence, and run the left side
     // (3 s) within it.
     let mut cfg = StationConfig::default();

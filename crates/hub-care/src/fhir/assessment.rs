@@ -1,4 +1,4 @@
-//! The standard assessment (issue 42, `vehicle::assessment`) as its own group of Observations,
+//! The standard assessment (issue 42, `exercises::assessment`) as its own group of Observations,
 //! never mixed with the exercise sessions': one panel Observation an assessment (code
 //! `standard-assessment`, `method` the protocol's version), whose `hasMember`s are one
 //! Observation a part (active range, tracking slow / medium / fast, steps, strength; code the
@@ -41,12 +41,12 @@ fn protocol_display(v: u32) -> String {
 fn protocol_definition(v: u32) -> String {
     if v != protocol::PROTOCOL_VERSION {
         return format!(
-            "Version {v} of the station's standard assessment protocol (crates/vehicle/src/assessment.rs of the station software that ran it); its results are not comparable with another version's."
+            "Version {v} of the station's standard assessment protocol (crates/exercises/src/assessment.rs of the station software that ran it); its results are not comparable with another version's."
         );
     }
     let f = protocol::TRACKING_FREQUENCIES_RAD_S;
     format!(
-        "The same fixed test for every patient and every time, without assistance, the wheel's feel fixed (spring {} N.m/rad, damper {} N.m.s/rad, no added inertia): active range ({} s at each end of the wheel), tracking a {} deg sine at {}, {} and {} rad/s ({} s each), {} deg target steps held {}-{} s at unpredictable times ({} s), strength each side against a {} N.m/rad spring whose limit rises {} N.m/s ({} s a side). Source: crates/vehicle/src/assessment.rs, protocol version {v}.",
+        "The same fixed test for every patient and every time, without assistance, the wheel's feel fixed (spring {} N.m/rad, damper {} N.m.s/rad, no added inertia): active range ({} s at each end of the wheel), tracking a {} deg sine at {}, {} and {} rad/s ({} s each), {} deg target steps held {}-{} s at unpredictable times ({} s), strength each side against a {} N.m/rad spring whose limit rises {} N.m/s ({} s a side). Source: crates/exercises/src/assessment.rs, protocol version {v}.",
         protocol::WHEEL_SPRING_NM_PER_RAD,
         protocol::WHEEL_DAMPER_NM_S_PER_RAD,
         protocol::RANGE_HOLD_S,

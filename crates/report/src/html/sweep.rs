@@ -5,9 +5,9 @@
 
 use super::charts::{self, Chart, Line};
 use super::esc;
+use exercises::SweepParameter;
 use measures::sweep_points;
 use std::fmt::Write as _;
-use vehicle::SweepParameter;
 
 /// The figure of Appendix E this parameter's chart redraws, and its x axis.
 fn axis(p: SweepParameter) -> (&'static str, &'static str) {
@@ -93,7 +93,7 @@ fn table(
         );
     }
     html.push_str("</tbody></table>");
-    if let Some(slope) = vehicle::sweep::error_slope(points) {
+    if let Some(slope) = exercises::sweep::error_slope(points) {
         let _ = write!(
             html,
             "<p>Trend: {slope:+.2}° of error per {} (least-squares slope over {} levels).</p>",

@@ -121,7 +121,7 @@ fn named_with_sweeps_grouped(exercises: &[record::ExerciseResult]) -> Vec<String
     let level_of = |e: &record::ExerciseResult| {
         e.scores
             .iter()
-            .find_map(|(k, v)| vehicle::SweepParameter::of_level_measure(k).map(|p| (p, *v)))
+            .find_map(|(k, v)| exercises::SweepParameter::of_level_measure(k).map(|p| (p, *v)))
     };
     let mut out = Vec::new();
     let mut i = 0;

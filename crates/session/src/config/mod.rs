@@ -4,11 +4,11 @@
 pub mod faults;
 
 use assist::{AssistSpec, HumanArmParams};
+use exercises::VehicleParams;
 use gyro_imu::sim::arm::PatientArmConfig;
 use haptic_wheel::{PassivityParams, SafetyConfig, SimWheelParams, SpringDamper};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
-use vehicle::VehicleParams;
 
 /// Everything a session needs that is not a device handle.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -159,7 +159,7 @@ impl Default for HapticConfig {
             centring: SpringDamper::default(),
             passivity: PassivityParams::default(),
             passivity_enabled: true,
-            road_feel_nm_per_kn: vehicle::AligningTorque::default().nm_per_kn,
+            road_feel_nm_per_kn: exercises::AligningTorque::default().nm_per_kn,
             replug_grace_s: 30.0,
         }
     }

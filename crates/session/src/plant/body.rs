@@ -25,7 +25,7 @@ pub enum Body {
         /// The simulated arm kinematics, IMUs and pose estimator.
         sensing: Box<SimArmSensing>,
         /// The simulated patient's foot on the pedals.
-        foot: vehicle::SimFoot,
+        foot: exercises::SimFoot,
     },
     /// A real force-feedback wheel (the Linux kernel FF API; DirectInput 8 on Windows) held by
     /// the patient, who may wear two controller IMUs.
@@ -78,7 +78,7 @@ impl Body {
                 })
                 .context("simulated arm")?,
             ),
-            foot: vehicle::SimFoot::default(),
+            foot: exercises::SimFoot::default(),
         })
     }
 
@@ -264,16 +264,17 @@ impl Body {
     pub(super) fn pedals(
         &mut self,
         speeds: Option<(f64, f64)>,
-        live: vehicle::Pedals,
+        live: exercises::Pedals,
         dt_s: f64,
-    ) -> vehicle::Pedals {
+    ) -> exercises::Pedals {
         // Only a real wheel's pedals are read live.
         #[cfg(not(any(target_os = "linux", windows)))]
         let _ = live;
         match self {
-            Body::Sim { foot, .. } => speeds.map_or_else(vehicle::Pedals::default, |(ux, aim)| {
-                foot.step(ux, aim, dt_s)
-            }),
+            Body::Sim { foot, .. } => speeds
+                .map_or_else(exercises::Pedals::default, |(ux, aim)| {
+                    foot.step(ux, aim, dt_s)
+                }),
             #[cfg(any(target_os = "linux", windows))]
             Body::Evdev { .. } => live,
             Body::Recorded(r) => r.pedals(),

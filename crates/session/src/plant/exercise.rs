@@ -6,13 +6,13 @@ use super::LoopTime;
 use crate::config::StationConfig;
 use crate::course::Segment;
 use assist::{AssistOutput, Limits, Measurement};
-use haptic_wheel::HapticRegimen;
-use measures::ExerciseScores;
-use record::{AssistSample, ScoreSample, VehicleSample};
-use vehicle::{
+use exercises::{
     AligningTorque, DialScore, DrivingScore, PedalDrive, Pedals, PreviewDriver, Projection,
     SpeedController,
 };
+use haptic_wheel::HapticRegimen;
+use measures::ExerciseScores;
+use record::{AssistSample, ScoreSample, VehicleSample};
 
 /// The course and where the patient is in it.
 pub(super) struct Exercise {
@@ -26,7 +26,7 @@ pub(super) struct Exercise {
     projection: Projection,
     driving: DrivingScore,
     dial: DialScore,
-    params: vehicle::VehicleParams,
+    params: exercises::VehicleParams,
     /// The safety supervisor's slew limit, N·m/s (the assist plans within it).
     slew_nm_per_s: f64,
     /// Where the patient aimed last, rad (held while paused).
@@ -48,7 +48,7 @@ struct OwnScore {
     driving: DrivingScore,
     dial: DialScore,
     /// The strength test in progress (the strength exercise only).
-    strength: Option<vehicle::StrengthTest>,
+    strength: Option<exercises::StrengthTest>,
     /// The side it asked for and the push it measured at the last tick it took (1 left,
     /// −1 right, 0 neither; N·m).
     strength_now: (f64, f64),
@@ -129,7 +129,7 @@ impl Exercise {
             .iter()
             .map(|seg| OwnScore {
                 strength: seg.exercise.strength().map(|s| {
-                    vehicle::StrengthTest::new(
+                    exercises::StrengthTest::new(
                         s.stiffness_nm_per_rad,
                         s.ramp_nm_per_s,
                         s.side_s,
@@ -242,8 +242,10 @@ impl Exercise {
                 let test = own.strength.as_mut().expect("checked just above");
                 if own_counts {
                     let st = test.step(angle, self.ceiling_nm, dt);
-                    own.strength_now =
-                        (st.side.map_or(0.0, vehicle::StrengthSide::sign), st.push_nm);
+                    own.strength_now = (
+                        st.side.map_or(0.0, exercises::StrengthSide::sign),
+                        st.push_nm,
+                    );
                     let timed_out = seg.exercise.is_finished(t_in, 0.0);
                     if timed_out && !st.done {
                         // The side in progress ends with the exercise's time.
@@ -409,7 +411,7 @@ impl Exercise {
 /// The car's state on the road as recorded, with the road-wheel angle `steer_rad` the wheel
 /// asks for now.
 fn vehicle_sample(
-    world: &vehicle::World,
+    world: &exercises::World,
     steer_rad: f64,
     projection: &Projection,
 ) -> VehicleSample {

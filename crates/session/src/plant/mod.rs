@@ -65,7 +65,7 @@ pub struct Plant {
     /// How long an asked-for rest and a pause may last.
     break_settings: crate::course::BreakSettings,
     /// The patient's pedals as last read off the haptic thread.
-    live_pedals: vehicle::Pedals,
+    live_pedals: exercises::Pedals,
     /// The patient's own torque on the wheel, estimated from the wheel's dynamics and the
     /// torque sent (it observes only: nothing it computes is commanded).
     effort: assist::HandTorqueObserver,
@@ -221,7 +221,7 @@ impl Plant {
                 asked_rest_s: cfg.session.asked_rest_s,
                 pause_limit_s: cfg.session.pause_limit_s,
             },
-            live_pedals: vehicle::Pedals::default(),
+            live_pedals: exercises::Pedals::default(),
             effort,
             trunk_cue,
         })
@@ -406,18 +406,18 @@ impl Plant {
 
     /// Where the patient's pedals are now (read off the haptic thread, see
     /// [`crate::Controls::pedals`]); a simulated foot or a replay sets its own.
-    pub fn set_pedals(&mut self, pedals: vehicle::Pedals) {
+    pub fn set_pedals(&mut self, pedals: exercises::Pedals) {
         self.live_pedals = pedals.clamped();
     }
 
     /// The pedals this tick: the simulated foot's (aiming at the exercise's speed), the
     /// recording's, or the patient's as last read; released while the exercise in progress
     /// is not driven with the pedals, for a simulated foot.
-    fn pedals_now(&mut self, dt_s: f64) -> vehicle::Pedals {
+    fn pedals_now(&mut self, dt_s: f64) -> exercises::Pedals {
         let speeds = self.exercise.pedal_speeds_m_s();
         let p = self.body.pedals(speeds, self.live_pedals, dt_s);
         // On the recording's grid: what a replay reads back is what drove the car.
-        self.raw.pedals = vehicle::Pedals {
+        self.raw.pedals = exercises::Pedals {
             throttle: on_grid(p.throttle, record::raw::PEDAL_QUANTUM),
             brake: on_grid(p.brake, record::raw::PEDAL_QUANTUM),
         };

@@ -12,7 +12,7 @@ pub(super) struct RawInputs {
     /// A stop has been asked for.
     pub(super) stop_requested: bool,
     /// Where the pedals were (the patient's, or the simulated foot's).
-    pub(super) pedals: vehicle::Pedals,
+    pub(super) pedals: exercises::Pedals,
     /// The wheel refused this tick's force command.
     pub(super) write_failed: bool,
     /// The IMU samples last recorded on `/raw/imu`, per sensor (a held one is not repeated).
@@ -25,7 +25,7 @@ impl RawInputs {
         Self {
             paused: false,
             stop_requested: false,
-            pedals: vehicle::Pedals::default(),
+            pedals: exercises::Pedals::default(),
             write_failed: false,
             last_imu: [None; 2],
         }

@@ -317,7 +317,7 @@ pub fn plan(args: &RunArgs) -> anyhow::Result<(StationConfig, Option<Regimen>)> 
     match &regimen {
         Some(r) => follow_regimen(&mut cfg, r, args),
         None => {
-            vehicle::ExerciseSpec::from_name(&cfg.session.exercise)?;
+            exercises::ExerciseSpec::from_name(&cfg.session.exercise)?;
         }
     }
     Ok((cfg, regimen))

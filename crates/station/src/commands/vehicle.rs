@@ -9,7 +9,7 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use anyhow::{Context, bail};
-use vehicle::{DriverInput, TimedInput, VehicleParams, VehicleState};
+use exercises::{DriverInput, TimedInput, VehicleParams, VehicleState};
 
 /// Arguments of `telerehab vehicle`.
 #[derive(Debug, clap::Args)]
@@ -159,7 +159,7 @@ pub fn run(args: VehicleArgs) -> anyhow::Result<()> {
         uy_m_s: args.uy0,
         r_rad_s: args.r0,
     };
-    let states = vehicle::simulate(&params, initial, &rows, args.dt)?;
+    let states = exercises::simulate(&params, initial, &rows, args.dt)?;
     std::fs::write(&args.output, format_states(&rows, &states))
         .with_context(|| format!("writing {}", args.output.display()))?;
     Ok(())

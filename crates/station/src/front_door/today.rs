@@ -2,9 +2,9 @@
 //! with their minutes, and the whole session's length with its rests and the cards between
 //! exercises ("about N minutes" is what the patient sits through, not only the driving).
 
+use exercises::exercise::ExerciseSpec;
 use regimen::Regimen;
 use render::StatusLine;
-use vehicle::exercise::ExerciseSpec;
 
 /// Today's session: each exercise and its planned length.
 #[derive(Debug, Clone, PartialEq)]

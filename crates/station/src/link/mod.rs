@@ -418,7 +418,8 @@ impl Link {
         let exercises: Vec<netlink::ExerciseResult> = exercises
             .iter()
             .map(|e| netlink::ExerciseResult {
-                assessment: assessment.filter(|_| vehicle::assessment::is_assessment_name(&e.kind)),
+                assessment: assessment
+                    .filter(|_| exercises::assessment::is_assessment_name(&e.kind)),
                 ..exercise_for_the_hub(e)
             })
             .collect();

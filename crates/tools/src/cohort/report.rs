@@ -100,7 +100,7 @@ impl Run<'_> {
     /// The noise table as `metrics::assessment_noise` reads it.
     pub fn noise_json(&self) -> anyhow::Result<String> {
         let table = NoiseTable {
-            protocol: vehicle::assessment::PROTOCOL_VERSION,
+            protocol: exercises::assessment::PROTOCOL_VERSION,
             generated_by: format!(
                 "{} --write-noise (telerehab {}, commit {})",
                 self.command(),
@@ -137,7 +137,7 @@ impl Run<'_> {
              only beyond MDC95 (`metrics::assessment_noise`, written by the same run).\n",
             self.command(),
             commit(),
-            vehicle::assessment::PROTOCOL_VERSION,
+            exercises::assessment::PROTOCOL_VERSION,
             self.args.patients,
             self.args.weeks
         );

@@ -4,7 +4,7 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use vehicle::{
+use exercises::{
     DriverInput, ExerciseSpec, PreviewDriver, SpeedController, Vehicle, VehicleParams, World,
 };
 

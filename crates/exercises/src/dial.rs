@@ -134,7 +134,7 @@ pub enum DialSignal {
     /// +A or −A, back to the centre, and so on, each level held a time drawn evenly from
     /// [`min_hold_s`, `max_hold_s`] and each side drawn from `seed` (the same seed, the same
     /// steps). Every step is `amplitude_deg` high, so each is one discrete movement of the
-    /// same size (the standard assessment's steps, `vehicle::assessment`).
+    /// same size (the standard assessment's steps, `exercises::assessment`).
     RandomSteps {
         /// Step height from centre, deg.
         #[schemars(range(min = AMPLITUDE_DEG.min, max = AMPLITUDE_DEG.max))]

@@ -1,4 +1,7 @@
-//! Vehicle dynamics, roads, exercises and scoring for the driving exercise.
+//! The exercise library: every exercise a patient does on the wheel, and what it is built on —
+//! the vehicle, its roads, the rotary dial task, the strength test ([`strength`]), the haptic
+//! sweep ([`sweep`]), the standard assessment ([`assessment`]) and their scores. (This crate was
+//! called `vehicle` until issue 43 named it for what it holds.)
 //!
 //! The model is the 3-DOF yaw-plane vehicle of the thesis (Jadhav 2004, Appendix C):
 //! body-frame velocities `Ux`, `Uy`, yaw rate `r` (eq. C.1–C.3), driver input mapped to wheel

@@ -1,6 +1,6 @@
 //! The crate's error type.
 
-/// Everything that can go wrong in the vehicle crate: bad configuration or bad input.
+/// Everything that can go wrong in the exercise library: bad configuration or bad input.
 ///
 /// Every message names the offending item, field and allowed range, so a therapist editing a
 /// regimen file or an analyst feeding a CSV can fix it without reading the source.
