@@ -22,11 +22,11 @@ def metadata(*packages):
 
 CLEAN = [
     pkg("common"),
-    pkg("vehicle", dep("common", path="/ws/common"), dep("nalgebra"), dep("proptest", kind="dev")),
+    pkg("exercises", dep("common", path="/ws/common"), dep("nalgebra"), dep("proptest", kind="dev")),
     pkg("calib", dep("common", path="/ws/common"), dep("gyro-imu", kind="dev", path="/ws/gyro-imu")),
     pkg("gyro-imu", dep("common", path="/ws/common"), dep("hidapi")),
     pkg("netlink", dep("tokio")),
-    pkg("station", dep("vehicle", path="/ws/vehicle"), dep("netlink", path="/ws/netlink"), dep("tokio")),
+    pkg("station", dep("exercises", path="/ws/exercises"), dep("netlink", path="/ws/netlink"), dep("tokio")),
 ]
 
 
@@ -46,10 +46,10 @@ def test_clean_graph_passes_with_one_line_summary(tmp_path):
 
 
 def test_upward_arrow_fails_naming_both_crates(tmp_path):
-    bad = pkg("vehicle", dep("common", path="/ws/common"), dep("station", path="/ws/station"))
+    bad = pkg("exercises", dep("common", path="/ws/common"), dep("station", path="/ws/station"))
     r = run(tmp_path, metadata(*CLEAN[:1], bad, *CLEAN[2:]))
     assert r.returncode == 1
-    assert "vehicle -> station (normal dependency)" in r.stderr
+    assert "exercises -> station (normal dependency)" in r.stderr
     assert "points up" in r.stderr
 
 
@@ -88,9 +88,9 @@ def test_the_real_workspace_is_clean():
 
 
 def test_a_pure_crate_may_not_read_the_clock(tmp_path):
-    r = run(tmp_path, metadata(pkg("clock"), pkg("vehicle", dep("clock", path="crates/clock"))))
+    r = run(tmp_path, metadata(pkg("clock"), pkg("exercises", dep("clock", path="crates/clock"))))
     assert r.returncode == 1
-    assert "vehicle -> clock" in r.stderr
+    assert "exercises -> clock" in r.stderr
 
 
 def test_the_hub_and_the_python_package_link_no_device_library_while_the_station_does():
