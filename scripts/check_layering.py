@@ -39,6 +39,7 @@ BELOW_STATION = {
     "calib",
     "gyro-imu",
     "haptic-wheel",
+    "wheel-devices",
     "netlink",
     "record",
     "regimen",
@@ -63,6 +64,8 @@ OUR_CRATES: dict[str, set[str]] = {
     "calib": {"common", "gyro-imu"},
     "gyro-imu": {"common", "clock"},
     "haptic-wheel": {"common", "clock"},
+    # The real wheels (evdev, DirectInput 8), pedals and gamepads: the device libraries live here.
+    "wheel-devices": {"haptic-wheel", "clock"},
     "netlink": {"common", "clock"},
     # The recording format: sample types of the sensing, wheel, calibration and metrics crates.
     "record": {"common", "calib", "gyro-imu", "haptic-wheel", "metrics"},
@@ -162,7 +165,7 @@ IO_DENY = {
 DEVICE_LIBRARIES = {"evdev", "gilrs", "gilrs-core", "hidapi", "libudev-sys", "libudev", "udev"}
 
 # Our crates that must link no device library, through any path of the graph.
-DEVICE_FREE = ("hub-store", "hub-care", "hub", "telerehab-py", "render")
+DEVICE_FREE = ("haptic-wheel", "hub-store", "hub-care", "hub", "telerehab-py", "render")
 
 
 def device_libraries_of(package: str) -> list[str]:

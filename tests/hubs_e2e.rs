@@ -2,7 +2,9 @@
 //! directory of its own (a copy of the clinic's configuration and keys; no recordings), sharing
 //! only PostgreSQL and a real S3 store (SeaweedFS), behind a real HAProxy (Debian's) that
 //! passes the station port through as TCP (mutual TLS stays end to end) and checks the
-//! console's `/readyz`.
+//! console's `/readyz`, both with PROXY protocol v2 headers naming the client (`send-proxy-v2`;
+//! the balancer connects from 127.0.0.2, the one address the hubs trust with
+//! `[network] proxy_protocol_from`; the test's own direct connections come from 127.0.0.1).
 //!
 //! One day of it: a station pairs and exercises through the balancer (on hub A); a therapist
 //! logged in on hub B watches its summaries live; hub A is SIGKILLed mid-session and the
@@ -68,15 +70,15 @@ impl Haproxy {
              frontend stations\n  mode tcp\n  bind 127.0.0.1:{stations}\n  \
              default_backend hub_stations\n\
              backend hub_stations\n  mode tcp\n  balance first\n  \
-             server a 127.0.0.1:{a_st} check inter 300ms fall 1 rise 2\n  \
-             server b 127.0.0.1:{b_st} check inter 300ms fall 1 rise 2\n\
+             server a 127.0.0.1:{a_st} source 127.0.0.2 send-proxy-v2 check inter 300ms fall 1 rise 2\n  \
+             server b 127.0.0.1:{b_st} source 127.0.0.2 send-proxy-v2 check inter 300ms fall 1 rise 2\n\
              frontend console\n  mode tcp\n  bind 127.0.0.1:{console}\n  \
              default_backend hub_console\n\
              backend hub_console\n  mode tcp\n  balance roundrobin\n  \
              option httpchk\n  http-check send meth GET uri /readyz\n  \
              http-check expect status 200\n  \
-             server a 127.0.0.1:{a_web} check check-ssl verify none inter 300ms fall 1 rise 2\n  \
-             server b 127.0.0.1:{b_web} check check-ssl verify none inter 300ms fall 1 rise 2\n"
+             server a 127.0.0.1:{a_web} source 127.0.0.2 send-proxy-v2 check check-ssl verify none inter 300ms fall 1 rise 2\n  \
+             server b 127.0.0.1:{b_web} source 127.0.0.2 send-proxy-v2 check check-ssl verify none inter 300ms fall 1 rise 2\n"
         )
     }
 
@@ -133,7 +135,8 @@ fn copy_dir(from: &Path, to: &Path) {
     assert!(status.success());
 }
 
-/// Puts the clinic's recordings in the S3 store `s3` (`hub.toml`'s `[recordings]`).
+/// Puts the clinic's recordings in the S3 store `s3` (`hub.toml`'s `[recordings]`), and has
+/// the hub read the balancer's PROXY headers (`[network]`, as docs/DEPLOY.md configures it).
 fn recordings_in(data: &Path, s3: &s3::SeaweedS3) {
     let config = s3.config();
     let credentials = config.credentials_file.unwrap();
@@ -144,7 +147,8 @@ fn recordings_in(data: &Path, s3: &s3::SeaweedS3) {
     write!(
         toml,
         "\n[recordings]\nstore = \"s3\"\nbucket = \"{}\"\nendpoint = \"{}\"\n\
-         allow_http = true\ncredentials_file = \"{}\"\n",
+         allow_http = true\ncredentials_file = \"{}\"\n\
+         \n[network]\nproxy_protocol_from = [\"127.0.0.2/32\"]\n",
         s3::BUCKET,
         s3.endpoint,
         credentials.display()

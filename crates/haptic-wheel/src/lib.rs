@@ -1,4 +1,7 @@
-//! The force-feedback wheel: the patient's sensor and the therapy's actuator (thesis §3.2.1).
+//! The force-feedback wheel without its device: the patient's sensor and the therapy's actuator
+//! (thesis §3.2.1) as the 1 kHz loop sees it — the trait, the profiles, the haptic models and
+//! the safety chain — with no device library in its graph (the real wheels are the
+//! `wheel-devices` crate above it, so the hub, Python and the renderer never link one).
 //!
 //! - [`wheel`]: [`Wheel`], the device trait (read angle, command torque, the safety chain's
 //!   ceiling every tick, profile, capabilities); [`ZeroTorqueOnDrop`] guards any wheel.
@@ -16,45 +19,31 @@
 //! - [`safety`]: limiter, soft start, fade-out, deadline watchdog.
 //! - [`chain`]: [`HapticChain`], all of the above as the one call per tick the haptic loop
 //!   makes.
-//! - [`devices`] and [`scan`]: `enumerate_devices()` for `telerehab devices`; `evdev_wheel` (Linux,
-//!   feature `evdev`): the kernel force-feedback backend; `dinput_wheel` (feature `dinput`; its
-//!   device on the `windows` crate on Windows only): DirectInput 8 force feedback on Windows;
-//!   `peripherals` (feature `gilrs`):
-//!   pedals, buttons and gamepads.
+//! - `strategies` (tests only, feature `strategies`): proptest strategies over the chain's inputs.
 //!
-//! - [`real_wheel`]: `open_first`, the first real wheel of this system behind [`Wheel`] (evdev
-//!   on Linux, DirectInput on Windows).
+//! The real wheels (evdev on Linux, DirectInput 8 on Windows), pedals and gamepads, and the
+//! device listing are the `wheel-devices` crate; its safety tests drive this crate's chain on
+//! both backends' in-memory devices.
 //!
 //! SI units inside: rad, rad/s, N·m, s. Device units are converted at the device edge.
 
 pub mod calibrate;
 pub mod chain;
 pub mod config_error;
-pub mod devices;
-#[cfg(feature = "dinput")]
-pub mod dinput_wheel;
 pub mod effects;
-#[cfg(all(target_os = "linux", feature = "evdev"))]
-pub mod evdev_wheel;
 pub mod filter;
 pub mod model;
-#[cfg(feature = "gilrs")]
-pub mod peripherals;
 pub mod profile;
-pub mod real_wheel;
 pub mod safety;
-pub mod scan;
 pub mod sim;
+#[cfg(any(test, feature = "strategies"))]
+pub mod strategies;
 pub mod wheel;
 pub mod wheel_config;
-
-#[cfg(test)]
-mod backend_tests;
 
 pub use chain::{
     HapticChain, HapticChainConfig, HapticRegimen, HapticStats, TickInput, TickTelemetry,
 };
-pub use devices::DeviceReport;
 pub use effects::{
     Condition, ConditionKind, Effect, EffectError, EffectId, EffectKind, EffectStack, Envelope,
     Periodic, Waveform, WheelState,
@@ -63,7 +52,6 @@ pub use filter::{KalmanEstimator, KalmanParams, MovingAverage, StateEstimator};
 pub use model::{PassivityController, PassivityParams, SpringDamper};
 pub use profile::{DeviceProfile, DriverFamily, TorqueSource};
 pub use safety::{Fault, LimitedTorque, SafetyConfig, Supervisor, TorqueLimiter, WatchdogState};
-pub use scan::enumerate_devices;
 pub use sim::{SimWheel, SimWheelParams};
 pub use wheel::{
     MotorUpdates, Wheel, WheelCapabilities, WheelError, WheelFault, WheelReading, ZeroTorqueOnDrop,

@@ -63,6 +63,10 @@ impl Drop for IoRuntime {
     }
 }
 
+/// The key [`RecordingStore::answers`] asks the store for: no station is named so (a station's
+/// recordings are under its own name), so the answer is "not found" from a working store.
+pub const READINESS_KEY: &str = ".readyz";
+
 /// The hub's recordings (see the module's documentation).
 #[derive(Debug, Clone)]
 pub struct RecordingStore {
@@ -195,6 +199,27 @@ impl RecordingStore {
                     .await
                     .map_err(|e| HubError::io("recording store task", std::io::Error::other(e)))
             }
+        }
+    }
+
+    /// Whether the store answers now, for the hub's readiness (`/readyz`): on S3 one `HEAD` of
+    /// a key no recording has ([`READINESS_KEY`]; "not found" is an answer) within `within`;
+    /// the local default always answers (its directory is checked for new files by the
+    /// caller). The error names what went wrong, in the operator's words.
+    pub async fn answers(&self, within: Duration) -> Result<(), String> {
+        if !self.is_s3() {
+            return Ok(());
+        }
+        let objects = Arc::clone(&self.objects);
+        let head = self.run(async move { objects.head(&Key::from(READINESS_KEY)).await });
+        match tokio::time::timeout(within, head).await {
+            Err(_) => Err(format!(
+                "the store gave no answer within {} ms",
+                within.as_millis()
+            )),
+            Ok(Err(e)) => Err(e.to_string()),
+            Ok(Ok(Ok(_) | Err(object_store::Error::NotFound { .. }))) => Ok(()),
+            Ok(Ok(Err(e))) => Err(format!("the store answered with an error: {e}")),
         }
     }
 

@@ -457,6 +457,7 @@ pub async fn serve(
         .with_operator(
             telemetry.clone(),
             Some(recordings.staging_dir().to_path_buf()),
+            Some(recordings.clone()),
         );
     let readiness = state.readiness.clone();
     let (stop_operator, operator) =

@@ -2,7 +2,8 @@
 //! upload over the link lands as one object whose SHA-256 is the file's, the console replays it
 //! from there, a patient's export, erasure and the backup reach it, and a store that is gone
 //! when an upload completes refuses the station, which completes the upload at its next
-//! attempt without sending it again — nothing half-written listed in between.
+//! attempt without sending it again — nothing half-written listed in between; the hub's
+//! readiness names a store that does not answer.
 
 mod common;
 
@@ -362,4 +363,33 @@ async fn a_backup_export_and_erasure_reach_the_recordings_in_s3() {
     assert_eq!(erased.recording_files, 1);
     assert_eq!(store.finished().await.unwrap(), Vec::new());
     assert_eq!(store.held("st-erase", "s-erase").await.unwrap(), None);
+}
+
+/// The hub's readiness asks the S3 store too: ready while SeaweedFS answers, 503-worthy
+/// ("recording store: …") once it is gone — within the check's own deadline, not the store
+/// client's 5 s of retries — and ready again when it is back.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn readiness_names_an_s3_store_that_does_not_answer_and_is_ready_again_when_it_does() {
+    let mut s3 = SeaweedS3::start().await;
+    let tmp = tempfile::tempdir().unwrap();
+    let store = s3.store(&tmp.path().join("hub"));
+    let (db, _db_dir) = common::sqlite_db().await;
+    let readiness =
+        |store: &RecordingStore| hub::web::Readiness::new(db.clone(), None, Some(store.clone()));
+    assert_eq!(readiness(&store).not_ready().await, Vec::<String>::new());
+
+    s3.stop();
+    let asked = std::time::Instant::now();
+    let problems = readiness(&store).not_ready().await;
+    let took = asked.elapsed();
+    assert_eq!(problems.len(), 1, "{problems:?}");
+    assert!(problems[0].starts_with("recording store: "), "{problems:?}");
+    // Answered before the store client's own retries would have given up: the limit a
+    // balancer's probe must beat.
+    let retries_give_up = std::time::Duration::from_secs(s3.config().requests.retry_timeout_s);
+    assert!(hub::web::READY_STORE_TIMEOUT < retries_give_up);
+    assert!(took < retries_give_up, "{took:?}");
+
+    s3.restart().await;
+    assert_eq!(readiness(&store).not_ready().await, Vec::<String>::new());
 }

@@ -41,12 +41,12 @@ pub fn space(controls: &Controls) {
 /// gamepad's. The wheel's gestures go to [`wheel_gesture`]; a gamepad's A does what a short
 /// press does, its B asks for a rest (on the end screen: skips).
 pub fn watch(controls: &Controls, wheel_node: Option<&std::path::Path>, done: &AtomicBool) {
-    let mut pads = haptic_wheel::peripherals::Peripherals::new(&[])
+    let mut pads = wheel_devices::peripherals::Peripherals::new(&[])
         .map_err(|e| tracing::debug!("no gamepad buttons this session: {e}"))
         .ok();
     let mut wheel = WheelGestures::open(wheel_node);
     tracing::info!(wheel = wheel.is_some(), "the wheel's buttons are watched");
-    let mut last = haptic_wheel::peripherals::ControlState::default();
+    let mut last = wheel_devices::peripherals::ControlState::default();
     let mut said = (BreakKind::None, false);
     while !done.load(Ordering::Acquire) && !controls.stop.load(Ordering::Relaxed) {
         let end = controls.end_screen_up.load(Ordering::Acquire);

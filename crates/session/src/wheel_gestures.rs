@@ -203,7 +203,7 @@ enum Source {
     /// The wheel's evdev node, and the timers that turn its readings into gestures.
     #[cfg(target_os = "linux")]
     Evdev {
-        controls: Box<haptic_wheel::evdev_wheel::WheelControls>,
+        controls: Box<wheel_devices::evdev_wheel::WheelControls>,
         press: PressTimer,
         turns: TurnSteps,
     },
@@ -272,7 +272,7 @@ impl WheelGestures {
 
 #[cfg(target_os = "linux")]
 fn open_node(node: &Path) -> std::io::Result<Source> {
-    let c = haptic_wheel::evdev_wheel::WheelControls::open(node)?;
+    let c = wheel_devices::evdev_wheel::WheelControls::open(node)?;
     if let Some(axes) = c.pedal_axes() {
         tracing::info!(
             ?axes,

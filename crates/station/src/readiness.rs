@@ -85,7 +85,7 @@ fn unopenable_hidraw() -> Vec<(PathBuf, String)> {
 }
 
 /// Event and hidraw nodes that exist but cannot be opened: named, with the udev fix.
-pub fn permissions_check(report: &haptic_wheel::DeviceReport) -> Check {
+pub fn permissions_check(report: &wheel_devices::DeviceReport) -> Check {
     let mut blocked = report.unreadable.clone();
     blocked.extend(unopenable_hidraw());
     if blocked.is_empty() {
@@ -107,7 +107,7 @@ pub fn permissions_check(report: &haptic_wheel::DeviceReport) -> Check {
         format!(
             "give the logged-in user access with a udev rule (`TAG+=\"uaccess\"`, sorted before \
              73-seat-late.rules): {}",
-            haptic_wheel::devices::UDEV_HINT
+            wheel_devices::devices::UDEV_HINT
         ),
     )
 }
@@ -118,9 +118,9 @@ pub(crate) mod tests {
 
     /// A device report holding one force-feedback wheel named `name` (the doctor's and the
     /// front door's tests use it).
-    pub(crate) fn found_wheel(name: &str, usb_id: (u16, u16)) -> haptic_wheel::DeviceReport {
-        use haptic_wheel::devices::{DeviceClass, DeviceInfo, DeviceTraits};
-        let mut report = haptic_wheel::DeviceReport::default();
+    pub(crate) fn found_wheel(name: &str, usb_id: (u16, u16)) -> wheel_devices::DeviceReport {
+        use wheel_devices::devices::{DeviceClass, DeviceInfo, DeviceTraits};
+        let mut report = wheel_devices::DeviceReport::default();
         report.add(DeviceInfo {
             path: "/dev/input/event7".into(),
             class: DeviceClass::Wheel,
@@ -142,7 +142,7 @@ pub(crate) mod tests {
 
     #[test]
     fn doctor_names_a_node_it_cannot_open_and_the_uaccess_rule_that_fixes_it() {
-        let mut report = haptic_wheel::DeviceReport::default();
+        let mut report = wheel_devices::DeviceReport::default();
         report.unreadable.push((
             PathBuf::from("/dev/input/event9"),
             "Permission denied (os error 13)".into(),

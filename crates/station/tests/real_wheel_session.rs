@@ -16,13 +16,13 @@ use std::time::Duration;
 
 use clock::Clock;
 use haptic_wheel::WheelFault;
-use haptic_wheel::evdev_wheel::EvdevWheel;
-use haptic_wheel::evdev_wheel::fake::{FakeFfDevice, FakeHandle};
 use record::TickRecord;
 use session::config::StationConfig;
 use session::haptic::{self, Pacing};
 use session::plant::{Body, Plant};
 use session::{Controls, course};
+use wheel_devices::evdev_wheel::EvdevWheel;
+use wheel_devices::evdev_wheel::fake::{FakeFfDevice, FakeHandle};
 
 /// How the test disturbs the session, from another thread, `after` into it.
 #[derive(Clone, Copy, Debug)]

@@ -13,8 +13,6 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use clock::Clock;
-use haptic_wheel::evdev_wheel::EvdevWheel;
-use haptic_wheel::evdev_wheel::fake::{FakeFfDevice, FakeHandle};
 use record::Recording;
 use record::raw::{BodyKindName, RawRead};
 use record::types::Watchdog;
@@ -23,6 +21,8 @@ use session::haptic::Pacing;
 use session::plant::Body;
 use session::{self, BodyKind, Controls, SessionOptions};
 use station::commands::replay::replay;
+use wheel_devices::evdev_wheel::EvdevWheel;
+use wheel_devices::evdev_wheel::fake::{FakeFfDevice, FakeHandle};
 
 /// The thesis SideWinder's USB id (built-in profile, 1.87 N·m).
 const SIDEWINDER: (u16, u16) = (0x045e, 0x0034);

@@ -5,8 +5,6 @@
 
 use clock::Clock;
 use haptic_wheel::DeviceProfile;
-use haptic_wheel::evdev_wheel::EvdevWheel;
-use haptic_wheel::evdev_wheel::fake::FakeFfDevice;
 use record::TickRecord;
 use regimen::Regimen;
 use session::Controls;
@@ -14,6 +12,8 @@ use session::config::StationConfig;
 use session::course;
 use session::haptic::{self, Pacing};
 use session::plant::{Body, Plant};
+use wheel_devices::evdev_wheel::EvdevWheel;
+use wheel_devices::evdev_wheel::fake::FakeFfDevice;
 
 /// A fast strength test: the limit rises at 5 N·m/s, each side at most 3 s.
 const STRENGTH: &str = "[[exercise]]\nkind = \"strength\"\nramp_nm_per_s = 5.0\nside_s = 3.0\n";

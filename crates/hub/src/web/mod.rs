@@ -52,8 +52,8 @@ pub use auth::SESSION_COOKIE;
 pub use hub_care::live::{LiveEvent, system_now_ms, unix_ms};
 pub use live::{LIVE_RECHECK_MS, MAX_LIVE_STREAMS_PER_ACCOUNT, MAX_LIVE_STREAMS_PER_LOGIN};
 pub use ops::{
-    READY_DB_TIMEOUT, READY_REUSE, Readiness, check_operator_address, operator_router,
-    serve_operator,
+    READY_DB_TIMEOUT, READY_REUSE, READY_STORE_TIMEOUT, Readiness, check_operator_address,
+    operator_router, serve_operator,
 };
 pub use serve::{
     SHUTDOWN_GRACE_S, TLS_HANDSHAKE_TIMEOUT_S, acceptor_from_pem, serve, serve_router,
@@ -134,20 +134,21 @@ impl AppState {
             care: Arc::default(),
             pain_cleared: None,
             telemetry: Arc::default(),
-            readiness: Arc::new(Readiness::new(db.clone(), None)),
+            readiness: Arc::new(Readiness::new(db.clone(), None, None)),
             db,
         }
     }
 
     /// The same state counting in `telemetry` and checking, for readiness, that
-    /// `recordings` (if any) takes new files.
+    /// `recordings` (if any) takes new files and that `store` (if any) answers.
     pub fn with_operator(
         mut self,
         telemetry: Arc<hub_care::telemetry::Telemetry>,
         recordings: Option<std::path::PathBuf>,
+        store: Option<hub_care::recordings::RecordingStore>,
     ) -> Self {
         self.telemetry = telemetry;
-        self.readiness = Arc::new(Readiness::new(self.db.clone(), recordings));
+        self.readiness = Arc::new(Readiness::new(self.db.clone(), recordings, store));
         self
     }
 

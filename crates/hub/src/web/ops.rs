@@ -2,7 +2,8 @@
 //!
 //! - `GET /healthz`: liveness — the process answers (200, no check behind it).
 //! - `GET /readyz`: readiness — the database answers a query within [`READY_DB_TIMEOUT`], the
-//!   recordings directory takes a new file, and the hub is not draining before a shutdown;
+//!   recordings directory takes a new file, an S3 recording store answers within
+//!   [`READY_STORE_TIMEOUT`], and the hub is not draining before a shutdown;
 //!   else 503 with a JSON body naming what is not ready. Results are reused for
 //!   [`READY_REUSE`], so a flood of probes costs one check a second.
 //! - `GET /metrics`: the Prometheus text format ([`hub_care::telemetry`]), only on the operator's
@@ -24,12 +25,17 @@ use axum::routing::get;
 use serde::Serialize;
 
 use super::AppState;
+use hub_care::recordings::RecordingStore;
 use hub_care::telemetry::{ReplayOutcome, Telemetry};
 use hub_store::HubError;
 use hub_store::db::Db;
 
 /// Longest the readiness check waits for the database's answer.
 pub const READY_DB_TIMEOUT: Duration = Duration::from_secs(1);
+
+/// Longest the readiness check waits for an S3 recording store's answer (its own retries
+/// included: a store failing for longer than this is not ready).
+pub const READY_STORE_TIMEOUT: Duration = Duration::from_secs(2);
 
 /// How long a readiness result is reused.
 pub const READY_REUSE: Duration = Duration::from_secs(1);
@@ -38,18 +44,22 @@ pub const READY_REUSE: Duration = Duration::from_secs(1);
 #[derive(Debug)]
 pub struct Readiness {
     db: Db,
-    /// `DATA/recordings`, when the hub stores recordings there.
+    /// `DATA/recordings`, when the hub stores recordings or partial uploads there.
     recordings: Option<PathBuf>,
+    /// The recording store, checked for an answer when it is S3.
+    store: Option<RecordingStore>,
     draining: AtomicBool,
     last: tokio::sync::Mutex<Option<(Instant, Vec<String>)>>,
 }
 
 impl Readiness {
-    /// Readiness of a hub over `db`, checking that `recordings` (if any) takes new files.
-    pub fn new(db: Db, recordings: Option<PathBuf>) -> Self {
+    /// Readiness of a hub over `db`, checking that `recordings` (if any) takes new files and
+    /// that `store` (if any) answers.
+    pub fn new(db: Db, recordings: Option<PathBuf>, store: Option<RecordingStore>) -> Self {
         Self {
             db,
             recordings,
+            store,
             draining: AtomicBool::new(false),
             last: tokio::sync::Mutex::new(None),
         }
@@ -97,6 +107,11 @@ impl Readiness {
                 Ok(Err(e)) => problems.push(format!("recordings: {e}")),
                 Err(e) => problems.push(format!("recordings: the check failed: {e}")),
             }
+        }
+        if let Some(store) = &self.store
+            && let Err(e) = store.answers(READY_STORE_TIMEOUT).await
+        {
+            problems.push(format!("recording store: {e}"));
         }
         problems
     }

@@ -89,7 +89,7 @@ impl Body {
     pub fn first_real_wheel(cfg: &StationConfig, clock: clock::Clock) -> anyhow::Result<Self> {
         // evdev on Linux, DirectInput 8 on Windows; unplugged and plugged back in, it is found
         // again (within the replug grace).
-        let wheel = haptic_wheel::real_wheel::open_first(cfg.wheel.clone(), clock.clone())
+        let wheel = wheel_devices::real_wheel::open_first(cfg.wheel.clone(), clock.clone())
             .context("no usable force-feedback wheel (run `telerehab devices`)")?;
         // Arm sensing is optional: an IMU that cannot be opened (permissions, a flat battery)
         // costs the joint angles, not the exercise.

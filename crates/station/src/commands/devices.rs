@@ -56,7 +56,7 @@ pub fn run(args: &DevicesArgs) -> anyhow::Result<()> {
         Some(p) => StationConfig::load(p)?,
         None => StationConfig::default(),
     };
-    let mut report = haptic_wheel::enumerate_devices();
+    let mut report = wheel_devices::enumerate_devices();
     report.apply_config(&cfg.wheel, cfg.haptic.safety.ceiling_nm);
     println!("{report}");
     print!("{}", imu_report());

@@ -127,7 +127,7 @@ impl Report {
 
 /// The wheel: found (named, with its profile, force-feedback effects and torque ceiling) or
 /// what to plug in.
-fn wheel_check(report: &haptic_wheel::DeviceReport) -> Check {
+fn wheel_check(report: &wheel_devices::DeviceReport) -> Check {
     let Some(w) = report.wheels.first() else {
         return check(
             "wheel",
@@ -249,7 +249,7 @@ fn pulse_check(args: &DoctorArgs, cfg: &StationConfig, wheel_found: bool) -> Che
 #[cfg(target_os = "linux")]
 fn run_real_pulse(cfg: &StationConfig) -> anyhow::Result<(pulse::PulsePlan, pulse::PulseOutcome)> {
     use haptic_wheel::Wheel as _;
-    use haptic_wheel::evdev_wheel::EvdevWheel;
+    use wheel_devices::evdev_wheel::EvdevWheel;
     let clock = clock::Clock::real();
     let mut wheel = EvdevWheel::open_first(cfg.wheel.clone(), clock.clone())
         .context("cannot open the wheel")?;
@@ -669,7 +669,7 @@ pub fn examine(args: &DoctorArgs) -> Report {
         Some(p) => StationConfig::load(p).map_err(|e| format!("{e:#}")),
         None => Ok(StationConfig::default()),
     };
-    let mut devices = haptic_wheel::enumerate_devices();
+    let mut devices = wheel_devices::enumerate_devices();
     let mut checks = Vec::new();
     match &cfg {
         Ok(cfg) => devices.apply_config(&cfg.wheel, cfg.haptic.safety.ceiling_nm),
@@ -822,7 +822,7 @@ mod tests {
 
     #[test]
     fn doctor_names_a_missing_wheel_as_a_failure_with_what_to_plug_in() {
-        let c = wheel_check(&haptic_wheel::DeviceReport::default());
+        let c = wheel_check(&wheel_devices::DeviceReport::default());
         assert_eq!(c.status, Status::Fail);
         assert!(
             c.fix.contains("plug in the wheel and turn it on"),

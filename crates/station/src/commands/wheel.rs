@@ -51,7 +51,7 @@ pub fn run(args: &WheelArgs) -> anyhow::Result<()> {
 struct Terminal;
 
 #[cfg(target_os = "linux")]
-impl haptic_wheel::evdev_wheel::calibrate::Guide for Terminal {
+impl wheel_devices::evdev_wheel::calibrate::Guide for Terminal {
     fn say(&mut self, text: &str) {
         println!("{text}");
     }
@@ -69,7 +69,7 @@ impl haptic_wheel::evdev_wheel::calibrate::Guide for Terminal {
 fn calibrate(args: &CalibrateArgs) -> anyhow::Result<()> {
     use anyhow::Context;
     use haptic_wheel::Wheel as _;
-    use haptic_wheel::evdev_wheel::EvdevWheel;
+    use wheel_devices::evdev_wheel::EvdevWheel;
     if let Some(t) = args.rated_torque_nm {
         haptic_wheel::WheelConfig {
             rated_torque_nm: Some(t),

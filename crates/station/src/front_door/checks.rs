@@ -3,8 +3,8 @@
 //! technical details stay in `telerehab doctor`, which the lines point to.
 
 use crate::readiness::{Status, permissions_check};
-use haptic_wheel::DeviceReport;
 use render::StatusLine;
+use wheel_devices::DeviceReport;
 
 /// The lines of the device check and whether a wheel is ready to start a session.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -27,7 +27,7 @@ pub fn check_devices(
     wheel_config: &haptic_wheel::wheel_config::WheelConfig,
     patient_ceiling_nm: Option<f64>,
 ) -> DeviceCheck {
-    let mut devices = haptic_wheel::enumerate_devices();
+    let mut devices = wheel_devices::enumerate_devices();
     devices.apply_config(wheel_config, patient_ceiling_nm);
     let imus = gyro_imu::device::enumerate().map_err(|e| e.to_string());
     describe(&devices, &imus)

@@ -281,7 +281,7 @@ fn addresses_keep_their_port_and_bare_hosts_get_the_hubs() {
 
 #[test]
 fn no_wheel_is_a_red_line_and_blocks_start() {
-    let check = describe(&haptic_wheel::DeviceReport::default(), &Ok(vec![]));
+    let check = describe(&wheel_devices::DeviceReport::default(), &Ok(vec![]));
     assert!(!check.wheel_ready);
     assert_eq!(check.lines[0].ok, Some(false));
     assert_eq!(check.lines[0].text, tr!("front-device-no-wheel"));

@@ -21,7 +21,7 @@ pub fn for_hub(cfg: &StationConfig, simulated: bool) -> Option<WheelInfo> {
             unknown: false,
         });
     }
-    let mut devices = haptic_wheel::enumerate_devices();
+    let mut devices = wheel_devices::enumerate_devices();
     devices.apply_config(&cfg.wheel, cfg.haptic.safety.ceiling_nm);
     let wheel = devices.wheels.first()?;
     let model = wheel

@@ -35,9 +35,9 @@ use windows::core::{BOOL, GUID, Interface, w};
 use super::device::{DI_FFNOMINALMAX, DiDevice, DiError, DiFinder, DiIdentity, DiState, E_FAIL};
 use super::{DinputWheel, REJOIN_RESCAN_EVERY};
 use crate::devices::{DeviceClass, DeviceInfo, DeviceTraits};
-use crate::profile::DeviceProfile;
-use crate::wheel::WheelError;
-use crate::wheel_config::WheelConfig;
+use haptic_wheel::profile::DeviceProfile;
+use haptic_wheel::wheel::WheelError;
+use haptic_wheel::wheel_config::WheelConfig;
 
 /// `DIDFT_OPTIONAL` (dinput.h): an object of the data format the device may lack.
 const DIDFT_OPTIONAL: u32 = 0x8000_0000;

@@ -25,7 +25,7 @@ pub struct DiError(pub i32);
 impl DiError {
     /// The device went away: [`DIERR_INPUTLOST`], [`DIERR_NOTACQUIRED`] or
     /// [`DIERR_UNPLUGGED`]. The backend reports these as
-    /// [`WheelFault::Unplugged`](crate::WheelFault::Unplugged), as the evdev backend reports
+    /// [`WheelFault::Unplugged`](haptic_wheel::WheelFault::Unplugged), as the evdev backend reports
     /// the kernel's ENODEV.
     pub fn is_device_loss(self) -> bool {
         matches!(

@@ -9,7 +9,7 @@ use std::time::SystemTime;
 use evdev::{AbsInfo, AbsoluteAxisCode, EventType, FFEffect, FFEffectCode, FFEffectData, KeyCode};
 
 use crate::devices::{DeviceClass, DeviceInfo, DeviceTraits, classify};
-use crate::profile::DeviceProfile;
+use haptic_wheel::profile::DeviceProfile;
 
 /// A steering axis's state as the kernel keeps it (`EVIOCGABS`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

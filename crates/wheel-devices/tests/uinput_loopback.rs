@@ -16,8 +16,8 @@ use evdev::{
     FFEffectData, FFEffectKind, InputEvent, InputId, UInputCode, UinputAbsSetup,
 };
 use haptic_wheel::WheelConfig;
-use haptic_wheel::evdev_wheel::EvdevWheel;
 use haptic_wheel::{Condition, ConditionKind, DeviceProfile, Wheel};
+use wheel_devices::evdev_wheel::EvdevWheel;
 
 /// What the virtual firmware saw.
 #[derive(Debug)]

@@ -10,10 +10,10 @@ use std::time::{Duration, Instant};
 use clock::{Clock, MockClock};
 use proptest::prelude::*;
 
-use crate::profile::{ASSUMED_UNKNOWN_MOTOR_NM, DeviceProfile, DriverFamily, TorqueSource};
-use crate::safety::{SafetyConfig, Supervisor};
-use crate::wheel::{Wheel, WheelError, WheelFault};
-use crate::wheel_config::{CeilingReport, WheelConfig};
+use haptic_wheel::profile::{ASSUMED_UNKNOWN_MOTOR_NM, DeviceProfile, DriverFamily, TorqueSource};
+use haptic_wheel::safety::{SafetyConfig, Supervisor};
+use haptic_wheel::wheel::{Wheel, WheelError, WheelFault};
+use haptic_wheel::wheel_config::{CeilingReport, WheelConfig};
 
 const MS: u64 = 1_000_000;
 /// An id no built-in profile claims.

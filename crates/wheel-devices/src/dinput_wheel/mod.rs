@@ -52,10 +52,12 @@ pub use device::{
     DI_FFNOMINALMAX, DiDevice, DiError, DiFinder, DiIdentity, DiState, Likeness, Refusal,
 };
 
-use crate::profile::DeviceProfile;
-pub use crate::wheel::REJOIN_RESCAN_EVERY;
-use crate::wheel::{MotorUpdates, Wheel, WheelCapabilities, WheelError, WheelFault, WheelReading};
-use crate::wheel_config::{WheelConfig, motor_fraction};
+use haptic_wheel::profile::DeviceProfile;
+pub use haptic_wheel::wheel::REJOIN_RESCAN_EVERY;
+use haptic_wheel::wheel::{
+    MotorUpdates, Wheel, WheelCapabilities, WheelError, WheelFault, WheelReading,
+};
+use haptic_wheel::wheel_config::{WheelConfig, motor_fraction};
 
 /// Full scale of a DirectInput magnitude or gain, as a float.
 pub const MAGNITUDE_FULL_SCALE: f64 = DI_FFNOMINALMAX as f64;
@@ -328,8 +330,12 @@ impl<D: DiDevice> Wheel for DinputWheel<D> {
             magnitude = 0;
         }
         let stopping = magnitude == 0 && self.magnitude != 0;
-        if crate::wheel_config::update_due(self.last_update_ns, now, self.min_interval_ns, stopping)
-        {
+        if haptic_wheel::wheel_config::update_due(
+            self.last_update_ns,
+            now,
+            self.min_interval_ns,
+            stopping,
+        ) {
             self.send(magnitude, now)
         } else {
             Ok(())

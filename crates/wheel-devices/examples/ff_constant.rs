@@ -6,9 +6,9 @@
 #[cfg(all(target_os = "linux", feature = "evdev"))]
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     use haptic_wheel::WheelConfig;
-    use haptic_wheel::evdev_wheel::EvdevWheel;
     use haptic_wheel::{DeviceProfile, Wheel, ZeroTorqueOnDrop, profile::EFFECT_FULL_SCALE_UNITS};
     use std::time::{Duration, Instant};
+    use wheel_devices::evdev_wheel::EvdevWheel;
 
     let args: Vec<String> = std::env::args().collect();
     if args.len() != 4 {

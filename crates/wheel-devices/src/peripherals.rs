@@ -15,7 +15,7 @@
 use gilrs::{Axis, Button, EventType, Gilrs, GilrsBuilder};
 
 use crate::devices::{DeviceClass, DeviceInfo, DeviceTraits};
-use crate::wheel::WheelError;
+use haptic_wheel::wheel::WheelError;
 
 /// Controls the station reads from pedals and gamepads, latest values.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

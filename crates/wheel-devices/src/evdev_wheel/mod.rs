@@ -18,7 +18,7 @@
 //!   heap data: the 1 kHz loop makes them every tick while they last.
 //! - **Torque out.** One constant-force effect, updated in place with the same id: the
 //!   latest value wins, nothing queues. Updates are throttled to the driver's rate policy
-//!   ([`DriverFamily::max_update_rate_hz`](crate::DriverFamily)); zero is never throttled,
+//!   ([`DriverFamily::max_update_rate_hz`](haptic_wheel::DriverFamily)); zero is never throttled,
 //!   and a held level above a lowered ceiling comes down at once
 //!   ([`Wheel::set_torque_ceiling_nm`]). A zero already held is re-sent on the policy's
 //!   schedule like any level; an update is due a tenth of the interval early, so the loop's
@@ -56,12 +56,12 @@ pub use controls::{ControlsLook, PedalAxes, WheelControls, button_pressed_within
 pub use device::{AxisState, EffectSlot, FfDevice, KernelDevice, inspect};
 
 use crate::devices::{DeviceClass, classify};
-use crate::effects::{Condition, ConditionKind};
-use crate::profile::DeviceProfile;
-use crate::wheel::{
+use haptic_wheel::effects::{Condition, ConditionKind};
+use haptic_wheel::profile::DeviceProfile;
+use haptic_wheel::wheel::{
     ConfigError, MotorUpdates, Wheel, WheelCapabilities, WheelError, WheelFault, WheelReading,
 };
-use crate::wheel_config::{WheelConfig, usable_max_nm};
+use haptic_wheel::wheel_config::{WheelConfig, usable_max_nm};
 
 /// Linux FF direction for "towards the left" (`0x4000`, 90°, input.h); with a positive level
 /// this turns the wheel counter-clockwise, our positive torque. Drivers that disagree are
@@ -106,7 +106,8 @@ fn io_err(device: &str, source: std::io::Error) -> WheelError {
 /// (fraction) give at most `torque_nm`, with the profile's `torque_sign`; `torque_nm` is first
 /// clamped to ±`usable_nm`. Truncated towards zero: the motor never gives more than asked.
 pub fn level_for(torque_nm: f64, usable_nm: f64, motor_nm: f64, gain: f64, sign: f64) -> i16 {
-    let frac = crate::wheel_config::motor_fraction(torque_nm, usable_nm, motor_nm, gain, sign);
+    let frac =
+        haptic_wheel::wheel_config::motor_fraction(torque_nm, usable_nm, motor_nm, gain, sign);
     (frac * LEVEL_FULL_SCALE).trunc() as i16
 }
 
@@ -256,7 +257,7 @@ impl<D: FfDevice> EvdevWheel<D> {
         // Without a gain control the device runs at full gain whatever the configuration says.
         // The gain the device really has is the 16-bit level sent, not the fraction asked.
         let gain = if controls.gain {
-            crate::wheel_config::quantised_gain(config.gain)
+            haptic_wheel::wheel_config::quantised_gain(config.gain)
         } else {
             1.0
         };
@@ -370,7 +371,7 @@ impl<D: FfDevice> EvdevWheel<D> {
 
     /// Upload a spring or friction condition to the wheel's firmware, with its saturations
     /// capped to `budget_nm` and to the wheel's usable torque. Returns the torque it may add
-    /// (its larger saturation): lower the [`HapticChain`](crate::HapticChain) ceiling by that
+    /// (its larger saturation): lower the [`HapticChain`](haptic_wheel::HapticChain) ceiling by that
     /// much so host torque + firmware torque stays under the patient's ceiling. It plays only
     /// while [`Wheel::set_firmware_effects_active`] says so, and is erased on drop.
     pub fn upload_condition(&mut self, c: &Condition, budget_nm: f64) -> Result<f64, WheelError> {
@@ -532,8 +533,12 @@ impl<D: FfDevice> Wheel for EvdevWheel<D> {
             level = 0;
         }
         let stopping = level == 0 && self.level != 0;
-        if crate::wheel_config::update_due(self.last_update_ns, now, self.min_interval_ns, stopping)
-        {
+        if haptic_wheel::wheel_config::update_due(
+            self.last_update_ns,
+            now,
+            self.min_interval_ns,
+            stopping,
+        ) {
             self.send(level, now)
         } else {
             Ok(())

@@ -33,10 +33,10 @@ use evdev::AbsoluteAxisCode;
 use super::device::{FfDevice, KernelDevice};
 use super::{EvdevWheel, find_wheels, io_err};
 use crate::devices::{DeviceClass, DeviceTraits, classify};
-use crate::wheel::WheelError;
+use haptic_wheel::wheel::WheelError;
 
 /// How often the helper looks for a lost wheel.
-pub const RESCAN_EVERY: Duration = crate::wheel::REJOIN_RESCAN_EVERY;
+pub const RESCAN_EVERY: Duration = haptic_wheel::wheel::REJOIN_RESCAN_EVERY;
 
 /// The steering axis the backend reads on a device with `traits`.
 pub(super) fn steering_axis(traits: &DeviceTraits) -> AbsoluteAxisCode {
@@ -341,7 +341,7 @@ fn look<D: FfDevice>(
 impl<D: FfDevice> EvdevWheel<D> {
     /// Look for this wheel again whenever it goes away (unplugged), among the devices `finder`
     /// offers, every `every`, on a helper thread (see the module docs); a device found is
-    /// taken on the next [`read`](crate::Wheel::read), which then answers again. Without this
+    /// taken on the next [`read`](haptic_wheel::Wheel::read), which then answers again. Without this
     /// a lost wheel stays lost.
     pub fn reopen_with(
         mut self,
@@ -442,10 +442,10 @@ impl<D: FfDevice> EvdevWheel<D> {
 mod tests {
     use super::super::fake::{FakeFfDevice, FakeHandle};
     use super::*;
-    use crate::effects::{Condition, ConditionKind};
-    use crate::wheel::{Wheel, WheelFault};
-    use crate::wheel_config::WheelConfig;
     use clock::{Clock, MockClock};
+    use haptic_wheel::effects::{Condition, ConditionKind};
+    use haptic_wheel::wheel::{Wheel, WheelFault};
+    use haptic_wheel::wheel_config::WheelConfig;
     use std::sync::Mutex;
     use std::time::Instant;
 

@@ -9,7 +9,7 @@
 use std::fmt;
 use std::path::PathBuf;
 
-use crate::profile::DeviceProfile;
+use haptic_wheel::profile::DeviceProfile;
 
 /// What kind of input device this is, for the haptic station.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -74,7 +74,7 @@ pub struct DeviceInfo {
     pub profile: Option<DeviceProfile>,
     /// For wheels: the torque ceiling that would hold with the station's configuration
     /// ([`DeviceReport::apply_config`]).
-    pub ceiling: Option<crate::wheel_config::CeilingReport>,
+    pub ceiling: Option<haptic_wheel::wheel_config::CeilingReport>,
     /// For wheels: the torque updates a second the backend would send it, Hz (the driver's
     /// rate policy, lowered by a configured `update_rate_hz`; [`DeviceReport::apply_config`]).
     pub expected_update_rate_hz: Option<f64>,
@@ -109,7 +109,7 @@ impl DeviceReport {
     /// device maximum), and the update rate the backend would drive the wheel at.
     pub fn apply_config(
         &mut self,
-        config: &crate::wheel_config::WheelConfig,
+        config: &haptic_wheel::wheel_config::WheelConfig,
         patient_ceiling_nm: Option<f64>,
     ) {
         for w in &mut self.wheels {
@@ -117,7 +117,7 @@ impl DeviceReport {
             let profile = config.resolve_profile(vendor, product);
             w.expected_update_rate_hz =
                 Some(config.update_rate_for(profile.driver, profile.max_update_rate_hz));
-            w.ceiling = Some(crate::wheel_config::CeilingReport::new(
+            w.ceiling = Some(haptic_wheel::wheel_config::CeilingReport::new(
                 &profile,
                 config.gain,
                 patient_ceiling_nm,
@@ -303,7 +303,7 @@ mod tests {
         let mut r = DeviceReport::default();
         r.add(wheel("/dev/input/event7", "G29", (0x046d, 0xc24f)));
         r.add(wheel("/dev/input/event9", "Mystery DD", (0x1234, 0x0001)));
-        r.apply_config(&crate::WheelConfig::default(), None);
+        r.apply_config(&haptic_wheel::WheelConfig::default(), None);
         r.unreadable
             .push(("/dev/input/event3".into(), "Permission denied".into()));
         r.explain();
@@ -330,7 +330,7 @@ mod tests {
         let mut r = DeviceReport::default();
         r.add(wheel("/dev/input/event7", "T300", (0x044f, 0xb66e)));
         r.add(wheel("/dev/input/event8", "G29", (0x046d, 0xc24f)));
-        let config = crate::WheelConfig {
+        let config = haptic_wheel::WheelConfig {
             update_rate_hz: Some(250.0),
             ..Default::default()
         };

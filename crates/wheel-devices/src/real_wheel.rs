@@ -5,8 +5,8 @@
 
 use clock::Clock;
 
-use crate::wheel::{Wheel, WheelError};
-use crate::wheel_config::WheelConfig;
+use haptic_wheel::wheel::{Wheel, WheelError};
+use haptic_wheel::wheel_config::WheelConfig;
 
 /// Open the first force-feedback wheel found with `config`, its readings on `clock` (a real
 /// one), re-found by its identity when it is unplugged and plugged back in.

@@ -1,18 +1,18 @@
 //! Driving the guided wheel measurement (`telerehab wheel calibrate`) on a kernel FF wheel:
 //! the person turns the wheel lock to lock while the raw axis is sampled; then, only after
 //! they confirm their hands are off, two gentle pushes (at most
-//! [`CALIBRATION_MAX_TORQUE_NM`](crate::calibrate::CALIBRATION_MAX_TORQUE_NM), ramped through a
+//! [`CALIBRATION_MAX_TORQUE_NM`](haptic_wheel::calibrate::CALIBRATION_MAX_TORQUE_NM), ramped through a
 //! [`TorqueLimiter`]) show which way the motor turns it, and the update durations give the
-//! usable rate. The analysis is [`crate::calibrate`].
+//! usable rate. The analysis is [`haptic_wheel::calibrate`].
 
 use super::{EvdevWheel, FfDevice};
-use crate::calibrate::{
+use haptic_wheel::calibrate::{
     CalibrationError, TurnResult, analyze_push, analyze_turn, gentle_torque_nm, measured_profile,
     usable_update_rate_hz,
 };
-use crate::profile::DeviceProfile;
-use crate::safety::TorqueLimiter;
-use crate::wheel::{Wheel, WheelError};
+use haptic_wheel::profile::DeviceProfile;
+use haptic_wheel::safety::TorqueLimiter;
+use haptic_wheel::wheel::{Wheel, WheelError};
 
 /// How the procedure talks to the person at the wheel.
 pub trait Guide {
@@ -179,8 +179,8 @@ impl<D: FfDevice> EvdevWheel<D> {
 mod tests {
     use super::*;
     use crate::evdev_wheel::fake::{FakeFfDevice, FakeHandle};
-    use crate::wheel_config::WheelConfig;
     use clock::Clock;
+    use haptic_wheel::wheel_config::WheelConfig;
 
     /// A person who turns the wheel when asked (a scripted sweep) and lets go when asked.
     struct Person {
@@ -254,7 +254,7 @@ mod tests {
         assert!(r.turn.step_units >= 1);
         assert_eq!(r.profile.max_update_rate_hz, 1000.0);
         assert!(r.peak_commanded_nm <= 0.1 * 1.87 + 1e-9);
-        assert!(fake.peak_motor_torque_nm() <= crate::calibrate::CALIBRATION_MAX_TORQUE_NM);
+        assert!(fake.peak_motor_torque_nm() <= haptic_wheel::calibrate::CALIBRATION_MAX_TORQUE_NM);
         assert_eq!(fake.motor_torque_nm(), 0.0, "zero torque at the end");
         r.profile.validate().unwrap();
     }
@@ -276,7 +276,10 @@ mod tests {
             "{}",
             fake.peak_motor_torque_nm()
         );
-        assert_eq!(r.profile.torque_source, crate::TorqueSource::Clinician);
+        assert_eq!(
+            r.profile.torque_source,
+            haptic_wheel::TorqueSource::Clinician
+        );
         assert_eq!(r.profile.max_torque_nm, 25.0);
     }
 }

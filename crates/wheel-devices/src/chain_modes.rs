@@ -23,11 +23,14 @@
 //! - after a stop, a pause or a continuous fault, command and motor are zero once the fade
 //!   bound `fade_out_s + ceiling / slew` has passed on the supervisor's clock, and stay there.
 
-use super::*;
 use crate::backend_tests::{Backend, Motor};
-use crate::profile::{DeviceProfile, DriverFamily};
-use crate::wheel_config::WheelConfig;
 use clock::{Clock, MockClock};
+use haptic_wheel::chain::*;
+use haptic_wheel::profile::{DeviceProfile, DriverFamily};
+use haptic_wheel::strategies::{DT_NS, any_effect, any_finite_or_not, any_model};
+use haptic_wheel::wheel_config::WheelConfig;
+use haptic_wheel::*;
+use proptest::prelude::*;
 
 /// How the clock moves before a tick.
 #[derive(Clone, Copy, Debug)]
