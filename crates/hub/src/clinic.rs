@@ -453,12 +453,7 @@ pub async fn serve(
         .with_recordings(recordings.clone())
         .with_clinic_name(config.clinic_name.clone())
         .with_fhir_base(fhir_base)
-        // Partial uploads grow in the local staging directory whatever the store.
-        .with_operator(
-            telemetry.clone(),
-            Some(recordings.staging_dir().to_path_buf()),
-            Some(recordings.clone()),
-        );
+        .with_operator(telemetry.clone(), Some(recordings.clone()));
     let readiness = state.readiness.clone();
     let (stop_operator, operator) =
         spawn_operator(options.metrics.or(config.metrics_listen), state.clone()).await?;

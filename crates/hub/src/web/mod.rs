@@ -139,16 +139,17 @@ impl AppState {
         }
     }
 
-    /// The same state counting in `telemetry` and checking, for readiness, that
-    /// `recordings` (if any) takes new files and that `store` (if any) answers.
+    /// The same state counting in `telemetry` and checking, for readiness, that the
+    /// `recordings` store (if any) answers and that its local directory takes new files
+    /// (partial uploads grow there whatever the store).
     pub fn with_operator(
         mut self,
         telemetry: Arc<hub_care::telemetry::Telemetry>,
-        recordings: Option<std::path::PathBuf>,
-        store: Option<hub_care::recordings::RecordingStore>,
+        recordings: Option<hub_care::recordings::RecordingStore>,
     ) -> Self {
         self.telemetry = telemetry;
-        self.readiness = Arc::new(Readiness::new(self.db.clone(), recordings, store));
+        let staging = recordings.as_ref().map(|r| r.staging_dir().to_path_buf());
+        self.readiness = Arc::new(Readiness::new(self.db.clone(), staging, recordings));
         self
     }
 
