@@ -21,10 +21,11 @@ mod s3;
 
 use std::io::Write;
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
+use std::process::{Child, Command};
 use std::sync::mpsc::Receiver;
 use std::time::{Duration, Instant};
 
+use telerehab_tests::balancer::Haproxy;
 use telerehab_tests::clinic::{Hub, NewClinic, fresh_postgres_database, show, show_json};
 use telerehab_tests::console::Console;
 use telerehab_tests::spawn_real_time_session;
@@ -38,89 +39,32 @@ const GUARD: Duration = Duration::from_secs(30);
 /// loaded 2-core machine's.
 const REVOKED_WITHIN: Duration = Duration::from_secs(3);
 
-fn free_port() -> u16 {
-    std::net::TcpListener::bind("127.0.0.1:0")
-        .and_then(|l| l.local_addr())
-        .unwrap()
-        .port()
-}
-
 fn port_of(addr: &str) -> &str {
     addr.rsplit(':').next().unwrap()
 }
 
-/// A HAProxy of the test's own (never the system service) in front of two hubs.
-struct Haproxy {
-    child: Child,
-    /// Its station port (TCP passed through to the hubs, hub A first).
-    stations: u16,
-    /// Its console port (TCP passed through; a hub is used while its `/readyz` answers 200).
-    console: u16,
-}
-
-impl Haproxy {
-    /// The balancer's configuration: what docs/DEPLOY.md shows, on these ports.
-    fn config(stations: u16, console: u16, a: &Hub, b: &Hub) -> String {
-        let (a_st, b_st) = (a.stations_port(), b.stations_port());
-        let (a_web, b_web) = (port_of(a.web()), port_of(b.web()));
-        format!(
-            "global\n  maxconn 1024\n\
-             defaults\n  timeout connect 2s\n  timeout client 1h\n  timeout server 1h\n  \
-             timeout check 2s\n  retries 3\n  option redispatch\n\
-             frontend stations\n  mode tcp\n  bind 127.0.0.1:{stations}\n  \
-             default_backend hub_stations\n\
-             backend hub_stations\n  mode tcp\n  balance first\n  \
-             server a 127.0.0.1:{a_st} source 127.0.0.2 send-proxy-v2 check inter 300ms fall 1 rise 2\n  \
-             server b 127.0.0.1:{b_st} source 127.0.0.2 send-proxy-v2 check inter 300ms fall 1 rise 2\n\
-             frontend console\n  mode tcp\n  bind 127.0.0.1:{console}\n  \
-             default_backend hub_console\n\
-             backend hub_console\n  mode tcp\n  balance roundrobin\n  \
-             option httpchk\n  http-check send meth GET uri /readyz\n  \
-             http-check expect status 200\n  \
-             server a 127.0.0.1:{a_web} source 127.0.0.2 send-proxy-v2 check check-ssl verify none inter 300ms fall 1 rise 2\n  \
-             server b 127.0.0.1:{b_web} source 127.0.0.2 send-proxy-v2 check check-ssl verify none inter 300ms fall 1 rise 2\n"
-        )
-    }
-
-    /// Starts it in the foreground (`-db`) with a generated configuration in `dir`; `None`
-    /// (SKIPPED) when haproxy is not installed.
-    fn start(dir: &Path, a: &Hub, b: &Hub) -> Option<Self> {
-        let (stations, console) = (free_port(), free_port());
-        let cfg = dir.join("haproxy.cfg");
-        std::fs::write(&cfg, Self::config(stations, console, a, b)).unwrap();
-        let child = match Command::new("haproxy")
-            .arg("-db")
-            .arg("-f")
-            .arg(&cfg)
-            .stdin(Stdio::null())
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-        {
-            Ok(c) => c,
-            Err(e) => {
-                println!("SKIPPED: cannot start haproxy ({e}); scripts/setup.sh installs it");
-                return None;
-            }
-        };
-        let started = Instant::now();
-        while std::net::TcpStream::connect(("127.0.0.1", console)).is_err() {
-            assert!(started.elapsed() < GUARD, "haproxy did not listen");
-            std::thread::sleep(Duration::from_millis(50));
-        }
-        Some(Self {
-            child,
-            stations,
-            console,
-        })
-    }
-}
-
-impl Drop for Haproxy {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
+/// The balancer's configuration in front of hubs `a` and `b`: what docs/DEPLOY.md shows, on
+/// these ports.
+fn balancer_config(stations: u16, console: u16, a: &Hub, b: &Hub) -> String {
+    let (a_st, b_st) = (a.stations_port(), b.stations_port());
+    let (a_web, b_web) = (port_of(a.web()), port_of(b.web()));
+    format!(
+        "global\n  maxconn 1024\n\
+         defaults\n  timeout connect 2s\n  timeout client 1h\n  timeout server 1h\n  \
+         timeout check 2s\n  retries 3\n  option redispatch\n\
+         frontend stations\n  mode tcp\n  bind 127.0.0.1:{stations}\n  \
+         default_backend hub_stations\n\
+         backend hub_stations\n  mode tcp\n  balance first\n  \
+         server a 127.0.0.1:{a_st} source 127.0.0.2 send-proxy-v2 check inter 300ms fall 1 rise 2\n  \
+         server b 127.0.0.1:{b_st} source 127.0.0.2 send-proxy-v2 check inter 300ms fall 1 rise 2\n\
+         frontend console\n  mode tcp\n  bind 127.0.0.1:{console}\n  \
+         default_backend hub_console\n\
+         backend hub_console\n  mode tcp\n  balance roundrobin\n  \
+         option httpchk\n  http-check send meth GET uri /readyz\n  \
+         http-check expect status 200\n  \
+         server a 127.0.0.1:{a_web} source 127.0.0.2 send-proxy-v2 check check-ssl verify none inter 300ms fall 1 rise 2\n  \
+         server b 127.0.0.1:{b_web} source 127.0.0.2 send-proxy-v2 check check-ssl verify none inter 300ms fall 1 rise 2\n"
+    )
 }
 
 /// Copies the clinic's directory `from` to `to`: a second hub machine's own disk, with the
@@ -305,7 +249,8 @@ fn two_hubs_behind_haproxy_share_live_data_revocation_throttles_and_lose_nothing
         format!("127.0.0.1:{}", a.stations_port()),
         a.web().to_owned(),
     );
-    let Some(balancer) = Haproxy::start(tmp.path(), &a, &b) else {
+    let Some(balancer) = Haproxy::start(tmp.path(), |st, web| balancer_config(st, web, &a, &b))
+    else {
         return;
     };
     let through = format!("localhost:{}", balancer.stations);

@@ -16,9 +16,10 @@ use std::fs::File;
 use std::io::{Read, Write};
 use std::net::{IpAddr, TcpStream};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::{Child, Command};
 use std::time::{Duration, Instant};
 
+use telerehab_tests::balancer::Haproxy;
 use telerehab_tests::clinic::NewClinic;
 use telerehab_tests::console::{Console, connect_from};
 use telerehab_tests::telerehab_bin;
@@ -37,13 +38,6 @@ const FORGER: &str = "127.0.0.5";
 
 fn ip(s: &str) -> IpAddr {
     s.parse().unwrap()
-}
-
-fn free_port() -> u16 {
-    std::net::TcpListener::bind("127.0.0.1:0")
-        .and_then(|l| l.local_addr())
-        .unwrap()
-        .port()
 }
 
 /// Waits until `path` holds a line with `needle`; that line.
@@ -113,71 +107,28 @@ impl Drop for Hub {
     }
 }
 
-/// A HAProxy of the test's own in front of the hub, sending PROXY protocol v2 headers on both
-/// ports (what docs/DEPLOY.md shows). The station port's checks (a `LOCAL` header, then the
+/// The configuration of a HAProxy of the test's own in front of `hub`, sending PROXY protocol v2
+/// headers on both ports (what docs/DEPLOY.md shows). The station port's checks (a `LOCAL` header, then the
 /// connection closed) each cost the hub a line of its 20 detailed refusals per 10 s, so they
 /// run every 2 s as in DEPLOY.md, leaving room for the lines the test reads.
-struct Haproxy {
-    child: Child,
-    stations: String,
-    console: String,
-}
-
-impl Haproxy {
-    fn start(dir: &Path, hub: &Hub) -> Option<Self> {
-        let (stations, console) = (free_port(), free_port());
-        let config = format!(
-            "global\n  maxconn 1024\n\
-             defaults\n  timeout connect 2s\n  timeout client 1h\n  timeout server 1h\n  \
-             timeout check 2s\n  retries 3\n\
-             frontend stations\n  mode tcp\n  bind 127.0.0.1:{stations}\n  \
-             default_backend hub_stations\n\
-             backend hub_stations\n  mode tcp\n  \
-             server a {hub_stations} send-proxy-v2 check inter 2s fall 1 rise 1\n\
-             frontend console\n  mode tcp\n  bind 127.0.0.1:{console}\n  \
-             default_backend hub_console\n\
-             backend hub_console\n  mode tcp\n  \
-             option httpchk\n  http-check send meth GET uri /readyz\n  \
-             http-check expect status 200\n  \
-             server a {hub_web} send-proxy-v2 check check-ssl verify none inter 300ms fall 1 rise 1\n",
-            hub_stations = hub.stations,
-            hub_web = hub.web,
-        );
-        let cfg = dir.join("haproxy.cfg");
-        std::fs::write(&cfg, config).unwrap();
-        let child = match Command::new("haproxy")
-            .arg("-db")
-            .arg("-f")
-            .arg(&cfg)
-            .stdin(Stdio::null())
-            .stdout(Stdio::null())
-            .stderr(File::create(dir.join("haproxy.log")).unwrap())
-            .spawn()
-        {
-            Ok(c) => c,
-            Err(e) => {
-                println!("SKIPPED: cannot start haproxy ({e}); scripts/setup.sh installs it");
-                return None;
-            }
-        };
-        let began = Instant::now();
-        while TcpStream::connect(("127.0.0.1", console)).is_err() {
-            assert!(began.elapsed() < GUARD, "haproxy did not listen");
-            std::thread::sleep(Duration::from_millis(50));
-        }
-        Some(Self {
-            child,
-            stations: format!("127.0.0.1:{stations}"),
-            console: format!("127.0.0.1:{console}"),
-        })
-    }
-}
-
-impl Drop for Haproxy {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
+fn balancer_config(stations: u16, console: u16, hub: &Hub) -> String {
+    format!(
+        "global\n  maxconn 1024\n\
+         defaults\n  timeout connect 2s\n  timeout client 1h\n  timeout server 1h\n  \
+         timeout check 2s\n  retries 3\n\
+         frontend stations\n  mode tcp\n  bind 127.0.0.1:{stations}\n  \
+         default_backend hub_stations\n\
+         backend hub_stations\n  mode tcp\n  \
+         server a {hub_stations} send-proxy-v2 check inter 2s fall 1 rise 1\n\
+         frontend console\n  mode tcp\n  bind 127.0.0.1:{console}\n  \
+         default_backend hub_console\n\
+         backend hub_console\n  mode tcp\n  \
+         option httpchk\n  http-check send meth GET uri /readyz\n  \
+         http-check expect status 200\n  \
+         server a {hub_web} send-proxy-v2 check check-ssl verify none inter 300ms fall 1 rise 1\n",
+        hub_stations = hub.stations,
+        hub_web = hub.web,
+    )
 }
 
 /// A failed login (an unknown e-mail of its own, so only the address throttle is shared)
@@ -222,10 +173,11 @@ fn clients_behind_haproxy_are_counted_and_audited_by_their_own_addresses() {
     .unwrap();
     drop(toml);
     let hub = Hub::serve(&made.data, tmp.path());
-    let Some(balancer) = Haproxy::start(tmp.path(), &hub) else {
+    let Some(balancer) = Haproxy::start(tmp.path(), |st, web| balancer_config(st, web, &hub))
+    else {
         return;
     };
-    let via_balancer = Console::new(&made.data, &balancer.console);
+    let via_balancer = Console::new(&made.data, &format!("127.0.0.1:{}", balancer.console));
     let began = Instant::now();
     while via_balancer.request("GET", "/readyz", None, "").status != 200 {
         assert!(
@@ -236,8 +188,8 @@ fn clients_behind_haproxy_are_counted_and_audited_by_their_own_addresses() {
     }
 
     // The login allowance: X's failures are X's alone.
-    let x = Console::new(&made.data, &balancer.console).from_source(ip(X));
-    let y = Console::new(&made.data, &balancer.console).from_source(ip(Y));
+    let x = Console::new(&made.data, &format!("127.0.0.1:{}", balancer.console)).from_source(ip(X));
+    let y = Console::new(&made.data, &format!("127.0.0.1:{}", balancer.console)).from_source(ip(Y));
     let mut x_statuses: Vec<u16> = (0..5).map(|n| failed_login(&x, n)).collect();
     assert_eq!(x_statuses, [401; 5], "five free failures");
     // The sixth is evaluated once the first delay (1 s) is over; X must then wait 2 s, and
@@ -264,7 +216,8 @@ fn clients_behind_haproxy_are_counted_and_audited_by_their_own_addresses() {
     );
 
     // The audit log names the clients, not the balancer.
-    let admin = Console::new(&made.data, &balancer.console).from_source(ip("127.0.0.4"));
+    let admin = Console::new(&made.data, &format!("127.0.0.1:{}", balancer.console))
+        .from_source(ip("127.0.0.4"));
     let cookie = admin.login("ana@clinic.example", &made.admin_password);
     let audit = admin.get("/api/audit?limit=200", &cookie);
     assert_eq!(audit.status, 200);
@@ -277,16 +230,16 @@ fn clients_behind_haproxy_are_counted_and_audited_by_their_own_addresses() {
     // is refused at once, while Y's connection is served (its TLS handshake fails on the
     // garbage it sends, and the hub's line names Y).
     let x_idle: Vec<TcpStream> = (0..2 * PER_ADDRESS)
-        .map(|_| connect_from(Some(ip(X)), &balancer.stations))
+        .map(|_| connect_from(Some(ip(X)), &format!("127.0.0.1:{}", balancer.stations)))
         .collect();
     // Each idle connection is through the balancer and counted before the next test step.
     std::thread::sleep(Duration::from_millis(200));
-    let mut x_over = connect_from(Some(ip(X)), &balancer.stations);
+    let mut x_over = connect_from(Some(ip(X)), &format!("127.0.0.1:{}", balancer.stations));
     assert!(
         closed_by_the_hub(&mut x_over),
         "X's connection past its line was kept"
     );
-    let mut y_conn = connect_from(Some(ip(Y)), &balancer.stations);
+    let mut y_conn = connect_from(Some(ip(Y)), &format!("127.0.0.1:{}", balancer.stations));
     y_conn.write_all(b"not TLS at all\r\n\r\n").unwrap();
     let line = line_with(&hub.out, &format!("[{Y}:"));
     assert!(line.contains("protocol error"), "{line}");

@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::OnceLock;
 
+pub mod balancer;
 pub mod clinic;
 pub mod console;
 pub mod logged;
