@@ -19,13 +19,17 @@
 //! - [`safety`]: limiter, soft start, fade-out, deadline watchdog.
 //! - [`chain`]: [`HapticChain`], all of the above as the one call per tick the haptic loop
 //!   makes.
-//! - `strategies` (tests only, feature `strategies`): proptest strategies over the chain's inputs.
+//! - `strategies` (tests only): proptest strategies over the chain's inputs.
 //!
 //! The real wheels (evdev on Linux, DirectInput 8 on Windows), pedals and gamepads, and the
 //! device listing are the `wheel-devices` crate; its safety tests drive this crate's chain on
 //! both backends' in-memory devices.
 //!
 //! SI units inside: rad, rad/s, N·m, s. Device units are converted at the device edge.
+
+// The shared test strategies (`strategies`) name this crate by its name, as `wheel-devices`
+// does when it compiles the same file.
+extern crate self as haptic_wheel;
 
 pub mod calibrate;
 pub mod chain;
@@ -36,7 +40,7 @@ pub mod model;
 pub mod profile;
 pub mod safety;
 pub mod sim;
-#[cfg(any(test, feature = "strategies"))]
+#[cfg(test)]
 pub mod strategies;
 pub mod wheel;
 pub mod wheel_config;

@@ -1,12 +1,16 @@
 //! proptest strategies over the haptic chain's inputs (finite and non-finite numbers, every
 //! effect, the regimen's spring–damper), shared by this crate's chain tests and the real
-//! backends' all-modes proptest in `wheel-devices`. Built for tests only (feature
-//! `strategies`, which the backends' crate turns on as a dev-dependency).
+//! backends' all-modes proptest in `wheel-devices`, which compiles this same file into its
+//! tests (`#[path]`): built for tests only, so proptest never enters the shipped binary's
+//! dependency graph (a cargo feature would put it there for `cargo metadata`, and so in the
+//! package's copyright file). Hence the `haptic_wheel::` paths (this crate names itself so).
 
 use proptest::prelude::*;
 
-use crate::effects::{Condition, ConditionKind, Effect, EffectKind, Envelope, Periodic, Waveform};
-use crate::model::SpringDamper;
+use haptic_wheel::effects::{
+    Condition, ConditionKind, Effect, EffectKind, Envelope, Periodic, Waveform,
+};
+use haptic_wheel::model::SpringDamper;
 
 /// The haptic loop's nominal period, ns (1 kHz).
 pub const DT_NS: u64 = 1_000_000;

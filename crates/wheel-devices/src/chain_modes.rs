@@ -24,10 +24,10 @@
 //!   bound `fade_out_s + ceiling / slew` has passed on the supervisor's clock, and stay there.
 
 use crate::backend_tests::{Backend, Motor};
+use crate::strategies::{DT_NS, any_effect, any_finite_or_not, any_model};
 use clock::{Clock, MockClock};
 use haptic_wheel::chain::*;
 use haptic_wheel::profile::{DeviceProfile, DriverFamily};
-use haptic_wheel::strategies::{DT_NS, any_effect, any_finite_or_not, any_model};
 use haptic_wheel::wheel_config::WheelConfig;
 use haptic_wheel::*;
 use proptest::prelude::*;

@@ -30,6 +30,10 @@ pub mod scan;
 mod backend_tests;
 #[cfg(all(test, feature = "dinput"))]
 mod chain_modes;
+/// The chain's proptest strategies, the same file as `haptic_wheel`'s own tests use.
+#[cfg(all(test, feature = "dinput"))]
+#[path = "../../haptic-wheel/src/strategies.rs"]
+mod strategies;
 
 pub use devices::DeviceReport;
 pub use scan::enumerate_devices;

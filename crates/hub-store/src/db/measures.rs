@@ -43,14 +43,7 @@ impl Db {
         .fetch_all(self.pool())
         .await
         .map_err(HubError::db("reading a patient's measures"))?;
-        let mut by_session = MeasuresBySession::new();
-        for row in &rows {
-            by_session
-                .entry(col(row, "session_id")?)
-                .or_default()
-                .insert(col(row, "name")?, col(row, "value")?);
-        }
-        Ok(by_session)
+        by_session(&rows)
     }
 
     /// The measures named `names` of every session of patient `patient_id`, by session (what
@@ -80,13 +73,18 @@ impl Db {
             .fetch_all(self.pool())
             .await
             .map_err(HubError::db("reading the measures the alerts need"))?;
-        let mut by_session = MeasuresBySession::new();
-        for row in &rows {
-            by_session
-                .entry(col(row, "session_id")?)
-                .or_default()
-                .insert(col(row, "name")?, col(row, "value")?);
-        }
-        Ok(by_session)
+        by_session(&rows)
     }
+}
+
+/// Rows of `session_id`, `name`, `value` gathered by session.
+fn by_session(rows: &[sqlx::any::AnyRow]) -> Result<MeasuresBySession, HubError> {
+    let mut by_session = MeasuresBySession::new();
+    for row in rows {
+        by_session
+            .entry(col(row, "session_id")?)
+            .or_default()
+            .insert(col(row, "name")?, col(row, "value")?);
+    }
+    Ok(by_session)
 }
