@@ -88,6 +88,21 @@ pub struct NetworkConfig {
 }
 
 impl ClinicConfig {
+    /// A clinic's configuration with its `names` and `database` and nothing else set (what
+    /// `hub init` writes; every other setting absent, i.e. its default).
+    pub fn new(names: Vec<String>, database: String) -> Self {
+        Self {
+            names,
+            database,
+            clinic_name: None,
+            fhir_base: None,
+            backup_recipients: Vec::new(),
+            metrics_listen: None,
+            recordings: None,
+            network: None,
+        }
+    }
+
     /// The peers whose PROXY protocol headers are read (`[network] proxy_protocol_from`).
     pub fn proxy_protocol_from(&self) -> netlink::proxy_protocol::TrustedProxies {
         self.network
@@ -224,16 +239,7 @@ impl Clinic {
         write_new_private(&self.tls("ca.key"), &ca.pem().key_pem)?;
         write_new_private(&self.tls("hub.crt"), &hub.cert_pem)?;
         write_new_private(&self.tls("hub.key"), &hub.key_pem)?;
-        let config = ClinicConfig {
-            names: names.to_vec(),
-            database: database.unwrap_or_default().to_owned(),
-            clinic_name: None,
-            fhir_base: None,
-            backup_recipients: Vec::new(),
-            metrics_listen: None,
-            recordings: None,
-            network: None,
-        };
+        let config = ClinicConfig::new(names.to_vec(), database.unwrap_or_default().to_owned());
         let url = match database.filter(|d| !d.is_empty()) {
             Some(u) => u.to_owned(),
             None => self.sqlite_url(),
@@ -998,16 +1004,7 @@ mod tests {
 
     #[test]
     fn the_clinics_fhir_base_is_its_configured_one_else_of_the_hubs_name() {
-        let mut config = ClinicConfig {
-            names: vec!["hub.clinic.example".into()],
-            database: String::new(),
-            clinic_name: None,
-            fhir_base: None,
-            backup_recipients: Vec::new(),
-            metrics_listen: None,
-            recordings: None,
-            network: None,
-        };
+        let mut config = ClinicConfig::new(vec!["hub.clinic.example".into()], String::new());
         assert_eq!(
             config.fhir_base().unwrap().to_string(),
             "https://hub.clinic.example/fhir"
