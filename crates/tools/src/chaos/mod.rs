@@ -7,12 +7,17 @@
 //!
 //! The PostgreSQL server is the command's own (see module `postgres`: `initdb` and `pg_ctl` from
 //! `$TELEREHAB_PG_BINDIR` or `/usr/lib/postgresql/*/bin`); without one the command fails with
-//! "PostgreSQL unavailable: …". The hubs are `telerehab hub serve` child processes on one data
-//! directory (hence one CA), each on its own ports; the stations run in this process
+//! "PostgreSQL unavailable: …". With `--patroni` the database is a cluster that fails over
+//! (module `patroni`: etcd, a Patroni-managed primary and synchronous replica, HAProxy in front),
+//! a PostgreSQL kill is the primary's machine gone (Patroni and postmaster SIGKILLed), the
+//! report gives each failover's time (killed → first write accepted on the new primary) and the
+//! killed node rejoins as the replica. The hubs are `telerehab hub serve` child processes on
+//! one data directory (hence one CA), each on its own ports; the stations run in this process
 //! (module `station`).
 
 mod check;
 pub(crate) mod hubs;
+mod patroni;
 mod postgres;
 mod station;
 
@@ -24,6 +29,7 @@ use rand::{Rng, SeedableRng};
 use tokio::sync::mpsc;
 
 use hubs::{Hub, HubSpec, Signal};
+use patroni::Patroni;
 use postgres::Postgres;
 use station::{DayPlan, StationLedger, World};
 
@@ -54,6 +60,73 @@ pub struct ChaosArgs {
     /// directory, removed).
     #[arg(long, value_name = "DIR")]
     pub keep: Option<std::path::PathBuf>,
+    /// The database is a Patroni cluster (etcd, a primary and a synchronous replica, HAProxy
+    /// in front) instead of one server, and "kill PostgreSQL" kills the primary's machine
+    /// (Patroni and postmaster SIGKILLed): the replica takes over, the killed node rejoins.
+    #[arg(long)]
+    pub patroni: bool,
+    /// The kinds of kill the day draws from (comma-separated); default all of them.
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub kinds: Vec<KillKind>,
+}
+
+/// A kind of kill, as `--kinds` names it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum KillKind {
+    /// A hub SIGKILLed.
+    HubKill,
+    /// A hub SIGTERMed (it must stop in order).
+    HubTerm,
+    /// A station's process gone.
+    Station,
+    /// The PostgreSQL server crashed (`--patroni`: the primary's machine gone).
+    Postgres,
+}
+
+impl KillKind {
+    fn kind(self) -> Kind {
+        match self {
+            Self::HubKill => Kind::Hub(Signal::Kill),
+            Self::HubTerm => Kind::Hub(Signal::Term),
+            Self::Station => Kind::Station,
+            Self::Postgres => Kind::Postgres,
+        }
+    }
+}
+
+/// The day's database: one server, or a cluster that fails over.
+enum Database {
+    Single(Postgres),
+    Patroni(Box<Patroni>),
+}
+
+impl Database {
+    fn url(&self) -> String {
+        match self {
+            Self::Single(pg) => pg.url(),
+            Self::Patroni(c) => c.url(),
+        }
+    }
+
+    fn describe(&self) -> String {
+        match self {
+            Self::Single(pg) => format!("PostgreSQL {}", pg.version),
+            Self::Patroni(c) => format!(
+                "PostgreSQL {} under Patroni (primary + synchronous replica, HAProxy)",
+                c.version
+            ),
+        }
+    }
+
+    async fn stop(self) -> anyhow::Result<()> {
+        match self {
+            Self::Single(pg) => pg.stop().await,
+            Self::Patroni(c) => {
+                c.stop().await;
+                Ok(())
+            }
+        }
+    }
 }
 
 /// Now, ms since the Unix epoch.
@@ -71,14 +144,13 @@ enum Kind {
     Postgres,
 }
 
-/// The day's kills: (time s, kind, which, downtime s), in time order.
-fn schedule(rng: &mut impl Rng, day_s: f64, n: usize) -> Vec<(f64, Kind, usize, f64)> {
-    let kinds = [
-        Kind::Hub(Signal::Kill),
-        Kind::Hub(Signal::Term),
-        Kind::Station,
-        Kind::Postgres,
-    ];
+/// The day's kills of `kinds`: (time s, kind, which, downtime s), in time order.
+fn schedule(
+    rng: &mut impl Rng,
+    day_s: f64,
+    n: usize,
+    kinds: &[Kind],
+) -> Vec<(f64, Kind, usize, f64)> {
     let mut first: Vec<Kind> = kinds.to_vec();
     // Every kind once (shuffled), then at random.
     for k in (1..first.len()).rev() {
@@ -114,9 +186,19 @@ pub async fn run(args: ChaosArgs) -> anyhow::Result<()> {
     }
     let deadline_s = args.deadline_s.unwrap_or(args.day_s * 1.5);
     let n_events = args.events.unwrap_or((args.day_s / 15.0).round() as usize);
-    let pg = Postgres::start_new()
-        .await
-        .map_err(|e| anyhow::anyhow!("PostgreSQL unavailable: {e:#}"))?;
+    let pg = if args.patroni {
+        Database::Patroni(Box::new(
+            Patroni::start_new()
+                .await
+                .map_err(|e| anyhow::anyhow!("Patroni unavailable: {e:#}"))?,
+        ))
+    } else {
+        Database::Single(
+            Postgres::start_new()
+                .await
+                .map_err(|e| anyhow::anyhow!("PostgreSQL unavailable: {e:#}"))?,
+        )
+    };
     let tmp = tempfile::tempdir().context("cannot make the day's directory")?;
     let dir = args.keep.clone().unwrap_or_else(|| tmp.path().to_owned());
     let result = day(&args, &pg, &dir, deadline_s, n_events).await;
@@ -159,7 +241,7 @@ async fn clinic(
 
 async fn day(
     args: &ChaosArgs,
-    pg: &Postgres,
+    pg: &Database,
     dir: &std::path::Path,
     deadline_s: f64,
     n_events: usize,
@@ -190,16 +272,28 @@ async fn day(
             .collect(),
         seed: args.seed,
     };
-    let events = schedule(&mut rng, args.day_s, n_events);
+    let kinds: Vec<Kind> = if args.kinds.is_empty() {
+        [
+            KillKind::HubKill,
+            KillKind::HubTerm,
+            KillKind::Station,
+            KillKind::Postgres,
+        ]
+        .map(KillKind::kind)
+        .to_vec()
+    } else {
+        args.kinds.iter().map(|k| k.kind()).collect()
+    };
+    let events = schedule(&mut rng, args.day_s, n_events, &kinds);
     println!(
         "hub chaos: {} stations × {} sessions of {:.1} s at 10 Hz over a {} s day, seed {}, \
-         2 hubs on PostgreSQL {}, {} kills",
+         2 hubs on {}, {} kills",
         args.stations,
         p,
         plan.session_s,
         args.day_s,
         args.seed,
-        pg.version,
+        pg.describe(),
         events.len()
     );
     let world = Arc::new(World {
@@ -236,8 +330,18 @@ async fn day(
     }
     runners.abort_all();
     // The checks read the database: make sure its server runs.
-    if tally.pg_down {
-        let _ = pg.start().await;
+    match pg {
+        Database::Single(pg) if tally.pg_down => {
+            let _ = pg.start().await;
+        }
+        Database::Single(_) => {}
+        Database::Patroni(c) => {
+            if let Err(e) = c.first_write(patroni::FAILOVER_WITHIN).await {
+                tally
+                    .errors
+                    .push(format!("the database before the check: {e:#}"));
+            }
+        }
     }
     let ledger = world
         .ledger
@@ -285,6 +389,8 @@ struct Tally {
     hub_terms: u32,
     station_kills: u32,
     pg_kills: u32,
+    /// Each primary kill's failover: killed → first write accepted through the balancer, s.
+    failovers_s: Vec<f64>,
     skipped: u32,
     pg_down: bool,
     errors: Vec<String>,
@@ -294,7 +400,7 @@ async fn act(
     (at, kind, which, down_s): (f64, Kind, usize, f64),
     world: &World,
     hubs: &[Hub],
-    pg: &Postgres,
+    pg: &Database,
     kills: &[mpsc::UnboundedSender<Duration>],
     tally: &mut Tally,
 ) {
@@ -332,21 +438,76 @@ async fn act(
                 format!("kill station {i}")
             }
         }
-        Kind::Postgres => {
-            tally.pg_kills += 1;
-            match pg.kill().await {
-                Ok(()) => tally.pg_down = true,
-                Err(e) => tally.errors.push(format!("killing PostgreSQL: {e:#}")),
-            }
-            tokio::time::sleep(down).await;
-            match pg.start().await {
-                Ok(()) => tally.pg_down = false,
-                Err(e) => tally.errors.push(format!("restarting PostgreSQL: {e:#}")),
-            }
-            "kill PostgreSQL (pg_ctl stop -m immediate)".into()
-        }
+        Kind::Postgres => match pg {
+            Database::Single(pg) => kill_single(pg, down, tally).await,
+            Database::Patroni(c) => kill_primary(c, down, tally).await,
+        },
     };
     println!("  {at:6.1} s  {what}, down {down_s:.1} s");
+}
+
+/// Crashes the one server and starts it again `down` later.
+async fn kill_single(pg: &Postgres, down: Duration, tally: &mut Tally) -> String {
+    tally.pg_kills += 1;
+    match pg.kill().await {
+        Ok(()) => tally.pg_down = true,
+        Err(e) => tally.errors.push(format!("killing PostgreSQL: {e:#}")),
+    }
+    tokio::time::sleep(down).await;
+    match pg.start().await {
+        Ok(()) => tally.pg_down = false,
+        Err(e) => tally.errors.push(format!("restarting PostgreSQL: {e:#}")),
+    }
+    "kill PostgreSQL (pg_ctl stop -m immediate)".into()
+}
+
+/// Kills the primary's machine, measures the failover (killed → first write accepted through
+/// the balancer), and starts the killed node again `down` after the kill (or after the
+/// failover, if that took longer); waits until it streams as the synchronous replica again,
+/// so the next kill finds two nodes.
+async fn kill_primary(c: &Patroni, down: Duration, tally: &mut Tally) -> String {
+    let killed_at = Instant::now();
+    let k = match c.kill_primary().await {
+        Ok(k) => k,
+        Err(e) => {
+            tally
+                .errors
+                .push(format!("killing the PostgreSQL primary: {e:#}"));
+            return "kill PostgreSQL primary: failed".into();
+        }
+    };
+    tally.pg_kills += 1;
+    let failover = match c.first_write(patroni::FAILOVER_WITHIN).await {
+        Ok(t) => {
+            tally.failovers_s.push(t.as_secs_f64());
+            format!("failover {:.1} s", t.as_secs_f64())
+        }
+        Err(e) => {
+            tally.errors.push(format!("failover: {e:#}"));
+            "no failover".into()
+        }
+    };
+    tokio::time::sleep_until((killed_at + down).into()).await;
+    let rejoin = Instant::now();
+    let rejoined = match c.restart(k).await {
+        Ok(()) => match c.wait_synchronous(patroni::FAILOVER_WITHIN).await {
+            Ok(()) => format!(
+                "node {k} back as synchronous replica after {:.1} s",
+                rejoin.elapsed().as_secs_f64()
+            ),
+            Err(e) => {
+                tally.errors.push(format!("node {k} rejoining: {e:#}"));
+                format!("node {k} did not rejoin")
+            }
+        },
+        Err(e) => {
+            tally.errors.push(format!("restarting node {k}: {e:#}"));
+            format!("node {k} not restarted")
+        }
+    };
+    format!(
+        "kill PostgreSQL primary node {k} (Patroni and postmaster SIGKILL): {failover}, {rejoined}"
+    )
 }
 
 /// Prints the report; the number of violations.
@@ -369,6 +530,15 @@ fn report(
         t.skipped,
         hubs.iter().map(|h| h.starts).sum::<u32>(),
     );
+    if !t.failovers_s.is_empty() {
+        let max = t.failovers_s.iter().copied().fold(0.0, f64::max);
+        let mean = t.failovers_s.iter().sum::<f64>() / t.failovers_s.len() as f64;
+        println!(
+            "failover: {} primary kills, killed → first write accepted on the new primary \
+             mean {mean:.1} s, max {max:.1} s",
+            t.failovers_s.len()
+        );
+    }
     println!(
         "stations: {} paired, {} done (slowest at {:.1} s, deadline {deadline_s:.0} s); \
          failovers {}, pairing codes reissued {}, pairings rate-limited {}",

@@ -22,7 +22,7 @@ pub struct Postgres {
 }
 
 /// The directory holding `initdb` and `pg_ctl`.
-fn bindir() -> anyhow::Result<PathBuf> {
+pub(super) fn bindir() -> anyhow::Result<PathBuf> {
     if let Some(dir) = std::env::var_os("TELEREHAB_PG_BINDIR").filter(|d| !d.is_empty()) {
         return Ok(PathBuf::from(dir));
     }
@@ -198,7 +198,7 @@ impl Postgres {
     }
 }
 
-fn path_str(p: &Path) -> anyhow::Result<&str> {
+pub(super) fn path_str(p: &Path) -> anyhow::Result<&str> {
     p.to_str()
         .with_context(|| format!("{} is not UTF-8", p.display()))
 }

@@ -1,0 +1,665 @@
+//! A throwaway PostgreSQL that fails over, as docs/DEPLOY.md sets one up for a clinic network:
+//! one etcd, two Patroni nodes (a primary and a synchronous replica: `synchronous_mode: true`,
+//! so a commit returns only once the replica has it) and a HAProxy in `mode tcp` whose health
+//! check asks each node's Patroni REST API `GET /primary`, so the hubs' database URL is the
+//! balancer's and always reaches the primary. All from Debian (`patroni`, `etcd-server`,
+//! `haproxy`, `postgresql`), in a temporary directory, on free ports.
+//!
+//! [`Patroni::kill_primary`] is the machine of the primary gone: its Patroni and its postmaster
+//! with every backend SIGKILLed at once. The replica's Patroni sees the leader key expire (`ttl`
+//! 10 s) and promotes; [`Patroni::first_write`] measures how long until a write through the
+//! balancer is accepted again. [`Patroni::restart`] starts the killed node's Patroni again: it
+//! rejoins as the replica (`pg_rewind`, or a new base backup when the rewind fails).
+//!
+//! As root, Patroni (and so PostgreSQL, which refuses root) runs as the `postgres` OS user.
+
+use std::path::{Path, PathBuf};
+use std::process::Stdio;
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, bail};
+use tokio::io::{AsyncReadExt, AsyncWriteExt};
+use tokio::process::{Child, Command};
+use tokio::sync::Mutex;
+
+use super::postgres::{bindir, path_str};
+
+/// Longest the cluster may take to elect a leader and stream to a synchronous replica.
+const FORM_WITHIN: Duration = Duration::from_secs(60);
+/// Longest a failover may take before the day counts it as failed (ttl 10 s + a loop or two).
+pub const FAILOVER_WITHIN: Duration = Duration::from_secs(45);
+/// The DCS key's time to live, s: how long a dead primary keeps the leadership.
+const TTL_S: u32 = 10;
+
+/// One Patroni node.
+#[derive(Debug)]
+struct Node {
+    name: String,
+    /// PostgreSQL's port.
+    pg_port: u16,
+    /// Patroni's REST API port.
+    rest_port: u16,
+    /// Its directory: configuration, data directory, log, socket.
+    dir: PathBuf,
+    /// The running Patroni, if any.
+    child: Mutex<Option<Child>>,
+}
+
+impl Node {
+    fn data(&self) -> PathBuf {
+        self.dir.join("data")
+    }
+    fn config(&self) -> PathBuf {
+        self.dir.join("patroni.yml")
+    }
+}
+
+/// The cluster and its balancer; every process is killed by [`Patroni::stop`] or on drop.
+#[derive(Debug)]
+pub struct Patroni {
+    /// Owns every node's directory; removed on drop.
+    dir: tempfile::TempDir,
+    etcd: Option<Child>,
+    haproxy: Option<Child>,
+    nodes: Vec<Node>,
+    /// The balancer's port: the hubs' database.
+    port: u16,
+    password: String,
+    /// `(uid, gid)` of the `postgres` OS user when running as root.
+    owner: Option<(u32, u32)>,
+    /// The server's version, e.g. `15.10`.
+    pub version: String,
+}
+
+fn free_port() -> anyhow::Result<u16> {
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").context("no free port")?;
+    Ok(listener.local_addr()?.port())
+}
+
+/// A password of 32 hex digits (safe in a URL and in YAML).
+fn password() -> String {
+    use rand::Rng;
+    let mut rng = rand::rng();
+    (0..4)
+        .map(|_| format!("{:08x}", rng.random::<u32>()))
+        .collect()
+}
+
+/// `(uid, gid)` of the `postgres` OS user when this process is root; `None` otherwise.
+fn postgres_owner() -> anyhow::Result<Option<(u32, u32)>> {
+    // /proc/self belongs to the process's effective user.
+    let euid = std::os::unix::fs::MetadataExt::uid(&std::fs::metadata("/proc/self")?);
+    if euid != 0 {
+        return Ok(None);
+    }
+    let id = |flag: &str| {
+        std::process::Command::new("id")
+            .args([flag, "postgres"])
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .and_then(|o| {
+                String::from_utf8_lossy(&o.stdout)
+                    .trim()
+                    .parse::<u32>()
+                    .ok()
+            })
+    };
+    match (id("-u"), id("-g")) {
+        (Some(u), Some(g)) => Ok(Some((u, g))),
+        _ => bail!("running as root but there is no `postgres` OS user to run the server"),
+    }
+}
+
+/// Whether `program` is on the PATH.
+fn on_path(program: &str) -> bool {
+    std::env::var_os("PATH")
+        .is_some_and(|paths| std::env::split_paths(&paths).any(|d| d.join(program).is_file()))
+}
+
+/// `GET path` of an HTTP server on 127.0.0.1: (status, body). HTTP/1.0, so the server closes.
+async fn http_get(port: u16, path: &str) -> anyhow::Result<(u16, String)> {
+    let exchange = async {
+        let mut s = tokio::net::TcpStream::connect(("127.0.0.1", port)).await?;
+        s.write_all(format!("GET {path} HTTP/1.0\r\nHost: 127.0.0.1\r\n\r\n").as_bytes())
+            .await?;
+        let mut raw = Vec::new();
+        s.read_to_end(&mut raw).await?;
+        anyhow::Ok(String::from_utf8_lossy(&raw).into_owned())
+    };
+    let text = tokio::time::timeout(Duration::from_secs(2), exchange)
+        .await
+        .context("no answer within 2 s")??;
+    let status = text
+        .split_whitespace()
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .context("not an HTTP answer")?;
+    let body = text
+        .split_once("\r\n\r\n")
+        .map_or("", |(_, b)| b)
+        .to_owned();
+    Ok((status, body))
+}
+
+/// Every process whose ancestry leads to one of `roots`, and the roots (`/proc`).
+fn process_tree(roots: &[u32]) -> Vec<u32> {
+    let mut parent = Vec::new();
+    if let Ok(entries) = std::fs::read_dir("/proc") {
+        for e in entries.filter_map(Result::ok) {
+            let Some(pid) = e.file_name().to_str().and_then(|s| s.parse::<u32>().ok()) else {
+                continue;
+            };
+            // "pid (comm) state ppid …"; comm may hold spaces and parentheses.
+            let ppid = std::fs::read_to_string(e.path().join("stat"))
+                .ok()
+                .and_then(|s| {
+                    let after = s.rsplit_once(')')?.1.to_owned();
+                    after.split_whitespace().nth(1)?.parse::<u32>().ok()
+                });
+            if let Some(ppid) = ppid {
+                parent.push((pid, ppid));
+            }
+        }
+    }
+    let mut tree: Vec<u32> = roots.to_vec();
+    let mut k = 0;
+    while k < tree.len() {
+        let p = tree[k];
+        tree.extend(
+            parent
+                .iter()
+                .filter(|(pid, ppid)| *ppid == p && !tree.contains(pid))
+                .map(|(pid, _)| *pid)
+                .collect::<Vec<_>>(),
+        );
+        k += 1;
+    }
+    tree
+}
+
+/// SIGKILLs `pids` at once.
+fn kill_all(pids: &[u32]) {
+    if pids.is_empty() {
+        return;
+    }
+    let _ = std::process::Command::new("kill")
+        .arg("-KILL")
+        .args(pids.iter().map(u32::to_string))
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status();
+}
+
+impl Patroni {
+    /// Starts etcd, two Patroni nodes and the balancer, and waits until there is a leader with a
+    /// synchronous replica streaming and a write through the balancer is accepted. An error here
+    /// means "Patroni unavailable".
+    pub async fn start_new() -> anyhow::Result<Self> {
+        for program in ["patroni", "etcd", "haproxy", "psql"] {
+            if !on_path(program) {
+                bail!(
+                    "no `{program}` on the PATH (scripts/setup.sh installs patroni, \
+                     etcd-server, haproxy and postgresql)"
+                );
+            }
+        }
+        let bindir = bindir()?;
+        let owner = postgres_owner()?;
+        let dir = tempfile::Builder::new()
+            .prefix("telerehab-chaos-patroni.")
+            .tempdir()
+            .context("cannot make the cluster's directory")?;
+        let version = std::process::Command::new(bindir.join("postgres"))
+            .arg("--version")
+            .output()
+            .ok()
+            .and_then(|o| {
+                String::from_utf8_lossy(&o.stdout)
+                    .split_whitespace()
+                    .nth(2)
+                    .map(str::to_owned)
+            })
+            .unwrap_or_else(|| "?".into());
+        let mut cluster = Self {
+            dir,
+            etcd: None,
+            haproxy: None,
+            nodes: Vec::new(),
+            port: free_port()?,
+            password: password(),
+            owner,
+            version,
+        };
+        let (client, peer) = (free_port()?, free_port()?);
+        cluster.etcd = Some(cluster.start_etcd(client, peer)?);
+        let began = Instant::now();
+        while !matches!(http_get(client, "/health").await, Ok((200, _))) {
+            if began.elapsed() > Duration::from_secs(20) {
+                bail!(
+                    "etcd did not answer within 20 s: {}",
+                    tail(&cluster.dir.path().join("etcd.log"))
+                );
+            }
+            tokio::time::sleep(Duration::from_millis(100)).await;
+        }
+        let replication = password();
+        for k in 0..2 {
+            let node = Node {
+                name: format!("pg{k}"),
+                pg_port: free_port()?,
+                rest_port: free_port()?,
+                dir: cluster.dir.path().join(format!("pg{k}")),
+                child: Mutex::new(None),
+            };
+            std::fs::create_dir_all(&node.dir)?;
+            std::fs::write(
+                node.config(),
+                node_config(&node, client, &bindir, &cluster.password, &replication)?,
+            )?;
+            cluster.nodes.push(node);
+        }
+        cluster.give_to_postgres()?;
+        // The first node bootstraps (initdb); the second then takes a base backup from it.
+        cluster.restart(0).await?;
+        cluster.wait(FORM_WITHIN, |c| c.leader.is_some()).await?;
+        cluster.restart(1).await?;
+        cluster.haproxy = Some(cluster.start_haproxy()?);
+        cluster.wait_synchronous(FORM_WITHIN).await?;
+        cluster
+            .first_write(FORM_WITHIN)
+            .await
+            .context("no write accepted through the balancer")?;
+        Ok(cluster)
+    }
+
+    /// Hands the cluster's directory to the `postgres` user (when root).
+    fn give_to_postgres(&self) -> anyhow::Result<()> {
+        let Some((uid, gid)) = self.owner else {
+            return Ok(());
+        };
+        std::os::unix::fs::chown(self.dir.path(), Some(uid), Some(gid))?;
+        for node in &self.nodes {
+            std::os::unix::fs::chown(&node.dir, Some(uid), Some(gid))?;
+            std::os::unix::fs::chown(node.config(), Some(uid), Some(gid))?;
+        }
+        Ok(())
+    }
+
+    fn log(&self, name: &str) -> anyhow::Result<std::fs::File> {
+        std::fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(self.dir.path().join(name))
+            .with_context(|| format!("cannot open {name}"))
+    }
+
+    fn start_etcd(&self, client: u16, peer: u16) -> anyhow::Result<Child> {
+        let log = self.log("etcd.log")?;
+        let (c, p) = (
+            format!("http://127.0.0.1:{client}"),
+            format!("http://127.0.0.1:{peer}"),
+        );
+        Command::new("etcd")
+            .args(["--name", "etcd0", "--data-dir"])
+            .arg(self.dir.path().join("etcd"))
+            .args(["--listen-client-urls", &c, "--advertise-client-urls", &c])
+            .args([
+                "--listen-peer-urls",
+                &p,
+                "--initial-advertise-peer-urls",
+                &p,
+            ])
+            .args(["--initial-cluster", &format!("etcd0={p}")])
+            .args(["--initial-cluster-state", "new", "--log-level", "warn"])
+            .stdin(Stdio::null())
+            .stdout(Stdio::from(log.try_clone()?))
+            .stderr(Stdio::from(log))
+            .kill_on_drop(true)
+            .spawn()
+            .context("cannot start etcd")
+    }
+
+    fn start_haproxy(&self) -> anyhow::Result<Child> {
+        let cfg = self.dir.path().join("haproxy.cfg");
+        std::fs::write(&cfg, haproxy_config(self.port, &self.nodes))?;
+        let log = self.log("haproxy.log")?;
+        Command::new("haproxy")
+            .arg("-db")
+            .arg("-f")
+            .arg(&cfg)
+            .stdin(Stdio::null())
+            .stdout(Stdio::from(log.try_clone()?))
+            .stderr(Stdio::from(log))
+            .kill_on_drop(true)
+            .spawn()
+            .context("cannot start haproxy")
+    }
+
+    /// The database URL: the balancer, which passes the connection to the primary.
+    pub fn url(&self) -> String {
+        format!(
+            "postgres://postgres:{}@127.0.0.1:{}/postgres",
+            self.password, self.port
+        )
+    }
+
+    /// Starts node `k`'s Patroni (again): after a kill it rejoins as the replica.
+    pub async fn restart(&self, k: usize) -> anyhow::Result<()> {
+        let node = &self.nodes[k];
+        let mut slot = node.child.lock().await;
+        if let Some(child) = slot.as_mut()
+            && child.try_wait()?.is_none()
+        {
+            return Ok(());
+        }
+        let log = self.log(&format!("{}.log", node.name))?;
+        let mut command = Command::new("patroni");
+        command
+            .arg(node.config())
+            .current_dir(&node.dir)
+            .env("HOME", &node.dir)
+            .stdin(Stdio::null())
+            .stdout(Stdio::from(log.try_clone()?))
+            .stderr(Stdio::from(log));
+        if let Some((uid, gid)) = self.owner {
+            command.uid(uid).gid(gid);
+        }
+        *slot = Some(command.spawn().context("cannot start patroni")?);
+        Ok(())
+    }
+
+    /// The cluster as Patroni's REST API on any answering node sees it.
+    async fn state(&self) -> Option<ClusterState> {
+        for node in &self.nodes {
+            if let Ok((200, body)) = http_get(node.rest_port, "/cluster").await
+                && let Ok(json) = serde_json::from_str::<serde_json::Value>(&body)
+            {
+                return Some(ClusterState::from_json(&json, &self.nodes));
+            }
+        }
+        None
+    }
+
+    async fn wait(
+        &self,
+        within: Duration,
+        done: impl Fn(&ClusterState) -> bool,
+    ) -> anyhow::Result<()> {
+        let began = Instant::now();
+        loop {
+            let state = self.state().await;
+            if state.as_ref().is_some_and(&done) {
+                return Ok(());
+            }
+            if began.elapsed() > within {
+                bail!(
+                    "the Patroni cluster did not form within {} s ({state:?}); {}",
+                    within.as_secs(),
+                    self.nodes
+                        .iter()
+                        .map(|n| format!(
+                            "{}: {}",
+                            n.name,
+                            tail(&self.dir.path().join(format!("{}.log", n.name)))
+                        ))
+                        .collect::<Vec<_>>()
+                        .join("; ")
+                );
+            }
+            tokio::time::sleep(Duration::from_millis(200)).await;
+        }
+    }
+
+    /// Waits until there is a leader and the other node streams as its synchronous standby.
+    pub async fn wait_synchronous(&self, within: Duration) -> anyhow::Result<()> {
+        self.wait(within, |c| c.leader.is_some() && c.sync_streaming.is_some())
+            .await
+    }
+
+    /// The node that leads now, if any.
+    pub async fn leader(&self) -> Option<usize> {
+        self.state().await.and_then(|c| c.leader)
+    }
+
+    /// The primary's machine gone: its Patroni and its postmaster with every backend SIGKILLed
+    /// at once. The node killed.
+    pub async fn kill_primary(&self) -> anyhow::Result<usize> {
+        let k = self.leader().await.context("no leader to kill")?;
+        let node = &self.nodes[k];
+        let mut slot = node.child.lock().await;
+        let mut roots: Vec<u32> = slot.as_ref().and_then(Child::id).into_iter().collect();
+        // Patroni starts the postmaster in a session of its own: found by its pid file.
+        if let Some(pm) = std::fs::read_to_string(node.data().join("postmaster.pid"))
+            .ok()
+            .and_then(|s| s.lines().next()?.trim().parse::<u32>().ok())
+        {
+            roots.push(pm);
+        }
+        kill_all(&process_tree(&roots));
+        if let Some(mut child) = slot.take() {
+            let _ = child.wait().await;
+        }
+        Ok(k)
+    }
+
+    /// Writes through the balancer until one is accepted (a new connection each try, as a hub's
+    /// pool makes after its connections were cut); the time it took.
+    pub async fn first_write(&self, within: Duration) -> anyhow::Result<Duration> {
+        let began = Instant::now();
+        let url = self.url();
+        let sql = "CREATE TABLE IF NOT EXISTS chaos_probe (at_ms BIGINT NOT NULL); \
+                   INSERT INTO chaos_probe VALUES (floor(extract(epoch FROM now()) * 1000))";
+        loop {
+            let out = Command::new("psql")
+                .args(["-X", "-q", "-v", "ON_ERROR_STOP=1", &url, "-c", sql])
+                .env("PGCONNECT_TIMEOUT", "2")
+                .stdin(Stdio::null())
+                .kill_on_drop(true)
+                .output();
+            let last = match tokio::time::timeout(Duration::from_secs(5), out).await {
+                Ok(Ok(o)) if o.status.success() => return Ok(began.elapsed()),
+                Ok(Ok(o)) => String::from_utf8_lossy(&o.stderr).trim().to_owned(),
+                Ok(Err(e)) => e.to_string(),
+                Err(_) => "psql did not finish within 5 s".into(),
+            };
+            if began.elapsed() > within {
+                bail!("no write accepted within {} s: {last}", within.as_secs());
+            }
+            tokio::time::sleep(Duration::from_millis(100)).await;
+        }
+    }
+
+    /// Kills everything (the data is thrown away with the directory).
+    pub async fn stop(mut self) {
+        self.kill_everything().await;
+    }
+
+    async fn kill_everything(&mut self) {
+        for node in &self.nodes {
+            let mut slot = node.child.lock().await;
+            let mut roots: Vec<u32> = slot.as_ref().and_then(Child::id).into_iter().collect();
+            if let Some(pm) = std::fs::read_to_string(node.data().join("postmaster.pid"))
+                .ok()
+                .and_then(|s| s.lines().next()?.trim().parse::<u32>().ok())
+            {
+                roots.push(pm);
+            }
+            kill_all(&process_tree(&roots));
+            if let Some(mut child) = slot.take() {
+                let _ = child.wait().await;
+            }
+        }
+        for child in [self.haproxy.take(), self.etcd.take()]
+            .into_iter()
+            .flatten()
+        {
+            let mut child = child;
+            let _ = child.kill().await;
+        }
+    }
+}
+
+impl Drop for Patroni {
+    fn drop(&mut self) {
+        // What stop() did not get to: no PostgreSQL may outlive its removed directory.
+        let mut roots = Vec::new();
+        for node in &self.nodes {
+            if let Ok(mut slot) = node.child.try_lock()
+                && let Some(child) = slot.take()
+            {
+                roots.extend(child.id());
+            }
+            if let Some(pm) = std::fs::read_to_string(node.data().join("postmaster.pid"))
+                .ok()
+                .and_then(|s| s.lines().next()?.trim().parse::<u32>().ok())
+            {
+                roots.push(pm);
+            }
+        }
+        kill_all(&process_tree(&roots));
+    }
+}
+
+/// The last non-empty line of a log.
+fn tail(path: &Path) -> String {
+    std::fs::read_to_string(path)
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .rev()
+                .find(|l| !l.trim().is_empty())
+                .map(str::to_owned)
+        })
+        .unwrap_or_default()
+}
+
+/// What `GET /cluster` says.
+#[derive(Debug, Default)]
+struct ClusterState {
+    leader: Option<usize>,
+    /// The node streaming as the leader's synchronous standby.
+    sync_streaming: Option<usize>,
+}
+
+impl ClusterState {
+    fn from_json(json: &serde_json::Value, nodes: &[Node]) -> Self {
+        let mut state = Self::default();
+        let members = json
+            .get("members")
+            .and_then(serde_json::Value::as_array)
+            .map_or(&[][..], Vec::as_slice);
+        for m in members {
+            let field = |k: &str| m.get(k).and_then(serde_json::Value::as_str).unwrap_or("");
+            let Some(k) = nodes.iter().position(|n| n.name == field("name")) else {
+                continue;
+            };
+            match (field("role"), field("state")) {
+                ("leader", "running") => state.leader = Some(k),
+                // Patroni names a replica the synchronous standby only once the primary's
+                // pg_stat_replication shows it streaming; 3.0.2 reports its state as
+                // "running", later versions as "streaming".
+                ("sync_standby", "running" | "streaming") => state.sync_streaming = Some(k),
+                _ => {}
+            }
+        }
+        state
+    }
+}
+
+/// One node's Patroni configuration.
+fn node_config(
+    node: &Node,
+    etcd_port: u16,
+    bindir: &Path,
+    superuser: &str,
+    replication: &str,
+) -> anyhow::Result<String> {
+    let dir = path_str(&node.dir)?;
+    let data = node.data();
+    let data = path_str(&data)?;
+    let bin = path_str(bindir)?;
+    let (name, pg, rest) = (&node.name, node.pg_port, node.rest_port);
+    Ok(format!(
+        "scope: telerehab-chaos
+name: {name}
+restapi:
+  listen: 127.0.0.1:{rest}
+  connect_address: 127.0.0.1:{rest}
+etcd3:
+  hosts: 127.0.0.1:{etcd_port}
+bootstrap:
+  dcs:
+    ttl: {TTL_S}
+    loop_wait: 1
+    retry_timeout: 3
+    maximum_lag_on_failover: 1048576
+    synchronous_mode: true
+    synchronous_mode_strict: false
+    postgresql:
+      use_pg_rewind: true
+      remove_data_directory_on_rewind_failure: true
+      parameters:
+        wal_log_hints: 'on'
+        max_connections: 200
+        # A SIGKILL leaves the OS's page cache: no need to wait for the disk in a drill.
+        fsync: 'off'
+  initdb:
+    - encoding: UTF8
+postgresql:
+  listen: 127.0.0.1:{pg}
+  connect_address: 127.0.0.1:{pg}
+  data_dir: {data}
+  bin_dir: {bin}
+  pgpass: {dir}/pgpass
+  authentication:
+    superuser:
+      username: postgres
+      password: {superuser}
+    replication:
+      username: replicator
+      password: {replication}
+  parameters:
+    unix_socket_directories: {dir}
+  pg_hba:
+    - local all all trust
+    - host replication replicator 127.0.0.1/32 md5
+    - host all all 127.0.0.1/32 md5
+tags:
+  nofailover: false
+  noloadbalance: false
+  clonefrom: false
+  nosync: false
+"
+    ))
+}
+
+/// The balancer: TCP passed to whichever node's Patroni answers `GET /primary` with 200;
+/// connections to a node marked down are cut so clients reconnect to the new primary.
+fn haproxy_config(port: u16, nodes: &[Node]) -> String {
+    let servers: String = nodes
+        .iter()
+        .map(|n| {
+            format!(
+                "  server {} 127.0.0.1:{} check port {}\n",
+                n.name, n.pg_port, n.rest_port
+            )
+        })
+        .collect();
+    format!(
+        "global
+  maxconn 2000
+defaults
+  mode tcp
+  timeout connect 2s
+  timeout client 30m
+  timeout server 30m
+  timeout check 1s
+listen postgres
+  bind 127.0.0.1:{port}
+  option httpchk GET /primary
+  http-check expect status 200
+  default-server inter 500ms fall 2 rise 1 on-marked-down shutdown-sessions
+{servers}"
+    )
+}
