@@ -10,7 +10,8 @@
 #     poppler-utils (pdfinfo, pdftoppm: the console's one-page print is counted and looked at);
 #     fonts-noto-core and fonts-noto-cjk (the patient's window draws every script with them);
 #     maven and a headless JDK (the reference FHIR R4 validator, HAPI FHIR: scripts/fhir-validator);
-#     age (a test checks that the standard age tool decrypts an encrypted hub backup).
+#     age (a test checks that the standard age tool decrypts an encrypted hub backup);
+#     patroni and etcd-server (with haproxy: PostgreSQL that fails over, tests/failover_e2e.rs).
 #   - Rust (stable, via rustup if cargo is missing) with rustfmt and clippy.
 #   - A Python virtualenv in .venv with the test tools and the `telerehab` package (pyext).
 #   - SeaweedFS (`weed`, a real S3 server the hub's recording-store tests start themselves),
@@ -32,7 +33,8 @@ PKGS=(build-essential pkg-config libudev-dev mesa-vulkan-drivers libvulkan1 libg
       prometheus  # its promtool checks the hub's /metrics and docs/operating/alerts.yml
       maven default-jdk-headless  # the reference FHIR validator (scripts/fhir-validator)
       age  # Debian's age decrypts a hub backup (crates/hub/tests/backup_privacy.rs)
-      haproxy)  # the load balancer in front of several hubs (tests/hubs_e2e.rs runs its own)
+      haproxy  # the load balancer in front of several hubs (tests/hubs_e2e.rs runs its own)
+      patroni etcd-server)  # PostgreSQL that fails over (tests/failover_e2e.rs runs its own)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -49,6 +51,11 @@ $SUDO update-rc.d prometheus disable >/dev/null 2>&1 || true
 # Likewise haproxy: tests start their own with a generated configuration on free ports.
 $SUDO systemctl disable --now haproxy.service >/dev/null 2>&1 || true
 $SUDO update-rc.d haproxy disable >/dev/null 2>&1 || true
+# Likewise etcd and Patroni: `telerehab hub chaos --patroni` starts its own cluster.
+for unit in etcd patroni; do
+  $SUDO systemctl disable --now "$unit.service" >/dev/null 2>&1 || true
+  $SUDO update-rc.d "$unit" disable >/dev/null 2>&1 || true
+done
 
 if ! command -v cargo >/dev/null 2>&1; then
   if [ -x "$HOME/.cargo/bin/cargo" ]; then
