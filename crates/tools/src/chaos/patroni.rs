@@ -30,6 +30,12 @@ const FORM_WITHIN: Duration = Duration::from_secs(60);
 pub const FAILOVER_WITHIN: Duration = Duration::from_secs(45);
 /// The DCS key's time to live, s: how long a dead primary keeps the leadership.
 const TTL_S: u32 = 10;
+/// How often Patroni runs its loop, s.
+const LOOP_WAIT_S: u32 = 1;
+/// How long Patroni retries etcd and PostgreSQL before it demotes, s.
+const RETRY_TIMEOUT_S: u32 = 3;
+// Patroni wants loop_wait + 2 × retry_timeout within the ttl.
+const _: () = assert!(LOOP_WAIT_S + 2 * RETRY_TIMEOUT_S <= TTL_S);
 
 /// One Patroni node.
 #[derive(Debug)]
@@ -591,8 +597,8 @@ etcd3:
 bootstrap:
   dcs:
     ttl: {TTL_S}
-    loop_wait: 1
-    retry_timeout: 3
+    loop_wait: {LOOP_WAIT_S}
+    retry_timeout: {RETRY_TIMEOUT_S}
     maximum_lag_on_failover: 1048576
     synchronous_mode: true
     synchronous_mode_strict: false
@@ -662,4 +668,147 @@ listen postgres
   default-server inter 500ms fall 2 rise 1 on-marked-down shutdown-sessions
 {servers}"
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn nodes() -> Vec<Node> {
+        (0..2)
+            .map(|k| Node {
+                name: format!("pg{k}"),
+                pg_port: 5432 + k,
+                rest_port: 8008 + k,
+                dir: PathBuf::from(format!("/tmp/x/pg{k}")),
+                child: Mutex::new(None),
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_cluster_is_formed_only_with_a_leader_and_a_synchronous_replica() {
+        let nodes = nodes();
+        let member = |name: &str, role: &str, state: &str| serde_json::json!({"name": name, "role": role, "state": state});
+        let formed = |members: Vec<serde_json::Value>| {
+            let c = ClusterState::from_json(&serde_json::json!({ "members": members }), &nodes);
+            (c.leader, c.sync_streaming)
+        };
+        // Patroni 3.0.2 says "running" for a replica, later versions "streaming".
+        assert_eq!(
+            formed(vec![
+                member("pg0", "leader", "running"),
+                member("pg1", "sync_standby", "running")
+            ]),
+            (Some(0), Some(1))
+        );
+        assert_eq!(
+            formed(vec![
+                member("pg1", "leader", "running"),
+                member("pg0", "sync_standby", "streaming")
+            ]),
+            (Some(1), Some(0))
+        );
+        // An asynchronous replica, one still starting, and a leader not running yet: not formed.
+        assert_eq!(
+            formed(vec![
+                member("pg0", "leader", "running"),
+                member("pg1", "replica", "streaming")
+            ]),
+            (Some(0), None)
+        );
+        assert_eq!(
+            formed(vec![
+                member("pg0", "leader", "starting"),
+                member("pg1", "sync_standby", "starting"),
+                member("other", "leader", "running")
+            ]),
+            (None, None)
+        );
+        assert_eq!(formed(vec![]), (None, None));
+    }
+
+    #[test]
+    fn the_balancer_passes_only_to_the_node_whose_patroni_says_primary() {
+        let cfg = haproxy_config(6000, &nodes());
+        assert!(cfg.contains("bind 127.0.0.1:6000"), "{cfg}");
+        assert!(cfg.contains("mode tcp"), "{cfg}");
+        assert!(cfg.contains("option httpchk GET /primary"), "{cfg}");
+        assert!(cfg.contains("on-marked-down shutdown-sessions"), "{cfg}");
+        assert!(
+            cfg.contains("server pg0 127.0.0.1:5432 check port 8008"),
+            "{cfg}"
+        );
+        assert!(
+            cfg.contains("server pg1 127.0.0.1:5433 check port 8009"),
+            "{cfg}"
+        );
+    }
+
+    #[test]
+    fn a_node_is_configured_for_synchronous_replication_and_rewind() {
+        let node = &nodes()[1];
+        let cfg = node_config(
+            node,
+            2379,
+            Path::new("/usr/lib/postgresql/15/bin"),
+            "su",
+            "rep",
+        )
+        .unwrap();
+        for line in [
+            "name: pg1",
+            "  listen: 127.0.0.1:8009",
+            "  hosts: 127.0.0.1:2379",
+            "    ttl: 10",
+            "    loop_wait: 1",
+            "    retry_timeout: 3",
+            "    synchronous_mode: true",
+            "    synchronous_mode_strict: false",
+            "      use_pg_rewind: true",
+            "      remove_data_directory_on_rewind_failure: true",
+            "  listen: 127.0.0.1:5433",
+            "  data_dir: /tmp/x/pg1/data",
+            "  bin_dir: /usr/lib/postgresql/15/bin",
+            "      password: su",
+            "      password: rep",
+        ] {
+            assert!(cfg.lines().any(|l| l == line), "no {line:?} in:\n{cfg}");
+        }
+    }
+
+    #[test]
+    fn a_process_tree_holds_the_grandchildren() {
+        let mut child = std::process::Command::new("sh")
+            .args(["-c", "sleep 30 & sleep 30 & wait"])
+            .spawn()
+            .unwrap();
+        let root = child.id();
+        let began = Instant::now();
+        let mut tree = process_tree(&[root]);
+        while tree.len() < 3 && began.elapsed() < Duration::from_secs(10) {
+            std::thread::sleep(Duration::from_millis(20));
+            tree = process_tree(&[root]);
+        }
+        assert_eq!(tree.len(), 3, "{tree:?}");
+        assert_eq!(tree[0], root);
+        kill_all(&tree);
+        let _ = child.wait();
+        // Each gone, or a zombie waiting for whoever adopted it to reap it.
+        let alive = |pid: &u32| {
+            std::fs::read_to_string(format!("/proc/{pid}/stat"))
+                .ok()
+                .and_then(|s| {
+                    s.rsplit_once(')')
+                        .map(|(_, rest)| rest.trim().starts_with('Z'))
+                })
+                .is_some_and(|zombie| !zombie)
+        };
+        let began = Instant::now();
+        while tree.iter().any(alive) && began.elapsed() < Duration::from_secs(5) {
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        let survivors: Vec<&u32> = tree.iter().filter(|p| alive(p)).collect();
+        assert!(survivors.is_empty(), "outlived the kill: {survivors:?}");
+    }
 }
