@@ -50,6 +50,12 @@ fn a_primary_killed_mid_session_fails_over_and_loses_and_duplicates_no_summary()
         .lines()
         .find(|l| l.starts_with("failover: 1 primary kills"))
         .unwrap_or_else(|| panic!("no failover time in:\n{stdout}"));
+    // The hubs reconnected by themselves: neither exited (their supervisor would have restarted
+    // it, which would hide a pool that never recovers).
+    assert!(
+        stdout.contains("hub starts 2, hub exits on their own 0"),
+        "a hub did not survive the failover:\n{stdout}"
+    );
     assert!(
         stdout.contains("4 paired, 4 done"),
         "not every station finished:\n{stdout}"
