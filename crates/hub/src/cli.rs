@@ -605,6 +605,8 @@ async fn bench(load: BenchLoad, db: Option<&str>, hub_cpus: Option<&str>) -> any
         now_ms(),
     )
     .await?;
+    hub_db.checkpoint().await?;
+    let size_before = hub_db.size_bytes().await?;
     hub_db.close().await;
     // The PostgreSQL server's CPU is counted too: it does half of the storing.
     let postmaster = db.and_then(crate::bench::postgres_server);
@@ -629,6 +631,18 @@ async fn bench(load: BenchLoad, db: Option<&str>, hub_cpus: Option<&str>) -> any
     }
     if runs > 1 {
         print!("{}", crate::bench::describe_runs(&figures));
+    }
+    let hub_db = clinic.open_db(db).await?;
+    hub_db.scrub().await?;
+    let grown = hub_db.size_bytes().await? - size_before;
+    hub_db.close().await;
+    let stored: u64 = figures.iter().map(|f| f.acked).sum();
+    if stored > 0 {
+        println!(
+            "database grew {:.1} MB: {:.0} bytes per summary stored (tables and indexes, no log)",
+            grown as f64 / 1e6,
+            grown as f64 / stored as f64
+        );
     }
     Ok(())
 }
@@ -785,6 +799,7 @@ async fn bench_run(
         hub_cpu_pct: usage.map_or(f64::NAN, |(cpu, _)| 100.0 * cpu / seconds),
         db_cpu_pct,
         lost: report.sent.saturating_sub(report.acked),
+        acked: report.acked,
     })
 }
 

@@ -486,6 +486,8 @@ pub struct RunFigures {
     pub db_cpu_pct: Option<f64>,
     /// Summaries sent and not acknowledged.
     pub lost: u64,
+    /// Summaries acknowledged (stored).
+    pub acked: u64,
 }
 
 /// Median and range of `values` (NaN-free input), as `median [min–max]`.
