@@ -19,7 +19,8 @@
 //! a clear backup, and one of format 1 (always clear), still restores, with a warning. A
 //! restore re-applies every erasure the backup's ledger, the restored database and the
 //! ledgers the operator supplies record: a patient erased after the backup was taken does not
-//! come back.
+//! come back. The recordings go back where the restored `hub.toml` keeps them: the S3 store it
+//! names, or the data directory.
 //!
 //! The row counts are taken inside the snapshot the database copy is made from (SQLite: the
 //! copy itself; PostgreSQL: a repeatable-read transaction whose snapshot `pg_dump` is given),
@@ -532,6 +533,8 @@ async fn restore_staged(
             manifest.rows
         )));
     }
+    // Before the erasures: those reach the store the restored clinic names.
+    into_configured_store(&clinic, &manifest).await?;
     let db = Db::open(&url).await?;
     let erasures = tombstones::reapply(&clinic, &db, supplied, now_ms).await;
     db.close().await;
@@ -540,6 +543,37 @@ async fn restore_staged(
         encrypted,
         erasures: erasures?,
     })
+}
+
+/// When the restored `hub.toml` keeps recordings in an S3-compatible store (`[recordings]`),
+/// the recordings just unpacked (each checked against the manifest's SHA-256) go into it,
+/// each as the hub keeps an upload (one multipart upload, completed or aborted), and leave
+/// the data directory; on the local default they stay where they were unpacked. A store that
+/// does not answer fails the restore, naming the recording (nothing is moved into place).
+async fn into_configured_store(clinic: &Clinic, manifest: &Manifest) -> Result<(), HubError> {
+    let store = clinic.recordings()?;
+    if !store.is_s3() {
+        return Ok(());
+    }
+    for rel in manifest.recordings.keys() {
+        let (station, session) = rel
+            .split_once('/')
+            .and_then(|(st, file)| Some((st, file.strip_suffix(".mcap")?)))
+            .ok_or_else(|| {
+                HubError::Corrupt(format!(
+                    "the backup lists {rel}, which is not <station>/<session>.mcap"
+                ))
+            })?;
+        let unpacked = store.staging_path(station, session);
+        store.keep(station, session, &unpacked).await?;
+    }
+    if !manifest.recordings.is_empty() {
+        tracing::info!(
+            recordings = manifest.recordings.len(),
+            "restored recordings put into the clinic's S3 recording store"
+        );
+    }
+    Ok(())
 }
 
 /// Largest manifest read, bytes (some 150 bytes a recording: a clinic's years of sessions).

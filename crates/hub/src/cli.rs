@@ -118,6 +118,11 @@ pub enum HubCommand {
         /// gives each run and the median and spread (min–max).
         #[arg(long, default_value_t = 3)]
         runs: u32,
+        /// Hub processes sharing the database (`--db`, PostgreSQL) behind a TCP balancer
+        /// (HAProxy, `mode tcp`, least connections), as a clinic network runs them; their CPU
+        /// is reported together.
+        #[arg(long, default_value_t = 1)]
+        hubs: usize,
     },
     /// A patient's record for an electronic health record: a FHIR R4 `Bundle` (pseudonymous
     /// Patient, the regimen as CarePlan and ServiceRequest, an Observation per session and per
@@ -373,12 +378,14 @@ pub fn run(args: HubArgs) -> anyhow::Result<()> {
                 db,
                 hub_cpus,
                 runs,
+                hubs,
             } => {
                 let load = BenchLoad {
                     stations,
                     rate_hz,
                     seconds,
                     runs,
+                    hubs,
                 };
                 bench(load, db.as_deref(), hub_cpus.as_deref()).await
             }
@@ -546,6 +553,7 @@ struct BenchLoad {
     rate_hz: f64,
     seconds: f64,
     runs: u32,
+    hubs: usize,
 }
 
 /// `hub bench`: a fresh clinic, `stations` provisioned, then `runs` runs, each against a new
@@ -556,6 +564,7 @@ async fn bench(load: BenchLoad, db: Option<&str>, hub_cpus: Option<&str>) -> any
         rate_hz,
         seconds,
         runs,
+        hubs,
     } = load;
     if !((1..=20_000).contains(&stations) && rate_hz > 0.0 && rate_hz <= 1000.0) {
         bail!("--stations must be 1 to 20000 and --rate-hz in (0, 1000]");
@@ -565,6 +574,14 @@ async fn bench(load: BenchLoad, db: Option<&str>, hub_cpus: Option<&str>) -> any
     }
     if !(1..=100).contains(&runs) {
         bail!("--runs must be 1 to 100");
+    }
+    if !(1..=16).contains(&hubs) {
+        bail!("--hubs must be 1 to 16");
+    }
+    if hubs > 1 && db.is_none() {
+        bail!(
+            "--hubs {hubs} needs --db: several hubs share one PostgreSQL database (SQLite is one hub's)"
+        );
     }
     let tmp = tempfile::tempdir().context("cannot make a temporary clinic")?;
     let data = tmp.path().join("clinic");
@@ -588,6 +605,8 @@ async fn bench(load: BenchLoad, db: Option<&str>, hub_cpus: Option<&str>) -> any
         now_ms(),
     )
     .await?;
+    hub_db.checkpoint().await?;
+    let size_before = hub_db.size_bytes().await?;
     hub_db.close().await;
     // The PostgreSQL server's CPU is counted too: it does half of the storing.
     let postmaster = db.and_then(crate::bench::postgres_server);
@@ -595,44 +614,44 @@ async fn bench(load: BenchLoad, db: Option<&str>, hub_cpus: Option<&str>) -> any
         println!("(the PostgreSQL server's process is not visible here: its CPU is not counted)");
     }
     println!(
-        "hub bench: {stations} stations × {rate_hz} Hz for {seconds} s on {}{}, {runs} runs",
+        "hub bench: {stations} stations × {rate_hz} Hz for {seconds} s on {}{}{}, {runs} runs",
+        if hubs > 1 {
+            format!("{hubs} hubs behind HAProxy, ")
+        } else {
+            String::new()
+        },
         if db.is_some() { "PostgreSQL" } else { "SQLite" },
         hub_cpus.map_or(String::new(), |c| format!(", hub on CPUs {c}"))
     );
     let mut figures = Vec::new();
     for run in 0..runs {
         let spec = (data.as_path(), db, hub_cpus, postmaster);
-        let f = bench_run(spec, &provisioned, (rate_hz, seconds), run, stations).await?;
+        let f = bench_run(spec, &provisioned, (rate_hz, seconds, hubs), run, stations).await?;
         figures.push(f);
     }
     if runs > 1 {
         print!("{}", crate::bench::describe_runs(&figures));
     }
+    let hub_db = clinic.open_db(db).await?;
+    hub_db.scrub().await?;
+    let grown = hub_db.size_bytes().await? - size_before;
+    hub_db.close().await;
+    let stored: u64 = figures.iter().map(|f| f.acked).sum();
+    if stored > 0 {
+        println!(
+            "database grew {:.1} MB: {:.0} bytes per summary stored (tables and indexes, no log)",
+            grown as f64 / 1e6,
+            grown as f64 / stored as f64
+        );
+    }
     Ok(())
 }
 
-/// One run: a hub child process, the load, its figures (printed).
-async fn bench_run(
-    (data, db, hub_cpus, postmaster): (&std::path::Path, Option<&str>, Option<&str>, Option<u32>),
-    provisioned: &[crate::bench::BenchStation],
-    (rate_hz, seconds): (f64, f64),
-    run: u32,
-    stations: usize,
-) -> anyhow::Result<crate::bench::RunFigures> {
-    let limit = (stations + 16).to_string();
-    let mut args = vec![
-        "hub",
-        "serve",
-        "--data",
-        data.to_str().context("temporary path")?,
-    ];
-    args.extend(["--stations", "127.0.0.1:0", "--max-connections", &limit]);
-    args.extend(["--max-connections-per-address", &limit]);
-    // Every simulated station connects at once, all from 127.0.0.1.
-    args.extend(["--max-unauthenticated", &limit]);
-    if let Some(url) = db {
-        args.extend(["--db", url]);
-    }
+/// One hub child process of a bench run and the address its station port listens on.
+async fn spawn_bench_hub(
+    args: &[&str],
+    hub_cpus: Option<&str>,
+) -> anyhow::Result<(tokio::process::Child, std::net::SocketAddr)> {
     let exe = std::env::current_exe()?;
     let mut command = match hub_cpus {
         Some(cpus) => {
@@ -643,7 +662,7 @@ async fn bench_run(
         None => tokio::process::Command::new(&exe),
     };
     let mut child = command
-        .args(&args)
+        .args(args)
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::null())
         .kill_on_drop(true)
@@ -658,8 +677,65 @@ async fn bench_run(
         .with_context(|| format!("unexpected first line {first:?}"))?
         .parse()?;
     tokio::spawn(async move { while let Ok(Some(_)) = lines.next_line().await {} });
-    let pid = child.id().context("hub pid")?;
-    let before = crate::bench::process_usage(pid);
+    Ok((child, addr))
+}
+
+/// The CPU time (s) of `pids` together and the largest peak RSS (MiB) among them.
+fn usage_of(pids: &[u32]) -> Option<(f64, f64)> {
+    pids.iter().try_fold((0.0, 0.0_f64), |(cpu, rss), &pid| {
+        crate::bench::process_usage(pid).map(|(c, r)| (cpu + c, rss.max(r)))
+    })
+}
+
+/// One run: `hubs` hub child processes (behind HAProxy when more than one), the load, its
+/// figures (printed).
+async fn bench_run(
+    (data, db, hub_cpus, postmaster): (&std::path::Path, Option<&str>, Option<&str>, Option<u32>),
+    provisioned: &[crate::bench::BenchStation],
+    (rate_hz, seconds, hubs): (f64, f64, usize),
+    run: u32,
+    stations: usize,
+) -> anyhow::Result<crate::bench::RunFigures> {
+    let limit = (stations + 16).to_string();
+    let mut args = vec![
+        "hub",
+        "serve",
+        "--data",
+        data.to_str().context("temporary path")?,
+    ];
+    args.extend(["--stations", "127.0.0.1:0", "--max-connections", &limit]);
+    args.extend(["--max-connections-per-address", &limit]);
+    // Every simulated station connects at once, all from 127.0.0.1 (or from the balancer).
+    args.extend(["--max-unauthenticated", &limit]);
+    if let Some(url) = db {
+        args.extend(["--db", url]);
+    }
+    let mut children = Vec::with_capacity(hubs);
+    let mut addrs = Vec::with_capacity(hubs);
+    for _ in 0..hubs {
+        let (child, addr) = spawn_bench_hub(&args, hub_cpus).await?;
+        children.push(child);
+        addrs.push(addr);
+    }
+    let balancer = if hubs > 1 {
+        Some(crate::bench::balancer::Balancer::start(&addrs, stations).await?)
+    } else {
+        None
+    };
+    let addr = balancer.as_ref().map_or(addrs[0], |b| b.addr);
+    let pids: Vec<u32> = children
+        .iter()
+        .filter_map(tokio::process::Child::id)
+        .collect();
+    let balancer_pid = balancer
+        .as_ref()
+        .and_then(crate::bench::balancer::Balancer::pid);
+    let before = usage_of(&pids);
+    let each_before: Vec<_> = pids
+        .iter()
+        .map(|&p| crate::bench::process_usage(p))
+        .collect();
+    let balancer_before = balancer_pid.and_then(crate::bench::process_usage);
     let generator_before = crate::bench::process_usage(std::process::id());
     let db_before = postmaster.and_then(crate::bench::postgres_cpu_s);
     let report = crate::bench::load_run(
@@ -670,28 +746,52 @@ async fn bench_run(
         run + 1,
     )
     .await;
-    let after = crate::bench::process_usage(pid);
+    let after = usage_of(&pids);
+    let each_after: Vec<_> = pids
+        .iter()
+        .map(|&p| crate::bench::process_usage(p))
+        .collect();
+    let balancer_after = balancer_pid.and_then(crate::bench::process_usage);
     let generator_after = crate::bench::process_usage(std::process::id());
     let db_after = postmaster.and_then(crate::bench::postgres_cpu_s);
     let usage = before.zip(after).map(|(b, a)| (a.0 - b.0, a.1));
-    let _ = child.kill().await;
+    if let Some(b) = balancer {
+        b.stop().await;
+    }
+    for mut child in children {
+        let _ = child.kill().await;
+    }
     println!("run {}:", run + 1);
     print!(
         "{}",
         crate::bench::describe(&report, seconds, rate_hz, usage)
     );
+    let pct = |b: Option<(f64, f64)>, a: Option<(f64, f64)>| {
+        b.zip(a).map(|(b, a)| 100.0 * (a.0 - b.0) / seconds)
+    };
+    if hubs > 1 {
+        let each: Vec<String> = each_before
+            .iter()
+            .zip(&each_after)
+            .map(|(b, a)| pct(*b, *a).map_or("?".to_owned(), |p| format!("{p:.0}")))
+            .collect();
+        println!(
+            "each hub's CPU {} % of one core (the balancer's spread)",
+            each.join(" / ")
+        );
+    }
+    if let Some(p) = pct(balancer_before, balancer_after) {
+        println!("HAProxy CPU {p:.0} % of one core");
+    }
     let db_cpu_pct = db_before
         .zip(db_after)
         .map(|(b, a)| 100.0 * (a - b) / seconds);
     if let Some(pct) = db_cpu_pct {
         println!("PostgreSQL server CPU {pct:.0} % of one core (postmaster and its processes)");
     }
-    if let Some((b, a)) = generator_before.zip(generator_after) {
+    if let Some(p) = pct(generator_before, generator_after) {
         // The latency is measured here: a saturated generator reads its Acks late.
-        println!(
-            "load generator CPU {:.0} % of one core (this process)",
-            100.0 * (a.0 - b.0) / seconds
-        );
+        println!("load generator CPU {p:.0} % of one core (this process)");
     }
     Ok(crate::bench::RunFigures {
         p50_ms: report.latency_ms.0,
@@ -699,6 +799,7 @@ async fn bench_run(
         hub_cpu_pct: usage.map_or(f64::NAN, |(cpu, _)| 100.0 * cpu / seconds),
         db_cpu_pct,
         lost: report.sent.saturating_sub(report.acked),
+        acked: report.acked,
     })
 }
 

@@ -75,6 +75,7 @@ on_both_backends!(
     concurrent_duplicates_are_stored_once,
     a_batch_has_the_outcomes_of_storing_one_by_one,
     a_checkpoint_keeps_every_summary_readable,
+    the_databases_size_grows_with_the_summaries_it_stores,
     session_of_another_station_is_refused,
     sessions_close_and_list,
     a_byes_checkin_is_stored_and_high_or_rising_pain_raises_a_caseload_alert,
@@ -1025,6 +1026,29 @@ async fn a_checkpoint_keeps_every_summary_readable(db: Db) {
     more.unwrap();
     db.checkpoint().await.unwrap();
     assert_eq!(db.summaries_of("s1").await.unwrap().len(), 301);
+}
+
+async fn the_databases_size_grows_with_the_summaries_it_stores(db: Db) {
+    let (_, p) = paired(&db).await;
+    db.open_session(&hello("st-1", &p.id, "s1"), T0)
+        .await
+        .unwrap();
+    db.checkpoint().await.unwrap();
+    let before = db.size_bytes().await.unwrap();
+    assert!(
+        before > 0,
+        "an empty migrated database has a size: {before}"
+    );
+    let batch: Vec<Summary> = (0..2_000).map(|seq| summary("s1", seq)).collect();
+    db.store_summaries(&batch, T0).await.unwrap();
+    // SQLite's pages count once the write-ahead log is copied into the file.
+    db.scrub().await.unwrap();
+    let after = db.size_bytes().await.unwrap();
+    // Each summary row takes some tens of bytes at least on either engine.
+    assert!(
+        after - before >= 2_000 * 32,
+        "{before} -> {after} bytes for 2 000 summaries"
+    );
 }
 
 async fn metrics_and_recordings(db: Db) {

@@ -306,7 +306,8 @@ fn archive_entries(path: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn a_backup_export_and_erasure_reach_the_recordings_in_s3() {
+async fn a_backup_export_erasure_and_restore_reach_the_recordings_in_s3_and_an_erased_one_stays_erased()
+ {
     let s3 = SeaweedS3::start().await;
     let tmp = tempfile::tempdir().unwrap();
     let clinic = Clinic::at(tmp.path().join("clinic"));
@@ -362,6 +363,41 @@ async fn a_backup_export_and_erasure_reach_the_recordings_in_s3() {
         .unwrap();
     assert_eq!(erased.recording_files, 1);
     assert_eq!(store.finished().await.unwrap(), Vec::new());
+    assert_eq!(store.held("st-erase", "s-erase").await.unwrap(), None);
+
+    // A restore of the backup made before the erasure, on a machine whose `hub.toml` (the
+    // backup's) names the store: the recording goes back into S3, not into the data directory…
+    let sha = hub_store::db::hex(&<sha2::Sha256 as sha2::Digest>::digest(&bytes));
+    let restore = |data: PathBuf, erasures: Vec<PathBuf>| {
+        let backup = backup.clone();
+        async move {
+            let from = hub::backup::RestoreFrom {
+                erasures: &erasures,
+                ..Default::default()
+            };
+            hub::backup::restore(&backup, &data, from, T0)
+                .await
+                .unwrap();
+            data
+        }
+    };
+    let restored = restore(tmp.path().join("restored"), Vec::new()).await;
+    assert_eq!(
+        store.held("st-erase", "s-erase").await.unwrap(),
+        Some((bytes.len() as u64, sha))
+    );
+    assert!(
+        !files_under(&restored.join("recordings"))
+            .iter()
+            .any(|f| f.ends_with(".mcap")),
+        "{:?}",
+        files_under(&restored)
+    );
+    // …and with the clinic's erasure ledger the erased patient's recording does not come back.
+    let ledger = clinic
+        .dir()
+        .join(hub::patient_data::tombstones::LEDGER_FILE);
+    restore(tmp.path().join("restored-with-ledger"), vec![ledger]).await;
     assert_eq!(store.held("st-erase", "s-erase").await.unwrap(), None);
 }
 

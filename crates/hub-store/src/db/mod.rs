@@ -308,6 +308,22 @@ impl Db {
         std::fs::metadata(path).ok().map(|m| m.len())
     }
 
+    /// The database's size on disk, bytes: PostgreSQL's `pg_database_size` (tables and
+    /// indexes, not the write-ahead log), SQLite's pages (`page_count × page_size`, the
+    /// write-ahead log not counted). What `hub bench` divides by the summaries it stored.
+    pub async fn size_bytes(&self) -> Result<i64, HubError> {
+        let sql = match self.backend {
+            Backend::Postgres => "SELECT pg_database_size(current_database())",
+            Backend::Sqlite => {
+                "SELECT page_count * page_size FROM pragma_page_count(), pragma_page_size()"
+            }
+        };
+        sqlx::query_scalar(sql)
+            .fetch_one(&self.pool)
+            .await
+            .map_err(HubError::db("reading the database's size"))
+    }
+
     /// The schema version applied (the highest migration number).
     pub async fn schema_version(&self) -> Result<i64, HubError> {
         sqlx::query_scalar("SELECT MAX(version) FROM _sqlx_migrations")

@@ -4,6 +4,8 @@
 //! after the summary is committed to the database. At the end every station says Bye and waits
 //! for the hub's reply, so "lost" counts summaries the hub never acknowledged.
 
+pub mod balancer;
+
 use std::collections::VecDeque;
 use std::net::SocketAddr;
 use std::path::Path;
@@ -360,7 +362,7 @@ pub fn describe(
     );
     if let Some((cpu_s, rss_mib)) = hub {
         s.push_str(&format!(
-            "hub CPU {:.0} % of one core, peak RSS {rss_mib:.0} MiB\n",
+            "hub CPU {:.0} % of one core (every hub together), peak RSS {rss_mib:.0} MiB (the largest hub)\n",
             100.0 * cpu_s / seconds
         ));
     }
@@ -484,6 +486,8 @@ pub struct RunFigures {
     pub db_cpu_pct: Option<f64>,
     /// Summaries sent and not acknowledged.
     pub lost: u64,
+    /// Summaries acknowledged (stored).
+    pub acked: u64,
 }
 
 /// Median and range of `values` (NaN-free input), as `median [min–max]`.
