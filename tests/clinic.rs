@@ -84,11 +84,20 @@ pub struct NewClinic {
 impl NewClinic {
     /// Makes it in `dir/clinic`, its database at `db` (a PostgreSQL URL) or SQLite.
     pub fn make(dir: &Path, db: Option<&str>) -> Self {
+        Self::make_named(dir, db, &[])
+    }
+
+    /// [`Self::make`] with the hub's certificate for `names` (`hub init --name`; none: its
+    /// default, `localhost` and `127.0.0.1`).
+    pub fn make_named(dir: &Path, db: Option<&str>, names: &[&str]) -> Self {
         let data = dir.join("clinic");
         let d = data.to_str().unwrap();
         let mut args = vec!["hub", "init", "--data", d, "--admin", "ana@clinic.example"];
         if let Some(url) = db {
             args.extend(["--db", url]);
+        }
+        for name in names {
+            args.extend(["--name", name]);
         }
         let init = ok(&args, None);
         let admin_password = after(&init, "one-time password: ");

@@ -9,6 +9,7 @@ pub mod balancer;
 pub mod clinic;
 pub mod console;
 pub mod logged;
+pub mod netns;
 pub mod windowed;
 
 /// Path of the `telerehab` binary under test: `$TELEREHAB_BIN` if set, else the one in this

@@ -7,7 +7,9 @@ target/test-artifacts/console)."""
 
 import os
 import re
+import signal
 import subprocess
+import time
 
 import pytest
 from selenium.webdriver.common.by import By
@@ -103,3 +105,33 @@ def test_the_live_view_draws_the_road_around_the_car_then_the_dial_without_lanes
         shot(d, "live-3-dial-200-percent")
     finally:
         d.execute_cdp_cmd("Emulation.clearDeviceMetricsOverride", {})
+
+
+def test_a_station_gone_quiet_is_shown_delayed_then_its_late_data_marked_late(clinic, browser):
+    """Runs after the test above (the same login). A station that stops sending mid-session (its
+    process stopped, as a home link that is down looks to the hub) is "delayed", not "running"
+    on its last summary; the summaries it sends when it goes on are marked late (issue 45)."""
+    d = browser
+    d.get(clinic["web"] + "/")
+    session = start_session(clinic, "sine-road", 12)
+    try:
+        wait(d, lambda d: d.find_elements(By.LINK_TEXT, "P-0042"), timeout=20)[0].click()
+        status = wait(d, lambda d: d.find_elements(By.ID, "live-status"), timeout=20)[0]
+        wait(d, lambda d: int(status.get_attribute("data-summaries") or 0) >= 20, timeout=40)
+        assert status.find_elements(By.CSS_SELECTOR, ".badge.ok"), status.text
+        session.send_signal(signal.SIGSTOP)
+        stopped = time.monotonic()
+        badge = wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#live-status [data-delayed='silent']"), timeout=10)[0]
+        assert time.monotonic() - stopped < 5, "delayed said late"
+        assert badge.text.startswith(message(d, "live-delayed-silent", {"seconds": 9})[:8]), badge.text
+        assert not status.find_elements(By.CSS_SELECTOR, ".badge.ok"), "still 'running' while silent"
+        assert status.get_attribute("data-delayed") == "silent"
+        shot(d, "live-4-delayed")
+        time.sleep(3)
+        session.send_signal(signal.SIGCONT)
+        wait(d, lambda d: status.get_attribute("data-delayed") == "late", timeout=20)
+        late = status.find_element(By.CSS_SELECTOR, "[data-delayed='late']")
+        assert late.text, status.text
+    finally:
+        session.send_signal(signal.SIGCONT)
+        session.wait(timeout=60)

@@ -11,6 +11,9 @@ import { endText, plainName } from '/console/words.js';
 import { t, locale } from '/console/i18n.js';
 
 const WINDOW_S = 30;
+// The hub's LIVE_DELAYED_MS: data this late, or a running session silent this long, is
+// "delayed" (the hub says so: `late_ms` on a summary, a `delayed` event while silent).
+const DELAYED_MS = 2000;
 const CHART_HEIGHT_PX = 160;
 
 // The tracking chart and the second panel say what the exercise is about: the car in its lane
@@ -124,6 +127,7 @@ export function liveView(el, patientId) {
     const delay = start ? (Date.now() - (start + t_s * 1000)) / 1000 : null;
     const state = x.watchdog_fault ? 'fault' : x.paused ? 'paused' : 'running';
     const badge = { fault: 'alert', paused: 'warn', running: 'ok' }[state];
+    const late = Number.isFinite(msg.late_ms) && msg.late_ms >= DELAYED_MS;
     status.dataset.state = state;
     status.dataset.mode = onRoad ? 'road' : strength ? 'strength' : 'dial';
     status.dataset.ceilingNm = Number.isFinite(x.ceiling_nm) ? String(x.ceiling_nm) : '';
@@ -139,11 +143,21 @@ export function liveView(el, patientId) {
       · ${esc(t('live-status-torque', { nm: fmt(x.torque_nm, 2), ceiling: fmt(x.ceiling_nm, 2) }))}
       · ${esc(measure)}`
       + (delay == null ? '' : ` · ${esc(t('live-status-delay', { seconds: fmt(delay, 2) }))}`)
-      + (x.recording_stopped_s === undefined ? '' : ` <span class="badge alert" data-recording-stopped="1">${esc(t('live-recording-stopped', { seconds: fmt(x.recording_stopped_s, 1) }))}</span>`);
+      + (x.recording_stopped_s === undefined ? '' : ` <span class="badge alert" data-recording-stopped="1">${esc(t('live-recording-stopped', { seconds: fmt(x.recording_stopped_s, 1) }))}</span>`)
+      + (late ? ` <span class="badge warn" data-delayed="late">${esc(t('live-delayed-late', { seconds: fmt(msg.late_ms / 1000, 1) }))}</span>` : '');
+    status.dataset.delayed = late ? 'late' : '';
     status.dataset.delayS = delay == null ? '' : delay.toFixed(3);
     status.dataset.summaries = String(Number(status.dataset.summaries || 0) + 1);
     el.querySelector('#angles').textContent = x.shoulder_elevation_deg === undefined ? t('live-no-arm-sensors')
       : t('live-angles', { shoulder: fmt(x.shoulder_elevation_deg, 0), elbow: fmt(x.elbow_flexion_deg, 0), forearm: fmt(x.forearm_pronation_deg, 0) });
+  });
+  // A running session silent on a home link that is down: not "running" on its last summary.
+  source.addEventListener('delayed', ev => {
+    const d = JSON.parse(ev.data);
+    if (d.session_id !== session || endShown === session) return;
+    status.querySelectorAll('.badge.ok, [data-delayed]').forEach(b => b.remove());
+    status.insertAdjacentHTML('beforeend', ` <span class="badge warn" data-delayed="silent">${esc(t('live-delayed-silent', { seconds: fmt(d.silent_ms / 1000, 0) }))}</span>`);
+    status.dataset.delayed = 'silent';
   });
   source.addEventListener('lagged', ev => { status.textContent = t('live-lagged', { count: Number(ev.data) }); });
   // The hub ends the stream when the login ends or the patient is no longer this therapist's:

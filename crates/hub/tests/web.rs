@@ -665,6 +665,64 @@ async fn the_audit_log_is_for_admins_and_records_reads() {
     assert_eq!(entries[0]["action"], "read_audit");
 }
 
+/// The next whole event (up to its blank line) of a live stream's `body`, within 5 s.
+async fn next_event(body: &mut axum::body::Body) -> String {
+    let mut text = String::new();
+    while !text.contains("\n\n") {
+        let frame = tokio::time::timeout(Duration::from_secs(5), body.frame())
+            .await
+            .expect("an event within 5 s")
+            .unwrap()
+            .unwrap();
+        if let Ok(data) = frame.into_data() {
+            text.push_str(&String::from_utf8_lossy(&data));
+        }
+    }
+    text
+}
+
+#[tokio::test]
+async fn live_stream_says_delayed_while_a_running_session_sends_nothing() {
+    let f = fixture().await;
+    let ada = login(&f.app, "ada@clinic.example").await;
+    let uri = format!("/api/patients/{}/live", f.p_ada.id);
+    let response = f
+        .app
+        .clone()
+        .oneshot(request(Method::GET, &uri, Some(&ada), None))
+        .await
+        .unwrap();
+    assert_eq!(response.status(), StatusCode::OK);
+    f.live
+        .send(LiveEvent {
+            patient_id: f.p_ada.id.clone(),
+            session_id: "s-ada".into(),
+            summary: summary("s-ada", 3),
+        })
+        .unwrap();
+    let mut body = response.into_body();
+    let first = next_event(&mut body).await;
+    assert!(first.starts_with("event: summary\n"), "{first}");
+    // A session the hub has no start of: how late is unknown, not zero.
+    assert!(first.contains("\"late_ms\":null"), "{first}");
+    // Nothing more for longer than the live view's delay: the stream says so at its next check.
+    f.clock.advance(Duration::from_millis(
+        u64::try_from(web::LIVE_DELAYED_MS).unwrap() + 500,
+    ));
+    let next = next_event(&mut body).await;
+    assert!(next.starts_with("event: delayed\n"), "{next}");
+    let data = next
+        .lines()
+        .find_map(|l| l.strip_prefix("data: "))
+        .expect("a data line");
+    let got: Value = serde_json::from_str(data).unwrap();
+    assert_eq!(got["session_id"], "s-ada");
+    assert!(
+        got["silent_ms"].as_i64().unwrap() >= web::LIVE_DELAYED_MS,
+        "{got}"
+    );
+}
+
 #[tokio::test]
 async fn live_stream_delivers_summaries_of_the_right_patient_only() {
     let f = fixture().await;

@@ -41,6 +41,44 @@ pub const MAX_LIVE_STREAMS_PER_ACCOUNT: usize = 8;
 /// Events a stream buffers for a slow client before it skips some (and says `lagged`).
 const STREAM_BUFFER: usize = 64;
 
+/// A running session's live data is *delayed* when nothing of it has arrived for this long,
+/// or when a summary arrives this much later than the station produced it, ms (twenty
+/// summary periods at 10 Hz): a home link that is down, flapping or catching up after an
+/// outage. The stream then says so (`delayed`, `late_ms`) instead of showing the last
+/// summary as if it were now.
+pub const LIVE_DELAYED_MS: i64 = 2_000;
+
+/// A `summary` event's data: the summary as the ingest broadcast it and how late it reached
+/// the hub.
+#[derive(serde::Serialize)]
+struct LiveSummary<'a> {
+    #[serde(flatten)]
+    event: &'a LiveEvent,
+    /// The hub's clock when it broadcast the summary minus the station's time of it (its
+    /// session's start plus its `t_s`), ms; `None` when the session's start is unknown. Off
+    /// by the two clocks' difference (`telerehab doctor --hub` shows it).
+    late_ms: Option<i64>,
+}
+
+/// A `delayed` event's data: nothing of the running session `session_id` has arrived for
+/// `silent_ms`.
+#[derive(serde::Serialize)]
+struct Delayed<'a> {
+    session_id: &'a str,
+    silent_ms: i64,
+}
+
+/// The session a stream last forwarded a summary of.
+struct Watched {
+    session_id: String,
+    /// Its start by the station's clock, ms since the Unix epoch, if the hub has the session.
+    started_unix_ms: Option<i64>,
+    /// The hub's clock at its last summary, ms since the Unix epoch.
+    last_ms: i64,
+    /// The station said `Bye`: its silence is its end, not a delay.
+    closed: bool,
+}
+
 /// Live streams open per login (keyed `login:` + the token's hash) and per therapist (keyed
 /// `account:` + their id).
 #[derive(Debug, Clone, Default)]
@@ -98,9 +136,11 @@ impl Drop for StreamSlot {
     }
 }
 
-/// `GET /api/patients/{id}/live`: events `summary` (data: a [`LiveEvent`] as JSON) for this
-/// patient only, `lagged` (data: how many were skipped) when the client is too slow, and a
-/// last `ended` (data: why) when the login or the patient's assignment ends.
+/// `GET /api/patients/{id}/live`: events `summary` (data: a [`LiveEvent`] as JSON with its
+/// `late_ms`) for this patient only, `delayed` (data: the session and how long it has been
+/// silent) while a running session sends nothing for [`LIVE_DELAYED_MS`] or more, `lagged`
+/// (data: how many were skipped) when the client is too slow, and a last `ended` (data: why)
+/// when the login or the patient's assignment ends.
 pub(crate) async fn live(
     State(state): State<AppState>,
     Authed(therapist): Authed,
@@ -181,6 +221,62 @@ impl Watch {
         }
     }
 
+    /// Notes `event` as the watched session's latest summary; how late it arrived, ms.
+    async fn late_ms(&self, watched: &mut Option<Watched>, event: &LiveEvent) -> Option<i64> {
+        let now = self.state.now();
+        let same = watched
+            .as_ref()
+            .is_some_and(|w| w.session_id == event.session_id);
+        if !same {
+            let started_unix_ms = match self.state.db.session(&event.session_id).await {
+                Ok(row) => row.map(|r| r.started_unix_ms),
+                Err(e) => {
+                    tracing::warn!("a live stream cannot read its session's start: {e}");
+                    None
+                }
+            };
+            *watched = Some(Watched {
+                session_id: event.session_id.clone(),
+                started_unix_ms,
+                last_ms: now,
+                closed: false,
+            });
+        }
+        let w = watched.as_mut()?;
+        w.last_ms = now;
+        w.closed = false;
+        // The summary's time on the station, ms (a finite t_s: the ingest checked it).
+        #[allow(clippy::cast_possible_truncation)]
+        let at_ms = w.started_unix_ms? + (event.summary.t_s * 1000.0).round() as i64;
+        Some((now - at_ms).max(0))
+    }
+
+    /// A `delayed` event if the watched session is still running (no `Bye`) and has sent
+    /// nothing for [`LIVE_DELAYED_MS`] or more.
+    async fn silence(&self, watched: Option<&mut Watched>) -> Option<Event> {
+        let w = watched?;
+        let silent_ms = self.state.now() - w.last_ms;
+        if w.closed || silent_ms < LIVE_DELAYED_MS {
+            return None;
+        }
+        match self.state.db.session(&w.session_id).await {
+            Ok(Some(row)) if row.closed_at_ms.is_some() => {
+                w.closed = true;
+                return None;
+            }
+            Ok(_) => {}
+            Err(e) => tracing::warn!("a live stream cannot check its session's end: {e}"),
+        }
+        let data = Delayed {
+            session_id: &w.session_id,
+            silent_ms,
+        };
+        Some(match Event::default().event("delayed").json_data(data) {
+            Ok(e) => e,
+            Err(e) => Event::default().event("error").data(e.to_string()),
+        })
+    }
+
     /// Forwards this patient's summaries to the client until it goes away or [`Watch::ended`]
     /// says the stream must end.
     async fn forward(
@@ -193,6 +289,7 @@ impl Watch {
         let mut check = tokio::time::interval(Duration::from_millis(LIVE_RECHECK_MS));
         check.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
         let mut skipped: u64 = 0;
+        let mut watched: Option<Watched> = None;
         loop {
             let event = tokio::select! {
                 biased;
@@ -205,11 +302,15 @@ impl Watch {
                         }
                         return;
                     }
-                    continue;
+                    match self.silence(watched.as_mut()).await {
+                        Some(delayed) => delayed,
+                        None => continue,
+                    }
                 }
                 message = receiver.recv() => match message {
                     Ok(event) if event.patient_id == self.patient_id => {
-                        match Event::default().event("summary").json_data(&event) {
+                        let late_ms = self.late_ms(&mut watched, &event).await;
+                        match Event::default().event("summary").json_data(LiveSummary { event: &event, late_ms }) {
                             Ok(e) => e,
                             Err(e) => Event::default().event("error").data(e.to_string()),
                         }

@@ -50,7 +50,9 @@ pub use auth::SESSION_COOKIE;
 /// A running session's events and the hub's wall clock live in `hub_care::live`, below the
 /// web (the ingest and the fan-out send them); the API streams them and names them here.
 pub use hub_care::live::{LiveEvent, system_now_ms, unix_ms};
-pub use live::{LIVE_RECHECK_MS, MAX_LIVE_STREAMS_PER_ACCOUNT, MAX_LIVE_STREAMS_PER_LOGIN};
+pub use live::{
+    LIVE_DELAYED_MS, LIVE_RECHECK_MS, MAX_LIVE_STREAMS_PER_ACCOUNT, MAX_LIVE_STREAMS_PER_LOGIN,
+};
 pub use ops::{
     READY_DB_TIMEOUT, READY_REUSE, READY_STORE_TIMEOUT, Readiness, check_operator_address,
     operator_router, serve_operator,

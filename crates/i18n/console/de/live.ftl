@@ -41,6 +41,8 @@ live-status-delay = Verzögerung { $seconds } s
 live-recording-stopped = Aufzeichnung bei { $seconds } s gestoppt
 live-no-arm-sensors = In dieser Sitzung keine Armsensoren.
 live-angles = Schulterelevation { $shoulder }°, Ellenbogenflexion { $elbow }°, Unterarmpronation { $forearm }°
+live-delayed-silent = verzögert: seit { $seconds } s nichts von der Station (ihre Verbindung zu Hause ist vielleicht unterbrochen); die Ansicht zeigt die zuletzt eingetroffenen Daten
+live-delayed-late = verzögert: diese Daten kamen { $seconds } s zu spät an (die Station holt nach einer Unterbrechung ihrer Verbindung auf)
 live-lagged = { $count ->
     [one] Die Ansicht ist zurückgefallen und hat eine Zusammenfassung übersprungen.
    *[other] Die Ansicht ist zurückgefallen und hat { $count } Zusammenfassungen übersprungen.

@@ -42,6 +42,8 @@ live-status-delay = delay { $seconds } s
 live-recording-stopped = recording stopped at { $seconds } s
 live-no-arm-sensors = No arm sensors in this session.
 live-angles = Shoulder elevation { $shoulder }°, elbow flexion { $elbow }°, forearm pronation { $forearm }°
+live-delayed-silent = delayed: nothing from the station for { $seconds } s (its home connection may be down); the view shows the last data that arrived
+live-delayed-late = delayed: this data reached the hub { $seconds } s late (the station is catching up after a break in its connection)
 live-lagged = { $count ->
     [one] The view fell behind and skipped one summary.
    *[other] The view fell behind and skipped { $count } summaries.

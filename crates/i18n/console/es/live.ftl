@@ -41,6 +41,8 @@ live-status-delay = retardo { $seconds } s
 live-recording-stopped = grabación detenida a los { $seconds } s
 live-no-arm-sensors = Sin sensores de brazo en esta sesión.
 live-angles = Elevación del hombro { $shoulder }°, flexión del codo { $elbow }°, pronación del antebrazo { $forearm }°
+live-delayed-silent = con retraso: nada de la estación desde hace { $seconds } s (su conexión de casa puede estar caída); la vista muestra los últimos datos recibidos
+live-delayed-late = con retraso: estos datos llegaron { $seconds } s tarde (la estación se está poniendo al día tras un corte de su conexión)
 live-lagged = { $count ->
     [one] La vista se retrasó y omitió un resumen.
    *[other] La vista se retrasó y omitió { $count } resúmenes.
