@@ -6,6 +6,10 @@
 //! order, and every message and the newest regimen reach the station. A property test over
 //! interleavings with a fixed seed (a few seconds).
 //!
+//! The upload's window: chunks go ahead of the hub's answers, never more than
+//! [`netlink::upload::UPLOAD_WINDOW_CHUNKS`], and an answer the station did not expect (the hub
+//! holding less than it thought) makes it send again from there.
+//!
 //! Every wait is bounded by [`GUARD`] as a liveness guard; nothing asserts on speed.
 
 use std::collections::BTreeSet;
@@ -242,8 +246,13 @@ fn config(cases: u32) -> Config {
 
 /// 100 000 deterministic bytes: four chunks.
 fn recording(dir: &Path) -> (std::path::PathBuf, Vec<u8>) {
+    recording_of(dir, 100_000)
+}
+
+/// `len` deterministic bytes.
+fn recording_of(dir: &Path, len: usize) -> (std::path::PathBuf, Vec<u8>) {
     let mut x: u64 = 0x2545_F491_4F6C_DD1D;
-    let bytes: Vec<u8> = (0..100_000)
+    let bytes: Vec<u8> = (0..len)
         .map(|_| {
             x = x.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
             (x >> 56) as u8
@@ -574,4 +583,153 @@ async fn the_hub_stops_pushing_messages_to_a_connection_once_it_uploads() {
     assert!(hub.connected_stations().is_empty());
     drop(conn);
     hub.shutdown(Duration::from_secs(2)).await;
+}
+
+// ---- The upload's window -------------------------------------------------------------------
+
+/// A chunk's bytes.
+fn chunk_bytes(c: &netlink::frame::UploadChunk) -> Vec<u8> {
+    base64::engine::general_purpose::STANDARD
+        .decode(&c.data)
+        .unwrap()
+}
+
+fn upload_at(session: &str, offset: usize, complete: bool) -> Frame {
+    Frame::UploadAt(netlink::frame::UploadAt {
+        session_id: session.into(),
+        offset: offset as u64,
+        complete,
+    })
+}
+
+/// The Hello and UploadStart of an upload connection; answers the start with offset 0.
+async fn start_upload(conn: &mut Conn, size: usize) -> String {
+    let Some(Frame::Hello(h)) = conn.read().await else {
+        panic!("Hello first");
+    };
+    let Some(Frame::UploadStart(start)) = conn.read().await else {
+        panic!("UploadStart after the Hello");
+    };
+    assert_eq!(start.size_bytes, size as u64);
+    conn.write(&upload_at(&h.session_id, 0, false)).await;
+    h.session_id
+}
+
+/// Reads chunks and answers each as a hub does (written only at the offset held, the answer the
+/// offset held after it) until the file is whole; `lose` names a chunk (by arrival, from 0)
+/// whose bytes the hub loses once, answering as if it never came.
+async fn serve_chunks(
+    conn: &mut Conn,
+    session: &str,
+    whole: &[u8],
+    lose: Option<usize>,
+) -> Vec<u8> {
+    let mut held = Vec::new();
+    let mut arrived = 0;
+    loop {
+        let Some(Frame::UploadChunk(c)) = conn.read().await else {
+            panic!("a chunk until the file is whole");
+        };
+        if c.offset == held.len() as u64 && lose != Some(arrived) {
+            held.extend(chunk_bytes(&c));
+        }
+        arrived += 1;
+        let complete = held.as_slice() == whole;
+        conn.write(&upload_at(session, held.len(), complete)).await;
+        if complete {
+            return held;
+        }
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_upload_sends_its_window_of_chunks_before_any_answer_and_no_more() {
+    let tmp = tempfile::tempdir().unwrap();
+    let window = netlink::upload::UPLOAD_WINDOW_CHUNKS;
+    // Twice the window and a bit.
+    let (path, whole) = recording_of(
+        tmp.path(),
+        (2 * window + 1) * netlink::frame::MAX_CHUNK_BYTES,
+    );
+    let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap().to_string();
+    let hub = async {
+        let mut conn = Conn::accept(&listener).await;
+        let session = start_upload(&mut conn, whole.len()).await;
+        // No answer yet: the station sends its whole window, each chunk where the last ended…
+        let mut held = Vec::new();
+        for _ in 0..window {
+            let Some(Frame::UploadChunk(c)) = conn.read().await else {
+                panic!("a chunk of the window");
+            };
+            assert_eq!(c.offset, held.len() as u64, "chunks in order, back to back");
+            held.extend(chunk_bytes(&c));
+        }
+        // …and then waits for an answer.
+        let more = tokio::time::timeout(Duration::from_millis(500), conn.read()).await;
+        assert!(more.is_err(), "a chunk past the window before any answer");
+        // Answered, it goes on to the end.
+        for i in 1..=window {
+            conn.write(&upload_at(
+                &session,
+                i * netlink::frame::MAX_CHUNK_BYTES,
+                false,
+            ))
+            .await;
+        }
+        loop {
+            let Some(Frame::UploadChunk(c)) = conn.read().await else {
+                panic!("the rest of the file");
+            };
+            assert_eq!(c.offset, held.len() as u64);
+            held.extend(chunk_bytes(&c));
+            let complete = held == whole;
+            conn.write(&upload_at(&session, held.len(), complete)).await;
+            if complete {
+                break;
+            }
+        }
+        conn.close().await;
+        held
+    };
+    let mut pushed = Pushed::default();
+    let station =
+        upload_recording_keeping(&addr, None, hello("s-up"), &path, 500_000_000, &mut pushed);
+    let (done, held) = tokio::join!(station, hub);
+    let done = done.unwrap();
+    assert_eq!(held, whole);
+    assert_eq!(done.sent_bytes, whole.len() as u64, "each byte sent once");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_hub_holding_less_than_the_station_thought_gets_the_rest_again_from_where_it_says() {
+    let tmp = tempfile::tempdir().unwrap();
+    let window = netlink::upload::UPLOAD_WINDOW_CHUNKS;
+    let (path, whole) = recording_of(
+        tmp.path(),
+        (2 * window + 3) * netlink::frame::MAX_CHUNK_BYTES,
+    );
+    let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap().to_string();
+    let hub = async {
+        let mut conn = Conn::accept(&listener).await;
+        let session = start_upload(&mut conn, whole.len()).await;
+        // The third chunk is lost: the hub's answers say offset 2 chunks until it comes again.
+        let held = serve_chunks(&mut conn, &session, &whole, Some(2)).await;
+        conn.close().await;
+        held
+    };
+    let mut pushed = Pushed::default();
+    let station =
+        upload_recording_keeping(&addr, None, hello("s-up"), &path, 500_000_000, &mut pushed);
+    let (done, held) = tokio::join!(station, hub);
+    let done = done.unwrap();
+    assert_eq!(held, whole, "the file whole, in order");
+    // What was in flight after the lost chunk was sent again.
+    assert!(done.sent_bytes > whole.len() as u64, "{}", done.sent_bytes);
+    assert!(
+        done.sent_bytes <= (whole.len() + window * netlink::frame::MAX_CHUNK_BYTES) as u64,
+        "at most a window again: {}",
+        done.sent_bytes
+    );
 }
