@@ -11,7 +11,10 @@
 #     fonts-noto-core and fonts-noto-cjk (the patient's window draws every script with them);
 #     maven and a headless JDK (the reference FHIR R4 validator, HAPI FHIR: scripts/fhir-validator);
 #     age (a test checks that the standard age tool decrypts an encrypted hub backup);
-#     patroni and etcd-server (with haproxy: PostgreSQL that fails over, tests/failover_e2e.rs).
+#     patroni and etcd-server (with haproxy: PostgreSQL that fails over, tests/failover_e2e.rs);
+#     the Windows station's tools: mingw-w64 (cross-linker), wine + wine64 (its tests run under
+#     Wine), nsis and icoutils (its installer).
+#   - Rust's x86_64-pc-windows-gnu target (the Windows station is cross-built in CI).
 #   - Rust (stable, via rustup if cargo is missing) with rustfmt and clippy.
 #   - A Python virtualenv in .venv with the test tools and the `telerehab` package (pyext).
 #   - SeaweedFS (`weed`, a real S3 server the hub's recording-store tests start themselves),
@@ -38,7 +41,8 @@ PKGS=(build-essential pkg-config libudev-dev mesa-vulkan-drivers libvulkan1 libg
       age  # Debian's age decrypts a hub backup (crates/hub/tests/backup_privacy.rs)
       haproxy  # the load balancer in front of several hubs (tests/hubs_e2e.rs runs its own)
       patroni etcd-server  # PostgreSQL that fails over (tests/failover_e2e.rs runs its own)
-      iproute2 nftables)  # a patient's home network: namespaces, tc, loss (tests/home_links_e2e.rs)
+      iproute2 nftables  # a patient's home network: namespaces, tc, loss (tests/home_links_e2e.rs)
+      mingw-w64 wine wine64 nsis icoutils)  # the Windows station: cross-linker, Wine, its installer (scripts/windows_ci.sh)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -72,6 +76,8 @@ if ! command -v cargo >/dev/null 2>&1; then
 fi
 if command -v rustup >/dev/null 2>&1; then
   rustup component add rustfmt clippy >/dev/null 2>&1 || true
+  # The Windows station is cross-built and tested under Wine (scripts/windows_ci.sh).
+  rustup target list --installed | grep -qx x86_64-pc-windows-gnu || rustup target add x86_64-pc-windows-gnu
 fi
 
 if [ ! -x .venv/bin/python ]; then

@@ -35,6 +35,10 @@ echo "== cargo doc";    RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-de
 # Every test's output is kept (--nocapture) so that each `SKIPPED: <reason>` line is seen:
 # scripts/check_skips.py counts them and, in CI, fails on any reason not on .ci/skip-allowlist.
 LOGS="$(mktemp -d)"
+# The Windows station's cross-build runs beside the Linux tests on the CPU they leave
+# (scripts/windows_ci.sh); its checks under Wine come last.
+bash scripts/windows_ci.sh start "$LOGS"
+trap 'bash scripts/windows_ci.sh stop "$LOGS"' EXIT
 echo "== cargo test"
 if command -v xvfb-run >/dev/null 2>&1; then
   xvfb-run -a -s "-screen 0 1280x720x24" bash scripts/with-postgres.sh \
@@ -69,4 +73,8 @@ python3 scripts/check_safety_trace.py --cargo-log "$LOGS/cargo-test.log" --junit
 # exercised and purged as root (scripts/test_package.sh; packaging/README.md).
 echo "== package"
 bash scripts/package.sh --binary "$TARGET_DIR/debug/telerehab" && bash scripts/test_package.sh
+# The Windows station (issue 46): its unit tests, a simulated session compared with Linux's and
+# its installer, under Wine (docs/WINDOWS.md).
+echo "== windows"
+TELEREHAB_BIN="$TARGET_DIR/debug/telerehab" bash scripts/windows_ci.sh finish "$LOGS"
 echo "== disk after the tests: $(df -h . | awk 'NR==2 {print $4 " free"}'), target: $(du -sh "$TARGET_DIR" 2>/dev/null | cut -f1)"

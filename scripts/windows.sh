@@ -9,8 +9,8 @@
 # recorded output compared); across the two, the replays say where they first differ (the
 # platforms' C maths libraries round sin, exp, atan2 … differently in the last bit: BENCHMARKS.md,
 # "The station on Windows"). Installs what it needs when missing (mingw-w64, wine64, the Rust
-# target); runs Wine in a throwaway prefix, nothing is left. Not a CI step yet (its time:
-# BENCHMARKS.md).
+# target); runs Wine in a throwaway prefix, nothing is left. CI runs it through
+# scripts/windows_ci.sh (with the unit tests under Wine and the installer).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT="$PWD"
