@@ -4,6 +4,7 @@
 #                                      # run it under Wine: --version, a simulated session, and
 #                                      # replays across the two systems
 #   bash scripts/windows.sh --release  # the same with a release build
+#   bash scripts/windows.sh --exe PATH # a telerehab.exe built already (scripts/windows_ci.sh)
 #   TELEREHAB_BIN=target/debug/telerehab bash scripts/windows.sh   # a Linux binary built already
 # Each system must reproduce its own simulated session bit for bit (`telerehab replay`: every
 # recorded output compared); across the two, the replays say where they first differ (the
@@ -18,10 +19,12 @@ if ! command -v cargo >/dev/null 2>&1; then export PATH="$HOME/.cargo/bin:$PATH"
 
 PROFILE=debug
 FLAGS=()
+EXE=""
 case "${1:-}" in
   --release) PROFILE=release; FLAGS=(--release) ;;
+  --exe) EXE="${2:?--exe needs the path of a telerehab.exe}" ;;
   "") ;;
-  -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
+  -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
   *) echo "windows.sh: unknown argument $1 (see --help)" >&2; exit 2 ;;
 esac
 TARGET=x86_64-pc-windows-gnu
@@ -36,9 +39,12 @@ if ! command -v x86_64-w64-mingw32-gcc >/dev/null 2>&1 || ! command -v wine >/de
 fi
 rustup target list --installed | grep -qx "$TARGET" || rustup target add "$TARGET"
 
-step "build telerehab.exe and the Linux binary ($PROFILE)"
-cargo build "${FLAGS[@]}" --target "$TARGET" -p telerehab
-EXE="$TARGET_DIR/$TARGET/$PROFILE/telerehab.exe"
+if [ -z "$EXE" ]; then
+  step "build telerehab.exe ($PROFILE)"
+  cargo build "${FLAGS[@]}" --target "$TARGET" -p telerehab
+  EXE="$TARGET_DIR/$TARGET/$PROFILE/telerehab.exe"
+fi
+[ -f "$EXE" ] || fail "no telerehab.exe at $EXE"
 # The Linux binary: TELEREHAB_BIN when given (as the browser tests take it), else built here.
 LINUX="${TELEREHAB_BIN:-}"
 if [ -z "$LINUX" ]; then
