@@ -123,8 +123,27 @@ pub fn solve(
     swivel_rad: f64,
     pronation_rad: f64,
 ) -> Result<ArmState, ImuError> {
+    solve_from(
+        geo,
+        geo.grip(wheel_rad),
+        (swivel_rad.sin(), swivel_rad.cos()),
+        so3::exp(&Vector3::new(pronation_rad, 0.0, 0.0)),
+    )
+}
+
+/// [`solve`] with its trigonometry done by the caller: the grip point `grip_m` (m, wheel
+/// frame, [`ArmGeometry::grip`]), the swivel's `(sin, cos)` and the forearm's turn about its
+/// own axis by the pronation (`twist`, a rotation about x). The simulated arm
+/// ([`crate::sim::arm`]) solves the chain three times a tick at angles a step apart and gets
+/// these by angle addition; the pose estimator calls [`solve`].
+pub fn solve_from(
+    geo: &ArmGeometry,
+    grip_m: Vector3<f64>,
+    (swivel_sin, swivel_cos): (f64, f64),
+    twist: Matrix3<f64>,
+) -> Result<ArmState, ImuError> {
     let s = geo.shoulder();
-    let w = geo.grip(wheel_rad);
+    let w = grip_m;
     let (l1, l2) = (geo.upper_arm_m, geo.forearm_m);
     let d_vec = w - s;
     let d = d_vec.norm();
@@ -146,13 +165,13 @@ pub fn solve(
         .try_normalize(1e-9)
         .unwrap_or_else(|| n.cross(&Vector3::y()).normalize());
     let e2 = e1.cross(&n);
-    let elbow = s + n * a + (e1 * swivel_rad.cos() + e2 * swivel_rad.sin()) * h;
+    let elbow = s + n * a + (e1 * swivel_cos + e2 * swivel_sin) * h;
     let xu = (elbow - s) / l1;
     let xf = (w - elbow) / l2;
     let z = xu.cross(&xf).normalize();
     let upper = Matrix3::from_columns(&[xu, z.cross(&xu), z]);
     let hinge = Matrix3::from_columns(&[xf, z.cross(&xf), z]);
-    let fore = hinge * so3::exp(&Vector3::new(pronation_rad, 0.0, 0.0));
+    let fore = hinge * twist;
     Ok(ArmState {
         upper,
         fore,

@@ -182,7 +182,10 @@ impl<W: Write + Seek> RecordWriter<W> {
             return Ok(());
         }
         let t_ns = pending.block.first_t_ns();
-        self.buf = pending.block.take(&pending.layout).map_err(block_error)?;
+        pending
+            .block
+            .take_into(&pending.layout, &mut self.buf)
+            .map_err(block_error)?;
         self.write_buf(self.channels[index], t_ns)
     }
 

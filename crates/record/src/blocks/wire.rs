@@ -57,6 +57,35 @@ fn zigzag(v: u64) -> i64 {
     ((v >> 1) as i64) ^ -((v & 1) as i64)
 }
 
+/// A `sint64` as stored (zigzag).
+pub(super) fn zigzag_encode(v: i64) -> u64 {
+    ((v << 1) ^ (v >> 63)) as u64
+}
+
+/// Append `v` as a varint.
+pub(super) fn put_varint(out: &mut Vec<u8>, mut v: u64) {
+    while v >= 0x80 {
+        out.push((v as u8) | 0x80);
+        v >>= 7;
+    }
+    out.push(v as u8);
+}
+
+/// Append field `number` of wire type LEN holding `bytes` (a string, or a packed column).
+pub(super) fn put_bytes(out: &mut Vec<u8>, number: u32, bytes: &[u8]) {
+    put_varint(out, (u64::from(number) << 3) | LEN);
+    put_varint(out, bytes.len() as u64);
+    out.extend_from_slice(bytes);
+}
+
+/// Append packed repeated field `number` (its varints already in `payload`); an empty one is
+/// left out, as protobuf encoders do.
+pub(super) fn put_packed(out: &mut Vec<u8>, number: u32, payload: &[u8]) {
+    if !payload.is_empty() {
+        put_bytes(out, number, payload);
+    }
+}
+
 /// Appends the values of every field of message `bytes` numbered `1..=columns.len()` to
 /// `columns[number - 1]` (an integer column gets the `sint64` values, before any summing).
 pub(super) fn decode(bytes: &[u8], columns: &mut [ColumnValues]) -> Result<(), String> {
