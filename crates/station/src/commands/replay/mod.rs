@@ -165,7 +165,7 @@ pub fn replay_with(path: &Path, from_raw: bool) -> anyhow::Result<ReplayOutcome>
         ..opts
     };
     let (report, compared) = rerun_and_compare(path, &again_path, false, || {
-        Ok(session::run(&opts, &Controls::default(), &mut ())?)
+        session::run(&opts, &Controls::default(), &mut ())
     });
     own_recording(&report?)?;
     let (mut outcome, pauses) = compared?;

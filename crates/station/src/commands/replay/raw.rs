@@ -60,13 +60,13 @@ fn rerun(
         clock: Clock::mock().0,
     };
     let (report, compared) = rerun_and_compare(recorded, &again_path, true, || {
-        Ok(session::run_with_body(
+        session::run_with_body(
             &opts,
             &Controls::with_stop(stop),
             &mut (),
             Body::Recorded(Box::new(body)),
             Some(facts),
-        )?)
+        )
     });
     let report = report?;
     if let Some(why) = failure.lock().unwrap_or_else(|e| e.into_inner()).take() {
