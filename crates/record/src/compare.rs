@@ -145,43 +145,78 @@ pub fn compare_files(
     first: &Path,
     second: &Path,
     channels: &[Channel],
+    observed: &[Channel],
     observe: impl FnMut(Channel, &Sample),
 ) -> Result<BTreeMap<Channel, ChannelComparison>, CompareError> {
-    let open = |path: &Path, second| {
-        std::fs::File::open(path)
-            .map(|f| std::io::BufReader::with_capacity(256 << 10, f))
-            .map_err(|source| CompareError {
-                second,
-                source: ReadError::Io {
-                    path: format!(" {}", path.display()),
-                    source,
-                },
-            })
-    };
+    let second = open_file(second).map_err(|source| CompareError {
+        second: true,
+        source,
+    })?;
+    compare_with(first, second, channels, observed, observe)
+}
+
+/// Compares `channels` of the recording at `first` with a second one read from `second` as
+/// it comes (a file still being written, through a reader that waits for its bytes) —
+/// [`compare`].
+pub fn compare_with(
+    first: &Path,
+    second: impl Read,
+    channels: &[Channel],
+    observed: &[Channel],
+    observe: impl FnMut(Channel, &Sample),
+) -> Result<BTreeMap<Channel, ChannelComparison>, CompareError> {
+    let first = open_file(first).map_err(|source| CompareError {
+        second: false,
+        source,
+    })?;
     compare(
-        open(first, false)?,
-        open(second, true)?,
+        first,
+        second,
         StreamLimits::default(),
         channels,
+        observed,
         observe,
     )
 }
 
+/// A recording's file, buffered for reading front to back.
+fn open_file(path: &Path) -> Result<impl Read + use<>, ReadError> {
+    std::fs::File::open(path)
+        .map(|f| std::io::BufReader::with_capacity(256 << 10, f))
+        .map_err(|source| ReadError::Io {
+            path: format!(" {}", path.display()),
+            source,
+        })
+}
+
 /// Compares `channels` of two recordings read side by side, every sample of the first file
-/// on them handed to `observe` as it is read; gives each channel's comparison.
+/// on the `observed` ones (a subset of `channels`) handed to `observe` as it is read; gives
+/// each channel's comparison.
+///
+/// A block message of one file is compared with the other's next message of the channel as
+/// bytes first: the same bytes in the same layout are the same samples, and neither is
+/// decoded (the writer closes a channel's blocks at the same samples in two runs of one
+/// session). Only where the bytes differ (blocks cut elsewhere, or a value that differs) are
+/// the two decoded and compared sample by sample, so the first differing sample is still
+/// named exactly.
 pub fn compare(
     first: impl Read,
     second: impl Read,
     limits: StreamLimits,
     channels: &[Channel],
+    observed: &[Channel],
     mut observe: impl FnMut(Channel, &Sample),
 ) -> Result<BTreeMap<Channel, ChannelComparison>, CompareError> {
     let mut wanted = [false; N];
     for c in channels {
         wanted[*c as usize] = true;
     }
-    let mut a = Side::new(first, limits, wanted);
-    let mut b = Side::new(second, limits, wanted);
+    let mut watched = [false; N];
+    for c in observed {
+        watched[*c as usize] = true;
+    }
+    let mut a = Side::new(first, limits, wanted, watched);
+    let mut b = Side::new(second, limits, wanted, [false; N]);
     let mut cmp = Comparer {
         keep: wanted,
         matched: [0; N],
@@ -208,7 +243,7 @@ pub fn compare(
                     source,
                 })?;
         }
-        cmp.settle(&mut a, &mut b);
+        cmp.settle(&mut a, &mut b)?;
     }
     let mut out = BTreeMap::new();
     for c in channels {
@@ -238,26 +273,57 @@ struct Comparer {
 
 impl Comparer {
     /// Compares what both files have given; stops holding what can no longer be compared.
-    fn settle<A, B>(&mut self, a: &mut Side<A>, b: &mut Side<B>) {
+    fn settle<A: Read, B: Read>(
+        &mut self,
+        a: &mut Side<A>,
+        b: &mut Side<B>,
+    ) -> Result<(), CompareError> {
         for c in 0..N {
             if !self.keep[c] {
                 continue;
             }
             while let (Some(x), Some(y)) = (a.pending[c].front(), b.pending[c].front()) {
-                if !self.same(x, y) {
-                    self.difference[c] = Some(SampleDifference::Values {
-                        index: self.matched[c],
-                        first: x.row(),
-                        second: y.row(),
-                    });
-                    self.drop_channel(c, a, b);
-                    break;
+                match (x, y) {
+                    (Held::Block(lx, bx, nx), Held::Block(ly, by, ny))
+                        if nx == ny && bx == by && self.alike(lx, ly) =>
+                    {
+                        let n = *nx;
+                        a.pop(c);
+                        b.pop(c);
+                        self.matched[c] += n;
+                        continue;
+                    }
+                    (Held::Block(..), _) => {
+                        a.unpack_front(c).map_err(|source| CompareError {
+                            second: false,
+                            source,
+                        })?;
+                        continue;
+                    }
+                    (_, Held::Block(..)) => {
+                        b.unpack_front(c).map_err(|source| CompareError {
+                            second: true,
+                            source,
+                        })?;
+                        continue;
+                    }
+                    (Held::Sample(x), Held::Sample(y)) => {
+                        if !self.same(x, y) {
+                            self.difference[c] = Some(SampleDifference::Values {
+                                index: self.matched[c],
+                                first: x.row(),
+                                second: y.row(),
+                            });
+                            self.drop_channel(c, a, b);
+                            break;
+                        }
+                    }
                 }
-                a.pending[c].pop_front();
-                b.pending[c].pop_front();
+                a.pop(c);
+                b.pop(c);
                 self.matched[c] += 1;
             }
-            let (held_a, held_b) = (a.pending[c].len(), b.pending[c].len());
+            let (held_a, held_b) = (a.held[c], b.held[c]);
             if (held_a > 0 && b.ended) || (held_b > 0 && a.ended) {
                 // Nothing more comes from the file that ended: the counts tell the rest.
                 self.drop_channel(c, a, b);
@@ -268,6 +334,7 @@ impl Comparer {
                 self.drop_channel(c, a, b);
             }
         }
+        Ok(())
     }
 
     /// Channel `c` is decided: its samples are only counted from now on.
@@ -275,8 +342,9 @@ impl Comparer {
         self.keep[c] = false;
         a.pending[c] = VecDeque::new();
         b.pending[c] = VecDeque::new();
+        a.held[c] = 0;
+        b.held[c] = 0;
     }
-
     /// Whether two samples are the same as their rows would be.
     fn same(&mut self, x: &Sample, y: &Sample) -> bool {
         match (x, y) {
@@ -337,15 +405,27 @@ fn same_cells(x: &[Cell], y: &[Cell]) -> bool {
         })
 }
 
+/// What one file has given of a channel and the other not yet.
+enum Held {
+    /// A block message not decoded: its layout, its bytes and its number of samples.
+    Block(Arc<Layout>, Vec<u8>, usize),
+    /// One sample, decoded (a JSON message, or a block's sample once its bytes differed).
+    Sample(Sample),
+}
+
 /// One file being read.
 struct Side<R> {
     records: Records<R>,
     wanted: [bool; N],
+    /// Channels whose samples are handed to the observer as they are read.
+    watched: [bool; N],
     schemas: SchemaTable,
     /// Our channels by id: each one's layout (`None`: JSON messages).
     channels: BTreeMap<u16, (Channel, Option<Arc<Layout>>)>,
-    /// Samples read and not yet compared, per channel.
-    pending: [VecDeque<Sample>; N],
+    /// What was read and not yet compared, per channel.
+    pending: [VecDeque<Held>; N],
+    /// Samples in `pending`, per channel.
+    held: [usize; N],
     /// Samples read, per channel.
     counts: [usize; N],
     /// The tick of the last sample read.
@@ -354,21 +434,63 @@ struct Side<R> {
 }
 
 impl<R: Read> Side<R> {
-    fn new(input: R, limits: StreamLimits, wanted: [bool; N]) -> Self {
+    fn new(input: R, limits: StreamLimits, wanted: [bool; N], watched: [bool; N]) -> Self {
         Self {
             records: Records::new(input, limits),
             wanted,
+            watched,
             schemas: SchemaTable::default(),
             channels: BTreeMap::new(),
             pending: std::array::from_fn(|_| VecDeque::new()),
+            held: [0; N],
             counts: [0; N],
             progress: 0,
             ended: false,
         }
     }
 
-    /// Reads one record: a message's samples are counted, handed to `observe` and, on the
-    /// channels still compared (`keep`), held.
+    /// Drops the first item held of channel `c`.
+    fn pop(&mut self, c: usize) {
+        match self.pending[c].pop_front() {
+            Some(Held::Block(_, _, n)) => self.held[c] -= n,
+            Some(Held::Sample(_)) => self.held[c] -= 1,
+            None => {}
+        }
+    }
+
+    /// Replaces the block first held of channel `c` with its samples, decoded.
+    fn unpack_front(&mut self, c: usize) -> Result<(), ReadError> {
+        let Some(Held::Block(layout, bytes, n)) = self.pending[c].pop_front() else {
+            return Ok(());
+        };
+        let topic = Channel::ALL[c].topic();
+        let index = self.counts[c] - self.held[c];
+        let cells = layout
+            .decode_cells(&bytes)
+            .map_err(|source| ReadError::Block {
+                topic,
+                index,
+                source,
+            })?;
+        if cells.len() != n {
+            return Err(ReadError::Block {
+                topic,
+                index,
+                source: super::blocks::BlockError::Decode(format!(
+                    "{} samples decoded of the {n} its ticks count",
+                    cells.len()
+                )),
+            });
+        }
+        for cells in cells.into_iter().rev() {
+            self.pending[c].push_front(Held::Sample(Sample::Cells(Arc::clone(&layout), cells)));
+        }
+        Ok(())
+    }
+
+    /// Reads one record: a message's samples are counted, handed to `observe` when its
+    /// channel is watched and, on the channels still compared (`keep`), held (a block
+    /// message whole, undecoded).
     fn pump(
         &mut self,
         keep: &[bool; N],
@@ -389,31 +511,47 @@ impl<R: Read> Side<R> {
                 let (channel, c) = (*channel, *channel as usize);
                 let body = m.data_within(channel.topic(), max_message)?;
                 let index = self.counts[c];
-                let samples = match layout {
-                    None => vec![Sample::Row(serde_json::from_slice(body).map_err(
-                        |source| ReadError::Decode {
-                            topic: channel.topic(),
-                            index,
-                            source,
-                        },
-                    )?)],
-                    Some(layout) => layout
-                        .decode_cells(body)
-                        .map_err(|source| ReadError::Block {
-                            topic: channel.topic(),
-                            index,
-                            source,
-                        })?
-                        .into_iter()
-                        .map(|cells| Sample::Cells(Arc::clone(layout), cells))
-                        .collect(),
+                let block_error = |source| ReadError::Block {
+                    topic: channel.topic(),
+                    index,
+                    source,
                 };
-                for s in samples {
-                    observe(channel, &s);
-                    self.counts[c] += 1;
-                    self.progress = self.progress.max(s.tick().unwrap_or(0));
-                    if keep[c] {
-                        self.pending[c].push_back(s);
+                match layout {
+                    None => {
+                        let s = Sample::Row(serde_json::from_slice(body).map_err(|source| {
+                            ReadError::Decode {
+                                topic: channel.topic(),
+                                index,
+                                source,
+                            }
+                        })?);
+                        if self.watched[c] {
+                            observe(channel, &s);
+                        }
+                        self.counts[c] += 1;
+                        self.progress = self.progress.max(s.tick().unwrap_or(0));
+                        if keep[c] {
+                            self.pending[c].push_back(Held::Sample(s));
+                            self.held[c] += 1;
+                        }
+                    }
+                    Some(layout) => {
+                        let (n, last) = layout.stamps(body).map_err(block_error)?;
+                        if self.watched[c] {
+                            for cells in layout.decode_cells(body).map_err(block_error)? {
+                                observe(channel, &Sample::Cells(Arc::clone(layout), cells));
+                            }
+                        }
+                        self.counts[c] += n;
+                        self.progress = self.progress.max(last.unwrap_or(0));
+                        if keep[c] && n > 0 {
+                            self.pending[c].push_back(Held::Block(
+                                Arc::clone(layout),
+                                body.to_vec(),
+                                n,
+                            ));
+                            self.held[c] += n;
+                        }
                     }
                 }
                 return Ok(());
@@ -475,6 +613,7 @@ mod tests {
             b,
             StreamLimits::default(),
             &[Channel::Wheel, Channel::Score, Channel::Assist],
+            &[],
             |_, _| {},
         )
         .unwrap()
@@ -571,6 +710,7 @@ mod tests {
             &a[..],
             &a[..],
             StreamLimits::default(),
+            &[Channel::Score],
             &[Channel::Score],
             |c, s| {
                 assert_eq!(c, Channel::Score);

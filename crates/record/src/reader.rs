@@ -202,10 +202,12 @@ impl Decoder {
                 }
             }
             Self::Blocks(layout, true) => {
-                for cells in layout
-                    .decode_cells(data)
-                    .map_err(|e| block_error(index, e))?
-                {
+                let mut flat = Vec::new();
+                let rows = layout
+                    .decode_flat(data, &mut flat)
+                    .map_err(|e| block_error(index, e))?;
+                let width = layout.row_width();
+                for cells in flat.chunks_exact(width.max(1)).take(rows) {
                     let (tick, t_ns) = match cells.get(..2) {
                         Some([Cell::Int(tick), Cell::Int(t_ns)]) => (*tick, *t_ns),
                         _ => {

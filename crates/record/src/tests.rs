@@ -532,7 +532,14 @@ fn a_record_over_the_one_limit_is_refused_by_name_by_every_reader() {
     assert!(named(&e), "{e}");
     let e = Recording::from_bytes(&forged).unwrap_err();
     assert!(named(&e), "{e}");
-    let e = compare::compare(&honest[..], &forged[..], limits, &Channel::ALL, |_, _| {});
+    let e = compare::compare(
+        &honest[..],
+        &forged[..],
+        limits,
+        &Channel::ALL,
+        &[],
+        |_, _| {},
+    );
     let e = e.unwrap_err();
     assert!(e.second && named(&e.source), "{e}");
     // `recover` copies up to it and says why it stopped there.

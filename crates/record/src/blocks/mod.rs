@@ -412,6 +412,64 @@ impl Layout {
         Ok(rows.unwrap_or(0))
     }
 
+    /// The number of samples in one block message and the tick of its last one, from its
+    /// first column (`tick`) alone: the other columns are skipped, not decoded (what a reader
+    /// that compares whole messages needs to count and place them).
+    pub fn stamps(&self, bytes: &[u8]) -> Result<(usize, Option<u64>), BlockError> {
+        let mut ticks = [ColumnValues::Stored(Vec::new())];
+        wire::decode(bytes, &mut ticks).map_err(BlockError::Decode)?;
+        let [ColumnValues::Stored(deltas)] = ticks else {
+            unreachable!("one stored column asked for")
+        };
+        let last = deltas.iter().fold(0i64, |p, d| p.wrapping_add(*d));
+        Ok((deltas.len(), (!deltas.is_empty()).then_some(last as u64)))
+    }
+
+    /// Decode one block message into its samples' cells, all in one vector, sample after
+    /// sample, each [`Self::row_width`] cells long as [`Self::decode_cells`] gives them (no
+    /// vector a sample). Returns the number of samples.
+    pub fn decode_flat(&self, bytes: &[u8], flat: &mut Vec<Cell>) -> Result<usize, BlockError> {
+        flat.clear();
+        let width = self.row_width;
+        let mut column = 0;
+        self.decode_columns(bytes, |c, values| {
+            let offset = self.offsets[column];
+            column += 1;
+            let elements = c.elements.max(1);
+            if flat.is_empty() && !values.is_empty() {
+                flat.resize(values.len() / elements * width, Cell::Absent);
+            }
+            let at = |i: usize| (i / elements) * width + offset + i % elements;
+            match values {
+                ColumnValues::Stored(v) => {
+                    let quantum = c.quantum.unwrap_or(1.0);
+                    for (i, q) in v.into_iter().enumerate() {
+                        flat[at(i)] = match c.kind {
+                            Kind::Int => Cell::Int(q as u64),
+                            _ => unquantise(q, quantum).map_or(Cell::Absent, Cell::Float),
+                        };
+                    }
+                }
+                ColumnValues::Bools(v) => {
+                    for (i, b) in v.into_iter().enumerate() {
+                        flat[at(i)] = Cell::Bool(b);
+                    }
+                }
+                ColumnValues::Texts(v) => {
+                    for (i, t) in v.into_iter().enumerate() {
+                        flat[at(i)] = Cell::Text(t);
+                    }
+                }
+            }
+            Ok(())
+        })
+    }
+
+    /// The cells of one sample: [`Self::decode_flat`]'s vector holds samples this long.
+    pub fn row_width(&self) -> usize {
+        self.row_width
+    }
+
     /// Decode one block message into its samples, each the cells of every column in order
     /// (stamps first, an array field's elements one cell each).
     pub fn decode_cells(&self, bytes: &[u8]) -> Result<Vec<Vec<Cell>>, BlockError> {

@@ -18,7 +18,10 @@ use session::config::StationConfig;
 use session::haptic::Pacing;
 use session::{self, BodyKind, Controls, SessionOptions};
 use std::collections::BTreeMap;
+use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
 
 mod raw;
 mod window;
@@ -123,9 +126,9 @@ pub fn replay(path: &Path) -> anyhow::Result<ReplayOutcome> {
 
 /// Re-run the session recorded at `path` and compare every channel but `/timing`: from its
 /// raw inputs when it was a real-device session or `from_raw`, else from its seed. Neither
-/// run is held: the re-run is recorded to a temporary file, and the two files are then read
-/// side by side and compared as they are read (`record::compare`), so memory does not grow
-/// with the session's length.
+/// run is held: the re-run is recorded to a temporary file, which is read as it is written,
+/// side by side with the recording, and compared as it is read (`record::compare`), so memory
+/// does not grow with the session's length.
 pub fn replay_with(path: &Path, from_raw: bool) -> anyhow::Result<ReplayOutcome> {
     let unreadable = || format!("{} is not a readable recording", path.display());
     let mut stream =
@@ -161,8 +164,11 @@ pub fn replay_with(path: &Path, from_raw: bool) -> anyhow::Result<ReplayOutcome>
         record: Some(again_path.clone()),
         ..opts
     };
-    let report = session::run(&opts, &Controls::default(), &mut ())?;
-    let (mut outcome, pauses) = compare(path, &report, &again_path, false)?;
+    let (report, compared) = rerun_and_compare(path, &again_path, false, || {
+        session::run(&opts, &Controls::default(), &mut ())
+    });
+    own_recording(&report?)?;
+    let (mut outcome, pauses) = compared?;
     let recorded_ticks = outcome.compared.get(Channel::Wheel.topic()).copied();
     let recorded_ticks = recorded_ticks.unwrap_or(0);
     if recorded_ticks < expected_ticks {
@@ -181,31 +187,209 @@ pub fn replay_with(path: &Path, from_raw: bool) -> anyhow::Result<ReplayOutcome>
     Ok(outcome)
 }
 
-/// The replay's outcome (no caveats yet): what the re-run (`report`, recorded to
-/// `again_path`) reproduced of the recording at `recorded`, the raw channels compared too when
+/// Runs the re-run (`run`, which records to `again_path`) on a thread of its own while this
+/// one reads its recording as it is written and compares it with the recording at
+/// `recorded` (`compare`): the two take the time of the longer, not of both. Gives the
+/// re-run's report and the comparison.
+fn rerun_and_compare(
+    recorded: &Path,
+    again_path: &Path,
+    from_raw: bool,
+    run: impl FnOnce() -> anyhow::Result<session::SessionReport> + Send,
+) -> (
+    anyhow::Result<session::SessionReport>,
+    anyhow::Result<(ReplayOutcome, Pauses)>,
+) {
+    let done = AtomicBool::new(false);
+    std::thread::scope(|s| {
+        let rerun = std::thread::Builder::new()
+            .name("replay-rerun".into())
+            .spawn_scoped(s, || {
+                let _done = SetOnDrop(&done);
+                run()
+            });
+        let rerun = match rerun {
+            Ok(handle) => handle,
+            Err(e) => {
+                let e = anyhow::Error::new(e).context("cannot start the re-run's thread");
+                return (Err(e), Err(anyhow::anyhow!("the session was not re-run")));
+            }
+        };
+        let compared = Following::open(again_path, &done)
+            .map_err(|source| record::compare::CompareError {
+                second: true,
+                source: record::ReadError::Io {
+                    path: format!(" {}", again_path.display()),
+                    source,
+                },
+            })
+            .and_then(|again| compare(recorded, again, from_raw))
+            .map_err(|e| {
+                let which = if e.second {
+                    "the replay's recording".to_owned()
+                } else {
+                    format!("{} is not a readable recording", recorded.display())
+                };
+                anyhow::Error::new(e.source).context(which)
+            });
+        let report = rerun
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        (report, compared)
+    })
+}
+
+/// Fails if the re-run's own recording failed (its comparison then means nothing).
+fn own_recording(report: &session::SessionReport) -> anyhow::Result<()> {
+    match &report.recorder.error {
+        Some(e) => bail!("the replay's own recording failed: {e}"),
+        None => Ok(()),
+    }
+}
+
+/// Sets its flag when dropped: the re-run has ended, however it ended.
+struct SetOnDrop<'a>(&'a AtomicBool);
+
+impl Drop for SetOnDrop<'_> {
+    fn drop(&mut self) {
+        self.0.store(true, Ordering::Release);
+    }
+}
+
+/// A recording read as it is written: at the end of what is written it waits for more until
+/// the writer has ended (`done`), and only then ends. Only whole records are given while the
+/// writer runs: the MCAP writer starts a chunk with a placeholder header (its length all ones)
+/// and writes the real one over it when the chunk closes, so a chunk is given once its header
+/// is the real one and its bytes are all there.
+struct Following<'a> {
+    file: std::fs::File,
+    done: &'a AtomicBool,
+    /// Bytes given so far.
+    at: u64,
+    /// Bytes known final: the magic and every whole record up to here.
+    stable: u64,
+}
+
+impl<'a> Following<'a> {
+    /// How long a reader at the end of what is written waits before it looks again.
+    const POLL: Duration = Duration::from_millis(1);
+
+    /// Opens `path` once the writer has created it, buffered.
+    fn open(path: &Path, done: &'a AtomicBool) -> std::io::Result<BufReader<Self>> {
+        loop {
+            let ended = done.load(Ordering::Acquire);
+            match std::fs::File::open(path) {
+                Ok(file) => {
+                    let following = Self {
+                        file,
+                        done,
+                        at: 0,
+                        stable: 0,
+                    };
+                    return Ok(BufReader::with_capacity(256 << 10, following));
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound && !ended => {
+                    std::thread::sleep(Self::POLL);
+                }
+                Err(e) => return Err(e),
+            }
+        }
+    }
+
+    /// Reads `buf.len()` bytes at `offset`, if the file holds them.
+    fn bytes_at(&mut self, offset: u64, buf: &mut [u8]) -> std::io::Result<bool> {
+        self.file.seek(SeekFrom::Start(offset))?;
+        match self.file.read_exact(buf) {
+            Ok(()) => Ok(true),
+            Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => Ok(false),
+            Err(e) => Err(e),
+        }
+    }
+
+    /// Moves `stable` past every record now whole and final.
+    fn advance(&mut self) -> std::io::Result<()> {
+        const CHUNK: u8 = 0x06;
+        const PLACEHOLDER: u64 = !0;
+        let len = self.file.metadata()?.len();
+        if self.stable == 0 {
+            if len < 8 {
+                return Ok(());
+            }
+            self.stable = 8;
+        }
+        loop {
+            let mut head = [0u8; 9 + 24];
+            if !self.bytes_at(self.stable, &mut head[..9])? {
+                return Ok(());
+            }
+            let body = u64::from_le_bytes(head[1..9].try_into().expect("8 bytes"));
+            if head[0] == CHUNK {
+                // opcode, length, start and end times, uncompressed size, its CRC, the
+                // compression's name (length first), compressed size.
+                if body == PLACEHOLDER || !self.bytes_at(self.stable, &mut head)? {
+                    return Ok(());
+                }
+                let uncompressed = u64::from_le_bytes(head[25..33].try_into().expect("8 bytes"));
+                let mut name = [0u8; 4];
+                if uncompressed == PLACEHOLDER || !self.bytes_at(self.stable + 37, &mut name)? {
+                    return Ok(());
+                }
+                let name = u64::from(u32::from_le_bytes(name));
+                let mut compressed = [0u8; 8];
+                if !self.bytes_at(self.stable + 41 + name, &mut compressed)?
+                    || u64::from_le_bytes(compressed) == PLACEHOLDER
+                {
+                    return Ok(());
+                }
+            }
+            let end = self.stable.saturating_add(9).saturating_add(body);
+            if end > len {
+                return Ok(());
+            }
+            self.stable = end;
+        }
+    }
+}
+
+impl Read for Following<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        loop {
+            // Look at the flag first: once the writer has ended, every byte is final.
+            let ended = self.done.load(Ordering::Acquire);
+            if ended {
+                self.stable = self.file.metadata()?.len();
+            } else {
+                self.advance()?;
+            }
+            if self.at < self.stable || ended || buf.is_empty() {
+                let want = usize::try_from(self.stable.saturating_sub(self.at))
+                    .unwrap_or(usize::MAX)
+                    .min(buf.len());
+                self.file.seek(SeekFrom::Start(self.at))?;
+                let n = self.file.read(&mut buf[..want])?;
+                self.at += n as u64;
+                return Ok(n);
+            }
+            std::thread::sleep(Self::POLL);
+        }
+    }
+}
+
+/// The replay's outcome (no caveats yet): what the re-run, read from `again` as it is
+/// written, reproduced of the recording at `recorded`, the raw channels compared too when
 /// `from_raw`; and the recording's pauses.
 fn compare(
     recorded: &Path,
-    report: &session::SessionReport,
-    again_path: &Path,
+    again: impl Read,
     from_raw: bool,
-) -> anyhow::Result<(ReplayOutcome, Pauses)> {
-    if let Some(e) = &report.recorder.error {
-        bail!("the replay's own recording failed: {e}");
-    }
+) -> Result<(ReplayOutcome, Pauses), record::compare::CompareError> {
     let channels: Vec<Channel> = compared(from_raw).collect();
     let mut pauses = Pauses::default();
-    let comparison = record::compare::compare_files(recorded, again_path, &channels, |c, s| {
-        pauses.observe(c, s);
-    })
-    .map_err(|e| {
-        let which = if e.second {
-            "the replay's recording".to_owned()
-        } else {
-            format!("{} is not a readable recording", recorded.display())
-        };
-        anyhow::Error::new(e.source).context(which)
-    })?;
+    let observed = [Channel::Arm, Channel::Score];
+    let comparison =
+        record::compare::compare_with(recorded, again, &channels, &observed, |c, s| {
+            pauses.observe(c, s);
+        })?;
     Ok((
         ReplayOutcome {
             compared: comparison

@@ -5,7 +5,7 @@
 //! real-device session (no wheel or patient to re-run); `--from-raw` forces it on a simulated
 //! one, which proves the raw inputs enough.
 
-use super::{ReplayOutcome, compare, recorded_plan};
+use super::{ReplayOutcome, own_recording, recorded_plan, rerun_and_compare};
 use anyhow::{Context, bail};
 use clock::Clock;
 use record::{BodyFacts, SessionMetadata};
@@ -59,17 +59,21 @@ fn rerun(
         difficulty: None,
         clock: Clock::mock().0,
     };
-    let report = session::run_with_body(
-        &opts,
-        &Controls::with_stop(stop),
-        &mut (),
-        Body::Recorded(Box::new(body)),
-        Some(facts),
-    )?;
+    let (report, compared) = rerun_and_compare(recorded, &again_path, true, || {
+        session::run_with_body(
+            &opts,
+            &Controls::with_stop(stop),
+            &mut (),
+            Body::Recorded(Box::new(body)),
+            Some(facts),
+        )
+    });
+    let report = report?;
     if let Some(why) = failure.lock().unwrap_or_else(|e| e.into_inner()).take() {
         bail!(why);
     }
-    let (mut outcome, _) = compare(recorded, &report, &again_path, true)?;
+    own_recording(&report)?;
+    let (mut outcome, _) = compared?;
     let count = |topic: &str| outcome.compared.get(topic).copied().unwrap_or(0);
     let (ticks, with_raw) = (count("/wheel"), count("/raw/wheel"));
     if with_raw != ticks {
