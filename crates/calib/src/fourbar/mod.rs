@@ -295,44 +295,16 @@ fn calibrate_with_noise(
         }
         FourbarMethod::Lm => refine(need_initial("lm")?.to_vec8()),
         FourbarMethod::Auto => {
-            let n = samples.len();
-            let sub = (n >= GLOBAL_DECIMATION_FROM)
-                .then(|| Subset::new(samples, &trig, noise, gains.as_ref(), n / GLOBAL_SUBSET));
-            let global = match &sub {
-                Some(sub) => global::global_fit(
-                    &sub.samples(),
-                    &sub.trig,
-                    l2_m,
-                    sub.noise.as_ref(),
-                    sub.gains.as_ref(),
-                    options.robust,
-                ),
-                None => {
-                    global::global_fit(samples, &trig, l2_m, noise, gains.as_ref(), options.robust)
-                }
-            };
-            let mut best = match sub {
-                Some(sub) if options.robust && np == 8 => {
-                    // robust rounds on the subset, then the whole recording's pass(es)
-                    let coarse = global.map(|g| {
-                        refine_on(
-                            &sub.trig,
-                            g.to_vec8(),
-                            sub.noise.as_ref(),
-                            sub.gains.as_ref(),
-                        )
-                    });
-                    sub.recycle();
-                    let coarse = coarse?;
-                    polish(&trig, l2_m, coarse, noise, gains.as_ref(), max_it, tol)
-                }
-                sub => {
-                    if let Some(sub) = sub {
-                        sub.recycle();
-                    }
-                    refine(global?.to_vec8())
-                }
-            };
+            let mut best = auto_fit(
+                samples,
+                &trig,
+                l2_m,
+                options,
+                noise,
+                gains.as_ref(),
+                np,
+                refine_on,
+            )?;
             if let Some(init) = options.initial {
                 let mut other = refine(init.to_vec8());
                 // compare both ends under the same cost (the global start's final weights)
@@ -395,6 +367,60 @@ fn calibrate_with_noise(
         outlier_fraction,
         wheel_range_rad: Some(range),
         warnings,
+    })
+}
+
+/// `Auto`'s fit from its global start: on long recordings (≥ [`GLOBAL_DECIMATION_FROM`]
+/// samples) the start, and with robust weights and bias terms the robust rounds too, on a
+/// [`Subset`], then [`polish`] over every sample; otherwise the start and `refine` over every
+/// sample.
+#[allow(clippy::too_many_arguments)]
+fn auto_fit(
+    samples: &FourbarSamples<'_>,
+    trig: &Trig,
+    l2_m: f64,
+    options: &FourbarOptions,
+    noise: Option<&NoiseProfile>,
+    gains: Option<&Gains>,
+    np: usize,
+    refine_on: impl Fn(&Trig, [f64; 8], Option<&NoiseProfile>, Option<&Gains>) -> Fit,
+) -> Result<Fit, CalibError> {
+    let (tol, max_it) = (options.tolerance, options.max_iterations);
+    let n = samples.len();
+    let sub = (n >= GLOBAL_DECIMATION_FROM)
+        .then(|| Subset::new(samples, trig, noise, gains, n / GLOBAL_SUBSET));
+    let global = match &sub {
+        Some(sub) => global::global_fit(
+            &sub.samples(),
+            &sub.trig,
+            l2_m,
+            sub.noise.as_ref(),
+            sub.gains.as_ref(),
+            options.robust,
+        ),
+        None => global::global_fit(samples, trig, l2_m, noise, gains, options.robust),
+    };
+    Ok(match sub {
+        Some(sub) if options.robust && np == 8 => {
+            // robust rounds on the subset, then the whole recording's pass(es)
+            let coarse = global.map(|g| {
+                refine_on(
+                    &sub.trig,
+                    g.to_vec8(),
+                    sub.noise.as_ref(),
+                    sub.gains.as_ref(),
+                )
+            });
+            sub.recycle();
+            let coarse = coarse?;
+            polish(trig, l2_m, coarse, noise, gains, max_it, tol)
+        }
+        sub => {
+            if let Some(sub) = sub {
+                sub.recycle();
+            }
+            refine_on(trig, global?.to_vec8(), noise, gains)
+        }
     })
 }
 
