@@ -426,7 +426,8 @@ fn auto_fit(
 
 /// Recordings at least this long run [`FourbarMethod::Auto`]'s global start and, when robust
 /// with bias terms (the default), its robust rounds on a subset of [`GLOBAL_SUBSET`] evenly
-/// spaced samples, and then fit every sample ([`polish`]). (From 2 000 samples it made the
+/// spaced samples, and then fit every sample: one pass that reweights every sample at the
+/// subset's answer and sums the normal equations, and Newton steps from there. (From 2 000 samples it made the
 /// thesis's 25 % noise case of the noise study worse: 500 samples pin the start less well
 /// there.)
 pub const GLOBAL_DECIMATION_FROM: usize = 4000;
@@ -434,7 +435,7 @@ pub const GLOBAL_DECIMATION_FROM: usize = 4000;
 /// Samples the subset of a long recording has (at least; every `n / GLOBAL_SUBSET`-th).
 pub const GLOBAL_SUBSET: usize = 1000;
 
-/// [`polish`] takes a Newton step without the pass that would evaluate it when the step's
+/// The fit of every sample after the subset's takes a Newton step without the pass that would evaluate it when the step's
 /// predicted decrease is at most this many times `cost / n_eff`, about a squared standard
 /// error: Newton's convergence is quadratic, so the step after it would move the answer by a
 /// small fraction of its standard error.
