@@ -25,8 +25,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 
 # Speed-up floors (our default call's CPU time / scipy's on one BLAS thread, median over the
-# recordings). Measured (BENCHMARKS.md, calib): planar ≈ 7–8×, spatial arm ≈ 23×.
-PLANAR_FLOOR = 4.5
+# recordings). Measured (BENCHMARKS.md, calib): planar ≈ 10.6×, spatial arm ≈ 21×.
+PLANAR_FLOOR = 7.0
 ARM_FLOOR = 15.0
 
 SEEDS = 5

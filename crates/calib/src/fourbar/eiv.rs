@@ -109,6 +109,22 @@ impl NoiseProfile {
         out.iter_mut().for_each(|w| *w = mean / w.max(floor));
     }
 
+    /// The weights of [`Self::weights`] one sample at a time ([`NoiseWeights::at`]), for a pass
+    /// that reweights as it goes: the mean variance from the channels' means (the same value
+    /// up to rounding).
+    pub(crate) fn weight_fn(&self, l2: f64, l3: f64, l4: f64) -> NoiseWeights {
+        let (a, b, c) = (l2 * l2, l3 * l3, l4 * l4);
+        let n = self.var2.len().max(1) as f64;
+        let mean_of = |v: &[f64]| v.iter().sum::<f64>() / n;
+        let mean = a * mean_of(&self.var2) + b * mean_of(&self.var3) + c * mean_of(&self.var4);
+        NoiseWeights {
+            coefficients: [a, b, c],
+            mean,
+            floor: VARIANCE_FLOOR * mean,
+            uniform: !(mean > 0.0 && mean.is_finite()),
+        }
+    }
+
     /// The bias-correction gains `gⱼₖ = e^{σⱼₖ²/2}`.
     pub(crate) fn gains(&self) -> Gains {
         let g = |v: &[f64]| {
@@ -150,6 +166,31 @@ const SERIES_RANGE: std::ops::Range<f64> = 0.0..0.01;
 fn half_exp_series(x: f64) -> f64 {
     let h = 0.5 * x;
     1.0 + h * (1.0 + h * (0.5 + h * (1.0 / 6.0 + h * (1.0 / 24.0 + h * (1.0 / 120.0 + h / 720.0)))))
+}
+
+/// [`NoiseProfile::weights`] of given lengths, sample by sample.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct NoiseWeights {
+    /// `[l2², l3², l4²]` (m²).
+    coefficients: [f64; 3],
+    /// Mean loop-residual variance (m²).
+    mean: f64,
+    /// Floor of a sample's variance (m²).
+    floor: f64,
+    /// No noise found: every weight 1.
+    uniform: bool,
+}
+
+impl NoiseWeights {
+    /// The weight of a sample whose angle variances are `(v2, v3, v4)` (rad²).
+    #[inline(always)]
+    pub(crate) fn at(&self, v2: f64, v3: f64, v4: f64) -> f64 {
+        if self.uniform {
+            return 1.0;
+        }
+        let [a, b, c] = self.coefficients;
+        self.mean / (a * v2 + b * v3 + c * v4).max(self.floor)
+    }
 }
 
 /// Per-sample gains `e^{σ²/2}` undoing the noise's shrinkage of `E[e^{iφ}]`.

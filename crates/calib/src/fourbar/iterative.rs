@@ -12,7 +12,7 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::closed_form::{Mat7, dz_dp, z_of};
-use super::eiv::Gains;
+use super::eiv::{Gains, NoiseProfile};
 use super::trig::{Trig, sin_cos};
 use crate::error::CalibError;
 
@@ -83,6 +83,93 @@ pub(crate) fn pass<const NP: usize>(pb: &Problem<'_>, p: &[f64; 8]) -> Pass<NP> 
         m.add_sample(&at, t[k], wk, [u2, u3, u4], gk);
     }
     m.into_pass(pb, &at)
+}
+
+/// How [`pass_reweighted`] weights each sample at the pass's own point: the noise weights of
+/// its lengths (when there is a profile) times Huber factors of the standardised residual norm
+/// against the threshold `huber` (m; `None`: no robust factor).
+pub(crate) struct Reweight<'a> {
+    pub noise: Option<&'a NoiseProfile>,
+    pub huber: Option<f64>,
+}
+
+/// A pass that weighted the samples itself, and what the weights say.
+pub(crate) struct Reweighted {
+    pub pass: Pass<8>,
+    /// Σ of the Huber factors (the effective sample count).
+    pub n_eff: f64,
+    /// Samples the Huber factor down-weighted.
+    pub outliers: usize,
+    /// Σ|r|² without weights or gains (m²).
+    pub ssr: f64,
+}
+
+/// [`pass`] with bias terms whose per-sample weights are computed at `p` inside the sweep (the
+/// robust reweighting and the moment sums in one pass over the samples instead of two),
+/// written to `weights` for later passes at other points; `pb.weights` is ignored.
+pub(crate) fn pass_reweighted(
+    pb: &Problem<'_>,
+    p: &[f64; 8],
+    rw: &Reweight<'_>,
+    weights: &mut Vec<f64>,
+) -> Reweighted {
+    let at = At::new::<8>(pb.l2, p);
+    let mut m = Moments::default();
+    let (mut rot3, mut rot4) = (Rotor::new(pb.trig, at.b3), Rotor::new(pb.trig, at.b4));
+    let tr = pb.trig;
+    let n = tr.len();
+    let (c2, s2, c3, s3, c4, s4, t) = (
+        &tr.c2[..n],
+        &tr.s2[..n],
+        &tr.c3[..n],
+        &tr.s3[..n],
+        &tr.c4[..n],
+        &tr.s4[..n],
+        &tr.t[..n],
+    );
+    let g = pb.gains.map(|g| (&g.g2[..n], &g.g3[..n], &g.g4[..n]));
+    let noise = rw.noise.map(|nz| {
+        (
+            nz.weight_fn(pb.l2, p[1].abs(), p[2].abs()),
+            &nz.var2[..n],
+            &nz.var3[..n],
+            &nz.var4[..n],
+        )
+    });
+    let c = rw.huber.unwrap_or(f64::INFINITY);
+    let c2_huber = c * c;
+    let (mut n_eff, mut outliers, mut ssr) = (0.0, 0usize, 0.0);
+    weights.clear();
+    weights.resize(n, 0.0);
+    let w_out = &mut weights[..n];
+    for k in 0..n {
+        let (r3, r4) = (rot3.at(k), rot4.at(k));
+        let u2 = (c2[k], s2[k]);
+        let u3 = cmul((c3[k], s3[k]), r3);
+        let u4 = cmul((c4[k], s4[k]), r4);
+        let r = residual(&at, u2, u3, u4);
+        let r2 = r.0 * r.0 + r.1 * r.1;
+        ssr += r2;
+        let nw = noise.map_or(1.0, |(f, v2, v3, v4)| f.at(v2[k], v3[k], v4[k]));
+        let rho2 = r2 * nw;
+        let h = if rho2 > c2_huber {
+            outliers += 1;
+            c / rho2.sqrt()
+        } else {
+            1.0
+        };
+        n_eff += h;
+        let wk = nw * h;
+        w_out[k] = wk;
+        let gk = g.map(|(g2, g3, g4)| (g2[k], g3[k], g4[k]));
+        m.add_sample(&at, t[k], wk, [u2, u3, u4], gk);
+    }
+    Reweighted {
+        pass: m.into_pass(pb, &at),
+        n_eff,
+        outliers,
+        ssr,
+    }
 }
 
 /// `e^{−i·b·tₖ}` sample after sample: on a uniform time axis computed exactly (`sin_cos`)
@@ -550,11 +637,17 @@ pub(crate) fn gauss_newton(
 /// Hessian is the exact one (Gauss–Newton plus the residual curvature) whenever that is
 /// positive definite at the current damping, which keeps the convergence quadratic when the
 /// residuals are not small; elsewhere (far from the minimum) it is Gauss–Newton's.
+///
+/// A Newton step whose predicted relative decrease of the cost is at most `accept_relative`
+/// is taken without the pass that would evaluate it (0: only the rounding criteria below):
+/// from a start already near the minimum (the subset fit of `Auto`), the step after it would
+/// change the answer by a small fraction of its standard error.
 pub(crate) fn levenberg_marquardt<const NP: usize>(
     p0: [f64; 8],
     mut eval: impl FnMut(&[f64; 8]) -> Normal<NP>,
     max_iterations: u32,
     tol: f64,
+    accept_relative: f64,
 ) -> (Refined, Normal<NP>) {
     let mut p = p0;
     for v in p.iter_mut().skip(NP) {
@@ -604,7 +697,8 @@ pub(crate) fn levenberg_marquardt<const NP: usize>(
             && last_newton_relative
                 .is_some_and(|last| relative < 1e-8 && relative * relative / last <= 1e-13);
         last_newton_relative = is_newton.then_some(relative);
-        if lost_in_rounding || next_lost || step_small(&delta, &p, tol) {
+        let near_enough = is_newton && relative <= accept_relative;
+        if lost_in_rounding || next_lost || near_enough || step_small(&delta, &p, tol) {
             // converged whether or not the cost could tell this step from the current point
             // (a step below the tolerance, or a decrease below the cost's rounding): take it
             // without the pass that would only confirm it

@@ -38,7 +38,8 @@ use crate::error::CalibError;
 use closed_form::{SqrtInfo, gram};
 use eiv::Gains;
 use iterative::{
-    Problem, Quadratic, Refined, gauss_newton, levenberg_marquardt, pass, residual_norms2,
+    Problem, Quadratic, Refined, Reweight, gauss_newton, levenberg_marquardt, pass,
+    pass_reweighted, residual_norms2,
 };
 use median::{median_every, median_stride};
 use trig::Trig;
@@ -238,6 +239,8 @@ struct Fit {
     /// the answer, from the residual norms the final reweighting computed there: the
     /// statistics need no further pass over the samples either.
     last_pass: Option<(DMatrix<f64>, f64, f64)>,
+    /// The last Huber threshold (m; `None` without robust weighting).
+    threshold: Option<f64>,
 }
 
 fn calibrate_with_noise(
@@ -256,19 +259,21 @@ fn calibrate_with_noise(
     };
     let trig = Trig::new(samples);
     let gains = noise.map(NoiseProfile::gains);
-    let refine = |p0: [f64; 8]| {
-        refine(
-            &trig,
-            l2_m,
-            p0,
-            np,
-            noise,
-            gains.as_ref(),
-            options.robust,
-            max_it,
-            tol,
-        )
-    };
+    let refine_on =
+        |trig: &Trig, p0: [f64; 8], noise: Option<&NoiseProfile>, gains: Option<&Gains>| {
+            refine(
+                trig,
+                l2_m,
+                p0,
+                np,
+                noise,
+                gains,
+                options.robust,
+                max_it,
+                tol,
+            )
+        };
+    let refine = |p0: [f64; 8]| refine_on(&trig, p0, noise, gains.as_ref());
     // The closed form's statistics come straight from its triangular factor (no second pass).
     let mut global_stats = None;
     let fit = match options.method {
@@ -290,8 +295,16 @@ fn calibrate_with_noise(
         }
         FourbarMethod::Lm => refine(need_initial("lm")?.to_vec8()),
         FourbarMethod::Auto => {
-            let global = global_start(samples, &trig, l2_m, noise, gains.as_ref(), options.robust)?;
-            let mut best = refine(global.to_vec8());
+            let mut best = auto_fit(
+                samples,
+                &trig,
+                l2_m,
+                options,
+                noise,
+                gains.as_ref(),
+                np,
+                refine_on,
+            )?;
             if let Some(init) = options.initial {
                 let mut other = refine(init.to_vec8());
                 // compare both ends under the same cost (the global start's final weights)
@@ -357,85 +370,217 @@ fn calibrate_with_noise(
     })
 }
 
-/// Recordings at least this long start [`FourbarMethod::Auto`]'s refinement from the global
-/// solution of a subset of [`GLOBAL_SUBSET`] evenly spaced samples. (From 2 000 samples it made
-/// the thesis's 25 % noise case of the noise study worse: 500 samples pin the start less well
-/// there.)
-pub const GLOBAL_DECIMATION_FROM: usize = 4000;
-
-/// Samples the global start of a long recording is computed from (at least; every
-/// `n / GLOBAL_SUBSET`-th sample).
-pub const GLOBAL_SUBSET: usize = 1000;
-
-/// The global start of `Auto` ([`global::global_fit`]): its only job is to put the LM,
-/// which then fits every sample, in the basin of the minimum, so on long recordings it is
-/// computed from every `n / GLOBAL_SUBSET`-th sample (its robust rounds' cost no longer grows
-/// with the recording; the subset keeps at least [`GLOBAL_SUBSET`] samples).
-fn global_start(
+/// `Auto`'s fit from its global start: on long recordings (≥ [`GLOBAL_DECIMATION_FROM`]
+/// samples) the start, and with robust weights and bias terms the robust rounds too, on a
+/// [`Subset`], then [`polish`] over every sample; otherwise the start and `refine` over every
+/// sample.
+#[allow(clippy::too_many_arguments)]
+fn auto_fit(
     samples: &FourbarSamples<'_>,
     trig: &Trig,
     l2_m: f64,
+    options: &FourbarOptions,
     noise: Option<&NoiseProfile>,
     gains: Option<&Gains>,
-    robust: bool,
-) -> Result<FourbarParams, CalibError> {
-    if samples.len() < GLOBAL_DECIMATION_FROM {
-        return global::global_fit(samples, trig, l2_m, noise, gains, robust);
-    }
-    let stride = samples.len() / GLOBAL_SUBSET;
-    let m = samples.len().div_ceil(stride);
-    let every = |v: &[f64]| scratch::collect(v.iter().step_by(stride).copied(), m);
-    let (p2, p3, p4) = (
-        every(samples.phi2),
-        every(samples.phi3),
-        every(samples.phi4),
-    );
-    let t = samples.time_s.map(every);
-    let sub = FourbarSamples {
-        phi2: &p2,
-        phi3: &p3,
-        phi4: &p4,
-        time_s: t.as_deref(),
+    np: usize,
+    refine_on: impl Fn(&Trig, [f64; 8], Option<&NoiseProfile>, Option<&Gains>) -> Fit,
+) -> Result<Fit, CalibError> {
+    let (tol, max_it) = (options.tolerance, options.max_iterations);
+    let n = samples.len();
+    let sub = (n >= GLOBAL_DECIMATION_FROM)
+        .then(|| Subset::new(samples, trig, noise, gains, n / GLOBAL_SUBSET));
+    let global = match &sub {
+        Some(sub) => global::global_fit(
+            &sub.samples(),
+            &sub.trig,
+            l2_m,
+            sub.noise.as_ref(),
+            sub.gains.as_ref(),
+            options.robust,
+        ),
+        None => global::global_fit(samples, trig, l2_m, noise, gains, options.robust),
     };
-    let sub_trig = Trig {
-        c2: every(&trig.c2),
-        s2: every(&trig.s2),
-        c3: every(&trig.c3),
-        s3: every(&trig.s3),
-        c4: every(&trig.c4),
-        s4: every(&trig.s4),
-        t: every(&trig.t),
-        uniform_dt: trig.uniform_dt.map(|dt| dt * stride as f64),
+    Ok(match sub {
+        Some(sub) if options.robust && np == 8 => {
+            // robust rounds on the subset, then the whole recording's pass(es)
+            let coarse = global.map(|g| {
+                refine_on(
+                    &sub.trig,
+                    g.to_vec8(),
+                    sub.noise.as_ref(),
+                    sub.gains.as_ref(),
+                )
+            });
+            sub.recycle();
+            let coarse = coarse?;
+            polish(trig, l2_m, coarse, noise, gains, max_it, tol)
+        }
+        sub => {
+            if let Some(sub) = sub {
+                sub.recycle();
+            }
+            refine_on(trig, global?.to_vec8(), noise, gains)
+        }
+    })
+}
+
+/// Recordings at least this long run [`FourbarMethod::Auto`]'s global start and, when robust
+/// with bias terms (the default), its robust rounds on a subset of [`GLOBAL_SUBSET`] evenly
+/// spaced samples, and then fit every sample: one pass that reweights every sample at the
+/// subset's answer and sums the normal equations, and Newton steps from there. (From 2 000 samples it made the
+/// thesis's 25 % noise case of the noise study worse: 500 samples pin the start less well
+/// there.)
+pub const GLOBAL_DECIMATION_FROM: usize = 4000;
+
+/// Samples the subset of a long recording has (at least; every `n / GLOBAL_SUBSET`-th).
+pub const GLOBAL_SUBSET: usize = 1000;
+
+/// The fit of every sample after the subset's takes a Newton step without the pass that would evaluate it when the step's
+/// predicted decrease is at most this many times `cost / n_eff`, about a squared standard
+/// error: Newton's convergence is quadratic, so the step after it would move the answer by a
+/// small fraction of its standard error.
+pub const POLISH_ACCEPT: f64 = 40.0;
+
+/// Every `stride`-th sample of a recording and of its per-sample arrays: `Auto`'s global
+/// start and robust rounds only have to put the fit of every sample in the basin of its
+/// minimum and set the robust threshold, so on long recordings they run on this (their cost
+/// no longer grows with the recording).
+struct Subset {
+    phi2: Vec<f64>,
+    phi3: Vec<f64>,
+    phi4: Vec<f64>,
+    time_s: Option<Vec<f64>>,
+    trig: Trig,
+    noise: Option<NoiseProfile>,
+    gains: Option<Gains>,
+}
+
+impl Subset {
+    fn new(
+        samples: &FourbarSamples<'_>,
+        trig: &Trig,
+        noise: Option<&NoiseProfile>,
+        gains: Option<&Gains>,
+        stride: usize,
+    ) -> Self {
+        let m = samples.len().div_ceil(stride);
+        let every = |v: &[f64]| scratch::collect(v.iter().step_by(stride).copied(), m);
+        Self {
+            phi2: every(samples.phi2),
+            phi3: every(samples.phi3),
+            phi4: every(samples.phi4),
+            time_s: samples.time_s.map(every),
+            trig: Trig {
+                c2: every(&trig.c2),
+                s2: every(&trig.s2),
+                c3: every(&trig.c3),
+                s3: every(&trig.s3),
+                c4: every(&trig.c4),
+                s4: every(&trig.s4),
+                t: every(&trig.t),
+                uniform_dt: trig.uniform_dt.map(|dt| dt * stride as f64),
+            },
+            noise: noise.map(|nz| NoiseProfile {
+                var2: every(&nz.var2),
+                var3: every(&nz.var3),
+                var4: every(&nz.var4),
+            }),
+            gains: gains.map(|g| Gains {
+                g2: every(&g.g2),
+                g3: every(&g.g3),
+                g4: every(&g.g4),
+            }),
+        }
+    }
+
+    fn samples(&self) -> FourbarSamples<'_> {
+        FourbarSamples {
+            phi2: &self.phi2,
+            phi3: &self.phi3,
+            phi4: &self.phi4,
+            time_s: self.time_s.as_deref(),
+        }
+    }
+
+    /// Hand the arrays back to [`scratch`] for the next calibration on this thread.
+    fn recycle(self) {
+        for v in [self.phi2, self.phi3, self.phi4]
+            .into_iter()
+            .chain(self.time_s)
+        {
+            scratch::give(v);
+        }
+        self.trig.recycle();
+        if let Some(nz) = self.noise {
+            nz.recycle();
+        }
+        if let Some(g) = self.gains {
+            g.recycle();
+        }
+    }
+}
+
+/// The fit of every sample from the robust fit of a subset (`coarse`, with bias terms):
+/// one pass at its answer weights every sample (noise weights, and Huber factors under the
+/// subset's last threshold, as `refine`'s final reweighting does) and sums the normal
+/// equations at once; then Levenberg–Marquardt under those weights, whose first Newton step
+/// usually ends it ([`POLISH_ACCEPT`]). The statistics come from the last pass: `JᵀWJ` and
+/// `Σw|r|²` where it was evaluated, `Σ|r|²` at the subset's answer (one or two Newton steps
+/// from the answer: a relative difference of the order of `POLISH_ACCEPT / n`).
+fn polish(
+    trig: &Trig,
+    l2: f64,
+    coarse: Fit,
+    noise: Option<&NoiseProfile>,
+    gains: Option<&Gains>,
+    max_it: u32,
+    tol: f64,
+) -> Fit {
+    let n = trig.len();
+    let p = coarse.refined.p;
+    scratch::give(coarse.weights);
+    let mut u = scratch::take(n);
+    let unweighted = Problem {
+        trig,
+        l2,
+        weights: None,
+        gains,
     };
-    let sub_noise = noise.map(|nz| NoiseProfile {
-        var2: every(&nz.var2),
-        var3: every(&nz.var3),
-        var4: every(&nz.var4),
-    });
-    let sub_gains = gains.map(|g| Gains {
-        g2: every(&g.g2),
-        g3: every(&g.g3),
-        g4: every(&g.g4),
-    });
-    let global = global::global_fit(
-        &sub,
-        &sub_trig,
-        l2_m,
-        sub_noise.as_ref(),
-        sub_gains.as_ref(),
-        robust,
+    let rw = pass_reweighted(
+        &unweighted,
+        &p,
+        &Reweight {
+            noise,
+            huber: coarse.threshold,
+        },
+        &mut u,
     );
-    for v in [p2, p3, p4].into_iter().chain(t) {
-        scratch::give(v);
+    let accept = POLISH_ACCEPT / rw.n_eff.max(1.0);
+    let mut first = Some(rw.pass.normal);
+    let pb = Problem {
+        weights: Some(&u),
+        ..unweighted
+    };
+    let (mut refined, ne) = levenberg_marquardt::<8>(
+        p,
+        |q| first.take().unwrap_or_else(|| pass::<8>(&pb, q).normal),
+        max_it,
+        tol,
+        accept,
+    );
+    refined.iterations += coarse.refined.iterations;
+    let mut jtj = DMatrix::from_fn(8, 8, |i, j| ne.jtj[(i, j)]);
+    jtj[(1, 1)] += ne.correction_diag[0];
+    jtj[(2, 2)] += ne.correction_diag[1];
+    Fit {
+        refined,
+        weights: u,
+        n_eff: rw.n_eff,
+        outlier_fraction: rw.outliers as f64 / n as f64,
+        plain: None,
+        last_pass: Some((jtj, ne.cost_scale, rw.ssr)),
+        threshold: coarse.threshold,
     }
-    sub_trig.recycle();
-    if let Some(nz) = sub_noise {
-        nz.recycle();
-    }
-    if let Some(g) = sub_gains {
-        g.recycle();
-    }
-    global
 }
 
 /// The statistics of `fit` (`np_used` parameters) of `samples`, but for the closed form's,
@@ -496,6 +641,7 @@ fn plain_fit(p: [f64; 8], iterations: u32, converged: bool, n: usize) -> Fit {
         outlier_fraction: 0.0,
         plain: None,
         last_pass: None,
+        threshold: None,
     }
 }
 
@@ -594,14 +740,15 @@ fn refine(
             gains,
         };
         refined = if np == 8 {
-            let (r, ne) = levenberg_marquardt::<8>(p, |q| pass::<8>(&pb, q).normal, max_it, tol);
+            let (r, ne) =
+                levenberg_marquardt::<8>(p, |q| pass::<8>(&pb, q).normal, max_it, tol, 0.0);
             last_normal = Some(ne);
             r
         } else {
             let unweighted = noise.is_none() && !robust;
             let w = (!unweighted).then_some(u.as_slice());
             let q = Quadratic::new(gram(trig, w, gains), gains.is_some());
-            let (r, _) = levenberg_marquardt::<6>(p, |x| q.normal(l2, x), max_it, tol);
+            let (r, _) = levenberg_marquardt::<6>(p, |x| q.normal(l2, x), max_it, tol, 0.0);
             if unweighted && matches!(q, Quadratic::Sqrt(_)) {
                 plain = Some(q);
             }
@@ -637,6 +784,7 @@ fn refine(
         outlier_fraction: outliers as f64 / n as f64,
         plain,
         last_pass,
+        threshold: c_prev.filter(|_| robust),
     }
 }
 
