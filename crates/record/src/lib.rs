@@ -52,6 +52,8 @@ pub mod channels;
 pub mod columns;
 pub mod compare;
 pub mod cost;
+#[cfg(test)]
+mod encoder_tests;
 mod error;
 pub mod raw;
 pub mod reader;
