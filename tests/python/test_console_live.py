@@ -107,6 +107,12 @@ def test_the_live_view_draws_the_road_around_the_car_then_the_dial_without_lanes
         d.execute_cdp_cmd("Emulation.clearDeviceMetricsOverride", {})
 
 
+def badge_texts(d, kind):
+    """The non-empty texts of the live status's `data-delayed=kind` badges (empty: none yet)."""
+    found = d.find_elements(By.CSS_SELECTOR, f"#live-status [data-delayed='{kind}']")
+    return [t for t in (e.text for e in found) if t]
+
+
 def test_a_station_gone_quiet_is_shown_delayed_then_its_late_data_marked_late(clinic, browser):
     """Runs after the test above (the same login). A station that stops sending mid-session (its
     process stopped, as a home link that is down looks to the hub) is "delayed", not "running"
@@ -121,17 +127,18 @@ def test_a_station_gone_quiet_is_shown_delayed_then_its_late_data_marked_late(cl
         assert status.find_elements(By.CSS_SELECTOR, ".badge.ok"), status.text
         session.send_signal(signal.SIGSTOP)
         stopped = time.monotonic()
-        badge = wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#live-status [data-delayed='silent']"), timeout=10)[0]
+        # The badges are drawn anew at every check: their text is read where they are found
+        # (`wait` retries a badge replaced between the two).
+        silent = wait(d, lambda d: badge_texts(d, "silent"), timeout=10)[0]
         assert time.monotonic() - stopped < 5, "delayed said late"
-        assert badge.text.startswith(message(d, "live-delayed-silent", {"seconds": 9})[:8]), badge.text
+        assert silent.startswith(message(d, "live-delayed-silent", {"seconds": 9})[:8]), silent
         assert not status.find_elements(By.CSS_SELECTOR, ".badge.ok"), "still 'running' while silent"
         assert status.get_attribute("data-delayed") == "silent"
         shot(d, "live-4-delayed")
         time.sleep(3)
         session.send_signal(signal.SIGCONT)
         wait(d, lambda d: status.get_attribute("data-delayed") == "late", timeout=20)
-        late = status.find_element(By.CSS_SELECTOR, "[data-delayed='late']")
-        assert late.text, status.text
+        assert wait(d, lambda d: badge_texts(d, "late"), timeout=10)[0], status.text
     finally:
         session.send_signal(signal.SIGCONT)
         session.wait(timeout=60)
