@@ -84,9 +84,19 @@ case "$HALF" in
     trap 'wine_prefix_end; rm -rf "$WORK"' EXIT
     wine_prefix "$WORK/wine"
     # DirectInput's cooperative level wants a window, so an X display.
-    CARGO_TARGET_DIR="$WIN_TARGET_DIR" CARGO_TARGET_X86_64_PC_WINDOWS_GNU_RUNNER=wine \
-      xvfb-run -a cargo test --target "$TARGET" "${UNIT_CRATES[@]}" --lib 2>&1 \
-      | grep -v ':fixme:' | tee "$LOGS/windows-unit.log"
+    unit_tests() {
+      CARGO_TARGET_DIR="$WIN_TARGET_DIR" CARGO_TARGET_X86_64_PC_WINDOWS_GNU_RUNNER=wine \
+        xvfb-run -a cargo test --target "$TARGET" "${UNIT_CRATES[@]}" --lib 2>&1 \
+        | grep -v ':fixme:' | tee "$LOGS/windows-unit.log"
+    }
+    # Once in a full CI run (2026-12-07) Wine's X11 driver could not make the hidden window in
+    # a fresh prefix (CreateWindowExW failed with no error code) where every other run could:
+    # a second attempt is made and said; a second failure fails CI.
+    if ! unit_tests; then
+      echo "== windows: the unit tests under Wine failed; once more (see the lines above)"
+      wine_prefix_end
+      unit_tests
+    fi
     python3 scripts/check_skips.py "$LOGS/windows-unit.log"
     wine_prefix_end
 
