@@ -642,17 +642,23 @@ async fn serve_chunks(
     }
 }
 
+/// A recording of `chunks` whole chunks in `dir`, and the scripted hub's listener and address.
+async fn window_case(
+    dir: &Path,
+    chunks: usize,
+) -> (std::path::PathBuf, Vec<u8>, TcpListener, String) {
+    let (path, whole) = recording_of(dir, chunks * netlink::frame::MAX_CHUNK_BYTES);
+    let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap().to_string();
+    (path, whole, listener, addr)
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn an_upload_sends_its_window_of_chunks_before_any_answer_and_no_more() {
     let tmp = tempfile::tempdir().unwrap();
     let window = netlink::upload::UPLOAD_WINDOW_CHUNKS;
     // Twice the window and a bit.
-    let (path, whole) = recording_of(
-        tmp.path(),
-        (2 * window + 1) * netlink::frame::MAX_CHUNK_BYTES,
-    );
-    let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
-    let addr = listener.local_addr().unwrap().to_string();
+    let (path, whole, listener, addr) = window_case(tmp.path(), 2 * window + 1).await;
     let hub = async {
         let mut conn = Conn::accept(&listener).await;
         let session = start_upload(&mut conn, whole.len()).await;
@@ -705,12 +711,7 @@ async fn an_upload_sends_its_window_of_chunks_before_any_answer_and_no_more() {
 async fn a_hub_holding_less_than_the_station_thought_gets_the_rest_again_from_where_it_says() {
     let tmp = tempfile::tempdir().unwrap();
     let window = netlink::upload::UPLOAD_WINDOW_CHUNKS;
-    let (path, whole) = recording_of(
-        tmp.path(),
-        (2 * window + 3) * netlink::frame::MAX_CHUNK_BYTES,
-    );
-    let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
-    let addr = listener.local_addr().unwrap().to_string();
+    let (path, whole, listener, addr) = window_case(tmp.path(), 2 * window + 3).await;
     let hub = async {
         let mut conn = Conn::accept(&listener).await;
         let session = start_upload(&mut conn, whole.len()).await;

@@ -22,7 +22,7 @@ use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::process::{Child, Command};
 use tokio::sync::Mutex;
 
-use super::postgres::{bindir, path_str};
+use super::postgres::{bindir, path_str, server_version};
 
 /// Longest the cluster may take to elect a leader and stream to a synchronous replica.
 const FORM_WITHIN: Duration = Duration::from_secs(60);
@@ -57,6 +57,23 @@ impl Node {
     }
     fn config(&self) -> PathBuf {
         self.dir.join("patroni.yml")
+    }
+
+    /// Its machine gone: its Patroni and its postmaster with every backend SIGKILLed at once
+    /// (Patroni starts the postmaster in a session of its own: found by its pid file).
+    async fn kill(&self) {
+        let mut slot = self.child.lock().await;
+        let mut roots: Vec<u32> = slot.as_ref().and_then(Child::id).into_iter().collect();
+        if let Some(pm) = std::fs::read_to_string(self.data().join("postmaster.pid"))
+            .ok()
+            .and_then(|s| s.lines().next()?.trim().parse::<u32>().ok())
+        {
+            roots.push(pm);
+        }
+        kill_all(&process_tree(&roots));
+        if let Some(mut child) = slot.take() {
+            let _ = child.wait().await;
+        }
     }
 }
 
@@ -216,17 +233,7 @@ impl Patroni {
             .prefix("telerehab-chaos-patroni.")
             .tempdir()
             .context("cannot make the cluster's directory")?;
-        let version = std::process::Command::new(bindir.join("postgres"))
-            .arg("--version")
-            .output()
-            .ok()
-            .and_then(|o| {
-                String::from_utf8_lossy(&o.stdout)
-                    .split_whitespace()
-                    .nth(2)
-                    .map(str::to_owned)
-            })
-            .unwrap_or_else(|| "?".into());
+        let version = server_version(&bindir);
         let mut cluster = Self {
             dir,
             etcd: None,
@@ -432,20 +439,7 @@ impl Patroni {
     /// at once. The node killed.
     pub async fn kill_primary(&self) -> anyhow::Result<usize> {
         let k = self.leader().await.context("no leader to kill")?;
-        let node = &self.nodes[k];
-        let mut slot = node.child.lock().await;
-        let mut roots: Vec<u32> = slot.as_ref().and_then(Child::id).into_iter().collect();
-        // Patroni starts the postmaster in a session of its own: found by its pid file.
-        if let Some(pm) = std::fs::read_to_string(node.data().join("postmaster.pid"))
-            .ok()
-            .and_then(|s| s.lines().next()?.trim().parse::<u32>().ok())
-        {
-            roots.push(pm);
-        }
-        kill_all(&process_tree(&roots));
-        if let Some(mut child) = slot.take() {
-            let _ = child.wait().await;
-        }
+        self.nodes[k].kill().await;
         Ok(k)
     }
 
@@ -483,18 +477,7 @@ impl Patroni {
 
     async fn kill_everything(&mut self) {
         for node in &self.nodes {
-            let mut slot = node.child.lock().await;
-            let mut roots: Vec<u32> = slot.as_ref().and_then(Child::id).into_iter().collect();
-            if let Some(pm) = std::fs::read_to_string(node.data().join("postmaster.pid"))
-                .ok()
-                .and_then(|s| s.lines().next()?.trim().parse::<u32>().ok())
-            {
-                roots.push(pm);
-            }
-            kill_all(&process_tree(&roots));
-            if let Some(mut child) = slot.take() {
-                let _ = child.wait().await;
-            }
+            node.kill().await;
         }
         for child in [self.haproxy.take(), self.etcd.take()]
             .into_iter()

@@ -42,6 +42,21 @@ pub(super) fn bindir() -> anyhow::Result<PathBuf> {
         .context("no initdb under /usr/lib/postgresql/*/bin")
 }
 
+/// The version `postgres --version` in `bindir` says (e.g. `15.18`), `?` if it says none.
+pub(super) fn server_version(bindir: &Path) -> String {
+    std::process::Command::new(bindir.join("postgres"))
+        .arg("--version")
+        .output()
+        .ok()
+        .and_then(|o| {
+            String::from_utf8_lossy(&o.stdout)
+                .split_whitespace()
+                .nth(2)
+                .map(str::to_owned)
+        })
+        .unwrap_or_else(|| "?".into())
+}
+
 fn free_port() -> anyhow::Result<u16> {
     let listener = std::net::TcpListener::bind("127.0.0.1:0").context("no free port")?;
     Ok(listener.local_addr()?.port())
@@ -111,17 +126,7 @@ impl Postgres {
                 .map(String::from)
                 .to_vec();
         }
-        let version = std::process::Command::new(bindir.join("postgres"))
-            .arg("--version")
-            .output()
-            .ok()
-            .and_then(|o| {
-                String::from_utf8_lossy(&o.stdout)
-                    .split_whitespace()
-                    .nth(2)
-                    .map(str::to_owned)
-            })
-            .unwrap_or_else(|| "?".into());
+        let version = server_version(&bindir);
         let pg = Self {
             port: free_port()?,
             bindir,
