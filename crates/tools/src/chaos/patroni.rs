@@ -22,7 +22,7 @@ use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::process::{Child, Command};
 use tokio::sync::Mutex;
 
-use super::postgres::{bindir, path_str, server_version};
+use super::postgres::{bindir, free_port, path_str, postgres_owner, server_version};
 
 /// Longest the cluster may take to elect a leader and stream to a synchronous replica.
 const FORM_WITHIN: Duration = Duration::from_secs(60);
@@ -94,11 +94,6 @@ pub struct Patroni {
     pub version: String,
 }
 
-fn free_port() -> anyhow::Result<u16> {
-    let listener = std::net::TcpListener::bind("127.0.0.1:0").context("no free port")?;
-    Ok(listener.local_addr()?.port())
-}
-
 /// A password of 32 hex digits (safe in a URL and in YAML).
 fn password() -> String {
     use rand::Rng;
@@ -106,32 +101,6 @@ fn password() -> String {
     (0..4)
         .map(|_| format!("{:08x}", rng.random::<u32>()))
         .collect()
-}
-
-/// `(uid, gid)` of the `postgres` OS user when this process is root; `None` otherwise.
-fn postgres_owner() -> anyhow::Result<Option<(u32, u32)>> {
-    // /proc/self belongs to the process's effective user.
-    let euid = std::os::unix::fs::MetadataExt::uid(&std::fs::metadata("/proc/self")?);
-    if euid != 0 {
-        return Ok(None);
-    }
-    let id = |flag: &str| {
-        std::process::Command::new("id")
-            .args([flag, "postgres"])
-            .output()
-            .ok()
-            .filter(|o| o.status.success())
-            .and_then(|o| {
-                String::from_utf8_lossy(&o.stdout)
-                    .trim()
-                    .parse::<u32>()
-                    .ok()
-            })
-    };
-    match (id("-u"), id("-g")) {
-        (Some(u), Some(g)) => Ok(Some((u, g))),
-        _ => bail!("running as root but there is no `postgres` OS user to run the server"),
-    }
 }
 
 /// Whether `program` is on the PATH.

@@ -57,7 +57,34 @@ pub(super) fn server_version(bindir: &Path) -> String {
         .unwrap_or_else(|| "?".into())
 }
 
-fn free_port() -> anyhow::Result<u16> {
+/// `(uid, gid)` of the `postgres` OS user when this process is root; `None` otherwise.
+pub(super) fn postgres_owner() -> anyhow::Result<Option<(u32, u32)>> {
+    // /proc/self belongs to the process's effective user.
+    let euid = std::os::unix::fs::MetadataExt::uid(&std::fs::metadata("/proc/self")?);
+    if euid != 0 {
+        return Ok(None);
+    }
+    let id = |flag: &str| {
+        std::process::Command::new("id")
+            .args([flag, "postgres"])
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .and_then(|o| {
+                String::from_utf8_lossy(&o.stdout)
+                    .trim()
+                    .parse::<u32>()
+                    .ok()
+            })
+    };
+    match (id("-u"), id("-g")) {
+        (Some(u), Some(g)) => Ok(Some((u, g))),
+        _ => bail!("running as root but there is no `postgres` OS user to run the server"),
+    }
+}
+
+/// A free TCP port on loopback (free when asked; the caller binds it soon after).
+pub(super) fn free_port() -> anyhow::Result<u16> {
     let listener = std::net::TcpListener::bind("127.0.0.1:0").context("no free port")?;
     Ok(listener.local_addr()?.port())
 }
@@ -105,21 +132,7 @@ impl Postgres {
             .tempdir()
             .context("cannot make the cluster's directory")?;
         let mut as_user = Vec::new();
-        // /proc/self belongs to the process's effective user.
-        let euid = std::os::unix::fs::MetadataExt::uid(&std::fs::metadata("/proc/self")?);
-        if euid == 0 {
-            let uid = std::process::Command::new("id")
-                .args(["-u", "postgres"])
-                .output()
-                .ok()
-                .filter(|o| o.status.success())
-                .and_then(|o| {
-                    String::from_utf8_lossy(&o.stdout)
-                        .trim()
-                        .parse::<u32>()
-                        .ok()
-                })
-                .context("running as root but there is no `postgres` OS user to run the server")?;
+        if let Some((uid, _)) = postgres_owner()? {
             std::os::unix::fs::chown(dir.path(), Some(uid), None)
                 .context("cannot give the cluster's directory to the postgres user")?;
             as_user = ["runuser", "-u", "postgres", "--"]
