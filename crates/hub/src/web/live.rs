@@ -247,8 +247,11 @@ impl Watch {
         w.closed = false;
         // The summary's time on the station, ms (a finite t_s: the ingest checked it).
         #[allow(clippy::cast_possible_truncation)]
-        let at_ms = w.started_unix_ms? + (event.summary.t_s * 1000.0).round() as i64;
-        Some((now - at_ms).max(0))
+        // Saturating: a station's clock or t_s far off must not overflow the stream's task.
+        let at_ms = w
+            .started_unix_ms?
+            .saturating_add((event.summary.t_s * 1000.0).round() as i64);
+        Some(now.saturating_sub(at_ms).max(0))
     }
 
     /// A `delayed` event if the watched session is still running (no `Bye`) and has sent
