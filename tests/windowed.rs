@@ -2,6 +2,7 @@
 //! its log read line by line, its patient window ("telerehab") pressed with xdotool.
 
 use crate::{telerehab_bin, xdotool_in};
+use std::collections::VecDeque;
 use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 use std::process::{Child, ChildStdout, Command, Stdio};
@@ -15,11 +16,16 @@ static DISPLAY: Mutex<()> = Mutex::new(());
 /// How long a loaded machine may take to say the next thing (it draws slowly).
 const PATIENCE: Duration = Duration::from_secs(60);
 
+/// How long the exercise must run with no pause said before a test goes on after starting it.
+const SETTLE: Duration = Duration::from_millis(1500);
+
 /// A running `telerehab run --sim` with its window.
 pub struct WindowedStation {
     child: Child,
     stdout: BufReader<ChildStdout>,
     lines: mpsc::Receiver<String>,
+    /// Lines read while starting the exercise, for [`Self::wait_for`] to read first.
+    backlog: VecDeque<String>,
     /// The display, held while this station's window is up (a failed test's is taken back).
     _display: MutexGuard<'static, ()>,
 }
@@ -48,15 +54,20 @@ impl WindowedStation {
             child,
             stdout,
             lines,
+            backlog: VecDeque::new(),
             _display: display,
         }
     }
 
     /// Waits for a log line containing `what` (each line within a minute); the line.
-    pub fn wait_for(&self, what: &str) -> String {
+    pub fn wait_for(&mut self, what: &str) -> String {
         let mut seen = Vec::new();
         loop {
-            match self.lines.recv_timeout(PATIENCE) {
+            let next = match self.backlog.pop_front() {
+                Some(line) => Ok(line),
+                None => self.lines.recv_timeout(PATIENCE),
+            };
+            match next {
                 Ok(line) if line.contains(what) => return line,
                 Ok(line) => seen.push(line),
                 Err(e) => panic!(
@@ -67,27 +78,53 @@ impl WindowedStation {
         }
     }
 
-    /// Presses Space until the exercise starts (a key sent before the window maps and takes
-    /// keys is lost: press again until the log says it started).
+    /// Presses Space until the exercise runs, and keeps it running: a key sent before the
+    /// window maps and takes keys is lost, so Space is pressed again after a wait that doubles
+    /// (2, 4, 8 s …); a loaded machine may then deliver two presses late, the second pausing
+    /// what the first started, so a pause seen here is answered with one more press. Returns
+    /// once the exercise has run for [`SETTLE`] since it last started; what the log said after
+    /// the start is kept for [`Self::wait_for`].
     pub fn start_the_exercise(&mut self) {
         let mut line = String::new();
         while self.stdout.read_line(&mut line).unwrap_or(0) > 0 && !line.contains("render: adapter")
         {
             line.clear();
         }
-        let started = (0..30).any(|_| {
-            press(&["space"]);
-            let deadline = Instant::now() + Duration::from_secs(2);
-            while let Some(left) = deadline.checked_duration_since(Instant::now()) {
-                match self.lines.recv_timeout(left) {
-                    Ok(l) if l.contains("paused=false") => return true,
-                    Ok(_) => {}
-                    Err(_) => break,
+        let give_up = Instant::now() + 2 * PATIENCE;
+        let mut wait = Duration::from_secs(2);
+        // The exercise opens paused, waiting for Space (that first pause is not answered);
+        // `settled`: when it will have run for SETTLE since it last started.
+        let mut started = false;
+        let mut settled: Option<Instant> = None;
+        press(&["space"]);
+        loop {
+            let quiet = match settled {
+                Some(at) => at.saturating_duration_since(Instant::now()),
+                None => wait,
+            };
+            match self.lines.recv_timeout(quiet) {
+                Ok(l) if l.contains("paused=false") => {
+                    started = true;
+                    settled = Some(Instant::now() + SETTLE);
                 }
+                Ok(l) if started && l.contains("paused=true") => {
+                    settled = None;
+                    press(&["space"]);
+                }
+                Ok(l) if started => self.backlog.push_back(l),
+                Ok(_) => {}
+                Err(mpsc::RecvTimeoutError::Timeout) if settled.is_some() => return,
+                Err(mpsc::RecvTimeoutError::Timeout) => {
+                    assert!(Instant::now() < give_up, "Space never started the exercise");
+                    press(&["space"]);
+                    wait = (wait * 2).min(PATIENCE / 4);
+                }
+                Err(e) => panic!("the station's log ended before the exercise started: {e}"),
             }
-            false
-        });
-        assert!(started, "Space never started the exercise");
+            if settled.is_some_and(|at| Instant::now() >= at) {
+                return;
+            }
+        }
     }
 
     /// Waits for the session to end in order; its report.
@@ -96,6 +133,18 @@ impl WindowedStation {
         self.stdout.read_to_string(&mut report).unwrap_or(0);
         assert!(self.child.wait().is_ok_and(|s| s.success()), "{report}");
         report
+    }
+}
+
+/// A test that fails (or ends) before [`WindowedStation::finish`] takes its station and window
+/// down: a window left on the display would take the next test's key presses (xdotool finds
+/// windows by name).
+impl Drop for WindowedStation {
+    fn drop(&mut self) {
+        if self.child.try_wait().is_ok_and(|status| status.is_none()) {
+            let _ = self.child.kill();
+            let _ = self.child.wait();
+        }
     }
 }
 
