@@ -548,6 +548,16 @@ fn a_recording_cut_mid_upload_on_a_slow_uplink_resumes_and_arrives_whole() {
         before > 0 && before < size,
         "the hub holds {before} of {size} bytes after a cut upload:\n{report}"
     );
+    // The clinic sees the recording on its way (noted at its start and every 5 s), not none.
+    let (noted, size_at_hub, complete, _) = hub_recording(&link.clinic.data);
+    assert!(
+        !complete && size_at_hub == size && noted > 0 && noted <= before,
+        "the hub notes {noted} of {size_at_hub} bytes (complete {complete}); it holds {before}"
+    );
+    let data = link.clinic.data.to_str().unwrap();
+    let shown =
+        telerehab_tests::clinic::ok(&["hub", "patient", "show", "--data", data, "P-0042"], None);
+    assert!(shown.contains("arriving: "), "{shown}");
 
     // `sync` sends what the session's end left and resumes the upload where the hub
     // stopped; the link is cut for 3 s while it does.

@@ -425,6 +425,31 @@ impl HubStore for DbStore {
         })
     }
 
+    fn recording_progress<'a>(
+        &'a self,
+        hello: &'a Hello,
+        sha256: &'a str,
+        size_bytes: u64,
+        received_bytes: u64,
+    ) -> BoxFuture<'a, Result<(), NetlinkError>> {
+        Box::pin(async move {
+            let recording = hub_store::db::Recording {
+                session_id: hello.session_id.clone(),
+                sha256: sha256.to_owned(),
+                size_bytes: i64::try_from(size_bytes).unwrap_or(i64::MAX),
+                received_bytes: i64::try_from(received_bytes).unwrap_or(i64::MAX),
+                path: self
+                    .recordings
+                    .location(&hello.station_id, &hello.session_id),
+                complete: false,
+            };
+            self.db
+                .note_recording_progress(&recording)
+                .await
+                .map_err(storage_error)
+        })
+    }
+
     fn recording_stored<'a>(
         &'a self,
         hello: &'a Hello,
@@ -635,6 +660,17 @@ impl HubStore for Ingest {
         path: &'a std::path::Path,
     ) -> BoxFuture<'a, Result<(), NetlinkError>> {
         self.0.keep_recording(hello, part, path)
+    }
+
+    fn recording_progress<'a>(
+        &'a self,
+        hello: &'a Hello,
+        sha256: &'a str,
+        size_bytes: u64,
+        received_bytes: u64,
+    ) -> BoxFuture<'a, Result<(), NetlinkError>> {
+        self.0
+            .recording_progress(hello, sha256, size_bytes, received_bytes)
     }
 
     fn pairing(&self) -> Option<Arc<dyn PairingAuthority>> {

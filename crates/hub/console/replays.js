@@ -7,6 +7,9 @@ import { exercisesWords } from '/console/words.js';
 
 /** Why a session cannot be replayed yet, in words. */
 function notYet(s) {
+  if (s.recording_arriving_percent != null) {
+    return t('replay-list-arriving', { percent: s.recording_arriving_percent });
+  }
   if (!s.closed_at_ms && !s.end_reason) return t('replay-list-running');
   return t('replay-list-not-arrived');
 }

@@ -900,7 +900,7 @@ fn print_report(report: &patients::PatientReport) {
         );
     }
     println!(
-        "  {:<44} {:<16} {:>10} {:>9} {:>10} {:>9} {:>6}",
+        "  {:<44} {:<16} {:>10} {:>9} {:>10} {:>9} {:>6}  recording",
         "session", "exercise", "start (ms)", "length s", "summaries", "movements", "SPARC"
     );
     for s in &report.sessions {
@@ -910,15 +910,30 @@ fn print_report(report: &patients::PatientReport) {
                 .map_or("-".to_owned(), |v| format!("{v:.digits$}"))
         };
         println!(
-            "  {:<44} {:<16} {:>10} {:>9.1} {:>10} {:>9} {:>6}",
+            "  {:<44} {:<16} {:>10} {:>9.1} {:>10} {:>9} {:>6}  {}",
             s.session.session_id,
             s.session.exercise,
             s.session.started_unix_ms,
             s.length_s,
             s.summaries_stored,
             measure("movements", 0),
-            measure("sparc_median", 2)
+            measure("sparc_median", 2),
+            recording_words(s.recording.as_ref())
         );
+    }
+}
+
+/// A session's recording in `hub patient show`: none yet, arriving (how much), or whole.
+fn recording_words(recording: Option<&hub_store::db::Recording>) -> String {
+    let mb = |bytes: i64| bytes as f64 / 1e6;
+    match recording {
+        None => "-".to_owned(),
+        Some(r) if r.complete => format!("{:.1} MB", mb(r.size_bytes)),
+        Some(r) => format!(
+            "arriving: {:.1} of {:.1} MB",
+            mb(r.received_bytes),
+            mb(r.size_bytes)
+        ),
     }
 }
 

@@ -229,7 +229,7 @@ async fn sessions_are_named_by_their_exercises_in_words(db: Db) {
     );
 }
 
-async fn a_session_says_its_recording_arrived_only_once_every_byte_did(db: Db) {
+async fn a_session_says_its_recording_arrived_only_once_every_byte_did_and_how_much_before(db: Db) {
     let (_, p) = paired(&db).await;
     for (sid, hour) in [("none", 1), ("half", 2), ("whole", 3)] {
         session(&db, &p, (sid, "sine-road", hour, "complete"), &[], vec![]).await;
@@ -242,11 +242,16 @@ async fn a_session_says_its_recording_arrived_only_once_every_byte_did(db: Db) {
         path: "/nowhere/half.mcap".to_owned(),
         complete: false,
     };
-    db.put_recording(&rec).await.unwrap();
+    db.note_recording_progress(&rec).await.unwrap();
     rec.session_id = "whole".to_owned();
+    db.note_recording_progress(&rec).await.unwrap();
     rec.received_bytes = 1000;
     rec.complete = true;
     db.put_recording(&rec).await.unwrap();
+    // A late note of progress (a slower hub's) leaves a whole recording whole.
+    rec.received_bytes = 500;
+    rec.complete = false;
+    db.note_recording_progress(&rec).await.unwrap();
     let named = db.named_sessions_of(&p.id).await.unwrap();
     let uploaded: Vec<(&str, bool)> = named
         .iter()
@@ -256,6 +261,9 @@ async fn a_session_says_its_recording_arrived_only_once_every_byte_did(db: Db) {
         uploaded,
         [("whole", true), ("half", false), ("none", false)]
     );
+    // The half-arrived one says how much, the others nothing.
+    let arriving: Vec<Option<u8>> = named.iter().map(|s| s.recording_arriving_percent).collect();
+    assert_eq!(arriving, [None, Some(50), None]);
     let json = serde_json::to_value(&named[0]).unwrap();
     assert_eq!(json["recording_uploaded"], serde_json::json!(true));
 }
@@ -263,5 +271,5 @@ async fn a_session_says_its_recording_arrived_only_once_every_byte_did(db: Db) {
 on_both_backends!(
     trends_compare_the_latest_kind_and_leave_out_sessions_ended_early,
     sessions_are_named_by_their_exercises_in_words,
-    a_session_says_its_recording_arrived_only_once_every_byte_did,
+    a_session_says_its_recording_arrived_only_once_every_byte_did_and_how_much_before,
 );

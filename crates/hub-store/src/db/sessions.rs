@@ -292,6 +292,28 @@ impl Db {
         Ok(())
     }
 
+    /// Notes how much of a session's recording an upload holds (`recording.complete` false):
+    /// a row for a recording on its way. A recording already stored whole is left as it is
+    /// (a late note from a slower hub never makes it partial again).
+    pub async fn note_recording_progress(&self, recording: &Recording) -> Result<(), HubError> {
+        sqlx::query(
+            "INSERT INTO recordings (session_id, sha256, size_bytes, received_bytes, path, \
+             complete) VALUES ($1, $2, $3, $4, $5, 0) ON CONFLICT (session_id) DO UPDATE SET \
+             sha256 = excluded.sha256, size_bytes = excluded.size_bytes, \
+             received_bytes = excluded.received_bytes, path = excluded.path \
+             WHERE recordings.complete = 0",
+        )
+        .bind(&recording.session_id)
+        .bind(&recording.sha256)
+        .bind(recording.size_bytes)
+        .bind(recording.received_bytes)
+        .bind(&recording.path)
+        .execute(self.pool())
+        .await
+        .map_err(HubError::db("noting an upload's progress"))?;
+        Ok(())
+    }
+
     /// The upload state of a session's recording, if any.
     pub async fn recording(&self, session_id: &str) -> Result<Option<Recording>, HubError> {
         let row = sqlx::query(

@@ -2,7 +2,7 @@
 //! exercise kind (`road`, `dial`, …), so that trends compare like with like and leave out
 //! sessions that did not run as prescribed.
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeMap;
 
 use serde::Serialize;
 
@@ -47,6 +47,9 @@ pub struct NamedSession {
     /// True once the session's recording has fully arrived (every byte, its hash checked):
     /// the console's replay can then open it.
     pub recording_uploaded: bool,
+    /// How much of the recording has arrived while its upload is under way, % (0–99, rounded
+    /// down); `null` before an upload begins and once it has arrived whole.
+    pub recording_arriving_percent: Option<u8>,
     /// How it ended, the one wording every page uses (`Stopped early: wheel unplugged`;
     /// `metrics::words::end_words`).
     pub end_words: String,
@@ -55,6 +58,22 @@ pub struct NamedSession {
     /// True when the station's recording stopped before the session did (`end_words` then
     /// adds "; the recording stopped early"; the console words it from `end_kind` and this).
     pub recording_stopped_early: bool,
+}
+
+/// A session's recording as the hub holds it: whole, or its upload under way.
+struct Upload {
+    size_bytes: i64,
+    received_bytes: i64,
+    complete: bool,
+}
+
+impl Upload {
+    /// How much has arrived, % rounded down (at most 99 until it is whole: the hash is only
+    /// checked at the end).
+    fn percent(&self) -> u8 {
+        let (got, of) = (self.received_bytes.max(0), self.size_bytes.max(1));
+        u8::try_from((got.saturating_mul(100) / of).min(99)).unwrap_or(99)
+    }
 }
 
 /// A session's exercises: each one's short name, patient-facing name and prescribed time, s
@@ -71,12 +90,14 @@ pub fn end_kind_of(row: &SessionRow) -> metrics::words::EndKind {
 }
 
 /// Names session `row` from its reported exercises (`kind`, `name`, `prescribed_s`).
-/// `recording_uploaded` says whether its whole recording has arrived.
+/// `upload` is its recording's upload as the hub holds it, if one began.
 fn name_session(
     row: SessionRow,
     reported: Option<&Reported>,
-    recording_uploaded: bool,
+    upload: Option<&Upload>,
 ) -> NamedSession {
+    let recording_uploaded = upload.is_some_and(|u| u.complete);
+    let recording_arriving_percent = upload.filter(|u| !u.complete).map(Upload::percent);
     let ran_as_prescribed = row.end_reason.as_deref() == Some(COMPLETE);
     let recording_stopped_early = row
         .end_reason
@@ -134,6 +155,7 @@ fn name_session(
         ran_as_prescribed,
         prescribed_s,
         recording_uploaded,
+        recording_arriving_percent,
         end_words,
         end_kind,
         recording_stopped_early,
@@ -256,28 +278,37 @@ impl Db {
         }
         self.regimen_exercises(patient_id, &rows, &mut by_session)
             .await?;
-        let uploaded = self.uploaded_recordings(patient_id).await?;
+        let uploads = self.uploads_of(patient_id).await?;
         Ok(rows
             .into_iter()
             .map(|row| {
                 let reported = by_session.get(&row.session_id);
-                let recording = uploaded.contains(&row.session_id);
-                name_session(row, reported, recording)
+                let upload = uploads.get(&row.session_id);
+                name_session(row, reported, upload)
             })
             .collect())
     }
 
-    /// The sessions of `patient_id` whose recording has fully arrived.
-    async fn uploaded_recordings(&self, patient_id: &str) -> Result<BTreeSet<String>, HubError> {
+    /// The recordings of `patient_id`'s sessions the hub holds, whole or arriving.
+    async fn uploads_of(&self, patient_id: &str) -> Result<BTreeMap<String, Upload>, HubError> {
         let rows = sqlx::query(
-            "SELECT r.session_id FROM recordings r JOIN sessions s ON s.session_id = r.session_id \
-             WHERE s.patient_id = $1 AND r.complete <> 0",
+            "SELECT r.session_id, r.size_bytes, r.received_bytes, r.complete FROM recordings r \
+             JOIN sessions s ON s.session_id = r.session_id WHERE s.patient_id = $1",
         )
         .bind(patient_id)
         .fetch_all(self.pool())
         .await
         .map_err(HubError::db("reading which recordings have arrived"))?;
-        rows.iter().map(|r| col(r, "session_id")).collect()
+        rows.iter()
+            .map(|r| {
+                let upload = Upload {
+                    size_bytes: col(r, "size_bytes")?,
+                    received_bytes: col(r, "received_bytes")?,
+                    complete: col::<i64>(r, "complete")? != 0,
+                };
+                Ok((col(r, "session_id")?, upload))
+            })
+            .collect()
     }
 
     /// Fills in, for the regimen sessions (`regimen:N`) whose station reported no exercises,

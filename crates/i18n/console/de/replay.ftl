@@ -31,6 +31,7 @@ replay-stopped = Die Wiedergabe wurde abgebrochen: { $reason }
 replay-list-heading = Eine Sitzung wiedergeben
 replay-list-running = Läuft noch: Die Aufzeichnung kommt nach dem Ende der Sitzung.
 replay-list-not-arrived = Die Aufzeichnung ist noch nicht angekommen. Die Station lädt sie nach der Sitzung hoch, sobald sie den Hub erreicht.
+replay-list-arriving = Die Aufzeichnung kommt gerade an: bisher { $percent } %. Die Wiedergabe öffnet sich, sobald alles da ist.
 replay-list-ready = Aufzeichnung bereit: über Datum und Uhrzeit öffnen.
 replay-list-note = { $count ->
     [one] { $ready } von 1 Sitzung kann aus der hochgeladenen Aufzeichnung wiedergegeben werden: Arm, Auto und Diagramme wie damals, mit Abspielen, Pause und Springen.

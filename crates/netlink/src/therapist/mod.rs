@@ -28,7 +28,10 @@ use crate::frame::{CARE_VERSION, Care, Frame, Hello, MESSAGES_VERSION, Message, 
 use crate::tls::ServerTls;
 use crate::transport::{OUTBOX_CAPACITY, Outbox, OutboxStats, Outgoing};
 
-pub use backend::{BoxFuture, CheckNews, FileStore, HubStore, Peer, Refusal, SessionStore};
+pub use backend::{
+    BoxFuture, CheckNews, FileStore, HubStore, Peer, RECORDING_PROGRESS_EVERY, Refusal,
+    SessionStore,
+};
 use budget::{ConnectionGate, EVICTION_GRACE, GateLimits};
 pub use config::{
     DEFAULT_MAX_CONNECTIONS, DEFAULT_MAX_CONNECTIONS_PER_ADDRESS, DEFAULT_MAX_UNAUTHENTICATED,

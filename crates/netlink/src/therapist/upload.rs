@@ -31,6 +31,8 @@ pub(super) struct Upload {
     /// Whether a chunk of this upload has been counted against the day's bytes yet (the first
     /// one reads the shared count afresh: another hub may have taken bytes since).
     counted: bool,
+    /// When its progress was last told to the store.
+    noted_at: Instant,
 }
 
 /// How often the bytes a station uploaded here are added to the store's shared count while
@@ -308,7 +310,7 @@ pub(super) async fn start(
             .map_err(|e| closed("file", &part, e))?;
         offset = 0;
     }
-    let upload = Upload {
+    let mut upload = Upload {
         path,
         part,
         size: start.size_bytes,
@@ -316,12 +318,14 @@ pub(super) async fn start(
         offset,
         file,
         counted: false,
+        noted_at: Instant::now(),
     };
     if offset == upload.size {
         // Whole already: an earlier attempt could not keep it (its store failed). Kept now,
         // without the station sending it again.
         return Ok((None, finish(hub, hello, upload).await?));
     }
+    progress(hub, hello, &mut upload).await;
     Ok((Some(upload), at(hello, offset, false)))
 }
 
@@ -367,6 +371,9 @@ pub(super) async fn chunk(
         .map_err(|e| closed("write to", &up.part, e))?;
     up.offset = end;
     if end < up.size {
+        if up.noted_at.elapsed() >= super::RECORDING_PROGRESS_EVERY {
+            progress(hub, hello, up).await;
+        }
         return Ok(at(hello, end, false));
     }
     let up = upload.take().expect("checked above");
@@ -405,6 +412,24 @@ async fn pace_upload(hub: &Hub, hello: &Hello, n: u64) -> Result<(), Failure> {
         tokio::time::sleep(wait).await;
     }
     Ok(())
+}
+
+/// Tells the store how much of `up` this hub holds ([`super::HubStore::recording_progress`]);
+/// a store that cannot note it is logged, and the upload goes on.
+async fn progress(hub: &Hub, hello: &Hello, up: &mut Upload) {
+    up.noted_at = Instant::now();
+    if let Err(e) = hub
+        .store
+        .recording_progress(hello, &up.sha256, up.size, up.offset)
+        .await
+    {
+        tracing::warn!(
+            session = %hello.session_id,
+            received_bytes = up.offset,
+            error = %e,
+            "an upload's progress was not noted; the upload goes on"
+        );
+    }
 }
 
 async fn finish(hub: &Hub, hello: &Hello, mut up: Upload) -> Result<UploadAt, Failure> {
