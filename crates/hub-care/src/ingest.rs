@@ -433,16 +433,7 @@ impl HubStore for DbStore {
         received_bytes: u64,
     ) -> BoxFuture<'a, Result<(), NetlinkError>> {
         Box::pin(async move {
-            let recording = hub_store::db::Recording {
-                session_id: hello.session_id.clone(),
-                sha256: sha256.to_owned(),
-                size_bytes: i64::try_from(size_bytes).unwrap_or(i64::MAX),
-                received_bytes: i64::try_from(received_bytes).unwrap_or(i64::MAX),
-                path: self
-                    .recordings
-                    .location(&hello.station_id, &hello.session_id),
-                complete: false,
-            };
+            let recording = self.recording_row(hello, sha256, size_bytes, received_bytes);
             self.db
                 .note_recording_progress(&recording)
                 .await
@@ -482,16 +473,7 @@ impl HubStore for DbStore {
                 )
                 .await
                 .map_err(storage_error)?;
-            let recording = hub_store::db::Recording {
-                session_id: hello.session_id.clone(),
-                sha256: sha256.to_owned(),
-                size_bytes: i64::try_from(size_bytes).unwrap_or(i64::MAX),
-                received_bytes: i64::try_from(size_bytes).unwrap_or(i64::MAX),
-                path: self
-                    .recordings
-                    .location(&hello.station_id, &hello.session_id),
-                complete: true,
-            };
+            let recording = self.recording_row(hello, sha256, size_bytes, size_bytes);
             self.db
                 .put_recording(&recording)
                 .await
@@ -687,6 +669,28 @@ impl HubStore for Ingest {
 }
 
 impl DbStore {
+    /// The database row of `hello`'s recording holding `received_bytes` of `size_bytes`
+    /// (complete when it holds them all), where the store keeps it.
+    fn recording_row(
+        &self,
+        hello: &Hello,
+        sha256: &str,
+        size_bytes: u64,
+        received_bytes: u64,
+    ) -> hub_store::db::Recording {
+        let bytes = |n: u64| i64::try_from(n).unwrap_or(i64::MAX);
+        hub_store::db::Recording {
+            session_id: hello.session_id.clone(),
+            sha256: sha256.to_owned(),
+            size_bytes: bytes(size_bytes),
+            received_bytes: bytes(received_bytes),
+            path: self
+                .recordings
+                .location(&hello.station_id, &hello.session_id),
+            complete: received_bytes == size_bytes,
+        }
+    }
+
     /// Records that the station of `hello` showed message `seen.id` to its patient (audited
     /// as the station); a message of another patient, or one already seen, changes nothing.
     fn message_seen<'a>(
