@@ -51,11 +51,6 @@ impl CheckNews {
     }
 }
 
-/// How often an upload's progress is told to the store ([`HubStore::recording_progress`])
-/// while chunks arrive: one small write per uploading station every 5 s (a thousand stations
-/// uploading at once: 200 a second), never one per chunk.
-pub const RECORDING_PROGRESS_EVERY: std::time::Duration = std::time::Duration::from_secs(5);
-
 /// The hub's persistence and admission policy.
 pub trait HubStore: Send + Sync + 'static {
     /// Admits a connection whose `Hello` is well formed, before anything is stored: where the
@@ -157,7 +152,7 @@ pub trait HubStore: Send + Sync + 'static {
 
     /// An upload of `hello`'s recording (`size_bytes` long, SHA-256 `sha256`) holds
     /// `received_bytes` on this hub: said when it begins or resumes and every
-    /// [`RECORDING_PROGRESS_EVERY`] after, so the clinic sees a recording on its way
+    /// [`super::RECORDING_PROGRESS_EVERY`] after, so the clinic sees a recording on its way
     /// rather than none. Never called for a recording stored whole ([`Self::recording_stored`]
     /// says that). Informative only: an error is logged and the upload goes on. The default
     /// keeps nothing.

@@ -28,10 +28,7 @@ use crate::frame::{CARE_VERSION, Care, Frame, Hello, MESSAGES_VERSION, Message, 
 use crate::tls::ServerTls;
 use crate::transport::{OUTBOX_CAPACITY, Outbox, OutboxStats, Outgoing};
 
-pub use backend::{
-    BoxFuture, CheckNews, FileStore, HubStore, Peer, RECORDING_PROGRESS_EVERY, Refusal,
-    SessionStore,
-};
+pub use backend::{BoxFuture, CheckNews, FileStore, HubStore, Peer, Refusal, SessionStore};
 use budget::{ConnectionGate, EVICTION_GRACE, GateLimits};
 pub use config::{
     DEFAULT_MAX_CONNECTIONS, DEFAULT_MAX_CONNECTIONS_PER_ADDRESS, DEFAULT_MAX_UNAUTHENTICATED,
@@ -39,6 +36,7 @@ pub use config::{
 };
 use connection::accept_loop;
 pub use event::TherapistEvent;
+pub use upload::RECORDING_PROGRESS_EVERY;
 
 /// Events buffered for the CLI; beyond this they are dropped (and counted), never blocking
 /// the hub.

@@ -41,6 +41,11 @@ pub(super) struct Upload {
 /// it sends to each in this time after its last re-read.
 const NOTE_DAILY_BYTES_EVERY: Duration = Duration::from_secs(1);
 
+/// How often an upload's progress is told to the store
+/// ([`super::HubStore::recording_progress`]) while chunks arrive: one small write per uploading
+/// station every 5 s (a thousand stations uploading at once: 200 a second), never one per chunk.
+pub const RECORDING_PROGRESS_EVERY: Duration = Duration::from_secs(5);
+
 /// The bytes each station has uploaded today (UTC days by the store's clock), against
 /// [`super::TherapistConfig::max_upload_bytes_per_station_day`]. The count is the store's,
 /// shared by every hub on it: read when a station first uploads on a day and at the start of
@@ -371,7 +376,7 @@ pub(super) async fn chunk(
         .map_err(|e| closed("write to", &up.part, e))?;
     up.offset = end;
     if end < up.size {
-        if up.noted_at.elapsed() >= super::RECORDING_PROGRESS_EVERY {
+        if up.noted_at.elapsed() >= RECORDING_PROGRESS_EVERY {
             progress(hub, hello, up).await;
         }
         return Ok(at(hello, end, false));
