@@ -565,7 +565,7 @@ impl<R: Read> Side<R> {
                 if let Some((channel, decoder)) = self.schemas.decoder_of(&c, &self.wanted)? {
                     let layout = match decoder {
                         Decoder::Json => None,
-                        Decoder::Blocks(layout, _) => Some(Arc::from(layout)),
+                        Decoder::Blocks(layout, ..) => Some(Arc::from(layout)),
                     };
                     self.channels.insert(c.id, (channel, layout));
                 }

@@ -1,7 +1,6 @@
 //! Reads a recording back into the types it was written from (replay, reports, Python).
 
-use super::blocks::unflatten::unflatten;
-use super::blocks::{self, BlockError, Cell, Layout};
+use super::blocks::{self, DecodeScratch, Layout};
 use super::channels::Channel;
 use super::error::ReadError;
 use super::raw::{RawImuSample, RawTick, RawWheelSample};
@@ -139,8 +138,10 @@ pub(super) enum Decoder {
     /// One JSON sample a message.
     Json,
     /// A block of samples a message, and whether the file's columns are the channel's own
-    /// (rebuilt cell by cell) or another version's (rebuilt through JSON).
-    Blocks(Box<Layout>, bool),
+    /// (decoded straight from its columns into the samples, `Layout::decode_samples`, its
+    /// columns kept from message to message in the scratch) or another version's (rebuilt
+    /// through JSON).
+    Blocks(Box<Layout>, bool, DecodeScratch),
 }
 
 impl Decoder {
@@ -162,15 +163,19 @@ impl Decoder {
             })?;
         let own = channel.spec().block_layout().and_then(Result::ok);
         let same = own.is_some_and(|own| own.column_names().eq(layout.column_names()));
-        Ok(Self::Blocks(Box::new(layout), same))
+        Ok(Self::Blocks(
+            Box::new(layout),
+            same,
+            DecodeScratch::default(),
+        ))
     }
 
     /// Appends the samples of one message of `channel` to `out` as `T`: a JSON message
-    /// deserialised, a block rebuilt cell by cell (NaN and infinities kept) when the file's
+    /// deserialised, a block decoded column by column (NaN and infinities kept) when the file's
     /// columns are `T`'s own, through JSON otherwise. `index` is the position of the message's
     /// first sample within its channel (for errors); returns the number of samples appended.
     pub(super) fn decode_into<T: DeserializeOwned>(
-        &self,
+        &mut self,
         channel: Channel,
         data: &[u8],
         index: usize,
@@ -193,7 +198,7 @@ impl Decoder {
                 out.extend([sample]);
                 n = 1;
             }
-            Self::Blocks(layout, false) => {
+            Self::Blocks(layout, false, _) => {
                 for row in layout.decode(data).map_err(|e| block_error(index, e))? {
                     let v = serde_json::Value::Object(row);
                     let sample = serde_json::from_value(v).map_err(|e| json_error(index + n, e))?;
@@ -201,29 +206,17 @@ impl Decoder {
                     n += 1;
                 }
             }
-            Self::Blocks(layout, true) => {
-                let mut flat = Vec::new();
-                let rows = layout
-                    .decode_flat(data, &mut flat)
-                    .map_err(|e| block_error(index, e))?;
-                let width = layout.row_width();
-                for cells in flat.chunks_exact(width.max(1)).take(rows) {
-                    let (tick, t_ns) = match cells.get(..2) {
-                        Some([Cell::Int(tick), Cell::Int(t_ns)]) => (*tick, *t_ns),
-                        _ => {
-                            let what = BlockError::Decode("a sample without its stamps".into());
-                            return Err(block_error(index + n, what));
-                        }
-                    };
-                    let data = unflatten(&cells[2..])
-                        .map_err(|e| block_error(index + n, BlockError::Decode(e.to_string())))?;
-                    out.extend([Stamped {
-                        tick,
-                        t_s: t_ns as f64 * 1e-9,
-                        data,
-                    }]);
-                    n += 1;
-                }
+            Self::Blocks(layout, true, scratch) => {
+                // Straight from the block's columns into the samples (no cells a sample).
+                n = layout
+                    .decode_samples(data, scratch, |tick, t_ns, data| {
+                        out.extend([Stamped {
+                            tick,
+                            t_s: t_ns as f64 * 1e-9,
+                            data,
+                        }]);
+                    })
+                    .map_err(|(at, e)| block_error(index + at, e))?;
             }
         }
         Ok(n)
@@ -298,7 +291,7 @@ pub fn recorded_rows(bytes: &[u8]) -> Result<(SessionMetadata, RecordedRows), Re
                         })?,
                     )
                 }
-                Decoder::Blocks(layout, _) => {
+                Decoder::Blocks(layout, ..) => {
                     out.extend(layout.decode(data).map_err(|source| ReadError::Block {
                         topic: channel.topic(),
                         index: out.len(),
@@ -325,7 +318,7 @@ fn decode<T: DeserializeOwned>(
     channel: Channel,
     messages: Option<ChannelMessages>,
 ) -> Result<Vec<Stamped<T>>, ReadError> {
-    let Some(c) = messages else {
+    let Some(mut c) = messages else {
         return Ok(Vec::new());
     };
     let mut out = Vec::new();

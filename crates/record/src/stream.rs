@@ -58,7 +58,12 @@ impl<T> Default for Queue<T> {
 impl<T: DeserializeOwned> Queue<T> {
     /// Appends the samples of one message; returns how many samples were dropped (beyond
     /// [`QUEUE_CAP`]).
-    fn push(&mut self, channel: Channel, decoder: &Decoder, data: &[u8]) -> Result<u64, ReadError> {
+    fn push(
+        &mut self,
+        channel: Channel,
+        decoder: &mut Decoder,
+        data: &[u8],
+    ) -> Result<u64, ReadError> {
         let n = decoder.decode_into(channel, data, self.decoded, &mut self.samples)?;
         self.decoded += n;
         if let Some(last) = self.samples.back() {
@@ -317,7 +322,7 @@ impl<R: Read> TickStream<R> {
             Rec::Message(m) => {
                 let log_ns = m.header.log_time;
                 self.first_log_ns = Some(self.first_log_ns.map_or(log_ns, |t| t.min(log_ns)));
-                let Some((channel, decoder)) = self.channels.get(&m.header.channel_id) else {
+                let Some((channel, decoder)) = self.channels.get_mut(&m.header.channel_id) else {
                     return Ok(None);
                 };
                 let body = m.data_within(channel.topic(), max_message)?;

@@ -855,6 +855,79 @@ mod tests {
         assert!(unflatten::<ArmSample>(&short).is_err());
     }
 
+    /// A block decoded straight into its samples (`Layout::decode_samples`, what the
+    /// streaming reader does) gives what its cells unflatten to, sample for sample, NaN,
+    /// infinities, absent fields, labels and arrays included; a block read as another type's
+    /// samples is refused both ways.
+    #[test]
+    fn blocks_decode_into_samples_as_their_cells_unflatten() {
+        use crate::blocks::{BlockBuilder, DecodeScratch, Layout};
+        use crate::channels::Channel;
+        let layout = |c: Channel| c.spec().block_layout().unwrap().unwrap();
+        let (wheel_layout, arm_layout) = (layout(Channel::Wheel), layout(Channel::Arm));
+        let mut wheel = WheelSample::default();
+        let mut arm = ArmSample::default();
+        let (mut wheels, mut arms) = (BlockBuilder::new(), BlockBuilder::new());
+        for i in 0..37u64 {
+            let x = i as f64 * 0.37 - 3.0;
+            wheel.angle_rad = [x.sin(), f64::NAN, f64::INFINITY][(i % 3) as usize];
+            wheel.hand_nm = (i % 4 != 0).then_some(x * 1e3);
+            wheel.watchdog = [Watchdog::Running, Watchdog::FaultStaleReading][(i % 2) as usize];
+            wheel.clipped = i % 5 == 0;
+            arm.grip_m = [x, -x, f64::NEG_INFINITY];
+            arm.setup = [ArmSetup::Tracking, ArmSetup::SensorLost][(i % 2) as usize];
+            arm.upper_gyro_x_rad_s = x.cos();
+            wheels.push(i, i * 1_000_000, &wheel).unwrap();
+            arms.push(i, i * 1_000_000, &arm).unwrap();
+        }
+        let wheel_block = wheels.take(&wheel_layout).unwrap();
+        let arm_block = arms.take(&arm_layout).unwrap();
+        fn both<T: serde::de::DeserializeOwned + std::fmt::Debug>(
+            layout: &Layout,
+            block: &[u8],
+            scratch: &mut DecodeScratch,
+        ) -> (Vec<String>, Vec<String>) {
+            let mut direct = Vec::new();
+            let rows = layout.decode_samples::<T>(block, scratch, |tick, t_ns, s| {
+                direct.push(format!("{tick} {t_ns} {s:?}"));
+            });
+            let mut flat = Vec::new();
+            let width = layout.row_width();
+            let via_cells = layout.decode_flat(block, &mut flat).map(|rows| {
+                flat.chunks_exact(width)
+                    .take(rows)
+                    .map(|c| {
+                        let [Cell::Int(tick), Cell::Int(t_ns)] = &c[..2] else {
+                            panic!("a sample without its stamps: {c:?}");
+                        };
+                        let s = unflatten::<T>(&c[2..])?;
+                        Ok(format!("{tick} {t_ns} {s:?}"))
+                    })
+                    .collect::<Result<Vec<String>, crate::blocks::unflatten::Mismatch>>()
+            });
+            match (rows, via_cells) {
+                (Ok(n), Ok(Ok(cells))) => {
+                    assert_eq!(n, cells.len());
+                    (direct, cells)
+                }
+                (Err(_), Ok(Err(_)) | Err(_)) => (Vec::new(), Vec::new()),
+                (rows, _) => panic!("one way decodes, the other not: {rows:?}"),
+            }
+        }
+        // One scratch for every block, as the reader keeps it.
+        let mut scratch = DecodeScratch::default();
+        for _ in 0..2 {
+            let (direct, cells) = both::<WheelSample>(&wheel_layout, &wheel_block, &mut scratch);
+            assert_eq!((direct.len(), &direct), (37, &cells));
+            let (direct, cells) = both::<ArmSample>(&arm_layout, &arm_block, &mut scratch);
+            assert_eq!((direct.len(), &direct), (37, &cells));
+        }
+        let (direct, _) = both::<ArmSample>(&wheel_layout, &wheel_block, &mut scratch);
+        assert!(direct.is_empty());
+        let (direct, _) = both::<WheelSample>(&arm_layout, &arm_block, &mut scratch);
+        assert!(direct.is_empty());
+    }
+
     #[test]
     fn arm_setup_labels_are_the_recorded_strings() {
         for s in [

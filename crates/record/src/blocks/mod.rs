@@ -384,18 +384,49 @@ impl Layout {
         bytes: &[u8],
         mut visit: impl FnMut(&Column, ColumnValues) -> Result<(), BlockError>,
     ) -> Result<usize, BlockError> {
-        let mut lists: Vec<ColumnValues> = self
-            .columns
-            .iter()
-            .map(|c| match c.kind {
-                Kind::Float | Kind::Int => ColumnValues::Stored(Vec::new()),
-                Kind::Bool => ColumnValues::Bools(Vec::new()),
-                Kind::Text => ColumnValues::Texts(Vec::new()),
-            })
-            .collect();
-        wire::decode(bytes, &mut lists).map_err(BlockError::Decode)?;
+        let mut scratch = DecodeScratch::default();
+        let rows = self.decode_values(bytes, &mut scratch)?;
+        for (c, values) in self.columns.iter().zip(&mut scratch.lists) {
+            let values = match values {
+                wire::Values::Stored(v) => ColumnValues::Stored(std::mem::take(v)),
+                wire::Values::Bools(v) => ColumnValues::Bools(std::mem::take(v)),
+                wire::Values::Texts(v) => ColumnValues::Texts(
+                    v.iter()
+                        .map(|r| wire::text(bytes, r.clone()).to_owned())
+                        .collect(),
+                ),
+            };
+            visit(c, values)?;
+        }
+        Ok(rows)
+    }
+
+    /// Decode one block message into `scratch`'s columns (one a column of the layout, its
+    /// differences summed) and check that every column holds one value per element of every
+    /// sample. Returns the number of samples.
+    fn decode_values(
+        &self,
+        bytes: &[u8],
+        scratch: &mut DecodeScratch,
+    ) -> Result<usize, BlockError> {
+        let lists = &mut scratch.lists;
+        let fits = lists.len() == self.columns.len()
+            && lists
+                .iter()
+                .zip(&self.columns)
+                .all(|(l, c)| l.holds(c.kind));
+        if fits {
+            lists.iter_mut().for_each(wire::Values::clear);
+        } else {
+            *lists = self
+                .columns
+                .iter()
+                .map(|c| wire::Values::of(c.kind))
+                .collect();
+        }
+        wire::decode(bytes, lists).map_err(BlockError::Decode)?;
         let mut rows = None;
-        for (c, mut values) in self.columns.iter().zip(lists) {
+        for (c, values) in self.columns.iter().zip(lists.iter_mut()) {
             let n = values.len();
             let rows = *rows.get_or_insert(n);
             if n != rows * c.elements {
@@ -404,27 +435,63 @@ impl Layout {
                     c.name, c.elements
                 )));
             }
-            if let ColumnValues::Stored(v) = &mut values {
+            if let wire::Values::Stored(v) = values {
                 // Differences from the previous sample's value of the same element.
-                let mut prev = vec![0i64; c.elements];
-                for (i, d) in v.iter_mut().enumerate() {
-                    let p = &mut prev[i % c.elements];
-                    *p = p.wrapping_add(*d);
-                    *d = *p;
+                if c.elements == 1 {
+                    let mut p = 0i64;
+                    for d in v.iter_mut() {
+                        p = p.wrapping_add(*d);
+                        *d = p;
+                    }
+                } else {
+                    let prev = &mut scratch.prev;
+                    prev.clear();
+                    prev.resize(c.elements, 0);
+                    for sample in v.chunks_exact_mut(c.elements) {
+                        for (d, p) in sample.iter_mut().zip(prev.iter_mut()) {
+                            *p = p.wrapping_add(*d);
+                            *d = *p;
+                        }
+                    }
                 }
             }
-            visit(c, values)?;
         }
         Ok(rows.unwrap_or(0))
+    }
+
+    /// Decode one block message straight into its samples of type `T` (whose `Serialize`
+    /// derive made this layout's columns), column by column, and hand each to `each` with
+    /// its `tick` and `t_ns`: what [`Self::decode_flat`] and [`unflatten::unflatten`] give,
+    /// without a cell, a vector or a string a sample (`scratch` holds the columns, kept from
+    /// message to message). Returns the number of samples, or the error and the index within
+    /// the message of the sample it is about (0 for the message as a whole).
+    pub(crate) fn decode_samples<T: serde::de::DeserializeOwned>(
+        &self,
+        bytes: &[u8],
+        scratch: &mut DecodeScratch,
+        mut each: impl FnMut(u64, u64, T),
+    ) -> Result<usize, (usize, BlockError)> {
+        let rows = self.decode_values(bytes, scratch).map_err(|e| (0, e))?;
+        let lists = &scratch.lists;
+        let stamp = |column: usize, row: usize| match &lists[column] {
+            wire::Values::Stored(v) => v[row] as u64,
+            _ => unreachable!("the stamp columns are checked to be integers"),
+        };
+        for row in 0..rows {
+            let sample = unflatten::from_source(SampleCells::new(self, lists, bytes, row))
+                .map_err(|e| (row, BlockError::Decode(e.to_string())))?;
+            each(stamp(0, row), stamp(1, row), sample);
+        }
+        Ok(rows)
     }
 
     /// The number of samples in one block message and the tick of its last one, from its
     /// first column (`tick`) alone: the other columns are skipped, not decoded (what a reader
     /// that compares whole messages needs to count and place them).
     pub fn stamps(&self, bytes: &[u8]) -> Result<(usize, Option<u64>), BlockError> {
-        let mut ticks = [ColumnValues::Stored(Vec::new())];
+        let mut ticks = [wire::Values::Stored(Vec::new())];
         wire::decode(bytes, &mut ticks).map_err(BlockError::Decode)?;
-        let [ColumnValues::Stored(deltas)] = ticks else {
+        let [wire::Values::Stored(deltas)] = ticks else {
             unreachable!("one stored column asked for")
         };
         let last = deltas.iter().fold(0i64, |p, d| p.wrapping_add(*d));
@@ -707,6 +774,94 @@ fn descriptor_set(message: &str, columns: &[Column]) -> Vec<u8> {
         }],
     }
     .encode_to_vec()
+}
+
+/// The columns of the last block message decoded by [`Layout::decode_samples`], kept for the
+/// next one (no allocation a message once grown).
+#[derive(Debug, Default)]
+pub(crate) struct DecodeScratch {
+    /// One list of values a column.
+    lists: Vec<wire::Values>,
+    /// A column's previous sample, element by element.
+    prev: Vec<i64>,
+}
+
+/// The cells of one sample of a decoded block, after its stamps, read from its columns in
+/// place ([`Layout::decode_samples`]).
+struct SampleCells<'a> {
+    columns: &'a [Column],
+    lists: &'a [wire::Values],
+    bytes: &'a [u8],
+    row: usize,
+    /// The column and the element within it of the next cell.
+    column: usize,
+    element: usize,
+    left: usize,
+}
+
+impl<'a> SampleCells<'a> {
+    fn new(layout: &'a Layout, lists: &'a [wire::Values], bytes: &'a [u8], row: usize) -> Self {
+        let mut cells = Self {
+            columns: &layout.columns,
+            lists,
+            bytes,
+            row,
+            column: 2,
+            element: 0,
+            left: layout.row_width.saturating_sub(2),
+        };
+        cells.skip_empty_columns();
+        cells
+    }
+
+    /// Past any column of no element.
+    fn skip_empty_columns(&mut self) {
+        while self
+            .columns
+            .get(self.column)
+            .is_some_and(|c| c.elements == 0)
+        {
+            self.column += 1;
+        }
+    }
+}
+
+impl<'a> unflatten::Source<'a> for SampleCells<'a> {
+    #[inline(always)]
+    fn peek(&self) -> Option<unflatten::CellRef<'a>> {
+        use unflatten::CellRef;
+        if self.left == 0 {
+            return None;
+        }
+        let c = &self.columns[self.column];
+        let i = self.row * c.elements + self.element;
+        Some(match &self.lists[self.column] {
+            wire::Values::Stored(v) if c.kind == Kind::Int => CellRef::Int(v[i] as u64),
+            wire::Values::Stored(v) => {
+                unquantise(v[i], c.quantum.unwrap_or(1.0)).map_or(CellRef::Absent, CellRef::Float)
+            }
+            wire::Values::Bools(v) => CellRef::Bool(v[i]),
+            wire::Values::Texts(v) => CellRef::Text(wire::text(self.bytes, v[i].clone())),
+        })
+    }
+
+    #[inline(always)]
+    fn advance(&mut self) {
+        if self.left == 0 {
+            return;
+        }
+        self.left -= 1;
+        self.element += 1;
+        if self.element == self.columns[self.column].elements {
+            self.element = 0;
+            self.column += 1;
+            self.skip_empty_columns();
+        }
+    }
+
+    fn left(&self) -> usize {
+        self.left
+    }
 }
 
 /// Samples of one channel gathered into a block.

@@ -6,13 +6,74 @@
 //! Packed and unpacked repeated fields are both read (a parser must accept both); fields of
 //! other numbers are skipped.
 
-use super::ColumnValues;
+use super::Kind;
+use std::ops::Range;
 
 /// Wire types (the low 3 bits of a field's key).
 const VARINT: u64 = 0;
 const I64: u64 = 1;
 const LEN: u64 = 2;
 const I32: u64 = 5;
+
+/// One column's values as the message holds them: a number column's `sint64`s (before any
+/// summing), flags, and where each label lies in the message (checked to be UTF-8: [`text`]).
+#[derive(Clone, Debug, PartialEq)]
+pub(super) enum Values {
+    /// A float or integer column.
+    Stored(Vec<i64>),
+    /// A flag column.
+    Bools(Vec<bool>),
+    /// An enum label column: each label's bytes in the message.
+    Texts(Vec<Range<usize>>),
+}
+
+impl Values {
+    /// No value yet, for a column of `kind`.
+    pub(super) fn of(kind: Kind) -> Self {
+        match kind {
+            Kind::Float | Kind::Int => Self::Stored(Vec::new()),
+            Kind::Bool => Self::Bools(Vec::new()),
+            Kind::Text => Self::Texts(Vec::new()),
+        }
+    }
+
+    /// Whether these are the values of a column of `kind`.
+    pub(super) fn holds(&self, kind: Kind) -> bool {
+        matches!(
+            (self, kind),
+            (Self::Stored(_), Kind::Float | Kind::Int)
+                | (Self::Bools(_), Kind::Bool)
+                | (Self::Texts(_), Kind::Text)
+        )
+    }
+
+    /// Values held.
+    pub(super) fn len(&self) -> usize {
+        match self {
+            Self::Stored(v) => v.len(),
+            Self::Bools(v) => v.len(),
+            Self::Texts(v) => v.len(),
+        }
+    }
+
+    /// Empties the list, keeping its capacity.
+    pub(super) fn clear(&mut self) {
+        match self {
+            Self::Stored(v) => v.clear(),
+            Self::Bools(v) => v.clear(),
+            Self::Texts(v) => v.clear(),
+        }
+    }
+}
+
+/// The label at `range` of the message `bytes` [`decode`] read (it checked the range and
+/// the UTF-8; `""` for any other).
+pub(super) fn text(bytes: &[u8], range: Range<usize>) -> &str {
+    bytes
+        .get(range)
+        .and_then(|b| std::str::from_utf8(b).ok())
+        .unwrap_or_default()
+}
 
 /// The reader's position in a message.
 struct Cursor<'a> {
@@ -25,7 +86,15 @@ impl<'a> Cursor<'a> {
         self.at >= self.bytes.len()
     }
 
+    #[inline]
     fn varint(&mut self) -> Result<u64, String> {
+        // Most of a block's varints are one byte (the differences of a smooth signal).
+        if let Some(&b) = self.bytes.get(self.at)
+            && b < 0x80
+        {
+            self.at += 1;
+            return Ok(u64::from(b));
+        }
         let mut value = 0u64;
         for shift in (0..64).step_by(7) {
             let Some(&b) = self.bytes.get(self.at) else {
@@ -88,7 +157,7 @@ pub(super) fn put_packed(out: &mut Vec<u8>, number: u32, payload: &[u8]) {
 
 /// Appends the values of every field of message `bytes` numbered `1..=columns.len()` to
 /// `columns[number - 1]` (an integer column gets the `sint64` values, before any summing).
-pub(super) fn decode(bytes: &[u8], columns: &mut [ColumnValues]) -> Result<(), String> {
+pub(super) fn decode(bytes: &[u8], columns: &mut [Values]) -> Result<(), String> {
     let mut cur = Cursor { bytes, at: 0 };
     while !cur.done() {
         let key = cur.varint()?;
@@ -98,33 +167,37 @@ pub(super) fn decode(bytes: &[u8], columns: &mut [ColumnValues]) -> Result<(), S
             .and_then(|n| n.checked_sub(1))
             .and_then(|i| columns.get_mut(i));
         match (column, wire) {
-            (Some(ColumnValues::Stored(out)), VARINT) => out.push(zigzag(cur.varint()?)),
-            (Some(ColumnValues::Bools(out)), VARINT) => out.push(cur.varint()? != 0),
-            (Some(ColumnValues::Stored(out)), LEN) => {
+            (Some(Values::Stored(out)), VARINT) => out.push(zigzag(cur.varint()?)),
+            (Some(Values::Bools(out)), VARINT) => out.push(cur.varint()? != 0),
+            (Some(Values::Stored(out)), LEN) => {
                 let len = cur.varint()?;
                 let mut packed = Cursor {
                     bytes: cur.take(len)?,
                     at: 0,
                 };
+                // At most a value a byte.
+                out.reserve(packed.bytes.len());
                 while !packed.done() {
                     out.push(zigzag(packed.varint()?));
                 }
             }
-            (Some(ColumnValues::Bools(out)), LEN) => {
+            (Some(Values::Bools(out)), LEN) => {
                 let len = cur.varint()?;
                 let mut packed = Cursor {
                     bytes: cur.take(len)?,
                     at: 0,
                 };
+                out.reserve(packed.bytes.len());
                 while !packed.done() {
                     out.push(packed.varint()? != 0);
                 }
             }
-            (Some(ColumnValues::Texts(out)), LEN) => {
+            (Some(Values::Texts(out)), LEN) => {
                 let len = cur.varint()?;
-                let text = std::str::from_utf8(cur.take(len)?)
+                let start = cur.at;
+                std::str::from_utf8(cur.take(len)?)
                     .map_err(|e| format!("field {number} holds a string that is not UTF-8: {e}"))?;
-                out.push(text.to_owned());
+                out.push(start..cur.at);
             }
             (Some(_), _) => {
                 return Err(format!(
@@ -183,19 +256,26 @@ mod tests {
             other_text: "skip me".into(),
         };
         let mut columns = vec![
-            ColumnValues::Stored(Vec::new()),
-            ColumnValues::Bools(Vec::new()),
-            ColumnValues::Texts(Vec::new()),
-            ColumnValues::Stored(Vec::new()),
+            Values::Stored(Vec::new()),
+            Values::Bools(Vec::new()),
+            Values::Texts(Vec::new()),
+            Values::Stored(Vec::new()),
         ];
-        decode(&block.encode_to_vec(), &mut columns).unwrap();
+        let bytes = block.encode_to_vec();
+        decode(&bytes, &mut columns).unwrap();
+        let Values::Texts(labels) = columns[2].clone() else {
+            unreachable!("a text column")
+        };
+        let labels: Vec<&str> = labels.into_iter().map(|r| text(&bytes, r)).collect();
+        assert_eq!(labels, block.labels);
+        columns[2] = Values::Texts(Vec::new());
         assert_eq!(
             columns,
             [
-                ColumnValues::Stored(block.ints),
-                ColumnValues::Bools(block.flags),
-                ColumnValues::Texts(block.labels),
-                ColumnValues::Stored(block.unpacked),
+                Values::Stored(block.ints),
+                Values::Bools(block.flags),
+                Values::Texts(Vec::new()),
+                Values::Stored(block.unpacked),
             ]
         );
     }
@@ -210,13 +290,13 @@ mod tests {
         let bytes = block.encode_to_vec();
         for end in 0..bytes.len() {
             let mut columns = vec![
-                ColumnValues::Stored(Vec::new()),
-                ColumnValues::Bools(Vec::new()),
-                ColumnValues::Texts(Vec::new()),
+                Values::Stored(Vec::new()),
+                Values::Bools(Vec::new()),
+                Values::Texts(Vec::new()),
             ];
             let _ = decode(&bytes[..end], &mut columns);
         }
-        let mut wrong = vec![ColumnValues::Texts(Vec::new())];
+        let mut wrong = vec![Values::Texts(Vec::new())];
         let e = decode(&bytes, &mut wrong).unwrap_err();
         assert!(e.contains("field 1"), "{e}");
     }
