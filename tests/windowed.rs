@@ -82,7 +82,7 @@ impl WindowedStation {
     /// window maps and takes keys is lost, so Space is pressed again after a wait that doubles
     /// (2, 4, 8 s …); a loaded machine may then deliver two presses late, the second pausing
     /// what the first started, so a pause seen here is answered with one more press. Returns
-    /// once the exercise has run for [`SETTLE`] since it last started; what the log said after
+    /// once the exercise has run for `SETTLE` (1.5 s) since it last started; what the log said after
     /// the start is kept for [`Self::wait_for`].
     pub fn start_the_exercise(&mut self) {
         let mut line = String::new();
