@@ -14,6 +14,10 @@ wine_prefix() {
     x86_64-w64-mingw32-gcc -O2 -shared -o "$dll" \
       "$WINE_SHIM_DIR/bcryptprimitives.c" "$WINE_SHIM_DIR/bcryptprimitives.def" -ladvapi32
   fi
+  # wineboot's wineserver lingers a few seconds, and its desktop has whatever display wineboot
+  # had (none, outside xvfb-run): a program started under a display before it exits joins that
+  # desktop and can make no window ("no driver could be loaded"). Wait for it to end.
+  wineserver -w
 }
 
 wine_prefix_end() {
