@@ -891,11 +891,9 @@ mod tests {
             let rows = layout.decode_samples::<T>(block, scratch, |tick, t_ns, s| {
                 direct.push(format!("{tick} {t_ns} {s:?}"));
             });
-            let mut flat = Vec::new();
-            let width = layout.row_width();
-            let via_cells = layout.decode_flat(block, &mut flat).map(|rows| {
-                flat.chunks_exact(width)
-                    .take(rows)
+            let via_cells = layout.decode_cells(block).map(|samples| {
+                samples
+                    .iter()
                     .map(|c| {
                         let [Cell::Int(tick), Cell::Int(t_ns)] = &c[..2] else {
                             panic!("a sample without its stamps: {c:?}");

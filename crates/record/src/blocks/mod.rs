@@ -461,7 +461,7 @@ impl Layout {
 
     /// Decode one block message straight into its samples of type `T` (whose `Serialize`
     /// derive made this layout's columns), column by column, and hand each to `each` with
-    /// its `tick` and `t_ns`: what [`Self::decode_flat`] and [`unflatten::unflatten`] give,
+    /// its `tick` and `t_ns`: what [`Self::decode_cells`] and [`unflatten::unflatten`] give,
     /// without a cell, a vector or a string a sample (`scratch` holds the columns, kept from
     /// message to message). Returns the number of samples, or the error and the index within
     /// the message of the sample it is about (0 for the message as a whole).
@@ -496,51 +496,6 @@ impl Layout {
         };
         let last = deltas.iter().fold(0i64, |p, d| p.wrapping_add(*d));
         Ok((deltas.len(), (!deltas.is_empty()).then_some(last as u64)))
-    }
-
-    /// Decode one block message into its samples' cells, all in one vector, sample after
-    /// sample, each [`Self::row_width`] cells long as [`Self::decode_cells`] gives them (no
-    /// vector a sample). Returns the number of samples.
-    pub fn decode_flat(&self, bytes: &[u8], flat: &mut Vec<Cell>) -> Result<usize, BlockError> {
-        flat.clear();
-        let width = self.row_width;
-        let mut column = 0;
-        self.decode_columns(bytes, |c, values| {
-            let offset = self.offsets[column];
-            column += 1;
-            let elements = c.elements.max(1);
-            if flat.is_empty() && !values.is_empty() {
-                flat.resize(values.len() / elements * width, Cell::Absent);
-            }
-            let at = |i: usize| (i / elements) * width + offset + i % elements;
-            match values {
-                ColumnValues::Stored(v) => {
-                    let quantum = c.quantum.unwrap_or(1.0);
-                    for (i, q) in v.into_iter().enumerate() {
-                        flat[at(i)] = match c.kind {
-                            Kind::Int => Cell::Int(q as u64),
-                            _ => unquantise(q, quantum).map_or(Cell::Absent, Cell::Float),
-                        };
-                    }
-                }
-                ColumnValues::Bools(v) => {
-                    for (i, b) in v.into_iter().enumerate() {
-                        flat[at(i)] = Cell::Bool(b);
-                    }
-                }
-                ColumnValues::Texts(v) => {
-                    for (i, t) in v.into_iter().enumerate() {
-                        flat[at(i)] = Cell::Text(t);
-                    }
-                }
-            }
-            Ok(())
-        })
-    }
-
-    /// The cells of one sample: [`Self::decode_flat`]'s vector holds samples this long.
-    pub fn row_width(&self) -> usize {
-        self.row_width
     }
 
     /// Decode one block message into its samples, each the cells of every column in order
