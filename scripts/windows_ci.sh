@@ -84,14 +84,9 @@ case "$HALF" in
     trap 'wine_prefix_end; rm -rf "$WORK"' EXIT
     wine_prefix "$WORK/wine"
     # DirectInput's cooperative level wants a window, so an X display.
-    unit_tests() {
-      CARGO_TARGET_DIR="$WIN_TARGET_DIR" CARGO_TARGET_X86_64_PC_WINDOWS_GNU_RUNNER=wine \
-        xvfb-run -a cargo test --target "$TARGET" "${UNIT_CRATES[@]}" --lib 2>&1 \
-        | grep -v ':fixme:' | tee "$LOGS/windows-unit.log"
-    }
-    # (A window test failed in some runs, "no driver could be loaded": wineboot's lingering
-    # wineserver had no display; wine_prefix now waits for it to end.)
-    unit_tests
+    CARGO_TARGET_DIR="$WIN_TARGET_DIR" CARGO_TARGET_X86_64_PC_WINDOWS_GNU_RUNNER=wine \
+      xvfb-run -a cargo test --target "$TARGET" "${UNIT_CRATES[@]}" --lib 2>&1 \
+      | grep -v ':fixme:' | tee "$LOGS/windows-unit.log"
     python3 scripts/check_skips.py "$LOGS/windows-unit.log"
     wine_prefix_end
 
