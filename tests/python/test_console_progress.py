@@ -8,6 +8,7 @@ go to $TELEREHAB_ARTIFACTS (default target/test-artifacts/console); look at them
 
 import datetime
 import re
+import sqlite3
 import time
 
 from selenium.webdriver.common.by import By
@@ -161,6 +162,32 @@ def test_the_replay_tab_lists_the_sessions_and_opens_a_replay(clinic, browser):
     assert rows[1].get_attribute("data-recording") == "1", rows[1].text
     assert_no_violations(d, "Replay tab")
     shot(d, "progress-4-replay-tab")
+    # An upload whose station went silent an hour ago says it stopped, not that it is arriving:
+    # the newest session's recording is made a third arrived, its last part noted an hour ago.
+    db = sqlite3.connect(clinic["tmp"] / "clinic" / "hub.db", timeout=10)
+    with db:
+        newest = db.execute("SELECT session_id FROM sessions ORDER BY started_unix_ms DESC LIMIT 1").fetchone()[0]
+        was = db.execute("SELECT sha256, size_bytes, received_bytes, path, complete, last_part_ms FROM recordings "
+                         "WHERE session_id = ?", (newest,)).fetchone()
+        db.execute("INSERT INTO recordings (session_id, sha256, size_bytes, received_bytes, path, complete, last_part_ms) "
+                   "VALUES (?, ?, 3000, 1000, 'x', 0, ?) ON CONFLICT (session_id) DO UPDATE SET complete = 0, "
+                   "size_bytes = 3000, received_bytes = 1000, last_part_ms = excluded.last_part_ms",
+                   (newest, "0" * 64, int(time.time() * 1000) - 3_600_000))
+    d.refresh()
+    stalled = wait(d, lambda d: [r for r in d.find_elements(By.CSS_SELECTOR, "#replays tbody tr")
+                                 if "stopped arriving at 33%" in r.text])
+    assert "The station sends the rest when it is next online." in stalled[0].text, stalled[0].text
+    assert_no_violations(d, "Replay tab, an upload stopped")
+    shot(d, "progress-4b-replay-tab-upload-stopped")
+    with db:  # as it was, for the tests that follow
+        if was is None:
+            db.execute("DELETE FROM recordings WHERE session_id = ?", (newest,))
+        else:
+            db.execute("UPDATE recordings SET sha256 = ?, size_bytes = ?, received_bytes = ?, path = ?, complete = ?, "
+                       "last_part_ms = ? WHERE session_id = ?", (*was, newest))
+    db.close()
+    d.refresh()
+    rows = wait(d, lambda d: d.find_elements(By.CSS_SELECTOR, "#tab[data-replays] #replays tbody tr"))
     started = rows[1].find_element(By.CSS_SELECTOR, "th a").text
     rows[1].find_element(By.CSS_SELECTOR, "th a").click()
     head = wait(d, lambda d: [e for e in d.find_elements(By.CSS_SELECTOR, "#tab h2") if e.text.startswith("Replay of the session of ")])[0]

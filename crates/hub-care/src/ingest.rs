@@ -433,7 +433,10 @@ impl HubStore for DbStore {
         received_bytes: u64,
     ) -> BoxFuture<'a, Result<(), NetlinkError>> {
         Box::pin(async move {
-            let recording = self.recording_row(hello, sha256, size_bytes, received_bytes);
+            let recording = hub_store::db::Recording {
+                last_part_ms: Some(self.now()),
+                ..self.recording_row(hello, sha256, size_bytes, received_bytes)
+            };
             self.db
                 .note_recording_progress(&recording)
                 .await
@@ -688,6 +691,7 @@ impl DbStore {
                 .recordings
                 .location(&hello.station_id, &hello.session_id),
             complete: received_bytes == size_bytes,
+            last_part_ms: None,
         }
     }
 

@@ -5,8 +5,16 @@ import { api, esc, when } from '/console/api.js';
 import { t } from '/console/i18n.js';
 import { exercisesWords } from '/console/words.js';
 
+/** A recording on its way with no part noted for this long, ms, has stopped arriving: the
+ * hub's `RECORDING_STALLED_AFTER_MS` (crates/hub-store/src/db/words.rs). */
+const STALLED_AFTER_MS = 10 * 60 * 1000;
+
 /** Why a session cannot be replayed yet, in words. */
 function notYet(s) {
+  const lastPart = s.recording_last_part_ms;
+  if (s.recording_arriving_percent != null && lastPart != null && Date.now() - lastPart > STALLED_AFTER_MS) {
+    return t('replay-list-stalled', { percent: s.recording_arriving_percent, at: when(lastPart) });
+  }
   if (s.recording_arriving_percent != null) {
     return t('replay-list-arriving', { percent: s.recording_arriving_percent });
   }

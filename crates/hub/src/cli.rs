@@ -857,7 +857,7 @@ async fn patient(command: PatientCommand) -> anyhow::Result<()> {
             if json {
                 println!("{}", serde_json::to_string_pretty(&report_json(&report))?);
             } else {
-                print_report(&report);
+                print_report(&report, now_ms());
             }
         }
     }
@@ -889,7 +889,7 @@ fn report_json(report: &patients::PatientReport) -> serde_json::Value {
 }
 
 /// `hub patient show`, for people.
-fn print_report(report: &patients::PatientReport) {
+fn print_report(report: &patients::PatientReport, now_ms: i64) {
     let p = &report.patient;
     println!("patient {} ({})", p.pseudonym, p.id);
     for st in &report.stations {
@@ -918,22 +918,30 @@ fn print_report(report: &patients::PatientReport) {
             s.summaries_stored,
             measure("movements", 0),
             measure("sparc_median", 2),
-            recording_words(s.recording.as_ref())
+            recording_words(s.recording.as_ref(), now_ms)
         );
     }
 }
 
-/// A session's recording in `hub patient show`: none yet, arriving (how much), or whole.
-fn recording_words(recording: Option<&hub_store::db::Recording>) -> String {
+/// A session's recording in `hub patient show` at `now_ms`: none yet, arriving (how much),
+/// stopped arriving (nothing noted for [`hub_store::db::RECORDING_STALLED_AFTER_MS`]), or whole.
+fn recording_words(recording: Option<&hub_store::db::Recording>, now_ms: i64) -> String {
     let mb = |bytes: i64| bytes as f64 / 1e6;
     match recording {
         None => "-".to_owned(),
         Some(r) if r.complete => format!("{:.1} MB", mb(r.size_bytes)),
-        Some(r) => format!(
-            "arriving: {:.1} of {:.1} MB",
-            mb(r.received_bytes),
-            mb(r.size_bytes)
-        ),
+        Some(r) => {
+            let (got, of) = (mb(r.received_bytes), mb(r.size_bytes));
+            match r.last_part_ms.map(|at| now_ms.saturating_sub(at)) {
+                Some(silent_ms) if silent_ms > hub_store::db::RECORDING_STALLED_AFTER_MS => {
+                    format!(
+                        "stopped arriving: {got:.1} of {of:.1} MB, nothing for {} min",
+                        silent_ms / 60_000
+                    )
+                }
+                _ => format!("arriving: {got:.1} of {of:.1} MB"),
+            }
+        }
     }
 }
 
@@ -942,4 +950,34 @@ fn print_code(code: &patients::PairingCode, pseudonym: &str) {
     println!("patient {pseudonym} ({patient_id})");
     println!("pairing code: {code}  (single use, valid 72 h)");
     println!("on the patient's computer: telerehab pair --hub HUB:7878 --code {code}");
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_recording_silent_past_the_limit_is_shown_as_stopped_arriving_not_arriving() {
+        let now = 100 * hub_store::db::RECORDING_STALLED_AFTER_MS;
+        let mut r = hub_store::db::Recording {
+            session_id: "s".to_owned(),
+            sha256: "0".repeat(64),
+            size_bytes: 7_400_000,
+            received_bytes: 3_500_000,
+            path: "p".to_owned(),
+            complete: false,
+            last_part_ms: Some(now - 5_000),
+        };
+        assert_eq!(recording_words(Some(&r), now), "arriving: 3.5 of 7.4 MB");
+        r.last_part_ms = Some(now - 3 * hub_store::db::RECORDING_STALLED_AFTER_MS);
+        assert_eq!(
+            recording_words(Some(&r), now),
+            "stopped arriving: 3.5 of 7.4 MB, nothing for 30 min"
+        );
+        r.last_part_ms = None;
+        assert_eq!(recording_words(Some(&r), now), "arriving: 3.5 of 7.4 MB");
+        r.complete = true;
+        assert_eq!(recording_words(Some(&r), now), "7.4 MB");
+        assert_eq!(recording_words(None, now), "-");
+    }
 }

@@ -1074,6 +1074,7 @@ async fn metrics_and_recordings(db: Db) {
         received_bytes: 10,
         path: "recordings/s1.mcap".into(),
         complete: false,
+        last_part_ms: None,
     };
     db.put_recording(&rec).await.unwrap();
     rec.received_bytes = 1000;

@@ -257,6 +257,7 @@ async fn a_recording_in_s3_replays_on_the_console_to_its_end() {
         received_bytes: bytes.len() as i64,
         path: store.location(station, "s-replay"),
         complete: true,
+        last_part_ms: None,
     })
     .await
     .unwrap();

@@ -130,6 +130,7 @@ async fn session_with(f: &Fixture, name: &str, bytes: &[u8]) -> String {
         received_bytes: bytes.len() as i64,
         path: path.display().to_string(),
         complete: true,
+        last_part_ms: None,
     })
     .await
     .unwrap();

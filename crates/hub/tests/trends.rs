@@ -229,7 +229,9 @@ async fn sessions_are_named_by_their_exercises_in_words(db: Db) {
     );
 }
 
-async fn a_session_says_its_recording_arrived_only_once_every_byte_did_and_how_much_before(db: Db) {
+async fn a_session_says_its_recording_arrived_only_once_every_byte_did_how_much_before_and_when_it_stopped(
+    db: Db,
+) {
     let (_, p) = paired(&db).await;
     for (sid, hour) in [("none", 1), ("half", 2), ("whole", 3)] {
         session(&db, &p, (sid, "sine-road", hour, "complete"), &[], vec![]).await;
@@ -241,6 +243,7 @@ async fn a_session_says_its_recording_arrived_only_once_every_byte_did_and_how_m
         received_bytes: 500,
         path: "/nowhere/half.mcap".to_owned(),
         complete: false,
+        last_part_ms: Some(1_000_000),
     };
     db.note_recording_progress(&rec).await.unwrap();
     rec.session_id = "whole".to_owned();
@@ -264,6 +267,17 @@ async fn a_session_says_its_recording_arrived_only_once_every_byte_did_and_how_m
     // The half-arrived one says how much, the others nothing.
     let arriving: Vec<Option<u8>> = named.iter().map(|s| s.recording_arriving_percent).collect();
     assert_eq!(arriving, [None, Some(50), None]);
+    // When its last part was noted says whether it is still arriving or stopped.
+    let half = &named[1];
+    assert_eq!(half.recording_last_part_ms, Some(1_000_000));
+    let stall = hub::db::RECORDING_STALLED_AFTER_MS;
+    assert!(!half.recording_stalled(1_000_000 + stall));
+    assert!(half.recording_stalled(1_000_001 + stall));
+    assert!(
+        !named[0].recording_stalled(i64::MAX),
+        "a whole recording never stalls"
+    );
+    assert_eq!(named[0].recording_last_part_ms, None);
     let json = serde_json::to_value(&named[0]).unwrap();
     assert_eq!(json["recording_uploaded"], serde_json::json!(true));
 }
@@ -271,5 +285,5 @@ async fn a_session_says_its_recording_arrived_only_once_every_byte_did_and_how_m
 on_both_backends!(
     trends_compare_the_latest_kind_and_leave_out_sessions_ended_early,
     sessions_are_named_by_their_exercises_in_words,
-    a_session_says_its_recording_arrived_only_once_every_byte_did_and_how_much_before,
+    a_session_says_its_recording_arrived_only_once_every_byte_did_how_much_before_and_when_it_stopped,
 );

@@ -47,7 +47,7 @@ mod summaries;
 mod therapists;
 mod wheels;
 mod words;
-pub use words::end_kind_of;
+pub use words::{RECORDING_STALLED_AFTER_MS, end_kind_of};
 
 use std::path::{Path, PathBuf};
 

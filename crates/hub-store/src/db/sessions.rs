@@ -69,6 +69,9 @@ pub struct Recording {
     pub path: String,
     /// True once every byte arrived and the hash matched.
     pub complete: bool,
+    /// While not complete: when the hub last noted a part of it arriving, ms since the Unix
+    /// epoch ([`Db::note_recording_progress`]); `None` when never noted.
+    pub last_part_ms: Option<i64>,
 }
 
 const SESSION_COLUMNS: &str = "session_id, station_id, patient_id, exercise, started_unix_ms, \
@@ -294,20 +297,26 @@ impl Db {
 
     /// Notes how much of a session's recording an upload holds (`recording.complete` false):
     /// a row for a recording on its way. A recording already stored whole is left as it is
-    /// (a late note from a slower hub never makes it partial again).
+    /// (a late note from a slower hub never makes it partial again). `recording.last_part_ms`
+    /// says when (the console says a recording noted longer than
+    /// [`RECORDING_STALLED_AFTER_MS`] ago stopped arriving).
+    ///
+    /// [`RECORDING_STALLED_AFTER_MS`]: crate::db::RECORDING_STALLED_AFTER_MS
     pub async fn note_recording_progress(&self, recording: &Recording) -> Result<(), HubError> {
         sqlx::query(
             "INSERT INTO recordings (session_id, sha256, size_bytes, received_bytes, path, \
-             complete) VALUES ($1, $2, $3, $4, $5, 0) ON CONFLICT (session_id) DO UPDATE SET \
+             complete, last_part_ms) VALUES ($1, $2, $3, $4, $5, 0, $6) \
+             ON CONFLICT (session_id) DO UPDATE SET \
              sha256 = excluded.sha256, size_bytes = excluded.size_bytes, \
-             received_bytes = excluded.received_bytes, path = excluded.path \
-             WHERE recordings.complete = 0",
+             received_bytes = excluded.received_bytes, path = excluded.path, \
+             last_part_ms = excluded.last_part_ms WHERE recordings.complete = 0",
         )
         .bind(&recording.session_id)
         .bind(&recording.sha256)
         .bind(recording.size_bytes)
         .bind(recording.received_bytes)
         .bind(&recording.path)
+        .bind(recording.last_part_ms)
         .execute(self.pool())
         .await
         .map_err(HubError::db("noting an upload's progress"))?;
@@ -317,8 +326,8 @@ impl Db {
     /// The upload state of a session's recording, if any.
     pub async fn recording(&self, session_id: &str) -> Result<Option<Recording>, HubError> {
         let row = sqlx::query(
-            "SELECT session_id, sha256, size_bytes, received_bytes, path, complete \
-             FROM recordings WHERE session_id = $1",
+            "SELECT session_id, sha256, size_bytes, received_bytes, path, complete, \
+             last_part_ms FROM recordings WHERE session_id = $1",
         )
         .bind(session_id)
         .fetch_optional(self.pool())
@@ -332,6 +341,7 @@ impl Db {
                 received_bytes: col(&row, "received_bytes")?,
                 path: col(&row, "path")?,
                 complete: col::<i64>(&row, "complete")? != 0,
+                last_part_ms: col(&row, "last_part_ms")?,
             })
         })
         .transpose()

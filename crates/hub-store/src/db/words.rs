@@ -20,6 +20,13 @@ pub const COMPLETE: &str = "complete";
 /// How many earlier sessions of the same kind a trend compares the latest with.
 pub const TREND_BASELINE_SESSIONS: usize = 4;
 
+/// A recording on its way whose last part the hub noted longer ago than this, ms, has stopped
+/// arriving (its station is offline, or gave up): the console and `hub patient show` say so
+/// rather than "arriving". Parts are noted every few seconds while an upload runs
+/// (`netlink::therapist::RECORDING_PROGRESS_EVERY`); ten minutes outlasts a station's retries
+/// after a hub restart. The console's `replays.js` uses the same figure.
+pub const RECORDING_STALLED_AFTER_MS: i64 = 10 * 60 * 1000;
+
 /// A session as the console names it: the stored row plus its exercise in words.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct NamedSession {
@@ -50,6 +57,10 @@ pub struct NamedSession {
     /// How much of the recording has arrived while its upload is under way, % (0–99, rounded
     /// down); `null` before an upload begins and once it has arrived whole.
     pub recording_arriving_percent: Option<u8>,
+    /// While its recording is arriving: when the hub last noted a part of it, ms since the
+    /// Unix epoch (`null` when whole, not begun, or not noted). Longer ago than
+    /// [`RECORDING_STALLED_AFTER_MS`]: it stopped arriving ([`NamedSession::recording_stalled`]).
+    pub recording_last_part_ms: Option<i64>,
     /// How it ended, the one wording every page uses (`Stopped early: wheel unplugged`;
     /// `metrics::words::end_words`).
     pub end_words: String,
@@ -60,11 +71,21 @@ pub struct NamedSession {
     pub recording_stopped_early: bool,
 }
 
+impl NamedSession {
+    /// True when its recording is arriving but no part of it was noted for longer than
+    /// [`RECORDING_STALLED_AFTER_MS`] before `now_ms` (ms since the Unix epoch).
+    pub fn recording_stalled(&self, now_ms: i64) -> bool {
+        self.recording_last_part_ms
+            .is_some_and(|at| now_ms.saturating_sub(at) > RECORDING_STALLED_AFTER_MS)
+    }
+}
+
 /// A session's recording as the hub holds it: whole, or its upload under way.
 struct Upload {
     size_bytes: i64,
     received_bytes: i64,
     complete: bool,
+    last_part_ms: Option<i64>,
 }
 
 impl Upload {
@@ -97,7 +118,9 @@ fn name_session(
     upload: Option<&Upload>,
 ) -> NamedSession {
     let recording_uploaded = upload.is_some_and(|u| u.complete);
-    let recording_arriving_percent = upload.filter(|u| !u.complete).map(Upload::percent);
+    let arriving = upload.filter(|u| !u.complete);
+    let recording_arriving_percent = arriving.map(Upload::percent);
+    let recording_last_part_ms = arriving.and_then(|u| u.last_part_ms);
     let ran_as_prescribed = row.end_reason.as_deref() == Some(COMPLETE);
     let recording_stopped_early = row
         .end_reason
@@ -156,6 +179,7 @@ fn name_session(
         prescribed_s,
         recording_uploaded,
         recording_arriving_percent,
+        recording_last_part_ms,
         end_words,
         end_kind,
         recording_stopped_early,
@@ -292,7 +316,8 @@ impl Db {
     /// The recordings of `patient_id`'s sessions the hub holds, whole or arriving.
     async fn uploads_of(&self, patient_id: &str) -> Result<BTreeMap<String, Upload>, HubError> {
         let rows = sqlx::query(
-            "SELECT r.session_id, r.size_bytes, r.received_bytes, r.complete FROM recordings r \
+            "SELECT r.session_id, r.size_bytes, r.received_bytes, r.complete, r.last_part_ms \
+             FROM recordings r \
              JOIN sessions s ON s.session_id = r.session_id WHERE s.patient_id = $1",
         )
         .bind(patient_id)
@@ -305,6 +330,7 @@ impl Db {
                     size_bytes: col(r, "size_bytes")?,
                     received_bytes: col(r, "received_bytes")?,
                     complete: col::<i64>(r, "complete")? != 0,
+                    last_part_ms: col(r, "last_part_ms")?,
                 };
                 Ok((col(r, "session_id")?, upload))
             })

@@ -32,6 +32,7 @@ replay-list-heading = Eine Sitzung wiedergeben
 replay-list-running = Läuft noch: Die Aufzeichnung kommt nach dem Ende der Sitzung.
 replay-list-not-arrived = Die Aufzeichnung ist noch nicht angekommen. Die Station lädt sie nach der Sitzung hoch, sobald sie den Hub erreicht.
 replay-list-arriving = Die Aufzeichnung kommt gerade an: bisher { $percent } %. Die Wiedergabe öffnet sich, sobald alles da ist.
+replay-list-stalled = Die Aufzeichnung kommt nicht mehr an: { $percent } % sind da, seit { $at } nichts mehr. Die Station schickt den Rest, sobald sie wieder online ist.
 replay-list-ready = Aufzeichnung bereit: über Datum und Uhrzeit öffnen.
 replay-list-note = { $count ->
     [one] { $ready } von 1 Sitzung kann aus der hochgeladenen Aufzeichnung wiedergegeben werden: Arm, Auto und Diagramme wie damals, mit Abspielen, Pause und Springen.

@@ -33,6 +33,7 @@ replay-list-heading = Replay a session
 replay-list-running = Still running: its recording arrives after the session ends.
 replay-list-not-arrived = Its recording has not arrived yet. The station uploads it after the session, when it can reach the hub.
 replay-list-arriving = Its recording is arriving: { $percent }% so far. The replay opens once all of it is here.
+replay-list-stalled = Its recording stopped arriving at { $percent }%: nothing since { $at }. The station sends the rest when it is next online.
 replay-list-ready = Recording ready: open it by its date and time.
 replay-list-note = { $count ->
     [one] { $ready } of 1 session can be replayed from the recording the station uploaded: the arm, the car and the charts as they were, with play, pause and seek.

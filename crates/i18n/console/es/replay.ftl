@@ -32,6 +32,7 @@ replay-list-heading = Reproducir una sesión
 replay-list-running = Aún en curso: su grabación llega cuando termina la sesión.
 replay-list-not-arrived = Su grabación aún no ha llegado. La estación la sube tras la sesión, cuando puede conectar con el hub.
 replay-list-arriving = Su grabación está llegando: { $percent } % hasta ahora. La repetición se abre cuando haya llegado entera.
+replay-list-stalled = Su grabación dejó de llegar al { $percent } %: nada desde { $at }. La estación enviará el resto cuando vuelva a estar en línea.
 replay-list-ready = Grabación lista: ábrala por su fecha y hora.
 replay-list-note = { $count ->
     [one] { $ready } de 1 sesión se puede reproducir desde la grabación que subió la estación: el brazo, el coche y las gráficas tal como fueron, con reproducir, pausa y avance.

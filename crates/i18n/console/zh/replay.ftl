@@ -32,6 +32,7 @@ replay-list-heading = 回放训练
 replay-list-running = 仍在进行中：训练结束后才会收到记录。
 replay-list-not-arrived = 记录尚未到达。训练站会在训练结束后、能连上中心服务器时上传。
 replay-list-arriving = 记录正在上传：已收到 { $percent }%。全部到达后即可回放。
+replay-list-stalled = 记录上传已中断：已收到 { $percent }%，自 { $at } 起没有新数据。工作站下次联网时会发送其余部分。
 replay-list-ready = 记录已就绪：点击日期和时间打开。
 replay-list-note = 共 { $count } 次训练，其中 { $ready } 次可根据训练站上传的记录回放：手臂、车辆和图表重现当时情形，可播放、暂停和拖动。
 replay-list-none = 尚无训练：训练站上传记录后即可回放。
