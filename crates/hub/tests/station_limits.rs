@@ -17,7 +17,10 @@ use common::link::{
 use hub::bench::BenchStation;
 use hub::clinic::{Clinic, ServeOptions};
 use hub::{Db, Role};
-use netlink::therapist::station_limits::{SUMMARY_BURST, SUMMARY_PACE_PER_S};
+use netlink::frame::UploadStart;
+use netlink::therapist::station_limits::{
+    MAX_UPLOAD_WAIT, SUMMARY_BURST, SUMMARY_PACE_PER_S, UPLOAD_START_BURST, UPLOAD_START_PACE_PER_S,
+};
 use netlink::{Frame, Summary};
 use tokio::io::AsyncWriteExt;
 
@@ -153,6 +156,88 @@ async fn a_flooding_station_is_held_to_twice_a_stations_summary_rate_over_all_it
     );
     // One audit entry per station and kind a minute, however often it was refused.
     assert_eq!(audit_count(&db, "station_refused_summary_rate").await, 1);
+}
+
+/// A connection repeating one upload's announcement (`UploadStart`) as fast as the hub reads
+/// them until `until`: the frames the hub sent back.
+async fn announce_flood(
+    addr: SocketAddr,
+    st: BenchStation,
+    session_id: String,
+    until: Instant,
+) -> Vec<Frame> {
+    let (mut rd, mut wr) = tokio::io::split(connect(addr, &st).await);
+    let listen = until.saturating_duration_since(Instant::now()) + Duration::from_secs(1);
+    let reader = tokio::spawn(async move { frames_until(&mut rd, listen).await });
+    let started = netlink::frame::unix_ms_now();
+    let _ = wr
+        .write_all(&bytes(&[hello(&st, &session_id, started)]))
+        .await;
+    let start = Frame::UploadStart(UploadStart {
+        session_id,
+        size_bytes: 1_000_000,
+        sha256: "ab".repeat(32),
+    });
+    let batch = bytes(&vec![start; 16]);
+    while Instant::now() < until {
+        let left = until.saturating_duration_since(Instant::now());
+        match tokio::time::timeout(left, wr.write_all(&batch)).await {
+            Ok(Ok(())) => {}
+            _ => break,
+        }
+    }
+    drop(wr);
+    reader.await.unwrap()
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_station_repeating_upload_announcements_is_paced_over_all_its_connections_and_told_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let (clinic, st) = clinic_with_station(dir.path()).await;
+    let hub = start_hub(&clinic).await;
+    let addr = hub.bound.stations;
+    // Each announcement costs the hub a store lookup and a database note: 8 connections
+    // repeat them for 3 s.
+    let t0 = Instant::now();
+    let until = t0 + Duration::from_secs(3);
+    let tasks: Vec<_> = (0..8)
+        .map(|i| tokio::spawn(announce_flood(addr, st.clone(), format!("ann-{i}"), until)))
+        .collect();
+    let mut answers = Vec::new();
+    for t in tasks {
+        answers.extend(t.await.unwrap());
+    }
+    let elapsed_s = t0.elapsed().as_secs_f64();
+    hub.stop().await;
+    let answered = answers
+        .iter()
+        .filter(|f| matches!(f, Frame::UploadAt(_)))
+        .count();
+    // Taken at most: the burst, the pace over the time, and what was reserved up to the
+    // longest wait ahead.
+    let bound =
+        UPLOAD_START_BURST + UPLOAD_START_PACE_PER_S * (elapsed_s + MAX_UPLOAD_WAIT.as_secs_f64());
+    println!("announcements: {answered} answered in {elapsed_s:.1} s (bound {bound:.0})");
+    assert!(
+        (answered as f64) <= bound,
+        "{answered} announcements answered in {elapsed_s:.1} s, more than the {bound:.0} allowed"
+    );
+    assert!(
+        answered as f64 >= UPLOAD_START_BURST,
+        "the burst a real station's queue needs was not answered: {answered}"
+    );
+    let refused = errors(&answers);
+    assert!(
+        refused
+            .iter()
+            .any(|e| e.contains("announces uploads faster than a station uploads")),
+        "the station was told: {refused:?}"
+    );
+    let db = clinic.open_db(None).await.unwrap();
+    assert_eq!(
+        audit_count(&db, "station_refused_upload_start_rate").await,
+        1
+    );
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

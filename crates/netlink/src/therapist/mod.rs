@@ -78,6 +78,8 @@ struct Hub {
     summary_pace: station_limits::Pacer,
     /// Each station's recording bytes, paced across its connections.
     upload_pace: station_limits::Pacer,
+    /// Each station's upload announcements (`UploadStart`), paced across its connections.
+    upload_start_pace: station_limits::Pacer,
 }
 
 /// A running hub. Dropping it stops it too; [`Self::shutdown`] also waits for connections to
@@ -149,6 +151,7 @@ impl TherapistServer {
             daily_upload_bytes: upload::DailyBytes::default(),
             summary_pace: station_limits::Pacer::default(),
             upload_pace: station_limits::Pacer::default(),
+            upload_start_pace: station_limits::Pacer::default(),
         });
         tracing::info!(%local_addr, tls = hub.acceptor.is_some(), "therapist hub listening");
         let (tasks, tasks_done) = mpsc::channel(1);

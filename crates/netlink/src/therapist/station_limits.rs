@@ -1,7 +1,7 @@
 //! What a paired station may send, held to what a real station produces: summaries at most
 //! twice a station's rate (paced per station across all its connections), start times near
 //! the hub's clock, summary times finite, increasing and within a session's longest length,
-//! and recording bytes paced per station across its connections.
+//! and recording bytes and upload announcements paced per station across its connections.
 
 use std::collections::HashMap;
 use std::sync::Mutex;
@@ -38,6 +38,18 @@ pub const MAX_SUMMARY_WAIT: Duration = Duration::from_millis(250);
 /// Longest a recording chunk's answer is held back by the station's upload pace; beyond,
 /// the chunk is refused (a station uploads one recording at a time).
 pub const MAX_UPLOAD_WAIT: Duration = Duration::from_secs(5);
+
+/// Upload announcements (`UploadStart`) a second taken from one station over all its
+/// connections beyond [`UPLOAD_START_BURST`]. Each costs the hub a look in its recording store
+/// and a note in the database; a station announces each recording once per connection, and
+/// uploads one at a time, so one a second never slows a real station's queue (its recordings
+/// take far longer than a second each to send). Held back to this pace on one connection;
+/// refused beyond [`MAX_UPLOAD_WAIT`] (a station announcing on many connections at once).
+pub const UPLOAD_START_PACE_PER_S: f64 = 1.0;
+
+/// Upload announcements a station may make at once above [`UPLOAD_START_PACE_PER_S`]: a month
+/// offline at a session a day leaves about 30 recordings queued.
+pub const UPLOAD_START_BURST: f64 = 30.0;
 
 /// How far ahead of the hub's clock a session's start may be, ms (a station's clock that is
 /// off by a few minutes).

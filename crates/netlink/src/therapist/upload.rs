@@ -249,6 +249,7 @@ pub(super) async fn start(
             start.session_id, hello.session_id
         )));
     }
+    pace_upload_start(hub, hello).await?;
     let limit = hub.config.max_upload_bytes_per_session;
     if start.size_bytes > limit {
         return Err(Failure::Protocol(format!(
@@ -410,6 +411,39 @@ async fn pace_upload(hub: &Hub, hello: &Hello, n: u64) -> Result<(), Failure> {
                      time",
                     hello.station_id,
                     hub.config.max_upload_bytes_per_s / 1000
+                ),
+            )
+        })?;
+    if !wait.is_zero() {
+        tokio::time::sleep(wait).await;
+    }
+    Ok(())
+}
+
+/// Holds an upload announcement back until its station's pace
+/// ([`station_limits::UPLOAD_START_PACE_PER_S`] after [`station_limits::UPLOAD_START_BURST`],
+/// over all the station's connections) lets it through; refused if that would take more than
+/// [`station_limits::MAX_UPLOAD_WAIT`]. Each announcement costs a store lookup and a database
+/// note, so a station repeating them cannot make the hub do either faster than this.
+async fn pace_upload_start(hub: &Hub, hello: &Hello) -> Result<(), Failure> {
+    use station_limits::{MAX_UPLOAD_WAIT, UPLOAD_START_BURST, UPLOAD_START_PACE_PER_S};
+    let wait = hub
+        .upload_start_pace
+        .reserve(
+            &hello.station_id,
+            1.0,
+            UPLOAD_START_PACE_PER_S,
+            UPLOAD_START_BURST,
+            MAX_UPLOAD_WAIT,
+        )
+        .ok_or_else(|| {
+            Failure::Refused(
+                "upload_start_rate",
+                format!(
+                    "station {:?} announces uploads faster than a station uploads: at most \
+                     {UPLOAD_START_PACE_PER_S} a second are taken from one station over all its \
+                     connections; upload one recording at a time",
+                    hello.station_id
                 ),
             )
         })?;
