@@ -63,13 +63,14 @@ fn imu_integrate<'py>(
 /// Gyro + accelerometer orientation fusion; returns `(N, 4)` unit quaternions `(w, x, y, z)`,
 /// sensor-to-earth, earth z up.
 #[pyfunction]
-#[pyo3(signature = (gyr_rad_s, acc_m_s2, dt_s, tau_acc_s))]
+#[pyo3(signature = (gyr_rad_s, acc_m_s2, dt_s, tau_acc_s, scale_estimation))]
 fn imu_fuse<'py>(
     py: Python<'py>,
     gyr_rad_s: PyReadonlyArray2<'py, f64>,
     acc_m_s2: PyReadonlyArray2<'py, f64>,
     dt_s: f64,
     tau_acc_s: f64,
+    scale_estimation: bool,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let g = vectors("gyr_rad_s", &gyr_rad_s)?;
     let a = vectors("acc_m_s2", &acc_m_s2)?;
@@ -77,6 +78,7 @@ fn imu_fuse<'py>(
     check_dt(dt_s)?;
     let cfg = FusionConfig {
         tau_acc_s,
+        gyro_scale_estimation: scale_estimation,
         ..FusionConfig::default()
     };
     cfg.validate().map_err(imu_error)?;

@@ -32,6 +32,19 @@
 //!   sample's deviation from its low-passed value stays below `rest.rate_threshold_deg_s` and
 //!   `rest.acc_threshold_m_s2`, and no axis of the low-passed rate exceeds the bias clip.
 //!
+//! - **Scale estimation** (`FusionConfig::gyro_scale_estimation`, off by default; not in VQF):
+//!   a gyroscope axis that reads `(1 + s)` times the true rate turns a rotation at `ω` into a
+//!   drift of `R·diag(ω)·s` in the earth frame, exactly as a bias `b` drifts by `R·b`. On
+//!   BROAD's IMU the optical truth shows `s` of 0.1–0.8 % per axis at rates up to 1 450 °/s:
+//!   5 °/s of drift at 1 000 °/s, which the accelerometer's slow correction removes only late.
+//!   The strapdown rate becomes `ω − b − diag(ω)·s`, and `s` joins `b` in the Kalman filter
+//!   (six states, covariance in SI units): the motion measurement gains the columns
+//!   `LP(R·diag(ω))` for its horizontal rows and `LP(R·diag(ω)·s)` on its left side, both low-
+//!   passed like `R` and `R·b`; at rest `s` is not observable (ω ≈ 0) and only the bias is
+//!   updated. `s` starts at 0 with `scale_sigma_init_percent`, forgets by 0.1 % per
+//!   `scale_forgetting_time_s`, and is clipped to ±3 %. It is observable whenever the rotation
+//!   axis varies; under rotation about one fixed axis it stays where it is.
+//!
 //! All low-pass filters start with the running mean of their input for one time constant, then
 //! switch to the Butterworth recursion from that steady state (as VQF does). Heading is not
 //! observable without a magnetometer: it drifts only by the residual vertical bias, which rest
@@ -85,6 +98,36 @@ pub struct FusionConfig {
     /// before declaring rest. Not in VQF: it keeps slow real rotations (a drifting elbow,
     /// which the rate-deviation test cannot see) out of the bias. `false` is reference VQF.
     pub rest_tilt_check: bool,
+    /// Also estimate each gyroscope axis's scale-factor error during motion (not in VQF; see
+    /// the module docs, "Scale estimation"). Off by default: the station's recordings replay
+    /// bit for bit with the filter they were made with, and a format version has to say which
+    /// one that was before the station can switch it on. Absent from a settings file: off.
+    #[serde(default)]
+    pub gyro_scale_estimation: bool,
+    /// Standard deviation of the initial scale-error estimate (%), also the ceiling forgetting
+    /// can raise it to; a consumer MEMS gyroscope's datasheet gives 1–3 %.
+    #[serde(default = "default_scale_sigma_init_percent")]
+    pub scale_sigma_init_percent: f64,
+    /// Time for the scale-error uncertainty to grow from 0 to 0.1 % without motion to observe it
+    /// (s).
+    #[serde(default = "default_scale_forgetting_time_s")]
+    pub scale_forgetting_time_s: f64,
+}
+
+fn default_scale_sigma_init_percent() -> f64 {
+    1.0
+}
+
+fn default_scale_forgetting_time_s() -> f64 {
+    100.0
+}
+
+/// Largest scale-factor error per axis the estimate may reach (3 %).
+const SCALE_CLIP: f64 = 0.03;
+
+/// One unit of the bias Kalman filter's variances, (0.01 deg/s)², in (rad/s)².
+fn bias_unit2_rad2_s2() -> f64 {
+    (0.01f64).to_radians().powi(2)
 }
 
 impl Default for FusionConfig {
@@ -101,6 +144,9 @@ impl Default for FusionConfig {
             bias_sigma_rest_deg_s: 0.03,
             rest: RestConfig::default(),
             rest_tilt_check: true,
+            gyro_scale_estimation: false,
+            scale_sigma_init_percent: default_scale_sigma_init_percent(),
+            scale_forgetting_time_s: default_scale_forgetting_time_s(),
         }
     }
 }
@@ -120,6 +166,20 @@ impl FusionConfig {
     /// Check every field; the error names the field and its allowed range.
     pub fn validate(&self) -> Result<(), ImuError> {
         check_range("tau_acc_s", self.tau_acc_s, 0.05, 60.0, "[0.05, 60] s")?;
+        check_range(
+            "scale_sigma_init_percent",
+            self.scale_sigma_init_percent,
+            0.01,
+            3.0,
+            "[0.01, 3] %",
+        )?;
+        check_range(
+            "scale_forgetting_time_s",
+            self.scale_forgetting_time_s,
+            1.0,
+            1e5,
+            "[1, 1e5] s",
+        )?;
         check_range(
             "bias_sigma_init_deg_s",
             self.bias_sigma_init_deg_s,
@@ -314,6 +374,31 @@ pub struct OrientationFilter {
     rest_gyr_lp_rad_s: Vector3<f64>,
     rest_time_s: f64,
     rest: bool,
+    /// Scale estimation (`gyro_scale_estimation`): each axis's scale-factor error
+    /// (dimensionless, +0.01 = reads 1 % high).
+    scale: Vector3<f64>,
+    /// Covariance of (bias rad/s, scale error), in SI units; `bias_p` mirrors its bias block.
+    p6: nalgebra::SMatrix<f64, 6, 6>,
+    /// Low-passed horizontal rows of `R·diag(ω)` and of `R·diag(ω)·scale`.
+    rw_lp: LowPass<6>,
+    rws_lp: LowPass<2>,
+    /// This sample's measured rate (rad/s), for the scale's measurement row.
+    gyr_rad_s: Vector3<f64>,
+}
+
+/// `m` row-major, as its rows pair with the earth-frame components.
+fn rows(m: &Matrix3<f64>) -> [f64; 9] {
+    [
+        m[(0, 0)],
+        m[(0, 1)],
+        m[(0, 2)],
+        m[(1, 0)],
+        m[(1, 1)],
+        m[(1, 2)],
+        m[(2, 0)],
+        m[(2, 1)],
+        m[(2, 2)],
+    ]
 }
 
 fn arr3(v: &Vector3<f64>) -> [f64; 3] {
@@ -342,6 +427,18 @@ impl OrientationFilter {
             rest_gyr_lp_rad_s: Vector3::zeros(),
             rest_time_s: 0.0,
             rest: false,
+            scale: Vector3::zeros(),
+            p6: nalgebra::SMatrix::<f64, 6, 6>::from_diagonal(&nalgebra::SVector::from([
+                bias_p0 * bias_unit2_rad2_s2(),
+                bias_p0 * bias_unit2_rad2_s2(),
+                bias_p0 * bias_unit2_rad2_s2(),
+                (cfg.scale_sigma_init_percent / 100.0).powi(2),
+                (cfg.scale_sigma_init_percent / 100.0).powi(2),
+                (cfg.scale_sigma_init_percent / 100.0).powi(2),
+            ])),
+            rw_lp: LowPass::NEW,
+            rws_lp: LowPass::NEW,
+            gyr_rad_s: Vector3::zeros(),
         })
     }
 
@@ -389,7 +486,12 @@ impl OrientationFilter {
         }
 
         // Strapdown integration with the current bias estimate (eq. 4.12, 4.13).
-        let w = gyr_rad_s - self.bias_rad_s;
+        self.gyr_rad_s = *gyr_rad_s;
+        let w = if self.cfg.gyro_scale_estimation {
+            gyr_rad_s - self.bias_rad_s - gyr_rad_s.component_mul(&self.scale)
+        } else {
+            gyr_rad_s - self.bias_rad_s
+        };
         self.q_gyr =
             UnitQuaternion::new_normalize(*(self.q_gyr * so3::exp_quat(&(w * dt_s))).quaternion());
 
@@ -464,6 +566,9 @@ impl OrientationFilter {
     /// in the earth frame before this sample's inclination correction (`None`: no accelerometer,
     /// so no motion measurement).
     fn bias_update(&mut self, a_e: Option<&Vector3<f64>>) {
+        if self.cfg.gyro_scale_estimation {
+            return self.bias_scale_update(a_e);
+        }
         let clip = self.cfg.bias_clip_deg_s.to_radians();
         let dt_s = self.k.dt_s;
         let b = self.bias_rad_s;
@@ -472,20 +577,8 @@ impl OrientationFilter {
             Some(a_e) => {
                 let r = self.orientation().to_rotation_matrix().into_inner();
                 let rb = r * b;
-                // Row-major, as the rows pair with the earth-frame components.
-                let r_arr = [
-                    r[(0, 0)],
-                    r[(0, 1)],
-                    r[(0, 2)],
-                    r[(1, 0)],
-                    r[(1, 1)],
-                    r[(1, 2)],
-                    r[(2, 0)],
-                    r[(2, 1)],
-                    r[(2, 2)],
-                ];
                 let (tau, kb, ka) = (self.cfg.tau_acc_s, self.k.acc_b, self.k.acc_a);
-                let rl = self.r_lp.step(&r_arr, tau, dt_s, &kb, &ka);
+                let rl = self.r_lp.step(&rows(&r), tau, dt_s, &kb, &ka);
                 let rbl = self.rb_lp.step(&[rb.x, rb.y], tau, dt_s, &kb, &ka);
                 Some((Matrix3::from_row_slice(&rl), Vector2::from(rbl), *a_e))
             }
@@ -531,6 +624,101 @@ impl OrientationFilter {
         self.bias_p -= gain * h * self.bias_p;
     }
 
+    /// [`Self::bias_update`] with the scale-factor errors as three more states (module docs,
+    /// "Scale estimation"), in SI units.
+    fn bias_scale_update(&mut self, a_e: Option<&Vector3<f64>>) {
+        use nalgebra::{SMatrix, SVector};
+        let clip = self.cfg.bias_clip_deg_s.to_radians();
+        let dt_s = self.k.dt_s;
+        let k2 = bias_unit2_rad2_s2();
+        let b = self.bias_rad_s;
+        let sc = self.scale;
+        let g = self.gyr_rad_s;
+        let motion = match a_e {
+            Some(a_e) => {
+                let r = self.orientation().to_rotation_matrix().into_inner();
+                let rb = r * b;
+                let rw = r * Matrix3::from_diagonal(&g);
+                let rws = rw * sc;
+                let rw_arr = [
+                    rw[(0, 0)],
+                    rw[(0, 1)],
+                    rw[(0, 2)],
+                    rw[(1, 0)],
+                    rw[(1, 1)],
+                    rw[(1, 2)],
+                ];
+                let (tau, kb, ka) = (self.cfg.tau_acc_s, self.k.acc_b, self.k.acc_a);
+                let rl = self.r_lp.step(&rows(&r), tau, dt_s, &kb, &ka);
+                let rbl = self.rb_lp.step(&[rb.x, rb.y], tau, dt_s, &kb, &ka);
+                let rwl = self.rw_lp.step(&rw_arr, tau, dt_s, &kb, &ka);
+                let rwsl = self.rws_lp.step(&[rws.x, rws.y], tau, dt_s, &kb, &ka);
+                Some((
+                    Matrix3::from_row_slice(&rl),
+                    Vector2::from(rbl),
+                    rwl,
+                    Vector2::from(rwsl),
+                    *a_e,
+                ))
+            }
+            None => None,
+        };
+        let v_b = self.k.bias_v * k2;
+        let v_s = (0.001f64).powi(2) * dt_s / self.cfg.scale_forgetting_time_s;
+        let p0b = self.bias_p0 * k2;
+        let p0s = (self.cfg.scale_sigma_init_percent / 100.0).powi(2);
+        for i in 0..3 {
+            if self.p6[(i, i)] < p0b {
+                self.p6[(i, i)] += v_b;
+            }
+            if self.p6[(i + 3, i + 3)] < p0s {
+                self.p6[(i + 3, i + 3)] += v_s;
+            }
+        }
+        let (e, h, w): (Vector3<f64>, SMatrix<f64, 3, 6>, Vector3<f64>) =
+            if self.rest && self.cfg.rest_bias_estimation {
+                let w = self.k.bias_rest_w * k2;
+                let mut h = SMatrix::<f64, 3, 6>::zeros();
+                h.fixed_view_mut::<3, 3>(0, 0)
+                    .copy_from(&Matrix3::identity());
+                (self.rest_gyr_lp_rad_s - b, h, Vector3::new(w, w, w))
+            } else if let (true, Some((r_lp, rb_lp, rwl, rws_lp, a_e))) =
+                (self.cfg.motion_bias_estimation, motion)
+            {
+                let rb = r_lp * b;
+                let rw_lp = nalgebra::Matrix2x3::from_row_slice(&rwl);
+                let rws = rw_lp * sc;
+                let e = Vector3::new(
+                    -a_e.y / dt_s + rb_lp.x - rb.x + rws_lp.x - rws.x,
+                    a_e.x / dt_s + rb_lp.y - rb.y + rws_lp.y - rws.y,
+                    -rb.z,
+                );
+                let mut h = SMatrix::<f64, 3, 6>::zeros();
+                h.fixed_view_mut::<3, 3>(0, 0).copy_from(&r_lp);
+                h.fixed_view_mut::<2, 3>(0, 3).copy_from(&rw_lp);
+                let (wm, wv) = (self.k.bias_motion_w * k2, self.k.bias_vertical_w * k2);
+                (e, h, Vector3::new(wm, wm, wv))
+            } else {
+                return;
+            };
+        let e = e.map(|x| x.clamp(-clip, clip));
+        let pht = self.p6 * h.transpose();
+        let s = Matrix3::from_diagonal(&w) + h * pht;
+        let Some(s_inv) = s.try_inverse() else {
+            return;
+        };
+        let gain = pht * s_inv;
+        let dx: SVector<f64, 6> = gain * e;
+        self.bias_rad_s = (b + dx.fixed_rows::<3>(0)).map(|x| x.clamp(-clip, clip));
+        self.scale = (sc + dx.fixed_rows::<3>(3)).map(|x| x.clamp(-SCALE_CLIP, SCALE_CLIP));
+        self.p6 -= gain * h * self.p6;
+        for i in 0..3 {
+            for j in 0..3 {
+                self.bias_p[(i, j)] = self.p6[(i, j)] / k2;
+            }
+        }
+    }
+
     /// Restart integration from orientation `q` (sensor-to-earth): e.g. a known initial pose
     /// for a gyro-only sensor. The accelerometer still corrects inclination afterwards; the
     /// bias estimate is kept.
@@ -540,6 +728,8 @@ impl OrientationFilter {
         self.acc_lp = LowPass::NEW;
         self.r_lp = LowPass::NEW;
         self.rb_lp = LowPass::NEW;
+        self.rw_lp = LowPass::NEW;
+        self.rws_lp = LowPass::NEW;
     }
 
     /// The current sensor-to-earth orientation.
@@ -561,6 +751,12 @@ impl OrientationFilter {
             .fold(0.0, f64::max)
             .min(self.bias_p0);
         (p.sqrt() / 100.0).to_radians()
+    }
+
+    /// The estimated scale-factor error of each gyroscope axis (dimensionless, +0.01 = the
+    /// axis reads 1 % high); zero unless `gyro_scale_estimation` is on.
+    pub fn gyro_scale_error(&self) -> Vector3<f64> {
+        self.scale
     }
 
     /// Whether the rest detector currently declares rest.
