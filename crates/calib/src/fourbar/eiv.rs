@@ -111,11 +111,22 @@ impl NoiseProfile {
 
     /// The weights of [`Self::weights`] one sample at a time ([`NoiseWeights::at`]), for a pass
     /// that reweights as it goes: the mean variance from the channels' means (the same value
-    /// up to rounding).
+    /// up to rounding; each mean summed in four interleaved partial sums, so the additions do
+    /// not wait on each other).
     pub(crate) fn weight_fn(&self, l2: f64, l3: f64, l4: f64) -> NoiseWeights {
         let (a, b, c) = (l2 * l2, l3 * l3, l4 * l4);
         let n = self.var2.len().max(1) as f64;
-        let mean_of = |v: &[f64]| v.iter().sum::<f64>() / n;
+        let mean_of = |v: &[f64]| {
+            let mut lanes = [0.0; 4];
+            let chunks = v.chunks_exact(4);
+            let tail: f64 = chunks.remainder().iter().sum();
+            for q in chunks {
+                for (l, x) in lanes.iter_mut().zip(q) {
+                    *l += x;
+                }
+            }
+            ((lanes[0] + lanes[1]) + (lanes[2] + lanes[3]) + tail) / n
+        };
         let mean = a * mean_of(&self.var2) + b * mean_of(&self.var3) + c * mean_of(&self.var4);
         NoiseWeights {
             coefficients: [a, b, c],
@@ -235,12 +246,14 @@ fn channel_variance(x: &[f64]) -> Vec<f64> {
         q.iter_mut().for_each(|v| *v = v.min(cap));
     }
     // q[i] is centred on sample i + 2; average the centres within ±W of each sample
+    // filled in place, not pushed: a `push` per sum kept the running sum in memory (the
+    // vector may grow), and the loop waited on storing and reloading it (the same sums)
     prefix.clear();
-    prefix.push(0.0);
+    prefix.resize(q.len() + 1, 0.0);
     let mut acc = 0.0;
-    for v in &q {
+    for (p, v) in prefix[1..].iter_mut().zip(&q) {
         acc += v;
-        prefix.push(acc);
+        *p = acc;
     }
     let last = q.len() - 1;
     let edge = |k: usize| {
