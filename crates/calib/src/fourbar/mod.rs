@@ -348,20 +348,7 @@ fn calibrate_with_noise(
     }
     let range = samples.wheel_range_rad();
     let mut warnings = quality::warnings(&params, &stats, Some(range), samples.time_s.is_some());
-    if !refined.converged {
-        warnings.push(format!(
-            "the {} refinement stopped at its iteration limit ({}) before converging",
-            options.method.name(),
-            refined.iterations
-        ));
-    }
-    if outlier_fraction > 0.2 {
-        warnings.push(format!(
-            "{:.0}% of the samples do not fit the arm model (down-weighted); check that the \
-             torso stayed still and the gyros stayed on the arm",
-            100.0 * outlier_fraction
-        ));
-    }
+    fit_warnings(&mut warnings, options.method, &refined, outlier_fraction);
     Ok(FourbarCalibration {
         params,
         method: options.method.name(),
@@ -374,6 +361,30 @@ fn calibrate_with_noise(
         wheel_range_rad: Some(range),
         warnings,
     })
+}
+
+/// The warnings about the fit itself: a refinement stopped at its iteration limit, many
+/// samples down-weighted.
+fn fit_warnings(
+    warnings: &mut Vec<String>,
+    method: FourbarMethod,
+    refined: &Refined,
+    outlier_fraction: f64,
+) {
+    if !refined.converged {
+        warnings.push(format!(
+            "the {} refinement stopped at its iteration limit ({}) before converging",
+            method.name(),
+            refined.iterations
+        ));
+    }
+    if outlier_fraction > 0.2 {
+        warnings.push(format!(
+            "{:.0}% of the samples do not fit the arm model (down-weighted); check that the \
+             torso stayed still and the gyros stayed on the arm",
+            100.0 * outlier_fraction
+        ));
+    }
 }
 
 /// `Auto`'s fit from its global start: on long recordings (≥ [`GLOBAL_DECIMATION_FROM`]
@@ -450,11 +461,12 @@ pub const GLOBAL_SUBSET: usize = 1000;
 /// small fraction of its standard error.
 pub const POLISH_ACCEPT: f64 = 40.0;
 
-/// The subset's robust LM rounds ([`Subset`]) take a Newton step without the pass that would
-/// evaluate it when its predicted decrease is at most this many times `cost / n` of the subset
-/// (n its samples): a hundredth of a squared standard error of the subset's answer, which
-/// only seeds the fit of every sample (and the step after it would, by Newton's quadratic
-/// convergence, be smaller by as much again). One pass of the subset fewer per round.
+/// The robust LM rounds on the subset of a long recording ([`GLOBAL_SUBSET`] samples) take a
+/// Newton step without the pass that would evaluate it when its predicted decrease is at most
+/// this many times `cost / n` of the subset (n its samples): a hundredth of a squared standard
+/// error of the subset's answer, which only seeds the fit of every sample (and the step after
+/// it would, by Newton's quadratic convergence, be smaller by as much again). One pass of the
+/// subset fewer per round.
 pub const SUBSET_ACCEPT: f64 = 0.01;
 
 /// Every `stride`-th sample of a recording and of its per-sample arrays: `Auto`'s global
