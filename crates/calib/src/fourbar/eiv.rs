@@ -109,7 +109,7 @@ impl NoiseProfile {
         out.iter_mut().for_each(|w| *w = mean / w.max(floor));
     }
 
-    /// The weights of [`Self::weights`] one sample at a time ([`NoiseWeights::at`]), for a pass
+    /// The weights of [`Self::weights`] at other lengths ([`NoiseWeights::fill`]), for a pass
     /// that reweights as it goes: the mean variance from the channels' means (the same value
     /// up to rounding; each mean summed in four interleaved partial sums, so the additions do
     /// not wait on each other).
@@ -193,14 +193,18 @@ pub(crate) struct NoiseWeights {
 }
 
 impl NoiseWeights {
-    /// The weight of a sample whose angle variances are `(v2, v3, v4)` (rad²).
-    #[inline(always)]
-    pub(crate) fn at(&self, v2: f64, v3: f64, v4: f64) -> f64 {
+    /// The weights of the samples whose angle variances are `v2`, `v3`, `v4` (rad²) into `out`
+    /// (of their length): a loop of its own, two samples per instruction, so the pass that
+    /// reads them does not wait on a division per sample.
+    pub(crate) fn fill(&self, v2: &[f64], v3: &[f64], v4: &[f64], out: &mut [f64]) {
         if self.uniform {
-            return 1.0;
+            out.fill(1.0);
+            return;
         }
         let [a, b, c] = self.coefficients;
-        self.mean / (a * v2 + b * v3 + c * v4).max(self.floor)
+        for (o, ((x2, x3), x4)) in out.iter_mut().zip(v2.iter().zip(v3).zip(v4)) {
+            *o = self.mean / (a * x2 + b * x3 + c * x4).max(self.floor);
+        }
     }
 }
 
