@@ -109,13 +109,24 @@ impl NoiseProfile {
         out.iter_mut().for_each(|w| *w = mean / w.max(floor));
     }
 
-    /// The weights of [`Self::weights`] one sample at a time ([`NoiseWeights::at`]), for a pass
+    /// The weights of [`Self::weights`] at other lengths ([`NoiseWeights::fill`]), for a pass
     /// that reweights as it goes: the mean variance from the channels' means (the same value
-    /// up to rounding).
+    /// up to rounding; each mean summed in four interleaved partial sums, so the additions do
+    /// not wait on each other).
     pub(crate) fn weight_fn(&self, l2: f64, l3: f64, l4: f64) -> NoiseWeights {
         let (a, b, c) = (l2 * l2, l3 * l3, l4 * l4);
         let n = self.var2.len().max(1) as f64;
-        let mean_of = |v: &[f64]| v.iter().sum::<f64>() / n;
+        let mean_of = |v: &[f64]| {
+            let mut lanes = [0.0; 4];
+            let chunks = v.chunks_exact(4);
+            let tail: f64 = chunks.remainder().iter().sum();
+            for q in chunks {
+                for (l, x) in lanes.iter_mut().zip(q) {
+                    *l += x;
+                }
+            }
+            ((lanes[0] + lanes[1]) + (lanes[2] + lanes[3]) + tail) / n
+        };
         let mean = a * mean_of(&self.var2) + b * mean_of(&self.var3) + c * mean_of(&self.var4);
         NoiseWeights {
             coefficients: [a, b, c],
@@ -182,14 +193,18 @@ pub(crate) struct NoiseWeights {
 }
 
 impl NoiseWeights {
-    /// The weight of a sample whose angle variances are `(v2, v3, v4)` (rad²).
-    #[inline(always)]
-    pub(crate) fn at(&self, v2: f64, v3: f64, v4: f64) -> f64 {
+    /// The weights of the samples whose angle variances are `v2`, `v3`, `v4` (rad²) into `out`
+    /// (of their length): a loop of its own, two samples per instruction, so the pass that
+    /// reads them does not wait on a division per sample.
+    pub(crate) fn fill(&self, v2: &[f64], v3: &[f64], v4: &[f64], out: &mut [f64]) {
         if self.uniform {
-            return 1.0;
+            out.fill(1.0);
+            return;
         }
         let [a, b, c] = self.coefficients;
-        self.mean / (a * v2 + b * v3 + c * v4).max(self.floor)
+        for (o, ((x2, x3), x4)) in out.iter_mut().zip(v2.iter().zip(v3).zip(v4)) {
+            *o = self.mean / (a * x2 + b * x3 + c * x4).max(self.floor);
+        }
     }
 }
 
@@ -235,12 +250,14 @@ fn channel_variance(x: &[f64]) -> Vec<f64> {
         q.iter_mut().for_each(|v| *v = v.min(cap));
     }
     // q[i] is centred on sample i + 2; average the centres within ±W of each sample
+    // filled in place, not pushed: a `push` per sum kept the running sum in memory (the
+    // vector may grow), and the loop waited on storing and reloading it (the same sums)
     prefix.clear();
-    prefix.push(0.0);
+    prefix.resize(q.len() + 1, 0.0);
     let mut acc = 0.0;
-    for v in &q {
+    for (p, v) in prefix[1..].iter_mut().zip(&q) {
         acc += v;
-        prefix.push(acc);
+        *p = acc;
     }
     let last = q.len() - 1;
     let edge = |k: usize| {

@@ -140,8 +140,12 @@ pub(crate) fn pass_reweighted(
     let c2_huber = c * c;
     let (mut n_eff, mut outliers, mut ssr) = (0.0, 0usize, 0.0);
     weights.clear();
-    weights.resize(n, 0.0);
+    weights.resize(n, 1.0);
     let w_out = &mut weights[..n];
+    // the noise weights first (their divisions two at a time), the Huber factors in the sweep
+    if let Some((f, v2, v3, v4)) = noise {
+        f.fill(v2, v3, v4, w_out);
+    }
     for k in 0..n {
         let (r3, r4) = (rot3.at(k), rot4.at(k));
         let u2 = (c2[k], s2[k]);
@@ -150,7 +154,7 @@ pub(crate) fn pass_reweighted(
         let r = residual(&at, u2, u3, u4);
         let r2 = r.0 * r.0 + r.1 * r.1;
         ssr += r2;
-        let nw = noise.map_or(1.0, |(f, v2, v3, v4)| f.at(v2[k], v3[k], v4[k]));
+        let nw = w_out[k];
         let rho2 = r2 * nw;
         let h = if rho2 > c2_huber {
             outliers += 1;

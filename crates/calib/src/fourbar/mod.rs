@@ -259,21 +259,27 @@ fn calibrate_with_noise(
     };
     let trig = Trig::new(samples);
     let gains = noise.map(NoiseProfile::gains);
-    let refine_on =
-        |trig: &Trig, p0: [f64; 8], noise: Option<&NoiseProfile>, gains: Option<&Gains>| {
-            refine(
-                trig,
-                l2_m,
-                p0,
-                np,
-                noise,
-                gains,
-                options.robust,
+    let refine_on = |trig: &Trig,
+                     p0: [f64; 8],
+                     noise: Option<&NoiseProfile>,
+                     gains: Option<&Gains>,
+                     accept: f64| {
+        refine(
+            trig,
+            l2_m,
+            p0,
+            np,
+            noise,
+            gains,
+            options.robust,
+            Stop {
                 max_it,
                 tol,
-            )
-        };
-    let refine = |p0: [f64; 8]| refine_on(&trig, p0, noise, gains.as_ref());
+                accept,
+            },
+        )
+    };
+    let refine = |p0: [f64; 8]| refine_on(&trig, p0, noise, gains.as_ref(), 0.0);
     // The closed form's statistics come straight from its triangular factor (no second pass).
     let mut global_stats = None;
     let fit = match options.method {
@@ -342,20 +348,7 @@ fn calibrate_with_noise(
     }
     let range = samples.wheel_range_rad();
     let mut warnings = quality::warnings(&params, &stats, Some(range), samples.time_s.is_some());
-    if !refined.converged {
-        warnings.push(format!(
-            "the {} refinement stopped at its iteration limit ({}) before converging",
-            options.method.name(),
-            refined.iterations
-        ));
-    }
-    if outlier_fraction > 0.2 {
-        warnings.push(format!(
-            "{:.0}% of the samples do not fit the arm model (down-weighted); check that the \
-             torso stayed still and the gyros stayed on the arm",
-            100.0 * outlier_fraction
-        ));
-    }
+    fit_warnings(&mut warnings, options.method, &refined, outlier_fraction);
     Ok(FourbarCalibration {
         params,
         method: options.method.name(),
@@ -368,6 +361,30 @@ fn calibrate_with_noise(
         wheel_range_rad: Some(range),
         warnings,
     })
+}
+
+/// The warnings about the fit itself: a refinement stopped at its iteration limit, many
+/// samples down-weighted.
+fn fit_warnings(
+    warnings: &mut Vec<String>,
+    method: FourbarMethod,
+    refined: &Refined,
+    outlier_fraction: f64,
+) {
+    if !refined.converged {
+        warnings.push(format!(
+            "the {} refinement stopped at its iteration limit ({}) before converging",
+            method.name(),
+            refined.iterations
+        ));
+    }
+    if outlier_fraction > 0.2 {
+        warnings.push(format!(
+            "{:.0}% of the samples do not fit the arm model (down-weighted); check that the \
+             torso stayed still and the gyros stayed on the arm",
+            100.0 * outlier_fraction
+        ));
+    }
 }
 
 /// `Auto`'s fit from its global start: on long recordings (≥ [`GLOBAL_DECIMATION_FROM`]
@@ -383,7 +400,7 @@ fn auto_fit(
     noise: Option<&NoiseProfile>,
     gains: Option<&Gains>,
     np: usize,
-    refine_on: impl Fn(&Trig, [f64; 8], Option<&NoiseProfile>, Option<&Gains>) -> Fit,
+    refine_on: impl Fn(&Trig, [f64; 8], Option<&NoiseProfile>, Option<&Gains>, f64) -> Fit,
 ) -> Result<Fit, CalibError> {
     let (tol, max_it) = (options.tolerance, options.max_iterations);
     let n = samples.len();
@@ -403,12 +420,15 @@ fn auto_fit(
     Ok(match sub {
         Some(sub) if options.robust && np == 8 => {
             // robust rounds on the subset, then the whole recording's pass(es)
+            // the subset's LM may stop a Newton step early ([`SUBSET_ACCEPT`])
+            let accept = SUBSET_ACCEPT / sub.trig.len() as f64;
             let coarse = global.map(|g| {
                 refine_on(
                     &sub.trig,
                     g.to_vec8(),
                     sub.noise.as_ref(),
                     sub.gains.as_ref(),
+                    accept,
                 )
             });
             sub.recycle();
@@ -419,7 +439,7 @@ fn auto_fit(
             if let Some(sub) = sub {
                 sub.recycle();
             }
-            refine_on(trig, global?.to_vec8(), noise, gains)
+            refine_on(trig, global?.to_vec8(), noise, gains, 0.0)
         }
     })
 }
@@ -440,6 +460,14 @@ pub const GLOBAL_SUBSET: usize = 1000;
 /// error: Newton's convergence is quadratic, so the step after it would move the answer by a
 /// small fraction of its standard error.
 pub const POLISH_ACCEPT: f64 = 40.0;
+
+/// The robust LM rounds on the subset of a long recording ([`GLOBAL_SUBSET`] samples) take a
+/// Newton step without the pass that would evaluate it when its predicted decrease is at most
+/// this many times `cost / n` of the subset (n its samples): a hundredth of a squared standard
+/// error of the subset's answer, which only seeds the fit of every sample (and the step after
+/// it would, by Newton's quadratic convergence, be smaller by as much again). One pass of the
+/// subset fewer per round.
+pub const SUBSET_ACCEPT: f64 = 0.01;
 
 /// Every `stride`-th sample of a recording and of its per-sample arrays: `Auto`'s global
 /// start and robust rounds only have to put the fit of every sample in the basin of its
@@ -464,7 +492,9 @@ impl Subset {
         stride: usize,
     ) -> Self {
         let m = samples.len().div_ceil(stride);
-        let every = |v: &[f64]| scratch::collect(v.iter().step_by(stride).copied(), m);
+        // by index over a range (an exact-size iterator the vector fills without a capacity
+        // check per value; `step_by` is not one)
+        let every = |v: &[f64]| scratch::collect((0..m).map(|j| v[j * stride]), m);
         Self {
             phi2: every(samples.phi2),
             phi3: every(samples.phi3),
@@ -645,6 +675,16 @@ fn plain_fit(p: [f64; 8], iterations: u32, converged: bool, n: usize) -> Fit {
     }
 }
 
+/// When [`refine`]'s Levenberg–Marquardt runs stop: at `max_it` iterations, at a relative
+/// step below `tol`, or (`accept` > 0) at a Newton step whose predicted relative decrease of
+/// the cost is at most `accept` (see [`levenberg_marquardt`]).
+#[derive(Clone, Copy)]
+struct Stop {
+    max_it: u32,
+    tol: f64,
+    accept: f64,
+}
+
 /// Huber threshold as a multiple of the robust residual scale σ̂ (median residual norm / 1.1774
 /// for a 2-D Gaussian residual).
 const HUBER_K: f64 = 2.5;
@@ -661,9 +701,13 @@ fn refine(
     noise: Option<&NoiseProfile>,
     gains: Option<&Gains>,
     robust: bool,
-    max_it: u32,
-    tol: f64,
+    stop: Stop,
 ) -> Fit {
+    let Stop {
+        max_it,
+        tol,
+        accept,
+    } = stop;
     let n = trig.len();
     let mut p = p0;
     for v in p.iter_mut().skip(np) {
@@ -741,14 +785,14 @@ fn refine(
         };
         refined = if np == 8 {
             let (r, ne) =
-                levenberg_marquardt::<8>(p, |q| pass::<8>(&pb, q).normal, max_it, tol, 0.0);
+                levenberg_marquardt::<8>(p, |q| pass::<8>(&pb, q).normal, max_it, tol, accept);
             last_normal = Some(ne);
             r
         } else {
             let unweighted = noise.is_none() && !robust;
             let w = (!unweighted).then_some(u.as_slice());
             let q = Quadratic::new(gram(trig, w, gains), gains.is_some());
-            let (r, _) = levenberg_marquardt::<6>(p, |x| q.normal(l2, x), max_it, tol, 0.0);
+            let (r, _) = levenberg_marquardt::<6>(p, |x| q.normal(l2, x), max_it, tol, accept);
             if unweighted && matches!(q, Quadratic::Sqrt(_)) {
                 plain = Some(q);
             }

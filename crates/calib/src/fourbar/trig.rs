@@ -133,7 +133,12 @@ impl Trig {
             t: scratch::collect((0..n).map(|k| s.time(k)), n),
             uniform_dt: None,
         };
-        out.uniform_dt = uniform_step(&out.t);
+        // without timestamps the axis is the sample index, `k as f64` exactly: its step is 1
+        // (what `uniform_step` finds, without a check of every sample)
+        out.uniform_dt = match s.time_s {
+            None if n >= 2 => Some(1.0),
+            _ => uniform_step(&out.t),
+        };
         for (phi, c, sn) in [
             (s.phi2, &mut out.c2, &mut out.s2),
             (s.phi3, &mut out.c3, &mut out.s3),
