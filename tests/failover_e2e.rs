@@ -1,8 +1,9 @@
-//! PostgreSQL that fails over, end to end: `telerehab hub chaos --patroni` starts etcd, two
-//! Patroni nodes (a primary and a synchronous replica) and HAProxy in front of them (checking
-//! each node's `GET /primary`), two hubs whose database URL is the balancer, and four stations
-//! sending sessions; mid-session the primary's machine goes (its Patroni and its postmaster
-//! SIGKILLed), the replica is promoted, the hubs' pools reconnect through the balancer by
+//! PostgreSQL that fails over, end to end: `telerehab hub chaos --patroni` starts three etcd
+//! members, two Patroni nodes (a primary and a synchronous replica) and HAProxy in front of them
+//! (checking each node's `GET /primary`), two hubs whose database URL is the balancer, and four
+//! stations sending sessions; mid-session the primary's machine goes (its Patroni, its
+//! postmaster and its etcd member SIGKILLed), the replica is promoted by the two etcd members
+//! left, the hubs' pools reconnect through the balancer by
 //! themselves and the killed node rejoins as the replica. The command then counts every
 //! summary the stations' own ledgers say a hub acknowledged against the database: each stored
 //! exactly once — what synchronous replication buys. Prints the failover time (primary killed →

@@ -1,15 +1,18 @@
 //! A throwaway PostgreSQL that fails over, as docs/DEPLOY.md sets one up for a clinic network:
-//! one etcd, two Patroni nodes (a primary and a synchronous replica: `synchronous_mode: true`,
+//! three etcd members, two Patroni nodes (a primary and a synchronous replica: `synchronous_mode: true`,
 //! so a commit returns only once the replica has it) and a HAProxy in `mode tcp` whose health
 //! check asks each node's Patroni REST API `GET /primary`, so the hubs' database URL is the
 //! balancer's and always reaches the primary. All from Debian (`patroni`, `etcd-server`,
 //! `haproxy`, `postgresql`), in a temporary directory, on free ports.
 //!
-//! [`Patroni::kill_primary`] is the machine of the primary gone: its Patroni and its postmaster
-//! with every backend SIGKILLed at once. The replica's Patroni sees the leader key expire (`ttl`
-//! 10 s) and promotes; [`Patroni::first_write`] measures how long until a write through the
-//! balancer is accepted again. [`Patroni::restart`] starts the killed node's Patroni again: it
-//! rejoins as the replica (`pg_rewind`, or a new base backup when the rewind fails).
+//! The etcd members stand on three machines as docs/DEPLOY.md places them: one beside each
+//! database node and a witness, so the cluster keeps its quorum (2 of 3) when one machine goes.
+//! [`Patroni::kill_primary`] is the machine of the primary gone: its Patroni, its postmaster with
+//! every backend and its etcd member SIGKILLed at once. The replica's Patroni sees the leader key
+//! expire (`ttl` 10 s) on the two etcd members left and promotes; [`Patroni::first_write`] measures how long until a write through the
+//! balancer is accepted again. [`Patroni::restart`] starts the killed node's etcd member and
+//! Patroni again: the member rejoins its cluster from its data directory, and the node rejoins as
+//! the replica (`pg_rewind`, or a new base backup when the rewind fails).
 //!
 //! As root, Patroni (and so PostgreSQL, which refuses root) runs as the `postgres` OS user.
 
@@ -77,12 +80,18 @@ impl Node {
     }
 }
 
+/// etcd members: one on each database node's machine, and a witness.
+const ETCD_MEMBERS: usize = 3;
+
 /// The cluster and its balancer; every process is killed by [`Patroni::stop`] or on drop.
 #[derive(Debug)]
 pub struct Patroni {
     /// Owns every node's directory; removed on drop.
     dir: tempfile::TempDir,
-    etcd: Option<Child>,
+    /// Each etcd member's (client, peer) ports; member `k < 2` stands on node `k`'s machine.
+    etcd_ports: Vec<(u16, u16)>,
+    /// The etcd members' processes, by member.
+    etcd: Vec<Mutex<Option<Child>>>,
     haproxy: Option<Child>,
     nodes: Vec<Node>,
     /// The balancer's port: the hubs' database.
@@ -205,7 +214,10 @@ impl Patroni {
         let version = server_version(&bindir);
         let mut cluster = Self {
             dir,
-            etcd: None,
+            etcd_ports: (0..ETCD_MEMBERS)
+                .map(|_| Ok((free_port()?, free_port()?)))
+                .collect::<anyhow::Result<_>>()?,
+            etcd: (0..ETCD_MEMBERS).map(|_| Mutex::new(None)).collect(),
             haproxy: None,
             nodes: Vec::new(),
             port: free_port()?,
@@ -213,17 +225,11 @@ impl Patroni {
             owner,
             version,
         };
-        let (client, peer) = (free_port()?, free_port()?);
-        cluster.etcd = Some(cluster.start_etcd(client, peer)?);
-        let began = Instant::now();
-        while !matches!(http_get(client, "/health").await, Ok((200, _))) {
-            if began.elapsed() > Duration::from_secs(20) {
-                bail!(
-                    "etcd did not answer within 20 s: {}",
-                    tail(&cluster.dir.path().join("etcd.log"))
-                );
-            }
-            tokio::time::sleep(Duration::from_millis(100)).await;
+        for m in 0..ETCD_MEMBERS {
+            cluster.start_etcd(m).await?;
+        }
+        for m in 0..ETCD_MEMBERS {
+            cluster.wait_etcd(m).await?;
         }
         let replication = password();
         for k in 0..2 {
@@ -237,7 +243,13 @@ impl Patroni {
             std::fs::create_dir_all(&node.dir)?;
             std::fs::write(
                 node.config(),
-                node_config(&node, client, &bindir, &cluster.password, &replication)?,
+                node_config(
+                    &node,
+                    &cluster.etcd_ports,
+                    &bindir,
+                    &cluster.password,
+                    &replication,
+                )?,
             )?;
             cluster.nodes.push(node);
         }
@@ -276,15 +288,26 @@ impl Patroni {
             .with_context(|| format!("cannot open {name}"))
     }
 
-    fn start_etcd(&self, client: u16, peer: u16) -> anyhow::Result<Child> {
-        let log = self.log("etcd.log")?;
-        let (c, p) = (
-            format!("http://127.0.0.1:{client}"),
-            format!("http://127.0.0.1:{peer}"),
-        );
-        Command::new("etcd")
-            .args(["--name", "etcd0", "--data-dir"])
-            .arg(self.dir.path().join("etcd"))
+    /// Starts etcd member `m` (again, after a kill: it rejoins from its data directory).
+    async fn start_etcd(&self, m: usize) -> anyhow::Result<()> {
+        let mut slot = self.etcd[m].lock().await;
+        if let Some(child) = slot.as_mut()
+            && child.try_wait()?.is_none()
+        {
+            return Ok(());
+        }
+        let log = self.log(&format!("etcd{m}.log"))?;
+        let url = |port: u16| format!("http://127.0.0.1:{port}");
+        let (c, p) = (url(self.etcd_ports[m].0), url(self.etcd_ports[m].1));
+        let cluster: Vec<String> = self
+            .etcd_ports
+            .iter()
+            .enumerate()
+            .map(|(k, &(_, peer))| format!("etcd{k}={}", url(peer)))
+            .collect();
+        let child = Command::new("etcd")
+            .args(["--name", &format!("etcd{m}"), "--data-dir"])
+            .arg(self.dir.path().join(format!("etcd{m}")))
             .args(["--listen-client-urls", &c, "--advertise-client-urls", &c])
             .args([
                 "--listen-peer-urls",
@@ -292,14 +315,41 @@ impl Patroni {
                 "--initial-advertise-peer-urls",
                 &p,
             ])
-            .args(["--initial-cluster", &format!("etcd0={p}")])
+            .args(["--initial-cluster", &cluster.join(",")])
             .args(["--initial-cluster-state", "new", "--log-level", "warn"])
             .stdin(Stdio::null())
             .stdout(Stdio::from(log.try_clone()?))
             .stderr(Stdio::from(log))
             .kill_on_drop(true)
             .spawn()
-            .context("cannot start etcd")
+            .context("cannot start etcd")?;
+        *slot = Some(child);
+        Ok(())
+    }
+
+    /// Waits until etcd member `m` says it is healthy (which needs a quorum of members).
+    async fn wait_etcd(&self, m: usize) -> anyhow::Result<()> {
+        let began = Instant::now();
+        while !matches!(
+            http_get(self.etcd_ports[m].0, "/health").await,
+            Ok((200, _))
+        ) {
+            if began.elapsed() > Duration::from_secs(30) {
+                bail!(
+                    "etcd member {m} did not answer within 30 s: {}",
+                    tail(&self.dir.path().join(format!("etcd{m}.log")))
+                );
+            }
+            tokio::time::sleep(Duration::from_millis(100)).await;
+        }
+        Ok(())
+    }
+
+    /// SIGKILLs etcd member `m`.
+    async fn kill_etcd(&self, m: usize) {
+        if let Some(mut child) = self.etcd[m].lock().await.take() {
+            let _ = child.kill().await;
+        }
     }
 
     fn start_haproxy(&self) -> anyhow::Result<Child> {
@@ -326,8 +376,10 @@ impl Patroni {
         )
     }
 
-    /// Starts node `k`'s Patroni (again): after a kill it rejoins as the replica.
+    /// Starts node `k`'s machine again (its etcd member, then its Patroni): after a kill it
+    /// rejoins as the replica.
     pub async fn restart(&self, k: usize) -> anyhow::Result<()> {
+        self.start_etcd(k).await?;
         let node = &self.nodes[k];
         let mut slot = node.child.lock().await;
         if let Some(child) = slot.as_mut()
@@ -404,11 +456,11 @@ impl Patroni {
         self.state().await.and_then(|c| c.leader)
     }
 
-    /// The primary's machine gone: its Patroni and its postmaster with every backend SIGKILLed
-    /// at once. The node killed.
+    /// The primary's machine gone: its Patroni, its postmaster with every backend and its etcd
+    /// member SIGKILLed at once. The node killed.
     pub async fn kill_primary(&self) -> anyhow::Result<usize> {
         let k = self.leader().await.context("no leader to kill")?;
-        self.nodes[k].kill().await;
+        tokio::join!(self.nodes[k].kill(), self.kill_etcd(k));
         Ok(k)
     }
 
@@ -448,12 +500,11 @@ impl Patroni {
         for node in &self.nodes {
             node.kill().await;
         }
-        for child in [self.haproxy.take(), self.etcd.take()]
-            .into_iter()
-            .flatten()
-        {
-            let mut child = child;
+        if let Some(mut child) = self.haproxy.take() {
             let _ = child.kill().await;
+        }
+        for m in 0..self.etcd.len() {
+            self.kill_etcd(m).await;
         }
     }
 }
@@ -528,7 +579,7 @@ impl ClusterState {
 /// One node's Patroni configuration.
 fn node_config(
     node: &Node,
-    etcd_port: u16,
+    etcd_ports: &[(u16, u16)],
     bindir: &Path,
     superuser: &str,
     replication: &str,
@@ -538,6 +589,11 @@ fn node_config(
     let data = path_str(&data)?;
     let bin = path_str(bindir)?;
     let (name, pg, rest) = (&node.name, node.pg_port, node.rest_port);
+    let etcd_hosts: Vec<String> = etcd_ports
+        .iter()
+        .map(|(client, _)| format!("127.0.0.1:{client}"))
+        .collect();
+    let etcd_hosts = etcd_hosts.join(",");
     Ok(format!(
         "scope: telerehab-chaos
 name: {name}
@@ -545,7 +601,7 @@ restapi:
   listen: 127.0.0.1:{rest}
   connect_address: 127.0.0.1:{rest}
 etcd3:
-  hosts: 127.0.0.1:{etcd_port}
+  hosts: {etcd_hosts}
 bootstrap:
   dcs:
     ttl: {TTL_S}
@@ -698,11 +754,11 @@ mod tests {
     }
 
     #[test]
-    fn a_node_is_configured_for_synchronous_replication_and_rewind() {
+    fn a_node_is_configured_for_synchronous_replication_rewind_and_every_etcd_member() {
         let node = &nodes()[1];
         let cfg = node_config(
             node,
-            2379,
+            &[(2379, 2380), (2479, 2480), (2579, 2580)],
             Path::new("/usr/lib/postgresql/15/bin"),
             "su",
             "rep",
@@ -711,7 +767,7 @@ mod tests {
         for line in [
             "name: pg1",
             "  listen: 127.0.0.1:8009",
-            "  hosts: 127.0.0.1:2379",
+            "  hosts: 127.0.0.1:2379,127.0.0.1:2479,127.0.0.1:2579",
             "    ttl: 10",
             "    loop_wait: 1",
             "    retry_timeout: 3",
