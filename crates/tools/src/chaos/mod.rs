@@ -148,6 +148,12 @@ impl Database {
     }
 }
 
+/// The shortest partition: longer than a station waits for acknowledgements before it tries
+/// another hub (4 s), than the balancer takes to find the hub unready (a 2 s check every
+/// 500 ms) and than the store's connect deadline (2 s), so a partition tests the hub's and the
+/// stations' own deadlines, not only their patience.
+const PARTITION_AT_LEAST: Duration = Duration::from_secs(8);
+
 /// Now, ms since the Unix epoch.
 pub fn unix_ms() -> u64 {
     std::time::SystemTime::now()
@@ -330,31 +336,22 @@ fn hub_data(
     Ok(data)
 }
 
-async fn day(
-    args: &ChaosArgs,
-    pg: &Database,
+/// Starts `n` supervised hubs on `url` (and the store `s3`), each through relays of its own that
+/// a partition can silence when `partitions`; the hubs and their links.
+async fn start_hubs(
+    n: usize,
+    url: &str,
     s3: Option<&Store>,
     dir: &std::path::Path,
-    deadline_s: f64,
-    n_events: usize,
-) -> anyhow::Result<usize> {
-    let url = pg.url();
-    let (db, ledger) = clinic(dir, &url, args.stations).await?;
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(args.seed);
+    partitions: bool,
+) -> anyhow::Result<(Vec<Hub>, Vec<Link>)> {
     let exe = std::env::current_exe().context("cannot find this executable")?;
-    let chosen = if args.kinds.is_empty() {
-        default_kinds(s3.is_some())
-    } else {
-        args.kinds.clone()
-    };
-    // Each hub reaches the database and the store through relays a partition can silence.
-    let partitions = chosen.contains(&KillKind::Partition);
     let mut hubs = Vec::new();
     let mut links = Vec::new();
-    for k in 0..args.hubs {
+    for k in 0..n {
         let link = Link::new();
         let (db_url, endpoint) = if partitions {
-            let db_relay = link.relay(partition::upstream_of(&url)?).await?;
+            let db_relay = link.relay(partition::upstream_of(url)?).await?;
             let endpoint = match s3 {
                 Some(s) => Some(partition::through(
                     &s.endpoint,
@@ -362,9 +359,9 @@ async fn day(
                 )?),
                 None => None,
             };
-            (partition::through(&url, db_relay)?, endpoint)
+            (partition::through(url, db_relay)?, endpoint)
         } else {
-            (url.clone(), s3.map(|s| s.endpoint.clone()))
+            (url.to_owned(), s3.map(|s| s.endpoint.clone()))
         };
         let data = hub_data(dir, k, s3.zip(endpoint.as_deref()))?;
         hubs.push(Hub::start(HubSpec {
@@ -377,6 +374,28 @@ async fn day(
         }));
         links.push(link);
     }
+    Ok((hubs, links))
+}
+
+async fn day(
+    args: &ChaosArgs,
+    pg: &Database,
+    s3: Option<&Store>,
+    dir: &std::path::Path,
+    deadline_s: f64,
+    n_events: usize,
+) -> anyhow::Result<usize> {
+    let url = pg.url();
+    let (db, ledger) = clinic(dir, &url, args.stations).await?;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(args.seed);
+    let chosen = if args.kinds.is_empty() {
+        default_kinds(s3.is_some())
+    } else {
+        args.kinds.clone()
+    };
+    // Each hub reaches the database and the store through relays a partition can silence.
+    let partitions = chosen.contains(&KillKind::Partition);
+    let (hubs, links) = start_hubs(args.hubs, &url, s3, dir, partitions).await?;
     // With an S3 store the hubs share no disk: stations reach them through one balancer.
     let balancer = if s3.is_some() {
         let servers: Vec<_> = hubs.iter().map(|h| (h.stations, h.web)).collect();
@@ -450,6 +469,32 @@ async fn day(
         }
     }
     runners.abort_all();
+    let recordings = before_check(pg, s3, dir, &mut tally).await;
+    let ledger = world
+        .ledger
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+        .clone();
+    let verdict = check::check(&db, &ledger, recordings.as_ref()).await;
+    let mut stats = Vec::new();
+    for h in hubs {
+        stats.push(h.stop().await);
+    }
+    if let Some(b) = balancer {
+        b.stop().await;
+    }
+    db.close().await;
+    Ok(report(&ledger, &verdict, &stats, &tally, deadline_s))
+}
+
+/// Makes sure the database's server and the store run for the end checks; a recording store
+/// of the check's own on the S3 store, if there is one.
+async fn before_check(
+    pg: &Database,
+    s3: Option<&Store>,
+    dir: &std::path::Path,
+    tally: &mut Tally,
+) -> Option<hub::recordings::RecordingStore> {
     // The checks read the database: make sure its server runs.
     match pg {
         Database::Single(pg) if tally.pg_down => {
@@ -465,7 +510,7 @@ async fn day(
         }
     }
     // … and the store, read through a recording store of the check's own.
-    let recordings = match s3 {
+    match s3 {
         Some(s) => {
             if tally.store_down
                 && let Err(e) = s.restart().await
@@ -483,27 +528,7 @@ async fn day(
             }
         }
         None => None,
-    };
-    let ledger = world
-        .ledger
-        .lock()
-        .unwrap_or_else(std::sync::PoisonError::into_inner)
-        .clone();
-    let verdict = check::check(
-        &db,
-        &ledger,
-        s3.is_some().then_some(recordings.as_ref()).flatten(),
-    )
-    .await;
-    let mut stats = Vec::new();
-    for h in hubs {
-        stats.push(h.stop().await);
     }
-    if let Some(b) = balancer {
-        b.stop().await;
-    }
-    db.close().await;
-    Ok(report(&ledger, &verdict, &stats, &tally, deadline_s))
 }
 
 async fn sleep_until_opt(at: Option<Instant>) {
@@ -604,11 +629,15 @@ async fn act(
         },
         Kind::Partition => {
             let h = which % links.len();
+            let cut = down.max(PARTITION_AT_LEAST);
             links[h].set_cut(true);
             tally.partitions += 1;
-            tokio::time::sleep(down).await;
+            tokio::time::sleep(cut).await;
             links[h].set_cut(false);
-            format!("partition hub {h} from the database and the store")
+            format!(
+                "partition hub {h} from the database and the store for {:.1} s",
+                cut.as_secs_f64()
+            )
         }
     };
     println!("  {at:6.1} s  {what}, down {down_s:.1} s");
