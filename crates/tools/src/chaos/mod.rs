@@ -1,9 +1,9 @@
-//! `telerehab hub chaos`: a compressed clinic day on two hubs sharing one PostgreSQL database,
-//! with hubs (SIGKILL and SIGTERM), stations and the PostgreSQL server killed at random
-//! (seeded) and restarted. At the end every summary must be stored exactly once, every
-//! recording stored with the SHA-256 its station computed, every station done within the
-//! deadline and every pairing and upload in the audit log; the report lists each violation
-//! and the command fails if there is one.
+//! `telerehab hub chaos`: a compressed clinic day on N hubs (`--hubs`, default 2) sharing one
+//! PostgreSQL database, with hubs (SIGKILL and SIGTERM), stations, the PostgreSQL server, the
+//! recording store and the network killed or cut at random (seeded) and restored. At the end
+//! every summary must be stored exactly once, every recording stored with the SHA-256 its
+//! station computed, every station done within the deadline and every pairing and upload in
+//! the audit log; the report lists each violation and the command fails if there is one.
 //!
 //! The PostgreSQL server is the command's own (see module `postgres`: `initdb` and `pg_ctl` from
 //! `$TELEREHAB_PG_BINDIR` or `/usr/lib/postgresql/*/bin`); without one the command fails with
@@ -11,9 +11,21 @@
 //! (module `patroni`: etcd, a Patroni-managed primary and synchronous replica, HAProxy in front),
 //! a PostgreSQL kill is the primary's machine gone (Patroni and postmaster SIGKILLed), the
 //! report gives each failover's time (killed → first write accepted on the new primary) and the
-//! killed node rejoins as the replica. The hubs are `telerehab hub serve` child processes on
-//! one data directory (hence one CA), each on its own ports; the stations run in this process
-//! (module `station`).
+//! killed node rejoins as the replica. The hubs are `telerehab hub serve` child processes
+//! (module `hubs`), each on its own ports; the stations run in this process (module `station`).
+//!
+//! Without `--s3` the hubs share one data directory (one CA, recordings on that shared disk)
+//! and the stations connect to them directly. With `--s3` the day is a clinic network's: a
+//! SeaweedFS of its own (module `store`; killed by SIGKILL and restarted on the same ports and
+//! data by the `store` kind), each hub a data directory of its own (a copy of the clinic's
+//! configuration and keys, `[recordings]` in the store; no shared disk), the stations
+//! connecting through one HAProxy in front of the hubs (`hub::bench::balancer`: the station port
+//! passed through as TCP so mutual TLS stays end to end, each hub's `/readyz` checked), and the
+//! recordings verified at the end by reading them back from the store, not from a hub's disk.
+//! The `partition` kind cuts one hub off from the database and the store (module `partition`:
+//! TCP relays on loopback that go silent, never reset) for at least 8 s (`PARTITION_AT_LEAST`); its
+//! own deadlines must bring it back, and its stations, failing over through the balancer, still
+//! get every summary stored exactly once.
 
 mod check;
 pub(crate) mod hubs;
@@ -53,7 +65,7 @@ pub struct ChaosArgs {
     /// Sessions per station.
     #[arg(long, default_value_t = 3)]
     pub sessions: u32,
-    /// Kills over the day (each of the four kinds at least once when there are four or more);
+    /// Kills over the day (each kind of `--kinds` at least once when there are as many);
     /// default one per 15 s of the day.
     #[arg(long)]
     pub events: Option<usize>,
