@@ -1,8 +1,9 @@
 //! The TCP balancer `hub bench --hubs N` puts in front of its hubs: Debian's HAProxy in
 //! `mode tcp` (mutual TLS stays end to end, as docs/DEPLOY.md configures the station port),
-//! `balance leastconn`, a TCP check of each hub's station port. It runs as a child process in
-//! the foreground (`-db`) with its configuration in a temporary directory, and stops with the
-//! bench.
+//! `balance leastconn`, a TCP check of each hub's station port (or, for the chaos day,
+//! [`Balancer::start_ready`], an HTTPS `GET /readyz` of each hub's console, so a hub that lost
+//! its database or store gets no new stations). It runs as a child process in the foreground
+//! (`-db`) with its configuration in a temporary directory, and stops with its user.
 
 use std::net::SocketAddr;
 use std::path::PathBuf;
@@ -48,17 +49,48 @@ pub fn config(port: u16, hubs: &[SocketAddr], connections: usize) -> String {
     c
 }
 
+/// [`config`] with each hub `(stations, console)` checked by an HTTPS `GET /readyz` of its
+/// console (docs/DEPLOY.md's check) every 500 ms, out after one failure, back after two
+/// passes; a connection a hub refuses is tried on another (`option redispatch`).
+pub fn config_ready(port: u16, hubs: &[(SocketAddr, SocketAddr)], connections: usize) -> String {
+    let mut c = config(port, &[], connections).replace(
+        "  timeout server 1h\n",
+        "  timeout server 1h\n  timeout check 2s\n  retries 3\n  option redispatch\n",
+    );
+    c.push_str(
+        "  option httpchk\n  http-check send meth GET uri /readyz\n  http-check expect status 200\n",
+    );
+    for (i, (st, web)) in hubs.iter().enumerate() {
+        c.push_str(&format!(
+            "  server hub{i} {st} check port {} check-ssl verify none inter 500ms fall 1 rise 2\n",
+            web.port()
+        ));
+    }
+    c
+}
+
 impl Balancer {
     /// Starts HAProxy before `hubs` for `connections` stations and waits until it listens.
     pub async fn start(hubs: &[SocketAddr], connections: usize) -> anyhow::Result<Self> {
+        Self::launch(|port| config(port, hubs, connections)).await
+    }
+
+    /// Starts HAProxy before `hubs` (station port, console) with [`config_ready`]'s checks.
+    pub async fn start_ready(
+        hubs: &[(SocketAddr, SocketAddr)],
+        connections: usize,
+    ) -> anyhow::Result<Self> {
+        Self::launch(|port| config_ready(port, hubs, connections)).await
+    }
+
+    async fn launch(config: impl FnOnce(u16) -> String) -> anyhow::Result<Self> {
         let dir = tempfile::tempdir().context("cannot make the balancer's directory")?;
         let port = std::net::TcpListener::bind("127.0.0.1:0")
             .and_then(|l| l.local_addr())
             .context("cannot find a free port for the balancer")?
             .port();
         let cfg = dir.path().join("haproxy.cfg");
-        std::fs::write(&cfg, config(port, hubs, connections))
-            .context("cannot write the balancer's configuration")?;
+        std::fs::write(&cfg, config(port)).context("cannot write the balancer's configuration")?;
         let binary = haproxy_binary();
         let mut child = tokio::process::Command::new(&binary)
             .arg("-db")
@@ -70,7 +102,7 @@ impl Balancer {
             .spawn()
             .with_context(|| {
                 format!(
-                    "cannot start HAProxy ({}): hub bench --hubs needs it (Debian: apt install haproxy)",
+                    "cannot start HAProxy ({}): several hubs need it (Debian: apt install haproxy)",
                     binary.display()
                 )
             })?;
@@ -128,5 +160,26 @@ mod tests {
             "{c}"
         );
         assert_eq!(c.matches("maxconn 3064").count(), 2, "{c}");
+    }
+
+    #[test]
+    fn the_chaos_days_balancer_checks_each_hubs_readiness_on_its_console() {
+        let hubs: Vec<(SocketAddr, SocketAddr)> = vec![
+            (
+                "127.0.0.1:7001".parse().unwrap(),
+                "127.0.0.1:8001".parse().unwrap(),
+            ),
+            (
+                "127.0.0.1:7002".parse().unwrap(),
+                "127.0.0.1:8002".parse().unwrap(),
+            ),
+        ];
+        let c = config_ready(9000, &hubs, 10);
+        assert!(c.contains("http-check send meth GET uri /readyz"), "{c}");
+        assert!(
+            c.contains("server hub1 127.0.0.1:7002 check port 8002 check-ssl"),
+            "{c}"
+        );
+        assert!(c.contains("option redispatch"), "{c}");
     }
 }

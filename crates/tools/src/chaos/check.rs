@@ -1,9 +1,11 @@
 //! The end of the chaos day: what the stations owe (their ledger) against what the clinic's
-//! database and data directory hold.
+//! database and recordings hold: the data directory, or the S3 store read through a
+//! [`RecordingStore`] of the check's own (`--s3`: verified from the store, not a hub's disk).
 
 use std::collections::{HashMap, HashSet};
 
 use hub::db::Db;
+use hub::recordings::RecordingStore;
 
 use super::station::StationLedger;
 
@@ -28,8 +30,10 @@ pub struct Verdict {
     pub extra: u64,
     /// Recordings the stations wrote.
     pub recordings: usize,
-    /// Of them, stored at the hub with the station's SHA-256, re-hashed from disk.
+    /// Of them, stored with the station's SHA-256, re-hashed from where they are kept.
     pub recordings_verified: usize,
+    /// Where they were re-hashed from.
+    pub verified_from: &'static str,
     /// Audit entries found: pairings, uploads.
     pub audited: (usize, usize),
     /// Every broken promise, one line each.
@@ -37,8 +41,15 @@ pub struct Verdict {
 }
 
 /// Checks everything; database errors are violations too (the check must not hide them).
-pub async fn check(db: &Db, ledger: &[StationLedger]) -> Verdict {
-    let mut v = Verdict::default();
+pub async fn check(db: &Db, ledger: &[StationLedger], store: Option<&RecordingStore>) -> Verdict {
+    let mut v = Verdict {
+        verified_from: if store.is_some() {
+            "from the S3 store"
+        } else {
+            "from the data directory"
+        },
+        ..Verdict::default()
+    };
     let audit = match db.audit_log(10_000).await {
         Ok(entries) => {
             if entries.len() >= 10_000 {
@@ -79,16 +90,16 @@ pub async fn check(db: &Db, ledger: &[StationLedger]) -> Verdict {
                 "station {i} ({station_id}): no station_paired entry in the audit log"
             ));
         }
-        check_sessions(db, i, st, &audit, &mut v).await;
+        check_sessions(db, (i, station_id), st, (&audit, store), &mut v).await;
     }
     v
 }
 
 async fn check_sessions(
     db: &Db,
-    i: usize,
+    (i, station_id): (usize, &str),
     st: &StationLedger,
-    audit: &HashSet<(String, String)>,
+    (audit, store): (&HashSet<(String, String)>, Option<&RecordingStore>),
     v: &mut Verdict,
 ) {
     let known: HashMap<&str, u64> = st
@@ -145,16 +156,17 @@ async fn check_sessions(
         }
         if let Some((sha, size)) = &s.recording {
             v.recordings += 1;
-            check_recording(db, &s.session_id, (sha, *size), audit, v).await;
+            let at = (station_id, s.session_id.as_str());
+            check_recording(db, at, (sha, *size), (audit, store), v).await;
         }
     }
 }
 
 async fn check_recording(
     db: &Db,
-    session_id: &str,
+    (station_id, session_id): (&str, &str),
     (sha, size): (&str, u64),
-    audit: &HashSet<(String, String)>,
+    (audit, store): (&HashSet<(String, String)>, Option<&RecordingStore>),
     v: &mut Verdict,
 ) {
     if audit.contains(&("recording_uploaded".to_owned(), session_id.to_owned())) {
@@ -178,7 +190,16 @@ async fn check_recording(
             return;
         }
     };
-    let on_disk = netlink::upload::file_sha256(std::path::Path::new(&row.path));
+    let on_disk = match store {
+        Some(store) => match store.held(station_id, session_id).await {
+            Ok(Some(held)) => Ok(held),
+            Ok(None) => Err("not in the store".to_owned()),
+            Err(e) => Err(e.to_string()),
+        },
+        None => {
+            netlink::upload::file_sha256(std::path::Path::new(&row.path)).map_err(|e| e.to_string())
+        }
+    };
     let size_ok = u64::try_from(row.size_bytes).is_ok_and(|s| s == size);
     match on_disk {
         Ok((n, h)) if row.complete && row.sha256 == sha && size_ok && h == sha && n == size => {
@@ -186,7 +207,7 @@ async fn check_recording(
         }
         Ok((n, h)) => v.violations.push(format!(
             "recording of {session_id}: the station sent {size} bytes sha256 {sha}; the database \
-             says {} bytes sha256 {} (complete {}), the file has {n} bytes sha256 {h}",
+             says {} bytes sha256 {} (complete {}), what is kept has {n} bytes sha256 {h}",
             row.size_bytes, row.sha256, row.complete
         )),
         Err(e) => v.violations.push(format!(

@@ -1,4 +1,4 @@
-//! The two `telerehab hub serve` processes of a chaos day, each kept running by a supervisor
+//! The `telerehab hub serve` processes of a chaos day, each kept running by a supervisor
 //! (as systemd would restart it): killed on command (SIGKILL, or SIGTERM and a wait for the
 //! clean stop) and started again on the same ports after a pause; a hub that exits on its own
 //! (e.g. started while PostgreSQL is down) is started again after a second.
@@ -27,7 +27,7 @@ pub const TERM_WITHIN: Duration = Duration::from_secs(10);
 pub struct HubSpec {
     /// The `telerehab` binary.
     pub exe: PathBuf,
-    /// The clinic's data directory (shared by both hubs).
+    /// Its data directory (the clinic's, shared by every hub, or a copy of its own with `--s3`).
     pub data: PathBuf,
     /// The database URL (`--db`); `None`: the one the clinic's `hub.toml` names.
     pub db: Option<String>,
@@ -63,15 +63,22 @@ pub struct Hub {
     task: tokio::task::JoinHandle<HubStats>,
     /// Its stations' address.
     pub stations: SocketAddr,
+    /// Its console's address (its `/readyz`).
+    pub web: SocketAddr,
 }
 
 impl Hub {
     /// Starts the hub and its supervisor.
     pub fn start(spec: HubSpec) -> Self {
         let (tx, rx) = mpsc::channel(8);
-        let stations = spec.stations;
+        let (stations, web) = (spec.stations, spec.web);
         let task = tokio::spawn(supervise(spec, rx));
-        Self { tx, task, stations }
+        Self {
+            tx,
+            task,
+            stations,
+            web,
+        }
     }
 
     /// Kills the hub with `signal`, restarting it `down` later; false if it was not running.

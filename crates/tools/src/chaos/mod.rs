@@ -1,9 +1,9 @@
-//! `telerehab hub chaos`: a compressed clinic day on two hubs sharing one PostgreSQL database,
-//! with hubs (SIGKILL and SIGTERM), stations and the PostgreSQL server killed at random
-//! (seeded) and restarted. At the end every summary must be stored exactly once, every
-//! recording stored with the SHA-256 its station computed, every station done within the
-//! deadline and every pairing and upload in the audit log; the report lists each violation
-//! and the command fails if there is one.
+//! `telerehab hub chaos`: a compressed clinic day on N hubs (`--hubs`, default 2) sharing one
+//! PostgreSQL database, with hubs (SIGKILL and SIGTERM), stations, the PostgreSQL server, the
+//! recording store and the network killed or cut at random (seeded) and restored. At the end
+//! every summary must be stored exactly once, every recording stored with the SHA-256 its
+//! station computed, every station done within the deadline and every pairing and upload in
+//! the audit log; the report lists each violation and the command fails if there is one.
 //!
 //! The PostgreSQL server is the command's own (see module `postgres`: `initdb` and `pg_ctl` from
 //! `$TELEREHAB_PG_BINDIR` or `/usr/lib/postgresql/*/bin`); without one the command fails with
@@ -11,15 +11,29 @@
 //! (module `patroni`: etcd, a Patroni-managed primary and synchronous replica, HAProxy in front),
 //! a PostgreSQL kill is the primary's machine gone (Patroni and postmaster SIGKILLed), the
 //! report gives each failover's time (killed → first write accepted on the new primary) and the
-//! killed node rejoins as the replica. The hubs are `telerehab hub serve` child processes on
-//! one data directory (hence one CA), each on its own ports; the stations run in this process
-//! (module `station`).
+//! killed node rejoins as the replica. The hubs are `telerehab hub serve` child processes
+//! (module `hubs`), each on its own ports; the stations run in this process (module `station`).
+//!
+//! Without `--s3` the hubs share one data directory (one CA, recordings on that shared disk)
+//! and the stations connect to them directly. With `--s3` the day is a clinic network's: a
+//! SeaweedFS of its own (module `store`; killed by SIGKILL and restarted on the same ports and
+//! data by the `store` kind), each hub a data directory of its own (a copy of the clinic's
+//! configuration and keys, `[recordings]` in the store; no shared disk), the stations
+//! connecting through one HAProxy in front of the hubs (`hub::bench::balancer`: the station port
+//! passed through as TCP so mutual TLS stays end to end, each hub's `/readyz` checked), and the
+//! recordings verified at the end by reading them back from the store, not from a hub's disk.
+//! The `partition` kind cuts one hub off from the database and the store (module `partition`:
+//! TCP relays on loopback that go silent, never reset) for at least 8 s (`PARTITION_AT_LEAST`); its
+//! own deadlines must bring it back, and its stations, failing over through the balancer, still
+//! get every summary stored exactly once.
 
 mod check;
 pub(crate) mod hubs;
+mod partition;
 mod patroni;
 mod postgres;
 mod station;
+mod store;
 
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -29,9 +43,11 @@ use rand::{Rng, SeedableRng};
 use tokio::sync::mpsc;
 
 use hubs::{Hub, HubSpec, Signal};
+use partition::Link;
 use patroni::Patroni;
 use postgres::Postgres;
 use station::{DayPlan, StationLedger, World};
+use store::Store;
 
 /// `telerehab hub chaos`.
 #[derive(Debug, Clone, clap::Args)]
@@ -49,7 +65,7 @@ pub struct ChaosArgs {
     /// Sessions per station.
     #[arg(long, default_value_t = 3)]
     pub sessions: u32,
-    /// Kills over the day (each of the four kinds at least once when there are four or more);
+    /// Kills over the day (each kind of `--kinds` at least once when there are as many);
     /// default one per 15 s of the day.
     #[arg(long)]
     pub events: Option<usize>,
@@ -65,7 +81,16 @@ pub struct ChaosArgs {
     /// (Patroni and postmaster SIGKILLed): the replica takes over, the killed node rejoins.
     #[arg(long)]
     pub patroni: bool,
-    /// The kinds of kill the day draws from (comma-separated); default all of them.
+    /// Hub processes (1 to 16).
+    #[arg(long, default_value_t = 2)]
+    pub hubs: usize,
+    /// Recordings in an S3 store (a SeaweedFS of the day's own, killed by `store`), each hub
+    /// with a data directory of its own (no shared disk) and the stations connecting through
+    /// one HAProxy in front of the hubs; recordings are verified from the store at the end.
+    #[arg(long)]
+    pub s3: bool,
+    /// The kinds of kill the day draws from (comma-separated); default every kind the
+    /// configuration supports (`store` only with `--s3`).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub kinds: Vec<KillKind>,
 }
@@ -81,6 +106,10 @@ pub enum KillKind {
     Station,
     /// The PostgreSQL server crashed (`--patroni`: the primary's machine gone).
     Postgres,
+    /// The S3 store SIGKILLed and restarted (`--s3`).
+    Store,
+    /// One hub cut off from the database and the store (module `partition`).
+    Partition,
 }
 
 impl KillKind {
@@ -90,6 +119,8 @@ impl KillKind {
             Self::HubTerm => Kind::Hub(Signal::Term),
             Self::Station => Kind::Station,
             Self::Postgres => Kind::Postgres,
+            Self::Store => Kind::Store,
+            Self::Partition => Kind::Partition,
         }
     }
 }
@@ -129,6 +160,12 @@ impl Database {
     }
 }
 
+/// The shortest partition: longer than a station waits for acknowledgements before it tries
+/// another hub (4 s), than the balancer takes to find the hub unready (a 2 s check every
+/// 500 ms) and than the store's connect deadline (2 s), so a partition tests the hub's and the
+/// stations' own deadlines, not only their patience.
+const PARTITION_AT_LEAST: Duration = Duration::from_secs(8);
+
 /// Now, ms since the Unix epoch.
 pub fn unix_ms() -> u64 {
     std::time::SystemTime::now()
@@ -142,6 +179,8 @@ enum Kind {
     Hub(Signal),
     Station,
     Postgres,
+    Store,
+    Partition,
 }
 
 /// The day's kills of `kinds`: (time s, kind, which, downtime s), in time order.
@@ -184,6 +223,12 @@ pub async fn run(args: ChaosArgs) -> anyhow::Result<()> {
     if !(args.day_s.is_finite() && (5.0..=86_400.0).contains(&args.day_s)) {
         bail!("--day-s must be 5 to 86400");
     }
+    if !(1..=16).contains(&args.hubs) {
+        bail!("--hubs must be 1 to 16");
+    }
+    if args.kinds.contains(&KillKind::Store) && !args.s3 {
+        bail!("--kinds store needs --s3 (the day's own S3 store)");
+    }
     let deadline_s = args.deadline_s.unwrap_or(args.day_s * 1.5);
     let n_events = args.events.unwrap_or((args.day_s / 15.0).round() as usize);
     let pg = if args.patroni {
@@ -199,9 +244,23 @@ pub async fn run(args: ChaosArgs) -> anyhow::Result<()> {
                 .map_err(|e| anyhow::anyhow!("PostgreSQL unavailable: {e:#}"))?,
         )
     };
+    let s3 = if args.s3 {
+        match Store::start_new().await {
+            Ok(s) => Some(s),
+            Err(e) => {
+                let _ = pg.stop().await;
+                bail!("S3 store unavailable: {e:#}");
+            }
+        }
+    } else {
+        None
+    };
     let tmp = tempfile::tempdir().context("cannot make the day's directory")?;
     let dir = args.keep.clone().unwrap_or_else(|| tmp.path().to_owned());
-    let result = day(&args, &pg, &dir, deadline_s, n_events).await;
+    let result = day(&args, &pg, s3.as_ref(), &dir, deadline_s, n_events).await;
+    if let Some(s) = s3 {
+        s.stop().await;
+    }
     if let Err(e) = pg.stop().await {
         eprintln!("chaos: stopping PostgreSQL: {e:#}");
     }
@@ -239,9 +298,101 @@ async fn clinic(
     Ok((db, ledger))
 }
 
+/// The kinds the configuration supports: every one, `store` only with an S3 store.
+fn default_kinds(s3: bool) -> Vec<KillKind> {
+    let mut kinds = vec![
+        KillKind::HubKill,
+        KillKind::HubTerm,
+        KillKind::Station,
+        KillKind::Postgres,
+    ];
+    if s3 {
+        kinds.push(KillKind::Store);
+    }
+    kinds.push(KillKind::Partition);
+    kinds
+}
+
+/// Hub `k`'s data directory: with an S3 store a copy of the clinic's configuration and keys of
+/// its own (a hub machine's own disk) whose `hub.toml` puts recordings in the store reached at
+/// `endpoint`; without, the clinic's directory itself (shared by every hub, recordings too).
+fn hub_data(
+    dir: &std::path::Path,
+    k: usize,
+    s3: Option<(&Store, &str)>,
+) -> anyhow::Result<std::path::PathBuf> {
+    let clinic = dir.join("clinic");
+    let Some((store, endpoint)) = s3 else {
+        return Ok(clinic);
+    };
+    let data = dir.join(format!("hub-{k}"));
+    let status = std::process::Command::new("cp")
+        .arg("-a")
+        .arg(&clinic)
+        .arg(&data)
+        .status()
+        .context("cp -a of the clinic's directory")?;
+    if !status.success() {
+        bail!("cannot copy the clinic's directory to {}", data.display());
+    }
+    let recordings = toml::to_string(&std::collections::BTreeMap::from([(
+        "recordings",
+        store.config(endpoint),
+    )]))
+    .context("hub.toml's [recordings]")?;
+    let toml_path = data.join("hub.toml");
+    let mut text = std::fs::read_to_string(&toml_path).context("reading hub.toml")?;
+    text.push('\n');
+    text.push_str(&recordings);
+    std::fs::write(&toml_path, text).context("writing hub.toml")?;
+    Ok(data)
+}
+
+/// Starts `n` supervised hubs on `url` (and the store `s3`), each through relays of its own that
+/// a partition can silence when `partitions`; the hubs and their links.
+async fn start_hubs(
+    n: usize,
+    url: &str,
+    s3: Option<&Store>,
+    dir: &std::path::Path,
+    partitions: bool,
+) -> anyhow::Result<(Vec<Hub>, Vec<Link>)> {
+    let exe = std::env::current_exe().context("cannot find this executable")?;
+    let mut hubs = Vec::new();
+    let mut links = Vec::new();
+    for k in 0..n {
+        let link = Link::new();
+        let (db_url, endpoint) = if partitions {
+            let db_relay = link.relay(partition::upstream_of(url)?).await?;
+            let endpoint = match s3 {
+                Some(s) => Some(partition::through(
+                    &s.endpoint,
+                    link.relay(partition::upstream_of(&s.endpoint)?).await?,
+                )?),
+                None => None,
+            };
+            (partition::through(url, db_relay)?, endpoint)
+        } else {
+            (url.to_owned(), s3.map(|s| s.endpoint.clone()))
+        };
+        let data = hub_data(dir, k, s3.zip(endpoint.as_deref()))?;
+        hubs.push(Hub::start(HubSpec {
+            exe: exe.clone(),
+            data,
+            db: Some(db_url),
+            stations: free_port()?,
+            web: free_port()?,
+            log: dir.join(format!("hub-{k}.log")),
+        }));
+        links.push(link);
+    }
+    Ok((hubs, links))
+}
+
 async fn day(
     args: &ChaosArgs,
     pg: &Database,
+    s3: Option<&Store>,
     dir: &std::path::Path,
     deadline_s: f64,
     n_events: usize,
@@ -249,18 +400,21 @@ async fn day(
     let url = pg.url();
     let (db, ledger) = clinic(dir, &url, args.stations).await?;
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(args.seed);
-    let exe = std::env::current_exe().context("cannot find this executable")?;
-    let mut hubs = Vec::new();
-    for k in 0..2 {
-        hubs.push(Hub::start(HubSpec {
-            exe: exe.clone(),
-            data: dir.join("clinic"),
-            db: Some(url.clone()),
-            stations: free_port()?,
-            web: free_port()?,
-            log: dir.join(format!("hub-{k}.log")),
-        }));
-    }
+    let chosen = if args.kinds.is_empty() {
+        default_kinds(s3.is_some())
+    } else {
+        args.kinds.clone()
+    };
+    // Each hub reaches the database and the store through relays a partition can silence.
+    let partitions = chosen.contains(&KillKind::Partition);
+    let (hubs, links) = start_hubs(args.hubs, &url, s3, dir, partitions).await?;
+    // With an S3 store the hubs share no disk: stations reach them through one balancer.
+    let balancer = if s3.is_some() {
+        let servers: Vec<_> = hubs.iter().map(|h| (h.stations, h.web)).collect();
+        Some(hub::bench::balancer::Balancer::start_ready(&servers, args.stations).await?)
+    } else {
+        None
+    };
     let p = args.sessions;
     let plan = DayPlan {
         sessions: p,
@@ -272,32 +426,30 @@ async fn day(
             .collect(),
         seed: args.seed,
     };
-    let kinds: Vec<Kind> = if args.kinds.is_empty() {
-        [
-            KillKind::HubKill,
-            KillKind::HubTerm,
-            KillKind::Station,
-            KillKind::Postgres,
-        ]
-        .map(KillKind::kind)
-        .to_vec()
-    } else {
-        args.kinds.iter().map(|k| k.kind()).collect()
-    };
+    let kinds: Vec<Kind> = chosen.iter().map(|k| k.kind()).collect();
     let events = schedule(&mut rng, args.day_s, n_events, &kinds);
     println!(
         "hub chaos: {} stations × {} sessions of {:.1} s at 10 Hz over a {} s day, seed {}, \
-         2 hubs on {}, {} kills",
+         {} hubs on {}, recordings {}, {} kills of {chosen:?}",
         args.stations,
         p,
         plan.session_s,
         args.day_s,
         args.seed,
+        args.hubs,
         pg.describe(),
+        if s3.is_some() {
+            "in SeaweedFS (S3), each hub its own data directory, stations through HAProxy"
+        } else {
+            "on the hubs' shared data directory, stations connecting to the hubs directly"
+        },
         events.len()
     );
     let world = Arc::new(World {
-        hubs: [hubs[0].stations, hubs[1].stations],
+        hubs: balancer.as_ref().map_or_else(
+            || hubs.iter().map(|h| h.stations).collect(),
+            |b| vec![b.addr],
+        ),
         ledger: Mutex::new(ledger),
         desk: db.clone(),
         plan,
@@ -321,7 +473,7 @@ async fn day(
         tokio::select! {
             () = sleep_until_opt(next) => {
                 if let Some(event) = events.next() {
-                    act(event, &world, &hubs, pg, &kills, &mut tally).await;
+                    act(event, (&world, &hubs, &links), (pg, s3), &kills, &mut tally).await;
                 }
             }
             joined = runners.join_next() => if joined.is_none() { break },
@@ -329,6 +481,32 @@ async fn day(
         }
     }
     runners.abort_all();
+    let recordings = before_check(pg, s3, dir, &mut tally).await;
+    let ledger = world
+        .ledger
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+        .clone();
+    let verdict = check::check(&db, &ledger, recordings.as_ref()).await;
+    let mut stats = Vec::new();
+    for h in hubs {
+        stats.push(h.stop().await);
+    }
+    if let Some(b) = balancer {
+        b.stop().await;
+    }
+    db.close().await;
+    Ok(report(&ledger, &verdict, &stats, &tally, deadline_s))
+}
+
+/// Makes sure the database's server and the store run for the end checks; a recording store
+/// of the check's own on the S3 store, if there is one.
+async fn before_check(
+    pg: &Database,
+    s3: Option<&Store>,
+    dir: &std::path::Path,
+    tally: &mut Tally,
+) -> Option<hub::recordings::RecordingStore> {
     // The checks read the database: make sure its server runs.
     match pg {
         Database::Single(pg) if tally.pg_down => {
@@ -343,18 +521,26 @@ async fn day(
             }
         }
     }
-    let ledger = world
-        .ledger
-        .lock()
-        .unwrap_or_else(std::sync::PoisonError::into_inner)
-        .clone();
-    let verdict = check::check(&db, &ledger).await;
-    let mut stats = Vec::new();
-    for h in hubs {
-        stats.push(h.stop().await);
+    // … and the store, read through a recording store of the check's own.
+    match s3 {
+        Some(s) => {
+            if tally.store_down
+                && let Err(e) = s.restart().await
+            {
+                tally
+                    .errors
+                    .push(format!("the store before the check: {e:#}"));
+            }
+            match s.recordings(&dir.join("check")) {
+                Ok(r) => Some(r),
+                Err(e) => {
+                    tally.errors.push(format!("{e:#}"));
+                    None
+                }
+            }
+        }
+        None => None,
     }
-    db.close().await;
-    Ok(report(&ledger, &verdict, &stats, &tally, deadline_s))
 }
 
 async fn sleep_until_opt(at: Option<Instant>) {
@@ -389,6 +575,11 @@ struct Tally {
     hub_terms: u32,
     station_kills: u32,
     pg_kills: u32,
+    store_kills: u32,
+    /// Each store restart: started → it lists the bucket again, s.
+    store_restarts_s: Vec<f64>,
+    partitions: u32,
+    store_down: bool,
     /// Each primary kill's failover: killed → first write accepted through the balancer, s.
     failovers_s: Vec<f64>,
     skipped: u32,
@@ -398,9 +589,8 @@ struct Tally {
 
 async fn act(
     (at, kind, which, down_s): (f64, Kind, usize, f64),
-    world: &World,
-    hubs: &[Hub],
-    pg: &Database,
+    (world, hubs, links): (&World, &[Hub], &[Link]),
+    (pg, s3): (&Database, Option<&Store>),
     kills: &[mpsc::UnboundedSender<Duration>],
     tally: &mut Tally,
 ) {
@@ -442,6 +632,25 @@ async fn act(
             Database::Single(pg) => kill_single(pg, down, tally).await,
             Database::Patroni(c) => kill_primary(c, down, tally).await,
         },
+        Kind::Store => match s3 {
+            Some(s) => kill_store(s, down, tally).await,
+            None => {
+                tally.skipped += 1;
+                "kill the store: no store, skipped".into()
+            }
+        },
+        Kind::Partition => {
+            let h = which % links.len();
+            let cut = down.max(PARTITION_AT_LEAST);
+            links[h].set_cut(true);
+            tally.partitions += 1;
+            tokio::time::sleep(cut).await;
+            links[h].set_cut(false);
+            format!(
+                "partition hub {h} from the database and the store for {:.1} s",
+                cut.as_secs_f64()
+            )
+        }
     };
     println!("  {at:6.1} s  {what}, down {down_s:.1} s");
 }
@@ -459,6 +668,32 @@ async fn kill_single(pg: &Postgres, down: Duration, tally: &mut Tally) -> String
         Err(e) => tally.errors.push(format!("restarting PostgreSQL: {e:#}")),
     }
     "kill PostgreSQL (pg_ctl stop -m immediate)".into()
+}
+
+/// SIGKILLs the store and starts it again `down` later on the same ports and data.
+async fn kill_store(s: &Store, down: Duration, tally: &mut Tally) -> String {
+    if let Err(e) = s.kill().await {
+        tally.errors.push(format!("killing the store: {e:#}"));
+        return "kill the store: failed".into();
+    }
+    tally.store_kills += 1;
+    tally.store_down = true;
+    tokio::time::sleep(down).await;
+    let began = Instant::now();
+    match s.restart().await {
+        Ok(()) => {
+            tally.store_down = false;
+            let t = began.elapsed().as_secs_f64();
+            tally.store_restarts_s.push(t);
+            format!(
+                "kill the S3 store (SeaweedFS SIGKILL): answering again {t:.1} s after its restart"
+            )
+        }
+        Err(e) => {
+            tally.errors.push(format!("restarting the store: {e:#}"));
+            "kill the S3 store (SeaweedFS SIGKILL): not restarted".into()
+        }
+    }
 }
 
 /// Kills the primary's machine, measures the failover (killed → first write accepted through
@@ -521,12 +756,14 @@ fn report(
     let sum = |f: fn(&StationLedger) -> u64| ledger.iter().map(f).sum::<u64>();
     let own_exits: usize = hubs.iter().map(|h| h.own_exits.len()).sum();
     println!(
-        "chaos: hub SIGKILL {}, hub SIGTERM {}, station kills {}, PostgreSQL kills {}, skipped {}; \
-         hub starts {}, hub exits on their own {own_exits}",
+        "chaos: hub SIGKILL {}, hub SIGTERM {}, station kills {}, PostgreSQL kills {}, \
+         store kills {}, partitions {}, skipped {}; hub starts {}, hub exits on their own {own_exits}",
         t.hub_kills,
         t.hub_terms,
         t.station_kills,
         t.pg_kills,
+        t.store_kills,
+        t.partitions,
         t.skipped,
         hubs.iter().map(|h| h.starts).sum::<u32>(),
     );
@@ -537,6 +774,13 @@ fn report(
             "failover: {} primary kills, killed → first write accepted on the new primary \
              mean {mean:.1} s, max {max:.1} s",
             t.failovers_s.len()
+        );
+    }
+    if !t.store_restarts_s.is_empty() {
+        let max = t.store_restarts_s.iter().copied().fold(0.0, f64::max);
+        println!(
+            "store: {} kills, restart → answering again max {max:.1} s",
+            t.store_restarts_s.len()
         );
     }
     println!(
@@ -554,8 +798,8 @@ fn report(
         v.produced, v.sessions, v.stored_once, v.missing, v.extra
     );
     println!(
-        "recordings: {} written, {} stored and SHA-256 verified",
-        v.recordings, v.recordings_verified
+        "recordings: {} written, {} stored and SHA-256 verified {}",
+        v.recordings, v.recordings_verified, v.verified_from
     );
     println!(
         "audit: {} station_paired, {} recording_uploaded entries",

@@ -79,8 +79,9 @@ pub struct DayPlan {
 
 /// What the stations share: the hubs, the ledger, the clinic's front desk.
 pub struct World {
-    /// The hubs' station addresses.
-    pub hubs: [SocketAddr; 2],
+    /// Where stations connect: each hub's station address, or the one balancer in front of
+    /// them all.
+    pub hubs: Vec<SocketAddr>,
     /// Every station's ledger.
     pub ledger: Mutex<Vec<StationLedger>>,
     /// The clinic's database, for new pairing codes (the front desk).
@@ -115,7 +116,7 @@ impl World {
     }
 
     fn addr(&self, hub: usize) -> String {
-        self.hubs[hub % 2].to_string()
+        self.hubs[hub % self.hubs.len()].to_string()
     }
 
     /// A station's home.
