@@ -206,11 +206,13 @@ pub async fn run(args: ChaosArgs) -> anyhow::Result<()> {
         )
     };
     let drill = match (&pg, args.drill) {
-        (Database::Single(single), true) => Some(
-            drill::Drill::prepare(single)
-                .await
-                .map_err(|e| anyhow::anyhow!("restore drill unavailable: {e:#}"))?,
-        ),
+        (Database::Single(single), true) => match drill::Drill::prepare(single).await {
+            Ok(d) => Some(d),
+            Err(e) => {
+                let _ = pg.stop().await;
+                bail!("restore drill unavailable: {e:#}");
+            }
+        },
         _ => None,
     };
     let tmp = tempfile::tempdir().context("cannot make the day's directory")?;
