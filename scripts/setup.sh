@@ -12,6 +12,8 @@
 #     maven and a headless JDK (the reference FHIR R4 validator, HAPI FHIR: scripts/fhir-validator);
 #     age (a test checks that the standard age tool decrypts an encrypted hub backup);
 #     patroni and etcd-server (with haproxy: PostgreSQL that fails over, tests/failover_e2e.rs);
+#     pgbackrest (PostgreSQL's backups into the object store: the chaos day's restore drill,
+#     tests/restore_drill_e2e.rs);
 #     the Windows station's tools: mingw-w64 (cross-linker), wine + wine64 (its tests run under
 #     Wine), nsis and icoutils (its installer).
 #   - Rust's x86_64-pc-windows-gnu target (the Windows station is cross-built in CI).
@@ -41,6 +43,7 @@ PKGS=(build-essential pkg-config libudev-dev mesa-vulkan-drivers libvulkan1 libg
       age  # Debian's age decrypts a hub backup (crates/hub/tests/backup_privacy.rs)
       haproxy  # the load balancer in front of several hubs (tests/hubs_e2e.rs runs its own)
       patroni etcd-server  # PostgreSQL that fails over (tests/failover_e2e.rs runs its own)
+      pgbackrest  # PostgreSQL backed up into the object store (`hub chaos --drill`, tests/restore_drill_e2e.rs)
       iproute2 nftables  # a patient's home network: namespaces, tc, loss (tests/home_links_e2e.rs)
       mingw-w64 wine wine64 nsis icoutils)  # the Windows station: cross-linker, Wine, its installer (scripts/windows_ci.sh)
 missing=()

@@ -28,6 +28,7 @@
 //! get every summary stored exactly once.
 
 mod check;
+mod drill;
 pub(crate) mod hubs;
 mod partition;
 mod patroni;
@@ -93,6 +94,11 @@ pub struct ChaosArgs {
     /// configuration supports (`store` only with `--s3`).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub kinds: Vec<KillKind>,
+    /// The restore drill (single server only): the database backed up with pgBackRest into an
+    /// S3 store of its own (HTTPS) early in the day, WAL archived all day, restored at the end
+    /// into a fresh server whose counts must equal the live one's (module `drill`).
+    #[arg(long, conflicts_with = "patroni")]
+    pub drill: bool,
 }
 
 /// A kind of kill, as `--kinds` names it.
@@ -255,16 +261,35 @@ pub async fn run(args: ChaosArgs) -> anyhow::Result<()> {
     } else {
         None
     };
+    let drill = match (&pg, args.drill) {
+        (Database::Single(single), true) => match drill::Drill::prepare(single).await {
+            Ok(d) => Some(d),
+            Err(e) => {
+                if let Some(s) = s3 {
+                    s.stop().await;
+                }
+                let _ = pg.stop().await;
+                bail!("restore drill unavailable: {e:#}");
+            }
+        },
+        _ => None,
+    };
     let tmp = tempfile::tempdir().context("cannot make the day's directory")?;
     let dir = args.keep.clone().unwrap_or_else(|| tmp.path().to_owned());
     let result = day(&args, &pg, s3.as_ref(), &dir, deadline_s, n_events).await;
     if let Some(s) = s3 {
         s.stop().await;
     }
+    let drilled = match (drill, &pg) {
+        (Some(d), Database::Single(single)) if result.is_ok() => {
+            Some(drill::report(&d.run(single).await))
+        }
+        _ => None,
+    };
     if let Err(e) = pg.stop().await {
         eprintln!("chaos: stopping PostgreSQL: {e:#}");
     }
-    let violations = result?;
+    let violations = result? + drilled.unwrap_or(0);
     if violations > 0 {
         bail!("the chaos day broke {violations} promises (listed above)");
     }

@@ -8,6 +8,10 @@ use anyhow::{Context, bail};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
+/// The server's `max_connections` (two hubs' pools and the checks; a server restored from its
+/// backup needs at least as many).
+pub(super) const MAX_CONNECTIONS: u32 = 200;
+
 /// The server: its binaries, cluster directory and port.
 #[derive(Debug)]
 pub struct Postgres {
@@ -90,7 +94,11 @@ pub(super) fn free_port() -> anyhow::Result<u16> {
 }
 
 /// Runs `program args` (as the server's user), failing with the tail of its output.
-async fn run_as(as_user: &[String], program: &Path, args: &[&str]) -> anyhow::Result<()> {
+pub(super) async fn run_as(
+    as_user: &[String],
+    program: &Path,
+    args: &[&str],
+) -> anyhow::Result<()> {
     let mut command = match as_user.split_first() {
         Some((first, rest)) => {
             let mut c = tokio::process::Command::new(first);
@@ -167,8 +175,44 @@ impl Postgres {
         Ok(pg)
     }
 
-    fn data(&self) -> PathBuf {
+    /// The cluster's data directory.
+    pub(super) fn data(&self) -> PathBuf {
         self.dir.path().join("data")
+    }
+
+    /// The directory of the server's Unix socket.
+    pub(super) fn socket_dir(&self) -> &Path {
+        self.dir.path()
+    }
+
+    /// The server's TCP port (and its socket's number).
+    pub(super) fn port(&self) -> u16 {
+        self.port
+    }
+
+    /// The directory of `initdb`, `pg_ctl`, `psql`.
+    pub(super) fn bin(&self) -> &Path {
+        &self.bindir
+    }
+
+    /// `runuser -u postgres --` when running as root, else nothing.
+    pub(super) fn as_user(&self) -> &[String] {
+        &self.as_user
+    }
+
+    /// Appends `lines` to the cluster's `postgresql.conf` (later lines win) and restarts the
+    /// server in order so that settings read only at start (`archive_mode`) take effect.
+    pub(super) async fn configure(&self, lines: &str) -> anyhow::Result<()> {
+        use std::io::Write;
+        let conf = self.data().join("postgresql.conf");
+        let mut file = std::fs::OpenOptions::new()
+            .append(true)
+            .open(&conf)
+            .with_context(|| format!("cannot open {}", conf.display()))?;
+        writeln!(file, "\n{lines}").with_context(|| format!("cannot write {}", conf.display()))?;
+        drop(file);
+        self.stop().await?;
+        self.start().await
     }
 
     /// The database URL.
@@ -187,7 +231,7 @@ impl Postgres {
     pub async fn start(&self) -> anyhow::Result<()> {
         let log = self.dir.path().join("server.log");
         let options = format!(
-            "-c listen_addresses=127.0.0.1 -p {} -k {} -c fsync=off -c max_connections=200",
+            "-c listen_addresses=127.0.0.1 -p {} -k {} -c fsync=off -c max_connections={MAX_CONNECTIONS}",
             self.port,
             path_str(self.dir.path())?
         );
