@@ -139,20 +139,6 @@ impl std::fmt::Display for Counts {
     }
 }
 
-/// The SeaweedFS binary: `TELEREHAB_WEED`, else `~/.local/bin/weed`, else `weed` on the PATH.
-fn weed_binary() -> PathBuf {
-    if let Some(p) = std::env::var_os("TELEREHAB_WEED").filter(|p| !p.is_empty()) {
-        return PathBuf::from(p);
-    }
-    if let Some(home) = std::env::var_os("HOME") {
-        let p = Path::new(&home).join(".local/bin/weed");
-        if p.is_file() {
-            return p;
-        }
-    }
-    PathBuf::from("weed")
-}
-
 /// 32 hex digits.
 fn secret() -> String {
     let mut rng = rand::rng();
@@ -175,39 +161,18 @@ const STORE_STARTS: u32 = 3;
 /// Starts SeaweedFS in `dir` (data in `store/`, log `weed.log`) and waits until its HTTPS port
 /// accepts connections: the process and that port.
 async fn start_store(dir: &Path, files: &StoreFiles) -> anyhow::Result<(Child, u16)> {
-    let binary = weed_binary();
+    let binary = super::store::weed_binary();
     let log_path = dir.join("weed.log");
     let mut last = String::new();
     for _ in 0..STORE_STARTS {
         let https_port = free_port()?;
-        let mut args: Vec<String> = vec![
-            "mini".into(),
-            format!("-dir={}", path_str(&dir.join("store"))?),
-            "-ip=127.0.0.1".into(),
-            "-ip.bind=127.0.0.1".into(),
-            format!("-s3.config={}", path_str(&files.s3_json)?),
-            format!("-bucket={BUCKET}"),
-            "-webdav=false".into(),
-            "-admin.ui=false".into(),
-            "-master.telemetry=false".into(),
-            "-s3.port.iceberg=0".into(),
-            "-s3.port.lance=0".into(),
+        let mut args = super::store::mini_args(&dir.join("store"), &files.s3_json, BUCKET)?;
+        args.extend([
+            format!("-s3.port={}", free_port()?),
             format!("-s3.port.https={https_port}"),
             format!("-s3.cert.file={}", path_str(&files.cert)?),
             format!("-s3.key.file={}", path_str(&files.key)?),
-        ];
-        for flag in [
-            "s3.port",
-            "master.port",
-            "master.port.grpc",
-            "volume.port",
-            "volume.port.grpc",
-            "filer.port",
-            "filer.port.grpc",
-            "s3.port.grpc",
-        ] {
-            args.push(format!("-{flag}={}", free_port()?));
-        }
+        ]);
         let log = std::fs::File::create(&log_path)?;
         let mut weed = Command::new(&binary)
             .args(&args)

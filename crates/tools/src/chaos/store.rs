@@ -23,8 +23,8 @@ const SECRET_KEY: &str = "telerehab-chaos-secret-key";
 pub const START_WITHIN: Duration = Duration::from_secs(90);
 
 /// The SeaweedFS binary: `TELEREHAB_WEED`, else `~/.local/bin/weed`, else `weed` on the PATH.
-fn weed_binary() -> PathBuf {
-    if let Some(p) = std::env::var_os("TELEREHAB_WEED") {
+pub(crate) fn weed_binary() -> PathBuf {
+    if let Some(p) = std::env::var_os("TELEREHAB_WEED").filter(|p| !p.is_empty()) {
         return PathBuf::from(p);
     }
     if let Some(home) = std::env::var_os("HOME") {
@@ -41,6 +41,37 @@ fn free_port() -> anyhow::Result<u16> {
         .and_then(|l| l.local_addr())
         .context("no free loopback port")?
         .port())
+}
+
+/// `weed mini`'s arguments for a SeaweedFS on loopback with its data in `data`, the identities
+/// of `s3_json` and the bucket `bucket`, every internal port free (the caller adds its S3
+/// port(s)); no WebDAV, admin UI, telemetry, Iceberg or Lance.
+pub(crate) fn mini_args(data: &Path, s3_json: &Path, bucket: &str) -> anyhow::Result<Vec<String>> {
+    let mut args: Vec<String> = vec![
+        "mini".into(),
+        format!("-dir={}", data.display()),
+        "-ip=127.0.0.1".into(),
+        "-ip.bind=127.0.0.1".into(),
+        format!("-s3.config={}", s3_json.display()),
+        format!("-bucket={bucket}"),
+        "-webdav=false".into(),
+        "-admin.ui=false".into(),
+        "-master.telemetry=false".into(),
+        "-s3.port.iceberg=0".into(),
+        "-s3.port.lance=0".into(),
+    ];
+    for flag in [
+        "master.port",
+        "master.port.grpc",
+        "volume.port",
+        "volume.port.grpc",
+        "filer.port",
+        "filer.port.grpc",
+        "s3.port.grpc",
+    ] {
+        args.push(format!("-{flag}={}", free_port()?));
+    }
+    Ok(args)
 }
 
 /// One SeaweedFS, running or killed.
@@ -73,31 +104,8 @@ impl Store {
         let data = dir.path().join("data");
         std::fs::create_dir_all(&data).context("making the store's data directory")?;
         let s3_port = free_port()?;
-        let mut args: Vec<String> = vec![
-            "mini".into(),
-            format!("-dir={}", data.display()),
-            "-ip=127.0.0.1".into(),
-            "-ip.bind=127.0.0.1".into(),
-            format!("-s3.config={}", config.display()),
-            format!("-bucket={BUCKET}"),
-            "-webdav=false".into(),
-            "-admin.ui=false".into(),
-            "-master.telemetry=false".into(),
-            "-s3.port.iceberg=0".into(),
-            "-s3.port.lance=0".into(),
-            format!("-s3.port={s3_port}"),
-        ];
-        for flag in [
-            "master.port",
-            "master.port.grpc",
-            "volume.port",
-            "volume.port.grpc",
-            "filer.port",
-            "filer.port.grpc",
-            "s3.port.grpc",
-        ] {
-            args.push(format!("-{flag}={}", free_port()?));
-        }
+        let mut args = mini_args(&data, &config, BUCKET)?;
+        args.push(format!("-s3.port={s3_port}"));
         let store = Self {
             dir,
             args,
