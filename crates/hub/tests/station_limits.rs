@@ -65,8 +65,35 @@ async fn summaries_stored(db: &Db, session_ids: &[String]) -> usize {
     n
 }
 
-/// A flooder's connection: Hello, then summaries `dt_s` apart in session time as fast as the
-/// hub reads them until `until`; the frames the hub sent back.
+/// A flooder's connection: Hello for `session_id`, then what `next_batch` gives, written as fast
+/// as the hub reads it until `until`; the frames the hub sent back.
+async fn flood_with(
+    addr: SocketAddr,
+    st: BenchStation,
+    session_id: &str,
+    until: Instant,
+    mut next_batch: impl FnMut() -> Vec<u8>,
+) -> Vec<Frame> {
+    let (mut rd, mut wr) = tokio::io::split(connect(addr, &st).await);
+    let listen = until.saturating_duration_since(Instant::now()) + Duration::from_secs(1);
+    let reader = tokio::spawn(async move { frames_until(&mut rd, listen).await });
+    let started = netlink::frame::unix_ms_now();
+    let _ = wr
+        .write_all(&bytes(&[hello(&st, session_id, started)]))
+        .await;
+    while Instant::now() < until {
+        let batch = next_batch();
+        let left = until.saturating_duration_since(Instant::now());
+        match tokio::time::timeout(left, wr.write_all(&batch)).await {
+            Ok(Ok(())) => {}
+            _ => break,
+        }
+    }
+    drop(wr);
+    reader.await.unwrap()
+}
+
+/// A flooder sending summaries `dt_s` apart in session time, 64 a write.
 async fn flood(
     addr: SocketAddr,
     st: BenchStation,
@@ -74,16 +101,9 @@ async fn flood(
     dt_s: f64,
     until: Instant,
 ) -> Vec<Frame> {
-    let (mut rd, mut wr) = tokio::io::split(connect(addr, &st).await);
-    let listen = until.saturating_duration_since(Instant::now()) + Duration::from_secs(1);
-    let reader = tokio::spawn(async move { frames_until(&mut rd, listen).await });
-    let started = netlink::frame::unix_ms_now();
-    let _ = wr
-        .write_all(&bytes(&[hello(&st, &session_id, started)]))
-        .await;
+    let name = session_id.clone();
     let mut seq = 0u64;
-    while Instant::now() < until {
-        // 64 summaries a write.
+    flood_with(addr, st, &name, until, move || {
         let batch: Vec<Frame> = (seq..seq + 64)
             .map(|s| {
                 let mut x = Summary::example(&session_id, s);
@@ -92,14 +112,9 @@ async fn flood(
             })
             .collect();
         seq += 64;
-        let left = until.saturating_duration_since(Instant::now());
-        match tokio::time::timeout(left, wr.write_all(&bytes(&batch))).await {
-            Ok(Ok(())) => {}
-            _ => break,
-        }
-    }
-    drop(wr);
-    reader.await.unwrap()
+        bytes(&batch)
+    })
+    .await
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -166,28 +181,13 @@ async fn announce_flood(
     session_id: String,
     until: Instant,
 ) -> Vec<Frame> {
-    let (mut rd, mut wr) = tokio::io::split(connect(addr, &st).await);
-    let listen = until.saturating_duration_since(Instant::now()) + Duration::from_secs(1);
-    let reader = tokio::spawn(async move { frames_until(&mut rd, listen).await });
-    let started = netlink::frame::unix_ms_now();
-    let _ = wr
-        .write_all(&bytes(&[hello(&st, &session_id, started)]))
-        .await;
     let start = Frame::UploadStart(UploadStart {
-        session_id,
+        session_id: session_id.clone(),
         size_bytes: 1_000_000,
         sha256: "ab".repeat(32),
     });
     let batch = bytes(&vec![start; 16]);
-    while Instant::now() < until {
-        let left = until.saturating_duration_since(Instant::now());
-        match tokio::time::timeout(left, wr.write_all(&batch)).await {
-            Ok(Ok(())) => {}
-            _ => break,
-        }
-    }
-    drop(wr);
-    reader.await.unwrap()
+    flood_with(addr, st, &session_id, until, || batch.clone()).await
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

@@ -267,16 +267,10 @@ async fn pgbackrest(as_user: &[String], config: &Path, args: &[&str]) -> anyhow:
         .with_context(|| format!("{what} did not finish within {COMMAND_WITHIN:?}"))?
         .with_context(|| format!("cannot run {what} (scripts/setup.sh installs pgbackrest)"))?;
     if !out.status.success() {
-        let text = format!(
-            "{}{}",
-            String::from_utf8_lossy(&out.stderr),
-            String::from_utf8_lossy(&out.stdout)
-        );
-        let tail: Vec<&str> = text.lines().rev().take(4).collect();
         bail!(
             "{what}: {}: {}",
             out.status,
-            tail.into_iter().rev().collect::<Vec<_>>().join(" / ")
+            super::postgres::last_lines(&out)
         );
     }
     Ok(String::from_utf8_lossy(&out.stdout).into_owned())

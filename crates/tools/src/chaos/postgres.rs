@@ -115,18 +115,7 @@ pub(super) async fn run_as(
     .with_context(|| format!("{} did not finish within 60 s", program.display()))?
     .with_context(|| format!("cannot run {}", program.display()))?;
     if !out.status.success() {
-        let text = format!(
-            "{}{}",
-            String::from_utf8_lossy(&out.stderr),
-            String::from_utf8_lossy(&out.stdout)
-        );
-        let tail: Vec<&str> = text.lines().rev().take(4).collect();
-        bail!(
-            "{} {}: {}",
-            program.display(),
-            out.status,
-            tail.into_iter().rev().collect::<Vec<_>>().join(" / ")
-        );
+        bail!("{} {}: {}", program.display(), out.status, last_lines(&out));
     }
     Ok(())
 }
@@ -263,4 +252,15 @@ impl Postgres {
 pub(super) fn path_str(p: &Path) -> anyhow::Result<&str> {
     p.to_str()
         .with_context(|| format!("{} is not UTF-8", p.display()))
+}
+
+/// A failed command's last four lines of output (stderr, then stdout), joined by " / ".
+pub(crate) fn last_lines(out: &std::process::Output) -> String {
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stderr),
+        String::from_utf8_lossy(&out.stdout)
+    );
+    let tail: Vec<&str> = text.lines().rev().take(4).collect();
+    tail.into_iter().rev().collect::<Vec<_>>().join(" / ")
 }
