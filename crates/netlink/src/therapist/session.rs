@@ -14,30 +14,27 @@ use super::*;
 async fn pace_summary(hub: &Hub, hello: &Hello) -> Result<(), Failure> {
     use station_limits::{MAX_SUMMARY_WAIT, SUMMARY_BURST};
     let pace_per_s = f64::from(hub.config.summary_pace_per_s);
-    let wait = hub
+    let taken = hub
         .summary_pace
-        .reserve(
+        .take(
             &hello.station_id,
             1.0,
             pace_per_s,
             SUMMARY_BURST,
             MAX_SUMMARY_WAIT,
         )
-        .ok_or_else(|| {
-            Failure::Refused(
-                "summary_rate",
-                format!(
-                    "station {:?} sends more summaries than a station produces: at most \
-                     {pace_per_s} a second are taken from one station over all its \
-                     connections",
-                    hello.station_id
-                ),
-            )
-        })?;
-    if !wait.is_zero() {
-        tokio::time::sleep(wait).await;
+        .await;
+    if taken {
+        return Ok(());
     }
-    Ok(())
+    Err(Failure::Refused(
+        "summary_rate",
+        format!(
+            "station {:?} sends more summaries than a station produces: at most {pace_per_s} \
+             a second are taken from one station over all its connections",
+            hello.station_id
+        ),
+    ))
 }
 
 pub(super) enum Reply {

@@ -216,6 +216,27 @@ impl Pacer {
         }
         Some(wait)
     }
+
+    /// [`Pacer::reserve`], then waits until the units are due: false (nothing reserved, no
+    /// wait) if that would be longer than `max_wait`.
+    pub async fn take(
+        &self,
+        key: &str,
+        cost: f64,
+        rate: f64,
+        burst: f64,
+        max_wait: Duration,
+    ) -> bool {
+        match self.reserve(key, cost, rate, burst, max_wait) {
+            Some(wait) => {
+                if !wait.is_zero() {
+                    tokio::time::sleep(wait).await;
+                }
+                true
+            }
+            None => false,
+        }
+    }
 }
 
 #[cfg(test)]

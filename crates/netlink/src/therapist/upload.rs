@@ -393,31 +393,29 @@ pub(super) async fn chunk(
 async fn pace_upload(hub: &Hub, hello: &Hello, n: u64) -> Result<(), Failure> {
     let rate = hub.config.max_upload_bytes_per_s as f64;
     // One chunk may come at once.
-    let wait = hub
+    let burst = crate::frame::MAX_CHUNK_BYTES as f64;
+    let taken = hub
         .upload_pace
-        .reserve(
+        .take(
             &hello.station_id,
             n as f64,
             rate,
-            crate::frame::MAX_CHUNK_BYTES as f64,
+            burst,
             station_limits::MAX_UPLOAD_WAIT,
         )
-        .ok_or_else(|| {
-            Failure::Refused(
-                "upload_rate",
-                format!(
-                    "station {:?} uploads on too many connections at once: this hub takes {} \
-                     KB/s from one station (max_upload_bytes_per_s); upload one recording at a \
-                     time",
-                    hello.station_id,
-                    hub.config.max_upload_bytes_per_s / 1000
-                ),
-            )
-        })?;
-    if !wait.is_zero() {
-        tokio::time::sleep(wait).await;
+        .await;
+    if taken {
+        return Ok(());
     }
-    Ok(())
+    Err(Failure::Refused(
+        "upload_rate",
+        format!(
+            "station {:?} uploads on too many connections at once: this hub takes {} KB/s from \
+             one station (max_upload_bytes_per_s); upload one recording at a time",
+            hello.station_id,
+            hub.config.max_upload_bytes_per_s / 1000
+        ),
+    ))
 }
 
 /// Holds an upload announcement back until its station's pace
@@ -427,30 +425,28 @@ async fn pace_upload(hub: &Hub, hello: &Hello, n: u64) -> Result<(), Failure> {
 /// note, so a station repeating them cannot make the hub do either faster than this.
 async fn pace_upload_start(hub: &Hub, hello: &Hello) -> Result<(), Failure> {
     use station_limits::{MAX_UPLOAD_WAIT, UPLOAD_START_BURST, UPLOAD_START_PACE_PER_S};
-    let wait = hub
+    let taken = hub
         .upload_start_pace
-        .reserve(
+        .take(
             &hello.station_id,
             1.0,
             UPLOAD_START_PACE_PER_S,
             UPLOAD_START_BURST,
             MAX_UPLOAD_WAIT,
         )
-        .ok_or_else(|| {
-            Failure::Refused(
-                "upload_start_rate",
-                format!(
-                    "station {:?} announces uploads faster than a station uploads: at most \
-                     {UPLOAD_START_PACE_PER_S} a second are taken from one station over all its \
-                     connections; upload one recording at a time",
-                    hello.station_id
-                ),
-            )
-        })?;
-    if !wait.is_zero() {
-        tokio::time::sleep(wait).await;
+        .await;
+    if taken {
+        return Ok(());
     }
-    Ok(())
+    Err(Failure::Refused(
+        "upload_start_rate",
+        format!(
+            "station {:?} announces uploads faster than a station uploads: at most \
+             {UPLOAD_START_PACE_PER_S} a second are taken from one station over all its \
+             connections; upload one recording at a time",
+            hello.station_id
+        ),
+    ))
 }
 
 /// Tells the store how much of `up` this hub holds ([`super::HubStore::recording_progress`]);
