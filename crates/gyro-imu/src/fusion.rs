@@ -377,13 +377,12 @@ pub struct OrientationFilter {
     /// Scale estimation (`gyro_scale_estimation`): each axis's scale-factor error
     /// (dimensionless, +0.01 = reads 1 % high).
     scale: Vector3<f64>,
-    /// Covariance of (bias rad/s, scale error), in SI units; `bias_p` mirrors its bias block.
+    /// Covariance of (bias rad/s, scale error) in SI units, in place of `bias_p` when scale
+    /// estimation is on.
     p6: nalgebra::SMatrix<f64, 6, 6>,
     /// Low-passed horizontal rows of `R·diag(ω)` and of `R·diag(ω)·scale`.
     rw_lp: LowPass<6>,
     rws_lp: LowPass<2>,
-    /// This sample's measured rate (rad/s), for the scale's measurement row.
-    gyr_rad_s: Vector3<f64>,
 }
 
 /// `m` row-major, as its rows pair with the earth-frame components.
@@ -438,7 +437,6 @@ impl OrientationFilter {
             ])),
             rw_lp: LowPass::NEW,
             rws_lp: LowPass::NEW,
-            gyr_rad_s: Vector3::zeros(),
         })
     }
 
@@ -486,7 +484,6 @@ impl OrientationFilter {
         }
 
         // Strapdown integration with the current bias estimate (eq. 4.12, 4.13).
-        self.gyr_rad_s = *gyr_rad_s;
         let w = if self.cfg.gyro_scale_estimation {
             gyr_rad_s - self.bias_rad_s - gyr_rad_s.component_mul(&self.scale)
         } else {
@@ -497,7 +494,7 @@ impl OrientationFilter {
 
         let Some(acc) = acc else {
             if rest_enabled {
-                self.bias_update(None);
+                self.bias_update(None, gyr_rad_s);
             }
             return self.orientation();
         };
@@ -550,7 +547,7 @@ impl OrientationFilter {
         self.q_inc = UnitQuaternion::new_normalize(corr * *self.q_inc.quaternion());
 
         if rest_enabled || self.cfg.motion_bias_estimation {
-            self.bias_update(Some(&a_e));
+            self.bias_update(Some(&a_e), gyr_rad_s);
         }
         self.orientation()
     }
@@ -564,26 +561,18 @@ impl OrientationFilter {
 
     /// One Kalman-filter step of the bias. `a_e`: the normalised, low-passed gravity direction
     /// in the earth frame before this sample's inclination correction (`None`: no accelerometer,
-    /// so no motion measurement).
-    fn bias_update(&mut self, a_e: Option<&Vector3<f64>>) {
+    /// so no motion measurement); `gyr_rad_s`: this sample's measured rate.
+    fn bias_update(&mut self, a_e: Option<&Vector3<f64>>, gyr_rad_s: &Vector3<f64>) {
         if self.cfg.gyro_scale_estimation {
-            return self.bias_scale_update(a_e);
+            return self.bias_scale_update(a_e, gyr_rad_s);
         }
         let clip = self.cfg.bias_clip_deg_s.to_radians();
         let dt_s = self.k.dt_s;
         let b = self.bias_rad_s;
-        // Low-passed rotation matrix and R·b (x and y), kept running in every phase.
-        let motion = match a_e {
-            Some(a_e) => {
-                let r = self.orientation().to_rotation_matrix().into_inner();
-                let rb = r * b;
-                let (tau, kb, ka) = (self.cfg.tau_acc_s, self.k.acc_b, self.k.acc_a);
-                let rl = self.r_lp.step(&rows(&r), tau, dt_s, &kb, &ka);
-                let rbl = self.rb_lp.step(&[rb.x, rb.y], tau, dt_s, &kb, &ka);
-                Some((Matrix3::from_row_slice(&rl), Vector2::from(rbl), *a_e))
-            }
-            None => None,
-        };
+        let motion = a_e.map(|a_e| {
+            let (_, r_lp, rb_lp) = self.rotation_lowpasses();
+            (r_lp, rb_lp, *a_e)
+        });
         let meas = if self.rest && self.cfg.rest_bias_estimation {
             let w = self.k.bias_rest_w;
             Some((
@@ -624,45 +613,38 @@ impl OrientationFilter {
         self.bias_p -= gain * h * self.bias_p;
     }
 
+    /// The rotation matrix `R` (sensor-to-earth) now, and the low-passes of `R` and of `R·b`'s
+    /// horizontal part (the motion measurement's model and offset), kept running in every phase.
+    fn rotation_lowpasses(&mut self) -> (Matrix3<f64>, Matrix3<f64>, Vector2<f64>) {
+        let r = self.orientation().to_rotation_matrix().into_inner();
+        let rb = r * self.bias_rad_s;
+        let (tau, dt_s, kb, ka) = (self.cfg.tau_acc_s, self.k.dt_s, self.k.acc_b, self.k.acc_a);
+        let rl = self.r_lp.step(&rows(&r), tau, dt_s, &kb, &ka);
+        let rbl = self.rb_lp.step(&[rb.x, rb.y], tau, dt_s, &kb, &ka);
+        (r, Matrix3::from_row_slice(&rl), Vector2::from(rbl))
+    }
+
     /// [`Self::bias_update`] with the scale-factor errors as three more states (module docs,
     /// "Scale estimation"), in SI units.
-    fn bias_scale_update(&mut self, a_e: Option<&Vector3<f64>>) {
+    fn bias_scale_update(&mut self, a_e: Option<&Vector3<f64>>, gyr_rad_s: &Vector3<f64>) {
         use nalgebra::{SMatrix, SVector};
         let clip = self.cfg.bias_clip_deg_s.to_radians();
         let dt_s = self.k.dt_s;
         let k2 = bias_unit2_rad2_s2();
         let b = self.bias_rad_s;
         let sc = self.scale;
-        let g = self.gyr_rad_s;
-        let motion = match a_e {
-            Some(a_e) => {
-                let r = self.orientation().to_rotation_matrix().into_inner();
-                let rb = r * b;
-                let rw = r * Matrix3::from_diagonal(&g);
-                let rws = rw * sc;
-                let rw_arr = [
-                    rw[(0, 0)],
-                    rw[(0, 1)],
-                    rw[(0, 2)],
-                    rw[(1, 0)],
-                    rw[(1, 1)],
-                    rw[(1, 2)],
-                ];
-                let (tau, kb, ka) = (self.cfg.tau_acc_s, self.k.acc_b, self.k.acc_a);
-                let rl = self.r_lp.step(&rows(&r), tau, dt_s, &kb, &ka);
-                let rbl = self.rb_lp.step(&[rb.x, rb.y], tau, dt_s, &kb, &ka);
-                let rwl = self.rw_lp.step(&rw_arr, tau, dt_s, &kb, &ka);
-                let rwsl = self.rws_lp.step(&[rws.x, rws.y], tau, dt_s, &kb, &ka);
-                Some((
-                    Matrix3::from_row_slice(&rl),
-                    Vector2::from(rbl),
-                    rwl,
-                    Vector2::from(rwsl),
-                    *a_e,
-                ))
-            }
-            None => None,
-        };
+        let motion = a_e.map(|a_e| {
+            let (r, r_lp, rb_lp) = self.rotation_lowpasses();
+            // The horizontal rows of R·diag(ω) and of R·diag(ω)·s, low-passed alike.
+            let rw = r * Matrix3::from_diagonal(gyr_rad_s);
+            let rws = rw * sc;
+            let (tau, kb, ka) = (self.cfg.tau_acc_s, self.k.acc_b, self.k.acc_a);
+            let mut rw_rows = [0.0; 6];
+            rw_rows.copy_from_slice(&rows(&rw)[..6]);
+            let rwl = self.rw_lp.step(&rw_rows, tau, dt_s, &kb, &ka);
+            let rwsl = self.rws_lp.step(&[rws.x, rws.y], tau, dt_s, &kb, &ka);
+            (r_lp, rb_lp, rwl, Vector2::from(rwsl), *a_e)
+        });
         let v_b = self.k.bias_v * k2;
         let v_s = (0.001f64).powi(2) * dt_s / self.cfg.scale_forgetting_time_s;
         let p0b = self.bias_p0 * k2;
@@ -712,11 +694,6 @@ impl OrientationFilter {
         self.bias_rad_s = (b + dx.fixed_rows::<3>(0)).map(|x| x.clamp(-clip, clip));
         self.scale = (sc + dx.fixed_rows::<3>(3)).map(|x| x.clamp(-SCALE_CLIP, SCALE_CLIP));
         self.p6 -= gain * h * self.p6;
-        for i in 0..3 {
-            for j in 0..3 {
-                self.bias_p[(i, j)] = self.p6[(i, j)] / k2;
-            }
-        }
     }
 
     /// Restart integration from orientation `q` (sensor-to-earth): e.g. a known initial pose
@@ -746,8 +723,13 @@ impl OrientationFilter {
     /// square root of a Gershgorin bound on the covariance's largest eigenvalue, capped at
     /// `bias_sigma_init_deg_s`.
     pub fn bias_sigma_rad_s(&self) -> f64 {
+        let cov = if self.cfg.gyro_scale_estimation {
+            self.p6.fixed_view::<3, 3>(0, 0) / bias_unit2_rad2_s2()
+        } else {
+            self.bias_p
+        };
         let p = (0..3)
-            .map(|i| self.bias_p.row(i).abs().sum())
+            .map(|i| cov.row(i).abs().sum())
             .fold(0.0, f64::max)
             .min(self.bias_p0);
         (p.sqrt() / 100.0).to_radians()
