@@ -31,9 +31,10 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, bail};
-use rand::Rng;
 
-use super::postgres::{MAX_CONNECTIONS, Postgres, free_port, path_str, postgres_owner, run_as};
+use super::postgres::{
+    MAX_CONNECTIONS, Postgres, free_port, log_tail, path_str, postgres_owner, run_as,
+};
 
 /// The stanza (pgBackRest's name for one cluster's backups).
 const STANZA: &str = "chaos";
@@ -139,14 +140,6 @@ impl std::fmt::Display for Counts {
     }
 }
 
-/// 32 hex digits.
-fn secret() -> String {
-    let mut rng = rand::rng();
-    (0..4)
-        .map(|_| format!("{:08x}", rng.random::<u32>()))
-        .collect()
-}
-
 /// The files SeaweedFS is started with.
 struct StoreFiles {
     s3_json: PathBuf,
@@ -219,7 +212,7 @@ fn weed_log(path: &Path) -> String {
         .lines()
         .find(|l| l.starts_with("panic") || l.starts_with('F'))
         .unwrap_or("");
-    format!("{fatal} … {}", tail(path, 4))
+    format!("{fatal} … {}", log_tail(path, 4))
 }
 
 /// The store, the repository's configuration and the backup under way.
@@ -365,8 +358,8 @@ impl Drill {
         let key_file = dir.path().join("store-key.pem");
         write_private(&key_file, &server.key_pem, None)?;
         // The store's one identity.
-        let access_key = format!("drill{}", &secret()[..12]);
-        let secret_key = secret();
+        let access_key = format!("drill{}", &super::patroni::password()[..12]);
+        let secret_key = super::patroni::password();
         let identities = serde_json::json!({
             "identities": [{
                 "name": "pgbackrest",
@@ -421,7 +414,7 @@ impl Drill {
              pg1-socket-path={socket}\n\
              pg1-user=postgres\n",
             ca = path_str(&ca_file)?,
-            cipher_pass = secret(),
+            cipher_pass = super::patroni::password(),
             log = path_str(&dir.join("log"))?,
             lock = path_str(&dir.join("lock"))?,
             spool = path_str(&dir.join("spool"))?,
@@ -546,7 +539,7 @@ impl Drill {
             ],
         )
         .await
-        .with_context(|| format!("starting the restored server: {}", tail(&log, 6)))?;
+        .with_context(|| format!("starting the restored server: {}", log_tail(&log, 6)))?;
         let answered = async {
             let waiting = Instant::now();
             loop {
@@ -610,13 +603,6 @@ impl Drill {
         }
         Ok(())
     }
-}
-
-/// The last `n` lines of a log file, ` / `-joined.
-fn tail(path: &Path, n: usize) -> String {
-    let text = std::fs::read_to_string(path).unwrap_or_default();
-    let lines: Vec<&str> = text.lines().collect();
-    lines[lines.len().saturating_sub(n)..].join(" / ")
 }
 
 /// Whether a repository path names an archived WAL segment (`…/<24 hex digits>-<sha1>…`, not

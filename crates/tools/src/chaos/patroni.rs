@@ -104,7 +104,7 @@ pub struct Patroni {
 }
 
 /// A password of 32 hex digits (safe in a URL and in YAML).
-fn password() -> String {
+pub(super) fn password() -> String {
     use rand::Rng;
     let mut rng = rand::rng();
     (0..4)

@@ -254,6 +254,13 @@ pub(super) fn path_str(p: &Path) -> anyhow::Result<&str> {
         .with_context(|| format!("{} is not UTF-8", p.display()))
 }
 
+/// The last `n` lines of a log file, ` / `-joined (empty when it cannot be read).
+pub(crate) fn log_tail(path: &Path, n: usize) -> String {
+    let text = std::fs::read_to_string(path).unwrap_or_default();
+    let lines: Vec<&str> = text.lines().collect();
+    lines[lines.len().saturating_sub(n)..].join(" / ")
+}
+
 /// A failed command's last four lines of output (stderr, then stdout), joined by " / ".
 pub(crate) fn last_lines(out: &std::process::Output) -> String {
     let text = format!(

@@ -6,13 +6,14 @@
 //! the bucket again. (The tests' own launcher, `crates/hub/tests/common/s3.rs`, is the same
 //! recipe; product code does not depend on test code.)
 
-use std::net::TcpListener;
 use std::path::{Path, PathBuf};
 use std::process::Stdio;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, bail};
 use hub::recordings::{RecordingStore, RecordingsConfig};
+
+use super::postgres::{free_port, log_tail};
 
 /// The bucket of the day's recordings.
 pub const BUCKET: &str = "recordings";
@@ -34,13 +35,6 @@ pub(crate) fn weed_binary() -> PathBuf {
         }
     }
     PathBuf::from("weed")
-}
-
-fn free_port() -> anyhow::Result<u16> {
-    Ok(TcpListener::bind("127.0.0.1:0")
-        .and_then(|l| l.local_addr())
-        .context("no free loopback port")?
-        .port())
 }
 
 /// `weed mini`'s arguments for a SeaweedFS on loopback with its data in `data`, the identities
@@ -196,8 +190,6 @@ impl Store {
     }
 
     fn log_tail(&self) -> String {
-        let log = std::fs::read_to_string(self.dir.path().join("weed.log")).unwrap_or_default();
-        let lines: Vec<&str> = log.lines().collect();
-        lines[lines.len().saturating_sub(30)..].join("\n")
+        log_tail(&self.dir.path().join("weed.log"), 30)
     }
 }
