@@ -7,36 +7,29 @@
 //! prints SKIPPED (as tests/hub_chaos_e2e.rs); without pgBackRest or SeaweedFS it fails
 //! (scripts/setup.sh installs both).
 
-use std::process::Command;
-use telerehab_tests::telerehab_bin;
+use telerehab_tests::chaos_day;
 
 #[test]
 fn a_chaos_day_restored_from_pgbackrest_in_the_object_store_has_every_summary() {
-    let out = Command::new(telerehab_bin())
-        .args([
-            "hub",
-            "chaos",
-            "--drill",
-            "--stations",
-            "4",
-            "--sessions",
-            "2",
-        ])
-        .args(["--seed", "11", "--day-s", "20", "--events", "4"])
-        .args(["--kinds", "postgres,station,hub-kill"])
-        .args(["--deadline-s", "90"])
-        .output()
-        .expect("run telerehab hub chaos --drill");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    if !out.status.success() && stderr.contains("PostgreSQL unavailable") {
-        println!("SKIPPED: {}", stderr.trim());
+    let Some(stdout) = chaos_day(&[
+        "--drill",
+        "--stations",
+        "4",
+        "--sessions",
+        "2",
+        "--seed",
+        "11",
+        "--day-s",
+        "20",
+        "--events",
+        "4",
+        "--kinds",
+        "postgres,station,hub-kill",
+        "--deadline-s",
+        "90",
+    ]) else {
         return;
-    }
-    assert!(
-        out.status.success(),
-        "the chaos day with the drill failed:\n{stdout}\n{stderr}"
-    );
+    };
     assert!(
         stdout
             .lines()

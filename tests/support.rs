@@ -409,3 +409,31 @@ pub fn xdotool_in(name: &str, args: &[&str]) {
         "xdotool {args:?}"
     );
 }
+
+/// Runs `telerehab hub chaos ARGS` and returns its report (stdout), having asserted that it
+/// succeeded; `None`, after printing `SKIPPED: <why>`, when it found no PostgreSQL, Patroni or
+/// S3 server to run on (`scripts/setup.sh` installs them; CI allows none of these skips).
+pub fn chaos_day(args: &[&str]) -> Option<String> {
+    let out = Command::new(telerehab_bin())
+        .args(["hub", "chaos"])
+        .args(args)
+        .output()
+        .expect("run telerehab hub chaos");
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let unavailable = [
+        "PostgreSQL unavailable",
+        "Patroni unavailable",
+        "S3 store unavailable",
+    ];
+    if !out.status.success() && unavailable.iter().any(|m| stderr.contains(m)) {
+        println!("SKIPPED: {}", stderr.trim());
+        return None;
+    }
+    assert!(
+        out.status.success(),
+        "telerehab hub chaos {} failed:\n{stdout}\n{stderr}",
+        args.join(" ")
+    );
+    Some(stdout)
+}
