@@ -9,11 +9,14 @@
 //! SeaweedFS S3 store of the day's own, with every kind of fault at least once — hub SIGKILL
 //! and SIGTERM, a station, the primary's machine, the store SIGKILLed and a hub partitioned
 //! from the database and the store — ending with every summary stored once and every
-//! recording verified from the store (about 2 minutes on a loaded 2-core machine). The two days run one after the other
-//! (each loads the whole machine).
+//! recording verified from the store, and the restore drill on the cluster: pgBackRest backs up
+//! whichever node leads into a store of its own, both nodes archive their WAL across the
+//! failover, and the database restored at the end must hold every summary (about 2 minutes on
+//! a loaded 2-core machine). The two days run one after the other (each loads the whole
+//! machine).
 
 use std::sync::Mutex;
-use telerehab_tests::chaos_day;
+use telerehab_tests::{chaos_day, restored_summaries};
 
 /// One chaos day at a time.
 static ONE_DAY: Mutex<()> = Mutex::new(());
@@ -67,6 +70,7 @@ fn three_hubs_without_a_shared_disk_lose_nothing_through_store_and_network_fault
         "3",
         "--patroni",
         "--s3",
+        "--drill",
         "--stations",
         "12",
         "--sessions",
@@ -112,4 +116,6 @@ fn three_hubs_without_a_shared_disk_lose_nothing_through_store_and_network_fault
         .expect("a recordings line");
     assert!(line.ends_with("from the S3 store"), "{line}");
     assert!(!line.starts_with("recordings: 0 written"), "{line}");
+    // The cluster restored from pgBackRest in the store, across the primary's failover.
+    assert!(restored_summaries(&stdout) > 0, "{stdout}");
 }

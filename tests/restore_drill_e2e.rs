@@ -7,7 +7,7 @@
 //! prints SKIPPED (as tests/hub_chaos_e2e.rs); without pgBackRest or SeaweedFS it fails
 //! (scripts/setup.sh installs both).
 
-use telerehab_tests::chaos_day;
+use telerehab_tests::{chaos_day, restored_summaries};
 
 #[test]
 fn a_chaos_day_restored_from_pgbackrest_in_the_object_store_has_every_summary() {
@@ -36,21 +36,8 @@ fn a_chaos_day_restored_from_pgbackrest_in_the_object_store_has_every_summary() 
             .any(|l| l.contains("kill PostgreSQL") && l.contains(", down ")),
         "no PostgreSQL crash during the archived day:\n{stdout}"
     );
-    assert!(
-        stdout.contains("restore drill: OK"),
-        "no restore drill verdict:\n{stdout}"
-    );
     // The restored counts are printed and are not empty: the day's summaries came back.
-    let restored = stdout
-        .lines()
-        .find(|l| l.starts_with("restore drill: restored"))
-        .unwrap_or_else(|| panic!("no restored counts:\n{stdout}"));
-    let summaries: u64 = restored
-        .split("summaries ")
-        .nth(1)
-        .and_then(|s| s.split(',').next())
-        .and_then(|n| n.trim().parse().ok())
-        .unwrap_or_else(|| panic!("no summary count in {restored:?}"));
-    assert!(summaries > 0, "the restore holds no summary: {restored}");
+    let summaries = restored_summaries(&stdout);
+    assert!(summaries > 0, "the restore holds no summary:\n{stdout}");
     assert!(stdout.contains("verdict: OK"), "{stdout}");
 }

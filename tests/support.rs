@@ -437,3 +437,22 @@ pub fn chaos_day(args: &[&str]) -> Option<String> {
     );
     Some(stdout)
 }
+
+/// The restore drill's verdict in a chaos day's report: asserts "restore drill: OK" and returns
+/// the summaries the restored database holds (from its "restore drill: restored" line).
+pub fn restored_summaries(stdout: &str) -> u64 {
+    assert!(
+        stdout.contains("restore drill: OK"),
+        "no restore drill verdict:\n{stdout}"
+    );
+    let restored = stdout
+        .lines()
+        .find(|l| l.starts_with("restore drill: restored"))
+        .unwrap_or_else(|| panic!("no restored counts:\n{stdout}"));
+    restored
+        .split("summaries ")
+        .nth(1)
+        .and_then(|s| s.split(',').next())
+        .and_then(|n| n.trim().parse().ok())
+        .unwrap_or_else(|| panic!("no summary count in {restored:?}"))
+}

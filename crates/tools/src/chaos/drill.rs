@@ -9,21 +9,28 @@
 //!   (`netlink::pki`), which pgBackRest verifies (`repo1-storage-ca-file`).
 //! - **The repository** is encrypted (`repo1-cipher-type=aes-256-cbc`, a passphrase made per
 //!   run), as a clinic's must be.
-//! - **Before the day**: `archive_mode = on` and `archive_command = 'pgbackrest … archive-push
-//!   %p'` in the server's `postgresql.conf` (restart), `stanza-create`, then a full `backup` in
-//!   the background while the day starts (retried when a PostgreSQL kill cuts it off). Every
-//!   WAL segment the day fills is archived to the store.
-//! - **After the day** ([`Drill::run`], the hubs stopped, the server still up): the live
-//!   database's counts (summaries, sessions, recordings, audit rows, patients, stations) and a
+//! - **Each PostgreSQL machine has its own pgBackRest configuration** (`pg1-path` its own data
+//!   directory), as pgBackRest is set up on every database host.
+//! - **Before the day**: `archive_command = 'pgbackrest … archive-push %p'` on every server.
+//!   One server: `archive_mode = on` in its `postgresql.conf` (restart). A Patroni cluster
+//!   (`--patroni`): the command in each node's `postgresql.parameters` before the cluster
+//!   starts, with `archive_mode = always`, so the replica archives every segment it receives
+//!   too: a segment the primary filled but had not archived when its machine went is in the
+//!   archive all the same (pgBackRest takes a segment it already holds with the same checksum
+//!   as done). Then `stanza-create` and a full `backup` in the background while the day starts,
+//!   each on the node that leads then (Patroni's REST API says which, as a clinic's nightly job
+//!   asks `GET /primary` before it backs up), retried on the new leader when a kill cuts it off.
+//!   Every WAL segment the day fills is archived, across failovers and their timelines.
+//! - **After the day** ([`Drill::run`], the hubs stopped, the database still up): the live
+//!   database's counts (on the leader) (summaries, sessions, recordings, audit rows, patients, stations) and a
 //!   digest of every summary; `pgbackrest check` (switches the WAL segment and waits until it is
 //!   archived); then, timed, `pgbackrest restore --type=default` (the full backup plus every
 //!   archived segment to the end) into a fresh data directory, a second postmaster on it on
 //!   another port (`archive_mode = off`: it must not push its new timeline into the day's
-//!   repository), the wait until recovery has ended (`pg_is_in_recovery()` false: it promotes
-//!   itself at the end of the archive) and the same counts read from it. They must be equal:
-//!   every acknowledged summary survives the restore; a difference is a violation.
-//!
-//! Single server only: `--drill` with `--patroni` is refused.
+//!   repository; no synchronous standby to wait for), the wait until recovery has ended
+//!   (`pg_is_in_recovery()` false: it follows the archive's timelines to the latest and
+//!   promotes itself at its end) and the same counts read from it. They must be equal: every
+//!   acknowledged summary survives the restore; a difference is a violation.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -32,8 +39,10 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, bail};
 
+use super::patroni::{self, Patroni};
 use super::postgres::{
-    MAX_CONNECTIONS, Postgres, free_port, log_tail, path_str, postgres_owner, run_as,
+    MAX_CONNECTIONS, PgNode, Postgres, as_postgres_user, free_port, log_tail, path_str,
+    postgres_owner, run_as,
 };
 
 /// The stanza (pgBackRest's name for one cluster's backups).
@@ -215,13 +224,80 @@ fn weed_log(path: &Path) -> String {
     format!("{fatal} … {}", log_tail(path, 4))
 }
 
+/// The database the drill backs up: one server, or a Patroni cluster (whichever node leads).
+#[derive(Clone, Copy)]
+pub(super) enum Target<'a> {
+    /// The day's one server.
+    Server(&'a Postgres),
+    /// The day's cluster.
+    Cluster(&'a Patroni),
+}
+
+impl Target<'_> {
+    /// Where each server runs, by node (one for a single server).
+    fn nodes(&self) -> Vec<PgNode> {
+        match self {
+            Self::Server(pg) => vec![pg.node()],
+            Self::Cluster(c) => c.nodes(),
+        }
+    }
+
+    /// The directory of `pg_ctl` and `psql`.
+    fn bin(&self) -> PathBuf {
+        match self {
+            Self::Server(pg) => pg.bin().to_owned(),
+            Self::Cluster(c) => c.bin().to_owned(),
+        }
+    }
+
+    fn leader(&self) -> Leader {
+        match self {
+            Self::Server(_) => Leader::Server,
+            Self::Cluster(c) => Leader::Cluster(c.members()),
+        }
+    }
+}
+
+/// Finds the node that leads now, from a task of its own.
+#[derive(Debug, Clone)]
+enum Leader {
+    /// The one server is node 0.
+    Server,
+    /// A cluster's Patroni REST APIs say which.
+    Cluster(patroni::Members),
+}
+
+impl Leader {
+    /// The node leading now; during a failover, the one that leads once it is over.
+    async fn now(&self) -> anyhow::Result<usize> {
+        let Self::Cluster(members) = self else {
+            return Ok(0);
+        };
+        let began = Instant::now();
+        loop {
+            if let Some(k) = members.leader().await {
+                return Ok(k);
+            }
+            if began.elapsed() > patroni::FAILOVER_WITHIN {
+                bail!(
+                    "no node of the cluster leads after {:?}",
+                    patroni::FAILOVER_WITHIN
+                );
+            }
+            tokio::time::sleep(Duration::from_millis(200)).await;
+        }
+    }
+}
+
 /// The store, the repository's configuration and the backup under way.
 #[derive(Debug)]
 pub struct Drill {
-    /// The configuration, CA, store data, logs and the restore; removed on drop.
+    /// The configurations, CA, store data, logs and the restore; removed on drop.
     dir: tempfile::TempDir,
     /// The SeaweedFS; killed on drop.
     weed: Option<Child>,
+    /// Every configuration's `[global]` section: the repository in the store.
+    global: String,
     /// `runuser -u postgres --` when running as root.
     as_user: Vec<String>,
     /// The full backup in the background: (its time, attempts).
@@ -269,10 +345,17 @@ async fn pgbackrest(as_user: &[String], config: &Path, args: &[&str]) -> anyhow:
     Ok(String::from_utf8_lossy(&out.stdout).into_owned())
 }
 
-/// `psql -At -c sql` on the server at `socket_dir`:`port`: its one line of output.
-async fn psql(pg: &Postgres, socket_dir: &Path, port: u16, sql: &str) -> anyhow::Result<String> {
-    let psql = pg.bin().join("psql");
-    let mut command = match pg.as_user().split_first() {
+/// `psql -At -c sql` (of `bin`, as the server's user) on the server at `socket_dir`:`port`: its
+/// one line of output.
+async fn psql(
+    bin: &Path,
+    as_user: &[String],
+    socket_dir: &Path,
+    port: u16,
+    sql: &str,
+) -> anyhow::Result<String> {
+    let psql = bin.join("psql");
+    let mut command = match as_user.split_first() {
         Some((first, rest)) => {
             let mut c = tokio::process::Command::new(first);
             c.args(rest).arg(&psql);
@@ -332,19 +415,17 @@ fn write_private(path: &Path, text: &str, owner: Option<(u32, u32)>) -> anyhow::
 }
 
 impl Drill {
-    /// Starts the store, turns on WAL archiving on `pg` (a restart), creates the stanza and
-    /// starts the full backup in the background. An error here means "drill unavailable".
-    pub async fn prepare(pg: &Postgres) -> anyhow::Result<Self> {
+    /// Starts the store (its CA and certificate made now) and writes the repository's part of
+    /// the configuration; [`Drill::archive_command`] then says what each server archives with
+    /// and [`Drill::begin`] starts the backups. An error here means "drill unavailable".
+    pub async fn start() -> anyhow::Result<Self> {
         let owner = postgres_owner()?;
         let dir = tempfile::Builder::new()
             .prefix("telerehab-chaos-drill.")
             .tempdir()
             .context("cannot make the drill's directory")?;
         give(dir.path(), owner)?;
-        for sub in ["log", "lock", "spool", "store"] {
-            std::fs::create_dir(dir.path().join(sub))?;
-            give(&dir.path().join(sub), owner)?;
-        }
+        std::fs::create_dir(dir.path().join("store"))?;
         // The store's CA and certificate, made now.
         let ca = netlink::pki::ClinicCa::create("chaos drill store")
             .context("cannot make the store's CA")?;
@@ -358,8 +439,8 @@ impl Drill {
         let key_file = dir.path().join("store-key.pem");
         write_private(&key_file, &server.key_pem, None)?;
         // The store's one identity.
-        let access_key = format!("drill{}", &super::patroni::password()[..12]);
-        let secret_key = super::patroni::password();
+        let access_key = format!("drill{}", &patroni::password()[..12]);
+        let secret_key = patroni::password();
         let identities = serde_json::json!({
             "identities": [{
                 "name": "pgbackrest",
@@ -375,16 +456,7 @@ impl Drill {
             key: key_file,
         };
         let (weed, https_port) = start_store(dir.path(), &files).await?;
-        let as_user = pg.as_user().to_vec();
-        let mut drill = Self {
-            dir,
-            weed: Some(weed),
-            as_user,
-            backup: None,
-        };
-        let config = drill.config();
-        let dir = drill.dir.path();
-        let conf = format!(
+        let global = format!(
             "[global]\n\
              repo1-type=s3\n\
              repo1-path={REPO_PATH}\n\
@@ -402,46 +474,106 @@ impl Drill {
              compress-type=lz4\n\
              start-fast=y\n\
              archive-timeout=60\n\
-             log-path={log}\n\
-             lock-path={lock}\n\
-             spool-path={spool}\n\
              log-level-console=warn\n\
-             log-level-file=info\n\
-             \n\
-             [{STANZA}]\n\
-             pg1-path={data}\n\
-             pg1-port={port}\n\
-             pg1-socket-path={socket}\n\
-             pg1-user=postgres\n",
+             log-level-file=info\n",
             ca = path_str(&ca_file)?,
-            cipher_pass = super::patroni::password(),
-            log = path_str(&dir.join("log"))?,
-            lock = path_str(&dir.join("lock"))?,
-            spool = path_str(&dir.join("spool"))?,
-            data = path_str(&pg.data())?,
-            port = pg.port(),
-            socket = path_str(pg.socket_dir())?,
+            cipher_pass = patroni::password(),
         );
-        write_private(&config, &conf, owner)?;
-        // WAL archiving (archive_mode is read at start only: `configure` restarts).
-        pg.configure(&format!(
-            "# The restore drill (telerehab hub chaos --drill): WAL into the object store.\n\
-             wal_level = replica\n\
-             archive_mode = on\n\
-             archive_command = 'pgbackrest --config={} --stanza={STANZA} archive-push %p'\n",
-            path_str(&config)?
+        Ok(Self {
+            dir,
+            weed: Some(weed),
+            global,
+            as_user: as_postgres_user()?,
+            backup: None,
+        })
+    }
+
+    /// Node `k`'s pgBackRest configuration (`pg1-path` its own data directory).
+    fn config(&self, k: usize) -> PathBuf {
+        self.dir.path().join(format!("pgbackrest-{k}.conf"))
+    }
+
+    /// What node `k`'s PostgreSQL archives each WAL segment with.
+    pub fn archive_command(&self, k: usize) -> anyhow::Result<String> {
+        Ok(format!(
+            "pgbackrest --config={} --stanza={STANZA} archive-push %p",
+            path_str(&self.config(k))?
         ))
-        .await
-        .context("cannot turn on WAL archiving")?;
-        drill.wait_stanza().await?;
-        let as_user = drill.as_user.clone();
-        drill.backup = Some(tokio::spawn(async move {
+    }
+
+    /// Writes each node's configuration, turns on WAL archiving on a single server (a
+    /// restart; a cluster was started with it), creates the stanza and starts the full backup
+    /// in the background.
+    pub async fn begin(&mut self, target: Target<'_>) -> anyhow::Result<()> {
+        let owner = postgres_owner()?;
+        let nodes = target.nodes();
+        // pgBackRest refuses `archive_mode = always` unless told that the archivers may be
+        // several: the replica's segments are the primary's byte for byte (streamed), and one
+        // it pushes again is taken as done when its checksum is the same; one that differed
+        // would fail its archive-push and stop that node's archiving, which the counts after
+        // the restore would show.
+        let several_archivers = match target {
+            Target::Server(_) => "",
+            Target::Cluster(_) => "archive-mode-check=n\n",
+        };
+        for (k, node) in nodes.iter().enumerate() {
+            // Each machine's own log, lock and spool directories.
+            let own = self.dir.path().join(format!("node{k}"));
+            for sub in ["", "log", "lock", "spool"] {
+                std::fs::create_dir_all(own.join(sub))?;
+                give(&own.join(sub), owner)?;
+            }
+            let conf = format!(
+                "{global}\
+                 {several_archivers}\
+                 log-path={log}\n\
+                 lock-path={lock}\n\
+                 spool-path={spool}\n\
+                 \n\
+                 [{STANZA}]\n\
+                 pg1-path={data}\n\
+                 pg1-port={port}\n\
+                 pg1-socket-path={socket}\n\
+                 pg1-user=postgres\n",
+                global = self.global,
+                log = path_str(&own.join("log"))?,
+                lock = path_str(&own.join("lock"))?,
+                spool = path_str(&own.join("spool"))?,
+                data = path_str(&node.data)?,
+                port = node.port,
+                socket = path_str(&node.socket_dir)?,
+            );
+            write_private(&self.config(k), &conf, owner)?;
+        }
+        if let Target::Server(pg) = target {
+            // archive_mode is read at start only: `configure` restarts.
+            pg.configure(&format!(
+                "# The restore drill (telerehab hub chaos --drill): WAL into the object store.\n\
+                 wal_level = replica\n\
+                 archive_mode = on\n\
+                 archive_command = '{}'\n",
+                self.archive_command(0)?
+            ))
+            .await
+            .context("cannot turn on WAL archiving")?;
+        }
+        let leader = target.leader();
+        self.wait_stanza(&leader).await?;
+        let as_user = self.as_user.clone();
+        let configs: Vec<PathBuf> = (0..nodes.len()).map(|k| self.config(k)).collect();
+        self.backup = Some(tokio::spawn(async move {
             let mut attempts = 0;
             loop {
                 attempts += 1;
                 let started = Instant::now();
-                match pgbackrest(&as_user, &config, &["--type=full", "backup"]).await {
-                    Ok(_) => return Ok((started.elapsed(), attempts)),
+                let tried = match leader.now().await {
+                    Ok(k) => pgbackrest(&as_user, &configs[k], &["--type=full", "backup"])
+                        .await
+                        .map(drop),
+                    Err(e) => Err(e),
+                };
+                match tried {
+                    Ok(()) => return Ok((started.elapsed(), attempts)),
                     Err(e) if attempts >= BACKUP_TRIES => {
                         return Err(e.context(format!("the full backup, {attempts} attempts")));
                     }
@@ -449,22 +581,20 @@ impl Drill {
                 }
             }
         }));
-        Ok(drill)
-    }
-
-    fn config(&self) -> PathBuf {
-        self.dir.path().join("pgbackrest.conf")
+        Ok(())
     }
 
     fn log_tail(&self) -> String {
         weed_log(&self.dir.path().join("weed.log"))
     }
 
-    /// Creates the stanza (SeaweedFS makes the bucket shortly after its port opens: retried).
-    async fn wait_stanza(&mut self) -> anyhow::Result<()> {
+    /// Creates the stanza on the leader (SeaweedFS makes the bucket shortly after its port
+    /// opens: retried).
+    async fn wait_stanza(&self, leader: &Leader) -> anyhow::Result<()> {
         let started = Instant::now();
         loop {
-            match pgbackrest(&self.as_user, &self.config(), &["stanza-create"]).await {
+            let k = leader.now().await?;
+            match pgbackrest(&self.as_user, &self.config(k), &["stanza-create"]).await {
                 Ok(_) => return Ok(()),
                 Err(e) if started.elapsed() > STORE_WITHIN => {
                     bail!(
@@ -478,9 +608,10 @@ impl Drill {
         }
     }
 
-    /// The drill, at the end of the day with the hubs stopped and `pg` running: counts, check,
-    /// restore into a fresh data directory, a second server on it, counts again.
-    pub async fn run(mut self, pg: &Postgres) -> anyhow::Result<Figures> {
+    /// The drill, at the end of the day with the hubs stopped and the database running: counts
+    /// on the leader, check, restore into a fresh data directory, a second server on it,
+    /// counts again.
+    pub async fn run(mut self, target: Target<'_>) -> anyhow::Result<Figures> {
         let mut f = Figures::default();
         let (backup, attempts) = self
             .backup
@@ -490,13 +621,17 @@ impl Drill {
             .context("the backup task")??;
         f.backup_s = backup.as_secs_f64();
         f.backup_attempts = attempts;
+        let bin = target.bin();
+        let k = target.leader().now().await?;
+        let leader = &target.nodes()[k];
         let sql = counts_sql();
-        f.live = parse_counts(&psql(pg, pg.socket_dir(), pg.port(), &sql).await?)?;
-        let config = self.config();
+        f.live =
+            parse_counts(&psql(&bin, &self.as_user, &leader.socket_dir, leader.port, &sql).await?)?;
+        let config = self.config(k);
         let t = Instant::now();
         pgbackrest(&self.as_user, &config, &["check"]).await?;
         f.check_s = t.elapsed().as_secs_f64();
-        self.sizes(&mut f).await?;
+        self.sizes(&config, &mut f).await?;
         // The restore, into a directory of its own.
         let owner = postgres_owner()?;
         let restore = self.dir.path().join("restore");
@@ -516,23 +651,20 @@ impl Drill {
         )
         .await?;
         f.restore_command_s = started.elapsed().as_secs_f64();
-        // The restored server must not archive its new timeline into the day's repository.
-        {
-            let mut conf = std::fs::OpenOptions::new()
-                .append(true)
-                .open(data.join("postgresql.conf"))
-                .context("the restored postgresql.conf")?;
-            writeln!(conf, "\n# The restore drill's copy.\narchive_mode = off")?;
-        }
-        let pg_ctl = pg.bin().join("pg_ctl");
+        let pg_ctl = bin.join("pg_ctl");
+        // Not archiving into the day's repository, and no synchronous standby to wait for
+        // (a cluster's settings come with its data directory); the command line wins over both
+        // configuration files.
         let options = format!(
-            "-c listen_addresses=127.0.0.1 -p {port} -k {} -c fsync=off -c max_connections={MAX_CONNECTIONS}",
+            "-c listen_addresses=127.0.0.1 -p {port} -k {} -c fsync=off \
+             -c max_connections={MAX_CONNECTIONS} -c archive_mode=off \
+             -c synchronous_standby_names=''",
             path_str(&restore)?
         );
         let log = restore.join("server.log");
         let (data_s, log_s) = (path_str(&data)?, path_str(&log)?);
         run_as(
-            pg.as_user(),
+            &self.as_user,
             &pg_ctl,
             &[
                 "-D", data_s, "-l", log_s, "-w", "-t", "600", "-o", &options, "start",
@@ -543,7 +675,15 @@ impl Drill {
         let answered = async {
             let waiting = Instant::now();
             loop {
-                if psql(pg, &restore, port, "SELECT pg_is_in_recovery()").await? == "f" {
+                let recovering = psql(
+                    &bin,
+                    &self.as_user,
+                    &restore,
+                    port,
+                    "SELECT pg_is_in_recovery()",
+                )
+                .await?;
+                if recovering == "f" {
                     break;
                 }
                 if waiting.elapsed() > RECOVERY_WITHIN {
@@ -551,26 +691,26 @@ impl Drill {
                 }
                 tokio::time::sleep(Duration::from_millis(100)).await;
             }
-            parse_counts(&psql(pg, &restore, port, &sql).await?)
+            parse_counts(&psql(&bin, &self.as_user, &restore, port, &sql).await?)
         }
         .await;
         f.restore_s = started.elapsed().as_secs_f64();
         let stopped = run_as(
-            pg.as_user(),
+            &self.as_user,
             &pg_ctl,
             &["-D", data_s, "-w", "-t", "60", "-m", "immediate", "stop"],
         )
         .await;
-        f.restored = answered.context("the restored database")?;
+        f.restored =
+            answered.with_context(|| format!("the restored database: {}", log_tail(&log, 6)))?;
         stopped.context("stopping the restored server")?;
         Ok(f)
     }
 
-    /// The full backup's and the archived WAL's sizes in the store.
-    async fn sizes(&self, f: &mut Figures) -> anyhow::Result<()> {
-        let config = self.config();
+    /// The full backup's and the archived WAL's sizes in the store (read with `config`).
+    async fn sizes(&self, config: &Path, f: &mut Figures) -> anyhow::Result<()> {
         let info: serde_json::Value = serde_json::from_str(
-            &pgbackrest(&self.as_user, &config, &["--output=json", "info"]).await?,
+            &pgbackrest(&self.as_user, config, &["--output=json", "info"]).await?,
         )
         .context("pgbackrest info's JSON")?;
         let last = &info[0]["backup"]
@@ -582,7 +722,7 @@ impl Drill {
         let listing: serde_json::Value = serde_json::from_str(
             &pgbackrest(
                 &self.as_user,
-                &config,
+                config,
                 &[
                     "--output=json",
                     "--recurse",

@@ -94,10 +94,11 @@ pub struct ChaosArgs {
     /// configuration supports (`store` only with `--s3`).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub kinds: Vec<KillKind>,
-    /// The restore drill (single server only): the database backed up with pgBackRest into an
-    /// S3 store of its own (HTTPS) early in the day, WAL archived all day, restored at the end
-    /// into a fresh server whose counts must equal the live one's (module `drill`).
-    #[arg(long, conflicts_with = "patroni")]
+    /// The restore drill: the database (with `--patroni`, whichever node leads) backed up with
+    /// pgBackRest into an S3 store of its own (HTTPS) early in the day, WAL archived all day
+    /// (by every node of a cluster), restored at the end into a fresh server whose counts must
+    /// equal the live one's (module `drill`).
+    #[arg(long)]
     pub drill: bool,
 }
 
@@ -142,6 +143,13 @@ impl Database {
         match self {
             Self::Single(pg) => pg.url(),
             Self::Patroni(c) => c.url(),
+        }
+    }
+
+    fn drill_target(&self) -> drill::Target<'_> {
+        match self {
+            Self::Single(pg) => drill::Target::Server(pg),
+            Self::Patroni(c) => drill::Target::Cluster(c),
         }
     }
 
@@ -237,11 +245,26 @@ pub async fn run(args: ChaosArgs) -> anyhow::Result<()> {
     }
     let deadline_s = args.deadline_s.unwrap_or(args.day_s * 1.5);
     let n_events = args.events.unwrap_or((args.day_s / 15.0).round() as usize);
-    let pg = if args.patroni {
-        Database::Patroni(Box::new(
-            Patroni::start_new()
+    // The drill's store first: a cluster archives from its start.
+    let mut drill = if args.drill {
+        Some(
+            drill::Drill::start()
                 .await
-                .map_err(|e| anyhow::anyhow!("Patroni unavailable: {e:#}"))?,
+                .map_err(|e| anyhow::anyhow!("restore drill unavailable: {e:#}"))?,
+        )
+    } else {
+        None
+    };
+    let pg = if args.patroni {
+        let archive = drill.as_ref().map(|d| move |k: usize| d.archive_command(k));
+        Database::Patroni(Box::new(
+            Patroni::start_new(
+                archive
+                    .as_ref()
+                    .map(|f| f as &dyn Fn(usize) -> anyhow::Result<String>),
+            )
+            .await
+            .map_err(|e| anyhow::anyhow!("Patroni unavailable: {e:#}"))?,
         ))
     } else {
         Database::Single(
@@ -261,29 +284,23 @@ pub async fn run(args: ChaosArgs) -> anyhow::Result<()> {
     } else {
         None
     };
-    let drill = match (&pg, args.drill) {
-        (Database::Single(single), true) => match drill::Drill::prepare(single).await {
-            Ok(d) => Some(d),
-            Err(e) => {
-                if let Some(s) = s3 {
-                    s.stop().await;
-                }
-                let _ = pg.stop().await;
-                bail!("restore drill unavailable: {e:#}");
-            }
-        },
-        _ => None,
-    };
+    if let Some(d) = drill.as_mut()
+        && let Err(e) = d.begin(pg.drill_target()).await
+    {
+        if let Some(s) = s3 {
+            s.stop().await;
+        }
+        let _ = pg.stop().await;
+        bail!("restore drill unavailable: {e:#}");
+    }
     let tmp = tempfile::tempdir().context("cannot make the day's directory")?;
     let dir = args.keep.clone().unwrap_or_else(|| tmp.path().to_owned());
     let result = day(&args, &pg, s3.as_ref(), &dir, deadline_s, n_events).await;
     if let Some(s) = s3 {
         s.stop().await;
     }
-    let drilled = match (drill, &pg) {
-        (Some(d), Database::Single(single)) if result.is_ok() => {
-            Some(drill::report(&d.run(single).await))
-        }
+    let drilled = match drill {
+        Some(d) if result.is_ok() => Some(drill::report(&d.run(pg.drill_target()).await)),
         _ => None,
     };
     if let Err(e) = pg.stop().await {

@@ -25,7 +25,7 @@ use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::process::{Child, Command};
 use tokio::sync::Mutex;
 
-use super::postgres::{bindir, free_port, path_str, postgres_owner, server_version};
+use super::postgres::{PgNode, bindir, free_port, path_str, postgres_owner, server_version};
 
 /// Longest the cluster may take to elect a leader and stream to a synchronous replica.
 const FORM_WITHIN: Duration = Duration::from_secs(60);
@@ -99,8 +99,36 @@ pub struct Patroni {
     password: String,
     /// `(uid, gid)` of the `postgres` OS user when running as root.
     owner: Option<(u32, u32)>,
+    /// The directory of the server's binaries (`pg_ctl`, `psql`).
+    bindir: PathBuf,
     /// The server's version, e.g. `15.10`.
     pub version: String,
+}
+
+/// Asks the nodes' Patroni REST APIs who leads; cheap to clone into a task.
+#[derive(Debug, Clone)]
+pub(super) struct Members {
+    /// Each node's (name, REST port), by node.
+    nodes: Vec<(String, u16)>,
+}
+
+impl Members {
+    /// The cluster as Patroni's REST API on any answering node sees it.
+    async fn state(&self) -> Option<ClusterState> {
+        for (_, rest_port) in &self.nodes {
+            if let Ok((200, body)) = http_get(*rest_port, "/cluster").await
+                && let Ok(json) = serde_json::from_str::<serde_json::Value>(&body)
+            {
+                return Some(ClusterState::from_json(&json, &self.nodes));
+            }
+        }
+        None
+    }
+
+    /// The node that leads now, if any.
+    pub(super) async fn leader(&self) -> Option<usize> {
+        self.state().await.and_then(|c| c.leader)
+    }
 }
 
 /// A password of 32 hex digits (safe in a URL and in YAML).
@@ -196,7 +224,13 @@ impl Patroni {
     /// Starts etcd, two Patroni nodes and the balancer, and waits until there is a leader with a
     /// synchronous replica streaming and a write through the balancer is accepted. An error here
     /// means "Patroni unavailable".
-    pub async fn start_new() -> anyhow::Result<Self> {
+    ///
+    /// With `archive_command` (node → its command), every node archives its WAL with
+    /// `archive_mode = always`: the replica too, so a segment the primary filled but had not
+    /// archived when its machine went is in the archive all the same (module `drill`).
+    pub async fn start_new(
+        archive_command: Option<&dyn Fn(usize) -> anyhow::Result<String>>,
+    ) -> anyhow::Result<Self> {
         for program in ["patroni", "etcd", "haproxy", "psql"] {
             if !on_path(program) {
                 bail!(
@@ -223,6 +257,7 @@ impl Patroni {
             port: free_port()?,
             password: password(),
             owner,
+            bindir: bindir.clone(),
             version,
         };
         for m in 0..ETCD_MEMBERS {
@@ -241,6 +276,7 @@ impl Patroni {
                 child: Mutex::new(None),
             };
             std::fs::create_dir_all(&node.dir)?;
+            let archive = archive_command.map(|f| f(k)).transpose()?;
             std::fs::write(
                 node.config(),
                 node_config(
@@ -249,6 +285,7 @@ impl Patroni {
                     &bindir,
                     &cluster.password,
                     &replication,
+                    archive.as_deref(),
                 )?,
             )?;
             cluster.nodes.push(node);
@@ -403,16 +440,36 @@ impl Patroni {
         Ok(())
     }
 
-    /// The cluster as Patroni's REST API on any answering node sees it.
-    async fn state(&self) -> Option<ClusterState> {
-        for node in &self.nodes {
-            if let Ok((200, body)) = http_get(node.rest_port, "/cluster").await
-                && let Ok(json) = serde_json::from_str::<serde_json::Value>(&body)
-            {
-                return Some(ClusterState::from_json(&json, &self.nodes));
-            }
+    /// Who leads, asked from anywhere (a task of its own).
+    pub(super) fn members(&self) -> Members {
+        Members {
+            nodes: self
+                .nodes
+                .iter()
+                .map(|n| (n.name.clone(), n.rest_port))
+                .collect(),
         }
-        None
+    }
+
+    /// Where each node's PostgreSQL runs, by node.
+    pub(super) fn nodes(&self) -> Vec<PgNode> {
+        self.nodes
+            .iter()
+            .map(|n| PgNode {
+                data: n.data(),
+                port: n.pg_port,
+                socket_dir: n.dir.clone(),
+            })
+            .collect()
+    }
+
+    /// The directory of the server's binaries.
+    pub(super) fn bin(&self) -> &Path {
+        &self.bindir
+    }
+
+    async fn state(&self) -> Option<ClusterState> {
+        self.members().state().await
     }
 
     async fn wait(
@@ -453,7 +510,7 @@ impl Patroni {
 
     /// The node that leads now, if any.
     pub async fn leader(&self) -> Option<usize> {
-        self.state().await.and_then(|c| c.leader)
+        self.members().leader().await
     }
 
     /// The primary's machine gone: its Patroni, its postmaster with every backend and its etcd
@@ -552,7 +609,8 @@ struct ClusterState {
 }
 
 impl ClusterState {
-    fn from_json(json: &serde_json::Value, nodes: &[Node]) -> Self {
+    /// From `GET /cluster`'s answer, with `nodes`' (name, REST port) in node order.
+    fn from_json(json: &serde_json::Value, nodes: &[(String, u16)]) -> Self {
         let mut state = Self::default();
         let members = json
             .get("members")
@@ -560,7 +618,7 @@ impl ClusterState {
             .map_or(&[][..], Vec::as_slice);
         for m in members {
             let field = |k: &str| m.get(k).and_then(serde_json::Value::as_str).unwrap_or("");
-            let Some(k) = nodes.iter().position(|n| n.name == field("name")) else {
+            let Some(k) = nodes.iter().position(|(name, _)| name == field("name")) else {
                 continue;
             };
             match (field("role"), field("state")) {
@@ -583,6 +641,7 @@ fn node_config(
     bindir: &Path,
     superuser: &str,
     replication: &str,
+    archive_command: Option<&str>,
 ) -> anyhow::Result<String> {
     let dir = path_str(&node.dir)?;
     let data = node.data();
@@ -594,6 +653,13 @@ fn node_config(
         .map(|(client, _)| format!("127.0.0.1:{client}"))
         .collect();
     let etcd_hosts = etcd_hosts.join(",");
+    // YAML single quotes: a quote inside is doubled.
+    let archive = archive_command.map_or(String::new(), |command| {
+        format!(
+            "    archive_mode: 'always'\n    archive_command: '{}'\n",
+            command.replace('\'', "''")
+        )
+    });
     Ok(format!(
         "scope: telerehab-chaos
 name: {name}
@@ -635,7 +701,7 @@ postgresql:
       password: {replication}
   parameters:
     unix_socket_directories: {dir}
-  pg_hba:
+{archive}  pg_hba:
     - local all all trust
     - host replication replicator 127.0.0.1/32 md5
     - host all all 127.0.0.1/32 md5
@@ -696,7 +762,10 @@ mod tests {
 
     #[test]
     fn the_cluster_is_formed_only_with_a_leader_and_a_synchronous_replica() {
-        let nodes = nodes();
+        let nodes: Vec<(String, u16)> = nodes()
+            .iter()
+            .map(|n| (n.name.clone(), n.rest_port))
+            .collect();
         let member = |name: &str, role: &str, state: &str| serde_json::json!({"name": name, "role": role, "state": state});
         let formed = |members: Vec<serde_json::Value>| {
             let c = ClusterState::from_json(&serde_json::json!({ "members": members }), &nodes);
@@ -762,6 +831,7 @@ mod tests {
             Path::new("/usr/lib/postgresql/15/bin"),
             "su",
             "rep",
+            None,
         )
         .unwrap();
         for line in [
@@ -783,6 +853,35 @@ mod tests {
         ] {
             assert!(cfg.lines().any(|l| l == line), "no {line:?} in:\n{cfg}");
         }
+    }
+
+    #[test]
+    fn a_node_archives_with_its_own_command_even_as_the_replica() {
+        let node = &nodes()[0];
+        let etcd = [(2379, 2380)];
+        let bin = Path::new("/usr/lib/postgresql/15/bin");
+        let plain = node_config(node, &etcd, bin, "su", "rep", None).unwrap();
+        assert!(!plain.contains("archive"), "{plain}");
+        let cfg = node_config(
+            node,
+            &etcd,
+            bin,
+            "su",
+            "rep",
+            Some("pgbackrest --config=/d/it's.conf archive-push %p"),
+        )
+        .unwrap();
+        for line in [
+            "    archive_mode: 'always'",
+            "    archive_command: 'pgbackrest --config=/d/it''s.conf archive-push %p'",
+        ] {
+            assert!(cfg.lines().any(|l| l == line), "no {line:?} in:\n{cfg}");
+        }
+        // Under the node's own `postgresql.parameters`, before its pg_hba.
+        let params = cfg.find("    unix_socket_directories:").unwrap();
+        let archive = cfg.find("    archive_mode:").unwrap();
+        let hba = cfg.find("  pg_hba:").unwrap();
+        assert!(params < archive && archive < hba, "{cfg}");
     }
 
     #[test]

@@ -87,6 +87,28 @@ pub(super) fn postgres_owner() -> anyhow::Result<Option<(u32, u32)>> {
     }
 }
 
+/// `runuser -u postgres --` when this process is root (PostgreSQL refuses root), else nothing.
+pub(super) fn as_postgres_user() -> anyhow::Result<Vec<String>> {
+    Ok(if postgres_owner()?.is_some() {
+        ["runuser", "-u", "postgres", "--"]
+            .map(String::from)
+            .to_vec()
+    } else {
+        Vec::new()
+    })
+}
+
+/// Where one PostgreSQL server of the day runs: the one server, or a node of the cluster.
+#[derive(Debug, Clone)]
+pub(super) struct PgNode {
+    /// Its data directory.
+    pub data: PathBuf,
+    /// Its TCP port (and its socket's number).
+    pub port: u16,
+    /// The directory of its Unix socket.
+    pub socket_dir: PathBuf,
+}
+
 /// A free TCP port on loopback (free when asked; the caller binds it soon after).
 pub(super) fn free_port() -> anyhow::Result<u16> {
     let listener = std::net::TcpListener::bind("127.0.0.1:0").context("no free port")?;
@@ -128,14 +150,11 @@ impl Postgres {
             .prefix("telerehab-chaos-pg.")
             .tempdir()
             .context("cannot make the cluster's directory")?;
-        let mut as_user = Vec::new();
         if let Some((uid, _)) = postgres_owner()? {
             std::os::unix::fs::chown(dir.path(), Some(uid), None)
                 .context("cannot give the cluster's directory to the postgres user")?;
-            as_user = ["runuser", "-u", "postgres", "--"]
-                .map(String::from)
-                .to_vec();
         }
+        let as_user = as_postgres_user()?;
         let version = server_version(&bindir);
         let pg = Self {
             port: free_port()?,
@@ -165,28 +184,22 @@ impl Postgres {
     }
 
     /// The cluster's data directory.
-    pub(super) fn data(&self) -> PathBuf {
+    fn data(&self) -> PathBuf {
         self.dir.path().join("data")
     }
 
-    /// The directory of the server's Unix socket.
-    pub(super) fn socket_dir(&self) -> &Path {
-        self.dir.path()
-    }
-
-    /// The server's TCP port (and its socket's number).
-    pub(super) fn port(&self) -> u16 {
-        self.port
+    /// Where the server runs: data directory, port, socket.
+    pub(super) fn node(&self) -> PgNode {
+        PgNode {
+            data: self.data(),
+            port: self.port,
+            socket_dir: self.dir.path().to_owned(),
+        }
     }
 
     /// The directory of `initdb`, `pg_ctl`, `psql`.
     pub(super) fn bin(&self) -> &Path {
         &self.bindir
-    }
-
-    /// `runuser -u postgres --` when running as root, else nothing.
-    pub(super) fn as_user(&self) -> &[String] {
-        &self.as_user
     }
 
     /// Appends `lines` to the cluster's `postgresql.conf` (later lines win) and restarts the
