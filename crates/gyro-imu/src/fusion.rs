@@ -709,13 +709,13 @@ impl OrientationFilter {
                 self.p6[(i + 3, i + 3)] += v_s;
             }
         }
-        let (e, h, w): (Vector3<f64>, SMatrix<f64, 3, 6>, Vector3<f64>) =
+        let (e, h, w, learn_scale): (Vector3<f64>, SMatrix<f64, 3, 6>, Vector3<f64>, bool) =
             if self.rest && self.cfg.rest_bias_estimation {
                 let w = self.k.bias_rest_w * k2;
                 let mut h = SMatrix::<f64, 3, 6>::zeros();
                 h.fixed_view_mut::<3, 3>(0, 0)
                     .copy_from(&Matrix3::identity());
-                (self.rest_gyr_lp_rad_s - b, h, Vector3::new(w, w, w))
+                (self.rest_gyr_lp_rad_s - b, h, Vector3::new(w, w, w), false)
             } else if let (true, Some((r_lp, rb_lp, rwl, rws_lp, a_e))) =
                 (self.cfg.motion_bias_estimation, motion)
             {
@@ -733,7 +733,7 @@ impl OrientationFilter {
                     h.fixed_view_mut::<2, 3>(0, 3).copy_from(&rw_lp);
                 }
                 let (wm, wv) = (self.k.bias_motion_w * k2, self.k.bias_vertical_w * k2);
-                (e, h, Vector3::new(wm, wm, wv))
+                (e, h, Vector3::new(wm, wm, wv), self.scale_observable)
             } else {
                 return;
             };
@@ -748,15 +748,14 @@ impl OrientationFilter {
         // the scale states without estimating them (their gain rows are zero). The bias block
         // and the bias–scale cross-covariance are updated as in the full step; the scale block
         // keeps its value.
-        let consider_scale = !(h[(0, 3)] != 0.0 || h[(0, 4)] != 0.0 || h[(0, 5)] != 0.0);
-        if consider_scale {
+        if !learn_scale {
             gain.fixed_rows_mut::<3>(3).fill(0.0);
         }
         let dx: SVector<f64, 6> = gain * e;
         self.bias_rad_s = (b + dx.fixed_rows::<3>(0)).map(|x| x.clamp(-clip, clip));
         self.scale = (sc + dx.fixed_rows::<3>(3)).map(|x| x.clamp(-SCALE_CLIP, SCALE_CLIP));
         self.p6 -= gain * h * self.p6;
-        if consider_scale {
+        if !learn_scale {
             let cross = self.p6.fixed_view::<3, 3>(0, 3).transpose();
             self.p6.fixed_view_mut::<3, 3>(3, 0).copy_from(&cross);
         }
