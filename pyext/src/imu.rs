@@ -63,7 +63,7 @@ fn imu_integrate<'py>(
 /// Gyro + accelerometer orientation fusion; returns `(N, 4)` unit quaternions `(w, x, y, z)`,
 /// sensor-to-earth, earth z up.
 #[pyfunction]
-#[pyo3(signature = (gyr_rad_s, acc_m_s2, dt_s, tau_acc_s, scale_estimation))]
+#[pyo3(signature = (gyr_rad_s, acc_m_s2, dt_s, tau_acc_s, scale_estimation, rest_tilt_check))]
 fn imu_fuse<'py>(
     py: Python<'py>,
     gyr_rad_s: PyReadonlyArray2<'py, f64>,
@@ -71,6 +71,7 @@ fn imu_fuse<'py>(
     dt_s: f64,
     tau_acc_s: f64,
     scale_estimation: bool,
+    rest_tilt_check: bool,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let g = vectors("gyr_rad_s", &gyr_rad_s)?;
     let a = vectors("acc_m_s2", &acc_m_s2)?;
@@ -79,6 +80,7 @@ fn imu_fuse<'py>(
     let cfg = FusionConfig {
         tau_acc_s,
         gyro_scale_estimation: scale_estimation,
+        rest_tilt_check,
         ..FusionConfig::default()
     };
     cfg.validate().map_err(imu_error)?;

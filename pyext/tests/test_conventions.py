@@ -47,7 +47,7 @@ def test_bad_shapes_and_dtypes_raise_value_error_naming_the_argument(call, match
 @pytest.mark.parametrize(
     "call, match",
     [
-        (lambda: _native.imu_fuse(Z3, np.zeros((19, 3)), 0.01, 3.0, False), r"acc_m_s2 has 19 rows but gyr_rad_s has 20"),
+        (lambda: _native.imu_fuse(Z3, np.zeros((19, 3)), 0.01, 3.0, False, True), r"acc_m_s2 has 19 rows but gyr_rad_s has 20"),
         (lambda: _native.imu_estimate_bias(np.full((20, 3), np.nan), 0.01, None, 2.0, 1.5), r"rates_rad_s\[0\] is not finite"),
         (lambda: _native.calibrate_arm_3d(Z3, Z3, np.zeros((20, 2)), None, "exact", True, 20), r"grip_points_m must have shape \(N, 3\)"),
         (lambda: _native.calibrate_arm_3d(Z3, Z3, np.zeros((19, 3)), None, "exact", True, 20), r"grip_points_m has 19 rows but upper_dirs has 20"),
@@ -63,7 +63,7 @@ def test_native_layer_checks_on_its_own_and_uses_the_python_names(call, match):
 def test_public_arguments_carry_their_unit():
     names = {
         imu.integrate: ["rates_rad_s", "dt_s", "method"],
-        imu.fuse: ["gyr_rad_s", "acc_m_s2", "dt_s", "tau_acc_s", "scale_estimation"],
+        imu.fuse: ["gyr_rad_s", "acc_m_s2", "dt_s", "tau_acc_s", "scale_estimation", "rest_tilt_check"],
         imu.estimate_bias: ["rates_rad_s", "dt_s", "acc_m_s2", "rate_threshold_deg_s", "min_rest_s"],
         calib.OnlinePlanarFourbar.__init__: ["self", "l2_m", "forgetting"],
         calib.OnlinePlanarFourbar.update: ["self", "phi2_rad", "phi3_rad", "phi4_rad"],

@@ -47,6 +47,7 @@ def fuse(
     *,
     tau_acc_s: float = 3.0,
     scale_estimation: bool = False,
+    rest_tilt_check: bool = True,
 ) -> FloatArray:
     """Orientation from gyroscope and accelerometer with online gyro-bias estimation.
 
@@ -56,13 +57,20 @@ def fuse(
     VQF-style (Laidig & Seel 2023): inclination from accelerations low-pass filtered (time
     constant ``tau_acc_s``) in an almost-inertial frame, bias estimated at rest and during
     motion. No per-recording tuning is needed. ``scale_estimation=True`` also estimates each
-    gyroscope axis's scale-factor error during motion (not in VQF): on BROAD's 30 trials here
-    the inclination error falls from 0.723° (VQF's, to rounding) to 0.627° (BENCHMARKS.md);
-    the station does not use it yet.
+    gyroscope axis's scale-factor error during motion (not in VQF), while rotation rather than
+    translation dominates the motion; the station does not use it yet. ``rest_tilt_check``
+    (the station's default) also requires the gravity direction to be still before declaring
+    rest; ``False`` is VQF's rest test, which suits a sensor carried about (a translation tilts
+    the specific force without turning the sensor). On BROAD's 30 trials reachable here the
+    inclination error is 0.723° with the defaults (VQF's, to rounding) and 0.626° with
+    ``scale_estimation=True, rest_tilt_check=False``, no trial class worse than VQF's
+    (BENCHMARKS.md).
     """
     g = vectors("gyr_rad_s", gyr_rad_s)
     a = vectors("acc_m_s2", acc_m_s2, g.shape[0], "gyr_rad_s")
-    return _native.imu_fuse(g, a, period_s("dt_s", dt_s), float(tau_acc_s), bool(scale_estimation))
+    return _native.imu_fuse(
+        g, a, period_s("dt_s", dt_s), float(tau_acc_s), bool(scale_estimation), bool(rest_tilt_check)
+    )
 
 
 def estimate_bias(

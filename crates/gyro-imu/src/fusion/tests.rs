@@ -175,6 +175,156 @@ fn estimating_a_gyroscopes_scale_error_lowers_the_inclination_error_it_causes() 
     }
 }
 
+/// Inclination RMS (deg) over the second half, the final scale estimate and the share of
+/// samples the translation gate let the scale be learned from, for the filter `cfg` over
+/// `seconds` of a sensor carried about: 0.1 m oscillations at 1.3 / 1.7 / 2.1 Hz along the
+/// three earth axes (up to 17 m/s² of linear acceleration, as BROAD's fast translations)
+/// and a wobble of up to 57 °/s per axis, read by a gyroscope with per-axis scale error `scale`, a
+/// bias and white noise, and an accelerometer with white noise.
+fn carried(cfg: FusionConfig, scale: Vector3<f64>, seconds: f64) -> (f64, Vector3<f64>, f64) {
+    use rand::{Rng, SeedableRng};
+    use std::f64::consts::TAU;
+    let dt = 1.0 / 200.0;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+    let bias = Vector3::new(0.3, -0.2, 0.25).map(f64::to_radians);
+    let mut q = UnitQuaternion::identity();
+    let mut f = OrientationFilter::new(cfg).unwrap();
+    let (mut incl2, mut n, mut open) = (0.0, 0usize, 0usize);
+    let steps = (seconds / dt) as usize;
+    for k in 0..steps {
+        let t = k as f64 * dt;
+        let w = Vector3::new(
+            (TAU * 0.9 * t).sin(),
+            (TAU * 1.1 * t).cos(),
+            (TAU * 0.7 * t).sin(),
+        ) * 1.0;
+        let lin = Vector3::new(1.3f64, 1.7, 2.1)
+            .map(|fr| -0.1 * (TAU * fr).powi(2))
+            .component_mul(&Vector3::new(
+                (TAU * 1.3 * t).sin(),
+                (TAU * 1.7 * t).sin(),
+                (TAU * 2.1 * t).sin(),
+            ));
+        let gyr_noise = Vector3::from_fn(|_, _| rng.random_range(-1.0..1.0) * 0.002);
+        let acc_noise = Vector3::from_fn(|_, _| rng.random_range(-1.0..1.0) * 0.02);
+        let gyr = w.component_mul(&(Vector3::repeat(1.0) + scale)) + bias + gyr_noise;
+        let acc = q.inverse() * (Vector3::new(0.0, 0.0, 9.81) + lin) + acc_noise;
+        let est = f.update(&gyr, Some(&acc), dt);
+        open += f.scale_observable() as usize;
+        q *= UnitQuaternion::from_scaled_axis(w * dt);
+        if t > seconds / 2.0 {
+            let up_t = q.inverse() * Vector3::z();
+            let up_e = est.inverse() * Vector3::z();
+            incl2 += up_t.angle(&up_e).to_degrees().powi(2);
+            n += 1;
+        }
+    }
+    (
+        (incl2 / n as f64).sqrt(),
+        f.gyro_scale_error(),
+        open as f64 / steps as f64,
+    )
+}
+
+#[test]
+fn scale_estimation_does_not_worsen_a_carried_sensor_whose_motion_is_translation() {
+    let scale = Vector3::new(0.008, -0.005, 0.003);
+    let on = FusionConfig {
+        gyro_scale_estimation: true,
+        ..FusionConfig::default()
+    };
+    let ungated = FusionConfig {
+        scale_translation_speed_m_s: 1e3,
+        ..on
+    };
+    let (plain, _, _) = carried(FusionConfig::default(), scale, 120.0);
+    let (gated, estimate, open) = carried(on, scale, 120.0);
+    let (free, free_estimate, _) = carried(ungated, scale, 120.0);
+    println!(
+        "inclination RMS {plain:.4}° without, {gated:.4}° with scale estimation (gate open \
+         {:.1} % of samples, estimate {estimate:?}), {free:.4}° without the gate (estimate \
+         {free_estimate:?})",
+        100.0 * open
+    );
+    // The case is one where learning the scale from translation harms: without the gate the
+    // estimate moves away from the truth (the acceleration's error is fitted) and the
+    // inclination error grows.
+    assert!(
+        free > 1.02 * plain,
+        "{free:.4}° without the gate against {plain:.4}° without scale estimation"
+    );
+    assert!(
+        gated <= 1.01 * plain,
+        "{gated:.4}° with scale estimation against {plain:.4}° without"
+    );
+    assert!(
+        open < 0.05,
+        "the gate let {:.1} % of samples in",
+        100.0 * open
+    );
+    for i in 0..3 {
+        assert!(
+            (estimate[i] - scale[i]).abs() <= scale[i].abs() + 1e-4,
+            "axis {i}: estimated {:.5}, further from the true {:.4} than the start 0",
+            estimate[i],
+            scale[i]
+        );
+    }
+}
+
+/// The 1 kHz path's cost with scale estimation stays within the issue's 2× of the default
+/// filter's (issue 47), measured in the same run: the best of 9 alternating rounds of 4 000
+/// samples of a wandering 200 °/s turn (the translation gate open: the full six-state step
+/// runs) for each filter. 2026-12-08, load average 9–10: 1.63× in the debug build CI runs
+/// (three runs alike), 1.38× in a release build.
+#[test]
+fn scale_estimation_costs_at_most_twice_the_default_filter_a_sample() {
+    use std::time::Instant;
+    const RATIO_LIMIT: f64 = 2.0;
+    let dt = 1e-3;
+    let mut q = UnitQuaternion::identity();
+    let samples: Vec<(Vector3<f64>, Vector3<f64>)> = (0..4000)
+        .map(|k| {
+            let t = k as f64 * dt;
+            let w = Vector3::new((0.3 * t).sin(), (0.23 * t).cos(), 0.6).normalize()
+                * 200f64.to_radians();
+            let acc = q.inverse() * Vector3::new(0.0, 0.0, 9.81);
+            q *= UnitQuaternion::from_scaled_axis(w * dt);
+            (w, acc)
+        })
+        .collect();
+    let on = FusionConfig {
+        gyro_scale_estimation: true,
+        ..FusionConfig::default()
+    };
+    let (mut plain_f, mut scaled_f) = (
+        OrientationFilter::new(FusionConfig::default()).unwrap(),
+        OrientationFilter::new(on).unwrap(),
+    );
+    let (mut plain, mut scaled) = (f64::MAX, f64::MAX);
+    let mut open = 0usize;
+    for _ in 0..9 {
+        let t = Instant::now();
+        for (g, a) in &samples {
+            std::hint::black_box(plain_f.update(g, Some(a), dt));
+        }
+        plain = plain.min(t.elapsed().as_secs_f64());
+        let t = Instant::now();
+        for (g, a) in &samples {
+            std::hint::black_box(scaled_f.update(g, Some(a), dt));
+        }
+        scaled = scaled.min(t.elapsed().as_secs_f64());
+        open += scaled_f.scale_observable() as usize;
+    }
+    let ratio = scaled / plain;
+    println!("scale estimation: {ratio:.2}× the default filter's cost a sample");
+    assert!(open > 0, "the translation gate stayed shut on a pure turn");
+    assert!(
+        ratio <= RATIO_LIMIT,
+        "scale estimation costs {ratio:.2}× the default filter a sample"
+    );
+}
+
 #[test]
 fn scale_estimation_off_is_the_filter_as_before_and_its_estimate_stays_zero() {
     let off = run(3, 1.0, 1.0 / 200.0, Some(1.0), FusionConfig::default());
