@@ -478,12 +478,15 @@ mod tests {
     /// same run: a car's projections along a sine road, each from the last one's answer, with
     /// the road remembering against the same projections with the memory cleared before each
     /// (best of 9 alternating rounds of 4 000). A car's projection evaluates the centre line
-    /// three or four times, one of them where the last ended; the bound leaves room for a
-    /// loaded machine.
+    /// three or four times, one of them where the last ended. 2026-12-08, loaded machine:
+    /// 0.66–0.67 in release, 0.37–0.66 in the debug build CI runs; the bound leaves room for
+    /// noise.
+    /// (The clock is read here, in the test, never in the library.)
     #[test]
+    #[allow(clippy::disallowed_methods)]
     fn a_cars_projection_from_where_the_last_ended_costs_less_than_afresh() {
         use std::time::Instant;
-        const RATIO_LIMIT: f64 = 0.9;
+        const RATIO_LIMIT: f64 = 0.85;
         let road = PathBuilder::new(0.0, 0.0, 0.0, 3.5)
             .sine(1.5, 40.0, 6)
             .build()
