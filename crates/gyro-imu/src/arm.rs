@@ -135,13 +135,54 @@ pub fn solve(
 /// frame, [`ArmGeometry::grip`]), the swivel's `(sin, cos)` and the forearm's turn about its
 /// own axis by the pronation (`twist`, a rotation about x). The simulated arm
 /// ([`crate::sim::arm`]) solves the chain three times a tick at angles a step apart and gets
-/// these by angle addition; the pose estimator calls [`solve`].
+/// these by angle addition; the pose estimator calls [`reach`] once a tick and solves from it.
 pub fn solve_from(
     geo: &ArmGeometry,
     grip_m: Vector3<f64>,
-    (swivel_sin, swivel_cos): (f64, f64),
+    swivel_sin_cos: (f64, f64),
     twist: Matrix3<f64>,
 ) -> Result<ArmState, ImuError> {
+    Ok(reach(geo, grip_m)?.elbow(swivel_sin_cos).state(twist))
+}
+
+/// What the chain's solve takes from the grip point alone: the circle the elbow can lie on.
+/// [`Reach::elbow`] places the elbow on it at a swivel and [`Elbow::state`] turns the forearm
+/// by the pronation; the three steps are [`solve_from`]'s arithmetic, operation for operation,
+/// so a caller that solves many swivels and pronations at one wheel angle (the pose
+/// estimator's Gauss–Newton fit) gets the same bits as from [`solve`] with a third of the work.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Reach {
+    shoulder_m: Vector3<f64>,
+    grip_m: Vector3<f64>,
+    upper_arm_m: f64,
+    forearm_m: f64,
+    /// The centre of the elbow's circle, m: `shoulder + n·a`.
+    centre_m: Vector3<f64>,
+    /// The circle's radius, m.
+    radius_m: f64,
+    /// The circle's unit axes: `e1` the swivel's zero (elbow down), `e2 = e1 × n`.
+    e1: Vector3<f64>,
+    e2: Vector3<f64>,
+}
+
+/// The elbow placed at one swivel: the upper arm's frame and the forearm's hinge frame (before
+/// its turn by the pronation), from [`Reach::elbow`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Elbow {
+    /// Upper-arm-to-world orientation.
+    pub upper: Matrix3<f64>,
+    /// The forearm's hinge frame `[x_f, z × x_f, z]` in the world.
+    pub hinge: Matrix3<f64>,
+    /// Elbow position (m).
+    pub elbow_m: Vector3<f64>,
+    /// Grip (wrist) position (m).
+    pub grip_m: Vector3<f64>,
+}
+
+/// The elbow's circle for the grip point `grip_m` (m, wheel frame); an error when the grip is
+/// out of the arm's reach (nearer than the lengths' difference, or farther than the arm
+/// reaches with [`MIN_FLEXION_RAD`] of flexion).
+pub fn reach(geo: &ArmGeometry, grip_m: Vector3<f64>) -> Result<Reach, ImuError> {
     let s = geo.shoulder();
     let w = grip_m;
     let (l1, l2) = (geo.upper_arm_m, geo.forearm_m);
@@ -165,19 +206,48 @@ pub fn solve_from(
         .try_normalize(1e-9)
         .unwrap_or_else(|| n.cross(&Vector3::y()).normalize());
     let e2 = e1.cross(&n);
-    let elbow = s + n * a + (e1 * swivel_cos + e2 * swivel_sin) * h;
-    let xu = (elbow - s) / l1;
-    let xf = (w - elbow) / l2;
-    let z = xu.cross(&xf).normalize();
-    let upper = Matrix3::from_columns(&[xu, z.cross(&xu), z]);
-    let hinge = Matrix3::from_columns(&[xf, z.cross(&xf), z]);
-    let fore = hinge * twist;
-    Ok(ArmState {
-        upper,
-        fore,
-        elbow_m: elbow,
+    Ok(Reach {
+        shoulder_m: s,
         grip_m: w,
+        upper_arm_m: l1,
+        forearm_m: l2,
+        centre_m: s + n * a,
+        radius_m: h,
+        e1,
+        e2,
     })
+}
+
+impl Reach {
+    /// The elbow at the swivel whose `(sin, cos)` is given (0 = straight below the
+    /// shoulder–grip line, positive = outward).
+    pub fn elbow(&self, (swivel_sin, swivel_cos): (f64, f64)) -> Elbow {
+        let s = self.shoulder_m;
+        let w = self.grip_m;
+        let elbow = self.centre_m + (self.e1 * swivel_cos + self.e2 * swivel_sin) * self.radius_m;
+        let xu = (elbow - s) / self.upper_arm_m;
+        let xf = (w - elbow) / self.forearm_m;
+        let z = xu.cross(&xf).normalize();
+        Elbow {
+            upper: Matrix3::from_columns(&[xu, z.cross(&xu), z]),
+            hinge: Matrix3::from_columns(&[xf, z.cross(&xf), z]),
+            elbow_m: elbow,
+            grip_m: w,
+        }
+    }
+}
+
+impl Elbow {
+    /// The chain with the forearm turned about its own axis by `twist` (a rotation about x,
+    /// `so3::exp` of the pronation about x).
+    pub fn state(&self, twist: Matrix3<f64>) -> ArmState {
+        ArmState {
+            upper: self.upper,
+            fore: self.hinge * twist,
+            elbow_m: self.elbow_m,
+            grip_m: self.grip_m,
+        }
+    }
 }
 
 /// Joint angles of the arm (rad).

@@ -358,6 +358,10 @@ struct Coeffs {
     bias_motion_w: f64,
     bias_vertical_w: f64,
     bias_rest_w: f64,
+    /// Gains of the tilt-rate test's fast and slow first-order low-passes (time constants 0.2
+    /// and 0.7 × `rest.filter_tau_s`): an `exp` each, taken when `dt` changes, not per sample.
+    tilt_fast_gain: f64,
+    tilt_slow_gain: f64,
 }
 
 impl Coeffs {
@@ -381,6 +385,8 @@ impl Coeffs {
             bias_motion_w,
             bias_vertical_w: bias_motion_w / cfg.bias_vertical_forgetting_factor.max(1e-10),
             bias_rest_w: p_rest * p_rest / bias_v + p_rest,
+            tilt_fast_gain: lp_gain(0.2 * cfg.rest.filter_tau_s, dt_s),
+            tilt_slow_gain: lp_gain(0.7 * cfg.rest.filter_tau_s, dt_s),
         }
     }
 }
@@ -553,8 +559,8 @@ impl OrientationFilter {
             // differ in direction by r · 0.5 × filter_tau_s.
             let tau = self.cfg.rest.filter_tau_s;
             let (fast, slow) = self.rest_tilt_lp.get_or_insert((*acc, *acc));
-            *fast += (acc - *fast) * lp_gain(0.2 * tau, dt_s);
-            *slow += (acc - *slow) * lp_gain(0.7 * tau, dt_s);
+            *fast += (acc - *fast) * self.k.tilt_fast_gain;
+            *slow += (acc - *slow) * self.k.tilt_slow_gain;
             let tilting = self.cfg.rest_tilt_check
                 && fast.angle(slow) / (0.5 * tau)
                     >= self.cfg.rest.tilt_rate_threshold_deg_s.to_radians();

@@ -14,6 +14,7 @@ use crate::arm::{self, ArmGeometry, ArmState, JointAngles, RangeOfMotion};
 use crate::device::ImuSample;
 use crate::error::ImuError;
 use crate::fusion::{FusionConfig, OrientationFilter};
+use crate::so3;
 
 /// Sensor-to-segment rotations of the two IMUs, as [`crate::mounting`] finds them.
 pub use crate::mounting::Mounting;
@@ -94,25 +95,41 @@ impl ArmPoseEstimator {
         // Measured "up" in each segment frame.
         let up_u = self.mount.upper * (qu.inverse() * Vector3::z());
         let up_f = self.mount.fore * (qf.inverse() * Vector3::z());
-        let residual = |p: &Vector2<f64>| -> Result<[f64; 6], ImuError> {
-            let s = arm::solve(&self.geo, wheel_rad, p.x, p.y)?;
+        // Every solve of the fit is at this tick's wheel angle: the grip point and the elbow's
+        // circle are found once ([`arm::reach`]); a step in swivel alone keeps the forearm's
+        // twist, a step in pronation alone the elbow, and the pose fitted is the last one
+        // solved. The same arithmetic as a plain [`arm::solve`] per trial, bit for bit
+        // (`the_fit_is_bit_for_bit_the_fit_by_plain_solves`), with a third of its sines and
+        // cosines (issue 47: they were the haptic thread's largest cost at `--speed max`).
+        let reach = arm::reach(&self.geo, self.geo.grip(wheel_rad))?;
+        let swivel = |x: f64| reach.elbow((x.sin(), x.cos()));
+        let twist = |y: f64| so3::exp(&Vector3::new(y, 0.0, 0.0));
+        let residual = |s: &ArmState| -> [f64; 6] {
             let pu = s.upper.transpose() * Vector3::z();
             let pf = s.fore.transpose() * Vector3::z();
-            Ok([
+            [
                 pu.x - up_u.x,
                 pu.y - up_u.y,
                 pu.z - up_u.z,
                 pf.x - up_f.x,
                 pf.y - up_f.y,
                 pf.z - up_f.z,
-            ])
+            ]
         };
+        // A trial's elbow or twist is the current one's when its angle has the same bits
+        // (`x + 0.0` only differs from `x` at −0).
+        let same = |a: f64, b: f64| a.to_bits() == b.to_bits();
         let mut p = self.params;
-        let mut r0 = residual(&p)?;
+        let (mut elbow, mut turn) = (swivel(p.x), twist(p.y));
+        let mut state = elbow.state(turn);
+        let mut r0 = residual(&state);
         for _ in 0..3 {
             let h = 1e-6;
-            let r_a = residual(&(p + Vector2::new(h, 0.0)))?;
-            let r_b = residual(&(p + Vector2::new(0.0, h)))?;
+            let (pa, pb) = (p + Vector2::new(h, 0.0), p + Vector2::new(0.0, h));
+            let turn_a = if same(pa.y, p.y) { turn } else { twist(pa.y) };
+            let r_a = residual(&swivel(pa.x).state(turn_a));
+            let elbow_b = if same(pb.x, p.x) { elbow } else { swivel(pb.x) };
+            let r_b = residual(&elbow_b.state(twist(pb.y)));
             let (mut jtj, mut jtr) = (Matrix2::zeros(), Vector2::zeros());
             for i in 0..6 {
                 let j = Vector2::new((r_a[i] - r0[i]) / h, (r_b[i] - r0[i]) / h);
@@ -125,19 +142,21 @@ impl ArmPoseEstimator {
             };
             let step = step.map(|x| x.clamp(-0.3, 0.3));
             let cand = p - step;
-            match residual(&cand) {
-                Ok(rc) if norm2(&rc) <= norm2(&r0) => {
-                    p = cand;
-                    r0 = rc;
-                }
-                _ => break,
+            let (elbow_c, turn_c) = (swivel(cand.x), twist(cand.y));
+            let state_c = elbow_c.state(turn_c);
+            let rc = residual(&state_c);
+            if norm2(&rc) <= norm2(&r0) {
+                p = cand;
+                r0 = rc;
+                (elbow, turn, state) = (elbow_c, turn_c, state_c);
+            } else {
+                break;
             }
             if step.norm() < 1e-9 {
                 break;
             }
         }
         self.params = p;
-        let state = arm::solve(&self.geo, wheel_rad, p.x, p.y)?;
         let angles = arm::joint_angles(&state.upper, &state.fore);
         self.rom.update(&angles);
         Ok(ArmPose {

@@ -20,9 +20,16 @@ const CHUNK_BYTES: u64 = 1024 * 1024;
 
 /// The MCAP writer settings of every file the station writes (sessions and recoveries);
 /// `library` names the writer in the file header.
+///
+/// Chunks are compressed on the writing thread (`compression_threads(0)`): mcap's default is a
+/// zstd worker per physical core, but a 1 MiB chunk is smaller than one zstd job, so the writer
+/// waited for its one worker at every chunk's end anyway, and at `--speed max` on two cores the
+/// workers were a third thread contending with the haptic thread and the recorder (issue 47).
+/// The messages and their bytes are the same either way.
 pub fn mcap_options(library: &str) -> mcap::WriteOptions {
     mcap::WriteOptions::new()
         .compression(Some(mcap::Compression::Zstd))
+        .compression_threads(0)
         .profile("")
         .library(library)
         .chunk_size(Some(CHUNK_BYTES))
