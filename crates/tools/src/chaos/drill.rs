@@ -41,7 +41,7 @@ use anyhow::{Context, bail};
 
 use super::patroni::{self, Patroni};
 use super::postgres::{
-    MAX_CONNECTIONS, PgNode, Postgres, as_postgres_user, free_port, log_tail, path_str,
+    MAX_CONNECTIONS, PgNode, Postgres, as_postgres_user, command_as, free_port, log_tail, path_str,
     postgres_owner, run_as,
 };
 
@@ -316,14 +316,7 @@ impl Drop for Drill {
 /// Runs `pgbackrest --config=… --stanza=chaos args` (as the server's user): its stdout, or an
 /// error with the tail of what it said.
 async fn pgbackrest(as_user: &[String], config: &Path, args: &[&str]) -> anyhow::Result<String> {
-    let mut command = match as_user.split_first() {
-        Some((first, rest)) => {
-            let mut c = tokio::process::Command::new(first);
-            c.args(rest).arg("pgbackrest");
-            c
-        }
-        None => tokio::process::Command::new("pgbackrest"),
-    };
+    let mut command = command_as(as_user, "pgbackrest");
     command
         .arg(format!("--config={}", path_str(config)?))
         .arg(format!("--stanza={STANZA}"))
@@ -355,14 +348,7 @@ async fn psql(
     sql: &str,
 ) -> anyhow::Result<String> {
     let psql = bin.join("psql");
-    let mut command = match as_user.split_first() {
-        Some((first, rest)) => {
-            let mut c = tokio::process::Command::new(first);
-            c.args(rest).arg(&psql);
-            c
-        }
-        None => tokio::process::Command::new(&psql),
-    };
+    let mut command = command_as(as_user, &psql);
     let port = port.to_string();
     command
         .args([

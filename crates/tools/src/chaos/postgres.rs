@@ -115,20 +115,29 @@ pub(super) fn free_port() -> anyhow::Result<u16> {
     Ok(listener.local_addr()?.port())
 }
 
-/// Runs `program args` (as the server's user), failing with the tail of its output.
-pub(super) async fn run_as(
+/// `program` to be run as the server's user: behind `as_user` (`runuser -u postgres --` when
+/// root), else as it is.
+pub(super) fn command_as(
     as_user: &[String],
-    program: &Path,
-    args: &[&str],
-) -> anyhow::Result<()> {
-    let mut command = match as_user.split_first() {
+    program: impl AsRef<std::ffi::OsStr>,
+) -> tokio::process::Command {
+    match as_user.split_first() {
         Some((first, rest)) => {
             let mut c = tokio::process::Command::new(first);
             c.args(rest).arg(program);
             c
         }
         None => tokio::process::Command::new(program),
-    };
+    }
+}
+
+/// Runs `program args` (as the server's user), failing with the tail of its output.
+pub(super) async fn run_as(
+    as_user: &[String],
+    program: &Path,
+    args: &[&str],
+) -> anyhow::Result<()> {
+    let mut command = command_as(as_user, program);
     let out = tokio::time::timeout(
         Duration::from_secs(60),
         command.args(args).kill_on_drop(true).output(),
